@@ -1,0 +1,1 @@
+"""Action following with template HMMs (MOP, Master of Puppets)."""

@@ -1,0 +1,1 @@
+"""Reactive behaviour by demonstration (Puppet Master)."""

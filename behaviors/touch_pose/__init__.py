@@ -1,0 +1,1 @@
+"""Multi-touch pose control."""

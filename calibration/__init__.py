@@ -1,0 +1,1 @@
+"""calibration: camera intrinsics, camera <-> table and table <-> projector homographies."""

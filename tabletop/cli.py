@@ -1,0 +1,65 @@
+"""The ``tabletop`` command line: one subcommand per module in :mod:`tabletop.commands`.
+
+Every subcommand prints one clear line and exits non-zero on bad input, never a traceback.
+Command modules import their heavy dependencies inside ``main`` so ``--help`` stays fast and
+commands that draw nothing never import pygame.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+from typing import Sequence
+
+from tabletop import __version__
+from tabletop.frames import InputError
+
+COMMANDS = ("run", "track", "behave", "follow", "calibrate", "replay")
+
+EXIT_BAD_INPUT = 2
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="tabletop",
+        description="Tangible tabletop installation: pucks on a table drive projected characters.")
+    parser.add_argument("--version", action="version", version=f"tabletop {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"tabletop.commands.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"tabletop.commands.{name}":
+                continue
+            raise
+        p = sub.add_parser(name, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(_main=module.main, _prog=f"tabletop {name}")
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "_main", None):
+        parser.print_help()
+        return EXIT_BAD_INPUT
+    try:
+        return int(args._main(args) or 0)
+    except InputError as exc:
+        print(f"{args._prog}: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except OSError as exc:
+        where = f" {exc.filename}" if getattr(exc, "filename", None) else ""
+        print(f"{args._prog}: error:{where} {exc.strerror or exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print(f"{args._prog}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Subcommands of the tabletop command line, one module each."""

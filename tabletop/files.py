@@ -1,0 +1,142 @@
+"""File formats shared by the commands and plugins: atomic writes and numeric CSV tables.
+
+Saved data is never lost: every write goes to a temporary file in the same folder, is fsynced,
+then renamed over the target. Reading a CSV either returns a clean float table or raises
+:class:`FileFormatError` naming the file, the line and what is wrong.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import Iterable, Sequence
+
+import numpy as np
+
+from tabletop.frames import InputError
+
+
+class FileFormatError(InputError):
+    """A file is missing, empty or malformed; the message names the file and the line."""
+
+
+def atomic_write_bytes(path: str | Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` atomically (temp file, fsync, rename, fsync the folder)."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    try:
+        dir_fd = os.open(target.parent, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(dir_fd)
+    except OSError:
+        pass
+    finally:
+        os.close(dir_fd)
+
+
+def atomic_write_text(path: str | Path, text: str) -> None:
+    """Write UTF-8 text to ``path`` atomically."""
+    atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def format_csv(header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> str:
+    """CSV text with ``header``; floats are written with full precision (repr)."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(header)
+    for row in rows:
+        w.writerow([repr(float(v)) if isinstance(v, (float, np.floating)) else v for v in row])
+    return buf.getvalue()
+
+
+def write_csv(path: str | Path, header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> None:
+    """Write a CSV table atomically."""
+    atomic_write_text(path, format_csv(header, rows))
+
+
+def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",
+             min_rows: int = 1) -> tuple[list[str], np.ndarray]:
+    """Read a numeric CSV with a header row; returns (column names, float array rows x columns).
+
+    Raises FileFormatError for a missing or unreadable file, an empty file, a header without the
+    ``required`` columns, duplicate columns, a row of the wrong length, a non-numeric or
+    non-finite value (with its line number) or fewer than ``min_rows`` rows.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise FileFormatError(f"{p}: {what} not found") from None
+    except IsADirectoryError:
+        raise FileFormatError(f"{p}: is a folder, expected a {what}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise FileFormatError(f"{p}: cannot read {what}: {exc}") from None
+    lines = [ln for ln in text.splitlines()]
+    rows = list(csv.reader(lines))
+    first = next((i for i, r in enumerate(rows) if any(c.strip() for c in r)), None)
+    if first is None:
+        raise FileFormatError(f"{p}: {what} is empty (expected a header row)")
+    header = [c.strip() for c in rows[first]]
+    if any(not c for c in header):
+        raise FileFormatError(f"{p}: line {first + 1}: empty column name in header {header}")
+    dup = sorted({c for c in header if header.count(c) > 1})
+    if dup:
+        raise FileFormatError(f"{p}: line {first + 1}: duplicate column(s) {', '.join(dup)}")
+    missing = [c for c in required if c not in header]
+    if missing:
+        raise FileFormatError(
+            f"{p}: line {first + 1}: missing column(s) {', '.join(missing)}; "
+            f"expected header {','.join(required)}, got {','.join(header)}")
+    data: list[list[float]] = []
+    for i in range(first + 1, len(rows)):
+        r = rows[i]
+        if not any(c.strip() for c in r):
+            continue
+        if len(r) != len(header):
+            raise FileFormatError(
+                f"{p}: line {i + 1}: {len(r)} values, expected {len(header)} ({','.join(header)})")
+        vals = []
+        for name, cell in zip(header, r):
+            try:
+                v = float(cell)
+            except ValueError:
+                raise FileFormatError(
+                    f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is not a number") from None
+            if not math.isfinite(v):
+                raise FileFormatError(
+                    f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is not a finite number")
+            vals.append(v)
+        data.append(vals)
+    if len(data) < min_rows:
+        raise FileFormatError(
+            f"{p}: {what} has {len(data)} data row(s), needs at least {min_rows}")
+    return header, np.asarray(data, dtype=float).reshape(len(data), len(header))
+
+
+def check_increasing(t: np.ndarray, path: str | Path, column: str = "t") -> None:
+    """Raise FileFormatError unless times strictly increase (names the first bad data line)."""
+    bad = np.flatnonzero(np.diff(t) <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise FileFormatError(
+            f"{path}: column {column!r} must strictly increase; data row {i + 1} "
+            f"({t[i]!r}) is not after row {i} ({t[i - 1]!r})")

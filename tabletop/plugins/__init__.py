@@ -1,0 +1,1 @@
+"""Wiring of each registered kind: its config schema and its factory."""

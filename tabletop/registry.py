@@ -1,0 +1,66 @@
+"""Names that config.yaml uses for sources, engines and sinks, mapped to their plugin modules.
+
+A plugin module (``tabletop/plugins/NAME.py``) defines ``SCHEMA`` (a :class:`tabletop.schema.Record`
+of its options, without ``kind`` and ``name``) and ``build(options, ctx)`` returning the object.
+Modules are imported only when a config names them, so commands that draw nothing never import
+pygame.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+SOURCES: dict[str, str] = {
+    "scripted": "tabletop.plugins.scripted",
+    "synthetic_camera": "tabletop.plugins.synthetic_camera",
+    "camera": "tabletop.plugins.camera",
+    "replay": "tabletop.plugins.replay_source",
+}
+
+ENGINES: dict[str, str] = {
+    "puppet_master": "tabletop.plugins.puppet_master",
+    "mop": "tabletop.plugins.mop",
+}
+
+SINKS: dict[str, str] = {}
+
+REGISTRIES: dict[str, dict[str, str]] = {"source": SOURCES, "engine": ENGINES, "sink": SINKS}
+
+
+@dataclass
+class BuildContext:
+    """What a plugin's ``build`` may need besides its own options.
+
+    ``table``: (width, height) in metres; ``rate_hz``: the loop rate; ``config``: the whole
+    validated config; ``base``: the config file's folder; ``shared``: objects built once and
+    shared between plugins (e.g. the puck tracker a camera source feeds predictions from).
+    """
+
+    table: tuple[float, float]
+    rate_hz: float
+    config: dict[str, Any]
+    base: Path
+    shared: dict[str, Any] = field(default_factory=dict)
+
+
+def plugin_module(role: str, kind: str) -> ModuleType | None:
+    """The plugin module for ``kind`` of ``role`` ("source", "engine", "sink"), or None if the
+    name is unknown or its module is not present in this installation."""
+    target = REGISTRIES[role].get(kind)
+    if target is None:
+        return None
+    try:
+        return importlib.import_module(target)
+    except ModuleNotFoundError as exc:
+        if exc.name and target.startswith(exc.name):
+            return None
+        raise
+
+
+def available(role: str) -> list[str]:
+    """The kinds of ``role`` whose plugin modules are installed, sorted."""
+    return sorted(k for k in REGISTRIES[role] if plugin_module(role, k) is not None)

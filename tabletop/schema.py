@@ -1,0 +1,219 @@
+"""A small schema language for config.yaml: typed fields with defaults, ranges and choices.
+
+Each spec validates a parsed YAML value and returns the value with defaults filled in, or raises
+:class:`ConfigError` naming the file, the key path (``engines[0].main.puck``) and what would be
+right. Validation is strict: unknown keys, wrong types and out-of-range values are refused.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Mapping, Sequence
+
+from tabletop.frames import InputError
+
+
+class ConfigError(InputError):
+    """A config value is wrong; the message names the file and the key path."""
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+REQUIRED: Any = _Required()
+
+
+@dataclass(frozen=True)
+class Context:
+    """Where the value came from: the config file (for messages) and its folder (for paths)."""
+
+    file: str
+    base: Path
+
+    def error(self, path: str, message: str) -> ConfigError:
+        return ConfigError(f"{self.file}: {path or '<top>'}: {message}")
+
+
+def _type_name(value: Any) -> str:
+    if value is None:
+        return "nothing (null)"
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
+            list: "a list", dict: "a mapping"}.get(type(value), type(value).__name__)
+
+
+class Spec:
+    """Base of all specs; ``default`` is REQUIRED when the key must be present."""
+
+    default: Any = REQUIRED
+    doc: str = ""
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        raise NotImplementedError
+
+
+class Number(Spec):
+    """An int or float (``integer=True``: int only) within [lo, hi]."""
+
+    def __init__(self, default: Any = REQUIRED, lo: float | None = None, hi: float | None = None,
+                 integer: bool = False, doc: str = "") -> None:
+        self.default, self.lo, self.hi, self.integer, self.doc = default, lo, hi, integer, doc
+
+    def describe(self) -> str:
+        kind = "an integer" if self.integer else "a number"
+        if self.lo is not None and self.hi is not None:
+            return f"{kind} in [{self.lo}, {self.hi}]"
+        if self.lo is not None:
+            return f"{kind} >= {self.lo}"
+        if self.hi is not None:
+            return f"{kind} <= {self.hi}"
+        return kind
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        ok_types = (int,) if self.integer else (int, float)
+        if isinstance(value, bool) or not isinstance(value, ok_types):
+            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+        if value != value:  # NaN
+            raise ctx.error(path, f"expected {self.describe()}, got NaN")
+        if (self.lo is not None and value < self.lo) or (self.hi is not None and value > self.hi):
+            raise ctx.error(path, f"expected {self.describe()}, got {value!r} (out of range)")
+        return value if self.integer else float(value)
+
+
+class Bool(Spec):
+    def __init__(self, default: Any = REQUIRED, doc: str = "") -> None:
+        self.default, self.doc = default, doc
+
+    def describe(self) -> str:
+        return "true or false"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if not isinstance(value, bool):
+            raise ctx.error(path, f"expected true or false, got {_type_name(value)} {value!r}")
+        return value
+
+
+class Str(Spec):
+    """A string, optionally one of ``choices``."""
+
+    def __init__(self, default: Any = REQUIRED, choices: Sequence[str] | None = None,
+                 doc: str = "") -> None:
+        self.default, self.choices, self.doc = default, tuple(choices) if choices else None, doc
+
+    def describe(self) -> str:
+        return f"one of {', '.join(self.choices)}" if self.choices else "a string"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if not isinstance(value, str):
+            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+        if self.choices and value not in self.choices:
+            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+        return value
+
+
+class FilePath(Spec):
+    """A path relative to the config file's folder; ``must_exist`` checks it at load time.
+
+    ``kind`` is "file", "dir" or "any". Returns an absolute :class:`Path`.
+    """
+
+    def __init__(self, default: Any = REQUIRED, must_exist: bool = True, kind: str = "any",
+                 doc: str = "") -> None:
+        self.default, self.must_exist, self.kind, self.doc = default, must_exist, kind, doc
+
+    def describe(self) -> str:
+        return {"file": "a path to a file", "dir": "a path to a folder"}.get(self.kind, "a path")
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if not isinstance(value, str) or not value:
+            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+        p = Path(value).expanduser()
+        if not p.is_absolute():
+            p = ctx.base / p
+        if self.must_exist:
+            if not p.exists():
+                raise ctx.error(path, f"{value!r} does not exist (looked for {p})")
+            if self.kind == "file" and not p.is_file():
+                raise ctx.error(path, f"{value!r} is not a file")
+            if self.kind == "dir" and not p.is_dir():
+                raise ctx.error(path, f"{value!r} is not a folder")
+        return p
+
+
+class Optional_(Spec):
+    """``None`` or a value of ``inner``; defaults to None."""
+
+    def __init__(self, inner: Spec, default: Any = None, doc: str = "") -> None:
+        self.inner, self.default, self.doc = inner, default, doc or inner.doc
+
+    def describe(self) -> str:
+        return f"{self.inner.describe()} or null"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        return None if value is None else self.inner.validate(value, path, ctx)
+
+
+class ListOf(Spec):
+    """A list of items of one spec, with a length range."""
+
+    def __init__(self, item: Spec, default: Any = REQUIRED, min_len: int = 0,
+                 max_len: int | None = None, doc: str = "") -> None:
+        self.item, self.default, self.min_len, self.max_len, self.doc = (
+            item, default, min_len, max_len, doc)
+
+    def describe(self) -> str:
+        n = f"{self.min_len}" if self.max_len is None else f"{self.min_len}..{self.max_len}"
+        return f"a list ({n} items) of {self.item.describe()}"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if not isinstance(value, list):
+            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+        if len(value) < self.min_len or (self.max_len is not None and len(value) > self.max_len):
+            raise ctx.error(path, f"expected {self.describe()}, got {len(value)} items")
+        return [self.item.validate(v, f"{path}[{i}]", ctx) for i, v in enumerate(value)]
+
+
+class Record(Spec):
+    """A mapping with known keys; unknown keys are refused, missing ones take their defaults."""
+
+    def __init__(self, fields: Mapping[str, Spec], default: Any = None, doc: str = "",
+                 check: Callable[[dict, str, Context], None] | None = None) -> None:
+        self.fields, self.doc, self.check = dict(fields), doc, check
+        # A record whose fields all have defaults may be omitted entirely.
+        self.default = default if default is not None else (
+            {} if all(f.default is not REQUIRED for f in self.fields.values()) else REQUIRED)
+
+    def describe(self) -> str:
+        return f"a mapping with keys {', '.join(self.fields)}"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if value is None:
+            value = {}
+        if not isinstance(value, dict):
+            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+        out: dict[str, Any] = {}
+        for key in value:
+            if key not in self.fields:
+                known = ", ".join(sorted(self.fields)) or "none"
+                raise ctx.error(_join(path, str(key)), f"unknown key (known keys here: {known})")
+        for key, spec in self.fields.items():
+            sub = _join(path, key)
+            if key in value:
+                out[key] = spec.validate(value[key], sub, ctx)
+            elif spec.default is REQUIRED:
+                raise ctx.error(sub, f"missing; expected {spec.describe()}")
+            else:
+                d = spec.default
+                out[key] = spec.validate(d, sub, ctx) if isinstance(spec, Record) else d
+        if self.check is not None:
+            self.check(out, path, ctx)
+        return out
+
+
+def _join(path: str, key: str) -> str:
+    return f"{path}.{key}" if path else key

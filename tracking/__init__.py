@@ -1,0 +1,1 @@
+"""tracking: inputs (camera, markers, puck tracker, synthetic camera, motion capture, replay)."""
