@@ -1,0 +1,136 @@
+"""A scripted visitor: seeded, human-like puck motion for the default installation and the tests.
+
+Each puck walks from waypoint to waypoint on gently curved paths (quadratic Bezier curves) with a
+minimum-jerk speed profile, turns toward where it is going, pauses now and then and looks around.
+The motion is a pure function of time and seed: ``poses(t)`` gives the same answer for the same t
+whatever was asked before, so a test can sample any time in any order.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from tabletop.frames import wrap_angle
+
+
+def min_jerk(tau: float) -> float:
+    """Minimum-jerk position profile s(tau) for tau in [0, 1] (0 -> 0, 1 -> 1, zero end speeds)."""
+    tau = min(max(tau, 0.0), 1.0)
+    return tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau))
+
+
+def smoothstep(tau: float) -> float:
+    tau = min(max(tau, 0.0), 1.0)
+    return tau * tau * (3.0 - 2.0 * tau)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One stretch of a puck's script: a move along a Bezier curve, or a pause (p0 == p2).
+
+    Times in seconds, points in metres, angles in radians.
+    """
+
+    t0: float
+    t1: float
+    p0: tuple[float, float]
+    p1: tuple[float, float]  # Bezier control point
+    p2: tuple[float, float]
+    a0: float  # heading at the start
+    a1: float  # heading at the end of a pause (moves: the heading follows the path)
+    moving: bool
+
+    def pose(self, t: float) -> tuple[float, float, float]:
+        tau = (t - self.t0) / max(self.t1 - self.t0, 1e-9)
+        if not self.moving:
+            a = self.a0 + wrap_angle(self.a1 - self.a0) * smoothstep(tau)
+            return self.p0[0], self.p0[1], wrap_angle(a)
+        s = min_jerk(tau)
+        x, y = self._bezier(s)
+        # Heading: the path's tangent, with the turn from the previous heading (a fixed offset
+        # against the start tangent) faded out over the first quarter of the move.
+        tangent = math.atan2(*reversed(self._tangent(s)))
+        offset = wrap_angle(self.a0 - math.atan2(*reversed(self._tangent(0.0))))
+        return x, y, wrap_angle(tangent + offset * (1.0 - smoothstep(tau / 0.25)))
+
+    def _bezier(self, s: float) -> tuple[float, float]:
+        u = 1.0 - s
+        x = u * u * self.p0[0] + 2 * u * s * self.p1[0] + s * s * self.p2[0]
+        y = u * u * self.p0[1] + 2 * u * s * self.p1[1] + s * s * self.p2[1]
+        return x, y
+
+    def _tangent(self, s: float) -> tuple[float, float]:
+        dx = 2 * (1 - s) * (self.p1[0] - self.p0[0]) + 2 * s * (self.p2[0] - self.p1[0])
+        dy = 2 * (1 - s) * (self.p1[1] - self.p0[1]) + 2 * s * (self.p2[1] - self.p1[1])
+        return dx, dy
+
+
+class PuckScript:
+    """The script of one puck, generated lazily segment by segment from its own seeded RNG."""
+
+    def __init__(self, table: tuple[float, float], seed: int, margin: float = 0.08,
+                 speed: tuple[float, float] = (0.08, 0.35), pause: tuple[float, float] = (0.4, 2.0),
+                 pause_chance: float = 0.45) -> None:
+        self.w, self.h = table
+        self.margin = min(margin, 0.25 * min(self.w, self.h))
+        self.speed, self.pause, self.pause_chance = speed, pause, pause_chance
+        self.rng = np.random.default_rng(seed)
+        start = self._waypoint()
+        a = float(self.rng.uniform(-math.pi, math.pi))
+        self.segments: list[Segment] = [Segment(0.0, 0.5, start, start, start, a, a, False)]
+        self.starts: list[float] = [0.0]
+
+    def _waypoint(self) -> tuple[float, float]:
+        m = self.margin
+        return (float(self.rng.uniform(m, self.w - m)), float(self.rng.uniform(m, self.h - m)))
+
+    def _extend(self) -> None:
+        last = self.segments[-1]
+        p0 = last.p2
+        a0 = last.pose(last.t1)[2]
+        if last.moving and self.rng.random() < self.pause_chance:
+            d = float(self.rng.uniform(*self.pause))
+            look = wrap_angle(a0 + float(self.rng.uniform(-1.6, 1.6)))
+            seg = Segment(last.t1, last.t1 + d, p0, p0, p0, a0, look, False)
+        else:
+            p2 = self._waypoint()
+            while math.dist(p0, p2) < 0.1 * min(self.w, self.h):
+                p2 = self._waypoint()
+            mid = ((p0[0] + p2[0]) / 2, (p0[1] + p2[1]) / 2)
+            dist = math.dist(p0, p2)
+            nx, ny = -(p2[1] - p0[1]) / dist, (p2[0] - p0[0]) / dist
+            bend = float(self.rng.uniform(-0.35, 0.35)) * dist
+            p1 = (min(max(mid[0] + nx * bend, 0.0), self.w), min(max(mid[1] + ny * bend, 0.0), self.h))
+            v = float(self.rng.uniform(*self.speed))
+            # Min-jerk peaks at 1.875x its mean speed; the mean is v.
+            d = max(dist / v, 0.4)
+            seg = Segment(last.t1, last.t1 + d, p0, p1, p2, a0, a0, True)
+        self.segments.append(seg)
+        self.starts.append(seg.t0)
+
+    def pose(self, t: float) -> tuple[float, float, float]:
+        """(x m, y m, angle rad) at time ``t`` seconds (t < 0 is the start pose)."""
+        while self.segments[-1].t1 < t:
+            self._extend()
+        i = max(bisect.bisect_right(self.starts, t) - 1, 0)
+        return self.segments[i].pose(max(t, 0.0))
+
+
+class ScriptedVisitor:
+    """A visitor moving pucks ``puck_ids`` about a table of ``table`` = (width, height) metres."""
+
+    def __init__(self, table: tuple[float, float], puck_ids: Sequence[int] = (1, 2),
+                 seed: int = 0, **script_options: float) -> None:
+        self.table = (float(table[0]), float(table[1]))
+        self.puck_ids = tuple(int(i) for i in puck_ids)
+        self.scripts = {pid: PuckScript(self.table, seed * 1009 + k * 7919 + 1, **script_options)
+                        for k, pid in enumerate(self.puck_ids)}
+
+    def poses(self, t: float) -> list[tuple[int, float, float, float]]:
+        """[(id, x m, y m, angle rad), ...] for every puck at time ``t`` seconds."""
+        return [(pid, *self.scripts[pid].pose(t)) for pid in self.puck_ids]
