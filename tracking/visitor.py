@@ -56,7 +56,9 @@ class Segment:
         # against the start tangent) faded out over the first quarter of the move.
         tangent = math.atan2(*reversed(self._tangent(s)))
         offset = wrap_angle(self.a0 - math.atan2(*reversed(self._tangent(0.0))))
-        return x, y, wrap_angle(tangent + offset * (1.0 - smoothstep(tau / 0.25)))
+        # A hand turns a puck at up to about 3 rad/s: big turns take longer than a quarter.
+        fade = min(1.0, max(0.25, 0.5 * abs(offset) / (self.t1 - self.t0)))
+        return x, y, wrap_angle(tangent + offset * (1.0 - smoothstep(tau / fade)))
 
     def _bezier(self, s: float) -> tuple[float, float]:
         u = 1.0 - s
