@@ -13,8 +13,8 @@ from typing import Any
 import yaml
 
 from tabletop import registry
-from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, ListOf, Number,
-                             Optional_, Record, Spec, Str)
+from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, ListOf, MapOf,
+                             Number, Optional_, Record, Spec, Str)
 
 TABLE = Record({
     "width": Number(1.2, lo=0.05, hi=20.0, doc="table length along x, metres"),
@@ -37,6 +37,9 @@ VIEW = Record({
     "snapshot_folder": FilePath("snapshots", must_exist=False),
     "margin_px": Number(24, integer=True, lo=0, hi=1000,
                         doc="border around the table when no calibration maps it"),
+    "puck_radius": Number(0.03, lo=0.005, hi=0.5, doc="drawn puck radius, metres"),
+    "sprites": MapOf(FilePath(kind="file"), default={},
+                     doc="character name -> PNG drawn instead of the vector shape (facing +x)"),
 })
 
 RECORDER = Record({
@@ -91,11 +94,8 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
 
 def tracking_schema() -> Spec:
     """The puck tracker's options (owned by the tracking plugin when installed)."""
-    try:
-        from tabletop.plugins import tracking
-    except ModuleNotFoundError:
-        return Record({})
-    return tracking.SCHEMA
+    tracking = registry.optional_module("tabletop.plugins.tracking")
+    return tracking.SCHEMA if tracking is not None else Record({})
 
 
 def top_schema() -> Record:

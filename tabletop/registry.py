@@ -47,18 +47,22 @@ class BuildContext:
     shared: dict[str, Any] = field(default_factory=dict)
 
 
-def plugin_module(role: str, kind: str) -> ModuleType | None:
-    """The plugin module for ``kind`` of ``role`` ("source", "engine", "sink"), or None if the
-    name is unknown or its module is not present in this installation."""
-    target = REGISTRIES[role].get(kind)
-    if target is None:
-        return None
+def optional_module(target: str) -> ModuleType | None:
+    """Import ``target``, or None when that module itself is not installed (an import error
+    inside it still raises)."""
     try:
         return importlib.import_module(target)
     except ModuleNotFoundError as exc:
         if exc.name and target.startswith(exc.name):
             return None
         raise
+
+
+def plugin_module(role: str, kind: str) -> ModuleType | None:
+    """The plugin module for ``kind`` of ``role`` ("source", "engine", "sink"), or None if the
+    name is unknown or its module is not present in this installation."""
+    target = REGISTRIES[role].get(kind)
+    return None if target is None else optional_module(target)
 
 
 def available(role: str) -> list[str]:

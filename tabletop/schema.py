@@ -178,6 +178,23 @@ class ListOf(Spec):
         return [self.item.validate(v, f"{path}[{i}]", ctx) for i, v in enumerate(value)]
 
 
+class MapOf(Spec):
+    """A mapping from free-form string keys to values of one spec (e.g. character -> sprite)."""
+
+    def __init__(self, value: Spec, default: Any = REQUIRED, doc: str = "") -> None:
+        self.value, self.default, self.doc = value, default, doc
+
+    def describe(self) -> str:
+        return f"a mapping of names to {self.value.describe()}"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if value is None:
+            value = {}
+        if not isinstance(value, dict):
+            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+        return {str(k): self.value.validate(v, _join(path, str(k)), ctx) for k, v in value.items()}
+
+
 class Record(Spec):
     """A mapping with known keys; unknown keys are refused, missing ones take their defaults."""
 

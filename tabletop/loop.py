@@ -1,0 +1,290 @@
+"""The main loop: one immutable Frame per tick, built from the newest input, stepped through the
+engines in order and handed to every sink.
+
+Stage order per tick: inputs (sources' newest observations fused by the tracker, or a recording's
+next frame) -> operator commands -> engines (in config order, each seeing the characters of the
+ones before) -> sinks. Sources run in their own threads and hold only their newest observation;
+the loop never queues frames, so a slow sink makes the loop skip ticks, never pile them up.
+Strict at start-up, forgiving at run time: an engine or sink that raises is logged (rate-limited)
+and the installation keeps running.
+"""
+
+from __future__ import annotations
+
+import collections
+import logging
+import math
+import threading
+import time
+from typing import Callable, Iterator, Protocol, Sequence
+
+import numpy as np
+
+from tabletop.frames import (CharacterState, Engine, Frame, Observation, Puck, Sink, Source,
+                             SourceHealth)
+
+log = logging.getLogger("tabletop")
+
+STAGES = ("capture_age", "inputs", "engines", "sinks", "tick")
+
+
+class Tracker(Protocol):
+    def update(self, observations: Sequence[Observation], t: float) -> tuple[Puck, ...]: ...
+
+
+class LatestMeasurements:
+    """The simplest tracker: every measured puck of the newest observations is reported ``seen``.
+
+    Used for sources that already deliver tracked poses (scripted visitor, replays) when no
+    camera tracker is configured.
+    """
+
+    def update(self, observations: Sequence[Observation], t: float) -> tuple[Puck, ...]:
+        pucks: dict[int, Puck] = {}
+        for obs in observations:
+            for m in obs.pucks:
+                pucks[m.id] = Puck(m.id, m.x, m.y, m.angle, raw_x=m.x, raw_y=m.y, raw_angle=m.angle)
+        return tuple(pucks[k] for k in sorted(pucks))
+
+
+class LoopStats:
+    """Per-stage durations of the last ``window`` ticks, in seconds, and the tick rate.
+
+    ``capture_age`` is capture-to-render latency: from the frame's input capture time to the end
+    of its sinks. Read by the view's overlay and by the benchmarks.
+    """
+
+    def __init__(self, window: int = 600) -> None:
+        self.window = window
+        self.samples: dict[str, collections.deque[float]] = {
+            s: collections.deque(maxlen=window) for s in STAGES}
+        self.tick_times: collections.deque[float] = collections.deque(maxlen=window)
+        self.ticks = 0
+        self.skipped = 0
+        self.errors: collections.Counter[str] = collections.Counter()
+
+    def record(self, stage: str, seconds: float) -> None:
+        self.samples.setdefault(stage, collections.deque(maxlen=self.window)).append(seconds)
+
+    def fps(self) -> float:
+        """Ticks per second over the kept window."""
+        if len(self.tick_times) < 2:
+            return 0.0
+        span = self.tick_times[-1] - self.tick_times[0]
+        return (len(self.tick_times) - 1) / span if span > 0 else 0.0
+
+    def summary_ms(self) -> dict[str, tuple[float, float]]:
+        """Stage -> (median ms, p99 ms) over the kept window."""
+        out = {}
+        for stage, d in self.samples.items():
+            if d:
+                a = np.fromiter(d, dtype=float, count=len(d)) * 1e3
+                out[stage] = (float(np.median(a)), float(np.percentile(a, 99)))
+        return out
+
+
+class CommandQueue:
+    """Operator commands (key presses, markers) from sinks to the next tick; bounded, thread-safe."""
+
+    def __init__(self, maxlen: int = 64) -> None:
+        self._q: collections.deque[str] = collections.deque(maxlen=maxlen)
+        self._lock = threading.Lock()
+
+    def put(self, command: str) -> None:
+        with self._lock:
+            self._q.append(command)
+
+    def drain(self) -> tuple[str, ...]:
+        with self._lock:
+            out = tuple(self._q)
+            self._q.clear()
+        return out
+
+
+class LiveInputs:
+    """Inputs of a live installation: the newest observation of every source, fused by the tracker.
+
+    The frame's ``t`` is the capture time of its newest input; a tick whose sources have nothing
+    yet is stamped with the loop's own time. Times never go backwards.
+    """
+
+    def __init__(self, sources: Sequence[Source], tracker: Tracker) -> None:
+        self.sources, self.tracker = list(sources), tracker
+        self._last_t = -math.inf
+
+    def open(self) -> None:
+        for s in self.sources:
+            s.open()
+
+    def close(self) -> None:
+        for s in self.sources:
+            try:
+                s.close()
+            except Exception:  # a failing close must not keep the others open
+                log.exception("source %s failed to close", getattr(s, "name", s))
+
+    def next(self, seq: int, now: float) -> Frame | None:
+        observations = []
+        for s in self.sources:
+            try:
+                obs = s.latest()
+            except Exception:
+                log.exception("source %s raised in latest(); treated as empty", s.name)
+                obs = None
+            if obs is not None:
+                observations.append(obs)
+        t = max((o.t for o in observations), default=now)
+        t = max(t, self._last_t)
+        self._last_t = t
+        pucks = self.tracker.update(observations, t)
+        touches = tuple(tc for o in observations for tc in o.touches)
+        streams = {k: v for o in observations for k, v in o.streams.items()}
+        health = tuple(self._health(s) for s in self.sources)
+        return Frame(seq=seq, t=t, pucks=pucks, touches=touches, streams=streams, health=health)
+
+    @staticmethod
+    def _health(s: Source) -> SourceHealth:
+        try:
+            return s.health()
+        except Exception as exc:
+            return SourceHealth(s.name, False, f"health() failed: {exc}")
+
+
+class Loop:
+    """Runs the installation at ``rate_hz``: inputs -> commands -> engines -> sinks, once a tick."""
+
+    def __init__(self, inputs: LiveInputs | "FrameInputs", engines: Sequence[Engine],
+                 sinks: Sequence[Sink], rate_hz: float = 60.0, stats: LoopStats | None = None,
+                 commands: CommandQueue | None = None, stop: threading.Event | None = None,
+                 clock: Callable[[], float] = time.monotonic, paced: bool = True) -> None:
+        self.inputs, self.engines, self.sinks = inputs, list(engines), list(sinks)
+        self.period = 1.0 / rate_hz
+        self.stats = stats or LoopStats()
+        self.commands = commands or CommandQueue()
+        self.stop = stop or threading.Event()
+        self.clock, self.paced = clock, paced
+        self.seq = 0
+        self._last_characters: dict[str, tuple[CharacterState, ...]] = {}
+        self._error_log_t: dict[str, float] = {}
+
+    def _report(self, where: str) -> None:
+        """Log an exception from a running part, at most once per 10 s per part."""
+        self.stats.errors[where] += 1
+        now = self.clock()
+        if now - self._error_log_t.get(where, -math.inf) >= 10.0:
+            self._error_log_t[where] = now
+            log.exception("%s failed (%d times so far); the installation keeps running",
+                          where, self.stats.errors[where])
+
+    def tick(self) -> Frame | None:
+        """Run one tick; returns the completed frame, or None when the inputs are exhausted."""
+        t0 = self.clock()
+        frame = self.inputs.next(self.seq, t0)
+        if frame is None:
+            return None
+        t1 = self.clock()
+        commands = self.commands.drain()
+        if commands:
+            frame = Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
+                          streams=frame.streams, characters=frame.characters,
+                          commands=frame.commands + commands, health=frame.health)
+        for engine in self.engines:
+            try:
+                produced = tuple(engine.step(frame))
+                self._last_characters[engine.name] = produced
+            except Exception:
+                self._report(f"engine {engine.name}")
+                produced = self._last_characters.get(engine.name, ())
+            frame = frame.with_characters(produced)
+        t2 = self.clock()
+        for sink in self.sinks:
+            try:
+                sink.consume(frame)
+            except Exception:
+                self._report(f"sink {sink.name}")
+        t3 = self.clock()
+        st = self.stats
+        st.record("inputs", t1 - t0)
+        st.record("engines", t2 - t1)
+        st.record("sinks", t3 - t2)
+        st.record("tick", t3 - t0)
+        if frame.t <= t3:
+            st.record("capture_age", t3 - frame.t)
+        st.tick_times.append(t3)
+        st.ticks += 1
+        self.seq += 1
+        return frame
+
+    def run(self, seconds: float | None = None, max_ticks: int | None = None) -> int:
+        """Tick at the fixed rate until stopped, ``seconds`` elapsed, ``max_ticks`` ran or the
+        inputs end. A late tick is not made up for: the schedule skips ahead. Returns ticks run."""
+        start = self.clock()
+        next_t = start
+        ran = 0
+        self.inputs.open()
+        try:
+            while not self.stop.is_set():
+                if seconds is not None and self.clock() - start >= seconds:
+                    break
+                if max_ticks is not None and ran >= max_ticks:
+                    break
+                if self.paced:
+                    delay = next_t - self.clock()
+                    if delay > 0:
+                        if self.stop.wait(delay):
+                            break
+                if self.tick() is None:
+                    break
+                ran += 1
+                next_t += self.period
+                behind = self.clock() - next_t
+                if behind > self.period:
+                    missed = int(behind / self.period)
+                    self.stats.skipped += missed
+                    next_t += missed * self.period
+        finally:
+            self.close()
+        return ran
+
+    def close(self) -> None:
+        """Close the inputs, then the sinks (so a recording is flushed complete)."""
+        self.inputs.close()
+        for sink in self.sinks:
+            try:
+                sink.close()
+            except Exception:
+                log.exception("sink %s failed to close", sink.name)
+
+
+class FrameInputs:
+    """Inputs from a sequence of recorded frames (replay), optionally paced by their times.
+
+    Each recorded frame keeps its seq and t; its characters are dropped so the engines make them
+    again. With ``honour_times`` the next frame is released when its recorded time, relative to the
+    first, has elapsed on the loop's clock.
+    """
+
+    def __init__(self, frames: Iterator[Frame], honour_times: bool = True,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.frames, self.honour_times, self.clock = frames, honour_times, clock
+        self._t0: float | None = None
+        self._wall0 = 0.0
+
+    def open(self) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+    def next(self, seq: int, now: float) -> Frame | None:
+        frame = next(self.frames, None)
+        if frame is None:
+            return None
+        if self.honour_times:
+            if self._t0 is None:
+                self._t0, self._wall0 = frame.t, self.clock()
+            delay = (frame.t - self._t0) - (self.clock() - self._wall0)
+            if delay > 0:
+                time.sleep(delay)
+        return Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
+                     streams=frame.streams, commands=frame.commands, health=frame.health)
