@@ -1,0 +1,121 @@
+"""Input features for action following: per-column standardisation and puck path features.
+
+MOP follows any vector of numbers per sample ("multiple input sources" are simply concatenated).
+Features arrive in their own units (metres, radians, m/s, joint angles...); the follower
+standardises every column by one scale shared by all templates of a set, so a single relative
+``sigma`` works for features of any scale.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+from tabletop.frames import wrap_angle
+
+#: Column names of :class:`PathFeatures` output, in order.
+PATH_FEATURE_NAMES: tuple[str, ...] = ("dx", "dy", "heading", "speed")
+
+
+def fit_scale(templates: Sequence[np.ndarray], relative_floor: float = 0.05
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and scale per feature column, pooled over all templates: ``(center, scale)``, each (d,).
+
+    ``scale`` is the standard deviation of every sample of every template about the pooled mean,
+    floored at ``relative_floor`` times (a) the root-mean-square of all column spreads and (b) the
+    column's own root-mean-square magnitude, so a still column (or a still template set) does not
+    get needle-thin Gaussians. A set with no spread and no magnitude at all gets scale 1.
+    """
+    pooled = np.concatenate([np.asarray(t, dtype=float) for t in templates], axis=0)
+    center = pooled.mean(axis=0)
+    spread = pooled.std(axis=0)
+    overall = math.sqrt(float(np.mean(spread ** 2)))
+    magnitude = np.sqrt(np.mean(pooled ** 2, axis=0))
+    scale = np.maximum(spread, relative_floor * np.maximum(overall, magnitude))
+    tiny = 1e-12 * max(1.0, float(np.max(np.abs(pooled))))
+    scale = np.where(scale > tiny, scale, 1.0)
+    return center, scale
+
+
+def standardize(x: np.ndarray, center: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """``(x - center) / scale`` for one sample (d,) or many (n, d)."""
+    return (np.asarray(x, dtype=float) - center) / scale
+
+
+def concat_features(*parts: np.ndarray | Sequence[float]) -> np.ndarray:
+    """Concatenate several inputs (puck features, a mocap stream, touches...) into one sample (d,)."""
+    return np.concatenate([np.ravel(np.asarray(p, dtype=float)) for p in parts])
+
+
+class PathFeatures:
+    """Features of a puck path relative to where the gesture started (stateful, causal).
+
+    ``step(x, y, angle, t)`` returns ``[dx, dy, heading, speed]``: position in metres relative to
+    the gesture's origin (in the table frame, or in the frame of the puck's starting angle when
+    ``rotate`` is True), the puck's rotation since the origin in radians (unwrapped, so several
+    turns add up), and its speed in m/s low-passed at ``speed_cutoff_hz``.
+
+    The origin is the first pose seen, or the pose given to :meth:`reset`. A puck held still
+    (speed below ``rest_speed`` m/s) for ``rest_time`` seconds has ended its gesture: while it
+    stays still the origin follows it, so the next gesture starts from where the puck rests.
+    ``rest_time=inf`` disables this.
+    """
+
+    names = PATH_FEATURE_NAMES
+
+    def __init__(self, rest_speed: float = 0.02, rest_time: float = 0.8,
+                 speed_cutoff_hz: float = 5.0, rotate: bool = False) -> None:
+        self.rest_speed = float(rest_speed)
+        self.rest_time = float(rest_time)
+        self.speed_cutoff_hz = float(speed_cutoff_hz)
+        self.rotate = bool(rotate)
+        self._started = False
+        self.origin = (0.0, 0.0, 0.0)
+        self._prev = (0.0, 0.0, 0.0, 0.0)
+        self._turn = 0.0
+        self._speed = 0.0
+        self._still_since: float | None = None
+
+    @property
+    def dim(self) -> int:
+        return len(PATH_FEATURE_NAMES)
+
+    def reset(self, x: float, y: float, angle: float, t: float) -> None:
+        """Start a new gesture at this pose (metres, radians) and time (seconds)."""
+        self._started = True
+        self.origin = (float(x), float(y), float(angle))
+        self._prev = (float(x), float(y), float(angle), float(t))
+        self._turn = 0.0
+        self._speed = 0.0
+        self._still_since = float(t)
+
+    def step(self, x: float, y: float, angle: float, t: float) -> np.ndarray:
+        """Features of this pose (metres, radians, seconds); see the class docstring."""
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(angle) and math.isfinite(t)):
+            raise ValueError(f"puck pose must be finite, got x={x}, y={y}, angle={angle}, t={t}")
+        if not self._started:
+            self.reset(x, y, angle, t)
+        px, py, pa, pt = self._prev
+        dt = t - pt
+        if dt > 0:
+            raw = math.hypot(x - px, y - py) / dt
+            k = 1.0 - math.exp(-2.0 * math.pi * self.speed_cutoff_hz * dt)
+            self._speed += k * (raw - self._speed)
+        self._turn += wrap_angle(angle - pa)
+        self._prev = (float(x), float(y), float(angle), float(t))
+        if self._speed < self.rest_speed:
+            if self._still_since is None:
+                self._still_since = t
+            elif t - self._still_since >= self.rest_time:
+                self.origin = (float(x), float(y), float(angle))
+                self._turn = 0.0
+        else:
+            self._still_since = None
+        ox, oy, oa = self.origin
+        dx, dy = x - ox, y - oy
+        if self.rotate:
+            c, s = math.cos(oa), math.sin(oa)
+            dx, dy = c * dx + s * dy, -s * dx + c * dy
+        return np.array([dx, dy, self._turn, self._speed])

@@ -1,0 +1,158 @@
+"""Follow and recognise several actions at once (MOP section 3.2 with several templates).
+
+:class:`ActionFollower` standardises live samples with the template set's pooled scale, advances
+the windowed forward algorithm of every template by one sample, and reports for the most probable
+template its progress (0..1), variance and mean per-sample log-likelihood, plus every template's
+probability and progress.
+
+- Probabilities: each template's evidence is its sum of per-step log-likelihoods with
+  exponential forgetting (time constant ``memory`` samples); a softmax across templates turns
+  it into probabilities that sum to 1 and change smoothly, yet let a new action take over.
+- Validity (null rejection): the recent mean per-sample log-likelihood of ``best`` is converted
+  into an RMS distance between the performance and the template, in ``sigma`` units per
+  feature; the output is valid while that distance is at most ``null_distance`` and the
+  progress spread (standard deviation, 0..1 units) at most ``max_spread``.
+- Re-entry: every template can restart at its first state (see :mod:`behaviors.mop.forward`);
+  ``FollowState.restarted`` is True on the step a new performance of ``best`` began.
+- A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from behaviors.mop.forward import WindowedForward
+from behaviors.mop.hmm import TemplateError, Transitions, build_bank
+from tabletop.frames import InputError
+
+__all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
+
+
+class SampleError(InputError):
+    """A live sample has the wrong shape for the template set."""
+
+
+@dataclass(frozen=True)
+class FollowState:
+    """The follower's answer after one sample.
+
+    ``best``: the most probable template; ``progress`` (0..1) and ``variance`` (progress units
+    squared) of ``best``; ``probabilities``: per template, summing to 1; ``progress_by``: per
+    template; ``valid``: the performance matches ``best`` well enough to drive a character;
+    ``loglik``: recent mean per-sample log-likelihood of ``best`` (standardised features);
+    ``distance``: that log-likelihood as an RMS distance in ``sigma`` units per feature;
+    ``restarted``: a new performance of ``best`` began at this sample.
+    """
+
+    best: str
+    progress: float
+    variance: float
+    probabilities: dict[str, float]
+    progress_by: dict[str, float]
+    valid: bool
+    loglik: float
+    distance: float = 0.0
+    restarted: bool = False
+    loglik_by: dict[str, float] = field(default_factory=dict)
+
+
+class ActionFollower:
+    """Follows the progress of a live performance along several action templates at once.
+
+    ``templates``: name -> (n_i, d) samples, regularly spaced at the rate the follower is stepped.
+    ``sigma``: observation spread in units of the pooled per-feature scale; ``window``: p, the
+    half-width of the forward window in states; ``transitions``: forward weights (self, next,
+    skips...); ``backward``: weight of moving one state back; ``restart``: probability per step
+    that a new performance starts; ``memory``: forgetting time constant of the evidence in
+    samples; ``null_distance`` and ``max_spread``: validity limits (see the module docstring);
+    ``relative_floor``: floor of the per-feature scale relative to the overall spread.
+    """
+
+    def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
+                 transitions: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1), backward: float = 0.02,
+                 restart: float = 1e-4, memory: float = 20.0, null_distance: float = 3.0,
+                 max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8) -> None:
+        for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
+                            ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
+                            ("max_spread", max_spread, max_spread > 0),
+                            ("relative_floor", relative_floor, relative_floor >= 0),
+                            ("floor", floor, floor >= 0)):
+            if not (math.isfinite(v) and ok):
+                raise TemplateError(f"follower parameter {name} = {v} is out of range")
+        self.bank = build_bank(templates, relative_floor)
+        self.names: tuple[str, ...] = self.bank.names
+        self.sigma = float(sigma)
+        self.memory = float(memory)
+        self.null_distance = float(null_distance)
+        self.max_spread = float(max_spread)
+        self.forward = WindowedForward(self.bank, sigma=sigma, half_window=int(window),
+                                       transitions=Transitions(tuple(transitions), backward, restart),
+                                       floor=floor)
+        self._decay = 1.0 - 1.0 / self.memory
+        self.reset()
+
+    @property
+    def dim(self) -> int:
+        """Number of features per sample."""
+        return self.bank.dim
+
+    def reset(self) -> None:
+        """Forget the performance; every template waits at its first state."""
+        self.forward.reset()
+        k = len(self.names)
+        self._evidence = np.zeros(k)
+        self._weight = 0.0
+        self._entries = np.zeros(k, dtype=np.int64)
+        self._state: FollowState | None = None
+
+    def distance_of(self, loglik: float) -> float:
+        """A mean per-sample log-likelihood as an RMS distance in ``sigma`` units per feature."""
+        d = self.dim
+        return math.sqrt(max(0.0, -2.0 * (loglik - self.forward.log_constant) / d))
+
+    def _idle_state(self) -> FollowState:
+        k = len(self.names)
+        far = 2.0 * self.null_distance
+        loglik = self.forward.log_constant - 0.5 * self.dim * far * far
+        return FollowState(self.names[0], 0.0, 0.0, {n: 1.0 / k for n in self.names},
+                           {n: 0.0 for n in self.names}, False, loglik, far, False,
+                           {n: loglik for n in self.names})
+
+    def step(self, x: np.ndarray) -> FollowState:
+        """Follow one live sample x (d,) in the templates' units; causal."""
+        x = np.asarray(x, dtype=float)
+        if x.shape != (self.dim,):
+            raise SampleError(
+                f"sample has shape {x.shape}, expected ({self.dim},) like the templates' features")
+        if not np.all(np.isfinite(x)):
+            held = self._state or self._idle_state()
+            self._state = FollowState(held.best, held.progress, held.variance, held.probabilities,
+                                      held.progress_by, False, held.loglik, held.distance, False,
+                                      held.loglik_by)
+            return self._state
+        z = (x - self.bank.center) / self.bank.scale
+        step_ll = self.forward.step(z)
+        self._evidence = self._decay * self._evidence + step_ll
+        self._weight = self._decay * self._weight + 1.0
+        mean_ll = self._evidence / self._weight
+        e = self._evidence - self._evidence.max()
+        p = np.exp(e)
+        p /= p.sum()
+        b = int(np.argmax(p))
+        progress = np.clip(self.forward.progress, 0.0, 1.0)
+        variance = self.forward.progress_variance
+        restarted = bool(self.forward.entries[b] > self._entries[b])
+        self._entries = self.forward.entries.copy()
+        dist = self.distance_of(float(mean_ll[b]))
+        valid = dist <= self.null_distance and math.sqrt(float(variance[b])) <= self.max_spread
+        self._state = FollowState(
+            best=self.names[b], progress=float(progress[b]), variance=float(variance[b]),
+            probabilities={n: float(v) for n, v in zip(self.names, p)},
+            progress_by={n: float(v) for n, v in zip(self.names, progress)},
+            valid=bool(valid), loglik=float(mean_ll[b]), distance=dist, restarted=restarted,
+            loglik_by={n: float(v) for n, v in zip(self.names, mean_ll)})
+        return self._state

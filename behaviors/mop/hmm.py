@@ -1,0 +1,144 @@
+"""Template HMMs (MOP section 3.2.1): left-to-right states built from recorded samples.
+
+A template is one recording of an action, ``(n, d)`` samples regularly spaced in time. Each sample
+becomes one state whose observation probability is a Gaussian centred on the (standardised)
+sample with a shared relative ``sigma`` (equation 1). All templates of a set are standardised by
+one per-column scale (:func:`behaviors.mop.features.fit_scale`) and stacked into one
+:class:`TemplateBank` so the forward algorithm runs over every template at once.
+
+Transitions (:class:`Transitions`) go left to right: self (offset 0), next (+1) and skips
+(+2, +3, ...) so a performer may be up to about twice as fast as the recording, a small backward
+transition (-1) so they can go back, and a small restart probability (back to the first state)
+so a new performance of the action is picked up after the last one ended.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from behaviors.mop.features import fit_scale
+from tabletop.frames import InputError
+
+
+class TemplateError(InputError):
+    """A template set cannot be used: too few samples, mismatched columns, non-finite values."""
+
+
+@dataclass(frozen=True)
+class Transitions:
+    """Left-to-right transition weights, per step (normalised to sum to 1 when used).
+
+    ``forward[o]`` is the weight of moving ``o`` states ahead (``forward[0]`` self, ``forward[1]``
+    next, higher offsets skips); ``backward`` the weight of moving one state back; ``restart`` the
+    probability per step of a new performance starting at the first state. MOP's own model is
+    ``Transitions(forward=(0.5, 0.5), backward=0.0, restart=0.0)``.
+    """
+
+    forward: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1)
+    backward: float = 0.02
+    restart: float = 1e-4
+
+    def __post_init__(self) -> None:
+        w = np.asarray(self.forward, dtype=float)
+        if w.ndim != 1 or w.size < 1 or not np.all(np.isfinite(w)) or np.any(w < 0):
+            raise TemplateError(f"transition weights must be non-negative numbers, got {self.forward}")
+        if not (np.isfinite(self.backward) and self.backward >= 0):
+            raise TemplateError(f"backward transition must be >= 0, got {self.backward}")
+        if w.sum() + self.backward <= 0:
+            raise TemplateError("transition weights must not all be zero")
+        if not (0.0 <= self.restart < 1.0):
+            raise TemplateError(f"restart probability must be in [0, 1), got {self.restart}")
+
+    def weights(self) -> tuple[float, np.ndarray]:
+        """(backward weight, forward weights) normalised so that all of them sum to 1."""
+        w = np.asarray(self.forward, dtype=float)
+        total = w.sum() + self.backward
+        return self.backward / total, w / total
+
+    def mean_speed(self) -> float:
+        """The prior's expected advance in states per step."""
+        b, w = self.weights()
+        return float(np.dot(np.arange(w.size), w) - b)
+
+
+@dataclass(frozen=True)
+class TemplateBank:
+    """Every template of a set, standardised and stacked: ``means[starts[k] : starts[k] + lengths[k]]``
+    are the states of template ``names[k]``. ``center`` and ``scale`` (d,) map a raw sample x to
+    ``(x - center) / scale``."""
+
+    names: tuple[str, ...]
+    means: np.ndarray
+    starts: np.ndarray
+    lengths: np.ndarray
+    center: np.ndarray
+    scale: np.ndarray
+
+    @property
+    def dim(self) -> int:
+        return int(self.means.shape[1])
+
+    def template(self, k: int) -> np.ndarray:
+        """Standardised states of template ``k`` (n_k, d)."""
+        s = int(self.starts[k])
+        return self.means[s:s + int(self.lengths[k])]
+
+
+def check_templates(templates: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Validate a template set and return it as float arrays ``(n_i, d)``; raises TemplateError."""
+    if not templates:
+        raise TemplateError("no templates given: at least one action template is needed")
+    out: dict[str, np.ndarray] = {}
+    dim: int | None = None
+    first = ""
+    for name, data in templates.items():
+        if not isinstance(name, str) or not name:
+            raise TemplateError(f"template names must be non-empty strings, got {name!r}")
+        try:
+            a = np.asarray(data, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise TemplateError(f"template {name!r}: not a numeric array ({exc})") from None
+        if a.ndim == 1:
+            a = a[:, None]
+        if a.ndim != 2:
+            raise TemplateError(f"template {name!r}: expected samples x features, got shape {a.shape}")
+        if a.shape[0] < 2:
+            raise TemplateError(
+                f"template {name!r}: has {a.shape[0]} sample(s), needs at least 2 to follow progress")
+        if a.shape[1] < 1:
+            raise TemplateError(f"template {name!r}: has no feature columns")
+        bad = np.argwhere(~np.isfinite(a))
+        if bad.size:
+            i, j = (int(v) for v in bad[0])
+            raise TemplateError(
+                f"template {name!r}: sample {i}, feature {j} is {a[i, j]} (every value must be finite)")
+        if dim is None:
+            dim, first = a.shape[1], name
+        elif a.shape[1] != dim:
+            raise TemplateError(
+                f"template {name!r}: has {a.shape[1]} feature columns but template {first!r} has {dim}; "
+                "every template of a set must have the same features")
+        out[name] = a
+    return out
+
+
+def build_bank(templates: Mapping[str, np.ndarray], relative_floor: float = 0.05) -> TemplateBank:
+    """Validate, standardise (one pooled per-column scale) and stack a template set."""
+    checked = check_templates(templates)
+    arrays = list(checked.values())
+    center, scale = fit_scale(arrays, relative_floor)
+    lengths = np.array([a.shape[0] for a in arrays], dtype=np.intp)
+    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.intp)
+    means = np.ascontiguousarray(np.concatenate([(a - center) / scale for a in arrays], axis=0))
+    return TemplateBank(tuple(checked), means, starts, lengths, center, scale)
+
+
+def emission_loglik(z: np.ndarray, states: np.ndarray, sigma: float) -> np.ndarray:
+    """Log of equation 1 for a standardised sample ``z`` (d,) against states (n, d): the Gaussian
+    log-density with standard deviation ``sigma`` (in units of the standardised features)."""
+    d = states.shape[1]
+    sq = np.sum((states - z) ** 2, axis=1)
+    return -0.5 * sq / sigma ** 2 - d * np.log(sigma) - 0.5 * d * np.log(2.0 * np.pi)
