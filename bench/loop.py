@@ -1,0 +1,70 @@
+"""Whole-loop benchmark: the headless installation, 1280x720 view.
+
+For each configuration: the loop unpaced (as fast as it can tick: ticks per second) and paced at
+60 Hz (per-stage milliseconds, median and p99, capture-to-render latency). Configurations run
+interleaved in rounds so drifting machine speed favours none.
+Budgets (DESIGN.md): >= 60 ticks/s headless; capture-to-render p99 <= 20 ms.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np  # noqa: E402
+
+from bench.common import emit  # noqa: E402
+from tabletop.app import build_live  # noqa: E402
+from tabletop.config import load_config, validate_config  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+VIEW = {"headless": True, "size": [1280, 720], "overlay": True}
+
+
+def configs() -> dict[str, dict]:
+    out = {"scripted_view": validate_config(
+        {"sources": [{"kind": "scripted", "pucks": [1, 2]}], "view": VIEW}, "bench", ROOT)}
+    default = load_config(ROOT / "config.yaml")
+    default["view"] = dict(default["view"], headless=True, size=[1280, 720])
+    out["default_config"] = default
+    return out
+
+
+def measure(cfg: dict, seconds: float, paced: bool) -> dict[str, float]:
+    inst = build_live(cfg, headless=True)
+    inst.loop.paced = paced
+    ticks = inst.loop.run(seconds=seconds)
+    st = inst.loop.stats
+    fig = {"ticks": ticks, "ticks_per_s": ticks / seconds}
+    for stage, d in st.samples.items():
+        if d:
+            a = np.asarray(d) * 1e3
+            fig[f"{stage}_median_ms"] = float(np.median(a))
+            fig[f"{stage}_p99_ms"] = float(np.percentile(a, 99))
+    return fig
+
+
+def main() -> None:
+    cfgs = configs()
+    rounds, seconds = 3, 4.0
+    results: dict[str, dict[str, list[float]]] = {}
+    for _ in range(rounds):
+        for name, cfg in cfgs.items():
+            for paced in (False, True):
+                key = f"{name}_{'paced60' if paced else 'unpaced'}"
+                for k, v in measure(cfg, seconds, paced).items():
+                    results.setdefault(key, {}).setdefault(k, []).append(v)
+    figures = {}
+    for key, figs in results.items():
+        for k, vals in figs.items():
+            figures[f"{key}.{k}"] = float(np.median(vals))
+    budgets = {"*_unpaced.ticks_per_s": ">= 60", "*_paced60.capture_age_p99_ms": "<= 20"}
+    emit("loop", figures, budgets)
+
+
+if __name__ == "__main__":
+    main()

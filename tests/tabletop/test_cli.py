@@ -1,0 +1,88 @@
+"""The command line in a subprocess, as outside scripts call it."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def tabletop(*args, **kw) -> subprocess.CompletedProcess:
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    return subprocess.run([sys.executable, "-m", "tabletop", *args], capture_output=True,
+                          text=True, cwd=kw.pop("cwd", ROOT), env=env, timeout=120, **kw)
+
+
+def frames_of(path: Path) -> list[dict]:
+    lines = path.read_text().splitlines()
+    assert json.loads(lines[0])["format"] == "tabletop-session"
+    return [json.loads(line) for line in lines[1:]]
+
+
+def test_run_headless_two_seconds_records_consecutive_frames(tmp_path):
+    out = tmp_path / "run.jsonl"
+    r = tabletop("run", "--config", "config.yaml", "--headless", "--seconds", "2",
+                 "--record", str(out))
+    assert r.returncode == 0, r.stderr
+    assert r.stdout == ""  # no banner, no noise on stdout
+    frames = frames_of(out)
+    seqs = [f["seq"] for f in frames]
+    assert seqs == list(range(len(seqs)))
+    assert frames[-1]["t"] - frames[0]["t"] == pytest.approx(2.0, abs=0.2)
+    assert all(len(f["pucks"]) >= 1 for f in frames[len(frames) // 2:])
+
+
+def test_sigterm_ends_cleanly_with_a_complete_recording(tmp_path):
+    out = tmp_path / "term.jsonl"
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
+                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and (not out.exists() or out.stat().st_size < 20_000):
+        time.sleep(0.1)
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=30)
+    assert p.returncode == 0, err
+    assert "SIGTERM received" in err and "Traceback" not in err
+    text = out.read_text()
+    assert text.endswith("\n")
+    frames = frames_of(out)
+    assert [f["seq"] for f in frames] == list(range(len(frames)))
+
+
+def test_version_and_help():
+    r = tabletop("--version")
+    assert r.returncode == 0 and r.stdout.startswith("tabletop ")
+    r = tabletop("--help")
+    assert r.returncode == 0
+    for cmd in ("run", "replay"):
+        assert cmd in r.stdout
+        sub = tabletop(cmd, "--help")
+        assert sub.returncode == 0 and "usage: tabletop " + cmd in sub.stdout
+
+
+def test_bad_config_is_one_line_not_a_traceback(tmp_path):
+    cfg = tmp_path / "bad.yaml"
+    cfg.write_text("sources:\n  - kind: scripted\n    pucks: seven\n")
+    r = tabletop("run", "--config", str(cfg), "--headless", "--seconds", "1")
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "sources[0].pucks" in lines[0] and "bad.yaml" in lines[0]
+
+
+def test_replay_of_a_missing_file_is_one_line(tmp_path):
+    r = tabletop("replay", str(tmp_path / "absent.jsonl"))
+    assert r.returncode == 2 and "not found" in r.stderr and "Traceback" not in r.stderr
+
+
+@pytest.mark.parametrize("seconds", ["0", "-3"])
+def test_bad_seconds(seconds):
+    r = tabletop("run", "--headless", "--seconds", seconds)
+    assert r.returncode == 2 and "--seconds" in r.stderr

@@ -1,0 +1,109 @@
+"""config.yaml validation: every bad input names the file, the key path and what is expected."""
+
+from pathlib import Path
+
+import pytest
+
+from tabletop.config import load_config
+from tabletop.schema import ConfigError
+
+GOOD = """\
+table: {width: 1.2, height: 0.8}
+sources:
+  - kind: scripted
+    name: visitor
+    pucks: [1, 2]
+"""
+
+
+def write(tmp_path: Path, text: str) -> Path:
+    p = tmp_path / "config.yaml"
+    p.write_text(text)
+    return p
+
+
+def error_of(tmp_path: Path, text: str) -> str:
+    with pytest.raises(ConfigError) as info:
+        load_config(write(tmp_path, text))
+    return str(info.value)
+
+
+def test_good_config_fills_defaults(tmp_path):
+    cfg = load_config(write(tmp_path, GOOD))
+    assert cfg["loop"]["rate_hz"] == 60.0
+    assert cfg["view"]["size"] == [1280, 720]
+    assert cfg["sources"][0] == {"kind": "scripted", "name": "visitor", "pucks": [1, 2], "seed": 0}
+
+
+def test_shipped_config_is_valid():
+    cfg = load_config(Path(__file__).resolve().parents[2] / "config.yaml")
+    assert cfg["sources"], "the default installation has a source"
+
+
+def test_unknown_key_names_its_path(tmp_path):
+    msg = error_of(tmp_path, GOOD + "view:\n  sise: [640, 480]\n")
+    assert "config.yaml" in msg and "view.sise" in msg and "unknown key" in msg
+    assert "size" in msg  # says what would be right
+
+
+def test_unknown_key_inside_a_component(tmp_path):
+    msg = error_of(tmp_path, GOOD.replace("pucks: [1, 2]", "pucks: [1, 2]\n    speed: 3"))
+    assert "sources[0].speed" in msg and "unknown key" in msg
+
+
+def test_wrong_type(tmp_path):
+    msg = error_of(tmp_path, GOOD.replace("width: 1.2", "width: wide"))
+    assert "table.width" in msg and "expected a number" in msg and "'wide'" in msg
+
+
+def test_wrong_type_in_list_item(tmp_path):
+    msg = error_of(tmp_path, GOOD.replace("pucks: [1, 2]", "pucks: [1, two]"))
+    assert "sources[0].pucks[1]" in msg and "integer" in msg
+
+
+def test_out_of_range(tmp_path):
+    msg = error_of(tmp_path, GOOD + "loop: {rate_hz: 0}\n")
+    assert "loop.rate_hz" in msg and "out of range" in msg and "[1.0, 1000.0]" in msg
+
+
+def test_missing_referenced_file(tmp_path):
+    msg = error_of(tmp_path, GOOD + "calibration: nowhere/calib.yaml\n")
+    assert "calibration" in msg and "does not exist" in msg and "nowhere/calib.yaml" in msg
+
+
+def test_referenced_file_resolved_next_to_config(tmp_path):
+    (tmp_path / "calib.yaml").write_text("{}\n")
+    cfg = load_config(write(tmp_path, GOOD + "calibration: calib.yaml\n"))
+    assert cfg["calibration"] == tmp_path / "calib.yaml"
+
+
+def test_yaml_syntax_error_names_the_line(tmp_path):
+    msg = error_of(tmp_path, GOOD + "view:\n  size: [1280, 720\n  overlay: true\n")
+    assert "YAML syntax error" in msg and "line " in msg
+    line = int(msg.split("line ")[1].split(",")[0])
+    assert 8 <= line <= 10  # the unclosed bracket is on line 8 of the file
+
+
+def test_missing_required_key(tmp_path):
+    msg = error_of(tmp_path, "table: {width: 1.0, height: 1.0}\n")
+    assert "sources" in msg and "missing" in msg
+
+
+def test_unknown_component_kind(tmp_path):
+    msg = error_of(tmp_path, GOOD.replace("kind: scripted", "kind: telepathy"))
+    assert "sources[0].kind" in msg and "telepathy" in msg and "scripted" in msg
+
+
+def test_duplicate_component_names(tmp_path):
+    text = GOOD + "  - kind: scripted\n    name: visitor\n"
+    msg = error_of(tmp_path, text)
+    assert "sources[1].name" in msg and "duplicate" in msg
+
+
+def test_empty_file(tmp_path):
+    assert "empty" in error_of(tmp_path, "")
+
+
+def test_missing_config_file(tmp_path):
+    with pytest.raises(ConfigError, match="not found"):
+        load_config(tmp_path / "absent.yaml")

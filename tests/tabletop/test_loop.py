@@ -1,0 +1,157 @@
+"""The main loop: one frame per tick, increasing seq and times, no pile-up behind a slow sink."""
+
+import threading
+import time
+
+import pytest
+
+from tabletop.frames import CharacterState, Frame, Observation, PuckMeasurement, SourceHealth
+from tabletop.loop import CommandQueue, LatestMeasurements, LiveInputs, Loop
+from tabletop.plugins.scripted import ScriptedSource
+from tracking.visitor import ScriptedVisitor
+
+
+class Collect:
+    """A recording sink that keeps every frame it is given, optionally slow."""
+
+    name = "collect"
+
+    def __init__(self, delay: float = 0.0) -> None:
+        self.frames: list[Frame] = []
+        self.consumed_at: list[float] = []
+        self.delay = delay
+        self.closed = False
+
+    def consume(self, frame: Frame) -> None:
+        if self.delay:
+            time.sleep(self.delay)
+        self.frames.append(frame)
+        self.consumed_at.append(time.monotonic())
+
+    def close(self) -> None:
+        self.closed = True
+
+
+class CountingSource:
+    """A source in its own thread producing observations at ``hz``, keeping only the newest."""
+
+    def __init__(self, hz: float) -> None:
+        self.name, self.hz = "counting", hz
+        self.produced = 0
+        self._latest: Observation | None = None
+        self._stop = threading.Event()
+        self._lock = threading.Lock()
+        self.closed = False
+
+    def open(self) -> None:
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.wait(1.0 / self.hz):
+            t = time.monotonic()
+            self.produced += 1
+            obs = Observation(self.name, t, self.produced,
+                              pucks=(PuckMeasurement(7, 0.1 * self.produced, 0.2, 0.0, t),))
+            with self._lock:
+                self._latest = obs
+
+    def latest(self) -> Observation | None:
+        with self._lock:
+            return self._latest
+
+    def health(self) -> SourceHealth:
+        return SourceHealth(self.name, True)
+
+    def close(self) -> None:
+        self._stop.set()
+        self._thread.join()
+        self.closed = True
+
+
+def scripted_loop(sinks, engines=(), rate=120.0) -> Loop:
+    src = ScriptedSource("visitor", ScriptedVisitor((1.2, 0.8), (1, 2), seed=1))
+    return Loop(LiveInputs([src], LatestMeasurements()), list(engines), sinks, rate_hz=rate)
+
+
+def test_n_ticks_make_n_frames_with_rising_seq_and_time():
+    sink = Collect()
+    ran = scripted_loop([sink]).run(max_ticks=50)
+    assert ran == 50 and len(sink.frames) == 50
+    assert [f.seq for f in sink.frames] == list(range(50))
+    ts = [f.t for f in sink.frames]
+    assert all(b > a for a, b in zip(ts, ts[1:]))
+    assert all(len(f.pucks) == 2 for f in sink.frames)
+    assert sink.closed
+
+
+def test_fixed_rate_is_kept():
+    sink = Collect()
+    scripted_loop([sink], rate=50.0).run(max_ticks=40)
+    span = sink.frames[-1].t - sink.frames[0].t
+    assert span == pytest.approx(39 / 50.0, rel=0.15)
+
+
+def test_slow_sink_does_not_pile_up_frames():
+    """A sink taking 3 periods per frame: ticks are skipped, each frame carries the newest input,
+    and nothing queues (the input age stays below two sink durations)."""
+    source = CountingSource(hz=200.0)
+    sink = Collect(delay=0.05)
+    loop = Loop(LiveInputs([source], LatestMeasurements()), [], [sink], rate_hz=60.0)
+    loop.run(seconds=1.0)
+    n = len(sink.frames)
+    assert 12 <= n <= 22  # about 1 s / 50 ms, not 60
+    assert loop.stats.skipped >= 20
+    lags = [c - f.t for f, c in zip(sink.frames, sink.consumed_at)]
+    assert max(lags[2:]) < 0.1
+    assert source.closed
+
+
+def test_engines_run_in_order_and_see_earlier_characters():
+    class Follower:
+        def __init__(self, name, target):
+            self.name, self.target = name, target
+
+        def step(self, frame):
+            if self.target is None:
+                p = frame.puck(1)
+                return (CharacterState(self.name, p.x, p.y, 0.0),)
+            c = frame.character(self.target)
+            return (CharacterState(self.name, c.x + 0.1, c.y, 0.0),)
+
+    sink = Collect()
+    scripted_loop([sink], [Follower("a", None), Follower("b", "a")]).run(max_ticks=5)
+    f = sink.frames[-1]
+    assert f.character("b").x == pytest.approx(f.character("a").x + 0.1)
+
+
+def test_a_failing_engine_does_not_stop_the_installation():
+    class Broken:
+        name = "broken"
+        calls = 0
+
+        def step(self, frame):
+            Broken.calls += 1
+            if Broken.calls > 2:
+                raise RuntimeError("boom")
+            return (CharacterState("b", 0.5, 0.5, 0.0),)
+
+    sink = Collect()
+    loop = scripted_loop([sink], [Broken()])
+    assert loop.run(max_ticks=10) == 10
+    assert loop.stats.errors["engine broken"] == 8
+    # the last good characters are kept on screen
+    assert sink.frames[-1].character("b") is not None
+
+
+def test_commands_reach_the_next_frame_once():
+    q = CommandQueue()
+    sink = Collect()
+    loop = scripted_loop([sink])
+    loop.commands = q
+    loop.inputs.open()
+    loop.tick()
+    q.put("designer.record")
+    loop.tick()
+    loop.tick()
+    assert [f.commands for f in sink.frames] == [(), ("designer.record",), ()]
