@@ -86,3 +86,10 @@ def test_replay_of_a_missing_file_is_one_line(tmp_path):
 def test_bad_seconds(seconds):
     r = tabletop("run", "--headless", "--seconds", seconds)
     assert r.returncode == 2 and "--seconds" in r.stderr
+
+
+def test_building_the_command_line_imports_no_pygame():
+    code = ("import sys; from tabletop.cli import build_parser; build_parser(); "
+            "print('pygame' in sys.modules, 'cv2' in sys.modules)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert r.stdout.split() == ["False", "False"], r.stderr
