@@ -50,8 +50,10 @@ class LatestMeasurements:
 class LoopStats:
     """Per-stage durations of the last ``window`` ticks, in seconds, and the tick rate.
 
-    ``capture_age`` is capture-to-render latency: from the frame's input capture time to the end
-    of its sinks. Read by the view's overlay and by the benchmarks.
+    Stages: ``inputs`` (sources and tracker), ``engines`` and ``sinks`` (all of them, and each
+    as ``engine:NAME`` / ``sink:NAME``, the view's being its render time), ``tick`` (the whole
+    tick) and ``capture_age``, the capture-to-render latency: from the frame's input capture time
+    to the end of its sinks. Read by the view's overlay and by the benchmarks.
     """
 
     def __init__(self, window: int = 600) -> None:
@@ -188,6 +190,8 @@ class Loop:
             frame = Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
                           streams=frame.streams, characters=frame.characters,
                           commands=frame.commands + commands, health=frame.health)
+        st = self.stats
+        te = t1
         for engine in self.engines:
             try:
                 produced = tuple(engine.step(frame))
@@ -196,14 +200,18 @@ class Loop:
                 self._report(f"engine {engine.name}")
                 produced = self._last_characters.get(engine.name, ())
             frame = frame.with_characters(produced)
+            te, t_prev = self.clock(), te
+            st.record(f"engine:{engine.name}", te - t_prev)
         t2 = self.clock()
+        ts = t2
         for sink in self.sinks:
             try:
                 sink.consume(frame)
             except Exception:
                 self._report(f"sink {sink.name}")
+            ts, t_prev = self.clock(), ts
+            st.record(f"sink:{sink.name}", ts - t_prev)
         t3 = self.clock()
-        st = self.stats
         st.record("inputs", t1 - t0)
         st.record("engines", t2 - t1)
         st.record("sinks", t3 - t2)
