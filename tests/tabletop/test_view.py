@@ -106,3 +106,20 @@ def test_overlay_lists_rates_and_sources():
     text = "\n".join(overlay_lines(f, st))
     assert "60.0 fps" in text and "engines" in text and "1.00 ms" in text
     assert "camera: DOWN" in text and "reconnecting" in text
+
+
+def test_sprite_is_drawn_rotated_to_the_heading(tmp_path):
+    """A sprite facing +x, half red (front) half blue (back), turned to face +y on the table."""
+    img = pygame.Surface((40, 20))
+    img.fill((0, 0, 255))
+    img.fill((255, 0, 0), pygame.Rect(20, 0, 20, 20))
+    path = tmp_path / "bug.png"
+    pygame.image.save(img, str(path))
+    pygame.display.init()
+    r = Renderer(TABLE, SIZE, margin=24, sprites={"bug": path})
+    c = CharacterState("bug", 0.6, 0.4, math.pi / 2, size=0.1)
+    surface = render(r, Frame(seq=0, t=0.0, characters=(c,)))
+    front = r.map.point(0.6, 0.4 + 0.025)
+    back = r.map.point(0.6, 0.4 - 0.025)
+    assert pixel(surface, front) == (255, 0, 0)
+    assert pixel(surface, back) == (0, 0, 255)
