@@ -1,0 +1,340 @@
+"""Puppet Master engine: a trained :class:`Behavior` and live :class:`Reactor` instances.
+
+Paper section 4.1 loop, once per generation step (1/rate seconds of main input)::
+
+    e = BestMatch(I_t, R_t, I, R); newMovement = Generate(e); R.append(...); I.append(input)
+
+The best match uses the windows of main and reactor up to the previous step (the paper: "new
+user input is not used until the subsequent iteration"); the target relative position is then
+placed in the main character's newest frame, which keeps the reaction as fresh as the input.
+
+Everything is causal and incremental: a step uses only main samples at or before its grid time,
+costs the same on the first and the millionth step, and the same past gives the same output to
+the last digit (no randomness at all). Units: seconds, table metres, radians.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+import numpy as np
+
+from behaviors.puppet_master import features as ft
+from behaviors.puppet_master.detail import DetailPatch, direction_detail
+from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
+                                                keep_on_table, limit_turn, rotate_step,
+                                                step_around, target_position)
+from behaviors.puppet_master.resample import CausalResampler, resample_uniform
+from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
+from tabletop.frames import InputError, wrap_angle
+
+COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
+
+
+class DemonstrationError(InputError):
+    """A demonstration that cannot be trained on; the message says what and where."""
+
+
+class ParameterError(InputError):
+    """A behaviour or reactor parameter out of range; the message names it."""
+
+
+@dataclass(frozen=True)
+class Params:
+    """Behaviour parameters (defaults from the paper where it gives them).
+
+    rate_hz: generation rate (40). window: neighbourhood n in samples (40 = one second).
+    min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
+    the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change
+    (2 pi: a half turn takes half a second; the paper gives no figure). detail_levels: Haar
+    levels (4, cut at fs/16). patch: detail patch length in steps (16). detail_clip: rad.
+    ratio: target situation:coherence choice ratio (1 = 1:1). balance_gain, share_window: see
+    similarity.Balancer. w_*: designer weights per feature on top of the inverse spreads.
+    max_extrapolation: s a live main pose may be extrapolated past its newest sample.
+    """
+
+    rate_hz: float = 40.0
+    window: int = 40
+    min_speed: float = 0.01
+    smooth: int = 3
+    max_turn_rate: float = 2.0 * math.pi
+    detail_levels: int = 4
+    patch: int = 16
+    detail_clip: float = math.pi / 3
+    ratio: float = 1.0
+    balance_gain: float = 0.1
+    share_window: int = 200
+    w_velocity: float = 1.0
+    w_rel_position: float = 1.0
+    w_rel_look: float = 1.0
+    w_norm_look: float = 1.0
+    w_delta_direction: float = 1.0
+    max_extrapolation: float = 0.1
+
+    def check(self) -> None:
+        """Raise ParameterError for a value out of range."""
+        ints = {"window": 2, "smooth": 1, "detail_levels": 1, "patch": 1, "share_window": 1}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in ints:
+                if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < ints[f.name]:
+                    raise ParameterError(
+                        f"behaviour parameter {f.name}: {v!r} must be an integer >= {ints[f.name]}")
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
+                    or not math.isfinite(float(v)):
+                raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number")
+            positive = f.name in ("rate_hz", "max_turn_rate", "ratio", "balance_gain",
+                                  "detail_clip")
+            if (positive and v <= 0) or v < 0:
+                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
+                                     f"{'> 0' if positive else '>= 0'}")
+
+
+def _check_demo(demo: Any, p: Params) -> np.ndarray:
+    try:
+        a = np.array(demo, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise DemonstrationError(f"demonstration is not a numeric table: {exc}") from None
+    if a.ndim != 2 or a.shape[1] != len(COLUMNS):
+        raise DemonstrationError(
+            f"demonstration has shape {a.shape}, expected (rows, {len(COLUMNS)}) with columns "
+            f"{','.join(COLUMNS)}")
+    bad = ~np.isfinite(a)
+    if bad.any():
+        r, c = (int(v) for v in np.argwhere(bad)[0])
+        raise DemonstrationError(
+            f"demonstration row {r + 1}: column {COLUMNS[c]} is {a[r, c]!r}, not a finite number")
+    if a.shape[0] < 2:
+        raise DemonstrationError(f"demonstration has {a.shape[0]} row(s), needs at least 2")
+    steps = np.diff(a[:, 0])
+    if (steps <= 0).any():
+        r = int(np.flatnonzero(steps <= 0)[0]) + 1
+        raise DemonstrationError(
+            f"demonstration row {r + 1}: time t={a[r, 0]!r} is not after the previous row's "
+            f"t={a[r - 1, 0]!r} (times must strictly increase)")
+    need = (p.window + 1) / p.rate_hz
+    duration = float(a[-1, 0] - a[0, 0])
+    if duration + 1e-9 < need:
+        raise DemonstrationError(
+            f"demonstration lasts {duration:.3f} s, needs at least {need:.3f} s for a window of "
+            f"{p.window} samples at {p.rate_hz:g} Hz")
+    return a
+
+
+class Behavior:
+    """A trained behaviour: the resampled demonstration and everything precomputed from it.
+
+    Shared read-only by any number of reactors. Build with :meth:`train`.
+    """
+
+    def __init__(self, demo: np.ndarray, params: Params) -> None:
+        p = self.params = params
+        self.demo = demo
+        self.t, data = resample_uniform(demo[:, 0], demo[:, 1:], (2, 5), p.rate_hz)
+        self.main = data[:, 0:3]
+        self.react = data[:, 3:6]
+        n = p.window
+        N = self.t.size
+        f = self.features = ft.pair_features(self.main, self.react, p.rate_hz, p.min_speed)
+        self.scales = ft.feature_scales(f, p.w_velocity, p.w_rel_position, p.w_rel_look,
+                                        p.w_norm_look, p.w_delta_direction)
+        self.situation_vectors = ft.situation_vectors(f, self.scales)
+        self.coherence_vectors = ft.coherence_vectors(f, self.scales)
+        # a window ending at j needs n samples and a following target sample j + 1
+        self.valid = np.zeros(N, dtype=bool)
+        self.valid[n - 1:N - 1] = True
+        self.detail = direction_detail(f.move_react, p.detail_levels, p.detail_clip)
+        self.start_pose = (float(f.rel_fwd[0]), float(f.rel_left[0]), float(f.rel_look[0]))
+        xs = np.concatenate([self.main[:, 0], self.react[:, 0]])
+        ys = np.concatenate([self.main[:, 1], self.react[:, 1]])
+        self.bounds = (float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max()))
+
+    @classmethod
+    def train(cls, demo: np.ndarray, rate_hz: float = 40.0, window: int = 40,
+              **params: Any) -> "Behavior":
+        """Train from ``demo`` (n, 7): t, main_x, main_y, main_dir, react_x, react_y, react_dir
+        (seconds, metres, radians) at any sampling rate. Raises DemonstrationError for a bad
+        demonstration and ParameterError for an unknown or out-of-range parameter."""
+        known = {f.name for f in fields(Params)}
+        unknown = sorted(set(params) - known)
+        if unknown:
+            raise ParameterError(f"unknown behaviour parameter(s) {', '.join(unknown)}; "
+                                 f"known: {', '.join(sorted(known))}")
+        p = Params(rate_hz=rate_hz, window=window, **params)
+        p.check()
+        return cls(_check_demo(demo, p), p)
+
+    @property
+    def samples(self) -> int:
+        """Training samples at the generation rate."""
+        return int(self.t.size)
+
+    def param_dict(self) -> dict[str, Any]:
+        """The parameters as plain values (for saving beside the demonstration)."""
+        return asdict(self.params)
+
+
+class Reactor:
+    """One live reacting character driven by a main character's poses.
+
+    ``table``: (x0, y0, x1, y1) metres the reactor stays inside. ``max_catch_up``: seconds of
+    missed steps generated at once after an input gap; beyond that the grid skips ahead and
+    the reactor waits where it was (None: generate every step, as ``tabletop behave`` does).
+    """
+
+    def __init__(self, behavior: Behavior, table: tuple[float, float, float, float],
+                 max_catch_up: float | None = 1.0) -> None:
+        try:
+            x0, y0, x1, y1 = (float(v) for v in table)
+        except (TypeError, ValueError):
+            raise ParameterError(f"table {table!r} must be four numbers x0, y0, x1, y1") from None
+        if not all(math.isfinite(v) for v in (x0, y0, x1, y1)) or x1 <= x0 or y1 <= y0:
+            raise ParameterError(f"table {table!r} must have x0 < x1 and y0 < y1 (metres)")
+        self.behavior = behavior
+        self.table = (x0, y0, x1, y1)
+        self.max_catch_up = max_catch_up
+        p = behavior.params
+        self.dt = 1.0 / p.rate_hz
+        self.max_turn = p.max_turn_rate * self.dt
+        self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid)
+        self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
+        self._xs = np.zeros(ft.SITUATION_DIMS)
+        self._xc = np.zeros(ft.COHERENCE_DIMS)
+        self.started = False
+        self.t = math.nan
+        self.pose = (math.nan, math.nan, math.nan)
+        self.source = -1
+        self.last_choice = "situation"
+
+    # -- life cycle ---------------------------------------------------------------------------
+
+    def start(self, t: float, main_x: float, main_y: float, main_dir: float) -> tuple[float, float, float]:
+        """Start at time ``t``: the reactor takes the demonstration's first pose relative to its
+        main, carried onto this main pose (kept on the table); both are taken to have been at
+        rest for the last window. Returns the reactor pose."""
+        b, p = self.behavior, self.behavior.params
+        if not all(math.isfinite(v) for v in (t, main_x, main_y, main_dir)):
+            raise ParameterError(f"reactor start pose ({t}, {main_x}, {main_y}, {main_dir}) "
+                                 "is not finite")
+        md = wrap_angle(main_dir)
+        fwd, left, rel_look = b.start_pose
+        rx, ry = clamp_to_table(*target_position(main_x, main_y, md, fwd, left), self.table)
+        rd = wrap_angle(md + rel_look)
+        self.resampler = CausalResampler(p.max_extrapolation)
+        self.resampler.push(t, main_x, main_y, md)
+        self.t0, self.i = t, 0
+        self.t = t
+        self.pose = (rx, ry, rd)
+        self._last_step = (0.0, 0.0)
+        self.main_motion = ft.EntityMotion(main_x, main_y, md, p.rate_hz, p.min_speed)
+        self.react_motion = ft.EntityMotion(rx, ry, rd, p.rate_hz, p.min_speed)
+        f, l, rl = ft.relative_pose(main_x, main_y, md, rx, ry, rd)
+        ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl)
+        ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0)
+        self.situation.reset(np.tile(self._xs, (p.window, 1)))
+        self.coherence.reset(np.tile(self._xc, (p.window, 1)))
+        self.balancer = Balancer(p.ratio, p.balance_gain, p.share_window)
+        self.smoother = StepSmoother(p.smooth)
+        self.patch = DetailPatch(b.detail, p.patch)
+        self.source = -1
+        self.started = True
+        return self.pose
+
+    @property
+    def coherence_share(self) -> float:
+        """Running share (0..1) of coherence choices over the last few seconds."""
+        return self.balancer.share if self.started else 0.0
+
+    @property
+    def k(self) -> float:
+        """Current balancing weight on the coherence cost."""
+        return self.balancer.k if self.started else 1.0
+
+    def advance(self, t: float, main_x: float, main_y: float,
+                main_dir: float) -> list[tuple[float, float, float, float]]:
+        """Feed one main sample; returns the rows (t, x, y, dir) of every generation step now
+        due (grid times <= t). The first call starts the reactor and returns its start row.
+        A sample that is not finite or not later than the previous one is ignored."""
+        if not self.started:
+            self.start(t, main_x, main_y, main_dir)
+            return [(t, *self.pose)]
+        if not all(math.isfinite(v) for v in (t, main_x, main_y, main_dir)) \
+                or t <= (self.resampler.last_time or -math.inf):
+            return []
+        eps = 1e-9
+        rate = self.behavior.params.rate_hz
+        if self.max_catch_up is not None:
+            behind = t - (self.t0 + (self.i + 1) / rate)
+            if behind > self.max_catch_up:
+                self.i = int(math.floor((t - self.max_catch_up - self.t0) * rate))
+        rows: list[tuple[float, float, float, float]] = []
+        while True:  # steps strictly before this sample: extrapolate from earlier samples
+            g = self.t0 + (self.i + 1) / rate
+            if g >= t - eps:
+                break
+            rows.append(self._step(g, *self.resampler.at(g)))
+        self.resampler.push(t, main_x, main_y, main_dir)
+        while True:
+            g = self.t0 + (self.i + 1) / rate
+            if g > t + eps:
+                break
+            rows.append(self._step(g, *self.resampler.at(g)))
+        return rows
+
+    def update(self, t: float, main_x: float, main_y: float,
+               main_dir: float) -> tuple[float, float, float]:
+        """Feed one main sample and return the reactor pose at ``t``: the latest step's pose,
+        moved on by that step's velocity for the time since it (under 1/rate), so a display
+        faster than the generation rate sees smooth motion."""
+        self.advance(t, main_x, main_y, main_dir)
+        x, y, d = self.pose
+        lag = t - self.t
+        if 0.0 < lag < self.dt:
+            f = lag / self.dt
+            x, y = clamp_to_table(x + self._last_step[0] * f, y + self._last_step[1] * f,
+                                  self.table)
+        return x, y, d
+
+    # -- one generation step ------------------------------------------------------------------
+
+    def _step(self, g: float, mx: float, my: float, md: float) -> tuple[float, float, float, float]:
+        b, p = self.behavior, self.behavior.params
+        fe = b.features
+        # BestMatch over the windows ending at the previous step
+        js, cost_s = self.situation.best()
+        jc, cost_c = self.coherence.best()
+        use_c = self.balancer.choose(cost_s, cost_c)
+        target = (jc if use_c else js) + 1
+        self.last_choice = "coherence" if use_c else "situation"
+        self.source = target
+        # Generate: toward the target relative position at the target velocity
+        rx, ry, look = self.pose
+        tx, ty = target_position(mx, my, md, float(fe.rel_fwd[target]),
+                                 float(fe.rel_left[target]))
+        tx, ty = fit_target(mx, my, tx, ty, rx, ry, self.table)
+        sx, sy = step_around(mx, my, rx, ry, tx, ty, float(fe.v_react[target]) * self.dt)
+        sx, sy = self.smoother.push(sx, sy)
+        sx, sy = rotate_step(sx, sy, self.patch.next(target))
+        sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
+        rx, ry = rx + sx, ry + sy
+        if math.hypot(sx, sy) * p.rate_hz >= p.min_speed:
+            desired = math.atan2(sy, sx) + float(fe.norm_look_react[target])
+        else:  # at rest the look has no movement to be relative to: face as demonstrated
+            desired = md + float(fe.rel_look[target])
+        look = limit_turn(look, desired, self.max_turn)
+        # features of the new sample pair, into the search windows
+        vm, _, _ = self.main_motion.step(mx, my)
+        vr, move_r, ddir_r = self.react_motion.step(rx, ry)
+        fwd, left, rel_look = ft.relative_pose(mx, my, md, rx, ry, look)
+        ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
+        self.situation.push(self._xs)
+        ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr)
+        self.coherence.push(self._xc, target)
+        self.i += 1
+        self.t = g
+        self.pose = (rx, ry, look)
+        self._last_step = (sx, sy)
+        return g, rx, ry, look

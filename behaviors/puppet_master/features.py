@@ -1,0 +1,194 @@
+"""Features of a main/reactor pair (paper section 4.2), batch for training and per sample live.
+
+Per entity and sample i (sampled at the generation rate, dt = 1/rate):
+
+- velocity: |p_i - p_{i-1}| / dt, metres per second (0 at the first sample);
+- movement direction: atan2 of p_i - p_{i-1}; held from the previous sample while the entity
+  moves slower than ``min_speed`` (a still puck's jitter has no direction), and equal to the
+  look direction before the first movement;
+- normalised look direction: look - movement direction (0 = looking where it goes, pi = backing);
+- delta direction: change of movement direction from the previous sample;
+- relative position (reactor only): the reactor's position in the main character's frame,
+  ``fwd`` along the main's look direction and ``left`` to its left, metres;
+- relative look direction: reactor look - main look.
+
+All angles are wrapped to (-pi, pi]. For the distance computations every angle is embedded as a
+point on the unit circle (cos, sin): the squared distance between two embedded angles is
+4 sin^2(d/2) for a difference d, which is d^2 for small d and correct across the wrap at pi.
+
+Each feature is weighted by the inverse of its spread over the training data (standard deviation;
+for an angle the root mean square distance of its embedding from their mean; for the relative
+position, one spread for both axes so the geometry stays isotropic) with a floor per unit, so
+no unit dominates and a nearly constant feature does not turn its noise into the whole cost.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from tabletop.frames import wrap_angles
+
+SITUATION_DIMS = 6   # v_main, v_react, fwd, left, cos/sin relative look
+COHERENCE_DIMS = 7   # cos/sin normalised look, cos/sin delta direction, fwd, left, v_react
+
+SPEED_FLOOR = 0.02      # m/s
+POSITION_FLOOR = 0.02   # m
+ANGLE_FLOOR = 0.05      # rad
+
+
+@dataclass(frozen=True)
+class PairFeatures:
+    """Per-sample features of a pair; arrays of shape (n,). Units in the module docstring."""
+
+    v_main: np.ndarray
+    v_react: np.ndarray
+    move_main: np.ndarray
+    move_react: np.ndarray
+    norm_look_main: np.ndarray
+    norm_look_react: np.ndarray
+    rel_fwd: np.ndarray
+    rel_left: np.ndarray
+    rel_look: np.ndarray
+    ddir_main: np.ndarray
+    ddir_react: np.ndarray
+
+
+@dataclass(frozen=True)
+class Scales:
+    """Feature weights (1 / spread, times the designer's weight per feature)."""
+
+    v_main: float
+    v_react: float
+    rel_position: float
+    rel_look: float
+    norm_look: float
+    ddir: float
+
+
+def movement(pos: np.ndarray, look: np.ndarray, rate_hz: float,
+             min_speed: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Velocity (m/s), movement direction and delta direction (rad) of a path ``pos`` (n, 2)."""
+    n = pos.shape[0]
+    step = np.diff(pos, axis=0)
+    speed = np.zeros(n)
+    speed[1:] = np.hypot(step[:, 0], step[:, 1]) * rate_hz
+    raw = np.empty(n)
+    raw[0] = look[0]
+    raw[1:] = np.arctan2(step[:, 1], step[:, 0])
+    moving = speed >= min_speed
+    moving[0] = True
+    idx = np.maximum.accumulate(np.where(moving, np.arange(n), 0))
+    move = raw[idx]
+    ddir = np.zeros(n)
+    ddir[1:] = wrap_angles(np.diff(move))
+    return speed, move, ddir
+
+
+def pair_features(main: np.ndarray, react: np.ndarray, rate_hz: float,
+                  min_speed: float) -> PairFeatures:
+    """Features of ``main`` and ``react`` poses, each (n, 3) of x, y, look direction."""
+    vm, mm, ddm = movement(main[:, :2], main[:, 2], rate_hz, min_speed)
+    vr, mr, ddr = movement(react[:, :2], react[:, 2], rate_hz, min_speed)
+    dx = react[:, 0] - main[:, 0]
+    dy = react[:, 1] - main[:, 1]
+    c, s = np.cos(main[:, 2]), np.sin(main[:, 2])
+    return PairFeatures(
+        v_main=vm, v_react=vr, move_main=mm, move_react=mr,
+        norm_look_main=wrap_angles(main[:, 2] - mm), norm_look_react=wrap_angles(react[:, 2] - mr),
+        rel_fwd=c * dx + s * dy, rel_left=-s * dx + c * dy,
+        rel_look=wrap_angles(react[:, 2] - main[:, 2]), ddir_main=ddm, ddir_react=ddr)
+
+
+def angle_spread(a: np.ndarray) -> float:
+    """Root mean square distance of the angles' unit-circle embedding from its mean."""
+    r2 = float(np.mean(np.cos(a))) ** 2 + float(np.mean(np.sin(a))) ** 2
+    return math.sqrt(max(0.0, 1.0 - r2))
+
+
+def feature_scales(f: PairFeatures, w_velocity: float = 1.0, w_rel_position: float = 1.0,
+                   w_rel_look: float = 1.0, w_norm_look: float = 1.0,
+                   w_delta_direction: float = 1.0) -> Scales:
+    """Inverse-spread weights from training features, times the designer's weights."""
+    pos_spread = math.sqrt(float(np.var(f.rel_fwd)) + float(np.var(f.rel_left)))
+    return Scales(
+        v_main=w_velocity / max(float(np.std(f.v_main)), SPEED_FLOOR),
+        v_react=w_velocity / max(float(np.std(f.v_react)), SPEED_FLOOR),
+        rel_position=w_rel_position / max(pos_spread, POSITION_FLOOR),
+        rel_look=w_rel_look / max(angle_spread(f.rel_look), ANGLE_FLOOR),
+        norm_look=w_norm_look / max(angle_spread(f.norm_look_react), ANGLE_FLOOR),
+        ddir=w_delta_direction / max(angle_spread(f.ddir_react), ANGLE_FLOOR))
+
+
+def situation_vectors(f: PairFeatures, s: Scales) -> np.ndarray:
+    """(n, 6) situation-similarity vectors (4.3.1): velocities, relative position and look."""
+    return np.column_stack([
+        s.v_main * f.v_main, s.v_react * f.v_react,
+        s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
+        s.rel_look * np.cos(f.rel_look), s.rel_look * np.sin(f.rel_look)])
+
+
+def coherence_vectors(f: PairFeatures, s: Scales) -> np.ndarray:
+    """(n, 7) coherence vectors (4.3.2) of the reactor: normalised look, delta direction,
+    relative position, velocity."""
+    return np.column_stack([
+        s.norm_look * np.cos(f.norm_look_react), s.norm_look * np.sin(f.norm_look_react),
+        s.ddir * np.cos(f.ddir_react), s.ddir * np.sin(f.ddir_react),
+        s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
+        s.v_react * f.v_react])
+
+
+class EntityMotion:
+    """Live velocity / movement direction / delta direction of one entity, one sample a step."""
+
+    __slots__ = ("x", "y", "move", "rate_hz", "min_speed")
+
+    def __init__(self, x: float, y: float, look: float, rate_hz: float, min_speed: float) -> None:
+        self.x, self.y, self.move = x, y, look
+        self.rate_hz = rate_hz
+        self.min_speed = min_speed
+
+    def step(self, x: float, y: float) -> tuple[float, float, float]:
+        """Advance to (x, y); returns (velocity m/s, movement direction, delta direction)."""
+        dx, dy = x - self.x, y - self.y
+        self.x, self.y = x, y
+        speed = math.hypot(dx, dy) * self.rate_hz
+        prev = self.move
+        if speed >= self.min_speed:
+            self.move = math.atan2(dy, dx)
+        d = math.remainder(self.move - prev, math.tau)
+        return speed, self.move, (math.pi if d == -math.pi else d)
+
+
+def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
+                  rd: float) -> tuple[float, float, float]:
+    """Reactor pose in the main's frame: (fwd m, left m, relative look rad)."""
+    c, s = math.cos(md), math.sin(md)
+    dx, dy = rx - mx, ry - my
+    d = math.remainder(rd - md, math.tau)
+    return c * dx + s * dy, -s * dx + c * dy, (math.pi if d == -math.pi else d)
+
+
+def situation_row(out: np.ndarray, s: Scales, v_main: float, v_react: float, fwd: float,
+                  left: float, rel_look: float) -> None:
+    """Write one live situation vector into ``out`` (6,), as :func:`situation_vectors`."""
+    out[0] = s.v_main * v_main
+    out[1] = s.v_react * v_react
+    out[2] = s.rel_position * fwd
+    out[3] = s.rel_position * left
+    out[4] = s.rel_look * math.cos(rel_look)
+    out[5] = s.rel_look * math.sin(rel_look)
+
+
+def coherence_row(out: np.ndarray, s: Scales, norm_look: float, ddir: float, fwd: float,
+                  left: float, v_react: float) -> None:
+    """Write one live coherence vector into ``out`` (7,), as :func:`coherence_vectors`."""
+    out[0] = s.norm_look * math.cos(norm_look)
+    out[1] = s.norm_look * math.sin(norm_look)
+    out[2] = s.ddir * math.cos(ddir)
+    out[3] = s.ddir * math.sin(ddir)
+    out[4] = s.rel_position * fwd
+    out[5] = s.rel_position * left
+    out[6] = s.v_react * v_react

@@ -1,0 +1,161 @@
+"""General trajectory generation (paper section 4.4.1) and the table boundary.
+
+Each step: the training sample after the best match (the target) gives a relative position, a
+velocity and a normalised look direction. The target relative position is carried into the
+main character's current frame; the step points from the reactor to it and is scaled to the
+target velocity; the last three such steps are averaged (the paper's linear smooth), the
+patch's Haar detail turns the averaged step (detail.py), and the table keeps the reactor.
+
+Positions in table metres, steps in metres per generation step, angles in radians.
+"""
+
+from __future__ import annotations
+
+import math
+
+from tabletop.frames import wrap_angle
+
+
+def target_position(mx: float, my: float, md: float, fwd: float,
+                    left: float) -> tuple[float, float]:
+    """World position of a point ``fwd`` ahead and ``left`` to the left of a pose."""
+    c, s = math.cos(md), math.sin(md)
+    return mx + c * fwd - s * left, my + s * fwd + c * left
+
+
+def step_toward(rx: float, ry: float, tx: float, ty: float,
+                length: float) -> tuple[float, float]:
+    """Step of ``length`` metres from (rx, ry) toward (tx, ty); zero when already there."""
+    dx, dy = tx - rx, ty - ry
+    dist = math.hypot(dx, dy)
+    if dist < 1e-12:
+        return 0.0, 0.0
+    return dx * length / dist, dy * length / dist
+
+
+def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
+                length: float) -> tuple[float, float]:
+    """Step of ``length`` metres from the reactor (rx, ry) toward the target (tx, ty) along the
+    path that is straight in the main's polar frame (distance and bearing from (mx, my) change
+    linearly), instead of the straight world line.
+
+    The target is a relative position, so the way to it is relative too: when the target lies
+    on the far side of the main (the main reversed, or a circling reactor's next position), the
+    straight line runs through the main, which no demonstrated keep-away or circling character
+    ever does; the polar path goes around at the demonstrated distances. With no bearing change
+    it is the straight line.
+    """
+    ax, ay = rx - mx, ry - my
+    bx, by = tx - mx, ty - my
+    ra, rb = math.hypot(ax, ay), math.hypot(bx, by)
+    if ra < 1e-6 or rb < 1e-6:
+        return step_toward(rx, ry, tx, ty, length)
+    a0 = math.atan2(ay, ax)
+    da = math.remainder(math.atan2(by, bx) - a0, math.tau)
+    path = math.hypot(rb - ra, 0.5 * (ra + rb) * da)
+    if path <= length or path < 1e-12:
+        return step_toward(rx, ry, tx, ty, length)
+    f = length / path
+    rho, ang = ra + f * (rb - ra), a0 + f * da
+    return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
+
+
+def rotate_step(sx: float, sy: float, angle: float) -> tuple[float, float]:
+    """Turn a step by ``angle`` radians, keeping its length."""
+    c, s = math.cos(angle), math.sin(angle)
+    return c * sx - s * sy, s * sx + c * sy
+
+
+class StepSmoother:
+    """Linear smooth: the mean of the last ``size`` raw steps (3 in the paper); the history
+    starts at rest (zero steps), so a start accelerates gently."""
+
+    __slots__ = ("size", "xs", "ys", "i")
+
+    def __init__(self, size: int = 3) -> None:
+        self.size = size
+        self.xs = [0.0] * size
+        self.ys = [0.0] * size
+        self.i = 0
+
+    def push(self, sx: float, sy: float) -> tuple[float, float]:
+        """Add a raw step; returns the mean of the last ``size`` steps."""
+        self.xs[self.i] = sx
+        self.ys[self.i] = sy
+        self.i = (self.i + 1) % self.size
+        return sum(self.xs) / self.size, sum(self.ys) / self.size
+
+
+def clamp_to_table(x: float, y: float,
+                   table: tuple[float, float, float, float]) -> tuple[float, float]:
+    """Nearest point of the table rectangle (x0, y0, x1, y1)."""
+    x0, y0, x1, y1 = table
+    return min(max(x, x0), x1), min(max(y, y0), y1)
+
+
+def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
+               table: tuple[float, float, float, float], step_deg: float = 5.0) -> tuple[float, float]:
+    """Target (tx, ty) moved onto the table, keeping its distance from the main at (mx, my).
+
+    A demonstrated relation that does not fit the table here (the main is near an edge) keeps
+    what matters for a relation, its distance, and turns around the main by the smallest angle
+    that lands on the table, preferring the side nearer the reactor at (rx, ry). A keep-away
+    character pinned at an edge so slides along it instead of letting the main reach it; a
+    follower behind a main at the edge walks beside it. If no angle fits (the distance exceeds
+    the table), the nearest table point.
+    """
+    x0, y0, x1, y1 = table
+    if x0 <= tx <= x1 and y0 <= ty <= y1:
+        return tx, ty
+    ox, oy = tx - mx, ty - my
+    rho = math.hypot(ox, oy)
+    if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
+        base = math.atan2(oy, ox)
+        k = 1
+        while k * step_deg <= 180.0:
+            best = None
+            for sign in (1.0, -1.0):
+                a = base + sign * math.radians(k * step_deg)
+                px, py = mx + rho * math.cos(a), my + rho * math.sin(a)
+                if x0 <= px <= x1 and y0 <= py <= y1:
+                    d = (px - rx) ** 2 + (py - ry) ** 2
+                    if best is None or d < best[0]:
+                        best = (d, px, py)
+            if best is not None:
+                return best[1], best[2]
+            k += 1
+    return clamp_to_table(tx, ty, table)
+
+
+def keep_on_table(rx: float, ry: float, sx: float, sy: float,
+                  table: tuple[float, float, float, float]) -> tuple[float, float]:
+    """A step from (rx, ry) that stays on the table.
+
+    The paper's features ignore world coordinates, so nothing in the match knows the table: a
+    fleeing reactor would run off it. A step that would cross an edge loses its outward part and
+    keeps its length along the edge (a cornered character slides away along the wall instead
+    of stopping there); the result is clamped to the table.
+    """
+    x0, y0, x1, y1 = table
+    length = math.hypot(sx, sy)
+    nx, ny = rx + sx, ry + sy
+    changed = False
+    if nx < x0 or nx > x1:
+        sx = 0.0
+        changed = True
+    if ny < y0 or ny > y1:
+        sy = 0.0
+        changed = True
+    if changed:
+        rest = math.hypot(sx, sy)
+        if rest > 1e-12:
+            sx, sy = sx * length / rest, sy * length / rest
+    nx, ny = clamp_to_table(rx + sx, ry + sy, table)
+    return nx - rx, ny - ry
+
+
+def limit_turn(previous: float, desired: float, max_delta: float) -> float:
+    """Direction turned from ``previous`` toward ``desired`` by at most ``max_delta`` radians."""
+    d = wrap_angle(desired - previous)
+    d = min(max(d, -max_delta), max_delta)
+    return wrap_angle(previous + d)
