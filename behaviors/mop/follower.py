@@ -73,8 +73,8 @@ class ActionFollower:
     """
 
     def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
-                 transitions: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1), backward: float = 0.02,
-                 restart: float = 1e-4, memory: float = 20.0, null_distance: float = 3.0,
+                 transitions: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1), backward: float = 0.1,
+                 restart: float = 1e-4, memory: float = 20.0, null_distance: float = 2.0,
                  max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
@@ -136,23 +136,25 @@ class ActionFollower:
             return self._state
         z = (x - self.bank.center) / self.bank.scale
         step_ll = self.forward.step(z)
-        self._evidence = self._decay * self._evidence + step_ll
+        self._evidence *= self._decay
+        self._evidence += step_ll
         self._weight = self._decay * self._weight + 1.0
-        mean_ll = self._evidence / self._weight
-        e = self._evidence - self._evidence.max()
-        p = np.exp(e)
+        b = int(np.argmax(self._evidence))
+        p = np.exp(self._evidence - self._evidence[b])
         p /= p.sum()
-        b = int(np.argmax(p))
-        progress = np.clip(self.forward.progress, 0.0, 1.0)
-        variance = self.forward.progress_variance
-        restarted = bool(self.forward.entries[b] > self._entries[b])
-        self._entries = self.forward.entries.copy()
-        dist = self.distance_of(float(mean_ll[b]))
-        valid = dist <= self.null_distance and math.sqrt(float(variance[b])) <= self.max_spread
+        names = self.names
+        progress = np.minimum(np.maximum(self.forward.progress, 0.0), 1.0)
+        variance = float(self.forward.progress_variance[b])
+        entries = int(self.forward.entries[b])
+        restarted = entries > self._entries[b]
+        self._entries[b] = entries
+        mean_ll = self._evidence / self._weight
+        loglik = float(mean_ll[b])
+        dist = self.distance_of(loglik)
+        valid = dist <= self.null_distance and variance <= self.max_spread ** 2
         self._state = FollowState(
-            best=self.names[b], progress=float(progress[b]), variance=float(variance[b]),
-            probabilities={n: float(v) for n, v in zip(self.names, p)},
-            progress_by={n: float(v) for n, v in zip(self.names, progress)},
-            valid=bool(valid), loglik=float(mean_ll[b]), distance=dist, restarted=restarted,
-            loglik_by={n: float(v) for n, v in zip(self.names, mean_ll)})
+            best=names[b], progress=float(progress[b]), variance=variance,
+            probabilities=dict(zip(names, p.tolist())), progress_by=dict(zip(names, progress.tolist())),
+            valid=bool(valid), loglik=loglik, distance=dist, restarted=bool(restarted),
+            loglik_by=dict(zip(names, mean_ll.tolist())))
         return self._state

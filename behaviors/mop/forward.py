@@ -30,6 +30,8 @@ class WindowedForward:
     ``sigma``: observation standard deviation in standardised feature units; ``half_window``: p,
     in states; ``floor``: probability added to each main-window state per step so a follower can
     recover after the input left the template. ``step(z)`` takes one standardised sample (d,).
+    Rows ``0..K-1`` of ``alpha`` are the main windows, rows ``K..2K-1`` the windows on the first
+    states that catch a new performance.
     """
 
     def __init__(self, bank: TemplateBank, sigma: float = 0.2, half_window: int = 15,
@@ -43,35 +45,56 @@ class WindowedForward:
         self.half_window = int(half_window)
         self.transitions = transitions
         self.floor = float(floor)
-        k = len(bank.names)
-        lengths = bank.lengths
-        self._k = k
+        k, lengths = len(bank.names), bank.lengths
         wk = np.minimum(2 * self.half_window + 1, lengths)
         w = int(wk.max())
-        self._w = w
-        self._wk = wk
+        self._k, self._w, self._wk = k, w, wk
         self._ar = np.arange(w)
         self._ar_f = self._ar.astype(float)
-        self._ar_clip = np.minimum(self._ar[None, :], (wk - 1)[:, None])
+        self._moments = np.stack([np.ones(w), self._ar_f, self._ar_f ** 2], axis=1)
+        self._max_lo = lengths - wk
+        self._inv_span = 1.0 / (lengths - 1)
+        self._has_short = bool(np.any(wk < w))
         valid = self._ar[None, :] < wk[:, None]
         self._valid2 = np.concatenate([valid, valid]).astype(float)
-        self._logmask = np.where(np.concatenate([valid, valid]), 0.0, -np.inf)
-        self._back, self._fwd = transitions.weights()
-        s = self._fwd.size - 1
-        cols = np.arange(w + s + 1)[None, :] - 1
-        wk2 = np.concatenate([wk, wk])
-        self._beyond = (cols >= wk2[:, None]).astype(float)
-        self._ext = np.zeros((2 * k, w + s + 1))
-        self._last = np.concatenate([wk - 1, wk - 1])
-        self._rows = np.arange(2 * k)
-        self._max_lo = lengths - wk
-        self._start_at_end = wk == lengths
-        start_idx = (bank.starts[:, None] + self._ar_clip).ravel()
-        self._start_means = np.ascontiguousarray(bank.means[start_idx])
-        self._sqnorm = np.einsum("ij,ij->i", bank.means, bank.means)
-        self._start_sq = self._sqnorm[start_idx]
-        self._buf = np.empty((k * w, bank.dim))
+        # transitions as a banded matrix (sources x targets) plus folds at the template ends
+        back, fwd = transitions.weights()
+        self._back = back
+        trans = np.zeros((w, w))
+        for o, wo in [(-1, back)] + list(enumerate(fwd)):
+            if wo > 0:
+                i = np.arange(max(0, -o), min(w, w - o))
+                trans[i, i + o] += wo
+        self._trans = trans
+        tail = np.zeros((2 * k, w))
+        for r, n_w in enumerate(np.concatenate([wk, wk])):
+            for o, wo in enumerate(fwd):
+                if o > 0 and wo > 0:
+                    tail[r, max(0, n_w - o):n_w] += wo
+        self._tail = tail
+        self._last_flat = np.concatenate([wk - 1, wk - 1]) + np.arange(2 * k) * w
+        self._at_end = np.concatenate([np.zeros(k), (wk == lengths).astype(float)])
+        self._at_end_main = np.zeros(k, dtype=bool)
+        self._at_start = np.zeros(k, dtype=bool)
+        self._fold = np.full(2 * k, back)
+        self._floor = np.zeros((2 * k, w))
+        self._floor[:k] = self.floor * valid
+        # the gathered states: main windows move, the first-states windows are fixed
+        ar_clip = np.minimum(self._ar[None, :], (wk - 1)[:, None])
+        self._gather_base = (bank.starts[:, None] + ar_clip).ravel()
+        sqnorm = np.einsum("ij,ij->i", bank.means, bank.means)
+        self._half_sq_states = 0.5 * sqnorm
+        self._buf = np.empty((2 * k * w, bank.dim))
+        self._buf[k * w:] = bank.means[self._gather_base]
+        self._half_sq = np.empty(2 * k * w)
+        self._half_sq[k * w:] = 0.5 * sqnorm[self._gather_base]
+        masked = ~np.concatenate([valid, valid]).ravel()
+        self._half_sq[k * w:][masked[k * w:]] = np.inf
+        self._mask_main = np.where(masked[:k * w], np.inf, 0.0) if self._has_short else None
+        self._inv_var = 1.0 / (self.sigma * self.sigma)
         self._const = -bank.dim * math.log(self.sigma) - 0.5 * bank.dim * math.log(2.0 * math.pi)
+        self._pad = np.zeros((k, 3 * w))
+        self._pad_base = (np.arange(k) * 3 * w + w)[:, None] + self._ar[None, :]
         self.reset()
 
     def reset(self) -> None:
@@ -91,104 +114,103 @@ class WindowedForward:
         return self._const
 
     def _emission(self, z: np.ndarray) -> np.ndarray:
+        """log b (equation 1) for every window state, up to the constant -|z|^2 / (2 sigma^2)."""
         k, w = self._k, self._w
-        idx = (self.bank.starts[:, None] + self.lo[:, None] + self._ar_clip).ravel()
-        np.take(self.bank.means, idx, axis=0, out=self._buf)
-        zz = float(z @ z)
-        d2 = np.empty((2 * k, w))
-        d2[:k] = (zz + self._sqnorm[idx] - 2.0 * (self._buf @ z)).reshape(k, w)
-        d2[k:] = (zz + self._start_sq - 2.0 * (self._start_means @ z)).reshape(k, w)
-        np.maximum(d2, 0.0, out=d2)
-        d2 *= -0.5 / (self.sigma * self.sigma)
-        d2 += self._logmask
-        return d2
+        idx = self._gather_base + np.repeat(self.lo, w)
+        kw = k * w
+        np.take(self.bank.means, idx, axis=0, out=self._buf[:kw])
+        np.take(self._half_sq_states, idx, out=self._half_sq[:kw])
+        if self._mask_main is not None:
+            self._half_sq[:kw] += self._mask_main
+        lb = self._buf @ z
+        lb -= self._half_sq
+        lb *= self._inv_var
+        return lb.reshape(2 * k, w)
 
     def _predict(self) -> np.ndarray:
-        k, w = self._k, self._w
-        alpha, ext = self.alpha, self._ext
-        ext.fill(0.0)
-        if self._back > 0:
-            ext[:, 0:w] += self._back * alpha
-        for o, wo in enumerate(self._fwd):
-            if wo > 0:
-                ext[:, 1 + o:1 + o + w] += wo * alpha
-        at_start = np.concatenate([self.lo == 0, np.ones(k, dtype=bool)])
-        ext[:, 1] += ext[:, 0] * at_start
-        at_end = np.concatenate([self.lo == self._max_lo, self._start_at_end])
-        tail = np.einsum("ij,ij->i", ext, self._beyond)
-        pred = ext[:, 1:w + 1] * self._valid2
-        pred[self._rows, self._last] += tail * at_end
+        """The transitions applied inside each window (sources and targets in the window)."""
+        k = self._k
+        alpha = self.alpha
+        pred = alpha @ self._trans
+        fold = self._fold
+        np.equal(self.lo, 0, out=self._at_start)
+        np.multiply(self._at_start, self._back, out=fold[:k])
+        pred[:, 0] += alpha[:, 0] * fold
+        np.equal(self.lo, self._max_lo, out=self._at_end_main)
+        self._at_end[:k] = self._at_end_main
+        pred.reshape(-1)[self._last_flat] += np.einsum("ij,ij->i", alpha, self._tail) * self._at_end
+        if self._has_short:
+            pred *= self._valid2
         return pred
 
     def step(self, z: np.ndarray) -> np.ndarray:
         """Advance every template by one standardised sample z (d,); returns the step's
         log-likelihood per template (K,). Updates ``mean`` (progress in states), ``var``
         (states squared), ``lo`` (window start) and ``entries`` (re-entries so far)."""
-        k = self._k
-        logb = self._emission(z)
+        k, w = self._k, self._w
+        lb = self._emission(z)
         if self.steps == 0:
             pred = self.alpha.copy()
         else:
             pred = self._predict()
-            total = pred[:k].sum(axis=1) + pred[k:].sum(axis=1)
-            pred /= np.concatenate([total, total])[:, None]
+            p3 = pred.reshape(2, k, w)
             eps = self.transitions.restart
-            if eps > 0:
-                pred *= 1.0 - eps
-                active = self.lo > 0
-                pred[np.where(active, k + np.arange(k), np.arange(k)), 0] += eps
-            if self.floor > 0:
-                pred[:k] += self.floor * self._valid2[:k]
-        lp = np.log(np.maximum(pred, _TINY))
-        lp += logb
-        lp3 = lp.reshape(2, k, self._w)
+            p3 *= ((1.0 - eps) / p3.sum(axis=(0, 2)))[None, :, None]
+            pred += self._floor
+            # a new performance starts at the first state; where the main window is on the first
+            # states the two windows coincide and are merged in _settle
+            pred[k:, 0] += eps
+        lp = np.log(pred + _TINY)
+        lp += lb
+        lp3 = lp.reshape(2, k, w)
         m = lp3.max(axis=(0, 2))
-        e = np.exp(lp3 - m[None, :, None])
+        lp3 -= m[None, :, None]
+        e = np.exp(lp3, out=lp3)
         s = e.sum(axis=(0, 2))
-        loglik = m + np.log(s) + self._const
         e /= s[None, :, None]
-        self.alpha = e.reshape(2 * k, self._w)
+        self.alpha = lp
         self.steps += 1
         self._settle()
-        return loglik
+        return m + np.log(s) + (self._const - 0.5 * self._inv_var * float(z @ z))
 
     def _settle(self) -> None:
-        k, alpha = self._k, self.alpha
+        """Re-entry, progress mean and variance (equations 3-4), and the window for the next step."""
+        k, w, alpha = self._k, self._w, self.alpha
         main, start = alpha[:k], alpha[k:]
-        mass_main = main.sum(axis=1)
-        switched = (start.sum(axis=1) > mass_main) & (self.lo > 0)
+        mom = alpha @ self._moments
+        switched = (mom[k:, 0] > mom[:k, 0]) & (self.lo > 0)
         if switched.any():
             main[switched] = start[switched]
             start[switched] = 0.0
             self.lo[switched] = 0
             self.entries[switched] += 1
-            mass_main = main.sum(axis=1)
-        mass_main = np.maximum(mass_main, _TINY)
-        mu = (main @ self._ar_f) / mass_main
-        self.var = np.maximum((main @ (self._ar_f ** 2)) / mass_main - mu ** 2, 0.0)
+            mom = alpha @ self._moments
+        mass = mom[:k, 0] + _TINY
+        mu = mom[:k, 1] / mass
+        self.var = np.maximum(mom[:k, 2] / mass - mu * mu, 0.0)
         self.mean = self.lo + mu
-        new_lo = np.clip(np.rint(self.mean).astype(np.intp) - self.half_window, 0, self._max_lo)
+        new_lo = np.minimum(np.maximum((self.mean + 0.5).astype(np.intp) - self.half_window, 0),
+                            self._max_lo)
         shift = new_lo - self.lo
         if shift.any():
-            src = self._ar[None, :] + shift[:, None]
-            ok = (src >= 0) & (src < self._w)
-            moved = np.take_along_axis(main, np.clip(src, 0, self._w - 1), axis=1)
-            main[:] = np.where(ok, moved, 0.0)
+            self._pad[:, w:2 * w] = main
+            main[:] = self._pad.reshape(-1)[self._pad_base + shift[:, None]]
             self.lo = new_lo
-        at_start = self.lo == 0
-        if at_start.any() and start[at_start].any():
-            main[at_start] += start[at_start]
-            start[at_start] = 0.0
+        if not self.lo.all():
+            at_start = self.lo == 0
+            if start[at_start].any():
+                main[at_start] += start[at_start]
+                start[at_start] = 0.0
 
     @property
     def progress(self) -> np.ndarray:
         """Progress per template, 0 at its first state and 1 at its last (K,)."""
-        return self.mean / (self.bank.lengths - 1)
+        return self.mean * self._inv_span
 
     @property
     def progress_variance(self) -> np.ndarray:
         """Variance of the progress per template, in progress units squared (K,)."""
-        return self.var / (self.bank.lengths - 1) ** 2
+        return self.var * (self._inv_span * self._inv_span)
 
 
 def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float,
@@ -234,5 +256,5 @@ def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float
         mu = float(idx @ alpha)
         means.append(mu)
         variances.append(float(((idx - mu) ** 2) @ alpha))
-        lo = int(np.clip(int(np.rint(mu)) - half_window, 0, n - w))
+        lo = int(np.clip(math.floor(mu + 0.5) - half_window, 0, n - w))
     return np.array(means), np.array(variances), np.array(logliks)

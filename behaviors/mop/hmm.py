@@ -38,7 +38,7 @@ class Transitions:
     """
 
     forward: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1)
-    backward: float = 0.02
+    backward: float = 0.1
     restart: float = 1e-4
 
     def __post_init__(self) -> None:

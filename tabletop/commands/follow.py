@@ -1,0 +1,123 @@
+"""``tabletop follow``: follow a recorded performance along action templates, row by row.
+
+Each template CSV and the performance CSV share their feature columns (an optional ``t`` column is
+not a feature); samples are regularly spaced. One output row per performance row, computed
+causally as it would be live: ``t,best,progress,variance``, then ``p_NAME`` and
+``progress_NAME`` per template, then ``valid`` and ``loglik``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+from tabletop.frames import InputError
+
+HELP = "follow a performance along action templates (MOP): progress, recognition, validity per row"
+
+_NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
+
+
+class FollowArgumentError(InputError):
+    """A bad command-line argument of ``tabletop follow``."""
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--template", action="append", required=True, metavar="NAME=FILE.csv",
+                   help="an action template: its name and CSV of features (repeat for several)")
+    p.add_argument("--input", required=True, type=Path, metavar="PERF.csv",
+                   help="the performance: CSV with the templates' feature columns")
+    p.add_argument("--out", required=True, type=Path, metavar="PROGRESS.csv",
+                   help="output CSV, one row per input row")
+    p.add_argument("--sigma", type=float, default=0.2,
+                   help="observation spread relative to the pooled feature scale (default 0.2)")
+    p.add_argument("--window", type=int, default=15,
+                   help="half-width p of the forward window, in template samples (default 15)")
+
+
+def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
+    """``NAME=FILE`` pairs; names are letters, digits, ``_ . -`` and unique."""
+    out: list[tuple[str, Path]] = []
+    for v in values:
+        name, sep, file = v.partition("=")
+        name = name.strip()
+        if not sep or not name or not file.strip():
+            raise FollowArgumentError(f"--template {v!r}: expected NAME=FILE.csv")
+        if not _NAME.match(name):
+            raise FollowArgumentError(
+                f"--template {v!r}: name {name!r} may only hold letters, digits, '_', '.' and '-'")
+        if any(name == n for n, _ in out):
+            raise FollowArgumentError(f"--template {v!r}: template name {name!r} is given twice")
+        out.append((name, Path(file.strip())))
+    return out
+
+
+def _features(path: Path, header: list[str], data, what: str):
+    cols = [i for i, c in enumerate(header) if c != "t"]
+    if not cols:
+        raise FollowArgumentError(f"{path}: {what} has no feature columns (only 't')")
+    return [header[i] for i in cols], data[:, cols]
+
+
+def main(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from behaviors.mop.follower import ActionFollower, TemplateError
+    from tabletop.files import check_increasing, read_csv, write_csv
+
+    if not (args.sigma > 0 and np.isfinite(args.sigma)):
+        raise FollowArgumentError(f"--sigma must be a positive number, got {args.sigma}")
+    if args.window < 1:
+        raise FollowArgumentError(f"--window must be at least 1, got {args.window}")
+    pairs = parse_template_args(args.template)
+    templates: dict[str, np.ndarray] = {}
+    columns: list[str] | None = None
+    first: Path | None = None
+    for name, path in pairs:
+        header, data = read_csv(path, what=f"template {name!r} CSV file", min_rows=1)
+        names, feats = _features(path, header, data, f"template {name!r}")
+        if feats.shape[0] < 2:
+            raise TemplateError(
+                f"{path}: template {name!r} has {feats.shape[0]} sample(s), needs at least 2")
+        if columns is None:
+            columns, first = names, path
+        elif sorted(names) != sorted(columns):
+            raise TemplateError(
+                f"{path}: template {name!r} has feature columns {','.join(names)} but {first} has "
+                f"{','.join(columns)}; every template needs the same feature columns")
+        order = [names.index(c) for c in columns]
+        templates[name] = feats[:, order]
+    assert columns is not None
+    header, data = read_csv(args.input, what="performance CSV file", min_rows=1)
+    names, feats = _features(args.input, header, data, "performance")
+    if sorted(names) != sorted(columns):
+        missing = [c for c in columns if c not in names]
+        extra = [c for c in names if c not in columns]
+        detail = "; ".join(s for s in (f"missing {','.join(missing)}" if missing else "",
+                                       f"unexpected {','.join(extra)}" if extra else "") if s)
+        raise TemplateError(
+            f"{args.input}: performance feature columns {','.join(names)} do not match the "
+            f"templates' {','.join(columns)} ({detail})")
+    perf = feats[:, [names.index(c) for c in columns]]
+    if "t" in header:
+        t = data[:, header.index("t")]
+        check_increasing(t, args.input)
+    else:
+        t = np.arange(perf.shape[0], dtype=float)
+
+    follower = ActionFollower(templates, sigma=args.sigma, window=args.window)
+    out_header = ["t", "best", "progress", "variance"]
+    for name in templates:
+        out_header += [f"p_{name}", f"progress_{name}"]
+    out_header += ["valid", "loglik"]
+    rows = []
+    for ti, x in zip(t, perf):
+        s = follower.step(x)
+        row: list[float | str | int] = [float(ti), s.best, s.progress, s.variance]
+        for name in templates:
+            row += [s.probabilities[name], s.progress_by[name]]
+        row += [int(s.valid), s.loglik]
+        rows.append(row)
+    write_csv(args.out, out_header, rows)
+    return 0
