@@ -1,0 +1,374 @@
+"""Characters played at the performer's progress (MOP 3.1.3 and 3.3), and the designer's takes.
+
+A rig turns a motion clip at some progress into 2-D points (figure units, "up" along the
+character's heading, see :func:`behaviors.mop.skeleton.place`):
+
+- :class:`HumanoidRig`: a URDF skeleton driven by a DeepMimic-style clip (quaternion joints),
+  by forward kinematics and a projection;
+- :class:`PlanarRig`: a :class:`Skeleton2D` driven by 2-D joint angles named after its bones;
+- :class:`FaceRig`: a :class:`FaceModel` driven by blendshape weights.
+
+:class:`Puppet` is one character: its actions (name -> clip, time warp), fed each tick with the
+follower states of the performers bound to it. It shows the motion of the most probable valid
+action at that action's progress (time alignment: action progress -> motion progress), cross-fades
+for ``blend_s`` seconds when the action changes, holds the last pose for ``hold_s`` seconds when
+nothing matches (or the most probable action is below ``min_probability``), then eases back to
+the rest pose with time constant ``rest_s``.
+
+:class:`Take` is one recording by the designer: samples of a performer's features at the engine
+rate, waiting to be kept or discarded.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping, Protocol, Sequence
+
+import numpy as np
+
+from behaviors.mop.clips import Clip, ClipError, TimeWarp
+from behaviors.mop.creatures import FaceModel
+from behaviors.mop.skeleton import ProjectedFigure, Skeleton2D, place
+from tabletop.frames import CharacterState
+
+
+class Rig(Protocol):
+    """Turns clip poses into figure points (N x 2, y along the heading)."""
+
+    kind: str
+    bones: tuple[tuple[int, int], ...]
+
+    def check(self, clip: Clip) -> None: ...
+
+    def pose(self, clip: Clip, progress: float) -> np.ndarray: ...
+
+    def rest(self) -> np.ndarray: ...
+
+
+class HumanoidRig:
+    """A URDF figure; clip channels are named after its joints (DeepMimic layout). The root stays
+    above the anchor unless ``travel`` (then it moves by its offset from the clip's start)."""
+
+    kind = "skeleton"
+
+    def __init__(self, figure: ProjectedFigure, travel: bool = False) -> None:
+        self.figure = figure
+        self.travel = bool(travel)
+        self.bones = figure.bones
+        self._joints = set(figure.skeleton.joint_names)
+
+    def check(self, clip: Clip) -> None:
+        needed = {"root_x", "root_y", "root_z", "root_rot"}
+        missing = needed - set(clip.names)
+        if missing or not (set(clip.names) & self._joints):
+            raise ClipError(f"clip {clip.name!r} does not drive skeleton "
+                            f"{self.figure.skeleton.name!r}: it needs root_x, root_y, root_z, "
+                            "root_rot and channels named after the skeleton's joints")
+
+    def pose(self, clip: Clip, progress: float) -> np.ndarray:
+        v = clip.sample(progress)
+        root = np.array([v[clip.slices["root_x"]][0], v[clip.slices["root_y"]][0],
+                         v[clip.slices["root_z"]][0]])
+        rotations = {n: v[clip.slices[n]] for n in clip.names if n in self._joints}
+        origin = None
+        if self.travel:
+            v0 = clip.values[0]
+            origin = [v0[clip.slices["root_x"]][0], v0[clip.slices["root_y"]][0],
+                      v0[clip.slices["root_z"]][0]]
+        return self.figure.points(root, v[clip.slices["root_rot"]], rotations, self.travel, origin)
+
+    def rest(self) -> np.ndarray:
+        return self.figure.rest_points()
+
+
+def _forward_to_up(p: np.ndarray) -> np.ndarray:
+    """Character-frame points (x forward, y left) as figure points (y along the heading)."""
+    return np.stack([-p[:, 1], p[:, 0]], axis=1)
+
+
+class PlanarRig:
+    """A planar skeleton seen from above; clip channels are joint angles named after bones."""
+
+    kind = "creature"
+
+    def __init__(self, skeleton: Skeleton2D) -> None:
+        self.skeleton = skeleton
+        self.bones = skeleton.bones
+        self._index = {n: i for i, n in enumerate(skeleton.names)}
+
+    def check(self, clip: Clip) -> None:
+        if not any(n in self._index for n in clip.names):
+            raise ClipError(f"clip {clip.name!r} has no channel named after a bone of the "
+                            f"creature ({', '.join(self.skeleton.names)})")
+
+    def pose(self, clip: Clip, progress: float) -> np.ndarray:
+        v = clip.sample(progress)
+        angles = np.zeros(len(self.skeleton.names))
+        for n in clip.names:
+            i = self._index.get(n)
+            if i is not None:
+                angles[i] = v[clip.slices[n]][0]
+        return _forward_to_up(self.skeleton.forward(angles))
+
+    def rest(self) -> np.ndarray:
+        return _forward_to_up(self.skeleton.forward())
+
+
+class FaceRig:
+    """A face; clip channels are blendshape weights named after its blendshapes."""
+
+    kind = "face"
+
+    def __init__(self, face: FaceModel) -> None:
+        self.face = face
+        self.bones = face.bones
+        self._index = {n: i for i, n in enumerate(face.BLENDSHAPES)}
+
+    def check(self, clip: Clip) -> None:
+        if not any(n in self._index for n in clip.names):
+            raise ClipError(f"clip {clip.name!r} has no channel named after a blendshape "
+                            f"({', '.join(self.face.BLENDSHAPES)})")
+
+    def pose(self, clip: Clip, progress: float) -> np.ndarray:
+        v = clip.sample(progress)
+        w = np.zeros(len(self._index))
+        for n in clip.names:
+            i = self._index.get(n)
+            if i is not None:
+                w[i] = v[clip.slices[n]][0]
+        return self.face.points(w)
+
+    def rest(self) -> np.ndarray:
+        return self.face.neutral.copy()
+
+
+@dataclass
+class Action:
+    """An action of a character: the motion it plays and the map from action to motion progress."""
+
+    name: str
+    clip: Clip
+    warp: TimeWarp = field(default_factory=TimeWarp)
+
+
+@dataclass(frozen=True)
+class Vote:
+    """One follower's view of one action: its probability, progress, and whether it is valid."""
+
+    action: str
+    probability: float
+    progress: float
+    valid: bool
+    loglik: float = 0.0
+
+
+class Puppet:
+    """One character: plays the motion of the performed action at the action's progress.
+
+    ``size``: figure units -> metres (a humanoid's standing height, a creature's length, a face's
+    height); ``x, y, heading``: where it stands on the table (metres, radians).
+    """
+
+    def __init__(self, name: str, rig: Rig, actions: Sequence[Action], x: float, y: float,
+                 heading: float, size: float, color: tuple[int, int, int] = (240, 170, 60),
+                 blend_s: float = 0.2, hold_s: float = 0.5, rest_s: float = 0.4,
+                 min_probability: float = 0.4) -> None:
+        self.name, self.rig = name, rig
+        self.actions: dict[str, Action] = {}
+        for a in actions:
+            self.add_action(a)
+        self.x, self.y, self.heading, self.size, self.color = x, y, heading, size, color
+        self.blend_s, self.hold_s, self.rest_s = blend_s, hold_s, rest_s
+        self.min_probability = min_probability
+        self._rest = rig.rest()
+        self.reset()
+
+    def add_action(self, action: Action) -> None:
+        """Add (or replace) an action; its clip must drive this rig."""
+        self.rig.check(action.clip)
+        self.actions[action.name] = action
+
+    def remove_action(self, name: str) -> None:
+        self.actions.pop(name, None)
+
+    def reset(self) -> None:
+        self._shown = self._rest.copy()
+        self._from = self._rest.copy()
+        self._fade_until = -math.inf
+        self._fade_start = -math.inf
+        self._action: str | None = None
+        self._progress: float | None = None
+        self._last_valid_t = -math.inf
+        self._t: float | None = None
+
+    def choose(self, votes: Sequence[Vote]) -> Vote | None:
+        """The vote to show: the most probable valid one among known actions, if at least
+        ``min_probability`` probable (an ambiguous start shows nothing), else None."""
+        best = None
+        for v in votes:
+            if v.valid and v.action in self.actions and v.probability >= self.min_probability \
+                    and (best is None or v.probability > best.probability):
+                best = v
+        return best
+
+    def update(self, t: float, votes: Sequence[Vote], label: str = "") -> CharacterState:
+        """The character at time ``t`` (seconds) given every bound follower's votes."""
+        dt = 0.0 if self._t is None else max(0.0, t - self._t)
+        self._t = t
+        vote = self.choose(votes)
+        valid = vote is not None
+        if vote is not None:
+            action = self.actions[vote.action]
+            target = self.rig.pose(action.clip, float(action.warp(vote.progress)))
+            if vote.action != self._action:
+                self._from = self._shown.copy()
+                self._fade_start, self._fade_until = t, t + self.blend_s
+                self._action = vote.action
+            self._progress = vote.progress
+            self._last_valid_t = t
+            if t < self._fade_until and self.blend_s > 0:
+                w = (t - self._fade_start) / self.blend_s
+                w = w * w * (3 - 2 * w)
+                target = (1 - w) * self._from + w * target
+            self._shown = target
+        elif t - self._last_valid_t > self.hold_s:
+            k = 1.0 - math.exp(-dt / self.rest_s) if self.rest_s > 0 else 1.0
+            self._shown = self._shown + k * (self._rest - self._shown)
+            self._action = None
+        pts = place(self._shown, self.x, self.y, self.heading, self.size)
+        if not label:
+            label = (f"{vote.action} {vote.progress:4.2f} p={vote.probability:.2f}" if vote
+                     else "no action")
+        return CharacterState(self.name, self.x, self.y, self.heading, kind=self.rig.kind,
+                              size=self.size, color=self.color, points=pts, bones=self.rig.bones,
+                              progress=self._progress if valid else None,
+                              action=vote.action if vote else self._action, valid=valid,
+                              label=label)
+
+
+def votes_from(state: object, actions: Mapping[str, str] | None = None) -> list[Vote]:
+    """Votes of a follower state (``probabilities``, ``progress_by``, ``valid``, ``best``): only
+    ``best`` may be valid. ``actions`` renames template names to action names."""
+    probs: Mapping[str, float] = getattr(state, "probabilities")
+    prog: Mapping[str, float] = getattr(state, "progress_by")
+    best = getattr(state, "best")
+    ok = bool(getattr(state, "valid"))
+    ll = float(getattr(state, "loglik", 0.0))
+    out = []
+    for name, p in probs.items():
+        out.append(Vote(actions.get(name, name) if actions else name, float(p),
+                        float(prog.get(name, 0.0)), ok and name == best, ll if name == best else 0.0))
+    return out
+
+
+class Take:
+    """A designer's recording of one performer's features (rows at the engine rate)."""
+
+    def __init__(self, performer: str, character: str, t0: float) -> None:
+        self.performer, self.character, self.t0 = performer, character, t0
+        self.rows: list[np.ndarray] = []
+        self.recording = True
+        self.motion_index = 0
+
+    def add(self, x: np.ndarray) -> None:
+        if self.recording and np.all(np.isfinite(x)):
+            self.rows.append(np.asarray(x, dtype=float).copy())
+
+    def samples(self) -> np.ndarray:
+        """The recorded samples (n x d); empty (0 x 0) before the first."""
+        return np.vstack(self.rows) if self.rows else np.zeros((0, 0))
+
+
+# --- performers' inputs -------------------------------------------------------------------------
+
+class PuckInput:
+    """A puck's path features (:class:`PathFeatures`: dx, dy relative to where the gesture
+    started, heading turned since, speed), a chosen subset of them. NaN while the puck is absent."""
+
+    def __init__(self, puck_id: int, features: Sequence[str] = ("dx", "dy"),
+                 rest_time: float = 0.8, prefix: str = "") -> None:
+        from behaviors.mop.features import PATH_FEATURE_NAMES, PathFeatures
+        unknown = [f for f in features if f not in PATH_FEATURE_NAMES]
+        if unknown or not features:
+            raise ClipError(f"puck features {list(features)}: choose from {', '.join(PATH_FEATURE_NAMES)}")
+        self.puck_id = int(puck_id)
+        self._cols = [PATH_FEATURE_NAMES.index(f) for f in features]
+        self.names = tuple(prefix + f for f in features)
+        self._pf = PathFeatures(rest_time=rest_time)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
+        if p is None:
+            return np.full(len(self._cols), np.nan)
+        return self._pf.step(p.x, p.y, p.angle, t)[self._cols]
+
+    def restart(self, frame: object, t: float) -> None:
+        """Start a gesture here (a designer's recording begins)."""
+        p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
+        if p is not None:
+            self._pf.reset(p.x, p.y, p.angle, t)
+
+
+class TouchInput:
+    """The first finger on the table (lowest id): dx, dy (metres) from where it touched down.
+    NaN while no finger touches."""
+
+    def __init__(self, prefix: str = "") -> None:
+        self.names = (prefix + "dx", prefix + "dy")
+        self._id: int | None = None
+        self._origin = (0.0, 0.0)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        touches = getattr(frame, "touches", ())
+        if not touches:
+            self._id = None
+            return np.full(2, np.nan)
+        touch = next((c for c in touches if c.id == self._id), None)
+        if touch is None:
+            touch = min(touches, key=lambda c: c.id)
+            self._id, self._origin = touch.id, (touch.x, touch.y)
+        return np.array([touch.x - self._origin[0], touch.y - self._origin[1]])
+
+    def restart(self, frame: object, t: float) -> None:
+        self._id = None
+
+
+class StreamInput:
+    """Chosen columns of a named motion-capture stream (all columns when ``columns`` is None).
+    NaN while the stream is absent or too short."""
+
+    def __init__(self, stream: str, columns: Sequence[int], prefix: str = "") -> None:
+        self.stream = stream
+        self.columns = np.asarray(columns, dtype=int)
+        self.names = tuple(f"{prefix}{stream}_{c}" for c in columns)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        a = getattr(frame, "streams", {}).get(self.stream)
+        if a is None or a.size <= int(self.columns.max()):
+            return np.full(len(self.columns), np.nan)
+        return np.asarray(a, dtype=float)[self.columns]
+
+    def restart(self, frame: object, t: float) -> None:
+        pass
+
+
+class Performer:
+    """A named performer: several inputs concatenated into one feature vector (MOP's multiple
+    input sources)."""
+
+    def __init__(self, name: str, inputs: Sequence[PuckInput | TouchInput | StreamInput]) -> None:
+        self.name = name
+        self.inputs = tuple(inputs)
+        self.names = tuple(n for i in self.inputs for n in i.names)
+
+    @property
+    def dim(self) -> int:
+        return len(self.names)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        return np.concatenate([i.read(frame, t) for i in self.inputs])
+
+    def restart(self, frame: object, t: float) -> None:
+        for i in self.inputs:
+            i.restart(frame, t)

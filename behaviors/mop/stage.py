@@ -1,0 +1,225 @@
+"""The MOP engine: performers' features -> action followers -> characters, and the designer flow.
+
+Every tick: operator commands go to the designer; then, on the engine's own sampling grid
+(``rate_hz``, resampled from frame times, at most ``max_catch_up`` samples per tick), every
+performer's features are read once and fed to each follower bound to it: one
+:class:`~behaviors.mop.follower.ActionFollower` per (character, performer) pair over the actions
+of that character performed by that performer. Each character (:class:`Puppet`) then plays the
+most probable valid action among its followers.
+
+Designer flow (MOP 4.1.1, in seconds): ``designer.next`` selects a character;
+``designer.record`` starts recording its performer and, pressed again, stops: the take becomes an
+action at once (trained: its follower is rebuilt), playing the motion chosen with
+``designer.assign`` (which cycles the character's motions, also for a pending take). Perform to
+try it; ``designer.keep`` keeps it (``save`` is called, e.g. to write it to the library),
+``designer.discard`` drops it, and recording again while a take is pending redoes it.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+
+from behaviors.mop.clips import Clip
+from behaviors.mop.puppetry import Action, Performer, Puppet, Take, Vote, votes_from
+from tabletop.frames import CharacterState, Frame, InputError
+
+FollowerFactory = Callable[[Mapping[str, np.ndarray]], object]
+SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
+
+MIN_TAKE_SAMPLES = 8
+
+
+class MopStage:
+    """Engine ``step(frame) -> characters``; see the module docstring.
+
+    ``templates``: character -> action -> (performer name, samples (n x d) at ``rate_hz``);
+    ``motions``: character -> motion names the designer may assign; ``load_motion(character,
+    motion) -> Clip``; ``save(character, action, samples, feature names, motion) -> message``.
+    """
+
+    def __init__(self, name: str, rate_hz: float, performers: Mapping[str, Performer],
+                 puppets: Sequence[Puppet], templates: Mapping[str, Mapping[str, tuple[str, np.ndarray]]],
+                 make_follower: FollowerFactory, motions: Mapping[str, Sequence[str]],
+                 load_motion: Callable[[str, str], Clip], save: SaveFn | None = None,
+                 character_performer: Mapping[str, str] | None = None,
+                 max_catch_up: int = 4) -> None:
+        self.name = name
+        self.rate_hz = float(rate_hz)
+        self.performers = dict(performers)
+        self.puppets = {p.name: p for p in puppets}
+        self.order = [p.name for p in puppets]
+        self.templates = {c: dict(templates.get(c, {})) for c in self.order}
+        self.make_follower = make_follower
+        self.motions = {c: tuple(motions.get(c, ())) for c in self.order}
+        self.load_motion = load_motion
+        self.save = save
+        self.character_performer = dict(character_performer or {})
+        self.max_catch_up = int(max_catch_up)
+        self._followers: dict[tuple[str, str], object] = {}
+        self._states: dict[tuple[str, str], object] = {}
+        for c in self.order:
+            self._retrain(c)
+        self._next_t: float | None = None
+        self.selected = 0
+        self.take: Take | None = None
+        self.take_action: str | None = None
+        self.message = ""
+        self._designing = False
+        self._counter = 0
+
+    # --- training -------------------------------------------------------------------------------
+
+    def _retrain(self, character: str) -> None:
+        """Rebuild the followers of ``character`` from its current templates."""
+        for key in [k for k in self._followers if k[0] == character]:
+            del self._followers[key]
+            self._states.pop(key, None)
+        by_performer: dict[str, dict[str, np.ndarray]] = {}
+        for action, (performer, samples) in self.templates[character].items():
+            by_performer.setdefault(performer, {})[action] = samples
+        for performer, templates in by_performer.items():
+            self._followers[(character, performer)] = self.make_follower(templates)
+
+    # --- designer -------------------------------------------------------------------------------
+
+    @property
+    def selected_character(self) -> str:
+        return self.order[self.selected % len(self.order)]
+
+    def _performer_of(self, character: str) -> str:
+        return self.character_performer.get(character) or next(iter(self.performers))
+
+    def _assign_motion(self, index: int) -> str:
+        c = self.selected_character
+        motions = self.motions[c]
+        return motions[index % len(motions)]
+
+    def _drop_take(self) -> None:
+        if self.take is not None and self.take_action is not None:
+            c = self.take.character
+            self.templates[c].pop(self.take_action, None)
+            self.puppets[c].remove_action(self.take_action)
+            self._retrain(c)
+        self.take, self.take_action = None, None
+
+    def command(self, cmd: str, frame: Frame) -> None:
+        """Apply one operator command (``designer.*``); others are ignored."""
+        if not cmd.startswith("designer."):
+            return
+        self._designing = True
+        c = self.selected_character
+        if cmd == "designer.next":
+            if self.take is not None and self.take.recording:
+                return
+            self._drop_take()
+            self.selected = (self.selected + 1) % len(self.order)
+            self.message = f"selected {self.selected_character}"
+        elif cmd == "designer.record":
+            if self.take is not None and self.take.recording:
+                self._stop_recording()
+            else:
+                motion_index = self.take.motion_index if self.take is not None else 0
+                self._drop_take()
+                performer = self._performer_of(c)
+                self.take = Take(performer, c, frame.t)
+                self.take.motion_index = motion_index
+                self.performers[performer].restart(frame, frame.t)
+                self.message = "recording"
+        elif cmd == "designer.assign":
+            if self.take is None:
+                self.take = Take(self._performer_of(c), c, frame.t)
+                self.take.recording = False
+                self.take_action = None
+            self.take.motion_index += 1
+            motion = self._assign_motion(self.take.motion_index)
+            if self.take_action is not None:
+                self._add_take_action(motion)
+            self.message = f"motion {motion}"
+        elif cmd == "designer.keep":
+            if self.take is None or self.take_action is None or self.take.recording:
+                self.message = "nothing to keep"
+                return
+            motion = self._assign_motion(self.take.motion_index)
+            msg = "kept (not saved: no library)"
+            if self.save is not None:
+                try:
+                    msg = self.save(c, self.take_action, self.take.samples(),
+                                    self.performers[self.take.performer].names, motion)
+                except (OSError, InputError) as exc:
+                    msg = f"not saved: {exc}"
+            self.take, self.take_action = None, None
+            self.message = msg
+        elif cmd == "designer.discard":
+            self.message = "discarded" if self.take_action else "nothing to discard"
+            self._drop_take()
+
+    def _stop_recording(self) -> None:
+        take = self.take
+        assert take is not None
+        take.recording = False
+        samples = take.samples()
+        if len(samples) < MIN_TAKE_SAMPLES:
+            self.message = f"take too short ({len(samples)} samples); record again"
+            self.take, self.take_action = None, None
+            return
+        self._counter += 1
+        existing = set(self.templates[take.character])
+        name = f"take{self._counter}"
+        while name in existing:
+            self._counter += 1
+            name = f"take{self._counter}"
+        self.take_action = name
+        self._add_take_action(self._assign_motion(take.motion_index))
+
+    def _add_take_action(self, motion: str) -> None:
+        take = self.take
+        assert take is not None and self.take_action is not None
+        c = take.character
+        self.templates[c][self.take_action] = (take.performer, take.samples())
+        self.puppets[c].add_action(Action(self.take_action, self.load_motion(c, motion)))
+        self._retrain(c)
+        self.message = f"{self.take_action} -> {motion}: perform it; K keep, X discard, R redo"
+
+    def designer_label(self) -> str:
+        if self.take is not None and self.take.recording:
+            return f"[designer] REC {len(self.take.rows) / self.rate_hz:4.1f} s  (R: stop)"
+        motion = self._assign_motion(self.take.motion_index) if self.take else self._assign_motion(0)
+        return f"[designer] {self.message}  | next motion: {motion}  (R rec, A motion, Tab next)"
+
+    # --- running --------------------------------------------------------------------------------
+
+    def _sample(self, frame: Frame, ts: float) -> None:
+        for pname, performer in self.performers.items():
+            x = performer.read(frame, ts)
+            if self.take is not None and self.take.recording and self.take.performer == pname:
+                self.take.add(x)
+            for key, follower in self._followers.items():
+                if key[1] == pname:
+                    self._states[key] = follower.step(x)  # type: ignore[attr-defined]
+
+    def step(self, frame: Frame) -> tuple[CharacterState, ...]:
+        for cmd in frame.commands:
+            self.command(cmd, frame)
+        t = frame.t
+        period = 1.0 / self.rate_hz
+        if self._next_t is None or not math.isfinite(self._next_t) or abs(t - self._next_t) > 1.0:
+            self._next_t = t
+        n = 0
+        while self._next_t <= t + 1e-9 and n < self.max_catch_up:
+            self._sample(frame, self._next_t)
+            self._next_t += period
+            n += 1
+        if self._next_t <= t:
+            self._next_t = t + period
+        out = []
+        for c in self.order:
+            votes: list[Vote] = []
+            for key, state in self._states.items():
+                if key[0] == c and state is not None:
+                    votes += votes_from(state)
+            label = self.designer_label() if self._designing and c == self.selected_character else ""
+            out.append(self.puppets[c].update(t, votes, label))
+        return tuple(out)

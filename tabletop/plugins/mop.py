@@ -1,0 +1,382 @@
+"""Engine ``mop``: action following (MOP). Performers' gestures drive characters' motions.
+
+Config (see ``examples/mop.yaml``)::
+
+    - kind: mop
+      rate_hz: 30                 # follower rate; templates are resampled to it
+      library: mop_library        # where the designer's kept actions are saved (optional)
+      follower: {sigma: 0.2, window: 15, ...}
+      performers:
+        - name: left
+          inputs: [{kind: puck, id: 1, features: [dx, dy]}, {kind: stream, name: arm}]
+      characters:
+        - name: dancer
+          kind: skeleton          # skeleton (URDF humanoid), creature or face
+          performer: left
+          at: [0.3, 0.4]
+          actions:
+            - {name: circle, template: gestures/circle.csv, motion: walk}
+
+A ``motion`` is a built-in clip of the character (creature: walk, wag, curl, strike; face: laugh,
+surprise, angry, wink, talk), a DeepMimic clip name for a skeleton (walk, backflip, ...; from
+``pybullet_data``), or a path to a DeepMimic ``.txt`` or a ``tabletop.clip`` ``.json`` file.
+Template CSVs hold the performer's feature columns (an optional ``t`` column, seconds, lets them
+be resampled to ``rate_hz``).
+
+Designer flow (operator keys): ``designer.next`` picks the character, ``designer.record``
+starts and stops recording its performer, the take is trained at once and can be performed;
+``designer.assign`` cycles the motion it plays; ``designer.keep`` saves it to the library,
+``designer.discard`` drops it; recording again while a take is pending redoes it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from behaviors.mop.clips import Clip, ClipError, TimeWarp, clip_from_mapping
+from behaviors.mop.puppetry import (Action, FaceRig, HumanoidRig, Performer, PlanarRig, PuckInput,
+                                    Puppet, StreamInput, TouchInput)
+from behaviors.mop.stage import MopStage
+from tabletop.files import FileFormatError, atomic_write_text, read_csv, write_csv
+from tabletop.frames import InputError
+from tabletop.registry import BuildContext
+from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str)
+
+BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
+           "face": ("laugh", "surprise", "angry", "wink", "talk")}
+DEEPMIMIC = ("walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",
+             "dance_a", "dance_b", "getup_facedown", "getup_faceup", "roll", "spin")
+PUCK_FEATURES = ("dx", "dy", "heading", "speed")
+
+
+class MopError(InputError):
+    """A MOP template, motion or library file cannot be used; the message names it."""
+
+
+INPUT = Record({
+    "kind": Str(choices=("puck", "touch", "stream")),
+    "id": Number(1, integer=True, lo=0, doc="puck: marker id"),
+    "features": ListOf(Str(choices=PUCK_FEATURES), default=["dx", "dy"], min_len=1,
+                       doc="puck: which path features"),
+    "rest_time": Number(0.8, lo=0.05, doc="puck: seconds still that end a gesture"),
+    "name": Optional_(Str(), doc="stream: its name on the bus"),
+    "columns": Optional_(ListOf(Number(integer=True, lo=0), min_len=1), doc="stream: columns"),
+})
+
+
+def _check_input(value: dict, path: str, ctx: Context) -> None:
+    if value["kind"] == "stream" and not value["name"]:
+        raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
+    if value["kind"] == "stream" and value["columns"] is None:
+        raise ctx.error(f"{path}.columns", "a stream input needs its columns, e.g. [0, 1, 2]")
+
+
+INPUT.check = _check_input
+
+PERFORMER = Record({
+    "name": Str(),
+    "inputs": ListOf(INPUT, min_len=1, doc="concatenated in this order"),
+})
+
+ACTION = Record({
+    "name": Str(),
+    "template": FilePath(kind="file", doc="CSV of the performer's feature columns"),
+    "motion": Str(doc="built-in clip, DeepMimic clip name, or a .txt/.json clip file"),
+    "warp": Optional_(ListOf(ListOf(Number(lo=0.0, hi=1.0), min_len=2, max_len=2), min_len=2),
+                      doc="[[action, motion], ...] progress pairs from [0,0] to [1,1]"),
+    "performer": Optional_(Str(), doc="overrides the character's performer"),
+})
+
+CHARACTER = Record({
+    "name": Str(),
+    "kind": Str(choices=("skeleton", "creature", "face")),
+    "performer": Str(),
+    "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
+    "heading": Number(math.pi / 2, doc="radians; the figure's up points this way"),
+    "size": Number(0.25, lo=0.01, hi=5.0, doc="metres: height, body length or face height"),
+    "color": ListOf(Number(integer=True, lo=0, hi=255), default=[240, 170, 60], min_len=3, max_len=3),
+    "skeleton": Optional_(FilePath(kind="file"), doc="URDF; default pybullet_data humanoid"),
+    "view_yaw": Number(0.5, doc="skeleton: viewing side, radians (0 side, pi/2 front)"),
+    "elevation": Number(0.25, lo=-1.5, hi=1.5, doc="skeleton: view tilt, radians"),
+    "travel": Bool(False, doc="skeleton: let the root travel as in the clip"),
+    "motions": ListOf(Str(), default=[], doc="motions the designer may assign (default: all)"),
+    "actions": ListOf(ACTION, default=[]),
+    "blend_s": Number(0.2, lo=0.0, hi=5.0),
+    "hold_s": Number(0.5, lo=0.0, hi=60.0),
+    "rest_s": Number(0.4, lo=0.0, hi=60.0),
+    "min_probability": Number(0.4, lo=0.0, hi=1.0,
+                              doc="an action less probable than this shows nothing"),
+})
+
+FOLLOWER = Record({
+    "sigma": Number(0.2, lo=1e-3, hi=100.0),
+    "window": Number(15, integer=True, lo=1, hi=10_000),
+    "transitions": ListOf(Number(lo=0.0), default=[0.3, 0.35, 0.25, 0.1], min_len=1),
+    "backward": Number(0.1, lo=0.0),
+    "restart": Number(1e-4, lo=0.0, hi=0.5),
+    "memory": Number(20.0, lo=1.0),
+    "null_distance": Number(2.0, lo=0.01),
+    "max_spread": Number(0.15, lo=1e-3, hi=1.0),
+    "relative_floor": Number(0.05, lo=0.0, hi=1.0),
+})
+
+
+def resolve_motion(kind: str, motion: str, base: Path) -> tuple[str, Any]:
+    """("builtin", name) | ("deepmimic", path) | ("clip", path) for a motion, or MopError."""
+    if kind in BUILTIN and motion in BUILTIN[kind]:
+        return "builtin", motion
+    p = Path(motion).expanduser()
+    if p.suffix in (".txt", ".json"):
+        p = p if p.is_absolute() else base / p
+        if not p.is_file():
+            raise MopError(f"motion file {motion!r} not found (looked for {p})")
+        return ("deepmimic" if p.suffix == ".txt" else "clip"), p
+    if kind == "skeleton":
+        from behaviors.mop.deepmimic import motion_path
+        try:
+            return "deepmimic", motion_path(motion)
+        except ClipError as exc:
+            raise MopError(str(exc)) from None
+    raise MopError(f"unknown motion {motion!r} for a {kind}; built-in: "
+                   f"{', '.join(BUILTIN.get(kind, ()))}, or a .json clip file")
+
+
+def _check_all(cfg: dict, path: str, ctx: Context) -> None:
+    names = set()
+    for i, p in enumerate(cfg["performers"]):
+        if p["name"] in names:
+            raise ctx.error(f"{path}.performers[{i}].name", f"duplicate performer {p['name']!r}")
+        names.add(p["name"])
+    chars = set()
+    for i, c in enumerate(cfg["characters"]):
+        where = f"{path}.characters[{i}]"
+        if c["name"] in chars:
+            raise ctx.error(f"{where}.name", f"duplicate character {c['name']!r}")
+        chars.add(c["name"])
+        if c["performer"] not in names:
+            raise ctx.error(f"{where}.performer", f"no performer {c['performer']!r} "
+                            f"(performers: {', '.join(sorted(names))})")
+        if c["kind"] == "skeleton" and c["skeleton"] is None:
+            from behaviors.mop.deepmimic import humanoid_urdf
+            try:
+                humanoid_urdf()
+            except ClipError as exc:
+                raise ctx.error(f"{where}.skeleton", str(exc)) from None
+        seen = set()
+        for j, a in enumerate(c["actions"]):
+            aw = f"{where}.actions[{j}]"
+            if a["name"] in seen:
+                raise ctx.error(f"{aw}.name", f"duplicate action {a['name']!r}")
+            seen.add(a["name"])
+            if a["performer"] is not None and a["performer"] not in names:
+                raise ctx.error(f"{aw}.performer", f"no performer {a['performer']!r}")
+            try:
+                resolve_motion(c["kind"], a["motion"], ctx.base)
+                if a["warp"] is not None:
+                    TimeWarp(a["warp"])
+            except (MopError, ClipError) as exc:
+                raise ctx.error(f"{aw}.motion" if isinstance(exc, MopError) else f"{aw}.warp",
+                                str(exc)) from None
+        for j, m in enumerate(c["motions"]):
+            try:
+                resolve_motion(c["kind"], m, ctx.base)
+            except MopError as exc:
+                raise ctx.error(f"{where}.motions[{j}]", str(exc)) from None
+
+
+SCHEMA = Record({
+    "rate_hz": Number(30.0, lo=1.0, hi=1000.0, doc="follower steps per second"),
+    "library": Optional_(FilePath(must_exist=False, kind="dir"),
+                         doc="folder of the designer's kept actions"),
+    "follower": FOLLOWER,
+    "performers": ListOf(PERFORMER, min_len=1),
+    "characters": ListOf(CHARACTER, min_len=1),
+}, check=_check_all)
+
+
+# --- loading ------------------------------------------------------------------------------------
+
+class MotionLoader:
+    """Loads and caches motions for one character kind."""
+
+    def __init__(self, kind: str, base: Path) -> None:
+        self.kind, self.base = kind, base
+        self._cache: dict[str, Clip] = {}
+
+    def __call__(self, motion: str) -> Clip:
+        if motion not in self._cache:
+            how, what = resolve_motion(self.kind, motion, self.base)
+            if how == "builtin":
+                from behaviors.mop.creatures import creature_clips, face_clips
+                clip = (creature_clips() if self.kind == "creature" else face_clips())[what]
+            elif how == "deepmimic":
+                from behaviors.mop.deepmimic import load_motion
+                clip = load_motion(what)
+            else:
+                try:
+                    data = json.loads(Path(what).read_text(encoding="utf-8"))
+                except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+                    raise MopError(f"{what}: cannot read clip: {exc}") from None
+                clip = clip_from_mapping(data, str(what))
+            self._cache[motion] = clip
+        return self._cache[motion]
+
+    def available(self) -> tuple[str, ...]:
+        return BUILTIN[self.kind] if self.kind in BUILTIN else DEEPMIMIC
+
+
+def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
+    """A template (n x d) with the performer's feature columns, resampled to ``rate_hz`` when it
+    has a ``t`` column. Raises FileFormatError naming the file."""
+    header, data = read_csv(path, what="template CSV", min_rows=2)
+    cols = [c for c in header if c != "t"]
+    if sorted(cols) != sorted(names):
+        raise FileFormatError(f"{path}: template columns {','.join(cols)} do not match the "
+                              f"performer's features {','.join(names)}")
+    x = data[:, [header.index(n) for n in names]]
+    if "t" in header:
+        t = data[:, header.index("t")]
+        if np.any(np.diff(t) <= 0):
+            raise FileFormatError(f"{path}: column 't' must strictly increase")
+        n = max(2, int(round((t[-1] - t[0]) * rate_hz)) + 1)
+        tt = t[0] + np.arange(n) / rate_hz
+        x = np.stack([np.interp(tt, t, x[:, k]) for k in range(x.shape[1])], axis=1)
+    return x
+
+
+def _make_rig(c: dict):
+    if c["kind"] == "creature":
+        from behaviors.mop.creatures import creature_skeleton
+        return PlanarRig(creature_skeleton())
+    if c["kind"] == "face":
+        from behaviors.mop.creatures import FaceModel
+        return FaceRig(FaceModel())
+    from behaviors.mop.deepmimic import humanoid_urdf
+    from behaviors.mop.skeleton import ProjectedFigure, Projection, load_urdf
+    urdf = c["skeleton"] or humanoid_urdf()
+    # DeepMimic clips are at a quarter of the URDF's size (pybullet loads it at scale 0.25).
+    return HumanoidRig(ProjectedFigure(load_urdf(urdf), Projection(
+        view_yaw=c["view_yaw"], elevation=c["elevation"]), root_scale=4.0), travel=c["travel"])
+
+
+def _make_performer(p: dict) -> Performer:
+    many = len(p["inputs"]) > 1
+    inputs = []
+    for k, i in enumerate(p["inputs"]):
+        if i["kind"] == "puck":
+            inputs.append(PuckInput(i["id"], i["features"], i["rest_time"],
+                                    f"puck{i['id']}_" if many else ""))
+        elif i["kind"] == "touch":
+            inputs.append(TouchInput("touch_" if many else ""))
+        else:
+            inputs.append(StreamInput(i["name"], i["columns"]))
+    names = [n for i in inputs for n in i.names]
+    if len(set(names)) != len(names):
+        raise MopError(f"performer {p['name']!r}: two inputs give the same feature names {names}")
+    return Performer(p["name"], inputs)
+
+
+# --- the designer's library ----------------------------------------------------------------------
+
+LIBRARY_FILE = "actions.yaml"
+
+
+def read_library(folder: Path, character: str) -> list[dict[str, str]]:
+    """Kept actions of ``character``: ``[{name, template, motion}]`` from
+    ``<folder>/<character>/actions.yaml`` (none when the file does not exist). A corrupt file is
+    refused with a message naming it (and is never overwritten: the engine does not start)."""
+    import yaml
+    f = folder / character / LIBRARY_FILE
+    if not f.is_file():
+        return []
+    try:
+        data = yaml.safe_load(f.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise MopError(f"{f}: cannot read the action library: {exc}") from None
+    if data is None:
+        return []
+    ok = isinstance(data, dict) and isinstance(data.get("actions"), list) and all(
+        isinstance(a, dict) and all(isinstance(a.get(k), str) for k in ("name", "template", "motion"))
+        for a in data["actions"])
+    if not ok:
+        raise MopError(f"{f}: expected 'actions:' followed by a list of {{name, template, motion}}")
+    return data["actions"]
+
+
+def save_to_library(folder: Path, character: str, action: str, samples: np.ndarray,
+                    names: tuple[str, ...], motion: str, rate_hz: float) -> str:
+    """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
+    atomically. Returns a short message for the operator."""
+    import yaml
+    d = folder / character
+    entries = [a for a in read_library(folder, character) if a["name"] != action]
+    csv_name = f"{action}.csv"
+    t = np.arange(len(samples)) / rate_hz
+    write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
+    entries.append({"name": action, "template": csv_name, "motion": motion})
+    atomic_write_text(d / LIBRARY_FILE, yaml.safe_dump({"actions": entries}, sort_keys=False))
+    return f"kept {action} -> {motion} in {d}"
+
+
+# --- building -----------------------------------------------------------------------------------
+
+def build(options: dict, ctx: BuildContext) -> MopStage:
+    from behaviors.mop.follower import ActionFollower
+    rate = float(options["rate_hz"])
+    fo = options["follower"]
+    params = dict(sigma=fo["sigma"], window=fo["window"], transitions=tuple(fo["transitions"]),
+                  backward=fo["backward"], restart=fo["restart"], memory=fo["memory"],
+                  null_distance=fo["null_distance"], max_spread=fo["max_spread"],
+                  relative_floor=fo["relative_floor"])
+
+    def make_follower(templates):
+        return ActionFollower(templates, **params)
+
+    performers = {p["name"]: _make_performer(p) for p in options["performers"]}
+    library: Path | None = options["library"]
+    w, h = ctx.table
+    puppets, templates, motions, loaders, bound = [], {}, {}, {}, {}
+    for c in options["characters"]:
+        loader = MotionLoader(c["kind"], ctx.base)
+        loaders[c["name"]] = loader
+        bound[c["name"]] = c["performer"]
+        actions, tmpl = [], {}
+        entries = [dict(a, performer=a["performer"] or c["performer"]) for a in c["actions"]]
+        if library is not None:
+            for a in read_library(library, c["name"]):
+                p = Path(a["template"])
+                entries.append({"name": a["name"], "template": p if p.is_absolute()
+                                else library / c["name"] / p, "motion": a["motion"],
+                                "warp": None, "performer": c["performer"]})
+        for a in entries:
+            performer = performers[a["performer"]]
+            try:
+                clip = loader(a["motion"])
+            except ClipError as exc:
+                raise MopError(f"character {c['name']!r}, action {a['name']!r}: {exc}") from None
+            warp = TimeWarp(a["warp"]) if a.get("warp") else TimeWarp()
+            actions.append(Action(a["name"], clip, warp))
+            tmpl[a["name"]] = (a["performer"], load_template(Path(a["template"]), performer.names, rate))
+        at = c["at"] or [w / 2, h / 2]
+        rig = _make_rig(c)
+        try:
+            puppets.append(Puppet(c["name"], rig, actions, at[0], at[1], c["heading"], c["size"],
+                                  tuple(c["color"]), c["blend_s"], c["hold_s"], c["rest_s"],
+                                  c["min_probability"]))
+        except ClipError as exc:
+            raise MopError(f"character {c['name']!r}: {exc}") from None
+        templates[c["name"]] = tmpl
+        motions[c["name"]] = tuple(c["motions"]) or loader.available()
+
+    save = None
+    if library is not None:
+        def save(character, action, samples, names, motion):
+            return save_to_library(library, character, action, samples, tuple(names), motion, rate)
+
+    return MopStage(options["name"], rate, performers, puppets, templates, make_follower, motions,
+                    lambda character, motion: loaders[character](motion), save, bound)
