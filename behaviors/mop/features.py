@@ -19,22 +19,24 @@ from tabletop.frames import wrap_angle
 PATH_FEATURE_NAMES: tuple[str, ...] = ("dx", "dy", "heading", "speed")
 
 
-def fit_scale(templates: Sequence[np.ndarray], relative_floor: float = 0.05
-              ) -> tuple[np.ndarray, np.ndarray]:
+def fit_scale(templates: Sequence[np.ndarray], relative_floor: float = 0.05,
+              min_scale: np.ndarray | Sequence[float] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Centre and scale per feature column, pooled over all templates: ``(center, scale)``, each (d,).
 
     ``scale`` is the standard deviation of every sample of every template about the pooled mean,
-    floored at ``relative_floor`` times (a) the root-mean-square of all column spreads and (b) the
-    column's own root-mean-square magnitude, so a still column (or a still template set) does not
-    get needle-thin Gaussians. A set with no spread and no magnitude at all gets scale 1.
+    floored at ``relative_floor`` times the root-mean-square of all column spreads, so a column
+    that is still in every template does not get a needle-thin Gaussian, and at ``min_scale``
+    (d,), the inputs' noise in their own units when it is known. Shifting a column, or scaling
+    all columns together, changes nothing downstream. A set with no spread at all gets scale 1.
     """
     pooled = np.concatenate([np.asarray(t, dtype=float) for t in templates], axis=0)
     center = pooled.mean(axis=0)
     spread = pooled.std(axis=0)
     overall = math.sqrt(float(np.mean(spread ** 2)))
-    magnitude = np.sqrt(np.mean(pooled ** 2, axis=0))
-    scale = np.maximum(spread, relative_floor * np.maximum(overall, magnitude))
-    tiny = 1e-12 * max(1.0, float(np.max(np.abs(pooled))))
+    scale = np.maximum(spread, relative_floor * overall)
+    if min_scale is not None:
+        scale = np.maximum(scale, np.asarray(min_scale, dtype=float))
+    tiny = 1e-12 * max(1.0, float(np.max(np.abs(center))))
     scale = np.where(scale > tiny, scale, 1.0)
     return center, scale
 
@@ -64,6 +66,9 @@ class PathFeatures:
     """
 
     names = PATH_FEATURE_NAMES
+    #: Smallest spread per feature worth telling apart (1 cm, 0.1 rad, 3 cm/s): pass it as the
+    #: follower's ``min_scale`` so a still feature (a puck never turned) tolerates tracking jitter.
+    min_scale = np.array([0.01, 0.01, 0.1, 0.03])
 
     def __init__(self, rest_speed: float = 0.02, rest_time: float = 0.8,
                  speed_cutoff_hz: float = 5.0, rotate: bool = False) -> None:

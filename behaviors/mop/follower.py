@@ -69,13 +69,16 @@ class ActionFollower:
     skips...); ``backward``: weight of moving one state back; ``restart``: probability per step
     that a new performance starts; ``memory``: forgetting time constant of the evidence in
     samples; ``null_distance`` and ``max_spread``: validity limits (see the module docstring);
-    ``relative_floor``: floor of the per-feature scale relative to the overall spread.
+    ``relative_floor``: floor of the per-feature scale relative to the overall spread;
+    ``min_scale``: optional (d,) floor of the per-feature scale in the features' own units (the
+    input's noise, e.g. :attr:`behaviors.mop.features.PathFeatures.min_scale`).
     """
 
     def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
                  transitions: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1), backward: float = 0.1,
                  restart: float = 1e-4, memory: float = 20.0, null_distance: float = 2.0,
-                 max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8) -> None:
+                 max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8,
+                 min_scale: np.ndarray | None = None) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("max_spread", max_spread, max_spread > 0),
@@ -83,7 +86,7 @@ class ActionFollower:
                             ("floor", floor, floor >= 0)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
-        self.bank = build_bank(templates, relative_floor)
+        self.bank = build_bank(templates, relative_floor, min_scale)
         self.names: tuple[str, ...] = self.bank.names
         self.sigma = float(sigma)
         self.memory = float(memory)
@@ -128,7 +131,7 @@ class ActionFollower:
         if x.shape != (self.dim,):
             raise SampleError(
                 f"sample has shape {x.shape}, expected ({self.dim},) like the templates' features")
-        if not np.all(np.isfinite(x)):
+        if not math.isfinite(x.sum()):
             held = self._state or self._idle_state()
             self._state = FollowState(held.best, held.progress, held.variance, held.probabilities,
                                       held.progress_by, False, held.loglik, held.distance, False,

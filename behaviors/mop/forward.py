@@ -155,7 +155,7 @@ class WindowedForward:
             pred = self._predict()
             p3 = pred.reshape(2, k, w)
             eps = self.transitions.restart
-            p3 *= ((1.0 - eps) / p3.sum(axis=(0, 2)))[None, :, None]
+            p3 *= (1.0 - eps) / p3.sum(axis=(0, 2))[:, None]
             pred += self._floor
             # a new performance starts at the first state; where the main window is on the first
             # states the two windows coincide and are merged in _settle
@@ -164,10 +164,10 @@ class WindowedForward:
         lp += lb
         lp3 = lp.reshape(2, k, w)
         m = lp3.max(axis=(0, 2))
-        lp3 -= m[None, :, None]
-        e = np.exp(lp3, out=lp3)
-        s = e.sum(axis=(0, 2))
-        e /= s[None, :, None]
+        lp3 -= m[:, None]
+        np.exp(lp, out=lp)
+        s = lp3.sum(axis=(0, 2))
+        lp3 /= s[:, None]
         self.alpha = lp
         self.steps += 1
         self._settle()

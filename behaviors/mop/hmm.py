@@ -125,11 +125,19 @@ def check_templates(templates: Mapping[str, np.ndarray]) -> dict[str, np.ndarray
     return out
 
 
-def build_bank(templates: Mapping[str, np.ndarray], relative_floor: float = 0.05) -> TemplateBank:
-    """Validate, standardise (one pooled per-column scale) and stack a template set."""
+def build_bank(templates: Mapping[str, np.ndarray], relative_floor: float = 0.05,
+               min_scale: np.ndarray | None = None) -> TemplateBank:
+    """Validate, standardise (one pooled per-column scale, see
+    :func:`behaviors.mop.features.fit_scale`) and stack a template set."""
     checked = check_templates(templates)
     arrays = list(checked.values())
-    center, scale = fit_scale(arrays, relative_floor)
+    if min_scale is not None:
+        ms = np.asarray(min_scale, dtype=float)
+        if ms.shape != (arrays[0].shape[1],) or not np.all(np.isfinite(ms)) or np.any(ms < 0):
+            raise TemplateError(
+                f"min_scale must be {arrays[0].shape[1]} non-negative numbers (one per feature), "
+                f"got {np.asarray(min_scale).tolist()}")
+    center, scale = fit_scale(arrays, relative_floor, min_scale)
     lengths = np.array([a.shape[0] for a in arrays], dtype=np.intp)
     starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.intp)
     means = np.ascontiguousarray(np.concatenate([(a - center) / scale for a in arrays], axis=0))

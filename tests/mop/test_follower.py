@@ -1,0 +1,242 @@
+"""ActionFollower: progress under time warps, recognition, null rejection, backwards, pauses,
+re-entry, long runs, any feature scale, and clear errors."""
+
+import math
+
+import mop_gestures as g
+import numpy as np
+import pytest
+
+from behaviors.mop.follower import ActionFollower, FollowState, SampleError, TemplateError
+from tabletop.frames import InputError
+
+
+def _follow(f: ActionFollower, perf: np.ndarray) -> list[FollowState]:
+    return [f.step(x) for x in perf]
+
+
+@pytest.mark.parametrize("d", [2, 3, 6])
+def test_time_warped_performances_are_followed(d):
+    rng = np.random.default_rng(100 + d)
+    worst = 0.0
+    for _ in range(6):
+        tpl = g.template(rng, d=d)
+        phase = g.warped_phase(rng, len(tpl), 0.5, 2.0)
+        perf = g.perform(rng, tpl, phase, noise=0.1)
+        states = _follow(ActionFollower({"a": tpl}), perf)
+        prog = np.array([s.progress for s in states])
+        truth = phase / (len(tpl) - 1)
+        m = len(perf) // 10
+        rmse = float(np.sqrt(np.mean((prog[m:] - truth[m:]) ** 2)))
+        worst = max(worst, rmse)
+        assert all(s.valid for s in states[m:]), "a true performance must stay valid"
+    assert worst <= 0.05
+
+
+def test_skip_transitions_are_what_follows_a_fast_performance():
+    rng = np.random.default_rng(7)
+    tpl = g.template(rng, d=3)
+    phase = np.arange(0.0, len(tpl) - 1, 2.0)  # twice as fast as recorded, throughout
+    perf = g.perform(rng, tpl, phase, noise=0.05)
+    truth = phase / (len(tpl) - 1)
+    paper = ActionFollower({"a": tpl}, transitions=(0.5, 0.5), backward=0.0)
+    ours = ActionFollower({"a": tpl})
+    err_paper = np.abs(np.array([s.progress for s in _follow(paper, perf)]) - truth)
+    err_ours = np.abs(np.array([s.progress for s in _follow(ours, perf)]) - truth)
+    m = len(perf) // 10
+    assert err_ours[m:].max() <= 0.06
+    assert err_paper[m:].mean() >= 2 * err_ours[m:].mean()
+
+
+def test_recognises_the_performed_action_among_five_by_sixty_percent():
+    rng = np.random.default_rng(5)
+    hits = total = 0
+    for _ in range(4):
+        tpls = {f"action{i}": g.template(rng, d=3) for i in range(5)}
+        f = ActionFollower(tpls)
+        for name, tpl in tpls.items():
+            phase = g.warped_phase(rng, len(tpl))
+            perf = g.perform(rng, tpl, phase, noise=0.15)
+            f.reset()
+            states = _follow(f, perf)
+            at60 = states[int(np.searchsorted(phase / (len(tpl) - 1), 0.6))]
+            hits += at60.best == name
+            total += 1
+            assert math.isclose(sum(at60.probabilities.values()), 1.0, rel_tol=1e-9)
+            assert abs(at60.progress - at60.progress_by[name]) < 1e-12 or at60.best != name
+    assert hits / total >= 0.9
+
+
+def test_probabilities_switch_when_the_performer_switches_action():
+    rng = np.random.default_rng(8)
+    tpls = {"a": g.template(rng, d=3), "b": g.template(rng, d=3)}
+    f = ActionFollower(tpls)
+    first = _follow(f, g.perform(rng, tpls["a"], np.arange(200.0), 0.1))
+    second = _follow(f, g.perform(rng, tpls["b"], np.arange(200.0), 0.1))
+    assert first[-1].best == "a" and first[-1].probabilities["a"] > 0.99
+    assert second[100].best == "b" and second[100].probabilities["b"] > 0.99
+
+
+def test_unrelated_input_scores_lower_and_is_invalid():
+    rng = np.random.default_rng(9)
+    tpls = {f"action{i}": g.template(rng, d=6) for i in range(5)}
+    f = ActionFollower(tpls)
+    true_ll, other_ll, other_valid = [], [], []
+    for _ in range(3):
+        tpl = tpls["action2"]
+        f.reset()
+        states = _follow(f, g.perform(rng, tpl, g.warped_phase(rng, len(tpl)), 0.1))
+        true_ll.append(np.mean([s.loglik for s in states]))
+        unrelated = g.template(rng, d=6, harmonics=4)
+        f.reset()
+        states = _follow(f, g.perform(rng, unrelated, g.warped_phase(rng, len(unrelated)), 0.1))
+        other_ll.append(np.mean([s.loglik for s in states]))
+        other_valid.append(np.mean([s.valid for s in states[len(states) // 10:]]))
+    assert max(other_ll) < min(true_ll)
+    assert max(other_valid) <= 0.1
+    noise = rng.normal(0.0, 1.0, (300, 6)) * np.concatenate(list(tpls.values())).std(axis=0)
+    f.reset()
+    states = _follow(f, noise)
+    assert np.mean([s.valid for s in states]) <= 0.05
+    assert all(math.isfinite(s.loglik) and math.isfinite(s.progress) for s in states)
+
+
+def test_going_back_moves_progress_back_and_pausing_holds_it():
+    rng = np.random.default_rng(11)
+    for _ in range(4):
+        tpl = g.template(rng, d=3)
+        n = len(tpl)
+        phase = np.concatenate([np.arange(0.0, 140.0), np.full(40, 140.0),
+                                np.arange(140.0, 60.0, -1.0), np.arange(60.0, n - 1, 1.0)])
+        states = _follow(ActionFollower({"a": tpl}), g.perform(rng, tpl, phase, 0.1))
+        prog = np.array([s.progress for s in states])
+        truth = phase / (n - 1)
+        pause = slice(140, 180)
+        assert np.abs(prog[pause] - truth[pause]).max() <= 0.05
+        assert np.ptp(prog[150:180]) <= 0.03
+        back = slice(190, 220)
+        assert np.abs(prog[back] - truth[back]).max() <= 0.08
+        assert prog[219] < prog[181] - 0.15
+        assert np.sqrt(np.mean((prog[180:] - truth[180:]) ** 2)) <= 0.06
+
+
+def _rest(rng, pose, n, tpl):
+    return np.repeat(pose[None, :], n, axis=0) + rng.normal(0.0, 0.05, (n, pose.size)) * tpl.std(axis=0)
+
+
+def test_a_new_performance_is_followed_after_the_last_one_ended():
+    rng = np.random.default_rng(12)
+    tpls = {"a": g.template(rng, d=3), "b": g.template(rng, d=3)}
+    f = ActionFollower(tpls)
+    for rep in range(6):
+        name = "ab"[rep % 2]
+        tpl = tpls[name]
+        _follow(f, _rest(rng, tpl[0], 15, tpl))
+        phase = g.warped_phase(rng, len(tpl))
+        states = _follow(f, g.perform(rng, tpl, phase, 0.1))
+        end = _follow(f, _rest(rng, tpl[-1], 15, tpl))
+        prog = np.array([s.progress for s in states])
+        truth = phase / (len(tpl) - 1)
+        m = len(phase) // 5
+        assert np.sqrt(np.mean((prog[m:] - truth[m:]) ** 2)) <= 0.05, f"repetition {rep}"
+        assert states[-1].best == name
+        assert end[-1].progress >= 0.95 and end[-1].best == name
+    assert f.forward.entries.sum() >= 4
+
+
+def test_hundred_thousand_steps_stay_finite_and_accurate():
+    rng = np.random.default_rng(13)
+    tpl = g.template(rng, n=120, d=3)
+    f = ActionFollower({"a": tpl})
+    steps, last_errors = 0, []
+    while steps < 100_000:
+        rest = _rest(rng, tpl[0], 10, tpl)
+        phase = g.warped_phase(rng, len(tpl))
+        perf = g.perform(rng, tpl, phase, 0.1)
+        for x in rest:
+            f.step(x)
+        prog = np.empty(len(perf))
+        ll = np.empty(len(perf))
+        for i, x in enumerate(perf):
+            s = f.step(x)
+            prog[i], ll[i] = s.progress, s.loglik
+        steps += len(rest) + len(perf)
+        assert np.all(np.isfinite(prog)) and np.all(np.isfinite(ll))
+        m = len(perf) // 5
+        last_errors.append(float(np.sqrt(np.mean((prog[m:] - phase[m:] / (len(tpl) - 1)) ** 2))))
+    assert np.all(np.isfinite(f.forward.alpha)) and abs(f.forward.alpha.sum() - 1.0) < 1e-9
+    assert max(last_errors[-20:]) <= 0.05
+    assert np.median(last_errors) <= 0.03
+
+
+@pytest.mark.parametrize("unit", [1e-6, 1.0, 3e5])
+def test_features_of_any_scale_give_the_same_answers(unit):
+    rng = np.random.default_rng(14)
+    tpls = {"a": g.template(rng, d=3), "b": g.template(rng, d=3)}
+    perf = g.perform(rng, tpls["b"], g.warped_phase(rng, 200), 0.1)
+    scale = unit * np.array([0.3, 1.0, 4.0])
+    offset = np.array([1e3, -7.0, 0.0]) * unit
+    plain = _follow(ActionFollower(tpls), perf)
+    scaled = _follow(ActionFollower({k: v * scale + offset for k, v in tpls.items()}), perf * scale + offset)
+    for p, s in zip(plain, scaled):
+        assert p.best == s.best and p.valid == s.valid
+        assert abs(p.progress - s.progress) <= 1e-6
+        assert abs(p.loglik - s.loglik) <= 1e-6 * max(1.0, abs(p.loglik))
+    assert plain[-1].progress >= 0.95
+
+
+def test_a_still_feature_does_not_break_following():
+    rng = np.random.default_rng(15)
+    tpl = g.template(rng, d=3)
+    tpl[:, 2] = 0.25  # a feature that never moves in the template
+    phase = g.warped_phase(rng, len(tpl))
+    perf = g.perform(rng, tpl, phase, 0.1)
+    perf[:, 2] = 0.25 + rng.normal(0.0, 0.002, len(perf))
+    states = _follow(ActionFollower({"still": tpl}), perf)
+    prog = np.array([s.progress for s in states])
+    m = len(perf) // 10
+    assert np.sqrt(np.mean((prog[m:] - phase[m:] / (len(tpl) - 1)) ** 2)) <= 0.05
+    assert np.mean([s.valid for s in states[m:]]) >= 0.95
+
+
+def test_short_templates_and_windows_wider_than_a_template():
+    rng = np.random.default_rng(16)
+    tpl = g.template(rng, n=12, d=3)
+    f = ActionFollower({"short": tpl, "long": g.template(rng, n=300, d=3)}, window=15)
+    states = _follow(f, g.perform(rng, tpl, np.linspace(0, 11, 12), 0.05))
+    assert states[-1].best == "short"
+    assert states[-1].progress >= 0.9
+    assert states[5].progress == pytest.approx(5 / 11, abs=0.12)
+
+
+def test_a_lost_sample_holds_the_state_and_marks_it_invalid():
+    rng = np.random.default_rng(17)
+    tpl = g.template(rng, d=3)
+    f = ActionFollower({"a": tpl})
+    before = _follow(f, g.perform(rng, tpl, np.arange(0.0, 100.0), 0.05))[-1]
+    held = f.step(np.array([np.nan, 0.0, 0.0]))
+    assert not held.valid and held.progress == before.progress and held.best == "a"
+    fresh = ActionFollower({"a": tpl}).step(np.full(3, np.inf))
+    assert not fresh.valid and math.isfinite(fresh.loglik) and fresh.best == "a"
+    after = f.step(tpl[101])
+    assert after.progress == pytest.approx(101 / 199, abs=0.05)
+
+
+def test_bad_templates_and_samples_are_refused_with_clear_messages():
+    good = np.zeros((10, 2))
+    with pytest.raises(TemplateError, match=r"'one'.*1 sample\(s\), needs at least 2"):
+        ActionFollower({"ok": good, "one": np.zeros((1, 2))})
+    with pytest.raises(TemplateError, match=r"'b'.*3 feature columns.*'a' has 2"):
+        ActionFollower({"a": good, "b": np.zeros((10, 3))})
+    bad = good.copy()
+    bad[4, 1] = np.nan
+    with pytest.raises(TemplateError, match=r"'nan'.*sample 4, feature 1 is nan"):
+        ActionFollower({"nan": bad})
+    with pytest.raises(TemplateError, match="no templates"):
+        ActionFollower({})
+    with pytest.raises(TemplateError, match="sigma"):
+        ActionFollower({"a": good}, sigma=0.0)
+    f = ActionFollower({"a": good + np.arange(10)[:, None]})
+    with pytest.raises(SampleError, match=r"shape \(3,\), expected \(2,\)"):
+        f.step(np.zeros(3))
+    assert issubclass(TemplateError, InputError) and issubclass(SampleError, InputError)
