@@ -173,7 +173,7 @@ class Puppet:
     def __init__(self, name: str, rig: Rig, actions: Sequence[Action], x: float, y: float,
                  heading: float, size: float, color: tuple[int, int, int] = (240, 170, 60),
                  blend_s: float = 0.2, hold_s: float = 0.5, rest_s: float = 0.4,
-                 min_probability: float = 0.4) -> None:
+                 min_probability: float = 0.5) -> None:
         self.name, self.rig = name, rig
         self.actions: dict[str, Action] = {}
         for a in actions:

@@ -109,7 +109,7 @@ CHARACTER = Record({
     "blend_s": Number(0.2, lo=0.0, hi=5.0),
     "hold_s": Number(0.5, lo=0.0, hi=60.0),
     "rest_s": Number(0.4, lo=0.0, hi=60.0),
-    "min_probability": Number(0.4, lo=0.0, hi=1.0,
+    "min_probability": Number(0.5, lo=0.0, hi=1.0,
                               doc="an action less probable than this shows nothing"),
 })
 

@@ -1,0 +1,364 @@
+"""The ``mop`` engine plugin: config, performers bound to characters, playback at the performer's
+progress, holding and resting, several inputs concatenated, and the designer flow on real files."""
+
+import copy
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from tabletop.config import load_config, validate_config
+from tabletop.files import FileFormatError
+from tabletop.frames import Frame, Puck, Touch
+from tabletop.plugins import mop
+from tabletop.registry import BuildContext
+from tabletop.schema import ConfigError
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+RATE = 60.0
+
+
+def _gestures():
+    spec = importlib.util.spec_from_file_location("make_mop_gestures", EXAMPLES / "make_mop_gestures.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["make_mop_gestures"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+G = _gestures()
+
+
+def _build(data: dict, base: Path):
+    cfg = validate_config(data, str(base / "test.yaml"), base)
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=base)
+    return mop.build(cfg["engines"][0], ctx)
+
+
+def _example_data() -> dict:
+    return yaml.safe_load((EXAMPLES / "mop.yaml").read_text())
+
+
+class Table:
+    """Drives an engine with frames at 60 Hz on one clock."""
+
+    def __init__(self, engine):
+        self.engine, self.t, self.seq = engine, 0.0, 0
+        self.pucks: dict[int, tuple[float, float]] = {1: (0.3, 0.3), 2: (0.9, 0.5)}
+        self.touches: tuple = ()
+        self.streams: dict = {}
+
+    def tick(self, commands=()):
+        pucks = tuple(Puck(i, x, y, 0.0) for i, (x, y) in self.pucks.items())
+        frame = Frame(self.seq, self.t, pucks=pucks, touches=self.touches,
+                      streams=dict(self.streams), commands=tuple(commands))
+        out = {c.name: c for c in self.engine.step(frame)}
+        self.t += 1.0 / RATE
+        self.seq += 1
+        return out
+
+    def rest(self, seconds, puck=1):
+        return [self.tick() for _ in range(int(seconds * RATE))]
+
+    def perform(self, name, puck=1, speed=lambda u: 1.0, noise=0.0, seed=0, upto=1.0):
+        """Move ``puck`` along gesture ``name`` from where it is; ``speed(u)`` is the playback
+        rate at gesture progress u. Returns [(true progress, characters)]."""
+        g = G.gesture(name)
+        x0, y0 = self.pucks[puck]
+        rng = np.random.default_rng(seed)
+        dur = g[-1, 0]
+        tau, out = 0.0, []
+        while tau < dur * upto:
+            dx = np.interp(tau, g[:, 0], g[:, 1]) + rng.normal(0, noise)
+            dy = np.interp(tau, g[:, 0], g[:, 2]) + rng.normal(0, noise)
+            self.pucks[puck] = (x0 + dx, y0 + dy)
+            out.append((tau / dur, self.tick()))
+            tau += speed(tau / dur) / RATE
+        return out
+
+
+@pytest.fixture(scope="module")
+def example_cfg():
+    return load_config(EXAMPLES / "mop.yaml")
+
+
+def test_example_config_builds_three_kinds_of_character(example_cfg):
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    engine = mop.build(example_cfg["engines"][0], ctx)
+    chars = Table(engine).rest(0.5)[-1]
+    assert {c.kind for c in chars.values()} == {"skeleton", "creature", "face"}
+    for c in chars.values():
+        assert np.all(np.isfinite(c.points)) and len(c.bones) > 10
+        assert c.points[:, 0].min() > 0 and c.points[:, 0].max() < 1.2
+        assert c.points[:, 1].min() > 0 and c.points[:, 1].max() < 0.8
+        # a resting puck performs nothing, or at most rests at the start of a gesture
+        assert not c.valid or c.progress <= 0.2
+    dancer = chars["dancer"]
+    # the humanoid stands `size` tall along its heading (+y)
+    assert abs(np.ptp(dancer.points[:, 1]) - 0.3) < 0.02
+
+
+def test_warped_noisy_performance_plays_the_motion_at_its_progress(example_cfg):
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    engine = mop.build(example_cfg["engines"][0], ctx)
+    table = Table(engine)
+    table.rest(1.0)
+    # speed changes within the performance from 0.6x to 1.7x of the recording
+    run = table.perform("zigzag", speed=lambda u: 0.6 + 1.1 * u, noise=0.002, seed=1)
+    late = [(u, c["dancer"]) for u, c in run if u >= 0.4]
+    right = [c.valid and c.action == "zigzag" for _, c in late]
+    assert np.mean(right) >= 0.9
+    err = [c.progress - u for u, c in late if c.valid and c.action == "zigzag"]
+    assert math.sqrt(np.mean(np.square(err))) <= 0.06
+    # what is drawn is the kick clip at that progress (after the cross-fade), placed on the table
+    u, c = late[-1]
+    puppet = engine.puppets["dancer"]
+    clip = puppet.actions["zigzag"].clip
+    assert clip.name == "kick"
+    from behaviors.mop.skeleton import place
+    expected = place(puppet.rig.pose(clip, c.progress), puppet.x, puppet.y, puppet.heading,
+                     puppet.size)
+    assert np.abs(expected - c.points).max() < 1e-9
+    # the other performer's characters were not driven
+    assert not any(ch["salamander"].valid for _, ch in run)
+
+
+def test_pause_holds_and_going_back_reverses(example_cfg):
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    engine = mop.build(example_cfg["engines"][0], ctx)
+    table = Table(engine)
+    table.rest(1.0)
+    run = table.perform("figure_eight", upto=0.6)
+    p_end = run[-1][1]["dancer"].progress
+    assert run[-1][1]["dancer"].action == "figure_eight" and abs(p_end - 0.6) < 0.08
+    held = [c["dancer"] for c in table.rest(0.4)]
+    assert all(c.action == "figure_eight" for c in held)
+    assert max(abs(c.progress - p_end) for c in held if c.valid) < 0.04
+    # going back along the path: progress goes down
+    g = G.gesture("figure_eight")
+    x0 = table.pucks[1][0] - np.interp(0.6 * g[-1, 0], g[:, 0], g[:, 1])
+    y0 = table.pucks[1][1] - np.interp(0.6 * g[-1, 0], g[:, 0], g[:, 2])
+    back = []
+    for tau in np.linspace(0.6, 0.35, 25) * g[-1, 0]:
+        table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]), y0 + np.interp(tau, g[:, 0], g[:, 2]))
+        back.append(table.tick()["dancer"])
+    progress = [c.progress for c in back if c.valid and c.action == "figure_eight"]
+    assert len(progress) > 15 and progress[-1] < p_end - 0.15
+
+
+def test_unrelated_input_holds_then_returns_to_rest(example_cfg):
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    engine = mop.build(example_cfg["engines"][0], ctx)
+    table = Table(engine)
+    table.rest(1.0)
+    table.perform("circle", upto=0.7)
+    playing = table.tick()["dancer"]
+    assert playing.valid and playing.action == "circle"
+    # the puck vanishes: the character holds its pose for hold_s, dimmed
+    del table.pucks[1]
+    held = [table.tick()["dancer"] for _ in range(int(0.4 * RATE))]
+    assert not any(c.valid for c in held[2:])       # from the next follower sample (30 Hz) on
+    assert np.abs(held[-1].points - playing.points).max() < 0.02
+    # a fast scribble that is no gesture: still invalid; after hold and rest time it is at rest
+    rng = np.random.default_rng(5)
+    table.pucks[1] = (0.6, 0.5)
+    rest_pts, valid = None, []
+    for _ in range(int(3.0 * RATE)):
+        x, y = table.pucks[1]
+        table.pucks[1] = (min(1.0, max(0.2, x + rng.normal(0, 0.03))),
+                          min(0.7, max(0.1, y + rng.normal(0, 0.03))))
+        c = table.tick()["dancer"]
+        valid.append(c.valid)
+        rest_pts = c.points
+    assert not any(valid[int(0.5 * RATE):])
+    puppet = engine.puppets["dancer"]
+    from behaviors.mop.skeleton import place
+    rest = place(puppet.rig.rest(), puppet.x, puppet.y, puppet.heading, puppet.size)
+    assert np.abs(rest_pts - rest).max() < 0.005
+
+
+def test_time_warp_maps_action_progress_onto_motion(tmp_path):
+    data = _example_data()
+    eng = data["engines"][0]
+    eng["library"] = None
+    for c in eng["characters"]:
+        for a in c["actions"]:
+            a["template"] = str(EXAMPLES / a["template"])
+    eng["characters"][1]["actions"][0]["warp"] = [[0, 0], [0.5, 0.8], [1, 1]]
+    engine = _build(data, tmp_path)
+    puppet = engine.puppets["salamander"]
+    action = puppet.actions["circle"]
+    assert abs(action.warp(0.5) - 0.8) < 1e-12
+    table = Table(engine)
+    table.rest(1.0)
+    run = table.perform("circle", puck=2, upto=0.6)
+    c = run[-1][1]["salamander"]
+    assert c.valid and c.action == "circle"
+    from behaviors.mop.skeleton import place
+    expected = place(puppet.rig.pose(action.clip, action.warp(c.progress)), puppet.x, puppet.y,
+                     puppet.heading, puppet.size)
+    assert np.abs(expected - c.points).max() < 1e-9
+
+
+def _multi_config(tmp_path: Path) -> dict:
+    """One performer: puck 1 path + a mocap stream + a touch, concatenated."""
+    g = G.gesture("wave")
+    arm = np.sin(np.linspace(0, np.pi, len(g)))             # e.g. an elbow angle, radians
+    finger_dx = np.linspace(0, 0.1, len(g))
+    rows = np.column_stack([g[:, 0], g[:, 1], g[:, 2], arm, finger_dx, 0 * finger_dx])
+    header = "t,puck1_dx,puck1_dy,arm_0,touch_dx,touch_dy"
+    np.savetxt(tmp_path / "wave_arm.csv", rows, delimiter=",", header=header, comments="")
+    rows2 = rows.copy()
+    rows2[:, 3] = -rows2[:, 3]
+    np.savetxt(tmp_path / "wave_arm_down.csv", rows2, delimiter=",", header=header, comments="")
+    return {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop", "rate_hz": 30,
+        "performers": [{"name": "dancer", "inputs": [{"kind": "puck", "id": 1},
+                                                     {"kind": "stream", "name": "arm", "columns": [0]},
+                                                     {"kind": "touch"}]}],
+        "characters": [{"name": "face", "kind": "face", "performer": "dancer", "actions": [
+            {"name": "up", "template": "wave_arm.csv", "motion": "laugh"},
+            {"name": "down", "template": "wave_arm_down.csv", "motion": "angry"}]}]}]}
+
+
+def test_several_inputs_concatenated(tmp_path):
+    engine = _build(_multi_config(tmp_path), tmp_path)
+    assert engine.performers["dancer"].names == ("puck1_dx", "puck1_dy", "arm_0", "touch_dx", "touch_dy")
+    g = G.gesture("wave")
+    for sign, expect in ((1.0, "up"), (-1.0, "down")):
+        table = Table(engine)
+        table.t = 100.0 if sign < 0 else 0.0
+        table.rest(1.0)
+        x0, y0 = table.pucks[1]
+        seen = []
+        for k in range(len(g) * 2):
+            tau = k / RATE
+            u = min(1.0, tau / g[-1, 0])
+            table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]), y0 + np.interp(tau, g[:, 0], g[:, 2]))
+            table.streams = {"arm": np.array([sign * math.sin(math.pi * u)])}
+            table.touches = (Touch(4, 0.5 + 0.1 * u, 0.2),)
+            c = table.tick()["face"]
+            if 0.5 <= u < 1.0:
+                seen.append(c.valid and c.action == expect)
+        assert np.mean(seen) > 0.9, expect
+        # the stream disappears: nothing can be followed, the character is not valid
+        table.streams = {}
+        assert not table.tick()["face"].valid
+
+
+def _designer_config(tmp_path: Path) -> dict:
+    return {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop", "library": "lib",
+        "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
+        "characters": [
+            {"name": "face", "kind": "face", "performer": "hand",
+             "actions": [{"name": "circle", "template": str(EXAMPLES / "mop/gestures/circle.csv"),
+                          "motion": "talk"}]},
+            {"name": "lizard", "kind": "creature", "performer": "hand",
+             "motions": ["strike", "curl"]}]}]}
+
+
+def test_designer_records_trains_assigns_keeps_and_reloads(tmp_path):
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = Table(engine)
+    table.rest(1.0)
+    c = table.tick(["designer.next"])
+    assert "selected lizard" in c["lizard"].label
+    # record a square with puck 1
+    table.tick(["designer.record"])
+    assert "REC" in table.tick()["lizard"].label
+    table.perform("square")
+    c = table.tick(["designer.record"])
+    assert "take1 -> strike" in c["lizard"].label
+    assert engine.puppets["lizard"].actions["take1"].clip.name == "strike"
+    c = table.tick(["designer.assign"])
+    assert "motion curl" in c["lizard"].label
+    assert engine.puppets["lizard"].actions["take1"].clip.name == "curl"
+    # trained at once: perform it (a little faster) and the lizard curls along
+    table.rest(1.2)
+    run = table.perform("square", speed=lambda u: 1.3)
+    late = [ch["lizard"] for u, ch in run if u > 0.5]
+    assert np.mean([x.valid and x.action == "take1" for x in late]) > 0.9
+    assert late[-1].progress > 0.85
+    # keep: written atomically to the library, and a new engine loads it
+    c = table.tick(["designer.keep"])
+    assert "kept take1 -> curl" in c["lizard"].label
+    saved = yaml.safe_load((tmp_path / "lib" / "lizard" / "actions.yaml").read_text())
+    assert saved == {"actions": [{"name": "take1", "template": "take1.csv", "motion": "curl"}]}
+    header = (tmp_path / "lib" / "lizard" / "take1.csv").read_text().splitlines()[0]
+    assert header == "t,dx,dy"
+    again = _build(_designer_config(tmp_path), tmp_path)
+    assert "take1" in again.puppets["lizard"].actions
+    assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
+
+
+def test_designer_discard_and_redo(tmp_path):
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = Table(engine)
+    table.rest(1.0)
+    table.tick(["designer.record"])            # the face is selected first
+    table.perform("line")
+    table.tick(["designer.record"])
+    assert "take1" in engine.puppets["face"].actions
+    n1 = len(engine.templates["face"]["take1"][1])
+    table.rest(1.0)
+    table.tick(["designer.record"])            # redo: the pending take is replaced
+    assert "take1" not in engine.puppets["face"].actions
+    table.perform("zigzag")
+    c = table.tick(["designer.record"])
+    assert "take2" in engine.puppets["face"].actions and n1 != len(engine.templates["face"]["take2"][1])
+    c = table.tick(["designer.discard"])
+    assert "discarded" in c["face"].label
+    assert set(engine.puppets["face"].actions) == {"circle"}
+    assert not (tmp_path / "lib").exists()
+    # a take too short to learn from is refused
+    table.tick(["designer.record"])
+    c = table.tick(["designer.record"])
+    assert "too short" in c["face"].label and set(engine.puppets["face"].actions) == {"circle"}
+
+
+def test_config_errors_name_the_key_or_file(tmp_path):
+    base = _designer_config(tmp_path)
+
+    def expect(mutate, *words, error=ConfigError):
+        data = copy.deepcopy(base)
+        mutate(data["engines"][0])
+        with pytest.raises(error) as exc:
+            _build(data, tmp_path)
+        for w in words:
+            assert w in str(exc.value), str(exc.value)
+
+    expect(lambda e: e["characters"][0].update(performer="nobody"),
+           "engines[0].characters[0].performer", "no performer 'nobody'")
+    expect(lambda e: e["characters"][0]["actions"][0].update(motion="moonwalk"),
+           "engines[0].characters[0].actions[0].motion", "unknown motion 'moonwalk'")
+    expect(lambda e: e["characters"][0]["actions"][0].update(motion="clips/nothere.json"),
+           "actions[0].motion", "nothere.json")
+    expect(lambda e: e["characters"][0]["actions"][0].update(template="nothere.csv"),
+           "actions[0].template", "nothere.csv")
+    expect(lambda e: e["characters"][0]["actions"][0].update(warp=[[0, 0.5], [1, 1]]),
+           "actions[0].warp", "start at [0, 0]")
+    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton", "performer": "hand",
+                                             "skeleton": "missing.urdf"}),
+           "characters[2].skeleton", "missing.urdf")
+    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton", "performer": "hand",
+                                             "actions": [{"name": "a", "template": str(
+                                                 EXAMPLES / "mop/gestures/line.csv"),
+                                                 "motion": "moonwalk"}]}),
+           "characters[2].actions[0].motion", "humanoid3d_moonwalk.txt")
+    expect(lambda e: e["performers"][0]["inputs"].append({"kind": "stream"}),
+           "performers[0].inputs[1].name", "needs the stream's name")
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,dx,speed\n0,0,0\n0.1,0.1,0.1\n")
+    expect(lambda e: e["characters"][0]["actions"][0].update(template=str(bad)),
+           "bad.csv", "do not match the performer's features dx,dy", error=FileFormatError)
+    lib = tmp_path / "lib" / "face"
+    lib.mkdir(parents=True)
+    (lib / "actions.yaml").write_text("actions: [oops\n")
+    expect(lambda e: None, "lib/face/actions.yaml", "cannot read the action library",
+           error=mop.MopError)
