@@ -6,7 +6,8 @@ character's heading, see :func:`behaviors.mop.skeleton.place`):
 - :class:`HumanoidRig`: a URDF skeleton driven by a DeepMimic-style clip (quaternion joints),
   by forward kinematics and a projection;
 - :class:`PlanarRig`: a :class:`Skeleton2D` driven by 2-D joint angles named after its bones;
-- :class:`FaceRig`: a :class:`FaceModel` driven by blendshape weights.
+- :class:`FaceRig`: a :class:`FaceModel` driven by blendshape weights;
+- :class:`SpriteRig`: a vector sprite sheet whose frames a clip's ``frame`` channel picks.
 
 :class:`Puppet` is one character: its actions (name -> clip, time warp), fed each tick with the
 follower states of the performers bound to it. It shows the motion of the most probable valid
@@ -141,6 +142,57 @@ class FaceRig:
 
     def rest(self) -> np.ndarray:
         return self.face.neutral.copy()
+
+
+class SpriteRig:
+    """A vector sprite sheet: frames of points sharing one set of bones (figure units, y along
+    the heading). A clip's ``frame`` channel (type ``frame``) picks the frame shown."""
+
+    kind = "sprite"
+
+    def __init__(self, frames: np.ndarray, bones: Sequence[tuple[int, int]]) -> None:
+        self.frames = np.asarray(frames, dtype=float)
+        self.bones = tuple((int(a), int(b)) for a, b in bones)
+
+    def check(self, clip: Clip) -> None:
+        if "frame" not in clip.names:
+            raise ClipError(f"clip {clip.name!r} has no 'frame' channel to pick sprite frames")
+
+    def pose(self, clip: Clip, progress: float) -> np.ndarray:
+        i = int(round(clip.channel(clip.sample(progress), "frame")[0]))
+        return self.frames[min(max(i, 0), len(self.frames) - 1)].copy()
+
+    def rest(self) -> np.ndarray:
+        return self.frames[0].copy()
+
+    def cycle(self) -> Clip:
+        """A clip that shows every frame in order, each for an equal share of the progress."""
+        from behaviors.mop.clips import Channel
+        n = len(self.frames)
+        times = np.arange(n + 1, dtype=float)
+        values = np.minimum(np.arange(n + 1), n - 1)[:, None].astype(float)
+        return Clip("frames", [Channel("frame", "frame")], times, values)
+
+
+def sprite_sheet_from_mapping(data: object, where: str) -> SpriteRig:
+    """A sprite rig from its JSON form ``{"format": "tabletop.sprites", "bones": [[a, b], ...],
+    "frames": [[[x, y], ...], ...]}`` (every frame has the same number of points)."""
+    if not isinstance(data, Mapping) or data.get("format", "tabletop.sprites") != "tabletop.sprites":
+        raise ClipError(f"{where}: expected a JSON object with format 'tabletop.sprites'")
+    try:
+        frames = np.array(data.get("frames"), dtype=float)
+        bones = np.array(data.get("bones"), dtype=int).reshape(-1, 2)
+    except (TypeError, ValueError):
+        raise ClipError(f"{where}: 'frames' must be a list of frames of [x, y] points and "
+                        "'bones' a list of [a, b] point index pairs") from None
+    if frames.ndim != 3 or frames.shape[0] < 1 or frames.shape[2] != 2 or frames.shape[1] < 2:
+        raise ClipError(f"{where}: 'frames' must be frames of the same number (>= 2) of [x, y] points")
+    if not np.all(np.isfinite(frames)):
+        raise ClipError(f"{where}: a frame holds a value that is not a finite number")
+    if bones.size and (bones.min() < 0 or bones.max() >= frames.shape[1]):
+        raise ClipError(f"{where}: a bone refers to a point that does not exist "
+                        f"(frames have {frames.shape[1]} points)")
+    return SpriteRig(frames, [tuple(b) for b in bones])
 
 
 @dataclass

@@ -18,8 +18,10 @@ Config (see ``examples/mop.yaml``)::
             - {name: circle, template: gestures/circle.csv, motion: walk}
 
 A ``motion`` is a built-in clip of the character (creature: walk, wag, curl, strike; face: laugh,
-surprise, angry, wink, talk), a DeepMimic clip name for a skeleton (walk, backflip, ...; from
-``pybullet_data``), or a path to a DeepMimic ``.txt`` or a ``tabletop.clip`` ``.json`` file.
+surprise, angry, wink, talk; sprite: frames, its sheet in order), a DeepMimic clip name for a
+skeleton (walk, backflip, ...; from ``pybullet_data``), or a path to a DeepMimic ``.txt`` or a
+``tabletop.clip`` ``.json`` file. A ``sprite`` character is a vector sprite sheet (``sheet``:
+``{"format": "tabletop.sprites", "bones": [[a, b], ...], "frames": [[[x, y], ...], ...]}``).
 Template CSVs hold the performer's feature columns (an optional ``t`` column, seconds, lets them
 be resampled to ``rate_hz``).
 
@@ -48,7 +50,8 @@ from tabletop.registry import BuildContext
 from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str)
 
 BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
-           "face": ("laugh", "surprise", "angry", "wink", "talk")}
+           "face": ("laugh", "surprise", "angry", "wink", "talk"),
+           "sprite": ("frames",)}
 DEEPMIMIC = ("walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",
              "dance_a", "dance_b", "getup_facedown", "getup_faceup", "roll", "spin")
 PUCK_FEATURES = ("dx", "dy", "heading", "speed")
@@ -94,13 +97,14 @@ ACTION = Record({
 
 CHARACTER = Record({
     "name": Str(),
-    "kind": Str(choices=("skeleton", "creature", "face")),
+    "kind": Str(choices=("skeleton", "creature", "face", "sprite")),
     "performer": Str(),
     "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
     "heading": Number(math.pi / 2, doc="radians; the figure's up points this way"),
     "size": Number(0.25, lo=0.01, hi=5.0, doc="metres: height, body length or face height"),
     "color": ListOf(Number(integer=True, lo=0, hi=255), default=[240, 170, 60], min_len=3, max_len=3),
     "skeleton": Optional_(FilePath(kind="file"), doc="URDF; default pybullet_data humanoid"),
+    "sheet": Optional_(FilePath(kind="file"), doc="sprite: a tabletop.sprites JSON sheet"),
     "view_yaw": Number(0.5, doc="skeleton: viewing side, radians (0 side, pi/2 front)"),
     "elevation": Number(0.25, lo=-1.5, hi=1.5, doc="skeleton: view tilt, radians"),
     "travel": Bool(False, doc="skeleton: let the root travel as in the clip"),
@@ -161,6 +165,8 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         if c["performer"] not in names:
             raise ctx.error(f"{where}.performer", f"no performer {c['performer']!r} "
                             f"(performers: {', '.join(sorted(names))})")
+        if c["kind"] == "sprite" and c["sheet"] is None:
+            raise ctx.error(f"{where}.sheet", "a sprite character needs its sheet (a JSON file)")
         if c["kind"] == "skeleton" and c["skeleton"] is None:
             from behaviors.mop.deepmimic import humanoid_urdf
             try:
@@ -204,14 +210,16 @@ SCHEMA = Record({
 class MotionLoader:
     """Loads and caches motions for one character kind."""
 
-    def __init__(self, kind: str, base: Path) -> None:
-        self.kind, self.base = kind, base
+    def __init__(self, kind: str, base: Path, rig: Any = None) -> None:
+        self.kind, self.base, self.rig = kind, base, rig
         self._cache: dict[str, Clip] = {}
 
     def __call__(self, motion: str) -> Clip:
         if motion not in self._cache:
             how, what = resolve_motion(self.kind, motion, self.base)
-            if how == "builtin":
+            if how == "builtin" and self.kind == "sprite":
+                clip = self.rig.cycle()
+            elif how == "builtin":
                 from behaviors.mop.creatures import creature_clips, face_clips
                 clip = (creature_clips() if self.kind == "creature" else face_clips())[what]
             elif how == "deepmimic":
@@ -250,6 +258,13 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
 
 
 def _make_rig(c: dict):
+    if c["kind"] == "sprite":
+        from behaviors.mop.puppetry import sprite_sheet_from_mapping
+        try:
+            data = json.loads(Path(c["sheet"]).read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+            raise MopError(f"{c['sheet']}: cannot read sprite sheet: {exc}") from None
+        return sprite_sheet_from_mapping(data, str(c["sheet"]))
     if c["kind"] == "creature":
         from behaviors.mop.creatures import creature_skeleton
         return PlanarRig(creature_skeleton())
@@ -342,7 +357,8 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     w, h = ctx.table
     puppets, templates, motions, loaders, bound = [], {}, {}, {}, {}
     for c in options["characters"]:
-        loader = MotionLoader(c["kind"], ctx.base)
+        rig = _make_rig(c)
+        loader = MotionLoader(c["kind"], ctx.base, rig)
         loaders[c["name"]] = loader
         bound[c["name"]] = c["performer"]
         actions, tmpl = [], {}
@@ -363,7 +379,6 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
             actions.append(Action(a["name"], clip, warp))
             tmpl[a["name"]] = (a["performer"], load_template(Path(a["template"]), performer.names, rate))
         at = c["at"] or [w / 2, h / 2]
-        rig = _make_rig(c)
         try:
             puppets.append(Puppet(c["name"], rig, actions, at[0], at[1], c["heading"], c["size"],
                                   tuple(c["color"]), c["blend_s"], c["hold_s"], c["rest_s"],

@@ -13,7 +13,7 @@ import yaml
 
 from tabletop.config import load_config, validate_config
 from tabletop.files import FileFormatError
-from tabletop.frames import Frame, Puck, Touch
+from tabletop.frames import Frame, InputError, Puck, Touch
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
@@ -87,13 +87,13 @@ def example_cfg():
     return load_config(EXAMPLES / "mop.yaml")
 
 
-def test_example_config_builds_three_kinds_of_character(example_cfg):
+def test_example_config_builds_every_kind_of_character(example_cfg):
     ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
     engine = mop.build(example_cfg["engines"][0], ctx)
     chars = Table(engine).rest(0.5)[-1]
-    assert {c.kind for c in chars.values()} == {"skeleton", "creature", "face"}
+    assert {c.kind for c in chars.values()} == {"skeleton", "creature", "face", "sprite"}
     for c in chars.values():
-        assert np.all(np.isfinite(c.points)) and len(c.bones) > 10
+        assert np.all(np.isfinite(c.points)) and len(c.bones) >= 7
         assert c.points[:, 0].min() > 0 and c.points[:, 0].max() < 1.2
         assert c.points[:, 1].min() > 0 and c.points[:, 1].max() < 0.8
         # a resting puck performs nothing, or at most rests at the start of a gesture
@@ -189,7 +189,10 @@ def test_time_warp_maps_action_progress_onto_motion(tmp_path):
     for c in eng["characters"]:
         for a in c["actions"]:
             a["template"] = str(EXAMPLES / a["template"])
-    eng["characters"][1]["actions"][0]["warp"] = [[0, 0], [0.5, 0.8], [1, 1]]
+        if c["kind"] == "sprite":
+            c["sheet"] = str(EXAMPLES / c["sheet"])
+    lizard = next(c for c in eng["characters"] if c["name"] == "salamander")
+    lizard["actions"][0]["warp"] = [[0, 0], [0.5, 0.8], [1, 1]]
     engine = _build(data, tmp_path)
     puppet = engine.puppets["salamander"]
     action = puppet.actions["circle"]
@@ -203,6 +206,35 @@ def test_time_warp_maps_action_progress_onto_motion(tmp_path):
     expected = place(puppet.rig.pose(action.clip, action.warp(c.progress)), puppet.x, puppet.y,
                      puppet.heading, puppet.size)
     assert np.abs(expected - c.points).max() < 1e-9
+
+
+def test_sprite_sheet_frames_follow_progress(example_cfg, tmp_path):
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    engine = mop.build(example_cfg["engines"][0], ctx)
+    table = Table(engine)
+    table.rest(1.0)
+    run = table.perform("wave")
+    bird = engine.puppets["bird"]
+    from behaviors.mop.skeleton import place
+    shown = set()
+    for u, ch in run:
+        c = ch["bird"]
+        if c.valid and c.action == "wave" and u > 0.3:
+            k = min(int(6 * c.progress), 5)
+            expected = place(bird.rig.frames[k], bird.x, bird.y, bird.heading, bird.size)
+            if np.abs(expected - c.points).max() < 1e-9:
+                shown.add(k)
+    assert len(shown) >= 4              # the wing beat went through its frames in turn
+    bad = tmp_path / "sheet.json"
+    bad.write_text('{"format": "tabletop.sprites", "bones": [[0, 9]], "frames": [[[0, 0], [1, 1]]]}')
+    data = {"sources": [{"kind": "scripted"}], "engines": [{"kind": "mop",
+            "performers": [{"name": "p", "inputs": [{"kind": "puck"}]}],
+            "characters": [{"name": "s", "kind": "sprite", "performer": "p", "sheet": str(bad)}]}]}
+    with pytest.raises(InputError, match="sheet.json: a bone refers to a point that does not exist"):
+        _build(data, tmp_path)
+    del data["engines"][0]["characters"][0]["sheet"]
+    with pytest.raises(ConfigError, match=r"characters\[0\]\.sheet: a sprite character needs"):
+        _build(data, tmp_path)
 
 
 def _multi_config(tmp_path: Path) -> dict:
