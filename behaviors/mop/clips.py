@@ -19,6 +19,7 @@ reading and writing files is left to the caller.
 
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
@@ -53,10 +54,13 @@ class Channel:
 def quat_normalize(q: np.ndarray) -> np.ndarray:
     """Unit quaternions (..., 4); a zero quaternion becomes the identity."""
     q = np.asarray(q, dtype=float)
-    n = np.linalg.norm(q, axis=-1, keepdims=True)
-    ident = np.zeros_like(q)
-    ident[..., 0] = 1.0
-    return np.where(n > 1e-12, q / np.where(n > 1e-12, n, 1.0), ident)
+    n = np.sqrt(np.einsum("...i,...i->...", q, q))[..., None]
+    ok = n > 1e-12
+    if np.all(ok):
+        return q / n
+    out = np.where(ok, q / np.where(ok, n, 1.0), 0.0)
+    out[..., 0] = np.where(ok[..., 0], out[..., 0], 1.0)
+    return out
 
 
 def quat_slerp(q0: np.ndarray, q1: np.ndarray, f: np.ndarray | float) -> np.ndarray:
@@ -64,10 +68,10 @@ def quat_slerp(q0: np.ndarray, q1: np.ndarray, f: np.ndarray | float) -> np.ndar
     q0 = quat_normalize(q0)
     q1 = quat_normalize(q1)
     f = np.asarray(f, dtype=float)[..., None]
-    dot = np.sum(q0 * q1, axis=-1, keepdims=True)
+    dot = np.einsum("...i,...i->...", q0, q1)[..., None]
     q1 = np.where(dot < 0.0, -q1, q1)
     dot = np.abs(dot)
-    theta = np.arccos(np.clip(dot, -1.0, 1.0))
+    theta = np.arccos(np.minimum(dot, 1.0))
     sin_t = np.sin(theta)
     small = sin_t < 1e-6
     safe = np.where(small, 1.0, sin_t)
@@ -78,12 +82,19 @@ def quat_slerp(q0: np.ndarray, q1: np.ndarray, f: np.ndarray | float) -> np.ndar
 
 def quat_to_matrix(q: np.ndarray) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of quaternions (..., 4) given w first."""
-    w, x, y, z = np.moveaxis(quat_normalize(q), -1, 0)
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-    ], -2)
+    q = quat_normalize(q)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    out = np.empty(q.shape[:-1] + (3, 3))
+    out[..., 0, 0] = 1 - 2 * (y * y + z * z)
+    out[..., 0, 1] = 2 * (x * y - w * z)
+    out[..., 0, 2] = 2 * (x * z + w * y)
+    out[..., 1, 0] = 2 * (x * y + w * z)
+    out[..., 1, 1] = 1 - 2 * (x * x + z * z)
+    out[..., 1, 2] = 2 * (y * z - w * x)
+    out[..., 2, 0] = 2 * (x * z - w * y)
+    out[..., 2, 1] = 2 * (y * z + w * x)
+    out[..., 2, 2] = 1 - 2 * (x * x + y * y)
+    return out
 
 
 def quat_from_axis_angle(axis: Sequence[float], angle: float) -> np.ndarray:
@@ -127,6 +138,7 @@ class Clip:
                 self.values[:, quat_cols].reshape(len(self.times), -1, 4)).reshape(len(self.times), -1)
         span = self.times[-1] - self.times[0]
         self._u = (self.times - self.times[0]) / span
+        self._u_list = self._u.tolist()
 
     @property
     def width(self) -> int:
@@ -150,7 +162,22 @@ class Clip:
 
     def sample(self, progress: float) -> np.ndarray:
         """The pose at ``progress`` (0..1, clamped; NaN counts as 0) as a D-vector."""
-        return self.sample_many(np.array([progress], dtype=float))[0]
+        p = float(progress)
+        p = 0.0 if p != p else min(max(p, 0.0), 1.0)
+        i = min(max(bisect.bisect_right(self._u_list, p) - 1, 0), len(self._u_list) - 2)
+        f = (p - self._u_list[i]) / (self._u_list[i + 1] - self._u_list[i])
+        a, b = self.values[i], self.values[i + 1]
+        out = a + f * (b - a)
+        cols = self._cols["angle"]
+        if cols.size:
+            out[cols] = a[cols] + f * (np.remainder(b[cols] - a[cols] + np.pi, 2 * np.pi) - np.pi)
+        cols = self._cols["frame"]
+        if cols.size:
+            out[cols] = b[cols] if f >= 1.0 else a[cols]
+        cols = self._cols["quat"]
+        if cols.size:
+            out[cols] = quat_slerp(a[cols].reshape(-1, 4), b[cols].reshape(-1, 4), f).reshape(-1)
+        return out
 
     def sample_many(self, progress: np.ndarray) -> np.ndarray:
         """Poses (M x D) at many progress values."""

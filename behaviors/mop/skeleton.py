@@ -96,6 +96,22 @@ class UrdfSkeleton:
             bones.append((link_index[name_], len(self.link_names) + k))
         self.bones = tuple(b for b in bones if b[0] != b[1])
         self._tip_links = [link_index[n] for n in self.tips]
+        self._ball = [i for i, j in enumerate(self.joints) if j.type == "spherical"]
+        self._hinge = [i for i, j in enumerate(self.joints) if j.type in ("revolute", "continuous")]
+        cross = np.array([[[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]]
+                          for a in (self.joints[i].axis for i in self._hinge)]).reshape(-1, 3, 3)
+        self._hinge_k, self._hinge_k2 = cross, cross @ cross
+        # joints grouped by depth, so forward kinematics runs one batched step per level
+        depth = [0] * len(self.link_names)
+        for i in range(len(self.joints)):
+            depth[i + 1] = depth[self._parent_index[i]] + 1
+        self._levels = []
+        for d in range(1, max(depth) + 1):
+            js = [i for i in range(len(self.joints)) if depth[i + 1] == d]
+            fixed = np.array([self.joints[i].rot for i in js])
+            self._levels.append((np.array(js), np.array([self._parent_index[i] for i in js]),
+                                 np.array(js) + 1, None if np.allclose(fixed, np.eye(3)) else fixed,
+                                 np.array([self.joints[i].xyz for i in js])[:, :, None]))
         self._tip_offsets = np.array([self.tips[n] for n in self.tips]).reshape(-1, 3)
 
     def forward(self, root_pos: Sequence[float] = (0.0, 0.0, 0.0),
@@ -109,23 +125,32 @@ class UrdfSkeleton:
         """
         rotations = rotations or {}
         n_links = len(self.link_names)
-        pos = np.zeros((n_links, 3))
-        rot = np.zeros((n_links, 3, 3))
+        pos = np.empty((n_links, 3))
+        rot = np.empty((n_links, 3, 3))
         pos[0] = np.asarray(root_pos, dtype=float)
-        rot[0] = quat_to_matrix(np.asarray(root_rot, dtype=float))
-        for i, j in enumerate(self.joints):
-            p = self._parent_index[i]
-            frame = rot[p] @ j.rot
-            value = rotations.get(j.name)
-            if value is not None and j.type == "spherical":
-                frame = frame @ quat_to_matrix(np.asarray(value, dtype=float))
-            elif value is not None and j.type in ("revolute", "continuous"):
-                frame = frame @ _axis_angle_matrix(j.axis, float(np.asarray(value).reshape(-1)[0]))
-            pos[i + 1] = pos[p] + rot[p] @ j.xyz
-            rot[i + 1] = frame
+        # each joint's own rotation, vectorised: ball joints from quaternions, hinges by Rodrigues
+        local = np.broadcast_to(np.eye(3), (len(self.joints), 3, 3)).copy()
+        balls = [i for i in self._ball if self.joints[i].name in rotations]
+        quats = [np.asarray(root_rot, dtype=float).reshape(4)]
+        quats += [np.asarray(rotations[self.joints[i].name], dtype=float).reshape(4) for i in balls]
+        mats = quat_to_matrix(np.array(quats))
+        rot[0] = mats[0]
+        if balls:
+            local[balls] = mats[1:]
+        hinges = [k for k, i in enumerate(self._hinge) if self.joints[i].name in rotations]
+        if hinges:
+            idx = [self._hinge[k] for k in hinges]
+            theta = np.array([float(np.asarray(rotations[self.joints[i].name]).reshape(-1)[0])
+                              for i in idx])
+            local[idx] = (np.eye(3) + np.sin(theta)[:, None, None] * self._hinge_k[hinges]
+                          + (1 - np.cos(theta))[:, None, None] * self._hinge_k2[hinges])
+        for joints, parents, children, fixed, xyz in self._levels:
+            rp = rot[parents]
+            pos[children] = pos[parents] + (rp @ xyz)[:, :, 0]
+            rot[children] = rp @ local[joints] if fixed is None else rp @ fixed @ local[joints]
         if not self._tip_links:
             return pos
-        tips = np.einsum("kij,kj->ki", rot[self._tip_links], self._tip_offsets) + pos[self._tip_links]
+        tips = (rot[self._tip_links] @ self._tip_offsets[:, :, None])[:, :, 0] + pos[self._tip_links]
         return np.vstack([pos, tips])
 
 
