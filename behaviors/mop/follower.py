@@ -146,7 +146,7 @@ class ActionFollower:
         p = np.exp(self._evidence - self._evidence[b])
         p /= p.sum()
         names = self.names
-        progress = np.minimum(np.maximum(self.forward.progress, 0.0), 1.0)
+        progress = self.forward.progress
         variance = float(self.forward.progress_variance[b])
         entries = int(self.forward.entries[b])
         restarted = entries > self._entries[b]

@@ -74,11 +74,10 @@ class WindowedForward:
         self._tail = tail
         self._last_flat = np.concatenate([wk - 1, wk - 1]) + np.arange(2 * k) * w
         self._at_end = np.concatenate([np.zeros(k), (wk == lengths).astype(float)])
-        self._at_end_main = np.zeros(k, dtype=bool)
-        self._at_start = np.zeros(k, dtype=bool)
         self._fold = np.full(2 * k, back)
-        self._floor = np.zeros((2 * k, w))
-        self._floor[:k] = self.floor * valid
+        # floor: keeps every main-window state reachable; _TINY keeps log() finite elsewhere
+        self._floor = np.full((2 * k, w), _TINY)
+        self._floor[:k][valid] = max(self.floor, _TINY)
         # the gathered states: main windows move, the first-states windows are fixed
         ar_clip = np.minimum(self._ar[None, :], (wk - 1)[:, None])
         self._gather_base = (bank.starts[:, None] + ar_clip).ravel()
@@ -107,6 +106,7 @@ class WindowedForward:
         self.var = np.zeros(k)
         self.entries = np.zeros(k, dtype=np.int64)
         self.steps = 0
+        self._window_moved()
 
     @property
     def log_constant(self) -> float:
@@ -115,9 +115,8 @@ class WindowedForward:
 
     def _emission(self, z: np.ndarray) -> np.ndarray:
         """log b (equation 1) for every window state, up to the constant -|z|^2 / (2 sigma^2)."""
-        k, w = self._k, self._w
-        idx = self._gather_base + np.repeat(self.lo, w)
-        kw = k * w
+        kw = self._k * self._w
+        idx = self._idx
         np.take(self.bank.means, idx, axis=0, out=self._buf[:kw])
         np.take(self._half_sq_states, idx, out=self._half_sq[:kw])
         if self._mask_main is not None:
@@ -125,23 +124,27 @@ class WindowedForward:
         lb = self._buf @ z
         lb -= self._half_sq
         lb *= self._inv_var
-        return lb.reshape(2 * k, w)
+        return lb.reshape(2 * self._k, self._w)
 
     def _predict(self) -> np.ndarray:
         """The transitions applied inside each window (sources and targets in the window)."""
         k = self._k
         alpha = self.alpha
         pred = alpha @ self._trans
-        fold = self._fold
-        np.equal(self.lo, 0, out=self._at_start)
-        np.multiply(self._at_start, self._back, out=fold[:k])
-        pred[:, 0] += alpha[:, 0] * fold
-        np.equal(self.lo, self._max_lo, out=self._at_end_main)
-        self._at_end[:k] = self._at_end_main
-        pred.reshape(-1)[self._last_flat] += np.einsum("ij,ij->i", alpha, self._tail) * self._at_end
+        pred[:, 0] += alpha[:, 0] * self._fold
         if self._has_short:
+            pred.reshape(-1)[self._last_flat] += np.einsum("ij,ij->i", alpha, self._tail) * self._at_end
             pred *= self._valid2
+        else:
+            pred[:k, -1] += (alpha[:k] @ self._tail[0]) * self._at_end[:k]
         return pred
+
+    def _window_moved(self) -> None:
+        """Refresh what depends on the window starts ``lo``: gather indices and end folds."""
+        k = self._k
+        self._idx = self._gather_base + np.repeat(self.lo, self._w)
+        self._fold[:k] = (self.lo == 0) * self._back
+        self._at_end[:k] = self.lo == self._max_lo
 
     def step(self, z: np.ndarray) -> np.ndarray:
         """Advance every template by one standardised sample z (d,); returns the step's
@@ -150,7 +153,7 @@ class WindowedForward:
         k, w = self._k, self._w
         lb = self._emission(z)
         if self.steps == 0:
-            pred = self.alpha.copy()
+            pred = self.alpha + _TINY
         else:
             pred = self._predict()
             p3 = pred.reshape(2, k, w)
@@ -160,12 +163,16 @@ class WindowedForward:
             # a new performance starts at the first state; where the main window is on the first
             # states the two windows coincide and are merged in _settle
             pred[k:, 0] += eps
-        lp = np.log(pred + _TINY)
+        lp = np.log(pred)
         lp += lb
         lp3 = lp.reshape(2, k, w)
         m = lp3.max(axis=(0, 2))
         lp3 -= m[:, None]
+        # no subnormal numbers: they are exact enough but many times slower to compute with
+        np.maximum(lp, -600.0, out=lp)
         np.exp(lp, out=lp)
+        if self._has_short:
+            lp *= self._valid2
         s = lp3.sum(axis=(0, 2))
         lp3 /= s[:, None]
         self.alpha = lp
@@ -179,12 +186,14 @@ class WindowedForward:
         main, start = alpha[:k], alpha[k:]
         mom = alpha @ self._moments
         switched = (mom[k:, 0] > mom[:k, 0]) & (self.lo > 0)
-        if switched.any():
+        moved = False
+        if np.count_nonzero(switched):
             main[switched] = start[switched]
             start[switched] = 0.0
             self.lo[switched] = 0
             self.entries[switched] += 1
             mom = alpha @ self._moments
+            moved = True
         mass = mom[:k, 0] + _TINY
         mu = mom[:k, 1] / mass
         self.var = np.maximum(mom[:k, 2] / mass - mu * mu, 0.0)
@@ -192,13 +201,16 @@ class WindowedForward:
         new_lo = np.minimum(np.maximum((self.mean + 0.5).astype(np.intp) - self.half_window, 0),
                             self._max_lo)
         shift = new_lo - self.lo
-        if shift.any():
+        if np.count_nonzero(shift):
             self._pad[:, w:2 * w] = main
             main[:] = self._pad.reshape(-1)[self._pad_base + shift[:, None]]
             self.lo = new_lo
-        if not self.lo.all():
+            moved = True
+        if moved:
+            self._window_moved()
+        if np.count_nonzero(self.lo) < k:
             at_start = self.lo == 0
-            if start[at_start].any():
+            if np.count_nonzero(start[at_start]):
                 main[at_start] += start[at_start]
                 start[at_start] = 0.0
 
