@@ -253,21 +253,30 @@ class Puppet:
         self._progress: float | None = None
         self._last_valid_t = -math.inf
         self._t: float | None = None
+        self._seen: dict[str, float] = {}
+        self._moved: dict[str, float] = {}
 
     def choose(self, votes: Sequence[Vote]) -> Vote | None:
-        """The vote to show: the most probable valid one among known actions, if at least
-        ``min_probability`` probable (an ambiguous start shows nothing), else None."""
-        best = None
+        """The vote to show among valid votes for known actions at least ``min_probability``
+        probable (an ambiguous start shows nothing): the one whose progress moved most recently
+        (with several performers, the one performing now), then the most probable; else None."""
+        best, best_key = None, None
         for v in votes:
-            if v.valid and v.action in self.actions and v.probability >= self.min_probability \
-                    and (best is None or v.probability > best.probability):
-                best = v
+            if v.valid and v.action in self.actions and v.probability >= self.min_probability:
+                key = (self._moved.get(v.action, -math.inf), v.probability)
+                if best_key is None or key > best_key:
+                    best, best_key = v, key
         return best
 
     def update(self, t: float, votes: Sequence[Vote], label: str = "") -> CharacterState:
         """The character at time ``t`` (seconds) given every bound follower's votes."""
         dt = 0.0 if self._t is None else max(0.0, t - self._t)
         self._t = t
+        for v in votes:
+            seen = self._seen.get(v.action)
+            if seen is None or abs(v.progress - seen) > 0.005:
+                self._moved[v.action] = t if seen is not None else -math.inf
+                self._seen[v.action] = v.progress
         vote = self.choose(votes)
         valid = vote is not None
         if vote is not None:

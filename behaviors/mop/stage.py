@@ -106,9 +106,16 @@ class MopStage:
         self.take, self.take_action = None, None
 
     def command(self, cmd: str, frame: Frame) -> None:
-        """Apply one operator command (``designer.*``); others are ignored."""
+        """Apply one operator command (``designer.*``); others are ignored. A motion that cannot
+        be loaded (a missing clip file) becomes the operator message, never an exception."""
         if not cmd.startswith("designer."):
             return
+        try:
+            self._command(cmd, frame)
+        except InputError as exc:
+            self.message = f"cannot: {exc}"
+
+    def _command(self, cmd: str, frame: Frame) -> None:
         self._designing = True
         c = self.selected_character
         if cmd == "designer.next":

@@ -283,6 +283,26 @@ def test_several_inputs_concatenated(tmp_path):
         assert not table.tick()["face"].valid
 
 
+def test_two_performers_drive_one_character(tmp_path):
+    gestures = EXAMPLES / "mop" / "gestures"
+    data = {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop",
+        "performers": [{"name": "ann", "inputs": [{"kind": "puck", "id": 1}]},
+                       {"name": "bob", "inputs": [{"kind": "puck", "id": 2}]}],
+        "characters": [{"name": "face", "kind": "face", "performer": "ann", "actions": [
+            {"name": "circle", "template": str(gestures / "circle.csv"), "motion": "talk"},
+            {"name": "line", "template": str(gestures / "line.csv"), "motion": "wink",
+             "performer": "bob"}]}]}]}
+    engine = _build(data, tmp_path)
+    table = Table(engine)
+    table.rest(1.0)
+    for puck, name in ((2, "line"), (1, "circle")):
+        run = table.perform(name, puck=puck)
+        late = [c["face"] for u, c in run if u > 0.4]
+        assert np.mean([c.valid and c.action == name for c in late]) > 0.9, name
+        table.rest(1.0)
+
+
 def _designer_config(tmp_path: Path) -> dict:
     return {"sources": [{"kind": "scripted"}], "engines": [{
         "kind": "mop", "library": "lib",
