@@ -388,10 +388,9 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         templates[c["name"]] = tmpl
         motions[c["name"]] = tuple(c["motions"]) or loader.available()
 
-    save = None
-    if library is not None:
-        def save(character, action, samples, names, motion):
-            return save_to_library(library, character, action, samples, tuple(names), motion, rate)
+    def save(character, action, samples, names, motion):
+        return save_to_library(library, character, action, samples, tuple(names), motion, rate)
 
     return MopStage(options["name"], rate, performers, puppets, templates, make_follower, motions,
-                    lambda character, motion: loaders[character](motion), save, bound)
+                    lambda character, motion: loaders[character](motion),
+                    save if library is not None else None, bound)
