@@ -60,9 +60,12 @@ class PathFeatures:
     turns add up), and its speed in m/s low-passed at ``speed_cutoff_hz``.
 
     The origin is the first pose seen, or the pose given to :meth:`reset`. A puck held still
-    (speed below ``rest_speed`` m/s) for ``rest_time`` seconds has ended its gesture: while it
-    stays still the origin follows it, so the next gesture starts from where the puck rests.
-    ``rest_time=inf`` disables this.
+    (speed below ``rest_speed`` m/s and turning slower than ``rest_turn_rate`` rad/s) for
+    ``rest_time`` seconds has ended its gesture: while it stays still the origin follows it, so
+    the next gesture starts from where the puck rests. ``rest_time=inf`` disables this.
+
+    Speed depends on the performer's tempo: a gesture performed at half its recorded pace has
+    half its speeds, so include ``speed`` only for actions whose tempo matters.
     """
 
     names = PATH_FEATURE_NAMES
@@ -71,8 +74,10 @@ class PathFeatures:
     min_scale = np.array([0.01, 0.01, 0.1, 0.03])
 
     def __init__(self, rest_speed: float = 0.02, rest_time: float = 0.8,
-                 speed_cutoff_hz: float = 5.0, rotate: bool = False) -> None:
+                 speed_cutoff_hz: float = 5.0, rotate: bool = False,
+                 rest_turn_rate: float = 0.3) -> None:
         self.rest_speed = float(rest_speed)
+        self.rest_turn_rate = float(rest_turn_rate)
         self.rest_time = float(rest_time)
         self.speed_cutoff_hz = float(speed_cutoff_hz)
         self.rotate = bool(rotate)
@@ -81,6 +86,7 @@ class PathFeatures:
         self._prev = (0.0, 0.0, 0.0, 0.0)
         self._turn = 0.0
         self._speed = 0.0
+        self._turn_rate = 0.0
         self._still_since: float | None = None
 
     @property
@@ -94,6 +100,7 @@ class PathFeatures:
         self._prev = (float(x), float(y), float(angle), float(t))
         self._turn = 0.0
         self._speed = 0.0
+        self._turn_rate = 0.0
         self._still_since = float(t)
 
     def step(self, x: float, y: float, angle: float, t: float) -> np.ndarray:
@@ -104,13 +111,14 @@ class PathFeatures:
             self.reset(x, y, angle, t)
         px, py, pa, pt = self._prev
         dt = t - pt
+        turned = wrap_angle(angle - pa)
         if dt > 0:
-            raw = math.hypot(x - px, y - py) / dt
             k = 1.0 - math.exp(-2.0 * math.pi * self.speed_cutoff_hz * dt)
-            self._speed += k * (raw - self._speed)
-        self._turn += wrap_angle(angle - pa)
+            self._speed += k * (math.hypot(x - px, y - py) / dt - self._speed)
+            self._turn_rate += k * (abs(turned) / dt - self._turn_rate)
+        self._turn += turned
         self._prev = (float(x), float(y), float(angle), float(t))
-        if self._speed < self.rest_speed:
+        if self._speed < self.rest_speed and self._turn_rate < self.rest_turn_rate:
             if self._still_since is None:
                 self._still_since = t
             elif t - self._still_since >= self.rest_time:

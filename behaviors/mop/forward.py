@@ -75,9 +75,10 @@ class WindowedForward:
         self._last_flat = np.concatenate([wk - 1, wk - 1]) + np.arange(2 * k) * w
         self._at_end = np.concatenate([np.zeros(k), (wk == lengths).astype(float)])
         self._fold = np.full(2 * k, back)
-        # floor: keeps every main-window state reachable; _TINY keeps log() finite elsewhere
-        self._floor = np.full((2 * k, w), _TINY)
-        self._floor[:k][valid] = max(self.floor, _TINY)
+        # floor: keeps every main-window state reachable; _TINY keeps log() finite elsewhere.
+        # With floor 0 the windows hold exact zeros, as in the plain equations.
+        self._floor = np.full((2 * k, w), _TINY if self.floor > 0 else 0.0)
+        self._floor[:k][valid] = self.floor
         # the gathered states: main windows move, the first-states windows are fixed
         ar_clip = np.minimum(self._ar[None, :], (wk - 1)[:, None])
         self._gather_base = (bank.starts[:, None] + ar_clip).ravel()
@@ -153,7 +154,7 @@ class WindowedForward:
         k, w = self._k, self._w
         lb = self._emission(z)
         if self.steps == 0:
-            pred = self.alpha + _TINY
+            pred = self.alpha + self._floor
         else:
             pred = self._predict()
             p3 = pred.reshape(2, k, w)
@@ -163,7 +164,11 @@ class WindowedForward:
             # a new performance starts at the first state; where the main window is on the first
             # states the two windows coincide and are merged in _settle
             pred[k:, 0] += eps
-        lp = np.log(pred)
+        if self.floor > 0:
+            lp = np.log(pred)
+        else:
+            with np.errstate(divide="ignore"):
+                lp = np.log(pred)
         lp += lb
         lp3 = lp.reshape(2, k, w)
         m = lp3.max(axis=(0, 2))

@@ -1,0 +1,107 @@
+"""Template HMMs and the windowed forward algorithm: equations 2-7 exactly, transitions, scales."""
+
+import math
+
+import mop_gestures as g
+import numpy as np
+import pytest
+
+from behaviors.mop.features import fit_scale
+from behaviors.mop.forward import WindowedForward, forward_reference
+from behaviors.mop.hmm import TemplateError, Transitions, build_bank, emission_loglik
+
+
+@pytest.mark.parametrize("transitions, fastest", [
+    (Transitions(restart=0.0), 2.0),
+    (Transitions(forward=(0.5, 0.5), backward=0.0, restart=0.0), 1.0),  # MOP's own model
+    (Transitions(forward=(0.2, 0.3, 0.3, 0.1, 0.1), backward=0.3, restart=0.0), 2.0)])
+@pytest.mark.parametrize("n", [200, 31, 12])
+def test_every_template_at_once_equals_the_plain_equations(transitions, fastest, n):
+    rng = np.random.default_rng(n)
+    target = g.template(rng, n=n, d=4)
+    bank = build_bank({"other": g.template(rng, n=90, d=4), "target": target,
+                       "long": g.template(rng, n=400, d=4)})
+    perf = g.perform(rng, target, g.warped_phase(rng, n, 0.5, fastest), 0.1)
+    z = (perf - bank.center) / bank.scale
+    mean, var, ll = forward_reference(bank.template(1), z, 0.2, 15, transitions)
+    fw = WindowedForward(bank, sigma=0.2, half_window=15, transitions=transitions, floor=0.0)
+    got = np.array([(fw.step(x)[1], fw.mean[1], fw.var[1]) for x in z])
+    assert np.abs(got[:, 0] - ll).max() <= 1e-8
+    assert np.abs(got[:, 1] - mean).max() <= 1e-8
+    assert np.abs(got[:, 2] - var).max() <= 1e-7
+    assert np.all(fw.lo <= bank.lengths - np.minimum(31, bank.lengths))
+
+
+def test_the_step_loglik_is_the_log_of_equation_one_at_a_certain_state():
+    rng = np.random.default_rng(1)
+    tpl = g.template(rng, n=50, d=3)
+    bank = build_bank({"a": tpl})
+    fw = WindowedForward(bank, sigma=0.3, transitions=Transitions(restart=0.0), floor=0.0)
+    z = bank.means[0] + 0.1
+    # the first step has all its prior on the first state: L_1 = b_1(O_1)
+    assert fw.step(z)[0] == pytest.approx(emission_loglik(z, bank.means[:1], 0.3)[0], abs=1e-9)
+
+
+def test_window_follows_the_mean_and_stays_inside_the_template():
+    rng = np.random.default_rng(2)
+    tpl = g.template(rng, n=200, d=3)
+    bank = build_bank({"a": tpl})
+    fw = WindowedForward(bank, half_window=10)
+    for i in range(200):
+        fw.step(bank.means[i])
+        lo = int(fw.lo[0])
+        assert 0 <= lo <= 200 - 21
+        centre = min(max(int(math.floor(fw.mean[0] + 0.5)) - 10, 0), 179)
+        assert lo == centre
+    assert fw.progress[0] >= 0.97
+
+
+def test_probability_stays_normalised_and_finite_on_wild_input():
+    rng = np.random.default_rng(3)
+    bank = build_bank({f"t{i}": g.template(rng, n=60 + 40 * i, d=5) for i in range(4)})
+    fw = WindowedForward(bank)
+    for x in rng.normal(0.0, 50.0, (500, 5)):
+        ll = fw.step(x)
+        assert np.all(np.isfinite(ll))
+        sums = fw.alpha[:4].sum(axis=1) + fw.alpha[4:].sum(axis=1)
+        # 1 after each step, less only by what left the window when it moved (renormalised next step)
+        assert np.all((sums > 0.0) & (sums <= 1.0 + 1e-9)) and np.all(np.isfinite(fw.alpha))
+        assert np.all((fw.progress >= 0) & (fw.progress <= 1))
+
+
+def test_transitions_are_normalised_and_validated():
+    b, w = Transitions(forward=(1.0, 1.0), backward=2.0).weights()
+    assert b == pytest.approx(0.5) and np.allclose(w, [0.25, 0.25])
+    assert Transitions(forward=(0.5, 0.5), backward=0.0).mean_speed() == pytest.approx(0.5)
+    assert 0.9 <= Transitions().mean_speed() <= 1.1  # about the recording's pace by default
+    for bad in (dict(forward=(-1.0, 1.0)), dict(forward=()), dict(backward=-0.1),
+                dict(forward=(0.0,), backward=0.0), dict(restart=1.0)):
+        with pytest.raises(TemplateError):
+            Transitions(**bad)
+
+
+def test_scale_is_pooled_over_all_templates_with_a_floor_for_still_columns():
+    a = np.column_stack([np.linspace(0, 1, 50), np.zeros(50), np.full(50, 3.0)])
+    b = np.column_stack([np.linspace(0, 3, 50), np.zeros(50), np.full(50, 3.0)])
+    center, scale = fit_scale([a, b], relative_floor=0.05)
+    pooled = np.concatenate([a, b])
+    assert center == pytest.approx(pooled.mean(axis=0))
+    assert scale[0] == pytest.approx(pooled[:, 0].std())
+    overall = math.sqrt(np.mean(pooled.std(axis=0) ** 2))
+    assert scale[1] == pytest.approx(0.05 * overall) and scale[2] == pytest.approx(0.05 * overall)
+    _, floored = fit_scale([a, b], 0.05, min_scale=[0.0, 0.5, 0.0])
+    assert floored[1] == 0.5 and floored[0] == scale[0]
+    _, flat = fit_scale([np.zeros((5, 2))])
+    assert np.all(flat == 1.0)
+
+
+def test_bank_stacks_standardised_templates():
+    rng = np.random.default_rng(4)
+    ta, tb = rng.normal(size=(30, 2)), rng.normal(size=(45, 2))
+    bank = build_bank({"a": ta, "b": tb})
+    assert bank.names == ("a", "b") and list(bank.lengths) == [30, 45] and bank.dim == 2
+    assert np.allclose(bank.template(1) * bank.scale + bank.center, tb)
+    with pytest.raises(TemplateError, match="min_scale"):
+        build_bank({"a": ta}, min_scale=[1.0])
+    one_column = build_bank({"a": np.arange(5.0)})
+    assert one_column.dim == 1
