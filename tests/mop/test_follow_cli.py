@@ -1,0 +1,142 @@
+"""``tabletop follow``: the DESIGN.md contract on real files, causality, and clear errors."""
+
+import csv
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import mop_gestures as g
+import numpy as np
+import pytest
+
+from tabletop.cli import main as cli
+
+
+def _write(path: Path, header: list[str], rows) -> Path:
+    with path.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        for r in rows:
+            w.writerow([repr(float(v)) for v in r])
+    return path
+
+
+def _read(path: Path) -> tuple[list[str], list[dict[str, str]]]:
+    with path.open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    return list(rows[0].keys()) if rows else [], rows
+
+
+@pytest.fixture()
+def files(tmp_path):
+    rng = np.random.default_rng(21)
+    tpls = {"wave": g.template(rng, d=3), "circle": g.template(rng, d=3)}
+    for name, tpl in tpls.items():
+        t = np.arange(len(tpl)) / 30.0
+        _write(tmp_path / f"{name}.csv", ["t", "a", "b", "c"], np.column_stack([t, tpl]))
+    phase = g.warped_phase(rng, 200)
+    perf = g.perform(rng, tpls["circle"], phase, 0.1)
+    # the performance lists its columns in another order and has no t column
+    _write(tmp_path / "perf.csv", ["c", "a", "b"], perf[:, [2, 0, 1]])
+    return tmp_path, phase / 199
+
+
+def _args(d: Path, *extra: str) -> list[str]:
+    return ["follow", "--template", f"wave={d / 'wave.csv'}", "--template", f"circle={d / 'circle.csv'}",
+            "--input", str(d / "perf.csv"), "--out", str(d / "out.csv"), *extra]
+
+
+def test_one_row_per_input_row_with_the_contract_columns(files):
+    d, truth = files
+    assert cli(_args(d)) == 0
+    header, rows = _read(d / "out.csv")
+    assert header == ["t", "best", "progress", "variance", "p_wave", "progress_wave", "p_circle",
+                      "progress_circle", "valid", "loglik"]
+    assert len(rows) == len(truth)
+    assert [float(r["t"]) for r in rows] == list(range(len(truth)))
+    for r in rows:
+        assert r["best"] in ("wave", "circle") and r["valid"] in ("0", "1")
+        values = [float(v) for k, v in r.items() if k != "best"]
+        assert all(math.isfinite(v) for v in values)
+        assert float(r["p_wave"]) + float(r["p_circle"]) == pytest.approx(1.0)
+        assert 0.0 <= float(r["progress_wave"]) <= 1.0
+    prog = np.array([float(r["progress"]) for r in rows])
+    m = len(rows) // 10
+    assert np.sqrt(np.mean((prog[m:] - truth[m:]) ** 2)) <= 0.05
+    assert all(r["best"] == "circle" for r in rows[len(rows) // 5:])
+    assert all(r["valid"] == "1" for r in rows[m:])
+
+
+def test_rows_are_causal_and_reproducible(files, tmp_path):
+    d, truth = files
+    assert cli(_args(d)) == 0
+    _, full = _read(d / "out.csv")
+    header, data = _read_numeric(d / "perf.csv")
+    _write(d / "perf.csv", header, data[:80])
+    assert cli(_args(d)) == 0
+    _, prefix = _read(d / "out.csv")
+    assert prefix == full[:80]
+
+
+def _read_numeric(path: Path):
+    with path.open() as f:
+        header = f.readline().strip().split(",")
+    return header, np.loadtxt(path, delimiter=",", skiprows=1)
+
+
+def test_an_input_t_column_is_carried_to_the_output(files):
+    d, _ = files
+    header, data = _read_numeric(d / "perf.csv")
+    t = 5.0 + np.arange(len(data)) / 60.0
+    _write(d / "perf.csv", ["t"] + header, np.column_stack([t, data]))
+    assert cli(_args(d)) == 0
+    _, rows = _read(d / "out.csv")
+    assert [float(r["t"]) for r in rows] == pytest.approx(t.tolist())
+
+
+def _fails(args, capsys, *needles):
+    assert cli(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("tabletop follow: error:")
+    for n in needles:
+        assert n in err, err
+    return err
+
+
+def test_bad_input_gives_one_clear_line(files, capsys):
+    d, _ = files
+    _write(d / "one.csv", ["a", "b", "c"], [[1, 2, 3]])
+    _fails(["follow", "--template", f"one={d / 'one.csv'}", "--input", str(d / "perf.csv"),
+            "--out", str(d / "o.csv")], capsys, "one.csv", "'one'", "1 sample(s), needs at least 2")
+    _write(d / "two.csv", ["a", "b"], [[1, 2], [3, 4]])
+    _fails(["follow", "--template", f"wave={d / 'wave.csv'}", "--template", f"two={d / 'two.csv'}",
+            "--input", str(d / "perf.csv"), "--out", str(d / "o.csv")], capsys, "two.csv", "a,b", "a,b,c")
+    _write(d / "other.csv", ["a", "b", "x"], [[1, 2, 3], [3, 4, 5]])
+    _fails(_args(d)[:-4] + ["--input", str(d / "other.csv"), "--out", str(d / "o.csv")], capsys,
+           "other.csv", "missing c", "unexpected x")
+    (d / "nan.csv").write_text("a,b,c\n1,2,3\n4,nan,6\n")
+    _fails(["follow", "--template", f"n={d / 'nan.csv'}", "--input", str(d / "perf.csv"),
+            "--out", str(d / "o.csv")], capsys, "nan.csv", "line 3", "'b'", "not a finite number")
+    _fails(["follow", "--template", f"w={d / 'missing.csv'}", "--input", str(d / "perf.csv"),
+            "--out", str(d / "o.csv")], capsys, "missing.csv", "not found")
+    _fails(["follow", "--template", "nonsense", "--input", str(d / "perf.csv"), "--out", str(d / "o.csv")],
+           capsys, "NAME=FILE.csv")
+    _fails(_args(d) + ["--template", f"wave={d / 'wave.csv'}"], capsys, "'wave' is given twice")
+    (d / "empty.csv").write_text("a,b,c\n")
+    _fails(_args(d)[:-4] + ["--input", str(d / "empty.csv"), "--out", str(d / "o.csv")], capsys,
+           "empty.csv", "0 data row(s)")
+    (d / "back.csv").write_text("t,a,b,c\n0,1,2,3\n0,1,2,3\n")
+    _fails(_args(d)[:-4] + ["--input", str(d / "back.csv"), "--out", str(d / "o.csv")], capsys,
+           "back.csv", "'t' must strictly increase")
+    _fails(_args(d, "--sigma", "-1"), capsys, "--sigma")
+    assert not (d / "o.csv").exists() and not (d / "out.csv").exists()
+
+
+def test_the_installed_command_runs_without_pygame(files):
+    d, _ = files
+    code = ("import sys; from tabletop.cli import main; rc = main(sys.argv[1:]); "
+            "assert 'pygame' not in sys.modules; sys.exit(rc)")
+    r = subprocess.run([sys.executable, "-c", code, *_args(d)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert (d / "out.csv").exists()
