@@ -18,7 +18,8 @@ point on the unit circle (cos, sin): the squared distance between two embedded a
 
 Each feature is weighted by the inverse of its spread over the training data (standard deviation;
 for an angle the root mean square distance of its embedding from their mean; for the relative
-position, one spread for both axes so the geometry stays isotropic) with a floor per unit, so
+position, one spread for both axes, their root mean square, so the geometry stays isotropic)
+with a floor per unit, so
 no unit dominates and a nearly constant feature does not turn its noise into the whole cost.
 """
 
@@ -112,7 +113,7 @@ def feature_scales(f: PairFeatures, w_velocity: float = 1.0, w_rel_position: flo
                    w_rel_look: float = 1.0, w_norm_look: float = 1.0,
                    w_delta_direction: float = 1.0) -> Scales:
     """Inverse-spread weights from training features, times the designer's weights."""
-    pos_spread = math.sqrt(float(np.var(f.rel_fwd)) + float(np.var(f.rel_left)))
+    pos_spread = math.sqrt(0.5 * (float(np.var(f.rel_fwd)) + float(np.var(f.rel_left))))
     return Scales(
         v_main=w_velocity / max(float(np.std(f.v_main)), SPEED_FLOOR),
         v_react=w_velocity / max(float(np.std(f.v_react)), SPEED_FLOOR),

@@ -43,18 +43,21 @@ def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float
     on the far side of the main (the main reversed, or a circling reactor's next position), the
     straight line runs through the main, which no demonstrated keep-away or circling character
     ever does; the polar path goes around at the demonstrated distances. With no bearing change
-    it is the straight line.
+    it is the straight line. A target nearer than ``length`` is reached, not overshot: the
+    paper scales the step to the target velocity, which near a resting target makes the
+    character dither across it every step (measured: direction jitter of 0.4-0.9 rad RMS on a
+    smooth follower); stopping there keeps a smooth demonstration smooth.
     """
     ax, ay = rx - mx, ry - my
     bx, by = tx - mx, ty - my
     ra, rb = math.hypot(ax, ay), math.hypot(bx, by)
     if ra < 1e-6 or rb < 1e-6:
-        return step_toward(rx, ry, tx, ty, length)
+        return step_toward(rx, ry, tx, ty, min(length, math.hypot(tx - rx, ty - ry)))
     a0 = math.atan2(ay, ax)
     da = math.remainder(math.atan2(by, bx) - a0, math.tau)
     path = math.hypot(rb - ra, 0.5 * (ra + rb) * da)
     if path <= length or path < 1e-12:
-        return step_toward(rx, ry, tx, ty, length)
+        return tx - rx, ty - ry
     f = length / path
     rho, ang = ra + f * (rb - ra), a0 + f * da
     return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
@@ -98,32 +101,29 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     """Target (tx, ty) moved onto the table, keeping its distance from the main at (mx, my).
 
     A demonstrated relation that does not fit the table here (the main is near an edge) keeps
-    what matters for a relation, its distance, and turns around the main by the smallest angle
-    that lands on the table, preferring the side nearer the reactor at (rx, ry). A keep-away
-    character pinned at an edge so slides along it instead of letting the main reach it; a
-    follower behind a main at the edge walks beside it. If no angle fits (the distance exceeds
-    the table), the nearest table point.
+    what matters most for a relation, its distance, and takes the point at that distance on the
+    table nearest to the reactor at (rx, ry) (bearings every ``step_deg``). A keep-away
+    character pinned at an edge so slides along it to the near side instead of letting the
+    main reach it (choosing the smallest turn of the bearing instead made it run back and forth
+    under the main as that side flipped); a follower behind a main at the edge walks beside it.
+    If no bearing fits (the distance exceeds the table), the nearest table point.
     """
     x0, y0, x1, y1 = table
     if x0 <= tx <= x1 and y0 <= ty <= y1:
         return tx, ty
-    ox, oy = tx - mx, ty - my
-    rho = math.hypot(ox, oy)
+    rho = math.hypot(tx - mx, ty - my)
+    best: tuple[float, float, float] | None = None
     if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
-        base = math.atan2(oy, ox)
-        k = 1
-        while k * step_deg <= 180.0:
-            best = None
-            for sign in (1.0, -1.0):
-                a = base + sign * math.radians(k * step_deg)
-                px, py = mx + rho * math.cos(a), my + rho * math.sin(a)
-                if x0 <= px <= x1 and y0 <= py <= y1:
-                    d = (px - rx) ** 2 + (py - ry) ** 2
-                    if best is None or d < best[0]:
-                        best = (d, px, py)
-            if best is not None:
-                return best[1], best[2]
-            k += 1
+        count = int(round(360.0 / step_deg))
+        for k in range(count):
+            a = math.tau * k / count
+            px, py = mx + rho * math.cos(a), my + rho * math.sin(a)
+            if x0 <= px <= x1 and y0 <= py <= y1:
+                d = (px - rx) ** 2 + (py - ry) ** 2
+                if best is None or d < best[0]:
+                    best = (d, px, py)
+    if best is not None:
+        return best[1], best[2]
     return clamp_to_table(tx, ty, table)
 
 

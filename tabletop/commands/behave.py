@@ -1,0 +1,88 @@
+"""``tabletop behave``: train a Puppet Master behaviour and generate a reactor for a main path."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+from tabletop.frames import InputError
+
+HELP = ("train a reactive behaviour from a demonstration CSV and generate the reactor's motion "
+        "for a main character's path, causally, at the generation rate")
+
+DEMO_COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
+MAIN_COLUMNS = ("t", "main_x", "main_y", "main_dir")
+OUT_COLUMNS = ("t", "react_x", "react_y", "react_dir")
+
+
+class BehaveArgumentError(InputError):
+    """A bad ``behave`` argument."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--train", required=True, metavar="DEMO.csv",
+                        help="demonstration: t,main_x,main_y,main_dir,react_x,react_y,react_dir "
+                             "(seconds, table metres, radians), any sampling rate")
+    parser.add_argument("--input", required=True, metavar="MAIN.csv",
+                        help="main character's path: t,main_x,main_y,main_dir, any rate")
+    parser.add_argument("--out", required=True, metavar="REACT.csv",
+                        help="output: t,react_x,react_y,react_dir, one row per generation step")
+    parser.add_argument("--rate", default="40", metavar="HZ",
+                        help="generation rate in Hz (default 40)")
+    parser.add_argument("--table", default=None, metavar="W,H",
+                        help="table size in metres from the origin; the reactor stays on it "
+                             "(default: the bounds of the demonstration's positions)")
+
+
+def parse_rate(text: str) -> float:
+    """A positive finite rate in Hz."""
+    try:
+        rate = float(text)
+    except ValueError:
+        raise BehaveArgumentError(f"--rate {text!r} is not a number (Hz)") from None
+    if not math.isfinite(rate) or rate <= 0:
+        raise BehaveArgumentError(f"--rate {text!r} must be a positive number of Hz")
+    return rate
+
+
+def parse_table(text: str) -> tuple[float, float, float, float]:
+    """``W,H`` in metres -> (0, 0, W, H)."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        w, h = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise BehaveArgumentError(f"--table {text!r} must be W,H in metres, e.g. 1.6,1.0") from None
+    if not (math.isfinite(w) and math.isfinite(h)) or w <= 0 or h <= 0:
+        raise BehaveArgumentError(f"--table {text!r}: width and height must be positive metres")
+    return 0.0, 0.0, w, h
+
+
+def main(args: argparse.Namespace) -> int:
+    from behaviors.puppet_master.engine import Behavior, Reactor
+    from tabletop.files import check_increasing, read_csv, write_csv
+
+    rate = parse_rate(args.rate)
+    table = parse_table(args.table) if args.table is not None else None
+    header, demo = read_csv(args.train, DEMO_COLUMNS, what="demonstration CSV", min_rows=2)
+    demo = demo[:, [header.index(c) for c in DEMO_COLUMNS]]
+    check_increasing(demo[:, 0], args.train)
+    header, main_rows = read_csv(args.input, MAIN_COLUMNS, what="main path CSV", min_rows=1)
+    main_rows = main_rows[:, [header.index(c) for c in MAIN_COLUMNS]]
+    check_increasing(main_rows[:, 0], args.input)
+    try:
+        behavior = Behavior.train(demo, rate_hz=rate)
+    except InputError as exc:
+        raise BehaveArgumentError(f"{args.train}: {exc}") from None
+    if table is None:
+        table = behavior.bounds
+        if table[2] <= table[0] or table[3] <= table[1]:
+            raise BehaveArgumentError(
+                f"{args.train}: the demonstration's positions span no area; give --table W,H")
+    reactor = Reactor(behavior, table, max_backlog=None)
+    rows: list[tuple[float, float, float, float]] = []
+    for t, x, y, d in main_rows:
+        rows.extend(reactor.advance(float(t), float(x), float(y), float(d)))
+    write_csv(args.out, OUT_COLUMNS, rows)
+    return 0
