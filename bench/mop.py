@@ -1,0 +1,170 @@
+"""MOP action following benchmark: microseconds per follower step, per tick, and what the extra
+transitions cost.
+
+1. One follower step (standardise, windowed forward over every template, probabilities,
+   validity, the state) for 1, 20 and 80 templates of 200 samples with 6 and 60 features.
+2. One tick of 4 characters, each with its own follower of 20 templates (6 features) and its own
+   performer. Budget (DESIGN.md): <= 2 ms per tick; MOP reports 84 FPS / 11.4 ms in Unity.
+3. Transition models compared: MOP's self/next 0.5/0.5; with skips (+2, +3); with skips and a
+   backward transition (the default): step time, and progress RMSE on performances warped
+   between 0.5x and 2x, played steadily at 2x, and going back and forth with a pause.
+
+All timed configurations run interleaved (A B A B ...). Inputs are noisy, time-warped
+performances of the templates, as a performer would give.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np  # noqa: E402
+
+from bench.common import emit, interleaved  # noqa: E402
+from behaviors.mop.follower import ActionFollower  # noqa: E402
+
+STEPS_PER_CALL = 40
+ROUNDS = 40
+SAMPLES = 200
+
+
+def make_template(rng: np.random.Generator, n: int, d: int) -> np.ndarray:
+    """A smooth random action (n, d): low-frequency sines per feature."""
+    s = np.linspace(0.0, 1.0, n)
+    out = np.zeros((n, d))
+    for j in range(d):
+        for f in (1, 2, 3):
+            out[:, j] += rng.normal() / f * np.sin(np.pi * f * s + rng.uniform(0, 2 * np.pi))
+    return out
+
+
+def warped_phase(rng: np.random.Generator, n: int, slow: float = 0.5, fast: float = 2.0) -> np.ndarray:
+    c, f = rng.uniform(0, 2 * np.pi), rng.uniform(0.04, 0.08)
+    phase, i, out = 0.0, 0, []
+    while phase < n - 1:
+        out.append(phase)
+        phase += float(np.exp(np.log(slow) + (np.log(fast) - np.log(slow)) * (0.5 + 0.5 * np.sin(c + f * i))))
+        i += 1
+    out.append(n - 1.0)
+    return np.asarray(out)
+
+
+def perform(rng: np.random.Generator, tpl: np.ndarray, phase: np.ndarray, noise: float = 0.1) -> np.ndarray:
+    base = np.arange(tpl.shape[0])
+    x = np.stack([np.interp(phase, base, tpl[:, j]) for j in range(tpl.shape[1])], axis=1)
+    return x + rng.normal(0.0, noise, x.shape) * tpl.std(axis=0)
+
+
+def performance_stream(rng: np.random.Generator, templates: dict[str, np.ndarray], length: int) -> np.ndarray:
+    """Performances of randomly chosen templates, one after another, ``length`` samples."""
+    names = list(templates)
+    parts, total = [], 0
+    while total < length:
+        tpl = templates[names[rng.integers(len(names))]]
+        p = perform(rng, tpl, warped_phase(rng, len(tpl)))
+        parts.append(p)
+        total += len(p)
+    return np.concatenate(parts)[:length]
+
+
+class Runner:
+    """Steps a follower through its stream, STEPS_PER_CALL samples per call, wrapping around."""
+
+    def __init__(self, followers: list[ActionFollower], streams: list[np.ndarray]) -> None:
+        self.followers, self.streams, self.i = followers, streams, 0
+
+    def __call__(self) -> None:
+        n = len(self.streams[0])
+        for _ in range(STEPS_PER_CALL):
+            i = self.i % n
+            for f, s in zip(self.followers, self.streams):
+                f.step(s[i])
+            self.i += 1
+
+
+def step_costs(rng: np.random.Generator) -> dict[str, float]:
+    runners = {}
+    for k in (1, 20, 80):
+        for d in (6, 60):
+            tpls = {f"a{i}": make_template(rng, SAMPLES, d) for i in range(k)}
+            runners[f"{k}x{d}"] = Runner([ActionFollower(tpls)], [performance_stream(rng, tpls, 4000)])
+    chars = []
+    for c in range(4):
+        tpls = {f"c{c}a{i}": make_template(rng, SAMPLES, 6) for i in range(20)}
+        chars.append((ActionFollower(tpls), performance_stream(rng, tpls, 4000)))
+    runners["tick_20x4"] = Runner([f for f, _ in chars], [s for _, s in chars])
+    for r in runners.values():  # warm up: windows settle, caches fill
+        r()
+    times = interleaved(runners, ROUNDS)
+    out = {}
+    for name, ts in times.items():
+        per = np.asarray(ts) / STEPS_PER_CALL * 1e6
+        if name == "tick_20x4":
+            out["tick_20_templates_x_4_characters_median_ms"] = float(np.median(per)) / 1e3
+            out["tick_20_templates_x_4_characters_p99_ms"] = float(np.percentile(per, 99)) / 1e3
+        else:
+            k, d = name.split("x")
+            out[f"step_{k}_templates_{d}_features_median_us"] = float(np.median(per))
+    return out
+
+
+MODELS = {
+    "self_next_0.5_0.5": dict(transitions=(0.5, 0.5), backward=0.0),
+    "skips": dict(transitions=(0.3, 0.35, 0.25, 0.1), backward=0.0),
+    "skips_backward": dict(),  # the default
+}
+
+
+def rmse(f: ActionFollower, perf: np.ndarray, truth: np.ndarray, part: slice) -> float:
+    f.reset()
+    prog = np.array([f.step(x).progress for x in perf])
+    return float(np.sqrt(np.mean((prog[part] - truth[part]) ** 2)))
+
+
+def transition_costs(rng: np.random.Generator) -> dict[str, float]:
+    cases = []
+    for _ in range(8):
+        tpl = make_template(rng, SAMPLES, 3)
+        n = len(tpl)
+        w = warped_phase(rng, n)
+        fast = np.arange(0.0, n - 1, 2.0)
+        bf = np.concatenate([np.arange(0.0, 140.0), np.full(40, 140.0), np.arange(140.0, 60.0, -1.0),
+                             np.arange(60.0, n - 1)])
+        cases.append((tpl, [(perform(rng, tpl, ph), ph / (n - 1), part) for ph, part in
+                            ((w, slice(len(w) // 10, None)), (fast, slice(len(fast) // 10, None)),
+                             (bf, slice(180, None)))]))
+    out = {}
+    for model, kw in MODELS.items():
+        errs = np.array([[rmse(ActionFollower({"a": tpl}, **kw), p, t, part) for p, t, part in runs]
+                         for tpl, runs in cases])
+        out[f"progress_rmse_warped_0.5x_to_2x_{model}"] = float(errs[:, 0].mean())
+        out[f"progress_rmse_steady_2x_{model}"] = float(errs[:, 1].mean())
+        out[f"progress_rmse_back_and_forth_{model}"] = float(errs[:, 2].mean())
+    tpls = {f"a{i}": make_template(rng, SAMPLES, 6) for i in range(20)}
+    stream = performance_stream(rng, tpls, 4000)
+    runners = {m: Runner([ActionFollower(tpls, **kw)], [stream]) for m, kw in MODELS.items()}
+    for r in runners.values():
+        r()
+    times = interleaved(runners, ROUNDS)
+    for m, ts in times.items():
+        out[f"step_20_templates_6_features_{m}_median_us"] = float(np.median(ts)) / STEPS_PER_CALL * 1e6
+    return out
+
+
+def main() -> None:
+    t0 = time.perf_counter()
+    rng = np.random.default_rng(2024)
+    figures = step_costs(rng)
+    figures.update(transition_costs(rng))
+    figures["bench_seconds"] = time.perf_counter() - t0
+    budgets = {"tick_20_templates_x_4_characters_median_ms": 2.0,
+               "tick_20_templates_x_4_characters_p99_ms": 2.0,
+               "progress_rmse_warped_0.5x_to_2x_skips_backward": 0.05}
+    emit("mop", figures, budgets)
+
+
+if __name__ == "__main__":
+    main()
