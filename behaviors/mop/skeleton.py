@@ -320,6 +320,8 @@ class Skeleton2D:
                 raise SkeletonError(f"planar skeleton: bone {self.names[i]!r} has parent point {p}; "
                                     "a bone must hang from the root or an earlier bone")
         self.bones = tuple((int(p), i + 1) for i, p in enumerate(self.parents))
+        self._parents_list = self.parents.tolist()
+        self._lengths_list = self.lengths.tolist()
 
     @property
     def n_points(self) -> int:
@@ -327,14 +329,14 @@ class Skeleton2D:
 
     def forward(self, angles: np.ndarray | None = None) -> np.ndarray:
         """Points (N+1 x 2, metres, character frame: x forward) at joint ``angles`` (radians)."""
-        a = self.rest if angles is None else self.rest + np.asarray(angles, dtype=float)
-        pts = np.zeros((self.n_points, 2))
-        direction = np.zeros(self.n_points)
-        for i, p in enumerate(self.parents):
+        a = (self.rest if angles is None else self.rest + np.asarray(angles, dtype=float)).tolist()
+        xs, ys, direction = [0.0], [0.0], [0.0]
+        for i, (p, length) in enumerate(zip(self._parents_list, self._lengths_list)):
             d = direction[p] + a[i]
-            direction[i + 1] = d
-            pts[i + 1] = pts[p] + self.lengths[i] * np.array([math.cos(d), math.sin(d)])
-        return pts
+            direction.append(d)
+            xs.append(xs[p] + length * math.cos(d))
+            ys.append(ys[p] + length * math.sin(d))
+        return np.array([xs, ys]).T
 
 
 class ProjectedFigure:
