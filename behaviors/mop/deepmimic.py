@@ -35,6 +35,9 @@ HUMANOID_LAYOUT: tuple[tuple[str, str], ...] = (
     ("left_shoulder", "quat"), ("left_elbow", "angle"),
 )
 FRAME_WIDTH = 44  # duration + 3 + 4 * 9 quaternions (incl. root) + 4 hinge angles
+#: Clip root positions -> humanoid.urdf units: pybullet's DeepMimic environment loads the URDF at
+#: globalScaling 0.25, and the clips' root heights (about 0.85) match that scaled body.
+ROOT_SCALE = 4.0
 
 
 def humanoid_channels() -> tuple[Channel, ...]:

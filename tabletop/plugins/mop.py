@@ -271,12 +271,12 @@ def _make_rig(c: dict):
     if c["kind"] == "face":
         from behaviors.mop.creatures import FaceModel
         return FaceRig(FaceModel())
-    from behaviors.mop.deepmimic import humanoid_urdf
+    from behaviors.mop.deepmimic import ROOT_SCALE, humanoid_urdf
     from behaviors.mop.skeleton import ProjectedFigure, Projection, load_urdf
     urdf = c["skeleton"] or humanoid_urdf()
-    # DeepMimic clips are at a quarter of the URDF's size (pybullet loads it at scale 0.25).
     return HumanoidRig(ProjectedFigure(load_urdf(urdf), Projection(
-        view_yaw=c["view_yaw"], elevation=c["elevation"]), root_scale=4.0), travel=c["travel"])
+        view_yaw=c["view_yaw"], elevation=c["elevation"]), root_scale=ROOT_SCALE),
+        travel=c["travel"])
 
 
 def _make_performer(p: dict) -> Performer:

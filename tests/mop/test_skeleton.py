@@ -7,14 +7,13 @@ import numpy as np
 import pytest
 
 from behaviors.mop.clips import ClipError
-from behaviors.mop.deepmimic import (FRAME_WIDTH, humanoid_pose, humanoid_urdf, load_motion,
-                                     motion_path, parse_motion)
+from behaviors.mop.deepmimic import (FRAME_WIDTH, ROOT_SCALE, humanoid_pose, humanoid_urdf,
+                                     load_motion, motion_path, parse_motion)
 from behaviors.mop.skeleton import (Projection, ProjectedFigure, Skeleton2D, SkeletonError,
                                     load_urdf, place)
 
 CLIPS = ["walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",
          "dance_a", "dance_b", "getup_facedown", "getup_faceup", "roll", "spin"]
-ROOT_SCALE = 4.0  # DeepMimic clips are at a quarter of the URDF's size
 
 
 @pytest.fixture(scope="module")
