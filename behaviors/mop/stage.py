@@ -37,7 +37,8 @@ class MopStage:
 
     ``templates``: character -> action -> (performer name, samples (n x d) at ``rate_hz``);
     ``motions``: character -> motion names the designer may assign; ``load_motion(character,
-    motion) -> Clip``; ``save(character, action, samples, feature names, motion) -> message``.
+    motion) -> Clip``; ``save(character, action, samples, feature names, motion) -> message``; ``make_group(followers)``
+(optional) steps all followers together, e.g. :class:`~behaviors.mop.follower.FollowerGroup`.
     """
 
     def __init__(self, name: str, rate_hz: float, performers: Mapping[str, Performer],
@@ -45,7 +46,8 @@ class MopStage:
                  make_follower: FollowerFactory, motions: Mapping[str, Sequence[str]],
                  load_motion: Callable[[str, str], Clip], save: SaveFn | None = None,
                  character_performer: Mapping[str, str] | None = None,
-                 max_catch_up: int = 4) -> None:
+                 max_catch_up: int = 4,
+                 make_group: Callable[[list], object] | None = None) -> None:
         self.name = name
         self.rate_hz = float(rate_hz)
         self.performers = dict(performers)
@@ -58,6 +60,9 @@ class MopStage:
         self.save = save
         self.character_performer = dict(character_performer or {})
         self.max_catch_up = int(max_catch_up)
+        self.make_group = make_group
+        self._group: object | None = None
+        self._keys: list[tuple[str, str]] = []
         self._followers: dict[tuple[str, str], object] = {}
         self._states: dict[tuple[str, str], object] = {}
         for c in self.order:
@@ -82,6 +87,10 @@ class MopStage:
             by_performer.setdefault(performer, {})[action] = samples
         for performer, templates in by_performer.items():
             self._followers[(character, performer)] = self.make_follower(templates)
+        # every follower stepped in one vectorised pass (rebuilding it restarts them all)
+        self._keys = list(self._followers)
+        self._group = (self.make_group([self._followers[k] for k in self._keys])
+                       if self.make_group is not None and self._keys else None)
 
     # --- designer -------------------------------------------------------------------------------
 
@@ -199,13 +208,17 @@ class MopStage:
     # --- running --------------------------------------------------------------------------------
 
     def _sample(self, frame: Frame, ts: float) -> None:
+        xs = {}
         for pname, performer in self.performers.items():
-            x = performer.read(frame, ts)
+            xs[pname] = x = performer.read(frame, ts)
             if self.take is not None and self.take.recording and self.take.performer == pname:
                 self.take.add(x)
-            for key, follower in self._followers.items():
-                if key[1] == pname:
-                    self._states[key] = follower.step(x)  # type: ignore[attr-defined]
+        if self._group is not None:
+            states = self._group.step([xs[k[1]] for k in self._keys])  # type: ignore[attr-defined]
+            self._states.update(zip(self._keys, states))
+            return
+        for key in self._keys:
+            self._states[key] = self._followers[key].step(xs[key[1]])  # type: ignore[attr-defined]
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
         for cmd in frame.commands:

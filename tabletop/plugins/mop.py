@@ -341,7 +341,7 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
 # --- building -----------------------------------------------------------------------------------
 
 def build(options: dict, ctx: BuildContext) -> MopStage:
-    from behaviors.mop.follower import ActionFollower
+    from behaviors.mop.follower import ActionFollower, FollowerGroup
     rate = float(options["rate_hz"])
     fo = options["follower"]
     params = dict(sigma=fo["sigma"], window=fo["window"], transitions=tuple(fo["transitions"]),
@@ -393,4 +393,4 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
 
     return MopStage(options["name"], rate, performers, puppets, templates, make_follower, motions,
                     lambda character, motion: loaders[character](motion),
-                    save if library is not None else None, bound)
+                    save if library is not None else None, bound, make_group=FollowerGroup)
