@@ -21,15 +21,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.hmm import TemplateError, Transitions, build_bank
+from behaviors.mop.hmm import TemplateBank, TemplateError, Transitions, build_bank
 from tabletop.frames import InputError
 
-__all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
+__all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
 
 class SampleError(InputError):
@@ -96,6 +96,12 @@ class ActionFollower:
                                        transitions=Transitions(tuple(transitions), backward, restart),
                                        floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
+        self._params = dict(sigma=float(sigma), window=int(window), transitions=tuple(transitions),
+                            backward=float(backward), restart=float(restart), memory=float(memory),
+                            null_distance=float(null_distance), max_spread=float(max_spread),
+                            floor=float(floor))
+        self._log_constant = self.log_constant
+        self._inv_span2 = (1.0 / (self.bank.lengths - 1.0) ** 2).tolist()
         self.reset()
 
     @property
@@ -112,33 +118,52 @@ class ActionFollower:
         self._entries = np.zeros(k, dtype=np.int64)
         self._state: FollowState | None = None
 
+    @property
+    def log_constant(self) -> float:
+        """The Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` in every log-likelihood."""
+        return -self.dim * math.log(self.sigma) - 0.5 * self.dim * math.log(2.0 * math.pi)
+
     def distance_of(self, loglik: float) -> float:
         """A mean per-sample log-likelihood as an RMS distance in ``sigma`` units per feature."""
-        d = self.dim
-        return math.sqrt(max(0.0, -2.0 * (loglik - self.forward.log_constant) / d))
+        return math.sqrt(max(0.0, -2.0 * (loglik - self._log_constant) / self.dim))
 
     def _idle_state(self) -> FollowState:
         k = len(self.names)
         far = 2.0 * self.null_distance
-        loglik = self.forward.log_constant - 0.5 * self.dim * far * far
+        loglik = self._log_constant - 0.5 * self.dim * far * far
         return FollowState(self.names[0], 0.0, 0.0, {n: 1.0 / k for n in self.names},
                            {n: 0.0 for n in self.names}, False, loglik, far, False,
                            {n: loglik for n in self.names})
 
-    def step(self, x: np.ndarray) -> FollowState:
-        """Follow one live sample x (d,) in the templates' units; causal."""
+    def _sample(self, x: np.ndarray) -> np.ndarray | None:
+        """x as floats of the templates' shape, or None when it holds a non-finite value."""
         x = np.asarray(x, dtype=float)
         if x.shape != (self.dim,):
             raise SampleError(
                 f"sample has shape {x.shape}, expected ({self.dim},) like the templates' features")
-        if not math.isfinite(x.sum()):
-            held = self._state or self._idle_state()
-            self._state = FollowState(held.best, held.progress, held.variance, held.probabilities,
-                                      held.progress_by, False, held.loglik, held.distance, False,
-                                      held.loglik_by)
-            return self._state
-        z = (x - self.bank.center) / self.bank.scale
-        step_ll = self.forward.step(z)
+        return x if math.isfinite(x.sum()) else None
+
+    def _held(self) -> FollowState:
+        """A lost sample: the previous state, marked invalid."""
+        held = self._state or self._idle_state()
+        self._state = FollowState(held.best, held.progress, held.variance, held.probabilities,
+                                  held.progress_by, False, held.loglik, held.distance, False,
+                                  held.loglik_by)
+        return self._state
+
+    def step(self, x: np.ndarray) -> FollowState:
+        """Follow one live sample x (d,) in the templates' units; causal."""
+        x = self._sample(x)
+        if x is None:
+            return self._held()
+        fw = self.forward
+        step_ll = fw.step((x - self.bank.center) / self.bank.scale)
+        return self._finish(step_ll, fw.progress, fw.var, fw.entries)
+
+    def _finish(self, step_ll: np.ndarray, progress: np.ndarray, var_states: np.ndarray,
+                entries: np.ndarray) -> FollowState:
+        """Evidence, probabilities, best and validity from one forward step's per-template
+        log-likelihoods, progress (0..1), variance (states squared) and re-entry counts."""
         self._evidence *= self._decay
         self._evidence += step_ll
         self._weight = self._decay * self._weight + 1.0
@@ -146,11 +171,9 @@ class ActionFollower:
         p = np.exp(self._evidence - self._evidence[b])
         p /= p.sum()
         names = self.names
-        progress = self.forward.progress
-        variance = float(self.forward.progress_variance[b])
-        entries = int(self.forward.entries[b])
-        restarted = entries > self._entries[b]
-        self._entries[b] = entries
+        variance = float(var_states[b]) * self._inv_span2[b]
+        restarted = entries[b] > self._entries[b]
+        self._entries[:] = entries
         mean_ll = self._evidence / self._weight
         loglik = float(mean_ll[b])
         dist = self.distance_of(loglik)
@@ -161,3 +184,84 @@ class ActionFollower:
             valid=bool(valid), loglik=loglik, distance=dist, restarted=bool(restarted),
             loglik_by=dict(zip(names, mean_ll.tolist())))
         return self._state
+
+    def same_parameters(self, other: "ActionFollower") -> bool:
+        """True when ``other`` follows with the same parameters (its templates may differ)."""
+        return self._params == other._params
+
+
+class FollowerGroup:
+    """Several followers (one per performer or character, each with its own templates and
+    input) stepped together in one vectorised forward pass: one tick of many characters costs
+    about as much as one follower over all their templates. The followers must share their
+    parameters; their feature counts may differ. Each keeps its own state (``step`` of the
+    group and of a member must not be mixed).
+    """
+
+    def __init__(self, followers: Sequence[ActionFollower]) -> None:
+        self.followers = list(followers)
+        if not self.followers:
+            raise TemplateError("a follower group needs at least one follower")
+        first = self.followers[0]
+        for i, f in enumerate(self.followers[1:], 1):
+            if not first.same_parameters(f):
+                raise TemplateError(f"follower {i} of the group has other parameters than follower 0; "
+                                    "a group's followers must share sigma, window, transitions and limits")
+        width = max(f.dim for f in self.followers)
+        means, starts, lengths, dims, names, owner = [], [], [], [], [], []
+        offset = 0
+        for i, f in enumerate(self.followers):
+            b = f.bank
+            padded = np.zeros((b.means.shape[0], width))
+            padded[:, :b.dim] = b.means
+            means.append(padded)
+            starts.append(b.starts + offset)
+            offset += b.means.shape[0]
+            lengths.append(b.lengths)
+            dims += [b.dim] * len(b.names)
+            names += [f"{i}:{n}" for n in b.names]
+            owner += [i] * len(b.names)
+        bank = TemplateBank(tuple(names), np.concatenate(means), np.concatenate(starts),
+                            np.concatenate(lengths), np.zeros(width), np.ones(width))
+        p = first._params
+        self.forward = WindowedForward(bank, sigma=p["sigma"], half_window=p["window"],
+                                       transitions=first.forward.transitions, floor=p["floor"],
+                                       dims=np.array(dims))
+        self._owner = np.array(owner, dtype=np.intp)
+        bounds = np.concatenate([[0], np.cumsum([len(f.names) for f in self.followers])])
+        self._slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
+        self._z = np.zeros((len(self.followers), width))
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget every performance."""
+        self.forward.reset()
+        for f in self.followers:
+            f.reset()
+
+    def step(self, samples: Sequence[np.ndarray]) -> list[FollowState]:
+        """One sample per follower, in order; returns each follower's state."""
+        if len(samples) != len(self.followers):
+            raise SampleError(f"{len(samples)} samples for a group of {len(self.followers)} followers")
+        lost = []
+        for i, (f, x) in enumerate(zip(self.followers, samples)):
+            x = f._sample(x)
+            if x is None:
+                lost.append(i)
+            else:
+                self._z[i, :f.dim] = (x - f.bank.center) / f.bank.scale
+        fw = self.forward
+        saved = None
+        if lost:
+            saved = fw.snapshot(np.flatnonzero(np.isin(self._owner, lost)))
+        step_ll = fw.step(self._z[self._owner])
+        if saved is not None:
+            fw.restore(saved)
+        progress = fw.progress
+        out = []
+        for i, (f, sl) in enumerate(zip(self.followers, self._slices)):
+            if i in lost:
+                out.append(f._held())
+            else:
+                out.append(f._finish(step_ll[sl], progress[sl], fw.var[sl], fw.entries[sl]))
+        return out

@@ -35,7 +35,8 @@ class WindowedForward:
     """
 
     def __init__(self, bank: TemplateBank, sigma: float = 0.2, half_window: int = 15,
-                 transitions: Transitions = Transitions(), floor: float = 1e-8) -> None:
+                 transitions: Transitions = Transitions(), floor: float = 1e-8,
+                 dims: np.ndarray | None = None) -> None:
         if not (sigma > 0 and math.isfinite(sigma)):
             raise ValueError(f"sigma must be a positive number, got {sigma}")
         if int(half_window) < 1:
@@ -92,7 +93,9 @@ class WindowedForward:
         self._half_sq[k * w:][masked[k * w:]] = np.inf
         self._mask_main = np.where(masked[:k * w], np.inf, 0.0) if self._has_short else None
         self._inv_var = 1.0 / (self.sigma * self.sigma)
-        self._const = -bank.dim * math.log(self.sigma) - 0.5 * bank.dim * math.log(2.0 * math.pi)
+        # dims: features really used per template (a group pads its inputs with zeros to one width)
+        d = np.full(k, float(bank.dim)) if dims is None else np.asarray(dims, dtype=float)
+        self._const = -d * math.log(self.sigma) - 0.5 * d * math.log(2.0 * math.pi)
         self._pad = np.zeros((k, 3 * w))
         self._pad_base = (np.arange(k) * 3 * w + w)[:, None] + self._ar[None, :]
         self.reset()
@@ -110,8 +113,8 @@ class WindowedForward:
         self._window_moved()
 
     @property
-    def log_constant(self) -> float:
-        """The Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` included in every step."""
+    def log_constant(self) -> np.ndarray:
+        """Per template, the Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` (K,)."""
         return self._const
 
     def _emission(self, z: np.ndarray) -> np.ndarray:
@@ -122,7 +125,11 @@ class WindowedForward:
         np.take(self._half_sq_states, idx, out=self._half_sq[:kw])
         if self._mask_main is not None:
             self._half_sq[:kw] += self._mask_main
-        lb = self._buf @ z
+        if z.ndim == 1:
+            lb = self._buf @ z
+        else:
+            k, w = self._k, self._w
+            lb = np.matmul(self._buf.reshape(2 * k, w, -1), np.concatenate([z, z])[:, :, None]).reshape(-1)
         lb -= self._half_sq
         lb *= self._inv_var
         return lb.reshape(2 * self._k, self._w)
@@ -148,9 +155,10 @@ class WindowedForward:
         self._at_end[:k] = self.lo == self._max_lo
 
     def step(self, z: np.ndarray) -> np.ndarray:
-        """Advance every template by one standardised sample z (d,); returns the step's
-        log-likelihood per template (K,). Updates ``mean`` (progress in states), ``var``
-        (states squared), ``lo`` (window start) and ``entries`` (re-entries so far)."""
+        """Advance every template by one standardised sample z (d,), or by one sample per
+        template (K, d); returns the step's log-likelihood per template (K,). Updates ``mean``
+        (progress in states), ``var`` (states squared), ``lo`` (window start) and ``entries``
+        (re-entries so far)."""
         k, w = self._k, self._w
         lb = self._emission(z)
         if self.steps == 0:
@@ -183,7 +191,8 @@ class WindowedForward:
         self.alpha = lp
         self.steps += 1
         self._settle()
-        return m + np.log(s) + (self._const - 0.5 * self._inv_var * float(z @ z))
+        zz = float(z @ z) if z.ndim == 1 else np.einsum("kd,kd->k", z, z)
+        return m + np.log(s) + (self._const - 0.5 * self._inv_var * zz)
 
     def _settle(self) -> None:
         """Re-entry, progress mean and variance (equations 3-4), and the window for the next step."""
@@ -218,6 +227,20 @@ class WindowedForward:
             if np.count_nonzero(start[at_start]):
                 main[at_start] += start[at_start]
                 start[at_start] = 0.0
+
+    def snapshot(self, templates: np.ndarray) -> tuple:
+        """The state of some templates (indices), to :meth:`restore` after a step."""
+        rows = np.concatenate([templates, templates + self._k])
+        return (templates, self.alpha[rows].copy(), self.lo[templates].copy(),
+                self.mean[templates].copy(), self.var[templates].copy(), self.entries[templates].copy())
+
+    def restore(self, saved: tuple) -> None:
+        """Put back what :meth:`snapshot` saved (those templates skip the step in between)."""
+        templates, alpha, lo, mean, var, entries = saved
+        self.alpha[np.concatenate([templates, templates + self._k])] = alpha
+        self.lo[templates], self.mean[templates], self.var[templates] = lo, mean, var
+        self.entries[templates] = entries
+        self._window_moved()
 
     @property
     def progress(self) -> np.ndarray:

@@ -7,7 +7,7 @@ import mop_gestures as g
 import numpy as np
 import pytest
 
-from behaviors.mop.follower import ActionFollower, FollowState, SampleError, TemplateError
+from behaviors.mop.follower import ActionFollower, FollowerGroup, FollowState, SampleError, TemplateError
 from tabletop.frames import InputError
 
 
@@ -240,3 +240,26 @@ def test_bad_templates_and_samples_are_refused_with_clear_messages():
     with pytest.raises(SampleError, match=r"shape \(3,\), expected \(2,\)"):
         f.step(np.zeros(3))
     assert issubclass(TemplateError, InputError) and issubclass(SampleError, InputError)
+
+
+def test_a_group_steps_several_followers_exactly_as_they_would_alone():
+    rng = np.random.default_rng(18)
+    sets = [{f"c{c}a{i}": g.template(rng, n=n, d=d) for i in range(k)}
+            for c, (k, d, n) in enumerate([(6, 3, 200), (2, 5, 60), (1, 3, 12)])]
+    alone = [ActionFollower(s) for s in sets]
+    group = FollowerGroup([ActionFollower(s) for s in sets])
+    streams = [np.concatenate([g.perform(rng, t, g.warped_phase(rng, len(t))) for t in s.values()])
+               for s in sets]
+    n = min(len(s) for s in streams)
+    for i in range(n):
+        xs = [s[i] for s in streams]
+        if 40 <= i < 45:
+            xs[1] = np.full(5, np.nan)  # one performer's input lost for a moment
+        for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
+            assert a.best == b.best and a.valid == b.valid and a.restarted == b.restarted
+            assert abs(a.progress - b.progress) <= 1e-9 and abs(a.loglik - b.loglik) <= 1e-9
+            assert a.probabilities == pytest.approx(b.probabilities, abs=1e-9)
+    with pytest.raises(SampleError, match="2 samples for a group of 3"):
+        group.step(xs[:2])
+    with pytest.raises(TemplateError, match="other parameters"):
+        FollowerGroup([ActionFollower(sets[0]), ActionFollower(sets[1], sigma=0.3)])
