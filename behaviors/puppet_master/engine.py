@@ -113,15 +113,15 @@ def _check_demo(demo: Any, p: Params) -> np.ndarray:
     if bad.any():
         r, c = (int(v) for v in np.argwhere(bad)[0])
         raise DemonstrationError(
-            f"demonstration row {r + 1}: column {COLUMNS[c]} is {a[r, c]!r}, not a finite number")
+            f"demonstration row {r + 1}: column {COLUMNS[c]} is {float(a[r, c])!r}, not a finite number")
     if a.shape[0] < 2:
         raise DemonstrationError(f"demonstration has {a.shape[0]} row(s), needs at least 2")
     steps = np.diff(a[:, 0])
     if (steps <= 0).any():
         r = int(np.flatnonzero(steps <= 0)[0]) + 1
         raise DemonstrationError(
-            f"demonstration row {r + 1}: time t={a[r, 0]!r} is not after the previous row's "
-            f"t={a[r - 1, 0]!r} (times must strictly increase)")
+            f"demonstration row {r + 1}: time t={float(a[r, 0])!r} is not after the previous row's "
+            f"t={float(a[r - 1, 0])!r} (times must strictly increase)")
     need = (p.window + 1) / p.rate_hz
     duration = float(a[-1, 0] - a[0, 0])
     if duration + 1e-9 < need:

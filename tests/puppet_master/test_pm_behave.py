@@ -1,0 +1,130 @@
+"""``tabletop behave``: real CSV files in, the DESIGN.md contract out."""
+
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pm_demos
+import pytest
+
+from tabletop.cli import main as cli
+from tabletop.files import read_csv, write_csv
+
+DEMO_HEADER = ["t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir"]
+MAIN_HEADER = ["t", "main_x", "main_y", "main_dir"]
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("behave")
+    write_csv(d / "demo.csv", DEMO_HEADER,
+              pm_demos.follow_behind(pm_demos.main_path(41, 30)).tolist())
+    main = pm_demos.main_path(42, 12, rate_hz=30)
+    main[:, 0] += 100.0                                   # any time base
+    write_csv(d / "main.csv", MAIN_HEADER, main.tolist())
+    return d, main
+
+
+def behave(*args) -> int:
+    return cli(["behave", *map(str, args)])
+
+
+def test_output_follows_the_contract(files):
+    d, main = files
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out", d / "out.csv") == 0
+    header, out = read_csv(d / "out.csv")
+    assert header == ["t", "react_x", "react_y", "react_dir"]
+    t0, t1 = main[0, 0], main[-1, 0]
+    assert out[0, 0] == t0 and np.allclose(np.diff(out[:, 0]), 0.025)
+    assert out.shape[0] == math.floor((t1 - t0) * 40 + 1e-9) + 1
+    assert np.all(np.abs(out[:, 3]) <= math.pi)
+    # first row: the demonstration's start relation (0.3 m behind) carried onto MAIN's first pose
+    back = main[0, 1:3] - 0.3 * np.array([math.cos(main[0, 3]), math.sin(main[0, 3])])
+    assert np.hypot(*(out[0, 1:3] - back)) < 1e-6
+    # default table: the demonstration's bounds
+    _, demo = read_csv(d / "demo.csv")
+    xs, ys = demo[:, [1, 4]], demo[:, [2, 5]]
+    assert out[:, 1].min() >= xs.min() - 1e-9 and out[:, 1].max() <= xs.max() + 1e-9
+    assert out[:, 2].min() >= ys.min() - 1e-9 and out[:, 2].max() <= ys.max() + 1e-9
+
+
+def test_truncating_the_future_leaves_earlier_rows_unchanged(files):
+    d, main = files
+    behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out", d / "full.csv",
+           "--table", "1.6,1.0")
+    cut = main[:200]
+    write_csv(d / "cut.csv", MAIN_HEADER, cut.tolist())
+    assert behave("--train", d / "demo.csv", "--input", d / "cut.csv", "--out", d / "part.csv",
+                  "--table", "1.6,1.0") == 0
+    full = (d / "full.csv").read_text().splitlines()
+    part = (d / "part.csv").read_text().splitlines()
+    assert len(part) < len(full)
+    assert part == full[:len(part)]                      # byte for byte
+    assert float(part[-1].split(",")[0]) <= cut[-1, 0]
+
+
+def test_rate_and_table_options(files):
+    d, _ = files
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out", d / "r20.csv",
+                  "--rate", "20", "--table", "0.9,0.7") == 0
+    _, out = read_csv(d / "r20.csv")
+    assert np.allclose(np.diff(out[:, 0]), 0.05)
+    assert out[:, 1].max() <= 0.9 and out[:, 2].max() <= 0.7 and out[:, 1:3].min() >= 0.0
+
+
+def _bad(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+@pytest.mark.parametrize("what, make, words", [
+    ("short", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
+        f"{i * 0.025},0.5,0.5,0,0.2,0.5,0" for i in range(20)]), ["demo.csv", "lasts", "window"]),
+    ("nan", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
+        f"{i * 0.025},0.5,0.5,0,0.2,{'nan' if i == 5 else 0.5},0" for i in range(100)]),
+     ["demo.csv", "line 7", "react_y"]),
+    ("order", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
+        f"{t},0.5,0.5,0,0.2,0.5,0" for t in [0, 0.1, 0.05] + [0.2 + 0.025 * i for i in range(60)]]),
+     ["demo.csv", "strictly increase", "row 3"]),
+    ("column", lambda d: "\n".join([",".join(DEMO_HEADER[:-1])] + [
+        f"{i * 0.025},0.5,0.5,0,0.2,0.5" for i in range(100)]), ["demo.csv", "missing", "react_dir"]),
+])
+def test_bad_demonstrations_exit_2_with_one_clear_line(tmp_path, files, capsys, what, make, words):
+    d, _ = files
+    demo = _bad(tmp_path, "demo.csv", make(d))
+    assert behave("--train", demo, "--input", d / "main.csv", "--out", tmp_path / "o.csv") == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    for w in words:
+        assert w in err
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_bad_main_and_arguments(tmp_path, files, capsys):
+    d, _ = files
+    main = _bad(tmp_path, "main.csv", "t,main_x,main_y\n0,1,1\n")
+    assert behave("--train", d / "demo.csv", "--input", main, "--out", tmp_path / "o.csv") == 2
+    assert "main_dir" in capsys.readouterr().err
+    main = _bad(tmp_path, "main2.csv", "t,main_x,main_y,main_dir\n1,0.5,0.5,0\n0.5,0.5,0.5,0\n")
+    assert behave("--train", d / "demo.csv", "--input", main, "--out", tmp_path / "o.csv") == 2
+    assert "strictly increase" in capsys.readouterr().err
+    for opt, val in (("--rate", "0"), ("--rate", "fast"), ("--table", "1.6"), ("--table", "-1,1")):
+        assert behave("--train", d / "demo.csv", "--input", d / "main.csv",
+                      "--out", tmp_path / "o.csv", f"{opt}={val}") == 2
+        assert opt in capsys.readouterr().err
+    assert behave("--train", tmp_path / "none.csv", "--input", d / "main.csv",
+                  "--out", tmp_path / "o.csv") == 2
+    assert "not found" in capsys.readouterr().err
+
+
+def test_the_installed_command_runs_without_pygame(files):
+    d, _ = files
+    code = ("import sys, tabletop.cli as c; rc = c.main(sys.argv[1:]); "
+            "assert 'pygame' not in sys.modules; sys.exit(rc)")
+    res = subprocess.run([sys.executable, "-c", code, "behave", "--train", str(d / "demo.csv"),
+                          "--input", str(d / "main.csv"), "--out", str(d / "sub.csv")],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    assert (d / "sub.csv").read_text() == (d / "out.csv").read_text()
