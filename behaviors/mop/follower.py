@@ -158,12 +158,13 @@ class ActionFollower:
             return self._held()
         fw = self.forward
         step_ll = fw.step((x - self.bank.center) / self.bank.scale)
-        return self._finish(step_ll, fw.progress, fw.var, fw.entries)
+        return self._finish(step_ll, fw.progress, fw, 0, fw.entries)
 
-    def _finish(self, step_ll: np.ndarray, progress: np.ndarray, var_states: np.ndarray,
-                entries: np.ndarray) -> FollowState:
+    def _finish(self, step_ll: np.ndarray, progress: np.ndarray, forward: WindowedForward,
+                offset: int, entries: np.ndarray) -> FollowState:
         """Evidence, probabilities, best and validity from one forward step's per-template
-        log-likelihoods, progress (0..1), variance (states squared) and re-entry counts."""
+        log-likelihoods, progress (0..1) and re-entry counts; this follower's templates are
+        ``forward``'s from ``offset`` on."""
         self._evidence *= self._decay
         self._evidence += step_ll
         self._weight = self._decay * self._weight + 1.0
@@ -171,7 +172,7 @@ class ActionFollower:
         p = np.exp(self._evidence - self._evidence[b])
         p /= p.sum()
         names = self.names
-        variance = float(var_states[b]) * self._inv_span2[b]
+        variance = forward.var_of(offset + b) * self._inv_span2[b]
         restarted = entries[b] > self._entries[b]
         self._entries[:] = entries
         mean_ll = self._evidence / self._weight
@@ -263,5 +264,5 @@ class FollowerGroup:
             if i in lost:
                 out.append(f._held())
             else:
-                out.append(f._finish(step_ll[sl], progress[sl], fw.var[sl], fw.entries[sl]))
+                out.append(f._finish(step_ll[sl], progress[sl], fw, sl.start, fw.entries[sl]))
         return out

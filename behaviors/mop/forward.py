@@ -83,16 +83,18 @@ class WindowedForward:
         # the gathered states: main windows move, the first-states windows are fixed
         ar_clip = np.minimum(self._ar[None, :], (wk - 1)[:, None])
         self._gather_base = (bank.starts[:, None] + ar_clip).ravel()
+        # log b = (m.z - |m|^2 / 2) / sigma^2 - |z|^2 / (2 sigma^2) + const: states prescaled
+        self._inv_var = 1.0 / (self.sigma * self.sigma)
+        self._means_s = np.ascontiguousarray(bank.means * self._inv_var)
         sqnorm = np.einsum("ij,ij->i", bank.means, bank.means)
-        self._half_sq_states = 0.5 * sqnorm
+        self._half_sq_states = 0.5 * sqnorm * self._inv_var
         self._buf = np.empty((2 * k * w, bank.dim))
-        self._buf[k * w:] = bank.means[self._gather_base]
+        self._buf[k * w:] = self._means_s[self._gather_base]
         self._half_sq = np.empty(2 * k * w)
-        self._half_sq[k * w:] = 0.5 * sqnorm[self._gather_base]
+        self._half_sq[k * w:] = self._half_sq_states[self._gather_base]
         masked = ~np.concatenate([valid, valid]).ravel()
         self._half_sq[k * w:][masked[k * w:]] = np.inf
         self._mask_main = np.where(masked[:k * w], np.inf, 0.0) if self._has_short else None
-        self._inv_var = 1.0 / (self.sigma * self.sigma)
         # dims: features really used per template (a group pads its inputs with zeros to one width)
         d = np.full(k, float(bank.dim)) if dims is None else np.asarray(dims, dtype=float)
         self._const = -d * math.log(self.sigma) - 0.5 * d * math.log(2.0 * math.pi)
@@ -107,7 +109,7 @@ class WindowedForward:
         self.alpha = np.zeros((2 * k, w))
         self.alpha[:k, 0] = 1.0
         self.mean = np.zeros(k)
-        self.var = np.zeros(k)
+        self._mom = np.tile([1.0, 0.0, 0.0], (k, 1))
         self.entries = np.zeros(k, dtype=np.int64)
         self.steps = 0
         self._window_moved()
@@ -121,7 +123,7 @@ class WindowedForward:
         """log b (equation 1) for every window state, up to the constant -|z|^2 / (2 sigma^2)."""
         kw = self._k * self._w
         idx = self._idx
-        np.take(self.bank.means, idx, axis=0, out=self._buf[:kw])
+        np.take(self._means_s, idx, axis=0, out=self._buf[:kw])
         np.take(self._half_sq_states, idx, out=self._half_sq[:kw])
         if self._mask_main is not None:
             self._half_sq[:kw] += self._mask_main
@@ -131,7 +133,6 @@ class WindowedForward:
             k, w = self._k, self._w
             lb = np.matmul(self._buf.reshape(2 * k, w, -1), np.concatenate([z, z])[:, :, None]).reshape(-1)
         lb -= self._half_sq
-        lb *= self._inv_var
         return lb.reshape(2 * self._k, self._w)
 
     def _predict(self) -> np.ndarray:
@@ -151,7 +152,9 @@ class WindowedForward:
         """Refresh what depends on the window starts ``lo``: gather indices and end folds."""
         k = self._k
         self._idx = self._gather_base + np.repeat(self.lo, self._w)
-        self._fold[:k] = (self.lo == 0) * self._back
+        at_start = self.lo == 0
+        self._fold[:k] = at_start * self._back
+        self._at_start = at_start[:, None]
         self._at_end[:k] = self.lo == self._max_lo
 
     def step(self, z: np.ndarray) -> np.ndarray:
@@ -199,7 +202,8 @@ class WindowedForward:
         k, w, alpha = self._k, self._w, self.alpha
         main, start = alpha[:k], alpha[k:]
         mom = alpha @ self._moments
-        switched = (mom[k:, 0] > mom[:k, 0]) & (self.lo > 0)
+        # a new performance holds more probability than the one followed so far: re-entry
+        switched = mom[k:, 0] > mom[:k, 0]
         moved = False
         if np.count_nonzero(switched):
             main[switched] = start[switched]
@@ -208,10 +212,8 @@ class WindowedForward:
             self.entries[switched] += 1
             mom = alpha @ self._moments
             moved = True
-        mass = mom[:k, 0] + _TINY
-        mu = mom[:k, 1] / mass
-        self.var = np.maximum(mom[:k, 2] / mass - mu * mu, 0.0)
-        self.mean = self.lo + mu
+        self._mom = mom = mom[:k]
+        self.mean = self.lo + mom[:, 1] / mom[:, 0]
         new_lo = np.minimum(np.maximum((self.mean + 0.5).astype(np.intp) - self.half_window, 0),
                             self._max_lo)
         shift = new_lo - self.lo
@@ -222,23 +224,33 @@ class WindowedForward:
             moved = True
         if moved:
             self._window_moved()
-        if np.count_nonzero(self.lo) < k:
-            at_start = self.lo == 0
-            if np.count_nonzero(start[at_start]):
-                main[at_start] += start[at_start]
-                start[at_start] = 0.0
+        if np.count_nonzero(self.lo) < k:  # where the two windows coincide they are one
+            np.add(main, start * self._at_start, out=main)
+            np.multiply(start, ~self._at_start, out=start)
+
+    @property
+    def var(self) -> np.ndarray:
+        """Variance of the main-window distribution per template, in states squared (K,)."""
+        mom = self._mom
+        mu = mom[:, 1] / mom[:, 0]
+        return np.maximum(mom[:, 2] / mom[:, 0] - mu * mu, 0.0)
+
+    def var_of(self, i: int) -> float:
+        """:attr:`var` of template ``i`` alone (cheaper)."""
+        m0, m1, m2 = self._mom[i].tolist()
+        return max(m2 / m0 - (m1 / m0) ** 2, 0.0)
 
     def snapshot(self, templates: np.ndarray) -> tuple:
         """The state of some templates (indices), to :meth:`restore` after a step."""
         rows = np.concatenate([templates, templates + self._k])
         return (templates, self.alpha[rows].copy(), self.lo[templates].copy(),
-                self.mean[templates].copy(), self.var[templates].copy(), self.entries[templates].copy())
+                self.mean[templates].copy(), self._mom[templates].copy(), self.entries[templates].copy())
 
     def restore(self, saved: tuple) -> None:
         """Put back what :meth:`snapshot` saved (those templates skip the step in between)."""
-        templates, alpha, lo, mean, var, entries = saved
+        templates, alpha, lo, mean, mom, entries = saved
         self.alpha[np.concatenate([templates, templates + self._k])] = alpha
-        self.lo[templates], self.mean[templates], self.var[templates] = lo, mean, var
+        self.lo[templates], self.mean[templates], self._mom[templates] = lo, mean, mom
         self.entries[templates] = entries
         self._window_moved()
 
