@@ -1,0 +1,121 @@
+"""Puppet Master benchmark: microseconds per generation step, and training time.
+
+1. One generation step (BestMatch over every training window + coherence candidates,
+   balancing, generation, detail, the table) with 3,200 and 24,000 training samples (80 s and
+   10 min at 40 Hz). The paper ran 40 Hz (25 ms per step) with 80 s of training. Budget
+   (DESIGN.md): <= 1 ms at 3,200 and <= 5 ms at 24,000 samples.
+2. One tick of 8 reactors at once, each with its own main path and a 3,200-sample behaviour
+   (four behaviours, two reactors each), and the same with 24,000-sample behaviours. Budget:
+   the per-step budget times 8.
+3. Training time for 80 s and 10 min of demonstration (designers train in seconds), and the
+   cost of starting a reactor (the one exact computation of all window distances).
+
+The timed step configurations run interleaved (A B A B ...). Every call feeds one main sample
+on the 40 Hz grid, so exactly one generation step runs per call. The main paths are scripted
+visitors (stops, turns, reversals) on a 1.6 x 1.0 m table; demonstrations are scripted
+follow-behind, keep-away and circling designers.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import numpy as np  # noqa: E402
+
+from bench.common import emit, interleaved, stats_ms  # noqa: E402
+from behaviors.puppet_master.engine import Behavior, Reactor  # noqa: E402
+
+_spec = importlib.util.spec_from_file_location(
+    "pm_demos", ROOT / "tests" / "puppet_master" / "demos.py")
+demos = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(demos)
+
+RATE = 40.0
+TABLE = (0.0, 0.0, 1.6, 1.0)
+ROUNDS = 2000
+
+
+def demonstration(kind: str, samples: int, seed: int) -> np.ndarray:
+    """A demonstration lasting exactly ``samples`` generation steps at 40 Hz."""
+    duration = (samples - 1) / RATE
+    if kind == "keep_away":
+        return demos.keep_away(seed, duration, rate_hz=RATE)
+    main = demos.main_path(seed, duration, rate_hz=RATE, reversals=kind == "circling")
+    return demos.circling(main) if kind == "circling" else demos.follow_behind(main)
+
+
+class Feed:
+    """A reactor and its main path, one grid sample per call."""
+
+    def __init__(self, behavior: Behavior, seed: int, seconds: float) -> None:
+        self.main = demos.main_path(seed, seconds, rate_hz=RATE, reversals=True)
+        self.reactor = Reactor(behavior, TABLE)
+        self.i = 0
+        self.reactor.advance(*self.main[0])
+
+    def __call__(self) -> None:
+        self.i += 1
+        self.reactor.advance(*self.main[self.i])
+
+
+def main() -> None:
+    seconds = ROUNDS / RATE + 5.0
+    demo_small = demonstration("follow", 3200, 1)
+    demo_large = demonstration("keep_away", 24000, 2)
+    Behavior.train(demo_small[:400])      # first use imports PyWavelets' modules: not training
+    train_times: dict[str, list[float]] = {"80s": [], "600s": []}
+    for _ in range(3):
+        for name, demo in (("80s", demo_small), ("600s", demo_large)):
+            t0 = time.perf_counter()
+            Behavior.train(demo)
+            train_times[name].append(time.perf_counter() - t0)
+    small, large = Behavior.train(demo_small), Behavior.train(demo_large)
+    assert small.samples == 3200 and large.samples == 24000
+
+    start = {}
+    for name, b in (("3200", small), ("24000", large)):
+        r = Reactor(b, TABLE)
+        t0 = time.perf_counter()
+        r.start(0.0, 0.8, 0.5, 0.0)
+        start[name] = time.perf_counter() - t0
+
+    kinds = ("follow", "keep_away", "circling", "follow")
+    group_small = [Behavior.train(demonstration(k, 3200, 10 + i)) for i, k in enumerate(kinds)]
+    group_large = [Behavior.train(demonstration(k, 24000, 20 + i)) for i, k in enumerate(kinds)]
+    feeds = {
+        "step_3200": Feed(small, 101, seconds),
+        "step_24000": Feed(large, 102, seconds),
+    }
+    eight_small = [Feed(group_small[i % 4], 200 + i, seconds) for i in range(8)]
+    eight_large = [Feed(group_large[i % 4], 300 + i, seconds) for i in range(8)]
+    feeds["tick_8x3200"] = lambda: [f() for f in eight_small]
+    feeds["tick_8x24000"] = lambda: [f() for f in eight_large]
+    times = interleaved(feeds, ROUNDS)
+
+    figures: dict[str, float] = {}
+    for name, samples in times.items():
+        s = stats_ms(samples)
+        figures[f"{name}_median_us"] = s["median_ms"] * 1e3
+        figures[f"{name}_p99_us"] = s["p99_ms"] * 1e3
+        figures[f"{name}_mean_us"] = s["mean_ms"] * 1e3
+    figures["steps_timed_per_config"] = ROUNDS
+    figures["train_80s_demo_ms"] = min(train_times["80s"]) * 1e3
+    figures["train_600s_demo_ms"] = min(train_times["600s"]) * 1e3
+    figures["reactor_start_3200_ms"] = start["3200"] * 1e3
+    figures["reactor_start_24000_ms"] = start["24000"] * 1e3
+    figures["coherence_share_8x3200"] = float(np.mean(
+        [f.reactor.coherence_share for f in eight_small]))
+    budgets = {"step_3200_median_us": 1000.0, "step_24000_median_us": 5000.0,
+               "tick_8x3200_median_us": 8000.0, "tick_8x24000_median_us": 40000.0,
+               "paper_step_us": 25000.0}
+    emit("puppet_master", figures, budgets)
+
+
+if __name__ == "__main__":
+    main()
