@@ -1,1 +1,10 @@
-"""Reactive behaviour by demonstration (Puppet Master)."""
+"""Reactive behaviour by demonstration (Puppet Master, paper 002 sections 4.1-4.4).
+
+A designer demonstrates with two pucks how a reactor responds to a main character; live, the
+reactor's motion is generated step by step at 40 Hz from the main's motion, keeping the
+demonstrated style. Modules: ``resample`` (fixed generation rate, causal live resampling),
+``features`` (4.2), ``similarity`` (4.3: situation similarity, path coherence, balancing),
+``generation`` (4.4.1 and the table), ``detail`` (4.4.2 Haar texture), ``engine``
+(:class:`~behaviors.puppet_master.engine.Behavior` and
+:class:`~behaviors.puppet_master.engine.Reactor`).
+"""

@@ -113,7 +113,8 @@ def _check_demo(demo: Any, p: Params) -> np.ndarray:
     if bad.any():
         r, c = (int(v) for v in np.argwhere(bad)[0])
         raise DemonstrationError(
-            f"demonstration row {r + 1}: column {COLUMNS[c]} is {float(a[r, c])!r}, not a finite number")
+            f"demonstration row {r + 1}: column {COLUMNS[c]} is {float(a[r, c])!r}, "
+            "not a finite number")
     if a.shape[0] < 2:
         raise DemonstrationError(f"demonstration has {a.shape[0]} row(s), needs at least 2")
     steps = np.diff(a[:, 0])
@@ -222,7 +223,8 @@ class Reactor:
 
     # -- life cycle ---------------------------------------------------------------------------
 
-    def start(self, t: float, main_x: float, main_y: float, main_dir: float) -> tuple[float, float, float]:
+    def start(self, t: float, main_x: float, main_y: float,
+              main_dir: float) -> tuple[float, float, float]:
         """Start at time ``t``: the reactor takes the demonstration's first pose relative to its
         main, carried onto this main pose (kept on the table); both are taken to have been at
         rest for the last window. Returns the reactor pose."""

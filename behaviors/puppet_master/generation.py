@@ -97,7 +97,8 @@ def clamp_to_table(x: float, y: float,
 
 
 def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
-               table: tuple[float, float, float, float], step_deg: float = 5.0) -> tuple[float, float]:
+               table: tuple[float, float, float, float],
+               step_deg: float = 5.0) -> tuple[float, float]:
     """Target (tx, ty) moved onto the table, keeping its distance from the main at (mx, my).
 
     A demonstrated relation that does not fit the table here (the main is near an edge) keeps

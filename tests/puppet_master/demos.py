@@ -64,7 +64,8 @@ class Steerer:
         turn = float(np.clip(wrap_angle(want - self.heading), -2.5 * dt, 2.5 * dt))
         self.heading = wrap_angle(self.heading + turn)
         self.v += float(np.clip(self.v_target - self.v, -0.8 * dt, 0.8 * dt))
-        self.pos = self.pos + self.v * dt * np.array([math.cos(self.heading), math.sin(self.heading)])
+        heading = np.array([math.cos(self.heading), math.sin(self.heading)])
+        self.pos = self.pos + self.v * dt * heading
         self.pos = np.clip(self.pos, 0.05, [self.w - 0.05, self.h - 0.05])
 
 
@@ -88,7 +89,8 @@ def _look_along(prev_look: float, step: np.ndarray, rate_hz: float) -> float:
 
 
 def follow_behind(main: np.ndarray, distance: float = 0.3, gain: float = 6.0,
-                  max_speed: float = 0.6, wobble: float = 0.0, wobble_hz: float = 6.0) -> np.ndarray:
+                  max_speed: float = 0.6, wobble: float = 0.0,
+                  wobble_hz: float = 6.0) -> np.ndarray:
     """Demo (n, 7): a reactor chasing the point ``distance`` behind the main's look direction.
     ``wobble`` (radians) turns each step by a sinusoid: a shaky hand."""
     dt = float(main[1, 0] - main[0, 0])

@@ -89,7 +89,8 @@ def _bad(tmp_path, name, text):
         f"{t},0.5,0.5,0,0.2,0.5,0" for t in [0, 0.1, 0.05] + [0.2 + 0.025 * i for i in range(60)]]),
      ["demo.csv", "strictly increase", "row 3"]),
     ("column", lambda d: "\n".join([",".join(DEMO_HEADER[:-1])] + [
-        f"{i * 0.025},0.5,0.5,0,0.2,0.5" for i in range(100)]), ["demo.csv", "missing", "react_dir"]),
+        f"{i * 0.025},0.5,0.5,0,0.2,0.5" for i in range(100)]),
+     ["demo.csv", "missing", "react_dir"]),
 ])
 def test_bad_demonstrations_exit_2_with_one_clear_line(tmp_path, files, capsys, what, make, words):
     d, _ = files

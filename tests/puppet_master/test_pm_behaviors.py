@@ -1,10 +1,7 @@
 """Behaviour tests: demonstrated personalities carried onto new main paths (measured)."""
 
-import math
-
 import numpy as np
 import pm_demos
-import pytest
 
 from behaviors.puppet_master.engine import Behavior, Reactor
 
