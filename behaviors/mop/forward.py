@@ -21,7 +21,8 @@ import numpy as np
 
 from behaviors.mop.hmm import TemplateBank, Transitions
 
-_TINY = 1e-300
+_START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
+_CLAMP = -200.0  # log-weights below the window's best by more than this count as e^-200
 
 
 class WindowedForward:
@@ -76,9 +77,10 @@ class WindowedForward:
         self._last_flat = np.concatenate([wk - 1, wk - 1]) + np.arange(2 * k) * w
         self._at_end = np.concatenate([np.zeros(k), (wk == lengths).astype(float)])
         self._fold = np.full(2 * k, back)
-        # floor: keeps every main-window state reachable; _TINY keeps log() finite elsewhere.
-        # With floor 0 the windows hold exact zeros, as in the plain equations.
-        self._floor = np.full((2 * k, w), _TINY if self.floor > 0 else 0.0)
+        # floor: keeps every main-window state reachable (and the normaliser >= floor, so the
+        # clamp below never decides anything). With floor 0 the windows hold exact zeros and the
+        # step is computed in the log domain exactly as the plain equations.
+        self._floor = np.full((2 * k, w), _START_FLOOR if self.floor > 0 else 0.0)
         self._floor[:k][valid] = self.floor
         # the gathered states: main windows move, the first-states windows are fixed
         ar_clip = np.minimum(self._ar[None, :], (wk - 1)[:, None])
@@ -175,23 +177,28 @@ class WindowedForward:
             # a new performance starts at the first state; where the main window is on the first
             # states the two windows coincide and are merged in _settle
             pred[k:, 0] += eps
+        lb3 = lb.reshape(2, k, w)
         if self.floor > 0:
-            lp = np.log(pred)
+            m = lb3.max(axis=(0, 2))
+            lb3 -= m[:, None]
+            np.maximum(lb, _CLAMP, out=lb)
+            np.exp(lb, out=lb)
+            pred *= lb
         else:
             with np.errstate(divide="ignore"):
                 lp = np.log(pred)
-        lp += lb
-        lp3 = lp.reshape(2, k, w)
-        m = lp3.max(axis=(0, 2))
-        lp3 -= m[:, None]
-        # no subnormal numbers: they are exact enough but many times slower to compute with
-        np.maximum(lp, -600.0, out=lp)
-        np.exp(lp, out=lp)
+            lp += lb
+            lp3 = lp.reshape(2, k, w)
+            m = lp3.max(axis=(0, 2))
+            lp3 -= m[:, None]
+            np.maximum(lp, -600.0, out=lp)  # no subnormal numbers: far slower to compute with
+            pred = np.exp(lp, out=lp)
         if self._has_short:
-            lp *= self._valid2
-        s = lp3.sum(axis=(0, 2))
-        lp3 /= s[:, None]
-        self.alpha = lp
+            pred *= self._valid2
+        p3 = pred.reshape(2, k, w)
+        s = p3.sum(axis=(0, 2))
+        p3 /= s[:, None]
+        self.alpha = pred
         self.steps += 1
         self._settle()
         zz = float(z @ z) if z.ndim == 1 else np.einsum("kd,kd->k", z, z)
