@@ -1,0 +1,354 @@
+"""Scripted designers: seeded, human-like demonstrations of the five example personalities.
+
+A designer moves the main puck around the table (wandering between spots, pausing, turning,
+sometimes pulling it back the way it came) while the other hand plays the reactor: a lover, a
+bully, a playful friend, a stalker or an afraid character. The reactor's hand perceives the main
+puck with a human reaction delay, accelerates and turns at hand-like limits, stops at the table's
+edge, and both hands shake a little (band-limited tremor on position and look direction).
+
+Every function is pure: the same arguments give the same array, bit for bit. A demonstration is a
+float array (n, 7) with columns ``t, main_x, main_y, main_dir, react_x, react_y, react_dir``:
+seconds from 0 at ``rate_hz``, table metres, look directions in radians wrapped to (-pi, pi].
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+from tabletop.frames import wrap_angle, wrap_angles
+
+COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
+PERSONALITIES = ("lover", "bully", "playful_friend", "stalker", "afraid")
+CONTACT = 0.055  # metres between puck centres when two pucks touch
+SEEDS = {"lover": 11, "bully": 23, "playful_friend": 37, "stalker": 41, "afraid": 53}
+
+Table = tuple[float, float]
+Vec = np.ndarray
+
+
+def _tremor(rng: np.random.Generator, n: int, rate_hz: float, lo_hz: float, hi_hz: float,
+            rms: float) -> np.ndarray:
+    """Band-limited noise (lo_hz..hi_hz) of ``n`` samples with the given RMS: a hand's shake."""
+    if n < 4 or rms <= 0.0:
+        return np.zeros(n)
+    white = rng.standard_normal(n)
+    spec = np.fft.rfft(white)
+    f = np.fft.rfftfreq(n, 1.0 / rate_hz)
+    spec[(f < lo_hz) | (f > hi_hz)] = 0.0
+    band = np.fft.irfft(spec, n)
+    s = float(np.sqrt(np.mean(band ** 2)))
+    return band * (rms / s) if s > 0 else band
+
+
+def _unit(v: Vec) -> Vec:
+    n = float(np.hypot(v[0], v[1]))
+    return v / n if n > 1e-9 else np.zeros(2)
+
+
+def _limit(v: Vec, most: float) -> Vec:
+    n = float(np.hypot(v[0], v[1]))
+    return v * (most / n) if n > most else v
+
+
+def _turn_toward(a: float, target: float, most: float) -> float:
+    return wrap_angle(a + float(np.clip(wrap_angle(target - a), -most, most)))
+
+
+def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
+                       table: Table = (1.2, 0.8), margin: float = 0.15) -> np.ndarray:
+    """A designer's hand moving the main puck: (n, 4) array ``t, x, y, dir`` (s, m, m, rad).
+
+    The hand wanders between random spots at 0.08-0.3 m/s, pauses on some (0.6-2.5 s, sometimes
+    turning the puck in place), and now and then pulls the puck back the way it came (a sudden
+    reversal). The puck looks where it goes, with a short lag, and holds its look when still.
+    No shake is added here (see :func:`demonstrate`).
+    """
+    rng = np.random.default_rng(seed)
+    w, h = table
+    lo, hi = np.array([margin, margin]), np.array([w - margin, h - margin])
+    dt = 1.0 / rate_hz
+    n = int(round(seconds * rate_hz))
+    p = rng.uniform(lo, hi)
+    v = np.zeros(2)
+    look = float(rng.uniform(-math.pi, math.pi))
+    goal, speed, pause, spin = rng.uniform(lo, hi), 0.18, 0.0, 0.0
+    wander = _tremor(rng, n, rate_hz, 0.05, 0.5, 0.5)   # the hand's path curves, radians
+    out = np.empty((n, 4))
+    for i in range(n):
+        if pause > 0.0:
+            pause -= dt
+            v_des = np.zeros(2)
+            look = wrap_angle(look + spin * dt)
+            if pause <= 0.0:
+                goal, speed = rng.uniform(lo, hi), float(rng.uniform(0.08, 0.3))
+        else:
+            to_goal = goal - p
+            d = float(np.hypot(*to_goal))
+            if d < 0.03:
+                if rng.random() < 0.4:
+                    pause = float(rng.uniform(0.6, 2.5))
+                    spin = float(rng.choice([0.0, 0.0, rng.uniform(-1.5, 1.5)]))
+                goal, speed = rng.uniform(lo, hi), float(rng.uniform(0.08, 0.3))
+                to_goal, d = goal - p, float(np.hypot(*(goal - p)))
+            elif float(np.hypot(*v)) > 0.08 and rng.random() < 0.08 * dt:
+                back = p - _unit(v) * float(rng.uniform(0.2, 0.4))
+                goal = np.clip(back, lo, hi)            # pulled back the way it came
+                to_goal, d = goal - p, float(np.hypot(*(goal - p)))
+            c, s_ = math.cos(wander[i]), math.sin(wander[i])
+            u = _unit(to_goal)
+            v_des = np.array([c * u[0] - s_ * u[1], s_ * u[0] + c * u[1]]) * speed * min(1.0, d / 0.1)
+        v = v + _limit(v_des - v, 0.9 * dt)
+        p = np.clip(p + v * dt, 0.0, (w, h))
+        if float(np.hypot(*v)) > 0.04:
+            heading = math.atan2(v[1], v[0])
+            look = wrap_angle(look + wrap_angle(heading - look) * min(1.0, dt / 0.15))
+        out[i] = (i * dt, p[0], p[1], look)
+    return out
+
+
+class _Seen:
+    """What the reactor's hand perceives of the main puck (delayed): position, velocity, look."""
+
+    def __init__(self, p: Vec, v: Vec, look: float) -> None:
+        self.p, self.v, self.look = p, v, look
+        self.speed = float(np.hypot(v[0], v[1]))
+
+
+Policy = Callable[[float, Vec, Vec, float, _Seen], tuple[Vec, float]]
+
+
+def _lover(rng: np.random.Generator) -> Policy:
+    """Approaches, stays close (about 0.12 m) facing the main, nuzzling side to side."""
+    phase = float(rng.uniform(0, math.tau))
+
+    def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
+        rel = m.p - p
+        d = float(np.hypot(*rel))
+        face = math.atan2(rel[1], rel[0])
+        side = np.array([-math.sin(face), math.cos(face)])
+        v_des = _unit(rel) * float(np.clip(2.0 * (d - 0.12), -0.15, 0.35)) + 0.8 * m.v
+        if d < 0.2:
+            v_des = v_des + side * 0.06 * math.sin(2 * math.pi * 0.8 * t + phase)
+        return v_des, face
+    return policy
+
+
+def _bully(rng: np.random.Generator, dt: float) -> Policy:
+    """Lurks facing the main, charges at it, pushes into it, then backs off; again and again."""
+    st = {"mode": "lurk", "left": float(rng.uniform(1.0, 2.5)), "side": 1.0}
+
+    def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
+        rel = m.p - p
+        d = float(np.hypot(*rel))
+        face = math.atan2(rel[1], rel[0])
+        u = _unit(rel)
+        st["left"] -= dt
+        mode = st["mode"]
+        if mode == "lurk":
+            side = np.array([-u[1], u[0]]) * st["side"]
+            v_des = u * 1.5 * (d - 0.3) + side * 0.08 + m.v
+            if st["left"] <= 0:
+                st["mode"] = "charge"
+        elif mode == "charge":
+            v_des = u * 0.65
+            if d < 0.07:
+                st["mode"], st["left"] = "push", float(rng.uniform(0.3, 0.6))
+        elif mode == "push":
+            v_des = u * 0.2 + m.v
+            if st["left"] <= 0:
+                st["mode"], st["left"] = "back", float(rng.uniform(0.8, 1.4))
+        else:
+            v_des = -u * 0.28 + m.v * 0.5
+            if st["left"] <= 0 or d > 0.4:
+                st["mode"], st["left"] = "lurk", float(rng.uniform(1.0, 2.5))
+                st["side"] = float(rng.choice([-1.0, 1.0]))
+        return v_des, face
+    return policy
+
+
+def _playful_friend(rng: np.random.Generator, dt: float) -> Policy:
+    """Circles counter-clockwise around the main, darting in close and out again."""
+    st = {"theta": None, "dart": float(rng.uniform(1.5, 3.0)), "dart_t": -10.0}
+
+    def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
+        rel = p - m.p
+        if st["theta"] is None:
+            st["theta"] = math.atan2(rel[1], rel[0])
+        st["theta"] += 2.4 * dt
+        st["dart"] -= dt
+        if st["dart"] <= 0:
+            st["dart_t"], st["dart"] = t, float(rng.uniform(2.0, 4.0))
+        age = t - st["dart_t"]
+        r = 0.17 - (0.11 * math.sin(math.pi * age / 0.6) if age < 0.6 else 0.0)
+        r += 0.03 * math.sin(1.3 * t)
+        th = st["theta"]
+        goal = m.p + r * np.array([math.cos(th), math.sin(th)])
+        tangent = 2.4 * r * np.array([-math.sin(th), math.cos(th)])
+        v_des = m.v + tangent + 5.0 * (goal - p)
+        sp = float(np.hypot(*v))
+        face = math.atan2(v[1], v[0]) if sp > 0.05 else math.atan2(-rel[1], -rel[0])
+        return v_des, face
+    return policy
+
+
+def _stalker(rng: np.random.Generator) -> Policy:
+    """Follows about 0.35 m behind the main, watching it; stops when it stops."""
+    st = {"heading": None}
+
+    def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
+        rel = m.p - p
+        d = float(np.hypot(*rel))
+        face = math.atan2(rel[1], rel[0])
+        if m.speed > 0.03:
+            st["heading"] = math.atan2(m.v[1], m.v[0])
+        if st["heading"] is None or m.speed <= 0.03:
+            v_des = np.zeros(2)
+            if d < 0.22:                     # discovered: back off a little
+                v_des = -_unit(rel) * 0.12
+            return v_des, face
+        hd = st["heading"]
+        goal = m.p - 0.35 * np.array([math.cos(hd), math.sin(hd)])
+        v_des = m.v + 2.0 * (goal - p)
+        if d < 0.22:
+            v_des = v_des - _unit(rel) * 0.2
+        return v_des, face
+    return policy
+
+
+def _afraid(rng: np.random.Generator, table: Table) -> Policy:
+    """Keeps away (over about 0.5 m) and flees when the main comes closer, sliding off walls."""
+    w, h = table
+
+    def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
+        rel = p - m.p
+        d = float(np.hypot(*rel))
+        away = _unit(rel)
+        wall = np.array([
+            max(0.0, 0.2 - p[0]) - max(0.0, p[0] - (w - 0.2)),
+            max(0.0, 0.2 - p[1]) - max(0.0, p[1] - (h - 0.2))]) / 0.2
+        if d < 0.5:
+            urgency = (0.5 - d) / 0.5
+            flee = _unit(away + 1.5 * wall)
+            if float(np.dot(flee, away)) < 0.0:  # cornered: dodge sideways past the main
+                side = np.array([-away[1], away[0]])
+                flee = _unit(side if float(np.dot(side, wall)) >= 0 else -side)
+            v_des = flee * (0.15 + 0.45 * urgency)
+            sp = float(np.hypot(*v))
+            face = math.atan2(v[1], v[0]) if sp > 0.12 else math.atan2(-rel[1], -rel[0])
+        else:
+            v_des = 0.1 * wall
+            face = math.atan2(-rel[1], -rel[0])      # watching it from afar
+        return v_des, face
+    return policy
+
+
+def _policy(personality: str, rng: np.random.Generator, table: Table,
+            dt: float) -> tuple[Policy, float, float]:
+    """The policy, its hand's top speed (m/s) and acceleration (m/s^2)."""
+    if personality == "lover":
+        return _lover(rng), 0.4, 1.2
+    if personality == "bully":
+        return _bully(rng, dt), 0.7, 2.5
+    if personality == "playful_friend":
+        return _playful_friend(rng, dt), 0.8, 3.0
+    if personality == "stalker":
+        return _stalker(rng), 0.45, 1.2
+    if personality == "afraid":
+        return _afraid(rng, table), 0.65, 2.5
+    raise ValueError(f"unknown personality {personality!r}; expected one of {', '.join(PERSONALITIES)}")
+
+
+# Hand shake per personality: (position tremor RMS m, look tremor RMS rad, tremor band Hz).
+SHAKE = {"lover": (0.0012, 0.02, (3.0, 8.0)), "bully": (0.0025, 0.04, (3.0, 10.0)),
+         "playful_friend": (0.002, 0.03, (3.0, 10.0)), "stalker": (0.0012, 0.02, (3.0, 8.0)),
+         "afraid": (0.0025, 0.05, (5.0, 12.0))}
+
+
+def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0,
+                rate_hz: float = 40.0, table: Table = (1.2, 0.8),
+                main: np.ndarray | None = None, delay_s: float = 0.15) -> np.ndarray:
+    """A scripted designer's demonstration of ``personality``: (n, 7) array (see module doc).
+
+    ``main``: the main path (n, 4) ``t, x, y, dir`` to react to; by default the designer's own
+    (:func:`designer_main_path` with the same seed). ``delay_s``: the reactor hand's reaction time.
+    """
+    seed = SEEDS.get(personality, 0) if seed is None else seed
+    rng = np.random.default_rng([seed, 1])
+    dt = 1.0 / rate_hz
+    policy, top_speed, accel = _policy(personality, rng, table, dt)
+    if main is None:
+        main = designer_main_path(seed, seconds, rate_hz, table)
+    w, h = table
+    n = len(main)
+    mp = main[:, 1:3]
+    mv = np.gradient(mp, dt, axis=0) if n > 1 else np.zeros((n, 2))
+    lag = int(round(delay_s * rate_hz))
+    start = mp[0] + np.array([math.cos(main[0, 3]), math.sin(main[0, 3])]) * 0.3
+    edge = 0.05
+    p = np.clip(start, edge, (w - edge, h - edge))
+    if float(np.hypot(*(p - mp[0]))) < 0.1:
+        p = np.clip(mp[0] - (start - mp[0]), edge, (w - edge, h - edge))
+    v = np.zeros(2)
+    look = math.atan2(mp[0, 1] - p[1], mp[0, 0] - p[0])
+    react = np.empty((n, 3))
+    for i in range(n):
+        j = max(0, i - lag)
+        v_des, look_des = policy(i * dt, p, v, look, _Seen(mp[j], mv[j], float(main[j, 3])))
+        v_des = _limit(np.asarray(v_des, dtype=float), top_speed)
+        for k, size in ((0, w), (1, h)):      # the hand stops at the table's edge
+            if (p[k] <= edge + 0.01 and v_des[k] < 0) or (p[k] >= size - edge - 0.01 and v_des[k] > 0):
+                v_des[k] = 0.0
+        v = v + _limit(v_des - v, accel * dt)
+        p = np.clip(p + v * dt, edge, (w - edge, h - edge))
+        gap = p - mp[i]
+        d = float(np.hypot(*gap))
+        if d < CONTACT:                       # two pucks cannot overlap: pushed aside
+            p = mp[i] + (gap / d if d > 1e-9 else np.array([1.0, 0.0])) * CONTACT
+            v = v - min(0.0, float(np.dot(v, _unit(gap)))) * _unit(gap)
+        look = _turn_toward(look, look_des, 8.0 * dt)
+        react[i] = (p[0], p[1], look)
+    pos_rms, ang_rms, (lo_hz, hi_hz) = SHAKE.get(personality, (0.0015, 0.03, (3.0, 10.0)))
+    shake = np.random.default_rng([seed, 2])
+    out = np.empty((n, 7))
+    out[:, 0] = main[:, 0] - main[0, 0]
+    for col, base, rms in ((1, main[:, 1], 0.0012), (2, main[:, 2], 0.0012),
+                           (4, react[:, 0], pos_rms), (5, react[:, 1], pos_rms)):
+        out[:, col] = base + _tremor(shake, n, rate_hz, lo_hz, hi_hz, rms)
+    out[:, 3] = wrap_angles(main[:, 3] + _tremor(shake, n, rate_hz, lo_hz, hi_hz, 0.02))
+    out[:, 6] = wrap_angles(react[:, 2] + _tremor(shake, n, rate_hz, lo_hz, hi_hz, ang_rms))
+    out[:, (1, 4)] = np.clip(out[:, (1, 4)], 0.0, w)
+    out[:, (2, 5)] = np.clip(out[:, (2, 5)], 0.0, h)
+    return out
+
+
+def lover(seed: int = SEEDS["lover"], seconds: float = 60.0, rate_hz: float = 40.0,
+          table: Table = (1.2, 0.8)) -> np.ndarray:
+    """A lover: approaches and stays close, facing the main (see :func:`demonstrate`)."""
+    return demonstrate("lover", seed, seconds, rate_hz, table)
+
+
+def bully(seed: int = SEEDS["bully"], seconds: float = 60.0, rate_hz: float = 40.0,
+          table: Table = (1.2, 0.8)) -> np.ndarray:
+    """A bully: charges at the main, pushes into it, backs off (see :func:`demonstrate`)."""
+    return demonstrate("bully", seed, seconds, rate_hz, table)
+
+
+def playful_friend(seed: int = SEEDS["playful_friend"], seconds: float = 60.0,
+                   rate_hz: float = 40.0, table: Table = (1.2, 0.8)) -> np.ndarray:
+    """A playful friend: circles counter-clockwise around the main and darts in and out."""
+    return demonstrate("playful_friend", seed, seconds, rate_hz, table)
+
+
+def stalker(seed: int = SEEDS["stalker"], seconds: float = 60.0, rate_hz: float = 40.0,
+            table: Table = (1.2, 0.8)) -> np.ndarray:
+    """A stalker: follows at a distance behind the main and stops when it stops."""
+    return demonstrate("stalker", seed, seconds, rate_hz, table)
+
+
+def afraid(seed: int = SEEDS["afraid"], seconds: float = 60.0, rate_hz: float = 40.0,
+           table: Table = (1.2, 0.8)) -> np.ndarray:
+    """Afraid: keeps away from the main and flees when it approaches."""
+    return demonstrate("afraid", seed, seconds, rate_hz, table)
