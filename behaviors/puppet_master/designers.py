@@ -104,7 +104,7 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
         p = np.clip(p + v * dt, 0.0, (w, h))
         if float(np.hypot(*v)) > 0.04:
             heading = math.atan2(v[1], v[0])
-            look = wrap_angle(look + wrap_angle(heading - look) * min(1.0, dt / 0.15))
+            look = _turn_toward(look, heading, min(6.0 * dt, abs(wrap_angle(heading - look)) * dt / 0.15))
         out[i] = (i * dt, p[0], p[1], look)
     return out
 

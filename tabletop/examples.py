@@ -1,0 +1,99 @@
+"""Regenerate the shipped example behaviours from their scripted designers.
+
+    python -m tabletop.examples [--out behaviors/library] [--check]
+
+Writes ``<out>/<name>/behavior.yaml`` and ``demonstration.csv`` for lover, bully, playful_friend,
+stalker and afraid. The demonstrations come from the seeded scripted designers in
+:mod:`behaviors.puppet_master.designers`, so the output is the same byte for byte on every run.
+``--check`` writes nothing and exits 1 if a shipped file differs from what would be written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from behaviors.puppet_master import designers
+from tabletop import library
+
+DEFAULT_OUT = Path(__file__).resolve().parent.parent / "behaviors" / "library"
+PARAMETERS = {"rate_hz": 40.0, "window": 40}
+SECONDS = 60.0
+TABLE = (1.2, 0.8)
+DESCRIPTIONS = {
+    "lover": "Approaches the main character and stays close, facing it, nuzzling side to side.",
+    "bully": "Lurks facing the main character, charges at it, pushes into it, then backs off.",
+    "playful_friend": "Circles counter-clockwise around the main character, darting in and out.",
+    "stalker": "Follows about 0.35 m behind the main character, watching it; stops when it stops.",
+    "afraid": "Keeps half a metre away and flees when the main character comes closer.",
+}
+
+
+def example_demonstration(name: str) -> np.ndarray:
+    """The scripted designer's demonstration for ``name``, rounded to micrometres/microradians."""
+    demo = designers.demonstrate(name, seconds=SECONDS, rate_hz=PARAMETERS["rate_hz"], table=TABLE)
+    return np.round(demo, 6) + 0.0   # + 0.0 turns -0.0 into 0.0
+
+
+def _source(name: str) -> str:
+    return (f"scripted designer behaviors.puppet_master.designers.demonstrate({name!r}, "
+            f"seed={designers.SEEDS[name]}, seconds={SECONDS:g}, table={TABLE[0]:g}x{TABLE[1]:g} m)")
+
+
+def example_files(name: str) -> dict[str, str]:
+    """The file texts of one example behaviour: {file name: text}."""
+    demo = example_demonstration(name)
+    return {
+        library.DEMONSTRATION_FILE: library.demonstration_csv(demo),
+        library.BEHAVIOR_FILE: library.describe_yaml(name, demo, PARAMETERS,
+                                                     description=DESCRIPTIONS[name],
+                                                     source=_source(name)),
+    }
+
+
+def regenerate(out: Path, names: Sequence[str] = designers.PERSONALITIES) -> list[Path]:
+    """Write every example into ``out`` (replacing earlier versions); returns the folders."""
+    return [library.save_behavior(out, name, example_demonstration(name), PARAMETERS,
+                                  description=DESCRIPTIONS[name], source=_source(name),
+                                  replace=True)
+            for name in names]
+
+
+def differences(out: Path, names: Sequence[str] = designers.PERSONALITIES) -> list[str]:
+    """Files under ``out`` that differ from (or are missing against) the regenerated ones."""
+    bad = []
+    for name in names:
+        for fname, text in example_files(name).items():
+            p = out / name / fname
+            if not p.is_file() or p.read_text(encoding="utf-8") != text:
+                bad.append(str(p))
+    return bad
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m tabletop.examples", description=__doc__.split("\n")[0])
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="library folder to write")
+    parser.add_argument("--check", action="store_true",
+                        help="write nothing; exit 1 if the shipped files differ")
+    args = parser.parse_args(argv)
+    try:
+        if args.check:
+            bad = differences(args.out)
+            for p in bad:
+                print(f"differs: {p}")
+            print("examples up to date" if not bad else f"{len(bad)} file(s) differ")
+            return 1 if bad else 0
+        for folder in regenerate(args.out):
+            print(f"wrote {folder}")
+    except library.LibraryError as exc:
+        print(f"python -m tabletop.examples: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,292 @@
+"""The behaviour library: one folder per behaviour, ``<library>/<name>/behavior.yaml`` beside its
+demonstration CSV.
+
+``behavior.yaml`` says what the behaviour is (``kind``), how to train it (``parameters``) and
+which data files it uses (``data``); ``demonstration.csv`` has the header
+``t,main_x,main_y,main_dir,react_x,react_y,react_dir`` (seconds, table metres, radians).
+
+Saved behaviours are never half-written: a new behaviour is written into a hidden temporary
+folder (every file fsynced) that is then renamed into place, and a replaced file is written to a
+temporary file and renamed over the old one. A corrupt ``behavior.yaml`` or CSV is refused with
+one message naming the file, the line or key, and what is wrong, and it is never overwritten.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+import yaml
+
+from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, format_csv,
+                            read_csv)
+from tabletop.frames import InputError
+from tabletop.schema import ConfigError, Context, FilePath, Number, Record, Spec, Str
+
+BEHAVIOR_FILE = "behavior.yaml"
+DEMONSTRATION_FILE = "demonstration.csv"
+FORMAT = "tabletop-behavior"
+VERSION = 1
+COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
+KINDS = ("puppet_master",)
+NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
+
+
+class LibraryError(InputError):
+    """A behaviour folder or file is missing, corrupt or cannot be written; the message names it."""
+
+
+class _NumberMap(Spec):
+    """A mapping of parameter names to numbers (the trainer checks names and ranges)."""
+
+    default: Any = None
+
+    def describe(self) -> str:
+        return "a mapping of parameter names to numbers"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if value is None:
+            return {}
+        if not isinstance(value, dict):
+            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+        out: dict[str, Any] = {}
+        for k, v in value.items():
+            if not isinstance(k, str):
+                raise ctx.error(path, f"parameter name {k!r} is not a string")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or v != v:
+                raise ctx.error(f"{path}.{k}", f"expected a number, got {v!r}")
+            out[k] = v
+        return out
+
+
+def _schema() -> Record:
+    return Record({
+        "format": Str(choices=[FORMAT]),
+        "version": Number(integer=True, lo=VERSION, hi=VERSION),
+        "kind": Str(choices=KINDS),
+        "name": Str(""),
+        "description": Str(""),
+        "parameters": _NumberMap(),
+        "data": Record({"demonstration": FilePath(DEMONSTRATION_FILE, kind="file")}),
+        "samples": Number(0, integer=True, lo=0),
+        "duration_s": Number(0.0, lo=0.0),
+        "source": Str(""),
+    })
+
+
+@dataclass
+class StoredBehavior:
+    """A behaviour read from the library: its folder, what it is and its demonstration (n, 7)."""
+
+    folder: Path
+    name: str
+    kind: str
+    parameters: dict[str, Any]
+    demonstration: np.ndarray
+    description: str = ""
+    source: str = ""
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+def check_name(name: str) -> str:
+    """Return ``name`` if it can name a behaviour folder, else raise LibraryError."""
+    if not isinstance(name, str) or not NAME_RE.match(name) or name in (".", ".."):
+        raise LibraryError(
+            f"behaviour name {name!r} is not usable as a folder name: use 1-64 letters, digits, "
+            "'_', '-' or '.', starting with a letter or digit")
+    return name
+
+
+def read_demonstration(path: str | Path) -> np.ndarray:
+    """Read a demonstration CSV; returns (n, 7) in :data:`COLUMNS` order (extra columns ignored).
+
+    Raises LibraryError naming the file and line for a missing file, a missing column, a value
+    that is not a finite number, fewer than two rows or times that do not strictly increase.
+    """
+    try:
+        header, data = read_csv(path, required=COLUMNS, what="demonstration", min_rows=2)
+        check_increasing(data[:, header.index("t")], path)
+    except FileFormatError as exc:
+        raise LibraryError(str(exc)) from None
+    return data[:, [header.index(c) for c in COLUMNS]]
+
+
+def demonstration_csv(demo: np.ndarray) -> str:
+    """CSV text of a demonstration (n, 7) with the standard header, full precision."""
+    a = np.asarray(demo, dtype=float)
+    if a.ndim != 2 or a.shape[1] != len(COLUMNS):
+        raise LibraryError(f"demonstration has shape {a.shape}, expected (rows, {len(COLUMNS)})")
+    if not np.isfinite(a).all():
+        raise LibraryError("demonstration holds values that are not finite numbers")
+    return format_csv(COLUMNS, a.tolist())
+
+
+def write_demonstration(path: str | Path, demo: np.ndarray) -> None:
+    """Write a demonstration CSV atomically."""
+    atomic_write_text(path, demonstration_csv(demo))
+
+
+def _read_yaml(path: Path) -> Any:
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise LibraryError(f"{path}: not found (a behaviour folder needs a {BEHAVIOR_FILE})") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise LibraryError(f"{path}: cannot read: {exc}") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
+        raise LibraryError(f"{path}: corrupt YAML at {where}: {exc.problem}") from None
+    except yaml.YAMLError as exc:
+        raise LibraryError(f"{path}: corrupt YAML: {exc}") from None
+
+
+def read_description(folder: str | Path) -> dict[str, Any]:
+    """Read and validate ``<folder>/behavior.yaml`` (not the data); returns it with defaults."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise LibraryError(f"{folder}: behaviour folder not found")
+    path = folder / BEHAVIOR_FILE
+    data = _read_yaml(path)
+    if not isinstance(data, dict):
+        raise LibraryError(f"{path}: expected a mapping with format, version, kind, parameters "
+                           f"and data, got {type(data).__name__}")
+    try:
+        return _schema().validate(data, "", Context(file=str(path), base=folder.resolve()))
+    except ConfigError as exc:
+        raise LibraryError(str(exc)) from None
+
+
+def _data_file(folder: Path, value: str | Path, key: str) -> Path:
+    p = Path(value)
+    p = p if p.is_absolute() else folder / p
+    if folder.resolve() not in p.resolve().parents:
+        raise LibraryError(f"{folder / BEHAVIOR_FILE}: data.{key}: {str(value)!r} is outside the "
+                           "behaviour folder; data files live beside behavior.yaml")
+    return p
+
+
+def load_behavior(folder: str | Path) -> StoredBehavior:
+    """Read a behaviour folder: its description and its demonstration."""
+    folder = Path(folder)
+    desc = read_description(folder)
+    demo = read_demonstration(_data_file(folder, desc["data"]["demonstration"], "demonstration"))
+    return StoredBehavior(folder=folder, name=folder.name, kind=desc["kind"],
+                          parameters=dict(desc["parameters"]), demonstration=demo,
+                          description=desc["description"], source=desc["source"],
+                          extra={"samples": desc["samples"], "duration_s": desc["duration_s"]})
+
+
+def describe_yaml(name: str, demo: np.ndarray, parameters: Mapping[str, Any],
+                  kind: str = "puppet_master", description: str = "", source: str = "") -> str:
+    """The text of a behavior.yaml for this behaviour (deterministic)."""
+    a = np.asarray(demo, dtype=float)
+    doc = {
+        "format": FORMAT,
+        "version": VERSION,
+        "kind": kind,
+        "name": name,
+        "description": description,
+        "parameters": {k: (float(v) if isinstance(v, (float, np.floating)) else int(v))
+                       for k, v in parameters.items()},
+        "data": {"demonstration": DEMONSTRATION_FILE},
+        "samples": int(a.shape[0]),
+        "duration_s": round(float(a[-1, 0] - a[0, 0]), 6) if a.shape[0] else 0.0,
+        "source": source,
+    }
+    return yaml.safe_dump(doc, sort_keys=False, default_flow_style=False, allow_unicode=True)
+
+
+def _fsync_dir(path: Path) -> None:
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _write_synced(path: Path, text: str) -> None:
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+        f.flush()
+        os.fsync(f.fileno())
+
+
+def save_behavior(library: str | Path, name: str, demo: np.ndarray,
+                  parameters: Mapping[str, Any], kind: str = "puppet_master",
+                  description: str = "", source: str = "", replace: bool = False) -> Path:
+    """Save a behaviour as ``<library>/<name>/``; returns the folder.
+
+    A new folder appears whole or not at all. With ``replace`` an existing behaviour is
+    overwritten file by file (each atomically), but only if its ``behavior.yaml`` reads cleanly:
+    a corrupt one is refused and left byte-identical. Without ``replace`` an existing folder is
+    refused (see :func:`free_name`).
+    """
+    check_name(name)
+    if kind not in KINDS:
+        raise LibraryError(f"behaviour kind {kind!r} is unknown (known: {', '.join(KINDS)})")
+    csv_text = demonstration_csv(demo)
+    yaml_text = describe_yaml(name, demo, parameters, kind, description, source)
+    lib = Path(library)
+    target = lib / name
+    try:
+        lib.mkdir(parents=True, exist_ok=True)
+        if target.exists():
+            if not replace:
+                raise LibraryError(f"{target}: a behaviour of that name already exists")
+            if (target / BEHAVIOR_FILE).exists():
+                read_description(target)   # refuses (and keeps) a corrupt file
+            elif any(target.iterdir()):
+                raise LibraryError(f"{target}: folder holds files but no {BEHAVIOR_FILE}; "
+                                   "not a behaviour, left untouched")
+            atomic_write_text(target / DEMONSTRATION_FILE, csv_text)
+            atomic_write_text(target / BEHAVIOR_FILE, yaml_text)
+            return target
+        tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=".tmp", dir=lib))
+        try:
+            _write_synced(tmp / DEMONSTRATION_FILE, csv_text)
+            _write_synced(tmp / BEHAVIOR_FILE, yaml_text)
+            _fsync_dir(tmp)
+            os.chmod(tmp, 0o755)
+            os.rename(tmp, target)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+        _fsync_dir(lib)
+    except OSError as exc:
+        raise LibraryError(f"{target}: cannot save behaviour: {exc.strerror or exc}") from None
+    return target
+
+
+def list_behaviors(library: str | Path) -> list[str]:
+    """Names of the behaviour folders (those holding a behavior.yaml) in ``library``, sorted."""
+    lib = Path(library)
+    if not lib.is_dir():
+        return []
+    return sorted(p.name for p in lib.iterdir()
+                  if not p.name.startswith(".") and (p / BEHAVIOR_FILE).is_file())
+
+
+def free_name(library: str | Path, name: str) -> str:
+    """``name`` if ``<library>/<name>`` does not exist, else the first free ``name-2``, ``name-3``..."""
+    check_name(name)
+    lib = Path(library)
+    if not (lib / name).exists():
+        return name
+    i = 2
+    while (lib / f"{name}-{i}").exists():
+        i += 1
+    return check_name(f"{name}-{i}")
