@@ -2,9 +2,12 @@
 
 Each step: the training sample after the best match (the target) gives a relative position, a
 velocity and a normalised look direction. The target relative position is carried into the
-main character's current frame; the step points from the reactor to it and is scaled to the
-target velocity; the last three such steps are averaged (the paper's linear smooth), the
-patch's Haar detail turns the averaged step (detail.py), and the table keeps the reactor.
+main character's current frame (and onto the table, :func:`fit_target`); the step heads for
+it (:func:`step_around`: around the main, not through it) with the length of the target
+velocity (engine.Params.catch_up may lengthen it when far off); the last three such steps are
+averaged (the paper's linear smooth), the patch's Haar detail turns the averaged step
+(detail.py), the table keeps the reactor (:func:`keep_on_table`), and the look direction
+follows the normalised look direction at a limited turn rate (:func:`limit_turn`).
 
 Positions in table metres, steps in metres per generation step, angles in radians.
 """
