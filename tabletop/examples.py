@@ -11,6 +11,7 @@ stalker and afraid. The demonstrations come from the seeded scripted designers i
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 from pathlib import Path
 from typing import Sequence
@@ -33,10 +34,14 @@ DESCRIPTIONS = {
 }
 
 
+@functools.lru_cache(maxsize=None)
 def example_demonstration(name: str) -> np.ndarray:
-    """The scripted designer's demonstration for ``name``, rounded to micrometres/microradians."""
+    """The scripted designer's demonstration for ``name``, rounded to micrometres/microradians
+    (read-only: computed once per process)."""
     demo = designers.demonstrate(name, seconds=SECONDS, rate_hz=PARAMETERS["rate_hz"], table=TABLE)
-    return np.round(demo, 6) + 0.0   # + 0.0 turns -0.0 into 0.0
+    out = np.round(demo, 6) + 0.0   # + 0.0 turns -0.0 into 0.0
+    out.flags.writeable = False
+    return out
 
 
 def _source(name: str) -> str:

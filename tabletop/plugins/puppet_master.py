@@ -261,7 +261,7 @@ class PuppetMasterEngine:
         elif self.mode == "trying" and self.pending is not None:
             status = (f"trained {self.pending.samples} samples, try it: K keep, X discard, "
                       "R record again")
-        elif not status:
+        elif not status and self.behavior_name != self.name:
             status = self.behavior_name
         if self.designer is not None and self.desk is not None and len(self.desk.names) > 1:
             status += " [selected]" if self.desk.is_selected(self.name) else " [Tab selects]"
@@ -405,6 +405,9 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
             raise PuppetMasterError(f"{stored.folder}: {exc}") from None
         bname = stored.name
     desk = ctx.shared.setdefault("puppet_master.desk", DesignerDesk())
+    designer = dict(options["designer"])
+    lib = Path(designer["library"]).expanduser()
+    designer["library"] = lib if lib.is_absolute() else Path(ctx.base) / lib
     return PuppetMasterEngine(options["name"], options["main"], ctx.table, behavior, bname,
-                              tuple(options["color"]), options["size"],
-                              dict(options["designer"]), desk, options["rate_hz"])
+                              tuple(options["color"]), options["size"], designer, desk,
+                              options["rate_hz"])

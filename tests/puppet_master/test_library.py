@@ -1,0 +1,171 @@
+"""The behaviour library: round trips, atomic saves, corrupt files refused and left alone, and
+the shipped examples exactly as their scripted designers make them."""
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from behaviors.puppet_master import designers
+from behaviors.puppet_master.engine import Behavior
+from tabletop import examples, library
+from tabletop.library import LibraryError
+
+SHIPPED = Path(__file__).resolve().parents[2] / "behaviors" / "library"
+
+
+@pytest.fixture(scope="module")
+def demo() -> np.ndarray:
+    return designers.demonstrate("stalker", seed=5, seconds=8)
+
+
+def test_round_trip_is_exact(tmp_path, demo):
+    folder = library.save_behavior(tmp_path, "shadow", demo, {"rate_hz": 40.0, "window": 40},
+                                   description="follows", source="test")
+    assert folder == tmp_path / "shadow"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["shadow"]      # no temporary left
+    assert sorted(p.name for p in folder.iterdir()) == ["behavior.yaml", "demonstration.csv"]
+    stored = library.load_behavior(folder)
+    assert stored.name == "shadow" and stored.kind == "puppet_master"
+    assert stored.parameters == {"rate_hz": 40.0, "window": 40}
+    assert stored.demonstration.tobytes() == demo.tobytes()
+    assert stored.extra["samples"] == len(demo)
+    header = (folder / "demonstration.csv").read_text().splitlines()[0]
+    assert header == "t,main_x,main_y,main_dir,react_x,react_y,react_dir"
+    assert library.list_behaviors(tmp_path) == ["shadow"]
+    Behavior.train(stored.demonstration, **stored.parameters)     # trains as saved
+
+
+def test_existing_behaviour_is_not_overwritten(tmp_path, demo):
+    library.save_behavior(tmp_path, "lover", demo, {})
+    before = (tmp_path / "lover" / "demonstration.csv").read_bytes()
+    with pytest.raises(LibraryError, match="already exists"):
+        library.save_behavior(tmp_path, "lover", demo[:100], {})
+    assert (tmp_path / "lover" / "demonstration.csv").read_bytes() == before
+    assert library.free_name(tmp_path, "lover") == "lover-2"
+    library.save_behavior(tmp_path, "lover-2", demo, {})
+    assert library.free_name(tmp_path, "lover") == "lover-3"
+    assert library.free_name(tmp_path, "afraid") == "afraid"
+
+
+def test_replace_writes_the_new_take(tmp_path, demo):
+    library.save_behavior(tmp_path, "b", demo, {"window": 40})
+    library.save_behavior(tmp_path, "b", demo[:200], {"window": 20}, replace=True)
+    stored = library.load_behavior(tmp_path / "b")
+    assert len(stored.demonstration) == 200 and stored.parameters == {"window": 20}
+
+
+@pytest.mark.parametrize("text, words", [
+    ("format: tabletop-behavior\nversion: 1\nkind: [puppet_master\n", ["line 4", "corrupt YAML"]),
+    ("format: tabletop-behavior\nversion: 1\nkind: dance\n", ["kind", "dance"]),
+    ("version: 1\nkind: puppet_master\n", ["format", "missing"]),
+    ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nwindow: 40\n",
+     ["window", "unknown key"]),
+    ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nparameters: {window: lots}\n",
+     ["parameters.window", "number"]),
+    ("- just\n- a list\n", ["expected a mapping"]),
+    ("\x00\x01garbage", ["behavior.yaml"]),
+])
+def test_corrupt_description_is_refused_and_kept_byte_identical(tmp_path, demo, text, words):
+    folder = library.save_behavior(tmp_path, "x", demo, {})
+    target = folder / "behavior.yaml"
+    target.write_text(text)
+    before = target.read_bytes()
+    with pytest.raises(LibraryError) as err:
+        library.load_behavior(folder)
+    msg = str(err.value)
+    assert str(target) in msg
+    for w in words:
+        assert w in msg
+    with pytest.raises(LibraryError):
+        library.save_behavior(tmp_path, "x", demo, {}, replace=True)
+    assert target.read_bytes() == before
+    assert [p.name for p in tmp_path.iterdir()] == ["x"]
+
+
+@pytest.mark.parametrize("mutate, words", [
+    (lambda lines: [lines[0].replace("react_dir", "react_angle")] + lines[1:], ["react_dir", "missing"]),
+    (lambda lines: lines[:5] + ["0.0,1,1,1,1,1,1"] + lines[6:], ["strictly increase", "row"]),
+    (lambda lines: lines[:3] + ["0.05,nan,1,1,1,1,1"] + lines[4:], ["line 4", "finite"]),
+    (lambda lines: lines[:3] + ["0.05,1,1,1"] + lines[4:], ["line 4", "4 values"]),
+    (lambda lines: lines[:1], ["0 data row"]),
+])
+def test_corrupt_demonstration_is_refused(tmp_path, demo, mutate, words):
+    folder = library.save_behavior(tmp_path, "x", demo, {})
+    csv = folder / "demonstration.csv"
+    csv.write_text("\n".join(mutate(csv.read_text().splitlines())) + "\n")
+    with pytest.raises(LibraryError) as err:
+        library.load_behavior(folder)
+    assert str(csv) in str(err.value)
+    for w in words:
+        assert w in str(err.value)
+
+
+def test_missing_and_escaping_data_files(tmp_path, demo):
+    folder = library.save_behavior(tmp_path, "x", demo, {})
+    (folder / "demonstration.csv").unlink()
+    with pytest.raises(LibraryError, match="data.demonstration.*does not exist"):
+        library.load_behavior(folder)
+    (tmp_path / "outside.csv").write_text(library.demonstration_csv(demo))
+    desc = yaml.safe_load((folder / "behavior.yaml").read_text())
+    desc["data"]["demonstration"] = "../outside.csv"
+    (folder / "behavior.yaml").write_text(yaml.safe_dump(desc))
+    with pytest.raises(LibraryError, match="outside the behaviour folder"):
+        library.load_behavior(folder)
+    with pytest.raises(LibraryError, match="behaviour folder not found"):
+        library.load_behavior(tmp_path / "nobody")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(LibraryError, match="needs a behavior.yaml"):
+        library.load_behavior(tmp_path / "empty")
+
+
+@pytest.mark.parametrize("name", ["", "../up", "a/b", ".hidden", "x" * 65, "sp ace"])
+def test_bad_names_are_refused(tmp_path, demo, name):
+    with pytest.raises(LibraryError, match="not usable as a folder name"):
+        library.save_behavior(tmp_path, name, demo, {})
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_data_writes_nothing(tmp_path, demo):
+    bad = demo.copy()
+    bad[3, 2] = np.nan
+    with pytest.raises(LibraryError, match="not finite"):
+        library.save_behavior(tmp_path, "x", bad, {})
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_shipped_examples_load_train_and_match_their_designers():
+    assert library.list_behaviors(SHIPPED) == sorted(designers.PERSONALITIES)
+    for name in designers.PERSONALITIES:
+        stored = library.load_behavior(SHIPPED / name)
+        assert stored.kind == "puppet_master" and len(stored.demonstration) == 2400
+        assert "scripted designer" in stored.source
+        b = Behavior.train(stored.demonstration, **stored.parameters)
+        assert b.samples >= 2399
+    assert examples.differences(SHIPPED) == []
+
+
+def test_regeneration_is_deterministic(tmp_path):
+    names = ("lover", "afraid")
+    fresh = examples.example_demonstration.__wrapped__("afraid")     # not the cached one
+    assert fresh.tobytes() == examples.example_demonstration("afraid").tobytes()
+    examples.regenerate(tmp_path / "a", names)
+    examples.regenerate(tmp_path / "b", names)
+    for name in names:
+        for f in ("behavior.yaml", "demonstration.csv"):
+            got = (tmp_path / "a" / name / f).read_bytes()
+            assert got == (tmp_path / "b" / name / f).read_bytes()
+            assert got == (SHIPPED / name / f).read_bytes()
+
+
+def test_examples_check_command(tmp_path, capsys):
+    shutil.copytree(SHIPPED, tmp_path / "lib")
+    assert examples.main(["--out", str(tmp_path / "lib"), "--check"]) == 0
+    f = tmp_path / "lib" / "stalker" / "demonstration.csv"
+    f.write_text(f.read_text().replace("0.025,", "0.0251,", 1))
+    assert examples.main(["--out", str(tmp_path / "lib"), "--check"]) == 1
+    assert "stalker" in capsys.readouterr().out
+    assert examples.main(["--out", str(tmp_path / "lib")]) == 0
+    assert examples.main(["--out", str(tmp_path / "lib"), "--check"]) == 0
