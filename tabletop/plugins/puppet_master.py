@@ -58,7 +58,7 @@ class MainBinding(Spec):
     ``stream`` (with ``columns``: indices of x, y and optionally the look direction)."""
 
     def __init__(self, default: Any = None) -> None:
-        self.default = {"puck": 1} if default is None else default
+        self.default = {"kind": "puck", "puck": 1} if default is None else default
         self.doc = "the main character's input"
 
     def describe(self) -> str:
@@ -263,9 +263,13 @@ class PuppetMasterEngine:
                       "R record again")
         elif not status and self.behavior_name != self.name:
             status = self.behavior_name
-        if self.designer is not None and self.desk is not None and len(self.desk.names) > 1:
-            status += " [selected]" if self.desk.is_selected(self.name) else " [Tab selects]"
+        status += self._selection()
         return f"{self.name}: {status}" if status else self.name
+
+    def _selection(self) -> str:
+        if self.designer is not None and self.desk is not None and len(self.desk.names) > 1:
+            return " [selected]" if self.desk.is_selected(self.name) else " [Tab selects]"
+        return ""
 
     def _say(self, message: str) -> None:
         self._message, self._message_until = message, self.clock() + MESSAGE_S
@@ -314,6 +318,7 @@ class PuppetMasterEngine:
         missing = [f"puck {p}" for p, q in ((self.designer["main_puck"], m),
                                             (self.designer["react_puck"], r)) if q is None]
         status = f"recording {secs:.1f} s, R stop" + (f" (no {', '.join(missing)})" if missing else "")
+        status += self._selection()
         if r is not None:
             return self._character(r.x, r.y, r.angle, True, f"{self.name}: {status}")
         x0, y0, x1, y1 = self.table
