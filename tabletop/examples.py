@@ -46,7 +46,8 @@ def example_demonstration(name: str) -> np.ndarray:
 
 def _source(name: str) -> str:
     return (f"scripted designer behaviors.puppet_master.designers.demonstrate({name!r}, "
-            f"seed={designers.SEEDS[name]}, seconds={SECONDS:g}, table={TABLE[0]:g}x{TABLE[1]:g} m)")
+            f"seed={designers.SEEDS[name]}, seconds={SECONDS:g}, "
+            f"table={TABLE[0]:g}x{TABLE[1]:g} m)")
 
 
 def example_files(name: str) -> dict[str, str]:
@@ -80,7 +81,8 @@ def differences(out: Path, names: Sequence[str] = designers.PERSONALITIES) -> li
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m tabletop.examples", description=__doc__.split("\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m tabletop.examples",
+                                     description=__doc__.split("\n")[0])
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="library folder to write")
     parser.add_argument("--check", action="store_true",
                         help="write nothing; exit 1 if the shipped files differ")

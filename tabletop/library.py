@@ -136,7 +136,8 @@ def _read_yaml(path: Path) -> Any:
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise LibraryError(f"{path}: not found (a behaviour folder needs a {BEHAVIOR_FILE})") from None
+        raise LibraryError(
+            f"{path}: not found (a behaviour folder needs a {BEHAVIOR_FILE})") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise LibraryError(f"{path}: cannot read: {exc}") from None
     try:
@@ -281,7 +282,8 @@ def list_behaviors(library: str | Path) -> list[str]:
 
 
 def free_name(library: str | Path, name: str) -> str:
-    """``name`` if ``<library>/<name>`` does not exist, else the first free ``name-2``, ``name-3``..."""
+    """``name`` if ``<library>/<name>`` does not exist, else the first free ``name-2``,
+    ``name-3``..."""
     check_name(name)
     lib = Path(library)
     if not (lib / name).exists():

@@ -99,12 +99,14 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
                 to_goal, d = goal - p, float(np.hypot(*(goal - p)))
             c, s_ = math.cos(wander[i]), math.sin(wander[i])
             u = _unit(to_goal)
-            v_des = np.array([c * u[0] - s_ * u[1], s_ * u[0] + c * u[1]]) * speed * min(1.0, d / 0.1)
+            v_des = np.array([c * u[0] - s_ * u[1], s_ * u[0] + c * u[1]])
+            v_des *= speed * min(1.0, d / 0.1)
         v = v + _limit(v_des - v, 0.9 * dt)
         p = np.clip(p + v * dt, 0.0, (w, h))
         if float(np.hypot(*v)) > 0.04:
             heading = math.atan2(v[1], v[0])
-            look = _turn_toward(look, heading, min(6.0 * dt, abs(wrap_angle(heading - look)) * dt / 0.15))
+            step = min(6.0 * dt, abs(wrap_angle(heading - look)) * dt / 0.15)   # lag, rate limit
+            look = _turn_toward(look, heading, step)
         out[i] = (i * dt, p[0], p[1], look)
     return out
 
@@ -258,7 +260,8 @@ def _policy(personality: str, rng: np.random.Generator, table: Table,
         return _stalker(rng), 0.45, 1.2
     if personality == "afraid":
         return _afraid(rng, table), 0.65, 2.5
-    raise ValueError(f"unknown personality {personality!r}; expected one of {', '.join(PERSONALITIES)}")
+    raise ValueError(f"unknown personality {personality!r}; "
+                     f"expected one of {', '.join(PERSONALITIES)}")
 
 
 # Hand shake per personality: (position tremor RMS m, look tremor RMS rad, tremor band Hz).
@@ -299,7 +302,8 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0
         v_des, look_des = policy(i * dt, p, v, look, _Seen(mp[j], mv[j], float(main[j, 3])))
         v_des = _limit(np.asarray(v_des, dtype=float), top_speed)
         for k, size in ((0, w), (1, h)):      # the hand stops at the table's edge
-            if (p[k] <= edge + 0.01 and v_des[k] < 0) or (p[k] >= size - edge - 0.01 and v_des[k] > 0):
+            if (p[k] <= edge + 0.01 and v_des[k] < 0) or \
+                    (p[k] >= size - edge - 0.01 and v_des[k] > 0):
                 v_des[k] = 0.0
         v = v + _limit(v_des - v, accel * dt)
         p = np.clip(p + v * dt, edge, (w - edge, h - edge))

@@ -5,7 +5,8 @@ Config::
     - kind: puppet_master
       name: lover                     # the character's name (other reactors may bind to it)
       behavior: behaviors/library/lover   # a behaviour folder (relative to this config file)
-      main: {puck: 1}                 # or {character: NAME}, {touch: ID}, {stream: NAME, columns: [x, y, dir]}
+      main: {puck: 1}                 # or {character: NAME}, {touch: ID},
+                                      #    {stream: NAME, columns: [x, y, dir]}
       color: [240, 120, 160]
       size: 0.08                      # metres
       designer:                       # training from the table (optional)
@@ -116,7 +117,8 @@ SCHEMA = Record({
     "color": ListOf(Number(integer=True, lo=0, hi=255), default=[240, 170, 60], min_len=3,
                     max_len=3, doc="RGB"),
     "size": Number(0.08, lo=0.005, hi=2.0, doc="body length, metres"),
-    "rate_hz": Optional_(Number(lo=5.0, hi=400.0), doc="generation rate (default: the behaviour's)"),
+    "rate_hz": Optional_(Number(lo=5.0, hi=400.0),
+                         doc="generation rate (default: the behaviour's)"),
     "designer": DESIGNER,
 }, check=_check)
 
@@ -261,10 +263,11 @@ class PuppetMasterEngine:
         elif self.mode == "trying" and self.pending is not None:
             status = (f"trained {self.pending.samples} samples, try it: K keep, X discard, "
                       "R record again")
-        elif not status and self.behavior_name != self.name:
-            status = self.behavior_name
-        status += self._selection()
-        return f"{self.name}: {status}" if status else self.name
+        elif not status and self.reactor is not None:
+            status = f"playing {self.behavior_name or 'behaviour'}"
+            if self.reactor.started:
+                status += f", coherence {self.reactor.coherence_share:.0%}"
+        return status + self._selection()
 
     def _selection(self) -> str:
         if self.designer is not None and self.desk is not None and len(self.desk.names) > 1:
@@ -317,12 +320,13 @@ class PuppetMasterEngine:
         secs = self.take[-1][0] - self.take[0][0] if self.take else 0.0
         missing = [f"puck {p}" for p, q in ((self.designer["main_puck"], m),
                                             (self.designer["react_puck"], r)) if q is None]
-        status = f"recording {secs:.1f} s, R stop" + (f" (no {', '.join(missing)})" if missing else "")
+        status = f"recording {secs:.1f} s, R stop"
+        status += f" (no {', '.join(missing)})" if missing else ""
         status += self._selection()
         if r is not None:
-            return self._character(r.x, r.y, r.angle, True, f"{self.name}: {status}")
+            return self._character(r.x, r.y, r.angle, True, status)
         x0, y0, x1, y1 = self.table
-        return self._character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, f"{self.name}: {status}")
+        return self._character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, status)
 
     def take_array(self) -> np.ndarray:
         """The recorded take as a demonstration (n, 7), times from 0."""

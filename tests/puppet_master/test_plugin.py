@@ -21,7 +21,8 @@ TABLE = (1.2, 0.8)
 
 
 def build(engines: list[dict], base: Path = ROOT) -> list[pm.PuppetMasterEngine]:
-    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": engines}, "test.yaml", base)
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": engines}, "test.yaml",
+                          base)
     ctx = BuildContext(table=TABLE, rate_hz=60.0, config=cfg, base=base)
     return [pm.build(e, ctx) for e in cfg["engines"]]
 
@@ -132,7 +133,8 @@ def test_a_reactor_reacts_to_another_reactor():
 
 
 def test_absent_main_waits_then_keeps_reacting_to_its_last_pose():
-    (e,) = build([{"kind": "puppet_master", "name": "lover", "behavior": "behaviors/library/lover"}])
+    (e,) = build([{"kind": "puppet_master", "name": "lover",
+                   "behavior": "behaviors/library/lover"}])
     first = e.step(Frame(seq=0, t=1.0))[0]
     assert not first.valid and "waiting for puck 1" in first.label
     frames = list(visitor_frames(10, t0=2.0))
@@ -257,8 +259,8 @@ def test_record_marker_starts_and_stops_recording(tmp_path):
 
 def test_tab_selects_which_designer_engine_records(tmp_path):
     a, b = build([
-        {"kind": "puppet_master", "name": "a", "designer": {"enabled": True, "library": str(tmp_path)}},
-        {"kind": "puppet_master", "name": "b", "designer": {"enabled": True, "library": str(tmp_path)}}])
+        {"kind": "puppet_master", "name": n,
+         "designer": {"enabled": True, "library": str(tmp_path)}} for n in ("a", "b")])
     demo = designers.demonstrate("lover", seed=1, seconds=3)
     cmds = {2: ("designer.next",), 4: ("designer.record",)}
     for f in designer_frames(demo, cmds):
