@@ -309,8 +309,11 @@ class PuppetMasterEngine:
     def _toggle_record(self) -> None:
         if self.mode == "recording":
             self._train_take()
-        else:
-            self.mode, self.take, self.pending = "recording", [], None
+            return
+        if self.mode == "trying":            # recording again redoes the take being tried
+            behavior, self.behavior_name = self._previous
+            self._use(behavior)
+        self.mode, self.take, self.pending = "recording", [], None
 
     def _record(self, frame: Frame) -> CharacterState:
         m = frame.puck(self.designer["main_puck"])

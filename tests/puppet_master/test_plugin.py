@@ -234,6 +234,26 @@ def test_designer_discard_and_keep_never_overwrite(tmp_path):
     assert len(library.load_behavior(tmp_path / "lib" / "pet-2").demonstration) == 190
 
 
+def test_recording_again_redoes_the_take(tmp_path):
+    (e,) = build([{"kind": "puppet_master", "name": "pet", "behavior": "behaviors/library/afraid",
+                   "designer": {"enabled": True, "library": str(tmp_path)}}])
+    original = e.behavior
+    demo = designers.demonstrate("lover", seed=2, seconds=12)
+    cmds = {5: ("designer.record",), 150: ("designer.record",), 160: ("designer.record",),
+            300: ("designer.record",)}
+    takes = []
+    for f in designer_frames(demo, cmds):
+        e.step(f)
+        if f.seq in (151, 301):
+            takes.append(e.behavior)
+    assert takes[0] is not takes[1] and original not in takes and e.mode == "trying"
+    assert takes[1].samples == 140
+    (c,) = e.step(Frame(seq=999, t=500.0, commands=("designer.discard",)))
+    assert e.behavior is original and e.mode == "idle"
+    assert "take discarded" in c.label
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_too_short_a_take_is_not_trained(tmp_path):
     (e,) = designer_engine(tmp_path, min_seconds=3.0)
     demo = designers.demonstrate("bully", seed=2, seconds=5)
@@ -268,3 +288,22 @@ def test_tab_selects_which_designer_engine_records(tmp_path):
         (cb,) = b.step(f)
     assert a.mode == "idle" and b.mode == "recording"
     assert "[selected]" in cb.label
+
+
+DEFAULT_ENTRY = """
+engines:
+  - kind: puppet_master
+    name: lover
+    behavior: behaviors/library/lover
+    main: {puck: 1}
+    color: [240, 110, 150]
+    size: 0.08
+"""
+
+
+def test_the_default_config_entry_reacts_to_the_scripted_visitor():
+    import yaml
+    (e,) = build(yaml.safe_load(DEFAULT_ENTRY)["engines"])
+    out = run([e], visitor_frames(10, seed=0))["lover"]
+    assert out[:, 3].all() and np.hypot(*np.diff(out[:, :2], axis=0).T).sum() > 0.5
+    assert np.median(np.hypot(*(out[:, :2] - main_track(10, seed=0)[:, :2]).T)[60:]) < 0.25
