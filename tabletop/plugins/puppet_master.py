@@ -229,6 +229,8 @@ class PuppetMasterEngine:
             if self.mode == "recording":
                 return (self._record(frame),)
         pose = self._main_pose(frame)
+        if pose is not None and not all(math.isfinite(v) for v in pose):
+            pose = None                      # a broken measurement counts as absent
         if pose is not None:
             self.last_main = pose
         elif self.last_main is not None:

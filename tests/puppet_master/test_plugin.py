@@ -137,6 +137,8 @@ def test_absent_main_waits_then_keeps_reacting_to_its_last_pose():
                    "behavior": "behaviors/library/lover"}])
     first = e.step(Frame(seq=0, t=1.0))[0]
     assert not first.valid and "waiting for puck 1" in first.label
+    broken = e.step(Frame(seq=1, t=1.5, pucks=(Puck(1, math.nan, 0.2, 0.0),)))[0]
+    assert not broken.valid and math.isfinite(broken.x)
     frames = list(visitor_frames(10, t0=2.0))
     cut = [Frame(seq=f.seq, t=f.t, pucks=() if 300 <= f.seq < 420 else f.pucks) for f in frames]
     out = run([e], cut)["lover"]
