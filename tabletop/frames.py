@@ -162,7 +162,10 @@ class Observation:
 class Frame:
     """One tick of the bus. ``t``: capture time of its newest input (monotonic seconds);
     ``seq``: tick number from 0. ``commands`` are operator commands (key presses, markers) that
-    arrived since the previous tick, e.g. ``"designer.record"``.
+    arrived since the previous tick, e.g. ``"designer.record"``. ``focus`` names the designer
+    target those commands address (an engine name, or ``"ENGINE/PART"`` for an engine with
+    several, e.g. a MOP character); None when nothing is selected, and then a lone designer
+    engine takes the commands.
     """
 
     seq: int
@@ -173,6 +176,7 @@ class Frame:
     characters: tuple[CharacterState, ...] = ()
     commands: tuple[str, ...] = ()
     health: tuple[SourceHealth, ...] = ()
+    focus: str | None = None
 
     def __post_init__(self) -> None:
         frozen = {k: _frozen_array(v) for k, v in dict(self.streams).items()}
@@ -218,7 +222,11 @@ class Source(Protocol):
 
 @runtime_checkable
 class Engine(Protocol):
-    """An algorithm stepped once per tick with the frame so far; returns the characters it drives."""
+    """An algorithm stepped once per tick with the frame so far; returns the characters it drives.
+
+    An engine with a designer mode may also define ``designer_targets() -> tuple[str, ...]``:
+    the names the operator's Tab key cycles through (see ``Frame.focus``).
+    """
 
     name: str
 

@@ -12,6 +12,7 @@ and the installation keeps running.
 from __future__ import annotations
 
 import collections
+import dataclasses
 import logging
 import math
 import threading
@@ -103,6 +104,40 @@ class CommandQueue:
         return out
 
 
+class DesignerFocus:
+    """Which designer target operator commands address: ``designer.next`` (Tab) cycles through
+    the targets of every engine in order; the frame carries the choice in ``focus``."""
+
+    def __init__(self, engines: Sequence[Engine]) -> None:
+        self.engines = engines
+        self.focus: str | None = None
+
+    def targets(self) -> list[str]:
+        out: list[str] = []
+        for e in self.engines:
+            fn = getattr(e, "designer_targets", None)
+            if fn is not None:
+                out.extend(fn())
+        return out
+
+    def apply(self, commands: tuple[str, ...],
+              recorded: str | None = None) -> tuple[tuple[str, ...], str | None]:
+        """(commands without ``designer.next``, the focus after them). A replayed frame's
+        ``recorded`` focus is kept as it was."""
+        if recorded is not None:
+            self.focus = recorded
+            return tuple(c for c in commands if c != "designer.next"), recorded
+        targets = self.targets()
+        if not targets:
+            self.focus = None
+            return commands, None
+        if self.focus not in targets:
+            self.focus = targets[0]
+        for _ in range(commands.count("designer.next")):
+            self.focus = targets[(targets.index(self.focus) + 1) % len(targets)]
+        return tuple(c for c in commands if c != "designer.next"), self.focus
+
+
 class LiveInputs:
     """Inputs of a live installation: the newest observation of every source, fused by the tracker.
 
@@ -165,6 +200,7 @@ class Loop:
         self.commands = commands or CommandQueue()
         self.stop = stop or threading.Event()
         self.clock, self.paced = clock, paced
+        self.focus = DesignerFocus(self.engines)
         self.seq = 0
         self._last_characters: dict[str, tuple[CharacterState, ...]] = {}
         self._error_log_t: dict[str, float] = {}
@@ -185,11 +221,9 @@ class Loop:
         if frame is None:
             return None
         t1 = self.clock()
-        commands = self.commands.drain()
-        if commands:
-            frame = Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
-                          streams=frame.streams, characters=frame.characters,
-                          commands=frame.commands + commands, health=frame.health)
+        commands, focus = self.focus.apply(frame.commands + self.commands.drain(), frame.focus)
+        if commands != frame.commands or focus != frame.focus:
+            frame = dataclasses.replace(frame, commands=commands, focus=focus)
         st = self.stats
         te = t1
         for engine in self.engines:
@@ -295,4 +329,5 @@ class FrameInputs:
             if delay > 0:
                 time.sleep(delay)
         return Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
-                     streams=frame.streams, commands=frame.commands, health=frame.health)
+                     streams=frame.streams, commands=frame.commands, health=frame.health,
+                     focus=frame.focus)

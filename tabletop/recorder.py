@@ -51,6 +51,7 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         "streams": {k: v.tolist() for k, v in frame.streams.items()},
         "characters": [_character_to_dict(c) for c in frame.characters],
         "commands": list(frame.commands),
+        **({"focus": frame.focus} if frame.focus is not None else {}),
     }
 
 
@@ -89,7 +90,8 @@ def frame_from_dict(d: dict[str, Any]) -> Frame:
                        label=c.get("label", ""))
         for c in d.get("characters", []))
     return Frame(seq=int(d["seq"]), t=float(d["t"]), pucks=pucks, touches=touches,
-                 streams=streams, characters=characters, commands=tuple(d.get("commands", ())))
+                 streams=streams, characters=characters, commands=tuple(d.get("commands", ())),
+                 focus=d.get("focus"))
 
 
 def jsonable(value: Any) -> Any:

@@ -7,7 +7,8 @@ performer's features are read once and fed to each follower bound to it: one
 of that character performed by that performer. Each character (:class:`Puppet`) then plays the
 most probable valid action among its followers.
 
-Designer flow (MOP 4.1.1, in seconds): ``designer.next`` selects a character;
+Designer flow (MOP 4.1.1, in seconds): the frame's ``focus`` (``ENGINE/CHARACTER``, moved by the
+main loop's Tab) selects a character, or with no focus ``designer.next`` does;
 ``designer.record`` starts recording its performer and, pressed again, stops: the take becomes an
 action at once (trained: its follower is rebuilt), playing the motion chosen with
 ``designer.assign`` (which cycles the character's motions, also for a pending take). Perform to
@@ -220,9 +221,31 @@ class MopStage:
         for key in self._keys:
             self._states[key] = self._followers[key].step(xs[key[1]])  # type: ignore[attr-defined]
 
+    def designer_targets(self) -> tuple[str, ...]:
+        """``ENGINE/CHARACTER`` for every character: the main loop's Tab cycles through them."""
+        return tuple(f"{self.name}/{c}" for c in self.order)
+
+    def _follow_focus(self, frame: Frame) -> bool:
+        """Select the character ``frame.focus`` names; False when the focus is elsewhere (the
+        commands are then not ours). With no focus, this engine takes every command."""
+        if frame.focus is None:
+            return True
+        engine, _, character = frame.focus.partition("/")
+        if engine != self.name or character not in self.puppets:
+            return False
+        if character != self.selected_character:
+            if self.take is not None and self.take.recording:
+                self._stop_recording()
+            self._drop_take()
+            self.selected = self.order.index(character)
+            self.message = f"selected {character}"
+            self._designing = True
+        return True
+
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
-        for cmd in frame.commands:
-            self.command(cmd, frame)
+        if self._follow_focus(frame):
+            for cmd in frame.commands:
+                self.command(cmd, frame)
         t = frame.t
         period = 1.0 / self.rate_hz
         if self._next_t is None or not math.isfinite(self._next_t) or abs(t - self._next_t) > 1.0:

@@ -17,8 +17,9 @@ Config::
         library: library              # kept behaviours go to <library>/<name>/
         name: lover                   # default: this engine's name
 
-Operator commands: ``designer.next`` selects the next designer engine, ``designer.record``
-starts and stops recording the selected one; the take is trained at once and the character
+Operator commands go to the designer target in ``frame.focus`` (the main loop's Tab cycles
+through every engine's ``designer_targets``; with no focus, every designer engine takes them):
+``designer.record`` starts and stops recording; the take is trained at once and the character
 reacts with it straight away; ``designer.keep`` saves it to the library (never over an existing
 behaviour: ``lover-2``, ``lover-3``...), ``designer.discard`` drops it and goes back to the
 previous behaviour, recording again redoes it.
@@ -123,39 +124,17 @@ SCHEMA = Record({
 }, check=_check)
 
 
-class DesignerDesk:
-    """Which designer engine the operator's commands go to; shared by all engines of a run."""
-
-    def __init__(self) -> None:
-        self.names: list[str] = []
-        self.selected = 0
-        self._seq: int | None = None
-
-    def register(self, name: str) -> None:
-        self.names.append(name)
-
-    def is_selected(self, name: str) -> bool:
-        return bool(self.names) and self.names[self.selected % len(self.names)] == name
-
-    def next(self, seq: int) -> None:
-        """Select the next engine, once per frame however many engines see the command."""
-        if self._seq != seq and self.names:
-            self._seq = seq
-            self.selected = (self.selected + 1) % len(self.names)
-
-
 class PuppetMasterEngine:
     """One reacting character on the bus, optionally trainable from the table (designer mode)."""
 
     def __init__(self, name: str, main: dict, table: tuple[float, float],
                  behavior: Behavior | None = None, behavior_name: str = "",
                  color: tuple[int, int, int] = (240, 170, 60), size: float = 0.08,
-                 designer: dict | None = None, desk: DesignerDesk | None = None,
+                 designer: dict | None = None,
                  rate_hz: float | None = None, clock=time.monotonic) -> None:
         self.name, self.main, self.table = name, main, (0.0, 0.0, float(table[0]), float(table[1]))
         self.color, self.size, self.rate_hz, self.clock = color, size, rate_hz, clock
         self.designer = designer if designer and designer["enabled"] else None
-        self.desk = desk
         self.behavior_name = behavior_name
         self.behavior: Behavior | None = None
         self.reactor: Reactor | None = None
@@ -169,13 +148,12 @@ class PuppetMasterEngine:
         self.kept: list[Path] = []
         self._message, self._message_until = "", -math.inf
         self._marker_on, self._marker_since = False, -math.inf
+        self._focused = True
         if self.designer is not None:
             if self.designer["main_puck"] is None:
                 self.designer["main_puck"] = main["puck"] if main["kind"] == "puck" else 1
             if self.designer["name"] is None:
                 self.designer["name"] = name
-            if desk is not None:
-                desk.register(name)
 
     # -- the behaviour in play ----------------------------------------------------------------
 
@@ -271,10 +249,14 @@ class PuppetMasterEngine:
                 status += f", coherence {self.reactor.coherence_share:.0%}"
         return status + self._selection()
 
+    def designer_targets(self) -> tuple[str, ...]:
+        """This engine, when in designer mode, is one of the targets Tab cycles through."""
+        return (self.name,) if self.designer is not None else ()
+
     def _selection(self) -> str:
-        if self.designer is not None and self.desk is not None and len(self.desk.names) > 1:
-            return " [selected]" if self.desk.is_selected(self.name) else " [Tab selects]"
-        return ""
+        if self.designer is None:
+            return ""
+        return " [selected]" if self._focused else " [Tab selects]"
 
     def _say(self, message: str) -> None:
         self._message, self._message_until = message, self.clock() + MESSAGE_S
@@ -282,14 +264,11 @@ class PuppetMasterEngine:
     # -- designer mode --------------------------------------------------------------------------
 
     def _designer_commands(self, frame: Frame) -> None:
-        selected = self.desk is None or self.desk.is_selected(self.name)
+        selected = self._focused = frame.focus is None or frame.focus == self.name
         for cmd in frame.commands:
-            if cmd == "designer.next" and self.desk is not None:
-                self.desk.next(frame.seq)
-                selected = self.desk.is_selected(self.name)
-            elif not selected:
-                continue
-            elif cmd == "designer.record":
+            if not selected:
+                break
+            if cmd == "designer.record":
                 self._toggle_record()
             elif cmd == "designer.keep":
                 self._keep()
@@ -418,10 +397,9 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
         except InputError as exc:
             raise PuppetMasterError(f"{stored.folder}: {exc}") from None
         bname = stored.name
-    desk = ctx.shared.setdefault("puppet_master.desk", DesignerDesk())
     designer = dict(options["designer"])
     lib = Path(designer["library"]).expanduser()
     designer["library"] = lib if lib.is_absolute() else Path(ctx.base) / lib
     return PuppetMasterEngine(options["name"], options["main"], ctx.table, behavior, bname,
-                              tuple(options["color"]), options["size"], designer, desk,
+                              tuple(options["color"]), options["size"], designer,
                               options["rate_hz"])

@@ -53,10 +53,10 @@ class Table:
         self.touches: tuple = ()
         self.streams: dict = {}
 
-    def tick(self, commands=()):
+    def tick(self, commands=(), focus=None):
         pucks = tuple(Puck(i, x, y, 0.0) for i, (x, y) in self.pucks.items())
         frame = Frame(self.seq, self.t, pucks=pucks, touches=self.touches,
-                      streams=dict(self.streams), commands=tuple(commands))
+                      streams=dict(self.streams), commands=tuple(commands), focus=focus)
         out = {c.name: c for c in self.engine.step(frame)}
         self.t += 1.0 / RATE
         self.seq += 1
@@ -414,3 +414,18 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     (lib / "actions.yaml").write_text("actions: [oops\n")
     expect(lambda e: None, "lib/face/actions.yaml", "cannot read the action library",
            error=mop.MopError)
+
+
+def test_designer_focus_from_the_main_loop_selects_the_character(tmp_path):
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    assert engine.designer_targets() == ("mop/face", "mop/lizard")
+    table = Table(engine)
+    table.rest(0.5)
+    c = table.tick(["designer.record"], focus="mop/lizard")
+    assert "REC" in c["lizard"].label and "REC" not in c["face"].label
+    table.perform("square")
+    c = table.tick(["designer.record"], focus="mop/lizard")
+    assert "take1" in c["lizard"].label
+    # commands addressed to another engine are not this engine's
+    c = table.tick(["designer.discard"], focus="pm")
+    assert "take1" in engine.puppets["lizard"].actions

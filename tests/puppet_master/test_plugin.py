@@ -1,5 +1,6 @@
 """The ``puppet_master`` engine on the bus: config, bindings, several reactors, designer mode."""
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -284,8 +285,10 @@ def test_tab_selects_which_designer_engine_records(tmp_path):
         {"kind": "puppet_master", "name": n,
          "designer": {"enabled": True, "library": str(tmp_path)}} for n in ("a", "b")])
     demo = designers.demonstrate("lover", seed=1, seconds=3)
-    cmds = {2: ("designer.next",), 4: ("designer.record",)}
+    assert a.designer_targets() == ("a",) and b.designer_targets() == ("b",)
+    cmds = {4: ("designer.record",)}
     for f in designer_frames(demo, cmds):
+        f = dataclasses.replace(f, focus="b")  # what the main loop sets after one Tab
         f = f.with_characters(a.step(f))
         (cb,) = b.step(f)
     assert a.mode == "idle" and b.mode == "recording"

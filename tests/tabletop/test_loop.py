@@ -155,3 +155,35 @@ def test_commands_reach_the_next_frame_once():
     loop.tick()
     loop.tick()
     assert [f.commands for f in sink.frames] == [(), ("designer.record",), ()]
+
+
+def test_tab_moves_the_designer_focus_across_engines_and_commands_follow_it():
+    class Designer:
+        def __init__(self, name, parts):
+            self.name, self.parts, self.seen = name, parts, []
+
+        def designer_targets(self):
+            return tuple(f"{self.name}/{p}" for p in self.parts) if self.parts else (self.name,)
+
+        def step(self, frame):
+            self.seen.append((frame.focus, frame.commands))
+            return ()
+
+    a, b = Designer("pm", ()), Designer("mop", ("face", "bird"))
+    loop = scripted_loop([Collect()], [a, b])
+    loop.inputs.open()
+    script = [(), ("designer.record",), ("designer.next",), ("designer.next", "designer.keep"),
+              ("designer.next",), ("designer.next",)]
+    for cmds in script:
+        for c in cmds:
+            loop.commands.put(c)
+        loop.tick()
+    assert [f for f, _ in a.seen] == ["pm", "pm", "mop/face", "mop/bird", "pm", "mop/face"]
+    assert [c for _, c in a.seen] == [(), ("designer.record",), (), ("designer.keep",), (), ()]
+    assert b.seen == a.seen  # every engine sees the same frame; each acts on its own focus
+
+
+def test_no_designer_targets_means_no_focus():
+    sink = Collect()
+    scripted_loop([sink]).run(max_ticks=3)
+    assert all(f.focus is None for f in sink.frames)
