@@ -6,7 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-import mop_gestures as g
+from tests.mop import gestures as g
 import numpy as np
 import pytest
 

@@ -3,7 +3,7 @@ re-entry, long runs, any feature scale, and clear errors."""
 
 import math
 
-import mop_gestures as g
+from tests.mop import gestures as g
 import numpy as np
 import pytest
 

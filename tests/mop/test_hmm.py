@@ -2,7 +2,7 @@
 
 import math
 
-import mop_gestures as g
+from tests.mop import gestures as g
 import numpy as np
 import pytest
 

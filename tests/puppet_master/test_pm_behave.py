@@ -5,7 +5,7 @@ import subprocess
 import sys
 
 import numpy as np
-import pm_demos
+from tests.puppet_master import demos as pm_demos
 import pytest
 
 from tabletop.cli import main as cli

@@ -1,7 +1,7 @@
 """Behaviour tests: demonstrated personalities carried onto new main paths (measured)."""
 
 import numpy as np
-import pm_demos
+from tests.puppet_master import demos as pm_demos
 
 from behaviors.puppet_master.engine import Behavior, Reactor
 

@@ -3,7 +3,7 @@
 import math
 
 import numpy as np
-import pm_demos
+from tests.puppet_master import demos as pm_demos
 import pytest
 
 from behaviors.puppet_master.engine import Behavior, DemonstrationError, ParameterError, Reactor

@@ -3,7 +3,7 @@
 import math
 
 import numpy as np
-import pm_demos
+from tests.puppet_master import demos as pm_demos
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.engine import Behavior
