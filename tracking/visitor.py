@@ -136,3 +136,73 @@ class ScriptedVisitor:
     def poses(self, t: float) -> list[tuple[int, float, float, float]]:
         """[(id, x m, y m, angle rad), ...] for every puck at time ``t`` seconds."""
         return [(pid, *self.scripts[pid].pose(t)) for pid in self.puck_ids]
+
+
+class GesturePerformer:
+    """A performer drawing recorded gestures with one puck, for action-following demos and tests.
+
+    ``gestures``: arrays of rows (t s, dx m, dy m), paths relative to where the gesture starts.
+    From ``home`` the puck rests, draws a gesture chosen by the seeded RNG at a speed factor drawn
+    from ``speed`` (1 = as recorded), rests again, and slides back home when it ended elsewhere.
+    The puck keeps its heading ``angle``. A pure function of time, like :class:`ScriptedVisitor`.
+    """
+
+    def __init__(self, gestures: Sequence[np.ndarray], home: tuple[float, float], seed: int = 0,
+                 speed: tuple[float, float] = (0.6, 1.6), rest: tuple[float, float] = (1.2, 2.0),
+                 angle: float = 0.0) -> None:
+        if not gestures:
+            raise ValueError("a gesture performer needs at least one gesture")
+        self.gestures = [np.asarray(g, dtype=float) for g in gestures]
+        self.home = (float(home[0]), float(home[1]))
+        self.speed, self.rest, self.angle = speed, rest, angle
+        self.rng = np.random.default_rng(seed)
+        # Each entry: (t0, t1, kind, data); kind "rest" (data: point), "gesture" (data: start,
+        # index, speed) or "return" (data: from point).
+        self.plan: list[tuple[float, float, str, tuple]] = [(0.0, 1.5, "rest", (self.home,))]
+        self.starts = [0.0]
+        self.performed: list[tuple[float, float, int, float]] = []  # (t0, t1, gesture, speed)
+
+    def _end_point(self, entry: tuple[float, float, str, tuple]) -> tuple[float, float]:
+        kind, data = entry[2], entry[3]
+        if kind == "rest":
+            return data[0]
+        if kind == "return":
+            return self.home
+        start, index, _ = data
+        g = self.gestures[index]
+        return start[0] + g[-1, 1], start[1] + g[-1, 2]
+
+    def _extend(self) -> None:
+        last = self.plan[-1]
+        t0 = last[1]
+        here = self._end_point(last)
+        if last[2] == "rest" and math.dist(here, self.home) > 0.02:
+            d = max(math.dist(here, self.home) / 0.15, 0.5)
+            entry = (t0, t0 + d, "return", (here,))
+        elif last[2] == "rest":
+            index = int(self.rng.integers(len(self.gestures)))
+            s = float(self.rng.uniform(*self.speed))
+            g = self.gestures[index]
+            entry = (t0, t0 + (g[-1, 0] - g[0, 0]) / s, "gesture", (here, index, s))
+            self.performed.append((entry[0], entry[1], index, s))
+        else:
+            entry = (t0, t0 + float(self.rng.uniform(*self.rest)), "rest", (here,))
+        self.plan.append(entry)
+        self.starts.append(entry[0])
+
+    def pose(self, t: float) -> tuple[float, float, float]:
+        """(x m, y m, angle rad) at time ``t`` seconds."""
+        while self.plan[-1][1] < t:
+            self._extend()
+        t0, t1, kind, data = self.plan[max(bisect.bisect_right(self.starts, t) - 1, 0)]
+        if kind == "rest":
+            return data[0][0], data[0][1], self.angle
+        if kind == "return":
+            s = min_jerk((t - t0) / (t1 - t0))
+            (x0, y0), (x1, y1) = data[0], self.home
+            return x0 + (x1 - x0) * s, y0 + (y1 - y0) * s, self.angle
+        start, index, speed = data
+        g = self.gestures[index]
+        tau = g[0, 0] + (t - t0) * speed
+        return (start[0] + float(np.interp(tau, g[:, 0], g[:, 1])),
+                start[1] + float(np.interp(tau, g[:, 0], g[:, 2])), self.angle)

@@ -1,7 +1,8 @@
 """Source ``scripted``: a scripted visitor moving pucks, reported directly as table poses.
 
-For a camera-free run; the default installation renders the same visitor through the synthetic
-camera instead (source ``synthetic_camera``).
+``pucks`` wander about the table (:class:`ScriptedVisitor`); each entry of ``performers`` draws
+recorded gestures with its own puck from a home point (:class:`GesturePerformer`), to show and
+test action following without a person at the table.
 """
 
 from __future__ import annotations
@@ -10,21 +11,33 @@ import time
 
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
-from tabletop.schema import ListOf, Number, Record
-from tracking.visitor import ScriptedVisitor
+from tabletop.files import read_csv
+from tabletop.schema import FilePath, ListOf, Number, Record
+from tracking.visitor import GesturePerformer, ScriptedVisitor
 
 SCHEMA = Record({
-    "pucks": ListOf(Number(integer=True, lo=0, hi=10_000), default=[1, 2], min_len=1,
+    "pucks": ListOf(Number(integer=True, lo=0, hi=10_000), default=[1, 2], min_len=0,
                     doc="marker ids of the pucks the visitor moves"),
     "seed": Number(0, integer=True, lo=0, doc="seed of the visitor's paths"),
+    "performers": ListOf(Record({
+        "puck": Number(integer=True, lo=0, hi=10_000, doc="marker id of the performing puck"),
+        "home": ListOf(Number(lo=0.0), min_len=2, max_len=2, doc="where it rests, metres"),
+        "gestures": ListOf(FilePath(kind="file"), min_len=1,
+                           doc="CSV files with columns t,dx,dy (s, m, m from the start)"),
+        "speed": ListOf(Number(lo=0.05, hi=20.0), default=[0.6, 1.6], min_len=2, max_len=2,
+                        doc="range of speed factors (1 = as recorded)"),
+    }), default=[], doc="pucks drawing recorded gestures"),
 })
 
 
 class ScriptedSource:
     """Poses of a :class:`ScriptedVisitor` at the moment they are asked for (t in seconds)."""
 
-    def __init__(self, name: str, visitor: ScriptedVisitor, clock=time.monotonic) -> None:
+    def __init__(self, name: str, visitor: ScriptedVisitor,
+                 performers: dict[int, GesturePerformer] | None = None,
+                 clock=time.monotonic) -> None:
         self.name, self.visitor, self.clock = name, visitor, clock
+        self.performers = dict(performers or {})
         self._t0 = 0.0
         self._seq = 0
         self._last_t = float("-inf")
@@ -37,8 +50,13 @@ class ScriptedSource:
         self._seq += 1
         self._last_t = t
         pucks = tuple(PuckMeasurement(pid, x, y, a, t)
-                      for pid, x, y, a in self.visitor.poses(t - self._t0))
+                      for pid, x, y, a in self.poses(t - self._t0))
         return Observation(self.name, t, self._seq, pucks=pucks)
+
+    def poses(self, t: float) -> list[tuple[int, float, float, float]]:
+        """(id, x m, y m, angle rad) of every scripted puck ``t`` seconds after opening."""
+        out = self.visitor.poses(t) if self.visitor.puck_ids else []
+        return out + [(pid, *p.pose(t)) for pid, p in self.performers.items()]
 
     def health(self) -> SourceHealth:
         return SourceHealth(self.name, True, "scripted visitor", max(0.0, self.clock() - self._last_t))
@@ -48,5 +66,15 @@ class ScriptedSource:
 
 
 def build(options: dict, ctx: BuildContext) -> ScriptedSource:
-    visitor = ScriptedVisitor(ctx.table, options["pucks"], seed=options["seed"])
-    return ScriptedSource(options["name"], visitor)
+    performers = {}
+    for k, p in enumerate(options["performers"]):
+        gestures = [read_csv(g, required=("t", "dx", "dy"), what="gesture CSV", min_rows=2)
+                    for g in p["gestures"]]
+        arrays = [data[:, [cols.index("t"), cols.index("dx"), cols.index("dy")]]
+                  for cols, data in gestures]
+        performers[p["puck"]] = GesturePerformer(arrays, tuple(p["home"]),
+                                                 seed=options["seed"] * 31 + k,
+                                                 speed=tuple(p["speed"]))
+    wandering = [pid for pid in options["pucks"] if pid not in performers]
+    visitor = ScriptedVisitor(ctx.table, wandering, seed=options["seed"])
+    return ScriptedSource(options["name"], visitor, performers)
