@@ -191,6 +191,8 @@ def test_time_warp_maps_action_progress_onto_motion(tmp_path):
             a["template"] = str(EXAMPLES / a["template"])
         if c["kind"] == "sprite":
             c["sheet"] = str(EXAMPLES / c["sheet"])
+    for p in data["sources"][0].get("performers", []):
+        p["gestures"] = [str(EXAMPLES / g) for g in p["gestures"]]
     lizard = next(c for c in eng["characters"] if c["name"] == "salamander")
     lizard["actions"][0]["warp"] = [[0, 0], [0.5, 0.8], [1, 1]]
     engine = _build(data, tmp_path)

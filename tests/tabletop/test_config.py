@@ -32,7 +32,8 @@ def test_good_config_fills_defaults(tmp_path):
     cfg = load_config(write(tmp_path, GOOD))
     assert cfg["loop"]["rate_hz"] == 60.0
     assert cfg["view"]["size"] == [1280, 720]
-    assert cfg["sources"][0] == {"kind": "scripted", "name": "visitor", "pucks": [1, 2], "seed": 0}
+    assert cfg["sources"][0] == {"kind": "scripted", "name": "visitor", "pucks": [1, 2], "seed": 0,
+                                 "performers": []}
 
 
 def test_shipped_config_is_valid():
