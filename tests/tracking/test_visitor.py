@@ -46,3 +46,23 @@ def test_heading_follows_the_direction_of_travel():
     travel = np.arctan2(d[moving, 1], d[moving, 0])
     err = np.abs(np.angle(np.exp(1j * (p[1:][moving, 2] - travel))))
     assert np.median(err) < 0.2
+
+
+def test_gesture_performer_draws_its_gestures_at_the_chosen_speeds():
+    from tracking.visitor import GesturePerformer
+
+    ts = np.linspace(0.0, 2.0, 41)
+    circle = np.column_stack([ts, 0.1 * np.cos(np.pi * ts) - 0.1, 0.1 * np.sin(np.pi * ts)])
+    line = np.column_stack([ts, 0.15 * ts, np.zeros_like(ts)])
+    p = GesturePerformer([circle, line], home=(0.5, 0.4), seed=3, speed=(0.5, 2.0))
+    q = GesturePerformer([circle, line], home=(0.5, 0.4), seed=3, speed=(0.5, 2.0))
+    assert p.pose(30.0) == q.pose(30.0) and p.pose(3.0) == q.pose(3.0)  # any query order
+    assert len(p.performed) >= 6
+    assert {g for _, _, g, _ in p.performed} == {0, 1}
+    for t0, t1, g, speed in p.performed:
+        assert 0.5 <= speed <= 2.0 and t1 - t0 == pytest.approx(2.0 / speed)
+        x0, y0, _ = p.pose(t0 + 1e-9)
+        assert (x0, y0) == pytest.approx((0.5, 0.4), abs=0.03)  # starts from home
+        xm, ym, _ = p.pose((t0 + t1) / 2)
+        shape = (circle if g == 0 else line)[20]
+        assert (xm - x0, ym - y0) == pytest.approx((shape[1], shape[2]), abs=1e-9)
