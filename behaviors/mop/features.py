@@ -62,7 +62,9 @@ class PathFeatures:
     The origin is the first pose seen, or the pose given to :meth:`reset`. A puck held still
     (speed below ``rest_speed`` m/s and turning slower than ``rest_turn_rate`` rad/s) for
     ``rest_time`` seconds has ended its gesture: while it stays still the origin follows it, so
-    the next gesture starts from where the puck rests. ``rest_time=inf`` disables this.
+    the next gesture starts from where the puck rests, and :attr:`resting` is True (nothing is
+    being performed: a follower fed by this puck should wait for the next gesture, since a puck
+    at its origin looks like the first sample of every template). ``rest_time=inf`` disables this.
 
     Speed depends on the performer's tempo: a gesture performed at half its recorded pace has
     half its speeds, so include ``speed`` only for actions whose tempo matters.
@@ -88,6 +90,12 @@ class PathFeatures:
         self._speed = 0.0
         self._turn_rate = 0.0
         self._still_since: float | None = None
+        self._resting = False
+
+    @property
+    def resting(self) -> bool:
+        """True while the puck has been still for ``rest_time``: its gesture has ended."""
+        return self._resting
 
     @property
     def dim(self) -> int:
@@ -102,6 +110,7 @@ class PathFeatures:
         self._speed = 0.0
         self._turn_rate = 0.0
         self._still_since = float(t)
+        self._resting = False
 
     def step(self, x: float, y: float, angle: float, t: float) -> np.ndarray:
         """Features of this pose (metres, radians, seconds); see the class docstring."""
@@ -124,8 +133,10 @@ class PathFeatures:
             elif t - self._still_since >= self.rest_time:
                 self.origin = (float(x), float(y), float(angle))
                 self._turn = 0.0
+                self._resting = True
         else:
             self._still_since = None
+            self._resting = False
         ox, oy, oa = self.origin
         dx, dy = x - ox, y - oy
         if self.rotate:

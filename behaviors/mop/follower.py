@@ -240,6 +240,15 @@ class FollowerGroup:
         for f in self.followers:
             f.reset()
 
+    def reset_member(self, i: int) -> None:
+        """Forget the performance followed by member ``i`` only (its next performance starts
+        afresh: every template at its first state, no evidence); the others go on."""
+        sl = self._slices[i]
+        self.forward.reset_templates(np.arange(sl.start, sl.stop))
+        f = self.followers[i]
+        f.reset()
+        f._entries[:] = self.forward.entries[sl]
+
     def step(self, samples: Sequence[np.ndarray]) -> list[FollowState]:
         """One sample per follower, in order; returns each follower's state."""
         if len(samples) != len(self.followers):

@@ -116,6 +116,21 @@ class WindowedForward:
         self.steps = 0
         self._window_moved()
 
+    def reset_templates(self, templates: np.ndarray) -> None:
+        """Forget the performance of some templates (indices): they wait at their first state,
+        as after :meth:`reset`, while the others go on."""
+        templates = np.asarray(templates, dtype=np.intp)
+        if templates.size == 0:
+            return
+        k = self._k
+        self.alpha[templates] = 0.0
+        self.alpha[templates, 0] = 1.0
+        self.alpha[templates + k] = 0.0
+        self.lo[templates] = 0
+        self.mean[templates] = 0.0
+        self._mom[templates] = (1.0, 0.0, 0.0)
+        self._window_moved()
+
     @property
     def log_constant(self) -> np.ndarray:
         """Per template, the Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` (K,)."""

@@ -388,6 +388,11 @@ class PuckInput:
             return np.full(len(self._cols), np.nan)
         return self._pf.step(p.x, p.y, p.angle, t)[self._cols]
 
+    @property
+    def resting(self) -> bool:
+        """The puck has been still for ``rest_time``: its gesture has ended."""
+        return self._pf.resting
+
     def restart(self, frame: object, t: float) -> None:
         """Start a gesture here (a designer's recording begins)."""
         p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
@@ -415,6 +420,11 @@ class TouchInput:
             self._id, self._origin = touch.id, (touch.x, touch.y)
         return np.array([touch.x - self._origin[0], touch.y - self._origin[1]])
 
+    @property
+    def resting(self) -> bool:
+        """No finger on the table: the next touch starts a new gesture."""
+        return self._id is None
+
     def restart(self, frame: object, t: float) -> None:
         self._id = None
 
@@ -433,6 +443,9 @@ class StreamInput:
         if a is None or a.size <= int(self.columns.max()):
             return np.full(len(self.columns), np.nan)
         return np.asarray(a, dtype=float)[self.columns]
+
+    #: A stream has no notion of rest: its performer is always performing.
+    resting = False
 
     def restart(self, frame: object, t: float) -> None:
         pass
@@ -453,6 +466,12 @@ class Performer:
 
     def read(self, frame: object, t: float) -> np.ndarray:
         return np.concatenate([i.read(frame, t) for i in self.inputs])
+
+    @property
+    def resting(self) -> bool:
+        """Every input rests (after :meth:`read`): the performer's gesture has ended, so its
+        followers wait for the next one and drive nothing meanwhile."""
+        return all(i.resting for i in self.inputs)
 
     def restart(self, frame: object, t: float) -> None:
         for i in self.inputs:
