@@ -78,9 +78,12 @@ class ActionFollower:
                  transitions: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1), backward: float = 0.1,
                  restart: float = 1e-4, memory: float = 20.0, null_distance: float = 2.0,
                  max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8,
-                 min_scale: np.ndarray | None = None) -> None:
+                 min_scale: np.ndarray | None = None, null_memory: float = 8.0,
+                 onset: float = 0.5) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
+                            ("null_memory", null_memory, null_memory >= 1),
+                            ("onset", onset, onset >= 0),
                             ("max_spread", max_spread, max_spread > 0),
                             ("relative_floor", relative_floor, relative_floor >= 0),
                             ("floor", floor, floor >= 0)):
@@ -96,13 +99,30 @@ class ActionFollower:
                                        transitions=Transitions(tuple(transitions), backward, restart),
                                        floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
+        self.null_memory = float(null_memory)
+        self._null2 = self.null_distance ** 2
+        self.onset = float(onset)
+        self.onset_progress = self._onset_progress()
+        self._null_decay = 1.0 - 1.0 / self.null_memory
         self._params = dict(sigma=float(sigma), window=int(window), transitions=tuple(transitions),
                             backward=float(backward), restart=float(restart), memory=float(memory),
                             null_distance=float(null_distance), max_spread=float(max_spread),
-                            floor=float(floor))
+                            floor=float(floor), null_memory=float(null_memory),
+                            onset=float(onset))
         self._log_constant = self.log_constant
         self._inv_span2 = (1.0 / (self.bank.lengths - 1.0) ** 2).tolist()
         self.reset()
+
+    def _onset_progress(self) -> np.ndarray:
+        """Per template, the progress (0..1) of its first state at least ``onset`` sigmas (RMS per
+        feature) from its first state, or of its farthest state when none is."""
+        out = np.zeros(len(self.names))
+        for k in range(len(self.names)):
+            states = self.bank.template(k)
+            d = np.sqrt(np.mean((states - states[0]) ** 2, axis=1)) / self.sigma
+            far = np.flatnonzero(d >= self.onset)
+            out[k] = (far[0] if far.size else int(np.argmax(d))) / (len(states) - 1)
+        return out
 
     @property
     def dim(self) -> int:
@@ -115,6 +135,10 @@ class ActionFollower:
         k = len(self.names)
         self._evidence = np.zeros(k)
         self._weight = 0.0
+        self._recent = np.zeros(k)
+        self._recent_weight = np.zeros(k)
+        self._refused = np.zeros(k, dtype=bool)
+        self._engaged = np.zeros(k, dtype=bool)
         self._entries = np.zeros(k, dtype=np.int64)
         self._state: FollowState | None = None
 
@@ -168,17 +192,31 @@ class ActionFollower:
         self._evidence *= self._decay
         self._evidence += step_ll
         self._weight = self._decay * self._weight + 1.0
+        new = entries > self._entries   # re-entered: a new performance, judged afresh
+        self._entries[:] = entries
+        if np.count_nonzero(new):
+            self._recent[new] = 0.0
+            self._recent_weight[new] = 0.0
+            self._refused[new] = False
+            self._engaged[new] = False
+        self._recent *= self._null_decay
+        self._recent += step_ll
+        self._recent_weight *= self._null_decay
+        self._recent_weight += 1.0
+        mean_ll = self._recent / self._recent_weight
+        # squared RMS distance per feature in sigma units, every template (see distance_of)
+        dist2 = (self._log_constant - mean_ll) * (2.0 / self.dim)
+        self._refused |= dist2 > self._null2
+        self._engaged |= (progress >= self.onset_progress) & ~self._refused
         b = int(np.argmax(self._evidence))
         p = np.exp(self._evidence - self._evidence[b])
         p /= p.sum()
         names = self.names
         variance = forward.var_of(offset + b) * self._inv_span2[b]
-        restarted = entries[b] > self._entries[b]
-        self._entries[:] = entries
-        mean_ll = self._evidence / self._weight
+        restarted = bool(new[b])
         loglik = float(mean_ll[b])
         dist = self.distance_of(loglik)
-        valid = dist <= self.null_distance and variance <= self.max_spread ** 2
+        valid = (self._engaged[b] and not self._refused[b] and variance <= self.max_spread ** 2)
         self._state = FollowState(
             best=names[b], progress=float(progress[b]), variance=variance,
             probabilities=dict(zip(names, p.tolist())), progress_by=dict(zip(names, progress.tolist())),

@@ -123,8 +123,11 @@ FOLLOWER = Record({
     "transitions": ListOf(Number(lo=0.0), default=[0.3, 0.35, 0.25, 0.1], min_len=1),
     "backward": Number(0.1, lo=0.0),
     "restart": Number(1e-4, lo=0.0, hi=0.5),
-    "memory": Number(20.0, lo=1.0),
-    "null_distance": Number(2.0, lo=0.01),
+    "memory": Number(20.0, lo=1.0, doc="samples: forgetting of the evidence (probabilities)"),
+    "null_distance": Number(2.0, lo=0.01, doc="sigmas: farther from the best template is no action"),
+    "null_memory": Number(8.0, lo=1.0, doc="samples: forgetting of that distance"),
+    "onset": Number(0.5, lo=0.0, doc="sigmas: an action drives its character once the "
+                 "performance has left the action's start by this much"),
     "max_spread": Number(0.15, lo=1e-3, hi=1.0),
     "relative_floor": Number(0.05, lo=0.0, hi=1.0),
 })
@@ -346,7 +349,9 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     fo = options["follower"]
     params = dict(sigma=fo["sigma"], window=fo["window"], transitions=tuple(fo["transitions"]),
                   backward=fo["backward"], restart=fo["restart"], memory=fo["memory"],
-                  null_distance=fo["null_distance"], max_spread=fo["max_spread"],
+                  null_distance=fo["null_distance"], null_memory=fo["null_memory"],
+                  onset=fo["onset"],
+                  max_spread=fo["max_spread"],
                   relative_floor=fo["relative_floor"])
 
     def make_follower(templates):
