@@ -10,9 +10,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from tabletop import registry
+from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, ListOf, MapOf,
                              Number, Optional_, Record, Spec, Str)
 
@@ -112,28 +111,11 @@ def top_schema() -> Record:
     }, check=_check_all)
 
 
-def parse_yaml(text: str, file: str) -> Any:
-    """Parse YAML text; a syntax error becomes a ConfigError naming the line and column."""
-    try:
-        return yaml.safe_load(text)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
-        raise ConfigError(f"{file}: YAML syntax error at {where}: {exc.problem}") from None
-    except yaml.YAMLError as exc:
-        raise ConfigError(f"{file}: YAML error: {exc}") from None
-
-
 def load_config(path: str | Path) -> dict[str, Any]:
     """Read and validate a config file; returns the config with every default filled in."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ConfigError(f"{p}: config file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{p}: cannot read config file: {exc}") from None
-    return validate_config(parse_yaml(text, str(p)), str(p), p.resolve().parent)
+    data = read_yaml(p, ConfigError, missing="config file not found")
+    return validate_config(data, str(p), p.resolve().parent)
 
 
 def validate_config(data: Any, file: str = "<config>", base: Path | None = None) -> dict[str, Any]:

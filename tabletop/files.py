@@ -13,9 +13,10 @@ import math
 import os
 import tempfile
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import Any, Iterable, Sequence
 
 import numpy as np
+import yaml
 
 from tabletop.frames import InputError
 
@@ -130,6 +131,33 @@ def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV fi
         raise FileFormatError(
             f"{p}: {what} has {len(data)} data row(s), needs at least {min_rows}")
     return header, np.asarray(data, dtype=float).reshape(len(data), len(header))
+
+
+def parse_yaml(text: str, file: str | Path, error: type[InputError] = FileFormatError,
+               problem: str = "YAML syntax error") -> Any:
+    """Parse YAML text; a syntax error raises ``error`` naming the file, line and column."""
+    try:
+        return yaml.safe_load(text)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
+        raise error(f"{file}: {problem} at {where}: {exc.problem}") from None
+    except yaml.YAMLError as exc:
+        raise error(f"{file}: {problem}: {exc}") from None
+
+
+def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
+              missing: str = "not found", problem: str = "YAML syntax error") -> Any:
+    """Read and parse a YAML file; a missing, unreadable or malformed file raises ``error``
+    (``missing`` is the message for a file that does not exist)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise error(f"{p}: {missing}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise error(f"{p}: cannot read: {exc}") from None
+    return parse_yaml(text, p, error, problem)
 
 
 def check_increasing(t: np.ndarray, path: str | Path, column: str = "t") -> None:

@@ -25,7 +25,7 @@ import numpy as np
 import yaml
 
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, format_csv,
-                            read_csv)
+                            read_csv, read_yaml)
 from tabletop.frames import InputError
 from tabletop.schema import ConfigError, Context, FilePath, Number, Record, Spec, Str
 
@@ -133,21 +133,8 @@ def write_demonstration(path: str | Path, demo: np.ndarray) -> None:
 
 
 def _read_yaml(path: Path) -> Any:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise LibraryError(
-            f"{path}: not found (a behaviour folder needs a {BEHAVIOR_FILE})") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise LibraryError(f"{path}: cannot read: {exc}") from None
-    try:
-        return yaml.safe_load(text)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
-        raise LibraryError(f"{path}: corrupt YAML at {where}: {exc.problem}") from None
-    except yaml.YAMLError as exc:
-        raise LibraryError(f"{path}: corrupt YAML: {exc}") from None
+    return read_yaml(path, LibraryError, missing=f"not found (a behaviour folder needs a "
+                     f"{BEHAVIOR_FILE})", problem="corrupt YAML")
 
 
 def read_description(folder: str | Path) -> dict[str, Any]:
