@@ -64,6 +64,7 @@ class LoopStats:
         self.tick_times: collections.deque[float] = collections.deque(maxlen=window)
         self.ticks = 0
         self.skipped = 0
+        self.first_t: float | None = None  # the first frame's time, seconds
         self.errors: collections.Counter[str] = collections.Counter()
 
     def record(self, stage: str, seconds: float) -> None:
@@ -253,6 +254,8 @@ class Loop:
         if frame.t <= t3:
             st.record("capture_age", t3 - frame.t)
         st.tick_times.append(t3)
+        if st.first_t is None:
+            st.first_t = frame.t
         st.ticks += 1
         self.seq += 1
         return frame

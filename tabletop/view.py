@@ -187,7 +187,8 @@ class Renderer:
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
     """The operator overlay: rate, per-stage milliseconds, sources' health, characters' status."""
-    lines = [f"tick {frame.seq}   t {frame.t:.2f} s"]
+    start = stats.first_t if stats is not None and stats.first_t is not None else frame.t
+    lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
         lines.append(f"{stats.fps():5.1f} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
