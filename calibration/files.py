@@ -1,0 +1,273 @@
+"""Calibration files: one YAML file mapping camera pixels <-> table metres <-> projector pixels.
+
+Format (``format: tabletop-calibration``, ``version: 1``)::
+
+    format: tabletop-calibration
+    version: 1
+    date: "2026-11-22T10:00:00+00:00"        # when it was measured (ISO 8601)
+    image_size: [1280, 720]                  # camera pixels (optional)
+    intrinsics:                              # optional; null for an ideal (undistorted) camera
+      camera_matrix: [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]
+      distortion: [k1, k2, p1, p2, k3]       # OpenCV's order, 4 to 14 numbers
+    camera_to_table: [[...], [...], [...]]   # 3x3: undistorted camera pixels -> table metres
+    table_to_projector: null                 # 3x3: table metres -> projector pixels, or null
+    reprojection_error:                      # optional figures, null when not measured
+      intrinsics_px: 0.21
+      camera_to_table_m: 0.0008
+      table_to_projector_px: null
+
+When intrinsics are given, ``camera_to_table`` applies to pixels undistorted with
+``cv2.undistortPoints(..., P=camera_matrix)``, i.e. to the ideal pinhole image of the same camera
+matrix. Loading checks every key and value and names the file and the key of what is wrong.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from tabletop.frames import InputError
+
+FORMAT = "tabletop-calibration"
+VERSION = 1
+ERROR_KEYS = ("intrinsics_px", "camera_to_table_m", "table_to_projector_px")
+
+
+class CalibrationError(InputError):
+    """A calibration file is missing or malformed; the message names the file and the key."""
+
+
+def apply_homography(H: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Map points (N, 2) through the 3x3 homography ``H``; returns (N, 2) floats."""
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    hp = p @ H[:, :2].T + H[:, 2]
+    return hp[:, :2] / hp[:, 2:3]
+
+
+def _normalised(H: np.ndarray) -> np.ndarray:
+    H = np.asarray(H, dtype=float)
+    return H / H[2, 2] if H[2, 2] != 0 else H
+
+
+@dataclass
+class Calibration:
+    """Camera intrinsics (optional), camera -> table and table -> projector homographies.
+
+    ``camera_to_table``: 3x3, undistorted camera pixels -> table metres. ``table_to_projector``:
+    3x3, table metres -> projector pixels, or None. ``camera_matrix`` (3x3) and ``distortion``
+    (OpenCV's coefficients) describe the lens, or are None for an ideal camera.
+    ``reprojection_error``: named residuals (pixels or metres as their names say).
+    """
+
+    camera_to_table: np.ndarray
+    table_to_projector: np.ndarray | None = None
+    camera_matrix: np.ndarray | None = None
+    distortion: np.ndarray | None = None
+    image_size: tuple[int, int] | None = None
+    reprojection_error: dict[str, float | None] = field(default_factory=dict)
+    date: str = ""
+
+    def __post_init__(self) -> None:
+        self.camera_to_table = _normalised(self.camera_to_table)
+        if self.table_to_projector is not None:
+            self.table_to_projector = _normalised(self.table_to_projector)
+        if self.camera_matrix is not None:
+            self.camera_matrix = np.asarray(self.camera_matrix, dtype=float)
+            d = np.zeros(5) if self.distortion is None else np.asarray(self.distortion, float)
+            self.distortion = d.ravel()
+        self._table_to_camera = _normalised(np.linalg.inv(self.camera_to_table))
+
+    @property
+    def undistorts(self) -> bool:
+        """True when pixels are undistorted before the homography (non-zero distortion)."""
+        return (self.camera_matrix is not None and self.distortion is not None
+                and bool(np.any(self.distortion != 0.0)))
+
+    def undistort(self, points_px: np.ndarray) -> np.ndarray:
+        """Camera pixels (N, 2) -> ideal pinhole pixels of the same camera matrix (N, 2)."""
+        p = np.asarray(points_px, dtype=float).reshape(-1, 2)
+        if not self.undistorts or len(p) == 0:
+            return p.copy()
+        import cv2
+        out = cv2.undistortPoints(p.reshape(-1, 1, 2), self.camera_matrix, self.distortion,
+                                  P=self.camera_matrix)
+        return out.reshape(-1, 2).astype(float)
+
+    def image_to_table(self, points_px: np.ndarray) -> np.ndarray:
+        """Camera pixels (N, 2) -> table metres (N, 2), undistorting first when a lens is known."""
+        return apply_homography(self.camera_to_table, self.undistort(points_px))
+
+    def table_to_image(self, points_m: np.ndarray) -> np.ndarray:
+        """Table metres (N, 2) -> camera pixels (N, 2), distorted as the lens would."""
+        ideal = apply_homography(self._table_to_camera, points_m)
+        if not self.undistorts or len(ideal) == 0:
+            return ideal
+        import cv2
+        K = self.camera_matrix
+        norm = (ideal - K[:2, 2]) @ np.linalg.inv(K[:2, :2]).T
+        obj = np.column_stack([norm, np.ones(len(norm))])
+        img, _ = cv2.projectPoints(obj, np.zeros(3), np.zeros(3), K, self.distortion)
+        return img.reshape(-1, 2)
+
+    def table_angle(self, points_px: np.ndarray) -> float:
+        """Table heading (rad) of the image direction from ``points_px[0]`` to ``points_px[1]``."""
+        t = self.image_to_table(points_px)
+        return math.atan2(t[1, 1] - t[0, 1], t[1, 0] - t[0, 0])
+
+    def to_dict(self) -> dict[str, Any]:
+        """The file's content as plain YAML-ready values."""
+        intrinsics = None
+        if self.camera_matrix is not None:
+            intrinsics = {"camera_matrix": self.camera_matrix.tolist(),
+                          "distortion": [float(v) for v in self.distortion]}
+        errors = {k: self.reprojection_error.get(k) for k in ERROR_KEYS}
+        errors.update({k: v for k, v in self.reprojection_error.items() if k not in errors})
+        return {
+            "format": FORMAT,
+            "version": VERSION,
+            "date": self.date or _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "image_size": None if self.image_size is None else list(self.image_size),
+            "intrinsics": intrinsics,
+            "camera_to_table": self.camera_to_table.tolist(),
+            "table_to_projector": (None if self.table_to_projector is None
+                                   else self.table_to_projector.tolist()),
+            "reprojection_error": {k: None if v is None else float(v) for k, v in errors.items()},
+        }
+
+
+# ------------------------------------------------------------------------------------ reading
+def _matrix(value: Any, rows: int, cols: int, where: str, key: str) -> np.ndarray:
+    shape = f"{rows}x{cols}"
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise CalibrationError(f"{where}: {key}: expected a {shape} list of numbers, "
+                               f"got {value!r}") from None
+    if a.shape != (rows, cols) or isinstance(value, (str, bytes)):
+        raise CalibrationError(f"{where}: {key}: expected a {shape} list of numbers, "
+                               f"got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise CalibrationError(f"{where}: {key}: every number must be finite")
+    return a
+
+
+def _homography(value: Any, where: str, key: str) -> np.ndarray:
+    H = _matrix(value, 3, 3, where, key)
+    if abs(np.linalg.det(H)) < 1e-12 * max(1.0, float(np.abs(H).max()) ** 3):
+        raise CalibrationError(f"{where}: {key}: the homography is singular (not invertible)")
+    return H
+
+
+def calibration_from_dict(data: Any, where: str = "<calibration>") -> Calibration:
+    """Validate parsed YAML content; ``where`` names the file in error messages."""
+    if not isinstance(data, dict):
+        raise CalibrationError(f"{where}: expected a mapping with keys format, version, "
+                               f"camera_to_table, ...; got {type(data).__name__}")
+    known = {"format", "version", "date", "image_size", "intrinsics", "camera_to_table",
+             "table_to_projector", "reprojection_error"}
+    for key in data:
+        if key not in known:
+            raise CalibrationError(f"{where}: {key}: unknown key (known: {', '.join(sorted(known))})")
+    if data.get("format") != FORMAT:
+        raise CalibrationError(f"{where}: format: expected {FORMAT!r}, got {data.get('format')!r}")
+    if data.get("version") != VERSION:
+        raise CalibrationError(f"{where}: version: expected {VERSION}, got {data.get('version')!r}")
+    if "camera_to_table" not in data:
+        raise CalibrationError(f"{where}: camera_to_table: missing; expected a 3x3 homography "
+                               "from camera pixels to table metres")
+    c2t = _homography(data["camera_to_table"], where, "camera_to_table")
+    t2p = data.get("table_to_projector")
+    t2p = None if t2p is None else _homography(t2p, where, "table_to_projector")
+    size = data.get("image_size")
+    if size is not None:
+        if (not isinstance(size, list) or len(size) != 2
+                or not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in size)):
+            raise CalibrationError(f"{where}: image_size: expected [width, height] in pixels, "
+                                   f"got {size!r}")
+        size = (size[0], size[1])
+    K = dist = None
+    intr = data.get("intrinsics")
+    if intr is not None:
+        if not isinstance(intr, dict) or "camera_matrix" not in intr:
+            raise CalibrationError(f"{where}: intrinsics: expected a mapping with camera_matrix "
+                                   "and distortion, or null")
+        for key in intr:
+            if key not in ("camera_matrix", "distortion"):
+                raise CalibrationError(f"{where}: intrinsics.{key}: unknown key "
+                                       "(known: camera_matrix, distortion)")
+        K = _matrix(intr["camera_matrix"], 3, 3, where, "intrinsics.camera_matrix")
+        if K[0, 0] <= 0 or K[1, 1] <= 0 or K[2, 2] != 1.0 or K[1, 0] or K[2, 0] or K[2, 1]:
+            raise CalibrationError(f"{where}: intrinsics.camera_matrix: expected "
+                                   "[[fx, s, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0")
+        raw = intr.get("distortion") or [0.0] * 5
+        if not isinstance(raw, list) or len(raw) not in (4, 5, 8, 12, 14):
+            raise CalibrationError(f"{where}: intrinsics.distortion: expected a list of 4, 5, "
+                                   f"8, 12 or 14 numbers, got {raw!r}")
+        dist = _matrix([raw], 1, len(raw), where, "intrinsics.distortion").ravel()
+    errors = data.get("reprojection_error") or {}
+    if not isinstance(errors, dict):
+        raise CalibrationError(f"{where}: reprojection_error: expected a mapping of names to "
+                               f"numbers, got {errors!r}")
+    for key, v in errors.items():
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
+                              or not math.isfinite(v) or v < 0):
+            raise CalibrationError(f"{where}: reprojection_error.{key}: expected a number "
+                                   f">= 0 or null, got {v!r}")
+    date = data.get("date", "")
+    if isinstance(date, (_dt.date, _dt.datetime)):
+        date = date.isoformat()
+    if not isinstance(date, str):
+        raise CalibrationError(f"{where}: date: expected an ISO 8601 date, got {date!r}")
+    return Calibration(c2t, t2p, K, dist, size, dict(errors), date)
+
+
+def load_calibration(path: str | Path) -> Calibration:
+    """Read and validate a calibration file; CalibrationError names the file and the key."""
+    import yaml
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise CalibrationError(f"{p}: calibration file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise CalibrationError(f"{p}: cannot read calibration file: {exc}") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        at = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
+        raise CalibrationError(f"{p}: YAML syntax error at {at}: {exc.problem}") from None
+    except yaml.YAMLError as exc:
+        raise CalibrationError(f"{p}: YAML error: {exc}") from None
+    if data is None:
+        raise CalibrationError(f"{p}: the file is empty")
+    return calibration_from_dict(data, str(p))
+
+
+def save_calibration(path: str | Path, calibration: Calibration) -> None:
+    """Write ``calibration`` to ``path`` atomically (temporary file, fsync, rename)."""
+    import yaml
+    text = ("# Tabletop calibration: camera pixels <-> table metres <-> projector pixels.\n"
+            + yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None))
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
