@@ -372,7 +372,7 @@ class PuckInput:
     started, heading turned since, speed), a chosen subset of them. NaN while the puck is absent."""
 
     def __init__(self, puck_id: int, features: Sequence[str] = ("dx", "dy"),
-                 rest_time: float = 0.8, prefix: str = "") -> None:
+                 rest_time: float = 0.8, prefix: str = "", rest_radius: float = 0.003) -> None:
         from behaviors.mop.features import PATH_FEATURE_NAMES, PathFeatures
         unknown = [f for f in features if f not in PATH_FEATURE_NAMES]
         if unknown or not features:
@@ -380,7 +380,7 @@ class PuckInput:
         self.puck_id = int(puck_id)
         self._cols = [PATH_FEATURE_NAMES.index(f) for f in features]
         self.names = tuple(prefix + f for f in features)
-        self._pf = PathFeatures(rest_time=rest_time)
+        self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
 
     def read(self, frame: object, t: float) -> np.ndarray:
         p = frame.puck(self.puck_id)  # type: ignore[attr-defined]

@@ -67,6 +67,8 @@ INPUT = Record({
     "features": ListOf(Str(choices=PUCK_FEATURES), default=["dx", "dy"], min_len=1,
                        doc="puck: which path features"),
     "rest_time": Number(0.8, lo=0.05, doc="puck: seconds still that end a gesture"),
+    "rest_radius": Number(0.003, lo=0.0001, hi=0.1,
+                          doc="puck: metres it may wander (jitter) and still be resting"),
     "name": Optional_(Str(), doc="stream: its name on the bus"),
     "columns": Optional_(ListOf(Number(integer=True, lo=0), min_len=1), doc="stream: columns"),
 })
@@ -288,7 +290,7 @@ def _make_performer(p: dict) -> Performer:
     for k, i in enumerate(p["inputs"]):
         if i["kind"] == "puck":
             inputs.append(PuckInput(i["id"], i["features"], i["rest_time"],
-                                    f"puck{i['id']}_" if many else ""))
+                                    f"puck{i['id']}_" if many else "", i["rest_radius"]))
         elif i["kind"] == "touch":
             inputs.append(TouchInput("touch_" if many else ""))
         else:

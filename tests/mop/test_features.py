@@ -47,7 +47,7 @@ def test_a_rest_ends_the_gesture_and_the_next_starts_where_the_puck_rests():
     assert mid[0] == pytest.approx(0.15)
     for i in range(40):  # resting for 1.3 s
         rest = pf.step(0.15, 0.0, 0.0, t + (i + 2) / 30)
-    assert rest[0] == pytest.approx(0.0) and rest[3] < pf.rest_speed
+    assert rest[0] == pytest.approx(0.0) and rest[3] < 0.02 and pf.resting
     short = PathFeatures(rest_time=5.0)
     for i in range(30):
         short.step(0.005 * i, 0.0, 0.0, i / 30)
