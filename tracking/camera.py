@@ -1,0 +1,329 @@
+"""Camera capture in its own thread: a device, a video file or a folder of images, newest frame only.
+
+``CameraSource`` grabs frames with ``cv2.VideoCapture`` (a device index such as ``0``, a device
+path such as ``/dev/video2``, a video file) or reads a folder of images in name order, hands each
+frame with its capture time (monotonic seconds) to a ``process`` callable (marker detection,
+mapping to the table) in the same thread, and keeps only the newest result. When the input
+vanishes (unplugged, file ended or removed, device error) the thread releases it and retries with
+a growing back-off; ``health()`` says what happened ("camera lost; reconnecting in 2.0 s") and
+the loop keeps running on the last observation. ``latest()`` never blocks and never raises.
+
+Files and folders are played at their frame rate (``fps``, else the file's own, else 30), as a
+camera would deliver them; when one ends it is opened again from its start after the back-off.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import threading
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Protocol
+
+import numpy as np
+
+from tabletop.frames import Observation, SourceHealth
+
+log = logging.getLogger("tabletop.camera")
+
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm", ".webp")
+
+# process(image, capture time s, frame number) -> the observation to publish (or None: skip).
+Process = Callable[[np.ndarray, float, int], "Observation | None"]
+
+
+@dataclass(frozen=True)
+class CameraSettings:
+    """Where frames come from and how. ``device``: an int index, or a device path, video file or
+    folder of images; ``resolution`` (width, height) px, ``fps`` and ``exposure`` (the driver's
+    units; V4L2: 100 us steps) are requested from devices, None leaves the driver's choice;
+    ``fps`` also paces files and folders. ``grey``: convert frames to 8-bit grey.
+    ``retry_min_s``/``retry_max_s``: back-off between reconnection attempts (doubling).
+    ``stall_s``: a device that delivers nothing for this long is reopened."""
+
+    device: int | str = 0
+    resolution: tuple[int, int] | None = None
+    fps: float | None = None
+    exposure: float | None = None
+    grey: bool = True
+    retry_min_s: float = 0.5
+    retry_max_s: float = 8.0
+    stall_s: float = 3.0
+
+
+class FrameReader(Protocol):
+    """An opened input: ``read()`` returns the next image, or None when it has ended or failed."""
+
+    paced_fps: float | None  # files and folders: deliver at this rate; devices: None
+
+    def read(self) -> np.ndarray | None: ...
+
+    def release(self) -> None: ...
+
+
+class InputLost(Exception):
+    """The input cannot be opened (or is gone); the message says what an operator would check."""
+
+
+def is_device(device: int | str) -> bool:
+    """True for a camera (an index or a /dev path), False for a file or folder."""
+    return isinstance(device, int) or str(device).startswith("/dev/")
+
+
+def describe(device: int | str) -> str:
+    return f"camera {device}" if isinstance(device, int) else str(device)
+
+
+class VideoReader:
+    """``cv2.VideoCapture`` on a device or a video file."""
+
+    def __init__(self, settings: CameraSettings) -> None:
+        import cv2
+        self.cv2 = cv2
+        dev = settings.device
+        if not is_device(dev) and not Path(dev).is_file():
+            raise InputLost(f"{dev} not found")
+        self.cap = cv2.VideoCapture(dev) if isinstance(dev, int) else cv2.VideoCapture(str(dev))
+        if not self.cap.isOpened():
+            self.cap.release()
+            raise InputLost(f"cannot open {describe(dev)}")
+        self.paced_fps: float | None = None
+        if is_device(dev):
+            self._configure(settings)
+        else:
+            own = self.cap.get(cv2.CAP_PROP_FPS)
+            self.paced_fps = settings.fps or (own if own and 0 < own < 1000 else 30.0)
+
+    def _configure(self, s: CameraSettings) -> None:
+        cv2, cap = self.cv2, self.cap
+        cap.set(cv2.CAP_PROP_BUFFERSIZE, 1)  # the newest frame, not a queue of old ones
+        if s.resolution is not None:
+            cap.set(cv2.CAP_PROP_FRAME_WIDTH, int(s.resolution[0]))
+            cap.set(cv2.CAP_PROP_FRAME_HEIGHT, int(s.resolution[1]))
+        if s.fps is not None:
+            cap.set(cv2.CAP_PROP_FPS, float(s.fps))
+        if s.exposure is not None:
+            cap.set(cv2.CAP_PROP_AUTO_EXPOSURE, 1)  # V4L2: 1 = manual, 3 = auto
+            cap.set(cv2.CAP_PROP_EXPOSURE, float(s.exposure))
+
+    def read(self) -> np.ndarray | None:
+        ok, image = self.cap.read()
+        return image if ok and image is not None else None
+
+    def release(self) -> None:
+        self.cap.release()
+
+
+class FolderReader:
+    """A folder of images taken in name order; ends after the last one."""
+
+    def __init__(self, settings: CameraSettings) -> None:
+        import cv2
+        self.cv2 = cv2
+        folder = Path(settings.device)
+        if not folder.is_dir():
+            raise InputLost(f"{folder} not found")
+        self.files = sorted(p for p in folder.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES)
+        if not self.files:
+            raise InputLost(f"{folder} has no images ({', '.join(IMAGE_SUFFIXES)})")
+        self.index = 0
+        self.paced_fps: float | None = settings.fps or 30.0
+
+    def read(self) -> np.ndarray | None:
+        while self.index < len(self.files):
+            path = self.files[self.index]
+            self.index += 1
+            image = self.cv2.imread(str(path), self.cv2.IMREAD_UNCHANGED)
+            if image is not None:
+                return image
+            if not path.exists():
+                return None  # the folder is going away: treat as lost
+            log.warning("%s: not a readable image; skipped", path)
+        return None
+
+    def release(self) -> None:
+        pass
+
+
+def open_reader(settings: CameraSettings) -> FrameReader:
+    """The reader for ``settings.device``: a folder reader for folders, else VideoCapture."""
+    dev = settings.device
+    if isinstance(dev, str) and not is_device(dev) and Path(dev).is_dir():
+        return FolderReader(settings)
+    return VideoReader(settings)
+
+
+def to_grey(image: np.ndarray) -> np.ndarray:
+    """8-bit grey from grey, BGR or BGRA (16-bit images are scaled down)."""
+    import cv2
+    if image.dtype != np.uint8:
+        image = cv2.convertScaleAbs(image, alpha=255.0 / max(float(image.max()), 1.0))
+    if image.ndim == 2:
+        return image
+    if image.shape[2] == 4:
+        return cv2.cvtColor(image, cv2.COLOR_BGRA2GRAY)
+    return cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+
+
+class CameraSource:
+    """A ``Source`` whose thread grabs and processes frames, keeping only the newest observation.
+
+    ``process(image, t, n)`` turns a frame (grey when ``settings.grey``) captured at ``t``
+    (monotonic s) into an Observation; without it the observation carries just the image.
+    ``opener`` opens the input (default :func:`open_reader`), ``clock`` gives monotonic seconds.
+    """
+
+    def __init__(self, name: str, settings: CameraSettings, process: Process | None = None,
+                 opener: Callable[[CameraSettings], FrameReader] = open_reader,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.name, self.settings, self.clock = name, settings, clock
+        self.process = process or (lambda image, t, n: Observation(name, t, n, image=image))
+        self.opener = opener
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._latest: Observation | None = None
+        self._last_frame_t = -math.inf
+        self._frames = 0
+        self._ok = False
+        self._message = "starting"
+        self._retry_at: float | None = None
+        self.reconnects = 0  # successful reopenings after a loss (for the overlay and tests)
+
+    # ------------------------------------------------------------------ Source protocol
+    def open(self) -> None:
+        if self._thread is not None:
+            return
+        self._stop.clear()
+        self._thread = threading.Thread(target=self._run, name=f"camera:{self.name}", daemon=True)
+        self._thread.start()
+
+    def latest(self) -> Observation | None:
+        with self._lock:
+            return self._latest
+
+    def health(self) -> SourceHealth:
+        now = self.clock()
+        with self._lock:
+            age = now - self._last_frame_t
+            ok, message = self._ok, self._message
+            if self._retry_at is not None:
+                message = f"{message}; reconnecting in {max(0.0, self._retry_at - now):.1f} s"
+        if ok and age > self.settings.stall_s:
+            ok, message = False, f"no frame for {age:.1f} s"
+        return SourceHealth(self.name, ok, message, age)
+
+    def close(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=5.0)
+            self._thread = None
+
+    # ------------------------------------------------------------------ the capture thread
+    def _set(self, ok: bool, message: str, retry_at: float | None = None) -> None:
+        with self._lock:
+            self._ok, self._message, self._retry_at = ok, message, retry_at
+
+    def _run(self) -> None:
+        delay = self.settings.retry_min_s
+        opened_before = False
+        while not self._stop.is_set():
+            what = describe(self.settings.device)
+            try:
+                reader = self.opener(self.settings)
+            except InputLost as exc:
+                reason = str(exc)
+            except Exception as exc:  # a driver error must not end the thread
+                reason = f"cannot open {what}: {exc}"
+            else:
+                if opened_before:
+                    self.reconnects += 1
+                opened_before = True
+                self._set(True, f"{what} open")
+                try:
+                    reason, delivered = self._grab(reader)
+                finally:
+                    try:
+                        reader.release()
+                    except Exception:
+                        log.exception("%s: release failed", what)
+                if delivered:
+                    delay = self.settings.retry_min_s
+            if self._stop.is_set():
+                break
+            log.warning("%s: %s; retrying in %.1f s", self.name, reason, delay)
+            self._set(False, reason, self.clock() + delay)
+            self._stop.wait(delay)
+            delay = min(delay * 2.0, self.settings.retry_max_s)
+        self._set(False, "closed")
+
+    def _grab(self, reader: FrameReader) -> tuple[str, bool]:
+        """Read until the input ends or fails; returns (why it stopped, whether frames came)."""
+        what = describe(self.settings.device)
+        period = 1.0 / reader.paced_fps if reader.paced_fps else 0.0
+        next_t = self.clock()
+        delivered = False
+        last_good = self.clock()
+        while not self._stop.is_set():
+            if period:
+                wait = next_t - self.clock()
+                if wait > 0 and self._stop.wait(wait):
+                    break
+                next_t = max(next_t + period, self.clock() - period)
+            try:
+                image = reader.read()
+            except Exception as exc:
+                return f"{what} failed: {exc}", delivered
+            t = self.clock()
+            if image is None:
+                if is_device(self.settings.device):
+                    if t - last_good < self.settings.stall_s:
+                        self._stop.wait(0.01)
+                        continue
+                    return f"{what} lost", delivered
+                return f"{what} ended", delivered
+            last_good = t
+            delivered = True
+            self._publish(image, t)
+        return "closed", delivered
+
+    def _publish(self, image: np.ndarray, t: float) -> None:
+        if self.settings.grey:
+            image = to_grey(image)
+        n = self._frames + 1
+        try:
+            obs = self.process(image, t, n)
+        except Exception as exc:  # keep grabbing: a bad frame must not stop the camera
+            log.exception("%s: processing a frame failed", self.name)
+            self._set(False, f"processing failed: {exc}")
+            return
+        with self._lock:
+            self._frames = n
+            self._last_frame_t = t
+            if obs is not None:
+                self._latest = obs
+            if not self._ok:
+                self._ok, self._message, self._retry_at = True, f"{describe(self.settings.device)} open", None
+
+    @property
+    def frames(self) -> int:
+        """Frames processed since opening."""
+        return self._frames
+
+
+def settings_from_options(options: dict[str, Any]) -> CameraSettings:
+    """CameraSettings from a validated config mapping (keys as in CameraSettings)."""
+    dev = options.get("device", 0)
+    if isinstance(dev, str) and dev.isdigit():
+        dev = int(dev)
+    if isinstance(dev, os.PathLike):
+        dev = str(dev)
+    res = options.get("resolution")
+    return CameraSettings(
+        device=dev, resolution=None if res is None else (int(res[0]), int(res[1])),
+        fps=options.get("fps"), exposure=options.get("exposure"), grey=options.get("grey", True),
+        retry_min_s=options.get("retry_min_s", 0.5), retry_max_s=options.get("retry_max_s", 8.0),
+        stall_s=options.get("stall_s", 3.0))
