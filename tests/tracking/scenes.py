@@ -1,0 +1,43 @@
+"""Scenes for the tracking tests and benchmark: pucks laid out without overlap on the table."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def grid_poses(n: int, table: tuple[float, float] = (1.2, 0.8), seed: int = 0,
+               jitter: float = 0.02, first_id: int = 0) -> list[tuple[int, float, float, float]]:
+    """``n`` pucks (ids first_id..) on a jittered grid over the table, random headings."""
+    rng = np.random.default_rng(seed)
+    cols = int(math.ceil(math.sqrt(n * table[0] / table[1])))
+    rows = int(math.ceil(n / cols))
+    out = []
+    for k in range(n):
+        r, c = divmod(k, cols)
+        x = (c + 0.5) / cols * table[0] + rng.uniform(-jitter, jitter)
+        y = (r + 0.5) / rows * table[1] + rng.uniform(-jitter, jitter)
+        out.append((first_id + k, x, y, float(rng.uniform(-math.pi, math.pi))))
+    return out
+
+
+def moving_scene(n: int, frames: int, fps: float, table: tuple[float, float] = (1.2, 0.8),
+                 speed: float = 0.3, seed: int = 0):
+    """Yield (t, poses, velocities) of ``n`` pucks circling around their grid places."""
+    base = grid_poses(n, table, seed)
+    rng = np.random.default_rng(seed + 1)
+    radius = min(table[0], table[1]) / (2.5 * math.ceil(math.sqrt(n)))
+    phase = rng.uniform(0, 2 * math.pi, n)
+    direction = rng.choice([-1.0, 1.0], n)
+    w = speed / radius
+    for k in range(frames):
+        t = k / fps
+        poses, vels = [], []
+        for i, (pid, x, y, a) in enumerate(base):
+            ph = phase[i] + direction[i] * w * t
+            poses.append((pid, x + radius * math.cos(ph), y + radius * math.sin(ph),
+                          math.remainder(a + 0.5 * direction[i] * t, math.tau)))
+            vels.append((-radius * w * direction[i] * math.sin(ph),
+                         radius * w * direction[i] * math.cos(ph)))
+        yield t, poses, vels

@@ -1,0 +1,84 @@
+"""Region-of-interest detection: same markers as a full frame, found again after entering."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tracking.markers import DetectorSettings, detect_markers, make_detector, marker_centres
+from tracking.roi import MarkerTracker, boxes_around, merge_boxes, pack_boxes
+from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
+from tests.tracking.scenes import grid_poses, moving_scene
+
+
+def test_merge_only_when_it_saves_pixels_and_packing_does_not_overlap():
+    boxes = [(0, 0, 100, 100), (10, 10, 105, 105), (300, 300, 400, 400), (390, 390, 490, 490)]
+    merged = merge_boxes(boxes)
+    assert (0, 0, 105, 105) in merged          # nearly the same box: one crop
+    assert (300, 300, 400, 400) in merged       # a small overlap: two crops
+    places, (w, h) = pack_boxes(merged, gap=8)
+    rects = [(x, y, x + b[2] - b[0], y + b[3] - b[1]) for (x, y), b in zip(places, merged)]
+    for i, a in enumerate(rects):
+        assert a[2] <= w and a[3] <= h
+        for b in rects[i + 1:]:
+            assert a[2] + 8 <= b[0] or b[2] + 8 <= a[0] or a[3] + 8 <= b[1] or b[3] + 8 <= a[1]
+    assert boxes_around(np.array([[5.0, 5.0]]), np.array([20.0]), 50, 50) == [(0, 0, 26, 26)]
+
+
+def test_roi_tracking_matches_ground_truth_and_uses_roi_passes():
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=7))
+    frames = [cam.render(p, t, v) for t, p, v in moving_scene(16, 9, 30.0, speed=0.5, seed=7)]
+    mt = MarkerTracker(full_period=3)
+    passes, errs, found, visible = [], [], 0, 0
+    for f in frames:
+        ids, corners = mt.detect(f.image)
+        passes.append(mt.last_pass)
+        assert set(ids.tolist()) <= set(f.ids.tolist())
+        c = marker_centres(corners)
+        for i, pid in enumerate(f.ids):
+            if f.visible[i]:
+                visible += 1
+                m = np.flatnonzero(ids == pid)
+                if len(m):
+                    found += 1
+                    errs.append(np.hypot(*(c[m[0]] - f.centres[i])))
+    assert passes.count("roi") == 6
+    assert found / visible >= 0.99
+    assert np.median(errs) <= 0.5 and np.percentile(errs, 95) <= 1.5
+
+
+def test_marker_entering_anywhere_is_found_within_full_period():
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=2))
+    base = grid_poses(4, seed=1)
+    newcomer = (30, 0.15, 0.65, 0.3)
+    for start in range(3):  # appear at every phase of the full-pass cycle
+        mt = MarkerTracker(full_period=3)
+        for k in range(8):
+            poses = base + ([newcomer] if k >= start + 2 else [])
+            ids, _ = mt.detect(cam.render(poses, k / 30.0).image)
+            if k >= start + 2 and 30 in ids.tolist():
+                assert k - (start + 2) <= 2
+                break
+        else:
+            raise AssertionError("newcomer never found")
+
+
+def test_external_predictions_steer_the_crops():
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=4))
+    poses = grid_poses(4, seed=9)
+    f = cam.render(poses)
+    mt = MarkerTracker(full_period=100)
+    mt.detect(f.image)  # first frame: full pass
+    truth = {int(i): tuple(c) for i, c in zip(f.ids, f.centres)}
+    only_two = {k: truth[k] for k in list(truth)[:2]}
+    ids, _ = mt.detect(f.image, only_two)
+    assert mt.last_pass == "roi" and sorted(ids.tolist()) == sorted(only_two)
+
+
+def test_occluded_marker_is_not_reported():
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=4))
+    poses = grid_poses(4, seed=9)
+    _, x, y, _ = poses[0]
+    f = cam.render(poses, occluders=[Occluder(x - 0.02, y, 0.0, 0.12)])
+    assert not f.visible[0]
+    ids, _ = detect_markers(f.image, make_detector(DetectorSettings()))
+    assert poses[0][0] not in ids.tolist()

@@ -1,0 +1,166 @@
+"""Fiducial marker detection with OpenCV's objdetect ``ArucoDetector``: grey image -> ids, corners.
+
+ArUco and AprilTag dictionaries are both OpenCV predefined dictionaries (``DICT_4X4_50``,
+``DICT_APRILTAG_36h11``, ...). Corners come back as float pixels (x right, y down) in OpenCV's
+order: c0 is the marker's printed top-left corner, then clockwise as printed. A marker's pose in
+the image is its centre (the intersection of its diagonals, exact under perspective) and its
+heading ``atan2(c1.y - c0.y, c1.x - c0.x)`` (image y down).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+CORNER_REFINEMENTS = {
+    "none": cv2.aruco.CORNER_REFINE_NONE,
+    "subpix": cv2.aruco.CORNER_REFINE_SUBPIX,
+    "contour": cv2.aruco.CORNER_REFINE_CONTOUR,
+    "apriltag": cv2.aruco.CORNER_REFINE_APRILTAG,
+}
+
+
+def dictionary_names() -> list[str]:
+    """Every predefined dictionary name OpenCV knows (``DICT_...``), sorted."""
+    return sorted(n for n in dir(cv2.aruco) if n.startswith("DICT_")
+                  and isinstance(getattr(cv2.aruco, n), int))
+
+
+def dictionary_by_name(name: str) -> cv2.aruco.Dictionary:
+    """OpenCV's predefined dictionary ``name``; ValueError naming the choices if unknown."""
+    code = getattr(cv2.aruco, name, None) if name.startswith("DICT_") else None
+    if not isinstance(code, int):
+        raise ValueError(f"unknown marker dictionary {name!r} (OpenCV names such as DICT_4X4_50, "
+                         f"DICT_6X6_250, DICT_APRILTAG_36h11)")
+    return cv2.aruco.getPredefinedDictionary(code)
+
+
+@dataclass(frozen=True)
+class DetectorSettings:
+    """Detector options. ``corner_refinement``: none, subpix, contour or apriltag (slow);
+    ``error_correction_rate``: share of the dictionary's correction capacity used (lower admits
+    fewer false ids); ``valid_bit_id_threshold``: OpenCV's ``validBitIdThreshold`` (a rate in
+    0..1, default 0.49; with the correction rate it guards against false positives); ``threshold_window_px``: adaptive
+    threshold window sizes (min, max, step) in pixels; ``min_perimeter_rate``: smallest marker
+    perimeter as a fraction of the image's larger side; ``aruco3``: OpenCV's ArUco3 fast mode with
+    ``min_length_ratio`` (smallest marker side / image's larger side)."""
+
+    dictionary: str = "DICT_4X4_50"
+    corner_refinement: str = "subpix"
+    error_correction_rate: float = 0.6
+    valid_bit_id_threshold: float = 0.49
+    threshold_window_px: tuple[int, int, int] = (3, 23, 10)
+    min_perimeter_rate: float = 0.03
+    subpix_window_px: int = 5
+    aruco3: bool = False
+    min_length_ratio: float = 0.0
+    min_canonical_side_px: int = 32
+
+
+def detector_parameters(s: DetectorSettings) -> cv2.aruco.DetectorParameters:
+    """OpenCV ``DetectorParameters`` for ``s``."""
+    p = cv2.aruco.DetectorParameters()
+    if s.corner_refinement not in CORNER_REFINEMENTS:
+        raise ValueError(f"unknown corner refinement {s.corner_refinement!r}")
+    p.cornerRefinementMethod = CORNER_REFINEMENTS[s.corner_refinement]
+    p.cornerRefinementWinSize = int(s.subpix_window_px)
+    p.errorCorrectionRate = float(s.error_correction_rate)
+    p.validBitIdThreshold = float(s.valid_bit_id_threshold)
+    lo, hi, step = (int(v) for v in s.threshold_window_px)
+    p.adaptiveThreshWinSizeMin = max(3, lo)
+    p.adaptiveThreshWinSizeMax = max(p.adaptiveThreshWinSizeMin, hi)
+    p.adaptiveThreshWinSizeStep = max(1, step)
+    p.minMarkerPerimeterRate = float(s.min_perimeter_rate)
+    if s.aruco3:
+        p.useAruco3Detection = True
+        p.minMarkerLengthRatioOriginalImg = float(s.min_length_ratio)
+        p.minSideLengthCanonicalImg = int(s.min_canonical_side_px)
+    return p
+
+
+def make_detector(s: DetectorSettings) -> cv2.aruco.ArucoDetector:
+    """An ``ArucoDetector`` for the settings (dictionary and parameters)."""
+    return cv2.aruco.ArucoDetector(dictionary_by_name(s.dictionary), detector_parameters(s))
+
+
+def detect_markers(grey: np.ndarray, detector: cv2.aruco.ArucoDetector
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Detect markers in an 8-bit grey image: ids (N,) int and corners (N, 4, 2) float pixels."""
+    if grey.ndim == 3:
+        grey = cv2.cvtColor(grey, cv2.COLOR_BGR2GRAY)
+    corners, ids, _ = detector.detectMarkers(grey)
+    if ids is None or len(ids) == 0:
+        return np.zeros(0, int), np.zeros((0, 4, 2))
+    return (np.asarray(ids, int).reshape(-1),
+            np.asarray(corners, float).reshape(-1, 4, 2))
+
+
+_SUBPIX_CRITERIA = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_COUNT, 30, 0.01)
+
+
+def refine_corners(grey: np.ndarray, corners: np.ndarray, window_px: int = 5) -> np.ndarray:
+    """Sub-pixel refinement (``cv2.cornerSubPix``) of corners (N, 4, 2) in ``grey``; the window
+    shrinks for small markers so it never spans more than a quarter of a side."""
+    if len(corners) == 0:
+        return corners
+    out = np.array(corners, np.float32).reshape(-1, 4, 2)
+    sides = np.linalg.norm(out - np.roll(out, 1, axis=1), axis=2).min(axis=1)
+    for i in range(len(out)):
+        w = int(max(2, min(window_px, sides[i] / 4.0)))
+        pts = out[i].reshape(-1, 1, 2)
+        cv2.cornerSubPix(grey, pts, (w, w), (-1, -1), _SUBPIX_CRITERIA)
+        out[i] = pts.reshape(4, 2)
+    return out.astype(float)
+
+
+def marker_centres(corners: np.ndarray) -> np.ndarray:
+    """Centres (N, 2) of markers with corners (N, 4, 2): the intersection of the diagonals
+    c0-c2 and c1-c3 (the projected centre, exact under perspective); the corner mean where the
+    diagonals are degenerate."""
+    c = np.asarray(corners, float).reshape(-1, 4, 2)
+    p, r = c[:, 0], c[:, 2] - c[:, 0]
+    q, s = c[:, 1], c[:, 3] - c[:, 1]
+    denom = r[:, 0] * s[:, 1] - r[:, 1] * s[:, 0]
+    qp = q - p
+    ok = np.abs(denom) > 1e-9
+    tpar = np.where(ok, (qp[:, 0] * s[:, 1] - qp[:, 1] * s[:, 0]) / np.where(ok, denom, 1.0), 0.5)
+    centre = p + tpar[:, None] * r
+    return np.where(ok[:, None], centre, c.mean(axis=1))
+
+
+def marker_headings(corners: np.ndarray) -> np.ndarray:
+    """Headings (N,) radians: ``atan2(c1.y - c0.y, c1.x - c0.x)`` in the corners' own frame."""
+    c = np.asarray(corners, float).reshape(-1, 4, 2)
+    d = c[:, 1] - c[:, 0]
+    return np.arctan2(d[:, 1], d[:, 0])
+
+
+def marker_poses(corners: np.ndarray) -> np.ndarray:
+    """Poses (N, 3): centre x, y and heading (see :func:`marker_centres`, :func:`marker_headings`)."""
+    c = np.asarray(corners, float).reshape(-1, 4, 2)
+    return np.column_stack([marker_centres(c), marker_headings(c)]) if len(c) else np.zeros((0, 3))
+
+
+def marker_side_lengths(corners: np.ndarray) -> np.ndarray:
+    """Mean side length (N,) of each marker, in the corners' units."""
+    c = np.asarray(corners, float).reshape(-1, 4, 2)
+    return np.linalg.norm(c - np.roll(c, 1, axis=1), axis=2).mean(axis=1)
+
+
+def heading_in_table(corners_table: np.ndarray) -> np.ndarray:
+    """Headings (N,) of markers whose corners are already in table coordinates (y up).
+
+    The table frame is right-handed with y up while the image is y down, so a marker seen with
+    c0 -> c1 pointing along image +x has table heading ``atan2(c1.y - c0.y, c1.x - c0.x)`` in
+    table coordinates: the same formula, applied after mapping the corners.
+    """
+    return marker_headings(corners_table)
+
+
+def angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Absolute angular difference in radians, in [0, pi]."""
+    d = np.remainder(np.asarray(a, float) - np.asarray(b, float) + math.pi, 2 * math.pi) - math.pi
+    return np.abs(d)

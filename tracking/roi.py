@@ -1,0 +1,259 @@
+"""Region-of-interest marker detection: look for known pucks around their predicted positions,
+and search the whole frame periodically with a fast pass so new or returning pucks are found.
+
+The region-of-interest pass crops a box around each predicted marker centre, merges overlapping
+boxes, packs the crops side by side into one small mosaic image and runs the detector once on
+the mosaic (one call instead of one per crop). The full-frame pass runs every ``full_period``
+frames (so a marker appearing anywhere is found within ``full_period`` frames) with fast settings
+(a single adaptive-threshold window, optionally OpenCV's ArUco3 mode). Both passes refine the
+found corners with ``cv2.cornerSubPix`` on the original image. Units: image pixels.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from tracking.markers import (DetectorSettings, detect_markers, detector_parameters,
+                              make_detector, marker_centres, marker_side_lengths, refine_corners)
+
+Box = tuple[int, int, int, int]  # x0, y0, x1, y1 (exclusive), pixels
+
+FAST_FULL = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10))
+ROI = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10),
+                       min_perimeter_rate=0.01)
+
+
+def boxes_around(centres: np.ndarray, half_sizes: np.ndarray, width: int, height: int
+                 ) -> list[Box]:
+    """Square boxes (clipped to the image) of half size ``half_sizes`` around ``centres`` (N, 2)."""
+    out = []
+    for (cx, cy), h in zip(np.asarray(centres, float), np.asarray(half_sizes, float)):
+        if not (math.isfinite(cx) and math.isfinite(cy)):
+            continue
+        x0, y0 = max(0, int(math.floor(cx - h))), max(0, int(math.floor(cy - h)))
+        x1, y1 = min(width, int(math.ceil(cx + h)) + 1), min(height, int(math.ceil(cy + h)) + 1)
+        if x1 - x0 >= 8 and y1 - y0 >= 8:
+            out.append((x0, y0, x1, y1))
+    return out
+
+
+def _area(b: Box) -> int:
+    return (b[2] - b[0]) * (b[3] - b[1])
+
+
+def merge_boxes(boxes: list[Box]) -> list[Box]:
+    """Merge overlapping boxes into their bounding box wherever that costs no more pixels than
+    the two crops apart, until no such pair is left (other overlaps stay as separate crops)."""
+    merged = list(boxes)
+    changed = True
+    while changed:
+        changed = False
+        for i in range(len(merged)):
+            for j in range(i + 1, len(merged)):
+                a, b = merged[i], merged[j]
+                if not (a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]):
+                    continue
+                u = (min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3]))
+                if _area(u) <= _area(a) + _area(b):
+                    merged[i] = u
+                    del merged[j]
+                    changed = True
+                    break
+            if changed:
+                break
+    return merged
+
+
+def pack_boxes(boxes: list[Box], gap: int) -> tuple[list[tuple[int, int]], tuple[int, int]]:
+    """Shelf-pack boxes into a mosaic: each box's top-left (x, y) in the mosaic, and the mosaic's
+    (width, height). ``gap`` pixels separate neighbouring crops."""
+    if not boxes:
+        return [], (0, 0)
+    sizes = [(b[2] - b[0], b[3] - b[1]) for b in boxes]
+    area = sum((w + gap) * (h + gap) for w, h in sizes)
+    shelf_w = max(max(w for w, _ in sizes) + 2 * gap, int(math.sqrt(area) * 1.3))
+    order = sorted(range(len(boxes)), key=lambda i: -sizes[i][1])
+    places: list[tuple[int, int]] = [(0, 0)] * len(boxes)
+    x, y, row_h, width = gap, gap, 0, 0
+    for i in order:
+        w, h = sizes[i]
+        if x + w + gap > shelf_w and x > gap:
+            x, y, row_h = gap, y + row_h + gap, 0
+        places[i] = (x, y)
+        x += w + gap
+        row_h = max(row_h, h)
+        width = max(width, x)
+    return places, (width, y + row_h + gap)
+
+
+def dedupe(ids: np.ndarray, corners: np.ndarray, tol_px: float = 3.0
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """Drop repeated detections of one marker (same id, centres within ``tol_px``), as found
+    in two overlapping crops; different places with one id are kept for the tracker to judge."""
+    centres = marker_centres(corners)
+    keep: list[int] = []
+    for i in range(len(ids)):
+        if not any(ids[j] == ids[i] and np.hypot(*(centres[j] - centres[i])) <= tol_px
+                   for j in keep):
+            keep.append(i)
+    return ids[keep], corners[keep]
+
+
+@dataclass
+class _Known:
+    centre: np.ndarray
+    side: float
+    velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    frame: int = 0
+
+
+class MarkerTracker:
+    """Fast marker detection for a video stream: region-of-interest passes around predictions and
+    a periodic full-frame pass.
+
+    ``detect(grey, predictions_px)`` returns ids (N,) and refined corners (N, 4, 2) in pixels.
+    ``predictions_px`` maps marker id -> predicted centre (x, y) pixels for this frame (for
+    example from the puck tracker); without it the detector predicts from its own last two
+    detections. ``full_period``: a full-frame pass every that many frames (1: always).
+    ``roi_margin_sides``/``roi_margin_px``: a crop reaches half the marker's diagonal plus that
+    many marker sides plus pixels (plus half a frame of motion) beyond the predicted centre.
+    """
+
+    def __init__(self, full: DetectorSettings = FAST_FULL, roi: DetectorSettings = ROI,
+                 full_period: int = 3, roi_margin_sides: float = 0.4, roi_margin_px: float = 8.0,
+                 refine_window_px: int = 5, gap_px: int = 8, forget_frames: int = 30) -> None:
+        if full_period < 1:
+            raise ValueError("full_period must be at least 1")
+        self.full_detector = make_detector(full)
+        self.roi_detector = make_detector(roi)
+        self._roi_params = detector_parameters(roi)
+        self._roi_rate = -1.0
+        self.full_period = int(full_period)
+        self.roi_margin_sides, self.roi_margin_px = float(roi_margin_sides), float(roi_margin_px)
+        self.refine_window_px, self.gap_px = int(refine_window_px), int(gap_px)
+        self.forget_frames = int(forget_frames)
+        self.frame = 0
+        self.known: dict[int, _Known] = {}
+        self.last_pass = "full"
+
+    def reset(self) -> None:
+        """Forget every marker and start with a full-frame pass."""
+        self.known.clear()
+        self.frame = 0
+
+    def predict(self) -> dict[int, tuple[float, float]]:
+        """Own prediction of each recently seen marker's centre for the next frame (pixels)."""
+        out = {}
+        for mid, k in self.known.items():
+            steps = self.frame - k.frame
+            if steps <= self.forget_frames:
+                c = k.centre + k.velocity * steps
+                out[mid] = (float(c[0]), float(c[1]))
+        return out
+
+    def detect(self, grey: np.ndarray, predictions_px: Mapping[int, tuple[float, float]] | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
+        """Detect markers in this frame of the stream: ids (N,), corners (N, 4, 2) pixels."""
+        if grey.ndim == 3:
+            import cv2
+            grey = cv2.cvtColor(grey, cv2.COLOR_BGR2GRAY)
+        self.frame += 1
+        preds = self.predict() if predictions_px is None else dict(predictions_px)
+        full = (self.frame - 1) % self.full_period == 0 or not preds
+        if full:
+            ids, corners = detect_markers(grey, self.full_detector)
+            self.last_pass = "full"
+        else:
+            ids, corners = self._detect_regions(grey, preds)
+            self.last_pass = "roi"
+        corners = refine_corners(grey, corners, self.refine_window_px)
+        self._remember(ids, corners)
+        return ids, corners
+
+    def _half_size(self, mid: int) -> float:
+        k = self.known.get(mid)
+        if k is not None:
+            side = k.side
+            speed = float(np.hypot(*k.velocity))
+        else:
+            sides = [v.side for v in self.known.values()]
+            side = float(np.median(sides)) if sides else 40.0
+            speed = 0.0
+        # Half the marker's diagonal, a quiet zone, and room for half a frame of motion.
+        return side * (0.71 + self.roi_margin_sides) + self.roi_margin_px + 0.5 * speed
+
+    def regions(self, shape: tuple[int, ...], predictions_px: Mapping[int, tuple[float, float]]
+                ) -> list[Box]:
+        """The merged crop boxes for these predictions in an image of ``shape``."""
+        if not predictions_px:
+            return []
+        mids = list(predictions_px)
+        centres = np.array([predictions_px[m] for m in mids], float).reshape(-1, 2)
+        halves = np.array([self._half_size(m) for m in mids])
+        return merge_boxes(boxes_around(centres, halves, shape[1], shape[0]))
+
+    def _detect_regions(self, grey: np.ndarray, preds: Mapping[int, tuple[float, float]]
+                        ) -> tuple[np.ndarray, np.ndarray]:
+        boxes = self.regions(grey.shape, preds)
+        if not boxes:
+            return np.zeros(0, int), np.zeros((0, 4, 2))
+        places, (mw, mh) = pack_boxes(boxes, self.gap_px)
+        mosaic = np.full((mh, mw), 128, np.uint8)
+        for (x0, y0, x1, y1), (px, py) in zip(boxes, places):
+            mosaic[py:py + y1 - y0, px:px + x1 - x0] = grey[y0:y1, x0:x1]
+        self._set_min_perimeter(preds, max(mw, mh))
+        ids, corners = detect_markers(mosaic, self.roi_detector)
+        keep_ids, keep = [], []
+        for mid, c in zip(ids, corners):
+            centre = c.mean(axis=0)
+            for (x0, y0, x1, y1), (px, py) in zip(boxes, places):
+                w, h = x1 - x0, y1 - y0
+                if px <= centre[0] < px + w and py <= centre[1] < py + h:
+                    local = c - (px, py)
+                    # Only markers wholly inside their crop (not cut by its edge).
+                    if (local.min() >= 1.0 and np.all(local[:, 0] <= w - 2)
+                            and np.all(local[:, 1] <= h - 2)):
+                        keep_ids.append(int(mid))
+                        keep.append(local + (x0, y0))
+                    break
+        if not keep:
+            return np.zeros(0, int), np.zeros((0, 4, 2))
+        return dedupe(np.array(keep_ids, int), np.array(keep, float))
+
+    def _set_min_perimeter(self, preds: Mapping[int, tuple[float, float]], size: int) -> None:
+        """Ignore contours shorter than half the smallest expected marker's perimeter: on a small
+        mosaic a rate relative to its size would admit every speck of noise (and cost time)."""
+        sides = [self.known[m].side for m in preds if m in self.known]
+        side = 0.5 * min(sides) if sides else 12.0
+        rate = float(np.clip(4.0 * side / max(size, 1), 0.005, 1.0))
+        if abs(rate - self._roi_rate) > 0.1 * rate:
+            self._roi_params.minMarkerPerimeterRate = rate
+            self.roi_detector.setDetectorParameters(self._roi_params)
+            self._roi_rate = rate
+
+    def _remember(self, ids: np.ndarray, corners: np.ndarray) -> None:
+        if len(ids) == 0:
+            self._forget()
+            return
+        centres = marker_centres(corners)
+        sides = marker_side_lengths(corners)
+        for mid, c, s in zip(ids, centres, sides):
+            k = self.known.get(int(mid))
+            if k is None:
+                self.known[int(mid)] = _Known(c, float(s), frame=self.frame)
+            else:
+                steps = max(1, self.frame - k.frame)
+                v = (c - k.centre) / steps
+                # A duplicate or a jump is not a velocity: keep the old one.
+                if np.hypot(*v) < 2.0 * k.side:
+                    k.velocity = v
+                k.centre, k.side, k.frame = c, float(s), self.frame
+        self._forget()
+
+    def _forget(self) -> None:
+        for mid in [m for m, k in self.known.items() if self.frame - k.frame > self.forget_frames]:
+            del self.known[mid]
