@@ -58,6 +58,8 @@ class FrameReader(Protocol):
     """An opened input: ``read()`` returns the next image, or None when it has ended or failed."""
 
     paced_fps: float | None  # files and folders: deliver at this rate; devices: None
+    # A reader may also set ``capture_t`` (monotonic s) to the shutter time of the image it
+    # returned; otherwise the time read() returned is taken.
 
     def read(self) -> np.ndarray | None: ...
 
@@ -278,6 +280,7 @@ class CameraSource:
             except Exception as exc:
                 return f"{what} failed: {exc}", delivered
             t = self.clock()
+            shutter = getattr(reader, "capture_t", None)  # a reader that knows its shutter time
             if image is None:
                 if is_device(self.settings.device):
                     if t - last_good < self.settings.stall_s:
@@ -287,7 +290,7 @@ class CameraSource:
                 return f"{what} ended", delivered
             last_good = t
             delivered = True
-            self._publish(image, t)
+            self._publish(image, t if shutter is None else shutter)
         return "closed", delivered
 
     def _publish(self, image: np.ndarray, t: float) -> None:

@@ -384,3 +384,26 @@ class SyntheticCamera:
             if np.any((m > 0) & (mask[lo[1]:hi[1], lo[0]:hi[0]] > 0)):
                 vis[i] = False
         return vis
+
+
+def scripted_hands(t: float, table: tuple[float, float], every_s: float = 12.0,
+                   duration_s: float = 1.6, size: float = 0.1, seed: int = 0) -> list[Occluder]:
+    """A visitor's hand reaching over the table now and then: a pure function of time ``t`` (s).
+
+    Every ``every_s`` seconds a hand comes in over the near edge (y = 0), reaches a seeded
+    point on the table, lingers and withdraws, within ``duration_s``. Returns the hands at t
+    (none between passes, or when ``every_s`` <= 0)."""
+    if every_s <= 0 or t < 0:
+        return []
+    k = int(t // every_s)
+    phase = (t - k * every_s) / duration_s
+    if not 0.0 <= phase <= 1.0:
+        return []
+    rng = np.random.default_rng([seed, k])
+    w, h = table
+    target = np.array([rng.uniform(0.15, 0.85) * w, rng.uniform(0.25, 0.8) * h])
+    entry = np.array([target[0] + rng.uniform(-0.2, 0.2) * w, -1.2 * size])
+    reach = min(1.0, 1.6 * math.sin(math.pi * phase))  # in, linger, out
+    p = entry + (target - entry) * reach
+    angle = math.atan2(target[1] - entry[1], target[0] - entry[0])
+    return [Occluder(float(p[0]), float(p[1]), angle, size)]
