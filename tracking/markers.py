@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import cv2
 import numpy as np
+
+from tabletop.frames import PuckMeasurement
 
 CORNER_REFINEMENTS = {
     "none": cv2.aruco.CORNER_REFINE_NONE,
@@ -150,14 +153,28 @@ def marker_side_lengths(corners: np.ndarray) -> np.ndarray:
     return np.linalg.norm(c - np.roll(c, 1, axis=1), axis=2).mean(axis=1)
 
 
-def heading_in_table(corners_table: np.ndarray) -> np.ndarray:
-    """Headings (N,) of markers whose corners are already in table coordinates (y up).
+def marker_measurements(ids: np.ndarray, corners: np.ndarray, t: float,
+                        image_to_table: Callable[[np.ndarray], np.ndarray] | None = None,
+                        id_map: dict[int, int] | None = None) -> tuple[PuckMeasurement, ...]:
+    """Puck measurements from detected markers at time ``t`` (s).
 
-    The table frame is right-handed with y up while the image is y down, so a marker seen with
-    c0 -> c1 pointing along image +x has table heading ``atan2(c1.y - c0.y, c1.x - c0.x)`` in
-    table coordinates: the same formula, applied after mapping the corners.
+    Without ``image_to_table`` the pose is in pixels (DESIGN.md "track" contract). With it (a
+    map of (N, 2) pixels to table metres, e.g. a calibration's), the four corners are mapped
+    first, so the centre is the table point under the marker's centre and the heading is the
+    direction c0 -> c1 on the table (radians CCW from +x). ``id_map`` renames marker ids to puck
+    ids (markers not in it keep their id).
     """
-    return marker_headings(corners_table)
+    c = np.asarray(corners, float).reshape(-1, 4, 2)
+    if len(c) == 0:
+        return ()
+    if image_to_table is not None:
+        c = np.asarray(image_to_table(c.reshape(-1, 2)), float).reshape(-1, 4, 2)
+    poses = marker_poses(c)
+    out = []
+    for mid, (x, y, a) in zip(np.asarray(ids).reshape(-1), poses):
+        pid = int(mid) if id_map is None else int(id_map.get(int(mid), int(mid)))
+        out.append(PuckMeasurement(pid, float(x), float(y), float(a), float(t)))
+    return tuple(out)
 
 
 def angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -41,3 +41,37 @@ def moving_scene(n: int, frames: int, fps: float, table: tuple[float, float] = (
             vels.append((-radius * w * direction[i] * math.sin(ph),
                          radius * w * direction[i] * math.cos(ph)))
         yield t, poses, vels
+
+
+class CameraPipeline:
+    """Synthetic camera frames -> region-of-interest detection -> puck tracker, in table metres
+    (the camera's exact homography stands in for a calibration)."""
+
+    def __init__(self, cam, settings=None, full_period: int = 3) -> None:
+        from tracking.pucks import PuckTracker
+        from tracking.roi import MarkerTracker
+        self.cam = cam
+        self.detector = MarkerTracker(full_period=full_period)
+        self.tracker = PuckTracker(settings)
+        self.H_img_to_table = cam.image_to_table_homography()
+        self.H_table_to_img = cam.table_to_image_homography()
+
+    def to_table(self, px: np.ndarray) -> np.ndarray:
+        hp = np.column_stack([px, np.ones(len(px))]) @ self.H_img_to_table.T
+        return hp[:, :2] / hp[:, 2:3]
+
+    def to_image(self, xy: np.ndarray) -> np.ndarray:
+        hp = np.column_stack([xy, np.ones(len(xy))]) @ self.H_table_to_img.T
+        return hp[:, :2] / hp[:, 2:3]
+
+    def process(self, frame):
+        from tracking.markers import marker_measurements
+        pred = self.tracker.predict(frame.t)
+        pred_px = {}
+        if pred:
+            ids = list(pred)
+            px = self.to_image(np.array([pred[i] for i in ids]))
+            pred_px = {i: tuple(p) for i, p in zip(ids, px)}
+        ids, corners = self.detector.detect(frame.image, pred_px or None)
+        ms = marker_measurements(ids, corners, frame.t, self.to_table)
+        return self.tracker.step(ms, frame.t)
