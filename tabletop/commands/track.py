@@ -1,0 +1,247 @@
+"""``tabletop track``: marker poses of every frame of a video, an image folder or a camera.
+
+One JSON line per input frame: ``{"frame": i, "t": s, "pucks": [{"id", "x", "y", "angle",
+"state"}]}``. Without ``--calibration`` positions are marker centres in image pixels and angles
+``atan2(c1.y - c0.y, c1.x - c0.x)`` in the image; with one, table metres and table radians. A
+``seen`` puck carries its measured pose (identity kept, outliers rejected, not smoothed unless
+``--smooth``); a ``coasting`` one its prediction. ``t`` is frame index / fps, never the clock.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any, Iterator
+
+from tabletop.frames import InputError
+
+HELP = ("detect and track marker pucks in every frame of a video file, an image folder or a "
+        "camera, writing one JSON line of puck poses per frame")
+
+IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm", ".webp"}
+
+
+class TrackInputError(InputError):
+    """A bad ``track`` input or argument."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("input", metavar="INPUT",
+                        help="a video file, a folder of images (taken in name order) or a "
+                             "camera index")
+    parser.add_argument("--out", required=True, metavar="POSES.jsonl",
+                        help="output: one JSON line per frame")
+    parser.add_argument("--dictionary", default=None, metavar="NAME",
+                        help="OpenCV marker dictionary, e.g. DICT_4X4_50 (default) or "
+                             "DICT_APRILTAG_36h11")
+    parser.add_argument("--calibration", default=None, metavar="FILE",
+                        help="calibration YAML: report table metres and table angles")
+    parser.add_argument("--fps", default=None, metavar="F",
+                        help="frames per second for t (a folder: default 30; a video or camera: "
+                             "its own rate)")
+    parser.add_argument("--smooth", action="store_true",
+                        help="apply the live installation's jitter filter to seen pucks")
+    parser.add_argument("--config", default=None, metavar="FILE",
+                        help="take the tracking section (detector, filter) from this config")
+
+
+def parse_fps(text: str | None) -> float | None:
+    if text is None:
+        return None
+    try:
+        fps = float(text)
+    except ValueError:
+        raise TrackInputError(f"--fps {text!r} is not a number") from None
+    if not math.isfinite(fps) or fps <= 0:
+        raise TrackInputError(f"--fps {text!r} must be a positive number of frames per second")
+    return fps
+
+
+class FrameReader:
+    """Grey frames of INPUT in order: ``frames()`` yields them; ``total`` (None for a camera)
+    and ``fps`` (None when the input does not say)."""
+
+    def __init__(self, spec: str) -> None:
+        import cv2
+        self.cv2 = cv2
+        self.spec = spec
+        self.files: list[Path] | None = None
+        self.capture = None
+        self.total: int | None = None
+        self.fps: float | None = None
+        self.is_camera = False
+        path = Path(spec)
+        if spec.isdigit() and not path.exists():
+            self.capture = cv2.VideoCapture(int(spec))
+            if not self.capture.isOpened():
+                raise TrackInputError(f"camera {spec} cannot be opened")
+            self.is_camera = True
+            fps = self.capture.get(cv2.CAP_PROP_FPS)
+            self.fps = fps if fps and math.isfinite(fps) and fps > 0 else None
+        elif path.is_dir():
+            self.files = sorted(p for p in path.iterdir()
+                                if p.is_file() and p.suffix.lower() in IMAGE_SUFFIXES)
+            if not self.files:
+                raise TrackInputError(f"{spec}: the folder holds no images "
+                                      f"({', '.join(sorted(IMAGE_SUFFIXES))})")
+            self.total = len(self.files)
+        elif path.is_file():
+            self.capture = cv2.VideoCapture(str(path))
+            if not self.capture.isOpened():
+                raise TrackInputError(f"{spec}: not a video file OpenCV can read")
+            n = int(self.capture.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
+            self.total = n if n > 0 else None
+            fps = self.capture.get(cv2.CAP_PROP_FPS)
+            self.fps = fps if fps and math.isfinite(fps) and fps > 0 else None
+        else:
+            raise TrackInputError(f"{spec}: no such file, folder or camera index")
+
+    def frames(self) -> Iterator[Any]:
+        cv2 = self.cv2
+        if self.files is not None:
+            for p in self.files:
+                img = cv2.imread(str(p), cv2.IMREAD_GRAYSCALE)
+                if img is None:
+                    raise TrackInputError(f"{p}: not an image OpenCV can read")
+                yield img
+            return
+        first = True
+        while True:
+            ok, img = self.capture.read()
+            if not ok or img is None:
+                if first and not self.is_camera:
+                    raise TrackInputError(f"{self.spec}: the video has no readable frames")
+                return
+            first = False
+            yield cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.ndim == 3 else img
+
+    def close(self) -> None:
+        if self.capture is not None:
+            self.capture.release()
+
+
+class Progress:
+    """A one-line progress bar on stderr (for files, where the frame count is known)."""
+
+    def __init__(self, total: int | None, enabled: bool) -> None:
+        self.total, self.enabled = total, enabled and total is not None
+        self._last = 0.0
+
+    def update(self, done: int, force: bool = False) -> None:
+        if not self.enabled:
+            return
+        now = time.monotonic()
+        if not force and now - self._last < 0.2:
+            return
+        self._last = now
+        frac = min(done / max(self.total or 1, 1), 1.0)
+        bar = "#" * int(frac * 30)
+        sys.stderr.write(f"\rtrack [{bar:<30}] {done}/{self.total} frames")
+        if force:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def _tracking_options(args: argparse.Namespace) -> dict[str, Any]:
+    options: dict[str, Any] = {}
+    if args.config:
+        from tabletop.config import load_config
+        options = dict(load_config(args.config).get("tracking") or {})
+    if args.dictionary:
+        options["dictionary"] = args.dictionary
+    from tabletop.plugins import tracking as plugin
+    from tabletop.schema import ConfigError
+    try:
+        return plugin.complete(options)
+    except ConfigError as exc:
+        if args.dictionary and "dictionary" in str(exc):
+            raise TrackInputError(f"--dictionary {args.dictionary!r} is not an OpenCV marker "
+                                  f"dictionary (e.g. DICT_4X4_50, DICT_APRILTAG_36h11)") from None
+        raise
+
+
+def _puck_json(p, smooth: bool) -> dict[str, Any]:
+    if p.state == "seen" and not smooth:
+        x, y, a = p.raw_x, p.raw_y, p.raw_angle
+    else:
+        x, y, a = p.x, p.y, p.angle
+    return {"id": int(p.id), "x": round(float(x), 6), "y": round(float(y), 6),
+            "angle": round(float(a), 6), "state": p.state}
+
+
+def main(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from tabletop.plugins import tracking as plugin
+    from tracking.markers import marker_measurements, marker_side_lengths
+    from tracking.pucks import PuckTracker
+
+    fps_arg = parse_fps(args.fps)
+    options = _tracking_options(args)
+    calibration = None
+    if args.calibration:
+        from calibration.files import load_calibration
+        calibration = load_calibration(args.calibration)
+    out = Path(args.out)
+    if out.is_dir():
+        raise TrackInputError(f"--out {args.out!r} is a folder; give a file name")
+    reader = FrameReader(args.input)
+    fps = fps_arg or reader.fps or 30.0
+    detector = plugin.build_detector(options)
+    to_table = calibration.image_to_table if calibration is not None else None
+    tracker: PuckTracker | None = None
+    progress = Progress(reader.total, enabled=not reader.is_camera)
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent)
+    frames = 0
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            try:
+                for i, grey in enumerate(reader.frames()):
+                    t = i / fps
+                    preds = None
+                    if tracker is not None:
+                        p = tracker.predict(t)
+                        if p and calibration is not None:
+                            ids = list(p)
+                            px = calibration.table_to_image(np.array([p[k] for k in ids]))
+                            preds = {k: (float(q[0]), float(q[1])) for k, q in zip(ids, px)}
+                        elif p:
+                            preds = p
+                    ids, corners = detector.detect(grey, preds)
+                    if tracker is None and len(ids):
+                        # Tracker units: metres, or pixels scaled by the markers' size.
+                        scale = 1.0 if calibration is not None else float(
+                            np.median(marker_side_lengths(corners)) / options["marker_size"])
+                        tracker = PuckTracker(plugin.tracker_settings(options, scale,
+                                                                      smooth=True))
+                    pucks = () if tracker is None else tracker.step(
+                        marker_measurements(ids, corners, t, to_table), t)
+                    line = {"frame": i, "t": round(t, 9),
+                            "pucks": [_puck_json(p, args.smooth) for p in pucks]}
+                    f.write(json.dumps(line, separators=(",", ":")) + "\n")
+                    frames = i + 1
+                    progress.update(frames)
+            except KeyboardInterrupt:
+                if not reader.is_camera:
+                    raise
+            f.flush()
+            os.fsync(f.fileno())
+        progress.update(frames, force=True)
+        os.replace(tmp, out)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    finally:
+        reader.close()
+    return 0

@@ -1,0 +1,142 @@
+"""The ``tracking:`` config section: marker detector and puck tracker options, and their builders.
+
+``build_tracker(options, ctx)`` returns the :class:`tracking.pucks.PuckTracker` the loop fuses
+every source's observations with (table metres); ``build_detector(options)`` returns the
+:class:`tracking.roi.MarkerTracker` a camera source detects markers with (region-of-interest
+passes around the tracker's predictions plus a periodic full-frame pass). Both accept a partial
+section (missing keys take their defaults).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Mapping
+
+from tabletop.registry import BuildContext
+from tabletop.schema import Bool, Context, Number, Record, Str
+from tracking.pucks import PuckTracker, TrackerSettings
+
+
+class DictionaryName(Str):
+    """An OpenCV predefined marker dictionary name (``DICT_4X4_50``, ``DICT_APRILTAG_36h11``...)."""
+
+    def describe(self) -> str:
+        return "an OpenCV dictionary name such as DICT_4X4_50 or DICT_APRILTAG_36h11"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        value = super().validate(value, path, ctx)
+        import cv2  # only when a config names a dictionary
+        if not (value.startswith("DICT_") and isinstance(getattr(cv2.aruco, value, None), int)):
+            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+        return value
+
+
+SCHEMA = Record({
+    # Markers
+    "dictionary": DictionaryName("DICT_4X4_50", doc="marker dictionary printed on the pucks"),
+    "marker_size": Number(0.05, lo=0.005, hi=1.0,
+                          doc="printed marker side including its black border, metres"),
+    "error_correction_rate": Number(0.6, lo=0.0, hi=1.0,
+                                    doc="share of the dictionary's bit correction used; lower "
+                                        "admits fewer false ids"),
+    "valid_bit_id_threshold": Number(0.49, lo=0.0, hi=1.0,
+                                     doc="OpenCV validBitIdThreshold (false-positive guard)"),
+    "threshold_window_px": Number(13, integer=True, lo=3, hi=99,
+                                  doc="adaptive threshold window, pixels (about a marker cell "
+                                      "or two)"),
+    "refine_window_px": Number(5, integer=True, lo=2, hi=20,
+                               doc="sub-pixel corner refinement half window, pixels"),
+    "aruco3": Bool(False, doc="use OpenCV's ArUco3 mode for the full-frame pass"),
+    "aruco3_min_length_ratio": Number(0.005, lo=0.0, hi=0.5,
+                                      doc="ArUco3: smallest marker side / image's larger side"),
+    "aruco3_min_side_px": Number(16, integer=True, lo=8, hi=128,
+                                 doc="ArUco3: marker side in the downscaled search image"),
+    "full_frame_period": Number(3, integer=True, lo=1, hi=30,
+                                doc="a full-frame search every N frames: a puck entering or "
+                                    "reappearing anywhere is found within N frames"),
+    "roi_margin_sides": Number(0.4, lo=0.0, hi=10.0,
+                               doc="region-of-interest crop margin beyond the marker, in sides"),
+    "roi_margin_px": Number(8.0, lo=0.0, hi=500.0, doc="and in pixels"),
+    # Jitter filter (One Euro), in table units
+    "smooth": Bool(True, doc="apply the One Euro filter to the poses engines use"),
+    "min_cutoff": Number(0.2, lo=0.001, hi=100.0, doc="One Euro minimum cutoff, Hz"),
+    "beta": Number(40.0, lo=0.0, hi=10000.0, doc="One Euro speed coefficient, Hz per m/s"),
+    "d_cutoff": Number(0.5, lo=0.001, hi=100.0, doc="One Euro speed low-pass cutoff, Hz"),
+    "angle_min_cutoff": Number(0.3, lo=0.001, hi=100.0, doc="heading: minimum cutoff, Hz"),
+    "angle_beta": Number(2.0, lo=0.0, hi=10000.0, doc="heading: Hz per rad/s"),
+    # Occlusion and outliers
+    "coast_s": Number(0.5, lo=0.0, hi=60.0,
+                      doc="a lost puck is predicted ('coasting') this long, then dropped"),
+    "coast_decay_s": Number(0.3, lo=0.01, hi=60.0,
+                            doc="time constant of a coasting puck's fading velocity"),
+    "reacquire_step_m": Number(0.01, lo=0.0001, hi=1.0,
+                               doc="most the smoothed pose moves per frame toward a puck "
+                                   "that reappears, metres"),
+    "reacquire_step_rad": Number(0.2, lo=0.001, hi=3.2, doc="and its heading, radians"),
+    "gate_m": Number(0.06, lo=0.001, hi=10.0,
+                     doc="a reading farther than this (plus max_speed times the time since "
+                         "the puck was seen) from its prediction is an outlier"),
+    "max_speed": Number(3.0, lo=0.0, hi=100.0, doc="fastest plausible puck, m/s"),
+    "confirm_frames": Number(2, integer=True, lo=1, hi=100,
+                             doc="consecutive far readings at one place that move the puck"),
+    "velocity_cutoff_hz": Number(5.0, lo=0.01, hi=1000.0,
+                                 doc="low-pass of the velocity estimates, Hz"),
+    "stale_s": Number(0.25, lo=0.001, hi=60.0,
+                      doc="a puck whose source sent nothing for this long is coasting"),
+})
+
+_DEFAULTS_CONTEXT = Context("<tracking defaults>", Path("."))
+
+
+def complete(options: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The section with every missing key at its default (keys ``kind``/``name`` ignored)."""
+    given = {k: v for k, v in dict(options or {}).items() if k not in ("kind", "name")}
+    return SCHEMA.validate(given, "tracking", _DEFAULTS_CONTEXT)
+
+
+def tracker_settings(options: Mapping[str, Any] | None, units_per_metre: float = 1.0,
+                     smooth: bool | None = None) -> TrackerSettings:
+    """:class:`TrackerSettings` from the section (``units_per_metre`` != 1 for pixels)."""
+    o = complete(options)
+    return TrackerSettings(
+        min_cutoff=o["min_cutoff"], beta=o["beta"], d_cutoff=o["d_cutoff"],
+        angle_min_cutoff=o["angle_min_cutoff"], angle_beta=o["angle_beta"],
+        smooth=o["smooth"] if smooth is None else smooth, coast_s=o["coast_s"],
+        coast_decay_s=o["coast_decay_s"], reacquire_step_m=o["reacquire_step_m"],
+        reacquire_step_rad=o["reacquire_step_rad"], gate_m=o["gate_m"],
+        max_speed=o["max_speed"], confirm_frames=o["confirm_frames"],
+        velocity_cutoff_hz=o["velocity_cutoff_hz"], stale_s=o["stale_s"],
+        units_per_metre=units_per_metre)
+
+
+class Tracker(PuckTracker):
+    """The loop's puck tracker; ``predictions(t)`` gives each puck's expected table position
+    (metres) at time t, for a camera's region-of-interest search."""
+
+    def predictions(self, t: float) -> dict[int, tuple[float, float]]:
+        return self.predict(t)
+
+
+def build_tracker(options: Mapping[str, Any], ctx: BuildContext | None = None) -> Tracker:
+    """The puck tracker for the section ``options`` (table metres)."""
+    return Tracker(tracker_settings(options))
+
+
+def build_detector(options: Mapping[str, Any] | None = None):
+    """A region-of-interest marker detector (:class:`tracking.roi.MarkerTracker`) for one camera:
+    ``detect(grey, predictions_px) -> (ids (N,), corners (N, 4, 2) pixels)``."""
+    from tracking.markers import DetectorSettings
+    from tracking.roi import MarkerTracker
+    o = complete(options)
+    win = o["threshold_window_px"]
+    common = dict(dictionary=o["dictionary"], corner_refinement="none",
+                  error_correction_rate=o["error_correction_rate"],
+                  valid_bit_id_threshold=o["valid_bit_id_threshold"],
+                  threshold_window_px=(win, win, 10))
+    full = DetectorSettings(**common, aruco3=o["aruco3"],
+                            min_length_ratio=o["aruco3_min_length_ratio"],
+                            min_canonical_side_px=o["aruco3_min_side_px"])
+    roi = DetectorSettings(**common, min_perimeter_rate=0.01)
+    return MarkerTracker(full, roi, full_period=o["full_frame_period"],
+                         roi_margin_sides=o["roi_margin_sides"], roi_margin_px=o["roi_margin_px"],
+                         refine_window_px=o["refine_window_px"])

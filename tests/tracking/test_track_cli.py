@@ -1,0 +1,121 @@
+"""``tabletop track`` on folders of synthetic frames, against their ground truth."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import cv2
+import numpy as np
+import pytest
+
+from tabletop import cli
+from tracking.markers import marker_headings
+from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
+from tests.tracking.scenes import moving_scene
+
+FRAMES = 24
+
+
+@pytest.fixture(scope="module")
+def scene(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("frames")
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=21))
+    truth = []
+    for k, (t, poses, vels) in enumerate(moving_scene(4, FRAMES, 30.0, speed=0.3, seed=5)):
+        # A hand covers puck 0 for frames 8..13.
+        occ = [Occluder(poses[0][1] - 0.03, poses[0][2], 0.0, 0.13)] if 8 <= k < 14 else []
+        f = cam.render(poses, t, vels, occluders=occ)
+        cv2.imwrite(str(folder / f"frame_{k:04d}.png"), f.image)
+        truth.append(f)
+    return folder, cam, truth
+
+
+def _read(path):
+    return [json.loads(line) for line in path.read_text().splitlines()]
+
+
+def test_pixels_one_line_per_frame_matching_ground_truth(scene, tmp_path):
+    folder, _, truth = scene
+    out = tmp_path / "poses.jsonl"
+    assert cli.main(["track", str(folder), "--out", str(out)]) == 0
+    lines = _read(out)
+    assert [ln["frame"] for ln in lines] == list(range(FRAMES))
+    assert [ln["t"] for ln in lines] == pytest.approx([k / 30.0 for k in range(FRAMES)])
+    errs, heads = [], []
+    for ln, f in zip(lines, truth):
+        by_id = {p["id"]: p for p in ln["pucks"]}
+        heading = marker_headings(f.corners)
+        for i, pid in enumerate(f.ids):
+            p = by_id.get(int(pid))
+            if f.visible[i]:
+                assert p is not None and p["state"] == "seen"
+                errs.append(math.hypot(p["x"] - f.centres[i, 0], p["y"] - f.centres[i, 1]))
+                heads.append(abs(math.remainder(p["angle"] - heading[i], math.tau)))
+            else:
+                assert p is None or p["state"] == "coasting"
+        assert set(by_id) <= set(f.ids.tolist())
+    assert np.median(errs) <= 0.5 and np.percentile(errs, 95) <= 1.5
+    assert math.degrees(np.median(heads)) <= 1.0
+    hidden = [ln for ln, f in zip(lines, truth) if not f.visible[0]]
+    assert hidden and all(any(p["id"] == 0 and p["state"] == "coasting" for p in ln["pucks"])
+                          for ln in hidden[:5])
+
+
+def test_calibration_gives_table_metres_and_smooth_stays_close(scene, tmp_path):
+    from calibration.files import Calibration, save_calibration
+    folder, cam, truth = scene
+    calib = tmp_path / "calibration.yaml"
+    save_calibration(calib, Calibration(cam.image_to_table_homography(), image_size=(1280, 720)))
+    for smooth in (False, True):
+        out = tmp_path / f"poses_{smooth}.jsonl"
+        argv = ["track", str(folder), "--out", str(out), "--calibration", str(calib),
+                "--fps", "30"] + (["--smooth"] if smooth else [])
+        assert cli.main(argv) == 0
+        errs, heads = [], []
+        for ln, f in zip(_read(out), truth):
+            by_id = {p["id"]: p for p in ln["pucks"]}
+            for i, pid in enumerate(f.ids):
+                if f.visible[i]:
+                    p = by_id[int(pid)]
+                    errs.append(math.hypot(p["x"] - f.poses[i, 0], p["y"] - f.poses[i, 1]))
+                    heads.append(abs(math.remainder(p["angle"] - f.poses[i, 2], math.tau)))
+        limit = 0.01 if smooth else 0.001  # metres: smoothing lags a moving puck a little
+        assert np.median(errs) <= limit
+        assert math.degrees(np.median(heads)) <= (3.0 if smooth else 1.0)
+
+
+def test_bad_inputs_give_one_line_errors(tmp_path, capsys):
+    out = tmp_path / "o.jsonl"
+    (tmp_path / "bad.png").write_bytes(b"not a png")
+    (tmp_path / "video.mp4").write_bytes(b"not a video")
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    cases = [
+        ([str(tmp_path / "missing"), "--out", str(out)], "no such file"),
+        ([str(empty), "--out", str(out)], "no images"),
+        ([str(empty), "--out", str(out), "--fps", "-3"], "--fps"),
+        ([str(tmp_path), "--out", str(out)], "bad.png"),
+        ([str(tmp_path / "video.mp4"), "--out", str(out)], "video.mp4"),
+        ([str(empty), "--out", str(out), "--dictionary", "DICT_NOPE"], "DICT_NOPE"),
+        ([str(empty), "--out", str(out), "--calibration", str(tmp_path / "nope.yaml")],
+         "nope.yaml"),
+    ]
+    for argv, expect in cases:
+        assert cli.main(["track"] + argv) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and expect in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_track_does_not_import_pygame(scene, tmp_path):
+    folder, _, _ = scene
+    out = tmp_path / "p.jsonl"
+    code = ("import sys; from tabletop import cli; rc = cli.main(['track', sys.argv[1], '--out', "
+            "sys.argv[2]]); assert 'pygame' not in sys.modules; sys.exit(rc)")
+    r = subprocess.run([sys.executable, "-c", code, str(folder), str(out)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert len(out.read_text().splitlines()) == FRAMES

@@ -1,0 +1,40 @@
+"""The ``tracking:`` config section: defaults, validation, builders."""
+
+from __future__ import annotations
+
+import pytest
+
+from tabletop.frames import Observation, PuckMeasurement
+from tabletop.plugins import tracking as plugin
+from tabletop.schema import ConfigError
+from tracking.synthetic import CameraSettings, SyntheticCamera
+from tests.tracking.scenes import grid_poses
+
+
+def test_defaults_and_bad_values_name_the_key():
+    o = plugin.complete({})
+    assert o["coast_s"] == 0.5 and o["reacquire_step_m"] == 0.01 and o["dictionary"] == "DICT_4X4_50"
+    with pytest.raises(ConfigError, match="tracking.dictionary"):
+        plugin.complete({"dictionary": "DICT_NOPE"})
+    with pytest.raises(ConfigError, match="tracking.coast_s"):
+        plugin.complete({"coast_s": -1})
+    with pytest.raises(ConfigError, match="tracking.bogus"):
+        plugin.complete({"bogus": 1})
+
+
+def test_built_tracker_fuses_observations_and_predicts():
+    tr = plugin.build_tracker(plugin.complete({"smooth": False}))
+    obs = Observation("cam", 0.0, 1, pucks=(PuckMeasurement(3, 0.5, 0.4, 0.0, 0.0),))
+    obs2 = Observation("cam", 0.1, 2, pucks=(PuckMeasurement(3, 0.55, 0.4, 0.0, 0.1),))
+    tr.update([obs], 0.0)
+    p = tr.update([obs2], 0.1)[0]
+    assert p.state == "seen" and p.x == pytest.approx(0.55)
+    assert tr.predictions(0.2)[3][0] > 0.55
+
+
+def test_built_detector_finds_apriltags():
+    cam = SyntheticCamera(CameraSettings(dictionary="DICT_APRILTAG_36h11", seed=3))
+    f = cam.render(grid_poses(5, seed=2, first_id=200))
+    det = plugin.build_detector({"dictionary": "DICT_APRILTAG_36h11"})
+    ids, corners = det.detect(f.image, None)
+    assert sorted(ids.tolist()) == list(range(200, 205)) and corners.shape == (5, 4, 2)
