@@ -41,7 +41,8 @@ class CameraSettings:
     (k1, k2, p1, p2, k3); ``blur_sigma``: Gaussian blur in pixels; ``noise_sigma``: grey levels;
     ``exposure_s``: shutter time for motion blur; ``marker_size``: printed marker side including
     its black border (m); ``puck_diameter`` (m); ``margin``: fraction of the image left around the
-    table."""
+    table; ``full_frame_optics``: apply blur and distortion to the whole frame instead of only
+    where pucks and hands changed it (same image, slower; for checking)."""
 
     resolution: tuple[int, int] = (1280, 720)
     table: tuple[float, float] = (1.2, 0.8)
@@ -57,6 +58,7 @@ class CameraSettings:
     puck_diameter: float = 0.075
     margin: float = 0.04
     seed: int = 0
+    full_frame_optics: bool = False  # reference path: blur and distort the whole frame
 
 
 @dataclass
@@ -110,6 +112,7 @@ class SyntheticCamera:
         self._setup_textures()
         self._setup_noise()
         self._setup_distortion()
+        self._setup_optics()
 
     # ----------------------------------------------------------------- geometry
     def _setup_camera(self) -> None:
@@ -236,6 +239,17 @@ class SyntheticCamera:
         self._map = cv2.convertMaps(ideal[..., 0].astype(np.float32),
                                     ideal[..., 1].astype(np.float32), cv2.CV_16SC2)
 
+    def _setup_optics(self) -> None:
+        """The background through the optics (blur, distortion), computed once."""
+        bg = self.background
+        if self.s.blur_sigma > 0:
+            bg = cv2.GaussianBlur(bg, (0, 0), self.s.blur_sigma)
+        self._bg_blurred = bg
+        if self._map is not None:
+            bg = cv2.remap(bg, self._map[0], self._map[1], cv2.INTER_LINEAR,
+                           borderMode=cv2.BORDER_REPLICATE)
+        self._bg_final = bg
+
     # ----------------------------------------------------------------- rendering
     def marker_corners_table(self, x: float, y: float, angle: float) -> np.ndarray:
         """The marker's four corners (4, 2) in table metres, in OpenCV's order (c0 -> c1 along
@@ -261,19 +275,21 @@ class SyntheticCamera:
         ids = np.array([p[0] for p in poses], dtype=int)
         poses_arr = np.array([p[1:] for p in poses], float).reshape(n, 3)
         corners = np.zeros((n, 4, 2))
+        dirty: list[tuple[int, int, int, int]] = []
         for i, (mid, x, y, a) in enumerate(poses):
             A = np.vstack([self._local_to_table(x, y, a), [0.0, 0.0, 1.0]])
             M = H @ A @ self._tex_to_local  # texture px -> ideal image px
             corners[i] = self.project(self.marker_corners_table(x, y, a).T)
             vel = None if velocities is None else velocities[i]
-            self._draw_puck(img, self._texture(mid), M, vel, H)
+            rect = self._draw_puck(img, self._texture(mid), M, vel, H)
+            if rect is not None:
+                dirty.append(rect)
+        self._last_mask = None
         if occluders:
-            self._draw_occluders(img, occluders)
-        if self.s.blur_sigma > 0:
-            cv2.GaussianBlur(img, (0, 0), self.s.blur_sigma, dst=img)
-        if self._map is not None:
-            img = cv2.remap(img, self._map[0], self._map[1], cv2.INTER_LINEAR,
-                            borderMode=cv2.BORDER_REPLICATE)
+            rect = self._draw_occluders(img, occluders)
+            if rect is not None:
+                dirty.append(rect)
+        img = self._finish(img, dirty)
         if self._noise is not None:
             ox, oy = self._rng.integers(0, 64, 2)
             noise = self._noise[oy:oy + self.h, ox:ox + self.w]
@@ -282,8 +298,67 @@ class SyntheticCamera:
         visible = self._visibility(corners, occluders) & ~self._covered_by_pucks(poses_arr)
         return SyntheticFrame(img, t, ids, corners, centres, poses_arr, visible, tuple(occluders))
 
+    def _finish(self, ideal: np.ndarray, dirty: list[tuple[int, int, int, int]]) -> np.ndarray:
+        """Optics on the drawn ideal image: blur, then lens distortion. Only the dirty rectangles
+        (x0, y0, x1, y1) differ from the background, whose optics are precomputed; the result
+        equals blurring and distorting the whole frame."""
+        if self.s.full_frame_optics:
+            dirty = [(0, 0, self.w, self.h)]
+        sigma = self.s.blur_sigma
+        r = int(math.ceil(3.0 * sigma)) + 1 if sigma > 0 else 0  # how far blur spreads a change
+        blurred = self._bg_blurred.copy() if self._map is not None else self._bg_final.copy()
+        changed = []
+        for x0, y0, x1, y1 in dirty:
+            # The blur changes pixels up to r beyond the drawing; computing them needs r more.
+            cx0, cy0 = max(x0 - r, 0), max(y0 - r, 0)
+            cx1, cy1 = min(x1 + r, self.w), min(y1 + r, self.h)
+            gx0, gy0 = max(cx0 - r, 0), max(cy0 - r, 0)
+            gx1, gy1 = min(cx1 + r, self.w), min(cy1 + r, self.h)
+            region = ideal[gy0:gy1, gx0:gx1]
+            if sigma > 0:
+                region = cv2.GaussianBlur(region, (0, 0), sigma)
+            blurred[cy0:cy1, cx0:cx1] = region[cy0 - gy0:cy1 - gy0, cx0 - gx0:cx1 - gx0]
+            changed.append((cx0, cy0, cx1, cy1))
+        dirty = changed
+        if self._map is None:
+            return blurred
+        out = self._bg_final.copy()
+        for rect in dirty:
+            d = self._distorted_rect(rect)
+            if d is None:
+                continue
+            x0, y0, x1, y1 = d
+            out[y0:y1, x0:x1] = cv2.remap(blurred, self._map[0][y0:y1, x0:x1],
+                                          self._map[1][y0:y1, x0:x1], cv2.INTER_LINEAR,
+                                          borderMode=cv2.BORDER_REPLICATE)
+        return out
+
+    def _distorted_rect(self, rect: tuple[int, int, int, int]) -> tuple[int, int, int, int] | None:
+        """Bounding box in the distorted image of an ideal-image rectangle (with 4 px to spare)."""
+        x0, y0, x1, y1 = rect
+        u = np.linspace(0.0, 1.0, 6)
+        xs, ys = x0 - 1 + u * (x1 - x0 + 1), y0 - 1 + u * (y1 - y0 + 1)
+        edge = np.concatenate([np.column_stack([xs, np.full(6, y0 - 1.0)]),
+                               np.column_stack([xs, np.full(6, y1 + 0.0)]),
+                               np.column_stack([np.full(6, x0 - 1.0), ys]),
+                               np.column_stack([np.full(6, x1 + 0.0), ys])])
+        Kinv = np.linalg.inv(self.K)
+        norm = np.column_stack([edge, np.ones(len(edge))]) @ Kinv.T
+        img, _ = cv2.projectPoints(norm, np.zeros(3), np.zeros(3), self.K, self.dist)
+        img = img.reshape(-1, 2)
+        lo = np.maximum(np.floor(img.min(axis=0)).astype(int) - 4, 0)
+        hi = np.minimum(np.ceil(img.max(axis=0)).astype(int) + 5, [self.w, self.h])
+        # Distorted pixels whose source lies outside the image replicate its border pixels.
+        lo = np.where([x0 <= 0, y0 <= 0], 0, lo)
+        hi = np.where([x1 >= self.w, y1 >= self.h], [self.w, self.h], hi)
+        if np.any(hi <= lo):
+            return None
+        return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
+
     def _draw_puck(self, img: np.ndarray, tex: np.ndarray, M: np.ndarray,
-                   vel: tuple[float, float] | None, H: np.ndarray) -> None:
+                   vel: tuple[float, float] | None, H: np.ndarray
+                   ) -> tuple[int, int, int, int] | None:
+        """Blend one puck into ``img``; returns the rectangle (x0, y0, x1, y1) it touched."""
         n = tex.shape[0]
         quad = np.array([[0, 0, 1], [n, 0, 1], [n, n, 1], [0, n, 1]], float) @ M.T
         quad = quad[:, :2] / quad[:, 2:3]
@@ -295,7 +370,7 @@ class SyntheticCamera:
         lo = np.maximum(lo, 0)
         hi = np.minimum(hi, [self.w, self.h])
         if np.any(hi - lo <= 1):
-            return
+            return None
         bw, bh = int(hi[0] - lo[0]), int(hi[1] - lo[1])
         T = np.array([[1.0, 0.0, -lo[0]], [0.0, 1.0, -lo[1]], [0.0, 0.0, 1.0]])
         patch = cv2.warpPerspective(tex, T @ M, (bw, bh), flags=cv2.INTER_LINEAR,
@@ -315,6 +390,7 @@ class SyntheticCamera:
             k /= max(float(k.sum()), 1e-6)
             blended = cv2.filter2D(blended, -1, k, borderType=cv2.BORDER_REPLICATE)
         roi[...] = np.clip(blended, 0, 255).astype(np.uint8)
+        return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
 
     def _hand_polygons(self, o: Occluder) -> list[np.ndarray]:
         """A palm and five fingers as table-metre polygons."""
@@ -345,12 +421,21 @@ class SyntheticCamera:
                 cv2.fillPoly(mask, [pix], 255, cv2.LINE_AA, 4)
         return mask
 
-    def _draw_occluders(self, img: np.ndarray, occluders: Sequence[Occluder]) -> None:
+    def _draw_occluders(self, img: np.ndarray, occluders: Sequence[Occluder]
+                        ) -> tuple[int, int, int, int] | None:
+        """Darken ``img`` under the hands; returns the rectangle it touched (or None)."""
         mask = self.occluder_mask(occluders)
-        skin = (self.gain * 70.0).astype(np.float32)
-        a = mask.astype(np.float32) * (1.0 / 255.0)
-        img[...] = np.clip(img + a * (skin - img), 0, 255).astype(np.uint8)
         self._last_mask = mask
+        ys, xs = np.nonzero(mask[::4, ::4])
+        if len(xs) == 0:
+            return None
+        x0, y0 = max(int(xs.min()) * 4 - 4, 0), max(int(ys.min()) * 4 - 4, 0)
+        x1, y1 = min(int(xs.max()) * 4 + 8, self.w), min(int(ys.max()) * 4 + 8, self.h)
+        roi = img[y0:y1, x0:x1]
+        skin = self.gain[y0:y1, x0:x1] * 70.0
+        a = mask[y0:y1, x0:x1].astype(np.float32) * (1.0 / 255.0)
+        roi[...] = np.clip(roi + a * (skin - roi), 0, 255).astype(np.uint8)
+        return x0, y0, x1, y1
 
     def _covered_by_pucks(self, poses: np.ndarray) -> np.ndarray:
         """(N,) True where a puck drawn later (later in ``poses``) overlaps this one's marker
