@@ -76,9 +76,9 @@ class ActionFollower:
 
     def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
                  transitions: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1), backward: float = 0.1,
-                 restart: float = 1e-4, memory: float = 20.0, null_distance: float = 2.0,
+                 restart: float = 1e-4, memory: float = 20.0, null_distance: float = 1.8,
                  max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8,
-                 min_scale: np.ndarray | None = None, null_memory: float = 8.0,
+                 min_scale: np.ndarray | None = None, null_memory: float = 16.0,
                  onset: float = 0.5) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
@@ -192,17 +192,17 @@ class ActionFollower:
         self._evidence *= self._decay
         self._evidence += step_ll
         self._weight = self._decay * self._weight + 1.0
-        new = entries > self._entries   # re-entered: a new performance, judged afresh
-        self._entries[:] = entries
-        if np.count_nonzero(new):
-            self._recent[new] = 0.0
-            self._recent_weight[new] = 0.0
-            self._refused[new] = False
-            self._engaged[new] = False
         self._recent *= self._null_decay
         self._recent += step_ll
         self._recent_weight *= self._null_decay
         self._recent_weight += 1.0
+        new = entries > self._entries   # re-entered: a new performance, judged afresh (this
+        self._entries[:] = entries      # step's likelihood still mostly belongs to the old one)
+        if np.count_nonzero(new):
+            self._recent[new] = self._log_constant
+            self._recent_weight[new] = 1.0
+            self._refused[new] = False
+            self._engaged[new] = False
         mean_ll = self._recent / self._recent_weight
         # squared RMS distance per feature in sigma units, every template (see distance_of)
         dist2 = (self._log_constant - mean_ll) * (2.0 / self.dim)

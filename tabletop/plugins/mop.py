@@ -126,8 +126,8 @@ FOLLOWER = Record({
     "backward": Number(0.1, lo=0.0),
     "restart": Number(1e-4, lo=0.0, hi=0.5),
     "memory": Number(20.0, lo=1.0, doc="samples: forgetting of the evidence (probabilities)"),
-    "null_distance": Number(2.0, lo=0.01, doc="sigmas: farther from the best template is no action"),
-    "null_memory": Number(8.0, lo=1.0, doc="samples: forgetting of that distance"),
+    "null_distance": Number(1.8, lo=0.01, doc="sigmas: farther from the best template is no action"),
+    "null_memory": Number(16, lo=1.0, doc="samples: forgetting of that distance"),
     "onset": Number(0.5, lo=0.0, doc="sigmas: an action drives its character once the "
                  "performance has left the action's start by this much"),
     "max_spread": Number(0.15, lo=1e-3, hi=1.0),
