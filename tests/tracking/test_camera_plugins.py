@@ -1,0 +1,158 @@
+"""The camera and synthetic_camera sources as config.yaml builds them: frames on disk or rendered,
+markers found by the tracking section's detector, pucks reported in table metres."""
+
+import math
+import time
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from calibration.files import Calibration, save_calibration
+from tabletop.config import validate_config
+from tabletop.frames import InputError
+from tabletop.plugins import camera as camera_plugin
+from tabletop.plugins import synthetic_camera
+from tabletop.registry import BuildContext
+from tracking.synthetic import CameraSettings, SyntheticCamera, scripted_hands
+from tracking.visitor import ScriptedVisitor
+
+TABLE = (1.2, 0.8)
+
+
+def build(entry: dict, tmp_path: Path, tracking: dict | None = None):
+    cfg = validate_config({"sources": [entry], **({"tracking": tracking} if tracking else {})},
+                          "test.yaml", tmp_path)
+    ctx = BuildContext(TABLE, 60.0, cfg, tmp_path)
+    module = {"camera": camera_plugin, "synthetic_camera": synthetic_camera}[entry["kind"]]
+    return module.build(cfg["sources"][0], ctx), ctx
+
+
+def wait_for(predicate, timeout: float = 10.0) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.01)
+    return False
+
+
+def write_frames(folder: Path, cam: SyntheticCamera, n: int = 8):
+    """n frames of 3 pucks moving on lines; returns the true poses per frame."""
+    folder.mkdir()
+    truth = []
+    for k in range(n):
+        poses = [(7, 0.2 + 0.005 * k, 0.3, 0.02 * k), (11, 0.9, 0.2 + 0.004 * k, -2.0),
+                 (23, 0.6, 0.6, 3.0 - 0.03 * k)]
+        f = cam.render(poses, t=k / 30.0)
+        cv2.imwrite(str(folder / f"{k:04d}.png"), f.image)
+        truth.append({p[0]: p[1:] for p in poses})
+    return truth
+
+
+def test_camera_on_a_folder_with_a_calibration_file(tmp_path):
+    cam = SyntheticCamera(CameraSettings(tilt_deg=18.0, distortion=(-0.1, 0.02, 0, 0, 0)))
+    truth = write_frames(tmp_path / "frames", cam)
+    save_calibration(tmp_path / "calib.yaml",
+                     Calibration(cam.image_to_table_homography(), None, cam.K, cam.dist))
+    src, ctx = build({"kind": "camera", "name": "overhead", "device": "frames",
+                      "calibration": "calib.yaml", "fps": 60.0}, tmp_path)
+    seen = {}
+    src.open()
+    try:
+        assert wait_for(lambda: src.frames >= 1)
+        assert src.health().ok
+
+        def collect():
+            obs = src.latest()
+            if obs is not None:
+                seen[obs.seq] = obs
+            return len(seen) >= 8 and src.frames >= 8
+        assert wait_for(collect)
+    finally:
+        src.close()
+    assert "calibration_dict" in ctx.shared  # the recorder's header gets it
+    errors, headings = [], []
+    for seq in range(1, 9):
+        if seq not in seen:
+            continue
+        obs = seen[seq]
+        assert obs.source == "overhead" and {m.id for m in obs.pucks} == {7, 11, 23}
+        for m in obs.pucks:
+            x, y, a = truth[seq - 1][m.id]
+            errors.append(math.hypot(m.x - x, m.y - y))
+            headings.append(abs(math.remainder(m.angle - a, math.tau)))
+            assert m.t == obs.t
+    assert len(errors) >= 12
+    assert np.median(errors) <= 0.001 and max(errors) <= 0.003  # metres
+    assert np.degrees(np.median(headings)) <= 1.0
+
+
+def test_camera_without_calibration_stretches_the_image_over_the_table(tmp_path):
+    cam = SyntheticCamera(CameraSettings(tilt_deg=0.0, margin=0.0, resolution=(640, 360)))
+    write_frames(tmp_path / "frames", cam, n=2)
+    src, _ = build({"kind": "camera", "device": str(tmp_path / "frames"), "fps": 60.0}, tmp_path)
+    src.open()
+    try:
+        assert wait_for(lambda: src.latest() is not None and len(src.latest().pucks) == 3)
+        pucks = {m.id: m for m in src.latest().pucks}
+    finally:
+        src.close()
+    # Roughly in place (the table fills the image's height, not all of its width).
+    assert all(0.0 <= m.x <= TABLE[0] and 0.0 <= m.y <= TABLE[1] for m in pucks.values())
+    assert pucks[11].x > pucks[7].x and pucks[23].y > pucks[7].y
+
+
+@pytest.mark.parametrize("device, message", [
+    (-1, "expected a camera index"),
+    ("missing.mp4", "does not exist"),
+    (True, "expected a camera index"),
+])
+def test_bad_devices_are_refused_at_start(tmp_path, device, message):
+    with pytest.raises(InputError, match=message) as info:
+        build({"kind": "camera", "device": device}, tmp_path)
+    assert "sources[0].device" in str(info.value)
+
+
+def test_devices_may_be_absent_at_start(tmp_path):
+    cfg = validate_config({"sources": [{"kind": "camera", "device": "/dev/video63"},
+                                       {"kind": "camera", "name": "b", "device": "3"}]},
+                          "t.yaml", tmp_path)
+    assert cfg["sources"][0]["device"] == "/dev/video63" and cfg["sources"][1]["device"] == 3
+
+
+def test_synthetic_camera_reports_the_visitor_and_hides_covered_pucks(tmp_path):
+    start = {pid: (x, y) for pid, x, y, _ in ScriptedVisitor(TABLE, [1, 2], seed=4).poses(0.0)}
+    hand = {"x": start[2][0], "y": start[2][1], "size": 0.12}  # lying on puck 2
+    src, _ = build({"kind": "synthetic_camera", "pucks": [1, 2], "seed": 4, "fps": 30.0,
+                    "resolution": [960, 540], "occluders": [hand], "hands": {"every_s": 0}},
+                   tmp_path, tracking={"dictionary": "DICT_APRILTAG_36h11"})
+    src.open()
+    try:
+        assert wait_for(lambda: src.frames >= 5)
+        obs, frame = src.truth()
+        assert src.health().ok and "synthetic camera" in src.health().message
+    finally:
+        src.close()
+    assert frame.visible.tolist() == [True, False]
+    assert [m.id for m in obs.pucks] == [1]
+    m = obs.pucks[0]
+    assert math.hypot(m.x - frame.poses[0, 0], m.y - frame.poses[0, 1]) <= 0.002
+    assert obs.t == frame.t
+
+
+def test_synthetic_camera_refuses_an_unknown_dictionary(tmp_path):
+    with pytest.raises(InputError, match="DICT_5X5_NOPE"):
+        build({"kind": "synthetic_camera", "dictionary": "DICT_5X5_NOPE"}, tmp_path)
+
+
+def test_scripted_hands_come_and_go():
+    times = np.arange(0.0, 30.0, 0.05)
+    present = np.array([bool(scripted_hands(t, TABLE, every_s=10.0, duration_s=2.0)) for t in times])
+    assert 0.15 <= present.mean() <= 0.21  # 2 s in every 10 s
+    assert not present[(times % 10.0) > 2.05].any()
+    reach = [scripted_hands(t, TABLE, 10.0, 2.0)[0] for t in (10.0 + 0.01, 11.0)]
+    assert reach[0].y < 0.0 <= reach[1].y <= TABLE[1]  # comes in over the near edge
+    assert scripted_hands(11.0, TABLE, 10.0, 2.0) == scripted_hands(11.0, TABLE, 10.0, 2.0)
+    assert scripted_hands(5.0, TABLE, every_s=0.0) == []
