@@ -42,6 +42,18 @@ def one_euro_step(x: np.ndarray, x_prev: np.ndarray, dx_prev: np.ndarray, dt: np
     return x_prev + a * (x - x_prev), dx
 
 
+def one_euro_floats(x: list[float], value: list[float], derivative: list[float], dt: float,
+                    min_cutoff: float, beta: float, d_cutoff: float
+                    ) -> tuple[list[float], list[float]]:
+    """:func:`one_euro_step` for one short vector in plain floats (a puck's x, y or its
+    heading), where numpy's per-call overhead would dominate. Returns (value, derivative)."""
+    a_d = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * d_cutoff * dt))
+    d = [di + a_d * ((xi - vi) / dt - di) for xi, vi, di in zip(x, value, derivative)]
+    speed = math.sqrt(sum(di * di for di in d))
+    a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * (min_cutoff + beta * speed) * dt))
+    return [vi + a * (xi - vi) for xi, vi in zip(x, value)], d
+
+
 def scale_beta(beta: float, units_per_metre: float) -> float:
     """A beta given per metre, expressed for a signal in other units (e.g. pixels): the cutoff
     ``beta * speed`` must stay the same, and speeds scale by ``units_per_metre``."""
@@ -73,13 +85,21 @@ class OneEuroFilter:
     def filter(self, x: np.ndarray, t: float) -> np.ndarray:
         """Filter the sample ``x`` taken at time ``t`` (seconds); a sample not later than the
         previous one restarts nothing and returns the current value."""
-        if self.value is None or self.t is None:
+        if self.value is None or self.t is None or self.derivative is None:
             return self.reset(x, t)
         dt = float(t) - self.t
         if dt <= 0.0:
             return self.value.copy()
-        self.value, self.derivative = one_euro_step(np.asarray(x, float), self.value,
-                                                    self.derivative, dt, self.min_cutoff,
-                                                    self.beta, self.d_cutoff)
+        if self.value.ndim == 1 and self.value.size <= 4:
+            self._filter_small(np.asarray(x, float), dt)
+        else:
+            self.value, self.derivative = one_euro_step(np.asarray(x, float), self.value,
+                                                        self.derivative, dt, self.min_cutoff,
+                                                        self.beta, self.d_cutoff)
         self.t = float(t)
         return self.value.copy()
+
+    def _filter_small(self, x: np.ndarray, dt: float) -> None:
+        v, d = one_euro_floats(x.tolist(), self.value.tolist(), self.derivative.tolist(), dt,
+                               self.min_cutoff, self.beta, self.d_cutoff)
+        self.value, self.derivative = np.array(v), np.array(d)

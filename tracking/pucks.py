@@ -23,13 +23,11 @@ radians, times in seconds.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Iterable, Sequence
 
-import numpy as np
-
 from tabletop.frames import Observation, Puck, PuckMeasurement, wrap_angle
-from tracking.filters import OneEuroFilter, smoothing_factor
+from tracking.filters import one_euro_floats
 
 
 @dataclass(frozen=True)
@@ -65,30 +63,34 @@ class TrackerSettings:
     units_per_metre: float = 1.0
 
 
-def decayed_travel(v: np.ndarray | float, dt: float, decay_s: float) -> np.ndarray | float:
+def decayed_travel(v: float, dt: float, decay_s: float) -> float:
     """Distance travelled in ``dt`` seconds from velocity ``v`` decaying exponentially with time
     constant ``decay_s``: v * decay_s * (1 - exp(-dt / decay_s))."""
     if dt <= 0.0:
-        return v * 0.0
+        return 0.0
     return v * decay_s * (1.0 - math.exp(-dt / decay_s))
 
 
 @dataclass
 class _Track:
+    """One puck's state; poses are [x, y, unwrapped angle] lists of floats."""
+
     id: int
     source: str
     t: float                       # time of the last accepted measurement
-    meas: np.ndarray               # last measured x, y, unwrapped angle
-    out: np.ndarray                # reported (smoothed) x, y, unwrapped angle
-    pos_filter: OneEuroFilter
-    angle_filter: OneEuroFilter
-    vel: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    meas: list[float]              # last measured pose
+    out: list[float]               # reported (smoothed) pose
+    pos: list[float]               # One Euro state: filtered x, y and their derivative
+    dpos: list[float]
+    ang: list[float]               # One Euro state: filtered angle and its derivative
+    dang: list[float]
+    vx: float = 0.0
+    vy: float = 0.0
     omega: float = 0.0
     state: str = "seen"
-    lost_t: float | None = None    # when coasting began
-    anchor: np.ndarray | None = None  # reported pose when coasting began
+    anchor: list[float] | None = None  # reported pose when coasting began
     reacquiring: bool = False
-    candidate: np.ndarray | None = None
+    candidate: tuple[float, float] | None = None
     candidate_count: int = 0
     coast_t: float = 0.0           # time of the newest coasting prediction
 
@@ -137,11 +139,7 @@ class PuckTracker:
 
     def predict(self, t: float) -> dict[int, tuple[float, float]]:
         """Predicted (x, y) of every track at time ``t`` (for region-of-interest detection)."""
-        out = {}
-        for pid, tr in self.tracks.items():
-            p = tr.meas[:2] + decayed_travel(tr.vel, t - tr.t, self.s.coast_decay_s)
-            out[pid] = (float(p[0]), float(p[1]))
-        return out
+        return {pid: self._predicted(tr, t) for pid, tr in self.tracks.items()}
 
     def reset(self) -> None:
         self.tracks.clear()
@@ -149,6 +147,10 @@ class PuckTracker:
         self._pucks = ()
 
     # ------------------------------------------------------------------ internals
+    def _predicted(self, tr: _Track, t: float) -> tuple[float, float]:
+        k = decayed_travel(1.0, t - tr.t, self.s.coast_decay_s)
+        return tr.meas[0] + k * tr.vx, tr.meas[1] + k * tr.vy
+
     def _gate(self, tr: _Track, t: float) -> float:
         u = self.s.units_per_metre
         return u * (self.s.gate_m + self.s.max_speed * max(t - tr.t, 0.0))
@@ -157,7 +159,7 @@ class PuckTracker:
                complete: bool) -> None:
         by_id: dict[int, list[PuckMeasurement]] = {}
         for m in measurements:
-            if all(math.isfinite(v) for v in (m.x, m.y, m.angle)):
+            if math.isfinite(m.x) and math.isfinite(m.y) and math.isfinite(m.angle):
                 by_id.setdefault(int(m.id), []).append(m)
         for pid, ms in by_id.items():
             tr = self.tracks.get(pid)
@@ -165,40 +167,37 @@ class PuckTracker:
                 best = max(ms, key=lambda m: m.quality)  # nothing to be consistent with yet
                 self.tracks[pid] = self._new_track(best, source)
             elif not self._associate(tr, ms, source):
-                self._miss(tr, ms[0].t if ms else t)
+                self._miss(tr, ms[0].t)
         if complete:
             for pid, tr in self.tracks.items():
                 if pid not in by_id and tr.source == source:
                     self._miss(tr, t)
 
-    def _new_track(self, m: PuckMeasurement, source: str) -> _Track:
-        s, u = self.s, self.s.units_per_metre
-        pos = OneEuroFilter(s.min_cutoff, s.beta / u, s.d_cutoff)
-        ang = OneEuroFilter(s.angle_min_cutoff, s.angle_beta, s.d_cutoff)
-        meas = np.array([m.x, m.y, m.angle], float)
-        pos.reset(meas[:2], m.t)
-        ang.reset(meas[2:], m.t)
-        return _Track(m.id, source, m.t, meas, meas.copy(), pos, ang)
+    @staticmethod
+    def _new_track(m: PuckMeasurement, source: str) -> _Track:
+        meas = [float(m.x), float(m.y), float(m.angle)]
+        return _Track(int(m.id), source, float(m.t), meas, list(meas), meas[:2], [0.0, 0.0],
+                      meas[2:], [0.0])
 
     def _associate(self, tr: _Track, ms: list[PuckMeasurement], source: str) -> bool:
         """Take the measurement consistent with the track; False if every one is an outlier."""
         t = ms[0].t
-        pred = tr.meas[:2] + decayed_travel(tr.vel, t - tr.t, self.s.coast_decay_s)
-        dists = [math.hypot(m.x - pred[0], m.y - pred[1]) for m in ms]
-        k = int(np.argmin(dists))
+        px, py = self._predicted(tr, t)
+        dists = [math.hypot(m.x - px, m.y - py) for m in ms]
+        k = min(range(len(ms)), key=dists.__getitem__)
         if dists[k] <= self._gate(tr, t):
             tr.candidate, tr.candidate_count = None, 0
             self._accept(tr, ms[k], source, relocated=False)
             return True
         # Far from the track: a false detection, unless it keeps appearing at the same place.
         m = ms[k]
-        p = np.array([m.x, m.y])
         u = self.s.units_per_metre
-        if tr.candidate is not None and np.hypot(*(p - tr.candidate)) <= u * self.s.gate_m:
+        if (tr.candidate is not None
+                and math.hypot(m.x - tr.candidate[0], m.y - tr.candidate[1]) <= u * self.s.gate_m):
             tr.candidate_count += 1
         else:
             tr.candidate_count = 1
-        tr.candidate = p
+        tr.candidate = (m.x, m.y)
         if tr.candidate_count >= self.s.confirm_frames:
             tr.candidate, tr.candidate_count = None, 0
             self._accept(tr, m, source, relocated=True)
@@ -207,56 +206,61 @@ class PuckTracker:
 
     def _accept(self, tr: _Track, m: PuckMeasurement, source: str, relocated: bool) -> None:
         s, u = self.s, self.s.units_per_metre
-        t = m.t
+        t = float(m.t)
         dt = t - tr.t
-        angle = tr.meas[2] + wrap_angle(m.angle - tr.meas[2])  # unwrapped
-        meas = np.array([m.x, m.y, angle])
+        old = tr.meas
+        meas = [float(m.x), float(m.y), old[2] + wrap_angle(m.angle - old[2])]  # angle unwrapped
         returning = tr.state == "coasting" or relocated
         if dt > 0.0:
             if relocated:
-                tr.vel[:] = 0.0
-                tr.omega = 0.0
+                tr.vx = tr.vy = tr.omega = 0.0
             else:
-                a = float(smoothing_factor(s.velocity_cutoff_hz, dt))
+                a = 1.0 / (1.0 + 1.0 / (2.0 * math.pi * s.velocity_cutoff_hz * dt))
                 if returning:  # no momentum carried through an occlusion
-                    tr.vel[:], tr.omega, a = 0.0, 0.0, 1.0 if dt < 0.1 else a
-                tr.vel += a * ((meas[:2] - tr.meas[:2]) / dt - tr.vel)
-                tr.omega += a * ((meas[2] - tr.meas[2]) / dt - tr.omega)
+                    tr.vx = tr.vy = tr.omega = 0.0
+                    a = 1.0 if dt < 0.1 else a
+                tr.vx += a * ((meas[0] - old[0]) / dt - tr.vx)
+                tr.vy += a * ((meas[1] - old[1]) / dt - tr.vy)
+                tr.omega += a * ((meas[2] - old[2]) / dt - tr.omega)
         if returning:
-            tr.pos_filter.reset(meas[:2], t)
-            tr.angle_filter.reset(meas[2:], t)
+            tr.pos, tr.dpos, tr.ang, tr.dang = meas[:2], [0.0, 0.0], meas[2:], [0.0]
             tr.reacquiring = True
-            target = meas.copy()
+            target = list(meas)
+        elif s.smooth and dt > 0.0:
+            tr.pos, tr.dpos = one_euro_floats(meas[:2], tr.pos, tr.dpos, dt, s.min_cutoff,
+                                              s.beta / u, s.d_cutoff)
+            tr.ang, tr.dang = one_euro_floats(meas[2:], tr.ang, tr.dang, dt,
+                                              s.angle_min_cutoff, s.angle_beta, s.d_cutoff)
+            target = tr.pos + tr.ang
         elif s.smooth:
-            target = np.concatenate([tr.pos_filter.filter(meas[:2], t),
-                                     tr.angle_filter.filter(meas[2:], t)])
+            target = tr.pos + tr.ang
         else:
-            target = meas.copy()
+            target = list(meas)
         if tr.reacquiring:
+            out = tr.out
             # Keep the smoothed angle on the same branch as the measurement.
-            tr.out[2] = target[2] + wrap_angle(tr.out[2] - target[2])
-            step = target - tr.out
-            d = float(np.hypot(step[0], step[1]))
+            out[2] = target[2] + wrap_angle(out[2] - target[2])
+            sx, sy, sa = target[0] - out[0], target[1] - out[1], target[2] - out[2]
+            d = math.hypot(sx, sy)
             lim = s.reacquire_step_m * u
             if d > lim:
-                step[:2] *= lim / d
-            step[2] = float(np.clip(step[2], -s.reacquire_step_rad, s.reacquire_step_rad))
-            tr.out = tr.out + step
+                sx, sy = sx * lim / d, sy * lim / d
+            sa = min(max(sa, -s.reacquire_step_rad), s.reacquire_step_rad)
+            tr.out = [out[0] + sx, out[1] + sy, out[2] + sa]
             tr.reacquiring = d > lim or abs(target[2] - tr.out[2]) > 1e-9
             if not tr.reacquiring:
                 tr.out = target
         else:
             tr.out = target
         tr.meas, tr.t, tr.source = meas, t, source
-        tr.state, tr.lost_t, tr.anchor = "seen", None, None
+        tr.state, tr.anchor = "seen", None
 
     def _miss(self, tr: _Track, t: float) -> None:
         if tr.state != "coasting":
-            tr.state, tr.lost_t, tr.anchor = "coasting", tr.t, tr.out.copy()
-        gone = max(t - tr.t, 0.0)
-        travel = decayed_travel(tr.vel, gone, self.s.coast_decay_s)
-        turn = decayed_travel(tr.omega, gone, self.s.coast_decay_s)
-        tr.out = tr.anchor + np.array([travel[0], travel[1], turn])
+            tr.state, tr.anchor = "coasting", list(tr.out)
+        k = decayed_travel(1.0, t - tr.t, self.s.coast_decay_s)
+        a = tr.anchor
+        tr.out = [a[0] + k * tr.vx, a[1] + k * tr.vy, a[2] + k * tr.omega]
         tr.coast_t = max(t, tr.t)
 
     def _expire(self, t: float) -> None:
@@ -267,12 +271,9 @@ class PuckTracker:
             del self.tracks[pid]
 
     def _puck(self, tr: _Track) -> Puck:
+        k = 1.0
         if tr.state == "coasting":
             k = math.exp(-max(tr.coast_t - tr.t, 0.0) / self.s.coast_decay_s)
-            vx, vy, omega = tr.vel[0] * k, tr.vel[1] * k, tr.omega * k
-        else:
-            vx, vy, omega = tr.vel[0], tr.vel[1], tr.omega
-        return Puck(tr.id, float(tr.out[0]), float(tr.out[1]), wrap_angle(float(tr.out[2])),
-                    float(vx), float(vy), float(omega), tr.state,  # type: ignore[arg-type]
-                    raw_x=float(tr.meas[0]), raw_y=float(tr.meas[1]),
-                    raw_angle=wrap_angle(float(tr.meas[2])))
+        return Puck(tr.id, tr.out[0], tr.out[1], wrap_angle(tr.out[2]), tr.vx * k, tr.vy * k,
+                    tr.omega * k, tr.state,  # type: ignore[arg-type]
+                    raw_x=tr.meas[0], raw_y=tr.meas[1], raw_angle=wrap_angle(tr.meas[2]))

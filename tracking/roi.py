@@ -75,7 +75,7 @@ def pack_boxes(boxes: list[Box], gap: int) -> tuple[list[tuple[int, int]], tuple
         return [], (0, 0)
     sizes = [(b[2] - b[0], b[3] - b[1]) for b in boxes]
     area = sum((w + gap) * (h + gap) for w, h in sizes)
-    shelf_w = max(max(w for w, _ in sizes) + 2 * gap, int(math.sqrt(area) * 1.3))
+    shelf_w = max(max(w for w, _ in sizes) + 2 * gap, int(math.sqrt(area) * 1.05))
     order = sorted(range(len(boxes)), key=lambda i: -sizes[i][1])
     places: list[tuple[int, int]] = [(0, 0)] * len(boxes)
     x, y, row_h, width = gap, gap, 0, 0
@@ -124,7 +124,7 @@ class MarkerTracker:
     """
 
     def __init__(self, full: DetectorSettings = FAST_FULL, roi: DetectorSettings = ROI,
-                 full_period: int = 3, roi_margin_sides: float = 0.4, roi_margin_px: float = 8.0,
+                 full_period: int = 3, roi_margin_sides: float = 0.25, roi_margin_px: float = 6.0,
                  refine_window_px: int = 5, gap_px: int = 8, forget_frames: int = 30) -> None:
         if full_period < 1:
             raise ValueError("full_period must be at least 1")
@@ -207,22 +207,26 @@ class MarkerTracker:
             mosaic[py:py + y1 - y0, px:px + x1 - x0] = grey[y0:y1, x0:x1]
         self._set_min_perimeter(preds, max(mw, mh))
         ids, corners = detect_markers(mosaic, self.roi_detector)
-        keep_ids, keep = [], []
-        for mid, c in zip(ids, corners):
-            centre = c.mean(axis=0)
-            for (x0, y0, x1, y1), (px, py) in zip(boxes, places):
-                w, h = x1 - x0, y1 - y0
-                if px <= centre[0] < px + w and py <= centre[1] < py + h:
-                    local = c - (px, py)
-                    # Only markers wholly inside their crop (not cut by its edge).
-                    if (local.min() >= 1.0 and np.all(local[:, 0] <= w - 2)
-                            and np.all(local[:, 1] <= h - 2)):
-                        keep_ids.append(int(mid))
-                        keep.append(local + (x0, y0))
-                    break
-        if not keep:
-            return np.zeros(0, int), np.zeros((0, 4, 2))
-        return dedupe(np.array(keep_ids, int), np.array(keep, float))
+        if len(ids) == 0:
+            return ids, corners
+        # Each detection belongs to the crop holding its centre; keep it only if wholly inside
+        # that crop (not cut by the crop's edge), and move it back to image pixels.
+        b = np.array(boxes, float)
+        pl = np.array(places, float)
+        size = b[:, 2:] - b[:, :2]
+        c = corners.mean(axis=1)
+        inside = np.all((c[:, None, :] >= pl[None]) & (c[:, None, :] < pl[None] + size[None]),
+                        axis=2)
+        has = inside.any(axis=1)
+        k = inside.argmax(axis=1)
+        local = corners - pl[k][:, None, :]
+        ok = (has & np.all(local >= 1.0, axis=(1, 2))
+              & np.all(local <= size[k][:, None, :] - 2.0, axis=(1, 2)))
+        ids = ids[ok]
+        corners = local[ok] + b[k[ok], None, :2]
+        if len(np.unique(ids)) < len(ids):
+            ids, corners = dedupe(ids, corners)
+        return ids, corners
 
     def _set_min_perimeter(self, preds: Mapping[int, tuple[float, float]], size: int) -> None:
         """Ignore contours shorter than half the smallest expected marker's perimeter: on a small

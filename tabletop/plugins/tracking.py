@@ -54,9 +54,9 @@ SCHEMA = Record({
     "full_frame_period": Number(3, integer=True, lo=1, hi=30,
                                 doc="a full-frame search every N frames: a puck entering or "
                                     "reappearing anywhere is found within N frames"),
-    "roi_margin_sides": Number(0.4, lo=0.0, hi=10.0,
+    "roi_margin_sides": Number(0.25, lo=0.0, hi=10.0,
                                doc="region-of-interest crop margin beyond the marker, in sides"),
-    "roi_margin_px": Number(8.0, lo=0.0, hi=500.0, doc="and in pixels"),
+    "roi_margin_px": Number(6.0, lo=0.0, hi=500.0, doc="and in pixels"),
     # Jitter filter (One Euro), in table units
     "smooth": Bool(True, doc="apply the One Euro filter to the poses engines use"),
     "min_cutoff": Number(0.2, lo=0.001, hi=100.0, doc="One Euro minimum cutoff, Hz"),

@@ -1,0 +1,120 @@
+"""Marker tracking speed: our tracker (region-of-interest + periodic full-frame detection, then the
+puck tracker) against a plain full-frame ``ArucoDetector.detectMarkers`` on the same frames.
+
+For 1280x720 and 1920x1080 with 4 and 16 moving pucks (synthetic camera: blur, noise, motion
+blur), both run interleaved frame by frame in one process. Figures: ms per frame of each, their
+ratio (budget <= 0.5), detection rate of fully visible markers and centre error (pixels).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from bench.common import emit, interleaved, stats_ms  # noqa: E402
+from tabletop.plugins import tracking as plugin  # noqa: E402
+from tests.tracking.scenes import moving_scene  # noqa: E402
+from tracking.markers import (DetectorSettings, detect_markers, make_detector,  # noqa: E402
+                              marker_centres, marker_measurements,
+                              marker_side_lengths)
+from tracking.pucks import PuckTracker  # noqa: E402
+from tracking.synthetic import CameraSettings, SyntheticCamera  # noqa: E402
+
+FRAMES = 60
+PASSES = 3
+FPS = 30.0
+
+
+def score(frames, outputs) -> tuple[float, float, float]:
+    """Detection rate of fully visible markers, median and p95 centre error (pixels)."""
+    found = visible = 0
+    errs = []
+    for f, (ids, corners) in zip(frames, outputs):
+        centres = marker_centres(corners) if len(ids) else np.zeros((0, 2))
+        for i, pid in enumerate(f.ids):
+            if not f.visible[i]:
+                continue
+            visible += 1
+            m = np.flatnonzero(ids == pid)
+            if len(m):
+                found += 1
+                errs.append(float(np.hypot(*(centres[m[0]] - f.centres[i]))))
+    e = np.array(errs) if errs else np.array([np.nan])
+    return found / max(visible, 1), float(np.median(e)), float(np.percentile(e, 95))
+
+
+def run_config(resolution: tuple[int, int], n: int) -> dict[str, float]:
+    cam = SyntheticCamera(CameraSettings(resolution=resolution, blur_sigma=0.8, noise_sigma=3.0,
+                                         exposure_s=0.01, seed=n))
+    frames = [cam.render(p, t, v) for t, p, v in moving_scene(n, FRAMES, FPS, speed=0.4, seed=n)]
+    plain = make_detector(DetectorSettings(corner_refinement="none"))
+    state: dict[str, object] = {}
+
+    def reset() -> None:
+        state["ours"] = plugin.build_detector({})
+        state["tracker"] = None
+        state["k_ours"] = state["k_plain"] = 0
+        state["out_ours"], state["out_plain"] = [], []
+
+    def ours() -> None:
+        k = state["k_ours"]
+        f = frames[k]
+        det = state["ours"]
+        tracker = state["tracker"]
+        preds = tracker.predict(f.t) if tracker is not None else None
+        ids, corners = det.detect(f.image, preds or None)
+        if tracker is None:  # pixels: scale the metre settings by the markers' size
+            scale = float(np.median(marker_side_lengths(corners))) / 0.05 if len(ids) else 900.0
+            tracker = state["tracker"] = PuckTracker(plugin.tracker_settings({}, scale))
+        tracker.step(marker_measurements(ids, corners, f.t), f.t)
+        state["out_ours"].append((ids, corners))
+        state["k_ours"] = k + 1
+
+    def plain_full() -> None:
+        k = state["k_plain"]
+        state["out_plain"].append(detect_markers(frames[k].image, plain))
+        state["k_plain"] = k + 1
+
+    ours_t: list[float] = []
+    plain_t: list[float] = []
+    for _ in range(PASSES):
+        reset()
+        times = interleaved({"ours": ours, "plain": plain_full}, FRAMES)
+        ours_t += times["ours"]
+        plain_t += times["plain"]
+    rate_o, med_o, p95_o = score(frames, state["out_ours"])
+    rate_p, med_p, p95_p = score(frames, state["out_plain"])
+    so, sp = stats_ms(ours_t), stats_ms(plain_t)
+    return {"ours_ms": so["mean_ms"], "ours_median_ms": so["median_ms"], "ours_p99_ms": so["p99_ms"],
+            "plain_ms": sp["mean_ms"], "plain_median_ms": sp["median_ms"],
+            "ratio": so["mean_ms"] / sp["mean_ms"],
+            "ours_detection_rate": rate_o, "plain_detection_rate": rate_p,
+            "ours_centre_error_median_px": med_o, "ours_centre_error_p95_px": p95_o,
+            "plain_centre_error_median_px": med_p, "plain_centre_error_p95_px": p95_p}
+
+
+def main() -> None:
+    t0 = time.monotonic()
+    figures: dict[str, object] = {}
+    budgets: dict[str, object] = {}
+    for res in ((1280, 720), (1920, 1080)):
+        for n in (4, 16):
+            key = f"{res[0]}x{res[1]}_{n}pucks"
+            r = run_config(res, n)
+            figures[key] = r
+            budgets[key] = {"ratio": 0.5, "ours_detection_rate": 0.99,
+                            "ours_centre_error_median_px": 0.5, "ours_centre_error_p95_px": 1.5}
+            print(f"{key}: ours {r['ours_ms']:.2f} ms, plain {r['plain_ms']:.2f} ms, "
+                  f"ratio {r['ratio']:.2f}, rate {r['ours_detection_rate']:.3f}", flush=True)
+    figures["frames_per_config"] = FRAMES * PASSES
+    figures["wall_s"] = time.monotonic() - t0
+    emit("tracking", figures, budgets)
+
+
+if __name__ == "__main__":
+    main()
