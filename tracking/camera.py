@@ -14,6 +14,7 @@ camera would deliver them; when one ends it is opened again from its start after
 
 from __future__ import annotations
 
+import collections
 import logging
 import math
 import os
@@ -170,6 +171,47 @@ def to_grey(image: np.ndarray) -> np.ndarray:
     return cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
 
 
+class PhaseLock:
+    """Times a paced input's frames to arrive just before the loop asks for them.
+
+    A source whose shutter it controls (a synthetic camera, a file played back, a triggered
+    camera) notes every ``latest()`` call and how long a frame takes from shutter to published;
+    ``schedule(planned, period)`` moves the next shutter to finish ``margin_s`` before a loop
+    tick, never sooner than half a frame period before ``planned``. This removes up to a whole
+    loop period of waiting from the capture-to-render latency. Times in monotonic seconds.
+    """
+
+    def __init__(self, margin_s: float = 0.001, window: int = 30) -> None:
+        self.margin_s = margin_s
+        self._lock = threading.Lock()
+        self.calls: collections.deque[float] = collections.deque(maxlen=window)
+        self.processing: collections.deque[float] = collections.deque(maxlen=window)
+
+    def note_call(self, t: float) -> None:
+        with self._lock:
+            self.calls.append(t)
+
+    def note_processing(self, seconds: float) -> None:
+        with self._lock:
+            self.processing.append(seconds)
+
+    def schedule(self, planned: float, period: float) -> float:
+        """The shutter time for the frame planned at ``planned`` (unchanged when no steady loop
+        is calling)."""
+        with self._lock:
+            calls, processing = list(self.calls), list(self.processing)
+        if len(calls) < 4 or not processing or planned - calls[-1] > 1.0:
+            return planned
+        tick = float(np.median(np.diff(calls)))
+        if not 1e-3 <= tick <= 1.0:
+            return planned
+        lead = float(np.percentile(processing, 90)) + self.margin_s
+        earliest = planned - 0.5 * period + lead
+        last = calls[-1]
+        k = math.ceil((earliest - last) / tick)
+        return last + k * tick - lead
+
+
 class CameraSource:
     """A ``Source`` whose thread grabs and processes frames, keeping only the newest observation.
 
@@ -180,8 +222,10 @@ class CameraSource:
 
     def __init__(self, name: str, settings: CameraSettings, process: Process | None = None,
                  opener: Callable[[CameraSettings], FrameReader] = open_reader,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic,
+                 phase_lock: PhaseLock | None = None) -> None:
         self.name, self.settings, self.clock = name, settings, clock
+        self.phase_lock = phase_lock
         self.process = process or (lambda image, t, n: Observation(name, t, n, image=image))
         self.opener = opener
         self._lock = threading.Lock()
@@ -204,6 +248,8 @@ class CameraSource:
         self._thread.start()
 
     def latest(self) -> Observation | None:
+        if self.phase_lock is not None:
+            self.phase_lock.note_call(self.clock())
         with self._lock:
             return self._latest
 
@@ -271,6 +317,8 @@ class CameraSource:
         last_good = self.clock()
         while not self._stop.is_set():
             if period:
+                if self.phase_lock is not None:
+                    next_t = self.phase_lock.schedule(next_t, period)
                 wait = next_t - self.clock()
                 if wait > 0 and self._stop.wait(wait):
                     break
@@ -303,6 +351,8 @@ class CameraSource:
             log.exception("%s: processing a frame failed", self.name)
             self._set(False, f"processing failed: {exc}")
             return
+        if self.phase_lock is not None:
+            self.phase_lock.note_processing(self.clock() - t)
         with self._lock:
             self._frames = n
             self._last_frame_t = t

@@ -21,7 +21,7 @@ from tabletop.plugins.camera import (MarkerMeasurer, make_detector, share_calibr
 from tabletop.registry import BuildContext
 from tabletop.schema import Bool, FilePath, ListOf, Number, Optional_, Record, Str
 from tracking.camera import CameraSettings as CaptureSettings
-from tracking.camera import CameraSource
+from tracking.camera import CameraSource, PhaseLock
 from tracking.synthetic import (CameraSettings, Occluder, SyntheticCamera, SyntheticFrame,
                                 scripted_hands)
 
@@ -52,6 +52,8 @@ SCHEMA = Record({
     "calibration": Optional_(FilePath(kind="file"),
                              doc="map with this calibration instead of the camera's true one"),
     "keep_image": Bool(False, doc="attach each rendered frame to the observation"),
+    "sync_to_loop": Bool(True, doc="time each frame to be ready just before a loop tick, as a "
+                                   "camera triggered by the loop would"),
 })
 
 
@@ -89,7 +91,7 @@ class SyntheticCameraSource(CameraSource):
 
     def __init__(self, name: str, camera: SyntheticCamera, poses: Callable[[float], list],
                  hands: Callable[[float], list[Occluder]], fps: float, measurer: MarkerMeasurer,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic, sync_to_loop: bool = True) -> None:
         self.camera = camera
         self.reader: SyntheticReader | None = None
         self._truth: tuple[Any, SyntheticFrame] | None = None
@@ -105,7 +107,8 @@ class SyntheticCameraSource(CameraSource):
 
         settings = CaptureSettings(device=f"synthetic camera {camera.w}x{camera.h}",
                                    fps=fps, grey=False, stall_s=max(3.0, 10.0 / fps))
-        super().__init__(name, settings, process, opener=opener, clock=clock)
+        super().__init__(name, settings, process, opener=opener, clock=clock,
+                         phase_lock=PhaseLock() if sync_to_loop else None)
 
     def truth(self) -> tuple[Any, SyntheticFrame] | None:
         """(newest observation, the synthetic frame it came from), or None before the first."""
@@ -156,4 +159,4 @@ def build(options: dict, ctx: BuildContext) -> SyntheticCameraSource:
     measurer = MarkerMeasurer(options["name"], make_detector(ctx), calibration, ctx.table,
                               tracker_predictions(ctx), options["keep_image"])
     return SyntheticCameraSource(options["name"], camera, script.poses, hands, options["fps"],
-                                 measurer)
+                                 measurer, sync_to_loop=options["sync_to_loop"])

@@ -159,3 +159,23 @@ def test_settings_from_config_options():
     s = settings_from_options({"device": "2", "resolution": [1280, 720], "fps": 60.0})
     assert s.device == 2 and s.resolution == (1280, 720) and s.fps == 60.0
     assert settings_from_options({"device": "/dev/video0"}).device == "/dev/video0"
+
+
+def test_phase_lock_times_frames_to_finish_just_before_a_tick():
+    from tracking.camera import PhaseLock
+    lock = PhaseLock(margin_s=0.001)
+    assert lock.schedule(5.0, 1 / 60) == 5.0  # no loop calling yet: as planned
+    tick = 1 / 60
+    for k in range(10):
+        lock.note_call(100.0 + k * tick)
+    lock.note_processing(0.008)
+    last = 100.0 + 9 * tick
+    # A frame planned a little after the last call finishes 1 ms before the next one.
+    shutter = lock.schedule(last + 0.002, tick)
+    assert shutter == pytest.approx(last + tick - 0.009)
+    # Planned just before a tick it cannot finish in time: the tick after that one.
+    assert lock.schedule(last + tick - 0.001 + 0.5 * tick, tick) == pytest.approx(
+        last + 2 * tick - 0.009)
+    # Never more than half a frame period early, never for a loop that stopped calling.
+    assert lock.schedule(last + 0.012, tick) >= last + 0.012 - 0.5 * tick
+    assert lock.schedule(last + 2.0, tick) == last + 2.0
