@@ -8,12 +8,32 @@ probability and progress.
 - Probabilities: each template's evidence is its sum of per-step log-likelihoods with
   exponential forgetting (time constant ``memory`` samples); a softmax across templates turns
   it into probabilities that sum to 1 and change smoothly, yet let a new action take over.
-- Validity (null rejection): the recent mean per-sample log-likelihood of ``best`` is converted
-  into an RMS distance between the performance and the template, in ``sigma`` units per
-  feature; the output is valid while that distance is at most ``null_distance`` and the
-  progress spread (standard deviation, 0..1 units) at most ``max_spread``.
+- Validity (null rejection), per template: its per-step log-likelihoods, forgotten with time
+  constant ``null_memory`` samples, are converted into an RMS distance between the performance
+  and the template in ``sigma`` units per feature. A template farther than ``null_distance`` is
+  *refused* until it re-enters (a new performance of it begins) or the follower is reset: a
+  performance that once left the template is not that action, even where it later crosses it.
+  A template is *engaged* once its progress passed its onset, the first state ``onset`` sigmas
+  (RMS) away from its first state: until the performance has left the start that every gesture
+  shares, it is evidence of nothing. The output is valid while ``best`` is engaged, not refused,
+  and its progress spread (standard deviation, 0..1 units) is at most ``max_spread``.
 - Re-entry: every template can restart at its first state (see :mod:`behaviors.mop.forward`);
   ``FollowState.restarted`` is True on the step a new performance of ``best`` began.
+
+Why refuse and engage, measured on ``examples/mop.yaml``'s scripted performers with only the bird
+(one action, wave) on its puck, so that nothing but the likelihood can refuse the puck's four
+other gestures and its slides home (``tests/mop/test_live.py``, 120 s, seeds 0-2): with the
+plain validity rule (a 20-sample mean distance of ``best`` at most 2.0, nothing latched) the bird
+took 90% of the lines, 46% of the zigzags and 35% of each slide home for its wave, and a puck at
+rest was "waving" at progress 0. The distance of a line performed as a wave peaks at 2.5-3.3 but
+averages 1.8, so averaging hides it: refusing as soon as the recent distance exceeds the limit,
+and holding the refusal, takes the other gestures at 60% of them down to 0 of 60, and the bird
+is driven 4-8% of the time while a gesture not its own is performed (the first part of a zigzag
+or a line looks like a wave). The memory (16 samples, about 0.5 s at 30 Hz) and the limit (1.8)
+trade that against a true performance going back faster than the model's one state per step,
+whose lag reaches a distance of 2.0 over 8 samples: with memory 8 or limit 2.5 the bird took
+30-47% of the other gestures. The onset (0.5 sigma) removes the slides home (35% -> 0%): every
+template starts still, so any motion at all matches its first states.
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -68,7 +88,8 @@ class ActionFollower:
     half-width of the forward window in states; ``transitions``: forward weights (self, next,
     skips...); ``backward``: weight of moving one state back; ``restart``: probability per step
     that a new performance starts; ``memory``: forgetting time constant of the evidence in
-    samples; ``null_distance`` and ``max_spread``: validity limits (see the module docstring);
+    samples; ``null_distance``, ``null_memory`` (samples), ``onset`` (sigmas) and ``max_spread``:
+    validity (see the module docstring);
     ``relative_floor``: floor of the per-feature scale relative to the overall spread;
     ``min_scale``: optional (d,) floor of the per-feature scale in the features' own units (the
     input's noise, e.g. :attr:`behaviors.mop.features.PathFeatures.min_scale`).
@@ -198,6 +219,12 @@ class ActionFollower:
         self._recent_weight += 1.0
         new = entries > self._entries   # re-entered: a new performance, judged afresh (this
         self._entries[:] = entries      # step's likelihood still mostly belongs to the old one)
+        # a refused template whose performance is back at its start, matching it, may begin anew
+        # (re-entry is not counted when the main window already holds the first states)
+        back = self._refused & (progress < self.onset_progress)
+        if np.count_nonzero(back):
+            back &= (self._log_constant - step_ll) * (2.0 / self.dim) <= self._null2
+            new |= back
         if np.count_nonzero(new):
             self._recent[new] = self._log_constant
             self._recent_weight[new] = 1.0
