@@ -262,6 +262,9 @@ class CameraSource:
                 message = f"{message}; reconnecting in {max(0.0, self._retry_at - now):.1f} s"
         if ok and age > self.settings.stall_s:
             ok, message = False, f"no frame for {age:.1f} s"
+        note = getattr(self.process, "note", "")  # e.g. "uncalibrated" from the processing
+        if note:
+            message = f"{message} ({note})"
         return SourceHealth(self.name, ok, message, age)
 
     def close(self) -> None:

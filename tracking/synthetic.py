@@ -20,6 +20,8 @@ from typing import Sequence
 import cv2
 import numpy as np
 
+from tracking.markers import dictionary_by_name  # noqa: F401  (re-exported)
+
 Pose = tuple[int, float, float, float]  # id, x m, y m, angle rad
 
 
@@ -78,14 +80,6 @@ class SyntheticFrame:
     poses: np.ndarray
     visible: np.ndarray
     occluders: tuple[Occluder, ...] = field(default=())
-
-
-def dictionary_by_name(name: str) -> cv2.aruco.Dictionary:
-    """OpenCV's predefined dictionary called ``name`` (e.g. ``DICT_4X4_50``); ValueError if none."""
-    code = getattr(cv2.aruco, name, None) if name.startswith("DICT_") else None
-    if not isinstance(code, int):
-        raise ValueError(f"unknown marker dictionary {name!r}")
-    return cv2.aruco.getPredefinedDictionary(code)
 
 
 def _look_rotation(tilt: float) -> np.ndarray:

@@ -130,6 +130,8 @@ class MarkerMeasurer:
         self.source, self.detector, self.calibration = source, detector, calibration
         self.table, self.predictions, self.keep_image = table, predictions, keep_image
         self._failed_predictions = False
+        self.note = "" if calibration is not None else "uncalibrated"
+        self._checked_size = False
 
     def _predictions_px(self, t: float) -> dict[int, tuple[float, float]] | None:
         if self.predictions is None or self.calibration is None:
@@ -151,6 +153,13 @@ class MarkerMeasurer:
     def __call__(self, grey: np.ndarray, t: float, n: int) -> Observation:
         if self.calibration is None:
             self.calibration = stretch_calibration(grey.shape[1], grey.shape[0], self.table)
+        if not self._checked_size:
+            self._checked_size = True
+            size = getattr(self.calibration, "image_size", None)
+            if size is not None and tuple(size) != (grey.shape[1], grey.shape[0]):
+                self.note = (f"calibrated for {size[0]}x{size[1]} but frames are "
+                             f"{grey.shape[1]}x{grey.shape[0]}")
+                log.warning("%s: %s: positions will be wrong", self.source, self.note)
         ids, corners = self.detector.detect(grey, self._predictions_px(t))
         pucks = measurements(ids, corners, self.calibration, t)
         return Observation(self.source, t, n, pucks=pucks,

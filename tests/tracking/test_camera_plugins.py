@@ -99,6 +99,7 @@ def test_camera_without_calibration_stretches_the_image_over_the_table(tmp_path)
         pucks = {m.id: m for m in src.latest().pucks}
     finally:
         src.close()
+    assert "uncalibrated" in src.health().message
     # Roughly in place (the table fills the image's height, not all of its width).
     assert all(0.0 <= m.x <= TABLE[0] and 0.0 <= m.y <= TABLE[1] for m in pucks.values())
     assert pucks[11].x > pucks[7].x and pucks[23].y > pucks[7].y
@@ -156,3 +157,17 @@ def test_scripted_hands_come_and_go():
     assert reach[0].y < 0.0 <= reach[1].y <= TABLE[1]  # comes in over the near edge
     assert scripted_hands(11.0, TABLE, 10.0, 2.0) == scripted_hands(11.0, TABLE, 10.0, 2.0)
     assert scripted_hands(5.0, TABLE, every_s=0.0) == []
+
+
+def test_calibration_for_another_resolution_is_reported(tmp_path):
+    cam = SyntheticCamera(CameraSettings(resolution=(640, 360)))
+    write_frames(tmp_path / "frames", cam, n=2)
+    save_calibration(tmp_path / "c.yaml", Calibration(cam.image_to_table_homography(),
+                                                      image_size=(1280, 720)))
+    src, _ = build({"kind": "camera", "device": "frames", "calibration": "c.yaml"}, tmp_path)
+    src.open()
+    try:
+        assert wait_for(lambda: src.frames >= 1)
+        assert "calibrated for 1280x720 but frames are 640x360" in src.health().message
+    finally:
+        src.close()
