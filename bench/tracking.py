@@ -90,7 +90,8 @@ def run_config(resolution: tuple[int, int], n: int) -> dict[str, float]:
     rate_o, med_o, p95_o = score(frames, state["out_ours"])
     rate_p, med_p, p95_p = score(frames, state["out_plain"])
     so, sp = stats_ms(ours_t), stats_ms(plain_t)
-    return {"ours_ms": so["mean_ms"], "ours_median_ms": so["median_ms"], "ours_p99_ms": so["p99_ms"],
+    return {"ours_ms": so["mean_ms"], "ours_median_ms": so["median_ms"],
+            "ours_p99_ms": so["p99_ms"],
             "plain_ms": sp["mean_ms"], "plain_median_ms": sp["median_ms"],
             "ratio": so["mean_ms"] / sp["mean_ms"],
             "ours_detection_rate": rate_o, "plain_detection_rate": rate_p,

@@ -46,10 +46,11 @@ class DetectorSettings:
     """Detector options. ``corner_refinement``: none, subpix, contour or apriltag (slow);
     ``error_correction_rate``: share of the dictionary's correction capacity used (lower admits
     fewer false ids); ``valid_bit_id_threshold``: OpenCV's ``validBitIdThreshold`` (a rate in
-    0..1, default 0.49; with the correction rate it guards against false positives); ``threshold_window_px``: adaptive
-    threshold window sizes (min, max, step) in pixels; ``min_perimeter_rate``: smallest marker
-    perimeter as a fraction of the image's larger side; ``aruco3``: OpenCV's ArUco3 fast mode with
-    ``min_length_ratio`` (smallest marker side / image's larger side)."""
+    0..1, default 0.49; with the correction rate it guards against false positives);
+    ``threshold_window_px``: adaptive threshold window sizes (min, max, step) in pixels;
+    ``min_perimeter_rate``: smallest marker perimeter as a fraction of the image's larger side;
+    ``aruco3``: OpenCV's ArUco3 fast mode with ``min_length_ratio`` (smallest marker side /
+    image's larger side) and ``min_canonical_side_px``."""
 
     dictionary: str = "DICT_4X4_50"
     corner_refinement: str = "subpix"
@@ -142,7 +143,7 @@ def marker_headings(corners: np.ndarray) -> np.ndarray:
 
 
 def marker_poses(corners: np.ndarray) -> np.ndarray:
-    """Poses (N, 3): centre x, y and heading (see :func:`marker_centres`, :func:`marker_headings`)."""
+    """Poses (N, 3): centre x, y and heading (:func:`marker_centres`, :func:`marker_headings`)."""
     c = np.asarray(corners, float).reshape(-1, 4, 2)
     return np.column_stack([marker_centres(c), marker_headings(c)]) if len(c) else np.zeros((0, 3))
 

@@ -182,6 +182,8 @@ class PuckTracker:
     def _associate(self, tr: _Track, ms: list[PuckMeasurement], source: str) -> bool:
         """Take the measurement consistent with the track; False if every one is an outlier."""
         t = ms[0].t
+        if t < tr.t:
+            return True  # older than what the track already holds (another source): ignore
         px, py = self._predicted(tr, t)
         dists = [math.hypot(m.x - px, m.y - py) for m in ms]
         k = min(range(len(ms)), key=dists.__getitem__)

@@ -155,7 +155,8 @@ class MarkerTracker:
                 out[mid] = (float(c[0]), float(c[1]))
         return out
 
-    def detect(self, grey: np.ndarray, predictions_px: Mapping[int, tuple[float, float]] | None = None
+    def detect(self, grey: np.ndarray,
+               predictions_px: Mapping[int, tuple[float, float]] | None = None
                ) -> tuple[np.ndarray, np.ndarray]:
         """Detect markers in this frame of the stream: ids (N,), corners (N, 4, 2) pixels."""
         if grey.ndim == 3:

@@ -184,3 +184,11 @@ def test_update_ignores_repeated_observations_and_tracks_each_source():
     # A source gone quiet: its pucks stop being seen, then expire.
     assert tr.update([obs_a2, obs_b2], 0.4)[-1].state == "coasting"
     assert tr.update([obs_a2, obs_b2], 1.0) == ()
+
+
+def test_a_measurement_older_than_the_track_is_ignored():
+    tr = PuckTracker(TrackerSettings(smooth=False))
+    tr.step([PuckMeasurement(1, 0.5, 0.5, 0.0, 1.0)], 1.0, source="a")
+    p = tr.update([Observation("b", 0.9, 1, pucks=(PuckMeasurement(1, 0.52, 0.5, 0.0, 0.9),),
+                               complete=False)], 1.0)[0]
+    assert p.raw_x == 0.5 and p.state == "seen"

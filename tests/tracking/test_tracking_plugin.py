@@ -13,7 +13,8 @@ from tests.tracking.scenes import grid_poses
 
 def test_defaults_and_bad_values_name_the_key():
     o = plugin.complete({})
-    assert o["coast_s"] == 0.5 and o["reacquire_step_m"] == 0.01 and o["dictionary"] == "DICT_4X4_50"
+    assert o["coast_s"] == 0.5 and o["reacquire_step_m"] == 0.01
+    assert o["dictionary"] == "DICT_4X4_50"
     with pytest.raises(ConfigError, match="tracking.dictionary"):
         plugin.complete({"dictionary": "DICT_NOPE"})
     with pytest.raises(ConfigError, match="tracking.coast_s"):
