@@ -92,7 +92,7 @@ class SyntheticCameraSource(CameraSource):
     def __init__(self, name: str, camera: SyntheticCamera, poses: Callable[[float], list],
                  hands: Callable[[float], list[Occluder]], fps: float, measurer: MarkerMeasurer,
                  clock: Callable[[], float] = time.monotonic, sync_to_loop: bool = True) -> None:
-        self.camera = camera
+        self.camera, self.measurer = camera, measurer
         self.reader: SyntheticReader | None = None
         self._truth: tuple[Any, SyntheticFrame] | None = None
 

@@ -171,3 +171,44 @@ def test_calibration_for_another_resolution_is_reported(tmp_path):
         assert "calibrated for 1280x720 but frames are 640x360" in src.health().message
     finally:
         src.close()
+
+
+def test_tracker_predictions_guide_the_detector_to_the_right_pixels(tmp_path):
+    """The loop's tracker predicts each puck's table position; the camera turns it into pixel
+    predictions for the detector's region-of-interest search, close to where the marker is."""
+    from tabletop.plugins.tracking import build_tracker
+    cfg = validate_config({"sources": [{"kind": "synthetic_camera", "pucks": [1, 2, 3],
+                                        "seed": 2, "fps": 30.0, "tilt_deg": 20.0,
+                                        "distortion": [-0.1, 0.02, 0, 0, 0],
+                                        "hands": {"every_s": 0}}]}, "t.yaml", tmp_path)
+    ctx = BuildContext(TABLE, 60.0, cfg, tmp_path)
+    tracker = build_tracker(cfg["tracking"], ctx)
+    ctx.shared["tracker"] = tracker
+    src = synthetic_camera.build(cfg["sources"][0], ctx)
+    real = src.measurer
+    errors = []
+
+    class Recording:
+        def __init__(self, detector):
+            self.detector = detector
+
+        def detect(self, grey, predictions_px=None):
+            frame = src.reader.frame
+            for pid, (px, py) in (predictions_px or {}).items():
+                j = frame.ids.tolist().index(pid)
+                errors.append(float(np.hypot(px - frame.centres[j, 0], py - frame.centres[j, 1])))
+            return self.detector.detect(grey, predictions_px)
+
+    real.detector = Recording(real.detector)
+    src.open()
+    try:
+        end = time.monotonic() + 2.0
+        while time.monotonic() < end:
+            obs = src.latest()
+            if obs is not None:
+                tracker.update([obs], obs.t)
+            time.sleep(1 / 60)
+    finally:
+        src.close()
+    assert len(errors) >= 60
+    assert np.median(errors) <= 3.0 and np.percentile(errors, 95) <= 10.0  # pixels
