@@ -195,6 +195,8 @@ def main(args: argparse.Namespace) -> int:
     fps = fps_arg or reader.fps or 30.0
     detector = plugin.build_detector(options)
     to_table = calibration.image_to_table if calibration is not None else None
+    id_map = plugin.puck_id_map(options)
+    marker_of = {p: m for m, p in id_map.items()}
     tracker: PuckTracker | None = None
     progress = Progress(reader.total, enabled=not reader.is_camera)
 
@@ -208,7 +210,7 @@ def main(args: argparse.Namespace) -> int:
                     t = i / fps
                     preds = None
                     if tracker is not None:
-                        p = tracker.predict(t)
+                        p = {marker_of.get(k, k): xy for k, xy in tracker.predict(t).items()}
                         if p and calibration is not None:
                             ids = list(p)
                             px = calibration.table_to_image(np.array([p[k] for k in ids]))
@@ -223,7 +225,7 @@ def main(args: argparse.Namespace) -> int:
                         tracker = PuckTracker(plugin.tracker_settings(options, scale,
                                                                       smooth=True))
                     pucks = () if tracker is None else tracker.step(
-                        marker_measurements(ids, corners, t, to_table), t)
+                        marker_measurements(ids, corners, t, to_table, id_map), t)
                     line = {"frame": i, "t": round(t, 9),
                             "pucks": [_puck_json(p, args.smooth) for p in pucks]}
                     f.write(json.dumps(line, separators=(",", ":")) + "\n")

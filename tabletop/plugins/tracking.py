@@ -12,8 +12,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Mapping
 
+import dataclasses
+
+from tabletop.frames import Observation, Puck
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, Context, Number, Record, Str
+from tabletop.schema import Bool, Context, MapOf, Number, Record, Str
 from tracking.pucks import PuckTracker, TrackerSettings
 
 
@@ -31,11 +34,21 @@ class DictionaryName(Str):
         return value
 
 
+def _check_puck_ids(section: dict, path: str, ctx: Context) -> None:
+    for key in section["puck_ids"]:
+        if not key.isdigit():
+            raise ctx.error(f"{path}.puck_ids.{key}" if path else f"puck_ids.{key}",
+                            "expected a marker id (a whole number) as the key")
+
+
 SCHEMA = Record({
     # Markers
     "dictionary": DictionaryName("DICT_4X4_50", doc="marker dictionary printed on the pucks"),
     "marker_size": Number(0.05, lo=0.005, hi=1.0,
                           doc="printed marker side including its black border, metres"),
+    "puck_ids": MapOf(Number(integer=True, lo=0, hi=1_000_000), default={},
+                      doc="marker id -> puck id, for pucks whose marker id differs from the id "
+                          "the engines use (e.g. a replaced puck); others keep their marker id"),
     "error_correction_rate": Number(0.6, lo=0.0, hi=1.0,
                                     doc="share of the dictionary's bit correction used; lower "
                                         "admits fewer false ids"),
@@ -83,7 +96,7 @@ SCHEMA = Record({
                                  doc="low-pass of the velocity estimates, Hz"),
     "stale_s": Number(0.25, lo=0.001, hi=60.0,
                       doc="a puck whose source sent nothing for this long is coasting"),
-})
+}, check=_check_puck_ids)
 
 _DEFAULTS_CONTEXT = Context("<tracking defaults>", Path("."))
 
@@ -109,17 +122,40 @@ def tracker_settings(options: Mapping[str, Any] | None, units_per_metre: float =
         units_per_metre=units_per_metre)
 
 
+def puck_id_map(options: Mapping[str, Any] | None) -> dict[int, int]:
+    """The section's ``puck_ids`` as marker id -> puck id."""
+    return {int(k): int(v) for k, v in complete(options)["puck_ids"].items()}
+
+
 class Tracker(PuckTracker):
-    """The loop's puck tracker; ``predictions(t)`` gives each puck's expected table position
-    (metres) at time t, for a camera's region-of-interest search."""
+    """The loop's puck tracker. Marker ids become puck ids through ``id_map`` (marker -> puck);
+    ``predictions(t)`` gives the expected table position (metres) at time t of every tracked
+    marker, keyed by marker id, for a camera's region-of-interest search."""
+
+    def __init__(self, settings: TrackerSettings | None = None,
+                 id_map: Mapping[int, int] | None = None) -> None:
+        super().__init__(settings)
+        self.id_map = dict(id_map or {})
+        self._marker_of = {p: m for m, p in self.id_map.items()}
+
+    def update(self, observations, t: float) -> tuple[Puck, ...]:
+        if self.id_map:
+            observations = [self._renamed(o) for o in observations]
+        return super().update(observations, t)
+
+    def _renamed(self, obs: Observation) -> Observation:
+        if not any(m.id in self.id_map for m in obs.pucks):
+            return obs
+        pucks = tuple(dataclasses.replace(m, id=self.id_map.get(m.id, m.id)) for m in obs.pucks)
+        return dataclasses.replace(obs, pucks=pucks)
 
     def predictions(self, t: float) -> dict[int, tuple[float, float]]:
-        return self.predict(t)
+        return {self._marker_of.get(pid, pid): xy for pid, xy in self.predict(t).items()}
 
 
 def build_tracker(options: Mapping[str, Any], ctx: BuildContext | None = None) -> Tracker:
     """The puck tracker for the section ``options`` (table metres)."""
-    return Tracker(tracker_settings(options))
+    return Tracker(tracker_settings(options), puck_id_map(options))
 
 
 def build_detector(options: Mapping[str, Any] | None = None):

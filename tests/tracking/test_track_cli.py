@@ -119,3 +119,16 @@ def test_track_does_not_import_pygame(scene, tmp_path):
                        text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert len(out.read_text().splitlines()) == FRAMES
+
+
+def test_config_tracking_section_maps_marker_ids(scene, tmp_path):
+    folder, _, truth = scene
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text("sources:\n  - kind: scripted\ntracking:\n  puck_ids: {'0': 40}\n")
+    out = tmp_path / "poses.jsonl"
+    assert cli.main(["track", str(folder), "--out", str(out), "--config", str(cfg)]) == 0
+    first = {p["id"] for p in _read(out)[0]["pucks"]}
+    assert first == ({int(i) for i in truth[0].ids} - {0}) | {40}
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("sources:\n  - kind: scripted\ntracking:\n  coast_s: -1\n")
+    assert cli.main(["track", str(folder), "--out", str(out), "--config", str(bad)]) == 2

@@ -39,3 +39,13 @@ def test_built_detector_finds_apriltags():
     det = plugin.build_detector({"dictionary": "DICT_APRILTAG_36h11"})
     ids, corners = det.detect(f.image, None)
     assert sorted(ids.tolist()) == list(range(200, 205)) and corners.shape == (5, 4, 2)
+
+
+def test_puck_ids_map_marker_ids_and_predictions_come_back_by_marker_id():
+    tr = plugin.build_tracker(plugin.complete({"puck_ids": {"17": 1}, "smooth": False}))
+    obs = Observation("cam", 0.0, 1, pucks=(PuckMeasurement(17, 0.5, 0.4, 0.0, 0.0),
+                                            PuckMeasurement(2, 0.2, 0.2, 0.0, 0.0)))
+    assert [p.id for p in tr.update([obs], 0.0)] == [1, 2]
+    assert set(tr.predictions(0.03)) == {17, 2}
+    with pytest.raises(ConfigError, match="puck_ids.abc"):
+        plugin.complete({"puck_ids": {"abc": 3}})
