@@ -132,3 +132,21 @@ def test_config_tracking_section_maps_marker_ids(scene, tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("sources:\n  - kind: scripted\ntracking:\n  coast_s: -1\n")
     assert cli.main(["track", str(folder), "--out", str(out), "--config", str(bad)]) == 2
+
+
+def test_video_file_every_frame_at_the_video_rate(scene, tmp_path):
+    folder, _, truth = scene
+    video = tmp_path / "clip.avi"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 25.0, (1280, 720))
+    assert writer.isOpened()
+    for f in truth[:10]:
+        writer.write(cv2.cvtColor(f.image, cv2.COLOR_GRAY2BGR))
+    writer.release()
+    out = tmp_path / "poses.jsonl"
+    assert cli.main(["track", str(video), "--out", str(out)]) == 0
+    lines = _read(out)
+    assert [ln["frame"] for ln in lines] == list(range(10))
+    assert [ln["t"] for ln in lines] == pytest.approx([k / 25.0 for k in range(10)])
+    for ln, f in zip(lines, truth):
+        seen = {p["id"] for p in ln["pucks"] if p["state"] == "seen"}
+        assert seen == {int(i) for i, v in zip(f.ids, f.visible) if v}
