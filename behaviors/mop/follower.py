@@ -153,6 +153,10 @@ class ActionFollower:
     def reset(self) -> None:
         """Forget the performance; every template waits at its first state."""
         self.forward.reset()
+        self._forget()
+
+    def _forget(self) -> None:
+        """Forget the evidence and validity of every template (not the forward state)."""
         k = len(self.names)
         self._evidence = np.zeros(k)
         self._weight = 0.0
@@ -311,7 +315,7 @@ class FollowerGroup:
         sl = self._slices[i]
         self.forward.reset_templates(np.arange(sl.start, sl.stop))
         f = self.followers[i]
-        f.reset()
+        f._forget()
         f._entries[:] = self.forward.entries[sl]
 
     def step(self, samples: Sequence[np.ndarray]) -> list[FollowState]:

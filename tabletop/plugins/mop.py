@@ -41,8 +41,8 @@ from typing import Any
 import numpy as np
 
 from behaviors.mop.clips import Clip, ClipError, TimeWarp, clip_from_mapping
-from behaviors.mop.puppetry import (Action, FaceRig, HumanoidRig, Performer, PlanarRig, PuckInput,
-                                    Puppet, StreamInput, TouchInput)
+from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
+from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
 from tabletop.files import FileFormatError, atomic_write_text, read_csv, write_csv
 from tabletop.frames import InputError

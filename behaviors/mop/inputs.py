@@ -1,0 +1,125 @@
+"""Performers' inputs for action following: puck path features, touches and mocap streams.
+
+A :class:`Performer` concatenates its inputs into one feature vector per sample (MOP's multiple
+input sources) and says when it rests (its gesture has ended), so its follower can wait for the
+next gesture.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from behaviors.mop.clips import ClipError
+
+
+class PuckInput:
+    """A puck's path features (:class:`PathFeatures`: dx, dy relative to where the gesture
+    started, heading turned since, speed), a chosen subset of them. NaN while the puck is absent."""
+
+    def __init__(self, puck_id: int, features: Sequence[str] = ("dx", "dy"),
+                 rest_time: float = 0.8, prefix: str = "", rest_radius: float = 0.003) -> None:
+        from behaviors.mop.features import PATH_FEATURE_NAMES, PathFeatures
+        unknown = [f for f in features if f not in PATH_FEATURE_NAMES]
+        if unknown or not features:
+            raise ClipError(f"puck features {list(features)}: choose from {', '.join(PATH_FEATURE_NAMES)}")
+        self.puck_id = int(puck_id)
+        self._cols = [PATH_FEATURE_NAMES.index(f) for f in features]
+        self.names = tuple(prefix + f for f in features)
+        self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
+        if p is None:
+            return np.full(len(self._cols), np.nan)
+        return self._pf.step(p.x, p.y, p.angle, t)[self._cols]
+
+    @property
+    def resting(self) -> bool:
+        """The puck has been still for ``rest_time``: its gesture has ended."""
+        return self._pf.resting
+
+    def restart(self, frame: object, t: float) -> None:
+        """Start a gesture here (a designer's recording begins)."""
+        p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
+        if p is not None:
+            self._pf.reset(p.x, p.y, p.angle, t)
+
+
+class TouchInput:
+    """The first finger on the table (lowest id): dx, dy (metres) from where it touched down.
+    NaN while no finger touches."""
+
+    def __init__(self, prefix: str = "") -> None:
+        self.names = (prefix + "dx", prefix + "dy")
+        self._id: int | None = None
+        self._origin = (0.0, 0.0)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        touches = getattr(frame, "touches", ())
+        if not touches:
+            self._id = None
+            return np.full(2, np.nan)
+        touch = next((c for c in touches if c.id == self._id), None)
+        if touch is None:
+            touch = min(touches, key=lambda c: c.id)
+            self._id, self._origin = touch.id, (touch.x, touch.y)
+        return np.array([touch.x - self._origin[0], touch.y - self._origin[1]])
+
+    @property
+    def resting(self) -> bool:
+        """No finger on the table: the next touch starts a new gesture."""
+        return self._id is None
+
+    def restart(self, frame: object, t: float) -> None:
+        self._id = None
+
+
+class StreamInput:
+    """Chosen columns of a named motion-capture stream (all columns when ``columns`` is None).
+    NaN while the stream is absent or too short."""
+
+    def __init__(self, stream: str, columns: Sequence[int], prefix: str = "") -> None:
+        self.stream = stream
+        self.columns = np.asarray(columns, dtype=int)
+        self.names = tuple(f"{prefix}{stream}_{c}" for c in columns)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        a = getattr(frame, "streams", {}).get(self.stream)
+        if a is None or a.size <= int(self.columns.max()):
+            return np.full(len(self.columns), np.nan)
+        return np.asarray(a, dtype=float)[self.columns]
+
+    #: A stream has no notion of rest: its performer is always performing.
+    resting = False
+
+    def restart(self, frame: object, t: float) -> None:
+        pass
+
+
+class Performer:
+    """A named performer: several inputs concatenated into one feature vector (MOP's multiple
+    input sources)."""
+
+    def __init__(self, name: str, inputs: Sequence[PuckInput | TouchInput | StreamInput]) -> None:
+        self.name = name
+        self.inputs = tuple(inputs)
+        self.names = tuple(n for i in self.inputs for n in i.names)
+
+    @property
+    def dim(self) -> int:
+        return len(self.names)
+
+    def read(self, frame: object, t: float) -> np.ndarray:
+        return np.concatenate([i.read(frame, t) for i in self.inputs])
+
+    @property
+    def resting(self) -> bool:
+        """Every input rests (after :meth:`read`): the performer's gesture has ended, so its
+        followers wait for the next one and drive nothing meanwhile."""
+        return all(i.resting for i in self.inputs)
+
+    def restart(self, frame: object, t: float) -> None:
+        for i in self.inputs:
+            i.restart(frame, t)
