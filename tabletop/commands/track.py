@@ -10,6 +10,7 @@ One JSON line per input frame: ``{"frame": i, "t": s, "pucks": [{"id", "x", "y",
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -63,6 +64,28 @@ def parse_fps(text: str | None) -> float | None:
     return fps
 
 
+@contextlib.contextmanager
+def _quiet_opencv(cv2: Any) -> Iterator[None]:
+    """Silence OpenCV's and its video back-ends' own messages (written straight to stderr) while
+    opening a device or file: a failure is reported as one clear line instead."""
+    log = getattr(getattr(cv2, "utils", None), "logging", None)
+    level = log.getLogLevel() if log is not None else None
+    if log is not None:
+        log.setLogLevel(log.LOG_LEVEL_SILENT)
+    sys.stderr.flush()
+    saved = os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 2)
+    try:
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+        os.close(devnull)
+        if log is not None:
+            log.setLogLevel(level)
+
+
 class FrameReader:
     """Grey frames of INPUT in order: ``frames()`` yields them; ``total`` (None for a camera)
     and ``fps`` (None when the input does not say)."""
@@ -78,7 +101,8 @@ class FrameReader:
         self.is_camera = False
         path = Path(spec)
         if spec.isdigit() and not path.exists():
-            self.capture = cv2.VideoCapture(int(spec))
+            with _quiet_opencv(cv2):
+                self.capture = cv2.VideoCapture(int(spec))
             if not self.capture.isOpened():
                 raise TrackInputError(f"camera {spec} cannot be opened")
             self.is_camera = True
@@ -92,7 +116,8 @@ class FrameReader:
                                       f"({', '.join(sorted(IMAGE_SUFFIXES))})")
             self.total = len(self.files)
         elif path.is_file():
-            self.capture = cv2.VideoCapture(str(path))
+            with _quiet_opencv(cv2):
+                self.capture = cv2.VideoCapture(str(path))
             if not self.capture.isOpened():
                 raise TrackInputError(f"{spec}: not a video file OpenCV can read")
             n = int(self.capture.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
