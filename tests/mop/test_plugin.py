@@ -305,6 +305,37 @@ def test_two_performers_drive_one_character(tmp_path):
         table.rest(1.0)
 
 
+def test_characters_of_one_performer_compete_and_share_what_they_have_in_common(tmp_path):
+    # "move" is a circle for the face and a line for the lizard; both have the square
+    gestures = EXAMPLES / "mop" / "gestures"
+    data = {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop",
+        "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
+        "characters": [
+            {"name": "face", "kind": "face", "performer": "hand", "actions": [
+                {"name": "move", "template": str(gestures / "circle.csv"), "motion": "talk"},
+                {"name": "square", "template": str(gestures / "square.csv"), "motion": "wink"}]},
+            {"name": "lizard", "kind": "creature", "performer": "hand", "actions": [
+                {"name": "move", "template": str(gestures / "line.csv"), "motion": "strike"},
+                {"name": "square", "template": str(gestures / "square.csv"), "motion": "curl"}]}]}]}
+    engine = _build(data, tmp_path)
+    table = Table(engine)
+    table.rest(1.0)
+    for gesture, playing, idle in (("circle", "face", "lizard"), ("line", "lizard", "face"),
+                                   ("square", "face", None)):
+        run = table.perform(gesture)
+        late = [c for u, c in run if u > 0.6]
+        assert np.mean([c[playing].valid and c[playing].action ==
+                        ("square" if gesture == "square" else "move") for c in late]) > 0.9, gesture
+        if idle is None:
+            assert np.mean([c["lizard"].valid and c["lizard"].action == "square" for c in late]) > 0.9
+        else:
+            assert not any(c[idle].valid for u, c in run if u > 0.3), gesture
+        table.rest(1.5)
+    # a puck at rest drives nobody
+    assert not any(c[n].valid for c in table.rest(1.0)[int(0.3 * RATE):] for n in ("face", "lizard"))
+
+
 def _designer_config(tmp_path: Path) -> dict:
     return {"sources": [{"kind": "scripted"}], "engines": [{
         "kind": "mop", "library": "lib",
