@@ -31,9 +31,14 @@ and holding the refusal, takes the other gestures at 60% of them down to 0 of 60
 is driven 4-8% of the time while a gesture not its own is performed (the first part of a zigzag
 or a line looks like a wave). The memory (16 samples, about 0.5 s at 30 Hz) and the limit (1.8)
 trade that against a true performance going back faster than the model's one state per step,
-whose lag reaches a distance of 2.0 over 8 samples: with memory 8 or limit 2.5 the bird took
-30-47% of the other gestures. The onset (0.5 sigma) removes the slides home (35% -> 0%): every
-template starts still, so any motion at all matches its first states.
+whose lag reaches a distance of 2.0 over 8 samples (``tests/mop/test_plugin.py``, going back at
+1.4x): memory 8 with limit 2.0 refused it; limit 2.5 (memory 4 or 8) let the bird take 29-47% of
+the other gestures at 60%, memory 12 with limit 2.0 up to 12%. The onset (0.5 sigma) removes the
+slides home (35% -> 0%): every template starts still, so any motion at all matches its first
+states. A refused template whose performance is back at its start (progress below its onset,
+this step within the limit) begins anew: re-entry is not counted while the main window still
+holds the first states, and without this a performer that never rests (a mocap stream) had
+every template refused for good after the first unknown motion (15 of 51 gestures recognised).
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
