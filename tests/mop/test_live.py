@@ -5,6 +5,11 @@ speed, rest 1.2-2 s, slide back home when a gesture ended elsewhere, rest, and g
 engine is stepped on every 60 Hz frame exactly as the main loop would (no view). For every
 gesture performed we check the character whose action set holds it, and for everything else
 (rest, the slides home, the gestures of other characters) that nothing is driven.
+
+Measured (seed 0, 120 s; seeds 1 and 2 alike): 51 of 51 gestures recognised by 60% of them,
+progress RMSE 0.012 median and 0.032 at worst, no tick driven by a resting puck, no slide home
+accepted, characters without the gesture driven 0.8% of the time (the first edge of a square is
+a line until it turns: 17% of one square). Before: 37 of 51 (see :mod:`behaviors.mop.stage`).
 """
 
 from __future__ import annotations
@@ -25,13 +30,13 @@ ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 RATE = 60.0
 #: A puck still for longer than this (seconds) must drive no character: the features' rest time
-#: (0.8 s) plus the low-passed speed settling and one follower sample.
+#: (0.8 s) from when it settled, the last millimetres of a gesture's slow end, one 30 Hz sample.
 REST_LIMIT_S = 1.0
 
 
 @dataclass
 class Live:
-    """What one run showed: per gesture performed, per character..."""
+    """What one run showed, gesture by gesture and character by character."""
 
     recognised: list[bool] = field(default_factory=list)          # right action, valid, at 60%
     progress_rmse: list[float] = field(default_factory=list)      # per gesture, while recognised
