@@ -138,8 +138,11 @@ class PuckTracker:
         return self._pucks
 
     def predict(self, t: float) -> dict[int, tuple[float, float]]:
-        """Predicted (x, y) of every track at time ``t`` (for region-of-interest detection)."""
-        return {pid: self._predicted(tr, t) for pid, tr in self.tracks.items()}
+        """Predicted (x, y) of every track at time ``t`` (for region-of-interest detection).
+
+        Called from camera threads while the loop updates the tracks: the tracks are copied in
+        one step (atomic under the GIL) before they are read."""
+        return {pid: self._predicted(tr, t) for pid, tr in tuple(self.tracks.items())}
 
     def reset(self) -> None:
         self.tracks.clear()
