@@ -1,5 +1,9 @@
 """Whole-loop benchmark: the headless installation, 1280x720 view.
 
+Configurations: the scripted visitor straight to the view; the shipped config.yaml (synthetic
+camera -> marker detection -> tracker -> one reactor -> view); and the synthetic camera with four
+Puppet Master reactors (one reacting to another), the DESIGN.md whole-loop case.
+
 For each configuration: the loop unpaced (as fast as it can tick: ticks per second) and paced at
 60 Hz (per-stage milliseconds, median and p99, capture-to-render latency). Configurations run
 interleaved in rounds so drifting machine speed favours none.
@@ -20,6 +24,7 @@ import numpy as np  # noqa: E402
 from bench.common import emit  # noqa: E402
 from tabletop.app import build_live  # noqa: E402
 from tabletop.config import load_config, validate_config  # noqa: E402
+from tabletop.recorder import jsonable  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 VIEW = {"headless": True, "size": [1280, 720], "overlay": True}
@@ -31,6 +36,17 @@ def configs() -> dict[str, dict]:
     default = load_config(ROOT / "config.yaml")
     default["view"] = dict(default["view"], headless=True, size=[1280, 720])
     out["default_config"] = default
+    lib = ROOT / "behaviors" / "library"
+    reactors = [
+        {"kind": "puppet_master", "name": "lover", "behavior": str(lib / "lover"), "main": {"puck": 1}},
+        {"kind": "puppet_master", "name": "bully", "behavior": str(lib / "bully"), "main": {"puck": 2}},
+        {"kind": "puppet_master", "name": "stalker", "behavior": str(lib / "stalker"),
+         "main": {"puck": 1}},
+        {"kind": "puppet_master", "name": "afraid", "behavior": str(lib / "afraid"),
+         "main": {"character": "lover"}},
+    ]
+    out["synthetic_camera_4_reactors"] = validate_config(
+        {"sources": jsonable(default["sources"]), "engines": reactors, "view": VIEW}, "bench", ROOT)
     return out
 
 
