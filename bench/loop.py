@@ -24,6 +24,7 @@ import numpy as np  # noqa: E402
 from bench.common import emit  # noqa: E402
 from tabletop.app import build_live  # noqa: E402
 from tabletop.config import load_config, validate_config  # noqa: E402
+from tabletop.loop import LoopStats  # noqa: E402
 from tabletop.recorder import jsonable  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,15 +51,20 @@ def configs() -> dict[str, dict]:
     return out
 
 
-def measure(cfg: dict, seconds: float, paced: bool) -> dict[str, float]:
-    inst = build_live(cfg, headless=True)
+def measure(cfg: dict, seconds: float, paced: bool, warmup: float = 1.0) -> dict[str, float]:
+    """Run the installation for ``warmup + seconds``; figures are of the last ``seconds`` only
+    (steady state: the camera's phase lock and the caches have settled)."""
+    inst = build_live(cfg, headless=True, stats=LoopStats(window=100_000))
     inst.loop.paced = paced
-    ticks = inst.loop.run(seconds=seconds)
+    ticks = inst.loop.run(seconds=warmup + seconds)
     st = inst.loop.stats
-    fig = {"ticks": ticks, "ticks_per_s": ticks / seconds}
+    times = np.asarray(st.tick_times)
+    steady = times >= times[0] + warmup
+    n = int(steady.sum())
+    fig = {"ticks": n, "ticks_per_s": n / (times[-1] - times[steady][0])}
     for stage, d in st.samples.items():
         if d:
-            a = np.asarray(d) * 1e3
+            a = np.asarray(d)[-n:] * 1e3
             fig[f"{stage}_median_ms"] = float(np.median(a))
             fig[f"{stage}_p99_ms"] = float(np.percentile(a, 99))
     return fig

@@ -79,11 +79,11 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
     return sinks
 
 
-def build_live(cfg: dict[str, Any], headless: bool = False,
-               record_path: Path | None = None) -> Installation:
+def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | None = None,
+               stats: LoopStats | None = None) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder."""
     ctx = _context(cfg)
-    stats, commands, stop = LoopStats(), CommandQueue(), threading.Event()
+    stats, commands, stop = stats or LoopStats(), CommandQueue(), threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     tracker = build_tracker(cfg, ctx)
     ctx.shared["tracker"] = tracker

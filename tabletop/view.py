@@ -34,6 +34,7 @@ GRID = (40, 46, 56)
 PUCK_COLORS = [(70, 160, 255), (255, 90, 90), (90, 220, 120), (240, 200, 60), (190, 110, 255),
                (60, 220, 220), (255, 140, 40), (230, 230, 230)]
 HEADING = (255, 255, 255)
+OVERLAY_REFRESH_S = 0.25
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
@@ -101,6 +102,8 @@ class Renderer:
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
         self._font: pygame.font.Font | None = None
+        self._overlay_key: tuple[str, ...] = ()
+        self._overlay_imgs: list[pygame.Surface] = []
         self._static: pygame.Surface | None = None
 
     def _background(self, target: pygame.Surface) -> pygame.Surface:
@@ -175,12 +178,17 @@ class Renderer:
         target.blit(surf, surf.get_rect(center=(cx, cy)))
 
     def draw_overlay(self, target: pygame.Surface, lines: Sequence[str]) -> None:
-        if self._font is None:
-            pygame.font.init()
-            self._font = pygame.font.Font(None, 22)
+        """Print ``lines`` top-left; the text is rendered again only when the lines change."""
+        key = tuple(lines)
+        if key != self._overlay_key:
+            if self._font is None:
+                pygame.font.init()
+                self._font = pygame.font.Font(None, 22)
+            self._overlay_imgs = [self._font.render(line, True, (235, 235, 235), (0, 0, 0))
+                                  for line in lines]
+            self._overlay_key = key
         y = 8
-        for line in lines:
-            img = self._font.render(line, True, (235, 235, 235), (0, 0, 0))
+        for img in self._overlay_imgs:
             target.blit(img, (8, y))
             y += img.get_height() + 2
 
@@ -236,6 +244,8 @@ class ProjectorView:
         self.renderer = Renderer(table, size, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
         self.show_overlay = bool(options["overlay"])
+        self._overlay: list[str] | None = None
+        self._overlay_t = -math.inf
         self.snapshot_every = float(options["snapshot_every_s"])
         self.snapshot_folder = Path(options["snapshot_folder"])
         self._next_snapshot: float | None = None
@@ -244,7 +254,13 @@ class ProjectorView:
 
     def consume(self, frame: Frame) -> None:
         self._events()
-        overlay = overlay_lines(frame, self.stats) if self.show_overlay else None
+        overlay = None
+        if self.show_overlay:
+            # Figures are read by people: refreshing them four times a second is enough and
+            # keeps the overlay's cost (percentiles, text) off most ticks.
+            if self._overlay is None or frame.t >= self._overlay_t + OVERLAY_REFRESH_S:
+                self._overlay, self._overlay_t = overlay_lines(frame, self.stats), frame.t
+            overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
         pygame.display.flip()
         if self.headless and self.snapshot_every > 0:
