@@ -112,11 +112,13 @@ def refine_corners(grey: np.ndarray, corners: np.ndarray, window_px: int = 5) ->
         return corners
     out = np.array(corners, np.float32).reshape(-1, 4, 2)
     sides = np.linalg.norm(out - np.roll(out, 1, axis=1), axis=2).min(axis=1)
-    for i in range(len(out)):
-        w = int(max(2, min(window_px, sides[i] / 4.0)))
-        pts = out[i].reshape(-1, 1, 2)
-        cv2.cornerSubPix(grey, pts, (w, w), (-1, -1), _SUBPIX_CRITERIA)
-        out[i] = pts.reshape(4, 2)
+    windows = np.maximum(2, np.minimum(window_px, sides / 4.0)).astype(int)
+    # One cornerSubPix call per window size (usually one for the whole frame), not per marker.
+    for w in np.unique(windows):
+        sel = windows == w
+        pts = np.ascontiguousarray(out[sel].reshape(-1, 1, 2))
+        cv2.cornerSubPix(grey, pts, (int(w), int(w)), (-1, -1), _SUBPIX_CRITERIA)
+        out[sel] = pts.reshape(-1, 4, 2)
     return out.astype(float)
 
 
