@@ -184,3 +184,100 @@ def angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Absolute angular difference in radians, in [0, pi]."""
     d = np.remainder(np.asarray(a, float) - np.asarray(b, float) + math.pi, 2 * math.pi) - math.pi
     return np.abs(d)
+
+
+# --- Verification of known markers (tracking without re-detection) ---------------------------
+
+_PATTERNS: dict[tuple[int, int], np.ndarray] = {}
+
+
+def marker_pattern(dictionary: cv2.aruco.Dictionary, marker_id: int) -> np.ndarray:
+    """The printed cells (S, S) bool of ``marker_id`` with its one-cell black border (True =
+    white), rows top to bottom as printed; S = the dictionary's marker size + 2."""
+    key = (id(dictionary), int(marker_id))
+    pat = _PATTERNS.get(key)
+    if pat is None:
+        s = int(dictionary.markerSize) + 2
+        pat = cv2.aruco.generateImageMarker(dictionary, int(marker_id), s, borderBits=1) > 127
+        _PATTERNS[key] = pat
+    return pat
+
+
+def sample_cells(grey: np.ndarray, corners: np.ndarray, cells: int, spread: float = 0.2
+                 ) -> np.ndarray:
+    """Mean grey level (N, cells, cells) of each marker cell: 3x3 points per cell, ``spread``
+    cells apart around its centre, mapped through the homography of the marker's corners
+    (c0 printed top-left, clockwise) and read bilinearly in one ``cv2.remap``."""
+    c = np.asarray(corners, np.float32).reshape(-1, 4, 2)
+    n = len(c)
+    if n == 0:
+        return np.zeros((0, cells, cells))
+    square = np.float32([[0, 0], [cells, 0], [cells, cells], [0, cells]])
+    hs = np.stack([cv2.getPerspectiveTransform(square, q) for q in c])  # (N, 3, 3)
+    off = np.array([-spread, 0.0, spread])
+    g = (np.arange(cells)[:, None] + 0.5 + off[None, :]).reshape(-1)  # cells*3 coordinates
+    gy, gx = np.meshgrid(g, g, indexing="ij")
+    pts = np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)])  # (3, M)
+    img = np.einsum("nij,jm->nim", hs, pts)
+    xy = img[:, :2] / img[:, 2:3]  # (N, 2, M)
+    mx = np.ascontiguousarray(xy[:, 0], np.float32)
+    my = np.ascontiguousarray(xy[:, 1], np.float32)
+    vals = cv2.remap(grey, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
+                     borderValue=128).astype(float)
+    return vals.reshape(n, cells, 3, cells, 3).mean(axis=(2, 4))
+
+
+def verify_markers(grey: np.ndarray, ids: np.ndarray, corners: np.ndarray,
+                   dictionary: cv2.aruco.Dictionary, min_contrast: float = 25.0) -> np.ndarray:
+    """Whether each marker (ids (N,), corners (N, 4, 2) pixels in printed order) shows exactly
+    its own code: every cell that should be white is brighter than every cell that should be
+    black (border included; no bit error allowed, stricter than the detector), by a margin, and
+    the white and black means differ by at least ``min_contrast`` grey levels. A covered,
+    replaced, blurred-away or misplaced marker fails. Returns (N,) bool."""
+    c = np.asarray(corners, float).reshape(-1, 4, 2)
+    if len(c) == 0:
+        return np.zeros(0, bool)
+    if grey.ndim == 3:
+        grey = cv2.cvtColor(grey, cv2.COLOR_BGR2GRAY)
+    s = int(dictionary.markerSize) + 2
+    vals = sample_cells(grey, c, s).reshape(len(c), -1)
+    pats = np.stack([marker_pattern(dictionary, int(m)).reshape(-1) for m in ids])
+    white = np.where(pats, vals, np.inf).min(axis=1)
+    black = np.where(pats, -np.inf, vals).max(axis=1)
+    n_white = np.maximum(pats.sum(axis=1), 1)
+    mean_w = np.where(pats, vals, 0.0).sum(axis=1) / n_white
+    mean_b = np.where(pats, 0.0, vals).sum(axis=1) / np.maximum((~pats).sum(axis=1), 1)
+    contrast = mean_w - mean_b
+    # The dimmest white cell and the brightest black one must sit on their own side of the
+    # midpoint between the two means, by a quarter of the contrast.
+    mid = 0.5 * (mean_w + mean_b)
+    return ((contrast >= min_contrast) & (white - mid >= 0.25 * contrast)
+            & (mid - black >= 0.25 * contrast))
+
+
+def track_corners(grey: np.ndarray, predicted: np.ndarray, window_px: int = 5,
+                  max_shift_px: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Refine predicted corners (N, 4, 2) on ``grey`` with one batched ``cv2.cornerSubPix``:
+    the refined corners and whether each marker stays a plausible quadrilateral (convex, every
+    corner moved at most ``max_shift_px``, default the window, sides within 30% of predicted)."""
+    p = np.asarray(predicted, float).reshape(-1, 4, 2)
+    if len(p) == 0:
+        return p, np.zeros(0, bool)
+    if grey.ndim == 3:
+        grey = cv2.cvtColor(grey, cv2.COLOR_BGR2GRAY)
+    h, w = grey.shape[:2]
+    inside = np.all((p[..., 0] >= window_px + 1) & (p[..., 0] < w - window_px - 2)
+                    & (p[..., 1] >= window_px + 1) & (p[..., 1] < h - window_px - 2), axis=1)
+    r = p.copy()
+    if inside.any():
+        r[inside] = refine_corners(grey, p[inside], window_px)
+    limit = float(window_px if max_shift_px is None else max_shift_px)
+    moved = np.linalg.norm(r - p, axis=2).max(axis=1) <= limit
+    e = np.roll(r, -1, axis=1) - r
+    f = np.roll(e, -1, axis=1)
+    cross = e[:, :, 0] * f[:, :, 1] - e[:, :, 1] * f[:, :, 0]
+    convex = np.all(cross > 0, axis=1) | np.all(cross < 0, axis=1)
+    sides = np.linalg.norm(e, axis=2)
+    sp = np.linalg.norm(np.roll(p, -1, axis=1) - p, axis=2)
+    similar = np.all((sides > 0.7 * sp) & (sides < 1.3 * sp), axis=1)
+    return r, inside & moved & convex & similar

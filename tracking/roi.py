@@ -6,7 +6,13 @@ boxes, packs the crops side by side into one small mosaic image and runs the det
 the mosaic (one call instead of one per crop). The full-frame pass runs every ``full_period``
 frames (so a marker appearing anywhere is found within ``full_period`` frames) with fast settings
 (a single adaptive-threshold window, optionally OpenCV's ArUco3 mode). Both passes refine the
-found corners with ``cv2.cornerSubPix`` on the original image. Units: image pixels.
+found corners with ``cv2.cornerSubPix`` on the original image.
+
+Between full-frame passes a marker seen in the previous frame is first tracked without detection:
+its four corners are extrapolated from its last two sightings, refined with one batched
+``cv2.cornerSubPix`` for all such markers, and its identity verified by reading its cells through
+the corners' homography (:func:`tracking.markers.verify_markers`). Only markers that fail (moved
+too far, covered, replaced, blurred) go to the region-of-interest pass. Units: image pixels.
 """
 
 from __future__ import annotations
@@ -18,7 +24,8 @@ from typing import Mapping
 import numpy as np
 
 from tracking.markers import (DetectorSettings, detect_markers, detector_parameters,
-                              make_detector, marker_centres, marker_side_lengths, refine_corners)
+                              dictionary_by_name, make_detector, marker_centres,
+                              marker_side_lengths, refine_corners, track_corners, verify_markers)
 
 Box = tuple[int, int, int, int]  # x0, y0, x1, y1 (exclusive), pixels
 
@@ -109,6 +116,8 @@ class _Known:
     side: float
     velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
     frame: int = 0
+    corners: np.ndarray | None = None          # (4, 2) last refined corners
+    corner_velocity: np.ndarray | None = None  # (4, 2) per frame, from consecutive sightings
 
 
 class MarkerTracker:
@@ -121,11 +130,15 @@ class MarkerTracker:
     detections. ``full_period``: a full-frame pass every that many frames (1: always).
     ``roi_margin_sides``/``roi_margin_px``: a crop reaches half the marker's diagonal plus that
     many marker sides plus pixels (plus half a frame of motion) beyond the predicted centre.
+    ``verify``: track markers seen in the previous frame by corner refinement and verification
+    of their code before any detection (``last_pass`` is then "verify" when no region-of-interest
+    pass was needed).
     """
 
     def __init__(self, full: DetectorSettings = FAST_FULL, roi: DetectorSettings = ROI,
                  full_period: int = 3, roi_margin_sides: float = 0.25, roi_margin_px: float = 6.0,
-                 refine_window_px: int = 5, gap_px: int = 8, forget_frames: int = 30) -> None:
+                 refine_window_px: int = 5, gap_px: int = 8, forget_frames: int = 30,
+                 verify: bool = True) -> None:
         if full_period < 1:
             raise ValueError("full_period must be at least 1")
         self.full_detector = make_detector(full)
@@ -136,6 +149,8 @@ class MarkerTracker:
         self.roi_margin_sides, self.roi_margin_px = float(roi_margin_sides), float(roi_margin_px)
         self.refine_window_px, self.gap_px = int(refine_window_px), int(gap_px)
         self.forget_frames = int(forget_frames)
+        self.verify = bool(verify)
+        self.dictionary = dictionary_by_name(roi.dictionary)
         self.frame = 0
         self.known: dict[int, _Known] = {}
         self.last_pass = "full"
@@ -168,12 +183,46 @@ class MarkerTracker:
         if full:
             ids, corners = detect_markers(grey, self.full_detector)
             self.last_pass = "full"
+            corners = refine_corners(grey, corners, self.refine_window_px)
         else:
-            ids, corners = self._detect_regions(grey, preds)
-            self.last_pass = "roi"
-        corners = refine_corners(grey, corners, self.refine_window_px)
+            ids, corners = self._track_known(grey, preds) if self.verify else (
+                np.zeros(0, int), np.zeros((0, 4, 2)))
+            self.last_pass = "verify"
+            found = set(ids.tolist())
+            rest = {m: p for m, p in preds.items() if m not in found}
+            if rest:
+                ids2, c2 = self._detect_regions(grey, rest)
+                self.last_pass = "roi"
+                if len(ids2):
+                    c2 = refine_corners(grey, c2, self.refine_window_px)
+                    ids = np.concatenate([ids, ids2])
+                    corners = np.concatenate([corners, c2])
+                    if len(found & set(ids2.tolist())):
+                        ids, corners = dedupe(ids, corners)
         self._remember(ids, corners)
         return ids, corners
+
+    def _track_known(self, grey: np.ndarray, preds: Mapping[int, tuple[float, float]]
+                     ) -> tuple[np.ndarray, np.ndarray]:
+        """Markers of ``preds`` seen last frame, found again by refining their extrapolated
+        corners and verifying their code: ids (N,), refined corners (N, 4, 2)."""
+        mids, guesses = [], []
+        for mid, p in preds.items():
+            k = self.known.get(mid)
+            if k is None or k.corners is None or k.frame != self.frame - 1:
+                continue
+            if k.corner_velocity is not None:
+                guesses.append(k.corners + k.corner_velocity)
+            else:
+                guesses.append(k.corners + (np.asarray(p, float) - k.centre))
+            mids.append(mid)
+        if not mids:
+            return np.zeros(0, int), np.zeros((0, 4, 2))
+        ids = np.array(mids, int)
+        corners, ok = track_corners(grey, np.array(guesses), self.refine_window_px)
+        if ok.any():
+            ok[ok] = verify_markers(grey, ids[ok], corners[ok], self.dictionary)
+        return ids[ok], corners[ok]
 
     def _half_size(self, mid: int) -> float:
         k = self.known.get(mid)
@@ -246,17 +295,20 @@ class MarkerTracker:
             return
         centres = marker_centres(corners)
         sides = marker_side_lengths(corners)
-        for mid, c, s in zip(ids, centres, sides):
+        for mid, c, s, q in zip(ids, centres, sides, np.asarray(corners, float)):
             k = self.known.get(int(mid))
             if k is None:
-                self.known[int(mid)] = _Known(c, float(s), frame=self.frame)
+                self.known[int(mid)] = _Known(c, float(s), frame=self.frame, corners=q)
             else:
                 steps = max(1, self.frame - k.frame)
                 v = (c - k.centre) / steps
                 # A duplicate or a jump is not a velocity: keep the old one.
-                if np.hypot(*v) < 2.0 * k.side:
+                jump = np.hypot(*v) >= 2.0 * k.side
+                if not jump:
                     k.velocity = v
-                k.centre, k.side, k.frame = c, float(s), self.frame
+                k.corner_velocity = (q - k.corners if steps == 1 and not jump
+                                     and k.corners is not None else None)
+                k.centre, k.side, k.frame, k.corners = c, float(s), self.frame, q
         self._forget()
 
     def _forget(self) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from tracking.markers import DetectorSettings, detect_markers, make_detector, marker_centres
 from tracking.roi import MarkerTracker, boxes_around, merge_boxes, pack_boxes
@@ -24,10 +25,11 @@ def test_merge_only_when_it_saves_pixels_and_packing_does_not_overlap():
     assert boxes_around(np.array([[5.0, 5.0]]), np.array([20.0]), 50, 50) == [(0, 0, 26, 26)]
 
 
-def test_roi_tracking_matches_ground_truth_and_uses_roi_passes():
+@pytest.mark.parametrize("verify", [False, True])
+def test_roi_tracking_matches_ground_truth_and_uses_roi_passes(verify):
     cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=7))
     frames = [cam.render(p, t, v) for t, p, v in moving_scene(16, 9, 30.0, speed=0.5, seed=7)]
-    mt = MarkerTracker(full_period=3)
+    mt = MarkerTracker(full_period=3, verify=verify)
     passes, errs, found, visible = [], [], 0, 0
     for f in frames:
         ids, corners = mt.detect(f.image)
@@ -41,7 +43,11 @@ def test_roi_tracking_matches_ground_truth_and_uses_roi_passes():
                 if len(m):
                     found += 1
                     errs.append(np.hypot(*(c[m[0]] - f.centres[i])))
-    assert passes.count("roi") == 6
+    assert passes.count("full") == 3
+    if verify:  # from the third frame on, moving markers are verified, not detected
+        assert passes.count("verify") >= 4
+    else:
+        assert passes.count("roi") == 6
     assert found / visible >= 0.99
     assert np.median(errs) <= 0.5 and np.percentile(errs, 95) <= 1.5
 
@@ -62,16 +68,17 @@ def test_marker_entering_anywhere_is_found_within_full_period():
             raise AssertionError("newcomer never found")
 
 
-def test_external_predictions_steer_the_crops():
+@pytest.mark.parametrize("verify, expected_pass", [(False, "roi"), (True, "verify")])
+def test_external_predictions_steer_the_crops(verify, expected_pass):
     cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=4))
     poses = grid_poses(4, seed=9)
     f = cam.render(poses)
-    mt = MarkerTracker(full_period=100)
+    mt = MarkerTracker(full_period=100, verify=verify)
     mt.detect(f.image)  # first frame: full pass
     truth = {int(i): tuple(c) for i, c in zip(f.ids, f.centres)}
     only_two = {k: truth[k] for k in list(truth)[:2]}
     ids, _ = mt.detect(f.image, only_two)
-    assert mt.last_pass == "roi" and sorted(ids.tolist()) == sorted(only_two)
+    assert mt.last_pass == expected_pass and sorted(ids.tolist()) == sorted(only_two)
 
 
 def test_occluded_marker_is_not_reported():
