@@ -25,14 +25,13 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from tabletop.files import atomic_write_text, read_yaml
 from tabletop.frames import InputError
 
 FORMAT = "tabletop-calibration"
@@ -230,22 +229,8 @@ def calibration_from_dict(data: Any, where: str = "<calibration>") -> Calibratio
 
 def load_calibration(path: str | Path) -> Calibration:
     """Read and validate a calibration file; CalibrationError names the file and the key."""
-    import yaml
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise CalibrationError(f"{p}: calibration file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CalibrationError(f"{p}: cannot read calibration file: {exc}") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        at = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
-        raise CalibrationError(f"{p}: YAML syntax error at {at}: {exc.problem}") from None
-    except yaml.YAMLError as exc:
-        raise CalibrationError(f"{p}: YAML error: {exc}") from None
+    data = read_yaml(p, CalibrationError, missing="calibration file not found")
     if data is None:
         raise CalibrationError(f"{p}: the file is empty")
     return calibration_from_dict(data, str(p))
@@ -256,18 +241,4 @@ def save_calibration(path: str | Path, calibration: Calibration) -> None:
     import yaml
     text = ("# Tabletop calibration: camera pixels <-> table metres <-> projector pixels.\n"
             + yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None))
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+    atomic_write_text(path, text)

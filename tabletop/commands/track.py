@@ -15,11 +15,11 @@ import json
 import math
 import os
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import Any, Iterator
 
+from tabletop.files import atomic_writer
 from tabletop.frames import InputError
 
 HELP = ("detect and track marker pucks in every frame of a video file, an image folder or a "
@@ -225,11 +225,9 @@ def main(args: argparse.Namespace) -> int:
     tracker: PuckTracker | None = None
     progress = Progress(reader.total, enabled=not reader.is_camera)
 
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent)
     frames = 0
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
+        with atomic_writer(out) as f:
             try:
                 for i, grey in enumerate(reader.frames()):
                     t = i / fps
@@ -259,16 +257,7 @@ def main(args: argparse.Namespace) -> int:
             except KeyboardInterrupt:
                 if not reader.is_camera:
                     raise
-            f.flush()
-            os.fsync(f.fileno())
         progress.update(frames, force=True)
-        os.replace(tmp, out)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
     finally:
         reader.close()
     return 0
