@@ -70,6 +70,9 @@ SCHEMA = Record({
     "roi_margin_sides": Number(0.25, lo=0.0, hi=10.0,
                                doc="region-of-interest crop margin beyond the marker, in sides"),
     "roi_margin_px": Number(6.0, lo=0.0, hi=500.0, doc="and in pixels"),
+    "verify_known": Bool(True, doc="between full-frame searches, follow a marker seen in the "
+                                   "previous frame by refining its corners and checking its "
+                                   "code, detecting only the markers that fail"),
     # Jitter filter (One Euro), in table units
     "smooth": Bool(True, doc="apply the One Euro filter to the poses engines use"),
     "min_cutoff": Number(0.2, lo=0.001, hi=100.0, doc="One Euro minimum cutoff, Hz"),
@@ -175,4 +178,4 @@ def build_detector(options: Mapping[str, Any] | None = None):
     roi = DetectorSettings(**common, min_perimeter_rate=0.01)
     return MarkerTracker(full, roi, full_period=o["full_frame_period"],
                          roi_margin_sides=o["roi_margin_sides"], roi_margin_px=o["roi_margin_px"],
-                         refine_window_px=o["refine_window_px"])
+                         refine_window_px=o["refine_window_px"], verify=o["verify_known"])

@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 from tracking.markers import (DetectorSettings, angle_error, detect_markers, dictionary_by_name,
-                              make_detector, marker_centres, marker_poses, refine_corners)
+                              make_detector, marker_centres, marker_poses, refine_corners,
+                              track_corners, verify_markers)
+from tracking.synthetic import Occluder
 from tracking.synthetic import CameraSettings, SyntheticCamera
 from tests.tracking.scenes import grid_poses, moving_scene
 
@@ -97,3 +99,49 @@ def test_pose_convention_centre_and_heading():
 def test_unknown_dictionary_is_refused_by_name():
     with pytest.raises(ValueError, match="DICT_NOPE"):
         dictionary_by_name("DICT_NOPE")
+
+
+def _moved(poses, dx, dy, da=0.0):
+    return [(i, x + dx, y + dy, a + da) for i, x, y, a in poses]
+
+
+def test_known_marker_moved_a_few_pixels_is_refined_and_verified_without_detection():
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), blur_sigma=0.8, noise_sigma=3.0,
+                                         seed=6))
+    poses = grid_poses(9, seed=6)
+    before = cam.render(poses)
+    step = 2.0 / cam.pixels_per_metre()  # about 2 pixels each way
+    after = cam.render(_moved(poses, step, -step, 0.02))
+    # Start from the true corners of the earlier frame: no detection on the new one.
+    corners, ok = track_corners(after.image, before.corners)
+    assert ok.all()
+    assert verify_markers(after.image, after.ids, corners, dictionary_by_name("DICT_4X4_50")).all()
+    errs = np.hypot(*(marker_centres(corners) - after.centres).T)
+    assert np.median(errs) <= 0.5 and errs.max() <= 1.5
+
+
+def test_covered_replaced_or_misnamed_marker_fails_verification():
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=8))
+    d = dictionary_by_name("DICT_4X4_50")
+    poses = grid_poses(6, seed=8)
+    f = cam.render(poses)
+    assert verify_markers(f.image, f.ids, f.corners, d).all()
+    # Every marker read under another id of the dictionary fails.
+    for shift in (1, 7, 23):
+        assert not verify_markers(f.image, (f.ids + shift) % 50, f.corners, d).any()
+    # A hand over marker 0, and marker 1 swapped for marker 40 at the same pose.
+    _, x, y, _ = poses[0]
+    swapped = [(40 if i == 1 else i, px, py, a) for i, px, py, a in poses]
+    g = cam.render(swapped, occluders=[Occluder(x - 0.02, y, 0.0, 0.12)])
+    corners, ok = track_corners(g.image, f.corners)
+    verified = ok.copy()
+    verified[ok] = verify_markers(g.image, f.ids[ok], corners[ok], d)
+    assert verified.tolist() == [False, False, True, True, True, True]
+
+
+def test_apriltag_markers_verify_under_their_own_ids_only():
+    cam = SyntheticCamera(CameraSettings(dictionary="DICT_APRILTAG_36h11", seed=1))
+    f = cam.render(grid_poses(6, seed=4, first_id=100))
+    d = dictionary_by_name("DICT_APRILTAG_36h11")
+    assert verify_markers(f.image, f.ids, f.corners, d).all()
+    assert not verify_markers(f.image, f.ids + 1, f.corners, d).any()

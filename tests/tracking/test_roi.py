@@ -89,3 +89,36 @@ def test_occluded_marker_is_not_reported():
     assert not f.visible[0]
     ids, _ = detect_markers(f.image, make_detector(DetectorSettings()))
     assert poses[0][0] not in ids.tolist()
+
+
+def test_known_markers_are_verified_and_a_covered_or_replaced_one_is_not_reported():
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=5))
+    poses = grid_poses(6, seed=3)
+    step = 2.0 / cam.pixels_per_metre()
+    mt = MarkerTracker(full_period=100)
+    mt.detect(cam.render(poses).image)
+    moved = [(i, x + step, y, a) for i, x, y, a in poses]
+    f = cam.render(moved)
+    ids, corners = mt.detect(f.image)
+    assert mt.last_pass == "verify" and sorted(ids.tolist()) == sorted(f.ids.tolist())
+    order = [int(np.flatnonzero(ids == i)[0]) for i in f.ids]
+    assert np.max(np.hypot(*(marker_centres(corners[order]) - f.centres).T)) <= 1.0
+    # Marker 0 covered by a hand, marker 1 replaced by marker 40 at the same place.
+    _, x, y, _ = moved[0]
+    swapped = [(40 if i == 1 else i, px, py, a) for i, px, py, a in moved]
+    g = cam.render(swapped, occluders=[Occluder(x - 0.02, y, 0.0, 0.12)])
+    ids, _ = mt.detect(g.image)
+    assert mt.last_pass == "roi"  # the failed ones were looked for by detection
+    assert 0 not in ids.tolist() and 1 not in ids.tolist()
+    assert sorted(ids.tolist()) == [2, 3, 4, 5, 40]
+
+
+def test_config_switches_verification_and_apriltags_verify():
+    from tabletop.plugins import tracking as plugin
+    assert plugin.build_detector({"verify_known": False}).verify is False
+    cam = SyntheticCamera(CameraSettings(dictionary="DICT_APRILTAG_36h11", seed=3))
+    poses = grid_poses(5, seed=2, first_id=200)
+    det = plugin.build_detector({"dictionary": "DICT_APRILTAG_36h11"})
+    det.detect(cam.render(poses).image, None)
+    ids, _ = det.detect(cam.render(poses, 1 / 30.0).image, None)
+    assert det.last_pass == "verify" and sorted(ids.tolist()) == list(range(200, 205))
