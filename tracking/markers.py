@@ -189,6 +189,8 @@ def angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 # --- Verification of known markers (tracking without re-detection) ---------------------------
 
 _PATTERNS: dict[tuple[int, int], np.ndarray] = {}
+_GRIDS: dict[tuple[int, float], np.ndarray] = {}
+_NEXT = np.array([1, 2, 3, 0])  # corner k -> corner k + 1
 
 
 def marker_pattern(dictionary: cv2.aruco.Dictionary, marker_id: int) -> np.ndarray:
@@ -203,28 +205,56 @@ def marker_pattern(dictionary: cv2.aruco.Dictionary, marker_id: int) -> np.ndarr
     return pat
 
 
+def _cell_grid(cells: int, spread: float) -> np.ndarray:
+    """Homogeneous sample points (3, M) in the unit square, 3x3 per cell, rows of cells top to
+    bottom, the points of one cell's row of samples together (M = (3 cells)^2)."""
+    key = (cells, spread)
+    grid = _GRIDS.get(key)
+    if grid is None:
+        g = (np.arange(cells)[:, None] + 0.5 + np.array([-spread, 0.0, spread])[None]).reshape(-1)
+        gy, gx = np.meshgrid(g / cells, g / cells, indexing="ij")
+        grid = _GRIDS[key] = np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)])
+    return grid
+
+
+def square_to_quad(corners: np.ndarray) -> np.ndarray:
+    """Homographies (N, 3, 3) mapping the unit square (0,0), (1,0), (1,1), (0,1) onto each
+    quadrilateral of ``corners`` (N, 4, 2), in closed form (Heckbert 1989)."""
+    q = np.asarray(corners, float).reshape(-1, 4, 2)
+    x0, x1, x2, x3 = q[:, 0, 0], q[:, 1, 0], q[:, 2, 0], q[:, 3, 0]
+    y0, y1, y2, y3 = q[:, 0, 1], q[:, 1, 1], q[:, 2, 1], q[:, 3, 1]
+    dx1, dx2, dx3 = x1 - x2, x3 - x2, x0 - x1 + x2 - x3
+    dy1, dy2, dy3 = y1 - y2, y3 - y2, y0 - y1 + y2 - y3
+    den = dx1 * dy2 - dx2 * dy1
+    den = np.where(np.abs(den) > 1e-12, den, 1e-12)
+    g = (dx3 * dy2 - dx2 * dy3) / den
+    h = (dx1 * dy3 - dx3 * dy1) / den
+    out = np.empty((len(q), 3, 3))
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = x1 - x0 + g * x1, x3 - x0 + h * x3, x0
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = y1 - y0 + g * y1, y3 - y0 + h * y3, y0
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = g, h, 1.0
+    return out
+
+
 def sample_cells(grey: np.ndarray, corners: np.ndarray, cells: int, spread: float = 0.2
                  ) -> np.ndarray:
     """Mean grey level (N, cells, cells) of each marker cell: 3x3 points per cell, ``spread``
     cells apart around its centre, mapped through the homography of the marker's corners
-    (c0 printed top-left, clockwise) and read bilinearly in one ``cv2.remap``."""
-    c = np.asarray(corners, np.float32).reshape(-1, 4, 2)
+    (c0 printed top-left, clockwise), read bilinearly in one ``cv2.remap`` and averaged per
+    cell with one area resize."""
+    c = np.asarray(corners, float).reshape(-1, 4, 2)
     n = len(c)
     if n == 0:
         return np.zeros((0, cells, cells))
-    square = np.float32([[0, 0], [cells, 0], [cells, cells], [0, cells]])
-    hs = np.stack([cv2.getPerspectiveTransform(square, q) for q in c])  # (N, 3, 3)
-    off = np.array([-spread, 0.0, spread])
-    g = (np.arange(cells)[:, None] + 0.5 + off[None, :]).reshape(-1)  # cells*3 coordinates
-    gy, gx = np.meshgrid(g, g, indexing="ij")
-    pts = np.stack([gx.ravel(), gy.ravel(), np.ones(gx.size)])  # (3, M)
-    img = np.einsum("nij,jm->nim", hs, pts)
-    xy = img[:, :2] / img[:, 2:3]  # (N, 2, M)
-    mx = np.ascontiguousarray(xy[:, 0], np.float32)
-    my = np.ascontiguousarray(xy[:, 1], np.float32)
+    img = square_to_quad(c) @ _cell_grid(cells, spread)  # (N, 3, M)
+    xy = (img[:, :2] / img[:, 2:3]).astype(np.float32)
+    side = 3 * cells
+    mx = xy[:, 0].reshape(n * side, side)
+    my = xy[:, 1].reshape(n * side, side)
     vals = cv2.remap(grey, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
-                     borderValue=128).astype(float)
-    return vals.reshape(n, cells, 3, cells, 3).mean(axis=(2, 4))
+                     borderValue=128)
+    means = cv2.resize(vals.astype(np.float32), (cells, n * cells), interpolation=cv2.INTER_AREA)
+    return means.reshape(n, cells, cells)
 
 
 def verify_markers(grey: np.ndarray, ids: np.ndarray, corners: np.ndarray,
@@ -242,11 +272,11 @@ def verify_markers(grey: np.ndarray, ids: np.ndarray, corners: np.ndarray,
     s = int(dictionary.markerSize) + 2
     vals = sample_cells(grey, c, s).reshape(len(c), -1)
     pats = np.stack([marker_pattern(dictionary, int(m)).reshape(-1) for m in ids])
+    n_white = pats.sum(axis=1)
+    mean_w = (vals * pats).sum(axis=1) / np.maximum(n_white, 1)
+    mean_b = (vals * ~pats).sum(axis=1) / np.maximum(s * s - n_white, 1)
     white = np.where(pats, vals, np.inf).min(axis=1)
     black = np.where(pats, -np.inf, vals).max(axis=1)
-    n_white = np.maximum(pats.sum(axis=1), 1)
-    mean_w = np.where(pats, vals, 0.0).sum(axis=1) / n_white
-    mean_b = np.where(pats, 0.0, vals).sum(axis=1) / np.maximum((~pats).sum(axis=1), 1)
     contrast = mean_w - mean_b
     # The dimmest white cell and the brightest black one must sit on their own side of the
     # midpoint between the two means, by a quarter of the contrast.
@@ -266,18 +296,23 @@ def track_corners(grey: np.ndarray, predicted: np.ndarray, window_px: int = 5,
     if grey.ndim == 3:
         grey = cv2.cvtColor(grey, cv2.COLOR_BGR2GRAY)
     h, w = grey.shape[:2]
-    inside = np.all((p[..., 0] >= window_px + 1) & (p[..., 0] < w - window_px - 2)
-                    & (p[..., 1] >= window_px + 1) & (p[..., 1] < h - window_px - 2), axis=1)
+    ep = p[:, _NEXT] - p
+    sp = np.sqrt((ep * ep).sum(axis=2))  # (N, 4) predicted sides
+    win = int(max(2, min(window_px, sp.min() / 4.0)))  # one window for all: the smallest
+    inside = np.all((p[..., 0] >= win + 1) & (p[..., 0] < w - win - 2)
+                    & (p[..., 1] >= win + 1) & (p[..., 1] < h - win - 2), axis=1)
     r = p.copy()
     if inside.any():
-        r[inside] = refine_corners(grey, p[inside], window_px)
-    limit = float(window_px if max_shift_px is None else max_shift_px)
-    moved = np.linalg.norm(r - p, axis=2).max(axis=1) <= limit
-    e = np.roll(r, -1, axis=1) - r
-    f = np.roll(e, -1, axis=1)
+        pts = np.ascontiguousarray(p[inside].reshape(-1, 1, 2), np.float32)
+        cv2.cornerSubPix(grey, pts, (win, win), (-1, -1), _SUBPIX_CRITERIA)
+        r[inside] = pts.reshape(-1, 4, 2)
+    limit = float(win if max_shift_px is None else max_shift_px)
+    d = r - p
+    moved = (d * d).sum(axis=2).max(axis=1) <= limit * limit
+    e = r[:, _NEXT] - r
+    f = e[:, _NEXT]
     cross = e[:, :, 0] * f[:, :, 1] - e[:, :, 1] * f[:, :, 0]
     convex = np.all(cross > 0, axis=1) | np.all(cross < 0, axis=1)
-    sides = np.linalg.norm(e, axis=2)
-    sp = np.linalg.norm(np.roll(p, -1, axis=1) - p, axis=2)
+    sides = np.sqrt((e * e).sum(axis=2))
     similar = np.all((sides > 0.7 * sp) & (sides < 1.3 * sp), axis=1)
     return r, inside & moved & convex & similar
