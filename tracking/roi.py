@@ -293,22 +293,28 @@ class MarkerTracker:
         if len(ids) == 0:
             self._forget()
             return
-        centres = marker_centres(corners)
-        sides = marker_side_lengths(corners)
-        for mid, c, s, q in zip(ids, centres, sides, np.asarray(corners, float)):
-            k = self.known.get(int(mid))
+        q_all = np.asarray(corners, float).reshape(-1, 4, 2)
+        centres = marker_centres(q_all)
+        sides = marker_side_lengths(q_all).tolist()
+        frame = self.frame
+        for i, mid in enumerate(np.asarray(ids).tolist()):
+            c, q, s = centres[i], q_all[i], sides[i]
+            k = self.known.get(mid)
             if k is None:
-                self.known[int(mid)] = _Known(c, float(s), frame=self.frame, corners=q)
+                self.known[mid] = _Known(c, s, frame=frame, corners=q)
+            elif k.frame == frame:
+                # One id in two places this frame: no corner motion to trust until it is single.
+                k.corner_velocity = None
             else:
-                steps = max(1, self.frame - k.frame)
+                steps = max(1, frame - k.frame)
                 v = (c - k.centre) / steps
                 # A duplicate or a jump is not a velocity: keep the old one.
-                jump = np.hypot(*v) >= 2.0 * k.side
+                jump = float(v[0] * v[0] + v[1] * v[1]) >= 4.0 * k.side * k.side
                 if not jump:
                     k.velocity = v
                 k.corner_velocity = (q - k.corners if steps == 1 and not jump
                                      and k.corners is not None else None)
-                k.centre, k.side, k.frame, k.corners = c, float(s), self.frame, q
+                k.centre, k.side, k.frame, k.corners = c, s, frame, q
         self._forget()
 
     def _forget(self) -> None:
