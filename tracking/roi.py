@@ -142,6 +142,8 @@ class MarkerTracker:
         if full_period < 1:
             raise ValueError("full_period must be at least 1")
         self.full_detector = make_detector(full)
+        self._full_params = detector_parameters(full)
+        self._full_base_rate = self._full_rate = float(full.min_perimeter_rate)
         self.roi_detector = make_detector(roi)
         self._roi_params = detector_parameters(roi)
         self._roi_rate = -1.0
@@ -181,6 +183,7 @@ class MarkerTracker:
         preds = self.predict() if predictions_px is None else dict(predictions_px)
         full = (self.frame - 1) % self.full_period == 0 or not preds
         if full:
+            self._set_full_min_perimeter(grey.shape)
             ids, corners = detect_markers(grey, self.full_detector)
             self.last_pass = "full"
             corners = refine_corners(grey, corners, self.refine_window_px)
@@ -288,6 +291,19 @@ class MarkerTracker:
             self._roi_params.minMarkerPerimeterRate = rate
             self.roi_detector.setDetectorParameters(self._roi_params)
             self._roi_rate = rate
+
+    def _set_full_min_perimeter(self, shape: tuple[int, ...]) -> None:
+        """While markers are known, the full pass ignores contours shorter than half the
+        smallest known marker's perimeter (every puck carries the same printed size; perspective
+        changes it far less than twofold), never admitting less than the configured rate."""
+        sides = [k.side for k in self.known.values()]
+        rate = self._full_base_rate
+        if sides:
+            rate = max(rate, 4.0 * 0.5 * min(sides) / max(shape[0], shape[1]))
+        if abs(rate - self._full_rate) > 0.1 * rate:
+            self._full_params.minMarkerPerimeterRate = rate
+            self.full_detector.setDetectorParameters(self._full_params)
+            self._full_rate = rate
 
     def _remember(self, ids: np.ndarray, corners: np.ndarray) -> None:
         if len(ids) == 0:
