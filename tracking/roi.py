@@ -5,7 +5,8 @@ The region-of-interest pass crops a box around each predicted marker centre, mer
 boxes, packs the crops side by side into one small mosaic image and runs the detector once on
 the mosaic (one call instead of one per crop). The full-frame pass runs every ``full_period``
 frames (so a marker appearing anywhere is found within ``full_period`` frames) with fast settings
-(a single adaptive-threshold window, optionally OpenCV's ArUco3 mode). Both passes refine the
+(a single adaptive-threshold window, contours shorter than half the smallest known marker's
+perimeter skipped, optionally OpenCV's ArUco3 mode). Both passes refine the
 found corners with ``cv2.cornerSubPix`` on the original image.
 
 Between full-frame passes a marker seen in the previous frame is first tracked without detection:
