@@ -21,9 +21,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench.common import emit, interleaved, stats_ms  # noqa: E402
 from tabletop.plugins import tracking as plugin  # noqa: E402
-from tests.tracking.scenes import moving_scene  # noqa: E402
+from tests.tracking.scenes import moving_scene, score_detections  # noqa: E402
 from tracking.markers import (DetectorSettings, detect_markers, make_detector,  # noqa: E402
-                              marker_centres, marker_measurements,
+                              marker_measurements,
                               marker_side_lengths)
 from tracking.pucks import PuckTracker  # noqa: E402
 from tracking.synthetic import CameraSettings, SyntheticCamera  # noqa: E402
@@ -35,20 +35,9 @@ FPS = 30.0
 
 def score(frames, outputs) -> tuple[float, float, float]:
     """Detection rate of fully visible markers, median and p95 centre error (pixels)."""
-    found = visible = 0
-    errs = []
-    for f, (ids, corners) in zip(frames, outputs):
-        centres = marker_centres(corners) if len(ids) else np.zeros((0, 2))
-        for i, pid in enumerate(f.ids):
-            if not f.visible[i]:
-                continue
-            visible += 1
-            m = np.flatnonzero(ids == pid)
-            if len(m):
-                found += 1
-                errs.append(float(np.hypot(*(centres[m[0]] - f.centres[i]))))
-    e = np.array(errs) if errs else np.array([np.nan])
-    return found / max(visible, 1), float(np.median(e)), float(np.percentile(e, 95))
+    rate, errs, _, _ = score_detections(frames, outputs)
+    e = errs if len(errs) else np.array([np.nan])
+    return rate, float(np.median(e)), float(np.percentile(e, 95))
 
 
 def run_config(resolution: tuple[int, int], n: int) -> dict[str, float]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from tabletop.commands import positive_number
 from tabletop.frames import InputError
 
 HELP = ("train a reactive behaviour from a demonstration CSV and generate the reactor's motion "
@@ -36,13 +37,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def parse_rate(text: str) -> float:
     """A positive finite rate in Hz."""
-    try:
-        rate = float(text)
-    except ValueError:
-        raise BehaveArgumentError(f"--rate {text!r} is not a number (Hz)") from None
-    if not math.isfinite(rate) or rate <= 0:
-        raise BehaveArgumentError(f"--rate {text!r} must be a positive number of Hz")
-    return rate
+    return positive_number(text, "--rate", "Hz", BehaveArgumentError)
 
 
 def parse_table(text: str) -> tuple[float, float, float, float]:

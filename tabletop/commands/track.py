@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from tabletop.files import atomic_writer
+from tabletop.commands import positive_number
 from tabletop.frames import InputError
 
 HELP = ("detect and track marker pucks in every frame of a video file, an image folder or a "
@@ -55,13 +56,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def parse_fps(text: str | None) -> float | None:
     if text is None:
         return None
-    try:
-        fps = float(text)
-    except ValueError:
-        raise TrackInputError(f"--fps {text!r} is not a number") from None
-    if not math.isfinite(fps) or fps <= 0:
-        raise TrackInputError(f"--fps {text!r} must be a positive number of frames per second")
-    return fps
+    return positive_number(text, "--fps", "frames per second", TrackInputError)
 
 
 @contextlib.contextmanager

@@ -75,3 +75,26 @@ class CameraPipeline:
         ids, corners = self.detector.detect(frame.image, pred_px or None)
         ms = marker_measurements(ids, corners, frame.t, self.to_table)
         return self.tracker.step(ms, frame.t)
+
+
+def score_detections(frames, outputs) -> tuple[float, np.ndarray, np.ndarray, int]:
+    """How detections ``outputs`` [(ids, corners px), ...] did on rendered ``frames``: the share
+    of fully visible markers found, centre errors (px) and heading errors (rad) of those found,
+    and the number of ids reported that are not on the table."""
+    from tracking.markers import angle_error, marker_poses
+
+    found, visible, errs, heads, false_ids = 0, 0, [], [], 0
+    for f, (ids, corners) in zip(frames, outputs):
+        false_ids += len(set(ids.tolist()) - set(f.ids.tolist()))
+        poses = marker_poses(corners) if len(ids) else np.zeros((0, 3))
+        truth = marker_poses(f.corners)
+        for i, pid in enumerate(f.ids):
+            if not f.visible[i]:
+                continue
+            visible += 1
+            m = np.flatnonzero(ids == pid)
+            if len(m):
+                found += 1
+                errs.append(float(np.hypot(*(poses[m[0], :2] - f.centres[i]))))
+                heads.append(float(angle_error(poses[m[0], 2], truth[i, 2])))
+    return found / max(visible, 1), np.array(errs), np.array(heads), false_ids

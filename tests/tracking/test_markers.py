@@ -7,31 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from tracking.markers import (DetectorSettings, angle_error, detect_markers, dictionary_by_name,
+from tracking.markers import (DetectorSettings, detect_markers, dictionary_by_name,
                               make_detector, marker_centres, marker_poses, refine_corners,
                               track_corners, verify_markers)
 from tracking.synthetic import Occluder
 from tracking.synthetic import CameraSettings, SyntheticCamera
-from tests.tracking.scenes import grid_poses, moving_scene
+from tests.tracking.scenes import grid_poses, moving_scene, score_detections
 
 
 def _score(frames, detect):
-    found, visible, errs, heads, false_ids = 0, 0, [], [], 0
-    for f in frames:
-        ids, corners = detect(f.image)
-        false_ids += len(set(ids.tolist()) - set(f.ids.tolist()))
-        poses = marker_poses(corners)
-        truth = marker_poses(f.corners)
-        for i, pid in enumerate(f.ids):
-            if not f.visible[i]:
-                continue
-            visible += 1
-            m = np.flatnonzero(ids == pid)
-            if len(m):
-                found += 1
-                errs.append(float(np.hypot(*(poses[m[0], :2] - f.centres[i]))))
-                heads.append(float(angle_error(poses[m[0], 2], truth[i, 2])))
-    return found / visible, np.array(errs), np.array(heads), false_ids
+    return score_detections(frames, [detect(f.image) for f in frames])
 
 
 @pytest.fixture(scope="module")
