@@ -25,7 +25,7 @@ import numpy as np
 import yaml
 
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, format_csv,
-                            read_csv, read_yaml)
+                            fsync_folder, read_csv, read_yaml)
 from tabletop.frames import InputError
 from tabletop.schema import ConfigError, Context, FilePath, Number, Record, Spec, Str
 
@@ -193,19 +193,6 @@ def describe_yaml(name: str, demo: np.ndarray, parameters: Mapping[str, Any],
     return yaml.safe_dump(doc, sort_keys=False, default_flow_style=False, allow_unicode=True)
 
 
-def _fsync_dir(path: Path) -> None:
-    try:
-        fd = os.open(path, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
-
-
 def _write_synced(path: Path, text: str) -> None:
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)
@@ -247,13 +234,13 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
         try:
             _write_synced(tmp / DEMONSTRATION_FILE, csv_text)
             _write_synced(tmp / BEHAVIOR_FILE, yaml_text)
-            _fsync_dir(tmp)
+            fsync_folder(tmp)
             os.chmod(tmp, 0o755)
             os.rename(tmp, target)
         except BaseException:
             shutil.rmtree(tmp, ignore_errors=True)
             raise
-        _fsync_dir(lib)
+        fsync_folder(lib)
     except OSError as exc:
         raise LibraryError(f"{target}: cannot save behaviour: {exc.strerror or exc}") from None
     return target

@@ -19,8 +19,8 @@ import time
 from pathlib import Path
 from typing import Any, Iterator
 
-from tabletop.files import atomic_writer
 from tabletop.commands import positive_number
+from tabletop.files import atomic_writer
 from tabletop.frames import InputError
 
 HELP = ("detect and track marker pucks in every frame of a video file, an image folder or a "

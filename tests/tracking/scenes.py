@@ -98,3 +98,16 @@ def score_detections(frames, outputs) -> tuple[float, np.ndarray, np.ndarray, in
                 errs.append(float(np.hypot(*(poses[m[0], :2] - f.centres[i]))))
                 heads.append(float(angle_error(poses[m[0], 2], truth[i, 2])))
     return found / max(visible, 1), np.array(errs), np.array(heads), false_ids
+
+
+def wait_for(predicate, timeout: float) -> bool:
+    """Poll ``predicate`` every 10 ms until it holds (True) or ``timeout`` seconds pass (False):
+    for sources whose threads deliver in their own time."""
+    import time
+
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.01)
+    return False

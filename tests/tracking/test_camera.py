@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from tabletop.frames import Observation
+from tests.tracking import scenes
 from tracking.camera import CameraSettings, CameraSource, settings_from_options
 
 W, H = 160, 120
@@ -33,12 +34,7 @@ def write_video(path: Path, n: int = 12) -> None:
 
 
 def wait_for(predicate, timeout: float = 5.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.01)
-    return False
+    return scenes.wait_for(predicate, timeout)
 
 
 def counting_process(seen: list):

@@ -15,6 +15,7 @@ from tabletop.frames import InputError
 from tabletop.plugins import camera as camera_plugin
 from tabletop.plugins import synthetic_camera
 from tabletop.registry import BuildContext
+from tests.tracking import scenes
 from tracking.synthetic import CameraSettings, SyntheticCamera, scripted_hands
 from tracking.visitor import ScriptedVisitor
 
@@ -30,12 +31,7 @@ def build(entry: dict, tmp_path: Path, tracking: dict | None = None):
 
 
 def wait_for(predicate, timeout: float = 10.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.01)
-    return False
+    return scenes.wait_for(predicate, timeout)
 
 
 def write_frames(folder: Path, cam: SyntheticCamera, n: int = 8):
