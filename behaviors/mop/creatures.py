@@ -1,6 +1,6 @@
 """Characters made in this repository: a salamander-like creature and a face with blendshapes.
 
-Creature: a planar :class:`~behaviors.mop.skeleton.Skeleton2D` seen from above (the table's own
+Creature: a planar :class:`~behaviors.motion.skeleton.Skeleton2D` seen from above (the table's own
 view): spine, head, tail and four two-segment legs, lengths in body lengths (nose to tail tip is
 1). Its clips are keyframes of joint angles (radians, channel type ``angle``): ``walk`` (spine
 wave with alternating legs, a loop), ``wag`` (tail sweeps), ``curl`` (the body rolls into a ring
@@ -22,8 +22,8 @@ from typing import Callable
 
 import numpy as np
 
-from behaviors.mop.clips import Channel, Clip
-from behaviors.mop.skeleton import Skeleton2D
+from behaviors.motion.clips import Channel, Clip
+from behaviors.motion.skeleton import Skeleton2D
 
 # --- creature -----------------------------------------------------------------------------------
 

@@ -11,7 +11,7 @@ from typing import Sequence
 
 import numpy as np
 
-from behaviors.mop.clips import ClipError
+from behaviors.motion.clips import ClipError
 
 
 class PuckInput:

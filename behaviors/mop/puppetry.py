@@ -1,7 +1,7 @@
 """Characters played at the performer's progress (MOP 3.1.3 and 3.3), and the designer's takes.
 
 A rig turns a motion clip at some progress into 2-D points (figure units, "up" along the
-character's heading, see :func:`behaviors.mop.skeleton.place`):
+character's heading, see :func:`behaviors.motion.skeleton.place`):
 
 - :class:`HumanoidRig`: a URDF skeleton driven by a DeepMimic-style clip (quaternion joints),
   by forward kinematics and a projection;
@@ -28,9 +28,9 @@ from typing import Mapping, Protocol, Sequence
 
 import numpy as np
 
-from behaviors.mop.clips import Clip, ClipError, TimeWarp
+from behaviors.motion.clips import Clip, ClipError, TimeWarp
 from behaviors.mop.creatures import FaceModel
-from behaviors.mop.skeleton import ProjectedFigure, Skeleton2D, place
+from behaviors.motion.skeleton import ProjectedFigure, Skeleton2D, place
 from tabletop.frames import CharacterState
 
 
@@ -191,7 +191,7 @@ class SpriteRig:
 
     def cycle(self) -> Clip:
         """A clip that shows every frame in order, each for an equal share of the progress."""
-        from behaviors.mop.clips import Channel
+        from behaviors.motion.clips import Channel
         n = len(self.frames)
         times = np.arange(n + 1, dtype=float)
         values = np.minimum(np.arange(n + 1), n - 1)[:, None].astype(float)

@@ -49,7 +49,7 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from behaviors.mop.clips import Clip
+from behaviors.motion.clips import Clip
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Take, Vote
 from tabletop.frames import CharacterState, Frame, InputError

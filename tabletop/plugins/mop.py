@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from behaviors.mop.clips import Clip, ClipError, TimeWarp, clip_from_mapping
+from behaviors.motion.clips import Clip, ClipError, TimeWarp, clip_from_mapping
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
@@ -146,7 +146,7 @@ def resolve_motion(kind: str, motion: str, base: Path) -> tuple[str, Any]:
             raise MopError(f"motion file {motion!r} not found (looked for {p})")
         return ("deepmimic" if p.suffix == ".txt" else "clip"), p
     if kind == "skeleton":
-        from behaviors.mop.deepmimic import motion_path
+        from behaviors.motion.deepmimic import motion_path
         try:
             return "deepmimic", motion_path(motion)
         except ClipError as exc:
@@ -173,7 +173,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         if c["kind"] == "sprite" and c["sheet"] is None:
             raise ctx.error(f"{where}.sheet", "a sprite character needs its sheet (a JSON file)")
         if c["kind"] == "skeleton" and c["skeleton"] is None:
-            from behaviors.mop.deepmimic import humanoid_urdf
+            from behaviors.motion.deepmimic import humanoid_urdf
             try:
                 humanoid_urdf()
             except ClipError as exc:
@@ -228,7 +228,7 @@ class MotionLoader:
                 from behaviors.mop.creatures import creature_clips, face_clips
                 clip = (creature_clips() if self.kind == "creature" else face_clips())[what]
             elif how == "deepmimic":
-                from behaviors.mop.deepmimic import load_motion
+                from behaviors.motion.deepmimic import load_motion
                 clip = load_motion(what)
             else:
                 try:
@@ -276,8 +276,8 @@ def _make_rig(c: dict):
     if c["kind"] == "face":
         from behaviors.mop.creatures import FaceModel
         return FaceRig(FaceModel())
-    from behaviors.mop.deepmimic import ROOT_SCALE, humanoid_urdf
-    from behaviors.mop.skeleton import ProjectedFigure, Projection, load_urdf
+    from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf
+    from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf
     urdf = c["skeleton"] or humanoid_urdf()
     return HumanoidRig(ProjectedFigure(load_urdf(urdf), Projection(
         view_yaw=c["view_yaw"], elevation=c["elevation"]), root_scale=ROOT_SCALE),

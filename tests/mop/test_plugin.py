@@ -120,7 +120,7 @@ def test_warped_noisy_performance_plays_the_motion_at_its_progress(example_cfg):
     puppet = engine.puppets["dancer"]
     clip = puppet.actions["zigzag"].clip
     assert clip.name == "kick"
-    from behaviors.mop.skeleton import place
+    from behaviors.motion.skeleton import place
     expected = place(puppet.rig.pose(clip, c.progress), puppet.x, puppet.y, puppet.heading,
                      puppet.size)
     assert np.abs(expected - c.points).max() < 1e-9
@@ -177,7 +177,7 @@ def test_unrelated_input_holds_then_returns_to_rest(example_cfg):
         rest_pts = c.points
     assert not any(valid[int(0.5 * RATE):])
     puppet = engine.puppets["dancer"]
-    from behaviors.mop.skeleton import place
+    from behaviors.motion.skeleton import place
     rest = place(puppet.rig.rest(), puppet.x, puppet.y, puppet.heading, puppet.size)
     assert np.abs(rest_pts - rest).max() < 0.005
 
@@ -204,7 +204,7 @@ def test_time_warp_maps_action_progress_onto_motion(tmp_path):
     run = table.perform("circle", puck=2, upto=0.6)
     c = run[-1][1]["salamander"]
     assert c.valid and c.action == "circle"
-    from behaviors.mop.skeleton import place
+    from behaviors.motion.skeleton import place
     expected = place(puppet.rig.pose(action.clip, action.warp(c.progress)), puppet.x, puppet.y,
                      puppet.heading, puppet.size)
     assert np.abs(expected - c.points).max() < 1e-9
@@ -217,7 +217,7 @@ def test_sprite_sheet_frames_follow_progress(example_cfg, tmp_path):
     table.rest(1.0)
     run = table.perform("wave")
     bird = engine.puppets["bird"]
-    from behaviors.mop.skeleton import place
+    from behaviors.motion.skeleton import place
     shown = set()
     for u, ch in run:
         c = ch["bird"]

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.mop.clips import (Channel, Clip, ClipError, TimeWarp, align_durations,
+from behaviors.motion.clips import (Channel, Clip, ClipError, TimeWarp, align_durations,
                                  clip_from_mapping, clip_to_mapping, quat_from_axis_angle,
                                  quat_slerp, quat_to_matrix)
 

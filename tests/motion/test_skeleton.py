@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.mop.clips import ClipError
-from behaviors.mop.deepmimic import (FRAME_WIDTH, ROOT_SCALE, humanoid_pose, humanoid_urdf,
+from behaviors.motion.clips import ClipError
+from behaviors.motion.deepmimic import (FRAME_WIDTH, ROOT_SCALE, humanoid_pose, humanoid_urdf,
                                      load_motion, motion_path, parse_motion)
-from behaviors.mop.skeleton import (Projection, ProjectedFigure, Skeleton2D, SkeletonError,
+from behaviors.motion.skeleton import (Projection, ProjectedFigure, Skeleton2D, SkeletonError,
                                     load_urdf, place)
 
 CLIPS = ["walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",

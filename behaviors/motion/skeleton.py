@@ -24,7 +24,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from behaviors.mop.clips import quat_to_matrix
+from behaviors.motion.clips import quat_to_matrix
 from tabletop.frames import InputError
 
 

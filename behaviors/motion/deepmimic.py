@@ -8,7 +8,7 @@ left hip, left knee, left ankle, left shoulder, left elbow. Ball joints are quat
 first; knees and elbows are single angles (radians) about the joint's hinge axis.
 
 Channel names are the joint names of ``pybullet_data/humanoid/humanoid.urdf`` so the clip drives
-:class:`behaviors.mop.skeleton.UrdfSkeleton` directly; the root is ``root_x``, ``root_y``,
+:class:`behaviors.motion.skeleton.UrdfSkeleton` directly; the root is ``root_x``, ``root_y``,
 ``root_z`` and ``root_rot``.
 
 ``pybullet_data`` comes with the ``pybullet`` wheel; only its data path is used here, the physics
@@ -24,7 +24,7 @@ from typing import Mapping
 
 import numpy as np
 
-from behaviors.mop.clips import Channel, Clip, ClipError
+from behaviors.motion.clips import Channel, Clip, ClipError
 
 # (channel name, kind) in frame order after the duration; "pos" is 3 scalars.
 HUMANOID_LAYOUT: tuple[tuple[str, str], ...] = (

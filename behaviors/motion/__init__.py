@@ -1,0 +1,1 @@
+"""Motion shared by the engines: clips and quaternions, the DeepMimic reader, skeletons and projection."""
