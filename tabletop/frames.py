@@ -145,7 +145,8 @@ class Observation:
     A source fills what it has: puck measurements (table metres), touches, named motion-capture
     streams (1-D float arrays), and for cameras optionally the image it measured (kept for the
     view and the recorder's snapshots, never required downstream). ``seq`` rises by one per new
-    observation of that source.
+    observation of that source. ``removed`` lists puck ids the source says have left (a TUIO
+    sender's ``alive``): the tracker drops them at once instead of coasting them.
     """
 
     source: str
@@ -156,6 +157,7 @@ class Observation:
     streams: Mapping[str, np.ndarray] = field(default_factory=dict)
     image: np.ndarray | None = None
     complete: bool = True
+    removed: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,6 +19,8 @@ SOURCES: dict[str, str] = {
     "synthetic_camera": "tabletop.plugins.synthetic_camera",
     "camera": "tabletop.plugins.camera",
     "replay": "tabletop.plugins.replay_source",
+    "osc": "tabletop.plugins.osc",
+    "serial": "tabletop.plugins.serial",
 }
 
 ENGINES: dict[str, str] = {
@@ -26,7 +28,9 @@ ENGINES: dict[str, str] = {
     "mop": "tabletop.plugins.mop",
 }
 
-SINKS: dict[str, str] = {}
+SINKS: dict[str, str] = {
+    "tuio": "tabletop.plugins.tuio",
+}
 
 REGISTRIES: dict[str, dict[str, str]] = {"source": SOURCES, "engine": ENGINES, "sink": SINKS}
 

@@ -119,6 +119,9 @@ class PuckTracker:
             self._seen_seq[obs.source] = obs.seq
             fresh.append(obs)
         for obs in sorted(fresh, key=lambda o: o.t):
+            for pid in obs.removed:  # the source says it left: no coasting
+                if pid in self.tracks and self.tracks[pid].source == obs.source:
+                    del self.tracks[pid]
             self._apply(obs.pucks, obs.t, obs.source, obs.complete)
         self._expire(t)
         self._pucks = tuple(self._puck(tr) for _, tr in sorted(self.tracks.items()))

@@ -147,10 +147,12 @@ class Tracker(PuckTracker):
         return super().update(observations, t)
 
     def _renamed(self, obs: Observation) -> Observation:
-        if not any(m.id in self.id_map for m in obs.pucks):
+        if not any(m.id in self.id_map for m in obs.pucks) and not any(
+                r in self.id_map for r in obs.removed):
             return obs
         pucks = tuple(dataclasses.replace(m, id=self.id_map.get(m.id, m.id)) for m in obs.pucks)
-        return dataclasses.replace(obs, pucks=pucks)
+        removed = tuple(self.id_map.get(r, r) for r in obs.removed)
+        return dataclasses.replace(obs, pucks=pucks, removed=removed)
 
     def predictions(self, t: float) -> dict[int, tuple[float, float]]:
         return {self._marker_of.get(pid, pid): xy for pid, xy in self.predict(t).items()}

@@ -1,0 +1,149 @@
+"""Sink ``tuio``: pucks, touches and listed characters out as TUIO 1.1 over UDP.
+
+Every frame, one ``/tuio/2Dobj`` bundle (source ``tabletop@HOSTNAME``, alive, a set per changed
+puck (class id = puck id) and per changed listed character (class id from ``characters``),
+fseq) and one ``/tuio/2Dcur`` bundle for the touches, as the reference server sends them: an
+unchanged entity is not repeated, except in the full-state resend every ``full_every_s``; a
+bundle over 4096 bytes is split, each part with its own alive and fseq. Positions go through
+the inverse of the ``osc`` source's mapping (:func:`tracking.tuio.from_table`). Session ids are
+stable while a thing stays and never reused. Sending never blocks the loop; a failed send is
+counted and logged at a limited rate.
+"""
+
+from __future__ import annotations
+
+import math
+import socket
+import time
+from typing import Any, Callable
+
+from tabletop.frames import Frame
+from tabletop.plugins.osc import port_spec
+from tabletop.registry import BuildContext
+from tabletop.schema import Bool, MapOf, Number, Optional_, Record, Str
+from tracking.badinput import BadInput
+from tracking.tuio import from_table, profile_bundles, set_args
+
+SCHEMA = Record({
+    "host": Str("127.0.0.1", doc="receiver address (an IP address or host name; a broadcast "
+                                 "address reaches a whole network)"),
+    "port": port_spec(3333, "receiver UDP port"),
+    "characters": MapOf(Number(integer=True, lo=0, hi=2**31 - 1), default={},
+                        doc="character name -> TUIO class id, sent as objects"),
+    "source": Optional_(Str(), doc="TUIO source name (default tabletop@HOSTNAME)"),
+    "full_every_s": Number(1.0, lo=0.05, hi=60.0, doc="full-state resend period, seconds"),
+    "touches": Bool(True, doc="send the touches as /tuio/2Dcur"),
+})
+
+
+class Sessions:
+    """Stable TUIO session ids: one per key while the key stays, a new one when it comes back."""
+
+    def __init__(self) -> None:
+        self.ids: dict[Any, int] = {}
+        self.next_id = 1
+
+    def update(self, keys: list[Any]) -> list[int]:
+        """Session ids of ``keys`` (in order); keys not listed are forgotten."""
+        ids = {}
+        for k in keys:
+            sid = self.ids.get(k)
+            if sid is None:
+                sid, self.next_id = self.next_id, (self.next_id % (2**31 - 1)) + 1
+            ids[k] = sid
+        self.ids = ids
+        return [ids[k] for k in keys]
+
+
+class TuioSink:
+    """Sends each frame as TUIO 1.1 bundles to ``address`` (host, port); see the module
+    docstring. ``send(bundle)`` is the transport (a UDP socket by default)."""
+
+    def __init__(self, name: str, address: tuple[str, int], table: tuple[float, float],
+                 characters: dict[str, int] | None = None, source: str | None = None,
+                 full_every_s: float = 1.0, touches: bool = True,
+                 send: Callable[[bytes], None] | None = None) -> None:
+        self.name, self.address, self.table = name, address, table
+        self.characters = dict(characters or {})
+        self.source = source or f"tabletop@{socket.gethostname()}"
+        self.full_every_s, self.with_touches = full_every_s, touches
+        self.bad = BadInput(name)
+        self.fseq = 0
+        self.sent = 0
+        self._objects, self._cursors = Sessions(), Sessions()
+        self._last: dict[tuple[str, int], tuple] = {}
+        self._full_t = -math.inf
+        self._sock: socket.socket | None = None
+        self._target: Any = None
+        self._resolve_after = -math.inf
+        self._send = send or self._udp_send
+
+    def _udp_send(self, data: bytes) -> None:
+        if self._sock is None:
+            if time.monotonic() < self._resolve_after:
+                raise OSError(f"cannot resolve {self.address[0]}")
+            try:  # a host name is looked up once, not on every send
+                info = socket.getaddrinfo(self.address[0], self.address[1], type=socket.SOCK_DGRAM)
+            except OSError:
+                self._resolve_after = time.monotonic() + 5.0
+                raise
+            family, _, _, _, self._target = info[0]
+            self._sock = socket.socket(family, socket.SOCK_DGRAM)
+            self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
+            self._sock.setblocking(False)
+        self._sock.sendto(data, self._target)
+
+    def bundles(self, frame: Frame) -> list[bytes]:
+        """The bundles of one frame (pure apart from session ids, fseq and change tracking)."""
+        self.fseq += 1
+        full = frame.t - self._full_t >= self.full_every_s
+        if full:
+            self._full_t = frame.t
+        objects: list[tuple[Any, int, tuple]] = []
+        for p in frame.pucks:
+            objects.append((("puck", p.id), p.id,
+                            from_table(p.x, p.y, p.angle, p.vx, p.vy, p.omega, self.table)))
+        for c in frame.characters:
+            cid = self.characters.get(c.name)
+            if cid is not None:
+                objects.append((("character", c.name), cid,
+                                from_table(c.x, c.y, c.heading, 0.0, 0.0, 0.0, self.table)))
+        out = self._profile("2Dobj", self._objects, objects, full)
+        if self.with_touches:
+            cursors = [(("touch", tc.id), -1, from_table(tc.x, tc.y, 0.0, tc.vx, tc.vy, 0.0,
+                                                         self.table)) for tc in frame.touches]
+            out += self._profile("2Dcur", self._cursors, cursors, full)
+        return out
+
+    def _profile(self, profile: str, sessions: Sessions, items: list, full: bool) -> list[bytes]:
+        items = [it for it in items if all(math.isfinite(v) for v in it[2])]
+        sids = sessions.update([k for k, _, _ in items])
+        sets = []
+        for sid, (_, cid, values) in zip(sids, items):
+            args = set_args(profile, sid, cid, values)
+            if full or self._last.get((profile, sid)) != args:
+                sets.append(args)
+            self._last[(profile, sid)] = args
+        live = set(sids)
+        for key in [k for k in self._last if k[0] == profile and k[1] not in live]:
+            del self._last[key]
+        return profile_bundles(profile, self.source, sids, sets, self.fseq)
+
+    def consume(self, frame: Frame) -> None:
+        for b in self.bundles(frame):
+            try:
+                self._send(b)
+                self.sent += 1
+            except OSError as exc:  # no route, buffer full, receiver gone: try next frame
+                self.bad.count("send_failed", f"to {self.address[0]}:{self.address[1]}: {exc}")
+
+    def close(self) -> None:
+        if self._sock is not None:
+            self._sock.close()
+            self._sock = None
+
+
+def build(options: dict, ctx: BuildContext) -> TuioSink:
+    return TuioSink(options["name"], (options["host"], options["port"]), ctx.table,
+                    options["characters"], options["source"], options["full_every_s"],
+                    options["touches"])

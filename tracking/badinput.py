@@ -1,0 +1,59 @@
+"""Counting bad input from the outside world (packets, serial lines) without being hurt by it.
+
+Every rejected thing is counted under a short kind name (``malformed``, ``wrong_arguments``,
+``not_allowed``, ...) and logged at most once per ``log_every_s`` per kind, with the count so
+far, so a flood costs a counter increment, never a log storm. The counters are few and fixed in
+size (kinds come from the code, not from the input).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import threading
+import time
+from typing import Callable
+
+log = logging.getLogger("tabletop.input")
+
+
+class BadInput:
+    """Per-kind counters of rejected input for one source, with rate-limited logging."""
+
+    def __init__(self, source: str, log_every_s: float = 10.0,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.source, self.log_every_s, self.clock = source, log_every_s, clock
+        self._counts: dict[str, int] = {}
+        self._logged: dict[str, float] = {}
+        self._lock = threading.Lock()
+
+    def count(self, kind: str, detail: str = "", n: int = 1) -> None:
+        """Count ``n`` rejected items of ``kind``; log one line if this kind was not logged in
+        the last ``log_every_s`` seconds (``detail`` says what was wrong and where)."""
+        now = self.clock()
+        with self._lock:
+            total = self._counts.get(kind, 0) + n
+            self._counts[kind] = total
+            due = now - self._logged.get(kind, -math.inf) >= self.log_every_s
+            if due:
+                self._logged[kind] = now
+        if due:
+            log.warning("%s: ignored %s input (%d so far)%s", self.source,
+                        kind.replace("_", " "), total, f": {detail[:200]}" if detail else "")
+
+    def counts(self) -> dict[str, int]:
+        """A copy of the counters, kind -> count."""
+        with self._lock:
+            return dict(self._counts)
+
+    def total(self) -> int:
+        with self._lock:
+            return sum(self._counts.values())
+
+    def summary(self) -> str:
+        """``"ignored: 3 malformed, 1 not allowed"`` for the overlay and status, or ``""``."""
+        c = self.counts()
+        if not c:
+            return ""
+        parts = [f"{n} {k.replace('_', ' ')}" for k, n in sorted(c.items(), key=lambda kv: -kv[1])]
+        return "ignored: " + ", ".join(parts)

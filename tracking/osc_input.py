@@ -1,0 +1,271 @@
+"""OSC input over UDP: TUIO 1.1 pucks and touches and ``/mocap/NAME`` vectors, in its own thread.
+
+A python-osc ``BlockingOSCUDPServer`` listens on one interface (loopback by default) in the
+source's own thread: one packet at a time, in arrival order (the threading server starts a thread
+per packet and loses most of a burst). Each datagram is checked against the allow-list, decoded
+(``tracking.osc_codec``), and its TUIO messages applied to the receiving state
+(``tracking.tuio.TuioClient``); ``/mocap/NAME f f ...`` becomes the stream NAME. Anything wrong is
+counted per kind (``tracking.badinput``) and otherwise ignored: nothing from the network can
+raise out of the thread, poison a frame or grow memory without bound.
+
+``latest()`` returns the committed state as an Observation in table metres: objects as puck
+measurements (class id = marker id), cursors and blobs as touches (session id = touch id).
+TUIO is a state protocol and reference servers resend an unchanged state only once a second, so
+while a sender is heard from (within ``quiet_s``) its objects are held present: their time is
+their commit time, or ``now - HOLD_S`` if older. An id that leaves ``alive`` leaves the bus at
+once (``Observation.removed``); a sender that goes quiet stops being reported and the puck
+tracker coasts its pucks, then drops them. If the port cannot be bound the thread retries with a
+growing back-off and the health says why.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import socket
+import threading
+import time
+from typing import Callable, Iterable
+
+import numpy as np
+
+from tabletop.frames import Observation, PuckMeasurement, SourceHealth, Touch
+from tracking.badinput import BadInput
+from tracking.osc_codec import OscError, decode_packet
+from tracking.tuio import ADDRESSES, MAX_ALIVE, TuioClient, to_table
+
+HOLD_S = 0.1               # a held (unchanged) state is reported at most this old
+MAX_STREAMS = 64
+MAX_STREAM_VALUES = 256
+STREAM_NAME = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
+RECEIVE_BUFFER = 1 << 20   # bytes of kernel socket buffer asked for
+
+
+class OscInput:
+    """A ``Source`` receiving TUIO and mocap OSC on ``host``:``port`` (see the module docstring).
+
+    ``allow``: sender IP addresses accepted (empty: any sender that reaches the interface);
+    ``table``: (width, height) metres; ``quiet_s``: a sender silent this long is gone;
+    ``stall_s``: health turns bad when nothing was received this long; ``max_packet``: larger
+    datagrams are refused (bytes). ``on_packet(t_received)`` is called after each applied packet
+    (benchmarks time delivery with it).
+    """
+
+    def __init__(self, name: str, host: str = "127.0.0.1", port: int = 3333,
+                 allow: Iterable[str] = (), table: tuple[float, float] = (1.2, 0.8),
+                 quiet_s: float = 1.5, stall_s: float = 5.0, max_packet: int = 16384,
+                 retry_min_s: float = 0.5, retry_max_s: float = 8.0,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.name, self.host, self.port = name, host, int(port)
+        self.allow = frozenset(allow)
+        self.table, self.quiet_s, self.stall_s = table, quiet_s, stall_s
+        self.max_packet, self.clock = max_packet, clock
+        self.retry_min_s, self.retry_max_s = retry_min_s, retry_max_s
+        self.bad = BadInput(name, clock=clock)
+        self.client = TuioClient()
+        self.on_packet: Callable[[float], None] | None = None
+        self._streams: dict[str, tuple[np.ndarray, float]] = {}
+        self._removed: set[int] = set()
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._listening = threading.Event()
+        self._message = "starting"
+        self._heard_t = -math.inf
+        self._seq = 0
+        self.packets = 0
+        self.bound_port: int | None = None
+
+    # ------------------------------------------------------------------ Source protocol
+    def open(self) -> None:
+        if self._thread is None:
+            self._stop.clear()
+            self._thread = threading.Thread(target=self._run, name=f"osc:{self.name}",
+                                            daemon=True)
+            self._thread.start()
+
+    def wait_listening(self, timeout: float = 5.0) -> bool:
+        """Block until the socket is bound (tests and benchmarks)."""
+        return self._listening.wait(timeout)
+
+    def latest(self) -> Observation | None:
+        now = self.clock()
+        with self._lock:
+            pucks, touches = [], []
+            for key, e in self.client.entities("2Dobj", self.quiet_s, now):
+                x, y, a, *_ = to_table(e, self.table)
+                t = max(self._commit_t(key, "2Dobj"), now - HOLD_S)
+                pucks.append(PuckMeasurement(e.class_id, x, y, a, min(t, now)))
+            for profile in ("2Dcur", "2Dblb"):
+                for _key, e in self.client.entities(profile, self.quiet_s, now):
+                    x, y, _a, vx, vy, _w = to_table(e, self.table)
+                    touches.append(Touch(e.session, x, y, vx, vy))
+            streams = {k: v for k, (v, ts) in self._streams.items() if now - ts <= self.quiet_s}
+            present = {p.id for p in pucks}
+            removed = tuple(sorted(self._removed - present))
+            self._removed.clear()
+            if not (pucks or touches or streams or removed) and self._seq == 0:
+                return None
+            self._seq += 1
+            t = max([p.t for p in pucks] + [min(self._heard_t, now)])
+            return Observation(self.name, t, self._seq, pucks=tuple(pucks),
+                               touches=tuple(touches), streams=streams, removed=removed)
+
+    def health(self) -> SourceHealth:
+        now = self.clock()
+        with self._lock:
+            age = now - self._heard_t
+            message = self._message
+            senders = sum(1 for s in self.client.senders.values() if now - s.heard_t <= self.quiet_s)
+        ok = self._listening.is_set()
+        if ok:
+            if math.isinf(age):
+                message += "; nothing received yet"
+            elif age > self.stall_s:
+                ok, message = False, f"{message}; nothing received for {age:.0f} s"
+            else:
+                message += f"; {senders} sender{'s' if senders != 1 else ''}"
+        bad = self.bad.summary()
+        return SourceHealth(self.name, ok, f"{message} ({bad})" if bad else message, age)
+
+    def close(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=5.0)
+            self._thread = None
+
+    # ------------------------------------------------------------------ receiving
+    def _commit_t(self, key: str, profile: str) -> float:
+        st = self.client.senders[key].profiles.get(profile)
+        return st.t if st is not None else -math.inf
+
+    def handle(self, data: bytes, address: tuple[str, int]) -> None:
+        """Apply one datagram from ``address`` (ip, port); never raises."""
+        t = self.clock()
+        try:
+            self._handle(data, address, t)
+        except Exception as exc:  # a bug must not end the receiving thread
+            self.bad.count("internal_error", f"{type(exc).__name__}: {exc}")
+
+    def _handle(self, data: bytes, address: tuple[str, int], t: float) -> None:
+        if len(data) > self.max_packet:
+            self.bad.count("oversized", f"{len(data)} bytes from {address[0]}")
+            return
+        try:
+            packet = decode_packet(data)
+        except OscError as exc:
+            self.bad.count("malformed", f"from {address[0]}: {exc}")
+            return
+        if packet.depth > 1:
+            self.bad.count("nested_bundle", f"from {address[0]}: flattened")
+        tuio, mocap = [], []
+        for addr, args in packet.messages:
+            if addr in ADDRESSES:
+                tuio.append((addr, args))
+            elif addr.startswith("/mocap/"):
+                mocap.append((addr[7:], args))
+            else:
+                self.bad.count("unknown_address", f"{addr[:80]!r} from {address[0]}")
+        with self._lock:
+            before = {k: {e.class_id for e in s.profiles["2Dobj"].committed.values()}
+                      for k, s in self.client.senders.items() if "2Dobj" in s.profiles}
+            commits, errors, late = self.client.apply(tuio, f"{address[0]}:{address[1]}", t)
+            if commits:
+                self._note_removed(before)
+            for name, args in mocap:
+                self._stream(name, args, t)
+            self._heard_t = t
+            self.packets += 1
+        for exc in errors:
+            self.bad.count(exc.kind, f"from {address[0]}: {exc}")
+        if late:
+            self.bad.count("late_fseq", f"from {address[0]}", late)
+        if self.on_packet is not None:
+            self.on_packet(t)
+
+    def _note_removed(self, before: dict[str, set[int]]) -> None:
+        for key, ids in before.items():
+            s = self.client.senders.get(key)
+            st = s.profiles.get("2Dobj") if s is not None else None
+            now_ids = {e.class_id for e in st.committed.values()} if st is not None else set()
+            if len(self._removed) < MAX_ALIVE:
+                self._removed |= ids - now_ids
+
+    def _stream(self, name: str, args: tuple, t: float) -> None:
+        if not STREAM_NAME.match(name):
+            self.bad.count("unknown_address", f"bad stream name {name[:80]!r}")
+            return
+        if not args or len(args) > MAX_STREAM_VALUES:
+            self.bad.count("wrong_arguments", f"/mocap/{name} with {len(args)} values")
+            return
+        if any(isinstance(a, bool) or not isinstance(a, (int, float)) for a in args):
+            self.bad.count("wrong_arguments", f"/mocap/{name} with a non-number")
+            return
+        v = np.array(args, dtype=float)
+        if not np.all(np.isfinite(v)):
+            self.bad.count("non_finite", f"/mocap/{name}")
+            return
+        if name not in self._streams and len(self._streams) >= MAX_STREAMS:
+            stale = [k for k, (_, ts) in self._streams.items() if t - ts > self.quiet_s]
+            if not stale:
+                self.bad.count("too_many", f"more than {MAX_STREAMS} streams: {name} ignored")
+                return
+            del self._streams[stale[0]]
+        self._streams[name] = (v, t)
+
+    # ------------------------------------------------------------------ the thread
+    def _run(self) -> None:
+        delay = self.retry_min_s
+        while not self._stop.is_set():
+            try:
+                server = make_server(self.host, self.port, self)
+            except OSError as exc:
+                msg = f"cannot listen on {self.host}:{self.port}: {exc.strerror or exc}"
+                with self._lock:
+                    self._message = f"{msg}; retrying in {delay:.1f} s"
+                self.bad.count("bind_failed", msg)
+                self._stop.wait(delay)
+                delay = min(2.0 * delay, self.retry_max_s)
+                continue
+            self.bound_port = server.server_address[1]
+            with self._lock:
+                self._message = f"listening on {self.host}:{self.bound_port}"
+            self._listening.set()
+            try:
+                while not self._stop.is_set():
+                    server.handle_request()  # one datagram, or none within server.timeout
+            finally:
+                self._listening.clear()
+                server.server_close()
+        with self._lock:
+            self._message = "closed"
+
+
+def make_server(host: str, port: int, sink: OscInput):
+    """A python-osc ``BlockingOSCUDPServer`` on (host, port) that hands every datagram from an
+    allowed sender to ``sink.handle`` (its dispatcher is not used)."""
+    from pythonosc.dispatcher import Dispatcher
+    from pythonosc.osc_server import BlockingOSCUDPServer
+
+    class Server(BlockingOSCUDPServer):
+        max_packet_size = 65536  # see oversized datagrams whole, to count them
+
+        def server_bind(self) -> None:
+            self.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
+            super().server_bind()
+
+        def verify_request(self, request, client_address) -> bool:
+            if sink.allow and client_address[0] not in sink.allow:
+                sink.bad.count("not_allowed", f"packet from {client_address[0]}")
+                return False
+            return True
+
+        def finish_request(self, request, client_address) -> None:
+            sink.handle(request[0], client_address)
+
+        def handle_error(self, request, client_address) -> None:
+            sink.bad.count("internal_error", f"from {client_address}")
+
+    server = Server((host, port), Dispatcher())
+    server.timeout = 0.1  # handle_request returns at least this often, to see close()
+    return server

@@ -1,0 +1,327 @@
+"""Serial input: a microcontroller (or anything pyserial opens) sending ASCII lines, in its own thread.
+
+The line protocol (DESIGN.md): lines end with ``\\n`` or ``\\r\\n``, fields are split on spaces,
+at most ``MAX_LINE`` bytes a line::
+
+    puck ID X Y ANGLE      table metres, radians
+    touch ID X Y           table metres
+    lift ID                the touch ID has lifted
+    stream NAME V1 V2 ...  a named vector of floats
+    # comment
+
+:func:`parse_line` is the pure codec (one line -> one command, or :class:`LineError` whose
+``kind`` names its counter); :class:`LineSplitter` cuts a byte stream into lines in bounded
+memory (an over-long line is counted and skipped up to its newline); :class:`SerialState` keeps
+what the lines said, and forgets a puck, touch or stream not repeated for ``timeout_s``.
+:class:`SerialInput` is the ``Source``: it opens ``port`` (a device or any pyserial URL such as
+``loop://`` or ``socket://HOST:PORT``), reads in its thread, and when the device vanishes closes
+it and reopens it with a doubling back-off, saying so in its health as the camera does.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import re
+import threading
+import time
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from tabletop.frames import InputError, Observation, PuckMeasurement, SourceHealth, Touch
+from tracking.badinput import BadInput
+
+log = logging.getLogger("tabletop.serial")
+
+MAX_LINE = 1024
+MAX_ID = 1_000_000
+MAX_COORD = 100.0          # metres; farther is refused
+MAX_ITEMS = 256            # pucks, touches (each)
+MAX_STREAMS = 64
+MAX_STREAM_VALUES = 256
+NAME = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
+
+
+class LineError(InputError):
+    """A serial line is wrong; ``kind`` is its counter name."""
+
+    def __init__(self, kind: str, message: str) -> None:
+        super().__init__(message)
+        self.kind = kind
+
+
+@dataclass(frozen=True, slots=True)
+class Command:
+    """One parsed line: ``verb`` (puck, touch, lift, stream), ``id`` or ``name``, ``values``."""
+
+    verb: str
+    id: int = -1
+    name: str = ""
+    values: tuple[float, ...] = ()
+
+
+def _number(text: str, what: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise LineError("wrong_arguments", f"{what} {text[:40]!r} is not a number") from None
+    if not math.isfinite(v):
+        raise LineError("non_finite", f"{what} is {text[:40]}")
+    return v
+
+
+def _id(text: str) -> int:
+    if not text.isdigit() or int(text) > MAX_ID:
+        raise LineError("wrong_arguments", f"id {text[:40]!r} is not a whole number "
+                                           f"0..{MAX_ID}")
+    return int(text)
+
+
+def parse_line(line: bytes) -> Command | None:
+    """One line (without its newline) -> Command, or None for a blank line or a comment."""
+    try:
+        text = line.decode("ascii")
+    except UnicodeDecodeError:
+        raise LineError("garbage", "line is not ASCII") from None
+    fields = text.rstrip("\r").split()
+    if not fields or fields[0].startswith("#"):
+        return None
+    verb, args = fields[0], fields[1:]
+    arity = {"puck": 4, "touch": 3, "lift": 1}.get(verb)
+    if arity is not None:
+        if len(args) != arity:
+            raise LineError("wrong_arguments", f"{verb} takes {arity} fields, got {len(args)}")
+        pid = _id(args[0])
+        values = tuple(_number(a, f"{verb} {pid} value") for a in args[1:])
+        if any(abs(v) > MAX_COORD for v in values[:2]):
+            raise LineError("out_of_range", f"{verb} {pid} at {values[:2]} is off the table")
+        return Command(verb, pid, values=values)
+    if verb == "stream":
+        if len(args) < 2 or len(args) > MAX_STREAM_VALUES + 1:
+            raise LineError("wrong_arguments", f"stream takes a name and 1..{MAX_STREAM_VALUES} "
+                                               f"values, got {len(args)} fields")
+        if not NAME.match(args[0]):
+            raise LineError("wrong_arguments", f"stream name {args[0][:40]!r} is not a name")
+        return Command("stream", name=args[0],
+                       values=tuple(_number(a, f"stream {args[0]} value") for a in args[1:]))
+    if not verb.isprintable():
+        raise LineError("garbage", "line has control characters")
+    raise LineError("unknown_command", f"unknown command {verb[:40]!r}")
+
+
+class LineSplitter:
+    """Bytes in, complete lines out, holding at most ``max_line`` bytes of an unfinished line.
+
+    A line longer than ``max_line`` is dropped up to its newline and counted in ``overlong``."""
+
+    def __init__(self, max_line: int = MAX_LINE) -> None:
+        self.max_line = max_line
+        self._buf = bytearray()
+        self._skipping = False
+        self.overlong = 0
+
+    def feed(self, data: bytes) -> list[bytes]:
+        lines = []
+        start = 0
+        while True:
+            nl = data.find(b"\n", start)
+            if nl < 0:
+                break
+            piece = data[start:nl]
+            if not self._skipping and len(self._buf) + len(piece) <= self.max_line:
+                lines.append(bytes(self._buf) + piece)
+            elif not self._skipping:
+                self.overlong += 1
+            self._buf.clear()
+            self._skipping = False
+            start = nl + 1
+        rest = data[start:]
+        if not self._skipping:
+            if len(self._buf) + len(rest) > self.max_line:
+                self.overlong += 1
+                self._skipping = True
+                self._buf.clear()
+            else:
+                self._buf += rest
+        return lines
+
+
+class SerialState:
+    """What the lines said, each item with the time it was last repeated (monotonic s)."""
+
+    def __init__(self, timeout_s: float = 0.5) -> None:
+        self.timeout_s = timeout_s
+        self.pucks: dict[int, tuple[float, float, float, float]] = {}
+        self.touches: dict[int, tuple[float, float, float]] = {}
+        self.streams: dict[str, tuple[np.ndarray, float]] = {}
+
+    def apply(self, c: Command, t: float) -> None:
+        if c.verb == "lift":
+            self.touches.pop(c.id, None)
+            return
+        if c.verb == "stream":
+            table: dict[Any, Any] = self.streams
+            key, value = c.name, (np.array(c.values), t)
+            limit = MAX_STREAMS
+        elif c.verb == "puck":
+            table, key, value, limit = self.pucks, c.id, (*c.values, t), MAX_ITEMS
+        else:
+            table, key, value, limit = self.touches, c.id, (*c.values, t), MAX_ITEMS
+        if key not in table and len(table) >= limit:
+            self.expire(t)
+            if len(table) >= limit:
+                raise LineError("too_many", f"more than {limit} {c.verb}es at once")
+        table[key] = value
+
+    def expire(self, t: float) -> list[int]:
+        """Forget what was not repeated for ``timeout_s``; returns the puck ids forgotten."""
+        gone = [k for k, v in self.pucks.items() if t - v[3] > self.timeout_s]
+        for k in gone:
+            del self.pucks[k]
+        for k in [k for k, v in self.touches.items() if t - v[2] > self.timeout_s]:
+            del self.touches[k]
+        for k in [k for k, v in self.streams.items() if t - v[1] > self.timeout_s]:
+            del self.streams[k]
+        return gone
+
+
+class SerialInput:
+    """A ``Source`` reading the line protocol from ``port`` (see the module docstring).
+
+    ``opener(port, baudrate)`` returns an open pyserial object (default
+    ``serial.serial_for_url``); ``port_object`` is the one in use (tests write to ``loop://``
+    through it)."""
+
+    def __init__(self, name: str, port: str, baudrate: int = 115200, timeout_s: float = 0.5,
+                 retry_min_s: float = 0.5, retry_max_s: float = 8.0,
+                 opener: Callable[[str, int], Any] | None = None,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.name, self.port, self.baudrate = name, port, baudrate
+        self.retry_min_s, self.retry_max_s, self.clock = retry_min_s, retry_max_s, clock
+        self.opener = opener or _open_serial
+        self.state = SerialState(timeout_s)
+        self.bad = BadInput(name, clock=clock)
+        self.port_object: Any = None
+        self.lines = 0
+        self.reconnects = 0
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+        self._ok, self._message, self._retry_at = False, "starting", None
+        self._heard_t = -math.inf
+        self._seq = 0
+        self._emitted: set[int] = set()
+
+    def open(self) -> None:
+        if self._thread is None:
+            self._stop.clear()
+            self._thread = threading.Thread(target=self._run, name=f"serial:{self.name}",
+                                            daemon=True)
+            self._thread.start()
+
+    def latest(self) -> Observation | None:
+        now = self.clock()
+        with self._lock:
+            self.state.expire(now)
+            st = self.state
+            pucks = tuple(PuckMeasurement(k, x, y, a, t) for k, (x, y, a, t) in st.pucks.items())
+            touches = tuple(Touch(k, x, y) for k, (x, y, _t) in st.touches.items())
+            streams = {k: v for k, (v, _t) in st.streams.items()}
+            ids = {p.id for p in pucks}
+            removed = tuple(sorted(self._emitted - ids))
+            self._emitted = ids
+            if self._seq == 0 and not (pucks or touches or streams):
+                return None
+            self._seq += 1
+            t = min(self._heard_t, now)
+        return Observation(self.name, t, self._seq, pucks=pucks, touches=touches,
+                           streams=streams, removed=removed)
+
+    def health(self) -> SourceHealth:
+        now = self.clock()
+        with self._lock:
+            ok, message, retry_at, age = self._ok, self._message, self._retry_at, now - self._heard_t
+        if retry_at is not None:
+            message = f"{message}; reconnecting in {max(0.0, retry_at - now):.1f} s"
+        bad = self.bad.summary()
+        return SourceHealth(self.name, ok, f"{message} ({bad})" if bad else message, age)
+
+    def close(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=5.0)
+            self._thread = None
+
+    # ------------------------------------------------------------------ the thread
+    def _set(self, ok: bool, message: str, retry_at: float | None = None) -> None:
+        with self._lock:
+            self._ok, self._message, self._retry_at = ok, message, retry_at
+
+    def _run(self) -> None:
+        delay = self.retry_min_s
+        opened_before = False
+        while not self._stop.is_set():
+            try:
+                port = self.opener(self.port, self.baudrate)
+            except Exception as exc:  # SerialException, OSError, ValueError from a bad URL
+                reason = f"cannot open {self.port}: {exc}"
+            else:
+                if opened_before:
+                    self.reconnects += 1
+                opened_before = True
+                self.port_object = port
+                self._set(True, f"{self.port} open")
+                reason, got_data = self._read(port)
+                self.port_object = None
+                try:
+                    port.close()
+                except Exception:
+                    pass
+                if got_data:
+                    delay = self.retry_min_s
+            if self._stop.is_set():
+                break
+            log.warning("%s: %s; retrying in %.1f s", self.name, reason, delay)
+            self._set(False, reason, self.clock() + delay)
+            self._stop.wait(delay)
+            delay = min(delay * 2.0, self.retry_max_s)
+        self._set(False, "closed")
+
+    def _read(self, port: Any) -> tuple[str, bool]:
+        splitter = LineSplitter()
+        got = False
+        while not self._stop.is_set():
+            try:
+                data = port.read(max(1, min(port.in_waiting, 65536)))
+            except Exception as exc:  # SerialException, OSError: unplugged, closed pty
+                return f"{self.port} lost: {exc}", got
+            if not data:
+                continue  # read timed out: nothing sent
+            got = True
+            overlong = splitter.overlong
+            lines = splitter.feed(data)
+            if splitter.overlong > overlong:
+                self.bad.count("overlong", f"line over {MAX_LINE} bytes",
+                               splitter.overlong - overlong)
+            if lines:
+                self._apply(lines, self.clock())
+        return "closed", got
+
+    def _apply(self, lines: list[bytes], t: float) -> None:
+        for line in lines:
+            try:
+                c = parse_line(line)
+                if c is not None:
+                    with self._lock:
+                        self.state.apply(c, t)
+                        self._heard_t = t
+                        self.lines += 1
+            except LineError as exc:
+                self.bad.count(exc.kind, f"{exc}: {line[:60]!r}")
+
+
+def _open_serial(port: str, baudrate: int) -> Any:
+    import serial
+    return serial.serial_for_url(port, baudrate=baudrate, timeout=0.05)

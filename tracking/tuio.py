@@ -1,0 +1,280 @@
+"""TUIO 1.1 (``/tuio/2Dobj``, ``/tuio/2Dcur``, ``/tuio/2Dblb``) as pure functions and one state
+machine, no sockets: decoded OSC messages in, committed objects out; and frames out as bundles.
+
+Receiving follows the reference client (TUIO11_CPP ``TuioClient``): within a packet, ``source``
+names the sender (else the packet's UDP address does), ``alive`` lists the live session ids,
+``set`` stages one entity, and ``fseq`` commits that profile: entities in ``alive`` take their
+staged values, the others leave. An ``fseq`` below the sender's current one is late and its
+bundle is dropped, unless the gap is over 100 (the sender restarted) or the sender was silent for
+``restart_s``; ``fseq`` <= 0 (-1: a redundant resend) always commits. Every sender and profile
+keeps its own state, so several senders never mix. Bad messages raise :class:`TuioError`, whose
+``kind`` names the counter it belongs to; the rest of the packet still applies.
+
+Units: TUIO positions are 0..1 with y down, angles 0..2pi clockwise on screen, velocities in
+those units per second, rotation speed in turns per second. :func:`to_table` and
+:func:`from_table` map them to table metres (x * W, (1 - y) * H), angle -a wrapped, as DESIGN.md
+states, and back.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Sequence
+
+from tabletop.frames import InputError, wrap_angle
+from tracking.osc_codec import encode_bundle, encode_message
+
+PROFILES = ("2Dobj", "2Dcur", "2Dblb")
+ADDRESSES = {f"/tuio/{p}": p for p in PROFILES}
+SET_ARGS = {"2Dobj": 10, "2Dcur": 6, "2Dblb": 12}  # s i x y a X Y A m r | s x y X Y m | s x y a w h f X Y A m r
+LATE_GAP = 100            # a larger backwards jump of fseq is a restarted sender
+MAX_ALIVE = 1024          # live entities per sender and profile
+MAX_COORD = 100.0         # |x|, |y| beyond this (in TUIO units) is refused
+PACKET_LIMIT = 4096       # reference servers split bundles at this size
+
+
+class TuioError(InputError):
+    """A TUIO message is wrong; ``kind`` is its counter name (wrong_arguments, non_finite,
+    out_of_range, unknown_command, too_many)."""
+
+    def __init__(self, kind: str, message: str) -> None:
+        super().__init__(message)
+        self.kind = kind
+
+
+@dataclass(frozen=True, slots=True)
+class Entity:
+    """One TUIO object, cursor or blob in TUIO units. ``class_id`` is the marker id (objects;
+    -1 otherwise); ``angle`` radians clockwise (0 for cursors); ``vx``, ``vy`` per second;
+    ``rotation`` turns per second."""
+
+    profile: str
+    session: int
+    class_id: int
+    x: float
+    y: float
+    angle: float = 0.0
+    vx: float = 0.0
+    vy: float = 0.0
+    rotation: float = 0.0
+
+
+def _int(v: Any, what: str) -> int:
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise TuioError("wrong_arguments", f"{what} must be an int32, got {type(v).__name__}")
+    return v
+
+
+def _float(v: Any, what: str) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise TuioError("wrong_arguments", f"{what} must be a float, got {type(v).__name__}")
+    f = float(v)
+    if not math.isfinite(f):
+        raise TuioError("non_finite", f"{what} is {f}")
+    return f
+
+
+def parse_set(profile: str, args: Sequence[Any]) -> Entity:
+    """The arguments after ``set`` of one profile -> :class:`Entity` (raises TuioError)."""
+    n = SET_ARGS[profile]
+    if len(args) != n:
+        raise TuioError("wrong_arguments", f"/tuio/{profile} set takes {n} arguments, "
+                                           f"got {len(args)}")
+    s = _int(args[0], "session id")
+    if profile == "2Dobj":
+        c = _int(args[1], "class id")
+        x, y, a, vx, vy, va = (_float(v, "2Dobj value") for v in args[2:8])
+        for v in args[8:]:
+            _float(v, "2Dobj acceleration")
+    elif profile == "2Dcur":
+        c, a, va = -1, 0.0, 0.0
+        x, y, vx, vy = (_float(v, "2Dcur value") for v in args[1:5])
+        _float(args[5], "2Dcur acceleration")
+    else:
+        c = -1
+        x, y, a = (_float(v, "2Dblb value") for v in args[1:4])
+        for v in args[4:7]:
+            _float(v, "2Dblb size")
+        vx, vy, va = (_float(v, "2Dblb value") for v in args[7:10])
+        for v in args[10:]:
+            _float(v, "2Dblb acceleration")
+    if abs(x) > MAX_COORD or abs(y) > MAX_COORD:
+        raise TuioError("out_of_range", f"/tuio/{profile} position ({x}, {y}) is far off 0..1")
+    return Entity(profile, s, c, x, y, a, vx, vy, va)
+
+
+def parse_alive(args: Sequence[Any]) -> list[int]:
+    if len(args) > MAX_ALIVE:
+        raise TuioError("too_many", f"alive lists {len(args)} ids (at most {MAX_ALIVE})")
+    return [_int(v, "alive session id") for v in args]
+
+
+def parse_fseq(args: Sequence[Any]) -> int:
+    if len(args) != 1:
+        raise TuioError("wrong_arguments", f"fseq takes 1 argument, got {len(args)}")
+    return _int(args[0], "fseq")
+
+
+# ---------------------------------------------------------------------- receiving
+@dataclass
+class ProfileState:
+    """One sender's state of one profile: the committed entities and the frame counter."""
+
+    fseq: int = -1
+    committed: dict[int, Entity] = field(default_factory=dict)
+    alive: list[int] = field(default_factory=list)
+    t: float = -math.inf          # time of the last commit (monotonic s)
+
+
+@dataclass
+class Sender:
+    """A TUIO sender (one ``source`` name, or one UDP address when it sends none)."""
+
+    key: str
+    profiles: dict[str, ProfileState] = field(default_factory=dict)
+    heard_t: float = -math.inf    # when its last packet arrived
+    commits: int = 0
+
+
+class TuioClient:
+    """The TUIO 1.1 receiving state of every sender (see the module docstring).
+
+    ``apply(messages, address, t)`` applies the TUIO messages of one packet received at ``t``
+    (monotonic s) from ``address`` and returns (committed profiles, errors, late bundles); an
+    error in one message is collected and the others still apply. ``senders`` is bounded by
+    ``max_senders``: a new sender replaces the one heard from longest ago.
+    """
+
+    def __init__(self, restart_s: float = 2.0, max_senders: int = 32) -> None:
+        self.restart_s, self.max_senders = restart_s, max_senders
+        self.senders: dict[str, Sender] = {}
+
+    def sender(self, key: str, t: float) -> Sender:
+        s = self.senders.get(key)
+        if s is None:
+            if len(self.senders) >= self.max_senders:
+                oldest = min(self.senders.values(), key=lambda x: x.heard_t)
+                del self.senders[oldest.key]
+            s = self.senders[key] = Sender(key)
+        return s
+
+    def apply(self, messages: Iterable[tuple[str, tuple[Any, ...]]], address: str, t: float
+              ) -> tuple[int, list[TuioError], int]:
+        key = address
+        staged: dict[str, tuple[list[int] | None, dict[int, Entity]]] = {}
+        commits, late = 0, 0
+        errors: list[TuioError] = []
+        for addr, args in messages:
+            profile = ADDRESSES.get(addr)
+            if profile is None:
+                continue
+            try:
+                if not args or not isinstance(args[0], str):
+                    raise TuioError("wrong_arguments", f"{addr} without a command string")
+                cmd, rest = args[0], args[1:]
+                if cmd == "source":
+                    if len(rest) != 1 or not isinstance(rest[0], str) or not rest[0]:
+                        raise TuioError("wrong_arguments", "source takes one name")
+                    key = rest[0][:200]
+                    continue
+                alive, sets = staged.setdefault(profile, (None, {}))
+                if cmd == "alive":
+                    staged[profile] = (parse_alive(rest), sets)
+                elif cmd == "set":
+                    e = parse_set(profile, rest)
+                    if len(sets) >= MAX_ALIVE:
+                        raise TuioError("too_many", f"more than {MAX_ALIVE} sets in one bundle")
+                    sets[e.session] = e
+                elif cmd == "fseq":
+                    fseq = parse_fseq(rest)
+                    staged.pop(profile)
+                    if self._commit(self.sender(key, t), profile, alive, sets, fseq, t):
+                        commits += 1
+                    else:
+                        late += 1
+                else:
+                    raise TuioError("unknown_command", f"{addr} {cmd[:40]!r} is not a TUIO "
+                                                       "command")
+            except TuioError as exc:
+                errors.append(exc)
+        if key in self.senders:
+            self.senders[key].heard_t = t
+        for profile in staged:
+            errors.append(TuioError("no_fseq", f"/tuio/{profile} bundle without fseq: ignored"))
+        return commits, errors, late
+
+    def _commit(self, sender: Sender, profile: str, alive: list[int] | None,
+                sets: dict[int, Entity], fseq: int, t: float) -> bool:
+        st = sender.profiles.setdefault(profile, ProfileState())
+        if fseq > 0:
+            restarted = t - sender.heard_t > self.restart_s
+            if fseq >= st.fseq or st.fseq - fseq > LATE_GAP or restarted:
+                st.fseq = fseq
+            else:
+                return False
+        if alive is not None:
+            st.alive = alive
+        old = st.committed
+        st.committed = {s: sets.get(s) or old[s] for s in st.alive if s in sets or s in old}
+        st.t = t
+        sender.commits += 1
+        return True
+
+    def entities(self, profile: str, quiet_s: float, t: float) -> list[tuple[str, Entity]]:
+        """(sender key, entity) of every sender heard from within ``quiet_s`` of ``t``."""
+        out = []
+        for s in self.senders.values():
+            st = s.profiles.get(profile)
+            if st is not None and t - s.heard_t <= quiet_s:
+                out.extend((s.key, e) for e in st.committed.values())
+        return out
+
+
+# ---------------------------------------------------------------------- units
+def to_table(e: Entity, table: tuple[float, float]) -> tuple[float, float, float, float, float,
+                                                             float]:
+    """(x, y, angle, vx, vy, omega) in table metres, radians counter-clockwise, per second."""
+    w, h = table
+    return (e.x * w, (1.0 - e.y) * h, wrap_angle(-e.angle), e.vx * w, -e.vy * h,
+            -e.rotation * 2.0 * math.pi)
+
+
+def from_table(x: float, y: float, angle: float, vx: float, vy: float, omega: float,
+               table: tuple[float, float]) -> tuple[float, float, float, float, float, float]:
+    """The inverse of :func:`to_table`: TUIO (x, y, a in [0, 2pi), X, Y, A in turns/s)."""
+    w, h = table
+    return (x / w, 1.0 - y / h, (-angle) % (2.0 * math.pi), vx / w, -vy / h,
+            -omega / (2.0 * math.pi))
+
+
+# ---------------------------------------------------------------------- sending
+def set_args(profile: str, session: int, class_id: int, values: Sequence[float]) -> tuple:
+    """Arguments of one ``set`` message from TUIO values (x, y, a, X, Y, A); accelerations 0."""
+    x, y, a, vx, vy, va = (float(v) for v in values)
+    if profile == "2Dobj":
+        return ("set", int(session), int(class_id), x, y, a, vx, vy, va, 0.0, 0.0)
+    if profile == "2Dcur":
+        return ("set", int(session), x, y, vx, vy, 0.0)
+    return ("set", int(session), x, y, a, 0.0, 0.0, 0.0, vx, vy, va, 0.0, 0.0)
+
+
+def profile_bundles(profile: str, source: str, alive: Sequence[int], sets: Sequence[tuple],
+                    fseq: int, limit: int = PACKET_LIMIT) -> list[bytes]:
+    """One profile's frame as bundles of at most ``limit`` bytes, as reference servers send it:
+    each bundle is source, alive (all ids), as many sets as fit, fseq."""
+    address = f"/tuio/{profile}"
+    head = [encode_message(address, ("source", source))] if source else []
+    head.append(encode_message(address, ("alive", *[int(s) for s in alive])))
+    tail = encode_message(address, ("fseq", int(fseq)))
+    base = 16 + sum(len(m) + 4 for m in head) + len(tail) + 4
+    bundles, current, size = [], [], base
+    for args in sets:
+        m = encode_message(address, args)
+        if current and size + len(m) + 4 > limit:
+            bundles.append(encode_bundle(head + current + [tail]))
+            current, size = [], base
+        current.append(m)
+        size += len(m) + 4
+    bundles.append(encode_bundle(head + current + [tail]))
+    return bundles
