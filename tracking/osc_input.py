@@ -12,7 +12,8 @@ raise out of the thread, poison a frame or grow memory without bound.
 measurements (class id = marker id), cursors and blobs as touches (session id = touch id).
 TUIO is a state protocol and reference servers resend an unchanged state only once a second, so
 while a sender is heard from (within ``quiet_s``) its objects are held present: their time is
-their commit time, or ``now - HOLD_S`` if older. An id that leaves ``alive`` leaves the bus at
+their commit time, or ``now - HOLD_S`` if older, and so is the observation's time (it says
+what the network holds as of then, so the frame clock moves on while the senders are quiet). An id that leaves ``alive`` leaves the bus at
 once (``Observation.removed``); a sender that goes quiet stops being reported and the puck
 tracker coasts its pucks, then drops them. If the port cannot be bound the thread retries with a
 growing back-off and the health says why.
@@ -107,7 +108,7 @@ class OscInput:
             if not (pucks or touches or streams or removed) and self._seq == 0:
                 return None
             self._seq += 1
-            t = max([p.t for p in pucks] + [min(self._heard_t, now)])
+            t = max(min(self._heard_t, now), now - HOLD_S)
             return Observation(self.name, t, self._seq, pucks=tuple(pucks),
                                touches=tuple(touches), streams=streams, removed=removed)
 

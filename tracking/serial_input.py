@@ -36,6 +36,7 @@ from tracking.badinput import BadInput
 log = logging.getLogger("tabletop.serial")
 
 MAX_LINE = 1024
+HOLD_S = 0.1           # an observation is stamped at most this old (the clock moves on)
 MAX_ID = 1_000_000
 MAX_COORD = 100.0          # metres; farther is refused
 MAX_ITEMS = 256            # pucks, touches (each)
@@ -226,7 +227,9 @@ class SerialInput:
         with self._lock:
             self.state.expire(now)
             st = self.state
-            pucks = tuple(PuckMeasurement(k, x, y, a, t) for k, (x, y, a, t) in st.pucks.items())
+            held = now - HOLD_S  # present until timeout_s: a still puck is not a lost one
+            pucks = tuple(PuckMeasurement(k, x, y, a, min(max(t, held), now))
+                          for k, (x, y, a, t) in st.pucks.items())
             touches = tuple(Touch(k, x, y) for k, (x, y, _t) in st.touches.items())
             streams = {k: v for k, (v, _t) in st.streams.items()}
             ids = {p.id for p in pucks}
@@ -235,7 +238,7 @@ class SerialInput:
             if self._seq == 0 and not (pucks or touches or streams):
                 return None
             self._seq += 1
-            t = min(self._heard_t, now)
+            t = max(min(self._heard_t, now), now - HOLD_S)
         return Observation(self.name, t, self._seq, pucks=pucks, touches=touches,
                            streams=streams, removed=removed)
 

@@ -1,0 +1,78 @@
+"""A TUIO 1.1 sender built with python-osc the way the reference server (TUIO11_CPP) sends, and
+small helpers for tests on real loopback sockets."""
+
+from __future__ import annotations
+
+import socket
+from typing import Sequence
+
+from pythonosc.osc_bundle import OscBundle
+from pythonosc.osc_bundle_builder import IMMEDIATELY, OscBundleBuilder
+from pythonosc.osc_message import OscMessage
+from pythonosc.osc_message_builder import OscMessageBuilder
+from pythonosc.udp_client import SimpleUDPClient
+
+from tests.tracking.scenes import wait_for  # noqa: F401  (re-exported for the tests here)
+
+
+def free_udp_port() -> int:
+    """A UDP port on 127.0.0.1 that is free right now (bound to 0, read, released)."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def message(address: str, *args) -> OscMessage:
+    """A message built by python-osc (types from the Python values: int -> i, float -> f)."""
+    b = OscMessageBuilder(address)
+    for a in args:
+        b.add_arg(a)
+    return b.build()
+
+
+def bundle(*contents: OscMessage | OscBundle) -> OscBundle:
+    """A bundle (timetag "immediately") built by python-osc."""
+    b = OscBundleBuilder(IMMEDIATELY)
+    for c in contents:
+        b.add_content(c)
+    return b.build()
+
+
+class RefSender:
+    """Sends TUIO 1.1 bundles with python-osc: source, alive, set..., fseq, one bundle per profile.
+
+    Objects are (session, class id, x, y, angle) in TUIO units; cursors (session, x, y)."""
+
+    def __init__(self, port: int, source: str | None = None, host: str = "127.0.0.1") -> None:
+        self.client = SimpleUDPClient(host, port)
+        self.source = source
+        self.fseq = 0
+
+    def profile_bundle(self, profile: str, alive: Sequence[int], sets: Sequence[tuple],
+                       fseq: int) -> OscBundle:
+        addr = f"/tuio/{profile}"
+        msgs = [message(addr, "source", self.source)] if self.source else []
+        msgs.append(message(addr, "alive", *alive))
+        msgs += [message(addr, "set", *s) for s in sets]
+        msgs.append(message(addr, "fseq", fseq))
+        return bundle(*msgs)
+
+    def objects(self, objects: Sequence[tuple], fseq: int | None = None,
+                alive: Sequence[int] | None = None) -> None:
+        if fseq is None:
+            self.fseq += 1
+            fseq = self.fseq
+        sets = [(s, c, float(x), float(y), float(a), 0.0, 0.0, 0.0, 0.0, 0.0)
+                for s, c, x, y, a in objects]
+        ids = [o[0] for o in objects] if alive is None else alive
+        self.send(self.profile_bundle("2Dobj", ids, sets, fseq))
+
+    def cursors(self, cursors: Sequence[tuple], fseq: int | None = None) -> None:
+        if fseq is None:
+            self.fseq += 1
+            fseq = self.fseq
+        sets = [(s, float(x), float(y), 0.0, 0.0, 0.0) for s, x, y in cursors]
+        self.send(self.profile_bundle("2Dcur", [c[0] for c in cursors], sets, fseq))
+
+    def send(self, packet: OscMessage | OscBundle) -> None:
+        self.client.send(packet)

@@ -1,0 +1,189 @@
+"""The ``osc`` source on a real loopback socket, fed by a python-osc sender that sends as the TUIO
+reference server does (one bundle per profile: source, alive, set..., fseq)."""
+
+import math
+import socket
+
+import pytest
+
+from tabletop.loop import LiveInputs
+from tabletop.plugins.tracking import Tracker
+from tracking.osc_input import OscInput
+from tracking.pucks import TrackerSettings
+
+from tests.network.helpers import RefSender, bundle, message, wait_for
+
+TABLE = (1.2, 0.8)
+
+
+@pytest.fixture
+def source():
+    src = OscInput("osc", port=0, table=TABLE)
+    src.open()
+    assert src.wait_listening()
+    yield src
+    src.close()
+
+
+def sent(src: OscInput, n: int) -> bool:
+    """Wait until ``n`` packets were applied."""
+    return wait_for(lambda: src.packets >= n, 5.0)
+
+
+def pucks_by_id(src):
+    return {p.id: p for p in src.latest().pucks}
+
+
+def test_objects_and_cursors_map_to_table_metres(source):
+    ref = RefSender(source.bound_port)
+    ref.objects([(10, 5, 0.25, 0.25, 0.5), (11, 9, 0.9, 0.1, 6.0)])
+    ref.cursors([(3, 0.5, 0.75)])
+    blob = message("/tuio/2Dblb", "set", 4, 0.1, 0.2, 0.0, 0.05, 0.05, 0.01, 0.0, 0.0, 0.0, 0.0,
+                   0.0)
+    ref.send(bundle(message("/tuio/2Dblb", "alive", 4), blob, message("/tuio/2Dblb", "fseq", 1)))
+    assert sent(source, 3)
+    obs = source.latest()
+    p = {m.id: m for m in obs.pucks}
+    assert set(p) == {5, 9}
+    assert p[5].x == pytest.approx(0.3, abs=1e-6) and p[5].y == pytest.approx(0.6, abs=1e-6)
+    assert p[5].angle == pytest.approx(-0.5, abs=1e-6)  # clockwise on screen -> ccw on the table
+    assert p[9].x == pytest.approx(1.08, abs=1e-6) and p[9].y == pytest.approx(0.72, abs=1e-6)
+    assert p[9].angle == pytest.approx(2 * math.pi - 6.0, abs=1e-6)  # wrapped to (-pi, pi]
+    t = {c.id: c for c in obs.touches}
+    assert set(t) == {3, 4}  # the session id is the touch id
+    assert (t[3].x, t[3].y) == pytest.approx((0.6, 0.2), abs=1e-6)
+    assert (t[4].x, t[4].y) == pytest.approx((0.12, 0.64), abs=1e-6)
+    assert source.bad.counts() == {}
+    assert source.health().ok
+
+
+def test_late_fseq_is_dropped_and_equal_fseq_commits(source):
+    ref = RefSender(source.bound_port)
+    ref.objects([(1, 5, 0.1, 0.5, 0.0)], fseq=10)
+    ref.objects([(1, 5, 0.9, 0.5, 0.0)], fseq=9)      # late: dropped
+    assert sent(source, 2)
+    assert pucks_by_id(source)[5].x == pytest.approx(0.12, abs=1e-6)
+    assert source.bad.counts() == {"late_fseq": 1}
+    ref.objects([(1, 5, 0.2, 0.5, 0.0)], fseq=10)     # a split frame's second bundle
+    assert sent(source, 3)
+    assert pucks_by_id(source)[5].x == pytest.approx(0.24, abs=1e-6)
+    ref.objects([(1, 5, 0.3, 0.5, 0.0)], fseq=-1)     # a redundant resend always commits
+    assert sent(source, 4)
+    assert pucks_by_id(source)[5].x == pytest.approx(0.36, abs=1e-6)
+
+
+def test_restarted_sender_is_accepted(source):
+    ref = RefSender(source.bound_port, source="tracker@10.0.0.5")
+    ref.objects([(40, 5, 0.1, 0.5, 0.0)], fseq=500)
+    ref.objects([(1, 5, 0.7, 0.5, 0.0)], fseq=1)     # 499 frames back: the sender restarted
+    assert sent(source, 2)
+    assert pucks_by_id(source)[5].x == pytest.approx(0.84, abs=1e-6)
+    ref.objects([(1, 5, 0.2, 0.5, 0.0)], fseq=450)
+    ref.objects([(1, 5, 0.8, 0.5, 0.0)], fseq=400)   # 50 back: late, not a restart
+    assert sent(source, 4)
+    assert pucks_by_id(source)[5].x == pytest.approx(0.24, abs=1e-6)
+    source.client.restart_s = 0.2                     # a sender silent that long restarted
+    import time
+    time.sleep(0.3)
+    ref.objects([(1, 5, 0.5, 0.5, 0.0)], fseq=420)
+    assert sent(source, 5)
+    assert pucks_by_id(source)[5].x == pytest.approx(0.6, abs=1e-6)
+
+
+def test_an_id_missing_from_alive_leaves_the_bus_at_once(source):
+    inputs = LiveInputs([source], Tracker(TrackerSettings(smooth=False)))
+    ref = RefSender(source.bound_port)
+    ref.objects([(1, 5, 0.2, 0.5, 0.0), (2, 6, 0.6, 0.5, 0.0)])
+    ref.cursors([(7, 0.5, 0.5), (8, 0.6, 0.6)])
+    assert sent(source, 2)
+    f = inputs.next(0, 0.0)
+    assert [p.id for p in f.pucks] == [5, 6] and all(p.state == "seen" for p in f.pucks)
+    assert sorted(c.id for c in f.touches) == [7, 8]
+    ref.objects([(1, 5, 0.21, 0.5, 0.0)])            # session 2 no longer alive
+    ref.cursors([(8, 0.6, 0.6)])
+    assert sent(source, 4)
+    f = inputs.next(1, 0.0)
+    assert [p.id for p in f.pucks] == [5]            # gone, not coasting
+    assert [c.id for c in f.touches] == [8]
+
+
+def test_senders_with_different_sources_do_not_mix(source):
+    a = RefSender(source.bound_port, source="tableA@10.0.0.1")
+    b = RefSender(source.bound_port, source="tableB@10.0.0.2")
+    a.objects([(1, 5, 0.1, 0.5, 0.0)], fseq=1000)
+    b.objects([(1, 6, 0.9, 0.5, 0.0)], fseq=1)       # same session id, far lower fseq
+    assert sent(source, 2)
+    p = pucks_by_id(source)
+    assert set(p) == {5, 6}
+    assert p[6].x == pytest.approx(1.08, abs=1e-6)
+    a.objects([], fseq=1001)                          # A's alive is empty: only A's object goes
+    assert sent(source, 3)
+    assert set(pucks_by_id(source)) == {6}
+    assert len(source.client.senders) == 2
+
+
+def test_a_quiet_sender_coasts_then_leaves():
+    src = OscInput("osc", port=0, table=TABLE, quiet_s=0.2)
+    src.open()
+    try:
+        assert src.wait_listening()
+        tracker = Tracker(TrackerSettings(smooth=False, coast_s=0.5))
+        inputs = LiveInputs([src], tracker)
+        RefSender(src.bound_port).objects([(1, 5, 0.5, 0.5, 0.0)])
+        assert sent(src, 1)
+        assert [p.state for p in inputs.next(0, 0.0).pucks] == ["seen"]
+        assert wait_for(lambda: [p.state for p in inputs.next(1, 0.0).pucks] == ["coasting"], 2.0)
+        assert wait_for(lambda: inputs.next(2, 0.0).pucks == (), 2.0)
+    finally:
+        src.close()
+
+
+def test_mocap_vectors_become_named_streams(source):
+    ref = RefSender(source.bound_port)
+    ref.send(message("/mocap/hand", 0.25, -1.5, 3.0))
+    ref.send(message("/mocap/elbow", 1, 2))           # ints are numbers too
+    ref.send(message("/mocap/bad", "x", 1.0))         # not a vector of numbers
+    ref.send(message("/mocap/nan", float("nan")))
+    assert sent(source, 4)
+    streams = source.latest().streams
+    assert set(streams) == {"hand", "elbow"}
+    assert streams["hand"].tolist() == [0.25, -1.5, 3.0]
+    assert source.bad.counts() == {"wrong_arguments": 1, "non_finite": 1}
+
+
+def test_a_sender_not_on_the_allow_list_changes_nothing():
+    src = OscInput("osc", port=0, table=TABLE, allow=["127.0.0.2"])
+    src.open()
+    try:
+        assert src.wait_listening()
+        RefSender(src.bound_port).objects([(1, 5, 0.5, 0.5, 0.0)])  # from 127.0.0.1
+        assert wait_for(lambda: src.bad.counts().get("not_allowed") == 1, 5.0)
+        assert src.latest() is None and src.packets == 0
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            s.bind(("127.0.0.2", 0))                  # the allowed address sends the same
+            s.sendto(RefSender(0).profile_bundle("2Dobj", [1], [
+                (1, 5, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)], 1).dgram,
+                ("127.0.0.1", src.bound_port))
+        assert sent(src, 1)
+        assert [p.id for p in src.latest().pucks] == [5]
+    finally:
+        src.close()
+
+
+def test_a_busy_port_is_retried_and_reported():
+    first = OscInput("first", port=0, table=TABLE)
+    first.open()
+    assert first.wait_listening()
+    second = OscInput("second", port=first.bound_port, table=TABLE, retry_min_s=0.05,
+                      retry_max_s=0.1)
+    second.open()
+    try:
+        assert wait_for(lambda: "cannot listen" in second.health().message, 5.0)
+        assert not second.health().ok
+        first.close()
+        assert second.wait_listening(5.0)
+        RefSender(second.bound_port).objects([(1, 5, 0.5, 0.5, 0.0)])
+        assert sent(second, 1)
+    finally:
+        first.close()
+        second.close()
