@@ -76,3 +76,36 @@ class RefSender:
 
     def send(self, packet: OscMessage | OscBundle) -> None:
         self.client.send(packet)
+
+
+class Receiver:
+    """A python-osc ``BlockingOSCUDPServer`` on a free loopback port, in its own thread, keeping
+    every datagram it receives as python-osc parsed it: a list of (address, params)."""
+
+    def __init__(self) -> None:
+        import threading
+
+        from pythonosc.dispatcher import Dispatcher
+        from pythonosc.osc_packet import OscPacket
+        from pythonosc.osc_server import BlockingOSCUDPServer
+
+        self.packets: list[list[tuple[str, list]]] = []
+        self.sizes: list[int] = []
+        outer = self
+
+        class Keep(Dispatcher):
+            def call_handlers_for_packet(self, data, client_address):
+                outer.sizes.append(len(data))
+                outer.packets.append([(m.message.address, list(m.message.params))
+                                      for m in OscPacket(data).messages])
+                return []
+
+        self.server = BlockingOSCUDPServer(("127.0.0.1", 0), Keep())
+        self.port = self.server.server_address[1]
+        self.thread = threading.Thread(target=self.server.serve_forever, args=(0.05,),
+                                       daemon=True)
+        self.thread.start()
+
+    def close(self) -> None:
+        self.server.shutdown()
+        self.server.server_close()

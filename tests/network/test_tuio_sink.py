@@ -1,0 +1,118 @@
+"""The ``tuio`` sink: its packets, parsed by python-osc, are TUIO 1.1 as reference servers send
+it, and match the frame; an ``osc`` source reading it reproduces the pucks."""
+
+import math
+
+import pytest
+
+from tabletop.frames import CharacterState, Frame, Puck, Touch
+from tabletop.plugins.tuio import TuioSink
+from tracking.osc_input import OscInput
+
+from tests.network.helpers import Receiver, wait_for
+
+TABLE = (1.2, 0.8)
+
+
+@pytest.fixture
+def receiver():
+    r = Receiver()
+    yield r
+    r.close()
+
+
+def frame(seq, t, pucks=(), touches=(), characters=()):
+    return Frame(seq, t, pucks=tuple(pucks), touches=tuple(touches),
+                 characters=tuple(characters))
+
+
+def by_command(packet):
+    """{command: [params...]} of one TUIO bundle, with the profile address checked."""
+    out = {}
+    for address, params in packet:
+        out.setdefault(params[0], []).append((address, params[1:]))
+    return out
+
+
+def test_each_frame_is_one_bundle_per_profile_matching_the_frame(receiver):
+    sink = TuioSink("tuio", ("127.0.0.1", receiver.port), TABLE, characters={"lover": 40},
+                    source="tabletop@test")
+    pucks = [Puck(1, 0.3, 0.2, 0.5, vx=0.12, vy=-0.08, omega=1.0), Puck(2, 1.0, 0.7, -2.0)]
+    chars = [CharacterState("lover", 0.6, 0.4, 3.0), CharacterState("unlisted", 0.1, 0.1, 0.0)]
+    sink.consume(frame(0, 10.0, pucks, [Touch(9, 0.6, 0.4, 0.3, 0.0)], chars))
+    assert wait_for(lambda: len(receiver.packets) == 2, 5.0)
+    obj, cur = (by_command(p) for p in receiver.packets)
+    assert list(obj) == ["source", "alive", "set", "fseq"]        # the reference order
+    assert {a for c in obj.values() for a, _ in c} == {"/tuio/2Dobj"}
+    assert obj["source"][0][1] == ["tabletop@test"]
+    alive = obj["alive"][0][1]
+    assert len(alive) == 3 and len(set(alive)) == 3
+    sets = {s[1]: s for _, s in obj["set"]}                         # by class id
+    assert set(sets) == {1, 2, 40}
+    s, c, x, y, a, vx, vy, va, m, r = sets[1]
+    assert s in alive
+    assert (x, y) == pytest.approx((0.3 / 1.2, 1 - 0.2 / 0.8), abs=1e-7)
+    assert a == pytest.approx(2 * math.pi - 0.5, abs=1e-6)          # clockwise, 0..2pi
+    assert (vx, vy) == pytest.approx((0.1, 0.1), abs=1e-7)
+    assert va == pytest.approx(-1.0 / (2 * math.pi), abs=1e-7)      # turns per second
+    assert sets[40][2:5] == pytest.approx([0.5, 0.5, 2 * math.pi - 3.0], abs=1e-6)
+    fseq = obj["fseq"][0][1][0]
+    assert fseq > 0
+    assert list(cur) == ["source", "alive", "set", "fseq"]
+    (_, (cs, cx, cy, cvx, cvy, cm)), = cur["set"]
+    assert cur["alive"][0][1] == [cs]
+    assert (cx, cy, cvx) == pytest.approx((0.5, 0.5, 0.25), abs=1e-7)
+    assert cur["fseq"][0][1] == [fseq]
+
+    # Next frame: puck 1 moved, puck 2 still, the character gone: stable ids, rising fseq,
+    # only the changed object is set again, the one that left is not alive.
+    pucks[0] = Puck(1, 0.31, 0.2, 0.5)
+    sink.consume(frame(1, 10.02, pucks, [], []))
+    assert wait_for(lambda: len(receiver.packets) == 4, 5.0)
+    obj2 = by_command(receiver.packets[2])
+    assert obj2["alive"][0][1] == [sets[1][0], sets[2][0]]
+    assert [p[1] for _, p in obj2["set"]] == [1]
+    assert obj2["fseq"][0][1][0] == fseq + 1
+    assert by_command(receiver.packets[3])["alive"][0][1] == []
+
+    # About once a second the full state is sent again; a puck that returns gets a new id.
+    sink.consume(frame(2, 11.1, pucks + [Puck(7, 0.5, 0.5, 0.0)], [], chars))
+    assert wait_for(lambda: len(receiver.packets) == 6, 5.0)
+    obj3 = by_command(receiver.packets[4])
+    assert sorted(p[1] for _, p in obj3["set"]) == [1, 2, 7, 40]
+    new_ids = set(obj3["alive"][0][1]) - set(alive)
+    assert len(new_ids) == 2 and min(new_ids) > max(alive)          # never reused
+    sink.close()
+
+
+def test_a_large_frame_is_split_into_bundles_under_4096_bytes_and_read_back(receiver):
+    src = OscInput("osc", port=0, table=TABLE)
+    src.open()
+    assert src.wait_listening()
+    sink = TuioSink("tuio", ("127.0.0.1", src.bound_port), TABLE)
+    pucks = [Puck(i, 0.01 * i, 0.005 * i, 0.01 * i) for i in range(120)]
+    try:
+        sink.consume(frame(0, 1.0, pucks))
+        assert wait_for(lambda: src.latest() is not None and len(src.latest().pucks) == 120, 5.0)
+        got = {m.id: m for m in src.latest().pucks}
+        for p in pucks:
+            assert (got[p.id].x, got[p.id].y) == pytest.approx((p.x, p.y), abs=1e-6)
+        assert src.packets >= 3 and src.bad.counts() == {}
+        probe = TuioSink("probe", ("127.0.0.1", receiver.port), TABLE)
+        sizes = [len(b) for b in probe.bundles(frame(0, 1.0, pucks))]
+        assert len(sizes) >= 3 and max(sizes) <= 4096
+    finally:
+        src.close()
+        sink.close()
+
+
+def test_a_receiver_that_is_not_there_costs_nothing():
+    sink = TuioSink("tuio", ("127.0.0.1", 9), TABLE)       # discard port, nobody listening
+    for k in range(50):
+        sink.consume(frame(k, k / 60, [Puck(1, 0.5, 0.5, 0.0)]))
+    sink.close()
+    unresolvable = TuioSink("tuio", ("no-such-host.invalid", 3333), TABLE)
+    for k in range(50):
+        unresolvable.consume(frame(k, k / 60, [Puck(1, 0.5, 0.5, 0.0)]))
+    assert unresolvable.bad.counts()["send_failed"] == 100    # counted, never raised
+    unresolvable.close()
