@@ -1,0 +1,160 @@
+"""The ``serial`` source through real pseudo-terminals, pyserial's ``loop://`` and ``socket://``."""
+
+import os
+import socket
+
+import pytest
+
+from tabletop.loop import LiveInputs
+from tabletop.plugins.tracking import Tracker
+from tracking.pucks import TrackerSettings
+from tracking.serial_input import (MAX_LINE, Command, LineError, LineSplitter, SerialInput,
+                                   parse_line)
+
+from tests.network.helpers import wait_for
+
+
+@pytest.mark.parametrize("line, command", [
+    (b"puck 3 0.5 0.25 -1.5", Command("puck", 3, values=(0.5, 0.25, -1.5))),
+    (b"touch 12  0.1\t0.2\r", Command("touch", 12, values=(0.1, 0.2))),
+    (b"lift 12", Command("lift", 12)),
+    (b"stream hand 1 2.5 -3e-2", Command("stream", name="hand", values=(1.0, 2.5, -0.03))),
+    (b"# a comment", None),
+    (b"", None),
+])
+def test_lines_parse(line, command):
+    assert parse_line(line) == command
+
+
+@pytest.mark.parametrize("line, kind", [
+    (b"puck 3 0.5 0.25", "wrong_arguments"),
+    (b"puck x 0.5 0.25 0", "wrong_arguments"),
+    (b"puck 3 0.5 nan 0", "non_finite"),
+    (b"touch 1 inf 0", "non_finite"),
+    (b"touch 1 1e9 0", "out_of_range"),
+    (b"stream 1", "wrong_arguments"),
+    (b"stream b@d 1", "wrong_arguments"),
+    (b"jump 1 2", "unknown_command"),
+    (b"\x00\x01\x02", "garbage"),
+    (b"puck \xff 1 2 3", "garbage"),
+])
+def test_bad_lines_name_their_kind(line, kind):
+    with pytest.raises(LineError) as info:
+        parse_line(line)
+    assert info.value.kind == kind
+
+
+def test_the_splitter_holds_at_most_one_line_and_skips_overlong_ones():
+    s = LineSplitter()
+    assert s.feed(b"puck 1 0 0 0\r\npartial") == [b"puck 1 0 0 0\r"]
+    assert s.feed(b" line\n") == [b"partial line"]
+    for _ in range(500):                           # a line without a newline, for minutes
+        assert s.feed(b"x" * 100) == []
+        assert len(s._buf) <= MAX_LINE
+    assert s.overlong == 1
+    assert s.feed(b"tail of it\nlift 1\n") == [b"lift 1"]
+    assert s.feed(b"y" * (MAX_LINE + 1) + b"\nlift 2\n") == [b"lift 2"]
+    assert s.overlong == 2
+
+
+def open_pty():
+    master, slave = os.openpty()
+    return master, slave, os.ttyname(slave)
+
+
+def test_lines_through_a_pty_become_pucks_touches_and_streams():
+    master, slave, name = open_pty()
+    src = SerialInput("mcu", name, timeout_s=0.3)
+    inputs = LiveInputs([src], Tracker(TrackerSettings(smooth=False)))
+    src.open()
+    try:
+        assert wait_for(lambda: src.health().ok, 5.0)
+        os.write(master, b"puck 4 0.5 0.25 1.0\ntouch 2 0.1 0.2\r\nstream hand 1 2 3\n"
+                         b"# note\nnonsense here\n")
+        assert wait_for(lambda: src.lines == 3, 5.0)
+        f = inputs.next(0, 0.0)
+        assert [(p.id, p.x, p.y, p.angle) for p in f.pucks] == [(4, 0.5, 0.25, 1.0)]
+        assert [(c.id, c.x, c.y) for c in f.touches] == [(2, 0.1, 0.2)]
+        assert f.streams["hand"].tolist() == [1.0, 2.0, 3.0]
+        assert src.bad.counts() == {"unknown_command": 1}
+        assert "1 unknown command" in src.health().message
+        os.write(master, b"lift 2\n")
+        assert wait_for(lambda: src.lines == 4, 5.0)
+        assert inputs.next(1, 0.0).touches == ()
+        # Not repeated for timeout_s: the puck leaves the bus (not coasting), the stream too.
+        assert wait_for(lambda: inputs.next(2, 0.0).pucks == (), 5.0)
+        assert dict(inputs.next(3, 0.0).streams) == {}
+    finally:
+        src.close()
+        os.close(master)
+        os.close(slave)
+
+
+def test_a_vanished_pty_is_reopened():
+    master, slave, name = open_pty()
+    src = SerialInput("mcu", name, retry_min_s=0.05, retry_max_s=0.2)
+    src.open()
+    try:
+        assert wait_for(lambda: src.health().ok, 5.0)   # pyserial flushes input on opening
+        os.write(master, b"puck 1 0.1 0.1 0\n")
+        assert wait_for(lambda: src.lines == 1, 5.0)
+        os.close(master)                                   # unplugged
+        os.close(slave)
+        assert wait_for(lambda: not src.health().ok, 5.0)
+        assert "reconnecting" in src.health().message
+        master, slave, new_name = open_pty()               # plugged in again
+        src.port = new_name                                # (a pty may get another number)
+        assert wait_for(lambda: src.health().ok, 5.0)
+        os.write(master, b"puck 1 0.7 0.2 0\n")
+        assert wait_for(lambda: src.lines == 2, 5.0)
+        assert src.latest().pucks[0].x == 0.7
+        assert src.reconnects >= 1
+    finally:
+        src.close()
+        os.close(master)
+        os.close(slave)
+
+
+def test_pyserial_loop_url():
+    src = SerialInput("loop", "loop://")
+    src.open()
+    try:
+        assert wait_for(lambda: src.port_object is not None, 5.0)
+        src.port_object.write(b"touch 5 0.3 0.4\nstream s 7\n")
+        assert wait_for(lambda: src.lines == 2, 5.0)
+        obs = src.latest()
+        assert [(c.id, c.x, c.y) for c in obs.touches] == [(5, 0.3, 0.4)]
+        assert obs.streams["s"].tolist() == [7.0]
+    finally:
+        src.close()
+
+
+def test_pyserial_socket_url_reconnects():
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen()
+    port = server.getsockname()[1]
+    src = SerialInput("net", f"socket://127.0.0.1:{port}", retry_min_s=0.05, retry_max_s=0.2)
+    src.open()
+    try:
+        for k in range(2):                                 # serve, drop, serve again
+            conn, _ = server.accept()
+            assert wait_for(lambda: src.port_object is not None and src.reconnects == k, 5.0)
+            conn.sendall(f"puck 9 0.{k + 1} 0.5 0\n".encode())
+            assert wait_for(lambda: src.lines == k + 1, 5.0)
+            assert src.latest().pucks[0].x == pytest.approx(0.1 * (k + 1))
+            conn.close()
+        assert src.reconnects >= 1
+    finally:
+        src.close()
+        server.close()
+
+
+def test_a_missing_device_is_reported_and_retried():
+    src = SerialInput("mcu", "/dev/does-not-exist", retry_min_s=0.05, retry_max_s=0.1)
+    src.open()
+    try:
+        assert wait_for(lambda: "cannot open /dev/does-not-exist" in src.health().message, 5.0)
+        assert not src.health().ok and src.latest() is None
+    finally:
+        src.close()
