@@ -207,11 +207,9 @@ class OscInput:
             self.bad.count("non_finite", f"/mocap/{name}")
             return
         if name not in self._streams and len(self._streams) >= MAX_STREAMS:
-            stale = [k for k, (_, ts) in self._streams.items() if t - ts > self.quiet_s]
-            if not stale:
-                self.bad.count("too_many", f"more than {MAX_STREAMS} streams: {name} ignored")
-                return
-            del self._streams[stale[0]]
+            oldest = min(self._streams, key=lambda k: self._streams[k][1])
+            del self._streams[oldest]  # the newest input always gets in
+            self.bad.count("too_many", f"more than {MAX_STREAMS} streams: {oldest} forgotten")
         self._streams[name] = (v, t)
 
     # ------------------------------------------------------------------ the thread

@@ -170,11 +170,14 @@ class SerialState:
             table, key, value, limit = self.pucks, c.id, (*c.values, t), MAX_ITEMS
         else:
             table, key, value, limit = self.touches, c.id, (*c.values, t), MAX_ITEMS
-        if key not in table and len(table) >= limit:
-            self.expire(t)
-            if len(table) >= limit:
-                raise LineError("too_many", f"more than {limit} {c.verb}es at once")
+        full = key not in table and len(table) >= limit
+        if full:  # the one repeated longest ago makes room: the newest input always gets in
+            oldest = min(table, key=lambda k: table[k][-1])
+            del table[oldest]
         table[key] = value
+        if full:
+            raise LineError("too_many", f"more than {limit} {c.verb}s at once: "
+                                        f"{oldest} forgotten")
 
     def expire(self, t: float) -> list[int]:
         """Forget what was not repeated for ``timeout_s``; returns the puck ids forgotten."""
