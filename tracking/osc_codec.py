@@ -24,11 +24,8 @@ MAX_MESSAGES = 4096
 
 _I32 = struct.Struct(">i")
 _F32 = struct.Struct(">f")
-_F64 = struct.Struct(">d")
-_I64 = struct.Struct(">q")
 _U64 = struct.Struct(">Q")
-_FIXED = {"i": (_I32, 4), "f": (_F32, 4), "d": (_F64, 8), "h": (_I64, 8), "t": (_U64, 8),
-          "c": (_I32, 4), "r": (_I32, 4), "m": (_I32, 4)}
+_FIXED = frozenset("ifdhtcrm")  # fixed-size type tags (int32, float32, double, int64, ...)
 _CONSTANTS = {"T": True, "F": False, "N": None, "I": float("inf")}
 
 
@@ -59,6 +56,37 @@ def _string(data: bytes, i: int, end: int) -> tuple[str, int]:
     return s, nxt
 
 
+_RUNS: dict[str, list[tuple[str, str | None]]] = {}
+_STRUCTS: dict[str, struct.Struct] = {}
+
+
+def _runs(tags: str) -> list[tuple[str, str | None]]:
+    """Type tags cut into (run of fixed-size tags, the variable tag after it or None)."""
+    out = _RUNS.get(tags)
+    if out is None:
+        out, run = [], ""
+        for tag in tags:
+            if tag in _FIXED:
+                run += tag
+            else:
+                out.append((run, tag))
+                run = ""
+        out.append((run, None))
+        if len(_RUNS) < 256:  # type tag strings seen repeat; unusual ones are not kept
+            _RUNS[tags] = out
+    return out
+
+
+def _struct(run: str) -> struct.Struct:
+    st = _STRUCTS.get(run)
+    if st is None:
+        st = struct.Struct(">" + "".join("q" if t == "h" else "Q" if t == "t" else
+                                         "i" if t in "crm" else t for t in run))
+        if len(_STRUCTS) < 256:
+            _STRUCTS[run] = st
+    return st
+
+
 def decode_message(data: bytes, start: int = 0, end: int | None = None
                    ) -> tuple[str, tuple[Any, ...]]:
     """One OSC message in ``data[start:end]`` -> (address, arguments)."""
@@ -72,15 +100,16 @@ def decode_message(data: bytes, start: int = 0, end: int | None = None
     if not tags.startswith(","):
         raise OscError(f"type tags of {address} do not start with ','")
     args: list[Any] = []
-    for tag in tags[1:]:
-        fixed = _FIXED.get(tag)
-        if fixed is not None:
-            st, n = fixed
-            if i + n > end:
-                raise OscError(f"{address}: argument '{tag}' at byte {i} is truncated")
-            args.append(st.unpack_from(data, i)[0])
-            i += n
-        elif tag == "s" or tag == "S":
+    for run, tag in _runs(tags[1:]):
+        if run:  # a run of fixed-size arguments: one struct call
+            st = _struct(run)
+            if i + st.size > end:
+                raise OscError(f"{address}: arguments '{run}' at byte {i} are truncated")
+            args.extend(st.unpack_from(data, i))
+            i += st.size
+        if tag is None:
+            break
+        if tag == "s" or tag == "S":
             s, i = _string(data, i, end)
             args.append(s)
         elif tag == "b":

@@ -66,13 +66,19 @@ def _int(v: Any, what: str) -> int:
     return v
 
 
-def _float(v: Any, what: str) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise TuioError("wrong_arguments", f"{what} must be a float, got {type(v).__name__}")
-    f = float(v)
-    if not math.isfinite(f):
-        raise TuioError("non_finite", f"{what} is {f}")
-    return f
+def _floats(args: Sequence[Any], what: str) -> list[float]:
+    """The arguments as finite floats (ints accepted), or TuioError."""
+    out = []
+    for v in args:
+        if type(v) is not float:
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise TuioError("wrong_arguments", f"{what} must be floats, got "
+                                                   f"{type(v).__name__}")
+            v = float(v)
+        if not math.isfinite(v):
+            raise TuioError("non_finite", f"{what} has {v}")
+        out.append(v)
+    return out
 
 
 def parse_set(profile: str, args: Sequence[Any]) -> Entity:
@@ -84,21 +90,13 @@ def parse_set(profile: str, args: Sequence[Any]) -> Entity:
     s = _int(args[0], "session id")
     if profile == "2Dobj":
         c = _int(args[1], "class id")
-        x, y, a, vx, vy, va = (_float(v, "2Dobj value") for v in args[2:8])
-        for v in args[8:]:
-            _float(v, "2Dobj acceleration")
+        x, y, a, vx, vy, va, _m, _r = _floats(args[2:], "2Dobj set")
     elif profile == "2Dcur":
         c, a, va = -1, 0.0, 0.0
-        x, y, vx, vy = (_float(v, "2Dcur value") for v in args[1:5])
-        _float(args[5], "2Dcur acceleration")
+        x, y, vx, vy, _m = _floats(args[1:], "2Dcur set")
     else:
         c = -1
-        x, y, a = (_float(v, "2Dblb value") for v in args[1:4])
-        for v in args[4:7]:
-            _float(v, "2Dblb size")
-        vx, vy, va = (_float(v, "2Dblb value") for v in args[7:10])
-        for v in args[10:]:
-            _float(v, "2Dblb acceleration")
+        x, y, a, _w, _h, _f, vx, vy, va, _m, _r = _floats(args[1:], "2Dblb set")
     if abs(x) > MAX_COORD or abs(y) > MAX_COORD:
         raise TuioError("out_of_range", f"/tuio/{profile} position ({x}, {y}) is far off 0..1")
     return Entity(profile, s, c, x, y, a, vx, vy, va)
