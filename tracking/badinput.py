@@ -14,6 +14,8 @@ import threading
 import time
 from typing import Callable
 
+from tabletop.frames import SourceHealth
+
 log = logging.getLogger("tabletop.input")
 
 
@@ -57,3 +59,35 @@ class BadInput:
             return ""
         parts = [f"{n} {k.replace('_', ' ')}" for k, n in sorted(c.items(), key=lambda kv: -kv[1])]
         return "ignored: " + ", ".join(parts)
+
+    def health(self, ok: bool, message: str, age: float) -> SourceHealth:
+        """A source's health with these counts appended to its message."""
+        bad = self.summary()
+        return SourceHealth(self.source, ok, f"{message} ({bad})" if bad else message, age)
+
+
+class BackgroundSource:
+    """``open``/``close`` for a source whose work runs in one daemon thread: ``_run`` until
+    ``_stop`` is set. Subclasses call ``_init_thread()`` in their constructor."""
+
+    name: str
+
+    def _init_thread(self) -> None:
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    def _run(self) -> None:
+        raise NotImplementedError
+
+    def open(self) -> None:
+        if self._thread is None:
+            self._stop.clear()
+            self._thread = threading.Thread(target=self._run, name=f"{type(self).__name__}:"
+                                            f"{self.name}", daemon=True)
+            self._thread.start()
+
+    def close(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(timeout=5.0)
+            self._thread = None

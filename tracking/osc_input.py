@@ -31,7 +31,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth, Touch
-from tracking.badinput import BadInput
+from tracking.badinput import BackgroundSource, BadInput
 from tracking.osc_codec import OscError, decode_packet
 from tracking.tuio import ADDRESSES, MAX_ALIVE, TuioClient, to_table
 
@@ -42,7 +42,7 @@ STREAM_NAME = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
 RECEIVE_BUFFER = 1 << 20   # bytes of kernel socket buffer asked for
 
 
-class OscInput:
+class OscInput(BackgroundSource):
     """A ``Source`` receiving TUIO and mocap OSC on ``host``:``port`` (see the module docstring).
 
     ``allow``: sender IP addresses accepted (empty: any sender that reaches the interface);
@@ -68,8 +68,7 @@ class OscInput:
         self._streams: dict[str, tuple[np.ndarray, float]] = {}
         self._removed: set[int] = set()
         self._lock = threading.Lock()
-        self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._init_thread()
         self._listening = threading.Event()
         self._message = "starting"
         self._heard_t = -math.inf
@@ -78,13 +77,6 @@ class OscInput:
         self.bound_port: int | None = None
 
     # ------------------------------------------------------------------ Source protocol
-    def open(self) -> None:
-        if self._thread is None:
-            self._stop.clear()
-            self._thread = threading.Thread(target=self._run, name=f"osc:{self.name}",
-                                            daemon=True)
-            self._thread.start()
-
     def wait_listening(self, timeout: float = 5.0) -> bool:
         """Block until the socket is bound (tests and benchmarks)."""
         return self._listening.wait(timeout)
@@ -126,14 +118,7 @@ class OscInput:
                 ok, message = False, f"{message}; nothing received for {age:.0f} s"
             else:
                 message += f"; {senders} sender{'s' if senders != 1 else ''}"
-        bad = self.bad.summary()
-        return SourceHealth(self.name, ok, f"{message} ({bad})" if bad else message, age)
-
-    def close(self) -> None:
-        self._stop.set()
-        if self._thread is not None:
-            self._thread.join(timeout=5.0)
-            self._thread = None
+        return self.bad.health(ok, message, age)
 
     # ------------------------------------------------------------------ receiving
     def _commit_t(self, key: str, profile: str) -> float:

@@ -31,7 +31,7 @@ from typing import Any, Callable
 import numpy as np
 
 from tabletop.frames import InputError, Observation, PuckMeasurement, SourceHealth, Touch
-from tracking.badinput import BadInput
+from tracking.badinput import BackgroundSource, BadInput
 
 log = logging.getLogger("tabletop.serial")
 
@@ -191,7 +191,7 @@ class SerialState:
         return gone
 
 
-class SerialInput:
+class SerialInput(BackgroundSource):
     """A ``Source`` reading the line protocol from ``port`` (see the module docstring).
 
     ``opener(port, baudrate)`` returns an open pyserial object (default
@@ -211,19 +211,11 @@ class SerialInput:
         self.lines = 0
         self.reconnects = 0
         self._lock = threading.Lock()
-        self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._init_thread()
         self._ok, self._message, self._retry_at = False, "starting", None
         self._heard_t = -math.inf
         self._seq = 0
         self._emitted: set[int] = set()
-
-    def open(self) -> None:
-        if self._thread is None:
-            self._stop.clear()
-            self._thread = threading.Thread(target=self._run, name=f"serial:{self.name}",
-                                            daemon=True)
-            self._thread.start()
 
     def latest(self) -> Observation | None:
         now = self.clock()
@@ -251,14 +243,7 @@ class SerialInput:
             ok, message, retry_at, age = self._ok, self._message, self._retry_at, now - self._heard_t
         if retry_at is not None:
             message = f"{message}; reconnecting in {max(0.0, retry_at - now):.1f} s"
-        bad = self.bad.summary()
-        return SourceHealth(self.name, ok, f"{message} ({bad})" if bad else message, age)
-
-    def close(self) -> None:
-        self._stop.set()
-        if self._thread is not None:
-            self._thread.join(timeout=5.0)
-            self._thread = None
+        return self.bad.health(ok, message, age)
 
     # ------------------------------------------------------------------ the thread
     def _set(self, ok: bool, message: str, retry_at: float | None = None) -> None:
