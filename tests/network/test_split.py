@@ -77,3 +77,26 @@ def test_the_stage_reproduces_the_trackers_pucks(tmp_path):
         matched += ok
     assert matched >= 0.95 * len(got), f"{matched} of {len(got)} stage frames matched"
     assert {p["id"] for f in got for p in f["pucks"]} == {1, 2}
+
+
+def test_bad_network_options_are_one_clear_line():
+    import pytest
+
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    cases = [
+        ({"kind": "osc", "host": "localhost"}, "sources[0].host", "an IP address"),
+        ({"kind": "osc", "port": 70000}, "sources[0].port", "out of range"),
+        ({"kind": "osc", "allow": ["10.0.0.300"]}, "sources[0].allow[0]", "an IP address"),
+        ({"kind": "serial"}, "sources[0].port", "missing"),
+        ({"kind": "serial", "port": "loop://", "timeout_s": 0}, "sources[0].timeout_s",
+         "out of range"),
+    ]
+    for source, where, what in cases:
+        with pytest.raises(ConfigError) as info:
+            validate_config({"sources": [source]}, "cfg.yaml")
+        assert f"cfg.yaml: {where}:" in str(info.value) and what in str(info.value)
+    with pytest.raises(ConfigError, match=r"sinks\[0\].characters.lover: expected an integer"):
+        validate_config({"sources": [{"kind": "serial", "port": "loop://"}],
+                         "sinks": [{"kind": "tuio", "characters": {"lover": "x"}}]}, "cfg.yaml")
