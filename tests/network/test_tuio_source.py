@@ -187,3 +187,14 @@ def test_a_busy_port_is_retried_and_reported():
     finally:
         first.close()
         second.close()
+
+
+def test_class_ids_go_through_the_puck_id_map(source):
+    inputs = LiveInputs([source], Tracker(TrackerSettings(smooth=False), id_map={17: 1}))
+    ref = RefSender(source.bound_port)
+    ref.objects([(1, 17, 0.5, 0.5, 0.0), (2, 6, 0.6, 0.5, 0.0)])
+    assert sent(source, 1)
+    assert [p.id for p in inputs.next(0, 0.0).pucks] == [1, 6]    # marker 17 is puck 1
+    ref.objects([(2, 6, 0.6, 0.5, 0.0)])
+    assert sent(source, 2)
+    assert [p.id for p in inputs.next(1, 0.0).pucks] == [6]       # and it leaves as puck 1
