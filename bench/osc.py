@@ -1,6 +1,6 @@
 """TUIO in over loopback UDP: loss and send-to-bus latency of 16-object bundles at 60 and 240 Hz.
 
-A sender thread sends reference-style ``/tuio/2Dobj`` bundles (source, alive, 16 sets, fseq)
+A sender process sends reference-style ``/tuio/2Dobj`` bundles (source, alive, 16 sets, fseq)
 to the ``osc`` source on 127.0.0.1 while the main loop runs beside it at 60 Hz (tracker, one
 collecting sink), as in an installation. For every bundle, latency runs from just before
 ``sendto`` to the moment ``latest()`` returns an observation holding it (received, decoded,
@@ -51,12 +51,11 @@ def bundle(fseq: int, t: float) -> bytes:
 
 
 class Probe:
-    """Called in the receiving thread after each packet: finds which bundle is now on the bus."""
+    """Called in the receiving thread after each packet: notes when each bundle is on the bus."""
 
     def __init__(self, src: OscInput) -> None:
         self.src = src
-        self.sent: dict[int, float] = {}
-        self.latency: dict[int, float] = {}
+        self.on_bus: dict[int, float] = {}
         self.processing: dict[int, float] = {}
 
     def __call__(self, t_received: float) -> None:
@@ -66,28 +65,47 @@ class Probe:
         if obs is None or sender is None or len(obs.pucks) != OBJECTS:
             return
         fseq = sender.profiles["2Dobj"].fseq
-        if fseq in self.sent and fseq not in self.latency:
-            self.latency[fseq] = t - self.sent[fseq]
+        if fseq not in self.on_bus:
+            self.on_bus[fseq] = t
             self.processing[fseq] = t - t_received
 
 
-def run_block(sock_send, probe: Probe, rate: float, first: int
-              ) -> tuple[int, int, list[float], list[float]]:
-    """Send BLOCK_S seconds of bundles at ``rate``; returns (sent, committed, send-to-bus
-    latencies s, receive-to-bus times s)."""
+def send_block(port: int, rate: float, first: int, n: int, conn) -> None:
+    """In a separate process (as a tracker machine would be): send ``n`` bundles at ``rate``
+    and report the monotonic send time of each (the clock is shared by all processes)."""
+    import socket
+
     period = 1.0 / rate
-    n = int(BLOCK_S * rate)
     packets = [bundle(first + k, k * period) for k in range(n)]
-    start = time.monotonic() + 0.05
-    for k, p in enumerate(packets):
-        due = start + k * period
-        while (wait := due - time.monotonic()) > 0:
-            time.sleep(wait if wait > 0.002 else 0)
-        probe.sent[first + k] = time.monotonic()
-        sock_send(p)
+    sent = []
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        start = time.monotonic() + 0.05
+        for k, p in enumerate(packets):
+            wait = start + k * period - time.monotonic()
+            if wait > 0:
+                time.sleep(wait)
+            sent.append(time.monotonic())
+            sock.sendto(p, ("127.0.0.1", port))
+    conn.send(sent)
+    conn.close()
+
+
+def run_block(port: int, probe: Probe, rate: float, first: int
+              ) -> tuple[int, int, list[float], list[float]]:
+    """Send BLOCK_S seconds of bundles at ``rate`` from another process; returns (sent,
+    committed, send-to-bus latencies s, receive-to-bus times s)."""
+    import multiprocessing as mp
+
+    ctx = mp.get_context("spawn")
+    n = int(BLOCK_S * rate)
+    parent, child = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=send_block, args=(port, rate, first, n, child))
+    proc.start()
+    sent = parent.recv()
+    proc.join()
     time.sleep(0.2)
-    keys = [first + k for k in range(n) if first + k in probe.latency]
-    return (n, len(keys), [probe.latency[k] for k in keys],
+    keys = [first + k for k in range(n) if first + k in probe.on_bus]
+    return (n, len(keys), [probe.on_bus[k] - sent[k - first] for k in keys],
             [probe.processing[k] for k in keys])
 
 
@@ -114,8 +132,6 @@ def parse_costs() -> dict[str, float]:
 
 
 def main() -> None:
-    import socket
-
     src = OscInput("bench", port=0, table=(1.2, 0.8))
     probe = Probe(src)
     src.on_packet = probe
@@ -124,13 +140,11 @@ def main() -> None:
     thread.start()
     if not src.wait_listening():
         raise SystemExit("bench/osc.py: the osc source did not start listening")
-    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    target = ("127.0.0.1", src.bound_port)
     results = {r: {"sent": 0, "committed": 0, "latency": [], "processing": []} for r in RATES}
     first = 1
     for _ in range(ROUNDS):
         for rate in RATES:  # interleaved blocks: 60 240 60 240 ...
-            n, got, lat, proc = run_block(lambda p: sock.sendto(p, target), probe, rate, first)
+            n, got, lat, proc = run_block(src.bound_port, probe, rate, first)
             first += n + 200  # a forward jump: never late, never a restart
             r = results[rate]
             r["sent"] += n
@@ -140,7 +154,6 @@ def main() -> None:
     ticks, fps = loop.stats.ticks, loop.stats.fps()
     loop.stop.set()
     thread.join(5.0)
-    sock.close()
     figures: dict[str, object] = {}
     for rate, r in results.items():
         s = stats_ms(r["latency"]) if r["latency"] else {"median_ms": float("nan"),
