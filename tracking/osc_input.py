@@ -38,7 +38,7 @@ from tracking.tuio import ADDRESSES, MAX_ALIVE, TuioClient, to_table
 HOLD_S = 0.1               # a held (unchanged) state is reported at most this old
 MAX_STREAMS = 64
 MAX_STREAM_VALUES = 256
-STREAM_NAME = re.compile(r"[A-Za-z0-9_.\-]{1,64}\Z")
+STREAM_NAME = re.compile(r"[A-Za-z0-9_.\-/]{1,64}\Z")  # /mocap/left/hand: "left/hand"
 RECEIVE_BUFFER = 1 << 20   # bytes of kernel socket buffer asked for
 
 

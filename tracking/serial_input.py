@@ -7,7 +7,7 @@ at most ``MAX_LINE`` bytes a line::
     touch ID X Y           table metres
     lift ID                the touch ID has lifted
     stream NAME V1 V2 ...  a named vector of floats
-    # comment
+    # comment              (also after a command)
 
 :func:`parse_line` is the pure codec (one line -> one command, or :class:`LineError` whose
 ``kind`` names its counter); :class:`LineSplitter` cuts a byte stream into lines in bounded
@@ -86,8 +86,8 @@ def parse_line(line: bytes) -> Command | None:
         text = line.decode("ascii")
     except UnicodeDecodeError:
         raise LineError("garbage", "line is not ASCII") from None
-    fields = text.rstrip("\r").split()
-    if not fields or fields[0].startswith("#"):
+    fields = text.split("#", 1)[0].split()  # a comment may also end a line
+    if not fields:
         return None
     verb, args = fields[0], fields[1:]
     arity = {"puck": 4, "touch": 3, "lift": 1}.get(verb)

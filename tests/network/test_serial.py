@@ -20,6 +20,7 @@ from tests.network.helpers import wait_for
     (b"lift 12", Command("lift", 12)),
     (b"stream hand 1 2.5 -3e-2", Command("stream", name="hand", values=(1.0, 2.5, -0.03))),
     (b"# a comment", None),
+    (b"lift 4   # the finger left", Command("lift", 4)),
     (b"", None),
 ])
 def test_lines_parse(line, command):

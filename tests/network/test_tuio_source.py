@@ -141,12 +141,12 @@ def test_a_quiet_sender_coasts_then_leaves():
 def test_mocap_vectors_become_named_streams(source):
     ref = RefSender(source.bound_port)
     ref.send(message("/mocap/hand", 0.25, -1.5, 3.0))
-    ref.send(message("/mocap/elbow", 1, 2))           # ints are numbers too
+    ref.send(message("/mocap/left/elbow", 1, 2))      # ints are numbers too
     ref.send(message("/mocap/bad", "x", 1.0))         # not a vector of numbers
     ref.send(message("/mocap/nan", float("nan")))
     assert sent(source, 4)
     streams = source.latest().streams
-    assert set(streams) == {"hand", "elbow"}
+    assert set(streams) == {"hand", "left/elbow"}
     assert streams["hand"].tolist() == [0.25, -1.5, 3.0]
     assert source.bad.counts() == {"wrong_arguments": 1, "non_finite": 1}
 
