@@ -109,7 +109,8 @@ class OscInput(BackgroundSource):
         with self._lock:
             age = now - self._heard_t
             message = self._message
-            senders = sum(1 for s in self.client.senders.values() if now - s.heard_t <= self.quiet_s)
+            senders = sorted(s.key for s in self.client.senders.values()
+                             if now - s.heard_t <= self.quiet_s)
         ok = self._listening.is_set()
         if ok:
             if math.isinf(age):
@@ -117,7 +118,9 @@ class OscInput(BackgroundSource):
             elif age > self.stall_s:
                 ok, message = False, f"{message}; nothing received for {age:.0f} s"
             else:
-                message += f"; {senders} sender{'s' if senders != 1 else ''}"
+                names = ", ".join(k[:40] for k in senders[:3])
+                more = f" and {len(senders) - 3} more" if len(senders) > 3 else ""
+                message += f"; TUIO from {names}{more}" if senders else "; no TUIO sender"
         return self.bad.health(ok, message, age)
 
     # ------------------------------------------------------------------ receiving

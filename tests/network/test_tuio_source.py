@@ -116,6 +116,7 @@ def test_senders_with_different_sources_do_not_mix(source):
     p = pucks_by_id(source)
     assert set(p) == {5, 6}
     assert p[6].x == pytest.approx(1.08, abs=1e-6)
+    assert "TUIO from tableA@10.0.0.1, tableB@10.0.0.2" in source.health().message
     a.objects([], fseq=1001)                          # A's alive is empty: only A's object goes
     assert sent(source, 3)
     assert set(pucks_by_id(source)) == {6}
