@@ -1,10 +1,10 @@
 """Sink ``tuio``: pucks, touches and listed characters out as TUIO 1.1 over UDP.
 
-Every frame, one ``/tuio/2Dobj`` bundle (source ``tabletop@HOSTNAME``, alive, a set per changed
-puck (class id = puck id) and per changed listed character (class id from ``characters``),
-fseq) and one ``/tuio/2Dcur`` bundle for the touches, as the reference server sends them: an
-unchanged entity is not repeated, except in the full-state resend every ``full_every_s``; a
-bundle over 4096 bytes is split, each part with its own alive and fseq. Positions go through
+Every frame, one ``/tuio/2Dobj`` bundle (source ``tabletop@HOSTNAME``, alive, a set per puck
+(class id = puck id) and per listed character (class id from ``characters``), fseq) and one
+``/tuio/2Dcur`` bundle for the touches; a bundle over 4096 bytes is split, each part with its
+own alive and fseq, as reference servers do. With ``changes_only`` a set is sent only for an
+entity that changed, as the reference server does, plus the full state every ``full_every_s``. Positions go through
 the inverse of the ``osc`` source's mapping (:func:`tracking.tuio.from_table`). Session ids are
 stable while a thing stays and never reused. Sending never blocks the loop; a failed send is
 counted and logged at a limited rate.
@@ -31,6 +31,8 @@ SCHEMA = Record({
     "characters": MapOf(Number(integer=True, lo=0, hi=2**31 - 1), default={},
                         doc="character name -> TUIO class id, sent as objects"),
     "source": Optional_(Str(), doc="TUIO source name (default tabletop@HOSTNAME)"),
+    "changes_only": Bool(False, doc="send a set only for what changed (as TuioServer does), "
+                                    "plus the full state every full_every_s"),
     "full_every_s": Number(1.0, lo=0.05, hi=60.0, doc="full-state resend period, seconds"),
     "touches": Bool(True, doc="send the touches as /tuio/2Dcur"),
 })
@@ -61,12 +63,13 @@ class TuioSink:
 
     def __init__(self, name: str, address: tuple[str, int], table: tuple[float, float],
                  characters: dict[str, int] | None = None, source: str | None = None,
-                 full_every_s: float = 1.0, touches: bool = True,
+                 full_every_s: float = 1.0, touches: bool = True, changes_only: bool = False,
                  send: Callable[[bytes], None] | None = None) -> None:
         self.name, self.address, self.table = name, address, table
         self.characters = dict(characters or {})
         self.source = source or f"tabletop@{socket.gethostname()}"
         self.full_every_s, self.with_touches = full_every_s, touches
+        self.changes_only = changes_only
         self.bad = BadInput(name)
         self.fseq = 0
         self.sent = 0
@@ -96,7 +99,7 @@ class TuioSink:
     def bundles(self, frame: Frame) -> list[bytes]:
         """The bundles of one frame (pure apart from session ids, fseq and change tracking)."""
         self.fseq += 1
-        full = frame.t - self._full_t >= self.full_every_s
+        full = not self.changes_only or frame.t - self._full_t >= self.full_every_s
         if full:
             self._full_t = frame.t
         objects: list[tuple[Any, int, tuple]] = []
@@ -146,4 +149,4 @@ class TuioSink:
 def build(options: dict, ctx: BuildContext) -> TuioSink:
     return TuioSink(options["name"], (options["host"], options["port"]), ctx.table,
                     options["characters"], options["source"], options["full_every_s"],
-                    options["touches"])
+                    options["touches"], options["changes_only"])

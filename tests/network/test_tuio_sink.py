@@ -36,7 +36,7 @@ def by_command(packet):
 
 def test_each_frame_is_one_bundle_per_profile_matching_the_frame(receiver):
     sink = TuioSink("tuio", ("127.0.0.1", receiver.port), TABLE, characters={"lover": 40},
-                    source="tabletop@test")
+                    source="tabletop@test", changes_only=True)
     pucks = [Puck(1, 0.3, 0.2, 0.5, vx=0.12, vy=-0.08, omega=1.0), Puck(2, 1.0, 0.7, -2.0)]
     chars = [CharacterState("lover", 0.6, 0.4, 3.0), CharacterState("unlisted", 0.1, 0.1, 0.0)]
     sink.consume(frame(0, 10.0, pucks, [Touch(9, 0.6, 0.4, 0.3, 0.0)], chars))
@@ -83,6 +83,15 @@ def test_each_frame_is_one_bundle_per_profile_matching_the_frame(receiver):
     new_ids = set(obj3["alive"][0][1]) - set(alive)
     assert len(new_ids) == 2 and min(new_ids) > max(alive)          # never reused
     sink.close()
+
+
+def test_by_default_every_frame_sets_every_puck(receiver):
+    sink = TuioSink("tuio", ("127.0.0.1", receiver.port), TABLE, touches=False)
+    for k in range(3):
+        sink.consume(frame(k, 10.0 + k / 60, [Puck(1, 0.3, 0.2, 0.5), Puck(2, 1.0, 0.7, -2.0)]))
+    assert wait_for(lambda: len(receiver.packets) == 3, 5.0)
+    for packet in receiver.packets:
+        assert sorted(p[1] for _, p in by_command(packet)["set"]) == [1, 2]
 
 
 def test_a_large_frame_is_split_into_bundles_under_4096_bytes_and_read_back(receiver):
