@@ -206,8 +206,9 @@ class OscInput(BackgroundSource):
         while not self._stop.is_set():
             try:
                 server = make_server(self.host, self.port, self)
-            except OSError as exc:
-                msg = f"cannot listen on {self.host}:{self.port}: {exc.strerror or exc}"
+            except Exception as exc:  # OSError: address in use, no such interface, ...
+                reason = getattr(exc, "strerror", None) or exc
+                msg = f"cannot listen on {self.host}:{self.port}: {reason}"
                 with self._lock:
                     self._message = f"{msg}; retrying in {delay:.1f} s"
                 self.bad.count("bind_failed", msg)

@@ -311,6 +311,8 @@ class SerialInput(BackgroundSource):
                         self.lines += 1
             except LineError as exc:
                 self.bad.count(exc.kind, f"{exc}: {line[:60]!r}")
+            except Exception as exc:  # a bug must not end the reading thread
+                self.bad.count("internal_error", f"{type(exc).__name__}: {exc}")
 
 
 def _open_serial(port: str, baudrate: int) -> Any:
