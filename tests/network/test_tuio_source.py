@@ -199,3 +199,15 @@ def test_class_ids_go_through_the_puck_id_map(source):
     ref.objects([(2, 6, 0.6, 0.5, 0.0)])
     assert sent(source, 2)
     assert [p.id for p in inputs.next(1, 0.0).pucks] == [6]       # and it leaves as puck 1
+
+
+def test_bad_packet_counts_show_in_the_overlay(source):
+    from tabletop.view import overlay_lines
+
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        for data in (b"\x00garbage", b"#bundle\x00\x00", b"/unknown\x00\x00\x00\x00,\x00\x00\x00"):
+            s.sendto(data, ("127.0.0.1", source.bound_port))
+    assert wait_for(lambda: source.bad.total() == 3, 5.0)
+    frame = LiveInputs([source], Tracker()).next(0, 0.0)
+    line, = [t for t in overlay_lines(frame, None) if t.startswith("source osc:")]
+    assert "ignored: 2 malformed, 1 unknown address" in line
