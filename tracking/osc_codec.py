@@ -57,6 +57,7 @@ def _string(data: bytes, i: int, end: int) -> tuple[str, int]:
 
 
 _RUNS: dict[str, list[tuple[str, str | None]]] = {}
+_HEADS: dict[bytes, tuple[str, list[tuple[str, str | None]]]] = {}  # address + tags bytes
 _STRUCTS: dict[str, struct.Struct] = {}
 
 
@@ -93,14 +94,34 @@ def decode_message(data: bytes, start: int = 0, end: int | None = None
     end = len(data) if end is None else end
     if end - start < 4 or data[start:start + 1] != b"/":
         raise OscError(f"message at byte {start} does not start with an address")
+    z = data.find(b"\x00", start, end)
+    if z >= 0 and (z + 4) & ~3 < end:  # the usual case: a known address and type tags
+        zt = data.find(b"\x00", (z + 4) & ~3, end)
+        head = _HEADS.get(data[start:zt]) if zt >= 0 else None
+        if head is not None:
+            address, runs = head
+            i = (zt + 4) & ~3
+            if i > end:
+                raise OscError(f"type tag padding at byte {zt} runs past the end")
+            return address, _arguments(data, i, end, address, runs)
     address, i = _string(data, start, end)
     if i >= end:
         return address, ()  # no type tag string: old senders; no arguments
+    tags_at = i
     tags, i = _string(data, i, end)
     if not tags.startswith(","):
         raise OscError(f"type tags of {address} do not start with ','")
+    runs = _runs(tags[1:])
+    if len(_HEADS) < 256:  # headers repeat (one per message kind); unusual ones are not kept
+        _HEADS[data[start:data.find(b"\x00", tags_at, end)]] = (address, runs)
+    return address, _arguments(data, i, end, address, runs)
+
+
+def _arguments(data: bytes, i: int, end: int, address: str,
+               runs: list[tuple[str, str | None]]) -> tuple[Any, ...]:
+    """The arguments starting at byte ``i``, typed by ``runs`` (see :func:`_runs`)."""
     args: list[Any] = []
-    for run, tag in _runs(tags[1:]):
+    for run, tag in runs:
         if run:  # a run of fixed-size arguments: one struct call
             st = _struct(run)
             if i + st.size > end:
@@ -124,7 +145,7 @@ def decode_message(data: bytes, start: int = 0, end: int | None = None
             args.append(_CONSTANTS[tag])
         else:
             raise OscError(f"{address}: unknown type tag {tag!r}")
-    return address, tuple(args)
+    return tuple(args)
 
 
 def decode_packet(data: bytes, max_depth: int = MAX_DEPTH, max_messages: int = MAX_MESSAGES
