@@ -68,17 +68,16 @@ def _int(v: Any, what: str) -> int:
 
 def _floats(args: Sequence[Any], what: str) -> list[float]:
     """The arguments as finite floats (ints accepted), or TuioError."""
-    out = []
-    for v in args:
-        if type(v) is not float:
-            if isinstance(v, bool) or not isinstance(v, int):
-                raise TuioError("wrong_arguments", f"{what} must be floats, got "
-                                                   f"{type(v).__name__}")
-            v = float(v)
-        if not math.isfinite(v):
-            raise TuioError("non_finite", f"{what} has {v}")
-        out.append(v)
+    out = [v if type(v) is float else _as_float(v, what) for v in args]
+    if not all(map(math.isfinite, out)):
+        raise TuioError("non_finite", f"{what} has {[v for v in out if not math.isfinite(v)]}")
     return out
+
+
+def _as_float(v: Any, what: str) -> float:
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise TuioError("wrong_arguments", f"{what} must be floats, got {type(v).__name__}")
+    return float(v)
 
 
 def parse_set(profile: str, args: Sequence[Any]) -> Entity:
