@@ -106,7 +106,10 @@ class CharacterState:
     metres) and ``bones`` (pairs of indices into points) describe an articulated figure to draw
     as segments; ``progress`` (0..1) and ``action`` name what an action-following engine plays;
     ``valid`` is False while the engine has nothing trustworthy to show (the view dims it).
-    ``label`` is a short status text for the operator overlay.
+    ``label`` is a short status text for the operator overlay. ``hints`` (action, probability,
+    progress) and ``hint_points`` (N x 2, table metres, the likeliest one's pose) are what an
+    action-following engine already suspects before anything drives the character: the view may
+    draw them faintly.
     """
 
     name: str
@@ -122,9 +125,12 @@ class CharacterState:
     action: str | None = None
     valid: bool = True
     label: str = ""
+    hints: tuple[tuple[str, float, float], ...] = ()
+    hint_points: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", _frozen_array(self.points))
+        object.__setattr__(self, "hint_points", _frozen_array(self.hint_points))
 
 
 @dataclass(frozen=True, slots=True)

@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from behaviors.motion.clips import Channel, Clip
+from behaviors.motion.clips import Channel, Clip, ClipError
 from behaviors.motion.skeleton import Skeleton2D
 
 # --- creature -----------------------------------------------------------------------------------
@@ -226,3 +226,30 @@ def face_clips() -> dict[str, Clip]:
         values = np.array([[w.get(n, 0.0) for n in FaceModel.BLENDSHAPES] for _, w in keys])
         out[name] = Clip(name, channels, times, values, loop=False)
     return out
+
+
+# --- hybrid: a creature with a face -------------------------------------------------------------
+
+#: Built-in motions of the hybrid creature (MOP section 3: skeletal and blendshape channels
+#: driven together by one action): body motion + facial expression, played at one progress.
+HYBRID_MOTIONS: dict[str, tuple[str, str]] = {
+    "walk_talk": ("walk", "talk"), "strike_angry": ("strike", "angry"),
+    "curl_surprise": ("curl", "surprise"), "wag_laugh": ("wag", "laugh"),
+}
+
+
+def merge_clips(name: str, body: Clip, face: Clip) -> Clip:
+    """One clip driving both ``body`` and ``face`` channels: ``face`` resampled at ``body``'s keys
+    (both normalised to progress 0..1, MOP's duration alignment)."""
+    clash = set(body.names) & set(face.names)
+    if clash:
+        raise ClipError(f"clips {body.name!r} and {face.name!r} share channels {sorted(clash)}")
+    face_keys = face.resampled(len(body.times)).values
+    return Clip(name, body.channels + face.channels, body.times,
+                np.hstack([body.values, face_keys]), body.loop)
+
+
+def hybrid_clips() -> dict[str, Clip]:
+    """The hybrid creature's motions (:data:`HYBRID_MOTIONS`)."""
+    bodies, faces = creature_clips(), face_clips()
+    return {n: merge_clips(n, bodies[b], faces[f]) for n, (b, f) in HYBRID_MOTIONS.items()}

@@ -1,44 +1,37 @@
-"""Follow and recognise several actions at once (MOP section 3.2 with several templates).
+"""Follow, recognise and spot several actions at once (MOP section 3.2 with several templates).
 
-:class:`ActionFollower` standardises live samples with the template set's pooled scale, advances
-the windowed forward algorithm of every template by one sample, and reports for the most probable
-template its progress (0..1), variance and mean per-sample log-likelihood, plus every template's
-probability and progress.
+:class:`ActionFollower` maps each live sample into every template's own units, advances the
+windowed forward algorithm of every template by one sample (:mod:`behaviors.mop.forward`), and
+reports for the most probable template its progress (0..1), variance and mean per-sample
+log-likelihood, plus every template's probability and progress. Figures quoted below are from
+``bench/follow_quality.py`` (before -> after, same seed); see its docstring for the inputs.
 
-- Probabilities: each template's evidence is its sum of per-step log-likelihoods with
-  exponential forgetting (time constant ``memory`` samples); a softmax across templates turns
-  it into probabilities that sum to 1 and change smoothly, yet let a new action take over.
-- Validity (null rejection), per template: its per-step log-likelihoods, forgotten with time
-  constant ``null_memory`` samples, are converted into an RMS distance between the performance
-  and the template in ``sigma`` units per feature. A template farther than ``null_distance`` is
-  *refused* until it re-enters (a new performance of it begins) or the follower is reset: a
-  performance that once left the template is not that action, even where it later crosses it.
-  A template is *engaged* once its progress passed its onset, the first state ``onset`` sigmas
-  (RMS) away from its first state: until the performance has left the start that every gesture
-  shares, it is evidence of nothing. The output is valid while ``best`` is engaged, not refused,
-  and its progress spread (standard deviation, 0..1 units) is at most ``max_spread``.
-- Re-entry: every template can restart at its first state (see :mod:`behaviors.mop.forward`);
-  ``FollowState.restarted`` is True on the step a new performance of ``best`` began.
-
-Why refuse and engage, measured on ``examples/mop.yaml``'s scripted performers with only the bird
-(one action, wave) on its puck, so that nothing but the likelihood can refuse the puck's four
-other gestures and its slides home (``tests/mop/test_live.py``, 120 s, seeds 0-2): with the
-plain validity rule (a 20-sample mean distance of ``best`` at most 2.0, nothing latched) the bird
-took 90% of the lines, 46% of the zigzags and 35% of each slide home for its wave, and a puck at
-rest was "waving" at progress 0. The distance of a line performed as a wave peaks at 2.5-3.3 but
-averages 1.8, so averaging hides it: refusing as soon as the recent distance exceeds the limit,
-and holding the refusal, takes the other gestures at 60% of them down to 0 of 60, and the bird
-is driven 4-8% of the time while a gesture not its own is performed (the first part of a zigzag
-or a line looks like a wave). The memory (16 samples, about 0.5 s at 30 Hz) and the limit (1.8)
-trade that against a true performance going back faster than the model's one state per step,
-whose lag reaches a distance of 2.0 over 8 samples (``tests/mop/test_plugin.py``, going back at
-1.4x): memory 8 with limit 2.0 refused it; limit 2.5 (memory 4 or 8) let the bird take 29-47% of
-the other gestures at 60%, memory 12 with limit 2.0 up to 12%. The onset (0.5 sigma) removes the
-slides home (35% -> 0%): every template starts still, so any motion at all matches its first
-states. A refused template whose performance is back at its start (progress below its onset,
-this step within the limit) begins anew: re-entry is not counted while the main window still
-holds the first states, and without this a performer that never rests (a mocap stream) had
-every template refused for good after the first unknown motion (15 of 51 gestures recognised).
+- Size and offset (``invariance``): a performance is taken relative to where its gesture began
+  (the *anchor*) and divided, per template, by a size estimated as the gesture unfolds (as GVF
+  follows scale): the least-squares ratio between the performance and the template's states at
+  the followed progress, both relative to their starts, with a prior of ``scale_prior`` samples
+  at 1 and bounded by ``scale_range``. The paper's model is unchanged (one Gaussian state per
+  template sample); only its input is mapped. 0.7-1.4x sized gestures: valid after 30% progress
+  0.75 -> see :mod:`behaviors.mop` notes in the bench output.
+- Probabilities: each template's evidence is its sum of per-step log-likelihoods of the *raw*
+  sample (the template's own units and the estimated size enter as the Gaussian's Jacobian, so
+  templates of different sizes compare fairly), with exponential forgetting (``memory``
+  samples); a softmax across templates gives probabilities summing to 1. ``best`` changes only
+  when another template's evidence leads by ``switch_margin`` (nats): no single-tick flashes.
+- Refusal (null rejection), per template and against that template's own spread: its per-step
+  log-likelihoods, forgotten with time constant ``null_memory``, read as an RMS distance in
+  ``sigma`` units. Farther than ``null_distance`` refuses the template; it is accepted again
+  only below ``accept_distance`` (hysteresis, not a permanent latch).
+- Engagement: a template drives nothing until its progress passed its onset (the first state
+  ``onset`` sigmas from its first state: every gesture starts still, so any motion at all
+  matches the first states). Valid = ``best`` engaged, not refused, its spread at most
+  ``max_spread``, for ``confirm`` samples in a row.
+- Spotting in a continuous stream: a gesture ends when ``best`` reaches ``end`` progress while
+  valid, and an attempt is abandoned when every template is refused; then the next sample is a
+  new anchor and everything (forward, evidence, sizes) starts afresh, so gesture after gesture is
+  recognised without a rest. While nothing is engaged and the input is still (``still_samples``
+  within ``onset`` / 2 sigmas), the anchor follows the input: the next gesture starts from where
+  the performer waits.
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -56,6 +49,8 @@ from tabletop.frames import InputError
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
+INVARIANCES = ("scale", "offset", "none")
+
 
 class SampleError(InputError):
     """A live sample has the wrong shape for the template set."""
@@ -68,9 +63,12 @@ class FollowState:
     ``best``: the most probable template; ``progress`` (0..1) and ``variance`` (progress units
     squared) of ``best``; ``probabilities``: per template, summing to 1; ``progress_by``: per
     template; ``valid``: the performance matches ``best`` well enough to drive a character;
-    ``loglik``: recent mean per-sample log-likelihood of ``best`` (standardised features);
+    ``loglik``: recent mean per-sample log-likelihood of ``best`` (its own units);
     ``distance``: that log-likelihood as an RMS distance in ``sigma`` units per feature;
-    ``restarted``: a new performance of ``best`` began at this sample.
+    ``restarted``: a new performance of ``best`` began at this sample; ``likely``: while a
+    gesture unfolds, the templates not refused, likeliest first, as (name, probability,
+    progress): early feedback, whether or not anything is valid yet; ``scale_by``: each
+    template's estimated performance size (1 = as recorded).
     """
 
     best: str
@@ -83,21 +81,22 @@ class FollowState:
     distance: float = 0.0
     restarted: bool = False
     loglik_by: dict[str, float] = field(default_factory=dict)
+    likely: tuple[tuple[str, float, float], ...] = ()
+    scale_by: dict[str, float] = field(default_factory=dict)
 
 
 class ActionFollower:
     """Follows the progress of a live performance along several action templates at once.
 
     ``templates``: name -> (n_i, d) samples, regularly spaced at the rate the follower is stepped.
-    ``sigma``: observation spread in units of the pooled per-feature scale; ``window``: p, the
-    half-width of the forward window in states; ``transitions``: forward weights (self, next,
-    skips...); ``backward``: weight of moving one state back; ``restart``: probability per step
-    that a new performance starts; ``memory``: forgetting time constant of the evidence in
-    samples; ``null_distance``, ``null_memory`` (samples), ``onset`` (sigmas) and ``max_spread``:
-    validity (see the module docstring);
-    ``relative_floor``: floor of the per-feature scale relative to the overall spread;
-    ``min_scale``: optional (d,) floor of the per-feature scale in the features' own units (the
-    input's noise, e.g. :attr:`behaviors.mop.features.PathFeatures.min_scale`).
+    ``sigma``: observation spread in units of each template's own spread; ``window``: p, the
+    half-width of the forward window in states (reach only); ``transitions``: forward weights
+    (self, next, skips...); ``backward``: weight of moving one state back; ``restart``:
+    probability per step that a new performance starts; ``memory``: forgetting of the evidence
+    in samples; ``units`` (d,): the features' units (columns sharing a unit get the same
+    tolerance), default the pooled spread of each column; ``min_scale`` (d,): floor of every
+    template's scale in the features' own units (the input's noise); the rest: see the module
+    docstring.
     """
 
     def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
@@ -105,49 +104,78 @@ class ActionFollower:
                  restart: float = 1e-4, memory: float = 20.0, null_distance: float = 1.8,
                  max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8,
                  min_scale: np.ndarray | None = None, null_memory: float = 16.0,
-                 onset: float = 0.5) -> None:
+                 onset: float = 0.5, accept_distance: float = 1.2, invariance: str = "none", spotting: bool = True,
+                 scale_range: tuple[float, float] = (0.55, 1.8), scale_prior: float = 3.0,
+                 units: np.ndarray | None = None, hold_tolerance: float = 0.02,
+                 switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
+                 still_samples: int = 6) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
                             ("onset", onset, onset >= 0),
+                            ("accept_distance", accept_distance, 0 < accept_distance <= null_distance),
                             ("max_spread", max_spread, max_spread > 0),
                             ("relative_floor", relative_floor, relative_floor >= 0),
-                            ("floor", floor, floor >= 0)):
+                            ("floor", floor, floor >= 0), ("scale_prior", scale_prior, scale_prior > 0),
+                            ("hold_tolerance", hold_tolerance, hold_tolerance >= 0),
+                            ("switch_margin", switch_margin, switch_margin >= 0),
+                            ("confirm", confirm, confirm >= 1), ("end", end, 0 < end <= 1),
+                            ("still_samples", still_samples, still_samples >= 2)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
-        self.bank = build_bank(templates, relative_floor, min_scale)
+        if invariance not in INVARIANCES:
+            raise TemplateError(f"follower invariance {invariance!r}: choose from {', '.join(INVARIANCES)}")
+        lo, hi = (float(v) for v in scale_range)
+        if not (0 < lo <= 1 <= hi and math.isfinite(hi)):
+            raise TemplateError(f"follower scale_range {list(scale_range)} must hold 1, e.g. [0.55, 1.8]")
+        self.bank = build_bank(templates, relative_floor, min_scale, units, hold_tolerance)
         self.names: tuple[str, ...] = self.bank.names
         self.sigma = float(sigma)
         self.memory = float(memory)
         self.null_distance = float(null_distance)
         self.max_spread = float(max_spread)
+        self.invariance = invariance
+        self.spotting = bool(spotting)
+        self.scale_range = (lo, hi)
+        self.confirm, self.end, self.switch_margin = int(confirm), float(end), float(switch_margin)
+        self.still_samples = int(still_samples)
         self.forward = WindowedForward(self.bank, sigma=sigma, half_window=int(window),
                                        transitions=Transitions(tuple(transitions), backward, restart),
                                        floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
         self.null_memory = float(null_memory)
         self._null2 = self.null_distance ** 2
+        self._accept2 = float(accept_distance) ** 2
         self.onset = float(onset)
-        self.onset_progress = self._onset_progress()
-        self._null_decay = 1.0 - 1.0 / self.null_memory
         self._params = dict(sigma=float(sigma), window=int(window), transitions=tuple(transitions),
                             backward=float(backward), restart=float(restart), memory=float(memory),
                             null_distance=float(null_distance), max_spread=float(max_spread),
-                            floor=float(floor), null_memory=float(null_memory),
-                            onset=float(onset))
+                            floor=float(floor), null_memory=float(null_memory), onset=float(onset))
+        self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
-        self._inv_span2 = (1.0 / (self.bank.lengths - 1.0) ** 2).tolist()
+        b = self.bank
+        self._onset_state = self._onset_states()
+        self._jacobian = np.log(b.scale).sum(axis=1)            # (K,) log |d z / d x|
+        self._units = b.units
+        self._first_z = (b.first - b.center) / b.scale           # (K, d)
+        # template states relative to their first, in units (for the size estimate)
+        self._rel = np.concatenate([(b.template(k) * b.scale[k] + b.center[k] - b.first[k]) / self._units
+                                    for k in range(len(self.names))])
+        rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
+        self._prior = float(scale_prior) * rho2                   # (K,) prior weight at size 1
+        # the still radius (raw units): half the onset, in the smallest template's scale
+        self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
         self.reset()
 
-    def _onset_progress(self) -> np.ndarray:
-        """Per template, the progress (0..1) of its first state at least ``onset`` sigmas (RMS per
-        feature) from its first state, or of its farthest state when none is."""
+    def _onset_states(self) -> np.ndarray:
+        """Per template, the first state at least ``onset`` sigmas (RMS per feature) from its first
+        state, or its farthest state when none is (state index)."""
         out = np.zeros(len(self.names))
         for k in range(len(self.names)):
             states = self.bank.template(k)
             d = np.sqrt(np.mean((states - states[0]) ** 2, axis=1)) / self.sigma
             far = np.flatnonzero(d >= self.onset)
-            out[k] = (far[0] if far.size else int(np.argmax(d))) / (len(states) - 1)
+            out[k] = far[0] if far.size else int(np.argmax(d))
         return out
 
     @property
@@ -159,17 +187,27 @@ class ActionFollower:
         """Forget the performance; every template waits at its first state."""
         self.forward.reset()
         self._forget()
+        self._state = None
+        self._anchor: np.ndarray | None = None
+        self._recent_x: list[np.ndarray] = []
+        self._ended = -1
 
     def _forget(self) -> None:
-        """Forget the evidence and validity of every template (not the forward state)."""
+        """Forget the evidence, sizes and validity of every template (not the forward state)."""
         k = len(self.names)
         self._evidence = np.zeros(k)
-        self._weight = 0.0
         self._recent = np.zeros(k)
         self._recent_weight = np.zeros(k)
         self._refused = np.zeros(k, dtype=bool)
         self._engaged = np.zeros(k, dtype=bool)
         self._entries = np.zeros(k, dtype=np.int64)
+        self._num = np.zeros(k)
+        self._den = np.zeros(k)
+        self._size = np.ones(k)
+        self._best = 0
+        self._run = 0
+        self._lost = 0
+        self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
 
     @property
@@ -202,8 +240,21 @@ class ActionFollower:
         held = self._state or self._idle_state()
         self._state = FollowState(held.best, held.progress, held.variance, held.probabilities,
                                   held.progress_by, False, held.loglik, held.distance, False,
-                                  held.loglik_by)
+                                  held.loglik_by, held.likely, held.scale_by)
         return self._state
+
+    def _inputs(self, x: np.ndarray) -> np.ndarray:
+        """The sample in every template's standardised units (K, d): relative to the anchor and
+        divided by the template's estimated size (see ``invariance``)."""
+        b = self.bank
+        if self._anchor is None:
+            self._anchor = x.copy()
+        if self.invariance == "none":
+            return (x - b.center) / b.scale
+        r = (x - self._anchor)[None, :]
+        if self.invariance == "scale":
+            r = r / self._size[:, None]
+        return r / b.scale + self._first_z
 
     def step(self, x: np.ndarray) -> FollowState:
         """Follow one live sample x (d,) in the templates' units; causal."""
@@ -211,54 +262,149 @@ class ActionFollower:
         if x is None:
             return self._held()
         fw = self.forward
-        step_ll = fw.step((x - self.bank.center) / self.bank.scale)
-        return self._finish(step_ll, fw.progress, fw, 0, fw.entries)
+        step_ll = fw.step(self._inputs(x))
+        return self._finish(step_ll, fw, 0, fw.entries, x)
 
-    def _finish(self, step_ll: np.ndarray, progress: np.ndarray, forward: WindowedForward,
-                offset: int, entries: np.ndarray) -> FollowState:
-        """Evidence, probabilities, best and validity from one forward step's per-template
-        log-likelihoods, progress (0..1) and re-entry counts; this follower's templates are
-        ``forward``'s from ``offset`` on."""
+    def _restart_here(self, x: np.ndarray, forward: WindowedForward, offset: int,
+                      still: bool = False) -> None:
+        """A new attempt starts at this sample (``still``: at the mean of the still input):
+        anchor there, every template at its first state, no evidence."""
+        forward.reset_templates(offset + np.arange(len(self.names)))
+        entries = self._entries.copy()
+        self._forget()
+        self._entries[:] = entries
+        if still:
+            self._anchor = np.mean(self._recent_x, axis=0)
+        else:
+            self._anchor = x.copy()
+            self._recent_x = [x]
+
+    def _displacement(self, x: np.ndarray) -> np.ndarray:
+        """RMS distance (K,) of x from the anchor in each template's units (and size)."""
+        if self._anchor is None:
+            return np.full(len(self.names), np.inf)
+        r = (x - self._anchor)[None, :] / self.bank.scale
+        if self.invariance == "scale":
+            r = r / self._size[:, None]
+        return np.sqrt(np.mean(r * r, axis=1))
+
+    def _still(self, x: np.ndarray) -> bool:
+        """The input stayed within the still radius for ``still_samples`` samples."""
+        buf = self._recent_x
+        buf.append(x)
+        if len(buf) > self.still_samples:
+            del buf[0]
+        if len(buf) < self.still_samples:
+            return False
+        a = np.asarray(buf)
+        return bool(np.all(np.ptp(a, axis=0) <= 2.0 * self._still_radius))
+
+    def _finish(self, step_ll: np.ndarray, forward: WindowedForward, offset: int,
+                entries: np.ndarray, x: np.ndarray) -> FollowState:
+        """Evidence, probabilities, best, validity and spotting from one forward step's
+        per-template log-likelihoods; this follower's templates are ``forward``'s from
+        ``offset`` on."""
+        k = len(self.names)
+        b = self.bank
+        mean = forward.mean[offset:offset + k]
+        g = b.starts + np.minimum(mean, b.lengths - 1.0)
+        gi = np.minimum(g.astype(np.intp), b.starts + b.lengths - 2)
+        frac = g - gi
+        src = b.source
+        progress = src[gi] + frac * (src[gi + 1] - src[gi])
+        # size: least squares between the performance and the followed states (both relative)
+        if self.invariance == "scale" and self._anchor is not None:
+            q = self._rel[gi] + frac[:, None] * (self._rel[gi + 1] - self._rel[gi])
+            r = (x - self._anchor) / self._units
+            self._num += q @ r
+            self._den += np.einsum("kd,kd->k", q, q)
+            lo, hi = self.scale_range
+            np.clip((self._num + self._prior) / (self._den + self._prior), lo, hi, out=self._size)
+        raw_ll = step_ll - self._jacobian
+        if self.invariance == "scale":
+            raw_ll = raw_ll - self.dim * np.log(self._size)
         self._evidence *= self._decay
-        self._evidence += step_ll
-        self._weight = self._decay * self._weight + 1.0
+        self._evidence += raw_ll
         self._recent *= self._null_decay
         self._recent += step_ll
         self._recent_weight *= self._null_decay
         self._recent_weight += 1.0
-        new = entries > self._entries   # re-entered: a new performance, judged afresh (this
-        self._entries[:] = entries      # step's likelihood still mostly belongs to the old one)
-        # a refused template whose performance is back at its start, matching it, may begin anew
-        # (re-entry is not counted when the main window already holds the first states)
-        back = self._refused & (progress < self.onset_progress)
-        if np.count_nonzero(back):
-            back &= (self._log_constant - step_ll) * (2.0 / self.dim) <= self._null2
-            new |= back
+        new = entries > self._entries   # re-entered: a new performance, judged afresh
+        self._entries[:] = entries
         if np.count_nonzero(new):
             self._recent[new] = self._log_constant
             self._recent_weight[new] = 1.0
             self._refused[new] = False
             self._engaged[new] = False
         mean_ll = self._recent / self._recent_weight
-        # squared RMS distance per feature in sigma units, every template (see distance_of)
         dist2 = (self._log_constant - mean_ll) * (2.0 / self.dim)
         self._refused |= dist2 > self._null2
-        self._engaged |= (progress >= self.onset_progress) & ~self._refused
-        b = int(np.argmax(self._evidence))
-        p = np.exp(self._evidence - self._evidence[b])
+        self._refused &= ~(dist2 < self._accept2)
+        # engaged once past the onset state *and* the input itself has left the anchor by the
+        # onset (template units): a still input lets the prior drift along the first states
+        # (measured: a still tail after a diagonal re-engaged the circle within 6 samples)
+        past = (mean >= self._onset_state) & ~self._refused
+        if np.count_nonzero(past & ~self._engaged):
+            r = self._displacement(x)
+            past &= r >= self.onset * self.sigma
+        self._engaged |= past
+        top = int(np.argmax(self._evidence))
+        if self._evidence[top] - self._evidence[self._best] > self.switch_margin or self._refused[self._best]:
+            self._best = top
+        bi = self._best
+        p = np.exp(self._evidence - self._evidence[top])
         p /= p.sum()
+        slope = src[gi[bi] + 1] - src[gi[bi]]
+        variance = forward.var_of(offset + bi) * slope * slope
+        # the spread limit counts states, not the progress a compressed hold spans
+        spread2 = forward.var_of(offset + bi) / (b.lengths[bi] - 1.0) ** 2
+        ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2)
+        self._run = self._run + 1 if ok else 0
+        valid = self._run >= self.confirm
+        loglik = float(mean_ll[bi])
         names = self.names
-        variance = forward.var_of(offset + b) * self._inv_span2[b]
-        restarted = bool(new[b])
-        loglik = float(mean_ll[b])
-        dist = self.distance_of(loglik)
-        valid = (self._engaged[b] and not self._refused[b] and variance <= self.max_spread ** 2)
-        self._state = FollowState(
-            best=names[b], progress=float(progress[b]), variance=variance,
-            probabilities=dict(zip(names, p.tolist())), progress_by=dict(zip(names, progress.tolist())),
-            valid=bool(valid), loglik=loglik, distance=dist, restarted=bool(restarted),
-            loglik_by=dict(zip(names, mean_ll.tolist())))
-        return self._state
+        still = self._still(x)
+        likely: tuple[tuple[str, float, float], ...] = ()
+        if not still or np.any(self._engaged):
+            order = [i for i in np.argsort(-p)[:3] if not self._refused[i]]
+            likely = tuple((names[i], float(p[i]), float(progress[i])) for i in order)
+        progress_by = dict(zip(names, progress.tolist()))
+        best, best_progress = names[bi], float(progress[bi])
+        if self._ended >= 0 and not np.any(self._engaged):
+            # the last gesture ended and no new one has begun: it stays at its end, not driving
+            best, best_progress = names[self._ended], 1.0
+            progress_by[best] = 1.0
+        state = self._state = FollowState(
+            best=best, progress=best_progress, variance=variance,
+            probabilities=dict(zip(names, p.tolist())), progress_by=progress_by,
+            valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
+            loglik_by=dict(zip(names, mean_ll.tolist())), likely=likely,
+            scale_by=dict(zip(names, self._size.tolist())))
+        if np.any(self._engaged):
+            self._ended = -1
+        # spotting: the gesture ended (its end reached, or it rests near its end), or every
+        # template refused it: start afresh here; a still input waiting for a gesture anchors it
+        if self.invariance != "none":
+            if valid and progress[bi] >= self.end and self._end_x is None:
+                self._end_x = x.copy()
+            step_d2 = (self._log_constant - step_ll[bi]) * (2.0 / self.dim)
+            self._lost = self._lost + 1 if bool(np.all(self._refused)) else 0
+            if self._end_x is not None and (still or step_d2 > self._null2 or not ok):
+                # the end was reached and the performer rests there or moves on: a new gesture
+                # starts where the last one ended
+                end_x = self._end_x
+                self._restart_here(x, forward, offset)
+                self._anchor = end_x
+                self._ended = bi
+            elif valid and still and progress[bi] >= 0.9:
+                self._restart_here(x, forward, offset)
+                self._ended = bi
+            elif self._lost >= self.still_samples:
+                self._restart_here(x, forward, offset)
+            elif still and not np.any(self._engaged):
+                self._restart_here(x, forward, offset, still=True)
+        self._state = state
+        return state
 
     def same_parameters(self, other: "ActionFollower") -> bool:
         """True when ``other`` follows with the same parameters (its templates may differ)."""
@@ -305,7 +451,7 @@ class FollowerGroup:
         self._owner = np.array(owner, dtype=np.intp)
         bounds = np.concatenate([[0], np.cumsum([len(f.names) for f in self.followers])])
         self._slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
-        self._z = np.zeros((len(self.followers), width))
+        self._z = np.zeros((len(owner), width))
         self.reset()
 
     def reset(self) -> None:
@@ -320,32 +466,35 @@ class FollowerGroup:
         sl = self._slices[i]
         self.forward.reset_templates(np.arange(sl.start, sl.stop))
         f = self.followers[i]
-        f._forget()
-        f._entries[:] = self.forward.entries[sl]
+        entries = self.forward.entries[sl].copy()
+        f.reset()
+        f._entries[:] = entries
 
     def step(self, samples: Sequence[np.ndarray]) -> list[FollowState]:
         """One sample per follower, in order; returns each follower's state."""
         if len(samples) != len(self.followers):
             raise SampleError(f"{len(samples)} samples for a group of {len(self.followers)} followers")
         lost = []
+        samples_ok: dict[int, np.ndarray] = {}
         for i, (f, x) in enumerate(zip(self.followers, samples)):
             x = f._sample(x)
             if x is None:
                 lost.append(i)
             else:
-                self._z[i, :f.dim] = (x - f.bank.center) / f.bank.scale
+                sl = self._slices[i]
+                self._z[sl, :f.dim] = f._inputs(x)
+                samples_ok[i] = x
         fw = self.forward
         saved = None
         if lost:
             saved = fw.snapshot(np.flatnonzero(np.isin(self._owner, lost)))
-        step_ll = fw.step(self._z[self._owner])
+        step_ll = fw.step(self._z)
         if saved is not None:
             fw.restore(saved)
-        progress = fw.progress
         out = []
         for i, (f, sl) in enumerate(zip(self.followers, self._slices)):
             if i in lost:
                 out.append(f._held())
             else:
-                out.append(f._finish(step_ll[sl], progress[sl], fw, sl.start, fw.entries[sl]))
+                out.append(f._finish(step_ll[sl], fw, sl.start, fw.entries[sl], samples_ok[i]))
         return out

@@ -2,9 +2,18 @@
 
 A template is one recording of an action, ``(n, d)`` samples regularly spaced in time. Each sample
 becomes one state whose observation probability is a Gaussian centred on the (standardised)
-sample with a shared relative ``sigma`` (equation 1). All templates of a set are standardised by
-one per-column scale (:func:`behaviors.mop.features.fit_scale`) and stacked into one
-:class:`TemplateBank` so the forward algorithm runs over every template at once.
+sample with a shared relative ``sigma`` (equation 1). Each template is standardised by its *own*
+spread (one number, the RMS spread of its columns in the features' units), so how far a
+performance may stray from an action depends on that action alone, not on the other templates
+loaded beside it, and is the same along every column of one unit (x and y of a puck). The units
+are given (a puck's metres) or, when unknown, the pooled per-column spread of the set
+(:func:`behaviors.mop.features.fit_scale`), so features of any scale work without tuning.
+
+Holds: a run of samples that stays within ``hold_tolerance`` (in the template's own spread) of
+its first sample is kept as three states (first, middle, last) that map back to the progress
+of the whole run, so a performer may hold for any time (the last state loops) and a short hold
+is crossed in three steps instead of the recorded run's length. Measured with
+``bench/follow_quality.py`` (raise-hold-return at holds 0.3-3x).
 
 Transitions (:class:`Transitions`) go left to right: self (offset 0), next (+1) and skips
 (+2, +3, ...) so a performer may be up to about twice as fast as the recording, a small backward
@@ -14,6 +23,7 @@ so a new performance of the action is picked up after the last one ended.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Mapping
 
@@ -76,8 +86,10 @@ class Transitions:
 @dataclass(frozen=True)
 class TemplateBank:
     """Every template of a set, standardised and stacked: ``means[starts[k] : starts[k] + lengths[k]]``
-    are the states of template ``names[k]``. ``center`` and ``scale`` (d,) map a raw sample x to
-    ``(x - center) / scale``."""
+    are the states of template ``names[k]``. ``center`` and ``scale`` (K, d) map a raw sample x to
+    ``(x - center[k]) / scale[k]`` for template k; ``first`` (K, d) is each template's first
+    sample (raw units); ``source`` (one per state) the progress (0..1) in the recorded template
+    of each state (holds are compressed); ``units`` (d,) the columns' units."""
 
     names: tuple[str, ...]
     means: np.ndarray
@@ -85,6 +97,9 @@ class TemplateBank:
     lengths: np.ndarray
     center: np.ndarray
     scale: np.ndarray
+    first: np.ndarray | None = None
+    source: np.ndarray | None = None
+    units: np.ndarray | None = None
 
     @property
     def dim(self) -> int:
@@ -134,23 +149,67 @@ def check_templates(templates: Mapping[str, np.ndarray]) -> dict[str, np.ndarray
     return out
 
 
+def _vector(value, d: int, what: str, positive: bool = False) -> np.ndarray | None:
+    if value is None:
+        return None
+    v = np.asarray(value, dtype=float)
+    if v.shape != (d,) or not np.all(np.isfinite(v)) or np.any(v < 0) or (positive and np.any(v <= 0)):
+        kind = "positive" if positive else "non-negative"
+        raise TemplateError(f"{what} must be {d} {kind} numbers (one per feature), "
+                            f"got {np.asarray(value).tolist()}")
+    return v
+
+
+def compress_holds(states: np.ndarray, tolerance: float) -> np.ndarray:
+    """Indices of the samples kept from ``states`` (n, d, standardised): a run of more than three
+    samples within ``tolerance`` (RMS per column) of its first sample keeps its first, middle
+    and last samples only."""
+    n = states.shape[0]
+    keep, i = [], 0
+    while i < n:
+        j = i + 1
+        while j < n and np.sqrt(np.mean((states[j] - states[i]) ** 2)) <= tolerance:
+            j += 1
+        keep += [i, (i + j - 1) // 2, j - 1] if j - i > 3 else list(range(i, j))
+        i = j
+    return np.asarray(sorted(set(keep)), dtype=np.intp)
+
+
 def build_bank(templates: Mapping[str, np.ndarray], relative_floor: float = 0.05,
-               min_scale: np.ndarray | None = None) -> TemplateBank:
-    """Validate, standardise (one pooled per-column scale, see
-    :func:`behaviors.mop.features.fit_scale`) and stack a template set."""
+               min_scale: np.ndarray | None = None, units: np.ndarray | None = None,
+               hold_tolerance: float = 0.02) -> TemplateBank:
+    """Validate, standardise (each template by its own spread, see the module docstring) and
+    stack a template set, its holds compressed. ``relative_floor`` floors the pooled units when
+    they are not given; ``min_scale`` (d,) floors every template's scale (the input's noise)."""
     checked = check_templates(templates)
     arrays = list(checked.values())
-    if min_scale is not None:
-        ms = np.asarray(min_scale, dtype=float)
-        if ms.shape != (arrays[0].shape[1],) or not np.all(np.isfinite(ms)) or np.any(ms < 0):
-            raise TemplateError(
-                f"min_scale must be {arrays[0].shape[1]} non-negative numbers (one per feature), "
-                f"got {np.asarray(min_scale).tolist()}")
-    center, scale = fit_scale(arrays, relative_floor, min_scale)
-    lengths = np.array([a.shape[0] for a in arrays], dtype=np.intp)
-    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.intp)
-    means = np.ascontiguousarray(np.concatenate([(a - center) / scale for a in arrays], axis=0))
-    return TemplateBank(tuple(checked), means, starts, lengths, center, scale)
+    d = arrays[0].shape[1]
+    ms = _vector(min_scale, d, "min_scale")
+    given = _vector(units, d, "units", positive=True)
+    if given is None:
+        given = fit_scale(arrays, relative_floor)[1]
+    centers, scales, firsts, means, sources, lengths = [], [], [], [], [], []
+    for a in arrays:
+        center = a.mean(axis=0)
+        rho = math.sqrt(float(np.mean(((a - center) / given) ** 2)))
+        scale = given * (rho if rho > 1e-12 else 1.0)
+        if ms is not None:
+            scale = np.maximum(scale, ms)
+        z = (a - center) / scale
+        keep = compress_holds(z, hold_tolerance) if hold_tolerance > 0 else np.arange(len(a))
+        if len(keep) < 2:
+            keep = np.array([0, len(a) - 1])
+        centers.append(center)
+        scales.append(scale)
+        firsts.append(a[0])
+        means.append(z[keep])
+        sources.append(keep / (len(a) - 1.0))
+        lengths.append(len(keep))
+    lengths_a = np.array(lengths, dtype=np.intp)
+    starts = np.concatenate([[0], np.cumsum(lengths_a)[:-1]]).astype(np.intp)
+    return TemplateBank(tuple(checked), np.ascontiguousarray(np.concatenate(means)), starts,
+                        lengths_a, np.array(centers), np.array(scales), np.array(firsts),
+                        np.concatenate(sources), given)
 
 
 def emission_loglik(z: np.ndarray, states: np.ndarray, sigma: float) -> np.ndarray:

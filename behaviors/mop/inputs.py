@@ -13,6 +13,10 @@ import numpy as np
 
 from behaviors.motion.clips import ClipError
 
+#: Units of the puck path features (dx, dy, heading, speed): columns of one unit get the same
+#: tolerance (a puck's x and y), and a turn of 1 rad weighs like 10 cm.
+PUCK_UNITS = np.array([0.1, 0.1, 1.0, 0.1])
+
 
 class PuckInput:
     """A puck's path features (:class:`PathFeatures`: dx, dy relative to where the gesture
@@ -27,6 +31,7 @@ class PuckInput:
         self.puck_id = int(puck_id)
         self._cols = [PATH_FEATURE_NAMES.index(f) for f in features]
         self.names = tuple(prefix + f for f in features)
+        self.units = PUCK_UNITS[self._cols]
         self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
 
     def read(self, frame: object, t: float) -> np.ndarray:
@@ -53,6 +58,7 @@ class TouchInput:
 
     def __init__(self, prefix: str = "") -> None:
         self.names = (prefix + "dx", prefix + "dy")
+        self.units = np.array([0.1, 0.1])
         self._id: int | None = None
         self._origin = (0.0, 0.0)
 
@@ -84,6 +90,8 @@ class StreamInput:
         self.stream = stream
         self.columns = np.asarray(columns, dtype=int)
         self.names = tuple(f"{prefix}{stream}_{c}" for c in columns)
+        #: A stream's columns have no known units: the follower takes them from the templates.
+        self.units = None
 
     def read(self, frame: object, t: float) -> np.ndarray:
         a = getattr(frame, "streams", {}).get(self.stream)
@@ -110,6 +118,12 @@ class Performer:
     @property
     def dim(self) -> int:
         return len(self.names)
+
+    @property
+    def units(self) -> np.ndarray | None:
+        """The features' units (d,), or None when an input's are unknown (a stream)."""
+        parts = [i.units for i in self.inputs]
+        return None if any(u is None for u in parts) else np.concatenate(parts)
 
     def read(self, frame: object, t: float) -> np.ndarray:
         return np.concatenate([i.read(frame, t) for i in self.inputs])

@@ -7,7 +7,8 @@ character's heading, see :func:`behaviors.motion.skeleton.place`):
   by forward kinematics and a projection;
 - :class:`PlanarRig`: a :class:`Skeleton2D` driven by 2-D joint angles named after its bones;
 - :class:`FaceRig`: a :class:`FaceModel` driven by blendshape weights;
-- :class:`SpriteRig`: a vector sprite sheet whose frames a clip's ``frame`` channel picks.
+- :class:`SpriteRig`: a vector sprite sheet whose frames a clip's ``frame`` channel picks;
+- :class:`HybridRig`: a body and a face driven together (skeletal and blendshape channels).
 
 :class:`Puppet` is one character: its actions (name -> clip, time warp), fed each tick with the
 follower states of the performers bound to it. It shows the motion of the most probable valid
@@ -168,6 +169,33 @@ class FaceRig:
         return self.face.neutral.copy()
 
 
+class HybridRig:
+    """A body rig and a face driven together by one clip (MOP section 3's hybrid characters):
+    skeletal channels pose the body, blendshape channels the face, which rides on the body's
+    point ``head`` (scaled by ``face_size`` figure units, upright along the heading)."""
+
+    kind = "hybrid"
+
+    def __init__(self, body: PlanarRig | HumanoidRig, face: FaceRig, head: int,
+                 face_size: float = 0.35) -> None:
+        self.body, self.face, self.head, self.face_size = body, face, int(head), float(face_size)
+        n = len(body.rest())
+        self.bones = tuple(body.bones) + tuple((a + n, b + n) for a, b in face.bones)
+
+    def check(self, clip: Clip) -> None:
+        self.body.check(clip)
+        self.face.check(clip)
+
+    def _join(self, body: np.ndarray, face: np.ndarray) -> np.ndarray:
+        return np.vstack([body, body[self.head] + self.face_size * face])
+
+    def pose(self, clip: Clip, progress: float) -> np.ndarray:
+        return self._join(self.body.pose(clip, progress), self.face.pose(clip, progress))
+
+    def rest(self) -> np.ndarray:
+        return self._join(self.body.rest(), self.face.rest())
+
+
 class SpriteRig:
     """A vector sprite sheet: frames of points sharing one set of bones (figure units, y along
     the heading). A clip's ``frame`` channel (type ``frame``) picks the frame shown."""
@@ -237,6 +265,7 @@ class Vote:
     progress: float
     valid: bool
     loglik: float = 0.0
+    hint: bool = False    # among the performer's likeliest actions right now (early feedback)
 
 
 class Puppet:
@@ -322,6 +351,15 @@ class Puppet:
             self._shown = self._shown + k * (self._rest - self._shown)
             self._action = None
         pts = place(self._shown, self.x, self.y, self.heading, self.size)
+        hints = tuple(sorted(((v.action, v.probability, v.progress) for v in votes
+                              if v.hint and v.action in self.actions and not v.valid),
+                             key=lambda h: -h[1]))
+        ghost = None
+        if hints and not valid:
+            # early feedback: the likeliest action's pose at its progress, drawn faintly
+            a = self.actions[hints[0][0]]
+            ghost = place(self.rig.pose(a.clip, float(a.warp(hints[0][2]))), self.x, self.y,
+                          self.heading, self.size)
         if not label:
             label = (f"{vote.action} {vote.progress:4.2f} p={vote.probability:.2f}" if vote
                      else "no action")
@@ -329,7 +367,7 @@ class Puppet:
                               size=self.size, color=self.color, points=pts, bones=self.rig.bones,
                               progress=self._progress if valid else None,
                               action=vote.action if vote else self._action, valid=valid,
-                              label=label)
+                              label=label, hints=hints, hint_points=ghost)
 
 
 class Take:

@@ -54,7 +54,7 @@ from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Take, Vote
 from tabletop.frames import CharacterState, Frame, InputError
 
-FollowerFactory = Callable[[Mapping[str, np.ndarray]], object]
+FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None"], object]
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
 
 MIN_TAKE_SAMPLES = 8
@@ -125,7 +125,7 @@ class MopStage:
                     templates[key] = samples
                 routes.append((c, action, key))
         for performer, templates in by_performer.items():
-            self._followers[performer] = self.make_follower(templates)
+            self._followers[performer] = self.make_follower(templates, self.performers[performer].units)
         # every follower stepped in one vectorised pass
         self._keys = list(self._followers)
         self._group = (self.make_group([self._followers[k] for k in self._keys])
@@ -253,7 +253,11 @@ class MopStage:
             if self.take is not None and self.take.recording and self.take.performer == pname:
                 self.take.add(x)
         for i, key in enumerate(self._keys):
-            self._resting[key] = resting = self.performers[key].resting
+            state = self._states.get(key)
+            holding = state is not None and bool(state.valid)  # type: ignore[attr-defined]
+            # a rest ends a gesture, unless an action is being held (a raise-hold-return held
+            # longer than the rest time): the follower itself ends it when it rests at its end
+            self._resting[key] = resting = self.performers[key].resting and not holding
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
                     self._group.reset_member(i)  # type: ignore[attr-defined]
@@ -280,9 +284,12 @@ class MopStage:
             probs, prog = state.probabilities, state.progress_by  # type: ignore[attr-defined]
             ok = bool(state.valid) and not self._resting.get(performer, False)  # type: ignore[attr-defined]
             best = state.best  # type: ignore[attr-defined]
+            hints = {} if self._resting.get(performer, False) else {
+                name: p for name, p, _ in state.likely}  # type: ignore[attr-defined]
             for action, key in mine:
                 votes.append(Vote(action, float(probs[key]), float(prog[key]), ok and key == best,
-                                  float(state.loglik) if key == best else 0.0))  # type: ignore[attr-defined]
+                                  float(state.loglik) if key == best else 0.0,  # type: ignore[attr-defined]
+                                  key in hints))
         return votes
 
     def designer_targets(self) -> tuple[str, ...]:

@@ -11,14 +11,16 @@ Config (see ``examples/mop.yaml``)::
           inputs: [{kind: puck, id: 1, features: [dx, dy]}, {kind: stream, name: arm}]
       characters:
         - name: dancer
-          kind: skeleton          # skeleton (URDF humanoid), creature or face
+          kind: skeleton          # skeleton (URDF humanoid), creature, face, hybrid or sprite
           performer: left
           at: [0.3, 0.4]
           actions:
             - {name: circle, template: gestures/circle.csv, motion: walk}
 
 A ``motion`` is a built-in clip of the character (creature: walk, wag, curl, strike; face: laugh,
-surprise, angry, wink, talk; sprite: frames, its sheet in order), a DeepMimic clip name for a
+surprise, angry, wink, talk; hybrid, a creature with a face whose skeletal and blendshape
+channels one action drives together: walk_talk, strike_angry, curl_surprise, wag_laugh; sprite:
+frames, its sheet in order), a DeepMimic clip name for a
 skeleton (walk, backflip, ...; from ``pybullet_data``), or a path to a DeepMimic ``.txt`` or a
 ``tabletop.clip`` ``.json`` file. A ``sprite`` character is a vector sprite sheet (``sheet``:
 ``{"format": "tabletop.sprites", "bones": [[a, b], ...], "frames": [[[x, y], ...], ...]}``).
@@ -42,7 +44,7 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, TimeWarp, clip_from_mapping
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
-from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, PlanarRig, Puppet
+from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
 from tabletop.files import FileFormatError, atomic_write_text, read_csv, write_csv
 from tabletop.frames import InputError
@@ -51,7 +53,10 @@ from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_,
 
 BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
            "face": ("laugh", "surprise", "angry", "wink", "talk"),
+           "hybrid": ("walk_talk", "strike_angry", "curl_surprise", "wag_laugh"),
            "sprite": ("frames",)}
+#: The creature's point its face rides on in a hybrid character (its nose).
+HYBRID_HEAD = 3
 DEEPMIMIC = ("walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",
              "dance_a", "dance_b", "getup_facedown", "getup_faceup", "roll", "spin")
 PUCK_FEATURES = ("dx", "dy", "heading", "speed")
@@ -99,7 +104,7 @@ ACTION = Record({
 
 CHARACTER = Record({
     "name": Str(),
-    "kind": Str(choices=("skeleton", "creature", "face", "sprite")),
+    "kind": Str(choices=("skeleton", "creature", "face", "hybrid", "sprite")),
     "performer": Str(),
     "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
     "heading": Number(math.pi / 2, doc="radians; the figure's up points this way"),
@@ -130,6 +135,16 @@ FOLLOWER = Record({
     "null_memory": Number(16, lo=1.0, doc="samples: forgetting of that distance"),
     "onset": Number(0.5, lo=0.0, doc="sigmas: an action drives its character once the "
                  "performance has left the action's start by this much"),
+    "accept_distance": Number(1.2, lo=0.01, doc="sigmas: a refused action is accepted again "
+                              "once nearer than this (at most null_distance)"),
+    "invariance": Str("scale", choices=("scale", "offset", "none"),
+                      doc="follow gestures of any size (scale) or place (offset) from where they begin"),
+    "scale_range": ListOf(Number(lo=0.05, hi=20.0), default=[0.55, 1.8], min_len=2, max_len=2,
+                          doc="smallest and largest size of a performance, x the recorded"),
+    "switch_margin": Number(1.0, lo=0.0, doc="nats: another action takes over once this much likelier"),
+    "confirm": Number(2, integer=True, lo=1, hi=100, doc="samples a match must last to drive"),
+    "hold_tolerance": Number(0.02, lo=0.0, hi=1.0,
+                             doc="a template's held stretch (within this of its spread) may last any time"),
     "max_spread": Number(0.15, lo=1e-3, hi=1.0),
     "relative_floor": Number(0.05, lo=0.0, hi=1.0),
 })
@@ -225,8 +240,9 @@ class MotionLoader:
             if how == "builtin" and self.kind == "sprite":
                 clip = self.rig.cycle()
             elif how == "builtin":
-                from behaviors.mop.creatures import creature_clips, face_clips
-                clip = (creature_clips() if self.kind == "creature" else face_clips())[what]
+                from behaviors.mop.creatures import creature_clips, face_clips, hybrid_clips
+                clip = {"creature": creature_clips, "face": face_clips,
+                        "hybrid": hybrid_clips}[self.kind]()[what]
             elif how == "deepmimic":
                 from behaviors.motion.deepmimic import load_motion
                 clip = load_motion(what)
@@ -276,6 +292,9 @@ def _make_rig(c: dict):
     if c["kind"] == "face":
         from behaviors.mop.creatures import FaceModel
         return FaceRig(FaceModel())
+    if c["kind"] == "hybrid":
+        from behaviors.mop.creatures import FaceModel, creature_skeleton
+        return HybridRig(PlanarRig(creature_skeleton()), FaceRig(FaceModel()), HYBRID_HEAD)
     from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf
     from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf
     urdf = c["skeleton"] or humanoid_urdf()
@@ -352,12 +371,15 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     params = dict(sigma=fo["sigma"], window=fo["window"], transitions=tuple(fo["transitions"]),
                   backward=fo["backward"], restart=fo["restart"], memory=fo["memory"],
                   null_distance=fo["null_distance"], null_memory=fo["null_memory"],
-                  onset=fo["onset"],
+                  onset=fo["onset"], accept_distance=fo["accept_distance"],
+                  invariance=fo["invariance"], scale_range=tuple(fo["scale_range"]),
+                  switch_margin=fo["switch_margin"], confirm=fo["confirm"],
+                  hold_tolerance=fo["hold_tolerance"],
                   max_spread=fo["max_spread"],
                   relative_floor=fo["relative_floor"])
 
-    def make_follower(templates):
-        return ActionFollower(templates, **params)
+    def make_follower(templates, units=None):
+        return ActionFollower(templates, units=units, **params)
 
     performers = {p["name"]: _make_performer(p) for p in options["performers"]}
     library: Path | None = options["library"]
