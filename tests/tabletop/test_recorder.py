@@ -25,7 +25,7 @@ def record(tmp_path: Path, seconds: float = 2.0) -> Path:
 def test_record_then_replay_gives_the_same_frames(tmp_path):
     path = record(tmp_path)
     header = read_header(path)
-    assert header["format"] == "tabletop-session" and header["version"] == 1
+    assert header["format"] == "tabletop-session" and header["version"] == 2
     assert header["config"]["sources"][0]["pucks"] == [1, 2, 5]
     recorded = list(read_frames(path))
     assert len(recorded) >= 100
@@ -88,6 +88,7 @@ def test_recorder_never_overwrites(tmp_path):
 
     p = tmp_path / "s.jsonl"
     p.write_text("precious\n")
-    with pytest.raises(SessionError, match="already exists"):
-        Recorder(p)
+    rec = Recorder(p, header={"format": "tabletop-session", "version": 2})
+    rec.close()
     assert p.read_text() == "precious\n"
+    assert rec.path == tmp_path / "s-2.jsonl" and read_header(rec.path)["version"] == 2
