@@ -103,10 +103,14 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 header: dict[str, Any] | None = None) -> list[Sink]:
     sinks: list[Sink] = []
     if view and cfg["view"]["enabled"]:
+        from tabletop.schema import ConfigError
         from tabletop.view import ProjectorView
-        sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
-                                   stop=stop, headless=headless,
-                                   homography=ctx.shared.get("table_to_projector")))
+        try:
+            sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
+                                       stop=stop, headless=headless,
+                                       homography=ctx.shared.get("table_to_projector")))
+        except ConfigError as exc:  # e.g. view.display: a display this machine does not have
+            raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {exc}") from None
     for s in cfg["sinks"]:
         sinks.append(registry.plugin_module("sink", s["kind"]).build(s, ctx))
     recorder = build_recorder(cfg, ctx, record_path, header)

@@ -19,6 +19,27 @@ from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, Fil
 # Sources that draw markers from the configured ids (so every id must be in the dictionary).
 MARKER_SOURCES = ("synthetic_camera",)
 
+class ImageFile(FilePath):
+    """An image file pygame can read (PNG, JPEG...): checked when the config is loaded."""
+
+    def __init__(self, doc: str = "") -> None:
+        super().__init__(kind="file", doc=doc)
+
+    def describe(self) -> str:
+        return "a path to an image file (PNG)"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        p = super().validate(value, path, ctx)
+        import os
+        os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+        import pygame
+        try:
+            pygame.image.load(str(p))
+        except (pygame.error, OSError, ValueError) as exc:
+            raise ctx.error(path, f"{value!r} is not an image pygame can read ({exc})") from None
+        return p
+
+
 TABLE = Record({
     "width": Number(1.2, lo=0.05, hi=20.0, doc="table length along x, metres"),
     "height": Number(0.8, lo=0.05, hi=20.0, doc="table width along y, metres"),
@@ -51,7 +72,7 @@ VIEW = Record({
     "margin_px": Number(24, integer=True, lo=0, hi=1000,
                         doc="border around the table when no calibration maps it"),
     "puck_radius": Number(0.03, lo=0.005, hi=0.5, doc="drawn puck radius, metres"),
-    "sprites": MapOf(FilePath(kind="file"), default={},
+    "sprites": MapOf(ImageFile(), default={},
                      doc="character name -> PNG drawn instead of the vector shape (facing +x)"),
 })
 

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 from typing import Any, Iterator
 
-from tabletop.commands import positive_number
+from tabletop.commands import number_in_range
 from tabletop.files import atomic_writer
 from tabletop.frames import InputError
 
@@ -53,10 +53,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="take the tracking section (detector, filter) from this config")
 
 
+MAX_FPS = 10_000.0        # frames per second: beyond any camera or video
+MAX_CAMERA_INDEX = 1023    # OpenCV's camera indices (V4L2 has /dev/video0 to /dev/video63)
+
+
 def parse_fps(text: str | None) -> float | None:
     if text is None:
         return None
-    return positive_number(text, "--fps", "frames per second", TrackInputError)
+    return number_in_range(text, "--fps", "frames per second", 0.001, MAX_FPS, TrackInputError)
 
 
 @contextlib.contextmanager
@@ -96,6 +100,8 @@ class FrameReader:
         self.is_camera = False
         path = Path(spec)
         if spec.isdigit() and not path.exists():
+            number_in_range(spec, "INPUT", f"a camera index (or a file or folder)", 0,
+                            MAX_CAMERA_INDEX, TrackInputError, integer=True)
             with _quiet_opencv(cv2):
                 self.capture = cv2.VideoCapture(int(spec))
             if not self.capture.isOpened():
