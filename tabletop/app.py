@@ -120,10 +120,12 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
 
 
 def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | None = None,
-               stats: LoopStats | None = None) -> Installation:
-    """A live installation from a validated config: sources, tracker, engines, view, recorder."""
+               stats: LoopStats | None = None,
+               stop: threading.Event | None = None) -> Installation:
+    """A live installation from a validated config: sources, tracker, engines, view, recorder.
+    ``stop`` (e.g. set by a signal while it is built) ends its run."""
     ctx = _context(cfg)
-    stats, commands, stop = stats or LoopStats(), CommandQueue(), threading.Event()
+    stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     tracker = build_tracker(cfg, ctx)
     ctx.shared["tracker"] = tracker

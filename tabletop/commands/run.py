@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import threading
 from pathlib import Path
 
 MAX_SECONDS = 10 * 365 * 86_400.0  # ten years: a longer run is a typing mistake
@@ -32,8 +33,9 @@ def main(args: argparse.Namespace) -> int:
         args.seconds, "--seconds", "seconds", 1e-3, MAX_SECONDS)
     configure_logging(args.verbose)
     cfg = load_config(args.config)
-    inst = build_live(cfg, headless=args.headless, record_path=args.record)
-    with stop_on_signals(inst.loop.stop):
+    stop = threading.Event()
+    with stop_on_signals(stop):  # a signal while building still ends the run cleanly
+        inst = build_live(cfg, headless=args.headless, record_path=args.record, stop=stop)
         ticks = inst.loop.run(seconds=seconds)
     st = inst.loop.stats
     summary = st.summary_ms()
