@@ -50,12 +50,16 @@ def next_number(folder: Path) -> int:
 
 
 def run_folder(root: Path) -> Path:
-    """A new, unused ``run-DATE-TIME`` subfolder name of ``root``."""
+    """A new ``run-DATE-TIME`` subfolder of ``root``, made now (so two runs never share one)."""
     stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+    root.mkdir(parents=True, exist_ok=True)
     candidate, n = root / f"run-{stamp}", 2
-    while candidate.exists():
-        candidate, n = root / f"run-{stamp}-{n}", n + 1
-    return candidate
+    while True:
+        try:
+            candidate.mkdir()
+            return candidate
+        except FileExistsError:
+            candidate, n = root / f"run-{stamp}-{n}", n + 1
 
 
 def prune(root: Path, keep: int, max_bytes: float) -> list[Path]:
