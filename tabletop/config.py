@@ -33,8 +33,10 @@ class ImageFile(FilePath):
         import os
         os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
         import pygame
+        from tabletop.quiet import quiet_stderr
         try:
-            pygame.image.load(str(p))
+            with quiet_stderr():  # libpng prints its own complaint
+                pygame.image.load(str(p))
         except (pygame.error, OSError, ValueError) as exc:
             raise ctx.error(path, f"{value!r} is not an image pygame can read ({exc})") from None
         return p

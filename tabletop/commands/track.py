@@ -13,7 +13,6 @@ import argparse
 import contextlib
 import json
 import math
-import os
 import sys
 import time
 from pathlib import Path
@@ -67,20 +66,15 @@ def parse_fps(text: str | None) -> float | None:
 def _quiet_opencv(cv2: Any) -> Iterator[None]:
     """Silence OpenCV's and its video back-ends' own messages (written straight to stderr) while
     opening a device or file: a failure is reported as one clear line instead."""
+    from tabletop.quiet import quiet_stderr
     log = getattr(getattr(cv2, "utils", None), "logging", None)
     level = log.getLogLevel() if log is not None else None
     if log is not None:
         log.setLogLevel(log.LOG_LEVEL_SILENT)
-    sys.stderr.flush()
-    saved = os.dup(2)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 2)
     try:
-        yield
+        with quiet_stderr():
+            yield
     finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-        os.close(devnull)
         if log is not None:
             log.setLogLevel(level)
 
