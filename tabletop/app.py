@@ -1,13 +1,12 @@
 """Wiring: builds the installation from a validated config and runs it until told to stop.
 
 Build order: puck tracker (shared with the camera sources for region-of-interest predictions),
-sources, engines (in config order), sinks (view, recorder, configured sinks). Ctrl-C and SIGTERM
-end the run cleanly: sources closed, the recording flushed and complete.
+sources, engines (in config order), sinks (view, recorder, configured sinks). Ctrl-C, SIGTERM and
+SIGHUP end the run cleanly: sources closed, the recording flushed and complete.
 """
 
 from __future__ import annotations
 
-import datetime as _dt
 import logging
 import signal
 import threading
@@ -17,7 +16,7 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from tabletop import registry
-from tabletop.frames import Engine, Sink
+from tabletop.frames import Engine, InputError, Sink
 from tabletop.loop import CommandQueue, FrameInputs, LatestMeasurements, LiveInputs, Loop, LoopStats
 from tabletop.registry import BuildContext
 
@@ -33,16 +32,35 @@ class Installation:
     engines: list[Engine] = field(default_factory=list)
     sinks: list[Sink] = field(default_factory=list)
 
+    @property
+    def recorder(self):
+        """The recorder sink, if this installation records."""
+        from tabletop.recorder import Recorder
+        return next((s for s in self.sinks if isinstance(s, Recorder)), None)
+
 
 def configure_logging(verbose: bool = False) -> None:
     logging.basicConfig(level=logging.DEBUG if verbose else logging.INFO,
                         format="tabletop: %(levelname)s: %(message)s")
 
 
-def _context(cfg: dict[str, Any]) -> BuildContext:
+def _context(cfg: dict[str, Any], calibration: dict[str, Any] | None = None) -> BuildContext:
+    """The build context; the installation's calibration (the top-level file, or a replayed
+    recording's) is shared first, so the view maps the table with it."""
     table = (cfg["table"]["width"], cfg["table"]["height"])
-    base = Path(cfg.get("_base", "."))
-    return BuildContext(table=table, rate_hz=cfg["loop"]["rate_hz"], config=cfg, base=base)
+    base = Path(getattr(cfg, "base", None) or cfg.get("_base", "."))
+    ctx = BuildContext(table=table, rate_hz=cfg["loop"]["rate_hz"], config=cfg, base=base)
+    from calibration.files import calibration_from_dict, load_calibration
+    loaded = None
+    if calibration is not None:
+        loaded = calibration_from_dict(calibration, "the recording's calibration")
+    elif cfg.get("calibration") is not None:
+        loaded = load_calibration(cfg["calibration"])
+    if loaded is not None:
+        ctx.shared.update(calibration=loaded, calibration_dict=loaded.to_dict())
+        if loaded.table_to_projector is not None:
+            ctx.shared["table_to_projector"] = loaded.table_to_projector
+    return ctx
 
 
 def build_tracker(cfg: dict[str, Any], ctx: BuildContext):
@@ -57,33 +75,57 @@ def build_engines(cfg: dict[str, Any], ctx: BuildContext) -> list[Engine]:
     return [registry.plugin_module("engine", e["kind"]).build(e, ctx) for e in cfg["engines"]]
 
 
+def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | None,
+                   header: dict[str, Any] | None = None) -> Sink | None:
+    """The recorder: to ``record_path`` when given, else as the ``recorder`` section says.
+    A folder that cannot be written fails at start-up naming its key."""
+    from tabletop.recorder import Recorder, session_header
+    from tabletop.schema import ConfigError
+    rec = cfg["recorder"]
+    if record_path is None and not rec["enabled"]:
+        return None
+    if header is None:
+        header = session_header(cfg, ctx.shared.get("calibration_dict"))
+    where = dict(path=record_path) if record_path is not None else (
+        dict(path=rec["path"]) if rec["path"] is not None else dict(folder=rec["folder"]))
+    try:
+        return Recorder(header=header, max_mb=rec["max_mb"], keep=rec["keep"], **where)
+    except InputError as exc:
+        if record_path is not None:
+            raise
+        key = "recorder.path" if rec["path"] is not None else "recorder.folder"
+        raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {key}: {exc}") from None
+
+
 def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 record_path: Path | None, stats: LoopStats, commands: CommandQueue,
-                stop: threading.Event, view: bool = True) -> list[Sink]:
+                stop: threading.Event, view: bool = True,
+                header: dict[str, Any] | None = None) -> list[Sink]:
     sinks: list[Sink] = []
     if view and cfg["view"]["enabled"]:
+        from tabletop.schema import ConfigError
         from tabletop.view import ProjectorView
-        sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
-                                   stop=stop, headless=headless,
-                                   homography=ctx.shared.get("table_to_projector")))
+        try:
+            sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
+                                       stop=stop, headless=headless,
+                                       homography=ctx.shared.get("table_to_projector")))
+        except ConfigError as exc:  # e.g. view.display: a display this machine does not have
+            raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {exc}") from None
     for s in cfg["sinks"]:
         sinks.append(registry.plugin_module("sink", s["kind"]).build(s, ctx))
-    rec = cfg["recorder"]
-    if record_path is None and rec["enabled"]:
-        stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
-        record_path = rec["path"] or Path(rec["folder"]) / f"session-{stamp}.jsonl"
-    if record_path is not None:
-        from tabletop.recorder import Recorder
-        sinks.append(Recorder(record_path, config=cfg,
-                              calibration=ctx.shared.get("calibration_dict")))
+    recorder = build_recorder(cfg, ctx, record_path, header)
+    if recorder is not None:
+        sinks.append(recorder)
     return sinks
 
 
 def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | None = None,
-               stats: LoopStats | None = None) -> Installation:
-    """A live installation from a validated config: sources, tracker, engines, view, recorder."""
+               stats: LoopStats | None = None,
+               stop: threading.Event | None = None) -> Installation:
+    """A live installation from a validated config: sources, tracker, engines, view, recorder.
+    ``stop`` (e.g. set by a signal while it is built) ends its run."""
     ctx = _context(cfg)
-    stats, commands, stop = stats or LoopStats(), CommandQueue(), threading.Event()
+    stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     tracker = build_tracker(cfg, ctx)
     ctx.shared["tracker"] = tracker
@@ -96,23 +138,33 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
 
 
 def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bool = False,
-                 record_path: Path | None = None, view: bool = True) -> Installation:
-    """Recorded frames fed through the engines and sinks of the recorded config."""
-    ctx = _context(cfg)
+                 record_path: Path | None = None, view: bool = True,
+                 header: dict[str, Any] | None = None) -> Installation:
+    """Recorded frames fed through the engines and sinks of the recorded config; ``header``
+    (the recording's) gives the calibration and heads a new recording made with ``record_path``."""
+    ctx = _context(cfg, (header or {}).get("calibration"))
     stats, commands, stop = LoopStats(), CommandQueue(), threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     cfg = dict(cfg, recorder=dict(cfg["recorder"], enabled=False))
     engines = build_engines(cfg, ctx)
-    sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, view=view)
+    out_header = None if header is None else {
+        k: v for k, v in header.items() if k not in ("created", "part")}
+    sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, view=view,
+                        header=out_header)
     loop = Loop(FrameInputs(frames, honour_times=not fast), engines, sinks,
                 rate_hz=cfg["loop"]["rate_hz"], stats=stats, commands=commands, stop=stop,
                 paced=False)
     return Installation(loop, ctx, engines, sinks)
 
 
+STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
+                     if hasattr(signal, n))
+
+
 @contextmanager
 def stop_on_signals(stop: threading.Event) -> Iterator[None]:
-    """Within the block, SIGINT and SIGTERM set ``stop`` instead of killing the process."""
+    """Within the block, SIGINT, SIGTERM and SIGHUP (a closed terminal or session) set ``stop``
+    instead of killing the process, so the run ends cleanly."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -121,7 +173,7 @@ def stop_on_signals(stop: threading.Event) -> Iterator[None]:
         log.info("%s received: stopping", signal.Signals(signum).name)
         stop.set()
 
-    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    old = {s: signal.signal(s, handler) for s in STOP_SIGNALS}
     try:
         yield
     finally:

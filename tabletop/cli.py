@@ -21,12 +21,19 @@ COMMANDS = ("run", "track", "behave", "follow", "calibrate", "replay")
 EXIT_BAD_INPUT = 2
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line (what is wrong, and where to read more)."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="tabletop",
         description="Tangible tabletop installation: pucks on a table drive projected characters.")
     parser.add_argument("--version", action="version", version=f"tabletop {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for name in COMMANDS:
         try:
             module = importlib.import_module(f"tabletop.commands.{name}")
@@ -42,6 +49,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    # OpenCV's own "[ WARN:0@...]" lines (a missing camera, a video back-end probing) are not for
+    # the user: every failure is reported as one clear line of ours instead.
+    os.environ.setdefault("OPENCV_LOG_LEVEL", "SILENT")
+    os.environ.setdefault("OPENCV_VIDEOIO_DEBUG", "0")
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "_main", None):
@@ -59,6 +70,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"{args._prog}: interrupted", file=sys.stderr)
         return 130
+    except MemoryError:
+        print(f"{args._prog}: error: out of memory (is an input or a number far too large?)",
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
     except Exception as exc:  # a bug, not bad input: one line, the traceback on request
         if os.environ.get("TABLETOP_DEBUG"):
             raise

@@ -12,8 +12,35 @@ from typing import Any
 
 from tabletop import registry
 from tabletop.files import read_yaml
-from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, ListOf, MapOf,
-                             Number, Optional_, Record, Spec, Str)
+from tabletop.frames import InputError
+from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
+                             MapOf, Number, Optional_, Record, Spec, Str)
+
+# Sources that draw markers from the configured ids (so every id must be in the dictionary).
+MARKER_SOURCES = ("synthetic_camera",)
+
+class ImageFile(FilePath):
+    """An image file pygame can read (PNG, JPEG...): checked when the config is loaded."""
+
+    def __init__(self, doc: str = "") -> None:
+        super().__init__(kind="file", doc=doc)
+
+    def describe(self) -> str:
+        return "a path to an image file (PNG)"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        p = super().validate(value, path, ctx)
+        import os
+        os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+        import pygame
+        from tabletop.quiet import quiet_stderr
+        try:
+            with quiet_stderr():  # libpng prints its own complaint
+                pygame.image.load(str(p))
+        except (pygame.error, OSError, ValueError) as exc:
+            raise ctx.error(path, f"{value!r} is not an image pygame can read ({exc})") from None
+        return p
+
 
 TABLE = Record({
     "width": Number(1.2, lo=0.05, hi=20.0, doc="table length along x, metres"),
@@ -32,19 +59,36 @@ VIEW = Record({
     "display": Number(0, integer=True, lo=0, hi=16, doc="display index for fullscreen"),
     "headless": Bool(False, doc="force the dummy video driver (no window)"),
     "overlay": Bool(False, doc="operator overlay shown at start (toggle with F1 or o)"),
-    "snapshot_every_s": Number(0.0, lo=0.0, doc="headless: save a PNG every N seconds (0: never)"),
+    "snapshot_every_s": Number(0.0, lo=0.0, hi=86_400.0,
+                               doc="save a PNG of the view every N seconds of wall-clock time, "
+                                   "with or without a window (0: never)"),
     "snapshot_folder": FilePath("snapshots", must_exist=False),
+    "snapshot_per_run": Bool(False, doc="each run in its own subfolder (else the numbering "
+                                        "continues from the highest snapshot in the folder)"),
+    "snapshot_keep": Number(2000, integer=True, lo=1, hi=10_000_000,
+                            doc="snapshots kept in the folder (the oldest are removed)"),
+    "snapshot_max_mb": Number(500.0, lo=1.0, hi=10_000_000.0,
+                              doc="megabytes of snapshots kept in the folder"),
+    "snapshot_overlay": Bool(True, doc="snapshots show the operator overlay (health at that "
+                                       "moment) even when the screen does not"),
     "margin_px": Number(24, integer=True, lo=0, hi=1000,
                         doc="border around the table when no calibration maps it"),
     "puck_radius": Number(0.03, lo=0.005, hi=0.5, doc="drawn puck radius, metres"),
-    "sprites": MapOf(FilePath(kind="file"), default={},
+    "sprites": MapOf(ImageFile(), default={},
                      doc="character name -> PNG drawn instead of the vector shape (facing +x)"),
 })
 
 RECORDER = Record({
     "enabled": Bool(False),
     "folder": FilePath("sessions", must_exist=False, doc="where session .jsonl files go"),
-    "path": Optional_(FilePath(must_exist=False), doc="exact session file (overrides folder)"),
+    "path": Optional_(FilePath(must_exist=False),
+                      doc="session file name (overrides folder); when it exists, the next free "
+                          "name NAME-2.jsonl, NAME-3.jsonl... is used, never overwritten"),
+    "max_mb": Number(200.0, lo=0.01, hi=1_000_000.0,
+                     doc="a recording reaching this size continues in a new file"),
+    "keep": Optional_(Number(integer=True, lo=1, hi=1_000_000),
+                      default=100, doc="recordings kept in the folder, the oldest removed "
+                                       "(null: all)"),
 })
 
 
@@ -89,6 +133,57 @@ def _unique_names(key: str):
 def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     for key in ("sources", "engines", "sinks"):
         _unique_names(key)(cfg, path, ctx)
+    _check_calibrations(cfg, ctx)
+    _check_marker_ids(cfg, ctx)
+
+
+def _check_calibrations(cfg: dict, ctx: Context) -> None:
+    """Every calibration file named in the config is read and checked now, not when (or if) a
+    camera first uses it: a malformed, 2x2 or singular one fails at start-up with its key."""
+    named = [("calibration", cfg["calibration"])]
+    named += [(f"sources[{i}].calibration", s.get("calibration"))
+              for i, s in enumerate(cfg["sources"])]
+    for key, path in named:
+        if path is None:
+            continue
+        from calibration.files import load_calibration
+        try:
+            load_calibration(path)
+        except InputError as exc:
+            raise ctx.error(key, str(exc)) from None
+
+
+def dictionary_size(name: str) -> int | None:
+    """How many marker ids OpenCV's predefined dictionary ``name`` holds (None: unknown name)."""
+    import cv2
+    code = getattr(cv2.aruco, name, None)
+    if not isinstance(code, int):
+        return None
+    return int(cv2.aruco.getPredefinedDictionary(code).bytesList.shape[0])
+
+
+def _check_marker_ids(cfg: dict, ctx: Context) -> None:
+    """Marker ids that are rendered or looked up must exist in their marker dictionary."""
+    tracking = cfg.get("tracking") or {}
+    default = tracking.get("dictionary")
+
+    def check(key: str, marker: int, name: str | None) -> None:
+        n = dictionary_size(name) if name else None
+        if n is not None and not 0 <= marker < n:
+            raise ctx.error(key, f"marker id {marker} is not in {name} (ids 0 to {n - 1}); "
+                                 "use a smaller id or a larger dictionary")
+
+    for key in tracking.get("puck_ids", {}):
+        if str(key).isdigit():
+            check(f"tracking.puck_ids.{key}", int(key), default)
+    for i, s in enumerate(cfg["sources"]):
+        if s["kind"] not in MARKER_SOURCES:
+            continue
+        name = s.get("dictionary") or default
+        for j, marker in enumerate(s.get("pucks", [])):
+            check(f"sources[{i}].pucks[{j}]", marker, name)
+        for j, perf in enumerate(s.get("performers", [])):
+            check(f"sources[{i}].performers[{j}].puck", perf["puck"], name)
 
 
 def tracking_schema() -> Spec:
@@ -111,16 +206,27 @@ def top_schema() -> Record:
     }, check=_check_all)
 
 
-def load_config(path: str | Path) -> dict[str, Any]:
+class Config(dict):
+    """A validated config (every default filled in), remembering where it came from: ``raw``,
+    the mapping as written; ``base``, the folder its relative paths are relative to; ``refs``,
+    the files and folders it names (a recording embeds them, see :mod:`tabletop.bundle`)."""
+
+    def __init__(self, values: dict[str, Any], raw: Any, base: Path, file: str,
+                 refs: list[FileRef]) -> None:
+        super().__init__(values)
+        self.raw, self.base, self.file, self.refs = raw, base, file, refs
+
+
+def load_config(path: str | Path) -> Config:
     """Read and validate a config file; returns the config with every default filled in."""
     p = Path(path)
     data = read_yaml(p, ConfigError, missing="config file not found")
     return validate_config(data, str(p), p.resolve().parent)
 
 
-def validate_config(data: Any, file: str = "<config>", base: Path | None = None) -> dict[str, Any]:
+def validate_config(data: Any, file: str = "<config>", base: Path | None = None) -> Config:
     """Validate an already parsed config mapping."""
     ctx = Context(file=file, base=base or Path.cwd())
     if data is None:
         raise ConfigError(f"{file}: the file is empty; expected a mapping with 'sources'")
-    return top_schema().validate(data, "", ctx)
+    return Config(top_schema().validate(data, "", ctx), data, ctx.base, file, ctx.refs)

@@ -32,14 +32,22 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
     folder, which replaces ``path`` (after fsync) only when the block ends without an error;
     on an error the temporary file is removed and ``path`` is untouched."""
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    if target.is_dir():
+        raise FileFormatError(f"{target}: is a folder; expected a file name to write")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise FileFormatError(f"{target}: cannot make its folder: {exc.strerror or exc}") from None
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
         with os.fdopen(fd, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
             yield f
             f.flush()
             os.fsync(f.fileno())
-        os.replace(tmp, target)
+        try:
+            os.replace(tmp, target)
+        except OSError as exc:
+            raise FileFormatError(f"{target}: cannot be written: {exc.strerror or exc}") from None
     except BaseException:
         try:
             os.unlink(tmp)
@@ -92,6 +100,15 @@ def write_csv(path: str | Path, header: Sequence[str], rows: Iterable[Sequence[f
 def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",
              min_rows: int = 1) -> tuple[list[str], np.ndarray]:
     """Read a numeric CSV with a header row; returns (column names, float array rows x columns).
+    See :func:`read_csv_lines`."""
+    header, data, _ = read_csv_lines(path, required, what, min_rows)
+    return header, data
+
+
+def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",
+                   min_rows: int = 1) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """Read a numeric CSV with a header row; returns (column names, float array rows x columns,
+    the file line number of each row).
 
     Raises FileFormatError for a missing or unreadable file, an empty file, a header without the
     ``required`` columns, duplicate columns, a row of the wrong length, a non-numeric or
@@ -123,6 +140,7 @@ def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV fi
             f"{p}: line {first + 1}: missing column(s) {', '.join(missing)}; "
             f"expected header {','.join(required)}, got {','.join(header)}")
     data: list[list[float]] = []
+    numbers: list[int] = []
     for i in range(first + 1, len(rows)):
         r = rows[i]
         if not any(c.strip() for c in r):
@@ -142,23 +160,54 @@ def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV fi
                     f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is not a finite number")
             vals.append(v)
         data.append(vals)
+        numbers.append(i + 1)
     if len(data) < min_rows:
         raise FileFormatError(
             f"{p}: {what} has {len(data)} data row(s), needs at least {min_rows}")
-    return header, np.asarray(data, dtype=float).reshape(len(data), len(header))
+    return (header, np.asarray(data, dtype=float).reshape(len(data), len(header)),
+            np.asarray(numbers, dtype=int))
+
+
+class UniqueKeyLoader(yaml.SafeLoader):
+    """YAML's safe loader refusing a key given twice in one mapping (YAML says keys are
+    unique; PyYAML would silently keep the last)."""
+
+
+def _unique_mapping(loader: UniqueKeyLoader, node: yaml.MappingNode, deep: bool = False) -> Any:
+    seen: set[Any] = set()
+    for key_node, _ in node.value:
+        if key_node.tag == "tag:yaml.org,2002:merge":
+            continue
+        key = loader.construct_object(key_node, deep=True)
+        try:
+            duplicate = key in seen
+            seen.add(key)
+        except TypeError:  # an unhashable key: the base constructor says so
+            break
+        if duplicate:
+            raise yaml.constructor.ConstructorError(
+                "while reading a mapping", node.start_mark,
+                f"key {key!r} is given twice (the second is on this line)", key_node.start_mark)
+    return yaml.SafeLoader.construct_mapping(loader, node, deep)
+
+
+UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _unique_mapping)
 
 
 def parse_yaml(text: str, file: str | Path, error: type[InputError] = FileFormatError,
                problem: str = "YAML syntax error") -> Any:
-    """Parse YAML text; a syntax error raises ``error`` naming the file, line and column."""
+    """Parse YAML text; a syntax error or a duplicate key raises ``error`` naming the file,
+    line and column."""
     try:
-        return yaml.safe_load(text)
+        return yaml.load(text, Loader=UniqueKeyLoader)
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
         raise error(f"{file}: {problem} at {where}: {exc.problem}") from None
     except yaml.YAMLError as exc:
         raise error(f"{file}: {problem}: {exc}") from None
+    except (ValueError, RecursionError) as exc:  # e.g. an integer of thousands of digits
+        raise error(f"{file}: {problem}: {type(exc).__name__}: {exc}") from None
 
 
 def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
@@ -175,11 +224,17 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
     return parse_yaml(text, p, error, problem)
 
 
-def check_increasing(t: np.ndarray, path: str | Path, column: str = "t") -> None:
-    """Raise FileFormatError unless times strictly increase (names the first bad data line)."""
+def check_increasing(t: np.ndarray, path: str | Path, column: str = "t",
+                     lines: Sequence[int] | None = None) -> None:
+    """Raise FileFormatError unless times strictly increase; names the first bad row by its
+    file line (``lines``, from :func:`read_csv_lines`) or else by its data row number."""
     bad = np.flatnonzero(np.diff(t) <= 0)
     if bad.size:
         i = int(bad[0]) + 1
+        if lines is not None:
+            where, before = f"line {int(lines[i])}", f"line {int(lines[i - 1])}"
+        else:
+            where, before = f"data row {i + 1}", f"row {i}"
         raise FileFormatError(
-            f"{path}: column {column!r} must strictly increase; data row {i + 1} "
-            f"({t[i]!r}) is not after row {i} ({t[i - 1]!r})")
+            f"{path}: {where}: column {column!r} must strictly increase; {float(t[i])!r} is "
+            f"not after {float(t[i - 1])!r} ({before})")

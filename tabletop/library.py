@@ -25,7 +25,7 @@ import numpy as np
 import yaml
 
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, format_csv,
-                            fsync_folder, read_csv, read_yaml)
+                            fsync_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
 from tabletop.schema import ConfigError, Context, FilePath, Number, Record, Spec, Str
 
@@ -110,8 +110,9 @@ def read_demonstration(path: str | Path) -> np.ndarray:
     that is not a finite number, fewer than two rows or times that do not strictly increase.
     """
     try:
-        header, data = read_csv(path, required=COLUMNS, what="demonstration", min_rows=2)
-        check_increasing(data[:, header.index("t")], path)
+        header, data, lines = read_csv_lines(path, required=COLUMNS, what="demonstration",
+                                             min_rows=2)
+        check_increasing(data[:, header.index("t")], path, lines=lines)
     except FileFormatError as exc:
         raise LibraryError(str(exc)) from None
     return data[:, [header.index(c) for c in COLUMNS]]

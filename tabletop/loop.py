@@ -146,6 +146,8 @@ class LiveInputs:
     yet is stamped with the loop's own time. Times never go backwards.
     """
 
+    live = True  # frame times are this machine's capture times (capture-to-render is measured)
+
     def __init__(self, sources: Sequence[Source], tracker: Tracker) -> None:
         self.sources, self.tracker = list(sources), tracker
         self._last_t = -math.inf
@@ -251,7 +253,7 @@ class Loop:
         st.record("engines", t2 - t1)
         st.record("sinks", t3 - t2)
         st.record("tick", t3 - t0)
-        if frame.t <= t3:
+        if frame.t <= t3 and getattr(self.inputs, "live", True):
             st.record("capture_age", t3 - frame.t)
         st.tick_times.append(t3)
         if st.first_t is None:
@@ -306,8 +308,11 @@ class FrameInputs:
 
     Each recorded frame keeps its seq and t; its characters are dropped so the engines make them
     again. With ``honour_times`` the next frame is released when its recorded time, relative to the
-    first, has elapsed on the loop's clock.
+    first, has elapsed on the loop's clock. Recorded times are not this machine's capture
+    times, so no capture-to-render latency is measured.
     """
+
+    live = False
 
     def __init__(self, frames: Iterator[Frame], honour_times: bool = True,
                  clock: Callable[[], float] = time.monotonic) -> None:

@@ -1,10 +1,17 @@
-"""Session recordings: JSON Lines, a header line then one frame per line.
+"""The recorder sink: session recordings a kiosk can rely on (format: :mod:`tabletop.session`).
 
-Header: ``{"format": "tabletop-session", "version": 1, "created": ISO date, "config": {...},
-"calibration": {...} | null}``. Frame lines carry seq, t (seconds, relative to the recording's
-first frame, see DESIGN.md "Time"), pucks, touches, streams, characters and commands, with floats
-written exactly (shortest repr round-trips). The recorder flushes twice a second and fsyncs when
-closed; a reader accepts a recording whose last line was cut short by a power cut and says so.
+- Self-contained: the header carries the config as written and every file it refers to
+  (:func:`session_header`), so a recording replays on another machine.
+- Never overwrites and never collides: a folder gets ``session-DATE-TIME-MICROSECONDS.jsonl``
+  and an exact ``path`` that exists already continues as ``NAME-2.jsonl``, ``NAME-3.jsonl``...;
+  files are created exclusively, so two runs starting at once get two names.
+- Bounded: a file reaching ``max_mb`` continues in a new file (the next part, its own header,
+  times still counted from the session's start); ``keep`` removes the oldest recordings of the
+  same naming in that folder.
+- A write that fails (a full disk) stops recording with one clear log line; the installation
+  keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
+
+The recorder flushes twice a second (wall clock) and fsyncs each file when it is closed.
 """
 
 from __future__ import annotations
@@ -14,192 +21,199 @@ import json
 import logging
 import math
 import os
+import time
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable
 
-import numpy as np
-
-from tabletop.frames import CharacterState, Frame, InputError, Puck, Touch
+from tabletop import __version__
+from tabletop.frames import Frame
+# The format lives in tabletop.session; its names are re-exported for callers of this module.
+from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
+                              frame_to_dict, jsonable, read_frames, read_header)
 
 log = logging.getLogger("tabletop")
 
-FORMAT = "tabletop-session"
-VERSION = 1
+MB = 2**20
 
 
-class SessionError(InputError):
-    """A session recording is missing or malformed; names the file and line."""
-
-
-def _num(v: float) -> float | None:
-    return None if v is None or not math.isfinite(v) else float(v)
-
-
-def _unnum(v: Any) -> float:
-    return math.nan if v is None else float(v)
-
-
-def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
-    """A JSON-able dict of the frame with its time made relative to ``t0``."""
-    return {
-        "seq": frame.seq,
-        "t": frame.t - t0,
-        "pucks": [{"id": p.id, "x": p.x, "y": p.y, "angle": p.angle, "vx": p.vx, "vy": p.vy,
-                   "omega": p.omega, "state": p.state, "raw_x": _num(p.raw_x),
-                   "raw_y": _num(p.raw_y), "raw_angle": _num(p.raw_angle)} for p in frame.pucks],
-        "touches": [{"id": c.id, "x": c.x, "y": c.y, "vx": c.vx, "vy": c.vy} for c in frame.touches],
-        "streams": {k: v.tolist() for k, v in frame.streams.items()},
-        "characters": [_character_to_dict(c) for c in frame.characters],
-        "commands": list(frame.commands),
-        **({"focus": frame.focus} if frame.focus is not None else {}),
-    }
-
-
-def _character_to_dict(c: CharacterState) -> dict[str, Any]:
-    d: dict[str, Any] = {"name": c.name, "x": c.x, "y": c.y, "heading": c.heading, "kind": c.kind,
-                         "size": c.size, "color": list(c.color), "valid": c.valid}
-    if c.progress is not None:
-        d["progress"] = _num(c.progress)
-    if c.action is not None:
-        d["action"] = c.action
-    if c.points is not None:
-        d["points"] = c.points.tolist()
-        d["bones"] = [list(b) for b in c.bones]
-    if c.label:
-        d["label"] = c.label
-    return d
-
-
-def frame_from_dict(d: dict[str, Any]) -> Frame:
-    """Inverse of :func:`frame_to_dict` (times stay relative to the recording's start)."""
-    pucks = tuple(Puck(int(p["id"]), float(p["x"]), float(p["y"]), float(p["angle"]),
-                       float(p.get("vx", 0.0)), float(p.get("vy", 0.0)), float(p.get("omega", 0.0)),
-                       p.get("state", "seen"), _unnum(p.get("raw_x")), _unnum(p.get("raw_y")),
-                       _unnum(p.get("raw_angle"))) for p in d.get("pucks", []))
-    touches = tuple(Touch(int(c["id"]), float(c["x"]), float(c["y"]), float(c.get("vx", 0.0)),
-                          float(c.get("vy", 0.0))) for c in d.get("touches", []))
-    streams = {k: np.asarray(v, dtype=float) for k, v in d.get("streams", {}).items()}
-    characters = tuple(
-        CharacterState(c["name"], float(c["x"]), float(c["y"]), float(c["heading"]),
-                       kind=c.get("kind", "reactor"), size=float(c.get("size", 0.08)),
-                       color=tuple(c.get("color", (240, 170, 60))),
-                       points=None if c.get("points") is None else np.asarray(c["points"], float),
-                       bones=tuple(tuple(b) for b in c.get("bones", ())),
-                       progress=None if "progress" not in c else _unnum(c["progress"]),
-                       action=c.get("action"), valid=bool(c.get("valid", True)),
-                       label=c.get("label", ""))
-        for c in d.get("characters", []))
-    return Frame(seq=int(d["seq"]), t=float(d["t"]), pucks=pucks, touches=touches,
-                 streams=streams, characters=characters, commands=tuple(d.get("commands", ())),
-                 focus=d.get("focus"))
-
-
-def jsonable(value: Any) -> Any:
-    """Config values (paths, tuples, numpy numbers) as plain JSON types."""
-    if isinstance(value, dict):
-        return {str(k): jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [jsonable(v) for v in value]
-    if isinstance(value, Path):
-        return str(value)
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
-
-
-class Recorder:
-    """Sink writing every frame to a session file (JSON Lines)."""
-
-    name = "recorder"
-
-    def __init__(self, path: str | Path, config: dict[str, Any] | None = None,
-                 calibration: dict[str, Any] | None = None, flush_every_s: float = 0.5) -> None:
-        self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        if self.path.exists():
-            raise SessionError(f"{self.path}: already exists; a recording is never overwritten")
-        self._f = open(self.path, "x", encoding="utf-8")
-        header = {"format": FORMAT, "version": VERSION,
-                  "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-                  "config": jsonable(config or {}), "calibration": jsonable(calibration)}
-        self._f.write(json.dumps(header, separators=(",", ":")) + "\n")
-        self._t0: float | None = None
-        self._last_flush = -math.inf
-        self.flush_every_s = flush_every_s
-        self.frames = 0
-
-    def consume(self, frame: Frame) -> None:
-        if self._f.closed:
-            return
-        if self._t0 is None:
-            self._t0 = frame.t
-        self._f.write(json.dumps(frame_to_dict(frame, self._t0), separators=(",", ":"),
-                                 allow_nan=False) + "\n")
-        self.frames += 1
-        if frame.t - self._last_flush >= self.flush_every_s:
-            self._f.flush()
-            self._last_flush = frame.t
-
-    def close(self) -> None:
-        if self._f.closed:
-            return
-        self._f.flush()
-        os.fsync(self._f.fileno())
-        self._f.close()
-        log.info("recording %s: %d frames", self.path, self.frames)
-
-
-def read_header(path: str | Path) -> dict[str, Any]:
-    """The header of a session file; raises SessionError if it is not one."""
-    p = Path(path)
-    try:
-        with open(p, encoding="utf-8") as f:
-            first = f.readline()
-    except FileNotFoundError:
-        raise SessionError(f"{p}: session recording not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SessionError(f"{p}: cannot read session recording: {exc}") from None
-    if not first.strip():
-        raise SessionError(f"{p}: empty file; expected a {FORMAT} header line")
-    try:
-        header = json.loads(first)
-    except json.JSONDecodeError as exc:
-        raise SessionError(f"{p}: line 1: not a JSON header ({exc.msg})") from None
-    if not isinstance(header, dict) or header.get("format") != FORMAT:
-        raise SessionError(f"{p}: line 1: not a {FORMAT} header")
-    if header.get("version") != VERSION:
-        raise SessionError(f"{p}: line 1: version {header.get('version')!r} is not supported "
-                           f"(this tabletop reads version {VERSION})")
+def session_header(config: Any, calibration: dict[str, Any] | None = None,
+                   **extra: Any) -> dict[str, Any]:
+    """The header of a recording of an installation built from ``config``: a validated
+    :class:`tabletop.config.Config` is carried as written with its files embedded; any other
+    mapping is written as it is."""
+    from tabletop.bundle import portable
+    raw, refs = getattr(config, "raw", None), getattr(config, "refs", None)
+    if raw is not None and refs is not None:
+        written, files, external = portable(raw, refs)
+    else:
+        written, files, external = config or {}, {}, []
+    header = {"format": FORMAT, "version": VERSION, "tabletop": __version__,
+              "config": jsonable(written), "files": files, "calibration": jsonable(calibration)}
+    if external:
+        header["external"] = external
+    header.update(extra)
     return header
 
 
-def read_frames(path: str | Path) -> Iterator[Frame]:
-    """The frames of a session file, in order. A malformed line raises SessionError naming it,
-    except a cut-short last line, which is skipped with a warning."""
-    p = Path(path)
-    read_header(p)
-    with open(p, encoding="utf-8") as f:
-        lines = iter(enumerate(f, start=1))
-        next(lines)
-        pending: tuple[int, str] | None = None
-        for item in lines:
-            if pending is not None:
-                yield _parse_line(p, *pending)
-            pending = item
-        if pending is not None:
-            n, line = pending
-            if not line.endswith("\n"):
-                try:
-                    yield _parse_line(p, n, line)
-                except SessionError:
-                    log.warning("%s: line %d is cut short (the recording was interrupted); "
-                                "skipped", p, n)
-            else:
-                yield _parse_line(p, n, line)
+def _stamp() -> str:
+    return _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
 
 
-def _parse_line(p: Path, n: int, line: str) -> Frame:
-    try:
-        return frame_from_dict(json.loads(line))
-    except (json.JSONDecodeError, KeyError, TypeError, ValueError) as exc:
-        raise SessionError(f"{p}: line {n}: not a valid frame ({exc})") from None
+class Recorder:
+    """Sink writing every frame to session files (JSON Lines); see the module docstring.
+
+    Exactly one of ``path`` (a file name) or ``folder`` is given. ``header``: from
+    :func:`session_header` (built once, written at the top of every part).
+    """
+
+    name = "recorder"
+
+    def __init__(self, path: str | Path | None = None, header: dict[str, Any] | None = None,
+                 folder: str | Path | None = None, max_mb: float | None = None,
+                 keep: int | None = None, flush_every_s: float = 0.5,
+                 clock: Callable[[], float] = time.monotonic, config: Any = None,
+                 calibration: dict[str, Any] | None = None) -> None:
+        if (path is None) == (folder is None):
+            raise ValueError("give exactly one of path or folder")
+        if header is None:
+            header = session_header(config, calibration)
+        self._header = dict(header)
+        if path is not None:
+            p = Path(path)
+            self.folder, self.stem, self.suffix = p.parent, p.stem, p.suffix or ".jsonl"
+        else:
+            self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"
+        self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
+        self.keep, self.flush_every_s, self.clock = keep, flush_every_s, clock
+        self.paths: list[Path] = []      # every file of this session, in order
+        self.frames = 0
+        self.failed: str | None = None   # why recording stopped early, if it did
+        self._f: Any = None
+        self._size = 0
+        self._t0: float | None = None
+        self._first_in_file = True
+        self._last_flush = -math.inf
+        try:
+            self._open_part()
+        except OSError as exc:
+            raise SessionError(f"{self.folder}: cannot start a recording there: "
+                               f"{exc.strerror or exc}") from None
+
+    @property
+    def path(self) -> Path:
+        """The file being written (the last one when finished)."""
+        return self.paths[-1]
+
+    # -- files --------------------------------------------------------------------------------
+
+    def _candidates(self):
+        if self.stem is None:
+            base = f"session-{_stamp()}"
+            yield self.folder / f"{base}{self.suffix}"
+        else:
+            base = self.stem
+            yield self.folder / f"{base}{self.suffix}"
+        for n in range(2, 1_000_000):
+            yield self.folder / f"{base}-{n}{self.suffix}"
+
+    def _open_part(self) -> None:
+        self.folder.mkdir(parents=True, exist_ok=True)
+        for candidate in self._candidates():
+            try:
+                f = open(candidate, "xb")
+            except FileExistsError:
+                continue
+            break
+        if self.paths:
+            log.info("recording continues in %s (%s reached %g MB)", candidate, self.path.name,
+                     self.max_bytes / MB)
+        elif self.stem is not None and candidate.name != f"{self.stem}{self.suffix}":
+            log.info("recording to %s (%s%s exists and is never overwritten)", candidate,
+                     self.stem, self.suffix)
+        self._f, self._size, self._first_in_file = f, 0, True
+        self.paths.append(candidate)
+        header = dict(self._header, part=len(self.paths),
+                      created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
+        self._write((json.dumps(header, separators=(",", ":")) + "\n").encode())
+        self._prune()
+
+    def _mine(self, p: Path) -> bool:
+        """Is ``p`` a recording of this recorder's naming (the ones ``keep`` counts)?"""
+        if p.suffix != self.suffix or not p.is_file():
+            return False
+        if self.stem is None:
+            return p.name.startswith("session-")
+        rest = p.stem[len(self.stem):]
+        return p.stem.startswith(self.stem) and (rest == "" or (rest[0] == "-" and rest[1:].isdigit()))
+
+    def _prune(self) -> None:
+        if self.keep is None:
+            return
+        try:
+            mine = [p for p in self.folder.iterdir() if self._mine(p)]
+            mine.sort(key=lambda p: (p.stat().st_mtime, p.name))
+            current = self.path
+            for old in mine[:max(0, len(mine) - self.keep)]:
+                if old != current:
+                    old.unlink()
+                    log.info("removed old recording %s (recorder.keep: %d)", old, self.keep)
+        except OSError as exc:
+            log.warning("old recordings in %s not removed: %s", self.folder, exc.strerror or exc)
+
+    def _write(self, data: bytes) -> None:
+        self._f.write(data)
+        self._size += len(data)
+
+    def _fail(self, exc: OSError) -> None:
+        self.failed = f"{self.path}: {exc.strerror or exc}"
+        log.error("recording stopped after %d frames: %s; the installation keeps running",
+                  self.frames, self.failed)
+        try:
+            self._f.close()
+        except OSError:
+            pass
+
+    # -- the sink -----------------------------------------------------------------------------
+
+    def consume(self, frame: Frame) -> None:
+        if self.failed is not None or self._f is None or self._f.closed:
+            return
+        d = frame_to_dict(frame, self._t0 if self._t0 is not None else frame.t)
+        if self._t0 is None:
+            self._t0 = frame.t
+        if self._first_in_file:
+            d["t0"] = self._t0
+        if self._t0 + d["t"] != frame.t:
+            d["t_mono"] = frame.t   # exactness: t0 + t would round differently
+        line = (json.dumps(d, separators=(",", ":"), allow_nan=False) + "\n").encode()
+        try:
+            if self.max_bytes is not None and not self._first_in_file and \
+                    self._size + len(line) > self.max_bytes:
+                self._close_file()
+                self._open_part()
+                d["t0"] = self._t0
+                line = (json.dumps(d, separators=(",", ":"), allow_nan=False) + "\n").encode()
+            self._write(line)
+            self._first_in_file = False
+            self.frames += 1
+            now = self.clock()
+            if now - self._last_flush >= self.flush_every_s:
+                self._f.flush()
+                self._last_flush = now
+        except OSError as exc:
+            self._fail(exc)
+
+    def _close_file(self) -> None:
+        self._f.flush()
+        os.fsync(self._f.fileno())
+        self._f.close()
+
+    def close(self) -> None:
+        if self.failed is not None or self._f is None or self._f.closed:
+            return
+        try:
+            self._close_file()
+        except OSError as exc:
+            self._fail(exc)
+            return
+        log.info("recording %s: %d frames", self.path, self.frames)

@@ -7,7 +7,8 @@ right. Validation is strict: unknown keys, wrong types and out-of-range values a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
@@ -27,14 +28,32 @@ REQUIRED: Any = _Required()
 
 
 @dataclass(frozen=True)
+class FileRef:
+    """A file or folder a config value refers to: its key path (``engines[0].behavior``), the
+    value as written, where it resolved, and whether a recording should carry its content."""
+
+    key: str
+    value: str
+    resolved: Path
+    embed: bool
+
+
+@dataclass(frozen=True)
 class Context:
-    """Where the value came from: the config file (for messages) and its folder (for paths)."""
+    """Where the value came from: the config file (for messages) and its folder (for paths).
+
+    ``refs`` collects every file the config refers to, so a recording can carry them."""
 
     file: str
     base: Path
+    refs: list[FileRef] = field(default_factory=list, compare=False)
 
     def error(self, path: str, message: str) -> ConfigError:
         return ConfigError(f"{self.file}: {path or '<top>'}: {message}")
+
+    def refer(self, key: str, value: str, resolved: Path, embed: bool = True) -> None:
+        """Note that the value at ``key`` names the file or folder ``resolved``."""
+        self.refs.append(FileRef(key, value, Path(resolved), embed))
 
 
 def _type_name(value: Any) -> str:
@@ -78,11 +97,16 @@ class Number(Spec):
         ok_types = (int,) if self.integer else (int, float)
         if isinstance(value, bool) or not isinstance(value, ok_types):
             raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
-        if value != value:  # NaN
-            raise ctx.error(path, f"expected {self.describe()}, got NaN")
+        if not self.integer:
+            try:
+                value = float(value)
+            except OverflowError:
+                raise ctx.error(path, f"expected {self.describe()}, got {value!r} (too large)") from None
+        if isinstance(value, float) and not math.isfinite(value):  # NaN, inf
+            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
         if (self.lo is not None and value < self.lo) or (self.hi is not None and value > self.hi):
             raise ctx.error(path, f"expected {self.describe()}, got {value!r} (out of range)")
-        return value if self.integer else float(value)
+        return value
 
 
 class Bool(Spec):
@@ -119,12 +143,15 @@ class Str(Spec):
 class FilePath(Spec):
     """A path relative to the config file's folder; ``must_exist`` checks it at load time.
 
-    ``kind`` is "file", "dir" or "any". Returns an absolute :class:`Path`.
+    ``kind`` is "file", "dir" or "any". Returns an absolute :class:`Path`. ``embed`` (default:
+    ``must_exist``): a session recording carries the content, so it replays anywhere (an output
+    folder such as the recorder's is not embedded).
     """
 
     def __init__(self, default: Any = REQUIRED, must_exist: bool = True, kind: str = "any",
-                 doc: str = "") -> None:
+                 doc: str = "", embed: bool | None = None) -> None:
         self.default, self.must_exist, self.kind, self.doc = default, must_exist, kind, doc
+        self.embed = must_exist if embed is None else embed
 
     def describe(self) -> str:
         return {"file": "a path to a file", "dir": "a path to a folder"}.get(self.kind, "a path")
@@ -142,6 +169,7 @@ class FilePath(Spec):
                 raise ctx.error(path, f"{value!r} is not a file")
             if self.kind == "dir" and not p.is_dir():
                 raise ctx.error(path, f"{value!r} is not a folder")
+        ctx.refer(path, value, p, self.embed)
         return p
 
 
@@ -226,7 +254,8 @@ class Record(Spec):
                 raise ctx.error(sub, f"missing; expected {spec.describe()}")
             else:
                 d = spec.default
-                out[key] = spec.validate(d, sub, ctx) if isinstance(spec, Record) else d
+                # A default path is relative to the config's folder, like a written one.
+                out[key] = spec.validate(d, sub, ctx) if isinstance(spec, (Record, FilePath)) else d
         if self.check is not None:
             self.check(out, path, ctx)
         return out

@@ -15,6 +15,7 @@ import logging
 import math
 import os
 import threading
+import time
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -25,6 +26,7 @@ import pygame  # noqa: E402
 
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
+from tabletop.snapshots import Snapshots  # noqa: E402
 
 log = logging.getLogger("tabletop")
 
@@ -237,7 +239,7 @@ class ProjectorView:
         pygame.display.init()
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
-        display = options["display"] if options["display"] < pygame.display.get_num_displays() else 0
+        display = 0 if self.headless else check_display(options["display"])
         self.screen = pygame.display.set_mode(size, flags, display=display)
         pygame.display.set_caption("Tabletop")
         pygame.mouse.set_visible(self.headless or not options["fullscreen"])
@@ -246,11 +248,12 @@ class ProjectorView:
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf
-        self.snapshot_every = float(options["snapshot_every_s"])
-        self.snapshot_folder = Path(options["snapshot_folder"])
-        self._next_snapshot: float | None = None
-        self._saver: threading.Thread | None = None
-        self.snapshots = 0
+        self.snapshots: Snapshots | None = None
+        if options["snapshot_every_s"] > 0:
+            self.snapshots = Snapshots(options["snapshot_folder"], options["snapshot_every_s"],
+                                       options["snapshot_keep"], options["snapshot_max_mb"],
+                                       options["snapshot_per_run"])
+        self.snapshot_overlay = bool(options["snapshot_overlay"])
 
     def consume(self, frame: Frame) -> None:
         self._events()
@@ -258,13 +261,14 @@ class ProjectorView:
         if self.show_overlay:
             # Figures are read by people: refreshing them four times a second is enough and
             # keeps the overlay's cost (percentiles, text) off most ticks.
-            if self._overlay is None or frame.t >= self._overlay_t + OVERLAY_REFRESH_S:
-                self._overlay, self._overlay_t = overlay_lines(frame, self.stats), frame.t
+            now = time.monotonic()  # the wall clock: a stalled camera stops the frames' times
+            if self._overlay is None or now >= self._overlay_t + OVERLAY_REFRESH_S:
+                self._overlay, self._overlay_t = overlay_lines(frame, self.stats), now
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
         pygame.display.flip()
-        if self.headless and self.snapshot_every > 0:
-            self._snapshot(frame.t)
+        if self.snapshots is not None and self.snapshots.due():
+            self._snapshot(frame)
 
     def _events(self) -> None:
         for ev in pygame.event.get():
@@ -277,33 +281,25 @@ class ProjectorView:
                 elif ev.key in KEY_COMMANDS and self.commands is not None:
                     self.commands.put(KEY_COMMANDS[ev.key])
 
-    def _snapshot(self, t: float) -> None:
-        if self._next_snapshot is None:
-            self._next_snapshot = t
-        if t < self._next_snapshot:
-            return
-        self._next_snapshot = t + self.snapshot_every
-        if self._saver is not None and self._saver.is_alive():
-            return  # the previous snapshot is still being written: never queue them
-        path = self.snapshot_folder / f"snapshot-{self.snapshots:05d}.png"
-        self.snapshots += 1
-        # Encoding a PNG takes tens of milliseconds: copy the pixels now, write in a thread.
-        self._saver = threading.Thread(target=save_png, args=(self.screen.copy(), path),
-                                       name="snapshot", daemon=True)
-        self._saver.start()
+    def _snapshot(self, frame: Frame) -> None:
+        """The view as it is, with the overlay of this moment (sources' health) unless shown."""
+        surface = self.screen
+        if self.snapshot_overlay and not self.show_overlay:
+            surface = self.screen.copy()
+            self.renderer.draw_overlay(surface, overlay_lines(frame, self.stats))
+        self.snapshots.save(surface)
 
     def close(self) -> None:
-        if self._saver is not None:
-            self._saver.join(timeout=5.0)
+        if self.snapshots is not None:
+            self.snapshots.close()
         pygame.display.quit()
 
 
-def save_png(surface: pygame.Surface, path: Path) -> None:
-    """Write ``surface`` to ``path`` as PNG atomically (temporary file, then rename)."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.tmp.png")
-        pygame.image.save(surface, str(tmp))
-        os.replace(tmp, path)
-    except (OSError, pygame.error) as exc:
-        log.warning("snapshot %s not saved: %s", path, exc)
+def check_display(index: int) -> int:
+    """``view.display`` if this machine has that display, else a ConfigError naming the key."""
+    n = pygame.display.get_num_displays()
+    if not 0 <= index < n:
+        from tabletop.schema import ConfigError
+        raise ConfigError(f"view.display: display {index} does not exist; this machine has {n} "
+                          f"display(s), 0 to {n - 1}")
+    return index

@@ -267,7 +267,8 @@ class CameraSource:
             if self._retry_at is not None:
                 message = f"{message}; reconnecting in {max(0.0, self._retry_at - now):.1f} s"
         if ok and age > self.settings.stall_s:
-            ok, message = False, f"no frame for {age:.1f} s"
+            ok, message = False, ("no frame yet" if math.isinf(age)
+                                  else f"no frame for {age:.1f} s")
         note = getattr(self.process, "note", "")  # e.g. "uncalibrated" from the processing
         if note:
             message = f"{message} ({note})"

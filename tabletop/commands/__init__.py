@@ -18,3 +18,18 @@ def positive_number(text: str, option: str, unit: str,
     if not math.isfinite(value) or value <= 0:
         raise error(f"{option} {text!r} must be a positive number of {unit}")
     return value
+
+
+def number_in_range(text: str | float, option: str, unit: str, lo: float, hi: float,
+                    error: type[InputError] = InputError, integer: bool = False) -> float:
+    """``text`` of command-line ``option`` as a finite number of ``unit`` in [lo, hi] (a whole
+    number with ``integer``); anything else raises ``error`` naming the option, the value and
+    the range."""
+    kind = "a whole number" if integer else "a number"
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise error(f"{option} {text!r} is not {kind} ({unit})") from None
+    if not math.isfinite(value) or not lo <= value <= hi or (integer and value != int(value)):
+        raise error(f"{option} {text!r} must be {kind} of {unit} from {lo:g} to {hi:g}")
+    return int(value) if integer else value

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from tabletop.commands import positive_number
+from tabletop.commands import number_in_range
 from tabletop.frames import InputError
 
 HELP = ("train a reactive behaviour from a demonstration CSV and generate the reactor's motion "
@@ -35,9 +35,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default: the bounds of the demonstration's positions)")
 
 
+MAX_RATE_HZ = 1000.0   # generation steps per second (the behaviours are made at 40)
+TABLE_M = (0.05, 20.0)  # metres: a table side, as config.yaml's table section
+
+
 def parse_rate(text: str) -> float:
-    """A positive finite rate in Hz."""
-    return positive_number(text, "--rate", "Hz", BehaveArgumentError)
+    """A rate in Hz from 1 to MAX_RATE_HZ."""
+    return number_in_range(text, "--rate", "Hz", 1.0, MAX_RATE_HZ, BehaveArgumentError)
 
 
 def parse_table(text: str) -> tuple[float, float, float, float]:
@@ -49,23 +53,27 @@ def parse_table(text: str) -> tuple[float, float, float, float]:
         w, h = float(parts[0]), float(parts[1])
     except ValueError:
         raise BehaveArgumentError(f"--table {text!r} must be W,H in metres, e.g. 1.6,1.0") from None
-    if not (math.isfinite(w) and math.isfinite(h)) or w <= 0 or h <= 0:
-        raise BehaveArgumentError(f"--table {text!r}: width and height must be positive metres")
+    lo, hi = TABLE_M
+    if not (math.isfinite(w) and math.isfinite(h)) or not (lo <= w <= hi and lo <= h <= hi):
+        raise BehaveArgumentError(f"--table {text!r}: width and height must be metres from "
+                                  f"{lo:g} to {hi:g}")
     return 0.0, 0.0, w, h
 
 
 def main(args: argparse.Namespace) -> int:
     from behaviors.puppet_master.engine import Behavior, Reactor
-    from tabletop.files import check_increasing, read_csv, write_csv
+    from tabletop.files import check_increasing, read_csv_lines, write_csv
 
     rate = parse_rate(args.rate)
     table = parse_table(args.table) if args.table is not None else None
-    header, demo = read_csv(args.train, DEMO_COLUMNS, what="demonstration CSV", min_rows=2)
+    header, demo, lines = read_csv_lines(args.train, DEMO_COLUMNS, what="demonstration CSV",
+                                         min_rows=2)
     demo = demo[:, [header.index(c) for c in DEMO_COLUMNS]]
-    check_increasing(demo[:, 0], args.train)
-    header, main_rows = read_csv(args.input, MAIN_COLUMNS, what="main path CSV", min_rows=1)
+    check_increasing(demo[:, 0], args.train, lines=lines)
+    header, main_rows, lines = read_csv_lines(args.input, MAIN_COLUMNS, what="main path CSV",
+                                              min_rows=1)
     main_rows = main_rows[:, [header.index(c) for c in MAIN_COLUMNS]]
-    check_increasing(main_rows[:, 0], args.input)
+    check_increasing(main_rows[:, 0], args.input, lines=lines)
     try:
         behavior = Behavior.train(demo, rate_hz=rate)
     except InputError as exc:

@@ -12,11 +12,14 @@ import argparse
 import re
 from pathlib import Path
 
+from tabletop.commands import number_in_range
 from tabletop.frames import InputError
 
 HELP = "follow a performance along action templates (MOP): progress, recognition, validity per row"
 
 _NAME = re.compile(r"^[A-Za-z0-9_.-]+$")
+SIGMA = (1e-3, 100.0)   # standardised units, as the mop engine's follower.sigma
+WINDOW = (1, 10_000)    # template samples
 
 
 class FollowArgumentError(InputError):
@@ -30,10 +33,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the performance: CSV with the templates' feature columns")
     p.add_argument("--out", required=True, type=Path, metavar="PROGRESS.csv",
                    help="output CSV, one row per input row")
-    p.add_argument("--sigma", type=float, default=0.2,
-                   help="observation spread relative to the pooled feature scale (default 0.2)")
-    p.add_argument("--window", type=int, default=15,
-                   help="half-width p of the forward window, in template samples (default 15)")
+    p.add_argument("--sigma", default="0.2", metavar="S",
+                   help=f"observation spread relative to the pooled feature scale, {SIGMA[0]:g} "
+                        f"to {SIGMA[1]:g} (default 0.2)")
+    p.add_argument("--window", default="15", metavar="N",
+                   help=f"half-width of the forward window, in template samples, {WINDOW[0]} to "
+                        f"{WINDOW[1]} (default 15)")
 
 
 def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
@@ -64,12 +69,12 @@ def main(args: argparse.Namespace) -> int:
     import numpy as np
 
     from behaviors.mop.follower import ActionFollower, TemplateError
-    from tabletop.files import check_increasing, read_csv, write_csv
+    from tabletop.files import check_increasing, read_csv, read_csv_lines, write_csv
 
-    if not (args.sigma > 0 and np.isfinite(args.sigma)):
-        raise FollowArgumentError(f"--sigma must be a positive number, got {args.sigma}")
-    if args.window < 1:
-        raise FollowArgumentError(f"--window must be at least 1, got {args.window}")
+    sigma = number_in_range(args.sigma, "--sigma", "standardised units", *SIGMA,
+                            FollowArgumentError)
+    window = number_in_range(args.window, "--window", "template samples", *WINDOW,
+                             FollowArgumentError, integer=True)
     pairs = parse_template_args(args.template)
     templates: dict[str, np.ndarray] = {}
     columns: list[str] | None = None
@@ -89,7 +94,7 @@ def main(args: argparse.Namespace) -> int:
         order = [names.index(c) for c in columns]
         templates[name] = feats[:, order]
     assert columns is not None
-    header, data = read_csv(args.input, what="performance CSV file", min_rows=1)
+    header, data, lines = read_csv_lines(args.input, what="performance CSV file", min_rows=1)
     names, feats = _features(args.input, header, data, "performance")
     if sorted(names) != sorted(columns):
         missing = [c for c in columns if c not in names]
@@ -102,11 +107,11 @@ def main(args: argparse.Namespace) -> int:
     perf = feats[:, [names.index(c) for c in columns]]
     if "t" in header:
         t = data[:, header.index("t")]
-        check_increasing(t, args.input)
+        check_increasing(t, args.input, lines=lines)
     else:
         t = np.arange(perf.shape[0], dtype=float)
 
-    follower = ActionFollower(templates, sigma=args.sigma, window=args.window)
+    follower = ActionFollower(templates, sigma=sigma, window=window)
     out_header = ["t", "best", "progress", "variance"]
     for name in templates:
         out_header += [f"p_{name}", f"progress_{name}"]

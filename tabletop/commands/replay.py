@@ -1,11 +1,23 @@
-"""``tabletop replay``: feed a session recording back through the same engines and view."""
+"""``tabletop replay``: feed a session recording back through the same engines and view.
+
+The recording's header carries the config and the files it refers to: they are unpacked into a
+temporary folder and the config is validated there, so a recording replays on any machine and
+from any folder. Frames are fed with the times the engines saw live, so the characters are made
+again exactly.
+"""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
+from tabletop.frames import InputError
+
 HELP = "replay a session recording (JSON Lines) through the engines and the view"
+
+
+class ReplayError(InputError):
+    """A bad ``replay`` argument."""
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -19,19 +31,42 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--verbose", action="store_true", help="log debug messages")
 
 
-def main(args: argparse.Namespace) -> int:
-    from tabletop.app import build_replay, configure_logging, stop_on_signals
-    from tabletop.config import validate_config
-    from tabletop.recorder import read_frames, read_header
+def check_out(out: Path | None) -> None:
+    """``--out`` must name a new file in a folder that exists or can be made."""
+    if out is None:
+        return
+    if out.is_dir():
+        raise ReplayError(f"--out {out}: is a folder; give a file name such as {out / 'replay.jsonl'}")
 
+
+def main(args: argparse.Namespace) -> int:
+    import logging
+    import tempfile
+
+    from tabletop.app import build_replay, configure_logging, stop_on_signals
+    from tabletop.bundle import extract
+    from tabletop.config import validate_config
+    from tabletop.recorder import SessionError, read_frames, read_header
+
+    check_out(args.out)
     configure_logging(args.verbose)
     header = read_header(args.session)
-    cfg = validate_config(header.get("config") or None, f"{args.session} (recorded config)",
-                          args.session.resolve().parent)
-    inst = build_replay(cfg, read_frames(args.session), fast=args.fast, headless=args.headless,
-                        record_path=args.out, view=not args.no_view)
-    with stop_on_signals(inst.loop.stop):
-        ticks = inst.loop.run()
-    import logging
+    with tempfile.TemporaryDirectory(prefix="tabletop-replay-") as tmp:
+        files = header.get("files")
+        if files is None:  # version 1: paths as they were on the recording machine
+            base = args.session.resolve().parent
+        else:
+            base = Path(tmp)
+            try:
+                extract(files, base)
+            except InputError as exc:
+                raise SessionError(f"{args.session}: line 1: {exc}") from None
+        cfg = validate_config(header.get("config") or None,
+                              f"{args.session} (recorded config)", base)
+        inst = build_replay(cfg, read_frames(args.session, absolute=True), fast=args.fast,
+                            headless=args.headless, record_path=args.out, view=not args.no_view,
+                            header=header)
+        with stop_on_signals(inst.loop.stop):
+            ticks = inst.loop.run()
     logging.getLogger("tabletop").info("replayed %d frames of %s", ticks, args.session)
     return 0

@@ -13,13 +13,12 @@ import argparse
 import contextlib
 import json
 import math
-import os
 import sys
 import time
 from pathlib import Path
 from typing import Any, Iterator
 
-from tabletop.commands import positive_number
+from tabletop.commands import number_in_range
 from tabletop.files import atomic_writer
 from tabletop.frames import InputError
 
@@ -53,30 +52,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="take the tracking section (detector, filter) from this config")
 
 
+MAX_FPS = 10_000.0        # frames per second: beyond any camera or video
+MAX_CAMERA_INDEX = 1023    # OpenCV's camera indices (V4L2 has /dev/video0 to /dev/video63)
+
+
 def parse_fps(text: str | None) -> float | None:
     if text is None:
         return None
-    return positive_number(text, "--fps", "frames per second", TrackInputError)
+    return number_in_range(text, "--fps", "frames per second", 0.001, MAX_FPS, TrackInputError)
 
 
 @contextlib.contextmanager
 def _quiet_opencv(cv2: Any) -> Iterator[None]:
     """Silence OpenCV's and its video back-ends' own messages (written straight to stderr) while
     opening a device or file: a failure is reported as one clear line instead."""
+    from tabletop.quiet import quiet_stderr
     log = getattr(getattr(cv2, "utils", None), "logging", None)
     level = log.getLogLevel() if log is not None else None
     if log is not None:
         log.setLogLevel(log.LOG_LEVEL_SILENT)
-    sys.stderr.flush()
-    saved = os.dup(2)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(devnull, 2)
     try:
-        yield
+        with quiet_stderr():
+            yield
     finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-        os.close(devnull)
         if log is not None:
             log.setLogLevel(level)
 
@@ -96,6 +94,8 @@ class FrameReader:
         self.is_camera = False
         path = Path(spec)
         if spec.isdigit() and not path.exists():
+            number_in_range(spec, "INPUT", f"a camera index (or a file or folder)", 0,
+                            MAX_CAMERA_INDEX, TrackInputError, integer=True)
             with _quiet_opencv(cv2):
                 self.capture = cv2.VideoCapture(int(spec))
             if not self.capture.isOpened():

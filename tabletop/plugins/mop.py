@@ -170,6 +170,14 @@ def resolve_motion(kind: str, motion: str, base: Path) -> tuple[str, Any]:
                    f"{', '.join(BUILTIN.get(kind, ()))}, or a .json clip file")
 
 
+def _check_motion(ctx: Context, key: str, kind: str, motion: str) -> None:
+    """Resolve a motion (MopError if it cannot be); a clip file is noted so a recording embeds
+    it."""
+    how, found = resolve_motion(kind, motion, ctx.base)
+    if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
+        ctx.refer(key, motion, found)
+
+
 def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     names = set()
     for i, p in enumerate(cfg["performers"]):
@@ -202,7 +210,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             if a["performer"] is not None and a["performer"] not in names:
                 raise ctx.error(f"{aw}.performer", f"no performer {a['performer']!r}")
             try:
-                resolve_motion(c["kind"], a["motion"], ctx.base)
+                _check_motion(ctx, f"{aw}.motion", c["kind"], a["motion"])
                 if a["warp"] is not None:
                     TimeWarp(a["warp"])
             except (MopError, ClipError) as exc:
@@ -210,14 +218,14 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                                 str(exc)) from None
         for j, m in enumerate(c["motions"]):
             try:
-                resolve_motion(c["kind"], m, ctx.base)
+                _check_motion(ctx, f"{where}.motions[{j}]", c["kind"], m)
             except MopError as exc:
                 raise ctx.error(f"{where}.motions[{j}]", str(exc)) from None
 
 
 SCHEMA = Record({
     "rate_hz": Number(30.0, lo=1.0, hi=1000.0, doc="follower steps per second"),
-    "library": Optional_(FilePath(must_exist=False, kind="dir"),
+    "library": Optional_(FilePath(must_exist=False, kind="dir", embed=True),
                          doc="folder of the designer's kept actions"),
     "follower": FOLLOWER,
     "performers": ListOf(PERFORMER, min_len=1),

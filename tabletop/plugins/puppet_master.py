@@ -32,7 +32,6 @@ dimmed). A main bound to a character must name an engine listed earlier in the c
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 from typing import Any
 
@@ -131,9 +130,12 @@ class PuppetMasterEngine:
                  behavior: Behavior | None = None, behavior_name: str = "",
                  color: tuple[int, int, int] = (240, 170, 60), size: float = 0.08,
                  designer: dict | None = None,
-                 rate_hz: float | None = None, clock=time.monotonic) -> None:
+                 rate_hz: float | None = None, clock=None) -> None:
         self.name, self.main, self.table = name, main, (0.0, 0.0, float(table[0]), float(table[1]))
+        # Messages time out on the frames' times (``clock``: another time source), so a
+        # replay reproduces the labels as well as the motion.
         self.color, self.size, self.rate_hz, self.clock = color, size, rate_hz, clock
+        self._now = -math.inf
         self.designer = designer if designer and designer["enabled"] else None
         self.behavior_name = behavior_name
         self.behavior: Behavior | None = None
@@ -202,6 +204,7 @@ class PuppetMasterEngine:
     # -- the engine step ------------------------------------------------------------------------
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
+        self._now = frame.t if self.clock is None else self.clock()
         if self.designer is not None:
             self._designer_commands(frame)
             if self.mode == "recording":
@@ -237,8 +240,7 @@ class PuppetMasterEngine:
         return self._character(x, y, d, False, self._label(frame, why))
 
     def _label(self, frame: Frame, status: str = "") -> str:
-        now = self.clock()
-        if now < self._message_until:
+        if self._now < self._message_until:
             status = self._message
         elif self.mode == "trying" and self.pending is not None:
             status = (f"trained {self.pending.samples} samples, try it: K keep, X discard, "
@@ -259,7 +261,7 @@ class PuppetMasterEngine:
         return " [selected]" if self._focused else " [Tab selects]"
 
     def _say(self, message: str) -> None:
-        self._message, self._message_until = message, self.clock() + MESSAGE_S
+        self._message, self._message_until = message, self._now + MESSAGE_S
 
     # -- designer mode --------------------------------------------------------------------------
 

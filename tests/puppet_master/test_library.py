@@ -88,7 +88,7 @@ def test_corrupt_description_is_refused_and_kept_byte_identical(tmp_path, demo, 
 @pytest.mark.parametrize("mutate, words", [
     (lambda lines: [lines[0].replace("react_dir", "react_angle")] + lines[1:],
      ["react_dir", "missing"]),
-    (lambda lines: lines[:5] + ["0.0,1,1,1,1,1,1"] + lines[6:], ["strictly increase", "row"]),
+    (lambda lines: lines[:5] + ["0.0,1,1,1,1,1,1"] + lines[6:], ["strictly increase", "line 6"]),
     (lambda lines: lines[:3] + ["0.05,nan,1,1,1,1,1"] + lines[4:], ["line 4", "finite"]),
     (lambda lines: lines[:3] + ["0.05,1,1,1"] + lines[4:], ["line 4", "4 values"]),
     (lambda lines: lines[:1], ["0 data row"]),

@@ -87,7 +87,7 @@ def _bad(tmp_path, name, text):
      ["demo.csv", "line 7", "react_y"]),
     ("order", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
         f"{t},0.5,0.5,0,0.2,0.5,0" for t in [0, 0.1, 0.05] + [0.2 + 0.025 * i for i in range(60)]]),
-     ["demo.csv", "strictly increase", "row 3"]),
+     ["demo.csv", "strictly increase", "line 4"]),
     ("column", lambda d: "\n".join([",".join(DEMO_HEADER[:-1])] + [
         f"{i * 0.025},0.5,0.5,0,0.2,0.5" for i in range(100)]),
      ["demo.csv", "missing", "react_dir"]),

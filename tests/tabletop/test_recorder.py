@@ -1,6 +1,7 @@
 """Recording and replay: a 2 s headless session replays frame by frame, and bad files are refused."""
 
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -25,7 +26,7 @@ def record(tmp_path: Path, seconds: float = 2.0) -> Path:
 def test_record_then_replay_gives_the_same_frames(tmp_path):
     path = record(tmp_path)
     header = read_header(path)
-    assert header["format"] == "tabletop-session" and header["version"] == 1
+    assert header["format"] == "tabletop-session" and header["version"] == 2
     assert header["config"]["sources"][0]["pucks"] == [1, 2, 5]
     recorded = list(read_frames(path))
     assert len(recorded) >= 100
@@ -88,6 +89,118 @@ def test_recorder_never_overwrites(tmp_path):
 
     p = tmp_path / "s.jsonl"
     p.write_text("precious\n")
-    with pytest.raises(SessionError, match="already exists"):
-        Recorder(p)
+    rec = Recorder(p, header={"format": "tabletop-session", "version": 2})
+    rec.close()
     assert p.read_text() == "precious\n"
+    assert rec.path == tmp_path / "s-2.jsonl" and read_header(rec.path)["version"] == 2
+
+
+# --- kiosk safety ------------------------------------------------------------------------------
+
+def kiosk_config(tmp_path: Path, **recorder) -> dict:
+    cfg = dict(CONFIG, view={"enabled": False}, recorder={"enabled": True, **recorder})
+    return validate_config(cfg, str(tmp_path / "kiosk.yaml"), tmp_path)
+
+
+def test_a_recorder_path_that_exists_continues_under_a_free_name(tmp_path):
+    cfg = kiosk_config(tmp_path, path="sessions/kiosk.jsonl")
+    for _ in range(3):  # three starts, as after reboots
+        build_live(cfg).loop.run(seconds=0.2)
+    names = sorted(p.name for p in (tmp_path / "sessions").iterdir())
+    assert names == ["kiosk-2.jsonl", "kiosk-3.jsonl", "kiosk.jsonl"]
+    assert all(len(list(read_frames(tmp_path / "sessions" / n))) > 3 for n in names)
+
+
+def test_two_recorders_started_at_once_never_collide(tmp_path):
+    from tabletop.recorder import Recorder
+
+    header = {"format": "tabletop-session", "version": 2}
+    recs = [Recorder(folder=tmp_path, header=header) for _ in range(5)]
+    assert len({r.path for r in recs}) == 5
+    for r in recs:
+        r.close()
+        assert read_header(r.path)["part"] == 1
+
+
+def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path):
+    old = tmp_path / "sessions" / "session-20000101-000000-000000.jsonl"
+    old.parent.mkdir()
+    old.write_text("{}\n")
+    os.utime(old, (1e9, 1e9))
+    cfg = kiosk_config(tmp_path, max_mb=0.01, keep=3)
+    inst = build_live(cfg)
+    inst.loop.run(seconds=1.5)
+    rec = inst.recorder
+    assert len(rec.paths) >= 4, "a 10 kB limit makes several parts of 1.5 s of frames"
+    kept = sorted((tmp_path / "sessions").iterdir())
+    assert kept == sorted(rec.paths[-3:]) and not old.exists()
+    t_prev = -1.0
+    for p in rec.paths[-3:]:
+        assert p.stat().st_size <= 0.01 * 2**20
+        header = read_header(p)
+        assert header["config"]["sources"][0]["pucks"] == [1, 2, 5]
+        frames = list(read_frames(p))
+        assert frames[0].t > t_prev  # times run on from part to part
+        t_prev = frames[-1].t
+        # each part replays on its own
+        replay_cfg = validate_config(header["config"], "recorded", tmp_path)
+        assert build_replay(replay_cfg, read_frames(p, absolute=True), fast=True,
+                            view=False).loop.run() == len(frames)
+
+
+def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path):
+    """A real write failure: the process may not grow a file beyond 64 kB (RLIMIT_FSIZE)."""
+    import resource
+    import signal
+    import subprocess
+    import sys
+
+    def limit() -> None:
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024, 64 * 1024))
+
+    cfg = tmp_path / "kiosk.yaml"
+    cfg.write_text("sources: [{kind: scripted, pucks: [1, 2, 5]}]\nview: {enabled: false}\n")
+    out = tmp_path / "full.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--seconds", "2", "--record", str(out)], capture_output=True, text=True,
+                       preexec_fn=limit, timeout=60)
+    assert r.returncode == 3, r.stderr
+    assert "Traceback" not in r.stderr
+    stopped = [ln for ln in r.stderr.splitlines() if "recording stopped" in ln]
+    assert len(stopped) == 1 and str(out) in stopped[0] and "File too large" in stopped[0]
+    ran = [ln for ln in r.stderr.splitlines() if "ran " in ln and " ticks" in ln]
+    assert ran and int(ran[0].split("ran ")[1].split()[0]) > 90  # it ran the whole 2 s
+    assert 0 < len(list(read_frames(out))) < 100  # what was written before is readable
+
+
+@pytest.mark.parametrize("line, words", [
+    (b"\xff\xfe\x00binary\n", ["line 3", "not UTF-8"]),
+    (b'{"seq": 1, "t": 1e12}\n', ["line 3", "t is 1000000000000.0"]),
+    (b'{"seq": 1, "t": NaN}\n', ["line 3", "t is nan"]),
+    (b'{"seq": 1, "t": -5.0}\n', ["line 3", "goes back in time"]),
+    (b'{"seq": 1, "t": 0.1, "pucks": [{"id": 1, "x": "far", "y": 0, "angle": 0}]}\n',
+     ["line 3", "not a valid frame"]),
+])
+def test_damaged_frame_lines_are_named(tmp_path, line, words):
+    p = tmp_path / "s.jsonl"
+    p.write_bytes(json.dumps({"format": "tabletop-session", "version": 2}).encode() + b"\n"
+                  + b'{"seq": 0, "t": 0.0}\n' + line + b'{"seq": 2, "t": 0.2}\n')
+    with pytest.raises(SessionError) as info:
+        list(read_frames(p))
+    for w in words:
+        assert w in str(info.value)
+
+
+def test_replay_feeds_the_engines_the_live_times_exactly(tmp_path):
+    path = record(tmp_path, seconds=0.5)
+    relative = list(read_frames(path))
+    absolute = list(read_frames(path, absolute=True))
+    assert relative[0].t == 0.0 and absolute[0].t > 0.0
+    t0 = absolute[0].t
+    assert all(a.t - t0 == r.t for a, r in zip(absolute, relative))
+    header = read_header(path)
+    inst = build_replay(validate_config(header["config"], "recorded", tmp_path),
+                        iter(absolute), fast=True, view=False, header=header)
+    inst.loop.run()
+    assert "capture_age" not in inst.loop.stats.summary_ms()  # no latency from another clock

@@ -1,0 +1,235 @@
+"""The session recording format: JSON Lines, a header line then one frame per line.
+
+Header: ``{"format": "tabletop-session", "version": 2, "created": ISO date, "config": {...}
+(as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}} (every file the
+config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null, "part": n}``.
+Version 1 headers (no ``files``) are still read.
+
+Frame lines carry ``seq``, ``t`` (seconds from the session's first frame), ``pucks``,
+``touches``, ``streams``, ``characters``, ``commands`` and ``focus``, with floats written exactly
+(shortest repr round-trips). So that a replay feeds the engines exactly the times they had live,
+the first frame of each file also carries ``t0`` (the session's first frame time, monotonic
+seconds of the recording machine), and a frame whose monotonic time is not exactly ``t0 + t``
+carries it as ``t_mono``. A reader accepts a file whose last line was cut short by a power cut.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+from pathlib import Path
+from typing import Any, Iterator
+
+import numpy as np
+
+from tabletop.frames import CharacterState, Frame, InputError, Puck, Touch
+
+log = logging.getLogger("tabletop")
+
+FORMAT = "tabletop-session"
+VERSION = 2
+READABLE = (1, 2)
+MAX_T = 1e8   # seconds (three years): a larger recorded time is damage, not a session
+
+
+class SessionError(InputError):
+    """A session recording is missing or malformed; names the file and line."""
+
+
+def _num(v: float) -> float | None:
+    return None if v is None or not math.isfinite(v) else float(v)
+
+
+def _unnum(v: Any) -> float:
+    return math.nan if v is None else float(v)
+
+
+def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
+    """A JSON-able dict of the frame with its time made relative to ``t0``."""
+    return {
+        "seq": frame.seq,
+        "t": frame.t - t0,
+        "pucks": [{"id": p.id, "x": p.x, "y": p.y, "angle": p.angle, "vx": p.vx, "vy": p.vy,
+                   "omega": p.omega, "state": p.state, "raw_x": _num(p.raw_x),
+                   "raw_y": _num(p.raw_y), "raw_angle": _num(p.raw_angle)} for p in frame.pucks],
+        "touches": [{"id": c.id, "x": c.x, "y": c.y, "vx": c.vx, "vy": c.vy} for c in frame.touches],
+        "streams": {k: v.tolist() for k, v in frame.streams.items()},
+        "characters": [_character_to_dict(c) for c in frame.characters],
+        "commands": list(frame.commands),
+        **({"focus": frame.focus} if frame.focus is not None else {}),
+    }
+
+
+def _character_to_dict(c: CharacterState) -> dict[str, Any]:
+    d: dict[str, Any] = {"name": c.name, "x": c.x, "y": c.y, "heading": c.heading, "kind": c.kind,
+                         "size": c.size, "color": list(c.color), "valid": c.valid}
+    if c.progress is not None:
+        d["progress"] = _num(c.progress)
+    if c.action is not None:
+        d["action"] = c.action
+    if c.points is not None:
+        d["points"] = c.points.tolist()
+        d["bones"] = [list(b) for b in c.bones]
+    if c.label:
+        d["label"] = c.label
+    return d
+
+
+def _finite(v: Any, what: str) -> float:
+    x = float(v)
+    if not math.isfinite(x):
+        raise ValueError(f"{what} is {v!r}, expected a finite number")
+    return x
+
+
+def frame_from_dict(d: dict[str, Any]) -> Frame:
+    """Inverse of :func:`frame_to_dict` (times stay relative to the recording's start)."""
+    if not isinstance(d, dict):
+        raise TypeError("expected a JSON object")
+    pucks = tuple(Puck(int(p["id"]), _finite(p["x"], "x"), _finite(p["y"], "y"),
+                       _finite(p["angle"], "angle"), float(p.get("vx", 0.0)),
+                       float(p.get("vy", 0.0)), float(p.get("omega", 0.0)),
+                       str(p.get("state", "seen")), _unnum(p.get("raw_x")), _unnum(p.get("raw_y")),
+                       _unnum(p.get("raw_angle"))) for p in d.get("pucks", []))
+    touches = tuple(Touch(int(c["id"]), _finite(c["x"], "x"), _finite(c["y"], "y"),
+                          float(c.get("vx", 0.0)), float(c.get("vy", 0.0)))
+                    for c in d.get("touches", []))
+    streams = {str(k): np.asarray(v, dtype=float).reshape(-1)
+               for k, v in dict(d.get("streams", {})).items()}
+    characters = tuple(
+        CharacterState(str(c["name"]), float(c["x"]), float(c["y"]), float(c["heading"]),
+                       kind=c.get("kind", "reactor"), size=float(c.get("size", 0.08)),
+                       color=tuple(c.get("color", (240, 170, 60))),
+                       points=None if c.get("points") is None else np.asarray(c["points"], float),
+                       bones=tuple(tuple(b) for b in c.get("bones", ())),
+                       progress=None if "progress" not in c else _unnum(c["progress"]),
+                       action=c.get("action"), valid=bool(c.get("valid", True)),
+                       label=c.get("label", ""))
+        for c in d.get("characters", []))
+    commands = d.get("commands", ())
+    if not isinstance(commands, (list, tuple)) or not all(isinstance(c, str) for c in commands):
+        raise ValueError("commands: expected a list of strings")
+    focus = d.get("focus")
+    if focus is not None and not isinstance(focus, str):
+        raise ValueError("focus: expected a string")
+    seq = d["seq"]
+    if isinstance(seq, bool) or not isinstance(seq, int) or seq < 0:
+        raise ValueError(f"seq is {seq!r}, expected a whole number >= 0")
+    t = _finite(d["t"], "t")
+    if abs(t) > MAX_T:
+        raise ValueError(f"t is {d['t']!r} s, beyond {MAX_T:g} s")
+    return Frame(seq=seq, t=t, pucks=pucks, touches=touches, streams=streams,
+                 characters=characters, commands=tuple(commands), focus=focus)
+
+
+def jsonable(value: Any) -> Any:
+    """Config values (paths, tuples, numpy numbers) as plain JSON types."""
+    if isinstance(value, dict):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, Path):
+        return str(value)
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _lines(p: Path) -> Iterator[tuple[int, bytes]]:
+    try:
+        with open(p, "rb") as f:
+            yield from enumerate(f, start=1)
+    except FileNotFoundError:
+        raise SessionError(f"{p}: session recording not found") from None
+    except IsADirectoryError:
+        raise SessionError(f"{p}: is a folder, expected a session recording (.jsonl)") from None
+    except OSError as exc:
+        raise SessionError(f"{p}: cannot read session recording: {exc.strerror or exc}") from None
+
+
+def _json(p: Path, n: int, raw: bytes) -> Any:
+    try:
+        return json.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise SessionError(f"{p}: line {n}: not UTF-8 text (a binary or damaged line)") from None
+    except (json.JSONDecodeError, RecursionError, ValueError) as exc:
+        msg = getattr(exc, "msg", None) or type(exc).__name__
+        raise SessionError(f"{p}: line {n}: not valid JSON ({msg})") from None
+
+
+def read_header(path: str | Path) -> dict[str, Any]:
+    """The header of a session file; raises SessionError if it is not one."""
+    p = Path(path)
+    first = next(_lines(p), None)
+    if first is None or not first[1].strip():
+        raise SessionError(f"{p}: empty file; expected a {FORMAT} header line")
+    try:
+        header = _json(p, 1, first[1])
+    except SessionError as exc:
+        raise SessionError(f"{exc} (expected a {FORMAT} header)") from None
+    if not isinstance(header, dict) or header.get("format") != FORMAT:
+        raise SessionError(f"{p}: line 1: not a {FORMAT} header")
+    if header.get("version") not in READABLE:
+        raise SessionError(f"{p}: line 1: version {header.get('version')!r} is not supported "
+                           f"(this tabletop reads versions {', '.join(map(str, READABLE))})")
+    for key, kind in (("config", dict), ("files", dict), ("calibration", dict)):
+        if header.get(key) is not None and not isinstance(header[key], kind):
+            raise SessionError(f"{p}: line 1: {key}: expected a mapping")
+    return header
+
+
+def read_frames(path: str | Path, absolute: bool = False) -> Iterator[Frame]:
+    """The frames of a session file, in order. A malformed line, or a time that is not a finite
+    number or goes backwards, raises SessionError naming it; a cut-short last line is skipped
+    with a warning. With ``absolute`` each frame has the monotonic time it had live (as the
+    engines saw it), else seconds from the session's first frame."""
+    p = Path(path)
+    read_header(p)
+    state = {"t0": None, "last": -math.inf}
+    lines = _lines(p)
+    next(lines)
+    pending: tuple[int, bytes] | None = None
+    for item in lines:
+        if pending is not None:
+            yield _parse_line(p, *pending, state, absolute)
+        pending = item
+    if pending is not None:
+        n, raw = pending
+        if not raw.endswith(b"\n"):
+            try:
+                frame = _parse_line(p, n, raw, state, absolute)
+            except SessionError:
+                log.warning("%s: line %d is cut short (the recording was interrupted); "
+                            "skipped", p, n)
+                return
+            yield frame
+        else:
+            yield _parse_line(p, n, raw, state, absolute)
+
+
+def _parse_line(p: Path, n: int, raw: bytes, state: dict, absolute: bool) -> Frame:
+    d = _json(p, n, raw)
+    try:
+        frame = frame_from_dict(d)
+        if "t0" in d:
+            state["t0"] = _finite(d["t0"], "t0")
+        t_mono = None if d.get("t_mono") is None else _finite(d["t_mono"], "t_mono")
+    except (KeyError, TypeError, ValueError, OverflowError) as exc:
+        what = f"missing {exc}" if isinstance(exc, KeyError) else str(exc)
+        raise SessionError(f"{p}: line {n}: not a valid frame ({what})") from None
+    if frame.t < state["last"]:
+        raise SessionError(f"{p}: line {n}: t {frame.t!r} goes back in time (the previous "
+                           f"frame's is {state['last']!r})")
+    state["last"] = frame.t
+    if not absolute:
+        return frame
+    if t_mono is not None:
+        t = t_mono
+    elif state["t0"] is not None:
+        t = state["t0"] + frame.t
+    else:
+        t = frame.t
+    return Frame(seq=frame.seq, t=t, pucks=frame.pucks, touches=frame.touches,
+                 streams=frame.streams, characters=frame.characters, commands=frame.commands,
+                 focus=frame.focus)

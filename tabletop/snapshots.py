@@ -1,0 +1,149 @@
+"""Snapshots of the projector view for a remote technician: a PNG every ``every_s`` seconds.
+
+- On the wall clock (monotonic), not on frame times: while a camera is down the frames' times
+  stand still, and the snapshots must go on showing it.
+- With or without a window.
+- Numbered ``snapshot-00000.png``...: the numbering continues from the highest snapshot already
+  in the folder (nothing is overwritten), or each run writes into its own subfolder
+  ``run-DATE-TIME`` (``per_run``).
+- Bounded: beyond ``keep`` snapshots or ``max_mb`` megabytes in the folder (its run subfolders
+  included), the oldest are removed.
+
+Encoding a PNG takes tens of milliseconds, so the pixels are copied at once and written by a
+thread, atomically; a snapshot still being written makes the next one wait, never queue.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import logging
+import os
+import re
+import threading
+import time
+from pathlib import Path
+from typing import Callable
+
+log = logging.getLogger("tabletop")
+
+NAME = re.compile(r"^snapshot-(\d+)\.png$")
+FIRST_AFTER_S = 5.0   # the first snapshot comes this soon (or after every_s, if sooner)
+
+
+def numbered(folder: Path) -> list[Path]:
+    """The snapshots in ``folder`` and its run subfolders."""
+    if not folder.is_dir():
+        return []
+    found = [p for p in folder.iterdir() if NAME.match(p.name)]
+    for sub in folder.iterdir():
+        if sub.is_dir() and sub.name.startswith("run-"):
+            found.extend(p for p in sub.iterdir() if NAME.match(p.name))
+    return found
+
+
+def next_number(folder: Path) -> int:
+    """One more than the highest snapshot number directly in ``folder`` (0 when none)."""
+    if not folder.is_dir():
+        return 0
+    numbers = [int(m.group(1)) for p in folder.iterdir() if (m := NAME.match(p.name))]
+    return max(numbers, default=-1) + 1
+
+
+def run_folder(root: Path) -> Path:
+    """A new ``run-DATE-TIME`` subfolder of ``root``, made now (so two runs never share one)."""
+    stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+    root.mkdir(parents=True, exist_ok=True)
+    candidate, n = root / f"run-{stamp}", 2
+    while True:
+        try:
+            candidate.mkdir()
+            return candidate
+        except FileExistsError:
+            candidate, n = root / f"run-{stamp}-{n}", n + 1
+
+
+def prune(root: Path, keep: int, max_bytes: float) -> list[Path]:
+    """Remove the oldest snapshots under ``root`` beyond ``keep`` files or ``max_bytes``;
+    returns the removed ones. Empty run subfolders go too."""
+    entries = []
+    for p in numbered(root):
+        try:
+            st = p.stat()
+        except OSError:
+            continue
+        entries.append((st.st_mtime, str(p), st.st_size, p))
+    entries.sort()
+    total = sum(e[2] for e in entries)
+    removed = []
+    for _, _, size, p in entries:
+        if len(entries) - len(removed) <= keep and total <= max_bytes:
+            break
+        try:
+            p.unlink()
+        except OSError as exc:
+            log.warning("old snapshot %s not removed: %s", p, exc.strerror or exc)
+            continue
+        removed.append(p)
+        total -= size
+        parent = p.parent
+        if parent != root and parent.name.startswith("run-") and not any(parent.iterdir()):
+            parent.rmdir()
+    return removed
+
+
+class Snapshots:
+    """When to take a snapshot and where it goes; :meth:`save` writes one (see the module)."""
+
+    def __init__(self, folder: str | Path, every_s: float, keep: int = 2000,
+                 max_mb: float = 500.0, per_run: bool = False,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.root = Path(folder)
+        self.folder = run_folder(self.root) if per_run else self.root
+        self.every_s, self.keep, self.max_bytes = float(every_s), int(keep), max_mb * 2**20
+        self.clock = clock
+        self.number: int | None = None   # found when the first snapshot is written
+        self.taken = 0
+        self._next = clock() + min(self.every_s, FIRST_AFTER_S)
+        self._saver: threading.Thread | None = None
+
+    def due(self) -> bool:
+        """True when a snapshot is due now (and the previous one has been written)."""
+        now = self.clock()
+        if now < self._next:
+            return False
+        if self._saver is not None and self._saver.is_alive():
+            return False
+        self._next += self.every_s * max(1, int((now - self._next) // self.every_s) + 1)
+        return True
+
+    def save(self, surface) -> Path:
+        """Write a copy of ``surface`` (a pygame Surface) as the next snapshot, in a thread."""
+        if self.number is None:
+            self.number = next_number(self.folder)
+        path = self.folder / f"snapshot-{self.number:05d}.png"
+        self.number += 1
+        self.taken += 1
+        self._saver = threading.Thread(target=self._write, args=(surface.copy(), path),
+                                       name="snapshot", daemon=True)
+        self._saver.start()
+        return path
+
+    def _write(self, surface, path: Path) -> None:
+        save_png(surface, path)
+        prune(self.root, self.keep, self.max_bytes)
+
+    def close(self) -> None:
+        if self._saver is not None:
+            self._saver.join(timeout=5.0)
+
+
+def save_png(surface, path: Path) -> None:
+    """Write ``surface`` to ``path`` as PNG atomically (temporary file, then rename)."""
+    import pygame
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.tmp.png")
+        pygame.image.save(surface, str(tmp))
+        os.replace(tmp, path)
+    except (OSError, pygame.error) as exc:
+        log.warning("snapshot %s not saved: %s", path, exc)

@@ -1,0 +1,170 @@
+"""Snapshots: on the wall clock (also while a camera is down), numbered on from earlier runs or
+in a folder per run, bounded in count and size, with the health of that moment, with a window."""
+
+import os
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pygame
+import pytest
+
+from tabletop.config import validate_config
+from tabletop.frames import Frame, Observation, SourceHealth
+from tabletop.loop import LatestMeasurements, LiveInputs, Loop, LoopStats
+from tabletop.snapshots import Snapshots, next_number, prune
+from tabletop.view import ProjectorView, overlay_lines
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def surface() -> pygame.Surface:
+    s = pygame.Surface((64, 48))
+    s.fill((200, 30, 30))
+    return s
+
+
+def take(snaps: Snapshots, clock: Clock, seconds: float, step: float = 0.05) -> list[Path]:
+    paths = []
+    end = clock.now + seconds
+    while clock.now < end:
+        clock.now += step
+        if snaps.due():
+            paths.append(snaps.save(surface()))
+            snaps.close()  # wait for the writer thread
+    return paths
+
+
+def test_due_on_the_clock_and_numbering_continues_across_runs(tmp_path):
+    clock = Clock()
+    first = Snapshots(tmp_path, every_s=1.0, clock=clock)
+    paths = take(first, clock, 4.0)
+    assert [p.name for p in paths] == [f"snapshot-0000{i}.png" for i in range(4)]
+    assert all(pygame.image.load(str(p)).get_size() == (64, 48) for p in paths)
+    (tmp_path / "snapshot-00009.png").write_bytes(paths[0].read_bytes())  # an older, higher one
+    second = Snapshots(tmp_path, every_s=1.0, clock=clock)
+    again = take(second, clock, 2.0)
+    assert [p.name for p in again] == ["snapshot-00010.png", "snapshot-00011.png"]
+    assert next_number(tmp_path) == 12
+
+
+def test_per_run_folders(tmp_path):
+    clock = Clock()
+    for _ in range(2):  # two runs in the same second
+        snaps = Snapshots(tmp_path, every_s=0.5, per_run=True, clock=clock)
+        assert [p.name for p in take(snaps, clock, 1.0)] == ["snapshot-00000.png",
+                                                              "snapshot-00001.png"]
+    folders = sorted(p for p in tmp_path.iterdir())
+    assert len(folders) == 2 and all(f.name.startswith("run-") for f in folders)
+
+
+def test_retention_by_count_and_by_size(tmp_path):
+    clock = Clock()
+    snaps = Snapshots(tmp_path, every_s=0.2, keep=5, clock=clock)
+    take(snaps, clock, 3.0)
+    left = sorted(p.name for p in tmp_path.iterdir())
+    assert len(left) == 5 and left[-1] == f"snapshot-{snaps.number - 1:05d}.png"
+    size = (tmp_path / left[0]).stat().st_size
+    removed = prune(tmp_path, keep=100, max_bytes=2.5 * size)
+    assert len(removed) == 3 and len(list(tmp_path.iterdir())) == 2
+
+
+class StalledCamera:
+    """A source whose newest observation stays the one of its first moment (a camera that
+    delivered a frame, then stalled): every frame's time stands still."""
+
+    name = "camera"
+
+    def __init__(self) -> None:
+        self.obs = Observation("camera", time.monotonic(), 1)
+
+    def open(self) -> None:
+        pass
+
+    def latest(self) -> Observation:
+        return self.obs
+
+    def health(self) -> SourceHealth:
+        age = time.monotonic() - self.obs.t
+        return SourceHealth(self.name, age < 0.5, f"no frame for {age:.1f} s", age)
+
+    def close(self) -> None:
+        pass
+
+
+def test_headless_snapshots_go_on_while_the_camera_is_down(tmp_path):
+    cfg = validate_config({"sources": [{"kind": "scripted"}],
+                           "view": {"headless": True, "size": [320, 200], "snapshot_every_s": 0.3,
+                                    "snapshot_folder": "snaps"}}, "test", tmp_path)
+    stats = LoopStats()
+    view = ProjectorView((1.2, 0.8), cfg["view"], stats=stats, headless=True)
+    loop = Loop(LiveInputs([StalledCamera()], LatestMeasurements()), [], [view], stats=stats)
+    loop.run(seconds=1.6)
+    snaps = sorted((tmp_path / "snaps").glob("snapshot-*.png"))
+    # the first after 0.3 s, then every 0.3 s: 5 in 1.6 s (the last may still be being written)
+    assert 4 <= len(snaps) <= 5, snaps
+    # The last one shows the health of its moment (the overlay drawn in the top-left corner).
+    first, last = (pygame.image.load(str(p)) for p in (snaps[0], snaps[-1]))
+    corner = (0, 0, 300, 60)
+    assert pygame.image.tobytes(first.subsurface(corner), "RGB") != \
+        pygame.image.tobytes(last.subsurface(corner), "RGB")
+
+
+class SilentDevice:
+    """A camera that opens but has not delivered a frame yet (read blocks until released)."""
+
+    paced_fps = None
+
+    def __init__(self) -> None:
+        self.released = threading.Event()
+
+    def read(self):
+        self.released.wait(5.0)
+        return None
+
+    def release(self) -> None:
+        self.released.set()
+
+
+def test_a_camera_without_a_frame_yet_is_down_but_not_inf_seconds_late():
+    from tracking.camera import CameraSettings, CameraSource
+    device = SilentDevice()
+    source = CameraSource("overhead", CameraSettings(device=0, stall_s=0.2),
+                          opener=lambda settings: device)
+    source.open()
+    try:
+        time.sleep(0.5)
+        health = source.health()
+    finally:
+        source.close()
+    assert not health.ok and health.message == "no frame yet"
+    line = overlay_lines(Frame(seq=0, t=0.0, health=(health,)), None)[-1]
+    assert "DOWN" in line and "inf" not in line
+
+
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="needs xvfb-run (a virtual X display)")
+def test_snapshots_with_a_window(tmp_path):
+    cfg = tmp_path / "window.yaml"
+    cfg.write_text("sources: [{kind: scripted}]\n"
+                   "view: {size: [320, 200], snapshot_every_s: 0.25, snapshot_folder: snaps}\n")
+    env = {k: v for k, v in os.environ.items() if k != "SDL_VIDEODRIVER"}
+    r = subprocess.run(["xvfb-run", "-a", sys.executable, "-m", "tabletop", "run", "--config",
+                        str(cfg), "--seconds", "1.5"], capture_output=True, text=True, env=env,
+                       cwd=ROOT, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert "headless" not in r.stderr  # a real window
+    snaps = sorted((tmp_path / "snaps").glob("snapshot-*.png"))
+    assert len(snaps) >= 4
+    img = pygame.image.load(str(snaps[-1]))
+    assert img.get_size() == (320, 200)

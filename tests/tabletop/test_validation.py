@@ -1,0 +1,198 @@
+"""Bad input found at start-up: one line naming the file and the key (config), or the option
+(command line), a non-zero exit, and nothing of OpenCV's or Python's internals."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from calibration.files import Calibration, save_calibration
+from tabletop.cli import main as tabletop
+
+BASE = "sources:\n  - kind: scripted\n    pucks: [1, 2]\nview: {enabled: false}\n"
+
+
+def run_config(tmp_path: Path, text: str, capfd, *extra: str) -> tuple[int, str]:
+    cfg = tmp_path / "kiosk.yaml"
+    cfg.write_text(text)
+    code = tabletop(["run", "--config", str(cfg), "--seconds", "0.2", "--headless", *extra])
+    return code, capfd.readouterr().err
+
+
+def one_line(err: str) -> str:
+    lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+    assert len(lines) == 1, err
+    assert "Traceback" not in err and "internal error" not in err
+    return lines[0]
+
+
+@pytest.mark.parametrize("content, words", [
+    ("just: garbage: [\n", ["YAML syntax error"]),
+    ("format: tabletop-calibration\nversion: 1\ncamera_to_table: [[1, 0], [0, 1]]\n",
+     ["camera_to_table", "3x3"]),
+    ("format: tabletop-calibration\nversion: 1\n"
+     "camera_to_table: [[1, 2, 3], [2, 4, 6], [0, 0, 1]]\n", ["singular"]),
+])
+def test_a_bad_top_level_calibration_fails_at_start_up(tmp_path, capfd, content, words):
+    (tmp_path / "calib.yaml").write_text(content)
+    code, err = run_config(tmp_path, BASE + "calibration: calib.yaml\n", capfd)
+    line = one_line(err)
+    assert code == 2 and "kiosk.yaml: calibration:" in line and "calib.yaml" in line
+    for w in words:
+        assert w in line
+
+
+def test_the_top_level_calibration_maps_the_view(tmp_path):
+    from tabletop.app import build_live
+    from tabletop.config import load_config
+
+    t2p = np.array([[500.0, 20.0, 100.0], [-10.0, -480.0, 600.0], [0.0, 0.0, 1.0]])
+    save_calibration(tmp_path / "calib.yaml",
+                     Calibration(camera_to_table=np.diag([0.001, 0.001, 1.0]), table_to_projector=t2p))
+    cfg_file = tmp_path / "c.yaml"
+    cfg_file.write_text("sources: [{kind: scripted}]\ncalibration: calib.yaml\n"
+                        "view: {headless: true, size: [640, 360]}\n")
+    inst = build_live(load_config(cfg_file), headless=True)
+    try:
+        view = inst.sinks[0]
+        np.testing.assert_allclose(view.renderer.map.H, t2p / t2p[2, 2])
+        assert view.renderer.map.point(0.1, 0.2) == pytest.approx((154.0, 503.0))
+    finally:
+        inst.loop.close()
+
+
+@pytest.mark.parametrize("snippet, key", [
+    ("sources:\n  - kind: synthetic_camera\n    pucks: [1, 50]\n", "sources[0].pucks[1]"),
+    ("sources:\n  - kind: synthetic_camera\n    pucks: []\n    performers:\n"
+     "      - {puck: 99, home: [0.5, 0.5], gestures: [g.csv]}\n", "sources[0].performers[0].puck"),
+    ("sources:\n  - kind: synthetic_camera\n    dictionary: DICT_4X4_100\n    pucks: [120]\n",
+     "sources[0].pucks[0]"),
+    ("sources:\n  - kind: scripted\ntracking:\n  puck_ids: {\"77\": 1}\n", "tracking.puck_ids.77"),
+])
+def test_marker_ids_outside_the_dictionary(tmp_path, capfd, snippet, key):
+    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
+    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
+    line = one_line(err)
+    assert code == 2 and f"kiosk.yaml: {key}: marker id" in line and "not in DICT_4X4" in line
+
+
+def test_a_key_given_twice(tmp_path, capfd):
+    code, err = run_config(tmp_path, BASE + "loop: {rate_hz: 30}\nloop: {rate_hz: 60}\n", capfd)
+    line = one_line(err)
+    assert code == 2 and "kiosk.yaml" in line and "'loop' is given twice" in line
+    assert "line 6" in line
+
+
+def test_a_sprite_that_is_not_an_image(tmp_path, capfd):
+    (tmp_path / "lover.png").write_bytes(b"\x89PNG but not really")
+    code, err = run_config(tmp_path, "sources: [{kind: scripted}]\n"
+                           "view: {sprites: {lover: lover.png}}\n", capfd)
+    line = one_line(err)
+    assert code == 2 and "kiosk.yaml: view.sprites.lover: 'lover.png' is not an image" in line
+
+
+def test_a_display_this_machine_does_not_have():
+    import os
+    os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+    import pygame
+    from tabletop.schema import ConfigError
+    from tabletop.view import check_display
+
+    pygame.display.init()
+    n = pygame.display.get_num_displays()
+    assert check_display(n - 1) == n - 1
+    with pytest.raises(ConfigError, match=f"view.display: display {n + 2} does not exist"):
+        check_display(n + 2)
+
+
+def test_a_recorder_folder_that_cannot_be_made(tmp_path, capfd):
+    code, err = run_config(tmp_path, BASE + "recorder: {enabled: true, folder: /proc/x}\n", capfd)
+    line = one_line(err)
+    assert code == 2 and "kiosk.yaml: recorder.folder:" in line and "/proc/x" in line
+
+
+@pytest.mark.parametrize("value", [".inf", "-.inf", ".nan", "1e999"])
+def test_numbers_must_be_finite(tmp_path, capfd, value):
+    code, err = run_config(tmp_path, BASE + f"table: {{width: 1.2, height: {value}}}\n", capfd)
+    assert code == 2 and "kiosk.yaml: table.height: expected a number" in one_line(err)
+
+
+# --- the command line ---------------------------------------------------------------------------
+
+def cli(capfd, *args: str) -> tuple[int, str]:
+    code = tabletop([str(a) for a in args])
+    return code, capfd.readouterr().err
+
+
+def test_a_huge_camera_index(tmp_path, capfd):
+    code, err = cli(capfd, "track", "99999999999", "--out", tmp_path / "o.jsonl")
+    line = one_line(err)
+    assert code == 2 and "INPUT '99999999999'" in line and "0 to 1023" in line
+
+
+@pytest.fixture
+def demo(tmp_path) -> Path:
+    rows = ["t,main_x,main_y,main_dir,react_x,react_y,react_dir"]
+    rows += [f"{i / 40},{0.3 + 0.002 * i},0.4,0,{0.5 + 0.001 * i},0.45,0" for i in range(120)]
+    p = tmp_path / "demo.csv"
+    p.write_text("\n".join(rows) + "\n")
+    return p
+
+
+@pytest.mark.parametrize("option, value, words", [
+    ("--rate", "1e9", ["--rate '1e9'", "from 1 to 1000"]),
+    ("--rate", "nan", ["--rate 'nan'"]),
+    ("--table", "1e-300,1", ["--table", "from 0.05 to 20"]),
+])
+def test_behave_numbers_in_range(tmp_path, capfd, demo, option, value, words):
+    code, err = cli(capfd, "behave", "--train", demo, "--input", demo, "--out",
+                    tmp_path / "o.csv", option, value)
+    line = one_line(err)
+    assert code == 2
+    for w in words:
+        assert w in line
+
+
+def test_behave_unsorted_times_name_the_file_line(tmp_path, capfd, demo):
+    main = tmp_path / "main.csv"
+    main.write_text("t,main_x,main_y,main_dir\n\n0,0.3,0.4,0\n60,0.3,0.4,0\n# \n59.9,0.3,0.4,0\n"
+                    .replace("# \n", "\n"))
+    code, err = cli(capfd, "behave", "--train", demo, "--input", main, "--out", tmp_path / "o.csv")
+    line = one_line(err)
+    assert code == 2 and "main.csv: line 6:" in line and "59.9 is not after 60.0 (line 4)" in line
+    assert "np.float64" not in line
+
+
+@pytest.mark.parametrize("option, value", [("--sigma", "1e-300"), ("--sigma", "inf"),
+                                           ("--window", "0"), ("--window", "2.5"),
+                                           ("--window", "1e12")])
+def test_follow_numbers_in_range(tmp_path, capfd, option, value):
+    tpl = tmp_path / "a.csv"
+    tpl.write_text("x,y\n0,0\n1,1\n2,2\n")
+    code, err = cli(capfd, "follow", "--template", f"a={tpl}", "--input", tpl, "--out",
+                    tmp_path / "o.csv", option, value)
+    line = one_line(err)
+    assert code == 2 and f"{option} '{value}'" in line
+
+
+@pytest.mark.parametrize("command", ["behave", "follow", "track", "replay"])
+def test_out_naming_a_folder_names_that_folder(tmp_path, capfd, demo, command):
+    out = tmp_path / "results"
+    out.mkdir()
+    args = {"behave": ["behave", "--train", demo, "--input", demo],
+            "follow": ["follow", "--template", f"a={demo}", "--input", demo],
+            "track": ["track", tmp_path],
+            "replay": ["replay", tmp_path / "absent.jsonl"]}[command]
+    if command == "track":
+        import cv2
+        cv2.imwrite(str(tmp_path / "f.png"), np.full((60, 80), 255, np.uint8))
+    code, err = cli(capfd, *args, "--out", out)
+    line = one_line(err)
+    assert code == 2 and str(out) in line and "folder" in line and ".tmp" not in line
+
+
+def test_a_usage_error_is_one_line(capfd):
+    with pytest.raises(SystemExit) as info:
+        tabletop(["behave", "--rate"])
+    err = capfd.readouterr().err
+    assert info.value.code == 2 and "--rate" in one_line(err)
