@@ -57,6 +57,15 @@ def build_engines(cfg: dict[str, Any], ctx: BuildContext) -> list[Engine]:
     return [registry.plugin_module("engine", e["kind"]).build(e, ctx) for e in cfg["engines"]]
 
 
+def projector_homography(cfg: dict[str, Any], ctx: BuildContext):
+    """The calibration's ``table_to_projector`` (a camera source's, else the config's), or
+    None: the view then fits the table into the window."""
+    if ctx.shared.get("table_to_projector") is not None or cfg.get("calibration") is None:
+        return ctx.shared.get("table_to_projector")
+    from calibration.files import load_calibration
+    return load_calibration(cfg["calibration"], require_table=False).table_to_projector
+
+
 def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 record_path: Path | None, stats: LoopStats, commands: CommandQueue,
                 stop: threading.Event, view: bool = True) -> list[Sink]:
@@ -65,7 +74,7 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
         from tabletop.view import ProjectorView
         sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
                                    stop=stop, headless=headless,
-                                   homography=ctx.shared.get("table_to_projector")))
+                                   homography=projector_homography(cfg, ctx)))
     for s in cfg["sinks"]:
         sinks.append(registry.plugin_module("sink", s["kind"]).build(s, ctx))
     rec = cfg["recorder"]
