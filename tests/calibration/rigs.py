@@ -52,3 +52,34 @@ def true_calibration(rig: SimulatedRig) -> Calibration:
     cam = rig.camera
     return Calibration(cam.image_to_table_homography(), rig.projector.H, cam.K, cam.dist,
                        (cam.w, cam.h))
+
+
+CORNER_PUCKS = [(1, 0.06, 0.06, 0.0), (2, 1.14, 0.06, 1.0), (3, 1.14, 0.74, 2.0),
+                (4, 0.06, 0.74, -1.0), (5, 0.6, 0.4, 0.5), (6, 0.3, 0.55, 2.5)]
+
+
+def fit_rig(rig: SimulatedRig) -> tuple[Calibration, int]:
+    """Camera -> table from 12 rendered markers (true lens), then table -> projector from the
+    projected pattern: (calibration, markers found)."""
+    from calibration.charuco import pattern_image
+    from calibration.fits import diagonal_centres, fit_table
+    from calibration.transforms import undistort_pixels
+    from tabletop.procam import fit_projector_images
+    from tracking.markers import DetectorSettings, detect_markers, make_detector, refine_corners
+    from tracking.rig import marker_layout
+    cam = rig.camera
+    rig.pucks = marker_layout(cam.s.table)
+    rig.show(None)
+    grey = rig.grab()
+    ids, corners = detect_markers(grey, make_detector(DetectorSettings()))
+    corners = refine_corners(grey, corners)
+    where = {p[0]: p[1:3] for p in rig.pucks}
+    ideal = diagonal_centres(undistort_pixels(corners.reshape(-1, 2), cam.K, cam.dist)
+                             .reshape(-1, 4, 2))
+    table_fit = fit_table(ideal, np.array([where[int(i)] for i in ids]))
+    cal = Calibration(table_fit.H, None, cam.K, cam.dist, (cam.w, cam.h))
+    rig.pucks = []
+    pattern = pattern_image(rig.size)
+    rig.show(pattern)
+    fit = fit_projector_images(pattern, "pattern", [("seen", rig.grab())], cal, cam.s.table)
+    return Calibration(table_fit.H, fit.H, cam.K, cam.dist, (cam.w, cam.h)), len(ids)

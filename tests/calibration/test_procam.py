@@ -4,15 +4,13 @@ crosses land under the pucks across the whole table, and a knocked projector fai
 import numpy as np
 import pytest
 
-from calibration.charuco import pattern_image
 from calibration.files import Calibration
-from calibration.fits import CHECK_MM, diagonal_centres, fit_table
-from calibration.transforms import FitError, apply_homography, table_grid, undistort_pixels
-from tabletop.procam import fit_projector_images, run_check
-from tracking.markers import DetectorSettings, detect_markers, make_detector, refine_corners
-from tracking.rig import marker_layout
+from calibration.fits import CHECK_MM, fit_table
+from calibration.transforms import FitError, apply_homography, table_grid
+from tabletop.procam import run_check
+from tracking.markers import DetectorSettings, make_detector
 
-from .rigs import table_rig, true_calibration
+from .rigs import CORNER_PUCKS, fit_rig, table_rig, true_calibration
 
 
 @pytest.fixture(scope="module")
@@ -22,24 +20,7 @@ def rig():
 
 @pytest.fixture(scope="module")
 def fitted(rig):
-    """Camera -> table from rendered markers, then table -> projector from the pattern."""
-    cam = rig.camera
-    rig.pucks = marker_layout(cam.s.table)
-    rig.show(None)
-    grey = rig.grab()
-    ids, corners = detect_markers(grey, make_detector(DetectorSettings()))
-    corners = refine_corners(grey, corners)
-    where = {p[0]: p[1:3] for p in rig.pucks}
-    ideal = diagonal_centres(undistort_pixels(corners.reshape(-1, 2), cam.K, cam.dist)
-                             .reshape(-1, 4, 2))
-    table_fit = fit_table(ideal, np.array([where[int(i)] for i in ids]))
-    cal = Calibration(table_fit.H, None, cam.K, cam.dist, (cam.w, cam.h))
-    rig.pucks = []
-    pattern = pattern_image(rig.size)
-    rig.show(pattern)
-    seen = rig.grab()
-    fit = fit_projector_images(pattern, "pattern", [("seen", seen)], cal, cam.s.table)
-    return Calibration(table_fit.H, fit.H, cam.K, cam.dist, (cam.w, cam.h)), len(ids)
+    return fit_rig(rig)
 
 
 def test_table_fit_maps_every_point_back_within_a_millimetre(rig, fitted):
@@ -55,10 +36,6 @@ def test_projector_fit_within_two_millimetres_corners_included(rig, fitted):
     grid = table_grid(rig.camera.s.table, 25, 17)
     landed = cal.projector_to_table(rig.projector.table_to_projector(grid))
     assert np.linalg.norm(landed - grid, axis=1).max() <= 0.002
-
-
-CORNER_PUCKS = [(1, 0.06, 0.06, 0.0), (2, 1.14, 0.06, 1.0), (3, 1.14, 0.74, 2.0),
-                (4, 0.06, 0.74, -1.0), (5, 0.6, 0.4, 0.5), (6, 0.3, 0.55, 2.5)]
 
 
 def test_crosses_land_under_pucks_and_a_knocked_projector_fails(rig, fitted):
