@@ -23,10 +23,10 @@ HELP = ("calibrate an installation: print the board, solve the camera lens, fit 
         "the projector, and check that crosses land under the pucks")
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
+DEFAULT_BOARD = "7x5:40:30:DICT_5X5_100"  # calibration.charuco's default (no OpenCV for --help)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from calibration.charuco import DEFAULT_BOARD
     sub = parser.add_subparsers(dest="step", metavar="STEP", required=True)
     board = "ChArUco board COLSxROWS:SQUARE_MM:MARKER_MM:DICTIONARY (default %(default)s)"
     p = sub.add_parser("board", help="draw the ChArUco board to print, and say its size")

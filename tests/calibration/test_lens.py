@@ -76,3 +76,8 @@ def test_coverage_counts_views_per_cell():
     pts = [np.array([[1.0, 1.0], [639.0, 479.0]]), np.array([[2.0, 3.0]])]
     c = coverage(pts, (640, 480), (4, 3))
     assert c[0, 0] == 2 and c[2, 3] == 1 and c.sum() == 3
+
+
+def test_command_line_default_board_is_the_library_default():
+    from tabletop.commands import calibrate
+    assert calibrate.DEFAULT_BOARD == DEFAULT_BOARD
