@@ -206,3 +206,15 @@ def test_check_from_a_config_passes_and_fails_when_the_projector_moved(tmp_path,
     assert code == 1 and stdout.strip().splitlines()[-1].startswith("FAIL: worst")
     save_calibration(tmp_path / "cal.yaml", Calibration(truth.camera_to_table))
     refused(capsys, "check", "--config", cfg_path, words="no table_to_projector")
+
+
+def test_live_steps_without_a_display_and_a_corrupt_file_are_refused(tmp_path, capsys,
+                                                                      monkeypatch):
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    refused(capsys, "camera", "--device", "0", "--out", tmp_path / "c.yaml",
+            words="needs a screen")
+    out = tmp_path / "c.yaml"
+    out.write_text("format: tabletop-calibration\nversion: 1\ncamera_to_table: [1, 2]\n")
+    refused(capsys, "projector", "--live", "--calibration", out, "--out", out,
+            words="camera_to_table")
+    assert out.read_text().endswith("[1, 2]\n")  # never overwritten

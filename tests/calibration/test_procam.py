@@ -83,3 +83,38 @@ def test_view_draws_pucks_through_table_to_projector(rig):
     surf.fill((0, 0, 0))
     plain.draw(surf, frame)
     assert tuple(surf.get_at((int(round(px[0])), int(round(px[1]))))[:3]) != tuple(at)
+
+
+def test_live_projector_loop_settles_on_a_stable_fit(rig, fitted):
+    """The ``--live`` loop on the simulated rig: pattern shown, frames fitted until three agree."""
+    from tabletop.procam import stable_projector_fit
+    cal, _ = fitted
+    rig.pucks = CORNER_PUCKS[4:]  # pucks left on the table hide a few corners
+    lens_and_table = type(cal)(cal.camera_to_table, None, cal.camera_matrix, cal.distortion)
+    fit = stable_projector_fit(rig, lens_and_table, rig.camera.s.table, max_frames=6)
+    grid = table_grid(rig.camera.s.table, 13, 9)
+    back = type(cal)(cal.camera_to_table, fit.H).projector_to_table(
+        rig.projector.table_to_projector(grid))
+    assert np.linalg.norm(back - grid, axis=1).max() <= 0.002
+    assert rig._shown is None  # the projector is dark again
+
+
+def test_capture_window_grabs_views_and_fills_the_coverage_map():
+    import cv2
+    import pygame
+    from calibration.charuco import DEFAULT_BOARD, make_board, parse_board
+    from tabletop.calibrate_ui import CaptureWindow, coverage_colours
+    from .rigs import board_views
+    _, _, views = board_views(2, seed=2)
+    det = cv2.aruco.CharucoDetector(make_board(parse_board(DEFAULT_BOARD)))
+    win = CaptureWindow("0", det)
+    assert not win.grab_view(np.full((480, 640), 128, np.uint8))  # no board: not kept
+    assert win.grab_view(views[0]) and win.grab_view(views[1])
+    pygame.font.init()
+    screen = pygame.Surface((640, 480))
+    win.draw(screen, views[0], pygame.font.Font(None, 20))
+    from calibration.charuco import coverage
+    counts = coverage(win.points, (640, 480), (8, 6))
+    colours = coverage_colours(counts)
+    assert counts.max() >= 1 and (counts == 0).any() and len(win.views) == 2
+    assert (colours[counts == 0] == (220, 40, 40)).all() and (colours[counts == 1] == (230, 170, 30)).all()
