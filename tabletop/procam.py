@@ -138,6 +138,10 @@ def run_check(procam: ProCam, calibration: Any, detector: Any) -> CheckResult:
                                     "calibrate projector` first")
     procam.show(None)
     dark = procam.grab()
+    size = calibration.image_size
+    if size is not None and tuple(size) != (dark.shape[1], dark.shape[0]):
+        raise CalibrationInputError(f"the camera delivers {dark.shape[1]}x{dark.shape[0]} "
+                                    f"pixels, the calibration is for {size[0]}x{size[1]}")
     ids, corners = detect_markers(dark, detector)
     if len(ids) == 0:
         raise CalibrationInputError("no puck is seen by the camera: put pucks on the table, "
@@ -176,7 +180,8 @@ def check_from_config(path: str) -> CheckResult:
     if src["kind"] == "synthetic_camera":
         procam = simulated_procam(src, cfg, tuple(view["size"]))
     else:
-        procam = LiveProCam(src["device"], int(view["display"]), tuple(view["size"]))
+        procam = LiveProCam(src["device"], int(view["display"]), tuple(view["size"]),
+                            resolution=src.get("resolution"))
     try:
         return run_check(procam, cal, detector)
     finally:
@@ -208,7 +213,7 @@ class LiveProCam:
     projector and the camera's exposure need a few frames)."""
 
     def __init__(self, device: Any, display: int, size: tuple[int, int] | None = None,
-                 settle_s: float = 0.4) -> None:
+                 settle_s: float = 0.4, resolution: Sequence[int] | None = None) -> None:
         import cv2
         os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
         import pygame
@@ -219,6 +224,9 @@ class LiveProCam:
         self.cap = cv2.VideoCapture(int(device) if str(device).isdigit() else device)
         if not self.cap.isOpened():
             raise CalibrationInputError(f"camera {device}: cannot be opened")
+        if resolution:
+            self.cap.set(cv2.CAP_PROP_FRAME_WIDTH, int(resolution[0]))
+            self.cap.set(cv2.CAP_PROP_FRAME_HEIGHT, int(resolution[1]))
         pygame.display.init()
         if display >= pygame.display.get_num_displays():
             raise CalibrationInputError(f"display {display}: only "

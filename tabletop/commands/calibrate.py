@@ -159,6 +159,15 @@ def save(out: str, **entries: Any) -> None:
     print(f"saved {out}" + (f" (previous file kept as {backup})" if backup else ""))
 
 
+def same_size(calibration: Any, image: np.ndarray, name: Any) -> None:
+    """Refuse an image whose size differs from the one the lens was calibrated at."""
+    size = None if calibration is None else calibration.image_size
+    h, w = image.shape[:2]
+    if size is not None and calibration.camera_matrix is not None and tuple(size) != (w, h):
+        raise CalibrateError(f"{name}: {w}x{h} pixels, but the lens was calibrated at "
+                             f"{size[0]}x{size[1]}; use the camera at that resolution")
+
+
 def refuse_or_force(over: bool, message: str, force: bool) -> None:
     """Refuse a result over its threshold (one line) unless ``force``."""
     if over and not force:
@@ -242,6 +251,7 @@ def table_main(args: argparse.Namespace) -> int:
     if args.calibration and lens is None:
         raise CalibrateError(f"{args.calibration}: calibration file not found")
     grey = read_image(args.image)
+    same_size(lens, grey, args.image)
     try:
         detector = make_detector(DetectorSettings(dictionary=args.dictionary))
     except ValueError as exc:
@@ -315,6 +325,8 @@ def projector_main(args: argparse.Namespace) -> int:
                                  "needed (or --live)")
         pattern = read_image(args.pattern)
         images = [(p, read_image(p)) for p in args.image]
+        for name, img in images:
+            same_size(cal, img, name)
         fit = fit_projector_images(pattern, args.pattern, images, cal, table)
     print(f"projector fit: residual {fit.rms_mm:.2f} mm RMS ({np.sqrt(np.mean(fit.residual ** 2)):.2f} "
           f"projector px), {fit.worst_mm:.2f} mm worst, {len(fit.residual)} pattern corners")

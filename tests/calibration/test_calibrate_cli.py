@@ -218,3 +218,13 @@ def test_live_steps_without_a_display_and_a_corrupt_file_are_refused(tmp_path, c
     refused(capsys, "projector", "--live", "--calibration", out, "--out", out,
             words="camera_to_table")
     assert out.read_text().endswith("[1, 2]\n")  # never overwritten
+
+
+def test_an_image_of_another_resolution_than_the_lens_is_refused(tmp_path, capsys, rig):
+    out = tmp_path / "cal.yaml"
+    save_calibration(out, lens_only(rig))
+    small = tmp_path / "small.png"
+    cv2.imwrite(str(small), np.full((480, 640), 128, np.uint8))
+    refused(capsys, "table", "--image", small, "--out", out, "--marker", "0=0,0",
+            "--marker", "1=1,0", "--marker", "2=1,1", "--marker", "3=0,1",
+            words="640x480 pixels, but the lens was calibrated at 1280x720")
