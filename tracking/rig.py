@@ -128,13 +128,17 @@ class LensRenderer:
     distorted-to-ideal pixel map is computed once per camera."""
 
     def __init__(self, K: np.ndarray, dist: np.ndarray, size: tuple[int, int],
-                 blur_sigma: float = 0.7, noise_sigma: float = 2.0, seed: int = 0) -> None:
+                 blur_sigma: float = 0.7, noise_sigma: float = 2.0, seed: int = 0,
+                 oversample: int = 2) -> None:
         self.K, self.dist, self.size = np.asarray(K, float), np.asarray(dist, float), size
         self.blur_sigma, self.noise_sigma = blur_sigma, noise_sigma
         self.rng = np.random.default_rng(seed)
+        self.n = n = max(1, int(oversample))
         w, h = size
-        yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
-        pts = np.stack([xx.ravel(), yy.ravel()], axis=1).reshape(-1, 1, 2)
+        # Sample points of each sensor pixel (n x n of them, averaged: the pixel's area).
+        yy, xx = np.mgrid[0:h * n, 0:w * n].astype(np.float32)
+        pts = np.stack([(xx.ravel() + 0.5) / n - 0.5, (yy.ravel() + 0.5) / n - 0.5],
+                       axis=1).reshape(-1, 1, 2)
         self.ideal = cv2.undistortPoints(pts, self.K, self.dist, P=self.K).reshape(-1, 2)
 
     def view(self, texture: np.ndarray, square_px: float, square_m: float,
@@ -147,10 +151,14 @@ class LensRenderer:
         S = np.array([[k, 0.0, 0.5 * k], [0.0, k, 0.5 * k], [0.0, 0.0, 1.0]])  # texel -> m
         R = cv2.Rodrigues(np.asarray(rvec, float))[0]
         H = self.K @ np.column_stack([R[:, 0], R[:, 1], np.asarray(tvec, float).ravel()]) @ S
-        tex = apply_homography(np.linalg.inv(H), self.ideal).reshape(h, w, 2).astype(np.float32)
+        n = self.n
+        tex = apply_homography(np.linalg.inv(H), self.ideal).reshape(h * n, w * n, 2)
+        tex = tex.astype(np.float32)
         paper = texture.astype(np.float32) * (200.0 / 255.0) + 30.0
         img = cv2.remap(paper, tex[..., 0], tex[..., 1], cv2.INTER_LINEAR,
                         borderMode=cv2.BORDER_CONSTANT, borderValue=90.0)
+        if n > 1:
+            img = img.reshape(h, n, w, n).mean(axis=(1, 3))
         if self.blur_sigma > 0:
             img = cv2.GaussianBlur(img, (0, 0), self.blur_sigma)
         if self.noise_sigma > 0:
@@ -162,7 +170,7 @@ def board_poses(K: np.ndarray, size: tuple[int, int], board_m: tuple[float, floa
                 seed: int = 0) -> list[tuple[np.ndarray, np.ndarray]]:
     """``n`` board poses (rvec, tvec) a careful technician would take: the board's centre at
     image positions cycling over the centre, the edges and the corners, tilted up to ~35
-    degrees each way, at distances where it fills a third to a half of the image."""
+    degrees each way, at distances where it fills half to two thirds of the image's width."""
     rng = np.random.default_rng(seed)
     w, h = size
     spots = [(0.5, 0.5), (0.15, 0.15), (0.85, 0.15), (0.85, 0.85), (0.15, 0.85),
@@ -172,7 +180,7 @@ def board_poses(K: np.ndarray, size: tuple[int, int], board_m: tuple[float, floa
     for i in range(n):
         u, v = spots[i % len(spots)]
         u, v = u + rng.uniform(-0.04, 0.04), v + rng.uniform(-0.04, 0.04)
-        dist = f * board_m[0] / (rng.uniform(0.4, 0.55) * w)
+        dist = f * board_m[0] / (rng.uniform(0.5, 0.65) * w)
         ray = np.linalg.inv(K) @ np.array([u * w, v * h, 1.0])
         centre = ray / ray[2] * dist
         ax, ay = rng.uniform(-0.6, 0.6, 2)
