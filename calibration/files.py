@@ -31,7 +31,9 @@ from typing import Any
 
 import numpy as np
 
-from tabletop.files import atomic_write_text, read_yaml
+from calibration.transforms import (apply_homography, distort_pixels, inverse, normalised,
+                                    undistort_pixels)
+from tabletop.files import atomic_write_bytes, atomic_write_text, read_yaml
 from tabletop.frames import InputError
 
 FORMAT = "tabletop-calibration"
@@ -43,29 +45,18 @@ class CalibrationError(InputError):
     """A calibration file is missing or malformed; the message names the file and the key."""
 
 
-def apply_homography(H: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Map points (N, 2) through the 3x3 homography ``H``; returns (N, 2) floats."""
-    p = np.asarray(points, dtype=float).reshape(-1, 2)
-    hp = p @ H[:, :2].T + H[:, 2]
-    return hp[:, :2] / hp[:, 2:3]
-
-
-def _normalised(H: np.ndarray) -> np.ndarray:
-    H = np.asarray(H, dtype=float)
-    return H / H[2, 2] if H[2, 2] != 0 else H
-
-
 @dataclass
 class Calibration:
     """Camera intrinsics (optional), camera -> table and table -> projector homographies.
 
-    ``camera_to_table``: 3x3, undistorted camera pixels -> table metres. ``table_to_projector``:
+    ``camera_to_table``: 3x3, undistorted camera pixels -> table metres (None in a file that so
+    far holds only the lens). ``table_to_projector``:
     3x3, table metres -> projector pixels, or None. ``camera_matrix`` (3x3) and ``distortion``
     (OpenCV's coefficients) describe the lens, or are None for an ideal camera.
     ``reprojection_error``: named residuals (pixels or metres as their names say).
     """
 
-    camera_to_table: np.ndarray
+    camera_to_table: np.ndarray | None
     table_to_projector: np.ndarray | None = None
     camera_matrix: np.ndarray | None = None
     distortion: np.ndarray | None = None
@@ -74,14 +65,16 @@ class Calibration:
     date: str = ""
 
     def __post_init__(self) -> None:
-        self.camera_to_table = _normalised(self.camera_to_table)
+        if self.camera_to_table is not None:
+            self.camera_to_table = normalised(self.camera_to_table)
         if self.table_to_projector is not None:
-            self.table_to_projector = _normalised(self.table_to_projector)
+            self.table_to_projector = normalised(self.table_to_projector)
         if self.camera_matrix is not None:
             self.camera_matrix = np.asarray(self.camera_matrix, dtype=float)
             d = np.zeros(5) if self.distortion is None else np.asarray(self.distortion, float)
             self.distortion = d.ravel()
-        self._table_to_camera = _normalised(np.linalg.inv(self.camera_to_table))
+        self._table_to_camera = (None if self.camera_to_table is None
+                                 else inverse(self.camera_to_table))
 
     @property
     def undistorts(self) -> bool:
@@ -91,13 +84,7 @@ class Calibration:
 
     def undistort(self, points_px: np.ndarray) -> np.ndarray:
         """Camera pixels (N, 2) -> ideal pinhole pixels of the same camera matrix (N, 2)."""
-        p = np.asarray(points_px, dtype=float).reshape(-1, 2)
-        if not self.undistorts or len(p) == 0:
-            return p.copy()
-        import cv2
-        out = cv2.undistortPoints(p.reshape(-1, 1, 2), self.camera_matrix, self.distortion,
-                                  P=self.camera_matrix)
-        return out.reshape(-1, 2).astype(float)
+        return undistort_pixels(points_px, self.camera_matrix, self.distortion)
 
     def image_to_table(self, points_px: np.ndarray) -> np.ndarray:
         """Camera pixels (N, 2) -> table metres (N, 2), undistorting first when a lens is known."""
@@ -106,14 +93,19 @@ class Calibration:
     def table_to_image(self, points_m: np.ndarray) -> np.ndarray:
         """Table metres (N, 2) -> camera pixels (N, 2), distorted as the lens would."""
         ideal = apply_homography(self._table_to_camera, points_m)
-        if not self.undistorts or len(ideal) == 0:
-            return ideal
-        import cv2
-        K = self.camera_matrix
-        norm = (ideal - K[:2, 2]) @ np.linalg.inv(K[:2, :2]).T
-        obj = np.column_stack([norm, np.ones(len(norm))])
-        img, _ = cv2.projectPoints(obj, np.zeros(3), np.zeros(3), K, self.distortion)
-        return img.reshape(-1, 2)
+        return distort_pixels(ideal, self.camera_matrix, self.distortion)
+
+    def table_to_projector_px(self, points_m: np.ndarray) -> np.ndarray:
+        """Table metres (N, 2) -> projector pixels (N, 2); ValueError without a projector fit."""
+        if self.table_to_projector is None:
+            raise ValueError("the calibration has no table_to_projector")
+        return apply_homography(self.table_to_projector, points_m)
+
+    def projector_to_table(self, points_px: np.ndarray) -> np.ndarray:
+        """Projector pixels (N, 2) -> table metres (N, 2); ValueError without a projector fit."""
+        if self.table_to_projector is None:
+            raise ValueError("the calibration has no table_to_projector")
+        return apply_homography(inverse(self.table_to_projector), points_px)
 
     def table_angle(self, points_px: np.ndarray) -> float:
         """Table heading (rad) of the image direction from ``points_px[0]`` to ``points_px[1]``."""
@@ -134,7 +126,8 @@ class Calibration:
             "date": self.date or _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "image_size": None if self.image_size is None else list(self.image_size),
             "intrinsics": intrinsics,
-            "camera_to_table": self.camera_to_table.tolist(),
+            "camera_to_table": (None if self.camera_to_table is None
+                                else self.camera_to_table.tolist()),
             "table_to_projector": (None if self.table_to_projector is None
                                    else self.table_to_projector.tolist()),
             "reprojection_error": {k: None if v is None else float(v) for k, v in errors.items()},
@@ -164,8 +157,10 @@ def _homography(value: Any, where: str, key: str) -> np.ndarray:
     return H
 
 
-def calibration_from_dict(data: Any, where: str = "<calibration>") -> Calibration:
-    """Validate parsed YAML content; ``where`` names the file in error messages."""
+def calibration_from_dict(data: Any, where: str = "<calibration>",
+                          require_table: bool = True) -> Calibration:
+    """Validate parsed YAML content; ``where`` names the file in error messages. With
+    ``require_table`` False, ``camera_to_table: null`` (a lens-only file) is accepted."""
     if not isinstance(data, dict):
         raise CalibrationError(f"{where}: expected a mapping with keys format, version, "
                                f"camera_to_table, ...; got {type(data).__name__}")
@@ -181,7 +176,13 @@ def calibration_from_dict(data: Any, where: str = "<calibration>") -> Calibratio
     if "camera_to_table" not in data:
         raise CalibrationError(f"{where}: camera_to_table: missing; expected a 3x3 homography "
                                "from camera pixels to table metres")
-    c2t = _homography(data["camera_to_table"], where, "camera_to_table")
+    if data["camera_to_table"] is None and not require_table:
+        c2t = None
+    elif data["camera_to_table"] is None:
+        raise CalibrationError(f"{where}: camera_to_table: null (only the lens is calibrated); "
+                               "run `tabletop calibrate table` first")
+    else:
+        c2t = _homography(data["camera_to_table"], where, "camera_to_table")
     t2p = data.get("table_to_projector")
     t2p = None if t2p is None else _homography(t2p, where, "table_to_projector")
     size = data.get("image_size")
@@ -227,13 +228,14 @@ def calibration_from_dict(data: Any, where: str = "<calibration>") -> Calibratio
     return Calibration(c2t, t2p, K, dist, size, dict(errors), date)
 
 
-def load_calibration(path: str | Path) -> Calibration:
-    """Read and validate a calibration file; CalibrationError names the file and the key."""
+def load_calibration(path: str | Path, require_table: bool = True) -> Calibration:
+    """Read and validate a calibration file; CalibrationError names the file and the key.
+    ``require_table`` False also accepts a file that holds only the lens so far."""
     p = Path(path)
     data = read_yaml(p, CalibrationError, missing="calibration file not found")
     if data is None:
         raise CalibrationError(f"{p}: the file is empty")
-    return calibration_from_dict(data, str(p))
+    return calibration_from_dict(data, str(p), require_table)
 
 
 def save_calibration(path: str | Path, calibration: Calibration) -> None:
@@ -242,3 +244,15 @@ def save_calibration(path: str | Path, calibration: Calibration) -> None:
     text = ("# Tabletop calibration: camera pixels <-> table metres <-> projector pixels.\n"
             + yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None))
     atomic_write_text(path, text)
+
+
+def save_with_backup(path: str | Path, calibration: Calibration) -> Path | None:
+    """Save ``calibration`` atomically; an existing file is first copied (atomically) to
+    ``PATH.bak``. Returns the backup's path, or None when there was no previous file."""
+    p = Path(path)
+    backup = None
+    if p.exists():
+        backup = p.with_name(p.name + ".bak")
+        atomic_write_bytes(backup, p.read_bytes())
+    save_calibration(p, calibration)
+    return backup

@@ -97,6 +97,15 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
         raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {key}: {exc}") from None
 
 
+def projector_homography(cfg: dict[str, Any], ctx: BuildContext):
+    """The calibration's ``table_to_projector`` (a camera source's, else the config's), or
+    None: the view then fits the table into the window."""
+    if ctx.shared.get("table_to_projector") is not None or cfg.get("calibration") is None:
+        return ctx.shared.get("table_to_projector")
+    from calibration.files import load_calibration
+    return load_calibration(cfg["calibration"], require_table=False).table_to_projector
+
+
 def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 record_path: Path | None, stats: LoopStats, commands: CommandQueue,
                 stop: threading.Event, view: bool = True,
@@ -108,7 +117,7 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
         try:
             sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
                                        stop=stop, headless=headless,
-                                       homography=ctx.shared.get("table_to_projector")))
+                                       homography=projector_homography(cfg, ctx)))
         except ConfigError as exc:  # e.g. view.display: a display this machine does not have
             raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {exc}") from None
     for s in cfg["sinks"]:

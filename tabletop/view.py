@@ -24,6 +24,7 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
+from calibration.transforms import apply_homography, fitted_rectangle  # noqa: E402
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.snapshots import Snapshots  # noqa: E402
@@ -53,7 +54,8 @@ def puck_color(puck_id: int) -> tuple[int, int, int]:
 
 
 class TableToScreen:
-    """Maps table metres to projector pixels with a 3x3 homography.
+    """Maps table metres to projector pixels with a 3x3 homography: the calibration's
+    ``table_to_projector`` when there is one (keystone and all).
 
     Without a calibration the table is fitted into the window with ``margin`` pixels around it,
     x to the right and y up (the table seen from above).
@@ -62,18 +64,12 @@ class TableToScreen:
     def __init__(self, table: tuple[float, float], size: tuple[int, int], margin: int = 24,
                  homography: np.ndarray | None = None) -> None:
         if homography is None:
-            w, h = table
-            s = min((size[0] - 2 * margin) / w, (size[1] - 2 * margin) / h)
-            ox = (size[0] - s * w) / 2
-            oy = (size[1] - s * h) / 2
-            homography = np.array([[s, 0.0, ox], [0.0, -s, oy + s * h], [0.0, 0.0, 1.0]])
+            homography = fitted_rectangle(table, size, margin)
         self.H = np.asarray(homography, dtype=float)
 
     def points(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) table metres -> (N, 2) pixels."""
-        xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-        q = xy @ self.H[:, :2].T + self.H[:, 2]
-        return q[:, :2] / q[:, 2:3]
+        return apply_homography(self.H, xy)
 
     def point(self, x: float, y: float) -> tuple[float, float]:
         p = self.points(np.array([[x, y]]))[0]
@@ -83,6 +79,13 @@ class TableToScreen:
         """Pixels per metre near (x, y)."""
         a, b = self.points(np.array([[x, y], [x + 0.01, y]]))
         return float(np.hypot(*(b - a)) / 0.01)
+
+    def angle_at(self, x: float, y: float, heading: float) -> float:
+        """The on-screen direction (rad, counter-clockwise as seen) of table ``heading`` at
+        (x, y): a projector's homography may turn or mirror the table."""
+        a, b = self.points(np.array([[x, y], [x + 0.01 * math.cos(heading),
+                                              y + 0.01 * math.sin(heading)]]))
+        return math.atan2(-(b[1] - a[1]), b[0] - a[0])
 
 
 def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
@@ -165,9 +168,7 @@ class Renderer:
     def _draw_sprite(self, target: pygame.Surface, c: CharacterState) -> None:
         img = self._sprites[c.name]
         px_size = c.size * self.map.scale_at(c.x, c.y)
-        # Screen y points down: a counter-clockwise table heading is a counter-clockwise rotation
-        # on screen when the table's y axis points up the screen (the uncalibrated fit).
-        deg = int(round(math.degrees(c.heading) / 2.0)) * 2
+        deg = int(round(math.degrees(self.map.angle_at(c.x, c.y, c.heading)) / 2.0)) * 2
         key = (c.name, deg % 360, int(px_size))
         surf = self._sprite_cache.get(key)
         if surf is None:

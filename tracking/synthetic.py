@@ -180,6 +180,18 @@ class SyntheticCamera:
         gain = 1.0 - s.lighting * np.clip(r / 1.1, 0.0, 1.0)
         self.gain = gain.astype(np.float32)
         self.background = np.clip(self.background * self.gain, 0, 255).astype(np.uint8)
+        self.unlit = self.background
+
+    def set_projection(self, light: np.ndarray | None) -> None:
+        """Light a projector throws on the table, as float grey levels (H, W) in ideal image
+        pixels at full reflectance (None: the projector is off). The table reflects it in
+        proportion to its own grey; every later frame shows it under the pucks."""
+        if light is None:
+            self.background = self.unlit
+        else:
+            lit = self.unlit * (1.0 + np.asarray(light, np.float32) / 255.0)
+            self.background = np.clip(lit, 0, 255).astype(np.uint8)
+        self._setup_optics()
 
     def _setup_textures(self) -> None:
         s = self.s

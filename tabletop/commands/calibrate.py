@@ -1,0 +1,355 @@
+"""``tabletop calibrate``: the board, the lens, the table, the projector and the morning check.
+
+Every step writes the calibration file (``calibration/files.py``) atomically, keeps the other
+entries of an existing file and leaves the previous file beside it as ``CALIB.yaml.bak``. A
+result whose error is over its threshold is refused with its figures unless ``--force``; bad
+input (a missing folder, an unreadable image, a wrong ``--board`` or ``--marker``, collinear
+markers, a pattern not found) is refused with one line whatever the flags.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from tabletop.commands import positive_number
+from tabletop.frames import InputError
+
+HELP = ("calibrate an installation: print the board, solve the camera lens, fit the table and "
+        "the projector, and check that crosses land under the pucks")
+
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
+DEFAULT_BOARD = "7x5:40:30:DICT_5X5_100"  # calibration.charuco's default (no OpenCV for --help)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    sub = parser.add_subparsers(dest="step", metavar="STEP", required=True)
+    board = "ChArUco board COLSxROWS:SQUARE_MM:MARKER_MM:DICTIONARY (default %(default)s)"
+    p = sub.add_parser("board", help="draw the ChArUco board to print, and say its size")
+    p.add_argument("--out", required=True, metavar="BOARD.png")
+    p.add_argument("--board", default=DEFAULT_BOARD, metavar="SPEC", help=board)
+    p.add_argument("--dpi", default="300", metavar="DPI", help="printer resolution (300)")
+    p = sub.add_parser("camera", help="solve the camera lens from views of the printed board")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--images", metavar="DIR", help="a folder of PNG/JPEG views of the board")
+    src.add_argument("--device", metavar="N", help="a live camera: grab views with a key press")
+    p.add_argument("--out", required=True, metavar="CALIB.yaml")
+    p.add_argument("--board", default=DEFAULT_BOARD, metavar="SPEC", help=board)
+    p.add_argument("--save-views", metavar="DIR", help="live: also save the grabbed views here")
+    p.add_argument("--force", action="store_true", help="keep a result over the error threshold")
+    p = sub.add_parser("table", help="fit camera -> table from markers at known positions")
+    p.add_argument("--image", required=True, metavar="IMAGE")
+    p.add_argument("--marker", action="append", default=[], metavar="ID=X,Y",
+                   help="a marker's id and the table position of its centre (metres)")
+    p.add_argument("--out", required=True, metavar="CALIB.yaml")
+    p.add_argument("--dictionary", default="DICT_4X4_50", metavar="NAME")
+    p.add_argument("--calibration", metavar="CALIB.yaml", help="take the lens from this file")
+    p.add_argument("--force", action="store_true", help="keep a result over the error threshold")
+    p = sub.add_parser("pattern", help="draw the image the projector shows for its calibration")
+    p.add_argument("--out", required=True, metavar="PATTERN.png")
+    p.add_argument("--size", required=True, metavar="W,H", help="projector pixels")
+    p = sub.add_parser("projector", help="fit table -> projector from camera images of the "
+                                         "projected pattern (or live with --live)")
+    p.add_argument("--pattern", metavar="PATTERN.png")
+    p.add_argument("--image", action="append", default=[], metavar="IMAGE")
+    p.add_argument("--calibration", required=True, metavar="CALIB.yaml")
+    p.add_argument("--out", required=True, metavar="CALIB.yaml")
+    p.add_argument("--table", metavar="W,H", help="table size (m): pattern corners beyond the "
+                                                  "table's edge are not used")
+    p.add_argument("--live", action="store_true", help="show the pattern fullscreen and grab "
+                                                       "camera frames until the fit is stable")
+    p.add_argument("--device", default="0", metavar="N", help="live: the camera (0)")
+    p.add_argument("--display", default="1", metavar="N", help="live: the projector display (1)")
+    p.add_argument("--size", metavar="W,H", help="live: projector pixels (the display's size)")
+    p.add_argument("--force", action="store_true", help="keep a result over the error threshold")
+    p = sub.add_parser("check", help="project a cross under every puck and measure how far "
+                                     "each lands from its puck (mm)")
+    p.add_argument("--config", default="config.yaml", metavar="FILE")
+    p.add_argument("--tolerance", default=None, metavar="MM",
+                   help="pass when every cross lands this close (default 2 mm)")
+
+
+class CalibrateError(InputError):
+    """Bad ``calibrate`` input; one line."""
+
+
+def main(args: argparse.Namespace) -> int:
+    return {"board": board_main, "camera": camera_main, "table": table_main,
+            "pattern": pattern_main, "projector": projector_main,
+            "check": check_main}[args.step](args)
+
+
+# ----------------------------------------------------------------------------------- helpers
+def parse_pair(text: str, option: str, unit: str, integer: bool = False) -> tuple[Any, Any]:
+    """``A,B`` of ``option`` as two positive numbers (integers when asked)."""
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise CalibrateError(f"{option} {text!r}: expected two numbers A,B ({unit})")
+    a, b = (positive_number(p, option, unit, CalibrateError) for p in parts)
+    if integer:
+        if a != int(a) or b != int(b):
+            raise CalibrateError(f"{option} {text!r}: expected whole numbers of {unit}")
+        return int(a), int(b)
+    return a, b
+
+
+def parse_marker(text: str) -> tuple[int, float, float]:
+    """``ID=X,Y`` -> (id, x m, y m); one clear line when malformed."""
+    usage = f"--marker {text!r}: expected ID=X,Y (marker id, table metres), e.g. 3=0.1,0.7"
+    try:
+        mid, xy = text.split("=")
+        x, y = (float(v) for v in xy.split(","))
+        marker_id = int(mid)
+    except ValueError:
+        raise CalibrateError(usage) from None
+    if marker_id < 0 or not (np.isfinite(x) and np.isfinite(y)):
+        raise CalibrateError(usage)
+    return marker_id, x, y
+
+
+def read_image(path: str | Path) -> np.ndarray:
+    """An image file as 8-bit grey; one line when missing or unreadable."""
+    import cv2
+    p = Path(path)
+    if not p.is_file():
+        raise CalibrateError(f"{p}: image not found")
+    img = cv2.imread(str(p), cv2.IMREAD_GRAYSCALE)
+    if img is None:
+        raise CalibrateError(f"{p}: not an image OpenCV can read")
+    return img
+
+
+def image_files(folder: str) -> list[Path]:
+    """Every PNG/JPEG in ``folder``, in name order; one line when there is none."""
+    p = Path(folder)
+    if not p.is_dir():
+        raise CalibrateError(f"{p}: no such folder")
+    files = sorted(f for f in p.iterdir() if f.suffix.lower() in IMAGE_SUFFIXES)
+    if not files:
+        raise CalibrateError(f"{p}: the folder holds no PNG or JPEG images")
+    return files
+
+
+def load_existing(path: str | Path, what: str = "") -> Any:
+    """The calibration in ``path`` (lens-only files accepted), or None when there is none."""
+    from calibration.files import load_calibration
+    return load_calibration(path, require_table=False) if Path(path).exists() else None
+
+
+def save(out: str, **entries: Any) -> None:
+    """Write ``entries`` into the calibration file ``out``, keeping its other entries and the
+    previous file as ``out.bak``."""
+    from calibration.files import Calibration, save_with_backup
+    old = load_existing(out)
+    errors = dict(old.reprojection_error) if old is not None else {}
+    errors.update(entries.pop("errors", {}))
+    base = {} if old is None else dict(
+        camera_to_table=old.camera_to_table, table_to_projector=old.table_to_projector,
+        camera_matrix=old.camera_matrix, distortion=old.distortion, image_size=old.image_size)
+    base.update(entries)
+    base.setdefault("camera_to_table", None)
+    cal = Calibration(reprojection_error=errors,
+                      date=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+                      **base)
+    backup = save_with_backup(out, cal)
+    print(f"saved {out}" + (f" (previous file kept as {backup})" if backup else ""))
+
+
+def same_size(calibration: Any, image: np.ndarray, name: Any) -> None:
+    """Refuse an image whose size differs from the one the lens was calibrated at."""
+    size = None if calibration is None else calibration.image_size
+    h, w = image.shape[:2]
+    if size is not None and calibration.camera_matrix is not None and tuple(size) != (w, h):
+        raise CalibrateError(f"{name}: {w}x{h} pixels, but the lens was calibrated at "
+                             f"{size[0]}x{size[1]}; use the camera at that resolution")
+
+
+def refuse_or_force(over: bool, message: str, force: bool) -> None:
+    """Refuse a result over its threshold (one line) unless ``force``."""
+    if over and not force:
+        raise CalibrateError(f"{message}; refused (--force keeps it anyway)")
+    if over:
+        print(f"warning: {message}; kept because of --force")
+
+
+# ------------------------------------------------------------------------------------- steps
+def board_main(args: argparse.Namespace) -> int:
+    import cv2
+    from calibration.charuco import board_image, parse_board
+    spec = parse_board(args.board)
+    dpi = positive_number(args.dpi, "--dpi", "dots per inch", CalibrateError)
+    img, (w_mm, h_mm) = board_image(spec, dpi)
+    ok, data = cv2.imencode(".png", img)
+    from tabletop.files import atomic_write_bytes
+    atomic_write_bytes(args.out, data.tobytes())
+    print(f"wrote {args.out}: {spec.cols}x{spec.rows} squares of {spec.square_m * 1e3:g} mm, "
+          f"markers {spec.marker_m * 1e3:g} mm ({spec.dictionary}); print at {dpi:g} dpi, "
+          f"100% scale: {w_mm:.1f} x {h_mm:.1f} mm. Measure a printed square: it must be "
+          f"{spec.square_m * 1e3:g} mm")
+    return 0
+
+
+def camera_main(args: argparse.Namespace) -> int:
+    import cv2
+    from calibration.charuco import MIN_CORNERS, MIN_VIEWS, detect_board, make_board, parse_board
+    spec = parse_board(args.board)
+    board = make_board(spec)
+    detector = cv2.aruco.CharucoDetector(board)
+    if args.device is not None:
+        from tabletop.procam import capture_views
+        images = capture_views(args.device, detector, args.save_views)
+    else:
+        images = [(f.name, read_image(f)) for f in image_files(args.images)]
+    views, names, size = [], [], None
+    for name, img in images:
+        h, w = img.shape[:2]
+        if size is not None and size != (w, h):
+            print(f"skipped {name}: {w}x{h}, the other views are {size[0]}x{size[1]}")
+            continue
+        corners, ids = detect_board(detector, img)
+        if len(ids) < MIN_CORNERS:
+            print(f"skipped {name}: {len(ids)} board corners found, {MIN_CORNERS} needed")
+            continue
+        size = (w, h)
+        views.append((corners, ids))
+        names.append(name)
+    if len(views) < MIN_VIEWS:
+        raise CalibrateError(f"{len(views)} usable views of the board ({spec.text()}); at "
+                             f"least {MIN_VIEWS} are needed, from all over the image")
+    from calibration.charuco import MAX_RMS_PX, solve_lens
+    solve = solve_lens(board, views, size)
+    for name, e in zip(names, solve.view_rms_px):
+        print(f"  {name}: {e:.3f} px")
+    K = solve.camera_matrix
+    print(f"RMS reprojection error {solve.rms_px:.3f} px over {len(views)} views"
+          + (f" ({solve.outliers} stray corners left out)" if solve.outliers else "")
+          + f"; focal {K[0, 0]:.1f}, {K[1, 1]:.1f} px; principal point {K[0, 2]:.1f}, "
+          f"{K[1, 2]:.1f} px")
+    refuse_or_force(solve.rms_px > MAX_RMS_PX, f"RMS reprojection error {solve.rms_px:.3f} px "
+                    f"is over {MAX_RMS_PX} px", args.force)
+    save(args.out, camera_matrix=K, distortion=solve.distortion, image_size=size,
+         errors={"intrinsics_px": solve.rms_px})
+    return 0
+
+
+def table_main(args: argparse.Namespace) -> int:
+    from calibration.fits import MAX_TABLE_MM, diagonal_centres, fit_table
+    from calibration.transforms import FitError, undistort_pixels
+    from tracking.markers import DetectorSettings, detect_markers, make_detector, refine_corners
+    wanted = [parse_marker(m) for m in args.marker]
+    if len(wanted) < 4:
+        raise CalibrateError(f"{len(wanted)} --marker given; at least 4 markers at known table "
+                             "positions are needed (--marker ID=X,Y)")
+    ids_given = [m[0] for m in wanted]
+    if len(set(ids_given)) != len(ids_given):
+        raise CalibrateError("a marker id is given twice in --marker")
+    lens = load_existing(args.calibration or args.out)
+    if args.calibration and lens is None:
+        raise CalibrateError(f"{args.calibration}: calibration file not found")
+    grey = read_image(args.image)
+    same_size(lens, grey, args.image)
+    try:
+        detector = make_detector(DetectorSettings(dictionary=args.dictionary))
+    except ValueError as exc:
+        raise CalibrateError(f"--dictionary: {exc}") from None
+    ids, corners = detect_markers(grey, detector)
+    corners = refine_corners(grey, corners)
+    seen = {int(i): c for i, c in zip(ids, corners)}
+    missing = [m for m in ids_given if m not in seen]
+    if missing:
+        raise CalibrateError(f"{args.image}: marker(s) {', '.join(map(str, missing))} of "
+                             f"{args.dictionary} not found (found: "
+                             f"{', '.join(map(str, sorted(seen))) or 'none'})")
+    K = None if lens is None else lens.camera_matrix
+    dist = None if lens is None else lens.distortion
+    if K is None:
+        print("note: no lens calibration; pixels are used as they are (run `tabletop "
+              "calibrate camera` first for a lens with visible distortion)")
+    quads = np.array([seen[m] for m in ids_given])
+    ideal = diagonal_centres(undistort_pixels(quads.reshape(-1, 2), K, dist).reshape(-1, 4, 2))
+    table = np.array([[x, y] for _, x, y in wanted])
+    try:
+        fit = fit_table(ideal, table)
+    except FitError as exc:
+        raise CalibrateError(f"--marker: {exc}") from None
+    for (mid, x, y), r in zip(wanted, fit.residual_mm):
+        print(f"  marker {mid} at {x:.3f}, {y:.3f} m: {r:.2f} mm")
+    print(f"table fit: residual {fit.rms_mm:.2f} mm RMS, {fit.worst_mm:.2f} mm worst, "
+          f"{len(wanted)} markers")
+    refuse_or_force(fit.rms_mm > MAX_TABLE_MM, f"table residual {fit.rms_mm:.2f} mm RMS is "
+                    f"over {MAX_TABLE_MM} mm (a marker at a wrong position?)", args.force)
+    entries: dict[str, Any] = dict(camera_to_table=fit.H, errors={
+        "camera_to_table_m": fit.rms_mm / 1e3})
+    if K is not None:
+        entries.update(camera_matrix=K, distortion=dist)
+    entries.setdefault("image_size", (grey.shape[1], grey.shape[0]))
+    save(args.out, **entries)
+    return 0
+
+
+def pattern_main(args: argparse.Namespace) -> int:
+    import cv2
+    from calibration.charuco import pattern_image, pattern_spec
+    size = parse_pair(args.size, "--size", "projector pixels", integer=True)
+    if min(size) < 160:
+        raise CalibrateError(f"--size {args.size}: at least 160 pixels each way")
+    from tabletop.files import atomic_write_bytes
+    ok, data = cv2.imencode(".png", pattern_image(size))
+    atomic_write_bytes(args.out, data.tobytes())
+    spec, _ = pattern_spec(size)
+    print(f"wrote {args.out}: {size[0]}x{size[1]} projector pixels, a {spec.cols}x{spec.rows} "
+          f"ChArUco pattern; show it fullscreen, unscaled, on the projector")
+    return 0
+
+
+def projector_main(args: argparse.Namespace) -> int:
+    from calibration.fits import MAX_PROJECTOR_MM
+    from tabletop.procam import fit_projector_images, live_projector
+    cal = load_existing(args.calibration)
+    if cal is None:
+        raise CalibrateError(f"{args.calibration}: calibration file not found")
+    if cal.camera_to_table is None:
+        raise CalibrateError(f"{args.calibration}: camera_to_table: null; run `tabletop "
+                             "calibrate table` first")
+    table = parse_pair(args.table, "--table", "metres") if args.table else None
+    if args.live:
+        size = parse_pair(args.size, "--size", "pixels", integer=True) if args.size else None
+        fit = live_projector(args.device, int(args.display), size, cal, table)
+    else:
+        if not args.pattern or not args.image:
+            raise CalibrateError("--pattern PATTERN.png and at least one --image IMAGE are "
+                                 "needed (or --live)")
+        pattern = read_image(args.pattern)
+        images = [(p, read_image(p)) for p in args.image]
+        for name, img in images:
+            same_size(cal, img, name)
+        fit = fit_projector_images(pattern, args.pattern, images, cal, table)
+    print(f"projector fit: residual {fit.rms_mm:.2f} mm RMS ({np.sqrt(np.mean(fit.residual ** 2)):.2f} "
+          f"projector px), {fit.worst_mm:.2f} mm worst, {len(fit.residual)} pattern corners")
+    refuse_or_force(fit.rms_mm > MAX_PROJECTOR_MM, f"projector residual {fit.rms_mm:.2f} mm "
+                    f"RMS is over {MAX_PROJECTOR_MM} mm", args.force)
+    save(args.out, camera_to_table=cal.camera_to_table, camera_matrix=cal.camera_matrix,
+         distortion=cal.distortion, image_size=cal.image_size, table_to_projector=fit.H,
+         errors={"table_to_projector_px": float(np.sqrt(np.mean(fit.residual ** 2)))})
+    return 0
+
+
+def check_main(args: argparse.Namespace) -> int:
+    from calibration.fits import CHECK_MM
+    from tabletop.procam import check_from_config
+    tol = (CHECK_MM if args.tolerance is None
+           else positive_number(args.tolerance, "--tolerance", "millimetres", CalibrateError))
+    result = check_from_config(args.config)
+    for pid, p, off in zip(result.ids, result.pucks_m, result.offsets_mm):
+        where = f"puck {pid} at {p[0]:.3f}, {p[1]:.3f} m"
+        print(f"  {where}: " + (f"{off:.2f} mm" if np.isfinite(off) else "cross not seen"))
+    worst = float(np.max(result.offsets_mm))
+    passed = bool(np.isfinite(worst) and worst <= tol)
+    figure = f"{worst:.2f} mm" if np.isfinite(worst) else "a cross not seen"
+    print(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(result.ids)} pucks "
+          f"(tolerance {tol:g} mm)")
+    return 0 if passed else 1

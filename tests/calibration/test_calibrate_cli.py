@@ -1,0 +1,230 @@
+"""``tabletop calibrate`` end to end on rendered images: every step writes the file atomically
+with a .bak, thresholds refuse unless --force, and bad input is refused in one line always."""
+
+import cv2
+import numpy as np
+import pytest
+import yaml
+
+from calibration.files import load_calibration, save_calibration
+from calibration.transforms import table_grid
+from tabletop.cli import main
+from tracking.rig import marker_layout
+
+from .rigs import board_views, lens_only, table_rig, write_views
+
+
+def run(capsys, *argv):
+    code = main(["calibrate", *map(str, argv)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def refused(capsys, *argv, words=""):
+    code, out, err = run(capsys, *argv)
+    assert code == 2, (out, err)
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err and words in lines[0], err
+    return lines[0]
+
+
+@pytest.fixture(scope="module")
+def views():
+    return board_views(6, seed=2)
+
+
+def test_camera_from_a_folder(tmp_path, capsys, views):
+    K, _, imgs = views
+    write_views(tmp_path / "v", imgs)
+    cv2.imwrite(str(tmp_path / "v" / "zz-blank.png"), np.full((480, 640), 128, np.uint8))
+    (tmp_path / "v" / "notes.txt").write_text("not an image")
+    code, out, err = run(capsys, "camera", "--images", tmp_path / "v", "--out", tmp_path / "c.yaml")
+    assert code == 0, err
+    assert "skipped zz-blank.png: 0 board corners found" in out
+    assert "view-05.png:" in out and "RMS reprojection error" in out
+    cal = load_calibration(tmp_path / "c.yaml", require_table=False)
+    assert abs(cal.camera_matrix[0, 0] / K[0, 0] - 1) < 0.03
+    assert cal.image_size == (640, 480) and cal.camera_to_table is None
+    assert 0 < cal.reprojection_error["intrinsics_px"] < 1.0
+
+
+def test_camera_refusals(tmp_path, capsys, views):
+    _, _, imgs = views
+    write_views(tmp_path / "few", imgs[:3])
+    refused(capsys, "camera", "--images", tmp_path / "few", "--out", tmp_path / "c.yaml",
+            "--force", words="3 usable views of the board")
+    refused(capsys, "camera", "--images", tmp_path / "none", "--out", tmp_path / "c.yaml",
+            words="no such folder")
+    (tmp_path / "empty").mkdir()
+    refused(capsys, "camera", "--images", tmp_path / "empty", "--out", tmp_path / "c.yaml",
+            words="holds no PNG or JPEG")
+    (tmp_path / "bad").mkdir()
+    (tmp_path / "bad" / "a.png").write_bytes(b"not a png")
+    refused(capsys, "camera", "--images", tmp_path / "bad", "--out", tmp_path / "c.yaml",
+            words="not an image OpenCV can read")
+    refused(capsys, "camera", "--images", tmp_path / "few", "--out", tmp_path / "c.yaml",
+            "--board", "7x5x40", words="--board")
+    assert not (tmp_path / "c.yaml").exists()
+
+
+def test_camera_error_threshold_refused_unless_forced(tmp_path, capsys, views):
+    """Views with a wobble no lens makes (a rolling shutter on a shaking camera: pixels shifted
+    by up to 2.5 px) cannot fit one lens: the RMS is over 1 px."""
+    _, _, imgs = views
+    yy, xx = np.mgrid[0:480, 0:640].astype(np.float32)
+    wobble = [cv2.remap(v, xx + 2.5 * np.sin(yy / 30 + i), yy + 2.5 * np.cos(xx / 30 + 2 * i),
+                        cv2.INTER_LINEAR) for i, v in enumerate(imgs)]
+    write_views(tmp_path / "mixed", wobble)
+    out = tmp_path / "c.yaml"
+    line = refused(capsys, "camera", "--images", tmp_path / "mixed", "--out", out,
+                   words="is over 1.0 px")
+    assert "--force" in line and not out.exists()
+    code, stdout, _ = run(capsys, "camera", "--images", tmp_path / "mixed", "--out", out,
+                          "--force")
+    assert code == 0 and "kept because of --force" in stdout
+    assert load_calibration(out, require_table=False).reprojection_error["intrinsics_px"] > 1.0
+
+
+@pytest.fixture(scope="module")
+def rig():
+    return table_rig()
+
+
+def test_table_pattern_projector_chain_keeps_entries_and_backups(tmp_path, capsys, rig):
+    cam = rig.camera
+    out = tmp_path / "cal.yaml"
+    save_calibration(out, lens_only(rig))
+    rig.pucks = marker_layout(cam.s.table)
+    rig.show(None)
+    cv2.imwrite(str(tmp_path / "markers.png"), rig.grab())
+    markers = [a for i, x, y, _ in rig.pucks for a in ("--marker", f"{i}={x},{y}")]
+    code, stdout, err = run(capsys, "table", "--image", tmp_path / "markers.png", "--out", out,
+                            *markers)
+    assert code == 0, err
+    assert "table fit: residual" in stdout and "previous file kept" in stdout
+    lens_backup = yaml.safe_load((tmp_path / "cal.yaml.bak").read_text())
+    assert lens_backup["camera_to_table"] is None
+    cal = load_calibration(out)
+    grid = table_grid(cam.s.table, 13, 9)
+    assert np.linalg.norm(cal.image_to_table(cam.project(grid)) - grid, axis=1).max() <= 0.001
+    assert np.allclose(cal.camera_matrix, cam.K)  # the lens entry was kept
+
+    code, stdout, _ = run(capsys, "pattern", "--out", tmp_path / "pattern.png", "--size", "1280,720")
+    assert code == 0 and "1280x720" in stdout
+    rig.pucks = []
+    rig.show(cv2.imread(str(tmp_path / "pattern.png"), cv2.IMREAD_GRAYSCALE))
+    cv2.imwrite(str(tmp_path / "seen.png"), rig.grab())
+    code, stdout, err = run(capsys, "projector", "--pattern", tmp_path / "pattern.png",
+                            "--image", tmp_path / "seen.png", "--calibration", out, "--out", out,
+                            "--table", "1.2,0.8")
+    assert code == 0, err
+    cal2 = load_calibration(out)
+    landed = cal2.projector_to_table(rig.projector.table_to_projector(grid))
+    assert np.linalg.norm(landed - grid, axis=1).max() <= 0.002
+    assert np.allclose(cal2.camera_to_table, cal.camera_to_table)
+    assert cal2.reprojection_error["camera_to_table_m"] == cal.reprojection_error["camera_to_table_m"]
+    assert load_calibration(tmp_path / "cal.yaml.bak").table_to_projector is None
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "cal.yaml", "cal.yaml.bak", "markers.png", "pattern.png", "seen.png"]
+
+    # The pattern not visible (projector off): refused, the file untouched.
+    rig.show(None)
+    cv2.imwrite(str(tmp_path / "dark.png"), rig.grab())
+    before = out.read_bytes()
+    refused(capsys, "projector", "--pattern", tmp_path / "pattern.png", "--image",
+            tmp_path / "dark.png", "--calibration", out, "--out", out, "--force",
+            words="the projected pattern is not visible")
+    refused(capsys, "projector", "--pattern", tmp_path / "markers.png", "--image",
+            tmp_path / "seen.png", "--calibration", out, "--out", out,
+            words="not a calibration pattern")
+    assert out.read_bytes() == before
+
+
+def test_table_refusals(tmp_path, capsys, rig):
+    cam = rig.camera
+    rig.pucks = marker_layout(cam.s.table)
+    rig.show(None)
+    img = tmp_path / "m.png"
+    cv2.imwrite(str(img), rig.grab())
+    out = tmp_path / "cal.yaml"
+    row = [a for i, x, y, _ in rig.pucks[:4] for a in ("--marker", f"{i}={x},{y}")]
+    refused(capsys, "table", "--image", img, "--out", out, "--force", *row,
+            words="lie on one line")  # ids 0-3 lie along the near edge
+    refused(capsys, "table", "--image", img, "--out", out, *row[:6], words="at least 4")
+    refused(capsys, "table", "--image", img, "--out", out, "--marker", "3:0.1,0.2", *row,
+            words="expected ID=X,Y")
+    refused(capsys, "table", "--image", img, "--out", out, "--marker", "40=0.1,0.2", *row,
+            words="marker(s) 40 of DICT_4X4_50 not found")
+    refused(capsys, "table", "--image", tmp_path / "nope.png", "--out", out, *row,
+            words="image not found")
+    # Markers given at wrong positions: a residual over the threshold, kept only with --force.
+    grid = [a for i, x, y, _ in rig.pucks for a in ("--marker", f"{i}={x},{y}")]
+    grid[1] = "0=0.1,0.1"  # 2 cm off
+    refused(capsys, "table", "--image", img, "--out", out, *grid, words="over 2.0 mm")
+    assert not out.exists()
+    code, stdout, _ = run(capsys, "table", "--image", img, "--out", out, *grid, "--force")
+    assert code == 0 and "kept because of --force" in stdout and out.exists()
+
+
+def test_board_writes_the_picture_and_its_size(tmp_path, capsys):
+    code, stdout, _ = run(capsys, "board", "--out", tmp_path / "b.png", "--dpi", "150")
+    import re
+    w_mm, h_mm = map(float, re.search(r"([0-9.]+) x ([0-9.]+) mm", stdout).groups())
+    assert code == 0 and w_mm == pytest.approx(300, abs=0.3) and h_mm == pytest.approx(220, abs=0.3)
+    img = cv2.imread(str(tmp_path / "b.png"), cv2.IMREAD_GRAYSCALE)
+    assert img.shape == (round(h_mm / 25.4 * 150), round(w_mm / 25.4 * 150))
+    refused(capsys, "board", "--out", tmp_path / "b.png", "--dpi", "-3", words="--dpi")
+    refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", "1280", words="--size")
+
+
+def test_check_from_a_config_passes_and_fails_when_the_projector_moved(tmp_path, capsys):
+    """The shipped synthetic camera with its simulated projector: calibrated with the true
+    geometry, the check passes; after the projector moved 5 mm it fails."""
+    from tabletop.config import load_config
+    from tabletop.procam import simulated_procam
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text(
+        "table: {width: 1.2, height: 0.8}\n"
+        "sources:\n  - {kind: synthetic_camera, name: camera, pucks: [1, 2], noise: 2}\n"
+        "engines: []\ncalibration: cal.yaml\nview: {size: [1024, 600]}\n")
+    from calibration.files import Calibration
+    save_calibration(tmp_path / "cal.yaml", Calibration(np.eye(3)))
+    cfg = load_config(cfg_path)
+    rig = simulated_procam(cfg["sources"][0], cfg, (1024, 600))
+    cam = rig.camera
+    truth = Calibration(cam.image_to_table_homography(), rig.projector.H, cam.K, cam.dist,
+                        (cam.w, cam.h))
+    save_calibration(tmp_path / "cal.yaml", truth)
+    code, stdout, err = run(capsys, "check", "--config", cfg_path)
+    assert code == 0, (stdout, err)
+    assert stdout.strip().splitlines()[-1].startswith("PASS: worst")
+    assert stdout.count("mm") >= 3
+    moved = Calibration(truth.camera_to_table, truth.table_to_projector
+                        @ np.array([[1, 0, 0.005], [0, 1, 0], [0, 0, 1.0]]), cam.K, cam.dist)
+    save_calibration(tmp_path / "cal.yaml", moved)
+    code, stdout, _ = run(capsys, "check", "--config", cfg_path)
+    assert code == 1 and stdout.strip().splitlines()[-1].startswith("FAIL: worst")
+    save_calibration(tmp_path / "cal.yaml", Calibration(truth.camera_to_table))
+    refused(capsys, "check", "--config", cfg_path, words="no table_to_projector")
+
+
+def test_live_steps_without_a_display_and_a_corrupt_file_are_refused(tmp_path, capsys,
+                                                                      monkeypatch):
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    refused(capsys, "camera", "--device", "0", "--out", tmp_path / "c.yaml",
+            words="needs a screen")
+    out = tmp_path / "c.yaml"
+    out.write_text("format: tabletop-calibration\nversion: 1\ncamera_to_table: [1, 2]\n")
+    refused(capsys, "projector", "--live", "--calibration", out, "--out", out,
+            words="camera_to_table")
+    assert out.read_text().endswith("[1, 2]\n")  # never overwritten
+
+
+def test_an_image_of_another_resolution_than_the_lens_is_refused(tmp_path, capsys, rig):
+    out = tmp_path / "cal.yaml"
+    save_calibration(out, lens_only(rig))
+    small = tmp_path / "small.png"
+    cv2.imwrite(str(small), np.full((480, 640), 128, np.uint8))
+    refused(capsys, "table", "--image", small, "--out", out, "--marker", "0=0,0",
+            "--marker", "1=1,0", "--marker", "2=1,1", "--marker", "3=0,1",
+            words="640x480 pixels, but the lens was calibrated at 1280x720")

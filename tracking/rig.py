@@ -1,0 +1,214 @@
+"""A simulated projector-camera rig: the synthetic overhead camera also sees what a projector
+throws on the table, through a known camera pose and lens and a known projector pose.
+
+The projector is a pinhole above the table (keystone included): its ``table_to_projector``
+homography is exact, so calibration and the morning check can be tested end to end against it.
+:func:`render_board_view` renders a printed ChArUco board held in front of the camera at any
+pose through the camera's lens, for the lens calibration.
+
+Units: table metres, projector and image pixels (OpenCV's pixel-centre convention), grey levels.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import cv2
+import numpy as np
+
+from calibration.transforms import apply_homography, inverse, normalised
+from tracking.synthetic import CameraSettings, Pose, SyntheticCamera
+
+
+@dataclass(frozen=True)
+class ProjectorSettings:
+    """A projector: ``resolution`` (W, H) pixels; lens centre ``position`` (x, y, z) in table
+    metres; it aims at ``target`` (x, y) on the table, rolled by ``roll_deg``; its focal length
+    makes the table fill the image with ``margin`` (fraction) to spare; ``brightness``: grey
+    levels a white pixel adds, ``black``: the light of a black pixel (fraction of white)."""
+
+    resolution: tuple[int, int] = (1280, 720)
+    position: tuple[float, float, float] = (0.66, -0.35, 1.55)
+    target: tuple[float, float] = (0.6, 0.4)
+    roll_deg: float = 1.5
+    margin: float = 0.03
+    brightness: float = 170.0
+    black: float = 0.04
+
+
+class SimulatedProjector:
+    """A pinhole projector over the table; ``H`` maps table metres to projector pixels."""
+
+    def __init__(self, settings: ProjectorSettings, table: tuple[float, float],
+                 offset: tuple[float, float] = (0.0, 0.0)) -> None:
+        self.s, self.table = settings, table
+        self.w, self.h = settings.resolution
+        C = np.array(settings.position, float)
+        z = np.array([*settings.target, 0.0]) - C
+        z /= np.linalg.norm(z)
+        x = np.cross(z, [0.0, 1.0, 0.0])  # image x along table +x, image y down toward -y
+        x /= np.linalg.norm(x)
+        y = np.cross(z, x)
+        roll = math.radians(settings.roll_deg)
+        R = np.vstack([math.cos(roll) * x + math.sin(roll) * y,
+                       -math.sin(roll) * x + math.cos(roll) * y, z])
+        t = -R @ C
+        tw, th = table
+        pc = np.array([[0, 0, 0], [tw, 0, 0], [tw, th, 0], [0, th, 0]], float) @ R.T + t
+        nx, ny = pc[:, 0] / pc[:, 2], pc[:, 1] / pc[:, 2]
+        f = min(self.w * (1 - 2 * settings.margin) / (nx.max() - nx.min()),
+                self.h * (1 - 2 * settings.margin) / (ny.max() - ny.min()))
+        cx = (self.w - 1) / 2.0 - f * (nx.max() + nx.min()) / 2.0
+        cy = (self.h - 1) / 2.0 - f * (ny.max() + ny.min()) / 2.0
+        K = np.array([[f, 0.0, cx], [0.0, f, cy], [0.0, 0.0, 1.0]])
+        shift = np.array([[1.0, 0.0, -offset[0]], [0.0, 1.0, -offset[1]], [0.0, 0.0, 1.0]])
+        # A projector bumped by ``offset`` shows everything ``offset`` metres further along.
+        self.H = normalised(K @ np.column_stack([R[:, 0], R[:, 1], t]) @ shift)
+
+    def shifted(self, dx: float, dy: float) -> "SimulatedProjector":
+        """The same projector knocked sideways: its image lands (dx, dy) metres further on."""
+        return SimulatedProjector(self.s, self.table, (dx, dy))
+
+    def table_to_projector(self, points_m: np.ndarray) -> np.ndarray:
+        """Table metres (N, 2) -> projector pixels (N, 2), exact."""
+        return apply_homography(self.H, points_m)
+
+
+class SimulatedRig:
+    """A synthetic camera and a simulated projector over one table: ``show`` an image on the
+    projector, ``grab`` what the camera sees (pucks on the lit table)."""
+
+    def __init__(self, camera: CameraSettings | None = None,
+                 projector: ProjectorSettings | SimulatedProjector | None = None) -> None:
+        self.camera = SyntheticCamera(camera or CameraSettings())
+        table = self.camera.s.table
+        if not isinstance(projector, SimulatedProjector):
+            projector = SimulatedProjector(projector or ProjectorSettings(), table)
+        self.projector = projector
+        self.pucks: list[Pose] = []
+        self._shown: np.ndarray | None = None
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """The projector's resolution (W, H)."""
+        return self.projector.w, self.projector.h
+
+    def show(self, image: np.ndarray | None) -> None:
+        """Project ``image`` (grey or BGR, the projector's size); None switches it off."""
+        self._shown = image
+        if image is None:
+            self.camera.set_projection(None)
+            return
+        grey = image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+        s = self.projector.s
+        level = (s.black + (1.0 - s.black) * grey.astype(np.float32) / 255.0) * s.brightness
+        # Ideal camera pixel -> table -> projector pixel: warp the projector image by the inverse.
+        M = self.camera.homography() @ inverse(self.projector.H)
+        light = cv2.warpPerspective(level, M, (self.camera.w, self.camera.h),
+                                    flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
+                                    borderValue=0.0)
+        self.camera.set_projection(light)
+
+    def grab(self) -> np.ndarray:
+        """One camera frame (grey) of ``pucks`` on the table under the projector's light."""
+        return self.camera.render(self.pucks).image
+
+    def with_projector(self, projector: SimulatedProjector) -> "SimulatedRig":
+        """This rig with another projector (the same camera)."""
+        rig = SimulatedRig.__new__(SimulatedRig)
+        rig.camera, rig.projector, rig.pucks, rig._shown = self.camera, projector, self.pucks, None
+        return rig
+
+
+# ---------------------------------------------------------------- boards held before the lens
+class LensRenderer:
+    """Renders a flat printed board held before a known lens (K, dist) at any pose; the
+    distorted-to-ideal pixel map is computed once per camera."""
+
+    def __init__(self, K: np.ndarray, dist: np.ndarray, size: tuple[int, int],
+                 blur_sigma: float = 0.7, noise_sigma: float = 2.0, seed: int = 0,
+                 oversample: int = 2) -> None:
+        self.K, self.dist, self.size = np.asarray(K, float), np.asarray(dist, float), size
+        self.blur_sigma, self.noise_sigma = blur_sigma, noise_sigma
+        self.rng = np.random.default_rng(seed)
+        self.n = n = max(1, int(oversample))
+        w, h = size
+        # Sample points of each sensor pixel (n x n of them, averaged: the pixel's area).
+        yy, xx = np.mgrid[0:h * n, 0:w * n].astype(np.float32)
+        pts = np.stack([(xx.ravel() + 0.5) / n - 0.5, (yy.ravel() + 0.5) / n - 0.5],
+                       axis=1).reshape(-1, 1, 2)
+        self.ideal = cv2.undistortPoints(pts, self.K, self.dist, P=self.K).reshape(-1, 2)
+
+    def view(self, texture: np.ndarray, square_px: float, square_m: float,
+             rvec: np.ndarray, tvec: np.ndarray) -> np.ndarray:
+        """A camera image (grey, H x W) of a flat board printed from ``texture`` (``square_px``
+        texture pixels per ``square_m`` metre square; OpenCV's board frame: origin at the
+        texture's top-left edge, x right, y down), at pose (rvec, tvec)."""
+        w, h = self.size
+        k = square_m / square_px
+        S = np.array([[k, 0.0, 0.5 * k], [0.0, k, 0.5 * k], [0.0, 0.0, 1.0]])  # texel -> m
+        R = cv2.Rodrigues(np.asarray(rvec, float))[0]
+        H = self.K @ np.column_stack([R[:, 0], R[:, 1], np.asarray(tvec, float).ravel()]) @ S
+        n = self.n
+        tex = apply_homography(np.linalg.inv(H), self.ideal).reshape(h * n, w * n, 2)
+        tex = tex.astype(np.float32)
+        paper = texture.astype(np.float32) * (200.0 / 255.0) + 30.0
+        img = cv2.remap(paper, tex[..., 0], tex[..., 1], cv2.INTER_LINEAR,
+                        borderMode=cv2.BORDER_CONSTANT, borderValue=90.0)
+        if n > 1:
+            img = img.reshape(h, n, w, n).mean(axis=(1, 3))
+        if self.blur_sigma > 0:
+            img = cv2.GaussianBlur(img, (0, 0), self.blur_sigma)
+        if self.noise_sigma > 0:
+            img = img + self.rng.normal(0.0, self.noise_sigma, img.shape).astype(np.float32)
+        return np.clip(img, 0, 255).astype(np.uint8)
+
+
+def board_poses(K: np.ndarray, size: tuple[int, int], board_m: tuple[float, float], n: int,
+                seed: int = 0) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``n`` board poses (rvec, tvec) a careful technician would take: the board's centre at
+    image positions cycling over the centre, the edges and the corners, tilted up to ~35
+    degrees each way, at distances where it fills half to two thirds of the image's width."""
+    rng = np.random.default_rng(seed)
+    w, h = size
+    spots = [(0.5, 0.5), (0.15, 0.15), (0.85, 0.15), (0.85, 0.85), (0.15, 0.85),
+             (0.5, 0.15), (0.85, 0.5), (0.5, 0.85), (0.15, 0.5)]
+    f = float(K[0, 0])
+    out = []
+    for i in range(n):
+        u, v = spots[i % len(spots)]
+        u, v = u + rng.uniform(-0.04, 0.04), v + rng.uniform(-0.04, 0.04)
+        dist = f * board_m[0] / (rng.uniform(0.5, 0.65) * w)
+        ray = np.linalg.inv(K) @ np.array([u * w, v * h, 1.0])
+        centre = ray / ray[2] * dist
+        ax, ay = rng.uniform(-0.6, 0.6, 2)
+        rz = rng.uniform(-0.3, 0.3)
+        R = cv2.Rodrigues(np.array([ax, ay, 0.0]))[0] @ cv2.Rodrigues(np.array([0, 0, rz]))[0]
+        tvec = centre - R @ np.array([board_m[0] / 2, board_m[1] / 2, 0.0])
+        out.append((cv2.Rodrigues(R)[0].ravel(), tvec))
+    return out
+
+
+def lens_camera(size: tuple[int, int] = (640, 480), fov_deg: float = 60.0,
+                distortion: Sequence[float] = (-0.22, 0.07, 0.0008, -0.0006, 0.0),
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """A known camera (K, distortion) for lens-calibration tests: ``fov_deg`` across, the
+    principal point a little off centre, as real sensors have."""
+    w, h = size
+    f = (w / 2.0) / math.tan(math.radians(fov_deg) / 2.0)
+    K = np.array([[f, 0.0, w / 2.0 + 0.013 * w], [0.0, f * 1.002, h / 2.0 - 0.011 * h],
+                  [0.0, 0.0, 1.0]])
+    return K, np.asarray(distortion, float)
+
+
+def marker_layout(table: tuple[float, float], n_x: int = 4, n_y: int = 3,
+                  inset: float = 0.08) -> list[Pose]:
+    """Markers lying flat on the table for the table fit: ids 0.. on an ``n_x`` x ``n_y`` grid
+    ``inset`` metres in from the edges (a fixed pose list; the angle varies so no two look
+    alike)."""
+    xs = np.linspace(inset, table[0] - inset, n_x)
+    ys = np.linspace(inset, table[1] - inset, n_y)
+    return [(i, float(x), float(y), 0.3 * i) for i, (y, x) in
+            enumerate((y, x) for y in ys for x in xs)]
