@@ -92,10 +92,11 @@ class DetailPatch:
         self.start = -1
         self.offset = length
 
-    def next(self, latest_source: int) -> float:
-        """Detail (rad) for this step; starts a new patch at ``latest_source`` when due."""
+    def next(self, latest_source: int) -> int:
+        """Training index whose detail applies this step (-1: none); starts a new patch at
+        ``latest_source`` when due."""
         if self.offset >= self.length:
             self.start, self.offset = latest_source, 0
         i = self.start + self.offset
         self.offset += 1
-        return float(self.detail[i]) if 0 <= i < self.detail.size else 0.0
+        return i if 0 <= i < self.detail.size else -1

@@ -23,6 +23,7 @@ import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.detail import DetailPatch, direction_detail
+from behaviors.puppet_master.look import PLACE_WORLD, desired_look, train_look, train_place
 from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
                                                 keep_on_table, limit_turn, rotate_step,
                                                 step_around, target_position)
@@ -47,8 +48,8 @@ class Params:
 
     rate_hz: generation rate (40). window: neighbourhood n in samples (40 = one second).
     min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
-    the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change
-    (2 pi: a half turn takes half a second; the paper gives no figure). detail_levels: Haar
+    the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change;
+    0 (default) takes it from the demonstration (look.train_look). detail_levels: Haar
     levels (4, cut at fs/16). patch: detail patch length in steps (16). detail_clip: rad.
     ratio: target situation:coherence choice ratio (1 = 1:1). balance_gain, share_window: see
     similarity.Balancer. w_*: designer weights per feature on top of the inverse spreads.
@@ -68,7 +69,7 @@ class Params:
     window: int = 40
     min_speed: float = 0.01
     smooth: int = 3
-    max_turn_rate: float = 2.0 * math.pi
+    max_turn_rate: float = 0.0
     detail_levels: int = 4
     patch: int = 16
     detail_clip: float = math.pi / 3
@@ -96,8 +97,7 @@ class Params:
             if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
                     or not math.isfinite(float(v)):
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number")
-            positive = f.name in ("rate_hz", "max_turn_rate", "ratio", "balance_gain",
-                                  "detail_clip")
+            positive = f.name in ("rate_hz", "ratio", "balance_gain", "detail_clip")
             if (positive and v <= 0) or v < 0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
                                      f"{'> 0' if positive else '>= 0'}")
@@ -161,6 +161,11 @@ class Behavior:
         # time before the first move are interpolated over (detail.direction_detail)
         self.detail = direction_detail(f.move_react, f.v_react >= 3.0 * p.min_speed,
                                        p.detail_levels, p.detail_clip)
+        self.look = train_look(self.main, self.react, f.move_react,
+                               f.v_react >= 3.0 * p.min_speed, p.rate_hz, p.detail_levels)
+        self.turn_limit = p.max_turn_rate if p.max_turn_rate > 0 else self.look.turn_limit
+        self.place_frame, self.bearing_turn = train_place(self.main, self.react, p.rate_hz)
+        self.distance = np.hypot(f.rel_fwd, f.rel_left)
         self.top_speed = float(np.percentile(f.v_react, 99))
         self.start_pose = (float(f.rel_fwd[0]), float(f.rel_left[0]), float(f.rel_look[0]))
         xs = np.concatenate([self.main[:, 0], self.react[:, 0]])
@@ -213,7 +218,7 @@ class Reactor:
         self.max_backlog = max_backlog
         p = behavior.params
         self.dt = 1.0 / p.rate_hz
-        self.max_turn = p.max_turn_rate * self.dt
+        self.max_turn = behavior.turn_limit * self.dt
         self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
         self._xs = np.zeros(ft.SITUATION_DIMS)
@@ -328,21 +333,28 @@ class Reactor:
         self.source = target
         # Generate: toward the target relative position at the target velocity
         rx, ry, look = self.pose
-        tx, ty = target_position(mx, my, md, float(fe.rel_fwd[target]),
-                                 float(fe.rel_left[target]))
+        if b.place_frame[target] == PLACE_WORLD:   # holds its place while the main turns
+            phi = math.atan2(ry - my, rx - mx) + float(b.bearing_turn[target])
+            dist = float(b.distance[target])
+            tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
+        else:
+            tx, ty = target_position(mx, my, md, float(fe.rel_fwd[target]),
+                                     float(fe.rel_left[target]))
         tx, ty = fit_target(mx, my, tx, ty, rx, ry, self.table)
         speed = float(fe.v_react[target])
         if p.catch_up > 0.0:
             speed = max(speed, min(p.catch_up * math.hypot(tx - rx, ty - ry), b.top_speed))
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * self.dt)
         sx, sy = self.smoother.push(sx, sy)
-        sx, sy = rotate_step(sx, sy, self.patch.next(target))
+        i_detail = self.patch.next(target)
+        sx, sy = rotate_step(sx, sy, b.detail[i_detail] if i_detail >= 0 else 0.0)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
         rx, ry = rx + sx, ry + sy
-        if math.hypot(sx, sy) * p.rate_hz >= p.min_speed:
-            desired = math.atan2(sy, sx) + float(fe.norm_look_react[target])
-        else:  # at rest the look has no movement to be relative to: face as demonstrated
-            desired = md + float(fe.rel_look[target])
+        moving = math.hypot(sx, sy) * p.rate_hz >= 3.0 * p.min_speed
+        desired = desired_look(b.look, i_detail if i_detail >= 0 else target, moving, math.atan2(sy, sx), md,
+                               math.atan2(my - ry, mx - rx))
+        if i_detail >= 0:
+            desired += float(b.look.detail[i_detail])
         look = limit_turn(look, desired, self.max_turn)
         # features of the new sample pair, into the search windows
         vm, _, _ = self.main_motion.step(mx, my)

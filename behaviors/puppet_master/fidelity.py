@@ -18,8 +18,9 @@ demonstration's, with the thresholds a designer would notice:
   the demonstration's + 0.1, measured with the generator's limit on both);
 - ``texture_rad``: RMS step-to-step change of movement direction while moving (0.67-1.5x);
 - ``contact``: share of steps within 0.08 m of the main (an event figure);
-- ``orbit_radps``: mean absolute turn of the reactor's bearing around the main over one second,
-  while within 0.6 m (an event figure).
+- ``orbit_radps``: the reactor's own angular rate around the main (its velocity's tangential
+  part over its distance, so a follower carried round by a turning main does not count),
+  averaged over one second, absolute, while within 0.6 m (an event figure).
 
 Event figures must stay within 30% of the demonstration's, or within a floor where the
 demonstration's figure is near zero (a character that never touches has no 30% of it).
@@ -101,10 +102,15 @@ def figures(main: np.ndarray, react: np.ndarray, rate_hz: float,
     ok = (speed[1:] > TEXTURE_MIN_MPS) & (speed[:-1] > TEXTURE_MIN_MPS)
     sector_angle = wrap_angles(np.arctan2(rel[:, 1], rel[:, 0]) - main[:, 2])
     sector = np.floor((sector_angle + math.pi) / (2 * math.pi) * SECTORS).astype(int) % SECTORS
-    around = np.unwrap(np.arctan2(rel[:, 1], rel[:, 0]))
+    # the reactor's own angular rate around the main: (r x v_react) / |r|^2, so a follower
+    # carried round by a turning main does not count, then averaged over one second
+    r = 0.5 * (rel[1:] + rel[:-1])
+    omega = (r[:, 0] * step[:, 1] - r[:, 1] * step[:, 0]) * rate_hz / np.maximum(
+        np.einsum("ij,ij->i", r, r), 1e-6)
     s = max(1, int(round(rate_hz)))
-    near = (dist[:-s] < ORBIT_NEAR_M) & (dist[s:] < ORBIT_NEAR_M)
-    orbit = np.abs(around[s:] - around[:-s]) * rate_hz / s
+    orbit = np.abs(np.convolve(omega, np.ones(s) / s, mode="valid"))
+    near = np.convolve((dist[1:] < ORBIT_NEAR_M).astype(float), np.ones(s) / s,
+                       mode="valid") > 0.999
     v_still = float(np.mean(speed[still])) if still.any() else math.nan
     v_moving = float(np.mean(speed[moving])) if moving.any() else math.nan
     return {
@@ -190,7 +196,7 @@ def generate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, 
 def demonstration_figures(behavior: Any) -> dict[str, Any]:
     """Figures of a trained behaviour's own demonstration (at its generation rate)."""
     p = behavior.params
-    return figures(behavior.main, behavior.react, p.rate_hz, p.max_turn_rate)
+    return figures(behavior.main, behavior.react, p.rate_hz, behavior.turn_limit)
 
 
 def evaluate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, float],
@@ -198,5 +204,5 @@ def evaluate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, 
     """Generate for ``main`` and compare with the demonstration (see :func:`compare`)."""
     p = behavior.params
     rows = generate(behavior, main, table)
-    gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, p.max_turn_rate)
+    gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, behavior.turn_limit)
     return compare(demonstration_figures(behavior) if demo is None else demo, gen)
