@@ -323,6 +323,45 @@ def _afraid(rng: np.random.Generator, table: Table) -> Policy:
     return policy
 
 
+CHASED = ("afraid",)   # personalities whose designer shows them by chasing them
+
+
+class _Chaser:
+    """The designer's main hand showing a fearful character what it fears: it alternates
+    between its own wandering (2-5 s, moved as the designer's path moves) and going straight
+    for the reactor (2-4 s at 0.15-0.35 m/s), so the demonstration shows fleeing, not only
+    keeping away from a main that happens to pass by."""
+
+    def __init__(self, rng: np.random.Generator, wander: np.ndarray, table: Table,
+                 dt: float) -> None:
+        self.rng, self.wander, self.table, self.dt = rng, wander, table, dt
+        self.chasing, self.left, self.speed = False, float(rng.uniform(1.0, 3.0)), 0.2
+        self.v = np.zeros(2)
+
+    def step(self, i: int, prev: np.ndarray, react: Vec) -> np.ndarray:
+        """Main pose (x, y, dir) at sample ``i`` from the previous one and the reactor."""
+        dt, w, h = self.dt, self.table[0], self.table[1]
+        self.left -= dt
+        if self.left <= 0.0:
+            self.chasing = not self.chasing
+            self.left = float(self.rng.uniform(2.0, 4.0) if self.chasing
+                              else self.rng.uniform(2.0, 5.0))
+            self.speed = float(self.rng.uniform(0.15, 0.35))
+        p = prev[1:3]
+        if self.chasing:
+            v_des = _unit(react - p) * self.speed
+        else:
+            v_des = (self.wander[i, 1:3] - self.wander[i - 1, 1:3]) / dt
+        self.v = self.v + _limit(v_des - self.v, 1.2 * dt)
+        q = np.clip(p + self.v * dt, 0.05, (w - 0.05, h - 0.05))
+        look = float(prev[3])
+        if float(np.hypot(*self.v)) > 0.04:
+            look = _turn_toward(look, math.atan2(self.v[1], self.v[0]), 6.0 * dt)
+        elif not self.chasing:
+            look = wrap_angle(look + wrap_angle(float(self.wander[i, 3] - self.wander[i - 1, 3])))
+        return np.array([q[0], q[1], look])
+
+
 def _policy(personality: str, rng: np.random.Generator, table: Table,
             dt: float) -> tuple[Policy, float, float]:
     """The policy, its hand's top speed (m/s) and acceleration (m/s^2)."""
@@ -358,8 +397,12 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0
     rng = np.random.default_rng([seed, 1])
     dt = 1.0 / rate_hz
     policy, top_speed, accel = _policy(personality, rng, table, dt)
+    chaser = None
     if main is None:
         main = designer_main_path(seed, seconds, rate_hz, table)
+        if personality in CHASED:           # the designer's main hand goes after the reactor
+            chaser = _Chaser(np.random.default_rng([seed, 3]), main, table, dt)
+            main = main.copy()
     w, h = table
     n = len(main)
     mp = main[:, 1:3]
@@ -374,6 +417,9 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0
     look = math.atan2(mp[0, 1] - p[1], mp[0, 0] - p[0])
     react = np.empty((n, 3))
     for i in range(n):
+        if chaser is not None and i > 0:
+            main[i, 1:4] = chaser.step(i, main[i - 1], p)
+            mv[i] = (mp[i] - mp[i - 1]) / dt
         j = max(0, i - lag)
         v_des, look_des = policy(i * dt, p, v, look, _Seen(mp[j], mv[j], float(main[j, 3])))
         v_des = _limit(np.asarray(v_des, dtype=float), top_speed)

@@ -254,7 +254,7 @@ class Reactor:
         self.react_motion = ft.EntityMotion(rx, ry, rd, p.rate_hz, p.min_speed)
         f, l, rl = ft.relative_pose(main_x, main_y, md, rx, ry, rd)
         ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl)
-        ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0)
+        ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0, 0.0)
         self.situation.reset(np.tile(self._xs, (p.window, 1)))
         self.coherence.reset(np.tile(self._xc, (p.window, 1)))
         self.balancer = Balancer(p.ratio, p.balance_gain, p.share_window)
@@ -342,27 +342,29 @@ class Reactor:
                                      float(fe.rel_left[target]))
         tx, ty = fit_target(mx, my, tx, ty, rx, ry, self.table)
         speed = float(fe.v_react[target])
-        if p.catch_up > 0.0:
+        if p.catch_up > 0.0 and speed >= 3.0 * p.min_speed:   # a resting target rests
             speed = max(speed, min(p.catch_up * math.hypot(tx - rx, ty - ry), b.top_speed))
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * self.dt)
         sx, sy = self.smoother.push(sx, sy)
+        heading = math.atan2(sy, sx)           # the smooth heading, before the path's texture
         i_detail = self.patch.next(target)
         sx, sy = rotate_step(sx, sy, b.detail[i_detail] if i_detail >= 0 else 0.0)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
         rx, ry = rx + sx, ry + sy
+        # the look: its frame and smooth angle from the patch's source (continuous within a
+        # patch, like the texture), plus the demonstrated look texture
         moving = math.hypot(sx, sy) * p.rate_hz >= 3.0 * p.min_speed
-        desired = desired_look(b.look, i_detail if i_detail >= 0 else target, moving, math.atan2(sy, sx), md,
-                               math.atan2(my - ry, mx - rx))
-        if i_detail >= 0:
-            desired += float(b.look.detail[i_detail])
-        look = limit_turn(look, desired, self.max_turn)
+        src = i_detail if i_detail >= 0 else target
+        desired = desired_look(b.look, src, moving, heading, md, math.atan2(my - ry, mx - rx))
+        look = limit_turn(look, desired + float(b.look.detail[src]), self.max_turn)
         # features of the new sample pair, into the search windows
         vm, _, _ = self.main_motion.step(mx, my)
         vr, move_r, ddir_r = self.react_motion.step(rx, ry)
         fwd, left, rel_look = ft.relative_pose(mx, my, md, rx, ry, look)
         ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
         self.situation.push(self._xs)
-        ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr)
+        ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr,
+                         vm)
         self.coherence.push(self._xc, target)
         self.i += 1
         self.t = g

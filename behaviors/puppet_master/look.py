@@ -56,6 +56,7 @@ PLACE_MAIN, PLACE_WORLD = 0, 1
 TURN_STD = 0.1            # rad: the main turned over the half second
 SPAN_S = 0.5              # seconds over which a frame's steadiness is judged
 MIN_TURN_RATE = 1.0       # rad/s: the limit is never tighter than this
+TURN_MARGIN = 2.0         # the limit over the demonstration's 99.5th percentile turn rate
 LOOK_DETAIL_CLIP = math.pi / 6
 
 
@@ -109,7 +110,7 @@ def train_look(main: np.ndarray, react: np.ndarray, move_react: np.ndarray,
     unwrapped = np.unwrap(look)
     detail = np.clip(haar_detail(unwrapped, levels), -LOOK_DETAIL_CLIP, LOOK_DETAIL_CLIP)
     change = np.abs(np.diff(unwrapped)) * rate_hz
-    limit = max(MIN_TURN_RATE, float(np.percentile(change, 99.5)) if change.size else 0.0)
+    limit = max(MIN_TURN_RATE, TURN_MARGIN * float(np.percentile(change, 99.5)) if change.size else 0.0)
     return LookModel(frame=frame.astype(np.int8), angle=mean[frame, idx],
                      still_frame=still_frame.astype(np.int8), still_angle=mean[still_frame, idx],
                      detail=detail, turn_limit=limit)
