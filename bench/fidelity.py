@@ -35,14 +35,21 @@ def main() -> None:
     print_fidelity(table)
     figures: dict[str, object] = {}
     passed = total = 0
+    per_threshold: dict[str, int] = {}
     for name, paths in table.items():
         for path, row in paths.items():
             total += 1
             passed += int(row["ok"])
             for k, v in row.items():
                 figures[f"{name}.{path}.{k}"] = v
-    figures["checks_passed"] = passed
-    figures["checks_total"] = total
+                if k.startswith("ok_"):
+                    per_threshold[k[3:]] = per_threshold.get(k[3:], 0) + int(v)
+    figures["pairs_within_every_threshold"] = passed
+    figures["pairs_total"] = total
+    for k, v in per_threshold.items():
+        figures[f"pairs_within_{k}"] = v
+    figures["thresholds_met"] = sum(per_threshold.values())
+    figures["thresholds_total"] = total * len(per_threshold)
     figures["seconds_per_path"] = args.seconds
     figures["run_s"] = time.perf_counter() - t0
     budgets = {"facing_abs_diff": 0.1, "look_change_ratio": [0.67, 1.5],

@@ -22,14 +22,15 @@ from typing import Any
 import numpy as np
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.detail import DetailPatch, direction_detail
-from behaviors.puppet_master.look import PLACE_WORLD, desired_look, train_look, train_place
+from behaviors.puppet_master.detail import (DetailPatch, LookGovernor, TextureGovernor,
+                                            direction_detail, texture_rms)
+from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look, train_look, train_place
 from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
                                                 keep_on_table, limit_turn, rotate_step,
                                                 step_around, target_position)
 from behaviors.puppet_master.resample import CausalResampler, resample_uniform
 from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
-from tabletop.frames import InputError, wrap_angle
+from tabletop.frames import InputError, wrap_angle, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
 
@@ -161,12 +162,13 @@ class Behavior:
         # time before the first move are interpolated over (detail.direction_detail)
         self.detail = direction_detail(f.move_react, f.v_react >= 3.0 * p.min_speed,
                                        p.detail_levels, p.detail_clip)
-        self.look = train_look(self.main, self.react, f.move_react,
-                               f.v_react >= 3.0 * p.min_speed, p.rate_hz, p.detail_levels)
+        self.look = train_look(self.main, self.react, p.rate_hz, p.detail_levels)
         self.turn_limit = p.max_turn_rate if p.max_turn_rate > 0 else self.look.turn_limit
         self.place_frame, self.bearing_turn = train_place(self.main, self.react, p.rate_hz)
         self.distance = np.hypot(f.rel_fwd, f.rel_left)
         self.top_speed = float(np.percentile(f.v_react, 99))
+        self.texture = texture_rms(self.react[:, :2], p.rate_hz)
+        self.look_change = float(np.mean(np.abs(wrap_angles(np.diff(self.react[:, 2])))))
         self.start_pose = (float(f.rel_fwd[0]), float(f.rel_left[0]), float(f.rel_look[0]))
         xs = np.concatenate([self.main[:, 0], self.react[:, 0]])
         ys = np.concatenate([self.main[:, 1], self.react[:, 1]])
@@ -259,6 +261,9 @@ class Reactor:
         self.coherence.reset(np.tile(self._xc, (p.window, 1)))
         self.balancer = Balancer(p.ratio, p.balance_gain, p.share_window)
         self.smoother = StepSmoother(p.smooth)
+        self.governor = TextureGovernor(b.texture, p.rate_hz)
+        self.look_governor = LookGovernor(b.look_change, p.rate_hz)
+        self._ema = (0.0, 0.0)
         self.patch = DetailPatch(b.detail, p.patch)
         self.source = -1
         self.started = True
@@ -346,17 +351,28 @@ class Reactor:
             speed = max(speed, min(p.catch_up * math.hypot(tx - rx, ty - ry), b.top_speed))
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * self.dt)
         sx, sy = self.smoother.push(sx, sy)
+        gov = self.governor
+        a = gov.alpha                          # extra smoothing while the output is too rough
+        sx = a * sx + (1.0 - a) * self._ema[0]
+        sy = a * sy + (1.0 - a) * self._ema[1]
+        self._ema = (sx, sy)
         heading = math.atan2(sy, sx)           # the smooth heading, before the path's texture
         i_detail = self.patch.next(target)
-        sx, sy = rotate_step(sx, sy, b.detail[i_detail] if i_detail >= 0 else 0.0)
+        if i_detail >= 0:
+            sx, sy = rotate_step(sx, sy, gov.detail_gain * float(b.detail[i_detail]))
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
+        gov.observe(sx, sy)
         rx, ry = rx + sx, ry + sy
         # the look: its frame and smooth angle from the patch's source (continuous within a
         # patch, like the texture), plus the demonstrated look texture
-        moving = math.hypot(sx, sy) * p.rate_hz >= 3.0 * p.min_speed
+        moving = math.hypot(sx, sy) * p.rate_hz >= HEADING_MIN_SPEED
         src = i_detail if i_detail >= 0 else target
         desired = desired_look(b.look, src, moving, heading, md, math.atan2(my - ry, mx - rx))
-        look = limit_turn(look, desired + float(b.look.detail[src]), self.max_turn)
+        lg = self.look_governor
+        desired += lg.detail_gain * float(b.look.detail[src])
+        turned = limit_turn(look, look + lg.alpha * wrap_angle(desired - look), self.max_turn)
+        lg.observe_look(wrap_angle(turned - look))
+        look = turned
         # features of the new sample pair, into the search windows
         vm, _, _ = self.main_motion.step(mx, my)
         vr, move_r, ddir_r = self.react_motion.step(rx, ry)
