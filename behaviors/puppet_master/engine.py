@@ -26,8 +26,8 @@ from behaviors.puppet_master.detail import (DetailPatch, LookGovernor, TextureGo
                                             direction_detail, texture_rms)
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look, train_look, train_place
 from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
-                                                keep_on_table, limit_turn, rotate_step,
-                                                step_around, target_position)
+                                                keep_apart, keep_on_table, limit_turn,
+                                                rotate_step, step_around, target_position)
 from behaviors.puppet_master.resample import CausalResampler, resample_uniform
 from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
 from tabletop.frames import InputError, wrap_angle, wrap_angles
@@ -230,6 +230,8 @@ class Reactor:
         self.pose = (math.nan, math.nan, math.nan)
         self.source = -1
         self.last_choice = "situation"
+        # other characters to keep apart from: (x, y, least distance m), set by the caller
+        self.obstacles: list[tuple[float, float, float]] = []
 
     # -- life cycle ---------------------------------------------------------------------------
 
@@ -268,6 +270,18 @@ class Reactor:
         self.source = -1
         self.started = True
         return self.pose
+
+    def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
+        """The main is another character from time ``t`` (one of several mains): its motion
+        starts afresh here, so the jump between the two is not taken for a movement."""
+        if not self.started:
+            self.start(t, main_x, main_y, main_dir)
+            return
+        p = self.behavior.params
+        self.resampler = CausalResampler(p.max_extrapolation)
+        self.resampler.push(t, main_x, main_y, wrap_angle(main_dir))
+        self.main_motion = ft.EntityMotion(main_x, main_y, wrap_angle(main_dir), p.rate_hz,
+                                           p.min_speed)
 
     @property
     def coherence_share(self) -> float:
@@ -361,6 +375,9 @@ class Reactor:
         if i_detail >= 0:
             sx, sy = rotate_step(sx, sy, gov.detail_gain * float(b.detail[i_detail]))
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
+        if self.obstacles:
+            nx, ny = keep_apart(rx + sx, ry + sy, self.obstacles, self.table)
+            sx, sy = nx - rx, ny - ry
         gov.observe(sx, sy)
         rx, ry = rx + sx, ry + sy
         # the look: its frame and smooth angle from the patch's source (continuous within a

@@ -94,11 +94,15 @@ def test_corrupt_behaviour_is_refused_at_load_and_left_alone(tmp_path):
     assert (folder / "behavior.yaml").read_bytes() == before
 
 
-def test_character_binding_must_name_an_earlier_engine():
-    with pytest.raises(pm.PuppetMasterError, match=r"engines\[0\]\.main\.character.*'b'"):
+def test_character_binding_must_name_a_known_engine():
+    with pytest.raises(pm.PuppetMasterError, match=r"engines\[0\]\.main.*'nobody'"):
         build([{"kind": "puppet_master", "name": "a", "behavior": "behaviors/library/stalker",
-                "main": {"character": "b"}},
-               {"kind": "puppet_master", "name": "b", "behavior": "behaviors/library/lover"}])
+                "main": {"character": "nobody"}}])
+    # a puppet_master engine listed later is read one tick old
+    a, b = build([{"kind": "puppet_master", "name": "a", "behavior": "behaviors/library/stalker",
+                   "main": {"character": "b"}},
+                  {"kind": "puppet_master", "name": "b", "behavior": "behaviors/library/lover"}])
+    assert a.mains.delayed == {"b"} and b.mains.delayed == set()
 
 
 # -- reacting on the bus ------------------------------------------------------------------------
