@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from behaviors.puppet_master.engine import Behavior, Reactor
+from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError, wrap_angle
 from tabletop.registry import BuildContext
@@ -66,6 +67,8 @@ DESIGNER = Record({
                         doc="folder the kept behaviours are saved in"),
     "name": Optional_(Str(), doc="name of kept behaviours (default: the engine's name)"),
     "min_seconds": Number(2.0, lo=0.1, doc="shortest take that is trained"),
+    "background_training": Bool(True, doc="train in a worker thread, swapped in between "
+                                "ticks (false: within the tick, for exact replays)"),
 })
 
 
@@ -123,6 +126,8 @@ class PuppetMasterEngine:
         self._message, self._message_until = "", -math.inf
         self._marker_on, self._marker_since = False, -math.inf
         self._focused = True
+        self.trainer = BackgroundTrainer()
+        self._training_demo = np.zeros((0, 7))
         if self.designer is not None:
             if self.designer["main_puck"] is None:
                 first = singles(main)[0]
@@ -148,6 +153,7 @@ class PuppetMasterEngine:
 
     def _step(self, frame: Frame) -> tuple[CharacterState, ...]:
         if self.designer is not None:
+            self._poll_training()
             self._designer_commands(frame)
             if self.mode == "recording":
                 return (self._record(frame),)
@@ -277,16 +283,38 @@ class PuppetMasterEngine:
             return
         rate = self.rate_hz or (self.behavior.params.rate_hz if self.behavior else 40.0)
         window = self.behavior.params.window if self.behavior else 40
+        params = {"rate_hz": rate, "window": window}
+        if self.designer.get("background_training", False):
+            self.trainer.start(demo, params, self.table)       # off the hot path
+            self._training_demo = demo
+            self._say(f"training {secs:.1f} s take...")
+            return
         try:
-            self.pending = Behavior.train(demo, rate_hz=rate, window=window)
+            behavior = Behavior.train(demo, **params)
         except InputError as exc:
             self._say(f"cannot train: {exc}")
             return
+        self._trained(behavior, Reactor(behavior, self.table), demo)
+
+    def _poll_training(self) -> None:
+        """Swap in a behaviour trained in the background, between ticks."""
+        done = self.trainer.poll()
+        if done is None or self.mode == "recording":   # a new take makes the old one moot
+            return
+        behavior, reactor, error = done
+        if error is not None or behavior is None or reactor is None:
+            self._say(f"cannot train: {error}")
+            return
+        self._trained(behavior, reactor, self._training_demo)
+
+    def _trained(self, behavior: Behavior, reactor: Reactor, demo: np.ndarray) -> None:
+        self.pending = behavior
         self.pending_demo = demo
         self._previous = (self.behavior, self.behavior_name)
-        self._use(self.pending)
+        self.behavior, self.reactor = behavior, reactor
         self.behavior_name = "new take"
         self.mode = "trying"
+        self._message_until = -math.inf
 
     def _keep(self) -> None:
         if self.mode != "trying" or self.pending is None:
