@@ -5,7 +5,10 @@
 Writes ``<out>/<name>/behavior.yaml`` and ``demonstration.csv`` for lover, bully, playful_friend,
 stalker and afraid. The demonstrations come from the seeded scripted designers in
 :mod:`behaviors.puppet_master.designers`, so the output is the same byte for byte on every run.
-``--check`` writes nothing and exits 1 if a shipped file differs from what would be written.
+``--check`` writes nothing and exits 1 if a shipped file differs from what would be written;
+then it prints every behaviour's fidelity table (generated on unseen main paths beside its
+demonstration, see :mod:`behaviors.puppet_master.fidelity`), naming the thresholds each
+behaviour misses on each path (the table informs; the exit status is about the files).
 """
 
 from __future__ import annotations
@@ -18,7 +21,8 @@ from typing import Sequence
 
 import numpy as np
 
-from behaviors.puppet_master import designers
+from behaviors.puppet_master import designers, fidelity
+from behaviors.puppet_master.engine import Behavior
 from tabletop import library
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / "behaviors" / "library"
@@ -80,12 +84,51 @@ def differences(out: Path, names: Sequence[str] = designers.PERSONALITIES) -> li
     return bad
 
 
+FIDELITY_COLUMNS = (
+    ("distance_mean_m", "dist m"), ("speed_mean_mps", "speed"), ("speed_still_mps", "v still"),
+    ("speed_moving_mps", "v moving"), ("still_moving_ratio", "still/mov"), ("facing", "facing"),
+    ("look_change_rad", "dlook"), ("saturation", "satur."), ("texture_rad", "texture"),
+    ("contact", "contact"), ("orbit_radps", "orbit"))
+
+
+def fidelity_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.PERSONALITIES,
+                   seconds: float = 40.0, seed: int = 0) -> dict[str, dict[str, dict]]:
+    """{behaviour: {unseen path: compared row}} for the behaviours saved in ``folder``."""
+    paths = designers.unseen_main_paths(seed, seconds, TABLE)
+    out: dict[str, dict[str, dict]] = {}
+    for name in names:
+        stored = library.load_behavior(folder / name)
+        behavior = Behavior.train(stored.demonstration, **stored.parameters)
+        demo = fidelity.demonstration_figures(behavior)
+        out[name] = {path: fidelity.evaluate(behavior, main, (0.0, 0.0, *TABLE), demo)
+                     for path, main in paths.items()}
+    return out
+
+
+def print_fidelity(table: dict[str, dict[str, dict]]) -> None:
+    """Print one table per behaviour: the demonstration's figures, then each path's."""
+    for name, rows in table.items():
+        print(f"{name}:")
+        print(f"  {'':22s}" + "".join(f"{h:>10s}" for _, h in FIDELITY_COLUMNS)
+              + f"{'dist W1':>10s}{'sect TV':>10s}{'speed W1':>10s}  misses")
+        first = next(iter(rows.values()))
+        print(f"  {'demonstration':22s}" + "".join(f"{first['demo_' + k]:10.3f}"
+                                                     for k, _ in FIDELITY_COLUMNS))
+        for path, row in rows.items():
+            print(f"  {path:22s}" + "".join(f"{row['gen_' + k]:10.3f}" for k, _ in FIDELITY_COLUMNS)
+                  + f"{row['distance_w1_m']:10.3f}{row['sectors_tv']:10.3f}"
+                  + f"{row['speed_w1_mps']:10.3f}  {','.join(fidelity.failures(row)) or '-'}")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tabletop.examples",
                                      description=__doc__.split("\n")[0])
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="library folder to write")
     parser.add_argument("--check", action="store_true",
                         help="write nothing; exit 1 if the shipped files differ")
+    parser.add_argument("--fidelity-seconds", type=float, default=40.0, metavar="S",
+                        help="with --check: seconds of each unseen main path the fidelity "
+                             "table is measured on (0: no table; default 40)")
     args = parser.parse_args(argv)
     try:
         if args.check:
@@ -93,7 +136,15 @@ def main(argv: Sequence[str] | None = None) -> int:
             for p in bad:
                 print(f"differs: {p}")
             print("examples up to date" if not bad else f"{len(bad)} file(s) differ")
-            return 1 if bad else 0
+            if bad:
+                return 1
+            if args.fidelity_seconds > 0:
+                table = fidelity_table(args.out, seconds=args.fidelity_seconds)
+                print_fidelity(table)
+                missed = sum(not row["ok"] for rows in table.values() for row in rows.values())
+                print("fidelity: every behaviour within its thresholds" if not missed else
+                      f"fidelity: {missed} behaviour/path pair(s) miss a threshold (misses)")
+            return 0
         for folder in regenerate(args.out):
             print(f"wrote {folder}")
     except library.LibraryError as exc:

@@ -58,13 +58,16 @@ def _turn_toward(a: float, target: float, most: float) -> float:
 
 
 def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
-                       table: Table = (1.2, 0.8), margin: float = 0.15) -> np.ndarray:
+                       table: Table = (1.2, 0.8), margin: float = 0.15,
+                       speed_range: tuple[float, float] = (0.08, 0.3),
+                       reversals_per_s: float = 0.08) -> np.ndarray:
     """A designer's hand moving the main puck: (n, 4) array ``t, x, y, dir`` (s, m, m, rad).
 
-    The hand wanders between random spots at 0.08-0.3 m/s, pauses on some (0.6-2.5 s, sometimes
-    turning the puck in place), and now and then pulls the puck back the way it came (a sudden
-    reversal). The puck looks where it goes, with a short lag, and holds its look when still.
-    No shake is added here (see :func:`demonstrate`).
+    The hand wanders between random spots at ``speed_range`` m/s, pauses on some (0.6-2.5 s,
+    sometimes turning the puck in place), and now and then (``reversals_per_s`` while moving)
+    pulls the puck back the way it came (a sudden reversal). The puck looks where it goes,
+    with a short lag, and holds its look when still. No shake is added here (see
+    :func:`demonstrate`).
     """
     rng = np.random.default_rng(seed)
     w, h = table
@@ -74,7 +77,7 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
     p = rng.uniform(lo, hi)
     v = np.zeros(2)
     look = float(rng.uniform(-math.pi, math.pi))
-    goal, speed, pause, spin = rng.uniform(lo, hi), 0.18, 0.0, 0.0
+    goal, speed, pause, spin = rng.uniform(lo, hi), float(np.clip(0.18, *speed_range)), 0.0, 0.0
     wander = _tremor(rng, n, rate_hz, 0.05, 0.5, 0.5)   # the hand's path curves, radians
     out = np.empty((n, 4))
     for i in range(n):
@@ -83,7 +86,7 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
             v_des = np.zeros(2)
             look = wrap_angle(look + spin * dt)
             if pause <= 0.0:
-                goal, speed = rng.uniform(lo, hi), float(rng.uniform(0.08, 0.3))
+                goal, speed = rng.uniform(lo, hi), float(rng.uniform(*speed_range))
         else:
             to_goal = goal - p
             d = float(np.hypot(*to_goal))
@@ -91,9 +94,9 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
                 if rng.random() < 0.4:
                     pause = float(rng.uniform(0.6, 2.5))
                     spin = float(rng.choice([0.0, 0.0, rng.uniform(-1.5, 1.5)]))
-                goal, speed = rng.uniform(lo, hi), float(rng.uniform(0.08, 0.3))
+                goal, speed = rng.uniform(lo, hi), float(rng.uniform(*speed_range))
                 to_goal, d = goal - p, float(np.hypot(*(goal - p)))
-            elif float(np.hypot(*v)) > 0.08 and rng.random() < 0.08 * dt:
+            elif float(np.hypot(*v)) > 0.08 and rng.random() < reversals_per_s * dt:
                 back = p - _unit(v) * float(rng.uniform(0.2, 0.4))
                 goal = np.clip(back, lo, hi)            # pulled back the way it came
                 to_goal, d = goal - p, float(np.hypot(*(goal - p)))
@@ -109,6 +112,79 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
             look = _turn_toward(look, heading, step)
         out[i] = (i * dt, p[0], p[1], look)
     return out
+
+
+def loops_and_spins(seed: int, seconds: float = 40.0, rate_hz: float = 40.0,
+                    table: Table = (1.2, 0.8), margin: float = 0.25) -> np.ndarray:
+    """A visitor drawing loops with the main puck: (n, 4) ``t, x, y, dir`` (s, m, m, rad).
+
+    Circles of 0.1-0.2 m radius in either sense at 0.1-0.3 m/s around spots on the table, now
+    and then a stop (0.8-2 s) spinning the puck in place at 1-3 rad/s or holding it still, and
+    a glide to the next spot. The puck looks where it goes and keeps its look when still.
+    """
+    rng = np.random.default_rng([seed, 7])
+    w, h = table
+    dt = 1.0 / rate_hz
+    n = int(round(seconds * rate_hz))
+    lo, hi = np.array([margin, margin]), np.array([w - margin, h - margin])
+    p = rng.uniform(lo, hi)
+    look = float(rng.uniform(-math.pi, math.pi))
+    out = np.empty((n, 4))
+    mode, left = "glide", 0.0
+    goal, speed, sense, spin, centre = rng.uniform(lo, hi), 0.2, 1.0, 0.0, p.copy()
+    v = np.zeros(2)
+    for i in range(n):
+        left -= dt
+        if left <= 0.0:
+            mode = str(rng.choice(["loop", "loop", "glide", "stop"]))
+            left = float(rng.uniform(0.8, 2.0)) if mode == "stop" else float(rng.uniform(2.0, 5.0))
+            speed = float(rng.uniform(0.1, 0.3))
+            sense = float(rng.choice([-1.0, 1.0]))
+            spin = float(rng.choice([0.0, 1.0, -1.0]) * rng.uniform(1.0, 3.0))
+            goal = rng.uniform(lo, hi)
+            radius = float(rng.uniform(0.1, 0.2))
+            centre = np.clip(p + radius * np.array([-math.sin(look), math.cos(look)]) * sense,
+                             lo, hi)
+        if mode == "stop":
+            v_des = np.zeros(2)
+            look = wrap_angle(look + spin * dt)
+        elif mode == "loop":
+            r = p - centre
+            tangent = sense * np.array([-r[1], r[0]])
+            v_des = _unit(tangent) * speed + 2.0 * (0.15 - float(np.hypot(*r))) * _unit(r)
+        else:
+            to = goal - p
+            v_des = _unit(to) * speed * min(1.0, float(np.hypot(*to)) / 0.1)
+        v = v + _limit(v_des - v, 1.5 * dt)
+        p = np.clip(p + v * dt, 0.05, (w - 0.05, h - 0.05))
+        if float(np.hypot(*v)) > 0.04:
+            look = _turn_toward(look, math.atan2(v[1], v[0]), 8.0 * dt)
+        out[i] = (i * dt, p[0], p[1], look)
+    return out
+
+
+def unseen_main_paths(seed: int = 0, seconds: float = 40.0,
+                      table: Table = (1.2, 0.8)) -> dict[str, np.ndarray]:
+    """Main paths no shipped demonstration was made on, for fidelity checks: {name: (n, 4)
+    ``t, x, y, dir``}. A slow wanderer with long pauses sampled at 30 Hz, a fast hand that
+    often reverses at 60 Hz, and loops with spins in place at 45 Hz; each with a camera's
+    jitter (0.8 mm, 0.01 rad)."""
+    paths = {
+        "slow_pauses_30hz": designer_main_path(1000 + seed, seconds, 30.0, table,
+                                               speed_range=(0.05, 0.18), reversals_per_s=0.03),
+        "fast_reversals_60hz": designer_main_path(2000 + seed, seconds, 60.0, table,
+                                                  speed_range=(0.2, 0.45), reversals_per_s=0.3),
+        "loops_spins_45hz": loops_and_spins(3000 + seed, seconds, 45.0, table),
+    }
+    shake = np.random.default_rng([seed, 9])
+    for name, m in paths.items():
+        rate = 1.0 / float(m[1, 0] - m[0, 0])
+        for col, rms in ((1, 0.0008), (2, 0.0008), (3, 0.01)):
+            m[:, col] = m[:, col] + _tremor(shake, len(m), rate, 3.0, 10.0, rms)
+        m[:, 3] = wrap_angles(m[:, 3])
+        m[:, 1] = np.clip(m[:, 1], 0.0, table[0])
+        m[:, 2] = np.clip(m[:, 2], 0.0, table[1])
+    return paths
 
 
 class _Seen:
@@ -247,6 +323,45 @@ def _afraid(rng: np.random.Generator, table: Table) -> Policy:
     return policy
 
 
+CHASED = ("afraid",)   # personalities whose designer shows them by chasing them
+
+
+class _Chaser:
+    """The designer's main hand showing a fearful character what it fears: it alternates
+    between its own wandering (2-5 s, moved as the designer's path moves) and going straight
+    for the reactor (2-4 s at 0.15-0.35 m/s), so the demonstration shows fleeing, not only
+    keeping away from a main that happens to pass by."""
+
+    def __init__(self, rng: np.random.Generator, wander: np.ndarray, table: Table,
+                 dt: float) -> None:
+        self.rng, self.wander, self.table, self.dt = rng, wander, table, dt
+        self.chasing, self.left, self.speed = False, float(rng.uniform(1.0, 3.0)), 0.2
+        self.v = np.zeros(2)
+
+    def step(self, i: int, prev: np.ndarray, react: Vec) -> np.ndarray:
+        """Main pose (x, y, dir) at sample ``i`` from the previous one and the reactor."""
+        dt, w, h = self.dt, self.table[0], self.table[1]
+        self.left -= dt
+        if self.left <= 0.0:
+            self.chasing = not self.chasing
+            self.left = float(self.rng.uniform(2.0, 4.0) if self.chasing
+                              else self.rng.uniform(2.0, 5.0))
+            self.speed = float(self.rng.uniform(0.15, 0.35))
+        p = prev[1:3]
+        if self.chasing:
+            v_des = _unit(react - p) * self.speed
+        else:
+            v_des = (self.wander[i, 1:3] - self.wander[i - 1, 1:3]) / dt
+        self.v = self.v + _limit(v_des - self.v, 1.2 * dt)
+        q = np.clip(p + self.v * dt, 0.05, (w - 0.05, h - 0.05))
+        look = float(prev[3])
+        if float(np.hypot(*self.v)) > 0.04:
+            look = _turn_toward(look, math.atan2(self.v[1], self.v[0]), 6.0 * dt)
+        elif not self.chasing:
+            look = wrap_angle(look + wrap_angle(float(self.wander[i, 3] - self.wander[i - 1, 3])))
+        return np.array([q[0], q[1], look])
+
+
 def _policy(personality: str, rng: np.random.Generator, table: Table,
             dt: float) -> tuple[Policy, float, float]:
     """The policy, its hand's top speed (m/s) and acceleration (m/s^2)."""
@@ -282,8 +397,12 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0
     rng = np.random.default_rng([seed, 1])
     dt = 1.0 / rate_hz
     policy, top_speed, accel = _policy(personality, rng, table, dt)
+    chaser = None
     if main is None:
         main = designer_main_path(seed, seconds, rate_hz, table)
+        if personality in CHASED:           # the designer's main hand goes after the reactor
+            chaser = _Chaser(np.random.default_rng([seed, 3]), main, table, dt)
+            main = main.copy()
     w, h = table
     n = len(main)
     mp = main[:, 1:3]
@@ -298,6 +417,9 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0
     look = math.atan2(mp[0, 1] - p[1], mp[0, 0] - p[0])
     react = np.empty((n, 3))
     for i in range(n):
+        if chaser is not None and i > 0:
+            main[i, 1:4] = chaser.step(i, main[i - 1], p)
+            mv[i] = (mp[i] - mp[i - 1]) / dt
         j = max(0, i - lag)
         v_des, look_des = policy(i * dt, p, v, look, _Seen(mp[j], mv[j], float(main[j, 3])))
         v_des = _limit(np.asarray(v_des, dtype=float), top_speed)

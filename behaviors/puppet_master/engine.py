@@ -22,13 +22,15 @@ from typing import Any
 import numpy as np
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.detail import DetailPatch, direction_detail
+from behaviors.puppet_master.detail import (DetailPatch, LookGovernor, TextureGovernor,
+                                            direction_detail, texture_rms)
+from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look, train_look, train_place
 from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
-                                                keep_on_table, limit_turn, rotate_step,
-                                                step_around, target_position)
+                                                keep_apart, keep_on_table, limit_turn,
+                                                rotate_step, step_around, target_position)
 from behaviors.puppet_master.resample import CausalResampler, resample_uniform
 from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
-from tabletop.frames import InputError, wrap_angle
+from tabletop.frames import InputError, wrap_angle, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
 
@@ -47,8 +49,8 @@ class Params:
 
     rate_hz: generation rate (40). window: neighbourhood n in samples (40 = one second).
     min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
-    the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change
-    (2 pi: a half turn takes half a second; the paper gives no figure). detail_levels: Haar
+    the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change;
+    0 (default) takes it from the demonstration (look.train_look). detail_levels: Haar
     levels (4, cut at fs/16). patch: detail patch length in steps (16). detail_clip: rad.
     ratio: target situation:coherence choice ratio (1 = 1:1). balance_gain, share_window: see
     similarity.Balancer. w_*: designer weights per feature on top of the inverse spreads.
@@ -68,7 +70,7 @@ class Params:
     window: int = 40
     min_speed: float = 0.01
     smooth: int = 3
-    max_turn_rate: float = 2.0 * math.pi
+    max_turn_rate: float = 0.0
     detail_levels: int = 4
     patch: int = 16
     detail_clip: float = math.pi / 3
@@ -96,8 +98,7 @@ class Params:
             if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
                     or not math.isfinite(float(v)):
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number")
-            positive = f.name in ("rate_hz", "max_turn_rate", "ratio", "balance_gain",
-                                  "detail_clip")
+            positive = f.name in ("rate_hz", "ratio", "balance_gain", "detail_clip")
             if (positive and v <= 0) or v < 0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
                                      f"{'> 0' if positive else '>= 0'}")
@@ -161,7 +162,13 @@ class Behavior:
         # time before the first move are interpolated over (detail.direction_detail)
         self.detail = direction_detail(f.move_react, f.v_react >= 3.0 * p.min_speed,
                                        p.detail_levels, p.detail_clip)
+        self.look = train_look(self.main, self.react, p.rate_hz, p.detail_levels)
+        self.turn_limit = p.max_turn_rate if p.max_turn_rate > 0 else self.look.turn_limit
+        self.place_frame, self.bearing_turn = train_place(self.main, self.react, p.rate_hz)
+        self.distance = np.hypot(f.rel_fwd, f.rel_left)
         self.top_speed = float(np.percentile(f.v_react, 99))
+        self.texture = texture_rms(self.react[:, :2], p.rate_hz)
+        self.look_change = float(np.mean(np.abs(wrap_angles(np.diff(self.react[:, 2])))))
         self.start_pose = (float(f.rel_fwd[0]), float(f.rel_left[0]), float(f.rel_look[0]))
         xs = np.concatenate([self.main[:, 0], self.react[:, 0]])
         ys = np.concatenate([self.main[:, 1], self.react[:, 1]])
@@ -213,7 +220,7 @@ class Reactor:
         self.max_backlog = max_backlog
         p = behavior.params
         self.dt = 1.0 / p.rate_hz
-        self.max_turn = p.max_turn_rate * self.dt
+        self.max_turn = behavior.turn_limit * self.dt
         self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
         self._xs = np.zeros(ft.SITUATION_DIMS)
@@ -223,6 +230,8 @@ class Reactor:
         self.pose = (math.nan, math.nan, math.nan)
         self.source = -1
         self.last_choice = "situation"
+        # other characters to keep apart from: (x, y, least distance m), set by the caller
+        self.obstacles: list[tuple[float, float, float]] = []
 
     # -- life cycle ---------------------------------------------------------------------------
 
@@ -249,15 +258,30 @@ class Reactor:
         self.react_motion = ft.EntityMotion(rx, ry, rd, p.rate_hz, p.min_speed)
         f, l, rl = ft.relative_pose(main_x, main_y, md, rx, ry, rd)
         ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl)
-        ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0)
+        ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0, 0.0)
         self.situation.reset(np.tile(self._xs, (p.window, 1)))
         self.coherence.reset(np.tile(self._xc, (p.window, 1)))
         self.balancer = Balancer(p.ratio, p.balance_gain, p.share_window)
         self.smoother = StepSmoother(p.smooth)
+        self.governor = TextureGovernor(b.texture, p.rate_hz)
+        self.look_governor = LookGovernor(b.look_change, p.rate_hz)
+        self._ema = (0.0, 0.0)
         self.patch = DetailPatch(b.detail, p.patch)
         self.source = -1
         self.started = True
         return self.pose
+
+    def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
+        """The main is another character from time ``t`` (one of several mains): its motion
+        starts afresh here, so the jump between the two is not taken for a movement."""
+        if not self.started:
+            self.start(t, main_x, main_y, main_dir)
+            return
+        p = self.behavior.params
+        self.resampler = CausalResampler(p.max_extrapolation)
+        self.resampler.push(t, main_x, main_y, wrap_angle(main_dir))
+        self.main_motion = ft.EntityMotion(main_x, main_y, wrap_angle(main_dir), p.rate_hz,
+                                           p.min_speed)
 
     @property
     def coherence_share(self) -> float:
@@ -328,29 +352,52 @@ class Reactor:
         self.source = target
         # Generate: toward the target relative position at the target velocity
         rx, ry, look = self.pose
-        tx, ty = target_position(mx, my, md, float(fe.rel_fwd[target]),
-                                 float(fe.rel_left[target]))
+        if b.place_frame[target] == PLACE_WORLD:   # holds its place while the main turns
+            phi = math.atan2(ry - my, rx - mx) + float(b.bearing_turn[target])
+            dist = float(b.distance[target])
+            tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
+        else:
+            tx, ty = target_position(mx, my, md, float(fe.rel_fwd[target]),
+                                     float(fe.rel_left[target]))
         tx, ty = fit_target(mx, my, tx, ty, rx, ry, self.table)
         speed = float(fe.v_react[target])
-        if p.catch_up > 0.0:
+        if p.catch_up > 0.0 and speed >= 3.0 * p.min_speed:   # a resting target rests
             speed = max(speed, min(p.catch_up * math.hypot(tx - rx, ty - ry), b.top_speed))
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * self.dt)
         sx, sy = self.smoother.push(sx, sy)
-        sx, sy = rotate_step(sx, sy, self.patch.next(target))
+        gov = self.governor
+        a = gov.alpha                          # extra smoothing while the output is too rough
+        sx = a * sx + (1.0 - a) * self._ema[0]
+        sy = a * sy + (1.0 - a) * self._ema[1]
+        self._ema = (sx, sy)
+        heading = math.atan2(sy, sx)           # the smooth heading, before the path's texture
+        i_detail = self.patch.next(target)
+        if i_detail >= 0:
+            sx, sy = rotate_step(sx, sy, gov.detail_gain * float(b.detail[i_detail]))
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
+        if self.obstacles:
+            nx, ny = keep_apart(rx + sx, ry + sy, self.obstacles, self.table)
+            sx, sy = nx - rx, ny - ry
+        gov.observe(sx, sy)
         rx, ry = rx + sx, ry + sy
-        if math.hypot(sx, sy) * p.rate_hz >= p.min_speed:
-            desired = math.atan2(sy, sx) + float(fe.norm_look_react[target])
-        else:  # at rest the look has no movement to be relative to: face as demonstrated
-            desired = md + float(fe.rel_look[target])
-        look = limit_turn(look, desired, self.max_turn)
+        # the look: its frame and smooth angle from the patch's source (continuous within a
+        # patch, like the texture), plus the demonstrated look texture
+        moving = math.hypot(sx, sy) * p.rate_hz >= HEADING_MIN_SPEED
+        src = i_detail if i_detail >= 0 else target
+        desired = desired_look(b.look, src, moving, heading, md, math.atan2(my - ry, mx - rx))
+        lg = self.look_governor
+        desired += lg.detail_gain * float(b.look.detail[src])
+        turned = limit_turn(look, look + lg.alpha * wrap_angle(desired - look), self.max_turn)
+        lg.observe_look(wrap_angle(turned - look))
+        look = turned
         # features of the new sample pair, into the search windows
         vm, _, _ = self.main_motion.step(mx, my)
         vr, move_r, ddir_r = self.react_motion.step(rx, ry)
         fwd, left, rel_look = ft.relative_pose(mx, my, md, rx, ry, look)
         ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
         self.situation.push(self._xs)
-        ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr)
+        ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr,
+                         vm)
         self.coherence.push(self._xc, target)
         self.i += 1
         self.t = g

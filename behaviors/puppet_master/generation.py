@@ -163,3 +163,19 @@ def limit_turn(previous: float, desired: float, max_delta: float) -> float:
     d = wrap_angle(desired - previous)
     d = min(max(d, -max_delta), max_delta)
     return wrap_angle(previous + d)
+
+
+def keep_apart(x: float, y: float, others: list[tuple[float, float, float]],
+               table: tuple[float, float, float, float]) -> tuple[float, float]:
+    """Position (x, y) moved out of every other character's disc (ox, oy, least distance),
+    along the line between the centres (a puck pushed aside, as two pucks cannot overlap), then
+    kept on the table. Discs are visited in order; a position pinned between two is pushed
+    from each in turn."""
+    for ox, oy, least in others:
+        dx, dy = x - ox, y - oy
+        d = math.hypot(dx, dy)
+        if d < least:
+            if d < 1e-9:
+                dx, dy, d = 1.0, 0.0, 1.0
+            x, y = ox + dx * least / d, oy + dy * least / d
+    return clamp_to_table(x, y, table)

@@ -21,14 +21,24 @@ class BehaveArgumentError(InputError):
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--train", required=True, metavar="DEMO.csv",
+    parser.add_argument("--train", metavar="DEMO.csv",
                         help="demonstration: t,main_x,main_y,main_dir,react_x,react_y,react_dir "
                              "(seconds, table metres, radians), any sampling rate")
+    parser.add_argument("--train-main", metavar="MAIN_TAKE.csv",
+                        help="sequential training, instead of --train: the main demonstrated "
+                             "first, t,main_x,main_y,main_dir")
+    parser.add_argument("--train-react", metavar="REACT_TAKE.csv",
+                        help="sequential training: the reactor demonstrated against the main "
+                             "take's playback, t,react_x,react_y,react_dir, t on the main take's "
+                             "times")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                        help="a behaviour parameter (repeatable), e.g. --param ratio=2; every "
+                             "field of behaviors.puppet_master.engine.Params")
     parser.add_argument("--input", required=True, metavar="MAIN.csv",
                         help="main character's path: t,main_x,main_y,main_dir, any rate")
     parser.add_argument("--out", required=True, metavar="REACT.csv",
                         help="output: t,react_x,react_y,react_dir, one row per generation step")
-    parser.add_argument("--rate", default="40", metavar="HZ",
+    parser.add_argument("--rate", default=None, metavar="HZ",
                         help="generation rate in Hz (default 40)")
     parser.add_argument("--table", default=None, metavar="W,H",
                         help="table size in metres from the origin; the reactor stays on it "
@@ -60,32 +70,101 @@ def parse_table(text: str) -> tuple[float, float, float, float]:
     return 0.0, 0.0, w, h
 
 
+def parse_params(items: list[str]) -> dict[str, float | int]:
+    """``NAME=VALUE`` items as behaviour parameters, typed as the Params field is; an unknown
+    name or a value of the wrong kind raises BehaveArgumentError naming it."""
+    from dataclasses import fields
+
+    from behaviors.puppet_master.engine import Params
+
+    kinds = {f.name: f.type for f in fields(Params)}
+    out: dict[str, float | int] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise BehaveArgumentError(f"--param {item!r} must be NAME=VALUE, e.g. ratio=2")
+        if name not in kinds:
+            raise BehaveArgumentError(f"--param {name}: unknown parameter; known: "
+                                      f"{', '.join(sorted(kinds))}")
+        integer = kinds[name] in (int, "int")
+        try:
+            value: float | int = int(text) if integer else float(text)
+        except ValueError:
+            raise BehaveArgumentError(f"--param {name}={text!r}: expected "
+                                      f"{'an integer' if integer else 'a number'}") from None
+        if name in out:
+            raise BehaveArgumentError(f"--param {name} is given twice")
+        out[name] = value
+    return out
+
+
+def read_demonstration(args: argparse.Namespace):
+    """The demonstration (n, 7) from --train, or paired from --train-main and --train-react."""
+    from behaviors.puppet_master.sequential import TakeError, pair_takes
+    from tabletop.files import check_increasing, read_csv_lines
+
+    if (args.train is None) == (args.train_main is None and args.train_react is None):
+        raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
+                                  "--train-react")
+    if args.train is not None:
+        header, demo, lines = read_csv_lines(args.train, DEMO_COLUMNS, what="demonstration CSV",
+                                             min_rows=2)
+        demo = demo[:, [header.index(c) for c in DEMO_COLUMNS]]
+        check_increasing(demo[:, 0], args.train, lines=lines)
+        return demo, args.train
+    if args.train_main is None or args.train_react is None:
+        raise BehaveArgumentError("sequential training needs both --train-main and --train-react")
+    takes = []
+    for path, cols in ((args.train_main, MAIN_COLUMNS), (args.train_react, OUT_COLUMNS)):
+        header, a, lines = read_csv_lines(path, cols, what="take CSV", min_rows=2)
+        a = a[:, [header.index(c) for c in cols]]
+        check_increasing(a[:, 0], path, lines=lines)
+        takes.append(a)
+    try:
+        return pair_takes(*takes), args.train_react
+    except TakeError as exc:
+        raise BehaveArgumentError(f"{args.train_main}, {args.train_react}: {exc}") from None
+
+
 def main(args: argparse.Namespace) -> int:
-    from behaviors.puppet_master.engine import Behavior, Reactor
+    from behaviors.puppet_master.engine import Behavior, ParameterError
+    from behaviors.puppet_master.fidelity import generate
     from tabletop.files import check_increasing, read_csv_lines, write_csv
 
-    rate = parse_rate(args.rate)
+    rate = parse_rate(args.rate if args.rate is not None else "40")
     table = parse_table(args.table) if args.table is not None else None
-    header, demo, lines = read_csv_lines(args.train, DEMO_COLUMNS, what="demonstration CSV",
-                                         min_rows=2)
-    demo = demo[:, [header.index(c) for c in DEMO_COLUMNS]]
-    check_increasing(demo[:, 0], args.train, lines=lines)
+    params = parse_params(args.param)
+    if "rate_hz" in params and args.rate is not None and params["rate_hz"] != rate:
+        raise BehaveArgumentError(f"--rate {args.rate} and --param rate_hz={params['rate_hz']} "
+                                  "disagree; give one")
+    params.setdefault("rate_hz", rate)
+    demo, source = read_demonstration(args)
     header, main_rows, lines = read_csv_lines(args.input, MAIN_COLUMNS, what="main path CSV",
                                               min_rows=1)
     main_rows = main_rows[:, [header.index(c) for c in MAIN_COLUMNS]]
     check_increasing(main_rows[:, 0], args.input, lines=lines)
+    span = float(demo[-1, 0] - demo[0, 0])
+    if span > MAX_DEMO_S:
+        raise BehaveArgumentError(f"{source}: the demonstration spans {span:g} s; at most "
+                                  f"{MAX_DEMO_S:g} s can be trained")
+    rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
+    if rows_out > MAX_ROWS:
+        raise BehaveArgumentError(f"{args.input}: the main path spans "
+                                  f"{main_rows[-1, 0] - main_rows[0, 0]:g} s, {rows_out:.3g} rows "
+                                  f"at {float(params['rate_hz']):g} Hz; at most {MAX_ROWS:,} rows "
+                                  "are generated")
     try:
-        behavior = Behavior.train(demo, rate_hz=rate)
+        behavior = Behavior.train(demo, **params)
+    except ParameterError as exc:
+        raise BehaveArgumentError(f"--param: {exc}") from None
     except InputError as exc:
-        raise BehaveArgumentError(f"{args.train}: {exc}") from None
+        raise BehaveArgumentError(f"{source}: {exc}") from None
     if table is None:
         table = behavior.bounds
         if table[2] <= table[0] or table[3] <= table[1]:
             raise BehaveArgumentError(
-                f"{args.train}: the demonstration's positions span no area; give --table W,H")
-    reactor = Reactor(behavior, table, max_backlog=None)
-    rows: list[tuple[float, float, float, float]] = []
-    for t, x, y, d in main_rows:
-        rows.extend(reactor.advance(float(t), float(x), float(y), float(d)))
-    write_csv(args.out, OUT_COLUMNS, rows)
+                f"{source}: the demonstration's positions span no area; give --table W,H")
+    rows = generate(behavior, main_rows, table)
+    write_csv(args.out, OUT_COLUMNS, rows.tolist())
     return 0

@@ -38,50 +38,21 @@ from typing import Any
 import numpy as np
 
 from behaviors.puppet_master.engine import Behavior, Reactor
+from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError, wrap_angle
 from tabletop.registry import BuildContext
-from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Record, Spec,
-                             Str)
+from tabletop.plugins.puppet_master_mains import (Board, MainBinding, MainReader, Posted,
+                                                  bound_characters, singles)
+from tabletop.plugins.puppet_master_mains import board as shared_board
+from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str
 
-MAIN_KINDS = ("puck", "character", "touch", "stream")
 MESSAGE_S = 4.0          # seconds an operator message stays in the label
 MARKER_DEBOUNCE_S = 0.3  # the record marker must be on (or off) the table this long
-TURN_SPEED = 0.02        # m/s: below it a touch or stream main keeps its look direction
 
 
 class PuppetMasterError(InputError):
     """A Puppet Master engine cannot be built as configured; the message names what and where."""
-
-
-class MainBinding(Spec):
-    """What drives the main character: exactly one of ``puck``, ``character``, ``touch``,
-    ``stream`` (with ``columns``: indices of x, y and optionally the look direction)."""
-
-    def __init__(self, default: Any = None) -> None:
-        self.default = {"kind": "puck", "puck": 1} if default is None else default
-        self.doc = "the main character's input"
-
-    def describe(self) -> str:
-        return ("one of {puck: ID}, {character: NAME}, {touch: ID}, "
-                "{stream: NAME, columns: [X, Y] or [X, Y, DIR]}")
-
-    def validate(self, value: Any, path: str, ctx: Context) -> Any:
-        if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
-        kinds = [k for k in value if k in MAIN_KINDS]
-        if len(kinds) != 1:
-            raise ctx.error(path, f"expected exactly one of {', '.join(MAIN_KINDS)}; got "
-                            f"{', '.join(map(str, value)) or 'nothing'}")
-        kind = kinds[0]
-        fields: dict[str, Spec] = {
-            "puck": {"puck": Number(integer=True, lo=0)},
-            "touch": {"touch": Number(integer=True, lo=0)},
-            "character": {"character": Str()},
-            "stream": {"stream": Str(), "columns": ListOf(Number(integer=True, lo=0),
-                                                          min_len=2, max_len=3)},
-        }[kind]
-        return {"kind": kind, **Record(fields).validate(value, path, ctx)}
 
 
 DESIGNER = Record({
@@ -95,6 +66,8 @@ DESIGNER = Record({
                         doc="folder the kept behaviours are saved in"),
     "name": Optional_(Str(), doc="name of kept behaviours (default: the engine's name)"),
     "min_seconds": Number(2.0, lo=0.1, doc="shortest take that is trained"),
+    "background_training": Bool(True, doc="train in a worker thread, swapped in between "
+                                "ticks (false: within the tick, for exact replays)"),
 })
 
 
@@ -117,6 +90,7 @@ SCHEMA = Record({
     "color": ListOf(Number(integer=True, lo=0, hi=255), default=[240, 170, 60], min_len=3,
                     max_len=3, doc="RGB"),
     "size": Number(0.08, lo=0.005, hi=2.0, doc="body length, metres"),
+    "keep_apart": Bool(True, doc="keep at least the body sizes away from other reactors"),
     "rate_hz": Optional_(Number(lo=5.0, hi=400.0),
                          doc="generation rate (default: the behaviour's)"),
     "designer": DESIGNER,
@@ -130,10 +104,15 @@ class PuppetMasterEngine:
                  behavior: Behavior | None = None, behavior_name: str = "",
                  color: tuple[int, int, int] = (240, 170, 60), size: float = 0.08,
                  designer: dict | None = None,
-                 rate_hz: float | None = None, clock=None) -> None:
+                 rate_hz: float | None = None, clock=None,
+                 board: Board | None = None, delayed: set[str] | None = None,
+                 keep_apart: bool = True) -> None:
         self.name, self.main, self.table = name, main, (0.0, 0.0, float(table[0]), float(table[1]))
         # Messages time out on the frames' times (``clock``: another time source), so a
         # replay reproduces the labels as well as the motion.
+        self.board = board if board is not None else Board()
+        self.mains = MainReader(main, set(delayed or ()), self.board)
+        self.keep_apart = keep_apart
         self.color, self.size, self.rate_hz, self.clock = color, size, rate_hz, clock
         self._now = -math.inf
         self.designer = designer if designer and designer["enabled"] else None
@@ -142,8 +121,6 @@ class PuppetMasterEngine:
         self.reactor: Reactor | None = None
         self._use(behavior)
         self.last_main: tuple[float, float, float] | None = None
-        self._last_t = -math.inf
-        self._dir = 0.0
         self.mode = "idle"                   # idle | recording | trying
         self.take: list[tuple[float, ...]] = []
         self.pending: Behavior | None = None
@@ -151,9 +128,12 @@ class PuppetMasterEngine:
         self._message, self._message_until = "", -math.inf
         self._marker_on, self._marker_since = False, -math.inf
         self._focused = True
+        self.trainer = BackgroundTrainer()
+        self._training_demo = np.zeros((0, 7))
         if self.designer is not None:
             if self.designer["main_puck"] is None:
-                self.designer["main_puck"] = main["puck"] if main["kind"] == "puck" else 1
+                first = singles(main)[0]
+                self.designer["main_puck"] = first["puck"] if first["kind"] == "puck" else 1
             if self.designer["name"] is None:
                 self.designer["name"] = name
 
@@ -164,62 +144,36 @@ class PuppetMasterEngine:
         self.behavior = behavior
         self.reactor = Reactor(behavior, self.table) if behavior is not None else None
 
-    # -- inputs ---------------------------------------------------------------------------------
-
-    def _main_pose(self, frame: Frame) -> tuple[float, float, float] | None:
-        m = self.main
-        kind = m["kind"]
-        if kind == "puck":
-            p = frame.puck(m["puck"])
-            return None if p is None else (p.x, p.y, p.angle)
-        if kind == "character":
-            c = frame.character(m["character"])
-            return None if c is None or not c.valid else (c.x, c.y, c.heading)
-        if kind == "touch":
-            for tc in frame.touches:
-                if tc.id == m["touch"]:
-                    return self._moving(tc.x, tc.y, tc.vx, tc.vy)
-            return None
-        a = frame.streams.get(m["stream"])
-        cols = m["columns"]
-        if a is None or a.ndim != 1 or max(cols) >= a.size:
-            return None
-        vals = [float(a[c]) for c in cols]
-        if not all(math.isfinite(v) for v in vals):
-            return None
-        if len(vals) == 3:
-            return vals[0], vals[1], wrap_angle(vals[2])
-        if self.last_main is not None and frame.t > self._last_t:
-            dt = frame.t - self._last_t
-            vx, vy = (vals[0] - self.last_main[0]) / dt, (vals[1] - self.last_main[1]) / dt
-            return self._moving(vals[0], vals[1], vx, vy)
-        return vals[0], vals[1], self._dir
-
-    def _moving(self, x: float, y: float, vx: float, vy: float) -> tuple[float, float, float]:
-        """A pose for an input without a look direction: it looks where it moves."""
-        if math.hypot(vx, vy) > TURN_SPEED:
-            self._dir = math.atan2(vy, vx)
-        return x, y, self._dir
-
     # -- the engine step ------------------------------------------------------------------------
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
         self._now = frame.t if self.clock is None else self.clock()
+        self.board.begin(frame)
+        out = self._step(frame)
+        c = out[0]
+        self.board.post(self.name, Posted(c.x, c.y, c.heading, c.size, c.valid))
+        return out
+
+    def _step(self, frame: Frame) -> tuple[CharacterState, ...]:
         if self.designer is not None:
+            self._poll_training()
             self._designer_commands(frame)
             if self.mode == "recording":
                 return (self._record(frame),)
-        pose = self._main_pose(frame)
-        if pose is not None and not all(math.isfinite(v) for v in pose):
-            pose = None                      # a broken measurement counts as absent
+        r = self.reactor
+        near = r.pose[:2] if r is not None and r.started else None
+        previous = self.mains.chosen
+        chosen, pose = self.mains.read(frame, near)
         if pose is not None:
+            if r is not None and r.started and chosen != previous and previous >= 0:
+                r.rebind(frame.t, *pose)     # another main: its motion starts afresh
             self.last_main = pose
         elif self.last_main is not None:
             pose = self.last_main            # keeps reacting to the main's last pose
-        self._last_t = max(self._last_t, frame.t)
-        if self.reactor is None or pose is None:
+        if r is None or pose is None:
             return (self._waiting(frame),)
-        x, y, d = self.reactor.update(frame.t, *pose)
+        r.obstacles = self.board.others(self.name, self.size) if self.keep_apart else []
+        x, y, d = r.update(frame.t, *pose)
         return (self._character(x, y, d, True, self._label(frame)),)
 
     def _character(self, x: float, y: float, d: float, valid: bool, label: str) -> CharacterState:
@@ -236,7 +190,7 @@ class PuppetMasterEngine:
         if self.reactor is None:
             why = "R to record a behaviour" if self.designer else "no behaviour"
         else:
-            why = f"waiting for {self.main['kind']} {self.main[self.main['kind']]}"
+            why = f"waiting for {self.mains.describe()}"
         return self._character(x, y, d, False, self._label(frame, why))
 
     def _label(self, frame: Frame, status: str = "") -> str:
@@ -331,16 +285,38 @@ class PuppetMasterEngine:
             return
         rate = self.rate_hz or (self.behavior.params.rate_hz if self.behavior else 40.0)
         window = self.behavior.params.window if self.behavior else 40
+        params = {"rate_hz": rate, "window": window}
+        if self.designer.get("background_training", False):
+            self.trainer.start(demo, params, self.table)       # off the hot path
+            self._training_demo = demo
+            self._say(f"training {secs:.1f} s take...")
+            return
         try:
-            self.pending = Behavior.train(demo, rate_hz=rate, window=window)
+            behavior = Behavior.train(demo, **params)
         except InputError as exc:
             self._say(f"cannot train: {exc}")
             return
+        self._trained(behavior, Reactor(behavior, self.table), demo)
+
+    def _poll_training(self) -> None:
+        """Swap in a behaviour trained in the background, between ticks."""
+        done = self.trainer.poll()
+        if done is None or self.mode == "recording":   # a new take makes the old one moot
+            return
+        behavior, reactor, error = done
+        if error is not None or behavior is None or reactor is None:
+            self._say(f"cannot train: {error}")
+            return
+        self._trained(behavior, reactor, self._training_demo)
+
+    def _trained(self, behavior: Behavior, reactor: Reactor, demo: np.ndarray) -> None:
+        self.pending = behavior
         self.pending_demo = demo
         self._previous = (self.behavior, self.behavior_name)
-        self._use(self.pending)
+        self.behavior, self.reactor = behavior, reactor
         self.behavior_name = "new take"
         self.mode = "trying"
+        self._message_until = -math.inf
 
     def _keep(self) -> None:
         if self.mode != "trying" or self.pending is None:
@@ -371,23 +347,32 @@ class PuppetMasterEngine:
             self._say("nothing to discard")
 
 
-def _check_binding(options: dict, ctx: BuildContext) -> None:
-    """A main bound to a character must name an engine listed before this one."""
-    main = options["main"]
-    if main["kind"] != "character":
-        return
+def _delayed(options: dict, ctx: BuildContext) -> set[str]:
+    """Characters this engine reads from the previous tick: Puppet Master engines listed at or
+    after it, or bound back to it (a mutual pair). Any other bound character must be made by
+    an engine listed earlier."""
     engines = ctx.config.get("engines", []) if isinstance(ctx.config, dict) else []
     names = [e.get("name") for e in engines]
     mine = names.index(options["name"]) if options["name"] in names else len(names)
-    if main["character"] not in names[:mine]:
-        where = f"engines[{mine}].main.character" if mine < len(names) else "main.character"
-        raise PuppetMasterError(
-            f"{where}: {main['character']!r} is not an engine listed before {options['name']!r}; "
-            "a reactor reacts to characters made earlier in the same tick")
+    delayed = set()
+    for name in bound_characters(options["main"]):
+        k = names.index(name) if name in names else -1
+        other = engines[k] if k >= 0 else {}
+        is_pm = other.get("kind") == "puppet_master"
+        back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
+        if k < 0 or (k >= mine and not is_pm):
+            where = f"engines[{mine}].main" if mine < len(names) else "main"
+            raise PuppetMasterError(
+                f"{where}: character {name!r} is not made by an engine listed before "
+                f"{options['name']!r} (a puppet_master engine may also be listed after it or "
+                "react back: it is then read one tick old)")
+        if k >= mine or back:
+            delayed.add(name)
+    return delayed
 
 
 def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
-    _check_binding(options, ctx)
+    delayed = _delayed(options, ctx)
     behavior, bname = None, ""
     if options["behavior"] is not None:
         stored = library.load_behavior(options["behavior"])
@@ -404,4 +389,5 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     designer["library"] = lib if lib.is_absolute() else Path(ctx.base) / lib
     return PuppetMasterEngine(options["name"], options["main"], ctx.table, behavior, bname,
                               tuple(options["color"]), options["size"], designer,
-                              options["rate_hz"])
+                              options["rate_hz"], board=shared_board(ctx.shared),
+                              delayed=delayed, keep_apart=options["keep_apart"])

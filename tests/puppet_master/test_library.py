@@ -163,10 +163,22 @@ def test_regeneration_is_deterministic(tmp_path):
 
 def test_examples_check_command(tmp_path, capsys):
     shutil.copytree(SHIPPED, tmp_path / "lib")
-    assert examples.main(["--out", str(tmp_path / "lib"), "--check"]) == 0
+    quick = ["--fidelity-seconds", "0"]
+    assert examples.main(["--out", str(tmp_path / "lib"), "--check", *quick]) == 0
     f = tmp_path / "lib" / "stalker" / "demonstration.csv"
     f.write_text(f.read_text().replace("0.025,", "0.0251,", 1))
-    assert examples.main(["--out", str(tmp_path / "lib"), "--check"]) == 1
+    assert examples.main(["--out", str(tmp_path / "lib"), "--check", *quick]) == 1
     assert "stalker" in capsys.readouterr().out
     assert examples.main(["--out", str(tmp_path / "lib")]) == 0
-    assert examples.main(["--out", str(tmp_path / "lib"), "--check"]) == 0
+    assert examples.main(["--out", str(tmp_path / "lib"), "--check", *quick]) == 0
+    # the fidelity table: every behaviour, every unseen path, demonstration beside generation
+    capsys.readouterr()
+    assert examples.main(["--out", str(tmp_path / "lib"), "--check",
+                          "--fidelity-seconds", "6"]) == 0
+    out = capsys.readouterr().out
+    for name in designers.PERSONALITIES:
+        assert f"{name}:" in out
+    for path in ("slow_pauses_30hz", "fast_reversals_60hz", "loops_spins_45hz"):
+        assert out.count(path) == len(designers.PERSONALITIES)
+    assert out.count("demonstration") == len(designers.PERSONALITIES)
+    assert "fidelity:" in out

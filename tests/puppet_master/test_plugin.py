@@ -94,11 +94,15 @@ def test_corrupt_behaviour_is_refused_at_load_and_left_alone(tmp_path):
     assert (folder / "behavior.yaml").read_bytes() == before
 
 
-def test_character_binding_must_name_an_earlier_engine():
-    with pytest.raises(pm.PuppetMasterError, match=r"engines\[0\]\.main\.character.*'b'"):
+def test_character_binding_must_name_a_known_engine():
+    with pytest.raises(pm.PuppetMasterError, match=r"engines\[0\]\.main.*'nobody'"):
         build([{"kind": "puppet_master", "name": "a", "behavior": "behaviors/library/stalker",
-                "main": {"character": "b"}},
-               {"kind": "puppet_master", "name": "b", "behavior": "behaviors/library/lover"}])
+                "main": {"character": "nobody"}}])
+    # a puppet_master engine listed later is read one tick old
+    a, b = build([{"kind": "puppet_master", "name": "a", "behavior": "behaviors/library/stalker",
+                   "main": {"character": "b"}},
+                  {"kind": "puppet_master", "name": "b", "behavior": "behaviors/library/lover"}])
+    assert a.mains.delayed == {"b"} and b.mains.delayed == set()
 
 
 # -- reacting on the bus ------------------------------------------------------------------------
@@ -181,6 +185,8 @@ def designer_frames(demo: np.ndarray, commands: dict[int, tuple[str, ...]], t0: 
 
 
 def designer_engine(tmp_path, **designer):
+    # trained within the tick: these tests follow the designer's steps frame by frame
+    designer = {"background_training": False, **designer}
     return build([{"kind": "puppet_master", "name": "pet",
                    "designer": {"enabled": True, "library": str(tmp_path / "lib"), **designer}}])
 
@@ -239,7 +245,8 @@ def test_designer_discard_and_keep_never_overwrite(tmp_path):
 
 def test_recording_again_redoes_the_take(tmp_path):
     (e,) = build([{"kind": "puppet_master", "name": "pet", "behavior": "behaviors/library/afraid",
-                   "designer": {"enabled": True, "library": str(tmp_path)}}])
+                   "designer": {"enabled": True, "library": str(tmp_path),
+                                "background_training": False}}])
     original = e.behavior
     demo = designers.demonstrate("lover", seed=2, seconds=12)
     cmds = {5: ("designer.record",), 150: ("designer.record",), 160: ("designer.record",),
@@ -283,7 +290,8 @@ def test_record_marker_starts_and_stops_recording(tmp_path):
 def test_tab_selects_which_designer_engine_records(tmp_path):
     a, b = build([
         {"kind": "puppet_master", "name": n,
-         "designer": {"enabled": True, "library": str(tmp_path)}} for n in ("a", "b")])
+         "designer": {"enabled": True, "library": str(tmp_path),
+                                "background_training": False}} for n in ("a", "b")])
     demo = designers.demonstrate("lover", seed=1, seconds=3)
     assert a.designer_targets() == ("a",) and b.designer_targets() == ("b",)
     cmds = {4: ("designer.record",)}
@@ -312,3 +320,19 @@ def test_the_default_config_entry_reacts_to_the_scripted_visitor():
     out = run([e], visitor_frames(10, seed=0))["lover"]
     assert out[:, 3].all() and np.hypot(*np.diff(out[:, :2], axis=0).T).sum() > 0.5
     assert np.median(np.hypot(*(out[:, :2] - main_track(10, seed=0)[:, :2]).T)[60:]) < 0.25
+
+
+def test_background_training_swaps_the_take_in_between_ticks(tmp_path):
+    (e,) = designer_engine(tmp_path, background_training=True)
+    demo = designers.demonstrate("lover", seed=8, seconds=12)
+    frames = list(designer_frames(demo, {5: ("designer.record",), 300: ("designer.record",)}))
+    for f in frames[:301]:
+        e.step(f)
+    # the tick that stopped the recording did not train: the take trains in a worker thread
+    assert e.mode == "idle" and e.pending is None and "training" in e.step(frames[301])[0].label
+    e.trainer.wait(30.0)
+    c = e.step(frames[302])[0]
+    assert e.mode == "trying" and e.pending is not None and e.pending.samples > 200
+    assert "trained" in c.label and c.valid
+    for f in frames[303:]:
+        assert e.step(f)[0].valid

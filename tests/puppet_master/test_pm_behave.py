@@ -129,3 +129,71 @@ def test_the_installed_command_runs_without_pygame(files):
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
     assert (d / "sub.csv").read_text() == (d / "out.csv").read_text()
+
+
+def test_every_behaviour_parameter_can_be_given(files, tmp_path):
+    from dataclasses import fields
+
+    from behaviors.puppet_master.engine import Params
+    d, _ = files
+    base = ["--train", d / "demo.csv", "--input", d / "main.csv", "--table", "1.6,1.0"]
+    behave(*base, "--out", tmp_path / "default.csv")
+    for f in fields(Params):
+        value = getattr(Params(), f.name)
+        assert behave(*base, "--out", tmp_path / "p.csv", "--param", f"{f.name}={value}") == 0
+        # the default given explicitly changes nothing
+        assert (tmp_path / "p.csv").read_text() == (tmp_path / "default.csv").read_text(), f.name
+    # a parameter changes the output: a 3:1 situation:coherence ratio
+    assert behave(*base, "--out", tmp_path / "r3.csv", "--param", "ratio=3",
+                  "--param", "smooth=5") == 0
+    assert (tmp_path / "r3.csv").read_text() != (tmp_path / "default.csv").read_text()
+
+
+@pytest.mark.parametrize("param, words", [
+    ("bogus=1", ["--param bogus", "unknown parameter", "ratio"]),
+    ("window=4.5", ["--param window", "integer"]),
+    ("ratio=fast", ["--param ratio", "number"]),
+    ("ratio", ["--param 'ratio'", "NAME=VALUE"]),
+    ("ratio=-1", ["--param", "ratio", "> 0"]),
+    ("window=1", ["--param", "window", ">= 2"]),
+])
+def test_bad_parameters_exit_2_with_one_clear_line(files, tmp_path, capsys, param, words):
+    d, _ = files
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--param", param) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    for w in words:
+        assert w in err, err
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_sequential_training_from_files(files, tmp_path, capsys):
+    d, _ = files
+    demo = pm_demos.follow_behind(pm_demos.main_path(41, 30))
+    # the main take at 60 Hz; the reactor take at 30 Hz against its playback, same time base
+    write_csv(tmp_path / "main_take.csv", MAIN_HEADER, demo[:, :4].tolist())
+    write_csv(tmp_path / "react_take.csv", ["t", "react_x", "react_y", "react_dir"],
+              demo[::2, [0, 4, 5, 6]].tolist())
+    assert behave("--train-main", tmp_path / "main_take.csv", "--train-react",
+                  tmp_path / "react_take.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "seq.csv", "--table", "1.6,1.0") == 0
+    _, seq = read_csv(tmp_path / "seq.csv")
+    _, two = read_csv(d / "out.csv")
+    assert seq.shape == two.shape
+    # the same character: following 0.3 m behind as the two-puck demonstration's output does
+    main = np.loadtxt(d / "main.csv", delimiter=",", skiprows=1)
+    for out in (seq, two):
+        mx = np.interp(out[:, 0], main[:, 0], main[:, 1])
+        my = np.interp(out[:, 0], main[:, 0], main[:, 2])
+        assert 0.2 < np.median(np.hypot(out[:, 1] - mx, out[:, 2] - my)) < 0.4
+    # both takes are needed, and they must overlap in time
+    assert behave("--train-main", tmp_path / "main_take.csv", "--input", d / "main.csv",
+                  "--out", tmp_path / "o.csv") == 2
+    assert "--train-react" in capsys.readouterr().err
+    late = demo[::2, [0, 4, 5, 6]].copy()
+    late[:, 0] += 100.0
+    write_csv(tmp_path / "late.csv", ["t", "react_x", "react_y", "react_dir"], late.tolist())
+    assert behave("--train-main", tmp_path / "main_take.csv", "--train-react",
+                  tmp_path / "late.csv", "--input", d / "main.csv", "--out", tmp_path / "o.csv") == 2
+    assert "does not overlap" in capsys.readouterr().err

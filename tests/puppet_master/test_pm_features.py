@@ -26,7 +26,7 @@ def test_live_features_equal_training_features():
         fwd, left, rl = ft.relative_pose(*main[i], *react[i])
         ft.situation_row(xs, b.scales, vm, vr, fwd, left, rl)
         nl = math.remainder(react[i, 2] - move_r, math.tau)
-        ft.coherence_row(xc, b.scales, nl, ddir_r, fwd, left, vr)
+        ft.coherence_row(xc, b.scales, nl, ddir_r, fwd, left, vr, vm)
         assert np.allclose(xs, b.situation_vectors[i], atol=1e-9)
         assert np.allclose(xc, b.coherence_vectors[i], atol=1e-9)
 

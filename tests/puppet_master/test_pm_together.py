@@ -1,0 +1,65 @@
+"""Reactors aware of each other on the bus: keeping apart, mutual pairs, several mains."""
+
+import numpy as np
+
+from tests.puppet_master.test_plugin import build, main_track, run, visitor_frames
+
+
+def _engine(name, behavior, main, **extra):
+    return {"kind": "puppet_master", "name": name, "behavior": f"behaviors/library/{behavior}",
+            "main": main, **extra}
+
+
+def test_two_reactors_on_one_main_keep_apart_and_keep_their_behaviour():
+    size = 0.08
+    together = build([_engine("a", "lover", {"puck": 1}, size=size),
+                      _engine("b", "lover", {"puck": 1}, size=size)])
+    out = run(together, visitor_frames(30))
+    a, b = out["a"], out["b"]
+    gap = np.hypot(*(a[:, :2] - b[:, :2]).T)[60:]
+    # never overlapping by more than 10% of their sizes (discs of diameter ``size``)
+    assert gap.min() >= 0.9 * size                                   # measured 0.075
+    # without keeping apart, two lovers of one main do overlap
+    apart = build([_engine("a", "lover", {"puck": 1}, size=size, keep_apart=False),
+                   _engine("b", "lover", {"puck": 1}, size=size, keep_apart=False)])
+    free = run(apart, visitor_frames(30))
+    assert np.hypot(*(free["a"][:, :2] - free["b"][:, :2]).T)[60:].min() < 0.5 * size   # 0.0
+    # both still love: close to the main, as a lover alone is (median under 0.22 m)
+    main = main_track(30)
+    for v in (a, b):
+        assert np.median(np.hypot(*(v[:, :2] - main[:, :2]).T)[120:]) < 0.22   # 0.18, 0.14
+
+
+def test_mutual_pair_sees_each_other_one_tick_old_in_any_order():
+    def pair(order):
+        engines = {"s": _engine("s", "stalker", {"character": "l"}, keep_apart=False),
+                   "l": _engine("l", "lover", {"character": "s"}, keep_apart=False)}
+        return run(build([engines[k] for k in order]), visitor_frames(15))
+
+    first, again, swapped = pair("sl"), pair("sl"), pair("ls")
+    for k in ("s", "l"):
+        assert np.array_equal(first[k], again[k])                    # reproducible
+        assert np.array_equal(first[k], swapped[k])                  # order does not matter
+    # they react to each other: neither waits after the first ticks, and the lover closes in
+    s, lv = first["s"], first["l"]
+    assert s[5:, 3].all() and lv[5:, 3].all()
+    gap = np.hypot(*(s[:, :2] - lv[:, :2]).T)
+    assert np.median(gap[-200:]) < 0.35                              # measured 0.10
+
+
+def test_nearest_of_several_mains_and_first_present():
+    engines = build([_engine("n", "lover", {"nearest": [{"puck": 1}, {"puck": 2}]}),
+                     _engine("f", "lover", {"first": [{"puck": 7}, {"puck": 2}]})])
+    n, f = engines
+    chosen, nearest = [], []
+    for frame in visitor_frames(30):
+        x, y = (n.reactor.pose[:2] if n.reactor.started else (0.6, 0.4))
+        n.step(frame)
+        f.step(frame)
+        ds = [np.hypot(p.x - x, p.y - y) for p in sorted(frame.pucks, key=lambda p: p.id)]
+        chosen.append(n.mains.chosen)
+        nearest.append(int(np.argmin(ds)))
+        assert f.mains.chosen == 1                     # puck 7 never shows: the second main
+    chosen, nearest = np.array(chosen[60:]), np.array(nearest[60:])
+    assert len(set(chosen)) == 2                       # it turned to each puck in turn
+    assert np.mean(chosen == nearest) > 0.9            # the nearest (hysteresis aside)
