@@ -15,11 +15,14 @@ best kept. The threshold loosens with the drag's speed (:func:`threshold`); an i
 ``MIN_LENGTH`` of the stroke or ``MIN_SECONDS`` is not judged. An action whose representative
 vector (stroke end minus start) is within 45 degrees of the viewing line is excluded.
 
-Parameters (measured with the tests' drags, character metres): ``H`` = 0.15 m per second of time
-difference, so a drag four times slower than the action scores about 0.15-0.3 m worse than one
-at the action's own pace; threshold 0.06 m + 0.05 s x speed (m/s): a drag at the action's pace
-(1.5-3 m/s for punch and kick) accepts average deviations of about 0.15-0.2 m, a slow posing
-drag (0.3 m/s) only about 0.075 m, which its time term alone exceeds.
+Parameters (measured over the five actions' strokes dragged at 1, 1.5, 2, 3 and 4 times their
+recorded duration, from three views; character metres): ``H`` = 0.5 m per second of time
+difference. The threshold loosens with the drag's speed relative to the stroke's own projected
+speed r (absolute speeds differ too much between actions: a kick's foot moves ~6 m/s, a wave's
+hand ~1.5 m/s): 0.05 m + 0.06 m x r. At the action's pace (r = 1) average distances of 0.004-0.01
+m meet a threshold of 0.11 m, leaving room for an imprecise finger; at half pace the kicks (0.05)
+still pass and the punch, jump and wave (0.09-0.11) do not; at a third of the pace or slower
+(0.095-0.5) nothing does, so slow drags only pose.
 """
 
 from __future__ import annotations
@@ -32,15 +35,15 @@ from behaviors.touch_pose.humanoid import PARTS, Humanoid
 from behaviors.touch_pose.latent import LearnedModel
 from behaviors.touch_pose.samples import ActionSpec, Segment, clip_named, clip_poses, segment_at
 
-H = 0.15
-THRESHOLD_BASE = 0.06
-THRESHOLD_PER_SPEED = 0.05
+H = 0.5
+THRESHOLD_BASE = 0.05
+THRESHOLD_PER_SPEED = 0.06
 MIN_COVERAGE = 0.5
-MIN_LENGTH = 0.3
+MIN_LENGTH = 0.5
 MIN_SECONDS = 0.15
 EXCLUDE_DEG = 45.0
 ACTION_SAMPLES = 24
-INPUT_SAMPLES = 16
+MAX_INPUT_SAMPLES = 96
 #: Fastest the generalised time moves, in multiples of the recording's own pace.
 MAX_PACE = 1.6
 
@@ -55,6 +58,7 @@ class ActionModel:
     stroke: np.ndarray        # (ACTION_SAMPLES, 3) primary part, relative to its start, model frame
     stroke_t: np.ndarray      # (ACTION_SAMPLES,) seconds from the start
     vector: np.ndarray        # representative direction (3,)
+    start: float              # generalised time where the stroke starts
 
     @property
     def name(self) -> str:
@@ -71,10 +75,17 @@ def build_action(body: Humanoid, spec: ActionSpec) -> ActionModel:
     poses = clip_poses(body, clip, u)
     model = LearnedModel(body, poses, times=u)
     part = PARTS.index(spec.part)
-    us = np.linspace(0.0, spec.stroke_end, ACTION_SAMPLES)
+    # the stroke starts once the primary part has moved a tenth of its way (a drag is the part
+    # moving: the clips' first still frames are left to posing)
+    fine = np.linspace(0.0, spec.stroke_end, 4 * ACTION_SAMPLES)
+    traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, fine)])
+    moved = np.linalg.norm(traj - traj[0], axis=1)
+    start = fine[int(np.argmax(moved > 0.1 * moved.max()))]
+    us = np.linspace(start, spec.stroke_end, ACTION_SAMPLES)
     traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, us)])
     stroke = traj - traj[0]
-    return ActionModel(spec, clip.duration, model, stroke, us * clip.duration, stroke[-1].copy())
+    return ActionModel(spec, clip.duration, model, stroke, (us - start) * clip.duration,
+                       stroke[-1].copy(), float(start))
 
 
 def dp_distance(inp: np.ndarray, inp_t: np.ndarray, act: np.ndarray, act_t: np.ndarray,
@@ -103,9 +114,9 @@ def dp_distance(inp: np.ndarray, inp_t: np.ndarray, act: np.ndarray, act_t: np.n
     return float(d[j] / n), j
 
 
-def threshold(speed: float) -> float:
-    """Largest accepted distance (m) for a drag at ``speed`` (screen m/s, character scale)."""
-    return THRESHOLD_BASE + THRESHOLD_PER_SPEED * speed
+def threshold(relative_speed: float) -> float:
+    """Largest accepted distance (m) for a drag at ``relative_speed`` times the stroke's speed."""
+    return THRESHOLD_BASE + THRESHOLD_PER_SPEED * min(relative_speed, 3.0)
 
 
 def resample(points: np.ndarray, times: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -135,7 +146,6 @@ def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
     duration = float(times[-1] - times[0])
     speed = length / duration
     best: Match | None = None
-    inp, inp_t = resample(rel, times - times[0], INPUT_SAMPLES)
     for a in actions:
         if a.spec.part != part or a.name in excluded:
             continue
@@ -143,10 +153,15 @@ def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
         act_len = float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum())
         if length < MIN_LENGTH * act_len:
             continue
+        # the input at the action's own sample spacing: a drag as long as the stroke has as
+        # many samples, a slower one more (matched to one action sample each: DP step 0)
+        spacing = a.stroke_t[1] - a.stroke_t[0]
+        n = int(min(max(4, round(duration / spacing) + 1), MAX_INPUT_SAMPLES))
+        inp, inp_t = resample(rel, times - times[0], n)
         dist, j = dp_distance(inp, inp_t, stroke, a.stroke_t)
-        thr = threshold(speed)
+        thr = threshold(speed / max(act_len / a.stroke_t[-1], 1e-6))
         if dist < thr and (best is None or dist - thr < best.distance - best.threshold):
-            best = Match(a, dist, thr, float(a.stroke_t[j] / a.duration))
+            best = Match(a, dist, thr, a.start + float(a.stroke_t[j] / a.duration))
     return best
 
 
@@ -155,7 +170,8 @@ class ActionClock:
 
     Each frame the time moves toward the synthesised time by at most ``MAX_PACE`` times the
     recording's pace; where the segment forbids stillness it keeps running in the segment's
-    direction while the finger rests; once the finger lifts it runs in the segment's automatic
+    direction whatever the finger does (a kick in the air cannot stop or turn back), and it never
+    re-enters such a segment against its direction; once the finger lifts it runs in the segment's automatic
     direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0 (cancelled).
     """
 
@@ -173,11 +189,15 @@ class ActionClock:
         else:
             delta = target - self.u
             step = float(np.clip(delta, -MAX_PACE * pace, MAX_PACE * pace))
-            if not seg.still and abs(step) < pace:
-                # no stillness here: keep going, the way the finger leads or the segment runs
-                direction = np.sign(delta) if abs(delta) > 1e-6 else seg.direction
-                step = direction * pace
-            self.u += step
+            if not seg.still:
+                # no stillness here (a kick in the air): the time runs the segment's way, at
+                # least at the recording's pace, faster when the finger leads ahead
+                step = seg.direction * max(pace, step * seg.direction)
+            new = self.u + step
+            ahead = self.action.segment(min(max(new, 0.0), 1.0))
+            if not ahead.still and ahead is not seg and np.sign(step) != ahead.direction:
+                new = self.u  # never re-enter a segment that must not stop, against its run
+            self.u = new
         if self.u >= 1.0 or self.u <= 0.0:
             self.u = min(max(self.u, 0.0), 1.0)
             self.done = True
