@@ -150,8 +150,11 @@ class TouchPose:
         out = self.tracker.step(self.target, dt)
         grounded = self._grounded(self.target)
         if self.physics is not None:
-            sim = self.physics.step(self.target, dt)
-            self.effect.update(sim, self.target, dt)
+            resets = self.physics.resets
+            sim = self.physics.step(out, dt)
+            if self.physics.resets != resets:
+                self.effect.reset()  # the body was put back: its jump is no physical effect
+            self.effect.update(sim, out, dt)
             free = free_segments(held, grounded)
             shaken = apply_effect(self.body, out, self.effect, free)
             if "torso" in free and grounded:

@@ -6,22 +6,26 @@ Equations 2-4, one gain set for every joint (accelerations, not torques, so no p
     pdd_root = k (p_target,root - p_root) - d pd_root  (3)
     qd_i = dt qdd_i + qd_i',  q_i = dt qd_i (+) q_i'   (4)  semi-implicit Euler, quaternion update
 
-Gains: k = 225 s^-2, d = 30 s^-1 (critically damped, natural frequency 15 rad/s). Measured on
-the tests' mode switches at 30 fps: a 90-degree jump of a target becomes at most ~11 degrees per
-frame, while a posture held still is reached within about 0.3 s (the 2 cm hand test settles
-in under a second). Stiffer gains (k = 900) left jumps of ~25 degrees a frame; softer ones
-(k = 100) lagged visibly behind a quick punch.
+Gains: k = 100 s^-2, d = 20 s^-1 (critically damped, natural frequency 10 rad/s), integrated in
+4 substeps per 30 fps frame (one Euler step of a whole frame moves k dt^2 = a quarter of any
+jump at once). Measured at the mode switches of punch, kick, spin kick, jump and wave (target
+jumps of 70-135 degrees): k = 225 in one step moved a joint up to 34 degrees in one frame, k = 100
+in 4 substeps at most ~16 degrees; a still posture is still reached within about 0.5 s.
 
 Equations 6-7, the physical effect: for each joint, from the physics engine's rotations,
 
-    dq_i = s1 dq_i' + s2 ((q_sim,i - q_sim,i') - (q_target,i - q_target,i'))     (6)
+    dq_i = s1 dq_i' + s2 ((q_sim,i - q_sim,i') - (q_i - q_i'))                   (6)
     q_output,i = q_i + dq_i   on segments neither touched nor on the ground         (7)
+
+q_i being the acceleration-tracked rotation (equation 4), which the simulation also follows.
 
 The paper gives s1 = 0.2 dt and s2 = 0.5 dt; read with dt in frames of its 30 fps loop (dt = 1),
 that is an effect that keeps a fifth of itself each frame and adds half the simulated change,
-scaled here by the step length in frames. The target's own change is subtracted from the
-simulated change so that only what physics adds (sway, overshoot, a limb shaken by the rest)
-is extracted; the plain simulated change would double the motion tracking already produces.
+scaled here by the step length in frames. The tracked pose's own change is subtracted from the
+simulated change so only what physics adds (sway, overshoot, a limb shaken by the rest) is
+extracted: the plain simulated change would add the motion tracking already produces a second
+time. The simulation follows the tracked pose rather than the raw target, whose jumps at mode
+switches would yank the simulated body (measured: up to +13 degrees a frame on top of tracking).
 """
 
 from __future__ import annotations
@@ -31,8 +35,9 @@ import numpy as np
 from behaviors.motion.clips import quat_conj, quat_from_rotvec, quat_mul, quat_normalize, quat_to_rotvec
 from behaviors.touch_pose.humanoid import SEGMENTS, Humanoid, Pose
 
-K_GAIN = 225.0
-D_GAIN = 30.0
+K_GAIN = 100.0
+D_GAIN = 20.0
+SUBSTEPS = 4
 S1 = 0.2
 S2 = 0.5
 FRAME = 1.0 / 30.0
@@ -54,12 +59,15 @@ class Tracker:
 
     def step(self, target: Pose, dt: float) -> Pose:
         """Equations 2-4 for one step of ``dt`` seconds toward ``target``; returns the new pose."""
-        acc = self.k * rot_diff(target.rots, self.pose.rots) - self.d * self.omega   # (2)
-        pacc = self.k * (target.root - self.pose.root) - self.d * self.vel             # (3)
-        self.omega = self.omega + dt * acc                                            # (4)
-        self.vel = self.vel + dt * pacc
-        self.pose.rots = quat_normalize(quat_mul(quat_from_rotvec(dt * self.omega), self.pose.rots))
-        self.pose.root = self.pose.root + dt * self.vel
+        h = dt / SUBSTEPS
+        for _ in range(SUBSTEPS):
+            acc = self.k * rot_diff(target.rots, self.pose.rots) - self.d * self.omega   # (2)
+            pacc = self.k * (target.root - self.pose.root) - self.d * self.vel             # (3)
+            self.omega = self.omega + h * acc                                             # (4)
+            self.vel = self.vel + h * pacc
+            self.pose.rots = quat_mul(quat_from_rotvec(h * self.omega), self.pose.rots)
+            self.pose.root = self.pose.root + h * self.vel
+        self.pose.rots = quat_normalize(self.pose.rots)
         return self.pose.copy()
 
 
