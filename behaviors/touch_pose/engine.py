@@ -78,12 +78,13 @@ class TouchPose:
 
     def __init__(self, table: tuple[float, float] = (1.2, 0.8), height: float = 0.3,
                  azimuth: float = 0.0, elevation: float = 15.0, reach: float = 0.04,
-                 physics: bool = True, models: Models | None = None) -> None:
+                 physics: bool = True, models: Models | None = None,
+                 at: tuple[float, float] | None = None) -> None:
         self.m = models or learned_models()
         body = self.m.body
         self.body = body
         self.ccd = CCD(body)
-        self.centre = np.array(table, dtype=float) / 2.0
+        self.centre = np.array(table, dtype=float) / 2.0 if at is None else np.array(at, float)
         pts = body.points(self.m.stand)
         self.stand_height = float(pts[:, 1].max())
         self.scale = float(height) / self.stand_height
@@ -164,6 +165,18 @@ class TouchPose:
         self.output = out
         return self.frame(t)
 
+    def turn(self, d_azimuth: float, d_elevation: float) -> None:
+        """Turn the virtual camera (degrees); drags in progress restart in the new view."""
+        cam = self.camera.turned(d_azimuth, d_elevation)
+        self.camera = self._camera(cam.azimuth, cam.elevation)
+        for f in self.fingers.values():
+            f.times, f.path = f.times[-1:], [self.camera.to_screen(f.table)]
+
+    def table_points(self) -> np.ndarray:
+        """The output posture's joints and parts projected on the table (19, 2; metres), in
+        the order :attr:`Humanoid.bones` indexes."""
+        return self.camera.table(self.body.points(self.output))
+
     def frame(self, t: float) -> dict:
         """The output record of DESIGN.md's ``pose`` for the current output posture."""
         pts = self.body.points(self.output)
@@ -200,10 +213,7 @@ class TouchPose:
         if len(free_now) >= 2 and len(both) >= 2 and not taken:
             move = np.mean([free_now[i] - free_before[i] for i in both], axis=0)
             if np.any(move != 0.0):
-                cam = self.camera.turned(-move[0] * TURN_DEG_PER_M, -move[1] * TURN_DEG_PER_M)
-                self.camera = self._camera(cam.azimuth, cam.elevation)
-                for f in self.fingers.values():  # paths are in screen units of the old view
-                    f.times, f.path = [f.times[-1]], [self.camera.to_screen(f.table)]
+                self.turn(-move[0] * TURN_DEG_PER_M, -move[1] * TURN_DEG_PER_M)
 
     def _constraints(self) -> tuple[list[str], np.ndarray]:
         held = [(f.part, f.path[-1]) for f in self.fingers.values() if f.part is not None]

@@ -75,6 +75,7 @@ class CCD:
             path.reverse()  # chain top (child of the pelvis) ... the part's body
             assert int(body.parent[path[0]]) == 0
             self.paths[part] = path
+        self._chest = idx["chest"]
         self._offset = [tuple(o) for o in body.offset.tolist()]
         self._axis = [tuple(a) for a in body.axis.tolist()]
         self._part_off = {p: tuple(np.asarray(o, dtype=float).tolist())
@@ -95,10 +96,13 @@ class CCD:
         p0 = tuple(out.root.tolist())
         left = {part: math.inf for part, _ in items}
         previous = math.inf
+        # the chest is shared: when the head is held, the hands' chains stop at the shoulders
+        # (otherwise hands and head undo each other's chest turns every sweep)
+        skip = self._chest if "head" in left and len(left) > 1 else -1
         for _ in range(self.iterations):
             for part, goal in items:
                 if left[part] > self.tolerance:
-                    left[part] = self._chain(part, goal, local, q0, p0)
+                    left[part] = self._chain(part, goal, local, q0, p0, skip)
             worst = max(left.values())
             # done, or stalled (a goal out of reach: further sweeps would not bring it closer)
             if worst < self.tolerance or previous - worst < 0.1 * self.tolerance:
@@ -107,7 +111,8 @@ class CCD:
         out.rots = np.array(local)
         return out
 
-    def _chain(self, part: str, goal: tuple, local: list, q0: tuple, p0: tuple) -> float:
+    def _chain(self, part: str, goal: tuple, local: list, q0: tuple, p0: tuple,
+               skip: int = -1) -> float:
         """One CCD sweep of ``part``'s chain (in place on ``local``); the remaining distance."""
         body = self.body
         path = self.paths[part]
@@ -127,6 +132,8 @@ class CCD:
             return (pw[end][0] + o[0], pw[end][1] + o[1], pw[end][2] + o[2])
 
         for j in self.chains[part]:
+            if j == skip and part != "head":
+                continue
             eff = effector()
             pj = pw[j]
             v1 = (eff[0] - pj[0], eff[1] - pj[1], eff[2] - pj[2])
