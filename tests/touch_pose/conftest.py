@@ -29,13 +29,13 @@ def make(models):
 def stroke_drag(engine, models, name, pace=1.0, frac=1.0, hold=0.0, after=3.0, rate=30.0):
     """Drag the primary part of action ``name`` along its projected stroke at ``pace`` times
     its recorded duration (``frac`` of it), hold the finger ``hold`` s, lift, run ``after`` s.
-    Returns the output records and the targets' rotations (before tracking) per step."""
+    Returns the output records, and the target (before tracking) and output rotations per step."""
     desc = engine.describe()
     traj = np.array(next(a for a in desc["actions"] if a["name"] == name)["trajectory"])
     act = next(a for a in models.actions if a.name == name)
     times = act.stroke_t * pace
     end = times[-1] * frac
-    out, targets = [], []
+    out, targets, outputs = [], [], []
     k, t = 0, 0.0
     while t <= end + hold + after:
         t = k / rate
@@ -48,4 +48,5 @@ def stroke_drag(engine, models, name, pace=1.0, frac=1.0, hold=0.0, after=3.0, r
             touches = {}
         out.append(engine.step(t, touches))
         targets.append(engine.target.rots.copy())
-    return out, targets
+        outputs.append(engine.output.rots.copy())
+    return out, targets, outputs
