@@ -1,9 +1,9 @@
 """``tabletop pose``: touch-pose control (paper 003) of one humanoid from recorded touches, offline.
 
 TOUCHES.csv ``t,id,x,y`` (seconds, finger id, table metres): rows sharing ``t`` are one input
-frame; a finger missing from a later frame has lifted. One JSON line per output step at
-``--rate`` from the first input time to the last plus 2 s; each step sees only the newest input
-frame at or before it (causal, as live). ``--describe`` writes the standing pose and the actions'
+frame; a finger missing from a later frame has lifted, and after the last frame every finger
+has. One JSON line per output step at ``--rate`` from the first input time to the last plus 2 s;
+each step sees only the newest input frame at or before it (causal, as live). ``--describe`` writes the standing pose and the actions'
 projected trajectories instead (see DESIGN.md).
 """
 
@@ -100,6 +100,8 @@ def run(frames: list[tuple[float, dict[int, tuple[float, float]]]], engine, rate
         while k < len(frames) and frames[k][0] <= t + 1e-9:
             current = frames[k][1]
             k += 1
+        if t > frames[-1][0] + 1e-9:
+            current = {}  # the recording has ended: every finger is lifted
         out.append(engine.step(t, current))
     return out
 
