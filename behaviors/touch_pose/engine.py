@@ -143,11 +143,16 @@ class TouchPose:
         dt = 1.0 / 30.0 if self.last_t is None else min(max(t - self.last_t, 1e-4), 0.2)
         self.last_t = t
         self._fingers(t, touches)
-        held = {f.part for f in self.fingers.values() if f.part is not None}
         if self.mode == "posing":
             self._posing(t)
         if self.mode == "action":
             self._action(dt)
+        self.track(dt)
+        return self.frame(t)
+
+    def track(self, dt: float) -> None:
+        """Tracking control (section 6) of the current target for ``dt`` seconds."""
+        held = {f.part for f in self.fingers.values() if f.part is not None}
         out = self.tracker.step(self.target, dt)
         grounded = self._grounded(self.target)
         if self.physics is not None:
@@ -163,7 +168,6 @@ class TouchPose:
                 shaken = self.ccd.solve(shaken, {p: parts[PARTS.index(p)] for p in grounded})
             out = shaken
         self.output = out
-        return self.frame(t)
 
     def turn(self, d_azimuth: float, d_elevation: float) -> None:
         """Turn the virtual camera (degrees); drags in progress restart in the new view."""
@@ -219,8 +223,8 @@ class TouchPose:
         held = [(f.part, f.path[-1]) for f in self.fingers.values() if f.part is not None]
         return [p for p, _ in held], np.array([s for _, s in held]).reshape(-1, 2)
 
-    def _grounded(self, pose: Pose) -> set[str]:
-        parts = self.body.parts(pose)
+    def _grounded(self, pose: Pose, parts: np.ndarray | None = None) -> set[str]:
+        parts = self.body.parts(pose) if parts is None else parts
         return {p for p in ("left_foot", "right_foot") if parts[PARTS.index(p)][1] < GROUND}
 
     def _solve(self, pose: Pose, names: list[str], targets: np.ndarray, skip: str | None = None,
@@ -235,7 +239,7 @@ class TouchPose:
             goals[name] = limit_goal(cur, self.camera.ray_point(s, cur))
         if keep_feet:
             prev = self.body.parts(self.target)
-            for foot in self._grounded(self.target):
+            for foot in self._grounded(self.target, prev):
                 if foot not in goals:
                     goals[foot] = prev[PARTS.index(foot)]
         return self.ccd.solve(pose, goals) if goals else pose

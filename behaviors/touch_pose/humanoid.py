@@ -54,6 +54,25 @@ HINGE_RANGE = {"right_knee": (-2.9, 0.25), "left_knee": (-2.9, 0.25),
 MODEL_TO_WORLD = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
 
+def qmul(a: tuple, b: tuple) -> tuple:
+    """Hamilton product of two quaternions given as float tuples (w, x, y, z)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
+
+
+def qrot(q: tuple, v: tuple) -> tuple:
+    """Vector ``v`` turned by the unit quaternion ``q`` (float tuples)."""
+    w, x, y, z = q
+    vx, vy, vz = v
+    tx = 2.0 * (y * vz - z * vy)
+    ty = 2.0 * (z * vx - x * vz)
+    tz = 2.0 * (x * vy - y * vx)
+    return (vx + w * tx + y * tz - z * ty, vy + w * ty + z * tx - x * tz,
+            vz + w * tz + x * ty - y * tx)
+
+
 @dataclass
 class Pose:
     """A humanoid pose: ``root`` (3,) metres in the model frame, ``rots`` (13, 4) quaternions."""
@@ -84,12 +103,6 @@ class Humanoid:
             self.offset[i] = j.xyz * SCALE
             self.axis[i] = j.axis
         self.hinge = np.array([n in HINGES for n in self.names])
-        depth = [0] * len(self.names)
-        for i in range(1, len(self.names)):
-            depth[i] = depth[self.parent[i]] + 1
-        self._levels = [(np.array([i for i in range(len(self.names)) if depth[i] == d]),
-                         np.array([self.parent[i] for i in range(len(self.names)) if depth[i] == d]))
-                        for d in range(1, max(depth) + 1)]
         self.children = [[c for c in range(len(self.names)) if self.parent[c] == i]
                          for i in range(len(self.names))]
         wrist = by_name["right_wrist"].xyz * SCALE
@@ -104,8 +117,10 @@ class Humanoid:
                             "right_foot": 0.5 * foot}
         self.toe = foot
         self.part_index = {p: k for k, p in enumerate(PARTS)}
-        self._pb = np.array([self.part_body[p] for p in PARTS])
-        self._po = np.array([self.part_offset[p] for p in PARTS])
+        self._pb_list = [int(self.part_body[p]) for p in PARTS]
+        self._po_list = [tuple(float(v) for v in self.part_offset[p]) for p in PARTS]
+        self._parent_list = [int(p) for p in self.parent]
+        self._offset_list = [tuple(o) for o in self.offset.tolist()]
         #: Drawn segments between :meth:`points` rows (joints, then the parts' points).
         n = len(self.names)
         bones = [(int(self.parent[i]), i) for i in range(1, n)]
@@ -121,36 +136,42 @@ class Humanoid:
 
     # --- kinematics ----------------------------------------------------------------------------
 
-    def globals(self, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
-        """World rotations (13, 3, 3) and positions (13, 3) of every joint (model frame, m)."""
-        local = quat_to_matrix(pose.rots)
-        rot = np.empty_like(local)
-        pos = np.empty((len(self.names), 3))
-        rot[0] = local[0]
-        pos[0] = pose.root
-        # one level of the hierarchy at a time (4 batched steps instead of 12 small ones)
-        for children, parents in self._levels:
-            rp = rot[parents]
-            pos[children] = pos[parents] + np.einsum("kij,kj->ki", rp, self.offset[children])
-            rot[children] = rp @ local[children]
-        return rot, pos
+    def globals(self, pose: Pose) -> tuple[list[tuple], list[tuple]]:
+        """World orientations (quaternions) and positions (model frame, m) of every joint, as
+        lists of float tuples: forward kinematics in plain floating point, which for 13 joints
+        is several times faster than numpy's per-call overhead."""
+        local = [tuple(q) for q in pose.rots.tolist()]
+        qw = [local[0]]
+        pw = [tuple(pose.root.tolist())]
+        parent, offset = self._parent_list, self._offset_list
+        for i in range(1, len(local)):
+            p = parent[i]
+            o = qrot(qw[p], offset[i])
+            pp = pw[p]
+            pw.append((pp[0] + o[0], pp[1] + o[1], pp[2] + o[2]))
+            qw.append(qmul(qw[p], local[i]))
+        return qw, pw
 
-    def parts(self, pose: Pose, globals_: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    def parts(self, pose: Pose, globals_: tuple[list, list] | None = None) -> np.ndarray:
         """Positions (6, 3) of :data:`PARTS` (model frame, metres)."""
-        rot, pos = globals_ if globals_ is not None else self.globals(pose)
-        return pos[self._pb] + np.einsum("kij,kj->ki", rot[self._pb], self._po)
+        qw, pw = globals_ if globals_ is not None else self.globals(pose)
+        out = []
+        for b, off in zip(self._pb_list, self._po_list):
+            o = qrot(qw[b], off)
+            out.append((pw[b][0] + o[0], pw[b][1] + o[1], pw[b][2] + o[2]))
+        return np.array(out)
 
     def points(self, pose: Pose) -> np.ndarray:
         """Joint positions then part points (19, 3), model frame: what :attr:`bones` connects."""
         g = self.globals(pose)
-        return np.vstack([g[1], self.parts(pose, g)])
+        return np.vstack([np.array(g[1]), self.parts(pose, g)])
 
     def lowest(self, pose: Pose) -> float:
         """Height (m) of the lowest foot point (heel or toe) above the ground y = 0."""
-        rot, pos = self.globals(pose)
+        qw, pw = self.globals(pose)
         ys = []
         for i in (self.names.index("right_ankle"), self.names.index("left_ankle")):
-            ys += [pos[i, 1] - 0.09 * SCALE, pos[i, 1] + (rot[i] @ self.toe)[1]]
+            ys += [pw[i][1] - 0.09 * SCALE, pw[i][1] + qrot(qw[i], tuple(self.toe))[1]]
         return float(min(ys))
 
     # --- limits --------------------------------------------------------------------------------

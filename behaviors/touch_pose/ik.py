@@ -14,7 +14,7 @@ from typing import Mapping
 
 import numpy as np
 
-from behaviors.touch_pose.humanoid import Humanoid, Pose
+from behaviors.touch_pose.humanoid import Humanoid, Pose, qmul as _qmul, qrot as _qrot
 
 #: Largest distance (metres of the character's scale) IK may move a part away from the blend.
 MAX_CORRECTION = 0.2
@@ -31,24 +31,6 @@ def limit_goal(current: np.ndarray, goal: np.ndarray, limit: float = MAX_CORRECT
     d = np.asarray(goal, dtype=float) - current
     n = float(np.linalg.norm(d))
     return goal if n <= limit else current + d * (limit / n)
-
-
-def _qmul(a, b):
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return (aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw)
-
-
-def _qrot(q, v):
-    """Vector ``v`` turned by unit quaternion ``q`` (plain floats: this is the hot loop)."""
-    w, x, y, z = q
-    vx, vy, vz = v
-    tx = 2.0 * (y * vz - z * vy)
-    ty = 2.0 * (z * vx - x * vz)
-    tz = 2.0 * (x * vy - y * vx)
-    return (vx + w * tx + y * tz - z * ty, vy + w * ty + z * tx - x * tz,
-            vz + w * tz + x * ty - y * tx)
 
 
 def _qaxis(axis, angle):

@@ -32,7 +32,7 @@ import numpy as np
 
 from behaviors.motion.clips import quat_from_axis_angle, quat_normalize
 from behaviors.motion.deepmimic import humanoid_urdf
-from behaviors.touch_pose.humanoid import SCALE, Humanoid, Pose
+from behaviors.touch_pose.humanoid import SCALE, Humanoid, Pose, qrot
 
 K_PHYS = 400.0
 D_PHYS = 30.0
@@ -103,6 +103,8 @@ class Physics:
         i_re, i_le = body.names.index("right_elbow"), body.names.index("left_elbow")
         self._frames = list(range(len(body.names))) + [i_re, i_le]
         self._frame_off = [np.zeros(3)] * len(body.names) + [wrist, wrist]
+        # centre of mass offsets in the frames of our bodies (the wrists hang off the elbows)
+        self._com_off = [tuple((off + c).tolist()) for off, c in zip(self._frame_off, self.com_local)]
         self.started = False
         self.resets = 0
 
@@ -123,12 +125,12 @@ class Physics:
 
     def targets(self, pose: Pose) -> np.ndarray:
         """Target centres of mass (links, 3) of the segments for a tracked ``pose``."""
-        rot, pos = self.body.globals(pose)
-        out = np.empty((len(self.links), 3))
-        for k, (b, off) in enumerate(zip(self._frames, self._frame_off)):
-            origin = pos[b] + rot[b] @ off
-            out[k] = origin + rot[b] @ self.com_local[k]
-        return out
+        qw, pw = self.body.globals(pose)
+        out = []
+        for b, off in zip(self._frames, self._com_off):
+            o = qrot(qw[b], off)
+            out.append((pw[b][0] + o[0], pw[b][1] + o[1], pw[b][2] + o[2]))
+        return np.array(out)
 
     def step(self, target: Pose, dt: float) -> Pose:
         """Simulate ``dt`` seconds pulled toward ``target`` (equation 5); the simulated pose."""
