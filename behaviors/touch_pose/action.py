@@ -43,7 +43,8 @@ MIN_LENGTH = 0.5
 MIN_SECONDS = 0.15
 EXCLUDE_DEG = 45.0
 ACTION_SAMPLES = 24
-MAX_INPUT_SAMPLES = 96
+MAX_INPUT_SAMPLES = 64
+WINDOW = 2.0
 #: Fastest the generalised time moves, in multiples of the recording's own pace.
 MAX_PACE = 1.6
 
@@ -153,11 +154,17 @@ def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
         act_len = float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum())
         if length < MIN_LENGTH * act_len:
             continue
-        # the input at the action's own sample spacing: a drag as long as the stroke has as
-        # many samples, a slower one more (matched to one action sample each: DP step 0)
+        # the input over the last twice the stroke's duration (a drag slower than half pace
+        # cannot match anyway), at the action's own sample spacing: a drag as long as the
+        # stroke has as many samples, a slower one more (matched one action sample each)
+        window = times >= times[-1] - WINDOW * a.stroke_t[-1]
+        if window.sum() < 3:
+            continue
+        w_rel = screen_path[window] - screen_path[window][0]
+        w_t = times[window] - times[window][0]
         spacing = a.stroke_t[1] - a.stroke_t[0]
-        n = int(min(max(4, round(duration / spacing) + 1), MAX_INPUT_SAMPLES))
-        inp, inp_t = resample(rel, times - times[0], n)
+        n = int(min(max(4, round(w_t[-1] / spacing) + 1), MAX_INPUT_SAMPLES))
+        inp, inp_t = resample(w_rel, w_t, n)
         dist, j = dp_distance(inp, inp_t, stroke, a.stroke_t)
         thr = threshold(speed / max(act_len / a.stroke_t[-1], 1e-6))
         if dist < thr and (best is None or dist - thr < best.distance - best.threshold):

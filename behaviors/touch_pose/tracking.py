@@ -7,10 +7,11 @@ Equations 2-4, one gain set for every joint (accelerations, not torques, so no p
     qd_i = dt qdd_i + qd_i',  q_i = dt qd_i (+) q_i'   (4)  semi-implicit Euler, quaternion update
 
 Gains: k = 100 s^-2, d = 20 s^-1 (critically damped, natural frequency 10 rad/s), integrated in
-4 substeps per 30 fps frame (one Euler step of a whole frame moves k dt^2 = a quarter of any
+2 substeps per 30 fps frame (one Euler step of a whole frame moves k dt^2 = a quarter of any
 jump at once). Measured at the mode switches of punch, kick, spin kick, jump and wave (target
 jumps of 70-135 degrees): k = 225 in one step moved a joint up to 34 degrees in one frame, k = 100
-in 4 substeps at most ~16 degrees; a still posture is still reached within about 0.5 s.
+in 2 or 4 substeps at most ~16 degrees (2 cost half as much); a still posture is reached within
+about 0.5 s.
 
 Equations 6-7, the physical effect: for each joint, from the physics engine's rotations,
 
@@ -37,7 +38,7 @@ from behaviors.touch_pose.humanoid import SEGMENTS, Humanoid, Pose
 
 K_GAIN = 100.0
 D_GAIN = 20.0
-SUBSTEPS = 4
+SUBSTEPS = 2
 S1 = 0.2
 S2 = 0.5
 FRAME = 1.0 / 30.0
