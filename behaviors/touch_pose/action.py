@@ -142,7 +142,6 @@ def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
     (k, 2, character metres) at ``times`` (s); ``view`` maps relative 3-D to screen (2, 3)."""
     if len(times) < 3 or times[-1] - times[0] < MIN_SECONDS:
         return None
-    rel = screen_path - screen_path[0]
     length = float(np.linalg.norm(np.diff(screen_path, axis=0), axis=1).sum())
     duration = float(times[-1] - times[0])
     speed = length / duration

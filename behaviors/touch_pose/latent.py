@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from behaviors.motion.clips import quat_normalize
-from behaviors.touch_pose.humanoid import Humanoid, Pose, yaw_of
+from behaviors.touch_pose.humanoid import Humanoid, Pose
 from behaviors.touch_pose.samples import relative
 
 #: Inverse-distance weights: 1 / (d + EPS)^2, d in metres of the character's scale.
@@ -161,5 +161,3 @@ def yaw_view(camera_matrix: np.ndarray, base_xz: np.ndarray, base_yaw: float,
     base = np.array([base_xz[0], 0.0, base_xz[1]])
     return camera_matrix @ rot, camera_matrix @ base
 
-
-__all__ = ["LearnedModel", "Blend", "classical_mds", "pose_distances", "yaw_view", "yaw_of"]
