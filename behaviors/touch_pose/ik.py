@@ -113,6 +113,9 @@ class CCD:
             o = _qrot(qw[end], off)
             return (pw[end][0] + o[0], pw[end][1] + o[1], pw[end][2] + o[2])
 
+        eff = effector()
+        if math.dist(eff, goal) < self.tolerance:
+            return math.dist(eff, goal)  # already there (a planted foot, mostly)
         for j in self.chains[part]:
             if j == skip and part != "head":
                 continue
@@ -165,5 +168,4 @@ class CCD:
                 o = _qrot(pq, self._offset[b])
                 pw[b] = (pp[0] + o[0], pp[1] + o[1], pp[2] + o[2])
                 qw[b] = _qmul(pq, local[b])
-        eff = effector()
-        return math.sqrt(sum((e - g) ** 2 for e, g in zip(eff, goal)))
+        return math.dist(effector(), goal)
