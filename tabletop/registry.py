@@ -26,6 +26,7 @@ SOURCES: dict[str, str] = {
 ENGINES: dict[str, str] = {
     "puppet_master": "tabletop.plugins.puppet_master",
     "mop": "tabletop.plugins.mop",
+    "touch_pose": "tabletop.plugins.touch_pose",
 }
 
 SINKS: dict[str, str] = {

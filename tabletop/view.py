@@ -41,7 +41,10 @@ OVERLAY_REFRESH_S = 0.25
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
-                pygame.K_a: "designer.assign"}
+                pygame.K_a: "designer.assign",
+                # the virtual camera of touch-posed characters
+                pygame.K_LEFT: "camera.left", pygame.K_RIGHT: "camera.right",
+                pygame.K_UP: "camera.up", pygame.K_DOWN: "camera.down"}
 
 # Reactor body in units of its size, nose along +x.
 BODY = np.array([(0.55, 0.0), (0.25, 0.27), (-0.3, 0.3), (-0.5, 0.0), (-0.3, -0.3), (0.25, -0.27)])
@@ -276,11 +279,26 @@ class ProjectorView:
             if ev.type == pygame.QUIT or (ev.type == pygame.KEYDOWN and ev.key == pygame.K_ESCAPE):
                 if self.stop is not None:
                     self.stop.set()
+            elif ev.type in (pygame.MOUSEBUTTONDOWN, pygame.MOUSEMOTION, pygame.MOUSEBUTTONUP):
+                self._pointer(ev)
             elif ev.type == pygame.KEYDOWN:
                 if ev.key in (pygame.K_F1, pygame.K_o):
                     self.show_overlay = not self.show_overlay
                 elif ev.key in KEY_COMMANDS and self.commands is not None:
                     self.commands.put(KEY_COMMANDS[ev.key])
+
+    def _pointer(self, ev: pygame.event.Event) -> None:
+        """Mouse fingers for touch engines (see :mod:`tabletop.pointer`)."""
+        from tabletop.pointer import POINTER
+        if ev.type == pygame.MOUSEBUTTONUP:
+            POINTER.release()
+            return
+        x, y = (float(v) for v in apply_homography(np.linalg.inv(self.renderer.map.H),
+                                                    np.array([ev.pos], dtype=float))[0])
+        if ev.type == pygame.MOUSEBUTTONDOWN and ev.button == 1:
+            POINTER.press(x, y, pin=bool(pygame.key.get_mods() & pygame.KMOD_SHIFT))
+        elif ev.type == pygame.MOUSEMOTION:
+            POINTER.move(x, y)
 
     def _snapshot(self, frame: Frame) -> None:
         """The view as it is, with the overlay of this moment (sources' health) unless shown."""

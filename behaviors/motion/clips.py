@@ -104,6 +104,45 @@ def quat_from_axis_angle(axis: Sequence[float], angle: float) -> np.ndarray:
     return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * a])
 
 
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products a * b of quaternions (..., 4), w first (apply b, then a)."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    aw, ax, ay, az = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
+    bw, bx, by, bz = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
+    return np.stack([aw * bw - ax * bx - ay * by - az * bz,
+                     aw * bx + ax * bw + ay * bz - az * by,
+                     aw * by - ax * bz + ay * bw + az * bx,
+                     aw * bz + ax * by - ay * bx + az * bw], axis=-1)
+
+
+def quat_conj(q: np.ndarray) -> np.ndarray:
+    """Conjugates (inverses of unit quaternions) of quaternions (..., 4)."""
+    out = np.array(q, dtype=float)
+    out[..., 1:] *= -1.0
+    return out
+
+
+def quat_to_rotvec(q: np.ndarray) -> np.ndarray:
+    """Rotation vectors (..., 3; axis times angle in radians, angle <= pi) of quaternions."""
+    q = np.asarray(q, dtype=float)
+    q = np.where(q[..., :1] < 0.0, -q, q)
+    v = q[..., 1:]
+    s = np.sqrt(np.einsum("...i,...i->...", v, v))
+    angle = 2.0 * np.arctan2(s, q[..., 0])
+    scale = np.where(s > 1e-9, angle / np.where(s > 1e-9, s, 1.0), 2.0)
+    return v * scale[..., None]
+
+
+def quat_from_rotvec(r: np.ndarray) -> np.ndarray:
+    """Unit quaternions (..., 4) of rotation vectors (..., 3, radians)."""
+    r = np.asarray(r, dtype=float)
+    angle = np.sqrt(np.einsum("...i,...i->...", r, r))
+    half = 0.5 * angle
+    k = np.where(angle > 1e-9, np.sin(half) / np.where(angle > 1e-9, angle, 1.0), 0.5)
+    return np.concatenate([np.cos(half)[..., None], r * k[..., None]], axis=-1)
+
+
 # --- clips --------------------------------------------------------------------------------------
 
 class Clip:

@@ -1,0 +1,210 @@
+"""Action control (paper 003, section 5): recognising a drag as an action, then its time control.
+
+Executing condition. Each action's average primary-part trajectory (its stroke: generalised time
+0 .. ``stroke_end``) is kept in 3-D relative to the character; per view it is projected onto the
+screen from where the part stands now. A dragged trajectory (screen points and times since the
+finger went down) is compared with it by dynamic programming (equation 1):
+
+    D = sum over matched pairs |p_in - p_act| + h |t_in - t_act|,  averaged over the pairs.
+
+The DP steps the input one sample at a time and the action 0, 1 or 2 samples (so an input may
+run up to twice as fast as the recording without leaving samples unmatched, and each row depends
+only on the previous one: the whole table is a few vectorised numpy rows). The action end is
+open: every action prefix covering more than half the stroke (``MIN_COVERAGE``) is tried and the
+best kept. The threshold loosens with the drag's speed (:func:`threshold`); an input shorter than
+``MIN_LENGTH`` of the stroke or ``MIN_SECONDS`` is not judged. An action whose representative
+vector (stroke end minus start) is within 45 degrees of the viewing line is excluded.
+
+Parameters (measured over the five actions' strokes dragged at 1, 1.5, 2, 3 and 4 times their
+recorded duration, from three views; character metres): ``H`` = 0.5 m per second of time
+difference. The threshold loosens with the drag's speed relative to the stroke's own projected
+speed r (absolute speeds differ too much between actions: a kick's foot moves ~6 m/s, a wave's
+hand ~1.5 m/s): 0.05 m + 0.06 m x r. At the action's pace (r = 1) average distances of 0.004-0.01
+m meet a threshold of 0.11 m, leaving room for an imprecise finger; at half pace the kicks (0.05)
+still pass and the punch, jump and wave (0.09-0.11) do not; at a third of the pace or slower
+(0.095-0.5) nothing does, so slow drags only pose.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from behaviors.touch_pose.humanoid import PARTS, Humanoid
+from behaviors.touch_pose.latent import LearnedModel
+from behaviors.touch_pose.samples import ActionSpec, Segment, clip_named, clip_poses, segment_at
+
+H = 0.5
+THRESHOLD_BASE = 0.05
+THRESHOLD_PER_SPEED = 0.06
+MIN_COVERAGE = 0.5
+MIN_LENGTH = 0.5
+MIN_SECONDS = 0.15
+EXCLUDE_DEG = 45.0
+ACTION_SAMPLES = 24
+MAX_INPUT_SAMPLES = 64
+WINDOW = 2.0
+#: Fastest the generalised time moves, in multiples of the recording's own pace.
+MAX_PACE = 1.6
+
+
+@dataclass
+class ActionModel:
+    """An action's spec, its learned model (all clip frames, in time order) and stroke."""
+
+    spec: ActionSpec
+    duration: float
+    model: LearnedModel
+    stroke: np.ndarray        # (ACTION_SAMPLES, 3) primary part, relative to its start, model frame
+    stroke_t: np.ndarray      # (ACTION_SAMPLES,) seconds from the start
+    vector: np.ndarray        # representative direction (3,)
+    start: float              # generalised time where the stroke starts
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    def segment(self, u: float) -> Segment:
+        return segment_at(self.spec, u)
+
+
+def build_action(body: Humanoid, spec: ActionSpec) -> ActionModel:
+    """The learned model and average stroke of one action (one clip per action here)."""
+    clip = clip_named(spec.clip)
+    u = (clip.times - clip.times[0]) / clip.duration
+    poses = clip_poses(body, clip, u)
+    model = LearnedModel(body, poses, times=u)
+    part = PARTS.index(spec.part)
+    # the stroke starts once the primary part has moved a tenth of its way (a drag is the part
+    # moving: the clips' first still frames are left to posing)
+    fine = np.linspace(0.0, spec.stroke_end, 4 * ACTION_SAMPLES)
+    traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, fine)])
+    moved = np.linalg.norm(traj - traj[0], axis=1)
+    start = fine[int(np.argmax(moved > 0.1 * moved.max()))]
+    us = np.linspace(start, spec.stroke_end, ACTION_SAMPLES)
+    traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, us)])
+    stroke = traj - traj[0]
+    return ActionModel(spec, clip.duration, model, stroke, (us - start) * clip.duration,
+                       stroke[-1].copy(), float(start))
+
+
+def dp_distance(inp: np.ndarray, inp_t: np.ndarray, act: np.ndarray, act_t: np.ndarray,
+                h: float = H, min_coverage: float = MIN_COVERAGE) -> tuple[float, int]:
+    """(average equation-1 distance, last matched action index) of the best alignment of the
+    whole input with an action prefix covering more than ``min_coverage``; (inf, -1) if none.
+
+    ``inp`` (n, 2), ``act`` (m, 2): positions relative to their starts; times relative too.
+    """
+    n, m = len(inp), len(act)
+    cost = (np.linalg.norm(inp[:, None, :] - act[None, :, :], axis=2)
+            + h * np.abs(inp_t[:, None] - act_t[None, :]))
+    big = np.inf
+    d = np.full(m, big)
+    d[0] = cost[0, 0]
+    for i in range(1, n):
+        prev = d
+        best = prev.copy()
+        best[1:] = np.minimum(best[1:], prev[:-1])
+        best[2:] = np.minimum(best[2:], prev[:-2])
+        d = cost[i] + best
+    first = int(np.floor(min_coverage * (m - 1))) + 1
+    if first >= m:
+        return big, -1
+    j = first + int(np.argmin(d[first:]))
+    return float(d[j] / n), j
+
+
+def threshold(relative_speed: float) -> float:
+    """Largest accepted distance (m) for a drag at ``relative_speed`` times the stroke's speed."""
+    return THRESHOLD_BASE + THRESHOLD_PER_SPEED * min(relative_speed, 3.0)
+
+
+def resample(points: np.ndarray, times: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` samples evenly spaced in time of a trajectory (k, 2) at rising ``times``."""
+    t = np.linspace(times[0], times[-1], n)
+    return np.stack([np.interp(t, times, points[:, 0]), np.interp(t, times, points[:, 1])], 1), t
+
+
+@dataclass
+class Match:
+    """A recognised action: its model, the distance, threshold and generalised start time."""
+
+    action: ActionModel
+    distance: float
+    threshold: float
+    start_u: float
+
+
+def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
+              times: np.ndarray, view: np.ndarray, excluded: set[str]) -> Match | None:
+    """The best action whose primary part is ``part`` matching the dragged ``screen_path``
+    (k, 2, character metres) at ``times`` (s); ``view`` maps relative 3-D to screen (2, 3)."""
+    if len(times) < 3 or times[-1] - times[0] < MIN_SECONDS:
+        return None
+    length = float(np.linalg.norm(np.diff(screen_path, axis=0), axis=1).sum())
+    duration = float(times[-1] - times[0])
+    speed = length / duration
+    best: Match | None = None
+    for a in actions:
+        if a.spec.part != part or a.name in excluded:
+            continue
+        stroke = a.stroke @ view.T
+        act_len = float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum())
+        if length < MIN_LENGTH * act_len:
+            continue
+        # the input over the last twice the stroke's duration (a drag slower than half pace
+        # cannot match anyway), at the action's own sample spacing: a drag as long as the
+        # stroke has as many samples, a slower one more (matched one action sample each)
+        window = times >= times[-1] - WINDOW * a.stroke_t[-1]
+        if window.sum() < 3:
+            continue
+        w_rel = screen_path[window] - screen_path[window][0]
+        w_t = times[window] - times[window][0]
+        spacing = a.stroke_t[1] - a.stroke_t[0]
+        n = int(min(max(4, round(w_t[-1] / spacing) + 1), MAX_INPUT_SAMPLES))
+        inp, inp_t = resample(w_rel, w_t, n)
+        dist, j = dp_distance(inp, inp_t, stroke, a.stroke_t)
+        thr = threshold(speed / max(act_len / a.stroke_t[-1], 1e-6))
+        if dist < thr and (best is None or dist - thr < best.distance - best.threshold):
+            best = Match(a, dist, thr, a.start + float(a.stroke_t[j] / a.duration))
+    return best
+
+
+class ActionClock:
+    """Generalised time of a running action (section 5, "posture synthesis during action control").
+
+    Each frame the time moves toward the synthesised time by at most ``MAX_PACE`` times the
+    recording's pace; where the segment forbids stillness it keeps running in the segment's
+    direction whatever the finger does (a kick in the air cannot stop or turn back), and it never
+    re-enters such a segment against its direction; once the finger lifts it runs in the segment's automatic
+    direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0 (cancelled).
+    """
+
+    def __init__(self, action: ActionModel, u: float) -> None:
+        self.action = action
+        self.u = float(min(max(u, 0.0), 1.0))
+        self.done = False
+
+    def step(self, dt: float, target: float | None, touching: bool) -> float:
+        """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint)."""
+        pace = dt / self.action.duration
+        seg = self.action.segment(self.u)
+        if not touching or target is None:
+            self.u += seg.direction * pace
+        else:
+            delta = target - self.u
+            step = float(np.clip(delta, -MAX_PACE * pace, MAX_PACE * pace))
+            if not seg.still:
+                # no stillness here (a kick in the air): the time runs the segment's way, at
+                # least at the recording's pace, faster when the finger leads ahead
+                step = seg.direction * max(pace, step * seg.direction)
+            new = self.u + step
+            ahead = self.action.segment(min(max(new, 0.0), 1.0))
+            if not ahead.still and ahead is not seg and np.sign(step) != ahead.direction:
+                new = self.u  # never re-enter a segment that must not stop, against its run
+            self.u = new
+        if self.u >= 1.0 or self.u <= 0.0:
+            self.u = min(max(self.u, 0.0), 1.0)
+            self.done = True
+        return self.u

@@ -1,0 +1,309 @@
+"""Touch-pose control of one character (paper 003, sections 3-6): the thin stateful engine.
+
+Each :meth:`TouchPose.step` takes the fingers on the table (id -> table metres) at time t and:
+
+1. picks, for every new finger, the nearest projected body part within ``reach`` (table metres),
+   or nothing; two or more fingers on empty table turn the camera (azimuth with their mean
+   sideways motion, elevation with the up/down motion);
+2. posing control: blends the posing model's samples for the touched parts' half-lines, corrects
+   with CCD IK (at most 0.2 m), keeps planted feet where they stand; with no touch the posture
+   stays; a touch on an action's primary part whose drag matches that action starts it;
+3. action control: generalised time toward the synthesised time, stillness and automatic
+   direction by segment, secondary touches by IK; at the end back to posing where the action
+   left the character (its position and heading become the posing base);
+4. tracking control: equations 2-4, then the physical effect (equations 5-7) on free segments,
+   feet on the ground re-fixed by IK.
+
+Everything is causal: the output at t depends only on fingers up to t.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from behaviors.touch_pose.action import ActionClock, ActionModel, build_action, recognise
+from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Humanoid, Pose, yaw_of
+from behaviors.touch_pose.ik import CCD, limit_goal
+from behaviors.touch_pose.latent import Blend, LearnedModel, yaw_view
+from behaviors.touch_pose.samples import ACTIONS, place, posing_samples, standing_pose
+from behaviors.touch_pose.tracking import PhysicalEffect, Tracker, apply_effect, free_segments
+
+#: Height (m) under which a foot counts as on the ground.
+GROUND = 0.08
+#: Camera turn per metre of two-finger drag on empty table (degrees).
+TURN_DEG_PER_M = 300.0
+#: Farthest the posing base may roam from where the character started (character metres).
+ROAM = 1.0
+
+
+@dataclass
+class Models:
+    """Everything learned once and shared by any number of characters."""
+
+    body: Humanoid
+    posing: LearnedModel
+    actions: list[ActionModel]
+    stand: Pose
+
+
+_MODELS: Models | None = None
+
+
+def learned_models() -> Models:
+    """The humanoid, posing model and action models (built once per process, ~1 s)."""
+    global _MODELS
+    if _MODELS is None:
+        body = Humanoid()
+        _MODELS = Models(body, LearnedModel(body, posing_samples(body)),
+                         [build_action(body, s) for s in ACTIONS], standing_pose(body))
+    return _MODELS
+
+
+@dataclass
+class Finger:
+    """A finger on the table: the part it holds (or None) and its screen path since it went down."""
+
+    part: str | None
+    times: list[float] = field(default_factory=list)
+    path: list[np.ndarray] = field(default_factory=list)
+    table: np.ndarray = field(default_factory=lambda: np.zeros(2))
+
+
+class TouchPose:
+    """One touch-posed character on the table."""
+
+    def __init__(self, table: tuple[float, float] = (1.2, 0.8), height: float = 0.3,
+                 azimuth: float = 0.0, elevation: float = 15.0, reach: float = 0.04,
+                 physics: bool = True, models: Models | None = None,
+                 at: tuple[float, float] | None = None) -> None:
+        self.m = models or learned_models()
+        body = self.m.body
+        self.body = body
+        self.ccd = CCD(body)
+        self.centre = np.array(table, dtype=float) / 2.0 if at is None else np.array(at, float)
+        pts = body.points(self.m.stand)
+        self.stand_height = float(pts[:, 1].max())
+        self.scale = float(height) / self.stand_height
+        self.camera = self._camera(azimuth, elevation)
+        self.reach = float(reach)
+        self.base = np.zeros(2)
+        self.yaw = 0.0
+        self.target = self.m.stand.copy()
+        self.tracker = Tracker(self.target)
+        self.output = self.target.copy()
+        self.effect = PhysicalEffect(len(body.names))
+        self.physics = None
+        if physics:
+            from behaviors.touch_pose.physics import Physics
+            self.physics = Physics(body)
+        self.fingers: dict[int, Finger] = {}
+        self.mode = "posing"
+        self.clock: ActionClock | None = None
+        self.action_base: tuple[np.ndarray, float] = (self.base, self.yaw)
+        self.last_t: float | None = None
+
+    # --- view ----------------------------------------------------------------------------------
+
+    def _camera(self, azimuth: float, elevation: float) -> Camera:
+        cam = Camera(azimuth, elevation, self.scale)
+        mid = cam.screen(np.array([0.0, self.stand_height / 2, 0.0]))
+        return Camera(azimuth, elevation, self.scale, self.centre - mid * self.scale)
+
+    def excluded(self) -> set[str]:
+        """Actions whose trajectory points within 45 degrees of the viewing line from here."""
+        rot = _yaw_matrix(self.yaw)
+        return {a.name for a in self.m.actions
+                if self.camera.angle_to_eye(rot @ a.vector) < 45.0}
+
+    def describe(self) -> dict:
+        """The standing pose's parts and every action's projected stroke (DESIGN.md ``--describe``)."""
+        parts = self.body.parts(place(self.m.stand, self.base, self.yaw))
+        excluded = self.excluded()
+        view, _ = yaw_view(self.camera.matrix, self.base, self.yaw)
+        actions = []
+        for a in self.m.actions:
+            start = self.camera.table(parts[PARTS.index(a.spec.part)])
+            traj = start + (a.stroke @ view.T) * self.scale
+            actions.append({"name": a.name, "part": a.spec.part, "duration_s": round(a.duration, 4),
+                            "excluded": a.name in excluded,
+                            "trajectory": np.round(traj, 5).tolist()})
+        return {"height_m": round(self.scale * self.stand_height, 6),
+                "parts": {p: np.round(self.camera.table(parts[k]), 5).tolist()
+                          for k, p in enumerate(PARTS)},
+                "actions": actions}
+
+    # --- stepping ------------------------------------------------------------------------------
+
+    def step(self, t: float, touches: Mapping[int, tuple[float, float]]) -> dict:
+        """Advance to time ``t`` (s) with fingers ``touches`` (id -> table x, y metres)."""
+        dt = 1.0 / 30.0 if self.last_t is None else min(max(t - self.last_t, 1e-4), 0.2)
+        self.last_t = t
+        self._fingers(t, touches)
+        if self.mode == "posing":
+            self._posing(t)
+        if self.mode == "action":
+            self._action(dt)
+        self.track(dt)
+        return self.frame(t)
+
+    def track(self, dt: float) -> None:
+        """Tracking control (section 6) of the current target for ``dt`` seconds."""
+        held = {f.part for f in self.fingers.values() if f.part is not None}
+        out = self.tracker.step(self.target, dt)
+        grounded = self._grounded(self.target)
+        if self.physics is not None:
+            resets = self.physics.resets
+            sim = self.physics.step(out, dt)
+            if self.physics.resets != resets:
+                self.effect.reset()  # the body was put back: its jump is no physical effect
+            self.effect.update(sim, out, dt)
+            free = free_segments(held, grounded)
+            shaken = apply_effect(self.body, out, self.effect, free)
+            if "torso" in free and grounded:
+                parts = self.body.parts(out)
+                shaken = self.ccd.solve(shaken, {p: parts[PARTS.index(p)] for p in grounded})
+            out = shaken
+        self.output = out
+
+    def turn(self, d_azimuth: float, d_elevation: float) -> None:
+        """Turn the virtual camera (degrees); drags in progress restart in the new view."""
+        cam = self.camera.turned(d_azimuth, d_elevation)
+        self.camera = self._camera(cam.azimuth, cam.elevation)
+        for f in self.fingers.values():
+            f.times, f.path = f.times[-1:], [self.camera.to_screen(f.table)]
+
+    def table_points(self) -> np.ndarray:
+        """The output posture's joints and parts projected on the table (19, 2; metres), in
+        the order :attr:`Humanoid.bones` indexes."""
+        return self.camera.table(self.body.points(self.output))
+
+    def frame(self, t: float) -> dict:
+        """The output record of DESIGN.md's ``pose`` for the current output posture."""
+        pts = self.body.points(self.output)
+        parts = pts[len(self.body.names):]
+        names = list(self.body.names) + list(PARTS)
+        world = pts @ MODEL_TO_WORLD.T
+        u = self.clock.u if self.mode == "action" and self.clock is not None else None
+        return {"t": round(float(t), 6), "mode": self.mode,
+                "action": self.clock.action.name if u is not None else None,
+                "action_time": None if u is None else round(u * self.clock.action.duration, 5),
+                "parts": dict(zip(PARTS, np.round(self.camera.table(parts), 5).tolist())),
+                "joints": dict(zip(names, np.round(world, 5).tolist())),
+                "touches": {str(i): f.part for i, f in sorted(self.fingers.items())}}
+
+    def _fingers(self, t: float, touches: Mapping[int, tuple[float, float]]) -> None:
+        for i in [i for i in self.fingers if i not in touches]:
+            del self.fingers[i]
+        free_before = {i: f.table.copy() for i, f in self.fingers.items() if f.part is None}
+        parts = self.camera.table(self.body.parts(self.output))
+        taken = False
+        for i, (x, y) in touches.items():
+            xy = np.array([float(x), float(y)])
+            f = self.fingers.get(i)
+            if f is None:
+                d = np.linalg.norm(parts - xy, axis=1)
+                k = int(np.argmin(d))
+                f = self.fingers[i] = Finger(PARTS[k] if d[k] <= self.reach else None)
+                taken = True
+            f.table = xy
+            f.times.append(t)
+            f.path.append(self.camera.to_screen(xy))
+        free_now = {i: f.table for i, f in self.fingers.items() if f.part is None}
+        both = [i for i in free_now if i in free_before]
+        if len(free_now) >= 2 and len(both) >= 2 and not taken:
+            move = np.mean([free_now[i] - free_before[i] for i in both], axis=0)
+            if np.any(move != 0.0):
+                self.turn(-move[0] * TURN_DEG_PER_M, -move[1] * TURN_DEG_PER_M)
+
+    def _constraints(self) -> tuple[list[str], np.ndarray]:
+        held = [(f.part, f.path[-1]) for f in self.fingers.values() if f.part is not None]
+        return [p for p, _ in held], np.array([s for _, s in held]).reshape(-1, 2)
+
+    def _grounded(self, pose: Pose, parts: np.ndarray | None = None) -> set[str]:
+        parts = self.body.parts(pose) if parts is None else parts
+        return {p for p in ("left_foot", "right_foot") if parts[PARTS.index(p)][1] < GROUND}
+
+    def _solve(self, pose: Pose, names: list[str], targets: np.ndarray, skip: str | None = None,
+               keep_feet: bool = True) -> Pose:
+        """CCD toward the touches (each limited to 0.2 m) and planted feet kept in place."""
+        parts = self.body.parts(pose)
+        goals: dict[str, np.ndarray] = {}
+        for name, s in zip(names, targets):
+            if name == skip:
+                continue
+            cur = parts[PARTS.index(name)]
+            goals[name] = limit_goal(cur, self.camera.ray_point(s, cur))
+        if keep_feet:
+            prev = self.body.parts(self.target)
+            for foot in self._grounded(self.target, prev):
+                if foot not in goals:
+                    goals[foot] = prev[PARTS.index(foot)]
+        return self.ccd.solve(pose, goals) if goals else pose
+
+    def _posing(self, t: float) -> None:
+        names, targets = self._constraints()
+        if not names:
+            return
+        view, offset = yaw_view(self.camera.matrix, self.base, self.yaw)
+        idx = np.array([PARTS.index(n) for n in names])
+        blend = self.m.posing.synthesize(idx, targets, view, offset)
+        pose = place(blend.pose, self.base, self.yaw)
+        self.target = self._solve(pose, names, targets)
+        match = self._recognise(view)
+        if match is not None:
+            self.mode = "action"
+            self.clock = ActionClock(match.action, match.start_u)
+            self.action_base = (self.base.copy(), self.yaw)
+
+    def _recognise(self, view: np.ndarray):
+        excluded = self.excluded()
+        for f in self.fingers.values():
+            if f.part is None or len(f.times) < 3:
+                continue
+            times = np.array(f.times)
+            keep = times >= times[-1] - 2.5
+            match = recognise(self.m.actions, f.part, np.array(f.path)[keep], times[keep],
+                              view, excluded)
+            if match is not None:
+                return match
+        return None
+
+    def _action(self, dt: float) -> None:
+        clock = self.clock
+        a = clock.action
+        names, targets = self._constraints()
+        base, yaw = self.action_base
+        touching = a.spec.part in names
+        synth = None
+        if touching:
+            view, offset = yaw_view(self.camera.matrix, base, yaw)
+            idx = np.array([PARTS.index(n) for n in names])
+            synth = a.model.synthesize(idx, targets, view, offset).time
+        u = clock.step(dt, synth, touching)
+        blend: Blend = a.model.at_time(None, u)
+        pose = place(blend.pose, base, yaw)
+        self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False)
+        if clock.done:
+            self.mode = "posing"
+            if u >= 1.0:
+                root = self.target.root
+                d = np.array([root[0], root[2]])
+                n = float(np.linalg.norm(d))
+                self.base = d if n <= ROAM else d * (ROAM / n)
+                self.yaw = yaw_of(self.target.rots[0])
+            for f in self.fingers.values():
+                f.times, f.path = f.times[-1:], f.path[-1:]
+
+    def close(self) -> None:
+        if self.physics is not None:
+            self.physics.close()
+            self.physics = None
+
+
+def _yaw_matrix(yaw: float) -> np.ndarray:
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])

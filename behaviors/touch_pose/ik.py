@@ -1,0 +1,171 @@
+"""Cyclic coordinate descent IK (Welman 1993) on the humanoid, within joint limits (section 4).
+
+Each goal moves one body part: its chain of joints, from the part up towards the chest, is turned
+joint by joint so the part points at the goal (hinges only about their axis), every joint kept
+within its limit after each turn. The pelvis is moved by translating the root. Section 4 limits
+the correction to 0.2 m (:data:`MAX_CORRECTION`): a goal farther than that from where the blended
+posture holds the part is pulled back to 0.2 m, so IK never drags a limb into an unnatural pose.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Mapping
+
+import numpy as np
+
+from behaviors.touch_pose.humanoid import Humanoid, Pose, qmul as _qmul, qrot as _qrot
+
+#: Largest distance (metres of the character's scale) IK may move a part away from the blend.
+MAX_CORRECTION = 0.2
+#: Joints turned for each part, nearest the part first.
+CHAINS = {"right_hand": ("right_elbow", "right_shoulder", "chest"),
+          "left_hand": ("left_elbow", "left_shoulder", "chest"),
+          "right_foot": ("right_knee", "right_hip"),
+          "left_foot": ("left_knee", "left_hip"),
+          "head": ("neck", "chest")}
+
+
+def limit_goal(current: np.ndarray, goal: np.ndarray, limit: float = MAX_CORRECTION) -> np.ndarray:
+    """``goal`` pulled back to at most ``limit`` metres from ``current``."""
+    d = np.asarray(goal, dtype=float) - current
+    n = float(np.linalg.norm(d))
+    return goal if n <= limit else current + d * (limit / n)
+
+
+def _qaxis(axis, angle):
+    s = math.sin(angle / 2)
+    return (math.cos(angle / 2), axis[0] * s, axis[1] * s, axis[2] * s)
+
+
+class CCD:
+    """CCD solver for one humanoid. Every chain hangs from the pelvis, which CCD never turns, so
+    each chain is solved from the pelvis transform in plain floating point (a few microseconds
+    per joint turn instead of a numpy forward kinematics each time)."""
+
+    def __init__(self, body: Humanoid, iterations: int = 8, tolerance: float = 0.003) -> None:
+        self.body = body
+        self.iterations = iterations
+        self.tolerance = tolerance
+        idx = {n: i for i, n in enumerate(body.names)}
+        self.chains = {p: [idx[j] for j in js] for p, js in CHAINS.items()}
+        self.paths: dict[str, list[int]] = {}
+        for part, chain in self.chains.items():
+            path = [body.part_body[part]]
+            while path[-1] != chain[-1]:
+                path.append(int(body.parent[path[-1]]))
+            path.reverse()  # chain top (child of the pelvis) ... the part's body
+            assert int(body.parent[path[0]]) == 0
+            self.paths[part] = path
+        self._chest = idx["chest"]
+        self._offset = [tuple(o) for o in body.offset.tolist()]
+        self._axis = [tuple(a) for a in body.axis.tolist()]
+        self._part_off = {p: tuple(np.asarray(o, dtype=float).tolist())
+                          for p, o in body.part_offset.items()}
+
+    def solve(self, pose: Pose, goals: Mapping[str, np.ndarray]) -> Pose:
+        """``pose`` (a copy) with each part in ``goals`` (part -> model-frame point) moved towards
+        its goal; the pelvis goal translates the root first."""
+        out = pose.copy()
+        if "pelvis" in goals:
+            out.root = np.asarray(goals["pelvis"], dtype=float).copy()
+        items = [(p, tuple(np.asarray(g, dtype=float).tolist())) for p, g in goals.items()
+                 if p in self.chains]
+        if not items:
+            return out
+        local = [tuple(q) for q in out.rots.tolist()]
+        q0 = local[0]
+        p0 = tuple(out.root.tolist())
+        left = {part: math.inf for part, _ in items}
+        previous = math.inf
+        # the chest is shared: when the head is held, the hands' chains stop at the shoulders
+        # (otherwise hands and head undo each other's chest turns every sweep)
+        skip = self._chest if "head" in left and len(left) > 1 else -1
+        for _ in range(self.iterations):
+            for part, goal in items:
+                if left[part] > self.tolerance:
+                    left[part] = self._chain(part, goal, local, q0, p0, skip)
+            worst = max(left.values())
+            # done, or stalled (a goal out of reach: further sweeps would not bring it closer)
+            if worst < self.tolerance or previous - worst < 0.1 * self.tolerance:
+                break
+            previous = worst
+        out.rots = np.array(local)
+        return out
+
+    def _chain(self, part: str, goal: tuple, local: list, q0: tuple, p0: tuple,
+               skip: int = -1) -> float:
+        """One CCD sweep of ``part``'s chain (in place on ``local``); the remaining distance."""
+        body = self.body
+        path = self.paths[part]
+        off = self._part_off[part]
+        # world orientation and position of each path body
+        qw, pw = {}, {}
+        parent_q, parent_p = q0, p0
+        for b in path:
+            o = _qrot(parent_q, self._offset[b])
+            pw[b] = (parent_p[0] + o[0], parent_p[1] + o[1], parent_p[2] + o[2])
+            qw[b] = _qmul(parent_q, local[b])
+            parent_q, parent_p = qw[b], pw[b]
+        end = path[-1]
+
+        def effector():
+            o = _qrot(qw[end], off)
+            return (pw[end][0] + o[0], pw[end][1] + o[1], pw[end][2] + o[2])
+
+        eff = effector()
+        if math.dist(eff, goal) < self.tolerance:
+            return math.dist(eff, goal)  # already there (a planted foot, mostly)
+        for j in self.chains[part]:
+            if j == skip and part != "head":
+                continue
+            eff = effector()
+            pj = pw[j]
+            v1 = (eff[0] - pj[0], eff[1] - pj[1], eff[2] - pj[2])
+            v2 = (goal[0] - pj[0], goal[1] - pj[1], goal[2] - pj[2])
+            qp = q0 if int(body.parent[j]) == 0 else qw[int(body.parent[j])]
+            if body.hinge[j]:
+                a = _qrot(qw[j], self._axis[j])
+                d1 = v1[0] * a[0] + v1[1] * a[1] + v1[2] * a[2]
+                d2 = v2[0] * a[0] + v2[1] * a[1] + v2[2] * a[2]
+                a1 = (v1[0] - a[0] * d1, v1[1] - a[1] * d1, v1[2] - a[2] * d1)
+                a2 = (v2[0] - a[0] * d2, v2[1] - a[1] * d2, v2[2] - a[2] * d2)
+                cx = a1[1] * a2[2] - a1[2] * a2[1]
+                cy = a1[2] * a2[0] - a1[0] * a2[2]
+                cz = a1[0] * a2[1] - a1[1] * a2[0]
+                ang = math.atan2(cx * a[0] + cy * a[1] + cz * a[2],
+                                 a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2])
+                q = local[j]
+                ax = self._axis[j]
+                old = 2.0 * math.atan2(q[1] * ax[0] + q[2] * ax[1] + q[3] * ax[2], q[0])
+                old = (old + math.pi) % (2 * math.pi) - math.pi
+                new = min(max(old + ang, body.hinge_lo[j]), body.hinge_hi[j])
+                local[j] = _qaxis(ax, new)
+            else:
+                cx = v1[1] * v2[2] - v1[2] * v2[1]
+                cy = v1[2] * v2[0] - v1[0] * v2[2]
+                cz = v1[0] * v2[1] - v1[1] * v2[0]
+                s = math.sqrt(cx * cx + cy * cy + cz * cz)
+                ang = math.atan2(s, v1[0] * v2[0] + v1[1] * v2[1] + v1[2] * v2[2])
+                if s < 1e-9 or ang < 1e-6:
+                    continue
+                inv = (qp[0], -qp[1], -qp[2], -qp[3])
+                la = _qrot(inv, (cx / s, cy / s, cz / s))
+                q = _qmul(_qaxis(la, ang), local[j])
+                w = abs(q[0])
+                lim = body.limit[j]
+                if 2.0 * math.acos(min(1.0, w)) > lim:
+                    sign = 1.0 if q[0] >= 0 else -1.0
+                    n = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+                    k = sign * math.sin(lim / 2) / n
+                    q = (math.cos(lim / 2), q[1] * k, q[2] * k, q[3] * k)
+                local[j] = q
+            # forward kinematics below j along the path
+            k0 = path.index(j)
+            for b in path[k0:]:
+                pq = q0 if int(body.parent[b]) == 0 else qw[int(body.parent[b])]
+                pp = p0 if int(body.parent[b]) == 0 else pw[int(body.parent[b])]
+                o = _qrot(pq, self._offset[b])
+                pw[b] = (pp[0] + o[0], pp[1] + o[1], pp[2] + o[2])
+                qw[b] = _qmul(pq, local[b])
+        return math.dist(effector(), goal)

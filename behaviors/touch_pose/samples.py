@@ -1,0 +1,180 @@
+"""Sample motions of touch-pose control (paper 003, sections 4-5): actions and posing postures.
+
+Actions come from the DeepMimic humanoid clips of the ``pybullet`` wheel (punch, kick, jump, spin
+kick) plus a wave made here by hand (no DeepMimic clip waves). Each action names its primary body
+part, the generalised time where its characteristic stroke ends (the part of the primary-part
+trajectory that a drag is matched against), and its time segments (section 5, figure 5): from a
+generalised time on, whether stillness is allowed while the finger rests, and the automatic
+direction once the finger lifts (+1 forward, -1 backward). The segments were set by hand from
+the clips' primary-part trajectories (as the paper does), e.g. the kick may pause while the leg
+is chambered low but not once the foot leaves the floor.
+
+Posing samples: the standing pose, hand-made idle variations of it (weight shifts, arms a
+little out) and the first part of every action (the paper's choice: the start of an action is
+done by posing before the action is recognised), plus the walk cycle and the two dances for the
+legs' and arms' range. Posing samples are taken in place (pelvis height and tilt kept, travel and
+heading removed) so posing never walks the character away.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from behaviors.motion.clips import Clip, quat_from_axis_angle, quat_mul, quat_slerp
+from behaviors.motion.deepmimic import load_motion
+from behaviors.touch_pose.humanoid import Humanoid, Pose, yaw_of
+
+
+@dataclass(frozen=True)
+class Segment:
+    """From generalised time ``start`` on: may the character stay still, and where it runs alone."""
+
+    start: float
+    still: bool
+    direction: int
+
+
+@dataclass(frozen=True)
+class ActionSpec:
+    """An action: its clip (DeepMimic name or ``"wave"``), primary part, stroke end, segments."""
+
+    name: str
+    clip: str
+    part: str
+    stroke_end: float
+    segments: tuple[Segment, ...]
+
+
+ACTIONS: tuple[ActionSpec, ...] = (
+    ActionSpec("punch", "punch", "right_hand", 0.45,
+               (Segment(0.0, True, -1), Segment(0.3, False, 1), Segment(0.75, True, 1))),
+    ActionSpec("kick", "kick", "right_foot", 0.5,
+               (Segment(0.0, True, -1), Segment(0.3, False, 1), Segment(0.8, True, 1))),
+    ActionSpec("jump", "jump", "pelvis", 0.6,
+               (Segment(0.0, True, -1), Segment(0.4, False, 1), Segment(0.85, True, 1))),
+    ActionSpec("spinkick", "spinkick", "right_foot", 0.65,
+               (Segment(0.0, True, -1), Segment(0.2, False, 1), Segment(0.9, True, 1))),
+    ActionSpec("wave", "wave", "right_hand", 0.3,
+               (Segment(0.0, True, -1), Segment(0.25, True, 1))),
+)
+
+#: Generalised time up to which each action's frames join the posing samples.
+POSING_PREFIX = 0.25
+
+
+def segment_at(spec: ActionSpec, u: float) -> Segment:
+    """The segment holding generalised time ``u``."""
+    out = spec.segments[0]
+    for s in spec.segments:
+        if u >= s.start:
+            out = s
+    return out
+
+
+def wave_clip(base: Clip, seconds: float = 2.4, waves: int = 3) -> Clip:
+    """A hand-made wave: the right arm rises to the side, the forearm swings ``waves`` times, the
+    arm comes down. Every other channel holds ``base``'s first frame (a standing pose)."""
+    n = int(round(seconds * 30)) + 1
+    t = np.linspace(0.0, seconds, n)
+    u = t / seconds
+    values = np.repeat(base.values[:1], n, axis=0)
+    raise_ = np.clip(np.minimum(u / 0.25, (1.0 - u) / 0.2), 0.0, 1.0)
+    raise_ = 0.5 - 0.5 * np.cos(math.pi * raise_)
+    swing = np.sin(2 * math.pi * waves * np.clip((u - 0.25) / 0.55, 0.0, 1.0))
+    # the raised arm: abducted about the forward axis (towards the right, +z), turned forward a bit
+    up = quat_mul(quat_from_axis_angle((0, 1, 0), -0.35), quat_from_axis_angle((1, 0, 0), -2.4))
+    rest_q = base.values[0, base.slices["right_shoulder"]]
+    rest_e = float(base.values[0, base.slices["right_elbow"]][0])
+    for k in range(n):
+        values[k, base.slices["right_shoulder"]] = quat_slerp(rest_q, up, raise_[k])
+        values[k, base.slices["right_elbow"]] = ((1 - raise_[k]) * rest_e
+                                                 + raise_[k] * (1.2 + 0.5 * swing[k]))
+    return Clip("wave", base.channels, t, values)
+
+
+@lru_cache(maxsize=None)
+def clip_named(name: str) -> Clip:
+    """A DeepMimic clip by short name, or the hand-made wave."""
+    if name == "wave":
+        return wave_clip(load_motion("jump"))
+    return load_motion(name)
+
+
+def yaw_quat(yaw: float) -> np.ndarray:
+    """The quaternion turning ``yaw`` radians about the vertical (model y)."""
+    return quat_from_axis_angle((0.0, 1.0, 0.0), yaw)
+
+
+def relative(pose: Pose, origin: Pose, in_place: bool = False) -> Pose:
+    """``pose`` relative to the initial state ``origin``: horizontal position and heading measured
+    from it (section 4: the relative position and orientation taken from the initial state)."""
+    yaw0 = yaw_of(origin.rots[0])
+    inv = yaw_quat(-yaw0)
+    out = pose.copy()
+    out.rots[0] = quat_mul(inv, pose.rots[0])
+    if in_place:
+        out.rots[0] = quat_mul(yaw_quat(-yaw_of(out.rots[0])), out.rots[0])
+        out.root = np.array([0.0, pose.root[1], 0.0])
+        return out
+    d = pose.root - origin.root
+    c, s = math.cos(-yaw0), math.sin(-yaw0)
+    out.root = np.array([c * d[0] + s * d[2], pose.root[1], -s * d[0] + c * d[2]])
+    return out
+
+
+def place(rel: Pose, base_xz: np.ndarray, base_yaw: float) -> Pose:
+    """A relative pose put on the character's base position (x, z) and heading (radians)."""
+    out = rel.copy()
+    out.rots[0] = quat_mul(yaw_quat(base_yaw), rel.rots[0])
+    c, s = math.cos(base_yaw), math.sin(base_yaw)
+    x, z = rel.root[0], rel.root[2]
+    out.root = np.array([base_xz[0] + c * x + s * z, rel.root[1], base_xz[1] - s * x + c * z])
+    return out
+
+
+def clip_poses(body: Humanoid, clip: Clip, u: np.ndarray, in_place: bool = False) -> list[Pose]:
+    """Poses of ``clip`` at generalised times ``u``, relative to its first frame."""
+    origin = body.pose_from_values(clip, clip.sample(0.0))
+    return [relative(body.pose_from_values(clip, v), origin, in_place) for v in clip.sample_many(u)]
+
+
+def standing_pose(body: Humanoid) -> Pose:
+    """The standing pose: the jump clip's first frame (upright, arms relaxed), in place."""
+    return clip_poses(body, clip_named("jump"), np.array([0.0]), in_place=True)[0]
+
+
+def idle_poses(body: Humanoid, stand: Pose) -> list[Pose]:
+    """Hand-made idle variations of ``stand``: arms a little out or forward, head turned."""
+    out = []
+    names = body.names
+    for side, sign in (("right", 1.0), ("left", -1.0)):
+        for ax, ang in (((1, 0, 0), -0.5 * sign), ((0, 0, 1), 0.6), ((0, 0, 1), -0.4)):
+            p = stand.copy()
+            i = names.index(f"{side}_shoulder")
+            p.rots[i] = quat_mul(quat_from_axis_angle(ax, ang), p.rots[i])
+            out.append(p)
+    for yaw in (-0.5, 0.5):
+        p = stand.copy()
+        i = names.index("neck")
+        p.rots[i] = quat_mul(quat_from_axis_angle((0, 1, 0), yaw), p.rots[i])
+        out.append(p)
+    return out
+
+
+def posing_samples(body: Humanoid) -> list[Pose]:
+    """The posing model's sample postures (about 250)."""
+    stand = standing_pose(body)
+    poses = [stand] + idle_poses(body, stand)
+    for spec in ACTIONS:
+        clip = clip_named(spec.clip)
+        k = max(3, int(round(POSING_PREFIX * clip.duration * 15)))
+        poses += clip_poses(body, clip, np.linspace(0.0, POSING_PREFIX, k), in_place=True)
+    for name, step in (("walk", 2), ("dance_a", 4), ("dance_b", 4)):
+        clip = clip_named(name)
+        n = len(clip.times)
+        poses += clip_poses(body, clip, np.linspace(0.0, 1.0, max(2, n // step)), in_place=True)
+    return poses

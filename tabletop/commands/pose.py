@@ -1,0 +1,134 @@
+"""``tabletop pose``: touch-pose control (paper 003) of one humanoid from recorded touches, offline.
+
+TOUCHES.csv ``t,id,x,y`` (seconds, finger id, table metres): rows sharing ``t`` are one input
+frame; a finger missing from a later frame has lifted, and after the last frame every finger
+has. One JSON line per output step at ``--rate`` from the first input time to the last plus 2 s;
+each step sees only the newest input frame at or before it (causal, as live). ``--describe`` writes the standing pose and the actions'
+projected trajectories instead (see DESIGN.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+import numpy as np
+
+from tabletop.commands import positive_number
+from tabletop.frames import InputError
+
+HELP = ("drive a touch-posed humanoid (posing, actions, tracking) from recorded touches, or "
+        "describe its parts and actions for a view")
+
+TOUCH_COLUMNS = ("t", "id", "x", "y")
+RUN_ON_S = 2.0
+
+
+class PoseArgumentError(InputError):
+    """A bad ``tabletop pose`` argument or input."""
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--input", metavar="TOUCHES.csv", help="touches: t,id,x,y (s, id, table m)")
+    p.add_argument("--out", metavar="FILE", help="POSES.jsonl (or the --describe JSON; "
+                                                 "default stdout for --describe)")
+    p.add_argument("--describe", action="store_true",
+                   help="write the standing pose's parts and the actions' trajectories instead")
+    p.add_argument("--view", default="0,15", metavar="AZ,EL",
+                   help="camera azimuth (0 front, 90 the character's right) and elevation, "
+                        "degrees (default 0,15)")
+    p.add_argument("--rate", default="30", metavar="HZ", help="output steps per second (default 30)")
+    p.add_argument("--table", default="1.2,0.8", metavar="W,H", help="table metres (default 1.2,0.8)")
+    p.add_argument("--height", default="0.3", metavar="H",
+                   help="drawn height of the character on the table, metres (default 0.3)")
+
+
+def parse_pair(text: str, option: str, what: str) -> tuple[float, float]:
+    """``A,B`` as two finite numbers, else one clear error naming the option."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        a, b = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise PoseArgumentError(f"{option} {text!r} must be {what}") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise PoseArgumentError(f"{option} {text!r} must be {what} (finite numbers)")
+    return a, b
+
+
+def parse_view(text: str) -> tuple[float, float]:
+    """``AZ,EL`` degrees; elevation within -89..89."""
+    az, el = parse_pair(text, "--view", "AZ,EL in degrees, e.g. 90,15")
+    if not -89.0 <= el <= 89.0:
+        raise PoseArgumentError(f"--view {text!r}: elevation must be within -89..89 degrees")
+    return az, el
+
+
+def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]]:
+    """Input frames [(t, {id: (x, y)})] from TOUCHES.csv; one clear error for bad rows."""
+    from tabletop.files import read_csv
+    header, data = read_csv(path, TOUCH_COLUMNS, what="touches CSV", min_rows=1)
+    col = {c: header.index(c) for c in TOUCH_COLUMNS}
+    t, ids = data[:, col["t"]], data[:, col["id"]]
+    back = np.flatnonzero(np.diff(t) < 0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise PoseArgumentError(f"{path}: data row {i + 1}: time {t[i]:g} s goes back from "
+                                f"{t[i - 1]:g} s (times must not decrease)")
+    bad = np.flatnonzero((ids != np.round(ids)) | (ids < 0))
+    if bad.size:
+        raise PoseArgumentError(f"{path}: data row {int(bad[0]) + 1}: id {ids[bad[0]]:g} must be "
+                                "a whole number >= 0")
+    frames: list[tuple[float, dict[int, tuple[float, float]]]] = []
+    for row in data:
+        tt, fid = float(row[col["t"]]), int(row[col["id"]])
+        if not frames or frames[-1][0] != tt:
+            frames.append((tt, {}))
+        frames[-1][1][fid] = (float(row[col["x"]]), float(row[col["y"]]))
+    return frames
+
+
+def run(frames: list[tuple[float, dict[int, tuple[float, float]]]], engine, rate: float) -> list[dict]:
+    """Output records at ``rate`` from the first input time to the last + 2 s (causal)."""
+    t0, t_end = frames[0][0], frames[-1][0] + RUN_ON_S
+    n = int(math.floor((t_end - t0) * rate + 1e-9)) + 1
+    out, k, current = [], 0, {}
+    for i in range(n):
+        t = t0 + i / rate
+        while k < len(frames) and frames[k][0] <= t + 1e-9:
+            current = frames[k][1]
+            k += 1
+        if t > frames[-1][0] + 1e-9:
+            current = {}  # the recording has ended: every finger is lifted
+        out.append(engine.step(t, current))
+    return out
+
+
+def main(args: argparse.Namespace) -> int:
+    az, el = parse_view(args.view)
+    rate = positive_number(args.rate, "--rate", "Hz", PoseArgumentError)
+    w, h = parse_pair(args.table, "--table", "W,H in metres, e.g. 1.2,0.8")
+    if w <= 0 or h <= 0:
+        raise PoseArgumentError(f"--table {args.table!r}: width and height must be positive")
+    height = positive_number(args.height, "--height", "metres", PoseArgumentError)
+    if not args.describe and (not args.input or not args.out):
+        raise PoseArgumentError("give --input TOUCHES.csv and --out POSES.jsonl (or --describe)")
+    frames = None if args.describe else read_touches(args.input)
+    from behaviors.touch_pose.engine import TouchPose
+    from tabletop.files import atomic_write_text
+    engine = TouchPose((w, h), height, az, el, physics=not args.describe)
+    try:
+        if args.describe:
+            text = json.dumps(engine.describe()) + "\n"
+            if args.out:
+                atomic_write_text(args.out, text)
+            else:
+                print(text, end="")
+            return 0
+        records = run(frames, engine, rate)
+    finally:
+        engine.close()
+    atomic_write_text(args.out, "".join(json.dumps(r) + "\n" for r in records))
+    return 0

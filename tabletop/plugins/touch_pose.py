@@ -1,0 +1,83 @@
+"""Engine ``touch_pose``: drag a projected humanoid's body parts to pose it and make it act.
+
+Config::
+
+    - kind: touch_pose
+      name: poser
+      at: [0.6, 0.4]        # table metres where the character stands (default: the centre)
+      height: 0.3           # metres tall as drawn on the table
+      view: [90, 15]        # camera azimuth (0 front, 90 its right side) and elevation, degrees
+      reach: 0.04           # metres: a touch farther than this from every part picks nothing
+      physics: true         # physics-based secondary motion (pybullet)
+      mouse: true           # also take fingers made with the mouse in the view
+      color: [120, 220, 255]
+
+Touches come from every source on the bus (TUIO cursors, the scripted source, recordings) plus,
+with ``mouse``, the view's pointer (:mod:`tabletop.pointer`). Two fingers dragged on empty table
+turn the camera; so do the arrow keys (``camera.left/right/up/down``, 15 degrees a press).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from tabletop.frames import CharacterState, Frame
+from tabletop.registry import BuildContext
+from tabletop.schema import Bool, ListOf, Number, Optional_, Record
+
+KEY_TURN_DEG = 15.0
+TURNS = {"camera.left": (-KEY_TURN_DEG, 0.0), "camera.right": (KEY_TURN_DEG, 0.0),
+         "camera.up": (0.0, KEY_TURN_DEG), "camera.down": (0.0, -KEY_TURN_DEG)}
+
+SCHEMA = Record({
+    "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
+    "height": Number(0.3, lo=0.05, hi=3.0, doc="metres tall on the table"),
+    "view": ListOf(Number(), default=[0.0, 15.0], min_len=2, max_len=2,
+                   doc="[azimuth, elevation] degrees"),
+    "reach": Number(0.04, lo=0.005, hi=0.5, doc="metres from a part within which a touch picks it"),
+    "physics": Bool(True, doc="physics-based secondary motion"),
+    "mouse": Bool(True, doc="take the view's mouse fingers too"),
+    "color": ListOf(Number(integer=True, lo=0, hi=255), default=[120, 220, 255], min_len=3,
+                    max_len=3),
+})
+
+
+class TouchPoseEngine:
+    """The bus side of :class:`behaviors.touch_pose.engine.TouchPose`."""
+
+    def __init__(self, name: str, options: dict[str, Any], table: tuple[float, float]) -> None:
+        from behaviors.touch_pose.engine import TouchPose
+        self.name = name
+        view = options["view"]
+        self.core = TouchPose(table, options["height"], view[0], view[1], options["reach"],
+                              physics=options["physics"],
+                              at=tuple(options["at"]) if options["at"] else None)
+        self.mouse = bool(options["mouse"])
+        self.color = tuple(int(c) for c in options["color"])
+
+    def step(self, frame: Frame) -> tuple[CharacterState, ...]:
+        for c in frame.commands:
+            if c in TURNS:
+                self.core.turn(*TURNS[c])
+        touches = {t.id: (t.x, t.y) for t in frame.touches}
+        if self.mouse:
+            from tabletop.pointer import POINTER
+            touches.update({t.id: (t.x, t.y) for t in POINTER.touches()})
+        out = self.core.step(frame.t, touches)
+        pts = self.core.table_points()
+        pelvis = out["parts"]["pelvis"]
+        u = self.core.clock.u if out["mode"] == "action" and self.core.clock else None
+        cam = self.core.camera
+        label = (f"{out['mode']} {out['action'] or ''} view {cam.azimuth:.0f},{cam.elevation:.0f} "
+                 f"touches {sum(p is not None for p in out['touches'].values())}")
+        return (CharacterState(self.name, pelvis[0], pelvis[1], 0.0, kind="humanoid",
+                               size=self.core.scale * self.core.stand_height, color=self.color,
+                               points=pts, bones=self.core.body.bones, progress=u,
+                               action=out["action"], label=label),)
+
+    def close(self) -> None:
+        self.core.close()
+
+
+def build(options: dict, ctx: BuildContext) -> TouchPoseEngine:
+    return TouchPoseEngine(options.get("name") or "touch_pose", options, ctx.table)

@@ -1,0 +1,63 @@
+"""Fingers made with the mouse in the projector view, for testing touch engines at a desk.
+
+The view writes (table metres), engines that accept mouse touches read: one button held is one
+finger that follows the pointer; Shift + click pins a finger where it is (it stays down after
+the button is released, as a second hand holding a part); Shift + click on a pinned finger lifts
+it. Thread-safe; ids start at :data:`FIRST_ID` so they never clash with a touch source's ids.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+
+from tabletop.frames import Touch
+
+FIRST_ID = 90_000
+#: A Shift + click within this many metres of a pinned finger lifts it.
+PICK_M = 0.02
+
+
+class PointerFingers:
+    """The mouse's fingers on the table."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._pinned: dict[int, tuple[float, float]] = {}
+        self._held: tuple[float, float] | None = None
+        self._next = FIRST_ID + 1
+
+    def press(self, x: float, y: float, pin: bool = False) -> None:
+        """Button down at table (x, y); ``pin`` (Shift) pins or lifts a pinned finger."""
+        with self._lock:
+            if pin:
+                near = [i for i, (px, py) in self._pinned.items()
+                        if math.hypot(px - x, py - y) <= PICK_M]
+                if near:
+                    del self._pinned[near[0]]
+                else:
+                    self._pinned[self._next] = (x, y)
+                    self._next += 1
+            else:
+                self._held = (x, y)
+
+    def move(self, x: float, y: float) -> None:
+        with self._lock:
+            if self._held is not None:
+                self._held = (x, y)
+
+    def release(self) -> None:
+        with self._lock:
+            self._held = None
+
+    def touches(self) -> tuple[Touch, ...]:
+        """The fingers down now."""
+        with self._lock:
+            out = [Touch(i, x, y) for i, (x, y) in self._pinned.items()]
+            if self._held is not None:
+                out.append(Touch(FIRST_ID, *self._held))
+        return tuple(out)
+
+
+#: The one pointer of this process (the view writes it).
+POINTER = PointerFingers()

@@ -1,0 +1,52 @@
+"""Shared fixtures: the learned models are built once per test session (about 3 s)."""
+
+import numpy as np
+import pytest
+
+from behaviors.touch_pose.engine import TouchPose, learned_models
+
+
+@pytest.fixture(scope="session")
+def models():
+    return learned_models()
+
+
+@pytest.fixture
+def make(models):
+    """A character factory (engines are closed at the end of the test)."""
+    made = []
+
+    def factory(view=(90.0, 15.0), physics=True, **kw):
+        e = TouchPose(azimuth=view[0], elevation=view[1], physics=physics, models=models, **kw)
+        made.append(e)
+        return e
+
+    yield factory
+    for e in made:
+        e.close()
+
+
+def stroke_drag(engine, models, name, pace=1.0, frac=1.0, hold=0.0, after=3.0, rate=30.0):
+    """Drag the primary part of action ``name`` along its projected stroke at ``pace`` times
+    its recorded duration (``frac`` of it), hold the finger ``hold`` s, lift, run ``after`` s.
+    Returns the output records, and the target (before tracking) and output rotations per step."""
+    desc = engine.describe()
+    traj = np.array(next(a for a in desc["actions"] if a["name"] == name)["trajectory"])
+    act = next(a for a in models.actions if a.name == name)
+    times = act.stroke_t * pace
+    end = times[-1] * frac
+    out, targets, outputs = [], [], []
+    k, t = 0, 0.0
+    while t <= end + hold + after:
+        t = k / rate
+        k += 1
+        if t <= end + hold:
+            s = min(t, end)
+            touches = {1: (float(np.interp(s, times, traj[:, 0])),
+                           float(np.interp(s, times, traj[:, 1])))}
+        else:
+            touches = {}
+        out.append(engine.step(t, touches))
+        targets.append(engine.target.rots.copy())
+        outputs.append(engine.output.rots.copy())
+    return out, targets, outputs

@@ -1,0 +1,110 @@
+"""Action control (section 5) and tracking control at the switches (section 6)."""
+
+import numpy as np
+import pytest
+
+from behaviors.touch_pose.action import dp_distance, threshold
+from behaviors.touch_pose.tracking import rot_diff
+
+from .conftest import stroke_drag
+
+#: Largest rotation (degrees) any joint may make in one 30 fps frame when the control switches.
+SWITCH_DEG = 20.0
+
+
+def _modes(records):
+    return [(r["mode"], r["action"]) for r in records]
+
+
+def test_quick_punch_drag_from_the_side_starts_the_punch(make, models):
+    e = make(view=(90.0, 15.0), physics=False)
+    recs, _, _ = stroke_drag(e, models, "punch", pace=1.0, after=0.5)
+    acts = [r for r in recs if r["mode"] == "action"]
+    assert acts and {r["action"] for r in acts} == {"punch"}
+    # it started while the finger was still dragging (not after)
+    stroke_s = next(a for a in models.actions if a.name == "punch").stroke_t[-1]
+    assert acts[0]["t"] <= stroke_s + 1e-6
+
+
+def test_the_same_drag_done_slowly_only_poses(make, models):
+    e = make(view=(90.0, 15.0), physics=False)
+    recs, _, _ = stroke_drag(e, models, "punch", pace=4.0, after=0.3)
+    assert all(r["mode"] == "posing" for r in recs)
+    assert recs[-1]["touches"] == {}
+
+
+def test_from_the_front_the_punch_is_excluded(make, models):
+    front = make(view=(0.0, 15.0), physics=False)
+    desc = {a["name"]: a for a in front.describe()["actions"]}
+    assert desc["punch"]["excluded"] is True
+    recs, _, _ = stroke_drag(front, models, "punch", pace=1.0, after=0.3)
+    assert all(r["action"] != "punch" for r in recs)
+    side = make(view=(270.0, 15.0), physics=False)
+    assert {a["name"]: a for a in side.describe()["actions"]}["punch"]["excluded"] is False
+
+
+def test_lifting_the_finger_mid_kick_finishes_the_kick(make, models):
+    e = make(view=(90.0, 15.0), physics=False)
+    recs, _, _ = stroke_drag(e, models, "kick", pace=1.0, frac=0.75, after=2.0)
+    kick = next(a for a in models.actions if a.name == "kick")
+    times = [r["action_time"] for r in recs if r["action"] == "kick"]
+    assert times, "the kick did not start"
+    assert max(times) >= 0.98 * kick.duration       # ran on to its end by itself
+    assert np.all(np.diff(times) > 0)                # forward only, never paused
+    assert recs[-1]["mode"] == "posing"              # and back to posing
+
+
+def _held_times(recs, t_from, t_to):
+    return [r["action_time"] for r in recs if t_from <= r["t"] <= t_to and r["action"]]
+
+
+def test_holding_still_holds_only_where_the_action_allows_it(make, models):
+    # the wave may pause with the hand up: held still, the time stands
+    wave = make(view=(90.0, 15.0), physics=False)
+    recs, _, _ = stroke_drag(wave, models, "wave", pace=1.0, hold=1.5, after=3.0)
+    w = next(a for a in models.actions if a.name == "wave")
+    end = w.stroke_t[-1]
+    held = _held_times(recs, end + 0.5, end + 1.4)
+    assert len(held) > 20 and max(held) - min(held) < 0.05
+    # ... and once lifted it waves on to the end
+    assert max(r["action_time"] or 0 for r in recs) >= 0.98 * w.duration
+    # the kick cannot stop with the foot in the air: held still, the time keeps going
+    kick = make(view=(90.0, 15.0), physics=False)
+    recs, _, _ = stroke_drag(kick, models, "kick", pace=1.0, hold=1.5, after=0.5)
+    k = next(a for a in models.actions if a.name == "kick")
+    end = k.stroke_t[-1]
+    moving = _held_times(recs, end, end + 0.3)
+    assert len(moving) >= 8 and np.all(np.diff(moving) > 0)
+    # it stops only where stillness is allowed again
+    still = [r["action_time"] / k.duration for r in recs
+             if r["action"] == "kick" and r["t"] > end + 0.9 and r["t"] <= end + 1.5]
+    assert still and min(still) >= k.spec.segments[-1].start - 1e-6
+    assert max(still) - min(still) < 0.02
+
+
+@pytest.mark.parametrize("name", ["punch", "kick", "wave"])
+def test_switching_control_moves_no_joint_more_than_a_set_angle_per_frame(make, models, name):
+    e = make(view=(90.0, 15.0), physics=True)
+    recs, targets, out = stroke_drag(e, models, name, pace=1.0, after=3.0)
+    modes = [r["mode"] for r in recs]
+    switches = [i for i in range(1, len(modes)) if modes[i] != modes[i - 1]]
+    assert len(switches) == 2  # posing -> action -> posing
+    raw_jump = max(np.degrees(np.linalg.norm(rot_diff(targets[i], targets[i - 1]), axis=1)).max()
+                   for i in switches)
+    assert raw_jump > 45.0  # the switch itself is a jump of the target posture
+    for i in switches:
+        for k in range(max(1, i - 1), min(len(out), i + 6)):
+            step = np.degrees(np.linalg.norm(rot_diff(out[k], out[k - 1]), axis=1)).max()
+            assert step < SWITCH_DEG, (i, k, step)
+
+
+def test_dp_distance_time_term_and_coverage():
+    act = np.stack([np.linspace(0, 1, 24), np.zeros(24)], axis=1)
+    act_t = np.linspace(0, 0.5, 24)
+    same, j = dp_distance(act, act_t, act, act_t)
+    assert same < 1e-9 and j == 23
+    slow, _ = dp_distance(act, act_t * 4, act, act_t)
+    assert slow > 0.3  # only the time term differs
+    short, j = dp_distance(act[:8], act_t[:8], act, act_t)
+    assert np.isinf(short) or j > 11  # never judged on less than half of the action
+    assert threshold(1.0) > threshold(0.25)

@@ -1,0 +1,83 @@
+"""The ``touch_pose`` engine on the bus: config, touches from any source, mouse fingers, camera
+keys, and the projector view drawing the humanoid."""
+
+import numpy as np
+import pygame
+import pytest
+
+from tabletop.config import validate_config
+from tabletop.frames import Frame, Touch
+from tabletop.plugins import touch_pose
+from tabletop.pointer import POINTER
+from tabletop.registry import BuildContext
+from tabletop.schema import ConfigError
+from tabletop.view import Renderer
+
+TABLE = (1.2, 0.8)
+
+
+def _config(tmp_path, **engine):
+    data = {"sources": [{"kind": "scripted", "pucks": []}],
+            "engines": [{"kind": "touch_pose", "name": "poser", **engine}]}
+    return validate_config(data, str(tmp_path / "c.yaml"), tmp_path)
+
+
+@pytest.fixture
+def engine(tmp_path, models):
+    cfg = _config(tmp_path, view=[90, 15], physics=False, mouse=True)
+    e = touch_pose.build(cfg["engines"][0], BuildContext(TABLE, 30.0, cfg, tmp_path))
+    yield e
+    e.close()
+    POINTER.release()
+
+
+def test_bad_engine_config_is_refused_with_its_key(tmp_path):
+    with pytest.raises(ConfigError, match=r"engines\[0\]\.height"):
+        _config(tmp_path, height=-1)
+    with pytest.raises(ConfigError, match=r"engines\[0\]\.view"):
+        _config(tmp_path, view=[1, 2, 3])
+
+
+def test_touches_from_the_bus_pose_the_drawn_humanoid(engine):
+    hand = np.array(engine.core.describe()["parts"]["right_hand"])
+    for k in range(45):
+        t = k / 30
+        goal = hand + np.array([0.0, 0.03]) * min(t, 1.0)
+        (c,) = engine.step(Frame(k, t, touches=(Touch(11, *goal),)))
+    assert c.name == "poser" and c.points.shape == (19, 2) and len(c.bones) == 17
+    assert engine.core.fingers[11].part == "right_hand"
+    drawn = c.points[len(engine.core.body.names) + 3]  # the right hand's point
+    assert np.linalg.norm(drawn - goal) < 0.005
+    # the renderer draws it: pixels of the character's colour along its bones
+    pygame.display.init()
+    r = Renderer(TABLE, (960, 640))
+    surface = pygame.Surface((960, 640))
+    r.draw(surface, Frame(99, 2.0, characters=(c,)))
+    px = pygame.surfarray.array3d(surface)
+    colour = np.all(px == np.array(c.color), axis=2)
+    assert colour.sum() > 200
+    x, y = r.map.point(*drawn)
+    assert colour[int(x) - 4:int(x) + 5, int(y) - 4:int(y) + 5].any()
+
+
+def test_mouse_fingers_and_camera_keys(engine):
+    head = engine.core.describe()["parts"]["head"]
+    POINTER.press(*head)
+    engine.step(Frame(0, 0.0))
+    assert list(engine.core.fingers.values())[0].part == "head"
+    POINTER.release()
+    engine.step(Frame(1, 1 / 30))
+    assert engine.core.fingers == {}
+    az = engine.core.camera.azimuth
+    engine.step(Frame(2, 2 / 30, commands=("camera.left", "camera.left")))
+    assert engine.core.camera.azimuth == pytest.approx((az - 30) % 360)
+
+
+def test_two_fingers_on_empty_table_turn_the_camera(engine):
+    az = engine.core.camera.azimuth
+    for k in range(10):
+        engine.step(Frame(k, k / 30, touches=(Touch(1, 0.1 + 0.01 * k, 0.1),
+                                              Touch(2, 0.15 + 0.01 * k, 0.1))))
+    assert engine.core.fingers[1].part is None
+    turned = (engine.core.camera.azimuth - az + 180) % 360 - 180
+    assert turned == pytest.approx(-0.09 * 300.0, abs=1.0)

@@ -1,0 +1,83 @@
+"""``tabletop pose``: describe, a recorded session replayed causally and reproducibly, bad inputs."""
+
+import json
+
+import numpy as np
+import pytest
+
+from tabletop.cli import main
+
+
+def _write(path, rows, header="t,id,x,y"):
+    path.write_text(header + "\n" + "".join(",".join(str(v) for v in r) + "\n" for r in rows))
+    return path
+
+
+def test_describe_lists_the_actions_with_their_trajectories(tmp_path, capsys):
+    out = tmp_path / "d.json"
+    assert main(["pose", "--describe", "--view", "90,15", "--out", str(out)]) == 0
+    d = json.loads(out.read_text())
+    assert d["height_m"] == pytest.approx(0.3)
+    assert {"head", "pelvis", "left_hand", "right_hand", "left_foot", "right_foot"} <= set(d["parts"])
+    names = {a["name"]: a for a in d["actions"]}
+    assert {"punch", "kick", "jump", "spinkick", "wave"} <= set(names)
+    for a in d["actions"]:
+        traj = np.array(a["trajectory"])
+        assert traj.shape[1] == 2 and len(traj) >= 10
+        assert np.allclose(traj[0], d["parts"][a["part"]], atol=1e-4)  # starts at the part
+        assert a["duration_s"] > 0.5
+    assert names["punch"]["part"] == "right_hand" and names["punch"]["excluded"] is False
+    # the character stands at the centre of the table, height_m tall
+    ys = [p[1] for p in d["parts"].values()]
+    assert max(ys) - min(ys) == pytest.approx(0.3, rel=0.25)
+    assert main(["pose", "--describe", "--view", "0,15"]) == 0
+    front = json.loads(capsys.readouterr().out)
+    assert {a["name"]: a for a in front["actions"]}["punch"]["excluded"] is True
+
+
+def test_a_recorded_session_is_replayed_causally_and_reproducibly(tmp_path):
+    d_path = tmp_path / "d.json"
+    main(["pose", "--describe", "--view", "90,15", "--out", str(d_path)])
+    d = json.loads(d_path.read_text())
+    hand = np.array(d["parts"]["right_hand"])
+    rows = [(round(k / 20, 3), 4, *np.round(hand + [0.0, 0.002 * k], 5)) for k in range(20)]
+    rows += [(1.0, 4, *np.round(hand + [0.0, 0.04], 5)), (1.0, 5, 0.05, 0.05)]
+    touches = _write(tmp_path / "touches.csv", rows)
+    a, b = tmp_path / "a.jsonl", tmp_path / "b.jsonl"
+    assert main(["pose", "--input", str(touches), "--out", str(a), "--view", "90,15"]) == 0
+    assert main(["pose", "--input", str(touches), "--out", str(b), "--view", "90,15"]) == 0
+    assert a.read_text() == b.read_text()
+    recs = [json.loads(line) for line in a.read_text().splitlines()]
+    assert len(recs) == 91  # 0 .. 1 s + 2 s at 30 Hz
+    assert recs[0]["touches"] == {"4": "right_hand"}
+    assert recs[30]["touches"] == {"4": "right_hand", "5": None}
+    assert recs[-1]["touches"] == {}
+    for r in recs:
+        assert r["mode"] in ("posing", "action") and len(r["joints"]) >= 13
+        assert all(np.isfinite(v).all() for v in r["joints"].values())
+    # causal: a prefix of the input gives the same records up to its end
+    short = _write(tmp_path / "short.csv", rows[:10])
+    c = tmp_path / "c.jsonl"
+    assert main(["pose", "--input", str(short), "--out", str(c), "--view", "90,15"]) == 0
+    first = [json.loads(line) for line in c.read_text().splitlines()]
+    n = int(rows[9][0] * 30) + 1
+    assert first[:n] == recs[:n]
+
+
+@pytest.mark.parametrize("content, args, needle", [
+    ("t,id,x\n0,1,0.5\n", [], "missing column(s) y"),
+    ("t,id,x,y\n0.5,1,0.5,0.4\n0.2,1,0.5,0.4\n", [], "goes back"),
+    ("t,id,x,y\n0,1,nan,0.4\n", [], "not a finite number"),
+    ("t,id,x,y\n0,1,0.5,0.4\n", ["--view", "front"], "--view"),
+    ("t,id,x,y\n0,1,0.5,0.4\n", ["--view", "0,95"], "elevation"),
+    ("t,id,x,y\n0,1.5,0.5,0.4\n", [], "whole number"),
+    ("t,id,x,y\n0,1,0.5,0.4\n", ["--rate", "-3"], "--rate"),
+])
+def test_bad_inputs_give_one_clear_line(tmp_path, capsys, content, args, needle):
+    f = tmp_path / "t.csv"
+    f.write_text(content)
+    out = tmp_path / "o.jsonl"
+    assert main(["pose", "--input", str(f), "--out", str(out), *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and needle in err and "Traceback" not in err
+    assert not out.exists()
