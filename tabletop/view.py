@@ -79,6 +79,7 @@ class TableToScreen:
             oy = (size[1] - s * h) / 2
             homography = np.array([[s, 0.0, ox], [0.0, -s, oy + s * h], [0.0, 0.0, 1.0]])
         self.H = np.asarray(homography, dtype=float)
+        self._h = [float(v) for v in self.H.ravel()]
 
     def points(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) table metres -> (N, 2) pixels."""
@@ -87,18 +88,22 @@ class TableToScreen:
         return q[:, :2] / q[:, 2:3]
 
     def point(self, x: float, y: float) -> tuple[float, float]:
-        p = self.points(np.array([[x, y]]))[0]
-        return float(p[0]), float(p[1])
+        """One table point (metres) -> pixels (plain floats: no array on this hot path)."""
+        h = self._h
+        w = h[6] * x + h[7] * y + h[8]
+        return (h[0] * x + h[1] * y + h[2]) / w, (h[3] * x + h[4] * y + h[5]) / w
 
     def scale_at(self, x: float, y: float) -> float:
         """Pixels per metre near (x, y)."""
-        a, b = self.points(np.array([[x, y], [x + 0.01, y]]))
-        return float(np.hypot(*(b - a)) / 0.01)
+        ax, ay = self.point(x, y)
+        bx, by = self.point(x + 0.01, y)
+        return math.hypot(bx - ax, by - ay) / 0.01
 
     def angle_at(self, x: float, y: float, a: float) -> float:
         """The screen angle (radians, y down) of the table direction ``a`` at (x, y)."""
-        p, q = self.points(np.array([[x, y], [x + 0.01 * math.cos(a), y + 0.01 * math.sin(a)]]))
-        return math.atan2(q[1] - p[1], q[0] - p[0])
+        px, py = self.point(x, y)
+        qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
+        return math.atan2(qy - py, qx - px)
 
 
 def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
@@ -135,6 +140,12 @@ class Renderer:
         self._t: float | None = None
         self._last_play_t: float | None = None
         self._last_present_t: float | None = None
+        # Dirty rectangles: with ``incremental`` the renderer repaints the table only where the
+        # previous frame drew and lists in ``dirty`` what a window must present.
+        self.incremental = False
+        self.dirty: list[pygame.Rect] = []
+        self._drawn: list[pygame.Rect] | None = None
+        self._last_target: pygame.Surface | None = None
 
     def _corners(self) -> np.ndarray:
         w, h = self.table
@@ -155,21 +166,36 @@ class Renderer:
         t = frame.t
         dt = 0.0 if self._t is None else min(max(t - self._t, 0.0), 0.5)
         self._t = t
-        target.blit(self._background(target), (0, 0))
+        bg = self._background(target)
+        full = (not self.incremental or self._drawn is None or target is not self._last_target)
+        if full:
+            target.blit(bg, (0, 0))
+        else:
+            for r in self._drawn:
+                target.blit(bg, r, r)
         self._update_idle(frame, dt)
-        screens.idle(target, t, self.idle, self._corners())
-        for p in self.lives.update(t, frame.characters):
-            self._draw_presence(target, p, frame)
-        for trace, state, alpha in self.traces.update(t, frame.pucks):
-            self._draw_trace(target, trace, state, alpha, t, overlay is not None)
         down = cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
+        screens.idle(target, t, self.idle, self._corners())
+        drawn: list[pygame.Rect | None] = []
+        for p in self.lives.update(t, frame.characters):
+            drawn.append(self._draw_presence(target, p, frame))
+        for trace, state, alpha in self.traces.update(t, frame.pucks):
+            drawn.extend(self._draw_trace(target, trace, state, alpha, t, overlay is not None))
         if self.moment > 0:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
         if overlay:
-            self.draw_overlay(target, overlay)
+            drawn.append(self.draw_overlay(target, overlay))
+        screen = target.get_rect()
+        now = P.merge([r for r in drawn if r is not None], screen)
+        if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
+            self.dirty, self._drawn = [screen], None
+        else:
+            self.dirty = [screen] if full else P.merge(self._drawn + now, screen)
+            self._drawn = now
+        self._last_target = target
 
     def _update_idle(self, frame: Frame, dt: float) -> None:
         t = frame.t
@@ -214,31 +240,30 @@ class Renderer:
                     stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
                     gaze=gaze, color=color)
 
-    def _draw_presence(self, target: pygame.Surface, pr: Presence, frame: Frame | None) -> None:
+    def _draw_presence(self, target: pygame.Surface, pr: Presence,
+                       frame: Frame | None) -> pygame.Rect | None:
         c = pr.state
         pose = self._pose(pr, frame)
         if pose.alpha <= 0.01:
-            return
+            return None
         if c.points is not None and len(c.points):
             pts = self.map.points(c.points)
             if c.kind == "face":
-                characters.draw_face(target, c, pose, pts)
-            else:
-                characters.draw_figure(target, c, pose, pts)
-        elif c.name in self._sprites:
-            self._draw_sprite(target, c, pose)
-        else:
-            characters.draw_reactor(target, c, pose)
+                return characters.draw_face(target, c, pose, pts)
+            return characters.draw_figure(target, c, pose, pts)
+        if c.name in self._sprites:
+            return self._draw_sprite(target, c, pose)
+        return characters.draw_reactor(target, c, pose)
 
     def _draw_trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
-                    t: float, label: bool) -> None:
+                    t: float, label: bool) -> tuple[pygame.Rect | None, ...]:
         p = trace.puck
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
         color = pucks.state_color(state)
-        pucks.draw_trail(target, trace, self.map.points, color, t, alpha, TRAIL_S)
+        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S)
         img = self._label(p.id) if label else None
-        pucks.draw_halo(target, self.map.point(p.x, p.y), r, self.map.angle_at(p.x, p.y, p.angle),
-                        state, alpha, t, img)
+        return a, pucks.draw_halo(target, self.map.point(p.x, p.y), r,
+                                  self.map.angle_at(p.x, p.y, p.angle), state, alpha, t, img)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)
@@ -258,7 +283,8 @@ class Renderer:
         pr = Presence(c, born=-math.inf, t=0.0, seed=seed_of(c.name))
         self._draw_presence(target, pr, None)
 
-    def _draw_sprite(self, target: pygame.Surface, c: CharacterState, pose: Pose) -> None:
+    def _draw_sprite(self, target: pygame.Surface, c: CharacterState,
+                     pose: Pose) -> pygame.Rect | None:
         img = self._sprites[c.name]
         px_size = c.size * pose.ppm * pose.scale * pose.breath
         # Screen y points down: a counter-clockwise table heading is a counter-clockwise rotation
@@ -272,17 +298,19 @@ class Renderer:
             if len(self._sprite_cache) > 2048:
                 self._sprite_cache.clear()
             self._sprite_cache[key] = surf
-        P.glow(target, pose.center, 0.8 * px_size, pose.color, 0.28 * pose.alpha)
+        g = P.glow(target, pose.center, 0.8 * px_size, pose.color, 0.28 * pose.alpha)
         surf.set_alpha(int(255 * pose.alpha))
-        target.blit(surf, surf.get_rect(center=(int(pose.center[0]), int(pose.center[1]))))
+        return P.union([g, target.blit(surf, surf.get_rect(center=(int(pose.center[0]),
+                                                                    int(pose.center[1]))))])
 
-    def draw_overlay(self, target: pygame.Surface, lines: Sequence[str]) -> None:
-        """Print ``lines`` top-left on a translucent panel; rendered again only when they change."""
+    def draw_overlay(self, target: pygame.Surface, lines: Sequence[str]) -> pygame.Rect:
+        """Print ``lines`` top-left on a translucent panel; rendered again only when they change.
+        Returns the panel's rectangle."""
         key = tuple(lines)
         if key != self._overlay_key or self._overlay_img is None:
             self._overlay_img = screens.panel(lines)
             self._overlay_key = key
-        target.blit(self._overlay_img, (8, 8))
+        return target.blit(self._overlay_img, (8, 8))
 
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
@@ -335,6 +363,7 @@ class ProjectorView:
         pygame.mouse.set_visible(self.headless or not options["fullscreen"])
         self.renderer = Renderer(table, size, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
+        self.renderer.incremental = True   # present only what changed (bench/view.py)
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf
@@ -354,7 +383,10 @@ class ProjectorView:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), frame.t
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
-        pygame.display.flip()
+        if self.renderer.incremental:
+            pygame.display.update(self.renderer.dirty)
+        else:
+            pygame.display.flip()
         if self.headless and self.snapshot_every > 0:
             self._snapshot(frame.t)
 

@@ -76,31 +76,34 @@ def eyes(surf: pygame.Surface, pose: Pose, centers: np.ndarray, r: float) -> Non
     white, ink = fade(EYE_WHITE, pose.alpha), fade(INK, pose.alpha)
     g = np.array([math.cos(pose.gaze), math.sin(pose.gaze)])
     for c in centers:
-        ry = max(0.6, r * pose.blink)
-        P.ellipse(surf, white, c, r, ry, pose.angle + math.pi / 2, 14)
+        if pose.blink > 0.97:
+            P.disc(surf, white, c, r)
+        else:
+            P.ellipse(surf, white, c, r, max(0.6, r * pose.blink), pose.angle + math.pi / 2, 14)
         if pose.blink > 0.45:
             pc = c + g * r * 0.42
             P.disc(surf, ink, pc, r * 0.52)
             P.disc(surf, white, pc - np.array([0.25, 0.35]) * r * 0.5, max(1.0, r * 0.16))
 
 
-def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> None:
+def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.Rect | None:
     """The default character: an egg-shaped creature, nose along its heading, on a soft glow,
-    with a lighter belly and two eyes."""
+    with a lighter belly and two eyes. Returns the rectangle it touched."""
     L = c.size * pose.ppm * pose.scale
     if L < 2:
-        return
+        return None
     local = REACTOR_BODY * np.array([pose.breath ** 0.5, pose.breath])
     local = _squash(local, pose) * L
     rot = _rot(pose.angle)
     ctr = np.asarray(pose.center)
-    P.glow(surf, ctr, 0.95 * L, pose.color, 0.32 * pose.alpha)
+    touched = P.glow(surf, ctr, 0.8 * L, pose.color, 0.36 * pose.alpha)
     P.polygon(surf, pose.body(0.72), local @ rot.T * 1.06 + ctr + (0, 0.04 * L))
     P.polygon(surf, pose.body(), local @ rot.T + ctr)
     belly = (REACTOR_BODY * 0.55 + (0.05, -0.05)) * L
     P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha), _squash(belly, pose) @ rot.T + ctr)
     eye_local = _squash(REACTOR_EYES * L, pose)
     eyes(surf, pose, eye_local @ rot.T + ctr, 0.1 * L)
+    return P.union([touched, P.bounds(np.asarray([ctr]), 0.9 * L * pose.stretch)])
 
 
 def _chains(bones: Sequence[tuple[int, int]]) -> list[list[int]]:
@@ -142,42 +145,81 @@ def _valid_bones(n: int, bones: Sequence[tuple[int, int]]) -> list[tuple[int, in
     return [(a, b) for a, b in bones if 0 <= a < n and 0 <= b < n and a != b]
 
 
-def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray) -> None:
-    """An articulated figure (skeleton, creature, sprite sheet): tapered limbs with joints, the
-    spine (its first run of bones) thickest, a head with eyes at the spine's end."""
+_topologies: dict[tuple, tuple] = {}
+
+
+def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple:
+    """(valid bones in drawing order, spine points, relative thickness per point, spine flags
+    per bone) of a figure, computed once per bone set: limbs first, the spine over them."""
+    key = (n, tuple(bones))
+    topo = _topologies.get(key)
+    if topo is None:
+        valid = _valid_bones(n, bones)
+        if not valid:
+            return [], [], np.ones(n), [], [], [], []
+        sub = _subtree_sizes(n, valid)
+        rel = 0.45 + 0.55 * np.sqrt(sub / sub.max())
+        spine = _spine(valid)
+        in_spine = set(spine)
+        on_spine = [a in in_spine and b in in_spine for a, b in valid]
+        order = sorted(range(len(valid)), key=lambda i: (on_spine[i], -sub[valid[i][1]]))
+        knots = [i for i in range(n) if sub[i] > 1 and i not in in_spine]
+        used = {p for ab in valid for p in ab}
+        limb_points = sorted(used - in_spine)
+        topo = ([valid[i] for i in order], spine, rel, [on_spine[i] for i in order], knots,
+                [i for i in spine if i != spine[-1]], limb_points)
+        if len(_topologies) > 256:
+            _topologies.clear()
+        _topologies[key] = topo
+    return topo
+
+
+def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
+                pts: np.ndarray) -> pygame.Rect | None:
+    """An articulated figure (skeleton, creature, sprite sheet): limbs with thickness and
+    joints, the spine (from the first bone, first children on) thickest, a head with eyes at the
+    spine's end. Returns the rectangle it touched."""
     n = len(pts)
-    bones = _valid_bones(n, c.bones)
-    if n == 0:
-        return
+    if n == 0 or not np.all(np.isfinite(pts)):
+        return None
     ctr = np.asarray(pose.center)
     pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
     fig = c.size * pose.ppm * pose.scale
-    span = float(np.ptp(pts, axis=0).max()) if n > 1 else fig
-    P.glow(surf, pts.mean(axis=0), 0.6 * max(span, 0.3 * fig) + 6, pose.color, 0.22 * pose.alpha)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    span = float((hi - lo).max())
+    touched = P.glow(surf, (lo + hi) / 2, 0.42 * max(span, 0.3 * fig) + 6, pose.color,
+                     0.26 * pose.alpha)
+    bones, spine, rel, on_spine, *rest = topology(n, c.bones)
+    w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
+    body = pose.body()
+    q = pts.tolist()
     if not bones:
-        for q in pts:
-            P.disc(surf, pose.body(), q, max(2.0, 0.03 * fig))
-        return
-    sub = _subtree_sizes(n, bones)
-    w0 = max(2.0, (0.034 if c.kind == "skeleton" else 0.05) * fig)
-    width = w0 * (0.45 + 0.55 * np.sqrt(sub / sub.max()))
-    spine = _spine(bones)
-    head = spine[-1]
-    in_spine = set(spine)
-    for i in spine[:-1]:
-        width[i] = max(width[i], w0 * (1.25 if c.kind == "skeleton" else 1.0))
-    dark, body, light = pose.body(0.68), pose.body(), fade(lighten(pose.color, 0.18), pose.alpha)
-    order = sorted(bones, key=lambda ab: (ab[0] in in_spine and ab[1] in in_spine, -sub[ab[1]]))
-    for a, b in order:        # limbs first, the spine over them
-        P.limb(surf, dark if a not in in_spine or b not in in_spine else body,
-               pts[a], pts[b], width[a] * 0.9, width[b] * 0.9)
-    for a, b in bones:
-        if a in in_spine and b in in_spine:
-            P.limb(surf, body, pts[a], pts[b], width[a] * 0.9, width[b] * 0.9)
-    for i in range(n):        # joints: a lighter knot where a limb bends
-        if sub[i] > 1 and i not in in_spine and width[i] > 3:
-            P.disc(surf, light, pts[i], width[i] * 0.45)
+        for p in q:
+            P.disc(surf, body, p, max(2.0, 0.03 * fig))
+        return P.union([touched, P.bounds(pts, max(2.0, 0.03 * fig) + 2)])
+    knots, spine_points, limb_points = rest
+    w = (w0 * rel).tolist()
+    wspine = w0 * (1.25 if c.kind == "skeleton" else 1.0)
+    for i in spine_points:
+        w[i] = max(w[i], wspine * rel[i])
+    dark, light = pose.body(0.68), fade(lighten(pose.color, 0.18), pose.alpha)
+    line = pygame.draw.aaline
+    for (a, b), sp in zip(bones, on_spine):   # limbs first, the spine over them
+        if sp:
+            break
+        line(surf, dark, q[a], q[b], max(1, int(w[a] + w[b])))
+    for i in limb_points:                      # rounded joints and ends
+        P.disc(surf, dark, q[i], w[i])
+    for (a, b), sp in zip(bones, on_spine):
+        if sp:
+            line(surf, body, q[a], q[b], max(1, int(w[a] + w[b])))
+    for i in spine_points:
+        P.disc(surf, body, q[i], w[i])
+    for i in knots:            # a lighter knot where a limb bends
+        if w[i] > 3:
+            P.disc(surf, light, q[i], w[i] * 0.45)
     _head(surf, c, pose, pts, spine, fig)
+    return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
 
 
 def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,
@@ -217,17 +259,21 @@ def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
     return out
 
 
-def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray) -> None:
+def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
+              pts: np.ndarray) -> pygame.Rect | None:
     """A face: its first closed loop is the head (filled, on a glow), smaller closed loops are
     eyes (white with pupils looking along the gaze, blinking) or the mouth (dark), open strokes
-    are brows and nose drawn thick."""
+    are brows and nose drawn thick. Returns the rectangle it touched."""
     n = len(pts)
+    if n == 0 or not np.all(np.isfinite(pts)):
+        return None
     ctr = np.asarray(pose.center)
     pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
     fig = c.size * pose.ppm * pose.scale
     loops = _loops(_valid_bones(n, c.bones))
     if not loops:
-        return
+        return None
+    touched = P.bounds(pts, 0.06 * fig + 2)
     ink = fade(INK, pose.alpha)
     stroke = max(1.5, 0.022 * fig)
     first = True
@@ -235,8 +281,9 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarr
     for idx, closed in loops:
         q = pts[idx]
         if closed and first:
-            P.glow(surf, q.mean(axis=0), 0.75 * float(np.ptp(q, axis=0).max()) + 6, pose.color,
-                   0.3 * pose.alpha)
+            touched = P.union([touched, P.glow(
+                surf, q.mean(axis=0), 0.62 * float(np.ptp(q, axis=0).max()) + 6, pose.color,
+                0.32 * pose.alpha)])
             P.polygon(surf, pose.body(0.7), (q - q.mean(axis=0)) * 1.04 + q.mean(axis=0))
             P.polygon(surf, pose.body(), q)
             first = False
@@ -255,6 +302,7 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarr
             else:                                                     # the mouth
                 P.polygon(surf, ink, q)
         else:
-            P.aa_polyline(surf, ink, q, int(round(stroke * 1.6)))
-            for a, b in zip(q[:-1], q[1:]):
+            ql = q.tolist()
+            for a, b in zip(ql[:-1], ql[1:]):
                 P.limb(surf, ink, a, b, stroke * 0.8)
+    return touched

@@ -22,75 +22,75 @@ _shadows: dict[tuple, pygame.Surface] = {}
 _rings: dict[tuple, pygame.Surface] = {}
 
 
-def _ipts(pts: np.ndarray | Sequence) -> list[tuple[int, int]]:
-    a = np.rint(np.asarray(pts, dtype=float)).astype(int)
-    return [(int(x), int(y)) for x, y in a]
-
-
 def polygon(surf: pygame.Surface, color: Color, pts: np.ndarray) -> None:
     """A filled polygon with an anti-aliased edge (pixels, N x 2)."""
-    if len(pts) < 3 or not np.all(np.isfinite(pts)):
+    if len(pts) < 3:
         return
-    ip = _ipts(pts)
+    ip = np.rint(pts).astype(np.int32).tolist()
+    if abs(ip[0][0]) > 30000 or abs(ip[0][1]) > 30000:
+        return   # NaN, infinity or far off screen
     gfx.filled_polygon(surf, ip, color)
     gfx.aapolygon(surf, ip, color)
 
 
 def disc(surf: pygame.Surface, color: Color, c: Sequence[float], r: float) -> None:
     """A filled anti-aliased disc of radius ``r`` pixels."""
-    if not (math.isfinite(c[0]) and math.isfinite(c[1])):
+    x, y = c[0], c[1]
+    if not (-30000 < x < 30000 and -30000 < y < 30000):
         return
-    x, y, ri = int(round(c[0])), int(round(c[1])), int(round(r))
+    xi, yi, ri = int(x + 0.5), int(y + 0.5), int(r + 0.5)
     if ri < 1:
-        surf.set_at((x, y), color) if surf.get_rect().collidepoint(x, y) else None
         return
-    gfx.filled_circle(surf, x, y, ri, color)
-    gfx.aacircle(surf, x, y, ri, color)
+    gfx.filled_circle(surf, xi, yi, ri, color)
+    gfx.aacircle(surf, xi, yi, ri, color)
 
 
 def ellipse(surf: pygame.Surface, color: Color, c: Sequence[float], rx: float, ry: float,
             angle: float = 0.0, n: int = 20) -> None:
     """A filled anti-aliased ellipse, semi-axes ``rx`` along ``angle`` (screen radians, y down)
     and ``ry`` across it."""
-    surf_pts = ellipse_points(c, rx, ry, angle, n)
-    polygon(surf, color, surf_pts)
+    polygon(surf, color, ellipse_points(c, rx, ry, angle, n))
+
+
+_UNIT = {n: (np.cos(np.linspace(0, 2 * math.pi, n, endpoint=False)),
+             np.sin(np.linspace(0, 2 * math.pi, n, endpoint=False))) for n in (8, 12, 14, 20)}
 
 
 def ellipse_points(c: Sequence[float], rx: float, ry: float, angle: float = 0.0,
                    n: int = 20) -> np.ndarray:
     """Outline points (n x 2) of an ellipse in pixels."""
-    t = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    cs = _UNIT.get(n)
+    if cs is None:
+        t = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+        cs = (np.cos(t), np.sin(t))
     ca, sa = math.cos(angle), math.sin(angle)
-    ex, ey = rx * np.cos(t), ry * np.sin(t)
+    ex, ey = rx * cs[0], ry * cs[1]
     return np.stack([c[0] + ca * ex - sa * ey, c[1] + sa * ex + ca * ey], axis=1)
 
 
 def limb(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float],
-         wa: float, wb: float | None = None) -> None:
-    """A tapered limb (a capsule) from ``a`` to ``b``: half-widths ``wa`` and ``wb`` pixels,
-    rounded ends, anti-aliased."""
-    wb = wa if wb is None else wb
-    ax, ay, bx, by = float(a[0]), float(a[1]), float(b[0]), float(b[1])
-    if not all(math.isfinite(v) for v in (ax, ay, bx, by)):
+         w: float) -> None:
+    """A limb from ``a`` to ``b``, ``2 w`` pixels thick, anti-aliased, with rounded ends."""
+    ax, ay, bx, by = a[0], a[1], b[0], b[1]
+    if not (-30000 < ax < 30000 and -30000 < ay < 30000 and -30000 < bx < 30000
+            and -30000 < by < 30000):
         return
-    dx, dy = bx - ax, by - ay
-    d = math.hypot(dx, dy)
-    if d > 1e-6:
-        nx, ny = -dy / d, dx / d
-        polygon(surf, color, np.array([(ax + nx * wa, ay + ny * wa), (bx + nx * wb, by + ny * wb),
-                                       (bx - nx * wb, by - ny * wb), (ax - nx * wa, ay - ny * wa)]))
-    disc(surf, color, (ax, ay), wa)
-    disc(surf, color, (bx, by), wb)
+    width = max(1, int(2 * w + 0.5))
+    pygame.draw.aaline(surf, color, (ax, ay), (bx, by), width)
+    if width > 2:
+        disc(surf, color, a, w)
+        disc(surf, color, b, w)
 
 
-def aa_polyline(surf: pygame.Surface, color: Color, pts: np.ndarray, width: int = 2) -> None:
+def aa_polyline(surf: pygame.Surface, color: Color, pts: list, width: int = 2) -> None:
     """A polyline ``width`` pixels wide with anti-aliased sides."""
     if len(pts) < 2:
         return
-    ip = pts.tolist()
     if width > 1:
-        pygame.draw.lines(surf, color, False, ip, width)
-    pygame.draw.aalines(surf, color, False, ip)
+        for a, b in zip(pts[:-1], pts[1:]):
+            pygame.draw.aaline(surf, color, a, b, width)
+    else:
+        pygame.draw.aalines(surf, color, False, pts)
 
 
 def _radial(radius: int, profile) -> np.ndarray:
@@ -112,9 +112,15 @@ def _remember(cache: dict, key: tuple, surf: pygame.Surface) -> pygame.Surface:
     return surf
 
 
+def fast(surf: pygame.Surface) -> pygame.Surface:
+    """``surf`` in the display's pixel format when a display is open (blits then copy rows
+    instead of converting every pixel), else as it is."""
+    return surf.convert() if pygame.display.get_surface() is not None else surf
+
+
 def _rgb_surface(values: np.ndarray, color: Color) -> pygame.Surface:
     rgb = (values[..., None] * np.asarray(color, dtype=np.float32)).astype(np.uint8)
-    return pygame.surfarray.make_surface(np.ascontiguousarray(rgb.transpose(1, 0, 2)))
+    return fast(pygame.surfarray.make_surface(np.ascontiguousarray(rgb.transpose(1, 0, 2))))
 
 
 def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface:
@@ -131,13 +137,13 @@ def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface
 
 
 def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
-         strength: float) -> None:
-    """Add a soft light of ``radius`` pixels around ``c``."""
+         strength: float) -> pygame.Rect | None:
+    """Add a soft light of ``radius`` pixels around ``c``; returns the rectangle touched."""
     if strength <= 0.02 or radius < 2 or not math.isfinite(c[0] + c[1]):
-        return
+        return None
     g = glow_surface(radius, color, strength)
-    surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
-              special_flags=pygame.BLEND_ADD)
+    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
+                     special_flags=pygame.BLEND_ADD)
 
 
 def shadow_surface(rx: float, ry: float, depth: float) -> pygame.Surface:
@@ -151,8 +157,8 @@ def shadow_surface(rx: float, ry: float, depth: float) -> pygame.Surface:
         d = np.hypot(x / rx_i, y / ry_i)
         k = 1.0 - dq * np.clip((1.0 - d * d), 0.0, 1.0) ** 1.5
         vals = np.repeat((k * 255)[..., None], 3, axis=2).astype(np.uint8)
-        surf = _remember(_shadows, key, pygame.surfarray.make_surface(
-            np.ascontiguousarray(vals.transpose(1, 0, 2))))
+        surf = _remember(_shadows, key, fast(pygame.surfarray.make_surface(
+            np.ascontiguousarray(vals.transpose(1, 0, 2)))))
     return surf
 
 
@@ -172,17 +178,53 @@ def ring_surface(radius: float, width: float, color: Color, strength: float) -> 
     key = (r, w, color, s)
     surf = _rings.get(key)
     if surf is None:
-        outer = int(r + 3 * w + 2)
-        vals = s * _radial(outer, lambda d: np.exp(-((d * outer - r) / w) ** 2))
+        outer = int(r + 2.5 * w + 2)
+        vals = s * _radial(outer, lambda d: np.exp(-((d * outer - r) / (0.45 * w)) ** 2)
+                           + 0.35 * np.exp(-((d * outer - r) / w) ** 2))
         surf = _remember(_rings, key, _rgb_surface(vals, color))
     return surf
 
 
 def ring(surf: pygame.Surface, c: Sequence[float], radius: float, width: float, color: Color,
-         strength: float) -> None:
-    """Add a soft ring of light around ``c``."""
+         strength: float) -> pygame.Rect | None:
+    """Add a soft ring of light around ``c``; returns the rectangle touched."""
     if strength <= 0.02 or radius < 1 or not math.isfinite(c[0] + c[1]):
-        return
+        return None
     g = ring_surface(radius, width, color, strength)
-    surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
-              special_flags=pygame.BLEND_ADD)
+    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
+                     special_flags=pygame.BLEND_ADD)
+
+
+def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
+    """The pixel rectangle around points (N x 2) grown by ``pad`` on every side."""
+    pts = np.asarray(pts, dtype=float).reshape(-1, 2)
+    if not len(pts) or not np.all(np.isfinite(pts)):
+        return None
+    lo, hi = pts.min(axis=0) - pad - 1, pts.max(axis=0) + pad + 2
+    return pygame.Rect(int(lo[0]), int(lo[1]), int(hi[0] - lo[0]) + 1, int(hi[1] - lo[1]) + 1)
+
+
+def merge(rects: Sequence[pygame.Rect], screen: pygame.Rect) -> list[pygame.Rect]:
+    """Rectangles to repaint: overlapping ones merged; the whole ``screen`` when they would
+    cover more than half of it anyway."""
+    out: list[pygame.Rect] = []
+    for r in rects:
+        r = r.clip(screen)
+        if not r.w or not r.h:
+            continue
+        i = r.collidelist(out)
+        while i >= 0:
+            r = r.union(out.pop(i))
+            i = r.collidelist(out)
+        out.append(r)
+    if sum(r.w * r.h for r in out) > 0.5 * screen.w * screen.h:
+        return [screen]
+    return out
+
+
+def union(rects: Sequence[pygame.Rect | None]) -> pygame.Rect | None:
+    """The rectangle covering every given rectangle (None ones ignored), or None."""
+    rs = [r for r in rects if r is not None]
+    if not rs:
+        return None
+    return rs[0].unionall(rs[1:])

@@ -62,7 +62,7 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10) -> pygame.Surface:
     for img in imgs:
         s.blit(img, (pad, y))
         y += img.get_height() + 2
-    return s
+    return s.convert_alpha() if pygame.display.get_surface() is not None else s
 
 
 def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
