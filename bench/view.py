@@ -1,6 +1,6 @@
 """Projector view speed: draw + present per frame, where a visitor sees it.
 
-Eight characters of every kind and sixteen pucks (bench/scene.py), at 1280x720 and 1920x1080, on
+Eight characters of every kind and sixteen pucks (tests/tabletop/scene_frames.py), at 1280x720 and 1920x1080, on
 SDL's dummy driver and in a real X window (a private Xvfb, installed by bench/xwindow.py when
 missing; skipped with a reason when it cannot be had). Candidates, interleaved A B A B ...:
 
@@ -28,7 +28,7 @@ import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
 from bench.common import emit, stats_ms  # noqa: E402
-from bench.scene import TABLE, mixed_frames  # noqa: E402
+from tests.tabletop.scene_frames import TABLE, busy_frames  # noqa: E402
 from bench.xwindow import xvfb  # noqa: E402
 from tabletop.view import Renderer, overlay_lines  # noqa: E402
 
@@ -52,7 +52,7 @@ class Run:
 
     def __init__(self, candidate: str, size: tuple[int, int]) -> None:
         self.candidate, self.size = candidate, size
-        self.overlay = overlay_lines(mixed_frames(1, pucks=0)[0], None)
+        self.overlay = overlay_lines(busy_frames(1, pucks=0)[0], None)
         self.tex = self.sdl = self.window = None
         if candidate == "sdl2_texture":
             from pygame._sdl2 import video
@@ -100,7 +100,7 @@ class Run:
 def main() -> None:
     t_start = time.monotonic()
     load0 = os.getloadavg()[0]   # other processes' load slows a real window most
-    frames = mixed_frames(FRAMES_PER_RUN * 2)
+    frames = busy_frames(FRAMES_PER_RUN * 2)
     samples: dict[str, dict[str, list[float]]] = {}
     skipped: dict[str, str] = {}
     with xvfb((1920, 1080)) as display:

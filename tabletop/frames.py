@@ -106,7 +106,8 @@ class CharacterState:
     metres) and ``bones`` (pairs of indices into points) describe an articulated figure to draw
     as segments; ``progress`` (0..1) and ``action`` name what an action-following engine plays;
     ``valid`` is False while the engine has nothing trustworthy to show (the view dims it).
-    ``label`` is a short status text for the operator overlay.
+    ``label`` is a short status text for the operator overlay. ``look_at`` (x, y, metres) is
+    what the character attends to (a reactor's main puck): the view turns its eyes there.
     """
 
     name: str
@@ -122,6 +123,7 @@ class CharacterState:
     action: str | None = None
     valid: bool = True
     label: str = ""
+    look_at: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", _frozen_array(self.points))

@@ -212,7 +212,7 @@ class Renderer:
         self.idle = min(1.0, max(0.0, self.idle + (k if nobody else -2 * k)))
 
     def _look(self, c: CharacterState, frame: Frame) -> tuple[float, float] | None:
-        target = getattr(c, "look_at", None)
+        target = c.look_at
         if target is not None:
             return target
         best, best_d = None, LOOK_RANGE_M

@@ -209,7 +209,7 @@ def merge(rects: Sequence[pygame.Rect], screen: pygame.Rect) -> list[pygame.Rect
     cover more than half of it anyway."""
     out: list[pygame.Rect] = []
     for r in rects:
-        r = r.clip(screen)
+        r = r.inflate(4, 4).clip(screen)      # anti-aliased edges may spill a pixel over
         if not r.w or not r.h:
             continue
         i = r.collidelist(out)

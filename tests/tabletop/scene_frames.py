@@ -1,4 +1,4 @@
-"""A busy table for the view benchmarks and the README: eight characters of every kind (three
+"""A busy table for the view tests and benchmarks: eight characters of every kind (three
 Puppet Master reactors, two MOP humanoids, a creature, a face, a sprite-sheet bird), all moving,
 and sixteen pucks wandering (some coasting), as Frames at 60 Hz."""
 
@@ -16,11 +16,11 @@ from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf, load_motion
 from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf, place
 from tabletop.frames import CharacterState, Frame, Puck
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 TABLE = (1.2, 0.8)
 
 
-def mixed_frames(n: int, rate_hz: float = 60.0, pucks: int = 16) -> list[Frame]:
+def busy_frames(n: int, rate_hz: float = 60.0, pucks: int = 16) -> list[Frame]:
     """``n`` consecutive frames of the busy table."""
     human = HumanoidRig(ProjectedFigure(load_urdf(humanoid_urdf()),
                                         Projection(view_yaw=0.5, elevation=0.25), ROOT_SCALE))
