@@ -279,7 +279,7 @@ def test_dirty_rectangles_give_the_same_image_as_full_redraws():
         assert np.count_nonzero(diff) <= 8 and diff.max() <= 16, f"frame {f.seq}"
     sparse = Frame(seq=100, t=frames[-1].t + 0.05, pucks=frames[-1].pucks[:2],
                    characters=frames[-1].characters[:1])
-    for k in range(3):
+    for k in range(30):     # the others fade out (0.6 s), the pucks that left too (1.2 s)
         sparse = Frame(seq=100 + k, t=sparse.t + 0.05, pucks=sparse.pucks,
                        characters=sparse.characters)
         full.draw(a, sparse)
