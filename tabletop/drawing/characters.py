@@ -210,6 +210,8 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
         line(surf, dark, q[a], q[b], max(1, int(w[a] + w[b])))
     for i in limb_points:                      # rounded joints and ends
         P.disc(surf, dark, q[i], w[i])
+    if c.kind in ("creature", "sprite") and len(spine) >= 3:
+        _torso(surf, body, pts[spine[0]], pts[spine[-2]], wspine, c.kind == "sprite")
     for (a, b), sp in zip(bones, on_spine):
         if sp:
             line(surf, body, q[a], q[b], max(1, int(w[a] + w[b])))
@@ -220,6 +222,19 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
             P.disc(surf, light, q[i], w[i] * 0.45)
     _head(surf, c, pose, pts, spine, fig)
     return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
+
+
+def _torso(surf: pygame.Surface, color: Color, a: np.ndarray, b: np.ndarray, w: float,
+           plump: bool) -> None:
+    """A filled body between the spine's first point and the neck: a slim one for a creature,
+    a plump one for a bird."""
+    d = b - a
+    length = float(np.hypot(*d))
+    if length < 2:
+        return
+    rx = 0.5 * length + w
+    ry = max(w * 1.6, 0.3 * rx if plump else w * 1.3)
+    P.ellipse(surf, color, (a + b) / 2, rx, ry, math.atan2(d[1], d[0]), 20)
 
 
 def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,

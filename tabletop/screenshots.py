@@ -4,24 +4,20 @@ Runs each shipped configuration headless (SDL's dummy driver) for a few seconds 
 on, exactly as ``tabletop run --headless --seconds S`` with ``view.snapshot_every_s`` would, and
 keeps its last snapshot as ``docs/screenshots/NAME.png``. Used by ``make screenshots``.
 
-    python docs/make_screenshots.py [--seconds 6] [--out docs/screenshots]
+    python -m tabletop.screenshots [--seconds 6] [--out docs/screenshots]
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
-import sys
 import tempfile
 from pathlib import Path
 
-os.environ["SDL_VIDEODRIVER"] = "dummy"
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+from tabletop.app import build_live
+from tabletop.config import load_config
 
-from tabletop.app import build_live  # noqa: E402
-from tabletop.config import load_config  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
 
 SHOTS = {"default": ROOT / "config.yaml", "mop": ROOT / "examples" / "mop.yaml"}
 
@@ -37,7 +33,7 @@ def shoot(config: Path, seconds: float, out: Path, overlay: bool) -> Path:
         inst.loop.run(seconds=seconds)
         shots = sorted(Path(tmp).glob("snapshot-*.png"))
         if not shots:
-            raise SystemExit(f"make_screenshots: {config}: no snapshot was written")
+            raise SystemExit(f"screenshots: {config}: no snapshot was written")
         out.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(shots[-1], out)
     return out
