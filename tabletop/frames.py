@@ -109,7 +109,8 @@ class CharacterState:
     ``label`` is a short status text for the operator overlay. ``hints`` (action, probability,
     progress) and ``hint_points`` (N x 2, table metres, the likeliest one's pose) are what an
     action-following engine already suspects before anything drives the character: the view may
-    draw them faintly.
+    draw them faintly. ``look_at`` (x, y, metres) is
+    what the character attends to (a reactor's main puck): the view turns its eyes there.
     """
 
     name: str
@@ -127,6 +128,7 @@ class CharacterState:
     label: str = ""
     hints: tuple[tuple[str, float, float], ...] = ()
     hint_points: np.ndarray | None = None
+    look_at: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", _frozen_array(self.points))

@@ -1,6 +1,7 @@
 """The projector view (pygame): the table, the pucks and the characters drawn under them.
 
-:class:`Renderer` draws one Frame onto any surface (pure drawing, tested offscreen);
+:class:`Renderer` draws one Frame onto any surface (tested offscreen) with the drawing modules
+of :mod:`tabletop.drawing`;
 :class:`ProjectorView` is the sink that owns the window (or the headless dummy display), turns
 keys into operator commands, saves snapshots and shows the operator overlay.
 
@@ -25,19 +26,26 @@ import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
 from calibration.transforms import apply_homography, fitted_rectangle  # noqa: E402
+from tabletop.drawing import characters, pucks, screens  # noqa: E402
+from tabletop.drawing import primitives as P  # noqa: E402
+from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
+from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace, Traces, breath,  # noqa: E402
+                                   eyes_open, seed_of, stretch)
+from tabletop.drawing.palette import resting, vivid  # noqa: E402
+from tabletop.drawing.screens import table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.snapshots import Snapshots  # noqa: E402
 
 log = logging.getLogger("tabletop")
 
-BACKGROUND = (12, 12, 16)
-TABLE = (28, 32, 40)
-GRID = (40, 46, 56)
 PUCK_COLORS = [(70, 160, 255), (255, 90, 90), (90, 220, 120), (240, 200, 60), (190, 110, 255),
                (60, 220, 220), (255, 140, 40), (230, 230, 230)]
-HEADING = (255, 255, 255)
 OVERLAY_REFRESH_S = 0.25
+IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
+IDLE_STILL_S = 30.0      # ... or nothing moved for this long
+MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
+LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
@@ -46,14 +54,19 @@ KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_LEFT: "camera.left", pygame.K_RIGHT: "camera.right",
                 pygame.K_UP: "camera.up", pygame.K_DOWN: "camera.down"}
 
-# Reactor body in units of its size, nose along +x.
-BODY = np.array([(0.55, 0.0), (0.25, 0.27), (-0.3, 0.3), (-0.5, 0.0), (-0.3, -0.3), (0.25, -0.27)])
-EYES = np.array([(0.22, 0.12), (0.22, -0.12)])
+# Reactor body in units of its size, nose along +x (the default character's outline).
+BODY = REACTOR_BODY
+EYES = REACTOR_EYES
 
 
 def puck_color(puck_id: int) -> tuple[int, int, int]:
-    """The drawing colour of a puck id."""
+    """The identity colour of a puck id (its label in designer mode)."""
     return PUCK_COLORS[puck_id % len(PUCK_COLORS)]
+
+
+def cameras_down(frame: Frame) -> bool:
+    """True when the frame has sources and every one of them is unhealthy."""
+    return bool(frame.health) and not any(h.ok for h in frame.health)
 
 
 class TableToScreen:
@@ -69,26 +82,29 @@ class TableToScreen:
         if homography is None:
             homography = fitted_rectangle(table, size, margin)
         self.H = np.asarray(homography, dtype=float)
+        self._h = [float(v) for v in self.H.ravel()]
 
     def points(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) table metres -> (N, 2) pixels."""
         return apply_homography(self.H, xy)
 
     def point(self, x: float, y: float) -> tuple[float, float]:
-        p = self.points(np.array([[x, y]]))[0]
-        return float(p[0]), float(p[1])
+        """One table point (metres) -> pixels (plain floats: no array on this hot path)."""
+        h = self._h
+        w = h[6] * x + h[7] * y + h[8]
+        return (h[0] * x + h[1] * y + h[2]) / w, (h[3] * x + h[4] * y + h[5]) / w
 
     def scale_at(self, x: float, y: float) -> float:
         """Pixels per metre near (x, y)."""
-        a, b = self.points(np.array([[x, y], [x + 0.01, y]]))
-        return float(np.hypot(*(b - a)) / 0.01)
+        ax, ay = self.point(x, y)
+        bx, by = self.point(x + 0.01, y)
+        return math.hypot(bx - ax, by - ay) / 0.01
 
-    def angle_at(self, x: float, y: float, heading: float) -> float:
-        """The on-screen direction (rad, counter-clockwise as seen) of table ``heading`` at
-        (x, y): a projector's homography may turn or mirror the table."""
-        a, b = self.points(np.array([[x, y], [x + 0.01 * math.cos(heading),
-                                              y + 0.01 * math.sin(heading)]]))
-        return math.atan2(-(b[1] - a[1]), b[0] - a[0])
+    def angle_at(self, x: float, y: float, a: float) -> float:
+        """The screen angle (radians, y down) of the table direction ``a`` at (x, y)."""
+        px, py = self.point(x, y)
+        qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
+        return math.atan2(qy - py, qx - px)
 
 
 def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
@@ -99,7 +115,12 @@ def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
 
 
 class Renderer:
-    """Draws frames: table, characters (under the pucks), pucks with heading, optional overlay."""
+    """Draws frames: the table, the characters with their life (under the pucks), the pucks'
+    halos and trails, the "one moment" and idle looks, and the operator overlay.
+
+    The renderer keeps a little memory between frames (who appeared when, pucks' recent paths)
+    so that nothing pops; all its times are the frames' ``t``.
+    """
 
     def __init__(self, table: tuple[float, float], size: tuple[int, int], margin: int = 24,
                  homography: np.ndarray | None = None, puck_radius: float = 0.03,
@@ -109,69 +130,167 @@ class Renderer:
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
-        self._font: pygame.font.Font | None = None
         self._overlay_key: tuple[str, ...] = ()
-        self._overlay_imgs: list[pygame.Surface] = []
+        self._overlay_img: pygame.Surface | None = None
+        self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
+        self.lives = Lives()
+        self.traces = Traces()
+        self.moment = 0.0            # opacity of the "one moment" screen, 0..1
+        self.idle = 0.0              # opacity of the idle look, 0..1
+        self._t: float | None = None
+        self._last_play_t: float | None = None
+        self._last_present_t: float | None = None
+        # Dirty rectangles: with ``incremental`` the renderer repaints the table only where the
+        # previous frame drew and lists in ``dirty`` what a window must present.
+        self.incremental = False
+        self.dirty: list[pygame.Rect] = []
+        self._drawn: list[pygame.Rect] | None = None
+        self._last_target: pygame.Surface | None = None
+
+    def _corners(self) -> np.ndarray:
+        w, h = self.table
+        return self.map.points(np.array([(0, 0), (w, 0), (w, h), (0, h)]))
 
     def _background(self, target: pygame.Surface) -> pygame.Surface:
         if self._static is None or self._static.get_size() != target.get_size():
-            s = pygame.Surface(target.get_size())
-            s.fill(BACKGROUND)
             w, h = self.table
-            corners = self.map.points(np.array([(0, 0), (w, 0), (w, h), (0, h)]))
-            pygame.draw.polygon(s, TABLE, corners.tolist())
-            for gx in np.arange(0.1, w, 0.1):
-                pygame.draw.line(s, GRID, self.map.point(gx, 0), self.map.point(gx, h))
-            for gy in np.arange(0.1, h, 0.1):
-                pygame.draw.line(s, GRID, self.map.point(0, gy), self.map.point(w, gy))
+            grid = [self.map.point(gx, gy) for gx in np.arange(0.1, w - 1e-9, 0.1)
+                    for gy in np.arange(0.1, h - 1e-9, 0.1)]
+            s = table_surface(target.get_size(), self._corners(), grid)
             self._static = s.convert() if pygame.display.get_surface() else s
         return self._static
 
     def draw(self, target: pygame.Surface, frame: Frame, overlay: list[str] | None = None) -> None:
-        """Draw ``frame`` onto ``target``; ``overlay`` lines are printed top-left when given."""
-        target.blit(self._background(target), (0, 0))
-        for c in frame.characters:
-            self.draw_character(target, c)
-        for p in frame.pucks:
-            self.draw_puck(target, p)
+        """Draw ``frame`` onto ``target``; ``overlay`` lines are printed top-left on a panel
+        when given (and then, for designers, each puck's id beside its halo)."""
+        t = frame.t
+        dt = 0.0 if self._t is None else min(max(t - self._t, 0.0), 0.5)
+        self._t = t
+        bg = self._background(target)
+        full = (not self.incremental or self._drawn is None or target is not self._last_target)
+        if full:
+            target.blit(bg, (0, 0))
+        else:
+            for r in self._drawn:
+                target.blit(bg, r, r)
+        self._update_idle(frame, dt)
+        down = cameras_down(frame)
+        step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
+        self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
+        screens.idle(target, t, self.idle, self._corners())
+        drawn: list[pygame.Rect | None] = []
+        for p in self.lives.update(t, frame.characters):
+            drawn.append(self._draw_presence(target, p, frame))
+        for trace, state, alpha in self.traces.update(t, frame.pucks):
+            drawn.extend(self._draw_trace(target, trace, state, alpha, t, overlay is not None))
+        if self.moment > 0:
+            bad = [h.message for h in frame.health if h.message]
+            screens.one_moment(target, t, self.moment, bad[0] if bad else "")
         if overlay:
-            self.draw_overlay(target, overlay)
+            drawn.append(self.draw_overlay(target, overlay))
+        screen = target.get_rect()
+        now = P.merge([r for r in drawn if r is not None], screen)
+        if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
+            self.dirty, self._drawn = [screen], None
+        else:
+            self.dirty = [screen] if full else P.merge(self._drawn + now, screen)
+            self._drawn = now
+        self._last_target = target
 
-    def draw_puck(self, target: pygame.Surface, p: Puck) -> None:
-        cx, cy = self.map.point(p.x, p.y)
-        r = max(3, int(round(self.puck_radius * self.map.scale_at(p.x, p.y))))
-        color = puck_color(p.id)
-        if p.state == "seen":
-            pygame.draw.circle(target, color, (cx, cy), r)
-        else:  # coasting: a ring, so an operator sees the prediction
-            pygame.draw.circle(target, color, (cx, cy), r, width=max(2, r // 4))
-        hx, hy = self.map.point(p.x + 0.7 * self.puck_radius * math.cos(p.angle),
-                                p.y + 0.7 * self.puck_radius * math.sin(p.angle))
-        pygame.draw.circle(target, HEADING, (hx, hy), max(2, r // 4))
+    def _update_idle(self, frame: Frame, dt: float) -> None:
+        t = frame.t
+        if self._last_play_t is None:
+            self._last_play_t = self._last_present_t = t
+        present = bool(frame.pucks or frame.touches)
+        if present:
+            self._last_present_t = t
+        moving = frame.touches or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks)
+        if moving or any(p.id not in self.traces.traces for p in frame.pucks):
+            self._last_play_t = t
+        nobody = (t - self._last_present_t >= IDLE_EMPTY_S or t - self._last_play_t >= IDLE_STILL_S)
+        k = dt / 1.5
+        self.idle = min(1.0, max(0.0, self.idle + (k if nobody else -2 * k)))
 
-    def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
-        color = c.color if c.valid else tuple(v // 3 for v in c.color)
+    def _look(self, c: CharacterState, frame: Frame) -> tuple[float, float] | None:
+        target = c.look_at
+        if target is not None:
+            return target
+        best, best_d = None, LOOK_RANGE_M
+        for p in frame.pucks:
+            d = math.hypot(p.x - c.x, p.y - c.y)
+            if 1e-3 < d < best_d:
+                best, best_d = (p.x, p.y), d
+        return best
+
+    def _pose(self, pr: Presence, frame: Frame | None) -> Pose:
+        c, t = pr.state, (frame.t if frame is not None else pr.t)
+        center = self.map.point(c.x, c.y)
+        angle = self.map.angle_at(c.x, c.y, c.heading)
+        still = pr.stillness()
+        target = self._look(c, frame) if frame is not None else None
+        if target is not None:
+            q = self.map.point(*target)
+            gaze = math.atan2(q[1] - center[1], q[0] - center[0])
+        else:
+            gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
+        motion = self.map.angle_at(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
+        color = vivid(c.color) if c.valid else resting(vivid(c.color))
+        return Pose(center, angle, self.map.scale_at(c.x, c.y), alpha=pr.alpha(t),
+                    scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
+                    stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
+                    gaze=gaze, color=color)
+
+    def _draw_presence(self, target: pygame.Surface, pr: Presence,
+                       frame: Frame | None) -> pygame.Rect | None:
+        c = pr.state
+        pose = self._pose(pr, frame)
+        if pose.alpha <= 0.01:
+            return None
         if c.points is not None and len(c.points):
             pts = self.map.points(c.points)
-            for a, b in c.bones:
-                if 0 <= a < len(pts) and 0 <= b < len(pts):
-                    pygame.draw.line(target, color, pts[a], pts[b], 3)
-            for q in pts:
-                pygame.draw.circle(target, color, q, 3)
-            return
+            if c.kind == "face":
+                return characters.draw_face(target, c, pose, pts)
+            return characters.draw_figure(target, c, pose, pts)
         if c.name in self._sprites:
-            self._draw_sprite(target, c)
-            return
-        pygame.draw.polygon(target, color, self.map.points(body_polygon(c, BODY)).tolist())
-        eye_r = max(2, int(0.07 * c.size * self.map.scale_at(c.x, c.y)))
-        for q in self.map.points(body_polygon(c, EYES)):
-            pygame.draw.circle(target, (250, 250, 250), q, eye_r)
+            return self._draw_sprite(target, c, pose)
+        return characters.draw_reactor(target, c, pose)
 
-    def _draw_sprite(self, target: pygame.Surface, c: CharacterState) -> None:
+    def _draw_trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
+                    t: float, label: bool) -> tuple[pygame.Rect | None, ...]:
+        p = trace.puck
+        r = self.puck_radius * self.map.scale_at(p.x, p.y)
+        color = pucks.state_color(state)
+        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S)
+        img = self._label(p.id) if label else None
+        return a, pucks.draw_halo(target, self.map.point(p.x, p.y), r,
+                                  self.map.angle_at(p.x, p.y, p.angle), state, alpha, t, img)
+
+    def _label(self, puck_id: int) -> pygame.Surface:
+        img = self._labels.get(puck_id)
+        if img is None:
+            img = self._labels[puck_id] = screens.font(22).render(str(puck_id), True,
+                                                                  puck_color(puck_id))
+        return img
+
+    def draw_puck(self, target: pygame.Surface, p: Puck, t: float = 0.0) -> None:
+        """One puck's halo, as it would be drawn in a frame (no trail)."""
+        r = self.puck_radius * self.map.scale_at(p.x, p.y)
+        pucks.draw_halo(target, self.map.point(p.x, p.y), r, self.map.angle_at(p.x, p.y, p.angle),
+                        p.state, 1.0, t)
+
+    def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
+        """One character fully present (no fade), as it would be drawn standing still."""
+        pr = Presence(c, born=-math.inf, t=0.0, seed=seed_of(c.name))
+        self._draw_presence(target, pr, None)
+
+    def _draw_sprite(self, target: pygame.Surface, c: CharacterState,
+                     pose: Pose) -> pygame.Rect | None:
         img = self._sprites[c.name]
-        px_size = c.size * self.map.scale_at(c.x, c.y)
-        deg = int(round(math.degrees(self.map.angle_at(c.x, c.y, c.heading)) / 2.0)) * 2
+        px_size = c.size * pose.ppm * pose.scale * pose.breath
+        # Screen y points down: a counter-clockwise table heading is a counter-clockwise rotation
+        # on screen when the table's y axis points up the screen (the uncalibrated fit).
+        deg = int(round(-math.degrees(pose.angle) / 2.0)) * 2
         key = (c.name, deg % 360, int(px_size))
         surf = self._sprite_cache.get(key)
         if surf is None:
@@ -180,23 +299,19 @@ class Renderer:
             if len(self._sprite_cache) > 2048:
                 self._sprite_cache.clear()
             self._sprite_cache[key] = surf
-        cx, cy = self.map.point(c.x, c.y)
-        target.blit(surf, surf.get_rect(center=(cx, cy)))
+        g = P.glow(target, pose.center, 0.8 * px_size, pose.color, 0.28 * pose.alpha)
+        surf.set_alpha(int(255 * pose.alpha))
+        return P.union([g, target.blit(surf, surf.get_rect(center=(int(pose.center[0]),
+                                                                    int(pose.center[1]))))])
 
-    def draw_overlay(self, target: pygame.Surface, lines: Sequence[str]) -> None:
-        """Print ``lines`` top-left; the text is rendered again only when the lines change."""
+    def draw_overlay(self, target: pygame.Surface, lines: Sequence[str]) -> pygame.Rect:
+        """Print ``lines`` top-left on a translucent panel; rendered again only when they change.
+        Returns the panel's rectangle."""
         key = tuple(lines)
-        if key != self._overlay_key:
-            if self._font is None:
-                pygame.font.init()
-                self._font = pygame.font.Font(None, 22)
-            self._overlay_imgs = [self._font.render(line, True, (235, 235, 235), (0, 0, 0))
-                                  for line in lines]
+        if key != self._overlay_key or self._overlay_img is None:
+            self._overlay_img = screens.panel(lines)
             self._overlay_key = key
-        y = 8
-        for img in self._overlay_imgs:
-            target.blit(img, (8, y))
-            y += img.get_height() + 2
+        return target.blit(self._overlay_img, (8, 8))
 
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
@@ -249,6 +364,7 @@ class ProjectorView:
         pygame.mouse.set_visible(self.headless or not options["fullscreen"])
         self.renderer = Renderer(table, size, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
+        self.renderer.incremental = True   # present only what changed (bench/view.py)
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf
@@ -270,7 +386,10 @@ class ProjectorView:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), now
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
-        pygame.display.flip()
+        if self.renderer.incremental:
+            pygame.display.update(self.renderer.dirty)
+        else:
+            pygame.display.flip()
         if self.snapshots is not None and self.snapshots.due():
             self._snapshot(frame)
 

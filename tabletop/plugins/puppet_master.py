@@ -174,11 +174,14 @@ class PuppetMasterEngine:
             return (self._waiting(frame),)
         r.obstacles = self.board.others(self.name, self.size) if self.keep_apart else []
         x, y, d = r.update(frame.t, *pose)
-        return (self._character(x, y, d, True, self._label(frame)),)
+        return (self._character(x, y, d, True, self._label(frame), pose[:2]),)
 
-    def _character(self, x: float, y: float, d: float, valid: bool, label: str) -> CharacterState:
+    def _character(self, x: float, y: float, d: float, valid: bool, label: str,
+                   look_at: tuple[float, float] | None = None) -> CharacterState:
+        look = (float(look_at[0]), float(look_at[1])) if look_at is not None else None
         return CharacterState(self.name, float(x), float(y), float(d), kind="reactor",
-                              size=self.size, color=self.color, valid=valid, label=label)
+                              size=self.size, color=self.color, valid=valid, label=label,
+                              look_at=look)
 
     def _waiting(self, frame: Frame) -> CharacterState:
         x0, y0, x1, y1 = self.table

@@ -1,0 +1,158 @@
+"""Projector view speed: draw + present per frame, where a visitor sees it.
+
+Eight characters of every kind and sixteen pucks (tests/tabletop/scene_frames.py), at 1280x720 and 1920x1080, on
+SDL's dummy driver and in a real X window (a private Xvfb, installed by bench/xwindow.py when
+missing; skipped with a reason when it cannot be had). Candidates, interleaved A B A B ...:
+
+- ``flip``: draw the whole frame, present the whole window (``display.flip``);
+- ``dirty``: repaint the table and present only where this or the previous frame drew
+  (``display.update(rects)``);
+- ``half_scaled``: draw at half the resolution, scale up, present the whole window;
+- ``sdl2_texture``: draw as ``dirty`` into a surface, upload the changed rectangles into a
+  streaming texture of pygame-ce's ``_sdl2.video.Renderer`` and present it.
+
+Budget (DESIGN.md, issue 14): <= 4 ms median and <= 8 ms p99 per 1280x720 frame in the real window.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np  # noqa: E402
+import pygame  # noqa: E402
+
+from bench.common import emit, stats_ms  # noqa: E402
+from tests.tabletop.scene_frames import TABLE, busy_frames  # noqa: E402
+from bench.xwindow import xvfb  # noqa: E402
+from tabletop.view import Renderer, overlay_lines  # noqa: E402
+
+SIZES = ((1280, 720), (1920, 1080))
+CANDIDATES = ("flip", "dirty", "half_scaled", "sdl2_texture")
+FRAMES_PER_RUN = 120
+ROUNDS = 3
+
+
+def open_display(driver: str, display: str | None) -> None:
+    pygame.display.quit()
+    os.environ["SDL_VIDEODRIVER"] = driver
+    if display:
+        os.environ["DISPLAY"] = display
+    pygame.display.init()
+    pygame.font.init()
+
+
+class Run:
+    """One candidate's window and renderer at one size."""
+
+    def __init__(self, candidate: str, size: tuple[int, int]) -> None:
+        self.candidate, self.size = candidate, size
+        self.overlay = overlay_lines(busy_frames(1, pucks=0)[0], None)
+        self.tex = self.sdl = self.window = None
+        if candidate == "sdl2_texture":
+            from pygame._sdl2 import video
+            self.window = video.Window("Tabletop bench", size=size)
+            self.sdl = video.Renderer(self.window, accelerated=-1)
+            self.tex = video.Texture(self.sdl, size, streaming=True)
+            self.surface = pygame.Surface(size)
+        else:
+            self.surface = pygame.display.set_mode(size)
+        inner = (size[0] // 2, size[1] // 2) if candidate == "half_scaled" else size
+        self.renderer = Renderer(TABLE, inner, margin=24 * inner[0] // size[0])
+        self.renderer.incremental = candidate in ("dirty", "sdl2_texture")
+        self.inner = pygame.Surface(inner) if candidate == "half_scaled" else None
+
+    def frame(self, frame) -> tuple[float, float, float]:
+        """Draw and present one frame; (draw seconds, present seconds, this thread's CPU
+        seconds for both: what the view costs without the machine's other load)."""
+        c0 = time.thread_time()
+        t0 = time.perf_counter()
+        target = self.inner if self.inner is not None else self.surface
+        self.renderer.draw(target, frame, self.overlay)
+        t1 = time.perf_counter()
+        if self.candidate == "flip":
+            pygame.display.flip()
+        elif self.candidate == "dirty":
+            pygame.display.update(self.renderer.dirty)
+        elif self.candidate == "half_scaled":
+            pygame.transform.scale(self.inner, self.size, self.surface)
+            pygame.display.flip()
+        else:
+            for r in self.renderer.dirty:
+                self.tex.update(self.surface.subsurface(r), area=r)
+            self.sdl.clear()
+            self.sdl.blit(self.tex)
+            self.sdl.present()
+        pygame.event.pump()
+        return t1 - t0, time.perf_counter() - t1, time.thread_time() - c0
+
+    def close(self) -> None:
+        if self.window is not None:
+            self.tex = self.sdl = None
+            self.window.destroy()
+
+
+def main() -> None:
+    t_start = time.monotonic()
+    load0 = os.getloadavg()[0]   # other processes' load slows a real window most
+    frames = busy_frames(FRAMES_PER_RUN * 2)
+    samples: dict[str, dict[str, list[float]]] = {}
+    skipped: dict[str, str] = {}
+    with xvfb((1920, 1080)) as display:
+        drivers = [("dummy", None)]
+        if display is None:
+            skipped["x11"] = xvfb.reason
+        else:
+            drivers.append(("x11", display))
+        for rnd in range(ROUNDS):
+            for driver, disp in drivers:
+                open_display(driver, disp)
+                for cand in CANDIDATES:   # the _sdl2 window last: it cannot be followed by set_mode
+                    for size in SIZES:
+                        key = f"{driver}.{size[0]}x{size[1]}.{cand}"
+                        try:
+                            run = Run(cand, size)
+                        except pygame.error as exc:
+                            skipped[key] = f"could not open: {exc}"
+                            continue
+                        start = (rnd * 37) % FRAMES_PER_RUN
+                        for f in frames[start:start + 20]:      # warm caches, settle the window
+                            run.frame(f)
+                        d = samples.setdefault(key, {"draw": [], "present": [], "total": [],
+                                                     "cpu": []})
+                        for f in frames[start + 20:start + 20 + FRAMES_PER_RUN]:
+                            a, b, c = run.frame(f)
+                            d["draw"].append(a)
+                            d["present"].append(b)
+                            d["total"].append(a + b)
+                            d["cpu"].append(c)
+                        run.close()
+        pygame.display.quit()
+    figures: dict[str, object] = {}
+    for key, d in samples.items():
+        tot, dr, pr = stats_ms(d["total"]), stats_ms(d["draw"]), stats_ms(d["present"])
+        cpu = stats_ms(d["cpu"])
+        figures[key] = {"median_ms": tot["median_ms"], "p99_ms": tot["p99_ms"],
+                        "draw_median_ms": dr["median_ms"], "present_median_ms": pr["median_ms"],
+                        "cpu_median_ms": cpu["median_ms"], "cpu_p99_ms": cpu["p99_ms"],
+                        "frames": len(d["total"])}
+        print(f"{key:32s} {tot['median_ms']:6.2f} ms median {tot['p99_ms']:6.2f} ms p99 "
+              f"(draw {dr['median_ms']:5.2f}, present {pr['median_ms']:5.2f}; cpu "
+              f"{cpu['median_ms']:5.2f} median {cpu['p99_ms']:5.2f} p99)", flush=True)
+    shipped = "dirty"
+    figures["shipped_candidate"] = shipped
+    figures["scene"] = "8 characters (3 reactors, 2 humanoids, creature, face, bird) + 16 pucks"
+    figures["skipped"] = skipped
+    figures["wall_s"] = time.monotonic() - t_start
+    figures["load_average_1min_start_end"] = [load0, os.getloadavg()[0]]
+    budgets = {f"x11.1280x720.{shipped}": {"median_ms": "<= 4", "p99_ms": "<= 8"}}
+    emit("view", figures, budgets)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,323 @@
+"""Every character kind, drawn with presence: filled anti-aliased bodies on a soft glow, limbs
+with thickness and joints, eyes that blink and look at what the character attends to.
+
+A :class:`Pose` says where and how a character stands on screen this frame (pixels, screen
+radians with y down, opacity, size factor, breathing, blink, squash and stretch, gaze); the
+drawing functions are pure over (surface, state, pose).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+import pygame
+
+from tabletop.drawing import primitives as P
+from tabletop.drawing.palette import EYE_WHITE, INK, Color, fade, lighten, shade
+from tabletop.frames import CharacterState
+
+# Reactor body outline in units of its length, nose along +x (an egg, fuller at the front).
+_T = np.linspace(0.0, 2 * math.pi, 28, endpoint=False)
+REACTOR_BODY = np.stack([0.5 * np.cos(_T), 0.34 * np.sin(_T) * (1 + 0.14 * np.cos(_T))], axis=1)
+REACTOR_EYES = np.array([(0.24, 0.13), (0.24, -0.13)])
+
+
+@dataclass
+class Pose:
+    """A character's on-screen placement for one frame.
+
+    ``center`` (px), ``angle`` (screen radians of its heading, y down), ``ppm`` (pixels per
+    metre there), ``alpha`` (0..1), ``scale`` (size factor), ``breath`` (size factor),
+    ``stretch`` (length factor along ``motion`` screen radians), ``blink`` (eye opening 0..1),
+    ``gaze`` (screen radians the eyes look along), ``color`` (body colour before fading).
+    """
+
+    center: tuple[float, float]
+    angle: float
+    ppm: float
+    alpha: float = 1.0
+    scale: float = 1.0
+    breath: float = 1.0
+    stretch: float = 1.0
+    motion: float = 0.0
+    blink: float = 1.0
+    gaze: float = 0.0
+    color: Color = (240, 170, 60)
+
+    def body(self, k: float = 1.0) -> Color:
+        return fade(shade(self.color, k), self.alpha)
+
+
+def _rot(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s], [s, c]])
+
+
+def _squash(local: np.ndarray, pose: Pose) -> np.ndarray:
+    """Local points (x along the heading) stretched along the motion, squashed across it."""
+    k = pose.stretch
+    if abs(k - 1.0) < 1e-3:
+        return local
+    rel = pose.motion - pose.angle          # motion direction in the body's frame
+    r = _rot(rel)
+    q = local @ r                            # into motion-aligned coordinates
+    q = q * np.array([k, 1.0 / k])
+    return q @ r.T
+
+
+def eyes(surf: pygame.Surface, pose: Pose, centers: np.ndarray, r: float) -> None:
+    """Eyes of radius ``r`` px at screen ``centers``: white, a dark pupil turned along
+    ``pose.gaze``, lids closing with ``pose.blink``."""
+    if r < 1.5:
+        return
+    white, ink = fade(EYE_WHITE, pose.alpha), fade(INK, pose.alpha)
+    g = np.array([math.cos(pose.gaze), math.sin(pose.gaze)])
+    for c in centers:
+        if pose.blink > 0.97:
+            P.disc(surf, white, c, r)
+        else:
+            P.ellipse(surf, white, c, r, max(0.6, r * pose.blink), pose.angle + math.pi / 2, 14)
+        if pose.blink > 0.45:
+            pc = c + g * r * 0.42
+            P.disc(surf, ink, pc, r * 0.52)
+            P.disc(surf, white, pc - np.array([0.25, 0.35]) * r * 0.5, max(1.0, r * 0.16))
+
+
+def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.Rect | None:
+    """The default character: an egg-shaped creature, nose along its heading, on a soft glow,
+    with a lighter belly and two eyes. Returns the rectangle it touched."""
+    L = c.size * pose.ppm * pose.scale
+    if L < 2:
+        return None
+    local = REACTOR_BODY * np.array([pose.breath ** 0.5, pose.breath])
+    local = _squash(local, pose) * L
+    rot = _rot(pose.angle)
+    ctr = np.asarray(pose.center)
+    touched = P.glow(surf, ctr, 0.8 * L, pose.color, 0.36 * pose.alpha)
+    P.polygon(surf, pose.body(0.72), local @ rot.T * 1.06 + ctr + (0, 0.04 * L))
+    P.polygon(surf, pose.body(), local @ rot.T + ctr)
+    belly = (REACTOR_BODY * 0.55 + (0.05, -0.05)) * L
+    P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha), _squash(belly, pose) @ rot.T + ctr)
+    eye_local = _squash(REACTOR_EYES * L, pose)
+    eyes(surf, pose, eye_local @ rot.T + ctr, 0.1 * L)
+    return P.union([touched, P.bounds(np.asarray([ctr]), 0.9 * L * pose.stretch)])
+
+
+def _chains(bones: Sequence[tuple[int, int]]) -> list[list[int]]:
+    """Bones grouped into runs of consecutive bones (b of one is a of the next)."""
+    out: list[list[int]] = []
+    for a, b in bones:
+        if out and out[-1][-1] == a:
+            out[-1].append(b)
+        else:
+            out.append([a, b])
+    return out
+
+
+def _spine(bones: Sequence[tuple[int, int]]) -> list[int]:
+    """The figure's spine: from the first bone's parent, always on to the first-listed child
+    (a humanoid's pelvis -> chest -> neck -> head, a creature's hips -> shoulders -> nose)."""
+    children: dict[int, list[int]] = {}
+    for a, b in bones:
+        children.setdefault(a, []).append(b)
+    path = [bones[0][0]]
+    while path[-1] in children and len(path) <= len(bones):
+        nxt = children[path[-1]][0]
+        if nxt in path:
+            break
+        path.append(nxt)
+    return path
+
+
+def _subtree_sizes(n: int, bones: Sequence[tuple[int, int]]) -> np.ndarray:
+    """For each point, how many points hang below it (bones run parent -> child)."""
+    size = np.ones(n)
+    for a, b in reversed(list(bones)):
+        if 0 <= a < n and 0 <= b < n:
+            size[a] += size[b]
+    return size
+
+
+def _valid_bones(n: int, bones: Sequence[tuple[int, int]]) -> list[tuple[int, int]]:
+    return [(a, b) for a, b in bones if 0 <= a < n and 0 <= b < n and a != b]
+
+
+_topologies: dict[tuple, tuple] = {}
+
+
+def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple:
+    """(valid bones in drawing order, spine points, relative thickness per point, spine flags
+    per bone) of a figure, computed once per bone set: limbs first, the spine over them."""
+    key = (n, tuple(bones))
+    topo = _topologies.get(key)
+    if topo is None:
+        valid = _valid_bones(n, bones)
+        if not valid:
+            return [], [], np.ones(n), [], [], [], []
+        sub = _subtree_sizes(n, valid)
+        rel = 0.45 + 0.55 * np.sqrt(sub / sub.max())
+        spine = _spine(valid)
+        in_spine = set(spine)
+        on_spine = [a in in_spine and b in in_spine for a, b in valid]
+        order = sorted(range(len(valid)), key=lambda i: (on_spine[i], -sub[valid[i][1]]))
+        knots = [i for i in range(n) if sub[i] > 1 and i not in in_spine]
+        used = {p for ab in valid for p in ab}
+        limb_points = sorted(used - in_spine)
+        topo = ([valid[i] for i in order], spine, rel, [on_spine[i] for i in order], knots,
+                [i for i in spine if i != spine[-1]], limb_points)
+        if len(_topologies) > 256:
+            _topologies.clear()
+        _topologies[key] = topo
+    return topo
+
+
+def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
+                pts: np.ndarray) -> pygame.Rect | None:
+    """An articulated figure (skeleton, creature, sprite sheet): limbs with thickness and
+    joints, the spine (from the first bone, first children on) thickest, a head with eyes at the
+    spine's end. Returns the rectangle it touched."""
+    n = len(pts)
+    if n == 0 or not np.all(np.isfinite(pts)):
+        return None
+    ctr = np.asarray(pose.center)
+    pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
+    fig = c.size * pose.ppm * pose.scale
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    span = float((hi - lo).max())
+    touched = P.glow(surf, (lo + hi) / 2, 0.42 * max(span, 0.3 * fig) + 6, pose.color,
+                     0.26 * pose.alpha)
+    bones, spine, rel, on_spine, *rest = topology(n, c.bones)
+    w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
+    body = pose.body()
+    q = pts.tolist()
+    if not bones:
+        for p in q:
+            P.disc(surf, body, p, max(2.0, 0.03 * fig))
+        return P.union([touched, P.bounds(pts, max(2.0, 0.03 * fig) + 2)])
+    knots, spine_points, limb_points = rest
+    w = (w0 * rel).tolist()
+    wspine = w0 * (1.25 if c.kind == "skeleton" else 1.0)
+    for i in spine_points:
+        w[i] = max(w[i], wspine * rel[i])
+    dark, light = pose.body(0.68), fade(lighten(pose.color, 0.18), pose.alpha)
+    line = pygame.draw.aaline
+    for (a, b), sp in zip(bones, on_spine):   # limbs first, the spine over them
+        if sp:
+            break
+        line(surf, dark, q[a], q[b], max(1, int(w[a] + w[b])))
+    for i in limb_points:                      # rounded joints and ends
+        P.disc(surf, dark, q[i], w[i])
+    if c.kind in ("creature", "sprite") and len(spine) >= 3:
+        _torso(surf, body, pts[spine[0]], pts[spine[-2]], wspine, c.kind == "sprite")
+    for (a, b), sp in zip(bones, on_spine):
+        if sp:
+            line(surf, body, q[a], q[b], max(1, int(w[a] + w[b])))
+    for i in spine_points:
+        P.disc(surf, body, q[i], w[i])
+    for i in knots:            # a lighter knot where a limb bends
+        if w[i] > 3:
+            P.disc(surf, light, q[i], w[i] * 0.45)
+    _head(surf, c, pose, pts, spine, fig)
+    return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
+
+
+def _torso(surf: pygame.Surface, color: Color, a: np.ndarray, b: np.ndarray, w: float,
+           plump: bool) -> None:
+    """A filled body between the spine's first point and the neck: a slim one for a creature,
+    a plump one for a bird."""
+    d = b - a
+    length = float(np.hypot(*d))
+    if length < 2:
+        return
+    rx = 0.5 * length + w
+    ry = max(w * 1.6, 0.3 * rx if plump else w * 1.3)
+    P.ellipse(surf, color, (a + b) / 2, rx, ry, math.atan2(d[1], d[0]), 20)
+
+
+def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,
+          spine: list[int], fig: float) -> None:
+    """A head at the spine's end, facing along the last spine bone, eyes looking along the gaze."""
+    if len(spine) < 2:
+        return
+    h, prev = pts[spine[-1]], pts[spine[-2]]
+    d = h - prev
+    facing = math.atan2(d[1], d[0]) if np.hypot(*d) > 1e-6 else pose.angle
+    if c.kind == "skeleton":   # the last spine bone runs from the neck to the top of the head
+        centre = (h + prev) / 2
+        r = max(0.5 * float(np.hypot(*d)), 0.06 * fig)
+    else:
+        centre = h - d * 0.35
+        r = 0.06 * fig
+    P.disc(surf, pose.body(), centre, max(2.5, r))
+    side = np.array([-math.sin(facing), math.cos(facing)])
+    fwd = np.array([math.cos(facing), math.sin(facing)])
+    if c.kind == "skeleton":
+        # Seen from the side or above: the eyes sit on the head, turned toward the gaze.
+        g = np.array([math.cos(pose.gaze), math.sin(pose.gaze)])
+        look = 0.35 * r * g
+        centers = np.array([centre + look + side * 0.33 * r, centre + look - side * 0.33 * r])
+    else:
+        centers = np.array([centre + fwd * 0.25 * r + side * 0.5 * r,
+                            centre + fwd * 0.25 * r - side * 0.5 * r])
+    eyes(surf, pose, centers, max(1.6, 0.32 * r))
+
+
+def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
+    """Runs of bones as (points, closed): a run is closed when it ends where it began."""
+    out = []
+    for ch in _chains(bones):
+        closed = len(ch) > 3 and ch[0] == ch[-1]
+        out.append((ch[:-1] if closed else ch, closed))
+    return out
+
+
+def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
+              pts: np.ndarray) -> pygame.Rect | None:
+    """A face: its first closed loop is the head (filled, on a glow), smaller closed loops are
+    eyes (white with pupils looking along the gaze, blinking) or the mouth (dark), open strokes
+    are brows and nose drawn thick. Returns the rectangle it touched."""
+    n = len(pts)
+    if n == 0 or not np.all(np.isfinite(pts)):
+        return None
+    ctr = np.asarray(pose.center)
+    pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
+    fig = c.size * pose.ppm * pose.scale
+    loops = _loops(_valid_bones(n, c.bones))
+    if not loops:
+        return None
+    touched = P.bounds(pts, 0.06 * fig + 2)
+    ink = fade(INK, pose.alpha)
+    stroke = max(1.5, 0.022 * fig)
+    first = True
+    g = np.array([math.cos(pose.gaze), math.sin(pose.gaze)])
+    for idx, closed in loops:
+        q = pts[idx]
+        if closed and first:
+            touched = P.union([touched, P.glow(
+                surf, q.mean(axis=0), 0.62 * float(np.ptp(q, axis=0).max()) + 6, pose.color,
+                0.32 * pose.alpha)])
+            P.polygon(surf, pose.body(0.7), (q - q.mean(axis=0)) * 1.04 + q.mean(axis=0))
+            P.polygon(surf, pose.body(), q)
+            first = False
+        elif closed:
+            m = q.mean(axis=0)
+            w, h = np.ptp(q, axis=0)
+            if abs(w - h) < 0.8 * max(w, h) and len(idx) <= 10:       # an eye
+                up = _rot(pose.angle) @ np.array([0.0, 1.0])
+                rel = q - m
+                along = rel @ up
+                lid = rel - np.outer(along * (1 - pose.blink), up)
+                P.polygon(surf, fade(EYE_WHITE, pose.alpha), lid + m)
+                if pose.blink > 0.45:
+                    r = 0.45 * min(w, h) + 1
+                    P.disc(surf, ink, m + g * 0.3 * max(w, h), r)
+            else:                                                     # the mouth
+                P.polygon(surf, ink, q)
+        else:
+            ql = q.tolist()
+            for a, b in zip(ql[:-1], ql[1:]):
+                P.limb(surf, ink, a, b, stroke * 0.8)
+    return touched

@@ -1,0 +1,180 @@
+"""What makes still drawings feel alive: each character's presence over time, and pucks' paths.
+
+All times are the frames' seconds (``Frame.t``), so a replay or a test sees the same motion.
+"""
+
+from __future__ import annotations
+
+import collections
+import math
+import zlib
+from dataclasses import dataclass, field
+from typing import Iterable, Sequence
+
+from tabletop.frames import CharacterState, Puck
+
+FADE_IN_S = 0.45        # a new character fades and grows in over this
+FADE_OUT_S = 0.6        # a character that left fades and shrinks out over this
+SPEED_TAU_S = 0.12      # smoothing of the speed that drives squash and stretch
+TRAIL_S = 0.7           # a puck's trail covers this much of its recent path
+TRAIL_STEP_M = 0.012    # ... sampled every 1.2 cm of travel
+LOST_S = 1.2            # a puck that left is shown as "lost" for this long
+
+
+def ease_out_back(u: float) -> float:
+    """0 -> 1 with a small overshoot (a pop that settles), u in 0..1."""
+    u = min(max(u, 0.0), 1.0)
+    c = 1.4
+    return 1 + (c + 1) * (u - 1) ** 3 + c * (u - 1) ** 2
+
+
+def smoothstep(u: float) -> float:
+    u = min(max(u, 0.0), 1.0)
+    return u * u * (3 - 2 * u)
+
+
+def seed_of(name: str) -> float:
+    """A stable number in 0..1 per name: characters breathe and blink out of step."""
+    return (zlib.crc32(name.encode()) % 10007) / 10007.0
+
+
+def breath(t: float, seed: float, stillness: float) -> float:
+    """Scale factor of a slow breath (about 1 +- 3.5 %), full when ``stillness`` is 1."""
+    period = 2.8 + 1.4 * seed
+    return 1.0 + 0.035 * stillness * math.sin(math.tau * (t / period + seed))
+
+
+def eyes_open(t: float, seed: float) -> float:
+    """1 with eyes open, down to 0.08 during a blink (0.14 s every 2.6-5.6 s, now and then
+    twice)."""
+    period = 2.6 + 3.0 * seed
+    u = (t + 7.0 * seed) % period
+    for start in (0.0, 0.3 if seed > 0.6 else -1.0):
+        if start >= 0 and start <= u < start + 0.14:
+            return 0.08 + 0.92 * abs((u - start) / 0.07 - 1.0)
+    return 1.0
+
+
+def stretch(speed: float) -> float:
+    """Length factor along the motion for ``speed`` m/s: 1 at rest, up to 1.3 when fast (the
+    width is divided by it: squash and stretch keep the area)."""
+    return 1.0 + 0.3 * math.tanh(speed / 0.35)
+
+
+@dataclass
+class Presence:
+    """One character as the view has seen it: when it came, how fast it moves, when it left."""
+
+    state: CharacterState
+    born: float
+    t: float
+    speed: float = 0.0
+    vx: float = 0.0
+    vy: float = 0.0
+    gone: float | None = None
+    seed: float = 0.0
+
+    def alpha(self, t: float) -> float:
+        """Opacity 0..1 now: fading in after ``born``, fading out after ``gone``."""
+        a = smoothstep((t - self.born) / FADE_IN_S)
+        if self.gone is not None:
+            a *= 1.0 - smoothstep((t - self.gone) / FADE_OUT_S)
+        return a
+
+    def scale(self, t: float) -> float:
+        """Size factor now: grows in from 0.6 with a small overshoot, shrinks to 0.7 on leaving."""
+        s = 0.6 + 0.4 * ease_out_back((t - self.born) / FADE_IN_S)
+        if self.gone is not None:
+            s *= 1.0 - 0.3 * smoothstep((t - self.gone) / FADE_OUT_S)
+        return s
+
+    def stillness(self) -> float:
+        """1 when still, towards 0 when moving (breathing shows when still)."""
+        return math.exp(-self.speed / 0.04)
+
+
+class Lives:
+    """The presences of all characters, updated once per drawn frame."""
+
+    def __init__(self) -> None:
+        self.presences: dict[str, Presence] = {}
+
+    def update(self, t: float, characters: Sequence[CharacterState]) -> list[Presence]:
+        """Presences to draw at time ``t``: the current characters (in order), then the ones
+        still fading out."""
+        now = set()
+        out = []
+        for c in characters:
+            now.add(c.name)
+            p = self.presences.get(c.name)
+            if p is None or (p.gone is not None and p.alpha(t) < 0.05):
+                p = Presence(c, born=t, t=t, seed=seed_of(c.name))
+                self.presences[c.name] = p
+            elif p.gone is not None:  # came back while fading out: fade in from where it was
+                p.born = t - FADE_IN_S * p.alpha(t)
+                p.gone = None
+            dt = t - p.t
+            if dt > 1e-6:
+                k = 1.0 - math.exp(-dt / SPEED_TAU_S)
+                vx, vy = (c.x - p.state.x) / dt, (c.y - p.state.y) / dt
+                if math.hypot(vx, vy) > 5.0:   # a jump (teleport), not a motion
+                    vx = vy = 0.0
+                p.vx += k * (vx - p.vx)
+                p.vy += k * (vy - p.vy)
+                p.speed = math.hypot(p.vx, p.vy)
+            p.state, p.t = c, t
+            out.append(p)
+        for name, p in list(self.presences.items()):
+            if name in now:
+                continue
+            if p.gone is None:
+                p.gone = t
+            if t - p.gone >= FADE_OUT_S:
+                del self.presences[name]
+            else:
+                out.append(p)
+        return out
+
+
+@dataclass
+class PuckTrace:
+    """One puck's recent path (table metres, seconds) and when it was last seen."""
+
+    puck: Puck
+    last_t: float
+    path: collections.deque = field(default_factory=lambda: collections.deque(maxlen=64))
+
+
+class Traces:
+    """Every puck's trail, and the pucks that left (shown "lost" for a moment)."""
+
+    def __init__(self) -> None:
+        self.traces: dict[int, PuckTrace] = {}
+
+    def update(self, t: float, pucks: Iterable[Puck]) -> list[tuple[PuckTrace, str, float]]:
+        """(trace, state, opacity) for every puck to draw now, the lost ones fading."""
+        out = []
+        here = set()
+        for p in pucks:
+            here.add(p.id)
+            tr = self.traces.get(p.id)
+            if tr is None:
+                tr = self.traces[p.id] = PuckTrace(p, t)
+            tr.puck, tr.last_t = p, t
+            path = tr.path
+            if not path or math.hypot(p.x - path[-1][0], p.y - path[-1][1]) >= TRAIL_STEP_M:
+                path.append((p.x, p.y, t))
+            while path and t - path[0][2] > TRAIL_S:
+                path.popleft()
+            out.append((tr, p.state, 1.0))
+        for pid, tr in list(self.traces.items()):
+            if pid in here:
+                continue
+            age = t - tr.last_t
+            if age >= LOST_S or age < 0:
+                del self.traces[pid]
+                continue
+            while tr.path and t - tr.path[0][2] > TRAIL_S:
+                tr.path.popleft()
+            out.append((tr, "lost", 1.0 - smoothstep(age / LOST_S)))
+        return out

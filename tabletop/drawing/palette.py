@@ -1,0 +1,69 @@
+"""Colours for a projected dark table.
+
+A projector only adds light: dark colours vanish on the table and black is "no light". Character
+colours are kept bright and moderately saturated; states of pucks use hues that stay apart.
+"""
+
+from __future__ import annotations
+
+import colorsys
+
+Color = tuple[int, int, int]
+
+BACKGROUND: Color = (0, 0, 0)          # outside the table: no light at all
+TABLE: Color = (14, 17, 26)            # the lit table area, a deep navy
+TABLE_EDGE: Color = (30, 36, 52)
+GRID: Color = (22, 27, 39)
+INK: Color = (20, 18, 28)              # eyes' pupils, mouths: dark marks on a light body
+EYE_WHITE: Color = (250, 250, 246)
+TEXT: Color = (225, 230, 240)
+PANEL: tuple[int, int, int, int] = (6, 8, 14, 190)
+
+PUCK_SEEN: Color = (150, 225, 255)     # a calm cold white-cyan
+PUCK_COASTING: Color = (255, 186, 70)  # amber: a prediction while the marker is hidden
+PUCK_LOST: Color = (255, 86, 96)       # red, fading: the puck has left
+PUCK_STATES: dict[str, Color] = {"seen": PUCK_SEEN, "coasting": PUCK_COASTING, "lost": PUCK_LOST}
+
+# Character hues chosen to read on the navy table and apart from one another.
+CHARACTER_HUES: tuple[Color, ...] = ((255, 122, 160), (255, 190, 92), (120, 220, 150),
+                                     (120, 190, 255), (200, 150, 255), (100, 226, 226),
+                                     (255, 150, 90), (236, 236, 210))
+
+
+def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,
+          max_sat: float = 0.8) -> Color:
+    """``color`` lifted to read when projected on a dark table: value at least ``min_value``,
+    saturation within [min_sat, max_sat] (a grey stays grey)."""
+    r, g, b = (max(0, min(255, int(v))) / 255.0 for v in color)
+    h, s, v = colorsys.rgb_to_hsv(r, g, b)
+    if s > 0.05:
+        s = min(max(s, min_sat), max_sat)
+    v = max(v, min_value)
+    return tuple(int(round(255 * c)) for c in colorsys.hsv_to_rgb(h, s, v))  # type: ignore
+
+
+def resting(color: Color) -> Color:
+    """A character with nothing to show: calmer (less saturated, 75 % light), never faded out."""
+    r, g, b = (v / 255.0 for v in color)
+    h, s, v = colorsys.rgb_to_hsv(r, g, b)
+    return tuple(int(round(255 * c)) for c in colorsys.hsv_to_rgb(h, s * 0.6, v * 0.8))  # type: ignore
+
+
+def shade(color: Color, k: float) -> Color:
+    """``color`` times ``k`` (0 = black; > 1 lightens, clipped)."""
+    return tuple(max(0, min(255, int(round(c * k)))) for c in color)  # type: ignore
+
+
+def mix(a: Color, b: Color, w: float) -> Color:
+    """(1 - w) a + w b."""
+    return tuple(int(round(x + (y - x) * w)) for x, y in zip(a, b))  # type: ignore
+
+
+def lighten(color: Color, w: float) -> Color:
+    """``color`` moved ``w`` of the way to white."""
+    return mix(color, (255, 255, 255), w)
+
+
+def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
+    """The colour seen when ``color`` is shown at opacity ``alpha`` over ``ground``."""
+    return mix(ground, color, max(0.0, min(1.0, alpha)))

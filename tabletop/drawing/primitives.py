@@ -1,0 +1,230 @@
+"""Anti-aliased shapes in projector pixels, and cached soft light (glows) and shadows.
+
+Filled shapes are drawn filled, then their outline anti-aliased, so their edges blend into the
+table. Glows and shadows are pre-rendered once per (size, colour, strength) bucket and blitted
+with additive or multiplicative blending: they cost one blit each per frame.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+import pygame
+import pygame.gfxdraw as gfx
+
+from tabletop.drawing.palette import Color
+
+_CACHE_MAX = 512
+_glows: dict[tuple, pygame.Surface] = {}
+_shadows: dict[tuple, pygame.Surface] = {}
+_rings: dict[tuple, pygame.Surface] = {}
+
+
+def polygon(surf: pygame.Surface, color: Color, pts: np.ndarray) -> None:
+    """A filled polygon with an anti-aliased edge (pixels, N x 2)."""
+    if len(pts) < 3:
+        return
+    ip = np.rint(pts).astype(np.int32).tolist()
+    if abs(ip[0][0]) > 30000 or abs(ip[0][1]) > 30000:
+        return   # NaN, infinity or far off screen
+    gfx.filled_polygon(surf, ip, color)
+    gfx.aapolygon(surf, ip, color)
+
+
+def disc(surf: pygame.Surface, color: Color, c: Sequence[float], r: float) -> None:
+    """A filled anti-aliased disc of radius ``r`` pixels."""
+    x, y = c[0], c[1]
+    if not (-30000 < x < 30000 and -30000 < y < 30000):
+        return
+    xi, yi, ri = int(x + 0.5), int(y + 0.5), int(r + 0.5)
+    if ri < 1:
+        return
+    gfx.filled_circle(surf, xi, yi, ri, color)
+    gfx.aacircle(surf, xi, yi, ri, color)
+
+
+def ellipse(surf: pygame.Surface, color: Color, c: Sequence[float], rx: float, ry: float,
+            angle: float = 0.0, n: int = 20) -> None:
+    """A filled anti-aliased ellipse, semi-axes ``rx`` along ``angle`` (screen radians, y down)
+    and ``ry`` across it."""
+    polygon(surf, color, ellipse_points(c, rx, ry, angle, n))
+
+
+_UNIT = {n: (np.cos(np.linspace(0, 2 * math.pi, n, endpoint=False)),
+             np.sin(np.linspace(0, 2 * math.pi, n, endpoint=False))) for n in (8, 12, 14, 20)}
+
+
+def ellipse_points(c: Sequence[float], rx: float, ry: float, angle: float = 0.0,
+                   n: int = 20) -> np.ndarray:
+    """Outline points (n x 2) of an ellipse in pixels."""
+    cs = _UNIT.get(n)
+    if cs is None:
+        t = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+        cs = (np.cos(t), np.sin(t))
+    ca, sa = math.cos(angle), math.sin(angle)
+    ex, ey = rx * cs[0], ry * cs[1]
+    return np.stack([c[0] + ca * ex - sa * ey, c[1] + sa * ex + ca * ey], axis=1)
+
+
+def limb(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float],
+         w: float) -> None:
+    """A limb from ``a`` to ``b``, ``2 w`` pixels thick, anti-aliased, with rounded ends."""
+    ax, ay, bx, by = a[0], a[1], b[0], b[1]
+    if not (-30000 < ax < 30000 and -30000 < ay < 30000 and -30000 < bx < 30000
+            and -30000 < by < 30000):
+        return
+    width = max(1, int(2 * w + 0.5))
+    pygame.draw.aaline(surf, color, (ax, ay), (bx, by), width)
+    if width > 2:
+        disc(surf, color, a, w)
+        disc(surf, color, b, w)
+
+
+def aa_polyline(surf: pygame.Surface, color: Color, pts: list, width: int = 2) -> None:
+    """A polyline ``width`` pixels wide with anti-aliased sides."""
+    if len(pts) < 2:
+        return
+    if width > 1:
+        for a, b in zip(pts[:-1], pts[1:]):
+            pygame.draw.aaline(surf, color, a, b, width)
+    else:
+        pygame.draw.aalines(surf, color, False, pts)
+
+
+def _radial(radius: int, profile) -> np.ndarray:
+    """(2r+1, 2r+1) values of ``profile(distance / radius)`` in 0..1."""
+    n = 2 * radius + 1
+    y, x = np.mgrid[0:n, 0:n].astype(np.float32)
+    d = np.hypot(x - radius, y - radius) / max(radius, 1)
+    return np.clip(profile(d), 0.0, 1.0)
+
+
+def _bucket(v: float, step: float) -> float:
+    return max(step, round(v / step) * step)
+
+
+def _remember(cache: dict, key: tuple, surf: pygame.Surface) -> pygame.Surface:
+    if len(cache) >= _CACHE_MAX:
+        cache.clear()
+    cache[key] = surf
+    return surf
+
+
+def fast(surf: pygame.Surface) -> pygame.Surface:
+    """``surf`` in the display's pixel format when a display is open (blits then copy rows
+    instead of converting every pixel), else as it is."""
+    return surf.convert() if pygame.display.get_surface() is not None else surf
+
+
+def _rgb_surface(values: np.ndarray, color: Color) -> pygame.Surface:
+    rgb = (values[..., None] * np.asarray(color, dtype=np.float32)).astype(np.uint8)
+    return fast(pygame.surfarray.make_surface(np.ascontiguousarray(rgb.transpose(1, 0, 2))))
+
+
+def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface:
+    """A soft round light (blit with BLEND_ADD): ``color`` x ``strength`` at the centre, falling
+    smoothly to nothing at ``radius`` pixels."""
+    r = int(_bucket(radius, 4))
+    s = _bucket(strength, 0.05)
+    key = (r, color, s)
+    surf = _glows.get(key)
+    if surf is None:
+        vals = s * _radial(r, lambda d: (1.0 - d * d) ** 2 * (d < 1))
+        surf = _remember(_glows, key, _rgb_surface(vals, color))
+    return surf
+
+
+def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
+         strength: float) -> pygame.Rect | None:
+    """Add a soft light of ``radius`` pixels around ``c``; returns the rectangle touched."""
+    if strength <= 0.02 or radius < 2 or not math.isfinite(c[0] + c[1]):
+        return None
+    g = glow_surface(radius, color, strength)
+    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
+                     special_flags=pygame.BLEND_ADD)
+
+
+def shadow_surface(rx: float, ry: float, depth: float) -> pygame.Surface:
+    """A soft elliptic shadow (blit with BLEND_MULT): the ground times (1 - ``depth``) at the
+    centre, untouched at the rim; semi-axes ``rx``, ``ry`` pixels."""
+    rx_i, ry_i, dq = int(_bucket(rx, 3)), int(_bucket(ry, 3)), _bucket(depth, 0.05)
+    key = (rx_i, ry_i, dq)
+    surf = _shadows.get(key)
+    if surf is None:
+        y, x = np.mgrid[-ry_i:ry_i + 1, -rx_i:rx_i + 1].astype(np.float32)
+        d = np.hypot(x / rx_i, y / ry_i)
+        k = 1.0 - dq * np.clip((1.0 - d * d), 0.0, 1.0) ** 1.5
+        vals = np.repeat((k * 255)[..., None], 3, axis=2).astype(np.uint8)
+        surf = _remember(_shadows, key, fast(pygame.surfarray.make_surface(
+            np.ascontiguousarray(vals.transpose(1, 0, 2)))))
+    return surf
+
+
+def shadow(surf: pygame.Surface, c: Sequence[float], rx: float, ry: float, depth: float) -> None:
+    """Darken the ground in a soft ellipse around ``c`` (axis-aligned)."""
+    if depth <= 0.02 or rx < 2 or ry < 2 or not math.isfinite(c[0] + c[1]):
+        return
+    s = shadow_surface(rx, ry, depth)
+    surf.blit(s, s.get_rect(center=(int(round(c[0])), int(round(c[1])))),
+              special_flags=pygame.BLEND_MULT)
+
+
+def ring_surface(radius: float, width: float, color: Color, strength: float) -> pygame.Surface:
+    """A soft ring of light (blit with BLEND_ADD): brightest at ``radius`` pixels, ``width``
+    pixels wide (Gaussian), dark at the centre."""
+    r, w, s = int(_bucket(radius, 1)), _bucket(width, 0.5), _bucket(strength, 0.05)
+    key = (r, w, color, s)
+    surf = _rings.get(key)
+    if surf is None:
+        outer = int(r + 2.5 * w + 2)
+        vals = s * _radial(outer, lambda d: np.exp(-((d * outer - r) / (0.45 * w)) ** 2)
+                           + 0.35 * np.exp(-((d * outer - r) / w) ** 2))
+        surf = _remember(_rings, key, _rgb_surface(vals, color))
+    return surf
+
+
+def ring(surf: pygame.Surface, c: Sequence[float], radius: float, width: float, color: Color,
+         strength: float) -> pygame.Rect | None:
+    """Add a soft ring of light around ``c``; returns the rectangle touched."""
+    if strength <= 0.02 or radius < 1 or not math.isfinite(c[0] + c[1]):
+        return None
+    g = ring_surface(radius, width, color, strength)
+    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
+                     special_flags=pygame.BLEND_ADD)
+
+
+def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
+    """The pixel rectangle around points (N x 2) grown by ``pad`` on every side."""
+    pts = np.asarray(pts, dtype=float).reshape(-1, 2)
+    if not len(pts) or not np.all(np.isfinite(pts)):
+        return None
+    lo, hi = pts.min(axis=0) - pad - 1, pts.max(axis=0) + pad + 2
+    return pygame.Rect(int(lo[0]), int(lo[1]), int(hi[0] - lo[0]) + 1, int(hi[1] - lo[1]) + 1)
+
+
+def merge(rects: Sequence[pygame.Rect], screen: pygame.Rect) -> list[pygame.Rect]:
+    """Rectangles to repaint: overlapping ones merged; the whole ``screen`` when they would
+    cover more than half of it anyway."""
+    out: list[pygame.Rect] = []
+    for r in rects:
+        r = r.inflate(4, 4).clip(screen)      # anti-aliased edges may spill a pixel over
+        if not r.w or not r.h:
+            continue
+        i = r.collidelist(out)
+        while i >= 0:
+            r = r.union(out.pop(i))
+            i = r.collidelist(out)
+        out.append(r)
+    if sum(r.w * r.h for r in out) > 0.5 * screen.w * screen.h:
+        return [screen]
+    return out
+
+
+def union(rects: Sequence[pygame.Rect | None]) -> pygame.Rect | None:
+    """The rectangle covering every given rectangle (None ones ignored), or None."""
+    rs = [r for r in rects if r is not None]
+    if not rs:
+        return None
+    return rs[0].unionall(rs[1:])

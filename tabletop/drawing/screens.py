@@ -1,0 +1,116 @@
+"""Whole-table looks: the table itself, the calm "one moment" screen shown while the cameras
+reconnect, the idle look while nobody plays, and the operator's text on a translucent panel."""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+import pygame
+
+from tabletop.drawing import primitives as P
+from tabletop.drawing.palette import (BACKGROUND, GRID, PANEL, TABLE, TABLE_EDGE, TEXT, Color,
+                                      fade, mix)
+
+_fonts: dict[int, pygame.font.Font] = {}
+
+
+def font(px: int) -> pygame.font.Font:
+    """pygame's default font at ``px`` pixels (loaded once)."""
+    f = _fonts.get(px)
+    if f is None:
+        if not pygame.font.get_init():
+            pygame.font.init()
+        f = _fonts[px] = pygame.font.Font(None, px)
+    return f
+
+
+def table_surface(size: tuple[int, int], corners_px: np.ndarray, grid_px: Sequence[tuple]
+                  ) -> pygame.Surface:
+    """The static table: black around it, the table a deep navy brightening gently to its
+    centre, a faint 10 cm grid of dots and a soft edge. ``grid_px``: dot positions (px)."""
+    s = pygame.Surface(size)
+    s.fill(BACKGROUND)
+    P.polygon(s, TABLE, corners_px)
+    c = corners_px.mean(axis=0)
+    span = float(np.ptp(corners_px, axis=0).max())
+    mask = pygame.Surface(size)
+    mask.fill((0, 0, 0))
+    P.polygon(mask, (255, 255, 255), corners_px)
+    light = P.glow_surface(span * 0.55, (10, 12, 18), 1.0)
+    tmp = pygame.Surface(size)
+    tmp.fill((0, 0, 0))
+    tmp.blit(light, light.get_rect(center=(int(c[0]), int(c[1]))))
+    tmp.blit(mask, (0, 0), special_flags=pygame.BLEND_MULT)
+    s.blit(tmp, (0, 0), special_flags=pygame.BLEND_ADD)
+    for q in grid_px:
+        P.disc(s, GRID, q, 1.3)
+    pygame.draw.aalines(s, TABLE_EDGE, True, corners_px.tolist())
+    return s
+
+
+def panel(lines: Sequence[str], px: int = 20, pad: int = 10) -> pygame.Surface:
+    """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface)."""
+    f = font(px)
+    imgs = [f.render(line, True, TEXT) for line in lines]
+    w = max((i.get_width() for i in imgs), default=0) + 2 * pad
+    h = sum(i.get_height() + 2 for i in imgs) + 2 * pad - 2
+    s = pygame.Surface((max(w, 1), max(h, 1)), pygame.SRCALPHA)
+    pygame.draw.rect(s, PANEL, s.get_rect(), border_radius=8)
+    y = pad
+    for img in imgs:
+        s.blit(img, (pad, y))
+        y += img.get_height() + 2
+    return s.convert_alpha() if pygame.display.get_surface() is not None else s
+
+
+def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
+         color: Color) -> None:
+    """One line centred on ``center``."""
+    img = font(px).render(line, True, color)
+    surf.blit(img, img.get_rect(center=(int(center[0]), int(center[1]))))
+
+
+def one_moment(surf: pygame.Surface, t: float, alpha: float, detail: str = "") -> None:
+    """The calm screen while every camera reconnects: the table dims, a slow ring of lights
+    turns and breathes at its centre, "One moment" below it."""
+    if alpha <= 0.0:
+        return
+    w, h = surf.get_size()
+    veil = pygame.Surface((w, h))
+    k = int(round(255 * (1.0 - 0.75 * alpha)))
+    veil.fill((k, k, k))
+    surf.blit(veil, (0, 0), special_flags=pygame.BLEND_MULT)
+    cx, cy = w / 2, h / 2 - 0.04 * h
+    R = 0.06 * min(w, h)
+    col = (150, 200, 255)
+    for i in range(8):
+        a = math.tau * i / 8 + 0.6 * t
+        b = 0.5 + 0.5 * math.sin(1.3 * t - i * 0.55)
+        P.glow(surf, (cx + R * math.cos(a), cy + R * math.sin(a)), 0.22 * R, col,
+               alpha * (0.25 + 0.55 * b))
+    text(surf, "One moment", (cx, cy + 2.0 * R), int(0.05 * h), fade(mix(col, TEXT, 0.6), alpha,
+                                                                      (0, 0, 0)))
+    if detail:
+        text(surf, detail, (cx, cy + 2.0 * R + 0.05 * h), int(0.028 * h),
+             fade((120, 130, 150), alpha, (0, 0, 0)))
+
+
+def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray) -> None:
+    """The idle look while nobody plays: slow motes of light drift over the table (``area``:
+    its corner pixels) and an invitation breathes at its centre."""
+    if alpha <= 0.0:
+        return
+    lo, hi = area.min(axis=0), area.max(axis=0)
+    span = hi - lo
+    for i in range(14):
+        u = 0.5 + 0.45 * math.sin(0.071 * t * (1 + i % 3) + 1.7 * i)
+        v = 0.5 + 0.42 * math.sin(0.053 * t * (1 + i % 4) + 2.9 * i)
+        tw = 0.5 + 0.5 * math.sin(0.9 * t + 1.3 * i)
+        P.glow(surf, (lo[0] + u * span[0], lo[1] + v * span[1]), 0.025 * span[0] + 4,
+               (120, 170, 255) if i % 2 else (255, 170, 200), alpha * (0.2 + 0.35 * tw))
+    c = (lo + hi) / 2
+    b = 0.55 + 0.45 * math.sin(0.8 * t)
+    text(surf, "put a puck on the table", (c[0], c[1] + 0.3 * span[1]), int(0.045 * span[1]) + 8,
+         fade((200, 215, 240), alpha * b))

@@ -1,0 +1,68 @@
+"""A busy table for the view tests and benchmarks: eight characters of every kind (three
+Puppet Master reactors, two MOP humanoids, a creature, a face, a sprite-sheet bird), all moving,
+and sixteen pucks wandering (some coasting), as Frames at 60 Hz."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from behaviors.mop.creatures import FaceModel, creature_clips, creature_skeleton, face_clips
+from behaviors.mop.puppetry import FaceRig, HumanoidRig, PlanarRig, sprite_sheet_from_mapping
+from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf, load_motion
+from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf, place
+from tabletop.frames import CharacterState, Frame, Puck
+
+ROOT = Path(__file__).resolve().parents[2]
+TABLE = (1.2, 0.8)
+
+
+def busy_frames(n: int, rate_hz: float = 60.0, pucks: int = 16) -> list[Frame]:
+    """``n`` consecutive frames of the busy table."""
+    human = HumanoidRig(ProjectedFigure(load_urdf(humanoid_urdf()),
+                                        Projection(view_yaw=0.5, elevation=0.25), ROOT_SCALE))
+    walk, kick = load_motion("walk"), load_motion("kick")
+    creature = PlanarRig(creature_skeleton())
+    c_walk = creature_clips()["walk"]
+    face = FaceRig(FaceModel())
+    talk = face_clips()["talk"]
+    bird = sprite_sheet_from_mapping(json.loads((ROOT / "examples/mop/bird.json").read_text()),
+                                     "bird.json")
+    flap = bird.cycle()
+    colors = [(240, 110, 150), (240, 170, 60), (120, 190, 255), (240, 170, 60), (255, 200, 120),
+              (90, 220, 120), (120, 180, 255), (250, 250, 200)]
+    frames = []
+    for k in range(n):
+        t = k / rate_hz
+        chars = []
+        for i, name in enumerate(("lover", "bully", "afraid")):
+            a = 0.4 * t * (1 + 0.3 * i) + 2.1 * i
+            x, y = 0.6 + 0.35 * math.cos(a), 0.4 + 0.22 * math.sin(1.3 * a)
+            h = math.atan2(0.22 * 1.3 * math.cos(1.3 * a), -0.35 * math.sin(a))
+            chars.append(CharacterState(name, x, y, h, size=0.08, color=colors[i],
+                                        valid=i != 2))
+        for i, (clip, x) in enumerate(((walk, 0.25), (kick, 0.95))):
+            p = human.pose(clip, (t / clip.duration) % 1.0)
+            chars.append(CharacterState(f"dancer{i}", x, 0.2, math.pi / 2, kind="skeleton",
+                                        size=0.3, color=colors[3 + i],
+                                        points=place(p, x, 0.2, math.pi / 2, 0.3),
+                                        bones=human.bones))
+        specs = ((creature, c_walk, "salamander", 0.75, 0.62, 0.0, 0.3, "creature"),
+                 (face, talk, "face", 0.45, 0.6, math.pi / 2, 0.2, "face"),
+                 (bird, flap, "bird", 0.2, 0.62, 0.3 * math.sin(t), 0.15, "sprite"))
+        for j, (rig, clip, name, x, y, h, size, kind) in enumerate(specs):
+            p = rig.pose(clip, (t / max(clip.duration, 1e-6)) % 1.0)
+            chars.append(CharacterState(name, x, y, h, kind=kind, size=size, color=colors[5 + j],
+                                        points=place(p, x, y, h, size), bones=rig.bones))
+        pk = []
+        for i in range(pucks):
+            a = 0.5 * t + 2 * math.pi * i / pucks
+            x = 0.6 + (0.25 + 0.02 * (i % 5)) * math.cos(a + 0.3 * math.sin(0.7 * t + i))
+            y = 0.4 + (0.17 + 0.01 * (i % 3)) * math.sin(1.5 * a)
+            pk.append(Puck(i, x, y, a * 2, vx=-0.12 * math.sin(a), vy=0.1 * math.cos(a),
+                           state="coasting" if i % 5 == 0 else "seen"))
+        frames.append(Frame(seq=k, t=t, pucks=tuple(pk), characters=tuple(chars)))
+    return frames

@@ -1,0 +1,20 @@
+"""A snapshot of the default installation, made as ``make screenshots`` makes the README's:
+characters and pucks are in it, not an empty table."""
+
+from pathlib import Path
+
+import numpy as np
+import pygame
+
+from tabletop.screenshots import ROOT, shoot
+
+
+def test_default_config_snapshot_shows_characters_and_pucks(tmp_path):
+    out = shoot(ROOT / "config.yaml", 2.5, tmp_path / "default.png", overlay=False)
+    img = pygame.surfarray.array3d(pygame.image.load(str(out))).astype(int)
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    character = (r > 200) & (g < 170) & (b > 110) & (r > b + 40)   # the pink "lover"
+    halo = (b > 150) & (g > 150) & (b > r + 20)                      # a seen puck's cold ring
+    assert np.count_nonzero(character) > 300
+    assert np.count_nonzero(halo) > 150
+    assert Path(out).stat().st_size > 10_000
