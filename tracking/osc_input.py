@@ -13,9 +13,10 @@ measurements (class id = marker id), cursors and blobs as touches (session id = 
 TUIO is a state protocol and reference servers resend an unchanged state only once a second, so
 while a sender is heard from (within ``quiet_s``) its objects are held present: their time is
 their commit time, or ``now - HOLD_S`` if older, and so is the observation's time (it says
-what the network holds as of then, so the frame clock moves on while the senders are quiet). An id that leaves ``alive`` leaves the bus at
-once (``Observation.removed``); a sender that goes quiet stops being reported and the puck
-tracker coasts its pucks, then drops them. If the port cannot be bound the thread retries with a
+what the network holds as of then, so the frame clock moves on while the senders are quiet).
+An id that leaves ``alive`` leaves the bus at once (``Observation.removed``); a sender that goes
+quiet stops being reported: the puck tracker coasts its pucks, then drops them, and its touches
+and streams leave. If the port cannot be bound the thread retries with a
 growing back-off and the health says why.
 """
 

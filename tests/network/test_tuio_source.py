@@ -130,10 +130,16 @@ def test_a_quiet_sender_coasts_then_leaves():
         assert src.wait_listening()
         tracker = Tracker(TrackerSettings(smooth=False, coast_s=0.5))
         inputs = LiveInputs([src], tracker)
-        RefSender(src.bound_port).objects([(1, 5, 0.5, 0.5, 0.0)])
-        assert sent(src, 1)
-        assert [p.state for p in inputs.next(0, 0.0).pucks] == ["seen"]
+        ref = RefSender(src.bound_port)
+        ref.objects([(1, 5, 0.5, 0.5, 0.0)])
+        ref.cursors([(2, 0.5, 0.5)])
+        ref.send(message("/mocap/hand", 1.0))
+        assert sent(src, 3)
+        f = inputs.next(0, 0.0)
+        assert [p.state for p in f.pucks] == ["seen"] and len(f.touches) == 1
         assert wait_for(lambda: [p.state for p in inputs.next(1, 0.0).pucks] == ["coasting"], 2.0)
+        f = inputs.next(1, 0.0)
+        assert f.touches == () and dict(f.streams) == {}   # touches and streams do not coast
         assert wait_for(lambda: inputs.next(2, 0.0).pucks == (), 2.0)
     finally:
         src.close()
