@@ -17,6 +17,7 @@ The recorder flushes twice a second (wall clock) and fsyncs each file when it is
 from __future__ import annotations
 
 import datetime as _dt
+import errno
 import json
 import logging
 import math
@@ -34,6 +35,7 @@ from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  #
 log = logging.getLogger("tabletop")
 
 MB = 2**20
+DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 
 
 def session_header(config: Any, calibration: dict[str, Any] | None = None,
@@ -96,8 +98,10 @@ class Recorder:
         try:
             self._open_part()
         except OSError as exc:
-            raise SessionError(f"{self.folder}: cannot start a recording there: "
-                               f"{exc.strerror or exc}") from None
+            if exc.errno not in DISK_FULL:
+                raise SessionError(f"{self.folder}: cannot start a recording there: "
+                                   f"{exc.strerror or exc}") from None
+            self._fail(exc)  # a full disk: the installation runs, without recording
 
     @property
     def path(self) -> Path:
@@ -134,7 +138,7 @@ class Recorder:
         self.paths.append(candidate)
         header = dict(self._header, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-        self._write((json.dumps(header, separators=(",", ":")) + "\n").encode())
+        self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
         self._prune()
 
     def _mine(self, p: Path) -> bool:
@@ -165,13 +169,20 @@ class Recorder:
         self._size += len(data)
 
     def _fail(self, exc: OSError) -> None:
-        self.failed = f"{self.path}: {exc.strerror or exc}"
+        where = self.paths[-1] if self.paths else self.folder
+        self.failed = f"{where}: {exc.strerror or exc}"
         log.error("recording stopped after %d frames: %s; the installation keeps running",
                   self.frames, self.failed)
         try:
-            self._f.close()
+            if self._f is not None:
+                self._f.close()
         except OSError:
             pass
+        if self.paths and self._first_in_file:  # a file without a frame is of no use
+            try:
+                self.paths[-1].unlink()
+            except OSError:
+                pass
 
     # -- the sink -----------------------------------------------------------------------------
 
