@@ -50,7 +50,8 @@ def session_header(config: Any, calibration: dict[str, Any] | None = None,
     else:
         written, files, external = config or {}, {}, []
     header = {"format": FORMAT, "version": VERSION, "tabletop": __version__,
-              "config": jsonable(written), "files": files, "calibration": jsonable(calibration)}
+              "config_file": getattr(config, "file", None), "config": jsonable(written),
+              "files": files, "calibration": jsonable(calibration)}
     if external:
         header["external"] = external
     header.update(extra)
