@@ -83,7 +83,9 @@ class Recorder:
         self._header = dict(header)
         if path is not None:
             p = Path(path)
-            self.folder, self.stem, self.suffix = p.parent, p.stem, p.suffix or ".jsonl"
+            if p.is_dir():
+                raise SessionError(f"{p}: is a folder; expected a file name for the recording")
+            self.folder, self.stem, self.suffix = p.parent, p.stem, p.suffix
         else:
             self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"
         self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
@@ -219,6 +221,19 @@ class Recorder:
         self._f.flush()
         os.fsync(self._f.fileno())
         self._f.close()
+
+    def discard(self) -> None:
+        """Close and remove what was written (the installation did not start)."""
+        try:
+            if self._f is not None:
+                self._f.close()
+        except OSError:
+            pass
+        for p in self.paths:
+            try:
+                p.unlink()
+            except OSError:
+                pass
 
     def close(self) -> None:
         if self.failed is not None or self._f is None or self._f.closed:
