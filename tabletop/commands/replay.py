@@ -55,7 +55,10 @@ def main(args: argparse.Namespace) -> int:
                 extract(files, base)
             except InputError as exc:
                 raise SessionError(f"{args.session}: line 1: {exc}") from None
-        cfg = validate_config(header.get("config") or None,
+        if not header.get("config"):
+            raise SessionError(f"{args.session}: line 1: the header holds no config to replay "
+                               "with")
+        cfg = validate_config(header["config"],
                               f"{args.session} (recorded config)", base)
         inst = build_replay(cfg, read_frames(args.session, absolute=True), fast=args.fast,
                             headless=args.headless, record_path=args.out, view=not args.no_view,
