@@ -110,19 +110,25 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 record_path: Path | None, stats: LoopStats, commands: CommandQueue,
                 stop: threading.Event, view: bool = True,
                 header: dict[str, Any] | None = None) -> list[Sink]:
-    sinks: list[Sink] = []
-    if view and cfg["view"]["enabled"]:
-        from tabletop.schema import ConfigError
-        from tabletop.view import ProjectorView
-        try:
-            sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
-                                       stop=stop, headless=headless,
-                                       homography=projector_homography(cfg, ctx)))
-        except ConfigError as exc:  # e.g. view.display: a display this machine does not have
-            raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {exc}") from None
-    for s in cfg["sinks"]:
-        sinks.append(registry.plugin_module("sink", s["kind"]).build(s, ctx))
+    # The recorder first: a folder it cannot use fails before a window opens.
     recorder = build_recorder(cfg, ctx, record_path, header)
+    sinks: list[Sink] = []
+    try:
+        if view and cfg["view"]["enabled"]:
+            from tabletop.schema import ConfigError
+            from tabletop.view import ProjectorView
+            try:
+                sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats,
+                                           commands=commands, stop=stop, headless=headless,
+                                           homography=projector_homography(cfg, ctx)))
+            except ConfigError as exc:  # e.g. view.display: a display the machine has not
+                raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {exc}") from None
+        for s in cfg["sinks"]:
+            sinks.append(registry.plugin_module("sink", s["kind"]).build(s, ctx))
+    except BaseException:
+        if recorder is not None:
+            recorder.discard()
+        raise
     if recorder is not None:
         sinks.append(recorder)
     return sinks

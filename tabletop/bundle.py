@@ -7,7 +7,9 @@ names; a path outside it (absolute, or with ``..``) is renamed ``_external/N/NAM
 config. To replay, :func:`extract` writes the files into an empty folder and the config is
 validated there, so a recording replays on another machine, from any folder.
 
-Output folders (the recorder's, the snapshots') are not embedded. A file larger than
+Output folders (the recorder's, the snapshots', a designer's library) are not embedded; one
+outside the config's folder is renamed ``_outside/N/NAME``, so what a replay writes (a take kept
+during the replay) goes into the replay's temporary folder, never where the installation wrote. A file larger than
 :data:`FILE_LIMIT` (or beyond :data:`TOTAL_LIMIT` in all), such as a camera's video file, is not
 embedded either: the config keeps its absolute path and the header lists it under ``external``.
 """
@@ -28,6 +30,7 @@ log = logging.getLogger("tabletop")
 FILE_LIMIT = 16 * 2**20     # bytes: a larger file is referred to, not embedded
 TOTAL_LIMIT = 64 * 2**20    # bytes embedded in one header at most
 EXTERNAL = "_external"
+OUTSIDE = "_outside"
 
 
 class BundleError(InputError):
@@ -57,7 +60,7 @@ def _inside_name(value: str) -> str | None:
     pure = PurePosixPath(text)
     if pure.is_absolute() or text.startswith("~") or ".." in pure.parts or not pure.parts:
         return None
-    if pure.parts[0] == EXTERNAL:
+    if pure.parts[0] in (EXTERNAL, OUTSIDE):
         return None
     return pure.as_posix()
 
@@ -106,7 +109,13 @@ def portable(raw: Any, refs: list[FileRef]) -> tuple[Any, dict[str, dict], list[
     external: list[str] = []
     total = 0
     for ref in refs:
-        if not ref.embed or not ref.resolved.exists():
+        if not ref.embed:
+            # An output folder (a designer's library, snapshots): a replay writes into its own
+            # temporary folder, never where the live installation wrote.
+            if _inside_name(ref.value) is None:
+                changes[ref.key] = f"{OUTSIDE}/{len(changes)}/{ref.resolved.name or 'root'}"
+            continue
+        if not ref.resolved.exists():
             continue
         name = names.get(ref.resolved)
         if name is None:

@@ -21,11 +21,19 @@ COMMANDS = ("run", "track", "behave", "follow", "pose", "calibrate", "replay")
 EXIT_BAD_INPUT = 2
 
 
+def one_line(message: object) -> str:
+    """A message on one line (a library's may span several; an argument may hold control
+    characters, shown escaped)."""
+    text = " ".join(str(message).split())
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
 class Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line (what is wrong, and where to read more)."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {one_line(message)} "
+                                  f"(see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -47,6 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     # OpenCV's own "[ WARN:0@...]" lines (a missing camera, a video back-end probing) are not for
@@ -61,11 +71,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args._main(args) or 0)
     except InputError as exc:
-        print(f"{args._prog}: error: {exc}", file=sys.stderr)
+        print(f"{args._prog}: error: {one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except OSError as exc:
         where = f" {exc.filename}" if getattr(exc, "filename", None) else ""
-        print(f"{args._prog}: error:{where} {exc.strerror or exc}", file=sys.stderr)
+        print(f"{args._prog}: error:{where} {one_line(exc.strerror or exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print(f"{args._prog}: interrupted", file=sys.stderr)
@@ -77,7 +87,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Exception as exc:  # a bug, not bad input: one line, the traceback on request
         if os.environ.get("TABLETOP_DEBUG"):
             raise
-        print(f"{args._prog}: internal error: {type(exc).__name__}: {exc} "
+        print(f"{args._prog}: internal error: {type(exc).__name__}: {one_line(exc)} "
               "(set TABLETOP_DEBUG=1 to see the traceback)", file=sys.stderr)
         return 1
 

@@ -204,8 +204,8 @@ def parse_yaml(text: str, file: str | Path, error: type[InputError] = FileFormat
         mark = exc.problem_mark or exc.context_mark
         where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
         raise error(f"{file}: {problem} at {where}: {exc.problem}") from None
-    except yaml.YAMLError as exc:
-        raise error(f"{file}: {problem}: {exc}") from None
+    except yaml.YAMLError as exc:  # e.g. a reader error: a character YAML does not allow
+        raise error(f"{file}: {problem}: {' '.join(str(exc).split())}") from None
     except (ValueError, RecursionError) as exc:  # e.g. an integer of thousands of digits
         raise error(f"{file}: {problem}: {type(exc).__name__}: {exc}") from None
 

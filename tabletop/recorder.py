@@ -17,6 +17,7 @@ The recorder flushes twice a second (wall clock) and fsyncs each file when it is
 from __future__ import annotations
 
 import datetime as _dt
+import errno
 import json
 import logging
 import math
@@ -34,6 +35,7 @@ from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  #
 log = logging.getLogger("tabletop")
 
 MB = 2**20
+DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 
 
 def session_header(config: Any, calibration: dict[str, Any] | None = None,
@@ -48,7 +50,8 @@ def session_header(config: Any, calibration: dict[str, Any] | None = None,
     else:
         written, files, external = config or {}, {}, []
     header = {"format": FORMAT, "version": VERSION, "tabletop": __version__,
-              "config": jsonable(written), "files": files, "calibration": jsonable(calibration)}
+              "config_file": getattr(config, "file", None), "config": jsonable(written),
+              "files": files, "calibration": jsonable(calibration)}
     if external:
         header["external"] = external
     header.update(extra)
@@ -80,7 +83,9 @@ class Recorder:
         self._header = dict(header)
         if path is not None:
             p = Path(path)
-            self.folder, self.stem, self.suffix = p.parent, p.stem, p.suffix or ".jsonl"
+            if p.is_dir():
+                raise SessionError(f"{p}: is a folder; expected a file name for the recording")
+            self.folder, self.stem, self.suffix = p.parent, p.stem, p.suffix
         else:
             self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"
         self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
@@ -96,8 +101,10 @@ class Recorder:
         try:
             self._open_part()
         except OSError as exc:
-            raise SessionError(f"{self.folder}: cannot start a recording there: "
-                               f"{exc.strerror or exc}") from None
+            if exc.errno not in DISK_FULL:
+                raise SessionError(f"{self.folder}: cannot start a recording there: "
+                                   f"{exc.strerror or exc}") from None
+            self._fail(exc)  # a full disk: the installation runs, without recording
 
     @property
     def path(self) -> Path:
@@ -134,7 +141,7 @@ class Recorder:
         self.paths.append(candidate)
         header = dict(self._header, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-        self._write((json.dumps(header, separators=(",", ":")) + "\n").encode())
+        self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
         self._prune()
 
     def _mine(self, p: Path) -> bool:
@@ -165,13 +172,20 @@ class Recorder:
         self._size += len(data)
 
     def _fail(self, exc: OSError) -> None:
-        self.failed = f"{self.path}: {exc.strerror or exc}"
+        where = self.paths[-1] if self.paths else self.folder
+        self.failed = f"{where}: {exc.strerror or exc}"
         log.error("recording stopped after %d frames: %s; the installation keeps running",
                   self.frames, self.failed)
         try:
-            self._f.close()
+            if self._f is not None:
+                self._f.close()
         except OSError:
             pass
+        if self.paths and self._first_in_file:  # a file without a frame is of no use
+            try:
+                self.paths[-1].unlink()
+            except OSError:
+                pass
 
     # -- the sink -----------------------------------------------------------------------------
 
@@ -207,6 +221,19 @@ class Recorder:
         self._f.flush()
         os.fsync(self._f.fileno())
         self._f.close()
+
+    def discard(self) -> None:
+        """Close and remove what was written (the installation did not start)."""
+        try:
+            if self._f is not None:
+                self._f.close()
+        except OSError:
+            pass
+        for p in self.paths:
+            try:
+                p.unlink()
+            except OSError:
+                pass
 
     def close(self) -> None:
         if self.failed is not None or self._f is None or self._f.closed:

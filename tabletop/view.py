@@ -354,7 +354,6 @@ class ProjectorView:
         self.headless = headless_needed(headless or options["headless"])
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
-            log.info("no display: the view runs headless (SDL dummy driver)")
         pygame.display.init()
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
@@ -374,8 +373,12 @@ class ProjectorView:
                                        options["snapshot_keep"], options["snapshot_max_mb"],
                                        options["snapshot_per_run"])
         self.snapshot_overlay = bool(options["snapshot_overlay"])
+        self._said_headless = False
 
     def consume(self, frame: Frame) -> None:
+        if self.headless and not self._said_headless:  # once running, not while starting
+            self._said_headless = True
+            log.info("no display: the view runs headless (SDL dummy driver)")
         self._events()
         overlay = None
         if self.show_overlay:

@@ -33,3 +33,12 @@ def number_in_range(text: str | float, option: str, unit: str, lo: float, hi: fl
     if not math.isfinite(value) or not lo <= value <= hi or (integer and value != int(value)):
         raise error(f"{option} {text!r} must be {kind} of {unit} from {lo:g} to {hi:g}")
     return int(value) if integer else value
+
+
+def output_file(path, option: str, error: type[InputError] = InputError):
+    """``path`` of an output ``option`` (a Path), refused at once when it names a folder."""
+    from pathlib import Path
+    p = Path(path)
+    if p.is_dir():
+        raise error(f"{option} {p}: is a folder; give a file name such as {p / 'out.jsonl'}")
+    return p

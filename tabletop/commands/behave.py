@@ -46,6 +46,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 MAX_RATE_HZ = 1000.0   # generation steps per second (the behaviours are made at 40)
+MAX_DEMO_S = 3600.0    # seconds of demonstration (the paper's are 10 to 80 s)
+MAX_ROWS = 2_000_000   # output rows (14 h of main path at 40 Hz)
 TABLE_M = (0.05, 20.0)  # metres: a table side, as config.yaml's table section
 
 

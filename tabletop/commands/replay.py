@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from tabletop.commands import output_file
 from tabletop.frames import InputError
 
 HELP = "replay a session recording (JSON Lines) through the engines and the view"
@@ -31,14 +32,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--verbose", action="store_true", help="log debug messages")
 
 
-def check_out(out: Path | None) -> None:
-    """``--out`` must name a new file in a folder that exists or can be made."""
-    if out is None:
-        return
-    if out.is_dir():
-        raise ReplayError(f"--out {out}: is a folder; give a file name such as {out / 'replay.jsonl'}")
-
-
 def main(args: argparse.Namespace) -> int:
     import logging
     import tempfile
@@ -48,7 +41,8 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.config import validate_config
     from tabletop.recorder import SessionError, read_frames, read_header
 
-    check_out(args.out)
+    if args.out is not None:
+        output_file(args.out, "--out", ReplayError)
     configure_logging(args.verbose)
     header = read_header(args.session)
     with tempfile.TemporaryDirectory(prefix="tabletop-replay-") as tmp:
@@ -61,7 +55,10 @@ def main(args: argparse.Namespace) -> int:
                 extract(files, base)
             except InputError as exc:
                 raise SessionError(f"{args.session}: line 1: {exc}") from None
-        cfg = validate_config(header.get("config") or None,
+        if not header.get("config"):
+            raise SessionError(f"{args.session}: line 1: the header holds no config to replay "
+                               "with")
+        cfg = validate_config(header["config"],
                               f"{args.session} (recorded config)", base)
         inst = build_replay(cfg, read_frames(args.session, absolute=True), fast=args.fast,
                             headless=args.headless, record_path=args.out, view=not args.no_view,

@@ -26,11 +26,13 @@ EXIT_RECORDING_FAILED = 3
 
 def main(args: argparse.Namespace) -> int:
     from tabletop.app import build_live, configure_logging, stop_on_signals
-    from tabletop.commands import number_in_range
+    from tabletop.commands import number_in_range, output_file
     from tabletop.config import load_config
 
     seconds = None if args.seconds is None else number_in_range(
         args.seconds, "--seconds", "seconds", 1e-3, MAX_SECONDS)
+    if args.record is not None:
+        output_file(args.record, "--record")
     configure_logging(args.verbose)
     cfg = load_config(args.config)
     stop = threading.Event()

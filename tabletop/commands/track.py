@@ -94,8 +94,9 @@ class FrameReader:
         self.is_camera = False
         path = Path(spec)
         if spec.isdigit() and not path.exists():
-            number_in_range(spec, "INPUT", f"a camera index (or a file or folder)", 0,
-                            MAX_CAMERA_INDEX, TrackInputError, integer=True)
+            if int(spec) > MAX_CAMERA_INDEX:
+                raise TrackInputError(f"INPUT {spec!r} is neither a file, a folder nor a camera "
+                                      f"index (0 to {MAX_CAMERA_INDEX})")
             with _quiet_opencv(cv2):
                 self.capture = cv2.VideoCapture(int(spec))
             if not self.capture.isOpened():

@@ -39,6 +39,7 @@ def test_good_config_fills_defaults(tmp_path):
 def test_shipped_config_is_valid():
     cfg = load_config(Path(__file__).resolve().parents[2] / "config.yaml")
     assert cfg["sources"], "the default installation has a source"
+    assert cfg["view"]["overlay"] is False, "visitors see the table, not the operator overlay"
 
 
 def test_unknown_key_names_its_path(tmp_path):

@@ -148,8 +148,10 @@ def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path):
                             view=False).loop.run() == len(frames)
 
 
-def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path):
-    """A real write failure: the process may not grow a file beyond 64 kB (RLIMIT_FSIZE)."""
+@pytest.mark.parametrize("limit_kb", [64, 1], ids=["while running", "at start-up"])
+def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path, limit_kb):
+    """A real write failure: the process may not grow a file beyond ``limit_kb`` (RLIMIT_FSIZE).
+    At 1 kB not even the header fits."""
     import resource
     import signal
     import subprocess
@@ -157,10 +159,13 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path)
 
     def limit() -> None:
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-        resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024, 64 * 1024))
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit_kb * 1024, limit_kb * 1024))
 
+    gesture = tmp_path / "g.csv"  # 10 kB, embedded in the header
+    gesture.write_text("t,dx,dy\n" + "".join(f"{i / 100},{i / 1e4:.6f},0.0\n" for i in range(500)))
     cfg = tmp_path / "kiosk.yaml"
-    cfg.write_text("sources: [{kind: scripted, pucks: [1, 2, 5]}]\nview: {enabled: false}\n")
+    cfg.write_text("sources: [{kind: scripted, pucks: [1, 2, 5], performers: [{puck: 3, "
+                   "home: [0.5, 0.4], gestures: [g.csv]}]}]\nview: {enabled: false}\n")
     out = tmp_path / "full.jsonl"
     r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
                         "--seconds", "2", "--record", str(out)], capture_output=True, text=True,
@@ -171,7 +176,10 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path)
     assert len(stopped) == 1 and str(out) in stopped[0] and "File too large" in stopped[0]
     ran = [ln for ln in r.stderr.splitlines() if "ran " in ln and " ticks" in ln]
     assert ran and int(ran[0].split("ran ")[1].split()[0]) > 90  # it ran the whole 2 s
-    assert 0 < len(list(read_frames(out))) < 100  # what was written before is readable
+    if limit_kb == 1:
+        assert not out.exists()  # a file without a single frame is not left behind
+    else:
+        assert 0 < len(list(read_frames(out))) < 100  # what was written before is readable
 
 
 @pytest.mark.parametrize("line, words", [

@@ -81,3 +81,64 @@ def test_replay_reproduces_the_live_characters_after_moving(tmp_path, config):
                 (c["x"], c["y"], c["heading"], json.dumps(c.get("points"))))
     assert max(len(s) for s in poses.values()) > 10, {k: len(s) for k, s in poses.items()}
     assert any(c["valid"] for f in a for c in f["characters"])
+
+
+class Operator:
+    """A sink pressing designer keys at given ticks, as the view does for a person."""
+
+    name = "operator"
+
+    def __init__(self, commands, presses: dict[int, str]) -> None:
+        self.commands, self.presses, self.ticks = commands, presses, 0
+
+    def consume(self, frame) -> None:
+        self.ticks += 1
+        if self.ticks in self.presses:
+            self.commands.put(self.presses[self.ticks])
+
+    def close(self) -> None:
+        pass
+
+
+def test_a_designer_session_replays_exactly(tmp_path):
+    """Record a take at the table, train it, keep it: the replay trains and plays the same."""
+    from tabletop.app import build_replay
+    from tabletop.config import validate_config
+    from tabletop.recorder import read_frames, read_header
+    from tabletop.bundle import extract
+
+    cfg = validate_config({
+        "sources": [{"kind": "scripted", "pucks": [1, 2, 3], "seed": 2}],
+        "engines": [{"kind": "puppet_master", "name": "lover",
+                     "behavior": str(ROOT / "behaviors" / "library" / "lover"),
+                     "main": {"puck": 3},
+                     "designer": {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                  "min_seconds": 1.0}}],
+        "view": {"enabled": False}}, str(tmp_path / "designer.yaml"), tmp_path)
+    live = tmp_path / "live.jsonl"
+    inst = build_live(cfg, record_path=live)
+    inst.loop.sinks.insert(0, Operator(inst.loop.commands, {
+        10: "designer.record", 100: "designer.record", 130: "designer.keep"}))
+    inst.loop.run(seconds=3.0)
+    assert (tmp_path / "library" / "lover" / "demonstration.csv").is_file()  # kept live
+
+    header = read_header(live)
+    there = tmp_path / "replay"
+    extract(header["files"], there)
+    out = tmp_path / "replayed.jsonl"
+    build_replay(validate_config(header["config"], "recorded", there),
+                 read_frames(live, absolute=True), fast=True, view=False, record_path=out,
+                 header=header).loop.run()
+    a, b = frames(live), frames(out)
+    assert len(a) == len(b) > 150
+    labels = [c.get("label", "") for f in a for c in f["characters"]]
+    assert any("recording" in s for s in labels) and any("kept as lover" in s for s in labels)
+    for fa, fb in zip(a, b):
+        for ca, cb in zip(fa["characters"], fb["characters"]):
+            assert (ca["x"], ca["y"], ca["heading"], ca["valid"]) == \
+                (cb["x"], cb["y"], cb["heading"], cb["valid"]), fa["seq"]
+            if " in " not in ca.get("label", ""):  # a label naming the library's path differs
+                assert ca.get("label") == cb.get("label"), fa["seq"]
+    # What the replay kept went into its own folder, not the installation's library.
+    assert (there / "library" / "lover" / "demonstration.csv").is_file()
+    assert sorted(p.name for p in (tmp_path / "library").iterdir()) == ["lover"]
