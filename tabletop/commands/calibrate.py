@@ -134,7 +134,7 @@ def image_files(folder: str) -> list[Path]:
     return files
 
 
-def load_existing(path: str | Path, what: str = "") -> Any:
+def load_existing(path: str | Path) -> Any:
     """The calibration in ``path`` (lens-only files accepted), or None when there is none."""
     from calibration.files import load_calibration
     return load_calibration(path, require_table=False) if Path(path).exists() else None

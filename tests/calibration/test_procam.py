@@ -4,7 +4,6 @@ crosses land under the pucks across the whole table, and a knocked projector fai
 import numpy as np
 import pytest
 
-from calibration.files import Calibration
 from calibration.fits import CHECK_MM, fit_table
 from calibration.transforms import FitError, apply_homography, table_grid
 from tabletop.procam import run_check
