@@ -94,3 +94,20 @@ def test_camera_half_lines_and_projection_agree():
     assert np.allclose(cam.to_screen(cam.table(p)), s)
     # azimuth 90 looks from the character's right: its forward (+x) is screen right
     assert cam.right @ np.array([1.0, 0, 0]) > 0.99
+
+
+def test_joint_limits_clamp_one_by_one_and_together(models):
+    from behaviors.motion.clips import quat_normalize
+    body = models.body
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        r = quat_normalize(rng.normal(size=(13, 4)))
+        for i in np.flatnonzero(body.hinge):
+            a = rng.uniform(-4, 4)
+            r[i] = np.r_[np.cos(a / 2), np.sin(a / 2) * body.axis[i]]
+        one, many = r.copy(), r.copy()
+        for i in range(1, 13):
+            body.clamp(one, i)
+        body.clamp_many(many, list(range(13)))
+        assert np.allclose(np.abs(np.einsum("ij,ij->i", one, many)), 1.0, atol=1e-9)
+        assert body.violations(many) == []
