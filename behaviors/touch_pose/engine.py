@@ -141,8 +141,10 @@ class TouchPose:
 
     # --- stepping ------------------------------------------------------------------------------
 
-    def step(self, t: float, touches: Mapping[int, tuple[float, float]]) -> dict:
-        """Advance to time ``t`` (s) with fingers ``touches`` (id -> table x, y metres)."""
+    def step(self, t: float, touches: Mapping[int, tuple[float, float]],
+             record: bool = True) -> dict | None:
+        """Advance to time ``t`` (s) with fingers ``touches`` (id -> table x, y metres); the
+        output record (see :meth:`frame`) unless ``record`` is False."""
         dt = 1.0 / 30.0 if self.last_t is None else min(max(t - self.last_t, 1e-4), 0.2)
         self.last_t = t
         self._fingers(t, touches)
@@ -151,7 +153,7 @@ class TouchPose:
         if self.mode == "action":
             self._action(dt)
         self.track(dt)
-        return self.frame(t)
+        return self.frame(t) if record else None
 
     def track(self, dt: float) -> None:
         """Tracking control (section 6) of the current target for ``dt`` seconds."""
