@@ -41,6 +41,10 @@ THRESHOLD_PER_SPEED = 0.06
 MIN_COVERAGE = 0.5
 MIN_LENGTH = 0.5
 MIN_SECONDS = 0.15
+#: Drags slower than this fraction of the stroke's pace are not judged (none matched at 1/3).
+MIN_RELATIVE_SPEED = 0.25
+#: A finger slower than this fraction of a stroke's pace is resting: the drag starts after it.
+STILL_FRACTION = 0.1
 EXCLUDE_DEG = 45.0
 ACTION_SAMPLES = 24
 MAX_INPUT_SAMPLES = 64
@@ -139,33 +143,41 @@ class Match:
 def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
               times: np.ndarray, view: np.ndarray, excluded: set[str]) -> Match | None:
     """The best action whose primary part is ``part`` matching the dragged ``screen_path``
-    (k, 2, character metres) at ``times`` (s); ``view`` maps relative 3-D to screen (2, 3)."""
+    (k, 2, character metres) at ``times`` (s); ``view`` maps relative 3-D to screen (2, 3).
+
+    Per action, the input is the drag since the finger last rested (moved slower than
+    ``STILL_FRACTION`` of the stroke's pace), over at most ``WINDOW`` times the stroke's
+    duration: a visitor may hold a part, then strike."""
     if len(times) < 3 or times[-1] - times[0] < MIN_SECONDS:
         return None
-    length = float(np.linalg.norm(np.diff(screen_path, axis=0), axis=1).sum())
-    duration = float(times[-1] - times[0])
-    speed = length / duration
+    steps = np.linalg.norm(np.diff(screen_path, axis=0), axis=1)
+    step_speed = steps / np.maximum(np.diff(times), 1e-6)
     best: Match | None = None
     for a in actions:
         if a.spec.part != part or a.name in excluded:
             continue
         stroke = a.stroke @ view.T
         act_len = float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum())
-        if length < MIN_LENGTH * act_len:
+        pace = act_len / a.stroke_t[-1]
+        first = int(np.searchsorted(times, times[-1] - WINDOW * a.stroke_t[-1]))
+        rested = np.flatnonzero(step_speed[first:] < STILL_FRACTION * pace)
+        if rested.size:
+            first += int(rested[-1]) + 1
+        if len(times) - first < 3 or times[-1] - times[first] < MIN_SECONDS:
             continue
-        # the input over the last twice the stroke's duration (a drag slower than half pace
-        # cannot match anyway), at the action's own sample spacing: a drag as long as the
-        # stroke has as many samples, a slower one more (matched one action sample each)
-        window = times >= times[-1] - WINDOW * a.stroke_t[-1]
-        if window.sum() < 3:
-            continue
-        w_rel = screen_path[window] - screen_path[window][0]
-        w_t = times[window] - times[window][0]
+        length = float(steps[first:].sum())
+        relative = length / (times[-1] - times[first]) / max(pace, 1e-6)
+        if length < MIN_LENGTH * act_len or relative < MIN_RELATIVE_SPEED:
+            continue  # too short, or so slow it is posing (no DP needed)
+        # the input at the action's own sample spacing: a drag as long as the stroke has as
+        # many samples, a slower one more (matched one action sample each: DP step 0)
+        w_rel = screen_path[first:] - screen_path[first]
+        w_t = times[first:] - times[first]
         spacing = a.stroke_t[1] - a.stroke_t[0]
         n = int(min(max(4, round(w_t[-1] / spacing) + 1), MAX_INPUT_SAMPLES))
         inp, inp_t = resample(w_rel, w_t, n)
         dist, j = dp_distance(inp, inp_t, stroke, a.stroke_t)
-        thr = threshold(speed / max(act_len / a.stroke_t[-1], 1e-6))
+        thr = threshold(relative)
         if dist < thr and (best is None or dist - thr < best.distance - best.threshold):
             best = Match(a, dist, thr, a.start + float(a.stroke_t[j] / a.duration))
     return best

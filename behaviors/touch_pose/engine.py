@@ -25,7 +25,8 @@ from typing import Mapping
 
 import numpy as np
 
-from behaviors.touch_pose.action import ActionClock, ActionModel, build_action, recognise
+from behaviors.touch_pose.action import (EXCLUDE_DEG, ActionClock, ActionModel, build_action,
+                                         recognise)
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Humanoid, Pose, yaw_of
 from behaviors.touch_pose.ik import CCD, limit_goal
 from behaviors.touch_pose.latent import Blend, LearnedModel, yaw_view
@@ -54,7 +55,7 @@ _MODELS: Models | None = None
 
 
 def learned_models() -> Models:
-    """The humanoid, posing model and action models (built once per process, ~1 s)."""
+    """The humanoid, posing model and action models (built once per process, a few seconds)."""
     global _MODELS
     if _MODELS is None:
         body = Humanoid()
@@ -117,16 +118,18 @@ class TouchPose:
         """Actions whose trajectory points within 45 degrees of the viewing line from here."""
         rot = _yaw_matrix(self.yaw)
         return {a.name for a in self.m.actions
-                if self.camera.angle_to_eye(rot @ a.vector) < 45.0}
+                if self.camera.angle_to_eye(rot @ a.vector) < EXCLUDE_DEG}
 
     def describe(self) -> dict:
-        """The standing pose's parts and every action's projected stroke (DESIGN.md ``--describe``)."""
+        """The standing pose's parts and every action's projected stroke from where its part
+        stands now (DESIGN.md ``--describe``)."""
         parts = self.body.parts(place(self.m.stand, self.base, self.yaw))
+        now = self.body.parts(self.output)
         excluded = self.excluded()
         view, _ = yaw_view(self.camera.matrix, self.base, self.yaw)
         actions = []
         for a in self.m.actions:
-            start = self.camera.table(parts[PARTS.index(a.spec.part)])
+            start = self.camera.table(now[PARTS.index(a.spec.part)])
             traj = start + (a.stroke @ view.T) * self.scale
             actions.append({"name": a.name, "part": a.spec.part, "duration_s": round(a.duration, 4),
                             "excluded": a.name in excluded,
@@ -138,8 +141,10 @@ class TouchPose:
 
     # --- stepping ------------------------------------------------------------------------------
 
-    def step(self, t: float, touches: Mapping[int, tuple[float, float]]) -> dict:
-        """Advance to time ``t`` (s) with fingers ``touches`` (id -> table x, y metres)."""
+    def step(self, t: float, touches: Mapping[int, tuple[float, float]],
+             record: bool = True) -> dict | None:
+        """Advance to time ``t`` (s) with fingers ``touches`` (id -> table x, y metres); the
+        output record (see :meth:`frame`) unless ``record`` is False."""
         dt = 1.0 / 30.0 if self.last_t is None else min(max(t - self.last_t, 1e-4), 0.2)
         self.last_t = t
         self._fingers(t, touches)
@@ -148,7 +153,7 @@ class TouchPose:
         if self.mode == "action":
             self._action(dt)
         self.track(dt)
-        return self.frame(t)
+        return self.frame(t) if record else None
 
     def track(self, dt: float) -> None:
         """Tracking control (section 6) of the current target for ``dt`` seconds."""

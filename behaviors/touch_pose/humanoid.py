@@ -197,6 +197,31 @@ class Humanoid:
             v = q[1:] / max(float(np.linalg.norm(q[1:])), 1e-12)
             rots[i] = np.concatenate([[math.cos(lim / 2)], math.sin(lim / 2) * v])
 
+    def clamp_many(self, rots: np.ndarray, idx: list[int]) -> None:
+        """:meth:`clamp` for several joints at once (in place), vectorised."""
+        idx = np.asarray([i for i in idx if i > 0], dtype=int)
+        if idx.size == 0:
+            return
+        q = rots[idx]
+        hinge = self.hinge[idx]
+        if hinge.any():
+            h = idx[hinge]
+            ax = self.axis[h]
+            a = 2.0 * np.arctan2(np.einsum("ij,ij->i", rots[h, 1:], ax), rots[h, 0])
+            a = np.clip((a + np.pi) % (2 * np.pi) - np.pi, self.hinge_lo[h], self.hinge_hi[h])
+            rots[h] = np.concatenate([np.cos(a / 2)[:, None], np.sin(a / 2)[:, None] * ax], axis=1)
+        b = idx[~hinge]
+        if b.size:
+            q = rots[b] * np.where(rots[b, :1] < 0, -1.0, 1.0)
+            angle = 2.0 * np.arccos(np.minimum(1.0, q[:, 0]))
+            over = angle > self.limit[b]
+            if over.any():
+                lim = self.limit[b][over]
+                v = q[over, 1:]
+                v = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-12)
+                rots[b[over]] = np.concatenate([np.cos(lim / 2)[:, None],
+                                                np.sin(lim / 2)[:, None] * v], axis=1)
+
     def violations(self, rots: np.ndarray, tol: float = 1e-6) -> list[str]:
         """Names of joints outside their limits (radians tolerance ``tol``)."""
         bad = []

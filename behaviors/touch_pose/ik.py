@@ -2,7 +2,8 @@
 
 Each goal moves one body part: its chain of joints, from the part up towards the chest, is turned
 joint by joint so the part points at the goal (hinges only about their axis), every joint kept
-within its limit after each turn. The pelvis is moved by translating the root. Section 4 limits
+within its limit after each turn. The pelvis is moved by translating the root; a head that neck
+and chest cannot bring to its goal (it must rise or sink) moves the pelvis too. Section 4 limits
 the correction to 0.2 m (:data:`MAX_CORRECTION`): a goal farther than that from where the blended
 posture holds the part is pulled back to 0.2 m, so IK never drags a limb into an unnatural pose.
 """
@@ -81,17 +82,42 @@ class CCD:
         # the chest is shared: when the head is held, the hands' chains stop at the shoulders
         # (otherwise hands and head undo each other's chest turns every sweep)
         skip = self._chest if "head" in left and len(left) > 1 else -1
+        shifted = np.zeros(3)
+        head = dict(items).get("head") if "pelvis" not in goals else None
         for _ in range(self.iterations):
             for part, goal in items:
                 if left[part] > self.tolerance:
                     left[part] = self._chain(part, goal, local, q0, p0, skip)
             worst = max(left.values())
+            if head is not None and left["head"] > self.tolerance and previous - worst < 0.01:
+                # the neck and chest cannot bring the head there (it must rise or sink): move
+                # the pelvis by what is left, within the same 0.2 m, and sweep again (the
+                # planted feet's chains follow)
+                miss = np.subtract(head, self._effector("head", local, q0, p0))
+                step = limit_goal(shifted, shifted + miss) - shifted
+                if np.linalg.norm(step) > 0.5 * self.tolerance:
+                    shifted += step
+                    p0 = tuple(np.add(p0, step).tolist())
+                    left = {part: math.inf for part in left}
+                    previous = math.inf
+                    continue
             # done, or stalled (a goal out of reach: further sweeps would not bring it closer)
             if worst < self.tolerance or previous - worst < 0.1 * self.tolerance:
                 break
             previous = worst
         out.rots = np.array(local)
+        out.root = np.array(p0)
         return out
+
+    def _effector(self, part: str, local: list, q0: tuple, p0: tuple) -> tuple:
+        """World position of ``part`` for joint rotations ``local`` and pelvis ``q0``, ``p0``."""
+        q, p = q0, p0
+        for b in self.paths[part]:
+            o = _qrot(q, self._offset[b])
+            p = (p[0] + o[0], p[1] + o[1], p[2] + o[2])
+            q = _qmul(q, local[b])
+        o = _qrot(q, self._part_off[part])
+        return (p[0] + o[0], p[1] + o[1], p[2] + o[2])
 
     def _chain(self, part: str, goal: tuple, local: list, q0: tuple, p0: tuple,
                skip: int = -1) -> float:

@@ -112,8 +112,7 @@ def apply_effect(body: Humanoid, pose: Pose, effect: PhysicalEffect, segments: s
     idx = [body.names.index(j) for s in segments for j in SEGMENTS[s]]
     if idx:
         out.rots[idx] = quat_normalize(quat_mul(quat_from_rotvec(effect.dq[idx]), out.rots[idx]))
-        for i in idx:
-            body.clamp(out.rots, i)
+        body.clamp_many(out.rots, idx)
     if "torso" in segments:
         out.root = out.root + effect.dp
     return out

@@ -63,17 +63,20 @@ class TouchPoseEngine:
         if self.mouse:
             from tabletop.pointer import POINTER
             touches.update({t.id: (t.x, t.y) for t in POINTER.touches()})
-        out = self.core.step(frame.t, touches)
-        pts = self.core.table_points()
-        pelvis = out["parts"]["pelvis"]
-        u = self.core.clock.u if out["mode"] == "action" and self.core.clock else None
-        cam = self.core.camera
-        label = (f"{out['mode']} {out['action'] or ''} view {cam.azimuth:.0f},{cam.elevation:.0f} "
-                 f"touches {sum(p is not None for p in out['touches'].values())}")
-        return (CharacterState(self.name, pelvis[0], pelvis[1], 0.0, kind="humanoid",
-                               size=self.core.scale * self.core.stand_height, color=self.color,
-                               points=pts, bones=self.core.body.bones, progress=u,
-                               action=out["action"], label=label),)
+        core = self.core
+        core.step(frame.t, touches, record=False)
+        pts = core.table_points()
+        pelvis = pts[0]
+        acting = core.mode == "action" and core.clock is not None
+        action = core.clock.action.name if acting else None
+        cam = core.camera
+        held = sum(f.part is not None for f in core.fingers.values())
+        label = f"{core.mode} {action or ''} view {cam.azimuth:.0f},{cam.elevation:.0f} touches {held}"
+        return (CharacterState(self.name, float(pelvis[0]), float(pelvis[1]), 0.0, kind="humanoid",
+                               size=core.scale * core.stand_height, color=self.color,
+                               points=pts, bones=core.body.bones,
+                               progress=core.clock.u if acting else None, action=action,
+                               label=label),)
 
     def close(self) -> None:
         self.core.close()

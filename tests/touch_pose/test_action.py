@@ -26,6 +26,13 @@ def test_quick_punch_drag_from_the_side_starts_the_punch(make, models):
     assert acts[0]["t"] <= stroke_s + 1e-6
 
 
+def test_resting_on_the_hand_then_punching_starts_the_punch(make, models):
+    e = make(view=(90.0, 15.0), physics=False)
+    recs, _, _ = stroke_drag(e, models, "punch", pace=1.0, before=1.0, after=0.5)
+    assert all(r["mode"] == "posing" for r in recs if r["t"] < 1.0)
+    assert {r["action"] for r in recs if r["mode"] == "action"} == {"punch"}
+
+
 def test_the_same_drag_done_slowly_only_poses(make, models):
     e = make(view=(90.0, 15.0), physics=False)
     recs, _, _ = stroke_drag(e, models, "punch", pace=4.0, after=0.3)

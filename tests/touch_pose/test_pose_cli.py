@@ -81,3 +81,22 @@ def test_bad_inputs_give_one_clear_line(tmp_path, capsys, content, args, needle)
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and needle in err and "Traceback" not in err
     assert not out.exists()
+
+
+def test_a_recorded_quick_punch_is_replayed_as_a_punch(tmp_path, models):
+    d_path = tmp_path / "d.json"
+    main(["pose", "--describe", "--view", "270,20", "--out", str(d_path)])
+    punch = next(a for a in json.loads(d_path.read_text())["actions"] if a["name"] == "punch")
+    times = next(a for a in models.actions if a.name == "punch").stroke_t
+    traj = np.array(punch["trajectory"])
+    ts = np.arange(0.0, times[-1], 1 / 60)  # a 60 Hz touch recording
+    rows = [(round(t, 5), 2, round(float(np.interp(t, times, traj[:, 0])), 5),
+             round(float(np.interp(t, times, traj[:, 1])), 5)) for t in ts]
+    touches = _write(tmp_path / "punch.csv", rows)
+    out = tmp_path / "p.jsonl"
+    assert main(["pose", "--input", str(touches), "--out", str(out), "--view", "270,20"]) == 0
+    recs = [json.loads(line) for line in out.read_text().splitlines()]
+    acts = [r for r in recs if r["mode"] == "action"]
+    assert acts and {r["action"] for r in acts} == {"punch"}
+    assert all(r["action_time"] is not None for r in acts)
+    assert recs[-1]["mode"] == "posing"  # finished after the finger lifted, back to posing
