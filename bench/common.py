@@ -39,17 +39,25 @@ def stats_ms(samples_s: Sequence[float]) -> dict[str, float]:
             "mean_ms": float(a.mean())}
 
 
-def interleaved(configs: dict[str, Callable[[], None]], rounds: int) -> dict[str, list[float]]:
+def interleaved(configs: dict[str, Callable[[], None]], rounds: int,
+                cpu: dict[str, list[float]] | None = None) -> dict[str, list[float]]:
     """Time each named callable once per round, in turn (A B A B ...), returning seconds each.
 
-    Interleaving keeps a drifting machine speed from favouring whichever runs first.
+    Interleaving keeps a drifting machine speed from favouring whichever runs first. With
+    ``cpu`` (a dict to fill), the calling thread's CPU seconds of each call are kept too: on a
+    machine shared with other work they leave out the time the thread waited to be scheduled.
     """
     out: dict[str, list[float]] = {k: [] for k in configs}
+    if cpu is not None:
+        cpu.update({k: [] for k in configs})
     for _ in range(rounds):
         for name, fn in configs.items():
+            c0 = time.thread_time()
             t0 = time.perf_counter()
             fn()
             out[name].append(time.perf_counter() - t0)
+            if cpu is not None:
+                cpu[name].append(time.thread_time() - c0)
     return out
 
 

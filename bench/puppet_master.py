@@ -3,10 +3,17 @@
 1. One generation step (BestMatch over every training window + coherence candidates,
    balancing, generation, detail, the table) with 3,200 and 24,000 training samples (80 s and
    10 min at 40 Hz). The paper ran 40 Hz (25 ms per step) with 80 s of training. Budget
-   (DESIGN.md): <= 1 ms at 3,200 and <= 5 ms at 24,000 samples.
+   (DESIGN.md): median <= 0.3 ms and p99 <= 0.6 ms at 24,000 samples (p99 within 2x median).
 2. One tick of 8 reactors at once, each with its own main path and a 3,200-sample behaviour
    (four behaviours, two reactors each), and the same with 24,000-sample behaviours. Budget:
-   the per-step budget times 8.
+   p99 <= 2 ms for the 8 reactors (DESIGN.md).
+
+The budgets are for one core: BLAS is limited to one thread before numpy is imported (a
+threaded matrix product on this 2-core machine, shared with other work, stalled for tens of
+milliseconds waiting for its second thread).
+Every timed figure is given twice: wall clock, and ``cpu_``: the calling thread's CPU time,
+which leaves out the time it waited for a core while other processes ran.
+
 3. Training time for 80 s and 10 min of demonstration (designers train in seconds), and the
    cost of starting a reactor (the one exact computation of all window distances).
 
@@ -19,9 +26,13 @@ follow-behind, keep-away and circling designers.
 from __future__ import annotations
 
 import importlib.util
+import os
 import sys
 import time
 from pathlib import Path
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")     # one core, as the budgets are stated
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -96,24 +107,33 @@ def main() -> None:
     eight_large = [Feed(group_large[i % 4], 300 + i, seconds) for i in range(8)]
     feeds["tick_8x3200"] = lambda: [f() for f in eight_small]
     feeds["tick_8x24000"] = lambda: [f() for f in eight_large]
-    times = interleaved(feeds, ROUNDS)
+    cpu: dict[str, list[float]] = {}
+    times = interleaved(feeds, ROUNDS, cpu=cpu)
 
     figures: dict[str, float] = {}
-    for name, samples in times.items():
-        s = stats_ms(samples)
-        figures[f"{name}_median_us"] = s["median_ms"] * 1e3
-        figures[f"{name}_p99_us"] = s["p99_ms"] * 1e3
-        figures[f"{name}_mean_us"] = s["mean_ms"] * 1e3
+    for prefix, measured in (("", times), ("cpu_", cpu)):
+        for name, samples in measured.items():
+            s = stats_ms(samples)
+            figures[f"{prefix}{name}_median_us"] = s["median_ms"] * 1e3
+            figures[f"{prefix}{name}_p99_us"] = s["p99_ms"] * 1e3
+            figures[f"{prefix}{name}_mean_us"] = s["mean_ms"] * 1e3
+        for name in ("step_3200", "step_24000", "tick_8x3200", "tick_8x24000"):
+            figures[f"{prefix}{name}_p99_over_median"] = (
+                figures[f"{prefix}{name}_p99_us"] / figures[f"{prefix}{name}_median_us"])
     figures["steps_timed_per_config"] = ROUNDS
+    figures["load_average_1min"] = os.getloadavg()[0]
     figures["train_80s_demo_ms"] = min(train_times["80s"]) * 1e3
     figures["train_600s_demo_ms"] = min(train_times["600s"]) * 1e3
     figures["reactor_start_3200_ms"] = start["3200"] * 1e3
     figures["reactor_start_24000_ms"] = start["24000"] * 1e3
     figures["coherence_share_8x3200"] = float(np.mean(
         [f.reactor.coherence_share for f in eight_small]))
-    budgets = {"step_3200_median_us": 1000.0, "step_24000_median_us": 5000.0,
-               "tick_8x3200_median_us": 8000.0, "tick_8x24000_median_us": 40000.0,
-               "paper_step_us": 25000.0}
+    budgets = {"step_24000_median_us": 300.0, "step_24000_p99_us": 600.0,
+               "step_24000_p99_over_median": 2.0, "tick_8x3200_p99_us": 2000.0,
+               "paper_step_us": 25000.0,
+               "note": "wall-clock figures (no prefix) include waiting for the CPU on a shared "
+                       "machine (see load_average_1min); cpu_ figures are the thread's own CPU "
+                       "time per call"}
     emit("puppet_master", figures, budgets)
 
 
