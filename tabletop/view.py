@@ -238,7 +238,7 @@ class Renderer:
         return Pose(center, angle, self.map.scale_at(c.x, c.y), alpha=pr.alpha(t),
                     scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
                     stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
-                    gaze=gaze, color=color)
+                    gaze=gaze, color=color, phase=pr.phase)
 
     def _draw_presence(self, target: pygame.Surface, pr: Presence,
                        frame: Frame | None) -> pygame.Rect | None:
@@ -260,7 +260,8 @@ class Renderer:
         p = trace.puck
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
         color = pucks.state_color(state)
-        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S)
+        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
+                             pucks.halo_radius(r))
         img = self._label(p.id) if label else None
         return a, pucks.draw_halo(target, self.map.point(p.x, p.y), r,
                                   self.map.angle_at(p.x, p.y, p.angle), state, alpha, t, img)
