@@ -234,7 +234,7 @@ class Renderer:
         else:
             gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
         motion = self.map.angle_at(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
-        color = vivid(c.color) if c.valid else resting(vivid(c.color))
+        color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
         return Pose(center, angle, self.map.scale_at(c.x, c.y), alpha=pr.alpha(t),
                     scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
                     stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
