@@ -201,10 +201,11 @@ class Renderer:
         t = frame.t
         if self._last_play_t is None:
             self._last_play_t = self._last_present_t = t
-        present = bool(frame.pucks or frame.touches)
+        present = bool(frame.pucks or frame.touches or frame.streams)
         if present:
             self._last_present_t = t
-        moving = frame.touches or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks)
+        moving = (frame.touches or frame.streams
+                  or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks))
         if moving or any(p.id not in self.traces.traces for p in frame.pucks):
             self._last_play_t = t
         nobody = (t - self._last_present_t >= IDLE_EMPTY_S or t - self._last_play_t >= IDLE_STILL_S)
