@@ -34,8 +34,8 @@ from tabletop.view import Renderer, overlay_lines  # noqa: E402
 
 SIZES = ((1280, 720), (1920, 1080))
 CANDIDATES = ("flip", "dirty", "half_scaled", "sdl2_texture")
-FRAMES_PER_RUN = 120
-ROUNDS = 3
+FRAMES_PER_RUN = 60
+ROUNDS = 2
 
 
 def open_display(driver: str, display: str | None) -> None:
@@ -121,11 +121,11 @@ def main() -> None:
                             skipped[key] = f"could not open: {exc}"
                             continue
                         start = (rnd * 37) % FRAMES_PER_RUN
-                        for f in frames[start:start + 20]:      # warm caches, settle the window
+                        for f in frames[start:start + 10]:      # warm caches, settle the window
                             run.frame(f)
                         d = samples.setdefault(key, {"draw": [], "present": [], "total": [],
                                                      "cpu": []})
-                        for f in frames[start + 20:start + 20 + FRAMES_PER_RUN]:
+                        for f in frames[start + 10:start + 10 + FRAMES_PER_RUN]:
                             a, b, c = run.frame(f)
                             d["draw"].append(a)
                             d["present"].append(b)

@@ -202,10 +202,11 @@ class Renderer:
         t = frame.t
         if self._last_play_t is None:
             self._last_play_t = self._last_present_t = t
-        present = bool(frame.pucks or frame.touches)
+        present = bool(frame.pucks or frame.touches or frame.streams)
         if present:
             self._last_present_t = t
-        moving = frame.touches or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks)
+        moving = (frame.touches or frame.streams
+                  or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks))
         if moving or any(p.id not in self.traces.traces for p in frame.pucks):
             self._last_play_t = t
         nobody = (t - self._last_present_t >= IDLE_EMPTY_S or t - self._last_play_t >= IDLE_STILL_S)
@@ -235,11 +236,11 @@ class Renderer:
         else:
             gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
         motion = self.map.angle_at(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
-        color = vivid(c.color) if c.valid else resting(vivid(c.color))
+        color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
         return Pose(center, angle, self.map.scale_at(c.x, c.y), alpha=pr.alpha(t),
                     scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
                     stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
-                    gaze=gaze, color=color)
+                    gaze=gaze, color=color, phase=pr.phase)
 
     def _draw_presence(self, target: pygame.Surface, pr: Presence,
                        frame: Frame | None) -> pygame.Rect | None:
@@ -261,7 +262,8 @@ class Renderer:
         p = trace.puck
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
         color = pucks.state_color(state)
-        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S)
+        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
+                             pucks.halo_radius(r))
         img = self._label(p.id) if label else None
         return a, pucks.draw_halo(target, self.map.point(p.x, p.y), r,
                                   self.map.angle_at(p.x, p.y, p.angle), state, alpha, t, img)

@@ -32,7 +32,8 @@ class Pose:
     ``center`` (px), ``angle`` (screen radians of its heading, y down), ``ppm`` (pixels per
     metre there), ``alpha`` (0..1), ``scale`` (size factor), ``breath`` (size factor),
     ``stretch`` (length factor along ``motion`` screen radians), ``blink`` (eye opening 0..1),
-    ``gaze`` (screen radians the eyes look along), ``color`` (body colour before fading).
+    ``gaze`` (screen radians the eyes look along), ``color`` (body colour before fading),
+    ``phase`` (radians of its stepping cycle).
     """
 
     center: tuple[float, float]
@@ -46,6 +47,7 @@ class Pose:
     blink: float = 1.0
     gaze: float = 0.0
     color: Color = (240, 170, 60)
+    phase: float = 0.0
 
     def body(self, k: float = 1.0) -> Color:
         return fade(shade(self.color, k), self.alpha)
@@ -97,6 +99,11 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     rot = _rot(pose.angle)
     ctr = np.asarray(pose.center)
     touched = P.glow(surf, ctr, 0.8 * L, pose.color, 0.36 * pose.alpha)
+    # Little feet peeking out at the sides, stepping while it moves.
+    step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
+    feet = np.array([(-0.05 + step, 0.3), (-0.05 - step, -0.3)]) * L
+    for f in feet @ rot.T + ctr:
+        P.disc(surf, pose.body(0.62), f, 0.085 * L)
     P.polygon(surf, pose.body(0.72), local @ rot.T * 1.06 + ctr + (0, 0.04 * L))
     P.polygon(surf, pose.body(), local @ rot.T + ctr)
     belly = (REACTOR_BODY * 0.55 + (0.05, -0.05)) * L

@@ -19,6 +19,7 @@ SPEED_TAU_S = 0.12      # smoothing of the speed that drives squash and stretch
 TRAIL_S = 0.7           # a puck's trail covers this much of its recent path
 TRAIL_STEP_M = 0.012    # ... sampled every 1.2 cm of travel
 LOST_S = 1.2            # a puck that left is shown as "lost" for this long
+STRIDE_M = 0.05         # a reactor's feet step once per this much travel
 
 
 def ease_out_back(u: float) -> float:
@@ -73,6 +74,7 @@ class Presence:
     vy: float = 0.0
     gone: float | None = None
     seed: float = 0.0
+    phase: float = 0.0          # stepping cycle, radians: advances with the distance travelled
 
     def alpha(self, t: float) -> float:
         """Opacity 0..1 now: fading in after ``born``, fading out after ``gone``."""
@@ -122,6 +124,7 @@ class Lives:
                 p.vx += k * (vx - p.vx)
                 p.vy += k * (vy - p.vy)
                 p.speed = math.hypot(p.vx, p.vy)
+                p.phase = (p.phase + p.speed * dt * math.tau / STRIDE_M) % math.tau
             p.state, p.t = c, t
             out.append(p)
         for name, p in list(self.presences.items()):

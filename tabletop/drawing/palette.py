@@ -7,6 +7,7 @@ colours are kept bright and moderately saturated; states of pucks use hues that 
 from __future__ import annotations
 
 import colorsys
+import functools
 
 Color = tuple[int, int, int]
 
@@ -30,6 +31,7 @@ CHARACTER_HUES: tuple[Color, ...] = ((255, 122, 160), (255, 190, 92), (120, 220,
                                      (255, 150, 90), (236, 236, 210))
 
 
+@functools.lru_cache(maxsize=256)
 def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,
           max_sat: float = 0.8) -> Color:
     """``color`` lifted to read when projected on a dark table: value at least ``min_value``,
@@ -42,6 +44,7 @@ def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,
     return tuple(int(round(255 * c)) for c in colorsys.hsv_to_rgb(h, s, v))  # type: ignore
 
 
+@functools.lru_cache(maxsize=256)
 def resting(color: Color) -> Color:
     """A character with nothing to show: calmer (less saturated, 75 % light), never faded out."""
     r, g, b = (v / 255.0 for v in color)
@@ -65,5 +68,11 @@ def lighten(color: Color, w: float) -> Color:
 
 
 def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
-    """The colour seen when ``color`` is shown at opacity ``alpha`` over ``ground``."""
-    return mix(ground, color, max(0.0, min(1.0, alpha)))
+    """The colour seen when ``color`` is shown at opacity ``alpha`` over ``ground`` (alpha in
+    1/128 steps: the same few colours recur frame after frame and are remembered)."""
+    return _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)), tuple(ground))
+
+
+@functools.lru_cache(maxsize=4096)
+def _fade(color: Color, alpha128: int, ground: Color) -> Color:
+    return mix(ground, color, alpha128 / 128.0)

@@ -26,22 +26,30 @@ def state_color(state: str) -> Color:
 
 
 def draw_trail(surf: pygame.Surface, trace: PuckTrace, to_px: Mapper, color: Color,
-               t: float, alpha: float, span_s: float) -> pygame.Rect | None:
-    """The puck's recent path as a line that fades with age (three steps, newest brightest);
-    ``to_px`` maps one table point (x, y) to pixels. Returns the rectangle it touched."""
+               t: float, alpha: float, span_s: float, hole_px: float = 0.0) -> pygame.Rect | None:
+    """The puck's recent path as a line that fades with age (three steps, newest brightest),
+    ending at the halo (``hole_px`` around the puck stays dark); ``to_px`` maps one table point
+    (x, y) to pixels. Returns the rectangle it touched."""
     path = trace.path
     if len(path) < 2:
         return None
+    cx, cy = to_px(trace.puck.x, trace.puck.y)
     parts: tuple[list, list, list] = ([], [], [])
+    last = None
     for x, y, tp in path:
-        k = min(2, max(0, int(3.0 * (1.0 - (t - tp) / span_s))))
         q = to_px(x, y)
+        if math.hypot(q[0] - cx, q[1] - cy) <= hole_px:
+            continue
+        k = min(2, max(0, int(3.0 * (1.0 - (t - tp) / span_s))))
         if parts[k] == [] and k > 0 and parts[k - 1]:
             parts[k].append(parts[k - 1][-1])      # the steps join up
         parts[k].append(q)
-    parts[2].append(to_px(trace.puck.x, trace.puck.y))
-    if len(parts[2]) == 1 and parts[1]:
-        parts[2].insert(0, parts[1][-1])
+        last = (k, q)
+    if last is None:
+        return None
+    k, q = last
+    d = math.hypot(q[0] - cx, q[1] - cy)
+    parts[k].append((cx + (q[0] - cx) * hole_px / d, cy + (q[1] - cy) * hole_px / d))
     xs, ys = [], []
     for k, q in enumerate(parts):
         if len(q) < 2:

@@ -78,10 +78,8 @@ def one_moment(surf: pygame.Surface, t: float, alpha: float, detail: str = "") -
     if alpha <= 0.0:
         return
     w, h = surf.get_size()
-    veil = pygame.Surface((w, h))
     k = int(round(255 * (1.0 - 0.75 * alpha)))
-    veil.fill((k, k, k))
-    surf.blit(veil, (0, 0), special_flags=pygame.BLEND_MULT)
+    surf.fill((k, k, k), special_flags=pygame.BLEND_MULT)      # dim the table
     cx, cy = w / 2, h / 2 - 0.04 * h
     R = 0.06 * min(w, h)
     col = (150, 200, 255)

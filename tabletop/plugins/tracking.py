@@ -59,12 +59,13 @@ SCHEMA = Record({
                                       "or two)"),
     "refine_window_px": Number(5, integer=True, lo=2, hi=20,
                                doc="sub-pixel corner refinement half window, pixels"),
-    "aruco3": Bool(False, doc="use OpenCV's ArUco3 mode for the full-frame pass"),
+    "aruco3": Bool(True, doc="use OpenCV's ArUco3 mode for the full-frame pass (corners are "
+                             "refined on the full image afterwards)"),
     "aruco3_min_length_ratio": Number(0.005, lo=0.0, hi=0.5,
                                       doc="ArUco3: smallest marker side / image's larger side"),
     "aruco3_min_side_px": Number(16, integer=True, lo=8, hi=128,
                                  doc="ArUco3: marker side in the downscaled search image"),
-    "full_frame_period": Number(3, integer=True, lo=1, hi=30,
+    "full_frame_period": Number(4, integer=True, lo=1, hi=30,
                                 doc="a full-frame search every N frames: a puck entering or "
                                     "reappearing anywhere is found within N frames"),
     "roi_margin_sides": Number(0.25, lo=0.0, hi=10.0,

@@ -113,6 +113,9 @@ def test_a_puck_that_leaves_shows_lost_then_fades_and_its_trail_follows_its_path
     on, off = r.map.point(0.52, 0.4), r.map.point(0.52, 0.45)
     assert brightness(img, on) > ground(r, on) + 30
     assert brightness(img, off) < ground(r, off) + 10                    # off the path: dark
+    for dx in (0.0, -0.01, -0.02):                                       # the trail stops at
+        c = r.map.point(0.59 + dx, 0.4)                                  # the halo: the moving
+        assert brightness(img, c) < ground(r, c) + 40                    # puck stays unlit
     r.draw(s, Frame(seq=30, t=1.05))                                       # the puck is gone
     img = rgb(s)
     cx, cy = r.map.point(0.59, 0.4)
