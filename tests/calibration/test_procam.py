@@ -65,23 +65,31 @@ def test_collinear_or_too_few_points_are_refused():
         fit_table(line[:3] * 500, line[:3])
 
 
-def test_view_draws_pucks_through_table_to_projector(rig):
+def _drawn_centre(renderer, size, frame) -> np.ndarray:
+    """Centroid (px) of what drawing ``frame`` adds to an empty table."""
     import pygame
+    from tabletop.frames import Frame
+    empty, surf = pygame.Surface(size), pygame.Surface(size)
+    renderer.draw(empty, Frame(seq=0, t=frame.t))
+    renderer.draw(surf, frame)
+    diff = np.abs(pygame.surfarray.array3d(surf).astype(int)
+                  - pygame.surfarray.array3d(empty).astype(int)).sum(axis=2)
+    xs, ys = np.nonzero(diff > 60)
+    assert xs.size > 20, "nothing drawn for the puck"
+    return np.array([xs.mean(), ys.mean()])
+
+
+def test_view_draws_pucks_through_table_to_projector(rig):
     from tabletop.frames import Frame, Puck
     from tabletop.view import Renderer
     size = rig.size
     H = rig.projector.H
-    r = Renderer((1.2, 0.8), size, homography=H, puck_radius=0.02)
-    surf = pygame.Surface(size)
     frame = Frame(seq=0, t=0.0, pucks=(Puck(1, 0.1, 0.7, 0.0),))
-    r.draw(surf, frame)
     px = apply_homography(H, [[0.1, 0.7]])[0]
-    at = surf.get_at((int(round(px[0])), int(round(px[1]))))[:3]
-    assert tuple(at) != (12, 12, 16) and sum(at) > 200  # the puck is drawn there
-    plain = Renderer((1.2, 0.8), size, puck_radius=0.02)
-    surf.fill((0, 0, 0))
-    plain.draw(surf, frame)
-    assert tuple(surf.get_at((int(round(px[0])), int(round(px[1]))))[:3]) != tuple(at)
+    centre = _drawn_centre(Renderer((1.2, 0.8), size, homography=H, puck_radius=0.02), size, frame)
+    assert np.hypot(*(centre - px)) < 4.0   # the halo is centred where the projector lands
+    plain = _drawn_centre(Renderer((1.2, 0.8), size, puck_radius=0.02), size, frame)
+    assert np.hypot(*(plain - px)) > 10.0   # without the calibration it would land elsewhere
 
 
 def test_live_projector_loop_settles_on_a_stable_fit(rig, fitted):
