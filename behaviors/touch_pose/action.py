@@ -72,6 +72,17 @@ class ActionModel:
     def segment(self, u: float) -> Segment:
         return segment_at(self.spec, u)
 
+    def projected(self, view: np.ndarray) -> tuple[np.ndarray, float]:
+        """The stroke on the screen of ``view`` (2, 3) and its length (m); cached per view."""
+        key = view.tobytes()
+        cache = self.__dict__.setdefault("_projected", {})
+        if key not in cache:
+            if len(cache) > 16:
+                cache.clear()
+            stroke = self.stroke @ view.T
+            cache[key] = (stroke, float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum()))
+        return cache[key]
+
 
 def build_action(body: Humanoid, spec: ActionSpec) -> ActionModel:
     """The learned model and average stroke of one action (one clip per action here)."""
@@ -156,8 +167,7 @@ def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
     for a in actions:
         if a.spec.part != part or a.name in excluded:
             continue
-        stroke = a.stroke @ view.T
-        act_len = float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum())
+        stroke, act_len = a.projected(view)
         pace = act_len / a.stroke_t[-1]
         first = int(np.searchsorted(times, times[-1] - WINDOW * a.stroke_t[-1]))
         rested = np.flatnonzero(step_speed[first:] < STILL_FRACTION * pace)
