@@ -19,9 +19,10 @@ taken as a physical effect.
 
 Engine choice, measured by ``bench/touch_pose_physics.py`` (both engines following the tracked
 punch, kick and spin kick, interleaved, same gains and substeps; MuJoCo 3.3.0 with the same body
-built as MJCF): MuJoCo took 0.47 ms CPU median / 1.1 ms p99 per frame against pybullet 3.2.7's
-0.58 / 1.25 ms, but its joints turned up to 176 degrees in a frame beyond the tracked pose (p99;
-ball joints and hinges spinning), against 25 for pybullet, and in the engine its secondary
+built as MJCF; two runs on a shared, loaded machine): MuJoCo took 0.47-0.86 ms CPU median /
+1.1-1.3 ms p99 per frame against pybullet 3.2.7's 0.58-1.05 / 1.25-1.7 ms, but its joints turned
+up to 176 degrees in a frame beyond the tracked pose (p99; ball joints and hinges spinning),
+against 25 for pybullet, and in the engine its secondary
 motion jerked hips and ankles by 60-90 degrees a frame. pybullet, stable and already a
 dependency for the clips, is kept; MuJoCo is not a dependency.
 """
