@@ -149,6 +149,8 @@ class TouchPose:
         output record (see :meth:`frame`) unless ``record`` is False."""
         dt = 1.0 / 30.0 if self.last_t is None else min(max(t - self.last_t, 1e-4), 0.2)
         self.last_t = t
+        # a source's broken touch (not a finite position) is no finger
+        touches = {i: xy for i, xy in touches.items() if math.isfinite(xy[0]) and math.isfinite(xy[1])}
         self._fingers(t, touches)
         if self.mode == "posing":
             self._posing(t)

@@ -151,7 +151,8 @@ class Physics:
                                       physicsClientId=c)
             p = np.array([s[0] for s in states])
             v = np.array([s[6] for s in states])
-            if np.max(np.linalg.norm(p - goal, axis=1)) > RESET_DISTANCE:
+            err = np.linalg.norm(p - goal, axis=1)
+            if not np.all(np.isfinite(err)) or np.max(err) > RESET_DISTANCE:
                 self.set_pose(target)
                 self.resets += 1
                 continue
