@@ -118,9 +118,13 @@ class TouchPose:
 
     def excluded(self) -> set[str]:
         """Actions whose trajectory points within 45 degrees of the viewing line from here."""
-        rot = _yaw_matrix(self.yaw)
-        return {a.name for a in self.m.actions
-                if self.camera.angle_to_eye(rot @ a.vector) < EXCLUDE_DEG}
+        key = (self.camera.azimuth, self.camera.elevation, self.yaw)
+        if getattr(self, "_excluded_key", None) != key:
+            rot = _yaw_matrix(self.yaw)
+            self._excluded = {a.name for a in self.m.actions
+                              if self.camera.angle_to_eye(rot @ a.vector) < EXCLUDE_DEG}
+            self._excluded_key = key
+        return self._excluded
 
     def describe(self) -> dict:
         """The standing pose's parts and every action's projected stroke from where its part

@@ -30,13 +30,14 @@ dependency for the clips, is kept; MuJoCo is not a dependency.
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import sys
 from typing import Iterator
 
 import numpy as np
 
-from behaviors.motion.clips import quat_from_axis_angle, quat_normalize
+from behaviors.motion.clips import quat_normalize
 from behaviors.motion.deepmimic import humanoid_urdf
 from behaviors.touch_pose.humanoid import SCALE, Humanoid, Pose, qrot
 
@@ -173,7 +174,9 @@ class Physics:
         for i, s in enumerate(states, start=1):
             v = s[0]
             if self.body.hinge[i]:
-                rots[i] = quat_from_axis_angle(self.body.axis[i], float(v[0]))
+                half = 0.5 * float(v[0])
+                rots[i, 0] = math.cos(half)
+                rots[i, 1:] = math.sin(half) * self.body.axis[i]
             else:
                 rots[i] = [v[3], v[0], v[1], v[2]]
         return Pose(np.array(pos), quat_normalize(rots))
