@@ -130,6 +130,11 @@ def main() -> None:
                 figures[f"action_control_{clock}_p99_ms"])
             + figures[f"tracking_physics_{clock}_p99_ms"], 4)
     figures["load_average_1min"] = round(__import__("os").getloadavg()[0], 2)
+    # the machine's speed while measuring: a 3x3 matrix-vector product (about 1 us when idle)
+    import timeit
+    figures["reference_matvec_us"] = round(min(timeit.repeat(
+        "a @ v", setup="import numpy as np; a = np.eye(3); v = np.ones(3)",
+        number=20000, repeat=5)) / 20000 * 1e6, 3)
     for d in (one, three, act, track, whole, whole_act):
         d.e.close()
     budgets = {f"{k}_{c}_p99_ms": 5.0 for k in ("frame_posing_1_touch", "frame_action",

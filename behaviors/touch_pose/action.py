@@ -3,7 +3,8 @@
 Executing condition. Each action's average primary-part trajectory (its stroke: generalised time
 0 .. ``stroke_end``) is kept in 3-D relative to the character; per view it is projected onto the
 screen from where the part stands now. A dragged trajectory (screen points and times since the
-finger went down) is compared with it by dynamic programming (equation 1):
+finger last rested, over at most twice the stroke's duration) is compared with it by dynamic
+programming (equation 1):
 
     D = sum over matched pairs |p_in - p_act| + h |t_in - t_act|,  averaged over the pairs.
 
@@ -12,10 +13,13 @@ run up to twice as fast as the recording without leaving samples unmatched, and 
 only on the previous one: the whole table is a few vectorised numpy rows). The action end is
 open: every action prefix covering more than half the stroke (``MIN_COVERAGE``) is tried and the
 best kept. The threshold loosens with the drag's speed (:func:`threshold`); an input shorter than
-``MIN_LENGTH`` of the stroke or ``MIN_SECONDS`` is not judged. An action whose representative
-vector (stroke end minus start) is within 45 degrees of the viewing line is excluded.
+``MIN_LENGTH`` (half) of the projected stroke's length or ``MIN_SECONDS`` is not judged, so
+"covers more than half the action trajectory" holds in space as well as along the DP path; nor
+is one slower than ``MIN_RELATIVE_SPEED`` of the stroke's pace (it could not pass). An action
+whose representative vector (stroke end minus start) is within 45 degrees of the viewing line
+is excluded.
 
-Parameters (measured over the five actions' strokes dragged at 1, 1.5, 2, 3 and 4 times their
+Parameters (measured over the actions' strokes (punch, kick, jump, spin kick, wave) dragged at 1, 1.5, 2, 3 and 4 times their
 recorded duration, from three views; character metres): ``H`` = 0.5 m per second of time
 difference. The threshold loosens with the drag's speed relative to the stroke's own projected
 speed r (absolute speeds differ too much between actions: a kick's foot moves ~6 m/s, a wave's
@@ -71,6 +75,17 @@ class ActionModel:
 
     def segment(self, u: float) -> Segment:
         return segment_at(self.spec, u)
+
+    def projected(self, view: np.ndarray) -> tuple[np.ndarray, float]:
+        """The stroke on the screen of ``view`` (2, 3) and its length (m); cached per view."""
+        key = view.tobytes()
+        cache = self.__dict__.setdefault("_projected", {})
+        if key not in cache:
+            if len(cache) > 16:
+                cache.clear()
+            stroke = self.stroke @ view.T
+            cache[key] = (stroke, float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum()))
+        return cache[key]
 
 
 def build_action(body: Humanoid, spec: ActionSpec) -> ActionModel:
@@ -156,8 +171,7 @@ def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
     for a in actions:
         if a.spec.part != part or a.name in excluded:
             continue
-        stroke = a.stroke @ view.T
-        act_len = float(np.linalg.norm(np.diff(stroke, axis=0), axis=1).sum())
+        stroke, act_len = a.projected(view)
         pace = act_len / a.stroke_t[-1]
         first = int(np.searchsorted(times, times[-1] - WINDOW * a.stroke_t[-1]))
         rested = np.flatnonzero(step_speed[first:] < STILL_FRACTION * pace)

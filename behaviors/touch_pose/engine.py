@@ -37,6 +37,8 @@ from behaviors.touch_pose.tracking import PhysicalEffect, Tracker, apply_effect,
 GROUND = 0.08
 #: Camera turn per metre of two-finger drag on empty table (degrees).
 TURN_DEG_PER_M = 300.0
+#: Seconds of each finger's path kept for recognising actions (a longer drag never matches).
+PATH_S = 2.5
 #: Farthest the posing base may roam from where the character started (character metres).
 ROAM = 1.0
 
@@ -116,9 +118,13 @@ class TouchPose:
 
     def excluded(self) -> set[str]:
         """Actions whose trajectory points within 45 degrees of the viewing line from here."""
-        rot = _yaw_matrix(self.yaw)
-        return {a.name for a in self.m.actions
-                if self.camera.angle_to_eye(rot @ a.vector) < EXCLUDE_DEG}
+        key = (self.camera.azimuth, self.camera.elevation, self.yaw)
+        if getattr(self, "_excluded_key", None) != key:
+            rot = _yaw_matrix(self.yaw)
+            self._excluded = {a.name for a in self.m.actions
+                              if self.camera.angle_to_eye(rot @ a.vector) < EXCLUDE_DEG}
+            self._excluded_key = key
+        return self._excluded
 
     def describe(self) -> dict:
         """The standing pose's parts and every action's projected stroke from where its part
@@ -147,6 +153,8 @@ class TouchPose:
         output record (see :meth:`frame`) unless ``record`` is False."""
         dt = 1.0 / 30.0 if self.last_t is None else min(max(t - self.last_t, 1e-4), 0.2)
         self.last_t = t
+        # a source's broken touch (not a finite position) is no finger
+        touches = {i: xy for i, xy in touches.items() if math.isfinite(xy[0]) and math.isfinite(xy[1])}
         self._fingers(t, touches)
         if self.mode == "posing":
             self._posing(t)
@@ -217,6 +225,9 @@ class TouchPose:
             f.table = xy
             f.times.append(t)
             f.path.append(self.camera.to_screen(xy))
+            if f.times[0] < t - PATH_S and len(f.times) > 8:  # keep the recent drag only
+                k = next(j for j, tt in enumerate(f.times) if tt >= t - PATH_S)
+                del f.times[:k], f.path[:k]
         free_now = {i: f.table for i, f in self.fingers.items() if f.part is None}
         both = [i for i in free_now if i in free_before]
         if len(free_now) >= 2 and len(both) >= 2 and not taken:
@@ -269,9 +280,7 @@ class TouchPose:
         for f in self.fingers.values():
             if f.part is None or len(f.times) < 3:
                 continue
-            times = np.array(f.times)
-            keep = times >= times[-1] - 2.5
-            match = recognise(self.m.actions, f.part, np.array(f.path)[keep], times[keep],
+            match = recognise(self.m.actions, f.part, np.array(f.path), np.array(f.times),
                               view, excluded)
             if match is not None:
                 return match

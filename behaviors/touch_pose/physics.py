@@ -19,9 +19,10 @@ taken as a physical effect.
 
 Engine choice, measured by ``bench/touch_pose_physics.py`` (both engines following the tracked
 punch, kick and spin kick, interleaved, same gains and substeps; MuJoCo 3.3.0 with the same body
-built as MJCF): MuJoCo took 0.47 ms CPU median / 1.1 ms p99 per frame against pybullet 3.2.7's
-0.58 / 1.25 ms, but its joints turned up to 176 degrees in a frame beyond the tracked pose (p99;
-ball joints and hinges spinning), against 25 for pybullet, and in the engine its secondary
+built as MJCF; two runs on a shared, loaded machine): MuJoCo took 0.47-0.86 ms CPU median /
+1.1-1.3 ms p99 per frame against pybullet 3.2.7's 0.58-1.05 / 1.25-1.7 ms, but its joints turned
+up to 176 degrees in a frame beyond the tracked pose (p99; ball joints and hinges spinning),
+against 25 for pybullet, and in the engine its secondary
 motion jerked hips and ankles by 60-90 degrees a frame. pybullet, stable and already a
 dependency for the clips, is kept; MuJoCo is not a dependency.
 """
@@ -29,13 +30,14 @@ dependency for the clips, is kept; MuJoCo is not a dependency.
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import sys
 from typing import Iterator
 
 import numpy as np
 
-from behaviors.motion.clips import quat_from_axis_angle, quat_normalize
+from behaviors.motion.clips import quat_normalize
 from behaviors.motion.deepmimic import humanoid_urdf
 from behaviors.touch_pose.humanoid import SCALE, Humanoid, Pose, qrot
 
@@ -150,7 +152,8 @@ class Physics:
                                       physicsClientId=c)
             p = np.array([s[0] for s in states])
             v = np.array([s[6] for s in states])
-            if np.max(np.linalg.norm(p - goal, axis=1)) > RESET_DISTANCE:
+            err = np.linalg.norm(p - goal, axis=1)
+            if not np.all(np.isfinite(err)) or np.max(err) > RESET_DISTANCE:
                 self.set_pose(target)
                 self.resets += 1
                 continue
@@ -171,7 +174,9 @@ class Physics:
         for i, s in enumerate(states, start=1):
             v = s[0]
             if self.body.hinge[i]:
-                rots[i] = quat_from_axis_angle(self.body.axis[i], float(v[0]))
+                half = 0.5 * float(v[0])
+                rots[i, 0] = math.cos(half)
+                rots[i, 1:] = math.sin(half) * self.body.axis[i]
             else:
                 rots[i] = [v[3], v[0], v[1], v[2]]
         return Pose(np.array(pos), quat_normalize(rots))

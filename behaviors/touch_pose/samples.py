@@ -1,7 +1,7 @@
 """Sample motions of touch-pose control (paper 003, sections 4-5): actions and posing postures.
 
 Actions come from the DeepMimic humanoid clips of the ``pybullet`` wheel (punch, kick, jump, spin
-kick) plus a wave made here by hand (no DeepMimic clip waves). Each action names its primary body
+kick) plus a wave and a bow made here by hand (no DeepMimic clip waves or bows). Each action names its primary body
 part, the generalised time where its characteristic stroke ends (the part of the primary-part
 trajectory that a drag is matched against), and its time segments (section 5, figure 5): from a
 generalised time on, whether stillness is allowed while the finger rests, and the automatic
@@ -60,6 +60,8 @@ ACTIONS: tuple[ActionSpec, ...] = (
                (Segment(0.0, True, -1), Segment(0.2, False, 1), Segment(0.9, True, 1))),
     ActionSpec("wave", "wave", "right_hand", 0.3,
                (Segment(0.0, True, -1), Segment(0.25, True, 1))),
+    ActionSpec("bow", "bow", "head", 0.4,
+               (Segment(0.0, True, -1), Segment(0.4, True, 1))),
 )
 
 #: Generalised time up to which each action's frames join the posing samples.
@@ -96,11 +98,33 @@ def wave_clip(base: Clip, seconds: float = 2.4, waves: int = 3) -> Clip:
     return Clip("wave", base.channels, t, values)
 
 
+def bow_clip(base: Clip, seconds: float = 2.4) -> Clip:
+    """A hand-made bow: the chest and neck bend forward (about 55 and 25 degrees), the bow is
+    held a moment, the body straightens; the arms hang with the chest. Every other channel holds
+    ``base``'s first frame."""
+    n = int(round(seconds * 30)) + 1
+    t = np.linspace(0.0, seconds, n)
+    u = t / seconds
+    values = np.repeat(base.values[:1], n, axis=0)
+    down = np.clip(np.minimum(u / 0.4, (1.0 - u) / 0.35), 0.0, 1.0)
+    down = 0.5 - 0.5 * np.cos(math.pi * down)
+    forward = (0.0, 0.0, 1.0)  # about the character's right: negative angles lean forward
+    chest0, neck0 = base.values[0, base.slices["chest"]], base.values[0, base.slices["neck"]]
+    for k in range(n):
+        values[k, base.slices["chest"]] = quat_mul(quat_from_axis_angle(forward, -0.95 * down[k]),
+                                                   chest0)
+        values[k, base.slices["neck"]] = quat_mul(quat_from_axis_angle(forward, -0.45 * down[k]),
+                                                  neck0)
+    return Clip("bow", base.channels, t, values)
+
+
 @lru_cache(maxsize=None)
 def clip_named(name: str) -> Clip:
-    """A DeepMimic clip by short name, or the hand-made wave."""
+    """A DeepMimic clip by short name, or the hand-made wave or bow."""
     if name == "wave":
         return wave_clip(load_motion("jump"))
+    if name == "bow":
+        return bow_clip(load_motion("jump"))
     return load_motion(name)
 
 

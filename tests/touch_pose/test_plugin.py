@@ -81,3 +81,43 @@ def test_two_fingers_on_empty_table_turn_the_camera(engine):
     assert engine.core.fingers[1].part is None
     turned = (engine.core.camera.azimuth - az + 180) % 360 - 180
     assert turned == pytest.approx(-0.09 * 300.0, abs=1.0)
+
+
+def test_the_view_turns_the_mouse_into_fingers_and_arrows_into_camera_commands(tmp_path):
+    from tabletop.config import VIEW
+    from tabletop.loop import CommandQueue
+    from tabletop.schema import Context
+    from tabletop.view import ProjectorView
+    options = VIEW.validate({"size": [640, 400], "headless": True}, "view",
+                            Context(str(tmp_path / "c.yaml"), tmp_path))
+    commands = CommandQueue()
+    view = ProjectorView(TABLE, options, commands=commands, headless=True)
+    try:
+        x, y = view.renderer.map.point(0.3, 0.5)
+        pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN, pos=(int(x), int(y)), button=1))
+        view._events()
+        (f,) = POINTER.touches()
+        assert abs(f.x - 0.3) < 0.005 and abs(f.y - 0.5) < 0.005
+        x2, y2 = view.renderer.map.point(0.4, 0.45)
+        pygame.event.post(pygame.event.Event(pygame.MOUSEMOTION, pos=(int(x2), int(y2)),
+                                             rel=(0, 0), buttons=(1, 0, 0)))
+        view._events()
+        (f,) = POINTER.touches()
+        assert abs(f.x - 0.4) < 0.005 and abs(f.y - 0.45) < 0.005
+        pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP, pos=(int(x2), int(y2)), button=1))
+        pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_LEFT, mod=0))
+        view._events()
+        assert POINTER.touches() == ()
+        assert commands.drain() == ("camera.left",)
+    finally:
+        view.close()
+        POINTER.release()
+
+
+def test_a_broken_touch_is_ignored_and_the_engine_keeps_going(engine):
+    hand = engine.core.describe()["parts"]["right_hand"]
+    for k in range(5):
+        (c,) = engine.step(Frame(k, k / 30, touches=(Touch(1, float("nan"), 0.4),
+                                                     Touch(2, *hand))))
+    assert 1 not in engine.core.fingers and engine.core.fingers[2].part == "right_hand"
+    assert np.all(np.isfinite(c.points))

@@ -20,7 +20,7 @@ def test_describe_lists_the_actions_with_their_trajectories(tmp_path, capsys):
     assert d["height_m"] == pytest.approx(0.3)
     assert {"head", "pelvis", "left_hand", "right_hand", "left_foot", "right_foot"} <= set(d["parts"])
     names = {a["name"]: a for a in d["actions"]}
-    assert {"punch", "kick", "jump", "spinkick", "wave"} <= set(names)
+    assert {"punch", "kick", "jump", "spinkick", "wave", "bow"} <= set(names)
     for a in d["actions"]:
         traj = np.array(a["trajectory"])
         assert traj.shape[1] == 2 and len(traj) >= 10
