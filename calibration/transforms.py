@@ -26,8 +26,14 @@ class FitError(ValueError):
 def apply_homography(H: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Map points (N, 2) through the 3x3 homography ``H``; returns (N, 2) floats."""
     p = np.asarray(points, dtype=float).reshape(-1, 2)
-    hp = p @ np.asarray(H, float)[:, :2].T + np.asarray(H, float)[:, 2]
-    return hp[:, :2] / hp[:, 2:3]
+    H = np.asarray(H, float)
+    x, y = p[:, 0], p[:, 1]
+    # Component by component: a (N, 2) @ (2, 3) product takes a slow path for large N.
+    w = H[2, 0] * x + H[2, 1] * y + H[2, 2]
+    out = np.empty_like(p)
+    out[:, 0] = (H[0, 0] * x + H[0, 1] * y + H[0, 2]) / w
+    out[:, 1] = (H[1, 0] * x + H[1, 1] * y + H[1, 2]) / w
+    return out
 
 
 def normalised(H: np.ndarray) -> np.ndarray:

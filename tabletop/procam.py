@@ -128,6 +128,21 @@ class CheckResult:
     offsets_mm: np.ndarray
 
 
+def check_lines(result: CheckResult, tolerance_mm: float) -> tuple[list[str], bool]:
+    """The check as text (one line per puck, then ``PASS``/``FAIL`` with the worst figure), for
+    the command line or an overlay, and whether it passed."""
+    lines = []
+    for pid, p, off in zip(result.ids, result.pucks_m, result.offsets_mm):
+        figure = f"{off:.2f} mm" if np.isfinite(off) else "cross not seen"
+        lines.append(f"  puck {pid} at {p[0]:.3f}, {p[1]:.3f} m: {figure}")
+    worst = float(np.max(result.offsets_mm)) if len(result.offsets_mm) else float("inf")
+    passed = bool(np.isfinite(worst) and worst <= tolerance_mm)
+    figure = f"{worst:.2f} mm" if np.isfinite(worst) else "a cross not seen"
+    lines.append(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(result.ids)} pucks "
+                 f"(tolerance {tolerance_mm:g} mm)")
+    return lines, passed
+
+
 def run_check(procam: ProCam, calibration: Any, detector: Any) -> CheckResult:
     """Find the pucks (markers, with the projector dark), project a cross under each through
     ``table_to_projector`` and measure through the camera where each lands."""

@@ -340,16 +340,10 @@ def projector_main(args: argparse.Namespace) -> int:
 
 def check_main(args: argparse.Namespace) -> int:
     from calibration.fits import CHECK_MM
-    from tabletop.procam import check_from_config
+    from tabletop.procam import check_from_config, check_lines
     tol = (CHECK_MM if args.tolerance is None
            else positive_number(args.tolerance, "--tolerance", "millimetres", CalibrateError))
     result = check_from_config(args.config)
-    for pid, p, off in zip(result.ids, result.pucks_m, result.offsets_mm):
-        where = f"puck {pid} at {p[0]:.3f}, {p[1]:.3f} m"
-        print(f"  {where}: " + (f"{off:.2f} mm" if np.isfinite(off) else "cross not seen"))
-    worst = float(np.max(result.offsets_mm))
-    passed = bool(np.isfinite(worst) and worst <= tol)
-    figure = f"{worst:.2f} mm" if np.isfinite(worst) else "a cross not seen"
-    print(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(result.ids)} pucks "
-          f"(tolerance {tol:g} mm)")
+    lines, passed = check_lines(result, tol)
+    print("\n".join(lines))
     return 0 if passed else 1

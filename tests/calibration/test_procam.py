@@ -125,3 +125,12 @@ def test_capture_window_grabs_views_and_fills_the_coverage_map():
     colours = coverage_colours(counts)
     assert counts.max() >= 1 and (counts == 0).any() and len(win.views) == 2
     assert (colours[counts == 0] == (220, 40, 40)).all() and (colours[counts == 1] == (230, 170, 30)).all()
+
+
+def test_sprites_turn_with_the_projector_homography():
+    from tabletop.view import TableToScreen
+    plain = TableToScreen((1.2, 0.8), (1280, 720))
+    assert plain.angle_at(0.6, 0.4, 0.5) == pytest.approx(0.5)
+    mirrored = TableToScreen((1.2, 0.8), (1280, 720),
+                             homography=np.array([[1000.0, 0, 40], [0, 1000.0, 40], [0, 0, 1]]))
+    assert mirrored.angle_at(0.6, 0.4, 0.5) == pytest.approx(-0.5)  # table y down the screen
