@@ -147,6 +147,7 @@ def test_a_camera_without_a_frame_yet_is_down_but_not_inf_seconds_late():
         time.sleep(0.5)
         health = source.health()
     finally:
+        device.release()
         source.close()
     assert not health.ok and health.message == "no frame yet"
     line = overlay_lines(Frame(seq=0, t=0.0, health=(health,)), None)[-1]
