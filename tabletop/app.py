@@ -157,7 +157,7 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
         k: v for k, v in header.items() if k not in ("created", "part")}
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, view=view,
                         header=out_header)
-    loop = Loop(FrameInputs(frames, honour_times=not fast), engines, sinks,
+    loop = Loop(FrameInputs(frames, honour_times=not fast, stop=stop), engines, sinks,
                 rate_hz=cfg["loop"]["rate_hz"], stats=stats, commands=commands, stop=stop,
                 paced=False)
     return Installation(loop, ctx, engines, sinks)
