@@ -160,13 +160,14 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
     ctx = _context(cfg, (header or {}).get("calibration"))
     stats, commands, stop = LoopStats(), CommandQueue(), threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
-    cfg = dict(cfg, recorder=dict(cfg["recorder"], enabled=False))
+    # A replay records only to --out, in one file (the comparison of a whole session).
+    cfg = dict(cfg, recorder=dict(cfg["recorder"], enabled=False, max_mb=None, keep=None))
     engines = build_engines(cfg, ctx)
     out_header = None if header is None else {
         k: v for k, v in header.items() if k not in ("created", "part")}
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, view=view,
                         header=out_header)
-    loop = Loop(FrameInputs(frames, honour_times=not fast), engines, sinks,
+    loop = Loop(FrameInputs(frames, honour_times=not fast, stop=stop), engines, sinks,
                 rate_hz=cfg["loop"]["rate_hz"], stats=stats, commands=commands, stop=stop,
                 paced=False)
     return Installation(loop, ctx, engines, sinks)

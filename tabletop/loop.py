@@ -315,8 +315,10 @@ class FrameInputs:
     live = False
 
     def __init__(self, frames: Iterator[Frame], honour_times: bool = True,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic,
+                 stop: threading.Event | None = None) -> None:
         self.frames, self.honour_times, self.clock = frames, honour_times, clock
+        self.stop = stop or threading.Event()  # ends a wait for the next frame at once
         self._t0: float | None = None
         self._wall0 = 0.0
 
@@ -334,8 +336,8 @@ class FrameInputs:
             if self._t0 is None:
                 self._t0, self._wall0 = frame.t, self.clock()
             delay = (frame.t - self._t0) - (self.clock() - self._wall0)
-            if delay > 0:
-                time.sleep(delay)
+            if delay > 0 and self.stop.wait(delay):
+                return None
         return Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
                      streams=frame.streams, commands=frame.commands, health=frame.health,
                      focus=frame.focus)

@@ -103,6 +103,7 @@ class Snapshots:
         self.clock = clock
         self.number: int | None = None   # found when the first snapshot is written
         self.taken = 0
+        self.failing = False  # the last snapshot could not be written
         self._next = clock() + min(self.every_s, FIRST_AFTER_S)
         self._saver: threading.Thread | None = None
 
@@ -129,7 +130,12 @@ class Snapshots:
         return path
 
     def _write(self, surface, path: Path) -> None:
-        save_png(surface, path)
+        error = save_png(surface, path)
+        if error and not self.failing:  # said once, not at every snapshot (a full disk)
+            log.warning("snapshot %s not saved: %s; retrying at the next one", path, error)
+        elif not error and self.failing:
+            log.info("snapshots are saved again (%s)", path)
+        self.failing = bool(error)
         prune(self.root, self.keep, self.max_bytes)
 
     def close(self) -> None:
@@ -137,13 +143,19 @@ class Snapshots:
             self._saver.join(timeout=5.0)
 
 
-def save_png(surface, path: Path) -> None:
-    """Write ``surface`` to ``path`` as PNG atomically (temporary file, then rename)."""
+def save_png(surface, path: Path) -> str:
+    """Write ``surface`` to ``path`` as PNG atomically (temporary file, then rename); returns
+    what went wrong, or "" when it was written."""
     import pygame
+    tmp = path.with_name(f".{path.name}.tmp.png")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.tmp.png")
         pygame.image.save(surface, str(tmp))
         os.replace(tmp, path)
     except (OSError, pygame.error) as exc:
-        log.warning("snapshot %s not saved: %s", path, exc)
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        return str(getattr(exc, "strerror", None) or exc)
+    return ""

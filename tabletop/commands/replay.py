@@ -9,10 +9,12 @@ again exactly.
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
+from typing import Iterator
 
 from tabletop.commands import output_file
-from tabletop.frames import InputError
+from tabletop.frames import Frame, InputError
 
 HELP = "replay a session recording (JSON Lines) through the engines and the view"
 
@@ -22,7 +24,9 @@ class ReplayError(InputError):
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("session", type=Path, metavar="SESSION.jsonl", help="a recording made by run")
+    p.add_argument("session", type=Path, nargs="+", metavar="SESSION.jsonl",
+                   help="a recording made by run; several parts of one session (recorder.max_mb) "
+                        "are replayed in order, the engines running on from part to part")
     p.add_argument("--fast", action="store_true",
                    help="as fast as possible instead of honouring the recorded times")
     p.add_argument("--headless", action="store_true", help="no window (SDL dummy driver)")
@@ -32,6 +36,23 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--verbose", action="store_true", help="log debug messages")
 
 
+def session_frames(paths: list[Path], header: dict) -> Iterator[Frame]:
+    """The frames of one session's parts in order, at their live times; a file that is not a
+    later part of the same session is refused."""
+    from tabletop.recorder import SessionError, read_frames, read_header
+    last = -math.inf
+    for i, path in enumerate(paths):
+        if i and read_header(path).get("config") != header.get("config"):
+            raise SessionError(f"{path}: line 1: not a part of the session of {paths[0]} "
+                               "(its config differs)")
+        for n, frame in enumerate(read_frames(path, absolute=True), start=2):
+            if frame.t < last:
+                raise SessionError(f"{path}: line {n}: goes back in time; give the parts of a "
+                                   "session in their order")
+            last = frame.t
+            yield frame
+
+
 def main(args: argparse.Namespace) -> int:
     import logging
     import tempfile
@@ -39,31 +60,38 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.app import build_replay, configure_logging, stop_on_signals
     from tabletop.bundle import extract
     from tabletop.config import validate_config
-    from tabletop.recorder import SessionError, read_frames, read_header
+    from tabletop.recorder import SessionError, read_header
 
     if args.out is not None:
         output_file(args.out, "--out", ReplayError)
     configure_logging(args.verbose)
-    header = read_header(args.session)
+    first = args.session[0]
+    header = read_header(first)
+    part = header.get("part", 1)
+    for later in args.session[1:]:  # every part is a recording, in order, before anything starts
+        n = read_header(later).get("part", 0)
+        if not isinstance(n, int) or not isinstance(part, int) or n <= part:
+            raise SessionError(f"{later}: line 1: part {n!r} cannot follow part {part!r}; give "
+                               "the parts of a session in their order")
+        part = n
     with tempfile.TemporaryDirectory(prefix="tabletop-replay-") as tmp:
         files = header.get("files")
         if files is None:  # version 1: paths as they were on the recording machine
-            base = args.session.resolve().parent
+            base = first.resolve().parent
         else:
             base = Path(tmp)
             try:
                 extract(files, base)
             except InputError as exc:
-                raise SessionError(f"{args.session}: line 1: {exc}") from None
+                raise SessionError(f"{first}: line 1: {exc}") from None
         if not header.get("config"):
-            raise SessionError(f"{args.session}: line 1: the header holds no config to replay "
-                               "with")
-        cfg = validate_config(header["config"],
-                              f"{args.session} (recorded config)", base)
-        inst = build_replay(cfg, read_frames(args.session, absolute=True), fast=args.fast,
+            raise SessionError(f"{first}: line 1: the header holds no config to replay with")
+        cfg = validate_config(header["config"], f"{first} (recorded config)", base)
+        inst = build_replay(cfg, session_frames(args.session, header), fast=args.fast,
                             headless=args.headless, record_path=args.out, view=not args.no_view,
                             header=header)
         with stop_on_signals(inst.loop.stop):
             ticks = inst.loop.run()
-    logging.getLogger("tabletop").info("replayed %d frames of %s", ticks, args.session)
+    logging.getLogger("tabletop").info("replayed %d frames of %s", ticks,
+                                       ", ".join(map(str, args.session)))
     return 0

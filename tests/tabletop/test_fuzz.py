@@ -20,6 +20,8 @@ from hypothesis import strategies as st
 
 from tabletop import cli
 
+ROOT = Path(__file__).resolve().parents[2]
+
 # TABLETOP_FUZZ_EXAMPLES=500 searches harder (minutes instead of seconds).
 SETTINGS = settings(max_examples=int(os.environ.get("TABLETOP_FUZZ_EXAMPLES", "30")), deadline=None,
                     database=None,
@@ -182,9 +184,13 @@ def paths_of(value, path=()):
             yield from paths_of(v, path + (i,))
 
 
+MOP = yaml.safe_load((ROOT / "examples" / "mop.yaml").read_text())
+MOP["view"] = {"enabled": False}
+
+
 @st.composite
 def configs(draw) -> str:
-    cfg = json.loads(json.dumps(BASE))
+    cfg = json.loads(json.dumps(draw(st.sampled_from([BASE, MOP]))))
     for _ in range(draw(st.integers(1, 3))):
         paths = [p for p in paths_of(cfg) if p]
         path = draw(st.sampled_from(paths))
@@ -206,10 +212,11 @@ def configs(draw) -> str:
     return text
 
 
-def copy_lover(root: Path) -> None:
+def copy_referenced(root: Path) -> None:
+    """The files the base configs name: a behaviour and the MOP example's gestures and sheet."""
     import shutil
-    lib = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
-    shutil.copytree(lib, root / "lover")
+    shutil.copytree(ROOT / "behaviors" / "library" / "lover", root / "lover")
+    shutil.copytree(ROOT / "examples" / "mop", root / "mop")
 
 
 @SETTINGS
@@ -217,7 +224,7 @@ def copy_lover(root: Path) -> None:
 def test_generated_configs(capfd, text):
     with workdir() as root:
         make_files(root)
-        copy_lover(root)
+        copy_referenced(root)
         (root / "kiosk.yaml").write_text(text)
         check(capfd, ["run", "--config", "kiosk.yaml", "--seconds", "0.05", "--headless"])
 
@@ -295,12 +302,9 @@ HEADER = {"format": "tabletop-session", "version": 2, "files": {},
 @st.composite
 def recordings(draw) -> bytes:
     header = json.loads(json.dumps(HEADER))
-    with open(Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover" /
-              "behavior.yaml") as f:
-        header["files"]["lover/behavior.yaml"] = {"text": f.read()}
-    with open(Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover" /
-              "demonstration.csv") as f:
-        header["files"]["lover/demonstration.csv"] = {"text": f.read()}
+    for name in ("behavior.yaml", "demonstration.csv"):
+        text = (ROOT / "behaviors" / "library" / "lover" / name).read_text()
+        header["files"][f"lover/{name}"] = {"text": text}
     damage = draw(st.integers(0, 6))
     if damage == 0:
         header[draw(st.sampled_from(["version", "config", "files", "format"]))] = draw(LEAVES)

@@ -212,3 +212,18 @@ def test_replay_feeds_the_engines_the_live_times_exactly(tmp_path):
                         iter(absolute), fast=True, view=False, header=header)
     inst.loop.run()
     assert "capture_age" not in inst.loop.stats.summary_ms()  # no latency from another clock
+
+
+def test_a_stop_ends_a_replay_waiting_for_a_distant_frame(tmp_path):
+    import threading
+    import time
+
+    p = tmp_path / "gap.jsonl"
+    p.write_text(json.dumps({"format": "tabletop-session", "version": 2}) + "\n"
+                 '{"seq": 0, "t": 0.0}\n{"seq": 1, "t": 1000.0}\n')
+    cfg = validate_config(CONFIG, "test", tmp_path)
+    inst = build_replay(cfg, read_frames(p, absolute=True), fast=False, view=False)
+    threading.Timer(0.3, inst.loop.stop.set).start()
+    t0 = time.monotonic()
+    assert inst.loop.run() == 1
+    assert time.monotonic() - t0 < 5.0

@@ -147,6 +147,7 @@ def test_a_camera_without_a_frame_yet_is_down_but_not_inf_seconds_late():
         time.sleep(0.5)
         health = source.health()
     finally:
+        device.release()
         source.close()
     assert not health.ok and health.message == "no frame yet"
     line = overlay_lines(Frame(seq=0, t=0.0, health=(health,)), None)[-1]
@@ -168,3 +169,16 @@ def test_snapshots_with_a_window(tmp_path):
     assert len(snaps) >= 4
     img = pygame.image.load(str(snaps[-1]))
     assert img.get_size() == (320, 200)
+
+
+def test_a_folder_that_cannot_be_written_is_said_once(tmp_path, caplog):
+    import logging
+    blocked = tmp_path / "file"
+    blocked.write_text("a file where the snapshot folder should be")
+    clock = Clock()
+    snaps = Snapshots(blocked / "snaps", every_s=0.2, clock=clock)
+    with caplog.at_level(logging.INFO, logger="tabletop"):
+        take(snaps, clock, 1.5)
+    warnings = [r for r in caplog.records if "not saved" in r.getMessage()]
+    assert snaps.taken >= 6 and len(warnings) == 1 and snaps.failing
+    assert not list(tmp_path.glob("**/*.png"))
