@@ -6,9 +6,11 @@ Config::
       name: lover                     # the character's name (other reactors may bind to it)
       behavior: behaviors/library/lover   # a behaviour folder (relative to this config file)
       main: {puck: 1}                 # or {character: NAME}, {touch: ID},
-                                      #    {stream: NAME, columns: [x, y, dir]}
+                                      #    {stream: NAME, columns: [x, y, dir]},
+                                      #    {nearest: [...]} or {first: [...]} of those
       color: [240, 120, 160]
       size: 0.08                      # metres
+      keep_apart: true                # keep the body sizes away from other reactors
       designer:                       # training from the table (optional)
         enabled: true
         main_puck: 1                  # the designer's two pucks: their poses are the demonstration
@@ -16,17 +18,20 @@ Config::
         record_marker: 9              # a marker placed on the table records, lifted off stops
         library: library              # kept behaviours go to <library>/<name>/
         name: lover                   # default: this engine's name
+        background_training: true     # train in a worker thread (false: within the tick)
 
 Operator commands go to the designer target in ``frame.focus`` (the main loop's Tab cycles
 through every engine's ``designer_targets``; with no focus, every designer engine takes them):
-``designer.record`` starts and stops recording; the take is trained at once and the character
-reacts with it straight away; ``designer.keep`` saves it to the library (never over an existing
+``designer.record`` starts and stops recording; the take is trained at once (in a worker
+thread, swapped in between ticks) and the character reacts with it straight away; ``designer.keep`` saves it to the library (never over an existing
 behaviour: ``lover-2``, ``lover-3``...), ``designer.discard`` drops it and goes back to the
 previous behaviour, recording again redoes it.
 
 The reactor steps at the behaviour's rate (40 Hz) on the frames' own times. While its main is
 absent it keeps reacting to the main's last pose; before the main was ever seen it waits (drawn
-dimmed). A main bound to a character must name an engine listed earlier in the config.
+dimmed). A main bound to a character reads that character in the same tick when its engine
+is listed earlier; a Puppet Master engine listed later, or one reacting back (a mutual pair),
+is read one tick old (see :mod:`tabletop.plugins.puppet_master_mains`).
 """
 
 from __future__ import annotations
@@ -34,14 +39,13 @@ from __future__ import annotations
 import math
 import time
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from behaviors.puppet_master.engine import Behavior, Reactor
 from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
-from tabletop.frames import CharacterState, Frame, InputError, wrap_angle
+from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.registry import BuildContext
 from tabletop.plugins.puppet_master_mains import (Board, MainBinding, MainReader, Posted,
                                                   bound_characters, singles)
