@@ -166,6 +166,15 @@ class Behavior:
         self.turn_limit = p.max_turn_rate if p.max_turn_rate > 0 else self.look.turn_limit
         self.place_frame, self.bearing_turn = train_place(self.main, self.react, p.rate_hz)
         self.distance = np.hypot(f.rel_fwd, f.rel_left)
+        lk = self.look
+        # what a generation step reads of one training sample, as plain Python numbers
+        # (indexing numpy arrays for single values cost more than the arithmetic on them)
+        self.rows = list(zip(
+            self.place_frame.tolist(), self.bearing_turn.tolist(), self.distance.tolist(),
+            f.rel_fwd.tolist(), f.rel_left.tolist(), f.v_react.tolist()))
+        self.texture_rows = list(zip(
+            self.detail.tolist(), lk.frame.tolist(), lk.angle.tolist(), lk.still_frame.tolist(),
+            lk.still_angle.tolist(), lk.detail.tolist()))
         self.top_speed = float(np.percentile(f.v_react, 99))
         self.texture = texture_rms(self.react[:, :2], p.rate_hz)
         self.look_change = float(np.mean(np.abs(wrap_angles(np.diff(self.react[:, 2])))))
@@ -342,7 +351,6 @@ class Reactor:
 
     def _step(self, g: float, mx: float, my: float, md: float) -> tuple[float, float, float, float]:
         b, p = self.behavior, self.behavior.params
-        fe = b.features
         # BestMatch over the windows ending at the previous step
         js, cost_s = self.situation.best()
         jc, cost_c = self.coherence.best()
@@ -352,15 +360,13 @@ class Reactor:
         self.source = target
         # Generate: toward the target relative position at the target velocity
         rx, ry, look = self.pose
-        if b.place_frame[target] == PLACE_WORLD:   # holds its place while the main turns
-            phi = math.atan2(ry - my, rx - mx) + float(b.bearing_turn[target])
-            dist = float(b.distance[target])
+        place, bearing_turn, dist, fwd_t, left_t, speed = b.rows[target]
+        if place == PLACE_WORLD:               # holds its place while the main turns
+            phi = math.atan2(ry - my, rx - mx) + bearing_turn
             tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
         else:
-            tx, ty = target_position(mx, my, md, float(fe.rel_fwd[target]),
-                                     float(fe.rel_left[target]))
+            tx, ty = target_position(mx, my, md, fwd_t, left_t)
         tx, ty = fit_target(mx, my, tx, ty, rx, ry, self.table)
-        speed = float(fe.v_react[target])
         if p.catch_up > 0.0 and speed >= 3.0 * p.min_speed:   # a resting target rests
             speed = max(speed, min(p.catch_up * math.hypot(tx - rx, ty - ry), b.top_speed))
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * self.dt)
@@ -372,8 +378,10 @@ class Reactor:
         self._ema = (sx, sy)
         heading = math.atan2(sy, sx)           # the smooth heading, before the path's texture
         i_detail = self.patch.next(target)
+        src = i_detail if i_detail >= 0 else target
+        detail, frame, angle, still_frame, still_angle, look_detail = b.texture_rows[src]
         if i_detail >= 0:
-            sx, sy = rotate_step(sx, sy, gov.detail_gain * float(b.detail[i_detail]))
+            sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
         if self.obstacles:
             nx, ny = keep_apart(rx + sx, ry + sy, self.obstacles, self.table)
@@ -383,10 +391,10 @@ class Reactor:
         # the look: its frame and smooth angle from the patch's source (continuous within a
         # patch, like the texture), plus the demonstrated look texture
         moving = math.hypot(sx, sy) * p.rate_hz >= HEADING_MIN_SPEED
-        src = i_detail if i_detail >= 0 else target
-        desired = desired_look(b.look, src, moving, heading, md, math.atan2(my - ry, mx - rx))
+        desired = desired_look(frame, angle, still_frame, still_angle, moving, heading, md,
+                               math.atan2(my - ry, mx - rx))
         lg = self.look_governor
-        desired += lg.detail_gain * float(b.look.detail[src])
+        desired += lg.detail_gain * look_detail
         turned = limit_turn(look, look + lg.alpha * wrap_angle(desired - look), self.max_turn)
         lg.observe_look(wrap_angle(turned - look))
         look = turned
