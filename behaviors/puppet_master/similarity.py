@@ -150,6 +150,8 @@ class CoherenceSearch:
         self.offsets = np.arange(-n + 1, 1, dtype=np.int64)
         self.sq = np.zeros(2 * n)        # |x|^2 of the live vectors, beside buf
         self.sx = 0.0
+        self._valid = self.valid.tolist()
+        self._sources = [-1] * n          # the ring of sources as Python ints (best() reads)
 
     def reset(self, window: np.ndarray) -> None:
         """Start from a live window (n, d), oldest first, with no known sources."""
@@ -160,6 +162,7 @@ class CoherenceSearch:
         self.sq[n:] = self.sq[:n]
         self.sx = float(self.sq[:n].sum())
         self.src[:] = -1
+        self._sources = [-1] * n
         self.i = n - 1
 
     def push(self, x: np.ndarray, source: int) -> None:
@@ -173,6 +176,7 @@ class CoherenceSearch:
         self.sq[self.i] = self.sq[self.i + n] = q
         self.src[self.i] = source
         self.src[self.i + n] = source
+        self._sources[self.i] = source
 
     def window(self) -> np.ndarray:
         """Live window (n, d), oldest first (a view)."""
@@ -189,9 +193,16 @@ class CoherenceSearch:
     def best(self) -> tuple[int, float]:
         """(training window end, distance) of the best candidate, or (-1, inf) if none; ties
         take the earliest window end."""
-        cand = self.candidates()
-        if cand.size == 0:
+        n, i, src, valid = self.n, self.i, self._sources, self._valid
+        size = len(valid)
+        proposed = set()
+        for age in range(n):                 # plain Python: 40 small integers
+            s = src[(i - age) % n]
+            if s >= 0 and s + age < size and valid[s + age]:
+                proposed.add(s + age)
+        if not proposed:
             return -1, math.inf
+        cand = np.array(sorted(proposed), dtype=np.int64)
         w = self.y[cand[:, None] + self.offsets[None, :]]            # (m, n, d), small
         cross = np.einsum("mnd,nd->m", w, self.window())
         costs = self.sy[cand] - 2.0 * cross
