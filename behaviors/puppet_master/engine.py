@@ -29,7 +29,8 @@ from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fi
                                                 keep_apart, keep_on_table, limit_turn,
                                                 rotate_step, step_around, target_position)
 from behaviors.puppet_master.resample import CausalResampler, resample_uniform
-from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
+from behaviors.puppet_master.similarity import (Balancer, CoherenceSearch, SituationSearch,
+                                                augmented)
 from tabletop.frames import InputError, wrap_angle, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
@@ -154,6 +155,7 @@ class Behavior:
         self.scales = ft.feature_scales(f, p.w_velocity, p.w_rel_position, p.w_rel_look,
                                         p.w_norm_look, p.w_delta_direction)
         self.situation_vectors = ft.situation_vectors(f, self.scales)
+        self.situation_aug = augmented(self.situation_vectors)
         self.coherence_vectors = ft.coherence_vectors(f, self.scales)
         # a window ending at j needs n samples and a following target sample j + 1
         self.valid = np.zeros(N, dtype=bool)
@@ -230,7 +232,8 @@ class Reactor:
         p = behavior.params
         self.dt = 1.0 / p.rate_hz
         self.max_turn = behavior.turn_limit * self.dt
-        self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid)
+        self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid,
+                                         behavior.situation_aug)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
         self._xs = np.zeros(ft.SITUATION_DIMS)
         self._xc = np.zeros(ft.COHERENCE_DIMS)
