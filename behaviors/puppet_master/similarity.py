@@ -70,9 +70,12 @@ class SituationSearch:
     """
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray,
-                 aug: np.ndarray | None = None) -> None:
+                 aug: np.ndarray | None = None, half_life: float = 0.0) -> None:
         y = np.asarray(train, dtype=float)
         self.n = n
+        # weight of a sample ``age`` steps old: decay**age (1: the paper's uniform window)
+        self.decay = 0.5 ** (1.0 / half_life) if half_life > 0 else 1.0
+        self._lam_n = self.decay ** n
         N, d = y.shape
         self.d = d
         self.aug = augmented(y) if aug is None else aug
@@ -105,8 +108,8 @@ class SituationSearch:
         self.k = n - 1
         N = self.dist.size
         self.dist[:] = 0.0
-        for a in range(min(n, N)):            # D[j] = sum_a E_{n-1-a}[j-a]
-            self.dist[a:] += self.ring[n - 1 - a, :N - a]
+        for a in range(min(n, N)):            # D[j] = sum_a decay^a E_{n-1-a}[j-a]
+            self.dist[a:] += self.decay ** a * self.ring[n - 1 - a, :N - a]
 
     def push(self, x: np.ndarray) -> None:
         """Advance the live window by the newest vector ``x`` (d,)."""
@@ -118,9 +121,17 @@ class SituationSearch:
         np.matmul(self._v, self.aug, out=new[None])
         d, d2 = self.dist, self._dist2
         d2[0] = new[0]
-        np.add(d[:-1], new[1:], out=d2[1:])
-        if d2.size > n:
-            np.subtract(d2[n:], old[:-n], out=d2[n:])
+        lam = self.decay
+        if lam == 1.0:
+            np.add(d[:-1], new[1:], out=d2[1:])
+            if d2.size > n:
+                np.subtract(d2[n:], old[:-n], out=d2[n:])
+        else:                   # D' = lam D[j-1] + E_new - lam^n E_old (weights lam^age)
+            np.multiply(d[:-1], lam, out=d2[1:])
+            d2[1:] += new[1:]
+            if d2.size > n:
+                np.multiply(old[:-n], self._lam_n, out=self._out[n:])
+                d2[n:] -= self._out[n:]
         self.dist, self._dist2 = d2, d
 
     def distances(self) -> np.ndarray:
