@@ -21,7 +21,7 @@ from typing import Sequence
 
 import numpy as np
 
-from behaviors.puppet_master import designers, fidelity
+from behaviors.puppet_master import designers, fidelity, visitors
 from behaviors.puppet_master.engine import Behavior
 from tabletop import library
 
@@ -94,7 +94,7 @@ FIDELITY_COLUMNS = (
 def fidelity_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.PERSONALITIES,
                    seconds: float = 40.0, seed: int = 0) -> dict[str, dict[str, dict]]:
     """{behaviour: {unseen path: compared row}} for the behaviours saved in ``folder``."""
-    paths = designers.unseen_main_paths(seed, seconds, TABLE)
+    paths = visitors.unseen_main_paths(seed, seconds, TABLE)
     out: dict[str, dict[str, dict]] = {}
     for name in names:
         stored = library.load_behavior(folder / name)

@@ -134,18 +134,17 @@ def train_look(main: np.ndarray, react: np.ndarray, rate_hz: float,
                      detail=detail, turn_limit=limit)
 
 
-def desired_look(model: LookModel, target: int, moving: bool, move_dir: float, md: float,
-                 gaze_base: float) -> float:
-    """Desired world look (rad, unwrapped) at a target sample: the chosen frame's base (the
-    bearing to the main ``gaze_base``, the main's look ``md`` or the movement direction
-    ``move_dir``) plus the demonstrated smooth angle; a NORMALISED choice while not ``moving``
-    falls back to the still choice."""
-    f = int(model.frame[target])
-    a = float(model.angle[target])
-    if f == NORMALISED and not moving:
-        f, a = int(model.still_frame[target]), float(model.still_angle[target])
-    base = gaze_base if f == GAZE else md if f == RELATIVE else move_dir
-    return base + a
+def desired_look(frame: int, angle: float, still_frame: int, still_angle: float, moving: bool,
+                 move_dir: float, md: float, gaze_base: float) -> float:
+    """Desired world look (rad, unwrapped) from a training sample's look choice (``frame``,
+    ``angle``; ``still_frame``, ``still_angle``): the frame's base (the bearing to the main
+    ``gaze_base``, the main's look ``md`` or the movement direction ``move_dir``) plus the
+    demonstrated smooth angle; a NORMALISED choice while not ``moving`` falls back to the
+    still choice."""
+    if frame == NORMALISED and not moving:
+        frame, angle = still_frame, still_angle
+    base = gaze_base if frame == GAZE else md if frame == RELATIVE else move_dir
+    return base + angle
 
 
 def _local_std(a: np.ndarray, half: int) -> np.ndarray:

@@ -80,3 +80,58 @@ class Playback:
         m = self.main
         return (float(np.interp(tt, m[:, 0], m[:, 1])), float(np.interp(tt, m[:, 0], m[:, 2])),
                 wrap_angle(float(np.interp(tt, m[:, 0], self._unwrapped))))
+
+
+class SequentialSession:
+    """The designer's two takes at the table, one hand at a time.
+
+    Phases: ``idle`` -> (record) ``main``: the main puck's poses are the main take ->
+    (record) ``ready``: the take waits -> (record) ``react``: the main take plays back (drawn
+    as a ghost) while the reactor puck's poses are recorded on its time base -> (record, or
+    the playback ends) ``done``: :meth:`demonstration` pairs the takes.
+    """
+
+    def __init__(self) -> None:
+        self.phase = "idle"
+        self.main: list[tuple[float, float, float, float]] = []
+        self.react: list[tuple[float, float, float, float]] = []
+        self.playback: Playback | None = None
+
+    def toggle(self, now: float) -> str:
+        """The designer's record key at wall time ``now``; returns the new phase."""
+        if self.phase in ("idle", "done"):
+            self.phase, self.main, self.react, self.playback = "main", [], [], None
+        elif self.phase == "main":
+            self.phase = "ready" if len(self.main) >= 2 else "idle"
+        elif self.phase == "ready":
+            self.playback = Playback(np.array(self.main), now)
+            self.phase = "react"
+        else:
+            self.phase = "done"
+        return self.phase
+
+    def record(self, now: float, main: tuple[float, float, float] | None,
+               react: tuple[float, float, float] | None) -> tuple[float, float, float] | None:
+        """One frame's poses (x, y, dir; None when a puck is absent). Returns the played-back
+        main pose during the ``react`` phase (else None)."""
+        if self.phase == "main" and main is not None and (not self.main or now > self.main[-1][0]):
+            self.main.append((now, *main))
+        if self.phase != "react" or self.playback is None:
+            return None
+        if self.playback.finished(now):
+            self.phase = "done"
+        tt = self.playback.take_time(now)
+        if react is not None and (not self.react or tt > self.react[-1][0]):
+            self.react.append((tt, *react))
+        return self.playback.at(now)
+
+    def seconds(self) -> float:
+        """Length of the take being recorded (s)."""
+        take = self.main if self.phase in ("main", "ready") else self.react
+        return take[-1][0] - take[0][0] if len(take) > 1 else 0.0
+
+    def demonstration(self) -> np.ndarray:
+        """The paired demonstration (k, 7); raises TakeError if the takes do not make one."""
+        if len(self.main) < 2 or len(self.react) < 2:
+            raise TakeError("both takes need at least two samples")
+        return pair_takes(np.array(self.main), np.array(self.react))

@@ -6,9 +6,11 @@ Config::
       name: lover                     # the character's name (other reactors may bind to it)
       behavior: behaviors/library/lover   # a behaviour folder (relative to this config file)
       main: {puck: 1}                 # or {character: NAME}, {touch: ID},
-                                      #    {stream: NAME, columns: [x, y, dir]}
+                                      #    {stream: NAME, columns: [x, y, dir]},
+                                      #    {nearest: [...]} or {first: [...]} of those
       color: [240, 120, 160]
       size: 0.08                      # metres
+      keep_apart: true                # keep the body sizes away from other reactors
       designer:                       # training from the table (optional)
         enabled: true
         main_puck: 1                  # the designer's two pucks: their poses are the demonstration
@@ -16,31 +18,36 @@ Config::
         record_marker: 9              # a marker placed on the table records, lifted off stops
         library: library              # kept behaviours go to <library>/<name>/
         name: lover                   # default: this engine's name
+        background_training: true     # train in a worker thread (false: within the tick)
+        sequential: false             # true: record the main, then the reactor against its
+                                      #   playback (R, R, R, R / the playback's end)
 
 Operator commands go to the designer target in ``frame.focus`` (the main loop's Tab cycles
 through every engine's ``designer_targets``; with no focus, every designer engine takes them):
-``designer.record`` starts and stops recording; the take is trained at once and the character
-reacts with it straight away; ``designer.keep`` saves it to the library (never over an existing
+``designer.record`` starts and stops recording; the take is trained at once (in a worker
+thread, swapped in between ticks) and the character reacts with it straight away; ``designer.keep`` saves it to the library (never over an existing
 behaviour: ``lover-2``, ``lover-3``...), ``designer.discard`` drops it and goes back to the
 previous behaviour, recording again redoes it.
 
 The reactor steps at the behaviour's rate (40 Hz) on the frames' own times. While its main is
 absent it keeps reacting to the main's last pose; before the main was ever seen it waits (drawn
-dimmed). A main bound to a character must name an engine listed earlier in the config.
+dimmed). A main bound to a character reads that character in the same tick when its engine
+is listed earlier; a Puppet Master engine listed later, or one reacting back (a mutual pair),
+is read one tick old (see :mod:`tabletop.plugins.puppet_master_mains`).
 """
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from behaviors.puppet_master.engine import Behavior, Reactor
+from behaviors.puppet_master.sequential import SequentialSession
 from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
-from tabletop.frames import CharacterState, Frame, InputError, wrap_angle
+from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.registry import BuildContext
 from tabletop.plugins.puppet_master_mains import (Board, MainBinding, MainReader, Posted,
                                                   bound_characters, singles)
@@ -66,6 +73,8 @@ DESIGNER = Record({
                         doc="folder the kept behaviours are saved in"),
     "name": Optional_(Str(), doc="name of kept behaviours (default: the engine's name)"),
     "min_seconds": Number(2.0, lo=0.1, doc="shortest take that is trained"),
+    "sequential": Bool(False, doc="one hand: R records the main, R stops, R plays it back "
+                       "and records the reactor against it (paper 3.1)"),
     "background_training": Bool(True, doc="train in a worker thread, swapped in between "
                                 "ticks (false: within the tick, for exact replays)"),
 })
@@ -129,6 +138,8 @@ class PuppetMasterEngine:
         self._marker_on, self._marker_since = False, -math.inf
         self._focused = True
         self.trainer = BackgroundTrainer()
+        self.sequential = SequentialSession()
+        self._now = 0.0
         self._training_demo = np.zeros((0, 7))
         if self.designer is not None:
             if self.designer["main_puck"] is None:
@@ -156,9 +167,12 @@ class PuppetMasterEngine:
 
     def _step(self, frame: Frame) -> tuple[CharacterState, ...]:
         if self.designer is not None:
+            self._now = frame.t
             self._poll_training()
             self._designer_commands(frame)
             if self.mode == "recording":
+                if self.designer["sequential"]:
+                    return self._record_sequential(frame)
                 return (self._record(frame),)
         r = self.reactor
         near = r.pose[:2] if r is not None and r.started else None
@@ -247,6 +261,9 @@ class PuppetMasterEngine:
                 self._marker_since = -math.inf
 
     def _toggle_record(self) -> None:
+        if self.designer["sequential"]:
+            self._toggle_sequential()
+            return
         if self.mode == "recording":
             self._train_take()
             return
@@ -271,6 +288,56 @@ class PuppetMasterEngine:
         x0, y0, x1, y1 = self.table
         return self._character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, status)
 
+    # sequential training (paper 3.1): the main take first, then the reactor against its
+    # playback (behaviors.puppet_master.sequential)
+
+    def _toggle_sequential(self) -> None:
+        if self.mode == "trying":
+            behavior, self.behavior_name = self._previous
+            self._use(behavior)
+        self.pending = None
+        phase = self.sequential.toggle(self._now)
+        if phase == "done":
+            self._train_sequential()
+            return
+        self.mode = "recording" if phase in ("main", "ready", "react") else "idle"
+        if phase == "idle":
+            self._say("main take too short: R to record the main")
+
+    def _train_sequential(self) -> None:
+        try:
+            demo = self.sequential.demonstration()
+        except InputError as exc:
+            self.mode = "idle"
+            self._say(f"cannot train: {exc}")
+            return
+        self._train_take(demo)
+
+    def _record_sequential(self, frame: Frame) -> tuple[CharacterState, ...]:
+        seq = self.sequential
+        m = frame.puck(self.designer["main_puck"])
+        r = frame.puck(self.designer["react_puck"])
+        ghost = seq.record(frame.t, None if m is None else (m.x, m.y, m.angle),
+                           None if r is None else (r.x, r.y, r.angle))
+        if seq.phase == "done":                # the playback ended: the take is complete
+            self._train_sequential()
+        status = {"main": f"recording the main {seq.seconds():.1f} s, R stop",
+                  "ready": "main recorded: R plays it back and records the reaction",
+                  "react": f"reacting to the playback {seq.seconds():.1f} s, R stop",
+                  }.get(seq.phase, "training the take")
+        out = []
+        if r is not None:
+            out.append(self._character(r.x, r.y, r.angle, True, status + self._selection()))
+        else:
+            x0, y0, x1, y1 = self.table
+            out.append(self._character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False,
+                                       status + self._selection()))
+        if ghost is not None:                  # the played-back main, drawn for the designer
+            out.append(CharacterState(f"{self.name}.main", *ghost, kind="playback",
+                                      size=self.size, color=self.color, valid=True,
+                                      label="playback"))
+        return tuple(out)
+
     def take_array(self) -> np.ndarray:
         """The recorded take as a demonstration (n, 7), times from 0."""
         a = np.array(self.take, dtype=float).reshape(-1, 7)
@@ -278,8 +345,8 @@ class PuppetMasterEngine:
             a[:, 0] -= a[0, 0]
         return a
 
-    def _train_take(self) -> None:
-        demo = self.take_array()
+    def _train_take(self, demo: np.ndarray | None = None) -> None:
+        demo = self.take_array() if demo is None else demo
         secs = float(demo[-1, 0]) if len(demo) else 0.0
         need = self.designer["min_seconds"]
         self.mode = "idle"

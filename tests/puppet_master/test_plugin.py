@@ -336,3 +336,33 @@ def test_background_training_swaps_the_take_in_between_ticks(tmp_path):
     assert "trained" in c.label and c.valid
     for f in frames[303:]:
         assert e.step(f)[0].valid
+
+
+def test_sequential_training_at_the_table(tmp_path):
+    # one hand: the main puck alone, then the reactor puck against the main's playback
+    (e,) = designer_engine(tmp_path, sequential=True)
+    demo = designers.demonstrate("stalker", seed=4, seconds=12)
+    t = 200.0
+    for i, row in enumerate(demo):          # R, the main take (puck 1 only), R
+        f = Frame(seq=i, t=t + row[0], pucks=(Puck(1, row[1], row[2], row[3]),),
+                  commands={0: ("designer.record",), len(demo) - 1: ("designer.record",)}
+                  .get(i, ()))
+        e.step(f)
+    assert e.mode == "recording" and "R plays it back" in e.step(
+        Frame(seq=len(demo), t=t + 20.0))[0].label
+    t2, seq0, ghosts = t + 30.0, len(demo) + 1, []
+    for i, row in enumerate(demo):          # R: playback; puck 2 reacts; ends with the take
+        f = Frame(seq=seq0 + i, t=t2 + row[0], pucks=(Puck(2, row[4], row[5], row[6]),),
+                  commands=("designer.record",) if i == 0 else ())
+        out = e.step(f)
+        ghosts += [c for c in out if c.name == "pet.main"]
+    assert len(ghosts) > len(demo) - 5
+    # the ghost replays the main take where it was recorded
+    g = np.array([(c.x, c.y) for c in ghosts[5:]])
+    assert np.max(np.hypot(*(g - demo[5:5 + len(g), 1:3]).T)) < 0.01
+    assert e.mode == "trying" and e.pending is not None
+    # the paired demonstration is the two takes: main and reactor at matching times
+    d = e.pending_demo
+    assert len(d) >= len(demo) - 2
+    assert np.allclose(d[:, 4:6], demo[:len(d), 4:6], atol=1e-9)
+    assert np.max(np.hypot(*(d[:, 1:3] - demo[:len(d), 1:3]).T)) < 1e-6

@@ -30,10 +30,11 @@ def test_incremental_situation_distances_equal_brute_force_after_many_steps():
     window = np.array(live[-n:])
     exact = window_distances(window, train)          # window ends n-1 .. N-1
     got = s.distances()[n - 1:N - 1]
-    assert np.max(np.abs(got - exact[:-1]) / exact[:-1]) < 1e-9
+    # single-precision terms, double-precision sums: within 1e-6 after 3,000 steps (2.5e-8)
+    assert np.max(np.abs(got - exact[:-1]) / exact[:-1]) < 1e-6
     j, cost = s.best()
     assert j == n - 1 + int(np.argmin(exact[:-1]))
-    assert abs(cost - exact[:-1].min()) < 1e-9 * exact.min()
+    assert abs(cost - exact[:-1].min()) < 1e-6 * exact.min()
 
 
 def test_situation_search_finds_a_copied_training_window_exactly():
@@ -47,7 +48,7 @@ def test_situation_search_finds_a_copied_training_window_exactly():
     for row in train[200 - n + 1:201]:   # live window now equals the training window ending at 200
         s.push(row)
     j, cost = s.best()
-    assert j == 200 and cost < 1e-9
+    assert j == 200 and cost < 1e-4                  # single-precision terms (measured 9e-6)
 
 
 def test_coherence_candidates_are_sources_advanced_by_age():
@@ -85,3 +86,25 @@ def test_static_weight_lets_coherence_take_over():
     for step in range(1000):
         b.choose(1.0, 1e-3)
     assert b.coherence_choices / b.choices > 0.99
+
+
+def test_recency_weighted_distances_equal_brute_force():
+    rng = np.random.default_rng(3)
+    N, n, d, h = 500, 40, 6, 10.0
+    train = rng.normal(size=(N, d))
+    valid = np.zeros(N, bool)
+    valid[n - 1:N - 1] = True
+    s = SituationSearch(train, n, valid, half_life=h)
+    live = list(rng.normal(size=(n, d)))
+    s.reset(np.array(live))
+    for _ in range(1500):
+        x = rng.normal(size=d)
+        s.push(x)
+        live.append(x)
+    window = np.array(live[-n:])
+    w = 0.5 ** (np.arange(n - 1, -1, -1) / h)          # oldest first: the oldest weighs least
+    exact = np.array([np.sum(w * np.sum((train[j - n + 1:j + 1] - window) ** 2, axis=1))
+                      for j in range(n - 1, N - 1)])
+    got = s.distances()[n - 1:N - 1]
+    assert np.max(np.abs(got - exact) / exact) < 1e-6
+    assert s.best()[0] == n - 1 + int(np.argmin(exact))

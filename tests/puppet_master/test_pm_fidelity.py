@@ -1,0 +1,94 @@
+"""Fidelity: every shipped behaviour generated on main paths it never saw keeps its
+demonstration's figures (behaviors/puppet_master/fidelity.py), measured, not timed."""
+
+import numpy as np
+import pytest
+
+from behaviors.puppet_master import designers, fidelity, visitors
+from behaviors.puppet_master.engine import Behavior
+from behaviors.puppet_master.sequential import pair_takes
+from tabletop import examples, library
+
+TABLE = (0.0, 0.0, *examples.TABLE)
+PATHS = ("slow_pauses_30hz", "loops_spins_45hz")
+# Thresholds the generation still misses on these paths (measured; see bench/fidelity.py):
+# event figures of rare or slow events (contacts, orbits, speed while the main is still)
+# and the afraid character's share of looking at the main. Every other threshold must hold.
+KNOWN_MISSES = {
+    "lover": {"slow_pauses_30hz": {"speed", "orbit"}, "loops_spins_45hz": {"orbit"}},
+    "bully": {"slow_pauses_30hz": {"contact"}, "loops_spins_45hz": {"contact"}},
+    "playful_friend": {"slow_pauses_30hz": {"speed", "orbit"},
+                       "loops_spins_45hz": {"orbit"}},
+    "stalker": {"slow_pauses_30hz": {"speed", "contact", "still_moving", "orbit"},
+                "loops_spins_45hz": {"speed", "still_moving"}},
+    "afraid": {"slow_pauses_30hz": {"facing", "still_moving", "orbit"},
+               "loops_spins_45hz": {"facing"}},
+}
+
+
+@pytest.fixture(scope="module")
+def paths():
+    return visitors.unseen_main_paths(0, 40.0, examples.TABLE)
+
+
+@pytest.fixture(scope="module")
+def shipped():
+    out = {}
+    for name in designers.PERSONALITIES:
+        stored = library.load_behavior(examples.DEFAULT_OUT / name)
+        out[name] = Behavior.train(stored.demonstration, **stored.parameters)
+    return out
+
+
+@pytest.mark.parametrize("name", designers.PERSONALITIES)
+def test_generation_keeps_the_demonstrated_character(shipped, paths, name):
+    b = shipped[name]
+    demo = fidelity.demonstration_figures(b)
+    for path in PATHS:
+        row = fidelity.evaluate(b, paths[path], TABLE, demo)
+        missed = set(fidelity.failures(row))
+        assert missed <= KNOWN_MISSES[name][path], (name, path, missed, row)
+        # the look, its turn limiter and the path's texture hold everywhere
+        assert row["ok_look_change"] and row["ok_saturation"] and row["ok_texture"]
+
+
+def test_the_looks_that_were_lost_are_kept(shipped, paths):
+    # the issue's figures: demonstrated reactors faced the main 86-99% of the time and the
+    # generated ones 0-36%; the limiter saturated on 64-94% of steps
+    for name in ("lover", "bully", "stalker"):
+        row = fidelity.evaluate(shipped[name], paths["loops_spins_45hz"], TABLE)
+        assert row["demo_facing"] > 0.95 and row["gen_facing"] > 0.9
+        assert row["gen_saturation"] < 0.12
+        ratio = row["gen_look_change_rad"] / row["demo_look_change_rad"]
+        assert 0.67 <= ratio <= 1.5
+
+
+def test_never_leaves_the_table_never_jumps_and_is_reproducible(shipped, paths):
+    for name in ("bully", "afraid"):
+        b = shipped[name]
+        largest = float(np.max(np.hypot(*np.diff(b.react[:, :2], axis=0).T)))
+        for path in ("fast_reversals_60hz", "loops_spins_45hz"):
+            a = fidelity.generate(b, paths[path], TABLE)
+            again = fidelity.generate(b, paths[path], TABLE)
+            assert a.tobytes() == again.tobytes()                       # to the last digit
+            x0, y0, x1, y1 = TABLE
+            assert ((a[:, 1] >= x0) & (a[:, 1] <= x1) & (a[:, 2] >= y0) & (a[:, 2] <= y1)).all()
+            step = np.hypot(*np.diff(a[:, 1:3], axis=0).T)
+            assert step.max() <= largest, (name, path, step.max(), largest)
+
+
+def test_sequential_training_keeps_the_character_as_a_two_puck_demonstration(paths):
+    # the designer records the main first (60 Hz), then the stalker against its playback
+    main_take = designers.designer_main_path(designers.SEEDS["stalker"], 60.0, 60.0,
+                                             examples.TABLE)
+    grid = np.arange(0.0, main_take[-1, 0], 1.0 / 40.0)
+    playback = np.column_stack([grid, *fidelity.main_on_grid(main_take, grid).T])
+    both = designers.demonstrate("stalker", main=playback, table=examples.TABLE)
+    react_take = both[::2][:, [0, 4, 5, 6]]                 # the reactor's hand at 20 Hz
+    sequential = Behavior.train(pair_takes(main_take, react_take))
+    two_puck = Behavior.train(both)
+    for path in PATHS:
+        seq = fidelity.evaluate(sequential, paths[path], TABLE)
+        two = fidelity.evaluate(two_puck, paths[path], TABLE)
+        assert set(fidelity.failures(seq)) <= set(fidelity.failures(two)), path
+        assert abs(seq["gen_distance_mean_m"] - two["gen_distance_mean_m"]) < 0.05   # 0.01
