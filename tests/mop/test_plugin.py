@@ -91,7 +91,7 @@ def test_example_config_builds_every_kind_of_character(example_cfg):
     ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
     engine = mop.build(example_cfg["engines"][0], ctx)
     chars = Table(engine).rest(0.5)[-1]
-    assert {c.kind for c in chars.values()} == {"skeleton", "creature", "face", "sprite"}
+    assert {c.kind for c in chars.values()} == {"skeleton", "creature", "face", "sprite", "hybrid"}
     for c in chars.values():
         assert np.all(np.isfinite(c.points)) and len(c.bones) >= 7
         assert c.points[:, 0].min() > 0 and c.points[:, 0].max() < 1.2
