@@ -41,16 +41,6 @@ def fit_scale(templates: Sequence[np.ndarray], relative_floor: float = 0.05,
     return center, scale
 
 
-def standardize(x: np.ndarray, center: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """``(x - center) / scale`` for one sample (d,) or many (n, d)."""
-    return (np.asarray(x, dtype=float) - center) / scale
-
-
-def concat_features(*parts: np.ndarray | Sequence[float]) -> np.ndarray:
-    """Concatenate several inputs (puck features, a mocap stream, touches...) into one sample (d,)."""
-    return np.concatenate([np.ravel(np.asarray(p, dtype=float)) for p in parts])
-
-
 class PathFeatures:
     """Features of a puck path relative to where the gesture started (stateful, causal).
 

@@ -50,6 +50,8 @@ from tabletop.frames import InputError
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
 INVARIANCES = ("scale", "offset", "none")
+#: Samples over which the direction of motion is measured (template and performance alike).
+TANGENT_LAG = 2
 
 
 class SampleError(InputError):
@@ -108,7 +110,8 @@ class ActionFollower:
                  scale_range: tuple[float, float] = (0.55, 1.8), scale_prior: float = 3.0,
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
-                 still_samples: int = 6) -> None:
+                 still_samples: int = 6, min_probability: float = 0.6,
+                 tangent: float = 0.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -120,7 +123,9 @@ class ActionFollower:
                             ("hold_tolerance", hold_tolerance, hold_tolerance >= 0),
                             ("switch_margin", switch_margin, switch_margin >= 0),
                             ("confirm", confirm, confirm >= 1), ("end", end, 0 < end <= 1),
-                            ("still_samples", still_samples, still_samples >= 2)):
+                            ("still_samples", still_samples, still_samples >= 2),
+                            ("min_probability", min_probability, 0 <= min_probability < 1),
+                            ("tangent", tangent, tangent >= 0)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if invariance not in INVARIANCES:
@@ -139,7 +144,11 @@ class ActionFollower:
         self.scale_range = (lo, hi)
         self.confirm, self.end, self.switch_margin = int(confirm), float(end), float(switch_margin)
         self.still_samples = int(still_samples)
-        self.forward = WindowedForward(self.bank, sigma=sigma, half_window=int(window),
+        self.min_probability = float(min_probability)
+        self.tangent = float(tangent)
+        self._fbank = self._with_tangents(templates)
+        self._zdim = int(self._fbank.means.shape[1])
+        self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
                                        transitions=Transitions(tuple(transitions), backward, restart),
                                        floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
@@ -167,6 +176,31 @@ class ActionFollower:
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
         self.reset()
 
+    def _with_tangents(self, templates: Mapping[str, np.ndarray]) -> TemplateBank:
+        """The bank the forward algorithm runs on: each state's features followed, when
+        ``tangent`` > 0, by its direction of motion (``tangent`` x the unit velocity over
+        :data:`TANGENT_LAG` samples in the template's own units, shrinking to 0 below a quarter of
+        the template's median speed, so holds have none). Direction is blind to tempo and size,
+        and tells a raise from the return along the same path, a circle from a line through its
+        arc and a gesture from its mirror image."""
+        b = self.bank
+        if self.tangent <= 0:
+            return b
+        k = len(b.names)
+        self._v0 = np.zeros(k)
+        parts = []
+        for i, a in enumerate(np.asarray(templates[n], dtype=float).reshape(len(templates[n]), -1)
+                              for n in b.names):
+            v = (a - a[np.maximum(np.arange(len(a)) - TANGENT_LAG, 0)]) / b.scale[i]
+            speed = np.sqrt(np.sum(v * v, axis=1))
+            moving = speed[speed > 1e-9]
+            self._v0[i] = 0.25 * float(np.median(moving)) if moving.size else 1.0
+            t = v / np.maximum(speed, self._v0[i])[:, None]
+            keep = np.rint(b.source[b.starts[i]:b.starts[i] + b.lengths[i]] * (len(a) - 1)).astype(int)
+            parts.append(np.hstack([b.template(i), self.tangent * t[keep]]))
+        return TemplateBank(b.names, np.ascontiguousarray(np.concatenate(parts)), b.starts,
+                            b.lengths, b.center, b.scale, b.first, b.source, b.units)
+
     def _onset_states(self) -> np.ndarray:
         """Per template, the first state at least ``onset`` sigmas (RMS per feature) from its first
         state, or its farthest state when none is (state index)."""
@@ -190,6 +224,7 @@ class ActionFollower:
         self._state = None
         self._anchor: np.ndarray | None = None
         self._recent_x: list[np.ndarray] = []
+        self._lag: list[np.ndarray] = []
         self._ended = -1
 
     def _forget(self) -> None:
@@ -213,16 +248,16 @@ class ActionFollower:
     @property
     def log_constant(self) -> float:
         """The Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` in every log-likelihood."""
-        return -self.dim * math.log(self.sigma) - 0.5 * self.dim * math.log(2.0 * math.pi)
+        return -self._zdim * math.log(self.sigma) - 0.5 * self._zdim * math.log(2.0 * math.pi)
 
     def distance_of(self, loglik: float) -> float:
         """A mean per-sample log-likelihood as an RMS distance in ``sigma`` units per feature."""
-        return math.sqrt(max(0.0, -2.0 * (loglik - self._log_constant) / self.dim))
+        return math.sqrt(max(0.0, -2.0 * (loglik - self._log_constant) / self._zdim))
 
     def _idle_state(self) -> FollowState:
         k = len(self.names)
         far = 2.0 * self.null_distance
-        loglik = self._log_constant - 0.5 * self.dim * far * far
+        loglik = self._log_constant - 0.5 * self._zdim * far * far
         return FollowState(self.names[0], 0.0, 0.0, {n: 1.0 / k for n in self.names},
                            {n: 0.0 for n in self.names}, False, loglik, far, False,
                            {n: loglik for n in self.names})
@@ -250,11 +285,24 @@ class ActionFollower:
         if self._anchor is None:
             self._anchor = x.copy()
         if self.invariance == "none":
-            return (x - b.center) / b.scale
-        r = (x - self._anchor)[None, :]
+            z = (x - b.center) / b.scale
+        else:
+            r = (x - self._anchor)[None, :]
+            if self.invariance == "scale":
+                r = r / self._size[:, None]
+            z = r / b.scale + self._first_z
+        if self.tangent <= 0:
+            return z
+        lag = self._lag
+        v = (x - (lag[0] if len(lag) == TANGENT_LAG else lag[-1] if lag else x))[None, :] / b.scale
+        lag.append(x)
+        if len(lag) > TANGENT_LAG:
+            del lag[0]
         if self.invariance == "scale":
-            r = r / self._size[:, None]
-        return r / b.scale + self._first_z
+            v = v / self._size[:, None]
+        speed = np.sqrt(np.sum(v * v, axis=1))
+        t = v / np.maximum(speed, self._v0)[:, None]
+        return np.hstack([np.broadcast_to(z, t.shape), self.tangent * t])
 
     def step(self, x: np.ndarray) -> FollowState:
         """Follow one live sample x (d,) in the templates' units; causal."""
@@ -287,6 +335,12 @@ class ActionFollower:
         if self.invariance == "scale":
             r = r / self._size[:, None]
         return np.sqrt(np.mean(r * r, axis=1))
+
+    def _departed(self, x: np.ndarray, k: int) -> bool:
+        """The input left the point where template ``k`` reached its end by the acceptance
+        distance (the onset alone was crossed by noise: 0.1 of the spread per column)."""
+        r = (x - self._end_x) / (self.bank.scale[k] * self._size[k])
+        return bool(np.mean(r * r) >= self._accept2 * self.sigma ** 2)
 
     def _still(self, x: np.ndarray) -> bool:
         """The input stayed within the still radius for ``still_samples`` samples."""
@@ -331,13 +385,19 @@ class ActionFollower:
         self._recent_weight += 1.0
         new = entries > self._entries   # re-entered: a new performance, judged afresh
         self._entries[:] = entries
+        # a refused template whose performance is back at its start, matching it, may begin
+        # anew (re-entry is not counted while the main window already holds the first states)
+        back = self._refused & (mean < self._onset_state)
+        if np.count_nonzero(back):
+            back &= (self._log_constant - step_ll) * (2.0 / self._zdim) <= self._null2
+            new |= back
         if np.count_nonzero(new):
             self._recent[new] = self._log_constant
             self._recent_weight[new] = 1.0
             self._refused[new] = False
             self._engaged[new] = False
         mean_ll = self._recent / self._recent_weight
-        dist2 = (self._log_constant - mean_ll) * (2.0 / self.dim)
+        dist2 = (self._log_constant - mean_ll) * (2.0 / self._zdim)
         self._refused |= dist2 > self._null2
         self._refused &= ~(dist2 < self._accept2)
         # engaged once past the onset state *and* the input itself has left the anchor by the
@@ -358,7 +418,8 @@ class ActionFollower:
         variance = forward.var_of(offset + bi) * slope * slope
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = forward.var_of(offset + bi) / (b.lengths[bi] - 1.0) ** 2
-        ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2)
+        ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2
+                  and p[bi] >= self.min_probability)
         self._run = self._run + 1 if ok else 0
         valid = self._run >= self.confirm
         loglik = float(mean_ll[bi])
@@ -387,9 +448,10 @@ class ActionFollower:
         if self.invariance != "none":
             if valid and progress[bi] >= self.end and self._end_x is None:
                 self._end_x = x.copy()
-            step_d2 = (self._log_constant - step_ll[bi]) * (2.0 / self.dim)
+            step_d2 = (self._log_constant - step_ll[bi]) * (2.0 / self._zdim)
             self._lost = self._lost + 1 if bool(np.all(self._refused)) else 0
-            if self._end_x is not None and (still or step_d2 > self._null2 or not ok):
+            if self._end_x is not None and (still or step_d2 > self._null2 or not ok or
+                                            self._departed(x, bi)):
                 # the end was reached and the performer rests there or moves on: a new gesture
                 # starts where the last one ended
                 end_x = self._end_x
@@ -428,18 +490,18 @@ class FollowerGroup:
             if not first.same_parameters(f):
                 raise TemplateError(f"follower {i} of the group has other parameters than follower 0; "
                                     "a group's followers must share sigma, window, transitions and limits")
-        width = max(f.dim for f in self.followers)
+        width = max(f._zdim for f in self.followers)
         means, starts, lengths, dims, names, owner = [], [], [], [], [], []
         offset = 0
         for i, f in enumerate(self.followers):
-            b = f.bank
+            b = f._fbank
             padded = np.zeros((b.means.shape[0], width))
             padded[:, :b.dim] = b.means
             means.append(padded)
             starts.append(b.starts + offset)
             offset += b.means.shape[0]
             lengths.append(b.lengths)
-            dims += [b.dim] * len(b.names)
+            dims += [f._zdim] * len(b.names)
             names += [f"{i}:{n}" for n in b.names]
             owner += [i] * len(b.names)
         bank = TemplateBank(tuple(names), np.concatenate(means), np.concatenate(starts),
@@ -482,7 +544,7 @@ class FollowerGroup:
                 lost.append(i)
             else:
                 sl = self._slices[i]
-                self._z[sl, :f.dim] = f._inputs(x)
+                self._z[sl, :f._zdim] = f._inputs(x)
                 samples_ok[i] = x
         fw = self.forward
         saved = None

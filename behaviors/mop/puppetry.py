@@ -30,6 +30,7 @@ from typing import Mapping, Protocol, Sequence
 import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, TimeWarp
+from behaviors.motion.deepmimic import humanoid_pose
 from behaviors.mop.creatures import FaceModel
 from behaviors.motion.skeleton import ProjectedFigure, Skeleton2D, place
 from tabletop.frames import CharacterState
@@ -93,16 +94,13 @@ class HumanoidRig:
 
     def exact_pose(self, clip: Clip, progress: float) -> np.ndarray:
         """Figure points of the clip's pose at ``progress`` (slerped joints, full kinematics)."""
-        v = clip.sample(progress)
-        root = np.array([v[clip.slices["root_x"]][0], v[clip.slices["root_y"]][0],
-                         v[clip.slices["root_z"]][0]])
-        rotations = {n: v[clip.slices[n]] for n in clip.names if n in self._joints}
+        root, root_rot, rotations = humanoid_pose(clip, clip.sample(progress), self._joints)
         origin = None
         if self.travel:
             v0 = clip.values[0]
             origin = [v0[clip.slices["root_x"]][0], v0[clip.slices["root_y"]][0],
                       v0[clip.slices["root_z"]][0]]
-        return self.figure.points(root, v[clip.slices["root_rot"]], rotations, self.travel, origin)
+        return self.figure.points(root, root_rot, rotations, self.travel, origin)
 
     def rest(self) -> np.ndarray:
         return self.figure.rest_points()

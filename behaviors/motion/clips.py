@@ -379,12 +379,3 @@ class TimeWarp:
         p = np.clip(np.nan_to_num(np.asarray(progress, dtype=float), nan=0.0), 0.0, 1.0)
         out = np.interp(p, self.points[:, 0], self.points[:, 1])
         return float(out) if out.ndim == 0 else out
-
-
-def align_durations(action_length: int, clip: Clip, warp: TimeWarp | None = None) -> np.ndarray:
-    """The motion at each of ``action_length`` action samples (T_x x D): equal lengths, so
-    sample t of the action pairs with row t of the motion (MOP 3.1.3)."""
-    if action_length < 2:
-        raise ClipError(f"cannot align clip {clip.name!r} to an action of {action_length} samples")
-    u = np.linspace(0.0, 1.0, action_length)
-    return clip.sample_many(u if warp is None else warp(u))

@@ -20,7 +20,7 @@ from __future__ import annotations
 import importlib.util
 import json
 from pathlib import Path
-from typing import Mapping
+from typing import Iterable, Mapping
 
 import numpy as np
 
@@ -128,11 +128,13 @@ def load_motion(path_or_name: str | Path) -> Clip:
     return parse_motion(data, str(p), name)
 
 
-def humanoid_pose(clip: Clip, values: np.ndarray) -> tuple[np.ndarray, np.ndarray, dict]:
+def humanoid_pose(clip: Clip, values: np.ndarray,
+                  joints: Iterable[str] | None = None) -> tuple[np.ndarray, np.ndarray, dict]:
     """(root position (3,), root rotation quaternion (4,), joint rotations by URDF joint name)
-    of one sampled humanoid vector, ready for :meth:`UrdfSkeleton.forward`."""
+    of one sampled humanoid vector, ready for :meth:`UrdfSkeleton.forward`. ``joints``: the
+    skeleton's joint names to take from the clip (default: the DeepMimic layout's)."""
     root = np.array([values[clip.slices["root_x"]][0], values[clip.slices["root_y"]][0],
                      values[clip.slices["root_z"]][0]])
     rot = values[clip.slices["root_rot"]]
-    joints = {name: values[clip.slices[name]] for name, kind in HUMANOID_LAYOUT[2:]}
-    return root, rot, joints
+    names = [name for name, kind in HUMANOID_LAYOUT[2:]] if joints is None else joints
+    return root, rot, {n: values[clip.slices[n]] for n in names if n in clip.slices}

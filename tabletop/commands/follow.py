@@ -3,7 +3,9 @@
 Each template CSV and the performance CSV share their feature columns (an optional ``t`` column is
 not a feature); samples are regularly spaced. One output row per performance row, computed
 causally as it would be live: ``t,best,progress,variance``, then ``p_NAME`` and
-``progress_NAME`` per template, then ``valid`` and ``loglik``.
+``progress_NAME`` per template, then ``valid`` and ``loglik``. Gestures are spotted in the stream
+(one after another, without a rest between them); ``--invariance scale`` follows them at any
+size and wherever they begin.
 """
 
 from __future__ import annotations
@@ -39,6 +41,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--window", default="15", metavar="N",
                    help=f"half-width of the forward window, in template samples, {WINDOW[0]} to "
                         f"{WINDOW[1]} (default 15)")
+    p.add_argument("--invariance", choices=("none", "offset", "scale"), default="none",
+                   help="follow a performance relative to where each gesture begins (offset), "
+                        "and of any size (scale); default none: as recorded")
 
 
 def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
@@ -111,7 +116,8 @@ def main(args: argparse.Namespace) -> int:
     else:
         t = np.arange(perf.shape[0], dtype=float)
 
-    follower = ActionFollower(templates, sigma=sigma, window=window)
+    follower = ActionFollower(templates, sigma=sigma, window=window,
+                              invariance=args.invariance)
     out_header = ["t", "best", "progress", "variance"]
     for name in templates:
         out_header += [f"p_{name}", f"progress_{name}"]

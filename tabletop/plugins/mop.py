@@ -137,8 +137,11 @@ FOLLOWER = Record({
                  "performance has left the action's start by this much"),
     "accept_distance": Number(1.2, lo=0.01, doc="sigmas: a refused action is accepted again "
                               "once nearer than this (at most null_distance)"),
-    "invariance": Str("scale", choices=("scale", "offset", "none"),
-                      doc="follow gestures of any size (scale) or place (offset) from where they begin"),
+    "invariance": Str("auto", choices=("auto", "scale", "offset", "none"),
+                      doc="follow gestures of any size (scale) or place (offset) from where they "
+                          "begin; auto: scale for puck and touch inputs, none for streams"),
+    "tangent": Number(0.0, lo=0.0, hi=10.0, doc="weight of the direction of motion (puck and "
+                      "touch inputs): tells a raise from its return, a gesture from its mirror"),
     "scale_range": ListOf(Number(lo=0.05, hi=20.0), default=[0.55, 1.8], min_len=2, max_len=2,
                           doc="smallest and largest size of a performance, x the recorded"),
     "switch_margin": Number(1.0, lo=0.0, doc="nats: another action takes over once this much likelier"),
@@ -380,14 +383,19 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                   backward=fo["backward"], restart=fo["restart"], memory=fo["memory"],
                   null_distance=fo["null_distance"], null_memory=fo["null_memory"],
                   onset=fo["onset"], accept_distance=fo["accept_distance"],
-                  invariance=fo["invariance"], scale_range=tuple(fo["scale_range"]),
+                  scale_range=tuple(fo["scale_range"]),
                   switch_margin=fo["switch_margin"], confirm=fo["confirm"],
                   hold_tolerance=fo["hold_tolerance"],
                   max_spread=fo["max_spread"],
                   relative_floor=fo["relative_floor"])
 
     def make_follower(templates, units=None):
-        return ActionFollower(templates, units=units, **params)
+        # size, place and direction of motion only where the features' units are known (puck
+        # and touch paths); a stream's columns are followed as recorded
+        spatial = units is not None
+        invariance = fo["invariance"] if fo["invariance"] != "auto" else ("scale" if spatial else "none")
+        return ActionFollower(templates, units=units, invariance=invariance,
+                              tangent=fo["tangent"] if spatial else 0.0, **params)
 
     performers = {p["name"]: _make_performer(p) for p in options["performers"]}
     library: Path | None = options["library"]

@@ -1,13 +1,11 @@
-"""Puck path features, concatenated inputs, time alignment, and puck gestures recognised end to end."""
+"""Puck path features, and puck gestures recognised end to end."""
 
 import math
 
 import numpy as np
 import pytest
 
-from behaviors.mop.alignment import (index_to_progress, progress_to_index, resample_to_length,
-                                     sample_at_progress)
-from behaviors.mop.features import PATH_FEATURE_NAMES, PathFeatures, concat_features
+from behaviors.mop.features import PATH_FEATURE_NAMES, PathFeatures
 from behaviors.mop.follower import ActionFollower
 
 
@@ -58,23 +56,6 @@ def test_a_rest_ends_the_gesture_and_the_next_starts_where_the_puck_rests():
     assert np.allclose(pf.step(1.0, 1.1, 1.5, 100.1)[:3], [0.0, 0.1, 0.5])
     with pytest.raises(ValueError, match="finite"):
         pf.step(math.nan, 0.0, 0.0, 101.0)
-
-
-def test_inputs_are_concatenated_in_order():
-    out = concat_features(np.array([1.0, 2.0]), [3.0], np.array([[4.0, 5.0]]))
-    assert out.tolist() == [1.0, 2.0, 3.0, 4.0, 5.0]
-
-
-def test_progress_maps_an_action_onto_a_motion_of_another_length():
-    assert progress_to_index(0.5, 61) == pytest.approx(30.0)
-    assert progress_to_index(1.4, 61) == pytest.approx(60.0)
-    assert index_to_progress(50, 201) == pytest.approx(0.25)
-    motion = np.column_stack([np.linspace(0, 1, 11), np.linspace(10, 0, 11)])
-    assert sample_at_progress(motion, 0.25) == pytest.approx([0.25, 7.5])
-    assert sample_at_progress(motion, 1.0) == pytest.approx([1.0, 0.0])
-    stretched = resample_to_length(motion, 101)
-    assert stretched.shape == (101, 2) and stretched[50] == pytest.approx([0.5, 5.0])
-    assert resample_to_length(np.array([2.0]), 3).tolist() == [2.0, 2.0, 2.0]
 
 
 def _puck_path(shape: str, speed: float, rate: float = 30.0, rng=None) -> np.ndarray:

@@ -91,7 +91,7 @@ def test_example_config_builds_every_kind_of_character(example_cfg):
     ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
     engine = mop.build(example_cfg["engines"][0], ctx)
     chars = Table(engine).rest(0.5)[-1]
-    assert {c.kind for c in chars.values()} == {"skeleton", "creature", "face", "sprite"}
+    assert {c.kind for c in chars.values()} == {"skeleton", "creature", "face", "sprite", "hybrid"}
     for c in chars.values():
         assert np.all(np.isfinite(c.points)) and len(c.bones) >= 7
         assert c.points[:, 0].min() > 0 and c.points[:, 0].max() < 1.2
@@ -462,3 +462,31 @@ def test_designer_focus_from_the_main_loop_selects_the_character(tmp_path):
     # commands addressed to another engine are not this engine's
     c = table.tick(["designer.discard"], focus="pm")
     assert "take1" in engine.puppets["lizard"].actions
+
+
+def test_a_hybrid_character_moves_body_and_face_with_one_action(example_cfg):
+    # MOP section 3: the gecko's square plays "strike_angry": skeletal and blendshape channels
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    table = Table(mop.build(example_cfg["engines"][0], ctx))
+    rest = table.rest(1.0)[-1]["gecko"]
+    run = table.perform("square", puck=2, upto=0.55)
+    gecko = run[-1][1]["gecko"]
+    assert gecko.kind == "hybrid" and gecko.valid and gecko.action == "square"
+    body = 16        # the creature's points come first, the face's after them
+    moved = np.linalg.norm(gecko.points - rest.points, axis=1)
+    face = gecko.points[body:] - gecko.points[body + 0]
+    face_rest = rest.points[body:] - rest.points[body + 0]
+    assert moved[:body].max() > 0.01                      # the body strikes (metres)
+    assert np.abs(face - face_rest).max() > 0.005         # and the face frowns, not only moves
+
+
+def test_early_feedback_shows_the_likeliest_actions_faintly(example_cfg):
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    table = Table(mop.build(example_cfg["engines"][0], ctx))
+    assert not any(c.hints for c in table.rest(1.0)[-1].values())     # nothing while resting
+    run = table.perform("circle", upto=0.6)
+    hinted = [(u, ch["dancer"]) for u, ch in run if ch["dancer"].hints and not ch["dancer"].valid]
+    assert hinted and hinted[0][0] <= 0.15      # suggested from the first samples of the gesture
+    u, dancer = hinted[0]
+    assert dancer.hint_points is not None and dancer.hint_points.shape == dancer.points.shape
+    assert run[-1][1]["dancer"].valid and run[-1][1]["dancer"].action == "circle"

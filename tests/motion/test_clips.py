@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.motion.clips import (Channel, Clip, ClipError, TimeWarp, align_durations,
+from behaviors.motion.clips import (Channel, Clip, ClipError, TimeWarp,
                                  clip_from_mapping, clip_to_mapping, quat_from_axis_angle,
                                  quat_slerp, quat_to_matrix)
 
@@ -110,20 +110,12 @@ def test_bad_clips_are_named(data, words):
     assert "faces/wink.json" in str(exc.value) and words in str(exc.value)
 
 
-def test_time_alignment_pairs_equal_lengths():
-    """MOP 3.1.3: a 50-sample action and a 7-key motion become 50 aligned rows."""
-    clip = Clip("ramp", [Channel("v")], np.linspace(0, 2.0, 7), np.linspace(0, 6, 7)[:, None])
-    rows = align_durations(50, clip)
-    assert rows.shape == (50, 1)
-    assert np.allclose(rows[:, 0], np.linspace(0, 6, 50))
-
-
 def test_time_warp_lines_up_key_moments():
     warp = TimeWarp([[0, 0], [0.5, 0.2], [1, 1]])
     assert abs(warp(0.5) - 0.2) < 1e-12 and abs(warp(0.75) - 0.6) < 1e-12
     assert warp(-1.0) == 0.0 and warp(2.0) == 1.0
     clip = Clip("ramp", [Channel("v")], [0.0, 1.0], [[0.0], [10.0]])
-    rows = align_durations(3, clip, warp)
+    rows = clip.sample_many(warp(np.linspace(0.0, 1.0, 3)))
     assert np.allclose(rows[:, 0], [0.0, 2.0, 10.0])
     with pytest.raises(ClipError, match="start at"):
         TimeWarp([[0.1, 0], [1, 1]])
