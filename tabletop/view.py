@@ -27,8 +27,8 @@ import pygame  # noqa: E402
 from tabletop.drawing import characters, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
-from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace, Traces, breath,  # noqa: E402
-                                   eyes_open, seed_of, stretch)
+from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
+                                   Traces, breath, eyes_open, seed_of, stretch)
 from tabletop.drawing.palette import resting, vivid  # noqa: E402
 from tabletop.drawing.screens import table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402

@@ -79,7 +79,8 @@ def test_halo_surrounds_the_puck_and_leaves_its_centre_dark(angle):
     assert min(ring) > table + 200                      # lit all the way round
     for k in (0.0, 0.3, 0.6):                           # the puck itself is not painted
         for a in (0.0, 2.0, 4.0):
-            assert brightness(img, (cx + k * R * math.cos(a), cy + k * R * math.sin(a))) < table + 40
+            q = (cx + k * R * math.cos(a), cy + k * R * math.sin(a))
+            assert brightness(img, q) < table + 40
     # the heading notch: brightest on the ring along the puck's angle
     ax = m.angle_at(0.4, 0.3, angle)
     ahead = brightness(img, (cx + R * math.cos(ax), cy + R * math.sin(ax)))
