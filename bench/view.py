@@ -1,8 +1,9 @@
 """Projector view speed: draw + present per frame, where a visitor sees it.
 
 Eight characters of every kind and sixteen pucks (tests/tabletop/scene_frames.py), at 1280x720
-and 1920x1080, on SDL's dummy driver and in a real X window (a private Xvfb, installed by bench/xwindow.py when
-missing; skipped with a reason when it cannot be had). Candidates, interleaved A B A B ...:
+and 1920x1080, on SDL's dummy driver and in a real X window (a private Xvfb, installed by
+bench/xwindow.py when missing; skipped with a reason when it cannot be had). Candidates,
+interleaved A B A B ...:
 
 - ``flip``: draw the whole frame, present the whole window (``display.flip``);
 - ``dirty``: repaint the table and present only where this or the previous frame drew
