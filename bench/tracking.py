@@ -5,8 +5,8 @@ periodic full-frame detection, then the puck tracker) against a plain full-frame
 
 For 1280x720 and 1920x1080 with 4 and 16 moving pucks (synthetic camera: blur, noise, motion
 blur), all run interleaved frame by frame in one process. Figures: ms per frame of each, their
-ratio to plain (budget <= 0.3 at 720p, <= 0.2 at 1080p), detection rate of fully visible markers, centre error (pixels),
-and the share of frames between full-frame passes that needed no detection at all.
+ratio to plain (budget <= 0.3 at 720p, <= 0.2 at 1080p), detection rate of fully visible
+markers, centre error (pixels), and the share of frames between full-frame passes that needed no detection at all.
 """
 
 from __future__ import annotations

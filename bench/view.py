@@ -1,8 +1,9 @@
 """Projector view speed: draw + present per frame, where a visitor sees it.
 
-Eight characters of every kind and sixteen pucks (tests/tabletop/scene_frames.py), at 1280x720 and 1920x1080, on
-SDL's dummy driver and in a real X window (a private Xvfb, installed by bench/xwindow.py when
-missing; skipped with a reason when it cannot be had). Candidates, interleaved A B A B ...:
+Eight characters of every kind and sixteen pucks (tests/tabletop/scene_frames.py), at 1280x720
+and 1920x1080, on SDL's dummy driver and in a real X window (a private Xvfb, installed by
+bench/xwindow.py when missing; skipped with a reason when it cannot be had). Candidates,
+interleaved A B A B ...:
 
 - ``flip``: draw the whole frame, present the whole window (``display.flip``);
 - ``dirty``: repaint the table and present only where this or the previous frame drew
@@ -16,6 +17,7 @@ Budget (DESIGN.md, issue 14): <= 4 ms median and <= 8 ms p99 per 1280x720 frame 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import sys
 import time
@@ -100,7 +102,9 @@ class Run:
 def main() -> None:
     t_start = time.monotonic()
     load0 = os.getloadavg()[0]   # other processes' load slows a real window most
-    frames = busy_frames(FRAMES_PER_RUN * 2)
+    busy = busy_frames(FRAMES_PER_RUN * 2)
+    # The shipped installation's load: one reactor and two pucks.
+    sparse = [dataclasses.replace(f, characters=f.characters[:1], pucks=f.pucks[:2]) for f in busy]
     samples: dict[str, dict[str, list[float]]] = {}
     skipped: dict[str, str] = {}
     with xvfb((1920, 1080)) as display:
@@ -112,26 +116,29 @@ def main() -> None:
         for rnd in range(ROUNDS):
             for driver, disp in drivers:
                 open_display(driver, disp)
-                for cand in CANDIDATES:   # the _sdl2 window last: it cannot be followed by set_mode
-                    for size in SIZES:
-                        key = f"{driver}.{size[0]}x{size[1]}.{cand}"
-                        try:
-                            run = Run(cand, size)
-                        except pygame.error as exc:
-                            skipped[key] = f"could not open: {exc}"
-                            continue
-                        start = (rnd * 37) % FRAMES_PER_RUN
-                        for f in frames[start:start + 10]:      # warm caches, settle the window
-                            run.frame(f)
-                        d = samples.setdefault(key, {"draw": [], "present": [], "total": [],
-                                                     "cpu": []})
-                        for f in frames[start + 10:start + 10 + FRAMES_PER_RUN]:
-                            a, b, c = run.frame(f)
-                            d["draw"].append(a)
-                            d["present"].append(b)
-                            d["total"].append(a + b)
-                            d["cpu"].append(c)
-                        run.close()
+                runs = [(c, s, "") for c in CANDIDATES for s in SIZES]
+                # the sparse table, where presenting only what changed pays most
+                runs[:0] = [(c, SIZES[0], ".sparse") for c in ("flip", "dirty")]
+                for cand, size, scene in runs:   # the _sdl2 window last: no set_mode after it
+                    frames = sparse if scene else busy
+                    key = f"{driver}.{size[0]}x{size[1]}{scene}.{cand}"
+                    try:
+                        run = Run(cand, size)
+                    except pygame.error as exc:
+                        skipped[key] = f"could not open: {exc}"
+                        continue
+                    start = (rnd * 37) % FRAMES_PER_RUN
+                    for f in frames[start:start + 10]:      # warm caches, settle the window
+                        run.frame(f)
+                    d = samples.setdefault(key, {"draw": [], "present": [], "total": [],
+                                                 "cpu": []})
+                    for f in frames[start + 10:start + 10 + FRAMES_PER_RUN]:
+                        a, b, c = run.frame(f)
+                        d["draw"].append(a)
+                        d["present"].append(b)
+                        d["total"].append(a + b)
+                        d["cpu"].append(c)
+                    run.close()
         pygame.display.quit()
     figures: dict[str, object] = {}
     for key, d in samples.items():
@@ -147,6 +154,7 @@ def main() -> None:
     shipped = "dirty"
     figures["shipped_candidate"] = shipped
     figures["scene"] = "8 characters (3 reactors, 2 humanoids, creature, face, bird) + 16 pucks"
+    figures["sparse_scene"] = "1 reactor + 2 pucks (keys with .sparse)"
     figures["skipped"] = skipped
     figures["wall_s"] = time.monotonic() - t_start
     figures["load_average_1min_start_end"] = [load0, os.getloadavg()[0]]

@@ -29,8 +29,8 @@ from calibration.transforms import apply_homography, fitted_rectangle  # noqa: E
 from tabletop.drawing import characters, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
-from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace, Traces, breath,  # noqa: E402
-                                   eyes_open, seed_of, stretch)
+from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
+                                   Traces, breath, eyes_open, seed_of, stretch)
 from tabletop.drawing.palette import resting, vivid  # noqa: E402
 from tabletop.drawing.screens import table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
@@ -65,7 +65,10 @@ def puck_color(puck_id: int) -> tuple[int, int, int]:
 
 
 def cameras_down(frame: Frame) -> bool:
-    """True when the frame has sources and every one of them is unhealthy."""
+    """True when the frame has sources and every one of them is unhealthy, or when a kiosk
+    supervisor has marked the frame's ``status`` as ``"one_moment"``."""
+    if getattr(frame, "status", None) == "one_moment":
+        return True
     return bool(frame.health) and not any(h.ok for h in frame.health)
 
 
@@ -100,7 +103,7 @@ class TableToScreen:
         bx, by = self.point(x + 0.01, y)
         return math.hypot(bx - ax, by - ay) / 0.01
 
-    def angle_at(self, x: float, y: float, a: float) -> float:
+    def screen_angle(self, x: float, y: float, a: float) -> float:
         """The screen angle (radians, y down) of the table direction ``a`` at (x, y)."""
         px, py = self.point(x, y)
         qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
@@ -227,7 +230,7 @@ class Renderer:
     def _pose(self, pr: Presence, frame: Frame | None) -> Pose:
         c, t = pr.state, (frame.t if frame is not None else pr.t)
         center = self.map.point(c.x, c.y)
-        angle = self.map.angle_at(c.x, c.y, c.heading)
+        angle = self.map.screen_angle(c.x, c.y, c.heading)
         still = pr.stillness()
         target = self._look(c, frame) if frame is not None else None
         if target is not None:
@@ -235,7 +238,7 @@ class Renderer:
             gaze = math.atan2(q[1] - center[1], q[0] - center[0])
         else:
             gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
-        motion = self.map.angle_at(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
+        motion = self.map.screen_angle(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
         color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
         return Pose(center, angle, self.map.scale_at(c.x, c.y), alpha=pr.alpha(t),
                     scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
@@ -266,7 +269,7 @@ class Renderer:
                              pucks.halo_radius(r))
         img = self._label(p.id) if label else None
         return a, pucks.draw_halo(target, self.map.point(p.x, p.y), r,
-                                  self.map.angle_at(p.x, p.y, p.angle), state, alpha, t, img)
+                                  self.map.screen_angle(p.x, p.y, p.angle), state, alpha, t, img)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)
@@ -278,7 +281,7 @@ class Renderer:
     def draw_puck(self, target: pygame.Surface, p: Puck, t: float = 0.0) -> None:
         """One puck's halo, as it would be drawn in a frame (no trail)."""
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
-        pucks.draw_halo(target, self.map.point(p.x, p.y), r, self.map.angle_at(p.x, p.y, p.angle),
+        pucks.draw_halo(target, self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
                         p.state, 1.0, t)
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:

@@ -193,9 +193,8 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
     fig = c.size * pose.ppm * pose.scale
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    span = float((hi - lo).max())
-    touched = P.glow(surf, (lo + hi) / 2, 0.42 * max(span, 0.3 * fig) + 6, pose.color,
-                     0.26 * pose.alpha)
+    # The glow's size follows the figure's size, not its pose: one cached light per figure.
+    touched = P.glow(surf, (lo + hi) / 2, 0.42 * fig + 6, pose.color, 0.26 * pose.alpha)
     bones, spine, rel, on_spine, *rest = topology(n, c.bones)
     w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
     body = pose.body()
@@ -304,8 +303,7 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
         q = pts[idx]
         if closed and first:
             touched = P.union([touched, P.glow(
-                surf, q.mean(axis=0), 0.62 * float(np.ptp(q, axis=0).max()) + 6, pose.color,
-                0.32 * pose.alpha)])
+                surf, q.mean(axis=0), 0.62 * fig + 6, pose.color, 0.32 * pose.alpha)])
             P.polygon(surf, pose.body(0.7), (q - q.mean(axis=0)) * 1.04 + q.mean(axis=0))
             P.polygon(surf, pose.body(), q)
             first = False

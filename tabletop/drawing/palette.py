@@ -49,7 +49,8 @@ def resting(color: Color) -> Color:
     """A character with nothing to show: calmer (less saturated, 75 % light), never faded out."""
     r, g, b = (v / 255.0 for v in color)
     h, s, v = colorsys.rgb_to_hsv(r, g, b)
-    return tuple(int(round(255 * c)) for c in colorsys.hsv_to_rgb(h, s * 0.6, v * 0.8))  # type: ignore
+    rgb = colorsys.hsv_to_rgb(h, s * 0.6, v * 0.8)
+    return tuple(int(round(255 * c)) for c in rgb)  # type: ignore
 
 
 def shade(color: Color, k: float) -> Color:

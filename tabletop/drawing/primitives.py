@@ -105,6 +105,13 @@ def _bucket(v: float, step: float) -> float:
     return max(step, round(v / step) * step)
 
 
+def _size_bucket(v: float) -> int:
+    """Sizes in steps of about 6 % (few cached surfaces, differences too small to see)."""
+    if v <= 8:
+        return max(1, int(round(v)))
+    return int(round(8 * 1.06 ** round(math.log(v / 8) / math.log(1.06))))
+
+
 def _remember(cache: dict, key: tuple, surf: pygame.Surface) -> pygame.Surface:
     if len(cache) >= _CACHE_MAX:
         cache.clear()
@@ -126,7 +133,7 @@ def _rgb_surface(values: np.ndarray, color: Color) -> pygame.Surface:
 def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface:
     """A soft round light (blit with BLEND_ADD): ``color`` x ``strength`` at the centre, falling
     smoothly to nothing at ``radius`` pixels."""
-    r = int(_bucket(radius, 4))
+    r = _size_bucket(radius)
     s = _bucket(strength, 0.05)
     key = (r, color, s)
     surf = _glows.get(key)

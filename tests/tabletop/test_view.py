@@ -63,7 +63,7 @@ def test_table_fit_puts_origin_bottom_left_and_y_up():
     assert x0 < x1 and y0 > y1  # x right, y up the screen
     assert min(x0, SIZE[0] - x1) >= 24 - 1e-9 and min(SIZE[1] - y0, y1) >= 24 - 1e-9
     assert (x1 - x0) / 1.2 == pytest.approx((y0 - y1) / 0.8)
-    assert m.angle_at(0.5, 0.5, math.pi / 2) == pytest.approx(-math.pi / 2)  # table +y is up
+    assert m.screen_angle(0.5, 0.5, math.pi / 2) == pytest.approx(-math.pi / 2)  # table +y is up
 
 
 @pytest.mark.parametrize("angle", [0.0, 2.5])
@@ -79,9 +79,10 @@ def test_halo_surrounds_the_puck_and_leaves_its_centre_dark(angle):
     assert min(ring) > table + 200                      # lit all the way round
     for k in (0.0, 0.3, 0.6):                           # the puck itself is not painted
         for a in (0.0, 2.0, 4.0):
-            assert brightness(img, (cx + k * R * math.cos(a), cy + k * R * math.sin(a))) < table + 40
+            q = (cx + k * R * math.cos(a), cy + k * R * math.sin(a))
+            assert brightness(img, q) < table + 40
     # the heading notch: brightest on the ring along the puck's angle
-    ax = m.angle_at(0.4, 0.3, angle)
+    ax = m.screen_angle(0.4, 0.3, angle)
     ahead = brightness(img, (cx + R * math.cos(ax), cy + R * math.sin(ax)))
     behind = brightness(img, (cx - R * math.cos(ax), cy - R * math.sin(ax)))
     assert ahead > behind + 60
@@ -154,7 +155,7 @@ def test_reactor_drawn_where_its_state_says_facing_its_heading(heading):
     L = 0.1 * m.scale_at(0.6, 0.4)
     box = (int(cx - L), int(cy - L), int(cx + L), int(cy + L))
     whites, _ = eye_centroids(img, box, 0.2 * L)
-    a = m.angle_at(0.6, 0.4, heading)
+    a = m.screen_angle(0.6, 0.4, heading)
     along = (whites - (cx, cy)) @ np.array([math.cos(a), math.sin(a)])
     assert along > 0.12 * L                                                # the eyes are in front
 
