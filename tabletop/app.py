@@ -1,8 +1,10 @@
 """Wiring: builds the installation from a validated config and runs it until told to stop.
 
-Build order: puck tracker (shared with the camera sources for region-of-interest predictions),
-sources, engines (in config order), sinks (view, recorder, configured sinks). Ctrl-C, SIGTERM and
-SIGHUP end the run cleanly: sources closed, the recording flushed and complete.
+Build order: the installation's calibration, puck tracker (shared with the camera sources for
+region-of-interest predictions), sources, engines (in config order), sinks (the recorder is
+built first so a folder it cannot use fails before a window opens; frames go to the view and
+configured sinks, then the recorder). Ctrl-C, SIGTERM and SIGHUP end the run cleanly: sources
+closed, the recording flushed and complete.
 """
 
 from __future__ import annotations

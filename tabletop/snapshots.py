@@ -98,6 +98,7 @@ class Snapshots:
                  max_mb: float = 500.0, per_run: bool = False,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.root = Path(folder)
+        self.root.mkdir(parents=True, exist_ok=True)  # OSError: a folder that cannot be made
         self.folder = run_folder(self.root) if per_run else self.root
         self.every_s, self.keep, self.max_bytes = float(every_s), int(keep), max_mb * 2**20
         self.clock = clock

@@ -374,9 +374,14 @@ class ProjectorView:
         self._overlay_t = -math.inf
         self.snapshots: Snapshots | None = None
         if options["snapshot_every_s"] > 0:
-            self.snapshots = Snapshots(options["snapshot_folder"], options["snapshot_every_s"],
-                                       options["snapshot_keep"], options["snapshot_max_mb"],
-                                       options["snapshot_per_run"])
+            try:
+                self.snapshots = Snapshots(options["snapshot_folder"],
+                                           options["snapshot_every_s"], options["snapshot_keep"],
+                                           options["snapshot_max_mb"], options["snapshot_per_run"])
+            except OSError as exc:
+                from tabletop.schema import ConfigError
+                raise ConfigError(f"view.snapshot_folder: {options['snapshot_folder']}: cannot "
+                                  f"be used: {exc.strerror or exc}") from None
         self.snapshot_overlay = bool(options["snapshot_overlay"])
         self._said_headless = False
 

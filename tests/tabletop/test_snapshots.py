@@ -173,10 +173,10 @@ def test_snapshots_with_a_window(tmp_path):
 
 def test_a_folder_that_cannot_be_written_is_said_once(tmp_path, caplog):
     import logging
-    blocked = tmp_path / "file"
-    blocked.write_text("a file where the snapshot folder should be")
     clock = Clock()
-    snaps = Snapshots(blocked / "snaps", every_s=0.2, clock=clock)
+    snaps = Snapshots(tmp_path / "snaps", every_s=0.2, clock=clock)
+    (tmp_path / "snaps").rmdir()  # taken away while running: a file in its place
+    (tmp_path / "snaps").write_text("a file where the snapshot folder should be")
     with caplog.at_level(logging.INFO, logger="tabletop"):
         take(snaps, clock, 1.5)
     warnings = [r for r in caplog.records if "not saved" in r.getMessage()]

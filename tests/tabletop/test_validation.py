@@ -111,6 +111,13 @@ def test_a_recorder_folder_that_cannot_be_made(tmp_path, capfd):
     assert code == 2 and "kiosk.yaml: recorder.folder:" in line and "/proc/x" in line
 
 
+def test_a_snapshot_folder_that_cannot_be_made(tmp_path, capfd):
+    code, err = run_config(tmp_path, "sources: [{kind: scripted}]\n"
+                           "view: {snapshot_every_s: 5, snapshot_folder: /proc/x}\n", capfd)
+    line = one_line(err)
+    assert code == 2 and "kiosk.yaml: view.snapshot_folder: /proc/x: cannot be used" in line
+
+
 @pytest.mark.parametrize("value", [".inf", "-.inf", ".nan", "1e999"])
 def test_numbers_must_be_finite(tmp_path, capfd, value):
     code, err = run_config(tmp_path, BASE + f"table: {{width: 1.2, height: {value}}}\n", capfd)
