@@ -128,9 +128,10 @@ def test_capture_window_grabs_views_and_fills_the_coverage_map():
 
 
 def test_sprites_turn_with_the_projector_homography():
+    """Headings are turned into screen angles (radians, y down) through the homography."""
     from tabletop.view import TableToScreen
     plain = TableToScreen((1.2, 0.8), (1280, 720))
-    assert plain.angle_at(0.6, 0.4, 0.5) == pytest.approx(0.5)
+    assert plain.screen_angle(0.6, 0.4, 0.5) == pytest.approx(-0.5)  # table y up the screen
     mirrored = TableToScreen((1.2, 0.8), (1280, 720),
                              homography=np.array([[1000.0, 0, 40], [0, 1000.0, 40], [0, 0, 1]]))
-    assert mirrored.angle_at(0.6, 0.4, 0.5) == pytest.approx(-0.5)  # table y down the screen
+    assert mirrored.screen_angle(0.6, 0.4, 0.5) == pytest.approx(0.5)  # table y down the screen

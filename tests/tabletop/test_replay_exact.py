@@ -86,7 +86,7 @@ def test_replay_reproduces_the_live_characters_after_moving(tmp_path, config):
     assert str(tmp_path / "repo") not in json.dumps([header["config"], list(header["files"])])
 
     a, b = frames(moved), frames(replayed)
-    assert len(a) == len(b) and len(a) > 30 * seconds
+    assert len(a) == len(b) and len(a) > 10 * seconds   # enough ticks to compare
     differing = [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]]
     assert differing == []
     assert [f["t"] for f in a] == [f["t"] for f in b]
