@@ -16,7 +16,7 @@ from typing import Sequence
 from tabletop import __version__
 from tabletop.frames import InputError
 
-COMMANDS = ("run", "track", "behave", "follow", "calibrate", "replay")
+COMMANDS = ("run", "track", "behave", "follow", "calibrate", "replay", "status", "review")
 
 EXIT_BAD_INPUT = 2
 

@@ -111,11 +111,12 @@ class DesignerFocus:
 
     def __init__(self, engines: Sequence[Engine]) -> None:
         self.engines = engines
+        self.extra: list = []      # more providers of designer_targets (the studio)
         self.focus: str | None = None
 
     def targets(self) -> list[str]:
         out: list[str] = []
-        for e in self.engines:
+        for e in [*self.extra, *self.engines]:
             fn = getattr(e, "designer_targets", None)
             if fn is not None:
                 out.extend(fn())
@@ -194,8 +195,14 @@ class Loop:
     def __init__(self, inputs: LiveInputs | "FrameInputs", engines: Sequence[Engine],
                  sinks: Sequence[Sink], rate_hz: float = 60.0, stats: LoopStats | None = None,
                  commands: CommandQueue | None = None, stop: threading.Event | None = None,
-                 clock: Callable[[], float] = time.monotonic, paced: bool = True) -> None:
+                 clock: Callable[[], float] = time.monotonic, paced: bool = True,
+                 filters: Sequence[Callable[[Frame], Frame]] = (),
+                 hooks: Sequence[Callable[[Frame], None]] = ()) -> None:
         self.inputs, self.engines, self.sinks = inputs, list(engines), list(sinks)
+        # filters: frame -> frame after the inputs, before the engines (attract mode, "one
+        # moment"); hooks: called with the completed frame after the sinks (health, watchdog
+        # pings, file watchers). Both run in the frame loop itself.
+        self.filters, self.hooks = list(filters), list(hooks)
         self.period = 1.0 / rate_hz
         self.stats = stats or LoopStats()
         self.commands = commands or CommandQueue()
@@ -225,6 +232,11 @@ class Loop:
         commands, focus = self.focus.apply(frame.commands + self.commands.drain(), frame.focus)
         if commands != frame.commands or focus != frame.focus:
             frame = dataclasses.replace(frame, commands=commands, focus=focus)
+        for fn in self.filters:
+            try:
+                frame = fn(frame)
+            except Exception:
+                self._report(f"filter {getattr(fn, '__name__', type(fn).__name__)}")
         st = self.stats
         te = t1
         for engine in self.engines:
@@ -246,6 +258,11 @@ class Loop:
                 self._report(f"sink {sink.name}")
             ts, t_prev = self.clock(), ts
             st.record(f"sink:{sink.name}", ts - t_prev)
+        for hook in self.hooks:
+            try:
+                hook(frame)
+            except Exception:
+                self._report(f"hook {getattr(hook, '__name__', type(hook).__name__)}")
         t3 = self.clock()
         st.record("inputs", t1 - t0)
         st.record("engines", t2 - t1)

@@ -6,7 +6,8 @@ keys into operator commands, saves snapshots and shows the operator overlay.
 
 Keys: Esc or closing the window ends the run; F1 or O toggles the overlay; R, K, X, Tab and A send
 ``designer.record``, ``designer.keep``, ``designer.discard``, ``designer.next`` and
-``designer.assign`` to the engines.
+``designer.assign`` to the engines; U, Delete, ] and [ send the studio's ``designer.undo``,
+``designer.delete``, ``designer.item_next`` and ``designer.item_previous``; F2 types a new name.
 """
 
 from __future__ import annotations
@@ -38,7 +39,9 @@ OVERLAY_REFRESH_S = 0.25
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
-                pygame.K_a: "designer.assign"}
+                pygame.K_a: "designer.assign", pygame.K_u: "designer.undo",
+                pygame.K_DELETE: "designer.delete", pygame.K_RIGHTBRACKET: "designer.item_next",
+                pygame.K_LEFTBRACKET: "designer.item_previous"}
 
 # Reactor body in units of its size, nose along +x.
 BODY = np.array([(0.55, 0.0), (0.25, 0.27), (-0.3, 0.3), (-0.5, 0.0), (-0.3, -0.3), (0.25, -0.27)])
@@ -123,6 +126,10 @@ class Renderer:
     def draw(self, target: pygame.Surface, frame: Frame, overlay: list[str] | None = None) -> None:
         """Draw ``frame`` onto ``target``; ``overlay`` lines are printed top-left when given."""
         target.blit(self._background(target), (0, 0))
+        if frame.status == "one_moment":
+            from tabletop.kiosk.screens import draw_one_moment
+            draw_one_moment(target, frame.t)
+            return
         for c in frame.characters:
             self.draw_character(target, c)
         for p in frame.pucks:
@@ -143,6 +150,10 @@ class Renderer:
         pygame.draw.circle(target, HEADING, (hx, hy), max(2, r // 4))
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
+        if c.kind == "studio":
+            from tabletop.studio.draw import draw_studio
+            draw_studio(target, self, c)
+            return
         color = c.color if c.valid else tuple(v // 3 for v in c.color)
         if c.points is not None and len(c.points):
             pts = self.map.points(c.points)
@@ -251,6 +262,10 @@ class ProjectorView:
         self._next_snapshot: float | None = None
         self._saver: threading.Thread | None = None
         self.snapshots = 0
+        self.kiosk = False        # kiosk: only the service key shows the overlay (and then Esc quits)
+        self.service_key: int | None = None
+        from tabletop.studio.draw import NamePrompt
+        self.prompt = NamePrompt()  # F2: type a new name for the item in play (studio)
 
     def consume(self, frame: Frame) -> None:
         self._events()
@@ -262,17 +277,25 @@ class ProjectorView:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), frame.t
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
+        self.prompt.draw(self.screen)
         pygame.display.flip()
         if self.headless and self.snapshot_every > 0:
             self._snapshot(frame.t)
 
     def _events(self) -> None:
         for ev in pygame.event.get():
-            if ev.type == pygame.QUIT or (ev.type == pygame.KEYDOWN and ev.key == pygame.K_ESCAPE):
+            if ev.type == pygame.KEYDOWN and (self.prompt.active or ev.key == pygame.K_F2):
+                cmd = self.prompt.handle(ev)
+                if cmd is not None and self.commands is not None:
+                    self.commands.put(cmd)
+                continue
+            if ev.type == pygame.QUIT or (ev.type == pygame.KEYDOWN and ev.key == pygame.K_ESCAPE
+                                          and (not self.kiosk or self.show_overlay)):
                 if self.stop is not None:
                     self.stop.set()
             elif ev.type == pygame.KEYDOWN:
-                if ev.key in (pygame.K_F1, pygame.K_o):
+                if ev.key == self.service_key or (not self.kiosk
+                                                  and ev.key in (pygame.K_F1, pygame.K_o)):
                     self.show_overlay = not self.show_overlay
                 elif ev.key in KEY_COMMANDS and self.commands is not None:
                     self.commands.put(KEY_COMMANDS[ev.key])

@@ -16,24 +16,52 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", type=Path, default=None, metavar="FILE",
                    help="record the session to FILE (JSON Lines), whatever the config says")
     p.add_argument("--verbose", action="store_true", help="log debug messages")
+    p.add_argument("--kiosk", action="store_true",
+                   help="gallery kiosk: fullscreen, no cursor, overlay only with the service key, "
+                        "attract mode, status and heartbeat, restarted by a supervisor")
+    p.add_argument("--no-supervisor", action="store_true",
+                   help="with --kiosk: run the loop in this process (e.g. when systemd restarts it)")
+    p.add_argument("--studio", action="store_true",
+                   help="designer studio: record, train, try, keep and manage the library")
 
 
 def main(args: argparse.Namespace) -> int:
-    from tabletop.app import build_live, configure_logging, stop_on_signals
+    from tabletop.app import configure_logging, stop_on_signals
     from tabletop.config import load_config
     from tabletop.frames import InputError
+    from tabletop.kiosk.runner import Runner, supervise, supervised
 
     if args.seconds is not None and not args.seconds > 0:
         raise InputError(f"--seconds must be a positive number of seconds, got {args.seconds}")
     configure_logging(args.verbose)
     cfg = load_config(args.config)
-    inst = build_live(cfg, headless=args.headless, record_path=args.record)
-    with stop_on_signals(inst.loop.stop):
-        ticks = inst.loop.run(seconds=args.seconds)
-    st = inst.loop.stats
+    kiosk = args.kiosk or cfg["kiosk"]["enabled"]
+    if kiosk and not args.no_supervisor and not supervised():
+        return supervise(Path(args.config), cfg, _argv(args))
+    runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
+                    kiosk=kiosk, studio=args.studio)
+    with stop_on_signals(runner.stop):
+        runner.run(seconds=args.seconds)
+    st = runner.inst.loop.stats
     summary = st.summary_ms()
     import logging
     logging.getLogger("tabletop").info(
-        "ran %d ticks at %.1f fps; capture-to-render %.1f ms median, %.1f ms p99", ticks,
+        "ran %d ticks at %.1f fps; capture-to-render %.1f ms median, %.1f ms p99", runner.ticks,
         st.fps(), *(summary.get("capture_age", (float("nan"),) * 2)))
     return 0
+
+
+def _argv(args: argparse.Namespace) -> list[str]:
+    """The arguments of this run, for the supervised child."""
+    out = ["--config", str(args.config)]
+    if args.headless:
+        out.append("--headless")
+    if args.seconds is not None:
+        out += ["--seconds", str(args.seconds)]
+    if args.record is not None:
+        out += ["--record", str(args.record)]
+    if args.verbose:
+        out.append("--verbose")
+    if args.studio:
+        out.append("--studio")
+    return out + ["--kiosk"]

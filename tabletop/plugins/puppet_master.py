@@ -17,12 +17,9 @@ Config::
         library: library              # kept behaviours go to <library>/<name>/
         name: lover                   # default: this engine's name
 
-Operator commands go to the designer target in ``frame.focus`` (the main loop's Tab cycles
-through every engine's ``designer_targets``; with no focus, every designer engine takes them):
-``designer.record`` starts and stops recording; the take is trained at once and the character
-reacts with it straight away; ``designer.keep`` saves it to the library (never over an existing
-behaviour: ``lover-2``, ``lover-3``...), ``designer.discard`` drops it and goes back to the
-previous behaviour, recording again redoes it.
+With ``designer.enabled`` the engine is a target of the designer studio (``tabletop.studio``):
+record a take with the two pucks, train it at once, try it, keep it in the library (never over
+an existing behaviour: ``lover-2``, ``lover-3``...) or redo it.
 
 The reactor steps at the behaviour's rate (40 Hz) on the frames' own times. While its main is
 absent it keeps reacting to the main's last pose; before the main was ever seen it waits (drawn
@@ -34,9 +31,7 @@ from __future__ import annotations
 import math
 import time
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import Any, Callable
 
 from behaviors.puppet_master.engine import Behavior, Reactor
 from tabletop import library
@@ -46,8 +41,6 @@ from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_,
                              Str)
 
 MAIN_KINDS = ("puck", "character", "touch", "stream")
-MESSAGE_S = 4.0          # seconds an operator message stays in the label
-MARKER_DEBOUNCE_S = 0.3  # the record marker must be on (or off) the table this long
 TURN_SPEED = 0.02        # m/s: below it a touch or stream main keeps its look direction
 
 
@@ -125,7 +118,9 @@ SCHEMA = Record({
 
 
 class PuppetMasterEngine:
-    """One reacting character on the bus, optionally trainable from the table (designer mode)."""
+    """One reacting character on the bus. Designer mode (record, train, try, keep) is the
+    studio's (:class:`tabletop.studio.targets.PuppetMasterTarget`): it plays takes through
+    :meth:`play` and shows the reactor puck while recording through :attr:`hold`."""
 
     def __init__(self, name: str, main: dict, table: tuple[float, float],
                  behavior: Behavior | None = None, behavior_name: str = "",
@@ -138,17 +133,12 @@ class PuppetMasterEngine:
         self.behavior_name = behavior_name
         self.behavior: Behavior | None = None
         self.reactor: Reactor | None = None
-        self._use(behavior)
+        self.play(behavior, behavior_name)
         self.last_main: tuple[float, float, float] | None = None
         self._last_t = -math.inf
         self._dir = 0.0
-        self.mode = "idle"                   # idle | recording | trying
-        self.take: list[tuple[float, ...]] = []
-        self.pending: Behavior | None = None
-        self.kept: list[Path] = []
-        self._message, self._message_until = "", -math.inf
-        self._marker_on, self._marker_since = False, -math.inf
-        self._focused = True
+        self.hold: Callable[[Frame], CharacterState] | None = None  # replaces the reaction
+        self.note = ""                                               # the studio's label
         if self.designer is not None:
             if self.designer["main_puck"] is None:
                 self.designer["main_puck"] = main["puck"] if main["kind"] == "puck" else 1
@@ -157,9 +147,9 @@ class PuppetMasterEngine:
 
     # -- the behaviour in play ----------------------------------------------------------------
 
-    def _use(self, behavior: Behavior | None) -> None:
+    def play(self, behavior: Behavior | None, name: str = "") -> None:
         """Play ``behavior`` from here on (a fresh reactor, started at the main's next pose)."""
-        self.behavior = behavior
+        self.behavior, self.behavior_name = behavior, name
         self.reactor = Reactor(behavior, self.table) if behavior is not None else None
 
     # -- inputs ---------------------------------------------------------------------------------
@@ -202,10 +192,8 @@ class PuppetMasterEngine:
     # -- the engine step ------------------------------------------------------------------------
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
-        if self.designer is not None:
-            self._designer_commands(frame)
-            if self.mode == "recording":
-                return (self._record(frame),)
+        if self.hold is not None:
+            return (self.hold(frame),)
         pose = self._main_pose(frame)
         if pose is not None and not all(math.isfinite(v) for v in pose):
             pose = None                      # a broken measurement counts as absent
@@ -217,9 +205,9 @@ class PuppetMasterEngine:
         if self.reactor is None or pose is None:
             return (self._waiting(frame),)
         x, y, d = self.reactor.update(frame.t, *pose)
-        return (self._character(x, y, d, True, self._label(frame)),)
+        return (self.character(x, y, d, True, self._label()),)
 
-    def _character(self, x: float, y: float, d: float, valid: bool, label: str) -> CharacterState:
+    def character(self, x: float, y: float, d: float, valid: bool, label: str) -> CharacterState:
         return CharacterState(self.name, float(x), float(y), float(d), kind="reactor",
                               size=self.size, color=self.color, valid=valid, label=label)
 
@@ -234,139 +222,15 @@ class PuppetMasterEngine:
             why = "R to record a behaviour" if self.designer else "no behaviour"
         else:
             why = f"waiting for {self.main['kind']} {self.main[self.main['kind']]}"
-        return self._character(x, y, d, False, self._label(frame, why))
+        return self.character(x, y, d, False, self.note or why)
 
-    def _label(self, frame: Frame, status: str = "") -> str:
-        now = self.clock()
-        if now < self._message_until:
-            status = self._message
-        elif self.mode == "trying" and self.pending is not None:
-            status = (f"trained {self.pending.samples} samples, try it: K keep, X discard, "
-                      "R record again")
-        elif not status and self.reactor is not None:
-            status = f"playing {self.behavior_name or 'behaviour'}"
-            if self.reactor.started:
-                status += f", coherence {self.reactor.coherence_share:.0%}"
-        return status + self._selection()
-
-    def designer_targets(self) -> tuple[str, ...]:
-        """This engine, when in designer mode, is one of the targets Tab cycles through."""
-        return (self.name,) if self.designer is not None else ()
-
-    def _selection(self) -> str:
-        if self.designer is None:
-            return ""
-        return " [selected]" if self._focused else " [Tab selects]"
-
-    def _say(self, message: str) -> None:
-        self._message, self._message_until = message, self.clock() + MESSAGE_S
-
-    # -- designer mode --------------------------------------------------------------------------
-
-    def _designer_commands(self, frame: Frame) -> None:
-        selected = self._focused = frame.focus is None or frame.focus == self.name
-        for cmd in frame.commands:
-            if not selected:
-                break
-            if cmd == "designer.record":
-                self._toggle_record()
-            elif cmd == "designer.keep":
-                self._keep()
-            elif cmd == "designer.discard":
-                self._discard()
-        marker = self.designer["record_marker"]
-        if marker is not None and selected:
-            on = frame.puck(marker) is not None
-            if on != self._marker_on:
-                if self._marker_since == -math.inf:
-                    self._marker_since = frame.t
-                if frame.t - self._marker_since >= MARKER_DEBOUNCE_S:
-                    self._marker_on, self._marker_since = on, -math.inf
-                    if on != (self.mode == "recording"):
-                        self._toggle_record()
-            else:
-                self._marker_since = -math.inf
-
-    def _toggle_record(self) -> None:
-        if self.mode == "recording":
-            self._train_take()
-            return
-        if self.mode == "trying":            # recording again redoes the take being tried
-            behavior, self.behavior_name = self._previous
-            self._use(behavior)
-        self.mode, self.take, self.pending = "recording", [], None
-
-    def _record(self, frame: Frame) -> CharacterState:
-        m = frame.puck(self.designer["main_puck"])
-        r = frame.puck(self.designer["react_puck"])
-        if m is not None and r is not None and (not self.take or frame.t > self.take[-1][0]):
-            self.take.append((frame.t, m.x, m.y, m.angle, r.x, r.y, r.angle))
-        secs = self.take[-1][0] - self.take[0][0] if self.take else 0.0
-        missing = [f"puck {p}" for p, q in ((self.designer["main_puck"], m),
-                                            (self.designer["react_puck"], r)) if q is None]
-        status = f"recording {secs:.1f} s, R stop"
-        status += f" (no {', '.join(missing)})" if missing else ""
-        status += self._selection()
-        if r is not None:
-            return self._character(r.x, r.y, r.angle, True, status)
-        x0, y0, x1, y1 = self.table
-        return self._character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, status)
-
-    def take_array(self) -> np.ndarray:
-        """The recorded take as a demonstration (n, 7), times from 0."""
-        a = np.array(self.take, dtype=float).reshape(-1, 7)
-        if a.size:
-            a[:, 0] -= a[0, 0]
-        return a
-
-    def _train_take(self) -> None:
-        demo = self.take_array()
-        secs = float(demo[-1, 0]) if len(demo) else 0.0
-        need = self.designer["min_seconds"]
-        self.mode = "idle"
-        if secs < need:
-            self._say(f"take too short ({secs:.1f} s of both pucks, needs {need:g} s): R to record")
-            return
-        rate = self.rate_hz or (self.behavior.params.rate_hz if self.behavior else 40.0)
-        window = self.behavior.params.window if self.behavior else 40
-        try:
-            self.pending = Behavior.train(demo, rate_hz=rate, window=window)
-        except InputError as exc:
-            self._say(f"cannot train: {exc}")
-            return
-        self.pending_demo = demo
-        self._previous = (self.behavior, self.behavior_name)
-        self._use(self.pending)
-        self.behavior_name = "new take"
-        self.mode = "trying"
-
-    def _keep(self) -> None:
-        if self.mode != "trying" or self.pending is None:
-            self._say("nothing to keep: R records a take")
-            return
-        lib = self.designer["library"]
-        try:
-            name = library.free_name(lib, self.designer["name"])
-            folder = library.save_behavior(
-                lib, name, self.pending_demo,
-                {"rate_hz": self.pending.params.rate_hz, "window": self.pending.params.window},
-                description=f"demonstrated at the table for {self.name}",
-                source="designer mode, recorded from the table")
-        except InputError as exc:
-            self._say(f"not saved: {exc}")
-            return
-        self.kept.append(folder)
-        self.behavior_name, self.mode, self.pending = name, "idle", None
-        self._say(f"kept as {name} in {folder.parent}")
-
-    def _discard(self) -> None:
-        if self.mode == "trying":
-            behavior, name = self._previous
-            self._use(behavior)
-            self.behavior_name, self.mode, self.pending = name, "idle", None
-            self._say("take discarded")
-        else:
-            self._say("nothing to discard")
+    def _label(self) -> str:
+        if self.note:
+            return self.note
+        status = f"playing {self.behavior_name or 'behaviour'}"
+        if self.reactor is not None and self.reactor.started:
+            status += f", coherence {self.reactor.coherence_share:.0%}"
+        return status
 
 
 def _check_binding(options: dict, ctx: BuildContext) -> None:
@@ -400,6 +264,8 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     designer = dict(options["designer"])
     lib = Path(designer["library"]).expanduser()
     designer["library"] = lib if lib.is_absolute() else Path(ctx.base) / lib
-    return PuppetMasterEngine(options["name"], options["main"], ctx.table, behavior, bname,
-                              tuple(options["color"]), options["size"], designer,
-                              options["rate_hz"])
+    engine = PuppetMasterEngine(options["name"], options["main"], ctx.table, behavior, bname,
+                                tuple(options["color"]), options["size"], designer,
+                                options["rate_hz"])
+    engine.folder = options["behavior"]   # the studio reloads it when it changes on disk
+    return engine
