@@ -24,6 +24,7 @@ SOURCES: dict[str, str] = {
 ENGINES: dict[str, str] = {
     "puppet_master": "tabletop.plugins.puppet_master",
     "mop": "tabletop.plugins.mop",
+    "fault": "tabletop.plugins.fault",
 }
 
 SINKS: dict[str, str] = {}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 HELP = "run the installation (synthetic camera and headless view where there is no camera or display)"
@@ -25,7 +26,29 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="designer studio: record, train, try, keep and manage the library")
 
 
+def wait_for_go() -> bool:
+    """A warm spare of the kiosk supervisor: import what a run needs, then wait for
+    ``go RESTARTS`` on stdin. False when the supervisor went away instead."""
+    import os
+
+    import tabletop.app  # noqa: F401  (the heavy imports, done before the go)
+    import tabletop.kiosk.runner  # noqa: F401
+    import tabletop.view  # noqa: F401
+    from tabletop import registry
+    for module in (*registry.SOURCES.values(), *registry.ENGINES.values()):
+        registry.optional_module(module)
+    line = sys.stdin.readline().split()
+    if len(line) != 2 or line[0] != "go":
+        return False
+    os.environ["TABLETOP_RESTARTS"] = line[1]
+    os.environ.pop("TABLETOP_WAIT_GO", None)
+    return True
+
+
 def main(args: argparse.Namespace) -> int:
+    import os
+    if os.environ.get("TABLETOP_WAIT_GO") == "1" and not wait_for_go():
+        return 0
     from tabletop.app import configure_logging, stop_on_signals
     from tabletop.config import load_config
     from tabletop.frames import InputError

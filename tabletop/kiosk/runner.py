@@ -64,13 +64,16 @@ class Runner:
 
     def __init__(self, config_path: Path, cfg: dict[str, Any], headless: bool = False,
                  record_path: Path | None = None, kiosk: bool = False,
-                 studio: bool = False) -> None:
+                 studio: bool = False, clock=None, wrap_source=None) -> None:
         self.config_path = Path(config_path)
         self.base = self.config_path.resolve().parent
         self.cfg, self.headless, self.record_path = cfg, headless, record_path
         self.kiosk = kiosk or cfg["kiosk"]["enabled"]
-        self.studio_on = studio or cfg["studio"]["enabled"]
-        self.started = time.monotonic()
+        self.studio_all = studio or cfg["studio"]["enabled"]   # every engine, MOP included
+        self.studio_on = self.studio_all or any(
+            (e.get("designer") or {}).get("enabled") for e in cfg["engines"])
+        self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
+        self.started = (clock or time.monotonic)()
         self.stop = threading.Event()
         self.pending: dict[str, Any] | None = None
         self.notifier = Notifier()
@@ -78,6 +81,8 @@ class Runner:
         self.inst = None
         self.ticks = 0
         if self.kiosk:
+            import faulthandler
+            faulthandler.enable()     # a native crash leaves its Python stack in the crash log
             paths = kiosk_paths(cfg, self.base)
             setup_log_file(paths["log_file"], cfg["kiosk"]["log_max_bytes"],
                            cfg["kiosk"]["log_backups"])
@@ -91,13 +96,15 @@ class Runner:
         from tabletop.app import build_live
         from tabletop.kiosk.attract import Attract, OneMoment
         inst = build_live(kiosk_view(cfg, self.kiosk), headless=self.headless,
-                          record_path=self.record_path)
+                          record_path=self.record_path, clock=self.clock,
+                          wrap_source=self.wrap_source)
         loop, k = inst.loop, cfg["kiosk"]
         self.record_path = None          # one recording file per run, never overwritten
         extra = []
         if self.studio_on:
             from tabletop.studio.build import attach_studio
-            studio = attach_studio(inst, cfg, self.base)
+            studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
+            self.studio = studio
             extra.append(studio.status)
         if self.kiosk:
             from tabletop.plugins import scripted
@@ -118,10 +125,10 @@ class Runner:
                 k["name"], loop.stats, hb["every_s"], kiosk_paths(cfg, self.base)["status_file"],
                 Heartbeat(hb["host"], hb["port"]) if hb["enabled"] else None,
                 extra=lambda: {key: v for fn in extra for key, v in fn().items()},
-                started=self.started)
+                clock=loop.clock, started=self.started)
             loop.hooks.append(reporter)
             loop.sinks.append(_Closer("health", reporter.close))
-        loop.hooks.append(WatchdogPing(self.notifier))
+        loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
         return inst
 
     @staticmethod

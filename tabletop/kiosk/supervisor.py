@@ -13,6 +13,9 @@
   service's watchdog follows the frame loop, and ``NotifyAccess=main`` is enough.
 - SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
 - A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too.
+- A warm spare (``spare=True``): once a child is ready, the next one is started and waits,
+  its libraries imported, for ``go RESTARTS`` on its stdin (``$TABLETOP_WAIT_GO``); a restart
+  then costs the installation's build, not the interpreter's start and imports.
 """
 
 from __future__ import annotations
@@ -80,7 +83,8 @@ class Supervisor:
 
     def __init__(self, command: Sequence[str], policy: Policy, crash_log: Path,
                  env: dict[str, str] | None = None, notifier: Notifier | None = None,
-                 echo: bool = True, clock: Callable[[], float] = time.monotonic) -> None:
+                 echo: bool = True, clock: Callable[[], float] = time.monotonic,
+                 spare: bool = True) -> None:
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
         self.env = dict(os.environ if env is None else env)
         self.notifier = notifier or Notifier()
@@ -94,22 +98,51 @@ class Supervisor:
         self._sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
         self._sock.bind(str(self.socket_path))
         self._announced = False
+        self.use_spare = spare
+        self._spare: Child | None = None
 
     # --- one child --------------------------------------------------------------------------
 
-    def _spawn(self) -> Child:
+    def _process(self, spare: bool) -> Child:
         env = dict(self.env, NOTIFY_SOCKET=str(self.socket_path), TABLETOP_SUPERVISED="1",
                    TABLETOP_RESTARTS=str(self.starts))
         env.pop("WATCHDOG_USEC", None)
         env.pop("WATCHDOG_PID", None)
-        p = subprocess.Popen(self.command, env=env, stdin=subprocess.DEVNULL,
+        if spare:
+            env["TABLETOP_WAIT_GO"] = "1"
+        p = subprocess.Popen(self.command, env=env,
+                             stdin=subprocess.PIPE if spare else subprocess.DEVNULL,
                              stderr=subprocess.PIPE, text=True, errors="replace")
-        self.starts += 1
         child = Child(p, self.clock())
         child.reader = threading.Thread(target=self._read_stderr, args=(child,), daemon=True)
         child.reader.start()
-        log.info("supervisor: started the installation (pid %d, start %d)", p.pid, self.starts)
         return child
+
+    def _spawn(self) -> Child:
+        spare, self._spare = self._spare, None
+        if spare is not None and spare.process.poll() is None:
+            try:
+                assert spare.process.stdin is not None
+                spare.process.stdin.write(f"go {self.starts}\n")
+                spare.process.stdin.flush()
+                spare.process.stdin.close()
+                child = spare
+                child.started = self.clock()
+            except (OSError, ValueError):
+                spare.process.kill()
+                child = self._process(False)
+        else:
+            child = self._process(False)
+        self.starts += 1
+        log.info("supervisor: started the installation (pid %d, start %d)", child.process.pid,
+                 self.starts)
+        return child
+
+    def _kill_spare(self) -> None:
+        if self._spare is not None:
+            self._spare.process.kill()
+            self._spare.process.wait()
+            self._spare = None
 
     def _read_stderr(self, child: Child) -> None:
         assert child.process.stderr is not None
@@ -138,6 +171,8 @@ class Supervisor:
             log.info("supervisor: installation ready after %.2f s", now - child.started)
             if not self._announced:
                 self._announced = self.notifier.send("READY=1")
+            if self.use_spare and self._spare is None:
+                self._spare = self._process(True)
         elif msg == "WATCHDOG=1":
             child.last_ping = now
             self.notifier.send("WATCHDOG=1")
@@ -236,6 +271,7 @@ class Supervisor:
                     self.stop.wait(min(1.0, max(0.0, end - self.clock())))
             return 0
         finally:
+            self._kill_spare()
             self.notifier.send("STOPPING=1")
             self._sock.close()
             try:

@@ -84,7 +84,7 @@ def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = Tru
     targets = studio_targets(inst.loop.engines, cfg, base, all_engines)
     folder = Path(s["folder"] or base / "studio")
     session = SessionLog(folder, review=s["review"])
-    studio = Studio(targets, s["countdown_s"], log_try=session.log_try)
+    studio = Studio(targets, s["countdown_s"], log_try=session.log_try, clock=inst.loop.clock)
     studio.session = session
     ids = dict(s["markers"])
     for t in targets:       # an engine's own record marker (designer.record_marker)
