@@ -11,12 +11,16 @@ other scripted pucks leave. Frame ``status`` is ``"attract"`` while it plays.
 :class:`OneMoment`: a source that has worked and has been down for ``grace_s`` (an unplugged
 camera) sets the frame's ``status`` to ``"one_moment"`` until it is back; the view then shows the
 calm waiting screen instead of frozen characters.
+
+Both time themselves on the loop's clock (seconds), not on frame times: a frame's time is the
+capture time of its newest input, which stands still while a camera is gone.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from typing import Callable
 
 from tabletop.frames import Frame, Puck
@@ -40,8 +44,9 @@ class Attract:
     """Frame filter; see the module docstring. Times are the frames' (seconds)."""
 
     def __init__(self, poses: Poses, idle_s: float = 60.0, handover_s: float = 1.0,
-                 move_m: float = 0.01) -> None:
+                 move_m: float = 0.01, clock: Callable[[], float] = time.monotonic) -> None:
         self.poses, self.idle_s, self.handover_s, self.move_m = poses, idle_s, handover_s, move_m
+        self.clock = clock
         self.last_visit: float | None = None
         self.active = False
         self.started = 0.0
@@ -70,7 +75,7 @@ class Attract:
         return 0.0 if self.last_visit is None else max(0.0, t - self.last_visit)
 
     def __call__(self, frame: Frame) -> Frame:
-        t = frame.t
+        t = self.clock()
         if self.last_visit is None:
             self.last_visit = t
             self._visitor(frame)
@@ -89,12 +94,12 @@ class Attract:
                           for pid, x, y, a in self.poses(t - self.started))
             return dataclasses.replace(frame, pucks=pucks, status=frame.status or "attract")
         if self._handover is not None:
-            return self._hand_over(frame)
+            return self._hand_over(frame, t)
         return frame
 
-    def _hand_over(self, frame: Frame) -> Frame:
+    def _hand_over(self, frame: Frame, t: float) -> Frame:
         t0, scripted = self._handover  # type: ignore[misc]
-        w = smoothstep((frame.t - t0) / self.handover_s) if self.handover_s > 0 else 1.0
+        w = smoothstep((t - t0) / self.handover_s) if self.handover_s > 0 else 1.0
         if w >= 1.0:
             self._handover = None
             return frame
@@ -113,20 +118,21 @@ class Attract:
 class OneMoment:
     """Frame filter: ``status = "one_moment"`` while a source that has worked is down."""
 
-    def __init__(self, grace_s: float = 1.0) -> None:
-        self.grace_s = grace_s
+    def __init__(self, grace_s: float = 1.0, clock: Callable[[], float] = time.monotonic) -> None:
+        self.grace_s, self.clock = grace_s, clock
         self._worked: set[str] = set()
         self._down_since: dict[str, float] = {}
         self.active = False
 
     def __call__(self, frame: Frame) -> Frame:
         waiting = False
+        now = self.clock()
         for h in frame.health:
             if h.ok:
                 self._worked.add(h.name)
                 self._down_since.pop(h.name, None)
             elif h.name in self._worked:
-                since = self._down_since.setdefault(h.name, frame.t)
-                waiting = waiting or frame.t - since >= self.grace_s
+                since = self._down_since.setdefault(h.name, now)
+                waiting = waiting or now - since >= self.grace_s
         self.active = waiting
         return dataclasses.replace(frame, status="one_moment") if waiting else frame

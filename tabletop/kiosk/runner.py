@@ -111,11 +111,11 @@ class Runner:
             from tabletop.registry import BuildContext
             ctx = BuildContext(inst.context.table, inst.context.rate_hz, cfg, self.base)
             script = scripted.build(dict(k["attract"], name="attract"), ctx)
-            attract = Attract(script.poses, k["idle_s"], k["handover_s"])
+            attract = Attract(script.poses, k["idle_s"], k["handover_s"], clock=loop.clock)
             loop.filters.append(attract)
             extra.append(lambda: {"idle_s": round(attract.idle_for(loop.clock()), 1)})
             self._kiosk_view(inst, k)
-        loop.filters.append(OneMoment(cfg["kiosk"]["grace_s"]))
+        loop.filters.append(OneMoment(cfg["kiosk"]["grace_s"], clock=loop.clock))
         if self.watcher is not None:
             loop.hooks.append(self.watcher)
             extra.append(self.watcher.status)
@@ -127,6 +127,7 @@ class Runner:
                 extra=lambda: {key: v for fn in extra for key, v in fn().items()},
                 clock=loop.clock, started=self.started)
             loop.hooks.append(reporter)
+            self.reporter = reporter
             loop.sinks.append(_Closer("health", reporter.close))
         loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
         return inst

@@ -19,12 +19,13 @@ def scripted():
 
 
 def test_attract_starts_after_idle_and_hands_over_smoothly():
-    a = Attract(scripted(), idle_s=10.0, handover_s=1.0)
+    now = [0.0]
+    a = Attract(scripted(), idle_s=10.0, handover_s=1.0, clock=lambda: now[0])
     rate = 30.0
     visitor = (1, 0.3, 0.3, 0.5)
     frames = []
     for i in range(int(25 * rate)):
-        t = 100 + i / rate
+        t = now[0] = 100 + i / rate
         if t < 102:               # a visitor plays for 2 s, then leaves the puck still
             pucks = (Puck(1, 0.2 + 0.05 * (t - 100), 0.3, 0.5),)
         elif t < 120:             # the puck lies still: nobody is playing
@@ -53,10 +54,11 @@ def test_attract_starts_after_idle_and_hands_over_smoothly():
 
 
 def test_one_moment_while_a_source_that_worked_is_down():
-    om = OneMoment(grace_s=1.0)
+    now = [0.0]
+    om = OneMoment(grace_s=1.0, clock=lambda: now[0])
     seen = []
     for i in range(120):
-        t = i / 10.0
+        t = now[0] = i / 10.0
         ok = not (2.0 <= t < 7.0)
         h = (SourceHealth("camera", ok), SourceHealth("osc", False, "never sent"))
         seen.append(om(Frame(seq=i, t=t, health=h)).status)
