@@ -52,7 +52,7 @@ class Poller:
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.path, self.every_s, self.clock = Path(path), every_s, clock
         self.signature = tree_signature(self.path)
-        self._next = clock() + every_s
+        self._next = clock()
 
     def changed(self) -> bool:
         now = self.clock()

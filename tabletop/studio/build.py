@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 from typing import Any, Mapping
@@ -44,10 +45,10 @@ class Markers:
             elif cmd == "record" and self.studio.state in ("countdown", "recording"):
                 self.studio.command("designer.stop")
         # marker pucks are controls, not characters' inputs
-        if present & set(self.ids.values()):
-            import dataclasses
+        markers = set(self.ids.values())
+        if any(p.id in markers for p in frame.pucks):
             frame = dataclasses.replace(frame, pucks=tuple(
-                p for p in frame.pucks if p.id not in self.ids.values()))
+                p for p in frame.pucks if p.id not in markers))
         return frame
 
 
