@@ -3,8 +3,10 @@
 Header: ``{"format": "tabletop-session", "version": 1, "created": ISO date, "config": {...},
 "calibration": {...} | null}``. Frame lines carry seq, t (seconds, relative to the recording's
 first frame, see DESIGN.md "Time"), pucks, touches, streams, characters and commands, with floats
-written exactly (shortest repr round-trips). The recorder flushes twice a second and fsyncs when
-closed; a reader accepts a recording whose last line was cut short by a power cut and says so.
+written exactly (shortest repr round-trips). Every line is handed to the operating system as it
+is written (a killed process loses at most the line being written) and a background thread
+syncs the file to disk twice a second (a power cut loses at most that much); it is fsynced when
+closed. A reader accepts a recording whose last line was cut short and says so.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import json
 import logging
 import math
 import os
+import threading
 from pathlib import Path
 from typing import Any, Iterator
 
@@ -123,10 +126,26 @@ class Recorder:
                   "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
                   "config": jsonable(config or {}), "calibration": jsonable(calibration)}
         self._f.write(json.dumps(header, separators=(",", ":")) + "\n")
+        self._f.flush()
         self._t0: float | None = None
-        self._last_flush = -math.inf
         self.flush_every_s = flush_every_s
         self.frames = 0
+        self._dirty = threading.Event()
+        self._closing = threading.Event()
+        self._syncer = threading.Thread(target=self._sync, name="recorder-sync", daemon=True)
+        self._syncer.start()
+
+    def _sync(self) -> None:
+        """Sync written lines to disk, at most every ``flush_every_s``, off the frame loop."""
+        fd = self._f.fileno()
+        while not self._closing.is_set():
+            if self._dirty.wait(0.5) and not self._closing.is_set():
+                self._dirty.clear()
+                try:
+                    os.fdatasync(fd)
+                except OSError as exc:
+                    log.warning("recording %s: sync failed: %s", self.path, exc)
+                self._closing.wait(self.flush_every_s)
 
     def consume(self, frame: Frame) -> None:
         if self._f.closed:
@@ -136,13 +155,14 @@ class Recorder:
         self._f.write(json.dumps(frame_to_dict(frame, self._t0), separators=(",", ":"),
                                  allow_nan=False) + "\n")
         self.frames += 1
-        if frame.t - self._last_flush >= self.flush_every_s:
-            self._f.flush()
-            self._last_flush = frame.t
+        self._f.flush()
+        self._dirty.set()
 
     def close(self) -> None:
         if self._f.closed:
             return
+        self._closing.set()
+        self._syncer.join()
         self._f.flush()
         os.fsync(self._f.fileno())
         self._f.close()
