@@ -30,7 +30,7 @@ SCHEMA = Record({
                       doc="an input down this long shows the 'one moment' screen, seconds"),
     "stall_s": Number(5.0, lo=0.5, hi=600.0,
                       doc="supervisor: no frame for this long restarts the loop, seconds"),
-    "backoff_s": ListOf(Number(lo=0.0, hi=3600.0), default=[0.25, 30.0], min_len=2, max_len=2,
+    "backoff_s": ListOf(Number(lo=0.0, hi=3600.0), default=[0.1, 30.0], min_len=2, max_len=2,
                         doc="supervisor: first and longest wait before a restart, seconds"),
     "watch_config": Bool(True, doc="apply edits of the config file made while running"),
     "service_key": Str("F12", doc="key (pygame name) that shows the overlay in kiosk mode"),

@@ -2,8 +2,8 @@
 
 - A child that exits with an error or a signal (a crash) is logged to the crash log (time,
   exit status, how long it ran, the last lines it wrote to stderr) and started again after a
-  back-off: ``backoff_s[0]``, doubled after every failure in a row up to ``backoff_s[1]``, and
-  back to the first once a child has run ``healthy_s``.
+  back-off: ``backoff_s[0]`` for the first two failures in a row, then doubled after each one
+  up to ``backoff_s[1]``, and back to the first once a child has run ``healthy_s``.
 - A stall is a child whose frame loop stopped: no ``WATCHDOG=1`` for ``stall_s`` after its
   ``READY=1`` (or no ``READY=1`` within ``startup_s``). It is killed (SIGKILL: a frozen loop
   cannot act on SIGTERM), logged as a crash and restarted the same way.
@@ -46,7 +46,7 @@ class Policy:
     """When the supervisor restarts (seconds)."""
 
     stall_s: float = 5.0
-    backoff_s: tuple[float, float] = (0.25, 30.0)
+    backoff_s: tuple[float, float] = (0.1, 30.0)
     healthy_s: float = 60.0
     startup_s: float = 60.0
     stop_timeout_s: float = 10.0
@@ -54,7 +54,7 @@ class Policy:
     def delay(self, failures: int) -> float:
         """Wait before the restart after ``failures`` failures in a row (>= 1)."""
         lo, hi = self.backoff_s
-        return min(hi, lo * 2.0 ** max(0, failures - 1))
+        return min(hi, lo * 2.0 ** max(0, failures - 2))
 
 
 @dataclass
