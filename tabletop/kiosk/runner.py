@@ -135,7 +135,13 @@ class Runner:
     @staticmethod
     def _kiosk_view(inst, k: dict[str, Any]) -> None:
         import pygame
-        key = pygame.key.key_code(k["service_key"].lower()) if k["service_key"] else None
+        name = k["service_key"]
+        key = next((getattr(pygame, f"K_{n}") for n in (name, name.upper(), name.lower())
+                    if name and hasattr(pygame, f"K_{n}")), None)
+        if name and key is None:
+            log.warning("kiosk.service_key %r is not a key name (pygame K_ names such as F12, "
+                        "o); F12 shows the overlay", name)
+            key = pygame.K_F12
         for s in inst.sinks:
             if s.name == "view":
                 s.kiosk, s.service_key = True, key
