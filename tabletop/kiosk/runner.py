@@ -152,7 +152,7 @@ class Runner:
         if self.kiosk and self.cfg["kiosk"]["watch_config"] or self.studio_on:
             self.watcher = ConfigWatcher(self.config_path, self.cfg, load_config, self._apply)
         cfg = self.cfg
-        end = None if seconds is None else time.monotonic() + seconds
+        left = seconds              # run time, not counting the builds
         while True:
             try:
                 self.inst = self._build(cfg)
@@ -165,12 +165,14 @@ class Runner:
                     self.watcher.current, self.watcher.error = cfg, str(exc)
                 continue
             self.cfg = cfg
-            left = None if end is None else max(0.0, end - time.monotonic())
-            outer = self.stop
-            relay = threading.Thread(target=_relay, args=(outer, self.inst.loop.stop), daemon=True)
+            relay = threading.Thread(target=_relay, args=(self.stop, self.inst.loop.stop),
+                                     daemon=True)
             relay.start()
+            t0 = time.monotonic()
             self.ticks += self.inst.loop.run(seconds=left)
-            if self.pending is None or outer.is_set() or (end is not None and time.monotonic() >= end):
+            if left is not None:
+                left -= time.monotonic() - t0
+            if self.pending is None or self.stop.is_set() or (left is not None and left <= 0):
                 break
             cfg, self.pending = self.pending, None
         self.notifier.send("STOPPING=1")
