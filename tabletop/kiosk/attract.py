@@ -28,6 +28,35 @@ from tabletop.frames import Frame, Puck
 Poses = Callable[[float], list[tuple[int, float, float, float]]]
 
 
+def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
+    """Scripted performers for attract mode, one per MOP performer driven by a puck's path
+    (``features: [dx, dy]``): it draws that performer's action templates (CSV ``t,dx,dy``) from
+    a home spread along the table, so the MOP characters play their actions."""
+    from tabletop.files import FileFormatError, read_csv
+    found: list[tuple[int, list]] = []
+    for e in cfg["engines"]:
+        if e["kind"] != "mop":
+            continue
+        for p in e["performers"]:
+            (inp, *more) = p["inputs"]
+            if more or inp["kind"] != "puck" or list(inp["features"]) != ["dx", "dy"]:
+                continue
+            files = []
+            for c in e["characters"]:
+                for a in c["actions"]:
+                    if (a["performer"] or c["performer"]) == p["name"]:
+                        try:
+                            read_csv(a["template"], required=("t", "dx", "dy"), min_rows=2)
+                        except FileFormatError:
+                            continue
+                        files.append(a["template"])
+            if files:
+                found.append((inp["id"], files))
+    w, h = table
+    return [{"puck": pid, "home": [w * (k + 1) / (len(found) + 1), h * 0.45], "gestures": files,
+             "speed": [0.8, 1.3]} for k, (pid, files) in enumerate(found)]
+
+
 def smoothstep(u: float) -> float:
     """0 -> 0, 1 -> 1 with zero slope at both ends; clipped outside [0, 1]."""
     u = min(1.0, max(0.0, u))

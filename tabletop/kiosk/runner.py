@@ -110,7 +110,11 @@ class Runner:
             from tabletop.plugins import scripted
             from tabletop.registry import BuildContext
             ctx = BuildContext(inst.context.table, inst.context.rate_hz, cfg, self.base)
-            script = scripted.build(dict(k["attract"], name="attract"), ctx)
+            from tabletop.kiosk.attract import attract_performers
+            options = dict(k["attract"], name="attract")
+            if not options["performers"]:
+                options["performers"] = attract_performers(cfg, inst.context.table)
+            script = scripted.build(options, ctx)
             attract = Attract(script.poses, k["idle_s"], k["handover_s"], clock=loop.clock)
             loop.filters.append(attract)
             extra.append(lambda: {"idle_s": round(attract.idle_for(loop.clock()), 1)})

@@ -104,8 +104,9 @@ class Supervisor:
     # --- one child --------------------------------------------------------------------------
 
     def _process(self, spare: bool) -> Child:
+        # TABLETOP_DEBUG: an escaping exception prints its traceback, for the crash log
         env = dict(self.env, NOTIFY_SOCKET=str(self.socket_path), TABLETOP_SUPERVISED="1",
-                   TABLETOP_RESTARTS=str(self.starts))
+                   TABLETOP_RESTARTS=str(self.starts), TABLETOP_DEBUG="1")
         env.pop("WATCHDOG_USEC", None)
         env.pop("WATCHDOG_PID", None)
         if spare:

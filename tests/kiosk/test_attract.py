@@ -81,3 +81,34 @@ def test_the_view_draws_the_calm_screen_instead_of_the_table():
     assert pink(a1) > 100 and pink(a2) == 0       # no frozen character on the calm screen
     grey = (abs(a2[..., 0].astype(int) - a2[..., 2]) < 40) & (a2[..., 0] > 120)
     assert grey.sum() > 100                        # the ring and "one moment" are drawn
+
+
+def test_attract_plays_the_mop_characters_actions_when_nobody_is_there(tmp_path):
+    """examples/mop.yaml with nobody at the table: after idle_s, scripted performers draw the
+    characters' own gestures and the characters play them (simulated time)."""
+    from pathlib import Path
+
+    import yaml
+
+    from tabletop.config import validate_config
+    from tabletop.kiosk.simulate import SimClock, simulated
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    data = yaml.safe_load((examples / "mop.yaml").read_text())
+    data["sources"] = [{"kind": "scripted", "pucks": []}]
+    data["view"] = {"size": [320, 180]}
+    data["kiosk"] = {"idle_s": 2.0, "heartbeat": {"enabled": False},
+                     "status_file": str(tmp_path / "status.json"),
+                     "log_file": str(tmp_path / "tabletop.log")}
+    cfg = validate_config(data, str(examples / "mop.yaml"), examples)
+    clock = SimClock()
+    runner, inst = simulated(cfg, tmp_path / "config.yaml", clock, kiosk=True, studio=False)
+    playing, status = set(), []
+    for _ in range(int(25 * 30)):
+        frame = inst.loop.tick()
+        clock.advance(1 / 30)
+        status.append(frame.status)
+        playing |= {c.name for c in frame.characters if c.valid and c.action}
+    inst.loop.close()
+    assert status[int(1.5 * 30)] == "" and status[int(3 * 30)] == "attract"
+    # both pucks' characters play (which of them depends on the gestures drawn)
+    assert len(playing) >= 3 and playing & {"dancer", "bird"} and playing & {"salamander", "face"}
