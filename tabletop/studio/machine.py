@@ -114,7 +114,9 @@ class Studio:
             elif self.state == "trying":
                 self._drop("discarded")
             self.selected = frame.focus
-        mine = [c for c in frame.commands if c.startswith("designer.") and c != "designer.next"]
+        ours = frame.focus is None or frame.focus in self.targets   # else another engine's
+        mine = [c for c in frame.commands
+                if ours and c.startswith("designer.") and c != "designer.next"]
         for cmd in mine:
             self.command(cmd)
         target = self.target

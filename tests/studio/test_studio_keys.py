@@ -222,3 +222,12 @@ def test_a_mop_action_slot_is_recorded_trained_and_kept_through_the_same_studio(
     assert target.items() == ["square"]
     bench.studio.command("designer.undo")
     assert target.items() == ["take1"]
+
+
+def test_commands_for_a_target_the_studio_does_not_hold_pass_through(tmp_path):
+    (e,) = designer(tmp_path)
+    s = Bench([e], tmp_path).studio
+    f = s(Frame(seq=0, t=1.0, commands=("designer.record",), focus="mop/face"))
+    assert f.commands == ("designer.record",) and s.state == "idle"
+    f = s(Frame(seq=1, t=1.1, commands=("designer.record",), focus="pet"))
+    assert f.commands == () and s.state == "recording"     # no countdown in this bench
