@@ -106,6 +106,12 @@ class Runner:
             studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
             self.studio = studio
             extra.append(studio.status)
+        held = {t.engine for t in getattr(self, "studio", None).targets.values()
+                if hasattr(t, "engine")} if self.studio_on else set()
+        from tabletop.studio.targets import BehaviorReloader
+        for e in loop.engines:           # behaviours outside the studio are reloaded too
+            if getattr(e, "folder", None) is not None and e not in held:
+                loop.hooks.append(BehaviorReloader(e))
         if self.kiosk:
             from tabletop.plugins import scripted
             from tabletop.registry import BuildContext

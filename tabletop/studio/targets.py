@@ -299,3 +299,33 @@ class MopTarget:
             except InputError as exc:
                 self._problems = [str(exc)]
         return self._problems
+
+
+class BehaviorReloader:
+    """Frame-loop hook for a Puppet Master engine outside the studio: its behaviour folder is
+    reloaded when its files change; a bad file is logged and shown in the character's label,
+    and the behaviour that was playing goes on."""
+
+    def __init__(self, engine) -> None:
+        self.engine = engine
+        self.folder = Path(engine.folder)
+        self.poller = Poller(self.folder)
+        self.problem: str | None = None
+
+    def __call__(self, frame: Frame | None = None) -> None:
+        if not self.poller.changed():
+            return
+        from behaviors.puppet_master.engine import Behavior
+        import logging
+        try:
+            stored = library.load_behavior(self.folder)
+            params = dict(stored.parameters)
+            if self.engine.rate_hz is not None:
+                params["rate_hz"] = self.engine.rate_hz
+            self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
+            self.problem = self.engine.note = ""
+            logging.getLogger("tabletop").info("behaviour %s reloaded", self.folder)
+        except InputError as exc:
+            self.problem = str(exc)
+            self.engine.note = f"bad file, still playing the previous behaviour: {exc}"
+            logging.getLogger("tabletop").error("behaviour not reloaded: %s", exc)

@@ -129,3 +129,28 @@ def test_review_refuses_a_bad_session_log_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "s.jsonl:2" in err and len(err.splitlines()) == 1
     assert cli(["review", str(tmp_path / "missing.jsonl")]) == 2
+
+
+def test_a_playing_behaviour_outside_the_studio_is_reloaded_or_kept(tmp_path):
+    from tabletop.config import validate_config
+    from tabletop.frames import Frame
+    from tabletop.plugins import puppet_master as pm
+    from tabletop.registry import BuildContext
+    from tabletop.studio.targets import BehaviorReloader
+    folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=4), {})
+    good_yaml = (folder / "behavior.yaml").read_bytes()
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": "pet", "behavior": str(folder)}]}, "t.yaml", tmp_path)
+    engine = pm.build(cfg["engines"][0], BuildContext((1.2, 0.8), 60.0, cfg, tmp_path))
+    hook = BehaviorReloader(engine)
+    hook.poller.every_s = 0.0                   # looks at every call (the loop: once a second)
+    first = engine.behavior
+    (folder / "behavior.yaml").write_text("format: [\n")
+    hook()
+    assert engine.behavior is first and "behavior.yaml" in hook.problem
+    assert "still playing" in engine.step(Frame(seq=0, t=1.0))[0].label
+    (folder / "behavior.yaml").write_bytes(good_yaml)       # fixed: reloaded, label back
+    hook()
+    assert hook.problem == "" and engine.behavior is not first
+    from tabletop.frames import Puck
+    assert "playing x" in engine.step(Frame(seq=1, t=1.1, pucks=(Puck(1, 0.3, 0.3, 0.0),)))[0].label
