@@ -1,8 +1,6 @@
 """Attract mode (scripted pucks when nobody is at the table, a smooth hand-over) and the
 "one moment" screen while an input that worked is down."""
 
-import math
-
 import numpy as np
 import pygame
 
@@ -22,7 +20,6 @@ def test_attract_starts_after_idle_and_hands_over_smoothly():
     now = [0.0]
     a = Attract(scripted(), idle_s=10.0, handover_s=1.0, clock=lambda: now[0])
     rate = 30.0
-    visitor = (1, 0.3, 0.3, 0.5)
     frames = []
     for i in range(int(25 * rate)):
         t = now[0] = 100 + i / rate

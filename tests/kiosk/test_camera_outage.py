@@ -4,12 +4,12 @@ and tracking resumes by itself when it is back."""
 import dataclasses
 import threading
 import time
-from pathlib import Path
 
 import yaml
 
 from tabletop.config import load_config
 from tabletop.kiosk.runner import Runner
+from tests.tracking.scenes import wait_for
 from tracking.camera import InputLost
 
 
@@ -66,18 +66,13 @@ def test_camera_lost_for_five_seconds(tmp_path):
     th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 20})
     th.start()
     try:
-        def wait(pred, timeout=10.0):
-            end = time.monotonic() + timeout
-            while time.monotonic() < end and not pred():
-                time.sleep(0.02)
-            return pred()
-        assert wait(lambda: sink.rows and sink.rows[-1][2] == 2)
+        assert wait_for(lambda: sink.rows and sink.rows[-1][2] == 2, 10.0)
         t_unplug = time.monotonic()
         unplugged.set()
         time.sleep(5.0)
         t_back = time.monotonic()
         unplugged.clear()
-        assert wait(lambda: sink.rows[-1][1] == "" and sink.rows[-1][2] == 2, 10.0)
+        assert wait_for(lambda: sink.rows[-1][1] == "" and sink.rows[-1][2] == 2, 10.0)
     finally:
         inst.loop.stop.set()
         th.join(10)

@@ -15,6 +15,7 @@ from tabletop.frames import Frame, SourceHealth
 from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing
 from tabletop.kiosk.notify import Notifier
 from tabletop.loop import LoopStats
+from tests.tracking.scenes import wait_for
 
 STATUS_FIELDS = {"name", "host", "pid", "version", "time", "uptime_s", "fps", "ticks", "mode",
                  "unhealthy_sources", "sources", "errors", "restarts"}
@@ -82,15 +83,6 @@ class OscListener:
         self.server.server_close()
 
 
-def wait_for(pred, timeout=5.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return True
-        time.sleep(0.01)
-    return pred()
-
-
 def test_heartbeat_reaches_a_python_osc_server_and_the_status_file_parses(tmp_path):
     osc = OscListener()
     stats = LoopStats()
@@ -107,7 +99,7 @@ def test_heartbeat_reaches_a_python_osc_server_and_the_status_file_parses(tmp_pa
     for i in range(20):                      # 2.5 s of frames: heartbeats at 0, 1 and 2 s
         rep(Frame(seq=i, t=clock.t, health=health, status="attract"))
         clock.t += 0.125
-    assert wait_for(lambda: len(osc.got) == 3)
+    assert wait_for(lambda: len(osc.got) == 3, 5.0)
     rep.close()
     osc.close()
     name, uptime, fps, unhealthy, text = osc.got[-1]

@@ -2,7 +2,6 @@
 stays and keeps running), a good one is applied."""
 
 import threading
-import time
 from pathlib import Path
 
 import yaml
@@ -10,6 +9,7 @@ import yaml
 from tabletop.config import load_config
 from tabletop.frames import Frame
 from tabletop.kiosk.runner import Runner
+from tests.tracking.scenes import wait_for
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -25,13 +25,6 @@ def config(color) -> dict:
     }
 
 
-def wait_for(pred, timeout=15.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end and not pred():
-        time.sleep(0.02)
-    return pred()
-
-
 def write(path: Path, text: str) -> None:
     tmp = path.with_suffix(".tmp")
     tmp.write_text(text)
@@ -45,20 +38,20 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
     th = threading.Thread(target=runner.run)
     th.start()
     try:
-        assert wait_for(lambda: runner.inst is not None and runner.inst.loop.stats.ticks > 5)
+        assert wait_for(lambda: runner.inst is not None and runner.inst.loop.stats.ticks > 5, 15)
         first = runner.inst
         bad = config([10, 20, 30])
         bad["engines"][0]["colour"] = [1, 2, 3]
         write(path, yaml.safe_dump(bad))
-        assert wait_for(lambda: runner.watcher.refused == 1)
+        assert wait_for(lambda: runner.watcher.refused == 1, 15)
         assert "engines[0].colour: unknown key" in runner.watcher.error
         ticks = first.loop.stats.ticks
-        assert wait_for(lambda: first.loop.stats.ticks > ticks + 10)   # still running
+        assert wait_for(lambda: first.loop.stats.ticks > ticks + 10, 15)   # still running
         assert runner.inst is first and runner.watcher.applied == 0
         status = runner.reporter.status(Frame(seq=0, t=0.0))
         assert "colour: unknown key" in status["config_error"]
         write(path, yaml.safe_dump(config([200, 100, 50])))
-        assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5)
+        assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5, 15)
         assert runner.watcher.error is None and runner.watcher.applied == 1
         assert runner.inst.engines[0].color == (200, 100, 50)
         assert first.loop.stop.is_set()                     # the old one was closed

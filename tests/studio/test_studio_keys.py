@@ -1,7 +1,6 @@
 """The designer studio driven by key commands: record, train, try, keep or redo, and the
 library (switch, rename, delete, undo) for Puppet Master behaviours and MOP actions."""
 
-import dataclasses
 import json
 from pathlib import Path
 
