@@ -70,8 +70,11 @@ class Runner:
         self.cfg, self.headless, self.record_path = cfg, headless, record_path
         self.kiosk = kiosk or cfg["kiosk"]["enabled"]
         self.studio_all = studio or cfg["studio"]["enabled"]   # every engine, MOP included
+        # designer targets always go through the studio: Puppet Master engines in designer
+        # mode and MOP characters (drawn only once a designer key is pressed)
         self.studio_on = self.studio_all or any(
-            (e.get("designer") or {}).get("enabled") for e in cfg["engines"])
+            (e.get("designer") or {}).get("enabled") or e["kind"] == "mop"
+            for e in cfg["engines"])
         self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
         self.started = (clock or time.monotonic)()
         self.stop = threading.Event()

@@ -54,7 +54,7 @@ class Markers:
 
 def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) -> list:
     """A target for every Puppet Master engine in designer mode (every one with
-    ``all_engines``) and for every character of every MOP engine."""
+    ``all_engines``: studio mode) and for every character of every MOP engine."""
     from tabletop.plugins import puppet_master as pm
     from tabletop.schema import Context
     targets: list = []
@@ -71,7 +71,7 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
                 d["name"] = e.name
                 e.designer = d
             targets.append(PuppetMasterTarget(e))
-        elif hasattr(e, "order") and hasattr(e, "take_action") and all_engines:
+        elif hasattr(e, "order") and hasattr(e, "take_action"):
             lib = options.get(e.name, {}).get("library")
             e.designer_targets = tuple      # the studio lists them now
             targets += [MopTarget(e, c, Path(lib) if lib else None) for c in e.order]
@@ -85,7 +85,8 @@ def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = Tru
     targets = studio_targets(inst.loop.engines, cfg, base, all_engines)
     folder = Path(s["folder"] or base / "studio")
     session = SessionLog(folder, review=s["review"])
-    studio = Studio(targets, s["countdown_s"], log_try=session.log_try, clock=inst.loop.clock)
+    studio = Studio(targets, s["countdown_s"], log_try=session.log_try, clock=inst.loop.clock,
+                    quiet=not all_engines)
     studio.session = session
     ids = dict(s["markers"])
     for t in targets:       # an engine's own record marker (designer.record_marker)

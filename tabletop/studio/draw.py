@@ -21,7 +21,9 @@ def font(size: int) -> pygame.font.Font:
 def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
     number in the middle of the table, a red dot and seconds while recording, and the status
-    line along the table's near edge."""
+    line along the table's near edge (nothing while it has nothing to say)."""
+    if not c.label:
+        return
     w, h = renderer.table
     cx, cy = renderer.map.point(w / 2, h / 2)
     if c.action == "countdown" and c.progress is not None:

@@ -77,7 +77,7 @@ class Studio:
 
     def __init__(self, targets: Sequence[Target], countdown_s: float = 3.0,
                  log_try: Callable[[Try, Target], None] | None = None,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic, quiet: bool = False) -> None:
         self.targets = {t.name: t for t in targets}
         self.order = [t.name for t in targets]
         self.countdown_s, self.log_try, self.clock = countdown_s, log_try, clock
@@ -90,6 +90,7 @@ class Studio:
         self.tries: list[Try] = []
         self._try: Try | None = None
         self._t = 0.0
+        self.quiet = quiet   # draws nothing until the first designer command (not in studio mode)
 
     # --- focus -------------------------------------------------------------------------------
 
@@ -133,6 +134,7 @@ class Studio:
         return dataclasses.replace(frame, commands=rest).with_characters((self.character(frame),))
 
     def command(self, cmd: str) -> None:
+        self.quiet = False
         target = self.target
         if target is None:
             return
@@ -292,6 +294,9 @@ class Studio:
         """The studio's indicator: ``action`` = state, ``progress`` = countdown left (s) or
         recorded seconds, ``label`` = status line."""
         target = self.target
+        if self.quiet:
+            return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
+                                  action="idle", label="")
         if self.state == "countdown":
             value: float | None = max(0.0, self.until - frame.t)
         elif self.state == "recording" and target is not None:
