@@ -130,7 +130,8 @@ def soak(config_path: Path, seconds: float, rate_hz: float, warmup_s: float = 30
             "errors": int(sum(loop.stats.errors.values()))}
 
 
-def soak_config(root: Path, rate_hz: float, resolution: tuple[int, int] = (320, 180)) -> dict:
+def soak_config(root: Path, rate_hz: float, resolution: tuple[int, int] = (320, 180),
+                review: bool = True) -> dict:
     """A config with every engine (Puppet Master reacting to a wandering puck and trainable
     in the studio, MOP following a puck drawing gestures) seen through the synthetic camera,
     kiosk and studio on: what :func:`soak` runs."""
@@ -154,5 +155,5 @@ def soak_config(root: Path, rate_hz: float, resolution: tuple[int, int] = (320, 
                      {"name": "zigzag", "template": str(g / "zigzag.csv"), "motion": "laugh"}]}]}],
         "view": {"size": list(resolution)},
         "kiosk": {"idle_s": 30, "heartbeat": {"enabled": True, "port": 9}},
-        "studio": {"enabled": True},
+        "studio": {"enabled": True, "review": review},
     }

@@ -12,7 +12,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_one_simulated_hour_keeps_memory_flat(tmp_path):
     path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(soak_config(ROOT, rate_hz=1.0)))
+    # review sheets (matplotlib, ~0.5 s each) are left to bench/soak.py
+    path.write_text(yaml.safe_dump(soak_config(ROOT, rate_hz=1.0, review=False)))
     r = soak(path, seconds=3600, rate_hz=1.0, warmup_s=600, every_s=300,
              studio_keys_every_s=600)
     assert r["ticks"] == 3600 and r["errors"] == 0
