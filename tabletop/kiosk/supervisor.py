@@ -9,8 +9,9 @@
   cannot act on SIGTERM), logged as a crash and restarted the same way.
 - The child speaks systemd's notify protocol to the supervisor's own socket (``$NOTIFY_SOCKET``
   of the child); the supervisor relays ``READY=1`` and the child's ``WATCHDOG=1`` pings to
-  systemd, and pings for itself only while a child is starting or waiting to restart. So the
-  service's watchdog follows the frame loop, and ``NotifyAccess=main`` is enough.
+  systemd, and pings for itself only while a child is restarting (systemd's watchdog runs
+  from the first READY). So the service's watchdog follows the frame loop, and
+  ``NotifyAccess=main`` is enough.
 - SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
 - A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too.
 - A warm spare (``spare=True``): once a child is ready, the next one is started and waits,
@@ -242,8 +243,8 @@ class Supervisor:
                 self._record_crash(child, why)
                 return "stall", None
             now = self.clock()
-            if child.ready_at is None and now - last_own_ping >= 1.0:
-                self.notifier.send("WATCHDOG=1")      # starting: the supervisor vouches
+            if child.ready_at is None and self._announced and now - last_own_ping >= 1.0:
+                self.notifier.send("WATCHDOG=1")      # restarting: the supervisor vouches
                 last_own_ping = now
 
     # --- the supervisor's loop ----------------------------------------------------------------
@@ -268,7 +269,8 @@ class Supervisor:
                 delay = self.policy.delay(failures)
                 end = self.clock() + delay
                 while not self.stop.is_set() and self.clock() < end:
-                    self.notifier.send("WATCHDOG=1")  # waiting to restart: still in control
+                    if self._announced:               # waiting to restart: still in control
+                        self.notifier.send("WATCHDOG=1")
                     self.stop.wait(min(1.0, max(0.0, end - self.clock())))
             return 0
         finally:

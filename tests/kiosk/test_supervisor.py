@@ -4,6 +4,7 @@ in the frame loop are each noticed, logged and followed by a restarted installat
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
 import threading
@@ -64,18 +65,33 @@ def test_crash_and_stall_are_logged_and_the_kiosk_comes_back(tmp_path):
         print(e, round(t - sup.events[0][1], 2))
 
 
-def test_run_kiosk_under_the_supervisor_stops_cleanly_on_sigterm(tmp_path):
+def test_run_kiosk_notifies_systemd_and_stops_cleanly_on_sigterm(tmp_path):
+    """As systemd runs it: READY=1 once the first frame is drawn, WATCHDOG=1 pings relayed from
+    the frame loop, STOPPING=1 on SIGTERM, exit status 0."""
     cfg = drill_config(tmp_path, [])
-    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    sock.bind(str(tmp_path / "systemd.sock"))
+    sock.settimeout(0.1)
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy", NOTIFY_SOCKET=str(tmp_path / "systemd.sock"))
     env.pop("TABLETOP_SUPERVISED", None)
     p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
                           "--kiosk"], env=env, stderr=subprocess.PIPE, text=True)
-    status = tmp_path / "status.json"
+    got = []
     end = time.monotonic() + 30
-    while time.monotonic() < end and not status.exists():
-        time.sleep(0.05)
+    while time.monotonic() < end and got.count("WATCHDOG=1") < 4:
+        try:
+            got.append(sock.recv(4096).decode())
+        except socket.timeout:
+            pass
     p.send_signal(signal.SIGTERM)
     _, err = p.communicate(timeout=30)
+    try:
+        while True:
+            got.append(sock.recv(4096).decode())
+    except socket.timeout:
+        pass
+    assert got[0] == "READY=1" and got.count("READY=1") == 1 and got[-1] == "STOPPING=1"
+    assert got.count("WATCHDOG=1") >= 4
     assert p.returncode == 0, err
     assert "installation ready" in err and "Traceback" not in err
     log = (tmp_path / "logs" / "tabletop.log").read_text()
