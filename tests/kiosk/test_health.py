@@ -150,3 +150,21 @@ def free_udp_port() -> int:
     port = s.getsockname()[1]
     s.close()
     return port
+
+
+def test_the_log_file_rotates(tmp_path):
+    import logging
+
+    from tabletop.kiosk.health import setup_log_file
+    handler = setup_log_file(tmp_path / "logs" / "tabletop.log", max_bytes=10_000, backups=2)
+    try:
+        log = logging.getLogger("tabletop")
+        for i in range(600):
+            log.info("line %d %s", i, "x" * 60)
+    finally:
+        logging.getLogger("tabletop").removeHandler(handler)
+        handler.close()
+    files = sorted(p.name for p in (tmp_path / "logs").iterdir())
+    assert files == ["tabletop.log", "tabletop.log.1", "tabletop.log.2"]
+    assert all((tmp_path / "logs" / f).stat().st_size <= 10_000 for f in files)
+    assert "line 599" in (tmp_path / "logs" / "tabletop.log").read_text()

@@ -154,3 +154,14 @@ def test_a_playing_behaviour_outside_the_studio_is_reloaded_or_kept(tmp_path):
     assert hook.problem == "" and engine.behavior is not first
     from tabletop.frames import Puck
     assert "playing x" in engine.step(Frame(seq=1, t=1.1, pucks=(Puck(1, 0.3, 0.3, 0.0),)))[0].label
+
+
+def test_an_action_review_sheet_shows_the_take_and_its_followed_progress(tmp_path):
+    from tabletop.files import read_csv
+    from tabletop.studio.review import followed_progress, review_sheet
+    _, g = read_csv(ROOT / "examples" / "mop" / "gestures" / "circle.csv")
+    take = g[::2, 1:3]                     # dx, dy at 30 Hz
+    truth, got = followed_progress(take)
+    assert np.abs(truth - got)[len(got) // 4:].mean() < 0.1   # the follower keeps up
+    review_sheet("action", take, tmp_path / "try.png", title="lizard: kept take1")
+    assert (tmp_path / "try.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
