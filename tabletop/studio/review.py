@@ -22,7 +22,7 @@ def _figure(cols: int, rows: int = 1, size: float = 4.0):
     import matplotlib
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
-    fig = Figure(figsize=(size * cols, size * 0.8 * rows), dpi=80)
+    fig = Figure(figsize=(size * cols, size * 0.9 * rows), dpi=80, layout="constrained")
     return fig, [fig.add_subplot(rows, cols, i + 1) for i in range(cols * rows)]
 
 
