@@ -264,6 +264,7 @@ class ProjectorView:
         self.snapshots = 0
         self.kiosk = False        # kiosk: only the service key shows the overlay (and then Esc quits)
         self.service_key: int | None = None
+        self.notices: list = []   # callables returning extra overlay lines (a refused config)
         from tabletop.studio.draw import NamePrompt
         self.prompt = NamePrompt()  # F2: type a new name for the item in play (studio)
 
@@ -275,6 +276,7 @@ class ProjectorView:
             # keeps the overlay's cost (percentiles, text) off most ticks.
             if self._overlay is None or frame.t >= self._overlay_t + OVERLAY_REFRESH_S:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), frame.t
+                self._overlay += [n for fn in self.notices for n in fn()]
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
         self.prompt.draw(self.screen)

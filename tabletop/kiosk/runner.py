@@ -132,6 +132,10 @@ class Runner:
         if self.watcher is not None:
             loop.hooks.append(self.watcher)
             extra.append(self.watcher.status)
+            w = self.watcher
+            for s in loop.sinks:
+                if s.name == "view":
+                    s.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
         if self.kiosk:
             hb = k["heartbeat"]
             reporter = HealthReporter(

@@ -50,6 +50,8 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
         assert runner.inst is first and runner.watcher.applied == 0
         status = runner.reporter.status(Frame(seq=0, t=0.0))
         assert "colour: unknown key" in status["config_error"]
+        view = next(s for s in first.loop.sinks if s.name == "view")
+        assert any("config refused" in n and "colour" in n for fn in view.notices for n in fn())
         write(path, yaml.safe_dump(config([200, 100, 50])))
         assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5, 15)
         assert runner.watcher.error is None and runner.watcher.applied == 1
