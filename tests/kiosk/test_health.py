@@ -120,11 +120,11 @@ def test_status_command_prints_every_table(tmp_path, capsys):
     out = {}
 
     def listen():
-        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "1.5"])
+        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])
 
     th = threading.Thread(target=listen)
     th.start()
-    time.sleep(0.4)
+    assert wait_for(lambda: port_taken(port), 5.0)        # the command is listening
     for name in ("north", "south"):
         hb = Heartbeat("127.0.0.1", port)
         hb.send(name, 12.5, 59.8, 0, json.dumps({"mode": "live", "restarts": 2}))
@@ -142,6 +142,17 @@ def test_status_command_refuses_a_bad_address(address, words, capsys):
     assert cli(["status", address, "--seconds", "1"]) == 2
     err = capsys.readouterr().err
     assert words in err and "Traceback" not in err and len(err.splitlines()) == 1
+
+
+def port_taken(port: int) -> bool:
+    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    try:
+        s.bind(("127.0.0.1", port))
+    except OSError:
+        return True
+    finally:
+        s.close()
+    return False
 
 
 def free_udp_port() -> int:

@@ -26,7 +26,7 @@ def drill_config(tmp_path: Path, faults: list[dict]) -> Path:
                      "behavior": str(ROOT / "behaviors" / "library" / "lover"), "main": {"puck": 1}},
                     {"kind": "fault", "name": "drill", "faults": faults}],
         "view": {"size": [320, 180], "headless": True},
-        "kiosk": {"stall_s": 1.0, "backoff_s": [0.25, 2.0], "heartbeat": {"enabled": False}},
+        "kiosk": {"stall_s": 2.0, "backoff_s": [0.1, 2.0], "heartbeat": {"enabled": False}},
     }
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))
@@ -38,7 +38,7 @@ def test_crash_and_stall_are_logged_and_the_kiosk_comes_back(tmp_path):
                                   {"start": 1, "after_s": 0.5, "kind": "stall"}])
     crash_log = tmp_path / "logs" / "crashes.log"
     sup = Supervisor([sys.executable, "-m", "tabletop", "run", "--config", str(cfg), "--kiosk",
-                      "--headless"], Policy(stall_s=1.0, backoff_s=(0.25, 2.0), startup_s=60),
+                      "--headless"], Policy(stall_s=2.0, backoff_s=(0.1, 2.0), startup_s=60),
                      crash_log, echo=False)
     result = {}
     th = threading.Thread(target=lambda: result.setdefault("rc", sup.run()))
