@@ -13,9 +13,15 @@ import time
 from pathlib import Path
 from typing import Any
 
+from tabletop.app import build_live
 from tabletop.frames import InputError
+from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing, setup_log_file
 from tabletop.kiosk.notify import Notifier
+from tabletop.plugins import scripted
+from tabletop.registry import BuildContext
+from tabletop.studio.build import attach_studio
+from tabletop.studio.targets import BehaviorReloader
 
 log = logging.getLogger("tabletop")
 
@@ -96,38 +102,24 @@ class Runner:
             self.inst.loop.stop.set()
 
     def _build(self, cfg: dict[str, Any]):
-        from tabletop.app import build_live
-        from tabletop.kiosk.attract import Attract, OneMoment
+        """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
         inst = build_live(kiosk_view(cfg, self.kiosk), headless=self.headless,
                           record_path=self.record_path, clock=self.clock,
                           wrap_source=self.wrap_source)
-        loop, k = inst.loop, cfg["kiosk"]
+        loop = inst.loop
         self.record_path = None          # one recording file per run, never overwritten
-        extra = []
+        extra: list = []                 # providers of status fields
+        held: set = set()
         if self.studio_on:
-            from tabletop.studio.build import attach_studio
-            studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
-            self.studio = studio
-            extra.append(studio.status)
-        held = {t.engine for t in getattr(self, "studio", None).targets.values()
-                if hasattr(t, "engine")} if self.studio_on else set()
-        from tabletop.studio.targets import BehaviorReloader
+            self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
+            extra.append(self.studio.status)
+            held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
         for e in loop.engines:           # behaviours outside the studio are reloaded too
             if getattr(e, "folder", None) is not None and e not in held:
                 loop.hooks.append(BehaviorReloader(e))
         if self.kiosk:
-            from tabletop.plugins import scripted
-            from tabletop.registry import BuildContext
-            ctx = BuildContext(inst.context.table, inst.context.rate_hz, cfg, self.base)
-            from tabletop.kiosk.attract import attract_performers
-            options = dict(k["attract"], name="attract")
-            if not options["performers"]:
-                options["performers"] = attract_performers(cfg, inst.context.table)
-            script = scripted.build(options, ctx)
-            attract = Attract(script.poses, k["idle_s"], k["handover_s"], clock=loop.clock)
-            loop.filters.append(attract)
-            extra.append(lambda: {"idle_s": round(attract.idle_for(loop.clock()), 1)})
-            self._kiosk_view(inst, k)
+            extra.append(self._attract(inst, cfg))
+            self._kiosk_view(inst, cfg["kiosk"])
         loop.filters.append(OneMoment(cfg["kiosk"]["grace_s"], clock=loop.clock))
         if self.watcher is not None:
             loop.hooks.append(self.watcher)
@@ -137,17 +129,33 @@ class Runner:
                 if s.name == "view":
                     s.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
         if self.kiosk:
-            hb = k["heartbeat"]
-            reporter = HealthReporter(
-                k["name"], loop.stats, hb["every_s"], kiosk_paths(cfg, self.base)["status_file"],
-                Heartbeat(hb["host"], hb["port"]) if hb["enabled"] else None,
-                extra=lambda: {key: v for fn in extra for key, v in fn().items()},
-                clock=loop.clock, started=self.started)
-            loop.hooks.append(reporter)
-            self.reporter = reporter
-            loop.sinks.append(_Closer("health", reporter.close))
+            self._health(inst, cfg, extra)
         loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
         return inst
+
+    def _attract(self, inst, cfg: dict[str, Any]):
+        """Attract mode on the loop; returns its status provider (``idle_s``)."""
+        loop, k = inst.loop, cfg["kiosk"]
+        ctx = BuildContext(inst.context.table, inst.context.rate_hz, cfg, self.base)
+        options = dict(k["attract"], name="attract")
+        if not options["performers"]:
+            options["performers"] = attract_performers(cfg, inst.context.table)
+        script = scripted.build(options, ctx)
+        attract = Attract(script.poses, k["idle_s"], k["handover_s"], clock=loop.clock)
+        loop.filters.append(attract)
+        return lambda: {"idle_s": round(attract.idle_for(loop.clock()), 1)}
+
+    def _health(self, inst, cfg: dict[str, Any], extra: list) -> None:
+        """Status file and heartbeat on the loop, closed with the sinks."""
+        loop, k = inst.loop, cfg["kiosk"]
+        hb = k["heartbeat"]
+        self.reporter = HealthReporter(
+            k["name"], loop.stats, hb["every_s"], kiosk_paths(cfg, self.base)["status_file"],
+            Heartbeat(hb["host"], hb["port"]) if hb["enabled"] else None,
+            extra=lambda: {key: v for fn in extra for key, v in fn().items()},
+            clock=loop.clock, started=self.started)
+        loop.hooks.append(self.reporter)
+        loop.sinks.append(_Closer("health", self.reporter.close))
 
     @staticmethod
     def _kiosk_view(inst, k: dict[str, Any]) -> None:
