@@ -165,3 +165,34 @@ def test_an_action_review_sheet_shows_the_take_and_its_followed_progress(tmp_pat
     assert np.abs(truth - got)[len(got) // 4:].mean() < 0.1   # the follower keeps up
     review_sheet("action", take, tmp_path / "try.png", title="lizard: kept take1")
     assert (tmp_path / "try.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_scripted_key_events_through_the_view_record_train_try_and_keep(tmp_path):
+    """Key presses posted to pygame, read by the view, queued for the loop, handled by the
+    studio: R (countdown, then record), R (stop: trained, trying), K (kept)."""
+    import pygame
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump({
+        "loop": {"rate_hz": RATE},
+        "sources": [{"kind": "scripted", "pucks": [1, 2]}],
+        "engines": [{"kind": "puppet_master", "name": "pet", "main": {"puck": 1},
+                     "designer": {"enabled": True, "library": "lib"}}],
+        "view": {"size": [320, 180]},
+        "studio": {"countdown_s": 1.0, "review": False},
+    }))
+    clock = SimClock()
+    runner, inst = simulated(load_config(path), path, clock, kiosk=False, studio=False)
+    keys = {int(1 * RATE): pygame.K_r, int(5 * RATE): pygame.K_r, int(7 * RATE): pygame.K_k}
+    states = []
+    for i in range(int(8 * RATE)):
+        if i in keys:
+            pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=keys[i], mod=0,
+                                                 unicode="", scancode=0))
+        states.append(inst.loop.tick().character("studio").action)
+        clock.advance(1 / RATE)
+    inst.loop.close()
+    order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
+    assert order == ["idle", "countdown", "recording", "trying", "idle"]
+    take = library.load_behavior(tmp_path / "lib" / "pet").demonstration
+    # pressed at 1 s (read by the view that tick, handled the next), 1 s countdown, stopped at 5 s
+    assert take[-1, 0] == pytest.approx(3.0, abs=2.5 / RATE)
