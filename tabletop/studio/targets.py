@@ -10,6 +10,7 @@ Library folders are renamed in place and deleted into ``<library>/.trash`` so un
 
 from __future__ import annotations
 
+import logging
 import os
 import time
 from pathlib import Path
@@ -20,6 +21,8 @@ import numpy as np
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
+
+log = logging.getLogger("tabletop")
 
 
 def trash(folder: Path) -> Callable[[], None]:
@@ -66,6 +69,7 @@ class PuppetMasterTarget:
         folder = getattr(engine, "folder", None)
         self.play_poller = Poller(Path(folder)) if folder else None
         self.playing: Path | None = Path(folder) if folder else None
+        self._problems: list[str] = []
 
     # --- the take ------------------------------------------------------------------------------
 
@@ -170,7 +174,7 @@ class PuppetMasterTarget:
     def poll(self) -> list[str]:
         """Reload the behaviour in play when its files change; report the library's bad
         files (each is skipped, the others keep working)."""
-        problems = getattr(self, "_problems", [])
+        problems = self._problems
         if self.play_poller is not None and self.playing is not None and self.play_poller.changed():
             try:
                 self._load(self.playing)
@@ -316,7 +320,6 @@ class BehaviorReloader:
         if not self.poller.changed():
             return
         from behaviors.puppet_master.engine import Behavior
-        import logging
         try:
             stored = library.load_behavior(self.folder)
             params = dict(stored.parameters)
@@ -324,8 +327,8 @@ class BehaviorReloader:
                 params["rate_hz"] = self.engine.rate_hz
             self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
             self.problem = self.engine.note = ""
-            logging.getLogger("tabletop").info("behaviour %s reloaded", self.folder)
+            log.info("behaviour %s reloaded", self.folder)
         except InputError as exc:
             self.problem = str(exc)
             self.engine.note = f"bad file, still playing the previous behaviour: {exc}"
-            logging.getLogger("tabletop").error("behaviour not reloaded: %s", exc)
+            log.error("behaviour not reloaded: %s", exc)
