@@ -143,7 +143,7 @@ def soak_config(root: Path, rate_hz: float, resolution: tuple[int, int] = (320, 
                      "performers": [{"puck": 2, "home": [0.75, 0.35],
                                      "gestures": [str(g / "circle.csv"), str(g / "zigzag.csv")]}]}],
         "engines": [
-            {"kind": "puppet_master", "name": "lover", "main": {"puck": 1}, "rate_hz": 10,
+            {"kind": "puppet_master", "name": "lover", "main": {"puck": 1}, "rate_hz": 5,
              "behavior": str(root / "behaviors" / "library" / "lover"),
              "designer": {"enabled": True, "library": "lib", "main_puck": 1, "react_puck": 2}},
             {"kind": "mop", "name": "mop", "rate_hz": 4,
