@@ -126,14 +126,14 @@ class Renderer:
     def draw(self, target: pygame.Surface, frame: Frame, overlay: list[str] | None = None) -> None:
         """Draw ``frame`` onto ``target``; ``overlay`` lines are printed top-left when given."""
         target.blit(self._background(target), (0, 0))
-        if frame.status == "one_moment":
+        if frame.status == "one_moment":   # an input is gone: a calm screen, no frozen cast
             from tabletop.kiosk.screens import draw_one_moment
-            draw_one_moment(target, frame.t)
-            return
-        for c in frame.characters:
-            self.draw_character(target, c)
-        for p in frame.pucks:
-            self.draw_puck(target, p)
+            draw_one_moment(target)
+        else:
+            for c in frame.characters:
+                self.draw_character(target, c)
+            for p in frame.pucks:
+                self.draw_puck(target, p)
         if overlay:
             self.draw_overlay(target, overlay)
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import time
 
 import pygame
 
@@ -11,9 +12,12 @@ from tabletop.studio.draw import font
 MESSAGE = "one moment"
 
 
-def draw_one_moment(target: pygame.Surface, t: float) -> None:
+def draw_one_moment(target: pygame.Surface, t: float | None = None) -> None:
     """A quiet waiting screen (no error text for visitors): a slowly breathing ring and
-    "one moment" in the middle. ``t`` in seconds drives the breathing (4 s a breath)."""
+    "one moment" in the middle. ``t`` (seconds, default the monotonic clock: frame times stand
+    still while the input is gone) drives the breathing, 4 s a breath."""
+    if t is None:
+        t = time.monotonic()
     target.fill((10, 12, 16))
     w, h = target.get_size()
     k = 0.5 + 0.5 * math.sin(2 * math.pi * t / 4.0)
