@@ -21,6 +21,5 @@ def main(args: argparse.Namespace) -> int:
     if args.columns < 1:
         raise InputError(f"--columns must be at least 1, got {args.columns}")
     out = args.out or args.session.with_name(args.session.stem + "-sheet.png")
-    n = contact_sheet(args.session, out, args.columns)
-    print(f"{out}: {n} tries")
+    print(f"{out}: {contact_sheet(args.session, out, args.columns)}")
     return 0

@@ -120,8 +120,19 @@ def read_session(path: Path) -> list[dict]:
     return out
 
 
-def contact_sheet(session: Path, out: Path, columns: int = 3) -> int:
-    """Every try's review sheet (or its figures when it has none) on one PNG; returns tries."""
+def summary(tries: list[dict]) -> str:
+    """One line about a session: tries, kept, tries per kept take, recorded and training time."""
+    kept = sum(t.get("outcome") == "kept" for t in tries)
+    per = f"{len(tries) / kept:.1f} tries per kept take" if kept else "nothing kept"
+    rec = sum(float(t.get("duration_s", 0)) for t in tries)
+    train = [float(t.get("training_s", 0)) for t in tries if t.get("training_s")]
+    mean = f", training {1e3 * sum(train) / len(train):.0f} ms on average" if train else ""
+    return f"{len(tries)} tries, {kept} kept ({per}), {rec:.0f} s recorded{mean}"
+
+
+def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
+    """Every try's review sheet (or its figures when it has none) on one PNG; returns the
+    session's :func:`summary`."""
     tries = read_session(session)
     rows = max(1, math.ceil(len(tries) / columns))
     fig, axes = _figure(columns, rows, size=5.0)
@@ -136,5 +147,7 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> int:
                    f"{t.get('duration_s', 0):.1f} s, {t.get('samples', 0)} samples, "
                    f"trained in {t.get('training_s', 0) * 1e3:.0f} ms")
         ax.set_title(caption, fontsize=8)
+    line = summary(tries)
+    fig.suptitle(f"{Path(session).name}: {line}")
     _save(fig, out)
-    return len(tries)
+    return line

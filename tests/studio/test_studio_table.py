@@ -33,7 +33,7 @@ def studio_config(tmp_path: Path) -> Path:
     return path
 
 
-def test_control_markers_through_the_camera_record_train_and_keep(tmp_path):
+def test_control_markers_through_the_camera_record_train_and_keep(tmp_path, capsys):
     demo = designers.demonstrate("lover", seed=3, seconds=12)
 
     def poses(s):
@@ -87,6 +87,7 @@ def test_control_markers_through_the_camera_record_train_and_keep(tmp_path):
     sheet = tmp_path / "sheet.png"
     assert cli(["review", str(runner.studio.session.path), "--out", str(sheet)]) == 0
     assert sheet.stat().st_size > 10_000
+    assert "1 tries, 1 kept (1.0 tries per kept take)" in capsys.readouterr().out
 
 
 def test_a_corrupt_behaviour_is_reported_and_skipped_and_a_fix_is_picked_up(tmp_path):
