@@ -15,7 +15,7 @@ import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
 from tabletop import registry
 from tabletop.frames import Engine, InputError, Sink
@@ -137,20 +137,29 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
 
 
 def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | None = None,
-               stats: LoopStats | None = None,
-               stop: threading.Event | None = None) -> Installation:
+               stats: LoopStats | None = None, stop: threading.Event | None = None,
+               clock: Callable[[], float] | None = None,
+               wrap_source: Callable[[Any, dict], Any] | None = None) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
-    ``stop`` (e.g. set by a signal while it is built) ends its run."""
+
+    ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
+    replaces the monotonic clock and unpaces the loop (simulated time:
+    :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source."""
     ctx = _context(cfg)
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
+    if clock is not None:
+        ctx.shared["clock"] = clock
     tracker = build_tracker(cfg, ctx)
     ctx.shared["tracker"] = tracker
     sources = [registry.plugin_module("source", s["kind"]).build(s, ctx) for s in cfg["sources"]]
+    if wrap_source is not None:
+        sources = [wrap_source(src, entry) for src, entry in zip(sources, cfg["sources"])]
     engines = build_engines(cfg, ctx)
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop)
+    timing = {} if clock is None else {"clock": clock, "paced": False}
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],
-                stats=stats, commands=commands, stop=stop)
+                stats=stats, commands=commands, stop=stop, **timing)
     return Installation(loop, ctx, engines, sinks)
 
 

@@ -16,7 +16,8 @@ from typing import Sequence
 from tabletop import __version__
 from tabletop.frames import InputError
 
-COMMANDS = ("run", "track", "behave", "follow", "pose", "calibrate", "replay")
+COMMANDS = ("run", "track", "behave", "follow", "pose", "calibrate", "replay", "status",
+            "review")
 
 EXIT_BAD_INPUT = 2
 

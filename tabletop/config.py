@@ -193,6 +193,8 @@ def tracking_schema() -> Spec:
 
 
 def top_schema() -> Record:
+    from tabletop.kiosk import SCHEMA as KIOSK
+    from tabletop.studio import SCHEMA as STUDIO
     return Record({
         "table": TABLE,
         "loop": LOOP,
@@ -203,6 +205,8 @@ def top_schema() -> Record:
         "sinks": ListOf(Component("sink"), default=[]),
         "view": VIEW,
         "recorder": RECORDER,
+        "kiosk": KIOSK,
+        "studio": STUDIO,
     }, check=_check_all)
 
 

@@ -175,7 +175,9 @@ class Frame:
     arrived since the previous tick, e.g. ``"designer.record"``. ``focus`` names the designer
     target those commands address (an engine name, or ``"ENGINE/PART"`` for an engine with
     several, e.g. a MOP character); None when nothing is selected, and then a lone designer
-    engine takes the commands.
+    engine takes the commands. ``status`` tells the view what the installation is doing:
+    ``""`` (live), ``"attract"`` (nobody at the table: scripted pucks play) or ``"one_moment"``
+    (an input that was working has vanished and is reconnecting: show the calm waiting screen).
     """
 
     seq: int
@@ -187,6 +189,7 @@ class Frame:
     commands: tuple[str, ...] = ()
     health: tuple[SourceHealth, ...] = ()
     focus: str | None = None
+    status: str = ""
 
     def __post_init__(self) -> None:
         frozen = {k: _frozen_array(v) for k, v in dict(self.streams).items()}

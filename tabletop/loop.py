@@ -111,11 +111,12 @@ class DesignerFocus:
 
     def __init__(self, engines: Sequence[Engine]) -> None:
         self.engines = engines
+        self.extra: list = []      # more providers of designer_targets (the studio)
         self.focus: str | None = None
 
     def targets(self) -> list[str]:
         out: list[str] = []
-        for e in self.engines:
+        for e in [*self.extra, *self.engines]:
             fn = getattr(e, "designer_targets", None)
             if fn is not None:
                 out.extend(fn())
@@ -143,8 +144,13 @@ class LiveInputs:
     """Inputs of a live installation: the newest observation of every source, fused by the tracker.
 
     The frame's ``t`` is the capture time of its newest input; a tick whose sources have nothing
-    yet is stamped with the loop's own time. Times never go backwards.
+    yet is stamped with the loop's own time, and so is one whose newest input is more than
+    ``STALE_S`` old (every source stalled: a camera unplugged or a hand over the lens), so that
+    time goes on while nothing comes in: pucks coast and leave, characters keep breathing, the
+    view shows its "one moment" screen. Times never go backwards.
     """
+
+    STALE_S = 0.25   # seconds: older than a 5 fps camera's frames ever are
 
     live = True  # frame times are this machine's capture times (capture-to-render is measured)
 
@@ -174,7 +180,7 @@ class LiveInputs:
             if obs is not None:
                 observations.append(obs)
         t = max((o.t for o in observations), default=now)
-        t = max(t, self._last_t)
+        t = max(t, now - self.STALE_S, self._last_t)
         self._last_t = t
         pucks = self.tracker.update(observations, t)
         touches = tuple(tc for o in observations for tc in o.touches)
@@ -196,8 +202,14 @@ class Loop:
     def __init__(self, inputs: LiveInputs | "FrameInputs", engines: Sequence[Engine],
                  sinks: Sequence[Sink], rate_hz: float = 60.0, stats: LoopStats | None = None,
                  commands: CommandQueue | None = None, stop: threading.Event | None = None,
-                 clock: Callable[[], float] = time.monotonic, paced: bool = True) -> None:
+                 clock: Callable[[], float] = time.monotonic, paced: bool = True,
+                 filters: Sequence[Callable[[Frame], Frame]] = (),
+                 hooks: Sequence[Callable[[Frame], None]] = ()) -> None:
         self.inputs, self.engines, self.sinks = inputs, list(engines), list(sinks)
+        # filters: frame -> frame after the inputs, before the engines (attract mode, "one
+        # moment"); hooks: called with the completed frame after the sinks (health, watchdog
+        # pings, file watchers). Both run in the frame loop itself.
+        self.filters, self.hooks = list(filters), list(hooks)
         self.period = 1.0 / rate_hz
         self.stats = stats or LoopStats()
         self.commands = commands or CommandQueue()
@@ -227,6 +239,11 @@ class Loop:
         commands, focus = self.focus.apply(frame.commands + self.commands.drain(), frame.focus)
         if commands != frame.commands or focus != frame.focus:
             frame = dataclasses.replace(frame, commands=commands, focus=focus)
+        for fn in self.filters:
+            try:
+                frame = fn(frame)
+            except Exception:
+                self._report(f"filter {getattr(fn, '__name__', type(fn).__name__)}")
         st = self.stats
         te = t1
         for engine in self.engines:
@@ -248,6 +265,11 @@ class Loop:
                 self._report(f"sink {sink.name}")
             ts, t_prev = self.clock(), ts
             st.record(f"sink:{sink.name}", ts - t_prev)
+        for hook in self.hooks:
+            try:
+                hook(frame)
+            except Exception:
+                self._report(f"hook {getattr(hook, '__name__', type(hook).__name__)}")
         t3 = self.clock()
         st.record("inputs", t1 - t0)
         st.record("engines", t2 - t1)

@@ -11,7 +11,9 @@
 - A write that fails (a full disk) stops recording with one clear log line; the installation
   keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
 
-The recorder flushes twice a second (wall clock) and fsyncs each file when it is closed.
+Every line is handed to the operating system as it is written (a killed process loses at most
+the line being written); a background thread syncs the file to disk every ``flush_every_s``
+(a power cut loses at most that much) and each file is fsynced when it is closed.
 """
 
 from __future__ import annotations
@@ -20,11 +22,10 @@ import datetime as _dt
 import errno
 import json
 import logging
-import math
 import os
-import time
+import threading
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from tabletop import __version__
 from tabletop.frames import Frame
@@ -73,8 +74,7 @@ class Recorder:
 
     def __init__(self, path: str | Path | None = None, header: dict[str, Any] | None = None,
                  folder: str | Path | None = None, max_mb: float | None = None,
-                 keep: int | None = None, flush_every_s: float = 0.5,
-                 clock: Callable[[], float] = time.monotonic, config: Any = None,
+                 keep: int | None = None, flush_every_s: float = 0.5, config: Any = None,
                  calibration: dict[str, Any] | None = None) -> None:
         if (path is None) == (folder is None):
             raise ValueError("give exactly one of path or folder")
@@ -89,7 +89,7 @@ class Recorder:
         else:
             self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"
         self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
-        self.keep, self.flush_every_s, self.clock = keep, flush_every_s, clock
+        self.keep, self.flush_every_s = keep, flush_every_s
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0
         self.failed: str | None = None   # why recording stopped early, if it did
@@ -97,7 +97,8 @@ class Recorder:
         self._size = 0
         self._t0: float | None = None
         self._first_in_file = True
-        self._last_flush = -math.inf
+        self._dirty = threading.Event()
+        self._closing = threading.Event()
         try:
             self._open_part()
         except OSError as exc:
@@ -105,6 +106,21 @@ class Recorder:
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
                                    f"{exc.strerror or exc}") from None
             self._fail(exc)  # a full disk: the installation runs, without recording
+        self._syncer = threading.Thread(target=self._sync, name="recorder-sync", daemon=True)
+        self._syncer.start()
+
+    def _sync(self) -> None:
+        """Sync written lines to disk at most every ``flush_every_s``, off the frame loop."""
+        while not self._closing.is_set():
+            if self._dirty.wait(0.5) and not self._closing.is_set():
+                self._dirty.clear()
+                try:
+                    f = self._f
+                    if f is not None and not f.closed:
+                        os.fdatasync(f.fileno())
+                except (OSError, ValueError) as exc:   # ValueError: closed meanwhile
+                    log.debug("recording %s: sync skipped: %s", self.paths[-1], exc)
+                self._closing.wait(self.flush_every_s)
 
     @property
     def path(self) -> Path:
@@ -210,10 +226,8 @@ class Recorder:
             self._write(line)
             self._first_in_file = False
             self.frames += 1
-            now = self.clock()
-            if now - self._last_flush >= self.flush_every_s:
-                self._f.flush()
-                self._last_flush = now
+            self._f.flush()
+            self._dirty.set()
         except OSError as exc:
             self._fail(exc)
 
@@ -224,6 +238,7 @@ class Recorder:
 
     def discard(self) -> None:
         """Close and remove what was written (the installation did not start)."""
+        self._stop_syncer()
         try:
             if self._f is not None:
                 self._f.close()
@@ -235,7 +250,13 @@ class Recorder:
             except OSError:
                 pass
 
+    def _stop_syncer(self) -> None:
+        self._closing.set()
+        if getattr(self, "_syncer", None) is not None:
+            self._syncer.join()
+
     def close(self) -> None:
+        self._stop_syncer()
         if self.failed is not None or self._f is None or self._f.closed:
             return
         try:

@@ -27,6 +27,7 @@ ENGINES: dict[str, str] = {
     "puppet_master": "tabletop.plugins.puppet_master",
     "mop": "tabletop.plugins.mop",
     "touch_pose": "tabletop.plugins.touch_pose",
+    "fault": "tabletop.plugins.fault",
 }
 
 SINKS: dict[str, str] = {

@@ -7,7 +7,8 @@ keys into operator commands, saves snapshots and shows the operator overlay.
 
 Keys: Esc or closing the window ends the run; F1 or O toggles the overlay; R, K, X, Tab and A send
 ``designer.record``, ``designer.keep``, ``designer.discard``, ``designer.next`` and
-``designer.assign`` to the engines.
+``designer.assign`` to the engines; U, Delete, ] and [ send the studio's ``designer.undo``,
+``designer.delete``, ``designer.item_next`` and ``designer.item_previous``; F2 types a new name.
 """
 
 from __future__ import annotations
@@ -49,7 +50,9 @@ LOOK_RANGE_M = 0.6       # a character without a stated target looks at the near
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
-                pygame.K_a: "designer.assign",
+                pygame.K_a: "designer.assign", pygame.K_u: "designer.undo",
+                pygame.K_DELETE: "designer.delete", pygame.K_RIGHTBRACKET: "designer.item_next",
+                pygame.K_LEFTBRACKET: "designer.item_previous",
                 # the virtual camera of touch-posed characters
                 pygame.K_LEFT: "camera.left", pygame.K_RIGHT: "camera.right",
                 pygame.K_UP: "camera.up", pygame.K_DOWN: "camera.down"}
@@ -178,7 +181,7 @@ class Renderer:
             for r in self._drawn:
                 target.blit(bg, r, r)
         self._update_idle(frame, dt)
-        down = cameras_down(frame)
+        down = frame.status == "one_moment" or cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
         screens.idle(target, t, self.idle, self._corners())
@@ -200,6 +203,10 @@ class Renderer:
             self.dirty = [screen] if full else P.merge(self._drawn + now, screen)
             self._drawn = now
         self._last_target = target
+
+    def invalidate(self) -> None:
+        """Something was painted over the last frame: present and repaint the whole target."""
+        self.dirty, self._drawn = [pygame.Rect((0, 0), self.size)], None
 
     def _update_idle(self, frame: Frame, dt: float) -> None:
         t = frame.t
@@ -248,6 +255,10 @@ class Renderer:
     def _draw_presence(self, target: pygame.Surface, pr: Presence,
                        frame: Frame | None) -> pygame.Rect | None:
         c = pr.state
+        if c.kind == "studio":           # the studio's countdown, recording mark and status
+            from tabletop.studio.draw import draw_studio
+            draw_studio(target, self, c)
+            return target.get_rect()
         pose = self._pose(pr, frame)
         if pose.alpha <= 0.01:
             return None
@@ -384,6 +395,11 @@ class ProjectorView:
                                   f"be used: {exc.strerror or exc}") from None
         self.snapshot_overlay = bool(options["snapshot_overlay"])
         self._said_headless = False
+        self.kiosk = False        # kiosk: only the service key shows the overlay (and then Esc quits)
+        self.service_key: int | None = None
+        self.notices: list = []   # callables returning extra overlay lines (a refused config)
+        from tabletop.studio.draw import NamePrompt
+        self.prompt = NamePrompt()  # F2: type a new name for the item in play (studio)
 
     def consume(self, frame: Frame) -> None:
         if self.headless and not self._said_headless:  # once running, not while starting
@@ -397,8 +413,12 @@ class ProjectorView:
             now = time.monotonic()  # the wall clock: a stalled camera stops the frames' times
             if self._overlay is None or now >= self._overlay_t + OVERLAY_REFRESH_S:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), now
+                self._overlay += [n for fn in self.notices for n in fn()]
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
+        if self.prompt.active:
+            self.prompt.draw(self.screen)
+            self.renderer.invalidate()
         if self.renderer.incremental:
             pygame.display.update(self.renderer.dirty)
         else:
@@ -408,13 +428,20 @@ class ProjectorView:
 
     def _events(self) -> None:
         for ev in pygame.event.get():
-            if ev.type == pygame.QUIT or (ev.type == pygame.KEYDOWN and ev.key == pygame.K_ESCAPE):
+            if ev.type == pygame.KEYDOWN and (self.prompt.active or ev.key == pygame.K_F2):
+                cmd = self.prompt.handle(ev)
+                if cmd is not None and self.commands is not None:
+                    self.commands.put(cmd)
+                continue
+            if ev.type == pygame.QUIT or (ev.type == pygame.KEYDOWN and ev.key == pygame.K_ESCAPE
+                                          and (not self.kiosk or self.show_overlay)):
                 if self.stop is not None:
                     self.stop.set()
             elif ev.type in (pygame.MOUSEBUTTONDOWN, pygame.MOUSEMOTION, pygame.MOUSEBUTTONUP):
                 self._pointer(ev)
             elif ev.type == pygame.KEYDOWN:
-                if ev.key in (pygame.K_F1, pygame.K_o):
+                if ev.key == self.service_key or (not self.kiosk
+                                                  and ev.key in (pygame.K_F1, pygame.K_o)):
                     self.show_overlay = not self.show_overlay
                 elif ev.key in KEY_COMMANDS and self.commands is not None:
                     self.commands.put(KEY_COMMANDS[ev.key])

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import threading
+import sys
 from pathlib import Path
 
 MAX_SECONDS = 10 * 365 * 86_400.0  # ten years: a longer run is a typing mistake
@@ -19,15 +19,45 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", type=Path, default=None, metavar="FILE",
                    help="record the session to FILE (JSON Lines), whatever the config says")
     p.add_argument("--verbose", action="store_true", help="log debug messages")
+    p.add_argument("--kiosk", action="store_true",
+                   help="gallery kiosk: fullscreen, no cursor, overlay only with the service key, "
+                        "attract mode, status and heartbeat, restarted by a supervisor")
+    p.add_argument("--no-supervisor", action="store_true",
+                   help="with --kiosk: run the loop in this process (e.g. when systemd restarts it)")
+    p.add_argument("--studio", action="store_true",
+                   help="designer studio: record, train, try, keep and manage the library")
+
+
+def wait_for_go() -> bool:
+    """A warm spare of the kiosk supervisor: import what a run needs, then wait for
+    ``go RESTARTS`` on stdin. False when the supervisor went away instead."""
+    import os
+
+    import tabletop.app  # noqa: F401  (the heavy imports, done before the go)
+    import tabletop.kiosk.runner  # noqa: F401
+    import tabletop.view  # noqa: F401
+    from tabletop import registry
+    for module in (*registry.SOURCES.values(), *registry.ENGINES.values()):
+        registry.optional_module(module)
+    line = sys.stdin.readline().split()
+    if len(line) != 2 or line[0] != "go":
+        return False
+    os.environ["TABLETOP_RESTARTS"] = line[1]
+    os.environ.pop("TABLETOP_WAIT_GO", None)
+    return True
 
 
 EXIT_RECORDING_FAILED = 3
 
 
 def main(args: argparse.Namespace) -> int:
-    from tabletop.app import build_live, configure_logging, stop_on_signals
+    import os
+    if os.environ.get("TABLETOP_WAIT_GO") == "1" and not wait_for_go():
+        return 0
+    from tabletop.app import configure_logging, stop_on_signals
     from tabletop.commands import number_in_range, output_file
     from tabletop.config import load_config
+    from tabletop.kiosk.runner import Runner, supervise, supervised
 
     seconds = None if args.seconds is None else number_in_range(
         args.seconds, "--seconds", "seconds", 1e-3, MAX_SECONDS)
@@ -35,18 +65,38 @@ def main(args: argparse.Namespace) -> int:
         output_file(args.record, "--record")
     configure_logging(args.verbose)
     cfg = load_config(args.config)
-    stop = threading.Event()
-    with stop_on_signals(stop):  # a signal while building still ends the run cleanly
-        inst = build_live(cfg, headless=args.headless, record_path=args.record, stop=stop)
-        ticks = inst.loop.run(seconds=seconds)
+    kiosk = args.kiosk or cfg["kiosk"]["enabled"]
+    if kiosk and not args.no_supervisor and not supervised():
+        return supervise(Path(args.config), cfg, _argv(args))
+    runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
+                    kiosk=kiosk, studio=args.studio)
+    with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly
+        runner.run(seconds=seconds)
+    inst = runner.inst
     st = inst.loop.stats
     summary = st.summary_ms()
     import logging
     logging.getLogger("tabletop").info(
-        "ran %d ticks at %.1f fps; capture-to-render %.1f ms median, %.1f ms p99", ticks,
+        "ran %d ticks at %.1f fps; capture-to-render %.1f ms median, %.1f ms p99", runner.ticks,
         st.fps(), *(summary.get("capture_age", (float("nan"),) * 2)))
     recorder = inst.recorder
     if recorder is not None and recorder.failed:
         logging.getLogger("tabletop").error("the recording failed: %s", recorder.failed)
         return EXIT_RECORDING_FAILED
     return 0
+
+
+def _argv(args: argparse.Namespace) -> list[str]:
+    """The arguments of this run, for the supervised child."""
+    out = ["--config", str(args.config)]
+    if args.headless:
+        out.append("--headless")
+    if args.seconds is not None:
+        out += ["--seconds", str(args.seconds)]
+    if args.record is not None:
+        out += ["--record", str(args.record)]
+    if args.verbose:
+        out.append("--verbose")
+    if args.studio:
+        out.append("--studio")
+    return out + ["--kiosk"]

@@ -77,4 +77,5 @@ def build(options: dict, ctx: BuildContext) -> ScriptedSource:
                                                  speed=tuple(p["speed"]))
     wandering = [pid for pid in options["pucks"] if pid not in performers]
     visitor = ScriptedVisitor(ctx.table, wandering, seed=options["seed"])
-    return ScriptedSource(options["name"], visitor, performers)
+    return ScriptedSource(options["name"], visitor, performers,
+                          clock=ctx.shared.get("clock", time.monotonic))

@@ -159,4 +159,5 @@ def build(options: dict, ctx: BuildContext) -> SyntheticCameraSource:
     measurer = MarkerMeasurer(options["name"], make_detector(ctx), calibration, ctx.table,
                               tracker_predictions(ctx), options["keep_image"])
     return SyntheticCameraSource(options["name"], camera, script.poses, hands, options["fps"],
-                                 measurer, sync_to_loop=options["sync_to_loop"])
+                                 measurer, clock=ctx.shared.get("clock", time.monotonic),
+                                 sync_to_loop=options["sync_to_loop"])

@@ -1,0 +1,25 @@
+"""``tabletop review SESSION_LOG``: a contact sheet of a studio session's tries."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+HELP = "draw a contact sheet (PNG) of a designer studio session log"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("session", type=Path, metavar="SESSION_LOG", help="a studio session .jsonl")
+    p.add_argument("--out", type=Path, default=None,
+                   help="PNG to write (default: SESSION_LOG with -sheet.png)")
+    p.add_argument("--columns", type=int, default=3, help="sheets per row (default 3)")
+
+
+def main(args: argparse.Namespace) -> int:
+    from tabletop.frames import InputError
+    from tabletop.studio.review import contact_sheet
+    if args.columns < 1:
+        raise InputError(f"--columns must be at least 1, got {args.columns}")
+    out = args.out or args.session.with_name(args.session.stem + "-sheet.png")
+    print(f"{out}: {contact_sheet(args.session, out, args.columns)}")
+    return 0

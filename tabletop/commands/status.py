@@ -1,0 +1,90 @@
+"""``tabletop status HOST:PORT``: print the heartbeats of every table sending to HOST:PORT."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+HELP = "listen for the tables' heartbeats on HOST:PORT and print one line per heartbeat"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("address", metavar="HOST:PORT",
+                   help="where to listen, e.g. 0.0.0.0:9000 (the tables' kiosk.heartbeat)")
+    p.add_argument("--seconds", type=float, default=None, metavar="S",
+                   help="stop after S seconds (default: until Ctrl-C)")
+    p.add_argument("--json", action="store_true", help="print each table's status JSON instead")
+
+
+def parse_address(text: str) -> tuple[str, int]:
+    from tabletop.frames import InputError
+    host, sep, port = text.rpartition(":")
+    if not sep or not host:
+        raise InputError(f"address {text!r}: expected HOST:PORT, e.g. 0.0.0.0:9000")
+    try:
+        n = int(port)
+    except ValueError:
+        n = -1
+    if not 0 < n < 65536:
+        raise InputError(f"address {text!r}: port {port!r} must be 1..65535")
+    return host, n
+
+
+def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealthy: int,
+                     status: str) -> str:
+    """One line: name, sender, uptime, fps, unhealthy sources, mode and any problem."""
+    try:
+        st = json.loads(status)
+    except ValueError:
+        st = {}
+    mode = st.get("mode", "?")
+    extra = ""
+    if st.get("config_error"):
+        extra += "  config refused"
+    if st.get("restarts"):
+        extra += f"  restarts {st['restarts']}"
+    return (f"{name:<16} {sender:<21} up {uptime:9.1f} s  {fps:5.1f} fps  "
+            f"{unhealthy} unhealthy  {mode}{extra}")
+
+
+def main(args: argparse.Namespace) -> int:
+    import threading
+
+    from pythonosc.dispatcher import Dispatcher
+    from pythonosc.osc_server import BlockingOSCUDPServer
+
+    from tabletop.commands import positive_number
+    from tabletop.frames import InputError
+    from tabletop.kiosk.health import HEARTBEAT_ADDRESS
+
+    host, port = parse_address(args.address)
+    if args.seconds is not None:
+        positive_number(str(args.seconds), "--seconds", "seconds")
+
+    def on_heartbeat(client, address, *values) -> None:
+        if len(values) != 5:
+            print(f"{client[0]}:{client[1]}: bad heartbeat ({len(values)} values)", file=sys.stderr)
+            return
+        name, uptime, fps, unhealthy, status = values
+        if args.json:
+            print(status, flush=True)
+        else:
+            print(format_heartbeat(f"{client[0]}:{client[1]}", str(name), float(uptime),
+                                   float(fps), int(unhealthy), str(status)), flush=True)
+
+    d = Dispatcher()
+    d.map(HEARTBEAT_ADDRESS, on_heartbeat, needs_reply_address=True)
+    try:
+        server = BlockingOSCUDPServer((host, port), d)
+    except OSError as exc:
+        raise InputError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from None
+    if args.seconds is not None:
+        threading.Timer(args.seconds, server.shutdown).start()
+    try:
+        server.serve_forever(poll_interval=0.1)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        server.server_close()
+    return 0

@@ -1,0 +1,51 @@
+"""The unattended gallery table: supervision, health, attract mode and live configuration.
+
+- :mod:`~tabletop.kiosk.supervisor` runs the installation in a child process and restarts it
+  after a crash (with back-off and a crash log) or a stall (no frame for ``stall_s``);
+- :mod:`~tabletop.kiosk.notify` speaks systemd's notify protocol (READY, WATCHDOG) from the
+  frame loop;
+- :mod:`~tabletop.kiosk.health` writes the status JSON file, sends the OSC heartbeat and keeps
+  a rotating log;
+- :mod:`~tabletop.kiosk.attract` plays scripted pucks when nobody is at the table and shows the
+  calm "one moment" screen while a vanished input reconnects;
+- :mod:`~tabletop.kiosk.watch` applies ``config.yaml`` edits made on disk (or refuses them).
+
+The ``kiosk:`` section of config.yaml is :data:`SCHEMA`.
+"""
+
+from __future__ import annotations
+
+from tabletop.plugins import scripted
+from tabletop.schema import Bool, FilePath, ListOf, Number, Optional_, Record, Str
+
+SCHEMA = Record({
+    "enabled": Bool(False, doc="run as a gallery kiosk (same as run --kiosk)"),
+    "name": Str("", doc="installation name in the status and heartbeat (default: host name)"),
+    "idle_s": Number(60.0, lo=1.0, doc="attract mode after this long with no visitor, seconds"),
+    "handover_s": Number(1.0, lo=0.0, hi=30.0,
+                         doc="seconds over which attract pucks glide to a visitor's pucks"),
+    "attract": Record(dict(scripted.SCHEMA.fields),
+                      doc="the scripted visitor of attract mode (pucks, seed, performers)"),
+    "grace_s": Number(1.0, lo=0.0, hi=60.0,
+                      doc="an input down this long shows the 'one moment' screen, seconds"),
+    "stall_s": Number(5.0, lo=0.5, hi=600.0,
+                      doc="supervisor: no frame for this long restarts the loop, seconds"),
+    "backoff_s": ListOf(Number(lo=0.0, hi=3600.0), default=[0.1, 30.0], min_len=2, max_len=2,
+                        doc="supervisor: first and longest wait before a restart, seconds"),
+    "watch_config": Bool(True, doc="apply edits of the config file made while running"),
+    "service_key": Str("F12", doc="key (pygame name) that shows the overlay in kiosk mode"),
+    "heartbeat": Record({
+        "enabled": Bool(True),
+        "host": Str("127.0.0.1", doc="where heartbeats go (a broadcast address works too)"),
+        "port": Number(9000, integer=True, lo=1, hi=65535),
+        "every_s": Number(1.0, lo=0.05, hi=3600.0),
+    }),
+    "status_file": Optional_(FilePath(must_exist=False),
+                             doc="status JSON file (default: status.json beside the config)"),
+    "log_file": Optional_(FilePath(must_exist=False),
+                          doc="rotating log (default: logs/tabletop.log beside the config)"),
+    "log_max_bytes": Number(1_000_000, integer=True, lo=10_000),
+    "log_backups": Number(5, integer=True, lo=1, hi=100),
+    "crash_log": Optional_(FilePath(must_exist=False),
+                           doc="supervisor's crash log (default: logs/crashes.log)"),
+})

@@ -1,0 +1,204 @@
+"""Health of a running table: status JSON file, OSC heartbeat, watchdog pings, rotating log.
+
+The status (DESIGN.md, "Network and serial contracts") is one JSON object::
+
+    {"name", "host", "pid", "version", "time" (UTC ISO 8601), "uptime_s", "fps", "ticks",
+     "mode" ("live" | "attract" | "one_moment"), "unhealthy_sources",
+     "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink failures so far),
+     "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
+     "config" (file), "config_error" (the last refused edit, or null), "studio" (or null)}
+
+Every ``every_s`` it is written atomically to the status file (in a writer thread: the frame loop
+never waits for a disk) and sent as OSC ``/tabletop/heartbeat`` with the installation name
+(string), uptime s (float), fps (float), unhealthy sources (int) and the status JSON (string).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import logging
+import logging.handlers
+import math
+import os
+import socket
+import threading
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+from tabletop import __version__
+from tabletop.files import atomic_write_text
+from tabletop.frames import Frame
+from tabletop.kiosk.notify import Notifier
+
+log = logging.getLogger("tabletop")
+
+HEARTBEAT_ADDRESS = "/tabletop/heartbeat"
+
+
+def setup_log_file(path: Path, max_bytes: int = 1_000_000, backups: int = 5) -> logging.Handler:
+    """Add a rotating log file (``max_bytes`` each, ``backups`` kept) to the tabletop logger."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handler = logging.handlers.RotatingFileHandler(path, maxBytes=max_bytes,
+                                                   backupCount=backups, encoding="utf-8")
+    handler.setFormatter(logging.Formatter("%(asctime)s %(process)d %(levelname)s %(message)s"))
+    logger = logging.getLogger("tabletop")
+    logger.addHandler(handler)
+    if logger.level == logging.NOTSET or logger.level > logging.INFO:
+        logger.setLevel(logging.INFO)
+    return handler
+
+
+class LatestWriter:
+    """Writes the newest text given to a file atomically, in its own thread; an older text not
+    yet written is replaced, never queued."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self._text: str | None = None
+        self._cv = threading.Condition()
+        self._closed = False
+        self.written = 0
+        self._thread = threading.Thread(target=self._run, name="status-writer", daemon=True)
+        self._thread.start()
+
+    def put(self, text: str) -> None:
+        with self._cv:
+            self._text = text
+            self._cv.notify()
+
+    def _run(self) -> None:
+        while True:
+            with self._cv:
+                while self._text is None and not self._closed:
+                    self._cv.wait()
+                text, self._text = self._text, None
+                if text is None:
+                    return
+            try:
+                self.path.parent.mkdir(parents=True, exist_ok=True)
+                atomic_write_text(self.path, text)
+                self.written += 1
+            except OSError as exc:
+                log.warning("status file %s not written: %s", self.path, exc)
+
+    def close(self) -> None:
+        with self._cv:
+            self._closed = True
+            self._cv.notify()
+        self._thread.join(timeout=5.0)
+
+
+class Heartbeat:
+    """OSC heartbeat sender (UDP; a broadcast address is allowed). Never raises."""
+
+    def __init__(self, host: str, port: int) -> None:
+        from pythonosc.osc_message_builder import OscMessageBuilder
+        self._builder = OscMessageBuilder
+        self.address = (host, int(port))
+        self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
+        self.sent = 0
+
+    def send(self, name: str, uptime_s: float, fps: float, unhealthy: int, status: str) -> None:
+        b = self._builder(HEARTBEAT_ADDRESS)
+        b.add_arg(name, "s")
+        b.add_arg(float(uptime_s), "f")
+        b.add_arg(float(fps), "f")
+        b.add_arg(int(unhealthy), "i")
+        b.add_arg(status, "s")
+        try:
+            self._sock.sendto(b.build().dgram, self.address)
+            self.sent += 1
+        except OSError as exc:  # no route, network down: the table keeps running
+            log.debug("heartbeat not sent: %s", exc)
+
+    def close(self) -> None:
+        self._sock.close()
+
+
+class HealthReporter:
+    """Frame-loop hook: every ``every_s`` of frame time, builds the status, writes it and sends
+    the heartbeat. ``extra()`` adds fields (attract mode, config watcher, studio)."""
+
+    def __init__(self, name: str, stats: Any, every_s: float = 1.0,
+                 status_file: Path | None = None, heartbeat: Heartbeat | None = None,
+                 extra: Callable[[], dict[str, Any]] | None = None,
+                 clock: Callable[[], float] = time.monotonic, started: float | None = None) -> None:
+        self.name = name or socket.gethostname()
+        self.stats, self.every_s, self.clock = stats, every_s, clock
+        self.writer = LatestWriter(status_file) if status_file is not None else None
+        self.heartbeat = heartbeat
+        self.extra = extra
+        self.started = clock() if started is None else started
+        self._next = -math.inf
+        self.last: dict[str, Any] | None = None
+
+    def status(self, frame: Frame) -> dict[str, Any]:
+        sources = [{"name": h.name, "ok": bool(h.ok), "message": h.message,
+                    "age_s": None if math.isinf(h.age) else round(float(h.age), 3)}
+                   for h in frame.health]
+        st = self.stats
+        out: dict[str, Any] = {
+            "name": self.name, "host": socket.gethostname(), "pid": os.getpid(),
+            "version": __version__,
+            "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "uptime_s": round(self.clock() - self.started, 3),
+            "fps": round(float(st.fps()), 2) if st is not None else 0.0,
+            "ticks": int(st.ticks) if st is not None else frame.seq,
+            "mode": frame.status or "live",
+            "unhealthy_sources": sum(1 for s in sources if not s["ok"]),
+            "sources": sources,
+            "errors": int(sum(st.errors.values())) if st is not None else 0,
+            "restarts": int(os.environ.get("TABLETOP_RESTARTS", "0") or 0),
+        }
+        if self.extra is not None:
+            out.update(self.extra())
+        return out
+
+    def __call__(self, frame: Frame) -> None:
+        now = self.clock()
+        if now < self._next:
+            return
+        self._next = now + self.every_s
+        status = self.status(frame)
+        self.last = status
+        text = json.dumps(status, separators=(",", ":"), allow_nan=False)
+        if self.writer is not None:
+            self.writer.put(text + "\n")
+        if self.heartbeat is not None:
+            self.heartbeat.send(self.name, status["uptime_s"], status["fps"],
+                                status["unhealthy_sources"], text)
+
+    def close(self) -> None:
+        if self.writer is not None:
+            self.writer.close()
+        if self.heartbeat is not None:
+            self.heartbeat.close()
+
+
+class WatchdogPing:
+    """Frame-loop hook: ``READY=1`` after the first completed frame, then ``WATCHDOG=1`` at most
+    every ``every_s``. Sent from the frame loop itself, so a frozen loop stops the pings."""
+
+    def __init__(self, notifier: Notifier, every_s: float = 0.25,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.notifier, self.every_s, self.clock = notifier, every_s, clock
+        self.ready = False
+        self._last = -math.inf
+
+    def __call__(self, frame: Frame) -> None:
+        if not self.notifier.enabled:
+            return
+        now = self.clock()
+        if not self.ready:
+            self.ready = self.notifier.send(f"READY=1\nSTATUS=running, tick {frame.seq}")
+            self._last = now
+        elif now - self._last >= self.every_s:
+            self.notifier.send("WATCHDOG=1")
+            self._last = now
+
+    def close(self) -> None:
+        self.notifier.send("STOPPING=1")
+        self.notifier.close()

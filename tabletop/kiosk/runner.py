@@ -1,0 +1,230 @@
+"""Runs the installation of ``tabletop run``: kiosk and studio parts wired onto the loop, and
+configuration edits applied by rebuilding the installation (or refused, see
+:mod:`tabletop.kiosk.watch`)."""
+
+from __future__ import annotations
+
+import copy
+import logging
+import os
+import sys
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+from tabletop.app import build_live
+from tabletop.frames import InputError
+from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
+from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing, setup_log_file
+from tabletop.kiosk.notify import Notifier
+from tabletop.plugins import scripted
+from tabletop.registry import BuildContext
+from tabletop.studio.build import attach_studio
+from tabletop.studio.targets import BehaviorReloader
+
+log = logging.getLogger("tabletop")
+
+
+def kiosk_paths(cfg: dict[str, Any], base: Path) -> dict[str, Path]:
+    """The kiosk's status file, log and crash log, defaults beside the config file."""
+    k = cfg["kiosk"]
+    return {"status_file": Path(k["status_file"] or base / "status.json"),
+            "log_file": Path(k["log_file"] or base / "logs" / "tabletop.log"),
+            "crash_log": Path(k["crash_log"] or base / "logs" / "crashes.log")}
+
+
+def kiosk_view(cfg: dict[str, Any], kiosk: bool) -> dict[str, Any]:
+    """The config as the kiosk runs it: fullscreen, no overlay until the service key."""
+    if not kiosk:
+        return cfg
+    cfg = copy.copy(cfg)
+    cfg["view"] = dict(cfg["view"], fullscreen=True, overlay=False)
+    return cfg
+
+
+def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
+    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT."""
+    import signal
+
+    from tabletop.kiosk.supervisor import Policy, Supervisor
+    k = cfg["kiosk"]
+    paths = kiosk_paths(cfg, config_path.resolve().parent)
+    setup_log_file(paths["log_file"], k["log_max_bytes"], k["log_backups"])
+    policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
+    sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"])
+
+    def handler(signum: int, _frame: Any) -> None:
+        sup.stop.set()
+
+    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        return sup.run()
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+class Runner:
+    """Builds and runs the installation; rebuilds it when the watched config changes."""
+
+    def __init__(self, config_path: Path, cfg: dict[str, Any], headless: bool = False,
+                 record_path: Path | None = None, kiosk: bool = False,
+                 studio: bool = False, clock=None, wrap_source=None) -> None:
+        self.config_path = Path(config_path)
+        self.base = self.config_path.resolve().parent
+        self.cfg, self.headless, self.record_path = cfg, headless, record_path
+        self.kiosk = kiosk or cfg["kiosk"]["enabled"]
+        self.studio_all = studio or cfg["studio"]["enabled"]   # every engine, MOP included
+        # designer targets always go through the studio: Puppet Master engines in designer
+        # mode and MOP characters (drawn only once a designer key is pressed)
+        self.studio_on = self.studio_all or any(
+            (e.get("designer") or {}).get("enabled") or e["kind"] == "mop"
+            for e in cfg["engines"])
+        self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
+        self.started = (clock or time.monotonic)()
+        self.stop = threading.Event()
+        self.pending: dict[str, Any] | None = None
+        self.notifier = Notifier()
+        self.watcher = None
+        self.inst = None
+        self.ticks = 0
+        if self.kiosk:
+            import faulthandler
+            faulthandler.enable()     # a native crash leaves its Python stack in the crash log
+            paths = kiosk_paths(cfg, self.base)
+            setup_log_file(paths["log_file"], cfg["kiosk"]["log_max_bytes"],
+                           cfg["kiosk"]["log_backups"])
+
+    def _apply(self, cfg: dict[str, Any]) -> None:
+        self.pending = cfg
+        if self.inst is not None:
+            self.inst.loop.stop.set()
+
+    def _build(self, cfg: dict[str, Any]):
+        """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
+        inst = build_live(kiosk_view(cfg, self.kiosk), headless=self.headless,
+                          record_path=self.record_path, clock=self.clock,
+                          wrap_source=self.wrap_source)
+        loop = inst.loop
+        self.record_path = None          # one recording file per run, never overwritten
+        extra: list = []                 # providers of status fields
+        held: set = set()
+        if self.studio_on:
+            self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
+            extra.append(self.studio.status)
+            held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
+        for e in loop.engines:           # behaviours outside the studio are reloaded too
+            if getattr(e, "folder", None) is not None and e not in held:
+                loop.hooks.append(BehaviorReloader(e))
+        if self.kiosk:
+            extra.append(self._attract(inst, cfg))
+            self._kiosk_view(inst, cfg["kiosk"])
+        loop.filters.append(OneMoment(cfg["kiosk"]["grace_s"], clock=loop.clock))
+        if self.watcher is not None:
+            loop.hooks.append(self.watcher)
+            extra.append(self.watcher.status)
+            w = self.watcher
+            for s in loop.sinks:
+                if s.name == "view":
+                    s.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
+        if self.kiosk:
+            self._health(inst, cfg, extra)
+        loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
+        return inst
+
+    def _attract(self, inst, cfg: dict[str, Any]):
+        """Attract mode on the loop; returns its status provider (``idle_s``)."""
+        loop, k = inst.loop, cfg["kiosk"]
+        ctx = BuildContext(inst.context.table, inst.context.rate_hz, cfg, self.base)
+        options = dict(k["attract"], name="attract")
+        if not options["performers"]:
+            options["performers"] = attract_performers(cfg, inst.context.table)
+        script = scripted.build(options, ctx)
+        attract = Attract(script.poses, k["idle_s"], k["handover_s"], clock=loop.clock)
+        loop.filters.append(attract)
+        return lambda: {"idle_s": round(attract.idle_for(loop.clock()), 1)}
+
+    def _health(self, inst, cfg: dict[str, Any], extra: list) -> None:
+        """Status file and heartbeat on the loop, closed with the sinks."""
+        loop, k = inst.loop, cfg["kiosk"]
+        hb = k["heartbeat"]
+        self.reporter = HealthReporter(
+            k["name"], loop.stats, hb["every_s"], kiosk_paths(cfg, self.base)["status_file"],
+            Heartbeat(hb["host"], hb["port"]) if hb["enabled"] else None,
+            extra=lambda: {key: v for fn in extra for key, v in fn().items()},
+            clock=loop.clock, started=self.started)
+        loop.hooks.append(self.reporter)
+        loop.sinks.append(_Closer("health", self.reporter.close))
+
+    @staticmethod
+    def _kiosk_view(inst, k: dict[str, Any]) -> None:
+        import pygame
+        name = k["service_key"]
+        key = next((getattr(pygame, f"K_{n}") for n in (name, name.upper(), name.lower())
+                    if name and hasattr(pygame, f"K_{n}")), None)
+        if name and key is None:
+            log.warning("kiosk.service_key %r is not a key name (pygame K_ names such as F12, "
+                        "o); F12 shows the overlay", name)
+            key = pygame.K_F12
+        for s in inst.sinks:
+            if s.name == "view":
+                s.kiosk, s.service_key = True, key
+
+    def run(self, seconds: float | None = None) -> int:
+        from tabletop.config import load_config
+        from tabletop.kiosk.watch import ConfigWatcher
+        if self.kiosk and self.cfg["kiosk"]["watch_config"] or self.studio_on:
+            self.watcher = ConfigWatcher(self.config_path, self.cfg, load_config, self._apply)
+        cfg = self.cfg
+        left = seconds              # run time, not counting the builds
+        while True:
+            try:
+                self.inst = self._build(cfg)
+            except InputError as exc:
+                if cfg is self.cfg:
+                    raise
+                log.error("the new configuration cannot start (%s); back to the previous one", exc)
+                cfg = self.cfg
+                if self.watcher is not None:
+                    self.watcher.current, self.watcher.error = cfg, str(exc)
+                continue
+            self.cfg = cfg
+            relay = threading.Thread(target=_relay, args=(self.stop, self.inst.loop.stop),
+                                     daemon=True)
+            relay.start()
+            t0 = time.monotonic()
+            self.ticks += self.inst.loop.run(seconds=left)
+            if left is not None:
+                left -= time.monotonic() - t0
+            if self.pending is None or self.stop.is_set() or (left is not None and left <= 0):
+                break
+            cfg, self.pending = self.pending, None
+        self.notifier.send("STOPPING=1")
+        return 0
+
+
+def _relay(outer: threading.Event, inner: threading.Event) -> None:
+    """Sets ``inner`` when ``outer`` is set (the signal handler's stop ends the current loop)."""
+    while not inner.is_set():
+        if outer.wait(0.2):
+            inner.set()
+            return
+
+
+class _Closer:
+    """A sink that only closes something when the loop closes its sinks."""
+
+    def __init__(self, name: str, close) -> None:
+        self.name, self._close = name, close
+
+    def consume(self, frame) -> None:
+        pass
+
+    def close(self) -> None:
+        self._close()
+
+
+def supervised() -> bool:
+    """True in the child process the kiosk supervisor started."""
+    return os.environ.get("TABLETOP_SUPERVISED") == "1"

@@ -1,0 +1,284 @@
+"""The kiosk supervisor: runs the installation in a child process and keeps it running.
+
+- A child that exits with an error or a signal (a crash) is logged to the crash log (time,
+  exit status, how long it ran, the last lines it wrote to stderr) and started again after a
+  back-off: ``backoff_s[0]`` for the first two failures in a row, then doubled after each one
+  up to ``backoff_s[1]``, and back to the first once a child has run ``healthy_s``.
+- A stall is a child whose frame loop stopped: no ``WATCHDOG=1`` for ``stall_s`` after its
+  ``READY=1`` (or no ``READY=1`` within ``startup_s``). It is killed (SIGKILL: a frozen loop
+  cannot act on SIGTERM), logged as a crash and restarted the same way.
+- The child speaks systemd's notify protocol to the supervisor's own socket (``$NOTIFY_SOCKET``
+  of the child); the supervisor relays ``READY=1`` and the child's ``WATCHDOG=1`` pings to
+  systemd, and pings for itself only while a child is restarting (systemd's watchdog runs
+  from the first READY). So the service's watchdog follows the frame loop, and
+  ``NotifyAccess=main`` is enough.
+- SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
+- A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too.
+- A warm spare (``spare=True``): once a child is ready, the next one is started and waits,
+  its libraries imported, for ``go RESTARTS`` on its stdin (``$TABLETOP_WAIT_GO``); a restart
+  then costs the installation's build, not the interpreter's start and imports.
+"""
+
+from __future__ import annotations
+
+import collections
+import datetime as _dt
+import logging
+import os
+import select
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Sequence
+
+from tabletop.kiosk.notify import Notifier
+
+log = logging.getLogger("tabletop")
+
+
+@dataclass
+class Policy:
+    """When the supervisor restarts (seconds)."""
+
+    stall_s: float = 5.0
+    backoff_s: tuple[float, float] = (0.1, 30.0)
+    healthy_s: float = 60.0
+    startup_s: float = 60.0
+    stop_timeout_s: float = 10.0
+
+    def delay(self, failures: int) -> float:
+        """Wait before the restart after ``failures`` failures in a row (>= 1)."""
+        lo, hi = self.backoff_s
+        return min(hi, lo * 2.0 ** max(0, failures - 2))
+
+
+@dataclass
+class Child:
+    """One run of the installation as seen by the supervisor."""
+
+    process: subprocess.Popen
+    started: float
+    tail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=40))
+    ready_at: float | None = None
+    last_ping: float | None = None
+    reader: threading.Thread | None = None
+
+
+def describe_exit(code: int) -> str:
+    if code < 0:
+        try:
+            return f"killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"killed by signal {-code}"
+    return f"exit status {code}"
+
+
+class Supervisor:
+    """Keeps ``command`` running; see the module docstring."""
+
+    def __init__(self, command: Sequence[str], policy: Policy, crash_log: Path,
+                 env: dict[str, str] | None = None, notifier: Notifier | None = None,
+                 echo: bool = True, clock: Callable[[], float] = time.monotonic,
+                 spare: bool = True) -> None:
+        self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
+        self.env = dict(os.environ if env is None else env)
+        self.notifier = notifier or Notifier()
+        self.echo, self.clock = echo, clock
+        self.stop = threading.Event()
+        self.starts = 0
+        self.crashes = 0
+        self.events: list[tuple[str, float]] = []   # ("ready" | "crash" | "stall", clock time)
+        self._dir = Path(tempfile.mkdtemp(prefix="tabletop-supervisor-"))
+        self.socket_path = self._dir / "notify.sock"
+        self._sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        self._sock.bind(str(self.socket_path))
+        self._announced = False
+        self.use_spare = spare
+        self._spare: Child | None = None
+
+    # --- one child --------------------------------------------------------------------------
+
+    def _process(self, spare: bool) -> Child:
+        # TABLETOP_DEBUG: an escaping exception prints its traceback, for the crash log
+        env = dict(self.env, NOTIFY_SOCKET=str(self.socket_path), TABLETOP_SUPERVISED="1",
+                   TABLETOP_RESTARTS=str(self.starts), TABLETOP_DEBUG="1")
+        env.pop("WATCHDOG_USEC", None)
+        env.pop("WATCHDOG_PID", None)
+        if spare:
+            env["TABLETOP_WAIT_GO"] = "1"
+        p = subprocess.Popen(self.command, env=env,
+                             stdin=subprocess.PIPE if spare else subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, text=True, errors="replace")
+        child = Child(p, self.clock())
+        child.reader = threading.Thread(target=self._read_stderr, args=(child,), daemon=True)
+        child.reader.start()
+        return child
+
+    def _spawn(self) -> Child:
+        spare, self._spare = self._spare, None
+        if spare is not None and spare.process.poll() is None:
+            try:
+                assert spare.process.stdin is not None
+                spare.process.stdin.write(f"go {self.starts}\n")
+                spare.process.stdin.flush()
+                spare.process.stdin.close()
+                child = spare
+                child.started = self.clock()
+            except (OSError, ValueError):
+                spare.process.kill()
+                child = self._process(False)
+        else:
+            child = self._process(False)
+        self.starts += 1
+        log.info("supervisor: started the installation (pid %d, start %d)", child.process.pid,
+                 self.starts)
+        return child
+
+    def _kill_spare(self) -> None:
+        if self._spare is not None:
+            self._spare.process.kill()
+            self._spare.process.wait()
+            self._spare = None
+
+    def _read_stderr(self, child: Child) -> None:
+        assert child.process.stderr is not None
+        for line in child.process.stderr:
+            child.tail.append(line.rstrip("\n"))
+            if self.echo:
+                sys.stderr.write(line)
+                sys.stderr.flush()
+
+    def _messages(self, timeout: float) -> list[str]:
+        out = []
+        ready, _, _ = select.select([self._sock], [], [], timeout)
+        while ready:
+            try:
+                data = self._sock.recv(4096, socket.MSG_DONTWAIT)
+            except BlockingIOError:
+                break
+            out.extend(data.decode(errors="replace").splitlines())
+        return out
+
+    def _on_message(self, child: Child, msg: str) -> None:
+        now = self.clock()
+        if msg == "READY=1" and child.ready_at is None:
+            child.ready_at = child.last_ping = now
+            self.events.append(("ready", now))
+            log.info("supervisor: installation ready after %.2f s", now - child.started)
+            if not self._announced:
+                self._announced = self.notifier.send("READY=1")
+            if self.use_spare and self._spare is None:
+                self._spare = self._process(True)
+        elif msg == "WATCHDOG=1":
+            child.last_ping = now
+            self.notifier.send("WATCHDOG=1")
+        elif msg.startswith("STATUS="):
+            self.notifier.send(msg)
+
+    def _stalled(self, child: Child) -> str | None:
+        now = self.clock()
+        if child.ready_at is None:
+            if now - child.started > self.policy.startup_s:
+                return f"not ready {now - child.started:.1f} s after its start"
+            return None
+        assert child.last_ping is not None
+        if now - child.last_ping > self.policy.stall_s:
+            return f"stalled: no frame for {now - child.last_ping:.1f} s"
+        return None
+
+    def _record_crash(self, child: Child, what: str) -> None:
+        self.crashes += 1
+        ran = self.clock() - child.started
+        if child.reader is not None:
+            child.reader.join(timeout=1.0)
+        stamp = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+        lines = [f"=== {stamp} crash {self.crashes}: {what}, after {ran:.1f} s "
+                 f"(pid {child.process.pid}, start {self.starts})"]
+        lines += [f"  {t}" for t in child.tail]
+        log.error("supervisor: the installation %s after %.1f s; restarting", what, ran)
+        try:
+            self.crash_log.parent.mkdir(parents=True, exist_ok=True)
+            with open(self.crash_log, "a", encoding="utf-8") as f:
+                f.write("\n".join(lines) + "\n")
+                f.flush()
+                os.fsync(f.fileno())
+        except OSError as exc:
+            log.error("supervisor: crash log %s not written: %s", self.crash_log, exc)
+
+    def _terminate(self, child: Child) -> None:
+        p = child.process
+        if p.poll() is None:
+            p.send_signal(signal.SIGTERM)
+            try:
+                p.wait(self.policy.stop_timeout_s)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+
+    def _watch(self, child: Child) -> tuple[str, int | None]:
+        """Until the child ends: ("exit", code), ("stall", None) or ("stop", None)."""
+        last_own_ping = -1e9
+        while True:
+            if self.stop.is_set():
+                self._terminate(child)
+                return "stop", child.process.returncode
+            for msg in self._messages(0.05):
+                self._on_message(child, msg)
+            code = child.process.poll()
+            if code is not None:
+                for msg in self._messages(0.0):
+                    self._on_message(child, msg)
+                return "exit", code
+            why = self._stalled(child)
+            if why is not None:
+                child.process.kill()
+                child.process.wait()
+                self.events.append(("stall", self.clock()))
+                self._record_crash(child, why)
+                return "stall", None
+            now = self.clock()
+            if child.ready_at is None and self._announced and now - last_own_ping >= 1.0:
+                self.notifier.send("WATCHDOG=1")      # restarting: the supervisor vouches
+                last_own_ping = now
+
+    # --- the supervisor's loop ----------------------------------------------------------------
+
+    def run(self) -> int:
+        """Run until stopped or a child ends on purpose; returns the exit status to use."""
+        failures = 0
+        try:
+            while not self.stop.is_set():
+                child = self._spawn()
+                how, code = self._watch(child)
+                if how == "stop":
+                    return 0
+                if how == "exit":
+                    if code == 0:
+                        log.info("supervisor: the installation ended; stopping")
+                        return 0
+                    self.events.append(("crash", self.clock()))
+                    self._record_crash(child, describe_exit(code))
+                ran = self.clock() - child.started
+                failures = 1 if ran >= self.policy.healthy_s else failures + 1
+                delay = self.policy.delay(failures)
+                end = self.clock() + delay
+                while not self.stop.is_set() and self.clock() < end:
+                    if self._announced:               # waiting to restart: still in control
+                        self.notifier.send("WATCHDOG=1")
+                    self.stop.wait(min(1.0, max(0.0, end - self.clock())))
+            return 0
+        finally:
+            self._kill_spare()
+            self.notifier.send("STOPPING=1")
+            self._sock.close()
+            try:
+                self.socket_path.unlink()
+                self._dir.rmdir()
+            except OSError:
+                pass

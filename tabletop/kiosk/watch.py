@@ -1,0 +1,102 @@
+"""Files watched while running: ``config.yaml`` edits applied or refused, folders reloaded.
+
+:class:`ConfigWatcher` is a frame-loop hook: about once a second it looks at the config file's
+modification time and size; when they change it validates the new file. A bad file is refused
+with one line naming the file, key and reason (logged, in the status as ``config_error``, on
+the overlay), and the running configuration stays. A good one that differs from the running
+configuration is handed to ``apply`` (the run command rebuilds the installation with it).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+from tabletop.frames import Frame, InputError
+
+log = logging.getLogger("tabletop")
+
+
+def tree_signature(path: Path) -> tuple:
+    """(relative name, mtime ns, size) of a file, or of every file below a folder (hidden
+    names skipped); changes whenever any of them is written, renamed or removed."""
+    out = []
+    try:
+        if path.is_file():
+            st = path.stat()
+            return ((path.name, st.st_mtime_ns, st.st_size),)
+        for root, dirs, files in os.walk(path):
+            dirs[:] = sorted(d for d in dirs if not d.startswith("."))
+            for f in sorted(files):
+                if f.startswith("."):
+                    continue
+                p = Path(root) / f
+                try:
+                    st = p.stat()
+                except OSError:
+                    continue
+                out.append((str(p.relative_to(path)), st.st_mtime_ns, st.st_size))
+    except OSError:
+        return ()
+    return tuple(out)
+
+
+class Poller:
+    """``changed()`` is True once after ``path``'s signature changes; looks at most every
+    ``every_s`` seconds of ``clock``."""
+
+    def __init__(self, path: Path, every_s: float = 1.0,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.path, self.every_s, self.clock = Path(path), every_s, clock
+        self.signature = tree_signature(self.path)
+        self._next = clock()
+
+    def changed(self) -> bool:
+        now = self.clock()
+        if now < self._next:
+            return False
+        self._next = now + self.every_s
+        sig = tree_signature(self.path)
+        if sig == self.signature:
+            return False
+        self.signature = sig
+        return True
+
+
+class ConfigWatcher:
+    """Frame-loop hook validating edits of ``path``; ``apply(config)`` receives a good one."""
+
+    def __init__(self, path: Path, current: dict[str, Any], load: Callable[[Path], dict],
+                 apply: Callable[[dict[str, Any]], None], every_s: float = 1.0,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.path, self.current, self.load, self.apply = Path(path), current, load, apply
+        self.poller = Poller(self.path, every_s, clock)
+        self.error: str | None = None
+        self.refused = 0
+        self.applied = 0
+
+    def __call__(self, frame: Frame | None = None) -> None:
+        if not self.poller.changed():
+            return
+        try:
+            cfg = self.load(self.path)
+        except InputError as exc:
+            self.error = str(exc)
+            self.refused += 1
+            log.error("config edit refused, the running configuration stays: %s", exc)
+            return
+        self.error = None
+        if cfg == self.current:
+            return
+        log.info("config %s changed: applying it", self.path)
+        self.current = cfg
+        self.applied += 1
+        self.apply(cfg)
+
+    def status(self) -> dict[str, Any]:
+        return {"config": str(self.path), "config_error": self.error}
+
+

@@ -1,0 +1,99 @@
+"""Wiring the studio onto a built installation: its targets, control markers, session log."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+from typing import Any, Mapping
+
+from tabletop.frames import Frame
+from tabletop.studio.machine import Studio
+from tabletop.studio.session import SessionLog
+from tabletop.studio.targets import MopTarget, PuppetMasterTarget
+
+
+class Markers:
+    """Control markers: a marker put on the table (seen for ``debounce_s``) sends its command
+    once; lifting the record marker (gone for ``debounce_s``) while recording stops the take.
+    ``next`` goes to the loop's command queue (the focus moves on the next tick)."""
+
+    def __init__(self, ids: Mapping[str, int | None], studio: Studio, queue: Any = None,
+                 debounce_s: float = 0.3) -> None:
+        self.ids = {cmd: int(i) for cmd, i in ids.items() if i is not None}
+        self.studio, self.queue, self.debounce_s = studio, queue, debounce_s
+        self._on = {cmd: False for cmd in self.ids}
+        self._since = {cmd: -math.inf for cmd in self.ids}
+
+    def __call__(self, frame: Frame) -> Frame:
+        present = {p.id for p in frame.pucks if p.state == "seen"}
+        for cmd, mid in self.ids.items():
+            on = mid in present
+            if on == self._on[cmd]:
+                self._since[cmd] = -math.inf
+                continue
+            if self._since[cmd] == -math.inf:
+                self._since[cmd] = frame.t
+            if frame.t - self._since[cmd] < self.debounce_s:
+                continue
+            self._on[cmd], self._since[cmd] = on, -math.inf
+            if on and cmd == "next":
+                if self.queue is not None:
+                    self.queue.put("designer.next")
+            elif on:
+                self.studio.command(f"designer.{cmd}")
+            elif cmd == "record" and self.studio.state in ("countdown", "recording"):
+                self.studio.command("designer.stop")
+        # marker pucks are controls, not characters' inputs
+        markers = set(self.ids.values())
+        if any(p.id in markers for p in frame.pucks):
+            frame = dataclasses.replace(frame, pucks=tuple(
+                p for p in frame.pucks if p.id not in markers))
+        return frame
+
+
+def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) -> list:
+    """A target for every Puppet Master engine in designer mode (every one with
+    ``all_engines``: studio mode) and for every character of every MOP engine."""
+    from tabletop.plugins import puppet_master as pm
+    from tabletop.schema import Context
+    targets: list = []
+    options = {e["name"]: e for e in cfg["engines"]}
+    for e in engines:
+        if isinstance(e, pm.PuppetMasterEngine):
+            if e.designer is None:
+                if not all_engines:
+                    continue
+                d = pm.DESIGNER.validate({"enabled": True}, "designer", Context("studio", base))
+                lib = Path(d["library"])
+                d["library"] = lib if lib.is_absolute() else base / lib
+                d["main_puck"] = e.main["puck"] if e.main["kind"] == "puck" else 1
+                d["name"] = e.name
+                e.designer = d
+            targets.append(PuppetMasterTarget(e))
+        elif hasattr(e, "order") and hasattr(e, "take_action"):
+            lib = options.get(e.name, {}).get("library")
+            e.designer_targets = tuple      # the studio lists them now
+            targets += [MopTarget(e, c, Path(lib) if lib else None) for c in e.order]
+    return targets
+
+
+def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = True) -> Studio:
+    """Put the studio on ``inst``'s loop: the machine and markers as filters, library polling
+    as a hook, the session log in ``studio.folder``."""
+    s = cfg["studio"]
+    targets = studio_targets(inst.loop.engines, cfg, base, all_engines)
+    folder = Path(s["folder"] or base / "studio")
+    session = SessionLog(folder, review=s["review"])
+    studio = Studio(targets, s["countdown_s"], log_try=session.log_try, clock=inst.loop.clock,
+                    quiet=not all_engines)
+    studio.session = session
+    ids = dict(s["markers"])
+    for t in targets:       # an engine's own record marker (designer.record_marker)
+        if getattr(t, "record_marker", None) is not None:
+            ids["record"] = t.record_marker
+    loop = inst.loop
+    loop.filters += [Markers(ids, studio, loop.commands, s["debounce_s"]), studio]
+    loop.focus.extra.append(studio)
+    loop.hooks.append(lambda frame: studio.poll())
+    return studio

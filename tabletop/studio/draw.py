@@ -1,0 +1,81 @@
+"""Drawing the studio on the table: the countdown, the recording indicator, the status line."""
+
+from __future__ import annotations
+
+import math
+
+import pygame
+
+from tabletop.frames import CharacterState
+
+_fonts: dict[int, pygame.font.Font] = {}
+
+
+def font(size: int) -> pygame.font.Font:
+    if size not in _fonts:
+        pygame.font.init()
+        _fonts[size] = pygame.font.Font(None, size)
+    return _fonts[size]
+
+
+def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
+    """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
+    number in the middle of the table, a red dot and seconds while recording, and the status
+    line along the table's near edge (nothing while it has nothing to say)."""
+    if not c.label:
+        return
+    w, h = renderer.table
+    cx, cy = renderer.map.point(w / 2, h / 2)
+    if c.action == "countdown" and c.progress is not None:
+        n = max(1, math.ceil(c.progress))
+        frac = c.progress - math.floor(c.progress) if c.progress % 1 else 1.0
+        r = int(min(target.get_size()) * 0.12)
+        pygame.draw.circle(target, (255, 255, 255), (cx, cy), r, width=3)
+        end = -math.pi / 2 + 2 * math.pi * frac
+        rect = pygame.Rect(cx - r, cy - r, 2 * r, 2 * r)
+        pygame.draw.arc(target, c.color, rect, math.pi / 2 - (end + math.pi / 2), math.pi / 2, 8)
+        img = font(int(r * 1.4)).render(str(n), True, (255, 255, 255))
+        target.blit(img, img.get_rect(center=(cx, cy)))
+    elif c.action == "recording":
+        x, y = renderer.map.point(0.04, h - 0.04)
+        on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
+        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), 14)
+        img = font(36).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
+        target.blit(img, (x + 22, y - img.get_height() // 2))
+        pygame.draw.rect(target, c.color, target.get_rect(), width=6)
+    x, y = renderer.map.point(0.02, 0.02)
+    img = font(26).render(c.label, True, (235, 235, 235), (0, 0, 0))
+    target.blit(img, (x, y - img.get_height() - 4))
+
+
+class NamePrompt:
+    """F2 in the view: type a new name, Enter sends ``designer.rename:NAME``, Esc cancels."""
+
+    def __init__(self) -> None:
+        self.text: str | None = None
+
+    @property
+    def active(self) -> bool:
+        return self.text is not None
+
+    def handle(self, ev) -> str | None:
+        """Take a KEYDOWN event; returns a command when one is complete."""
+        if self.text is None:
+            if ev.key == pygame.K_F2:
+                self.text = ""
+            return None
+        if ev.key == pygame.K_ESCAPE:
+            self.text = None
+        elif ev.key in (pygame.K_RETURN, pygame.K_KP_ENTER):
+            name, self.text = self.text, None
+            return f"designer.rename:{name}" if name else None
+        elif ev.key == pygame.K_BACKSPACE:
+            self.text = self.text[:-1]
+        elif ev.unicode and (ev.unicode.isalnum() or ev.unicode in "_-.") and len(self.text) < 64:
+            self.text += ev.unicode
+        return None
+
+    def draw(self, target: pygame.Surface) -> None:
+        if self.text is not None:
+            img = font(32).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
+            target.blit(img, img.get_rect(center=(target.get_width() // 2, 40)))

@@ -1,0 +1,324 @@
+"""The studio's state machine, shared by every engine through :class:`Target`.
+
+States: ``idle`` -> (record) ``countdown`` -> ``recording`` -> (stop: trained at once) ``trying``
+-> keep (saved to the library, named) | discard | redo (a new countdown) -> ``idle``.
+Commands (keys through the view, control markers through :class:`Markers`):
+
+======================  =========================================================
+``designer.record``     idle/trying: countdown then record (redo); recording: stop
+``designer.stop``       stop recording (or cancel the countdown)
+``designer.keep``       keep the take being tried
+``designer.discard``    drop it, back to what played before
+``designer.redo``       drop it and record again
+``designer.assign``     the target's own choice (MOP: the motion a take plays)
+``designer.item_next``  play the next (``item_previous``: previous) library item
+``designer.rename:NEW`` rename the item in play
+``designer.delete``     delete the item in play (kept in the library's ``.trash``)
+``designer.undo``       undo the last keep, rename or delete
+======================  =========================================================
+
+The machine is a frame filter: it runs before the engines, takes the ``designer.*`` commands
+for itself and adds one ``kind="studio"`` character that the view draws as the countdown, the
+recording indicator and the status line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from typing import Callable, Protocol, Sequence
+
+from tabletop.frames import CharacterState, Frame, InputError
+
+log = logging.getLogger("tabletop")
+
+MESSAGE_S = 5.0
+
+
+class Target(Protocol):
+    """What the studio needs of an engine: one designer target (a behaviour, an action slot)."""
+
+    name: str   # the focus name (Frame.focus)
+    what: str   # "behaviour", "action", ...
+
+    def begin(self, frame: Frame) -> None: ...            # a take starts now
+    def record(self, frame: Frame) -> str: ...            # sample this tick; a problem or ""
+    def seconds(self) -> float: ...                       # length of the take so far
+    def train(self) -> str: ...                           # train, play it; raises InputError
+    def revert(self) -> None: ...                         # back to what played before the take
+    def keep(self) -> str: ...                            # save the take; returns its name
+    def items(self) -> list[str]: ...                     # the library's items, sorted
+    def current(self) -> str | None: ...                  # the item in play
+    def use(self, name: str) -> None: ...                 # play a library item
+    def rename(self, old: str, new: str) -> None: ...
+    def remove(self, name: str) -> Callable[[], None]: ...  # returns its restore
+    def poll(self) -> list[str]: ...                      # reload changed files; problems
+
+
+@dataclasses.dataclass
+class Try:
+    """One take as the session log records it."""
+
+    target: str
+    what: str
+    started: float
+    duration_s: float = 0.0
+    samples: int = 0
+    training_s: float = 0.0
+    outcome: str = ""          # kept | discarded | redone | too short | refused
+    name: str = ""
+    review: str = ""
+
+
+class Studio:
+    """Frame filter driving the focused :class:`Target`; see the module docstring."""
+
+    def __init__(self, targets: Sequence[Target], countdown_s: float = 3.0,
+                 log_try: Callable[[Try, Target], None] | None = None,
+                 clock: Callable[[], float] = time.monotonic, quiet: bool = False) -> None:
+        self.targets = {t.name: t for t in targets}
+        self.order = [t.name for t in targets]
+        self.countdown_s, self.log_try, self.clock = countdown_s, log_try, clock
+        self.state = "idle"
+        self.selected: str | None = self.order[0] if self.order else None
+        self.until = 0.0             # countdown end (frame time)
+        self.message, self._message_until = "", -math.inf
+        self.problems: list[str] = []
+        self.undo_stack: list[tuple[str, Callable[[], None]]] = []
+        self.tries: list[Try] = []
+        self._try: Try | None = None
+        self._t = 0.0
+        self.quiet = quiet   # draws nothing until the first designer command (not in studio mode)
+
+    # --- focus -------------------------------------------------------------------------------
+
+    def designer_targets(self) -> tuple[str, ...]:
+        return tuple(self.order)
+
+    @property
+    def target(self) -> Target | None:
+        return self.targets.get(self.selected) if self.selected else None
+
+    def say(self, text: str) -> None:
+        self.message, self._message_until = text, self.clock() + MESSAGE_S
+        log.info("studio: %s", text)
+
+    # --- the filter ----------------------------------------------------------------------------
+
+    def __call__(self, frame: Frame) -> Frame:
+        self._t = frame.t
+        if frame.focus in self.targets and frame.focus != self.selected:
+            if self.state in ("countdown", "recording"):
+                self.state = "idle"
+            elif self.state == "trying":
+                self._drop("discarded")
+            self.selected = frame.focus
+        ours = frame.focus is None or frame.focus in self.targets   # else another engine's
+        mine = [c for c in frame.commands
+                if ours and c.startswith("designer.") and c != "designer.next"]
+        for cmd in mine:
+            self.command(cmd)
+        target = self.target
+        if target is not None:
+            if self.state == "countdown" and frame.t >= self.until:
+                target.begin(frame)
+                self.state = "recording"
+                self._try = Try(target.name, target.what, time.time())
+            if self.state == "recording":
+                problem = target.record(frame)
+                if problem:
+                    self.message, self._message_until = problem, self.clock() + 0.2
+        rest = tuple(c for c in frame.commands if c not in mine)
+        return dataclasses.replace(frame, commands=rest).with_characters((self.character(frame),))
+
+    def command(self, cmd: str) -> None:
+        self.quiet = False
+        target = self.target
+        if target is None:
+            return
+        name, _, arg = cmd.partition(":")
+        try:
+            getattr(self, "_" + name.removeprefix("designer."), self._unknown)(target, arg)
+        except InputError as exc:
+            self.say(f"cannot: {exc}")
+
+    def _unknown(self, target: Target, arg: str) -> None:
+        pass
+
+    # --- the take ----------------------------------------------------------------------------
+
+    def _record(self, target: Target, arg: str) -> None:
+        if self.state == "recording":
+            self._stop(target, arg)
+        elif self.state == "countdown":
+            self.state = "idle"
+            self.say("countdown cancelled")
+        else:
+            if self.state == "trying":
+                self._drop("redone")
+            self.state, self.until = "countdown", self._t + self.countdown_s
+
+    def _stop(self, target: Target, arg: str) -> None:
+        if self.state == "countdown":
+            self.state = "idle"
+            return
+        if self.state != "recording":
+            return
+        t = self._try or Try(target.name, target.what, time.time())
+        t.duration_s = round(target.seconds(), 3)
+        t0 = time.perf_counter()
+        try:
+            summary = target.train()
+        except InputError as exc:
+            t.outcome = "too short" if "short" in str(exc) else "refused"
+            self._finish(t)
+            self.state = "idle"
+            self.say(f"{exc}: R to record again")
+            return
+        t.training_s = round(time.perf_counter() - t0, 4)
+        self._try, self.state = t, "trying"
+        self.say(f"{summary}; try it: K keep, X discard, R redo")
+
+    def _keep(self, target: Target, arg: str) -> None:
+        if self.state != "trying":
+            self.say("nothing to keep: R records a take")
+            return
+        name = target.keep()
+        self.state = "idle"
+        if self._try is not None:
+            self._try.name = name
+            self._finish(self._try, "kept")
+        self.undo_stack.append((f"keep {name}", lambda: target.remove(name)))
+        self.say(f"kept as {name}")
+
+    def _discard(self, target: Target, arg: str) -> None:
+        if self.state == "trying":
+            self._drop("discarded")
+            self.say("take discarded")
+        elif self.state in ("countdown", "recording"):
+            self.state = "idle"
+            self.say("take cancelled")
+        else:
+            self.say("nothing to discard")
+
+    def _redo(self, target: Target, arg: str) -> None:
+        if self.state == "trying":
+            self._drop("redone")
+        if self.state in ("idle", "trying"):
+            self.state, self.until = "countdown", self._t + self.countdown_s
+
+    def _drop(self, outcome: str) -> None:
+        target = self.target
+        if target is not None:
+            target.revert()
+        if self._try is not None:
+            self._finish(self._try, outcome)
+        self.state = "idle"
+
+    def _finish(self, t: Try, outcome: str | None = None) -> None:
+        if outcome is not None:
+            t.outcome = outcome
+        self.tries.append(t)
+        self._try = None
+        if self.log_try is not None and self.target is not None:
+            try:
+                self.log_try(t, self.target)
+            except Exception:  # the session log must never stop the studio
+                log.exception("studio: session log failed")
+
+    def _assign(self, target: Target, arg: str) -> None:
+        fn = getattr(target, "assign", None)
+        if fn is not None:
+            self.say(fn())
+
+    # --- the library -----------------------------------------------------------------------------
+
+    def _item(self, target: Target, step: int) -> None:
+        items = target.items()
+        if not items:
+            self.say("the library is empty")
+            return
+        cur = target.current()
+        i = (items.index(cur) + step) % len(items) if cur in items else 0
+        target.use(items[i])
+        self.say(f"playing {items[i]} ({i + 1} of {len(items)})")
+
+    def _item_next(self, target: Target, arg: str) -> None:
+        self._item(target, 1)
+
+    def _item_previous(self, target: Target, arg: str) -> None:
+        self._item(target, -1)
+
+    def _rename(self, target: Target, arg: str) -> None:
+        old = target.current()
+        if old is None or not arg:
+            self.say("nothing to rename" if old is None else "rename needs a new name")
+            return
+        target.rename(old, arg)
+        self.undo_stack.append((f"rename {old} -> {arg}", lambda: target.rename(arg, old)))
+        self.say(f"renamed {old} to {arg}")
+
+    def _delete(self, target: Target, arg: str) -> None:
+        name = target.current()
+        if name is None:
+            self.say("nothing to delete")
+            return
+        restore = target.remove(name)
+        self.undo_stack.append((f"delete {name}", restore))
+        self.say(f"deleted {name} (U undoes)")
+
+    def _undo(self, target: Target, arg: str) -> None:
+        if not self.undo_stack:
+            self.say("nothing to undo")
+            return
+        what, fn = self.undo_stack.pop()
+        fn()
+        self.say(f"undone: {what}")
+
+    # --- what the view draws ----------------------------------------------------------------------
+
+    def poll(self) -> None:
+        """Reload changed library files; a bad one is reported and skipped."""
+        problems: list[str] = []
+        for t in self.targets.values():
+            problems.extend(t.poll())
+        if problems != self.problems:
+            for p in problems:
+                if p not in self.problems:
+                    log.error("library: %s (skipped; the others keep working)", p)
+            self.problems = problems
+
+    def character(self, frame: Frame) -> CharacterState:
+        """The studio's indicator: ``action`` = state, ``progress`` = countdown left (s) or
+        recorded seconds, ``label`` = status line."""
+        target = self.target
+        if self.quiet:
+            return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
+                                  action="idle", label="")
+        if self.state == "countdown":
+            value: float | None = max(0.0, self.until - frame.t)
+        elif self.state == "recording" and target is not None:
+            value = target.seconds()
+        else:
+            value = None
+        if self.clock() < self._message_until:
+            text = self.message
+        elif target is None:
+            text = "no designer target"
+        else:
+            text = {"idle": f"{target.what} {target.current() or '(none)'}: R record, "
+                            "[ ] switch, F2 rename, Del delete, U undo",
+                    "countdown": "get ready",
+                    "recording": "recording: R stop",
+                    "trying": "try it: K keep, X discard, R redo"}[self.state]
+        if self.problems:
+            text += f"   | {len(self.problems)} bad library file(s): {self.problems[0]}"
+        return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
+                              color=(255, 60, 60), progress=value, action=self.state,
+                              label=f"[{self.selected or '-'}] {text}", valid=True)
+
+    def status(self) -> dict:
+        return {"studio": {"state": self.state, "target": self.selected,
+                           "tries": len(self.tries), "bad_files": list(self.problems)}}

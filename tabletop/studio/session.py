@@ -1,0 +1,75 @@
+"""The studio's session log: one JSON line per try, and a review sheet (PNG) per try.
+
+``<folder>/session-YYYYmmdd-HHMMSS.jsonl``: each line ``{"target", "what", "time" (UTC ISO),
+"duration_s", "samples", "training_s", "outcome" (kept | discarded | redone | too short |
+refused), "name" (kept name), "review" (PNG file name, or "")}``. Each line is written, flushed
+and fsynced on its own, so a power cut loses at most the line being written. Review sheets are
+drawn in a background thread (one at a time; a try arriving while one is drawn gets none).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime as _dt
+import json
+import logging
+import os
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from tabletop.studio.machine import Try
+
+log = logging.getLogger("tabletop")
+
+
+class SessionLog:
+    def __init__(self, folder: Path, review: bool = True) -> None:
+        self.folder = Path(folder)
+        stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+        self.path = self.folder / f"session-{stamp}.jsonl"
+        self.review = review
+        self._drawer: threading.Thread | None = None
+        self.lines = 0
+
+    def log_try(self, t: Try, target) -> None:
+        demo = getattr(target, "demo", None)
+        if demo is not None:
+            t.samples = int(len(demo))
+        if self.review and demo is not None and len(demo) >= 2 and not (
+                self._drawer is not None and self._drawer.is_alive()):
+            png = self.path.with_suffix("").name + f"-try{len(self._names()) + 1:03d}.png"
+            t.review = png
+            self._drawer = threading.Thread(
+                target=self._draw, args=(target.what, np.array(demo), t, self.folder / png),
+                name="review", daemon=True)
+            self._drawer.start()
+        self._append(t)
+
+    def _names(self) -> list[str]:
+        return [p.name for p in self.folder.glob(self.path.with_suffix("").name + "-try*.png")] \
+            if self.folder.is_dir() else []
+
+    def _append(self, t: Try) -> None:
+        d = dataclasses.asdict(t)
+        d["time"] = _dt.datetime.fromtimestamp(d.pop("started"), _dt.timezone.utc).isoformat(
+            timespec="seconds")
+        self.folder.mkdir(parents=True, exist_ok=True)
+        with open(self.path, "a", encoding="utf-8") as f:
+            f.write(json.dumps(d) + "\n")
+            f.flush()
+            os.fsync(f.fileno())
+        self.lines += 1
+
+    def _draw(self, what: str, demo: np.ndarray, t: Try, path: Path) -> None:
+        from tabletop.studio.review import review_sheet
+        try:
+            review_sheet(what, demo, path, title=f"{t.target}: {t.outcome} {t.name}".strip())
+        except Exception:  # a review sheet is a convenience: never stop the studio
+            log.exception("review sheet %s not drawn", path)
+
+    def wait(self, timeout: float = 30.0) -> None:
+        """Wait for the review sheet being drawn (tests, shutdown)."""
+        if self._drawer is not None:
+            self._drawer.join(timeout)

@@ -1,0 +1,334 @@
+"""Engines seen by the studio: one :class:`~tabletop.studio.machine.Target` adapter per engine.
+
+:class:`PuppetMasterTarget` (a behaviour): the take is both designer pucks' poses; training is
+``Behavior.train``; kept takes are behaviour folders (:mod:`tabletop.library`).
+:class:`MopTarget` (an action slot of one MOP character): the take is the character's
+performer; training is the stage's (a new action, followed at once); kept takes are the
+engine's action library (:func:`tabletop.plugins.mop.save_to_library`).
+Library folders are renamed in place and deleted into ``<library>/.trash`` so undo restores them.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import time
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from tabletop import library
+from tabletop.frames import CharacterState, Frame, InputError
+from tabletop.kiosk.watch import Poller
+
+log = logging.getLogger("tabletop")
+
+
+def trash(folder: Path) -> Callable[[], None]:
+    """Move ``folder`` into its library's ``.trash``; returns the function that puts it back."""
+    bin_ = folder.parent / ".trash"
+    bin_.mkdir(exist_ok=True)
+    dest = bin_ / f"{folder.name}.{time.time_ns()}"
+    os.rename(folder, dest)
+    library.fsync_folder(folder.parent)
+
+    def restore() -> None:
+        if folder.exists():
+            raise InputError(f"{folder}: exists again; not restored over it")
+        os.rename(dest, folder)
+    return restore
+
+
+def rename_folder(lib: Path, old: str, new: str) -> None:
+    library.check_name(new)
+    if (lib / new).exists():
+        raise InputError(f"{lib / new}: already exists")
+    os.rename(lib / old, lib / new)
+    library.fsync_folder(lib)
+
+
+class PuppetMasterTarget:
+    """A Puppet Master engine in designer mode as a studio target."""
+
+    what = "behaviour"
+
+    def __init__(self, engine) -> None:
+        self.engine = engine
+        self.name = engine.name
+        d = engine.designer
+        self.main_puck, self.react_puck = d["main_puck"], d["react_puck"]
+        self.lib: Path = Path(d["library"])
+        self.min_seconds = d["min_seconds"]
+        self.record_marker = d.get("record_marker")
+        self.take: list[tuple[float, ...]] = []
+        self.demo: np.ndarray | None = None
+        self.pending = None
+        self.previous: tuple = (None, "")
+        self.lib_poller = Poller(self.lib)
+        folder = getattr(engine, "folder", None)
+        self.play_poller = Poller(Path(folder)) if folder else None
+        self.playing: Path | None = Path(folder) if folder else None
+        self._problems: list[str] = []
+
+    # --- the take ------------------------------------------------------------------------------
+
+    def begin(self, frame: Frame) -> None:
+        self.take = []
+        self.engine.hold = self._hold
+
+    def _hold(self, frame: Frame) -> CharacterState:
+        """While recording the character is drawn under the reactor puck."""
+        r = frame.puck(self.react_puck)
+        if r is not None:
+            return self.engine.character(r.x, r.y, r.angle, True, "recording")
+        x0, y0, x1, y1 = self.engine.table
+        return self.engine.character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, "recording")
+
+    def record(self, frame: Frame) -> str:
+        m, r = frame.puck(self.main_puck), frame.puck(self.react_puck)
+        if m is not None and r is not None and (not self.take or frame.t > self.take[-1][0]):
+            self.take.append((frame.t, m.x, m.y, m.angle, r.x, r.y, r.angle))
+        missing = [f"puck {p}" for p, q in ((self.main_puck, m), (self.react_puck, r)) if q is None]
+        return f"recording: no {', '.join(missing)}" if missing else ""
+
+    def seconds(self) -> float:
+        return self.take[-1][0] - self.take[0][0] if self.take else 0.0
+
+    def take_array(self) -> np.ndarray:
+        """The take as a demonstration (n, 7), times from 0."""
+        a = np.array(self.take, dtype=float).reshape(-1, 7)
+        if a.size:
+            a[:, 0] -= a[0, 0]
+        return a
+
+    def train(self) -> str:
+        from behaviors.puppet_master.engine import Behavior
+        self.engine.hold = None
+        demo = self.take_array()
+        secs = float(demo[-1, 0]) if len(demo) else 0.0
+        if secs < self.min_seconds:
+            raise InputError(f"take too short ({secs:.1f} s of both pucks, needs "
+                             f"{self.min_seconds:g} s)")
+        e = self.engine
+        rate = e.rate_hz or (e.behavior.params.rate_hz if e.behavior else 40.0)
+        window = e.behavior.params.window if e.behavior else 40
+        self.pending = Behavior.train(demo, rate_hz=rate, window=window)
+        self.demo = demo
+        self.previous = (e.behavior, e.behavior_name)
+        e.play(self.pending, "new take")
+        return f"trained {self.pending.samples} samples ({secs:.1f} s)"
+
+    def revert(self) -> None:
+        self.engine.hold = None
+        if self.pending is not None:
+            self.engine.play(*self.previous)
+        self.pending = None
+
+    def keep(self) -> str:
+        if self.pending is None or self.demo is None:
+            raise InputError("nothing to keep")
+        name = library.free_name(self.lib, self.engine.designer["name"])
+        folder = library.save_behavior(
+            self.lib, name, self.demo,
+            {"rate_hz": self.pending.params.rate_hz, "window": self.pending.params.window},
+            description=f"demonstrated at the table for {self.name}",
+            source="designer studio, recorded from the table")
+        self.engine.behavior_name, self.playing, self.pending = name, folder, None
+        self.lib_poller.signature = ()      # the library changed: list it again
+        return name
+
+    # --- the library -------------------------------------------------------------------------
+
+    def items(self) -> list[str]:
+        return library.list_behaviors(self.lib)
+
+    def current(self) -> str | None:
+        if self.playing is not None and self.playing.parent == self.lib:
+            return self.playing.name
+        return None
+
+    def use(self, name: str) -> None:
+        self._load(self.lib / name)
+
+    def _load(self, folder: Path) -> None:
+        from behaviors.puppet_master.engine import Behavior
+        stored = library.load_behavior(folder)
+        params = dict(stored.parameters)
+        if self.engine.rate_hz is not None:
+            params["rate_hz"] = self.engine.rate_hz
+        self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
+        self.playing = folder
+        self.play_poller = Poller(folder)
+
+    def rename(self, old: str, new: str) -> None:
+        rename_folder(self.lib, old, new)
+        if self.current() == old:
+            self.playing = self.lib / new
+            self.engine.behavior_name = new
+            self.play_poller = Poller(self.playing)
+
+    def remove(self, name: str) -> Callable[[], None]:
+        return trash(self.lib / name)
+
+    def poll(self) -> list[str]:
+        """Reload the behaviour in play when its files change; report the library's bad
+        files (each is skipped, the others keep working)."""
+        problems = self._problems
+        if self.play_poller is not None and self.playing is not None and self.play_poller.changed():
+            try:
+                self._load(self.playing)
+                problems = [p for p in problems if not p.startswith(str(self.playing))]
+            except InputError as exc:
+                problems = problems + [str(exc)]
+        if self.lib_poller.changed():
+            problems = [p for p in problems if self.playing is None
+                        or p.startswith(str(self.playing))]
+            for n in self.items():
+                try:
+                    library.load_behavior(self.lib / n)
+                except InputError as exc:
+                    problems.append(str(exc))
+        self._problems = problems
+        return problems
+
+
+class MopTarget:
+    """One character of a MOP engine (``ENGINE/CHARACTER``) as a studio target: its takes are
+    recorded, trained and kept by the stage (:class:`behaviors.mop.stage.MopStage`)."""
+
+    what = "action"
+
+    def __init__(self, stage, character: str, lib: Path | None) -> None:
+        self.stage, self.character, self.lib = stage, character, lib
+        self.name = f"{stage.name}/{character}"
+        self._frame: Frame | None = None
+        self.kept: str | None = None
+        self.demo: np.ndarray | None = None
+        self._poller = Poller(lib / character) if lib is not None else None
+        self._problems: list[str] = []
+
+    def _do(self, cmd: str) -> str:
+        st = self.stage
+        st.selected = st.order.index(self.character)
+        st.command(cmd, self._frame or Frame(seq=0, t=0.0))
+        return st.message
+
+    def begin(self, frame: Frame) -> None:
+        self._frame = frame
+        self._do("designer.record")
+
+    def record(self, frame: Frame) -> str:
+        self._frame = frame
+        return ""
+
+    def seconds(self) -> float:
+        take = self.stage.take
+        return len(take.rows) / self.stage.rate_hz if take is not None else 0.0
+
+    def train(self) -> str:
+        msg = self._do("designer.record")
+        if self.stage.take_action is None:
+            raise InputError(msg)
+        self.demo = np.array(self.stage.take.samples(), dtype=float)
+        return msg.split(":")[0]
+
+    def take_array(self) -> np.ndarray:
+        take = self.stage.take
+        return np.asarray(take.samples()) if take is not None else np.zeros((0, 0))
+
+    def revert(self) -> None:
+        self._do("designer.discard")
+
+    def assign(self) -> str:
+        return self._do("designer.assign")
+
+    def keep(self) -> str:
+        action = self.stage.take_action
+        msg = self._do("designer.keep")
+        if msg.startswith("not saved"):
+            raise InputError(msg)
+        self.kept = action
+        return action or ""
+
+    def _entries(self) -> list[dict]:
+        from tabletop.plugins.mop import read_library
+        return read_library(self.lib, self.character) if self.lib is not None else []
+
+    def items(self) -> list[str]:
+        try:
+            return sorted(a["name"] for a in self._entries())
+        except InputError:
+            return []
+
+    def current(self) -> str | None:
+        return self.kept
+
+    def use(self, name: str) -> None:
+        self.kept = name     # every kept action of a character plays; this one is selected
+
+    def _write(self, entries: list[dict]) -> None:
+        import yaml
+
+        from tabletop.files import atomic_write_text
+        from tabletop.plugins.mop import LIBRARY_FILE
+        assert self.lib is not None
+        atomic_write_text(self.lib / self.character / LIBRARY_FILE,
+                          yaml.safe_dump({"actions": entries}, sort_keys=False))
+
+    def rename(self, old: str, new: str) -> None:
+        entries = self._entries()
+        if any(a["name"] == new for a in entries):
+            raise InputError(f"an action {new!r} already exists")
+        self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
+        if self.kept == old:
+            self.kept = new
+
+    def remove(self, name: str) -> Callable[[], None]:
+        entries = self._entries()
+        gone = [a for a in entries if a["name"] == name]
+        self._write([a for a in entries if a["name"] != name])
+        if self.kept == name:
+            self.kept = None
+
+        def restore() -> None:
+            self._write(self._entries() + gone)
+        return restore
+
+    def poll(self) -> list[str]:
+        if self._poller is not None and self._poller.changed():
+            try:
+                self._entries()
+                self._problems = []
+            except InputError as exc:
+                self._problems = [str(exc)]
+        return self._problems
+
+
+class BehaviorReloader:
+    """Frame-loop hook for a Puppet Master engine outside the studio: its behaviour folder is
+    reloaded when its files change; a bad file is logged and shown in the character's label,
+    and the behaviour that was playing goes on."""
+
+    def __init__(self, engine) -> None:
+        self.engine = engine
+        self.folder = Path(engine.folder)
+        self.poller = Poller(self.folder)
+        self.problem: str | None = None
+
+    def __call__(self, frame: Frame | None = None) -> None:
+        if not self.poller.changed():
+            return
+        from behaviors.puppet_master.engine import Behavior
+        try:
+            stored = library.load_behavior(self.folder)
+            params = dict(stored.parameters)
+            if self.engine.rate_hz is not None:
+                params["rate_hz"] = self.engine.rate_hz
+            self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
+            self.problem = self.engine.note = ""
+            log.info("behaviour %s reloaded", self.folder)
+        except InputError as exc:
+            self.problem = str(exc)
+            self.engine.note = f"bad file, still playing the previous behaviour: {exc}"
+            log.error("behaviour not reloaded: %s", exc)

@@ -1,0 +1,88 @@
+"""A camera that vanishes for 5 s: frames keep being rendered (the calm "one moment" screen),
+and tracking resumes by itself when it is back."""
+
+import dataclasses
+import threading
+import time
+
+import yaml
+
+from tabletop.config import load_config
+from tabletop.kiosk.runner import Runner
+from tests.tracking.scenes import wait_for
+from tracking.camera import InputLost
+
+
+class Collect:
+    name = "collect"
+
+    def __init__(self):
+        self.rows = []       # (wall time, frame status, pucks seen, view frames drawn)
+
+    def consume(self, frame):
+        self.rows.append((time.monotonic(), frame.status,
+                          sum(p.state == "seen" for p in frame.pucks)))
+
+    def close(self):
+        pass
+
+
+def test_camera_lost_for_five_seconds(tmp_path):
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text(yaml.safe_dump({
+        "loop": {"rate_hz": 30},
+        "sources": [{"kind": "synthetic_camera", "name": "camera", "pucks": [1, 2],
+                     "resolution": [640, 360], "fps": 30, "hands": {"every_s": 0}}],
+        "view": {"size": [320, 180], "headless": True},
+        "kiosk": {"heartbeat": {"enabled": False}, "grace_s": 0.5},
+    }))
+    runner = Runner(cfg_path, load_config(cfg_path), headless=True, kiosk=True)
+    inst = runner._build(runner.cfg)
+    camera = inst.loop.inputs.sources[0]
+    camera.settings = dataclasses.replace(camera.settings, retry_max_s=1.0)
+    unplugged = threading.Event()
+    opener = camera.opener
+
+    def unplug_aware(settings):
+        if unplugged.is_set():
+            raise InputLost("camera unplugged")
+        reader = opener(settings)
+        read = reader.read
+
+        def read_or_fail():
+            if unplugged.is_set():
+                raise InputLost("camera unplugged")
+            return read()
+        reader.read = read_or_fail
+        return reader
+
+    camera.opener = unplug_aware
+    sink = Collect()
+    inst.loop.sinks.insert(0, sink)
+    view = next(s for s in inst.loop.sinks if s.name == "view")
+    drawn = []
+    consume = view.consume
+    view.consume = lambda f: (drawn.append(f.status), consume(f))
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 20})
+    th.start()
+    try:
+        assert wait_for(lambda: sink.rows and sink.rows[-1][2] == 2, 10.0)
+        t_unplug = time.monotonic()
+        unplugged.set()
+        time.sleep(5.0)
+        t_back = time.monotonic()
+        unplugged.clear()
+        assert wait_for(lambda: sink.rows[-1][1] == "" and sink.rows[-1][2] == 2, 10.0)
+    finally:
+        inst.loop.stop.set()
+        th.join(10)
+    during = [r for r in sink.rows if t_unplug <= r[0] < t_back]
+    # frames kept coming through the outage (30 Hz: ~150 in 5 s; a loaded machine skips some)
+    assert len(during) > 75
+    gaps = [b[0] - a[0] for a, b in zip(during, during[1:])]
+    assert max(gaps) < 0.5
+    waiting = [r for r in during if r[1] == "one_moment"]
+    assert len(waiting) > 0.7 * len(during)                 # after the 0.5 s grace
+    assert drawn.count("one_moment") >= len(waiting)        # the view drew the calm screen
+    after = [r for r in sink.rows if r[0] > t_back]
+    assert after[-1][2] == 2 and camera.reconnects >= 1

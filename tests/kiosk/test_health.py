@@ -1,0 +1,181 @@
+"""Health of a table: sd_notify datagrams, the OSC heartbeat, the status file, ``tabletop status``."""
+
+import json
+import socket
+import threading
+import time
+from pathlib import Path
+
+import pytest
+from pythonosc.dispatcher import Dispatcher
+from pythonosc.osc_server import BlockingOSCUDPServer
+
+from tabletop.cli import main as cli
+from tabletop.frames import Frame, SourceHealth
+from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing
+from tabletop.kiosk.notify import Notifier
+from tabletop.loop import LoopStats
+from tests.tracking.scenes import wait_for
+
+STATUS_FIELDS = {"name", "host", "pid", "version", "time", "uptime_s", "fps", "ticks", "mode",
+                 "unhealthy_sources", "sources", "errors", "restarts"}
+
+
+class Clock:
+    def __init__(self, t=100.0):
+        self.t = t
+
+    def __call__(self):
+        return self.t
+
+
+def notify_socket(tmp_path: Path) -> socket.socket:
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    s.bind(str(tmp_path / "notify.sock"))
+    s.settimeout(2.0)
+    return s
+
+
+def test_frame_loop_sends_ready_once_then_watchdog_pings(tmp_path):
+    sock = notify_socket(tmp_path)
+    clock = Clock()
+    ping = WatchdogPing(Notifier(str(tmp_path / "notify.sock")), every_s=0.25, clock=clock)
+    for i in range(32):                       # 2 s of ticks: READY, then a ping per 0.25 s
+        ping(Frame(seq=i, t=clock.t))
+        clock.t += 0.0625
+    got = []
+    sock.settimeout(0.2)
+    try:
+        while True:
+            got.append(sock.recv(4096).decode())
+    except socket.timeout:
+        pass
+    assert got[0].startswith("READY=1\n") and all(m == "WATCHDOG=1" for m in got[1:])
+    assert len(got) - 1 == 7                  # at 0.25, 0.5, ... 1.75 s
+    ping.close()
+    assert sock.recv(4096) == b"STOPPING=1"
+
+
+def test_abstract_socket_names_and_no_socket_are_handled():
+    assert Notifier("").send("READY=1") is False
+    name = f"@tabletop-test-{time.time_ns()}"
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    s.bind(b"\0" + name[1:].encode())
+    s.settimeout(2.0)
+    assert Notifier(name).send("WATCHDOG=1")
+    assert s.recv(100) == b"WATCHDOG=1"
+
+
+class OscListener:
+    """A python-osc server on a free loopback port collecting heartbeats."""
+
+    def __init__(self):
+        self.got = []
+        d = Dispatcher()
+        d.map("/tabletop/heartbeat", lambda addr, *v: self.got.append(v))
+        self.server = BlockingOSCUDPServer(("127.0.0.1", 0), d)
+        self.port = self.server.server_address[1]
+        self.thread = threading.Thread(target=self.server.serve_forever, args=(0.05,), daemon=True)
+        self.thread.start()
+
+    def close(self):
+        self.server.shutdown()
+        self.server.server_close()
+
+
+def test_heartbeat_reaches_a_python_osc_server_and_the_status_file_parses(tmp_path):
+    osc = OscListener()
+    stats = LoopStats()
+    clock = Clock()
+    for k in range(30):
+        stats.tick_times.append(k / 30.0)
+    stats.errors["engine x"] += 2
+    status_file = tmp_path / "state" / "status.json"
+    rep = HealthReporter("table-7", stats, every_s=1.0, status_file=status_file,
+                         heartbeat=Heartbeat("127.0.0.1", osc.port), clock=clock,
+                         extra=lambda: {"config_error": None}, started=40.0)
+    health = (SourceHealth("camera", False, "no frame for 3.0 s", 3.0),
+              SourceHealth("osc", True, "ok", 0.01))
+    for i in range(20):                      # 2.5 s of frames: heartbeats at 0, 1 and 2 s
+        rep(Frame(seq=i, t=clock.t, health=health, status="attract"))
+        clock.t += 0.125
+    assert wait_for(lambda: len(osc.got) == 3, 5.0)
+    rep.close()
+    osc.close()
+    name, uptime, fps, unhealthy, text = osc.got[-1]
+    assert name == "table-7" and unhealthy == 1
+    assert uptime == pytest.approx(62.0, abs=1e-4) and fps == pytest.approx(30.0, rel=1e-3)
+    status = json.loads(text)
+    assert STATUS_FIELDS <= set(status)
+    assert status["mode"] == "attract" and status["errors"] == 2
+    assert status["sources"][0] == {"name": "camera", "ok": False,
+                                    "message": "no frame for 3.0 s", "age_s": 3.0}
+    on_disk = json.loads(status_file.read_text())
+    assert on_disk == status
+    assert not [p for p in status_file.parent.iterdir() if p.name != "status.json"]
+
+
+def test_status_command_prints_every_table(tmp_path, capsys):
+    port = free_udp_port()
+    out = {}
+
+    def listen():
+        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])
+
+    th = threading.Thread(target=listen)
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)        # the command is listening
+    for name in ("north", "south"):
+        hb = Heartbeat("127.0.0.1", port)
+        hb.send(name, 12.5, 59.8, 0, json.dumps({"mode": "live", "restarts": 2}))
+        hb.close()
+    th.join()
+    lines = capsys.readouterr().out.splitlines()
+    assert out["rc"] == 0 and len(lines) == 2
+    assert lines[0].startswith("north") and "59.8 fps" in lines[0] and "restarts 2" in lines[0]
+    assert lines[1].startswith("south")
+
+
+@pytest.mark.parametrize("address,words", [("nowhere", "HOST:PORT"), ("h:99999", "1..65535"),
+                                          ("h:x", "port")])
+def test_status_command_refuses_a_bad_address(address, words, capsys):
+    assert cli(["status", address, "--seconds", "1"]) == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err and len(err.splitlines()) == 1
+
+
+def port_taken(port: int) -> bool:
+    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    try:
+        s.bind(("127.0.0.1", port))
+    except OSError:
+        return True
+    finally:
+        s.close()
+    return False
+
+
+def free_udp_port() -> int:
+    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+def test_the_log_file_rotates(tmp_path):
+    import logging
+
+    from tabletop.kiosk.health import setup_log_file
+    handler = setup_log_file(tmp_path / "logs" / "tabletop.log", max_bytes=10_000, backups=2)
+    try:
+        log = logging.getLogger("tabletop")
+        for i in range(600):
+            log.info("line %d %s", i, "x" * 60)
+    finally:
+        logging.getLogger("tabletop").removeHandler(handler)
+        handler.close()
+    files = sorted(p.name for p in (tmp_path / "logs").iterdir())
+    assert files == ["tabletop.log", "tabletop.log.1", "tabletop.log.2"]
+    assert all((tmp_path / "logs" / f).stat().st_size <= 10_000 for f in files)
+    assert "line 599" in (tmp_path / "logs" / "tabletop.log").read_text()

@@ -1,0 +1,99 @@
+"""The kiosk supervisor with real processes: a crash injected in an engine and a stall injected
+in the frame loop are each noticed, logged and followed by a restarted installation."""
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import yaml
+
+from tabletop.kiosk.supervisor import Policy, Supervisor
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def drill_config(tmp_path: Path, faults: list[dict]) -> Path:
+    cfg = {
+        "loop": {"rate_hz": 30},
+        "sources": [{"kind": "scripted", "pucks": [1, 2]}],
+        "engines": [{"kind": "puppet_master", "name": "lover",
+                     "behavior": str(ROOT / "behaviors" / "library" / "lover"), "main": {"puck": 1}},
+                    {"kind": "fault", "name": "drill", "faults": faults}],
+        "view": {"size": [320, 180], "headless": True},
+        "kiosk": {"stall_s": 2.0, "backoff_s": [0.1, 2.0], "heartbeat": {"enabled": False}},
+    }
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+def test_crash_and_stall_are_logged_and_the_kiosk_comes_back(tmp_path):
+    cfg = drill_config(tmp_path, [{"start": 0, "after_s": 0.5, "kind": "crash"},
+                                  {"start": 1, "after_s": 0.5, "kind": "stall"}])
+    crash_log = tmp_path / "logs" / "crashes.log"
+    sup = Supervisor([sys.executable, "-m", "tabletop", "run", "--config", str(cfg), "--kiosk",
+                      "--headless"], Policy(stall_s=2.0, backoff_s=(0.1, 2.0), startup_s=60),
+                     crash_log, echo=False)
+    result = {}
+    th = threading.Thread(target=lambda: result.setdefault("rc", sup.run()))
+    th.start()
+    end = time.monotonic() + 60
+    while time.monotonic() < end and [e for e, _ in sup.events].count("ready") < 3:
+        time.sleep(0.05)
+    time.sleep(0.5)
+    sup.stop.set()
+    th.join(30)
+    kinds = [e for e, _ in sup.events]
+    assert kinds == ["ready", "crash", "ready", "stall", "ready"], kinds
+    assert result["rc"] == 0 and sup.starts == 3
+    text = crash_log.read_text()
+    entries = text.split("=== ")[1:]
+    assert len(entries) == 2
+    assert "killed by SIGABRT" in entries[0]
+    assert "fault.py" in entries[0]                 # the Python stack of the crash
+    assert "stalled: no frame for" in entries[1]
+    # the third installation ran, wrote its status, and stopped cleanly on SIGTERM
+    status = json.loads((tmp_path / "status.json").read_text())
+    assert status["restarts"] == 2 and status["mode"] in ("live", "attract")
+    for e, t in sup.events:
+        print(e, round(t - sup.events[0][1], 2))
+
+
+def test_run_kiosk_notifies_systemd_and_stops_cleanly_on_sigterm(tmp_path):
+    """As systemd runs it: READY=1 once the first frame is drawn, WATCHDOG=1 pings relayed from
+    the frame loop, STOPPING=1 on SIGTERM, exit status 0."""
+    cfg = drill_config(tmp_path, [])
+    sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    sock.bind(str(tmp_path / "systemd.sock"))
+    sock.settimeout(0.1)
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy", NOTIFY_SOCKET=str(tmp_path / "systemd.sock"))
+    env.pop("TABLETOP_SUPERVISED", None)
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--kiosk"], env=env, stderr=subprocess.PIPE, text=True)
+    got = []
+    end = time.monotonic() + 30
+    while time.monotonic() < end and got.count("WATCHDOG=1") < 4:
+        try:
+            got.append(sock.recv(4096).decode())
+        except socket.timeout:
+            pass
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=30)
+    try:
+        while True:
+            got.append(sock.recv(4096).decode())
+    except socket.timeout:
+        pass
+    assert got[0] == "READY=1" and got.count("READY=1") == 1 and got[-1] == "STOPPING=1"
+    assert got.count("WATCHDOG=1") >= 4
+    assert p.returncode == 0, err
+    assert "installation ready" in err and "Traceback" not in err
+    log = (tmp_path / "logs" / "tabletop.log").read_text()
+    assert "supervisor: started the installation" in log and "ran " in log
+    assert not (tmp_path / "logs" / "crashes.log").exists()

@@ -1,0 +1,232 @@
+"""The designer studio driven by key commands: record, train, try, keep or redo, and the
+library (switch, rename, delete, undo) for Puppet Master behaviours and MOP actions."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from behaviors.puppet_master import designers
+from tabletop import library
+from tabletop.config import validate_config
+from tabletop.frames import Frame, Puck
+from tabletop.plugins import mop
+from tabletop.plugins import puppet_master as pm
+from tabletop.registry import BuildContext
+from tabletop.studio.machine import Studio
+from tabletop.studio.session import SessionLog
+from tabletop.studio.targets import MopTarget, PuppetMasterTarget
+
+ROOT = Path(__file__).resolve().parents[2]
+TABLE = (1.2, 0.8)
+
+
+class Clock:
+    t = 0.0
+
+    def __call__(self):
+        return self.t
+
+
+def build(engines: list[dict], base: Path = ROOT):
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": engines}, "test.yaml",
+                          base)
+    ctx = BuildContext(table=TABLE, rate_hz=60.0, config=cfg, base=base)
+    return [pm.build(e, ctx) for e in cfg["engines"]]
+
+
+class Bench:
+    """Engines behind a studio, stepped frame by frame as the loop does (studio filter first)."""
+
+    def __init__(self, engines, tmp_path, review=False, targets=None):
+        self.engines, self.clock = engines, Clock()
+        self.session = SessionLog(tmp_path / "studio", review=review)
+        self.studio = Studio(targets or [PuppetMasterTarget(e) for e in engines], countdown_s=0.0,
+                             log_try=self.session.log_try, clock=self.clock)
+
+    def step(self, frame):
+        self.clock.t = frame.t
+        f = self.studio(frame)
+        out = {}
+        for e in self.engines:
+            produced = e.step(f)
+            f = f.with_characters(produced)
+            out.update({c.name: c for c in produced})
+        return out, f.character("studio")
+
+
+def demo_frames(demo, commands, t0=100.0, focus=None):
+    for i, row in enumerate(demo):
+        pucks = (Puck(1, row[1], row[2], row[3]), Puck(2, row[4], row[5], row[6]))
+        yield Frame(seq=i, t=t0 + row[0], pucks=pucks, commands=commands.get(i, ()), focus=focus)
+
+
+def designer(tmp_path, **extra):
+    return build([{"kind": "puppet_master", "name": "pet",
+                   "designer": {"enabled": True, "library": str(tmp_path / "lib"), **extra}}])
+
+
+def test_record_train_try_keep_and_it_is_in_the_library_after_a_restart(tmp_path):
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=30)
+    start, stop = 10, 810
+    labels = []
+    for f in list(demo_frames(demo, {start: ("designer.record",), stop: ("designer.record",)}))[:stop + 1]:
+        chars, studio = bench.step(f)
+        labels.append(studio.label)
+        if start <= f.seq < stop:     # drawn under the reactor puck while recording
+            assert (chars["pet"].x, chars["pet"].y) == (f.pucks[1].x, f.pucks[1].y)
+            assert studio.action == "recording"
+    assert bench.studio.state == "trying" and "trained 800 samples" in labels[stop]
+    # try it: the main puck alone drives the new behaviour, which keeps close like the take
+    main = designers.designer_main_path(77, seconds=20)
+    xy = []
+    for i, r in enumerate(main):
+        chars, _ = bench.step(Frame(seq=1000 + i, t=200 + r[0], pucks=(Puck(1, r[1], r[2], r[3]),)))
+        xy.append((chars["pet"].x, chars["pet"].y))
+    assert np.median(np.hypot(*(np.array(xy) - main[:, 1:3]).T)[80:]) < 0.22
+    _, studio = bench.step(Frame(seq=5000, t=300.0, commands=("designer.keep",)))
+    assert "kept as pet" in studio.label and bench.studio.state == "idle"
+    take = library.load_behavior(tmp_path / "lib" / "pet").demonstration
+    assert len(take) == stop - start and take[0, 0] == 0.0
+    assert np.allclose(take[:, 1:], demo[start:stop, 1:])
+    # a restart: a new engine and studio list it and play it
+    (e2,) = designer(tmp_path)
+    t2 = PuppetMasterTarget(e2)
+    assert t2.items() == ["pet"]
+    t2.use("pet")
+    assert e2.behavior is not None and e2.behavior_name == "pet" and e2.behavior.samples == 800
+    # the session log has the try, kept, with its figures
+    (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert line["outcome"] == "kept" and line["name"] == "pet" and line["samples"] == 800
+    assert line["duration_s"] == pytest.approx(demo[stop - 1, 0] - demo[start, 0], abs=1e-6)
+    assert line["training_s"] > 0
+
+
+def test_discard_redo_too_short_and_keep_never_overwrites(tmp_path):
+    (e,) = designer(tmp_path, min_seconds=3.0)
+    corrupt = tmp_path / "lib" / "pet"
+    corrupt.mkdir(parents=True)
+    (corrupt / "behavior.yaml").write_text("kind: [\n")
+    before = (corrupt / "behavior.yaml").read_bytes()
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("afraid", seed=2, seconds=20)
+    cmds = {5: ("designer.record",), 60: ("designer.record",),            # 1.4 s: too short
+            70: ("designer.record",), 270: ("designer.record",), 271: ("designer.discard",),
+            280: ("designer.record",), 480: ("designer.stop",), 490: ("designer.redo",),
+            690: ("designer.stop",), 691: ("designer.keep",), 692: ("designer.keep",)}
+    labels = {}
+    for f in demo_frames(demo, cmds):
+        _, studio = bench.step(f)
+        labels[f.seq] = studio.label
+    assert "too short" in labels[60] and "take discarded" in labels[271]
+    assert "kept as pet-2" in labels[691] and "nothing to keep" in labels[692]
+    assert (corrupt / "behavior.yaml").read_bytes() == before
+    assert library.list_behaviors(tmp_path / "lib") == ["pet", "pet-2"]
+    assert len(library.load_behavior(tmp_path / "lib" / "pet-2").demonstration) == 200
+    outcomes = [json.loads(x)["outcome"] for x in bench.session.path.read_text().splitlines()]
+    assert outcomes == ["too short", "discarded", "redone", "kept"]
+
+
+def test_switch_rename_delete_and_undo(tmp_path):
+    lib = tmp_path / "lib"
+    for n, who in (("a", "lover"), ("b", "afraid")):
+        library.save_behavior(lib, n, designers.demonstrate(who, seconds=4), {})
+    (e,) = designer(tmp_path)
+    s = Bench([e], tmp_path).studio
+    s.command("designer.item_next")
+    assert e.behavior_name == "a"
+    s.command("designer.item_next")
+    assert e.behavior_name == "b"
+    s.command("designer.rename:brave")
+    assert library.list_behaviors(lib) == ["a", "brave"] and e.behavior_name == "brave"
+    s.command("designer.rename:a")                 # taken: refused, nothing changes
+    assert "already exists" in s.message and library.list_behaviors(lib) == ["a", "brave"]
+    s.command("designer.delete")
+    assert library.list_behaviors(lib) == ["a"]
+    s.command("designer.undo")                     # the delete
+    assert library.list_behaviors(lib) == ["a", "brave"]
+    s.command("designer.undo")                     # the rename
+    assert library.list_behaviors(lib) == ["a", "b"]
+    assert library.load_behavior(lib / "b").name == "b"
+    s.command("designer.undo")
+    assert "nothing to undo" in s.message
+
+
+def test_tab_focus_selects_which_engine_records(tmp_path):
+    a, b = build([{"kind": "puppet_master", "name": n,
+                   "designer": {"enabled": True, "library": str(tmp_path)}} for n in ("a", "b")])
+    bench = Bench([a, b], tmp_path)
+    assert bench.studio.designer_targets() == ("a", "b")
+    demo = designers.demonstrate("lover", seed=1, seconds=3)
+    for f in demo_frames(demo, {4: ("designer.record",)}, focus="b"):
+        _, studio = bench.step(f)
+    assert bench.studio.selected == "b" and bench.studio.state == "recording"
+    assert a.hold is None and b.hold is not None and studio.label.startswith("[b]")
+
+
+GESTURES = ROOT / "examples" / "mop" / "gestures"
+
+
+def test_a_mop_action_slot_is_recorded_trained_and_kept_through_the_same_studio(tmp_path):
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop", "library": "lib",
+        "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
+        "characters": [{"name": "lizard", "kind": "creature", "performer": "hand",
+                        "motions": ["strike", "curl"]}]}]}, str(tmp_path / "t.yaml"), tmp_path)
+    ctx = BuildContext(table=TABLE, rate_hz=60.0, config=cfg, base=tmp_path)
+    stage = mop.build(cfg["engines"][0], ctx)
+    target = MopTarget(stage, "lizard", tmp_path / "lib")
+    bench = Bench([stage], tmp_path, targets=[target])
+    from tabletop.files import read_csv
+    _, g = read_csv(GESTURES / "square.csv")
+    t, seq = [100.0], [0]
+
+    def tick(x, y, cmds=()):
+        out = bench.step(Frame(seq=seq[0], t=t[0], pucks=(Puck(1, x, y, 0.0),),
+                               commands=tuple(cmds), focus="mop/lizard"))
+        t[0] += 1 / 60
+        seq[0] += 1
+        return out
+
+    def perform(speed=1.0):
+        tau, out = 0.0, []
+        while tau < g[-1, 0]:
+            out.append(tick(0.3 + np.interp(tau, g[:, 0], g[:, 1]),
+                            0.3 + np.interp(tau, g[:, 0], g[:, 2])))
+            tau += speed / 60
+        return out
+
+    for _ in range(60):
+        tick(0.3, 0.3)
+    tick(0.3, 0.3, ["designer.record"])
+    perform()
+    _, studio = tick(0.3, 0.3, ["designer.record"])
+    assert bench.studio.state == "trying" and "take1 -> strike" in studio.label
+    tick(0.3, 0.3, ["designer.assign"])
+    assert stage.puppets["lizard"].actions["take1"].clip.name == "curl"
+    for _ in range(70):
+        tick(0.3, 0.3)
+    late = [c["lizard"] for c, _ in perform(1.3)[-30:]]
+    assert np.mean([c.valid and c.action == "take1" for c in late]) > 0.9
+    _, studio = tick(0.3, 0.3, ["designer.keep"])
+    assert "kept as take1" in studio.label
+    assert target.items() == ["take1"]
+    saved = yaml.safe_load((tmp_path / "lib" / "lizard" / "actions.yaml").read_text())
+    assert saved["actions"][0]["motion"] == "curl"
+    bench.studio.command("designer.rename:square")
+    assert target.items() == ["square"]
+    bench.studio.command("designer.undo")
+    assert target.items() == ["take1"]
+
+
+def test_commands_for_a_target_the_studio_does_not_hold_pass_through(tmp_path):
+    (e,) = designer(tmp_path)
+    s = Bench([e], tmp_path).studio
+    f = s(Frame(seq=0, t=1.0, commands=("designer.record",), focus="mop/face"))
+    assert f.commands == ("designer.record",) and s.state == "idle"
+    f = s(Frame(seq=1, t=1.1, commands=("designer.record",), focus="pet"))
+    assert f.commands == () and s.state == "recording"     # no countdown in this bench
