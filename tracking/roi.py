@@ -30,6 +30,10 @@ from tracking.markers import (DetectorSettings, detect_markers, detector_paramet
 
 Box = tuple[int, int, int, int]  # x0, y0, x1, y1 (exclusive), pixels
 
+# ArUco3's single-threshold search loses the small markers of low-resolution images (every
+# marker of a 480x270 frame was missed); below this larger side the full pass runs without it.
+ARUCO3_MIN_IMAGE_PX = 1000
+
 FAST_FULL = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10))
 ROI = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10),
                        min_perimeter_rate=0.01)
@@ -145,6 +149,7 @@ class MarkerTracker:
         self.full_detector = make_detector(full)
         self._full_params = detector_parameters(full)
         self._full_base_rate = self._full_rate = float(full.min_perimeter_rate)
+        self._aruco3 = bool(full.aruco3)
         self.roi_detector = make_detector(roi)
         self._roi_params = detector_parameters(roi)
         self._roi_rate = -1.0
@@ -296,13 +301,16 @@ class MarkerTracker:
     def _set_full_min_perimeter(self, shape: tuple[int, ...]) -> None:
         """While markers are known, the full pass ignores contours shorter than half the
         smallest known marker's perimeter (every puck carries the same printed size; perspective
-        changes it far less than twofold), never admitting less than the configured rate."""
+        changes it far less than twofold), never admitting less than the configured rate; and it
+        uses ArUco3 only on images of at least ``ARUCO3_MIN_IMAGE_PX`` on their larger side."""
         sides = [k.side for k in self.known.values()]
         rate = self._full_base_rate
         if sides:
             rate = max(rate, 4.0 * 0.5 * min(sides) / max(shape[0], shape[1]))
-        if abs(rate - self._full_rate) > 0.1 * rate:
+        aruco3 = self._aruco3 and max(shape[0], shape[1]) >= ARUCO3_MIN_IMAGE_PX
+        if abs(rate - self._full_rate) > 0.1 * rate or aruco3 != self._full_params.useAruco3Detection:
             self._full_params.minMarkerPerimeterRate = rate
+            self._full_params.useAruco3Detection = aruco3
             self.full_detector.setDetectorParameters(self._full_params)
             self._full_rate = rate
 

@@ -122,3 +122,18 @@ def test_config_switches_verification_and_apriltags_verify():
     det.detect(cam.render(poses).image, None)
     ids, _ = det.detect(cam.render(poses, 1 / 30.0).image, None)
     assert det.last_pass == "verify" and sorted(ids.tolist()) == list(range(200, 205))
+
+
+@pytest.mark.parametrize("resolution", [(480, 270), (640, 480), (1280, 720)])
+def test_the_default_fast_full_pass_finds_markers_at_every_camera_resolution(resolution):
+    """The tracking section's defaults (ArUco3 for the full pass) find every marker of a small
+    camera image as of a large one."""
+    from tracking.roi import FAST_FULL
+    import dataclasses
+    full = dataclasses.replace(FAST_FULL, aruco3=True, min_length_ratio=0.005,
+                               min_canonical_side_px=16)
+    cam = SyntheticCamera(CameraSettings(resolution=resolution, seed=3))
+    (t, poses, vels), = moving_scene(4, 1, 30.0, seed=3)
+    f = cam.render(poses, t, vels)
+    ids, _ = MarkerTracker(full=full).detect(f.image)
+    assert set(ids.tolist()) == set(f.ids[f.visible].tolist()) and len(ids) == 4
