@@ -217,7 +217,7 @@ class Renderer:
 
     def _look(self, c: CharacterState, frame: Frame) -> tuple[float, float] | None:
         target = c.look_at
-        if target is not None:
+        if target is not None and all(math.isfinite(v) for v in target):
             return target
         best, best_d = None, LOOK_RANGE_M
         for p in frame.pucks:
@@ -247,6 +247,9 @@ class Renderer:
     def _draw_presence(self, target: pygame.Surface, pr: Presence,
                        frame: Frame | None) -> pygame.Rect | None:
         c = pr.state
+        if not (all(math.isfinite(v) and abs(v) < 1e4 for v in (c.x, c.y, c.heading))
+                and 0.0 <= c.size <= max(self.table)):
+            return None                     # a broken state is not drawn (never raises)
         pose = self._pose(pr, frame)
         if pose.alpha <= 0.01:
             return None
@@ -262,6 +265,8 @@ class Renderer:
     def _draw_trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
                     t: float, label: bool) -> tuple[pygame.Rect | None, ...]:
         p = trace.puck
+        if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
+            return ()
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
         color = pucks.state_color(state)
         a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
