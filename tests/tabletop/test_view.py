@@ -305,6 +305,18 @@ def test_overlay_text_sits_on_a_translucent_panel():
     assert corner.sum() < 30
 
 
+def test_overlay_panel_moves_away_from_a_character_in_its_corner():
+    r = new_renderer()
+    s = pygame.Surface(SIZE)
+    c = CharacterState("lover", 0.1, 0.75, 0.0, size=0.15, color=(240, 110, 150))
+    lines = ["tick 1", "60.0 fps   skipped 0   errors 0", "source camera: ok"]
+    for k in range(3):
+        r.draw(s, Frame(seq=k, t=k * 0.3, characters=(c,)), lines)
+    x, y = r.map.point(0.1, 0.75)
+    assert at(rgb(s), (x, y))[0] > 200     # the character is not hidden under the panel
+    assert r._corner != 0                   # which has left the top-left corner
+
+
 def test_overlay_lists_rates_and_sources():
     from tabletop.loop import LoopStats
 
