@@ -26,7 +26,6 @@ from pathlib import Path
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
 from bench.common import emit, stats_ms  # noqa: E402

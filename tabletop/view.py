@@ -138,6 +138,7 @@ class Renderer:
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
         self._overlay_key: tuple[str, ...] = ()
         self._overlay_img: pygame.Surface | None = None
+        self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
         self.lives = Lives()
@@ -194,7 +195,7 @@ class Renderer:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
         if overlay:
-            drawn.append(self.draw_overlay(target, overlay))
+            drawn.append(self.draw_overlay(target, overlay, [r for r in drawn if r is not None]))
         screen = target.get_rect()
         now = P.merge([r for r in drawn if r is not None], screen)
         if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
@@ -225,7 +226,7 @@ class Renderer:
 
     def _look(self, c: CharacterState, frame: Frame) -> tuple[float, float] | None:
         target = c.look_at
-        if target is not None:
+        if target is not None and all(math.isfinite(v) for v in target):
             return target
         best, best_d = None, LOOK_RANGE_M
         for p in frame.pucks:
@@ -259,6 +260,9 @@ class Renderer:
             from tabletop.studio.draw import draw_studio
             draw_studio(target, self, c)
             return target.get_rect()
+        if not (all(math.isfinite(v) and abs(v) < 1e4 for v in (c.x, c.y, c.heading))
+                and 0.0 <= c.size <= max(self.table)):
+            return None                     # a broken state is not drawn (never raises)
         pose = self._pose(pr, frame)
         if pose.alpha <= 0.01:
             return None
@@ -274,6 +278,8 @@ class Renderer:
     def _draw_trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
                     t: float, label: bool) -> tuple[pygame.Rect | None, ...]:
         p = trace.puck
+        if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
+            return ()
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
         color = pucks.state_color(state)
         a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
@@ -320,14 +326,28 @@ class Renderer:
         return P.union([g, target.blit(surf, surf.get_rect(center=(int(pose.center[0]),
                                                                     int(pose.center[1]))))])
 
-    def draw_overlay(self, target: pygame.Surface, lines: Sequence[str]) -> pygame.Rect:
-        """Print ``lines`` top-left on a translucent panel; rendered again only when they change.
-        Returns the panel's rectangle."""
+    def draw_overlay(self, target: pygame.Surface, lines: Sequence[str],
+                     avoid: Sequence[pygame.Rect] = ()) -> pygame.Rect:
+        """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
+        would hide what is drawn in ``avoid`` and another corner hides at most half as much);
+        rendered again only when the lines change. Returns the panel's rectangle."""
         key = tuple(lines)
         if key != self._overlay_key or self._overlay_img is None:
             self._overlay_img = screens.panel(lines)
             self._overlay_key = key
-        return target.blit(self._overlay_img, (8, 8))
+        w, h = self._overlay_img.get_size()
+        W, H = target.get_size()
+        corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
+
+        def hidden(i: int) -> int:
+            r = pygame.Rect(corners[i], (w, h))
+            return sum(c.w * c.h for c in (r.clip(a) for a in avoid))
+        now = hidden(self._corner)
+        if now > 0:
+            best = min(range(4), key=hidden)
+            if hidden(best) < 0.5 * now:
+                self._corner = best
+        return target.blit(self._overlay_img, corners[self._corner])
 
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:

@@ -119,8 +119,10 @@ class Lives:
             if dt > 1e-6:
                 k = 1.0 - math.exp(-dt / SPEED_TAU_S)
                 vx, vy = (c.x - p.state.x) / dt, (c.y - p.state.y) / dt
-                if math.hypot(vx, vy) > 5.0:   # a jump (teleport), not a motion
+                if not math.hypot(vx, vy) <= 5.0:   # a jump (or a broken pose), not a motion
                     vx = vy = 0.0
+                if not (math.isfinite(p.vx) and math.isfinite(p.vy)):
+                    p.vx = p.vy = 0.0
                 p.vx += k * (vx - p.vx)
                 p.vy += k * (vy - p.vy)
                 p.speed = math.hypot(p.vx, p.vy)

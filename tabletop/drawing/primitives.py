@@ -26,9 +26,9 @@ def polygon(surf: pygame.Surface, color: Color, pts: np.ndarray) -> None:
     """A filled polygon with an anti-aliased edge (pixels, N x 2)."""
     if len(pts) < 3:
         return
-    ip = np.rint(pts).astype(np.int32).tolist()
-    if abs(ip[0][0]) > 30000 or abs(ip[0][1]) > 30000:
+    if not np.all(np.abs(pts) < 30000):
         return   # NaN, infinity or far off screen
+    ip = np.rint(pts).astype(np.int32).tolist()
     gfx.filled_polygon(surf, ip, color)
     gfx.aapolygon(surf, ip, color)
 
@@ -105,8 +105,13 @@ def _bucket(v: float, step: float) -> float:
     return max(step, round(v / step) * step)
 
 
+MAX_LIGHT_PX = 480     # the largest glow or ring radius pre-rendered (pixels)
+
+
 def _size_bucket(v: float) -> int:
-    """Sizes in steps of about 6 % (few cached surfaces, differences too small to see)."""
+    """Sizes in steps of about 6 % (few cached surfaces, differences too small to see), at most
+    :data:`MAX_LIGHT_PX`."""
+    v = min(v, MAX_LIGHT_PX)
     if v <= 8:
         return max(1, int(round(v)))
     return int(round(8 * 1.06 ** round(math.log(v / 8) / math.log(1.06))))
@@ -156,7 +161,8 @@ def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
 def shadow_surface(rx: float, ry: float, depth: float) -> pygame.Surface:
     """A soft elliptic shadow (blit with BLEND_MULT): the ground times (1 - ``depth``) at the
     centre, untouched at the rim; semi-axes ``rx``, ``ry`` pixels."""
-    rx_i, ry_i, dq = int(_bucket(rx, 3)), int(_bucket(ry, 3)), _bucket(depth, 0.05)
+    rx_i, ry_i = int(_bucket(min(rx, MAX_LIGHT_PX), 3)), int(_bucket(min(ry, MAX_LIGHT_PX), 3))
+    dq = _bucket(depth, 0.05)
     key = (rx_i, ry_i, dq)
     surf = _shadows.get(key)
     if surf is None:
@@ -181,7 +187,8 @@ def shadow(surf: pygame.Surface, c: Sequence[float], rx: float, ry: float, depth
 def ring_surface(radius: float, width: float, color: Color, strength: float) -> pygame.Surface:
     """A soft ring of light (blit with BLEND_ADD): brightest at ``radius`` pixels, ``width``
     pixels wide (Gaussian), dark at the centre."""
-    r, w, s = int(_bucket(radius, 1)), _bucket(width, 0.5), _bucket(strength, 0.05)
+    r, w = int(_bucket(min(radius, MAX_LIGHT_PX), 1)), _bucket(min(width, 50.0), 0.5)
+    s = _bucket(strength, 0.05)
     key = (r, w, color, s)
     surf = _rings.get(key)
     if surf is None:

@@ -8,8 +8,6 @@ import json
 import math
 from pathlib import Path
 
-import numpy as np
-
 from behaviors.mop.creatures import FaceModel, creature_clips, creature_skeleton, face_clips
 from behaviors.mop.puppetry import FaceRig, HumanoidRig, PlanarRig, sprite_sheet_from_mapping
 from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf, load_motion

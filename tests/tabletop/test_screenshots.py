@@ -10,7 +10,7 @@ from tabletop.screenshots import ROOT, shoot
 
 
 def test_default_config_snapshot_shows_characters_and_pucks(tmp_path):
-    out = shoot(ROOT / "config.yaml", 2.5, tmp_path / "default.png", overlay=False)
+    out = shoot(ROOT / "config.yaml", 6.0, tmp_path / "default.png", overlay=False)
     img = pygame.surfarray.array3d(pygame.image.load(str(out))).astype(int)
     r, g, b = img[..., 0], img[..., 1], img[..., 2]
     character = (r > 200) & (g < 170) & (b > 110) & (r > b + 40)   # the pink "lover"

@@ -305,6 +305,18 @@ def test_overlay_text_sits_on_a_translucent_panel():
     assert corner.sum() < 30
 
 
+def test_overlay_panel_moves_away_from_a_character_in_its_corner():
+    r = new_renderer()
+    s = pygame.Surface(SIZE)
+    c = CharacterState("lover", 0.1, 0.75, 0.0, size=0.15, color=(240, 110, 150))
+    lines = ["tick 1", "60.0 fps   skipped 0   errors 0", "source camera: ok"]
+    for k in range(3):
+        r.draw(s, Frame(seq=k, t=k * 0.3, characters=(c,)), lines)
+    x, y = r.map.point(0.1, 0.75)
+    assert at(rgb(s), (x, y))[0] > 200     # the character is not hidden under the panel
+    assert r._corner != 0                   # which has left the top-left corner
+
+
 def test_overlay_lists_rates_and_sources():
     from tabletop.loop import LoopStats
 
@@ -332,3 +344,24 @@ def test_sprite_is_drawn_rotated_to_the_heading(tmp_path):
     back = at(out, r.map.point(0.6, 0.4 - 0.022))
     assert front[0] > 200 and front[2] < 120
     assert back[2] > 200 and back[0] < 120
+
+
+def test_broken_states_are_skipped_and_never_raise():
+    nan = math.nan
+    r = new_renderer()
+    r.incremental = True
+    s = pygame.Surface(SIZE)
+    good = CharacterState("ok", 0.6, 0.4, 0.0, size=0.1, color=(240, 110, 150))
+    broken = (CharacterState("a", nan, 0.3, 0.0), CharacterState("b", 0.3, 0.3, nan),
+              CharacterState("c", 1e9, 0.3, 0.0), CharacterState("d", 0.3, 0.3, 0.0, size=50.0),
+              CharacterState("e", 0.3, 0.3, 0.0, kind="skeleton",
+                             points=np.array([[nan, 0.1], [0.2, 0.2]]), bones=((0, 1), (1, 7))),
+              CharacterState("f", 0.3, 0.3, 0.0, kind="face", points=np.zeros((3, 2)),
+                             bones=((0, 1), (1, 2), (2, 0))),
+              CharacterState("g", 0.3, 0.3, 0.0, look_at=(nan, nan)))
+    pucks = (Puck(1, nan, 0.2, 0.0), Puck(2, 0.2, 0.2, nan), Puck(3, 1e8, 0.2, 0.0))
+    for k in range(12):
+        r.draw(s, Frame(seq=k, t=k * 0.1, characters=broken + (good,), pucks=pucks), ["x"])
+    # the good character is drawn all the same, and recovers after a broken pose
+    img = rgb(s)
+    assert at(img, r.map.point(0.58, 0.4))[0] > 200
