@@ -70,7 +70,7 @@ def puck_color(puck_id: int) -> tuple[int, int, int]:
 def cameras_down(frame: Frame) -> bool:
     """True when the frame has sources and every one of them is unhealthy, or when a kiosk
     supervisor has marked the frame's ``status`` as ``"one_moment"``."""
-    if getattr(frame, "status", None) == "one_moment":
+    if frame.status == "one_moment":
         return True
     return bool(frame.health) and not any(h.ok for h in frame.health)
 
@@ -182,7 +182,7 @@ class Renderer:
             for r in self._drawn:
                 target.blit(bg, r, r)
         self._update_idle(frame, dt)
-        down = frame.status == "one_moment" or cameras_down(frame)
+        down = cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
         screens.idle(target, t, self.idle, self._corners())

@@ -71,13 +71,16 @@ def test_the_view_draws_the_calm_screen_instead_of_the_table():
     r = Renderer(TABLE, (320, 180))
     s1, s2 = pygame.Surface((320, 180)), pygame.Surface((320, 180))
     c = CharacterState("lover", 0.6, 0.4, 0.0, size=0.2, color=(240, 110, 150))
-    r.draw(s1, Frame(seq=0, t=1.0, characters=(c,)))
-    r.draw(s2, Frame(seq=0, t=1.0, characters=(c,), status="one_moment"))
+    for i in range(60):        # two seconds on the table: the character has faded in
+        r.draw(s1, Frame(seq=i, t=i / 30, characters=(c,)))
+    for i in range(60, 150):   # three seconds of "one moment"
+        r.draw(s2, Frame(seq=i, t=i / 30, characters=(c,), status="one_moment"))
     a1, a2 = pygame.surfarray.array3d(s1), pygame.surfarray.array3d(s2)
     pink = lambda a: ((a[..., 0] > 200) & (a[..., 1] < 140)).sum()
     assert pink(a1) > 100 and pink(a2) == 0       # no frozen character on the calm screen
-    grey = (abs(a2[..., 0].astype(int) - a2[..., 2]) < 40) & (a2[..., 0] > 120)
-    assert grey.sum() > 100                        # the ring and "one moment" are drawn
+    calm = (a2[..., 2] > 120) & (a2[..., 2] > a2[..., 0])
+    assert calm.sum() > 40                         # the ring of lights and "One moment" are drawn
+    assert ((a1[..., 2] > 120) & (a1[..., 2] > a1[..., 0])).sum() < calm.sum() / 4
 
 
 def test_attract_plays_the_mop_characters_actions_when_nobody_is_there(tmp_path):
