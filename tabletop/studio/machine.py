@@ -102,7 +102,7 @@ class Studio:
         return self.targets.get(self.selected) if self.selected else None
 
     def say(self, text: str) -> None:
-        self.message, self._message_until = text, self.clock() + MESSAGE_S
+        self.message, self._message_until = text, self._t + MESSAGE_S
         log.info("studio: %s", text)
 
     # --- the filter ----------------------------------------------------------------------------
@@ -129,7 +129,7 @@ class Studio:
             if self.state == "recording":
                 problem = target.record(frame)
                 if problem:
-                    self.message, self._message_until = problem, self.clock() + 0.2
+                    self.message, self._message_until = problem, self._t + 0.2
         rest = tuple(c for c in frame.commands if c not in mine)
         return dataclasses.replace(frame, commands=rest).with_characters((self.character(frame),))
 
@@ -303,7 +303,7 @@ class Studio:
             value = target.seconds()
         else:
             value = None
-        if self.clock() < self._message_until:
+        if self._t < self._message_until:
             text = self.message
         elif target is None:
             text = "no designer target"
