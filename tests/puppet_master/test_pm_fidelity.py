@@ -15,14 +15,14 @@ PATHS = ("slow_pauses_30hz", "loops_spins_45hz")
 # event figures of rare or slow events (contacts, orbits, speed while the main is still)
 # and the afraid character's share of looking at the main. Every other threshold must hold.
 KNOWN_MISSES = {
-    "lover": {"slow_pauses_30hz": {"speed", "orbit"}, "loops_spins_45hz": {"orbit"}},
+    "lover": {"slow_pauses_30hz": {"still_moving", "orbit"},
+              "loops_spins_45hz": {"still_moving", "orbit"}},
     "bully": {"slow_pauses_30hz": {"contact"}, "loops_spins_45hz": {"contact"}},
-    "playful_friend": {"slow_pauses_30hz": {"speed", "orbit"},
-                       "loops_spins_45hz": {"orbit"}},
-    "stalker": {"slow_pauses_30hz": {"speed", "contact", "still_moving", "orbit"},
+    "playful_friend": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact"}},
+    "stalker": {"slow_pauses_30hz": {"still_moving"},
                 "loops_spins_45hz": {"speed", "still_moving"}},
     "afraid": {"slow_pauses_30hz": {"facing", "still_moving", "orbit"},
-               "loops_spins_45hz": {"facing"}},
+               "loops_spins_45hz": {"facing", "orbit"}},
 }
 
 
