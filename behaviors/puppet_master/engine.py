@@ -73,7 +73,8 @@ class Params:
     follows a change of the main sooner. Measured with bench/fidelity.py (h = 10): the stalker
     moved less while its main stood still (speed still/moving 0.57 -> 0.46 over nine unseen
     paths; demonstrated 0.29), but the thresholds missed overall went 28 -> 25 on one set of
-    paths and 31 -> 33 on another, so it stays a designer's choice, not a default.
+    paths and 31 -> 33 on another (with relative_motion 0.1: 24, 29, 21 -> 26, 24, 27 on
+    three sets), so it stays a designer's choice, not a default.
     catch_up: 1/s. The paper moves toward the target relative position at the target velocity
     only; when the matched reactor was resting but the live one is far from the demonstrated
     relation, it does not get back. The step covers at least ``catch_up`` x the distance to the
