@@ -1,13 +1,16 @@
 """General trajectory generation (paper section 4.4.1) and the table boundary.
 
 Each step: the training sample after the best match (the target) gives a relative position, a
-velocity and a normalised look direction. The target relative position is carried into the
-main character's current frame (and onto the table, :func:`fit_target`); the step heads for
-it (:func:`step_around`: around the main, not through it) with the length of the target
-velocity (engine.Params.catch_up may lengthen it when far off); the last three such steps are
-averaged (the paper's linear smooth), the patch's Haar detail turns the averaged step
-(detail.py), the table keeps the reactor (:func:`keep_on_table`), and the look direction
-follows the normalised look direction at a limited turn rate (:func:`limit_turn`).
+velocity and a look. The target relative position is carried into the main character's
+current frame (or kept at the reactor's world bearing, look.train_place) and onto the table
+(:func:`fit_target`). The step repeats the demonstrated step relative to the main plus a share
+of the way to the target (engine.Params.relative_motion), or, with that share 0 (the paper),
+heads for the target (:func:`step_around`: around the main, not through it) with the length
+of the target velocity (engine.Params.catch_up may lengthen it when far off); the last three
+steps are averaged (the paper's linear smooth), the patch's Haar detail turns the averaged
+step (detail.py), the table keeps the reactor (:func:`keep_on_table`) and so do the other
+characters (:func:`keep_apart`); the look follows look.py at a limited turn rate
+(:func:`limit_turn`).
 
 Positions in table metres, steps in metres per generation step, angles in radians.
 """

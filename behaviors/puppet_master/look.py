@@ -20,11 +20,15 @@ the live reactor does not move. The hand's look texture is the stationary Haar d
 (detail.haar_detail) of the world look, re-applied in the same patches as the path detail.
 
 The turn limiter's limit is taken from the demonstration: the 99.5th percentile of its
-per-step look change (texture included: the generated look carries it too), at least
-``MIN_TURN_RATE``. The paper's limit is unstated;
-the earlier fixed 2 pi rad/s was reached on 64-94% of generated steps (demonstrations: under
-12%), which sweeps the head round at a constant rate (see the note on measurements in
-``engine.Params``).
+per-step look change (texture included: the generated look carries it too) times
+``TURN_MARGIN``, at least ``MIN_TURN_RATE``. The paper's limit is unstated; the earlier fixed
+2 pi rad/s was reached on 64-94% of generated steps (demonstrations: under 12%), which sweeps
+the head round at a constant rate. Measured with bench/fidelity.py on the shipped behaviours
+and three unseen paths: facing the main 0.35-0.63 -> 0.96-1.0 of the time for the lover, the
+bully and the stalker (demonstrated 1.0); limiter saturated on 64-94% -> 1-5% of steps; the
+per-step look change 4-8x -> 1.0-1.4x the demonstration's (with the look governor, detail.py).
+The margin of 2 over the demonstration's own 99.5th percentile lets a fast unseen main be
+faced (with the percentile alone, saturation was 10-35% on the fastest path).
 
 Where the reactor goes has the same question. The paper's relative position is in the main's
 look frame, so when the main turns (or spins in place) every target position turns with it and

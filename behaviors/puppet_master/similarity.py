@@ -162,7 +162,9 @@ class CoherenceSearch:
     (duplicates included) cost ~100-130 us a step; keeping every training window's distance
     up to date as the situation search does cost ~75 us at 3,200 samples but ~160 us at
     24,000; the distinct proposals cost ~30 us whatever the training length (CPU time,
-    measured on a loaded 2-core machine).
+    measured on a loaded 2-core machine). The distinct proposals are kept as a count of
+    "bases" (source minus the step it was pushed at), so finding them costs the number of
+    distinct ones, not n.
     """
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray) -> None:
@@ -179,7 +181,11 @@ class CoherenceSearch:
         self.sq = np.zeros(2 * n)        # |x|^2 of the live vectors, beside buf
         self.sx = 0.0
         self._valid = self.valid.tolist()
-        self._sources = [-1] * n          # the ring of sources as Python ints (best() reads)
+        # a source s pushed at step k0 proposes s + (k - k0) at step k: its "base" s - k0 is
+        # fixed, so the distinct proposals are the distinct bases in the window plus k
+        self._k = 0
+        self._bases: list[int | None] = [None] * n
+        self._count: dict[int, int] = {}
 
     def reset(self, window: np.ndarray) -> None:
         """Start from a live window (n, d), oldest first, with no known sources."""
@@ -190,7 +196,8 @@ class CoherenceSearch:
         self.sq[n:] = self.sq[:n]
         self.sx = float(self.sq[:n].sum())
         self.src[:] = -1
-        self._sources = [-1] * n
+        self._bases = [None] * n
+        self._count = {}
         self.i = n - 1
 
     def push(self, x: np.ndarray, source: int) -> None:
@@ -204,7 +211,18 @@ class CoherenceSearch:
         self.sq[self.i] = self.sq[self.i + n] = q
         self.src[self.i] = source
         self.src[self.i + n] = source
-        self._sources[self.i] = source
+        self._k += 1
+        count = self._count
+        gone = self._bases[self.i]
+        if gone is not None:
+            if count[gone] == 1:
+                del count[gone]
+            else:
+                count[gone] -= 1
+        base = source - self._k if source >= 0 else None
+        self._bases[self.i] = base
+        if base is not None:
+            count[base] = count.get(base, 0) + 1
 
     def window(self) -> np.ndarray:
         """Live window (n, d), oldest first (a view)."""
@@ -221,16 +239,12 @@ class CoherenceSearch:
     def best(self) -> tuple[int, float]:
         """(training window end, distance) of the best candidate, or (-1, inf) if none; ties
         take the earliest window end."""
-        n, i, src, valid = self.n, self.i, self._sources, self._valid
+        k, valid = self._k, self._valid
         size = len(valid)
-        proposed = set()
-        for age in range(n):                 # plain Python: 40 small integers
-            s = src[(i - age) % n]
-            if s >= 0 and s + age < size and valid[s + age]:
-                proposed.add(s + age)
+        proposed = sorted(b + k for b in self._count if b + k < size and valid[b + k])
         if not proposed:
             return -1, math.inf
-        cand = np.array(sorted(proposed), dtype=np.int64)
+        cand = np.array(proposed, dtype=np.int64)
         w = self.y[cand[:, None] + self.offsets[None, :]]            # (m, n, d), small
         cross = np.einsum("mnd,nd->m", w, self.window())
         costs = self.sy[cand] - 2.0 * cross

@@ -44,8 +44,8 @@ def test_follow_behind_keeps_its_distance_behind_the_main():
     d = out[:, 1:3] - m[:, :2]
     dist = np.hypot(d[:, 0], d[:, 1])
     ahead = np.cos(m[:, 2]) * d[:, 0] + np.sin(m[:, 2]) * d[:, 1]
-    assert 0.2 <= np.median(dist) <= 0.4                 # measured 0.34
-    assert np.mean(ahead < 0) >= 0.7                     # measured 0.99
+    assert 0.2 <= np.median(dist) <= 0.4                 # measured 0.32
+    assert np.mean(ahead < 0) >= 0.7                     # measured 1.0
 
 
 def test_keep_away_never_lets_the_main_close_and_stays_on_the_table():
@@ -56,7 +56,7 @@ def test_keep_away_never_lets_the_main_close_and_stays_on_the_table():
     out, _, _ = run(Behavior.train(demo), live)
     m = main_at(live, out[:, 0])
     dist = np.hypot(out[:, 1] - m[:, 0], out[:, 2] - m[:, 1])
-    assert np.mean(dist < demo_min) < 0.05               # measured 0.0 (8 seeds: <= 0.007)
+    assert np.mean(dist < demo_min) < 0.05               # measured 0.023
     x0, y0, x1, y1 = TABLE
     assert np.all((out[:, 1] >= x0) & (out[:, 1] <= x1) & (out[:, 2] >= y0) & (out[:, 2] <= y1))
 
@@ -68,14 +68,14 @@ def test_circling_goes_counter_clockwise():
     m = main_at(live, out[:, 0])
     bearing = np.arctan2(out[:, 2] - m[:, 1], out[:, 1] - m[:, 0])
     turn = np.angle(np.exp(1j * np.diff(bearing)))
-    assert np.mean(turn > 0) >= 0.7                      # measured 0.94 (8 seeds: >= 0.70)
+    assert np.mean(turn > 0) >= 0.7                      # measured 0.97
     # mirrored demonstration: the same test fails for clockwise circling
     mirrored = demo.copy()
     mirrored[:, [2, 5]] = 1.0 - mirrored[:, [2, 5]]
     mirrored[:, [3, 6]] = -mirrored[:, [3, 6]]
     out, _, _ = run(Behavior.train(mirrored), live)
     bearing = np.arctan2(out[:, 2] - m[:, 1], out[:, 1] - m[:, 0])
-    assert np.mean(np.angle(np.exp(1j * np.diff(bearing))) > 0) < 0.3   # measured 0.18
+    assert np.mean(np.angle(np.exp(1j * np.diff(bearing))) > 0) < 0.3   # measured 0.06
 
 
 def test_balancing_holds_the_target_ratio_without_coherence_loops():
@@ -83,25 +83,25 @@ def test_balancing_holds_the_target_ratio_without_coherence_loops():
     live = pm_demos.main_path(22, 180, rate_hz=30)       # three minutes
     _, choices, reactor = run(Behavior.train(demo), live)
     coherent = np.array(choices) == "coherence"
-    assert abs(coherent.mean() - 0.5) < 0.05             # measured 0.497
+    assert abs(coherent.mean() - 0.5) < 0.05             # measured 0.499
     blocks = coherent[:coherent.size // 400 * 400].reshape(-1, 400).mean(axis=1)
     assert np.all((blocks > 0.25) & (blocks < 0.75))     # every 10 s stays balanced
     runs, n = [], 0
     for c in coherent:
         n = n + 1 if c else 0
         runs.append(n)
-    assert max(runs) < 160                               # no 4-second coherence loop (measured 118)
+    assert max(runs) < 160                               # no 4-second coherence loop (measured 107)
     assert 0.3 < reactor.coherence_share < 0.7
     # a target of 3:1 situation to coherence is followed as well
     _, choices, _ = run(Behavior.train(demo, ratio=3.0), live[:live.shape[0] // 2])
-    assert abs(np.mean(np.array(choices) == "coherence") - 0.25) < 0.05   # measured 0.25
+    assert abs(np.mean(np.array(choices) == "coherence") - 0.25) < 0.05   # measured 0.24
 
 
 def test_a_static_weight_does_not_balance():
     demo = pm_demos.follow_behind(pm_demos.main_path(21, 90))
     live = pm_demos.main_path(22, 60, rate_hz=30)
     _, choices, _ = run(Behavior.train(demo, balance_gain=1e-12), live)
-    assert abs(np.mean(np.array(choices) == "coherence") - 0.5) > 0.2   # measured 0.09
+    assert abs(np.mean(np.array(choices) == "coherence") - 0.5) > 0.2   # measured 0.0
 
 
 def test_texture_shaky_demonstration_gives_shaky_output_smooth_gives_smooth():
@@ -116,12 +116,14 @@ def test_texture_shaky_demonstration_gives_shaky_output_smooth_gives_smooth():
     out_shaky, _, _ = run(shaky, live)
     j_smooth = direction_jitter(out_smooth[:, 1:3])
     j_shaky = direction_jitter(out_shaky[:, 1:3])
-    assert j_shaky > 1.5 * j_smooth                      # measured 0.47 vs 0.21 (8 seeds: >= 2.0x)
+    assert j_shaky > 1.5 * j_smooth                      # measured 0.39 vs 0.12
     assert j_smooth < 0.6 * j_demo_shaky
-    # the detail is what carries it: without detail the shaky output loses texture
-    flat = Behavior.train(pm_demos.follow_behind(main, wobble=0.6), detail_clip=1e-9)
+    # with the paper's step toward the target, the detail is what carries it: without detail
+    # the shaky output loses texture (the relative step carries the demonstrated wobble itself)
+    flat = Behavior.train(pm_demos.follow_behind(main, wobble=0.6), detail_clip=1e-9,
+                          relative_motion=0.0)
     out_flat, _, _ = run(flat, live)
-    assert direction_jitter(out_flat[:, 1:3]) < 0.8 * j_shaky      # measured 0.31 vs 0.47
+    assert direction_jitter(out_flat[:, 1:3]) < 0.8 * j_shaky      # measured 0.29 vs 0.39
 
 
 def test_runs_are_reproducible_to_the_last_digit():
