@@ -59,11 +59,16 @@ def build_engines(cfg: dict[str, Any], ctx: BuildContext) -> list[Engine]:
 
 def projector_homography(cfg: dict[str, Any], ctx: BuildContext):
     """The calibration's ``table_to_projector`` (a camera source's, else the config's), or
-    None: the view then fits the table into the window."""
-    if ctx.shared.get("table_to_projector") is not None or cfg.get("calibration") is None:
-        return ctx.shared.get("table_to_projector")
-    from calibration.files import load_calibration
-    return load_calibration(cfg["calibration"], require_table=False).table_to_projector
+    None: the view then fits the table into the window. A view size other than the projector
+    size the calibration was fitted at is refused (CalibrationError, one line)."""
+    cal = ctx.shared.get("calibration")
+    if ctx.shared.get("table_to_projector") is None:
+        if cfg.get("calibration") is None:
+            return None
+        from calibration.files import load_calibration
+        cal = load_calibration(cfg["calibration"], require_table=False)
+    cal.check_projector_size(tuple(cfg["view"]["size"]))
+    return cal.table_to_projector
 
 
 def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
@@ -75,6 +80,11 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
         sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats, commands=commands,
                                    stop=stop, headless=headless,
                                    homography=projector_homography(cfg, ctx)))
+        if cfg["view"]["calibration_check"]:
+            from tabletop.procam import LiveCheck, check_setup
+            check = LiveCheck(*check_setup(cfg, "config"))
+            sinks[-1].overlay_extra, sinks[-1].show_overlay = check.lines, True
+            sinks.append(check)
     for s in cfg["sinks"]:
         sinks.append(registry.plugin_module("sink", s["kind"]).build(s, ctx))
     rec = cfg["recorder"]

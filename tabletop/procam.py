@@ -7,6 +7,7 @@ real one (a pygame window fullscreen on the projector's display, an OpenCV camer
 
 from __future__ import annotations
 
+import logging
 import os
 import time
 from dataclasses import dataclass
@@ -17,6 +18,8 @@ import numpy as np
 
 from calibration.charuco import CalibrationInputError
 from calibration.fits import Fit
+
+log = logging.getLogger("tabletop")
 
 
 class ProCam(Protocol):
@@ -172,37 +175,115 @@ def run_check(procam: ProCam, calibration: Any, detector: Any) -> CheckResult:
     return CheckResult(ids, pucks, check_offsets_mm(pucks, landed))
 
 
-def check_from_config(path: str) -> CheckResult:
-    """The check for the installation of config ``path``: its calibration, marker dictionary,
-    first camera source and the view's display. A ``synthetic_camera`` source is checked on the
-    simulated rig, with a projector at the view's size."""
+def check_setup(cfg: dict, where: str) -> tuple[Any, Any, Any]:
+    """(ProCam, calibration, marker detector) for the check of a validated config (``where``
+    names it in messages): its calibration, marker dictionary, first camera source and the
+    view's display. A ``synthetic_camera`` source gets the simulated rig, with a projector at
+    the view's size; a ``camera`` source is returned as its options (opened live by the
+    caller)."""
     from calibration.files import load_calibration
-    from tabletop.config import load_config
     from tracking.markers import DetectorSettings, make_detector
-    cfg = load_config(path)
     if cfg.get("calibration") is None:
-        raise CalibrationInputError(f"{path}: calibration: none given; the check needs the "
+        raise CalibrationInputError(f"{where}: calibration: none given; the check needs the "
                                     "installation's calibration file")
     cal = load_calibration(cfg["calibration"])
+    cal.check_projector_size(tuple(cfg["view"]["size"]))
     from tabletop.plugins.camera import tracking_dictionary
     detector = make_detector(DetectorSettings(dictionary=tracking_dictionary(cfg)))
     cams = [s for s in cfg["sources"] if s["kind"] in ("camera", "synthetic_camera")]
     if not cams:
-        raise CalibrationInputError(f"{path}: sources: no camera or synthetic_camera source to "
+        raise CalibrationInputError(f"{where}: sources: no camera or synthetic_camera source to "
                                     "check through")
-    src = cams[0]
-    view = cfg["view"]
+    src, view = cams[0], cfg["view"]
     if src["kind"] == "synthetic_camera":
-        procam = simulated_procam(src, cfg, tuple(view["size"]))
-    else:
-        procam = LiveProCam(src["device"], int(view["display"]), tuple(view["size"]),
-                            resolution=src.get("resolution"))
+        return simulated_procam(src, cfg, tuple(view["size"])), cal, detector
+    return src, cal, detector
+
+
+def check_from_config(path: str) -> CheckResult:
+    """The check for the installation of config ``path`` (see :func:`check_setup`); a real
+    camera source is checked live on the projector display."""
+    from tabletop.config import load_config
+    cfg = load_config(path)
+    procam, cal, detector = check_setup(cfg, path)
+    if isinstance(procam, dict):
+        view = cfg["view"]
+        procam = LiveProCam(procam["device"], int(view["display"]), tuple(view["size"]),
+                            resolution=procam.get("resolution"))
     try:
         return run_check(procam, cal, detector)
     finally:
         close = getattr(procam, "close", None)
         if close is not None:
             close()
+
+
+class LiveCheck:
+    """Sink: the morning check measured during ``tabletop run`` every ``every_s`` seconds (in a
+    thread, so the loop never waits), with the pucks where the tracker has them; ``lines()``
+    is the text for the operator overlay (:func:`check_lines`). Runs on a simulated rig; with a
+    real camera the running view owns the projector, so the overlay says to use
+    ``tabletop calibrate check``."""
+
+    name = "calibration-check"
+
+    def __init__(self, procam: Any, calibration: Any, detector: Any,
+                 tolerance_mm: float | None = None, every_s: float = 10.0) -> None:
+        from calibration.fits import CHECK_MM
+        import threading
+        self.procam, self.calibration, self.detector = procam, calibration, detector
+        self.tolerance = CHECK_MM if tolerance_mm is None else tolerance_mm
+        self.every_s, self._next_t = every_s, None
+        self._lock = threading.Lock()
+        self._thread: threading.Thread | None = None
+        self.measured = 0  # checks completed (for tests and the overlay)
+        self._lines = ["calibration check: waiting for the first measurement"]
+        if isinstance(procam, dict):
+            self._lines = ["calibration check: with a real camera the running view holds the "
+                           "projector; stop the run and use `tabletop calibrate check`"]
+            self.procam = None
+
+    def lines(self) -> list[str]:
+        """The newest check as overlay lines (one per puck, then PASS/FAIL)."""
+        with self._lock:
+            return list(self._lines)
+
+    def consume(self, frame: Any) -> None:
+        import threading
+        if self.procam is None or (self._thread is not None and self._thread.is_alive()):
+            return
+        if self._next_t is not None and frame.t < self._next_t:
+            return
+        if not frame.pucks:
+            with self._lock:
+                self._lines = ["calibration check: no puck tracked yet (put pucks on the "
+                               "table, a few near its corners)"]
+            return
+        self._next_t = frame.t + self.every_s
+        poses = [(p.id, p.x, p.y, p.angle) for p in frame.pucks]
+        self._thread = threading.Thread(target=self._measure, args=(poses,),
+                                        name="calibration-check", daemon=True)
+        self._thread.start()
+
+    def _measure(self, poses: list[tuple[int, float, float, float]]) -> None:
+        when = time.strftime("%H:%M:%S")
+        if hasattr(self.procam, "pucks"):
+            self.procam.pucks = poses  # the simulated rig: pucks where the tracker has them
+        try:
+            lines, _ = check_lines(run_check(self.procam, self.calibration, self.detector),
+                                   self.tolerance)
+            lines = [f"calibration check at {when}:"] + lines
+        except CalibrationInputError as exc:
+            lines = [f"calibration check at {when}: {exc}"]
+        except Exception as exc:  # the running installation never crashes over its check
+            log.exception("calibration check failed")
+            lines = [f"calibration check at {when} failed: {exc}"]
+        with self._lock:
+            self._lines, self.measured = lines, self.measured + 1
+
+    def close(self) -> None:
+        if self._thread is not None:
+            self._thread.join(timeout=10.0)
 
 
 def simulated_procam(source: dict, cfg: dict, size: tuple[int, int]) -> Any:
@@ -281,12 +362,12 @@ class LiveProCam:
 
 
 def live_projector(device: str, display: int, size: tuple[int, int] | None, calibration: Any,
-                   table: tuple[float, float] | None) -> Fit:
+                   table: tuple[float, float] | None) -> tuple[Fit, tuple[int, int]]:
     """``calibrate projector --live``: the pattern fullscreen on ``display``, camera ``device``
-    frames fitted until the fit is stable."""
+    frames fitted until the fit is stable; (the fit, the projector's (W, H) pixels)."""
     procam = LiveProCam(device, display, size)
     try:
-        return stable_projector_fit(procam, calibration, table)
+        return stable_projector_fit(procam, calibration, table), procam.size
     finally:
         procam.close()
 

@@ -16,7 +16,7 @@ import math
 import os
 import threading
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
@@ -247,6 +247,7 @@ class ProjectorView:
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf
+        self.overlay_extra: Callable[[], list[str]] | None = None  # more lines, e.g. a check
         self.snapshot_every = float(options["snapshot_every_s"])
         self.snapshot_folder = Path(options["snapshot_folder"])
         self._next_snapshot: float | None = None
@@ -261,7 +262,7 @@ class ProjectorView:
             # keeps the overlay's cost (percentiles, text) off most ticks.
             if self._overlay is None or frame.t >= self._overlay_t + OVERLAY_REFRESH_S:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), frame.t
-            overlay = self._overlay
+            overlay = self._overlay + (self.overlay_extra() if self.overlay_extra else [])
         self.renderer.draw(self.screen, frame, overlay)
         pygame.display.flip()
         if self.headless and self.snapshot_every > 0:

@@ -1,0 +1,96 @@
+"""The check measured live inside ``tabletop run`` (shown on the overlay), and the projector's
+resolution recorded in the calibration file and checked against the view at start-up."""
+
+import numpy as np
+import pytest
+
+from calibration.files import (Calibration, CalibrationError, calibration_from_dict,
+                               load_calibration, save_calibration)
+from tabletop.cli import main
+from tabletop.config import load_config
+from tabletop.frames import Frame, Puck
+from tabletop.procam import LiveCheck, check_setup, simulated_procam
+
+VIEW = (1024, 600)
+CONFIG = ("table: {width: 1.2, height: 0.8}\n"
+          "sources:\n  - {kind: synthetic_camera, name: camera, pucks: [1, 2], noise: 2}\n"
+          "engines: []\ncalibration: cal.yaml\n"
+          "view: {size: [1024, 600], headless: true, calibration_check: true}\n")
+
+
+def write_installation(tmp_path, shift_m: float = 0.0, projector_size=VIEW):
+    """A config with the synthetic camera and the exact calibration of its simulated rig (the
+    projector shifted ``shift_m`` metres along x after calibrating)."""
+    path = tmp_path / "config.yaml"
+    path.write_text(CONFIG)
+    save_calibration(tmp_path / "cal.yaml", Calibration(np.eye(3)))
+    cfg = load_config(path)
+    rig = simulated_procam(cfg["sources"][0], cfg, VIEW)
+    cam = rig.camera
+    t2p = rig.projector.H @ np.array([[1, 0, shift_m], [0, 1, 0], [0, 0, 1.0]])
+    save_calibration(tmp_path / "cal.yaml", Calibration(
+        cam.image_to_table_homography(), t2p, cam.K, cam.dist, (cam.w, cam.h),
+        projector_size=projector_size))
+    return path
+
+
+def frame_with(pucks):
+    return Frame(seq=1, t=0.0, pucks=tuple(Puck(id=i, x=x, y=y, angle=a) for i, x, y, a in pucks))
+
+
+@pytest.mark.parametrize("shift_m, verdict", [(0.0, "PASS"), (0.005, "FAIL")])
+def test_live_check_measures_the_tracked_pucks_and_gives_overlay_lines(tmp_path, shift_m,
+                                                                        verdict):
+    cfg = load_config(write_installation(tmp_path, shift_m))
+    check = LiveCheck(*check_setup(cfg, "config"))
+    assert check.lines() == ["calibration check: waiting for the first measurement"]
+    pucks = [(1, 0.07, 0.07, 0.0), (2, 1.13, 0.73, 1.0), (3, 0.6, 0.4, 2.0)]
+    check.consume(frame_with(pucks))
+    check.close()
+    lines = check.lines()
+    assert check.measured == 1, lines
+    assert lines[-1].startswith(f"{verdict}: worst") and "over 3 pucks" in lines[-1]
+    figures = [float(line.split(": ")[1].split()[0]) for line in lines[1:-1]]
+    assert sorted(line.split()[1] for line in lines[1:-1]) == ["1", "2", "3"]
+    if verdict == "PASS":
+        assert max(figures) <= 2.0
+    else:  # a projector 5 mm off is measured 5 mm off, give or take
+        assert all(3.5 <= f <= 6.5 for f in figures), figures
+    check.consume(frame_with(pucks))  # not due again for 10 s: no new measurement
+    check.close()
+    assert check.measured == 1
+
+
+def test_run_shows_the_check_on_the_overlay(tmp_path):
+    """``view.calibration_check: true``: the running installation measures the check and the
+    view draws its lines with the overlay, which it switches on."""
+    from tabletop.app import build_live
+    inst = build_live(load_config(write_installation(tmp_path)), headless=True)
+    check = next(s for s in inst.sinks if isinstance(s, LiveCheck))
+    view = next(s for s in inst.sinks if s.name == "view")
+    assert view.show_overlay and view.overlay_extra == check.lines
+    inst.loop.run(seconds=1.0)
+    check.close()
+    assert check.measured >= 1
+    assert check.lines()[-1].startswith("PASS: worst"), check.lines()
+
+
+def test_projector_size_is_recorded_and_old_files_still_load(tmp_path):
+    cal = Calibration(np.eye(3), np.eye(3), projector_size=(1280, 720))
+    save_calibration(tmp_path / "c.yaml", cal)
+    assert load_calibration(tmp_path / "c.yaml").projector_size == (1280, 720)
+    old = {k: v for k, v in cal.to_dict().items() if k != "projector_size"}
+    assert calibration_from_dict(old).projector_size is None
+    with pytest.raises(CalibrationError, match="c.yaml: projector_size: expected"):
+        calibration_from_dict(dict(old, projector_size=[1280]), "c.yaml")
+
+
+def test_a_view_of_another_size_than_the_calibrated_projector_is_refused(tmp_path, capsys):
+    path = write_installation(tmp_path, projector_size=(1280, 720))
+    code = main(["run", "--config", str(path), "--seconds", "0.2", "--headless"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert "cal.yaml: projector_size:" in err[0] and "1280x720" in err[0]
+    assert "view.size is 1024x600" in err[0]
+    code = main(["calibrate", "check", "--config", str(path)])
+    assert code == 2 and "projector_size" in capsys.readouterr().err
