@@ -179,7 +179,7 @@ def coverage(points: list[np.ndarray], image_size: tuple[int, int],
     return counts
 
 
-REGION_CELLS = 5         # the image as a 5x5 grid: its outer ring is the corners and edges
+REGION_CELLS = 4         # the image as a 4x4 grid: its outer ring is the corners and edges
 REGION_VIEWS = 2         # views each corner and edge of the image needs
 
 
@@ -187,8 +187,8 @@ def coverage_gaps(points: list[np.ndarray], image_size: tuple[int, int],
                   needed: int = REGION_VIEWS) -> list[tuple[str, int]]:
     """The image's corners and edges where fewer than ``needed`` views put board corners:
     (region name, views there). Regions: the corner cells and the middle cells of each side of
-    a 5x5 grid over the image; where the lens bends most, and where a lens solve without views
-    only extrapolates."""
+    a 4x4 grid over the image (cells a quarter of its width and height): where the lens bends
+    most, and where a lens solve without views there only extrapolates."""
     n = REGION_CELLS
     last, middle = n - 1, range(1, n - 1)
     regions = {"top-left corner": [(0, 0)], "top-right corner": [(0, last)],
