@@ -1,6 +1,9 @@
 """The check measured live inside ``tabletop run`` (shown on the overlay), and the projector's
 resolution recorded in the calibration file and checked against the view at start-up."""
 
+import threading
+import time
+
 import numpy as np
 import pytest
 
@@ -69,10 +72,25 @@ def test_run_shows_the_check_on_the_overlay(tmp_path):
     check = next(s for s in inst.sinks if isinstance(s, LiveCheck))
     view = next(s for s in inst.sinks if s.name == "view")
     assert view.show_overlay and view.overlay_extra == check.lines
-    inst.loop.run(seconds=1.0)
+
+    def stop_after_the_check():  # once the view has drawn the check's lines (30 s at most)
+        for _ in range(600):
+            lines = tuple(check.lines())
+            if check.measured and view.renderer._overlay_key[-len(lines):] == lines:
+                break
+            time.sleep(0.05)
+        inst.loop.stop.set()
+
+    watcher = threading.Thread(target=stop_after_the_check)
+    watcher.start()
+    inst.loop.run(seconds=30.0)
+    watcher.join()
     check.close()
     assert check.measured >= 1
-    assert check.lines()[-1].startswith("PASS: worst"), check.lines()
+    lines = check.lines()
+    assert lines[-1].startswith("PASS: worst"), lines
+    drawn = view.renderer._overlay_key  # the last overlay the view drew
+    assert drawn[-len(lines):] == tuple(lines) and drawn[0].startswith("tick")
 
 
 def test_projector_size_is_recorded_and_old_files_still_load(tmp_path):
