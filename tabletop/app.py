@@ -81,10 +81,8 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                                    stop=stop, headless=headless,
                                    homography=projector_homography(cfg, ctx)))
         if cfg["view"]["calibration_check"]:
-            from tabletop.procam import LiveCheck, check_setup
-            check = LiveCheck(*check_setup(cfg, "config"))
-            sinks[-1].overlay_extra, sinks[-1].show_overlay = check.lines, True
-            sinks.append(check)
+            from tabletop.live_check import live_check
+            sinks.append(live_check(cfg, sinks[-1], ctx.shared.get("sources", ())))
     for s in cfg["sinks"]:
         sinks.append(registry.plugin_module("sink", s["kind"]).build(s, ctx))
     rec = cfg["recorder"]
@@ -107,6 +105,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     tracker = build_tracker(cfg, ctx)
     ctx.shared["tracker"] = tracker
     sources = [registry.plugin_module("source", s["kind"]).build(s, ctx) for s in cfg["sources"]]
+    ctx.shared["sources"] = sources
     engines = build_engines(cfg, ctx)
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop)
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],

@@ -32,8 +32,8 @@ VIEW = Record({
     "display": Number(0, integer=True, lo=0, hi=16, doc="display index for fullscreen"),
     "headless": Bool(False, doc="force the dummy video driver (no window)"),
     "overlay": Bool(False, doc="operator overlay shown at start (toggle with F1 or o)"),
-    "calibration_check": Bool(False, doc="measure the calibration check every 10 s and show "
-                                         "it on the overlay (synthetic camera)"),
+    "calibration_check": Bool(False, doc="measure the calibration check every 10 s (crosses "
+                                         "under the pucks) and show it on the overlay"),
     "snapshot_every_s": Number(0.0, lo=0.0, doc="headless: save a PNG every N seconds (0: never)"),
     "snapshot_folder": FilePath("snapshots", must_exist=False),
     "margin_px": Number(24, integer=True, lo=0, hi=1000,

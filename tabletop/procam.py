@@ -7,7 +7,6 @@ real one (a pygame window fullscreen on the projector's display, an OpenCV camer
 
 from __future__ import annotations
 
-import logging
 import os
 import time
 from dataclasses import dataclass
@@ -19,7 +18,7 @@ import numpy as np
 from calibration.charuco import CalibrationInputError
 from calibration.fits import Fit
 
-log = logging.getLogger("tabletop")
+MOVED_MM = 1.0  # a puck found this much further in the lit frame moved during the check
 
 
 class ProCam(Protocol):
@@ -124,24 +123,34 @@ def _span(H: np.ndarray, size: tuple[int, int]) -> tuple[float, float]:
 @dataclass
 class CheckResult:
     """Marker ids (N,), their table positions (N, 2) m and how far each cross landed (N,) mm
-    (inf: not seen)."""
+    (inf: not seen); ``moved`` (N,) marks pucks that moved during the check (not measured)."""
 
     ids: np.ndarray
     pucks_m: np.ndarray
     offsets_mm: np.ndarray
+    moved: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.moved is None:
+            self.moved = np.zeros(len(self.ids), bool)
 
 
 def check_lines(result: CheckResult, tolerance_mm: float) -> tuple[list[str], bool]:
     """The check as text (one line per puck, then ``PASS``/``FAIL`` with the worst figure), for
     the command line or an overlay, and whether it passed."""
     lines = []
-    for pid, p, off in zip(result.ids, result.pucks_m, result.offsets_mm):
-        figure = f"{off:.2f} mm" if np.isfinite(off) else "cross not seen"
+    for pid, p, off, moved in zip(result.ids, result.pucks_m, result.offsets_mm, result.moved):
+        figure = ("moved during the check, not measured" if moved
+                  else f"{off:.2f} mm" if np.isfinite(off) else "cross not seen")
         lines.append(f"  puck {pid} at {p[0]:.3f}, {p[1]:.3f} m: {figure}")
-    worst = float(np.max(result.offsets_mm)) if len(result.offsets_mm) else float("inf")
+    still = result.offsets_mm[~result.moved]
+    if len(still) == 0:
+        lines.append("NOT MEASURED: every puck moved during the check (hold them still)")
+        return lines, False
+    worst = float(np.max(still))
     passed = bool(np.isfinite(worst) and worst <= tolerance_mm)
     figure = f"{worst:.2f} mm" if np.isfinite(worst) else "a cross not seen"
-    lines.append(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(result.ids)} pucks "
+    lines.append(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(still)} pucks "
                  f"(tolerance {tolerance_mm:g} mm)")
     return lines, passed
 
@@ -172,15 +181,33 @@ def run_check(procam: ProCam, calibration: Any, detector: Any) -> CheckResult:
     procam.show(None)
     landed = [locate_cross(lit, dark, calibration.image_to_table, p, calibration.table_to_image)
               for p in pucks]
-    return CheckResult(ids, pucks, check_offsets_mm(pucks, landed))
+    return CheckResult(ids, pucks, check_offsets_mm(pucks, landed),
+                       moved_pucks(lit, ids, pucks, calibration, detector))
 
 
-def check_setup(cfg: dict, where: str) -> tuple[Any, Any, Any]:
-    """(ProCam, calibration, marker detector) for the check of a validated config (``where``
-    names it in messages): its calibration, marker dictionary, first camera source and the
-    view's display. A ``synthetic_camera`` source gets the simulated rig, with a projector at
-    the view's size; a ``camera`` source is returned as its options (opened live by the
-    caller)."""
+def moved_pucks(lit: np.ndarray, ids: np.ndarray, pucks_m: np.ndarray, calibration: Any,
+                detector: Any, limit_mm: float = MOVED_MM) -> np.ndarray:
+    """(N,) True for the pucks seen in the ``lit`` frame more than ``limit_mm`` from where the
+    dark frame had them (moved by a hand: their crosses cannot be compared)."""
+    from calibration.fits import diagonal_centres
+    from tracking.markers import detect_markers, refine_corners
+    found, corners = detect_markers(lit, detector)
+    moved = np.zeros(len(ids), bool)
+    if len(found) == 0:
+        return moved
+    corners = refine_corners(lit, corners)
+    now = diagonal_centres(calibration.image_to_table(corners.reshape(-1, 2)).reshape(-1, 4, 2))
+    where = {int(i): c for i, c in zip(found, now)}
+    for k, (pid, p) in enumerate(zip(ids, pucks_m)):
+        if int(pid) in where:
+            moved[k] = np.linalg.norm(where[int(pid)] - p) * 1e3 > limit_mm
+    return moved
+
+
+def check_inputs(cfg: dict, where: str) -> tuple[Any, Any, dict]:
+    """(calibration, marker detector, camera source options) for the check of a validated
+    config (``where`` names it in messages): its calibration, its marker dictionary and its
+    first ``camera`` or ``synthetic_camera`` source."""
     from calibration.files import load_calibration
     from tracking.markers import DetectorSettings, make_detector
     if cfg.get("calibration") is None:
@@ -194,96 +221,28 @@ def check_setup(cfg: dict, where: str) -> tuple[Any, Any, Any]:
     if not cams:
         raise CalibrationInputError(f"{where}: sources: no camera or synthetic_camera source to "
                                     "check through")
-    src, view = cams[0], cfg["view"]
-    if src["kind"] == "synthetic_camera":
-        return simulated_procam(src, cfg, tuple(view["size"])), cal, detector
-    return src, cal, detector
+    return cal, detector, cams[0]
 
 
 def check_from_config(path: str) -> CheckResult:
-    """The check for the installation of config ``path`` (see :func:`check_setup`); a real
-    camera source is checked live on the projector display."""
+    """The check for the installation of config ``path`` (see :func:`check_inputs`): a real
+    camera source live on the view's display; a ``synthetic_camera`` source on the simulated
+    rig, with a projector at the view's size."""
     from tabletop.config import load_config
     cfg = load_config(path)
-    procam, cal, detector = check_setup(cfg, path)
-    if isinstance(procam, dict):
-        view = cfg["view"]
-        procam = LiveProCam(procam["device"], int(view["display"]), tuple(view["size"]),
-                            resolution=procam.get("resolution"))
+    cal, detector, src = check_inputs(cfg, path)
+    view = cfg["view"]
+    if src["kind"] == "synthetic_camera":
+        procam = simulated_procam(src, cfg, tuple(view["size"]))
+    else:
+        procam = LiveProCam(src["device"], int(view["display"]), tuple(view["size"]),
+                            resolution=src.get("resolution"))
     try:
         return run_check(procam, cal, detector)
     finally:
         close = getattr(procam, "close", None)
         if close is not None:
             close()
-
-
-class LiveCheck:
-    """Sink: the morning check measured during ``tabletop run`` every ``every_s`` seconds (in a
-    thread, so the loop never waits), with the pucks where the tracker has them; ``lines()``
-    is the text for the operator overlay (:func:`check_lines`). Runs on a simulated rig; with a
-    real camera the running view owns the projector, so the overlay says to use
-    ``tabletop calibrate check``."""
-
-    name = "calibration-check"
-
-    def __init__(self, procam: Any, calibration: Any, detector: Any,
-                 tolerance_mm: float | None = None, every_s: float = 10.0) -> None:
-        from calibration.fits import CHECK_MM
-        import threading
-        self.procam, self.calibration, self.detector = procam, calibration, detector
-        self.tolerance = CHECK_MM if tolerance_mm is None else tolerance_mm
-        self.every_s, self._next_t = every_s, None
-        self._lock = threading.Lock()
-        self._thread: threading.Thread | None = None
-        self.measured = 0  # checks completed (for tests and the overlay)
-        self._lines = ["calibration check: waiting for the first measurement"]
-        if isinstance(procam, dict):
-            self._lines = ["calibration check: with a real camera the running view holds the "
-                           "projector; stop the run and use `tabletop calibrate check`"]
-            self.procam = None
-
-    def lines(self) -> list[str]:
-        """The newest check as overlay lines (one per puck, then PASS/FAIL)."""
-        with self._lock:
-            return list(self._lines)
-
-    def consume(self, frame: Any) -> None:
-        import threading
-        if self.procam is None or (self._thread is not None and self._thread.is_alive()):
-            return
-        if self._next_t is not None and frame.t < self._next_t:
-            return
-        if not frame.pucks:
-            with self._lock:
-                self._lines = ["calibration check: no puck tracked yet (put pucks on the "
-                               "table, a few near its corners)"]
-            return
-        self._next_t = frame.t + self.every_s
-        poses = [(p.id, p.x, p.y, p.angle) for p in frame.pucks]
-        self._thread = threading.Thread(target=self._measure, args=(poses,),
-                                        name="calibration-check", daemon=True)
-        self._thread.start()
-
-    def _measure(self, poses: list[tuple[int, float, float, float]]) -> None:
-        when = time.strftime("%H:%M:%S")
-        if hasattr(self.procam, "pucks"):
-            self.procam.pucks = poses  # the simulated rig: pucks where the tracker has them
-        try:
-            lines, _ = check_lines(run_check(self.procam, self.calibration, self.detector),
-                                   self.tolerance)
-            lines = [f"calibration check at {when}:"] + lines
-        except CalibrationInputError as exc:
-            lines = [f"calibration check at {when}: {exc}"]
-        except Exception as exc:  # the running installation never crashes over its check
-            log.exception("calibration check failed")
-            lines = [f"calibration check at {when} failed: {exc}"]
-        with self._lock:
-            self._lines, self.measured = lines, self.measured + 1
-
-    def close(self) -> None:
-        if self._thread is not None:
-            self._thread.join(timeout=10.0)
 
 
 def simulated_procam(source: dict, cfg: dict, size: tuple[int, int]) -> Any:

@@ -75,6 +75,21 @@ class SimulatedProjector:
         """Table metres (N, 2) -> projector pixels (N, 2), exact."""
         return apply_homography(self.H, points_m)
 
+    def throw(self, camera: SyntheticCamera, image: np.ndarray | None) -> None:
+        """Show ``image`` (grey or BGR, this projector's size; None: off) on the table that
+        ``camera`` sees: its later frames show the light under the pucks."""
+        if image is None:
+            camera.set_projection(None)
+            return
+        grey = image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+        s = self.s
+        level = (s.black + (1.0 - s.black) * grey.astype(np.float32) / 255.0) * s.brightness
+        # Ideal camera pixel -> table -> projector pixel: warp the projector image by the inverse.
+        M = camera.homography() @ inverse(self.H)
+        light = cv2.warpPerspective(level, M, (camera.w, camera.h), flags=cv2.INTER_LINEAR,
+                                    borderMode=cv2.BORDER_CONSTANT, borderValue=0.0)
+        camera.set_projection(light)
+
 
 class SimulatedRig:
     """A synthetic camera and a simulated projector over one table: ``show`` an image on the
@@ -98,18 +113,7 @@ class SimulatedRig:
     def show(self, image: np.ndarray | None) -> None:
         """Project ``image`` (grey or BGR, the projector's size); None switches it off."""
         self._shown = image
-        if image is None:
-            self.camera.set_projection(None)
-            return
-        grey = image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-        s = self.projector.s
-        level = (s.black + (1.0 - s.black) * grey.astype(np.float32) / 255.0) * s.brightness
-        # Ideal camera pixel -> table -> projector pixel: warp the projector image by the inverse.
-        M = self.camera.homography() @ inverse(self.projector.H)
-        light = cv2.warpPerspective(level, M, (self.camera.w, self.camera.h),
-                                    flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
-                                    borderValue=0.0)
-        self.camera.set_projection(light)
+        self.projector.throw(self.camera, image)
 
     def grab(self) -> np.ndarray:
         """One camera frame (grey) of ``pucks`` on the table under the projector's light."""

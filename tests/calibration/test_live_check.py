@@ -12,7 +12,8 @@ from calibration.files import (Calibration, CalibrationError, calibration_from_d
 from tabletop.cli import main
 from tabletop.config import load_config
 from tabletop.frames import Frame, Puck
-from tabletop.procam import LiveCheck, check_setup, simulated_procam
+from tabletop.live_check import LiveCheck
+from tabletop.procam import check_inputs, check_lines, run_check, simulated_procam
 
 VIEW = (1024, 600)
 CONFIG = ("table: {width: 1.2, height: 0.8}\n"
@@ -42,12 +43,18 @@ def frame_with(pucks):
 
 
 @pytest.mark.parametrize("shift_m, verdict", [(0.0, "PASS"), (0.005, "FAIL")])
-def test_live_check_measures_the_tracked_pucks_and_gives_overlay_lines(tmp_path, shift_m,
-                                                                        verdict):
+def test_live_check_measures_the_pucks_and_gives_overlay_lines(tmp_path, shift_m, verdict):
+    """On the simulated rig (pucks in two corners and the middle): the check's lines, PASS with
+    the true calibration, FAIL with the projector 5 mm off."""
     cfg = load_config(write_installation(tmp_path, shift_m))
-    check = LiveCheck(*check_setup(cfg, "config"))
+    cal, detector, src = check_inputs(cfg, "config")
+    rig = simulated_procam(src, cfg, VIEW)
+    check = LiveCheck(rig, cal, detector)
     assert check.lines() == ["calibration check: waiting for the first measurement"]
+    check.consume(frame_with([]))
+    assert check.measured == 0 and "no puck tracked yet" in check.lines()[0]
     pucks = [(1, 0.07, 0.07, 0.0), (2, 1.13, 0.73, 1.0), (3, 0.6, 0.4, 2.0)]
+    rig.pucks = pucks
     check.consume(frame_with(pucks))
     check.close()
     lines = check.lines()
@@ -65,25 +72,28 @@ def test_live_check_measures_the_tracked_pucks_and_gives_overlay_lines(tmp_path,
 
 
 def test_run_shows_the_check_on_the_overlay(tmp_path):
-    """``view.calibration_check: true``: the running installation measures the check and the
-    view draws its lines with the overlay, which it switches on."""
+    """``view.calibration_check: true``: the running view shows the crosses in place of the show,
+    the running synthetic camera sees them through a simulated projector, and the view draws
+    the check's lines on its overlay, which it switches on."""
     from tabletop.app import build_live
     inst = build_live(load_config(write_installation(tmp_path)), headless=True)
     check = next(s for s in inst.sinks if isinstance(s, LiveCheck))
     view = next(s for s in inst.sinks if s.name == "view")
     assert view.show_overlay and view.overlay_extra == check.lines
+    check.every_s = 0.5  # the visitor's pucks move: check again until one stood still
 
-    def stop_after_the_check():  # once the view has drawn the check's lines (30 s at most)
-        for _ in range(600):
+    def stop_after_the_check():  # once the view has drawn a measured check (60 s at most)
+        for _ in range(1200):
             lines = tuple(check.lines())
-            if check.measured and view.renderer._overlay_key[-len(lines):] == lines:
+            if (lines[-1].startswith(("PASS", "FAIL"))
+                    and view.renderer._overlay_key[-len(lines):] == lines):
                 break
             time.sleep(0.05)
         inst.loop.stop.set()
 
     watcher = threading.Thread(target=stop_after_the_check)
     watcher.start()
-    inst.loop.run(seconds=30.0)
+    inst.loop.run(seconds=60.0)
     watcher.join()
     check.close()
     assert check.measured >= 1
@@ -112,3 +122,28 @@ def test_a_view_of_another_size_than_the_calibrated_projector_is_refused(tmp_pat
     assert "view.size is 1024x600" in err[0]
     code = main(["calibrate", "check", "--config", str(path)])
     assert code == 2 and "projector_size" in capsys.readouterr().err
+
+
+def test_a_puck_moved_during_the_check_is_not_measured(tmp_path):
+    """A hand moves puck 2 by 2 cm between the dark and the lit frame: its cross cannot be
+    compared, so it is named and left out; the still pucks are measured."""
+    cfg = load_config(write_installation(tmp_path))
+    cal, detector, src = check_inputs(cfg, "config")
+    rig = simulated_procam(src, cfg, VIEW)
+    rig.pucks = [(1, 0.07, 0.07, 0.0), (2, 0.6, 0.4, 2.0)]
+    grab, grabs = rig.grab, []
+
+    def grab_with_a_hand():
+        grabs.append(1)
+        if len(grabs) == 2:  # the lit frame
+            rig.pucks = [(1, 0.07, 0.07, 0.0), (2, 0.62, 0.4, 2.0)]
+        return grab()
+
+    rig.grab = grab_with_a_hand
+    lines, passed = check_lines(run_check(rig, cal, detector), 2.0)
+    assert passed and "puck 2 at 0.600, 0.400 m: moved during the check" in "\n".join(lines)
+    assert lines[-1].startswith("PASS: worst") and "over 1 pucks" in lines[-1]
+    rig.pucks = [(2, 0.6, 0.4, 2.0)]
+    grabs.clear()
+    lines, passed = check_lines(run_check(rig, cal, detector), 2.0)
+    assert not passed and lines[-1].startswith("NOT MEASURED: every puck moved")
