@@ -179,6 +179,30 @@ def coverage(points: list[np.ndarray], image_size: tuple[int, int],
     return counts
 
 
+REGION_CELLS = 4         # the image as a 4x4 grid: its outer ring is the corners and edges
+REGION_VIEWS = 2         # views each corner and edge of the image needs
+
+
+def coverage_gaps(points: list[np.ndarray], image_size: tuple[int, int],
+                  needed: int = REGION_VIEWS) -> list[tuple[str, int]]:
+    """The image's corners and edges where fewer than ``needed`` views put board corners:
+    (region name, views there). Regions: the corner cells and the middle cells of each side of
+    a 4x4 grid over the image (cells a quarter of its width and height): where the lens bends
+    most, and where a lens solve without views there only extrapolates."""
+    n = REGION_CELLS
+    last, middle = n - 1, range(1, n - 1)
+    regions = {"top-left corner": [(0, 0)], "top-right corner": [(0, last)],
+               "bottom-right corner": [(last, last)], "bottom-left corner": [(last, 0)],
+               "top edge": [(0, c) for c in middle], "right edge": [(r, last) for r in middle],
+               "bottom edge": [(last, c) for c in middle], "left edge": [(r, 0) for r in middle]}
+    views = {name: 0 for name in regions}
+    for pts in points:
+        hit = coverage([pts], image_size, (n, n)) > 0
+        for name, cells in regions.items():
+            views[name] += any(hit[r, c] for r, c in cells)
+    return [(name, count) for name, count in views.items() if count < needed]
+
+
 # ------------------------------------------------------------------- the projected pattern
 def pattern_spec(size: tuple[int, int]) -> tuple[BoardSpec, int]:
     """The ChArUco board the projector shows at ``size`` (W, H) projector pixels, and its margin

@@ -11,6 +11,7 @@ Format (``format: tabletop-calibration``, ``version: 1``)::
       distortion: [k1, k2, p1, p2, k3]       # OpenCV's order, 4 to 14 numbers
     camera_to_table: [[...], [...], [...]]   # 3x3: undistorted camera pixels -> table metres
     table_to_projector: null                 # 3x3: table metres -> projector pixels, or null
+    projector_size: [1280, 720]              # projector pixels it was fitted at (optional)
     reprojection_error:                      # optional figures, null when not measured
       intrinsics_px: 0.21
       camera_to_table_m: 0.0008
@@ -27,7 +28,7 @@ import datetime as _dt
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -54,6 +55,8 @@ class Calibration:
     3x3, table metres -> projector pixels, or None. ``camera_matrix`` (3x3) and ``distortion``
     (OpenCV's coefficients) describe the lens, or are None for an ideal camera.
     ``reprojection_error``: named residuals (pixels or metres as their names say).
+    ``projector_size``: the projector's (W, H) pixels ``table_to_projector`` was fitted at
+    (None when unknown: files written before it was recorded).
     """
 
     camera_to_table: np.ndarray | None
@@ -63,6 +66,8 @@ class Calibration:
     image_size: tuple[int, int] | None = None
     reprojection_error: dict[str, float | None] = field(default_factory=dict)
     date: str = ""
+    projector_size: tuple[int, int] | None = None
+    path: str = field(default="", compare=False)  # the file it was read from, for messages
 
     def __post_init__(self) -> None:
         if self.camera_to_table is not None:
@@ -107,6 +112,17 @@ class Calibration:
             raise ValueError("the calibration has no table_to_projector")
         return apply_homography(inverse(self.table_to_projector), points_px)
 
+    def check_projector_size(self, size: Sequence[int], key: str = "view.size") -> None:
+        """Refuse a projector of ``size`` (W, H) pixels when ``table_to_projector`` was fitted
+        at another resolution (CalibrationError naming the file and both keys)."""
+        ps = self.projector_size
+        if self.table_to_projector is None or ps is None or tuple(size) == tuple(ps):
+            return
+        raise CalibrationError(
+            f"{self.path or '<calibration>'}: projector_size: the projector was calibrated at "
+            f"{ps[0]}x{ps[1]} pixels but {key} is {size[0]}x{size[1]}; set {key}: "
+            f"[{ps[0]}, {ps[1]}] or redo `tabletop calibrate projector` at the new size")
+
     def table_angle(self, points_px: np.ndarray) -> float:
         """Table heading (rad) of the image direction from ``points_px[0]`` to ``points_px[1]``."""
         t = self.image_to_table(points_px)
@@ -130,6 +146,8 @@ class Calibration:
                                 else self.camera_to_table.tolist()),
             "table_to_projector": (None if self.table_to_projector is None
                                    else self.table_to_projector.tolist()),
+            "projector_size": (None if self.projector_size is None
+                               else [int(v) for v in self.projector_size]),
             "reprojection_error": {k: None if v is None else float(v) for k, v in errors.items()},
         }
 
@@ -157,6 +175,17 @@ def _homography(value: Any, where: str, key: str) -> np.ndarray:
     return H
 
 
+def _size(value: Any, where: str, key: str) -> tuple[int, int] | None:
+    """An optional ``[width, height]`` in pixels."""
+    if value is None:
+        return None
+    if (not isinstance(value, list) or len(value) != 2
+            or not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in value)):
+        raise CalibrationError(f"{where}: {key}: expected [width, height] in pixels, "
+                               f"got {value!r}")
+    return value[0], value[1]
+
+
 def calibration_from_dict(data: Any, where: str = "<calibration>",
                           require_table: bool = True) -> Calibration:
     """Validate parsed YAML content; ``where`` names the file in error messages. With
@@ -165,7 +194,7 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
         raise CalibrationError(f"{where}: expected a mapping with keys format, version, "
                                f"camera_to_table, ...; got {type(data).__name__}")
     known = {"format", "version", "date", "image_size", "intrinsics", "camera_to_table",
-             "table_to_projector", "reprojection_error"}
+             "table_to_projector", "projector_size", "reprojection_error"}
     for key in data:
         if key not in known:
             raise CalibrationError(f"{where}: {key}: unknown key (known: {', '.join(sorted(known))})")
@@ -185,13 +214,8 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
         c2t = _homography(data["camera_to_table"], where, "camera_to_table")
     t2p = data.get("table_to_projector")
     t2p = None if t2p is None else _homography(t2p, where, "table_to_projector")
-    size = data.get("image_size")
-    if size is not None:
-        if (not isinstance(size, list) or len(size) != 2
-                or not all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in size)):
-            raise CalibrationError(f"{where}: image_size: expected [width, height] in pixels, "
-                                   f"got {size!r}")
-        size = (size[0], size[1])
+    size = _size(data.get("image_size"), where, "image_size")
+    projector_size = _size(data.get("projector_size"), where, "projector_size")
     K = dist = None
     intr = data.get("intrinsics")
     if intr is not None:
@@ -225,7 +249,7 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
         date = date.isoformat()
     if not isinstance(date, str):
         raise CalibrationError(f"{where}: date: expected an ISO 8601 date, got {date!r}")
-    return Calibration(c2t, t2p, K, dist, size, dict(errors), date)
+    return Calibration(c2t, t2p, K, dist, size, dict(errors), date, projector_size)
 
 
 def load_calibration(path: str | Path, require_table: bool = True) -> Calibration:
@@ -235,7 +259,9 @@ def load_calibration(path: str | Path, require_table: bool = True) -> Calibratio
     data = read_yaml(p, CalibrationError, missing="calibration file not found")
     if data is None:
         raise CalibrationError(f"{p}: the file is empty")
-    return calibration_from_dict(data, str(p), require_table)
+    cal = calibration_from_dict(data, str(p), require_table)
+    cal.path = str(p)
+    return cal
 
 
 def save_calibration(path: str | Path, calibration: Calibration) -> None:

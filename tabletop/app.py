@@ -101,11 +101,16 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
 
 def projector_homography(cfg: dict[str, Any], ctx: BuildContext):
     """The calibration's ``table_to_projector`` (a camera source's, else the config's), or
-    None: the view then fits the table into the window."""
-    if ctx.shared.get("table_to_projector") is not None or cfg.get("calibration") is None:
-        return ctx.shared.get("table_to_projector")
-    from calibration.files import load_calibration
-    return load_calibration(cfg["calibration"], require_table=False).table_to_projector
+    None: the view then fits the table into the window. A view size other than the projector
+    size the calibration was fitted at is refused (CalibrationError, one line)."""
+    cal = ctx.shared.get("calibration")
+    if ctx.shared.get("table_to_projector") is None:
+        if cfg.get("calibration") is None:
+            return None
+        from calibration.files import load_calibration
+        cal = load_calibration(cfg["calibration"], require_table=False)
+    cal.check_projector_size(tuple(cfg["view"]["size"]))
+    return cal.table_to_projector
 
 
 def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
@@ -123,6 +128,9 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 sinks.append(ProjectorView(ctx.table, cfg["view"], stats=stats,
                                            commands=commands, stop=stop, headless=headless,
                                            homography=projector_homography(cfg, ctx)))
+                if cfg["view"]["calibration_check"]:
+                    from tabletop.live_check import live_check
+                    sinks.append(live_check(cfg, sinks[-1], ctx.shared.get("sources", ())))
             except ConfigError as exc:  # e.g. view.display: a display the machine has not
                 raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {exc}") from None
         for s in cfg["sinks"]:
@@ -155,6 +163,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     sources = [registry.plugin_module("source", s["kind"]).build(s, ctx) for s in cfg["sources"]]
     if wrap_source is not None:
         sources = [wrap_source(src, entry) for src, entry in zip(sources, cfg["sources"])]
+    ctx.shared["sources"] = sources
     engines = build_engines(cfg, ctx)
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop)
     timing = {} if clock is None else {"clock": clock, "paced": False}

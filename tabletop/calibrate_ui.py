@@ -1,7 +1,8 @@
 """The live lens-calibration window: the camera image, the board corners found in it, and a
 coverage map of where the views taken so far put corners (cells turn from red to green).
 
-Space grabs the current view (when enough corners are seen), Enter solves with the views taken,
+A second line names the corners and edges of the image still short of views. Space grabs the
+current view (when enough corners are seen), Enter solves with the views taken,
 Esc gives up. The views are kept in memory and, with ``save_dir``, written there as PNG.
 """
 
@@ -13,7 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from calibration.charuco import MIN_CORNERS, CalibrationInputError, coverage, detect_board
+from calibration.charuco import (MIN_CORNERS, REGION_VIEWS, CalibrationInputError, coverage,
+                                 coverage_gaps, detect_board)
 
 CELLS = (8, 6)
 
@@ -84,6 +86,17 @@ class CaptureWindow:
         text = (f"{len(self.views)} views   {len(ids)} corners now   Space: grab   "
                 "Enter: solve   Esc: quit")
         screen.blit(font.render(text, True, (255, 255, 255), (0, 0, 0)), (8, 8))
+        screen.blit(font.render(self.needs((w, h)), True, (255, 255, 255), (0, 0, 0)),
+                    (8, 8 + font.get_linesize()))
+
+    def needs(self, size: tuple[int, int]) -> str:
+        """What the views so far still lack: the image's corners and edges with fewer than
+        ``REGION_VIEWS`` views (``calibrate camera`` refuses those), or that they are covered."""
+        gaps = coverage_gaps(self.points, size)
+        if not gaps:
+            return "every corner and edge of the image covered"
+        return (f"still needed ({REGION_VIEWS} views each): "
+                + ", ".join(f"{name} ({n})" for name, n in gaps))
 
     def run(self) -> list[tuple[str, np.ndarray]]:
         """The live loop; returns the views grabbed when Enter is pressed."""

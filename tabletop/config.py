@@ -59,6 +59,8 @@ VIEW = Record({
     "display": Number(0, integer=True, lo=0, hi=16, doc="display index for fullscreen"),
     "headless": Bool(False, doc="force the dummy video driver (no window)"),
     "overlay": Bool(False, doc="operator overlay shown at start (toggle with F1 or o)"),
+    "calibration_check": Bool(False, doc="measure the calibration check every 10 s (crosses "
+                                         "under the pucks) and show it on the overlay"),
     "snapshot_every_s": Number(0.0, lo=0.0, hi=86_400.0,
                                doc="save a PNG of the view every N seconds of wall-clock time, "
                                    "with or without a window (0: never)"),

@@ -18,6 +18,8 @@ import numpy as np
 from calibration.charuco import CalibrationInputError
 from calibration.fits import Fit
 
+MOVED_MM = 1.0  # a puck found this much further in the lit frame moved during the check
+
 
 class ProCam(Protocol):
     """A projector (``size`` W, H pixels; ``show``) and a camera (``grab``) over one table."""
@@ -121,24 +123,34 @@ def _span(H: np.ndarray, size: tuple[int, int]) -> tuple[float, float]:
 @dataclass
 class CheckResult:
     """Marker ids (N,), their table positions (N, 2) m and how far each cross landed (N,) mm
-    (inf: not seen)."""
+    (inf: not seen); ``moved`` (N,) marks pucks that moved during the check (not measured)."""
 
     ids: np.ndarray
     pucks_m: np.ndarray
     offsets_mm: np.ndarray
+    moved: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.moved is None:
+            self.moved = np.zeros(len(self.ids), bool)
 
 
 def check_lines(result: CheckResult, tolerance_mm: float) -> tuple[list[str], bool]:
     """The check as text (one line per puck, then ``PASS``/``FAIL`` with the worst figure), for
     the command line or an overlay, and whether it passed."""
     lines = []
-    for pid, p, off in zip(result.ids, result.pucks_m, result.offsets_mm):
-        figure = f"{off:.2f} mm" if np.isfinite(off) else "cross not seen"
+    for pid, p, off, moved in zip(result.ids, result.pucks_m, result.offsets_mm, result.moved):
+        figure = ("moved during the check, not measured" if moved
+                  else f"{off:.2f} mm" if np.isfinite(off) else "cross not seen")
         lines.append(f"  puck {pid} at {p[0]:.3f}, {p[1]:.3f} m: {figure}")
-    worst = float(np.max(result.offsets_mm)) if len(result.offsets_mm) else float("inf")
+    still = result.offsets_mm[~result.moved]
+    if len(still) == 0:
+        lines.append("NOT MEASURED: every puck moved during the check (hold them still)")
+        return lines, False
+    worst = float(np.max(still))
     passed = bool(np.isfinite(worst) and worst <= tolerance_mm)
     figure = f"{worst:.2f} mm" if np.isfinite(worst) else "a cross not seen"
-    lines.append(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(result.ids)} pucks "
+    lines.append(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(still)} pucks "
                  f"(tolerance {tolerance_mm:g} mm)")
     return lines, passed
 
@@ -169,28 +181,56 @@ def run_check(procam: ProCam, calibration: Any, detector: Any) -> CheckResult:
     procam.show(None)
     landed = [locate_cross(lit, dark, calibration.image_to_table, p, calibration.table_to_image)
               for p in pucks]
-    return CheckResult(ids, pucks, check_offsets_mm(pucks, landed))
+    return CheckResult(ids, pucks, check_offsets_mm(pucks, landed),
+                       moved_pucks(lit, ids, pucks, calibration, detector))
 
 
-def check_from_config(path: str) -> CheckResult:
-    """The check for the installation of config ``path``: its calibration, marker dictionary,
-    first camera source and the view's display. A ``synthetic_camera`` source is checked on the
-    simulated rig, with a projector at the view's size."""
+def moved_pucks(lit: np.ndarray, ids: np.ndarray, pucks_m: np.ndarray, calibration: Any,
+                detector: Any, limit_mm: float = MOVED_MM) -> np.ndarray:
+    """(N,) True for the pucks seen in the ``lit`` frame more than ``limit_mm`` from where the
+    dark frame had them (moved by a hand: their crosses cannot be compared)."""
+    from calibration.fits import diagonal_centres
+    from tracking.markers import detect_markers, refine_corners
+    found, corners = detect_markers(lit, detector)
+    moved = np.zeros(len(ids), bool)
+    if len(found) == 0:
+        return moved
+    corners = refine_corners(lit, corners)
+    now = diagonal_centres(calibration.image_to_table(corners.reshape(-1, 2)).reshape(-1, 4, 2))
+    where = {int(i): c for i, c in zip(found, now)}
+    for k, (pid, p) in enumerate(zip(ids, pucks_m)):
+        if int(pid) in where:
+            moved[k] = np.linalg.norm(where[int(pid)] - p) * 1e3 > limit_mm
+    return moved
+
+
+def check_inputs(cfg: dict, where: str) -> tuple[Any, Any, dict]:
+    """(calibration, marker detector, camera source options) for the check of a validated
+    config (``where`` names it in messages): its calibration, its marker dictionary and its
+    first ``camera`` or ``synthetic_camera`` source."""
     from calibration.files import load_calibration
-    from tabletop.config import load_config
     from tracking.markers import DetectorSettings, make_detector
-    cfg = load_config(path)
     if cfg.get("calibration") is None:
-        raise CalibrationInputError(f"{path}: calibration: none given; the check needs the "
+        raise CalibrationInputError(f"{where}: calibration: none given; the check needs the "
                                     "installation's calibration file")
     cal = load_calibration(cfg["calibration"])
+    cal.check_projector_size(tuple(cfg["view"]["size"]))
     from tabletop.plugins.camera import tracking_dictionary
     detector = make_detector(DetectorSettings(dictionary=tracking_dictionary(cfg)))
     cams = [s for s in cfg["sources"] if s["kind"] in ("camera", "synthetic_camera")]
     if not cams:
-        raise CalibrationInputError(f"{path}: sources: no camera or synthetic_camera source to "
+        raise CalibrationInputError(f"{where}: sources: no camera or synthetic_camera source to "
                                     "check through")
-    src = cams[0]
+    return cal, detector, cams[0]
+
+
+def check_from_config(path: str) -> CheckResult:
+    """The check for the installation of config ``path`` (see :func:`check_inputs`): a real
+    camera source live on the view's display; a ``synthetic_camera`` source on the simulated
+    rig, with a projector at the view's size."""
+    from tabletop.config import load_config
+    cfg = load_config(path)
+    cal, detector, src = check_inputs(cfg, path)
     view = cfg["view"]
     if src["kind"] == "synthetic_camera":
         procam = simulated_procam(src, cfg, tuple(view["size"]))
@@ -281,12 +321,12 @@ class LiveProCam:
 
 
 def live_projector(device: str, display: int, size: tuple[int, int] | None, calibration: Any,
-                   table: tuple[float, float] | None) -> Fit:
+                   table: tuple[float, float] | None) -> tuple[Fit, tuple[int, int]]:
     """``calibrate projector --live``: the pattern fullscreen on ``display``, camera ``device``
-    frames fitted until the fit is stable."""
+    frames fitted until the fit is stable; (the fit, the projector's (W, H) pixels)."""
     procam = LiveProCam(device, display, size)
     try:
-        return stable_projector_fit(procam, calibration, table)
+        return stable_projector_fit(procam, calibration, table), procam.size
     finally:
         procam.close()
 

@@ -75,6 +75,21 @@ class SimulatedProjector:
         """Table metres (N, 2) -> projector pixels (N, 2), exact."""
         return apply_homography(self.H, points_m)
 
+    def throw(self, camera: SyntheticCamera, image: np.ndarray | None) -> None:
+        """Show ``image`` (grey or BGR, this projector's size; None: off) on the table that
+        ``camera`` sees: its later frames show the light under the pucks."""
+        if image is None:
+            camera.set_projection(None)
+            return
+        grey = image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
+        s = self.s
+        level = (s.black + (1.0 - s.black) * grey.astype(np.float32) / 255.0) * s.brightness
+        # Ideal camera pixel -> table -> projector pixel: warp the projector image by the inverse.
+        M = camera.homography() @ inverse(self.H)
+        light = cv2.warpPerspective(level, M, (camera.w, camera.h), flags=cv2.INTER_LINEAR,
+                                    borderMode=cv2.BORDER_CONSTANT, borderValue=0.0)
+        camera.set_projection(light)
+
 
 class SimulatedRig:
     """A synthetic camera and a simulated projector over one table: ``show`` an image on the
@@ -98,18 +113,7 @@ class SimulatedRig:
     def show(self, image: np.ndarray | None) -> None:
         """Project ``image`` (grey or BGR, the projector's size); None switches it off."""
         self._shown = image
-        if image is None:
-            self.camera.set_projection(None)
-            return
-        grey = image if image.ndim == 2 else cv2.cvtColor(image, cv2.COLOR_BGR2GRAY)
-        s = self.projector.s
-        level = (s.black + (1.0 - s.black) * grey.astype(np.float32) / 255.0) * s.brightness
-        # Ideal camera pixel -> table -> projector pixel: warp the projector image by the inverse.
-        M = self.camera.homography() @ inverse(self.projector.H)
-        light = cv2.warpPerspective(level, M, (self.camera.w, self.camera.h),
-                                    flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
-                                    borderValue=0.0)
-        self.camera.set_projection(light)
+        self.projector.throw(self.camera, image)
 
     def grab(self) -> np.ndarray:
         """One camera frame (grey) of ``pucks`` on the table under the projector's light."""
@@ -167,27 +171,52 @@ class LensRenderer:
 
 
 def board_poses(K: np.ndarray, size: tuple[int, int], board_m: tuple[float, float], n: int,
-                seed: int = 0) -> list[tuple[np.ndarray, np.ndarray]]:
-    """``n`` board poses (rvec, tvec) a careful technician would take: the board's centre at
-    image positions cycling over the centre, the edges and the corners, tilted up to ~35
-    degrees each way, at distances where it fills half to two thirds of the image's width."""
+                seed: int = 0, dist: Sequence[float] | None = None
+                ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``n`` board poses (rvec, tvec) a technician following the README takes: cycling over the
+    image's centre, its four corners and its four edges; each tilted 25-40 degrees about another
+    direction; the board filling 45-65 % of the image's width. For a corner or an edge the
+    board is pushed out until its outline touches the image's border there (within 3 % of the
+    board's width either way, seen through the lens ``dist``), and squared up with the image's
+    edges in a corner: the corners and edges are where the lens bends most."""
     rng = np.random.default_rng(seed)
     w, h = size
-    spots = [(0.5, 0.5), (0.15, 0.15), (0.85, 0.15), (0.85, 0.85), (0.15, 0.85),
-             (0.5, 0.15), (0.85, 0.5), (0.5, 0.85), (0.15, 0.5)]
+    spots = [(0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0),
+             (0.5, 0.0), (1.0, 0.5), (0.5, 1.0), (0.0, 0.5)]
     f = float(K[0, 0])
+    d = np.zeros(5) if dist is None else np.asarray(dist, float)
+    bw, bh = board_m
+    outline = np.array([[0, 0, 0], [bw, 0, 0], [bw, bh, 0], [0, bh, 0]], float)
     out = []
     for i in range(n):
         u, v = spots[i % len(spots)]
-        u, v = u + rng.uniform(-0.04, 0.04), v + rng.uniform(-0.04, 0.04)
-        dist = f * board_m[0] / (rng.uniform(0.5, 0.65) * w)
-        ray = np.linalg.inv(K) @ np.array([u * w, v * h, 1.0])
-        centre = ray / ray[2] * dist
-        ax, ay = rng.uniform(-0.6, 0.6, 2)
-        rz = rng.uniform(-0.3, 0.3)
+        corner = u != 0.5 and v != 0.5
+        fill = rng.uniform(0.45, 0.65)
+        depth = f * bw / (fill * w)
+        # Tilted 25-40 degrees, each view about another axis (tilt is what fixes the principal
+        # point and the tangential distortion, which a flat board leaves free).
+        tilt, axis = rng.uniform(0.44, 0.7), rng.uniform(0.0, 2 * math.pi)
+        ax, ay = tilt * math.cos(axis), tilt * math.sin(axis)
+        # Squared up to the image's edges in a corner (a turned board leaves the corner empty).
+        rz = rng.uniform(-0.3, 0.3) * (0.2 if corner else 1.0)
         R = cv2.Rodrigues(np.array([ax, ay, 0.0]))[0] @ cv2.Rodrigues(np.array([0, 0, rz]))[0]
-        tvec = centre - R @ np.array([board_m[0] / 2, board_m[1] / 2, 0.0])
-        out.append((cv2.Rodrigues(R)[0].ravel(), tvec))
+        rvec = cv2.Rodrigues(R)[0].ravel()
+        start = (np.array([0.5, 0.5]) + 0.7 * (np.array([u, v]) - 0.5)) * (w, h)
+        ray = np.linalg.inv(K) @ np.array([start[0], start[1], 1.0])
+        tvec = ray / ray[2] * depth - R @ np.array([bw / 2, bh / 2, 0.0])
+        over = rng.uniform(-0.03, 0.03, 2) * fill * w  # > 0: the outline beyond the border
+        for _ in range(6):  # slide the board parallel to the image until it touches the border
+            px = cv2.projectPoints(outline, rvec, tvec, K, d)[0].reshape(-1, 2)
+            shift = np.zeros(2)
+            for axis, (pos, extent) in enumerate(((u, w), (v, h))):
+                if pos == 0.0:
+                    shift[axis] = -over[axis] - px[:, axis].min()
+                elif pos == 1.0:
+                    shift[axis] = (extent - 1 + over[axis]) - px[:, axis].max()
+            if np.abs(shift).max() < 0.5:
+                break
+            tvec = tvec + np.array([shift[0], shift[1], 0.0]) * tvec[2] / f
+        out.append((rvec, tvec))
     return out
 
 

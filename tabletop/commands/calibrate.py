@@ -149,7 +149,8 @@ def save(out: str, **entries: Any) -> None:
     errors.update(entries.pop("errors", {}))
     base = {} if old is None else dict(
         camera_to_table=old.camera_to_table, table_to_projector=old.table_to_projector,
-        camera_matrix=old.camera_matrix, distortion=old.distortion, image_size=old.image_size)
+        camera_matrix=old.camera_matrix, distortion=old.distortion, image_size=old.image_size,
+        projector_size=old.projector_size)
     base.update(entries)
     base.setdefault("camera_to_table", None)
     cal = Calibration(reprojection_error=errors,
@@ -220,7 +221,7 @@ def camera_main(args: argparse.Namespace) -> int:
     if len(views) < MIN_VIEWS:
         raise CalibrateError(f"{len(views)} usable views of the board ({spec.text()}); at "
                              f"least {MIN_VIEWS} are needed, from all over the image")
-    from calibration.charuco import MAX_RMS_PX, solve_lens
+    from calibration.charuco import MAX_RMS_PX, REGION_VIEWS, coverage_gaps, solve_lens
     solve = solve_lens(board, views, size)
     for name, e in zip(names, solve.view_rms_px):
         print(f"  {name}: {e:.3f} px")
@@ -231,6 +232,11 @@ def camera_main(args: argparse.Namespace) -> int:
           f"{K[1, 2]:.1f} px")
     refuse_or_force(solve.rms_px > MAX_RMS_PX, f"RMS reprojection error {solve.rms_px:.3f} px "
                     f"is over {MAX_RMS_PX} px", args.force)
+    gaps = coverage_gaps([c for c, _ in views], size)
+    where = ", ".join(f"{name} ({n} view{'' if n == 1 else 's'})" for name, n in gaps)
+    refuse_or_force(bool(gaps), f"fewer than {REGION_VIEWS} views put board corners in the "
+                    f"image's {where}: hold the board there too, where the lens bends most",
+                    args.force)
     save(args.out, camera_matrix=K, distortion=solve.distortion, image_size=size,
          errors={"intrinsics_px": solve.rms_px})
     return 0
@@ -318,7 +324,7 @@ def projector_main(args: argparse.Namespace) -> int:
     table = parse_pair(args.table, "--table", "metres") if args.table else None
     if args.live:
         size = parse_pair(args.size, "--size", "pixels", integer=True) if args.size else None
-        fit = live_projector(args.device, int(args.display), size, cal, table)
+        fit, size = live_projector(args.device, int(args.display), size, cal, table)
     else:
         if not args.pattern or not args.image:
             raise CalibrateError("--pattern PATTERN.png and at least one --image IMAGE are "
@@ -328,12 +334,14 @@ def projector_main(args: argparse.Namespace) -> int:
         for name, img in images:
             same_size(cal, img, name)
         fit = fit_projector_images(pattern, args.pattern, images, cal, table)
+        size = (pattern.shape[1], pattern.shape[0])
     print(f"projector fit: residual {fit.rms_mm:.2f} mm RMS ({np.sqrt(np.mean(fit.residual ** 2)):.2f} "
           f"projector px), {fit.worst_mm:.2f} mm worst, {len(fit.residual)} pattern corners")
     refuse_or_force(fit.rms_mm > MAX_PROJECTOR_MM, f"projector residual {fit.rms_mm:.2f} mm "
                     f"RMS is over {MAX_PROJECTOR_MM} mm", args.force)
     save(args.out, camera_to_table=cal.camera_to_table, camera_matrix=cal.camera_matrix,
          distortion=cal.distortion, image_size=cal.image_size, table_to_projector=fit.H,
+         projector_size=size,
          errors={"table_to_projector_px": float(np.sqrt(np.mean(fit.residual ** 2)))})
     return 0
 

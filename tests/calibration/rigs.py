@@ -26,7 +26,7 @@ def board_views(n: int, seed: int = 2, size: tuple[int, int] = LENS_SIZE,
     renderer = LensRenderer(K, dist, size, seed=seed)
     board_m = (spec.cols * spec.square_m, spec.rows * spec.square_m)
     views = [renderer.view(texture, SQUARE_PX, spec.square_m, r, t)
-             for r, t in board_poses(K, size, board_m, n, seed)]
+             for r, t in board_poses(K, size, board_m, n, seed, dist)]
     return K, dist, views
 
 

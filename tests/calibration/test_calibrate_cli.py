@@ -30,7 +30,7 @@ def refused(capsys, *argv, words=""):
 
 @pytest.fixture(scope="module")
 def views():
-    return board_views(6, seed=2)
+    return board_views(14, seed=2)  # two views in each corner of the image
 
 
 def test_camera_from_a_folder(tmp_path, capsys, views):
@@ -41,7 +41,7 @@ def test_camera_from_a_folder(tmp_path, capsys, views):
     code, out, err = run(capsys, "camera", "--images", tmp_path / "v", "--out", tmp_path / "c.yaml")
     assert code == 0, err
     assert "skipped zz-blank.png: 0 board corners found" in out
-    assert "view-05.png:" in out and "RMS reprojection error" in out
+    assert "view-13.png:" in out and "RMS reprojection error" in out
     cal = load_calibration(tmp_path / "c.yaml", require_table=False)
     assert abs(cal.camera_matrix[0, 0] / K[0, 0] - 1) < 0.03
     assert cal.image_size == (640, 480) and cal.camera_to_table is None
@@ -65,6 +65,20 @@ def test_camera_refusals(tmp_path, capsys, views):
     refused(capsys, "camera", "--images", tmp_path / "few", "--out", tmp_path / "c.yaml",
             "--board", "7x5x40", words="--board")
     assert not (tmp_path / "c.yaml").exists()
+
+
+def test_views_missing_the_image_corners_are_refused_unless_forced(tmp_path, capsys, views):
+    """Six views (the centre, each corner once, the top edge): the corners where the lens bends
+    most have one view each, the edges below and beside none of their own."""
+    _, _, imgs = views
+    write_views(tmp_path / "six", imgs[:6])
+    out = tmp_path / "c.yaml"
+    line = refused(capsys, "camera", "--images", tmp_path / "six", "--out", out,
+                   words="fewer than 2 views put board corners in the image's top-left corner "
+                         "(1 view)")
+    assert "bottom-right corner (1 view)" in line and "--force" in line and not out.exists()
+    code, stdout, _ = run(capsys, "camera", "--images", tmp_path / "six", "--out", out, "--force")
+    assert code == 0 and "kept because of --force" in stdout and out.exists()
 
 
 def test_camera_error_threshold_refused_unless_forced(tmp_path, capsys, views):

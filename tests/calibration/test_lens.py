@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from calibration.charuco import (DEFAULT_BOARD, MIN_CORNERS, CalibrationInputError, board_image,
-                                 coverage, detect_board, make_board, parse_board, solve_lens)
+                                 coverage, coverage_gaps, detect_board, make_board, parse_board,
+                                 solve_lens)
 from calibration.transforms import fit_homography, residuals
 
 from .rigs import LENS_SIZE, board_views
@@ -14,17 +15,20 @@ from .rigs import LENS_SIZE, board_views
 
 @pytest.fixture(scope="module")
 def solved():
+    """20 views as the README asks for them (tracking.rig.board_poses: the centre, every corner
+    and edge of the image, tilted 25-40 degrees); the first of the benchmark's ten sets."""
     K, dist, views = board_views(20, seed=1)
     board = make_board(parse_board(DEFAULT_BOARD))
     det = cv2.aruco.CharucoDetector(board)
     found = [detect_board(det, v) for v in views]
     used = [f for f in found if len(f[1]) >= MIN_CORNERS]
+    assert coverage_gaps([c for c, _ in used], LENS_SIZE) == []  # the command would take it
     return K, dist, solve_lens(board, used, LENS_SIZE), len(used)
 
 
 def test_focal_and_principal_point_recovered(solved):
     K, _, s, used = solved
-    assert used >= 18
+    assert used >= 19
     assert abs(s.camera_matrix[0, 0] / K[0, 0] - 1) <= 0.01
     assert abs(s.camera_matrix[1, 1] / K[1, 1] - 1) <= 0.01
     assert np.abs(s.camera_matrix[:2, 2] - K[:2, 2]).max() <= 2.0
@@ -70,6 +74,18 @@ def test_bad_board_specs_are_refused_in_one_line(text, words):
     with pytest.raises(CalibrationInputError) as exc:
         parse_board(text)
     assert words in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_coverage_gaps_name_the_image_corners_and_edges_without_views():
+    w, h = 640, 480
+    top_left = np.array([[10.0, 10.0], [100.0, 60.0]])  # top-left corner cell only
+    top_edge = np.array([[320.0, 20.0]])
+    centre = np.array([[320.0, 240.0]])
+    gaps = dict(coverage_gaps([top_left, top_left, top_edge, centre], (w, h)))
+    assert "top-left corner" not in gaps and gaps["top edge"] == 1
+    assert gaps["bottom-right corner"] == 0 and len(gaps) == 7
+    ring = [np.array([[x, y]]) for x in (5.0, 320.0, 635.0) for y in (5.0, 240.0, 475.0)]
+    assert coverage_gaps(ring + ring, (w, h)) == []
 
 
 def test_coverage_counts_views_per_cell():

@@ -125,6 +125,8 @@ def test_capture_window_grabs_views_and_fills_the_coverage_map():
     colours = coverage_colours(counts)
     assert counts.max() >= 1 and (counts == 0).any() and len(win.views) == 2
     assert (colours[counts == 0] == (220, 40, 40)).all() and (colours[counts == 1] == (230, 170, 30)).all()
+    needs = win.needs((640, 480))  # the centre and the top-left corner only: the rest is short
+    assert needs.startswith("still needed (2 views each): ") and "bottom-right corner (0)" in needs
 
 
 def test_sprites_turn_with_the_projector_homography():
