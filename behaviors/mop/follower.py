@@ -70,7 +70,8 @@ class FollowState:
     ``restarted``: a new performance of ``best`` began at this sample; ``likely``: while a
     gesture unfolds, the templates not refused, likeliest first, as (name, probability,
     progress): early feedback, whether or not anything is valid yet; ``scale_by``: each
-    template's estimated performance size (1 = as recorded).
+    template's estimated performance size (1 = as recorded); ``holding``: ``best`` is where its
+    template holds still (or at its end), so a performer resting there is holding the action.
     """
 
     best: str
@@ -85,6 +86,7 @@ class FollowState:
     loglik_by: dict[str, float] = field(default_factory=dict)
     likely: tuple[tuple[str, float, float], ...] = ()
     scale_by: dict[str, float] = field(default_factory=dict)
+    holding: bool = False
 
 
 class ActionFollower:
@@ -199,7 +201,7 @@ class ActionFollower:
             keep = np.rint(b.source[b.starts[i]:b.starts[i] + b.lengths[i]] * (len(a) - 1)).astype(int)
             parts.append(np.hstack([b.template(i), self.tangent * t[keep]]))
         return TemplateBank(b.names, np.ascontiguousarray(np.concatenate(parts)), b.starts,
-                            b.lengths, b.center, b.scale, b.first, b.source, b.units)
+                            b.lengths, b.center, b.scale, b.first, b.source, b.units, b.holds)
 
     def _onset_states(self) -> np.ndarray:
         """Per template, the first state at least ``onset`` sigmas (RMS per feature) from its first
@@ -275,7 +277,7 @@ class ActionFollower:
         held = self._state or self._idle_state()
         self._state = FollowState(held.best, held.progress, held.variance, held.probabilities,
                                   held.progress_by, False, held.loglik, held.distance, False,
-                                  held.loglik_by, held.likely, held.scale_by)
+                                  held.loglik_by, held.likely, held.scale_by, held.holding)
         return self._state
 
     def _inputs(self, x: np.ndarray) -> np.ndarray:
@@ -440,7 +442,8 @@ class ActionFollower:
             probabilities=dict(zip(names, p.tolist())), progress_by=progress_by,
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
             loglik_by=dict(zip(names, mean_ll.tolist())), likely=likely,
-            scale_by=dict(zip(names, self._size.tolist())))
+            scale_by=dict(zip(names, self._size.tolist())),
+            holding=bool(b.holds[int(round(g[bi]))] or progress[bi] >= 0.9))
         if np.any(self._engaged):
             self._ended = -1
         # spotting: the gesture ended (its end reached, or it rests near its end), or every

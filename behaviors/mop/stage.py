@@ -254,9 +254,10 @@ class MopStage:
                 self.take.add(x)
         for i, key in enumerate(self._keys):
             state = self._states.get(key)
-            holding = state is not None and bool(state.valid)  # type: ignore[attr-defined]
-            # a rest ends a gesture, unless an action is being held (a raise-hold-return held
-            # longer than the rest time): the follower itself ends it when it rests at its end
+            holding = (state is not None and bool(state.valid)  # type: ignore[attr-defined]
+                       and bool(state.holding))  # type: ignore[attr-defined]
+            # a rest ends a gesture, unless an action is held where it holds (a raise, hold,
+            # return held longer than the rest time); resting elsewhere ends it
             self._resting[key] = resting = self.performers[key].resting and not holding
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
