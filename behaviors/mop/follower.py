@@ -113,7 +113,7 @@ class ActionFollower:
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
-                 tangent: float = 0.0) -> None:
+                 tangent: float = 0.0, lost_samples: int = 6) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -147,6 +147,7 @@ class ActionFollower:
         self.confirm, self.end, self.switch_margin = int(confirm), float(end), float(switch_margin)
         self.still_samples = int(still_samples)
         self.min_probability = float(min_probability)
+        self.lost_samples = int(lost_samples)
         self.tangent = float(tangent)
         self._fbank = self._with_tangents(templates)
         self._zdim = int(self._fbank.means.shape[1])
@@ -464,7 +465,7 @@ class ActionFollower:
             elif valid and still and progress[bi] >= 0.9:
                 self._restart_here(x, forward, offset)
                 self._ended = bi
-            elif self._lost >= self.still_samples:
+            elif self._lost >= self.lost_samples:
                 self._restart_here(x, forward, offset)
             elif still and not np.any(self._engaged):
                 self._restart_here(x, forward, offset, still=True)
