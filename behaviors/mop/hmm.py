@@ -3,9 +3,11 @@
 A template is one recording of an action, ``(n, d)`` samples regularly spaced in time. Each sample
 becomes one state whose observation probability is a Gaussian centred on the (standardised)
 sample with a shared relative ``sigma`` (equation 1). Each template is standardised by its *own*
-spread (one number, the RMS spread of its columns in the features' units), so how far a
-performance may stray from an action depends on that action alone, not on the other templates
-loaded beside it, and is the same along every column of one unit (x and y of a puck). The units
+spread (each column's spread in the features' units, at least half the template's RMS spread),
+so how far a performance may stray from an action depends on that action alone, not on the other
+templates loaded beside it. Measured (``tests/mop/test_live.py``, the bird alone on its puck):
+one isotropic spread per template (x and y alike) let the bird take 3 of 17 other gestures at
+60% of them (the zigzag is a wave that swings wider in y); per column, 0 of 17. The units
 are given (a puck's metres) or, when unknown, the pooled per-column spread of the set
 (:func:`behaviors.mop.features.fit_scale`), so features of any scale work without tuning.
 
@@ -89,7 +91,8 @@ class TemplateBank:
     are the states of template ``names[k]``. ``center`` and ``scale`` (K, d) map a raw sample x to
     ``(x - center[k]) / scale[k]`` for template k; ``first`` (K, d) is each template's first
     sample (raw units); ``source`` (one per state) the progress (0..1) in the recorded template
-    of each state (holds are compressed); ``units`` (d,) the columns' units."""
+    of each state (holds are compressed); ``units`` (d,) the columns' units; ``holds`` (one per
+    state) True for the states of a compressed hold."""
 
     names: tuple[str, ...]
     means: np.ndarray
@@ -100,6 +103,7 @@ class TemplateBank:
     first: np.ndarray | None = None
     source: np.ndarray | None = None
     units: np.ndarray | None = None
+    holds: np.ndarray | None = None
 
     @property
     def dim(self) -> int:
@@ -160,27 +164,34 @@ def _vector(value, d: int, what: str, positive: bool = False) -> np.ndarray | No
     return v
 
 
-def compress_holds(states: np.ndarray, tolerance: float) -> np.ndarray:
-    """Indices of the samples kept from ``states`` (n, d, standardised): a run of more than three
-    samples within ``tolerance`` (RMS per column) of its first sample keeps its first, middle
-    and last samples only."""
+def compress_holds(states: np.ndarray, tolerance: float) -> tuple[np.ndarray, np.ndarray]:
+    """Indices of the samples kept from ``states`` (n, d, standardised), and which of them hold:
+    a run of more than three samples within ``tolerance`` (RMS per column) of its first sample
+    keeps its first, middle and last samples only."""
     n = states.shape[0]
-    keep, i = [], 0
+    keep: dict[int, bool] = {}
+    i = 0
     while i < n:
         j = i + 1
         while j < n and np.sqrt(np.mean((states[j] - states[i]) ** 2)) <= tolerance:
             j += 1
-        keep += [i, (i + j - 1) // 2, j - 1] if j - i > 3 else list(range(i, j))
+        if j - i > 3:
+            keep.update({i: True, (i + j - 1) // 2: True, j - 1: True})
+        else:
+            keep.update({m: keep.get(m, False) for m in range(i, j)})
         i = j
-    return np.asarray(sorted(set(keep)), dtype=np.intp)
+    idx = np.asarray(sorted(keep), dtype=np.intp)
+    return idx, np.array([keep[int(m)] for m in idx], dtype=bool)
 
 
 def build_bank(templates: Mapping[str, np.ndarray], relative_floor: float = 0.05,
                min_scale: np.ndarray | None = None, units: np.ndarray | None = None,
-               hold_tolerance: float = 0.02) -> TemplateBank:
+               hold_tolerance: float = 0.02, column_floor: float = 0.5) -> TemplateBank:
     """Validate, standardise (each template by its own spread, see the module docstring) and
     stack a template set, its holds compressed. ``relative_floor`` floors the pooled units when
-    they are not given; ``min_scale`` (d,) floors every template's scale (the input's noise)."""
+    they are not given; ``min_scale`` (d,) floors every template's scale (the input's noise);
+    ``column_floor`` floors each column's spread at that fraction of the template's RMS spread
+    (a line drawn along x still tolerates some y)."""
     checked = check_templates(templates)
     arrays = list(checked.values())
     d = arrays[0].shape[1]
@@ -188,28 +199,31 @@ def build_bank(templates: Mapping[str, np.ndarray], relative_floor: float = 0.05
     given = _vector(units, d, "units", positive=True)
     if given is None:
         given = fit_scale(arrays, relative_floor)[1]
-    centers, scales, firsts, means, sources, lengths = [], [], [], [], [], []
+    centers, scales, firsts, means, sources, lengths, holds = [], [], [], [], [], [], []
     for a in arrays:
         center = a.mean(axis=0)
-        rho = math.sqrt(float(np.mean(((a - center) / given) ** 2)))
-        scale = given * (rho if rho > 1e-12 else 1.0)
+        spread = (a - center).std(axis=0) / given
+        rho = math.sqrt(float(np.mean(spread ** 2)))
+        scale = given * (np.maximum(spread, column_floor * rho) if rho > 1e-12 else 1.0)
         if ms is not None:
             scale = np.maximum(scale, ms)
         z = (a - center) / scale
-        keep = compress_holds(z, hold_tolerance) if hold_tolerance > 0 else np.arange(len(a))
+        keep, held = (compress_holds(z, hold_tolerance) if hold_tolerance > 0
+                      else (np.arange(len(a)), np.zeros(len(a), dtype=bool)))
         if len(keep) < 2:
-            keep = np.array([0, len(a) - 1])
+            keep, held = np.array([0, len(a) - 1]), np.ones(2, dtype=bool)
         centers.append(center)
         scales.append(scale)
         firsts.append(a[0])
         means.append(z[keep])
         sources.append(keep / (len(a) - 1.0))
         lengths.append(len(keep))
+        holds.append(held)
     lengths_a = np.array(lengths, dtype=np.intp)
     starts = np.concatenate([[0], np.cumsum(lengths_a)[:-1]]).astype(np.intp)
     return TemplateBank(tuple(checked), np.ascontiguousarray(np.concatenate(means)), starts,
                         lengths_a, np.array(centers), np.array(scales), np.array(firsts),
-                        np.concatenate(sources), given)
+                        np.concatenate(sources), given, np.concatenate(holds))
 
 
 def emission_loglik(z: np.ndarray, states: np.ndarray, sigma: float) -> np.ndarray:

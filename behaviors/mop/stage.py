@@ -9,7 +9,8 @@ it performs (a template shared by several characters is followed once). Each cha
 
 Rest: while a performer rests (:attr:`Performer.resting`: its puck has stayed where it settled
 for ``rest_time``, its finger is lifted) its follower is reset at every sample and drives
-nothing: a puck at rest sits at the first sample of every template (gestures start where the
+nothing, unless its action is valid and held where its template holds (``FollowState.holding``:
+a raise, hold, return whose hold outlasts the rest time): a puck at rest sits at the first sample of every template (gestures start where the
 puck rested), and a gesture that ended where it began stays matched at progress 1 for as long as
 the puck stays. Each gesture after a rest is thus followed from a clean start, so what the puck
 did before (the slide back home, an unknown motion) cannot linger in the evidence.
@@ -254,9 +255,10 @@ class MopStage:
                 self.take.add(x)
         for i, key in enumerate(self._keys):
             state = self._states.get(key)
-            holding = state is not None and bool(state.valid)  # type: ignore[attr-defined]
-            # a rest ends a gesture, unless an action is being held (a raise-hold-return held
-            # longer than the rest time): the follower itself ends it when it rests at its end
+            holding = (state is not None and bool(state.valid)  # type: ignore[attr-defined]
+                       and bool(state.holding))  # type: ignore[attr-defined]
+            # a rest ends a gesture, unless an action is held where it holds (a raise, hold,
+            # return held longer than the rest time); resting elsewhere ends it
             self._resting[key] = resting = self.performers[key].resting and not holding
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
