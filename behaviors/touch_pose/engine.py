@@ -108,6 +108,8 @@ class TouchPose:
         self.clock: ActionClock | None = None
         self.action_base: tuple[np.ndarray, float] = (self.base, self.yaw)
         self.last_t: float | None = None
+        self._np = len(body.names)
+        self._memo: dict[int, tuple[Pose, np.ndarray]] = {}
 
     # --- view ----------------------------------------------------------------------------------
 
@@ -167,7 +169,7 @@ class TouchPose:
         """Tracking control (section 6) of the current target for ``dt`` seconds."""
         held = {f.part for f in self.fingers.values() if f.part is not None}
         out = self.tracker.step(self.target, dt)
-        grounded = self._grounded(self.target)
+        grounded = self._grounded(self.target, self._points(self.target)[self._np:])
         if self.physics is not None:
             resets = self.physics.resets
             sim = self.physics.step(out, dt)
@@ -192,12 +194,12 @@ class TouchPose:
     def table_points(self) -> np.ndarray:
         """The output posture's joints and parts projected on the table (19, 2; metres), in
         the order :attr:`Humanoid.bones` indexes."""
-        return self.camera.table(self.body.points(self.output))
+        return self.camera.table(self._points(self.output))
 
     def frame(self, t: float) -> dict:
         """The output record of DESIGN.md's ``pose`` for the current output posture."""
-        pts = self.body.points(self.output)
-        parts = pts[len(self.body.names):]
+        pts = self._points(self.output)
+        parts = pts[self._np:]
         names = list(self.body.names) + list(PARTS)
         world = pts @ MODEL_TO_WORLD.T
         u = self.clock.u if self.mode == "action" and self.clock is not None else None
@@ -212,7 +214,7 @@ class TouchPose:
         for i in [i for i in self.fingers if i not in touches]:
             del self.fingers[i]
         free_before = {i: f.table.copy() for i, f in self.fingers.items() if f.part is None}
-        parts = self.camera.table(self.body.parts(self.output))
+        parts = self.camera.table(self._points(self.output)[self._np:])
         taken = False
         for i, (x, y) in touches.items():
             xy = np.array([float(x), float(y)])
@@ -239,6 +241,18 @@ class TouchPose:
         held = [(f.part, f.path[-1]) for f in self.fingers.values() if f.part is not None]
         return [p for p, _ in held], np.array([s for _, s in held]).reshape(-1, 2)
 
+    def _points(self, pose: Pose) -> np.ndarray:
+        """:meth:`Humanoid.points` of ``pose``, remembered for the last few pose objects (the
+        target and output are each read several times a frame and never changed in place)."""
+        hit = self._memo.get(id(pose))
+        if hit is not None and hit[0] is pose:
+            return hit[1]
+        if len(self._memo) >= 4:
+            self._memo.pop(next(iter(self._memo)))
+        pts = self.body.points(pose)
+        self._memo[id(pose)] = (pose, pts)
+        return pts
+
     def _grounded(self, pose: Pose, parts: np.ndarray | None = None) -> set[str]:
         parts = self.body.parts(pose) if parts is None else parts
         return {p for p in ("left_foot", "right_foot") if parts[PARTS.index(p)][1] < GROUND}
@@ -254,7 +268,7 @@ class TouchPose:
             cur = parts[PARTS.index(name)]
             goals[name] = limit_goal(cur, self.camera.ray_point(s, cur))
         if keep_feet:
-            prev = self.body.parts(self.target)
+            prev = self._points(self.target)[self._np:]
             for foot in self._grounded(self.target, prev):
                 if foot not in goals:
                     goals[foot] = prev[PARTS.index(foot)]
@@ -277,9 +291,10 @@ class TouchPose:
 
     def _recognise(self, view: np.ndarray):
         excluded = self.excluded()
+        primary = {a.spec.part for a in self.m.actions if a.name not in excluded}
         for f in self.fingers.values():
-            if f.part is None or len(f.times) < 3:
-                continue
+            if f.part not in primary or len(f.times) < 3:
+                continue  # no action this part could start from this view
             match = recognise(self.m.actions, f.part, np.array(f.path), np.array(f.times),
                               view, excluded)
             if match is not None:
