@@ -114,8 +114,14 @@ class LearnedModel:
     def screen_parts(self, index: np.ndarray, parts: np.ndarray, view: np.ndarray,
                      offset: np.ndarray) -> np.ndarray:
         """Screen points (len(index), len(parts), 2) of samples' parts placed on the character:
-        ``view`` (2, 3) maps relative-frame points to the screen, ``offset`` (2,) adds after."""
-        return self.parts[index][:, parts] @ view.T + offset
+        ``view`` (2, 3) maps relative-frame points to the screen, ``offset`` (2,) adds after.
+        Every sample's parts are projected once per view and placement (they change only when
+        the camera turns or the character's base moves)."""
+        key = view.tobytes() + offset.tobytes()
+        if self.__dict__.get("_screen_key") != key:
+            self._screen = self.parts @ view.T + offset
+            self._screen_key = key
+        return self._screen[index][:, parts]
 
     def constraint_distance(self, index: np.ndarray, parts: np.ndarray, targets: np.ndarray,
                             view: np.ndarray, offset: np.ndarray) -> np.ndarray:
