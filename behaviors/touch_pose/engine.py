@@ -25,12 +25,12 @@ from typing import Mapping
 
 import numpy as np
 
-from behaviors.touch_pose.action import (EXCLUDE_DEG, ActionClock, ActionModel, build_action,
-                                         recognise)
-from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Humanoid, Pose, yaw_of
+from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, recognise
+from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, yaw_of
 from behaviors.touch_pose.ik import CCD, limit_goal
-from behaviors.touch_pose.latent import Blend, LearnedModel, yaw_view
-from behaviors.touch_pose.samples import ACTIONS, place, posing_samples, standing_pose
+from behaviors.touch_pose.latent import Blend, yaw_view
+from behaviors.touch_pose.models import Models, load_or_build
+from behaviors.touch_pose.samples import place
 from behaviors.touch_pose.tracking import PhysicalEffect, Tracker, apply_effect, free_segments
 
 #: Height (m) under which a foot counts as on the ground.
@@ -43,26 +43,15 @@ PATH_S = 2.5
 ROAM = 1.0
 
 
-@dataclass
-class Models:
-    """Everything learned once and shared by any number of characters."""
-
-    body: Humanoid
-    posing: LearnedModel
-    actions: list[ActionModel]
-    stand: Pose
-
-
 _MODELS: Models | None = None
 
 
 def learned_models() -> Models:
-    """The humanoid, posing model and action models (built once per process, a few seconds)."""
+    """The humanoid, posing model and action models (once per process: from the user's cache
+    folder when learned before for the same inputs, else learned, a few seconds, and kept)."""
     global _MODELS
     if _MODELS is None:
-        body = Humanoid()
-        _MODELS = Models(body, LearnedModel(body, posing_samples(body)),
-                         [build_action(body, s) for s in ACTIONS], standing_pose(body))
+        _MODELS = load_or_build()[0]
     return _MODELS
 
 

@@ -74,6 +74,9 @@ class LearnedModel:
     ``times``: generalised time (0..1) of each sample for an action model, else None.
     """
 
+    #: What :meth:`arrays` stores and :meth:`from_arrays` needs: everything learned.
+    STORED = ("rots", "roots", "times", "parts", "distance", "latent", "per_cell")
+
     def __init__(self, body: Humanoid, poses: list[Pose], times: np.ndarray | None = None,
                  dims: int = 2, per_cell: float = 2.0) -> None:
         self.body = body
@@ -84,8 +87,29 @@ class LearnedModel:
         pts = np.array([aligned_points(body, p) for p in poses])
         self.distance = pose_distances(pts)
         self.latent = classical_mds(self.distance, dims)
+        self.per_cell = float(per_cell)
+        self._grid()
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The learned arrays (see :data:`STORED`), e.g. to keep on disk."""
+        return {k: np.asarray(getattr(self, k)) for k in self.STORED}
+
+    @classmethod
+    def from_arrays(cls, body: Humanoid, arrays: dict[str, np.ndarray]) -> "LearnedModel":
+        """The model learned earlier whose :meth:`arrays` these are (the grid is rebuilt)."""
+        self = cls.__new__(cls)
+        self.body = body
+        for k in cls.STORED:
+            setattr(self, k, np.array(arrays[k], dtype=float))
+        self.per_cell = float(self.per_cell)
+        self._grid()
+        return self
+
+    def _grid(self) -> None:
+        """Cells over the latent space's bounding box, a representative per cell, neighbours."""
+        k, dims = self.latent.shape
         lo, hi = self.latent.min(axis=0), self.latent.max(axis=0)
-        g = max(1, int(math.ceil((len(poses) / per_cell) ** (1.0 / dims))))
+        g = max(1, int(math.ceil((k / self.per_cell) ** (1.0 / dims))))
         self.grid = g
         span = np.where(hi - lo > 1e-12, hi - lo, 1.0)
         cell = np.minimum(((self.latent - lo) / span * g).astype(int), g - 1)
