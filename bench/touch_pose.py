@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import sys
+import tempfile
 import time
 from importlib import metadata
 from pathlib import Path
@@ -22,7 +23,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 
 from bench.common import emit, stats_ms  # noqa: E402
-from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
+from behaviors.touch_pose.engine import TouchPose  # noqa: E402
+from behaviors.touch_pose.models import PREFIX, build_models, input_key, load_or_build, save  # noqa: E402,E501
 
 ROUNDS = 400
 DT = 1.0 / 30.0
@@ -62,8 +64,15 @@ def interleaved_both(configs: dict, rounds: int) -> tuple[dict, dict]:
 
 def main() -> None:
     t0 = time.perf_counter()
-    models = learned_models()
+    learned = build_models()
     learn_s = time.perf_counter() - t0
+    with tempfile.TemporaryDirectory() as folder:  # not the user's cache folder
+        key = input_key()
+        save(learned, Path(folder) / f"{PREFIX}{key[:32]}.npz", key)
+        t0 = time.perf_counter()
+        models, how = load_or_build(Path(folder))
+        cache_s = time.perf_counter() - t0
+    assert how == "cache"
     one = Driver(models, ("right_hand",))
     three = Driver(models, ("right_hand", "left_hand", "left_foot"))
     act = Driver(models, ())
@@ -121,6 +130,7 @@ def main() -> None:
     figures.update({f"{k}_cpu_{m}": round(v, 4) for k, s in cpu.items()
                     for m, v in stats_ms(s).items()})
     figures["learn_models_s"] = round(learn_s, 3)
+    figures["load_cached_models_s"] = round(cache_s, 3)
     figures["physics_resets"] = sum(d.e.physics.resets for d in (one, three, act, track, whole,
                                                                  whole_act))
     stages = ("posing_3_touches", "action_control", "tracking_physics")

@@ -25,7 +25,7 @@ from typing import Mapping
 
 import numpy as np
 
-from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, recognise
+from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel, recognise
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, yaw_of
 from behaviors.touch_pose.ik import CCD, limit_goal
 from behaviors.touch_pose.latent import Blend, yaw_view
@@ -95,6 +95,7 @@ class TouchPose:
         self.fingers: dict[int, Finger] = {}
         self.mode = "posing"
         self.clock: ActionClock | None = None
+        self.action_blend: tuple[ActionModel, Blend] | None = None
         self.action_base: tuple[np.ndarray, float] = (self.base, self.yaw)
         self.last_t: float | None = None
         self._np = len(body.names)
@@ -276,6 +277,7 @@ class TouchPose:
         if match is not None:
             self.mode = "action"
             self.clock = ActionClock(match.action, match.start_u)
+            self.action_blend = None
             self.action_base = (self.base.copy(), self.yaw)
 
     def _recognise(self, view: np.ndarray):
@@ -300,9 +302,12 @@ class TouchPose:
         if touching:
             view, offset = yaw_view(self.camera.matrix, base, yaw)
             idx = np.array([PARTS.index(n) for n in names])
-            synth = a.model.synthesize(idx, targets, view, offset).time
+            self.action_blend = (a, a.model.synthesize(idx, targets, view, offset))
+            synth = self.action_blend[1].time
         u = clock.step(dt, synth, touching)
-        blend: Blend = a.model.at_time(None, u)
+        # the sample motions' weights of this action's last synthesis are kept (equal before)
+        last = self.action_blend[1] if self.action_blend and self.action_blend[0] is a else None
+        blend: Blend = a.model.at_time(last, u)
         pose = place(blend.pose, base, yaw)
         self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False)
         if clock.done:

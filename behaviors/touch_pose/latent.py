@@ -75,14 +75,16 @@ class LearnedModel:
     """
 
     #: What :meth:`arrays` stores and :meth:`from_arrays` needs: everything learned.
-    STORED = ("rots", "roots", "times", "parts", "distance", "latent", "per_cell")
+    STORED = ("rots", "roots", "times", "motion", "parts", "distance", "latent", "per_cell")
 
     def __init__(self, body: Humanoid, poses: list[Pose], times: np.ndarray | None = None,
-                 dims: int = 2, per_cell: float = 2.0) -> None:
+                 dims: int = 2, per_cell: float = 2.0, motion: np.ndarray | None = None) -> None:
         self.body = body
         self.rots = np.array([p.rots for p in poses])
         self.roots = np.array([p.root for p in poses])
         self.times = np.zeros(len(poses)) if times is None else np.asarray(times, dtype=float)
+        #: the sample motion each sample comes from (0, 1, ...; each in time order)
+        self.motion = np.zeros(len(poses), dtype=int) if motion is None else np.asarray(motion, int)
         self.parts = np.array([body.parts(p) for p in poses])  # (K, 6, 3) relative frame
         pts = np.array([aligned_points(body, p) for p in poses])
         self.distance = pose_distances(pts)
@@ -102,6 +104,7 @@ class LearnedModel:
         for k in cls.STORED:
             setattr(self, k, np.array(arrays[k], dtype=float))
         self.per_cell = float(self.per_cell)
+        self.motion = self.motion.astype(int)
         self._grid()
         return self
 
@@ -174,15 +177,29 @@ class LearnedModel:
         root = w @ self.roots[index]
         return Blend(index, w, Pose(root, rots), float(w @ self.times[index]))
 
-    def at_time(self, blend: Blend, u: float) -> Blend:
-        """The posture at generalised time ``u`` with ``blend``'s weights kept: each weighted sample
-        is replaced by its motion's posture at ``u``. With one motion per action (the clips here)
-        that is the motion between its two frames around ``u``, blended by their time distance.
-        Samples are in time order."""
-        t = self.times
-        k = int(np.clip(np.searchsorted(t, u, side="right") - 1, 0, len(t) - 2))
-        f = float(np.clip((u - t[k]) / max(t[k + 1] - t[k], 1e-9), 0.0, 1.0))
-        out = self.blend(np.array([k, k + 1]), np.array([1.0 - f + 1e-12, f + 1e-12]))
+    def motion_weights(self, blend: Blend | None) -> np.ndarray:
+        """Each sample motion's share (sums to 1) of ``blend``'s weights; equal without one."""
+        n = int(self.motion.max()) + 1
+        if blend is None:
+            return np.full(n, 1.0 / n)
+        w = np.bincount(self.motion[blend.index], blend.weight, minlength=n)
+        return w / w.sum()
+
+    def at_time(self, blend: Blend | None, u: float) -> Blend:
+        """The posture at generalised time ``u`` with ``blend``'s weights kept (section 5): each
+        sample motion's posture at ``u`` (between its two samples around ``u``, blended by their
+        time distance), blended by the motion's share of the weights (equal shares for None)."""
+        index, weight = [], []
+        for m, share in enumerate(self.motion_weights(blend)):
+            if share <= 0.0:
+                continue
+            own = np.flatnonzero(self.motion == m)
+            t = self.times[own]
+            k = int(np.clip(np.searchsorted(t, u, side="right") - 1, 0, len(t) - 2))
+            f = float(np.clip((u - t[k]) / max(t[k + 1] - t[k], 1e-9), 0.0, 1.0))
+            index += [own[k], own[k + 1]]
+            weight += [share * (1.0 - f + 1e-12), share * (f + 1e-12)]
+        out = self.blend(np.array(index), np.array(weight))
         out.time = float(u)
         return out
 

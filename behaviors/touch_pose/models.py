@@ -30,7 +30,7 @@ from behaviors.touch_pose.samples import ACTIONS, posing_samples, standing_pose
 from tabletop.files import atomic_write_bytes
 
 #: Bumped when the stored layout changes.
-FORMAT = 1
+FORMAT = 2
 PREFIX = "touch_pose-models-"
 #: Modules whose source decides what is learned (their parameters live in them).
 SOURCES = ("behaviors/motion/clips.py", "behaviors/motion/deepmimic.py",
