@@ -36,18 +36,16 @@ def test_a_corrupt_cache_file_is_refused(models, tmp_path):
     for bad in (data[: len(data) // 2], b"not a cache", data[:100] + b"\0" * 50 + data[150:], b""):
         path.write_bytes(bad)
         assert load(models.body, path, "k") is None
-    arrays = dict(np.load(_resave(models, path), allow_pickle=False))
-    arrays["posing_latent"][3, 0] = np.nan
-    np.savez(path, **arrays)
-    assert load(models.body, path, "k") is None
-    del arrays["posing_latent"]
-    np.savez(path, **arrays)
-    assert load(models.body, path, "k") is None
-
-
-def _resave(models, path):
     save(models, path, "k")
-    return path
+    with np.load(path, allow_pickle=False) as stored:
+        arrays = dict(stored)
+    assert load(models.body, path, "k") is not None
+    arrays["posing_latent"][3, 0] = np.nan  # a readable file holding a non-finite number
+    np.savez(path, **arrays)
+    assert load(models.body, path, "k") is None
+    del arrays["posing_latent"]  # or lacking an array
+    np.savez(path, **arrays)
+    assert load(models.body, path, "k") is None
 
 
 def test_a_corrupt_cache_file_is_learned_again(models, tmp_path):
