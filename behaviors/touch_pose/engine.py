@@ -20,7 +20,6 @@ Everything is causal: the output at t depends only on fingers up to t.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from typing import Mapping
 
 import numpy as np
@@ -55,14 +54,48 @@ def learned_models() -> Models:
     return _MODELS
 
 
-@dataclass
 class Finger:
-    """A finger on the table: the part it holds (or None) and its screen path since it went down."""
+    """A finger on the table: the part it holds (or None), where it is (table metres) and its
+    screen path since it went down, in preallocated buffers (``times`` s, ``path`` (n, 2)
+    character metres: views, valid until the next change)."""
 
-    part: str | None
-    times: list[float] = field(default_factory=list)
-    path: list[np.ndarray] = field(default_factory=list)
-    table: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    def __init__(self, part: str | None, capacity: int = 128) -> None:
+        self.part = part
+        self.table = np.zeros(2)
+        self._t = np.empty(capacity)
+        self._p = np.empty((capacity, 2))
+        self._n = 0
+
+    @property
+    def times(self) -> np.ndarray:
+        return self._t[: self._n]
+
+    @property
+    def path(self) -> np.ndarray:
+        return self._p[: self._n]
+
+    def add(self, t: float, screen: np.ndarray) -> None:
+        """Append a path point (the buffers double when full)."""
+        if self._n == len(self._t):
+            self._t = np.concatenate([self._t, np.empty_like(self._t)])
+            self._p = np.concatenate([self._p, np.empty_like(self._p)])
+        self._t[self._n] = t
+        self._p[self._n] = screen
+        self._n += 1
+
+    def drop_first(self, k: int) -> None:
+        """Forget the ``k`` oldest path points."""
+        n = self._n - k
+        self._t[:n] = self._t[k: self._n]
+        self._p[:n] = self._p[k: self._n]
+        self._n = n
+
+    def restart(self, screen: np.ndarray | None = None) -> None:
+        """Keep only the newest point (moved to ``screen`` if given): a new drag starts there."""
+        if self._n:
+            self.drop_first(self._n - 1)
+            if screen is not None:
+                self._p[0] = screen
 
 
 class TouchPose:
@@ -179,7 +212,7 @@ class TouchPose:
         cam = self.camera.turned(d_azimuth, d_elevation)
         self.camera = self._camera(cam.azimuth, cam.elevation)
         for f in self.fingers.values():
-            f.times, f.path = f.times[-1:], [self.camera.to_screen(f.table)]
+            f.restart(self.camera.to_screen(f.table))
 
     def table_points(self) -> np.ndarray:
         """The output posture's joints and parts projected on the table (19, 2; metres), in
@@ -215,11 +248,9 @@ class TouchPose:
                 f = self.fingers[i] = Finger(PARTS[k] if d[k] <= self.reach else None)
                 taken = True
             f.table = xy
-            f.times.append(t)
-            f.path.append(self.camera.to_screen(xy))
+            f.add(t, self.camera.to_screen(xy))
             if f.times[0] < t - PATH_S and len(f.times) > 8:  # keep the recent drag only
-                k = next(j for j, tt in enumerate(f.times) if tt >= t - PATH_S)
-                del f.times[:k], f.path[:k]
+                f.drop_first(int(np.argmax(f.times >= t - PATH_S)))
         free_now = {i: f.table for i, f in self.fingers.items() if f.part is None}
         both = [i for i in free_now if i in free_before]
         if len(free_now) >= 2 and len(both) >= 2 and not taken:
@@ -286,7 +317,7 @@ class TouchPose:
         for f in self.fingers.values():
             if f.part not in primary or len(f.times) < 3:
                 continue  # no action this part could start from this view
-            match = recognise(self.m.actions, f.part, np.array(f.path), np.array(f.times),
+            match = recognise(self.m.actions, f.part, f.path, f.times,
                               view, excluded)
             if match is not None:
                 return match
@@ -319,7 +350,7 @@ class TouchPose:
                 self.base = d if n <= ROAM else d * (ROAM / n)
                 self.yaw = yaw_of(self.target.rots[0])
             for f in self.fingers.values():
-                f.times, f.path = f.times[-1:], f.path[-1:]
+                f.restart()
 
     def close(self) -> None:
         if self.physics is not None:
