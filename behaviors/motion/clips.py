@@ -116,13 +116,17 @@ _HAMILTON = np.stack([np.stack([_hamilton(np.eye(4)[i], np.eye(4)[k]) for k in r
                       for i in range(4)]).reshape(4, 16)
 
 
+def quat_left_matrix(a: np.ndarray) -> np.ndarray:
+    """Matrices (..., 4, 4) L with L @ b = a * b for quaternions ``a`` (..., 4)."""
+    a = np.asarray(a, dtype=float)
+    return (a @ _HAMILTON).reshape(a.shape[:-1] + (4, 4))
+
+
 def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton products a * b of quaternions (..., 4), w first (apply b, then a); shapes
     broadcast. Two matrix products instead of sixteen elementwise ones (4x faster here)."""
-    a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
-    left = (a @ _HAMILTON).reshape(a.shape[:-1] + (4, 4))
-    return np.matmul(left, b[..., None])[..., 0]
+    return np.matmul(quat_left_matrix(a), b[..., None])[..., 0]
 
 
 def quat_conj(q: np.ndarray) -> np.ndarray:

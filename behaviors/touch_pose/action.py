@@ -59,7 +59,8 @@ MAX_PACE = 1.6
 
 @dataclass
 class ActionModel:
-    """An action's spec, its learned model (all clip frames, in time order) and stroke."""
+    """An action's spec, its learned model (all frames of its sample motions) and the average
+    stroke of its primary part."""
 
     spec: ActionSpec
     duration: float
@@ -89,23 +90,34 @@ class ActionModel:
 
 
 def build_action(body: Humanoid, spec: ActionSpec) -> ActionModel:
-    """The learned model and average stroke of one action (one clip per action here)."""
-    clip = clip_named(spec.clip)
-    u = (clip.times - clip.times[0]) / clip.duration
-    poses = clip_poses(body, clip, u)
-    model = LearnedModel(body, poses, times=u)
+    """The learned model (every frame of every sample motion, each in time order) and the
+    average primary-part stroke of one action."""
     part = PARTS.index(spec.part)
-    # the stroke starts once the primary part has moved a tenth of its way (a drag is the part
-    # moving: the clips' first still frames are left to posing)
-    fine = np.linspace(0.0, spec.stroke_end, 4 * ACTION_SAMPLES)
-    traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, fine)])
-    moved = np.linalg.norm(traj - traj[0], axis=1)
-    start = fine[int(np.argmax(moved > 0.1 * moved.max()))]
-    us = np.linspace(start, spec.stroke_end, ACTION_SAMPLES)
-    traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, us)])
-    stroke = traj - traj[0]
-    return ActionModel(spec, clip.duration, model, stroke, (us - start) * clip.duration,
-                       stroke[-1].copy(), float(start))
+    poses, times, motion, strokes, stroke_ts, starts, durations = [], [], [], [], [], [], []
+    for m, name in enumerate(spec.motions):
+        clip = clip_named(name)
+        u = (clip.times - clip.times[0]) / clip.duration
+        poses += clip_poses(body, clip, u)
+        times.append(u)
+        motion.append(np.full(len(u), m))
+        # the stroke starts once the primary part has moved a tenth of its way (a drag is the
+        # part moving: the clips' first still frames are left to posing)
+        fine = np.linspace(0.0, spec.stroke_end, 4 * ACTION_SAMPLES)
+        traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, fine)])
+        moved = np.linalg.norm(traj - traj[0], axis=1)
+        start = fine[int(np.argmax(moved > 0.1 * moved.max()))]
+        us = np.linspace(start, spec.stroke_end, ACTION_SAMPLES)
+        traj = np.array([body.parts(p)[part] for p in clip_poses(body, clip, us)])
+        strokes.append(traj - traj[0])
+        stroke_ts.append((us - start) * clip.duration)
+        starts.append(start)
+        durations.append(clip.duration)
+    model = LearnedModel(body, poses, times=np.concatenate(times), motion=np.concatenate(motion))
+    # the average trajectory (section 5): the motions' strokes sample by sample (the same
+    # generalised-time steps from each one's start)
+    stroke = np.mean(strokes, axis=0)
+    return ActionModel(spec, float(np.mean(durations)), model, stroke, np.mean(stroke_ts, axis=0),
+                       stroke[-1].copy(), float(np.mean(starts)))
 
 
 def dp_distance(inp: np.ndarray, inp_t: np.ndarray, act: np.ndarray, act_t: np.ndarray,

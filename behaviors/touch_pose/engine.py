@@ -20,17 +20,16 @@ Everything is causal: the output at t depends only on fingers up to t.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from typing import Mapping
 
 import numpy as np
 
-from behaviors.touch_pose.action import (EXCLUDE_DEG, ActionClock, ActionModel, build_action,
-                                         recognise)
-from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Humanoid, Pose, yaw_of
+from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel, recognise
+from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, yaw_of
 from behaviors.touch_pose.ik import CCD, limit_goal
-from behaviors.touch_pose.latent import Blend, LearnedModel, yaw_view
-from behaviors.touch_pose.samples import ACTIONS, place, posing_samples, standing_pose
+from behaviors.touch_pose.latent import Blend, yaw_view
+from behaviors.touch_pose.models import Models, load_or_build
+from behaviors.touch_pose.samples import place
 from behaviors.touch_pose.tracking import PhysicalEffect, Tracker, apply_effect, free_segments
 
 #: Height (m) under which a foot counts as on the ground.
@@ -43,37 +42,60 @@ PATH_S = 2.5
 ROAM = 1.0
 
 
-@dataclass
-class Models:
-    """Everything learned once and shared by any number of characters."""
-
-    body: Humanoid
-    posing: LearnedModel
-    actions: list[ActionModel]
-    stand: Pose
-
-
 _MODELS: Models | None = None
 
 
 def learned_models() -> Models:
-    """The humanoid, posing model and action models (built once per process, a few seconds)."""
+    """The humanoid, posing model and action models (once per process: from the user's cache
+    folder when learned before for the same inputs, else learned, a few seconds, and kept)."""
     global _MODELS
     if _MODELS is None:
-        body = Humanoid()
-        _MODELS = Models(body, LearnedModel(body, posing_samples(body)),
-                         [build_action(body, s) for s in ACTIONS], standing_pose(body))
+        _MODELS = load_or_build()[0]
     return _MODELS
 
 
-@dataclass
 class Finger:
-    """A finger on the table: the part it holds (or None) and its screen path since it went down."""
+    """A finger on the table: the part it holds (or None), where it is (table metres) and its
+    screen path since it went down, in preallocated buffers (``times`` s, ``path`` (n, 2)
+    character metres: views, valid until the next change)."""
 
-    part: str | None
-    times: list[float] = field(default_factory=list)
-    path: list[np.ndarray] = field(default_factory=list)
-    table: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    def __init__(self, part: str | None, capacity: int = 128) -> None:
+        self.part = part
+        self.table = np.zeros(2)
+        self._t = np.empty(capacity)
+        self._p = np.empty((capacity, 2))
+        self._n = 0
+
+    @property
+    def times(self) -> np.ndarray:
+        return self._t[: self._n]
+
+    @property
+    def path(self) -> np.ndarray:
+        return self._p[: self._n]
+
+    def add(self, t: float, screen: np.ndarray) -> None:
+        """Append a path point (the buffers double when full)."""
+        if self._n == len(self._t):
+            self._t = np.concatenate([self._t, np.empty_like(self._t)])
+            self._p = np.concatenate([self._p, np.empty_like(self._p)])
+        self._t[self._n] = t
+        self._p[self._n] = screen
+        self._n += 1
+
+    def drop_first(self, k: int) -> None:
+        """Forget the ``k`` oldest path points."""
+        n = self._n - k
+        self._t[:n] = self._t[k: self._n]
+        self._p[:n] = self._p[k: self._n]
+        self._n = n
+
+    def restart(self, screen: np.ndarray | None = None) -> None:
+        """Keep only the newest point (moved to ``screen`` if given): a new drag starts there."""
+        if self._n:
+            self.drop_first(self._n - 1)
+            if screen is not None:
+                self._p[0] = screen
 
 
 class TouchPose:
@@ -106,8 +128,11 @@ class TouchPose:
         self.fingers: dict[int, Finger] = {}
         self.mode = "posing"
         self.clock: ActionClock | None = None
+        self.action_blend: tuple[ActionModel, Blend] | None = None
         self.action_base: tuple[np.ndarray, float] = (self.base, self.yaw)
         self.last_t: float | None = None
+        self._np = len(body.names)
+        self._memo: dict[int, tuple[Pose, np.ndarray]] = {}
 
     # --- view ----------------------------------------------------------------------------------
 
@@ -167,7 +192,7 @@ class TouchPose:
         """Tracking control (section 6) of the current target for ``dt`` seconds."""
         held = {f.part for f in self.fingers.values() if f.part is not None}
         out = self.tracker.step(self.target, dt)
-        grounded = self._grounded(self.target)
+        grounded = self._grounded(self.target, self._points(self.target)[self._np:])
         if self.physics is not None:
             resets = self.physics.resets
             sim = self.physics.step(out, dt)
@@ -187,17 +212,17 @@ class TouchPose:
         cam = self.camera.turned(d_azimuth, d_elevation)
         self.camera = self._camera(cam.azimuth, cam.elevation)
         for f in self.fingers.values():
-            f.times, f.path = f.times[-1:], [self.camera.to_screen(f.table)]
+            f.restart(self.camera.to_screen(f.table))
 
     def table_points(self) -> np.ndarray:
         """The output posture's joints and parts projected on the table (19, 2; metres), in
         the order :attr:`Humanoid.bones` indexes."""
-        return self.camera.table(self.body.points(self.output))
+        return self.camera.table(self._points(self.output))
 
     def frame(self, t: float) -> dict:
         """The output record of DESIGN.md's ``pose`` for the current output posture."""
-        pts = self.body.points(self.output)
-        parts = pts[len(self.body.names):]
+        pts = self._points(self.output)
+        parts = pts[self._np:]
         names = list(self.body.names) + list(PARTS)
         world = pts @ MODEL_TO_WORLD.T
         u = self.clock.u if self.mode == "action" and self.clock is not None else None
@@ -212,7 +237,7 @@ class TouchPose:
         for i in [i for i in self.fingers if i not in touches]:
             del self.fingers[i]
         free_before = {i: f.table.copy() for i, f in self.fingers.items() if f.part is None}
-        parts = self.camera.table(self.body.parts(self.output))
+        parts = self.camera.table(self._points(self.output)[self._np:])
         taken = False
         for i, (x, y) in touches.items():
             xy = np.array([float(x), float(y)])
@@ -223,11 +248,9 @@ class TouchPose:
                 f = self.fingers[i] = Finger(PARTS[k] if d[k] <= self.reach else None)
                 taken = True
             f.table = xy
-            f.times.append(t)
-            f.path.append(self.camera.to_screen(xy))
+            f.add(t, self.camera.to_screen(xy))
             if f.times[0] < t - PATH_S and len(f.times) > 8:  # keep the recent drag only
-                k = next(j for j, tt in enumerate(f.times) if tt >= t - PATH_S)
-                del f.times[:k], f.path[:k]
+                f.drop_first(int(np.argmax(f.times >= t - PATH_S)))
         free_now = {i: f.table for i, f in self.fingers.items() if f.part is None}
         both = [i for i in free_now if i in free_before]
         if len(free_now) >= 2 and len(both) >= 2 and not taken:
@@ -238,6 +261,18 @@ class TouchPose:
     def _constraints(self) -> tuple[list[str], np.ndarray]:
         held = [(f.part, f.path[-1]) for f in self.fingers.values() if f.part is not None]
         return [p for p, _ in held], np.array([s for _, s in held]).reshape(-1, 2)
+
+    def _points(self, pose: Pose) -> np.ndarray:
+        """:meth:`Humanoid.points` of ``pose``, remembered for the last few pose objects (the
+        target and output are each read several times a frame and never changed in place)."""
+        hit = self._memo.get(id(pose))
+        if hit is not None and hit[0] is pose:
+            return hit[1]
+        if len(self._memo) >= 4:
+            self._memo.pop(next(iter(self._memo)))
+        pts = self.body.points(pose)
+        self._memo[id(pose)] = (pose, pts)
+        return pts
 
     def _grounded(self, pose: Pose, parts: np.ndarray | None = None) -> set[str]:
         parts = self.body.parts(pose) if parts is None else parts
@@ -254,7 +289,7 @@ class TouchPose:
             cur = parts[PARTS.index(name)]
             goals[name] = limit_goal(cur, self.camera.ray_point(s, cur))
         if keep_feet:
-            prev = self.body.parts(self.target)
+            prev = self._points(self.target)[self._np:]
             for foot in self._grounded(self.target, prev):
                 if foot not in goals:
                     goals[foot] = prev[PARTS.index(foot)]
@@ -273,14 +308,16 @@ class TouchPose:
         if match is not None:
             self.mode = "action"
             self.clock = ActionClock(match.action, match.start_u)
+            self.action_blend = None
             self.action_base = (self.base.copy(), self.yaw)
 
     def _recognise(self, view: np.ndarray):
         excluded = self.excluded()
+        primary = {a.spec.part for a in self.m.actions if a.name not in excluded}
         for f in self.fingers.values():
-            if f.part is None or len(f.times) < 3:
-                continue
-            match = recognise(self.m.actions, f.part, np.array(f.path), np.array(f.times),
+            if f.part not in primary or len(f.times) < 3:
+                continue  # no action this part could start from this view
+            match = recognise(self.m.actions, f.part, f.path, f.times,
                               view, excluded)
             if match is not None:
                 return match
@@ -296,9 +333,12 @@ class TouchPose:
         if touching:
             view, offset = yaw_view(self.camera.matrix, base, yaw)
             idx = np.array([PARTS.index(n) for n in names])
-            synth = a.model.synthesize(idx, targets, view, offset).time
+            self.action_blend = (a, a.model.synthesize(idx, targets, view, offset))
+            synth = self.action_blend[1].time
         u = clock.step(dt, synth, touching)
-        blend: Blend = a.model.at_time(None, u)
+        # the sample motions' weights of this action's last synthesis are kept (equal before)
+        last = self.action_blend[1] if self.action_blend and self.action_blend[0] is a else None
+        blend: Blend = a.model.at_time(last, u)
         pose = place(blend.pose, base, yaw)
         self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False)
         if clock.done:
@@ -310,7 +350,7 @@ class TouchPose:
                 self.base = d if n <= ROAM else d * (ROAM / n)
                 self.yaw = yaw_of(self.target.rots[0])
             for f in self.fingers.values():
-                f.times, f.path = f.times[-1:], f.path[-1:]
+                f.restart()
 
     def close(self) -> None:
         if self.physics is not None:

@@ -133,6 +133,7 @@ class Humanoid:
         self.limit = np.array([math.radians(BALL_LIMIT_DEG.get(nm, 180.0)) for nm in self.names])
         self.hinge_lo = np.array([HINGE_RANGE.get(nm, (0.0, 0.0))[0] for nm in self.names])
         self.hinge_hi = np.array([HINGE_RANGE.get(nm, (0.0, 0.0))[1] for nm in self.names])
+        self._clamp_split: dict[tuple, tuple] = {}
 
     # --- kinematics ----------------------------------------------------------------------------
 
@@ -199,28 +200,30 @@ class Humanoid:
 
     def clamp_many(self, rots: np.ndarray, idx: list[int]) -> None:
         """:meth:`clamp` for several joints at once (in place), vectorised."""
-        idx = np.asarray([i for i in idx if i > 0], dtype=int)
-        if idx.size == 0:
-            return
-        q = rots[idx]
-        hinge = self.hinge[idx]
-        if hinge.any():
-            h = idx[hinge]
-            ax = self.axis[h]
+        key = tuple(idx)
+        split = self._clamp_split.get(key)
+        if split is None:  # hinge and ball joints of this set, with their axes and limits
+            ids = np.asarray([i for i in idx if i > 0], dtype=int)
+            h, b = ids[self.hinge[ids]], ids[~self.hinge[ids]]
+            split = self._clamp_split[key] = (h, self.axis[h], self.hinge_lo[h], self.hinge_hi[h],
+                                              b, self.limit[b])
+        h, ax, lo, hi, b, lim = split
+        if h.size:
             a = 2.0 * np.arctan2(np.einsum("ij,ij->i", rots[h, 1:], ax), rots[h, 0])
-            a = np.clip((a + np.pi) % (2 * np.pi) - np.pi, self.hinge_lo[h], self.hinge_hi[h])
-            rots[h] = np.concatenate([np.cos(a / 2)[:, None], np.sin(a / 2)[:, None] * ax], axis=1)
-        b = idx[~hinge]
+            a = np.clip((a + np.pi) % (2 * np.pi) - np.pi, lo, hi)
+            rots[h, 0] = np.cos(a / 2)
+            rots[h, 1:] = np.sin(a / 2)[:, None] * ax
         if b.size:
-            q = rots[b] * np.where(rots[b, :1] < 0, -1.0, 1.0)
-            angle = 2.0 * np.arccos(np.minimum(1.0, q[:, 0]))
-            over = angle > self.limit[b]
+            q = rots[b]
+            angle = 2.0 * np.arccos(np.minimum(1.0, np.abs(q[:, 0])))
+            over = angle > lim
             if over.any():
-                lim = self.limit[b][over]
-                v = q[over, 1:]
+                q = q[over] * np.where(q[over, :1] < 0, -1.0, 1.0)
+                v = q[:, 1:]
                 v = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-12)
-                rots[b[over]] = np.concatenate([np.cos(lim / 2)[:, None],
-                                                np.sin(lim / 2)[:, None] * v], axis=1)
+                half = lim[over] / 2
+                rots[b[over]] = np.concatenate([np.cos(half)[:, None], np.sin(half)[:, None] * v],
+                                               axis=1)
 
     def violations(self, rots: np.ndarray, tol: float = 1e-6) -> list[str]:
         """Names of joints outside their limits (radians tolerance ``tol``)."""

@@ -63,6 +63,18 @@ class CCD:
         self._axis = [tuple(a) for a in body.axis.tolist()]
         self._part_off = {p: tuple(np.asarray(o, dtype=float).tolist())
                           for p, o in body.part_offset.items()}
+        # plain-Python copies of what the inner loop reads (numpy scalar indexing costs ~0.1 us
+        # a time, several hundred times a frame)
+        self._parent = [int(p) for p in body.parent]
+        self._hinge = [bool(h) for h in body.hinge]
+        self._limit = [float(v) for v in body.limit]
+        self._cos_half = [math.cos(v / 2) for v in self._limit]
+        self._sin_half = [math.sin(v / 2) for v in self._limit]
+        self._lo = [float(v) for v in body.hinge_lo]
+        self._hi = [float(v) for v in body.hinge_hi]
+        #: per part: (joint, its place on the path) in CCD order, nearest the part first
+        self._order = {p: [(j, self.paths[p].index(j)) for j in js]
+                       for p, js in self.chains.items()}
 
     def solve(self, pose: Pose, goals: Mapping[str, np.ndarray]) -> Pose:
         """``pose`` (a copy) with each part in ``goals`` (part -> model-frame point) moved towards
@@ -122,36 +134,33 @@ class CCD:
     def _chain(self, part: str, goal: tuple, local: list, q0: tuple, p0: tuple,
                skip: int = -1) -> float:
         """One CCD sweep of ``part``'s chain (in place on ``local``); the remaining distance."""
-        body = self.body
         path = self.paths[part]
-        off = self._part_off[part]
-        # world orientation and position of each path body
-        qw, pw = {}, {}
-        parent_q, parent_p = q0, p0
+        ox, oy, oz = self._part_off[part]
+        offset, parent, axes = self._offset, self._parent, self._axis
+        gx, gy, gz = goal
+        # world orientation and position of each path body (lists along the path)
+        qw, pw = [], []
+        pq, pp = q0, p0
         for b in path:
-            o = _qrot(parent_q, self._offset[b])
-            pw[b] = (parent_p[0] + o[0], parent_p[1] + o[1], parent_p[2] + o[2])
-            qw[b] = _qmul(parent_q, local[b])
-            parent_q, parent_p = qw[b], pw[b]
-        end = path[-1]
-
-        def effector():
-            o = _qrot(qw[end], off)
-            return (pw[end][0] + o[0], pw[end][1] + o[1], pw[end][2] + o[2])
-
-        eff = effector()
-        if math.dist(eff, goal) < self.tolerance:
-            return math.dist(eff, goal)  # already there (a planted foot, mostly)
-        for j in self.chains[part]:
+            o = _qrot(pq, offset[b])
+            pp = (pp[0] + o[0], pp[1] + o[1], pp[2] + o[2])
+            pq = _qmul(pq, local[b])
+            pw.append(pp)
+            qw.append(pq)
+        o = _qrot(qw[-1], (ox, oy, oz))
+        ex, ey, ez = pw[-1][0] + o[0], pw[-1][1] + o[1], pw[-1][2] + o[2]
+        dist = math.sqrt((ex - gx) ** 2 + (ey - gy) ** 2 + (ez - gz) ** 2)
+        if dist < self.tolerance:
+            return dist  # already there (a planted foot, mostly)
+        for j, k0 in self._order[part]:
             if j == skip and part != "head":
                 continue
-            eff = effector()
-            pj = pw[j]
-            v1 = (eff[0] - pj[0], eff[1] - pj[1], eff[2] - pj[2])
-            v2 = (goal[0] - pj[0], goal[1] - pj[1], goal[2] - pj[2])
-            qp = q0 if int(body.parent[j]) == 0 else qw[int(body.parent[j])]
-            if body.hinge[j]:
-                a = _qrot(qw[j], self._axis[j])
+            pj = pw[k0]
+            v1 = (ex - pj[0], ey - pj[1], ez - pj[2])
+            v2 = (gx - pj[0], gy - pj[1], gz - pj[2])
+            qp = qw[k0 - 1] if k0 > 0 else q0
+            if self._hinge[j]:
+                a = _qrot(qw[k0], axes[j])
                 d1 = v1[0] * a[0] + v1[1] * a[1] + v1[2] * a[2]
                 d2 = v2[0] * a[0] + v2[1] * a[1] + v2[2] * a[2]
                 a1 = (v1[0] - a[0] * d1, v1[1] - a[1] * d1, v1[2] - a[2] * d1)
@@ -162,10 +171,10 @@ class CCD:
                 ang = math.atan2(cx * a[0] + cy * a[1] + cz * a[2],
                                  a1[0] * a2[0] + a1[1] * a2[1] + a1[2] * a2[2])
                 q = local[j]
-                ax = self._axis[j]
+                ax = axes[j]
                 old = 2.0 * math.atan2(q[1] * ax[0] + q[2] * ax[1] + q[3] * ax[2], q[0])
                 old = (old + math.pi) % (2 * math.pi) - math.pi
-                new = min(max(old + ang, body.hinge_lo[j]), body.hinge_hi[j])
+                new = min(max(old + ang, self._lo[j]), self._hi[j])
                 local[j] = _qaxis(ax, new)
             else:
                 cx = v1[1] * v2[2] - v1[2] * v2[1]
@@ -175,23 +184,23 @@ class CCD:
                 ang = math.atan2(s, v1[0] * v2[0] + v1[1] * v2[1] + v1[2] * v2[2])
                 if s < 1e-9 or ang < 1e-6:
                     continue
-                inv = (qp[0], -qp[1], -qp[2], -qp[3])
-                la = _qrot(inv, (cx / s, cy / s, cz / s))
+                la = _qrot((qp[0], -qp[1], -qp[2], -qp[3]), (cx / s, cy / s, cz / s))
                 q = _qmul(_qaxis(la, ang), local[j])
-                w = abs(q[0])
-                lim = body.limit[j]
-                if 2.0 * math.acos(min(1.0, w)) > lim:
-                    sign = 1.0 if q[0] >= 0 else -1.0
+                if 2.0 * math.acos(min(1.0, abs(q[0]))) > self._limit[j]:
                     n = math.sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-                    k = sign * math.sin(lim / 2) / n
-                    q = (math.cos(lim / 2), q[1] * k, q[2] * k, q[3] * k)
+                    k = (1.0 if q[0] >= 0 else -1.0) * self._sin_half[j] / n
+                    q = (self._cos_half[j], q[1] * k, q[2] * k, q[3] * k)
                 local[j] = q
-            # forward kinematics below j along the path
-            k0 = path.index(j)
-            for b in path[k0:]:
-                pq = q0 if int(body.parent[b]) == 0 else qw[int(body.parent[b])]
-                pp = p0 if int(body.parent[b]) == 0 else pw[int(body.parent[b])]
-                o = _qrot(pq, self._offset[b])
-                pw[b] = (pp[0] + o[0], pp[1] + o[1], pp[2] + o[2])
-                qw[b] = _qmul(pq, local[b])
-        return math.dist(effector(), goal)
+            # forward kinematics below j along the path, then the part
+            pq = qw[k0 - 1] if k0 > 0 else q0
+            pp = pw[k0 - 1] if k0 > 0 else p0
+            for k in range(k0, len(path)):
+                b = path[k]
+                o = _qrot(pq, offset[b])
+                pp = (pp[0] + o[0], pp[1] + o[1], pp[2] + o[2])
+                pq = _qmul(pq, local[b])
+                pw[k] = pp
+                qw[k] = pq
+            o = _qrot(pq, (ox, oy, oz))
+            ex, ey, ez = pp[0] + o[0], pp[1] + o[1], pp[2] + o[2]
+        return math.sqrt((ex - gx) ** 2 + (ey - gy) ** 2 + (ez - gz) ** 2)

@@ -74,18 +74,45 @@ class LearnedModel:
     ``times``: generalised time (0..1) of each sample for an action model, else None.
     """
 
+    #: What :meth:`arrays` stores and :meth:`from_arrays` needs: everything learned.
+    STORED = ("rots", "roots", "times", "motion", "parts", "distance", "latent", "per_cell")
+
     def __init__(self, body: Humanoid, poses: list[Pose], times: np.ndarray | None = None,
-                 dims: int = 2, per_cell: float = 2.0) -> None:
+                 dims: int = 2, per_cell: float = 2.0, motion: np.ndarray | None = None) -> None:
         self.body = body
         self.rots = np.array([p.rots for p in poses])
         self.roots = np.array([p.root for p in poses])
         self.times = np.zeros(len(poses)) if times is None else np.asarray(times, dtype=float)
+        #: the sample motion each sample comes from (0, 1, ...; each in time order)
+        self.motion = np.zeros(len(poses), dtype=int) if motion is None else np.asarray(motion, int)
         self.parts = np.array([body.parts(p) for p in poses])  # (K, 6, 3) relative frame
         pts = np.array([aligned_points(body, p) for p in poses])
         self.distance = pose_distances(pts)
         self.latent = classical_mds(self.distance, dims)
+        self.per_cell = float(per_cell)
+        self._grid()
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The learned arrays (see :data:`STORED`), e.g. to keep on disk."""
+        return {k: np.asarray(getattr(self, k)) for k in self.STORED}
+
+    @classmethod
+    def from_arrays(cls, body: Humanoid, arrays: dict[str, np.ndarray]) -> "LearnedModel":
+        """The model learned earlier whose :meth:`arrays` these are (the grid is rebuilt)."""
+        self = cls.__new__(cls)
+        self.body = body
+        for k in cls.STORED:
+            setattr(self, k, np.array(arrays[k], dtype=float))
+        self.per_cell = float(self.per_cell)
+        self.motion = self.motion.astype(int)
+        self._grid()
+        return self
+
+    def _grid(self) -> None:
+        """Cells over the latent space's bounding box, a representative per cell, neighbours."""
+        k, dims = self.latent.shape
         lo, hi = self.latent.min(axis=0), self.latent.max(axis=0)
-        g = max(1, int(math.ceil((len(poses) / per_cell) ** (1.0 / dims))))
+        g = max(1, int(math.ceil((k / self.per_cell) ** (1.0 / dims))))
         self.grid = g
         span = np.where(hi - lo > 1e-12, hi - lo, 1.0)
         cell = np.minimum(((self.latent - lo) / span * g).astype(int), g - 1)
@@ -114,8 +141,14 @@ class LearnedModel:
     def screen_parts(self, index: np.ndarray, parts: np.ndarray, view: np.ndarray,
                      offset: np.ndarray) -> np.ndarray:
         """Screen points (len(index), len(parts), 2) of samples' parts placed on the character:
-        ``view`` (2, 3) maps relative-frame points to the screen, ``offset`` (2,) adds after."""
-        return self.parts[index][:, parts] @ view.T + offset
+        ``view`` (2, 3) maps relative-frame points to the screen, ``offset`` (2,) adds after.
+        Every sample's parts are projected once per view and placement (they change only when
+        the camera turns or the character's base moves)."""
+        key = view.tobytes() + offset.tobytes()
+        if self.__dict__.get("_screen_key") != key:
+            self._screen = self.parts @ view.T + offset
+            self._screen_key = key
+        return self._screen[index][:, parts]
 
     def constraint_distance(self, index: np.ndarray, parts: np.ndarray, targets: np.ndarray,
                             view: np.ndarray, offset: np.ndarray) -> np.ndarray:
@@ -144,15 +177,29 @@ class LearnedModel:
         root = w @ self.roots[index]
         return Blend(index, w, Pose(root, rots), float(w @ self.times[index]))
 
-    def at_time(self, blend: Blend, u: float) -> Blend:
-        """The posture at generalised time ``u`` with ``blend``'s weights kept: each weighted sample
-        is replaced by its motion's posture at ``u``. With one motion per action (the clips here)
-        that is the motion between its two frames around ``u``, blended by their time distance.
-        Samples are in time order."""
-        t = self.times
-        k = int(np.clip(np.searchsorted(t, u, side="right") - 1, 0, len(t) - 2))
-        f = float(np.clip((u - t[k]) / max(t[k + 1] - t[k], 1e-9), 0.0, 1.0))
-        out = self.blend(np.array([k, k + 1]), np.array([1.0 - f + 1e-12, f + 1e-12]))
+    def motion_weights(self, blend: Blend | None) -> np.ndarray:
+        """Each sample motion's share (sums to 1) of ``blend``'s weights; equal without one."""
+        n = int(self.motion.max()) + 1
+        if blend is None:
+            return np.full(n, 1.0 / n)
+        w = np.bincount(self.motion[blend.index], blend.weight, minlength=n)
+        return w / w.sum()
+
+    def at_time(self, blend: Blend | None, u: float) -> Blend:
+        """The posture at generalised time ``u`` with ``blend``'s weights kept (section 5): each
+        sample motion's posture at ``u`` (between its two samples around ``u``, blended by their
+        time distance), blended by the motion's share of the weights (equal shares for None)."""
+        index, weight = [], []
+        for m, share in enumerate(self.motion_weights(blend)):
+            if share <= 0.0:
+                continue
+            own = np.flatnonzero(self.motion == m)
+            t = self.times[own]
+            k = int(np.clip(np.searchsorted(t, u, side="right") - 1, 0, len(t) - 2))
+            f = float(np.clip((u - t[k]) / max(t[k + 1] - t[k], 1e-9), 0.0, 1.0))
+            index += [own[k], own[k + 1]]
+            weight += [share * (1.0 - f + 1e-12), share * (f + 1e-12)]
+        out = self.blend(np.array(index), np.array(weight))
         out.time = float(u)
         return out
 

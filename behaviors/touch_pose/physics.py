@@ -112,6 +112,8 @@ class Physics:
         self._frame_off = [np.zeros(3)] * len(body.names) + [wrist, wrist]
         # centre of mass offsets in the frames of our bodies (the wrists hang off the elbows)
         self._com_off = [tuple((off + c).tolist()) for off, c in zip(self._frame_off, self.com_local)]
+        self._hinge_axes = [tuple(body.axis[i].tolist()) if body.hinge[i] else None
+                            for i in range(1, len(body.names))]
         self.started = False
         self.resets = 0
 
@@ -147,20 +149,21 @@ class Physics:
             self.set_pose(target)
             self.started = True
         n = max(1, int(round(dt / SUBSTEP)))
+        apply, uid, world = pb.applyExternalForce, self.uid, pb.WORLD_FRAME
         for _ in range(n):
-            states = pb.getLinkStates(self.uid, self.links, computeLinkVelocity=1,
+            states = pb.getLinkStates(uid, self.links, computeLinkVelocity=1,
                                       physicsClientId=c)
-            p = np.array([s[0] for s in states])
-            v = np.array([s[6] for s in states])
-            err = np.linalg.norm(p - goal, axis=1)
-            if not np.all(np.isfinite(err)) or np.max(err) > RESET_DISTANCE:
+            pv = np.array([s[0] + s[6] for s in states])  # positions then velocities (links, 6)
+            p, v = pv[:, :3], pv[:, 3:]
+            err = p - goal
+            worst = float(np.einsum("ij,ij->i", err, err).max())
+            if not math.isfinite(worst) or worst > RESET_DISTANCE ** 2:
                 self.set_pose(target)
                 self.resets += 1
                 continue
-            force = self.mass[:, None] * (K_PHYS * (goal - p) - D_PHYS * v)
-            for k, link in enumerate(self.links):
-                pb.applyExternalForce(self.uid, link, force[k].tolist(), p[k].tolist(),
-                                      pb.WORLD_FRAME, physicsClientId=c)
+            force = (self.mass[:, None] * (-K_PHYS * err - D_PHYS * v)).tolist()
+            for link, f, at in zip(self.links, force, p.tolist()):
+                apply(uid, link, f, at, world, physicsClientId=c)
             pb.stepSimulation(physicsClientId=c)
         return self.read()
 
@@ -169,17 +172,15 @@ class Physics:
         pb, c = self.pb, self.client
         pos, orn = pb.getBasePositionAndOrientation(self.uid, physicsClientId=c)
         states = pb.getJointStatesMultiDof(self.uid, self.joint_ids, physicsClientId=c)
-        rots = np.empty((len(self.body.names), 4))
-        rots[0] = [orn[3], orn[0], orn[1], orn[2]]
-        for i, s in enumerate(states, start=1):
-            v = s[0]
-            if self.body.hinge[i]:
-                half = 0.5 * float(v[0])
-                rots[i, 0] = math.cos(half)
-                rots[i, 1:] = math.sin(half) * self.body.axis[i]
+        rows = [(orn[3], orn[0], orn[1], orn[2])]
+        for (v, *_), axis in zip(states, self._hinge_axes):
+            if axis is not None:
+                half = 0.5 * v[0]
+                s = math.sin(half)
+                rows.append((math.cos(half), s * axis[0], s * axis[1], s * axis[2]))
             else:
-                rots[i] = [v[3], v[0], v[1], v[2]]
-        return Pose(np.array(pos), quat_normalize(rots))
+                rows.append((v[3], v[0], v[1], v[2]))
+        return Pose(np.array(pos), quat_normalize(np.array(rows)))
 
     def close(self) -> None:
         try:

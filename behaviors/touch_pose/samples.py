@@ -9,8 +9,21 @@ direction once the finger lifts (+1 forward, -1 backward). The segments were set
 the clips' primary-part trajectories (as the paper does), e.g. the kick may pause while the leg
 is chambered low but not once the foot leaves the floor.
 
+Sample motions per action (the paper uses one to four and averages the primary part's
+trajectory over them). The wheel holds one recording of each action, each a single instance
+(one punch, one kick, one jump, one spin kick: measured by the primary part's speed peaks), and no
+second take. A mirrored clip is a real motion, but it is the same action in the paper's sense only
+when its primary part stays the same: the jump's primary part, the pelvis, lies on the body's
+midline, so the mirrored jump (the recorded jump with the other side leading; its pelvis drifts
+0.06 m the other way) is a second sample of the jump and the jump's trajectory is the average of
+both. Mirroring the punch, kick or spin kick would move their primary part to the left hand or
+foot: another action (the paper's "right-hand punching action" has the right hand as primary
+part), not a sample of this one, so they keep their one motion. The hand-made wave and bow stay
+single too: the bow is left-right symmetric (its mirror adds nothing) and more hand-made takes of
+the wave would be invented data, not samples. Nothing is time-warped or noised into a "sample".
+
 Posing samples: the standing pose, hand-made idle variations of it (weight shifts, arms a
-little out) and the first part of every action (the paper's choice: the start of an action is
+little out) and the first part of every sample motion of every action (the paper's choice: the start of an action is
 done by posing before the action is recognised), plus the walk cycle and the two dances for the
 legs' and arms' range. Posing samples are taken in place (pelvis height and tilt kept, travel and
 heading removed) so posing never walks the character away.
@@ -40,14 +53,24 @@ class Segment:
 
 @dataclass(frozen=True)
 class ActionSpec:
-    """An action: its clip (DeepMimic name or ``"wave"``), primary part, stroke end, segments."""
+    """An action: its clip (DeepMimic name or ``"wave"``), primary part, stroke end, segments,
+    and further sample motions of the same action (clip names, see :func:`clip_named`)."""
 
     name: str
     clip: str
     part: str
     stroke_end: float
     segments: tuple[Segment, ...]
+    more: tuple[str, ...] = ()
 
+    @property
+    def motions(self) -> tuple[str, ...]:
+        """Every sample motion's clip name, the main clip first."""
+        return (self.clip,) + self.more
+
+
+#: Suffix of a clip name meaning that clip mirrored left for right (:func:`mirror_clip`).
+MIRRORED = "/mirrored"
 
 ACTIONS: tuple[ActionSpec, ...] = (
     ActionSpec("punch", "punch", "right_hand", 0.45,
@@ -55,7 +78,8 @@ ACTIONS: tuple[ActionSpec, ...] = (
     ActionSpec("kick", "kick", "right_foot", 0.5,
                (Segment(0.0, True, -1), Segment(0.3, False, 1), Segment(0.8, True, 1))),
     ActionSpec("jump", "jump", "pelvis", 0.6,
-               (Segment(0.0, True, -1), Segment(0.4, False, 1), Segment(0.85, True, 1))),
+               (Segment(0.0, True, -1), Segment(0.4, False, 1), Segment(0.85, True, 1)),
+               more=("jump" + MIRRORED,)),
     ActionSpec("spinkick", "spinkick", "right_foot", 0.65,
                (Segment(0.0, True, -1), Segment(0.2, False, 1), Segment(0.9, True, 1))),
     ActionSpec("wave", "wave", "right_hand", 0.3,
@@ -118,9 +142,31 @@ def bow_clip(base: Clip, seconds: float = 2.4) -> Clip:
     return Clip("bow", base.channels, t, values)
 
 
+def mirror_clip(clip: Clip) -> Clip:
+    """``clip`` mirrored through the vertical x-y plane (the humanoid's sagittal plane at rest):
+    left and right joints swap, positions' z and rotations' x and y components change sign
+    (a reflected rotation turns about the reflected axis, negated as an axial vector); the
+    humanoid's left and right bodies are mirror images (offsets' z opposite, hinges about z),
+    so the result is the same motion done with the other side leading."""
+    values = clip.values.copy()
+    sl = clip.slices
+    values[:, sl["root_z"]] *= -1.0
+    for name, channel in sl.items():
+        if name.startswith("left_"):
+            other = sl["right_" + name[5:]]
+            values[:, channel], values[:, other] = clip.values[:, other], clip.values[:, channel]
+    for c in clip.channels:
+        if c.type == "quat":  # (w, x, y, z)
+            values[:, sl[c.name].start + 1: sl[c.name].start + 3] *= -1.0
+    return Clip(clip.name + MIRRORED, clip.channels, clip.times.copy(), values, loop=clip.loop)
+
+
 @lru_cache(maxsize=None)
 def clip_named(name: str) -> Clip:
-    """A DeepMimic clip by short name, or the hand-made wave or bow."""
+    """A DeepMimic clip by short name, or the hand-made wave or bow; ``name`` + :data:`MIRRORED`
+    is that clip mirrored."""
+    if name.endswith(MIRRORED):
+        return mirror_clip(clip_named(name[: -len(MIRRORED)]))
     if name == "wave":
         return wave_clip(load_motion("jump"))
     if name == "bow":
@@ -193,8 +239,7 @@ def posing_samples(body: Humanoid) -> list[Pose]:
     """The posing model's sample postures (about 250)."""
     stand = standing_pose(body)
     poses = [stand] + idle_poses(body, stand)
-    for spec in ACTIONS:
-        clip = clip_named(spec.clip)
+    for clip in (clip_named(m) for spec in ACTIONS for m in spec.motions):
         k = max(3, int(round(POSING_PREFIX * clip.duration * 15)))
         poses += clip_poses(body, clip, np.linspace(0.0, POSING_PREFIX, k), in_place=True)
     for name, step in (("walk", 2), ("dance_a", 4), ("dance_b", 4)):

@@ -33,7 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.motion.clips import quat_conj, quat_from_rotvec, quat_mul, quat_normalize, quat_to_rotvec
+from behaviors.motion.clips import (quat_conj, quat_from_rotvec, quat_left_matrix, quat_mul,
+                                    quat_normalize, quat_to_rotvec)
 from behaviors.touch_pose.humanoid import SEGMENTS, Humanoid, Pose
 
 K_GAIN = 100.0
@@ -61,8 +62,12 @@ class Tracker:
     def step(self, target: Pose, dt: float) -> Pose:
         """Equations 2-4 for one step of ``dt`` seconds toward ``target``; returns the new pose."""
         h = dt / SUBSTEPS
+        # q_target q^-1 as one matrix product per substep: the target's left-multiplication
+        # matrices are built once per step
+        left = quat_left_matrix(target.rots)
         for _ in range(SUBSTEPS):
-            acc = self.k * rot_diff(target.rots, self.pose.rots) - self.d * self.omega   # (2)
+            rel = np.matmul(left, quat_conj(self.pose.rots)[..., None])[..., 0]
+            acc = self.k * quat_to_rotvec(rel) - self.d * self.omega                    # (2)
             pacc = self.k * (target.root - self.pose.root) - self.d * self.vel             # (3)
             self.omega = self.omega + h * acc                                             # (4)
             self.vel = self.vel + h * pacc
@@ -86,7 +91,9 @@ class PhysicalEffect:
         if self._sim is not None and self._target is not None:
             f = dt / FRAME
             s1 = min(S1 * f, 1.0)
-            change = rot_diff(sim.rots, self._sim.rots) - rot_diff(target.rots, self._target.rots)
+            both = rot_diff(np.stack([sim.rots, target.rots]),
+                            np.stack([self._sim.rots, self._target.rots]))
+            change = both[0] - both[1]
             self.dq = s1 * self.dq + S2 * f * change
             pchange = (sim.root - self._sim.root) - (target.root - self._target.root)
             self.dp = s1 * self.dp + S2 * f * pchange
@@ -109,10 +116,21 @@ def free_segments(touched_parts: set[str], grounded: set[str]) -> set[str]:
 def apply_effect(body: Humanoid, pose: Pose, effect: PhysicalEffect, segments: set[str]) -> Pose:
     """Equation 7: the effect added to the joints of ``segments`` (the torso includes the root)."""
     out = pose.copy()
-    idx = [body.names.index(j) for s in segments for j in SEGMENTS[s]]
+    idx = _segment_joints(body, frozenset(segments))
     if idx:
         out.rots[idx] = quat_normalize(quat_mul(quat_from_rotvec(effect.dq[idx]), out.rots[idx]))
         body.clamp_many(out.rots, idx)
     if "torso" in segments:
         out.root = out.root + effect.dp
     return out
+
+
+_JOINTS_OF: dict[tuple[int, frozenset], list[int]] = {}
+
+
+def _segment_joints(body: Humanoid, segments: frozenset) -> list[int]:
+    """Joint indices of ``segments`` (remembered: there are 32 combinations)."""
+    key = (id(body), segments)
+    if key not in _JOINTS_OF:
+        _JOINTS_OF[key] = [body.names.index(j) for s in sorted(segments) for j in SEGMENTS[s]]
+    return _JOINTS_OF[key]

@@ -7,8 +7,12 @@ from behaviors.touch_pose.engine import TouchPose, learned_models
 
 
 @pytest.fixture(scope="session")
-def models():
-    return learned_models()
+def models(tmp_path_factory):
+    """Learned into (and kept in) a cache folder of the test session, not the user's."""
+    folder = tmp_path_factory.mktemp("cache")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("XDG_CACHE_HOME", str(folder))
+        yield learned_models()
 
 
 @pytest.fixture
