@@ -113,10 +113,11 @@ class ActionFollower:
     half-width of the forward window in states (reach only); ``transitions``: forward weights
     (self, next, skips...); ``backward``: weight of moving one state back; ``restart``:
     probability per step that a new performance starts; ``memory``: forgetting of the evidence
-    in samples; ``units`` (d,): the features' units (columns sharing a unit get the same
-    tolerance), default the pooled spread of each column; ``min_scale`` (d,): floor of every
-    template's scale in the features' own units (the input's noise); the rest: see the module
-    docstring.
+    in samples; ``units`` (d,): the features' units (what makes columns comparable), default
+    the pooled spread of each column; ``min_scale`` (d,): floor of every template's scale in the
+    features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
+    ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress); the
+    rest: see the module docstring.
     """
 
     def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
