@@ -427,7 +427,9 @@ class ActionFollower:
         # (measured: a still tail after a diagonal re-engaged the circle within 6 samples)
         past = (mean >= self._onset_state) & ~self._refused
         if np.count_nonzero(past & ~self._engaged):
-            r = self._displacement(x)
+            # averaged over the last samples: single jitter spikes crossed the onset of a
+            # template with a narrow column (a still puck took the line's end, 29% of the time)
+            r = self._displacement(np.mean(self._recent_x[-3:] + [x], axis=0))
             past &= r >= self.onset * self.sigma
         self._engaged |= past
         top = int(np.argmax(self._evidence))
