@@ -57,6 +57,12 @@ class BackgroundTrainer:
             if job == self._job:
                 self._done = result
 
+    def cancel(self) -> None:
+        """Forget the running job (its result is dropped) and any result not yet polled."""
+        with self._lock:
+            self._job += 1
+            self._done = None
+
     def poll(self) -> tuple[Behavior | None, Reactor | None, InputError | None] | None:
         """The finished job's (behaviour, reactor, error) once, else None."""
         with self._lock:

@@ -64,6 +64,9 @@ def demo_frames(demo, commands, t0=100.0, focus=None):
 
 
 def designer(tmp_path, **extra):
+    """A designer engine that trains within the tick (the take plays on the stop's tick), so
+    these tests follow every command exactly; background training has its own test."""
+    extra = {"background_training": False, **extra}
     return build([{"kind": "puppet_master", "name": "pet",
                    "designer": {"enabled": True, "library": str(tmp_path / "lib"), **extra}}])
 
