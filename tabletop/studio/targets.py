@@ -27,6 +27,7 @@ from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
+from tabletop.worker import Worker
 
 log = logging.getLogger("tabletop")
 
@@ -189,8 +190,10 @@ class PuppetMasterTarget:
         done = self.trainer.poll() if self.trainer is not None else None
         if done is None or self._training is None:
             return None
-        behavior, reactor, error = done
         demo, self._training = self._training, None
+        if isinstance(done, Exception):
+            raise InputError(f"training failed: {done}")
+        behavior, reactor, error = done
         if error is not None:
             raise error
         self._play(behavior, reactor, demo)
@@ -288,8 +291,11 @@ class MopTarget:
 
     what = "action"
 
-    def __init__(self, stage, character: str, lib: Path | None) -> None:
+    def __init__(self, stage, character: str, lib: Path | None, background: bool = True) -> None:
         self.stage, self.character, self.lib = stage, character, lib
+        if background and stage.worker is None:   # the stage's followers built off the hot path
+            stage.worker = Worker(f"{stage.name}-training")
+        self._summary = ""
         self.name = f"{stage.name}/{character}"
         self._frame: Frame | None = None
         self.kept: str | None = None
@@ -321,7 +327,9 @@ class MopTarget:
         return ""
 
     def trained(self) -> str | None:
-        return None                           # trained within train()
+        """Between ticks: the summary once the stage's new followers are installed."""
+        self.stage.install_built()
+        return None if self.stage.building else self._summary
 
     def seconds(self) -> float:
         take = self.stage.take
@@ -332,7 +340,8 @@ class MopTarget:
         if self.stage.take_action is None:
             raise InputError(msg)
         self.demo = np.array(self.stage.take.samples(), dtype=float)
-        return msg.split(":")[0]
+        self._summary = msg.split(":")[0]
+        return None if self.stage.building else self._summary
 
     def take_array(self) -> np.ndarray:
         take = self.stage.take
