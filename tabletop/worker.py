@@ -17,6 +17,7 @@ import logging
 import queue
 import sys
 import threading
+import weakref
 from typing import Any, Callable
 
 log = logging.getLogger("tabletop")
@@ -56,7 +57,12 @@ class Worker:
         self._idle.set()
         self._done: Any = None
         self._job = 0
-        threading.Thread(target=self._loop, name=name, daemon=True).start()
+        # the thread holds the worker weakly: a worker no longer used ends its thread
+        threading.Thread(target=_serve, args=(self._jobs, weakref.ref(self)), name=name,
+                         daemon=True).start()
+
+    def __del__(self) -> None:
+        self._jobs.put(None)
 
     @property
     def busy(self) -> bool:
@@ -72,22 +78,20 @@ class Worker:
             self._idle.clear()
             self._jobs.put((self._job, fn, args))
 
-    def _loop(self) -> None:
-        while True:
-            job, fn, args = self._jobs.get()
-            _job_begins()
-            try:
-                result = fn(*args)
-            except Exception as exc:     # the job's failure is its result; the loop goes on
-                log.exception("%s: job failed", self.name)
-                result = exc
-            finally:
-                _job_ends()
-            with self._lock:
-                if job == self._job:
-                    self._done = result
-                if self._jobs.empty():
-                    self._idle.set()
+    def _run(self, job: int, fn: Callable[..., Any], args: tuple) -> None:
+        _job_begins()
+        try:
+            result = fn(*args)
+        except Exception as exc:     # the job's failure is its result; the loop goes on
+            log.exception("%s: job failed", self.name)
+            result = exc
+        finally:
+            _job_ends()
+        with self._lock:
+            if job == self._job:
+                self._done = result
+            if self._jobs.empty():
+                self._idle.set()
 
     def cancel(self) -> None:
         """Forget the running job (its result is dropped) and any result not yet polled."""
@@ -104,3 +108,14 @@ class Worker:
     def wait(self, timeout: float | None = None) -> None:
         """Block until the jobs started so far have ended (tests, replays that must be exact)."""
         self._idle.wait(timeout)
+
+
+def _serve(jobs: queue.SimpleQueue, ref: weakref.ref) -> None:
+    """A worker's thread: runs its jobs until the worker is gone."""
+    while True:
+        item = jobs.get()
+        worker = ref()
+        if item is None or worker is None:
+            return
+        worker._run(*item)
+        del worker, item
