@@ -89,7 +89,7 @@ class PuppetMasterTarget:
     # --- the take ------------------------------------------------------------------------------
 
     def begin(self, frame: Frame) -> None:
-        self.take, self.ghost = [], None
+        self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
         if self.sequential:
             self.session = SequentialSession()
             self.session.toggle(frame.t)             # the main puck alone
