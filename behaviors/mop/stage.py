@@ -112,7 +112,7 @@ class MopStage:
     def _retrain(self, character: str | None = None) -> None:
         """Rebuild every performer's follower from the characters' current templates (after
         ``character``'s actions changed; rebuilding restarts every follower). With a
-        :attr:`worker` the followers (20-70 ms for examples/mop.yaml) are built in its thread
+        :attr:`worker` the followers (15-70 ms for examples/mop.yaml) are built in its thread
         and installed between ticks (:meth:`install_built`); the old ones play until then."""
         plan = self._plan()
         if self.worker is None:
