@@ -109,21 +109,30 @@ class MopStage:
 
     # --- training -------------------------------------------------------------------------------
 
-    def _retrain(self, character: str | None = None) -> None:
+    def _retrain(self, character: str | None = None, background: bool = False) -> None:
         """Rebuild every performer's follower from the characters' current templates (after
-        ``character``'s actions changed; rebuilding restarts every follower). With a
-        :attr:`worker` the followers (15-70 ms for examples/mop.yaml) are built in its thread
-        and installed between ticks (:meth:`install_built`); the old ones play until then."""
+        ``character``'s actions changed; rebuilding restarts every follower). With
+        ``background`` and a :attr:`worker` (a take's stop) the followers (15-70 ms for
+        examples/mop.yaml) are built in its thread and installed between ticks by whoever set
+        the worker (:meth:`install_built`); the old ones play until then."""
         plan = self._plan()
-        if self.worker is None:
+        if self.worker is None or not background:
+            if self.worker is not None:
+                self.worker.cancel()         # a rebuild still running is out of date
+            self.building = False
             self._install(self._build(plan))
         else:
             self.building = True
             self.worker.start(self._build, plan)
 
-    def install_built(self) -> bool:
-        """Install followers the worker has built; True when one was installed (or failed)."""
-        done = self.worker.poll() if self.worker is not None else None
+    def install_built(self, wait: bool = False) -> bool:
+        """Install followers the worker has built (``wait``: blocks until it has); True when
+        they were installed (or the build failed)."""
+        if not self.building or self.worker is None:
+            return False
+        if wait:
+            self.worker.wait()
+        done = self.worker.poll()
         if done is None:
             return False
         self.building = False
@@ -263,15 +272,15 @@ class MopStage:
             self._counter += 1
             name = f"take{self._counter}"
         self.take_action = name
-        self._add_take_action(self._assign_motion(take.motion_index))
+        self._add_take_action(self._assign_motion(take.motion_index), background=True)
 
-    def _add_take_action(self, motion: str) -> None:
+    def _add_take_action(self, motion: str, background: bool = False) -> None:
         take = self.take
         assert take is not None and self.take_action is not None
         c = take.character
         self.templates[c][self.take_action] = (take.performer, take.samples())
         self.puppets[c].add_action(Action(self.take_action, self.load_motion(c, motion)))
-        self._retrain(c)
+        self._retrain(c, background)
         self.message = f"{self.take_action} -> {motion}: perform it; K keep, X discard, R redo"
 
     def designer_label(self) -> str:
@@ -351,8 +360,6 @@ class MopStage:
         return True
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
-        if self.building:
-            self.install_built()
         if self._follow_focus(frame):
             for cmd in frame.commands:
                 self.command(cmd, frame)

@@ -5,8 +5,10 @@ States: ``idle`` -> (record) ``countdown`` -> ``recording`` -> (stop: trained at
 A take in parts (Puppet Master's sequential training: the main, then the reaction against its
 playback) waits in ``ready`` between its parts: record starts the next part's countdown; a part
 may also end by itself (the playback's end). A target that trains in a worker thread leaves the
-machine in ``training`` until the new take is swapped in, polled between ticks (the loop never
-waits for it); meanwhile the previous behaviour plays on.
+machine in ``training``; meanwhile the previous behaviour plays on. The new take is swapped in
+between ticks, at the first tick ``swap_s`` (frame time) after the stop, waiting there for the
+worker only if it is not done yet: the tick it plays from depends on the frames alone, so a
+recorded session replays exactly.
 Commands (keys through the view, control markers through :class:`Markers`):
 
 ======================  =========================================================
@@ -41,6 +43,8 @@ from tabletop.frames import CharacterState, Frame, InputError
 log = logging.getLogger("tabletop")
 
 MESSAGE_S = 5.0
+SWAP_S = 0.15   # a take trained in a worker plays this long after the stop (frame time): a
+                # minute's take trains in 15-95 ms here (bench/studio.py), so the loop rarely waits
 
 
 class Target(Protocol):
@@ -57,8 +61,8 @@ class Target(Protocol):
     def seconds(self) -> float: ...                       # length of the part so far
     def train(self) -> str | None: ...                    # train, play it; None: training in
                                                           # the background; raises InputError
-    def trained(self) -> str | None: ...                  # between ticks: None while training,
-                                                          # else it plays; raises InputError
+    def trained(self, wait: bool) -> str | None: ...      # between ticks: it plays (wait: once
+                                                          # trained), else None; InputError
     def revert(self) -> None: ...                         # back to what played before the take
     def keep(self) -> str: ...                            # save the take; returns its name
     def items(self) -> list[str]: ...                     # the library's items, sorted
@@ -89,7 +93,8 @@ class Studio:
 
     def __init__(self, targets: Sequence[Target], countdown_s: float = 3.0,
                  log_try: Callable[[Try, Target], None] | None = None,
-                 clock: Callable[[], float] = time.monotonic, quiet: bool = False) -> None:
+                 clock: Callable[[], float] = time.monotonic, quiet: bool = False,
+                 swap_s: float = SWAP_S) -> None:
         self.targets = {t.name: t for t in targets}
         self.order = [t.name for t in targets]
         self.countdown_s, self.log_try, self.clock = countdown_s, log_try, clock
@@ -103,6 +108,7 @@ class Studio:
         self._try: Try | None = None
         self._part = ""              # the take's next part while "ready" (and recording it)
         self._t0 = 0.0               # perf_counter at the stop, while "training"
+        self.swap_s, self._swap_at = swap_s, 0.0   # the trained take plays from _swap_at
         self._t = 0.0
         self.quiet = quiet   # draws nothing until the first designer command (not in studio mode)
 
@@ -203,14 +209,16 @@ class Studio:
             self._refused(t, exc)
             return
         if summary is None:
-            self.state = "training"
+            self.state, self._swap_at = "training", self._t + self.swap_s
             return
         self._trained(t, summary)
 
     def _poll_training(self, target: Target) -> None:
+        if self._t < self._swap_at:
+            return
         t = self._try or Try(target.name, target.what, time.time())
         try:
-            summary = target.trained()
+            summary = target.trained(wait=True)
         except InputError as exc:
             self._refused(t, exc)
             return

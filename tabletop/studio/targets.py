@@ -185,8 +185,11 @@ class PuppetMasterTarget:
         self._play(Behavior.train(demo, **params), None, demo)
         return self._summary()
 
-    def trained(self) -> str | None:
-        """Between ticks: the worker's behaviour and reactor, once ready, play from now."""
+    def trained(self, wait: bool) -> str | None:
+        """Between ticks: the worker's behaviour and reactor, once ready (``wait``: waits for
+        them), play from now."""
+        if wait and self.trainer is not None and self._training is not None:
+            self.trainer.wait()
         done = self.trainer.poll() if self.trainer is not None else None
         if done is None or self._training is None:
             return None
@@ -326,9 +329,9 @@ class MopTarget:
     def cut(self) -> str:
         return ""
 
-    def trained(self) -> str | None:
+    def trained(self, wait: bool) -> str | None:
         """Between ticks: the summary once the stage's new followers are installed."""
-        self.stage.install_built()
+        self.stage.install_built(wait)
         return None if self.stage.building else self._summary
 
     def seconds(self) -> float:

@@ -8,6 +8,7 @@ import numpy as np
 from behaviors.puppet_master import designers
 from tabletop import library
 from tabletop.frames import Frame, Puck
+from tabletop.studio.machine import SWAP_S
 
 from tests.studio.test_studio_keys import Bench, demo_frames, designer
 
@@ -23,6 +24,7 @@ def test_background_training_swaps_the_take_in_between_ticks(tmp_path):
     for f in frames[:301]:
         _, studio = bench.step(f)
     # the tick that stopped the recording did not train: the take trains in a worker thread
+    # and plays from the first tick SWAP_S of frame time after the stop (so replays are exact)
     assert studio.action == "training" and "training" in studio.label
     assert e.behavior is None and e.hold is None
     # discarded while (or just after) training: the worker's take never plays
@@ -33,12 +35,16 @@ def test_background_training_swaps_the_take_in_between_ticks(tmp_path):
         chars, studio = bench.step(f)
         assert e.behavior is None
     assert studio.action == "training"
-    target.trainer.wait(30.0)
-    chars, studio = bench.step(frames[401])
+    target.trainer.wait(30.0)           # done long before: still swapped in at a fixed time
+    swap = next(f for f in frames[401:] if f.t >= frames[400].t + SWAP_S)
+    for f in frames[401:swap.seq]:
+        chars, studio = bench.step(f)
+        assert studio.action == "training" and e.behavior is None
+    chars, studio = bench.step(swap)
     assert studio.action == "trying" and "trained" in studio.label
     assert e.behavior is target.pending and e.behavior.samples == 90     # 90 rows at 40 Hz
     assert e.reactor.behavior is e.behavior          # the reactor built in the worker plays it
-    for f in frames[402:]:
+    for f in frames[swap.seq + 1:]:
         chars, _ = bench.step(f)
         assert chars["pet"].valid
     _, studio = bench.step(Frame(seq=1000, t=200.0, commands=("designer.keep",)))
