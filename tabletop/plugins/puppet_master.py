@@ -66,7 +66,7 @@ DESIGNER = Record({
     "sequential": Bool(False, doc="one hand: R records the main, R stops, R plays it back "
                        "and records the reactor against it (paper 3.1)"),
     "background_training": Bool(True, doc="train in a worker thread, swapped in between "
-                                "ticks (false: within the tick, for exact replays)"),
+                                "ticks 0.15 s after the stop (false: within the stop's tick)"),
 })
 
 
