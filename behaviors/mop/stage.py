@@ -54,6 +54,7 @@ from behaviors.motion.clips import Clip
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Take, Vote
 from tabletop.frames import CharacterState, Frame, InputError
+from tabletop.worker import Worker
 
 FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None"], object]
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
@@ -96,6 +97,8 @@ class MopStage:
         self._routes: dict[str, list[tuple[str, str, str]]] = {}
         self._states: dict[str, object] = {}
         self._resting: dict[str, bool] = {}
+        self.worker: Worker | None = None   # set: followers rebuilt off the hot path
+        self.building = False               # a rebuild runs in the worker
         self._retrain()
         self._next_t: float | None = None
         self.selected = 0
@@ -107,15 +110,51 @@ class MopStage:
 
     # --- training -------------------------------------------------------------------------------
 
-    def _retrain(self, character: str | None = None) -> None:
+    def _retrain(self, character: str | None = None, background: bool = False) -> None:
         """Rebuild every performer's follower from the characters' current templates (after
-        ``character``'s actions changed; rebuilding restarts every follower)."""
-        self._followers, self._routes, self._states = {}, {}, {}
+        ``character``'s actions changed; rebuilding restarts every follower). With
+        ``background`` and a :attr:`worker` (a take's stop) the followers (15-70 ms for
+        examples/mop.yaml) are built in its thread and installed between ticks by whoever set
+        the worker (:meth:`install_built`); the old ones play until then."""
+        plan = self._plan()
+        if self.worker is None or not background:
+            if self.worker is not None:
+                self.worker.cancel()         # a rebuild still running is out of date
+            self.building = False
+            self._install(self._build(plan))
+        else:
+            self.building = True
+            self.worker.start(self._build, plan)
+
+    def install_built(self, wait: bool = False) -> bool:
+        """Install followers the worker has built (``wait``: blocks until it has); True when
+        they were installed (or the build failed)."""
+        if not self.building or self.worker is None:
+            return False
+        if wait:
+            self.worker.wait()
+        done = self.worker.poll()
+        if done is None:
+            return False
+        self.building = False
+        if isinstance(done, Exception):
+            self.message = f"cannot train: {done}"
+        else:
+            self._install(done)
+        return True
+
+    def _install(self, built: tuple) -> None:
+        self._routes, self._followers, self._keys, self._group = built
+        self._states = {}
+
+    def _plan(self) -> tuple[dict, dict]:
+        """Routes (performer -> (character, action, template key)) and templates by performer."""
+        all_routes: dict[str, list[tuple[str, str, str]]] = {}
         by_performer: dict[str, dict[str, np.ndarray]] = {}
         for c in self.order:
             for action, (performer, samples) in self.templates[c].items():
                 templates = by_performer.setdefault(performer, {})
-                routes = self._routes.setdefault(performer, [])
+                routes = all_routes.setdefault(performer, [])
                 key = next((k for k, s in templates.items()
                             if s.shape == samples.shape and np.array_equal(s, samples)), None)
                 if key is None:
@@ -125,12 +164,18 @@ class MopStage:
                         key = f"{action}~{n}"
                     templates[key] = samples
                 routes.append((c, action, key))
-        for performer, templates in by_performer.items():
-            self._followers[performer] = self.make_follower(templates, self.performers[performer].units)
+        return all_routes, by_performer
+
+    def _build(self, plan: tuple[dict, dict]) -> tuple:
+        """The followers of a :meth:`_plan` (pure: may run in the worker)."""
+        routes, by_performer = plan
+        followers = {performer: self.make_follower(templates, self.performers[performer].units)
+                     for performer, templates in by_performer.items()}
         # every follower stepped in one vectorised pass
-        self._keys = list(self._followers)
-        self._group = (self.make_group([self._followers[k] for k in self._keys])
-                       if self.make_group is not None and self._keys else None)
+        keys = list(followers)
+        group = (self.make_group([followers[k] for k in keys])
+                 if self.make_group is not None and keys else None)
+        return routes, followers, keys, group
 
     # --- designer -------------------------------------------------------------------------------
 
@@ -228,15 +273,15 @@ class MopStage:
             self._counter += 1
             name = f"take{self._counter}"
         self.take_action = name
-        self._add_take_action(self._assign_motion(take.motion_index))
+        self._add_take_action(self._assign_motion(take.motion_index), background=True)
 
-    def _add_take_action(self, motion: str) -> None:
+    def _add_take_action(self, motion: str, background: bool = False) -> None:
         take = self.take
         assert take is not None and self.take_action is not None
         c = take.character
         self.templates[c][self.take_action] = (take.performer, take.samples())
         self.puppets[c].add_action(Action(self.take_action, self.load_motion(c, motion)))
-        self._retrain(c)
+        self._retrain(c, background)
         self.message = f"{self.take_action} -> {motion}: perform it; K keep, X discard, R redo"
 
     def designer_label(self) -> str:
@@ -280,7 +325,8 @@ class MopStage:
             state = self._states.get(performer)
             if state is None:
                 continue
-            mine = [(action, key) for c, action, key in routes if c == character]
+            mine = [(action, key) for c, action, key in routes   # (not one dropped since)
+                    if c == character and action in self.puppets[c].actions]
             if not mine:
                 continue
             probs, prog = state.probabilities, state.progress_by  # type: ignore[attr-defined]

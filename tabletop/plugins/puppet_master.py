@@ -66,7 +66,7 @@ DESIGNER = Record({
     "sequential": Bool(False, doc="one hand: R records the main, R stops, R plays it back "
                        "and records the reactor against it (paper 3.1)"),
     "background_training": Bool(True, doc="train in a worker thread, swapped in between "
-                                "ticks (false: within the tick, for exact replays)"),
+                                "ticks 0.15 s after the stop (false: within the stop's tick)"),
 })
 
 
@@ -119,7 +119,8 @@ class PuppetMasterEngine:
         self.reactor: Reactor | None = None
         self.play(behavior, behavior_name)
         self.last_main: tuple[float, float, float] | None = None
-        self.hold: Callable[[Frame], CharacterState] | None = None  # replaces the reaction
+        # the studio's characters while recording (the first is this one), replacing the reaction
+        self.hold: Callable[[Frame], tuple[CharacterState, ...]] | None = None
         self.note = ""                                               # the studio's label
         if self.designer is not None:
             if self.designer["main_puck"] is None:
@@ -130,10 +131,14 @@ class PuppetMasterEngine:
 
     # -- the behaviour in play ----------------------------------------------------------------
 
-    def play(self, behavior: Behavior | None, name: str = "") -> None:
-        """Play ``behavior`` from here on (a fresh reactor, started at the main's next pose)."""
+    def play(self, behavior: Behavior | None, name: str = "",
+             reactor: Reactor | None = None) -> None:
+        """Play ``behavior`` from here on (a fresh reactor, started at the main's next pose;
+        ``reactor``: one already built for it, e.g. in a training worker)."""
         self.behavior, self.behavior_name = behavior, name
-        self.reactor = Reactor(behavior, self.table) if behavior is not None else None
+        if reactor is None and behavior is not None:
+            reactor = Reactor(behavior, self.table)
+        self.reactor = reactor
 
     # -- the engine step ------------------------------------------------------------------------
 
@@ -146,7 +151,7 @@ class PuppetMasterEngine:
 
     def _step(self, frame: Frame) -> tuple[CharacterState, ...]:
         if self.hold is not None:
-            return (self.hold(frame),)
+            return self.hold(frame)
         r = self.reactor
         near = r.pose[:2] if r is not None and r.started else None
         previous = self.mains.chosen

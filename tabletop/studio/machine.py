@@ -2,10 +2,18 @@
 
 States: ``idle`` -> (record) ``countdown`` -> ``recording`` -> (stop: trained at once) ``trying``
 -> keep (saved to the library, named) | discard | redo (a new countdown) -> ``idle``.
+A take in parts (Puppet Master's sequential training: the main, then the reaction against its
+playback) waits in ``ready`` between its parts: record starts the next part's countdown; a part
+may also end by itself (the playback's end). A target that trains in a worker thread leaves the
+machine in ``training``; meanwhile the previous behaviour plays on. The new take is swapped in
+between ticks, at the first tick ``swap_s`` (frame time) after the stop, waiting there for the
+worker only if it is not done yet: the tick it plays from depends on the frames alone, so a
+recorded session replays exactly.
 Commands (keys through the view, control markers through :class:`Markers`):
 
 ======================  =========================================================
-``designer.record``     idle/trying: countdown then record (redo); recording: stop
+``designer.record``     idle/trying/training: countdown then record (redo); ready: the
+                        next part; recording: stop
 ``designer.stop``       stop recording (or cancel the countdown)
 ``designer.keep``       keep the take being tried
 ``designer.discard``    drop it, back to what played before
@@ -35,6 +43,8 @@ from tabletop.frames import CharacterState, Frame, InputError
 log = logging.getLogger("tabletop")
 
 MESSAGE_S = 5.0
+SWAP_S = 0.15   # a take trained in a worker plays this long after the stop (frame time): a
+                # minute's take trains in 15-95 ms here (bench/studio.py), so the loop rarely waits
 
 
 class Target(Protocol):
@@ -44,9 +54,15 @@ class Target(Protocol):
     what: str   # "behaviour", "action", ...
 
     def begin(self, frame: Frame) -> None: ...            # a take starts now
+    def resume(self, frame: Frame) -> None: ...           # its next part (cut() named) starts
     def record(self, frame: Frame) -> str: ...            # sample this tick; a problem or ""
-    def seconds(self) -> float: ...                       # length of the take so far
-    def train(self) -> str: ...                           # train, play it; raises InputError
+    def ended(self) -> bool: ...                          # the part ended by itself
+    def cut(self) -> str: ...                             # part stopped: "" done, else the next
+    def seconds(self) -> float: ...                       # length of the part so far
+    def train(self) -> str | None: ...                    # train, play it; None: training in
+                                                          # the background; raises InputError
+    def trained(self, wait: bool) -> str | None: ...      # between ticks: it plays (wait: once
+                                                          # trained), else None; InputError
     def revert(self) -> None: ...                         # back to what played before the take
     def keep(self) -> str: ...                            # save the take; returns its name
     def items(self) -> list[str]: ...                     # the library's items, sorted
@@ -66,7 +82,7 @@ class Try:
     started: float
     duration_s: float = 0.0
     samples: int = 0
-    training_s: float = 0.0
+    training_s: float = 0.0    # from the stop until the take plays (a worker's wait included)
     outcome: str = ""          # kept | discarded | redone | too short | refused
     name: str = ""
     review: str = ""
@@ -77,7 +93,8 @@ class Studio:
 
     def __init__(self, targets: Sequence[Target], countdown_s: float = 3.0,
                  log_try: Callable[[Try, Target], None] | None = None,
-                 clock: Callable[[], float] = time.monotonic, quiet: bool = False) -> None:
+                 clock: Callable[[], float] = time.monotonic, quiet: bool = False,
+                 swap_s: float = SWAP_S) -> None:
         self.targets = {t.name: t for t in targets}
         self.order = [t.name for t in targets]
         self.countdown_s, self.log_try, self.clock = countdown_s, log_try, clock
@@ -89,6 +106,9 @@ class Studio:
         self.undo_stack: list[tuple[str, Callable[[], None]]] = []
         self.tries: list[Try] = []
         self._try: Try | None = None
+        self._part = ""              # the take's next part while "ready" (and recording it)
+        self._t0 = 0.0               # perf_counter at the stop, while "training"
+        self.swap_s, self._swap_at = swap_s, 0.0   # the trained take plays from _swap_at
         self._t = 0.0
         self.quiet = quiet   # draws nothing until the first designer command (not in studio mode)
 
@@ -110,11 +130,11 @@ class Studio:
     def __call__(self, frame: Frame) -> Frame:
         self._t = frame.t
         if frame.focus in self.targets and frame.focus != self.selected:
-            if self.state in ("countdown", "recording"):
-                self.state = "idle"
-            elif self.state == "trying":
-                self._drop("discarded")
+            if self.state != "idle":     # the take is left: dropped (logged once trained)
+                self._drop("discarded" if self.state in ("trying", "training") else "")
             self.selected = frame.focus
+        if self.state == "training" and self.target is not None:
+            self._poll_training(self.target)     # between ticks: the worker's take swaps in
         ours = frame.focus is None or frame.focus in self.targets   # else another engine's
         mine = [c for c in frame.commands
                 if ours and c.startswith("designer.") and c != "designer.next"]
@@ -123,13 +143,18 @@ class Studio:
         target = self.target
         if target is not None:
             if self.state == "countdown" and frame.t >= self.until:
-                target.begin(frame)
+                if self._part:
+                    target.resume(frame)
+                else:
+                    target.begin(frame)
+                    self._try = Try(target.name, target.what, time.time())
                 self.state = "recording"
-                self._try = Try(target.name, target.what, time.time())
             if self.state == "recording":
                 problem = target.record(frame)
                 if problem:
                     self.message, self._message_until = problem, self._t + 0.2
+                if target.ended():
+                    self._stop(target, "")
         rest = tuple(c for c in frame.commands if c not in mine)
         return dataclasses.replace(frame, commands=rest).with_characters((self.character(frame),))
 
@@ -153,37 +178,68 @@ class Studio:
         if self.state == "recording":
             self._stop(target, arg)
         elif self.state == "countdown":
-            self.state = "idle"
+            self.state = "ready" if self._part else "idle"
             self.say("countdown cancelled")
+        elif self.state == "ready":
+            self.state, self.until = "countdown", self._t + self.countdown_s
         else:
-            if self.state == "trying":
+            if self.state in ("trying", "training"):
                 self._drop("redone")
             self.state, self.until = "countdown", self._t + self.countdown_s
 
     def _stop(self, target: Target, arg: str) -> None:
         if self.state == "countdown":
-            self.state = "idle"
+            self.state = "ready" if self._part else "idle"
             return
         if self.state != "recording":
             return
+        part = target.cut()
+        if part:                         # the take goes on with another part
+            self._part, self.state = part, "ready"
+            self.say(f"R records {part}")
+            return
+        self._part = ""
         t = self._try or Try(target.name, target.what, time.time())
         t.duration_s = round(target.seconds(), 3)
-        t0 = time.perf_counter()
+        self._t0 = time.perf_counter()
+        self._try = t
         try:
             summary = target.train()
         except InputError as exc:
-            t.outcome = "too short" if "short" in str(exc) else "refused"
-            self._finish(t)
-            self.state = "idle"
-            self.say(f"{exc}: R to record again")
+            self._refused(t, exc)
             return
-        t.training_s = round(time.perf_counter() - t0, 4)
+        if summary is None:
+            self.state, self._swap_at = "training", self._t + self.swap_s
+            return
+        self._trained(t, summary)
+
+    def _poll_training(self, target: Target) -> None:
+        if self._t < self._swap_at:
+            return
+        t = self._try or Try(target.name, target.what, time.time())
+        try:
+            summary = target.trained(wait=True)
+        except InputError as exc:
+            self._refused(t, exc)
+            return
+        if summary is not None:
+            self._trained(t, summary)
+
+    def _trained(self, t: Try, summary: str) -> None:
+        t.training_s = round(time.perf_counter() - self._t0, 4)
         self._try, self.state = t, "trying"
         self.say(f"{summary}; try it: K keep, X discard, R redo")
 
+    def _refused(self, t: Try, exc: InputError) -> None:
+        t.outcome = "too short" if "short" in str(exc) else "refused"
+        self._finish(t)
+        self.state = "idle"
+        self.say(f"{exc}: R to record again")
+
     def _keep(self, target: Target, arg: str) -> None:
         if self.state != "trying":
-            self.say("nothing to keep: R records a take")
+            self.say("still training: K once it plays" if self.state == "training"
+                     else "nothing to keep: R records a take")
             return
         name = target.keep()
         self.state = "idle"
@@ -194,27 +250,32 @@ class Studio:
         self.say(f"kept as {name}")
 
     def _discard(self, target: Target, arg: str) -> None:
-        if self.state == "trying":
+        if self.state in ("trying", "training"):
             self._drop("discarded")
             self.say("take discarded")
-        elif self.state in ("countdown", "recording"):
-            self.state = "idle"
+        elif self.state in ("countdown", "recording", "ready"):
+            self._drop("")
             self.say("take cancelled")
         else:
             self.say("nothing to discard")
 
     def _redo(self, target: Target, arg: str) -> None:
-        if self.state == "trying":
+        if self.state in ("trying", "training"):
             self._drop("redone")
-        if self.state in ("idle", "trying"):
+        elif self.state in ("countdown", "recording", "ready"):
+            self._drop("")
+        if self.state == "idle":
             self.state, self.until = "countdown", self._t + self.countdown_s
 
     def _drop(self, outcome: str) -> None:
+        """Back to what played before the take; the try is logged with ``outcome`` (a take
+        cancelled before it was trained, outcome "", is not a try)."""
         target = self.target
         if target is not None:
             target.revert()
-        if self._try is not None:
+        if self._try is not None and outcome:
             self._finish(self._try, outcome)
+        self._try, self._part = None, ""
         self.state = "idle"
 
     def _finish(self, t: Try, outcome: str | None = None) -> None:
@@ -311,7 +372,9 @@ class Studio:
             text = {"idle": f"{target.what} {target.current() or '(none)'}: R record, "
                             "[ ] switch, F2 rename, Del delete, U undo",
                     "countdown": "get ready",
-                    "recording": "recording: R stop",
+                    "recording": f"recording{' ' + self._part if self._part else ''}: R stop",
+                    "ready": f"R records {self._part}, X cancels",
+                    "training": "training the take...",
                     "trying": "try it: K keep, X discard, R redo"}[self.state]
         if self.problems:
             text += f"   | {len(self.problems)} bad library file(s): {self.problems[0]}"

@@ -1,7 +1,11 @@
 """Engines seen by the studio: one :class:`~tabletop.studio.machine.Target` adapter per engine.
 
-:class:`PuppetMasterTarget` (a behaviour): the take is both designer pucks' poses; training is
-``Behavior.train``; kept takes are behaviour folders (:mod:`tabletop.library`).
+:class:`PuppetMasterTarget` (a behaviour): the take is both designer pucks' poses, or with
+``designer.sequential`` two parts (the main puck alone, then the reactor puck against the main
+take's playback, paired by :func:`behaviors.puppet_master.sequential.pair_takes`); training is
+``Behavior.train``, in a worker thread with ``designer.background_training`` (the new behaviour
+and its reactor are swapped in between ticks); kept takes are behaviour folders
+(:mod:`tabletop.library`).
 :class:`MopTarget` (an action slot of one MOP character): the take is the character's
 performer; training is the stage's (a new action, followed at once); kept takes are the
 engine's action library (:func:`tabletop.plugins.mop.save_to_library`).
@@ -18,9 +22,12 @@ from typing import Callable
 
 import numpy as np
 
+from behaviors.puppet_master.sequential import SequentialSession
+from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
+from tabletop.worker import Worker
 
 log = logging.getLogger("tabletop")
 
@@ -51,6 +58,8 @@ def rename_folder(lib: Path, old: str, new: str) -> None:
 class PuppetMasterTarget:
     """A Puppet Master engine in designer mode as a studio target."""
 
+    REACTION = "the reaction against the main's playback"
+
     what = "behaviour"
 
     def __init__(self, engine) -> None:
@@ -62,6 +71,12 @@ class PuppetMasterTarget:
         self.min_seconds = d["min_seconds"]
         self.record_marker = d.get("record_marker")
         self.take: list[tuple[float, ...]] = []
+        self.sequential = bool(d.get("sequential", False))
+        self.session = SequentialSession()
+        self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
+        self.trainer = BackgroundTrainer() if d.get("background_training", True) else None
+        self._training: np.ndarray | None = None              # the demonstration in the worker
+        self._t = 0.0                                         # the last recorded frame's time
         self.demo: np.ndarray | None = None
         self.pending = None
         self.previous: tuple = (None, "")
@@ -74,25 +89,63 @@ class PuppetMasterTarget:
     # --- the take ------------------------------------------------------------------------------
 
     def begin(self, frame: Frame) -> None:
-        self.take = []
+        self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
+        if self.sequential:
+            self.session = SequentialSession()
+            self.session.toggle(frame.t)             # the main puck alone
         self.engine.hold = self._hold
 
-    def _hold(self, frame: Frame) -> CharacterState:
-        """While recording the character is drawn under the reactor puck."""
+    def resume(self, frame: Frame) -> None:
+        """The reaction part: the main take plays back from now."""
+        if self.sequential and self.session.phase == "ready":
+            self.session.toggle(frame.t)
+
+    def _hold(self, frame: Frame) -> tuple[CharacterState, ...]:
+        """While recording the character is drawn under the reactor puck, and the main take's
+        playback (sequential) as a ghost ``NAME.main`` of kind "playback"."""
+        e = self.engine
         r = frame.puck(self.react_puck)
         if r is not None:
-            return self.engine.character(r.x, r.y, r.angle, True, "recording")
-        x0, y0, x1, y1 = self.engine.table
-        return self.engine.character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, "recording")
+            out = [e.character(r.x, r.y, r.angle, True, "recording")]
+        else:
+            x0, y0, x1, y1 = e.table
+            out = [e.character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, "recording")]
+        if self.ghost is not None:
+            out.append(CharacterState(f"{self.name}.main", *self.ghost, kind="playback",
+                                      size=e.size, color=e.color, valid=True, label="playback"))
+        return tuple(out)
 
     def record(self, frame: Frame) -> str:
         m, r = frame.puck(self.main_puck), frame.puck(self.react_puck)
-        if m is not None and r is not None and (not self.take or frame.t > self.take[-1][0]):
-            self.take.append((frame.t, m.x, m.y, m.angle, r.x, r.y, r.angle))
-        missing = [f"puck {p}" for p, q in ((self.main_puck, m), (self.react_puck, r)) if q is None]
+        self._t = frame.t
+        if self.sequential:
+            self.ghost = self.session.record(frame.t, None if m is None else (m.x, m.y, m.angle),
+                                             None if r is None else (r.x, r.y, r.angle))
+            need = ((self.main_puck, m),) if self.session.phase == "main" else (
+                (self.react_puck, r),)
+        else:
+            if m is not None and r is not None and (not self.take or frame.t > self.take[-1][0]):
+                self.take.append((frame.t, m.x, m.y, m.angle, r.x, r.y, r.angle))
+            need = ((self.main_puck, m), (self.react_puck, r))
+        missing = [f"puck {p}" for p, q in need if q is None]
         return f"recording: no {', '.join(missing)}" if missing else ""
 
+    def ended(self) -> bool:
+        """The main's playback has ended (sequential): the reaction part is complete."""
+        return self.sequential and self.session.phase == "done"
+
+    def cut(self) -> str:
+        """The designer stopped: after the main part (long enough) the reaction follows."""
+        s = self.session
+        if not self.sequential or s.phase not in ("main", "react"):
+            return ""
+        if s.phase == "main" and s.seconds() < self.min_seconds:
+            return ""                                 # train() refuses it as too short
+        return self.REACTION if s.toggle(self._t) == "ready" else ""
+
     def seconds(self) -> float:
+        if self.sequential:
+            return self.session.seconds()
         return self.take[-1][0] - self.take[0][0] if self.take else 0.0
 
     def take_array(self) -> np.ndarray:
@@ -102,25 +155,67 @@ class PuppetMasterTarget:
             a[:, 0] -= a[0, 0]
         return a
 
-    def train(self) -> str:
-        from behaviors.puppet_master.engine import Behavior
-        self.engine.hold = None
-        demo = self.take_array()
-        secs = float(demo[-1, 0]) if len(demo) else 0.0
+    def demonstration(self) -> np.ndarray:
+        """The take as a demonstration (n, 7), at least ``min_seconds`` long (InputError)."""
+        if not self.sequential:
+            demo, what = self.take_array(), "both pucks"
+        elif self.session.phase != "done":
+            demo, what = np.array(self.session.main).reshape(-1, 4), "the main puck"
+        else:
+            demo, what = self.session.demonstration(), "the reaction"
+        secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0
         if secs < self.min_seconds:
-            raise InputError(f"take too short ({secs:.1f} s of both pucks, needs "
+            raise InputError(f"take too short ({secs:.1f} s of {what}, needs "
                              f"{self.min_seconds:g} s)")
+        return demo
+
+    def train(self) -> str | None:
+        """Train the take and play it; with background training start the worker and return
+        None (:meth:`trained` swaps it in)."""
+        from behaviors.puppet_master.engine import Behavior
+        self.engine.hold, self.ghost = None, None
+        demo = self.demonstration()
         e = self.engine
-        rate = e.rate_hz or (e.behavior.params.rate_hz if e.behavior else 40.0)
-        window = e.behavior.params.window if e.behavior else 40
-        self.pending = Behavior.train(demo, rate_hz=rate, window=window)
-        self.demo = demo
+        params = {"rate_hz": e.rate_hz or (e.behavior.params.rate_hz if e.behavior else 40.0),
+                  "window": e.behavior.params.window if e.behavior else 40}
+        if self.trainer is not None:
+            self._training = demo
+            self.trainer.start(demo, params, e.table)
+            return None
+        self._play(Behavior.train(demo, **params), None, demo)
+        return self._summary()
+
+    def trained(self, wait: bool) -> str | None:
+        """Between ticks: the worker's behaviour and reactor, once ready (``wait``: waits for
+        them), play from now."""
+        if wait and self.trainer is not None and self._training is not None:
+            self.trainer.wait()
+        done = self.trainer.poll() if self.trainer is not None else None
+        if done is None or self._training is None:
+            return None
+        demo, self._training = self._training, None
+        if isinstance(done, Exception):
+            raise InputError(f"training failed: {done}")
+        behavior, reactor, error = done
+        if error is not None:
+            raise error
+        self._play(behavior, reactor, demo)
+        return self._summary()
+
+    def _play(self, behavior, reactor, demo: np.ndarray) -> None:
+        e = self.engine
+        self.pending, self.demo = behavior, demo
         self.previous = (e.behavior, e.behavior_name)
-        e.play(self.pending, "new take")
+        e.play(behavior, "new take", reactor)
+
+    def _summary(self) -> str:
+        secs = float(self.demo[-1, 0]) if self.demo is not None and len(self.demo) else 0.0
         return f"trained {self.pending.samples} samples ({secs:.1f} s)"
 
     def revert(self) -> None:
-        self.engine.hold = None
+        self.engine.hold, self.ghost, self._training = None, None, None
+        if self.trainer is not None:
+            self.trainer.cancel()                     # a job still running is dropped
         if self.pending is not None:
             self.engine.play(*self.previous)
         self.pending = None
@@ -199,8 +294,11 @@ class MopTarget:
 
     what = "action"
 
-    def __init__(self, stage, character: str, lib: Path | None) -> None:
+    def __init__(self, stage, character: str, lib: Path | None, background: bool = True) -> None:
         self.stage, self.character, self.lib = stage, character, lib
+        if background and stage.worker is None:   # the stage's followers built off the hot path
+            stage.worker = Worker(f"{stage.name}-training")
+        self._summary = ""
         self.name = f"{stage.name}/{character}"
         self._frame: Frame | None = None
         self.kept: str | None = None
@@ -218,9 +316,23 @@ class MopTarget:
         self._frame = frame
         self._do("designer.record")
 
+    def resume(self, frame: Frame) -> None:
+        pass                                  # an action is one part
+
     def record(self, frame: Frame) -> str:
         self._frame = frame
         return ""
+
+    def ended(self) -> bool:
+        return False
+
+    def cut(self) -> str:
+        return ""
+
+    def trained(self, wait: bool) -> str | None:
+        """Between ticks: the summary once the stage's new followers are installed."""
+        self.stage.install_built(wait)
+        return None if self.stage.building else self._summary
 
     def seconds(self) -> float:
         take = self.stage.take
@@ -231,7 +343,8 @@ class MopTarget:
         if self.stage.take_action is None:
             raise InputError(msg)
         self.demo = np.array(self.stage.take.samples(), dtype=float)
-        return msg.split(":")[0]
+        self._summary = msg.split(":")[0]
+        return None if self.stage.building else self._summary
 
     def take_array(self) -> np.ndarray:
         take = self.stage.take

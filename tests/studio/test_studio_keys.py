@@ -64,6 +64,9 @@ def demo_frames(demo, commands, t0=100.0, focus=None):
 
 
 def designer(tmp_path, **extra):
+    """A designer engine that trains within the tick (the take plays on the stop's tick), so
+    these tests follow every command exactly; background training has its own test."""
+    extra = {"background_training": False, **extra}
     return build([{"kind": "puppet_master", "name": "pet",
                    "designer": {"enabled": True, "library": str(tmp_path / "lib"), **extra}}])
 
@@ -205,7 +208,14 @@ def test_a_mop_action_slot_is_recorded_trained_and_kept_through_the_same_studio(
     tick(0.3, 0.3, ["designer.record"])
     perform()
     _, studio = tick(0.3, 0.3, ["designer.record"])
-    assert bench.studio.state == "trying" and "take1 -> strike" in studio.label
+    # the followers are rebuilt in the stage's worker; the old ones play until the new swap in
+    assert bench.studio.state == "training" and "take1" not in str(stage._routes)
+    ticks = 0
+    while bench.studio.state == "training":     # swapped in 0.15 s of frame time after the stop
+        _, studio = tick(0.3, 0.3)
+        ticks += 1
+    assert 9 <= ticks <= 10 and "take1 -> strike" in studio.label
+    assert bench.studio.state == "trying" and "take1" in str(stage._routes)
     tick(0.3, 0.3, ["designer.assign"])
     assert stage.puppets["lizard"].actions["take1"].clip.name == "curl"
     for _ in range(70):

@@ -55,11 +55,14 @@ def test_control_markers_through_the_camera_record_train_and_keep(tmp_path, caps
         frame = inst.loop.tick()
         states.append(frame.character("studio").action)
         assert 45 not in {p.id for p in frame.pucks}    # markers are controls, not inputs
+        if states[-1] == "training":     # the worker trains; the take plays from the next tick
+            runner.studio.target.trainer.wait(30.0)
         clock.advance(1 / RATE)
     inst.loop.close()
     runner.studio.session.wait()
     order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
-    assert order == ["idle", "countdown", "recording", "trying", "idle"]
+    assert order == ["idle", "countdown", "recording", "training", "trying", "idle"]
+    assert states.count("training") == 3      # 0.15 s after the stop, at 20 Hz
     # started 0.3 s (debounce) + 0.5 s (countdown) after the marker was put down at 0.5 s and
     # confirmed by the tracker, stopped 0.3 s after it was lifted at 4.5 s
     rec = [i / RATE for i, s in enumerate(states) if s == "recording"]
@@ -190,10 +193,12 @@ def test_scripted_key_events_through_the_view_record_train_try_and_keep(tmp_path
             pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=keys[i], mod=0,
                                                  unicode="", scancode=0))
         states.append(inst.loop.tick().character("studio").action)
+        if states[-1] == "training":     # the worker trains; the take plays from the next tick
+            runner.studio.target.trainer.wait(30.0)
         clock.advance(1 / RATE)
     inst.loop.close()
     order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
-    assert order == ["idle", "countdown", "recording", "trying", "idle"]
+    assert order == ["idle", "countdown", "recording", "training", "trying", "idle"]
     take = library.load_behavior(tmp_path / "lib" / "pet").demonstration
     # pressed at 1 s (read by the view that tick, handled the next), 1 s countdown, stopped at 5 s
     assert take[-1, 0] == pytest.approx(3.0, abs=2.5 / RATE)

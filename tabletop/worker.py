@@ -1,0 +1,121 @@
+"""One job at a time in a daemon thread, its result picked up between ticks.
+
+The frame loop never waits for a job: :meth:`Worker.poll` returns the finished job's result
+once (else None; an exception the job raised is returned as its result); starting a new job,
+or :meth:`Worker.cancel`, drops the result of the job still running.
+
+Two things keep a job from stalling the ticks meanwhile (measured in ``bench/studio.py``): the
+thread is started once, when the worker is made (starting one per job cost the loop up to a
+switch interval), and while a job runs the interpreter's GIL switch interval is shortened from
+5 ms to :data:`SWITCH_S`, so the frame loop gets the GIL back within that when a job runs
+Python code.
+"""
+
+from __future__ import annotations
+
+import logging
+import queue
+import sys
+import threading
+import weakref
+from typing import Any, Callable
+
+log = logging.getLogger("tabletop")
+
+SWITCH_S = 0.0005        # GIL switch interval while a job runs (s)
+
+_switch_lock = threading.Lock()
+_running = 0             # jobs running in every worker
+_saved_switch = 0.005
+
+
+def _job_begins() -> None:
+    global _running, _saved_switch
+    with _switch_lock:
+        if _running == 0:
+            _saved_switch = sys.getswitchinterval()
+            sys.setswitchinterval(min(_saved_switch, SWITCH_S))
+        _running += 1
+
+
+def _job_ends() -> None:
+    global _running
+    with _switch_lock:
+        _running -= 1
+        if _running == 0:
+            sys.setswitchinterval(_saved_switch)
+
+
+class Worker:
+    """Runs ``fn(*args)`` in its daemon thread named ``name``; see the module docstring."""
+
+    def __init__(self, name: str = "tabletop-worker") -> None:
+        self.name = name
+        self._lock = threading.Lock()
+        self._jobs: queue.SimpleQueue = queue.SimpleQueue()
+        self._idle = threading.Event()
+        self._idle.set()
+        self._done: Any = None
+        self._job = 0
+        # the thread holds the worker weakly: a worker no longer used ends its thread
+        threading.Thread(target=_serve, args=(self._jobs, weakref.ref(self)), name=name,
+                         daemon=True).start()
+
+    def __del__(self) -> None:
+        self._jobs.put(None)
+
+    @property
+    def busy(self) -> bool:
+        """True while a job runs (or waits to)."""
+        return not self._idle.is_set()
+
+    def start(self, fn: Callable[..., Any], *args: Any) -> None:
+        """Run ``fn(*args)``; a job still running is forgotten (its result is dropped). The
+        result must not be None (None means "not finished" to :meth:`poll`)."""
+        with self._lock:
+            self._job += 1
+            self._done = None
+            self._idle.clear()
+            self._jobs.put((self._job, fn, args))
+
+    def _run(self, job: int, fn: Callable[..., Any], args: tuple) -> None:
+        _job_begins()
+        try:
+            result = fn(*args)
+        except Exception as exc:     # the job's failure is its result; the loop goes on
+            log.exception("%s: job failed", self.name)
+            result = exc
+        finally:
+            _job_ends()
+        with self._lock:
+            if job == self._job:
+                self._done = result
+            if self._jobs.empty():
+                self._idle.set()
+
+    def cancel(self) -> None:
+        """Forget the running job (its result is dropped) and any result not yet polled."""
+        with self._lock:
+            self._job += 1
+            self._done = None
+
+    def poll(self) -> Any:
+        """The finished job's result once, else None."""
+        with self._lock:
+            done, self._done = self._done, None
+        return done
+
+    def wait(self, timeout: float | None = None) -> None:
+        """Block until the jobs started so far have ended (tests, replays that must be exact)."""
+        self._idle.wait(timeout)
+
+
+def _serve(jobs: queue.SimpleQueue, ref: weakref.ref) -> None:
+    """A worker's thread: runs its jobs until the worker is gone."""
+    while True:
+        item = jobs.get()
+        worker = ref()
+        if item is None or worker is None:
+            return
+        worker._run(*item)
+        del worker, item

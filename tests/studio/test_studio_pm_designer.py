@@ -1,0 +1,110 @@
+"""Puppet Master's designer tools in the studio: training in a worker thread swapped in between
+ticks, and sequential training (the main puck alone, then the reactor against its playback)."""
+
+import json
+
+import numpy as np
+
+from behaviors.puppet_master import designers
+from tabletop import library
+from tabletop.frames import Frame, Puck
+from tabletop.studio.machine import SWAP_S
+
+from tests.studio.test_studio_keys import Bench, demo_frames, designer
+
+
+def test_background_training_swaps_the_take_in_between_ticks(tmp_path):
+    (e,) = designer(tmp_path, background_training=True)
+    bench = Bench([e], tmp_path)
+    target = bench.studio.target
+    demo = designers.demonstrate("lover", seed=8, seconds=12)
+    cmds = {5: ("designer.record",), 300: ("designer.record",), 301: ("designer.discard",),
+            310: ("designer.record",), 400: ("designer.record",)}
+    frames = list(demo_frames(demo, cmds))
+    for f in frames[:301]:
+        _, studio = bench.step(f)
+    # the tick that stopped the recording did not train: the take trains in a worker thread
+    # and plays from the first tick SWAP_S of frame time after the stop (so replays are exact)
+    assert studio.action == "training" and "training" in studio.label
+    assert e.behavior is None and e.hold is None
+    # discarded while (or just after) training: the worker's take never plays
+    _, studio = bench.step(frames[301])
+    target.trainer.wait(30.0)
+    assert studio.action == "idle" and "take discarded" in studio.label
+    for f in frames[302:401]:
+        chars, studio = bench.step(f)
+        assert e.behavior is None
+    assert studio.action == "training"
+    target.trainer.wait(30.0)           # done long before: still swapped in at a fixed time
+    swap = next(f for f in frames[401:] if f.t >= frames[400].t + SWAP_S)
+    for f in frames[401:swap.seq]:
+        chars, studio = bench.step(f)
+        assert studio.action == "training" and e.behavior is None
+    chars, studio = bench.step(swap)
+    assert studio.action == "trying" and "trained" in studio.label
+    assert e.behavior is target.pending and e.behavior.samples == 90     # 90 rows at 40 Hz
+    assert e.reactor.behavior is e.behavior          # the reactor built in the worker plays it
+    for f in frames[swap.seq + 1:]:
+        chars, _ = bench.step(f)
+        assert chars["pet"].valid
+    _, studio = bench.step(Frame(seq=1000, t=200.0, commands=("designer.keep",)))
+    assert "kept as pet" in studio.label
+    saved = library.load_behavior(tmp_path / "lib" / "pet").demonstration
+    assert np.allclose(saved[:, 1:], demo[310:400, 1:])
+    log = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert [x["outcome"] for x in log] == ["discarded", "kept"] and log[1]["training_s"] > 0
+
+
+def sequential_takes(bench, demo, t, seq0, part):
+    """Play one part of a sequential take: ``part`` "main" moves puck 1 along the demo's main,
+    "react" puck 2 along its reactor; R at the first row (and at the last, for the main).
+    Returns the ghost characters and the studio's actions seen."""
+    ghosts, actions = [], []
+    for i, row in enumerate(demo):
+        puck = Puck(1, *row[1:4]) if part == "main" else Puck(2, *row[4:7])
+        cmds = ("designer.record",) if i == 0 or (part == "main" and i == len(demo) - 1) else ()
+        chars, studio = bench.step(Frame(seq=seq0 + i, t=t + row[0], pucks=(puck,),
+                                         commands=cmds))
+        ghosts += [c for name, c in chars.items() if name == "pet.main"]
+        actions.append(studio)
+    return ghosts, actions
+
+
+def test_sequential_training_at_the_table(tmp_path):
+    # one hand: the main puck alone, then the reactor puck against the main's playback
+    (e,) = designer(tmp_path, sequential=True, background_training=True)
+    bench = Bench([e], tmp_path)
+    target = bench.studio.target
+    demo = designers.demonstrate("stalker", seed=4, seconds=12)
+    # a main part that is too short is refused, and says so
+    _, studios = sequential_takes(bench, demo[:40], 100.0, 0, "main")
+    assert studios[-1].action == "idle" and "too short" in studios[-1].label
+    assert "of the main puck" in studios[-1].label
+    ghosts, studios = sequential_takes(bench, demo, 200.0, 100, "main")
+    assert not ghosts and {s.action for s in studios[:-1]} == {"recording"}
+    assert not any("no puck 2" in s.label for s in studios)   # the reactor puck is not needed
+    _, studio = bench.step(Frame(seq=1000, t=220.0))
+    assert studio.action == "ready" and "R records the reaction" in studio.label
+    ghosts, studios = sequential_takes(bench, demo, 230.0, 2000, "react")
+    # the playback's end (the main take was recorded up to the row before the stop) stopped
+    # the take by itself
+    n = len(demo) - 2
+    assert {s.action for s in studios[:n]} == {"recording"} and studios[n].action == "training"
+    assert len(ghosts) == n and all(g.kind == "playback" for g in ghosts)
+    # the ghost replays the main take where it was recorded
+    g = np.array([(c.x, c.y) for c in ghosts])
+    assert np.max(np.hypot(*(g - demo[:n, 1:3]).T)) < 1e-6
+    target.trainer.wait(30.0)
+    chars, studio = bench.step(Frame(seq=3000, t=250.0, pucks=(Puck(1, 0.6, 0.4, 0.0),)))
+    assert studio.action == "trying" and "pet.main" not in chars and chars["pet"].valid
+    # the paired demonstration is the two takes: main and reactor at matching times
+    d = target.demo
+    assert len(d) >= len(demo) - 2
+    assert np.allclose(d[:, 4:6], demo[:len(d), 4:6], atol=1e-9)
+    assert np.max(np.hypot(*(d[:, 1:3] - demo[:len(d), 1:3]).T)) < 1e-6
+    _, studio = bench.step(Frame(seq=3001, t=251.0, commands=("designer.keep",)))
+    assert "kept as pet" in studio.label
+    saved = library.load_behavior(tmp_path / "lib" / "pet").demonstration
+    assert np.allclose(saved, d)
+    log = [json.loads(x)["outcome"] for x in bench.session.path.read_text().splitlines()]
+    assert log == ["too short", "kept"]
