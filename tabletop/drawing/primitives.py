@@ -7,6 +7,7 @@ with additive or multiplicative blending: they cost one blit each per frame.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Sequence
 
@@ -101,6 +102,13 @@ def _radial(radius: int, profile) -> np.ndarray:
     return np.clip(profile(d), 0.0, 1.0)
 
 
+@functools.lru_cache(maxsize=128)
+def _glow_profile(radius: int) -> np.ndarray:
+    """A glow's falloff at ``radius`` pixels (remembered: glows of every colour and strength
+    share it, so a character fading in costs one multiply per new light, not the whole ramp)."""
+    return _radial(radius, lambda d: (1.0 - d * d) ** 2 * (d < 1))
+
+
 def _bucket(v: float, step: float) -> float:
     return max(step, round(v / step) * step)
 
@@ -143,7 +151,7 @@ def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface
     key = (r, color, s)
     surf = _glows.get(key)
     if surf is None:
-        vals = s * _radial(r, lambda d: (1.0 - d * d) ** 2 * (d < 1))
+        vals = s * _glow_profile(r)
         surf = _remember(_glows, key, _rgb_surface(vals, color))
     return surf
 

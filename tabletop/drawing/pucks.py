@@ -36,9 +36,17 @@ def draw_trail(surf: pygame.Surface, trace: PuckTrace, to_px: Mapper, color: Col
     cx, cy = to_px(trace.puck.x, trace.puck.y)
     parts: tuple[list, list, list] = ([], [], [])
     last = None
-    for x, y, tp in path:
-        q = to_px(x, y)
-        if math.hypot(q[0] - cx, q[1] - cy) <= hole_px:
+    px = trace.px
+    if trace.px_map != to_px or len(px) > 2 * len(path) + 8:
+        px = trace.px = {} if trace.px_map != to_px else {e: px[e] for e in path if e in px}
+        trace.px_map = to_px
+    hole2 = hole_px * hole_px
+    for e in path:
+        q = px.get(e)
+        if q is None:
+            q = px[e] = to_px(e[0], e[1])
+        tp = e[2]
+        if (q[0] - cx) ** 2 + (q[1] - cy) ** 2 <= hole2:
             continue
         k = min(2, max(0, int(3.0 * (1.0 - (t - tp) / span_s))))
         if parts[k] == [] and k > 0 and parts[k - 1]:
