@@ -27,8 +27,8 @@ def polygon(surf: pygame.Surface, color: Color, pts: np.ndarray) -> None:
     """A filled polygon with an anti-aliased edge (pixels, N x 2)."""
     if len(pts) < 3:
         return
-    if not np.all(np.abs(pts) < 30000):
-        return   # NaN, infinity or far off screen
+    if not np.abs(pts).max() < 30000:
+        return   # NaN, infinity or far off screen (a NaN makes the max NaN)
     ip = np.rint(pts).astype(np.int32).tolist()
     gfx.filled_polygon(surf, ip, color)
     gfx.aapolygon(surf, ip, color)
@@ -220,10 +220,13 @@ def ring(surf: pygame.Surface, c: Sequence[float], radius: float, width: float, 
 def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
     """The pixel rectangle around points (N x 2) grown by ``pad`` on every side."""
     pts = np.asarray(pts, dtype=float).reshape(-1, 2)
-    if not len(pts) or not np.all(np.isfinite(pts)):
+    if not len(pts):
         return None
-    lo, hi = pts.min(axis=0) - pad - 1, pts.max(axis=0) + pad + 2
-    return pygame.Rect(int(lo[0]), int(lo[1]), int(hi[0] - lo[0]) + 1, int(hi[1] - lo[1]) + 1)
+    (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
+    if not (math.isfinite(x0) and math.isfinite(y0) and math.isfinite(x1) and math.isfinite(y1)):
+        return None   # NaN propagates through min/max
+    x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
+    return pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)
 
 
 def merge(rects: Sequence[pygame.Rect], screen: pygame.Rect) -> list[pygame.Rect]:
