@@ -8,6 +8,7 @@ drawing functions are pure over (surface, state, pose).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Sequence
@@ -214,18 +215,15 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
         if sp:
             break
         line(surf, dark, q[a], q[b], max(1, int(w[a] + w[b])))
-    for i in limb_points:                      # rounded joints and ends
-        P.disc(surf, dark, q[i], w[i])
+    P.discs(surf, dark, [q[i] for i in limb_points], [w[i] for i in limb_points])  # joints, ends
     if c.kind in ("creature", "sprite") and len(spine) >= 3:
         _torso(surf, body, pts[spine[0]], pts[spine[-2]], wspine, c.kind == "sprite")
     for (a, b), sp in zip(bones, on_spine):
         if sp:
             line(surf, body, q[a], q[b], max(1, int(w[a] + w[b])))
-    for i in spine_points:
-        P.disc(surf, body, q[i], w[i])
-    for i in knots:            # a lighter knot where a limb bends
-        if w[i] > 3:
-            P.disc(surf, light, q[i], w[i] * 0.45)
+    P.discs(surf, body, [q[i] for i in spine_points], [w[i] for i in spine_points])
+    big = [i for i in knots if w[i] > 3]       # a lighter knot where a limb bends
+    P.discs(surf, light, [q[i] for i in big], [w[i] * 0.45 for i in big])
     _head(surf, c, pose, pts, spine, fig)
     return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
 
@@ -280,6 +278,12 @@ def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
     return out
 
 
+@functools.lru_cache(maxsize=64)
+def _face_loops(n: int, bones: tuple) -> list[tuple[list[int], bool]]:
+    """A face's loops (see :func:`_loops`), found once per bone set."""
+    return _loops(_valid_bones(n, bones))
+
+
 def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
               pts: np.ndarray) -> pygame.Rect | None:
     """A face: its first closed loop is the head (filled, on a glow), smaller closed loops are
@@ -291,7 +295,7 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
     ctr = np.asarray(pose.center)
     pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
     fig = c.size * pose.ppm * pose.scale
-    loops = _loops(_valid_bones(n, c.bones))
+    loops = _face_loops(n, tuple(c.bones))
     if not loops:
         return None
     touched = P.bounds(pts, 0.06 * fig + 2)

@@ -46,6 +46,21 @@ def disc(surf: pygame.Surface, color: Color, c: Sequence[float], r: float) -> No
     gfx.aacircle(surf, xi, yi, ri, color)
 
 
+def discs(surf: pygame.Surface, color: Color, centers: Sequence[Sequence[float]],
+          radii: Sequence[float]) -> None:
+    """Many discs of one colour (as :func:`disc`, pixel for pixel), in one loop: a figure's
+    joints cost two C calls each and no Python call."""
+    fill, edge = gfx.filled_circle, gfx.aacircle
+    for (x, y), r in zip(centers, radii):
+        if not (-30000 < x < 30000 and -30000 < y < 30000):
+            continue
+        ri = int(r + 0.5)
+        if ri >= 1:
+            xi, yi = int(x + 0.5), int(y + 0.5)
+            fill(surf, xi, yi, ri, color)
+            edge(surf, xi, yi, ri, color)
+
+
 def ellipse(surf: pygame.Surface, color: Color, c: Sequence[float], rx: float, ry: float,
             angle: float = 0.0, n: int = 20) -> None:
     """A filled anti-aliased ellipse, semi-axes ``rx`` along ``angle`` (screen radians, y down)
