@@ -59,34 +59,33 @@ def _rot(a: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def _squash(local: np.ndarray, pose: Pose) -> np.ndarray:
-    """Local points (x along the heading) stretched along the motion, squashed across it."""
-    k = pose.stretch
-    if abs(k - 1.0) < 1e-3:
-        return local
-    rel = pose.motion - pose.angle          # motion direction in the body's frame
-    r = _rot(rel)
-    q = local @ r                            # into motion-aligned coordinates
-    q = q * np.array([k, 1.0 / k])
-    return q @ r.T
-
-
 def eyes(surf: pygame.Surface, pose: Pose, centers: np.ndarray, r: float) -> None:
     """Eyes of radius ``r`` px at screen ``centers``: white, a dark pupil turned along
     ``pose.gaze``, lids closing with ``pose.blink``."""
     if r < 1.5:
         return
     white, ink = fade(EYE_WHITE, pose.alpha), fade(INK, pose.alpha)
-    g = np.array([math.cos(pose.gaze), math.sin(pose.gaze)])
-    for c in centers:
+    gx, gy = math.cos(pose.gaze), math.sin(pose.gaze)
+    for cx, cy in np.asarray(centers, dtype=float).tolist():   # plain floats: two eyes only
         if pose.blink > 0.97:
-            P.disc(surf, white, c, r)
+            P.disc(surf, white, (cx, cy), r)
         else:
-            P.ellipse(surf, white, c, r, max(0.6, r * pose.blink), pose.angle + math.pi / 2, 14)
+            P.ellipse(surf, white, (cx, cy), r, max(0.6, r * pose.blink),
+                      pose.angle + math.pi / 2, 14)
         if pose.blink > 0.45:
-            pc = c + g * r * 0.42
-            P.disc(surf, ink, pc, r * 0.52)
-            P.disc(surf, white, pc - np.array([0.25, 0.35]) * r * 0.5, max(1.0, r * 0.16))
+            px, py = cx + gx * r * 0.42, cy + gy * r * 0.42
+            P.disc(surf, ink, (px, py), r * 0.52)
+            P.disc(surf, white, (px - 0.25 * r * 0.5, py - 0.35 * r * 0.5), max(1.0, r * 0.16))
+
+
+def _squash_matrix(pose: Pose) -> np.ndarray:
+    """The 2x2 map (row vectors, ``p @ S``) that stretches local points (x along the heading)
+    by ``pose.stretch`` along the motion and squashes them across it."""
+    k = pose.stretch
+    if abs(k - 1.0) < 1e-3:
+        return np.eye(2)
+    r = _rot(pose.motion - pose.angle)
+    return (r * np.array([k, 1.0 / k])) @ r.T
 
 
 def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.Rect | None:
@@ -95,23 +94,28 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     L = c.size * pose.ppm * pose.scale
     if L < 2:
         return None
-    local = REACTOR_BODY * np.array([pose.breath ** 0.5, pose.breath])
-    local = _squash(local, pose) * L
-    rot = _rot(pose.angle)
-    ctr = np.asarray(pose.center)
-    touched = P.glow(surf, ctr, 0.8 * L, pose.color, 0.36 * pose.alpha)
+    # One 2x2 map per layer (local units -> pixels: squash, size, heading), one product each.
+    ca, sa = math.cos(pose.angle), math.sin(pose.angle)
+    M = _squash_matrix(pose) @ np.array([[ca, sa], [-sa, ca]]) * L
+    A = M * np.array([[pose.breath ** 0.5], [pose.breath]])      # breathing body
+    cx, cy = pose.center
+    ctr = np.array([cx, cy])
+    touched = P.glow(surf, pose.center, 0.8 * L, pose.color, 0.36 * pose.alpha)
     # Little feet peeking out at the sides, stepping while it moves.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
-    feet = np.array([(-0.05 + step, 0.3), (-0.05 - step, -0.3)]) * L
-    for f in feet @ rot.T + ctr:
-        P.disc(surf, pose.body(0.62), f, 0.085 * L)
-    P.polygon(surf, pose.body(0.72), local @ rot.T * 1.06 + ctr + (0, 0.04 * L))
-    P.polygon(surf, pose.body(), local @ rot.T + ctr)
-    belly = (REACTOR_BODY * 0.55 + (0.05, -0.05)) * L
-    P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha), _squash(belly, pose) @ rot.T + ctr)
-    eye_local = _squash(REACTOR_EYES * L, pose)
-    eyes(surf, pose, eye_local @ rot.T + ctr, 0.1 * L)
-    return P.union([touched, P.bounds(np.asarray([ctr]), 0.9 * L * pose.stretch)])
+    foot = pose.body(0.62)
+    for fx, fy in ((-0.05 + step, 0.3), (-0.05 - step, -0.3)):
+        fx, fy = fx * L, fy * L
+        P.disc(surf, foot, (fx * ca - fy * sa + cx, fx * sa + fy * ca + cy), 0.085 * L)
+    body = REACTOR_BODY @ A
+    P.polygon(surf, pose.body(0.72), body * 1.06 + (cx, cy + 0.04 * L))
+    P.polygon(surf, pose.body(), body + ctr)
+    belly = REACTOR_BODY @ (0.55 * M) + (np.array([0.05, -0.05]) @ M + ctr)
+    P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha), belly)
+    eyes(surf, pose, REACTOR_EYES @ M + ctr, 0.1 * L)
+    pad = 0.9 * L * pose.stretch
+    x0, y0, x1, y1 = cx - pad - 1, cy - pad - 1, cx + pad + 2, cy + pad + 2
+    return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
 
 
 def _chains(bones: Sequence[tuple[int, int]]) -> list[list[int]]:
