@@ -250,27 +250,27 @@ def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,
     """A head at the spine's end, facing along the last spine bone, eyes looking along the gaze."""
     if len(spine) < 2:
         return
-    h, prev = pts[spine[-1]], pts[spine[-2]]
-    d = h - prev
-    facing = math.atan2(d[1], d[0]) if np.hypot(*d) > 1e-6 else pose.angle
+    (hx, hy), (px, py) = pts[spine[-1]].tolist(), pts[spine[-2]].tolist()
+    dx, dy = hx - px, hy - py
+    dn = math.hypot(dx, dy)
+    facing = math.atan2(dy, dx) if dn > 1e-6 else pose.angle
     if c.kind == "skeleton":   # the last spine bone runs from the neck to the top of the head
-        centre = (h + prev) / 2
-        r = max(0.5 * float(np.hypot(*d)), 0.06 * fig)
+        ox, oy = (hx + px) / 2, (hy + py) / 2
+        r = max(0.5 * dn, 0.06 * fig)
     else:
-        centre = h - d * 0.35
+        ox, oy = hx - dx * 0.35, hy - dy * 0.35
         r = 0.06 * fig
-    P.disc(surf, pose.body(), centre, max(2.5, r))
-    side = np.array([-math.sin(facing), math.cos(facing)])
-    fwd = np.array([math.cos(facing), math.sin(facing)])
+    P.disc(surf, pose.body(), (ox, oy), max(2.5, r))
+    sx, sy = -math.sin(facing), math.cos(facing)
     if c.kind == "skeleton":
         # Seen from the side or above: the eyes sit on the head, turned toward the gaze.
-        g = np.array([math.cos(pose.gaze), math.sin(pose.gaze)])
-        look = 0.35 * r * g
-        centers = np.array([centre + look + side * 0.33 * r, centre + look - side * 0.33 * r])
+        lx, ly = 0.35 * r * math.cos(pose.gaze), 0.35 * r * math.sin(pose.gaze)
+        ex, ey, k = ox + lx, oy + ly, 0.33 * r
     else:
-        centers = np.array([centre + fwd * 0.25 * r + side * 0.5 * r,
-                            centre + fwd * 0.25 * r - side * 0.5 * r])
-    eyes(surf, pose, centers, max(1.6, 0.32 * r))
+        fx, fy = math.cos(facing), math.sin(facing)
+        ex, ey, k = ox + fx * 0.25 * r, oy + fy * 0.25 * r, 0.5 * r
+    eyes(surf, pose, np.array([(ex + sx * k, ey + sy * k), (ex - sx * k, ey - sy * k)]),
+         max(1.6, 0.32 * r))
 
 
 def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
