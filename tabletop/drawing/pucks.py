@@ -41,17 +41,19 @@ def draw_trail(surf: pygame.Surface, trace: PuckTrace, to_px: Mapper, color: Col
         px = trace.px = {} if trace.px_map != to_px else {e: px[e] for e in path if e in px}
         trace.px_map = to_px
     hole2 = hole_px * hole_px
+    # age steps (as min(2, max(0, int(v)))): 2 newest, 1, 0 oldest and anything older
     for e in path:
         q = px.get(e)
         if q is None:
             q = px[e] = to_px(e[0], e[1])
-        tp = e[2]
         if (q[0] - cx) ** 2 + (q[1] - cy) ** 2 <= hole2:
             continue
-        k = min(2, max(0, int(3.0 * (1.0 - (t - tp) / span_s))))
-        if parts[k] == [] and k > 0 and parts[k - 1]:
-            parts[k].append(parts[k - 1][-1])      # the steps join up
-        parts[k].append(q)
+        v = 3.0 * (1.0 - (t - e[2]) / span_s)
+        k = 2 if v >= 2.0 else 1 if v >= 1.0 else 0
+        part = parts[k]
+        if not part and k and parts[k - 1]:
+            part.append(parts[k - 1][-1])      # the steps join up
+        part.append(q)
         last = (k, q)
     if last is None:
         return None
