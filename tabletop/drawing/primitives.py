@@ -7,7 +7,6 @@ with additive or multiplicative blending: they cost one blit each per frame.
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import Sequence
 
@@ -117,11 +116,18 @@ def _radial(radius: int, profile) -> np.ndarray:
     return np.clip(profile(d), 0.0, 1.0)
 
 
-@functools.lru_cache(maxsize=128)
-def _glow_profile(radius: int) -> np.ndarray:
-    """A glow's falloff at ``radius`` pixels (remembered: glows of every colour and strength
-    share it, so a character fading in costs one multiply per new light, not the whole ramp)."""
-    return _radial(radius, lambda d: (1.0 - d * d) ** 2 * (d < 1))
+_glow_bases: dict[int, pygame.Surface] = {}
+
+
+def _glow_base(radius: int) -> pygame.Surface:
+    """A white glow of ``radius`` pixels at full strength (remembered): every colour and
+    strength of that size is a copy of it, tinted, so a character fading in costs a copy and a
+    fill per new light, not the whole ramp."""
+    surf = _glow_bases.get(radius)
+    if surf is None:
+        vals = _radial(radius, lambda d: (1.0 - d * d) ** 2 * (d < 1))
+        surf = _remember(_glow_bases, radius, _rgb_surface(vals, (255, 255, 255)))
+    return surf
 
 
 def _bucket(v: float, step: float) -> float:
@@ -166,8 +172,9 @@ def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface
     key = (r, color, s)
     surf = _glows.get(key)
     if surf is None:
-        vals = s * _glow_profile(r)
-        surf = _remember(_glows, key, _rgb_surface(vals, color))
+        surf = _glow_base(r).copy()
+        surf.fill(tuple(int(round(v * s)) for v in color), special_flags=pygame.BLEND_MULT)
+        surf = _remember(_glows, key, surf)
     return surf
 
 
