@@ -310,16 +310,17 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
     for idx, closed in loops:
         q = pts[idx]
         if closed and first:
+            m = q.mean(axis=0)
             touched = P.union([touched, P.glow(
-                surf, q.mean(axis=0), 0.62 * fig + 6, pose.color, 0.32 * pose.alpha)])
-            P.polygon(surf, pose.body(0.7), (q - q.mean(axis=0)) * 1.04 + q.mean(axis=0))
+                surf, m.tolist(), 0.62 * fig + 6, pose.color, 0.32 * pose.alpha)])
+            P.polygon(surf, pose.body(0.7), (q - m) * 1.04 + m)
             P.polygon(surf, pose.body(), q)
             first = False
         elif closed:
             m = q.mean(axis=0)
-            w, h = np.ptp(q, axis=0)
+            w, h = (q.max(axis=0) - q.min(axis=0)).tolist()
             if abs(w - h) < 0.8 * max(w, h) and len(idx) <= 10:       # an eye
-                up = _rot(pose.angle) @ np.array([0.0, 1.0])
+                up = np.array([-math.sin(pose.angle), math.cos(pose.angle)])
                 rel = q - m
                 along = rel @ up
                 lid = rel - np.outer(along * (1 - pose.blink), up)
