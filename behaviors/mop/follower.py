@@ -252,16 +252,16 @@ class ActionFollower:
 
     def _forget(self) -> None:
         """Forget the evidence, sizes and validity of every template (not the forward state)."""
-        k = len(self.names)
-        self._evidence = np.zeros(k)
-        self._recent = np.zeros(k)
-        self._recent_weight = np.zeros(k)
-        self._refused = np.zeros(k, dtype=bool)
-        self._engaged = np.zeros(k, dtype=bool)
-        self._entries = np.zeros(k, dtype=np.int64)
-        self._num = np.zeros(k)
-        self._den = np.zeros(k)
-        self._size = np.ones(k)
+        if not hasattr(self, "_evidence"):   # allocated once: a group holds views of them
+            k = len(self.names)
+            self._evidence, self._recent, self._recent_weight = np.zeros(k), np.zeros(k), np.zeros(k)
+            self._refused, self._engaged = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
+            self._entries = np.zeros(k, dtype=np.int64)
+            self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
+        for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
+                  self._entries, self._num, self._den):
+            a.fill(0)
+        self._size.fill(1.0)
         self._best = 0
         self._run = 0
         self._lost = 0
@@ -434,11 +434,24 @@ class ActionFollower:
             past &= r >= self.onset * self.sigma
         self._engaged |= past
         top = int(np.argmax(self._evidence))
+        p = np.exp(self._evidence - self._evidence[top])
+        p /= p.sum()
+        return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
+                              (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()))
+
+    def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
+                  gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
+                  forward: WindowedForward, offset: int, x: np.ndarray,
+                  lists: tuple[list, list, list, list]) -> FollowState:
+        """The rest of :meth:`_finish` once the per-template arrays are updated (a group updates
+        them for all its followers at once): best, validity, the state and spotting. ``top``:
+        the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p``,
+        ``mean_ll`` and sizes as lists (for the state's dictionaries)."""
+        b = self.bank
+        src = b.source
         if self._evidence[top] - self._evidence[self._best] > self.switch_margin or self._refused[self._best]:
             self._best = top
         bi = self._best
-        p = np.exp(self._evidence - self._evidence[top])
-        p /= p.sum()
         slope = src[gi[bi] + 1] - src[gi[bi]]
         variance = forward.var_of(offset + bi) * slope * slope
         # the spread limit counts states, not the progress a compressed hold spans
@@ -454,7 +467,8 @@ class ActionFollower:
         if np.any(self._engaged) or (not still and self._displacement(x).max() >= self.onset * self.sigma):
             order = [i for i in np.argsort(-p)[:3] if not self._refused[i]]
             likely = tuple((names[i], float(p[i]), float(progress[i])) for i in order)
-        progress_by = dict(zip(names, progress.tolist()))
+        progress_list, p_list, mean_ll_list, size_list = lists
+        progress_by = dict(zip(names, progress_list))
         best, best_progress = names[bi], float(progress[bi])
         if self._ended >= 0 and not np.any(self._engaged):
             # the last gesture ended and no new one has begun: it stays at its end, not driving
@@ -462,10 +476,10 @@ class ActionFollower:
             progress_by[best] = 1.0
         state = self._state = FollowState(
             best=best, progress=best_progress, variance=variance,
-            probabilities=dict(zip(names, p.tolist())), progress_by=progress_by,
+            probabilities=dict(zip(names, p_list)), progress_by=progress_by,
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
-            loglik_by=dict(zip(names, mean_ll.tolist())), likely=likely,
-            scale_by=dict(zip(names, self._size.tolist())),
+            loglik_by=dict(zip(names, mean_ll_list)), likely=likely,
+            scale_by=dict(zip(names, size_list)),
             holding=bool(b.holds[int(round(g[bi]))] or progress[bi] >= 0.9))
         if np.any(self._engaged):
             self._ended = -1
