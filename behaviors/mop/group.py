@@ -73,8 +73,10 @@ class FollowerGroup:
         self._starts_local = np.concatenate([f.bank.starts for f in fs]).astype(np.intp)
         self._lengths = np.concatenate([f.bank.lengths for f in fs]).astype(np.intp)
         self._source = np.concatenate([f.bank.source for f in fs])
+        self._dsource = np.append(np.diff(self._source), 0.0)   # state to next (within a template)
         dmax = max(f.dim for f in fs)
         self._rel = np.concatenate([np.pad(f._rel, ((0, 0), (0, dmax - f.dim))) for f in fs])
+        self._drel = np.concatenate([np.diff(self._rel, axis=0), np.zeros((1, dmax))])
         self._r = np.zeros((len(self._owner), dmax))
         self._scaled = per(lambda f: float(f.invariance == "scale"))
         self._any_scale = bool(np.any(self._scaled))
@@ -145,11 +147,11 @@ class FollowerGroup:
         gi = np.minimum(g.astype(np.intp), self._starts_local + self._lengths - 2)
         frac = g - gi
         gs = gi + self._state_off
-        src = self._source
-        progress = src[gs] + frac * (src[gs + 1] - src[gs])
+        progress = self._source.take(gs)
+        progress += frac * self._dsource.take(gs)
         if self._any_scale:
-            rel = self._rel
-            q = rel[gs] + frac[:, None] * (rel[gs + 1] - rel[gs])
+            q = self._rel.take(gs, axis=0)
+            q += frac[:, None] * self._drel.take(gs, axis=0)
             r = self._r
             for i, x in samples.items():
                 f = self.followers[i]
