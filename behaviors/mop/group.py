@@ -78,6 +78,10 @@ class FollowerGroup:
         self._rel = np.concatenate([np.pad(f._rel, ((0, 0), (0, dmax - f.dim))) for f in fs])
         self._drel = np.concatenate([np.diff(self._rel, axis=0), np.zeros((1, dmax))])
         self._r = np.zeros((len(self._owner), dmax))
+        self._away = np.zeros((len(self._owner), dmax))
+        self._scale = np.concatenate([np.pad(f.bank.scale, ((0, 0), (0, dmax - f.dim)), constant_values=1.0)
+                                      for f in fs])
+        self._onset_sigma = per(lambda f: f.onset * f.sigma)
         self._scaled = per(lambda f: float(f.invariance == "scale"))
         self._any_scale = bool(np.any(self._scaled))
         self._prior = np.concatenate([f._prior for f in fs])
@@ -189,11 +193,18 @@ class FollowerGroup:
         past = (mean >= self._onset_state) & ~refused
         starting = past & ~engaged
         if np.count_nonzero(starting):
-            for i in np.flatnonzero(np.logical_or.reduceat(starting, self._bounds)):
-                if i in samples:
-                    f, sl = self.followers[i], sls[i]
-                    d = f._displacement(np.mean(f._recent_x[-3:] + [samples[i]], axis=0))
-                    past[sl] &= d >= f.onset * f.sigma
+            # ActionFollower._displacement of the last samples' mean, for all members at once
+            who = [i for i in np.flatnonzero(np.logical_or.reduceat(starting, self._bounds)).tolist()
+                   if i in samples]
+            away = self._away
+            for i in who:
+                f = self.followers[i]
+                away[sls[i], :f.dim] = np.mean(f._recent_x[-3:] + [samples[i]], axis=0) - f._anchor
+            r = away / self._scale
+            r /= self._size[:, None]
+            far = np.sqrt(np.einsum("kd,kd->k", r, r) / self._dims) >= self._onset_sigma
+            for i in who:
+                past[sls[i]] &= far[sls[i]]
         engaged |= past
         top = np.maximum.reduceat(ev, self._bounds)
         p = np.exp(ev - np.repeat(top, self._counts))
