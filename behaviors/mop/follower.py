@@ -252,16 +252,16 @@ class ActionFollower:
 
     def _forget(self) -> None:
         """Forget the evidence, sizes and validity of every template (not the forward state)."""
-        k = len(self.names)
-        self._evidence = np.zeros(k)
-        self._recent = np.zeros(k)
-        self._recent_weight = np.zeros(k)
-        self._refused = np.zeros(k, dtype=bool)
-        self._engaged = np.zeros(k, dtype=bool)
-        self._entries = np.zeros(k, dtype=np.int64)
-        self._num = np.zeros(k)
-        self._den = np.zeros(k)
-        self._size = np.ones(k)
+        if not hasattr(self, "_evidence"):   # allocated once: a group holds views of them
+            k = len(self.names)
+            self._evidence, self._recent, self._recent_weight = np.zeros(k), np.zeros(k), np.zeros(k)
+            self._refused, self._engaged = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
+            self._entries = np.zeros(k, dtype=np.int64)
+            self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
+        for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
+                  self._entries, self._num, self._den):
+            a.fill(0)
+        self._size.fill(1.0)
         self._best = 0
         self._run = 0
         self._lost = 0
@@ -373,8 +373,8 @@ class ActionFollower:
             del buf[0]
         if len(buf) < self.still_samples:
             return False
-        a = np.asarray(buf)
-        return bool(np.all(np.ptp(a, axis=0) <= 2.0 * self._still_radius))
+        a = np.array(buf)
+        return bool(((a.max(axis=0) - a.min(axis=0)) <= 2.0 * self._still_radius).all())
 
     def _finish(self, step_ll: np.ndarray, forward: WindowedForward, offset: int,
                 entries: np.ndarray, x: np.ndarray) -> FollowState:
@@ -434,48 +434,64 @@ class ActionFollower:
             past &= r >= self.onset * self.sigma
         self._engaged |= past
         top = int(np.argmax(self._evidence))
+        p = np.exp(self._evidence - self._evidence[top])
+        p /= p.sum()
+        return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
+                              (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()))
+
+    def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
+                  gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
+                  forward: WindowedForward, offset: int, x: np.ndarray,
+                  lists: tuple[list, list, list, list]) -> FollowState:
+        """The rest of :meth:`_finish` once the per-template arrays are updated (a group updates
+        them for all its followers at once): best, validity, the state and spotting. ``top``:
+        the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p``,
+        ``mean_ll`` and sizes as lists (for the state's dictionaries)."""
+        b = self.bank
+        src = b.source
         if self._evidence[top] - self._evidence[self._best] > self.switch_margin or self._refused[self._best]:
             self._best = top
         bi = self._best
-        p = np.exp(self._evidence - self._evidence[top])
-        p /= p.sum()
+        progress_list, p_list, mean_ll_list, size_list = lists
+        engaged = bool(self._engaged.any())
         slope = src[gi[bi] + 1] - src[gi[bi]]
-        variance = forward.var_of(offset + bi) * slope * slope
+        var = forward.var_of(offset + bi)
+        variance = var * slope * slope
         # the spread limit counts states, not the progress a compressed hold spans
-        spread2 = forward.var_of(offset + bi) / (b.lengths[bi] - 1.0) ** 2
+        spread2 = var / (b.lengths[bi] - 1.0) ** 2
         ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2
-                  and p[bi] >= self.min_probability)
+                  and p_list[bi] >= self.min_probability)
         self._run = self._run + 1 if ok else 0
         valid = self._run >= self.confirm
-        loglik = float(mean_ll[bi])
+        loglik = mean_ll_list[bi]
         names = self.names
         still = self._still(x)
         likely: tuple[tuple[str, float, float], ...] = ()
-        if np.any(self._engaged) or (not still and self._displacement(x).max() >= self.onset * self.sigma):
+        if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
             order = [i for i in np.argsort(-p)[:3] if not self._refused[i]]
-            likely = tuple((names[i], float(p[i]), float(progress[i])) for i in order)
-        progress_by = dict(zip(names, progress.tolist()))
-        best, best_progress = names[bi], float(progress[bi])
-        if self._ended >= 0 and not np.any(self._engaged):
+            likely = tuple((names[i], p_list[i], progress_list[i]) for i in order)
+        progress_by = dict(zip(names, progress_list))
+        best, best_progress = names[bi], progress_list[bi]
+        if self._ended >= 0 and not engaged:
             # the last gesture ended and no new one has begun: it stays at its end, not driving
             best, best_progress = names[self._ended], 1.0
             progress_by[best] = 1.0
         state = self._state = FollowState(
             best=best, progress=best_progress, variance=variance,
-            probabilities=dict(zip(names, p.tolist())), progress_by=progress_by,
+            probabilities=dict(zip(names, p_list)), progress_by=progress_by,
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
-            loglik_by=dict(zip(names, mean_ll.tolist())), likely=likely,
-            scale_by=dict(zip(names, self._size.tolist())),
-            holding=bool(b.holds[int(round(g[bi]))] or progress[bi] >= 0.9))
-        if np.any(self._engaged):
+            loglik_by=dict(zip(names, mean_ll_list)), likely=likely,
+            scale_by=dict(zip(names, size_list)),
+            holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
+        if engaged:
             self._ended = -1
         # spotting: the gesture ended (its end reached, or it rests near its end), or every
         # template refused it: start afresh here; a still input waiting for a gesture anchors it
         if self.invariance != "none":
-            if valid and progress[bi] >= self.end and self._end_x is None:
+            if valid and progress_list[bi] >= self.end and self._end_x is None:
                 self._end_x = x.copy()
             step_d2 = (self._log_constant - step_ll[bi]) * (2.0 / self._zdim)
-            self._lost = self._lost + 1 if bool(np.all(self._refused)) else 0
+            self._lost = self._lost + 1 if bool(self._refused.all()) else 0
             if self._end_x is not None and (still or step_d2 > self._null2 or not ok or
                                             self._departed(x, bi)):
                 # the end was reached and the performer rests there or moves on: a new gesture
@@ -484,12 +500,12 @@ class ActionFollower:
                 self._restart_here(x, forward, offset)
                 self._anchor = end_x
                 self._ended = bi
-            elif valid and still and progress[bi] >= 0.9:
+            elif valid and still and progress_list[bi] >= 0.9:
                 self._restart_here(x, forward, offset)
                 self._ended = bi
             elif self._lost >= self.lost_samples:
                 self._restart_here(x, forward, offset)
-            elif still and not np.any(self._engaged):
+            elif still and not engaged:
                 self._restart_here(x, forward, offset, still=True)
         self._state = state
         return state

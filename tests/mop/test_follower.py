@@ -265,6 +265,32 @@ def test_a_group_steps_several_followers_exactly_as_they_would_alone():
         FollowerGroup([ActionFollower(sets[0]), ActionFollower(sets[1], sigma=0.3)])
 
 
+def test_a_group_of_mixed_invariances_matches_its_followers_alone():
+    # sizes, anchors, spotting and direction features go through the group's one-pass update
+    rng = np.random.default_rng(5)
+    kinds = [dict(invariance="scale"), dict(invariance="offset"), dict(invariance="scale", tangent=0.3),
+             dict(invariance="none")]
+    sets = [{f"c{c}a{i}": g.template(rng, n=80, d=2 + c % 2) for i in range(4)} for c in range(len(kinds))]
+    alone = [ActionFollower(s, **kw) for s, kw in zip(sets, kinds)]
+    group = FollowerGroup([ActionFollower(s, **kw) for s, kw in zip(sets, kinds)])
+    streams = [np.concatenate([1.3 * g.perform(rng, t, g.warped_phase(rng, len(t))) for t in s.values()] * 2)
+               for s in sets]
+    valid = 0
+    for i in range(min(len(s) for s in streams)):
+        xs = [s[i] for s in streams]
+        if 60 <= i < 63:
+            xs[0] = np.full(2, np.nan)
+        for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
+            assert (a.best, a.valid, a.restarted, a.holding) == (b.best, b.valid, b.restarted, b.holding)
+            assert [n for n, *_ in a.likely] == [n for n, *_ in b.likely]
+            assert abs(a.progress - b.progress) <= 1e-9 and abs(a.loglik - b.loglik) <= 1e-9
+            assert a.probabilities == pytest.approx(b.probabilities, abs=1e-9)
+            assert a.scale_by == pytest.approx(b.scale_by, abs=1e-9)
+            valid += a.valid
+    assert valid > 100  # the performances were followed (not only refused)
+    assert any(f._state.scale_by and max(f._state.scale_by.values()) > 1.05 for f in alone[:1] + alone[2:3])
+
+
 def test_a_single_template_refuses_other_actions_and_takes_its_own_after_them():
     # one action and nothing to compete with: only the likelihood can refuse the others
     rng = np.random.default_rng(21)
