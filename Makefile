@@ -15,8 +15,9 @@ $(STAMP): pyproject.toml
 run: $(STAMP)
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)
 
+# The suite runs in two worker processes (pytest-xdist), one per core of the target machine.
 test: $(STAMP)
-	$(PY) -m pytest
+	$(PY) -m pytest -n 2
 
 bench: $(STAMP)
 	for b in bench/*.py; do echo "== $$b"; $(PY) $$b | tail -n 1; done
