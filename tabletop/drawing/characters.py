@@ -186,17 +186,25 @@ def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple:
     return topo
 
 
+def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """A figure's points (pixels) scaled about the pose's centre by its growth and breath, and
+    the figure's size in pixels; None when there is nothing finite to draw."""
+    if len(pts) == 0 or not np.all(np.isfinite(pts)):
+        return None
+    ctr = np.asarray(pose.center)
+    return (pts - ctr) * (pose.scale * pose.breath) + ctr, c.size * pose.ppm * pose.scale
+
+
 def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
                 pts: np.ndarray) -> pygame.Rect | None:
     """An articulated figure (skeleton, creature, sprite sheet): limbs with thickness and
     joints, the spine (from the first bone, first children on) thickest, a head with eyes at the
     spine's end. Returns the rectangle it touched."""
     n = len(pts)
-    if n == 0 or not np.all(np.isfinite(pts)):
+    posed = _posed(c, pose, pts)
+    if posed is None:
         return None
-    ctr = np.asarray(pose.center)
-    pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
-    fig = c.size * pose.ppm * pose.scale
+    pts, fig = posed
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     # The glow's size follows the figure's size, not its pose: one cached light per figure.
     touched = P.glow(surf, (lo + hi) / 2, 0.42 * fig + 6, pose.color, 0.26 * pose.alpha)
@@ -294,11 +302,10 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
     eyes (white with pupils looking along the gaze, blinking) or the mouth (dark), open strokes
     are brows and nose drawn thick. Returns the rectangle it touched."""
     n = len(pts)
-    if n == 0 or not np.all(np.isfinite(pts)):
+    posed = _posed(c, pose, pts)
+    if posed is None:
         return None
-    ctr = np.asarray(pose.center)
-    pts = (pts - ctr) * (pose.scale * pose.breath) + ctr
-    fig = c.size * pose.ppm * pose.scale
+    pts, fig = posed
     loops = _face_loops(n, tuple(c.bones))
     if not loops:
         return None

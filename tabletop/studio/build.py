@@ -85,7 +85,7 @@ def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = Tru
     targets = studio_targets(inst.loop.engines, cfg, base, all_engines)
     folder = Path(s["folder"] or base / "studio")
     session = SessionLog(folder, review=s["review"])
-    studio = Studio(targets, s["countdown_s"], log_try=session.log_try, clock=inst.loop.clock,
+    studio = Studio(targets, s["countdown_s"], log_try=session.log_try,
                     quiet=not all_engines)
     studio.session = session
     ids = dict(s["markers"])

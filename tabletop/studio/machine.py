@@ -93,11 +93,11 @@ class Studio:
 
     def __init__(self, targets: Sequence[Target], countdown_s: float = 3.0,
                  log_try: Callable[[Try, Target], None] | None = None,
-                 clock: Callable[[], float] = time.monotonic, quiet: bool = False,
+                 quiet: bool = False,
                  swap_s: float = SWAP_S) -> None:
         self.targets = {t.name: t for t in targets}
         self.order = [t.name for t in targets]
-        self.countdown_s, self.log_try, self.clock = countdown_s, log_try, clock
+        self.countdown_s, self.log_try = countdown_s, log_try
         self.state = "idle"
         self.selected: str | None = self.order[0] if self.order else None
         self.until = 0.0             # countdown end (frame time)

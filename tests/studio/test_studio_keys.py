@@ -23,13 +23,6 @@ ROOT = Path(__file__).resolve().parents[2]
 TABLE = (1.2, 0.8)
 
 
-class Clock:
-    t = 0.0
-
-    def __call__(self):
-        return self.t
-
-
 def build(engines: list[dict], base: Path = ROOT):
     cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": engines}, "test.yaml",
                           base)
@@ -41,13 +34,12 @@ class Bench:
     """Engines behind a studio, stepped frame by frame as the loop does (studio filter first)."""
 
     def __init__(self, engines, tmp_path, review=False, targets=None):
-        self.engines, self.clock = engines, Clock()
+        self.engines = engines
         self.session = SessionLog(tmp_path / "studio", review=review)
         self.studio = Studio(targets or [PuppetMasterTarget(e) for e in engines], countdown_s=0.0,
-                             log_try=self.session.log_try, clock=self.clock)
+                             log_try=self.session.log_try)
 
     def step(self, frame):
-        self.clock.t = frame.t
         f = self.studio(frame)
         out = {}
         for e in self.engines:
