@@ -65,17 +65,26 @@ def test_the_looks_that_were_lost_are_kept(shipped, paths):
         assert 0.67 <= ratio <= 1.5
 
 
-def test_never_leaves_the_table_never_jumps_and_is_reproducible(shipped, paths):
-    for name, path in (("bully", "fast_reversals_60hz"), ("afraid", "loops_spins_45hz")):
-        b = shipped[name]
-        largest = float(np.max(np.hypot(*np.diff(b.react[:, :2], axis=0).T)))
-        a = fidelity.generate(b, paths[path], TABLE)
-        again = fidelity.generate(b, paths[path], TABLE)
-        assert a.tobytes() == again.tobytes()                           # to the last digit
-        x0, y0, x1, y1 = TABLE
+@pytest.mark.parametrize("name", designers.PERSONALITIES)
+def test_never_leaves_the_table_never_jumps_and_is_reproducible(shipped, paths, name):
+    # every shipped behaviour on 20 s of the fast reversing hand and 20 s of the loops with
+    # a spin in place (the target swings round a spinning main)
+    b = shipped[name]
+    largest = float(np.max(np.hypot(*np.diff(b.react[:, :2], axis=0).T)))
+    fast = paths["fast_reversals_60hz"]
+    loops = paths["loops_spins_45hz"]
+    runs = [fast[fast[:, 0] < 20.0], loops[loops[:, 0] >= 20.0]]
+    x0, y0, x1, y1 = TABLE
+    for i, main in enumerate(runs):
+        a = fidelity.generate(b, main, TABLE)
+        if i == 0:
+            again = fidelity.generate(b, main, TABLE)
+            assert a.tobytes() == again.tobytes()                       # to the last digit
+        assert len(a) >= 0.95 * 20.0 * b.params.rate_hz                # every step generated
         assert ((a[:, 1] >= x0) & (a[:, 1] <= x1) & (a[:, 2] >= y0) & (a[:, 2] <= y1)).all()
         step = np.hypot(*np.diff(a[:, 1:3], axis=0).T)
-        assert step.max() <= largest, (name, path, step.max(), largest)   # 0.022 <= 0.026
+        # measured: the largest generated step is 0.73-0.93 of the demonstration's largest
+        assert step.max() <= largest, (name, i, step.max(), largest)
 
 
 def test_sequential_training_keeps_the_character_as_a_two_puck_demonstration(paths):
