@@ -8,7 +8,13 @@ distance-to-main W1, sector occupancy, speeds (all, main still, main moving), fa
 share, per-step look change, turn-limiter saturation, direction-change texture, contact share
 and orbit rate. Prints a table per behaviour, then one JSON line.
 
-    .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0]
+``--seeds 0,1,2`` measures on several sets of unseen paths (the path generators' seeds) and
+adds the thresholds met per set and in total: a change of the generator moves every generated
+path, and single borderline figures flip either way with it (measured: the same code met 96,
+91 and 99 of 120 thresholds on seeds 0, 1 and 2), so a change is judged on several sets. The
+figures of the first seed are reported in full, as with ``--seed``.
+
+    .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2]
 """
 
 from __future__ import annotations
@@ -25,31 +31,69 @@ from bench.common import emit  # noqa: E402
 from tabletop.examples import fidelity_table, print_fidelity  # noqa: E402
 
 
+def _seeds(text: str) -> list[int]:
+    try:
+        seeds = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--seeds {text!r}: expected integers separated by "
+                                         "commas, e.g. 0,1,2") from None
+    if not seeds:
+        raise argparse.ArgumentTypeError("--seeds: at least one seed")
+    return seeds
+
+
+def _met(table: dict[str, dict[str, dict]]) -> tuple[int, int, dict[str, int], int]:
+    """(pairs within every threshold, pairs, pairs within each threshold, thresholds met)."""
+    passed = total = 0
+    per_threshold: dict[str, int] = {}
+    for paths in table.values():
+        for row in paths.values():
+            total += 1
+            passed += int(row["ok"])
+            for k, v in row.items():
+                if k.startswith("ok_"):
+                    per_threshold[k[3:]] = per_threshold.get(k[3:], 0) + int(v)
+    return passed, total, per_threshold, sum(per_threshold.values())
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seconds", type=float, default=40.0)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seeds", type=_seeds, default=None, metavar="S[,S...]",
+                    help="several sets of unseen paths (overrides --seed)")
     args = ap.parse_args()
+    if not args.seconds > 0:
+        ap.error(f"--seconds {args.seconds}: must be > 0")
+    seeds = args.seeds or [args.seed]
     t0 = time.perf_counter()
-    table = fidelity_table(seconds=args.seconds, seed=args.seed)
-    print_fidelity(table)
     figures: dict[str, object] = {}
-    passed = total = 0
-    per_threshold: dict[str, int] = {}
-    for name, paths in table.items():
-        for path, row in paths.items():
-            total += 1
-            passed += int(row["ok"])
-            for k, v in row.items():
-                figures[f"{name}.{path}.{k}"] = v
-                if k.startswith("ok_"):
-                    per_threshold[k[3:]] = per_threshold.get(k[3:], 0) + int(v)
-    figures["pairs_within_every_threshold"] = passed
-    figures["pairs_total"] = total
-    for k, v in per_threshold.items():
-        figures[f"pairs_within_{k}"] = v
-    figures["thresholds_met"] = sum(per_threshold.values())
-    figures["thresholds_total"] = total * len(per_threshold)
+    met_all = total_all = 0
+    for n, seed in enumerate(seeds):
+        table = fidelity_table(seconds=args.seconds, seed=seed)
+        passed, total, per_threshold, met = _met(table)
+        met_all += met
+        total_all += total * len(per_threshold)
+        if len(seeds) > 1:
+            figures[f"seed{seed}.thresholds_met"] = met
+        if n:
+            continue
+        print_fidelity(table)
+        for name, paths in table.items():
+            for path, row in paths.items():
+                for k, v in row.items():
+                    figures[f"{name}.{path}.{k}"] = v
+        figures["pairs_within_every_threshold"] = passed
+        figures["pairs_total"] = total
+        for k, v in per_threshold.items():
+            figures[f"pairs_within_{k}"] = v
+        figures["thresholds_met"] = met
+        figures["thresholds_total"] = total * len(per_threshold)
+        figures["seed"] = seed
+    if len(seeds) > 1:
+        figures["seeds"] = seeds
+        figures["all_seeds.thresholds_met"] = met_all
+        figures["all_seeds.thresholds_total"] = total_all
     figures["seconds_per_path"] = args.seconds
     figures["run_s"] = time.perf_counter() - t0
     budgets = {"facing_abs_diff": 0.1, "look_change_ratio": [0.67, 1.5],
