@@ -19,6 +19,13 @@ import math
 
 import numpy as np
 
+try:   # np.einsum without its Python wrapper (optimize=False calls exactly this)
+    from numpy._core.multiarray import c_einsum as _einsum
+except ImportError:  # numpy < 2
+    try:
+        from numpy.core.multiarray import c_einsum as _einsum
+    except ImportError:
+        _einsum = np.einsum
 
 def window_sums(values: np.ndarray, n: int) -> np.ndarray:
     """``out[j] = sum(values[max(0, j - n + 1): j + 1])`` for a 1-D array."""
@@ -171,14 +178,19 @@ class CoherenceSearch:
         self.y = np.ascontiguousarray(train, dtype=float)
         self.n = n
         self.valid = np.asarray(valid, dtype=bool)
-        d = self.y.shape[1]
+        N, d = self.y.shape
         self.sy = window_sums(np.einsum("jd,jd->j", self.y, self.y), n)
+        self._sy = self.sy.tolist()
+        # every training window as a read-only view: windows[j - n + 1] is y[j - n + 1: j + 1]
+        # (gathering the proposals from it copies whole windows, no (m, n) index array)
+        self._windows = np.lib.stride_tricks.as_strided(
+            self.y, shape=(max(N - n + 1, 0), n, d),
+            strides=(self.y.strides[0], self.y.strides[0], self.y.strides[1]), writeable=False)
         self.buf = np.zeros((2 * n, d))
         self.src = np.full(2 * n, -1, dtype=np.int64)
         self.i = n - 1
         self.ages = np.arange(n - 1, -1, -1, dtype=np.int64)
-        self.offsets = np.arange(-n + 1, 1, dtype=np.int64)
-        self.sq = np.zeros(2 * n)        # |x|^2 of the live vectors, beside buf
+        self.sq = [0.0] * n              # |x|^2 of the live vectors in the ring
         self.sx = 0.0
         self._valid = self.valid.tolist()
         # a source s pushed at step k0 proposes s + (k - k0) at step k: its "base" s - k0 is
@@ -192,9 +204,9 @@ class CoherenceSearch:
         n = self.n
         self.buf[:n] = window
         self.buf[n:] = window
-        self.sq[:n] = np.einsum("ad,ad->a", self.buf[:n], self.buf[:n])
-        self.sq[n:] = self.sq[:n]
-        self.sx = float(self.sq[:n].sum())
+        sq = np.einsum("ad,ad->a", self.buf[:n], self.buf[:n])
+        self.sq = sq.tolist()
+        self.sx = float(sq.sum())
         self.src[:] = -1
         self._bases = [None] * n
         self._count = {}
@@ -208,7 +220,7 @@ class CoherenceSearch:
         self.sx += q - self.sq[self.i]
         self.buf[self.i] = x
         self.buf[self.i + n] = x
-        self.sq[self.i] = self.sq[self.i + n] = q
+        self.sq[self.i] = q
         self.src[self.i] = source
         self.src[self.i + n] = source
         self._k += 1
@@ -244,12 +256,19 @@ class CoherenceSearch:
         proposed = sorted(b + k for b in self._count if b + k < size and valid[b + k])
         if not proposed:
             return -1, math.inf
-        cand = np.array(proposed, dtype=np.int64)
-        w = self.y[cand[:, None] + self.offsets[None, :]]            # (m, n, d), small
-        cross = np.einsum("mnd,nd->m", w, self.window())
-        costs = self.sy[cand] - 2.0 * cross
-        k = int(costs.argmin())
-        return int(cand[k]), max(float(costs[k]) + self.sx, 0.0)
+        back = self.n - 1
+        w = self._windows[[c - back for c in proposed]]             # (m, n, d), small
+        cross = _einsum("mnd,nd->m", w, self.window()).tolist()
+        # costs sy - 2 cross in plain Python (a handful of values): the same double
+        # arithmetic as numpy's, the first of equal costs wins as argmin does
+        sy = self._sy
+        best_c = proposed[0]
+        best = sy[best_c] - 2.0 * cross[0]
+        for c, x in zip(proposed[1:], cross[1:]):
+            cost = sy[c] - 2.0 * x
+            if cost < best:
+                best_c, best = c, cost
+        return best_c, max(best + self.sx, 0.0)
 
 
 class Balancer:
