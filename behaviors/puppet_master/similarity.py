@@ -94,11 +94,20 @@ class SituationSearch:
         self.run = (int(idx[0]), int(idx[-1]) + 1) if idx.size and \
             idx.size == idx[-1] - idx[0] + 1 else None
         self.ring = np.zeros((n + 1, N), dtype=E_DTYPE)
+        # per ring row: the (1, N) product target, E[1:] (added) and E[:-n] (subtracted)
+        self._rows = [(r[None], r[1:], r[:N - n] if N > n else r[:0]) for r in self.ring]
         self.k = n - 1
-        self.dist = np.zeros(N)
-        self._dist2 = np.zeros(N)
+        self.N = N
+        # the distances D live at _buf[o: o + N]; a step moves o back by one, so D[j - 1]
+        # already sits where D'[j] goes and the update is in place (half the memory of two
+        # buffers); when o reaches 0 the values move once to the end (every N steps)
+        self._buf = np.zeros(2 * N)
+        self._o = N
+        self.dist = self._buf[N:]
         self._out = np.zeros(N)
         self._v = np.zeros((1, d + 2), dtype=E_DTYPE)
+        self._v[0, d] = 1.0
+        self._vx = self._v[0, :d]
 
     def _query(self, x: np.ndarray, v: np.ndarray) -> None:
         np.multiply(x, -2.0, out=v[:self.d])
@@ -113,33 +122,44 @@ class SituationSearch:
             self._query(window[a], self._v[0])       # matrix-matrix product (a threaded
             np.matmul(self._v, self.aug, out=self.ring[a][None])   # BLAS took 50 ms here)
         self.k = n - 1
-        N = self.dist.size
-        self.dist[:] = 0.0
+        N = self.N
+        self._buf[:] = 0.0
+        self._o = N
+        self.dist = dist = self._buf[N:]
         for a in range(min(n, N)):            # D[j] = sum_a decay^a E_{n-1-a}[j-a]
-            self.dist[a:] += self.decay ** a * self.ring[n - 1 - a, :N - a]
+            dist[a:] += self.decay ** a * self.ring[n - 1 - a, :N - a]
 
     def push(self, x: np.ndarray) -> None:
         """Advance the live window by the newest vector ``x`` (d,)."""
-        n = self.n
-        self.k += 1
-        new = self.ring[self.k % (n + 1)]
-        old = self.ring[(self.k + 1) % (n + 1)]      # E of the vector leaving the window
-        self._query(x, self._v[0])
-        np.matmul(self._v, self.aug, out=new[None])
-        d, d2 = self.dist, self._dist2
-        d2[0] = new[0]
+        n, N = self.n, self.N
+        self.k = k = self.k + 1
+        new2d, new_tail, _ = self._rows[k % (n + 1)]
+        old_head = self._rows[(k + 1) % (n + 1)][2]  # E of the vector leaving the window
+        np.multiply(x, -2.0, out=self._vx)
+        self._v[0, self.d + 1] = x.dot(x)
+        np.matmul(self._v, self.aug, out=new2d)
+        o = self._o
+        buf = self._buf
+        if o == 0:
+            buf[N:] = buf[:N]
+            o = N
+        d_prev = buf[o:o + N - 1]               # D[j - 1] is where D'[j] goes
         lam = self.decay
         if lam == 1.0:
-            np.add(d[:-1], new[1:], out=d2[1:])
-            if d2.size > n:
-                np.subtract(d2[n:], old[:-n], out=d2[n:])
+            np.add(d_prev, new_tail, out=d_prev)
+            if N > n:
+                part = buf[o + n - 1:o + N - 1]
+                np.subtract(part, old_head, out=part)
         else:                   # D' = lam D[j-1] + E_new - lam^n E_old (weights lam^age)
-            np.multiply(d[:-1], lam, out=d2[1:])
-            d2[1:] += new[1:]
-            if d2.size > n:
-                np.multiply(old[:-n], self._lam_n, out=self._out[n:])
-                d2[n:] -= self._out[n:]
-        self.dist, self._dist2 = d2, d
+            np.multiply(d_prev, lam, out=d_prev)
+            d_prev += new_tail
+            if N > n:
+                np.multiply(old_head, self._lam_n, out=self._out[n:])
+                buf[o + n - 1:o + N - 1] -= self._out[n:]
+        o -= 1
+        buf[o] = new2d[0, 0]
+        self._o = o
+        self.dist = buf[o:o + N]
 
     def distances(self) -> np.ndarray:
         """Current window distances to every training window end (inf where not allowed).
@@ -150,8 +170,10 @@ class SituationSearch:
         """(training window end j, distance) of the best match; ties take the earliest j."""
         if self.run is not None:
             lo, hi = self.run
-            j = lo + int(self.dist[lo:hi].argmin())
-            return j, max(float(self.dist[j]), 0.0)
+            o = self._o
+            buf = self._buf
+            j = lo + int(buf[o + lo:o + hi].argmin())
+            return j, max(float(buf[o + j]), 0.0)
         d = self.distances()
         j = int(d.argmin())
         return j, max(float(d[j]), 0.0)
