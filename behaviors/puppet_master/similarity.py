@@ -16,6 +16,7 @@ the training length.
 from __future__ import annotations
 
 import math
+from bisect import bisect_left
 
 import numpy as np
 
@@ -209,12 +210,14 @@ class CoherenceSearch:
             self.y, shape=(max(N - n + 1, 0), n, d),
             strides=(self.y.strides[0], self.y.strides[0], self.y.strides[1]), writeable=False)
         self.buf = np.zeros((2 * n, d))
-        self.src = np.full(2 * n, -1, dtype=np.int64)
         self.i = n - 1
-        self.ages = np.arange(n - 1, -1, -1, dtype=np.int64)
         self.sq = [0.0] * n              # |x|^2 of the live vectors in the ring
         self.sx = 0.0
         self._valid = self.valid.tolist()
+        idx = np.flatnonzero(self.valid)
+        # a contiguous run of allowed window ends (the usual case) is filtered by bisection
+        self._run = (int(idx[0]), int(idx[-1]) + 1) if idx.size and \
+            idx.size == idx[-1] - idx[0] + 1 else None
         # a source s pushed at step k0 proposes s + (k - k0) at step k: its "base" s - k0 is
         # fixed, so the distinct proposals are the distinct bases in the window plus k
         self._k = 0
@@ -229,7 +232,6 @@ class CoherenceSearch:
         sq = np.einsum("ad,ad->a", self.buf[:n], self.buf[:n])
         self.sq = sq.tolist()
         self.sx = float(sq.sum())
-        self.src[:] = -1
         self._bases = [None] * n
         self._count = {}
         self.i = n - 1
@@ -243,8 +245,6 @@ class CoherenceSearch:
         self.buf[self.i] = x
         self.buf[self.i + n] = x
         self.sq[self.i] = q
-        self.src[self.i] = source
-        self.src[self.i + n] = source
         self._k += 1
         count = self._count
         gone = self._bases[self.i]
@@ -262,20 +262,24 @@ class CoherenceSearch:
         """Live window (n, d), oldest first (a view)."""
         return self.buf[self.i + 1:self.i + 1 + self.n]
 
+    def _proposed(self) -> list[int]:
+        k = self._k
+        if self._run is not None:
+            bases = sorted(self._count)
+            lo, hi = self._run
+            return [b + k for b in bases[bisect_left(bases, lo - k):bisect_left(bases, hi - k)]]
+        valid = self._valid
+        size = len(valid)
+        return sorted(b + k for b in self._count if 0 <= b + k < size and valid[b + k])
+
     def candidates(self) -> np.ndarray:
         """Sorted distinct allowed window ends proposed by the recent output's sources."""
-        src = self.src[self.i + 1:self.i + 1 + self.n]
-        cand = src + self.ages
-        cand = cand[(src >= 0) & (cand < self.valid.size)]
-        cand = cand[self.valid[cand]]
-        return np.unique(cand)
+        return np.array(self._proposed(), dtype=np.int64)
 
     def best(self) -> tuple[int, float]:
         """(training window end, distance) of the best candidate, or (-1, inf) if none; ties
         take the earliest window end."""
-        k, valid = self._k, self._valid
-        size = len(valid)
-        proposed = sorted(b + k for b in self._count if b + k < size and valid[b + k])
+        proposed = self._proposed()
         if not proposed:
             return -1, math.inf
         back = self.n - 1
