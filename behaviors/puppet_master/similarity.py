@@ -336,11 +336,13 @@ class Balancer:
         """True to take the coherence candidate this step; updates k and the shares."""
         if not math.isfinite(coherence_cost):
             return False
-        use = self.k * coherence_cost < situation_cost
-        self.log_k += self.gain * ((1.0 if use else 0.0) - self.target_share)
-        self.log_k = min(max(self.log_k, -self.log_k_limit), self.log_k_limit)
-        self.choices += 1
+        use = math.exp(self.log_k) * coherence_cost < situation_cost
+        chosen = 1.0 if use else 0.0
+        log_k = self.log_k + self.gain * (chosen - self.target_share)
+        limit = self.log_k_limit
+        self.log_k = min(max(log_k, -limit), limit)
+        self.choices = choices = self.choices + 1
         self.coherence_choices += int(use)
-        alpha = max(1.0 / self.choices, 1.0 / self.window)
-        self.share += alpha * ((1.0 if use else 0.0) - self.share)
+        alpha = max(1.0 / choices, 1.0 / self.window)
+        self.share += alpha * (chosen - self.share)
         return use
