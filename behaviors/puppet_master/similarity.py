@@ -108,6 +108,7 @@ class SituationSearch:
         self._out = np.zeros(N)
         self._v = np.zeros((1, d + 2), dtype=E_DTYPE)
         self._v[0, d] = 1.0
+        self._best: tuple[int, float] | None = None
         self._vx = self._v[0, :d]
 
     def _query(self, x: np.ndarray, v: np.ndarray) -> None:
@@ -123,6 +124,7 @@ class SituationSearch:
             self._query(window[a], self._v[0])       # matrix-matrix product (a threaded
             np.matmul(self._v, self.aug, out=self.ring[a][None])   # BLAS took 50 ms here)
         self.k = n - 1
+        self._best = None
         N = self.N
         self._buf[:] = 0.0
         self._o = N
@@ -161,6 +163,9 @@ class SituationSearch:
         buf[o] = new2d[0, 0]
         self._o = o
         self.dist = buf[o:o + N]
+        # the best match now, while the distances are still in the cache (the next step asks
+        # for it after the other reactors' steps have passed through it)
+        self._best = self._find_best()
 
     def distances(self) -> np.ndarray:
         """Current window distances to every training window end (inf where not allowed).
@@ -169,6 +174,11 @@ class SituationSearch:
 
     def best(self) -> tuple[int, float]:
         """(training window end j, distance) of the best match; ties take the earliest j."""
+        if self._best is None:
+            self._best = self._find_best()
+        return self._best
+
+    def _find_best(self) -> tuple[int, float]:
         if self.run is not None:
             lo, hi = self.run
             o = self._o
