@@ -336,27 +336,34 @@ class Reactor:
         if not self.started:
             self.start(t, main_x, main_y, main_dir)
             return [(t, *self.pose)]
-        if not all(math.isfinite(v) for v in (t, main_x, main_y, main_dir)) \
-                or t <= (self.resampler.last_time or -math.inf):
+        isfinite = math.isfinite
+        resampler = self.resampler
+        if not (isfinite(t) and isfinite(main_x) and isfinite(main_y) and isfinite(main_dir)) \
+                or t <= (resampler.last_time or -math.inf):
             return []
+        # plain floats from here on: numpy scalars (rows of a numpy array) carry the same
+        # doubles but make every later operation of the step several times slower
+        t, main_x, main_y, main_dir = float(t), float(main_x), float(main_y), float(main_dir)
         eps = 1e-9
         rate = self.behavior.params.rate_hz
+        t0 = self.t0
         if self.max_backlog is not None:
-            behind = t - (self.t0 + (self.i + 1) / rate)
+            behind = t - (t0 + (self.i + 1) / rate)
             if behind > self.max_backlog:
-                self.i = int(math.floor((t - self.max_backlog - self.t0) * rate))
+                self.i = int(math.floor((t - self.max_backlog - t0) * rate))
         rows: list[tuple[float, float, float, float]] = []
+        step, at = self._step, resampler.at
         while True:  # steps strictly before this sample: extrapolate from earlier samples
-            g = self.t0 + (self.i + 1) / rate
+            g = t0 + (self.i + 1) / rate
             if g >= t - eps:
                 break
-            rows.append(self._step(g, *self.resampler.at(g)))
-        self.resampler.push(t, main_x, main_y, main_dir)
+            rows.append(step(g, *at(g)))
+        resampler.push(t, main_x, main_y, main_dir)
         while True:
-            g = self.t0 + (self.i + 1) / rate
+            g = t0 + (self.i + 1) / rate
             if g > t + eps:
                 break
-            rows.append(self._step(g, *self.resampler.at(g)))
+            rows.append(step(g, *at(g)))
         return rows
 
     def update(self, t: float, main_x: float, main_y: float,

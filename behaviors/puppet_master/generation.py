@@ -17,6 +17,7 @@ Positions in table metres, steps in metres per generation step, angles in radian
 
 from __future__ import annotations
 
+import functools
 import math
 
 from tabletop.frames import wrap_angle
@@ -102,6 +103,13 @@ def clamp_to_table(x: float, y: float,
     return min(max(x, x0), x1), min(max(y, y0), y1)
 
 
+@functools.lru_cache(maxsize=8)
+def _bearings(count: int) -> tuple[tuple[float, float], ...]:
+    """(cos, sin) of ``count`` bearings evenly round the circle (made once per count)."""
+    return tuple((math.cos(math.tau * k / count), math.sin(math.tau * k / count))
+                 for k in range(count))
+
+
 def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
                table: tuple[float, float, float, float],
                step_deg: float = 5.0) -> tuple[float, float]:
@@ -121,10 +129,8 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     rho = math.hypot(tx - mx, ty - my)
     best: tuple[float, float, float] | None = None
     if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
-        count = int(round(360.0 / step_deg))
-        for k in range(count):
-            a = math.tau * k / count
-            px, py = mx + rho * math.cos(a), my + rho * math.sin(a)
+        for c, s in _bearings(int(round(360.0 / step_deg))):
+            px, py = mx + rho * c, my + rho * s
             if x0 <= px <= x1 and y0 <= py <= y1:
                 d = (px - rx) ** 2 + (py - ry) ** 2
                 if best is None or d < best[0]:

@@ -16,9 +16,17 @@ the training length.
 from __future__ import annotations
 
 import math
+from bisect import bisect_left
 
 import numpy as np
 
+try:   # np.einsum without its Python wrapper (optimize=False calls exactly this)
+    from numpy._core.multiarray import c_einsum as _einsum
+except ImportError:  # numpy < 2
+    try:
+        from numpy.core.multiarray import c_einsum as _einsum
+    except ImportError:
+        _einsum = np.einsum
 
 def window_sums(values: np.ndarray, n: int) -> np.ndarray:
     """``out[j] = sum(values[max(0, j - n + 1): j + 1])`` for a 1-D array."""
@@ -67,6 +75,17 @@ class SituationSearch:
     hold them between steps, so the bytes read decide the time (double precision: 0.5 ms a
     step at 24,000 samples in the interleaved benchmark). The distances stay within ~1e-6
     relative of the exact ones; the same inputs still give the same output to the last digit.
+
+    The shift is an offset, not a copy: D lives in a buffer of 2N and each step moves its start
+    back by one, so D[j - 1] already sits where D'[j] goes and the two sums are done in place
+    (one N-value buffer in the cache instead of two); the best match is found right after the
+    update, while D is still in the cache. Measured interleaved against the two-buffer shift
+    (8 reactors, CPU time, loaded 2-core machine): 0.85-0.88x the tick with the coherence
+    changes below, 0.81-0.83x with this too. Tried and slower: double-precision ring rows
+    (one cast a step instead of two, but twice the bytes: 0.91x against 0.85x) and
+    recomputing the leaving ``E`` from its stored query instead of keeping the ring (a second
+    product a step: 0.93x). Every arithmetic step is the reference's, in the same order
+    (tests/puppet_master/test_pm_fast_search.py checks the poses bit for bit).
     """
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray,
@@ -87,11 +106,21 @@ class SituationSearch:
         self.run = (int(idx[0]), int(idx[-1]) + 1) if idx.size and \
             idx.size == idx[-1] - idx[0] + 1 else None
         self.ring = np.zeros((n + 1, N), dtype=E_DTYPE)
+        # per ring row: the (1, N) product target, E[1:] (added) and E[:-n] (subtracted)
+        self._rows = [(r[None], r[1:], r[:N - n] if N > n else r[:0]) for r in self.ring]
         self.k = n - 1
-        self.dist = np.zeros(N)
-        self._dist2 = np.zeros(N)
+        self.N = N
+        # the distances D live at _buf[o: o + N]; a step moves o back by one, so D[j - 1]
+        # already sits where D'[j] goes and the update is in place (half the memory of two
+        # buffers); when o reaches 0 the values move once to the end (every N steps)
+        self._buf = np.zeros(2 * N)
+        self._o = N
+        self.dist = self._buf[N:]
         self._out = np.zeros(N)
         self._v = np.zeros((1, d + 2), dtype=E_DTYPE)
+        self._v[0, d] = 1.0
+        self._best: tuple[int, float] | None = None
+        self._vx = self._v[0, :d]
 
     def _query(self, x: np.ndarray, v: np.ndarray) -> None:
         np.multiply(x, -2.0, out=v[:self.d])
@@ -106,33 +135,48 @@ class SituationSearch:
             self._query(window[a], self._v[0])       # matrix-matrix product (a threaded
             np.matmul(self._v, self.aug, out=self.ring[a][None])   # BLAS took 50 ms here)
         self.k = n - 1
-        N = self.dist.size
-        self.dist[:] = 0.0
+        self._best = None
+        N = self.N
+        self._buf[:] = 0.0
+        self._o = N
+        self.dist = dist = self._buf[N:]
         for a in range(min(n, N)):            # D[j] = sum_a decay^a E_{n-1-a}[j-a]
-            self.dist[a:] += self.decay ** a * self.ring[n - 1 - a, :N - a]
+            dist[a:] += self.decay ** a * self.ring[n - 1 - a, :N - a]
 
     def push(self, x: np.ndarray) -> None:
         """Advance the live window by the newest vector ``x`` (d,)."""
-        n = self.n
-        self.k += 1
-        new = self.ring[self.k % (n + 1)]
-        old = self.ring[(self.k + 1) % (n + 1)]      # E of the vector leaving the window
-        self._query(x, self._v[0])
-        np.matmul(self._v, self.aug, out=new[None])
-        d, d2 = self.dist, self._dist2
-        d2[0] = new[0]
+        n, N = self.n, self.N
+        self.k = k = self.k + 1
+        new2d, new_tail, _ = self._rows[k % (n + 1)]
+        old_head = self._rows[(k + 1) % (n + 1)][2]  # E of the vector leaving the window
+        np.multiply(x, -2.0, out=self._vx)
+        self._v[0, self.d + 1] = x.dot(x)
+        np.matmul(self._v, self.aug, out=new2d)
+        o = self._o
+        buf = self._buf
+        if o == 0:
+            buf[N:] = buf[:N]
+            o = N
+        d_prev = buf[o:o + N - 1]               # D[j - 1] is where D'[j] goes
         lam = self.decay
         if lam == 1.0:
-            np.add(d[:-1], new[1:], out=d2[1:])
-            if d2.size > n:
-                np.subtract(d2[n:], old[:-n], out=d2[n:])
+            np.add(d_prev, new_tail, out=d_prev)
+            if N > n:
+                part = buf[o + n - 1:o + N - 1]
+                np.subtract(part, old_head, out=part)
         else:                   # D' = lam D[j-1] + E_new - lam^n E_old (weights lam^age)
-            np.multiply(d[:-1], lam, out=d2[1:])
-            d2[1:] += new[1:]
-            if d2.size > n:
-                np.multiply(old[:-n], self._lam_n, out=self._out[n:])
-                d2[n:] -= self._out[n:]
-        self.dist, self._dist2 = d2, d
+            np.multiply(d_prev, lam, out=d_prev)
+            d_prev += new_tail
+            if N > n:
+                np.multiply(old_head, self._lam_n, out=self._out[n:])
+                buf[o + n - 1:o + N - 1] -= self._out[n:]
+        o -= 1
+        buf[o] = new2d[0, 0]
+        self._o = o
+        self.dist = buf[o:o + N]
+        # the best match now, while the distances are still in the cache (the next step asks
+        # for it after the other reactors' steps have passed through it)
+        self._best = self._find_best()
 
     def distances(self) -> np.ndarray:
         """Current window distances to every training window end (inf where not allowed).
@@ -141,10 +185,17 @@ class SituationSearch:
 
     def best(self) -> tuple[int, float]:
         """(training window end j, distance) of the best match; ties take the earliest j."""
+        if self._best is None:
+            self._best = self._find_best()
+        return self._best
+
+    def _find_best(self) -> tuple[int, float]:
         if self.run is not None:
             lo, hi = self.run
-            j = lo + int(self.dist[lo:hi].argmin())
-            return j, max(float(self.dist[j]), 0.0)
+            o = self._o
+            buf = self._buf
+            j = lo + int(buf[o + lo:o + hi].argmin())
+            return j, max(float(buf[o + j]), 0.0)
         d = self.distances()
         j = int(d.argmin())
         return j, max(float(d[j]), 0.0)
@@ -164,23 +215,34 @@ class CoherenceSearch:
     24,000; the distinct proposals cost ~30 us whatever the training length (CPU time,
     measured on a loaded 2-core machine). The distinct proposals are kept as a count of
     "bases" (source minus the step it was pushed at), so finding them costs the number of
-    distinct ones, not n.
+    distinct ones, not n; with the allowed window ends one run, they are a bisection of the
+    sorted bases. The proposed windows are copied whole from a strided view of the training
+    vectors (an (m, n) index array cost ~16 us, this ~5 us) and their few costs are summed in
+    plain Python with numpy's double arithmetic (13 us a step with best and push against
+    22 us; 0.88x the 8-reactor tick).
     """
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray) -> None:
         self.y = np.ascontiguousarray(train, dtype=float)
         self.n = n
         self.valid = np.asarray(valid, dtype=bool)
-        d = self.y.shape[1]
+        N, d = self.y.shape
         self.sy = window_sums(np.einsum("jd,jd->j", self.y, self.y), n)
+        self._sy = self.sy.tolist()
+        # every training window as a read-only view: windows[j - n + 1] is y[j - n + 1: j + 1]
+        # (gathering the proposals from it copies whole windows, no (m, n) index array)
+        self._windows = np.lib.stride_tricks.as_strided(
+            self.y, shape=(max(N - n + 1, 0), n, d),
+            strides=(self.y.strides[0], self.y.strides[0], self.y.strides[1]), writeable=False)
         self.buf = np.zeros((2 * n, d))
-        self.src = np.full(2 * n, -1, dtype=np.int64)
         self.i = n - 1
-        self.ages = np.arange(n - 1, -1, -1, dtype=np.int64)
-        self.offsets = np.arange(-n + 1, 1, dtype=np.int64)
-        self.sq = np.zeros(2 * n)        # |x|^2 of the live vectors, beside buf
+        self.sq = [0.0] * n              # |x|^2 of the live vectors in the ring
         self.sx = 0.0
         self._valid = self.valid.tolist()
+        idx = np.flatnonzero(self.valid)
+        # a contiguous run of allowed window ends (the usual case) is filtered by bisection
+        self._run = (int(idx[0]), int(idx[-1]) + 1) if idx.size and \
+            idx.size == idx[-1] - idx[0] + 1 else None
         # a source s pushed at step k0 proposes s + (k - k0) at step k: its "base" s - k0 is
         # fixed, so the distinct proposals are the distinct bases in the window plus k
         self._k = 0
@@ -192,10 +254,9 @@ class CoherenceSearch:
         n = self.n
         self.buf[:n] = window
         self.buf[n:] = window
-        self.sq[:n] = np.einsum("ad,ad->a", self.buf[:n], self.buf[:n])
-        self.sq[n:] = self.sq[:n]
-        self.sx = float(self.sq[:n].sum())
-        self.src[:] = -1
+        sq = np.einsum("ad,ad->a", self.buf[:n], self.buf[:n])
+        self.sq = sq.tolist()
+        self.sx = float(sq.sum())
         self._bases = [None] * n
         self._count = {}
         self.i = n - 1
@@ -208,9 +269,7 @@ class CoherenceSearch:
         self.sx += q - self.sq[self.i]
         self.buf[self.i] = x
         self.buf[self.i + n] = x
-        self.sq[self.i] = self.sq[self.i + n] = q
-        self.src[self.i] = source
-        self.src[self.i + n] = source
+        self.sq[self.i] = q
         self._k += 1
         count = self._count
         gone = self._bases[self.i]
@@ -228,28 +287,39 @@ class CoherenceSearch:
         """Live window (n, d), oldest first (a view)."""
         return self.buf[self.i + 1:self.i + 1 + self.n]
 
+    def _proposed(self) -> list[int]:
+        k = self._k
+        if self._run is not None:
+            bases = sorted(self._count)
+            lo, hi = self._run
+            return [b + k for b in bases[bisect_left(bases, lo - k):bisect_left(bases, hi - k)]]
+        valid = self._valid
+        size = len(valid)
+        return sorted(b + k for b in self._count if 0 <= b + k < size and valid[b + k])
+
     def candidates(self) -> np.ndarray:
         """Sorted distinct allowed window ends proposed by the recent output's sources."""
-        src = self.src[self.i + 1:self.i + 1 + self.n]
-        cand = src + self.ages
-        cand = cand[(src >= 0) & (cand < self.valid.size)]
-        cand = cand[self.valid[cand]]
-        return np.unique(cand)
+        return np.array(self._proposed(), dtype=np.int64)
 
     def best(self) -> tuple[int, float]:
         """(training window end, distance) of the best candidate, or (-1, inf) if none; ties
         take the earliest window end."""
-        k, valid = self._k, self._valid
-        size = len(valid)
-        proposed = sorted(b + k for b in self._count if b + k < size and valid[b + k])
+        proposed = self._proposed()
         if not proposed:
             return -1, math.inf
-        cand = np.array(proposed, dtype=np.int64)
-        w = self.y[cand[:, None] + self.offsets[None, :]]            # (m, n, d), small
-        cross = np.einsum("mnd,nd->m", w, self.window())
-        costs = self.sy[cand] - 2.0 * cross
-        k = int(costs.argmin())
-        return int(cand[k]), max(float(costs[k]) + self.sx, 0.0)
+        back = self.n - 1
+        w = self._windows[[c - back for c in proposed]]             # (m, n, d), small
+        cross = _einsum("mnd,nd->m", w, self.window()).tolist()
+        # costs sy - 2 cross in plain Python (a handful of values): the same double
+        # arithmetic as numpy's, the first of equal costs wins as argmin does
+        sy = self._sy
+        best_c = proposed[0]
+        best = sy[best_c] - 2.0 * cross[0]
+        for c, x in zip(proposed[1:], cross[1:]):
+            cost = sy[c] - 2.0 * x
+            if cost < best:
+                best_c, best = c, cost
+        return best_c, max(best + self.sx, 0.0)
 
 
 class Balancer:
@@ -291,11 +361,13 @@ class Balancer:
         """True to take the coherence candidate this step; updates k and the shares."""
         if not math.isfinite(coherence_cost):
             return False
-        use = self.k * coherence_cost < situation_cost
-        self.log_k += self.gain * ((1.0 if use else 0.0) - self.target_share)
-        self.log_k = min(max(self.log_k, -self.log_k_limit), self.log_k_limit)
-        self.choices += 1
+        use = math.exp(self.log_k) * coherence_cost < situation_cost
+        chosen = 1.0 if use else 0.0
+        log_k = self.log_k + self.gain * (chosen - self.target_share)
+        limit = self.log_k_limit
+        self.log_k = min(max(log_k, -limit), limit)
+        self.choices = choices = self.choices + 1
         self.coherence_choices += int(use)
-        alpha = max(1.0 / self.choices, 1.0 / self.window)
-        self.share += alpha * ((1.0 if use else 0.0) - self.share)
+        alpha = max(1.0 / choices, 1.0 / self.window)
+        self.share += alpha * (chosen - self.share)
         return use

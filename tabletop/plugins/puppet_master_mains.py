@@ -136,13 +136,10 @@ class Board:
 
     def others(self, name: str, size: float) -> list[tuple[float, float, float]]:
         """(x, y, least distance m) of every other posted reactor, at its latest pose."""
-        out = []
-        for other in set(self.previous) | set(self.current):
-            if other == name:
-                continue
-            p = self.latest(other)
-            if p is not None and p.valid:
-                out.append((p.x, p.y, 0.5 * (size + p.size)))
+        latest = dict(self.previous)
+        latest.update(self.current)          # this tick's pose where it has stepped already
+        out = [(p.x, p.y, 0.5 * (size + p.size)) for other, p in latest.items()
+               if p.valid and other != name]
         out.sort()
         return out
 
@@ -217,9 +214,11 @@ class MainReader:
         """(index of the main in use, its pose or None) this frame; ``near`` is the reactor's
         position (for ``nearest``)."""
         poses = []
+        isfinite = math.isfinite
         for k in range(len(self.items)):
             pose = self._one(k, frame)
-            if pose is not None and not all(math.isfinite(v) for v in pose):
+            if pose is not None and not (isfinite(pose[0]) and isfinite(pose[1])
+                                         and isfinite(pose[2])):
                 pose = None                  # a broken measurement counts as absent
             poses.append(pose)
             if pose is not None:

@@ -1,0 +1,115 @@
+"""Reference BestMatch searches: the plain formulation the fast searches of
+behaviors/puppet_master/similarity.py must reproduce to the last bit.
+
+The situation search keeps two distance buffers and shifts one into the other every step; the
+coherence search scores every distinct proposal with numpy from an (m, n) index array. Both do
+the same floating-point operations in the same order as the fast versions, so any difference
+in a search's choice or cost, and so in a generated pose, is a fault of the fast path.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from behaviors.puppet_master.similarity import augmented, window_sums
+
+
+class ReferenceSituationSearch:
+    """Situation similarity: ``D'[j] = D[j-1] + E_new[j] - E_old[j-n]`` into a second buffer."""
+
+    def __init__(self, train: np.ndarray, n: int, valid: np.ndarray,
+                 aug: np.ndarray | None = None, half_life: float = 0.0) -> None:
+        y = np.asarray(train, dtype=float)
+        self.n, (N, self.d) = n, y.shape
+        self.decay = 0.5 ** (1.0 / half_life) if half_life > 0 else 1.0
+        self.aug = augmented(y) if aug is None else aug
+        self.mask = np.where(np.asarray(valid, dtype=bool), 0.0, np.inf)
+        self.ring = np.zeros((n + 1, N), dtype=self.aug.dtype)
+        self.k = n - 1
+        self.dist = np.zeros(N)
+        self._v = np.zeros((1, self.d + 2), dtype=self.aug.dtype)
+
+    def _e(self, x: np.ndarray, out: np.ndarray) -> None:
+        self._v[0, :self.d] = x * -2.0
+        self._v[0, self.d] = 1.0
+        self._v[0, self.d + 1] = x.dot(x)
+        np.matmul(self._v, self.aug, out=out[None])
+
+    def reset(self, window: np.ndarray) -> None:
+        n, N = self.n, self.dist.size
+        for a in range(n):
+            self._e(np.asarray(window[a], dtype=float), self.ring[a])
+        self.k = n - 1
+        self.dist = np.zeros(N)
+        for a in range(min(n, N)):
+            self.dist[a:] += self.decay ** a * self.ring[n - 1 - a, :N - a]
+
+    def push(self, x: np.ndarray) -> None:
+        n = self.n
+        self.k += 1
+        new = self.ring[self.k % (n + 1)]
+        old = self.ring[(self.k + 1) % (n + 1)]
+        self._e(x, new)
+        d, d2 = self.dist, np.empty_like(self.dist)
+        d2[0] = new[0]
+        if self.decay == 1.0:
+            d2[1:] = d[:-1] + new[1:]
+            if d2.size > n:
+                d2[n:] = d2[n:] - old[:-n]
+        else:
+            d2[1:] = d[:-1] * self.decay
+            d2[1:] += new[1:]
+            if d2.size > n:
+                d2[n:] -= old[:-n] * self.decay ** n
+        self.dist = d2
+
+    def distances(self) -> np.ndarray:
+        return self.dist + self.mask
+
+    def best(self) -> tuple[int, float]:
+        d = self.distances()
+        j = int(d.argmin())
+        return j, max(float(d[j]), 0.0)
+
+
+class ReferenceCoherenceSearch:
+    """Coherence: every source proposes ``source + age``; the distinct allowed proposals are
+    scored ``sum |y|^2 - 2 x . y`` (+ ``sum |x|^2``) with numpy."""
+
+    def __init__(self, train: np.ndarray, n: int, valid: np.ndarray) -> None:
+        self.y = np.ascontiguousarray(train, dtype=float)
+        self.n = n
+        self.valid = np.asarray(valid, dtype=bool)
+        self.sy = window_sums(np.einsum("jd,jd->j", self.y, self.y), n)
+        self.live: list[np.ndarray] = []
+        self.src: list[int] = []
+
+    def reset(self, window: np.ndarray) -> None:
+        self.live = [np.array(w, dtype=float) for w in window]
+        self.src = [-1] * self.n
+        self.sq = list(np.einsum("ad,ad->a", np.array(self.live), np.array(self.live)))
+        self.sx = float(np.sum(self.sq))
+
+    def push(self, x: np.ndarray, source: int) -> None:
+        """|x|^2 of the window is kept as a running sum (the newest in, the oldest out)."""
+        q = float(x.dot(x))
+        self.sx += q - self.sq[0]
+        self.sq = self.sq[1:] + [q]
+        self.live = self.live[1:] + [np.array(x, dtype=float)]
+        self.src = self.src[1:] + [source]
+
+    def best(self) -> tuple[int, float]:
+        n = self.n
+        src = np.array(self.src)
+        cand = src + np.arange(n - 1, -1, -1)
+        cand = cand[(src >= 0) & (cand < self.valid.size)]
+        cand = np.unique(cand[self.valid[cand]])
+        if cand.size == 0:
+            return -1, math.inf
+        window = np.array(self.live)
+        w = self.y[cand[:, None] + np.arange(-n + 1, 1)[None, :]]
+        costs = self.sy[cand] - 2.0 * np.einsum("mnd,nd->m", w, window)
+        k = int(costs.argmin())
+        return int(cand[k]), max(float(costs[k]) + self.sx, 0.0)
