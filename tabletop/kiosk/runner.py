@@ -105,7 +105,9 @@ class Runner:
         """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
         inst = build_live(kiosk_view(cfg, self.kiosk), headless=self.headless,
                           record_path=self.record_path, clock=self.clock,
-                          wrap_source=self.wrap_source)
+                          wrap_source=self.wrap_source,
+                          header_extra={"studio": {"all": self.studio_all}}
+                          if self.studio_on else None)
         loop = inst.loop
         self.record_path = None          # one recording file per run, never overwritten
         extra: list = []                 # providers of status fields
