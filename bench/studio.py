@@ -65,7 +65,7 @@ def pm_round(background: bool, tmp: Path) -> tuple[float, ...]:
             "enabled": True, "library": str(tmp), "background_training": background}}]},
         "bench.yaml", ROOT)
     engine = pm.build(cfg["engines"][0], BuildContext(TABLE, 60.0, cfg, ROOT))
-    studio = Studio([PuppetMasterTarget(engine)], countdown_s=0.0, clock=lambda: 0.0)
+    studio = Studio([PuppetMasterTarget(engine)], countdown_s=0.0)
 
     def frames():
         i = 0
@@ -86,8 +86,7 @@ def mop_round(background: bool, tmp: Path) -> tuple[float, ...]:
     cfg = load_config(path)
     options = dict(next(e for e in cfg["engines"] if e["kind"] == "mop"), library=tmp)
     stage = mop.build(options, BuildContext(TABLE, 60.0, cfg, path.parent))
-    studio = Studio([MopTarget(stage, "face", tmp, background=background)], countdown_s=0.0,
-                    clock=lambda: 0.0)
+    studio = Studio([MopTarget(stage, "face", tmp, background=background)], countdown_s=0.0)
     gesture = [(0.4 + np.interp(tau, SQUARE[:, 0], SQUARE[:, 1]),
                 0.4 + np.interp(tau, SQUARE[:, 0], SQUARE[:, 2]))
                for tau in np.arange(0.0, SQUARE[-1, 0], 1 / 60)]

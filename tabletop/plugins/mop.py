@@ -27,10 +27,10 @@ skeleton (walk, backflip, ...; from ``pybullet_data``), or a path to a DeepMimic
 Template CSVs hold the performer's feature columns (an optional ``t`` column, seconds, lets them
 be resampled to ``rate_hz``).
 
-Designer flow (operator keys): ``designer.next`` picks the character, ``designer.record``
-starts and stops recording its performer, the take is trained at once and can be performed;
-``designer.assign`` cycles the motion it plays; ``designer.keep`` saves it to the library,
-``designer.discard`` drops it; recording again while a take is pending redoes it.
+Designer flow: every character is an action slot of the studio (:mod:`tabletop.studio`; Tab
+picks it): R records its performer after the countdown and stops, the take is trained at once and
+can be performed; A cycles the motion it plays; K saves it to the library, X drops it, R again
+redoes it.
 """
 
 from __future__ import annotations

@@ -290,7 +290,7 @@ class PuppetMasterTarget:
 
 class MopTarget:
     """One character of a MOP engine (``ENGINE/CHARACTER``) as a studio target: its takes are
-    recorded, trained and kept by the stage (:class:`behaviors.mop.stage.MopStage`)."""
+    recorded, trained and kept by the stage's take API (:class:`behaviors.mop.stage.MopStage`)."""
 
     what = "action"
 
@@ -300,28 +300,19 @@ class MopTarget:
             stage.worker = Worker(f"{stage.name}-training")
         self._summary = ""
         self.name = f"{stage.name}/{character}"
-        self._frame: Frame | None = None
         self.kept: str | None = None
         self.demo: np.ndarray | None = None
         self._poller = Poller(lib / character) if lib is not None else None
         self._problems: list[str] = []
 
-    def _do(self, cmd: str) -> str:
-        st = self.stage
-        st.selected = st.order.index(self.character)
-        st.command(cmd, self._frame or Frame(seq=0, t=0.0))
-        return st.message
-
     def begin(self, frame: Frame) -> None:
-        self._frame = frame
-        self._do("designer.record")
+        self.stage.begin_take(self.character, frame)
 
     def resume(self, frame: Frame) -> None:
         pass                                  # an action is one part
 
     def record(self, frame: Frame) -> str:
-        self._frame = frame
-        return ""
+        return ""                             # the stage samples the performer in its step
 
     def ended(self) -> bool:
         return False
@@ -332,18 +323,19 @@ class MopTarget:
     def trained(self, wait: bool) -> str | None:
         """Between ticks: the summary once the stage's new followers are installed."""
         self.stage.install_built(wait)
-        return None if self.stage.building else self._summary
+        if self.stage.building:
+            return None
+        if self.stage.build_error:
+            raise InputError(self.stage.build_error)
+        return self._summary
 
     def seconds(self) -> float:
         take = self.stage.take
         return len(take.rows) / self.stage.rate_hz if take is not None else 0.0
 
-    def train(self) -> str:
-        msg = self._do("designer.record")
-        if self.stage.take_action is None:
-            raise InputError(msg)
+    def train(self) -> str | None:
+        self._summary = self.stage.stop_take()
         self.demo = np.array(self.stage.take.samples(), dtype=float)
-        self._summary = msg.split(":")[0]
         return None if self.stage.building else self._summary
 
     def take_array(self) -> np.ndarray:
@@ -351,16 +343,15 @@ class MopTarget:
         return np.asarray(take.samples()) if take is not None else np.zeros((0, 0))
 
     def revert(self) -> None:
-        self._do("designer.discard")
+        if self.stage.take is not None and self.stage.take.character == self.character:
+            self.stage.drop_take()
 
     def assign(self) -> str:
-        return self._do("designer.assign")
+        return f"motion {self.stage.assign_motion(self.character)}"
 
     def keep(self) -> str:
         action = self.stage.take_action
-        msg = self._do("designer.keep")
-        if msg.startswith("not saved"):
-            raise InputError(msg)
+        self.stage.keep_take()
         self.kept = action
         return action or ""
 
