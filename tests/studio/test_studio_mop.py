@@ -9,19 +9,7 @@ import yaml
 from tabletop.frames import Frame, Puck
 from tabletop.studio.machine import Studio
 from tabletop.studio.targets import MopTarget
-from tests.mop.test_plugin import EXAMPLES, RATE, Table, _build
-
-
-def _designer_config() -> dict:
-    return {"sources": [{"kind": "scripted"}], "engines": [{
-        "kind": "mop", "library": "lib",
-        "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
-        "characters": [
-            {"name": "face", "kind": "face", "performer": "hand",
-             "actions": [{"name": "circle", "template": str(EXAMPLES / "mop/gestures/circle.csv"),
-                          "motion": "talk"}]},
-            {"name": "lizard", "kind": "creature", "performer": "hand",
-             "motions": ["strike", "curl"]}]}]}
+from tests.mop.test_plugin import RATE, Table, _build, _designer_config
 
 
 class StudioTable(Table):
@@ -46,7 +34,7 @@ class StudioTable(Table):
 
 
 def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
-    engine = _build(_designer_config(), tmp_path)
+    engine = _build(_designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     table.rest(1.0)
     table.tick(["designer.record"])
@@ -72,13 +60,13 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     assert saved == {"actions": [{"name": "take1", "template": "take1.csv", "motion": "curl"}]}
     header = (tmp_path / "lib" / "lizard" / "take1.csv").read_text().splitlines()[0]
     assert header == "t,dx,dy"
-    again = _build(_designer_config(), tmp_path)
+    again = _build(_designer_config(tmp_path), tmp_path)
     assert "take1" in again.puppets["lizard"].actions
     assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
 
 
 def test_discard_redo_and_a_take_too_short(tmp_path):
-    engine = _build(_designer_config(), tmp_path)
+    engine = _build(_designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     table.rest(1.0)
     table.tick(["designer.record"])
@@ -106,7 +94,7 @@ def test_discard_redo_and_a_take_too_short(tmp_path):
 
 
 def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_path):
-    engine = _build(_designer_config(), tmp_path)
+    engine = _build(_designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     assert table.studio.designer_targets() == ("mop/face", "mop/lizard")
     assert not hasattr(engine, "designer_targets")     # the studio lists the slots
