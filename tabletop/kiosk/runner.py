@@ -77,9 +77,9 @@ class Runner:
         self.kiosk = kiosk or cfg["kiosk"]["enabled"]
         self.studio_all = studio or cfg["studio"]["enabled"]   # every engine, MOP included
         # designer targets always go through the studio: Puppet Master engines in designer
-        # mode and MOP characters (drawn only once a designer key is pressed)
+        # mode, MOP characters and touch-pose characters (drawn once a designer key is pressed)
         self.studio_on = self.studio_all or any(
-            (e.get("designer") or {}).get("enabled") or e["kind"] == "mop"
+            (e.get("designer") or {}).get("enabled") or e["kind"] in ("mop", "touch_pose")
             for e in cfg["engines"])
         self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
         self.started = (clock or time.monotonic)()

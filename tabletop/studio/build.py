@@ -83,7 +83,8 @@ def studio_input(frame: Frame) -> Frame:
 
 def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) -> list:
     """A target for every Puppet Master engine in designer mode (every one with
-    ``all_engines``: studio mode) and for every character of every MOP engine."""
+    ``all_engines``: studio mode), for every character of every MOP engine and for every
+    touch-pose engine."""
     from tabletop.plugins import puppet_master as pm
     from tabletop.schema import Context
     targets: list = []
@@ -100,6 +101,9 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
                 d["name"] = e.name
                 e.designer = d
             targets.append(PuppetMasterTarget(e))
+        elif hasattr(e, "core") and hasattr(e, "designed"):      # a touch-pose character
+            from tabletop.studio.pose_target import TouchPoseTarget
+            targets.append(TouchPoseTarget(e))
         elif hasattr(e, "begin_take"):
             lib = options.get(e.name, {}).get("library")
             targets += [MopTarget(e, c, Path(lib) if lib else None) for c in e.order]
