@@ -32,7 +32,8 @@ from tabletop.plugins import mop  # noqa: E402
 from tabletop.plugins import puppet_master as pm  # noqa: E402
 from tabletop.registry import BuildContext  # noqa: E402
 from tabletop.studio.machine import Studio  # noqa: E402
-from tabletop.studio.targets import MopTarget, PuppetMasterTarget  # noqa: E402
+from tabletop.studio.mop_target import MopTarget  # noqa: E402
+from tabletop.studio.targets import PuppetMasterTarget  # noqa: E402
 
 ROUNDS = 5
 TABLE = (1.2, 0.8)

@@ -176,9 +176,9 @@ class MopStage:
                  if self.make_group is not None and keys else None)
         return routes, followers, keys, group
 
-    # --- designer takes (driven by the studio: tabletop.studio.targets.MopTarget) -------------
+    # --- designer takes (driven by the studio: tabletop.studio.mop_target.MopTarget) ----------
 
-    def _performer_of(self, character: str) -> str:
+    def performer_of(self, character: str) -> str:
         return self.character_performer.get(character) or next(iter(self.performers))
 
     def motion_of(self, character: str, index: int) -> str:
@@ -186,13 +186,24 @@ class MopStage:
         motions = self.motions[character]
         return motions[index % len(motions)]
 
+    def put_action(self, character: str, action: Action, performer: str, samples: np.ndarray,
+                   background: bool = False) -> None:
+        """Give ``character`` the action (or replace the one of its name): followed at once
+        (with ``background``, once the :attr:`worker` has rebuilt the followers)."""
+        self.templates[character][action.name] = (performer, samples)
+        self.puppets[character].add_action(action)
+        self._retrain(character, background)
+
+    def remove_action(self, character: str, name: str) -> None:
+        """``character`` no longer has the action ``name``."""
+        if self.templates[character].pop(name, None) is not None:
+            self.puppets[character].remove_action(name)
+            self._retrain(character)
+
     def drop_take(self) -> None:
         """Forget the take (recording or pending); its action leaves the character."""
         if self.take is not None and self.take_action is not None:
-            c = self.take.character
-            self.templates[c].pop(self.take_action, None)
-            self.puppets[c].remove_action(self.take_action)
-            self._retrain(c)
+            self.remove_action(self.take.character, self.take_action)
         self.take, self.take_action = None, None
 
     def begin_take(self, character: str, frame: Frame) -> None:
@@ -200,7 +211,7 @@ class MopStage:
         its motion choice carries over)."""
         motion_index = self.take.motion_index if self.take is not None else 0
         self.drop_take()
-        performer = self._performer_of(character)
+        performer = self.performer_of(character)
         self.take = Take(performer, character, frame.t)
         self.take.motion_index = motion_index
         self.performers[performer].restart(frame, frame.t)
@@ -233,7 +244,7 @@ class MopStage:
         pending take at once); returns its name."""
         if self.take is None or self.take.character != character:
             self.drop_take()
-            self.take = Take(self._performer_of(character), character, 0.0)
+            self.take = Take(self.performer_of(character), character, 0.0)
             self.take.recording = False
         self.take.motion_index += 1
         motion = self.motion_of(character, self.take.motion_index)
@@ -262,9 +273,8 @@ class MopStage:
         take = self.take
         assert take is not None and self.take_action is not None
         c = take.character
-        self.templates[c][self.take_action] = (take.performer, take.samples())
-        self.puppets[c].add_action(Action(self.take_action, self.load_motion(c, motion)))
-        self._retrain(c, background)
+        self.put_action(c, Action(self.take_action, self.load_motion(c, motion)), take.performer,
+                        take.samples(), background)
 
     # --- running --------------------------------------------------------------------------------
 

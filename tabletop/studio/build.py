@@ -10,7 +10,9 @@ from typing import Any, Mapping
 from tabletop.frames import Frame
 from tabletop.studio.machine import Studio
 from tabletop.studio.session import SessionLog
-from tabletop.studio.targets import MopTarget, PuppetMasterTarget
+from tabletop.studio.mop_target import MopTarget
+from tabletop.studio.pose_target import TouchPoseTarget
+from tabletop.studio.targets import PuppetMasterTarget
 
 
 class Markers:
@@ -102,7 +104,6 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
                 e.designer = d
             targets.append(PuppetMasterTarget(e))
         elif hasattr(e, "core") and hasattr(e, "designed"):      # a touch-pose character
-            from tabletop.studio.pose_target import TouchPoseTarget
             targets.append(TouchPoseTarget(e))
         elif hasattr(e, "begin_take"):
             lib = options.get(e.name, {}).get("library")

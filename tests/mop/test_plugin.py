@@ -383,11 +383,6 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     bad.write_text("t,dx,speed\n0,0,0\n0.1,0.1,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(bad)),
            "bad.csv", "do not match the performer's features dx,dy", error=FileFormatError)
-    lib = tmp_path / "lib" / "face"
-    lib.mkdir(parents=True)
-    (lib / "actions.yaml").write_text("actions: [oops\n")
-    expect(lambda e: None, "lib/face/actions.yaml", "cannot read the action library",
-           error=mop.MopError)
 
 
 def test_a_hybrid_character_moves_body_and_face_with_one_action(example_cfg):

@@ -8,7 +8,7 @@ import yaml
 
 from tabletop.frames import Frame, Puck
 from tabletop.studio.machine import Studio
-from tabletop.studio.targets import MopTarget
+from tabletop.studio.mop_target import MopTarget
 from tests.mop.test_plugin import RATE, Table, _build, _designer_config
 
 
@@ -112,3 +112,54 @@ def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_pat
     table.tick(focus="mop/face")
     assert "take1" not in engine.puppets["lizard"].actions
     assert table.studio.tries[-1].outcome == "discarded"
+
+
+def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_once(tmp_path):
+    # a kept square for the lizard, then its library damaged two ways
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("square")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    lib = tmp_path / "lib"
+    good = (lib / "lizard" / "actions.yaml").read_text()
+    (lib / "lizard" / "actions.yaml").write_text("actions: [oops\n")
+    (lib / "face").mkdir()
+    (lib / "face" / "actions.yaml").write_text(
+        "actions:\n- {name: wrong, template: nothere.csv, motion: talk}\n")
+    # a restart: the engine starts, each bad file reported and skipped, the rest works
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    assert "lizard/actions.yaml: cannot read the action library" in \
+        engine.library_problems["lizard"][0]
+    assert "face/actions.yaml: action 'wrong'" in engine.library_problems["face"][0]
+    assert "nothere.csv" in engine.library_problems["face"][0]
+    assert set(engine.puppets["face"].actions) == {"circle"} and not engine.puppets["lizard"].actions
+    table = StudioTable(engine, lib, focus="mop/lizard")
+    for t in table.targets:
+        t._poller.every_s = 0.0
+    table.tick()
+    table.studio.poll()
+    table.tick()
+    assert "2 bad library file(s)" in table.status
+    table.rest(1.0)
+    run = table.perform("circle")                        # the face's own action still plays
+    assert np.mean([c["face"].valid and c["face"].action == "circle" for u, c in run if u > 0.4]) > 0.9
+    # fixed on disk: followed without a restart
+    (lib / "lizard" / "actions.yaml").write_text(good)
+    table.studio.poll()
+    assert table.studio.problems == [table.studio.problems[0]] and "face" in table.studio.problems[0]
+    assert "take1" in engine.puppets["lizard"].actions
+    table.rest(1.2)
+    run = table.perform("square", speed=lambda u: 1.3)
+    assert np.mean([c["lizard"].valid and c["lizard"].action == "take1"
+                    for u, c in run if u > 0.5]) > 0.9
+    # deleted from the library (undo restores it): no longer followed
+    table.studio.command("designer.item_next")
+    table.studio.command("designer.delete")
+    table.studio.poll()
+    assert "take1" not in engine.puppets["lizard"].actions
+    table.studio.command("designer.undo")
+    table.studio.poll()
+    assert "take1" in engine.puppets["lizard"].actions
