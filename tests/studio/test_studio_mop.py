@@ -163,3 +163,54 @@ def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_onc
     table.studio.command("designer.undo")
     table.studio.poll()
     assert "take1" in engine.puppets["lizard"].actions
+
+
+def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
+    from tabletop.config import load_config
+    from tabletop.kiosk.simulate import SimClock, simulated
+    from tests.mop.test_plugin import G
+
+    rate = 20.0
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump({
+        "loop": {"rate_hz": rate},
+        "sources": [{"kind": "synthetic_camera", "name": "camera", "pucks": [],
+                     "resolution": [480, 270], "fps": rate, "hands": {"every_s": 0}}],
+        "engines": [{"kind": "mop", "name": "mop", "library": "lib", "rate_hz": rate,
+                     "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
+                     "characters": [{"name": "lizard", "kind": "creature", "performer": "hand",
+                                     "motions": ["strike", "curl"]}]}],
+        "view": {"size": [320, 180]},
+        "studio": {"enabled": True, "countdown_s": 0.5, "review": False}}))
+    square = G.gesture("square")
+
+    def poses(s):
+        u = float(np.clip(s - 1.3, 0.0, square[-1, 0]))      # the square from 1.3 s
+        out = [(1, 0.5 + np.interp(u, square[:, 0], square[:, 1]),
+                0.4 + np.interp(u, square[:, 0], square[:, 2]), 0.0)]
+        if 0.3 <= s < 1.3 + square[-1, 0]:
+            out.append((45, 0.06, 0.06, 0.0))                # record, in a corner
+        if 5.0 <= s < 5.6:
+            out.append((47, 1.14, 0.06, 0.0))                # keep
+        return out
+
+    clock = SimClock()
+    runner, inst = simulated(load_config(path), path, clock, kiosk=False, studio=True)
+    inst.loop.inputs.sources[0].reader.poses = poses
+    states = []
+    for _ in range(int(6.2 * rate)):
+        frame = inst.loop.tick()
+        states.append(frame.character("studio").action)
+        clock.advance(1 / rate)
+    inst.loop.close()
+    order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
+    assert order == ["idle", "countdown", "recording", "training", "trying", "idle"]
+    saved = yaml.safe_load((tmp_path / "lib" / "lizard" / "actions.yaml").read_text())
+    assert saved["actions"][0]["name"] == "take1"
+    rows = (tmp_path / "lib" / "lizard" / "take1.csv").read_text().splitlines()
+    assert abs(len(rows) - 1 - rate * square[-1, 0]) < 0.5 * rate   # the square, recorded
+    # after a restart the action is in the library and followed
+    runner2, inst2 = simulated(load_config(path), path, SimClock(), kiosk=False, studio=True)
+    assert runner2.studio.target.items() == ["take1"]
+    assert "take1" in inst2.engines[0].puppets["lizard"].actions
+    inst2.loop.close()
