@@ -203,11 +203,12 @@ class Finger:
 
 
 def test_control_markers_through_the_camera_record_and_keep_a_posed_action(tmp_path, models):
+    rate = 20.0
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump({
-        "loop": {"rate_hz": RATE},
+        "loop": {"rate_hz": rate},
         "sources": [{"kind": "synthetic_camera", "name": "camera", "pucks": [],
-                     "resolution": [480, 270], "fps": RATE, "hands": {"every_s": 0}}],
+                     "resolution": [480, 270], "fps": rate, "hands": {"every_s": 0}}],
         "engines": [{"kind": "touch_pose", "name": "poser", "view": [90, 15], "physics": False,
                      "mouse": False, "library": "actions"}],
         "view": {"size": [320, 180]},
@@ -238,18 +239,18 @@ def test_control_markers_through_the_camera_record_and_keep_a_posed_action(tmp_p
     inst.loop.inputs.sources[0].reader.poses = markers
     inst.loop.inputs.sources.append(Finger(clock, finger))
     states, actions = [], []
-    for _ in range(int(7.8 * RATE)):
+    for _ in range(int(7.8 * rate)):
         frame = inst.loop.tick()
         states.append(frame.character("studio").action)
         actions.append(frame.character("poser").action)
         assert not {45, 47} & {p.id for p in frame.pucks}    # markers are controls, not inputs
-        clock.advance(1 / RATE)
+        clock.advance(1 / rate)
     inst.loop.close()
     order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
     assert order == ["idle", "countdown", "recording", "trying", "idle"]
-    rec = [i / RATE for i, s in enumerate(states) if s == "recording"]
+    rec = [i / rate for i, s in enumerate(states) if s == "recording"]
     assert 1.0 <= rec[0] <= 1.3 and 3.6 <= rec[-1] <= 3.9      # debounce 0.3 s, countdown 0.5 s
-    tried = [i / RATE for i, a in enumerate(actions) if a == "poser-action"]
+    tried = [i / rate for i, a in enumerate(actions) if a == "poser-action"]
     assert tried and 4.5 <= tried[0] <= 4.5 + DRAG_S             # the try's drag played it
     assert (tmp_path / "actions" / "poser-action" / "action.json").is_file()
     # after a restart the action is in the library and known to the character
