@@ -171,17 +171,21 @@ class TouchPose:
             self._excluded_key = key
         return self._excluded
 
+    def stroke_on_table(self, action: ActionModel) -> np.ndarray:
+        """``action``'s stroke projected on the table from where its part stands now (n, 2;
+        metres): the path a drag follows to start it."""
+        view, _ = yaw_view(self.camera.matrix, self.base, self.yaw)
+        start = self.camera.table(self._points(self.output)[self._np + PARTS.index(action.spec.part)])
+        return start + (action.stroke @ view.T) * self.scale
+
     def describe(self) -> dict:
         """The standing pose's parts and every action's projected stroke from where its part
         stands now (DESIGN.md ``--describe``)."""
         parts = self.body.parts(place(self.m.stand, self.base, self.yaw))
-        now = self.body.parts(self.output)
         excluded = self.excluded()
-        view, _ = yaw_view(self.camera.matrix, self.base, self.yaw)
         actions = []
         for a in self.m.actions:
-            start = self.camera.table(now[PARTS.index(a.spec.part)])
-            traj = start + (a.stroke @ view.T) * self.scale
+            traj = self.stroke_on_table(a)
             actions.append({"name": a.name, "part": a.spec.part, "duration_s": round(a.duration, 4),
                             "excluded": a.name in excluded,
                             "trajectory": np.round(traj, 5).tolist()})

@@ -96,6 +96,12 @@ class TouchPoseTarget:
         return (f"trained {name}: its {action.spec.part.replace('_', ' ')}, "
                 f"{action.duration:.1f} s; drag it along that path")
 
+    cue = "get ready: hold a body part, then pose the motion"
+
+    def guide(self):
+        """The path to drag to try the take (table metres), from where its part is now."""
+        return None if self.pending is None else self.core.stroke_on_table(self.pending)
+
     def trained(self, wait: bool) -> str | None:
         return None                           # trained within the stop's tick
 

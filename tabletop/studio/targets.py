@@ -83,6 +83,9 @@ class PuppetMasterTarget:
         self.play_poller = Poller(Path(folder)) if folder else None
         self.playing: Path | None = Path(folder) if folder else None
         self._problems: list[str] = []
+        self.cue = (f"get ready: puck {self.main_puck} the main" if self.sequential else
+                    f"get ready: puck {self.main_puck} the main, puck {self.react_puck} the "
+                    "reactor")
 
     # --- the take ------------------------------------------------------------------------------
 

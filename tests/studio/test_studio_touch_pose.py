@@ -57,7 +57,8 @@ class Poser:
     def tick(self, finger=None, cmds=()):
         touches = () if finger is None else (Touch(1, float(finger[0]), float(finger[1])),)
         f = self.studio(Frame(self.seq, self.t, touches=touches, commands=tuple(cmds)))
-        self.status = f.character("studio").label
+        self.shown = f.character("studio")           # what the view draws for the studio
+        self.status = self.shown.label
         self.studio.poll()
         (c,) = self.engine.step(f)
         self.t += 1 / RATE
@@ -92,6 +93,10 @@ def test_a_posed_take_is_trained_tried_kept_and_known_after_a_restart(tmp_path, 
         p.tick()
     p.take()
     assert p.studio.state == "trying" and "trained poser-action: its right hand" in p.status
+    guide = p.shown.points                     # the path to drag is drawn from the hand
+    assert p.shown.action == "trying" and len(guide) > 10
+    assert np.linalg.norm(guide[0] - part_at(p.engine, "right_hand")) < 0.01
+    assert np.linalg.norm(guide[-1] - guide[0]) > 0.05
     run = p.drag()
     assert played(run, "poser-action") > 0.5 * DRAG_S * RATE          # the drag plays it
     assert max(c.progress or 0.0 for c in run if c.action == "poser-action") > 0.9
