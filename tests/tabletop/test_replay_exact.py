@@ -13,6 +13,7 @@ import yaml
 
 from tabletop.app import build_live
 from tabletop.config import load_config
+from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -206,3 +207,48 @@ def test_the_parts_of_a_rotated_session_replay_exactly_in_order(tmp_path):
                        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=180)
     assert r.returncode == 2 and "part 1 cannot follow part 2" in r.stderr
     assert str(parts[0]) in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_a_touch_pose_designer_session_replays_exactly(tmp_path, models):
+    """A touch-pose action posed, trained, tried and kept through the studio (physics on):
+    ``tabletop replay`` makes the same characters, the designed action's try included."""
+    from tabletop.cli import main as cli
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.kiosk.simulate import SimClock
+    from tests.studio.test_studio_touch_pose import DRAG_S, Finger, arc, part_at
+
+    cfg = validate_config({
+        "loop": {"rate_hz": 30}, "sources": [{"kind": "scripted", "pucks": []}],
+        "engines": [{"kind": "touch_pose", "name": "poser", "view": [90, 15], "mouse": False}],
+        "studio": {"countdown_s": 0.5, "review": False}, "view": {"enabled": False}},
+        str(tmp_path / "c.yaml"), tmp_path)
+    clock = SimClock()
+    live = tmp_path / "live.jsonl"
+    runner = Runner(tmp_path / "c.yaml", cfg, headless=True, record_path=live, clock=clock)
+    inst = runner._build(cfg)
+    engine, t0, starts = inst.engines[0], clock(), {}
+
+    def where(t):
+        for phase, a in (("take", 1.0), ("try", 3.5)):
+            if a <= t - t0 <= a + DRAG_S:
+                starts.setdefault(phase, part_at(engine, "right_hand"))
+                return starts[phase] + arc((t - t0 - a) / DRAG_S)
+        return None
+
+    inst.loop.inputs.sources.append(Finger(clock, where))
+    inst.loop.sinks.insert(0, Operator(inst.loop.commands, {
+        5: "designer.record", 70: "designer.record", 170: "designer.keep"}))
+    inst.loop.inputs.open()
+    for _ in range(180):
+        inst.loop.tick()
+        clock.advance(1 / 30)
+    inst.loop.close()
+    out = tmp_path / "replayed.jsonl"
+    assert cli(["replay", str(live), "--fast", "--no-view", "--out", str(out)]) == 0
+    a, b = frames(live), frames(out)
+    played = [c.get("action") for f in a for c in f["characters"] if c["name"] == "poser"]
+    assert "poser-action" in played                               # the try played it
+    assert (tmp_path / "pose_actions" / "poser-action" / "action.json").is_file()
+    assert len(a) == len(b) == 180
+    assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []
