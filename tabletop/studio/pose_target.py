@@ -2,8 +2,9 @@
 
 The take is the character's posture, sampled every tick while the designer poses it with their
 fingers (the character does not start its known actions meanwhile: drags only pose). Stopping
-makes it an action at once (:func:`behaviors.touch_pose.designed.designed_action`), known to the
-character: the designer tries it by dragging its primary part along the recorded path, in their
+makes it an action (:func:`behaviors.touch_pose.designed.designed_action`, learned in a worker
+thread and swapped in between ticks 0.15 s of frame time after the stop, as the other engines'
+takes), known to the character: the designer tries it by dragging its primary part along the recorded path, in their
 own timing. Kept actions are folders of the engine's ``library``
 (:func:`~behaviors.touch_pose.designed.save_action`), known from the next start too; renamed in
 place and deleted into ``<library>/.trash`` so undo restores them.
@@ -24,6 +25,7 @@ from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.targets import rename_folder, trash
+from tabletop.worker import Worker
 
 
 class TouchPoseTarget:
@@ -31,8 +33,9 @@ class TouchPoseTarget:
 
     what = "pose action"
 
-    def __init__(self, engine) -> None:
+    def __init__(self, engine, background: bool = True) -> None:
         self.engine, self.core = engine, engine.core
+        self.worker = Worker(f"{engine.name}-training") if background else None
         self.name = engine.name
         self.lib = Path(engine.library)
         self.times: list[float] = []
@@ -81,19 +84,40 @@ class TouchPoseTarget:
             name, i = f"{base}-{i}", i + 1
         return name
 
-    def train(self) -> str:
-        """The take becomes an action the character knows at once."""
+    def train(self) -> str | None:
+        """The take's action is learned (50-170 ms here) in the worker (None: the studio swaps
+        it in with :meth:`trained`), else at once; then the character knows it."""
         self.core.recognising = True
-        name = self._free_name()
         part = max(self.held, key=self.held.__getitem__) if self.held else None   # else: moved most
-        action = designed.designed_action(self.core.body, name, np.array(self.times), self.poses,
-                                          part)
+        job = (self.core.body, self._free_name(), np.array(self.times), list(self.poses), part)
+        if self.worker is None:
+            return self._learned(designed.designed_action(*job))
+        self.worker.start(designed.designed_action, *job)
+        return None
+
+    def trained(self, wait: bool) -> str | None:
+        """Between ticks: the worker's action, once learned (``wait``: waits for it), is known
+        from now; InputError when the take cannot be an action."""
+        if self.worker is None:
+            return None
+        if wait:
+            self.worker.wait()
+        done = self.worker.poll()
+        if done is None:
+            return None
+        if isinstance(done, InputError):
+            raise done
+        if isinstance(done, Exception):
+            raise InputError(f"training failed: {done}")
+        return self._learned(done)
+
+    def _learned(self, action) -> str:
         self.core.add_action(action)
         self.pending = action
         k = PARTS.index(action.spec.part)
         path = np.array([self.core.body.parts(relative(p, self.poses[0]))[k] for p in self.poses])
         self.demo = np.column_stack([np.array(self.times) - self.times[0], path])
-        return (f"trained {name}: its {action.spec.part.replace('_', ' ')}, "
+        return (f"trained {action.name}: its {action.spec.part.replace('_', ' ')}, "
                 f"{action.duration:.1f} s; drag it along that path")
 
     cue = "get ready: hold a body part, then pose the motion"
@@ -102,11 +126,10 @@ class TouchPoseTarget:
         """The path to drag to try the take (table metres), from where its part is now."""
         return None if self.pending is None else self.core.stroke_on_table(self.pending)
 
-    def trained(self, wait: bool) -> str | None:
-        return None                           # trained within the stop's tick
-
     def revert(self) -> None:
         self.core.recognising = True
+        if self.worker is not None:
+            self.worker.cancel()              # a take still being learned is dropped
         if self.pending is not None:
             self.core.remove_action(self.pending.name)
         self.pending = None

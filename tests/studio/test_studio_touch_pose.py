@@ -146,12 +146,17 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
     assert p.studio.state == "recording" and p.studio.tries[-1].outcome == "redone"
     assert "poser-action" not in [a.name for a in p.engine.core.m.actions]
     p.tick(cmds=["designer.stop"])                    # a take without motion is refused
+    assert p.studio.state == "training"               # (learned in the worker)
+    for _ in range(6):                                # swapped in 0.15 s after the stop
+        p.tick()
     assert p.studio.state == "idle" and p.studio.tries[-1].outcome == "too short"
     p.tick(cmds=["designer.record"])                  # a second of nobody posing it
     for _ in range(int(RATE)):
         p.tick()
     assert "hold a body part and move it" in p.status
     p.tick(cmds=["designer.stop"])
+    for _ in range(6):
+        p.tick()
     assert p.studio.state == "idle" and p.studio.tries[-1].outcome == "refused"
     assert "hardly moves" in p.studio.message
 
@@ -252,7 +257,8 @@ def test_control_markers_through_the_camera_record_and_keep_a_posed_action(tmp_p
         clock.advance(1 / rate)
     inst.loop.close()
     order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
-    assert order == ["idle", "countdown", "recording", "trying", "idle"]
+    assert order == ["idle", "countdown", "recording", "training", "trying", "idle"]
+    assert states.count("training") == 3                  # 0.15 s after the stop, at 20 Hz
     rec = [i / rate for i, s in enumerate(states) if s == "recording"]
     assert 1.0 <= rec[0] <= 1.3 and 3.6 <= rec[-1] <= 3.9      # debounce 0.3 s, countdown 0.5 s
     tried = [i / rate for i, a in enumerate(actions) if a == "poser-action"]
