@@ -208,8 +208,9 @@ class Studio:
         except InputError as exc:
             self._refused(t, exc)
             return
-        if summary is None:
-            self.state, self._swap_at = "training", self._t + self.swap_s
+        if summary is None:       # a target may need longer (its own ``swap_s``)
+            self.state = "training"
+            self._swap_at = self._t + getattr(target, "swap_s", self.swap_s)
             return
         self._trained(t, summary)
 

@@ -3,8 +3,8 @@
 The take is the character's posture, sampled every tick while the designer poses it with their
 fingers (the character does not start its known actions meanwhile: drags only pose). Stopping
 makes it an action (:func:`behaviors.touch_pose.designed.designed_action`, learned in a worker
-thread and swapped in between ticks 0.15 s of frame time after the stop, as the other engines'
-takes), known to the character: the designer tries it by dragging its primary part along the recorded path, in their
+thread and swapped in between ticks 0.3 s of frame time after the stop, as the other engines'
+takes are after 0.15 s), known to the character: the designer tries it by dragging its primary part along the recorded path, in their
 own timing. Kept actions are folders of the engine's ``library``
 (:func:`~behaviors.touch_pose.designed.save_action`), known from the next start too; renamed in
 place and deleted into ``<library>/.trash`` so undo restores them.
@@ -26,6 +26,15 @@ from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.targets import rename_folder, trash
 from tabletop.worker import Worker
+
+
+def _learn(body, name: str, times: np.ndarray, poses: list[Pose], part: str | None) -> tuple:
+    """(the take's action, its demonstration for the session log: t and its primary part's
+    path, character metres); pure, so it may run in the worker."""
+    action = designed.designed_action(body, name, times, poses, part)
+    k = PARTS.index(action.spec.part)
+    path = np.array([body.parts(relative(p, poses[0]))[k] for p in poses])
+    return action, np.column_stack([times - times[0], path])
 
 
 class TouchPoseTarget:
@@ -85,14 +94,14 @@ class TouchPoseTarget:
         return name
 
     def train(self) -> str | None:
-        """The take's action is learned (50-170 ms here) in the worker (None: the studio swaps
+        """The take's action is learned (about 50 ms CPU) in the worker (None: the studio swaps
         it in with :meth:`trained`), else at once; then the character knows it."""
         self.core.recognising = True
         part = max(self.held, key=self.held.__getitem__) if self.held else None   # else: moved most
         job = (self.core.body, self._free_name(), np.array(self.times), list(self.poses), part)
         if self.worker is None:
-            return self._learned(designed.designed_action(*job))
-        self.worker.start(designed.designed_action, *job)
+            return self._learned(_learn(*job))
+        self.worker.start(_learn, *job)
         return None
 
     def trained(self, wait: bool) -> str | None:
@@ -111,16 +120,15 @@ class TouchPoseTarget:
             raise InputError(f"training failed: {done}")
         return self._learned(done)
 
-    def _learned(self, action) -> str:
+    def _learned(self, learned: tuple) -> str:
+        action, self.demo = learned
         self.core.add_action(action)
         self.pending = action
-        k = PARTS.index(action.spec.part)
-        path = np.array([self.core.body.parts(relative(p, self.poses[0]))[k] for p in self.poses])
-        self.demo = np.column_stack([np.array(self.times) - self.times[0], path])
         return (f"trained {action.name}: its {action.spec.part.replace('_', ' ')}, "
                 f"{action.duration:.1f} s; drag it along that path")
 
     cue = "get ready: hold a body part, then pose the motion"
+    swap_s = 0.3     # learning a take's action takes 50 ms CPU here (60 frames, bench/studio.py)
 
     def guide(self):
         """The path to drag to try the take (table metres), from where its part is now."""

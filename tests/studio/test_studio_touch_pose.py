@@ -8,6 +8,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 import yaml
 
 from behaviors.touch_pose.humanoid import PARTS
@@ -79,7 +80,7 @@ class Poser:
         for k in range(n + 1):
             self.tick(start + path(k / n))
         self.tick(start + path(1.0), cmds=["designer.record"])
-        for _ in range(10):
+        for _ in range(12):                           # learned, in play 0.3 s after the stop
             self.tick()
 
 
@@ -100,8 +101,14 @@ def test_a_posed_take_is_trained_tried_kept_and_known_after_a_restart(tmp_path, 
     run = p.drag()
     assert played(run, "poser-action") > 0.5 * DRAG_S * RATE          # the drag plays it
     assert max(c.progress or 0.0 for c in run if c.action == "poser-action") > 0.9
+    demo = p.target.demo                       # the session log's figures: t, the hand's path
     p.tick(cmds=["designer.keep"])
     assert "kept as poser-action" in p.status and p.studio.state == "idle"
+    assert demo.shape[1] == 4 and demo[-1, 0] == pytest.approx(DRAG_S, abs=0.1)
+    assert np.linalg.norm(demo[-1, 1:] - demo[0, 1:]) > 0.2      # character metres
+    from tabletop.studio.review import review_sheet
+    review_sheet("pose action", demo, tmp_path / "try.png", title="poser: kept")
+    assert (tmp_path / "try.png").stat().st_size > 10_000
     stored = json.loads((tmp_path / "actions" / "poser-action" / "action.json").read_text())
     assert stored["part"] == "right_hand" and len(stored["times"]) == len(stored["rots"]) > 30
     # a restart: the engine knows it from its library, and the same drag plays it
@@ -147,7 +154,7 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
     assert "poser-action" not in [a.name for a in p.engine.core.m.actions]
     p.tick(cmds=["designer.stop"])                    # a take without motion is refused
     assert p.studio.state == "training"               # (learned in the worker)
-    for _ in range(6):                                # swapped in 0.15 s after the stop
+    for _ in range(12):                               # swapped in 0.3 s after the stop
         p.tick()
     assert p.studio.state == "idle" and p.studio.tries[-1].outcome == "too short"
     p.tick(cmds=["designer.record"])                  # a second of nobody posing it
@@ -155,7 +162,7 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
         p.tick()
     assert "hold a body part and move it" in p.status
     p.tick(cmds=["designer.stop"])
-    for _ in range(6):
+    for _ in range(12):
         p.tick()
     assert p.studio.state == "idle" and p.studio.tries[-1].outcome == "refused"
     assert "hardly moves" in p.studio.message
@@ -258,7 +265,7 @@ def test_control_markers_through_the_camera_record_and_keep_a_posed_action(tmp_p
     inst.loop.close()
     order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
     assert order == ["idle", "countdown", "recording", "training", "trying", "idle"]
-    assert states.count("training") == 3                  # 0.15 s after the stop, at 20 Hz
+    assert states.count("training") == 6                  # 0.3 s after the stop, at 20 Hz
     rec = [i / rate for i, s in enumerate(states) if s == "recording"]
     assert 1.0 <= rec[0] <= 1.3 and 3.6 <= rec[-1] <= 3.9      # debounce 0.3 s, countdown 0.5 s
     tried = [i / rate for i, a in enumerate(actions) if a == "poser-action"]
