@@ -4,8 +4,8 @@ The take is the character's posture, sampled every tick while the designer poses
 fingers (the character does not start its known actions meanwhile: drags only pose). Stopping
 makes it an action (:func:`behaviors.touch_pose.designed.designed_action`, learned in a worker
 thread and swapped in between ticks 0.3 s of frame time after the stop, as the other engines'
-takes are after 0.15 s), known to the character: the designer tries it by dragging its primary part along the recorded path, in their
-own timing. Kept actions are folders of the engine's ``library``
+takes are after 0.15 s), known to the character: the designer tries it by dragging its primary
+part along the recorded path (drawn on the table), in their own timing. Kept actions are folders of the engine's ``library``
 (:func:`~behaviors.touch_pose.designed.save_action`), known from the next start too; renamed in
 place and deleted into ``<library>/.trash`` so undo restores them.
 """
