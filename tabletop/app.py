@@ -147,12 +147,14 @@ def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
 def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | None = None,
                stats: LoopStats | None = None, stop: threading.Event | None = None,
                clock: Callable[[], float] | None = None,
-               wrap_source: Callable[[Any, dict], Any] | None = None) -> Installation:
+               wrap_source: Callable[[Any, dict], Any] | None = None,
+               header_extra: dict[str, Any] | None = None) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
 
     ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
     replaces the monotonic clock and unpaces the loop (simulated time:
-    :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source."""
+    :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
+    ``header_extra``: more keys for a recording's header (the studio's)."""
     ctx = _context(cfg)
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
@@ -165,7 +167,11 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
         sources = [wrap_source(src, entry) for src, entry in zip(sources, cfg["sources"])]
     ctx.shared["sources"] = sources
     engines = build_engines(cfg, ctx)
-    sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop)
+    header = None
+    if header_extra:
+        from tabletop.recorder import session_header
+        header = session_header(cfg, ctx.shared.get("calibration_dict"), **header_extra)
+    sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, header=header)
     timing = {} if clock is None else {"clock": clock, "paced": False}
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],
                 stats=stats, commands=commands, stop=stop, **timing)

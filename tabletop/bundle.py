@@ -7,9 +7,11 @@ names; a path outside it (absolute, or with ``..``) is renamed ``_external/N/NAM
 config. To replay, :func:`extract` writes the files into an empty folder and the config is
 validated there, so a recording replays on another machine, from any folder.
 
-Output folders (the recorder's, the snapshots', a designer's library) are not embedded; one
-outside the config's folder is renamed ``_outside/N/NAME``, so what a replay writes (a take kept
-during the replay) goes into the replay's temporary folder, never where the installation wrote. A file larger than
+Output folders (the recorder's, the snapshots') are not embedded; one outside the config's
+folder is renamed ``_outside/N/NAME``, so what a replay writes goes into the replay's temporary
+folder, never where the installation wrote. A designer's library is embedded (the studio lists
+it and names kept takes after what it holds), and one that does not exist yet is renamed the same
+way, so a take kept during the replay never lands in the installation's library. A file larger than
 :data:`FILE_LIMIT` (or beyond :data:`TOTAL_LIMIT` in all), such as a camera's video file, is not
 embedded either: the config keeps its absolute path and the header lists it under ``external``.
 """
@@ -116,6 +118,8 @@ def portable(raw: Any, refs: list[FileRef]) -> tuple[Any, dict[str, dict], list[
                 changes[ref.key] = f"{OUTSIDE}/{len(changes)}/{ref.resolved.name or 'root'}"
             continue
         if not ref.resolved.exists():
+            if _inside_name(ref.value) is None:   # a library made later: never the live one
+                changes[ref.key] = f"{OUTSIDE}/{len(changes)}/{ref.resolved.name or 'root'}"
             continue
         name = names.get(ref.resolved)
         if name is None:

@@ -178,6 +178,9 @@ class Frame:
     engine takes the commands. ``status`` tells the view what the installation is doing:
     ``""`` (live), ``"attract"`` (nobody at the table: scripted pucks play) or ``"one_moment"``
     (an input that was working has vanished and is reconnecting: show the calm waiting screen).
+    ``consumed``: what a frame filter took out of the frame before the engines, by filter (the
+    studio's ``{"pucks": control-marker pucks, "commands": the commands it was given}``); a
+    recording keeps it so a replay can run that filter again on the same inputs.
     """
 
     seq: int
@@ -190,6 +193,7 @@ class Frame:
     health: tuple[SourceHealth, ...] = ()
     focus: str | None = None
     status: str = ""
+    consumed: Mapping[str, Mapping] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         frozen = {k: _frozen_array(v) for k, v in dict(self.streams).items()}

@@ -201,6 +201,22 @@ def _write_synced(path: Path, text: str) -> None:
         os.fsync(f.fileno())
 
 
+def new_folder(target: Path, files: Mapping[str, str]) -> None:
+    """Make the folder ``target`` holding ``files`` (name -> text) whole or not at all: written
+    and synced in a hidden temporary folder beside it, then renamed (OSError on failure)."""
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
+    try:
+        for name, text in files.items():
+            _write_synced(tmp / name, text)
+        fsync_folder(tmp)
+        os.chmod(tmp, 0o755)
+        os.rename(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    fsync_folder(target.parent)
+
+
 def save_behavior(library: str | Path, name: str, demo: np.ndarray,
                   parameters: Mapping[str, Any], kind: str = "puppet_master",
                   description: str = "", source: str = "", replace: bool = False) -> Path:
@@ -231,17 +247,7 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
             atomic_write_text(target / DEMONSTRATION_FILE, csv_text)
             atomic_write_text(target / BEHAVIOR_FILE, yaml_text)
             return target
-        tmp = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=".tmp", dir=lib))
-        try:
-            _write_synced(tmp / DEMONSTRATION_FILE, csv_text)
-            _write_synced(tmp / BEHAVIOR_FILE, yaml_text)
-            fsync_folder(tmp)
-            os.chmod(tmp, 0o755)
-            os.rename(tmp, target)
-        except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
-            raise
-        fsync_folder(lib)
+        new_folder(target, {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text})
     except OSError as exc:
         raise LibraryError(f"{target}: cannot save behaviour: {exc.strerror or exc}") from None
     return target

@@ -2,19 +2,25 @@
 
 Header: ``{"format": "tabletop-session", "version": 2, "created": ISO date, "config": {...}
 (as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}} (every file the
-config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null, "part": n}``.
-Version 1 headers (no ``files``) are still read.
+config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null, "part": n}``, and
+``"studio": {"all": bool}`` when the designer studio ran (``all``: every engine was a target, as
+with ``run --studio``). Version 1 headers (no ``files``) are still read; a reader ignores keys it
+does not know.
 
 Frame lines carry ``seq``, ``t`` (seconds from the session's first frame), ``pucks``,
 ``touches``, ``streams``, ``characters``, ``commands`` and ``focus``, with floats written exactly
 (shortest repr round-trips). So that a replay feeds the engines exactly the times they had live,
 the first frame of each file also carries ``t0`` (the session's first frame time, monotonic
 seconds of the recording machine), and a frame whose monotonic time is not exactly ``t0 + t``
-carries it as ``t_mono``. A reader accepts a file whose last line was cut short by a power cut.
+carries it as ``t_mono``. A frame where a filter took inputs away before the engines (the
+studio: control-marker pucks and designer commands) carries them as ``consumed`` (see
+:attr:`tabletop.frames.Frame.consumed`), so a replay runs the studio again. A reader accepts a
+file whose last line was cut short by a power cut.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import logging
 import math
@@ -50,15 +56,44 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
     return {
         "seq": frame.seq,
         "t": frame.t - t0,
-        "pucks": [{"id": p.id, "x": p.x, "y": p.y, "angle": p.angle, "vx": p.vx, "vy": p.vy,
-                   "omega": p.omega, "state": p.state, "raw_x": _num(p.raw_x),
-                   "raw_y": _num(p.raw_y), "raw_angle": _num(p.raw_angle)} for p in frame.pucks],
+        "pucks": [_puck_to_dict(p) for p in frame.pucks],
         "touches": [{"id": c.id, "x": c.x, "y": c.y, "vx": c.vx, "vy": c.vy} for c in frame.touches],
         "streams": {k: v.tolist() for k, v in frame.streams.items()},
         "characters": [_character_to_dict(c) for c in frame.characters],
         "commands": list(frame.commands),
         **({"focus": frame.focus} if frame.focus is not None else {}),
+        **({"consumed": {k: {"pucks": [_puck_to_dict(p) for p in v.get("pucks", ())],
+                             "commands": list(v.get("commands", ()))}
+                         for k, v in frame.consumed.items()}} if frame.consumed else {}),
     }
+
+
+def _puck_to_dict(p: Puck) -> dict[str, Any]:
+    return {"id": p.id, "x": p.x, "y": p.y, "angle": p.angle, "vx": p.vx, "vy": p.vy,
+            "omega": p.omega, "state": p.state, "raw_x": _num(p.raw_x),
+            "raw_y": _num(p.raw_y), "raw_angle": _num(p.raw_angle)}
+
+
+def _puck_from_dict(p: dict[str, Any]) -> Puck:
+    return Puck(int(p["id"]), _finite(p["x"], "x"), _finite(p["y"], "y"),
+                _finite(p["angle"], "angle"), float(p.get("vx", 0.0)), float(p.get("vy", 0.0)),
+                float(p.get("omega", 0.0)), str(p.get("state", "seen")), _unnum(p.get("raw_x")),
+                _unnum(p.get("raw_y")), _unnum(p.get("raw_angle")))
+
+
+def _commands(value: Any, what: str) -> tuple[str, ...]:
+    if not isinstance(value, (list, tuple)) or not all(isinstance(c, str) for c in value):
+        raise ValueError(f"{what}: expected a list of strings")
+    return tuple(value)
+
+
+def _consumed_from_dict(value: Any) -> dict[str, dict[str, tuple]]:
+    """``consumed`` of a frame line: by filter, the pucks and commands it took."""
+    if not isinstance(value, dict) or not all(isinstance(v, dict) for v in value.values()):
+        raise ValueError("consumed: expected a mapping of filters to {pucks, commands}")
+    return {str(k): {"pucks": tuple(_puck_from_dict(p) for p in v.get("pucks", [])),
+                     "commands": _commands(v.get("commands", []), f"consumed.{k}.commands")}
+            for k, v in value.items()}
 
 
 def _character_to_dict(c: CharacterState) -> dict[str, Any]:
@@ -87,11 +122,7 @@ def frame_from_dict(d: dict[str, Any]) -> Frame:
     """Inverse of :func:`frame_to_dict` (times stay relative to the recording's start)."""
     if not isinstance(d, dict):
         raise TypeError("expected a JSON object")
-    pucks = tuple(Puck(int(p["id"]), _finite(p["x"], "x"), _finite(p["y"], "y"),
-                       _finite(p["angle"], "angle"), float(p.get("vx", 0.0)),
-                       float(p.get("vy", 0.0)), float(p.get("omega", 0.0)),
-                       str(p.get("state", "seen")), _unnum(p.get("raw_x")), _unnum(p.get("raw_y")),
-                       _unnum(p.get("raw_angle"))) for p in d.get("pucks", []))
+    pucks = tuple(_puck_from_dict(p) for p in d.get("pucks", []))
     touches = tuple(Touch(int(c["id"]), _finite(c["x"], "x"), _finite(c["y"], "y"),
                           float(c.get("vx", 0.0)), float(c.get("vy", 0.0)))
                     for c in d.get("touches", []))
@@ -107,9 +138,8 @@ def frame_from_dict(d: dict[str, Any]) -> Frame:
                        action=c.get("action"), valid=bool(c.get("valid", True)),
                        label=c.get("label", ""))
         for c in d.get("characters", []))
-    commands = d.get("commands", ())
-    if not isinstance(commands, (list, tuple)) or not all(isinstance(c, str) for c in commands):
-        raise ValueError("commands: expected a list of strings")
+    commands = _commands(d.get("commands", ()), "commands")
+    consumed = _consumed_from_dict(d["consumed"]) if "consumed" in d else {}
     focus = d.get("focus")
     if focus is not None and not isinstance(focus, str):
         raise ValueError("focus: expected a string")
@@ -120,7 +150,7 @@ def frame_from_dict(d: dict[str, Any]) -> Frame:
     if abs(t) > MAX_T:
         raise ValueError(f"t is {d['t']!r} s, beyond {MAX_T:g} s")
     return Frame(seq=seq, t=t, pucks=pucks, touches=touches, streams=streams,
-                 characters=characters, commands=tuple(commands), focus=focus)
+                 characters=characters, commands=commands, focus=focus, consumed=consumed)
 
 
 def jsonable(value: Any) -> Any:
@@ -230,6 +260,4 @@ def _parse_line(p: Path, n: int, raw: bytes, state: dict, absolute: bool) -> Fra
         t = state["t0"] + frame.t
     else:
         t = frame.t
-    return Frame(seq=frame.seq, t=t, pucks=frame.pucks, touches=frame.touches,
-                 streams=frame.streams, characters=frame.characters, commands=frame.commands,
-                 focus=frame.focus)
+    return dataclasses.replace(frame, t=t)

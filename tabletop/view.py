@@ -187,7 +187,8 @@ class Renderer:
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
         screens.idle(target, t, self.idle, self._corners())
         drawn: list[pygame.Rect | None] = []
-        for p in self.lives.update(t, frame.characters):
+        for p in sorted(self.lives.update(t, frame.characters),
+                        key=lambda p: p.state.kind == "studio"):   # the studio's marks on top
             drawn.append(self._draw_presence(target, p, frame))
         for trace, state, alpha in self.traces.update(t, frame.pucks):
             drawn.extend(self._draw_trace(target, trace, state, alpha, t, overlay is not None))
@@ -213,10 +214,12 @@ class Renderer:
         t = frame.t
         if self._last_play_t is None:
             self._last_play_t = self._last_present_t = t
-        present = bool(frame.pucks or frame.touches or frame.streams)
+        designing = any(c.kind == "studio" and c.action not in (None, "idle")
+                        for c in frame.characters)   # a designer's take in progress
+        present = bool(frame.pucks or frame.touches or frame.streams or designing)
         if present:
             self._last_present_t = t
-        moving = (frame.touches or frame.streams
+        moving = (frame.touches or frame.streams or designing
                   or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks))
         if moving or any(p.id not in self.traces.traces for p in frame.pucks):
             self._last_play_t = t

@@ -1,6 +1,6 @@
-"""The MOP engine: performers' features -> action followers -> characters, and the designer flow.
+"""The MOP engine: performers' features -> action followers -> characters, and designer takes.
 
-Every tick: operator commands go to the designer; then, on the engine's own sampling grid
+Every tick, on the engine's own sampling grid
 (``rate_hz``, resampled from frame times, at most ``max_catch_up`` samples per tick), every
 performer's features are read once and fed to its follower: one
 :class:`~behaviors.mop.follower.ActionFollower` per performer over the actions of every character
@@ -34,13 +34,13 @@ seed 0: 51 gestures, 40 s of rest beyond the first second of each rest, 20 slide
   (0.032 worst gesture), rest 0 ticks, slides home 0%, other characters driven 0.8% of the time
   (the first edge of a square is a line until it turns).
 
-Designer flow (MOP 4.1.1, in seconds): the frame's ``focus`` (``ENGINE/CHARACTER``, moved by the
-main loop's Tab) selects a character, or with no focus ``designer.next`` does;
-``designer.record`` starts recording its performer and, pressed again, stops: the take becomes an
-action at once (trained: its follower is rebuilt), playing the motion chosen with
-``designer.assign`` (which cycles the character's motions, also for a pending take). Perform to
-try it; ``designer.keep`` keeps it (``save`` is called, e.g. to write it to the library),
-``designer.discard`` drops it, and recording again while a take is pending redoes it.
+Designer takes (MOP 4.1.1, in seconds): :meth:`MopStage.begin_take` records a character's
+performer; :meth:`MopStage.stop_take` makes the take an action at once (trained: the followers are
+rebuilt), playing the motion chosen with :meth:`MopStage.assign_motion` (which cycles the
+character's motions, also for a pending take). Perform to try it; :meth:`MopStage.keep_take` keeps
+it (``save`` is called, e.g. to write it to the library), :meth:`MopStage.drop_take` drops it.
+The designer's keys and control markers reach these through the studio's one state machine
+(:mod:`tabletop.studio`), which draws the countdown, the recording and the status line.
 """
 
 from __future__ import annotations
@@ -101,11 +101,9 @@ class MopStage:
         self.building = False               # a rebuild runs in the worker
         self._retrain()
         self._next_t: float | None = None
-        self.selected = 0
-        self.take: Take | None = None
-        self.take_action: str | None = None
-        self.message = ""
-        self._designing = False
+        self.take: Take | None = None       # the designer's take (recording or pending)
+        self.take_action: str | None = None  # its action's name once stopped
+        self.build_error: str | None = None  # why the last rebuild in the worker failed
         self._counter = 0
 
     # --- training -------------------------------------------------------------------------------
@@ -138,8 +136,9 @@ class MopStage:
             return False
         self.building = False
         if isinstance(done, Exception):
-            self.message = f"cannot train: {done}"
+            self.build_error = f"cannot train: {done}"
         else:
+            self.build_error = None
             self._install(done)
         return True
 
@@ -177,95 +176,58 @@ class MopStage:
                  if self.make_group is not None and keys else None)
         return routes, followers, keys, group
 
-    # --- designer -------------------------------------------------------------------------------
+    # --- designer takes (driven by the studio: tabletop.studio.mop_target.MopTarget) ----------
 
-    @property
-    def selected_character(self) -> str:
-        return self.order[self.selected % len(self.order)]
-
-    def _performer_of(self, character: str) -> str:
+    def performer_of(self, character: str) -> str:
         return self.character_performer.get(character) or next(iter(self.performers))
 
-    def _assign_motion(self, index: int) -> str:
-        c = self.selected_character
-        motions = self.motions[c]
+    def motion_of(self, character: str, index: int) -> str:
+        """The ``index``-th (cyclic) motion the designer may assign to ``character``."""
+        motions = self.motions[character]
         return motions[index % len(motions)]
 
-    def _drop_take(self) -> None:
+    def put_action(self, character: str, action: Action, performer: str, samples: np.ndarray,
+                   background: bool = False) -> None:
+        """Give ``character`` the action (or replace the one of its name): followed at once
+        (with ``background``, once the :attr:`worker` has rebuilt the followers)."""
+        self.templates[character][action.name] = (performer, samples)
+        self.puppets[character].add_action(action)
+        self._retrain(character, background)
+
+    def remove_action(self, character: str, name: str) -> None:
+        """``character`` no longer has the action ``name``."""
+        if self.templates[character].pop(name, None) is not None:
+            self.puppets[character].remove_action(name)
+            self._retrain(character)
+
+    def drop_take(self) -> None:
+        """Forget the take (recording or pending); its action leaves the character."""
         if self.take is not None and self.take_action is not None:
-            c = self.take.character
-            self.templates[c].pop(self.take_action, None)
-            self.puppets[c].remove_action(self.take_action)
-            self._retrain(c)
+            self.remove_action(self.take.character, self.take_action)
         self.take, self.take_action = None, None
 
-    def command(self, cmd: str, frame: Frame) -> None:
-        """Apply one operator command (``designer.*``); others are ignored. A motion that cannot
-        be loaded (a missing clip file) becomes the operator message, never an exception."""
-        if not cmd.startswith("designer."):
-            return
-        try:
-            self._command(cmd, frame)
-        except InputError as exc:
-            self.message = f"cannot: {exc}"
+    def begin_take(self, character: str, frame: Frame) -> None:
+        """Start recording ``character``'s performer at ``frame`` (a pending take is dropped;
+        its motion choice carries over)."""
+        motion_index = self.take.motion_index if self.take is not None else 0
+        self.drop_take()
+        performer = self.performer_of(character)
+        self.take = Take(performer, character, frame.t)
+        self.take.motion_index = motion_index
+        self.performers[performer].restart(frame, frame.t)
 
-    def _command(self, cmd: str, frame: Frame) -> None:
-        self._designing = True
-        c = self.selected_character
-        if cmd == "designer.next":
-            if self.take is not None and self.take.recording:
-                return
-            self._drop_take()
-            self.selected = (self.selected + 1) % len(self.order)
-            self.message = f"selected {self.selected_character}"
-        elif cmd == "designer.record":
-            if self.take is not None and self.take.recording:
-                self._stop_recording()
-            else:
-                motion_index = self.take.motion_index if self.take is not None else 0
-                self._drop_take()
-                performer = self._performer_of(c)
-                self.take = Take(performer, c, frame.t)
-                self.take.motion_index = motion_index
-                self.performers[performer].restart(frame, frame.t)
-                self.message = "recording"
-        elif cmd == "designer.assign":
-            if self.take is None:
-                self.take = Take(self._performer_of(c), c, frame.t)
-                self.take.recording = False
-                self.take_action = None
-            self.take.motion_index += 1
-            motion = self._assign_motion(self.take.motion_index)
-            if self.take_action is not None:
-                self._add_take_action(motion)
-            self.message = f"motion {motion}"
-        elif cmd == "designer.keep":
-            if self.take is None or self.take_action is None or self.take.recording:
-                self.message = "nothing to keep"
-                return
-            motion = self._assign_motion(self.take.motion_index)
-            msg = "kept (not saved: no library)"
-            if self.save is not None:
-                try:
-                    msg = self.save(c, self.take_action, self.take.samples(),
-                                    self.performers[self.take.performer].names, motion)
-                except (OSError, InputError) as exc:
-                    msg = f"not saved: {exc}"
-            self.take, self.take_action = None, None
-            self.message = msg
-        elif cmd == "designer.discard":
-            self.message = "discarded" if self.take_action else "nothing to discard"
-            self._drop_take()
-
-    def _stop_recording(self) -> None:
+    def stop_take(self) -> str:
+        """Stop recording: the take becomes an action of its character at once (its followers
+        rebuilt, in the :attr:`worker` when there is one); returns ``"ACTION -> MOTION"``.
+        InputError when it is too short to learn from (it is then dropped)."""
         take = self.take
-        assert take is not None
+        if take is None or not take.recording:
+            raise InputError("no take is recording")
         take.recording = False
         samples = take.samples()
         if len(samples) < MIN_TAKE_SAMPLES:
-            self.message = f"take too short ({len(samples)} samples); record again"
             self.take, self.take_action = None, None
-            return
+            raise InputError(f"take too short ({len(samples)} samples)")
         self._counter += 1
         existing = set(self.templates[take.character])
         name = f"take{self._counter}"
@@ -273,22 +235,46 @@ class MopStage:
             self._counter += 1
             name = f"take{self._counter}"
         self.take_action = name
-        self._add_take_action(self._assign_motion(take.motion_index), background=True)
+        motion = self.motion_of(take.character, take.motion_index)
+        self._add_take_action(motion, background=True)
+        return f"{name} -> {motion}"
+
+    def assign_motion(self, character: str) -> str:
+        """The next motion for ``character``'s take (chosen before recording, or played by the
+        pending take at once); returns its name."""
+        if self.take is None or self.take.character != character:
+            self.drop_take()
+            self.take = Take(self.performer_of(character), character, 0.0)
+            self.take.recording = False
+        self.take.motion_index += 1
+        motion = self.motion_of(character, self.take.motion_index)
+        if self.take_action is not None:
+            self._add_take_action(motion)
+        return motion
+
+    def keep_take(self) -> str:
+        """Keep the pending take (``save``d, e.g. to the library); returns the save's message.
+        InputError when there is nothing to keep or it cannot be saved (the take stays)."""
+        take = self.take
+        if take is None or self.take_action is None or take.recording:
+            raise InputError("nothing to keep")
+        motion = self.motion_of(take.character, take.motion_index)
+        msg = "kept (not saved: no library)"
+        if self.save is not None:
+            try:
+                msg = self.save(take.character, self.take_action, take.samples(),
+                                self.performers[take.performer].names, motion)
+            except OSError as exc:
+                raise InputError(f"not saved: {exc}") from None
+        self.take, self.take_action = None, None
+        return msg
 
     def _add_take_action(self, motion: str, background: bool = False) -> None:
         take = self.take
         assert take is not None and self.take_action is not None
         c = take.character
-        self.templates[c][self.take_action] = (take.performer, take.samples())
-        self.puppets[c].add_action(Action(self.take_action, self.load_motion(c, motion)))
-        self._retrain(c, background)
-        self.message = f"{self.take_action} -> {motion}: perform it; K keep, X discard, R redo"
-
-    def designer_label(self) -> str:
-        if self.take is not None and self.take.recording:
-            return f"[designer] REC {len(self.take.rows) / self.rate_hz:4.1f} s  (R: stop)"
-        motion = self._assign_motion(self.take.motion_index) if self.take else self._assign_motion(0)
-        return f"[designer] {self.message}  | next motion: {motion}  (R rec, A motion, Tab next)"
+        self.put_action(c, Action(self.take_action, self.load_motion(c, motion)), take.performer,
+                        take.samples(), background)
 
     # --- running --------------------------------------------------------------------------------
 
@@ -340,31 +326,7 @@ class MopStage:
                                   key in hints))
         return votes
 
-    def designer_targets(self) -> tuple[str, ...]:
-        """``ENGINE/CHARACTER`` for every character: the main loop's Tab cycles through them."""
-        return tuple(f"{self.name}/{c}" for c in self.order)
-
-    def _follow_focus(self, frame: Frame) -> bool:
-        """Select the character ``frame.focus`` names; False when the focus is elsewhere (the
-        commands are then not ours). With no focus, this engine takes every command."""
-        if frame.focus is None:
-            return True
-        engine, _, character = frame.focus.partition("/")
-        if engine != self.name or character not in self.puppets:
-            return False
-        if character != self.selected_character:
-            if self.take is not None and self.take.recording:
-                self._stop_recording()
-            self._drop_take()
-            self.selected = self.order.index(character)
-            self.message = f"selected {character}"
-            self._designing = True
-        return True
-
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
-        if self._follow_focus(frame):
-            for cmd in frame.commands:
-                self.command(cmd, frame)
         t = frame.t
         period = 1.0 / self.rate_hz
         if self._next_t is None or not math.isfinite(self._next_t) or abs(t - self._next_t) > 1.0:
@@ -378,7 +340,5 @@ class MopStage:
             self._next_t = t + period
         out = []
         for c in self.order:
-            votes = self._votes(c)
-            label = self.designer_label() if self._designing and c == self.selected_character else ""
-            out.append(self.puppets[c].update(t, votes, label))
+            out.append(self.puppets[c].update(t, self._votes(c), ""))
         return tuple(out)

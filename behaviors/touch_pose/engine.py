@@ -19,6 +19,7 @@ Everything is causal: the output at t depends only on fingers up to t.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Mapping
 
@@ -131,8 +132,27 @@ class TouchPose:
         self.action_blend: tuple[ActionModel, Blend] | None = None
         self.action_base: tuple[np.ndarray, float] = (self.base, self.yaw)
         self.last_t: float | None = None
+        self.recognising = True   # False while a designer records a take: drags only pose
         self._np = len(body.names)
         self._memo: dict[int, tuple[Pose, np.ndarray]] = {}
+
+    # --- actions -------------------------------------------------------------------------------
+
+    def add_action(self, action: ActionModel) -> None:
+        """Add ``action`` (a designed one) to this character's actions, replacing one of its
+        name (the learned models shared with other characters are left as they are)."""
+        self.remove_action(action.name)
+        self.m = dataclasses.replace(self.m, actions=[*self.m.actions, action])
+        self._excluded_key = None
+
+    def remove_action(self, name: str) -> None:
+        """This character no longer knows the action ``name`` (one in play ends: posing)."""
+        if self.mode == "action" and self.clock is not None and self.clock.action.name == name:
+            self.mode, self.clock = "posing", None
+        if any(a.name == name for a in self.m.actions):
+            self.m = dataclasses.replace(self.m, actions=[a for a in self.m.actions
+                                                          if a.name != name])
+            self._excluded_key = None
 
     # --- view ----------------------------------------------------------------------------------
 
@@ -151,17 +171,21 @@ class TouchPose:
             self._excluded_key = key
         return self._excluded
 
+    def stroke_on_table(self, action: ActionModel) -> np.ndarray:
+        """``action``'s stroke projected on the table from where its part stands now (n, 2;
+        metres): the path a drag follows to start it."""
+        view, _ = yaw_view(self.camera.matrix, self.base, self.yaw)
+        start = self.camera.table(self._points(self.output)[self._np + PARTS.index(action.spec.part)])
+        return start + (action.stroke @ view.T) * self.scale
+
     def describe(self) -> dict:
         """The standing pose's parts and every action's projected stroke from where its part
         stands now (DESIGN.md ``--describe``)."""
         parts = self.body.parts(place(self.m.stand, self.base, self.yaw))
-        now = self.body.parts(self.output)
         excluded = self.excluded()
-        view, _ = yaw_view(self.camera.matrix, self.base, self.yaw)
         actions = []
         for a in self.m.actions:
-            start = self.camera.table(now[PARTS.index(a.spec.part)])
-            traj = start + (a.stroke @ view.T) * self.scale
+            traj = self.stroke_on_table(a)
             actions.append({"name": a.name, "part": a.spec.part, "duration_s": round(a.duration, 4),
                             "excluded": a.name in excluded,
                             "trajectory": np.round(traj, 5).tolist()})
@@ -304,7 +328,7 @@ class TouchPose:
         blend = self.m.posing.synthesize(idx, targets, view, offset)
         pose = place(blend.pose, self.base, self.yaw)
         self.target = self._solve(pose, names, targets)
-        match = self._recognise(view)
+        match = self._recognise(view) if self.recognising else None
         if match is not None:
             self.mode = "action"
             self.clock = ActionClock(match.action, match.start_u)

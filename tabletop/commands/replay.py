@@ -3,7 +3,9 @@
 The recording's header carries the config and the files it refers to: they are unpacked into a
 temporary folder and the config is validated there, so a recording replays on any machine and
 from any folder. Frames are fed with the times the engines saw live, so the characters are made
-again exactly.
+again exactly. When the designer studio ran (the header's ``studio``), it runs again: each frame
+is given to it as it was live (the control-marker pucks and designer commands it took, kept in
+the frame's ``consumed``), so takes, their training and tries are made again frame for frame.
 """
 
 from __future__ import annotations
@@ -87,9 +89,16 @@ def main(args: argparse.Namespace) -> int:
         if not header.get("config"):
             raise SessionError(f"{first}: line 1: the header holds no config to replay with")
         cfg = validate_config(header["config"], f"{first} (recorded config)", base)
-        inst = build_replay(cfg, session_frames(args.session, header), fast=args.fast,
-                            headless=args.headless, record_path=args.out, view=not args.no_view,
-                            header=header)
+        frames = session_frames(args.session, header)
+        studio = header.get("studio")
+        if isinstance(studio, dict):
+            from tabletop.studio.build import studio_input
+            frames = map(studio_input, frames)
+        inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
+                            record_path=args.out, view=not args.no_view, header=header)
+        if isinstance(studio, dict):
+            from tabletop.studio.build import attach_studio
+            attach_studio(inst, cfg, base, all_engines=bool(studio.get("all")), replay=True)
         with stop_on_signals(inst.loop.stop):
             ticks = inst.loop.run()
     logging.getLogger("tabletop").info("replayed %d frames of %s", ticks,

@@ -77,9 +77,9 @@ class Runner:
         self.kiosk = kiosk or cfg["kiosk"]["enabled"]
         self.studio_all = studio or cfg["studio"]["enabled"]   # every engine, MOP included
         # designer targets always go through the studio: Puppet Master engines in designer
-        # mode and MOP characters (drawn only once a designer key is pressed)
+        # mode, MOP characters and touch-pose characters (drawn once a designer key is pressed)
         self.studio_on = self.studio_all or any(
-            (e.get("designer") or {}).get("enabled") or e["kind"] == "mop"
+            (e.get("designer") or {}).get("enabled") or e["kind"] in ("mop", "touch_pose")
             for e in cfg["engines"])
         self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
         self.started = (clock or time.monotonic)()
@@ -105,7 +105,9 @@ class Runner:
         """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
         inst = build_live(kiosk_view(cfg, self.kiosk), headless=self.headless,
                           record_path=self.record_path, clock=self.clock,
-                          wrap_source=self.wrap_source)
+                          wrap_source=self.wrap_source,
+                          header_extra={"studio": {"all": self.studio_all}}
+                          if self.studio_on else None)
         loop = inst.loop
         self.record_path = None          # one recording file per run, never overwritten
         extra: list = []                 # providers of status fields

@@ -27,15 +27,16 @@ skeleton (walk, backflip, ...; from ``pybullet_data``), or a path to a DeepMimic
 Template CSVs hold the performer's feature columns (an optional ``t`` column, seconds, lets them
 be resampled to ``rate_hz``).
 
-Designer flow (operator keys): ``designer.next`` picks the character, ``designer.record``
-starts and stops recording its performer, the take is trained at once and can be performed;
-``designer.assign`` cycles the motion it plays; ``designer.keep`` saves it to the library,
-``designer.discard`` drops it; recording again while a take is pending redoes it.
+Designer flow: every character is an action slot of the studio (:mod:`tabletop.studio`; Tab
+picks it): R records its performer after the countdown and stops, the take is trained at once and
+can be performed; A cycles the motion it plays; K saves it to the library, X drops it, R again
+redoes it.
 """
 
 from __future__ import annotations
 
 import json
+import logging
 import math
 from pathlib import Path
 from typing import Any
@@ -60,6 +61,8 @@ HYBRID_HEAD = 3
 DEEPMIMIC = ("walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",
              "dance_a", "dance_b", "getup_facedown", "getup_faceup", "roll", "spin")
 PUCK_FEATURES = ("dx", "dy", "heading", "speed")
+
+log = logging.getLogger("tabletop")
 
 
 class MopError(InputError):
@@ -339,7 +342,8 @@ LIBRARY_FILE = "actions.yaml"
 def read_library(folder: Path, character: str) -> list[dict[str, str]]:
     """Kept actions of ``character``: ``[{name, template, motion}]`` from
     ``<folder>/<character>/actions.yaml`` (none when the file does not exist). A corrupt file is
-    refused with a message naming it (and is never overwritten: the engine does not start)."""
+    refused with a message naming it (and is never overwritten: a keep is refused; the engine
+    starts without that character's kept actions, see :func:`library_actions`)."""
     import yaml
     f = folder / character / LIBRARY_FILE
     if not f.is_file():
@@ -356,6 +360,26 @@ def read_library(folder: Path, character: str) -> list[dict[str, str]]:
     if not ok:
         raise MopError(f"{f}: expected 'actions:' followed by a list of {{name, template, motion}}")
     return data["actions"]
+
+
+def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_hz: float,
+                    loader: MotionLoader) -> tuple[list[tuple[Action, np.ndarray]], list[str]]:
+    """The kept actions of ``character`` in the library ``folder`` (each with its template at
+    ``rate_hz``), and one message per bad file or entry: skipped, the others load."""
+    try:
+        entries = read_library(folder, character)
+    except MopError as exc:
+        return [], [str(exc)]
+    out, problems = [], []
+    for a in entries:
+        p = Path(a["template"])
+        try:
+            samples = load_template(p if p.is_absolute() else folder / character / p, names,
+                                    rate_hz)
+            out.append((Action(a["name"], loader(a["motion"])), samples))
+        except InputError as exc:
+            problems.append(f"{folder / character / LIBRARY_FILE}: action {a['name']!r}: {exc}")
+    return out, problems
 
 
 def save_to_library(folder: Path, character: str, action: str, samples: np.ndarray,
@@ -401,6 +425,8 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     library: Path | None = options["library"]
     w, h = ctx.table
     puppets, templates, motions, loaders, bound = [], {}, {}, {}, {}
+    problems: dict[str, list[str]] = {}      # each character's bad library files (skipped)
+    loaded: dict[str, list[str]] = {}        # each character's actions from the library
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
@@ -408,12 +434,6 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         bound[c["name"]] = c["performer"]
         actions, tmpl = [], {}
         entries = [dict(a, performer=a["performer"] or c["performer"]) for a in c["actions"]]
-        if library is not None:
-            for a in read_library(library, c["name"]):
-                p = Path(a["template"])
-                entries.append({"name": a["name"], "template": p if p.is_absolute()
-                                else library / c["name"] / p, "motion": a["motion"],
-                                "warp": None, "performer": c["performer"]})
         for a in entries:
             performer = performers[a["performer"]]
             try:
@@ -423,6 +443,14 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
             warp = TimeWarp(a["warp"]) if a.get("warp") else TimeWarp()
             actions.append(Action(a["name"], clip, warp))
             tmpl[a["name"]] = (a["performer"], load_template(Path(a["template"]), performer.names, rate))
+        if library is not None:
+            kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
+                                        rate, loader)
+            for action, samples in kept:
+                actions.append(action)
+                tmpl[action.name] = (c["performer"], samples)
+            problems[c["name"]] = bad
+            loaded[c["name"]] = [a.name for a, _ in kept]
         at = c["at"] or [w / 2, h / 2]
         try:
             puppets.append(Puppet(c["name"], rig, actions, at[0], at[1], c["heading"], c["size"],
@@ -436,6 +464,12 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     def save(character, action, samples, names, motion):
         return save_to_library(library, character, action, samples, tuple(names), motion, rate)
 
-    return MopStage(options["name"], rate, performers, puppets, templates, make_follower, motions,
-                    lambda character, motion: loaders[character](motion),
-                    save if library is not None else None, bound, make_group=FollowerGroup)
+    stage = MopStage(options["name"], rate, performers, puppets, templates, make_follower,
+                     motions, lambda character, motion: loaders[character](motion),
+                     save if library is not None else None, bound, make_group=FollowerGroup)
+    for p in (p for bad in problems.values() for p in bad):
+        log.error("MOP action skipped: %s", p)
+    stage.library_problems, stage.library_loaded = problems, loaded
+    stage.library_actions = lambda character: library_actions(          # the studio reloads
+        library, character, performers[bound[character]].names, rate, loaders[character])
+    return stage

@@ -59,7 +59,7 @@ DESIGNER = Record({
     "react_puck": Number(2, integer=True, lo=0, doc="the designer's reactor puck"),
     "record_marker": Optional_(Number(integer=True, lo=0),
                                doc="marker id that records while it is on the table"),
-    "library": FilePath("library", must_exist=False, kind="dir",
+    "library": FilePath("library", must_exist=False, kind="dir", embed=True,
                         doc="folder the kept behaviours are saved in"),
     "name": Optional_(Str(), doc="name of kept behaviours (default: the engine's name)"),
     "min_seconds": Number(2.0, lo=0.1, doc="shortest take that is trained"),

@@ -11,19 +11,26 @@ Config::
       physics: true         # physics-based secondary motion (pybullet)
       mouse: true           # also take fingers made with the mouse in the view
       color: [120, 220, 255]
+      library: pose_actions # actions designed at the table (the studio), loaded at start
 
 Touches come from every source on the bus (TUIO cursors, the scripted source, recordings) plus,
 with ``mouse``, the view's pointer (:mod:`tabletop.pointer`). Two fingers dragged on empty table
 turn the camera; so do the arrow keys (``camera.left/right/up/down``, 15 degrees a press).
+Actions designed at the table (:mod:`behaviors.touch_pose.designed`, recorded through the studio)
+are kept in ``library`` and known from the start; a bad one is logged and skipped.
 """
 
 from __future__ import annotations
 
+import logging
+from pathlib import Path
 from typing import Any
 
 from tabletop.frames import CharacterState, Frame
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, ListOf, Number, Optional_, Record
+from tabletop.schema import Bool, FilePath, ListOf, Number, Optional_, Record
+
+log = logging.getLogger("tabletop")
 
 KEY_TURN_DEG = 15.0
 TURNS = {"camera.left": (-KEY_TURN_DEG, 0.0), "camera.right": (KEY_TURN_DEG, 0.0),
@@ -39,6 +46,8 @@ SCHEMA = Record({
     "mouse": Bool(True, doc="take the view's mouse fingers too"),
     "color": ListOf(Number(integer=True, lo=0, hi=255), default=[120, 220, 255], min_len=3,
                     max_len=3),
+    "library": FilePath("pose_actions", must_exist=False, kind="dir", embed=True,
+                        doc="folder of the actions designed at the table"),
 })
 
 
@@ -54,6 +63,14 @@ class TouchPoseEngine:
                               at=tuple(options["at"]) if options["at"] else None)
         self.mouse = bool(options["mouse"])
         self.color = tuple(int(c) for c in options["color"])
+        self.library = Path(options["library"])
+        from behaviors.touch_pose.designed import load_library
+        actions, self.problems = load_library(self.library, self.core.body)
+        for a in actions:
+            self.core.add_action(a)
+        self.designed = [a.name for a in actions]
+        for p in self.problems:
+            log.error("touch-pose action skipped: %s", p)
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
         for c in frame.commands:

@@ -2,7 +2,8 @@
 
 One state machine (:mod:`~tabletop.studio.machine`) drives every engine through a small
 interface (:class:`~tabletop.studio.machine.Target`); :mod:`~tabletop.studio.targets` adapts the
-Puppet Master and MOP engines to it. The ``studio:`` section of config.yaml is :data:`SCHEMA`.
+Puppet Master and MOP engines to it, :mod:`~tabletop.studio.pose_target` the touch-pose engine.
+The ``studio:`` section of config.yaml is :data:`SCHEMA`.
 """
 
 from __future__ import annotations

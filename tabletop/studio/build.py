@@ -10,7 +10,9 @@ from typing import Any, Mapping
 from tabletop.frames import Frame
 from tabletop.studio.machine import Studio
 from tabletop.studio.session import SessionLog
-from tabletop.studio.targets import MopTarget, PuppetMasterTarget
+from tabletop.studio.mop_target import MopTarget
+from tabletop.studio.pose_target import TouchPoseTarget
+from tabletop.studio.targets import PuppetMasterTarget
 
 
 class Markers:
@@ -52,9 +54,39 @@ class Markers:
         return frame
 
 
+class StudioStage:
+    """The studio as one frame filter: control markers, then the machine. What they take out of
+    the frame (marker pucks, the designer commands) is kept in ``Frame.consumed["studio"]`` (the
+    pucks taken and every command the stage was given), so a recording holds the studio's
+    inputs and a replay runs the studio again on them (:func:`studio_input`)."""
+
+    def __init__(self, markers: Markers, studio: Studio) -> None:
+        self.markers, self.studio = markers, studio
+
+    def __call__(self, frame: Frame) -> Frame:
+        out = self.studio(self.markers(frame))
+        if len(out.pucks) != len(frame.pucks) or out.commands != frame.commands:
+            kept = {id(p) for p in out.pucks}
+            taken = tuple(p for p in frame.pucks if id(p) not in kept)
+            out = dataclasses.replace(out, consumed={
+                **out.consumed, "studio": {"pucks": taken, "commands": frame.commands}})
+        return out
+
+
+def studio_input(frame: Frame) -> Frame:
+    """A recorded frame as the studio stage was given it live: the pucks it took put back and
+    its commands (the inverse of :class:`StudioStage` for replays)."""
+    taken = frame.consumed.get("studio")
+    if not taken:
+        return frame
+    return dataclasses.replace(frame, pucks=frame.pucks + tuple(taken.get("pucks", ())),
+                               commands=tuple(taken.get("commands", frame.commands)), consumed={})
+
+
 def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) -> list:
     """A target for every Puppet Master engine in designer mode (every one with
-    ``all_engines``: studio mode) and for every character of every MOP engine."""
+    ``all_engines``: studio mode), for every character of every MOP engine and for every
+    touch-pose engine."""
     from tabletop.plugins import puppet_master as pm
     from tabletop.schema import Context
     targets: list = []
@@ -71,20 +103,23 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
                 d["name"] = e.name
                 e.designer = d
             targets.append(PuppetMasterTarget(e))
-        elif hasattr(e, "order") and hasattr(e, "take_action"):
+        elif hasattr(e, "core") and hasattr(e, "designed"):      # a touch-pose character
+            targets.append(TouchPoseTarget(e))
+        elif hasattr(e, "begin_take"):
             lib = options.get(e.name, {}).get("library")
-            e.designer_targets = tuple      # the studio lists them now
             targets += [MopTarget(e, c, Path(lib) if lib else None) for c in e.order]
     return targets
 
 
-def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = True) -> Studio:
-    """Put the studio on ``inst``'s loop: the machine and markers as filters, library polling
-    as a hook, the session log in ``studio.folder``."""
+def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = True,
+                  replay: bool = False) -> Studio:
+    """Put the studio on ``inst``'s loop: the machine and markers as one filter
+    (:class:`StudioStage`), library polling as a hook, the session log in ``studio.folder``
+    (a ``replay`` draws no review sheets)."""
     s = cfg["studio"]
     targets = studio_targets(inst.loop.engines, cfg, base, all_engines)
     folder = Path(s["folder"] or base / "studio")
-    session = SessionLog(folder, review=s["review"])
+    session = SessionLog(folder, review=s["review"] and not replay)
     studio = Studio(targets, s["countdown_s"], log_try=session.log_try,
                     quiet=not all_engines)
     studio.session = session
@@ -93,7 +128,7 @@ def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = Tru
         if getattr(t, "record_marker", None) is not None:
             ids["record"] = t.record_marker
     loop = inst.loop
-    loop.filters += [Markers(ids, studio, loop.commands, s["debounce_s"]), studio]
+    loop.filters.append(StudioStage(Markers(ids, studio, loop.commands, s["debounce_s"]), studio))
     loop.focus.extra.append(studio)
     loop.hooks.append(lambda frame: studio.poll())
     return studio

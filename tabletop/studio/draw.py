@@ -20,7 +20,8 @@ def font(size: int) -> pygame.font.Font:
 
 def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
-    number in the middle of the table, a red dot and seconds while recording, and the status
+    number in the middle of the table, a red dot and seconds while recording, a green TRY mark
+    (and the path to drag, when the target gives one) while a take is tried, and the status
     line along the table's near edge (nothing while it has nothing to say)."""
     if not c.label:
         return
@@ -43,9 +44,31 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
         img = font(36).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
         target.blit(img, (x + 22, y - img.get_height() // 2))
         pygame.draw.rect(target, c.color, target.get_rect(), width=6)
+    elif c.action in ("trying", "training"):
+        x, y = renderer.map.point(0.04, h - 0.04)
+        green = (90, 220, 120)
+        pygame.draw.circle(target, green, (x, y), 14, width=0 if c.action == "trying" else 3)
+        img = font(36).render("TRY: K keep  X discard  R redo" if c.action == "trying"
+                              else "training...", True, green)
+        target.blit(img, (x + 22, y - img.get_height() // 2))
+        if c.points is not None and len(c.points) >= 2:
+            _guide(target, renderer, c.points, green)
     x, y = renderer.map.point(0.02, 0.02)
     img = font(26).render(c.label, True, (235, 235, 235), (0, 0, 0))
     target.blit(img, (x, y - img.get_height() - 4))
+
+
+def _guide(target: pygame.Surface, renderer, points, color) -> None:
+    """A dotted path from its first point (a ring: put your finger here) to an arrowhead."""
+    px = [renderer.map.point(float(x), float(y)) for x, y in points]
+    pygame.draw.circle(target, color, px[0], 12, width=2)
+    for i, p in enumerate(px[1:-1]):
+        if i % 2 == 0:
+            pygame.draw.circle(target, color, p, 3)
+    (x0, y0), (x1, y1) = px[-2], px[-1]
+    a = math.atan2(y1 - y0, x1 - x0)
+    tip = [(x1, y1)] + [(x1 - 14 * math.cos(a + s), y1 - 14 * math.sin(a + s)) for s in (0.5, -0.5)]
+    pygame.draw.polygon(target, color, tip)
 
 
 class NamePrompt:

@@ -208,8 +208,9 @@ class Studio:
         except InputError as exc:
             self._refused(t, exc)
             return
-        if summary is None:
-            self.state, self._swap_at = "training", self._t + self.swap_s
+        if summary is None:       # a target may need longer (its own ``swap_s``)
+            self.state = "training"
+            self._swap_at = self._t + getattr(target, "swap_s", self.swap_s)
             return
         self._trained(t, summary)
 
@@ -358,12 +359,15 @@ class Studio:
         if self.quiet:
             return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
                                   action="idle", label="")
+        points = None
         if self.state == "countdown":
             value: float | None = max(0.0, self.until - frame.t)
         elif self.state == "recording" and target is not None:
             value = target.seconds()
         else:
             value = None
+        if self.state == "trying" and target is not None and hasattr(target, "guide"):
+            points = target.guide()       # where to try it (table metres), drawn as a path
         if self._t < self._message_until:
             text = self.message
         elif target is None:
@@ -371,7 +375,7 @@ class Studio:
         else:
             text = {"idle": f"{target.what} {target.current() or '(none)'}: R record, "
                             "[ ] switch, F2 rename, Del delete, U undo",
-                    "countdown": "get ready",
+                    "countdown": getattr(target, "cue", "get ready"),
                     "recording": f"recording{' ' + self._part if self._part else ''}: R stop",
                     "ready": f"R records {self._part}, X cancels",
                     "training": "training the take...",
@@ -380,7 +384,8 @@ class Studio:
             text += f"   | {len(self.problems)} bad library file(s): {self.problems[0]}"
         return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
                               color=(255, 60, 60), progress=value, action=self.state,
-                              label=f"[{self.selected or '-'}] {text}", valid=True)
+                              label=f"[{self.selected or '-'}] {text}", valid=True,
+                              points=points)
 
     def status(self) -> dict:
         return {"studio": {"state": self.state, "target": self.selected,

@@ -6,9 +6,8 @@ take's playback, paired by :func:`behaviors.puppet_master.sequential.pair_takes`
 ``Behavior.train``, in a worker thread with ``designer.background_training`` (the new behaviour
 and its reactor are swapped in between ticks); kept takes are behaviour folders
 (:mod:`tabletop.library`).
-:class:`MopTarget` (an action slot of one MOP character): the take is the character's
-performer; training is the stage's (a new action, followed at once); kept takes are the
-engine's action library (:func:`tabletop.plugins.mop.save_to_library`).
+:class:`~tabletop.studio.mop_target.MopTarget` (an action slot of one MOP character) lives in
+its own module.
 Library folders are renamed in place and deleted into ``<library>/.trash`` so undo restores them.
 """
 
@@ -27,7 +26,6 @@ from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
-from tabletop.worker import Worker
 
 log = logging.getLogger("tabletop")
 
@@ -85,6 +83,9 @@ class PuppetMasterTarget:
         self.play_poller = Poller(Path(folder)) if folder else None
         self.playing: Path | None = Path(folder) if folder else None
         self._problems: list[str] = []
+        self.cue = (f"get ready: puck {self.main_puck} the main" if self.sequential else
+                    f"get ready: puck {self.main_puck} the main, puck {self.react_puck} the "
+                    "reactor")
 
     # --- the take ------------------------------------------------------------------------------
 
@@ -286,136 +287,6 @@ class PuppetMasterTarget:
                     problems.append(str(exc))
         self._problems = problems
         return problems
-
-
-class MopTarget:
-    """One character of a MOP engine (``ENGINE/CHARACTER``) as a studio target: its takes are
-    recorded, trained and kept by the stage (:class:`behaviors.mop.stage.MopStage`)."""
-
-    what = "action"
-
-    def __init__(self, stage, character: str, lib: Path | None, background: bool = True) -> None:
-        self.stage, self.character, self.lib = stage, character, lib
-        if background and stage.worker is None:   # the stage's followers built off the hot path
-            stage.worker = Worker(f"{stage.name}-training")
-        self._summary = ""
-        self.name = f"{stage.name}/{character}"
-        self._frame: Frame | None = None
-        self.kept: str | None = None
-        self.demo: np.ndarray | None = None
-        self._poller = Poller(lib / character) if lib is not None else None
-        self._problems: list[str] = []
-
-    def _do(self, cmd: str) -> str:
-        st = self.stage
-        st.selected = st.order.index(self.character)
-        st.command(cmd, self._frame or Frame(seq=0, t=0.0))
-        return st.message
-
-    def begin(self, frame: Frame) -> None:
-        self._frame = frame
-        self._do("designer.record")
-
-    def resume(self, frame: Frame) -> None:
-        pass                                  # an action is one part
-
-    def record(self, frame: Frame) -> str:
-        self._frame = frame
-        return ""
-
-    def ended(self) -> bool:
-        return False
-
-    def cut(self) -> str:
-        return ""
-
-    def trained(self, wait: bool) -> str | None:
-        """Between ticks: the summary once the stage's new followers are installed."""
-        self.stage.install_built(wait)
-        return None if self.stage.building else self._summary
-
-    def seconds(self) -> float:
-        take = self.stage.take
-        return len(take.rows) / self.stage.rate_hz if take is not None else 0.0
-
-    def train(self) -> str:
-        msg = self._do("designer.record")
-        if self.stage.take_action is None:
-            raise InputError(msg)
-        self.demo = np.array(self.stage.take.samples(), dtype=float)
-        self._summary = msg.split(":")[0]
-        return None if self.stage.building else self._summary
-
-    def take_array(self) -> np.ndarray:
-        take = self.stage.take
-        return np.asarray(take.samples()) if take is not None else np.zeros((0, 0))
-
-    def revert(self) -> None:
-        self._do("designer.discard")
-
-    def assign(self) -> str:
-        return self._do("designer.assign")
-
-    def keep(self) -> str:
-        action = self.stage.take_action
-        msg = self._do("designer.keep")
-        if msg.startswith("not saved"):
-            raise InputError(msg)
-        self.kept = action
-        return action or ""
-
-    def _entries(self) -> list[dict]:
-        from tabletop.plugins.mop import read_library
-        return read_library(self.lib, self.character) if self.lib is not None else []
-
-    def items(self) -> list[str]:
-        try:
-            return sorted(a["name"] for a in self._entries())
-        except InputError:
-            return []
-
-    def current(self) -> str | None:
-        return self.kept
-
-    def use(self, name: str) -> None:
-        self.kept = name     # every kept action of a character plays; this one is selected
-
-    def _write(self, entries: list[dict]) -> None:
-        import yaml
-
-        from tabletop.files import atomic_write_text
-        from tabletop.plugins.mop import LIBRARY_FILE
-        assert self.lib is not None
-        atomic_write_text(self.lib / self.character / LIBRARY_FILE,
-                          yaml.safe_dump({"actions": entries}, sort_keys=False))
-
-    def rename(self, old: str, new: str) -> None:
-        entries = self._entries()
-        if any(a["name"] == new for a in entries):
-            raise InputError(f"an action {new!r} already exists")
-        self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
-        if self.kept == old:
-            self.kept = new
-
-    def remove(self, name: str) -> Callable[[], None]:
-        entries = self._entries()
-        gone = [a for a in entries if a["name"] == name]
-        self._write([a for a in entries if a["name"] != name])
-        if self.kept == name:
-            self.kept = None
-
-        def restore() -> None:
-            self._write(self._entries() + gone)
-        return restore
-
-    def poll(self) -> list[str]:
-        if self._poller is not None and self._poller.changed():
-            try:
-                self._entries()
-                self._problems = []
-            except InputError as exc:
-                self._problems = [str(exc)]
-        return self._problems
 
 
 class BehaviorReloader:

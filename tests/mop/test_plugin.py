@@ -348,65 +348,6 @@ def _designer_config(tmp_path: Path) -> dict:
              "motions": ["strike", "curl"]}]}]}
 
 
-def test_designer_records_trains_assigns_keeps_and_reloads(tmp_path):
-    engine = _build(_designer_config(tmp_path), tmp_path)
-    table = Table(engine)
-    table.rest(1.0)
-    c = table.tick(["designer.next"])
-    assert "selected lizard" in c["lizard"].label
-    # record a square with puck 1
-    table.tick(["designer.record"])
-    assert "REC" in table.tick()["lizard"].label
-    table.perform("square")
-    c = table.tick(["designer.record"])
-    assert "take1 -> strike" in c["lizard"].label
-    assert engine.puppets["lizard"].actions["take1"].clip.name == "strike"
-    c = table.tick(["designer.assign"])
-    assert "motion curl" in c["lizard"].label
-    assert engine.puppets["lizard"].actions["take1"].clip.name == "curl"
-    # trained at once: perform it (a little faster) and the lizard curls along
-    table.rest(1.2)
-    run = table.perform("square", speed=lambda u: 1.3)
-    late = [ch["lizard"] for u, ch in run if u > 0.5]
-    assert np.mean([x.valid and x.action == "take1" for x in late]) > 0.9
-    assert late[-1].progress > 0.85
-    # keep: written atomically to the library, and a new engine loads it
-    c = table.tick(["designer.keep"])
-    assert "kept take1 -> curl" in c["lizard"].label
-    saved = yaml.safe_load((tmp_path / "lib" / "lizard" / "actions.yaml").read_text())
-    assert saved == {"actions": [{"name": "take1", "template": "take1.csv", "motion": "curl"}]}
-    header = (tmp_path / "lib" / "lizard" / "take1.csv").read_text().splitlines()[0]
-    assert header == "t,dx,dy"
-    again = _build(_designer_config(tmp_path), tmp_path)
-    assert "take1" in again.puppets["lizard"].actions
-    assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
-
-
-def test_designer_discard_and_redo(tmp_path):
-    engine = _build(_designer_config(tmp_path), tmp_path)
-    table = Table(engine)
-    table.rest(1.0)
-    table.tick(["designer.record"])            # the face is selected first
-    table.perform("line")
-    table.tick(["designer.record"])
-    assert "take1" in engine.puppets["face"].actions
-    n1 = len(engine.templates["face"]["take1"][1])
-    table.rest(1.0)
-    table.tick(["designer.record"])            # redo: the pending take is replaced
-    assert "take1" not in engine.puppets["face"].actions
-    table.perform("zigzag")
-    c = table.tick(["designer.record"])
-    assert "take2" in engine.puppets["face"].actions and n1 != len(engine.templates["face"]["take2"][1])
-    c = table.tick(["designer.discard"])
-    assert "discarded" in c["face"].label
-    assert set(engine.puppets["face"].actions) == {"circle"}
-    assert not (tmp_path / "lib").exists()
-    # a take too short to learn from is refused
-    table.tick(["designer.record"])
-    c = table.tick(["designer.record"])
-    assert "too short" in c["face"].label and set(engine.puppets["face"].actions) == {"circle"}
-
-
 def test_config_errors_name_the_key_or_file(tmp_path):
     base = _designer_config(tmp_path)
 
@@ -442,26 +383,6 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     bad.write_text("t,dx,speed\n0,0,0\n0.1,0.1,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(bad)),
            "bad.csv", "do not match the performer's features dx,dy", error=FileFormatError)
-    lib = tmp_path / "lib" / "face"
-    lib.mkdir(parents=True)
-    (lib / "actions.yaml").write_text("actions: [oops\n")
-    expect(lambda e: None, "lib/face/actions.yaml", "cannot read the action library",
-           error=mop.MopError)
-
-
-def test_designer_focus_from_the_main_loop_selects_the_character(tmp_path):
-    engine = _build(_designer_config(tmp_path), tmp_path)
-    assert engine.designer_targets() == ("mop/face", "mop/lizard")
-    table = Table(engine)
-    table.rest(0.5)
-    c = table.tick(["designer.record"], focus="mop/lizard")
-    assert "REC" in c["lizard"].label and "REC" not in c["face"].label
-    table.perform("square")
-    c = table.tick(["designer.record"], focus="mop/lizard")
-    assert "take1" in c["lizard"].label
-    # commands addressed to another engine are not this engine's
-    c = table.tick(["designer.discard"], focus="pm")
-    assert "take1" in engine.puppets["lizard"].actions
 
 
 def test_a_hybrid_character_moves_body_and_face_with_one_action(example_cfg):

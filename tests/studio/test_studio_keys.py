@@ -17,7 +17,8 @@ from tabletop.plugins import puppet_master as pm
 from tabletop.registry import BuildContext
 from tabletop.studio.machine import Studio
 from tabletop.studio.session import SessionLog
-from tabletop.studio.targets import MopTarget, PuppetMasterTarget
+from tabletop.studio.mop_target import MopTarget
+from tabletop.studio.targets import PuppetMasterTarget
 
 ROOT = Path(__file__).resolve().parents[2]
 TABLE = (1.2, 0.8)

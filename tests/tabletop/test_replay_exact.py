@@ -13,6 +13,7 @@ import yaml
 
 from tabletop.app import build_live
 from tabletop.config import load_config
+from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -117,51 +118,64 @@ class Operator:
         pass
 
 
-@pytest.mark.xfail(strict=True, reason="designer takes go through the studio (a loop filter that "
-                   "consumes the designer commands and marker pucks before the recorder sees "
-                   "them), and a replay does not run the studio yet")
-def test_a_designer_session_replays_exactly(tmp_path):
-    """Record a take at the table, train it, keep it: the replay trains and plays the same."""
-    from tabletop.app import build_replay
-    from tabletop.config import validate_config
-    from tabletop.recorder import read_frames, read_header
-    from tabletop.bundle import extract
+def replay_cli(session: Path, out: Path) -> subprocess.CompletedProcess:
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    return subprocess.run([sys.executable, "-m", "tabletop", "replay", str(session), "--fast",
+                           "--no-view", "--out", str(out)], capture_output=True, text=True,
+                          cwd=session.parent, env=env, timeout=180)
 
-    cfg = validate_config({
+
+def test_a_designer_session_replays_exactly(tmp_path):
+    """Record a take at the table through the studio (keys), train it in the worker, try it,
+    keep it: the replay runs the studio again and makes the same characters and labels."""
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+
+    data = {
         "sources": [{"kind": "scripted", "pucks": [1, 2, 3], "seed": 2}],
         "engines": [{"kind": "puppet_master", "name": "lover",
                      "behavior": str(ROOT / "behaviors" / "library" / "lover"),
                      "main": {"puck": 3},
                      "designer": {"enabled": True, "main_puck": 1, "react_puck": 2,
                                   "min_seconds": 1.0}}],
-        "view": {"enabled": False}}, str(tmp_path / "designer.yaml"), tmp_path)
+        "studio": {"countdown_s": 0.5, "review": False},
+        "view": {"enabled": False}}
+    cfg = validate_config(data, str(tmp_path / "designer.yaml"), tmp_path)
     live = tmp_path / "live.jsonl"
-    inst = build_live(cfg, record_path=live)
+    runner = Runner(tmp_path / "designer.yaml", cfg, headless=True, record_path=live)
+    inst = runner._build(cfg)
     inst.loop.sinks.insert(0, Operator(inst.loop.commands, {
-        10: "designer.record", 100: "designer.record", 130: "designer.keep"}))
-    inst.loop.run(seconds=3.0)
+        10: "designer.record", 160: "designer.record", 215: "designer.keep"}))
+    inst.loop.run(seconds=4.0)
     assert (tmp_path / "library" / "lover" / "demonstration.csv").is_file()  # kept live
 
-    header = read_header(live)
-    there = tmp_path / "replay"
-    extract(header["files"], there)
     out = tmp_path / "replayed.jsonl"
-    build_replay(validate_config(header["config"], "recorded", there),
-                 read_frames(live, absolute=True), fast=True, view=False, record_path=out,
-                 header=header).loop.run()
+    r = replay_cli(live, out)
+    assert r.returncode == 0, r.stderr
     a, b = frames(live), frames(out)
-    assert len(a) == len(b) > 150
+    assert len(a) == len(b) > 200
+    states = [c.get("action") for f in a for c in f["characters"] if c["name"] == "studio"]
+    assert {"countdown", "recording", "training", "trying"} <= set(states)
     labels = [c.get("label", "") for f in a for c in f["characters"]]
-    assert any("recording" in s for s in labels) and any("kept as lover" in s for s in labels)
-    for fa, fb in zip(a, b):
-        for ca, cb in zip(fa["characters"], fb["characters"]):
-            assert (ca["x"], ca["y"], ca["heading"], ca["valid"]) == \
-                (cb["x"], cb["y"], cb["heading"], cb["valid"]), fa["seq"]
-            if " in " not in ca.get("label", ""):  # a label naming the library's path differs
-                assert ca.get("label") == cb.get("label"), fa["seq"]
+    assert any("kept as lover" in s for s in labels)
+    assert any(f.get("consumed", {}).get("studio") for f in a)   # the studio's inputs recorded
+
+    def same(x: dict, y: dict) -> bool:
+        return x["characters"] == y["characters"]
+    assert [fa["seq"] for fa, fb in zip(a, b) if not same(fa, fb)] == []
     # What the replay kept went into its own folder, not the installation's library.
-    assert (there / "library" / "lover" / "demonstration.csv").is_file()
     assert sorted(p.name for p in (tmp_path / "library").iterdir()) == ["lover"]
+
+    # Without the studio's inputs (a recording of what the engines saw only) the replay makes
+    # no take: the characters differ from the stop on.
+    stripped = tmp_path / "stripped.jsonl"
+    lines = live.read_text().splitlines()
+    stripped.write_text("\n".join([lines[0]] + [json.dumps(
+        {k: v for k, v in json.loads(x).items() if k != "consumed"}) for x in lines[1:]]) + "\n")
+    r = replay_cli(stripped, tmp_path / "stripped_out.jsonl")
+    assert r.returncode == 0, r.stderr
+    c = frames(tmp_path / "stripped_out.jsonl")
+    assert sum(not same(fa, fc) for fa, fc in zip(a, c)) > 100
 
 
 def test_the_parts_of_a_rotated_session_replay_exactly_in_order(tmp_path):
@@ -193,3 +207,48 @@ def test_the_parts_of_a_rotated_session_replay_exactly_in_order(tmp_path):
                        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=180)
     assert r.returncode == 2 and "part 1 cannot follow part 2" in r.stderr
     assert str(parts[0]) in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_a_touch_pose_designer_session_replays_exactly(tmp_path, models):
+    """A touch-pose action posed, trained, tried and kept through the studio (physics on):
+    ``tabletop replay`` makes the same characters, the designed action's try included."""
+    from tabletop.cli import main as cli
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.kiosk.simulate import SimClock
+    from tests.studio.test_studio_touch_pose import DRAG_S, Finger, arc, part_at
+
+    cfg = validate_config({
+        "loop": {"rate_hz": 30}, "sources": [{"kind": "scripted", "pucks": []}],
+        "engines": [{"kind": "touch_pose", "name": "poser", "view": [90, 15], "mouse": False}],
+        "studio": {"countdown_s": 0.5, "review": False}, "view": {"enabled": False}},
+        str(tmp_path / "c.yaml"), tmp_path)
+    clock = SimClock()
+    live = tmp_path / "live.jsonl"
+    runner = Runner(tmp_path / "c.yaml", cfg, headless=True, record_path=live, clock=clock)
+    inst = runner._build(cfg)
+    engine, t0, starts = inst.engines[0], clock(), {}
+
+    def where(t):
+        for phase, a in (("take", 1.0), ("try", 3.5)):
+            if a <= t - t0 <= a + DRAG_S:
+                starts.setdefault(phase, part_at(engine, "right_hand"))
+                return starts[phase] + arc((t - t0 - a) / DRAG_S)
+        return None
+
+    inst.loop.inputs.sources.append(Finger(clock, where))
+    inst.loop.sinks.insert(0, Operator(inst.loop.commands, {
+        5: "designer.record", 70: "designer.record", 170: "designer.keep"}))
+    inst.loop.inputs.open()
+    for _ in range(180):
+        inst.loop.tick()
+        clock.advance(1 / 30)
+    inst.loop.close()
+    out = tmp_path / "replayed.jsonl"
+    assert cli(["replay", str(live), "--fast", "--no-view", "--out", str(out)]) == 0
+    a, b = frames(live), frames(out)
+    played = [c.get("action") for f in a for c in f["characters"] if c["name"] == "poser"]
+    assert "poser-action" in played                               # the try played it
+    assert (tmp_path / "pose_actions" / "poser-action" / "action.json").is_file()
+    assert len(a) == len(b) == 180
+    assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []

@@ -1,0 +1,152 @@
+"""One character of a MOP engine as a studio target (an action slot).
+
+The take is the character's performer; training is the stage's (a new action, followed at once,
+its followers built in the stage's worker); kept takes are the engine's action library
+(:func:`tabletop.plugins.mop.save_to_library`), reloaded when its files change: new and fixed
+actions are followed at once, removed ones dropped, a bad file reported and skipped.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from tabletop.frames import Frame, InputError
+from tabletop.kiosk.watch import Poller, tree_signature
+from tabletop.worker import Worker
+
+
+class MopTarget:
+    """One character of a MOP engine (``ENGINE/CHARACTER``) as a studio target: its takes are
+    recorded, trained and kept by the stage's take API (:class:`behaviors.mop.stage.MopStage`)."""
+
+    what = "action"
+
+    def __init__(self, stage, character: str, lib: Path | None, background: bool = True) -> None:
+        self.stage, self.character, self.lib = stage, character, lib
+        if background and stage.worker is None:   # the stage's followers built off the hot path
+            stage.worker = Worker(f"{stage.name}-training")
+        self._summary = ""
+        self.name = f"{stage.name}/{character}"
+        self.kept: str | None = None
+        self.demo: np.ndarray | None = None
+        self._poller = Poller(lib / character) if lib is not None else None
+        self._problems: list[str] = list(getattr(stage, "library_problems", {}).get(character, []))
+        self.loaded = set(getattr(stage, "library_loaded", {}).get(character, []))
+
+    def begin(self, frame: Frame) -> None:
+        self.stage.begin_take(self.character, frame)
+
+    def resume(self, frame: Frame) -> None:
+        pass                                  # an action is one part
+
+    def record(self, frame: Frame) -> str:
+        return ""                             # the stage samples the performer in its step
+
+    def ended(self) -> bool:
+        return False
+
+    def cut(self) -> str:
+        return ""
+
+    def trained(self, wait: bool) -> str | None:
+        """Between ticks: the summary once the stage's new followers are installed."""
+        self.stage.install_built(wait)
+        if self.stage.building:
+            return None
+        if self.stage.build_error:
+            raise InputError(self.stage.build_error)
+        return self._summary
+
+    def seconds(self) -> float:
+        take = self.stage.take
+        return len(take.rows) / self.stage.rate_hz if take is not None else 0.0
+
+    def train(self) -> str | None:
+        self._summary = self.stage.stop_take()
+        self.demo = np.array(self.stage.take.samples(), dtype=float)
+        return None if self.stage.building else self._summary
+
+    def take_array(self) -> np.ndarray:
+        take = self.stage.take
+        return np.asarray(take.samples()) if take is not None else np.zeros((0, 0))
+
+    def revert(self) -> None:
+        if self.stage.take is not None and self.stage.take.character == self.character:
+            self.stage.drop_take()
+
+    def assign(self) -> str:
+        return f"motion {self.stage.assign_motion(self.character)}"
+
+    def keep(self) -> str:
+        action = self.stage.take_action
+        self.stage.keep_take()
+        self.kept = action
+        if action and self._poller is not None:       # in play already: no reload for it
+            self.loaded.add(action)
+            self._poller.signature = tree_signature(self._poller.path)
+        return action or ""
+
+    def _entries(self) -> list[dict]:
+        from tabletop.plugins.mop import read_library
+        return read_library(self.lib, self.character) if self.lib is not None else []
+
+    def items(self) -> list[str]:
+        try:
+            return sorted(a["name"] for a in self._entries())
+        except InputError:
+            return []
+
+    def current(self) -> str | None:
+        return self.kept
+
+    def use(self, name: str) -> None:
+        self.kept = name     # every kept action of a character plays; this one is selected
+
+    def _write(self, entries: list[dict]) -> None:
+        import yaml
+
+        from tabletop.files import atomic_write_text
+        from tabletop.plugins.mop import LIBRARY_FILE
+        assert self.lib is not None
+        atomic_write_text(self.lib / self.character / LIBRARY_FILE,
+                          yaml.safe_dump({"actions": entries}, sort_keys=False))
+
+    def rename(self, old: str, new: str) -> None:
+        entries = self._entries()
+        if any(a["name"] == new for a in entries):
+            raise InputError(f"an action {new!r} already exists")
+        self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
+        if self.kept == old:
+            self.kept = new
+
+    def remove(self, name: str) -> Callable[[], None]:
+        entries = self._entries()
+        gone = [a for a in entries if a["name"] == name]
+        self._write([a for a in entries if a["name"] != name])
+        if self.kept == name:
+            self.kept = None
+
+        def restore() -> None:
+            self._write(self._entries() + gone)
+        return restore
+
+    def poll(self) -> list[str]:
+        """Reload the character's kept actions when its library files change: new and fixed
+        ones are followed at once, removed ones dropped; a bad one is reported and skipped."""
+        if self._poller is None or not self._poller.changed():
+            return self._problems
+        st = self.stage
+        kept, self._problems = st.library_actions(self.character)
+        names = {a.name for a, _ in kept}
+        for gone in self.loaded - names:
+            if gone != st.take_action:
+                st.remove_action(self.character, gone)
+        for action, samples in kept:
+            st.put_action(self.character, action, st.performer_of(self.character), samples)
+        self.loaded = names
+        if self.kept is not None and self.kept not in names:
+            self.kept = None
+        return self._problems

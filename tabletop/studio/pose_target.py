@@ -1,0 +1,209 @@
+"""A touch-pose character as a studio target: actions designed by posing it at the table.
+
+The take is the character's posture, sampled every tick while the designer poses it with their
+fingers (the character does not start its known actions meanwhile: drags only pose). Stopping
+makes it an action (:func:`behaviors.touch_pose.designed.designed_action`, learned in a worker
+thread and swapped in between ticks 0.3 s of frame time after the stop, as the other engines'
+takes are after 0.15 s), known to the character: the designer tries it by dragging its primary
+part along the recorded path (drawn on the table), in their own timing. Kept actions are folders of the engine's ``library``
+(:func:`~behaviors.touch_pose.designed.save_action`), known from the next start too; renamed in
+place and deleted into ``<library>/.trash`` so undo restores them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from behaviors.touch_pose import designed
+from behaviors.touch_pose.humanoid import PARTS, Pose
+from behaviors.touch_pose.samples import relative
+from tabletop import library
+from tabletop.frames import Frame, InputError
+from tabletop.kiosk.watch import Poller, tree_signature
+from tabletop.studio.targets import rename_folder, trash
+from tabletop.worker import Worker
+
+
+def _learn(body, name: str, times: np.ndarray, poses: list[Pose], part: str | None) -> tuple:
+    """(the take's action, its demonstration for the session log: t and its primary part's
+    path, character metres); pure, so it may run in the worker."""
+    action = designed.designed_action(body, name, times, poses, part)
+    k = PARTS.index(action.spec.part)
+    path = np.array([body.parts(relative(p, poses[0]))[k] for p in poses])
+    return action, np.column_stack([times - times[0], path])
+
+
+class TouchPoseTarget:
+    """The designed actions of one touch-pose engine (:mod:`tabletop.plugins.touch_pose`)."""
+
+    what = "pose action"
+
+    def __init__(self, engine, background: bool = True) -> None:
+        self.engine, self.core = engine, engine.core
+        self.worker = Worker(f"{engine.name}-training") if background else None
+        self.name = engine.name
+        self.lib = Path(engine.library)
+        self.times: list[float] = []
+        self.poses: list[Pose] = []
+        self.held: dict[str, int] = {}
+        self.pending = None                  # the ActionModel being tried
+        self.demo: np.ndarray | None = None  # t and its primary part's path (the session log)
+        self.kept: str | None = None
+        self._loaded = set(engine.designed)   # the library's actions the character knows
+        self._poller = Poller(self.lib)
+        self._problems: list[str] = list(engine.problems)
+
+    # --- the take ------------------------------------------------------------------------------
+
+    def begin(self, frame: Frame) -> None:
+        self.times, self.poses, self.demo = [], [], None
+        self.held: dict[str, int] = {}        # ticks each part was held
+        self.core.recognising = False
+
+    def resume(self, frame: Frame) -> None:
+        pass                                  # an action is one part
+
+    def record(self, frame: Frame) -> str:
+        if not self.times or frame.t > self.times[-1]:
+            self.times.append(frame.t)
+            self.poses.append(self.core.target.copy())
+        held = [f.part for f in self.core.fingers.values() if f.part is not None]
+        for part in held:
+            self.held[part] = self.held.get(part, 0) + 1
+        return "" if held else "recording: hold a body part and move it"
+
+    def ended(self) -> bool:
+        return False
+
+    def cut(self) -> str:
+        return ""
+
+    def seconds(self) -> float:
+        return self.times[-1] - self.times[0] if self.times else 0.0
+
+    def _free_name(self) -> str:
+        base = library.check_name(f"{self.name}-action")
+        taken = {a.name for a in self.core.m.actions}
+        name, i = base, 2
+        while name in taken or (self.lib / name).exists():
+            name, i = f"{base}-{i}", i + 1
+        return name
+
+    def train(self) -> str | None:
+        """The take's action is learned (about 50 ms CPU) in the worker (None: the studio swaps
+        it in with :meth:`trained`), else at once; then the character knows it."""
+        self.core.recognising = True
+        part = max(self.held, key=self.held.__getitem__) if self.held else None   # else: moved most
+        job = (self.core.body, self._free_name(), np.array(self.times), list(self.poses), part)
+        if self.worker is None:
+            return self._learned(_learn(*job))
+        self.worker.start(_learn, *job)
+        return None
+
+    def trained(self, wait: bool) -> str | None:
+        """Between ticks: the worker's action, once learned (``wait``: waits for it), is known
+        from now; InputError when the take cannot be an action."""
+        if self.worker is None:
+            return None
+        if wait:
+            self.worker.wait()
+        done = self.worker.poll()
+        if done is None:
+            return None
+        if isinstance(done, InputError):
+            raise done
+        if isinstance(done, Exception):
+            raise InputError(f"training failed: {done}")
+        return self._learned(done)
+
+    def _learned(self, learned: tuple) -> str:
+        action, self.demo = learned
+        self.core.add_action(action)
+        self.pending = action
+        return (f"trained {action.name}: its {action.spec.part.replace('_', ' ')}, "
+                f"{action.duration:.1f} s; drag it along that path")
+
+    cue = "get ready: hold a body part, then pose the motion"
+    swap_s = 0.3     # learning a take's action takes 50 ms CPU here (60 frames, bench/studio.py)
+
+    def guide(self):
+        """The path to drag to try the take (table metres), from where its part is now."""
+        return None if self.pending is None else self.core.stroke_on_table(self.pending)
+
+    def revert(self) -> None:
+        self.core.recognising = True
+        if self.worker is not None:
+            self.worker.cancel()              # a take still being learned is dropped
+        if self.pending is not None:
+            self.core.remove_action(self.pending.name)
+        self.pending = None
+
+    def keep(self) -> str:
+        a = self.pending
+        if a is None:
+            raise InputError("nothing to keep")
+        designed.save_action(self.lib, a.name, a.spec.part, np.array(self.times), self.poses)
+        self.kept, self.pending = a.name, None
+        self._loaded.add(a.name)
+        self._seen()
+        return a.name
+
+    def _seen(self) -> None:
+        """The library's changes made here are not reloads."""
+        self._poller.signature = tree_signature(self.lib)
+
+    # --- the library -----------------------------------------------------------------------------
+
+    def items(self) -> list[str]:
+        return designed.list_actions(self.lib)
+
+    def current(self) -> str | None:
+        return self.kept
+
+    def use(self, name: str) -> None:
+        self.kept = name      # every kept action is known to the character; this one is selected
+
+    def rename(self, old: str, new: str) -> None:
+        rename_folder(self.lib, old, new)
+        action = next((a for a in self.core.m.actions if a.name == old), None)
+        if action is not None:
+            self.core.remove_action(old)
+            action.spec = dataclasses.replace(action.spec, name=new)
+            self.core.add_action(action)
+        self._loaded = (self._loaded - {old}) | {new}
+        if self.kept == old:
+            self.kept = new
+        self._seen()
+
+    def remove(self, name: str) -> Callable[[], None]:
+        put_back = trash(self.lib / name)
+        self.core.remove_action(name)
+        self._loaded.discard(name)
+        if self.kept == name:
+            self.kept = None
+        self._seen()
+
+        def restore() -> None:
+            put_back()
+            self.core.add_action(designed.load_action(self.lib / name, self.core.body))
+            self._loaded.add(name)
+            self._seen()
+        return restore
+
+    def poll(self) -> list[str]:
+        """Reload the library when its files change: new and fixed actions are known at once,
+        removed ones forgotten; a bad file is reported and skipped, the others keep working."""
+        if self._poller.changed():
+            actions, self._problems = designed.load_library(self.lib, self.core.body)
+            names = {a.name for a in actions}
+            for gone in self._loaded - names:
+                if self.pending is None or gone != self.pending.name:
+                    self.core.remove_action(gone)
+            for a in actions:
+                self.core.add_action(a)
+            self._loaded = names
+        return self._problems

@@ -1,0 +1,216 @@
+"""MOP action slots through the studio's one state machine: record, train, assign a motion, try,
+keep (written to the library and loaded by a new engine), discard, redo, too short, focus."""
+
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from tabletop.frames import Frame, Puck
+from tabletop.studio.machine import Studio
+from tabletop.studio.mop_target import MopTarget
+from tests.mop.test_plugin import RATE, Table, _build, _designer_config
+
+
+class StudioTable(Table):
+    """The stage behind a studio (no countdown, training within the tick), stepped as the loop
+    does: studio filter, then the engine; ``status`` is the studio's status line."""
+
+    def __init__(self, engine, lib: Path, focus: str = "mop/face") -> None:
+        super().__init__(engine)
+        self.targets = [MopTarget(engine, c, lib, background=False) for c in engine.order]
+        self.studio = Studio(self.targets, countdown_s=0.0)
+        self.focus, self.status = focus, ""
+
+    def tick(self, commands=(), focus=None):
+        pucks = tuple(Puck(i, x, y, 0.0) for i, (x, y) in self.pucks.items())
+        frame = self.studio(Frame(self.seq, self.t, pucks=pucks, commands=tuple(commands),
+                                  focus=focus or self.focus))
+        self.status = frame.character("studio").label
+        out = {c.name: c for c in self.engine.step(frame)}
+        self.t += 1.0 / RATE
+        self.seq += 1
+        return out
+
+
+def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.tick()
+    assert "recording" in table.status and table.studio.state == "recording"
+    table.perform("square")
+    table.tick(["designer.record"])
+    assert "take1 -> strike" in table.status and table.studio.state == "trying"
+    assert engine.puppets["lizard"].actions["take1"].clip.name == "strike"
+    table.tick(["designer.assign"])
+    assert "motion curl" in table.status
+    assert engine.puppets["lizard"].actions["take1"].clip.name == "curl"
+    # trained at once: perform it (a little faster) and the lizard curls along
+    table.rest(1.2)
+    run = table.perform("square", speed=lambda u: 1.3)
+    late = [ch["lizard"] for u, ch in run if u > 0.5]
+    assert np.mean([x.valid and x.action == "take1" for x in late]) > 0.9
+    assert late[-1].progress > 0.85
+    # keep: written atomically to the library, and a new engine loads it
+    table.tick(["designer.keep"])
+    assert "kept as take1" in table.status and table.studio.state == "idle"
+    saved = yaml.safe_load((tmp_path / "lib" / "lizard" / "actions.yaml").read_text())
+    assert saved == {"actions": [{"name": "take1", "template": "take1.csv", "motion": "curl"}]}
+    header = (tmp_path / "lib" / "lizard" / "take1.csv").read_text().splitlines()[0]
+    assert header == "t,dx,dy"
+    again = _build(_designer_config(tmp_path), tmp_path)
+    assert "take1" in again.puppets["lizard"].actions
+    assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
+
+
+def test_discard_redo_and_a_take_too_short(tmp_path):
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    assert "take1" in engine.puppets["face"].actions
+    n1 = len(engine.templates["face"]["take1"][1])
+    table.rest(1.0)
+    table.tick(["designer.record"])            # redo: the pending take is replaced
+    assert "take1" not in engine.puppets["face"].actions
+    assert table.studio.tries[-1].outcome == "redone"
+    table.perform("zigzag")
+    table.tick(["designer.record"])
+    assert "take2" in engine.puppets["face"].actions
+    assert n1 != len(engine.templates["face"]["take2"][1])
+    table.tick(["designer.discard"])
+    assert "discarded" in table.status and table.studio.tries[-1].outcome == "discarded"
+    assert set(engine.puppets["face"].actions) == {"circle"}
+    assert not (tmp_path / "lib").exists()
+    # a take too short to learn from is refused
+    table.tick(["designer.record"])
+    table.tick(["designer.record"])
+    assert "too short" in table.status and set(engine.puppets["face"].actions) == {"circle"}
+    assert table.studio.tries[-1].outcome == "too short" and table.studio.state == "idle"
+
+
+def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_path):
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    assert table.studio.designer_targets() == ("mop/face", "mop/lizard")
+    assert not hasattr(engine, "designer_targets")     # the studio lists the slots
+    table.rest(0.5)
+    table.focus = "mop/lizard"                         # Tab in the view
+    table.tick(["designer.record"])
+    assert engine.take.character == "lizard" and "[mop/lizard] recording" in table.status
+    table.perform("square")
+    table.tick(["designer.record"])
+    assert "take1" in engine.puppets["lizard"].actions
+    # commands addressed to another engine are not the studio's
+    table.tick(["designer.discard"], focus="pm")
+    assert "take1" in engine.puppets["lizard"].actions and table.studio.state == "trying"
+    # moving the focus away from the take being tried discards it
+    table.tick(focus="mop/face")
+    assert "take1" not in engine.puppets["lizard"].actions
+    assert table.studio.tries[-1].outcome == "discarded"
+
+
+def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_once(tmp_path):
+    # a kept square for the lizard, then its library damaged two ways
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("square")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    lib = tmp_path / "lib"
+    good = (lib / "lizard" / "actions.yaml").read_text()
+    (lib / "lizard" / "actions.yaml").write_text("actions: [oops\n")
+    (lib / "face").mkdir()
+    (lib / "face" / "actions.yaml").write_text(
+        "actions:\n- {name: wrong, template: nothere.csv, motion: talk}\n")
+    # a restart: the engine starts, each bad file reported and skipped, the rest works
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    assert "lizard/actions.yaml: cannot read the action library" in \
+        engine.library_problems["lizard"][0]
+    assert "face/actions.yaml: action 'wrong'" in engine.library_problems["face"][0]
+    assert "nothere.csv" in engine.library_problems["face"][0]
+    assert set(engine.puppets["face"].actions) == {"circle"} and not engine.puppets["lizard"].actions
+    table = StudioTable(engine, lib, focus="mop/lizard")
+    for t in table.targets:
+        t._poller.every_s = 0.0
+    table.tick()
+    table.studio.poll()
+    table.tick()
+    assert "2 bad library file(s)" in table.status
+    table.rest(1.0)
+    run = table.perform("circle")                        # the face's own action still plays
+    assert np.mean([c["face"].valid and c["face"].action == "circle" for u, c in run if u > 0.4]) > 0.9
+    # fixed on disk: followed without a restart
+    (lib / "lizard" / "actions.yaml").write_text(good)
+    table.studio.poll()
+    assert table.studio.problems == [table.studio.problems[0]] and "face" in table.studio.problems[0]
+    assert "take1" in engine.puppets["lizard"].actions
+    table.rest(1.2)
+    run = table.perform("square", speed=lambda u: 1.3)
+    assert np.mean([c["lizard"].valid and c["lizard"].action == "take1"
+                    for u, c in run if u > 0.5]) > 0.9
+    # deleted from the library (undo restores it): no longer followed
+    table.studio.command("designer.item_next")
+    table.studio.command("designer.delete")
+    table.studio.poll()
+    assert "take1" not in engine.puppets["lizard"].actions
+    table.studio.command("designer.undo")
+    table.studio.poll()
+    assert "take1" in engine.puppets["lizard"].actions
+
+
+def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
+    from tabletop.config import load_config
+    from tabletop.kiosk.simulate import SimClock, simulated
+    from tests.mop.test_plugin import G
+
+    rate = 20.0
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump({
+        "loop": {"rate_hz": rate},
+        "sources": [{"kind": "synthetic_camera", "name": "camera", "pucks": [],
+                     "resolution": [480, 270], "fps": rate, "hands": {"every_s": 0}}],
+        "engines": [{"kind": "mop", "name": "mop", "library": "lib", "rate_hz": rate,
+                     "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
+                     "characters": [{"name": "lizard", "kind": "creature", "performer": "hand",
+                                     "motions": ["strike", "curl"]}]}],
+        "view": {"size": [320, 180]},
+        "studio": {"enabled": True, "countdown_s": 0.5, "review": False}}))
+    square = G.gesture("square")
+
+    def poses(s):
+        u = float(np.clip(s - 1.3, 0.0, square[-1, 0]))      # the square from 1.3 s
+        out = [(1, 0.5 + np.interp(u, square[:, 0], square[:, 1]),
+                0.4 + np.interp(u, square[:, 0], square[:, 2]), 0.0)]
+        if 0.3 <= s < 1.3 + square[-1, 0]:
+            out.append((45, 0.06, 0.06, 0.0))                # record, in a corner
+        if 5.0 <= s < 5.6:
+            out.append((47, 1.14, 0.06, 0.0))                # keep
+        return out
+
+    clock = SimClock()
+    runner, inst = simulated(load_config(path), path, clock, kiosk=False, studio=True)
+    inst.loop.inputs.sources[0].reader.poses = poses
+    states = []
+    for _ in range(int(6.2 * rate)):
+        frame = inst.loop.tick()
+        states.append(frame.character("studio").action)
+        clock.advance(1 / rate)
+    inst.loop.close()
+    order = [s for i, s in enumerate(states) if i == 0 or s != states[i - 1]]
+    assert order == ["idle", "countdown", "recording", "training", "trying", "idle"]
+    saved = yaml.safe_load((tmp_path / "lib" / "lizard" / "actions.yaml").read_text())
+    assert saved["actions"][0]["name"] == "take1"
+    rows = (tmp_path / "lib" / "lizard" / "take1.csv").read_text().splitlines()
+    assert abs(len(rows) - 1 - rate * square[-1, 0]) < 0.5 * rate   # the square, recorded
+    # after a restart the action is in the library and followed
+    runner2, inst2 = simulated(load_config(path), path, SimClock(), kiosk=False, studio=True)
+    assert runner2.studio.target.items() == ["take1"]
+    assert "take1" in inst2.engines[0].puppets["lizard"].actions
+    inst2.loop.close()
