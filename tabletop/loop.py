@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import collections
 import dataclasses
+import gc
 import logging
 import math
+import sys
 import threading
 import time
 from typing import Callable, Iterator, Protocol, Sequence
@@ -27,6 +29,10 @@ from tabletop.frames import (CharacterState, Engine, Frame, Observation, Puck, S
 log = logging.getLogger("tabletop")
 
 STAGES = ("capture_age", "inputs", "engines", "sinks", "tick")
+# Stages of a frame before its tick, for sources that say when a new observation is ready
+# (cameras): ``source`` from capture to the observation ready (grab, detection, mapping) and
+# ``queued`` from ready to the start of the tick that took it (waiting for the loop).
+SOURCE_STAGES = ("source", "queued")
 
 
 class Tracker(Protocol):
@@ -54,7 +60,10 @@ class LoopStats:
     Stages: ``inputs`` (sources and tracker), ``engines`` and ``sinks`` (all of them, and each
     as ``engine:NAME`` / ``sink:NAME``, the view's being its render time), ``tick`` (the whole
     tick) and ``capture_age``, the capture-to-render latency: from the frame's input capture time
-    to the end of its sinks. Read by the view's overlay and by the benchmarks.
+    to the end of its sinks. For sources that announce new observations (cameras) also
+    ``source`` (capture to observation ready) and ``queued`` (ready to the tick that took it):
+    ``capture_age`` = ``source`` + ``queued`` + ``tick`` for those frames. Read by the view's
+    overlay and by the benchmarks.
     """
 
     def __init__(self, window: int = 600) -> None:
@@ -154,13 +163,50 @@ class LiveInputs:
 
     live = True  # frame times are this machine's capture times (capture-to-render is measured)
 
+    READY_KEPT = 16  # announced capture times remembered for the stage figures
+
     def __init__(self, sources: Sequence[Source], tracker: Tracker) -> None:
         self.sources, self.tracker = list(sources), tracker
         self._last_t = -math.inf
+        # Sources with a ``notify`` attribute (cameras) announce each new observation: ``fresh``
+        # is set and the loop ticks at once instead of at its next timer slot (Loop.run).
+        self.follow = True
+        self.fresh = threading.Event()
+        self.arrivals: collections.deque[float] = collections.deque(maxlen=9)  # monotonic s
+        self._ready: dict[float, float] = {}   # capture time -> monotonic time it was announced
+        self._lock = threading.Lock()
 
     def open(self) -> None:
         for s in self.sources:
+            if self.follow and hasattr(s, "notify"):
+                s.notify = self.announce
             s.open()
+
+    def announce(self, t: float) -> None:
+        """A source's new observation captured at ``t`` (monotonic s) is ready; called from the
+        source's thread."""
+        now = time.monotonic()
+        with self._lock:
+            self.arrivals.append(now)
+            self._ready[t] = now
+            if len(self._ready) > self.READY_KEPT:
+                del self._ready[next(iter(self._ready))]
+        self.fresh.set()
+
+    def ready_time(self, t: float) -> float | None:
+        """When the observation captured at ``t`` was announced (monotonic s), if it was."""
+        with self._lock:
+            return self._ready.get(t)
+
+    def arrival_interval(self, now: float) -> float:
+        """Median seconds between recent announcements; inf when none are coming (fewer than
+        three, or none for three intervals)."""
+        with self._lock:
+            a = list(self.arrivals)
+        if len(a) < 3:
+            return math.inf
+        iv = float(np.median(np.diff(a)))
+        return iv if now - a[-1] < 3.0 * iv else math.inf
 
     def close(self) -> None:
         for s in self.sources:
@@ -170,6 +216,7 @@ class LiveInputs:
                 log.exception("source %s failed to close", getattr(s, "name", s))
 
     def next(self, seq: int, now: float) -> Frame | None:
+        self.fresh.clear()
         observations = []
         for s in self.sources:
             try:
@@ -199,6 +246,13 @@ class LiveInputs:
 class Loop:
     """Runs the installation at ``rate_hz``: inputs -> commands -> engines -> sinks, once a tick."""
 
+    freeze_gc = True          # keep start-up objects out of the garbage collector's passes
+    FREEZE_AGAIN_TICKS = 120  # ... and what the first ticks made
+    # Python's interpreter lock passes to a waiting thread only after this long (5 ms by
+    # default): the loop woken by a camera frame while the camera thread goes on rendering or
+    # detecting in Python waited 8 ms (median) for it; with 1 ms, 1.2 ms. None: left as it is.
+    switch_interval_s: float | None = 0.001
+
     def __init__(self, inputs: LiveInputs | "FrameInputs", engines: Sequence[Engine],
                  sinks: Sequence[Sink], rate_hz: float = 60.0, stats: LoopStats | None = None,
                  commands: CommandQueue | None = None, stop: threading.Event | None = None,
@@ -218,6 +272,8 @@ class Loop:
         self.focus = DesignerFocus(self.engines)
         self.seq = 0
         self._last_characters: dict[str, tuple[CharacterState, ...]] = {}
+        self._last_ready_t = -math.inf
+        self._tick_start: float | None = None   # clock time the previous tick started
         self._error_log_t: dict[str, float] = {}
 
     def _report(self, where: str) -> None:
@@ -231,7 +287,7 @@ class Loop:
 
     def tick(self) -> Frame | None:
         """Run one tick; returns the completed frame, or None when the inputs are exhausted."""
-        t0 = self.clock()
+        t0 = self._tick_start = self.clock()
         frame = self.inputs.next(self.seq, t0)
         if frame is None:
             return None
@@ -277,6 +333,12 @@ class Loop:
         st.record("tick", t3 - t0)
         if frame.t <= t3 and getattr(self.inputs, "live", True):
             st.record("capture_age", t3 - frame.t)
+            ready = getattr(self.inputs, "ready_time", None)
+            ready = ready(frame.t) if ready is not None else None
+            if ready is not None and frame.t != self._last_ready_t:  # once per observation
+                self._last_ready_t = frame.t
+                st.record("source", ready - frame.t)
+                st.record("queued", max(0.0, t0 - ready))
         st.tick_times.append(t3)
         if st.first_t is None:
             st.first_t = frame.t
@@ -286,11 +348,22 @@ class Loop:
 
     def run(self, seconds: float | None = None, max_ticks: int | None = None) -> int:
         """Tick at the fixed rate until stopped, ``seconds`` elapsed, ``max_ticks`` ran or the
-        inputs end. A late tick is not made up for: the schedule skips ahead. Returns ticks run."""
+        inputs end. A late tick is not made up for: the schedule skips ahead. Returns ticks run.
+
+        Paced, the loop follows inputs that announce their new observations (cameras): see
+        :meth:`wait_for_slot`. Once the inputs are open, the objects made so far (plugins,
+        models, caches) are frozen out of the garbage collector's passes, which would otherwise
+        walk them all again now and then and stall a tick; and the interpreter lock is handed
+        between threads every ``switch_interval_s``."""
         start = self.clock()
         next_t = start
         ran = 0
         self.inputs.open()
+        if self.freeze_gc:
+            gc.freeze()
+        switch = sys.getswitchinterval()
+        if self.switch_interval_s is not None:
+            sys.setswitchinterval(self.switch_interval_s)
         try:
             while not self.stop.is_set():
                 if seconds is not None and self.clock() - start >= seconds:
@@ -298,13 +371,14 @@ class Loop:
                 if max_ticks is not None and ran >= max_ticks:
                     break
                 if self.paced:
-                    delay = next_t - self.clock()
-                    if delay > 0:
-                        if self.stop.wait(delay):
-                            break
+                    next_t, stopped = self.wait_for_slot(next_t)
+                    if stopped:
+                        break
                 if self.tick() is None:
                     break
                 ran += 1
+                if ran == self.FREEZE_AGAIN_TICKS and self.freeze_gc:
+                    gc.freeze()   # and what the first ticks made (caches, models' buffers)
                 next_t += self.period
                 behind = self.clock() - next_t
                 if behind > self.period:
@@ -312,8 +386,46 @@ class Loop:
                     self.stats.skipped += missed
                     next_t += missed * self.period
         finally:
+            sys.setswitchinterval(switch)
+            if self.freeze_gc:
+                gc.unfreeze()  # what this run made may be collected again (a rebuilt installation)
             self.close()
         return ran
+
+    def wait_for_slot(self, slot: float) -> tuple[float, bool]:
+        """Wait for the tick planned at ``slot`` (clock seconds); returns (the slot the tick
+        stands for, whether the loop was stopped meanwhile).
+
+        Inputs that announce their new observations (``fresh``: cameras) and deliver them no
+        faster than about the loop rate are followed: the tick runs as soon as a new observation
+        arrives (at least a quarter period after the previous tick), so a frame does not wait
+        for the timer, and the schedule moves to that moment. Without one it runs at its slot,
+        or up to half a period later when observations come about once a period (0.85 to
+        1.15 periods apart) (waiting for a late
+        frame rather than drawing the old one again). Faster inputs, and all others, tick at
+        their slots (a plain timer).
+        """
+        fresh: threading.Event | None = getattr(self.inputs, "fresh", None)
+        p = self.period
+        now = self.clock()
+        interval = (self.inputs.arrival_interval(now) if fresh is not None
+                    and self.clock is time.monotonic else 0.0)
+        if interval < 0.85 * p or not getattr(self.inputs, "follow", False):
+            return slot, slot > now and self.stop.wait(slot - now)
+        earliest = (self._tick_start if self._tick_start is not None else now) + 0.25 * p
+        latest = slot + (0.5 * p if interval <= 1.15 * p else 0.0)
+        while True:
+            if self.stop.is_set():
+                return slot, True
+            now = self.clock()
+            if now >= earliest and fresh.is_set():
+                return min(now, slot + 0.5 * p), False  # a late wake-up keeps the schedule
+            if now >= latest:
+                return slot, False
+            if fresh.is_set():
+                self.stop.wait(earliest - now)
+            else:
+                fresh.wait(min(latest - now, 0.05))
 
     def close(self) -> None:
         """Close the inputs, then the sinks (so a recording is flushed complete)."""
