@@ -54,7 +54,8 @@ SCHEMA = Record({
                              doc="map with this calibration instead of the camera's true one"),
     "keep_image": Bool(False, doc="attach each rendered frame to the observation"),
     "sync_to_loop": Bool(True, doc="time each frame to be ready just before a loop tick, as a "
-                                   "camera triggered by the loop would"),
+                                   "camera triggered by the loop would (only for a loop that "
+                                   "does not tick on the camera's frames itself)"),
 })
 
 
