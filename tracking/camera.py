@@ -377,6 +377,12 @@ class CameraSource:
         notify = self.notify
         if notify is not None and obs is not None:
             notify(t)
+        after = getattr(self.process, "after_publish", None)  # work that may wait (detection)
+        if after is not None:
+            try:
+                after()
+            except Exception:
+                log.exception("%s: work after publishing a frame failed", self.name)
 
     @property
     def frames(self) -> int:

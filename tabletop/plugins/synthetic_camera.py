@@ -127,6 +127,8 @@ class SyntheticCameraSource(CameraSource):
             self._truth = (obs, self.reader.frame)
             return obs
 
+        process.after_publish = measurer.after_publish
+
         settings = CaptureSettings(device=f"synthetic camera {camera.w}x{camera.h}",
                                    fps=fps, grey=False, stall_s=max(3.0, 10.0 / fps))
         super().__init__(name, settings, process, opener=opener, clock=clock,
