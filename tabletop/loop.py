@@ -400,20 +400,19 @@ class Loop:
         faster than about the loop rate are followed: the tick runs as soon as a new observation
         arrives (at least a quarter period after the previous tick), so a frame does not wait
         for the timer, and the schedule moves to that moment. Without one it runs at its slot,
-        or up to half a period later when observations come about once a period (0.85 to
-        1.15 periods apart) (waiting for a late
-        frame rather than drawing the old one again). Faster inputs, and all others, tick at
-        their slots (a plain timer).
+        or up to a quarter period later when observations come about once a period (0.9 to
+        1.1 periods apart: waiting for a late frame rather than drawing the old one again).
+        Faster inputs, and all others, tick at their slots (a plain timer).
         """
         fresh: threading.Event | None = getattr(self.inputs, "fresh", None)
         p = self.period
         now = self.clock()
         interval = (self.inputs.arrival_interval(now) if fresh is not None
                     and self.clock is time.monotonic else 0.0)
-        if interval < 0.85 * p or not getattr(self.inputs, "follow", False):
+        if interval < 0.9 * p or not getattr(self.inputs, "follow", False):
             return slot, slot > now and self.stop.wait(slot - now)
         earliest = (self._tick_start if self._tick_start is not None else now) + 0.25 * p
-        latest = slot + (0.5 * p if interval <= 1.15 * p else 0.0)
+        latest = slot + (0.25 * p if interval <= 1.1 * p else 0.0)
         while True:
             if self.stop.is_set():
                 return slot, True
