@@ -91,6 +91,9 @@ class Probes:
     def __enter__(self) -> "Probes":
         update, flip, read = self._saved
         st = self.stats
+        for stage in ("present", "camera_render", "gc_pause"):  # recorded from other threads
+            st.record(stage, 0.0)
+            st.samples[stage].clear()
 
         def timed(fn, stage):
             def wrapper(*a, **k):

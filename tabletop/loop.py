@@ -89,9 +89,10 @@ class LoopStats:
     def summary_ms(self) -> dict[str, tuple[float, float]]:
         """Stage -> (median ms, p99 ms) over the kept window."""
         out = {}
-        for stage, d in self.samples.items():
+        for stage, d in list(self.samples.items()):
+            d = list(d)   # other threads may record meanwhile
             if d:
-                a = np.fromiter(d, dtype=float, count=len(d)) * 1e3
+                a = np.asarray(d, dtype=float) * 1e3
                 out[stage] = (float(np.median(a)), float(np.percentile(a, 99)))
         return out
 
