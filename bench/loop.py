@@ -20,7 +20,9 @@ a frame goes through them: ``camera_render`` (synthetic image, not part of the l
 ``source`` (capture -> observation ready: grey conversion, marker detection, mapping),
 ``queued`` (ready -> the tick that takes it), ``inputs`` (tracker), ``engine:NAME``,
 ``sink:view`` (the view's draw and present) of which ``present``, and the whole ``tick``;
-``gc_pause`` lists the garbage collector's passes (count and longest) while measuring.
+``gc_pause`` lists the garbage collector's passes (count and longest) while measuring; and the
+CPU time of the stages (``*_cpu``, see :class:`Probes`), which the machine's load does not
+inflate.
 
 For each configuration and display: the loop unpaced (as fast as it can tick: ticks per second)
 and paced at 60 Hz (the shipped loop: it ticks when a camera frame arrives). The camera
@@ -79,34 +81,60 @@ def configs() -> dict[str, dict]:
     return out
 
 
+CPU_STAGES = ("tick_cpu", "camera_render_cpu", "source_cpu", "after_publish_cpu")
+
+
 class Probes:
     """Stage timings the loop does not take itself, recorded into its LoopStats while
-    installed: the view's present, the synthetic camera's render, garbage-collector passes."""
+    installed: the view's present, the synthetic camera's render, garbage-collector passes;
+    and the CPU time (of the thread doing it) of a tick, of the camera's render, of its
+    processing before the observation is out (``source_cpu``) and after (``after_publish_cpu``,
+    the put-off full-frame search). On a machine shared with other work the CPU times leave out
+    the waiting for a core: they say what each stage costs on a quiet machine."""
 
-    def __init__(self, stats: LoopStats) -> None:
-        self.stats = stats
+    def __init__(self, stats: LoopStats, loop, sources) -> None:
+        self.stats, self.loop, self.sources = stats, loop, sources
         self._saved = (pygame.display.update, pygame.display.flip, SyntheticReader.read)
         self._gc_t = 0.0
 
     def __enter__(self) -> "Probes":
         update, flip, read = self._saved
         st = self.stats
-        for stage in ("present", "camera_render", "gc_pause"):  # recorded from other threads
+        for stage in ("present", "camera_render", "gc_pause", *CPU_STAGES):  # other threads too
             st.record(stage, 0.0)
             st.samples[stage].clear()
 
-        def timed(fn, stage):
+        def timed(fn, stage, cpu_stage=None):
             def wrapper(*a, **k):
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.thread_time()
                 try:
                     return fn(*a, **k)
                 finally:
                     st.record(stage, time.perf_counter() - t0)
+                    if cpu_stage:
+                        st.record(cpu_stage, time.thread_time() - c0)
+            return wrapper
+
+        def cpu(fn, stage):
+            def wrapper(*a, **k):
+                c0 = time.thread_time()
+                try:
+                    return fn(*a, **k)
+                finally:
+                    st.record(stage, time.thread_time() - c0)
             return wrapper
 
         pygame.display.update = timed(update, "present")
         pygame.display.flip = timed(flip, "present")
-        SyntheticReader.read = timed(read, "camera_render")
+        SyntheticReader.read = timed(read, "camera_render", "camera_render_cpu")
+        self.loop.tick = cpu(self.loop.tick, "tick_cpu")
+        for src in self.sources:
+            process = getattr(src, "process", None)
+            if process is not None:
+                after = getattr(process, "after_publish", None)
+                src.process = cpu(process, "source_cpu")
+                if after is not None:
+                    src.process.after_publish = cpu(after, "after_publish_cpu")
         gc.callbacks.append(self._gc)
         return self
 
@@ -151,7 +179,7 @@ def measure(cfg: dict, seconds: float, paced: bool, warmup: float = 1.0,
             stats.tick_times.clear()
 
     inst.loop.hooks.append(steady)
-    with Probes(stats):
+    with Probes(stats, inst.loop, inst.loop.inputs.sources):
         inst.loop.run(seconds=warmup + seconds)
     SyntheticReader.shutter_at_end = True
     times = np.asarray(stats.tick_times)

@@ -175,21 +175,23 @@ class LiveInputs:
         self.fresh = threading.Event()
         self.arrivals: collections.deque[float] = collections.deque(maxlen=9)  # monotonic s
         self._ready: dict[float, float] = {}   # capture time -> monotonic time it was announced
+        self._announced: dict[int, float] = {}  # source index -> its newest announced capture time
         self._lock = threading.Lock()
 
     def open(self) -> None:
-        for s in self.sources:
+        for i, s in enumerate(self.sources):
             if self.follow and hasattr(s, "notify"):
-                s.notify = self.announce
+                s.notify = lambda t, i=i: self.announce(t, i)
             s.open()
 
-    def announce(self, t: float) -> None:
-        """A source's new observation captured at ``t`` (monotonic s) is ready; called from the
-        source's thread."""
+    def announce(self, t: float, source: int = 0) -> None:
+        """The new observation captured at ``t`` (monotonic s) of the ``source``-th source is
+        ready; called from that source's thread."""
         now = time.monotonic()
         with self._lock:
             self.arrivals.append(now)
             self._ready[t] = now
+            self._announced[source] = t
             if len(self._ready) > self.READY_KEPT:
                 del self._ready[next(iter(self._ready))]
         self.fresh.set()
@@ -217,9 +219,9 @@ class LiveInputs:
                 log.exception("source %s failed to close", getattr(s, "name", s))
 
     def next(self, seq: int, now: float) -> Frame | None:
-        self.fresh.clear()
         observations = []
-        for s in self.sources:
+        taken: dict[int, float] = {}
+        for i, s in enumerate(self.sources):
             try:
                 obs = s.latest()
             except Exception:
@@ -227,6 +229,10 @@ class LiveInputs:
                 obs = None
             if obs is not None:
                 observations.append(obs)
+                taken[i] = obs.t
+        with self._lock:   # all that was announced is taken: nothing fresh is waiting
+            if all(t <= taken.get(i, -math.inf) for i, t in self._announced.items()):
+                self.fresh.clear()
         t = max((o.t for o in observations), default=now)
         t = max(t, now - self.STALE_S, self._last_t)
         self._last_t = t
