@@ -195,9 +195,11 @@ class MarkerTracker:
             self.search_pending()
         self.frame += 1
         preds = self.predict() if predictions_px is None else dict(predictions_px)
-        if self._found_late:   # found by a put-off search: followed although nobody predicts them
+        if self._found_late:
+            # Found by a put-off search, which nobody else has seen yet: where they were just
+            # found says more than a caller's prediction of a puck it lost (or never had).
             own = self.predict()
-            preds.update({m: own[m] for m in self._found_late if m in own and m not in preds})
+            preds.update({m: own[m] for m in self._found_late if m in own})
             self._found_late.clear()
         full = (self.frame - 1) % self.full_period == 0 or not preds
         if full and self.defer_full and preds:
