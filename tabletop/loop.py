@@ -5,6 +5,8 @@ Stage order per tick: inputs (sources' newest observations fused by the tracker,
 next frame) -> operator commands -> engines (in config order, each seeing the characters of the
 ones before) -> sinks. Sources run in their own threads and hold only their newest observation;
 the loop never queues frames, so a slow sink makes the loop skip ticks, never pile them up.
+Paced, it ticks as soon as a camera frame has been measured (not at the next timer slot), so
+capture-to-render is the frame's measuring plus one tick.
 Strict at start-up, forgiving at run time: an engine or sink that raises is logged (rate-limited)
 and the installation keeps running.
 """
@@ -19,20 +21,17 @@ import math
 import sys
 import threading
 import time
-from typing import Callable, Iterator, Protocol, Sequence
+from typing import Callable, Protocol, Sequence
 
 import numpy as np
 
 from tabletop.frames import (CharacterState, Engine, Frame, Observation, Puck, Sink, Source,
                              SourceHealth)
+from tabletop.replay_inputs import FrameInputs  # noqa: F401  (replays; kept importable here)
 
 log = logging.getLogger("tabletop")
 
 STAGES = ("capture_age", "inputs", "engines", "sinks", "tick")
-# Stages of a frame before its tick, for sources that say when a new observation is ready
-# (cameras): ``source`` from capture to the observation ready (grab, detection, mapping) and
-# ``queued`` from ready to the start of the tick that took it (waiting for the loop).
-SOURCE_STAGES = ("source", "queued")
 
 
 class Tracker(Protocol):
@@ -441,43 +440,3 @@ class Loop:
                 sink.close()
             except Exception:
                 log.exception("sink %s failed to close", sink.name)
-
-
-class FrameInputs:
-    """Inputs from a sequence of recorded frames (replay), optionally paced by their times.
-
-    Each recorded frame keeps its seq and t; its characters are dropped so the engines make them
-    again. With ``honour_times`` the next frame is released when its recorded time, relative to the
-    first, has elapsed on the loop's clock. Recorded times are not this machine's capture
-    times, so no capture-to-render latency is measured.
-    """
-
-    live = False
-
-    def __init__(self, frames: Iterator[Frame], honour_times: bool = True,
-                 clock: Callable[[], float] = time.monotonic,
-                 stop: threading.Event | None = None) -> None:
-        self.frames, self.honour_times, self.clock = frames, honour_times, clock
-        self.stop = stop or threading.Event()  # ends a wait for the next frame at once
-        self._t0: float | None = None
-        self._wall0 = 0.0
-
-    def open(self) -> None:
-        pass
-
-    def close(self) -> None:
-        pass
-
-    def next(self, seq: int, now: float) -> Frame | None:
-        frame = next(self.frames, None)
-        if frame is None:
-            return None
-        if self.honour_times:
-            if self._t0 is None:
-                self._t0, self._wall0 = frame.t, self.clock()
-            delay = (frame.t - self._t0) - (self.clock() - self._wall0)
-            if delay > 0 and self.stop.wait(delay):
-                return None
-        return Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
-                     streams=frame.streams, commands=frame.commands, health=frame.health,
-                     focus=frame.focus)
