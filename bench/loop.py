@@ -7,8 +7,8 @@ camera -> marker detection -> tracker -> one reactor -> view); and the synthetic
 Puppet Master reactors (one reacting to another), the DESIGN.md whole-loop case.
 
 Capture-to-render (``capture_age``), per presented frame: from the moment its newest input was
-captured to the moment the loop's sinks are done with it, i.e. after the view has presented it
-(``pygame.display.update``/``flip`` returned). The capture moment is the camera's shutter: a
+captured to the moment the view has presented it (its sink is done:
+``pygame.display.update``/``flip`` returned; sinks after it, e.g. a recorder, do not count). The capture moment is the camera's shutter: a
 device camera's frame is stamped when the driver hands it over; the synthetic camera renders the
 scene as it stands at the end of its render and never delivers an image before that moment (its
 rendering simulates the world and the optics, which cost a real installation nothing; a render

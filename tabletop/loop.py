@@ -59,9 +59,11 @@ class LoopStats:
     Stages: ``inputs`` (sources and tracker), ``engines`` and ``sinks`` (all of them, and each
     as ``engine:NAME`` / ``sink:NAME``, the view's being its render time), ``tick`` (the whole
     tick) and ``capture_age``, the capture-to-render latency: from the frame's input capture time
-    to the end of its sinks. For sources that announce new observations (cameras) also
+    to its presentation, i.e. the end of the first sink with a true ``presents`` attribute (the
+    view; what later sinks and hooks do, such as recording, comes after the visitor saw it), or
+    the end of the tick when no sink presents. For sources that announce new observations (cameras) also
     ``source`` (capture to observation ready) and ``queued`` (ready to the tick that took it):
-    ``capture_age`` = ``source`` + ``queued`` + ``tick`` for those frames. Read by the view's
+    ``capture_age`` = ``source`` + ``queued`` + the tick up to the view for those frames. Read by the view's
     overlay and by the benchmarks.
     """
 
@@ -320,6 +322,7 @@ class Loop:
             st.record(f"engine:{engine.name}", te - t_prev)
         t2 = self.clock()
         ts = t2
+        shown: float | None = None   # when a sink that presents (the view) was done
         for sink in self.sinks:
             try:
                 sink.consume(frame)
@@ -327,6 +330,8 @@ class Loop:
                 self._report(f"sink {sink.name}")
             ts, t_prev = self.clock(), ts
             st.record(f"sink:{sink.name}", ts - t_prev)
+            if shown is None and getattr(sink, "presents", False):
+                shown = ts
         for hook in self.hooks:
             try:
                 hook(frame)
@@ -338,7 +343,7 @@ class Loop:
         st.record("sinks", t3 - t2)
         st.record("tick", t3 - t0)
         if frame.t <= t3 and getattr(self.inputs, "live", True):
-            st.record("capture_age", t3 - frame.t)
+            st.record("capture_age", (t3 if shown is None else shown) - frame.t)
             ready = getattr(self.inputs, "ready_time", None)
             ready = ready(frame.t) if ready is not None else None
             if ready is not None and frame.t != self._last_ready_t:  # once per observation

@@ -271,3 +271,18 @@ def test_the_run_freezes_start_up_objects_and_sets_the_thread_switch_interval():
     assert all(n > 1000 for n, _ in seen)  # the installation's objects left out of GC passes
     assert all(s == pytest.approx(Loop.switch_interval_s) for _, s in seen)
     assert gc.get_freeze_count() == 0 and sys.getswitchinterval() == before
+
+
+def test_capture_to_render_ends_when_the_view_has_presented():
+    """Work after the presenting sink (a recorder, hooks) is not part of capture-to-render; the
+    tick still includes it."""
+
+    class Presenter(Collect):
+        presents = True
+
+    loop = scripted_loop([Presenter(), Collect(delay=0.05)])
+    loop.hooks.append(lambda frame: time.sleep(0.02))
+    loop.run(max_ticks=8)
+    ages = sorted(loop.stats.samples["capture_age"])
+    ticks = sorted(loop.stats.samples["tick"])
+    assert ticks[0] >= 0.07 and ages[len(ages) // 2] < 0.035
