@@ -5,6 +5,8 @@ Stage order per tick: inputs (sources' newest observations fused by the tracker,
 next frame) -> operator commands -> engines (in config order, each seeing the characters of the
 ones before) -> sinks. Sources run in their own threads and hold only their newest observation;
 the loop never queues frames, so a slow sink makes the loop skip ticks, never pile them up.
+Paced, it ticks as soon as a camera frame has been measured (not at the next timer slot), so
+capture-to-render is the frame's measuring plus one tick.
 Strict at start-up, forgiving at run time: an engine or sink that raises is logged (rate-limited)
 and the installation keeps running.
 """
@@ -13,16 +15,19 @@ from __future__ import annotations
 
 import collections
 import dataclasses
+import gc
 import logging
 import math
+import sys
 import threading
 import time
-from typing import Callable, Iterator, Protocol, Sequence
+from typing import Callable, Protocol, Sequence
 
 import numpy as np
 
 from tabletop.frames import (CharacterState, Engine, Frame, Observation, Puck, Sink, Source,
                              SourceHealth)
+from tabletop.replay_inputs import FrameInputs  # noqa: F401  (replays; kept importable here)
 
 log = logging.getLogger("tabletop")
 
@@ -54,7 +59,12 @@ class LoopStats:
     Stages: ``inputs`` (sources and tracker), ``engines`` and ``sinks`` (all of them, and each
     as ``engine:NAME`` / ``sink:NAME``, the view's being its render time), ``tick`` (the whole
     tick) and ``capture_age``, the capture-to-render latency: from the frame's input capture time
-    to the end of its sinks. Read by the view's overlay and by the benchmarks.
+    to its presentation, i.e. the end of the first sink with a true ``presents`` attribute (the
+    view; what later sinks and hooks do, such as recording, comes after the visitor saw it), or
+    the end of the tick when no sink presents. For sources that announce new observations (cameras) also
+    ``source`` (capture to observation ready) and ``queued`` (ready to the tick that took it):
+    ``capture_age`` = ``source`` + ``queued`` + the tick up to the view for those frames. Read by the view's
+    overlay and by the benchmarks.
     """
 
     def __init__(self, window: int = 600) -> None:
@@ -80,9 +90,10 @@ class LoopStats:
     def summary_ms(self) -> dict[str, tuple[float, float]]:
         """Stage -> (median ms, p99 ms) over the kept window."""
         out = {}
-        for stage, d in self.samples.items():
+        for stage, d in list(self.samples.items()):
+            d = list(d)   # other threads may record meanwhile
             if d:
-                a = np.fromiter(d, dtype=float, count=len(d)) * 1e3
+                a = np.asarray(d, dtype=float) * 1e3
                 out[stage] = (float(np.median(a)), float(np.percentile(a, 99)))
         return out
 
@@ -154,13 +165,52 @@ class LiveInputs:
 
     live = True  # frame times are this machine's capture times (capture-to-render is measured)
 
+    READY_KEPT = 16  # announced capture times remembered for the stage figures
+
     def __init__(self, sources: Sequence[Source], tracker: Tracker) -> None:
         self.sources, self.tracker = list(sources), tracker
         self._last_t = -math.inf
+        # Sources with a ``notify`` attribute (cameras) announce each new observation: ``fresh``
+        # is set and the loop ticks at once instead of at its next timer slot (Loop.run).
+        self.follow = True
+        self.fresh = threading.Event()
+        self.arrivals: collections.deque[float] = collections.deque(maxlen=9)  # monotonic s
+        self._ready: dict[float, float] = {}   # capture time -> monotonic time it was announced
+        self._announced: dict[int, float] = {}  # source index -> its newest announced capture time
+        self._lock = threading.Lock()
 
     def open(self) -> None:
-        for s in self.sources:
+        for i, s in enumerate(self.sources):
+            if self.follow and hasattr(s, "notify"):
+                s.notify = lambda t, i=i: self.announce(t, i)
             s.open()
+
+    def announce(self, t: float, source: int = 0) -> None:
+        """The new observation captured at ``t`` (monotonic s) of the ``source``-th source is
+        ready; called from that source's thread."""
+        now = time.monotonic()
+        with self._lock:
+            self.arrivals.append(now)
+            self._ready[t] = now
+            self._announced[source] = t
+            if len(self._ready) > self.READY_KEPT:
+                del self._ready[next(iter(self._ready))]
+        self.fresh.set()
+
+    def ready_time(self, t: float) -> float | None:
+        """When the observation captured at ``t`` was announced (monotonic s), if it was."""
+        with self._lock:
+            return self._ready.get(t)
+
+    def arrival_interval(self, now: float) -> float:
+        """Median seconds between recent announcements; inf when none are coming (fewer than
+        three, or none for three intervals)."""
+        with self._lock:
+            a = list(self.arrivals)
+        if len(a) < 3:
+            return math.inf
+        iv = float(np.median(np.diff(a)))
+        return iv if now - a[-1] < 3.0 * iv else math.inf
 
     def close(self) -> None:
         for s in self.sources:
@@ -171,7 +221,8 @@ class LiveInputs:
 
     def next(self, seq: int, now: float) -> Frame | None:
         observations = []
-        for s in self.sources:
+        taken: dict[int, float] = {}
+        for i, s in enumerate(self.sources):
             try:
                 obs = s.latest()
             except Exception:
@@ -179,6 +230,10 @@ class LiveInputs:
                 obs = None
             if obs is not None:
                 observations.append(obs)
+                taken[i] = obs.t
+        with self._lock:   # all that was announced is taken: nothing fresh is waiting
+            if all(t <= taken.get(i, -math.inf) for i, t in self._announced.items()):
+                self.fresh.clear()
         t = max((o.t for o in observations), default=now)
         t = max(t, now - self.STALE_S, self._last_t)
         self._last_t = t
@@ -199,6 +254,13 @@ class LiveInputs:
 class Loop:
     """Runs the installation at ``rate_hz``: inputs -> commands -> engines -> sinks, once a tick."""
 
+    freeze_gc = True          # keep start-up objects out of the garbage collector's passes
+    FREEZE_AGAIN_TICKS = 120  # ... and what the first ticks made
+    # Python's interpreter lock passes to a waiting thread only after this long (5 ms by
+    # default): the loop woken by a camera frame while the camera thread goes on rendering or
+    # detecting in Python waited 8 ms (median) for it; with 1 ms, 1.2 ms. None: left as it is.
+    switch_interval_s: float | None = 0.001
+
     def __init__(self, inputs: LiveInputs | "FrameInputs", engines: Sequence[Engine],
                  sinks: Sequence[Sink], rate_hz: float = 60.0, stats: LoopStats | None = None,
                  commands: CommandQueue | None = None, stop: threading.Event | None = None,
@@ -218,6 +280,8 @@ class Loop:
         self.focus = DesignerFocus(self.engines)
         self.seq = 0
         self._last_characters: dict[str, tuple[CharacterState, ...]] = {}
+        self._last_ready_t = -math.inf
+        self._tick_start: float | None = None   # clock time the previous tick started
         self._error_log_t: dict[str, float] = {}
 
     def _report(self, where: str) -> None:
@@ -231,7 +295,7 @@ class Loop:
 
     def tick(self) -> Frame | None:
         """Run one tick; returns the completed frame, or None when the inputs are exhausted."""
-        t0 = self.clock()
+        t0 = self._tick_start = self.clock()
         frame = self.inputs.next(self.seq, t0)
         if frame is None:
             return None
@@ -258,6 +322,7 @@ class Loop:
             st.record(f"engine:{engine.name}", te - t_prev)
         t2 = self.clock()
         ts = t2
+        shown: float | None = None   # when a sink that presents (the view) was done
         for sink in self.sinks:
             try:
                 sink.consume(frame)
@@ -265,6 +330,8 @@ class Loop:
                 self._report(f"sink {sink.name}")
             ts, t_prev = self.clock(), ts
             st.record(f"sink:{sink.name}", ts - t_prev)
+            if shown is None and getattr(sink, "presents", False):
+                shown = ts
         for hook in self.hooks:
             try:
                 hook(frame)
@@ -276,7 +343,13 @@ class Loop:
         st.record("sinks", t3 - t2)
         st.record("tick", t3 - t0)
         if frame.t <= t3 and getattr(self.inputs, "live", True):
-            st.record("capture_age", t3 - frame.t)
+            st.record("capture_age", (t3 if shown is None else shown) - frame.t)
+            ready = getattr(self.inputs, "ready_time", None)
+            ready = ready(frame.t) if ready is not None else None
+            if ready is not None and frame.t != self._last_ready_t:  # once per observation
+                self._last_ready_t = frame.t
+                st.record("source", ready - frame.t)
+                st.record("queued", max(0.0, t0 - ready))
         st.tick_times.append(t3)
         if st.first_t is None:
             st.first_t = frame.t
@@ -286,11 +359,22 @@ class Loop:
 
     def run(self, seconds: float | None = None, max_ticks: int | None = None) -> int:
         """Tick at the fixed rate until stopped, ``seconds`` elapsed, ``max_ticks`` ran or the
-        inputs end. A late tick is not made up for: the schedule skips ahead. Returns ticks run."""
+        inputs end. A late tick is not made up for: the schedule skips ahead. Returns ticks run.
+
+        Paced, the loop follows inputs that announce their new observations (cameras): see
+        :meth:`wait_for_slot`. Once the inputs are open, the objects made so far (plugins,
+        models, caches) are frozen out of the garbage collector's passes, which would otherwise
+        walk them all again now and then and stall a tick; and the interpreter lock is handed
+        between threads every ``switch_interval_s``."""
         start = self.clock()
         next_t = start
         ran = 0
         self.inputs.open()
+        if self.freeze_gc:
+            gc.freeze()
+        switch = sys.getswitchinterval()
+        if self.switch_interval_s is not None:
+            sys.setswitchinterval(self.switch_interval_s)
         try:
             while not self.stop.is_set():
                 if seconds is not None and self.clock() - start >= seconds:
@@ -298,13 +382,14 @@ class Loop:
                 if max_ticks is not None and ran >= max_ticks:
                     break
                 if self.paced:
-                    delay = next_t - self.clock()
-                    if delay > 0:
-                        if self.stop.wait(delay):
-                            break
+                    next_t, stopped = self.wait_for_slot(next_t)
+                    if stopped:
+                        break
                 if self.tick() is None:
                     break
                 ran += 1
+                if ran == self.FREEZE_AGAIN_TICKS and self.freeze_gc:
+                    gc.freeze()   # and what the first ticks made (caches, models' buffers)
                 next_t += self.period
                 behind = self.clock() - next_t
                 if behind > self.period:
@@ -312,8 +397,45 @@ class Loop:
                     self.stats.skipped += missed
                     next_t += missed * self.period
         finally:
+            sys.setswitchinterval(switch)
+            if self.freeze_gc:
+                gc.unfreeze()  # what this run made may be collected again (a rebuilt installation)
             self.close()
         return ran
+
+    def wait_for_slot(self, slot: float) -> tuple[float, bool]:
+        """Wait for the tick planned at ``slot`` (clock seconds); returns (the slot the tick
+        stands for, whether the loop was stopped meanwhile).
+
+        Inputs that announce their new observations (``fresh``: cameras) and deliver them no
+        faster than about the loop rate are followed: the tick runs as soon as a new observation
+        arrives (at least a quarter period after the previous tick), so a frame does not wait
+        for the timer, and the schedule moves to that moment. Without one it runs at its slot,
+        or up to a quarter period later when observations come about once a period (0.9 to
+        1.1 periods apart: waiting for a late frame rather than drawing the old one again).
+        Faster inputs, and all others, tick at their slots (a plain timer).
+        """
+        fresh: threading.Event | None = getattr(self.inputs, "fresh", None)
+        p = self.period
+        now = self.clock()
+        interval = (self.inputs.arrival_interval(now) if fresh is not None
+                    and self.clock is time.monotonic else 0.0)
+        if interval < 0.9 * p or not getattr(self.inputs, "follow", False):
+            return slot, slot > now and self.stop.wait(slot - now)
+        earliest = (self._tick_start if self._tick_start is not None else now) + 0.25 * p
+        latest = slot + (0.25 * p if interval <= 1.1 * p else 0.0)
+        while True:
+            if self.stop.is_set():
+                return slot, True
+            now = self.clock()
+            if now >= earliest and fresh.is_set():
+                return min(now, slot + 0.5 * p), False  # a late wake-up keeps the schedule
+            if now >= latest:
+                return slot, False
+            if fresh.is_set():
+                self.stop.wait(earliest - now)
+            else:
+                fresh.wait(min(latest - now, 0.05))
 
     def close(self) -> None:
         """Close the inputs, then the sinks (so a recording is flushed complete)."""
@@ -323,43 +445,3 @@ class Loop:
                 sink.close()
             except Exception:
                 log.exception("sink %s failed to close", sink.name)
-
-
-class FrameInputs:
-    """Inputs from a sequence of recorded frames (replay), optionally paced by their times.
-
-    Each recorded frame keeps its seq and t; its characters are dropped so the engines make them
-    again. With ``honour_times`` the next frame is released when its recorded time, relative to the
-    first, has elapsed on the loop's clock. Recorded times are not this machine's capture
-    times, so no capture-to-render latency is measured.
-    """
-
-    live = False
-
-    def __init__(self, frames: Iterator[Frame], honour_times: bool = True,
-                 clock: Callable[[], float] = time.monotonic,
-                 stop: threading.Event | None = None) -> None:
-        self.frames, self.honour_times, self.clock = frames, honour_times, clock
-        self.stop = stop or threading.Event()  # ends a wait for the next frame at once
-        self._t0: float | None = None
-        self._wall0 = 0.0
-
-    def open(self) -> None:
-        pass
-
-    def close(self) -> None:
-        pass
-
-    def next(self, seq: int, now: float) -> Frame | None:
-        frame = next(self.frames, None)
-        if frame is None:
-            return None
-        if self.honour_times:
-            if self._t0 is None:
-                self._t0, self._wall0 = frame.t, self.clock()
-            delay = (frame.t - self._t0) - (self.clock() - self._wall0)
-            if delay > 0 and self.stop.wait(delay):
-                return None
-        return Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
-                     streams=frame.streams, commands=frame.commands, health=frame.health,
-                     focus=frame.focus)

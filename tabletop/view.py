@@ -384,6 +384,8 @@ def headless_needed(force: bool) -> bool:
 class ProjectorView:
     """Sink: the window (or headless display), key commands, overlay and snapshots."""
 
+    presents = True   # the loop's capture-to-render latency ends when this sink is done
+
     def __init__(self, table: tuple[float, float], options: dict[str, Any],
                  stats: LoopStats | None = None, commands: CommandQueue | None = None,
                  stop: threading.Event | None = None, headless: bool = False,

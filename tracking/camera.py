@@ -244,6 +244,10 @@ class CameraSource:
         self._message = "starting"
         self._retry_at: float | None = None
         self.reconnects = 0  # successful reopenings after a loss (for the overlay and tests)
+        # Called with the capture time of each new observation, from this source's thread (the
+        # loop ticks on it: tabletop.loop.LiveInputs). A loop that follows the frames needs no
+        # phase lock: the lock is only used while nothing is notified.
+        self.notify: Callable[[float], None] | None = None
 
     # ------------------------------------------------------------------ Source protocol
     def open(self) -> None:
@@ -327,7 +331,7 @@ class CameraSource:
         last_good = self.clock()
         while not self._stop.is_set():
             if period:
-                if self.phase_lock is not None:
+                if self.phase_lock is not None and self.notify is None:
                     next_t = self.phase_lock.schedule(next_t, period)
                 wait = next_t - self.clock()
                 if wait > 0 and self._stop.wait(wait):
@@ -370,6 +374,15 @@ class CameraSource:
                 self._latest = obs
             if not self._ok:
                 self._ok, self._message, self._retry_at = True, f"{describe(self.settings.device)} open", None
+        notify = self.notify
+        if notify is not None and obs is not None:
+            notify(t)
+        after = getattr(self.process, "after_publish", None)  # work that may wait (detection)
+        if after is not None:
+            try:
+                after()
+            except Exception:
+                log.exception("%s: work after publishing a frame failed", self.name)
 
     @property
     def frames(self) -> int:

@@ -188,7 +188,10 @@ def angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 # --- Verification of known markers (tracking without re-detection) ---------------------------
 
-_PATTERNS: dict[tuple[int, int], np.ndarray] = {}
+# (id of the dictionary, marker id) -> (the dictionary, its pattern). The dictionary is kept so
+# its id is never reused by another one (a freed dictionary's id can come back for a different
+# dictionary, whose patterns then had the wrong size).
+_PATTERNS: dict[tuple[int, int], tuple[cv2.aruco.Dictionary, np.ndarray]] = {}
 _GRIDS: dict[tuple[int, float], np.ndarray] = {}
 _NEXT = np.array([1, 2, 3, 0])  # corner k -> corner k + 1
 
@@ -197,12 +200,12 @@ def marker_pattern(dictionary: cv2.aruco.Dictionary, marker_id: int) -> np.ndarr
     """The printed cells (S, S) bool of ``marker_id`` with its one-cell black border (True =
     white), rows top to bottom as printed; S = the dictionary's marker size + 2."""
     key = (id(dictionary), int(marker_id))
-    pat = _PATTERNS.get(key)
-    if pat is None:
+    kept = _PATTERNS.get(key)
+    if kept is None:
         s = int(dictionary.markerSize) + 2
         pat = cv2.aruco.generateImageMarker(dictionary, int(marker_id), s, borderBits=1) > 127
-        _PATTERNS[key] = pat
-    return pat
+        kept = _PATTERNS[key] = (dictionary, pat)
+    return kept[1]
 
 
 def _cell_grid(cells: int, spread: float) -> np.ndarray:

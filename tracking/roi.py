@@ -137,13 +137,14 @@ class MarkerTracker:
     many marker sides plus pixels (plus half a frame of motion) beyond the predicted centre.
     ``verify``: track markers seen in the previous frame by corner refinement and verification
     of their code before any detection (``last_pass`` is then "verify" when no region-of-interest
-    pass was needed).
+    pass was needed). ``defer_full``: while markers are known, a due full-frame pass is put off
+    until :meth:`search_pending` (after the frame's result is out).
     """
 
     def __init__(self, full: DetectorSettings = FAST_FULL, roi: DetectorSettings = ROI,
                  full_period: int = 3, roi_margin_sides: float = 0.25, roi_margin_px: float = 6.0,
                  refine_window_px: int = 5, gap_px: int = 8, forget_frames: int = 30,
-                 verify: bool = True) -> None:
+                 verify: bool = True, defer_full: bool = False) -> None:
         if full_period < 1:
             raise ValueError("full_period must be at least 1")
         self.full_detector = make_detector(full)
@@ -158,6 +159,9 @@ class MarkerTracker:
         self.refine_window_px, self.gap_px = int(refine_window_px), int(gap_px)
         self.forget_frames = int(forget_frames)
         self.verify = bool(verify)
+        self.defer_full = bool(defer_full)
+        self._pending: tuple[np.ndarray, int] | None = None   # (image, frame) to search later
+        self._found_late: set[int] = set()
         self.dictionary = dictionary_by_name(roi.dictionary)
         self.frame = 0
         self.known: dict[int, _Known] = {}
@@ -167,6 +171,8 @@ class MarkerTracker:
         """Forget every marker and start with a full-frame pass."""
         self.known.clear()
         self.frame = 0
+        self._pending = None
+        self._found_late.clear()
 
     def predict(self) -> dict[int, tuple[float, float]]:
         """Own prediction of each recently seen marker's centre for the next frame (pixels)."""
@@ -185,9 +191,19 @@ class MarkerTracker:
         if grey.ndim == 3:
             import cv2
             grey = cv2.cvtColor(grey, cv2.COLOR_BGR2GRAY)
+        if self._pending is not None:   # a put-off search nobody ran: run it now
+            self.search_pending()
         self.frame += 1
         preds = self.predict() if predictions_px is None else dict(predictions_px)
+        if self._found_late:
+            # Found by a put-off search, which nobody else has seen yet: where they were just
+            # found says more than a caller's prediction of a puck it lost (or never had).
+            own = self.predict()
+            preds.update({m: own[m] for m in self._found_late if m in own})
+            self._found_late.clear()
         full = (self.frame - 1) % self.full_period == 0 or not preds
+        if full and self.defer_full and preds:
+            self._pending, full = (grey, self.frame), False
         if full:
             self._set_full_min_perimeter(grey.shape)
             ids, corners = detect_markers(grey, self.full_detector)
@@ -210,6 +226,27 @@ class MarkerTracker:
                         ids, corners = dedupe(ids, corners)
         self._remember(ids, corners)
         return ids, corners
+
+    def search_pending(self) -> None:
+        """The full-frame pass that ``detect`` put off (``defer_full``), on the image it was due
+        for: markers it finds that this frame's quick passes did not (a puck put down, one
+        that moved too far) are remembered as seen in that frame and followed from the next.
+        Run it once the frame's result is out (a camera thread, after publishing): the full
+        search costs no latency, and a new puck is reported one frame later."""
+        if self._pending is None:
+            return
+        grey, frame = self._pending
+        self._pending = None
+        if frame != self.frame:
+            return
+        self._set_full_min_perimeter(grey.shape)
+        ids, corners = detect_markers(grey, self.full_detector)
+        new = [i for i, m in enumerate(ids.tolist())
+               if m not in self.known or self.known[m].frame != frame]
+        if new:
+            corners = refine_corners(grey, corners[new], self.refine_window_px)
+            self._remember(ids[new], corners)
+            self._found_late.update(ids[new].tolist())
 
     def _track_known(self, grey: np.ndarray, preds: Mapping[int, tuple[float, float]]
                      ) -> tuple[np.ndarray, np.ndarray]:

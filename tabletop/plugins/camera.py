@@ -150,6 +150,13 @@ class MarkerMeasurer:
         px = self.calibration.table_to_image(np.array([preds[i][:2] for i in ids], float))
         return {i: (float(p[0]), float(p[1])) for i, p in zip(ids, px) if np.all(np.isfinite(p))}
 
+    def after_publish(self) -> None:
+        """Work put off until the frame's observation is out (the detector's full-frame
+        search), run by the camera thread."""
+        search = getattr(self.detector, "search_pending", None)
+        if search is not None:
+            search()
+
     def __call__(self, grey: np.ndarray, t: float, n: int) -> Observation:
         if self.calibration is None:
             self.calibration = stretch_calibration(grey.shape[1], grey.shape[0], self.table)

@@ -10,6 +10,7 @@ installation runs through real images, exactly as a camera would feed it.
 
 from __future__ import annotations
 
+import collections
 import time
 from typing import Any, Callable
 
@@ -53,12 +54,26 @@ SCHEMA = Record({
                              doc="map with this calibration instead of the camera's true one"),
     "keep_image": Bool(False, doc="attach each rendered frame to the observation"),
     "sync_to_loop": Bool(True, doc="time each frame to be ready just before a loop tick, as a "
-                                   "camera triggered by the loop would"),
+                                   "camera triggered by the loop would (only for a loop that "
+                                   "does not tick on the camera's frames itself)"),
 })
 
 
 class SyntheticReader:
-    """A frame reader that renders the script at the moment it is read (``capture_t``)."""
+    """A frame reader that renders the script as it stands at the frame's shutter time
+    (``capture_t``, monotonic s).
+
+    A camera's image exists when its exposure ends; rendering it here is a simulation of the
+    world that costs time no real camera costs the installation. So the shutter is put at the
+    end of the render: the scene is rendered as it will stand when the render is expected to be
+    done (the median of the last ``LEAD_FRAMES`` renders), and the image is never delivered
+    before its shutter time. A render that takes longer than expected delivers late, and that
+    lateness counts in the capture-to-render latency like any other delay. (Waiting for the
+    longest render instead would hold every frame that long: the camera's rate would fall.)
+    """
+
+    LEAD_FRAMES = 10
+    shutter_at_end = True   # False: the shutter at the start of the render (its time counted)
 
     def __init__(self, camera: SyntheticCamera, poses: Callable[[float], list],
                  hands: Callable[[float], list[Occluder]], fps: float,
@@ -68,9 +83,12 @@ class SyntheticReader:
         self.t0 = clock()
         self.capture_t: float | None = None
         self.frame: SyntheticFrame | None = None
+        self.render_s: collections.deque[float] = collections.deque(maxlen=self.LEAD_FRAMES)
 
     def read(self) -> np.ndarray:
-        t = self.clock()
+        start = self.clock()
+        lead = float(np.median(self.render_s)) if self.render_s and self.shutter_at_end else 0.0
+        t = start + lead
         s = t - self.t0
         now = self.poses(s)
         dt = 0.005
@@ -78,6 +96,10 @@ class SyntheticReader:
         velocities = [((p[1] - before[p[0]][1]) / dt, (p[2] - before[p[0]][2]) / dt)
                       if p[0] in before else (0.0, 0.0) for p in now]
         self.frame = self.camera.render(now, t, velocities, self.hands(s))
+        done = self.clock()
+        self.render_s.append(done - start)
+        if t > done:
+            time.sleep(t - done)
         self.capture_t = t
         return self.frame.image
 
@@ -104,6 +126,8 @@ class SyntheticCameraSource(CameraSource):
             obs = measurer(image, t, n)
             self._truth = (obs, self.reader.frame)
             return obs
+
+        process.after_publish = measurer.after_publish
 
         settings = CaptureSettings(device=f"synthetic camera {camera.w}x{camera.h}",
                                    fps=fps, grey=False, stall_s=max(3.0, 10.0 / fps))

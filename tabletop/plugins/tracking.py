@@ -68,6 +68,9 @@ SCHEMA = Record({
     "full_frame_period": Number(4, integer=True, lo=1, hi=30,
                                 doc="a full-frame search every N frames: a puck entering or "
                                     "reappearing anywhere is found within N frames"),
+    "defer_full_frame": Bool(True, doc="while pucks are followed, a camera runs the due "
+                                       "full-frame search after publishing the frame's "
+                                       "result (no latency; a new puck shows a frame later)"),
     "roi_margin_sides": Number(0.25, lo=0.0, hi=10.0,
                                doc="region-of-interest crop margin beyond the marker, in sides"),
     "roi_margin_px": Number(6.0, lo=0.0, hi=500.0, doc="and in pixels"),
@@ -181,4 +184,5 @@ def build_detector(options: Mapping[str, Any] | None = None):
     roi = DetectorSettings(**common, min_perimeter_rate=0.01)
     return MarkerTracker(full, roi, full_period=o["full_frame_period"],
                          roi_margin_sides=o["roi_margin_sides"], roi_margin_px=o["roi_margin_px"],
-                         refine_window_px=o["refine_window_px"], verify=o["verify_known"])
+                         refine_window_px=o["refine_window_px"], verify=o["verify_known"],
+                         defer_full=o["defer_full_frame"])

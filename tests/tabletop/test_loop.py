@@ -187,3 +187,102 @@ def test_no_designer_targets_means_no_focus():
     sink = Collect()
     scripted_loop([sink]).run(max_ticks=3)
     assert all(f.focus is None for f in sink.frames)
+
+
+class AnnouncingSource(CountingSource):
+    """A camera-like source: observations at ``hz`` starting ``phase`` seconds after opening,
+    each announced through ``notify`` (set by the loop's inputs) once it is ready."""
+
+    def __init__(self, hz: float, phase: float) -> None:
+        super().__init__(hz)
+        self.phase = phase
+        self.notify = None
+        self.announced: list[float] = []
+
+    def _run(self) -> None:
+        next_t = time.monotonic() + self.phase
+        while not self._stop.wait(max(0.0, next_t - time.monotonic())):
+            t = time.monotonic()
+            self.produced += 1
+            with self._lock:
+                self._latest = Observation(self.name, t, self.produced)
+            self.announced.append(t)
+            if self.notify is not None:
+                self.notify(t)
+            next_t += 1.0 / self.hz
+
+
+@pytest.mark.parametrize("follow", [True, False])
+def test_the_paced_loop_ticks_when_a_frame_is_ready_not_at_its_timer(follow):
+    """Frames at the loop's rate arriving half a period after its timer slots: followed, each
+    tick takes a frame just announced (``queued`` well under the half period the timer makes it
+    wait), every frame is drawn once, and the stages before the tick are recorded."""
+    rate = 10.0
+    source = AnnouncingSource(hz=rate, phase=0.05)
+    sink = Collect()
+    inputs = LiveInputs([source], LatestMeasurements())
+    inputs.follow = follow
+    loop = Loop(inputs, [], [sink], rate_hz=rate)
+    loop.run(seconds=1.6)
+    queued = list(loop.stats.samples["queued"])[3:] if follow else [
+        c - f.t for f, c in zip(sink.frames, sink.consumed_at)][3:]
+    queued.sort()
+    median = queued[len(queued) // 2]
+    if follow:
+        assert median < 0.2 / rate  # the timer would have made each frame wait 0.5 / rate
+        fresh = [f.t for f in sink.frames[3:]]
+        assert len(set(fresh)) >= len(fresh) - 1  # no frame drawn twice (one miss allowed)
+        assert len(loop.stats.samples["source"]) >= 10
+    else:
+        assert median > 0.3 / rate  # the plain timer: each frame waits for the next slot
+        assert "queued" not in loop.stats.samples or not loop.stats.samples["queued"]
+
+
+def test_a_faster_source_keeps_the_loop_at_its_rate():
+    """Observations announced at three times the loop rate do not make it tick faster."""
+    source = AnnouncingSource(hz=90.0, phase=0.0)
+    sink = Collect()
+    loop = Loop(LiveInputs([source], LatestMeasurements()), [], [sink], rate_hz=30.0)
+    loop.run(seconds=1.0)
+    assert 20 <= len(sink.frames) <= 36
+    assert len(source.announced) >= 60
+
+
+def test_a_silent_announcing_source_leaves_the_timer_ticking():
+    """A camera that announces nothing (unplugged) does not stop the loop: the timer ticks."""
+    source = AnnouncingSource(hz=0.5, phase=5.0)
+    sink = Collect()
+    Loop(LiveInputs([source], LatestMeasurements()), [], [sink], rate_hz=40.0).run(seconds=0.5)
+    assert len(sink.frames) >= 12 and not source.announced
+
+
+def test_the_run_freezes_start_up_objects_and_sets_the_thread_switch_interval():
+    import gc
+    import sys
+    seen = []
+    before = sys.getswitchinterval()
+
+    def hook(frame):
+        seen.append((gc.get_freeze_count(), sys.getswitchinterval()))
+
+    loop = scripted_loop([Collect()])
+    loop.hooks.append(hook)
+    loop.run(max_ticks=3)
+    assert all(n > 1000 for n, _ in seen)  # the installation's objects left out of GC passes
+    assert all(s == pytest.approx(Loop.switch_interval_s) for _, s in seen)
+    assert gc.get_freeze_count() == 0 and sys.getswitchinterval() == before
+
+
+def test_capture_to_render_ends_when_the_view_has_presented():
+    """Work after the presenting sink (a recorder, hooks) is not part of capture-to-render; the
+    tick still includes it."""
+
+    class Presenter(Collect):
+        presents = True
+
+    loop = scripted_loop([Presenter(), Collect(delay=0.05)])
+    loop.hooks.append(lambda frame: time.sleep(0.02))
+    loop.run(max_ticks=8)
+    ages = sorted(loop.stats.samples["capture_age"])
+    ticks = sorted(loop.stats.samples["tick"])
+    assert ticks[0] >= 0.07 and ages[len(ages) // 2] < 0.035

@@ -176,3 +176,22 @@ def test_phase_lock_times_frames_to_finish_just_before_a_tick():
     # Never more than half a frame period early, never for a loop that stopped calling.
     assert lock.schedule(last + 0.012, tick) >= last + 0.012 - 0.5 * tick
     assert lock.schedule(last + 2.0, tick) == last + 2.0
+
+
+def test_a_new_observation_is_announced_with_its_capture_time(tmp_path):
+    """``notify`` is called from the capture thread once the observation is published: the
+    loop then finds it in ``latest()``."""
+    folder = tmp_path / "f"
+    folder.mkdir()
+    for k in range(6):
+        cv2.imwrite(str(folder / f"{k:02d}.png"), frame(k))
+    src = CameraSource("cam", CameraSettings(device=str(folder), fps=50.0), counting_process([]))
+    got = []
+    src.notify = lambda t: got.append((t, src.latest()))
+    src.open()
+    try:
+        assert wait_for(lambda: len(got) >= 5)
+    finally:
+        src.close()
+    assert all(obs is not None and obs.t == t for t, obs in got)
+    assert [t for t, _ in got] == sorted(t for t, _ in got)

@@ -208,3 +208,38 @@ def test_tracker_predictions_guide_the_detector_to_the_right_pixels(tmp_path):
         src.close()
     assert len(errors) >= 60
     assert np.median(errors) <= 3.0 and np.percentile(errors, 95) <= 10.0  # pixels
+
+
+def test_synthetic_frames_show_the_scene_at_their_shutter_and_are_never_early(tmp_path):
+    """The synthetic camera's shutter is at the end of its render: each frame shows the script
+    as it stands at the frame's capture time, is announced (``notify``) with that time once its
+    observation is ready, and never before that time."""
+    src, _ = build({"kind": "synthetic_camera", "pucks": [1, 2], "seed": 3, "fps": 30.0,
+                    "resolution": [640, 360], "hands": {"every_s": 0}}, tmp_path)
+    announced = []
+
+    def notify(t):
+        obs, frame = src.truth()
+        announced.append((t, time.monotonic(), obs, frame))
+
+    src.notify = notify
+    render, started = src.camera.render, {}
+
+    def timed_render(poses, t, *args):
+        started[t] = time.monotonic()
+        return render(poses, t, *args)
+
+    src.camera.render = timed_render
+    src.open()
+    try:
+        assert wait_for(lambda: len(announced) >= 8)
+    finally:
+        src.close()
+    reader = src.reader
+    assert len(reader.render_s) >= 7 and min(reader.render_s) > 0.0
+    for t, at, obs, frame in announced:
+        assert obs.t == frame.t == t and at >= t
+        assert t > started[t] or t == announced[0][0]  # the render's own time is not latency
+        script = {p[0]: p[1:3] for p in reader.poses(t - reader.t0)}
+        for pid, (x, y) in zip(frame.ids.tolist(), frame.poses[:, :2].tolist()):
+            assert (x, y) == pytest.approx(script[pid], abs=1e-9)

@@ -137,3 +137,33 @@ def test_the_default_fast_full_pass_finds_markers_at_every_camera_resolution(res
     f = cam.render(poses, t, vels)
     ids, _ = MarkerTracker(full=full).detect(f.image)
     assert set(ids.tolist()) == set(f.ids[f.visible].tolist()) and len(ids) == 4
+
+
+@pytest.mark.parametrize("after_publish", [True, False])
+def test_a_put_off_full_pass_finds_a_newcomer_one_frame_later(after_publish):
+    """``defer_full``: a due full-frame pass runs after the frame's result (search_pending), so
+    the quick passes alone make the result; a marker put down is reported within full_period
+    + 1 frames, also when nobody runs the put-off search (the next detect runs it first), and
+    followed from then on by a caller that predicts only what it was told of."""
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=2))
+    base = grid_poses(4, seed=1)
+    newcomer = (30, 0.6, 0.6, 0.3)
+    for start in range(3):
+        mt = MarkerTracker(full_period=3, defer_full=True)
+        passes, found_at, told = [], None, set()
+        for k in range(9):
+            poses = base + ([newcomer] if k >= start + 2 else [])
+            own = mt.predict()
+            preds = {m: own[m] for m in own if m in told} if k > 0 else None
+            ids, _ = mt.detect(cam.render(poses, k / 30.0).image, preds)
+            passes.append(mt.last_pass)
+            told.update(ids.tolist())
+            if after_publish:
+                mt.search_pending()
+            if found_at is not None:
+                assert 30 in ids.tolist()  # followed from then on
+            if k >= start + 2 and found_at is None and 30 in ids.tolist():
+                found_at = k
+            assert {0, 1, 2, 3} <= set(ids.tolist())
+        assert passes[0] == "full" and "full" not in passes[1:]
+        assert found_at is not None and found_at - (start + 2) <= 3
