@@ -52,7 +52,8 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
     paths = kiosk_paths(cfg, config_path.resolve().parent)
     setup_log_file(paths["log_file"], k["log_max_bytes"], k["log_backups"])
     policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
-    sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"])
+    sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
+                     spares=k["spares"])
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()

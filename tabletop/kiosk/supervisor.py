@@ -15,11 +15,13 @@
   ``NotifyAccess=main`` is enough.
 - SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
 - A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too.
-- A warm spare (``spare=True``): the next child is started early (with the first child, then
-  once a child is ready) and waits for ``go RESTARTS`` on its stdin (``$TABLETOP_WAIT_GO``) with
-  its libraries imported, its config validated and its engines built
+- Warm spares (``spares``, 2): the next children are started early (with the first child,
+  then once a child is ready) and wait for ``go RESTARTS`` on their stdin (``$TABLETOP_WAIT_GO``)
+  with their libraries imported, config validated and engines built
   (:mod:`tabletop.kiosk.spare`); a restart then costs opening the sources and the window and
-  drawing a frame. A child's exit is seen at once (a pidfd in the supervisor's wait).
+  drawing a frame. The oldest spare goes first: with two, a crash and then a stall soon after
+  both find a spare that finished preparing, even on a loaded machine. A child's exit is seen
+  at once (a pidfd in the supervisor's wait).
 """
 
 from __future__ import annotations
@@ -101,7 +103,7 @@ class Supervisor:
     def __init__(self, command: Sequence[str], policy: Policy, crash_log: Path,
                  env: dict[str, str] | None = None, notifier: Notifier | None = None,
                  echo: bool = True, clock: Callable[[], float] = time.monotonic,
-                 spare: bool = True) -> None:
+                 spares: int = 2) -> None:
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
         self.env = dict(os.environ if env is None else env)
         self.notifier = notifier or Notifier()
@@ -116,8 +118,8 @@ class Supervisor:
         self._sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
         self._sock.bind(str(self.socket_path))
         self._announced = False
-        self.use_spare = spare
-        self._spare: Child | None = None
+        self.spares = max(0, int(spares))
+        self._spares: list[Child] = []             # oldest first
 
     # --- one child --------------------------------------------------------------------------
 
@@ -142,8 +144,13 @@ class Supervisor:
         return child
 
     def _spawn(self) -> Child:
-        spare, self._spare = self._spare, None
-        if spare is not None and spare.process.poll() is None:
+        spare = None
+        while self._spares and spare is None:
+            spare = self._spares.pop(0)
+            if spare.process.poll() is not None:  # a spare that died waiting
+                self._end(spare)
+                spare = None
+        if spare is not None:
             try:
                 assert spare.process.stdin is not None
                 spare.process.stdin.write(f"go {self.starts}\n")
@@ -155,17 +162,19 @@ class Supervisor:
                 self._end(spare)
                 child = self._process(False)
         else:
-            if spare is not None:
-                self._end(spare)
             child = self._process(False)
         self.starts += 1
         child.number = self.starts
         self.warm.append(child.warm)
         log.info("supervisor: started the installation (pid %d, start %d%s)", child.process.pid,
                  self.starts, ", warm spare" if child.warm else "")
-        if self.use_spare and not child.warm:     # a cold start: its spare starts with it
-            self._spare = self._process(True)
+        if not child.warm:            # a cold start: its spares start with it
+            self._top_up()
         return child
+
+    def _top_up(self) -> None:
+        while len(self._spares) < self.spares:
+            self._spares.append(self._process(True))
 
     @staticmethod
     def _end(child: Child) -> None:
@@ -174,10 +183,10 @@ class Supervisor:
         child.process.wait()
         child.close()
 
-    def _kill_spare(self) -> None:
-        if self._spare is not None:
-            self._end(self._spare)
-            self._spare = None
+    def _kill_spares(self) -> None:
+        for spare in self._spares:
+            self._end(spare)
+        self._spares = []
 
     def _read_stderr(self, child: Child) -> None:
         assert child.process.stderr is not None
@@ -212,8 +221,7 @@ class Supervisor:
             log.info("supervisor: installation ready after %.2f s", now - child.started)
             if not self._announced:
                 self._announced = self.notifier.send("READY=1")
-            if self.use_spare and self._spare is None:
-                self._spare = self._process(True)
+            self._top_up()
         elif msg == "WATCHDOG=1":
             child.last_ping = now
             self.notifier.send("WATCHDOG=1")
@@ -327,7 +335,7 @@ class Supervisor:
             self._terminate(child)
             return 0
         finally:
-            self._kill_spare()
+            self._kill_spares()
             self.notifier.send("STOPPING=1")
             self._sock.close()
             try:
