@@ -1,13 +1,15 @@
 """Kiosk benchmark: how long the supervisor takes to have the table back, and what a durable
 recording costs.
 
-Recovery: each round runs the supervisor on a small installation (scripted pucks, one reactor,
-headless view) with the drill engine crashing it (SIGABRT in an engine) ``after_s`` into its
-first start and freezing its frame loop ``after_s`` into its second (``after_s`` cycles through
-0.5, 1 and 2 s: a crash soon after a restart finds a spare still preparing). Measured: from the
-crash (the child's death) or the stall's detection (no frame for ``stall_s`` = 1 s) to the new
+Recovery: the supervisor runs a small installation (scripted pucks, one reactor, headless
+view) with the drill engine crashing it (SIGABRT in an engine) ``after_s`` into every even start
+and freezing its frame loop ``after_s`` into every odd one (``after_s`` cycles through 0.5, 1
+and 2 s: a failure soon after a restart finds spares still preparing). Each child runs longer
+than ``healthy_s`` (0.3 s here), so every restart is immediate, as after a first failure (a
+second failure in a row would wait ``backoff_s[0]``, 0.1 s, more). Measured: from the crash (the
+child's death) or the stall's detection (no frame for ``stall_s`` = 1 s) to the new
 installation's READY. Compared, interleaved A B C A B C: two warm spares (the default), one,
-and none (2 rounds only). Budget (issue 15): back within 2 s.
+none. Budget (issue 15): back within 2 s.
 
 Recording: frames of a 16-puck table handed over at 60 Hz for ``REC_S`` seconds, interleaved
 A B C: the recorder (the frame loop serialises the frame and enqueues the line; a writer
@@ -41,17 +43,23 @@ from tabletop.kiosk.supervisor import Policy, Supervisor  # noqa: E402
 from tabletop.recorder import Recorder  # noqa: E402
 from tabletop.session import frame_to_dict  # noqa: E402
 
-ROUNDS = 6
-NO_SPARE_ROUNDS = 2
-SPARES = {"two_spares": 2, "one_spare": 1, "no_spare": 0}     # two: the default
+CHUNKS = 2              # supervisor runs per configuration, interleaved A B C A B C
+CYCLES = 4              # crash + stall cycles per run
 AFTER_S = (0.5, 1.0, 2.0)
 STALL_S = 1.0
 BACKOFF_S = (0.1, 2.0)
-REC_ROUNDS = 4
+HEALTHY_S = 0.3
+SPARES = {"two_spares": 2, "one_spare": 1, "no_spare": 0}     # two: the default
+REC_ROUNDS = 3
 REC_S = 3.0
 
 
-def one_round(spares: int, after_s: float) -> tuple[float, float, bool, bool]:
+def one_run(spares: int, cycles: int) -> tuple[list[float], list[float], list[bool]]:
+    """One supervisor run: start 2k crashes, start 2k+1 stalls, each ``after_s`` into its run.
+    Returns seconds from each crash and each detected stall to the next READY, and whether
+    each restart was a prepared spare."""
+    faults = [{"start": k, "after_s": AFTER_S[(k // 2) % len(AFTER_S)],
+               "kind": "crash" if k % 2 == 0 else "stall"} for k in range(2 * cycles)]
     with tempfile.TemporaryDirectory() as d:
         cfg = Path(d) / "config.yaml"
         cfg.write_text(yaml.safe_dump({
@@ -59,50 +67,48 @@ def one_round(spares: int, after_s: float) -> tuple[float, float, bool, bool]:
             "sources": [{"kind": "scripted", "pucks": [1, 2]}],
             "engines": [{"kind": "puppet_master", "name": "lover", "main": {"puck": 1},
                          "behavior": str(ROOT / "behaviors" / "library" / "lover")},
-                        {"kind": "fault", "name": "drill", "faults": [
-                            {"start": 0, "after_s": after_s, "kind": "crash"},
-                            {"start": 1, "after_s": after_s, "kind": "stall"}]}],
+                        {"kind": "fault", "name": "drill", "faults": faults}],
             "view": {"size": [320, 180], "headless": True},
             "kiosk": {"heartbeat": {"enabled": False}},
         }))
         sup = Supervisor([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
                           "--kiosk", "--headless"],
-                         Policy(stall_s=STALL_S, backoff_s=BACKOFF_S), Path(d) / "crashes.log",
-                         echo=False, spares=spares)
+                         Policy(stall_s=STALL_S, backoff_s=BACKOFF_S, healthy_s=HEALTHY_S),
+                         Path(d) / "crashes.log", echo=False, spares=spares)
         th = threading.Thread(target=sup.run)
         th.start()
-        end = time.monotonic() + 120
-        while time.monotonic() < end and [e for e, _ in sup.events].count("ready") < 3:
+        end = time.monotonic() + 150
+        while time.monotonic() < end and \
+                [e for e, _ in sup.events].count("ready") < 2 * cycles + 1:
             time.sleep(0.02)
         sup.stop.set()
         th.join(60)
     ev = sup.events
     kinds = [e for e, _ in ev]
-    assert kinds[:5] == ["ready", "crash", "ready", "stall", "ready"], kinds
-    return ev[2][1] - ev[1][1], ev[4][1] - ev[3][1], sup.warm[1], sup.warm[2]
+    assert kinds == ["ready"] + ["crash", "ready", "stall", "ready"] * cycles, kinds
+    crash = [ev[i + 1][1] - ev[i][1] for i in range(len(ev) - 1) if ev[i][0] == "crash"]
+    stall = [ev[i + 1][1] - ev[i][1] for i in range(len(ev) - 1) if ev[i][0] == "stall"]
+    return crash, stall, sup.warm[1:]
 
 
 def recovery() -> dict:
-    got: dict[str, list[tuple[float, float, bool, bool]]] = {k: [] for k in SPARES}
-    for i in range(ROUNDS):
+    got: dict[str, tuple[list, list, list]] = {k: ([], [], []) for k in SPARES}
+    for _ in range(CHUNKS):
         for name, spares in SPARES.items():
-            if name == "no_spare" and i >= NO_SPARE_ROUNDS:
-                continue
-            got[name].append(one_round(spares, AFTER_S[i % len(AFTER_S)]))
+            for acc, xs in zip(got[name], one_run(spares, CYCLES)):
+                acc.extend(xs)
     figures = {}
-    for name, rows in got.items():
-        crash = [r[0] for r in rows]
-        stall = [r[1] for r in rows]
+    for name, (crash, stall, warm) in got.items():
         figures[f"{name}_crash_to_ready_s_median"] = round(statistics.median(crash), 3)
         figures[f"{name}_crash_to_ready_s_max"] = round(max(crash), 3)
         figures[f"{name}_stall_detected_to_ready_s_median"] = round(statistics.median(stall), 3)
         figures[f"{name}_stall_detected_to_ready_s_max"] = round(max(stall), 3)
         figures[f"{name}_crash_to_ready_s_all"] = [round(x, 3) for x in crash]
         figures[f"{name}_stall_detected_to_ready_s_all"] = [round(x, 3) for x in stall]
-        figures[f"{name}_restarts_warm"] = sum(r[2] + r[3] for r in rows)
-        figures[f"{name}_restarts"] = 2 * len(rows)
-    figures.update(rounds=ROUNDS, after_s=list(AFTER_S), backoff_s=list(BACKOFF_S),
-                   stall_s=STALL_S)
+        figures[f"{name}_restarts_warm"] = sum(warm)
+        figures[f"{name}_restarts"] = len(warm)
+    figures.update(runs_per_configuration=CHUNKS, cycles_per_run=CYCLES, after_s=list(AFTER_S),
+                   backoff_s=list(BACKOFF_S), healthy_s=HEALTHY_S, stall_s=STALL_S)
     return figures
 
 
