@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 MAX_SECONDS = 10 * 365 * 86_400.0  # ten years: a longer run is a typing mistake
