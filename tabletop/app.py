@@ -148,14 +148,16 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
                stats: LoopStats | None = None, stop: threading.Event | None = None,
                clock: Callable[[], float] | None = None,
                wrap_source: Callable[[Any, dict], Any] | None = None,
-               header_extra: dict[str, Any] | None = None) -> Installation:
+               header_extra: dict[str, Any] | None = None,
+               prepared: tuple[BuildContext, list[Engine]] | None = None) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
 
     ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
     replaces the monotonic clock and unpaces the loop (simulated time:
     :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
-    ``header_extra``: more keys for a recording's header (the studio's)."""
-    ctx = _context(cfg)
+    ``header_extra``: more keys for a recording's header (the studio's). ``prepared``: the
+    context and engines already built for ``cfg`` (a kiosk's warm spare)."""
+    ctx = _context(cfg) if prepared is None else prepared[0]
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     if clock is not None:
@@ -166,7 +168,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     if wrap_source is not None:
         sources = [wrap_source(src, entry) for src, entry in zip(sources, cfg["sources"])]
     ctx.shared["sources"] = sources
-    engines = build_engines(cfg, ctx)
+    engines = build_engines(cfg, ctx) if prepared is None else prepared[1]
     header = None
     if header_extra:
         from tabletop.recorder import session_header

@@ -11,23 +11,32 @@
 - A write that fails (a full disk) stops recording with one clear log line; the installation
   keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
 
-Every line is handed to the operating system as it is written (a killed process loses at most
-the line being written); a background thread syncs the file to disk every ``flush_every_s``
-(a power cut loses at most that much) and each file is fsynced when it is closed.
+Durable line by line, never on the frame loop: :meth:`Recorder.consume` (the frame loop)
+serialises the frame and hands the line to a writer thread, which writes it and fdatasyncs the
+file before it writes the next one, so a power cut or a ``kill -9`` loses at most the line in
+flight. A new file (and its folder entry) is synced before its first frame. When lines come
+faster than the disk syncs them, the writer writes the lines waiting together and syncs once
+(logged when a line waited 0.5 s, at most every 10 s); more than ``max_queue`` lines waiting
+(a disk that stopped) stops the recording like a full disk. :attr:`Recorder.durability` counts
+lines and syncs and keeps the latest durability latencies (line handed over -> on disk).
 """
 
 from __future__ import annotations
 
+import collections
 import datetime as _dt
 import errno
 import json
 import logging
 import os
 import threading
+import time
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from tabletop import __version__
+from tabletop.files import fsync_folder
 from tabletop.frames import Frame
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
@@ -63,19 +72,34 @@ def _stamp() -> str:
     return _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
 
 
+@dataclass
+class Durability:
+    """What the writer thread has made durable: lines, fdatasyncs, and the latest latencies
+    (seconds from :meth:`Recorder.consume` handing a line over to its sync returning)."""
+
+    lines: int = 0
+    syncs: int = 0
+    waited_max: int = 0               # most lines written by one sync
+    latencies_s: collections.deque = field(
+        default_factory=lambda: collections.deque(maxlen=4096))
+
+
 class Recorder:
     """Sink writing every frame to session files (JSON Lines); see the module docstring.
 
     Exactly one of ``path`` (a file name) or ``folder`` is given. ``header``: from
-    :func:`session_header` (built once, written at the top of every part).
+    :func:`session_header` (built once, written at the top of every part). ``max_queue``:
+    lines that may wait for the disk before the recording stops.
     """
 
     name = "recorder"
+    SLOW_S = 0.5                      # a line waiting this long for the disk is logged
+    SLOW_LOG_EVERY_S = 10.0
 
     def __init__(self, path: str | Path | None = None, header: dict[str, Any] | None = None,
                  folder: str | Path | None = None, max_mb: float | None = None,
-                 keep: int | None = None, flush_every_s: float = 0.5, config: Any = None,
-                 calibration: dict[str, Any] | None = None) -> None:
+                 keep: int | None = None, config: Any = None,
+                 calibration: dict[str, Any] | None = None, max_queue: int = 1024) -> None:
         if (path is None) == (folder is None):
             raise ValueError("give exactly one of path or folder")
         if header is None:
@@ -89,16 +113,19 @@ class Recorder:
         else:
             self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"
         self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
-        self.keep, self.flush_every_s = keep, flush_every_s
+        self.keep, self.max_queue = keep, max(1, int(max_queue))
         self.paths: list[Path] = []      # every file of this session, in order
-        self.frames = 0
+        self.frames = 0                  # frames handed to the writer
         self.failed: str | None = None   # why recording stopped early, if it did
+        self.durability = Durability()
         self._f: Any = None
         self._size = 0
         self._t0: float | None = None
         self._first_in_file = True
-        self._dirty = threading.Event()
-        self._closing = threading.Event()
+        self._queue: collections.deque = collections.deque()   # (dict, line, handed-over time)
+        self._cv = threading.Condition()
+        self._closing = False
+        self._slow_logged = -float("inf")
         try:
             self._open_part()
         except OSError as exc:
@@ -106,28 +133,16 @@ class Recorder:
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
                                    f"{exc.strerror or exc}") from None
             self._fail(exc)  # a full disk: the installation runs, without recording
-        self._syncer = threading.Thread(target=self._sync, name="recorder-sync", daemon=True)
-        self._syncer.start()
-
-    def _sync(self) -> None:
-        """Sync written lines to disk at most every ``flush_every_s``, off the frame loop."""
-        while not self._closing.is_set():
-            if self._dirty.wait(0.5) and not self._closing.is_set():
-                self._dirty.clear()
-                try:
-                    f = self._f
-                    if f is not None and not f.closed:
-                        os.fdatasync(f.fileno())
-                except (OSError, ValueError) as exc:   # ValueError: closed meanwhile
-                    log.debug("recording %s: sync skipped: %s", self.paths[-1], exc)
-                self._closing.wait(self.flush_every_s)
+        self._writer = threading.Thread(target=self._write_lines, name="recorder-writer",
+                                        daemon=True)
+        self._writer.start()
 
     @property
     def path(self) -> Path:
         """The file being written (the last one when finished)."""
         return self.paths[-1]
 
-    # -- files --------------------------------------------------------------------------------
+    # -- files (the writer thread's, and __init__'s for the first) ------------------------------
 
     def _candidates(self):
         if self.stem is None:
@@ -158,6 +173,9 @@ class Recorder:
         header = dict(self._header, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
+        self._f.flush()
+        os.fdatasync(self._f.fileno())
+        fsync_folder(self.folder)        # the new file's name survives a power cut too
         self._prune()
 
     def _mine(self, p: Path) -> bool:
@@ -187,11 +205,12 @@ class Recorder:
         self._f.write(data)
         self._size += len(data)
 
-    def _fail(self, exc: OSError) -> None:
+    def _fail(self, exc: OSError | str) -> None:
         where = self.paths[-1] if self.paths else self.folder
-        self.failed = f"{where}: {exc.strerror or exc}"
+        why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
+        self.failed = f"{where}: {why}"
         log.error("recording stopped after %d frames: %s; the installation keeps running",
-                  self.frames, self.failed)
+                  self.durability.lines, self.failed)
         try:
             if self._f is not None:
                 self._f.close()
@@ -203,42 +222,95 @@ class Recorder:
             except OSError:
                 pass
 
-    # -- the sink -----------------------------------------------------------------------------
-
-    def consume(self, frame: Frame) -> None:
-        if self.failed is not None or self._f is None or self._f.closed:
-            return
-        d = frame_to_dict(frame, self._t0 if self._t0 is not None else frame.t)
-        if self._t0 is None:
-            self._t0 = frame.t
-        if self._first_in_file:
-            d["t0"] = self._t0
-        if self._t0 + d["t"] != frame.t:
-            d["t_mono"] = frame.t   # exactness: t0 + t would round differently
-        line = (json.dumps(d, separators=(",", ":"), allow_nan=False) + "\n").encode()
-        try:
-            if self.max_bytes is not None and not self._first_in_file and \
-                    self._size + len(line) > self.max_bytes:
-                self._close_file()
-                self._open_part()
-                d["t0"] = self._t0
-                line = (json.dumps(d, separators=(",", ":"), allow_nan=False) + "\n").encode()
-            self._write(line)
-            self._first_in_file = False
-            self.frames += 1
-            self._f.flush()
-            self._dirty.set()
-        except OSError as exc:
-            self._fail(exc)
-
     def _close_file(self) -> None:
         self._f.flush()
         os.fsync(self._f.fileno())
         self._f.close()
 
+    # -- the writer thread ----------------------------------------------------------------------
+
+    def _write_lines(self) -> None:
+        """Write what waits, fdatasync, repeat; until closed and nothing waits."""
+        while True:
+            with self._cv:
+                while not self._queue and not self._closing:
+                    self._cv.wait()
+                if not self._queue:
+                    return
+                batch = list(self._queue)
+                self._queue.clear()
+            if self._f is None or self._f.closed:
+                continue                 # stopped by a failed write: what waits is dropped
+            try:
+                for d, line, _ in batch:
+                    if self.max_bytes is not None and not self._first_in_file and \
+                            self._size + len(line) > self.max_bytes:
+                        self._close_file()
+                        self._open_part()
+                    if self._first_in_file and "t0" not in d:
+                        d["t0"] = self._t0       # each part's first frame carries t0
+                        line = _encode(d)
+                    self._write(line)
+                    self._first_in_file = False
+                self._f.flush()
+                os.fdatasync(self._f.fileno())
+            except OSError as exc:
+                self._fail(exc)
+                continue
+            self._synced(batch)
+
+    def _synced(self, batch: list) -> None:
+        now = time.monotonic()
+        dur = self.durability
+        dur.lines += len(batch)
+        dur.syncs += 1
+        dur.waited_max = max(dur.waited_max, len(batch))
+        dur.latencies_s.extend(now - t for _, _, t in batch)
+        waited = now - batch[0][2]
+        if len(batch) > 1 and waited >= self.SLOW_S and \
+                now - self._slow_logged >= self.SLOW_LOG_EVERY_S:
+            self._slow_logged = now
+            log.warning("recording %s: the disk is slower than the frames: %d lines waited "
+                        "%.0f ms for one sync", self.path, len(batch), waited * 1e3)
+
+    # -- the sink (the frame loop) --------------------------------------------------------------
+
+    def consume(self, frame: Frame) -> None:
+        """Serialise the frame and hand its line to the writer thread; never waits for it."""
+        if self.failed is not None or self._closing:
+            return
+        d = frame_to_dict(frame, self._t0 if self._t0 is not None else frame.t)
+        if self._t0 is None:
+            self._t0 = d["t0"] = frame.t
+        if self._t0 + d["t"] != frame.t:
+            d["t_mono"] = frame.t   # exactness: t0 + t would round differently
+        line = _encode(d)
+        now = time.monotonic()
+        with self._cv:
+            if len(self._queue) >= self.max_queue:   # the lines waiting are still written
+                waited = now - self._queue[0][2]
+                self.failed = (f"{self.path}: the disk cannot keep up ({self.max_queue} lines "
+                               f"waited, the oldest {waited:.1f} s)")
+                log.error("recording stopped after %d frames: %s; the installation keeps "
+                          "running", self.frames, self.failed)
+                return
+            self._queue.append((d, line, now))
+            self._cv.notify()
+        self.frames += 1
+
+    def _stop_writer(self, timeout_s: float = 30.0) -> bool:
+        """Let the writer finish what waits; False when the disk did not let it."""
+        with self._cv:
+            self._closing = True
+            self._cv.notify()
+        self._writer.join(timeout_s)
+        return not self._writer.is_alive()
+
     def discard(self) -> None:
         """Close and remove what was written (the installation did not start)."""
-        self._stop_syncer()
+        with self._cv:
+            self._queue.clear()
+        self._stop_writer()
         try:
             if self._f is not None:
                 self._f.close()
@@ -250,18 +322,23 @@ class Recorder:
             except OSError:
                 pass
 
-    def _stop_syncer(self) -> None:
-        self._closing.set()
-        if getattr(self, "_syncer", None) is not None:
-            self._syncer.join()
-
     def close(self) -> None:
-        self._stop_syncer()
-        if self.failed is not None or self._f is None or self._f.closed:
+        """Write and sync every line handed over, then close the file."""
+        if not self._stop_writer():
+            log.error("recording %s: the disk did not take the last %d lines within 30 s",
+                      self.path, len(self._queue))
+            return
+        if self._f is None or self._f.closed:
             return
         try:
             self._close_file()
         except OSError as exc:
-            self._fail(exc)
+            if self.failed is None:
+                self._fail(exc)
             return
-        log.info("recording %s: %d frames", self.path, self.frames)
+        if self.failed is None:
+            log.info("recording %s: %d frames", self.path, self.durability.lines)
+
+
+def _encode(d: dict[str, Any]) -> bytes:
+    return (json.dumps(d, separators=(",", ":"), allow_nan=False) + "\n").encode()

@@ -29,6 +29,21 @@ def smoothstep(tau: float) -> float:
     return tau * tau * (3.0 - 2.0 * tau)
 
 
+HISTORY_S = 600.0   # how far back a script remembers, seconds (a kiosk runs it for weeks)
+_FORGET_AT = 64     # stale entries dropped at once (dropping from a list's front is O(n))
+
+
+def forget(entries: list, starts: list[float], t: float) -> bool:
+    """Drop the entries (and their start times) that ended over :data:`HISTORY_S` before
+    ``t``, once there are enough of them; True when some were dropped."""
+    stale = bisect.bisect_right(starts, t - HISTORY_S) - 2   # keep the one holding t - HISTORY_S
+    if stale < _FORGET_AT:
+        return False
+    del entries[:stale]
+    del starts[:stale]
+    return True
+
+
 @dataclass(frozen=True)
 class Segment:
     """One stretch of a puck's script: a move along a Bezier curve, or a pause (p0 == p2).
@@ -116,9 +131,11 @@ class PuckScript:
         self.starts.append(seg.t0)
 
     def pose(self, t: float) -> tuple[float, float, float]:
-        """(x m, y m, angle rad) at time ``t`` seconds (t < 0 is the start pose)."""
+        """(x m, y m, angle rad) at time ``t`` seconds (t < 0 is the start pose); times more
+        than :data:`HISTORY_S` before the latest asked for get the oldest pose remembered."""
         while self.segments[-1].t1 < t:
             self._extend()
+        forget(self.segments, self.starts, t)
         i = max(bisect.bisect_right(self.starts, t) - 1, 0)
         return self.segments[i].pose(max(t, 0.0))
 
@@ -191,9 +208,12 @@ class GesturePerformer:
         self.starts.append(entry[0])
 
     def pose(self, t: float) -> tuple[float, float, float]:
-        """(x m, y m, angle rad) at time ``t`` seconds."""
+        """(x m, y m, angle rad) at time ``t`` seconds (as :meth:`PuckScript.pose` for times
+        long past)."""
         while self.plan[-1][1] < t:
             self._extend()
+        if forget(self.plan, self.starts, t):
+            self.performed = [p for p in self.performed if p[1] >= t - HISTORY_S]
         t0, t1, kind, data = self.plan[max(bisect.bisect_right(self.starts, t) - 1, 0)]
         if kind == "rest":
             return data[0][0], data[0][1], self.angle

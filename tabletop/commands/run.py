@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 MAX_SECONDS = 10 * 365 * 86_400.0  # ten years: a longer run is a typing mistake
@@ -28,32 +27,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="designer studio: record, train, try, keep and manage the library")
 
 
-def wait_for_go() -> bool:
-    """A warm spare of the kiosk supervisor: import what a run needs, then wait for
-    ``go RESTARTS`` on stdin. False when the supervisor went away instead."""
-    import os
-
-    import tabletop.app  # noqa: F401  (the heavy imports, done before the go)
-    import tabletop.kiosk.runner  # noqa: F401
-    import tabletop.view  # noqa: F401
-    from tabletop import registry
-    for module in (*registry.SOURCES.values(), *registry.ENGINES.values()):
-        registry.optional_module(module)
-    line = sys.stdin.readline().split()
-    if len(line) != 2 or line[0] != "go":
-        return False
-    os.environ["TABLETOP_RESTARTS"] = line[1]
-    os.environ.pop("TABLETOP_WAIT_GO", None)
-    return True
-
-
 EXIT_RECORDING_FAILED = 3
 
 
 def main(args: argparse.Namespace) -> int:
-    import os
-    if os.environ.get("TABLETOP_WAIT_GO") == "1" and not wait_for_go():
-        return 0
+    from tabletop.kiosk import spare
+    prepared = None
+    if spare.is_spare():                 # the supervisor's warm spare: ready before its go
+        go, prepared = spare.wait_for_go(Path(args.config))
+        if not go:
+            return 0
     from tabletop.app import configure_logging, stop_on_signals
     from tabletop.commands import number_in_range, output_file
     from tabletop.config import load_config
@@ -64,12 +47,12 @@ def main(args: argparse.Namespace) -> int:
     if args.record is not None:
         output_file(args.record, "--record")
     configure_logging(args.verbose)
-    cfg = load_config(args.config)
+    cfg = prepared.cfg if prepared is not None else load_config(args.config)
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
     if kiosk and not args.no_supervisor and not supervised():
         return supervise(Path(args.config), cfg, _argv(args))
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
-                    kiosk=kiosk, studio=args.studio)
+                    kiosk=kiosk, studio=args.studio, prepared=prepared)
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly
         runner.run(seconds=seconds)
     inst = runner.inst

@@ -31,7 +31,10 @@ SCHEMA = Record({
     "stall_s": Number(5.0, lo=0.5, hi=600.0,
                       doc="supervisor: no frame for this long restarts the loop, seconds"),
     "backoff_s": ListOf(Number(lo=0.0, hi=3600.0), default=[0.1, 30.0], min_len=2, max_len=2,
-                        doc="supervisor: first and longest wait before a restart, seconds"),
+                        doc="supervisor: first and longest wait before a restart (none after "
+                            "a first failure), seconds"),
+    "spares": Number(2, integer=True, lo=0, hi=4,
+                     doc="supervisor: warm spare processes kept prepared for a restart"),
     "watch_config": Bool(True, doc="apply edits of the config file made while running"),
     "service_key": Str("F12", doc="key (pygame name) that shows the overlay in kiosk mode"),
     "heartbeat": Record({

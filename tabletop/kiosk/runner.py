@@ -52,7 +52,8 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
     paths = kiosk_paths(cfg, config_path.resolve().parent)
     setup_log_file(paths["log_file"], k["log_max_bytes"], k["log_backups"])
     policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
-    sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"])
+    sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
+                     spares=k["spares"])
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()
@@ -70,7 +71,7 @@ class Runner:
 
     def __init__(self, config_path: Path, cfg: dict[str, Any], headless: bool = False,
                  record_path: Path | None = None, kiosk: bool = False,
-                 studio: bool = False, clock=None, wrap_source=None) -> None:
+                 studio: bool = False, clock=None, wrap_source=None, prepared=None) -> None:
         self.config_path = Path(config_path)
         self.base = self.config_path.resolve().parent
         self.cfg, self.headless, self.record_path = cfg, headless, record_path
@@ -82,6 +83,7 @@ class Runner:
             (e.get("designer") or {}).get("enabled") or e["kind"] in ("mop", "touch_pose")
             for e in cfg["engines"])
         self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
+        self.prepared = prepared    # a warm spare's engines (tabletop.kiosk.spare), built for cfg
         self.started = (clock or time.monotonic)()
         self.stop = threading.Event()
         self.pending: dict[str, Any] | None = None
@@ -103,9 +105,12 @@ class Runner:
 
     def _build(self, cfg: dict[str, Any]):
         """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
+        prepared, self.prepared = self.prepared, None
+        ready = None if prepared is None or prepared.cfg is not cfg else (
+            prepared.context, prepared.engines)
         inst = build_live(kiosk_view(cfg, self.kiosk), headless=self.headless,
                           record_path=self.record_path, clock=self.clock,
-                          wrap_source=self.wrap_source,
+                          wrap_source=self.wrap_source, prepared=ready,
                           header_extra={"studio": {"all": self.studio_all}}
                           if self.studio_on else None)
         loop = inst.loop

@@ -89,8 +89,9 @@ def soak(config_path: Path, seconds: float, rate_hz: float, warmup_s: float = 30
     """Run the installation of ``config_path`` (kiosk and studio on) for ``seconds`` of
     simulated time at ``rate_hz`` ticks per simulated second; a studio take is recorded and
     discarded every ``studio_keys_every_s``. Returns memory (RSS after ``warmup_s`` and at the
-    end, bytes; sampled every ``every_s``), ticks, and wall-clock seconds per 1,000 ticks in the
-    first and last sampled minute (the rate staying steady)."""
+    end, bytes; sampled every ``every_s``), the Python objects alive at the same moments,
+    ticks, wall-clock seconds per 1,000 ticks in the first and last sampling period and the
+    process's CPU seconds per 1,000 ticks in every period (the rate staying steady)."""
     import gc
     import time
 
@@ -104,8 +105,8 @@ def soak(config_path: Path, seconds: float, rate_hz: float, warmup_s: float = 30
     key_every = max(1, int(round(studio_keys_every_s * rate_hz)))
     script = {0: "designer.record", int(20 * rate_hz): "designer.record",
               int(30 * rate_hz): "designer.discard"}
-    samples, walls, base = [], [], None
-    wall = time.perf_counter()
+    samples, objects, walls, cpus, base, base_objects = [], [], [], [], None, None
+    wall, cpu = time.perf_counter(), time.process_time()
     for i in range(n):
         cmd = script.get(i % key_every)
         if cmd:
@@ -113,19 +114,24 @@ def soak(config_path: Path, seconds: float, rate_hz: float, warmup_s: float = 30
         loop.tick()
         clock.advance(dt)
         if (i + 1) % per == 0:
-            now = time.perf_counter()
+            now, now_cpu = time.perf_counter(), time.process_time()
             walls.append((now - wall) / per * 1000.0)
-            wall = now
+            cpus.append((now_cpu - cpu) / per * 1000.0)
+            wall, cpu = now, now_cpu
             gc.collect()
             samples.append(rss_bytes())
+            objects.append(len(gc.get_objects()))
             if base is None and (i + 1) * dt >= warmup_s:
-                base = samples[-1]
+                base, base_objects = samples[-1], objects[-1]
     loop.close()
     runner.notifier.close()
     studio = getattr(runner, "studio", None)
     return {"ticks": n, "rss_start_bytes": base if base is not None else samples[0],
             "rss_end_bytes": samples[-1], "rss_samples": samples,
+            "objects_start": base_objects if base_objects is not None else objects[0],
+            "objects_end": objects[-1], "objects_samples": objects,
             "wall_s_per_1000_ticks_first": walls[0], "wall_s_per_1000_ticks_last": walls[-1],
+            "cpu_s_per_1000_ticks": cpus,
             "tries": len(studio.tries) if studio is not None else 0,
             "errors": int(sum(loop.stats.errors.values()))}
 

@@ -1,9 +1,10 @@
 """The kiosk supervisor: runs the installation in a child process and keeps it running.
 
 - A child that exits with an error or a signal (a crash) is logged to the crash log (time,
-  exit status, how long it ran, the last lines it wrote to stderr) and started again after a
-  back-off: ``backoff_s[0]`` for the first two failures in a row, then doubled after each one
-  up to ``backoff_s[1]``, and back to the first once a child has run ``healthy_s``.
+  exit status, how long it ran, the last lines it wrote to stderr) and started again: at once
+  after a first failure, then after a back-off of ``backoff_s[0]`` for the second failure in a
+  row, doubled after each one up to ``backoff_s[1]``, and back to at once after a child has run
+  ``healthy_s``. The crash log is written once the next child is started.
 - A stall is a child whose frame loop stopped: no ``WATCHDOG=1`` for ``stall_s`` after its
   ``READY=1`` (or no ``READY=1`` within ``startup_s``). It is killed (SIGKILL: a frozen loop
   cannot act on SIGTERM), logged as a crash and restarted the same way.
@@ -14,9 +15,13 @@
   ``NotifyAccess=main`` is enough.
 - SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
 - A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too.
-- A warm spare (``spare=True``): once a child is ready, the next one is started and waits,
-  its libraries imported, for ``go RESTARTS`` on its stdin (``$TABLETOP_WAIT_GO``); a restart
-  then costs the installation's build, not the interpreter's start and imports.
+- Warm spares (``spares``, 2): the next children are started early (with the first child,
+  then once a child is ready) and wait for ``go RESTARTS`` on their stdin (``$TABLETOP_WAIT_GO``)
+  with their libraries imported, config validated and engines built
+  (:mod:`tabletop.kiosk.spare`); a restart then costs opening the sources and the window and
+  drawing a frame. The oldest spare goes first: with two, a crash and then a stall soon after
+  both find a spare that finished preparing, even on a loaded machine. A child's exit is seen
+  at once (a pidfd in the supervisor's wait).
 """
 
 from __future__ import annotations
@@ -53,9 +58,12 @@ class Policy:
     stop_timeout_s: float = 10.0
 
     def delay(self, failures: int) -> float:
-        """Wait before the restart after ``failures`` failures in a row (>= 1)."""
+        """Wait before the restart after ``failures`` failures in a row (>= 1): none after
+        the first, then ``backoff_s[0]`` doubling up to ``backoff_s[1]``."""
+        if failures <= 1:
+            return 0.0
         lo, hi = self.backoff_s
-        return min(hi, lo * 2.0 ** max(0, failures - 2))
+        return min(hi, lo * 2.0 ** (failures - 2))
 
 
 @dataclass
@@ -68,6 +76,16 @@ class Child:
     ready_at: float | None = None
     last_ping: float | None = None
     reader: threading.Thread | None = None
+    exit_fd: int | None = None        # a pidfd, readable when the process ends (Linux >= 5.3)
+    warm: bool = False                # a spare that was prepared before its start
+    why: str = ""                     # how it failed, for the crash log
+    number: int = 0                   # which start of the supervisor (1, 2, ...)
+    ended: float | None = None
+
+    def close(self) -> None:
+        if self.exit_fd is not None:
+            os.close(self.exit_fd)
+            self.exit_fd = None
 
 
 def describe_exit(code: int) -> str:
@@ -85,7 +103,7 @@ class Supervisor:
     def __init__(self, command: Sequence[str], policy: Policy, crash_log: Path,
                  env: dict[str, str] | None = None, notifier: Notifier | None = None,
                  echo: bool = True, clock: Callable[[], float] = time.monotonic,
-                 spare: bool = True) -> None:
+                 spares: int = 2) -> None:
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
         self.env = dict(os.environ if env is None else env)
         self.notifier = notifier or Notifier()
@@ -94,13 +112,14 @@ class Supervisor:
         self.starts = 0
         self.crashes = 0
         self.events: list[tuple[str, float]] = []   # ("ready" | "crash" | "stall", clock time)
+        self.warm: list[bool] = []                  # per start: was it a prepared spare?
         self._dir = Path(tempfile.mkdtemp(prefix="tabletop-supervisor-"))
         self.socket_path = self._dir / "notify.sock"
         self._sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
         self._sock.bind(str(self.socket_path))
         self._announced = False
-        self.use_spare = spare
-        self._spare: Child | None = None
+        self.spares = max(0, int(spares))
+        self._spares: list[Child] = []             # oldest first
 
     # --- one child --------------------------------------------------------------------------
 
@@ -116,35 +135,58 @@ class Supervisor:
                              stdin=subprocess.PIPE if spare else subprocess.DEVNULL,
                              stderr=subprocess.PIPE, text=True, errors="replace")
         child = Child(p, self.clock())
+        try:
+            child.exit_fd = os.pidfd_open(p.pid)
+        except (AttributeError, OSError):          # older kernels: polled every 50 ms
+            child.exit_fd = None
         child.reader = threading.Thread(target=self._read_stderr, args=(child,), daemon=True)
         child.reader.start()
         return child
 
     def _spawn(self) -> Child:
-        spare, self._spare = self._spare, None
-        if spare is not None and spare.process.poll() is None:
+        spare = None
+        while self._spares and spare is None:
+            spare = self._spares.pop(0)
+            if spare.process.poll() is not None:  # a spare that died waiting
+                self._end(spare)
+                spare = None
+        if spare is not None:
             try:
                 assert spare.process.stdin is not None
                 spare.process.stdin.write(f"go {self.starts}\n")
                 spare.process.stdin.flush()
                 spare.process.stdin.close()
                 child = spare
-                child.started = self.clock()
+                child.started, child.warm = self.clock(), True
             except (OSError, ValueError):
-                spare.process.kill()
+                self._end(spare)
                 child = self._process(False)
         else:
             child = self._process(False)
         self.starts += 1
-        log.info("supervisor: started the installation (pid %d, start %d)", child.process.pid,
-                 self.starts)
+        child.number = self.starts
+        self.warm.append(child.warm)
+        log.info("supervisor: started the installation (pid %d, start %d%s)", child.process.pid,
+                 self.starts, ", warm spare" if child.warm else "")
+        if not child.warm:            # a cold start: its spares start with it
+            self._top_up()
         return child
 
-    def _kill_spare(self) -> None:
-        if self._spare is not None:
-            self._spare.process.kill()
-            self._spare.process.wait()
-            self._spare = None
+    def _top_up(self) -> None:
+        while len(self._spares) < self.spares:
+            self._spares.append(self._process(True))
+
+    @staticmethod
+    def _end(child: Child) -> None:
+        if child.process.poll() is None:
+            child.process.kill()
+        child.process.wait()
+        child.close()
+
+    def _kill_spares(self) -> None:
+        for spare in self._spares:
+            self._end(spare)
+        self._spares = []
 
     def _read_stderr(self, child: Child) -> None:
         assert child.process.stderr is not None
@@ -154,9 +196,15 @@ class Supervisor:
                 sys.stderr.write(line)
                 sys.stderr.flush()
 
-    def _messages(self, timeout: float) -> list[str]:
+    def _messages(self, timeout: float, child: Child | None = None) -> list[str]:
+        """Notify messages waiting or arriving within ``timeout`` s; returns early when
+        ``child`` ends."""
         out = []
-        ready, _, _ = select.select([self._sock], [], [], timeout)
+        fds: list = [self._sock]
+        if child is not None and child.exit_fd is not None:
+            fds.append(child.exit_fd)
+        ready, _, _ = select.select(fds, [], [], timeout)
+        ready = [r for r in ready if r is self._sock]
         while ready:
             try:
                 data = self._sock.recv(4096, socket.MSG_DONTWAIT)
@@ -173,8 +221,7 @@ class Supervisor:
             log.info("supervisor: installation ready after %.2f s", now - child.started)
             if not self._announced:
                 self._announced = self.notifier.send("READY=1")
-            if self.use_spare and self._spare is None:
-                self._spare = self._process(True)
+            self._top_up()
         elif msg == "WATCHDOG=1":
             child.last_ping = now
             self.notifier.send("WATCHDOG=1")
@@ -194,12 +241,12 @@ class Supervisor:
 
     def _record_crash(self, child: Child, what: str) -> None:
         self.crashes += 1
-        ran = self.clock() - child.started
+        ran = (child.ended or self.clock()) - child.started
         if child.reader is not None:
             child.reader.join(timeout=1.0)
         stamp = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
         lines = [f"=== {stamp} crash {self.crashes}: {what}, after {ran:.1f} s "
-                 f"(pid {child.process.pid}, start {self.starts})"]
+                 f"(pid {child.process.pid}, start {child.number})"]
         lines += [f"  {t}" for t in child.tail]
         log.error("supervisor: the installation %s after %.1f s; restarting", what, ran)
         try:
@@ -228,19 +275,23 @@ class Supervisor:
             if self.stop.is_set():
                 self._terminate(child)
                 return "stop", child.process.returncode
-            for msg in self._messages(0.05):
+            for msg in self._messages(0.05, child):
                 self._on_message(child, msg)
             code = child.process.poll()
             if code is not None:
                 for msg in self._messages(0.0):
                     self._on_message(child, msg)
+                child.close()
+                child.ended = self.clock()
                 return "exit", code
             why = self._stalled(child)
             if why is not None:
-                child.process.kill()
+                child.ended = self.clock()
+                self.events.append(("stall", child.ended))
+                child.process.kill()          # at once: a frozen loop cannot act on SIGTERM
                 child.process.wait()
-                self.events.append(("stall", self.clock()))
-                self._record_crash(child, why)
+                child.close()
+                child.why = why
                 return "stall", None
             now = self.clock()
             if child.ready_at is None and self._announced and now - last_own_ping >= 1.0:
@@ -253,8 +304,8 @@ class Supervisor:
         """Run until stopped or a child ends on purpose; returns the exit status to use."""
         failures = 0
         try:
+            child = self._spawn()
             while not self.stop.is_set():
-                child = self._spawn()
                 how, code = self._watch(child)
                 if how == "stop":
                     return 0
@@ -262,19 +313,29 @@ class Supervisor:
                     if code == 0:
                         log.info("supervisor: the installation ended; stopping")
                         return 0
-                    self.events.append(("crash", self.clock()))
-                    self._record_crash(child, describe_exit(code))
-                ran = self.clock() - child.started
+                    self.events.append(("crash", child.ended))
+                    child.why = describe_exit(code)
+                ran = (child.ended or self.clock()) - child.started
                 failures = 1 if ran >= self.policy.healthy_s else failures + 1
                 delay = self.policy.delay(failures)
+                failed = child
+                if delay <= 0:            # back at once; the crash log is written after
+                    child = self._spawn()
+                    self._record_crash(failed, failed.why)
+                    continue
+                self._record_crash(failed, failed.why)
                 end = self.clock() + delay
                 while not self.stop.is_set() and self.clock() < end:
                     if self._announced:               # waiting to restart: still in control
                         self.notifier.send("WATCHDOG=1")
                     self.stop.wait(min(1.0, max(0.0, end - self.clock())))
+                if self.stop.is_set():
+                    return 0
+                child = self._spawn()
+            self._terminate(child)
             return 0
         finally:
-            self._kill_spare()
+            self._kill_spares()
             self.notifier.send("STOPPING=1")
             self._sock.close()
             try:

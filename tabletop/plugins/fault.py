@@ -31,14 +31,17 @@ SCHEMA = Record({
 
 
 class FaultEngine:
-    def __init__(self, name: str, faults: list[dict], start: int) -> None:
+    def __init__(self, name: str, faults: list[dict]) -> None:
         self.name = name
-        self.faults = [f for f in faults if f["start"] == start]
+        self.all_faults = faults
+        self.faults: list[dict] = []
         self._t0: float | None = None
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
-        if self._t0 is None:
-            self._t0 = frame.t
+        if self._t0 is None:       # the start is known at the first step (a warm spare's
+            self._t0 = frame.t     # engines are built before the supervisor numbers it)
+            start = int(os.environ.get("TABLETOP_RESTARTS", "0") or 0)
+            self.faults = [f for f in self.all_faults if f["start"] == start]
         for f in self.faults:
             if frame.t - self._t0 >= f["after_s"]:
                 if f["kind"] == "crash":
@@ -51,5 +54,4 @@ class FaultEngine:
 
 
 def build(options: dict, ctx: BuildContext) -> FaultEngine:
-    start = int(os.environ.get("TABLETOP_RESTARTS", "0") or 0)
-    return FaultEngine(options["name"], options["faults"], start)
+    return FaultEngine(options["name"], options["faults"])

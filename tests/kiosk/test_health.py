@@ -103,6 +103,8 @@ def test_heartbeat_reaches_a_python_osc_server_and_the_status_file_parses(tmp_pa
     rep.close()
     osc.close()
     name, uptime, fps, unhealthy, text = osc.got[-1]
+    # DESIGN.md: name (string), uptime s (float), fps (float), unhealthy sources (int), status
+    assert [type(v) for v in osc.got[-1]] == [str, float, float, int, str]
     assert name == "table-7" and unhealthy == 1
     assert uptime == pytest.approx(62.0, abs=1e-4) and fps == pytest.approx(30.0, rel=1e-3)
     status = json.loads(text)

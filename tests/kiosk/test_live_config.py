@@ -52,6 +52,11 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
         assert "colour: unknown key" in status["config_error"]
         view = next(s for s in first.loop.sinks if s.name == "view")
         assert any("config refused" in n and "colour" in n for fn in view.notices for n in fn())
+        write(path, "engines: [{kind: puppet_master\n")            # not even YAML
+        assert wait_for(lambda: runner.watcher.refused == 2, 15)
+        assert "config.yaml" in runner.watcher.error and runner.inst is first
+        ticks = first.loop.stats.ticks
+        assert wait_for(lambda: first.loop.stats.ticks > ticks + 10, 15)   # still running
         write(path, yaml.safe_dump(config([200, 100, 50])))
         assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5, 15)
         assert runner.watcher.error is None and runner.watcher.applied == 1

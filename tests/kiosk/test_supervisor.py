@@ -97,3 +97,21 @@ def test_run_kiosk_notifies_systemd_and_stops_cleanly_on_sigterm(tmp_path):
     log = (tmp_path / "logs" / "tabletop.log").read_text()
     assert "supervisor: started the installation" in log and "ran " in log
     assert not (tmp_path / "logs" / "crashes.log").exists()
+
+
+def test_a_spare_builds_the_engines_before_its_go_and_notices_a_config_edit(tmp_path):
+    from tabletop.kiosk import spare
+    from tabletop.kiosk.runner import Runner
+
+    path = drill_config(tmp_path, [])
+    prepared = spare.prepare(path)
+    assert prepared is not None and prepared.current()
+    assert [e.name for e in prepared.engines] == ["lover", "drill"]
+    runner = Runner(path, prepared.cfg, headless=True, prepared=prepared)
+    inst = runner._build(prepared.cfg)
+    assert inst.loop.engines[0] is prepared.engines[0]       # built once, before the go
+    assert inst.loop.run(seconds=0.2) > 0
+    path.write_text(path.read_text().replace("rate_hz: 30", "rate_hz: 40"))
+    assert not prepared.current()                            # the go loads it again
+    path.write_text("engines: [{kind: nothing}]\n")
+    assert spare.prepare(path) is None                       # the run after the go reports it

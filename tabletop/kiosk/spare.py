@@ -1,0 +1,95 @@
+"""The kiosk supervisor's warm spare: a ``tabletop run`` process that prepares everything it
+can before it is needed, then waits for ``go RESTARTS`` on its stdin.
+
+Before the go, the spare imports the libraries, validates the config and builds the engines
+(behaviours loaded and trained) and initialises pygame's display-independent modules. Nothing
+that holds a device or a file is opened (camera, sockets, window, recording): the installation it
+replaces may still hold them. After the go only the sources and sinks are built and the first
+frame drawn. A config file changed on disk since the preparation is loaded again; a
+preparation that fails leaves the ordinary build to report the error after the go.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+log = logging.getLogger("tabletop")
+
+WAIT_GO = "TABLETOP_WAIT_GO"
+
+
+@dataclass
+class Prepared:
+    """What a spare built before its go: the validated config, its build context, engines."""
+
+    config_path: Path
+    signature: tuple[int, int]        # config file (st_mtime_ns, st_size) when it was loaded
+    cfg: Any
+    context: Any
+    engines: list
+
+    def current(self) -> bool:
+        """Is the config file still the one prepared?"""
+        return _signature(self.config_path) == self.signature
+
+
+def _signature(path: Path) -> tuple[int, int]:
+    try:
+        st = path.stat()
+    except OSError:
+        return (-1, -1)
+    return (st.st_mtime_ns, st.st_size)
+
+
+def _import_all() -> None:
+    import tabletop.app  # noqa: F401  (the heavy imports)
+    import tabletop.kiosk.runner  # noqa: F401
+    import tabletop.view  # noqa: F401
+    from tabletop import registry
+    for module in (*registry.SOURCES.values(), *registry.ENGINES.values()):
+        registry.optional_module(module)
+
+
+def prepare(config_path: Path) -> Prepared | None:
+    """Validate the config and build its engines (None when that fails: the run after the go
+    reports it as usual)."""
+    from tabletop.app import _context, build_engines
+    from tabletop.config import load_config
+    config_path = Path(config_path)
+    try:
+        signature = _signature(config_path)
+        cfg = load_config(config_path)
+        ctx = _context(cfg)
+        engines = build_engines(cfg, ctx)
+        import pygame
+        pygame.font.init()
+        return Prepared(config_path, signature, cfg, ctx, engines)
+    except Exception as exc:  # noqa: BLE001  (a bad config: the ordinary build says what)
+        log.debug("spare: not prepared: %s", exc)
+        return None
+
+
+def wait_for_go(config_path: Path) -> tuple[bool, Prepared | None]:
+    """As a warm spare: prepare, then wait for ``go RESTARTS``. Returns (go, prepared); go is
+    False when the supervisor went away instead."""
+    _import_all()
+    prepared = prepare(config_path)
+    line = sys.stdin.readline().split()
+    if len(line) != 2 or line[0] != "go":
+        return False, None
+    os.environ["TABLETOP_RESTARTS"] = line[1]
+    os.environ.pop(WAIT_GO, None)
+    if prepared is not None and not prepared.current():
+        log.info("spare: %s changed since it was prepared; loading it again", config_path)
+        prepared = None
+    return True, prepared
+
+
+def is_spare() -> bool:
+    """True in a spare started by the supervisor (waiting for its go)."""
+    return os.environ.get(WAIT_GO) == "1"
