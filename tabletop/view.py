@@ -13,6 +13,7 @@ Keys: Esc or closing the window ends the run; F1 or O toggles the overlay; R, K,
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import os
@@ -32,7 +33,7 @@ from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
-from tabletop.drawing.palette import resting, vivid  # noqa: E402
+from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
 from tabletop.drawing.screens import table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
@@ -47,6 +48,7 @@ IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
 IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
+HINT_ALPHA = 0.4         # opacity of a hinted pose (early feedback) at probability 1
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
@@ -65,6 +67,29 @@ EYES = REACTOR_EYES
 def puck_color(puck_id: int) -> tuple[int, int, int]:
     """The identity colour of a puck id (its label in designer mode)."""
     return PUCK_COLORS[puck_id % len(PUCK_COLORS)]
+
+
+INVITATIONS = {"puck": "put a puck on the table", "touch": "touch the table",
+               "stream": "move the controller"}
+
+
+def invitation(engines: Sequence[dict[str, Any]]) -> str:
+    """The idle look's invitation for a configuration's ``engines``: what its visitors play
+    with (pucks first, then touch, then streamed sensors); empty when nothing invites play."""
+    wanted = set()
+    for e in engines:
+        kind = e.get("kind")
+        if kind == "puppet_master":
+            wanted.add("puck")
+        elif kind == "touch_pose":
+            wanted.add("touch")
+        elif kind == "mop":
+            wanted.update(i.get("kind", "puck") for p in e.get("performers", ())
+                          for i in p.get("inputs", ()))
+    for k in ("puck", "touch", "stream"):
+        if k in wanted:
+            return INVITATIONS[k]
+    return ""
 
 
 def cameras_down(frame: Frame) -> bool:
@@ -154,6 +179,7 @@ class Renderer:
         self.dirty: list[pygame.Rect] = []
         self._drawn: list[pygame.Rect] | None = None
         self._last_target: pygame.Surface | None = None
+        self.invitation = INVITATIONS["puck"]   # the idle look's text (see :func:`invitation`)
 
     def _corners(self) -> np.ndarray:
         w, h = self.table
@@ -185,7 +211,7 @@ class Renderer:
         down = cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
-        screens.idle(target, t, self.idle, self._corners())
+        screens.idle(target, t, self.idle, self._corners(), self.invitation)
         drawn: list[pygame.Rect | None] = []
         for p in self.lives.update(t, frame.characters):
             drawn.append(self._draw_presence(target, p, frame))
@@ -267,13 +293,27 @@ class Renderer:
         if pose.alpha <= 0.01:
             return None
         if c.points is not None and len(c.points):
-            pts = self.map.points(c.points)
-            if c.kind == "face":
-                return characters.draw_face(target, c, pose, pts)
-            return characters.draw_figure(target, c, pose, pts)
+            hinted = None
+            if pr.hint > 0.03 and pr.hint_points is not None \
+                    and len(pr.hint_points) == len(c.points):
+                # early feedback: the suspected action's pose, faint and casting no light
+                ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
+                                            light=0.0, color=lighten(pose.color, 0.25))
+                hinted = self._draw_points(target, c, ghost, self.map.points(pr.hint_points))
+            return P.union([hinted, self._draw_points(target, c, pose, self.map.points(c.points))])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
         return characters.draw_reactor(target, c, pose)
+
+    @staticmethod
+    def _draw_points(target: pygame.Surface, c: CharacterState, pose: Pose,
+                     pts: np.ndarray) -> pygame.Rect | None:
+        """A character given by points (``pts``: pixels), drawn as its kind."""
+        if c.kind == "face":
+            return characters.draw_face(target, c, pose, pts)
+        if c.kind == "hybrid":
+            return characters.draw_hybrid(target, c, pose, pts)
+        return characters.draw_figure(target, c, pose, pts)
 
     def _draw_trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
                     t: float, label: bool) -> tuple[pygame.Rect | None, ...]:
@@ -393,7 +433,8 @@ class ProjectorView:
     def __init__(self, table: tuple[float, float], options: dict[str, Any],
                  stats: LoopStats | None = None, commands: CommandQueue | None = None,
                  stop: threading.Event | None = None, headless: bool = False,
-                 homography: np.ndarray | None = None, name: str = "view") -> None:
+                 homography: np.ndarray | None = None, name: str = "view",
+                 invitation: str = INVITATIONS["puck"]) -> None:
         self.name = name
         self.stats, self.commands, self.stop = stats, commands, stop
         self.headless = headless_needed(headless or options["headless"])
@@ -410,6 +451,7 @@ class ProjectorView:
         self.renderer = Renderer(table, size, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
         self.renderer.incremental = True   # present only what changed (bench/view.py)
+        self.renderer.invitation = invitation
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf

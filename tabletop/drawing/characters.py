@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Sequence
 
 import numpy as np
@@ -34,7 +34,8 @@ class Pose:
     metre there), ``alpha`` (0..1), ``scale`` (size factor), ``breath`` (size factor),
     ``stretch`` (length factor along ``motion`` screen radians), ``blink`` (eye opening 0..1),
     ``gaze`` (screen radians the eyes look along), ``color`` (body colour before fading),
-    ``phase`` (radians of its stepping cycle).
+    ``phase`` (radians of its stepping cycle), ``light`` (strength factor of its glow: 0 for a
+    faint hint of a pose, which casts no light).
     """
 
     center: tuple[float, float]
@@ -49,6 +50,7 @@ class Pose:
     gaze: float = 0.0
     color: Color = (240, 170, 60)
     phase: float = 0.0
+    light: float = 1.0
 
     def body(self, k: float = 1.0) -> Color:
         return fade(shade(self.color, k), self.alpha)
@@ -100,7 +102,7 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     A = M * np.array([[pose.breath ** 0.5], [pose.breath]])      # breathing body
     cx, cy = pose.center
     ctr = np.array([cx, cy])
-    touched = P.glow(surf, pose.center, 0.8 * L, pose.color, 0.36 * pose.alpha)
+    touched = P.glow(surf, pose.center, 0.8 * L, pose.color, 0.36 * pose.alpha * pose.light)
     # Little feet peeking out at the sides, stepping while it moves.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
     foot = pose.body(0.62)
@@ -196,10 +198,10 @@ def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, 
 
 
 def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
-                pts: np.ndarray) -> pygame.Rect | None:
+                pts: np.ndarray, head: bool = True) -> pygame.Rect | None:
     """An articulated figure (skeleton, creature, sprite sheet): limbs with thickness and
     joints, the spine (from the first bone, first children on) thickest, a head with eyes at the
-    spine's end. Returns the rectangle it touched."""
+    spine's end (unless ``head`` is False). Returns the rectangle it touched."""
     n = len(pts)
     posed = _posed(c, pose, pts)
     if posed is None:
@@ -207,7 +209,8 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     pts, fig = posed
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     # The glow's size follows the figure's size, not its pose: one cached light per figure.
-    touched = P.glow(surf, (lo + hi) / 2, 0.42 * fig + 6, pose.color, 0.26 * pose.alpha)
+    touched = P.glow(surf, (lo + hi) / 2, 0.42 * fig + 6, pose.color,
+                     0.26 * pose.alpha * pose.light)
     bones, spine, rel, on_spine, *rest = topology(n, c.bones)
     w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
     body = pose.body()
@@ -236,7 +239,8 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     P.discs(surf, body, [q[i] for i in spine_points], [w[i] for i in spine_points])
     big = [i for i in knots if w[i] > 3]       # a lighter knot where a limb bends
     P.discs(surf, light, [q[i] for i in big], [w[i] * 0.45 for i in big])
-    _head(surf, c, pose, pts, spine, fig)
+    if head:
+        _head(surf, c, pose, pts, spine, fig)
     return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
 
 
@@ -319,7 +323,7 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
         if closed and first:
             m = q.mean(axis=0)
             touched = P.union([touched, P.glow(
-                surf, m.tolist(), 0.62 * fig + 6, pose.color, 0.32 * pose.alpha)])
+                surf, m.tolist(), 0.62 * fig + 6, pose.color, 0.32 * pose.alpha * pose.light)])
             P.polygon(surf, pose.body(0.7), (q - m) * 1.04 + m)
             P.polygon(surf, pose.body(), q)
             first = False
@@ -342,3 +346,45 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
             for a, b in zip(ql[:-1], ql[1:]):
                 P.limb(surf, ink, a, b, stroke * 0.8)
     return touched
+
+
+@functools.lru_cache(maxsize=64)
+def hybrid_parts(n: int, bones: tuple) -> tuple[int, tuple, tuple] | None:
+    """A hybrid's parts (a body with a face riding on it, MOP section 3): (index of the face's
+    first point, the body's bones, the face's bones numbered from 0). The body is every point
+    joined to the first bone's; the face's loops follow it. None when there is no such split."""
+    valid = _valid_bones(n, bones)
+    if not valid:
+        return None
+    body = {valid[0][0]}
+    grew = True
+    while grew:
+        grew = False
+        for a, b in valid:
+            if (a in body) != (b in body):
+                body.update((a, b))
+                grew = True
+    k = max(body) + 1
+    if k >= n or any(a < k <= b or b < k <= a for a, b in valid):
+        return None
+    return (k, tuple((a, b) for a, b in valid if b < k),
+            tuple((a - k, b - k) for a, b in valid if a >= k))
+
+
+def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose,
+                pts: np.ndarray) -> pygame.Rect | None:
+    """A hybrid character: its body drawn as a creature's (no head of its own) and its face
+    drawn as a face where the head would be. ``pts``: every point in pixels. Returns the
+    rectangle it touched."""
+    parts = hybrid_parts(len(pts), tuple(c.bones))
+    if parts is None or c.points is None:
+        return draw_figure(surf, c, pose, pts)
+    k, body_bones, face_bones = parts
+    face_m = np.asarray(c.points)[k:]
+    if not np.all(np.isfinite(face_m)):
+        return None
+    body = replace(c, kind="creature", bones=body_bones, points=None, hint_points=None)
+    face = replace(c, kind="face", bones=face_bones, points=None, hint_points=None,
+                   size=float(np.ptp(face_m, axis=0).max()))
+    return P.union([draw_figure(surf, body, pose, pts[:k], head=False),
+                    draw_face(surf, face, pose, pts[k:])])

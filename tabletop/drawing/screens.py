@@ -95,9 +95,10 @@ def one_moment(surf: pygame.Surface, t: float, alpha: float, detail: str = "") -
              fade((120, 130, 150), alpha, (0, 0, 0)))
 
 
-def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray) -> None:
+def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
+         invitation: str = "put a puck on the table") -> None:
     """The idle look while nobody plays: slow motes of light drift over the table (``area``:
-    its corner pixels) and an invitation breathes at its centre."""
+    its corner pixels) and an ``invitation`` (none when empty) breathes at its centre."""
     if alpha <= 0.0:
         return
     lo, hi = area.min(axis=0), area.max(axis=0)
@@ -108,7 +109,9 @@ def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray) -> None
         tw = 0.5 + 0.5 * math.sin(0.9 * t + 1.3 * i)
         P.glow(surf, (lo[0] + u * span[0], lo[1] + v * span[1]), 0.025 * span[0] + 4,
                (120, 170, 255) if i % 2 else (255, 170, 200), alpha * (0.2 + 0.35 * tw))
+    if not invitation:
+        return
     c = (lo + hi) / 2
     b = 0.55 + 0.45 * math.sin(0.8 * t)
-    text(surf, "put a puck on the table", (c[0], c[1] + 0.3 * span[1]), int(0.045 * span[1]) + 8,
+    text(surf, invitation, (c[0], c[1] + 0.3 * span[1]), int(0.045 * span[1]) + 8,
          fade((200, 215, 240), alpha * b))
