@@ -61,14 +61,15 @@ def _rot(a: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def eyes(surf: pygame.Surface, pose: Pose, centers: np.ndarray, r: float) -> None:
-    """Eyes of radius ``r`` px at screen ``centers``: white, a dark pupil turned along
-    ``pose.gaze``, lids closing with ``pose.blink``."""
+def eyes(surf: pygame.Surface, pose: Pose, centers: Sequence[Sequence[float]],
+         r: float) -> None:
+    """Eyes of radius ``r`` px at screen ``centers`` ((x, y) pairs): white, a dark pupil turned
+    along ``pose.gaze``, lids closing with ``pose.blink``."""
     if r < 1.5:
         return
     white, ink = fade(EYE_WHITE, pose.alpha), fade(INK, pose.alpha)
     gx, gy = math.cos(pose.gaze), math.sin(pose.gaze)
-    for cx, cy in np.asarray(centers, dtype=float).tolist():   # plain floats: two eyes only
+    for cx, cy in centers:
         if pose.blink > 0.97:
             P.disc(surf, white, (cx, cy), r)
         else:
@@ -114,7 +115,7 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     P.polygon(surf, pose.body(), body + ctr)
     belly = REACTOR_BODY @ (0.55 * M) + (np.array([0.05, -0.05]) @ M + ctr)
     P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha), belly)
-    eyes(surf, pose, REACTOR_EYES @ M + ctr, 0.1 * L)
+    eyes(surf, pose, (REACTOR_EYES @ M + ctr).tolist(), 0.1 * L)
     pad = 0.9 * L * pose.stretch
     x0, y0, x1, y1 = cx - pad - 1, cy - pad - 1, cx + pad + 2, cy + pad + 2
     return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
@@ -232,7 +233,7 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
         line(surf, dark, q[a], q[b], max(1, int(w[a] + w[b])))
     P.discs(surf, dark, [q[i] for i in limb_points], [w[i] for i in limb_points])  # joints, ends
     if c.kind in ("creature", "sprite") and len(spine) >= 3:
-        _torso(surf, body, pts[spine[0]], pts[spine[-2]], wspine, c.kind == "sprite")
+        _torso(surf, body, q[spine[0]], q[spine[-2]], wspine, c.kind == "sprite")
     for (a, b), sp in zip(bones, on_spine):
         if sp:
             line(surf, body, q[a], q[b], max(1, int(w[a] + w[b])))
@@ -240,29 +241,30 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     big = [i for i in knots if w[i] > 3]       # a lighter knot where a limb bends
     P.discs(surf, light, [q[i] for i in big], [w[i] * 0.45 for i in big])
     if head:
-        _head(surf, c, pose, pts, spine, fig)
+        _head(surf, c, pose, q, spine, fig)
     return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
 
 
-def _torso(surf: pygame.Surface, color: Color, a: np.ndarray, b: np.ndarray, w: float,
+def _torso(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float], w: float,
            plump: bool) -> None:
     """A filled body between the spine's first point and the neck: a slim one for a creature,
     a plump one for a bird."""
-    d = b - a
-    length = float(np.hypot(*d))
+    (ax, ay), (bx, by) = a, b
+    dx, dy = bx - ax, by - ay
+    length = math.hypot(dx, dy)
     if length < 2:
         return
     rx = 0.5 * length + w
     ry = max(w * 1.6, 0.3 * rx if plump else w * 1.3)
-    P.ellipse(surf, color, (a + b) / 2, rx, ry, math.atan2(d[1], d[0]), 20)
+    P.ellipse(surf, color, ((ax + bx) / 2, (ay + by) / 2), rx, ry, math.atan2(dy, dx), 20)
 
 
-def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,
+def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: Sequence[Sequence[float]],
           spine: list[int], fig: float) -> None:
     """A head at the spine's end, facing along the last spine bone, eyes looking along the gaze."""
     if len(spine) < 2:
         return
-    (hx, hy), (px, py) = pts[spine[-1]].tolist(), pts[spine[-2]].tolist()
+    (hx, hy), (px, py) = pts[spine[-1]], pts[spine[-2]]
     dx, dy = hx - px, hy - py
     dn = math.hypot(dx, dy)
     facing = math.atan2(dy, dx) if dn > 1e-6 else pose.angle
@@ -281,8 +283,7 @@ def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,
     else:
         fx, fy = math.cos(facing), math.sin(facing)
         ex, ey, k = ox + fx * 0.25 * r, oy + fy * 0.25 * r, 0.5 * r
-    eyes(surf, pose, np.array([(ex + sx * k, ey + sy * k), (ex - sx * k, ey - sy * k)]),
-         max(1.6, 0.32 * r))
+    eyes(surf, pose, ((ex + sx * k, ey + sy * k), (ex - sx * k, ey - sy * k)), max(1.6, 0.32 * r))
 
 
 def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
