@@ -409,12 +409,14 @@ def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
 
 
 def direct_framebuffer() -> None:
-    """Present the window's pixels straight to the window system (X11: shared-memory images)
+    """On X11, present the window's pixels straight to the X server (shared-memory images)
     rather than through SDL's default texture framebuffer, which uploads every frame into an
-    OpenGL texture: without a GPU (Mesa's software OpenGL, Xvfb) that costs 15-20 ms per
-    present, straight it costs under 1 ms (bench/view.py). The environment variable
-    ``SDL_FRAMEBUFFER_ACCELERATION`` set by the operator wins. Call before the display opens."""
-    os.environ.setdefault("SDL_FRAMEBUFFER_ACCELERATION", "0")
+    OpenGL texture: without a GPU (Mesa's software OpenGL, Xvfb) that costs 15-30 ms per
+    present, straight it costs under 1 ms (bench/view.py). Other video drivers keep SDL's
+    choice (Wayland has no straight way); ``SDL_FRAMEBUFFER_ACCELERATION`` set by the operator
+    wins. Call after ``pygame.display.init`` and before the window opens."""
+    if pygame.display.get_driver() == "x11":
+        os.environ.setdefault("SDL_FRAMEBUFFER_ACCELERATION", "0")
 
 
 def headless_needed(force: bool) -> bool:
@@ -440,8 +442,8 @@ class ProjectorView:
         self.headless = headless_needed(headless or options["headless"])
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
-        direct_framebuffer()
         pygame.display.init()
+        direct_framebuffer()
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
         display = 0 if self.headless else check_display(options["display"])
