@@ -2,6 +2,10 @@
 (early feedback) drawn faintly, hybrid characters with their face, the idle look's invitation."""
 
 import math
+import os
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -104,3 +108,29 @@ def test_the_idle_look_shows_the_invitation_it_is_given():
     lower = (slice(SIZE[1] // 2 + 100, SIZE[1] - 60), slice(300, SIZE[0] - 300))
     diff = np.abs(a[lower] - b[lower]).sum(axis=2)
     assert (diff > 60).sum() > 200                 # the words, where the invitation stands
+
+
+WINDOW_SCRIPT = """
+import os
+from tabletop.config import validate_config
+from tabletop.view import ProjectorView
+cfg = validate_config({"sources": [{"kind": "scripted"}], "view": {"size": [320, 200]}})
+view = ProjectorView((1.2, 0.8), cfg["view"])
+import pygame
+pygame.display.flip()
+print(pygame.display.get_driver(), os.environ.get("SDL_FRAMEBUFFER_ACCELERATION"))
+view.close()
+"""
+
+
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="needs xvfb-run (a virtual X display)")
+@pytest.mark.parametrize("operator, expected", [(None, "0"), ("1", "1")])
+def test_an_x11_window_presents_straight_unless_the_operator_says_otherwise(operator, expected):
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("SDL_VIDEODRIVER", "SDL_FRAMEBUFFER_ACCELERATION")}
+    if operator is not None:
+        env["SDL_FRAMEBUFFER_ACCELERATION"] = operator
+    r = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", WINDOW_SCRIPT],
+                       capture_output=True, text=True, env=env, cwd=ROOT, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split()[-2:] == ["x11", expected]
