@@ -242,7 +242,10 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     P.discs(surf, light, [q[i] for i in big], [w[i] * 0.45 for i in big])
     if head:
         _head(surf, c, pose, q, spine, fig)
-    return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
+    pad = wspine + 0.08 * fig + 2
+    (x0, y0), (x1, y1) = lo.tolist(), hi.tolist()
+    x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
+    return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
 
 
 def _torso(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float], w: float,

@@ -54,12 +54,23 @@ def resting(color: Color) -> Color:
 
 
 def shade(color: Color, k: float) -> Color:
-    """``color`` times ``k`` (0 = black; > 1 lightens, clipped)."""
+    """``color`` times ``k`` (0 = black; > 1 lightens, clipped; remembered: a figure's few
+    shades recur every frame)."""
+    return _shade(tuple(color), k)
+
+
+@functools.lru_cache(maxsize=1024)
+def _shade(color: Color, k: float) -> Color:
     return tuple(max(0, min(255, int(round(c * k)))) for c in color)  # type: ignore
 
 
 def mix(a: Color, b: Color, w: float) -> Color:
-    """(1 - w) a + w b."""
+    """(1 - w) a + w b (remembered)."""
+    return _mix(tuple(a), tuple(b), w)
+
+
+@functools.lru_cache(maxsize=1024)
+def _mix(a: Color, b: Color, w: float) -> Color:
     return tuple(int(round(x + (y - x) * w)) for x, y in zip(a, b))  # type: ignore
 
 
