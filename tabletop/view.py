@@ -361,7 +361,7 @@ class Renderer:
             if len(self._sprite_cache) > 2048:
                 self._sprite_cache.clear()
             self._sprite_cache[key] = surf
-        g = P.glow(target, pose.center, 0.8 * px_size, pose.color, 0.28 * pose.alpha)
+        g = P.glow(target, pose.center, 0.8 * c.size * pose.ppm, pose.color, 0.28 * pose.alpha)
         surf.set_alpha(int(255 * pose.alpha))
         return P.union([g, target.blit(surf, surf.get_rect(center=(int(pose.center[0]),
                                                                     int(pose.center[1]))))])

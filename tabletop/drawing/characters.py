@@ -103,7 +103,10 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     A = M * np.array([[pose.breath ** 0.5], [pose.breath]])      # breathing body
     cx, cy = pose.center
     ctr = np.array([cx, cy])
-    touched = P.glow(surf, pose.center, 0.8 * L, pose.color, 0.36 * pose.alpha * pose.light)
+    # The glow keeps the grown-up size while the body grows in (its strength fades in): one
+    # cached light per character instead of a new one every few frames of a fade.
+    touched = P.glow(surf, pose.center, 0.8 * c.size * pose.ppm, pose.color,
+                     0.36 * pose.alpha * pose.light)
     # Little feet peeking out at the sides, stepping while it moves.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
     foot = pose.body(0.62)
@@ -209,8 +212,9 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
         return None
     pts, fig = posed
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    # The glow's size follows the figure's size, not its pose: one cached light per figure.
-    touched = P.glow(surf, (lo + hi) / 2, 0.42 * fig + 6, pose.color,
+    # The glow's size follows the figure's grown-up size, not its pose or its growing in (its
+    # strength fades in): one cached light per figure.
+    touched = P.glow(surf, (lo + hi) / 2, 0.42 * c.size * pose.ppm + 6, pose.color,
                      0.26 * pose.alpha * pose.light)
     bones, spine, rel, on_spine, *rest = topology(n, c.bones)
     w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
@@ -327,7 +331,8 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
         if closed and first:
             m = q.mean(axis=0)
             touched = P.union([touched, P.glow(
-                surf, m.tolist(), 0.62 * fig + 6, pose.color, 0.32 * pose.alpha * pose.light)])
+                surf, m.tolist(), 0.62 * c.size * pose.ppm + 6, pose.color,
+                0.32 * pose.alpha * pose.light)])
             P.polygon(surf, pose.body(0.7), (q - m) * 1.04 + m)
             P.polygon(surf, pose.body(), q)
             first = False
