@@ -211,7 +211,8 @@ class Renderer:
         down = cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
-        screens.idle(target, t, self.idle, self._corners(), self.invitation)
+        if self.idle > 0:
+            screens.idle(target, t, self.idle, self._corners(), self.invitation)
         drawn: list[pygame.Rect | None] = []
         for p in self.lives.update(t, frame.characters):
             drawn.append(self._draw_presence(target, p, frame))

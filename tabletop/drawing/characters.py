@@ -195,7 +195,7 @@ def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple:
 def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, float] | None:
     """A figure's points (pixels) scaled about the pose's centre by its growth and breath, and
     the figure's size in pixels; None when there is nothing finite to draw."""
-    if len(pts) == 0 or not np.all(np.isfinite(pts)):
+    if len(pts) == 0 or not math.isfinite(float(pts.sum())):   # NaN or inf anywhere
         return None
     ctr = np.asarray(pose.center)
     return (pts - ctr) * (pose.scale * pose.breath) + ctr, c.size * pose.ppm * pose.scale

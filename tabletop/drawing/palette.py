@@ -79,10 +79,24 @@ def lighten(color: Color, w: float) -> Color:
     return mix(color, (255, 255, 255), w)
 
 
+_faded: dict[tuple, Color] = {}
+
+
 def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
     """The colour seen when ``color`` is shown at opacity ``alpha`` over ``ground`` (alpha in
     1/128 steps: the same few colours recur frame after frame and are remembered)."""
-    return _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)), tuple(ground))
+    key = (color, alpha, ground)
+    try:
+        return _faded[key]
+    except KeyError:
+        pass
+    except TypeError:         # a colour given as a list
+        return _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)), tuple(ground))
+    if len(_faded) >= 4096:
+        _faded.clear()
+    out = _faded[key] = _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)),
+                              tuple(ground))
+    return out
 
 
 @functools.lru_cache(maxsize=4096)
