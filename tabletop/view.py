@@ -48,7 +48,7 @@ IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
 IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
-HINT_ALPHA = 0.4         # opacity of a hinted pose (early feedback) at probability 1
+HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
@@ -297,9 +297,10 @@ class Renderer:
             hinted = None
             if pr.hint > 0.03 and pr.hint_points is not None \
                     and len(pr.hint_points) == len(c.points):
-                # early feedback: the suspected action's pose, faint and casting no light
+                # early feedback: the suspected action's pose, a faint light of the
+                # character's own (lively) colour, casting no glow
                 ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
-                                            light=0.0, color=lighten(pose.color, 0.25))
+                                            light=0.0, color=lighten(vivid(tuple(c.color)), 0.3))
                 hinted = self._draw_points(target, c, ghost, self.map.points(pr.hint_points))
             return P.union([hinted, self._draw_points(target, c, pose, self.map.points(c.points))])
         if c.name in self._sprites:
