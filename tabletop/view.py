@@ -34,7 +34,7 @@ from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
 from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
-from tabletop.drawing.screens import table_surface  # noqa: E402
+from tabletop.drawing.screens import INVITATIONS, invitation, table_surface  # noqa: E402,F401
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.snapshots import Snapshots  # noqa: E402
@@ -67,29 +67,6 @@ EYES = REACTOR_EYES
 def puck_color(puck_id: int) -> tuple[int, int, int]:
     """The identity colour of a puck id (its label in designer mode)."""
     return PUCK_COLORS[puck_id % len(PUCK_COLORS)]
-
-
-INVITATIONS = {"puck": "put a puck on the table", "touch": "touch the table",
-               "stream": "move the controller"}
-
-
-def invitation(engines: Sequence[dict[str, Any]]) -> str:
-    """The idle look's invitation for a configuration's ``engines``: what its visitors play
-    with (pucks first, then touch, then streamed sensors); empty when nothing invites play."""
-    wanted = set()
-    for e in engines:
-        kind = e.get("kind")
-        if kind == "puppet_master":
-            wanted.add("puck")
-        elif kind == "touch_pose":
-            wanted.add("touch")
-        elif kind == "mop":
-            wanted.update(i.get("kind", "puck") for p in e.get("performers", ())
-                          for i in p.get("inputs", ()))
-    for k in ("puck", "touch", "stream"):
-        if k in wanted:
-            return INVITATIONS[k]
-    return ""
 
 
 def cameras_down(frame: Frame) -> bool:

@@ -4,7 +4,7 @@ reconnect, the idle look while nobody plays, and the operator's text on a transl
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 import pygame
@@ -103,8 +103,31 @@ def one_moment(surf: pygame.Surface, t: float, alpha: float, detail: str = "") -
         text(surf, detail, (cx, cy + 2.0 * R + 0.05 * h), int(0.028 * h), (120, 130, 150), alpha)
 
 
+INVITATIONS = {"puck": "put a puck on the table", "touch": "touch the table",
+               "stream": "move the controller"}
+
+
+def invitation(engines: Sequence[dict[str, Any]]) -> str:
+    """The idle look's invitation for a configuration's ``engines``: what its visitors play
+    with (pucks first, then touch, then streamed sensors); empty when nothing invites play."""
+    wanted = set()
+    for e in engines:
+        kind = e.get("kind")
+        if kind == "puppet_master":
+            wanted.add("puck")
+        elif kind == "touch_pose":
+            wanted.add("touch")
+        elif kind == "mop":
+            wanted.update(i.get("kind", "puck") for p in e.get("performers", ())
+                          for i in p.get("inputs", ()))
+    for k in ("puck", "touch", "stream"):
+        if k in wanted:
+            return INVITATIONS[k]
+    return ""
+
+
 def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
-         invitation: str = "put a puck on the table") -> None:
+         invitation: str = INVITATIONS["puck"]) -> None:
     """The idle look while nobody plays: slow motes of light drift over the table (``area``:
     its corner pixels) and an ``invitation`` (none when empty) breathes at its centre."""
     if alpha <= 0.0:
