@@ -193,8 +193,14 @@ class Renderer:
         drawn: list[pygame.Rect | None] = []
         for p in self.lives.update(t, frame.characters):
             drawn.append(self._draw_presence(target, p, frame))
+        halos, labels = [], []
         for trace, state, alpha in self.traces.update(t, frame.pucks):
-            drawn.extend(self._draw_trace(target, trace, state, alpha, t, overlay is not None))
+            trail, h = self._trace(target, trace, state, alpha, t)
+            drawn.append(trail)
+            if h is not None:
+                halos.append(h)
+                labels.append(self._label(trace.puck.id) if overlay is not None else None)
+        drawn.extend(pucks.draw_halos(target, halos, labels))
         if self.moment > 0:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
@@ -294,18 +300,18 @@ class Renderer:
             return characters.draw_hybrid(target, c, pose, pts)
         return characters.draw_figure(target, c, pose, pts)
 
-    def _draw_trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
-                    t: float, label: bool) -> tuple[pygame.Rect | None, ...]:
+    def _trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
+               t: float) -> tuple[pygame.Rect | None, pucks.Halo | None]:
+        """Draw a puck's trail now; its halo to be drawn with the others'."""
         p = trace.puck
         if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
-            return ()
+            return None, None
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
         color = pucks.state_color(state)
         a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
                              pucks.halo_radius(r))
-        img = self._label(p.id) if label else None
-        return a, pucks.draw_halo(target, self.map.point(p.x, p.y), r,
-                                  self.map.screen_angle(p.x, p.y, p.angle), state, alpha, t, img)
+        return a, pucks.halo(self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
+                             state, alpha, t)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)
