@@ -235,16 +235,6 @@ def ring_surface(radius: float, width: float, color: Color, strength: float) -> 
     return surf
 
 
-def ring(surf: pygame.Surface, c: Sequence[float], radius: float, width: float, color: Color,
-         strength: float) -> pygame.Rect | None:
-    """Add a soft ring of light around ``c``; returns the rectangle touched."""
-    if strength <= 0.02 or radius < 1 or not math.isfinite(c[0] + c[1]):
-        return None
-    g = ring_surface(radius, width, color, strength)
-    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
-                     special_flags=pygame.BLEND_ADD)
-
-
 def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
     """The pixel rectangle around points (N x 2) grown by ``pad`` on every side."""
     pts = np.asarray(pts, dtype=float).reshape(-1, 2)
