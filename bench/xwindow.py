@@ -74,3 +74,16 @@ def xvfb(size: tuple[int, int] = (1920, 1080)) -> Iterator[str | None]:
 
 
 xvfb.reason = ""
+
+
+def server_cpu_s(display: str | None) -> float:
+    """CPU seconds the X server of ``display`` (``":57"``) has used so far (its lock file names
+    its process), or NaN when unknown: presenting a frame costs the server's time too."""
+    if not display:
+        return float("nan")
+    try:
+        pid = int(Path(f"/tmp/.X{display.lstrip(':')}-lock").read_text().strip())
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return float("nan")

@@ -40,7 +40,7 @@ def shoot(config: Path, seconds: float, out: Path, overlay: bool) -> Path:
     cfg = load_config(config)
     with tempfile.TemporaryDirectory() as tmp:
         cfg["view"] = dict(cfg["view"], headless=True, overlay=overlay, snapshot_every_s=0.5,
-                           snapshot_folder=tmp)
+                           snapshot_folder=tmp, snapshot_overlay=overlay)
         cfg["recorder"] = dict(cfg["recorder"], enabled=False)
         inst = build_live(cfg, headless=True)
         inst.loop.run(seconds=seconds)

@@ -13,6 +13,7 @@ Keys: Esc or closing the window ends the run; F1 or O toggles the overlay; R, K,
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import os
@@ -32,8 +33,8 @@ from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
-from tabletop.drawing.palette import resting, vivid  # noqa: E402
-from tabletop.drawing.screens import table_surface  # noqa: E402
+from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
+from tabletop.drawing.screens import INVITATIONS, invitation, table_surface  # noqa: E402,F401
 from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.snapshots import Snapshots  # noqa: E402
@@ -47,6 +48,7 @@ IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
 IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
+HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
@@ -154,6 +156,7 @@ class Renderer:
         self.dirty: list[pygame.Rect] = []
         self._drawn: list[pygame.Rect] | None = None
         self._last_target: pygame.Surface | None = None
+        self.invitation = INVITATIONS["puck"]   # the idle look's text (see :func:`invitation`)
 
     def _corners(self) -> np.ndarray:
         w, h = self.table
@@ -185,13 +188,20 @@ class Renderer:
         down = cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
-        screens.idle(target, t, self.idle, self._corners())
+        if self.idle > 0:
+            screens.idle(target, t, self.idle, self._corners(), self.invitation)
         drawn: list[pygame.Rect | None] = []
         for p in sorted(self.lives.update(t, frame.characters),
                         key=lambda p: p.state.kind == "studio"):   # the studio's marks on top
             drawn.append(self._draw_presence(target, p, frame))
+        halos, labels = [], []
         for trace, state, alpha in self.traces.update(t, frame.pucks):
-            drawn.extend(self._draw_trace(target, trace, state, alpha, t, overlay is not None))
+            trail, h = self._trace(target, trace, state, alpha, t)
+            drawn.append(trail)
+            if h is not None:
+                halos.append(h)
+                labels.append(self._label(trace.puck.id) if overlay is not None else None)
+        drawn.extend(pucks.draw_halos(target, halos, labels))
         if self.moment > 0:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
@@ -270,26 +280,41 @@ class Renderer:
         if pose.alpha <= 0.01:
             return None
         if c.points is not None and len(c.points):
-            pts = self.map.points(c.points)
-            if c.kind == "face":
-                return characters.draw_face(target, c, pose, pts)
-            return characters.draw_figure(target, c, pose, pts)
+            hinted = None
+            if pr.hint > 0.03 and pr.hint_points is not None \
+                    and len(pr.hint_points) == len(c.points):
+                # early feedback: the suspected action's pose, a faint light of the
+                # character's own (lively) colour, casting no glow
+                ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
+                                            light=0.0, color=lighten(vivid(tuple(c.color)), 0.3))
+                hinted = self._draw_points(target, c, ghost, self.map.points(pr.hint_points))
+            return P.union([hinted, self._draw_points(target, c, pose, self.map.points(c.points))])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
         return characters.draw_reactor(target, c, pose)
 
-    def _draw_trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
-                    t: float, label: bool) -> tuple[pygame.Rect | None, ...]:
+    @staticmethod
+    def _draw_points(target: pygame.Surface, c: CharacterState, pose: Pose,
+                     pts: np.ndarray) -> pygame.Rect | None:
+        """A character given by points (``pts``: pixels), drawn as its kind."""
+        if c.kind == "face":
+            return characters.draw_face(target, c, pose, pts)
+        if c.kind == "hybrid":
+            return characters.draw_hybrid(target, c, pose, pts)
+        return characters.draw_figure(target, c, pose, pts)
+
+    def _trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
+               t: float) -> tuple[pygame.Rect | None, pucks.Halo | None]:
+        """Draw a puck's trail now; its halo to be drawn with the others'."""
         p = trace.puck
         if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
-            return ()
+            return None, None
         r = self.puck_radius * self.map.scale_at(p.x, p.y)
         color = pucks.state_color(state)
         a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
                              pucks.halo_radius(r))
-        img = self._label(p.id) if label else None
-        return a, pucks.draw_halo(target, self.map.point(p.x, p.y), r,
-                                  self.map.screen_angle(p.x, p.y, p.angle), state, alpha, t, img)
+        return a, pucks.halo(self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
+                             state, alpha, t)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)
@@ -324,7 +349,7 @@ class Renderer:
             if len(self._sprite_cache) > 2048:
                 self._sprite_cache.clear()
             self._sprite_cache[key] = surf
-        g = P.glow(target, pose.center, 0.8 * px_size, pose.color, 0.28 * pose.alpha)
+        g = P.glow(target, pose.center, 0.8 * c.size * pose.ppm, pose.color, 0.28 * pose.alpha)
         surf.set_alpha(int(255 * pose.alpha))
         return P.union([g, target.blit(surf, surf.get_rect(center=(int(pose.center[0]),
                                                                     int(pose.center[1]))))])
@@ -371,6 +396,17 @@ def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
     return lines
 
 
+def direct_framebuffer() -> None:
+    """On X11, present the window's pixels straight to the X server (shared-memory images)
+    rather than through SDL's default texture framebuffer, which uploads every frame into an
+    OpenGL texture: without a GPU (Mesa's software OpenGL, Xvfb) that costs 15-30 ms per
+    present, straight it costs under 1 ms (bench/view.py). Other video drivers keep SDL's
+    choice (Wayland has no straight way); ``SDL_FRAMEBUFFER_ACCELERATION`` set by the operator
+    wins. Call after ``pygame.display.init`` and before the window opens."""
+    if pygame.display.get_driver() == "x11":
+        os.environ.setdefault("SDL_FRAMEBUFFER_ACCELERATION", "0")
+
+
 def headless_needed(force: bool) -> bool:
     """True when the view must use SDL's dummy driver: forced, or no display to open."""
     if force:
@@ -389,13 +425,15 @@ class ProjectorView:
     def __init__(self, table: tuple[float, float], options: dict[str, Any],
                  stats: LoopStats | None = None, commands: CommandQueue | None = None,
                  stop: threading.Event | None = None, headless: bool = False,
-                 homography: np.ndarray | None = None, name: str = "view") -> None:
+                 homography: np.ndarray | None = None, name: str = "view",
+                 invitation: str = INVITATIONS["puck"]) -> None:
         self.name = name
         self.stats, self.commands, self.stop = stats, commands, stop
         self.headless = headless_needed(headless or options["headless"])
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
         pygame.display.init()
+        direct_framebuffer()
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
         display = 0 if self.headless else check_display(options["display"])
@@ -405,6 +443,7 @@ class ProjectorView:
         self.renderer = Renderer(table, size, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
         self.renderer.incremental = True   # present only what changed (bench/view.py)
+        self.renderer.invitation = invitation
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf

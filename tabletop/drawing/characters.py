@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Sequence
 
 import numpy as np
@@ -34,7 +34,8 @@ class Pose:
     metre there), ``alpha`` (0..1), ``scale`` (size factor), ``breath`` (size factor),
     ``stretch`` (length factor along ``motion`` screen radians), ``blink`` (eye opening 0..1),
     ``gaze`` (screen radians the eyes look along), ``color`` (body colour before fading),
-    ``phase`` (radians of its stepping cycle).
+    ``phase`` (radians of its stepping cycle), ``light`` (strength factor of its glow: 0 for a
+    faint hint of a pose, which casts no light).
     """
 
     center: tuple[float, float]
@@ -49,6 +50,7 @@ class Pose:
     gaze: float = 0.0
     color: Color = (240, 170, 60)
     phase: float = 0.0
+    light: float = 1.0
 
     def body(self, k: float = 1.0) -> Color:
         return fade(shade(self.color, k), self.alpha)
@@ -59,14 +61,15 @@ def _rot(a: float) -> np.ndarray:
     return np.array([[c, -s], [s, c]])
 
 
-def eyes(surf: pygame.Surface, pose: Pose, centers: np.ndarray, r: float) -> None:
-    """Eyes of radius ``r`` px at screen ``centers``: white, a dark pupil turned along
-    ``pose.gaze``, lids closing with ``pose.blink``."""
+def eyes(surf: pygame.Surface, pose: Pose, centers: Sequence[Sequence[float]],
+         r: float) -> None:
+    """Eyes of radius ``r`` px at screen ``centers`` ((x, y) pairs): white, a dark pupil turned
+    along ``pose.gaze``, lids closing with ``pose.blink``."""
     if r < 1.5:
         return
     white, ink = fade(EYE_WHITE, pose.alpha), fade(INK, pose.alpha)
     gx, gy = math.cos(pose.gaze), math.sin(pose.gaze)
-    for cx, cy in np.asarray(centers, dtype=float).tolist():   # plain floats: two eyes only
+    for cx, cy in centers:
         if pose.blink > 0.97:
             P.disc(surf, white, (cx, cy), r)
         else:
@@ -100,7 +103,10 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     A = M * np.array([[pose.breath ** 0.5], [pose.breath]])      # breathing body
     cx, cy = pose.center
     ctr = np.array([cx, cy])
-    touched = P.glow(surf, pose.center, 0.8 * L, pose.color, 0.36 * pose.alpha)
+    # The glow keeps the grown-up size while the body grows in (its strength fades in): one
+    # cached light per character instead of a new one every few frames of a fade.
+    touched = P.glow(surf, pose.center, 0.8 * c.size * pose.ppm, pose.color,
+                     0.36 * pose.alpha * pose.light)
     # Little feet peeking out at the sides, stepping while it moves.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
     foot = pose.body(0.62)
@@ -112,7 +118,7 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     P.polygon(surf, pose.body(), body + ctr)
     belly = REACTOR_BODY @ (0.55 * M) + (np.array([0.05, -0.05]) @ M + ctr)
     P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha), belly)
-    eyes(surf, pose, REACTOR_EYES @ M + ctr, 0.1 * L)
+    eyes(surf, pose, (REACTOR_EYES @ M + ctr).tolist(), 0.1 * L)
     pad = 0.9 * L * pose.stretch
     x0, y0, x1, y1 = cx - pad - 1, cy - pad - 1, cx + pad + 2, cy + pad + 2
     return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
@@ -189,25 +195,27 @@ def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple:
 def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, float] | None:
     """A figure's points (pixels) scaled about the pose's centre by its growth and breath, and
     the figure's size in pixels; None when there is nothing finite to draw."""
-    if len(pts) == 0 or not np.all(np.isfinite(pts)):
+    if len(pts) == 0 or not math.isfinite(float(pts.sum())):   # NaN or inf anywhere
         return None
     ctr = np.asarray(pose.center)
     return (pts - ctr) * (pose.scale * pose.breath) + ctr, c.size * pose.ppm * pose.scale
 
 
 def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
-                pts: np.ndarray) -> pygame.Rect | None:
+                pts: np.ndarray, head: bool = True) -> pygame.Rect | None:
     """An articulated figure (skeleton, creature, sprite sheet): limbs with thickness and
     joints, the spine (from the first bone, first children on) thickest, a head with eyes at the
-    spine's end. Returns the rectangle it touched."""
+    spine's end (unless ``head`` is False). Returns the rectangle it touched."""
     n = len(pts)
     posed = _posed(c, pose, pts)
     if posed is None:
         return None
     pts, fig = posed
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    # The glow's size follows the figure's size, not its pose: one cached light per figure.
-    touched = P.glow(surf, (lo + hi) / 2, 0.42 * fig + 6, pose.color, 0.26 * pose.alpha)
+    # The glow's size follows the figure's grown-up size, not its pose or its growing in (its
+    # strength fades in): one cached light per figure.
+    touched = P.glow(surf, (lo + hi) / 2, 0.42 * c.size * pose.ppm + 6, pose.color,
+                     0.26 * pose.alpha * pose.light)
     bones, spine, rel, on_spine, *rest = topology(n, c.bones)
     w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
     body = pose.body()
@@ -229,36 +237,41 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
         line(surf, dark, q[a], q[b], max(1, int(w[a] + w[b])))
     P.discs(surf, dark, [q[i] for i in limb_points], [w[i] for i in limb_points])  # joints, ends
     if c.kind in ("creature", "sprite") and len(spine) >= 3:
-        _torso(surf, body, pts[spine[0]], pts[spine[-2]], wspine, c.kind == "sprite")
+        _torso(surf, body, q[spine[0]], q[spine[-2]], wspine, c.kind == "sprite")
     for (a, b), sp in zip(bones, on_spine):
         if sp:
             line(surf, body, q[a], q[b], max(1, int(w[a] + w[b])))
     P.discs(surf, body, [q[i] for i in spine_points], [w[i] for i in spine_points])
     big = [i for i in knots if w[i] > 3]       # a lighter knot where a limb bends
     P.discs(surf, light, [q[i] for i in big], [w[i] * 0.45 for i in big])
-    _head(surf, c, pose, pts, spine, fig)
-    return P.union([touched, P.bounds(pts, wspine + 0.08 * fig + 2)])
+    if head:
+        _head(surf, c, pose, q, spine, fig)
+    pad = wspine + 0.08 * fig + 2
+    (x0, y0), (x1, y1) = lo.tolist(), hi.tolist()
+    x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
+    return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
 
 
-def _torso(surf: pygame.Surface, color: Color, a: np.ndarray, b: np.ndarray, w: float,
+def _torso(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float], w: float,
            plump: bool) -> None:
     """A filled body between the spine's first point and the neck: a slim one for a creature,
     a plump one for a bird."""
-    d = b - a
-    length = float(np.hypot(*d))
+    (ax, ay), (bx, by) = a, b
+    dx, dy = bx - ax, by - ay
+    length = math.hypot(dx, dy)
     if length < 2:
         return
     rx = 0.5 * length + w
     ry = max(w * 1.6, 0.3 * rx if plump else w * 1.3)
-    P.ellipse(surf, color, (a + b) / 2, rx, ry, math.atan2(d[1], d[0]), 20)
+    P.ellipse(surf, color, ((ax + bx) / 2, (ay + by) / 2), rx, ry, math.atan2(dy, dx), 20)
 
 
-def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,
+def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: Sequence[Sequence[float]],
           spine: list[int], fig: float) -> None:
     """A head at the spine's end, facing along the last spine bone, eyes looking along the gaze."""
     if len(spine) < 2:
         return
-    (hx, hy), (px, py) = pts[spine[-1]].tolist(), pts[spine[-2]].tolist()
+    (hx, hy), (px, py) = pts[spine[-1]], pts[spine[-2]]
     dx, dy = hx - px, hy - py
     dn = math.hypot(dx, dy)
     facing = math.atan2(dy, dx) if dn > 1e-6 else pose.angle
@@ -277,8 +290,7 @@ def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: np.ndarray,
     else:
         fx, fy = math.cos(facing), math.sin(facing)
         ex, ey, k = ox + fx * 0.25 * r, oy + fy * 0.25 * r, 0.5 * r
-    eyes(surf, pose, np.array([(ex + sx * k, ey + sy * k), (ex - sx * k, ey - sy * k)]),
-         max(1.6, 0.32 * r))
+    eyes(surf, pose, ((ex + sx * k, ey + sy * k), (ex - sx * k, ey - sy * k)), max(1.6, 0.32 * r))
 
 
 def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
@@ -319,7 +331,8 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
         if closed and first:
             m = q.mean(axis=0)
             touched = P.union([touched, P.glow(
-                surf, m.tolist(), 0.62 * fig + 6, pose.color, 0.32 * pose.alpha)])
+                surf, m.tolist(), 0.62 * c.size * pose.ppm + 6, pose.color,
+                0.32 * pose.alpha * pose.light)])
             P.polygon(surf, pose.body(0.7), (q - m) * 1.04 + m)
             P.polygon(surf, pose.body(), q)
             first = False
@@ -342,3 +355,45 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
             for a, b in zip(ql[:-1], ql[1:]):
                 P.limb(surf, ink, a, b, stroke * 0.8)
     return touched
+
+
+@functools.lru_cache(maxsize=64)
+def hybrid_parts(n: int, bones: tuple) -> tuple[int, tuple, tuple] | None:
+    """A hybrid's parts (a body with a face riding on it, MOP section 3): (index of the face's
+    first point, the body's bones, the face's bones numbered from 0). The body is every point
+    joined to the first bone's; the face's loops follow it. None when there is no such split."""
+    valid = _valid_bones(n, bones)
+    if not valid:
+        return None
+    body = {valid[0][0]}
+    grew = True
+    while grew:
+        grew = False
+        for a, b in valid:
+            if (a in body) != (b in body):
+                body.update((a, b))
+                grew = True
+    k = max(body) + 1
+    if k >= n or any(a < k <= b or b < k <= a for a, b in valid):
+        return None
+    return (k, tuple((a, b) for a, b in valid if b < k),
+            tuple((a - k, b - k) for a, b in valid if a >= k))
+
+
+def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose,
+                pts: np.ndarray) -> pygame.Rect | None:
+    """A hybrid character: its body drawn as a creature's (no head of its own) and its face
+    drawn as a face where the head would be. ``pts``: every point in pixels. Returns the
+    rectangle it touched."""
+    parts = hybrid_parts(len(pts), tuple(c.bones))
+    if parts is None or c.points is None:
+        return draw_figure(surf, c, pose, pts)
+    k, body_bones, face_bones = parts
+    face_m = np.asarray(c.points)[k:]
+    if not np.all(np.isfinite(face_m)):
+        return None
+    body = replace(c, kind="creature", bones=body_bones, points=None, hint_points=None)
+    face = replace(c, kind="face", bones=face_bones, points=None, hint_points=None,
+                   size=float(np.ptp(face_m, axis=0).max()))
+    return P.union([draw_figure(surf, body, pose, pts[:k], head=False),
+                    draw_face(surf, face, pose, pts[k:])])

@@ -20,6 +20,7 @@ TRAIL_S = 0.7           # a puck's trail covers this much of its recent path
 TRAIL_STEP_M = 0.012    # ... sampled every 1.2 cm of travel
 LOST_S = 1.2            # a puck that left is shown as "lost" for this long
 STRIDE_M = 0.05         # a reactor's feet step once per this much travel
+HINT_TAU_S = 0.15       # a hinted pose (early feedback) fades in and out with this time constant
 
 
 def ease_out_back(u: float) -> float:
@@ -62,6 +63,16 @@ def stretch(speed: float) -> float:
     return 1.0 + 0.3 * math.tanh(speed / 0.35)
 
 
+def hint_level(c: CharacterState) -> float:
+    """How strongly to show ``c``'s hinted pose: its likeliest hint's probability while the
+    engine suspects an action but drives nothing yet (``valid`` False), else 0."""
+    if c.valid or c.hint_points is None or not c.hints or c.points is None \
+            or len(c.hint_points) != len(c.points):
+        return 0.0
+    p = max(h[1] for h in c.hints)
+    return min(1.0, max(0.0, p)) if math.isfinite(p) else 0.0
+
+
 @dataclass
 class Presence:
     """One character as the view has seen it: when it came, how fast it moves, when it left."""
@@ -75,6 +86,8 @@ class Presence:
     gone: float | None = None
     seed: float = 0.0
     phase: float = 0.0          # stepping cycle, radians: advances with the distance travelled
+    hint: float = 0.0           # strength 0..1 of the hinted pose shown faintly (early feedback)
+    hint_points: object = None  # the last hinted pose (N x 2, table metres), kept while it fades
 
     def alpha(self, t: float) -> float:
         """Opacity 0..1 now: fading in after ``born``, fading out after ``gone``."""
@@ -127,6 +140,9 @@ class Lives:
                 p.vy += k * (vy - p.vy)
                 p.speed = math.hypot(p.vx, p.vy)
                 p.phase = (p.phase + p.speed * dt * math.tau / STRIDE_M) % math.tau
+                p.hint += (1.0 - math.exp(-dt / HINT_TAU_S)) * (hint_level(c) - p.hint)
+            if c.hint_points is not None and not c.valid:
+                p.hint_points = c.hint_points
             p.state, p.t = c, t
             out.append(p)
         for name, p in list(self.presences.items()):

@@ -54,12 +54,23 @@ def resting(color: Color) -> Color:
 
 
 def shade(color: Color, k: float) -> Color:
-    """``color`` times ``k`` (0 = black; > 1 lightens, clipped)."""
+    """``color`` times ``k`` (0 = black; > 1 lightens, clipped; remembered: a figure's few
+    shades recur every frame)."""
+    return _shade(tuple(color), k)
+
+
+@functools.lru_cache(maxsize=1024)
+def _shade(color: Color, k: float) -> Color:
     return tuple(max(0, min(255, int(round(c * k)))) for c in color)  # type: ignore
 
 
 def mix(a: Color, b: Color, w: float) -> Color:
-    """(1 - w) a + w b."""
+    """(1 - w) a + w b (remembered)."""
+    return _mix(tuple(a), tuple(b), w)
+
+
+@functools.lru_cache(maxsize=1024)
+def _mix(a: Color, b: Color, w: float) -> Color:
     return tuple(int(round(x + (y - x) * w)) for x, y in zip(a, b))  # type: ignore
 
 
@@ -68,10 +79,24 @@ def lighten(color: Color, w: float) -> Color:
     return mix(color, (255, 255, 255), w)
 
 
+_faded: dict[tuple, Color] = {}
+
+
 def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
     """The colour seen when ``color`` is shown at opacity ``alpha`` over ``ground`` (alpha in
     1/128 steps: the same few colours recur frame after frame and are remembered)."""
-    return _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)), tuple(ground))
+    key = (color, alpha, ground)
+    try:
+        return _faded[key]
+    except KeyError:
+        pass
+    except TypeError:         # a colour given as a list
+        return _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)), tuple(ground))
+    if len(_faded) >= 4096:
+        _faded.clear()
+    out = _faded[key] = _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)),
+                              tuple(ground))
+    return out
 
 
 @functools.lru_cache(maxsize=4096)

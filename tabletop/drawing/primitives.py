@@ -22,13 +22,19 @@ _shadows: dict[tuple, pygame.Surface] = {}
 _rings: dict[tuple, pygame.Surface] = {}
 
 
-def polygon(surf: pygame.Surface, color: Color, pts: np.ndarray) -> None:
-    """A filled polygon with an anti-aliased edge (pixels, N x 2)."""
+def polygon(surf: pygame.Surface, color: Color, pts: np.ndarray | list) -> None:
+    """A filled polygon with an anti-aliased edge (pixels: N x 2 array, or a list of (x, y)
+    pairs, which few points cost less as plain floats than as an array)."""
     if len(pts) < 3:
         return
-    if not np.abs(pts).max() < 30000:
-        return   # NaN, infinity or far off screen (a NaN makes the max NaN)
-    ip = np.rint(pts).astype(np.int32).tolist()
+    if isinstance(pts, list):
+        if not all(-30000 < x < 30000 and -30000 < y < 30000 for x, y in pts):
+            return
+        ip = [(round(x), round(y)) for x, y in pts]
+    else:
+        if not np.abs(pts).max() < 30000:
+            return   # NaN, infinity or far off screen (a NaN makes the max NaN)
+        ip = np.rint(pts).astype(np.int32).tolist()
     gfx.filled_polygon(surf, ip, color)
     gfx.aapolygon(surf, ip, color)
 
@@ -67,20 +73,20 @@ def ellipse(surf: pygame.Surface, color: Color, c: Sequence[float], rx: float, r
     polygon(surf, color, ellipse_points(c, rx, ry, angle, n))
 
 
-_UNIT = {n: (np.cos(np.linspace(0, 2 * math.pi, n, endpoint=False)),
-             np.sin(np.linspace(0, 2 * math.pi, n, endpoint=False))) for n in (8, 12, 14, 20)}
+_UNIT: dict[int, list[tuple[float, float]]] = {}
 
 
 def ellipse_points(c: Sequence[float], rx: float, ry: float, angle: float = 0.0,
-                   n: int = 20) -> np.ndarray:
-    """Outline points (n x 2) of an ellipse in pixels."""
+                   n: int = 20) -> list[tuple[float, float]]:
+    """Outline points (n of them, (x, y) pixels) of an ellipse."""
     cs = _UNIT.get(n)
     if cs is None:
-        t = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-        cs = (np.cos(t), np.sin(t))
+        cs = _UNIT[n] = [(math.cos(2 * math.pi * i / n), math.sin(2 * math.pi * i / n))
+                         for i in range(n)]
     ca, sa = math.cos(angle), math.sin(angle)
-    ex, ey = rx * cs[0], ry * cs[1]
-    return np.stack([c[0] + ca * ex - sa * ey, c[1] + sa * ex + ca * ey], axis=1)
+    x, y = float(c[0]), float(c[1])
+    ax, ay, bx, by = ca * rx, sa * rx, -sa * ry, ca * ry
+    return [(x + ax * u + bx * v, y + ay * u + by * v) for u, v in cs]
 
 
 def limb(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float],
@@ -227,16 +233,6 @@ def ring_surface(radius: float, width: float, color: Color, strength: float) -> 
                            + 0.35 * np.exp(-((d * outer - r) / w) ** 2))
         surf = _remember(_rings, key, _rgb_surface(vals, color))
     return surf
-
-
-def ring(surf: pygame.Surface, c: Sequence[float], radius: float, width: float, color: Color,
-         strength: float) -> pygame.Rect | None:
-    """Add a soft ring of light around ``c``; returns the rectangle touched."""
-    if strength <= 0.02 or radius < 1 or not math.isfinite(c[0] + c[1]):
-        return None
-    g = ring_surface(radius, width, color, strength)
-    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
-                     special_flags=pygame.BLEND_ADD)
 
 
 def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:

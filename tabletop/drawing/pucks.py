@@ -4,7 +4,7 @@ and the hand on it are not painted), coloured by state, with a short fading trai
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Callable, NamedTuple, Sequence
 
 import pygame
 
@@ -41,15 +41,17 @@ def draw_trail(surf: pygame.Surface, trace: PuckTrace, to_px: Mapper, color: Col
         px = trace.px = {} if trace.px_map != to_px else {e: px[e] for e in path if e in px}
         trace.px_map = to_px
     hole2 = hole_px * hole_px
-    # age steps (as min(2, max(0, int(v)))): 2 newest, 1, 0 oldest and anything older
+    # age steps: 2 newest (v >= 2, with v = 3 (1 - age / span)), 1, 0 oldest and anything older
+    t2, t1 = t - span_s / 3.0, t - 2.0 * span_s / 3.0
     for e in path:
         q = px.get(e)
         if q is None:
             q = px[e] = to_px(e[0], e[1])
-        if (q[0] - cx) ** 2 + (q[1] - cy) ** 2 <= hole2:
+        dx, dy = q[0] - cx, q[1] - cy
+        if dx * dx + dy * dy <= hole2:
             continue
-        v = 3.0 * (1.0 - (t - e[2]) / span_s)
-        k = 2 if v >= 2.0 else 1 if v >= 1.0 else 0
+        te = e[2]
+        k = 2 if te >= t2 else 1 if te >= t1 else 0
         part = parts[k]
         if not part and k and parts[k - 1]:
             part.append(parts[k - 1][-1])      # the steps join up
@@ -76,27 +78,68 @@ def draw_trail(surf: pygame.Surface, trace: PuckTrace, to_px: Mapper, color: Col
     return pygame.Rect(x0, y0, int(max(xs)) + 5 - x0, int(max(ys)) + 5 - y0)
 
 
-def draw_halo(surf: pygame.Surface, center: tuple[float, float], r_px: float, angle_px: float,
-              state: str, alpha: float, t: float,
-              label: pygame.Surface | None = None) -> pygame.Rect | None:
-    """A ring of light around a puck at ``center`` (px) of radius ``r_px``, a bright notch along
-    its heading (``angle_px``, screen radians), coloured by ``state``; the centre stays dark.
-    Returns the rectangle it touched."""
+class Halo(NamedTuple):
+    """One puck's halo, ready to draw: its ring (a cached light and where it goes, or None),
+    its heading notch (colour, centre, radius; or None) and the rectangle it all touches."""
+    ring: tuple[pygame.Surface, tuple[int, int]] | None
+    notch: tuple[Color, tuple[float, float], float] | None
+    rect: pygame.Rect
+    label_at: tuple[float, float]      # where a label's left edge and baseline-ish top go (px)
+
+
+def halo(center: tuple[float, float], r_px: float, angle_px: float, state: str, alpha: float,
+         t: float) -> Halo | None:
+    """The halo of a puck at ``center`` (px) of radius ``r_px``: a ring of light coloured by
+    ``state`` with a bright notch along its heading (``angle_px``, screen radians); the centre
+    stays dark. The ring is pre-rendered once per (radius, width, colour, strength step)."""
+    x, y = center
+    if not (-30000 < x < 30000 and -30000 < y < 30000):
+        return None
     color = state_color(state)
     R = halo_radius(r_px)
     if state == "coasting":   # a prediction: the ring breathes quickly, an operator sees it
         alpha *= 0.7 + 0.3 * math.sin(t * 9.0)
     if state == "lost":
         R *= 1.0 + 0.4 * (1.0 - alpha)
-    touched = P.ring(surf, center, R, max(2.0, 0.2 * r_px), color, alpha)
-    x, y = int(round(center[0])), int(round(center[1]))
-    rr = int(round(R))
-    if state != "lost":
-        n = (center[0] + math.cos(angle_px) * R, center[1] + math.sin(angle_px) * R)
-        P.disc(surf, fade((255, 255, 255), alpha), n, max(2.5, 0.14 * r_px))
+    xi, yi = int(round(x)), int(round(y))
     e = int(R + max(3.0, 0.14 * r_px) + 4)
-    touched = P.union([touched, pygame.Rect(x - e, y - e, 2 * e + 1, 2 * e + 1)])
-    if label is not None:
-        touched = P.union([touched, surf.blit(label, (x + rr * 0.75,
-                                                     y - rr - label.get_height() * 0.6))])
-    return touched
+    rect = pygame.Rect(xi - e, yi - e, 2 * e + 1, 2 * e + 1)
+    ring = None
+    if alpha > 0.02 and R >= 1:
+        g = P.ring_surface(R, max(2.0, 0.2 * r_px), color, alpha)
+        w, h = g.get_size()
+        ring = (g, (xi - w // 2, yi - h // 2))
+        rect = rect.union((ring[1], (w, h)))
+    notch = None
+    if state != "lost":
+        notch = (fade((255, 255, 255), alpha),
+                 (x + math.cos(angle_px) * R, y + math.sin(angle_px) * R), max(2.5, 0.14 * r_px))
+    rr = int(round(R))
+    return Halo(ring, notch, rect, (xi + rr * 0.75, yi - rr))
+
+
+def draw_halos(surf: pygame.Surface, halos: Sequence[Halo],
+               labels: Sequence[pygame.Surface | None] = ()) -> list[pygame.Rect]:
+    """Draw the halos: every ring in one additive blit call, then the notches over them, then
+    each label (when given, beside its halo's upper right). Returns the rectangles touched."""
+    surf.fblits([h.ring for h in halos if h.ring is not None], pygame.BLEND_ADD)
+    out = []
+    for h in halos:
+        if h.notch is not None:
+            P.disc(surf, *h.notch)
+        out.append(h.rect)
+    for h, label in zip(halos, labels):
+        if label is not None:
+            x, y = h.label_at
+            out.append(surf.blit(label, (x, y - label.get_height() * 0.6)))
+    return out
+
+
+def draw_halo(surf: pygame.Surface, center: tuple[float, float], r_px: float, angle_px: float,
+              state: str, alpha: float, t: float,
+              label: pygame.Surface | None = None) -> pygame.Rect | None:
+    """One puck's halo (see :func:`halo`), drawn now; returns the rectangle it touched."""
+    h = halo(center, r_px, angle_px, state, alpha, t)
+    if h is None:
+        return None
+    return P.union(draw_halos(surf, [h], [label]))

@@ -4,14 +4,14 @@ reconnect, the idle look while nobody plays, and the operator's text on a transl
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 import pygame
 
 from tabletop.drawing import primitives as P
 from tabletop.drawing.palette import (BACKGROUND, GRID, PANEL, TABLE, TABLE_EDGE, TEXT, Color,
-                                      fade, mix)
+                                      mix)
 
 _fonts: dict[int, pygame.font.Font] = {}
 
@@ -65,10 +65,20 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10) -> pygame.Surface:
     return s.convert_alpha() if pygame.display.get_surface() is not None else s
 
 
+_lines: dict[tuple, pygame.Surface] = {}
+
+
 def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
-         color: Color) -> None:
-    """One line centred on ``center``."""
-    img = font(px).render(line, True, color)
+         color: Color, alpha: float = 1.0) -> None:
+    """One line centred on ``center``, at opacity ``alpha`` (rendered once per line, size and
+    colour: a breathing line costs a blit per frame, not a render)."""
+    key = (line, px, color)
+    img = _lines.get(key)
+    if img is None:
+        if len(_lines) > 64:
+            _lines.clear()
+        img = _lines[key] = font(px).render(line, True, color)
+    img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
     surf.blit(img, img.get_rect(center=(int(center[0]), int(center[1]))))
 
 
@@ -88,16 +98,38 @@ def one_moment(surf: pygame.Surface, t: float, alpha: float, detail: str = "") -
         b = 0.5 + 0.5 * math.sin(1.3 * t - i * 0.55)
         P.glow(surf, (cx + R * math.cos(a), cy + R * math.sin(a)), 0.22 * R, col,
                alpha * (0.25 + 0.55 * b))
-    text(surf, "One moment", (cx, cy + 2.0 * R), int(0.05 * h), fade(mix(col, TEXT, 0.6), alpha,
-                                                                      (0, 0, 0)))
+    text(surf, "One moment", (cx, cy + 2.0 * R), int(0.05 * h), mix(col, TEXT, 0.6), alpha)
     if detail:
-        text(surf, detail, (cx, cy + 2.0 * R + 0.05 * h), int(0.028 * h),
-             fade((120, 130, 150), alpha, (0, 0, 0)))
+        text(surf, detail, (cx, cy + 2.0 * R + 0.05 * h), int(0.028 * h), (120, 130, 150), alpha)
 
 
-def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray) -> None:
+INVITATIONS = {"puck": "put a puck on the table", "touch": "touch the table",
+               "stream": "move the controller"}
+
+
+def invitation(engines: Sequence[dict[str, Any]]) -> str:
+    """The idle look's invitation for a configuration's ``engines``: what its visitors play
+    with (pucks first, then touch, then streamed sensors); empty when nothing invites play."""
+    wanted = set()
+    for e in engines:
+        kind = e.get("kind")
+        if kind == "puppet_master":
+            wanted.add("puck")
+        elif kind == "touch_pose":
+            wanted.add("touch")
+        elif kind == "mop":
+            wanted.update(i.get("kind", "puck") for p in e.get("performers", ())
+                          for i in p.get("inputs", ()))
+    for k in ("puck", "touch", "stream"):
+        if k in wanted:
+            return INVITATIONS[k]
+    return ""
+
+
+def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
+         invitation: str = INVITATIONS["puck"]) -> None:
     """The idle look while nobody plays: slow motes of light drift over the table (``area``:
-    its corner pixels) and an invitation breathes at its centre."""
+    its corner pixels) and an ``invitation`` (none when empty) breathes at its centre."""
     if alpha <= 0.0:
         return
     lo, hi = area.min(axis=0), area.max(axis=0)
@@ -108,7 +140,9 @@ def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray) -> None
         tw = 0.5 + 0.5 * math.sin(0.9 * t + 1.3 * i)
         P.glow(surf, (lo[0] + u * span[0], lo[1] + v * span[1]), 0.025 * span[0] + 4,
                (120, 170, 255) if i % 2 else (255, 170, 200), alpha * (0.2 + 0.35 * tw))
+    if not invitation:
+        return
     c = (lo + hi) / 2
     b = 0.55 + 0.45 * math.sin(0.8 * t)
-    text(surf, "put a puck on the table", (c[0], c[1] + 0.3 * span[1]), int(0.045 * span[1]) + 8,
-         fade((200, 215, 240), alpha * b))
+    text(surf, invitation, (c[0], c[1] + 0.3 * span[1]), int(0.045 * span[1]) + 8,
+         (200, 215, 240), alpha * b)

@@ -88,6 +88,31 @@ def test_halo_surrounds_the_puck_and_leaves_its_centre_dark(angle):
     assert ahead > behind + 60
 
 
+def test_a_halo_drawn_from_the_cached_ring_is_the_freshly_rendered_one():
+    """The ring is rendered once per (radius, width, colour, strength) and blitted after that:
+    the cached blit leaves exactly the fresh ring's pixels, still dark at the puck's centre, and a
+    coasting puck at the same place is not given the seen one's cached ring."""
+    P._rings.clear()
+    frame = Frame(seq=0, t=0.0, pucks=(Puck(3, 0.4, 0.3, 1.0),))
+    r = new_renderer()
+    a = settled(r, frame)                               # rings rendered as the puck fades in
+    rendered = len(P._rings)
+    assert rendered >= 1
+    b = settled(new_renderer(), frame)
+    assert len(P._rings) == rendered                    # nothing rendered again: cache hits
+    assert np.abs(a - b).max() == 0
+    cx, cy = r.map.point(0.4, 0.3)
+    R = 0.03 * r.map.scale_at(0.4, 0.3) * 1.35 + 3.0
+    assert brightness(b, (cx, cy)) < ground(r, (cx, cy)) + 40
+    assert min(brightness(b, (cx + R * math.cos(t), cy + R * math.sin(t)))
+               for t in np.linspace(0.3, 6.0, 12)) > ground(r, (cx, cy)) + 200
+    c = settled(new_renderer(), Frame(seq=0, t=0.0, pucks=(Puck(3, 0.4, 0.3, 1.0,
+                                                                state="coasting"),)))
+    assert len(P._rings) > rendered                     # its own ring, in its own colour
+    q = (cx + R * math.cos(3.5), cy + R * math.sin(3.5))
+    assert np.abs(at(c, q) - at(b, q)).max() > 30
+
+
 def test_coasting_puck_is_coloured_apart_from_a_seen_one():
     out = {}
     for state in ("seen", "coasting"):

@@ -1,0 +1,136 @@
+"""The view's treatment of action-following characters and of each configuration: a hinted pose
+(early feedback) drawn faintly, hybrid characters with their face, the idle look's invitation."""
+
+import math
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pygame
+import pytest
+
+from behaviors.mop.creatures import FaceModel, creature_skeleton, hybrid_clips
+from behaviors.mop.puppetry import FaceRig, HybridRig, PlanarRig
+from behaviors.motion.skeleton import place
+from tabletop.config import load_config
+from tabletop.drawing.characters import hybrid_parts
+from tabletop.frames import CharacterState, Frame
+from tabletop.view import INVITATIONS, Renderer, invitation
+
+from tests.tabletop.test_view import SIZE, TABLE, at, display, ground, rgb  # noqa: F401
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def stick(x: float, **kw) -> CharacterState:
+    """A creature lying along x: three points from ``x`` to ``x + 0.2`` m at y = 0.4."""
+    pts = np.array([[x, 0.4], [x + 0.1, 0.4], [x + 0.2, 0.4]])
+    return CharacterState("stick", x + 0.1, 0.4, 0.0, kind="creature", size=0.3, points=pts,
+                          bones=((0, 1), (1, 2)), color=(90, 220, 120), **kw)
+
+
+def test_a_hinted_pose_is_drawn_faintly_fades_in_and_goes():
+    r = Renderer(TABLE, SIZE)
+    s = pygame.Surface(SIZE)
+    rest = stick(0.2, valid=False)
+    hinted = stick(0.2, valid=False, hints=(("wave", 0.9, 0.4),),
+                   hint_points=np.array([[0.2, 0.6], [0.3, 0.6], [0.4, 0.6]]))
+    where = r.map.point(0.35, 0.6)       # on the hinted pose, far from the character itself
+    body = r.map.point(0.35, 0.4)
+    seen = []
+    for k in range(40):     # resting for two thirds of a second, then an action is suspected
+        r.draw(s, Frame(seq=k, t=1.0 + k / 30, characters=(hinted if k >= 20 else rest,)))
+        seen.append(int(at(rgb(s), where).sum()))
+    img = rgb(s)
+    g = ground(r, where)
+    assert abs(seen[19] - g) <= 12                  # nothing hinted yet
+    assert seen[20] < seen[22] < seen[39]           # fades in, no pop
+    assert seen[39] > g + 60
+    assert seen[39] < int(at(img, body).sum()) - 80  # faint: well below the character's body
+    for k in range(40, 70):                          # the hint goes: so does the faint pose
+        r.draw(s, Frame(seq=k, t=1.0 + k / 30, characters=(rest,)))
+    assert abs(int(at(rgb(s), where).sum()) - g) <= 12
+
+
+def gecko(progress: float = 0.4) -> tuple[CharacterState, HybridRig]:
+    rig = HybridRig(PlanarRig(creature_skeleton()), FaceRig(FaceModel()), 5)
+    clip = hybrid_clips()["walk_talk"]
+    pts = place(rig.pose(clip, progress), 0.6, 0.4, math.pi, 0.25)
+    return CharacterState("gecko", 0.6, 0.4, math.pi, kind="hybrid", size=0.25,
+                          color=(200, 140, 230), points=pts, bones=rig.bones), rig
+
+
+def test_a_hybrid_is_its_body_with_its_face_on_the_head():
+    c, rig = gecko()
+    n_body = len(rig.body.rest())
+    k, body_bones, face_bones = hybrid_parts(len(c.points), c.bones)
+    assert k == n_body and body_bones == tuple(rig.body.bones)
+    assert face_bones == tuple(rig.face.bones)
+    r = Renderer(TABLE, SIZE)
+    s = pygame.Surface(SIZE)
+    for j in range(8):
+        r.draw(s, Frame(seq=j, t=j / 10, characters=(c,)))
+    img = rgb(s)
+    face = r.map.points(c.points[k:])
+    lo, hi = face.min(axis=0).astype(int), face.max(axis=0).astype(int)
+    box = img[lo[1]:hi[1], lo[0]:hi[0]]
+    white = np.all(box > 225, axis=2).sum()      # the face's eye whites
+    dark = np.all(box < 60, axis=2).sum()        # pupils, mouth, brows
+    body = (box[..., 0] > 120) & (box[..., 2] > 150)
+    assert white > 10 and dark > 10 and body.mean() > 0.3   # a filled face, not strokes
+
+
+@pytest.mark.parametrize("config, expected", [("config.yaml", "puck"),
+                                              ("examples/mop.yaml", "puck"),
+                                              ("examples/touch_pose.yaml", "touch")])
+def test_the_idle_invitation_fits_the_configuration(config, expected):
+    cfg = load_config(ROOT / config)
+    assert invitation(cfg["engines"]) == INVITATIONS[expected]
+    assert "puck" not in invitation([{"kind": "touch_pose"}])
+    assert invitation([{"kind": "mop", "performers": [
+        {"inputs": [{"kind": "stream"}]}]}]) == INVITATIONS["stream"]
+    assert invitation([{"kind": "fault"}]) == ""
+
+
+def test_the_idle_look_shows_the_invitation_it_is_given():
+    def idle_text(words: str) -> np.ndarray:
+        r = Renderer(TABLE, SIZE)
+        r.invitation = words
+        s = pygame.Surface(SIZE)
+        for k in range(99):      # ends at 9.8 s, where the invitation breathes brightest
+            r.draw(s, Frame(seq=k, t=k * 0.1))
+        assert r.idle == 1.0
+        return rgb(s)
+    a, b = idle_text(INVITATIONS["touch"]), idle_text("")
+    lower = (slice(SIZE[1] // 2 + 100, SIZE[1] - 60), slice(300, SIZE[0] - 300))
+    diff = np.abs(a[lower] - b[lower]).sum(axis=2)
+    assert (diff > 60).sum() > 200                 # the words, where the invitation stands
+
+
+WINDOW_SCRIPT = """
+import os
+from tabletop.config import validate_config
+from tabletop.view import ProjectorView
+cfg = validate_config({"sources": [{"kind": "scripted"}], "view": {"size": [320, 200]}})
+view = ProjectorView((1.2, 0.8), cfg["view"])
+import pygame
+pygame.display.flip()
+print(pygame.display.get_driver(), os.environ.get("SDL_FRAMEBUFFER_ACCELERATION"))
+view.close()
+"""
+
+
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="needs xvfb-run (a virtual X display)")
+@pytest.mark.parametrize("operator, expected", [(None, "0"), ("1", "1")])
+def test_an_x11_window_presents_straight_unless_the_operator_says_otherwise(operator, expected):
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("SDL_VIDEODRIVER", "SDL_FRAMEBUFFER_ACCELERATION")}
+    if operator is not None:
+        env["SDL_FRAMEBUFFER_ACCELERATION"] = operator
+    r = subprocess.run(["xvfb-run", "-a", sys.executable, "-c", WINDOW_SCRIPT],
+                       capture_output=True, text=True, env=env, cwd=ROOT, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split()[-2:] == ["x11", expected]
