@@ -11,12 +11,11 @@ installation's READY; the stall is the second failure in a row, so it waits ``ba
 one (3) and none (1). Budget (issue 15): back within 2 s.
 
 Recording: frames of a 16-puck table handed over at 60 Hz for ``REC_S`` seconds, interleaved
-A B C: the recorder (the frame loop serialises the frame and enqueues the line; a writer
-thread writes and fdatasyncs each line before the next), the previous recorder's work on the
-loop (serialise, write, flush to the operating system; synced twice a second elsewhere), and
-durable lines written on the loop (serialise, write, fdatasync). Measured: the frame loop's cost per frame,
-and each line's durability latency with the recorder (handed over -> fdatasync returned), on
-the repository's disk.
+A B C: the recorder (the frame loop serialises, writes and flushes each line to the operating
+system; a thread fdatasyncs as soon as lines are written), the same on the loop without any
+sync, and durable lines written on the loop (serialise, write, fdatasync). Measured: the frame
+loop's cost per frame, and each line's durability latency with the recorder (written ->
+fdatasync returned), on the repository's disk.
 """
 
 from __future__ import annotations
@@ -117,9 +116,9 @@ def frames(n: int, pucks: int = 16) -> list[Frame]:
 
 
 class OnLoop:
-    """The alternatives, on the frame loop: each line serialised, written and flushed to the
-    operating system (the recorder before; it synced twice a second in a thread), and also
-    fdatasynced (durable line by line, on the loop)."""
+    """The alternatives, all on the frame loop: each line serialised, written and flushed to the
+    operating system with no sync, or also fdatasynced (durable line by line, the loop waiting
+    for the disk). The recorder writes like the first and syncs in a thread."""
 
     def __init__(self, path: Path, sync: bool) -> None:
         rec = Recorder(path, config={"loop": {"rate_hz": 60}})
@@ -140,7 +139,7 @@ class OnLoop:
 def recording() -> dict:
     n = int(REC_S * 60)
     fs = frames(n)
-    loop_s: dict[str, list[float]] = {"writer_thread": [], "flush_on_loop": [],
+    loop_s: dict[str, list[float]] = {"recorder": [], "flush_on_loop": [],
                                       "sync_on_loop": []}
     latency: list[float] = []
     per_sync: list[float] = []
@@ -148,7 +147,7 @@ def recording() -> dict:
         for r in range(REC_ROUNDS):
             for name in loop_s:
                 path = Path(d) / f"{name}-{r}.jsonl"
-                rec = Recorder(path, config={"loop": {"rate_hz": 60}}) if name == "writer_thread" \
+                rec = Recorder(path, config={"loop": {"rate_hz": 60}}) if name == "recorder" \
                     else OnLoop(path, sync=name == "sync_on_loop")
                 t_next = time.perf_counter()
                 for f in fs:
@@ -158,7 +157,7 @@ def recording() -> dict:
                     t_next += 1 / 60
                     time.sleep(max(0.0, t_next - time.perf_counter()))
                 rec.close()
-                if name == "writer_thread":
+                if name == "recorder":
                     latency += rec.durability.latencies_s
                     per_sync.append(rec.durability.lines / max(1, rec.durability.syncs))
     out = {}

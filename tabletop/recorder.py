@@ -11,14 +11,16 @@
 - A write that fails (a full disk) stops recording with one clear log line; the installation
   keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
 
-Durable line by line, never on the frame loop: :meth:`Recorder.consume` (the frame loop)
-serialises the frame and hands the line to a writer thread, which writes it and fdatasyncs the
-file before it writes the next one, so a power cut or a ``kill -9`` loses at most the line in
-flight. A new file (and its folder entry) is synced before its first frame. When lines come
-faster than the disk syncs them, the writer writes the lines waiting together and syncs once
-(logged when a line waited 0.5 s, at most every 10 s); more than ``max_queue`` lines waiting
-(a disk that stopped) stops the recording like a full disk. :attr:`Recorder.durability` counts
-lines and syncs and keeps the latest durability latencies (line handed over -> on disk).
+Durable line by line, never waiting on the frame loop: :meth:`Recorder.consume` (the frame
+loop) writes each line to the operating system at once, so a ``kill -9`` loses at most the line
+being written; a syncer thread fdatasyncs the file as soon as a line is written and again after
+each sync while lines keep coming, so a power cut loses at most the lines written during the
+sync in progress (one line at 60 Hz while the disk syncs within a frame). A new file is synced
+before its first frame (its folder entry too). Lines the disk has not synced yet are counted:
+when a sync covers several, the disk is slower than the frames (logged when a line waited
+0.5 s, at most every 10 s); more than ``max_queue`` of them (a disk that stopped) stops the
+recording like a full disk. :attr:`Recorder.durability` counts lines and syncs and keeps the
+latest durability latencies (line written -> its sync returned).
 """
 
 from __future__ import annotations
@@ -75,7 +77,7 @@ def _stamp() -> str:
 @dataclass
 class Durability:
     """What the writer thread has made durable: lines, fdatasyncs, and the latest latencies
-    (seconds from :meth:`Recorder.consume` handing a line over to its sync returning)."""
+    (seconds from :meth:`Recorder.consume` writing a line to its sync returning)."""
 
     lines: int = 0
     syncs: int = 0
@@ -115,14 +117,16 @@ class Recorder:
         self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
         self.keep, self.max_queue = keep, max(1, int(max_queue))
         self.paths: list[Path] = []      # every file of this session, in order
-        self.frames = 0                  # frames handed to the writer
+        self.frames = 0                  # frames written
         self.failed: str | None = None   # why recording stopped early, if it did
         self.durability = Durability()
         self._f: Any = None
         self._size = 0
         self._t0: float | None = None
         self._first_in_file = True
-        self._queue: collections.deque = collections.deque()   # (dict, line, handed-over time)
+        self._unsynced: list[float] = []   # when each line not yet synced was written
+        self._retired: list[Any] = []      # finished parts, for the syncer to sync and close
+        self._folder_dirty = False         # a part was created since the last folder sync
         self._cv = threading.Condition()
         self._closing = False
         self._slow_logged = -float("inf")
@@ -133,16 +137,16 @@ class Recorder:
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
                                    f"{exc.strerror or exc}") from None
             self._fail(exc)  # a full disk: the installation runs, without recording
-        self._writer = threading.Thread(target=self._write_lines, name="recorder-writer",
+        self._syncer = threading.Thread(target=self._sync_lines, name="recorder-sync",
                                         daemon=True)
-        self._writer.start()
+        self._syncer.start()
 
     @property
     def path(self) -> Path:
         """The file being written (the last one when finished)."""
         return self.paths[-1]
 
-    # -- files (the writer thread's, and __init__'s for the first) ------------------------------
+    # -- files -----------------------------------------------------------------------------------
 
     def _candidates(self):
         if self.stem is None:
@@ -174,8 +178,11 @@ class Recorder:
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
         self._f.flush()
-        os.fdatasync(self._f.fileno())
-        fsync_folder(self.folder)        # the new file's name survives a power cut too
+        if len(self.paths) == 1:         # at start-up: synced now; later parts by the syncer
+            os.fdatasync(self._f.fileno())
+            fsync_folder(self.folder)    # the new file's name survives a power cut too
+        else:
+            self._folder_dirty = True
         self._prune()
 
     def _mine(self, p: Path) -> bool:
@@ -210,63 +217,64 @@ class Recorder:
         why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
         self.failed = f"{where}: {why}"
         log.error("recording stopped after %d frames: %s; the installation keeps running",
-                  self.durability.lines, self.failed)
-        try:
-            if self._f is not None:
-                self._f.close()
-        except OSError:
-            pass
+                  self.frames, self.failed)
+        if self._f is not None:
+            self._retired.append(self._f)   # the syncer syncs what it can and closes it
+            self._f = None
         if self.paths and self._first_in_file:  # a file without a frame is of no use
             try:
                 self.paths[-1].unlink()
             except OSError:
                 pass
 
-    def _close_file(self) -> None:
-        self._f.flush()
-        os.fsync(self._f.fileno())
-        self._f.close()
+    # -- the syncer thread ----------------------------------------------------------------------
 
-    # -- the writer thread ----------------------------------------------------------------------
-
-    def _write_lines(self) -> None:
-        """Write what waits, fdatasync, repeat; until closed and nothing waits."""
+    def _sync_lines(self) -> None:
+        """fdatasync whenever lines were written since the last sync; sync and close finished
+        parts; until closed and nothing is left to sync."""
         while True:
             with self._cv:
-                while not self._queue and not self._closing:
+                while not (self._unsynced or self._retired or self._folder_dirty) \
+                        and not self._closing:
                     self._cv.wait()
-                if not self._queue:
+                if not (self._unsynced or self._retired or self._folder_dirty):
                     return
-                batch = list(self._queue)
-                self._queue.clear()
-            if self._f is None or self._f.closed:
-                continue                 # stopped by a failed write: what waits is dropped
+                batch, self._unsynced = self._unsynced, []
+                retired, self._retired = self._retired, []
+                folder, self._folder_dirty = self._folder_dirty, False
+                f = self._f
+            for old in retired:
+                try:
+                    old.flush()
+                    os.fsync(old.fileno())
+                except (OSError, ValueError):
+                    pass                           # a failed part: what the disk took stays
+                finally:
+                    try:
+                        old.close()
+                    except OSError:
+                        pass
             try:
-                for d, line, _ in batch:
-                    if self.max_bytes is not None and not self._first_in_file and \
-                            self._size + len(line) > self.max_bytes:
-                        self._close_file()
-                        self._open_part()
-                    if self._first_in_file and "t0" not in d:
-                        d["t0"] = self._t0       # each part's first frame carries t0
-                        line = _encode(d)
-                    self._write(line)
-                    self._first_in_file = False
-                self._f.flush()
-                os.fdatasync(self._f.fileno())
-            except OSError as exc:
-                self._fail(exc)
+                if folder:
+                    fsync_folder(self.folder)
+                if batch and f is not None:
+                    os.fdatasync(f.fileno())
+            except (OSError, ValueError) as exc:   # ValueError: closed by a failed write
+                with self._cv:
+                    if self.failed is None and isinstance(exc, OSError):
+                        self._fail(exc)
                 continue
-            self._synced(batch)
+            if batch:                              # in f, or in a part just synced above
+                self._synced(batch)
 
-    def _synced(self, batch: list) -> None:
+    def _synced(self, batch: list[float]) -> None:
         now = time.monotonic()
         dur = self.durability
         dur.lines += len(batch)
         dur.syncs += 1
         dur.waited_max = max(dur.waited_max, len(batch))
-        dur.latencies_s.extend(now - t for _, _, t in batch)
-        waited = now - batch[0][2]
+        dur.latencies_s.extend(now - t for t in batch)
+        waited = now - batch[0]
         if len(batch) > 1 and waited >= self.SLOW_S and \
                 now - self._slow_logged >= self.SLOW_LOG_EVERY_S:
             self._slow_logged = now
@@ -276,41 +284,55 @@ class Recorder:
     # -- the sink (the frame loop) --------------------------------------------------------------
 
     def consume(self, frame: Frame) -> None:
-        """Serialise the frame and hand its line to the writer thread; never waits for it."""
-        if self.failed is not None or self._closing:
+        """Write the frame's line to the operating system; never waits for the disk's sync."""
+        if self.failed is not None or self._f is None or self._closing:
             return
         d = frame_to_dict(frame, self._t0 if self._t0 is not None else frame.t)
         if self._t0 is None:
-            self._t0 = d["t0"] = frame.t
+            self._t0 = frame.t
+        if self._first_in_file:
+            d["t0"] = self._t0                    # each part's first frame carries t0
         if self._t0 + d["t"] != frame.t:
             d["t_mono"] = frame.t   # exactness: t0 + t would round differently
         line = _encode(d)
-        now = time.monotonic()
         with self._cv:
-            if len(self._queue) >= self.max_queue:   # the lines waiting are still written
-                waited = now - self._queue[0][2]
-                self.failed = (f"{self.path}: the disk cannot keep up ({self.max_queue} lines "
-                               f"waited, the oldest {waited:.1f} s)")
-                log.error("recording stopped after %d frames: %s; the installation keeps "
-                          "running", self.frames, self.failed)
+            if len(self._unsynced) >= self.max_queue:
+                self._fail(f"the disk cannot keep up ({self.max_queue} lines waited, the "
+                           f"oldest {time.monotonic() - self._unsynced[0]:.1f} s)")
+                self._cv.notify()
                 return
-            self._queue.append((d, line, now))
+            try:
+                if self.max_bytes is not None and not self._first_in_file and \
+                        self._size + len(line) > self.max_bytes:
+                    self._f.flush()
+                    self._retired.append(self._f)
+                    self._open_part()
+                    d["t0"] = self._t0
+                    line = _encode(d)
+                self._write(line)
+                self._f.flush()
+            except OSError as exc:
+                self._fail(exc)
+                self._cv.notify()
+                return
+            self._first_in_file = False
+            self.frames += 1
+            self._unsynced.append(time.monotonic())
             self._cv.notify()
-        self.frames += 1
 
-    def _stop_writer(self, timeout_s: float = 30.0) -> bool:
-        """Let the writer finish what waits; False when the disk did not let it."""
+    def _stop_syncer(self, timeout_s: float = 30.0) -> bool:
+        """Let the syncer finish what is left; False when the disk did not let it."""
         with self._cv:
             self._closing = True
             self._cv.notify()
-        self._writer.join(timeout_s)
-        return not self._writer.is_alive()
+        self._syncer.join(timeout_s)
+        return not self._syncer.is_alive()
 
     def discard(self) -> None:
         """Close and remove what was written (the installation did not start)."""
         with self._cv:
-            self._queue.clear()
-        self._stop_writer()
+            self._unsynced.clear()
+        self._stop_syncer()
         try:
             if self._f is not None:
                 self._f.close()
@@ -323,21 +345,23 @@ class Recorder:
                 pass
 
     def close(self) -> None:
-        """Write and sync every line handed over, then close the file."""
-        if not self._stop_writer():
-            log.error("recording %s: the disk did not take the last %d lines within 30 s",
-                      self.path, len(self._queue))
+        """Sync every line written, then close the file."""
+        if not self._stop_syncer():
+            log.error("recording %s: the disk did not sync the last %d lines within 30 s",
+                      self.path, len(self._unsynced))
             return
         if self._f is None or self._f.closed:
             return
         try:
-            self._close_file()
+            self._f.flush()
+            os.fsync(self._f.fileno())
+            self._f.close()
         except OSError as exc:
             if self.failed is None:
                 self._fail(exc)
             return
         if self.failed is None:
-            log.info("recording %s: %d frames", self.path, self.durability.lines)
+            log.info("recording %s: %d frames", self.path, self.frames)
 
 
 def _encode(d: dict[str, Any]) -> bytes:

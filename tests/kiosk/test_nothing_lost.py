@@ -72,9 +72,9 @@ def test_kill_9_during_library_saves_leaves_the_previous_behaviour_intact(tmp_pa
     assert counter[0] == 25 and len(library.list_behaviors(lib)) > 3
 
 
-def test_kill_9_while_recording_loses_no_line_made_durable(tmp_path):
-    """Frames at 60 Hz; the child reports how many lines its writer has synced; SIGKILL at
-    random moments: those lines are all there, in order, and at most the last line is cut."""
+def test_kill_9_while_recording_loses_no_line_written(tmp_path):
+    """Frames at 60 Hz; the child reports how many lines it has written; SIGKILL at random
+    moments: those lines are all there, in order, and at most the last line is cut."""
     rng = random.Random(7)
     for k in range(12):
         path = tmp_path / f"session-{k}.jsonl"
@@ -87,8 +87,8 @@ def test_kill_9_while_recording_loses_no_line_made_durable(tmp_path):
                 rec.consume(Frame(seq=i, t=100 + i / 60, pucks=(Puck(1, 0.1 * (i % 9), 0.2, 0.0),)))
                 i += 1
                 time.sleep(1 / 60)
-                if i % 5 == 0:                            # acknowledged: these are on disk
-                    os.write(w, rec.durability.lines.to_bytes(4, "little"))
+                if i % 5 == 0:                  # acknowledged: written, so they survive the kill
+                    os.write(w, rec.frames.to_bytes(4, "little"))
 
         killed_while(record_forever, rng, window_s=0.5)
         os.close(w)
@@ -109,9 +109,9 @@ def frame(i):
     return Frame(seq=i, t=100 + i / 60, pucks=(Puck(1, 0.01 * i, 0.2, 0.0),))
 
 
-def test_each_line_is_synced_before_the_next_is_written(tmp_path, monkeypatch):
-    """The real fdatasync, watched: lines handed over one at a time (the next once the previous
-    is reported durable) are each synced alone, the file ending with that line."""
+def test_a_line_written_alone_is_synced_alone(tmp_path, monkeypatch):
+    """The real fdatasync, watched: lines written one at a time (the next once the previous is
+    reported durable) are each synced alone, the file ending with that line."""
     real, sizes = os.fdatasync, []
 
     def watched(fd):
@@ -152,7 +152,7 @@ def test_a_disk_that_stops_never_holds_up_the_frame_loop(tmp_path, monkeypatch, 
     rec = Recorder(path, config={}, max_queue=20)
     monkeypatch.setattr(os, "fdatasync", stalled)
     rec.consume(frame(0))
-    assert syncing.wait(10)                   # the writer is stuck in the first line's sync
+    assert syncing.wait(10)                   # the syncer is stuck in the first line's sync
     for i in range(1, 60):
         rec.consume(frame(i))                 # returns: the frame loop never waits for the disk
     assert rec.failed is not None and "cannot keep up (20 lines waited" in rec.failed
