@@ -23,7 +23,7 @@ def test_every_template_at_once_equals_the_plain_equations(transitions, fastest,
                        "long": g.template(rng, n=400, d=4)})
     perf = g.perform(rng, target, g.warped_phase(rng, n, 0.5, fastest), 0.1)
     z = (perf - bank.center[1]) / bank.scale[1]    # in the target's own units
-    mean, var, ll = forward_reference(bank.template(1), z, 0.2, 15, transitions)
+    mean, var, ll, _ = forward_reference(bank.template(1), z, 0.2, 15, transitions)
     fw = WindowedForward(bank, sigma=0.2, half_window=15, transitions=transitions, floor=0.0)
     got = np.array([(fw.step(x)[1], fw.mean[1], fw.var[1]) for x in z])
     assert np.abs(got[:, 0] - ll).max() <= 1e-8
