@@ -424,14 +424,14 @@ def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float
         both = window | first
         if floor > 0:
             m = logb[both].max()
-            e = np.exp(np.maximum(logb - m, _CLAMP))
+            e = np.exp(np.maximum(np.where(both, logb - m, _CLAMP), _CLAMP))
             pm, ps = pm * e * window, ps * e * first
         else:
             with np.errstate(divide="ignore"):
                 lm, ls = np.log(pm) + logb, np.log(ps) + logb
             m = max(lm[window].max(), ls[first].max())
-            pm = np.where(window, np.exp(np.maximum(lm - m, -600.0)), 0.0)
-            ps = np.where(first, np.exp(np.maximum(ls - m, -600.0)), 0.0)
+            pm = np.exp(np.maximum(np.where(window, lm - m, -np.inf), -600.0)) * window
+            ps = np.exp(np.maximum(np.where(first, ls - m, -np.inf), -600.0)) * first
         s = pm.sum() + ps.sum()
         main, start = pm / s, ps / s
         if start.sum() > main.sum():                  # a new performance began: re-entry
