@@ -96,19 +96,17 @@ class WindowedForward:
         # puck was valid 47% of the time with window 40 (0% with 15).
         self._floor_main = np.where(valid, self.floor / wk, 0.0)
         self._floor_start = np.where(valid, _START_FLOOR if self.floor > 0 else 0.0, 0.0).ravel()
-        # log b = (m.z - |m|^2 / 2) / sigma^2 - |z|^2 / (2 sigma^2) + const: states prescaled
-        self._inv_var = 1.0 / (self.sigma * self.sigma)
-        self._means_t = np.ascontiguousarray((bank.means * self._inv_var).T)   # (d, states)
-        self._half_sq_states = 0.5 * np.einsum("ij,ij->i", bank.means, bank.means) * self._inv_var
+        # log b = -|m - z|^2 / (2 sigma^2) + const: states and samples prescaled by 1 / (sigma
+        # sqrt 2); a window's states past its template's end are infinitely far
+        self._prescale = 1.0 / (self.sigma * math.sqrt(2.0))
+        self._means_t = np.ascontiguousarray((bank.means * self._prescale).T)  # (d, states)
         self._ar_clip = np.minimum(ar[:, None], (wk - 1)[None, :])             # (w, K)
         self._mask_inf = np.where(valid, 0.0, np.inf).ravel()
         first = (bank.starts[None, :] + self._ar_clip).ravel()
         self._start_means = self._means_t[:, first]                            # (d, w K)
-        self._start_half = self._half_sq_states[first] + self._mask_inf
+        self._start_means[0] += self._mask_inf
         self._mb = np.empty((bank.dim, w * k))    # the main windows' states, gathered
-        self._hb = np.empty(w * k)
         self._mb_views = [m.reshape(w, k) for m in self._mb]
-        self._hb_view = self._hb.reshape(w, k)
         self._lb = np.empty((w, k))               # scratch
         self._tmp = np.empty((w, k))
         self._q = np.empty((w, k))
@@ -169,7 +167,7 @@ class WindowedForward:
         idx = self._ar_clip.ravel()[flat] + (self.bank.starts[cols] + self.lo[cols])
         for mb, means in zip(self._mb, self._means_t):
             mb[flat] = means[idx]
-        self._hb[flat] = self._half_sq_states[idx] + self._mask_inf[flat]
+        self._mb[0][flat] += self._mask_inf[flat]
 
     def _transit(self, a: np.ndarray, out: np.ndarray, at_start: np.ndarray | float,
                  at_end: np.ndarray | None, cols: np.ndarray | None) -> np.ndarray:
@@ -194,15 +192,15 @@ class WindowedForward:
         return out
 
     @staticmethod
-    def _emission(mb: list, half: np.ndarray, z: np.ndarray, out: np.ndarray,
-                  tmp: np.ndarray) -> np.ndarray:
-        """log b (equation 1) of windows' states ``mb`` (d arrays (w, n)) for ``z`` (d, n or 1),
-        up to the constant -|z|^2 / (2 sigma^2)."""
-        np.multiply(mb[0], z[0], out=out)
+    def _emission(mb: list, z: np.ndarray, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
+        """-log b (equation 1) up to its constant: the squared distances of windows' states
+        ``mb`` (d arrays (w, n)) from ``z`` (d, n or 1), both prescaled."""
+        np.subtract(mb[0], z[0], out=out)
+        np.square(out, out=out)
         for i in range(1, len(mb)):
-            np.multiply(mb[i], z[i], out=tmp)
+            np.subtract(mb[i], z[i], out=tmp)
+            np.square(tmp, out=tmp)
             out += tmp
-        out -= half
         return out
 
     def step(self, z: np.ndarray) -> np.ndarray:
@@ -216,14 +214,15 @@ class WindowedForward:
         eps = 0.0 if first else self.transitions.restart
         logs = self.floor <= 0
         at_start = self.lo == 0
-        lb = self._emission(self._mb_views, self._hb_view, zt, self._lb, self._tmp)
+        zt = zt * self._prescale
+        lb = self._emission(self._mb_views, zt, self._lb, self._tmp)    # -log b, see below
         # the first-states windows computed in full: where the main window is elsewhere (with
         # floor 0, everywhere: no floor-sized terms are dropped then)
         sc = self._cols if logs else np.flatnonzero(self.lo)
         ns = sc.size
         if ns:
             fs = self._flat(sc)
-            lbs = self._emission([m[fs] for m in self._start_means], self._start_half[fs],
+            lbs = self._emission([m[fs] for m in self._start_means],
                                  zt if zt.shape[1] == 1 else zt[:, sc], np.empty((w, ns)),
                                  np.empty((w, ns)))
             bs = self._b.reshape(-1)[fs]
@@ -245,26 +244,27 @@ class WindowedForward:
                 qs *= c[sc]
                 qs += self._floor_start[fs]
                 qs[0] += eps
+        # m: per template, the smallest distance (the largest log b) of its windows
         if not logs:
-            m = lb.max(axis=0)
+            m = lb.min(axis=0)
             if ns:
-                ms = np.maximum(m[sc], lbs.max(axis=0))
+                ms = np.minimum(m[sc], lbs.min(axis=0))
                 m[sc] = ms
-                lbs -= ms
+                np.subtract(ms, lbs, out=lbs)
                 np.maximum(lbs, _CLAMP, out=lbs)
                 qs *= np.exp(lbs, out=lbs)
-            lb -= m
+            np.subtract(m, lb, out=lb)
             np.maximum(lb, _CLAMP, out=lb)
             e = np.exp(lb, out=lb)
             q *= e
         else:
             with np.errstate(divide="ignore"):
                 lq, lqs = np.log(q), np.log(qs)
-            lq += lb
-            lqs += lbs
-            m = np.maximum(lq.max(axis=0), lqs.max(axis=0))
+            lq -= lb
+            lqs -= lbs
+            m = -np.maximum(lq.max(axis=0), lqs.max(axis=0))
             for a in (lq, lqs):
-                a -= m
+                a += m
                 np.maximum(a, -600.0, out=a)  # no subnormal numbers: far slower to compute with
             q, qs = np.exp(lq, out=q), np.exp(lqs, out=lqs)
             e = None
@@ -281,8 +281,7 @@ class WindowedForward:
         self._s = s
         self.steps += 1
         self._settle(mom, (qs, fs) if ns else None, sc, restart, e, eps)
-        zz = float(z @ z) if z.ndim == 1 else np.einsum("kd,kd->k", z, z)
-        return m + np.log(s) + (self._const - 0.5 * self._inv_var * zz)
+        return np.log(s) - m + self._const
 
     def _start_row(self, cols: np.ndarray, e: np.ndarray, eps: float) -> np.ndarray:
         """The first-states windows of ``cols`` where they were not computed: this step's
