@@ -66,6 +66,7 @@ class WindowedForward:
         self._k, self._w, self._wk = k, w, wk
         ar = np.arange(w)
         self._ar = ar[:, None]
+        self._ar_k = ar[:, None] * k
         self._moments = np.stack([np.ones(w), ar, ar * ar]).astype(float)      # (3, w)
         self._max_lo = lengths - wk
         self._inv_span = 1.0 / (lengths - 1)
@@ -159,7 +160,7 @@ class WindowedForward:
 
     def _flat(self, cols: np.ndarray) -> np.ndarray:
         """Flat indices (w, n) into a (w, K) array of the columns ``cols``."""
-        return self._ar * self._k + cols
+        return self._ar_k + cols
 
     def _gather(self, cols: np.ndarray) -> None:
         """Gather the prescaled states of the main windows of ``cols`` (their ``lo`` changed)."""
@@ -167,7 +168,8 @@ class WindowedForward:
         idx = self._ar_clip.ravel()[flat] + (self.bank.starts[cols] + self.lo[cols])
         for mb, means in zip(self._mb, self._means_t):
             mb[flat] = means[idx]
-        self._mb[0][flat] += self._mask_inf[flat]
+        if self._valid is not None:
+            self._mb[0][flat] += self._mask_inf[flat]
 
     def _transit(self, a: np.ndarray, out: np.ndarray, at_start: np.ndarray | float,
                  at_end: np.ndarray | None, cols: np.ndarray | None) -> np.ndarray:
