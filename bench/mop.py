@@ -29,6 +29,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+import tabletop  # noqa: E402,F401  (one BLAS thread, as the loop runs, set before numpy loads)
 import numpy as np  # noqa: E402
 
 from bench.common import emit, interleaved  # noqa: E402
