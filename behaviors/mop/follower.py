@@ -311,7 +311,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
         ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2
                   and p_list[bi] >= self.min_probability
-                  and (self._end_x is None or not self._departed(x, bi, self.onset)))
+                  and (self._end_x is None or not self._moved_on(x)))
         self._run = self._run + 1 if ok else 0
         valid = self._run >= self.confirm
         loglik = mean_ll_list[bi]

@@ -1,9 +1,8 @@
 """Gesture spotting in a continuous stream: where one gesture ends and the next begins.
 
 Once ``best`` reached ``end`` progress while valid, the gesture has ended: it drives while the
-input stays where it ended (the character holds its last pose) and no more once the input left
-that point by the onset (the next gesture has begun: before, the last action drove the first
-10-17% of the next one); the next gesture starts when the input rests or moves on from where it
+input stays where it ended (the character holds its last pose) and no more once the input moved
+on from that point; the next gesture starts when the input rests or moves on from where it
 ended, or stops matching; it is anchored where the last one ended, and
 forward, evidence and sizes start afresh. A valid action resting at 90% or more has ended too.
 When every template has been refused for ``lost_samples`` samples the attempt is abandoned and
@@ -40,6 +39,13 @@ class GestureSpotting:
         (RMS per column, in the template's spread and size)."""
         r = (x - self._end_x) / (self.bank.scale[k] * self._size[k])
         return bool(np.mean(r * r) >= (distance * self.sigma) ** 2)
+
+    def _moved_on(self, x: np.ndarray) -> bool:
+        """The input left the point where the last gesture reached its end by more than the
+        jitter of a still input (3 still radii in a column): the next gesture has begun. The
+        template's own onset (0.1 of its spread) let the last action drive the first 13% of the
+        next gesture (whose start is slow), and anchored that one too late to be followed."""
+        return bool(np.any(np.abs(x - self._end_x) > 3.0 * self._still_radius))
 
     def _still(self, x: np.ndarray) -> bool:
         """The input stayed within the still radius for ``still_samples`` samples."""
