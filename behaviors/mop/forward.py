@@ -15,15 +15,17 @@ performance has begun and it becomes the main window (re-entry).
 Layout (for speed; :func:`forward_reference` is the same algorithm written plainly, one template
 at a time): every template's window is a column of one ``(window, templates)`` array, so a step
 is a few array operations over all templates of all followers at once, with no loop over
-templates: emissions as a broadcast product with the window's prescaled states (kept gathered,
-re-gathered only for the columns whose window moved), transitions as shifted adds, per-template
-sums, maxima and moments along the window axis. The distributions are kept unnormalised (the
-transitions renormalise them each step; mean and variance are ratios); ``alpha`` normalises
-them. Where a main window lies on the first states (``lo == 0``, most templates, waiting for
-their action) its first-states window holds only this step's restart mass, so that window is
-not computed: its mass (restart x the first state's emission) is added to the main window's
-first state directly. Only the start window's floor of 1e-100 per state is left out there, below
-1e-90 of the main window's own floor.
+templates: emissions as squared distances from the window's prescaled states (kept gathered,
+re-gathered only for the columns whose window moved), transitions as one banded matrix product,
+per-template sums, minima and moments along the window axis. Where a main window lies on the
+first states (``lo == 0``, most templates, waiting for their action) its first-states window
+holds only this step's restart mass, so that window is not computed: its mass (restart x the
+first state's emission) decides re-entry and is added to the main window's first state. Only
+the first-states window's floor of 1e-100 per state is left out there, below 1e-90 of the main
+window's own floor. With ``floor`` 0 (log domain) every first-states window is computed.
+Measured on DESIGN's case (8 performers x 100 templates, one group, interleaved with the
+previous layout of one row per window and both windows of every template computed): the step
+took 2.4 ms of CPU instead of 3.7 on a loaded 2-core machine, with the same outputs (1e-13).
 """
 
 from __future__ import annotations
