@@ -97,7 +97,8 @@ class WindowedForward:
         # that can jump anywhere in the window each step is ``floor`` whatever the window's
         # width: ``window`` sets reach only. Before, each state got the whole floor, and a still
         # puck was valid 47% of the time with window 40 (0% with 15).
-        self._floor_main = np.where(valid, self.floor / wk, 0.0)
+        self._floor_main = (np.where(valid, self.floor / wk, 0.0) if self._valid is not None
+                            else self.floor / wk)      # (w, K), or per column (K,) broadcast
         self._floor_start = np.where(valid, _START_FLOOR if self.floor > 0 else 0.0, 0.0).ravel()
         # log b = -|m - z|^2 / (2 sigma^2) + const: states and samples prescaled by 1 / (sigma
         # sqrt 2); a window's states past its template's end are infinitely far
