@@ -35,7 +35,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame
 from behaviors.mop.spotting import GestureSpotting
-from behaviors.mop.state import FollowState, SampleError
+from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.validity import DIRECTION_LAG, Validity, template_velocities, unit_directions
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
@@ -94,6 +94,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             raise TemplateError(f"follower scale_range {list(scale_range)} must hold 1, e.g. [0.55, 1.8]")
         self.bank = build_bank(templates, relative_floor, min_scale, units, hold_tolerance)
         self.names: tuple[str, ...] = self.bank.names
+        self._index = {n: i for i, n in enumerate(self.names)}
         self.sigma = float(sigma)
         self.memory = float(memory)
         self.null_distance = float(null_distance)
@@ -321,18 +322,20 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
             order = [i for i in np.argsort(-p)[:3] if not self._refused[i]]
             likely = tuple((names[i], p_list[i], progress_list[i]) for i in order)
-        progress_by = dict(zip(names, progress_list))
+        shown = progress_list
         best, best_progress = names[bi], progress_list[bi]
         if self._ended >= 0 and not engaged:
             # the last gesture ended and no new one has begun: it stays at its end, not driving
             best, best_progress = names[self._ended], 1.0
-            progress_by[best] = 1.0
+            shown = list(progress_list)
+            shown[self._ended] = 1.0
+        index = self._index
         state = self._state = FollowState(
             best=best, progress=best_progress, variance=variance,
-            probabilities=dict(zip(names, p_list)), progress_by=progress_by,
+            probabilities=ByName(index, p_list), progress_by=ByName(index, shown),
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
-            loglik_by=dict(zip(names, mean_ll_list)), likely=likely,
-            scale_by=dict(zip(names, size_list)),
+            loglik_by=ByName(index, mean_ll_list), likely=likely,
+            scale_by=ByName(index, size_list),
             holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
         if engaged:
             self._ended = -1
