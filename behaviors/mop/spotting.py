@@ -8,6 +8,12 @@ forward, evidence and sizes start afresh. A valid action resting at 90% or more 
 When every template has been refused for ``lost_samples`` samples the attempt is abandoned and
 a new one starts at the current sample. While nothing is engaged and the input is still
 (``still_samples`` within a quarter of the onset), the anchor follows it.
+
+Measured back to back (``bench/follow_quality.py``) when an ended action stopped driving only
+once the input left by ``accept_distance`` and now (stops as soon as it moves on): among the
+six gestures the median longest run of a wrong action driving 13 -> 11.5 samples, median
+recognition at 24% -> 24%; among twenty templates gestures never recognised 16% -> 3% (held-out
+joints: 16% -> 9%, median recognition 35% -> 25%).
 """
 
 from __future__ import annotations
