@@ -305,7 +305,8 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
         wrong_runs.append(worst)
         for g in order:
             idx = [i for i, tg in enumerate(truth) if tg == g]
-            hit = [prog[i] for i in idx if states[i].valid and states[i].best == g]
+            hit = [prog[i] for i in idx
+                   if np.isfinite(prog[i]) and states[i].valid and states[i].best == g]
             delays.append(float(hit[0]) if hit else 1.0)
     d = np.array(delays)
     return {f"{key}_gestures": int(d.size),

@@ -33,10 +33,10 @@ import numpy as np
 
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateError, Transitions, build_bank
-from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame
+from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.spotting import GestureSpotting
 from behaviors.mop.state import ByName, FollowState, SampleError
-from behaviors.mop.validity import DIRECTION_LAG, Validity, template_velocities, unit_directions
+from behaviors.mop.validity import Validity
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
@@ -66,8 +66,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
-                 tangent: float = 0.0, lost_samples: int = 6, direction_limit: float = 0.4,
-                 direction_accept: float = 0.2, direction_memory: float = 8.0) -> None:
+                 tangent: float = 0.0, lost_samples: int = 6) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -81,10 +80,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("confirm", confirm, confirm >= 1), ("end", end, 0 < end <= 1),
                             ("still_samples", still_samples, still_samples >= 2),
                             ("min_probability", min_probability, 0 <= min_probability < 1),
-                            ("tangent", tangent, tangent >= 0),
-                            ("direction_limit", direction_limit, 0 < direction_limit <= 1),
-                            ("direction_accept", direction_accept, 0 < direction_accept <= direction_limit),
-                            ("direction_memory", direction_memory, direction_memory >= 1)):
+                            ("tangent", tangent, tangent >= 0)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if invariance not in INVARIANCES:
@@ -108,8 +104,6 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self.lost_samples = int(lost_samples)
         self.tangent = float(tangent)
         self._tvel, self._v0 = template_velocities(templates, self.bank, TANGENT_LAG)
-        dvel, self._dv0 = template_velocities(templates, self.bank, DIRECTION_LAG)
-        self._tdir, self._tmoving = unit_directions(dvel, self._dv0, self.bank)
         self._fbank = self._with_tangents()
         self._zdim = int(self._fbank.means.shape[1])
         self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
@@ -124,11 +118,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._params = dict(sigma=float(sigma), window=int(window), transitions=tuple(transitions),
                             backward=float(backward), restart=float(restart), memory=float(memory),
                             null_distance=float(null_distance), max_spread=float(max_spread),
-                            floor=float(floor), null_memory=float(null_memory), onset=float(onset),
-                            direction=(float(direction_limit), float(direction_accept),
-                                       float(direction_memory)))
-        self._dlimit, self._daccept = float(direction_limit), float(direction_accept)
-        self._ddecay = 1.0 - 1.0 / float(direction_memory)
+                            floor=float(floor), null_memory=float(null_memory), onset=float(onset))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -181,9 +171,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             self._refused, self._engaged = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
             self._entries = np.zeros(k, dtype=np.int64)
             self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
-            self._misfit, self._misfit_weight = np.zeros(k), np.zeros(k)
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
-                  self._entries, self._num, self._den, self._misfit, self._misfit_weight):
+                  self._entries, self._num, self._den):
             a.fill(0)
         self._size.fill(1.0)
         self._best = 0
@@ -272,8 +261,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             self._engaged[new] = False
         mean_ll = self._recent / self._recent_weight
         dist2 = (self._log_constant - mean_ll) * (2.0 / self._zdim)
-        misfit = self._direction(x, gi, new)
-        self._refuse(dist2, misfit)
+        self._refuse(dist2)
         # engaged once past the onset state *and* the input itself has left the anchor by the
         # onset (template units): a still input lets the prior drift along the first states
         # (measured: a still tail after a diagonal re-engaged the circle within 6 samples)
@@ -312,7 +300,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
         ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2
                   and p_list[bi] >= self.min_probability
-                  and (self._end_x is None or not self._moved_on(x)))
+                  and (self._end_x is None or not self._moved_on(x, bi)))
         self._run = self._run + 1 if ok else 0
         valid = self._run >= self.confirm
         loglik = mean_ll_list[bi]

@@ -9,7 +9,6 @@ import numpy as np
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
-from behaviors.mop.validity import direction_misfit, update_misfit
 
 
 class FollowerGroup:
@@ -64,7 +63,7 @@ class FollowerGroup:
         fs, sl = self.followers, self._slices
         per = lambda fn: np.concatenate([np.broadcast_to(fn(f), (len(f.names),)) for f in fs])
         for name in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                     "_num", "_den", "_size", "_misfit", "_misfit_weight"):
+                     "_num", "_den", "_size"):
             whole = np.concatenate([getattr(f, name) for f in fs])
             setattr(self, name, whole)
             for f, s in zip(fs, sl):
@@ -97,15 +96,6 @@ class FollowerGroup:
         self._two_over = per(lambda f: 2.0 / f._zdim)
         self._null2 = per(lambda f: f._null2)
         self._accept2 = per(lambda f: f._accept2)
-        # direction consistency (behaviors.mop.validity)
-        self._tdir = np.concatenate([np.pad(f._tdir, ((0, 0), (0, dmax - f.dim))) for f in fs])
-        self._tmoving = np.concatenate([f._tmoving for f in fs])
-        self._v0 = np.concatenate([f._dv0 for f in fs])
-        self._ddecay = per(lambda f: f._ddecay)
-        self._dlimit = per(lambda f: f._dlimit)
-        self._daccept = per(lambda f: f._daccept)
-        self._spatial = per(lambda f: float(f.invariance != "none"))
-        self._vel = np.zeros((len(self._owner), dmax))
 
     def reset(self) -> None:
         """Forget every performance."""
@@ -153,7 +143,7 @@ class FollowerGroup:
         fw, sls = self.forward, self._slices
         kept = None
         names = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                 "_num", "_den", "_size", "_misfit", "_misfit_weight")
+                 "_num", "_den", "_size")
         if lost:
             kept = [(i, [getattr(self, n)[sls[i]].copy() for n in names]) for i in lost]
         mean = fw.mean
@@ -198,17 +188,8 @@ class FollowerGroup:
             engaged[new] = False
         mean_ll = rec / rw
         dist2 = (self._log_constant - mean_ll) * self._two_over
-        vel = self._vel
-        for i in samples:
-            f = self.followers[i]
-            vel[sls[i], :f.dim] = f._velocity
-        v = vel / self._scale
-        v /= self._size[:, None]
-        e, w = direction_misfit(v, self._tdir.take(gs, axis=0), self._tmoving.take(gs), self._v0)
-        w *= self._spatial
-        misfit = update_misfit(self._misfit, self._misfit_weight, e, w, self._ddecay, new)
-        refused |= (dist2 > self._null2) | (misfit > self._dlimit)
-        refused &= ~((dist2 < self._accept2) & (misfit < self._daccept))
+        refused |= dist2 > self._null2
+        refused &= ~(dist2 < self._accept2)
         past = (mean >= self._onset_state) & ~refused
         starting = past & ~engaged
         if np.count_nonzero(starting):

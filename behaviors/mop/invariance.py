@@ -14,20 +14,41 @@ streams.
 Direction of motion (``tangent``, 0 by default) as extra features of every state: it raised
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the
 raise-hold-return error, but a performer going back along the path is refused after about
-0.2 s (``tests/mop/test_plugin.py``), so it is an option. The direction is also judged apart
-from the features, where going back is allowed (:mod:`behaviors.mop.validity`).
+0.2 s (``tests/mop/test_plugin.py``), so it is an option. Judged apart from the features, where
+going back is allowed, it did not help (:mod:`behaviors.mop.validity`).
 """
 
 from __future__ import annotations
 
+from typing import Mapping
+
 import numpy as np
 
 from behaviors.mop.hmm import TemplateBank
-from behaviors.mop.validity import DIRECTION_LAG
 
 INVARIANCES = ("scale", "offset", "none")
 #: Samples over which the direction of motion is measured (template and performance alike).
 TANGENT_LAG = 2
+
+
+def template_velocities(templates: Mapping[str, np.ndarray], bank: TemplateBank,
+                        lag: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per state of ``bank``, the template's velocity over ``lag`` recorded samples in its own
+    standardised units (states, d), and per template a quarter of its median moving speed (K,)
+    (below that a state counts as still: holds and eased starts)."""
+    k = len(bank.names)
+    v0 = np.ones(k)
+    parts = []
+    for i, name in enumerate(bank.names):
+        a = np.asarray(templates[name], dtype=float).reshape(len(templates[name]), -1)
+        v = (a - a[np.maximum(np.arange(len(a)) - lag, 0)]) / bank.scale[i]
+        speed = np.sqrt(np.sum(v * v, axis=1))
+        moving = speed[speed > 1e-9]
+        v0[i] = 0.25 * float(np.median(moving)) if moving.size else 1.0
+        src = bank.source[bank.starts[i]:bank.starts[i] + bank.lengths[i]]
+        keep = np.rint(src * (len(a) - 1)).astype(int)
+        parts.append(v[keep])
+    return np.concatenate(parts), v0
 
 
 class PerformanceFrame:
@@ -63,17 +84,13 @@ class PerformanceFrame:
             if self.invariance == "scale":
                 r = r / self._size[:, None]
             z = r / b.scale + self._first_z
-        lag = self._lag
-        past = lambda n: lag[-n] if len(lag) >= n else (lag[0] if lag else x)  # noqa: E731
-        # the input's velocity over DIRECTION_LAG samples (raw units), for direction consistency
-        self._velocity = x - past(DIRECTION_LAG)
-        tangent = x - past(TANGENT_LAG)
-        lag.append(x)
-        if len(lag) > DIRECTION_LAG:
-            del lag[0]
         if self.tangent <= 0:
             return z
-        v = tangent[None, :] / b.scale
+        lag = self._lag
+        v = (x - (lag[0] if len(lag) == TANGENT_LAG else lag[-1] if lag else x))[None, :] / b.scale
+        lag.append(x)
+        if len(lag) > TANGENT_LAG:
+            del lag[0]
         if self.invariance == "scale":
             v = v / self._size[:, None]
         speed = np.sqrt(np.sum(v * v, axis=1))

@@ -8,6 +8,12 @@ forward, evidence and sizes start afresh. A valid action resting at 90% or more 
 When every template has been refused for ``lost_samples`` samples the attempt is abandoned and
 a new one starts at the current sample. While nothing is engaged and the input is still
 (``still_samples`` within a quarter of the onset), the anchor follows it.
+
+Measured back to back (``bench/follow_quality.py``) when an ended action stopped driving only
+once the input left by ``accept_distance`` and now (stops as soon as it moves on): among the
+six gestures the median longest run of a wrong action driving 13 -> 11.5 samples, median
+recognition at 24% -> 24%; among twenty templates gestures never recognised 16% -> 3% (held-out
+joints: 16% -> 9%, median recognition 35% -> 25%).
 """
 
 from __future__ import annotations
@@ -40,12 +46,16 @@ class GestureSpotting:
         r = (x - self._end_x) / (self.bank.scale[k] * self._size[k])
         return bool(np.mean(r * r) >= (distance * self.sigma) ** 2)
 
-    def _moved_on(self, x: np.ndarray) -> bool:
-        """The input left the point where the last gesture reached its end by more than the
-        jitter of a still input (3 still radii in a column): the next gesture has begun. The
-        template's own onset (0.1 of its spread) let the last action drive the first 13% of the
-        next gesture (whose start is slow), and anchored that one too late to be followed."""
-        return bool(np.any(np.abs(x - self._end_x) > 3.0 * self._still_radius))
+    def _moved_on(self, x: np.ndarray, k: int) -> bool:
+        """The input moved on from where template ``k`` reached its end: it is farther from the
+        template's last point (at the estimated size, from the anchor) than when the end was
+        reached, by more than the jitter of a still input (3 still radii in a column), so the
+        next gesture has begun; the slow final approach to the last point is not moving on.
+        The template's own onset (0.1 of its spread) let the last action drive the first 13% of
+        the next gesture (whose start is slow), and anchored that one too late to be followed."""
+        b = self.bank
+        last = self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k] + self._anchor
+        return bool(np.any(np.abs(x - last) > np.abs(self._end_x - last) + 3.0 * self._still_radius))
 
     def _still(self, x: np.ndarray) -> bool:
         """The input stayed within the still radius for ``still_samples`` samples."""

@@ -48,8 +48,8 @@ def test_a_hold_of_any_length_is_followed_without_sliding_back(gestures):
     rng = np.random.default_rng(5)
     for name in ("arc_hold", "lift_hold"):
         for factor in (0.3, 3.0):
-            # the lift is narrow across its path: a puck's jitter while held must not read as
-            # motion across it (it once refused the hold: RMSE 0.39)
+            # the lift is narrow across its path (1.7 cm of spread): a held puck's jitter is
+            # large in its units
             x, prog = performance(rng, rhr[name], 1.0, hold=spans[name], hold_factor=factor)
             m = true_metrics(run(f, x), name, prog)
             limit = 0.06 if name == "arc_hold" else 0.1   # measured: lift at 0.3x 0.08
@@ -113,14 +113,3 @@ def test_the_likeliest_actions_are_known_before_any_is_valid(gestures):
     # while the puck waits before the gesture, nothing is suggested
     assert not any(s.likely for s in states[6:12])
 
-
-def test_direction_misfit_sees_crossing_not_going_back():
-    from behaviors.mop.validity import INPUT_SPEED, direction_misfit
-    direction = np.array([[1.0, 0.0]] * 4)
-    v0 = np.full(4, 0.1)
-    velocity = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.5 * INPUT_SPEED * 0.1, 0.0]])
-    e, w = direction_misfit(velocity, direction, np.ones(4, dtype=bool), v0)
-    assert e[0] < 1e-9 and e[1] < 1e-9 and abs(e[2] - 1.0) < 1e-9   # along, back, across
-    assert w.tolist() == [1.0, 1.0, 1.0, 0.0]                        # too slow: no evidence
-    _, w = direction_misfit(velocity, direction, np.zeros(4, dtype=bool), v0)
-    assert not w.any()                                               # the template holds
