@@ -10,7 +10,8 @@ transitions cost.
    backward transition (the default): step time, and progress RMSE on performances warped
    between 0.5x and 2x, played steadily at 2x, and going back and forth with a pause.
 
-5. DESIGN.md's case: 8 performers x 100 templates as one group, every tick timed.
+5. DESIGN.md's case: 8 performers x 100 templates as one group, every tick timed, with the
+   forward algorithm's share of it; interleaved with the same followers stepped one by one.
 
 4. The example installation (``examples/mop.yaml``: two scripted performers, four characters,
    one follower per performer) stepped on 60 Hz frames as the main loop would: milliseconds per
@@ -28,6 +29,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+import tabletop  # noqa: E402,F401  (one BLAS thread, as the loop runs, set before numpy loads)
 import numpy as np  # noqa: E402
 
 from bench.common import emit, interleaved  # noqa: E402
@@ -137,22 +139,46 @@ def step_costs(rng: np.random.Generator) -> dict[str, float]:
 
 def design_tick(rng: np.random.Generator, ticks: int = 300) -> dict[str, float]:
     """DESIGN.md's budget case: 8 performers x 100 templates (100 samples of a puck's dx, dy,
-    built as the installation builds them) stepped as one FollowerGroup; each tick timed."""
-    followers, streams = [], []
+    built as the installation builds them) stepped as one FollowerGroup, each tick timed, and
+    how much of the tick is the forward algorithm (``WindowedForward.step`` over all 800
+    templates' windows). Interleaved tick by tick (order alternating) with the same 8 followers
+    stepped one by one."""
+    templates, streams = [], []
     for _ in range(8):
-        tpls = {f"a{i}": 0.1 * make_template(rng, 100, 2) for i in range(100)}
-        followers.append(ActionFollower(tpls, units=np.ones(2), invariance="scale"))
-        streams.append(performance_stream(rng, tpls, ticks + 50))
-    group = FollowerGroup(followers)
-    times = []
-    for i in range(ticks + 50):
+        templates.append({f"a{i}": 0.1 * make_template(rng, 100, 2) for i in range(100)})
+        streams.append(performance_stream(rng, templates[-1], ticks + 50))
+    build = lambda: [ActionFollower(t, units=np.ones(2), invariance="scale") for t in templates]
+    group, alone = FollowerGroup(build()), build()
+    forward_times: list[float] = []
+    step = group.forward.step
+
+    def timed_forward(z: np.ndarray) -> np.ndarray:
         t0 = time.perf_counter()
-        group.step([s[i] for s in streams])
-        if i >= 50:
-            times.append(time.perf_counter() - t0)
-    a = np.asarray(times) * 1e3
-    return {"tick_100_templates_x_8_performers_group_median_ms": float(np.median(a)),
-            "tick_100_templates_x_8_performers_group_p99_ms": float(np.percentile(a, 99))}
+        out = step(z)
+        forward_times.append(time.perf_counter() - t0)
+        return out
+
+    group.forward.step = timed_forward
+    times: dict[str, list[float]] = {"group": [], "alone": []}
+    for i in range(ticks + 50):
+        x = [s[i] for s in streams]
+        order = ("group", "alone") if i % 2 else ("alone", "group")
+        for name in order:
+            t0 = time.perf_counter()
+            if name == "group":
+                group.step(x)
+            else:
+                for f, xi in zip(alone, x):
+                    f.step(xi)
+            if i >= 50:
+                times[name].append(time.perf_counter() - t0)
+    g, a, fw = (np.asarray(v) * 1e3 for v in (times["group"], times["alone"], forward_times[50:]))
+    return {"tick_100_templates_x_8_performers_group_median_ms": float(np.median(g)),
+            "tick_100_templates_x_8_performers_group_p99_ms": float(np.percentile(g, 99)),
+            "tick_100_templates_x_8_performers_group_forward_median_ms": float(np.median(fw)),
+            "tick_100_templates_x_8_performers_group_rest_median_ms": float(np.median(g - fw)),
+            "tick_100_templates_x_8_performers_separate_followers_median_ms": float(np.median(a)),
+            "tick_100_templates_x_8_performers_separate_followers_p99_ms": float(np.percentile(a, 99))}
 
 
 MODELS = {

@@ -23,13 +23,52 @@ def test_every_template_at_once_equals_the_plain_equations(transitions, fastest,
                        "long": g.template(rng, n=400, d=4)})
     perf = g.perform(rng, target, g.warped_phase(rng, n, 0.5, fastest), 0.1)
     z = (perf - bank.center[1]) / bank.scale[1]    # in the target's own units
-    mean, var, ll = forward_reference(bank.template(1), z, 0.2, 15, transitions)
+    mean, var, ll, _ = forward_reference(bank.template(1), z, 0.2, 15, transitions)
     fw = WindowedForward(bank, sigma=0.2, half_window=15, transitions=transitions, floor=0.0)
     got = np.array([(fw.step(x)[1], fw.mean[1], fw.var[1]) for x in z])
     assert np.abs(got[:, 0] - ll).max() <= 1e-8
     assert np.abs(got[:, 1] - mean).max() <= 1e-8
     assert np.abs(got[:, 2] - var).max() <= 1e-7
     assert np.all(fw.lo <= bank.lengths - np.minimum(31, bank.lengths))
+
+
+@pytest.mark.parametrize("transitions, floor", [
+    (Transitions(), 1e-8),                                                 # the follower's defaults
+    (Transitions(forward=(0.5, 0.5), backward=0.0, restart=1e-3), 1e-8),
+    (Transitions(restart=1e-3), 0.0)])                                     # the log-domain step
+def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_reentry(transitions, floor):
+    """Every template of a bank stepped at once, each on its own input (as a group steps them),
+    against the algorithm written out state by state for one template at a time: performances,
+    input that leaves the template, and new performances from the start (re-entry)."""
+    rng = np.random.default_rng(5)
+    lengths = [12, 31, 45, 90, 160]           # shorter than, as long as and longer than the window
+    tpls = {f"t{n}": g.template(rng, n=n, d=3) for n in lengths}
+    bank = build_bank(tpls)
+    streams = []
+    for k, tpl in enumerate(tpls.values()):
+        n = len(tpl)
+        first = g.perform(rng, tpl, g.warped_phase(rng, n, 0.5, 2.0), 0.1)
+        away = g.perform(rng, tpl, np.full(25, n - 1.0), 0.1) + rng.normal(0.0, 2.0, (25, 3))
+        again = g.perform(rng, tpl, g.warped_phase(rng, n, 0.6, 1.5), 0.1)
+        x = np.concatenate([first, away, again, first[: n // 2]])[:330]
+        x = np.concatenate([x, g.perform(rng, tpl, np.zeros(330 - len(x)), 0.1)])
+        streams.append((x - bank.center[k]) / bank.scale[k])
+    z = np.stack(streams, axis=1)                                          # (T, K, d)
+    fw = WindowedForward(bank, sigma=0.2, half_window=15, transitions=transitions, floor=floor)
+    got = []
+    for zt in z:
+        ll = fw.step(zt)
+        got.append((ll, fw.mean.copy(), fw.var.copy(), fw.entries.copy()))
+    ll, mean, var, entries = (np.array(c) for c in zip(*got))
+    reentered = 0
+    for k in range(len(lengths)):
+        r_mean, r_var, r_ll, r_entries = forward_reference(bank.template(k), z[:, k], 0.2, 15, transitions, floor)
+        assert np.array_equal(entries[:, k], r_entries)
+        assert np.abs(ll[:, k] - r_ll).max() <= 1e-9 * max(1.0, np.abs(r_ll).max())
+        assert np.abs(mean[:, k] - r_mean).max() <= 1e-9
+        assert np.abs(var[:, k] - r_var).max() <= 1e-7
+        reentered += int(r_entries[-1] > 0)
+    assert reentered >= 2          # the case is exercised: new performances were picked up
 
 
 def test_the_step_loglik_is_the_log_of_equation_one_at_a_certain_state():
