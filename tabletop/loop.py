@@ -90,12 +90,19 @@ class LoopStats:
     def summary_ms(self) -> dict[str, tuple[float, float]]:
         """Stage -> (median ms, p99 ms) over the kept window."""
         out = {}
-        for stage, d in list(self.samples.items()):
-            d = list(d)   # other threads may record meanwhile
-            if d:
-                a = np.asarray(d, dtype=float) * 1e3
-                out[stage] = (float(np.median(a)), float(np.percentile(a, 99)))
+        for stage in list(self.samples):
+            m = self.stage_ms(stage)
+            if m is not None:
+                out[stage] = m
         return out
+
+    def stage_ms(self, stage: str) -> tuple[float, float] | None:
+        """(median ms, p99 ms) of one stage over the kept window; None without samples."""
+        d = list(self.samples.get(stage, ()))   # other threads may record meanwhile
+        if not d:
+            return None
+        a = np.asarray(d, dtype=float) * 1e3
+        return float(np.median(a)), float(np.percentile(a, 99))
 
 
 class CommandQueue:

@@ -18,7 +18,7 @@ import math
 import os
 import threading
 import time
-from typing import Any
+from typing import Any, Iterator
 
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
@@ -26,6 +26,7 @@ import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
 from calibration.transforms import apply_homography  # noqa: E402
+from tabletop.drawing import screens  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
 from tabletop.frames import Frame  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
@@ -38,6 +39,7 @@ from tabletop.table_map import TableToScreen  # noqa: E402,F401
 log = logging.getLogger("tabletop")
 
 OVERLAY_REFRESH_S = 0.25
+OVERLAY_SLICE_S = 0.0005   # the overlay's refresh work per frame: its ~2 ms spread over frames
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
@@ -52,20 +54,30 @@ KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
     """The operator overlay: rate, per-stage milliseconds, sources' health, characters' status."""
+    *_, lines = overlay_steps(frame, stats)
+    return lines
+
+
+def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] | None]:
+    """:func:`overlay_lines` in slices, so that a view can spread the work over frames: yields
+    None after each stage's percentiles (the costly part), then the lines."""
     start = stats.first_t if stats is not None and stats.first_t is not None else frame.t
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
         lines.append(f"{stats.fps():5.1f} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
-        for stage, (med, p99) in stats.summary_ms().items():
-            lines.append(f"  {stage:<12} {med:6.2f} ms median  {p99:6.2f} ms p99")
+        for stage in list(stats.samples):
+            m = stats.stage_ms(stage)
+            yield None
+            if m is not None:
+                lines.append(f"  {stage:<12} {m[0]:6.2f} ms median  {m[1]:6.2f} ms p99")
     for h in frame.health:
         age = "-" if math.isinf(h.age) else f"{h.age * 1e3:.0f} ms"
         lines.append(f"source {h.name}: {'ok' if h.ok else 'DOWN'}  {h.message}  age {age}")
     for c in frame.characters:
         if c.label:
             lines.append(f"{c.name}: {c.label}")
-    return lines
+    yield lines
 
 
 def direct_framebuffer() -> None:
@@ -119,6 +131,7 @@ class ProjectorView:
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf
+        self._refresh: Iterator[None] | None = None   # the overlay's refresh in progress
         self.snapshots: Snapshots | None = None
         if options["snapshot_every_s"] > 0:
             try:
@@ -146,10 +159,21 @@ class ProjectorView:
         if self.show_overlay:
             # Figures are read by people: refreshing them four times a second is enough and
             # keeps the overlay's cost (percentiles, text) off most ticks.
+            # The refresh (percentiles, text renders) is done in slices of OVERLAY_SLICE_S over
+            # the next frames, so that no frame pays for all of it at once.
             now = time.monotonic()  # the wall clock: a stalled camera stops the frames' times
-            if self._overlay is None or now >= self._overlay_t + OVERLAY_REFRESH_S:
+            if self._overlay is None:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), now
                 self._overlay += [n for fn in self.notices for n in fn()]
+            elif self._refresh is None and now >= self._overlay_t + OVERLAY_REFRESH_S:
+                self._refresh, self._overlay_t = self._refreshing(frame), now
+            if self._refresh is not None:
+                end = time.perf_counter() + OVERLAY_SLICE_S
+                for _ in self._refresh:
+                    if time.perf_counter() >= end:
+                        break
+                else:
+                    self._refresh = None
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
         if self.prompt.active:
@@ -161,6 +185,20 @@ class ProjectorView:
             pygame.display.flip()
         if self.snapshots is not None and self.snapshots.due():
             self._snapshot(frame)
+
+    def _refreshing(self, frame: Frame) -> Iterator[None]:
+        """The overlay's next lines, step by step: each stage's percentiles, the notices, each
+        changed line's text render; the lines take over when all is done."""
+        lines: list[str] | None = None
+        for lines in overlay_steps(frame, self.stats):
+            if lines is None:
+                yield
+        assert lines is not None
+        lines += [n for fn in self.notices for n in fn()]
+        for line in lines:
+            screens.panel_line(line)   # the panel is composed from these when it is drawn
+            yield
+        self._overlay = lines
 
     def _events(self) -> None:
         for ev in pygame.event.get():
