@@ -1,4 +1,5 @@
-"""The operator overlay's refresh: spread over frames, yet it shows the new figures and notices."""
+"""The operator overlay's refresh: spread over frames, yet it shows the new figures and notices;
+its stage figures (numpy's median and p99, one sort); the halo rings' cache forgets its oldest ring."""
 
 import time
 
@@ -53,3 +54,31 @@ def test_the_view_refreshes_its_overlay_over_a_few_frames_with_new_figures_and_n
         assert pygame.display.get_surface() is not None
     finally:
         view.close()
+
+
+def test_stage_figures_are_numpys_median_and_p99():
+    import numpy as np
+    stats = LoopStats()
+    rng = np.random.default_rng(3)
+    for n in (1, 2, 7, 240, 600):
+        stats.samples.pop("x", None)
+        values = rng.random(n) * 0.02
+        for v in values:
+            stats.record("x", float(v))
+        med, p99 = stats.stage_ms("x")
+        assert abs(med - np.median(values) * 1e3) < 1e-9
+        assert abs(p99 - np.percentile(values, 99) * 1e3) < 1e-9
+    assert stats.stage_ms("never") is None
+
+
+def test_a_full_light_cache_forgets_its_oldest_light_only():
+    from tabletop.drawing import primitives as P
+    P._rings.clear()
+    first = P.ring_surface(20, 4, (255, 0, 0), 1.0)
+    for k in range(P._CACHE_MAX + 5):
+        P.ring_surface(20, 4, (k % 256, k // 256, 7), 1.0)
+    assert len(P._rings) == P._CACHE_MAX
+    assert (20, 4.0, (255, 0, 0), 1.0) not in P._rings          # the oldest went
+    assert (20, 4.0, (255 % 256, 0, 7), 1.0) in P._rings         # recent ones stay
+    again = P.ring_surface(20, 4, (255, 0, 0), 1.0)
+    assert pygame.image.tobytes(again, "RGB") == pygame.image.tobytes(first, "RGB")
