@@ -1,7 +1,7 @@
 """The projector view (pygame): the table, the pucks and the characters drawn under them.
 
-:class:`Renderer` draws one Frame onto any surface (tested offscreen) with the drawing modules
-of :mod:`tabletop.drawing`;
+:class:`~tabletop.renderer.Renderer` (tabletop/renderer.py) draws one Frame onto any surface
+(tested offscreen) with the drawing modules of :mod:`tabletop.drawing`;
 :class:`ProjectorView` is the sink that owns the window (or the headless dummy display), turns
 keys into operator commands, saves snapshots and shows the operator overlay.
 
@@ -13,42 +13,33 @@ Keys: Esc or closing the window ends the run; F1 or O toggles the overlay; R, K,
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import math
 import os
 import threading
 import time
-from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Iterator
 
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 
 import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
-from calibration.transforms import apply_homography, fitted_rectangle  # noqa: E402
-from tabletop.drawing import characters, pucks, screens  # noqa: E402
-from tabletop.drawing import primitives as P  # noqa: E402
-from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
-from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
-                                   Traces, breath, eyes_open, seed_of, stretch)
-from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
-from tabletop.drawing.screens import INVITATIONS, invitation, table_surface  # noqa: E402,F401
-from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
+from calibration.transforms import apply_homography  # noqa: E402
+from tabletop.drawing import screens  # noqa: E402
+from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
+from tabletop.frames import Frame  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
+# the renderer and the table mapping, importable from here as before
+from tabletop.renderer import (BODY, EYES, PUCK_COLORS, Renderer, body_polygon,  # noqa: E402,F401
+                               cameras_down, puck_color)
 from tabletop.snapshots import Snapshots  # noqa: E402
+from tabletop.table_map import TableToScreen  # noqa: E402,F401
 
 log = logging.getLogger("tabletop")
 
-PUCK_COLORS = [(70, 160, 255), (255, 90, 90), (90, 220, 120), (240, 200, 60), (190, 110, 255),
-               (60, 220, 220), (255, 140, 40), (230, 230, 230)]
 OVERLAY_REFRESH_S = 0.25
-IDLE_EMPTY_S = 3.0       # no puck and no touch for this long: nobody plays
-IDLE_STILL_S = 30.0      # ... or nothing moved for this long
-MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
-LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
-HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
+OVERLAY_SLICE_S = 0.0005   # the overlay's refresh work per frame: its ~2 ms spread over frames
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_x: "designer.discard", pygame.K_TAB: "designer.next",
@@ -59,341 +50,34 @@ KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_LEFT: "camera.left", pygame.K_RIGHT: "camera.right",
                 pygame.K_UP: "camera.up", pygame.K_DOWN: "camera.down"}
 
-# Reactor body in units of its size, nose along +x (the default character's outline).
-BODY = REACTOR_BODY
-EYES = REACTOR_EYES
-
-
-def puck_color(puck_id: int) -> tuple[int, int, int]:
-    """The identity colour of a puck id (its label in designer mode)."""
-    return PUCK_COLORS[puck_id % len(PUCK_COLORS)]
-
-
-def cameras_down(frame: Frame) -> bool:
-    """True when the frame has sources and every one of them is unhealthy, or when a kiosk
-    supervisor has marked the frame's ``status`` as ``"one_moment"``."""
-    if frame.status == "one_moment":
-        return True
-    return bool(frame.health) and not any(h.ok for h in frame.health)
-
-
-class TableToScreen:
-    """Maps table metres to projector pixels with a 3x3 homography: the calibration's
-    ``table_to_projector`` when there is one (keystone and all).
-
-    Without a calibration the table is fitted into the window with ``margin`` pixels around it,
-    x to the right and y up (the table seen from above).
-    """
-
-    def __init__(self, table: tuple[float, float], size: tuple[int, int], margin: int = 24,
-                 homography: np.ndarray | None = None) -> None:
-        if homography is None:
-            homography = fitted_rectangle(table, size, margin)
-        self.H = np.asarray(homography, dtype=float)
-        self._h = [float(v) for v in self.H.ravel()]
-
-    def points(self, xy: np.ndarray) -> np.ndarray:
-        """(N, 2) table metres -> (N, 2) pixels."""
-        return apply_homography(self.H, xy)
-
-    def point(self, x: float, y: float) -> tuple[float, float]:
-        """One table point (metres) -> pixels (plain floats: no array on this hot path)."""
-        h = self._h
-        w = h[6] * x + h[7] * y + h[8]
-        return (h[0] * x + h[1] * y + h[2]) / w, (h[3] * x + h[4] * y + h[5]) / w
-
-    def scale_at(self, x: float, y: float) -> float:
-        """Pixels per metre near (x, y)."""
-        ax, ay = self.point(x, y)
-        bx, by = self.point(x + 0.01, y)
-        return math.hypot(bx - ax, by - ay) / 0.01
-
-    def screen_angle(self, x: float, y: float, a: float) -> float:
-        """The screen angle (radians, y down) of the table direction ``a`` at (x, y)."""
-        px, py = self.point(x, y)
-        qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
-        return math.atan2(qy - py, qx - px)
-
-
-def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
-    """A shape in units of the character's size, rotated to its heading and placed on the table."""
-    ca, sa = math.cos(c.heading), math.sin(c.heading)
-    rot = np.array([[ca, -sa], [sa, ca]])
-    return shape * c.size @ rot.T + (c.x, c.y)
-
-
-class Renderer:
-    """Draws frames: the table, the characters with their life (under the pucks), the pucks'
-    halos and trails, the "one moment" and idle looks, and the operator overlay.
-
-    The renderer keeps a little memory between frames (who appeared when, pucks' recent paths)
-    so that nothing pops; all its times are the frames' ``t``.
-    """
-
-    def __init__(self, table: tuple[float, float], size: tuple[int, int], margin: int = 24,
-                 homography: np.ndarray | None = None, puck_radius: float = 0.03,
-                 sprites: dict[str, Path] | None = None) -> None:
-        self.table, self.size = table, size
-        self.map = TableToScreen(table, size, margin, homography)
-        self.puck_radius = puck_radius
-        self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
-        self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
-        self._overlay_key: tuple[str, ...] = ()
-        self._overlay_img: pygame.Surface | None = None
-        self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
-        self._labels: dict[int, pygame.Surface] = {}
-        self._static: pygame.Surface | None = None
-        self.lives = Lives()
-        self.traces = Traces()
-        self.moment = 0.0            # opacity of the "one moment" screen, 0..1
-        self.idle = 0.0              # opacity of the idle look, 0..1
-        self._t: float | None = None
-        self._last_play_t: float | None = None
-        self._last_present_t: float | None = None
-        # Dirty rectangles: with ``incremental`` the renderer repaints the table only where the
-        # previous frame drew and lists in ``dirty`` what a window must present.
-        self.incremental = False
-        self.dirty: list[pygame.Rect] = []
-        self._drawn: list[pygame.Rect] | None = None
-        self._last_target: pygame.Surface | None = None
-        self.invitation = INVITATIONS["puck"]   # the idle look's text (see :func:`invitation`)
-
-    def _corners(self) -> np.ndarray:
-        w, h = self.table
-        return self.map.points(np.array([(0, 0), (w, 0), (w, h), (0, h)]))
-
-    def _background(self, target: pygame.Surface) -> pygame.Surface:
-        if self._static is None or self._static.get_size() != target.get_size():
-            w, h = self.table
-            grid = [self.map.point(gx, gy) for gx in np.arange(0.1, w - 1e-9, 0.1)
-                    for gy in np.arange(0.1, h - 1e-9, 0.1)]
-            s = table_surface(target.get_size(), self._corners(), grid)
-            self._static = s.convert() if pygame.display.get_surface() else s
-        return self._static
-
-    def draw(self, target: pygame.Surface, frame: Frame, overlay: list[str] | None = None) -> None:
-        """Draw ``frame`` onto ``target``; ``overlay`` lines are printed top-left on a panel
-        when given (and then, for designers, each puck's id beside its halo)."""
-        t = frame.t
-        dt = 0.0 if self._t is None else min(max(t - self._t, 0.0), 0.5)
-        self._t = t
-        bg = self._background(target)
-        full = (not self.incremental or self._drawn is None or target is not self._last_target)
-        if full:
-            target.blit(bg, (0, 0))
-        else:
-            for r in self._drawn:
-                target.blit(bg, r, r)
-        self._update_idle(frame, dt)
-        down = cameras_down(frame)
-        step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
-        self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
-        if self.idle > 0:
-            screens.idle(target, t, self.idle, self._corners(), self.invitation)
-        drawn: list[pygame.Rect | None] = []
-        for p in sorted(self.lives.update(t, frame.characters),
-                        key=lambda p: p.state.kind == "studio"):   # the studio's marks on top
-            drawn.append(self._draw_presence(target, p, frame))
-        halos, labels = [], []
-        for trace, state, alpha in self.traces.update(t, frame.pucks):
-            trail, h = self._trace(target, trace, state, alpha, t)
-            drawn.append(trail)
-            if h is not None:
-                halos.append(h)
-                labels.append(self._label(trace.puck.id) if overlay is not None else None)
-        drawn.extend(pucks.draw_halos(target, halos, labels))
-        if self.moment > 0:
-            bad = [h.message for h in frame.health if h.message]
-            screens.one_moment(target, t, self.moment, bad[0] if bad else "")
-        if overlay:
-            drawn.append(self.draw_overlay(target, overlay, [r for r in drawn if r is not None]))
-        screen = target.get_rect()
-        now = P.merge([r for r in drawn if r is not None], screen)
-        if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
-            self.dirty, self._drawn = [screen], None
-        else:
-            self.dirty = [screen] if full else P.merge(self._drawn + now, screen)
-            self._drawn = now
-        self._last_target = target
-
-    def invalidate(self) -> None:
-        """Something was painted over the last frame: present and repaint the whole target."""
-        self.dirty, self._drawn = [pygame.Rect((0, 0), self.size)], None
-
-    def _update_idle(self, frame: Frame, dt: float) -> None:
-        t = frame.t
-        if self._last_play_t is None:
-            self._last_play_t = self._last_present_t = t
-        designing = any(c.kind == "studio" and c.action not in (None, "idle")
-                        for c in frame.characters)   # a designer's take in progress
-        present = bool(frame.pucks or frame.touches or frame.streams or designing)
-        if present:
-            self._last_present_t = t
-        moving = (frame.touches or frame.streams or designing
-                  or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks))
-        if moving or any(p.id not in self.traces.traces for p in frame.pucks):
-            self._last_play_t = t
-        nobody = (t - self._last_present_t >= IDLE_EMPTY_S or t - self._last_play_t >= IDLE_STILL_S)
-        k = dt / 1.5
-        self.idle = min(1.0, max(0.0, self.idle + (k if nobody else -2 * k)))
-
-    def _look(self, c: CharacterState, frame: Frame) -> tuple[float, float] | None:
-        target = c.look_at
-        if target is not None and all(math.isfinite(v) for v in target):
-            return target
-        best, best_d = None, LOOK_RANGE_M
-        for p in frame.pucks:
-            d = math.hypot(p.x - c.x, p.y - c.y)
-            if 1e-3 < d < best_d:
-                best, best_d = (p.x, p.y), d
-        return best
-
-    def _pose(self, pr: Presence, frame: Frame | None) -> Pose:
-        c, t = pr.state, (frame.t if frame is not None else pr.t)
-        center = self.map.point(c.x, c.y)
-        angle = self.map.screen_angle(c.x, c.y, c.heading)
-        still = pr.stillness()
-        target = self._look(c, frame) if frame is not None else None
-        if target is not None:
-            q = self.map.point(*target)
-            gaze = math.atan2(q[1] - center[1], q[0] - center[0])
-        else:
-            gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
-        motion = self.map.screen_angle(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
-        color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
-        return Pose(center, angle, self.map.scale_at(c.x, c.y), alpha=pr.alpha(t),
-                    scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
-                    stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
-                    gaze=gaze, color=color, phase=pr.phase)
-
-    def _draw_presence(self, target: pygame.Surface, pr: Presence,
-                       frame: Frame | None) -> pygame.Rect | None:
-        c = pr.state
-        if c.kind == "studio":           # the studio's countdown, recording mark and status
-            from tabletop.studio.draw import draw_studio
-            draw_studio(target, self, c)
-            return target.get_rect()
-        if not (all(math.isfinite(v) and abs(v) < 1e4 for v in (c.x, c.y, c.heading))
-                and 0.0 <= c.size <= max(self.table)):
-            return None                     # a broken state is not drawn (never raises)
-        pose = self._pose(pr, frame)
-        if pose.alpha <= 0.01:
-            return None
-        if c.points is not None and len(c.points):
-            hinted = None
-            if pr.hint > 0.03 and pr.hint_points is not None \
-                    and len(pr.hint_points) == len(c.points):
-                # early feedback: the suspected action's pose, a faint light of the
-                # character's own (lively) colour, casting no glow
-                ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
-                                            light=0.0, color=lighten(vivid(tuple(c.color)), 0.3))
-                hinted = self._draw_points(target, c, ghost, self.map.points(pr.hint_points))
-            return P.union([hinted, self._draw_points(target, c, pose, self.map.points(c.points))])
-        if c.name in self._sprites:
-            return self._draw_sprite(target, c, pose)
-        return characters.draw_reactor(target, c, pose)
-
-    @staticmethod
-    def _draw_points(target: pygame.Surface, c: CharacterState, pose: Pose,
-                     pts: np.ndarray) -> pygame.Rect | None:
-        """A character given by points (``pts``: pixels), drawn as its kind."""
-        if c.kind == "face":
-            return characters.draw_face(target, c, pose, pts)
-        if c.kind == "hybrid":
-            return characters.draw_hybrid(target, c, pose, pts)
-        return characters.draw_figure(target, c, pose, pts)
-
-    def _trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
-               t: float) -> tuple[pygame.Rect | None, pucks.Halo | None]:
-        """Draw a puck's trail now; its halo to be drawn with the others'."""
-        p = trace.puck
-        if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
-            return None, None
-        r = self.puck_radius * self.map.scale_at(p.x, p.y)
-        color = pucks.state_color(state)
-        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
-                             pucks.halo_radius(r))
-        return a, pucks.halo(self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
-                             state, alpha, t)
-
-    def _label(self, puck_id: int) -> pygame.Surface:
-        img = self._labels.get(puck_id)
-        if img is None:
-            img = self._labels[puck_id] = screens.font(22).render(str(puck_id), True,
-                                                                  puck_color(puck_id))
-        return img
-
-    def draw_puck(self, target: pygame.Surface, p: Puck, t: float = 0.0) -> None:
-        """One puck's halo, as it would be drawn in a frame (no trail)."""
-        r = self.puck_radius * self.map.scale_at(p.x, p.y)
-        pucks.draw_halo(target, self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
-                        p.state, 1.0, t)
-
-    def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
-        """One character fully present (no fade), as it would be drawn standing still."""
-        pr = Presence(c, born=-math.inf, t=0.0, seed=seed_of(c.name))
-        self._draw_presence(target, pr, None)
-
-    def _draw_sprite(self, target: pygame.Surface, c: CharacterState,
-                     pose: Pose) -> pygame.Rect | None:
-        img = self._sprites[c.name]
-        px_size = c.size * pose.ppm * pose.scale * pose.breath
-        # Screen y points down: a counter-clockwise table heading is a counter-clockwise rotation
-        # on screen when the table's y axis points up the screen (the uncalibrated fit).
-        deg = int(round(-math.degrees(pose.angle) / 2.0)) * 2
-        key = (c.name, deg % 360, int(px_size))
-        surf = self._sprite_cache.get(key)
-        if surf is None:
-            zoom = px_size / max(img.get_width(), 1)
-            surf = pygame.transform.rotozoom(img, deg, zoom)
-            if len(self._sprite_cache) > 2048:
-                self._sprite_cache.clear()
-            self._sprite_cache[key] = surf
-        g = P.glow(target, pose.center, 0.8 * c.size * pose.ppm, pose.color, 0.28 * pose.alpha)
-        surf.set_alpha(int(255 * pose.alpha))
-        return P.union([g, target.blit(surf, surf.get_rect(center=(int(pose.center[0]),
-                                                                    int(pose.center[1]))))])
-
-    def draw_overlay(self, target: pygame.Surface, lines: Sequence[str],
-                     avoid: Sequence[pygame.Rect] = ()) -> pygame.Rect:
-        """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
-        would hide what is drawn in ``avoid`` and another corner hides at most half as much);
-        rendered again only when the lines change. Returns the panel's rectangle."""
-        key = tuple(lines)
-        if key != self._overlay_key or self._overlay_img is None:
-            self._overlay_img = screens.panel(lines)
-            self._overlay_key = key
-        w, h = self._overlay_img.get_size()
-        W, H = target.get_size()
-        corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
-
-        def hidden(i: int) -> int:
-            r = pygame.Rect(corners[i], (w, h))
-            return sum(c.w * c.h for c in (r.clip(a) for a in avoid))
-        now = hidden(self._corner)
-        if now > 0:
-            best = min(range(4), key=hidden)
-            if hidden(best) < 0.5 * now:
-                self._corner = best
-        return target.blit(self._overlay_img, corners[self._corner])
 
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
     """The operator overlay: rate, per-stage milliseconds, sources' health, characters' status."""
+    *_, lines = overlay_steps(frame, stats)
+    return lines
+
+
+def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] | None]:
+    """:func:`overlay_lines` in slices, so that a view can spread the work over frames: yields
+    None after each stage's percentiles (the costly part), then the lines."""
     start = stats.first_t if stats is not None and stats.first_t is not None else frame.t
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
         lines.append(f"{stats.fps():5.1f} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
-        for stage, (med, p99) in stats.summary_ms().items():
-            lines.append(f"  {stage:<12} {med:6.2f} ms median  {p99:6.2f} ms p99")
+        for stage in list(stats.samples):
+            m = stats.stage_ms(stage)
+            yield None
+            if m is not None:
+                lines.append(f"  {stage:<12} {m[0]:6.2f} ms median  {m[1]:6.2f} ms p99")
     for h in frame.health:
         age = "-" if math.isinf(h.age) else f"{h.age * 1e3:.0f} ms"
         lines.append(f"source {h.name}: {'ok' if h.ok else 'DOWN'}  {h.message}  age {age}")
     for c in frame.characters:
         if c.label:
             lines.append(f"{c.name}: {c.label}")
-    return lines
+    yield lines
 
 
 def direct_framebuffer() -> None:
@@ -447,6 +131,7 @@ class ProjectorView:
         self.show_overlay = bool(options["overlay"])
         self._overlay: list[str] | None = None
         self._overlay_t = -math.inf
+        self._refresh: Iterator[None] | None = None   # the overlay's refresh in progress
         self.snapshots: Snapshots | None = None
         if options["snapshot_every_s"] > 0:
             try:
@@ -474,10 +159,21 @@ class ProjectorView:
         if self.show_overlay:
             # Figures are read by people: refreshing them four times a second is enough and
             # keeps the overlay's cost (percentiles, text) off most ticks.
+            # The refresh (percentiles, text renders) is done in slices of OVERLAY_SLICE_S over
+            # the next frames, so that no frame pays for all of it at once.
             now = time.monotonic()  # the wall clock: a stalled camera stops the frames' times
-            if self._overlay is None or now >= self._overlay_t + OVERLAY_REFRESH_S:
+            if self._overlay is None:
                 self._overlay, self._overlay_t = overlay_lines(frame, self.stats), now
                 self._overlay += [n for fn in self.notices for n in fn()]
+            elif self._refresh is None and now >= self._overlay_t + OVERLAY_REFRESH_S:
+                self._refresh, self._overlay_t = self._refreshing(frame), now
+            if self._refresh is not None:
+                end = time.perf_counter() + OVERLAY_SLICE_S
+                for _ in self._refresh:
+                    if time.perf_counter() >= end:
+                        break
+                else:
+                    self._refresh = None
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
         if self.prompt.active:
@@ -489,6 +185,20 @@ class ProjectorView:
             pygame.display.flip()
         if self.snapshots is not None and self.snapshots.due():
             self._snapshot(frame)
+
+    def _refreshing(self, frame: Frame) -> Iterator[None]:
+        """The overlay's next lines, step by step: each stage's percentiles, the notices, each
+        changed line's text render; the lines take over when all is done."""
+        lines: list[str] | None = None
+        for lines in overlay_steps(frame, self.stats):
+            if lines is None:
+                yield
+        assert lines is not None
+        lines += [n for fn in self.notices for n in fn()]
+        for line in lines:
+            screens.panel_line(line)   # the panel is composed from these when it is drawn
+            yield
+        self._overlay = lines
 
     def _events(self) -> None:
         for ev in pygame.event.get():

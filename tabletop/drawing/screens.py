@@ -50,10 +50,24 @@ def table_surface(size: tuple[int, int], corners_px: np.ndarray, grid_px: Sequen
     return s
 
 
+_panel_lines: dict[tuple[str, int], pygame.Surface] = {}
+
+
+def panel_line(line: str, px: int = 20) -> pygame.Surface:
+    """One line of a :func:`panel`, rendered once while it stays the same (the operator
+    overlay's figures change a few lines at a time; a whole panel of renders costs ~1 ms)."""
+    key = (line, px)
+    img = _panel_lines.get(key)
+    if img is None:
+        if len(_panel_lines) > 256:
+            _panel_lines.clear()
+        img = _panel_lines[key] = font(px).render(line, True, TEXT)
+    return img
+
+
 def panel(lines: Sequence[str], px: int = 20, pad: int = 10) -> pygame.Surface:
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface)."""
-    f = font(px)
-    imgs = [f.render(line, True, TEXT) for line in lines]
+    imgs = [panel_line(line, px) for line in lines]
     w = max((i.get_width() for i in imgs), default=0) + 2 * pad
     h = sum(i.get_height() + 2 for i in imgs) + 2 * pad - 2
     s = pygame.Surface((max(w, 1), max(h, 1)), pygame.SRCALPHA)

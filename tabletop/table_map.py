@@ -1,0 +1,47 @@
+"""Table metres to projector pixels: the mapping every drawing of the view goes through."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from calibration.transforms import apply_homography, fitted_rectangle
+
+
+class TableToScreen:
+    """Maps table metres to projector pixels with a 3x3 homography: the calibration's
+    ``table_to_projector`` when there is one (keystone and all).
+
+    Without a calibration the table is fitted into the window with ``margin`` pixels around it,
+    x to the right and y up (the table seen from above).
+    """
+
+    def __init__(self, table: tuple[float, float], size: tuple[int, int], margin: int = 24,
+                 homography: np.ndarray | None = None) -> None:
+        if homography is None:
+            homography = fitted_rectangle(table, size, margin)
+        self.H = np.asarray(homography, dtype=float)
+        self._h = [float(v) for v in self.H.ravel()]
+
+    def points(self, xy: np.ndarray) -> np.ndarray:
+        """(N, 2) table metres -> (N, 2) pixels."""
+        return apply_homography(self.H, xy)
+
+    def point(self, x: float, y: float) -> tuple[float, float]:
+        """One table point (metres) -> pixels (plain floats: no array on this hot path)."""
+        h = self._h
+        w = h[6] * x + h[7] * y + h[8]
+        return (h[0] * x + h[1] * y + h[2]) / w, (h[3] * x + h[4] * y + h[5]) / w
+
+    def scale_at(self, x: float, y: float) -> float:
+        """Pixels per metre near (x, y)."""
+        ax, ay = self.point(x, y)
+        bx, by = self.point(x + 0.01, y)
+        return math.hypot(bx - ax, by - ay) / 0.01
+
+    def screen_angle(self, x: float, y: float, a: float) -> float:
+        """The screen angle (radians, y down) of the table direction ``a`` at (x, y)."""
+        px, py = self.point(x, y)
+        qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
+        return math.atan2(qy - py, qx - px)
