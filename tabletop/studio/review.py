@@ -19,9 +19,28 @@ from tabletop.files import atomic_writer
 from tabletop.frames import InputError
 
 
-def _figure(cols: int, rows: int = 1, size: float = 4.0):
+def load_plotting() -> None:
+    """Import the plotting library (matplotlib, off-screen Agg), about 0.8 s the first time."""
     import matplotlib
     matplotlib.use("Agg")
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
+    from PIL import Image     # matplotlib's PNG writer, with its image plugins
+    Image.preinit()
+
+
+def warm_plotting() -> None:
+    """Load the plotting library and draw one throwaway sheet (fonts, buffers, PNG writer), so
+    the first review sheet of a session costs no more than the others."""
+    import io
+    fig, (ax,) = _figure(1, size=1.0)
+    ax.plot([0.0, 1.0], [0.0, 1.0])
+    ax.set_title("warm-up")
+    fig.savefig(io.BytesIO(), format="png")
+
+
+def _figure(cols: int, rows: int = 1, size: float = 4.0):
+    load_plotting()
     from matplotlib.figure import Figure
     fig = Figure(figsize=(size * cols, size * 0.9 * rows), dpi=80, layout="constrained")
     return fig, [fig.add_subplot(rows, cols, i + 1) for i in range(cols * rows)]

@@ -24,6 +24,14 @@ from tabletop.studio.machine import Try
 log = logging.getLogger("tabletop")
 
 
+def _load_plotting() -> None:
+    from tabletop.studio.review import warm_plotting
+    try:
+        warm_plotting()
+    except Exception:  # drawn sheets will say why; the studio runs without them
+        log.exception("the plotting library for review sheets did not load")
+
+
 class SessionLog:
     def __init__(self, folder: Path, review: bool = True) -> None:
         self.folder = Path(folder)
@@ -32,6 +40,9 @@ class SessionLog:
         self.review = review
         self._drawer: threading.Thread | None = None
         self.lines = 0
+        if review:   # the plotting library loads at start, off the loop, not in the first try
+            self._drawer = threading.Thread(target=_load_plotting, name="review", daemon=True)
+            self._drawer.start()
 
     def log_try(self, t: Try, target) -> None:
         demo = getattr(target, "demo", None)
