@@ -188,8 +188,8 @@ class Renderer:
 
     def _pose(self, pr: Presence, frame: Frame | None) -> Pose:
         c, t = pr.state, (frame.t if frame is not None else pr.t)
-        center = self.map.point(c.x, c.y)
-        angle = self.map.screen_angle(c.x, c.y, c.heading)
+        cx, cy, ppm, angle = self.map.place(c.x, c.y, c.heading)
+        center = (cx, cy)
         still = pr.stillness()
         target = self._look(c, frame) if frame is not None else None
         if target is not None:
@@ -199,7 +199,7 @@ class Renderer:
             gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
         motion = self.map.screen_angle(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
         color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
-        return Pose(center, angle, self.map.scale_at(c.x, c.y), alpha=pr.alpha(t),
+        return Pose(center, angle, ppm, alpha=pr.alpha(t),
                     scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
                     stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
                     gaze=gaze, color=color, phase=pr.phase)
@@ -247,12 +247,12 @@ class Renderer:
         p = trace.puck
         if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
             return None, None
-        r = self.puck_radius * self.map.scale_at(p.x, p.y)
+        x, y, ppm, angle = self.map.place(p.x, p.y, p.angle)
+        r = self.puck_radius * ppm
         color = pucks.state_color(state)
         a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
                              pucks.halo_radius(r))
-        return a, pucks.halo(self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
-                             state, alpha, t)
+        return a, pucks.halo((x, y), r, angle, state, alpha, t)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)

@@ -45,3 +45,11 @@ class TableToScreen:
         px, py = self.point(x, y)
         qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
         return math.atan2(qy - py, qx - px)
+
+    def place(self, x: float, y: float, a: float) -> tuple[float, float, float, float]:
+        """(pixel x, pixel y, pixels per metre, screen angle of the table direction ``a``) at
+        (x, y): :meth:`point`, :meth:`scale_at` and :meth:`screen_angle` in one go."""
+        px, py = self.point(x, y)
+        bx, by = self.point(x + 0.01, y)
+        qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
+        return px, py, math.hypot(bx - px, by - py) / 0.01, math.atan2(qy - py, qx - px)

@@ -56,11 +56,6 @@ class Pose:
         return fade(shade(self.color, k), self.alpha)
 
 
-def _rot(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s], [s, c]])
-
-
 def eyes(surf: pygame.Surface, pose: Pose, centers: Sequence[Sequence[float]],
          r: float) -> None:
     """Eyes of radius ``r`` px at screen ``centers`` ((x, y) pairs): white, a dark pupil turned
@@ -81,14 +76,31 @@ def eyes(surf: pygame.Surface, pose: Pose, centers: Sequence[Sequence[float]],
             P.disc(surf, white, (px - 0.25 * r * 0.5, py - 0.35 * r * 0.5), max(1.0, r * 0.16))
 
 
-def _squash_matrix(pose: Pose) -> np.ndarray:
-    """The 2x2 map (row vectors, ``p @ S``) that stretches local points (x along the heading)
-    by ``pose.stretch`` along the motion and squashes them across it."""
+def _squash(pose: Pose) -> tuple[float, float, float, float]:
+    """The 2x2 map (row vectors, ``p @ S``, as four floats s00, s01, s10, s11) that stretches
+    local points (x along the heading) by ``pose.stretch`` along the motion and squashes them
+    across it."""
     k = pose.stretch
     if abs(k - 1.0) < 1e-3:
-        return np.eye(2)
-    r = _rot(pose.motion - pose.angle)
-    return (r * np.array([k, 1.0 / k])) @ r.T
+        return 1.0, 0.0, 0.0, 1.0
+    d = pose.motion - pose.angle
+    c, s = math.cos(d), math.sin(d)
+    cs = c * s * (k - 1.0 / k)
+    return k * c * c + s * s / k, cs, cs, k * s * s + c * c / k
+
+
+# The reactor's outline and eyes as plain floats: a few dozen points cost less as Python
+# arithmetic than as tiny numpy arrays.
+_BODY_UV = [(float(u), float(v)) for u, v in REACTOR_BODY]
+_EYES_UV = [(float(u), float(v)) for u, v in REACTOR_EYES]
+
+
+def _mapped(uv: list[tuple[float, float]], m: tuple[float, float, float, float], k: float,
+            ox: float, oy: float) -> list[tuple[float, float]]:
+    """Local points ``uv`` through the row-vector map ``m`` (``p @ M``), times ``k``, plus
+    (``ox``, ``oy``) pixels."""
+    a, b, c, d = m[0] * k, m[1] * k, m[2] * k, m[3] * k
+    return [(u * a + v * c + ox, u * b + v * d + oy) for u, v in uv]
 
 
 def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.Rect | None:
@@ -99,10 +111,12 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
         return None
     # One 2x2 map per layer (local units -> pixels: squash, size, heading), one product each.
     ca, sa = math.cos(pose.angle), math.sin(pose.angle)
-    M = _squash_matrix(pose) @ np.array([[ca, sa], [-sa, ca]]) * L
-    A = M * np.array([[pose.breath ** 0.5], [pose.breath]])      # breathing body
+    s00, s01, s10, s11 = _squash(pose)
+    M = ((s00 * ca - s01 * sa) * L, (s00 * sa + s01 * ca) * L,
+         (s10 * ca - s11 * sa) * L, (s10 * sa + s11 * ca) * L)
+    rb = pose.breath ** 0.5
+    A = (M[0] * rb, M[1] * rb, M[2] * pose.breath, M[3] * pose.breath)   # breathing body
     cx, cy = pose.center
-    ctr = np.array([cx, cy])
     # The glow keeps the grown-up size while the body grows in (its strength fades in): one
     # cached light per character instead of a new one every few frames of a fade.
     touched = P.glow(surf, pose.center, 0.8 * c.size * pose.ppm, pose.color,
@@ -113,12 +127,11 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     for fx, fy in ((-0.05 + step, 0.3), (-0.05 - step, -0.3)):
         fx, fy = fx * L, fy * L
         P.disc(surf, foot, (fx * ca - fy * sa + cx, fx * sa + fy * ca + cy), 0.085 * L)
-    body = REACTOR_BODY @ A
-    P.polygon(surf, pose.body(0.72), body * 1.06 + (cx, cy + 0.04 * L))
-    P.polygon(surf, pose.body(), body + ctr)
-    belly = REACTOR_BODY @ (0.55 * M) + (np.array([0.05, -0.05]) @ M + ctr)
-    P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha), belly)
-    eyes(surf, pose, (REACTOR_EYES @ M + ctr).tolist(), 0.1 * L)
+    P.polygon(surf, pose.body(0.72), _mapped(_BODY_UV, A, 1.06, cx, cy + 0.04 * L))
+    P.polygon(surf, pose.body(), _mapped(_BODY_UV, A, 1.0, cx, cy))
+    P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha),
+              _mapped(_BODY_UV, M, 0.55, cx + 0.05 * (M[0] - M[2]), cy + 0.05 * (M[1] - M[3])))
+    eyes(surf, pose, _mapped(_EYES_UV, M, 1.0, cx, cy), 0.1 * L)
     pad = 0.9 * L * pose.stretch
     x0, y0, x1, y1 = cx - pad - 1, cy - pad - 1, cx + pad + 2, cy + pad + 2
     return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])

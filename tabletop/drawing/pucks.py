@@ -62,20 +62,18 @@ def draw_trail(surf: pygame.Surface, trace: PuckTrace, to_px: Mapper, color: Col
     k, q = last
     d = math.hypot(q[0] - cx, q[1] - cy)
     parts[k].append((cx + (q[0] - cx) * hole_px / d, cy + (q[1] - cy) * hole_px / d))
-    xs, ys = [], []
+    drawn = []
     for k, q in enumerate(parts):
         if len(q) < 2:
             continue
         col = fade(color, alpha * (0.18, 0.32, 0.5)[k], TABLE)
         if k:
             pygame.draw.lines(surf, col, False, q, 1 + k)
-        pygame.draw.aalines(surf, col, False, q)
-        xs += [p[0] for p in q]
-        ys += [p[1] for p in q]
-    if not xs:
+        drawn.append(pygame.draw.aalines(surf, col, False, q))
+    if not drawn:
         return None
-    x0, y0 = int(min(xs)) - 4, int(min(ys)) - 4
-    return pygame.Rect(x0, y0, int(max(xs)) + 5 - x0, int(max(ys)) + 5 - y0)
+    # the rectangles the draw calls report cover every point (the wider steps stay within 2 px)
+    return drawn[0].unionall(drawn[1:]).inflate(8, 8)
 
 
 class Halo(NamedTuple):
