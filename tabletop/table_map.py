@@ -23,9 +23,18 @@ class TableToScreen:
             homography = fitted_rectangle(table, size, margin)
         self.H = np.asarray(homography, dtype=float)
         self._h = [float(v) for v in self.H.ravel()]
+        # an affine map (no keystone; the uncalibrated fit): a character's few points in one
+        # small product instead of the general homography's column by column arithmetic
+        h = self._h
+        self._affine = (h[6] == 0.0 and h[7] == 0.0 and h[8] != 0.0)
+        if self._affine:
+            self._AT = np.array([[h[0], h[3]], [h[1], h[4]]]) / h[8]
+            self._t = np.array([h[2], h[5]]) / h[8]
 
     def points(self, xy: np.ndarray) -> np.ndarray:
         """(N, 2) table metres -> (N, 2) pixels."""
+        if self._affine and len(xy) <= 64:
+            return np.asarray(xy, dtype=float).reshape(-1, 2) @ self._AT + self._t
         return apply_homography(self.H, xy)
 
     def point(self, x: float, y: float) -> tuple[float, float]:

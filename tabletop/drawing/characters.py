@@ -224,10 +224,10 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     if posed is None:
         return None
     pts, fig = posed
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
     # The glow's size follows the figure's grown-up size, not its pose or its growing in (its
     # strength fades in): one cached light per figure.
-    touched = P.glow(surf, (lo + hi) / 2, 0.42 * c.size * pose.ppm + 6, pose.color,
+    touched = P.glow(surf, ((x0 + x1) / 2, (y0 + y1) / 2), 0.42 * c.size * pose.ppm + 6, pose.color,
                      0.26 * pose.alpha * pose.light)
     bones, spine, rel, on_spine, *rest = topology(n, c.bones)
     w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
@@ -260,7 +260,6 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     if head:
         _head(surf, c, pose, q, spine, fig)
     pad = wspine + 0.08 * fig + 2
-    (x0, y0), (x1, y1) = lo.tolist(), hi.tolist()
     x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
     return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
 
@@ -342,7 +341,7 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
     for idx, closed in loops:
         q = pts[idx]
         if closed and first:
-            m = q.mean(axis=0)
+            m = q.sum(axis=0) / len(idx)
             touched = P.union([touched, P.glow(
                 surf, m.tolist(), 0.62 * c.size * pose.ppm + 6, pose.color,
                 0.32 * pose.alpha * pose.light)])
@@ -350,7 +349,7 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
             P.polygon(surf, pose.body(), q)
             first = False
         elif closed:
-            m = q.mean(axis=0)
+            m = q.sum(axis=0) / len(idx)
             w, h = (q.max(axis=0) - q.min(axis=0)).tolist()
             if abs(w - h) < 0.8 * max(w, h) and len(idx) <= 10:       # an eye
                 up = np.array([-math.sin(pose.angle), math.cos(pose.angle)])
