@@ -225,6 +225,10 @@ def shadow(surf: pygame.Surface, c: Sequence[float], rx: float, ry: float, depth
 def ring_surface(radius: float, width: float, color: Color, strength: float) -> pygame.Surface:
     """A soft ring of light (blit with BLEND_ADD): brightest at ``radius`` pixels, ``width``
     pixels wide (Gaussian), dark at the centre."""
+    exact = (radius, width, color, strength)     # a settled puck asks for the same ring each frame
+    surf = _ring_calls.get(exact)
+    if surf is not None:
+        return surf
     r, w = int(_bucket(min(radius, MAX_LIGHT_PX), 1)), _bucket(min(width, 50.0), 0.5)
     s = _bucket(strength, 0.05)
     key = (r, w, color, s)
@@ -233,9 +237,10 @@ def ring_surface(radius: float, width: float, color: Color, strength: float) -> 
         surf = _ring_base(r, w).copy()
         surf.fill(tuple(int(round(v * s)) for v in color), special_flags=pygame.BLEND_MULT)
         surf = _remember(_rings, key, surf)
-    return surf
+    return _remember(_ring_calls, exact, surf)
 
 
+_ring_calls: dict[tuple, pygame.Surface] = {}
 _ring_bases: dict[tuple, pygame.Surface] = {}
 
 

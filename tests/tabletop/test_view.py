@@ -93,6 +93,7 @@ def test_a_halo_drawn_from_the_cached_ring_is_the_freshly_rendered_one():
     the cached blit leaves exactly the fresh ring's pixels, still dark at the puck's centre, and a
     coasting puck at the same place is not given the seen one's cached ring."""
     P._rings.clear()
+    P._ring_calls.clear()
     frame = Frame(seq=0, t=0.0, pucks=(Puck(3, 0.4, 0.3, 1.0),))
     r = new_renderer()
     a = settled(r, frame)                               # rings rendered as the puck fades in

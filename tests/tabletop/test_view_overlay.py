@@ -74,6 +74,7 @@ def test_stage_figures_are_numpys_median_and_p99():
 def test_a_full_light_cache_forgets_its_oldest_light_only():
     from tabletop.drawing import primitives as P
     P._rings.clear()
+    P._ring_calls.clear()
     first = P.ring_surface(20, 4, (255, 0, 0), 1.0)
     for k in range(P._CACHE_MAX + 5):
         P.ring_surface(20, 4, (k % 256, k // 256, 7), 1.0)
