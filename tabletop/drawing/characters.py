@@ -343,35 +343,41 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
     ink = fade(INK, pose.alpha)
     stroke = max(1.5, 0.022 * fig)
     first = True
-    g = np.array([math.cos(pose.gaze), math.sin(pose.gaze)])
+    gx, gy = math.cos(pose.gaze), math.sin(pose.gaze)
+    ux, uy = -math.sin(pose.angle), math.cos(pose.angle)     # up the face
+    xy = pts.tolist()     # a face's loops have a few points each: plain floats, not tiny arrays
     for idx, closed in loops:
-        q = pts[idx]
-        if closed and first:
-            m = q.sum(axis=0) / len(idx)
+        q = [xy[i] for i in idx]
+        if not closed:                                               # brows, nose
+            for a, b in zip(q[:-1], q[1:]):
+                P.limb(surf, ink, a, b, stroke * 0.8)
+            continue
+        k = len(q)
+        mx, my = sum(x for x, _ in q) / k, sum(y for _, y in q) / k
+        if first:                                                    # the head
             touched = P.union([touched, P.glow(
-                surf, m.tolist(), 0.62 * c.size * pose.ppm + 6, pose.color,
+                surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
                 0.32 * pose.alpha * pose.light)])
-            P.polygon(surf, pose.body(0.7), (q - m) * 1.04 + m)
+            P.polygon(surf, pose.body(0.7),
+                      [((x - mx) * 1.04 + mx, (y - my) * 1.04 + my) for x, y in q])
             P.polygon(surf, pose.body(), q)
             first = False
-        elif closed:
-            m = q.sum(axis=0) / len(idx)
-            w, h = (q.max(axis=0) - q.min(axis=0)).tolist()
-            if abs(w - h) < 0.8 * max(w, h) and len(idx) <= 10:       # an eye
-                up = np.array([-math.sin(pose.angle), math.cos(pose.angle)])
-                rel = q - m
-                along = rel @ up
-                lid = rel - np.outer(along * (1 - pose.blink), up)
-                P.polygon(surf, fade(EYE_WHITE, pose.alpha), lid + m)
-                if pose.blink > 0.45:
-                    r = 0.45 * min(w, h) + 1
-                    P.disc(surf, ink, m + g * 0.3 * max(w, h), r)
-            else:                                                     # the mouth
-                P.polygon(surf, ink, q)
-        else:
-            ql = q.tolist()
-            for a, b in zip(ql[:-1], ql[1:]):
-                P.limb(surf, ink, a, b, stroke * 0.8)
+            continue
+        xs, ys = [x for x, _ in q], [y for _, y in q]
+        w, h = max(xs) - min(xs), max(ys) - min(ys)
+        if abs(w - h) < 0.8 * max(w, h) and k <= 10:                 # an eye
+            shut = 1 - pose.blink
+            lid = []
+            for x, y in q:
+                rx, ry = x - mx, y - my
+                along = (rx * ux + ry * uy) * shut
+                lid.append((rx - along * ux + mx, ry - along * uy + my))
+            P.polygon(surf, fade(EYE_WHITE, pose.alpha), lid)
+            if pose.blink > 0.45:
+                d = 0.3 * max(w, h)
+                P.disc(surf, ink, (mx + gx * d, my + gy * d), 0.45 * min(w, h) + 1)
+        else:                                                        # the mouth
+            P.polygon(surf, ink, q)
     return touched
 
 
