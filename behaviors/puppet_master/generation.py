@@ -4,7 +4,8 @@ Each step: the training sample after the best match (the target) gives a relativ
 velocity and a look. The target relative position is carried into the main character's
 current frame (or kept at the reactor's world bearing, look.train_place) and onto the table
 (:func:`fit_target`). The step repeats the demonstrated step relative to the main plus a share
-of the way to the target (engine.Params.relative_motion), or, with that share 0 (the paper),
+of the way to the target (engine.Params.relative_motion; where the place is held in the world,
+the demonstrated reactor's own way of moving, :func:`own_steps`), or, with that share 0 (the paper),
 heads for the target (:func:`step_around`: around the main, not through it) with the length
 of the target velocity (engine.Params.catch_up may lengthen it when far off); the last three
 steps are averaged (the paper's linear smooth), the patch's Haar detail turns the averaged
@@ -20,6 +21,8 @@ from __future__ import annotations
 import functools
 import math
 
+import numpy as np
+
 from tabletop.frames import wrap_angle
 
 
@@ -28,6 +31,39 @@ def target_position(mx: float, my: float, md: float, fwd: float,
     """World position of a point ``fwd`` ahead and ``left`` to the left of a pose."""
     c, s = math.cos(md), math.sin(md)
     return mx + c * fwd - s * left, my + s * fwd + c * left
+
+
+def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float,
+              span_s: float = 0.5) -> list[tuple[float, float, float]]:
+    """Per training sample i: the share k (0..1) of the main's motion the reactor went along
+    with (least squares of its velocity on the main's over ``span_s`` centred on i), and the
+    rest of its step from i - 1 to i, its own motion, split along the bearing from the main
+    (metres outward, and counter-clockwise round it). ``main``, ``react``: (n, 2) positions at
+    ``rate_hz``; (0, 0, 0) at the first sample.
+
+    A lover that follows its main goes along with most of its step (k 0.5-0.85 while the main
+    walks), a bully standing its ground while the main walks past goes along with none of it:
+    repeating the whole demonstrated step relative to the main would move the bully with a
+    live main that walks elsewhere, and copying only its world step would leave the lover
+    behind a main that walks another way than the demonstrated one did."""
+    n = main.shape[0]
+    dm = np.zeros((n, 2))
+    dr = np.zeros((n, 2))
+    dm[1:] = np.diff(main, axis=0)
+    dr[1:] = np.diff(react, axis=0)
+    w = np.ones(2 * max(1, int(round(0.5 * span_s * rate_hz))) + 1)
+    num = np.convolve(np.einsum("ij,ij->i", dr, dm), w, "same")
+    den = np.convolve(np.einsum("ij,ij->i", dm, dm), w, "same")
+    k = np.clip(np.where(den > 1e-12, num / np.maximum(den, 1e-12), 0.0), 0.0, 1.0)
+    u = dr - k[:, None] * dm
+    rel = np.zeros((n, 2))
+    rel[1:] = react[:-1] - main[:-1]
+    rho = np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-9)
+    ex, ey = rel[:, 0] / rho, rel[:, 1] / rho
+    u_rad = u[:, 0] * ex + u[:, 1] * ey
+    u_tan = -u[:, 0] * ey + u[:, 1] * ex
+    k[0] = u_rad[0] = u_tan[0] = 0.0
+    return list(zip(k.tolist(), u_rad.tolist(), u_tan.tolist()))
 
 
 def step_toward(rx: float, ry: float, tx: float, ty: float,

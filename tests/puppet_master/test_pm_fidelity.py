@@ -12,19 +12,16 @@ from tabletop import examples, library
 TABLE = (0.0, 0.0, *examples.TABLE)
 PATHS = ("slow_pauses_30hz", "loops_spins_45hz")
 # Thresholds the generation still misses on these paths (measured; see bench/fidelity.py):
-# event figures of rare or slow events (contacts, orbits, speed while the main is still)
-# and the afraid character's share of looking at the main. Every other threshold must hold.
-# The lover's speed (both paths) and its look change on the loops pass by 1-2% of their
-# tolerance: allowed too, so another machine's rounding cannot make this test flaky.
+# event figures of rare or slow events (contacts, the speed while the main is still), the
+# stalker's speed on the loops (its main spins in place faster than ever demonstrated) and
+# the afraid character's share of looking at the main. Every other threshold must hold.
 KNOWN_MISSES = {
-    "lover": {"slow_pauses_30hz": {"still_moving", "orbit", "speed"},
-              "loops_spins_45hz": {"still_moving", "orbit", "speed", "look_change"}},
+    "lover": {"slow_pauses_30hz": {"still_moving"}, "loops_spins_45hz": {"contact"}},
     "bully": {"slow_pauses_30hz": {"contact"}, "loops_spins_45hz": {"contact"}},
     "playful_friend": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact"}},
     "stalker": {"slow_pauses_30hz": {"still_moving"},
                 "loops_spins_45hz": {"speed", "still_moving"}},
-    "afraid": {"slow_pauses_30hz": {"facing", "still_moving", "orbit"},
-               "loops_spins_45hz": {"facing", "orbit"}},
+    "afraid": {"slow_pauses_30hz": {"facing", "orbit"}, "loops_spins_45hz": {"facing"}},
 }
 
 
