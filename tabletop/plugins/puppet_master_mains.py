@@ -98,7 +98,7 @@ def bound_characters(main: dict) -> list[str]:
     return [b["character"] for b in singles(main) if b["kind"] == "character"]
 
 
-@dataclass
+@dataclass(slots=True)
 class Posted:
     """A reactor's pose on the board: metres, radians; ``size`` its body length."""
 
@@ -117,6 +117,9 @@ class Board:
         self.seq: int | None = None
         self.previous: dict[str, Posted] = {}
         self.current: dict[str, Posted] = {}
+        # every name's latest pose (this tick's where posted, else the previous one): a new
+        # tick leaves it as it is, so others() reads it without merging the two per call
+        self._latest: dict[str, Posted] = {}
 
     def begin(self, frame: Frame) -> None:
         """Called by every engine at the start of its step; the first call of a new tick
@@ -129,6 +132,7 @@ class Board:
     def post(self, name: str, pose: Posted) -> None:
         """This tick's pose of ``name``."""
         self.current[name] = pose
+        self._latest[name] = pose
 
     def latest(self, name: str) -> Posted | None:
         """This tick's pose if ``name`` has stepped already, else its previous one."""
@@ -136,9 +140,7 @@ class Board:
 
     def others(self, name: str, size: float) -> list[tuple[float, float, float]]:
         """(x, y, least distance m) of every other posted reactor, at its latest pose."""
-        latest = dict(self.previous)
-        latest.update(self.current)          # this tick's pose where it has stepped already
-        out = [(p.x, p.y, 0.5 * (size + p.size)) for other, p in latest.items()
+        out = [(p.x, p.y, 0.5 * (size + p.size)) for other, p in self._latest.items()
                if p.valid and other != name]
         out.sort()
         return out
@@ -163,6 +165,7 @@ class MainReader:
         self._last: list[tuple[float, float, float] | None] = [None] * len(self.items)
         self._last_t = -math.inf
         self.chosen = -1                 # index into items of the main in use
+        self._puck = main["puck"] if main["kind"] == "puck" else None
 
     def describe(self) -> str:
         """What the reactor waits for, for the overlay."""
@@ -213,6 +216,19 @@ class MainReader:
     def read(self, frame: Frame, near: tuple[float, float] | None) -> tuple[int, Any]:
         """(index of the main in use, its pose or None) this frame; ``near`` is the reactor's
         position (for ``nearest``)."""
+        if self._puck is not None:           # one puck (the usual binding): the same result
+            p = frame.puck(self._puck)       # as the general path below, without its lists
+            if frame.t > self._last_t:
+                self._last_t = frame.t
+            if p is None:
+                return self.chosen, None
+            pose = (p.x, p.y, p.angle)
+            if not (math.isfinite(pose[0]) and math.isfinite(pose[1])
+                    and math.isfinite(pose[2])):
+                return self.chosen, None
+            self._last[0] = pose
+            self.chosen = 0
+            return 0, pose
         poses = []
         isfinite = math.isfinite
         for k in range(len(self.items)):

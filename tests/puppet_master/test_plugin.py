@@ -191,3 +191,43 @@ def test_the_default_config_entry_reacts_to_the_scripted_visitor():
     out = run([e], visitor_frames(10, seed=0))["lover"]
     assert out[:, 3].all() and np.hypot(*np.diff(out[:, :2], axis=0).T).sum() > 0.5
     assert np.median(np.hypot(*(out[:, :2] - main_track(10, seed=0)[:, :2]).T)[60:]) < 0.25
+
+
+# -- the tick path's shortcuts give the general path's results -------------------------------
+
+def test_one_puck_main_reads_as_the_general_path():
+    from tabletop.plugins.puppet_master_mains import Board, MainReader
+    one = MainReader({"kind": "puck", "puck": 1}, set(), Board())
+    listed = MainReader({"kind": "first", "mains": [{"kind": "puck", "puck": 1}]}, set(), Board())
+    rng = np.random.default_rng(7)
+    seen = absent = 0
+    for i in range(400):
+        t = 1.0 + i / 60 if i % 50 != 13 else 0.5          # now and then an older frame
+        x, y, a = rng.uniform(0, 1.2), rng.uniform(0, 0.8), rng.uniform(-3, 3)
+        kind = i % 7
+        if kind == 3:
+            x = math.nan                                     # a broken measurement
+        pucks = () if kind == 5 else (Puck(2, 0.1, 0.1, 0.0), Puck(1, x, y, a))
+        frame = Frame(seq=i, t=t, pucks=pucks)
+        got, want = one.read(frame, None), listed.read(frame, None)
+        assert got == want and one._last_t == listed._last_t and one._last == listed._last
+        seen += got[1] is not None
+        absent += got[1] is None
+    assert seen > 250 and absent > 80
+
+
+def test_board_others_are_the_latest_poses_of_every_other_reactor():
+    from tabletop.plugins.puppet_master_mains import Board, Posted
+    board = Board()
+    board.begin(Frame(seq=0, t=0.0))
+    board.post("a", Posted(0.1, 0.2, 0.0, 0.1, True))
+    board.post("b", Posted(0.5, 0.2, 0.0, 0.2, True))
+    board.post("c", Posted(0.9, 0.2, 0.0, 0.1, False))      # invalid: not an obstacle
+    board.begin(Frame(seq=1, t=0.1))
+    assert board.others("b", 0.1) == [(0.1, 0.2, 0.1)]       # a's previous pose
+    board.post("a", Posted(0.3, 0.4, 0.0, 0.1, True))
+    assert board.others("b", 0.1) == [(0.3, 0.4, 0.1)]       # a's pose of this tick
+    assert board.others("a", 0.3) == [(0.5, 0.2, 0.25)]      # b not yet stepped: previous
+    board.begin(Frame(seq=1, t=0.1))                         # the same tick: nothing moves
+    assert board.latest("a") == Posted(0.3, 0.4, 0.0, 0.1, True)
+    assert board.others("c", 0.1) == [(0.3, 0.4, 0.1), (0.5, 0.2, 0.15000000000000002)]
