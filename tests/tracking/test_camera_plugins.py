@@ -243,3 +243,36 @@ def test_synthetic_frames_show_the_scene_at_their_shutter_and_are_never_early(tm
         script = {p[0]: p[1:3] for p in reader.poses(t - reader.t0)}
         for pid, (x, y) in zip(frame.ids.tolist(), frame.poses[:, :2].tolist()):
             assert (x, y) == pytest.approx(script[pid], abs=1e-9)
+
+
+def test_a_render_process_gives_the_same_scene_and_comes_back_when_it_dies(tmp_path):
+    """``render_process``: frames rendered by a child process show the script at their
+    shutter time, the pucks are found where they are, a child that dies is replaced (the
+    camera reconnects, its script starting again) and closing the camera ends the child."""
+    src, _ = build({"kind": "synthetic_camera", "pucks": [1, 2], "seed": 3, "fps": 30.0,
+                    "resolution": [640, 360], "hands": {"every_s": 0},
+                    "render_process": True}, tmp_path)
+    announced = []
+    src.notify = lambda t: announced.append((t, time.monotonic(), src.reader.t0, *src.truth()))
+    src.open()
+    try:
+        assert wait_for(lambda: len(announced) >= 8, timeout=60.0)
+        first = src.reader
+        first.proc.kill()
+        assert wait_for(lambda: src.reconnects >= 1 and src.reader is not first, timeout=60.0)
+        assert wait_for(lambda: sum(a[2] == src.reader.t0 for a in announced) >= 8, timeout=60.0)
+    finally:
+        src.close()
+    assert first.proc.poll() is not None and src.reader.proc.poll() is not None
+    both = set()   # the scripts (before, after the reconnection) with both pucks found
+    for t, at, t0, obs, frame in announced:
+        assert obs.t == frame.t == t and at >= t
+        script = {p[0]: p[1:3] for p in src.poses(t - t0)}
+        truth = dict(zip(frame.ids.tolist(), frame.poses[:, :2].tolist()))
+        for pid, (x, y) in truth.items():
+            assert (x, y) == pytest.approx(script[pid], abs=1e-9)
+        for m in obs.pucks:
+            assert math.hypot(m.x - truth[m.id][0], m.y - truth[m.id][1]) <= 0.003
+        if {m.id for m in obs.pucks} == {1, 2}:
+            both.add(t0)
+    assert len(both) == 2
