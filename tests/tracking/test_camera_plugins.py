@@ -276,3 +276,26 @@ def test_a_render_process_gives_the_same_scene_and_comes_back_when_it_dies(tmp_p
         if {m.id for m in obs.pucks} == {1, 2}:
             both.add(t0)
     assert len(both) == 2
+
+
+def test_a_put_off_search_adds_a_puck_put_down_to_its_frame_in_table_metres():
+    """The camera's measurer returns the frame's observation again with the puck the put-off
+    full-frame search found (same time and seq, table metres), on the frame it was due for."""
+    from tracking.roi import MarkerTracker
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=5))
+    measurer = camera_plugin.MarkerMeasurer("cam", MarkerTracker(full_period=3, defer_full=True),
+                                            synthetic_camera.true_calibration(cam), TABLE)
+    base = [(1, 0.3, 0.3, 0.0), (2, 0.8, 0.5, 1.0)]
+    added_at = None
+    for k in range(8):
+        poses = base + ([(9, 0.6, 0.6, 0.3)] if k >= 2 else [])
+        obs = measurer(cam.render(poses, k / 30.0).image, k / 30.0, k + 1)
+        more = measurer.after_publish()
+        assert 9 not in {m.id for m in obs.pucks} or added_at is not None
+        if more is not None:
+            assert (more.t, more.seq, more.pucks[:len(obs.pucks)]) == (obs.t, obs.seq, obs.pucks)
+            new = more.pucks[len(obs.pucks):]
+            assert [m.id for m in new] == [9] and added_at is None
+            assert math.hypot(new[0].x - 0.6, new[0].y - 0.6) <= 0.003
+            added_at = k
+    assert added_at == 3   # the first full-frame search after it was put down
