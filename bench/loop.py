@@ -27,8 +27,9 @@ inflate.
 
 For each configuration and display: the loop unpaced (as fast as it can tick: ticks per second)
 and paced at 60 Hz (the shipped loop: it ticks when a camera frame arrives). The camera
-configurations are also run paced with the synthetic camera rendering in the camera's thread
-(``render_thread``; the shipped config renders in a child process, ``render_process``), and
+configurations are also run paced with the synthetic camera rendering where the config does
+not have it render (``render_process``: in a child process; ``render_thread``: in the camera's
+thread, as the shipped config does), and
 with ``--timer`` as before the loop followed its camera (``timer``: a fixed 60 Hz timer, the
 synthetic camera phase-locked to it, its shutter at the start of its render, no
 garbage-collector freeze, Python's default 5 ms thread switch interval), for comparison.
@@ -239,8 +240,10 @@ def main() -> None:
             for name, cfg in cfgs.items():
                 camera = any(s["kind"] == "synthetic_camera" for s in cfg["sources"])
                 modes = [("unpaced", False, False, None), ("paced60", True, False, None)]
-                if camera:
-                    modes.append(("paced60_render_thread", True, False, "thread"))
+                if camera:   # the synthetic camera rendering where the config does not
+                    other = "thread" if any(s.get("render_process") for s in cfg["sources"]) \
+                        else "process"
+                    modes.append((f"paced60_render_{other}", True, False, other))
                     if "--timer" in sys.argv:
                         modes.append(("paced60_timer", True, True, "thread"))
                 for driver, disp in displays.items():

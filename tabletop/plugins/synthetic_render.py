@@ -22,6 +22,7 @@ import collections
 import logging
 import mmap
 import os
+import pickle
 import subprocess
 import sys
 import time
@@ -81,6 +82,17 @@ class SyntheticReader:
         self.render_s: collections.deque[float] = collections.deque(maxlen=self.LEAD_FRAMES)
 
     def read(self) -> np.ndarray:
+        t = self.render()
+        done = self.clock()
+        if t > done:
+            time.sleep(t - done)
+        self.capture_t = t
+        return self.frame.image
+
+    def render(self, hand_over: Callable[[SyntheticFrame], object] | None = None) -> float:
+        """Render the next frame into ``frame`` and return its shutter time (monotonic s),
+        not waiting for it; ``hand_over(frame)`` (a copy to where it goes) counts as part of
+        the render."""
         start = self.clock()
         lead = float(np.median(self.render_s)) if self.render_s and self.shutter_at_end else 0.0
         t = start + lead
@@ -91,12 +103,10 @@ class SyntheticReader:
         velocities = [((p[1] - before[p[0]][1]) / dt, (p[2] - before[p[0]][2]) / dt)
                       if p[0] in before else (0.0, 0.0) for p in now]
         self.frame = self.camera.render(now, t, velocities, self.hands(s))
-        done = self.clock()
-        self.render_s.append(done - start)
-        if t > done:
-            time.sleep(t - done)
-        self.capture_t = t
-        return self.frame.image
+        if hand_over is not None:
+            hand_over(self.frame)
+        self.render_s.append(self.clock() - start)
+        return t
 
     def release(self) -> None:
         pass
@@ -120,11 +130,18 @@ def _render_child(requests: Connection, answers: Connection, image_fd: int) -> N
             if request is None:
                 break
             reader.t0, reader.shutter_at_end = request
-            image = reader.read()
-            out[...] = image
-            f = reader.frame
-            answers.send((reader.capture_t, f.t, f.ids, f.corners, f.centres, f.poses,
-                          f.visible, f.occluders))
+            answer: list[bytes] = []
+
+            def hand_over(f: SyntheticFrame) -> None:   # before the shutter time, not after
+                out[...] = f.image
+                answer.append(pickle.dumps((f.t, f.ids, f.corners, f.centres, f.poses,
+                                            f.visible, f.occluders)))
+
+            t = reader.render(hand_over)
+            wait = t - time.monotonic()
+            if wait > 0:
+                time.sleep(wait)
+            answers.send_bytes(answer[0])
         del out
 
 
@@ -171,12 +188,12 @@ class RenderProcessReader:
             if not self.answers.poll(FIRST_FRAME_S if self._frames == 0 else FRAME_S):
                 log.warning("synthetic camera: the render process did not answer")
                 return None
-            shutter, t, ids, corners, centres, poses, visible, occluders = self.answers.recv()
+            t, ids, corners, centres, poses, visible, occluders = self.answers.recv()
         except (EOFError, OSError):
             return None
         image = self.view.copy()
         self._frames += 1
-        self.capture_t = shutter
+        self.capture_t = t
         self.frame = SyntheticFrame(image, t, ids, corners, centres, poses, visible, occluders)
         return image
 
