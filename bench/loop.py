@@ -30,6 +30,8 @@ and paced at 60 Hz (the shipped loop: it ticks when a camera frame arrives). The
 configurations are also run paced with the synthetic camera rendering where the config does
 not have it render (``render_process``: in a child process; ``render_thread``: in the camera's
 thread, as the shipped config does), and
+in the X window with ``loop.realtime_priority`` (``realtime``: the installation's threads and
+the X server ahead of the machine's other programs; where refused, ordinary scheduling), and
 with ``--timer`` as before the loop followed its camera (``timer``: a fixed 60 Hz timer, the
 synthetic camera phase-locked to it, its shutter at the start of its render, no
 garbage-collector freeze, Python's default 5 ms thread switch interval), for comparison.
@@ -42,12 +44,14 @@ Run: ``.venv/bin/python bench/loop.py`` (about 200 s); ``--quick`` runs one roun
 
 from __future__ import annotations
 
+import contextlib
 import gc
 import math
 import os
 import sys
 import time
 from pathlib import Path
+from typing import Iterator
 
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -64,6 +68,7 @@ from tabletop.plugins.synthetic_render import RenderProcessReader, SyntheticRead
 from tabletop.recorder import jsonable  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+REALTIME = 10   # the ``paced60_realtime`` runs' loop.realtime_priority (and the X server's)
 VIEW = {"headless": True, "size": [1280, 720], "overlay": True}
 
 
@@ -159,15 +164,37 @@ class Probes:
         gc.callbacks.remove(self._gc)
 
 
+@contextlib.contextmanager
+def x_server_priority(display: str | None, priority: int) -> Iterator[None]:
+    """The X server of ``display`` (its lock file names its process) at SCHED_FIFO
+    ``priority`` meanwhile, when ``priority`` and the system allow it."""
+    pid = None
+    if display and priority:
+        try:
+            pid = int(Path(f"/tmp/.X{display.lstrip(':')}-lock").read_text().strip())
+            os.sched_setscheduler(pid, os.SCHED_FIFO, os.sched_param(priority))
+        except (OSError, ValueError, AttributeError):
+            pid = None
+    try:
+        yield
+    finally:
+        if pid is not None:
+            try:
+                os.sched_setscheduler(pid, os.SCHED_OTHER, os.sched_param(0))
+            except OSError:
+                pass
+
+
 def measure(cfg: dict, seconds: float, paced: bool, warmup: float = 1.0,
             display: str | None = None, timer: bool = False,
-            render: str | None = None) -> dict[str, float]:
+            render: str | None = None, realtime: int = 0) -> dict[str, float]:
     """Run the installation until ``warmup`` seconds after its first camera frame (or its
     start, without a camera), then ``seconds`` more; figures are of those last ``seconds`` only
     (steady state: caches settled). With ``display`` the view opens a real window on that X
     display, else it runs on SDL's dummy driver. ``timer``: the loop as it was before it
     followed its camera (see the module's docstring). ``render``: "thread" or "process" sets
-    where the synthetic camera renders (its ``render_process``), None keeps the config's."""
+    where the synthetic camera renders (its ``render_process``), None keeps the config's.
+    ``realtime``: the loop's ``realtime_priority`` (and the same for the X server meanwhile)."""
     if display is None:
         os.environ["SDL_VIDEODRIVER"] = "dummy"
     else:
@@ -185,6 +212,7 @@ def measure(cfg: dict, seconds: float, paced: bool, warmup: float = 1.0,
     inst.loop.inputs.follow = not timer
     inst.loop.freeze_gc = not timer
     inst.loop.switch_interval_s = None if timer else inst.loop.switch_interval_s
+    inst.loop.realtime_priority = realtime
     t_start = time.monotonic()
     camera = any(s["kind"] == "synthetic_camera" for s in cfg["sources"])
     first = [None if camera else t_start]   # the first camera frame's tick, monotonic s
@@ -205,7 +233,7 @@ def measure(cfg: dict, seconds: float, paced: bool, warmup: float = 1.0,
             inst.loop.stop.set()
 
     inst.loop.hooks.append(steady)
-    with Probes(stats, inst.loop, inst.loop.inputs.sources):
+    with Probes(stats, inst.loop, inst.loop.inputs.sources), x_server_priority(display, realtime):
         inst.loop.run()
     SyntheticReader.shutter_at_end = True
     times = np.asarray(stats.tick_times)
@@ -239,18 +267,20 @@ def main() -> None:
         for _ in range(rounds):
             for name, cfg in cfgs.items():
                 camera = any(s["kind"] == "synthetic_camera" for s in cfg["sources"])
-                modes = [("unpaced", False, False, None), ("paced60", True, False, None)]
+                modes = [("unpaced", False, False, None, 0), ("paced60", True, False, None, 0)]
                 if camera:   # the synthetic camera rendering where the config does not
                     other = "thread" if any(s.get("render_process") for s in cfg["sources"]) \
                         else "process"
-                    modes.append((f"paced60_render_{other}", True, False, other))
+                    modes.append((f"paced60_render_{other}", True, False, other, 0))
                     if "--timer" in sys.argv:
-                        modes.append(("paced60_timer", True, True, "thread"))
+                        modes.append(("paced60_timer", True, True, "thread", 0))
                 for driver, disp in displays.items():
-                    for label, paced, timer, render in modes:
+                    extra = [("paced60_realtime", True, False, None, REALTIME)] \
+                        if camera and disp is not None else []
+                    for label, paced, timer, render, realtime in modes + extra:
                         key = f"{driver}.{name}_{label}"
                         for k, v in measure(cfg, seconds, paced, display=disp, timer=timer,
-                                            render=render).items():
+                                            render=render, realtime=realtime).items():
                             results.setdefault(key, {}).setdefault(k, []).append(v)
     for key, figs in results.items():
         for k, vals in figs.items():
