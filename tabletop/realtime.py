@@ -7,7 +7,7 @@ core. ``SCHED_FIFO`` threads run ahead of every ordinary one. Measured with benc
 4-reactor configuration at ordinary priority 16.0 ticks/s, capture-to-render 124.8 ms median and
 243.8 ms p99; with ``realtime_priority`` 10 for its threads and the X server 60.0 ticks/s,
 6.7 ms and 9.1 ms (the shipped config: 37.8 ticks/s, 64.6 / 171.7 ms -> 60.1 ticks/s,
-3.8 / 7.1 ms), as on an idle machine.
+3.8 / 7.1 ms).
 
 The frame loop is paced (it sleeps between frames) and so is every camera, so real-time threads
 leave the rest of the machine its time; the kernel also keeps 5 % of every second for ordinary
