@@ -78,9 +78,14 @@ class SyntheticCameraSource(CameraSource):
         if render_process and clock is not time.monotonic:
             raise ValueError("a render process needs the monotonic clock")
 
-        # The render process starts now: its interpreter loads while the installation starts.
-        self._warm = (RenderProcessReader(camera.s, poses, hands, fps) if render_process
-                      else None)
+        # The render process starts now: its interpreter loads while the installation starts
+        # (if it cannot, opening the camera tries again and says why).
+        self._warm: RenderProcessReader | None = None
+        if render_process:
+            try:
+                self._warm = RenderProcessReader(camera.s, poses, hands, fps)
+            except OSError:
+                pass
 
         def opener(_settings: CaptureSettings) -> SyntheticReader | RenderProcessReader:
             if render_process:
