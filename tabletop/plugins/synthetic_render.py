@@ -10,6 +10,13 @@ holding the interpreter lock, in the camera's thread, where it competes with the
 and ground truth) and hands each image over through shared memory; the camera's thread waits for
 it without the lock, then detects markers as it would in a real camera's frames.
 
+Measured (bench/loop.py's 4-reactor configuration in an X window, the bench at real-time
+priority on a busy 2-core machine so that only the interpreter lock was shared, 4 interleaved
+rounds of 5 s): capture-to-render 6.91 ms median / 10.31 ms p99 rendering in the camera's thread,
+7.20 / 10.35 ms in a child process (the hand-over adds ~0.6 ms: 0.66 ms from shutter to the
+image in the camera thread, 0.07 ms rendering there). The render's share of the lock is not
+what delays frames, so the synthetic camera renders in its thread unless ``render_process``.
+
 Protocol: the reader sends one request per frame (when the camera thread is due to read), the
 child renders (the shutter at the end of the render, never delivered early), copies the image
 into the shared buffer and answers with its capture time and ground truth. Times are
