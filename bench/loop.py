@@ -26,15 +26,16 @@ CPU time of the stages (``*_cpu``, see :class:`Probes`), which the machine's loa
 inflate.
 
 For each configuration and display: the loop unpaced (as fast as it can tick: ticks per second)
-and paced at 60 Hz (the shipped loop: it ticks when a camera frame arrives). The camera
-configurations are also run paced with the synthetic camera rendering where the config does
-not have it render (``render_process``: in a child process; ``render_thread``: in the camera's
-thread, as the shipped config does), and
-in the X window with ``loop.realtime_priority`` (``realtime``: the installation's threads and
-the X server ahead of the machine's other programs; where refused, ordinary scheduling), and
-with ``--timer`` as before the loop followed its camera (``timer``: a fixed 60 Hz timer, the
-synthetic camera phase-locked to it, its shutter at the start of its render, no
-garbage-collector freeze, Python's default 5 ms thread switch interval), for comparison.
+and paced at 60 Hz (the shipped loop: it ticks when a camera frame arrives). For comparison the
+camera configurations are also run paced
+- with the synthetic camera rendering where the config does not have it render
+  (``render_process``: in a child process; ``render_thread``: in the camera's thread, as the
+  shipped config does);
+- in the X window with ``loop.realtime_priority`` (``realtime``: the installation's threads and
+  the X server ahead of the machine's other programs; where refused, ordinary scheduling);
+- with ``--timer``, as before the loop followed its camera (``timer``: a fixed 60 Hz timer, the
+  synthetic camera phase-locked to it, its shutter at the start of its render, no
+  garbage-collector freeze, Python's default 5 ms thread switch interval).
 Configurations run interleaved in rounds so drifting machine speed favours none; each run is
 measured from one second after its first camera frame.
 Budgets (DESIGN.md): >= 60 ticks/s; capture-to-render p99 <= 15 ms.
