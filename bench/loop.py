@@ -169,19 +169,20 @@ class Probes:
 def x_server_priority(display: str | None, priority: int) -> Iterator[None]:
     """The X server of ``display`` (its lock file names its process) at SCHED_FIFO
     ``priority`` meanwhile, when ``priority`` and the system allow it."""
-    pid = None
+    pid, before = None, None
     if display and priority:
         try:
             pid = int(Path(f"/tmp/.X{display.lstrip(':')}-lock").read_text().strip())
+            before = os.sched_getscheduler(pid), os.sched_getparam(pid)
             os.sched_setscheduler(pid, os.SCHED_FIFO, os.sched_param(priority))
         except (OSError, ValueError, AttributeError):
             pid = None
     try:
         yield
     finally:
-        if pid is not None:
+        if pid is not None and before is not None:
             try:
-                os.sched_setscheduler(pid, os.SCHED_OTHER, os.sched_param(0))
+                os.sched_setscheduler(pid, *before)
             except OSError:
                 pass
 
