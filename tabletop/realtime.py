@@ -7,7 +7,12 @@ core. ``SCHED_FIFO`` threads run ahead of every ordinary one. Measured with benc
 4-reactor configuration at ordinary priority 16.0 ticks/s, capture-to-render 124.8 ms median and
 243.8 ms p99; with ``realtime_priority`` 10 for its threads and the X server 60.0 ticks/s,
 6.7 ms and 9.1 ms (the shipped config: 37.8 ticks/s, 64.6 / 171.7 ms -> 60.1 ticks/s,
-3.8 / 7.1 ms).
+3.8 / 7.1 ms). The X server must be ahead too: the present waits for it. Interleaved at load
+12.7 (4 reactors, 2 rounds of 3 s): ordinary 25.0 ticks/s, 78 / 159 ms; real-time threads only
+59.7 ticks/s, 8.8 / 26.5 ms (present p99 18.5 ms); threads and X server 60.0 ticks/s,
+7.8 / 11.0 ms (present p99 1.7 ms). An installation gives its X server the same priority
+itself (e.g. ``chrt -f -p 10 $(pidof Xorg)`` as root, or its display manager's unit with
+``CPUSchedulingPolicy=fifo``).
 
 The frame loop is paced (it sleeps between frames) and so is every camera, so real-time threads
 leave the rest of the machine its time; the kernel also keeps 5 % of every second for ordinary
