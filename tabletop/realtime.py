@@ -10,8 +10,8 @@ core. ``SCHED_FIFO`` threads run ahead of every ordinary one. Measured with benc
 3.8 / 7.1 ms). The X server must be ahead too: the present waits for it. Interleaved at load
 12.7 (4 reactors, 2 rounds of 3 s): ordinary 25.0 ticks/s, 78 / 159 ms; real-time threads only
 59.7 ticks/s, 8.8 / 26.5 ms (present p99 18.5 ms); threads and X server 60.0 ticks/s,
-7.8 / 11.0 ms (present p99 1.7 ms). An installation gives its X server the same priority
-itself (e.g. ``chrt -f -p 10 $(pidof Xorg)`` as root, or its display manager's unit with
+7.8 / 11.0 ms (present p99 1.7 ms). Give the installation's X server the same priority
+(e.g. ``chrt -f -p 10 $(pidof Xorg)`` as root, or its display manager's unit with
 ``CPUSchedulingPolicy=fifo``).
 
 The frame loop is paced (it sleeps between frames) and so is every camera, so real-time threads
