@@ -390,7 +390,12 @@ class Loop:
         ran = 0
         restore = (realtime_threads(self.realtime_priority)
                    if self.realtime_priority and self.paced else None)
-        self.inputs.open()
+        try:
+            self.inputs.open()   # its threads (cameras) inherit the priority
+        except BaseException:
+            if restore is not None:
+                restore()
+            raise
         if self.freeze_gc:
             gc.freeze()
         switch = sys.getswitchinterval()
