@@ -16,7 +16,8 @@ that overruns delivers late and its lateness counts). A tick that draws no new c
 (nothing new arrived) counts the age of the frame it shows, so repeats count too.
 
 Per-stage figures from the running loop (medians and p99 of the measured seconds), in the order
-a frame goes through them: ``camera_render`` (synthetic image, not part of the latency),
+a frame goes through them: ``camera_render`` (synthetic image, not part of the latency; with a
+render process, the wait for its frame, and ``camera_render_cpu`` this process's share),
 ``source`` (capture -> observation ready: grey conversion, marker detection, mapping),
 ``queued`` (ready -> the tick that takes it), ``inputs`` (tracker), ``engine:NAME``,
 ``sink:view`` (the view's draw and present) of which ``present``, and the whole ``tick``;
@@ -25,11 +26,18 @@ CPU time of the stages (``*_cpu``, see :class:`Probes`), which the machine's loa
 inflate.
 
 For each configuration and display: the loop unpaced (as fast as it can tick: ticks per second)
-and paced at 60 Hz (the shipped loop: it ticks when a camera frame arrives). The camera
-configurations are also run paced as before this loop followed its camera (``timer``: a fixed
-60 Hz timer, the synthetic camera phase-locked to it, its shutter at the start of its render,
-no garbage-collector freeze, Python's default 5 ms thread switch interval), for comparison. Configurations run interleaved in rounds so
-drifting machine speed favours none.
+and paced at 60 Hz (the shipped loop: it ticks when a camera frame arrives). For comparison the
+camera configurations are also run paced
+- with the synthetic camera rendering where the config does not have it render
+  (``render_process``: in a child process; ``render_thread``: in the camera's thread, as the
+  shipped config does);
+- in the X window with ``loop.realtime_priority`` (``realtime``: the installation's threads and
+  the X server ahead of the machine's other programs; where refused, ordinary scheduling);
+- with ``--timer``, as before the loop followed its camera (``timer``: a fixed 60 Hz timer, the
+  synthetic camera phase-locked to it, its shutter at the start of its render, no
+  garbage-collector freeze, Python's default 5 ms thread switch interval).
+Configurations run interleaved in rounds so drifting machine speed favours none; each run is
+measured from one second after its first camera frame.
 Budgets (DESIGN.md): >= 60 ticks/s; capture-to-render p99 <= 15 ms.
 
 Run: ``.venv/bin/python bench/loop.py`` (about 200 s); ``--quick`` runs one round of 2 s.
@@ -37,11 +45,14 @@ Run: ``.venv/bin/python bench/loop.py`` (about 200 s); ``--quick`` runs one roun
 
 from __future__ import annotations
 
+import contextlib
 import gc
+import math
 import os
 import sys
 import time
 from pathlib import Path
+from typing import Iterator
 
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -54,10 +65,11 @@ from bench.xwindow import xvfb  # noqa: E402
 from tabletop.app import build_live  # noqa: E402
 from tabletop.config import load_config, validate_config  # noqa: E402
 from tabletop.loop import LoopStats  # noqa: E402
-from tabletop.plugins.synthetic_camera import SyntheticReader  # noqa: E402
+from tabletop.plugins.synthetic_render import RenderProcessReader, SyntheticReader  # noqa: E402
 from tabletop.recorder import jsonable  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+REALTIME = 10   # the ``paced60_realtime`` runs' loop.realtime_priority (and the X server's)
 VIEW = {"headless": True, "size": [1280, 720], "overlay": True}
 
 
@@ -94,11 +106,12 @@ class Probes:
 
     def __init__(self, stats: LoopStats, loop, sources) -> None:
         self.stats, self.loop, self.sources = stats, loop, sources
-        self._saved = (pygame.display.update, pygame.display.flip, SyntheticReader.read)
+        self._saved = (pygame.display.update, pygame.display.flip, SyntheticReader.read,
+                       RenderProcessReader.read)
         self._gc_t = 0.0
 
     def __enter__(self) -> "Probes":
-        update, flip, read = self._saved
+        update, flip, read, read_process = self._saved
         st = self.stats
         for stage in ("present", "camera_render", "gc_pause", *CPU_STAGES):  # other threads too
             st.record(stage, 0.0)
@@ -127,6 +140,8 @@ class Probes:
         pygame.display.update = timed(update, "present")
         pygame.display.flip = timed(flip, "present")
         SyntheticReader.read = timed(read, "camera_render", "camera_render_cpu")
+        # A render process: the wait for its frame, and this process's CPU for taking it over.
+        RenderProcessReader.read = timed(read_process, "camera_render", "camera_render_cpu")
         self.loop.tick = cpu(self.loop.tick, "tick_cpu")
         for src in self.sources:
             process = getattr(src, "process", None)
@@ -145,42 +160,83 @@ class Probes:
             self.stats.record("gc_pause", time.perf_counter() - self._gc_t)
 
     def __exit__(self, *exc) -> None:
-        pygame.display.update, pygame.display.flip, SyntheticReader.read = self._saved
+        (pygame.display.update, pygame.display.flip, SyntheticReader.read,
+         RenderProcessReader.read) = self._saved
         gc.callbacks.remove(self._gc)
 
 
+@contextlib.contextmanager
+def x_server_priority(display: str | None, priority: int) -> Iterator[None]:
+    """The X server of ``display`` (its lock file names its process) at SCHED_FIFO
+    ``priority`` meanwhile, when ``priority`` and the system allow it."""
+    pid, before = None, None
+    if display and priority:
+        try:
+            pid = int(Path(f"/tmp/.X{display.lstrip(':')}-lock").read_text().strip())
+            before = os.sched_getscheduler(pid), os.sched_getparam(pid)
+            os.sched_setscheduler(pid, os.SCHED_FIFO, os.sched_param(priority))
+        except (OSError, ValueError, AttributeError):
+            pid = None
+    try:
+        yield
+    finally:
+        if pid is not None and before is not None:
+            try:
+                os.sched_setscheduler(pid, *before)
+            except OSError:
+                pass
+
+
 def measure(cfg: dict, seconds: float, paced: bool, warmup: float = 1.0,
-            display: str | None = None, timer: bool = False) -> dict[str, float]:
-    """Run the installation for ``warmup + seconds``; figures are of the last ``seconds`` only
+            display: str | None = None, timer: bool = False,
+            render: str | None = None, realtime: int = 0) -> dict[str, float]:
+    """Run the installation until ``warmup`` seconds after its first camera frame (or its
+    start, without a camera), then ``seconds`` more; figures are of those last ``seconds`` only
     (steady state: caches settled). With ``display`` the view opens a real window on that X
     display, else it runs on SDL's dummy driver. ``timer``: the loop as it was before it
-    followed its camera (see the module's docstring)."""
+    followed its camera (see the module's docstring). ``render``: "thread" or "process" sets
+    where the synthetic camera renders (its ``render_process``), None keeps the config's.
+    ``realtime``: the loop's ``realtime_priority`` (and the same for the X server meanwhile)."""
     if display is None:
         os.environ["SDL_VIDEODRIVER"] = "dummy"
     else:
         os.environ["SDL_VIDEODRIVER"] = "x11"
         os.environ["DISPLAY"] = display
         cfg = dict(cfg, view=dict(cfg["view"], headless=False))
+    if render is not None:
+        cfg = dict(cfg, sources=[dict(s, render_process=render == "process")
+                                 if s["kind"] == "synthetic_camera" else s
+                                 for s in cfg["sources"]])
     stats = LoopStats(window=100_000)
+    SyntheticReader.shutter_at_end = not timer
     inst = build_live(cfg, headless=display is None, stats=stats)
     inst.loop.paced = paced
     inst.loop.inputs.follow = not timer
     inst.loop.freeze_gc = not timer
     inst.loop.switch_interval_s = None if timer else inst.loop.switch_interval_s
-    SyntheticReader.shutter_at_end = not timer
+    inst.loop.realtime_priority = realtime
     t_start = time.monotonic()
+    camera = any(s["kind"] == "synthetic_camera" for s in cfg["sources"])
+    first = [None if camera else t_start]   # the first camera frame's tick, monotonic s
     warm = [True]
+    end = [math.inf]
 
-    def steady(_frame) -> None:  # figures of the last ``seconds`` only
-        if warm[0] and time.monotonic() - t_start >= warmup:
+    def steady(frame) -> None:  # figures of the last ``seconds`` only
+        now = time.monotonic()
+        if first[0] is None and frame.pucks:
+            first[0] = now
+        if warm[0] and first[0] is not None and now - first[0] >= warmup:
             warm[0] = False
+            end[0] = now + seconds
             for d in stats.samples.values():
                 d.clear()
             stats.tick_times.clear()
+        if now >= end[0] or now - t_start > 60.0:
+            inst.loop.stop.set()
 
     inst.loop.hooks.append(steady)
-    with Probes(stats, inst.loop, inst.loop.inputs.sources):
-        inst.loop.run(seconds=warmup + seconds)
+    with Probes(stats, inst.loop, inst.loop.inputs.sources), x_server_priority(display, realtime):
+        inst.loop.run()
     SyntheticReader.shutter_at_end = True
     times = np.asarray(stats.tick_times)
     fig: dict[str, float] = {"ticks": len(times),
@@ -213,14 +269,20 @@ def main() -> None:
         for _ in range(rounds):
             for name, cfg in cfgs.items():
                 camera = any(s["kind"] == "synthetic_camera" for s in cfg["sources"])
-                modes = [("unpaced", False, False), ("paced60", True, False)]
-                if camera:
-                    modes.append(("paced60_timer", True, True))
+                modes = [("unpaced", False, False, None, 0), ("paced60", True, False, None, 0)]
+                if camera:   # the synthetic camera rendering where the config does not
+                    other = "thread" if any(s.get("render_process") for s in cfg["sources"]) \
+                        else "process"
+                    modes.append((f"paced60_render_{other}", True, False, other, 0))
+                    if "--timer" in sys.argv:
+                        modes.append(("paced60_timer", True, True, "thread", 0))
                 for driver, disp in displays.items():
-                    for label, paced, timer in modes:
+                    extra = [("paced60_realtime", True, False, None, REALTIME)] \
+                        if camera and disp is not None else []
+                    for label, paced, timer, render, realtime in modes + extra:
                         key = f"{driver}.{name}_{label}"
-                        for k, v in measure(cfg, seconds, paced, display=disp,
-                                            timer=timer).items():
+                        for k, v in measure(cfg, seconds, paced, display=disp, timer=timer,
+                                            render=render, realtime=realtime).items():
                             results.setdefault(key, {}).setdefault(k, []).append(v)
     for key, figs in results.items():
         for k, vals in figs.items():

@@ -178,6 +178,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     timing = {} if clock is None else {"clock": clock, "paced": False}
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],
                 stats=stats, commands=commands, stop=stop, **timing)
+    loop.realtime_priority = cfg["loop"].get("realtime_priority", 0)
     return Installation(loop, ctx, engines, sinks)
 
 

@@ -49,6 +49,11 @@ TABLE = Record({
 
 LOOP = Record({
     "rate_hz": Number(60.0, lo=1.0, hi=1000.0, doc="main loop rate, ticks per second"),
+    "realtime_priority": Number(0, integer=True, lo=0, hi=50,
+                                doc="1-50: while paced, the installation's threads run with "
+                                    "this real-time (SCHED_FIFO) priority, so other programs "
+                                    "on the machine do not delay its frames (needs root, "
+                                    "CAP_SYS_NICE or systemd's LimitRTPRIO); 0: off"),
 })
 
 VIEW = Record({

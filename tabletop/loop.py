@@ -27,6 +27,7 @@ import numpy as np
 
 from tabletop.frames import (CharacterState, Engine, Frame, Observation, Puck, Sink, Source,
                              SourceHealth)
+from tabletop.realtime import realtime_threads
 from tabletop.replay_inputs import FrameInputs  # noqa: F401  (replays; kept importable here)
 
 log = logging.getLogger("tabletop")
@@ -275,6 +276,9 @@ class Loop:
     # default): the loop woken by a camera frame while the camera thread goes on rendering or
     # detecting in Python waited 8 ms (median) for it; with 1 ms, 1.2 ms. None: left as it is.
     switch_interval_s: float | None = 0.001
+    # 1-99: while paced, every thread of the process (and those started later: cameras) runs
+    # with this SCHED_FIFO priority, ahead of every ordinary program (see realtime.py).
+    realtime_priority = 0
 
     def __init__(self, inputs: LiveInputs | "FrameInputs", engines: Sequence[Engine],
                  sinks: Sequence[Sink], rate_hz: float = 60.0, stats: LoopStats | None = None,
@@ -384,7 +388,14 @@ class Loop:
         start = self.clock()
         next_t = start
         ran = 0
-        self.inputs.open()
+        restore = (realtime_threads(self.realtime_priority)
+                   if self.realtime_priority and self.paced else None)
+        try:
+            self.inputs.open()   # its threads (cameras) inherit the priority
+        except BaseException:
+            if restore is not None:
+                restore()
+            raise
         if self.freeze_gc:
             gc.freeze()
         switch = sys.getswitchinterval()
@@ -412,6 +423,8 @@ class Loop:
                     self.stats.skipped += missed
                     next_t += missed * self.period
         finally:
+            if restore is not None:
+                restore()
             sys.setswitchinterval(switch)
             if self.freeze_gc:
                 gc.unfreeze()  # what this run made may be collected again (a rebuilt installation)

@@ -223,6 +223,9 @@ class CameraSource:
 
     ``process(image, t, n)`` turns a frame (grey when ``settings.grey``) captured at ``t``
     (monotonic s) into an Observation; without it the observation carries just the image.
+    ``process.after_publish()`` (optional) runs once the frame's observation is out and
+    announced; an Observation it returns (the same capture time: what a put-off search added)
+    replaces it, unless a newer frame did, and is announced again.
     ``opener`` opens the input (default :func:`open_reader`), ``clock`` gives monotonic seconds.
     """
 
@@ -377,12 +380,22 @@ class CameraSource:
         notify = self.notify
         if notify is not None and obs is not None:
             notify(t)
-        after = getattr(self.process, "after_publish", None)  # work that may wait (detection)
+        # Work that may wait (a detector's full-frame search); what it adds to the frame's
+        # observation (same capture time) is published and announced at once.
+        after = getattr(self.process, "after_publish", None)
         if after is not None:
             try:
-                after()
+                more = after()
             except Exception:
                 log.exception("%s: work after publishing a frame failed", self.name)
+                more = None
+            if isinstance(more, Observation) and obs is not None and more.t == obs.t:
+                with self._lock:
+                    fresh = self._latest is obs
+                    if fresh:
+                        self._latest = more
+                if fresh and notify is not None:
+                    notify(t)
 
     @property
     def frames(self) -> int:

@@ -22,6 +22,7 @@ radians, times in seconds.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Iterable, Sequence
@@ -106,7 +107,7 @@ class PuckTracker:
     def __init__(self, settings: TrackerSettings | None = None) -> None:
         self.s = settings or TrackerSettings()
         self.tracks: dict[int, _Track] = {}
-        self._seen_seq: dict[str, int] = {}
+        self._seen_seq: dict[str, tuple[int, frozenset[int]]] = {}  # seq, puck ids applied
         self._pucks: tuple[Puck, ...] = ()
 
     # ------------------------------------------------------------------ public
@@ -114,9 +115,17 @@ class PuckTracker:
         """New observations (by source and seq) are applied; then lost pucks expire at ``t``."""
         fresh = []
         for obs in observations:
-            if self._seen_seq.get(obs.source) == obs.seq:
-                continue
-            self._seen_seq[obs.source] = obs.seq
+            seq, ids = self._seen_seq.get(obs.source, (None, frozenset()))
+            if seq == obs.seq:
+                # The same frame again, perhaps with pucks a later search added (a camera
+                # publishes them at once): only those are new.
+                added = tuple(m for m in obs.pucks if m.id not in ids)
+                if not added:
+                    continue
+                obs = dataclasses.replace(obs, pucks=added, complete=False)
+            else:
+                ids = frozenset()
+            self._seen_seq[obs.source] = (obs.seq, ids | {m.id for m in obs.pucks})
             fresh.append(obs)
         for obs in sorted(fresh, key=lambda o: o.t):
             for pid in obs.removed:  # the source says it left: no coasting

@@ -227,26 +227,33 @@ class MarkerTracker:
         self._remember(ids, corners)
         return ids, corners
 
-    def search_pending(self) -> None:
+    def search_pending(self) -> tuple[np.ndarray, np.ndarray]:
         """The full-frame pass that ``detect`` put off (``defer_full``), on the image it was due
-        for: markers it finds that this frame's quick passes did not (a puck put down, one
-        that moved too far) are remembered as seen in that frame and followed from the next.
-        Run it once the frame's result is out (a camera thread, after publishing): the full
-        search costs no latency, and a new puck is reported one frame later."""
+        for. Returns the markers it found that this frame's quick passes did not (a puck put
+        down, one that moved too far): ids (N,), refined corners (N, 4, 2) pixels; they are
+        remembered as seen in that frame and followed from the next. Run it once the frame's
+        result is out (a camera thread, after publishing): the full search costs the frame no
+        latency, and the camera publishes what it adds at once (a new puck shows a full
+        search later, not a frame later: measured in the default installation, a puck put
+        down was shown 7.1 ms after its frame's capture, median of 11; with the next frame, as
+        before, 20.2 ms)."""
+        none = np.zeros(0, int), np.zeros((0, 4, 2))
         if self._pending is None:
-            return
+            return none
         grey, frame = self._pending
         self._pending = None
         if frame != self.frame:
-            return
+            return none
         self._set_full_min_perimeter(grey.shape)
         ids, corners = detect_markers(grey, self.full_detector)
         new = [i for i, m in enumerate(ids.tolist())
                if m not in self.known or self.known[m].frame != frame]
-        if new:
-            corners = refine_corners(grey, corners[new], self.refine_window_px)
-            self._remember(ids[new], corners)
-            self._found_late.update(ids[new].tolist())
+        if not new:
+            return none
+        ids, corners = ids[new], refine_corners(grey, corners[new], self.refine_window_px)
+        self._remember(ids, corners)
+        self._found_late.update(ids.tolist())
+        return ids, corners
 
     def _track_known(self, grey: np.ndarray, preds: Mapping[int, tuple[float, float]]
                      ) -> tuple[np.ndarray, np.ndarray]:

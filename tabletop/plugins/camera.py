@@ -10,6 +10,7 @@ to check that a camera works. The observation carries puck measurements in table
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from pathlib import Path
@@ -132,6 +133,7 @@ class MarkerMeasurer:
         self._failed_predictions = False
         self.note = "" if calibration is not None else "uncalibrated"
         self._checked_size = False
+        self._last: Observation | None = None   # the newest frame's, until after_publish
 
     def _predictions_px(self, t: float) -> dict[int, tuple[float, float]] | None:
         if self.predictions is None or self.calibration is None:
@@ -150,12 +152,21 @@ class MarkerMeasurer:
         px = self.calibration.table_to_image(np.array([preds[i][:2] for i in ids], float))
         return {i: (float(p[0]), float(p[1])) for i, p in zip(ids, px) if np.all(np.isfinite(p))}
 
-    def after_publish(self) -> None:
+    def after_publish(self) -> Observation | None:
         """Work put off until the frame's observation is out (the detector's full-frame
-        search), run by the camera thread."""
+        search), run by the camera thread. Returns the frame's observation again with the
+        pucks that search added (same capture time), or None when it added none."""
         search = getattr(self.detector, "search_pending", None)
-        if search is not None:
-            search()
+        last, self._last = self._last, None
+        if search is None:
+            return None
+        found = search()
+        if last is None or found is None or not len(found[0]):
+            return None
+        seen = {p.id for p in last.pucks}
+        added = tuple(p for p in measurements(*found, self.calibration, last.t)
+                      if p.id not in seen)
+        return dataclasses.replace(last, pucks=last.pucks + added) if added else None
 
     def __call__(self, grey: np.ndarray, t: float, n: int) -> Observation:
         if self.calibration is None:
@@ -169,8 +180,9 @@ class MarkerMeasurer:
                 log.warning("%s: %s: positions will be wrong", self.source, self.note)
         ids, corners = self.detector.detect(grey, self._predictions_px(t))
         pucks = measurements(ids, corners, self.calibration, t)
-        return Observation(self.source, t, n, pucks=pucks,
-                           image=grey if self.keep_image else None)
+        self._last = Observation(self.source, t, n, pucks=pucks,
+                                 image=grey if self.keep_image else None)
+        return self._last
 
 
 def measurements(ids: np.ndarray, corners: np.ndarray, calibration: Any,

@@ -2,15 +2,15 @@
 
 The pucks of the ``scripted`` source (same options: ``pucks``, ``seed``, ``performers``) are
 rendered with real markers by :class:`tracking.synthetic.SyntheticCamera` (perspective, lens
-distortion, lighting, blur, motion blur, noise, a visitor's hand now and then) in the source's
-own thread at ``fps``; the tracking section's detector finds the markers and the camera's true
+distortion, lighting, blur, motion blur, noise, a visitor's hand now and then) at ``fps``, in the
+source's own thread or (``render_process``) in a child process, as a real camera's images cost
+the installation nothing (tabletop/plugins/synthetic_render.py); the tracking section's detector finds the markers and the camera's true
 calibration (or this entry's ``calibration`` file) maps them to table metres. So the default
 installation runs through real images, exactly as a camera would feed it.
 """
 
 from __future__ import annotations
 
-import collections
 import time
 from typing import Any, Callable
 
@@ -21,10 +21,11 @@ from tabletop.plugins.camera import (MarkerMeasurer, make_detector, share_calibr
                                      tracker_predictions, tracking_dictionary)
 from tabletop.registry import BuildContext
 from tabletop.schema import Bool, FilePath, ListOf, Number, Optional_, Record, Str
+from tabletop.plugins.synthetic_render import (RenderProcessReader, ScriptedHands,
+                                               SyntheticReader)
 from tracking.camera import CameraSettings as CaptureSettings
 from tracking.camera import CameraSource, PhaseLock
-from tracking.synthetic import (CameraSettings, Occluder, SyntheticCamera, SyntheticFrame,
-                                scripted_hands)
+from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera, SyntheticFrame
 
 SCHEMA = Record({
     **scripted.SCHEMA.fields,
@@ -53,73 +54,46 @@ SCHEMA = Record({
     "calibration": Optional_(FilePath(kind="file"),
                              doc="map with this calibration instead of the camera's true one"),
     "keep_image": Bool(False, doc="attach each rendered frame to the observation"),
+    "render_process": Bool(False, doc="render in a child process (as a real camera's images "
+                                      "cost the installation's process nothing): the frame "
+                                      "loop does not wait for the render's interpreter lock"),
     "sync_to_loop": Bool(True, doc="time each frame to be ready just before a loop tick, as a "
                                    "camera triggered by the loop would (only for a loop that "
                                    "does not tick on the camera's frames itself)"),
 })
 
 
-class SyntheticReader:
-    """A frame reader that renders the script as it stands at the frame's shutter time
-    (``capture_t``, monotonic s).
-
-    A camera's image exists when its exposure ends; rendering it here is a simulation of the
-    world that costs time no real camera costs the installation. So the shutter is put at the
-    end of the render: the scene is rendered as it will stand when the render is expected to be
-    done (the median of the last ``LEAD_FRAMES`` renders), and the image is never delivered
-    before its shutter time. A render that takes longer than expected delivers late, and that
-    lateness counts in the capture-to-render latency like any other delay. (Waiting for the
-    longest render instead would hold every frame that long: the camera's rate would fall.)
-    """
-
-    LEAD_FRAMES = 10
-    shutter_at_end = True   # False: the shutter at the start of the render (its time counted)
-
-    def __init__(self, camera: SyntheticCamera, poses: Callable[[float], list],
-                 hands: Callable[[float], list[Occluder]], fps: float,
-                 clock: Callable[[], float]) -> None:
-        self.camera, self.poses, self.hands, self.clock = camera, poses, hands, clock
-        self.paced_fps: float | None = fps
-        self.t0 = clock()
-        self.capture_t: float | None = None
-        self.frame: SyntheticFrame | None = None
-        self.render_s: collections.deque[float] = collections.deque(maxlen=self.LEAD_FRAMES)
-
-    def read(self) -> np.ndarray:
-        start = self.clock()
-        lead = float(np.median(self.render_s)) if self.render_s and self.shutter_at_end else 0.0
-        t = start + lead
-        s = t - self.t0
-        now = self.poses(s)
-        dt = 0.005
-        before = {p[0]: p for p in self.poses(s - dt)}
-        velocities = [((p[1] - before[p[0]][1]) / dt, (p[2] - before[p[0]][2]) / dt)
-                      if p[0] in before else (0.0, 0.0) for p in now]
-        self.frame = self.camera.render(now, t, velocities, self.hands(s))
-        done = self.clock()
-        self.render_s.append(done - start)
-        if t > done:
-            time.sleep(t - done)
-        self.capture_t = t
-        return self.frame.image
-
-    def release(self) -> None:
-        pass
-
-
 class SyntheticCameraSource(CameraSource):
     """A :class:`CameraSource` reading rendered frames; ``truth()`` pairs the newest observation
-    with the ground truth it was measured from (poses at script time = t - ``t0``)."""
+    with the ground truth it was measured from (``poses`` at script time = t - the reader's
+    ``t0``)."""
 
     def __init__(self, name: str, camera: SyntheticCamera, poses: Callable[[float], list],
                  hands: Callable[[float], list[Occluder]], fps: float, measurer: MarkerMeasurer,
-                 clock: Callable[[], float] = time.monotonic, sync_to_loop: bool = True) -> None:
-        self.camera, self.measurer = camera, measurer
-        self.reader: SyntheticReader | None = None
+                 clock: Callable[[], float] = time.monotonic, sync_to_loop: bool = True,
+                 render_process: bool = False) -> None:
+        self.camera, self.measurer, self.poses = camera, measurer, poses
+        self.reader: SyntheticReader | RenderProcessReader | None = None
         self._truth: tuple[Any, SyntheticFrame] | None = None
+        if render_process and clock is not time.monotonic:
+            raise ValueError("a render process needs the monotonic clock")
 
-        def opener(_settings: CaptureSettings) -> SyntheticReader:
-            self.reader = SyntheticReader(camera, poses, hands, fps, clock)
+        # The render process starts now: its interpreter loads while the installation starts
+        # (if it cannot, opening the camera tries again and says why).
+        self._warm: RenderProcessReader | None = None
+        if render_process:
+            try:
+                self._warm = RenderProcessReader(camera.s, poses, hands, fps)
+            except OSError:
+                pass
+
+        def opener(_settings: CaptureSettings) -> SyntheticReader | RenderProcessReader:
+            if render_process:
+                reader, self._warm = self._warm, None
+                self.reader = reader or RenderProcessReader(camera.s, poses, hands, fps)
+                self.reader.t0 = clock()
+            else:
+                self.reader = SyntheticReader(camera, poses, hands, fps, clock)
             return self.reader
 
         def process(image: np.ndarray, t: float, n: int):
@@ -127,12 +101,24 @@ class SyntheticCameraSource(CameraSource):
             self._truth = (obs, self.reader.frame)
             return obs
 
-        process.after_publish = measurer.after_publish
+        def after_publish():
+            more = measurer.after_publish()
+            if more is not None and self._truth is not None:
+                self._truth = (more, self._truth[1])
+            return more
+
+        process.after_publish = after_publish
 
         settings = CaptureSettings(device=f"synthetic camera {camera.w}x{camera.h}",
                                    fps=fps, grey=False, stall_s=max(3.0, 10.0 / fps))
         super().__init__(name, settings, process, opener=opener, clock=clock,
                          phase_lock=PhaseLock() if sync_to_loop else None)
+
+    def close(self) -> None:
+        super().close()
+        if self._warm is not None:   # never opened
+            self._warm.release()
+            self._warm = None
 
     def truth(self) -> tuple[Any, SyntheticFrame] | None:
         """(newest observation, the synthetic frame it came from), or None before the first."""
@@ -175,13 +161,12 @@ def build(options: dict, ctx: BuildContext) -> SyntheticCameraSource:
         calibration = true_calibration(camera)
     fixed = [Occluder(o["x"], o["y"], o["angle"], o["size"]) for o in options["occluders"]]
     h = options["hands"]
-
-    def hands(s: float) -> list[Occluder]:
-        return fixed + scripted_hands(s, ctx.table, h["every_s"], h["duration_s"], h["size"],
-                                      options["seed"])
+    hands = ScriptedHands(fixed, ctx.table, h["every_s"], h["duration_s"], h["size"],
+                          options["seed"])
 
     measurer = MarkerMeasurer(options["name"], make_detector(ctx), calibration, ctx.table,
                               tracker_predictions(ctx), options["keep_image"])
     return SyntheticCameraSource(options["name"], camera, script.poses, hands, options["fps"],
                                  measurer, clock=ctx.shared.get("clock", time.monotonic),
-                                 sync_to_loop=options["sync_to_loop"])
+                                 sync_to_loop=options["sync_to_loop"],
+                                 render_process=options["render_process"])

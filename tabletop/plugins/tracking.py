@@ -70,7 +70,8 @@ SCHEMA = Record({
                                     "reappearing anywhere is found within N frames"),
     "defer_full_frame": Bool(True, doc="while pucks are followed, a camera runs the due "
                                        "full-frame search after publishing the frame's "
-                                       "result (no latency; a new puck shows a frame later)"),
+                                       "result (no latency) and publishes the pucks it adds "
+                                       "at once"),
     "roi_margin_sides": Number(0.25, lo=0.0, hi=10.0,
                                doc="region-of-interest crop margin beyond the marker, in sides"),
     "roi_margin_px": Number(6.0, lo=0.0, hi=500.0, doc="and in pixels"),

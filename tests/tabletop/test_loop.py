@@ -273,6 +273,37 @@ def test_the_run_freezes_start_up_objects_and_sets_the_thread_switch_interval():
     assert gc.get_freeze_count() == 0 and sys.getswitchinterval() == before
 
 
+def test_a_realtime_priority_holds_while_the_loop_runs_and_is_given_back(caplog):
+    """``realtime_priority``: the loop's thread and the source threads it starts run SCHED_FIFO
+    at that priority while it runs (where the system allows it; else one warning and the
+    ordinary scheduler), and the loop's thread is ordinary again afterwards."""
+    import os
+    if not hasattr(os, "sched_setscheduler"):
+        pytest.skip("no sched_setscheduler on this system")
+    seen, in_source = [], []
+
+    class Source(AnnouncingSource):
+        def open(self):
+            super().open()
+            in_source.append(os.sched_getscheduler(self._thread.native_id))
+
+    source = Source(hz=60.0, phase=0.0)
+    loop = Loop(LiveInputs([source], LatestMeasurements()), [], [Collect()], rate_hz=60.0)
+    loop.realtime_priority = 3
+    loop.hooks.append(lambda frame: seen.append(
+        (os.sched_getscheduler(0), os.sched_getparam(0).sched_priority)))
+    before = os.sched_getscheduler(0)
+    loop.run(max_ticks=5)
+    assert os.sched_getscheduler(0) == before and len(seen) == 5
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(3))
+        os.sched_setscheduler(0, before, os.sched_param(0))
+    except PermissionError:
+        assert set(seen) == {(before, 0)} and "refused" in caplog.text
+        return
+    assert set(seen) == {(os.SCHED_FIFO, 3)} and in_source == [os.SCHED_FIFO]
+
+
 def test_capture_to_render_ends_when_the_view_has_presented():
     """Work after the presenting sink (a recorder, hooks) is not part of capture-to-render; the
     tick still includes it."""

@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 import pytest
 
-from tabletop.frames import Observation
+from tabletop.frames import Observation, PuckMeasurement
 from tests.tracking import scenes
 from tracking.camera import CameraSettings, CameraSource, settings_from_options
 
@@ -195,3 +195,45 @@ def test_a_new_observation_is_announced_with_its_capture_time(tmp_path):
         src.close()
     assert all(obs is not None and obs.t == t for t, obs in got)
     assert [t for t, _ in got] == sorted(t for t, _ in got)
+
+
+def test_what_the_put_off_work_adds_is_published_and_announced_again(tmp_path):
+    """``process.after_publish`` runs once the frame is out; an observation it returns for the
+    same frame (a put-off search's new pucks) replaces it in ``latest()`` and is announced
+    again with the frame's capture time; None leaves the frame as it was."""
+    folder = tmp_path / "f"
+    folder.mkdir()
+    for k in range(6):
+        cv2.imwrite(str(folder / f"{k:02d}.png"), frame(k))
+    plain = counting_process([])
+
+    def process(image, t, n):
+        return plain(image, t, n)
+
+    def after_publish():
+        obs = src._latest   # the frame just published
+        if obs.seq % 2 == 0:
+            return None
+        return Observation(obs.source, obs.t, obs.seq, pucks=(PuckMeasurement(9, 0.1, 0.2, 0.0, obs.t),))
+
+    process.after_publish = after_publish
+    src = CameraSource("cam", CameraSettings(device=str(folder), fps=50.0), process)
+    got = []
+    src.notify = lambda t: got.append((t, src.latest()))
+    src.open()
+    try:
+        assert wait_for(lambda: len(got) >= 8)
+    finally:
+        src.close()
+    by_frame: dict = {}
+    for t, obs in got:
+        assert obs.t == t
+        by_frame.setdefault(t, []).append(obs)
+    for t in sorted(by_frame)[:-1]:   # the last frame's second announcement may be cut off
+        seen = by_frame[t]
+        if seen[0].seq % 2 == 1:
+            assert len(seen) == 2 and seen[0].pucks == ()
+            assert [p.id for p in seen[1].pucks] == [9] and seen[1].seq == seen[0].seq
+        else:
+            assert len(seen) == 1 and seen[0].pucks == ()
+    assert len(by_frame) >= 5

@@ -243,3 +243,59 @@ def test_synthetic_frames_show_the_scene_at_their_shutter_and_are_never_early(tm
         script = {p[0]: p[1:3] for p in reader.poses(t - reader.t0)}
         for pid, (x, y) in zip(frame.ids.tolist(), frame.poses[:, :2].tolist()):
             assert (x, y) == pytest.approx(script[pid], abs=1e-9)
+
+
+def test_a_render_process_gives_the_same_scene_and_comes_back_when_it_dies(tmp_path):
+    """``render_process``: frames rendered by a child process show the script at their
+    shutter time, the pucks are found where they are, a child that dies is replaced (the
+    camera reconnects, its script starting again) and closing the camera ends the child."""
+    src, _ = build({"kind": "synthetic_camera", "pucks": [1, 2], "seed": 3, "fps": 30.0,
+                    "resolution": [640, 360], "hands": {"every_s": 0},
+                    "render_process": True}, tmp_path)
+    announced = []
+    src.notify = lambda t: announced.append((t, time.monotonic(), src.reader.t0, *src.truth()))
+    src.open()
+    try:
+        assert wait_for(lambda: len(announced) >= 8, timeout=60.0)
+        first = src.reader
+        first.proc.kill()
+        assert wait_for(lambda: src.reconnects >= 1 and src.reader is not first, timeout=60.0)
+        assert wait_for(lambda: sum(a[2] == src.reader.t0 for a in announced) >= 8, timeout=60.0)
+    finally:
+        src.close()
+    assert first.proc.poll() is not None and src.reader.proc.poll() is not None
+    both = set()   # the scripts (before, after the reconnection) with both pucks found
+    for t, at, t0, obs, frame in announced:
+        assert obs.t == frame.t == t and at >= t
+        script = {p[0]: p[1:3] for p in src.poses(t - t0)}
+        truth = dict(zip(frame.ids.tolist(), frame.poses[:, :2].tolist()))
+        for pid, (x, y) in truth.items():
+            assert (x, y) == pytest.approx(script[pid], abs=1e-9)
+        for m in obs.pucks:
+            assert math.hypot(m.x - truth[m.id][0], m.y - truth[m.id][1]) <= 0.003
+        if {m.id for m in obs.pucks} == {1, 2}:
+            both.add(t0)
+    assert len(both) == 2
+
+
+def test_a_put_off_search_adds_a_puck_put_down_to_its_frame_in_table_metres():
+    """The camera's measurer returns the frame's observation again with the puck the put-off
+    full-frame search found (same time and seq, table metres), on the frame it was due for."""
+    from tracking.roi import MarkerTracker
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=5))
+    measurer = camera_plugin.MarkerMeasurer("cam", MarkerTracker(full_period=3, defer_full=True),
+                                            synthetic_camera.true_calibration(cam), TABLE)
+    base = [(1, 0.3, 0.3, 0.0), (2, 0.8, 0.5, 1.0)]
+    added_at = None
+    for k in range(8):
+        poses = base + ([(9, 0.6, 0.6, 0.3)] if k >= 2 else [])
+        obs = measurer(cam.render(poses, k / 30.0).image, k / 30.0, k + 1)
+        more = measurer.after_publish()
+        assert 9 not in {m.id for m in obs.pucks} or added_at is not None
+        if more is not None:
+            assert (more.t, more.seq, more.pucks[:len(obs.pucks)]) == (obs.t, obs.seq, obs.pucks)
+            new = more.pucks[len(obs.pucks):]
+            assert [m.id for m in new] == [9] and added_at is None
+            assert math.hypot(new[0].x - 0.6, new[0].y - 0.6) <= 0.003
+            added_at = k
+    assert added_at == 3   # the first full-frame search after it was put down

@@ -186,6 +186,26 @@ def test_update_ignores_repeated_observations_and_tracks_each_source():
     assert tr.update([obs_a2, obs_b2], 1.0) == ()
 
 
+def test_a_frame_published_again_with_more_pucks_adds_only_those():
+    """A camera publishes a frame again (same seq and time) with the pucks a put-off search
+    added: the tracker takes the new pucks at once and leaves the others as the first
+    publication set them (a coasting puck found again is seen; nothing is applied twice)."""
+    tr = PuckTracker(TrackerSettings(smooth=False))
+    first = Observation("cam", 0.0, 1, pucks=(PuckMeasurement(1, 0.1, 0.1, 0.0, 0.0),
+                                              PuckMeasurement(2, 0.5, 0.5, 0.0, 0.0)))
+    tr.update([first], 0.0)
+    quick = Observation("cam", 0.05, 2, pucks=(PuckMeasurement(1, 0.11, 0.1, 0.0, 0.05),))
+    assert [p.state for p in tr.update([quick], 0.05)] == ["seen", "coasting"]
+    again = Observation("cam", 0.05, 2, pucks=quick.pucks + (
+        PuckMeasurement(2, 0.5, 0.52, 0.0, 0.05), PuckMeasurement(3, 0.9, 0.3, 0.0, 0.05)))
+    pucks = tr.update([again], 0.05)
+    assert [(p.id, p.state) for p in pucks] == [(1, "seen"), (2, "seen"), (3, "seen")]
+    assert pucks[1].raw_y == 0.52 and pucks[2].raw_x == 0.9
+    before = tr.tracks[1].t, tr.tracks[1].meas
+    assert tr.update([again], 0.06) == pucks   # nothing new: the same pucks
+    assert (tr.tracks[1].t, tr.tracks[1].meas) == before
+
+
 def test_a_measurement_older_than_the_track_is_ignored():
     tr = PuckTracker(TrackerSettings(smooth=False))
     tr.step([PuckMeasurement(1, 0.5, 0.5, 0.0, 1.0)], 1.0, source="a")

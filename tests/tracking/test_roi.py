@@ -167,3 +167,32 @@ def test_a_put_off_full_pass_finds_a_newcomer_one_frame_later(after_publish):
             assert {0, 1, 2, 3} <= set(ids.tolist())
         assert passes[0] == "full" and "full" not in passes[1:]
         assert found_at is not None and found_at - (start + 2) <= 3
+
+
+def test_a_put_off_full_pass_returns_a_newcomer_on_the_frame_it_was_due():
+    """What the put-off search finds that the frame's quick passes did not is returned (for the
+    camera to publish at once): a marker put down is reported on the same frame as by a
+    detector that searches before its result, and nothing is returned for markers already
+    reported."""
+    cam = SyntheticCamera(CameraSettings(resolution=(1280, 720), seed=2))
+    base = grid_poses(4, seed=1)
+    newcomer = (30, 0.6, 0.6, 0.3)
+    for start in range(4):
+        deferred = MarkerTracker(full_period=3, defer_full=True)
+        direct = MarkerTracker(full_period=3)
+        at = {}
+        for k in range(10):
+            poses = base + ([newcomer] if k >= start + 2 else [])
+            image = cam.render(poses, k / 30.0).image
+            ids_d, _ = direct.detect(image)
+            ids, _ = deferred.detect(image)
+            late, corners = deferred.search_pending()
+            assert corners.shape == (len(late), 4, 2)
+            assert not set(late.tolist()) & set(ids.tolist())
+            if 30 in ids_d.tolist():
+                at.setdefault("direct", k)
+            if 30 in ids.tolist() + late.tolist():
+                at.setdefault("deferred", k)
+            if k > 0:
+                assert 30 not in late.tolist() or at["deferred"] == k  # returned once
+        assert at["deferred"] == at["direct"] <= start + 2 + 2
