@@ -66,6 +66,31 @@ def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float,
     return list(zip(k.tolist(), u_rad.tolist(), u_tan.tolist()))
 
 
+def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
+                     still_mps: float = 0.02, share: float = 50.0) -> tuple[np.ndarray, float]:
+    """Per training sample, whether the main stood still (its speed over 0.5 s centred on the
+    sample below ``still_mps``), and the reactor's typical speed while it did (m/s: the
+    ``share`` percentile of its speed over 0.1 s at those samples; inf with fewer than ten
+    such samples). ``main``, ``react``: (n, 2) positions at ``rate_hz``.
+
+    A live main that stops is still matched for about a second to windows where the
+    demonstrated main walked (the window is 1 s long): a stalker kept walking after its main
+    stopped (speed while the main stood 0.15 m/s against 0.07 demonstrated, still/moving 0.43-0.85
+    against 0.29). Its step is then held to how fast the demonstrated reactor typically moved
+    beside a still main (engine.Reactor._step)."""
+    n = main.shape[0]
+    v = np.zeros(n)
+    v[1:] = np.hypot(*np.diff(react, axis=0).T) * rate_hz
+    v = np.convolve(v, np.ones(4) / 4, "same")
+    h = int(round(0.25 * rate_hz))
+    i = np.arange(n)
+    a, b = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
+    vm = np.hypot(*(main[b] - main[a]).T) * rate_hz / np.maximum(b - a, 1)
+    still = vm < still_mps
+    cap = float(np.percentile(v[still], share)) if still.sum() > 10 else math.inf
+    return still, cap
+
+
 def step_toward(rx: float, ry: float, tx: float, ty: float,
                 length: float) -> tuple[float, float]:
     """Step of ``length`` metres from (rx, ry) toward (tx, ty); zero when already there."""

@@ -52,7 +52,9 @@ def test_nearest_of_several_mains_and_first_present():
                      _engine("f", "lover", {"first": [{"puck": 7}, {"puck": 2}]})])
     n, f = engines
     chosen, nearest = [], []
-    for frame in visitor_frames(30):
+    # seed 4: the visitors pass near the lover in turn (with seed 3 it stays by the first all
+    # along, as a lover does: it never has a nearer main)
+    for frame in visitor_frames(30, seed=4):
         x, y = (n.reactor.pose[:2] if n.reactor.started else (0.6, 0.4))
         n.step(frame)
         f.step(frame)
