@@ -18,7 +18,7 @@ def test_two_reactors_on_one_main_keep_apart_and_keep_their_behaviour():
     a, b = out["a"], out["b"]
     gap = np.hypot(*(a[:, :2] - b[:, :2]).T)[60:]
     # never overlapping by more than 10% of their sizes (discs of diameter ``size``)
-    assert gap.min() >= 0.9 * size                                   # measured 0.077
+    assert gap.min() >= 0.9 * size                                   # measured 0.078
     # without keeping apart, two lovers of one main do overlap
     apart = build([_engine("a", "lover", {"puck": 1}, size=size, keep_apart=False),
                    _engine("b", "lover", {"puck": 1}, size=size, keep_apart=False)])
@@ -44,7 +44,7 @@ def test_mutual_pair_sees_each_other_one_tick_old_in_any_order():
     s, lv = first["s"], first["l"]
     assert s[5:, 3].all() and lv[5:, 3].all()
     gap = np.hypot(*(s[:, :2] - lv[:, :2]).T)
-    assert np.median(gap[-200:]) < 0.35                              # measured 0.091
+    assert np.median(gap[-200:]) < 0.35                              # measured 0.12
 
 
 def test_nearest_of_several_mains_and_first_present():
