@@ -66,6 +66,56 @@ def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float,
     return list(zip(k.tolist(), u_rad.tolist(), u_tan.tolist()))
 
 
+def relative_world_steps(main: np.ndarray, look: np.ndarray, react: np.ndarray, rate_hz: float,
+                         span_s: float = 0.2) -> tuple[list[tuple[float, float]], list[float]]:
+    """Per training sample i: the reactor's step from i - 1 to i minus the main's, in the
+    main's frame at i (metres ahead of and left of the main; (0, 0) at the first sample), and
+    the reactor's mean step length over ``span_s`` centred on i (metres per sample).
+    ``main``, ``react``: (n, 2) positions, ``look``: (n,) the main's look (rad), at ``rate_hz``.
+
+    The change of the relative position (fwd, left) from sample to sample also holds the turn
+    of the main's frame: the demonstrated main's look trembles (1.46 rad/s while it walks,
+    0.80 while it stands, in the stalker's demonstration), which at 0.3 m is 0.3-0.5 m/s of
+    apparent motion while that stalker moved 0.07-0.25 m/s. The difference of the world steps
+    carries no turn of the frame."""
+    n = main.shape[0]
+    d = np.zeros((n, 2))
+    d[1:] = np.diff(react, axis=0) - np.diff(main, axis=0)
+    c, s = np.cos(look), np.sin(look)
+    steps = list(zip((c * d[:, 0] + s * d[:, 1]).tolist(), (-s * d[:, 0] + c * d[:, 1]).tolist()))
+    h = max(1, int(round(0.5 * span_s * rate_hz)))
+    i = np.arange(n)
+    lo, hi = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
+    span = react[hi] - react[lo]
+    most = (np.hypot(span[:, 0], span[:, 1]) / np.maximum(hi - lo, 1)).tolist()
+    return steps, most
+
+
+def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
+                     still_mps: float = 0.02, share: float = 50.0) -> tuple[np.ndarray, float]:
+    """Per training sample, whether the main stood still (its speed over 0.5 s centred on the
+    sample below ``still_mps``), and the reactor's typical speed while it did (m/s: the
+    ``share`` percentile of its speed over 0.1 s at those samples; inf with fewer than ten
+    such samples). ``main``, ``react``: (n, 2) positions at ``rate_hz``.
+
+    A live main that stops is still matched for about a second to windows where the
+    demonstrated main walked (the window is 1 s long): a stalker kept walking after its main
+    stopped (speed while the main stood 0.15 m/s against 0.07 demonstrated, still/moving 0.43-0.85
+    against 0.29). Its step is then held to how fast the demonstrated reactor typically moved
+    beside a still main (engine.Reactor._step)."""
+    n = main.shape[0]
+    v = np.zeros(n)
+    v[1:] = np.hypot(*np.diff(react, axis=0).T) * rate_hz
+    v = np.convolve(v, np.ones(4) / 4, "same")
+    h = int(round(0.25 * rate_hz))
+    i = np.arange(n)
+    a, b = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
+    vm = np.hypot(*(main[b] - main[a]).T) * rate_hz / np.maximum(b - a, 1)
+    still = vm < still_mps
+    cap = float(np.percentile(v[still], share)) if still.sum() > 10 else math.inf
+    return still, cap
+
+
 def step_toward(rx: float, ry: float, tx: float, ty: float,
                 length: float) -> tuple[float, float]:
     """Step of ``length`` metres from (rx, ry) toward (tx, ty); zero when already there."""

@@ -27,7 +27,7 @@ def test_two_reactors_on_one_main_keep_apart_and_keep_their_behaviour():
     # both still love: close to the main, as a lover alone is (median under 0.22 m)
     main = main_track(30)
     for v in (a, b):
-        assert np.median(np.hypot(*(v[:, :2] - main[:, :2]).T)[120:]) < 0.22   # 0.14, 0.14
+        assert np.median(np.hypot(*(v[:, :2] - main[:, :2]).T)[120:]) < 0.22   # 0.13, 0.14
 
 
 def test_mutual_pair_sees_each_other_one_tick_old_in_any_order():
@@ -44,7 +44,7 @@ def test_mutual_pair_sees_each_other_one_tick_old_in_any_order():
     s, lv = first["s"], first["l"]
     assert s[5:, 3].all() and lv[5:, 3].all()
     gap = np.hypot(*(s[:, :2] - lv[:, :2]).T)
-    assert np.median(gap[-200:]) < 0.35                              # measured 0.11
+    assert np.median(gap[-200:]) < 0.35                              # measured 0.12
 
 
 def test_nearest_of_several_mains_and_first_present():
@@ -52,7 +52,9 @@ def test_nearest_of_several_mains_and_first_present():
                      _engine("f", "lover", {"first": [{"puck": 7}, {"puck": 2}]})])
     n, f = engines
     chosen, nearest = [], []
-    for frame in visitor_frames(30):
+    # seed 4: the visitors pass near the lover in turn (with seed 3 it stays by the first all
+    # along, as a lover does: it never has a nearer main)
+    for frame in visitor_frames(30, seed=4):
         x, y = (n.reactor.pose[:2] if n.reactor.started else (0.6, 0.4))
         n.step(frame)
         f.step(frame)
