@@ -43,5 +43,7 @@ def halves_long_first(items: list, weights: dict[str, float]) -> list:
 
 
 def pytest_collection_modifyitems(config, items):
-    if os.environ.get("PYTEST_XDIST_WORKER") and config.getoption("dist", None) == "worksteal":
+    # in a worker (whose own --dist is "no"), when the run was started with worksteal
+    argv = getattr(config, "workerinput", {}).get("mainargv", [])
+    if any(a == "worksteal" or a.endswith("=worksteal") for a in argv):
         items[:] = halves_long_first(items, LONG_FILES)
