@@ -6,17 +6,16 @@ STAMP := $(VENV)/.installed
 
 .PHONY: run test bench clean screenshots
 
-# The environment gets no pip of its own: the interpreter's pip installs into it (`pip --python`,
-# pip 22.3 or newer; otherwise the environment's own pip is bootstrapped). Byte-code is compiled
-# afterwards on every core, the packages' own test suites left out.
+# The environment is made without pip (ensurepip's copy is old, slow to install and slow to
+# resolve with); the interpreter's pip puts the current pip into it (`pip --python`, pip 22.3 or
+# newer; otherwise ensurepip's copy is used). Byte-code is compiled afterwards on every core,
+# the packages' own test suites left out.
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv --without-pip $(VENV)
-	if $(PYTHON) -m pip --python $(PY) --version >/dev/null 2>&1; then \
-	  pip="$(PYTHON) -m pip --python $(PY)"; \
-	else \
-	  $(PY) -m ensurepip --upgrade >/dev/null && pip="$(PY) -m pip"; \
-	fi; \
-	$$pip install --quiet --no-compile -e '.[test]'
+	$(PY) -m pip --version >/dev/null 2>&1 \
+	  || $(PYTHON) -m pip --python $(PY) install --quiet --no-compile pip \
+	  || $(PY) -m ensurepip >/dev/null
+	$(PY) -m pip install --quiet --no-compile -e '.[test]'
 	$(PY) -m compileall -q -j0 -x '/tests?/' $(VENV)/lib >/dev/null
 	touch $(STAMP)
 
