@@ -40,11 +40,16 @@ def run(tmp_path: Path, config: dict, seconds: float = 2.0) -> list[dict]:
 
 
 def truth_errors(frames: list[dict], offset: float, visitor: ScriptedVisitor):
-    pos, ang = [], []
+    """Position (m) and heading (degrees) errors of the seen pucks' measurements, each one
+    once, at the frame it came in (frames repeating it while the camera is late on a busy
+    machine are stamped later than its capture)."""
+    pos, ang, last = [], [], {}
     for f in frames:
         truth = {pid: (x, y, a) for pid, x, y, a in visitor.poses(f["t"] + offset)}
         for p in f["pucks"]:
-            if p["state"] == "seen":
+            raw = (p["raw_x"], p["raw_y"], p["raw_angle"])
+            if p["state"] == "seen" and last.get(p["id"]) != raw:
+                last[p["id"]] = raw
                 x, y, a = truth[p["id"]]
                 pos.append(math.hypot(p["raw_x"] - x, p["raw_y"] - y))
                 ang.append(abs(math.remainder(p["raw_angle"] - a, math.tau)))
