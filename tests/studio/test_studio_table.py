@@ -49,6 +49,7 @@ def test_control_markers_through_the_camera_record_train_and_keep(tmp_path, caps
     path = studio_config(tmp_path)
     clock = SimClock()
     runner, inst = simulated(load_config(path), path, clock, kiosk=False, studio=True)
+    runner.studio.session.wait()   # what the studio loads at start, before the clock runs
     inst.loop.inputs.sources[0].reader.poses = poses
     states = []
     for _ in range(int(6.5 * RATE)):

@@ -6,10 +6,17 @@ from pathlib import Path
 import numpy as np
 import pygame
 
+from tabletop import screenshots
+from tabletop.config import load_config
 from tabletop.screenshots import ROOT, shoot
 
 
-def test_default_config_snapshot_shows_characters_and_pucks(tmp_path):
+def test_default_config_snapshot_shows_characters_and_pucks(tmp_path, monkeypatch):
+    def load(path):   # a 720p camera frame late on a busy machine leaves the pucks seen
+        cfg = load_config(path)        # (their cold ring drawn), not coasting
+        cfg["tracking"] = dict(cfg["tracking"], stale_s=2.0)
+        return cfg
+    monkeypatch.setattr(screenshots, "load_config", load)
     out = shoot(ROOT / "config.yaml", 6.0, tmp_path / "default.png", overlay=False)
     img = pygame.surfarray.array3d(pygame.image.load(str(out))).astype(int)
     r, g, b = img[..., 0], img[..., 1], img[..., 2]

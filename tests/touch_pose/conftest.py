@@ -1,5 +1,8 @@
 """Shared fixtures: the learned models are built once per test session (about 3 s)."""
 
+import fcntl
+import os
+
 import numpy as np
 import pytest
 
@@ -8,11 +11,20 @@ from behaviors.touch_pose.engine import TouchPose, learned_models
 
 @pytest.fixture(scope="session")
 def models(tmp_path_factory):
-    """Learned into (and kept in) a cache folder of the test session, not the user's."""
-    folder = tmp_path_factory.mktemp("cache")
+    """Learned into (and kept in) a cache folder of the test session, not the user's. The
+    pytest-xdist workers share it: the first learns and writes the cache file, the others wait
+    for it and load it (identical models: tests/touch_pose/test_models_cache.py)."""
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent          # the run's folder, above each worker's own
+    folder = root / "touch_pose_models"
+    folder.mkdir(exist_ok=True)
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("XDG_CACHE_HOME", str(folder))
-        yield learned_models()
+        with open(folder / "learning.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            learned = learned_models()
+        yield learned
 
 
 @pytest.fixture

@@ -148,8 +148,12 @@ def test_paced_at_the_configured_rate(tmp_path):
         assert wait_for(lambda: len(seen) >= 20)
     finally:
         src.close()
-    gaps = np.diff([t for t, _ in seen[:20]])
-    assert 0.015 <= np.median(gaps) <= 0.025  # 20 ms apart, not as fast as the disk allows
+    times = [t for t, _ in seen[:20]]
+    # 20 ms apart, not as fast as the disk allows (~1 ms). A late frame is followed by at most
+    # one early one (the schedule never falls more than one period behind), so 19 gaps span at
+    # least 17 periods less a frame's reading time however busy the machine.
+    assert times[-1] - times[0] >= 16 * 0.020
+    assert np.median(np.diff(times)) <= 0.025
 
 
 def test_settings_from_config_options():

@@ -134,16 +134,13 @@ def test_apriltag_markers_verify_under_their_own_ids_only():
 
 def test_marker_patterns_follow_their_dictionary_after_another_is_freed():
     """Patterns are remembered per dictionary object; a dictionary made after another was freed
-    (it may get the same id) still gets its own patterns."""
-    import gc
-
+    (it may get the same id) still gets its own patterns. A dictionary is freed by ``del``
+    (reference counting: no cycle to collect), so the next one made may take its id."""
     from tracking.markers import dictionary_by_name, marker_pattern
     for _ in range(20):
         small = dictionary_by_name("DICT_4X4_50")
         assert marker_pattern(small, 3).shape == (6, 6)
         del small
-        gc.collect()
         big = dictionary_by_name("DICT_APRILTAG_36h11")
         assert marker_pattern(big, 3).shape == (8, 8)
         del big
-        gc.collect()

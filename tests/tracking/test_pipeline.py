@@ -21,6 +21,9 @@ CONFIG = {
                  "tilt_deg": 15.0, "distortion": [-0.05, 0.01, 0.0, 0.0, 0.0],
                  "hands": {"every_s": 0}}],
     "view": {"size": [640, 360]},
+    # A camera frame late on a busy machine leaves the pucks "seen" (not coasting or dropped):
+    # what is counted below is how often the detector finds a puck in the frames it is given.
+    "tracking": {"stale_s": 2.0, "coast_s": 2.0},
 }
 
 
@@ -37,15 +40,27 @@ def run(tmp_path: Path, config: dict, seconds: float = 2.0) -> list[dict]:
 
 
 def truth_errors(frames: list[dict], offset: float, visitor: ScriptedVisitor):
-    pos, ang = [], []
+    """Position (m) and heading (degrees) errors of the seen pucks' measurements, each one
+    once, at the frame it came in (frames repeating it while the camera is late on a busy
+    machine are stamped later than its capture)."""
+    pos, ang, last = [], [], {}
     for f in frames:
         truth = {pid: (x, y, a) for pid, x, y, a in visitor.poses(f["t"] + offset)}
         for p in f["pucks"]:
-            if p["state"] == "seen":
+            raw = (p["raw_x"], p["raw_y"], p["raw_angle"])
+            if p["state"] == "seen" and last.get(p["id"]) != raw:
+                last[p["id"]] = raw
                 x, y, a = truth[p["id"]]
                 pos.append(math.hypot(p["raw_x"] - x, p["raw_y"] - y))
                 ang.append(abs(math.remainder(p["raw_angle"] - a, math.tau)))
     return np.array(pos), np.degrees(ang)
+
+
+def best_offset(frames: list[dict], visitor: ScriptedVisitor, offsets: np.ndarray) -> float:
+    """The offset (s) of ``offsets`` with the smallest median position error (measured: the
+    error grows steadily away from the true offset, about 2 cm per 0.1 s, either side)."""
+    medians = [np.median(truth_errors(frames, o, visitor)[0]) for o in offsets]
+    return float(offsets[int(np.argmin(medians))])
 
 
 def test_run_on_synthetic_camera_matches_the_visitor(tmp_path):
@@ -55,9 +70,8 @@ def test_run_on_synthetic_camera_matches_the_visitor(tmp_path):
     # The recording's clock starts at its first frame; the script started when the camera
     # opened, a fraction of a second earlier: find that one offset.
     late = [f for f in frames if f["pucks"]]
-    offsets = np.arange(-0.1, 2.0, 0.002)
-    medians = [np.median(truth_errors(late[::4], o, visitor)[0]) for o in offsets]
-    best = offsets[int(np.argmin(medians))]
+    best = best_offset(late[::4], visitor, np.arange(-0.1, 2.0, 0.02))            # coarse,
+    best = best_offset(late[::4], visitor, np.arange(best - 0.02, best + 0.021, 0.002))  # fine
     pos, ang = truth_errors(late, best, visitor)
     seen = sum(1 for f in late for p in f["pucks"] if p["state"] == "seen")
     assert seen >= 0.9 * len(PUCKS) * len(late)
