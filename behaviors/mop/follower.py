@@ -308,7 +308,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         still = self._still(x)
         likely: tuple[tuple[str, float, float], ...] = ()
         if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
-            order = [i for i in np.argsort(-p)[:3] if not self._refused[i]]
+            order = [i for i in np.argsort(-p, kind="stable")[:3] if not self._refused[i]]
             likely = tuple((names[i], p_list[i], progress_list[i]) for i in order)
         shown = progress_list
         best, best_progress = names[bi], progress_list[bi]

@@ -132,14 +132,20 @@ class WindowedForward:
         self._mom[0] = 1.0
         self.entries = np.zeros(k, dtype=np.int64)
         self.steps = 0
+        self._fresh = np.zeros(k, dtype=bool)   # not stepped since reset_templates(fresh=True)
+        self._n_fresh = 0
         self._gather(self._cols)
 
-    def reset_templates(self, templates: np.ndarray) -> None:
+    def reset_templates(self, templates: np.ndarray, fresh: bool = False) -> None:
         """Forget the performance of some templates (indices): they wait at their first state,
-        as after :meth:`reset`, while the others go on."""
+        as after :meth:`reset`, while the others go on. ``fresh``: their next step is a first
+        step too (no transitions, no restart), as after :meth:`reset`."""
         t = np.asarray(templates, dtype=np.intp)
         if t.size == 0:
             return
+        if fresh and self.steps:
+            self._fresh[t] = True
+            self._n_fresh = int(np.count_nonzero(self._fresh))
         self._a[:, t] = 0.0
         self._a[0, t] = 1.0
         self._b[:, t] = 0.0
@@ -217,6 +223,9 @@ class WindowedForward:
         zt = z[:, None] if z.ndim == 1 else np.ascontiguousarray(z.T)
         first = self.steps == 0
         eps = 0.0 if first else self.transitions.restart
+        fresh = np.flatnonzero(self._fresh) if self._n_fresh and not first else None
+        if fresh is not None:   # templates reset afresh take a first step: no restart mass
+            eps = np.where(self._fresh, 0.0, eps)
         logs = self.floor <= 0
         at_start = self.lo == 0
         zt = zt * self._prescale
@@ -248,7 +257,14 @@ class WindowedForward:
             if ns:
                 qs *= c[sc]
                 qs += self._floor_start[fs]
-                qs[0] += eps
+                qs[0] += eps if fresh is None else eps[sc]
+            if fresh is not None:
+                floor = self._floor_main if np.ndim(self._floor_main) == 1 else self._floor_main[:, fresh]
+                q[:, fresh] = self._a[:, fresh] + (floor[fresh] if np.ndim(floor) == 1 else floor)
+                if ns:
+                    at = np.flatnonzero(self._fresh[sc])
+                    if at.size:
+                        qs[:, at] = bs[:, at] + self._floor_start[fs[:, at]]
         # m: per template, the smallest distance (the largest log b) of its windows
         if not logs:
             m = lb.min(axis=0)
@@ -285,18 +301,21 @@ class WindowedForward:
         self._a, self._q = q, self._a
         self._s = s
         self.steps += 1
+        if fresh is not None:
+            self._fresh[fresh] = False
+            self._n_fresh = 0
         self._settle(mom, (qs, fs) if ns else None, sc, restart, e, eps)
         return np.log(s) - m + self._const
 
-    def _start_row(self, cols: np.ndarray, e: np.ndarray, eps: float) -> np.ndarray:
+    def _start_row(self, cols: np.ndarray, e: np.ndarray, eps: float | np.ndarray) -> np.ndarray:
         """The first-states windows of ``cols`` where they were not computed: this step's
         restart mass ``eps`` and floor times the emissions ``e`` (their main windows' own)."""
         b = e[:, cols] * _START_FLOOR
-        b[0] += e[0, cols] * eps
+        b[0] += e[0, cols] * (eps if np.ndim(eps) == 0 else eps[cols])
         return b if self._valid is None else b * self._valid[:, cols]
 
     def _settle(self, mom: np.ndarray, start: tuple | None, sc: np.ndarray,
-                restart: np.ndarray | None, e: np.ndarray | None, eps: float) -> None:
+                restart: np.ndarray | None, e: np.ndarray | None, eps: float | np.ndarray) -> None:
         """Re-entry, progress mean and variance (equations 3-4), and the window for the next step."""
         a, b, w, k = self._a, self._b, self._w, self._k
         af, bf = a.reshape(-1), b.reshape(-1)
@@ -368,13 +387,16 @@ class WindowedForward:
         """The state of some templates (indices), to :meth:`restore` after a step."""
         t = templates
         return (t, self._a[:, t].copy(), self._b[:, t].copy(), self._s[t].copy(), self.lo[t].copy(),
-                self.mean[t].copy(), self._mom[:, t].copy(), self.entries[t].copy())
+                self.mean[t].copy(), self._mom[:, t].copy(), self.entries[t].copy(),
+                self._fresh[t].copy() if self.steps else np.ones(len(t), dtype=bool))
 
     def restore(self, saved: tuple) -> None:
         """Put back what :meth:`snapshot` saved (those templates skip the step in between)."""
-        t, a, b, s, lo, mean, mom, entries = saved
+        t, a, b, s, lo, mean, mom, entries, fresh = saved
         self._a[:, t], self._b[:, t], self._s[t] = a, b, s
         self.lo[t], self.mean[t], self._mom[:, t], self.entries[t] = lo, mean, mom, entries
+        self._fresh[t] = fresh
+        self._n_fresh = int(np.count_nonzero(self._fresh))
         self._gather(t)
 
     @property
