@@ -102,3 +102,28 @@ def test_the_member_rules_equal_the_followers_own_operations():
         x = (np.array([1.0, -2.0]) + step * r)[None, :]
         members.push(buf, count, x, np.array([True]), np.array([4]))
         assert members.still(buf, count, np.array([4]), r[None, :])[0] == f._still(x[0]), k
+
+
+def test_gesture_end_rules_over_members_equal_the_followers_own():
+    # where an ended gesture's input moved on or departed: inputs scattered around both limits
+    rng = np.random.default_rng(12)
+    f = ActionFollower({"a": g.template(rng, n=40, d=2), "b": g.template(rng, n=25, d=2)},
+                       invariance="scale")
+    group = FollowerGroup([f])
+    f._anchor, f._size[:] = rng.normal(size=2), [1.3, 0.8]
+    moved = gone = 0
+    for k in range(2):
+        f._end_x = f._rel[f.bank.starts[k] + f.bank.lengths[k] - 1] * f._units * f._size[k] + f._anchor \
+            + rng.normal(size=2) * f._still_radius
+        last = group._rel[group._last_state[k]] * group._m_units[0] * f._size[k] + f._anchor
+        spread = group._scale[k] * f._size[k]
+        for _ in range(300):
+            x = f._end_x + rng.normal(size=2) * rng.choice([1.0, 3.0, 10.0]) * f._still_radius
+            want = f._moved_on(x, k)
+            assert members.moved_on(x[None], f._end_x[None], last[None], f._still_radius[None])[0] == want
+            d = math.sqrt(np.mean(((x - f._end_x) / spread) ** 2)) / f.sigma * rng.uniform(0.8, 1.25)
+            assert members.departed(x[None], f._end_x[None], spread[None], np.array([2.0]),
+                                    np.array([(d * f.sigma) ** 2]))[0] == f._departed(x, k, d)
+            moved += want
+            gone += f._departed(x, k, f.accept_distance)
+    assert 100 < moved < 500 and 50 < gone < 550   # both sides of each limit were tried
