@@ -133,6 +133,7 @@ class FollowerGroup:
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._index = np.arange(len(self._owner))
+        self._spans = [(s.start, s.stop) for s in self._slices]
         self._x = np.zeros((m, dmax))
         self._anchor = np.zeros((m, dmax))
         self._has_anchor = np.zeros(m, dtype=bool)
@@ -329,35 +330,33 @@ class FollowerGroup:
         order = members.top_three(p, bounds, self._counts, self._index) if show.any() else None
         prog_b = progress[gb]
         holding = self._holds[self._state_off[gb] + np.rint(g[gb]).astype(np.intp)] | (prog_b >= 0.9)
-        ended = self._ended.copy()
-        lists = (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist())
-        scalars = zip(bi.tolist(), variance.tolist(), valid.tolist(), loglik.tolist(), distance.tolist(),
-                      new[gb].tolist(), holding.tolist(), show.tolist(), any_engaged.tolist(),
-                      ended.tolist(), present.tolist())
+        top3 = order.tolist() if order is not None else None
+        sizes = self._size.copy()   # the states' maps are views of this tick's arrays
         out: list[FollowState] = []
-        for i, (b, var_b, val, ll, dist, restarted, hold, sh, eng, end, here) in enumerate(scalars):
+        for i, (b, var_b, val, ll, dist, restarted, hold, sh, eng, end, here, pb) in enumerate(zip(
+                bi.tolist(), variance.tolist(), valid.tolist(), loglik.tolist(), distance.tolist(),
+                new[gb].tolist(), holding.tolist(), show.tolist(), any_engaged.tolist(),
+                self._ended.tolist(), present.tolist(), prog_b.tolist())):
             if not here:
                 out.append(None)  # type: ignore[arg-type]
                 continue
-            f, a, z = self.followers[i], int(bounds[i]), int(bounds[i] + self._counts[i])
-            prog, ps, lls, sizes = (v[a:z] for v in lists)
-            names = self._m_names[i]
+            a, z = self._spans[i]
+            names, index, prog = self._m_names[i], self.followers[i]._index, progress[a:z]
             likely: tuple[tuple[str, float, float], ...] = ()
             if sh:
-                likely = tuple((names[j - a], ps[j - a], prog[j - a]) for j in order[i].tolist()
+                likely = tuple((names[j - a], float(p[j]), float(progress[j])) for j in top3[i]
                                if j >= 0 and not refused[j])
-            shown, best, best_progress = prog, names[b], prog[b]
+            shown, best, best_progress = prog, names[b], pb
             if end >= 0 and not eng:
                 best, best_progress = names[end], 1.0
-                shown = list(prog)
+                shown = prog.copy()
                 shown[end] = 1.0
-            index = f._index
-            f._state = FollowState(
-                best=best, progress=best_progress, variance=var_b, probabilities=ByName(index, ps),
+            state = self.followers[i]._state = FollowState(
+                best=best, progress=best_progress, variance=var_b, probabilities=ByName(index, p[a:z]),
                 progress_by=ByName(index, shown), valid=val, loglik=ll, distance=dist,
-                restarted=restarted, loglik_by=ByName(index, lls), likely=likely,
-                scale_by=ByName(index, sizes), holding=hold)
-            out.append(f._state)
+                restarted=restarted, loglik_by=ByName(index, mean_ll[a:z]), likely=likely,
+                scale_by=ByName(index, sizes[a:z]), holding=hold)
+            out.append(state)
         self._ended = np.where(any_engaged & present, -1, self._ended)
         self._spot(valid, ok, any_engaged, still, gb, prog_b, step_ll[gb], present)
         return out

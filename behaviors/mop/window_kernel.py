@@ -63,7 +63,13 @@ def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.nda
     return best
 
 
-@numba.njit(cache=True, nogil=True)
+_F1, _F2, _I1, _B1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1], numba.boolean[::1]
+
+
+# compiled when imported (or loaded from the cache beside this file), not at the first step
+@numba.njit(numba.void(_F2, _I1, _I1, _I1, _B1, _F2, _F2, _F2, _F1, _I1, _F1, _F2, _I1, _B1,
+                       numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1),
+            cache=True, nogil=True)
 def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: np.ndarray,
                  start_tail: np.ndarray, z: np.ndarray, a: np.ndarray, b: np.ndarray,
                  s: np.ndarray, lo: np.ndarray, mean: np.ndarray, mom: np.ndarray,
