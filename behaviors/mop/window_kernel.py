@@ -29,23 +29,43 @@ def _transit(x: np.ndarray, y: np.ndarray, n: int, back: float, fwd: np.ndarray,
              at_end: bool) -> None:
     """y = the transitions applied to window x (first ``n`` states): what moves before the
     first state stays there when ``at_start``, what moves past the last onto it when ``at_end``,
-    else it leaves the window."""
-    for t in range(n):
-        y[t] = 0.0
-    for i in range(n):
-        v = x[i]
-        if v == 0.0:
-            continue
-        if i > 0:
-            y[i - 1] += back * v
-        elif at_start:
-            y[0] += back * v
-        for o in range(fwd.size):
-            t = i + o
-            if t < n:
-                y[t] += fwd[o] * v
-            elif at_end:
-                y[n - 1] += fwd[o] * v
+    else it leaves the window. Gathered per target state (a scatter's read-modify-writes made
+    each state wait for the last: 3x slower)."""
+    nf = fwd.size
+    if nf <= 4:   # self, next and up to two skips: unrolled (absent ones weigh 0)
+        f0 = fwd[0]
+        f1 = fwd[1] if nf > 1 else 0.0
+        f2 = fwd[2] if nf > 2 else 0.0
+        f3 = fwd[3] if nf > 3 else 0.0
+        for t in range(min(n, 3)):
+            acc = f0 * x[t]
+            if t >= 1:
+                acc += f1 * x[t - 1]
+            if t >= 2:
+                acc += f2 * x[t - 2]
+            y[t] = acc
+        for t in range(3, n):
+            y[t] = f0 * x[t] + f1 * x[t - 1] + f2 * x[t - 2] + f3 * x[t - 3]
+        for t in range(n - 1):
+            y[t] += back * x[t + 1]
+    else:
+        for t in range(n):
+            acc = 0.0
+            for o in range(min(nf, t + 1)):
+                acc += fwd[o] * x[t - o]
+            if t + 1 < n:
+                acc += back * x[t + 1]
+            y[t] = acc
+    if at_start:
+        y[0] += back * x[0]
+    if at_end:
+        tail = 0.0
+        for k in range(1, min(nf, n + 1)):
+            w = 0.0
+            for o in range(k, nf):
+                w += fwd[o]
+            tail += w * x[n - k]
+        y[n - 1] += tail
 
 
 @numba.njit(cache=True, nogil=True)
