@@ -66,7 +66,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
-                 tangent: float = 0.0, lost_samples: int = 6) -> None:
+                 tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.1,
+                 shape_distance: float = 1.4, shape_accept: float = 1.2,
+                 shape_memory: float = 16.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -80,7 +82,11 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("confirm", confirm, confirm >= 1), ("end", end, 0 < end <= 1),
                             ("still_samples", still_samples, still_samples >= 2),
                             ("min_probability", min_probability, 0 <= min_probability < 1),
-                            ("tangent", tangent, tangent >= 0)):
+                            ("tangent", tangent, tangent >= 0),
+                            ("coverage", coverage, 0 <= coverage < 1),
+                            ("shape_distance", shape_distance, shape_distance > 0),
+                            ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
+                            ("shape_memory", shape_memory, shape_memory >= 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if invariance not in INVARIANCES:
@@ -118,7 +124,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._params = dict(sigma=float(sigma), window=int(window), transitions=tuple(transitions),
                             backward=float(backward), restart=float(restart), memory=float(memory),
                             null_distance=float(null_distance), max_spread=float(max_spread),
-                            floor=float(floor), null_memory=float(null_memory), onset=float(onset))
+                            floor=float(floor), null_memory=float(null_memory), onset=float(onset),
+                            coverage=float(coverage), shape_distance=float(shape_distance),
+                            shape_accept=float(shape_accept), shape_memory=float(shape_memory))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -135,6 +143,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # radius in RMS spread made a slow start look still: the anchor crept along a 0.7x
         # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93)
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
+        self.coverage, self.shape_distance = float(coverage), float(shape_distance)
+        self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
+        self._setup_validity()
         self.reset()
 
     def _onset_states(self) -> np.ndarray:
@@ -180,6 +191,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._lost = 0
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
+        self._forget_shape()
 
     @property
     def log_constant(self) -> float:
@@ -291,6 +303,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         if self._evidence[top] - self._evidence[self._best] > self.switch_margin or self._refused[self._best]:
             self._best = top
         bi = self._best
+        self._judge_shape(x, g, new)
         progress_list, p_list, mean_ll_list, size_list = lists
         engaged = bool(self._engaged.any())
         slope = src[gi[bi] + 1] - src[gi[bi]]
@@ -298,7 +311,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         variance = var * slope * slope
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
-        ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2
+        ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
+                  and spread2 <= self.max_spread ** 2
                   and p_list[bi] >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
         self._run = self._run + 1 if ok else 0

@@ -43,12 +43,97 @@ from __future__ import annotations
 
 import numpy as np
 
+#: States before and after the followed state whose joining segments make up the path the
+#: input is measured against (the followed state lags or leads a fast performer by a few).
+PATH_REACH = (3, 3)
+
+
+def path_lengths(bank) -> np.ndarray:
+    """Per state of ``bank``, the length of its template's path from the first state to it
+    (segments between states, RMS per column in the template's own spread)."""
+    out = []
+    for k in range(len(bank.names)):
+        z = bank.template(k)
+        seg = np.sqrt(np.sum(np.diff(z, axis=0) ** 2, axis=1) / z.shape[1])
+        out.append(np.concatenate([[0.0], np.cumsum(seg)]))
+    return np.concatenate(out)
+
 
 class Validity:
-    """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: refusal."""
+    """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: refusal, path misfit and
+    coverage (see the module docstring)."""
+
+    def _setup_validity(self) -> None:
+        """Constants and per-template state of the shape rules (after the bank is built)."""
+        b = self.bank
+        self._arc = path_lengths(b)
+        ends = b.starts + b.lengths - 1
+        self._arc_need = self.coverage * self._arc[ends]
+        self._misfit_decay = 1.0 - 1.0 / self.shape_memory
+        self._shape2 = self.shape_distance ** 2
+        self._shape_accept2 = self.shape_accept ** 2
+        k = len(self.names)
+        self._misfit, self._misfit_w = np.zeros(k), np.zeros(k)
+        self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
+
+    def _forget_shape(self, which: np.ndarray | slice = slice(None)) -> None:
+        """Forget the misfit and coverage of the templates ``which`` (all by default)."""
+        self._misfit[which] = 0.0
+        self._misfit_w[which] = 0.0
+        self._misshaped[which] = False
+        self._covered[which] = False
 
     def _refuse(self, dist2: np.ndarray) -> None:
         """Refusal with hysteresis from the recent squared distances (sigma units), in place on
         ``_refused``."""
         self._refused |= dist2 > self._null2
         self._refused &= ~(dist2 < self._accept2)
+
+    def _path_distance2(self, x: np.ndarray, g: np.ndarray) -> np.ndarray:
+        """Squared distance (K,) of the sample x from each template's path near its followed
+        state ``g`` (fractional, bank index): the segments joining the states within
+        :data:`PATH_REACH` of it, x mapped as the forward algorithm sees it (anchor, size);
+        sigma^2 per column."""
+        b = self.bank
+        before, after = PATH_REACH
+        c = np.floor(g).astype(np.intp)
+        idx = np.clip(c[:, None] + np.arange(-before, after + 2)[None, :],
+                      b.starts[:, None], (b.starts + b.lengths - 1)[:, None])
+        p = b.means[idx]                                   # (K, m, d) states around g
+        a, ab = p[:, :-1], np.diff(p, axis=1)
+        if self.invariance == "none":
+            z = (x - b.center) / b.scale
+        else:
+            r = (x - self._anchor)[None, :]
+            if self.invariance == "scale":
+                r = r / self._size[:, None]
+            z = r / b.scale + self._first_z
+        az = z[:, None, :] - a
+        t = np.einsum("kmd,kmd->km", az, ab) / np.maximum(np.einsum("kmd,kmd->km", ab, ab), 1e-12)
+        off = az - np.clip(t, 0.0, 1.0)[..., None] * ab
+        return np.einsum("kmd,kmd->km", off, off).min(axis=1) / (self.sigma ** 2 * self.dim)
+
+    def _judge_shape(self, x: np.ndarray, g: np.ndarray, new: np.ndarray) -> None:
+        """After a sample: each template's path misfit (forgotten over ``shape_memory``
+        samples, refused beyond ``shape_distance``, accepted again below ``shape_accept``) and
+        whether its followed progress has covered ``coverage`` of its path since it engaged.
+        ``g``: followed states (bank index); ``new``: templates whose performance began anew."""
+        if np.count_nonzero(new):
+            self._forget_shape(new)
+        d2 = self._path_distance2(x, g)
+        m, w = self._misfit, self._misfit_w
+        m *= self._misfit_decay
+        m += d2
+        w *= self._misfit_decay
+        w += 1.0
+        m2 = m / w
+        self._misshaped |= m2 > self._shape2
+        self._misshaped &= ~(m2 < self._shape_accept2)
+        gi = np.floor(g).astype(np.intp)
+        nxt = np.minimum(gi + 1, self.bank.starts + self.bank.lengths - 1)
+        covered = self._arc[gi] + (g - gi) * (self._arc[nxt] - self._arc[gi])
+        self._covered |= (covered >= self._arc_need) & self._engaged
+
+    def _shaped(self, k: int) -> bool:
+        """Template ``k`` may drive as far as its path is concerned."""
+        return bool(self._covered[k] and not self._misshaped[k])
