@@ -65,8 +65,7 @@ class FollowerGroup:
         and its constants are stacked, so a tick updates all of them in a few array operations."""
         fs, sl = self.followers, self._slices
         per = lambda fn: np.concatenate([np.broadcast_to(fn(f), (len(f.names),)) for f in fs])
-        for name in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                     "_num", "_den", "_size"):
+        for name in self._PER_TEMPLATE:
             whole = np.concatenate([getattr(f, name) for f in fs])
             setattr(self, name, whole)
             for f, s in zip(fs, sl):
@@ -131,6 +130,15 @@ class FollowerGroup:
         self._k_first = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim))) if f.invariance != "none"
                                         else np.zeros((len(f.names), dmax)) for f in fs])
         self._holds = np.concatenate([f.bank.holds for f in fs])
+        # the path-shape rules (validity): states in raw template units, arcs, limits
+        self._pmeans = np.concatenate([np.pad(f.bank.means, ((0, 0), (0, dmax - f.dim))) for f in fs])
+        self._arc = np.concatenate([f._arc for f in fs])
+        self._arc_need = np.concatenate([f._arc_need for f in fs])
+        per = lambda fn: np.concatenate([np.full(len(f.names), fn(f), dtype=float) for f in fs])
+        self._misfit_decay = per(lambda f: f._misfit_decay)
+        self._shape2 = per(lambda f: f._shape2)
+        self._shape_accept2 = per(lambda f: f._shape_accept2)
+        self._path_scale = per(lambda f: f.sigma ** 2 * f.dim)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._index = np.arange(len(self._owner))
         self._spans = [(s.start, s.stop) for s in self._slices]
@@ -147,7 +155,7 @@ class FollowerGroup:
         self._has_end = np.zeros(m, dtype=bool)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                     "_num", "_den", "_size")
+                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end")
 
@@ -306,6 +314,7 @@ class FollowerGroup:
         switch = (ev[top] - ev[gb] > self._m_margin) | refused[gb]
         gb = np.where(switch, top, gb)
         self._best = bi = gb - bounds
+        self._judge_shape(g, new)
         any_engaged = np.logical_or.reduceat(engaged, bounds)
         slope = self._dsource[gs[gb]]
         m0, m1, m2 = fw._mom[:, gb]
@@ -314,7 +323,8 @@ class FollowerGroup:
         spread2 = var / (self._lengths[gb] - 1.0) ** 2
         size = self._size[gb][:, None]
         last = self._rel[self._last_state[gb]] * self._m_units * size + self._anchor
-        ok = (engaged[gb] & ~refused[gb] & (spread2 <= self._m_spread2) & (p[gb] >= self._m_min_p)
+        ok = (engaged[gb] & ~refused[gb] & self._covered[gb] & ~self._misshaped[gb]
+              & (spread2 <= self._m_spread2) & (p[gb] >= self._m_min_p)
               & ~(self._has_end & members.moved_on(X, self._end_x, last, self._m_radius)))
         self._run = run = np.where(ok, self._run + 1, 0)
         valid = run >= self._m_confirm
@@ -391,10 +401,40 @@ class FollowerGroup:
         # _restart_here: every template of these members at its first state, no evidence
         cols = np.flatnonzero(np.isin(self._owner, rows))
         self.forward.reset_templates(cols)
-        for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den"):
+        for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den",
+                  "_misfit", "_misfit_w", "_misshaped", "_covered"):
             getattr(self, n)[cols] = 0
         self._size[cols] = 1.0
         for a in (self._best, self._run, self._lost):
             a[rows] = 0
         self._has_end[rows] = False
         self._anchor[rows] = anchor[rows]
+
+    def _judge_shape(self, g: np.ndarray, new: np.ndarray) -> None:
+        """:meth:`Validity._judge_shape` for every member at once: each template's path misfit
+        (with hysteresis) and coverage; ``g``: followed states (each member's bank index)."""
+        if np.count_nonzero(new):
+            for n in ("_misfit", "_misfit_w", "_misshaped", "_covered"):
+                getattr(self, n)[new] = 0
+        own, off = self._owner, self._state_off
+        z = self._x.take(own, axis=0)
+        z -= np.where(self._k_none[:, None], self._k_center, self._anchor.take(own, axis=0))
+        if self._any_scale:
+            z /= np.where(self._scaled > 0, self._size, 1.0)[:, None]
+        z /= self._scale
+        z += self._k_first
+        gi = np.floor(g).astype(np.intp)
+        ends = self._starts_local + self._lengths - 1
+        d2 = members.path_distance2(z, self._pmeans, gi, self._starts_local, ends, off) / self._path_scale
+        m, w = self._misfit, self._misfit_w
+        m *= self._misfit_decay
+        m += d2
+        w *= self._misfit_decay
+        w += 1.0
+        m2 = m / w
+        self._misshaped |= m2 > self._shape2
+        self._misshaped &= ~(m2 < self._shape_accept2)
+        nxt = np.minimum(gi + 1, ends) + off
+        at = gi + off
+        covered = self._arc[at] + (g - gi) * (self._arc[nxt] - self._arc[at])
+        self._covered |= (covered >= self._arc_need) & self._engaged

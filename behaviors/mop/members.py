@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from behaviors.mop.validity import PATH_REACH
+
 
 def segment_argmax(values: np.ndarray, top: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
                    index: np.ndarray) -> np.ndarray:
@@ -99,3 +101,19 @@ def spot(has_end: np.ndarray, still_: np.ndarray, step_d2: np.ndarray, null2: np
     rest &= ~abandon
     waiting = rest & still_ & ~engaged
     return after_end, resting, abandon, waiting
+
+
+def path_distance2(z: np.ndarray, means: np.ndarray, gi: np.ndarray, starts: np.ndarray,
+                   ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    """:meth:`Validity._path_distance2` before its division: per template, the least squared
+    distance of its sample ``z`` (K, D) from the segments joining its states within
+    :data:`~behaviors.mop.validity.PATH_REACH` of ``gi`` (its bank's index; ``starts``/``ends``
+    its first and last state there, ``offset`` where its bank begins in ``means``)."""
+    before, after = PATH_REACH
+    idx = np.clip(gi[:, None] + np.arange(-before, after + 2)[None, :], starts[:, None], ends[:, None])
+    p = means[idx + offset[:, None]]                      # (K, m, D) states around gi
+    a, ab = p[:, :-1], np.diff(p, axis=1)
+    az = z[:, None, :] - a
+    t = np.einsum("kmd,kmd->km", az, ab) / np.maximum(np.einsum("kmd,kmd->km", ab, ab), 1e-12)
+    off = az - np.clip(t, 0.0, 1.0)[..., None] * ab
+    return np.einsum("kmd,kmd->km", off, off).min(axis=1)
