@@ -227,13 +227,7 @@ class FollowerGroup:
     def _inputs(self, present: np.ndarray) -> None:
         """:meth:`PerformanceFrame._inputs` of every member into the forward's input (K, width);
         ``present`` (M,): the members with a sample."""
-        own = self._owner
-        r = self._x.take(own, axis=0)
-        r -= np.where(self._k_none[:, None], self._k_center, self._anchor.take(own, axis=0))
-        if self._any_scale:
-            r /= np.where(self._scaled > 0, self._size, 1.0)[:, None]
-        r /= self._scale
-        r += self._k_first
+        r = self._mapped()
         self._z[:, :r.shape[1]] = r
         for i in self._m_tangent:   # direction of motion: the member's own lag
             if not present[i]:
@@ -241,6 +235,18 @@ class FollowerGroup:
             f, sl = self.followers[i], self._slices[i]
             f._anchor = self._anchor[i, :f.dim].copy()
             self._z[sl, :f._zdim] = f._inputs(self._x[i, :f.dim].copy())
+
+    def _mapped(self) -> np.ndarray:
+        """Every member's sample in each of its templates' standardised units (K, D): from the
+        anchor (the center for "none"), divided by the estimated size for "scale"."""
+        own = self._owner
+        r = self._x.take(own, axis=0)
+        r -= np.where(self._k_none[:, None], self._k_center, self._anchor.take(own, axis=0))
+        if self._any_scale:
+            r /= np.where(self._scaled > 0, self._size, 1.0)[:, None]
+        r /= self._scale
+        r += self._k_first
+        return r
 
     def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._finish` for every member at once: the per-template arrays in
@@ -416,13 +422,8 @@ class FollowerGroup:
         if np.count_nonzero(new):
             for n in ("_misfit", "_misfit_w", "_misshaped", "_covered"):
                 getattr(self, n)[new] = 0
-        own, off = self._owner, self._state_off
-        z = self._x.take(own, axis=0)
-        z -= np.where(self._k_none[:, None], self._k_center, self._anchor.take(own, axis=0))
-        if self._any_scale:
-            z /= np.where(self._scaled > 0, self._size, 1.0)[:, None]
-        z /= self._scale
-        z += self._k_first
+        off = self._state_off
+        z = self._mapped()
         gi = np.floor(g).astype(np.intp)
         ends = self._starts_local + self._lengths - 1
         d2 = members.path_distance2(z, self._pmeans, gi, self._starts_local, ends, off) / self._path_scale
