@@ -66,7 +66,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
-                 tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.1,
+                 tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
                  shape_memory: float = 16.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),

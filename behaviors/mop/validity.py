@@ -73,7 +73,7 @@ class Validity:
         self._shape2 = self.shape_distance ** 2
         self._shape_accept2 = self.shape_accept ** 2
         k = len(self.names)
-        self._misfit, self._misfit_w = np.zeros(k), np.zeros(k)
+        self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
 
     def _forget_shape(self, which: np.ndarray | slice = slice(None)) -> None:
@@ -89,11 +89,21 @@ class Validity:
         self._refused |= dist2 > self._null2
         self._refused &= ~(dist2 < self._accept2)
 
-    def _path_distance2(self, x: np.ndarray, g: np.ndarray) -> np.ndarray:
-        """Squared distance (K,) of the sample x from each template's path near its followed
-        state ``g`` (fractional, bank index): the segments joining the states within
-        :data:`PATH_REACH` of it, x mapped as the forward algorithm sees it (anchor, size);
-        sigma^2 per column."""
+    def _mapped(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """x as the forward algorithm sees it, split as ``u / size + c`` (K, d) each: with
+        "scale" invariance u is x relative to the anchor in each template's spread, c its first
+        state; otherwise u is the mapped sample and c zero (size 1)."""
+        b = self.bank
+        if self.invariance == "none":
+            return (x - b.center) / b.scale, np.zeros_like(b.scale)
+        u = (x - self._anchor)[None, :] / b.scale
+        if self.invariance == "scale":
+            return u, self._first_z
+        return u + self._first_z, np.zeros_like(b.scale)
+
+    def _nearest_on_path(self, z: np.ndarray, g: np.ndarray) -> np.ndarray:
+        """The point (K, d) of each template's path nearest to z (K, d) among the segments
+        joining the states within :data:`PATH_REACH` of its followed state ``g`` (bank index)."""
         b = self.bank
         before, after = PATH_REACH
         c = np.floor(g).astype(np.intp)
@@ -101,32 +111,36 @@ class Validity:
                       b.starts[:, None], (b.starts + b.lengths - 1)[:, None])
         p = b.means[idx]                                   # (K, m, d) states around g
         a, ab = p[:, :-1], np.diff(p, axis=1)
-        if self.invariance == "none":
-            z = (x - b.center) / b.scale
-        else:
-            r = (x - self._anchor)[None, :]
-            if self.invariance == "scale":
-                r = r / self._size[:, None]
-            z = r / b.scale + self._first_z
-        az = z[:, None, :] - a
-        t = np.einsum("kmd,kmd->km", az, ab) / np.maximum(np.einsum("kmd,kmd->km", ab, ab), 1e-12)
-        off = az - np.clip(t, 0.0, 1.0)[..., None] * ab
-        return np.einsum("kmd,kmd->km", off, off).min(axis=1) / (self.sigma ** 2 * self.dim)
+        t = np.einsum("kmd,kmd->km", z[:, None, :] - a, ab) / np.maximum(np.einsum("kmd,kmd->km", ab, ab), 1e-12)
+        near = a + np.clip(t, 0.0, 1.0)[..., None] * ab
+        off = z[:, None, :] - near
+        j = np.argmin(np.einsum("kmd,kmd->km", off, off), axis=1)
+        return near[np.arange(len(j)), j]
 
     def _judge_shape(self, x: np.ndarray, g: np.ndarray, new: np.ndarray) -> None:
         """After a sample: each template's path misfit (forgotten over ``shape_memory``
         samples, refused beyond ``shape_distance``, accepted again below ``shape_accept``) and
         whether its followed progress has covered ``coverage`` of its path since it engaged.
-        ``g``: followed states (bank index); ``new``: templates whose performance began anew."""
+        ``g``: followed states (bank index); ``new``: templates whose performance began anew.
+        The misfit of the remembered samples is read at the current size estimate (the
+        residual ``u / size - v`` is kept as sums of ``|u|^2``, ``u.v`` and ``|v|^2``), so a size
+        that converges late does not leave the early samples counted as strays."""
         if np.count_nonzero(new):
             self._forget_shape(new)
-        d2 = self._path_distance2(x, g)
-        m, w = self._misfit, self._misfit_w
-        m *= self._misfit_decay
-        m += d2
-        w *= self._misfit_decay
+        u, c = self._mapped(x)
+        size = self._size if self.invariance == "scale" else np.ones(len(self.names))
+        v = self._nearest_on_path(u / size[:, None] + c, g) - c
+        decay = self._misfit_decay
+        sums, w = self._misfit, self._misfit_w
+        sums *= decay
+        sums[:, 0] += np.einsum("kd,kd->k", u, u)
+        sums[:, 1] += np.einsum("kd,kd->k", u, v)
+        sums[:, 2] += np.einsum("kd,kd->k", v, v)
+        w *= decay
         w += 1.0
-        m2 = m / w
+        m2 = (sums[:, 0] / size ** 2 - 2.0 * sums[:, 1] / size + sums[:, 2]) / w
+        m2 *= 1.0 / (self.sigma ** 2 * self.dim)
+        self._misfit2 = m2
         self._misshaped |= m2 > self._shape2
         self._misshaped &= ~(m2 < self._shape_accept2)
         gi = np.floor(g).astype(np.intp)
