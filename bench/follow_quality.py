@@ -322,6 +322,7 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
     out = {}
     names = list(templates)
     worst_all = 0.0
+    every: list[float] = []
     for k in (1, 6, 20):
         loaded = {n: templates[n] for n in names[:k]}
         f = factory(loaded)
@@ -338,7 +339,10 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
         if mirrored:
             out[f"unrelated_{k}_templates_mirrored_valid_share_max"] = float(max(mirrored))
         worst_all = max(worst_all, max(shares.values()))
+        every += shares.values()
     out["unrelated_valid_share_max"] = worst_all
+    # the mean over every motion and template count: how much of the refusal is won overall
+    out["unrelated_valid_share_mean"] = float(np.mean(every))
     return out
 
 

@@ -19,8 +19,9 @@ installation builds it for a puck, unless said otherwise.
   ``onset`` sigmas from its first state) *and* the input itself left the anchor by as much: a
   still input lets the transitions' prior drift along the first states (a still tail after a
   diagonal line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused,
-  its spread at most ``max_spread`` (in states), its end not yet reached, for
-  ``confirm`` samples in a row.
+  its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
+  :mod:`behaviors.mop.validity`), its spread at most ``max_spread`` (in states), its end not
+  yet reached, for ``confirm`` samples in a row.
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -52,8 +53,10 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
     in samples; ``units`` (d,): the features' units (what makes columns comparable), default
     the pooled spread of each column; ``min_scale`` (d,): floor of every template's scale in the
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
-    ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress); the
-    rest: see the module docstring.
+    ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
+    ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
+    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; the rest: see the
+    module docstring.
     """
 
     def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
@@ -66,7 +69,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
-                 tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.1,
+                 tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
                  shape_memory: float = 16.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),

@@ -1,4 +1,5 @@
-"""When a followed template may drive its character: refusal (and what was tried beside it).
+"""When a followed template may drive its character: refusal, path misfit, coverage (and what
+was tried beside them).
 
 Refusal (null rejection), per template against its own spread (:mod:`behaviors.mop.hmm`):
 per-step log-likelihoods forgotten with ``null_memory`` samples, read as an RMS distance in
@@ -10,10 +11,60 @@ Tighter limits did not separate unrelated motion from true performances: null 1.
 1.05 cut true validity after 30% from 0.90 to 0.75 while unrelated motion stayed 0.55-0.62
 valid; 1.1 / 0.85: 0.65 and 0.51.
 
-Tried beside the likelihood, measured with ``bench/follow_quality.py`` and left out, since the
-unrelated motions still find stretches of some template that match them in every respect
-these rules see (a diagonal line is the chord of a circle's first quarter at 1.5x; a stroke of
-a triangle is the outward half of the line):
+Two rules on the template's *path* (its states joined by segments), each measured against the
+template's own spread, whatever the other templates:
+
+- Coverage: a template drives only once its followed progress has covered ``coverage`` of its
+  path's length since it engaged (path length in its spread, RMS per column; kept until the
+  performance begins anew). The start of every template is a small, slow blob that any small
+  wiggle matches at a small size: an aimless wander drove the circle alone 75-86% of the time
+  at 15-23% of its progress. Recognition comes a little later (at 30% of gestures at
+  0.7-1.4x: 0.73 -> 0.68 of them).
+- Path misfit: the distance of the input, mapped as the forward algorithm sees it, from the
+  path's segments within :data:`PATH_REACH` states of the followed state, as an RMS over the
+  last ``shape_memory`` samples in ``sigma`` units; refused beyond ``shape_distance``,
+  accepted again below ``shape_accept``. The predictive likelihood carries the transitions'
+  uncertainty (about 1 sigma on exact copies); the distance to the joined states does not (a
+  time-warped copy sits at 0.12 sigma median), so a diagonal line along a circle's chord
+  (0.3 of its radius off at the middle) shows. The remembered samples are read at the
+  current size estimate: read at the size each had when it came, a 0.7x circle, whose size
+  converges from 1 to 0.76 between 30% and 45% of it, was refused for a third of its length.
+
+Measured with ``bench/follow_quality.py`` partial runs (sizes and unrelated sections, seed 13
+and the held-out joints, seed 101; "unrelated" = worst / mean valid share over every motion
+and template count; "after 30%" = valid after 30% of gestures at 0.7-1.4x):
+
+==============================================  ===============  ===============  =====  =====
+rules                                           unrelated        held-out         after  held
+==============================================  ===============  ===============  =====  =====
+neither (before)                                0.82 / 0.33      0.75 / 0.34      0.916  0.912
+misfit 1.0 / 0.7, memory 10, per-sample size    0.54 / 0.22                       0.862
+  same with sizes 0.8-1.25x the estimate tried  0.63 / 0.29                       0.914
+misfit 1.2 / 0.8, memory 16 (per-sample size)   0.59 / 0.26                       0.912
+misfit 1.5 / 1.0 (per-sample size)              0.82 / 0.32                       0.916
+coverage 0.6 spread units (absolute)            0.63 / 0.25                       0.915
+coverage 10%                                    0.60 / 0.18                       0.911
+coverage 10% + misfit 1.2 / 0.8                 0.53 / 0.14                       0.906
+coverage 15% + misfit 1.2 / 0.8                 0.50 / 0.08                       0.892
+coverage 12% + misfit 1.1 / 0.75                0.50 / 0.11                       0.884
+coverage 10% + misfit 1.0 / 0.7                 0.49 / 0.11                       0.870
+coverage 10% + misfit 1.4 / 1.2                 0.58 / 0.18      0.74 / 0.21      0.910  0.897
+coverage 8% + misfit 1.4 / 1.2                  0.61 / 0.22      0.74 / 0.23      0.914  0.901
+  (kept; misfit read at the current size)
+coverage 8% + misfit 1.25 / 1.05, current size  0.58 / 0.19      0.68 / 0.21      0.913  0.897
+==============================================  ===============  ===============  =====  =====
+
+(Rows without "current size" read each sample's misfit at the size estimated when it came;
+memory 16 unless said.) Sizes tried around the estimate let a triangle's stroke cutting a square's corner fit the square's
+side at 0.8x, hence worse. What is left: motions that *are* a stretch of some template at some
+size and tempo: the triangle's first stroke is the line's outward half (valid from 8% of the
+line's path to its far end), a diagonal is the figure eight's first stroke and then a chord
+of the circle that stays within 1.4 sigma, a mirrored mocap path's slow start is another's.
+
+Tried beside the likelihood before, measured with ``bench/follow_quality.py`` and left out,
+since the unrelated motions still find stretches of some template that match them in every
+respect these rules see (a diagonal line is the chord of a circle's first quarter at 1.5x; a
+stroke of a triangle is the outward half of the line):
 
 - Direction of motion at the followed state (``1 - |cos|`` of the angle between the input's
   velocity and the template's, going back allowed, averaged over the recent moving samples):
@@ -73,7 +124,7 @@ class Validity:
         self._shape2 = self.shape_distance ** 2
         self._shape_accept2 = self.shape_accept ** 2
         k = len(self.names)
-        self._misfit, self._misfit_w = np.zeros(k), np.zeros(k)
+        self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
 
     def _forget_shape(self, which: np.ndarray | slice = slice(None)) -> None:
@@ -89,11 +140,21 @@ class Validity:
         self._refused |= dist2 > self._null2
         self._refused &= ~(dist2 < self._accept2)
 
-    def _path_distance2(self, x: np.ndarray, g: np.ndarray) -> np.ndarray:
-        """Squared distance (K,) of the sample x from each template's path near its followed
-        state ``g`` (fractional, bank index): the segments joining the states within
-        :data:`PATH_REACH` of it, x mapped as the forward algorithm sees it (anchor, size);
-        sigma^2 per column."""
+    def _mapped(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """x as the forward algorithm sees it, split as ``u / size + c`` (K, d) each: with
+        "scale" invariance u is x relative to the anchor in each template's spread, c its first
+        state; otherwise u is the mapped sample and c zero (size 1)."""
+        b = self.bank
+        if self.invariance == "none":
+            return (x - b.center) / b.scale, np.zeros_like(b.scale)
+        u = (x - self._anchor)[None, :] / b.scale
+        if self.invariance == "scale":
+            return u, self._first_z
+        return u + self._first_z, np.zeros_like(b.scale)
+
+    def _nearest_on_path(self, z: np.ndarray, g: np.ndarray) -> np.ndarray:
+        """The point (K, d) of each template's path nearest to z (K, d) among the segments
+        joining the states within :data:`PATH_REACH` of its followed state ``g`` (bank index)."""
         b = self.bank
         before, after = PATH_REACH
         c = np.floor(g).astype(np.intp)
@@ -101,32 +162,36 @@ class Validity:
                       b.starts[:, None], (b.starts + b.lengths - 1)[:, None])
         p = b.means[idx]                                   # (K, m, d) states around g
         a, ab = p[:, :-1], np.diff(p, axis=1)
-        if self.invariance == "none":
-            z = (x - b.center) / b.scale
-        else:
-            r = (x - self._anchor)[None, :]
-            if self.invariance == "scale":
-                r = r / self._size[:, None]
-            z = r / b.scale + self._first_z
-        az = z[:, None, :] - a
-        t = np.einsum("kmd,kmd->km", az, ab) / np.maximum(np.einsum("kmd,kmd->km", ab, ab), 1e-12)
-        off = az - np.clip(t, 0.0, 1.0)[..., None] * ab
-        return np.einsum("kmd,kmd->km", off, off).min(axis=1) / (self.sigma ** 2 * self.dim)
+        t = np.einsum("kmd,kmd->km", z[:, None, :] - a, ab) / np.maximum(np.einsum("kmd,kmd->km", ab, ab), 1e-12)
+        near = a + np.clip(t, 0.0, 1.0)[..., None] * ab
+        off = z[:, None, :] - near
+        j = np.argmin(np.einsum("kmd,kmd->km", off, off), axis=1)
+        return near[np.arange(len(j)), j]
 
     def _judge_shape(self, x: np.ndarray, g: np.ndarray, new: np.ndarray) -> None:
         """After a sample: each template's path misfit (forgotten over ``shape_memory``
         samples, refused beyond ``shape_distance``, accepted again below ``shape_accept``) and
         whether its followed progress has covered ``coverage`` of its path since it engaged.
-        ``g``: followed states (bank index); ``new``: templates whose performance began anew."""
+        ``g``: followed states (bank index); ``new``: templates whose performance began anew.
+        The misfit of the remembered samples is read at the current size estimate (the
+        residual ``u / size - v`` is kept as sums of ``|u|^2``, ``u.v`` and ``|v|^2``), so a size
+        that converges late does not leave the early samples counted as strays."""
         if np.count_nonzero(new):
             self._forget_shape(new)
-        d2 = self._path_distance2(x, g)
-        m, w = self._misfit, self._misfit_w
-        m *= self._misfit_decay
-        m += d2
-        w *= self._misfit_decay
+        u, c = self._mapped(x)
+        size = self._size if self.invariance == "scale" else np.ones(len(self.names))
+        v = self._nearest_on_path(u / size[:, None] + c, g) - c
+        decay = self._misfit_decay
+        sums, w = self._misfit, self._misfit_w
+        sums *= decay
+        sums[:, 0] += np.einsum("kd,kd->k", u, u)
+        sums[:, 1] += np.einsum("kd,kd->k", u, v)
+        sums[:, 2] += np.einsum("kd,kd->k", v, v)
+        w *= decay
         w += 1.0
-        m2 = m / w
+        m2 = (sums[:, 0] / size ** 2 - 2.0 * sums[:, 1] / size + sums[:, 2]) / w
+        m2 *= 1.0 / (self.sigma ** 2 * self.dim)
+        self._misfit2 = m2
         self._misshaped |= m2 > self._shape2
         self._misshaped &= ~(m2 < self._shape_accept2)
         gi = np.floor(g).astype(np.intp)
