@@ -23,6 +23,16 @@ import numpy as np
 from behaviors.mop.forward import WindowedForward
 
 
+#: Common spread (the features' units: metres for a puck) at which the templates' shapes are
+#: compared: the input's jitter and the follower's own error together, a few millimetres.
+SHAPE_SPREAD = 0.005
+#: Lead in nats (at :data:`SHAPE_SPREAD`) by which an action must explain the gesture's shape
+#: better than every rival before it may drive.
+LEAD = 4.0
+#: Templates less probable than this (the evidence's probabilities) are no rivals.
+RIVAL_PROBABILITY = 0.005
+
+
 class GestureSpotting:
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: onsets and ends of gestures."""
 
@@ -56,6 +66,24 @@ class GestureSpotting:
         b = self.bank
         last = self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k] + self._anchor
         return bool(np.any(np.abs(x - last) > np.abs(self._end_x - last) + 3.0 * self._still_radius))
+
+    def _leads(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray, bi: int,
+               p: np.ndarray) -> bool:
+        """Accumulate, per template, the squared distance (in units) between the input and its
+        followed state ``gi`` + ``frac`` at its estimated size, both from where the gesture
+        began (reset with the evidence at each new gesture); True when template ``bi`` explains
+        the gesture's shape better than every rival (not refused, probability ``p`` at least
+        :data:`RIVAL_PROBABILITY`) by :data:`LEAD` nats at the common :data:`SHAPE_SPREAD`.
+        Unlike the evidence, this compares every template at one spread: a narrow template (a
+        line) does not win over a broad one (a square) whose path it shares."""
+        q = self._rel[gi] + frac[:, None] * (self._rel[gi + 1] - self._rel[gi])
+        d = ((x - self._anchor) / self._units)[None, :] - self._size[:, None] * q
+        self._shape += np.einsum("kd,kd->k", d, d)
+        rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
+        rivals[bi] = False
+        if not rivals.any():
+            return True
+        return bool(self._shape[rivals].min() - self._shape[bi] >= LEAD * 2.0 * SHAPE_SPREAD ** 2)
 
     def _still(self, x: np.ndarray) -> bool:
         """The input stayed within the still radius for ``still_samples`` samples."""
