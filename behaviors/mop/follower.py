@@ -21,7 +21,8 @@ installation builds it for a puck, unless said otherwise.
   diagonal line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused,
   its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
   :mod:`behaviors.mop.validity`), its spread at most ``max_spread`` (in states), its end not
-  yet reached, for ``confirm`` samples in a row.
+  yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
+  other likely template in shape since the gesture began (:mod:`behaviors.mop.spotting`).
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -192,6 +193,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._best = 0
         self._run = 0
         self._lost = 0
+        self._shape = np.zeros(len(self.names))
+        self._acquired = -1
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()
@@ -318,8 +321,13 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                   and spread2 <= self.max_spread ** 2
                   and p_list[bi] >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
+        if self.invariance != "none":
+            # a new action drives only once its shape clearly leads (spotting.LEAD)
+            leads = self._leads(x, gi, g - gi, bi, p)
+            ok = ok and (self._acquired == bi or leads)
         self._run = self._run + 1 if ok else 0
         valid = self._run >= self.confirm
+        self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names
         still = self._still(x)

@@ -8,6 +8,7 @@ import numpy as np
 
 from behaviors.mop import members
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
+from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
@@ -139,6 +140,14 @@ class FollowerGroup:
         self._shape2 = per(lambda f: f._shape2)
         self._shape_accept2 = per(lambda f: f._shape_accept2)
         self._path_scale = per(lambda f: f.sigma ** 2 * f.dim)
+        self._k_c = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim))) if f.invariance == "scale"
+                                    else np.zeros((len(f.names), dmax)) for f in fs])
+        self._k_ufirst = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim)))
+                                         if f.invariance == "offset" else np.zeros((len(f.names), dmax))
+                                         for f in fs])
+        self._k_spots = per(lambda f: float(f.invariance != "none"))
+        self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
+        self._acquired = np.full(m, -1, dtype=np.intp)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._index = np.arange(len(self._owner))
         self._spans = [(s.start, s.stop) for s in self._slices]
@@ -157,7 +166,7 @@ class FollowerGroup:
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end")
+                   "_end_x", "_has_end", "_acquired")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -167,6 +176,8 @@ class FollowerGroup:
             a[rows] = 0
         self._ended[rows] = -1
         self._has_end[rows] = False
+        self._acquired[rows] = -1
+        self._shape[np.isin(self._owner, np.arange(len(self.followers))[rows])] = 0.0
 
     def reset(self) -> None:
         """Forget every performance."""
@@ -208,7 +219,7 @@ class FollowerGroup:
         saved = None
         if lost:
             saved = fw.snapshot(np.flatnonzero(np.isin(self._owner, lost)))
-            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE] + \
+            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE + ("_shape",)] + \
                    [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
         step_ll = fw.step(self._z)
         if saved is not None:
@@ -216,7 +227,7 @@ class FollowerGroup:
         out = self._finish(step_ll, present)
         if lost:
             for n, a in kept:
-                getattr(self, n)[self._owner_of(lost) if n in self._PER_TEMPLATE else lost] = a
+                getattr(self, n)[lost if n in self._PER_MEMBER else self._owner_of(lost)] = a
             for i in lost:
                 out[i] = self.followers[i]._held()
         return out
@@ -307,11 +318,11 @@ class FollowerGroup:
         p = np.exp(ev - np.repeat(top, counts))
         p /= np.repeat(np.add.reduceat(p, bounds), counts)
         return self._conclude(members.segment_argmax(ev, top, bounds, counts, self._index), p,
-                              progress, g, gs, mean_ll, new, step_ll, present)
+                              progress, g, gs, frac, mean_ll, new, step_ll, present)
 
     def _conclude(self, top: np.ndarray, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
-                  gs: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
-                  present: np.ndarray) -> list[FollowState]:
+                  gs: np.ndarray, frac: np.ndarray, mean_ll: np.ndarray, new: np.ndarray,
+                  step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once; ``top`` (M,): each
         member's template of most evidence (group index)."""
         ev, refused, engaged, bounds = self._evidence, self._refused, self._engaged, self._bounds
@@ -332,8 +343,11 @@ class FollowerGroup:
         ok = (engaged[gb] & ~refused[gb] & self._covered[gb] & ~self._misshaped[gb]
               & (spread2 <= self._m_spread2) & (p[gb] >= self._m_min_p)
               & ~(self._has_end & members.moved_on(X, self._end_x, last, self._m_radius)))
+        # a new action drives only once its shape clearly leads (spotting)
+        ok &= ~self._m_spots | (self._acquired == bi) | self._lead(gs, frac, gb, p)
         self._run = run = np.where(ok, self._run + 1, 0)
         valid = run >= self._m_confirm
+        self._acquired = np.where(valid, bi, -1)
         loglik = mean_ll[gb]
         distance = np.sqrt(np.maximum(0.0, -2.0 * (loglik - self._m_lc) / self._m_zdim))
         members.push(self._buf, self._nbuf, X, present, self._m_keep)
@@ -408,8 +422,9 @@ class FollowerGroup:
         cols = np.flatnonzero(np.isin(self._owner, rows))
         self.forward.reset_templates(cols)
         for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den",
-                  "_misfit", "_misfit_w", "_misshaped", "_covered"):
+                  "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape"):
             getattr(self, n)[cols] = 0
+        self._acquired[rows] = -1
         self._size[cols] = 1.0
         for a in (self._best, self._run, self._lost):
             a[rows] = 0
@@ -418,24 +433,48 @@ class FollowerGroup:
 
     def _judge_shape(self, g: np.ndarray, new: np.ndarray) -> None:
         """:meth:`Validity._judge_shape` for every member at once: each template's path misfit
-        (with hysteresis) and coverage; ``g``: followed states (each member's bank index)."""
+        (kept as sums read at the current size, with hysteresis) and coverage; ``g``: followed
+        states (each member's bank index)."""
         if np.count_nonzero(new):
             for n in ("_misfit", "_misfit_w", "_misshaped", "_covered"):
                 getattr(self, n)[new] = 0
-        off = self._state_off
-        z = self._mapped()
+        own, off = self._owner, self._state_off
+        u = self._x.take(own, axis=0)
+        u -= np.where(self._k_none[:, None], self._k_center, self._anchor.take(own, axis=0))
+        u /= self._scale
+        u += self._k_ufirst
+        size = np.where(self._scaled > 0, self._size, 1.0)
         gi = np.floor(g).astype(np.intp)
         ends = self._starts_local + self._lengths - 1
-        d2 = members.path_distance2(z, self._pmeans, gi, self._starts_local, ends, off) / self._path_scale
-        m, w = self._misfit, self._misfit_w
-        m *= self._misfit_decay
-        m += d2
+        c = self._k_c
+        v = members.nearest_on_path(u / size[:, None] + c, self._pmeans, gi, self._starts_local, ends, off)
+        v -= c
+        sums, w = self._misfit, self._misfit_w
+        sums *= self._misfit_decay[:, None]
+        sums[:, 0] += np.einsum("kd,kd->k", u, u)
+        sums[:, 1] += np.einsum("kd,kd->k", u, v)
+        sums[:, 2] += np.einsum("kd,kd->k", v, v)
         w *= self._misfit_decay
         w += 1.0
-        m2 = m / w
+        m2 = (sums[:, 0] / size ** 2 - 2.0 * sums[:, 1] / size + sums[:, 2]) / w
+        m2 *= 1.0 / self._path_scale
         self._misshaped |= m2 > self._shape2
         self._misshaped &= ~(m2 < self._shape_accept2)
         nxt = np.minimum(gi + 1, ends) + off
         at = gi + off
         covered = self._arc[at] + (g - gi) * (self._arc[nxt] - self._arc[at])
         self._covered |= (covered >= self._arc_need) & self._engaged
+
+    def _lead(self, gs: np.ndarray, frac: np.ndarray, gb: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """:meth:`GestureSpotting._leads` for every member at once (members with invariance
+        "none" neither sum nor need a lead): each template's squared distance in units between
+        the input and its followed state at its size, from the anchor, summed since the gesture
+        began; per member, whether ``gb`` leads every likely rival by :data:`LEAD` nats."""
+        own = self._owner
+        q = self._rel.take(gs, axis=0)
+        q += frac[:, None] * self._drel.take(gs, axis=0)
+        d = ((self._x - self._anchor) / self._m_units).take(own, axis=0)
+        d -= self._size[:, None] * q
+        self._shape += np.einsum("kd,kd->k", d, d) * self._k_spots
+        rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
+        return members.leads(self._shape, rivals, gb, self._bounds, LEAD * 2.0 * SHAPE_SPREAD ** 2)

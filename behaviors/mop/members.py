@@ -104,18 +104,18 @@ def spot(has_end: np.ndarray, still_: np.ndarray, step_d2: np.ndarray, null2: np
     return after_end, resting, abandon, waiting
 
 
-@numba.njit(numba.float64[::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1],
-                               numba.intp[::1], numba.intp[::1], numba.intp[::1]), cache=True, nogil=True)
-def path_distance2(z: np.ndarray, means: np.ndarray, gi: np.ndarray, starts: np.ndarray,
-                   ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
-    """:meth:`Validity._path_distance2` before its division: per template, the least squared
-    distance of its sample ``z`` (K, D) from the segments joining its states within
-    :data:`~behaviors.mop.validity.PATH_REACH` of ``gi`` (its bank's index; ``starts``/``ends``
-    its first and last state there, ``offset`` where its bank begins in ``means``). Compiled:
-    as array operations over (K, 8, D) it cost as much as the forward step."""
+@numba.njit(numba.float64[:, ::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1],
+                                  numba.intp[::1], numba.intp[::1], numba.intp[::1]), cache=True, nogil=True)
+def nearest_on_path(z: np.ndarray, means: np.ndarray, gi: np.ndarray, starts: np.ndarray,
+                    ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    """:meth:`Validity._nearest_on_path` for every template of a group: the point (K, D) of each
+    template's path nearest to its sample ``z`` (K, D) among the segments joining its states
+    within :data:`~behaviors.mop.validity.PATH_REACH` of ``gi`` (its bank's index; ``starts``,
+    ``ends``: its first and last state there, ``offset``: where its bank begins in ``means``).
+    Compiled: as array operations over (K, 8, D) it cost as much as the forward step."""
     before, after = PATH_REACH
     k, d = z.shape
-    out = np.empty(k)
+    out = np.empty((k, d))
     for j in range(k):
         best = np.inf
         prev = min(max(gi[j] - before, starts[j]), ends[j]) + offset[j]
@@ -130,9 +130,21 @@ def path_distance2(z: np.ndarray, means: np.ndarray, gi: np.ndarray, starts: np.
             t = min(max(za / max(aa, 1e-12), 0.0), 1.0)
             dd = 0.0
             for i in range(d):
-                e = (z[j, i] - means[prev, i]) - t * (means[cur, i] - means[prev, i])
+                e = z[j, i] - (means[prev, i] + t * (means[cur, i] - means[prev, i]))
                 dd += e * e
-            best = min(best, dd)
+            if dd < best:
+                best = dd
+                for i in range(d):
+                    out[j, i] = means[prev, i] + t * (means[cur, i] - means[prev, i])
             prev = cur
-        out[j] = best
     return out
+
+
+def leads(shape: np.ndarray, rivals: np.ndarray, gb: np.ndarray, bounds: np.ndarray,
+          margin: float) -> np.ndarray:
+    """:meth:`GestureSpotting._leads`' verdict per member: its template ``gb`` (group index)
+    has a ``shape`` sum below every rival's (``rivals``, not itself) by ``margin``, or has none."""
+    others = np.where(rivals, shape, np.inf)
+    others[gb] = np.inf
+    best_rival = np.minimum.reduceat(others, bounds)
+    return np.isinf(best_rival) | (best_rival - shape[gb] >= margin)

@@ -127,3 +127,21 @@ def test_gesture_end_rules_over_members_equal_the_followers_own():
             moved += want
             gone += f._departed(x, k, f.accept_distance)
     assert 100 < moved < 500 and 50 < gone < 550   # both sides of each limit were tried
+
+
+def test_a_group_of_many_puck_templates_equals_its_followers_alone():
+    # DESIGN's case in small: puck paths (metres), scale invariance, many rivals per member
+    rng = np.random.default_rng(3)
+    sets = [{f"p{c}t{i}": 0.1 * g.template(rng, n=60, d=2) for i in range(30)} for c in range(3)]
+    kw = dict(units=np.ones(2), invariance="scale")
+    alone = [ActionFollower(s, **kw) for s in sets]
+    group = FollowerGroup([ActionFollower(s, **kw) for s in sets])
+    streams = [np.concatenate([g.perform(rng, s[f"p{c}t{i}"], g.warped_phase(rng, 60))
+                               for i in rng.integers(0, 30, 4)]) for c, s in enumerate(sets)]
+    valid = 0
+    for i in range(min(len(s) for s in streams)):
+        xs = [s[i] for s in streams]
+        for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
+            _same(a, b)
+            valid += a.valid
+    assert valid > 100
