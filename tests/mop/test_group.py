@@ -38,6 +38,18 @@ def _same(a, b) -> None:
         assert list(x) == list(y) and all(_close(x[n], y[n]) for n in x), k
 
 
+def _step_both(alone, group, streams) -> int:
+    """Step the followers alone and the group on the same samples, checking every state the
+    same; returns how many states were valid."""
+    valid = 0
+    for i in range(min(len(s) for s in streams)):
+        xs = [s[i] for s in streams]
+        for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
+            _same(a, b)
+            valid += a.valid
+    return valid
+
+
 KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="offset", end=0.9),
          dict(invariance="scale", tangent=0.3), dict(invariance="scale", still_samples=3, confirm=1),
          dict(invariance="offset", lost_samples=3, switch_margin=0.5, min_probability=0.4)]
@@ -63,12 +75,7 @@ def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone():
         streams.append(s)
     alone = [Counting(s, **kw) for s, kw in zip(sets, KINDS)]
     group = FollowerGroup([ActionFollower(s, **kw) for s, kw in zip(sets, KINDS)])
-    valid = 0
-    for i in range(min(len(s) for s in streams)):
-        xs = [s[i] for s in streams]
-        for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
-            _same(a, b)
-            valid += a.valid
+    valid = _step_both(alone, group, streams)
     why = [w for f in alone for w in f.why]
     # the run went through every way an attempt starts afresh, and was followed in between
     assert {"waiting", "ended", "abandoned", "resting"} <= set(why), why
@@ -138,10 +145,5 @@ def test_a_group_of_many_puck_templates_equals_its_followers_alone():
     group = FollowerGroup([ActionFollower(s, **kw) for s in sets])
     streams = [np.concatenate([g.perform(rng, s[f"p{c}t{i}"], g.warped_phase(rng, 60))
                                for i in rng.integers(0, 30, 4)]) for c, s in enumerate(sets)]
-    valid = 0
-    for i in range(min(len(s) for s in streams)):
-        xs = [s[i] for s in streams]
-        for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
-            _same(a, b)
-            valid += a.valid
+    valid = _step_both(alone, group, streams)
     assert valid > 100
