@@ -149,7 +149,7 @@ def test_unrelated_motion_rarely_drives(gestures):
 def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures):
     # the line's outward stroke is the square's first side and the circle's start: the line
     # explains it best (it is narrower), but its shape does not lead until the paths part, so it
-    # does not drive meanwhile. Measured, seeds 0-5: the line drove 24 ticks during squares in all
+    # does not drive meanwhile. Measured, seeds 0-5: the line drove 15 ticks during squares in all
     # (before this rule: 76) and none during circles (before: 20); the line and the circle were
     # recognised by 32% and 31% of them, the square by 43% (after its corner).
     f = puck_follower(gestures)
