@@ -73,13 +73,14 @@ class GroupRules:
         gi = np.floor(g).astype(np.intp)
         ends = self._starts_local + self._lengths - 1
         c = self._k_c
-        v = members.nearest_on_path(u / size[:, None] + c, self._pmeans, gi, self._starts_local, ends, off)
+        v = members.nearest_on_path(u / size[:, None] + c, self._pmeans, self._seg, self._seg_inv, gi,
+                                    self._starts_local, ends, off)
         v -= c
         sums, w = self._misfit, self._misfit_w
         sums *= self._misfit_decay[:, None]
-        sums[:, 0] += np.einsum("kd,kd->k", u, u)
-        sums[:, 1] += np.einsum("kd,kd->k", u, v)
-        sums[:, 2] += np.einsum("kd,kd->k", v, v)
+        sums[:, 0] += (u * u).sum(axis=1)
+        sums[:, 1] += (u * v).sum(axis=1)
+        sums[:, 2] += (v * v).sum(axis=1)
         w *= self._misfit_decay
         w += 1.0
         m2 = (sums[:, 0] / size ** 2 - 2.0 * sums[:, 1] / size + sums[:, 2]) / w
@@ -99,8 +100,9 @@ class GroupRules:
         own = self._owner
         q = self._rel.take(gs, axis=0)
         q += frac[:, None] * self._drel.take(gs, axis=0)
-        d = ((self._x - self._anchor) / self._m_units).take(own, axis=0)
-        d -= self._size[:, None] * q
+        d = (self._x - self._anchor).take(own, axis=0)
+        d -= self._size[:, None] * q * self._m_units.take(own, axis=0)
+        d /= self._k_radius
         self._shape += np.einsum("kd,kd->k", d, d) * self._k_spots
         rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
         return members.leads(self._shape, rivals, gb, self._bounds, LEAD * 2.0 * SHAPE_SPREAD ** 2)

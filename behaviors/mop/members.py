@@ -104,39 +104,36 @@ def spot(has_end: np.ndarray, still_: np.ndarray, step_d2: np.ndarray, null2: np
     return after_end, resting, abandon, waiting
 
 
-@numba.njit(numba.float64[:, ::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1],
-                                  numba.intp[::1], numba.intp[::1], numba.intp[::1]), cache=True, nogil=True)
-def nearest_on_path(z: np.ndarray, means: np.ndarray, gi: np.ndarray, starts: np.ndarray,
-                    ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
+@numba.njit(numba.float64[:, ::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.float64[:, ::1],
+                                  numba.float64[::1], numba.intp[::1], numba.intp[::1], numba.intp[::1],
+                                  numba.intp[::1]), cache=True, nogil=True)
+def nearest_on_path(z: np.ndarray, means: np.ndarray, seg: np.ndarray, seg_inv: np.ndarray,
+                    gi: np.ndarray, starts: np.ndarray, ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
     """:meth:`Validity._nearest_on_path` for every template of a group: the point (K, D) of each
-    template's path nearest to its sample ``z`` (K, D) among the segments joining its states
+    template's path nearest to its sample ``z`` (K, D) among the segments starting at its states
     within :data:`~behaviors.mop.validity.PATH_REACH` of ``gi`` (its bank's index; ``starts``,
-    ``ends``: its first and last state there, ``offset``: where its bank begins in ``means``).
-    Compiled: as array operations over (K, 8, D) it cost as much as the forward step."""
+    ``ends``: its first and last state there, ``offset``: where its bank begins in ``means``);
+    ``seg``, ``seg_inv``: each state's segment to the next and 1 / its length^2. Compiled: as
+    array operations over (K, 7, D) it cost as much as the forward step."""
     before, after = PATH_REACH
     k, d = z.shape
     out = np.empty((k, d))
     for j in range(k):
         best = np.inf
-        prev = min(max(gi[j] - before, starts[j]), ends[j]) + offset[j]
-        for o in range(-before + 1, after + 2):
-            cur = min(max(gi[j] + o, starts[j]), ends[j]) + offset[j]
+        for o in range(-before, after + 1):
+            s = min(max(gi[j] + o, starts[j]), ends[j]) + offset[j]
             za = 0.0
-            aa = 0.0
             for i in range(d):
-                ab = means[cur, i] - means[prev, i]
-                za += (z[j, i] - means[prev, i]) * ab
-                aa += ab * ab
-            t = min(max(za / max(aa, 1e-12), 0.0), 1.0)
+                za += (z[j, i] - means[s, i]) * seg[s, i]
+            t = min(max(za * seg_inv[s], 0.0), 1.0)
             dd = 0.0
             for i in range(d):
-                e = z[j, i] - (means[prev, i] + t * (means[cur, i] - means[prev, i]))
+                e = (z[j, i] - means[s, i]) - t * seg[s, i]
                 dd += e * e
             if dd < best:
                 best = dd
                 for i in range(d):
-                    out[j, i] = means[prev, i] + t * (means[cur, i] - means[prev, i])
-            prev = cur
+                    out[j, i] = means[s, i] + t * seg[s, i]
     return out
 
 
