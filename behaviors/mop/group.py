@@ -132,9 +132,9 @@ class FollowerGroup(GroupRules):
                                         else np.zeros((len(f.names), dmax)) for f in fs])
         self._holds = np.concatenate([f.bank.holds for f in fs])
         # the path-shape rules (validity): states in raw template units, arcs, limits
-        self._pmeans = np.concatenate([np.pad(f.bank.means, ((0, 0), (0, dmax - f.dim))) for f in fs])
-        self._seg = np.concatenate([np.pad(f._seg, ((0, 0), (0, dmax - f.dim))) for f in fs])
-        self._seg_inv = np.concatenate([f._seg_inv for f in fs])
+        padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
+        self._path = np.ascontiguousarray(np.concatenate(
+            [np.hstack([padded(f.bank.means, f), padded(f._seg, f), f._seg_inv[:, None]]) for f in fs]))
         self._k_radius = np.concatenate([np.tile(pad(f._still_radius, 1.0), (len(f.names), 1)) for f in fs])
         self._arc = np.concatenate([f._arc for f in fs])
         self._arc_need = np.concatenate([f._arc_need for f in fs])

@@ -73,8 +73,7 @@ class GroupRules:
         gi = np.floor(g).astype(np.intp)
         ends = self._starts_local + self._lengths - 1
         c = self._k_c
-        v = members.nearest_on_path(u / size[:, None] + c, self._pmeans, self._seg, self._seg_inv, gi,
-                                    self._starts_local, ends, off)
+        v = members.nearest_on_path(u / size[:, None] + c, self._path, gi, self._starts_local, ends, off)
         v -= c
         sums, w = self._misfit, self._misfit_w
         sums *= self._misfit_decay[:, None]

@@ -104,17 +104,17 @@ def spot(has_end: np.ndarray, still_: np.ndarray, step_d2: np.ndarray, null2: np
     return after_end, resting, abandon, waiting
 
 
-@numba.njit(numba.float64[:, ::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.float64[:, ::1],
-                                  numba.float64[::1], numba.intp[::1], numba.intp[::1], numba.intp[::1],
-                                  numba.intp[::1]), cache=True, nogil=True)
-def nearest_on_path(z: np.ndarray, means: np.ndarray, seg: np.ndarray, seg_inv: np.ndarray,
-                    gi: np.ndarray, starts: np.ndarray, ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
+@numba.njit(numba.float64[:, ::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1],
+                                  numba.intp[::1], numba.intp[::1], numba.intp[::1]), cache=True, nogil=True)
+def nearest_on_path(z: np.ndarray, path: np.ndarray, gi: np.ndarray, starts: np.ndarray,
+                    ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
     """:meth:`Validity._nearest_on_path` for every template of a group: the point (K, D) of each
     template's path nearest to its sample ``z`` (K, D) among the segments starting at its states
     within :data:`~behaviors.mop.validity.PATH_REACH` of ``gi`` (its bank's index; ``starts``,
-    ``ends``: its first and last state there, ``offset``: where its bank begins in ``means``);
-    ``seg``, ``seg_inv``: each state's segment to the next and 1 / its length^2. Compiled: as
-    array operations over (K, 7, D) it cost as much as the forward step."""
+    ``ends``: its first and last state there, ``offset``: where its bank begins in ``path``).
+    ``path`` (states, 2D + 1): per state its mean, its segment to the next and 1 / that
+    segment's length^2, side by side (one row read per state). Compiled: as array operations
+    over (K, 7, D) it cost as much as the forward step."""
     before, after = PATH_REACH
     k, d = z.shape
     out = np.empty((k, d))
@@ -122,18 +122,19 @@ def nearest_on_path(z: np.ndarray, means: np.ndarray, seg: np.ndarray, seg_inv: 
         best = np.inf
         for o in range(-before, after + 1):
             s = min(max(gi[j] + o, starts[j]), ends[j]) + offset[j]
+            row = path[s]
             za = 0.0
             for i in range(d):
-                za += (z[j, i] - means[s, i]) * seg[s, i]
-            t = min(max(za * seg_inv[s], 0.0), 1.0)
+                za += (z[j, i] - row[i]) * row[d + i]
+            t = min(max(za * row[2 * d], 0.0), 1.0)
             dd = 0.0
             for i in range(d):
-                e = (z[j, i] - means[s, i]) - t * seg[s, i]
+                e = (z[j, i] - row[i]) - t * row[d + i]
                 dd += e * e
             if dd < best:
                 best = dd
                 for i in range(d):
-                    out[j, i] = means[s, i] + t * seg[s, i]
+                    out[j, i] = row[i] + t * row[d + i]
     return out
 
 
