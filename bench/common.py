@@ -17,7 +17,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 PACKAGES = ("numpy", "scipy", "opencv-contrib-python-headless", "pygame-ce", "PyWavelets",
-            "python-osc", "pyserial")
+            "python-osc", "pyserial", "numba")
 
 
 def machine() -> dict[str, Any]:

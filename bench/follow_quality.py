@@ -278,7 +278,7 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
               count: int = 8, length: int = 4, key: str = "sequence") -> dict[str, float]:
     f = factory(templates)
     names = list(templates)
-    delays, wrong_runs = [], []
+    delays, wrong_runs, ended_runs, other_runs = [], [], [], []
     for _ in range(count):
         order = list(rng.choice(names, size=length, replace=False))
         parts, truth, prog, at = [], [], [], np.zeros(2)
@@ -295,14 +295,23 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
         # resting where the last gesture ended, that gesture may still hold its last pose
         truth = [None] * lead + truth + [order[-1]] * lead
         prog = np.concatenate([np.full(lead, np.nan)] + prog + [np.full(lead, np.nan)])
+        runs = dict(ended=0, other=0, ended_worst=0, other_worst=0)
         states = run(f, x)
         run_len = 0
         worst = 0
+        previous = {b: a for a, b in zip(order, order[1:])}
         for s, g in zip(states, truth):
             wrong = s.valid and s.best != g
             run_len = run_len + 1 if wrong else 0
             worst = max(worst, run_len)
+            # the same run, apart: the gesture just ended still driving vs any other action
+            kind = "ended" if wrong and previous.get(g) == s.best else "other"
+            runs[kind] = runs[kind] + 1 if wrong else 0
+            runs[kind + "_worst"] = max(runs[kind + "_worst"], runs[kind])
+            runs["other" if kind == "ended" else "ended"] = 0
         wrong_runs.append(worst)
+        ended_runs.append(runs["ended_worst"])
+        other_runs.append(runs["other_worst"])
         for g in order:
             idx = [i for i, tg in enumerate(truth) if tg == g]
             hit = [prog[i] for i in idx
@@ -315,13 +324,19 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
             f"{key}_recognised_within_20pct_share": float(np.mean(d <= 0.2)),
             f"{key}_never_recognised_share": float(np.mean(d >= 1.0)),
             f"{key}_wrong_valid_longest_ticks_max": int(max(wrong_runs)),
-            f"{key}_wrong_valid_longest_ticks_median": float(np.median(wrong_runs))}
+            f"{key}_wrong_valid_longest_ticks_median": float(np.median(wrong_runs)),
+            # apart: the gesture just ended still driving into the next (its eased start is
+            # under a few millimetres for several ticks), and any other wrong action
+            f"{key}_wrong_valid_ended_longest_ticks_max": int(max(ended_runs)),
+            f"{key}_wrong_valid_other_longest_ticks_max": int(max(other_runs)),
+            f"{key}_wrong_valid_other_longest_ticks_median": float(np.median(other_runs))}
 
 
 def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator) -> dict[str, float]:
     out = {}
     names = list(templates)
     worst_all = 0.0
+    every: list[float] = []
     for k in (1, 6, 20):
         loaded = {n: templates[n] for n in names[:k]}
         f = factory(loaded)
@@ -338,7 +353,10 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
         if mirrored:
             out[f"unrelated_{k}_templates_mirrored_valid_share_max"] = float(max(mirrored))
         worst_all = max(worst_all, max(shares.values()))
+        every += shares.values()
     out["unrelated_valid_share_max"] = worst_all
+    # the mean over every motion and template count: how much of the refusal is won overall
+    out["unrelated_valid_share_mean"] = float(np.mean(every))
     return out
 
 

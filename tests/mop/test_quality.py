@@ -113,3 +113,56 @@ def test_the_likeliest_actions_are_known_before_any_is_valid(gestures):
     # while the puck waits before the gesture, nothing is suggested
     assert not any(s.likely for s in states[6:12])
 
+
+
+def _unrelated_shares(gestures, **kw):
+    """Valid share of the diagonal, spiral, wander and triangle (0.7, 1.0, 1.4x) with the circle
+    alone and with the six gestures loaded (seeded)."""
+    out = {}
+    for key, loaded in (("circle", {"circle": gestures["circle"]}), ("six", gestures)):
+        rng = np.random.default_rng(11)
+        f = puck_follower(loaded, **kw)
+        paths = unrelated_motions(rng, loaded)
+        for name in ("diagonal", "spiral", "wander", "triangle"):
+            shares = []
+            for scale in (0.7, 1.0, 1.4):
+                x, _ = performance(rng, paths[name], scale)
+                shares.append(np.mean([s.valid for s in run(f, x)]))
+            out[f"{key}:{name}"] = float(np.mean(shares))
+    return out
+
+
+def test_unrelated_motion_rarely_drives(gestures):
+    # a template drives once its followed progress covered 8% of its path and while the input
+    # keeps to its path; measured: mean valid share 0.26 with them, 0.46 without (the
+    # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
+    # they stay valid for those stretches)
+    now = _unrelated_shares(gestures)
+    before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)
+    assert np.mean(list(now.values())) <= 0.3, now
+    assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.15, (now, before)
+    # with the circle alone, an aimless wander and a spiral drive it at most a tenth of the time
+    # (measured 0.03 and 0; without the rules 0.42 and 0.05)
+    assert now["circle:wander"] <= 0.1 and now["circle:spiral"] <= 0.1, now
+
+
+def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures):
+    # the line's outward stroke is the square's first side and the circle's start: the line
+    # explains it best (it is narrower), but its shape does not lead until the paths part, so it
+    # does not drive meanwhile. Measured, seeds 0-5: the line drove 15 ticks during squares in all
+    # (before this rule: 76) and none during circles (before: 20); the line and the circle were
+    # recognised by 32% and 31% of them, the square by 43% (after its corner).
+    f = puck_follower(gestures)
+    wrong = {"square": 0, "circle": 0}
+    first = {"square": [], "circle": [], "line": []}
+    for seed in range(6):
+        rng = np.random.default_rng(seed)
+        for name in ("square", "line", "circle"):
+            x, prog = performance(rng, gestures[name], 1.0)
+            states = run(f, x)
+            if name != "line":
+                wrong[name] += sum(s.valid and s.best == "line" for s in states)
+            first[name].append(next((prog[i, 0] for i, s in enumerate(states)
+                                     if s.valid and s.best == name), 1.0))
+    assert wrong["square"] <= 30 and wrong["circle"] == 0, wrong
+    assert max(first["line"]) <= 0.35 and max(first["circle"]) <= 0.35 and max(first["square"]) <= 0.5, first

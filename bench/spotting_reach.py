@@ -1,0 +1,93 @@
+"""How early any follower could tell each example gesture from the others (an ideal observer).
+
+For each of the six example gestures (``examples/mop/gestures``) and each progress p (steps of
+1%): its path from its start up to p, noise-free, is compared with every open-ended start of
+every other gesture's path at any size 0.46-2.25x (the follower's size range 0.55-1.8 over the
+0.8-1.2x sizes ``bench/follow_quality.py`` draws) and any tempo (both paths resampled by arc
+length): the gesture can be told apart at p when every other path strays from it by more than
+``theta`` somewhere. Paths within ``theta`` of each other cannot be told apart under a few
+millimetres of tracking jitter and model error, whatever the follower. Printed: that earliest
+progress per gesture at theta 2 and 4 mm, and the share of the six that can be told apart
+before 20% of them (``follow_quality``'s back-to-back target: each gesture recognised within
+20%). Deterministic; not timed.
+
+    python bench/spotting_reach.py
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import numpy as np  # noqa: E402
+
+from bench.common import emit  # noqa: E402
+from bench.follow_quality import at_phase, gesture_templates  # noqa: E402
+
+POINTS = 24
+SIZES = np.geomspace(0.46, 2.25, 40)
+
+
+def by_arc(path: np.ndarray, m: int = POINTS) -> tuple[np.ndarray, float]:
+    """``m`` points evenly spaced along ``path`` (metres), and its length."""
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))])
+    if s[-1] < 1e-12:
+        return np.repeat(path[:1], m, 0), 0.0
+    u = np.linspace(0.0, s[-1], m)
+    return np.stack([np.interp(u, s, path[:, j]) for j in range(path.shape[1])], 1), float(s[-1])
+
+
+def closest_start(prefix: np.ndarray, other: np.ndarray) -> float:
+    """Smallest largest distance (metres) between ``prefix`` and a start of ``other`` (any
+    size in :data:`SIZES`, any length within half to twice the prefix's)."""
+    if np.max(np.linalg.norm(prefix - prefix[0], axis=1)) <= 1e-9:
+        return 0.0
+    ra, la = by_arc(prefix)
+    fine = at_phase(other, np.linspace(0, len(other) - 1, 600))
+    cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(fine, axis=0), axis=1))])
+    best = np.inf
+    for s in SIZES:
+        for target in la * np.geomspace(0.5, 2.0, 15) / s:
+            j = int(np.searchsorted(cum, target))
+            if j >= len(fine):
+                break
+            rb, _ = by_arc(s * fine[:max(1, j) + 1])
+            best = min(best, float(np.max(np.linalg.norm(ra - rb, axis=1))))
+    return best
+
+
+def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float:
+    """The earliest progress (0..1) at which gesture ``name`` strays from every other start by
+    more than ``theta`` metres (1 when never)."""
+    tpl = templates[name]
+    for p in np.arange(0.02, 1.0001, 0.01):
+        prefix = at_phase(tpl, np.linspace(0, p * (len(tpl) - 1), int(400 * p) + 2))
+        if np.max(np.linalg.norm(prefix - prefix[0], axis=1)) <= theta:
+            continue   # not yet away from its start by theta: the start of anything
+        if all(closest_start(prefix, b) > theta for other, b in templates.items() if other != name):
+            return round(float(p), 2)
+    return 1.0
+
+
+def main() -> None:
+    t0 = time.perf_counter()
+    templates = gesture_templates()
+    figures: dict[str, float] = {}
+    for theta in (0.002, 0.004):
+        mm = int(round(theta * 1000))
+        at = {name: earliest(name, templates, theta) for name in templates}
+        for name, p in at.items():
+            figures[f"{name}_told_apart_progress_theta_{mm}mm"] = p
+        figures[f"told_apart_before_20pct_share_theta_{mm}mm"] = float(np.mean([p < 0.2 for p in at.values()]))
+    figures["bench_seconds"] = time.perf_counter() - t0
+    for k, v in figures.items():
+        print(f"{k:50s} {v:.4g}")
+    emit("spotting_reach", figures, {})
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,149 @@
+"""FollowerGroup's batched per-member rules: equal to each follower stepped alone, through gesture
+ends, rests, abandoned attempts, lost samples and members of different settings."""
+
+import math
+
+from tests.mop import gestures as g
+import numpy as np
+import pytest
+
+from behaviors.mop import members
+from behaviors.mop.follower import ActionFollower, FollowerGroup
+
+
+class Counting(ActionFollower):
+    """A follower that records why each new attempt started (as its spotting decided)."""
+
+    def reset(self) -> None:
+        super().reset()
+        self.why = getattr(self, "why", [])
+
+    def _restart_here(self, x, forward, offset, still=False):
+        self.why.append("waiting" if still else "ended" if self._end_x is not None
+                        else "abandoned" if self._lost >= self.lost_samples else "resting")
+        super()._restart_here(x, forward, offset, still)
+
+
+def _close(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-12 * max(1.0, abs(a), abs(b))
+
+
+def _same(a, b) -> None:
+    assert (a.best, a.valid, a.restarted, a.holding) == (b.best, b.valid, b.restarted, b.holding)
+    assert [n for n, *_ in a.likely] == [n for n, *_ in b.likely]
+    for k in ("progress", "variance", "loglik", "distance"):
+        assert _close(getattr(a, k), getattr(b, k)), k
+    for k in ("probabilities", "progress_by", "loglik_by", "scale_by"):
+        x, y = getattr(a, k), getattr(b, k)
+        assert list(x) == list(y) and all(_close(x[n], y[n]) for n in x), k
+
+
+def _step_both(alone, group, streams) -> int:
+    """Step the followers alone and the group on the same samples, checking every state the
+    same; returns how many states were valid."""
+    valid = 0
+    for i in range(min(len(s) for s in streams)):
+        xs = [s[i] for s in streams]
+        for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
+            _same(a, b)
+            valid += a.valid
+    return valid
+
+
+KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="offset", end=0.9),
+         dict(invariance="scale", tangent=0.3), dict(invariance="scale", still_samples=3, confirm=1),
+         dict(invariance="offset", lost_samples=3, switch_margin=0.5, min_probability=0.4)]
+
+
+def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone():
+    rng = np.random.default_rng(36)
+    sets, streams = [], []
+    for c in range(len(KINDS)):
+        d = 2 + c % 3
+        sets.append({f"m{c}t{i}": g.template(rng, n=int(rng.integers(10, 90)), d=d)
+                     for i in range(int(rng.integers(1, 6)))})
+        parts = []
+        for j in range(4):   # back to back or stopped short of the end, a rest, an unrelated stretch
+            t = list(sets[-1].values())[int(rng.integers(len(sets[-1])))]
+            phase = g.warped_phase(rng, len(t))
+            phase = phase[phase <= (len(t) - 1) * (0.93 if j % 2 else 1.0)]
+            parts.append(rng.uniform(0.7, 1.4) * g.perform(rng, t, phase))
+            parts.append(np.repeat(parts[-1][-1:], int(rng.integers(0, 14)), axis=0))
+            parts.append(g.template(rng, n=int(rng.integers(10, 40)), d=d))
+        s = np.concatenate(parts)
+        s[rng.random(len(s)) < 0.04] = np.nan   # lost samples
+        streams.append(s)
+    alone = [Counting(s, **kw) for s, kw in zip(sets, KINDS)]
+    group = FollowerGroup([ActionFollower(s, **kw) for s, kw in zip(sets, KINDS)])
+    valid = _step_both(alone, group, streams)
+    why = [w for f in alone for w in f.why]
+    # the run went through every way an attempt starts afresh, and was followed in between
+    assert {"waiting", "ended", "abandoned", "resting"} <= set(why), why
+    assert valid > 150
+
+
+def test_the_member_rules_equal_the_followers_own_operations():
+    rng = np.random.default_rng(8)
+    counts = np.array([1, 4, 7, 3])
+    bounds = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    index = np.arange(counts.sum())
+    p = rng.choice([0.0, 0.1, 0.25, 0.5], size=counts.sum())   # many ties
+    top = np.maximum.reduceat(p, bounds)
+    three = members.top_three(p, bounds, counts, index)
+    for m, (a, n) in enumerate(zip(bounds, counts)):
+        assert members.segment_argmax(p, top, bounds, counts, index)[m] == a + np.argmax(p[a:a + n])
+        want = a + np.argsort(-p[a:a + n], kind="stable")[:3]
+        assert three[m, :len(want)].tolist() == want.tolist() and (three[m, len(want):] == -1).all()
+    buf = rng.normal(size=(3, 5, 2))
+    count = np.array([5, 2, 0])
+    x = rng.normal(size=(3, 2))
+    got = members.recent_mean(buf, count, 3, x)
+    for m in range(3):
+        rows = list(buf[m, 5 - min(count[m], 3):])
+        assert np.array_equal(got[m], np.mean(rows + [x[m]], axis=0))
+    # stillness: the last samples within twice the radius per column, after enough samples
+    f = ActionFollower({"a": g.template(rng, n=30, d=2)}, still_samples=4)
+    r = f._still_radius
+    buf, count = np.zeros((1, 6, 2)), np.zeros(1, dtype=np.intp)
+    for k, step in enumerate([0.0, 0.5, 0.9, -0.9, 0.2, 2.5, 0.0, 0.0, 0.0, 0.0]):
+        x = (np.array([1.0, -2.0]) + step * r)[None, :]
+        members.push(buf, count, x, np.array([True]), np.array([4]))
+        assert members.still(buf, count, np.array([4]), r[None, :])[0] == f._still(x[0]), k
+
+
+def test_gesture_end_rules_over_members_equal_the_followers_own():
+    # where an ended gesture's input moved on or departed: inputs scattered around both limits
+    rng = np.random.default_rng(12)
+    f = ActionFollower({"a": g.template(rng, n=40, d=2), "b": g.template(rng, n=25, d=2)},
+                       invariance="scale")
+    group = FollowerGroup([f])
+    f._anchor, f._size[:] = rng.normal(size=2), [1.3, 0.8]
+    moved = gone = 0
+    for k in range(2):
+        f._end_x = f._rel[f.bank.starts[k] + f.bank.lengths[k] - 1] * f._units * f._size[k] + f._anchor \
+            + rng.normal(size=2) * f._still_radius
+        last = group._rel[group._last_state[k]] * group._m_units[0] * f._size[k] + f._anchor
+        spread = group._scale[k] * f._size[k]
+        for _ in range(300):
+            x = f._end_x + rng.normal(size=2) * rng.choice([1.0, 3.0, 10.0]) * f._still_radius
+            want = f._moved_on(x, k)
+            assert members.moved_on(x[None], f._end_x[None], last[None], f._still_radius[None])[0] == want
+            d = math.sqrt(np.mean(((x - f._end_x) / spread) ** 2)) / f.sigma * rng.uniform(0.8, 1.25)
+            assert members.departed(x[None], f._end_x[None], spread[None], np.array([2.0]),
+                                    np.array([(d * f.sigma) ** 2]))[0] == f._departed(x, k, d)
+            moved += want
+            gone += f._departed(x, k, f.accept_distance)
+    assert 100 < moved < 500 and 50 < gone < 550   # both sides of each limit were tried
+
+
+def test_a_group_of_many_puck_templates_equals_its_followers_alone():
+    # DESIGN's case in small: puck paths (metres), scale invariance, many rivals per member
+    rng = np.random.default_rng(3)
+    sets = [{f"p{c}t{i}": 0.1 * g.template(rng, n=60, d=2) for i in range(30)} for c in range(3)]
+    kw = dict(units=np.ones(2), invariance="scale")
+    alone = [ActionFollower(s, **kw) for s in sets]
+    group = FollowerGroup([ActionFollower(s, **kw) for s in sets])
+    streams = [np.concatenate([g.perform(rng, s[f"p{c}t{i}"], g.warped_phase(rng, 60))
+                               for i in rng.integers(0, 30, 4)]) for c, s in enumerate(sets)]
+    valid = _step_both(alone, group, streams)
+    assert valid > 100
