@@ -4,7 +4,7 @@ PYTHON ?= python3
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: run test bench clean screenshots
+.PHONY: run test bench clean screenshots kernels
 
 # The environment is made without pip (ensurepip's copy is old, slow to install and slow to
 # resolve with); the interpreter's pip puts the current pip into it (`pip --python`, pip 22.3 or
@@ -19,13 +19,18 @@ $(STAMP): pyproject.toml
 	$(PY) -m compileall -q -j0 -x '/tests?/' $(VENV)/lib >/dev/null
 	touch $(STAMP)
 
-run: $(STAMP)
+# MOP's compiled kernels (numba) are built once here, into the cache beside their sources, so
+# neither the installation's first start nor each test worker compiles them.
+kernels: $(STAMP)
+	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members"
+
+run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)
 
 # The suite runs in two worker processes (pytest-xdist), one per core of the target machine; a
 # worker that runs out of tests takes half of the other's queue. The project's byte-code is
 # compiled first: the many `tabletop` subprocesses of the tests then load it, not the sources.
-test: $(STAMP)
+test: $(STAMP) kernels
 	$(PY) -m compileall -q -j0 tabletop behaviors tracking calibration >/dev/null
 	$(PY) -m pytest -n 2 --dist worksteal
 
