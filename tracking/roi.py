@@ -6,7 +6,8 @@ boxes, packs the crops side by side into one small mosaic image and runs the det
 the mosaic (one call instead of one per crop). The full-frame pass runs every ``full_period``
 frames (so a marker appearing anywhere is found within ``full_period`` frames) with fast settings
 (a single adaptive-threshold window, contours shorter than half the smallest known marker's
-perimeter skipped, optionally OpenCV's ArUco3 mode). Both passes refine the
+perimeter skipped, optionally OpenCV's ArUco3 mode; on the image halved while the known markers
+are large enough, see ``HALVED_FULL_MIN_SIDE_PX``). Both passes refine the
 found corners with ``cv2.cornerSubPix`` on the original image.
 
 Between full-frame passes a marker seen in the previous frame is first tracked without detection:
@@ -19,9 +20,10 @@ too far, covered, replaced, blurred) go to the region-of-interest pass. Units: i
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Mapping
 
+import cv2
 import numpy as np
 
 from tracking.markers import (DetectorSettings, detect_markers, detector_parameters,
@@ -33,6 +35,14 @@ Box = tuple[int, int, int, int]  # x0, y0, x1, y1 (exclusive), pixels
 # ArUco3's single-threshold search loses the small markers of low-resolution images (every
 # marker of a 480x270 frame was missed); below this larger side the full pass runs without it.
 ARUCO3_MIN_IMAGE_PX = 1000
+
+# While every known marker's side is at least this many pixels, the full-frame pass searches
+# the image halved (area average) and refines the found corners on the original: at 1280x720
+# with 16 pucks (sides 39-45 px) the halved search finds the same markers (15.75 of 16 fully
+# visible per frame, as at full size) in 2.6 ms instead of 4.1 ms, refined corners within
+# 0.002 px median of the full-size search's; a third of the size lost a quarter of the markers.
+# Every puck carries the same printed size, so a new one is as large as the known ones.
+HALVED_FULL_MIN_SIDE_PX = 32.0
 
 FAST_FULL = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10))
 ROI = DetectorSettings(corner_refinement="none", threshold_window_px=(13, 13, 10),
@@ -151,6 +161,15 @@ class MarkerTracker:
         self._full_params = detector_parameters(full)
         self._full_base_rate = self._full_rate = float(full.min_perimeter_rate)
         self._aruco3 = bool(full.aruco3)
+        # The halved image's search: the threshold window halved too (its cells are half as
+        # wide), no ArUco3 (the halved image is small; see ARUCO3_MIN_IMAGE_PX).
+        lo, hi, step = full.threshold_window_px
+        self._half_params = detector_parameters(replace(
+            full, aruco3=False,
+            threshold_window_px=(max(3, lo // 2 | 1), max(3, hi // 2 | 1), max(1, step // 2))))
+        self.half_detector = cv2.aruco.ArucoDetector(dictionary_by_name(full.dictionary),
+                                                     self._half_params)
+        self._half_rate = -1.0
         self.roi_detector = make_detector(roi)
         self._roi_params = detector_parameters(roi)
         self._roi_rate = -1.0
@@ -189,7 +208,6 @@ class MarkerTracker:
                ) -> tuple[np.ndarray, np.ndarray]:
         """Detect markers in this frame of the stream: ids (N,), corners (N, 4, 2) pixels."""
         if grey.ndim == 3:
-            import cv2
             grey = cv2.cvtColor(grey, cv2.COLOR_BGR2GRAY)
         if self._pending is not None:   # a put-off search nobody ran: run it now
             self.search_pending()
@@ -205,8 +223,7 @@ class MarkerTracker:
         if full and self.defer_full and preds:
             self._pending, full = (grey, self.frame), False
         if full:
-            self._set_full_min_perimeter(grey.shape)
-            ids, corners = detect_markers(grey, self.full_detector)
+            ids, corners = self._search_full(grey)
             self.last_pass = "full"
             corners = refine_corners(grey, corners, self.refine_window_px)
         else:
@@ -244,8 +261,7 @@ class MarkerTracker:
         self._pending = None
         if frame != self.frame:
             return none
-        self._set_full_min_perimeter(grey.shape)
-        ids, corners = detect_markers(grey, self.full_detector)
+        ids, corners = self._search_full(grey)
         new = [i for i, m in enumerate(ids.tolist())
                if m not in self.known or self.known[m].frame != frame]
         if not new:
@@ -341,6 +357,26 @@ class MarkerTracker:
             self._roi_params.minMarkerPerimeterRate = rate
             self.roi_detector.setDetectorParameters(self._roi_params)
             self._roi_rate = rate
+
+    def _search_full(self, grey: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The full-frame search before corner refinement: ids (N,), corners (N, 4, 2) pixels of
+        ``grey``. On the image halved while every known marker is at least
+        ``HALVED_FULL_MIN_SIDE_PX`` on a side, else on ``grey`` itself."""
+        sides = [k.side for k in self.known.values()]
+        if not sides or min(sides) < HALVED_FULL_MIN_SIDE_PX:
+            self._set_full_min_perimeter(grey.shape)
+            return detect_markers(grey, self.full_detector)
+        h, w = grey.shape[:2]
+        small = cv2.resize(grey, (w // 2, h // 2), interpolation=cv2.INTER_AREA)
+        # Half the smallest known perimeter, in the halved image: the same rate as at full size.
+        rate = max(self._full_base_rate, 2.0 * min(sides) / max(h, w))
+        if abs(rate - self._half_rate) > 0.1 * rate:
+            self._half_params.minMarkerPerimeterRate = rate
+            self.half_detector.setDetectorParameters(self._half_params)
+            self._half_rate = rate
+        ids, corners = detect_markers(small, self.half_detector)
+        # Pixel centres: small pixel i covers full pixels 2i and 2i + 1.
+        return ids, (corners + 0.5) * 2.0 - 0.5
 
     def _set_full_min_perimeter(self, shape: tuple[int, ...]) -> None:
         """While markers are known, the full pass ignores contours shorter than half the

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from tracking.markers import DetectorSettings, detect_markers, make_detector, marker_centres
-from tracking.roi import MarkerTracker, boxes_around, merge_boxes, pack_boxes
+from tracking.roi import (HALVED_FULL_MIN_SIDE_PX, MarkerTracker, boxes_around, merge_boxes,
+                          pack_boxes)
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
 from tests.tracking.scenes import grid_poses, moving_scene
 
@@ -196,3 +197,27 @@ def test_a_put_off_full_pass_returns_a_newcomer_on_the_frame_it_was_due():
             if k > 0:
                 assert 30 not in late.tolist() or at["deferred"] == k  # returned once
         assert at["deferred"] == at["direct"] <= start + 2 + 2
+
+
+@pytest.mark.parametrize("resolution", [(1280, 720), (1920, 1080)])
+def test_the_halved_full_pass_finds_a_newcomer_with_corners_as_exact(resolution):
+    """While the known markers are large (``HALVED_FULL_MIN_SIDE_PX``), the full-frame pass
+    searches the halved image: a marker put down is still found on the next full pass, and its
+    corners, refined on the original image, are as close to the truth as a full-size search's."""
+    cam = SyntheticCamera(CameraSettings(resolution=resolution, seed=4))
+    base = grid_poses(4, seed=3)
+    newcomer = (30, 0.55, 0.45, 0.7)
+    mt = MarkerTracker(full_period=2)
+    ids, corners = mt.detect(cam.render(base, 0.0).image)
+    assert len(ids) == 4
+    assert min(k.side for k in mt.known.values()) >= HALVED_FULL_MIN_SIDE_PX
+    mt.detect(cam.render(base, 1 / 30).image)
+    f = cam.render(base + [newcomer], 2 / 30)
+    ids, corners = mt.detect(f.image)           # a full pass, on the halved image
+    assert mt.last_pass == "full" and set(ids.tolist()) == {0, 1, 2, 3, 30}
+    fresh = MarkerTracker()                      # nothing known: a full-size search
+    ids_full, corners_full = fresh.detect(f.image)
+    truth = dict(zip(f.ids.tolist(), f.corners))
+    err = [np.abs(c - truth[m]).max() for m, c in zip(ids.tolist(), corners)]
+    err_full = [np.abs(c - truth[m]).max() for m, c in zip(ids_full.tolist(), corners_full)]
+    assert max(err) <= max(err_full) + 0.05 and max(err) < 1.0
