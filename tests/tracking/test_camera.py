@@ -25,6 +25,14 @@ def frame(k: int) -> np.ndarray:
     return img
 
 
+def write_frames(folder: Path, n: int) -> Path:
+    """``n`` numbered frames as PNG files in ``folder`` (made here), in name order."""
+    folder.mkdir()
+    for k in range(n):
+        cv2.imwrite(str(folder / f"{k:02d}.png"), frame(k))
+    return folder
+
+
 def write_video(path: Path, n: int = 12) -> None:
     writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 100.0, (W, H))
     assert writer.isOpened()
@@ -137,10 +145,7 @@ def test_a_failing_frame_does_not_stop_the_camera(tmp_path):
 
 
 def test_paced_at_the_configured_rate(tmp_path):
-    folder = tmp_path / "f"
-    folder.mkdir()
-    for k in range(30):
-        cv2.imwrite(str(folder / f"{k:02d}.png"), frame(k))
+    folder = write_frames(tmp_path / "f", 30)
     seen: list = []
     src = CameraSource("cam", CameraSettings(device=str(folder), fps=50.0), counting_process(seen))
     src.open()
@@ -185,10 +190,7 @@ def test_phase_lock_times_frames_to_finish_just_before_a_tick():
 def test_a_new_observation_is_announced_with_its_capture_time(tmp_path):
     """``notify`` is called from the capture thread once the observation is published: the
     loop then finds it in ``latest()``."""
-    folder = tmp_path / "f"
-    folder.mkdir()
-    for k in range(6):
-        cv2.imwrite(str(folder / f"{k:02d}.png"), frame(k))
+    folder = write_frames(tmp_path / "f", 6)
     src = CameraSource("cam", CameraSettings(device=str(folder), fps=50.0), counting_process([]))
     got = []
     src.notify = lambda t: got.append((t, src.latest()))
@@ -205,10 +207,7 @@ def test_what_the_put_off_work_adds_is_published_and_announced_again(tmp_path):
     """``process.after_publish`` runs once the frame is out; an observation it returns for the
     same frame (a put-off search's new pucks) replaces it in ``latest()`` and is announced
     again with the frame's capture time; None leaves the frame as it was."""
-    folder = tmp_path / "f"
-    folder.mkdir()
-    for k in range(6):
-        cv2.imwrite(str(folder / f"{k:02d}.png"), frame(k))
+    folder = write_frames(tmp_path / "f", 6)
     plain = counting_process([])
 
     def process(image, t, n):
