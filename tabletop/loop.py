@@ -27,12 +27,11 @@ import numpy as np
 
 from tabletop.frames import (CharacterState, Engine, Frame, Observation, Puck, Sink, Source,
                              SourceHealth)
+from tabletop.loop_stats import LoopStats
 from tabletop.realtime import realtime_threads
 from tabletop.replay_inputs import FrameInputs  # noqa: F401  (replays; kept importable here)
 
 log = logging.getLogger("tabletop")
-
-STAGES = ("capture_age", "inputs", "engines", "sinks", "tick")
 
 
 class Tracker(Protocol):
@@ -52,66 +51,6 @@ class LatestMeasurements:
             for m in obs.pucks:
                 pucks[m.id] = Puck(m.id, m.x, m.y, m.angle, raw_x=m.x, raw_y=m.y, raw_angle=m.angle)
         return tuple(pucks[k] for k in sorted(pucks))
-
-
-class LoopStats:
-    """Per-stage durations of the last ``window`` ticks, in seconds, and the tick rate.
-
-    Stages: ``inputs`` (sources and tracker), ``engines`` and ``sinks`` (all of them, and each
-    as ``engine:NAME`` / ``sink:NAME``, the view's being its render time), ``tick`` (the whole
-    tick) and ``capture_age``, the capture-to-render latency: from the frame's input capture time
-    to its presentation, i.e. the end of the first sink with a true ``presents`` attribute (the
-    view; what later sinks and hooks do, such as recording, comes after the visitor saw it), or
-    the end of the tick when no sink presents. For sources that announce new observations (cameras) also
-    ``source`` (capture to observation ready) and ``queued`` (ready to the tick that took it):
-    ``capture_age`` = ``source`` + ``queued`` + the tick up to the view for those frames. Read by the view's
-    overlay and by the benchmarks.
-    """
-
-    def __init__(self, window: int = 600) -> None:
-        self.window = window
-        self.samples: dict[str, collections.deque[float]] = {
-            s: collections.deque(maxlen=window) for s in STAGES}
-        self.tick_times: collections.deque[float] = collections.deque(maxlen=window)
-        self.ticks = 0
-        self.skipped = 0
-        self.first_t: float | None = None  # the first frame's time, seconds
-        self.errors: collections.Counter[str] = collections.Counter()
-
-    def record(self, stage: str, seconds: float) -> None:
-        self.samples.setdefault(stage, collections.deque(maxlen=self.window)).append(seconds)
-
-    def fps(self) -> float:
-        """Ticks per second over the kept window."""
-        if len(self.tick_times) < 2:
-            return 0.0
-        span = self.tick_times[-1] - self.tick_times[0]
-        return (len(self.tick_times) - 1) / span if span > 0 else 0.0
-
-    def summary_ms(self) -> dict[str, tuple[float, float]]:
-        """Stage -> (median ms, p99 ms) over the kept window."""
-        out = {}
-        for stage in list(self.samples):
-            m = self.stage_ms(stage)
-            if m is not None:
-                out[stage] = m
-        return out
-
-    def stage_ms(self, stage: str) -> tuple[float, float] | None:
-        """(median ms, p99 ms) of one stage over the kept window; None without samples."""
-        d = list(self.samples.get(stage, ()))   # other threads may record meanwhile
-        if not d:
-            return None
-        a = np.sort(np.asarray(d, dtype=float)) * 1e3   # one sort: ~20x cheaper than
-        return _sorted_percentile(a, 50.0), _sorted_percentile(a, 99.0)  # median + percentile
-
-
-def _sorted_percentile(a: np.ndarray, q: float) -> float:
-    """The ``q``-th percentile of sorted values, linearly interpolated (numpy's default)."""
-    pos = (len(a) - 1) * q / 100.0
-    lo = int(pos)
-    hi = min(lo + 1, len(a) - 1)
-    return float(a[lo] + (a[hi] - a[lo]) * (pos - lo))
 
 
 class CommandQueue:

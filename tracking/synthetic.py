@@ -20,20 +20,10 @@ from typing import Sequence
 import cv2
 import numpy as np
 
+from tracking.hands import Occluder, hand_polygons, scripted_hands  # noqa: F401  (re-exported)
 from tracking.markers import dictionary_by_name  # noqa: F401  (re-exported)
 
 Pose = tuple[int, float, float, float]  # id, x m, y m, angle rad
-
-
-@dataclass(frozen=True)
-class Occluder:
-    """A hand-shaped dark blob lying over the table: centre (m), direction of the fingers (rad),
-    palm length (m)."""
-
-    x: float
-    y: float
-    angle: float = 0.0
-    size: float = 0.09
 
 
 @dataclass
@@ -403,30 +393,12 @@ class SyntheticCamera:
         roi[...] = np.clip(blended, 0, 255).astype(np.uint8)
         return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
 
-    def _hand_polygons(self, o: Occluder) -> list[np.ndarray]:
-        """A palm and five fingers as table-metre polygons."""
-        c, s = math.cos(o.angle), math.sin(o.angle)
-        rot = np.array([[c, -s], [s, c]])
-        shapes = []
-        t = np.linspace(0, 2 * math.pi, 24, endpoint=False)
-        palm = np.column_stack([0.5 * o.size * np.cos(t), 0.42 * o.size * np.sin(t)])
-        shapes.append(palm)
-        for k, (dy, length) in enumerate([(-0.3, 0.75), (-0.1, 0.9), (0.1, 0.85), (0.3, 0.7)]):
-            x0, x1 = 0.35 * o.size, (0.35 + length) * o.size
-            w = 0.09 * o.size
-            shapes.append(np.array([[x0, dy * o.size - w], [x1, dy * o.size - w],
-                                    [x1 + w, dy * o.size], [x1, dy * o.size + w],
-                                    [x0, dy * o.size + w]]))
-        shapes.append(np.array([[0.0, 0.35 * o.size], [0.25 * o.size, 0.9 * o.size],
-                                [0.35 * o.size, 0.85 * o.size], [0.2 * o.size, 0.3 * o.size]]))
-        return [(rot @ sh.T).T + [o.x, o.y] for sh in shapes]
-
     def occluder_mask(self, occluders: Sequence[Occluder]) -> np.ndarray:
         """uint8 mask (255 where a hand covers the image), in ideal image pixels."""
         mask = np.zeros((self.h, self.w), np.uint8)
         H = self.homography(0.02)  # hands hover a little above the table
         for o in occluders:
-            for poly in self._hand_polygons(o):
+            for poly in hand_polygons(o):
                 hp = np.column_stack([poly, np.ones(len(poly))]) @ H.T
                 pix = (hp[:, :2] / hp[:, 2:3] * 16).round().astype(np.int32)
                 cv2.fillPoly(mask, [pix], 255, cv2.LINE_AA, 4)
@@ -481,25 +453,3 @@ class SyntheticCamera:
                 vis[i] = False
         return vis
 
-
-def scripted_hands(t: float, table: tuple[float, float], every_s: float = 12.0,
-                   duration_s: float = 1.6, size: float = 0.1, seed: int = 0) -> list[Occluder]:
-    """A visitor's hand reaching over the table now and then: a pure function of time ``t`` (s).
-
-    Every ``every_s`` seconds a hand comes in over the near edge (y = 0), reaches a seeded
-    point on the table, lingers and withdraws, within ``duration_s``. Returns the hands at t
-    (none between passes, or when ``every_s`` <= 0)."""
-    if every_s <= 0 or t < 0:
-        return []
-    k = int(t // every_s)
-    phase = (t - k * every_s) / duration_s
-    if not 0.0 <= phase <= 1.0:
-        return []
-    rng = np.random.default_rng([seed, k])
-    w, h = table
-    target = np.array([rng.uniform(0.15, 0.85) * w, rng.uniform(0.25, 0.8) * h])
-    entry = np.array([target[0] + rng.uniform(-0.2, 0.2) * w, -1.2 * size])
-    reach = min(1.0, 1.6 * math.sin(math.pi * phase))  # in, linger, out
-    p = entry + (target - entry) * reach
-    angle = math.atan2(target[1] - entry[1], target[0] - entry[0])
-    return [Occluder(float(p[0]), float(p[1]), angle, size)]
