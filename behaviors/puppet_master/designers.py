@@ -377,6 +377,21 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0
     return out
 
 
+def reaction_on_grid(personality: str, main: np.ndarray, rate_hz: float,
+                     table: Table = (1.2, 0.8)) -> tuple[np.ndarray, np.ndarray]:
+    """The scripted designer's own ``personality`` reacting to another main path ``main``
+    (n, 4) ``t, x, y, dir`` at its own sampling rate: (times (m,) s from the path's start on a
+    ``rate_hz`` grid, reactor poses (m, 3) x, y, look on that grid). The reference a generated
+    reactor on the same path is set beside (bench/fidelity.py)."""
+    main = np.asarray(main, dtype=float)
+    path_rate = (len(main) - 1) / float(main[-1, 0] - main[0, 0])
+    d = demonstrate(personality, rate_hz=path_rate, table=table, main=main.copy())
+    t = np.arange(0.0, float(d[-1, 0]), 1.0 / rate_hz)
+    react = np.column_stack([np.interp(t, d[:, 0], d[:, 4]), np.interp(t, d[:, 0], d[:, 5]),
+                             wrap_angles(np.interp(t, d[:, 0], np.unwrap(d[:, 6])))])
+    return t + float(main[0, 0]), react
+
+
 def lover(seed: int = SEEDS["lover"], seconds: float = 60.0, rate_hz: float = 40.0,
           table: Table = (1.2, 0.8)) -> np.ndarray:
     """A lover: approaches and stays close, facing the main (see :func:`demonstrate`)."""
