@@ -19,8 +19,8 @@ PATHS = ("slow_pauses_30hz", "loops_spins_45hz")
 KNOWN_MISSES = {
     "lover": {"slow_pauses_30hz": {"still_moving"},
               "loops_spins_45hz": {"contact", "still_moving"}},
-    "bully": {"slow_pauses_30hz": {"contact"}, "loops_spins_45hz": {"contact"}},
-    "playful_friend": {"slow_pauses_30hz": set(), "loops_spins_45hz": set()},
+    "bully": {"slow_pauses_30hz": set(), "loops_spins_45hz": set()},
+    "playful_friend": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact"}},
     "stalker": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact", "speed"}},
     "afraid": {"slow_pauses_30hz": {"facing", "orbit", "speed"}, "loops_spins_45hz": {"facing"}},
 }
