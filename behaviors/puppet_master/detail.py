@@ -92,6 +92,10 @@ class DetailPatch:
         self.start = -1
         self.offset = length
 
+    def restart(self) -> None:
+        """The next step starts a new patch (at the source it is given)."""
+        self.offset = self.length
+
     def next(self, latest_source: int) -> int:
         """Training index whose detail applies this step (-1: none); starts a new patch at
         ``latest_source`` when due."""
