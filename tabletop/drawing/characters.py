@@ -18,7 +18,7 @@ import pygame
 
 from tabletop.drawing import primitives as P
 from tabletop.drawing import raster
-from tabletop.drawing.palette import EYE_WHITE, INK, Color, fade, lighten, shade
+from tabletop.drawing.palette import EYE_WHITE, INK, Color, fade, lighten, rgb, shade
 from tabletop.frames import CharacterState
 
 # Reactor body outline in units of its length, nose along +x (an egg, fuller at the front).
@@ -55,11 +55,6 @@ class Pose:
 
     def body(self, k: float = 1.0) -> Color:
         return fade(shade(self.color, k), self.alpha)
-
-
-def rgb(color: Color) -> int:
-    """A colour packed as 0xRRGGBB, as the compiled drawing takes it."""
-    return (int(color[0]) << 16) | (int(color[1]) << 8) | int(color[2])
 
 
 def _squash(pose: Pose) -> tuple[float, float, float, float]:
