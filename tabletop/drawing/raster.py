@@ -540,11 +540,14 @@ def surface_format(surf) -> np.ndarray:
 
 def draw(surf, kernel, *args) -> None:
     """Run a drawing ``kernel(pixels, format, *args)`` on ``surf``'s pixels (a surface of
-    another depth is drawn through a 32-bit copy)."""
+    another depth, or a subsurface, is drawn through a 32-bit copy)."""
     import pygame
     if surf.get_bytesize() == 4:
-        kernel(pygame.surfarray.pixels2d(surf), surface_format(surf), *args)
-        return
+        pix = pygame.surfarray.pixels2d(surf)
+        if pix.flags.f_contiguous:     # (a subsurface's rows are strided: it would compile anew)
+            kernel(pix, surface_format(surf), *args)
+            return
+        del pix
     tmp = pygame.Surface(surf.get_size(), 0, 32)
     tmp.blit(surf, (0, 0))
     kernel(pygame.surfarray.pixels2d(tmp), surface_format(tmp), *args)
