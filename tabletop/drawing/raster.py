@@ -46,7 +46,7 @@ def _ink(fmt: np.ndarray, col: int) -> tuple:
 @numba.njit(inline="always")
 def _put(pix: np.ndarray, x: int, y: int, ink: tuple, cov: float) -> None:
     """Blend ``ink`` (from :func:`_ink`) over pixel (x, y) with coverage ``cov`` (0..1)."""
-    c = np.int64(cov * 256.0)
+    c = np.int64(cov * 256.0 + 0.5)
     if c <= 0:
         return
     sr, sg, sb, rs, gs, bs, keep, opaque = ink
