@@ -564,6 +564,8 @@ def warm() -> None:
     if _warm:
         return
     _warm = True
+    import os
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     import pygame
     surf = pygame.Surface((64, 64), 0, 32)
     q = np.array([(10.0, 10.0), (20.0, 30.0), (30.0, 20.0)])
