@@ -18,6 +18,7 @@ import pygame  # noqa: E402
 
 from tabletop.drawing import characters, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
+from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
 from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
@@ -72,6 +73,7 @@ class Renderer:
                  homography: np.ndarray | None = None, puck_radius: float = 0.03,
                  sprites: dict[str, Path] | None = None) -> None:
         self.table, self.size = table, size
+        raster.warm()                # the compiled drawing loaded now, not in the first frame
         self.map = TableToScreen(table, size, margin, homography)
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
@@ -132,13 +134,14 @@ class Renderer:
         for p in sorted(self.lives.update(t, frame.characters),
                         key=lambda p: p.state.kind == "studio"):   # the studio's marks on top
             drawn.append(self._draw_presence(target, p, frame))
-        halos, labels = [], []
+        halos, labels, trails = [], [], []
         for trace, state, alpha in self.traces.update(t, frame.pucks):
-            trail, h = self._trace(target, trace, state, alpha, t)
-            drawn.append(trail)
+            h, trail = self._trace(trace, state, alpha, t)
             if h is not None:
                 halos.append(h)
                 labels.append(self._label(trace.puck.id) if overlay is not None else None)
+                trails.append(trail)
+        drawn.extend(pucks.draw_trails(target, trails, self.map.H, t, TRAIL_S))
         drawn.extend(pucks.draw_halos(target, halos, labels))
         if self.moment > 0:
             bad = [h.message for h in frame.health if h.message]
@@ -241,18 +244,16 @@ class Renderer:
             return characters.draw_hybrid(target, c, pose, pts)
         return characters.draw_figure(target, c, pose, pts)
 
-    def _trace(self, target: pygame.Surface, trace: PuckTrace, state: str, alpha: float,
-               t: float) -> tuple[pygame.Rect | None, pucks.Halo | None]:
-        """Draw a puck's trail now; its halo to be drawn with the others'."""
+    def _trace(self, trace: PuckTrace, state: str, alpha: float, t: float
+               ) -> tuple[pucks.Halo | None, tuple]:
+        """A puck's halo and its trail (to be drawn with the others')."""
         p = trace.puck
         if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
-            return None, None
+            return None, ()
         x, y, ppm, angle = self.map.place(p.x, p.y, p.angle)
         r = self.puck_radius * ppm
-        color = pucks.state_color(state)
-        a = pucks.draw_trail(target, trace, self.map.point, color, t, alpha, TRAIL_S,
-                             pucks.halo_radius(r))
-        return a, pucks.halo((x, y), r, angle, state, alpha, t)
+        return (pucks.halo((x, y), r, angle, state, alpha, t),
+                (trace, (x, y), pucks.state_color(state), alpha, pucks.halo_radius(r)))
 
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)

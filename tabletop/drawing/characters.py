@@ -17,7 +17,8 @@ import numpy as np
 import pygame
 
 from tabletop.drawing import primitives as P
-from tabletop.drawing.palette import EYE_WHITE, INK, Color, fade, lighten, shade
+from tabletop.drawing import raster
+from tabletop.drawing.palette import EYE_WHITE, INK, Color, fade, lighten, rgb, shade
 from tabletop.frames import CharacterState
 
 # Reactor body outline in units of its length, nose along +x (an egg, fuller at the front).
@@ -56,26 +57,6 @@ class Pose:
         return fade(shade(self.color, k), self.alpha)
 
 
-def eyes(surf: pygame.Surface, pose: Pose, centers: Sequence[Sequence[float]],
-         r: float) -> None:
-    """Eyes of radius ``r`` px at screen ``centers`` ((x, y) pairs): white, a dark pupil turned
-    along ``pose.gaze``, lids closing with ``pose.blink``."""
-    if r < 1.5:
-        return
-    white, ink = fade(EYE_WHITE, pose.alpha), fade(INK, pose.alpha)
-    gx, gy = math.cos(pose.gaze), math.sin(pose.gaze)
-    for cx, cy in centers:
-        if pose.blink > 0.97:
-            P.disc(surf, white, (cx, cy), r)
-        else:
-            P.ellipse(surf, white, (cx, cy), r, max(0.6, r * pose.blink),
-                      pose.angle + math.pi / 2, 14)
-        if pose.blink > 0.45:
-            px, py = cx + gx * r * 0.42, cy + gy * r * 0.42
-            P.disc(surf, ink, (px, py), r * 0.52)
-            P.disc(surf, white, (px - 0.25 * r * 0.5, py - 0.35 * r * 0.5), max(1.0, r * 0.16))
-
-
 def _squash(pose: Pose) -> tuple[float, float, float, float]:
     """The 2x2 map (row vectors, ``p @ S``, as four floats s00, s01, s10, s11) that stretches
     local points (x along the heading) by ``pose.stretch`` along the motion and squashes them
@@ -89,24 +70,15 @@ def _squash(pose: Pose) -> tuple[float, float, float, float]:
     return k * c * c + s * s / k, cs, cs, k * s * s + c * c / k
 
 
-# The reactor's outline and eyes as plain floats: a few dozen points cost less as Python
-# arithmetic than as tiny numpy arrays (busy 1280x720 frame: the same pixels, about 5 % less CPU).
 # Characters are drawn afresh every frame rather than blitted from cached renders keyed on their
 # drawing inputs: in bench/view.py's busy scene no figure's points repeat from one frame to the
 # next, and even rounded to whole pixels a pose recurs in only 15-50 % of frames, while a hit
 # still blits the figure's whole rectangle with per-pixel alpha (a 221 px square costs ~0.1 ms
 # with a cold cache here) and a miss draws the figure twice (on black and on white, for its
-# coverage) and extracts it: more lost on misses than won on hits.
-_BODY_UV = [(float(u), float(v)) for u, v in REACTOR_BODY]
-_EYES_UV = [(float(u), float(v)) for u, v in REACTOR_EYES]
-
-
-def _mapped(uv: list[tuple[float, float]], m: tuple[float, float, float, float], k: float,
-            ox: float, oy: float) -> list[tuple[float, float]]:
-    """Local points ``uv`` through the row-vector map ``m`` (``p @ M``), times ``k``, plus
-    (``ox``, ``oy``) pixels."""
-    a, b, c, d = m[0] * k, m[1] * k, m[2] * k, m[3] * k
-    return [(u * a + v * c + ox, u * b + v * d + oy) for u, v in uv]
+# coverage) and extracts it: more lost on misses than won on hits. Each character's shapes are
+# rasterised by one compiled call (tabletop.drawing.raster) instead.
+_BODY_UV = np.ascontiguousarray(REACTOR_BODY, dtype=np.float64)
+_EYES_UV = np.ascontiguousarray(REACTOR_EYES, dtype=np.float64)
 
 
 def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.Rect | None:
@@ -115,13 +87,11 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     L = c.size * pose.ppm * pose.scale
     if L < 2:
         return None
-    # One 2x2 map per layer (local units -> pixels: squash, size, heading), one product each.
+    # One 2x2 map (local units -> pixels: squash, size, heading); the body breathes in it.
     ca, sa = math.cos(pose.angle), math.sin(pose.angle)
     s00, s01, s10, s11 = _squash(pose)
-    M = ((s00 * ca - s01 * sa) * L, (s00 * sa + s01 * ca) * L,
-         (s10 * ca - s11 * sa) * L, (s10 * sa + s11 * ca) * L)
-    rb = pose.breath ** 0.5
-    A = (M[0] * rb, M[1] * rb, M[2] * pose.breath, M[3] * pose.breath)   # breathing body
+    M = np.array(((s00 * ca - s01 * sa) * L, (s00 * sa + s01 * ca) * L,
+                  (s10 * ca - s11 * sa) * L, (s10 * sa + s11 * ca) * L))
     cx, cy = pose.center
     # The glow keeps the grown-up size while the body grows in (its strength fades in): one
     # cached light per character instead of a new one every few frames of a fade.
@@ -129,15 +99,14 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
                      0.36 * pose.alpha * pose.light)
     # Little feet peeking out at the sides, stepping while it moves.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
-    foot = pose.body(0.62)
-    for fx, fy in ((-0.05 + step, 0.3), (-0.05 - step, -0.3)):
-        fx, fy = fx * L, fy * L
-        P.disc(surf, foot, (fx * ca - fy * sa + cx, fx * sa + fy * ca + cy), 0.085 * L)
-    P.polygon(surf, pose.body(0.72), _mapped(_BODY_UV, A, 1.06, cx, cy + 0.04 * L))
-    P.polygon(surf, pose.body(), _mapped(_BODY_UV, A, 1.0, cx, cy))
-    P.polygon(surf, fade(lighten(pose.color, 0.35), pose.alpha),
-              _mapped(_BODY_UV, M, 0.55, cx + 0.05 * (M[0] - M[2]), cy + 0.05 * (M[1] - M[3])))
-    eyes(surf, pose, _mapped(_EYES_UV, M, 1.0, cx, cy), 0.1 * L)
+    # (every scalar a float: a kernel given an int where it was compiled for a float compiles
+    # again, seconds, in the middle of a frame)
+    raster.draw(surf, raster.reactor, _BODY_UV, _EYES_UV, M, float(pose.breath), float(cx),
+                float(cy), float(L), ca, sa, float(step), rgb(pose.body(0.62)),
+                rgb(pose.body(0.72)), rgb(pose.body()),
+                rgb(fade(lighten(pose.color, 0.35), pose.alpha)), float(pose.blink),
+                float(pose.gaze), float(pose.angle), rgb(fade(EYE_WHITE, pose.alpha)),
+                rgb(fade(INK, pose.alpha)))
     pad = 0.9 * L * pose.stretch
     x0, y0, x1, y1 = cx - pad - 1, cy - pad - 1, cx + pad + 2, cy + pad + 2
     return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
@@ -182,18 +151,44 @@ def _valid_bones(n: int, bones: Sequence[tuple[int, int]]) -> list[tuple[int, in
     return [(a, b) for a, b in bones if 0 <= a < n and 0 <= b < n and a != b]
 
 
-_topologies: dict[tuple, tuple] = {}
+def pack_topology(bones: list, limb_points: list, spine_points: list, knots: list,
+                  spine: list, n_limbs: int) -> np.ndarray:
+    """A figure's topology as one int array for :func:`tabletop.drawing.raster.figure`: a header of (bones, limbs,
+    limb points, spine points, knots, spine length), then the bones (limbs first) as pairs,
+    the limb points, spine points, knots and the spine."""
+    flat = [p for ab in bones for p in ab]
+    return np.array([len(bones), n_limbs, len(limb_points), len(spine_points), len(knots),
+                     len(spine)] + flat + list(limb_points) + list(spine_points) + list(knots)
+                    + list(spine), dtype=np.int64)
 
 
-def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple:
-    """(valid bones in drawing order, spine points, relative thickness per point, spine flags
-    per bone) of a figure, computed once per bone set: limbs first, the spine over them."""
+def pack_loops(loops: list) -> np.ndarray:
+    """A face's loops ((point indices, closed) pairs) as one int array for :func:`tabletop.drawing.raster.face`: their
+    count, (start, length, closed) per loop, then every loop's indices."""
+    head = [len(loops)]
+    flat: list[int] = []
+    start = 1 + 3 * len(loops)
+    for idx, closed in loops:
+        head += [start + len(flat), len(idx), int(closed)]
+        flat += list(idx)
+    return np.array(head + flat, dtype=np.int64)
+
+
+_topologies: dict[tuple, tuple | None] = {}
+
+
+def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple | None:
+    """(relative thickness per point, the spine's points but its last, the topology packed for
+    :func:`tabletop.drawing.raster.figure`: valid bones limbs first, the spine over them) of a
+    figure, computed once per bone set; None when no bone is valid."""
     key = (n, tuple(bones))
-    topo = _topologies.get(key)
-    if topo is None:
-        valid = _valid_bones(n, bones)
-        if not valid:
-            return [], [], np.ones(n), [], [], [], []
+    try:
+        return _topologies[key]
+    except KeyError:
+        pass
+    valid = _valid_bones(n, bones)
+    topo = None
+    if valid:
         sub = _subtree_sizes(n, valid)
         rel = 0.45 + 0.55 * np.sqrt(sub / sub.max())
         spine = _spine(valid)
@@ -202,13 +197,17 @@ def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple:
         order = sorted(range(len(valid)), key=lambda i: (on_spine[i], -sub[valid[i][1]]))
         knots = [i for i in range(n) if sub[i] > 1 and i not in in_spine]
         used = {p for ab in valid for p in ab}
-        limb_points = sorted(used - in_spine)
-        topo = ([valid[i] for i in order], spine, rel, [on_spine[i] for i in order], knots,
-                [i for i in spine if i != spine[-1]], limb_points)
-        if len(_topologies) > 256:
-            _topologies.clear()
-        _topologies[key] = topo
+        spine_points = [i for i in spine if i != spine[-1]]
+        tp = pack_topology([valid[i] for i in order], sorted(used - in_spine), spine_points,
+                             knots, spine, sum(not f for f in on_spine))
+        topo = (rel, np.array(spine_points, dtype=np.int64), tp)
+    if len(_topologies) > 256:
+        _topologies.clear()
+    _topologies[key] = topo
     return topo
+
+
+_KINDS = {"skeleton": raster.SKELETON, "creature": raster.CREATURE, "sprite": raster.SPRITE}
 
 
 def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, float] | None:
@@ -235,80 +234,26 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     # strength fades in): one cached light per figure.
     touched = P.glow(surf, ((x0 + x1) / 2, (y0 + y1) / 2), 0.42 * c.size * pose.ppm + 6, pose.color,
                      0.26 * pose.alpha * pose.light)
-    bones, spine, rel, on_spine, *rest = topology(n, c.bones)
+    topo = topology(n, c.bones)
     w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
     body = pose.body()
-    q = pts.tolist()
-    if not bones:
-        for p in q:
-            P.disc(surf, body, p, max(2.0, 0.03 * fig))
-        return P.union([touched, P.bounds(pts, max(2.0, 0.03 * fig) + 2)])
-    knots, spine_points, limb_points = rest
-    w = (w0 * rel).tolist()
+    if topo is None:
+        r = max(2.0, 0.03 * fig)
+        raster.draw(surf, raster.discs, np.ascontiguousarray(pts, dtype=np.float64),
+                    float(r + 0.5), rgb(body))
+        return P.union([touched, P.bounds(pts, r + 2)])
+    rel, spine_points, tp = topo
+    w = w0 * rel
     wspine = w0 * (1.25 if c.kind == "skeleton" else 1.0)
-    for i in spine_points:
-        w[i] = max(w[i], wspine * rel[i])
-    dark, light = pose.body(0.68), fade(lighten(pose.color, 0.18), pose.alpha)
-    line = pygame.draw.aaline
-    for (a, b), sp in zip(bones, on_spine):   # limbs first, the spine over them
-        if sp:
-            break
-        line(surf, dark, q[a], q[b], max(1, int(w[a] + w[b])))
-    P.discs(surf, dark, [q[i] for i in limb_points], [w[i] for i in limb_points])  # joints, ends
-    if c.kind in ("creature", "sprite") and len(spine) >= 3:
-        _torso(surf, body, q[spine[0]], q[spine[-2]], wspine, c.kind == "sprite")
-    for (a, b), sp in zip(bones, on_spine):
-        if sp:
-            line(surf, body, q[a], q[b], max(1, int(w[a] + w[b])))
-    P.discs(surf, body, [q[i] for i in spine_points], [w[i] for i in spine_points])
-    big = [i for i in knots if w[i] > 3]       # a lighter knot where a limb bends
-    P.discs(surf, light, [q[i] for i in big], [w[i] * 0.45 for i in big])
-    if head:
-        _head(surf, c, pose, q, spine, fig)
+    w[spine_points] = np.maximum(w[spine_points], wspine * rel[spine_points])
+    raster.draw(surf, raster.figure, np.ascontiguousarray(pts, dtype=np.float64), w, tp,
+                _KINDS.get(c.kind, raster.OTHER), float(wspine), float(fig), bool(head),
+                rgb(pose.body(0.68)), rgb(body), rgb(fade(lighten(pose.color, 0.18), pose.alpha)),
+                float(pose.angle), float(pose.gaze), float(pose.blink),
+                rgb(fade(EYE_WHITE, pose.alpha)), rgb(fade(INK, pose.alpha)))
     pad = wspine + 0.08 * fig + 2
     x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
     return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
-
-
-def _torso(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float], w: float,
-           plump: bool) -> None:
-    """A filled body between the spine's first point and the neck: a slim one for a creature,
-    a plump one for a bird."""
-    (ax, ay), (bx, by) = a, b
-    dx, dy = bx - ax, by - ay
-    length = math.hypot(dx, dy)
-    if length < 2:
-        return
-    rx = 0.5 * length + w
-    ry = max(w * 1.6, 0.3 * rx if plump else w * 1.3)
-    P.ellipse(surf, color, ((ax + bx) / 2, (ay + by) / 2), rx, ry, math.atan2(dy, dx), 20)
-
-
-def _head(surf: pygame.Surface, c: CharacterState, pose: Pose, pts: Sequence[Sequence[float]],
-          spine: list[int], fig: float) -> None:
-    """A head at the spine's end, facing along the last spine bone, eyes looking along the gaze."""
-    if len(spine) < 2:
-        return
-    (hx, hy), (px, py) = pts[spine[-1]], pts[spine[-2]]
-    dx, dy = hx - px, hy - py
-    dn = math.hypot(dx, dy)
-    facing = math.atan2(dy, dx) if dn > 1e-6 else pose.angle
-    if c.kind == "skeleton":   # the last spine bone runs from the neck to the top of the head
-        ox, oy = (hx + px) / 2, (hy + py) / 2
-        r = max(0.5 * dn, 0.06 * fig)
-    else:
-        ox, oy = hx - dx * 0.35, hy - dy * 0.35
-        r = 0.06 * fig
-    P.disc(surf, pose.body(), (ox, oy), max(2.5, r))
-    sx, sy = -math.sin(facing), math.cos(facing)
-    if c.kind == "skeleton":
-        # Seen from the side or above: the eyes sit on the head, turned toward the gaze.
-        lx, ly = 0.35 * r * math.cos(pose.gaze), 0.35 * r * math.sin(pose.gaze)
-        ex, ey, k = ox + lx, oy + ly, 0.33 * r
-    else:
-        fx, fy = math.cos(facing), math.sin(facing)
-        ex, ey, k = ox + fx * 0.25 * r, oy + fy * 0.25 * r, 0.5 * r
-    eyes(surf, pose, ((ex + sx * k, ey + sy * k), (ex - sx * k, ey - sy * k)), max(1.6, 0.32 * r))
 
 
 def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
@@ -321,9 +266,15 @@ def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
 
 
 @functools.lru_cache(maxsize=64)
-def _face_loops(n: int, bones: tuple) -> list[tuple[list[int], bool]]:
-    """A face's loops (see :func:`_loops`), found once per bone set."""
-    return _loops(_valid_bones(n, bones))
+def _face_loops(n: int, bones: tuple) -> tuple[np.ndarray, np.ndarray] | None:
+    """A face's loops (see :func:`_loops`) packed for :func:`tabletop.drawing.raster.face`, and
+    its head's points (the first closed loop; none without one), found once per bone set; None
+    without loops."""
+    loops = _loops(_valid_bones(n, bones))
+    if not loops:
+        return None
+    heads = [idx for idx, closed in loops if closed] + [[]]
+    return pack_loops(loops), np.array(heads[0], dtype=np.int64)
 
 
 def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
@@ -337,48 +288,19 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
         return None
     pts, fig = posed
     loops = _face_loops(n, tuple(c.bones))
-    if not loops:
+    if loops is None:
         return None
-    touched = P.bounds(pts, 0.06 * fig + 2)
-    ink = fade(INK, pose.alpha)
-    stroke = max(1.5, 0.022 * fig)
-    first = True
-    gx, gy = math.cos(pose.gaze), math.sin(pose.gaze)
-    ux, uy = -math.sin(pose.angle), math.cos(pose.angle)     # up the face
-    xy = pts.tolist()     # a face's loops have a few points each: plain floats, not tiny arrays
-    for idx, closed in loops:
-        q = [xy[i] for i in idx]
-        if not closed:                                               # brows, nose
-            for a, b in zip(q[:-1], q[1:]):
-                P.limb(surf, ink, a, b, stroke * 0.8)
-            continue
-        k = len(q)
-        mx, my = sum(x for x, _ in q) / k, sum(y for _, y in q) / k
-        if first:                                                    # the head
-            touched = P.union([touched, P.glow(
-                surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
-                0.32 * pose.alpha * pose.light)])
-            P.polygon(surf, pose.body(0.7),
-                      [((x - mx) * 1.04 + mx, (y - my) * 1.04 + my) for x, y in q])
-            P.polygon(surf, pose.body(), q)
-            first = False
-            continue
-        xs, ys = [x for x, _ in q], [y for _, y in q]
-        w, h = max(xs) - min(xs), max(ys) - min(ys)
-        if abs(w - h) < 0.8 * max(w, h) and k <= 10:                 # an eye
-            shut = 1 - pose.blink
-            lid = []
-            for x, y in q:
-                rx, ry = x - mx, y - my
-                along = (rx * ux + ry * uy) * shut
-                lid.append((rx - along * ux + mx, ry - along * uy + my))
-            P.polygon(surf, fade(EYE_WHITE, pose.alpha), lid)
-            if pose.blink > 0.45:
-                d = 0.3 * max(w, h)
-                P.disc(surf, ink, (mx + gx * d, my + gy * d), 0.45 * min(w, h) + 1)
-        else:                                                        # the mouth
-            P.polygon(surf, ink, q)
-    return touched
+    lp, head = loops
+    glow = None
+    if len(head):
+        mx, my = pts[head].mean(axis=0).tolist()
+        glow = P.glow(surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
+                      0.32 * pose.alpha * pose.light)
+    raster.draw(surf, raster.face, np.ascontiguousarray(pts, dtype=np.float64), lp,
+                float(max(1.5, 0.022 * fig)), rgb(pose.body(0.7)), rgb(pose.body()),
+                rgb(fade(EYE_WHITE, pose.alpha)), rgb(fade(INK, pose.alpha)), float(pose.blink),
+                float(pose.gaze), float(pose.angle))
+    return P.union([P.bounds(pts, 0.06 * fig + 2), glow])
 
 
 @functools.lru_cache(maxsize=64)

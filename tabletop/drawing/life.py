@@ -164,9 +164,6 @@ class PuckTrace:
     puck: Puck
     last_t: float
     path: collections.deque = field(default_factory=lambda: collections.deque(maxlen=64))
-    # path points already mapped to pixels (by ``px_map``): a trail maps only its new points
-    px: dict = field(default_factory=dict)
-    px_map: object = None
 
 
 class Traces:

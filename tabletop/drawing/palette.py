@@ -102,3 +102,8 @@ def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
 @functools.lru_cache(maxsize=4096)
 def _fade(color: Color, alpha128: int, ground: Color) -> Color:
     return mix(ground, color, alpha128 / 128.0)
+
+
+def rgb(color: Color) -> int:
+    """A colour packed as 0xRRGGBB, as the compiled drawing takes it."""
+    return (int(color[0]) << 16) | (int(color[1]) << 8) | int(color[2])

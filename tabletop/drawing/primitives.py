@@ -4,16 +4,13 @@ Filled shapes are drawn filled, then their outline anti-aliased, so their edges 
 table. Glows and shadows are pre-rendered once per (size, colour, strength) bucket and blitted
 with additive or multiplicative blending: they cost one blit each per frame.
 
-Shapes go through pygame.draw and pygame.gfxdraw rather than OpenCV's batched drawing (measured:
-bench/view.py's busy 1280x720 frame in an X window, interleaved A/B in one process, this
-thread's CPU per frame, median): a figure's limbs as ``cv2.polylines`` (LINE_AA, 1/16 px, one call
-per width, round ends as the joints) 6.72 -> 10.41 ms; the reactor's three polygons as
-``cv2.fillPoly`` 6.24 -> 6.82 ms; every trail mapped in one numpy pass and drawn per colour with
-``cv2.polylines`` 6.21 -> 6.77 ms; a face's two head polygons as ``cv2.fillPoly`` 6.54 -> 6.84 ms.
-OpenCV's anti-aliased shapes cost more per shape here (a 9-18 px wide limb 10-24 us vs 3 us for
-``aaline``, a disc 3-6 us vs 1.5-2 us, a 28-point filled polygon 11 us, the same; a face's
-120x150 px head polygon, hot 29 vs 48 us, but right after a full-window blit, as in a frame,
-283 vs 129 us), and numpy on a character's few points costs what the Python it replaces costs.
+The few shapes drawn here (the table, the halos' notches) go through pygame.gfxdraw; characters
+and trails are rasterised by compiled calls (:mod:`tabletop.drawing.raster`). OpenCV's batched
+drawing was measured slower than pygame's for them (bench/view.py's busy 1280x720 frame in an
+X window, interleaved A/B, this thread's CPU per frame, median): a figure's limbs as
+``cv2.polylines`` 6.72 -> 10.41 ms; the reactor's three polygons as ``cv2.fillPoly`` 6.24 ->
+6.82 ms; every trail with ``cv2.polylines`` 6.21 -> 6.77 ms; a face's head polygons as
+``cv2.fillPoly`` 6.54 -> 6.84 ms: its anti-aliased shapes cost more per shape here.
 """
 
 from __future__ import annotations
@@ -60,69 +57,6 @@ def disc(surf: pygame.Surface, color: Color, c: Sequence[float], r: float) -> No
         return
     gfx.filled_circle(surf, xi, yi, ri, color)
     gfx.aacircle(surf, xi, yi, ri, color)
-
-
-def discs(surf: pygame.Surface, color: Color, centers: Sequence[Sequence[float]],
-          radii: Sequence[float]) -> None:
-    """Many discs of one colour (as :func:`disc`, pixel for pixel), in one loop: a figure's
-    joints cost two C calls each and no Python call."""
-    fill, edge = gfx.filled_circle, gfx.aacircle
-    for (x, y), r in zip(centers, radii):
-        if not (-30000 < x < 30000 and -30000 < y < 30000):
-            continue
-        ri = int(r + 0.5)
-        if ri >= 1:
-            xi, yi = int(x + 0.5), int(y + 0.5)
-            fill(surf, xi, yi, ri, color)
-            edge(surf, xi, yi, ri, color)
-
-
-def ellipse(surf: pygame.Surface, color: Color, c: Sequence[float], rx: float, ry: float,
-            angle: float = 0.0, n: int = 20) -> None:
-    """A filled anti-aliased ellipse, semi-axes ``rx`` along ``angle`` (screen radians, y down)
-    and ``ry`` across it."""
-    polygon(surf, color, ellipse_points(c, rx, ry, angle, n))
-
-
-_UNIT: dict[int, list[tuple[float, float]]] = {}
-
-
-def ellipse_points(c: Sequence[float], rx: float, ry: float, angle: float = 0.0,
-                   n: int = 20) -> list[tuple[float, float]]:
-    """Outline points (n of them, (x, y) pixels) of an ellipse."""
-    cs = _UNIT.get(n)
-    if cs is None:
-        cs = _UNIT[n] = [(math.cos(2 * math.pi * i / n), math.sin(2 * math.pi * i / n))
-                         for i in range(n)]
-    ca, sa = math.cos(angle), math.sin(angle)
-    x, y = float(c[0]), float(c[1])
-    ax, ay, bx, by = ca * rx, sa * rx, -sa * ry, ca * ry
-    return [(x + ax * u + bx * v, y + ay * u + by * v) for u, v in cs]
-
-
-def limb(surf: pygame.Surface, color: Color, a: Sequence[float], b: Sequence[float],
-         w: float) -> None:
-    """A limb from ``a`` to ``b``, ``2 w`` pixels thick, anti-aliased, with rounded ends."""
-    ax, ay, bx, by = a[0], a[1], b[0], b[1]
-    if not (-30000 < ax < 30000 and -30000 < ay < 30000 and -30000 < bx < 30000
-            and -30000 < by < 30000):
-        return
-    width = max(1, int(2 * w + 0.5))
-    pygame.draw.aaline(surf, color, (ax, ay), (bx, by), width)
-    if width > 2:
-        disc(surf, color, a, w)
-        disc(surf, color, b, w)
-
-
-def aa_polyline(surf: pygame.Surface, color: Color, pts: list, width: int = 2) -> None:
-    """A polyline ``width`` pixels wide with anti-aliased sides."""
-    if len(pts) < 2:
-        return
-    if width > 1:
-        for a, b in zip(pts[:-1], pts[1:]):
-            pygame.draw.aaline(surf, color, a, b, width)
-    else:
-        pygame.draw.aalines(surf, color, False, pts)
 
 
 def _radial(radius: int, profile) -> np.ndarray:

@@ -4,15 +4,15 @@ and the hand on it are not painted), coloured by state, with a short fading trai
 from __future__ import annotations
 
 import math
-from typing import Callable, NamedTuple, Sequence
+from typing import NamedTuple, Sequence
 
+import numpy as np
 import pygame
 
 from tabletop.drawing import primitives as P
+from tabletop.drawing import raster
 from tabletop.drawing.life import PuckTrace
-from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade
-
-Mapper = Callable[[float, float], tuple[float, float]]
+from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade, rgb
 
 
 def halo_radius(puck_radius_px: float) -> float:
@@ -25,55 +25,30 @@ def state_color(state: str) -> Color:
     return PUCK_STATES.get(state, PUCK_STATES["seen"])
 
 
-def draw_trail(surf: pygame.Surface, trace: PuckTrace, to_px: Mapper, color: Color,
-               t: float, alpha: float, span_s: float, hole_px: float = 0.0) -> pygame.Rect | None:
-    """The puck's recent path as a line that fades with age (three steps, newest brightest),
-    ending at the halo (``hole_px`` around the puck stays dark); ``to_px`` maps one table point
-    (x, y) to pixels. Returns the rectangle it touched."""
-    path = trace.path
-    if len(path) < 2:
-        return None
-    cx, cy = to_px(trace.puck.x, trace.puck.y)
-    parts: tuple[list, list, list] = ([], [], [])
-    last = None
-    px = trace.px
-    if trace.px_map != to_px or len(px) > 2 * len(path) + 8:
-        px = trace.px = {} if trace.px_map != to_px else {e: px[e] for e in path if e in px}
-        trace.px_map = to_px
-    hole2 = hole_px * hole_px
+def draw_trails(surf: pygame.Surface, trails: Sequence[tuple[PuckTrace, tuple[float, float],
+                                                             Color, float, float]],
+                H: np.ndarray, t: float, span_s: float) -> list[pygame.Rect]:
+    """Every puck's recent path as a line that fades with age (three steps, newest brightest),
+    ending at its halo, in one compiled call. ``trails``: (trace, its puck's centre px, colour,
+    opacity, radius px around the puck that stays dark) each; ``H``: table metres -> pixels.
+    Returns the rectangles touched."""
+    if not trails:
+        return []
+    pts = [e for tr, *_ in trails for e in tr.path]
+    if not pts:
+        return []
+    starts = np.zeros(len(trails) + 1, dtype=np.int64)
+    starts[1:] = np.cumsum([len(tr.path) for tr, *_ in trails])
+    colors = np.array([[rgb(fade(color, alpha * k, TABLE)) for k in (0.18, 0.32, 0.5)]
+                       for _, _, color, alpha, _ in trails], dtype=np.int64)
+    rects = np.zeros((len(trails), 4), dtype=np.int64)
     # age steps: 2 newest (v >= 2, with v = 3 (1 - age / span)), 1, 0 oldest and anything older
-    t2, t1 = t - span_s / 3.0, t - 2.0 * span_s / 3.0
-    for e in path:
-        q = px.get(e)
-        if q is None:
-            q = px[e] = to_px(e[0], e[1])
-        dx, dy = q[0] - cx, q[1] - cy
-        if dx * dx + dy * dy <= hole2:
-            continue
-        te = e[2]
-        k = 2 if te >= t2 else 1 if te >= t1 else 0
-        part = parts[k]
-        if not part and k and parts[k - 1]:
-            part.append(parts[k - 1][-1])      # the steps join up
-        part.append(q)
-        last = (k, q)
-    if last is None:
-        return None
-    k, q = last
-    d = math.hypot(q[0] - cx, q[1] - cy)
-    parts[k].append((cx + (q[0] - cx) * hole_px / d, cy + (q[1] - cy) * hole_px / d))
-    drawn = []
-    for k, q in enumerate(parts):
-        if len(q) < 2:
-            continue
-        col = fade(color, alpha * (0.18, 0.32, 0.5)[k], TABLE)
-        if k:
-            pygame.draw.lines(surf, col, False, q, 1 + k)
-        drawn.append(pygame.draw.aalines(surf, col, False, q))
-    if not drawn:
-        return None
-    # the rectangles the draw calls report cover every point (the wider steps stay within 2 px)
-    return drawn[0].unionall(drawn[1:]).inflate(8, 8)
+    raster.draw(surf, raster.trails, np.array(pts, dtype=np.float64), starts, H,
+                np.array([c for _, c, *_ in trails], dtype=np.float64),
+                np.array([h for *_, h in trails], dtype=np.float64), colors,
+                float(t - span_s / 3.0), float(t - 2.0 * span_s / 3.0), rects)
+    return [pygame.Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1) for x0, y0, x1, y1 in rects.tolist()
+            if x1 >= x0]
 
 
 class Halo(NamedTuple):
