@@ -164,7 +164,16 @@ def rotate_step(sx: float, sy: float, angle: float) -> tuple[float, float]:
 
 class StepSmoother:
     """Linear smooth: the mean of the last ``size`` raw steps (3 in the paper); the history
-    starts at rest (zero steps), so a start accelerates gently."""
+    starts at rest (zero steps), so a start accelerates gently.
+
+    The mean of vectors shortens a zig-zag: the lover moving beside its slow unseen main
+    (seed 2) comes out at 0.087 m/s from raw steps of 0.098 m/s (its matches travelled 0.100 m/s).
+    Lengthening the mean back toward the raw steps' mean length, at most to the demonstrated
+    travel per step at the match, moved bench/fidelity.py on seeds 0-5 from 601 to 606 of 720
+    thresholds (306 -> 301 on seeds 0-2), inside the re-matching noise of about 15: the lover
+    gained 4 (slow-path speed W1 0.027-0.040 -> 0.022-0.032 on seeds 1-5, against 0.022) and
+    the afraid character 9, the stalker lost 6 (its still-main and fast-path speeds) and the
+    bully 4, so it is not used."""
 
     __slots__ = ("size", "xs", "ys", "i")
 
