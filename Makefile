@@ -19,10 +19,10 @@ $(STAMP): pyproject.toml
 	$(PY) -m compileall -q -j0 -x '/tests?/' $(VENV)/lib >/dev/null
 	touch $(STAMP)
 
-# MOP's compiled kernels (numba) are built once here, into the cache beside their sources, so
+# The compiled kernels (numba: MOP's, Puppet Master's searches) are built once here, into the cache beside their sources, so
 # neither the installation's first start nor each test worker compiles them.
 kernels: $(STAMP)
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members"
+	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members, behaviors.puppet_master.search_kernel"
 
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)
