@@ -22,7 +22,7 @@ $(STAMP): pyproject.toml
 # The compiled kernels (numba: MOP's, Puppet Master's searches) are built once here, into the cache beside their sources, so
 # neither the installation's first start nor each test worker compiles them.
 kernels: $(STAMP)
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members, behaviors.puppet_master.search_kernel"
+	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members, behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel"
 
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)
