@@ -45,6 +45,14 @@ def energies(aug: np.ndarray, q: np.ndarray, xx: float, j0: int, j1: int,
     m = j1 - j0
     o = out[:m]
     yy = aug[d, j0:j1]
+    if d == 6:      # the situation vectors': one pass, the same terms in the same order
+        y0, y1, y2 = aug[0, j0:j1], aug[1, j0:j1], aug[2, j0:j1]
+        y3, y4, y5 = aug[3, j0:j1], aug[4, j0:j1], aug[5, j0:j1]
+        q0, q1, q2, q3, q4, q5 = q[0], q[1], q[2], q[3], q[4], q[5]
+        for i in range(m):
+            o[i] = (((((((xx + yy[i]) + q0 * y0[i]) + q1 * y1[i]) + q2 * y2[i]) + q3 * y3[i])
+                     + q4 * y4[i]) + q5 * y5[i])
+        return
     for i in range(m):
         o[i] = xx + yy[i]
     for c in range(d):
