@@ -178,16 +178,17 @@ NO_SOURCE = np.iinfo(np.int64).min   # a base of a live vector not generated fro
 
 
 @numba.njit(numba.types.Tuple((_I, numba.float64))(
-    _F2, _F2, _I, numba.int64[::1], _I, numba.boolean[::1], _F1, numba.float64),
+    _F2, _F2, numba.int64[::1], numba.int64[::1], numba.boolean[::1], _F1, _F1),
     cache=True, nogil=True)
-def coherence_best(y: np.ndarray, buf: np.ndarray, i: int, bases: np.ndarray, k: int,
-                   valid: np.ndarray, sy: np.ndarray, sx: float) -> tuple[int, float]:
+def coherence_best(y: np.ndarray, buf: np.ndarray, bases: np.ndarray, ik: np.ndarray,
+                   valid: np.ndarray, sy: np.ndarray, sx: np.ndarray) -> tuple[int, float]:
     """Best proposed training window for the live window ``buf[i + 1: i + 1 + n]`` (n, d)
-    (``buf``: (2n, d), the live ring written twice): the window end ``b + k`` of each distinct
-    base b in ``bases`` (n,) (NO_SOURCE: none) that is allowed (``valid``), scored against the
-    training vectors ``y`` (N, d) with the window sums ``sy`` of |y|^2 and the live window's
-    ``sx`` = sum |x|^2. Returns (window end, distance), (-1, inf) if none; ties take the
-    earliest window end."""
+    (``buf``: (2n, d), the live ring written twice; ``ik``: i and the step count k): the
+    window end ``b + k`` of each distinct base b in ``bases`` (n,) (NO_SOURCE: none) that is
+    allowed (``valid``), scored against the training vectors ``y`` (N, d) with the window
+    sums ``sy`` of |y|^2 and the live window's ``sx[0]`` = sum |x|^2. Returns (window end,
+    distance), (-1, inf) if none; ties take the earliest window end."""
+    i, k = ik[0], ik[1]
     n = bases.size
     N, d = y.shape
     order = np.sort(bases)
@@ -215,4 +216,27 @@ def coherence_best(y: np.ndarray, buf: np.ndarray, i: int, bases: np.ndarray, k:
             best_c, best = c, cost
     if best_c < 0:
         return -1, np.inf
-    return best_c, max(best + sx, 0.0)
+    return best_c, max(best + sx[0], 0.0)
+
+
+@numba.njit(numba.void(_F2, _F1, numba.int64[::1], _F1, numba.int64[::1], _F1, _I),
+            cache=True, nogil=True)
+def coherence_push(buf: np.ndarray, sq: np.ndarray, bases: np.ndarray, sx: np.ndarray,
+                   ik: np.ndarray, x: np.ndarray, source: int) -> None:
+    """Add the newest live vector ``x`` (d,) to the coherence ring (see coherence_best) with
+    the training index ``source`` it was generated from (-1: none): |x|^2 summed term by
+    term, the window's sum ``sx[0]`` kept as a running sum (the newest in, the oldest out)."""
+    n = sq.size
+    i = (ik[0] + 1) % n
+    ik[0] = i
+    q = 0.0
+    for e in range(x.size):
+        q += x[e] * x[e]
+    sx[0] += q - sq[i]
+    for e in range(x.size):
+        buf[i, e] = x[e]
+        buf[i + n, e] = x[e]
+    sq[i] = q
+    k = ik[1] + 1
+    ik[1] = k
+    bases[i] = source - k if source >= 0 else NO_SOURCE

@@ -191,35 +191,36 @@ class CoherenceSearch:
         self.valid = np.ascontiguousarray(valid, dtype=bool)
         self.sy = window_sums(np.einsum("jd,jd->j", self.y, self.y), n)
         self.buf = np.zeros((2 * n, self.y.shape[1]))
-        self.i = n - 1
-        self.sq = [0.0] * n              # |x|^2 of the live vectors in the ring
-        self.sx = 0.0
-        self._k = 0
+        self.sq = np.zeros(n)            # |x|^2 of the live vectors in the ring
+        self._sx = np.zeros(1)           # their sum
+        self._ik = np.array([n - 1, 0])  # the ring slot of the newest, the steps pushed
         # per ring slot: the base of its live vector (search_kernel.NO_SOURCE: none)
         self._bases = np.full(n, search_kernel.NO_SOURCE, dtype=np.int64)
+
+    @property
+    def i(self) -> int:
+        """Ring slot of the newest live vector."""
+        return int(self._ik[0])
+
+    @property
+    def sx(self) -> float:
+        """Sum of |x|^2 over the live window."""
+        return float(self._sx[0])
 
     def reset(self, window: np.ndarray) -> None:
         """Start from a live window (n, d), oldest first, with no known sources."""
         n = self.n
         self.buf[:n] = window
         self.buf[n:] = window
-        sq = np.einsum("ad,ad->a", self.buf[:n], self.buf[:n])
-        self.sq = sq.tolist()
-        self.sx = float(sq.sum())
+        self.sq[:] = np.einsum("ad,ad->a", self.buf[:n], self.buf[:n])
+        self._sx[0] = float(self.sq.sum())
         self._bases[:] = search_kernel.NO_SOURCE
-        self.i = n - 1
+        self._ik[0] = n - 1
 
     def push(self, x: np.ndarray, source: int) -> None:
-        """Add the newest live vector and the training index it was generated from."""
-        n = self.n
-        self.i = i = (self.i + 1) % n
-        q = float(x.dot(x))
-        self.sx += q - self.sq[i]
-        self.buf[i] = x
-        self.buf[i + n] = x
-        self.sq[i] = q
-        self._k = k = self._k + 1
-        self._bases[i] = source - k if source >= 0 else search_kernel.NO_SOURCE
+        """Add the newest live vector (d,) and the training index it was generated from."""
+        search_kernel.coherence_push(self.buf, self.sq, self._bases, self._sx, self._ik, x,
+                                     source)
 
     def window(self) -> np.ndarray:
         """Live window (n, d), oldest first (a view)."""
@@ -227,15 +228,15 @@ class CoherenceSearch:
 
     def candidates(self) -> np.ndarray:
         """Sorted distinct allowed window ends proposed by the recent output's sources."""
-        ends = np.unique(self._bases[self._bases != search_kernel.NO_SOURCE]) + self._k
+        ends = np.unique(self._bases[self._bases != search_kernel.NO_SOURCE]) + self._ik[1]
         ends = ends[(ends >= self.n - 1) & (ends < self.valid.size)]
         return ends[self.valid[ends]].astype(np.int64)
 
     def best(self) -> tuple[int, float]:
         """(training window end, distance) of the best candidate, or (-1, inf) if none; ties
         take the earliest window end."""
-        return search_kernel.coherence_best(self.y, self.buf, self.i, self._bases, self._k,
-                                            self.valid, self.sy, self.sx)
+        return search_kernel.coherence_best(self.y, self.buf, self._bases, self._ik,
+                                            self.valid, self.sy, self._sx)
 
 
 class Balancer:

@@ -95,8 +95,11 @@ class ReferenceCoherenceSearch:
         self.sx = float(np.sum(self.sq))
 
     def push(self, x: np.ndarray, source: int) -> None:
-        """|x|^2 of the window is kept as a running sum (the newest in, the oldest out)."""
-        q = float(x.dot(x))
+        """|x|^2 (summed term by term) of the window is kept as a running sum (the newest
+        in, the oldest out)."""
+        q = 0.0
+        for v in np.asarray(x, dtype=float).tolist():
+            q += v * v
         self.sx += q - self.sq[0]
         self.sq = self.sq[1:] + [q]
         self.live = self.live[1:] + [np.array(x, dtype=float)]
