@@ -231,11 +231,14 @@ class Behavior:
             lk.still_angle.tolist(), lk.detail.tolist()))
         self.top_speed = float(np.percentile(f.v_react, 99))
         # the same per-sample values as one table for the compiled step (step_kernel columns)
-        self.step_table = np.ascontiguousarray(np.column_stack([
+        # (as many rows as the zipped lists: look.train_place's spans are longer than a
+        # demonstration under two seconds and give one more value)
+        columns = [np.asarray(c, dtype=float).reshape(len(c), -1) for c in (
             self.place_frame, self.bearing_turn, self.distance, f.rel_fwd, f.rel_left,
-            f.v_react, np.array(self.own_steps), np.array(self.world_rel), self.span_step,
-            ~main_still, self.detail, lk.frame, lk.angle, lk.still_frame, lk.still_angle,
-            lk.detail]), dtype=float)
+            f.v_react, self.own_steps, self.world_rel, self.span_step, ~main_still,
+            self.detail, lk.frame, lk.angle, lk.still_frame, lk.still_angle, lk.detail)]
+        rows = min(len(self.rows), len(self.texture_rows), len(self.own_steps))
+        self.step_table = np.ascontiguousarray(np.hstack([c[:rows] for c in columns]))
         self.bearings = np.array(_bearings(72))     # fit_target's default 5 degree steps
         self.texture = texture_rms(self.react[:, :2], p.rate_hz)
         self.look_change = float(np.mean(np.abs(wrap_angles(np.diff(self.react[:, 2])))))

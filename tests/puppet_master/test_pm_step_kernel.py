@@ -35,13 +35,13 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
     return np.asarray(rows, dtype=float), trace
 
 
-@pytest.mark.parametrize("kind,rate,params", [
-    ("follow", 40.0, {}),
-    ("circling", 30.0, {"half_life": 10.0}),
-    ("keep_away", 55.0, {"relative_motion": 0.0}),
+@pytest.mark.parametrize("kind,rate,params,duration", [
+    ("follow", 40.0, {}, 20.0),
+    ("circling", 30.0, {"half_life": 10.0}, 20.0),
+    ("keep_away", 55.0, {"relative_motion": 0.0}, 20.0),
+    ("follow", 40.0, {}, 1.5),      # shorter than look.train_place's span
 ])
-def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params):
-    duration = 20.0
+def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params, duration):
     if kind == "keep_away":
         demo = demos.keep_away(3, duration, rate_hz=40.0)
     else:
@@ -54,7 +54,8 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
     assert len(fast) == len(slow) > 1500
     assert np.array_equal(fast.view(np.uint64), slow.view(np.uint64))
     assert fast_trace == slow_trace
-    assert {t[1] for t in fast_trace} == {"situation", "coherence"}
+    if duration > 10:
+        assert {t[1] for t in fast_trace} == {"situation", "coherence"}
 
 
 def test_the_compiled_remainder_is_pythons():
