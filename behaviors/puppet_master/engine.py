@@ -281,7 +281,7 @@ class Reactor:
 
     ``compiled``: steps run as one compiled call (step_kernel.step, the same arithmetic as
     :meth:`_step` to the last bit); False runs :meth:`_step` itself, the readable definition.
-    Measured interleaved, 8 reactors, CPU time: see step_kernel.
+    (Measured: see step_kernel.)
     """
 
     compiled = True

@@ -16,7 +16,9 @@ A change to any of these must be made here too:
 - tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
 
 In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
-searches aside); the compiled call costs a few microseconds. The state of the step's small
+searches aside); the compiled call costs 2-10 us. Measured interleaved in one process (8
+reactors, thread CPU time, loaded 2-core machine), with the compiled searches on both sides:
+about 0.66x the tick at 24,000 training samples and 0.55x at 3,200. The state of the step's small
 objects lives in two arrays (indices below); the per-training-sample values the step reads
 are one table (columns below, engine.Behavior.step_table).
 """
