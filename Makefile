@@ -19,10 +19,11 @@ $(STAMP): pyproject.toml
 	$(PY) -m compileall -q -j0 -x '/tests?/' $(VENV)/lib >/dev/null
 	touch $(STAMP)
 
-# The compiled kernels (numba: MOP's and the view's drawing) are built once here, into the cache
-# beside their sources, so neither the installation's first start nor each test worker compiles them.
+# The compiled kernels (numba: MOP's, Puppet Master's searches and step, the view's drawing) are
+# built once here, into the cache beside their sources, so neither the installation's first start
+# nor each test worker compiles them.
 kernels: $(STAMP)
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members"
+	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members, behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel"
 	$(PY) -c "import tabletop.drawing.raster as r; r.warm()"
 
 run: $(STAMP) kernels

@@ -23,10 +23,11 @@ from typing import Any
 import numpy as np
 
 from behaviors.puppet_master import features as ft
+from behaviors.puppet_master import step_kernel as sk
 from behaviors.puppet_master.detail import (DetailPatch, LookGovernor, TextureGovernor,
                                             direction_detail, texture_rms)
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look, train_look, train_place
-from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
+from behaviors.puppet_master.generation import (StepSmoother, _bearings, clamp_to_table, fit_target,
                                                 keep_apart, keep_on_table, limit_turn,
                                                 rotate_step, step_around, target_position,
                                                 charges, own_steps, relative_world_steps,
@@ -178,6 +179,10 @@ STILL_SPAN_S = 0.5    # s
 FOLLOW_SHARE = 0.5    # share of the main's motion above which a reactor follows its main
 
 
+_NO_OBSTACLES = np.zeros((0, 3))
+_POSE_AND_STEP = np.array([sk.RX, sk.RY, sk.LOOK, sk.STEP_X, sk.STEP_Y])
+
+
 class Behavior:
     """A trained behaviour: the resampled demonstration and everything precomputed from it.
 
@@ -227,6 +232,17 @@ class Behavior:
             self.detail.tolist(), lk.frame.tolist(), lk.angle.tolist(), lk.still_frame.tolist(),
             lk.still_angle.tolist(), lk.detail.tolist()))
         self.top_speed = float(np.percentile(f.v_react, 99))
+        # the same per-sample values as one table for the compiled step (step_kernel columns)
+        # (as many rows as the zipped lists: look.train_place's spans are longer than a
+        # demonstration under two seconds and give one more value)
+        columns = [np.asarray(c, dtype=float).reshape(len(c), -1) for c in (
+            self.place_frame, self.bearing_turn, self.distance, f.rel_fwd, f.rel_left,
+            f.v_react, self.own_steps, self.world_rel, self.span_step, ~main_still,
+            self.detail, lk.frame, lk.angle, lk.still_frame, lk.still_angle, lk.detail,
+            self.charge_end, self.charge_touch)]
+        rows = min(len(self.rows), len(self.texture_rows), len(self.own_steps))
+        self.step_table = np.ascontiguousarray(np.hstack([c[:rows] for c in columns]))
+        self.bearings = np.array(_bearings(72))     # fit_target's default 5 degree steps
         self.texture = texture_rms(self.react[:, :2], p.rate_hz)
         self.look_change = float(np.mean(np.abs(wrap_angles(np.diff(self.react[:, 2])))))
         self.start_pose = (float(f.rel_fwd[0]), float(f.rel_left[0]), float(f.rel_look[0]))
@@ -265,7 +281,13 @@ class Reactor:
     ``table``: (x0, y0, x1, y1) metres the reactor stays inside. ``max_backlog``: seconds of
     missed steps generated at once after an input gap; beyond that the grid skips ahead and
     the reactor waits where it was (None: generate every step, as ``tabletop behave`` does).
+
+    ``compiled``: steps run as one compiled call (step_kernel.step, the same arithmetic as
+    :meth:`_step` to the last bit); False runs :meth:`_step` itself, the readable definition.
+    (Measured: see step_kernel.)
     """
+
+    compiled = True
 
     def __init__(self, behavior: Behavior, table: tuple[float, float, float, float],
                  max_backlog: float | None = 1.0) -> None:
@@ -331,10 +353,46 @@ class Reactor:
         # the main's latest positions (STILL_SPAN_S x rate of them), to tell a main that stands
         self._main_recent: deque[tuple[float, float]] = deque(
             maxlen=int(round(STILL_SPAN_S * p.rate_hz)))
+        self._compiled_state(main_x, main_y, md)
         self.source = -1
         self._charge_end = -1
         self.started = True
         return self.pose
+
+    def _compiled_state(self, main_x: float, main_y: float, md: float) -> None:
+        """The state and constants of the compiled step (step_kernel indices), as start()
+        left the objects the Python step uses."""
+        b, p = self.behavior, self.behavior.params
+        fs = self._fs = np.zeros(sk.FLOAT_STATE)
+        fs[[sk.RX, sk.RY, sk.LOOK]] = self.pose
+        fs[[sk.MAIN_X, sk.MAIN_Y, sk.MAIN_MOVE]] = main_x, main_y, md
+        fs[[sk.REACT_X, sk.REACT_Y, sk.REACT_MOVE]] = self.pose
+        gov, lg, bal = self.governor, self.look_governor, self.balancer
+        fs[[sk.GOV_MS, sk.GOV_Z, sk.GOV_PREV]] = gov.ms, gov.z, gov.prev
+        fs[[sk.LOOK_MS, sk.LOOK_Z]] = lg.ms, lg.z
+        fs[[sk.LOG_K, sk.SHARE]] = bal.log_k, bal.share
+        ints = self._is = np.zeros(sk.INT_STATE, dtype=np.int64)
+        ints[sk.PATCH_START], ints[sk.PATCH_OFFSET] = self.patch.start, self.patch.offset
+        ints[sk.SOURCE] = ints[sk.CHARGE_END] = -1
+        c = self._cs = np.zeros(sk.CONSTANTS)
+        c[[sk.X0, sk.Y0, sk.X1, sk.Y1]] = self.table
+        c[[sk.DT, sk.RATE, sk.MIN_SPEED, sk.CATCH_UP, sk.GAIN]] = (
+            self.dt, p.rate_hz, p.min_speed, p.catch_up, p.relative_motion)
+        c[[sk.TOP_SPEED, sk.STILL_SPEED, sk.MAX_TURN]] = b.top_speed, b.still_speed, self.max_turn
+        c[[sk.GOV_TARGET, sk.GOV_MIN_STEP, sk.GOV_GAIN, sk.GOV_DECAY, sk.GOV_Z_MIN,
+           sk.GOV_Z_MAX]] = gov.target, gov.min_step, gov.gain, gov.decay, gov.z_min, gov.z_max
+        c[[sk.LOOK_TARGET, sk.LOOK_GAIN, sk.LOOK_DECAY, sk.LOOK_Z_MIN, sk.LOOK_Z_MAX]] = (
+            lg.target, lg.gain, lg.decay, lg.z_min, lg.z_max)
+        c[[sk.TARGET_SHARE, sk.BALANCE_GAIN, sk.SHARE_WINDOW, sk.LOG_K_LIMIT]] = (
+            bal.target_share, bal.gain, bal.window, bal.log_k_limit)
+        s = b.scales
+        c[[sk.S_V_MAIN, sk.S_V_REACT, sk.S_REL_POSITION, sk.S_REL_LOOK, sk.S_NORM_LOOK,
+           sk.S_DDIR]] = s.v_main, s.v_react, s.rel_position, s.rel_look, s.norm_look, s.ddir
+        c[[sk.STILL_DISTANCE, sk.PATCH_LENGTH, sk.HEADING_MIN_SPEED, sk.FOLLOW_SHARE]] = (
+            STILL_MPS * STILL_SPAN_S, p.patch, HEADING_MIN_SPEED, FOLLOW_SHARE)
+        self._smooth_x = np.zeros(p.smooth)
+        self._smooth_y = np.zeros(p.smooth)
+        self._recent = np.zeros((self._main_recent.maxlen, 2))
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -349,16 +407,23 @@ class Reactor:
                                            p.min_speed)
         self._main_recent.clear()
         self._charge_end = -1
+        self._fs[[sk.MAIN_X, sk.MAIN_Y, sk.MAIN_MOVE]] = main_x, main_y, wrap_angle(main_dir)
+        self._is[sk.RECENT_COUNT] = 0
+        self._is[sk.CHARGE_END] = -1
 
     @property
     def coherence_share(self) -> float:
         """Running share (0..1) of coherence choices over the last few seconds."""
-        return self.balancer.share if self.started else 0.0
+        if not self.started:
+            return 0.0
+        return float(self._fs[sk.SHARE]) if self.compiled else self.balancer.share
 
     @property
     def k(self) -> float:
         """Current balancing weight on the coherence cost."""
-        return self.balancer.k if self.started else 1.0
+        if not self.started:
+            return 1.0
+        return math.exp(self._fs[sk.LOG_K]) if self.compiled else self.balancer.k
 
     def advance(self, t: float, main_x: float, main_y: float,
                 main_dir: float) -> list[tuple[float, float, float, float]]:
@@ -384,7 +449,7 @@ class Reactor:
             if behind > self.max_backlog:
                 self.i = int(math.floor((t - self.max_backlog - t0) * rate))
         rows: list[tuple[float, float, float, float]] = []
-        step, at = self._step, resampler.at
+        step, at = self._step_compiled if self.compiled else self._step, resampler.at
         while True:  # steps strictly before this sample: extrapolate from earlier samples
             g = t0 + (self.i + 1) / rate
             if g >= t - eps:
@@ -413,6 +478,29 @@ class Reactor:
         return x, y, d
 
     # -- one generation step ------------------------------------------------------------------
+
+    def _step_compiled(self, g: float, mx: float, my: float,
+                       md: float) -> tuple[float, float, float, float]:
+        """:meth:`_step` as one compiled call (step_kernel.step), the searches around it."""
+        js, cost_s = self.situation.best()
+        jc, cost_c = self.coherence.best()
+        obstacles = np.array(self.obstacles, dtype=float).reshape(-1, 3) if self.obstacles \
+            else _NO_OBSTACLES
+        b = self.behavior
+        self.source = target = sk.step(
+            self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
+            self._smooth_y, self._recent, obstacles, self._xs, self._xc, mx, my, md, js, cost_s,
+            jc, cost_c)
+        self.last_choice = ("charge" if self._is[sk.KEPT_CHARGE] else
+                            "coherence" if self._is[sk.USED_COHERENCE] else "situation")
+        self.situation.push(self._xs)
+        self.coherence.push(self._xc, target)
+        self.i += 1
+        self.t = g
+        rx, ry, look, sx, sy = self._fs.take(_POSE_AND_STEP).tolist()
+        self.pose = (rx, ry, look)
+        self._last_step = (sx, sy)
+        return g, rx, ry, look
 
     def _step(self, g: float, mx: float, my: float, md: float) -> tuple[float, float, float, float]:
         b, p = self.behavior, self.behavior.params

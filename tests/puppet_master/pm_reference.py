@@ -1,10 +1,11 @@
 """Reference BestMatch searches: the plain formulation the fast searches of
 behaviors/puppet_master/similarity.py must reproduce to the last bit.
 
-The situation search keeps two distance buffers and shifts one into the other every step; the
-coherence search scores every distinct proposal with numpy from an (m, n) index array. Both do
-the same floating-point operations in the same order as the fast versions, so any difference
-in a search's choice or cost, and so in a generated pose, is a fault of the fast path.
+The situation search keeps two distance buffers and a ring of E rows and shifts one buffer into
+the other every step; the coherence search scores every distinct proposal with numpy from an
+(m, n) index array. Both do the same floating-point operations in the same order as the
+compiled ones (search_kernel.py), so any difference in a search's choice or cost, and so in a
+generated pose, is a fault of the fast path.
 """
 
 from __future__ import annotations
@@ -17,7 +18,9 @@ from behaviors.puppet_master.similarity import augmented, window_sums
 
 
 class ReferenceSituationSearch:
-    """Situation similarity: ``D'[j] = D[j-1] + E_new[j] - E_old[j-n]`` into a second buffer."""
+    """Situation similarity: ``D'[j] = (lam D[j-1] + E_new[j]) - lam^n E_old[j-n]`` into a
+    second buffer, with a ring of the last n + 1 E rows; E in single precision as
+    ``(|x|^2 + |y|^2) + sum_c (-2 x_c) y_c`` (terms in that order), D in double."""
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray,
                  aug: np.ndarray | None = None, half_life: float = 0.0) -> None:
@@ -29,13 +32,16 @@ class ReferenceSituationSearch:
         self.ring = np.zeros((n + 1, N), dtype=self.aug.dtype)
         self.k = n - 1
         self.dist = np.zeros(N)
-        self._v = np.zeros((1, self.d + 2), dtype=self.aug.dtype)
 
     def _e(self, x: np.ndarray, out: np.ndarray) -> None:
-        self._v[0, :self.d] = x * -2.0
-        self._v[0, self.d] = 1.0
-        self._v[0, self.d + 1] = x.dot(x)
-        np.matmul(self._v, self.aug, out=out[None])
+        f = self.aug.dtype.type
+        q = (np.asarray(x, dtype=float) * -2.0).astype(self.aug.dtype)
+        xx = 0.0
+        for v in np.asarray(x, dtype=float).tolist():
+            xx += v * v
+        out[:] = f(xx) + self.aug[self.d]
+        for c in range(self.d):
+            out += q[c] * self.aug[c]
 
     def reset(self, window: np.ndarray) -> None:
         n, N = self.n, self.dist.size
@@ -43,8 +49,10 @@ class ReferenceSituationSearch:
             self._e(np.asarray(window[a], dtype=float), self.ring[a])
         self.k = n - 1
         self.dist = np.zeros(N)
+        w = 1.0
         for a in range(min(n, N)):
-            self.dist[a:] += self.decay ** a * self.ring[n - 1 - a, :N - a]
+            self.dist[a:] += w * self.ring[n - 1 - a, :N - a].astype(float)
+            w *= self.decay
 
     def push(self, x: np.ndarray) -> None:
         n = self.n
@@ -54,15 +62,9 @@ class ReferenceSituationSearch:
         self._e(x, new)
         d, d2 = self.dist, np.empty_like(self.dist)
         d2[0] = new[0]
-        if self.decay == 1.0:
-            d2[1:] = d[:-1] + new[1:]
-            if d2.size > n:
-                d2[n:] = d2[n:] - old[:-n]
-        else:
-            d2[1:] = d[:-1] * self.decay
-            d2[1:] += new[1:]
-            if d2.size > n:
-                d2[n:] -= old[:-n] * self.decay ** n
+        d2[1:] = d[:-1] * self.decay + new[1:]
+        if d2.size > n:
+            d2[n:] = d2[n:] - old[:-n].astype(float) * self.decay ** n
         self.dist = d2
 
     def distances(self) -> np.ndarray:
@@ -76,7 +78,7 @@ class ReferenceSituationSearch:
 
 class ReferenceCoherenceSearch:
     """Coherence: every source proposes ``source + age``; the distinct allowed proposals are
-    scored ``sum |y|^2 - 2 x . y`` (+ ``sum |x|^2``) with numpy."""
+    scored ``sum |y|^2 - 2 x . y`` (+ ``sum |x|^2``) with numpy from an (m, n) index array."""
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray) -> None:
         self.y = np.ascontiguousarray(train, dtype=float)
@@ -93,8 +95,11 @@ class ReferenceCoherenceSearch:
         self.sx = float(np.sum(self.sq))
 
     def push(self, x: np.ndarray, source: int) -> None:
-        """|x|^2 of the window is kept as a running sum (the newest in, the oldest out)."""
-        q = float(x.dot(x))
+        """|x|^2 (summed term by term) of the window is kept as a running sum (the newest
+        in, the oldest out)."""
+        q = 0.0
+        for v in np.asarray(x, dtype=float).tolist():
+            q += v * v
         self.sx += q - self.sq[0]
         self.sq = self.sq[1:] + [q]
         self.live = self.live[1:] + [np.array(x, dtype=float)]
@@ -110,6 +115,8 @@ class ReferenceCoherenceSearch:
             return -1, math.inf
         window = np.array(self.live)
         w = self.y[cand[:, None] + np.arange(-n + 1, 1)[None, :]]
-        costs = self.sy[cand] - 2.0 * np.einsum("mnd,nd->m", w, window)
+        # the cross terms summed one at a time, window sample by sample (cumsum is sequential)
+        cross = np.cumsum((w * window[None]).reshape(cand.size, -1), axis=1)[:, -1]
+        costs = self.sy[cand] - 2.0 * cross
         k = int(costs.argmin())
         return int(cand[k]), max(float(costs[k]) + self.sx, 0.0)

@@ -1,8 +1,8 @@
 """The fast BestMatch path reproduces the plain formulation to the last bit.
 
-The searches of behaviors/puppet_master/similarity.py (in-place distances with a moving
-offset, coherence proposals by bisection, costs in plain Python) and fit_target's bearing
-table are speed-ups only: every choice, every cost and so every generated pose must equal
+The searches of behaviors/puppet_master/similarity.py (compiled in search_kernel.py: in-place
+distances with a moving offset, the leaving E recomputed, the coherence proposals from their
+bases) and fit_target's bearing table are speed-ups only: every choice, every cost and so every generated pose must equal
 the reference formulation's (tests/puppet_master/pm_reference.py) bit for bit.
 """
 
@@ -151,18 +151,3 @@ def test_fit_target_equals_the_per_call_bearings():
         assert got == _fit_target_reference(mx, my, tx, ty, rx, ry, TABLE, step)
         moved += got != (tx, ty)
     assert moved > 500
-
-
-def test_the_query_product_of_np_dot_equals_np_matmul_bit_for_bit():
-    """SituationSearch.push multiplies a 1-d query (np.dot); the reference multiplies a
-    (1, d + 2) one (np.matmul): both must be the same single-precision BLAS product."""
-    rng = np.random.default_rng(8)
-    for N in (1, 2, 3, 5, 7, 8, 9, 15, 16, 17, 31, 33, 63, 65, 257, 3199, 24000):
-        for K in (4, 8, 9):
-            aug = (rng.normal(size=(K, N)) * rng.uniform(0.01, 100)).astype(np.float32)
-            v = (rng.normal(size=(1, K)) * rng.uniform(0.01, 100)).astype(np.float32)
-            a = np.empty((1, N), np.float32)
-            b = np.empty(N, np.float32)
-            np.matmul(v, aug, out=a)
-            np.dot(v[0], aug, out=b)
-            assert np.array_equal(a[0].view(np.uint32), b.view(np.uint32)), (N, K)

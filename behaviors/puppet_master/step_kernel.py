@@ -1,0 +1,489 @@
+"""The generation step's arithmetic (engine.Reactor._step) compiled as one call.
+
+The readable definition is the Python step, ``engine.Reactor._step``, and the pure functions
+it calls; this module repeats them operation for operation, so a compiled step gives the same
+pose to the last bit (tests/puppet_master/test_pm_step_kernel.py runs both side by side).
+A change to any of these must be made here too:
+
+- engine.Reactor._step (from the balancing, with a charge kept whole, to the features of the
+  new sample pair)
+- similarity.Balancer.choose
+- generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
+  rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
+- detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
+  observe, LookGovernor.observe_look
+- look.desired_look
+- features: EntityMotion.step, relative_pose, situation_row, coherence_row
+- tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
+
+In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
+searches aside); the compiled call costs 2-10 us. Measured interleaved in one process (8
+reactors, thread CPU time, loaded 2-core machine), with the compiled searches on both sides:
+about 0.66x the tick at 24,000 training samples and 0.55x at 3,200. The state of the step's small
+objects lives in two arrays (indices below); the per-training-sample values the step reads
+are one table (columns below, engine.Behavior.step_table).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+# float state (Reactor._fs)
+RX, RY, LOOK, MAIN_X, MAIN_Y, MAIN_MOVE, REACT_X, REACT_Y, REACT_MOVE, EMA_X, EMA_Y, \
+    GOV_MS, GOV_Z, GOV_PREV, LOOK_MS, LOOK_Z, LOG_K, SHARE, STEP_X, STEP_Y = range(20)
+FLOAT_STATE = 20
+# integer state (Reactor._is)
+PATCH_START, PATCH_OFFSET, SMOOTH_I, RECENT_COUNT, RECENT_HEAD, CHOICES, COHERENCE_CHOICES, \
+    SOURCE, USED_COHERENCE, CHARGE_END, KEPT_CHARGE = range(11)
+INT_STATE = 11
+# constants (Reactor._cs)
+X0, Y0, X1, Y1, DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
+    GOV_TARGET, GOV_MIN_STEP, GOV_GAIN, GOV_DECAY, GOV_Z_MIN, GOV_Z_MAX, \
+    LOOK_TARGET, LOOK_GAIN, LOOK_DECAY, LOOK_Z_MIN, LOOK_Z_MAX, \
+    TARGET_SHARE, BALANCE_GAIN, SHARE_WINDOW, LOG_K_LIMIT, \
+    S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
+    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE = range(37)
+CONSTANTS = 37
+# per training sample (Behavior.step_table)
+T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
+    T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
+    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH = range(21)
+TABLE_COLUMNS = 21
+
+PLACE_WORLD = 1.0
+GAZE, RELATIVE, NORMALISED = 0.0, 1.0, 2.0
+
+_f8 = numba.float64
+_F1, _F2, _I1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1]
+_opts = {"cache": True, "nogil": True}
+
+
+@numba.njit(_f8(_f8, _f8), **_opts)
+def remainder(x: float, y: float) -> float:
+    """math.remainder(x, y) for finite x and y > 0, as CPython computes it (exact)."""
+    absx, absy = abs(x), abs(y)
+    m = np.fmod(absx, absy)
+    c = absy - m
+    if m < c:
+        r = m
+    elif m > c:
+        r = -c
+    else:
+        r = m - 2.0 * np.fmod(0.5 * (absx - m), absy)
+    return math.copysign(1.0, x) * r
+
+
+@numba.njit(_f8(_f8, _f8), **_opts)
+def hypot(a: float, b: float) -> float:
+    """math.hypot(a, b) as CPython 3.11 computes it (vector_norm: scaled by a power of two,
+    exact squares by Veltkamp splitting, compensated sums and one correction of the root);
+    libm's hypot differs from it in the last bit now and then."""
+    x0, x1 = abs(a), abs(b)
+    mx = x0 if x0 > x1 else x1
+    if math.isinf(mx):
+        return mx
+    if math.isnan(a) or math.isnan(b):
+        return math.nan
+    if mx == 0.0:
+        return mx
+    _, max_e = math.frexp(mx)
+    if max_e < -1023:                      # subnormal: not met at table scale
+        return math.sqrt(a * a + b * b)
+    scale = math.ldexp(1.0, -max_e)
+    t27 = 134217729.0
+    csum, frac1, frac2, frac3 = 1.0, 0.0, 0.0, 0.0
+    for i in range(2):
+        x = (x0 if i == 0 else x1) * scale
+        t = x * t27
+        hi = t - (t - x)
+        lo = x - hi
+        x = hi * hi
+        old = csum
+        csum += x
+        frac1 += (old - csum) + x
+        x = 2.0 * hi * lo
+        old = csum
+        csum += x
+        frac2 += (old - csum) + x
+        frac3 += lo * lo
+    h = math.sqrt(csum - 1.0 + (frac1 + frac2 + frac3))
+    t = h * t27
+    hi = t - (t - h)
+    lo = h - hi
+    x = -hi * hi
+    old = csum
+    csum += x
+    frac1 += (old - csum) + x
+    x = -2.0 * hi * lo
+    old = csum
+    csum += x
+    frac2 += (old - csum) + x
+    x = -lo * lo
+    old = csum
+    csum += x
+    frac3 += (old - csum) + x
+    x = csum - 1.0 + (frac1 + frac2 + frac3)
+    return (h + x / (2.0 * h)) / scale
+
+
+@numba.njit(_f8(_f8), **_opts)
+def wrap_angle(a: float) -> float:
+    """tabletop.frames.wrap_angle."""
+    w = remainder(a, math.tau)
+    return math.pi if w == -math.pi else w
+
+
+@numba.njit(_f8(_f8, _f8), **_opts)
+def _max(a: float, b: float) -> float:
+    """Python's max(a, b): a unless b is greater."""
+    return b if b > a else a
+
+
+@numba.njit(_f8(_f8, _f8), **_opts)
+def _min(a: float, b: float) -> float:
+    """Python's min(a, b): a unless b is less."""
+    return b if b < a else a
+
+
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _F1), **_opts)
+def clamp_to_table(x: float, y: float, c: np.ndarray) -> tuple[float, float]:
+    """generation.clamp_to_table (table from the constants)."""
+    return _min(_max(x, c[X0]), c[X1]), _min(_max(y, c[Y0]), c[Y1])
+
+
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _F1, _F2), **_opts)
+def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
+               c: np.ndarray, bearings: np.ndarray) -> tuple[float, float]:
+    """generation.fit_target (``bearings``: generation._bearings as an (m, 2) array)."""
+    x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
+    if x0 <= tx <= x1 and y0 <= ty <= y1:
+        return tx, ty
+    rho = hypot(tx - mx, ty - my)
+    found = False
+    bd, bx, by = 0.0, 0.0, 0.0
+    if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
+        for k in range(bearings.shape[0]):
+            px, py = mx + rho * bearings[k, 0], my + rho * bearings[k, 1]
+            if x0 <= px <= x1 and y0 <= py <= y1:
+                d = (px - rx) ** 2 + (py - ry) ** 2
+                if not found or d < bd:
+                    found = True
+                    bd, bx, by = d, px, py
+    if found:
+        return bx, by
+    return clamp_to_table(tx, ty, c)
+
+
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8), **_opts)
+def step_toward(rx: float, ry: float, tx: float, ty: float,
+                length: float) -> tuple[float, float]:
+    """generation.step_toward."""
+    dx, dy = tx - rx, ty - ry
+    dist = hypot(dx, dy)
+    if dist < 1e-12:
+        return 0.0, 0.0
+    return dx * length / dist, dy * length / dist
+
+
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _f8), **_opts)
+def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
+                length: float) -> tuple[float, float]:
+    """generation.step_around."""
+    ax, ay = rx - mx, ry - my
+    bx, by = tx - mx, ty - my
+    ra, rb = hypot(ax, ay), hypot(bx, by)
+    if ra < 1e-6 or rb < 1e-6:
+        return step_toward(rx, ry, tx, ty, _min(length, hypot(tx - rx, ty - ry)))
+    a0 = math.atan2(ay, ax)
+    da = remainder(math.atan2(by, bx) - a0, math.tau)
+    path = hypot(rb - ra, 0.5 * (ra + rb) * da)
+    if path <= length or path < 1e-12:
+        return tx - rx, ty - ry
+    f = length / path
+    rho, ang = ra + f * (rb - ra), a0 + f * da
+    return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
+
+
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _F1), **_opts)
+def keep_on_table(rx: float, ry: float, sx: float, sy: float,
+                  c: np.ndarray) -> tuple[float, float]:
+    """generation.keep_on_table."""
+    x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
+    length = hypot(sx, sy)
+    nx, ny = rx + sx, ry + sy
+    changed = False
+    if nx < x0 or nx > x1:
+        sx = 0.0
+        changed = True
+    if ny < y0 or ny > y1:
+        sy = 0.0
+        changed = True
+    if changed:
+        rest = hypot(sx, sy)
+        if rest > 1e-12:
+            sx, sy = sx * length / rest, sy * length / rest
+    nx, ny = clamp_to_table(rx + sx, ry + sy, c)
+    return nx - rx, ny - ry
+
+
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _F2, _F1), **_opts)
+def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
+    """generation.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
+    for k in range(others.shape[0]):
+        ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
+        dx, dy = x - ox, y - oy
+        d = hypot(dx, dy)
+        if d < least:
+            if d < 1e-9:
+                dx, dy, d = 1.0, 0.0, 1.0
+            x, y = ox + dx * least / d, oy + dy * least / d
+    return clamp_to_table(x, y, c)
+
+
+@numba.njit(_f8(_f8, _f8, _f8), **_opts)
+def limit_turn(previous: float, desired: float, max_delta: float) -> float:
+    """generation.limit_turn."""
+    d = wrap_angle(desired - previous)
+    d = _min(_max(d, -max_delta), max_delta)
+    return wrap_angle(previous + d)
+
+
+@numba.njit(_f8(_f8, _f8, _f8, _f8, numba.boolean, _f8, _f8, _f8), **_opts)
+def desired_look(frame: float, angle: float, still_frame: float, still_angle: float,
+                 moving: bool, move_dir: float, md: float, gaze_base: float) -> float:
+    """look.desired_look."""
+    if frame == NORMALISED and not moving:
+        frame, angle = still_frame, still_angle
+    base = gaze_base if frame == GAZE else md if frame == RELATIVE else move_dir
+    return base + angle
+
+
+@numba.njit(_f8(_f8, _f8, _f8), **_opts)
+def _detail_gain(z: float, z_min: float, z_max: float) -> float:
+    """TextureGovernor.detail_gain."""
+    return _min(_max(1.0 + z, 0.0), 1.0 + z_max)
+
+
+@numba.njit(_f8(_f8), **_opts)
+def _alpha(z: float) -> float:
+    """TextureGovernor.alpha."""
+    return 1.0 if z >= -1.0 else _max(0.2, 1.0 + 0.8 * (z + 1.0))
+
+
+@numba.njit(numba.void(_F1, numba.int64, numba.int64, _f8, _f8, _f8, _f8, _f8, _f8),
+            **_opts)
+def _update(s: np.ndarray, ms: int, z: int, value: float, target: float, gain: float,
+            decay: float, z_min: float, z_max: float) -> None:
+    """TextureGovernor.update on s[ms], s[z]."""
+    s[ms] += (value - s[ms]) * decay
+    s[z] += gain * (target - s[ms]) / target
+    s[z] = _min(_max(s[z], z_min), z_max)
+
+
+@numba.njit(numba.types.UniTuple(_f8, 3)(_F1, numba.int64, _f8, _f8, _f8, _f8), **_opts)
+def _motion(s: np.ndarray, at: int, x: float, y: float, rate_hz: float,
+            min_speed: float) -> tuple[float, float, float]:
+    """features.EntityMotion.step on s[at: at + 3] (x, y, move)."""
+    dx, dy = x - s[at], y - s[at + 1]
+    s[at], s[at + 1] = x, y
+    speed = hypot(dx, dy) * rate_hz
+    prev = s[at + 2]
+    if speed >= min_speed:
+        s[at + 2] = math.atan2(dy, dx)
+    d = remainder(s[at + 2] - prev, math.tau)
+    return speed, s[at + 2], (math.pi if d == -math.pi else d)
+
+
+@numba.njit(numba.types.UniTuple(_f8, 3)(_f8, _f8, _f8, _f8, _f8, _f8), **_opts)
+def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
+                  rd: float) -> tuple[float, float, float]:
+    """features.relative_pose."""
+    c, s = math.cos(md), math.sin(md)
+    dx, dy = rx - mx, ry - my
+    d = remainder(rd - md, math.tau)
+    return c * dx + s * dy, -s * dx + c * dy, (math.pi if d == -math.pi else d)
+
+
+@numba.njit(numba.boolean(_F1, numba.int64[::1], _F1, _f8, _f8), **_opts)
+def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: float,
+           coherence_cost: float) -> bool:
+    """similarity.Balancer.choose."""
+    if not math.isfinite(coherence_cost):
+        return False
+    use = math.exp(fs[LOG_K]) * coherence_cost < situation_cost
+    chosen = 1.0 if use else 0.0
+    log_k = fs[LOG_K] + c[BALANCE_GAIN] * (chosen - c[TARGET_SHARE])
+    limit = c[LOG_K_LIMIT]
+    fs[LOG_K] = _min(_max(log_k, -limit), limit)
+    ints[CHOICES] += 1
+    ints[COHERENCE_CHOICES] += 1 if use else 0
+    alpha = _max(1.0 / ints[CHOICES], 1.0 / c[SHARE_WINDOW])
+    fs[SHARE] += alpha * (chosen - fs[SHARE])
+    return use
+
+
+@numba.njit(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
+                        _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8), **_opts)
+def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
+         bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
+         recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
+         mx: float, my: float, md: float, js: int, cost_s: float, jc: int,
+         cost_c: float) -> int:
+    """One generation step (engine.Reactor._step) from the main pose (mx, my, md) and the
+    searches' best matches; updates the state arrays, writes the new sample pair's situation
+    and coherence vectors into ``xs``, ``xc`` and returns the target (the training index
+    the step came from). ``recent``: (m, 2) ring of the main's latest positions."""
+    use_c = choose(fs, ints, c, cost_s, cost_c)
+    target = (jc if use_c else js) + 1
+    ints[USED_COHERENCE] = 1 if use_c else 0
+    # a charge the match has entered is kept whole to the end of its push
+    if 0 <= ints[SOURCE] < ints[CHARGE_END]:
+        target = ints[SOURCE] + 1
+        ints[KEPT_CHARGE] = 1
+    else:
+        ints[KEPT_CHARGE] = 0
+        ints[CHARGE_END] = int(table[target, T_CHARGE_END])
+        if ints[CHARGE_END] >= 0:
+            ints[PATCH_OFFSET] = int(c[PATCH_LENGTH])     # DetailPatch.restart
+    ints[SOURCE] = target
+    rx, ry, look = fs[RX], fs[RY], fs[LOOK]
+    row = table[target]
+    place, bearing_turn, dist = row[T_PLACE], row[T_BEARING_TURN], row[T_DISTANCE]
+    fwd_t, left_t, speed = row[T_FWD], row[T_LEFT], row[T_SPEED]
+    if place == PLACE_WORLD:
+        phi = math.atan2(ry - my, rx - mx) + bearing_turn
+        tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
+    else:
+        cm, sm = math.cos(md), math.sin(md)
+        tx, ty = mx + cm * fwd_t - sm * left_t, my + sm * fwd_t + cm * left_t
+    tx, ty = fit_target(mx, my, tx, ty, rx, ry, c, bearings)
+    dt = c[DT]
+    if c[CATCH_UP] > 0.0 and speed >= 3.0 * c[MIN_SPEED]:
+        speed = _max(speed, _min(c[CATCH_UP] * hypot(tx - rx, ty - ry), c[TOP_SPEED]))
+    gain = c[GAIN]
+    if gain > 0.0 and target > 0:
+        mxp, myp = fs[MAIN_X], fs[MAIN_Y]
+        if place == PLACE_WORLD:
+            k, u_rad, u_tan = row[T_K], row[T_U_RAD], row[T_U_TAN]
+            ax, ay = rx - mxp, ry - myp
+            rho = hypot(ax, ay)
+            if rho > 1e-9:
+                ex, ey = ax / rho, ay / rho
+            else:
+                ex, ey = 1.0, 0.0
+            sx = k * (mx - mxp) + u_rad * ex - u_tan * ey + gain * (tx - rx)
+            sy = k * (my - myp) + u_rad * ey + u_tan * ex + gain * (ty - ry)
+        else:
+            cm, s_ = math.cos(md), math.sin(md)
+            dfx, dfy = row[T_DFX], row[T_DFY]
+            cx, cy = gain * (tx - rx), gain * (ty - ry)
+            if row[T_K] >= c[FOLLOW_SHARE]:
+                corr = hypot(cx, cy)
+                most = row[T_SPAN_STEP]
+                if corr > most:
+                    cx, cy = cx * most / corr, cy * most / corr
+            sx = (mx - mxp) + cm * dfx - s_ * dfy + cx
+            sy = (my - myp) + s_ * dfx + cm * dfy + cy
+        if ints[CHARGE_END] >= 0:
+            # a charge kept whole closes the live distance beyond the demonstrated one
+            touch = int(row[T_CHARGE_TOUCH])
+            lx, ly = mx - rx, my - ry
+            live = hypot(lx, ly)
+            gap = live - dist
+            if gap > 0.0 and live > 1e-9:
+                gap /= max(1, touch - target + 1)
+                sx, sy = sx + gap * lx / live, sy + gap * ly / live
+        length = hypot(sx, sy)
+        cap = (speed if place == PLACE_WORLD else c[TOP_SPEED]) * dt
+        m = recent.shape[0]
+        head = ints[RECENT_HEAD]
+        recent[head, 0], recent[head, 1] = mx, my
+        head = (head + 1) % m
+        ints[RECENT_HEAD] = head
+        if ints[RECENT_COUNT] < m:
+            ints[RECENT_COUNT] += 1
+        if ints[RECENT_COUNT] == m and row[T_WALKED] != 0.0:
+            ox, oy = recent[head, 0], recent[head, 1]      # the oldest
+            if hypot(mx - ox, my - oy) < c[STILL_DISTANCE]:
+                cap = _min(cap, c[STILL_SPEED] * dt)
+        if length > cap:
+            sx, sy = sx * cap / length, sy * cap / length
+    else:
+        sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * dt)
+    # StepSmoother.push
+    size = smooth_x.size
+    i = ints[SMOOTH_I]
+    smooth_x[i], smooth_y[i] = sx, sy
+    ints[SMOOTH_I] = (i + 1) % size
+    tot_x, tot_y = 0.0, 0.0
+    for q in range(size):
+        tot_x += smooth_x[q]
+    for q in range(size):
+        tot_y += smooth_y[q]
+    sx, sy = tot_x / size, tot_y / size
+    a = _alpha(fs[GOV_Z])
+    sx = a * sx + (1.0 - a) * fs[EMA_X]
+    sy = a * sy + (1.0 - a) * fs[EMA_Y]
+    fs[EMA_X], fs[EMA_Y] = sx, sy
+    heading = math.atan2(sy, sx)
+    # DetailPatch.next
+    if ints[PATCH_OFFSET] >= c[PATCH_LENGTH]:
+        ints[PATCH_START], ints[PATCH_OFFSET] = target, 0
+    i_detail = ints[PATCH_START] + ints[PATCH_OFFSET]
+    ints[PATCH_OFFSET] += 1
+    if not (0 <= i_detail < table.shape[0]):
+        i_detail = -1
+    tex = table[i_detail if i_detail >= 0 else target]
+    if i_detail >= 0:
+        angle = _detail_gain(fs[GOV_Z], c[GOV_Z_MIN], c[GOV_Z_MAX]) * tex[T_DETAIL]
+        ca, sa = math.cos(angle), math.sin(angle)
+        sx, sy = ca * sx - sa * sy, sa * sx + ca * sy
+    sx, sy = keep_on_table(rx, ry, sx, sy, c)
+    if obstacles.shape[0] > 0:
+        nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)
+        sx, sy = nx - rx, ny - ry
+    # TextureGovernor.observe
+    if hypot(sx, sy) <= c[GOV_MIN_STEP]:
+        fs[GOV_PREV] = math.nan
+    else:
+        h = math.atan2(sy, sx)
+        if fs[GOV_PREV] == fs[GOV_PREV]:
+            turn = remainder(h - fs[GOV_PREV], math.tau)
+            _update(fs, GOV_MS, GOV_Z, turn * turn, c[GOV_TARGET], c[GOV_GAIN], c[GOV_DECAY],
+                    c[GOV_Z_MIN], c[GOV_Z_MAX])
+        fs[GOV_PREV] = h
+    rx, ry = rx + sx, ry + sy
+    moving = hypot(sx, sy) * c[RATE] >= c[HEADING_MIN_SPEED]
+    desired = desired_look(tex[T_FRAME], tex[T_ANGLE], tex[T_STILL_FRAME], tex[T_STILL_ANGLE],
+                           moving, heading, md, math.atan2(my - ry, mx - rx))
+    desired += _detail_gain(fs[LOOK_Z], c[LOOK_Z_MIN], c[LOOK_Z_MAX]) * tex[T_LOOK_DETAIL]
+    turned = limit_turn(look, look + _alpha(fs[LOOK_Z]) * wrap_angle(desired - look),
+                        c[MAX_TURN])
+    _update(fs, LOOK_MS, LOOK_Z, abs(wrap_angle(turned - look)), c[LOOK_TARGET], c[LOOK_GAIN],
+            c[LOOK_DECAY], c[LOOK_Z_MIN], c[LOOK_Z_MAX])
+    look = turned
+    # features of the new sample pair
+    vm, _, _ = _motion(fs, MAIN_X, mx, my, c[RATE], c[MIN_SPEED])
+    vr, move_r, ddir_r = _motion(fs, REACT_X, rx, ry, c[RATE], c[MIN_SPEED])
+    fwd, left, rel_look = relative_pose(mx, my, md, rx, ry, look)
+    xs[0] = c[S_V_MAIN] * vm
+    xs[1] = c[S_V_REACT] * vr
+    xs[2] = c[S_REL_POSITION] * fwd
+    xs[3] = c[S_REL_POSITION] * left
+    xs[4] = c[S_REL_LOOK] * math.cos(rel_look)
+    xs[5] = c[S_REL_LOOK] * math.sin(rel_look)
+    norm_look = wrap_angle(look - move_r)
+    xc[0] = c[S_NORM_LOOK] * math.cos(norm_look)
+    xc[1] = c[S_NORM_LOOK] * math.sin(norm_look)
+    xc[2] = c[S_DDIR] * math.cos(ddir_r)
+    xc[3] = c[S_DDIR] * math.sin(ddir_r)
+    xc[4] = c[S_REL_POSITION] * fwd
+    xc[5] = c[S_REL_POSITION] * left
+    xc[6] = c[S_V_REACT] * vr
+    xc[7] = c[S_V_MAIN] * vm
+    fs[RX], fs[RY], fs[LOOK] = rx, ry, look
+    fs[STEP_X], fs[STEP_Y] = sx, sy
+    return target
