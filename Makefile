@@ -29,12 +29,14 @@ kernels: $(STAMP)
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)
 
-# The suite runs in two worker processes (pytest-xdist), one per core of the target machine; a
-# worker that runs out of tests takes half of the other's queue. The project's byte-code is
-# compiled first: the many `tabletop` subprocesses of the tests then load it, not the sources.
+# The suite runs in TEST_WORKERS worker processes (pytest-xdist), by default one per core of the
+# target machine; a worker that runs out of tests takes half of another's queue. The project's
+# byte-code is compiled first: the many `tabletop` subprocesses of the tests then load it, not
+# the sources.
+TEST_WORKERS ?= 2
 test: $(STAMP) kernels
 	$(PY) -m compileall -q -j0 tabletop behaviors tracking calibration >/dev/null
-	$(PY) -m pytest -n 2 --dist worksteal
+	$(PY) -m pytest -n $(TEST_WORKERS) --dist worksteal
 
 bench: $(STAMP)
 	for b in bench/*.py; do echo "== $$b"; $(PY) $$b | tail -n 1; done

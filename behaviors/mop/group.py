@@ -221,7 +221,7 @@ class FollowerGroup(GroupRules):
         fw = self.forward
         saved = None
         if lost:
-            saved = fw.snapshot(np.flatnonzero(np.isin(self._owner, lost)))
+            saved = fw.snapshot(np.flatnonzero(self._owner_of(lost)))
             kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE + ("_shape",)] + \
                    [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
         step_ll = fw.step(self._z)
@@ -236,7 +236,10 @@ class FollowerGroup(GroupRules):
         return out
 
     def _owner_of(self, members: list[int]) -> np.ndarray:
-        return np.isin(self._owner, members)
+        """Which templates (K,) belong to ``members`` (a mask: ``np.isin`` costs ~20x more)."""
+        mine = np.zeros(len(self.followers), dtype=bool)
+        mine[members] = True
+        return mine[self._owner]
 
     def _inputs(self, present: np.ndarray) -> None:
         """:meth:`PerformanceFrame._inputs` of every member into the forward's input (K, width);

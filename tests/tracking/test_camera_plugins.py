@@ -224,13 +224,22 @@ def test_synthetic_frames_show_the_scene_at_their_shutter_and_are_never_early(tm
         announced.append((t, time.monotonic(), obs, frame))
 
     src.notify = notify
-    render, started = src.camera.render, {}
+    started, open_reader = {}, src.opener
 
-    def timed_render(poses, t, *args):
-        started[t] = time.monotonic()
-        return render(poses, t, *args)
+    def opener(settings):   # each frame's shutter time -> the reader's clock as its render began
+        reader = open_reader(settings)
+        clock, render = reader.clock, reader.render
 
-    src.camera.render = timed_render
+        def timed_render(*args):
+            stamps = []
+            reader.clock = lambda: stamps.append(clock()) or stamps[-1]
+            t = render(*args)
+            started[t] = stamps[0]
+            return t
+        reader.render = timed_render
+        return reader
+
+    src.opener = opener
     src.open()
     try:
         assert wait_for(lambda: len(announced) >= 8)
