@@ -147,12 +147,13 @@ def test_a_new_performance_is_followed_after_the_last_one_ended():
     assert f.forward.entries.sum() >= 4
 
 
-def test_hundred_thousand_steps_stay_finite_and_accurate():
+def test_a_long_run_stays_finite_and_accurate():
+    """20,000 steps (about 11 minutes of input at 30 Hz); bench/mop_soak.py runs 200,000."""
     rng = np.random.default_rng(13)
     tpl = g.template(rng, n=120, d=3)
     f = ActionFollower({"a": tpl})
     steps, last_errors = 0, []
-    while steps < 100_000:
+    while steps < 20_000:
         rest = _rest(rng, tpl[0], 10, tpl)
         phase = g.warped_phase(rng, len(tpl))
         perf = g.perform(rng, tpl, phase, 0.1)
