@@ -1,6 +1,7 @@
 """Puppet Master engine: a trained :class:`Behavior` and live :class:`Reactor` instances.
 
-Paper section 4.1 loop, once per generation step (1/rate seconds of main input)::
+Training lives in :mod:`behaviors.puppet_master.behavior` (re-exported here). Paper section 4.1
+loop, once per generation step (1/rate seconds of main input)::
 
     e = BestMatch(I_t, R_t, I, R); newMovement = Generate(e); R.append(...); I.append(input)
 
@@ -17,262 +18,25 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import asdict, dataclass, fields
-from typing import Any
 
 import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
-from behaviors.puppet_master.detail import (DetailPatch, LookGovernor, TextureGovernor,
-                                            direction_detail, texture_rms)
-from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look, train_look, train_place
-from behaviors.puppet_master.generation import (StepSmoother, _bearings, clamp_to_table, fit_target,
+from behaviors.puppet_master.behavior import (COLUMNS, FOLLOW_SHARE, STILL_MPS,  # noqa: F401
+                                              STILL_SPAN_S, Behavior, DemonstrationError,
+                                              ParameterError, Params)
+from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
+from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
                                                 keep_apart, keep_on_table, limit_turn,
-                                                rotate_step, step_around, target_position,
-                                                charges, own_steps, relative_world_steps,
-                                                still_main_speed)
-from behaviors.puppet_master.resample import CausalResampler, resample_uniform
-from behaviors.puppet_master.similarity import (Balancer, CoherenceSearch, SituationSearch,
-                                                augmented)
-from tabletop.frames import InputError, wrap_angle, wrap_angles
-
-COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
-
-
-class DemonstrationError(InputError):
-    """A demonstration that cannot be trained on; the message says what and where."""
-
-
-class ParameterError(InputError):
-    """A behaviour or reactor parameter out of range; the message names it."""
-
-
-@dataclass(frozen=True)
-class Params:
-    """Behaviour parameters (defaults from the paper where it gives them).
-
-    rate_hz: generation rate (40). window: neighbourhood n in samples (40 = one second).
-    min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
-    the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change;
-    0 (default) takes it from the demonstration (look.train_look). detail_levels: Haar
-    levels (4, cut at fs/16). patch: detail patch length in steps (16). detail_clip: rad.
-    ratio: target situation:coherence choice ratio (1 = 1:1). balance_gain, share_window: see
-    similarity.Balancer. w_*: designer weights per feature on top of the inverse spreads.
-    max_extrapolation: s a live main pose may be extrapolated past its newest sample.
-    relative_motion: per-step share (0..1) of the way to the target relative position. The
-    paper moves toward the target position at the target's speed; then the reactor only ever
-    chases where the demonstration was one step later, and every lag in the match (a charge, a
-    circle) is lost for good: the playful friend circled at 1.2-1.6 rad/s against 2.3
-    demonstrated, the bully rarely reached contact. With relative_motion > 0 the step is the
-    demonstrated step relative to the main (target minus its predecessor, in the main's
-    frame; taken from the two world steps, generation.relative_world_steps), carried along
-    with the main's own step, plus this share of the remaining way to the target (drift
-    correction), never faster than the demonstrated top speed. Measured with
-    bench/fidelity.py on three sets of unseen paths (seeds 0, 1, 2; 120 thresholds each):
-    misses 28, 31, 30 with the paper's rule (0); 24, 29, 21 with 0.1; 27, 29 with 0.05;
-    28, 33 with 0.2. Where the place is held in the world (look.train_place) the step repeats
-    the demonstrated reactor's own way of moving instead (generation.own_steps: the share of
-    the main's step it went along with, plus its own step along and across the bearing from
-    the main), plus the same share of the way to the target, at most at the demonstrated
-    speed there (the paper's step length). With the paper's step there, a lover whose main
-    walked off lagged behind it and slid round to its back: orbit 0.11-0.19 rad/s against
-    0.46 demonstrated on every unseen path; the relative step in the main's frame swung it
-    with the main's turns, and the main's whole step carried along made the bully and the
-    lover as fast as a main faster than their demonstrations' (speed W1 2-4x its threshold).
-    Measured with `bench/fidelity.py --seeds 0,1,2`: 96, 91, 99 -> 99, 94, 100 thresholds
-    met (held-out seed 7: 88 -> 95); the lover's orbit 0.37-0.53 rad/s on all nine paths.
-    half_life: samples; 0 (default) compares windows uniformly as the paper does; h > 0 weighs
-    a sample ``age`` steps old by 0.5 ** (age / h) in the situation similarity, so the match
-    follows a change of the main sooner. Measured with bench/fidelity.py (h = 10): the stalker
-    moved less while its main stood still (speed still/moving 0.57 -> 0.46 over nine unseen
-    paths; demonstrated 0.29), but the thresholds missed overall went 28 -> 25 on one set of
-    paths and 31 -> 33 on another (with relative_motion 0.1: 24, 29, 21 -> 26, 24, 27 on
-    three sets), so it stays a designer's choice, not a default.
-    catch_up: 1/s. The paper moves toward the target relative position at the target velocity
-    only; when the matched reactor was resting but the live one is far from the demonstrated
-    relation, it does not get back. The step covers at least ``catch_up`` x the distance to the
-    target per second, never faster than the demonstrated top speed (99th percentile of the
-    reactor's speed). Measured over 8 seeded runs of each test behaviour: 0 (the paper's rule
-    exactly) let a keep-away main come closer than demonstrated on up to 2.0% of steps and a
-    circling reactor circle on as few as 67% of steps; 1 gave 0.7% and 70%; 2 gave 1.7% and
-    72% but raised the example personalities' mean speed by up to 60% over their
-    demonstrations (1: -15% to +35%).
-    """
-
-    rate_hz: float = 40.0
-    window: int = 40
-    min_speed: float = 0.01
-    smooth: int = 3
-    max_turn_rate: float = 0.0
-    detail_levels: int = 4
-    patch: int = 16
-    detail_clip: float = math.pi / 3
-    ratio: float = 1.0
-    balance_gain: float = 0.1
-    share_window: int = 200
-    w_velocity: float = 1.0
-    w_rel_position: float = 1.0
-    w_rel_look: float = 1.0
-    w_norm_look: float = 1.0
-    w_delta_direction: float = 1.0
-    max_extrapolation: float = 0.1
-    catch_up: float = 1.0
-    half_life: float = 0.0
-    relative_motion: float = 0.1
-
-    def check(self) -> None:
-        """Raise ParameterError for a value out of range."""
-        ints = {"window": 2, "smooth": 1, "detail_levels": 1, "patch": 1, "share_window": 1}
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if f.name in ints:
-                if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < ints[f.name]:
-                    raise ParameterError(
-                        f"behaviour parameter {f.name}: {v!r} must be an integer >= {ints[f.name]}")
-                continue
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
-                    or not math.isfinite(float(v)):
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number")
-            positive = f.name in ("rate_hz", "ratio", "balance_gain", "detail_clip")
-            if f.name == "relative_motion" and v > 1:
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be in 0..1")
-            if (positive and v <= 0) or v < 0:
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
-                                     f"{'> 0' if positive else '>= 0'}")
-
-
-def _check_demo(demo: Any, p: Params) -> np.ndarray:
-    try:
-        a = np.array(demo, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise DemonstrationError(f"demonstration is not a numeric table: {exc}") from None
-    if a.ndim != 2 or a.shape[1] != len(COLUMNS):
-        raise DemonstrationError(
-            f"demonstration has shape {a.shape}, expected (rows, {len(COLUMNS)}) with columns "
-            f"{','.join(COLUMNS)}")
-    bad = ~np.isfinite(a)
-    if bad.any():
-        r, c = (int(v) for v in np.argwhere(bad)[0])
-        raise DemonstrationError(
-            f"demonstration row {r + 1}: column {COLUMNS[c]} is {float(a[r, c])!r}, "
-            "not a finite number")
-    if a.shape[0] < 2:
-        raise DemonstrationError(f"demonstration has {a.shape[0]} row(s), needs at least 2")
-    steps = np.diff(a[:, 0])
-    if (steps <= 0).any():
-        r = int(np.flatnonzero(steps <= 0)[0]) + 1
-        raise DemonstrationError(
-            f"demonstration row {r + 1}: time t={float(a[r, 0])!r} is not after the previous row's "
-            f"t={float(a[r - 1, 0])!r} (times must strictly increase)")
-    need = (p.window + 1) / p.rate_hz
-    duration = float(a[-1, 0] - a[0, 0])
-    if duration + 1e-9 < need:
-        raise DemonstrationError(
-            f"demonstration lasts {duration:.3f} s, needs at least {need:.3f} s for a window of "
-            f"{p.window} samples at {p.rate_hz:g} Hz")
-    return a
-
-
-STILL_MPS = 0.02      # m/s: a main slower than this over STILL_SPAN_S stands still
-STILL_SPAN_S = 0.5    # s
-FOLLOW_SHARE = 0.5    # share of the main's motion above which a reactor follows its main
-
+                                                rotate_step, step_around, target_position)
+from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look
+from behaviors.puppet_master.resample import CausalResampler
+from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
+from tabletop.frames import wrap_angle
 
 _NO_OBSTACLES = np.zeros((0, 3))
 _POSE_AND_STEP = np.array([sk.RX, sk.RY, sk.LOOK, sk.STEP_X, sk.STEP_Y])
-
-
-class Behavior:
-    """A trained behaviour: the resampled demonstration and everything precomputed from it.
-
-    Shared read-only by any number of reactors. Build with :meth:`train`.
-    """
-
-    def __init__(self, demo: np.ndarray, params: Params) -> None:
-        p = self.params = params
-        self.demo = demo
-        self.t, data = resample_uniform(demo[:, 0], demo[:, 1:], (2, 5), p.rate_hz)
-        self.main = data[:, 0:3]
-        self.react = data[:, 3:6]
-        n = p.window
-        N = self.t.size
-        f = self.features = ft.pair_features(self.main, self.react, p.rate_hz, p.min_speed)
-        self.scales = ft.feature_scales(f, p.w_velocity, p.w_rel_position, p.w_rel_look,
-                                        p.w_norm_look, p.w_delta_direction)
-        self.situation_vectors = ft.situation_vectors(f, self.scales)
-        self.situation_aug = augmented(self.situation_vectors)
-        self.coherence_vectors = ft.coherence_vectors(f, self.scales)
-        # a window ending at j needs n samples and a following target sample j + 1
-        self.valid = np.zeros(N, dtype=bool)
-        self.valid[n - 1:N - 1] = True
-        # directions are real where the reactor moves clearly (3 x min_speed): pauses and the
-        # time before the first move are interpolated over (detail.direction_detail)
-        self.detail = direction_detail(f.move_react, f.v_react >= 3.0 * p.min_speed,
-                                       p.detail_levels, p.detail_clip)
-        self.look = train_look(self.main, self.react, p.rate_hz, p.detail_levels)
-        self.turn_limit = p.max_turn_rate if p.max_turn_rate > 0 else self.look.turn_limit
-        self.place_frame, self.bearing_turn = train_place(self.main, self.react, p.rate_hz)
-        self.distance = np.hypot(f.rel_fwd, f.rel_left)
-        lk = self.look
-        # what a generation step reads of one training sample, as plain Python numbers
-        # (indexing numpy arrays for single values cost more than the arithmetic on them)
-        self.rows = list(zip(
-            self.place_frame.tolist(), self.bearing_turn.tolist(), self.distance.tolist(),
-            f.rel_fwd.tolist(), f.rel_left.tolist(), f.v_react.tolist()))
-        self.own_steps = own_steps(self.main[:, :2], self.react[:, :2], p.rate_hz)
-        self.world_rel, self.span_step = relative_world_steps(
-            self.main[:, :2], self.main[:, 2], self.react[:, :2], p.rate_hz)
-        main_still, self.still_speed = still_main_speed(self.main[:, :2], self.react[:, :2],
-                                                        p.rate_hz, STILL_MPS)
-        self.walked = (~main_still).tolist()    # the demonstrated main moved at this sample
-        self.charge_end, self.charge_touch = charges(self.main[:, :2], self.react[:, :2],
-                                                     p.rate_hz)
-        self.texture_rows = list(zip(
-            self.detail.tolist(), lk.frame.tolist(), lk.angle.tolist(), lk.still_frame.tolist(),
-            lk.still_angle.tolist(), lk.detail.tolist()))
-        self.top_speed = float(np.percentile(f.v_react, 99))
-        # the same per-sample values as one table for the compiled step (step_kernel columns)
-        # (as many rows as the zipped lists: look.train_place's spans are longer than a
-        # demonstration under two seconds and give one more value)
-        columns = [np.asarray(c, dtype=float).reshape(len(c), -1) for c in (
-            self.place_frame, self.bearing_turn, self.distance, f.rel_fwd, f.rel_left,
-            f.v_react, self.own_steps, self.world_rel, self.span_step, ~main_still,
-            self.detail, lk.frame, lk.angle, lk.still_frame, lk.still_angle, lk.detail,
-            self.charge_end, self.charge_touch)]
-        rows = min(len(self.rows), len(self.texture_rows), len(self.own_steps))
-        self.step_table = np.ascontiguousarray(np.hstack([c[:rows] for c in columns]))
-        self.bearings = np.array(_bearings(72))     # fit_target's default 5 degree steps
-        self.texture = texture_rms(self.react[:, :2], p.rate_hz)
-        self.look_change = float(np.mean(np.abs(wrap_angles(np.diff(self.react[:, 2])))))
-        self.start_pose = (float(f.rel_fwd[0]), float(f.rel_left[0]), float(f.rel_look[0]))
-        xs = np.concatenate([self.main[:, 0], self.react[:, 0]])
-        ys = np.concatenate([self.main[:, 1], self.react[:, 1]])
-        self.bounds = (float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max()))
-
-    @classmethod
-    def train(cls, demo: np.ndarray, rate_hz: float = 40.0, window: int = 40,
-              **params: Any) -> "Behavior":
-        """Train from ``demo`` (n, 7): t, main_x, main_y, main_dir, react_x, react_y, react_dir
-        (seconds, metres, radians) at any sampling rate. Raises DemonstrationError for a bad
-        demonstration and ParameterError for an unknown or out-of-range parameter."""
-        known = {f.name for f in fields(Params)}
-        unknown = sorted(set(params) - known)
-        if unknown:
-            raise ParameterError(f"unknown behaviour parameter(s) {', '.join(unknown)}; "
-                                 f"known: {', '.join(sorted(known))}")
-        p = Params(rate_hz=rate_hz, window=window, **params)
-        p.check()
-        return cls(_check_demo(demo, p), p)
-
-    @property
-    def samples(self) -> int:
-        """Training samples at the generation rate."""
-        return int(self.t.size)
-
-    def param_dict(self) -> dict[str, Any]:
-        """The parameters as plain values (for saving beside the demonstration)."""
-        return asdict(self.params)
 
 
 class Reactor:
