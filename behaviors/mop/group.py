@@ -6,12 +6,14 @@ from typing import Sequence
 
 import numpy as np
 
-from behaviors.mop import members
+from behaviors.mop import group_kernel, members
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
 from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
+from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
+from behaviors.mop.validity import PATH_REACH
 
 
 class FollowerGroup(GroupRules):
@@ -59,6 +61,7 @@ class FollowerGroup(GroupRules):
         self._counts = np.diff(bounds).astype(np.intp)
         self._share_state()
         self._member_arrays()
+        self._kernel_arrays()
         self.reset()
 
     def _share_state(self) -> None:
@@ -262,92 +265,61 @@ class FollowerGroup(GroupRules):
         r += self._k_first
         return r
 
-    def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
-        """:meth:`ActionFollower._finish` for every member at once: the per-template arrays in
-        one pass over the group, then each member's best, validity, state and spotting."""
-        fw, X = self.forward, self._x
-        mean = fw.mean
-        g = self._starts_local + np.minimum(mean, self._lengths - 1.0)
-        gi = np.minimum(g.astype(np.intp), self._starts_local + self._lengths - 2)
-        frac = g - gi
-        gs = gi + self._state_off
-        progress = self._source.take(gs)
-        progress += frac * self._dsource.take(gs)
-        own = self._owner
-        if self._any_scale:
-            q = self._rel.take(gs, axis=0)
-            q += frac[:, None] * self._drel.take(gs, axis=0)
-            r = ((X - self._anchor) / self._m_units).take(own, axis=0)
-            self._num += np.einsum("kd,kd->k", q, r) * self._scaled
-            self._den += np.einsum("kd,kd->k", q, q) * self._scaled
-            np.clip((self._num + self._prior) / (self._den + self._prior), self._lo, self._hi,
-                    out=self._size)
-        raw_ll = step_ll - self._jacobian
-        raw_ll -= self._dims * np.log(self._size)
-        ev, rec, rw = self._evidence, self._recent, self._recent_weight
-        ev *= self._decay
-        ev += raw_ll
-        rec *= self._null_decay
-        rec += step_ll
-        rw *= self._null_decay
-        rw += 1.0
-        entries = self._entries
-        new = fw.entries > entries
-        entries[:] = fw.entries
-        refused, engaged = self._refused, self._engaged
-        back = refused & (mean < self._onset_state)
-        if np.count_nonzero(back):
-            back &= (self._log_constant - step_ll) * self._two_over <= self._null2
-            new |= back
-        if np.count_nonzero(new):
-            rec[new] = self._log_constant[new]
-            rw[new] = 1.0
-            refused[new] = False
-            engaged[new] = False
-        mean_ll = rec / rw
-        dist2 = (self._log_constant - mean_ll) * self._two_over
-        refused |= dist2 > self._null2
-        refused &= ~(dist2 < self._accept2)
-        starting = (mean >= self._onset_state) & ~refused & ~engaged
-        if np.count_nonzero(starting):
-            # ActionFollower._displacement of the last samples' mean, for all members at once
-            away = members.recent_mean(self._buf, self._nbuf, 3, X) - self._anchor
-            r = away.take(own, axis=0) / self._scale
-            r /= self._size[:, None]
-            far = np.sqrt(np.einsum("kd,kd->k", r, r) / self._dims) >= self._onset_sigma
-            engaged |= starting & far
-        bounds, counts = self._bounds, self._counts
-        top = np.maximum.reduceat(ev, bounds)
-        p = np.exp(ev - np.repeat(top, counts))
-        p /= np.repeat(np.add.reduceat(p, bounds), counts)
-        return self._conclude(members.segment_argmax(ev, top, bounds, counts, self._index), p,
-                              progress, g, gs, frac, mean_ll, new, step_ll, present)
+    def _kernel_arrays(self) -> None:
+        """The arrays :func:`~behaviors.mop.group_kernel.update_templates` reads and updates,
+        gathered once (the per-template state arrays are the members' own, shared)."""
+        k, m = len(self._owner), len(self.followers)
+        self._arc_need = np.ascontiguousarray(self._arc_need, dtype=float)
+        self._consts = tuple(np.ascontiguousarray(getattr(self, n), dtype=float) for n in group_kernel.CONSTANTS)
+        self._rows = tuple(np.ascontiguousarray(getattr(self, n), dtype=float) for n in group_kernel.ROWS)
+        self._floats = tuple(getattr(self, n) for n in group_kernel.FLOATS)
+        self._flags = tuple(getattr(self, n) for n in group_kernel.FLAGS)
+        self._k_g, self._k_frac = np.zeros(k), np.zeros(k)
+        self._k_gs, self._k_new = np.zeros(k, dtype=np.intp), np.zeros(k, dtype=bool)
+        self._m_top3 = np.zeros((m, 3), dtype=np.intp)
+        self._m_moving = np.zeros(m)
+        self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
+        self._m_leads = np.zeros(m, dtype=bool)
 
-    def _conclude(self, top: np.ndarray, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
-                  gs: np.ndarray, frac: np.ndarray, mean_ll: np.ndarray, new: np.ndarray,
-                  step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
-        """:meth:`ActionFollower._conclude` for every member at once; ``top`` (M,): each
-        member's template of most evidence (group index)."""
-        ev, refused, engaged, bounds = self._evidence, self._refused, self._engaged, self._bounds
+    def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
+        """:meth:`ActionFollower._finish` for every member at once: the per-template rules in
+        one compiled pass over the group, then each member's validity, state and spotting."""
+        fw, k = self.forward, len(self._owner)
+        # fresh each tick: the states' maps are views of them
+        self._k_p, self._k_progress, self._k_mean_ll = np.empty(k), np.empty(k), np.empty(k)
+        group_kernel.update_templates(
+            self._consts, self._rows, self._k_none, self._starts_local, self._lengths, self._state_off,
+            self._source, self._dsource, self._arc, self._rel, self._drel, self._path, self._floats,
+            self._flags, self._misfit, self._entries, fw.mean, fw.entries, step_ll, self._x,
+            self._anchor, self._m_units, self._buf, self._nbuf, self._bounds, self._counts, self._best,
+            self._m_margin, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY, LEAD * 2.0 * SHAPE_SPREAD ** 2,
+            self._k_g, self._k_gs, self._k_frac, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
+            self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused,
+            self._m_leads)
+        return self._conclude(step_ll, present)
+
+    def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
+        """:meth:`ActionFollower._conclude` for every member at once, after the per-template
+        pass (best already switched there)."""
+        refused, bounds = self._refused, self._bounds
         X, fw = self._x, self.forward
-        gb = bounds + self._best
-        switch = (ev[top] - ev[gb] > self._m_margin) | refused[gb]
-        gb = np.where(switch, top, gb)
-        self._best = bi = gb - bounds
-        self._judge_shape(g, new)
-        any_engaged = np.logical_or.reduceat(engaged, bounds)
-        slope = self._dsource[gs[gb]]
+        p, progress, mean_ll, new, g = self._k_p, self._k_progress, self._k_mean_ll, self._k_new, self._k_g
+        bi = self._best
+        gb = bounds + bi
+        any_engaged = self._m_any_engaged
+        gsb = self._k_gs[gb]
+        slope = self._dsource[gsb]
         m0, m1, m2 = fw._mom[:, gb]
         var = np.maximum(m2 / m0 - (m1 / m0) ** 2, 0.0)
         variance = var * slope * slope
         spread2 = var / (self._lengths[gb] - 1.0) ** 2
         size = self._size[gb][:, None]
         last = self._rel[self._last_state[gb]] * self._m_units * size + self._anchor
-        ok = (engaged[gb] & ~refused[gb] & self._covered[gb] & ~self._misshaped[gb]
+        ok = (self._engaged[gb] & ~refused[gb] & self._covered[gb] & ~self._misshaped[gb]
               & (spread2 <= self._m_spread2) & (p[gb] >= self._m_min_p)
               & ~(self._has_end & members.moved_on(X, self._end_x, last, self._m_radius)))
         # a new action drives only once its shape clearly leads (spotting)
-        ok &= ~self._m_spots | (self._acquired == bi) | self._lead(gs, frac, gb, p)
+        ok &= ~self._m_spots | (self._acquired == bi) | self._m_leads
         self._run = run = np.where(ok, self._run + 1, 0)
         valid = run >= self._m_confirm
         self._acquired = np.where(valid, bi, -1)
@@ -355,12 +327,8 @@ class FollowerGroup(GroupRules):
         distance = np.sqrt(np.maximum(0.0, -2.0 * (loglik - self._m_lc) / self._m_zdim))
         members.push(self._buf, self._nbuf, X, present, self._m_keep)
         still = members.still(self._buf, self._nbuf, self._m_keep, self._m_radius)
-        r = (X - self._anchor).take(self._owner, axis=0) / self._scale
-        if self._any_scale:
-            r /= np.where(self._scaled > 0, self._size, 1.0)[:, None]
-        moving = np.maximum.reduceat(np.sqrt((r * r).sum(axis=1) / self._dims), bounds) >= self._m_onset
-        show = any_engaged | (~still & moving)
-        order = members.top_three(p, bounds, self._counts, self._index) if show.any() else None
+        show = any_engaged | (~still & (self._m_moving >= self._m_onset))
+        order = self._m_top3 if show.any() else None
         prog_b = progress[gb]
         holding = self._holds[self._state_off[gb] + np.rint(g[gb]).astype(np.intp)] | (prog_b >= 0.9)
         top3 = order.tolist() if order is not None else None

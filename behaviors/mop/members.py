@@ -12,33 +12,8 @@ stepped alone.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
-from behaviors.mop.validity import PATH_REACH
-
-
-def segment_argmax(values: np.ndarray, top: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
-                   index: np.ndarray) -> np.ndarray:
-    """Per member, the index (within the group) of its first template holding its maximum
-    ``top`` of ``values``, as ``np.argmax`` of the member's slice; ``index``: ``arange(K)``."""
-    at = np.where(values == np.repeat(top, counts), index, index.size)
-    return np.minimum.reduceat(at, bounds)
-
-
-def top_three(p: np.ndarray, bounds: np.ndarray, counts: np.ndarray, index: np.ndarray
-              ) -> np.ndarray:
-    """Per member, its three most probable templates (group indices, likeliest first, ties in
-    template order: ``np.argsort(-p, kind="stable")[:3]``) (M, 3); -1 where a member has fewer."""
-    q = p.copy()
-    out = np.full((bounds.size, 3), -1, dtype=np.intp)
-    for j in range(3):
-        top = np.maximum.reduceat(q, bounds)
-        i = segment_argmax(q, top, bounds, counts, index)
-        has = counts > j
-        out[has, j] = i[has]
-        q[i[has]] = -np.inf
-    return out
 
 
 def push(buf: np.ndarray, count: np.ndarray, x: np.ndarray, rows: np.ndarray, keep: np.ndarray) -> None:
@@ -102,47 +77,3 @@ def spot(has_end: np.ndarray, still_: np.ndarray, step_d2: np.ndarray, null2: np
     rest &= ~abandon
     waiting = rest & still_ & ~engaged
     return after_end, resting, abandon, waiting
-
-
-@numba.njit(numba.float64[:, ::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1],
-                                  numba.intp[::1], numba.intp[::1], numba.intp[::1]), cache=True, nogil=True)
-def nearest_on_path(z: np.ndarray, path: np.ndarray, gi: np.ndarray, starts: np.ndarray,
-                    ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
-    """:meth:`Validity._nearest_on_path` for every template of a group: the point (K, D) of each
-    template's path nearest to its sample ``z`` (K, D) among the segments starting at its states
-    within :data:`~behaviors.mop.validity.PATH_REACH` of ``gi`` (its bank's index; ``starts``,
-    ``ends``: its first and last state there, ``offset``: where its bank begins in ``path``).
-    ``path`` (states, 2D + 1): per state its mean, its segment to the next and 1 / that
-    segment's length^2, side by side (one row read per state). Compiled: as array operations
-    over (K, 7, D) it cost as much as the forward step."""
-    before, after = PATH_REACH
-    k, d = z.shape
-    out = np.empty((k, d))
-    for j in range(k):
-        best = np.inf
-        for o in range(-before, after + 1):
-            s = min(max(gi[j] + o, starts[j]), ends[j]) + offset[j]
-            row = path[s]
-            za = 0.0
-            for i in range(d):
-                za += (z[j, i] - row[i]) * row[d + i]
-            t = min(max(za * row[2 * d], 0.0), 1.0)
-            dd = 0.0
-            for i in range(d):
-                e = (z[j, i] - row[i]) - t * row[d + i]
-                dd += e * e
-            if dd < best:
-                best = dd
-                for i in range(d):
-                    out[j, i] = row[i] + t * row[d + i]
-    return out
-
-
-def leads(shape: np.ndarray, rivals: np.ndarray, gb: np.ndarray, bounds: np.ndarray,
-          margin: float) -> np.ndarray:
-    """:meth:`GestureSpotting._leads`' verdict per member: its template ``gb`` (group index)
-    has a ``shape`` sum below every rival's (``rivals``, not itself) by ``margin``, or has none."""
-    others = np.where(rivals, shape, np.inf)
-    others[gb] = np.inf
-    best_rival = np.minimum.reduceat(others, bounds)
-    return np.isinf(best_rival) | (best_rival - shape[gb] >= margin)

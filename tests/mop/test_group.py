@@ -7,7 +7,7 @@ from tests.mop import gestures as g
 import numpy as np
 import pytest
 
-from behaviors.mop import members
+from behaviors.mop import group_kernel, members
 from behaviors.mop.follower import ActionFollower, FollowerGroup
 
 
@@ -86,14 +86,13 @@ def test_the_member_rules_equal_the_followers_own_operations():
     rng = np.random.default_rng(8)
     counts = np.array([1, 4, 7, 3])
     bounds = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    index = np.arange(counts.sum())
     p = rng.choice([0.0, 0.1, 0.25, 0.5], size=counts.sum())   # many ties
-    top = np.maximum.reduceat(p, bounds)
-    three = members.top_three(p, bounds, counts, index)
-    for m, (a, n) in enumerate(zip(bounds, counts)):
-        assert members.segment_argmax(p, top, bounds, counts, index)[m] == a + np.argmax(p[a:a + n])
+    three = np.zeros(3, dtype=np.intp)
+    for a, n in zip(bounds, counts):
+        assert group_kernel.first_max(p, a, a + n) == a + np.argmax(p[a:a + n])
+        group_kernel.top_three(p, a, a + n, three)
         want = a + np.argsort(-p[a:a + n], kind="stable")[:3]
-        assert three[m, :len(want)].tolist() == want.tolist() and (three[m, len(want):] == -1).all()
+        assert three[:len(want)].tolist() == want.tolist() and (three[len(want):] == -1).all()
     buf = rng.normal(size=(3, 5, 2))
     count = np.array([5, 2, 0])
     x = rng.normal(size=(3, 2))
