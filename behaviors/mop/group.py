@@ -79,35 +79,18 @@ class FollowerGroup(GroupRules):
         self._starts_local = np.concatenate([f.bank.starts for f in fs]).astype(np.intp)
         self._lengths = np.concatenate([f.bank.lengths for f in fs]).astype(np.intp)
         self._source = np.concatenate([f.bank.source for f in fs])
-        self._dsource = np.append(np.diff(self._source), 0.0)   # state to next (within a template)
         dmax = max(f.dim for f in fs)
         self._rel = np.concatenate([np.pad(f._rel, ((0, 0), (0, dmax - f.dim))) for f in fs])
-        self._drel = np.concatenate([np.diff(self._rel, axis=0), np.zeros((1, dmax))])
-        self._r = np.zeros((len(self._owner), dmax))
-        self._away = np.zeros((len(self._owner), dmax))
         self._scale = np.concatenate([np.pad(f.bank.scale, ((0, 0), (0, dmax - f.dim)), constant_values=1.0)
                                       for f in fs])
-        self._onset_sigma = per(lambda f: f.onset * f.sigma)
         self._scaled = per(lambda f: float(f.invariance == "scale"))
         self._any_scale = bool(np.any(self._scaled))
-        self._prior = np.concatenate([f._prior for f in fs])
-        self._lo = per(lambda f: f.scale_range[0])
-        self._hi = per(lambda f: f.scale_range[1])
-        self._jacobian = np.concatenate([f._jacobian for f in fs])
-        self._dims = per(lambda f: float(f.dim))
-        self._decay = per(lambda f: f._decay)
-        self._null_decay = per(lambda f: f._null_decay)
-        self._onset_state = np.concatenate([f._onset_state for f in fs])
-        self._log_constant = per(lambda f: f._log_constant)
-        self._two_over = per(lambda f: 2.0 / f._zdim)
-        self._null2 = per(lambda f: f._null2)
-        self._accept2 = per(lambda f: f._accept2)
 
     def _member_arrays(self) -> None:
         """Each member's own constants and state (anchor, recent samples, best, ends) as rows of
         arrays (M, ...), padded to the widest member's features with values that change nothing."""
         fs, m = self.followers, len(self.followers)
-        dmax = self._r.shape[1]
+        dmax = self._rel.shape[1]
         pad = lambda a, v=0.0: np.pad(np.asarray(a, dtype=float), (0, dmax - len(a)), constant_values=v)
         col = lambda fn, dtype=float: np.array([fn(f) for f in fs], dtype=dtype)
         self._m_dim = col(lambda f: f.dim)
@@ -134,24 +117,6 @@ class FollowerGroup(GroupRules):
         self._k_first = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim))) if f.invariance != "none"
                                         else np.zeros((len(f.names), dmax)) for f in fs])
         self._holds = np.concatenate([f.bank.holds for f in fs])
-        # the path-shape rules (validity): states in raw template units, arcs, limits
-        padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
-        self._path = np.ascontiguousarray(np.concatenate(
-            [np.hstack([padded(f.bank.means, f), padded(f._seg, f), f._seg_inv[:, None]]) for f in fs]))
-        self._k_radius = np.concatenate([np.tile(pad(f._still_radius, 1.0), (len(f.names), 1)) for f in fs])
-        self._arc = np.concatenate([f._arc for f in fs])
-        self._arc_need = np.concatenate([f._arc_need for f in fs])
-        per = lambda fn: np.concatenate([np.full(len(f.names), fn(f), dtype=float) for f in fs])
-        self._misfit_decay = per(lambda f: f._misfit_decay)
-        self._shape2 = per(lambda f: f._shape2)
-        self._shape_accept2 = per(lambda f: f._shape_accept2)
-        self._path_scale = per(lambda f: f.sigma ** 2 * f.dim)
-        self._k_c = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim))) if f.invariance == "scale"
-                                    else np.zeros((len(f.names), dmax)) for f in fs])
-        self._k_ufirst = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim)))
-                                         if f.invariance == "offset" else np.zeros((len(f.names), dmax))
-                                         for f in fs])
-        self._k_spots = per(lambda f: float(f.invariance != "none"))
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
@@ -266,16 +231,42 @@ class FollowerGroup(GroupRules):
         return r
 
     def _kernel_arrays(self) -> None:
-        """The arrays :func:`~behaviors.mop.group_kernel.update_templates` reads and updates,
-        gathered once (the per-template state arrays are the members' own, shared)."""
-        k, m = len(self._owner), len(self.followers)
-        self._arc_need = np.ascontiguousarray(self._arc_need, dtype=float)
-        self._consts = tuple(np.ascontiguousarray(getattr(self, n), dtype=float) for n in group_kernel.CONSTANTS)
-        self._rows = tuple(np.ascontiguousarray(getattr(self, n), dtype=float) for n in group_kernel.ROWS)
+        """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out
+        as it reads them (see :data:`~behaviors.mop.group_kernel.STATE_COLUMNS` and the rest),
+        and the per-template state it updates (the members' own arrays, shared)."""
+        fs, k, m = self.followers, len(self._owner), len(self.followers)
+        dmax = self._rel.shape[1]
+        padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
+        self._states = np.ascontiguousarray(np.concatenate(
+            [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None], f._arc[:, None]])
+             for f in fs]))
+        self._ti = np.ascontiguousarray(np.stack([self._starts_local, self._lengths, self._state_off], axis=1))
+        z = lambda f, on: padded(f._first_z, f) if on else np.zeros((len(f.names), dmax))
+        self._tc = np.ascontiguousarray(np.hstack([
+            np.concatenate([f._jacobian for f in fs])[:, None],
+            np.concatenate([f._onset_state for f in fs])[:, None],
+            np.concatenate([f._prior for f in fs])[:, None],
+            np.concatenate([f._arc_need for f in fs])[:, None],
+            self._scale,
+            self._k_center,
+            np.concatenate([z(f, f.invariance == "offset") for f in fs]),
+            np.concatenate([z(f, f.invariance == "scale") for f in fs])]))
+        scalars = {"dims": lambda f: f.dim, "decay": lambda f: f._decay,
+                   "null_decay": lambda f: f._null_decay, "log_constant": lambda f: f._log_constant,
+                   "two_over": lambda f: 2.0 / f._zdim, "null2": lambda f: f._null2,
+                   "accept2": lambda f: f._accept2, "onset_sigma": lambda f: f.onset * f.sigma,
+                   "scaled": lambda f: f.invariance == "scale", "lo": lambda f: f.scale_range[0],
+                   "hi": lambda f: f.scale_range[1], "misfit_decay": lambda f: f._misfit_decay,
+                   "shape2": lambda f: f._shape2, "shape_accept2": lambda f: f._shape_accept2,
+                   "path_scale": lambda f: f.sigma ** 2 * f.dim,
+                   "spots": lambda f: f.invariance != "none", "none": lambda f: f.invariance == "none",
+                   "margin": lambda f: f.switch_margin}
+        cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
+        radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
+        self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
         self._floats = tuple(getattr(self, n) for n in group_kernel.FLOATS)
         self._flags = tuple(getattr(self, n) for n in group_kernel.FLAGS)
-        self._k_g, self._k_frac = np.zeros(k), np.zeros(k)
-        self._k_gs, self._k_new = np.zeros(k, dtype=np.intp), np.zeros(k, dtype=bool)
+        self._k_new = np.zeros(k, dtype=bool)
         self._m_top3 = np.zeros((m, 3), dtype=np.intp)
         self._m_moving = np.zeros(m)
         self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
@@ -288,14 +279,11 @@ class FollowerGroup(GroupRules):
         # fresh each tick: the states' maps are views of them
         self._k_p, self._k_progress, self._k_mean_ll = np.empty(k), np.empty(k), np.empty(k)
         group_kernel.update_templates(
-            self._consts, self._rows, self._k_none, self._starts_local, self._lengths, self._state_off,
-            self._source, self._dsource, self._arc, self._rel, self._drel, self._path, self._floats,
-            self._flags, self._misfit, self._entries, fw.mean, fw.entries, step_ll, self._x,
-            self._anchor, self._m_units, self._buf, self._nbuf, self._bounds, self._counts, self._best,
-            self._m_margin, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY, LEAD * 2.0 * SHAPE_SPREAD ** 2,
-            self._k_g, self._k_gs, self._k_frac, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
-            self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused,
-            self._m_leads)
+            self._states, self._ti, self._tc, self._mc, self._floats, self._flags, self._misfit,
+            self._entries, fw.mean, fw.entries, step_ll, self._x, self._anchor, self._buf, self._nbuf,
+            self._bounds, self._counts, self._best, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY,
+            LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
+            self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads)
         return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
@@ -303,16 +291,19 @@ class FollowerGroup(GroupRules):
         pass (best already switched there)."""
         refused, bounds = self._refused, self._bounds
         X, fw = self._x, self.forward
-        p, progress, mean_ll, new, g = self._k_p, self._k_progress, self._k_mean_ll, self._k_new, self._k_g
+        p, progress, mean_ll, new = self._k_p, self._k_progress, self._k_mean_ll, self._k_new
         bi = self._best
         gb = bounds + bi
         any_engaged = self._m_any_engaged
-        gsb = self._k_gs[gb]
-        slope = self._dsource[gsb]
+        # the followed state of each best (as in the per-template pass)
+        start, length = self._starts_local[gb], self._lengths[gb]
+        g = start + np.minimum(fw.mean[gb], length - 1.0)
+        gs = np.minimum(g.astype(np.intp), start + length - 2) + self._state_off[gb]
+        slope = self._source[gs + 1] - self._source[gs]
         m0, m1, m2 = fw._mom[:, gb]
         var = np.maximum(m2 / m0 - (m1 / m0) ** 2, 0.0)
         variance = var * slope * slope
-        spread2 = var / (self._lengths[gb] - 1.0) ** 2
+        spread2 = var / (length - 1.0) ** 2
         size = self._size[gb][:, None]
         last = self._rel[self._last_state[gb]] * self._m_units * size + self._anchor
         ok = (self._engaged[gb] & ~refused[gb] & self._covered[gb] & ~self._misshaped[gb]
@@ -330,7 +321,7 @@ class FollowerGroup(GroupRules):
         show = any_engaged | (~still & (self._m_moving >= self._m_onset))
         order = self._m_top3 if show.any() else None
         prog_b = progress[gb]
-        holding = self._holds[self._state_off[gb] + np.rint(g[gb]).astype(np.intp)] | (prog_b >= 0.9)
+        holding = self._holds[self._state_off[gb] + np.rint(g).astype(np.intp)] | (prog_b >= 0.9)
         top3 = order.tolist() if order is not None else None
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
         out: list[FollowState] = []

@@ -23,17 +23,24 @@ _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, :
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
 _I2 = numba.intp[:, ::1]
 
-#: Per-template float constants, in this order (see :meth:`FollowerGroup._kernel_arrays`).
-CONSTANTS = ("_jacobian", "_dims", "_decay", "_null_decay", "_onset_state", "_log_constant",
-             "_two_over", "_null2", "_accept2", "_onset_sigma", "_scaled", "_prior", "_lo", "_hi",
-             "_misfit_decay", "_shape2", "_shape_accept2", "_path_scale", "_k_spots", "_arc_need")
+#: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
+#: group (D: the widest member's features): its mean (D, raw template units), its place relative
+#: to the template's first in units (D), its progress (``source``) and its path length from the
+#: first state. Read around each followed state: one contiguous stretch per template (the
+#: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
+STATE_COLUMNS = ("means", "rel", "source", "arc")
+#: Per-template scalars (columns of ``tc`` (K, 4 + 4D), then the rows ``scale``, ``center``,
+#: ``ufirst``, ``c_off`` of D columns each).
+TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need")
+TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
+#: Per-member scalars (columns of ``mc`` (M, 18 + 2D), then the rows ``radius`` and ``units``).
+MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
+                  "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
+                  "path_scale", "spots", "none", "margin")
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered")
-#: Per-template (K, D) constants, in this order.
-ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c", "_k_radius")
-
 
 @numba.njit(numba.void(_F1, numba.intp, numba.intp, _I1), cache=True, nogil=True)
 def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
@@ -62,42 +69,39 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
-@numba.njit(numba.void(numba.types.UniTuple(_F1, len(CONSTANTS)), numba.types.UniTuple(_F2, len(ROWS)),
-                       _B1, _I1, _I1, _I1, _F1, _F1, _F1, _F2, _F2, _F2,
-                       numba.types.UniTuple(_F1, len(FLOATS)), numba.types.UniTuple(_B1, len(FLAGS)),
-                       _F2, numba.int64[::1], _F1, numba.int64[::1], _F1,
-                       _F2, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _F1,
+@numba.njit(numba.void(_F2, _I2, _F2, _F2, numba.types.UniTuple(_F1, len(FLOATS)),
+                       numba.types.UniTuple(_B1, len(FLAGS)), _F2, numba.int64[::1], _F1,
+                       numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                        numba.intp, numba.intp, numba.float64, numba.float64,
-                       _F1, _I1, _F1, _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1),
+                       _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1),
             cache=True, nogil=True)
-def update_templates(consts, rows, k_none, starts, lengths, state_off, source, dsource, arc,
-                     rel, drel, path, floats, flags, misfit, entries, mean, fw_entries, step_ll,
-                     x, anchor, m_units, buf, nbuf, bounds, counts, best, margin,
-                     before, after, rival_p, min_lead, g_out, gs_out, frac_out, progress_out,
-                     mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
+def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
+                     x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
+                     progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
-    template's followed state and per-template rules, member by member (``x``, ``anchor``,
-    ``m_units`` (M, D): each member's sample, anchor and units; ``buf``/``nbuf``: its recent
-    samples; ``bounds``/``counts``: its first template and template count), then each member's
-    likeliest template, best, top three and shape lead.
+    template's followed state and per-template rules, member by member, then each member's
+    probabilities, best, top three and shape lead.
 
-    In place: ``floats`` (see :data:`FLOATS`), ``flags`` (:data:`FLAGS`), ``misfit`` (K, 3)
-    sums, ``entries`` and ``best`` (M,: each member's own template index, switched when another
-    leads by ``margin`` (M,) nats or it is refused). Out per template: followed state ``g``
-    (bank index), its state ``gs`` (group index) and fraction, progress, recent mean
-    log-likelihood, probability, whether its performance began anew; per member: top three by probability (-1 where fewer), the largest RMS
-    displacement from the anchor (template units and size), any engaged, all refused, whether
-    ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape by
-    ``min_lead``. ``before``/``after``: the path's reach in states."""
-    (jacobian, dims, decay, null_decay, onset_state, log_constant, two_over, null2, accept2,
-     onset_sigma, scaled, prior, lo, hi, misfit_decay, shape2, shape_accept2, path_scale,
-     k_spots, arc_need) = consts
-    scale, center, ufirst, c_off, radius = rows
+    ``states``: see :data:`STATE_COLUMNS`; ``ti`` (K, 3): each template's first state and
+    length in its member's bank and where that bank begins in ``states``; ``tc``, ``mc``: see
+    :data:`TEMPLATE_SCALARS`, :data:`MEMBER_SCALARS`; ``x``, ``anchor`` (M, D): each member's
+    sample and anchor; ``buf``/``nbuf``: its recent samples; ``bounds``/``counts``: its first
+    template and template count. In place: ``floats`` (:data:`FLOATS`), ``flags``
+    (:data:`FLAGS`), ``misfit`` (K, 3) sums, ``entries`` and ``best`` (M,: each member's own
+    template index, switched when another leads by the member's margin in nats or it is
+    refused). Out per template: progress, recent mean log-likelihood, probability, whether its
+    performance began anew; per member: top three by probability (-1 where fewer), the largest
+    RMS displacement from the anchor (template units and size), any engaged, all refused,
+    whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
+    by ``min_lead``. ``before``/``after``: the path's reach in states."""
     ev, rec, rw, num, den, size, misfit_w, shape = floats
     refused, engaged, misshaped, covered = flags
     d = x.shape[1]
     s = buf.shape[1]
+    rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
+    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d  # columns of tc
+    ra0, un0 = 18, 18 + d                             # columns of mc
     u = np.empty(d)
     z = np.empty(d)
     v = np.empty(d)
@@ -106,6 +110,11 @@ def update_templates(consts, rows, k_none, starts, lengths, state_off, source, d
     for i in range(bounds.size):
         a0 = bounds[i]
         a1 = a0 + counts[i]
+        m = mc[i]
+        dims, decay, null_decay, log_constant, two_over = m[0], m[1], m[2], m[3], m[4]
+        null2, accept2, onset_sigma, scaled, lo, hi = m[5], m[6], m[7], m[8] > 0.0, m[9], m[10]
+        misfit_decay, shape2, shape_accept2, path_scale = m[11], m[12], m[13], m[14]
+        spots, none, margin = m[15], m[16] > 0.0, m[17]
         # the mean of the last 3 buffered samples and this one (the engagement's displacement)
         n = min(nbuf[i], 3)
         for c in range(d):
@@ -116,56 +125,55 @@ def update_templates(consts, rows, k_none, starts, lengths, state_off, source, d
             dx[c] = x[i, c] - anchor[i, c]
         moving = 0.0
         for k in range(a0, a1):
+            t = tc[k]
+            start, lk, off = ti[k, 0], ti[k, 1], ti[k, 2]
             # followed state and progress (ActionFollower._finish)
-            lk = lengths[k]
-            g = starts[k] + min(mean[k], lk - 1.0)
-            gi = min(int(g), starts[k] + lk - 2)
+            g = start + min(mean[k], lk - 1.0)
+            gi = min(int(g), start + lk - 2)
             frac = g - gi
-            gs = gi + state_off[k]
-            g_out[k] = g
-            gs_out[k] = gs
-            frac_out[k] = frac
-            progress_out[k] = source[gs] + frac * dsource[gs]
-            if scaled[k] > 0.0:   # PerformanceFrame._estimate_size
+            gs = gi + off
+            row, nrow = states[gs], states[gs + 1]
+            progress_out[k] = row[src] + frac * (nrow[src] - row[src])
+            if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0
                 for c in range(d):
-                    q = rel[gs, c] + frac * drel[gs, c]
-                    qr += q * (dx[c] / m_units[i, c])
+                    q = row[rel0 + c] + frac * (nrow[rel0 + c] - row[rel0 + c])
+                    qr += q * (dx[c] / m[un0 + c])
                     qq += q * q
                 num[k] += qr
                 den[k] += qq
-                size[k] = min(max((num[k] + prior[k]) / (den[k] + prior[k]), lo[k]), hi[k])
+                size[k] = min(max((num[k] + t[2]) / (den[k] + t[2]), lo), hi)
             sk = size[k]
-            raw = step_ll[k] - jacobian[k]
-            raw -= dims[k] * math.log(sk)
-            ev[k] = ev[k] * decay[k] + raw
-            rec[k] = rec[k] * null_decay[k] + step_ll[k]
-            rw[k] = rw[k] * null_decay[k] + 1.0
+            raw = step_ll[k] - t[0]
+            raw -= dims * math.log(sk)
+            ev[k] = ev[k] * decay + raw
+            rec[k] = rec[k] * null_decay + step_ll[k]
+            rw[k] = rw[k] * null_decay + 1.0
             new = fw_entries[k] > entries[k]
             entries[k] = fw_entries[k]
             # a refused template back at its start and matching it begins anew
-            if refused[k] and mean[k] < onset_state[k] and \
-                    (log_constant[k] - step_ll[k]) * two_over[k] <= null2[k]:
+            if refused[k] and mean[k] < t[1] and (log_constant - step_ll[k]) * two_over <= null2:
                 new = True
             if new:
-                rec[k] = log_constant[k]
+                rec[k] = log_constant
                 rw[k] = 1.0
                 refused[k] = False
                 engaged[k] = False
             new_out[k] = new
             mll = rec[k] / rw[k]
             mean_ll_out[k] = mll
-            dist2 = (log_constant[k] - mll) * two_over[k]
-            refused[k] = (refused[k] or dist2 > null2[k]) and not dist2 < accept2[k]
-            ssz = sk if scaled[k] > 0.0 else 1.0
-            if mean[k] >= onset_state[k] and not refused[k] and not engaged[k]:
+            dist2 = (log_constant - mll) * two_over
+            refused[k] = (refused[k] or dist2 > null2) and not dist2 < accept2
+            ssz = sk if scaled else 1.0
+            if mean[k] >= t[1] and not refused[k] and not engaged[k]:
                 acc = 0.0
                 for c in range(d):
-                    r = away[c] / scale[k, c] / sk
+                    r = away[c] / t[sc0 + c] / sk
                     acc += r * r
-                engaged[k] = math.sqrt(acc / dims[k]) >= onset_sigma[k]
-            # path misfit and coverage (Validity._judge_shape)
+                engaged[k] = math.sqrt(acc / dims) >= onset_sigma
+            # path misfit and coverage (Validity._judge_shape): the nearest point on the
+            # segments from the states within the reach of the followed one
             if new:
                 misfit[k, 0] = 0.0
                 misfit[k, 1] = 0.0
@@ -174,57 +182,60 @@ def update_templates(consts, rows, k_none, starts, lengths, state_off, source, d
                 misshaped[k] = False
                 covered[k] = False
             for c in range(d):
-                base = center[k, c] if k_none[k] else anchor[i, c]
-                u[c] = (x[i, c] - base) / scale[k, c] + ufirst[k, c]
-                z[c] = u[c] / ssz + c_off[k, c]
+                base = t[ce0 + c] if none else anchor[i, c]
+                u[c] = (x[i, c] - base) / t[sc0 + c] + t[uf0 + c]
+                z[c] = u[c] / ssz + t[co0 + c]
             gf = int(math.floor(g))
-            last = starts[k] + lk - 1
+            last = start + lk - 1
             best_d = np.inf
             for o in range(-before, after + 1):
-                st = min(max(gf + o, starts[k]), last) + state_off[k]
+                j = min(max(gf + o, start), last)
+                a = states[j + off]
+                b = states[min(j + 1, last) + off]   # a template's last state has no segment
                 za = 0.0
+                ab2 = 0.0
                 for c in range(d):
-                    za += (z[c] - path[st, c]) * path[st, d + c]
-                t = min(max(za * path[st, 2 * d], 0.0), 1.0)
+                    ab = b[c] - a[c]
+                    za += (z[c] - a[c]) * ab
+                    ab2 += ab * ab
+                tt = min(max(za * (1.0 / max(ab2, 1e-12)), 0.0), 1.0)
                 dd = 0.0
                 for c in range(d):
-                    e = (z[c] - path[st, c]) - t * path[st, d + c]
+                    e = (z[c] - a[c]) - tt * (b[c] - a[c])
                     dd += e * e
                 if dd < best_d:
                     best_d = dd
                     for c in range(d):
-                        v[c] = path[st, c] + t * path[st, d + c]
+                        v[c] = a[c] + tt * (b[c] - a[c])
             uu = 0.0
             uv = 0.0
             vv = 0.0
             for c in range(d):
-                vc = v[c] - c_off[k, c]
+                vc = v[c] - t[co0 + c]
                 uu += u[c] * u[c]
                 uv += u[c] * vc
                 vv += vc * vc
-            md = misfit_decay[k]
-            misfit[k, 0] = misfit[k, 0] * md + uu
-            misfit[k, 1] = misfit[k, 1] * md + uv
-            misfit[k, 2] = misfit[k, 2] * md + vv
-            misfit_w[k] = misfit_w[k] * md + 1.0
+            misfit[k, 0] = misfit[k, 0] * misfit_decay + uu
+            misfit[k, 1] = misfit[k, 1] * misfit_decay + uv
+            misfit[k, 2] = misfit[k, 2] * misfit_decay + vv
+            misfit_w[k] = misfit_w[k] * misfit_decay + 1.0
             m2 = (misfit[k, 0] / (ssz * ssz) - 2.0 * misfit[k, 1] / ssz + misfit[k, 2]) / misfit_w[k]
-            m2 *= 1.0 / path_scale[k]
-            misshaped[k] = (misshaped[k] or m2 > shape2[k]) and not m2 < shape_accept2[k]
-            at = gf + state_off[k]
-            nxt = min(gf + 1, last) + state_off[k]
-            if engaged[k] and arc[at] + (g - gf) * (arc[nxt] - arc[at]) >= arc_need[k]:
+            m2 *= 1.0 / path_scale
+            misshaped[k] = (misshaped[k] or m2 > shape2) and not m2 < shape_accept2
+            at = states[gf + off, arc]
+            if engaged[k] and at + (g - gf) * (states[min(gf + 1, last) + off, arc] - at) >= t[3]:
                 covered[k] = True
             # shape sums (GestureSpotting._leads) and displacement (early feedback)
             acc = 0.0
             mv = 0.0
             for c in range(d):
-                q = rel[gs, c] + frac * drel[gs, c]
-                e = (dx[c] - sk * q * m_units[i, c]) / radius[k, c]
+                q = row[rel0 + c] + frac * (nrow[rel0 + c] - row[rel0 + c])
+                e = (dx[c] - sk * q * m[un0 + c]) / m[ra0 + c]
                 acc += e * e
-                r = dx[c] / scale[k, c] / ssz
+                r = dx[c] / t[sc0 + c] / ssz
                 mv += r * r
-            shape[k] += acc * k_spots[k]
-            mv = math.sqrt(mv / dims[k])
+            shape[k] += acc * spots
+            mv = math.sqrt(mv / dims)
             if mv > moving:
                 moving = mv
         moving_out[i] = moving
@@ -245,7 +256,7 @@ def update_templates(consts, rows, k_none, starts, lengths, state_off, source, d
             p_out[k] /= tot
         top_three(p_out, a0, a1, top3_out[i])
         gb = a0 + best[i]
-        if ev[first] - ev[gb] > margin[i] or refused[gb]:
+        if ev[first] - ev[gb] > margin or refused[gb]:
             gb = first
         best[i] = gb - a0
         rival = np.inf
