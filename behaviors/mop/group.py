@@ -78,7 +78,6 @@ class FollowerGroup(GroupRules):
         self._state_off = per(lambda f: state_off[fs.index(f)]).astype(np.intp)
         self._starts_local = np.concatenate([f.bank.starts for f in fs]).astype(np.intp)
         self._lengths = np.concatenate([f.bank.lengths for f in fs]).astype(np.intp)
-        self._source = np.concatenate([f.bank.source for f in fs])
         dmax = max(f.dim for f in fs)
         self._rel = np.concatenate([np.pad(f._rel, ((0, 0), (0, dmax - f.dim))) for f in fs])
         self._scale = np.concatenate([np.pad(f.bank.scale, ((0, 0), (0, dmax - f.dim)), constant_values=1.0)
@@ -93,22 +92,9 @@ class FollowerGroup(GroupRules):
         dmax = self._rel.shape[1]
         pad = lambda a, v=0.0: np.pad(np.asarray(a, dtype=float), (0, dmax - len(a)), constant_values=v)
         col = lambda fn, dtype=float: np.array([fn(f) for f in fs], dtype=dtype)
-        self._m_dim = col(lambda f: f.dim)
-        self._m_zdim = col(lambda f: f._zdim)
         self._m_units = np.array([pad(f._units, 1.0) for f in fs])
         self._m_radius = np.array([pad(f._still_radius) for f in fs])
-        self._m_lc = col(lambda f: f._log_constant)
-        self._m_null2 = col(lambda f: f._null2)
-        self._m_margin = col(lambda f: f.switch_margin)
-        self._m_min_p = col(lambda f: f.min_probability)
-        self._m_spread2 = col(lambda f: f.max_spread ** 2)
-        self._m_confirm = col(lambda f: f.confirm, np.intp)
-        self._m_end = col(lambda f: f.end)
         self._m_keep = col(lambda f: f.still_samples, np.intp)
-        self._m_lost_after = col(lambda f: f.lost_samples, np.intp)
-        self._m_depart2 = col(lambda f: (f.accept_distance * f.sigma) ** 2)
-        self._m_onset = col(lambda f: f.onset * f.sigma)
-        self._m_spots = col(lambda f: f.invariance != "none", bool)
         self._m_tangent = [i for i, f in enumerate(fs) if f.tangent > 0]
         self._m_names = [f.names for f in fs]
         # per template: what a sample is measured from (anchor, or the center for "none")
@@ -120,7 +106,6 @@ class FollowerGroup(GroupRules):
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
-        self._index = np.arange(len(self._owner))
         self._spans = [(s.start, s.stop) for s in self._slices]
         self._x = np.zeros((m, dmax))
         self._anchor = np.zeros((m, dmax))
@@ -264,6 +249,15 @@ class FollowerGroup(GroupRules):
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
+        rules = {"spread2": lambda f: f.max_spread ** 2, "min_p": lambda f: f.min_probability,
+                 "spots": lambda f: f.invariance != "none", "confirm": lambda f: f.confirm,
+                 "log_constant": lambda f: f._log_constant, "zdim": lambda f: f._zdim,
+                 "keep": lambda f: f.still_samples, "onset": lambda f: f.onset * f.sigma,
+                 "end": lambda f: f.end, "null2": lambda f: f._null2,
+                 "depart2": lambda f: (f.accept_distance * f.sigma) ** 2,
+                 "lost_after": lambda f: f.lost_samples, "dims": lambda f: f.dim}
+        cols = np.array([[float(rules[n](f)) for n in members.MEMBER_RULES] for f in fs])
+        self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
         self._floats = tuple(getattr(self, n) for n in group_kernel.FLOATS)
         self._flags = tuple(getattr(self, n) for n in group_kernel.FLAGS)
         self._k_new = np.zeros(k, dtype=bool)
@@ -288,41 +282,22 @@ class FollowerGroup(GroupRules):
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template
-        pass (best already switched there)."""
-        refused, bounds = self._refused, self._bounds
-        X, fw = self._x, self.forward
+        pass (best already switched there): validity and spotting compiled
+        (:func:`members.conclude`), then each member's state."""
+        fw, m = self.forward, len(self.followers)
         p, progress, mean_ll, new = self._k_p, self._k_progress, self._k_mean_ll, self._k_new
-        bi = self._best
-        gb = bounds + bi
-        any_engaged = self._m_any_engaged
-        # the followed state of each best (as in the per-template pass)
-        start, length = self._starts_local[gb], self._lengths[gb]
-        g = start + np.minimum(fw.mean[gb], length - 1.0)
-        gs = np.minimum(g.astype(np.intp), start + length - 2) + self._state_off[gb]
-        slope = self._source[gs + 1] - self._source[gs]
-        m0, m1, m2 = fw._mom[:, gb]
-        var = np.maximum(m2 / m0 - (m1 / m0) ** 2, 0.0)
-        variance = var * slope * slope
-        spread2 = var / (length - 1.0) ** 2
-        size = self._size[gb][:, None]
-        last = self._rel[self._last_state[gb]] * self._m_units * size + self._anchor
-        ok = (self._engaged[gb] & ~refused[gb] & self._covered[gb] & ~self._misshaped[gb]
-              & (spread2 <= self._m_spread2) & (p[gb] >= self._m_min_p)
-              & ~(self._has_end & members.moved_on(X, self._end_x, last, self._m_radius)))
-        # a new action drives only once its shape clearly leads (spotting)
-        ok &= ~self._m_spots | (self._acquired == bi) | self._m_leads
-        self._run = run = np.where(ok, self._run + 1, 0)
-        valid = run >= self._m_confirm
-        self._acquired = np.where(valid, bi, -1)
-        loglik = mean_ll[gb]
-        distance = np.sqrt(np.maximum(0.0, -2.0 * (loglik - self._m_lc) / self._m_zdim))
-        members.push(self._buf, self._nbuf, X, present, self._m_keep)
-        still = members.still(self._buf, self._nbuf, self._m_keep, self._m_radius)
-        show = any_engaged | (~still & (self._m_moving >= self._m_onset))
-        order = self._m_top3 if show.any() else None
-        prog_b = progress[gb]
-        holding = self._holds[self._state_off[gb] + np.rint(g).astype(np.intp)] | (prog_b >= 0.9)
-        top3 = order.tolist() if order is not None else None
+        variance, loglik, distance, prog_b = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
+        valid, show, holding = np.empty(m, dtype=bool), np.empty(m, dtype=bool), np.empty(m, dtype=bool)
+        restart = np.empty(m, dtype=np.intp)
+        members.conclude(
+            self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p, progress, mean_ll,
+            step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
+            self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
+            self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
+            variance, valid, loglik, distance, show, holding, prog_b, restart)
+        refused, bi, any_engaged = self._refused, self._best, self._m_any_engaged
+        gb = self._bounds + bi
+        top3 = self._m_top3.tolist() if show.any() else None
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
         out: list[FollowState] = []
         for i, (b, var_b, val, ll, dist, restarted, hold, sh, eng, end, here, pb) in enumerate(zip(
@@ -349,6 +324,7 @@ class FollowerGroup(GroupRules):
                 restarted=restarted, loglik_by=ByName(index, mean_ll[a:z]), likely=likely,
                 scale_by=ByName(index, sizes[a:z]), holding=hold)
             out.append(state)
-        self._ended = np.where(any_engaged & present, -1, self._ended)
-        self._spot(valid, ok, any_engaged, still, gb, prog_b, step_ll[gb], present)
+        self._ended[any_engaged & present] = -1
+        if restart.any():
+            self._restart(restart, gb)
         return out

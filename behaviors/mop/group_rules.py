@@ -1,9 +1,8 @@
-"""A follower group's gesture spotting over all its members at once.
+"""A follower group's new attempts (gesture spotting) over all its members at once.
 
-Mixin of :class:`~behaviors.mop.group.FollowerGroup`: :meth:`GestureSpotting._spot` of every
-member as array operations over the group's templates (K,) and members (M,); the rules
-themselves are those of :mod:`behaviors.mop.spotting` (the per-template shape rules are in
-:mod:`behaviors.mop.group_kernel`).
+Mixin of :class:`~behaviors.mop.group.FollowerGroup`: where :func:`members.conclude` chose that
+a member's new attempt starts, :meth:`GestureSpotting._restart_here` for all of them at once;
+the rules themselves are those of :mod:`behaviors.mop.spotting`.
 """
 
 from __future__ import annotations
@@ -14,27 +13,15 @@ from behaviors.mop import members
 
 
 class GroupRules:
-    """Gesture spotting for every member of a follower group."""
+    """New attempts for the members of a follower group."""
 
-    def _spot(self, valid: np.ndarray, ok: np.ndarray, engaged: np.ndarray, still: np.ndarray,
-              gb: np.ndarray, progress: np.ndarray, step_ll: np.ndarray, present: np.ndarray) -> None:
-        """:meth:`GestureSpotting._spot` for every member at once (members with invariance
-        "none" do not spot)."""
-        X, spots = self._x, self._m_spots & present
-        ending = spots & valid & (progress >= self._m_end) & ~self._has_end
-        self._end_x[ending] = X[ending]
-        self._has_end |= ending
-        step_d2 = (self._m_lc - step_ll) * (2.0 / self._m_zdim)
-        all_refused = self._m_all_refused
-        self._lost = np.where(spots, np.where(all_refused, self._lost + 1, 0), self._lost)
-        spread = self._scale[gb] * self._size[gb][:, None]
-        gone = members.departed(X, self._end_x, spread, self._m_dim, self._m_depart2)
-        after_end, resting, abandon, waiting = members.spot(
-            self._has_end, still, step_d2, self._m_null2, ok, gone, valid, progress, self._lost,
-            self._m_lost_after, engaged)
-        restart = spots & (after_end | resting | abandon | waiting)
-        if not restart.any():
-            return
+    def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
+        """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now
+        (``how``: :data:`members.GOES_ON` and the rest per member, as :func:`members.conclude`
+        chose; ``gb``: each member's best template, group index)."""
+        X = self._x
+        after_end, resting, waiting = how == members.AFTER_END, how == members.RESTING, how == members.WAITING
+        restart = how != members.GOES_ON
         rows = np.flatnonzero(restart)
         anchor = X.copy()
         anchor[after_end] = self._end_x[after_end]
@@ -43,7 +30,7 @@ class GroupRules:
         self._buf[fresh, -1] = X[fresh]
         self._nbuf[fresh] = 1
         self._ended[after_end | resting] = (gb - self._bounds)[after_end | resting]
-        # _restart_here: every template of these members at its first state, no evidence
+        # every template of these members at its first state, no evidence
         cols = np.flatnonzero(np.isin(self._owner, rows))
         self.forward.reset_templates(cols)
         for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den",

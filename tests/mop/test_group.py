@@ -106,8 +106,8 @@ def test_the_member_rules_equal_the_followers_own_operations():
     buf, count = np.zeros((1, 6, 2)), np.zeros(1, dtype=np.intp)
     for k, step in enumerate([0.0, 0.5, 0.9, -0.9, 0.2, 2.5, 0.0, 0.0, 0.0, 0.0]):
         x = (np.array([1.0, -2.0]) + step * r)[None, :]
-        members.push(buf, count, x, np.array([True]), np.array([4]))
-        assert members.still(buf, count, np.array([4]), r[None, :])[0] == f._still(x[0]), k
+        members.push(buf, count, x, 0, 4)
+        assert members.still(buf, count, 0, 4, r) == f._still(x[0]), k
 
 
 def test_gesture_end_rules_over_members_equal_the_followers_own():
@@ -126,10 +126,9 @@ def test_gesture_end_rules_over_members_equal_the_followers_own():
         for _ in range(300):
             x = f._end_x + rng.normal(size=2) * rng.choice([1.0, 3.0, 10.0]) * f._still_radius
             want = f._moved_on(x, k)
-            assert members.moved_on(x[None], f._end_x[None], last[None], f._still_radius[None])[0] == want
+            assert members.moved_on(x, f._end_x, last, f._still_radius) == want
             d = math.sqrt(np.mean(((x - f._end_x) / spread) ** 2)) / f.sigma * rng.uniform(0.8, 1.25)
-            assert members.departed(x[None], f._end_x[None], spread[None], np.array([2.0]),
-                                    np.array([(d * f.sigma) ** 2]))[0] == f._departed(x, k, d)
+            assert members.departed(x, f._end_x, spread, 2.0, (d * f.sigma) ** 2) == f._departed(x, k, d)
             moved += want
             gone += f._departed(x, k, f.accept_distance)
     assert 100 < moved < 500 and 50 < gone < 550   # both sides of each limit were tried
