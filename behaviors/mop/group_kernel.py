@@ -19,6 +19,8 @@ import math
 import numba
 import numpy as np
 
+from behaviors.mop.prefetch import prefetch
+
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
 _I2 = numba.intp[:, ::1]
@@ -37,6 +39,8 @@ TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
                   "path_scale", "spots", "none", "margin")
+#: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.prefetch`).
+AHEAD = 2
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape")
 #: Per-template flags updated in place, in this order.
@@ -125,6 +129,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             dx[c] = x[i, c] - anchor[i, c]
         moving = 0.0
         for k in range(a0, a1):
+            if k + AHEAD < mean.size:   # the states the template a few ahead will read
+                h = k + AHEAD
+                row0 = int(ti[h, 0] + min(mean[h], ti[h, 1] - 1.0)) + ti[h, 2]
+                for r in range(max(row0 - before, ti[h, 0] + ti[h, 2]), min(row0 + after + 2, ti[h, 0] + ti[h, 1] + ti[h, 2])):
+                    prefetch(states, r)
             t = tc[k]
             start, lk, off = ti[k, 0], ti[k, 1], ti[k, 2]
             # followed state and progress (ActionFollower._finish)

@@ -20,8 +20,11 @@ import math
 import numba
 import numpy as np
 
+from behaviors.mop.prefetch import prefetch
+
 START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
 CLAMP = -200.0        # log-weights below the window's best by more than this count as e^-200
+AHEAD = 2             # templates ahead whose window states are fetched while one is stepped
 
 
 @numba.njit(cache=True, nogil=True)
@@ -111,7 +114,14 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
     lb = np.empty(w)
     lbs = np.empty(w)
     shifted = np.empty(w)
+    per_line = max(1, 8 // means.shape[1])   # state rows per 64-byte cache line
     for j in range(k):
+        if j + AHEAD < k:   # the states the template a few ahead will read (both windows)
+            h = j + AHEAD
+            for r in range(0, wk[h], per_line):
+                prefetch(means, starts[h] + lo[h] + r)
+                if lo[h] > 0:
+                    prefetch(means, starts[h] + r)
         n = wk[j]
         lo0 = lo[j]
         first = fresh[j]
