@@ -82,8 +82,6 @@ class FollowerGroup(GroupRules):
         self._rel = np.concatenate([np.pad(f._rel, ((0, 0), (0, dmax - f.dim))) for f in fs])
         self._scale = np.concatenate([np.pad(f.bank.scale, ((0, 0), (0, dmax - f.dim)), constant_values=1.0)
                                       for f in fs])
-        self._scaled = per(lambda f: float(f.invariance == "scale"))
-        self._any_scale = bool(np.any(self._scaled))
 
     def _member_arrays(self) -> None:
         """Each member's own constants and state (anchor, recent samples, best, ends) as rows of
@@ -194,26 +192,14 @@ class FollowerGroup(GroupRules):
     def _inputs(self, present: np.ndarray) -> None:
         """:meth:`PerformanceFrame._inputs` of every member into the forward's input (K, width);
         ``present`` (M,): the members with a sample."""
-        r = self._mapped()
-        self._z[:, :r.shape[1]] = r
+        group_kernel.map_inputs(self._x, self._anchor, self._tc, self._mc, self._size, self._k_first,
+                                self._bounds, self._counts, self._z)
         for i in self._m_tangent:   # direction of motion: the member's own lag
             if not present[i]:
                 continue
             f, sl = self.followers[i], self._slices[i]
             f._anchor = self._anchor[i, :f.dim].copy()
             self._z[sl, :f._zdim] = f._inputs(self._x[i, :f.dim].copy())
-
-    def _mapped(self) -> np.ndarray:
-        """Every member's sample in each of its templates' standardised units (K, D): from the
-        anchor (the center for "none"), divided by the estimated size for "scale"."""
-        own = self._owner
-        r = self._x.take(own, axis=0)
-        r -= np.where(self._k_none[:, None], self._k_center, self._anchor.take(own, axis=0))
-        if self._any_scale:
-            r /= np.where(self._scaled > 0, self._size, 1.0)[:, None]
-        r /= self._scale
-        r += self._k_first
-        return r
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

@@ -273,3 +273,20 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if k != gb and not refused[k] and p_out[k] >= rival_p and shape[k] < rival:
                 rival = shape[k]
         leads_out[i] = rival == np.inf or rival - shape[gb] >= min_lead
+
+
+@numba.njit(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), cache=True, nogil=True)
+def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
+    """:meth:`PerformanceFrame._inputs` (without direction of motion) of every member into the
+    forward's input ``z`` (K, width; its first D columns): each member's sample ``x`` (M, D) from
+    its ``anchor`` (the template's center for "none"), divided by the estimated ``size`` for
+    "scale", in the template's spread, plus its ``first`` state (K, D)."""
+    d = x.shape[1]
+    sc0, ce0 = 4, 4 + d
+    for i in range(bounds.size):
+        scaled, none = mc[i, 8] > 0.0, mc[i, 16] > 0.0
+        for k in range(bounds[i], bounds[i] + counts[i]):
+            ssz = size[k] if scaled else 1.0
+            for c in range(d):
+                r = x[i, c] - (tc[k, ce0 + c] if none else anchor[i, c])
+                z[k, c] = r / ssz / tc[k, sc0 + c] + first[k, c]
