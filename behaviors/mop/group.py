@@ -164,10 +164,12 @@ class FollowerGroup(GroupRules):
             else:
                 X[i, :f.dim] = x
         present = np.ones(len(self.followers), dtype=bool)
-        present[lost] = False
-        fresh = present & ~self._has_anchor
-        self._anchor[fresh] = X[fresh]
-        self._has_anchor |= present
+        if lost:
+            present[lost] = False
+        if not self._has_anchor.all():
+            fresh = present & ~self._has_anchor
+            self._anchor[fresh] = X[fresh]
+            self._has_anchor |= present
         self._inputs(present)
         fw = self.forward
         saved = None

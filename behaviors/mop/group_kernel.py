@@ -19,7 +19,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.prefetch import prefetch
+from behaviors.mop.compiled import exp_neg, prefetch
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -39,7 +39,7 @@ TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
                   "path_scale", "spots", "none", "margin")
-#: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.prefetch`).
+#: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 AHEAD = 2
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape")

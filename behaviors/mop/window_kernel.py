@@ -7,7 +7,7 @@ templates)`` array per quantity, about 100 numpy calls per step), the step took 
 DESIGN's 8 performers x 100 templates on a quiet machine, most of it passes over memory and
 call overhead; compiled, see ``bench/mop.py``. Same algorithm as
 :func:`~behaviors.mop.forward.forward_reference` (the plain one, one template at a time), with
-the same two shortcuts as before: where a main window lies on the first states, its
+the same shortcuts as before (and exponentials by :func:`~behaviors.mop.compiled.exp_neg`): where a main window lies on the first states, its
 first-states window holds only this step's restart mass and is not computed (its floor of 1e-100
 per state, below 1e-90 of the main window's own floor, is left out), and log-weights below the
 window's best by more than 200 count as ``e^-200``.
@@ -20,7 +20,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.prefetch import prefetch
+from behaviors.mop.compiled import exp_neg, prefetch
 
 START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
 CLAMP = -200.0        # log-weights below the window's best by more than this count as e^-200
@@ -161,10 +161,11 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
         e0 = 0.0
         if not logs:
             for r in range(n):
-                q[r] *= math.exp(max(m - lb[r], CLAMP))
-                if full:
-                    qs[r] *= math.exp(max(m - lbs[r], CLAMP))
-            e0 = math.exp(max(m - lb[0], CLAMP))
+                q[r] *= exp_neg(max(m - lb[r], CLAMP))
+            if full:
+                for r in range(n):
+                    qs[r] *= exp_neg(max(m - lbs[r], CLAMP))
+            e0 = exp_neg(max(m - lb[0], CLAMP))
         else:
             top = -np.inf
             for r in range(n):
@@ -197,7 +198,7 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
                 if full:
                     q[r] = qs[r]
                 else:
-                    q[r] = math.exp(max(m - lb[r], CLAMP)) * START_FLOOR
+                    q[r] = exp_neg(max(m - lb[r], CLAMP)) * START_FLOOR
             if not full:
                 q[0] += e0 * ej
             for r in range(w):
@@ -228,7 +229,7 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
             if not logs and lo[j] == 0 and not switched:
                 # a main window leaving the first states: its first-states window is this step's
                 for r in range(n):
-                    bj[r] = math.exp(max(m - lb[r], CLAMP)) * START_FLOOR
+                    bj[r] = exp_neg(max(m - lb[r], CLAMP)) * START_FLOOR
                 bj[0] += e0 * ej
                 restart = 0.0
         lo[j] = new_lo
