@@ -79,18 +79,7 @@ def exp_neg(x: float) -> float:
     t = x * _LOG2E + _SHIFT
     k = t - _SHIFT
     r = (x - k * _LN2_HI) - k * _LN2_LO
-    c = _C
-    p = c[12]
-    p = p * r + c[11]
-    p = p * r + c[10]
-    p = p * r + c[9]
-    p = p * r + c[8]
-    p = p * r + c[7]
-    p = p * r + c[6]
-    p = p * r + c[5]
-    p = p * r + c[4]
-    p = p * r + c[3]
-    p = p * r + c[2]
-    p = p * r + c[1]
-    p = p * r + c[0]
+    p = _C[12]
+    for j in range(11, -1, -1):   # Horner
+        p = p * r + _C[j]
     return p * _as_float((_as_bits(t) + 1023) << 52)
