@@ -56,7 +56,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
     ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
-    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; the rest: see the
+    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; ``dwell``: the share of a
+    hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`); the rest: see the
     module docstring.
     """
 
@@ -72,7 +73,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  still_samples: int = 6, min_probability: float = 0.6,
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
-                 shape_memory: float = 16.0) -> None:
+                 shape_memory: float = 16.0, dwell: float = 0.8) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -90,7 +91,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("coverage", coverage, 0 <= coverage < 1),
                             ("shape_distance", shape_distance, shape_distance > 0),
                             ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
-                            ("shape_memory", shape_memory, shape_memory >= 1)):
+                            ("shape_memory", shape_memory, shape_memory >= 1),
+                            ("dwell", dwell, 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if invariance not in INVARIANCES:
@@ -117,7 +119,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._fbank = self._with_tangents()
         self._zdim = int(self._fbank.means.shape[1])
         self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
-                                       transitions=Transitions(tuple(transitions), backward, restart),
+                                       transitions=Transitions(tuple(transitions), backward, restart,
+                                                               float(dwell)),
                                        floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
         self.null_memory = float(null_memory)
@@ -130,7 +133,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             null_distance=float(null_distance), max_spread=float(max_spread),
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
                             coverage=float(coverage), shape_distance=float(shape_distance),
-                            shape_accept=float(shape_accept), shape_memory=float(shape_memory))
+                            shape_accept=float(shape_accept), shape_memory=float(shape_memory),
+                            dwell=float(dwell))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank

@@ -46,7 +46,9 @@ class FollowerGroup(GroupRules):
             names += [f"{i}:{n}" for n in b.names]
             owner += [i] * len(b.names)
         bank = TemplateBank(tuple(names), np.concatenate(means), np.concatenate(starts),
-                            np.concatenate(lengths), np.zeros(width), np.ones(width))
+                            np.concatenate(lengths), np.zeros(width), np.ones(width),
+                            source=np.concatenate([f._fbank.source for f in self.followers]),
+                            holds=np.concatenate([f._fbank.holds for f in self.followers]))
         p = first._params
         self.forward = WindowedForward(bank, sigma=p["sigma"], half_window=p["window"],
                                        transitions=first.forward.transitions, floor=p["floor"],

@@ -48,12 +48,11 @@ def test_a_hold_of_any_length_is_followed_without_sliding_back(gestures):
     rng = np.random.default_rng(5)
     for name in ("arc_hold", "lift_hold"):
         for factor in (0.3, 3.0):
-            # the lift is narrow across its path (1.7 cm of spread): a held puck's jitter is
-            # large in its units
+            # measured: RMSE 0.023-0.047 with the holds' states dwelling (0.8), 0.023-0.080
+            # without (the lift at 0.3x ran through its hold into the return's eased start)
             x, prog = performance(rng, rhr[name], 1.0, hold=spans[name], hold_factor=factor)
             m = true_metrics(run(f, x), name, prog)
-            limit = 0.06 if name == "arc_hold" else 0.1   # measured: lift at 0.3x 0.08
-            assert m["rmse"] <= limit and m["backward"] <= 0.05 and m["valid_after30"] >= 0.8, (name, factor)
+            assert m["rmse"] <= 0.06 and m["backward"] <= 0.05 and m["valid_after30"] >= 0.8, (name, factor)
 
 
 def test_gestures_back_to_back_are_each_recognised(gestures):
