@@ -22,7 +22,8 @@ installation builds it for a puck, unless said otherwise.
   its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
   :mod:`behaviors.mop.validity`), its spread at most ``max_spread`` (in states), its end not
   yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
-  other likely template in shape since the gesture began (:mod:`behaviors.mop.spotting`).
+  other likely template in shape since the gesture began, and one that reached its end drives
+  at most two samples more (:mod:`behaviors.mop.spotting`).
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -36,7 +37,7 @@ import numpy as np
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
-from behaviors.mop.spotting import GestureSpotting
+from behaviors.mop.spotting import GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.validity import Validity
 
@@ -199,6 +200,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._acquired = -1
+        self._after_end = 0
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()
@@ -330,7 +332,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             leads = self._leads(x, gi, g - gi, bi, p)
             ok = ok and (self._acquired == bi or leads)
         self._run = self._run + 1 if ok else 0
-        valid = self._run >= self.confirm
+        # an action that reached its end drives at most END_GRACE samples more (spotting)
+        self._after_end = self._after_end + 1 if self._end_x is not None else 0
+        valid = drives(self._run, self.confirm, self._after_end)
         self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names

@@ -12,6 +12,7 @@ from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
+from behaviors.mop.spotting import drives
 
 
 class FollowerGroup(GroupRules):
@@ -167,17 +168,18 @@ class FollowerGroup(GroupRules):
         self._ended = np.full(m, -1, dtype=np.intp)
         self._end_x = np.zeros((m, dmax))
         self._has_end = np.zeros(m, dtype=bool)
+        self._after_end = np.zeros(m, dtype=np.intp)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired")
+                   "_end_x", "_has_end", "_acquired", "_after_end")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
         self._has_anchor[rows] = False
         self._nbuf[rows] = 0
-        for a in (self._best, self._run, self._lost):
+        for a in (self._best, self._run, self._lost, self._after_end):
             a[rows] = 0
         self._ended[rows] = -1
         self._has_end[rows] = False
@@ -351,7 +353,8 @@ class FollowerGroup(GroupRules):
         # a new action drives only once its shape clearly leads (spotting)
         ok &= ~self._m_spots | (self._acquired == bi) | self._lead(gs, frac, gb, p)
         self._run = run = np.where(ok, self._run + 1, 0)
-        valid = run >= self._m_confirm
+        self._after_end = np.where(self._has_end, self._after_end + 1, 0)
+        valid = drives(run, self._m_confirm, self._after_end)
         self._acquired = np.where(valid, bi, -1)
         loglik = mean_ll[gb]
         distance = np.sqrt(np.maximum(0.0, -2.0 * (loglik - self._m_lc) / self._m_zdim))

@@ -67,6 +67,16 @@ SHAPE_SPREAD = 3.5
 LEAD = 4.0
 #: Templates less probable than this (the evidence's probabilities) are no rivals.
 RIVAL_PROBABILITY = 0.005
+#: Samples an action still drives after the one at which it reached its end.
+END_GRACE = 2
+
+
+def drives(run: np.ndarray | int, confirm: np.ndarray | int,
+           after_end: np.ndarray | int) -> np.ndarray | bool:
+    """Whether an action drives (``valid``), per follower or for arrays of them: it matched for
+    ``confirm`` samples in a row (``run``), and reached its end at most :data:`END_GRACE`
+    samples ago (``after_end``: samples since the end was reached, 0 while it was not)."""
+    return (run >= confirm) & (after_end <= END_GRACE)
 
 
 class GestureSpotting:
