@@ -73,11 +73,11 @@ def test_gestures_back_to_back_are_each_recognised(gestures):
     for g in order:
         hit = [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
         assert hit and hit[0] <= 0.45, (g, hit[:1])
-    # an ended gesture stops driving soon after the next one has begun (measured: at most 5
-    # samples, figure eight into wave: it had not reached its end)
+    # an ended gesture drives at most two samples after it reached its end, so at most two of
+    # the next one (measured: 1, 0, 1; while it drove until the input moved on: 1, 0, 5)
     for before, after in zip(order, order[1:]):
         late = [s for i, s in enumerate(states) if truth[i] == after and s.valid and s.best == before]
-        assert len(late) <= 6, (before, after, len(late))
+        assert len(late) <= 2, (before, after, len(late))
 
 
 def test_a_still_puck_is_never_valid_whatever_the_window(gestures):
