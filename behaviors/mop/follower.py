@@ -35,7 +35,7 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.hmm import TemplateError, Transitions, build_bank
+from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.spotting import GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
@@ -58,7 +58,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
     ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
     and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; ``dwell``: the share of a
-    hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`); the rest: see the
+    hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`;
+    default :data:`~behaviors.mop.hmm.HOLD_DWELL` with ``invariance``, else 0); the rest: see the
     module docstring.
     """
 
@@ -74,7 +75,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  still_samples: int = 6, min_probability: float = 0.6,
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
-                 shape_memory: float = 16.0, dwell: float = 0.8) -> None:
+                 shape_memory: float = 16.0, dwell: float | None = None) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -93,11 +94,13 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("shape_distance", shape_distance, shape_distance > 0),
                             ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
                             ("shape_memory", shape_memory, shape_memory >= 1),
-                            ("dwell", dwell, 0 <= dwell < 1)):
+                            ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if invariance not in INVARIANCES:
             raise TemplateError(f"follower invariance {invariance!r}: choose from {', '.join(INVARIANCES)}")
+        if dwell is None:   # features as recorded: a hold at another size is never reached
+            dwell = HOLD_DWELL if invariance != "none" else 0.0
         lo, hi = (float(v) for v in scale_range)
         if not (0 < lo <= 1 <= hi and math.isfinite(hi)):
             raise TemplateError(f"follower scale_range {list(scale_range)} must hold 1, e.g. [0.55, 1.8]")
@@ -134,8 +137,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             null_distance=float(null_distance), max_spread=float(max_spread),
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
                             coverage=float(coverage), shape_distance=float(shape_distance),
-                            shape_accept=float(shape_accept), shape_memory=float(shape_memory),
-                            dwell=float(dwell))
+                            shape_accept=float(shape_accept), shape_memory=float(shape_memory))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank

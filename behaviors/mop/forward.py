@@ -42,7 +42,7 @@ class WindowedForward:
 
     def __init__(self, bank: TemplateBank, sigma: float = 0.2, half_window: int = 15,
                  transitions: Transitions = Transitions(), floor: float = 1e-8,
-                 dims: np.ndarray | None = None) -> None:
+                 dims: np.ndarray | None = None, stay: np.ndarray | None = None) -> None:
         if not (sigma > 0 and math.isfinite(sigma)):
             raise ValueError(f"sigma must be a positive number, got {sigma}")
         if int(half_window) < 1:
@@ -69,8 +69,10 @@ class WindowedForward:
         # dims: features really used per template (a group pads its inputs with zeros to one width)
         d = np.full(k, float(bank.dim)) if dims is None else np.asarray(dims, dtype=float)
         self._const = -d * math.log(self.sigma) - 0.5 * d * math.log(2.0 * math.pi)
-        # holds inside a template: a share of each hold state's probability stays (hmm.dwell_states)
-        self._stay = dwell_states(bank, transitions.dwell)
+        # holds inside a template: a share of each hold state's probability stays (hmm.dwell_states;
+        # ``stay`` (states,) given: a group's, each member's own)
+        self._stay = (dwell_states(bank, transitions.dwell) if stay is None
+                      else np.ascontiguousarray(stay, dtype=float))
         self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) if k else np.zeros(0, bool)
         self.reset()
 

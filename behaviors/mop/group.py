@@ -47,13 +47,12 @@ class FollowerGroup(GroupRules):
             names += [f"{i}:{n}" for n in b.names]
             owner += [i] * len(b.names)
         bank = TemplateBank(tuple(names), np.concatenate(means), np.concatenate(starts),
-                            np.concatenate(lengths), np.zeros(width), np.ones(width),
-                            source=np.concatenate([f._fbank.source for f in self.followers]),
-                            holds=np.concatenate([f._fbank.holds for f in self.followers]))
+                            np.concatenate(lengths), np.zeros(width), np.ones(width))
         p = first._params
         self.forward = WindowedForward(bank, sigma=p["sigma"], half_window=p["window"],
                                        transitions=first.forward.transitions, floor=p["floor"],
-                                       dims=np.array(dims))
+                                       dims=np.array(dims),
+                                       stay=np.concatenate([f.forward._stay for f in self.followers]))
         self._owner = np.array(owner, dtype=np.intp)
         bounds = np.concatenate([[0], np.cumsum([len(f.names) for f in self.followers])])
         self._slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
