@@ -22,7 +22,8 @@ installation builds it for a puck, unless said otherwise.
   its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
   :mod:`behaviors.mop.validity`), its spread at most ``max_spread`` (in states), its end not
   yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
-  other likely template in shape since the gesture began (:mod:`behaviors.mop.spotting`).
+  other likely template in shape since the gesture began, and one that reached its end drives
+  at most two samples more (:mod:`behaviors.mop.spotting`).
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -34,9 +35,9 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.hmm import TemplateError, Transitions, build_bank
+from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
-from behaviors.mop.spotting import GestureSpotting
+from behaviors.mop.spotting import GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.validity import Validity
 
@@ -56,7 +57,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
     ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
-    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; the rest: see the
+    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; ``dwell``: the share of a
+    hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`;
+    default :data:`~behaviors.mop.hmm.HOLD_DWELL` with ``invariance``, else 0); the rest: see the
     module docstring.
     """
 
@@ -72,7 +75,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  still_samples: int = 6, min_probability: float = 0.6,
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
-                 shape_memory: float = 16.0) -> None:
+                 shape_memory: float = 16.0, dwell: float | None = None) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -90,11 +93,14 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("coverage", coverage, 0 <= coverage < 1),
                             ("shape_distance", shape_distance, shape_distance > 0),
                             ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
-                            ("shape_memory", shape_memory, shape_memory >= 1)):
+                            ("shape_memory", shape_memory, shape_memory >= 1),
+                            ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if invariance not in INVARIANCES:
             raise TemplateError(f"follower invariance {invariance!r}: choose from {', '.join(INVARIANCES)}")
+        if dwell is None:   # features as recorded: a hold at another size is never reached
+            dwell = HOLD_DWELL if invariance != "none" else 0.0
         lo, hi = (float(v) for v in scale_range)
         if not (0 < lo <= 1 <= hi and math.isfinite(hi)):
             raise TemplateError(f"follower scale_range {list(scale_range)} must hold 1, e.g. [0.55, 1.8]")
@@ -117,7 +123,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._fbank = self._with_tangents()
         self._zdim = int(self._fbank.means.shape[1])
         self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
-                                       transitions=Transitions(tuple(transitions), backward, restart),
+                                       transitions=Transitions(tuple(transitions), backward, restart,
+                                                               float(dwell)),
                                        floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
         self.null_memory = float(null_memory)
@@ -195,6 +202,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._acquired = -1
+        self._after_end = 0
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()
@@ -326,7 +334,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             leads = self._leads(x, gi, g - gi, bi, p)
             ok = ok and (self._acquired == bi or leads)
         self._run = self._run + 1 if ok else 0
-        valid = self._run >= self.confirm
+        # an action that reached its end drives at most END_GRACE samples more (spotting)
+        self._after_end = self._after_end + 1 if self._end_x is not None else 0
+        valid = drives(self._run, self.confirm, self._after_end)
         self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names

@@ -52,7 +52,8 @@ class FollowerGroup(GroupRules):
         p = first._params
         self.forward = WindowedForward(bank, sigma=p["sigma"], half_window=p["window"],
                                        transitions=first.forward.transitions, floor=p["floor"],
-                                       dims=np.array(dims))
+                                       dims=np.array(dims),
+                                       stay=np.concatenate([f.forward._stay for f in self.followers]))
         self._owner = np.array(owner, dtype=np.intp)
         bounds = np.concatenate([[0], np.cumsum([len(f.names) for f in self.followers])])
         self._slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
@@ -116,17 +117,18 @@ class FollowerGroup(GroupRules):
         self._ended = np.full(m, -1, dtype=np.intp)
         self._end_x = np.zeros((m, dmax))
         self._has_end = np.zeros(m, dtype=bool)
+        self._after_end = np.zeros(m, dtype=np.intp)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired")
+                   "_end_x", "_has_end", "_acquired", "_after_end")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
         self._has_anchor[rows] = False
         self._nbuf[rows] = 0
-        for a in (self._best, self._run, self._lost):
+        for a in (self._best, self._run, self._lost, self._after_end):
             a[rows] = 0
         self._ended[rows] = -1
         self._has_end[rows] = False
@@ -282,6 +284,7 @@ class FollowerGroup(GroupRules):
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
+            self._after_end,
             variance, valid, loglik, distance, show, holding, prog_b, restart)
         refused, bi, any_engaged = self._refused, self._best, self._m_any_engaged
         gb = self._bounds + bi

@@ -38,7 +38,7 @@ class GroupRules:
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
         self._size[cols] = 1.0
-        for a in (self._best, self._run, self._lost):
+        for a in (self._best, self._run, self._lost, self._after_end):
             a[rows] = 0
         self._has_end[rows] = False
         self._anchor[rows] = anchor[rows]

@@ -18,6 +18,8 @@ import math
 import numba
 import numpy as np
 
+from behaviors.mop.spotting import END_GRACE
+
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
 
@@ -115,11 +117,11 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
 
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1,
                        _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, acquired, buf, nbuf, has_end, end_x, lost,
+             run, acquired, buf, nbuf, has_end, end_x, lost, after_end,
              variance, valid, loglik, distance, show, holding, prog, restart) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
@@ -129,7 +131,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
 
     In place: ``run``, ``acquired``, the recent samples ``buf``/``nbuf``, the gesture's end
-    ``has_end``/``end_x`` and ``lost`` (refused samples in a row). Out per member: ``best``'s
+    ``has_end``/``end_x``, ``lost`` (refused samples in a row) and ``after_end`` (samples since
+    the end was reached). Out per member: ``best``'s
     variance (progress units squared), valid, recent mean log-likelihood and its distance,
     whether the likeliest actions are shown, holding, progress, and how a new attempt starts
     (:data:`GOES_ON`...)."""
@@ -164,7 +167,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         # a new action drives only once its shape clearly leads (spotting)
         ok = ok and (not spots or acquired[i] == bi or leads[i])
         run[i] = run[i] + 1 if ok else 0
-        val = run[i] >= m[3]
+        # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
+        after_end[i] = after_end[i] + 1 if has_end[i] else 0
+        val = run[i] >= m[3] and after_end[i] <= END_GRACE
         valid[i] = val
         acquired[i] = bi if val else -1
         ll = mean_ll[gb]

@@ -89,15 +89,25 @@ def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.nda
 _F1, _F2, _I1, _B1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1], numba.boolean[::1]
 
 
+@numba.njit(cache=True, nogil=True)
+def _dwell(x: np.ndarray, kept: np.ndarray, stay: np.ndarray, first: int, n: int) -> None:
+    """kept = the part of window x (first ``n`` states, from bank state ``first``) that moves by
+    the transitions: each state's share ``stay`` stays where it is (added after the move)."""
+    for r in range(n):
+        kept[r] = x[r] * (1.0 - stay[first + r])
+
+
 # compiled when imported (or loaded from the cache beside this file), not at the first step
 @numba.njit(numba.void(_F2, _I1, _I1, _I1, _B1, _F2, _F2, _F2, _F1, _I1, _F1, _F2, _I1, _B1,
-                       numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1),
+                       numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1,
+                       _F1, _B1),
             cache=True, nogil=True)
 def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: np.ndarray,
                  start_tail: np.ndarray, z: np.ndarray, a: np.ndarray, b: np.ndarray,
                  s: np.ndarray, lo: np.ndarray, mean: np.ndarray, mom: np.ndarray,
                  entries: np.ndarray, fresh: np.ndarray, half: int, back: float, fwd: np.ndarray,
-                 eps: float, floor: float, const: np.ndarray, out: np.ndarray) -> None:
+                 eps: float, floor: float, const: np.ndarray, out: np.ndarray,
+                 stay: np.ndarray, dwells: np.ndarray) -> None:
     """Advance every template's windows by one step (see the module docstring).
 
     ``means`` (states, d) and ``z`` (K, d) prescaled by 1 / (sigma sqrt 2); ``a``, ``b`` (K, w):
@@ -105,7 +115,8 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
     start), ``mean`` (progress in states), ``mom`` (3, K) (the moments of the main window before
     it moved) and ``entries``; ``fresh`` (K,): templates taking a first step (no transitions, no
     restart); ``out`` (K,): the step's log-likelihood. ``floor`` 0: the log domain, every
-    first-states window computed."""
+    first-states window computed. ``stay`` (states,): each state's share that stays before the
+    transitions move the rest (a template's holds), used for the templates ``dwells`` (K,)."""
     k, w = a.shape
     logs = floor <= 0.0
     start_floor = START_FLOOR if floor > 0.0 else 0.0
@@ -115,6 +126,8 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
     lbs = np.empty(w)
     shifted = np.empty(w)
     per_line = max(1, 8 // means.shape[1])   # state rows per 64-byte cache line
+    kept = np.empty(w)
+    kept_s = np.empty(w)
     for j in range(k):
         if j + AHEAD < k:   # the states the template a few ahead will read (both windows)
             h = j + AHEAD
@@ -140,14 +153,24 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
                 if full:
                     qs[r] = bj[r] + start_floor
         else:
-            _transit(aj, q, n, back, fwd, at_start, lo0 == max_lo[j])
+            dw = dwells[j]
+            xa, xb = aj, bj
+            if dw:   # the held share of each hold state stays; the rest moves
+                _dwell(aj, kept, stay, starts[j] + lo0, n)
+                _dwell(bj, kept_s, stay, starts[j], n)
+                xa, xb = kept, kept_s
+            _transit(xa, q, n, back, fwd, at_start, lo0 == max_lo[j])
             tot = 0.0
             for r in range(n):
+                if dw:
+                    q[r] += aj[r] - kept[r]
                 tot += q[r]
             if full:
-                _transit(bj, qs, n, back, fwd, True, start_tail[j])
+                _transit(xb, qs, n, back, fwd, True, start_tail[j])
                 tq = 0.0
                 for r in range(n):
+                    if dw:
+                        qs[r] += bj[r] - kept_s[r]
                     tq += qs[r]
                 tot += tq
             c = (1.0 - ej) / tot

@@ -62,6 +62,9 @@ def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone():
         d = 2 + c % 3
         sets.append({f"m{c}t{i}": g.template(rng, n=int(rng.integers(10, 90)), d=d)
                      for i in range(int(rng.integers(1, 6)))})
+        for t in sets[-1].values():   # a hold inside the longer templates (its states dwell)
+            if len(t) >= 40:
+                t[len(t) // 2:len(t) // 2 + 10] = t[len(t) // 2]
         parts = []
         for j in range(4):   # back to back or stopped short of the end, a rest, an unrelated stretch
             t = list(sets[-1].values())[int(rng.integers(len(sets[-1])))]
