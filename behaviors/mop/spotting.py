@@ -49,7 +49,9 @@ longest such run 16, held-out 19; twenty templates 10, 19). The follower's own p
 ``end`` 0-5 samples before the performer reaches the last point (it leads on eased ends, lags on
 fast ones). Partial runs of the bench's sections (sizes: valid after 30% of gestures at
 0.7-1.4x, 0.908 before): no sample after the end 0.882 (the last 3% of each gesture lost),
-two 0.901, four 0.906 (runs of the ended action into the next up to 4 samples). Kept at two,
+two 0.901, four 0.906 (runs of the ended action into the next up to 4 samples); two, not
+counting samples that came closer to the last point by a still radius 0.903, but the ended
+action then drove three samples into the next in 7 of 32 gestures. Kept at two,
 the length of ``confirm``: the ended action's runs into the next gesture are then at most two
 samples, except where the follower never reached the end (a line whose return was followed
 backwards, its size overestimated: 16 ticks; see the bench's notes).
