@@ -319,9 +319,22 @@ class FollowerGroup(GroupRules):
         bounds, counts = self._bounds, self._counts
         top = np.maximum.reduceat(ev, bounds)
         p = np.exp(ev - np.repeat(top, counts))
-        p /= np.repeat(np.add.reduceat(p, bounds), counts)
-        return self._conclude(members.segment_argmax(ev, top, bounds, counts, self._index), p,
+        lead = members.segment_argmax(ev, top, bounds, counts, self._index)
+        # each member's threshold model competes as one more, never driving, explanation
+        rival = np.exp(np.minimum(self._threshold_evidence(raw_ll[lead], present) - top, 700.0))
+        p /= np.repeat(np.add.reduceat(p, bounds) + rival, counts)
+        return self._conclude(lead, p,
                               progress, g, gs, frac, mean_ll, new, step_ll, present)
+
+    def _threshold_evidence(self, lead_ll: np.ndarray, present: np.ndarray) -> np.ndarray:
+        """Each member's threshold-model evidence (M,) (-inf where it has none): the member's
+        own :meth:`Validity._threshold_evidence`, one member after another."""
+        out = np.full(len(self.followers), -np.inf)
+        for i, f in enumerate(self.followers):
+            if present[i] and np.isfinite(f.threshold):
+                out[i] = f._threshold_evidence(self._x[i, :f.dim].copy(), self._anchor[i, :f.dim],
+                                               float(lead_ll[i]))
+        return out
 
     def _conclude(self, top: np.ndarray, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
                   gs: np.ndarray, frac: np.ndarray, mean_ll: np.ndarray, new: np.ndarray,

@@ -52,6 +52,8 @@ class GroupRules:
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
         self._size[cols] = 1.0
+        for r in rows:   # the threshold model starts afresh with the evidence
+            self.followers[r]._threshold_ev, self.followers[r]._threshold_x = 0.0, None
         for a in (self._best, self._run, self._lost):
             a[rows] = 0
         self._has_end[rows] = False
