@@ -10,9 +10,10 @@ tick, same process, A/B: 1.96 -> 1.47 ms CPU median on a loaded machine).
 
 Exponential: the forward step takes about 40 000 exponentials per tick for DESIGN's case; the
 library's ``exp`` is a call per value (about 5 ns), which the compiler cannot vectorise.
-:func:`exp_neg` (arguments from -200 to 0, the forward's clamp) is range reduction and a
-polynomial in plain arithmetic, which it does (3.5x faster on the same loop); within 1.5 ulp
-of the library's on 2 million arguments over that range (``tests/mop/test_compiled.py``).
+:func:`exp_neg` (arguments from -708 to 0: the forward's clamp is -200, the threshold model's
+-708, below which the library's result is subnormal) is range reduction and a polynomial in
+plain arithmetic, which it does (3.5x faster on the same loop); within 1.5 ulp of the
+library's on 2 million arguments from -200 to 0 (``tests/mop/test_compiled.py``).
 """
 
 from __future__ import annotations
@@ -73,7 +74,7 @@ _C = tuple(1.0 / math.factorial(n) for n in range(13))   # Taylor: |r| <= ln2 / 
 
 @numba.njit(inline="always")
 def exp_neg(x: float) -> float:
-    """``exp(x)`` for ``-200 <= x <= 0`` (no check: outside, wrong): ``x = k ln2 + r`` with
+    """``exp(x)`` for ``-708 <= x <= 0`` (no check: outside, wrong): ``x = k ln2 + r`` with
     ``k`` the nearest integer, ``exp(r)`` by its Taylor polynomial (degree 12), ``2^k`` built
     in the exponent's bits."""
     t = x * _LOG2E + _SHIFT

@@ -75,7 +75,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  still_samples: int = 6, min_probability: float = 0.6,
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
-                 shape_memory: float = 16.0, dwell: float | None = None) -> None:
+                 shape_memory: float = 16.0, dwell: float | None = None,
+                 threshold: float = 0.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -97,6 +98,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
+        if math.isnan(threshold) or threshold == -math.inf:
+            raise TemplateError(f"follower parameter threshold = {threshold} is out of range")
         if invariance not in INVARIANCES:
             raise TemplateError(f"follower invariance {invariance!r}: choose from {', '.join(INVARIANCES)}")
         if dwell is None:   # features as recorded: a hold at another size is never reached
@@ -137,7 +140,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             null_distance=float(null_distance), max_spread=float(max_spread),
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
                             coverage=float(coverage), shape_distance=float(shape_distance),
-                            shape_accept=float(shape_accept), shape_memory=float(shape_memory))
+                            shape_accept=float(shape_accept), shape_memory=float(shape_memory),
+                            threshold=float(threshold))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -156,6 +160,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
         self.coverage, self.shape_distance = float(coverage), float(shape_distance)
         self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
+        # the threshold model sees positions only: off with direction features or at infinity
+        self.threshold = math.inf if tangent > 0 else float(threshold)
         self._setup_validity()
         self.reset()
 
@@ -206,6 +212,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()
+        self._threshold_ev, self._threshold_x = 0.0, None
 
     @property
     def log_constant(self) -> float:
@@ -300,7 +307,12 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._engaged |= past
         top = int(np.argmax(self._evidence))
         p = np.exp(self._evidence - self._evidence[top])
-        p /= p.sum()
+        if math.isfinite(self.threshold):
+            # the threshold model competes as one more, never driving, explanation
+            p /= p.sum() + math.exp(min(self._threshold_evidence(x, self._anchor, float(raw_ll[top]))
+                                        - self._evidence[top], 700.0))
+        else:
+            p /= p.sum()
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
                               (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()))
 

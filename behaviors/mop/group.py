@@ -118,11 +118,13 @@ class FollowerGroup(GroupRules):
         self._end_x = np.zeros((m, dmax))
         self._has_end = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)
+        self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
+        self._thr_has_x = np.zeros(m, dtype=bool)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired", "_after_end")
+                   "_end_x", "_has_end", "_acquired", "_after_end", "_thr_ev", "_thr_x", "_thr_has_x")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -132,6 +134,8 @@ class FollowerGroup(GroupRules):
             a[rows] = 0
         self._ended[rows] = -1
         self._has_end[rows] = False
+        self._thr_ev[rows] = 0.0
+        self._thr_has_x[rows] = False
         self._acquired[rows] = -1
         self._shape[np.isin(self._owner, np.arange(len(self.followers))[rows])] = 0.0
 
@@ -235,7 +239,9 @@ class FollowerGroup(GroupRules):
                    "shape2": lambda f: f._shape2, "shape_accept2": lambda f: f._shape_accept2,
                    "path_scale": lambda f: f.sigma ** 2 * f.dim,
                    "spots": lambda f: f.invariance != "none", "none": lambda f: f.invariance == "none",
-                   "margin": lambda f: f.switch_margin}
+                   "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
+                   "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
+                   "thr_const": lambda f: f._threshold_const}
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
@@ -255,6 +261,10 @@ class FollowerGroup(GroupRules):
         self._m_moving = np.zeros(m)
         self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_leads = np.zeros(m, dtype=bool)
+        self._m_kept = np.ones(m)
+        # the threshold models' state (Validity._threshold_evidence): over every state of a member
+        self._thr_alpha = np.zeros(len(self._states))
+        self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
 
     def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._finish` for every member at once: the per-template rules in
@@ -267,7 +277,9 @@ class FollowerGroup(GroupRules):
             self._entries, fw.mean, fw.entries, step_ll, self._x, self._anchor, self._buf, self._nbuf,
             self._bounds, self._counts, self._best, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY,
             LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
-            self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads)
+            self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads,
+            present, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
+            self._m_kept)
         return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
@@ -284,7 +296,7 @@ class FollowerGroup(GroupRules):
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
-            self._after_end,
+            self._after_end, self._m_kept,
             variance, valid, loglik, distance, show, holding, prog_b, restart)
         refused, bi, any_engaged = self._refused, self._best, self._m_any_engaged
         gb = self._bounds + bi

@@ -20,6 +20,7 @@ import numba
 import numpy as np
 
 from behaviors.mop.compiled import exp_neg, prefetch
+from behaviors.mop.threshold import STAY as THRESHOLD_STAY, STILL_RADII as THRESHOLD_STILL_RADII
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -35,12 +36,14 @@ STATE_COLUMNS = ("means", "rel", "source", "arc")
 #: ``ufirst``, ``c_off`` of D columns each).
 TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need")
 TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
-#: Per-member scalars (columns of ``mc`` (M, 18 + 2D), then the rows ``radius`` and ``units``).
+#: Per-member scalars (columns of ``mc`` (M, 21 + 2D), then the rows ``radius`` and ``units``;
+#: ``threshold`` infinite where a member has no threshold model).
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
-                  "path_scale", "spots", "none", "margin")
+                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 AHEAD = 2
+_MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape")
 #: Per-template flags updated in place, in this order.
@@ -73,16 +76,71 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
+@numba.njit(numba.float64(_F2, _I2, _F2, _F1, numba.intp, numba.intp, _F1, _F1, _F1, _F1, _F1,
+                          numba.boolean), cache=True, nogil=True)
+def threshold_step(states, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) -> float:
+    """:func:`behaviors.mop.threshold.threshold_step` of one member (templates ``a0..a1``, its
+    states' rows of ``states`` and ``alpha`` in order) with its sample ``x`` seen from
+    ``anchor`` as :meth:`Validity._threshold_evidence` maps it (``m``: its row of ``mc``;
+    ``ll``: scratch of at least its states); returns the sample's log-likelihood."""
+    d = x.size
+    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d
+    dims, scaled, none = m[0], m[8] > 0.0, m[16] > 0.0
+    factor, const = m[19], m[20]
+    base = ti[a0, 2]
+    n = 0
+    top = -np.inf
+    z = np.empty(d)
+    for k in range(a0, a1):
+        t = tc[k]
+        jac = -t[0]
+        for c in range(d):
+            z[c] = (x[c] - (t[ce0 + c] if none else anchor[c])) / t[sc0 + c]
+        if scaled:
+            for c in range(d):
+                z[c] /= size[k]
+            jac = jac - dims * math.log(size[k])
+        for c in range(d):
+            z[c] = z[c] + t[uf0 + c] + t[co0 + c]
+        first = ti[k, 2] + ti[k, 0]
+        for j in range(ti[k, 1]):
+            acc = 0.0
+            for c in range(d):
+                e = z[c] - states[first + j, c]
+                acc += e * e
+            v = acc * factor
+            v += const
+            v += jac
+            ll[first + j - base] = v
+            if v > top:
+                top = v
+        n += ti[k, 1]
+    if fresh:
+        for j in range(n):
+            alpha[base + j] = 1.0 / n
+    total = 0.0
+    for j in range(n):
+        w = (alpha[base + j] * THRESHOLD_STAY + (1.0 - THRESHOLD_STAY) / n) * \
+            exp_neg(max(ll[j] - top, -708.0))
+        alpha[base + j] = w
+        total += w
+    for j in range(n):
+        alpha[base + j] /= total
+    return top + math.log(total)
+
+
 @numba.njit(numba.void(_F2, _I2, _F2, _F2, numba.types.UniTuple(_F1, len(FLOATS)),
                        numba.types.UniTuple(_B1, len(FLAGS)), _F2, numba.int64[::1], _F1,
                        numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                        numba.intp, numba.intp, numba.float64, numba.float64,
-                       _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1),
+                       _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
+                       _B1, _F1, _F1, _F2, _B1, _F1, _F1),
             cache=True, nogil=True)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
-                     all_refused, leads_out) -> None:
+                     all_refused, leads_out, present, alpha, thr_ev, thr_x, thr_has_x, scratch,
+                     kept_out) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -105,7 +163,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     s = buf.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d  # columns of tc
-    ra0, un0 = 18, 18 + d                             # columns of mc
+    ra0, un0 = _MC_ROWS, _MC_ROWS + d                 # columns of mc
     u = np.empty(d)
     z = np.empty(d)
     v = np.empty(d)
@@ -264,13 +322,32 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         for k in range(a0, a1):
             p_out[k] /= tot
         top_three(p_out, a0, a1, top3_out[i])
+        # the threshold model (Validity._threshold_evidence): the share of the probability the
+        # templates keep against it
+        kept = 1.0
+        if present[i] and math.isfinite(m[18]):
+            step = threshold_step(states, ti, tc, m, a0, a1, x[i], anchor[i], size, alpha, scratch,
+                                  not thr_has_x[i]) - m[18]
+            lead = step_ll[first] - tc[first, 0]
+            lead -= dims * math.log(size[first])
+            still = thr_has_x[i]
+            for c in range(d):
+                if abs(x[i, c] - thr_x[i, c]) > THRESHOLD_STILL_RADII * m[ra0 + c]:
+                    still = False
+            if not thr_has_x[i] or still:
+                step = min(step, lead)
+            thr_x[i] = x[i]
+            thr_has_x[i] = True
+            thr_ev[i] = thr_ev[i] * decay + step
+            kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
+        kept_out[i] = kept
         gb = a0 + best[i]
         if ev[first] - ev[gb] > margin or refused[gb]:
             gb = first
         best[i] = gb - a0
         rival = np.inf
         for k in range(a0, a1):
-            if k != gb and not refused[k] and p_out[k] >= rival_p and shape[k] < rival:
+            if k != gb and not refused[k] and p_out[k] * kept >= rival_p and shape[k] < rival:
                 rival = shape[k]
         leads_out[i] = rival == np.inf or rival - shape[gb] >= min_lead
 

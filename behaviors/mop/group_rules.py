@@ -38,6 +38,8 @@ class GroupRules:
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
         self._size[cols] = 1.0
+        self._thr_ev[rows] = 0.0   # the threshold model starts afresh with the evidence
+        self._thr_has_x[rows] = False
         for a in (self._best, self._run, self._lost, self._after_end):
             a[rows] = 0
         self._has_end[rows] = False

@@ -99,10 +99,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from behaviors.mop import threshold
+
 #: States before and after the followed state whose joining segments make up the path the
 #: input is measured against (the followed state lags or leads a fast performer by a few).
 PATH_REACH = (3, 3)
-
 
 def path_lengths(bank) -> np.ndarray:
     """Per state of ``bank``, the length of its template's path from the first state to it
@@ -137,6 +138,8 @@ class Validity:
         k = len(self.names)
         self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
+        self._threshold_alpha = np.zeros(len(b.means))
+        self._threshold_const = -b.dim * np.log(self.sigma) - 0.5 * b.dim * np.log(2.0 * np.pi)
 
     def _forget_shape(self, which: np.ndarray | slice = slice(None)) -> None:
         """Forget the misfit and coverage of the templates ``which`` (all by default)."""
@@ -209,6 +212,30 @@ class Validity:
         nxt = np.minimum(gi + 1, self.bank.starts + self.bank.lengths - 1)
         covered = self._arc[gi] + (g - gi) * (self._arc[nxt] - self._arc[gi])
         self._covered |= (covered >= self._arc_need) & self._engaged
+
+    def _threshold_evidence(self, x: np.ndarray, anchor: np.ndarray, lead_ll: float) -> float:
+        """Step the threshold model (:mod:`behaviors.mop.threshold`) with sample ``x`` seen from
+        ``anchor`` and return its evidence, forgotten as the templates' (``lead_ll``: this
+        sample's raw log-likelihood under the template of most evidence). Started afresh with
+        the evidence."""
+        b = self.bank
+        if self.invariance == "none":
+            z = (x - b.center) / b.scale
+            jac = -self._jacobian
+        else:
+            z = (x - anchor)[None, :] / b.scale
+            jac = -self._jacobian
+            if self.invariance == "scale":
+                z /= self._size[:, None]
+                jac = jac - self.dim * np.log(self._size)
+            z += self._first_z
+        ll = threshold.state_logliks(z, b.means, b.lengths, self.sigma, self._threshold_const, jac)
+        step = threshold.threshold_step(self._threshold_alpha, ll, self._threshold_x is None)
+        step = threshold.gated(step - self.threshold, lead_ll, x, self._threshold_x,
+                               self._still_radius)
+        self._threshold_x = x
+        self._threshold_ev = self._threshold_ev * self._decay + step
+        return self._threshold_ev
 
     def _shaped(self, k: int) -> bool:
         """Template ``k`` may drive as far as its path is concerned."""

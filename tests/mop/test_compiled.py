@@ -16,8 +16,8 @@ def _exp_all(x: np.ndarray, out: np.ndarray) -> None:
 
 def test_the_forward_exponential_is_within_two_ulp_of_the_library_over_its_range():
     rng = np.random.default_rng(5)
-    x = np.concatenate([-np.linspace(0.0, 200.0, 400_001), -200.0 * rng.random(400_000),
-                        [-0.0, -1e-300, -math.log(2.0) / 2, -200.0]])
+    x = np.concatenate([-np.linspace(0.0, 200.0, 400_001), -708.0 * rng.random(400_000),
+                        [-0.0, -1e-300, -math.log(2.0) / 2, -708.0]])
     got = np.empty_like(x)
     _exp_all(x, got)
     want = np.array([math.exp(v) for v in x])
