@@ -320,9 +320,12 @@ class FollowerGroup(GroupRules):
         top = np.maximum.reduceat(ev, bounds)
         p = np.exp(ev - np.repeat(top, counts))
         lead = members.segment_argmax(ev, top, bounds, counts, self._index)
-        # each member's threshold model competes as one more, never driving, explanation
+        total = np.add.reduceat(p, bounds)
+        p /= np.repeat(total, counts)
+        # each member's threshold model competes as one more, never driving, explanation: the
+        # share of the probability its templates keep against it
         rival = np.exp(np.minimum(self._threshold_evidence(raw_ll[lead], present) - top, 700.0))
-        p /= np.repeat(np.add.reduceat(p, bounds) + rival, counts)
+        self._kept = total / (total + rival)
         return self._conclude(lead, p,
                               progress, g, gs, frac, mean_ll, new, step_ll, present)
 
@@ -357,10 +360,11 @@ class FollowerGroup(GroupRules):
         size = self._size[gb][:, None]
         last = self._rel[self._last_state[gb]] * self._m_units * size + self._anchor
         ok = (engaged[gb] & ~refused[gb] & self._covered[gb] & ~self._misshaped[gb]
-              & (spread2 <= self._m_spread2) & (p[gb] >= self._m_min_p)
+              & (spread2 <= self._m_spread2) & (p[gb] * self._kept >= self._m_min_p)
               & ~(self._has_end & members.moved_on(X, self._end_x, last, self._m_radius)))
         # a new action drives only once its shape clearly leads (spotting)
-        ok &= ~self._m_spots | (self._acquired == bi) | self._lead(gs, frac, gb, p)
+        ok &= ~self._m_spots | (self._acquired == bi) | self._lead(gs, frac, gb,
+                                                                   p * np.repeat(self._kept, self._counts))
         self._run = run = np.where(ok, self._run + 1, 0)
         valid = run >= self._m_confirm
         self._acquired = np.where(valid, bi, -1)
