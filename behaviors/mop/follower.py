@@ -307,12 +307,15 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._engaged |= past
         top = int(np.argmax(self._evidence))
         p = np.exp(self._evidence - self._evidence[top])
+        total = p.sum()
+        p /= total
+        # the threshold model competes as one more, never driving, explanation: the share of
+        # the probability the templates keep against it (the states' probabilities are the
+        # templates' among themselves)
+        self._kept = 1.0
         if math.isfinite(self.threshold):
-            # the threshold model competes as one more, never driving, explanation
-            p /= p.sum() + math.exp(min(self._threshold_evidence(x, self._anchor, float(raw_ll[top]))
-                                        - self._evidence[top], 700.0))
-        else:
-            p /= p.sum()
+            rival = self._threshold_evidence(x, self._anchor, float(raw_ll[top])) - self._evidence[top]
+            self._kept = total / (total + math.exp(min(rival, 700.0)))
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
                               (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()))
 
@@ -339,11 +342,11 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
-                  and p_list[bi] >= self.min_probability
+                  and p_list[bi] * self._kept >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
         if self.invariance != "none":
             # a new action drives only once its shape clearly leads (spotting.LEAD)
-            leads = self._leads(x, gi, g - gi, bi, p)
+            leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             ok = ok and (self._acquired == bi or leads)
         self._run = self._run + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting)

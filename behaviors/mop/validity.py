@@ -86,6 +86,17 @@ stroke of a triangle is the outward half of the line):
   transitions' uncertainty, about 1 sigma even on exact copies): exact copies 0.64 sigma
   (median), unrelated motions while valid 0.87: no threshold separates them, since a state is
   0.7 sigma from the next on a 61-sample circle at sigma 0.2.
+- Pace, signed (decayed sums over 8 samples of the input's motion and of the followed state's,
+  in the template's units at the current size): on the bench's valid ticks the followed state
+  explained less than 0.3 of the input's motion (its motion projected on the input's) in 14-19%
+  of the unrelated ones and 0.4-0.9% of true ones. Refused while below 0.3 with the input moving
+  at least 0.3 sigma (back from 0.5): unrelated worst / mean 0.49 / 0.188 -> 0.38 / 0.151, but
+  valid after 30% of gestures at 0.7-1.4x 0.908 -> 0.887 (mocap paths whose followed state lags
+  on fast segments, the line's turn); 0.5 sigma, 0.3 / 0.5: 0.40 / 0.170; 6 samples, 0.6 / 0.8:
+  0.40 / 0.140; judged only before the action drives: 0.46 / 0.182.
+- No going back behind where the action began driving (by more than 4% of its path): 0.44 /
+  0.172, but valid after 30% 0.897: a line's return is followed backward while its size is
+  still wrong (the line at 0.7x: 0.9 -> 0.3).
 - Rivals: letting a template drive only while no other engaged, unrefused template explained
   the recent samples about as well (within 0.5 sigma) stopped the line from driving the start
   of a square, but with twenty templates some other template nearly always fits as well: valid
@@ -104,6 +115,7 @@ from behaviors.mop import threshold
 #: States before and after the followed state whose joining segments make up the path the
 #: input is measured against (the followed state lags or leads a fast performer by a few).
 PATH_REACH = (3, 3)
+
 
 def path_lengths(bank) -> np.ndarray:
     """Per state of ``bank``, the length of its template's path from the first state to it
