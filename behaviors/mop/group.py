@@ -263,6 +263,7 @@ class FollowerGroup(GroupRules):
         self._m_leads = np.zeros(m, dtype=bool)
         self._m_kept = np.ones(m)
         # the threshold models' state (Validity._threshold_evidence): over every state of a member
+        self._means = np.ascontiguousarray(self._states[:, :dmax])
         self._thr_alpha = np.zeros(len(self._states))
         self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
 
@@ -278,7 +279,7 @@ class FollowerGroup(GroupRules):
             self._bounds, self._counts, self._best, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY,
             LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
             self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads,
-            present, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
+            present, self._means, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
             self._m_kept)
         return self._conclude(step_ll, present)
 
