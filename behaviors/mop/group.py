@@ -263,7 +263,7 @@ class FollowerGroup(GroupRules):
         self._m_leads = np.zeros(m, dtype=bool)
         self._m_kept = np.ones(m)
         # the threshold models' state (Validity._threshold_evidence): over every state of a member
-        self._means = np.ascontiguousarray(self._states[:, :dmax])
+        self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
         self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
 

@@ -80,7 +80,7 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
                           numba.boolean), cache=True, nogil=True)
 def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) -> float:
     """:func:`behaviors.mop.threshold.threshold_step` of one member (templates ``a0..a1``, its
-    states' rows of ``means`` (S, D) and ``alpha`` in order) with its sample ``x`` seen from
+    states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with its sample ``x`` seen from
     ``anchor`` as :meth:`Validity._threshold_evidence` maps it (``m``: its row of ``mc``;
     ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its sums are
     taken in eight interleaved parts (numpy's are pairwise: the same to about 1e-16); every
@@ -104,15 +104,15 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
         for c in range(d):
             z[c] = z[c] + t[uf0 + c] + t[co0 + c]
         first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
-        mk, out = means[first:first + length], ll[first - base:first - base + length]
+        out = ll[first - base:first - base + length]
+        out[:] = 0.0
+        for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
+            zc, mc_ = z[c], means[c, first:first + length]
+            for j in range(length):
+                e = zc - mc_[j]
+                out[j] += e * e
         for j in range(length):
-            acc = 0.0
-            for c in range(d):
-                e = z[c] - mk[j, c]
-                acc += e * e
-            v = acc * factor
-            v += const
-            out[j] = v + jac
+            out[j] = (out[j] * factor + const) + jac
         n += length
     # views from 0 (indices the compiler knows are not negative: the loops vectorise)
     a, v = alpha[base:base + n], ll[:n]
