@@ -22,7 +22,7 @@ $(STAMP): pyproject.toml
 # MOP's compiled kernels (numba) are built once here, into the cache beside their sources, so
 # neither the installation's first start nor each test worker compiles them.
 kernels: $(STAMP)
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members"
+	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, behaviors.mop.threshold"
 
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)

@@ -22,6 +22,10 @@ import numpy as np
 from behaviors.mop.compiled import exp_neg, prefetch
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY, STILL_RADII as THRESHOLD_STILL_RADII
 
+#: Log-weights below the threshold model's likeliest state by more than this weigh nothing
+#: (as :func:`behaviors.mop.threshold.threshold_model_step`).
+THRESHOLD_FLOOR = -40.0
+
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
 _I2 = numba.intp[:, ::1]
@@ -82,9 +86,10 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
     """:func:`behaviors.mop.threshold.threshold_step` of one member (templates ``a0..a1``, its
     states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with its sample ``x`` seen from
     ``anchor`` as :meth:`Validity._threshold_evidence` maps it (``m``: its row of ``mc``;
-    ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its sums are
-    taken in eight interleaved parts (numpy's are pairwise: the same to about 1e-16); every
-    loop over the states vectorises (DESIGN's 8 x 100 templates: 80 000 states per tick)."""
+    ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its sum is
+    taken in eight interleaved parts (the same to about 1e-16) and its exponentials by
+    :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises (DESIGN's
+    8 x 100 templates: 80 000 states per tick)."""
     d = x.size
     sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d
     dims, scaled, none = m[0], m[8] > 0.0, m[16] > 0.0
@@ -111,8 +116,9 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
             for j in range(length):
                 e = zc - mc_[j]
                 out[j] += e * e
+        lj = const + jac
         for j in range(length):
-            out[j] = (out[j] * factor + const) + jac
+            out[j] = out[j] * factor + lj
         n += length
     # views from 0 (indices the compiler knows are not negative: the loops vectorise)
     a, v = alpha[base:base + n], ll[:n]
@@ -126,8 +132,10 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
     if fresh:
         a[:] = 1.0 / n
     rest = (1.0 - THRESHOLD_STAY) / n
-    for j in range(n):
-        a[j] = (a[j] * THRESHOLD_STAY + rest) * exp_neg(max(v[j] - top, -708.0))
+    for j in range(n):   # no weight under e^-40 of the likeliest state's (threshold_model_step)
+        e = v[j] - top
+        w = (THRESHOLD_STAY * a[j] + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
+        a[j] = w if e >= THRESHOLD_FLOOR else 0.0
     parts = np.zeros(8)
     for j in range(0, n - n % 8, 8):
         for r in range(8):

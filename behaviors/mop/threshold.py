@@ -50,6 +50,7 @@ stroke the line's) -- there the ordered template explains the input better than 
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 #: Self weight of every state of the threshold model (the templates' own ``transitions[0]``).
@@ -84,6 +85,46 @@ def threshold_step(alpha: np.ndarray, ll: np.ndarray, fresh: bool) -> float:
     total = float(alpha.sum())
     alpha /= total
     return top + float(np.log(total))
+
+
+@numba.njit(cache=True, nogil=True)
+def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, sigma: float,
+                         log_constant: float, log_jacobian: np.ndarray, alpha: np.ndarray,
+                         scratch: np.ndarray, fresh: bool, stay: float) -> float:
+    """:func:`state_logliks` then :func:`threshold_step` in one compiled pass (``scratch``
+    (N,): room for the states' log-densities): the cost is one distance and one exp per state,
+    the tick's largest after the forward step (8 performers x 100 templates: 80,000 states)."""
+    k_count, d = z.shape
+    n = means.shape[0]
+    inv = -0.5 / (sigma * sigma)
+    top = -np.inf
+    j = 0
+    for k in range(k_count):
+        lj = log_constant + log_jacobian[k]
+        for _ in range(lengths[k]):
+            s = 0.0
+            for c in range(d):
+                diff = means[j, c] - z[k, c]
+                s += diff * diff
+            v = s * inv + lj
+            scratch[j] = v
+            if v > top:
+                top = v
+            j += 1
+    jump = (1.0 - stay) / n
+    total = 0.0
+    for j in range(n):
+        e = scratch[j] - top
+        if e < -40.0:   # under 4e-18 of the likeliest state: no exp (most states are far)
+            alpha[j] = 0.0
+            continue
+        a = 1.0 / n if fresh else alpha[j]
+        w = (stay * a + jump) * np.exp(e)
+        alpha[j] = w
+        total += w
+    for j in range(n):
+        alpha[j] /= total
+    return top + np.log(total)
 
 
 def gated(step: float, best_step: float, x: np.ndarray, previous: np.ndarray | None,

@@ -150,7 +150,9 @@ class Validity:
         k = len(self.names)
         self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
-        self._threshold_alpha = np.zeros(len(b.means))
+        self._threshold_alpha, self._threshold_scratch = np.zeros(len(b.means)), np.zeros(len(b.means))
+        self._threshold_means = np.ascontiguousarray(b.means, dtype=float)
+        self._threshold_lengths = np.ascontiguousarray(b.lengths, dtype=np.int64)
         self._threshold_const = -b.dim * np.log(self.sigma) - 0.5 * b.dim * np.log(2.0 * np.pi)
 
     def _forget_shape(self, which: np.ndarray | slice = slice(None)) -> None:
@@ -241,8 +243,10 @@ class Validity:
                 z /= self._size[:, None]
                 jac = jac - self.dim * np.log(self._size)
             z += self._first_z
-        ll = threshold.state_logliks(z, b.means, b.lengths, self.sigma, self._threshold_const, jac)
-        step = threshold.threshold_step(self._threshold_alpha, ll, self._threshold_x is None)
+        step = threshold.threshold_model_step(
+            np.ascontiguousarray(z), self._threshold_means, self._threshold_lengths, self.sigma,
+            self._threshold_const, np.ascontiguousarray(jac, dtype=float), self._threshold_alpha,
+            self._threshold_scratch, self._threshold_x is None, threshold.STAY)
         step = threshold.gated(step - self.threshold, lead_ll, x, self._threshold_x,
                                self._still_radius)
         self._threshold_x = x
