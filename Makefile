@@ -22,11 +22,12 @@ $(STAMP): pyproject.toml
 # The compiled kernels (numba: MOP's, Puppet Master's searches and step, the view's drawing) are
 # built once here, into the cache beside their sources, so neither the installation's first start
 # nor each test worker compiles them.
-# The three builds run side by side (about 8, 16 and 22 s of CPU cold; a second or two cached).
+# The three builds run side by side (about 60 s of CPU cold in all; a few seconds cached).
 kernels: $(STAMP)
 	$(PY) -c "import tabletop.drawing.raster as r; r.warm()" & view=$$!; \
 	$(PY) -c "import behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel" & pm=$$!; \
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.members" && wait $$view && wait $$pm
+	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, behaviors.mop.threshold" \
+	  && wait $$view && wait $$pm
 
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)

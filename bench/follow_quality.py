@@ -348,6 +348,8 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
                 vals.append(np.mean([s.valid for s in run(f, x)]))
             shares[name] = float(np.mean(vals))
         mirrored = [v for n, v in shares.items() if n.startswith("mirrored_")]
+        # every motion with this many templates loaded (the target holds for any count)
+        out[f"unrelated_{k}_templates_valid_share_mean"] = float(np.mean(list(shares.values())))
         for base in ("diagonal", "triangle", "spiral", "wander", "still"):
             out[f"unrelated_{k}_templates_{base}_valid_share"] = shares[base]
         if mirrored:

@@ -22,7 +22,8 @@ installation builds it for a puck, unless said otherwise.
   its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
   :mod:`behaviors.mop.validity`), its spread at most ``max_spread`` (in states), its end not
   yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
-  other likely template in shape since the gesture began (:mod:`behaviors.mop.spotting`).
+  other likely template in shape since the gesture began, and one that reached its end drives
+  at most two samples more (:mod:`behaviors.mop.spotting`).
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -34,9 +35,9 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.hmm import TemplateError, Transitions, build_bank
+from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
-from behaviors.mop.spotting import GestureSpotting
+from behaviors.mop.spotting import GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.validity import Validity
 
@@ -56,7 +57,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
     ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
-    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; the rest: see the
+    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; ``dwell``: the share of a
+    hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`;
+    default :data:`~behaviors.mop.hmm.HOLD_DWELL` with ``invariance``, else 0); the rest: see the
     module docstring.
     """
 
@@ -72,7 +75,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  still_samples: int = 6, min_probability: float = 0.6,
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
-                 shape_memory: float = 16.0) -> None:
+                 shape_memory: float = 16.0, dwell: float | None = None,
+                 threshold: float = 0.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -90,11 +94,16 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("coverage", coverage, 0 <= coverage < 1),
                             ("shape_distance", shape_distance, shape_distance > 0),
                             ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
-                            ("shape_memory", shape_memory, shape_memory >= 1)):
+                            ("shape_memory", shape_memory, shape_memory >= 1),
+                            ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
+        if math.isnan(threshold) or threshold == -math.inf:
+            raise TemplateError(f"follower parameter threshold = {threshold} is out of range")
         if invariance not in INVARIANCES:
             raise TemplateError(f"follower invariance {invariance!r}: choose from {', '.join(INVARIANCES)}")
+        if dwell is None:   # features as recorded: a hold at another size is never reached
+            dwell = HOLD_DWELL if invariance != "none" else 0.0
         lo, hi = (float(v) for v in scale_range)
         if not (0 < lo <= 1 <= hi and math.isfinite(hi)):
             raise TemplateError(f"follower scale_range {list(scale_range)} must hold 1, e.g. [0.55, 1.8]")
@@ -117,7 +126,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._fbank = self._with_tangents()
         self._zdim = int(self._fbank.means.shape[1])
         self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
-                                       transitions=Transitions(tuple(transitions), backward, restart),
+                                       transitions=Transitions(tuple(transitions), backward, restart,
+                                                               float(dwell)),
                                        floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
         self.null_memory = float(null_memory)
@@ -130,7 +140,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             null_distance=float(null_distance), max_spread=float(max_spread),
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
                             coverage=float(coverage), shape_distance=float(shape_distance),
-                            shape_accept=float(shape_accept), shape_memory=float(shape_memory))
+                            shape_accept=float(shape_accept), shape_memory=float(shape_memory),
+                            threshold=float(threshold))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -149,6 +160,10 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
         self.coverage, self.shape_distance = float(coverage), float(shape_distance)
         self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
+        # the threshold model: spatial inputs only (a noisy stream's own performance lost
+        # against it: valid 0.72 instead of 0.95 of the time in tests/mop/test_follower.py), and
+        # it sees positions only (off with direction features); off at infinity
+        self.threshold = math.inf if tangent > 0 or invariance == "none" else float(threshold)
         self._setup_validity()
         self.reset()
 
@@ -195,9 +210,11 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._acquired = -1
+        self._after_end = 0
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()
+        self._threshold_ev, self._threshold_x = 0.0, None
 
     @property
     def log_constant(self) -> float:
@@ -292,7 +309,15 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._engaged |= past
         top = int(np.argmax(self._evidence))
         p = np.exp(self._evidence - self._evidence[top])
-        p /= p.sum()
+        total = p.sum()
+        p /= total
+        # the threshold model competes as one more, never driving, explanation: the share of
+        # the probability the templates keep against it (the states' probabilities are the
+        # templates' among themselves)
+        self._kept = 1.0
+        if math.isfinite(self.threshold):
+            rival = self._threshold_evidence(x, self._anchor, float(raw_ll[top])) - self._evidence[top]
+            self._kept = total / (total + math.exp(min(rival, 700.0)))
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
                               (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()))
 
@@ -319,14 +344,16 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
-                  and p_list[bi] >= self.min_probability
+                  and p_list[bi] * self._kept >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
         if self.invariance != "none":
             # a new action drives only once its shape clearly leads (spotting.LEAD)
-            leads = self._leads(x, gi, g - gi, bi, p)
+            leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             ok = ok and (self._acquired == bi or leads)
         self._run = self._run + 1 if ok else 0
-        valid = self._run >= self.confirm
+        # an action that reached its end drives at most END_GRACE samples more (spotting)
+        self._after_end = self._after_end + 1 if self._end_x is not None else 0
+        valid = drives(self._run, self.confirm, self._after_end)
         self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from behaviors.mop.hmm import TemplateBank, Transitions
+from behaviors.mop.hmm import TemplateBank, Transitions, dwell_states
 from behaviors.mop.window_kernel import CLAMP as _CLAMP, START_FLOOR as _START_FLOOR, step_windows
 
 
@@ -42,7 +42,7 @@ class WindowedForward:
 
     def __init__(self, bank: TemplateBank, sigma: float = 0.2, half_window: int = 15,
                  transitions: Transitions = Transitions(), floor: float = 1e-8,
-                 dims: np.ndarray | None = None) -> None:
+                 dims: np.ndarray | None = None, stay: np.ndarray | None = None) -> None:
         if not (sigma > 0 and math.isfinite(sigma)):
             raise ValueError(f"sigma must be a positive number, got {sigma}")
         if int(half_window) < 1:
@@ -69,6 +69,11 @@ class WindowedForward:
         # dims: features really used per template (a group pads its inputs with zeros to one width)
         d = np.full(k, float(bank.dim)) if dims is None else np.asarray(dims, dtype=float)
         self._const = -d * math.log(self.sigma) - 0.5 * d * math.log(2.0 * math.pi)
+        # holds inside a template: a share of each hold state's probability stays (hmm.dwell_states;
+        # ``stay`` (states,) given: a group's, each member's own)
+        self._stay = (dwell_states(bank, transitions.dwell) if stay is None
+                      else np.ascontiguousarray(stay, dtype=float))
+        self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) if k else np.zeros(0, bool)
         self.reset()
 
     def reset(self) -> None:
@@ -123,7 +128,8 @@ class WindowedForward:
         step_windows(self._means, self._starts, self._wk, self._max_lo, self._start_tail, self._z,
                      self._a, self._b, self._s, self.lo, self.mean, self._mom, self.entries,
                      self._fresh, self.half_window, self._back, self._fwd,
-                     self.transitions.restart, self.floor, self._const, self._ll)
+                     self.transitions.restart, self.floor, self._const, self._ll,
+                     self._stay, self._dwells)
         self.steps += 1
         self._fresh[:] = False
         return self._ll.copy()
@@ -159,12 +165,13 @@ class WindowedForward:
 
 
 def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float, half_window: int,
-                      transitions: Transitions, floor: float = 0.0
+                      transitions: Transitions, floor: float = 0.0, stay: np.ndarray | None = None
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:class:`WindowedForward` written out plainly for one template over a whole sequence, state
     by state (equations 2-7, the floor, the first-states window and re-entry), for checking.
 
-    ``states`` (N, d) and ``observations`` (T, d) standardised. Returns per step the mean state,
+    ``states`` (N, d) and ``observations`` (T, d) standardised; ``stay`` (N,): each state's
+    share that stays before the transitions move the rest (none by default). Returns per step the mean state,
     its variance (states squared), the log-likelihood and the re-entries so far.
     """
     n, d = states.shape
@@ -177,15 +184,18 @@ def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float
     first = np.arange(n) < w
     lo, entries = 0, 0
     out = []
+    held = np.zeros(n) if stay is None else np.asarray(stay, dtype=float)
 
     def move(a: np.ndarray, window: np.ndarray) -> np.ndarray:
         """Every state's probability moved by the transitions; what leaves the window is lost,
         what would go before the first state or past the last stays there."""
         pred = np.zeros(n)
         for i in np.flatnonzero(window):
+            moving = a[i] * (1.0 - held[i])
+            pred[i] += a[i] - moving
             for j, wo in [(max(i - 1, 0), back)] + [(min(i + o, n - 1), f) for o, f in enumerate(fwd)]:
                 if window[j]:
-                    pred[j] += wo * a[i]
+                    pred[j] += wo * moving
         return pred
 
     for t, o in enumerate(observations):

@@ -15,7 +15,20 @@ Holds: a run of samples that stays within ``hold_tolerance`` (in the template's 
 its first sample is kept as three states (first, middle, last) that map back to the progress
 of the whole run, so a performer may hold for any time (the last state loops) and a short hold
 is crossed in three steps instead of the recorded run's length. Measured with
-``bench/follow_quality.py`` (raise-hold-return at holds 0.3-3x).
+``bench/follow_quality.py`` (raise-hold-return at holds 0.3-3x). The states of a hold inside a
+template also *dwell* (``Transitions.dwell``, :func:`dwell_states`): each step that share of
+their probability stays before the transitions move the rest. Without it the prior's drift of
+about a state per step carried the progress through the three states of a hold and on into the
+return's eased start (which matches a held input as well) while the performer slowed into the
+hold or held it long: 0.3 ahead of a lift slowing into its hold. Progress RMSE over the whole
+action, max / median of 15 performances (held-out seed in brackets): dwell 0 0.093 / 0.036
+(0.080 / 0.035), 0.5 0.074 / 0.033 (0.091 / 0.032), 0.65 0.063 / 0.032 (0.095 / 0.030), 0.7
+0.059 / 0.032 (0.098 / 0.029), 0.8 0.055 / 0.028 (0.102 / 0.028; kept), 0.95 0.075 / 0.040,
+0.98 0.089 / 0.054 (too slow to leave the hold); dwelling on the hold's middle and last states
+only, 0.8: 0.073 / 0.032 (0.094 / 0.031). The held-out worst is a lift at 0.3x hold whose size
+was overestimated during the raise (1.06 for 0.89): the follower stays short of the hold until
+the return begins (a straight line's size and progress are one), and the dwell leaves the hold
+one sample later.
 
 Transitions (:class:`Transitions`) go left to right: self (offset 0), next (+1) and skips
 (+2, +3, ...) so a performer may be up to about twice as fast as the recording, a small backward
@@ -45,7 +58,9 @@ class Transitions:
 
     ``forward[o]`` is the weight of moving ``o`` states ahead (``forward[0]`` self, ``forward[1]``
     next, higher offsets skips); ``backward`` the weight of moving one state back; ``restart`` the
-    probability per step of a new performance starting at the first state. MOP's own model is
+    probability per step of a new performance starting at the first state; ``dwell`` the share
+    of a hold state's probability that stays there each step before the rest moves by the
+    transitions (:func:`dwell_states`). MOP's own model is
     ``Transitions(forward=(0.5, 0.5), backward=0.0, restart=0.0)``.
 
     What the extra transitions cost (``bench/mop.py``, 8 templates of 200 samples, progress RMSE
@@ -61,6 +76,7 @@ class Transitions:
     forward: tuple[float, ...] = (0.3, 0.35, 0.25, 0.1)
     backward: float = 0.1
     restart: float = 1e-4
+    dwell: float = 0.0
 
     def __post_init__(self) -> None:
         w = np.asarray(self.forward, dtype=float)
@@ -72,6 +88,8 @@ class Transitions:
             raise TemplateError("transition weights must not all be zero")
         if not (0.0 <= self.restart < 1.0):
             raise TemplateError(f"restart probability must be in [0, 1), got {self.restart}")
+        if not (0.0 <= self.dwell < 1.0):
+            raise TemplateError(f"hold dwell must be in [0, 1), got {self.dwell}")
 
     def weights(self) -> tuple[float, np.ndarray]:
         """(backward weight, forward weights) normalised so that all of them sum to 1."""
@@ -224,6 +242,34 @@ def build_bank(templates: Mapping[str, np.ndarray], relative_floor: float = 0.05
     return TemplateBank(tuple(checked), np.ascontiguousarray(np.concatenate(means)), starts,
                         lengths_a, np.array(centers), np.array(scales), np.array(firsts),
                         np.concatenate(sources), given, np.concatenate(holds))
+
+
+#: A hold state's share of probability that stays each step, for followers of spatial inputs
+#: (size and offset invariance). With features as recorded a hold performed at another size is
+#: never reached, and dwelling in it trapped the progress (the ``follow`` command's defaults,
+#: a lift at 0.82x: RMSE 0.12 -> 0.32, 0.17 backward).
+HOLD_DWELL = 0.8
+
+
+def dwell_states(bank: TemplateBank, dwell: float, margin: float = 0.1) -> np.ndarray:
+    """Per state of ``bank``, the share of its probability that stays each step (``dwell`` at
+    the states of a hold inside a template, 0 elsewhere). A compressed hold is crossed in three
+    steps; a performer holding longer, or slowing into the hold, kept the prior's drift of about
+    a state per step going past it into the eased start of the return, which matches a held
+    input as well. A still start or end (a hold within the first or last ``margin`` of the
+    template's progress) is no such hold: the start is where every performance waits, the end
+    must be reached for the gesture to end (the circle's eased end is a hold at 91-95%)."""
+    out = np.zeros(len(bank.means))
+    if bank.holds is None or bank.source is None or dwell <= 0:
+        return out
+    for s, n in zip(bank.starts, bank.lengths):
+        h = bank.holds[s:s + n].astype(int)
+        src = bank.source[s:s + n]
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], h, [0]])))
+        for a, b in zip(edges[::2], edges[1::2]):
+            if src[a] >= margin and src[b - 1] <= 1.0 - margin:
+                out[s + a:s + b] = dwell
+    return out
 
 
 def emission_loglik(z: np.ndarray, states: np.ndarray, sigma: float) -> np.ndarray:

@@ -1,62 +1,65 @@
-"""A follower group's per-member rules over arrays of members (one row per member).
+"""A follower group's per-member rules (one row per member), compiled.
 
 :class:`~behaviors.mop.group.FollowerGroup` steps many followers at once; the rules a single
-:class:`~behaviors.mop.follower.ActionFollower` applies to itself (best template, validity,
-stillness, early feedback, gesture spotting) are written here once more as pure functions over
-arrays: per-template arrays ``(K,)`` of the whole group cut into members by ``bounds`` (each
+:class:`~behaviors.mop.follower.ActionFollower` applies to itself once its templates are updated
+(validity, stillness, early feedback, gesture spotting) are written here once more over arrays
+of members: per-template arrays ``(K,)`` of the whole group cut into members by ``bounds`` (each
 member's first template), per-member arrays ``(M,)`` or ``(M, D)`` (``D`` the widest member's
 features, narrower members padded with values that change nothing). Each function states the
-follower method it equals; ``tests/mop/test_follower.py`` checks the group against followers
-stepped alone.
+follower method it equals; ``tests/mop/test_group.py`` checks them and the group against
+followers stepped alone. Compiled: as array operations over the members (about 90 numpy calls
+on arrays of 8) they cost more than the per-template pass.
 """
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
-from behaviors.mop.validity import PATH_REACH
+from behaviors.mop.spotting import END_GRACE
+
+_F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
+_I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
+
+#: How a member's new attempt starts (:meth:`GestureSpotting._spot`): none; its gesture ended
+#: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
+#: every template was refused too long; the input is still and waiting (anchored at its mean).
+GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING = range(5)
+#: Per-member scalars (columns of ``mk`` (M, 13 + 2D), then the rows ``radius`` and ``units``).
+MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep", "onset",
+                "end", "null2", "depart2", "lost_after", "dims")
+_RAD = len(MEMBER_RULES)
 
 
-def segment_argmax(values: np.ndarray, top: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
-                   index: np.ndarray) -> np.ndarray:
-    """Per member, the index (within the group) of its first template holding its maximum
-    ``top`` of ``values``, as ``np.argmax`` of the member's slice; ``index``: ``arange(K)``."""
-    at = np.where(values == np.repeat(top, counts), index, index.size)
-    return np.minimum.reduceat(at, bounds)
-
-
-def top_three(p: np.ndarray, bounds: np.ndarray, counts: np.ndarray, index: np.ndarray
-              ) -> np.ndarray:
-    """Per member, its three most probable templates (group indices, likeliest first, ties in
-    template order: ``np.argsort(-p, kind="stable")[:3]``) (M, 3); -1 where a member has fewer."""
-    q = p.copy()
-    out = np.full((bounds.size, 3), -1, dtype=np.intp)
-    for j in range(3):
-        top = np.maximum.reduceat(q, bounds)
-        i = segment_argmax(q, top, bounds, counts, index)
-        has = counts > j
-        out[has, j] = i[has]
-        q[i[has]] = -np.inf
-    return out
-
-
-def push(buf: np.ndarray, count: np.ndarray, x: np.ndarray, rows: np.ndarray, keep: np.ndarray) -> None:
-    """Append ``x`` (M, D) to the recent-sample buffers ``buf`` (M, S, D) of the members ``rows``
-    (bool), oldest row first, the newest last; ``count`` (M,): valid rows, at most ``keep`` (M,)."""
-    buf[rows, :-1] = buf[rows, 1:]
-    buf[rows, -1] = x[rows]
-    count[rows] = np.minimum(count[rows] + 1, keep[rows])
-
-
-def still(buf: np.ndarray, count: np.ndarray, samples: np.ndarray, radius: np.ndarray) -> np.ndarray:
-    """:meth:`GestureSpotting._still` after the push: the last ``samples`` (M,) rows of each
-    buffer all within ``2 radius`` (M, D) per column (False while fewer were seen)."""
+@numba.njit(numba.void(_F3, _I1, _F2, numba.intp, numba.intp), cache=True, nogil=True)
+def push(buf: np.ndarray, count: np.ndarray, x: np.ndarray, i: int, keep: int) -> None:
+    """Append member ``i``'s sample ``x[i]`` to its recent-sample buffer ``buf[i]`` (S, D),
+    oldest row first, the newest last; ``count[i]``: valid rows, at most ``keep``."""
     s = buf.shape[1]
-    mask = (np.arange(s)[None, :] >= (s - samples)[:, None])[:, :, None]
-    hi = np.where(mask, buf, -np.inf).max(axis=1)
-    lo = np.where(mask, buf, np.inf).min(axis=1)
-    return (count >= samples) & ((hi - lo) <= 2.0 * radius).all(axis=1)
+    for r in range(s - 1):
+        buf[i, r] = buf[i, r + 1]
+    buf[i, s - 1] = x[i]
+    count[i] = min(count[i] + 1, keep)
+
+
+@numba.njit(numba.boolean(_F3, _I1, numba.intp, numba.intp, _F1), cache=True, nogil=True)
+def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.ndarray) -> bool:
+    """:meth:`GestureSpotting._still` after the push: member ``i``'s last ``samples`` buffered
+    samples all within ``2 radius`` (D,) per column (False while fewer were seen)."""
+    if count[i] < samples:
+        return False
+    s = buf.shape[1]
+    for c in range(buf.shape[2]):
+        hi = -np.inf
+        lo = np.inf
+        for r in range(s - samples, s):
+            hi = max(hi, buf[i, r, c])
+            lo = min(lo, buf[i, r, c])
+        if not hi - lo <= 2.0 * radius[c]:
+            return False
+    return True
 
 
 def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
@@ -73,76 +76,122 @@ def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
     return total / n[:, None]
 
 
-def moved_on(x: np.ndarray, end_x: np.ndarray, last: np.ndarray, still_radius: np.ndarray) -> np.ndarray:
-    """:meth:`GestureSpotting._moved_on`: farther from the template's last point ``last`` (M, D)
+@numba.njit(numba.boolean(_F1, _F1, _F1, _F1), cache=True, nogil=True)
+def moved_on(x: np.ndarray, end_x: np.ndarray, last: np.ndarray, still_radius: np.ndarray) -> bool:
+    """:meth:`GestureSpotting._moved_on`: farther from the template's last point ``last`` (D,)
     than the end ``end_x`` was, by more than 3 still radii in some column."""
-    return (np.abs(x - last) > np.abs(end_x - last) + 3.0 * still_radius).any(axis=1)
+    for c in range(x.size):
+        if abs(x[c] - last[c]) > abs(end_x[c] - last[c]) + 3.0 * still_radius[c]:
+            return True
+    return False
 
 
-def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: np.ndarray,
-             limit2: np.ndarray) -> np.ndarray:
-    """:meth:`GestureSpotting._departed`: the mean over each member's ``dims`` columns of
+@numba.njit(numba.boolean(_F1, _F1, _F1, numba.float64, numba.float64), cache=True, nogil=True)
+def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float, limit2: float) -> bool:
+    """:meth:`GestureSpotting._departed`: the mean over ``dims`` columns of
     ``((x - end_x) / spread)^2`` at least ``limit2`` (``(distance sigma)^2``)."""
-    r = (x - end_x) / spread
-    return (r * r).sum(axis=1) / dims >= limit2
+    acc = 0.0
+    for c in range(x.size):
+        r = (x[c] - end_x[c]) / spread[c]
+        acc += r * r
+    return acc / dims >= limit2
 
 
-def spot(has_end: np.ndarray, still_: np.ndarray, step_d2: np.ndarray, null2: np.ndarray,
-         ok: np.ndarray, gone: np.ndarray, valid: np.ndarray, progress: np.ndarray,
-         lost: np.ndarray, lost_samples: np.ndarray, engaged: np.ndarray
-         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """:meth:`GestureSpotting._spot`'s choice per member (after ``_end_x`` was set this
-    sample): (ended and moved on: restart anchored at the end, ended at 90% resting: restart,
-    every template refused too long: restart, still and waiting: re-anchor), exclusive."""
-    after_end = has_end & (still_ | (step_d2 > null2) | ~ok | gone)
-    rest = ~after_end
-    resting = rest & valid & still_ & (progress >= 0.9)
-    rest &= ~resting
-    abandon = rest & (lost >= lost_samples)
-    rest &= ~abandon
-    waiting = rest & still_ & ~engaged
-    return after_end, resting, abandon, waiting
+@numba.njit(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
+                       numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
+                       numba.boolean), cache=True, nogil=True)
+def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, gone: bool,
+         valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool) -> int:
+    """:meth:`GestureSpotting._spot`'s choice (after ``_end_x`` was set this sample): one of
+    :data:`GOES_ON`, :data:`AFTER_END`, :data:`RESTING`, :data:`ABANDONED`, :data:`WAITING`."""
+    if has_end and (still_ or step_d2 > null2 or not ok or gone):
+        return AFTER_END
+    if valid and still_ and progress >= 0.9:
+        return RESTING
+    if lost >= lost_samples:
+        return ABANDONED
+    if still_ and not engaged:
+        return WAITING
+    return GOES_ON
 
 
-@numba.njit(numba.float64[:, ::1](numba.float64[:, ::1], numba.float64[:, ::1], numba.intp[::1],
-                                  numba.intp[::1], numba.intp[::1], numba.intp[::1]), cache=True, nogil=True)
-def nearest_on_path(z: np.ndarray, path: np.ndarray, gi: np.ndarray, starts: np.ndarray,
-                    ends: np.ndarray, offset: np.ndarray) -> np.ndarray:
-    """:meth:`Validity._nearest_on_path` for every template of a group: the point (K, D) of each
-    template's path nearest to its sample ``z`` (K, D) among the segments starting at its states
-    within :data:`~behaviors.mop.validity.PATH_REACH` of ``gi`` (its bank's index; ``starts``,
-    ``ends``: its first and last state there, ``offset``: where its bank begins in ``path``).
-    ``path`` (states, 2D + 1): per state its mean, its segment to the next and 1 / that
-    segment's length^2, side by side (one row read per state). Compiled: as array operations
-    over (K, 7, D) it cost as much as the forward step."""
-    before, after = PATH_REACH
-    k, d = z.shape
-    out = np.empty((k, d))
-    for j in range(k):
-        best = np.inf
-        for o in range(-before, after + 1):
-            s = min(max(gi[j] + o, starts[j]), ends[j]) + offset[j]
-            row = path[s]
-            za = 0.0
-            for i in range(d):
-                za += (z[j, i] - row[i]) * row[d + i]
-            t = min(max(za * row[2 * d], 0.0), 1.0)
-            dd = 0.0
-            for i in range(d):
-                e = (z[j, i] - row[i]) - t * row[d + i]
-                dd += e * e
-            if dd < best:
-                best = dd
-                for i in range(d):
-                    out[j, i] = row[i] + t * row[d + i]
-    return out
+@numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
+                       _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1,
+                       _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
+def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
+             x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
+             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept,
+             variance, valid, loglik, distance, show, holding, prog, restart) -> None:
+    """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
+    member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
+    whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
+    ``leads`` and ``kept`` (the share of the probability the templates keep against the
+    threshold model) it reads; ``best`` already switched there). ``states``, ``ti``: as there;
+    ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
+    :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
 
-
-def leads(shape: np.ndarray, rivals: np.ndarray, gb: np.ndarray, bounds: np.ndarray,
-          margin: float) -> np.ndarray:
-    """:meth:`GestureSpotting._leads`' verdict per member: its template ``gb`` (group index)
-    has a ``shape`` sum below every rival's (``rivals``, not itself) by ``margin``, or has none."""
-    others = np.where(rivals, shape, np.inf)
-    others[gb] = np.inf
-    best_rival = np.minimum.reduceat(others, bounds)
-    return np.isinf(best_rival) | (best_rival - shape[gb] >= margin)
+    In place: ``run``, ``acquired``, the recent samples ``buf``/``nbuf``, the gesture's end
+    ``has_end``/``end_x``, ``lost`` (refused samples in a row) and ``after_end`` (samples since
+    the end was reached). Out per member: ``best``'s
+    variance (progress units squared), valid, recent mean log-likelihood and its distance,
+    whether the likeliest actions are shown, holding, progress, and how a new attempt starts
+    (:data:`GOES_ON`...)."""
+    refused, engaged, misshaped, covered = flags
+    d = x.shape[1]
+    src = 2 * d
+    last = np.empty(d)
+    spread = np.empty(d)
+    for i in range(bounds.size):
+        m = mk[i]
+        radius, units = m[_RAD:_RAD + d], m[_RAD + d:_RAD + 2 * d]
+        spots = m[2] > 0.0
+        bi = best[i]
+        gb = bounds[i] + bi
+        start, length, off = ti[gb, 0], ti[gb, 1], ti[gb, 2]
+        g = start + min(mean[gb], length - 1.0)
+        gs = min(int(g), start + length - 2) + off
+        slope = states[gs + 1, src] - states[gs, src]
+        m0, m1, m2 = mom[0, gb], mom[1, gb], mom[2, gb]
+        mu = m1 / m0
+        var = max(m2 / m0 - mu * mu, 0.0)
+        variance[i] = var * slope * slope
+        spread2 = var / ((length - 1.0) * (length - 1.0))
+        sk = size[gb]
+        moved = False
+        if has_end[i]:
+            for c in range(d):
+                last[c] = states[start + length - 1 + off, d + c] * units[c] * sk + anchor[i, c]
+            moved = moved_on(x[i], end_x[i], last, radius)
+        ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
+              and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
+        # a new action drives only once its shape clearly leads (spotting)
+        ok = ok and (not spots or acquired[i] == bi or leads[i])
+        run[i] = run[i] + 1 if ok else 0
+        # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
+        after_end[i] = after_end[i] + 1 if has_end[i] else 0
+        val = run[i] >= m[3] and after_end[i] <= END_GRACE
+        valid[i] = val
+        acquired[i] = bi if val else -1
+        ll = mean_ll[gb]
+        loglik[i] = ll
+        distance[i] = math.sqrt(max(0.0, -2.0 * (ll - m[4]) / m[5]))
+        if present[i]:
+            push(buf, nbuf, x, i, int(m[6]))
+        st = still(buf, nbuf, i, int(m[6]), radius)
+        show[i] = any_engaged[i] or (not st and moving[i] >= m[7])
+        pb = progress[gb]
+        prog[i] = pb
+        holding[i] = holds[off + int(np.rint(g))] or pb >= 0.9
+        restart[i] = GOES_ON
+        if spots and present[i]:
+            if val and pb >= m[8] and not has_end[i]:
+                end_x[i] = x[i]
+                has_end[i] = True
+            step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
+            lost[i] = lost[i] + 1 if all_refused[i] else 0
+            for c in range(d):
+                spread[c] = scale[gb, c] * sk
+            gone = departed(x[i], end_x[i], spread, m[12], m[10])
+            restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
+                              any_engaged[i])

@@ -1,10 +1,10 @@
 """Gesture spotting in a continuous stream: where one gesture ends and the next begins.
 
-Once ``best`` reached ``end`` progress while valid, the gesture has ended: it drives while the
-input stays where it ended (the character holds its last pose) and no more once the input moved
-on from that point; the next gesture starts when the input rests or moves on from where it
-ended, or stops matching; it is anchored where the last one ended, and
-forward, evidence and sizes start afresh. A valid action resting at 90% or more has ended too.
+Once ``best`` reached ``end`` progress while valid, the gesture has ended: it drives at most
+:data:`END_GRACE` samples more (the character then holds its last pose for the puppet's
+``hold_s``), and none once the input moved on from that point; the next gesture starts when
+the input rests or moves on from where it ended, or stops matching; it is anchored where the
+last one ended, and forward, evidence and sizes start afresh. A valid action resting at 90% or more has ended too.
 When every template has been refused for ``lost_samples`` samples the attempt is abandoned and
 a new one starts at the current sample. While nothing is engaged and the input is still
 (``still_samples`` within a quarter of the onset), the anchor follows it.
@@ -41,15 +41,27 @@ the line still drove 12 ticks of a square), a forgetting of the shape sums (0.95
 0.883); a separate 2-tick confirmation when ``best`` switches (no effect once the lead is
 required).
 
+Why an ended action stops driving two samples after its end and not when the input moves on:
+every gesture starts eased (within 2 mm of its start for its first 4-7 samples, under the
+tracking jitter), so the next gesture cannot be told from resting at the end, and the ended
+action drove 3-19 ticks into it (``bench/follow_quality.py``, the six gestures back to back:
+longest such run 16, held-out 19; twenty templates 10, 19). The follower's own progress reaches
+``end`` 0-5 samples before the performer reaches the last point (it leads on eased ends, lags on
+fast ones). Partial runs of the bench's sections (sizes: valid after 30% of gestures at
+0.7-1.4x, 0.908 before): no sample after the end 0.882 (the last 3% of each gesture lost),
+two 0.901, four 0.906 (runs of the ended action into the next up to 4 samples); two, not
+counting samples that came closer to the last point by a still radius 0.903, but the ended
+action then drove three samples into the next in 7 of 32 gestures. Kept at two,
+the length of ``confirm``: the ended action's runs into the next gesture are then at most two
+samples, except where the follower never reached the end (a line whose return was followed
+backwards, its size overestimated: 16 ticks; see the bench's notes).
+
 What is out of reach here (``bench/follow_quality.py``'s sequences): recognising every gesture
 within 20% of it. An ideal observer (noise-free paths, any size 0.46-2.25x, any tempo) tells
 the zigzag from every other of the six gestures at 9% of it, the figure eight at 11%, the wave
 at 13%, the circle at 20%, the line at 35% and the square at 37% (paths within 2 mm; at 4 mm:
 11, 14, 16, 22, 54, 38%); in the bench's sequences that leaves 56% of the gestures (held-out
-50%) that any follower could recognise by 20%. And an ended gesture holds its last pose while
-the input stays where it ended: every gesture starts eased, within 2 mm of its start for its
-first 4-7 samples, under the tracking jitter, so the ended action drives 3-19 ticks into the
-next when no rest separates them.
+50%) that any follower could recognise by 20%.
 """
 
 from __future__ import annotations
@@ -67,6 +79,16 @@ SHAPE_SPREAD = 3.5
 LEAD = 4.0
 #: Templates less probable than this (the evidence's probabilities) are no rivals.
 RIVAL_PROBABILITY = 0.005
+#: Samples an action still drives after the one at which it reached its end.
+END_GRACE = 2
+
+
+def drives(run: np.ndarray | int, confirm: np.ndarray | int,
+           after_end: np.ndarray | int) -> np.ndarray | bool:
+    """Whether an action drives (``valid``), per follower or for arrays of them: it matched for
+    ``confirm`` samples in a row (``run``), and reached its end at most :data:`END_GRACE`
+    samples ago (``after_end``: samples since the end was reached, 0 while it was not)."""
+    return (run >= confirm) & (after_end <= END_GRACE)
 
 
 class GestureSpotting:

@@ -7,7 +7,7 @@ templates)`` array per quantity, about 100 numpy calls per step), the step took 
 DESIGN's 8 performers x 100 templates on a quiet machine, most of it passes over memory and
 call overhead; compiled, see ``bench/mop.py``. Same algorithm as
 :func:`~behaviors.mop.forward.forward_reference` (the plain one, one template at a time), with
-the same two shortcuts as before: where a main window lies on the first states, its
+the same shortcuts as before (and exponentials by :func:`~behaviors.mop.compiled.exp_neg`): where a main window lies on the first states, its
 first-states window holds only this step's restart mass and is not computed (its floor of 1e-100
 per state, below 1e-90 of the main window's own floor, is left out), and log-weights below the
 window's best by more than 200 count as ``e^-200``.
@@ -20,8 +20,11 @@ import math
 import numba
 import numpy as np
 
+from behaviors.mop.compiled import exp_neg, prefetch
+
 START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
 CLAMP = -200.0        # log-weights below the window's best by more than this count as e^-200
+AHEAD = 2             # templates ahead whose window states are fetched while one is stepped
 
 
 @numba.njit(cache=True, nogil=True)
@@ -86,15 +89,25 @@ def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.nda
 _F1, _F2, _I1, _B1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1], numba.boolean[::1]
 
 
+@numba.njit(cache=True, nogil=True)
+def _dwell(x: np.ndarray, kept: np.ndarray, stay: np.ndarray, first: int, n: int) -> None:
+    """kept = the part of window x (first ``n`` states, from bank state ``first``) that moves by
+    the transitions: each state's share ``stay`` stays where it is (added after the move)."""
+    for r in range(n):
+        kept[r] = x[r] * (1.0 - stay[first + r])
+
+
 # compiled when imported (or loaded from the cache beside this file), not at the first step
 @numba.njit(numba.void(_F2, _I1, _I1, _I1, _B1, _F2, _F2, _F2, _F1, _I1, _F1, _F2, _I1, _B1,
-                       numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1),
+                       numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1,
+                       _F1, _B1),
             cache=True, nogil=True)
 def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: np.ndarray,
                  start_tail: np.ndarray, z: np.ndarray, a: np.ndarray, b: np.ndarray,
                  s: np.ndarray, lo: np.ndarray, mean: np.ndarray, mom: np.ndarray,
                  entries: np.ndarray, fresh: np.ndarray, half: int, back: float, fwd: np.ndarray,
-                 eps: float, floor: float, const: np.ndarray, out: np.ndarray) -> None:
+                 eps: float, floor: float, const: np.ndarray, out: np.ndarray,
+                 stay: np.ndarray, dwells: np.ndarray) -> None:
     """Advance every template's windows by one step (see the module docstring).
 
     ``means`` (states, d) and ``z`` (K, d) prescaled by 1 / (sigma sqrt 2); ``a``, ``b`` (K, w):
@@ -102,7 +115,8 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
     start), ``mean`` (progress in states), ``mom`` (3, K) (the moments of the main window before
     it moved) and ``entries``; ``fresh`` (K,): templates taking a first step (no transitions, no
     restart); ``out`` (K,): the step's log-likelihood. ``floor`` 0: the log domain, every
-    first-states window computed."""
+    first-states window computed. ``stay`` (states,): each state's share that stays before the
+    transitions move the rest (a template's holds), used for the templates ``dwells`` (K,)."""
     k, w = a.shape
     logs = floor <= 0.0
     start_floor = START_FLOOR if floor > 0.0 else 0.0
@@ -111,7 +125,16 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
     lb = np.empty(w)
     lbs = np.empty(w)
     shifted = np.empty(w)
+    per_line = max(1, 8 // means.shape[1])   # state rows per 64-byte cache line
+    kept = np.empty(w)
+    kept_s = np.empty(w)
     for j in range(k):
+        if j + AHEAD < k:   # the states the template a few ahead will read (both windows)
+            h = j + AHEAD
+            for r in range(0, wk[h], per_line):
+                prefetch(means, starts[h] + lo[h] + r)
+                if lo[h] > 0:
+                    prefetch(means, starts[h] + r)
         n = wk[j]
         lo0 = lo[j]
         first = fresh[j]
@@ -130,14 +153,24 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
                 if full:
                     qs[r] = bj[r] + start_floor
         else:
-            _transit(aj, q, n, back, fwd, at_start, lo0 == max_lo[j])
+            dw = dwells[j]
+            xa, xb = aj, bj
+            if dw:   # the held share of each hold state stays; the rest moves
+                _dwell(aj, kept, stay, starts[j] + lo0, n)
+                _dwell(bj, kept_s, stay, starts[j], n)
+                xa, xb = kept, kept_s
+            _transit(xa, q, n, back, fwd, at_start, lo0 == max_lo[j])
             tot = 0.0
             for r in range(n):
+                if dw:
+                    q[r] += aj[r] - kept[r]
                 tot += q[r]
             if full:
-                _transit(bj, qs, n, back, fwd, True, start_tail[j])
+                _transit(xb, qs, n, back, fwd, True, start_tail[j])
                 tq = 0.0
                 for r in range(n):
+                    if dw:
+                        qs[r] += bj[r] - kept_s[r]
                     tq += qs[r]
                 tot += tq
             c = (1.0 - ej) / tot
@@ -151,10 +184,11 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
         e0 = 0.0
         if not logs:
             for r in range(n):
-                q[r] *= math.exp(max(m - lb[r], CLAMP))
-                if full:
-                    qs[r] *= math.exp(max(m - lbs[r], CLAMP))
-            e0 = math.exp(max(m - lb[0], CLAMP))
+                q[r] *= exp_neg(max(m - lb[r], CLAMP))
+            if full:
+                for r in range(n):
+                    qs[r] *= exp_neg(max(m - lbs[r], CLAMP))
+            e0 = exp_neg(max(m - lb[0], CLAMP))
         else:
             top = -np.inf
             for r in range(n):
@@ -187,7 +221,7 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
                 if full:
                     q[r] = qs[r]
                 else:
-                    q[r] = math.exp(max(m - lb[r], CLAMP)) * START_FLOOR
+                    q[r] = exp_neg(max(m - lb[r], CLAMP)) * START_FLOOR
             if not full:
                 q[0] += e0 * ej
             for r in range(w):
@@ -218,7 +252,7 @@ def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: 
             if not logs and lo[j] == 0 and not switched:
                 # a main window leaving the first states: its first-states window is this step's
                 for r in range(n):
-                    bj[r] = math.exp(max(m - lb[r], CLAMP)) * START_FLOOR
+                    bj[r] = exp_neg(max(m - lb[r], CLAMP)) * START_FLOOR
                 bj[0] += e0 * ej
                 restart = 0.0
         lo[j] = new_lo

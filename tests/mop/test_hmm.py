@@ -35,7 +35,9 @@ def test_every_template_at_once_equals_the_plain_equations(transitions, fastest,
 @pytest.mark.parametrize("transitions, floor", [
     (Transitions(), 1e-8),                                                 # the follower's defaults
     (Transitions(forward=(0.5, 0.5), backward=0.0, restart=1e-3), 1e-8),
-    (Transitions(restart=1e-3), 0.0)])                                     # the log-domain step
+    (Transitions(restart=1e-3), 0.0),                                      # the log-domain step
+    (Transitions(dwell=0.8), 1e-8),                                        # holds that dwell
+    (Transitions(restart=1e-3, dwell=0.5), 0.0)])
 def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_reentry(transitions, floor):
     """Every template of a bank stepped at once, each on its own input (as a group steps them),
     against the algorithm written out state by state for one template at a time: performances,
@@ -44,6 +46,10 @@ def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_r
     rng = np.random.default_rng(5)
     lengths = [12, 31, 45, 90, 160]           # shorter than, as long as and longer than the window
     tpls = {f"t{n}": g.template(rng, n=n, d=3) for n in lengths}
+    if transitions.dwell > 0:   # a hold in the middle of each template long enough to have one
+        for tpl in tpls.values():
+            if len(tpl) >= 30:
+                tpl[len(tpl) // 2:len(tpl) // 2 + 9] = tpl[len(tpl) // 2]
     bank = build_bank(tpls)
     streams = []
     for k, tpl in enumerate(tpls.values()):
@@ -65,7 +71,10 @@ def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_r
     ll, mean, var, entries = (np.array(c) for c in zip(*got))
     reentered = 0
     for k in range(len(lengths)):
-        r_mean, r_var, r_ll, r_entries = forward_reference(bank.template(k), z[:, k], 0.2, 15, transitions, floor)
+        stay = fw._stay[bank.starts[k]:bank.starts[k] + bank.lengths[k]]
+        assert stay.max() == (transitions.dwell if lengths[k] >= 30 else 0.0)
+        r_mean, r_var, r_ll, r_entries = forward_reference(bank.template(k), z[:, k], 0.2, 15, transitions,
+                                                           floor, stay)
         assert np.array_equal(entries[:, k], r_entries)
         assert np.abs(ll[:, k] - r_ll).max() <= 1e-9 * max(1.0, np.abs(r_ll).max())
         assert np.abs(mean[:, k] - r_mean).max() <= 1e-9

@@ -48,12 +48,11 @@ def test_a_hold_of_any_length_is_followed_without_sliding_back(gestures):
     rng = np.random.default_rng(5)
     for name in ("arc_hold", "lift_hold"):
         for factor in (0.3, 3.0):
-            # the lift is narrow across its path (1.7 cm of spread): a held puck's jitter is
-            # large in its units
+            # measured: RMSE 0.023-0.047 with the holds' states dwelling (0.8), 0.023-0.080
+            # without (the lift at 0.3x ran through its hold into the return's eased start)
             x, prog = performance(rng, rhr[name], 1.0, hold=spans[name], hold_factor=factor)
             m = true_metrics(run(f, x), name, prog)
-            limit = 0.06 if name == "arc_hold" else 0.1   # measured: lift at 0.3x 0.08
-            assert m["rmse"] <= limit and m["backward"] <= 0.05 and m["valid_after30"] >= 0.8, (name, factor)
+            assert m["rmse"] <= 0.06 and m["backward"] <= 0.05 and m["valid_after30"] >= 0.8, (name, factor)
 
 
 def test_gestures_back_to_back_are_each_recognised(gestures):
@@ -74,11 +73,11 @@ def test_gestures_back_to_back_are_each_recognised(gestures):
     for g in order:
         hit = [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
         assert hit and hit[0] <= 0.45, (g, hit[:1])
-    # an ended gesture stops driving soon after the next one has begun (measured: at most 5
-    # samples, figure eight into wave: it had not reached its end)
+    # an ended gesture drives at most two samples after it reached its end, so at most two of
+    # the next one (measured: 1, 0, 1; while it drove until the input moved on: 1, 0, 5)
     for before, after in zip(order, order[1:]):
         late = [s for i, s in enumerate(states) if truth[i] == after and s.valid and s.best == before]
-        assert len(late) <= 6, (before, after, len(late))
+        assert len(late) <= 2, (before, after, len(late))
 
 
 def test_a_still_puck_is_never_valid_whatever_the_window(gestures):
@@ -144,6 +143,14 @@ def test_unrelated_motion_rarely_drives(gestures):
     # with the circle alone, an aimless wander and a spiral drive it at most a tenth of the time
     # (measured 0.03 and 0; without the rules 0.42 and 0.05)
     assert now["circle:wander"] <= 0.1 and now["circle:spiral"] <= 0.1, now
+    # the threshold model (every template's states in any order) takes the probability pieces
+    # of the six gestures stitched together need to drive; alone it cannot compete with one
+    # template's own order. Measured: six gestures loaded, mean 0.326 with it, 0.352 without
+    # (spiral 0.18 vs 0.25, triangle 0.41 vs 0.45); no motion drives more with it
+    plain = _unrelated_shares(gestures, threshold=float("inf"))
+    six = [k for k in now if k.startswith("six:")]
+    assert np.mean([now[k] for k in six]) <= np.mean([plain[k] for k in six]) - 0.015, (now, plain)
+    assert all(now[k] <= plain[k] + 0.01 for k in now), (now, plain)
 
 
 def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures):
@@ -166,3 +173,4 @@ def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures
                                      if s.valid and s.best == name), 1.0))
     assert wrong["square"] <= 30 and wrong["circle"] == 0, wrong
     assert max(first["line"]) <= 0.35 and max(first["circle"]) <= 0.35 and max(first["square"]) <= 0.5, first
+

@@ -1,0 +1,388 @@
+"""A follower group's per-template rules after a forward step, compiled: one pass over every
+template of every member.
+
+:meth:`ActionFollower._finish <behaviors.mop.follower.ActionFollower._finish>` and the shape
+rules it applies (:mod:`behaviors.mop.validity`, :mod:`behaviors.mop.spotting`) update a dozen
+arrays over the templates after each step: followed state, size estimate, evidence, refusal with
+hysteresis, engagement, probabilities, path misfit and coverage, shape sums. Written as array
+operations over the group's templates (``behaviors/mop/group.py`` before this module) that was
+about 150 numpy calls per tick, most of DESIGN's 8 performers x 100 templates tick after the
+forward step; here it is one loop per template, in the same order of operations as the
+follower's own array code (the group stays equal to its followers stepped alone), followed per
+member by its likeliest template, best (with the switch margin), top three and shape lead.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from behaviors.mop.compiled import exp_neg, prefetch
+from behaviors.mop.threshold import STAY as THRESHOLD_STAY, STILL_RADII as THRESHOLD_STILL_RADII
+
+#: Log-weights below the threshold model's likeliest state by more than this weigh nothing
+#: (as :func:`behaviors.mop.threshold.threshold_model_step`).
+THRESHOLD_FLOOR = -40.0
+
+_F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
+_I1, _B1 = numba.intp[::1], numba.boolean[::1]
+_I2 = numba.intp[:, ::1]
+
+#: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
+#: group (D: the widest member's features): its mean (D, raw template units), its place relative
+#: to the template's first in units (D), its progress (``source``) and its path length from the
+#: first state. Read around each followed state: one contiguous stretch per template (the
+#: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
+STATE_COLUMNS = ("means", "rel", "source", "arc")
+#: Per-template scalars (columns of ``tc`` (K, 4 + 4D), then the rows ``scale``, ``center``,
+#: ``ufirst``, ``c_off`` of D columns each).
+TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need")
+TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
+#: Per-member scalars (columns of ``mc`` (M, 21 + 2D), then the rows ``radius`` and ``units``;
+#: ``threshold`` infinite where a member has no threshold model).
+MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
+                  "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
+                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const")
+#: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
+AHEAD = 2
+_MC_ROWS = len(MEMBER_SCALARS)
+#: Per-template float state updated in place, in this order.
+FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape")
+#: Per-template flags updated in place, in this order.
+FLAGS = ("_refused", "_engaged", "_misshaped", "_covered")
+
+@numba.njit(numba.void(_F1, numba.intp, numba.intp, _I1), cache=True, nogil=True)
+def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
+    """The three largest of ``p[a0:a1]`` (indices into ``p``, largest first, ties in index
+    order as ``np.argsort(-p, kind="stable")[:3]``) into ``out`` (3,); -1 where fewer."""
+    t0 = t1 = t2 = -1
+    v0 = v1 = v2 = -np.inf
+    for k in range(a0, a1):
+        pk = p[k]
+        if pk > v0 or t0 < 0:
+            t2, v2, t1, v1, t0, v0 = t1, v1, t0, v0, k, pk
+        elif pk > v1 or t1 < 0:
+            t2, v2, t1, v1 = t1, v1, k, pk
+        elif pk > v2 or t2 < 0:
+            t2, v2 = k, pk
+    out[0], out[1], out[2] = t0, t1, t2
+
+
+@numba.njit(numba.intp(_F1, numba.intp, numba.intp), cache=True, nogil=True)
+def first_max(values: np.ndarray, a0: int, a1: int) -> int:
+    """The index of the first largest of ``values[a0:a1]`` (``a0 + np.argmax``)."""
+    best = a0
+    for k in range(a0 + 1, a1):
+        if values[k] > values[best]:
+            best = k
+    return best
+
+
+@numba.njit(numba.float64(_F2, _I2, _F2, _F1, numba.intp, numba.intp, _F1, _F1, _F1, _F1, _F1,
+                          numba.boolean), cache=True, nogil=True)
+def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) -> float:
+    """:func:`behaviors.mop.threshold.threshold_step` of one member (templates ``a0..a1``, its
+    states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with its sample ``x`` seen from
+    ``anchor`` as :meth:`Validity._threshold_evidence` maps it (``m``: its row of ``mc``;
+    ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its sum is
+    taken in eight interleaved parts (the same to about 1e-16) and its exponentials by
+    :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises (DESIGN's
+    8 x 100 templates: 80 000 states per tick)."""
+    d = x.size
+    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d
+    dims, scaled, none = m[0], m[8] > 0.0, m[16] > 0.0
+    factor, const = m[19], m[20]
+    base = ti[a0, 2]
+    n = 0
+    z = np.empty(d)
+    for k in range(a0, a1):
+        t = tc[k]
+        jac = -t[0]
+        for c in range(d):
+            z[c] = (x[c] - (t[ce0 + c] if none else anchor[c])) / t[sc0 + c]
+        if scaled:
+            for c in range(d):
+                z[c] /= size[k]
+            jac = jac - dims * math.log(size[k])
+        for c in range(d):
+            z[c] = z[c] + t[uf0 + c] + t[co0 + c]
+        first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
+        out = ll[first - base:first - base + length]
+        out[:] = 0.0
+        for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
+            zc, mc_ = z[c], means[c, first:first + length]
+            for j in range(length):
+                e = zc - mc_[j]
+                out[j] += e * e
+        lj = const + jac
+        for j in range(length):
+            out[j] = out[j] * factor + lj
+        n += length
+    # views from 0 (indices the compiler knows are not negative: the loops vectorise)
+    a, v = alpha[base:base + n], ll[:n]
+    tops = np.full(8, -np.inf)   # the largest, in eight parts (exact in any order)
+    for j in range(0, n - n % 8, 8):
+        for r in range(8):
+            tops[r] = max(tops[r], v[j + r])
+    for j in range(n - n % 8, n):
+        tops[0] = max(tops[0], v[j])
+    top = tops.max()
+    if fresh:
+        a[:] = 1.0 / n
+    rest = (1.0 - THRESHOLD_STAY) / n
+    for j in range(n):   # no weight under e^-40 of the likeliest state's (threshold_model_step)
+        e = v[j] - top
+        w = (THRESHOLD_STAY * a[j] + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
+        a[j] = w if e >= THRESHOLD_FLOOR else 0.0
+    parts = np.zeros(8)
+    for j in range(0, n - n % 8, 8):
+        for r in range(8):
+            parts[r] += a[j + r]
+    for j in range(n - n % 8, n):
+        parts[0] += a[j]
+    total = ((parts[0] + parts[1]) + (parts[2] + parts[3])) + ((parts[4] + parts[5]) + (parts[6] + parts[7]))
+    for j in range(n):
+        a[j] /= total
+    return top + math.log(total)
+
+
+@numba.njit(numba.void(_F2, _I2, _F2, _F2, numba.types.UniTuple(_F1, len(FLOATS)),
+                       numba.types.UniTuple(_B1, len(FLAGS)), _F2, numba.int64[::1], _F1,
+                       numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
+                       numba.intp, numba.intp, numba.float64, numba.float64,
+                       _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
+                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1),
+            cache=True, nogil=True)
+def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
+                     x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
+                     progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
+                     all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x, scratch,
+                     kept_out) -> None:
+    """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
+    template's followed state and per-template rules, member by member, then each member's
+    probabilities, best, top three and shape lead.
+
+    ``states``: see :data:`STATE_COLUMNS`; ``ti`` (K, 3): each template's first state and
+    length in its member's bank and where that bank begins in ``states``; ``tc``, ``mc``: see
+    :data:`TEMPLATE_SCALARS`, :data:`MEMBER_SCALARS`; ``x``, ``anchor`` (M, D): each member's
+    sample and anchor; ``buf``/``nbuf``: its recent samples; ``bounds``/``counts``: its first
+    template and template count. In place: ``floats`` (:data:`FLOATS`), ``flags``
+    (:data:`FLAGS`), ``misfit`` (K, 3) sums, ``entries`` and ``best`` (M,: each member's own
+    template index, switched when another leads by the member's margin in nats or it is
+    refused). Out per template: progress, recent mean log-likelihood, probability, whether its
+    performance began anew; per member: top three by probability (-1 where fewer), the largest
+    RMS displacement from the anchor (template units and size), any engaged, all refused,
+    whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
+    by ``min_lead``. ``before``/``after``: the path's reach in states."""
+    ev, rec, rw, num, den, size, misfit_w, shape = floats
+    refused, engaged, misshaped, covered = flags
+    d = x.shape[1]
+    s = buf.shape[1]
+    rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
+    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d  # columns of tc
+    ra0, un0 = _MC_ROWS, _MC_ROWS + d                 # columns of mc
+    u = np.empty(d)
+    z = np.empty(d)
+    v = np.empty(d)
+    away = np.empty(d)
+    dx = np.empty(d)
+    for i in range(bounds.size):
+        a0 = bounds[i]
+        a1 = a0 + counts[i]
+        m = mc[i]
+        dims, decay, null_decay, log_constant, two_over = m[0], m[1], m[2], m[3], m[4]
+        null2, accept2, onset_sigma, scaled, lo, hi = m[5], m[6], m[7], m[8] > 0.0, m[9], m[10]
+        misfit_decay, shape2, shape_accept2, path_scale = m[11], m[12], m[13], m[14]
+        spots, none, margin = m[15], m[16] > 0.0, m[17]
+        # the mean of the last 3 buffered samples and this one (the engagement's displacement)
+        n = min(nbuf[i], 3)
+        for c in range(d):
+            tot = 0.0
+            for r in range(s - n, s):
+                tot += buf[i, r, c]
+            away[c] = (tot + x[i, c]) / (n + 1) - anchor[i, c]
+            dx[c] = x[i, c] - anchor[i, c]
+        moving = 0.0
+        for k in range(a0, a1):
+            if k + AHEAD < mean.size:   # the states the template a few ahead will read
+                h = k + AHEAD
+                row0 = int(ti[h, 0] + min(mean[h], ti[h, 1] - 1.0)) + ti[h, 2]
+                for r in range(max(row0 - before, ti[h, 0] + ti[h, 2]), min(row0 + after + 2, ti[h, 0] + ti[h, 1] + ti[h, 2])):
+                    prefetch(states, r)
+            t = tc[k]
+            start, lk, off = ti[k, 0], ti[k, 1], ti[k, 2]
+            # followed state and progress (ActionFollower._finish)
+            g = start + min(mean[k], lk - 1.0)
+            gi = min(int(g), start + lk - 2)
+            frac = g - gi
+            gs = gi + off
+            row, nrow = states[gs], states[gs + 1]
+            progress_out[k] = row[src] + frac * (nrow[src] - row[src])
+            if scaled:   # PerformanceFrame._estimate_size
+                qr = 0.0
+                qq = 0.0
+                for c in range(d):
+                    q = row[rel0 + c] + frac * (nrow[rel0 + c] - row[rel0 + c])
+                    qr += q * (dx[c] / m[un0 + c])
+                    qq += q * q
+                num[k] += qr
+                den[k] += qq
+                size[k] = min(max((num[k] + t[2]) / (den[k] + t[2]), lo), hi)
+            sk = size[k]
+            raw = step_ll[k] - t[0]
+            raw -= dims * math.log(sk)
+            ev[k] = ev[k] * decay + raw
+            rec[k] = rec[k] * null_decay + step_ll[k]
+            rw[k] = rw[k] * null_decay + 1.0
+            new = fw_entries[k] > entries[k]
+            entries[k] = fw_entries[k]
+            # a refused template back at its start and matching it begins anew
+            if refused[k] and mean[k] < t[1] and (log_constant - step_ll[k]) * two_over <= null2:
+                new = True
+            if new:
+                rec[k] = log_constant
+                rw[k] = 1.0
+                refused[k] = False
+                engaged[k] = False
+            new_out[k] = new
+            mll = rec[k] / rw[k]
+            mean_ll_out[k] = mll
+            dist2 = (log_constant - mll) * two_over
+            refused[k] = (refused[k] or dist2 > null2) and not dist2 < accept2
+            ssz = sk if scaled else 1.0
+            if mean[k] >= t[1] and not refused[k] and not engaged[k]:
+                acc = 0.0
+                for c in range(d):
+                    r = away[c] / t[sc0 + c] / sk
+                    acc += r * r
+                engaged[k] = math.sqrt(acc / dims) >= onset_sigma
+            # path misfit and coverage (Validity._judge_shape): the nearest point on the
+            # segments from the states within the reach of the followed one
+            if new:
+                misfit[k, 0] = 0.0
+                misfit[k, 1] = 0.0
+                misfit[k, 2] = 0.0
+                misfit_w[k] = 0.0
+                misshaped[k] = False
+                covered[k] = False
+            for c in range(d):
+                base = t[ce0 + c] if none else anchor[i, c]
+                u[c] = (x[i, c] - base) / t[sc0 + c] + t[uf0 + c]
+                z[c] = u[c] / ssz + t[co0 + c]
+            gf = int(math.floor(g))
+            last = start + lk - 1
+            best_d = np.inf
+            for o in range(-before, after + 1):
+                j = min(max(gf + o, start), last)
+                a = states[j + off]
+                b = states[min(j + 1, last) + off]   # a template's last state has no segment
+                za = 0.0
+                ab2 = 0.0
+                for c in range(d):
+                    ab = b[c] - a[c]
+                    za += (z[c] - a[c]) * ab
+                    ab2 += ab * ab
+                tt = min(max(za * (1.0 / max(ab2, 1e-12)), 0.0), 1.0)
+                dd = 0.0
+                for c in range(d):
+                    e = (z[c] - a[c]) - tt * (b[c] - a[c])
+                    dd += e * e
+                if dd < best_d:
+                    best_d = dd
+                    for c in range(d):
+                        v[c] = a[c] + tt * (b[c] - a[c])
+            uu = 0.0
+            uv = 0.0
+            vv = 0.0
+            for c in range(d):
+                vc = v[c] - t[co0 + c]
+                uu += u[c] * u[c]
+                uv += u[c] * vc
+                vv += vc * vc
+            misfit[k, 0] = misfit[k, 0] * misfit_decay + uu
+            misfit[k, 1] = misfit[k, 1] * misfit_decay + uv
+            misfit[k, 2] = misfit[k, 2] * misfit_decay + vv
+            misfit_w[k] = misfit_w[k] * misfit_decay + 1.0
+            m2 = (misfit[k, 0] / (ssz * ssz) - 2.0 * misfit[k, 1] / ssz + misfit[k, 2]) / misfit_w[k]
+            m2 *= 1.0 / path_scale
+            misshaped[k] = (misshaped[k] or m2 > shape2) and not m2 < shape_accept2
+            at = states[gf + off, arc]
+            if engaged[k] and at + (g - gf) * (states[min(gf + 1, last) + off, arc] - at) >= t[3]:
+                covered[k] = True
+            # shape sums (GestureSpotting._leads) and displacement (early feedback)
+            acc = 0.0
+            mv = 0.0
+            for c in range(d):
+                q = row[rel0 + c] + frac * (nrow[rel0 + c] - row[rel0 + c])
+                e = (dx[c] - sk * q * m[un0 + c]) / m[ra0 + c]
+                acc += e * e
+                r = dx[c] / t[sc0 + c] / ssz
+                mv += r * r
+            shape[k] += acc * spots
+            mv = math.sqrt(mv / dims)
+            if mv > moving:
+                moving = mv
+        moving_out[i] = moving
+        # probabilities, likeliest template, best (with the switch margin), top three, any/all
+        first = first_max(ev, a0, a1)
+        top = ev[first]
+        tot = 0.0
+        eng = False
+        ref = True
+        for k in range(a0, a1):
+            p_out[k] = math.exp(ev[k] - top)
+            tot += p_out[k]
+            eng = eng or engaged[k]
+            ref = ref and refused[k]
+        any_engaged[i] = eng
+        all_refused[i] = ref
+        for k in range(a0, a1):
+            p_out[k] /= tot
+        top_three(p_out, a0, a1, top3_out[i])
+        # the threshold model (Validity._threshold_evidence): the share of the probability the
+        # templates keep against it
+        kept = 1.0
+        if present[i] and math.isfinite(m[18]):
+            step = threshold_step(means, ti, tc, m, a0, a1, x[i], anchor[i], size, alpha, scratch,
+                                  not thr_has_x[i]) - m[18]
+            lead = step_ll[first] - tc[first, 0]
+            lead -= dims * math.log(size[first])
+            still = thr_has_x[i]
+            for c in range(d):
+                if abs(x[i, c] - thr_x[i, c]) > THRESHOLD_STILL_RADII * m[ra0 + c]:
+                    still = False
+            if not thr_has_x[i] or still:
+                step = min(step, lead)
+            thr_x[i] = x[i]
+            thr_has_x[i] = True
+            thr_ev[i] = thr_ev[i] * decay + step
+            kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
+        kept_out[i] = kept
+        gb = a0 + best[i]
+        if ev[first] - ev[gb] > margin or refused[gb]:
+            gb = first
+        best[i] = gb - a0
+        rival = np.inf
+        for k in range(a0, a1):
+            if k != gb and not refused[k] and p_out[k] * kept >= rival_p and shape[k] < rival:
+                rival = shape[k]
+        leads_out[i] = rival == np.inf or rival - shape[gb] >= min_lead
+
+
+@numba.njit(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), cache=True, nogil=True)
+def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
+    """:meth:`PerformanceFrame._inputs` (without direction of motion) of every member into the
+    forward's input ``z`` (K, width; its first D columns): each member's sample ``x`` (M, D) from
+    its ``anchor`` (the template's center for "none"), divided by the estimated ``size`` for
+    "scale", in the template's spread, plus its ``first`` state (K, D)."""
+    d = x.shape[1]
+    sc0, ce0 = 4, 4 + d
+    for i in range(bounds.size):
+        scaled, none = mc[i, 8] > 0.0, mc[i, 16] > 0.0
+        for k in range(bounds[i], bounds[i] + counts[i]):
+            ssz = size[k] if scaled else 1.0
+            for c in range(d):
+                r = x[i, c] - (tc[k, ce0 + c] if none else anchor[i, c])
+                z[k, c] = r / ssz / tc[k, sc0 + c] + first[k, c]
