@@ -83,13 +83,13 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
 @numba.njit(numba.float64(_F2, _I2, _F2, _F1, numba.intp, numba.intp, _F1, _F1, _F1, _F1, _F1,
                           numba.boolean), cache=True, nogil=True)
 def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) -> float:
-    """:func:`behaviors.mop.threshold.threshold_step` of one member (templates ``a0..a1``, its
-    states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with its sample ``x`` seen from
-    ``anchor`` as :meth:`Validity._threshold_evidence` maps it (``m``: its row of ``mc``;
-    ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its sum is
-    taken in eight interleaved parts (the same to about 1e-16) and its exponentials by
-    :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises (DESIGN's
-    8 x 100 templates: 80 000 states per tick)."""
+    """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
+    ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
+    its sample ``x`` seen from ``anchor`` as :meth:`Validity._threshold_evidence` maps it
+    (``m``: its row of ``mc``; ``ll``: scratch of at least its states); returns the sample's
+    log-likelihood. Its sum is taken in eight interleaved parts (the same to about 1e-16) and
+    its exponentials by :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states
+    vectorises (DESIGN's 8 x 100 templates: 80 000 states per tick)."""
     d = x.size
     sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d
     dims, scaled, none = m[0], m[8] > 0.0, m[16] > 0.0

@@ -59,41 +59,17 @@ STAY = 0.3
 STILL_RADII = 2.0
 
 
-def state_logliks(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, sigma: float,
-                  log_constant: float, log_jacobian: np.ndarray) -> np.ndarray:
-    """Log-density (N,) of the raw sample under every state of every template: ``z`` (K, d) the
-    sample in each template's standardised units, ``means`` (N, d) their states (template after
-    template, ``lengths`` (K,) states each), ``log_jacobian`` (K,) each map's log |dz / dx|."""
-    d = np.repeat(z, lengths, axis=0) - means
-    ll = np.einsum("nd,nd->n", d, d)
-    ll *= -0.5 / (sigma * sigma)
-    ll += log_constant
-    ll += np.repeat(log_jacobian, lengths)
-    return ll
-
-
-def threshold_step(alpha: np.ndarray, ll: np.ndarray, fresh: bool) -> float:
-    """One step of the ergodic threshold model, in place on its state ``alpha`` (N,) (uniform
-    when ``fresh``): returns the sample's log-likelihood ``log sum_j prior_j b_j``."""
-    n = ll.size
-    if fresh:
-        alpha.fill(1.0 / n)
-    top = float(ll.max())
-    alpha *= STAY
-    alpha += (1.0 - STAY) / n
-    alpha *= np.exp(ll - top)
-    total = float(alpha.sum())
-    alpha /= total
-    return top + float(np.log(total))
-
-
 @numba.njit(cache=True, nogil=True)
 def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, sigma: float,
                          log_constant: float, log_jacobian: np.ndarray, alpha: np.ndarray,
                          scratch: np.ndarray, fresh: bool, stay: float) -> float:
-    """:func:`state_logliks` then :func:`threshold_step` in one compiled pass (``scratch``
-    (N,): room for the states' log-densities): the cost is one distance and one exp per state,
-    the tick's largest after the forward step (8 performers x 100 templates: 80,000 states)."""
+    """One step of the ergodic threshold model, in place on its state ``alpha`` (N,) (uniform
+    when ``fresh``); returns the sample's log-likelihood ``log sum_j prior_j b_j``, the prior
+    ``stay * alpha_j + (1 - stay) / N``. ``z`` (K, d): the sample in each template's standardised
+    units; ``means`` (N, d): their states, template after template, ``lengths`` (K,) states
+    each; ``log_jacobian`` (K,): each map's log |dz / dx|; ``scratch`` (N,): room for the states'
+    log-densities. The cost is one distance and one exp per state, the tick's largest after
+    the forward step (8 performers x 100 templates: 80,000 states)."""
     k_count, d = z.shape
     n = means.shape[0]
     inv = -0.5 / (sigma * sigma)
