@@ -52,6 +52,19 @@ def counting_process(seen: list):
     return process
 
 
+def announcements(src: CameraSource, count: int) -> list[tuple[float, Observation | None]]:
+    """Open ``src`` until it has announced ``count`` observations: each announced capture time
+    with what ``latest()`` held when it was announced."""
+    got: list[tuple[float, Observation | None]] = []
+    src.notify = lambda t: got.append((t, src.latest()))
+    src.open()
+    try:
+        assert wait_for(lambda: len(got) >= count)
+    finally:
+        src.close()
+    return got
+
+
 FAST = dict(fps=200.0, retry_min_s=0.05, retry_max_s=0.2)
 
 
@@ -192,13 +205,7 @@ def test_a_new_observation_is_announced_with_its_capture_time(tmp_path):
     loop then finds it in ``latest()``."""
     folder = write_frames(tmp_path / "f", 6)
     src = CameraSource("cam", CameraSettings(device=str(folder), fps=50.0), counting_process([]))
-    got = []
-    src.notify = lambda t: got.append((t, src.latest()))
-    src.open()
-    try:
-        assert wait_for(lambda: len(got) >= 5)
-    finally:
-        src.close()
+    got = announcements(src, 5)
     assert all(obs is not None and obs.t == t for t, obs in got)
     assert [t for t, _ in got] == sorted(t for t, _ in got)
 
@@ -221,13 +228,7 @@ def test_what_the_put_off_work_adds_is_published_and_announced_again(tmp_path):
 
     process.after_publish = after_publish
     src = CameraSource("cam", CameraSettings(device=str(folder), fps=50.0), process)
-    got = []
-    src.notify = lambda t: got.append((t, src.latest()))
-    src.open()
-    try:
-        assert wait_for(lambda: len(got) >= 8)
-    finally:
-        src.close()
+    got = announcements(src, 8)
     by_frame: dict = {}
     for t, obs in got:
         assert obs.t == t
