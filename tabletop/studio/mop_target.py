@@ -2,7 +2,7 @@
 
 The take is the character's performer; training is the stage's (a new action, followed at once,
 its followers built in the stage's worker); kept takes are the engine's action library
-(:func:`tabletop.plugins.mop.save_to_library`), reloaded when its files change: new and fixed
+(:func:`tabletop.plugins.mop_files.save_to_library`), reloaded when its files change: new and fixed
 actions are followed at once, removed ones dropped, a bad file reported and skipped.
 """
 
@@ -90,7 +90,7 @@ class MopTarget:
         return action or ""
 
     def _entries(self) -> list[dict]:
-        from tabletop.plugins.mop import read_library
+        from tabletop.plugins.mop_files import read_library
         return read_library(self.lib, self.character) if self.lib is not None else []
 
     def items(self) -> list[str]:
@@ -109,7 +109,7 @@ class MopTarget:
         import yaml
 
         from tabletop.files import atomic_write_text
-        from tabletop.plugins.mop import LIBRARY_FILE
+        from tabletop.plugins.mop_files import LIBRARY_FILE
         assert self.lib is not None
         atomic_write_text(self.lib / self.character / LIBRARY_FILE,
                           yaml.safe_dump({"actions": entries}, sort_keys=False))

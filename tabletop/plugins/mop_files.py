@@ -1,0 +1,160 @@
+"""The MOP engine's files: characters' motions, action templates and the designer's library of
+kept actions (``<library>/<character>/actions.yaml`` beside each take's template CSV)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
+from behaviors.mop.puppetry import Action
+from tabletop.files import FileFormatError, atomic_write_text, read_csv, write_csv
+from tabletop.frames import InputError
+
+BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
+           "face": ("laugh", "surprise", "angry", "wink", "talk"),
+           "hybrid": ("walk_talk", "strike_angry", "curl_surprise", "wag_laugh"),
+           "sprite": ("frames",)}
+DEEPMIMIC = ("walk", "run", "jump", "kick", "punch", "spinkick", "backflip", "cartwheel", "crawl",
+             "dance_a", "dance_b", "getup_facedown", "getup_faceup", "roll", "spin")
+
+
+class MopError(InputError):
+    """A MOP template, motion or library file cannot be used; the message names it."""
+
+
+def resolve_motion(kind: str, motion: str, base: Path) -> tuple[str, Any]:
+    """("builtin", name) | ("deepmimic", path) | ("clip", path) for a motion, or MopError."""
+    if kind in BUILTIN and motion in BUILTIN[kind]:
+        return "builtin", motion
+    p = Path(motion).expanduser()
+    if p.suffix in (".txt", ".json"):
+        p = p if p.is_absolute() else base / p
+        if not p.is_file():
+            raise MopError(f"motion file {motion!r} not found (looked for {p})")
+        return ("deepmimic" if p.suffix == ".txt" else "clip"), p
+    if kind == "skeleton":
+        from behaviors.motion.deepmimic import motion_path
+        try:
+            return "deepmimic", motion_path(motion)
+        except ClipError as exc:
+            raise MopError(str(exc)) from None
+    raise MopError(f"unknown motion {motion!r} for a {kind}; built-in: "
+                   f"{', '.join(BUILTIN.get(kind, ()))}, or a .json clip file")
+
+
+class MotionLoader:
+    """Loads and caches motions for one character kind."""
+
+    def __init__(self, kind: str, base: Path, rig: Any = None) -> None:
+        self.kind, self.base, self.rig = kind, base, rig
+        self._cache: dict[str, Clip] = {}
+
+    def __call__(self, motion: str) -> Clip:
+        if motion not in self._cache:
+            how, what = resolve_motion(self.kind, motion, self.base)
+            if how == "builtin" and self.kind == "sprite":
+                clip = self.rig.cycle()
+            elif how == "builtin":
+                from behaviors.mop.creatures import creature_clips, face_clips, hybrid_clips
+                clip = {"creature": creature_clips, "face": face_clips,
+                        "hybrid": hybrid_clips}[self.kind]()[what]
+            elif how == "deepmimic":
+                from behaviors.motion.deepmimic import load_motion
+                clip = load_motion(what)
+            else:
+                try:
+                    data = json.loads(Path(what).read_text(encoding="utf-8"))
+                except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+                    raise MopError(f"{what}: cannot read clip: {exc}") from None
+                clip = clip_from_mapping(data, str(what))
+            self._cache[motion] = clip
+        return self._cache[motion]
+
+    def available(self) -> tuple[str, ...]:
+        return BUILTIN[self.kind] if self.kind in BUILTIN else DEEPMIMIC
+
+
+def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
+    """A template (n x d) with the performer's feature columns, resampled to ``rate_hz`` when it
+    has a ``t`` column. Raises FileFormatError naming the file."""
+    header, data = read_csv(path, what="template CSV", min_rows=2)
+    cols = [c for c in header if c != "t"]
+    if sorted(cols) != sorted(names):
+        raise FileFormatError(f"{path}: template columns {','.join(cols)} do not match the "
+                              f"performer's features {','.join(names)}")
+    x = data[:, [header.index(n) for n in names]]
+    if "t" in header:
+        t = data[:, header.index("t")]
+        if np.any(np.diff(t) <= 0):
+            raise FileFormatError(f"{path}: column 't' must strictly increase")
+        n = max(2, int(round((t[-1] - t[0]) * rate_hz)) + 1)
+        tt = t[0] + np.arange(n) / rate_hz
+        x = np.stack([np.interp(tt, t, x[:, k]) for k in range(x.shape[1])], axis=1)
+    return x
+
+
+# --- the designer's library ----------------------------------------------------------------------
+
+LIBRARY_FILE = "actions.yaml"
+
+
+def read_library(folder: Path, character: str) -> list[dict[str, str]]:
+    """Kept actions of ``character``: ``[{name, template, motion}]`` from
+    ``<folder>/<character>/actions.yaml`` (none when the file does not exist). A corrupt file is
+    refused with a message naming it (and is never overwritten: a keep is refused; the engine
+    starts without that character's kept actions, see :func:`library_actions`)."""
+    import yaml
+    f = folder / character / LIBRARY_FILE
+    if not f.is_file():
+        return []
+    try:
+        data = yaml.safe_load(f.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise MopError(f"{f}: cannot read the action library: {exc}") from None
+    if data is None:
+        return []
+    ok = isinstance(data, dict) and isinstance(data.get("actions"), list) and all(
+        isinstance(a, dict) and all(isinstance(a.get(k), str) for k in ("name", "template", "motion"))
+        for a in data["actions"])
+    if not ok:
+        raise MopError(f"{f}: expected 'actions:' followed by a list of {{name, template, motion}}")
+    return data["actions"]
+
+
+def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_hz: float,
+                    loader: MotionLoader) -> tuple[list[tuple[Action, np.ndarray]], list[str]]:
+    """The kept actions of ``character`` in the library ``folder`` (each with its template at
+    ``rate_hz``), and one message per bad file or entry: skipped, the others load."""
+    try:
+        entries = read_library(folder, character)
+    except MopError as exc:
+        return [], [str(exc)]
+    out, problems = [], []
+    for a in entries:
+        p = Path(a["template"])
+        try:
+            samples = load_template(p if p.is_absolute() else folder / character / p, names,
+                                    rate_hz)
+            out.append((Action(a["name"], loader(a["motion"])), samples))
+        except InputError as exc:
+            problems.append(f"{folder / character / LIBRARY_FILE}: action {a['name']!r}: {exc}")
+    return out, problems
+
+
+def save_to_library(folder: Path, character: str, action: str, samples: np.ndarray,
+                    names: tuple[str, ...], motion: str, rate_hz: float) -> str:
+    """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
+    atomically. Returns a short message for the operator."""
+    import yaml
+    d = folder / character
+    entries = [a for a in read_library(folder, character) if a["name"] != action]
+    csv_name = f"{action}.csv"
+    t = np.arange(len(samples)) / rate_hz
+    write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
+    entries.append({"name": action, "template": csv_name, "motion": motion})
+    atomic_write_text(d / LIBRARY_FILE, yaml.safe_dump({"actions": entries}, sort_keys=False))
+    return f"kept {action} -> {motion} in {d}"
