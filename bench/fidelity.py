@@ -45,34 +45,9 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from behaviors.puppet_master import designers, fidelity, visitors  # noqa: E402
-from behaviors.puppet_master.engine import Behavior  # noqa: E402
-from tabletop import library  # noqa: E402
-from tabletop.examples import DEFAULT_OUT, TABLE, fidelity_table, print_fidelity  # noqa: E402
-
-
-def designer_row(name: str, behavior: Behavior, main: np.ndarray, demo: dict) -> dict:
-    """The scripted designer's own ``name`` character reacting to ``main`` (n, 4) ``t, x, y,
-    dir``, on the behaviour's grid, compared with the demonstration's figures ``demo``
-    (fidelity.compare)."""
-    rate = behavior.params.rate_hz
-    t, react = designers.reaction_on_grid(name, main, rate, TABLE)
-    return fidelity.compare(demo, fidelity.figures(fidelity.main_on_grid(main, t), react, rate,
-                                                   behavior.turn_limit))
-
-
-def designer_table(seconds: float, seed: int) -> dict[str, dict[str, dict]]:
-    """{behaviour: {unseen path: designer_row}} for the shipped behaviours made by a scripted
-    designer."""
-    paths = visitors.unseen_main_paths(seed, seconds, TABLE)
-    out: dict[str, dict[str, dict]] = {}
-    for name in designers.PERSONALITIES:
-        stored = library.load_behavior(DEFAULT_OUT / name)
-        behavior = Behavior.train(stored.demonstration, **stored.parameters)
-        demo = fidelity.demonstration_figures(behavior)
-        out[name] = {path: designer_row(name, behavior, main, demo)
-                     for path, main in paths.items()}
-    return out
+from behaviors.puppet_master import fidelity  # noqa: E402
+from tabletop.examples import (designer_table, fidelity_table, print_designer,  # noqa: E402
+                               print_fidelity, pursuit_table)
 
 
 def _seeds(text: str) -> list[int]:
@@ -113,6 +88,7 @@ def main() -> None:
     t0 = time.perf_counter()
     figures: dict[str, object] = {}
     met_all = total_all = ref_all = 0
+    pursuit_all = pursuit_ref_all = 0
     for n, seed in enumerate(seeds):
         table = fidelity_table(seconds=args.seconds, seed=seed)
         passed, total, per_threshold, met = _met(table)
@@ -121,39 +97,53 @@ def main() -> None:
         reference = designer_table(args.seconds, seed)
         ref_met = _met(reference)[3]
         ref_all += ref_met
+        pursuit = pursuit_table(seconds=args.seconds, seed=seed)
+        pursuit_ref = designer_table(args.seconds, seed, pursuit=True)
+        p_met, p_ref_met = _met(pursuit)[3], _met(pursuit_ref)[3]
+        pursuit_all += p_met
+        pursuit_ref_all += p_ref_met
         if len(seeds) > 1:
             figures[f"seed{seed}.thresholds_met"] = met
             figures[f"seed{seed}.designer.thresholds_met"] = ref_met
+            figures[f"seed{seed}.pursuit.thresholds_met"] = p_met
+            figures[f"seed{seed}.pursuit.designer.thresholds_met"] = p_ref_met
         if n:
             continue
         print_fidelity(table)
+        print("against a visitor going after the character (as its demonstration shows it):")
+        print_fidelity(pursuit)
         print("the designer's own character on the same paths (thresholds it misses):")
-        for name, paths in reference.items():
-            print(f"  {name:16s}" + "".join(
-                f"{path}: {','.join(fidelity.failures(row)) or '-'}   "
-                for path, row in paths.items()))
-        for name, paths in reference.items():
-            for path, row in paths.items():
-                figures[f"designer.{name}.{path}.misses"] = ",".join(fidelity.failures(row))
+        print_designer(reference)
+        print_designer(pursuit_ref)
+        for prefix, ref in (("designer", reference), ("pursuit.designer", pursuit_ref)):
+            for name, paths in ref.items():
+                for path, row in paths.items():
+                    figures[f"{prefix}.{name}.{path}.misses"] = ",".join(fidelity.failures(row))
         for k, v in _met(reference)[2].items():
             figures[f"designer.pairs_within_{k}"] = v
         figures["designer.thresholds_met"] = ref_met
-        for name, paths in table.items():
-            for path, row in paths.items():
-                for k, v in row.items():
-                    figures[f"{name}.{path}.{k}"] = v
+        for prefix, tab in (("", table), ("pursuit.", pursuit)):
+            for name, paths in tab.items():
+                for path, row in paths.items():
+                    for k, v in row.items():
+                        figures[f"{prefix}{name}.{path}.{k}"] = v
         figures["pairs_within_every_threshold"] = passed
         figures["pairs_total"] = total
         for k, v in per_threshold.items():
             figures[f"pairs_within_{k}"] = v
         figures["thresholds_met"] = met
         figures["thresholds_total"] = total * len(per_threshold)
+        figures["pursuit.thresholds_met"] = p_met
+        figures["pursuit.designer.thresholds_met"] = p_ref_met
+        figures["pursuit.thresholds_total"] = _met(pursuit)[1] * len(per_threshold)
         figures["seed"] = seed
     if len(seeds) > 1:
         figures["seeds"] = seeds
         figures["all_seeds.thresholds_met"] = met_all
         figures["all_seeds.designer.thresholds_met"] = ref_all
         figures["all_seeds.thresholds_total"] = total_all
+        figures["all_seeds.pursuit.thresholds_met"] = pursuit_all
+        figures["all_seeds.pursuit.designer.thresholds_met"] = pursuit_ref_all
     figures["seconds_per_path"] = args.seconds
     figures["run_s"] = time.perf_counter() - t0
     budgets = {"facing_abs_diff": 0.1, "look_change_ratio": [0.67, 1.5],
