@@ -19,7 +19,8 @@ against 39% in the demonstration, whose main chased it half of the time; the gen
 character 53-76%). These are reported as ``designer.*`` figures and after the tables; they
 do not count in ``thresholds_met``. ``engine_only_misses`` counts the thresholds the
 generation misses where the designer's own character on the same path meets them: the misses
-that are the engine's, not the path's (printed per behaviour and path for the first seed).
+that are the engine's, not the path's (printed per behaviour and path for the first seed;
+measured on seeds 0-5: 43 of the 111 misses on the open paths, 8 of the 10 on the pursuit).
 
 The characters whose demonstration shows them chased (designers.CHASED: afraid) are also
 generated against an unseen visitor going after them (``pursuit_50hz``: visitors.Pursuer, a
