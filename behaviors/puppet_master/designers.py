@@ -424,7 +424,7 @@ def pursued_on_grid(personality: str, chaser: Any, rate_hz: float,
     The closed-loop counterpart of :func:`reaction_on_grid`."""
     main = np.zeros((len(chaser.times), 4))
     main[:, 0] = chaser.times
-    main[0, 1:4] = chaser.first()
+    main[:, 1:4] = chaser.first()     # at rest until the hand moves (no false first velocity)
     d = demonstrate(personality, rate_hz=chaser.rate_hz, table=table, main=main, chaser=chaser)
     t, m, react = _on_grid(d, rate_hz)
     return t + float(main[0, 0]), m, react
