@@ -8,7 +8,10 @@ stalker and afraid. The demonstrations come from the seeded scripted designers i
 ``--check`` writes nothing and exits 1 if a shipped file differs from what would be written;
 then it prints every behaviour's fidelity table (generated on unseen main paths beside its
 demonstration, see :mod:`behaviors.puppet_master.fidelity`), naming the thresholds each
-behaviour misses on each path (the table informs; the exit status is about the files).
+behaviour misses on each path, the same against a pursuing visitor for the characters shown
+by chasing them, and the thresholds the scripted designer's own character misses on the same
+paths (the figures of bench/fidelity.py's first seed; the tables inform, the exit status is
+about the files).
 """
 
 from __future__ import annotations
@@ -91,21 +94,76 @@ FIDELITY_COLUMNS = (
     ("contact", "contact"), ("orbit_radps", "orbit"))
 
 
+Rows = dict[str, dict[str, dict]]
+
+
+def _trained(folder: Path, name: str) -> tuple[Behavior, dict]:
+    stored = library.load_behavior(folder / name)
+    behavior = Behavior.train(stored.demonstration, **stored.parameters)
+    return behavior, fidelity.demonstration_figures(behavior)
+
+
 def fidelity_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.PERSONALITIES,
-                   seconds: float = 40.0, seed: int = 0) -> dict[str, dict[str, dict]]:
+                   seconds: float = 40.0, seed: int = 0) -> Rows:
     """{behaviour: {unseen path: compared row}} for the behaviours saved in ``folder``."""
     paths = visitors.unseen_main_paths(seed, seconds, TABLE)
-    out: dict[str, dict[str, dict]] = {}
+    out: Rows = {}
     for name in names:
-        stored = library.load_behavior(folder / name)
-        behavior = Behavior.train(stored.demonstration, **stored.parameters)
-        demo = fidelity.demonstration_figures(behavior)
+        behavior, demo = _trained(folder, name)
         out[name] = {path: fidelity.evaluate(behavior, main, (0.0, 0.0, *TABLE), demo)
                      for path, main in paths.items()}
     return out
 
 
-def print_fidelity(table: dict[str, dict[str, dict]]) -> None:
+def pursuit_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.CHASED,
+                  seconds: float = 40.0, seed: int = 0) -> Rows:
+    """{behaviour: {visitors.PURSUIT: compared row}}: the characters whose demonstration shows
+    them chased (designers.CHASED), generated against an unseen visitor going after them (a
+    closed loop, visitors.Pursuer), the situation their demonstration shows."""
+    out: Rows = {}
+    for name in names:
+        behavior, demo = _trained(folder, name)
+        out[name] = {visitors.PURSUIT: fidelity.evaluate_pursuit(
+            behavior, visitors.pursuer(seed, seconds, TABLE), (0.0, 0.0, *TABLE), demo)}
+    return out
+
+
+def designer_table(seconds: float = 40.0, seed: int = 0, pursuit: bool = False,
+                   folder: Path = DEFAULT_OUT) -> Rows:
+    """The fidelity reference: {behaviour: {path: row}}, the scripted designer's own character
+    (the policy that made the demonstration) on the same unseen paths (``pursuit``: against
+    the pursuing visitor, for designers.CHASED), on the generation grid, compared with the
+    demonstration's figures like a generation. A threshold it misses on a path is a figure of
+    the situation, not of the engine."""
+    out: Rows = {}
+    names = designers.CHASED if pursuit else designers.PERSONALITIES
+    paths = {} if pursuit else visitors.unseen_main_paths(seed, seconds, TABLE)
+    for name in names:
+        behavior, demo = _trained(folder, name)
+        rate = behavior.params.rate_hz
+
+        def row(t: np.ndarray, main: np.ndarray, react: np.ndarray) -> dict:
+            return fidelity.compare(demo, fidelity.figures(main, react, rate,
+                                                           behavior.turn_limit))
+        if pursuit:
+            out[name] = {visitors.PURSUIT: row(*designers.pursued_on_grid(
+                name, visitors.pursuer(seed, seconds, TABLE), rate, TABLE))}
+            continue
+        out[name] = {}
+        for path, main in paths.items():
+            t, react = designers.reaction_on_grid(name, main, rate, TABLE)
+            out[name][path] = row(t, fidelity.main_on_grid(main, t), react)
+    return out
+
+
+def print_designer(reference: Rows) -> None:
+    """One line per behaviour: the thresholds the designer's own character misses per path."""
+    for name, paths in reference.items():
+        print(f"  {name:16s}" + "".join(f"{path}: {','.join(fidelity.failures(row)) or '-'}   "
+                                        for path, row in paths.items()))
+
+
+def print_fidelity(table: Rows) -> None:
     """Print one table per behaviour: the demonstration's figures, then each path's."""
     for name, rows in table.items():
         print(f"{name}:")
@@ -139,11 +197,18 @@ def main(argv: Sequence[str] | None = None) -> int:
             if bad:
                 return 1
             if args.fidelity_seconds > 0:
-                table = fidelity_table(args.out, seconds=args.fidelity_seconds)
+                secs = args.fidelity_seconds
+                table = fidelity_table(args.out, seconds=secs)
                 print_fidelity(table)
                 missed = sum(not row["ok"] for rows in table.values() for row in rows.values())
                 print("fidelity: every behaviour within its thresholds" if not missed else
                       f"fidelity: {missed} behaviour/path pair(s) miss a threshold (misses)")
+                print("against a visitor going after the character (as its demonstration "
+                      "shows it):")
+                print_fidelity(pursuit_table(args.out, seconds=secs))
+                print("the designer's own character on the same paths (thresholds it misses):")
+                print_designer(designer_table(secs, folder=args.out))
+                print_designer(designer_table(secs, pursuit=True, folder=args.out))
             return 0
         for folder in regenerate(args.out):
             print(f"wrote {folder}")

@@ -14,7 +14,7 @@ seconds from 0 at ``rate_hz``, table metres, look directions in radians wrapped 
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Any, Callable, Protocol
 
 import numpy as np
 
@@ -250,6 +250,13 @@ def _afraid(rng: np.random.Generator, table: Table) -> Policy:
     return policy
 
 
+class MainHand(Protocol):
+    """A main hand that reacts to the reactor: the main pose (x, y, dir) of sample ``i`` from
+    the previous one and the reactor's position now."""
+
+    def step(self, i: int, prev: np.ndarray, react: Vec) -> np.ndarray: ...
+
+
 CHASED = ("afraid",)   # personalities whose designer shows them by chasing them
 
 
@@ -314,18 +321,25 @@ SHAKE = {"lover": (0.0012, 0.02, (3.0, 8.0)), "bully": (0.0025, 0.04, (3.0, 10.0
 
 def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0,
                 rate_hz: float = 40.0, table: Table = (1.2, 0.8),
-                main: np.ndarray | None = None, delay_s: float = 0.15) -> np.ndarray:
+                main: np.ndarray | None = None, delay_s: float = 0.15,
+                chaser: MainHand | None = None) -> np.ndarray:
     """A scripted designer's demonstration of ``personality``: (n, 7) array (see module doc).
 
     ``main``: the main path (n, 4) ``t, x, y, dir`` to react to; by default the designer's own
     (:func:`designer_main_path` with the same seed). ``delay_s``: the reactor hand's reaction time.
+    ``chaser``: a main hand that reacts to the reactor (``step(i, previous main pose, reactor
+    position)`` gives the main pose x, y, dir of sample ``i``, e.g. visitors.Pursuer); ``main``
+    then gives the times and the first pose.
     """
     seed = SEEDS.get(personality, 0) if seed is None else seed
     rng = np.random.default_rng([seed, 1])
     dt = 1.0 / rate_hz
     policy, top_speed, accel = _policy(personality, rng, table, dt)
-    chaser = None
-    if main is None:
+    if chaser is not None:
+        if main is None:
+            raise ValueError("demonstrate: a chaser needs the main path's times and first pose")
+        main = np.array(main, dtype=float)
+    elif main is None:
         main = designer_main_path(seed, seconds, rate_hz, table)
         if personality in CHASED:           # the designer's main hand goes after the reactor
             chaser = _Chaser(np.random.default_rng([seed, 3]), main, table, dt)
@@ -386,10 +400,34 @@ def reaction_on_grid(personality: str, main: np.ndarray, rate_hz: float,
     main = np.asarray(main, dtype=float)
     path_rate = (len(main) - 1) / float(main[-1, 0] - main[0, 0])
     d = demonstrate(personality, rate_hz=path_rate, table=table, main=main.copy())
-    t = np.arange(0.0, float(d[-1, 0]), 1.0 / rate_hz)
-    react = np.column_stack([np.interp(t, d[:, 0], d[:, 4]), np.interp(t, d[:, 0], d[:, 5]),
-                             wrap_angles(np.interp(t, d[:, 0], np.unwrap(d[:, 6])))])
+    t, _, react = _on_grid(d, rate_hz)
     return t + float(main[0, 0]), react
+
+
+def _on_grid(d: np.ndarray, rate_hz: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A demonstration (n, 7) on a ``rate_hz`` grid from its start: times (m,), main poses
+    (m, 3) and reactor poses (m, 3), x, y, look."""
+    t = np.arange(0.0, float(d[-1, 0]), 1.0 / rate_hz)
+
+    def poses(c: int) -> np.ndarray:
+        return np.column_stack([np.interp(t, d[:, 0], d[:, c]),
+                                np.interp(t, d[:, 0], d[:, c + 1]),
+                                wrap_angles(np.interp(t, d[:, 0], np.unwrap(d[:, c + 2])))])
+    return t, poses(1), poses(4)
+
+
+def pursued_on_grid(personality: str, chaser: Any, rate_hz: float,
+                    table: Table = (1.2, 0.8)) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The scripted designer's own ``personality`` played against a main hand that reacts to
+    it (``chaser``, fresh, e.g. visitors.Pursuer: ``times``, ``rate_hz``, ``first()`` and
+    ``step``): (times (m,) s on a ``rate_hz`` grid, main poses (m, 3), reactor poses (m, 3)).
+    The closed-loop counterpart of :func:`reaction_on_grid`."""
+    main = np.zeros((len(chaser.times), 4))
+    main[:, 0] = chaser.times
+    main[:, 1:4] = chaser.first()     # at rest until the hand moves (no false first velocity)
+    d = demonstrate(personality, rate_hz=chaser.rate_hz, table=table, main=main, chaser=chaser)
+    t, m, react = _on_grid(d, rate_hz)
+    return t + float(main[0, 0]), m, react
 
 
 def lover(seed: int = SEEDS["lover"], seconds: float = 60.0, rate_hz: float = 40.0,

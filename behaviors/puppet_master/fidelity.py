@@ -206,3 +206,31 @@ def evaluate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, 
     rows = generate(behavior, main, table)
     gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, behavior.turn_limit)
     return compare(demonstration_figures(behavior) if demo is None else demo, gen)
+
+
+def pursue(behavior: Any, pursuer: Any, table: tuple[float, float, float, float]
+           ) -> tuple[np.ndarray, np.ndarray]:
+    """A reactor generated against a main hand that reacts to it (``pursuer``, fresh, e.g.
+    visitors.Pursuer): each main sample is made from the reactor's pose after the steps of
+    the samples before it. Returns the main path (n, 4) ``t, x, y, dir`` and the reactor rows
+    (m, 4) ``t, x, y, look``."""
+    from behaviors.puppet_master.engine import Reactor
+    reactor = Reactor(behavior, table, max_backlog=None)
+    main = np.empty((len(pursuer.times), 4))
+    rows: list[tuple[float, float, float, float]] = []
+    for i, t in enumerate(pursuer.times):
+        pose = pursuer.first() if i == 0 else pursuer.step(i, main[i - 1, 1:4],
+                                                             np.array(reactor.pose))
+        main[i] = (float(t), *pose)
+        rows.extend(reactor.advance(float(t), float(pose[0]), float(pose[1]), float(pose[2])))
+    return main, np.array(rows, dtype=float).reshape(-1, 4)
+
+
+def evaluate_pursuit(behavior: Any, pursuer: Any, table: tuple[float, float, float, float],
+                     demo: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Generate against a main hand that goes after the reactor (:func:`pursue`) and compare
+    with the demonstration (see :func:`compare`)."""
+    p = behavior.params
+    main, rows = pursue(behavior, pursuer, table)
+    gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, behavior.turn_limit)
+    return compare(demonstration_figures(behavior) if demo is None else demo, gen)

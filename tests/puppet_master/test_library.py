@@ -178,7 +178,10 @@ def test_examples_check_command(tmp_path, capsys):
     out = capsys.readouterr().out
     for name in designers.PERSONALITIES:
         assert f"{name}:" in out
+    # each unseen path: once in every behaviour's table, once in the designer's own line
     for path in ("slow_pauses_30hz", "fast_reversals_60hz", "loops_spins_45hz"):
-        assert out.count(path) == len(designers.PERSONALITIES)
-    assert out.count("demonstration") == len(designers.PERSONALITIES)
-    assert "fidelity:" in out
+        assert out.count(path) == 2 * len(designers.PERSONALITIES)
+    # and the characters shown by chasing them, against a pursuing visitor
+    assert out.count("pursuit_50hz") == 2 * len(designers.CHASED)
+    assert out.count("  demonstration  ") == len(designers.PERSONALITIES) + len(designers.CHASED)
+    assert "fidelity:" in out and "the designer's own character" in out
