@@ -358,6 +358,20 @@ class Reactor:
                 if gap > 0.0 and live > 1e-9:
                     gap /= max(1, touch - target + 1)
                     sx, sy = sx + gap * lx / live, sy + gap * ly / live
+                # Where a charge falls short: a match joining it partway (live 0.30 m where the
+                # moment is at 0.19), a place held in the world capped at the demonstrated
+                # speed while the live main walks away, and the detail turn (up to 1.3 rad at
+                # the governor's gain) of a step still fast at the impact, which swipes it
+                # sideways 7 cm from the main. Every remedy measured (seeds 0-5 / held-out 7,
+                # against 623 / 107; bully contact met on 10 of 18 paths) trades contact for
+                # orbit, the bully's rate round its main at close range (0.6-0.9 rad/s within
+                # 0.1 m against 0.3 demonstrated, its faster unseen mains passing at 5 cm):
+                # cap at the top speed during a charge 586 / 101 (against 609 / 104 before the
+                # personal space below; contact 13, orbit 0 of 18);
+                # cap raised by the live main's step away 613 / 104; the detail turning only
+                # the demonstrated length of a charge's step 624 / 105 (contact 15, orbit 14);
+                # both 623 / 107 (contact 13, orbit 12); entering a charge at the moment as far
+                # from its main as the live reactor 617 / 104
             length = math.hypot(sx, sy)
             # a place held in the world moves at the demonstrated speed, as the paper's step
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
