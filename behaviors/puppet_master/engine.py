@@ -370,8 +370,10 @@ class Reactor:
                 # personal space below; contact 13, orbit 0 of 18);
                 # cap raised by the live main's step away 613 / 104; the detail turning only
                 # the demonstrated length of a charge's step 624 / 105 (contact 15, orbit 14);
-                # both 623 / 107 (contact 13, orbit 12); entering a charge at the moment as far
-                # from its main as the live reactor 617 / 104
+                # both 623 / 107 (contact 13, orbit 12); the top speed only before the touch,
+                # with that detail, 622 / 107 (contact 13, orbit 14, the still/moving ratio lost
+                # on 5); entering a charge at the moment as far from its main as the live
+                # reactor 617 / 104
             length = math.hypot(sx, sy)
             # a place held in the world moves at the demonstrated speed, as the paper's step
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
