@@ -94,6 +94,8 @@ class Reactor:
         md = wrap_angle(main_dir)
         fwd, left, rel_look = b.start_pose
         rx, ry = clamp_to_table(*target_position(main_x, main_y, md, fwd, left), self.table)
+        if self.obstacles:   # two reactors of one main would start on one spot
+            rx, ry = keep_apart(rx, ry, self.obstacles, self.table)
         rd = wrap_angle(md + rel_look)
         self.resampler = CausalResampler(p.max_extrapolation)
         self.resampler.push(t, main_x, main_y, md)
@@ -231,7 +233,8 @@ class Reactor:
                main_dir: float) -> tuple[float, float, float]:
         """Feed one main sample and return the reactor pose at ``t``: the latest step's pose,
         moved on by that step's velocity for the time since it (under 1/rate), so a display
-        faster than the generation rate sees smooth motion."""
+        faster than the generation rate sees smooth motion (kept apart from the obstacles, as
+        the step was)."""
         self.advance(t, main_x, main_y, main_dir)
         x, y, d = self.pose
         lag = t - self.t
@@ -239,6 +242,8 @@ class Reactor:
             f = lag / self.dt
             x, y = clamp_to_table(x + self._last_step[0] * f, y + self._last_step[1] * f,
                                   self.table)
+            if self.obstacles:   # the step kept apart; its continuation must too
+                x, y = keep_apart(x, y, self.obstacles, self.table)
         return x, y, d
 
     # -- one generation step ------------------------------------------------------------------
