@@ -79,6 +79,7 @@ class Reactor:
         self.last_choice = "situation"
         # other characters to keep apart from: (x, y, least distance m), set by the caller
         self.obstacles: list[tuple[float, float, float]] = []
+        self._obstacle_rows: np.ndarray | None = None   # as an array during update()
 
     # -- life cycle ---------------------------------------------------------------------------
 
@@ -235,15 +236,25 @@ class Reactor:
         moved on by that step's velocity for the time since it (under 1/rate), so a display
         faster than the generation rate sees smooth motion (kept apart from the obstacles, as
         the step was)."""
-        self.advance(t, main_x, main_y, main_dir)
+        if self.compiled:    # the obstacles as rows once per call, for steps and display
+            self._obstacle_rows = np.array(self.obstacles, dtype=float).reshape(-1, 3) \
+                if self.obstacles else _NO_OBSTACLES
+        try:
+            self.advance(t, main_x, main_y, main_dir)
+        finally:
+            rows, self._obstacle_rows = self._obstacle_rows, None
         x, y, d = self.pose
         lag = t - self.t
         if 0.0 < lag < self.dt:
+            # the step kept apart from the obstacles; its continuation must too
             f = lag / self.dt
-            x, y = clamp_to_table(x + self._last_step[0] * f, y + self._last_step[1] * f,
-                                  self.table)
-            if self.obstacles:   # the step kept apart; its continuation must too
-                x, y = keep_apart(x, y, self.obstacles, self.table)
+            if rows is not None:
+                x, y = sk.moved_on(x, y, *self._last_step, f, rows, self._cs)
+            else:
+                x, y = clamp_to_table(x + self._last_step[0] * f, y + self._last_step[1] * f,
+                                      self.table)
+                if self.obstacles:
+                    x, y = keep_apart(x, y, self.obstacles, self.table)
         return x, y, d
 
     # -- one generation step ------------------------------------------------------------------
@@ -253,8 +264,10 @@ class Reactor:
         """:meth:`_step` as one compiled call (step_kernel.step), the searches around it."""
         js, cost_s = self.situation.best()
         jc, cost_c = self.coherence.best()
-        obstacles = np.array(self.obstacles, dtype=float).reshape(-1, 3) if self.obstacles \
-            else _NO_OBSTACLES
+        obstacles = self._obstacle_rows
+        if obstacles is None:
+            obstacles = np.array(self.obstacles, dtype=float).reshape(-1, 3) if self.obstacles \
+                else _NO_OBSTACLES
         b = self.behavior
         self.source = target = sk.step(
             self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
