@@ -1,7 +1,9 @@
 """Reactors aware of each other on the bus: keeping apart, mutual pairs, several mains."""
 
 import numpy as np
+import pytest
 
+from tabletop.frames import InputError
 from tests.puppet_master.test_plugin import build, main_track, run, visitor_frames
 
 
@@ -78,3 +80,19 @@ def test_two_bullies_keep_apart_on_every_frame():
                      _engine("b", "bully", {"puck": 1}, size=size)]), visitor_frames(30, seed=4))
     gap = np.hypot(*(out["a"][:, :2] - out["b"][:, :2]).T)
     assert gap.min() >= 0.9 * size                                   # measured 0.080
+
+
+@pytest.mark.parametrize("main, words", [
+    ({"nearest": []}, ["engines[0].main.nearest", "got 0 items"]),
+    ({"nearest": [{"puck": 1}], "first": [{"puck": 2}]}, ["engines[0].main", "one of nearest"]),
+    ({"nearest": [{"bogus": 1}]}, ["engines[0].main.nearest[0]", "bogus"]),
+    ({"first": {"puck": 1}}, ["engines[0].main.first", "a list"]),
+    ({"first": [{"puck": 1}, {"character": "nobody"}]}, ["engines[0].main", "'nobody'"]),
+])
+def test_several_mains_badly_given_name_what_and_where(main, words):
+    with pytest.raises(InputError) as err:
+        build([_engine("a", "lover", main)])
+    msg = str(err.value)
+    assert len(msg.splitlines()) == 1
+    for w in words:
+        assert w in msg, msg
