@@ -21,7 +21,7 @@ which leaves out the time it waited for a core while other processes ran.
    main, the other reactors to keep apart from, the drawn character) to the reactor updates.
 
 The step's own tail: the generation is deterministic, so the step run is replayed (alone,
-after the interleaved timing) and each step keeps the least CPU time of its replays
+after the interleaved timing, five times) and each step keeps the least CPU time of its replays
 (``step_*_replayed_*``). What is left is what the step itself costs on that step (its branch,
 the coherence candidates, allocation, the collector), without the interruptions of a shared
 machine that make most of the interleaved p99.
@@ -113,7 +113,7 @@ class Feed:
 
 
 def replayed_least(behavior: Behavior, seed: int, seconds: float, rounds: int,
-                   replays: int = 3) -> np.ndarray:
+                   replays: int = 5) -> np.ndarray:
     """Per-step thread CPU seconds of the same ``rounds`` steps replayed ``replays`` times
     (a fresh reactor each time), the least of the replays per step."""
     least = np.full(rounds, np.inf)
@@ -203,7 +203,7 @@ def main() -> None:
                "paper_step_us": 25000.0,
                "note": "wall-clock figures (no prefix) include waiting for the CPU on a shared "
                        "machine (see load_average_1min); cpu_ figures are the thread's own CPU "
-                       "time per call; cpu_step_*_replayed_*: the least of 3 replays per step "
+                       "time per call; cpu_step_*_replayed_*: the least of 5 replays per step "
                        "(alone, caches warm)"}
     emit("puppet_master", figures, budgets)
 
