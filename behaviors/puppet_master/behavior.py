@@ -39,11 +39,12 @@ class ParameterError(InputError):
 class Params:
     """Behaviour parameters (defaults from the paper where it gives them).
 
-    rate_hz: generation rate (40). window: neighbourhood n in samples (40 = one second).
+    rate_hz: generation rate (40; 1-1000 Hz). window: neighbourhood n in samples (40 = one
+    second).
     min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
     the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change;
     0 (default) takes it from the demonstration (look.train_look). detail_levels: Haar
-    levels (4, cut at fs/16). patch: detail patch length in steps (16). detail_clip: rad.
+    levels (4, cut at fs/16; at most 10: the signal is padded to 2**levels samples). patch: detail patch length in steps (16). detail_clip: rad.
     ratio: target situation:coherence choice ratio (1 = 1:1). balance_gain, share_window: see
     similarity.Balancer. w_*: designer weights per feature on top of the inverse spreads.
     max_extrapolation: s a live main pose may be extrapolated past its newest sample.
@@ -111,6 +112,9 @@ class Params:
     def check(self) -> None:
         """Raise ParameterError for a value out of range."""
         ints = {"window": 2, "smooth": 1, "detail_levels": 1, "patch": 1, "share_window": 1}
+        if isinstance(self.detail_levels, (int, np.integer)) and self.detail_levels > 10:
+            raise ParameterError(f"behaviour parameter detail_levels: {self.detail_levels!r} "
+                                 "must be an integer from 1 to 10")
         for f in fields(self):
             v = getattr(self, f.name)
             if f.name in ints:
@@ -124,6 +128,9 @@ class Params:
             positive = f.name in ("rate_hz", "ratio", "balance_gain", "detail_clip")
             if f.name == "relative_motion" and v > 1:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be in 0..1")
+            if f.name == "rate_hz" and not 1.0 <= v <= 1000.0:
+                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 1 to "
+                                     "1000 Hz")
             if (positive and v <= 0) or v < 0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
                                      f"{'> 0' if positive else '>= 0'}")

@@ -79,6 +79,7 @@ class Reactor:
         self.last_choice = "situation"
         # other characters to keep apart from: (x, y, least distance m), set by the caller
         self.obstacles: list[tuple[float, float, float]] = []
+        self._obstacle_rows: np.ndarray | None = None   # as an array during update()
 
     # -- life cycle ---------------------------------------------------------------------------
 
@@ -94,6 +95,8 @@ class Reactor:
         md = wrap_angle(main_dir)
         fwd, left, rel_look = b.start_pose
         rx, ry = clamp_to_table(*target_position(main_x, main_y, md, fwd, left), self.table)
+        if self.obstacles:   # two reactors of one main would start on one spot
+            rx, ry = keep_apart(rx, ry, self.obstacles, self.table)
         rd = wrap_angle(md + rel_look)
         self.resampler = CausalResampler(p.max_extrapolation)
         self.resampler.push(t, main_x, main_y, md)
@@ -232,14 +235,27 @@ class Reactor:
                main_dir: float) -> tuple[float, float, float]:
         """Feed one main sample and return the reactor pose at ``t``: the latest step's pose,
         moved on by that step's velocity for the time since it (under 1/rate), so a display
-        faster than the generation rate sees smooth motion."""
-        self.advance(t, main_x, main_y, main_dir)
+        faster than the generation rate sees smooth motion (kept apart from the obstacles, as
+        the step was)."""
+        if self.compiled:    # the obstacles as rows once per call, for steps and display
+            self._obstacle_rows = np.array(self.obstacles, dtype=float).reshape(-1, 3) \
+                if self.obstacles else _NO_OBSTACLES
+        try:
+            self.advance(t, main_x, main_y, main_dir)
+        finally:
+            rows, self._obstacle_rows = self._obstacle_rows, None
         x, y, d = self.pose
         lag = t - self.t
         if 0.0 < lag < self.dt:
+            # the step kept apart from the obstacles; its continuation must too
             f = lag / self.dt
-            x, y = clamp_to_table(x + self._last_step[0] * f, y + self._last_step[1] * f,
-                                  self.table)
+            if rows is not None:
+                x, y = sk.moved_on(x, y, *self._last_step, f, rows, self._cs)
+            else:
+                x, y = clamp_to_table(x + self._last_step[0] * f, y + self._last_step[1] * f,
+                                      self.table)
+                if self.obstacles:
+                    x, y = keep_apart(x, y, self.obstacles, self.table)
         return x, y, d
 
     # -- one generation step ------------------------------------------------------------------
@@ -250,14 +266,17 @@ class Reactor:
         js, cost_s = self.situation.best()
         jc, cost_c = self.coherence.best()
         b = self.behavior
-        if self.obstacles:
-            obstacles = np.array(self.obstacles if b.personal_space <= 0.0 else
-                                 [*self.obstacles, (mx, my, b.personal_space)], dtype=float)
-        elif b.personal_space > 0.0:       # the main's personal space alone (see _step)
+        rows = self._obstacle_rows
+        if rows is None:
+            rows = np.array(self.obstacles, dtype=float).reshape(-1, 3) if self.obstacles \
+                else _NO_OBSTACLES
+        if b.personal_space <= 0.0:
+            obstacles = rows
+        elif len(rows):                    # the others' discs, then the main's personal space
+            obstacles = np.vstack([rows, [(mx, my, b.personal_space)]])
+        else:                              # the main's personal space alone (see _step)
             obstacles = self._space
             obstacles[0, 0], obstacles[0, 1] = mx, my
-        else:
-            obstacles = _NO_OBSTACLES
         self.source = target = sk.step(
             self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
             self._smooth_y, self._recent, obstacles, self._xs, self._xc, mx, my, md, js, cost_s,

@@ -243,6 +243,17 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
     return clamp_to_table(x, y, c)
 
 
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _F2, _F1), **_opts)
+def moved_on(x: float, y: float, sx: float, sy: float, f: float, others: np.ndarray,
+             c: np.ndarray) -> tuple[float, float]:
+    """engine.Reactor.update's position between two steps: (x, y) moved on by the share ``f``
+    of the last step (sx, sy), kept on the table and apart from ``others`` (m, 3)."""
+    x, y = clamp_to_table(x + sx * f, y + sy * f, c)
+    if others.shape[0] > 0:
+        x, y = keep_apart(x, y, others, c)
+    return x, y
+
+
 @numba.njit(_f8(_f8, _f8, _f8), **_opts)
 def limit_turn(previous: float, desired: float, max_delta: float) -> float:
     """generation.limit_turn."""

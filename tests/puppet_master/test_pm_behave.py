@@ -160,6 +160,10 @@ def test_every_behaviour_parameter_can_be_given(files, tmp_path):
     ("ratio", ["--param 'ratio'", "NAME=VALUE"]),
     ("ratio=-1", ["--param", "ratio", "> 0"]),
     ("window=1", ["--param", "window", ">= 2"]),
+    # trained for minutes (100 kHz) or ran out of memory (2**50 samples of padding) before
+    ("rate_hz=100000", ["--param", "rate_hz", "1 to 1000 Hz"]),
+    ("rate_hz=1e-300", ["--param", "rate_hz", "1 to 1000 Hz"]),
+    ("detail_levels=50", ["--param", "detail_levels", "1 to 10"]),
 ])
 def test_bad_parameters_exit_2_with_one_clear_line(files, tmp_path, capsys, param, words):
     d, _ = files

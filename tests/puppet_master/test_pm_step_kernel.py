@@ -1,6 +1,7 @@
 """The compiled generation step (behaviors/puppet_master/step_kernel.py) is the Python step
 (engine.Reactor._step) to the last bit: every pose, choice and source, on every kind of
-demonstration, with other characters to keep apart from, input gaps and a change of main."""
+demonstration, with other characters to keep apart from, input gaps and a change of main;
+and the displayed pose between two steps (Reactor.update) with them."""
 
 import math
 
@@ -18,7 +19,7 @@ TABLE = (0.0, 0.0, 1.6, 1.0)
 def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
     r = Reactor(behavior, TABLE)
     r.compiled = compiled
-    rows, trace = [], []
+    rows, trace, shown = [], [], []
     for k, sample in enumerate(main):
         if k % 97 in (5, 6, 7):          # input gaps: several steps from one sample
             continue
@@ -28,11 +29,18 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
         # a character to keep apart from, wandering over the reactor's ground
         r.obstacles = [(0.8 + 0.5 * math.sin(k / 40), 0.5 + 0.3 * math.cos(k / 55), 0.1)] \
             if k % 300 < 200 else []
-        out = r.advance(*sample)
-        rows.extend(out)
+        if k % 3 == 0:   # the display's call: the pose moved on between steps, kept apart
+            before = r.i if r.started else -1
+            if r.started and k % 300 < 200:     # one right beside the reactor
+                r.obstacles = r.obstacles + [(r.pose[0] + 0.02, r.pose[1] - 0.01, 0.05)]
+            shown.append(r.update(*sample))
+            out = [] if r.i == before else [r.pose]
+        else:
+            out = r.advance(*sample)
+            rows.extend(out)
         if out:
             trace.append((r.source, r.last_choice, r.coherence_share, r.k, *r.pose))
-    return np.asarray(rows, dtype=float), trace
+    return np.asarray(rows, dtype=float), trace, np.asarray(shown, dtype=float)
 
 
 @pytest.mark.parametrize("kind,rate,params,duration", [
@@ -49,10 +57,11 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
         demo = demos.circling(m) if kind == "circling" else demos.follow_behind(m)
     b = Behavior.train(demo, **params)
     main = demos.main_path(11, 60.0, rate_hz=rate, reversals=True)
-    fast, fast_trace = _run(b, main, True)
-    slow, slow_trace = _run(b, main, False)
-    assert len(fast) == len(slow) > 1500
+    fast, fast_trace, fast_shown = _run(b, main, True)
+    slow, slow_trace, slow_shown = _run(b, main, False)
+    assert len(fast) == len(slow) > 1000 and len(fast_trace) > 1500
     assert np.array_equal(fast.view(np.uint64), slow.view(np.uint64))
+    assert np.array_equal(fast_shown.view(np.uint64), slow_shown.view(np.uint64))
     assert fast_trace == slow_trace
     if duration > 10:
         choices = {t[1] for t in fast_trace}

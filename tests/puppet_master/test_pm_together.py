@@ -1,7 +1,9 @@
 """Reactors aware of each other on the bus: keeping apart, mutual pairs, several mains."""
 
 import numpy as np
+import pytest
 
+from tabletop.frames import InputError
 from tests.puppet_master.test_plugin import build, main_track, run, visitor_frames
 
 
@@ -16,9 +18,12 @@ def test_two_reactors_on_one_main_keep_apart_and_keep_their_behaviour():
                       _engine("b", "lover", {"puck": 1}, size=size)])
     out = run(together, visitor_frames(30))
     a, b = out["a"], out["b"]
-    gap = np.hypot(*(a[:, :2] - b[:, :2]).T)[60:]
-    # never overlapping by more than 10% of their sizes (discs of diameter ``size``)
-    assert gap.min() >= 0.9 * size                                   # measured 0.078
+    gap = np.hypot(*(a[:, :2] - b[:, :2]).T)
+    # never overlapping by more than 10% of their sizes (discs of diameter ``size``), from
+    # the first frame (both start from the same demonstrated pose) and on the frames between
+    # two generation steps (the displayed pose moves on by the last step)
+    assert a[:, 3].all() and b[:, 3].all()
+    assert gap.min() >= 0.9 * size                                   # measured 0.080
     # without keeping apart, two lovers of one main do overlap
     apart = build([_engine("a", "lover", {"puck": 1}, size=size, keep_apart=False),
                    _engine("b", "lover", {"puck": 1}, size=size, keep_apart=False)])
@@ -65,3 +70,29 @@ def test_nearest_of_several_mains_and_first_present():
     chosen, nearest = np.array(chosen[60:]), np.array(nearest[60:])
     assert len(set(chosen)) == 2                       # it turned to each puck in turn
     assert np.mean(chosen == nearest) > 0.9            # the nearest (hysteresis aside)
+
+
+def test_two_bullies_keep_apart_on_every_frame():
+    # the bully charges into its main: two of them on one main (measured before the displayed
+    # pose between steps was kept apart: 0 on the first frame, then 0.068 for 0.08 bodies)
+    size = 0.08
+    out = run(build([_engine("a", "bully", {"puck": 1}, size=size),
+                     _engine("b", "bully", {"puck": 1}, size=size)]), visitor_frames(30, seed=4))
+    gap = np.hypot(*(out["a"][:, :2] - out["b"][:, :2]).T)
+    assert gap.min() >= 0.9 * size                                   # measured 0.080
+
+
+@pytest.mark.parametrize("main, words", [
+    ({"nearest": []}, ["engines[0].main.nearest", "got 0 items"]),
+    ({"nearest": [{"puck": 1}], "first": [{"puck": 2}]}, ["engines[0].main", "one of nearest"]),
+    ({"nearest": [{"bogus": 1}]}, ["engines[0].main.nearest[0]", "bogus"]),
+    ({"first": {"puck": 1}}, ["engines[0].main.first", "a list"]),
+    ({"first": [{"puck": 1}, {"character": "nobody"}]}, ["engines[0].main", "'nobody'"]),
+])
+def test_several_mains_badly_given_name_what_and_where(main, words):
+    with pytest.raises(InputError) as err:
+        build([_engine("a", "lover", main)])
+    msg = str(err.value)
+    assert len(msg.splitlines()) == 1
+    for w in words:
+        assert w in msg, msg
