@@ -16,7 +16,7 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
-from tabletop.drawing import characters, pucks, screens  # noqa: E402
+from tabletop.drawing import characters, dirty, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
@@ -74,6 +74,8 @@ class Renderer:
                  sprites: dict[str, Path] | None = None) -> None:
         self.table, self.size = table, size
         raster.warm()                # the compiled drawing loaded now, not in the first frame
+        dirty.warm()
+        pucks.warm()
         self.map = TableToScreen(table, size, margin, homography)
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
@@ -94,7 +96,8 @@ class Renderer:
         # previous frame drew and lists in ``dirty`` what a window must present.
         self.incremental = False
         self.dirty: list[pygame.Rect] = []
-        self._drawn: list[pygame.Rect] | None = None
+        self._drawn: list[pygame.Rect] | None = None   # what the last frame drew (px)
+        self._tiles: np.ndarray | None = None           # ... as tiles (tabletop.drawing.dirty)
         self._last_target: pygame.Surface | None = None
         self.invitation = INVITATIONS["puck"]   # the idle look's text (see :func:`invitation`)
 
@@ -122,8 +125,7 @@ class Renderer:
         if full:
             target.blit(bg, (0, 0))
         else:
-            for r in self._drawn:
-                target.blit(bg, r, r)
+            target.blits([(bg, r, r) for r in self._drawn], doreturn=False)
         self._update_idle(frame, dt)
         down = cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
@@ -134,32 +136,27 @@ class Renderer:
         for p in sorted(self.lives.update(t, frame.characters),
                         key=lambda p: p.state.kind == "studio"):   # the studio's marks on top
             drawn.append(self._draw_presence(target, p, frame))
-        halos, labels, trails = [], [], []
-        for trace, state, alpha in self.traces.update(t, frame.pucks):
-            h, trail = self._trace(trace, state, alpha, t)
-            if h is not None:
-                halos.append(h)
-                labels.append(self._label(trace.puck.id) if overlay is not None else None)
-                trails.append(trail)
-        drawn.extend(pucks.draw_trails(target, trails, self.map.H, t, TRAIL_S))
-        drawn.extend(pucks.draw_halos(target, halos, labels))
+        drawn.extend(pucks.draw_pucks(target, self.traces.update(t, frame.pucks), self.map,
+                                      self.puck_radius, t, TRAIL_S,
+                                      self._label if overlay is not None else None))
         if self.moment > 0:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
         if overlay:
             drawn.append(self.draw_overlay(target, overlay, [r for r in drawn if r is not None]))
-        screen = target.get_rect()
-        now = P.merge([r for r in drawn if r is not None], screen)
+        size = target.get_size()
         if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
-            self.dirty, self._drawn = [screen], None
+            self.dirty, self._drawn, self._tiles = [target.get_rect()], None, None
         else:
-            self.dirty = [screen] if full else P.merge(self._drawn + now, screen)
-            self._drawn = now
+            now = dirty.mark(size, drawn)
+            self.dirty = [target.get_rect()] if full else dirty.rectangles(now | self._tiles,
+                                                                            size)
+            self._drawn, self._tiles = dirty.rectangles(now, size), now
         self._last_target = target
 
     def invalidate(self) -> None:
         """Something was painted over the last frame: present and repaint the whole target."""
-        self.dirty, self._drawn = [pygame.Rect((0, 0), self.size)], None
+        self.dirty, self._drawn, self._tiles = [pygame.Rect((0, 0), self.size)], None, None
 
     def _update_idle(self, frame: Frame, dt: float) -> None:
         t = frame.t
@@ -244,17 +241,6 @@ class Renderer:
             return characters.draw_hybrid(target, c, pose, pts)
         return characters.draw_figure(target, c, pose, pts)
 
-    def _trace(self, trace: PuckTrace, state: str, alpha: float, t: float
-               ) -> tuple[pucks.Halo | None, tuple]:
-        """A puck's halo and its trail (to be drawn with the others')."""
-        p = trace.puck
-        if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
-            return None, ()
-        x, y, ppm, angle = self.map.place(p.x, p.y, p.angle)
-        r = self.puck_radius * ppm
-        return (pucks.halo((x, y), r, angle, state, alpha, t),
-                (trace, (x, y), pucks.state_color(state), alpha, pucks.halo_radius(r)))
-
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)
         if img is None:
@@ -264,9 +250,8 @@ class Renderer:
 
     def draw_puck(self, target: pygame.Surface, p: Puck, t: float = 0.0) -> None:
         """One puck's halo, as it would be drawn in a frame (no trail)."""
-        r = self.puck_radius * self.map.scale_at(p.x, p.y)
-        pucks.draw_halo(target, self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
-                        p.state, 1.0, t)
+        pucks.draw_pucks(target, [(PuckTrace(p, t), p.state, 1.0)], self.map, self.puck_radius,
+                         t, TRAIL_S)
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
         """One character fully present (no fade), as it would be drawn standing still."""
