@@ -115,8 +115,9 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
             labels.append((label(tr.puck.id), xi + rr * 0.75, yi - rr))
     surf.fblits(rings, pygame.BLEND_ADD)
     for (col, rad), q in notches.items():
-        # (a disc is filled to rad + 0.5 px, as the halos' earlier gfxdraw discs were)
-        raster.draw(surf, raster.discs, np.array(q, dtype=np.float64), float(rad + 0.5), col)
+        # (filled to the whole pixels of its radius + 0.5 px, as gfxdraw's discs are)
+        raster.draw(surf, raster.discs, np.array(q, dtype=np.float64),
+                    float(int(rad + 0.5) + 0.5), col)
     for img, lx, ly in labels:
         out.append(surf.blit(img, (lx, ly - img.get_height() * 0.6)))
     return out
