@@ -16,7 +16,7 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
-from tabletop.drawing import characters, dirty, pucks, screens  # noqa: E402
+from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
@@ -76,6 +76,7 @@ class Renderer:
         raster.warm()                # the compiled drawing loaded now, not in the first frame
         dirty.warm()
         pucks.warm()
+        pose_kernel.warm()
         self.map = TableToScreen(table, size, margin, homography)
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
@@ -133,9 +134,10 @@ class Renderer:
         if self.idle > 0:
             screens.idle(target, t, self.idle, self._corners(), self.invitation)
         drawn: list[pygame.Rect | None] = []
-        for p in sorted(self.lives.update(t, frame.characters),
-                        key=lambda p: p.state.kind == "studio"):   # the studio's marks on top
-            drawn.append(self._draw_presence(target, p, frame))
+        prs = sorted(self.lives.update(t, frame.characters),
+                     key=lambda p: p.state.kind == "studio")   # the studio's marks on top
+        for p, place in zip(prs, self._places(prs, frame).tolist()):
+            drawn.append(self._draw_presence(target, p, frame, place))
         drawn.extend(pucks.draw_pucks(target, self.traces.update(t, frame.pucks), self.map,
                                       self.puck_radius, t, TRAIL_S,
                                       self._label if overlay is not None else None))
@@ -175,37 +177,37 @@ class Renderer:
         k = dt / 1.5
         self.idle = min(1.0, max(0.0, self.idle + (k if nobody else -2 * k)))
 
-    def _look(self, c: CharacterState, frame: Frame) -> tuple[float, float] | None:
-        target = c.look_at
-        if target is not None and all(math.isfinite(v) for v in target):
-            return target
-        best, best_d = None, LOOK_RANGE_M
-        for p in frame.pucks:
-            d = math.hypot(p.x - c.x, p.y - c.y)
-            if 1e-3 < d < best_d:
-                best, best_d = (p.x, p.y), d
-        return best
+    def _places(self, prs: Sequence[Presence], frame: Frame | None) -> np.ndarray:
+        """Every presence's place on screen (:func:`tabletop.drawing.pose_kernel.places`) in
+        one call: what it looks at is its stated target, else the nearest puck within
+        :data:`LOOK_RANGE_M` (nothing without a frame)."""
+        nan = math.nan
+        v = np.empty((len(prs), 6))
+        for i, pr in enumerate(prs):
+            c = pr.state
+            look = c.look_at if frame is not None and c.look_at is not None else (nan, nan)
+            v[i] = (c.x, c.y, c.heading, look[0], look[1],
+                    math.atan2(pr.vy, pr.vx) if pr.speed > 1e-3 else nan)
+        pk = (np.array([(p.x, p.y) for p in frame.pucks], dtype=np.float64).reshape(-1, 2)
+              if frame is not None else np.zeros((0, 2)))
+        out = np.empty((len(prs), pose_kernel.FIELDS))
+        pose_kernel.places(v, self.map.H, pk, LOOK_RANGE_M, out)
+        return out
 
-    def _pose(self, pr: Presence, frame: Frame | None) -> Pose:
-        c, t = pr.state, (frame.t if frame is not None else pr.t)
-        cx, cy, ppm, angle = self.map.place(c.x, c.y, c.heading)
-        center = (cx, cy)
+    def _pose(self, pr: Presence, t: float, place: Sequence[float]) -> Pose:
+        """``pr``'s pose at time ``t`` (s), standing at ``place`` (a row of :meth:`_places`)."""
+        c = pr.state
+        cx, cy, ppm, angle, looks, look_angle, motion = place
         still = pr.stillness()
-        target = self._look(c, frame) if frame is not None else None
-        if target is not None:
-            q = self.map.point(*target)
-            gaze = math.atan2(q[1] - center[1], q[0] - center[0])
-        else:
-            gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
-        motion = self.map.screen_angle(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
+        gaze = look_angle if looks else angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
         color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
-        return Pose(center, angle, ppm, alpha=pr.alpha(t),
+        return Pose((cx, cy), angle, ppm, alpha=pr.alpha(t),
                     scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
                     stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
                     gaze=gaze, color=color, phase=pr.phase)
 
-    def _draw_presence(self, target: pygame.Surface, pr: Presence,
-                       frame: Frame | None) -> pygame.Rect | None:
+    def _draw_presence(self, target: pygame.Surface, pr: Presence, frame: Frame | None,
+                       place: Sequence[float]) -> pygame.Rect | None:
         c = pr.state
         if c.kind == "studio":           # the studio's countdown, recording mark and status
             from tabletop.studio.draw import draw_studio
@@ -214,7 +216,7 @@ class Renderer:
         if not (all(math.isfinite(v) and abs(v) < 1e4 for v in (c.x, c.y, c.heading))
                 and 0.0 <= c.size <= max(self.table)):
             return None                     # a broken state is not drawn (never raises)
-        pose = self._pose(pr, frame)
+        pose = self._pose(pr, frame.t if frame is not None else pr.t, place)
         if pose.alpha <= 0.01:
             return None
         if c.points is not None and len(c.points):
@@ -225,11 +227,16 @@ class Renderer:
                 # character's own (lively) colour, casting no glow
                 ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
                                             light=0.0, color=lighten(vivid(tuple(c.color)), 0.3))
-                hinted = self._draw_points(target, c, ghost, self.map.points(pr.hint_points))
-            return P.union([hinted, self._draw_points(target, c, pose, self.map.points(c.points))])
+                hinted = self._draw_points(target, c, ghost, self._pixels(pr.hint_points))
+            return P.union([hinted, self._draw_points(target, c, pose, self._pixels(c.points))])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
         return characters.draw_reactor(target, c, pose)
+
+    def _pixels(self, xy: np.ndarray) -> np.ndarray:
+        """Table points (N x 2 metres) -> pixels, compiled (a character's few points)."""
+        return pose_kernel.to_pixels(self.map.H, np.ascontiguousarray(xy, dtype=np.float64)
+                                     .reshape(-1, 2))
 
     @staticmethod
     def _draw_points(target: pygame.Surface, c: CharacterState, pose: Pose,
@@ -256,7 +263,7 @@ class Renderer:
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
         """One character fully present (no fade), as it would be drawn standing still."""
         pr = Presence(c, born=-math.inf, t=0.0, seed=seed_of(c.name))
-        self._draw_presence(target, pr, None)
+        self._draw_presence(target, pr, None, self._places([pr], None)[0].tolist())
 
     def _draw_sprite(self, target: pygame.Surface, c: CharacterState,
                      pose: Pose) -> pygame.Rect | None:
