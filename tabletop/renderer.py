@@ -300,7 +300,7 @@ class Renderer:
 
         def hidden(i: int) -> int:
             r = pygame.Rect(corners[i], (w, h))
-            return sum(c.w * c.h for c in (r.clip(a) for a in avoid))
+            return sum(c.w * c.h for c in (r.clip(avoid[k]) for k in r.collidelistall(avoid)))
         now = hidden(self._corner)
         if now > 0:
             best = min(range(4), key=hidden)

@@ -230,7 +230,7 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     if posed is None:
         return None
     pts, fig = posed
-    (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
+    x0, y0, x1, y1 = pose_kernel.bounds(pts)
     # The glow's size follows the figure's grown-up size, not its pose or its growing in (its
     # strength fades in): one cached light per figure.
     touched = P.glow(surf, ((x0 + x1) / 2, (y0 + y1) / 2), 0.42 * c.size * pose.ppm + 6, pose.color,

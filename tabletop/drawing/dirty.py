@@ -11,11 +11,14 @@ no compiled function of another file (numba's cache checks only a kernel's own f
 
 from __future__ import annotations
 
+import os
 from typing import Sequence
 
 import numba
 import numpy as np
-import pygame
+
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+import pygame  # noqa: E402
 
 TILE = 16        # pixels per tile side
 PAD = 2          # pixels added around each rectangle (anti-aliased edges may spill over)

@@ -1,6 +1,6 @@
 """Characters' placement on screen, compiled (numba): every character's centre, scale, heading,
-gaze and motion direction in one call per frame, and a figure's points mapped to pixels and
-grown about its centre in one call each.
+gaze and motion direction in one call per frame, and a figure's points mapped to pixels, grown
+about its centre and bounded in one call each.
 
 Each was a handful of small numpy operations or a Python loop over the pucks per character
 (~1-3 us apiece); one compiled call replaces them. Compiled once into the cache beside this
@@ -87,8 +87,21 @@ def grown(pts: np.ndarray, cx: float, cy: float, k: float) -> np.ndarray:
     return out
 
 
+@numba.njit(**_JIT)
+def bounds(pts: np.ndarray) -> tuple:
+    """(x0, y0, x1, y1): the smallest and largest x and y of points (N >= 1 x 2); NaN when any
+    is not finite."""
+    x0, y0, x1, y1 = pts[0, 0], pts[0, 1], pts[0, 0], pts[0, 1]
+    for i in range(pts.shape[0]):
+        x, y = pts[i, 0], pts[i, 1]
+        if not (math.isfinite(x) and math.isfinite(y)):
+            return math.nan, math.nan, math.nan, math.nan
+        x0, y0, x1, y1 = min(x0, x), min(y0, y), max(x1, x), max(y1, y)
+    return x0, y0, x1, y1
+
+
 def warm() -> None:
     """Compile (or load from the cache) the kernels."""
     out = np.empty((1, FIELDS))
     places(np.zeros((1, 6)), np.eye(3), np.zeros((1, 2)), 0.5, out)
-    grown(to_pixels(np.eye(3), np.zeros((1, 2))), 0.0, 0.0, 1.0)
+    bounds(grown(to_pixels(np.eye(3), np.zeros((1, 2))), 0.0, 0.0, 1.0))
