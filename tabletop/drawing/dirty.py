@@ -12,6 +12,7 @@ no compiled function of another file (numba's cache checks only a kernel's own f
 from __future__ import annotations
 
 import os
+from itertools import chain, starmap
 from typing import Sequence
 
 import numba
@@ -83,8 +84,9 @@ def mark(size: tuple[int, int], rects: Sequence[pygame.Rect | None]) -> np.ndarr
     """The grid of tiles (see :func:`tiles`) that ``rects`` (px; None ones ignored) touch."""
     grid = tiles(size)
     rs = [r for r in rects if r is not None]
-    if rs:
-        cover(grid, np.array(rs, dtype=np.int64).reshape(-1, 4), TILE, PAD)
+    if rs:                  # (a Rect iterates as x, y, width, height)
+        cover(grid, np.fromiter(chain.from_iterable(rs), np.int64, 4 * len(rs)).reshape(-1, 4),
+              TILE, PAD)
     return grid
 
 
@@ -98,7 +100,7 @@ def rectangles(grid: np.ndarray, size: tuple[int, int]) -> list[pygame.Rect]:
         return [pygame.Rect(0, 0, w, h)]
     out = np.empty((grid.shape[0] * (grid.shape[1] // 2 + 1), 4), dtype=np.int64)
     n = boxes(grid, TILE, w, h, out)
-    return [pygame.Rect(r) for r in out[:n].tolist()]
+    return list(starmap(pygame.Rect, out[:n].tolist()))
 
 
 def warm() -> None:
