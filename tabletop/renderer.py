@@ -197,7 +197,7 @@ class Renderer:
     def _pose(self, pr: Presence, t: float, place: Sequence[float]) -> Pose:
         """``pr``'s pose at time ``t`` (s), standing at ``place`` (a row of :meth:`_places`)."""
         c = pr.state
-        cx, cy, ppm, angle, looks, look_angle, motion = place
+        cx, cy, ppm, angle, looks, look_angle, motion, _ = place
         still = pr.stillness()
         gaze = look_angle if looks else angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
         color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
@@ -213,8 +213,7 @@ class Renderer:
             from tabletop.studio.draw import draw_studio
             draw_studio(target, self, c)
             return target.get_rect()
-        if not (all(math.isfinite(v) and abs(v) < 1e4 for v in (c.x, c.y, c.heading))
-                and 0.0 <= c.size <= max(self.table)):
+        if not (place[7] and 0.0 <= c.size <= max(self.table)):   # (place: finite, near)
             return None                     # a broken state is not drawn (never raises)
         pose = self._pose(pr, frame.t if frame is not None else pr.t, place)
         if pose.alpha <= 0.01:

@@ -15,7 +15,7 @@ import math
 import numba
 import numpy as np
 
-FIELDS = 7     # columns of :func:`places`' output
+FIELDS = 8     # columns of :func:`places`' output
 
 _JIT = dict(cache=True, nogil=True)
 
@@ -37,9 +37,11 @@ def places(v: np.ndarray, H: np.ndarray, pucks: np.ndarray, look_range: float,
 
     ``out`` rows (N x :data:`FIELDS`): centre x, y (px), pixels per metre there, the heading's
     screen angle (radians, y down), 1 when it looks at something else 0, the screen angle
-    toward it, the motion's screen angle (the heading's when still)."""
+    toward it, the motion's screen angle (the heading's when still), 1 when its x, y and
+    heading are finite and within 10,000 (a state that can be drawn) else 0."""
     for i in range(v.shape[0]):
         x, y, a = v[i, 0], v[i, 1], v[i, 2]
+        out[i, 7] = 1.0 if abs(x) < 1e4 and abs(y) < 1e4 and abs(a) < 1e4 else 0.0
         px, py = _map(H, x, y)
         bx, by = _map(H, x + 0.01, y)
         qx, qy = _map(H, x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))

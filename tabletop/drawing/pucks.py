@@ -89,12 +89,17 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
     halo_kernel.halos(v, np.array([_STATE_CODES.get(s, 0) for s in states], dtype=np.int64),
                       np.fromiter((a for *_, a in items), np.float64, n), to_screen.H,
                       float(puck_radius_m), 0.7 + 0.3 * math.sin(t * 9.0), _TABLE_RGB, geo)
-    keep = (geo[:, 8] >= 0).tolist()             # (not finite or too far: not drawn)
     colors = [state_color(s) for s in states]
-    out = draw_trails(surf, [tr.path for (tr, _, _), k in zip(items, keep) if k],
-                      geo[keep, 0:2], [trail_inks(c, a) for c, (_, _, a), k
-                                       in zip(colors, items, keep) if k],
-                      geo[keep, 2], to_screen.H, t, trail_s)
+    paths = [tr.path for tr, _, _ in items]
+    inks = [trail_inks(c, a) for c, (_, _, a) in zip(colors, items)]
+    keep = geo[:, 8] >= 0                        # (not finite or too far: not drawn)
+    if keep.all():
+        out = draw_trails(surf, paths, geo[:, 0:2], inks, geo[:, 2], to_screen.H, t, trail_s)
+    else:
+        k = keep.tolist()
+        out = draw_trails(surf, [p for p, ok in zip(paths, k) if ok], geo[keep, 0:2],
+                          [i for i, ok in zip(inks, k) if ok], geo[keep, 2], to_screen.H, t,
+                          trail_s)
     rings, notches, labels = [], {}, []
     for (tr, _, _), color, (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
             items, colors, geo.tolist()):
