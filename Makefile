@@ -24,7 +24,7 @@ $(STAMP): pyproject.toml
 # nor each test worker compiles them.
 # The three builds run side by side (about 60 s of CPU cold in all; a few seconds cached).
 kernels: $(STAMP)
-	$(PY) -c "import tabletop.drawing.raster as r; r.warm()" & view=$$!; \
+	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "import behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel" & pm=$$!; \
 	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, behaviors.mop.threshold" \
 	  && wait $$view && wait $$pm

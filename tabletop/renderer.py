@@ -16,7 +16,7 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import numpy as np  # noqa: E402
 import pygame  # noqa: E402
 
-from tabletop.drawing import characters, pucks, screens  # noqa: E402
+from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # noqa: E402
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
@@ -74,6 +74,9 @@ class Renderer:
                  sprites: dict[str, Path] | None = None) -> None:
         self.table, self.size = table, size
         raster.warm()                # the compiled drawing loaded now, not in the first frame
+        dirty.warm()
+        pucks.warm()
+        pose_kernel.warm()
         self.map = TableToScreen(table, size, margin, homography)
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
@@ -94,7 +97,8 @@ class Renderer:
         # previous frame drew and lists in ``dirty`` what a window must present.
         self.incremental = False
         self.dirty: list[pygame.Rect] = []
-        self._drawn: list[pygame.Rect] | None = None
+        self._drawn: list[pygame.Rect] | None = None   # what the last frame drew (px)
+        self._tiles: np.ndarray | None = None           # ... as tiles (tabletop.drawing.dirty)
         self._last_target: pygame.Surface | None = None
         self.invitation = INVITATIONS["puck"]   # the idle look's text (see :func:`invitation`)
 
@@ -122,8 +126,7 @@ class Renderer:
         if full:
             target.blit(bg, (0, 0))
         else:
-            for r in self._drawn:
-                target.blit(bg, r, r)
+            target.blits([(bg, r, r) for r in self._drawn], doreturn=False)
         self._update_idle(frame, dt)
         down = cameras_down(frame)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
@@ -131,35 +134,31 @@ class Renderer:
         if self.idle > 0:
             screens.idle(target, t, self.idle, self._corners(), self.invitation)
         drawn: list[pygame.Rect | None] = []
-        for p in sorted(self.lives.update(t, frame.characters),
-                        key=lambda p: p.state.kind == "studio"):   # the studio's marks on top
-            drawn.append(self._draw_presence(target, p, frame))
-        halos, labels, trails = [], [], []
-        for trace, state, alpha in self.traces.update(t, frame.pucks):
-            h, trail = self._trace(trace, state, alpha, t)
-            if h is not None:
-                halos.append(h)
-                labels.append(self._label(trace.puck.id) if overlay is not None else None)
-                trails.append(trail)
-        drawn.extend(pucks.draw_trails(target, trails, self.map.H, t, TRAIL_S))
-        drawn.extend(pucks.draw_halos(target, halos, labels))
+        prs = sorted(self.lives.update(t, frame.characters),
+                     key=lambda p: p.state.kind == "studio")   # the studio's marks on top
+        for p, place in zip(prs, self._places(prs, frame).tolist()):
+            drawn.append(self._draw_presence(target, p, frame, place))
+        drawn.extend(pucks.draw_pucks(target, self.traces.update(t, frame.pucks), self.map,
+                                      self.puck_radius, t, TRAIL_S,
+                                      self._label if overlay is not None else None))
         if self.moment > 0:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
         if overlay:
             drawn.append(self.draw_overlay(target, overlay, [r for r in drawn if r is not None]))
-        screen = target.get_rect()
-        now = P.merge([r for r in drawn if r is not None], screen)
+        size = target.get_size()
         if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
-            self.dirty, self._drawn = [screen], None
+            self.dirty, self._drawn, self._tiles = [target.get_rect()], None, None
         else:
-            self.dirty = [screen] if full else P.merge(self._drawn + now, screen)
-            self._drawn = now
+            now = dirty.mark(size, drawn)
+            self.dirty = [target.get_rect()] if full else dirty.rectangles(now | self._tiles,
+                                                                            size)
+            self._drawn, self._tiles = dirty.rectangles(now, size), now
         self._last_target = target
 
     def invalidate(self) -> None:
         """Something was painted over the last frame: present and repaint the whole target."""
-        self.dirty, self._drawn = [pygame.Rect((0, 0), self.size)], None
+        self.dirty, self._drawn, self._tiles = [pygame.Rect((0, 0), self.size)], None, None
 
     def _update_idle(self, frame: Frame, dt: float) -> None:
         t = frame.t
@@ -178,46 +177,45 @@ class Renderer:
         k = dt / 1.5
         self.idle = min(1.0, max(0.0, self.idle + (k if nobody else -2 * k)))
 
-    def _look(self, c: CharacterState, frame: Frame) -> tuple[float, float] | None:
-        target = c.look_at
-        if target is not None and all(math.isfinite(v) for v in target):
-            return target
-        best, best_d = None, LOOK_RANGE_M
-        for p in frame.pucks:
-            d = math.hypot(p.x - c.x, p.y - c.y)
-            if 1e-3 < d < best_d:
-                best, best_d = (p.x, p.y), d
-        return best
+    def _places(self, prs: Sequence[Presence], frame: Frame | None) -> np.ndarray:
+        """Every presence's place on screen (:func:`tabletop.drawing.pose_kernel.places`) in
+        one call: what it looks at is its stated target, else the nearest puck within
+        :data:`LOOK_RANGE_M` (nothing without a frame)."""
+        nan = math.nan
+        v = np.empty((len(prs), 6))
+        for i, pr in enumerate(prs):
+            c = pr.state
+            look = c.look_at if frame is not None and c.look_at is not None else (nan, nan)
+            v[i] = (c.x, c.y, c.heading, look[0], look[1],
+                    math.atan2(pr.vy, pr.vx) if pr.speed > 1e-3 else nan)
+        pk = (np.array([(p.x, p.y) for p in frame.pucks], dtype=np.float64).reshape(-1, 2)
+              if frame is not None else np.zeros((0, 2)))
+        out = np.empty((len(prs), pose_kernel.FIELDS))
+        pose_kernel.places(v, self.map.H, pk, LOOK_RANGE_M, out)
+        return out
 
-    def _pose(self, pr: Presence, frame: Frame | None) -> Pose:
-        c, t = pr.state, (frame.t if frame is not None else pr.t)
-        cx, cy, ppm, angle = self.map.place(c.x, c.y, c.heading)
-        center = (cx, cy)
+    def _pose(self, pr: Presence, t: float, place: Sequence[float]) -> Pose:
+        """``pr``'s pose at time ``t`` (s), standing at ``place`` (a row of :meth:`_places`)."""
+        c = pr.state
+        cx, cy, ppm, angle, looks, look_angle, motion, _ = place
         still = pr.stillness()
-        target = self._look(c, frame) if frame is not None else None
-        if target is not None:
-            q = self.map.point(*target)
-            gaze = math.atan2(q[1] - center[1], q[0] - center[0])
-        else:
-            gaze = angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
-        motion = self.map.screen_angle(c.x, c.y, math.atan2(pr.vy, pr.vx)) if pr.speed > 1e-3 else angle
+        gaze = look_angle if looks else angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
         color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
-        return Pose(center, angle, ppm, alpha=pr.alpha(t),
+        return Pose((cx, cy), angle, ppm, alpha=pr.alpha(t),
                     scale=pr.scale(t), breath=breath(t, pr.seed, still if c.valid else 1.0),
                     stretch=stretch(pr.speed), motion=motion, blink=eyes_open(t, pr.seed),
                     gaze=gaze, color=color, phase=pr.phase)
 
-    def _draw_presence(self, target: pygame.Surface, pr: Presence,
-                       frame: Frame | None) -> pygame.Rect | None:
+    def _draw_presence(self, target: pygame.Surface, pr: Presence, frame: Frame | None,
+                       place: Sequence[float]) -> pygame.Rect | None:
         c = pr.state
         if c.kind == "studio":           # the studio's countdown, recording mark and status
             from tabletop.studio.draw import draw_studio
             draw_studio(target, self, c)
             return target.get_rect()
-        if not (all(math.isfinite(v) and abs(v) < 1e4 for v in (c.x, c.y, c.heading))
-                and 0.0 <= c.size <= max(self.table)):
+        if not (place[7] and 0.0 <= c.size <= max(self.table)):   # (place: finite, near)
             return None                     # a broken state is not drawn (never raises)
-        pose = self._pose(pr, frame)
+        pose = self._pose(pr, frame.t if frame is not None else pr.t, place)
         if pose.alpha <= 0.01:
             return None
         if c.points is not None and len(c.points):
@@ -228,11 +226,16 @@ class Renderer:
                 # character's own (lively) colour, casting no glow
                 ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
                                             light=0.0, color=lighten(vivid(tuple(c.color)), 0.3))
-                hinted = self._draw_points(target, c, ghost, self.map.points(pr.hint_points))
-            return P.union([hinted, self._draw_points(target, c, pose, self.map.points(c.points))])
+                hinted = self._draw_points(target, c, ghost, self._pixels(pr.hint_points))
+            return P.union([hinted, self._draw_points(target, c, pose, self._pixels(c.points))])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
         return characters.draw_reactor(target, c, pose)
+
+    def _pixels(self, xy: np.ndarray) -> np.ndarray:
+        """Table points (N x 2 metres) -> pixels, compiled (a character's few points)."""
+        return pose_kernel.to_pixels(self.map.H, np.ascontiguousarray(xy, dtype=np.float64)
+                                     .reshape(-1, 2))
 
     @staticmethod
     def _draw_points(target: pygame.Surface, c: CharacterState, pose: Pose,
@@ -244,17 +247,6 @@ class Renderer:
             return characters.draw_hybrid(target, c, pose, pts)
         return characters.draw_figure(target, c, pose, pts)
 
-    def _trace(self, trace: PuckTrace, state: str, alpha: float, t: float
-               ) -> tuple[pucks.Halo | None, tuple]:
-        """A puck's halo and its trail (to be drawn with the others')."""
-        p = trace.puck
-        if not all(math.isfinite(v) and abs(v) < 1e4 for v in (p.x, p.y, p.angle)):
-            return None, ()
-        x, y, ppm, angle = self.map.place(p.x, p.y, p.angle)
-        r = self.puck_radius * ppm
-        return (pucks.halo((x, y), r, angle, state, alpha, t),
-                (trace, (x, y), pucks.state_color(state), alpha, pucks.halo_radius(r)))
-
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)
         if img is None:
@@ -264,14 +256,13 @@ class Renderer:
 
     def draw_puck(self, target: pygame.Surface, p: Puck, t: float = 0.0) -> None:
         """One puck's halo, as it would be drawn in a frame (no trail)."""
-        r = self.puck_radius * self.map.scale_at(p.x, p.y)
-        pucks.draw_halo(target, self.map.point(p.x, p.y), r, self.map.screen_angle(p.x, p.y, p.angle),
-                        p.state, 1.0, t)
+        pucks.draw_pucks(target, [(PuckTrace(p, t), p.state, 1.0)], self.map, self.puck_radius,
+                         t, TRAIL_S)
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
         """One character fully present (no fade), as it would be drawn standing still."""
         pr = Presence(c, born=-math.inf, t=0.0, seed=seed_of(c.name))
-        self._draw_presence(target, pr, None)
+        self._draw_presence(target, pr, None, self._places([pr], None)[0].tolist())
 
     def _draw_sprite(self, target: pygame.Surface, c: CharacterState,
                      pose: Pose) -> pygame.Rect | None:
@@ -308,7 +299,7 @@ class Renderer:
 
         def hidden(i: int) -> int:
             r = pygame.Rect(corners[i], (w, h))
-            return sum(c.w * c.h for c in (r.clip(a) for a in avoid))
+            return sum(c.w * c.h for c in (r.clip(avoid[k]) for k in r.collidelistall(avoid)))
         now = hidden(self._corner)
         if now > 0:
             best = min(range(4), key=hidden)

@@ -17,7 +17,7 @@ import numpy as np
 import pygame
 
 from tabletop.drawing import primitives as P
-from tabletop.drawing import raster
+from tabletop.drawing import pose_kernel, raster
 from tabletop.drawing.palette import EYE_WHITE, INK, Color, fade, lighten, rgb, shade
 from tabletop.frames import CharacterState
 
@@ -213,10 +213,11 @@ _KINDS = {"skeleton": raster.SKELETON, "creature": raster.CREATURE, "sprite": ra
 def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, float] | None:
     """A figure's points (pixels) scaled about the pose's centre by its growth and breath, and
     the figure's size in pixels; None when there is nothing finite to draw."""
-    if len(pts) == 0 or not math.isfinite(float(pts.sum())):   # NaN or inf anywhere
+    out = pose_kernel.grown(np.ascontiguousarray(pts, dtype=np.float64), float(pose.center[0]),
+                            float(pose.center[1]), float(pose.scale * pose.breath))
+    if len(out) == 0:                                          # NaN or inf anywhere
         return None
-    ctr = np.asarray(pose.center)
-    return (pts - ctr) * (pose.scale * pose.breath) + ctr, c.size * pose.ppm * pose.scale
+    return out, c.size * pose.ppm * pose.scale
 
 
 def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
@@ -229,7 +230,7 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     if posed is None:
         return None
     pts, fig = posed
-    (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
+    x0, y0, x1, y1 = pose_kernel.bounds(pts)
     # The glow's size follows the figure's grown-up size, not its pose or its growing in (its
     # strength fades in): one cached light per figure.
     touched = P.glow(surf, ((x0 + x1) / 2, (y0 + y1) / 2), 0.42 * c.size * pose.ppm + 6, pose.color,

@@ -4,7 +4,7 @@ Filled shapes are drawn filled, then their outline anti-aliased, so their edges 
 table. Glows and shadows are pre-rendered once per (size, colour, strength) bucket and blitted
 with additive or multiplicative blending: they cost one blit each per frame.
 
-The few shapes drawn here (the table, the halos' notches) go through pygame.gfxdraw; characters
+The few shapes drawn here (the table and its grid) go through pygame.gfxdraw; characters
 and trails are rasterised by compiled calls (:mod:`tabletop.drawing.raster`). OpenCV's batched
 drawing was measured slower than pygame's for them (bench/view.py's busy 1280x720 frame in an
 X window, interleaved A/B, this thread's CPU per frame, median): a figure's limbs as
@@ -22,6 +22,7 @@ import numpy as np
 import pygame
 import pygame.gfxdraw as gfx
 
+from tabletop.drawing import pose_kernel
 from tabletop.drawing.palette import Color
 
 _CACHE_MAX = 512
@@ -120,6 +121,10 @@ def _rgb_surface(values: np.ndarray, color: Color) -> pygame.Surface:
 def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface:
     """A soft round light (blit with BLEND_ADD): ``color`` x ``strength`` at the centre, falling
     smoothly to nothing at ``radius`` pixels."""
+    exact = (radius, color, strength)     # a settled character asks for the same light
+    surf = _glow_calls.get(exact)
+    if surf is not None:
+        return surf
     r = _size_bucket(radius)
     s = _bucket(strength, 0.05)
     key = (r, color, s)
@@ -128,7 +133,10 @@ def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface
         surf = _glow_base(r).copy()
         surf.fill(tuple(int(round(v * s)) for v in color), special_flags=pygame.BLEND_MULT)
         surf = _remember(_glows, key, surf)
-    return surf
+    return _remember(_glow_calls, exact, surf)
+
+
+_glow_calls: dict[tuple, pygame.Surface] = {}
 
 
 def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
@@ -203,33 +211,16 @@ def _ring_base(r: int, w: float) -> pygame.Surface:
 
 
 def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
-    """The pixel rectangle around points (N x 2) grown by ``pad`` on every side."""
-    pts = np.asarray(pts, dtype=float).reshape(-1, 2)
+    """The pixel rectangle around points (N x 2) grown by ``pad`` on every side (None without
+    points or when one is not finite)."""
+    pts = np.ascontiguousarray(pts, dtype=np.float64).reshape(-1, 2)
     if not len(pts):
         return None
-    (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
-    if not (math.isfinite(x0) and math.isfinite(y0) and math.isfinite(x1) and math.isfinite(y1)):
-        return None   # NaN propagates through min/max
+    x0, y0, x1, y1 = pose_kernel.bounds(pts)
+    if not math.isfinite(x0):
+        return None   # NaN or infinity
     x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
     return pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)
-
-
-def merge(rects: Sequence[pygame.Rect], screen: pygame.Rect) -> list[pygame.Rect]:
-    """Rectangles to repaint: overlapping ones merged; the whole ``screen`` when they would
-    cover more than half of it anyway."""
-    out: list[pygame.Rect] = []
-    for r in rects:
-        r = r.inflate(4, 4).clip(screen)      # anti-aliased edges may spill a pixel over
-        if not r.w or not r.h:
-            continue
-        i = r.collidelist(out)
-        while i >= 0:
-            r = r.union(out.pop(i))
-            i = r.collidelist(out)
-        out.append(r)
-    if sum(r.w * r.h for r in out) > 0.5 * screen.w * screen.h:
-        return [screen]
-    return out
 
 
 def union(rects: Sequence[pygame.Rect | None]) -> pygame.Rect | None:

@@ -4,20 +4,17 @@ and the hand on it are not painted), coloured by state, with a short fading trai
 from __future__ import annotations
 
 import math
-from typing import NamedTuple, Sequence
+from itertools import chain
+from typing import Callable, Sequence
 
 import numpy as np
 import pygame
 
+from tabletop.drawing import halo_kernel, raster
 from tabletop.drawing import primitives as P
-from tabletop.drawing import raster
 from tabletop.drawing.life import PuckTrace
 from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade, rgb
-
-
-def halo_radius(puck_radius_px: float) -> float:
-    """The ring's radius for a puck of ``puck_radius_px`` pixels: just outside its rim."""
-    return puck_radius_px * 1.35 + 3.0
+from tabletop.table_map import TableToScreen
 
 
 def state_color(state: str) -> Color:
@@ -25,94 +22,112 @@ def state_color(state: str) -> Color:
     return PUCK_STATES.get(state, PUCK_STATES["seen"])
 
 
-def draw_trails(surf: pygame.Surface, trails: Sequence[tuple[PuckTrace, tuple[float, float],
-                                                             Color, float, float]],
+_inks: dict[tuple, tuple[int, int, int]] = {}
+
+
+def trail_inks(color: Color, alpha: float) -> tuple[int, int, int]:
+    """A trail's three age steps' colours (oldest to newest, packed 0xRRGGBB) for a puck of
+    ``color`` shown at opacity ``alpha`` (remembered: the same few recur frame after frame)."""
+    key = (color, alpha)
+    ink = _inks.get(key)
+    if ink is None:
+        if len(_inks) >= 1024:
+            _inks.clear()
+        ink = _inks[key] = tuple(rgb(fade(color, alpha * k, TABLE))  # type: ignore[assignment]
+                                 for k in (0.18, 0.32, 0.5))
+    return ink
+
+
+def draw_trails(surf: pygame.Surface, paths: Sequence[Sequence[tuple[float, float, float]]],
+                centers: np.ndarray, inks: Sequence[tuple[int, int, int]], holes: np.ndarray,
                 H: np.ndarray, t: float, span_s: float) -> list[pygame.Rect]:
-    """Every puck's recent path as a line that fades with age (three steps, newest brightest),
-    ending at its halo, in one compiled call. ``trails``: (trace, its puck's centre px, colour,
-    opacity, radius px around the puck that stays dark) each; ``H``: table metres -> pixels.
-    Returns the rectangles touched."""
-    if not trails:
+    """Every puck's recent path (``paths``: table x, y metres and time s each) as a line that
+    fades with age (three steps, newest brightest: ``inks``, see :func:`trail_inks`), ending
+    at its halo, in one compiled call. ``centers``: each puck's centre px (N x 2); ``holes``:
+    radius px around it that stays dark; ``H``: table metres -> pixels. Returns the rectangles
+    touched."""
+    starts = np.zeros(len(paths) + 1, dtype=np.int64)
+    starts[1:] = np.cumsum([len(path) for path in paths])
+    n = int(starts[-1])
+    if not n:
         return []
-    pts = [e for tr, *_ in trails for e in tr.path]
-    if not pts:
-        return []
-    starts = np.zeros(len(trails) + 1, dtype=np.int64)
-    starts[1:] = np.cumsum([len(tr.path) for tr, *_ in trails])
-    colors = np.array([[rgb(fade(color, alpha * k, TABLE)) for k in (0.18, 0.32, 0.5)]
-                       for _, _, color, alpha, _ in trails], dtype=np.int64)
-    rects = np.zeros((len(trails), 4), dtype=np.int64)
+    pts = np.fromiter(chain.from_iterable(chain.from_iterable(paths)), np.float64,
+                      3 * n).reshape(n, 3)
+    rects = np.zeros((len(paths), 4), dtype=np.int64)
     # age steps: 2 newest (v >= 2, with v = 3 (1 - age / span)), 1, 0 oldest and anything older
-    raster.draw(surf, raster.trails, np.array(pts, dtype=np.float64), starts, H,
-                np.array([c for _, c, *_ in trails], dtype=np.float64),
-                np.array([h for *_, h in trails], dtype=np.float64), colors,
+    raster.draw(surf, raster.trails, pts, starts, H,
+                np.ascontiguousarray(centers, dtype=np.float64),
+                np.ascontiguousarray(holes, dtype=np.float64), np.array(inks, dtype=np.int64),
                 float(t - span_s / 3.0), float(t - 2.0 * span_s / 3.0), rects)
     return [pygame.Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1) for x0, y0, x1, y1 in rects.tolist()
             if x1 >= x0]
 
 
-class Halo(NamedTuple):
-    """One puck's halo, ready to draw: its ring (a cached light and where it goes, or None),
-    its heading notch (colour, centre, radius; or None) and the rectangle it all touches."""
-    ring: tuple[pygame.Surface, tuple[int, int]] | None
-    notch: tuple[Color, tuple[float, float], float] | None
-    rect: pygame.Rect
-    label_at: tuple[float, float]      # where a label's left edge and baseline-ish top go (px)
+_STATE_CODES = {"seen": halo_kernel.SEEN, "coasting": halo_kernel.COASTING,
+                "lost": halo_kernel.LOST}
+_TABLE_RGB = np.array(TABLE, dtype=np.float64)
 
 
-def halo(center: tuple[float, float], r_px: float, angle_px: float, state: str, alpha: float,
-         t: float) -> Halo | None:
-    """The halo of a puck at ``center`` (px) of radius ``r_px``: a ring of light coloured by
-    ``state`` with a bright notch along its heading (``angle_px``, screen radians); the centre
-    stays dark. The ring is pre-rendered once per (radius, width, colour, strength step)."""
-    x, y = center
-    if not (-30000 < x < 30000 and -30000 < y < 30000):
-        return None
-    color = state_color(state)
-    R = halo_radius(r_px)
-    if state == "coasting":   # a prediction: the ring breathes quickly, an operator sees it
-        alpha *= 0.7 + 0.3 * math.sin(t * 9.0)
-    if state == "lost":
-        R *= 1.0 + 0.4 * (1.0 - alpha)
-    xi, yi = int(round(x)), int(round(y))
-    e = int(R + max(3.0, 0.14 * r_px) + 4)
-    rect = pygame.Rect(xi - e, yi - e, 2 * e + 1, 2 * e + 1)
-    ring = None
-    if alpha > 0.02 and R >= 1:
-        g = P.ring_surface(R, max(2.0, 0.2 * r_px), color, alpha)
-        w, h = g.get_size()
-        ring = (g, (xi - w // 2, yi - h // 2))
-        rect = rect.union((ring[1], (w, h)))
-    notch = None
-    if state != "lost":
-        notch = (fade((255, 255, 255), alpha),
-                 (x + math.cos(angle_px) * R, y + math.sin(angle_px) * R), max(2.5, 0.14 * r_px))
-    rr = int(round(R))
-    return Halo(ring, notch, rect, (xi + rr * 0.75, yi - rr))
-
-
-def draw_halos(surf: pygame.Surface, halos: Sequence[Halo],
-               labels: Sequence[pygame.Surface | None] = ()) -> list[pygame.Rect]:
-    """Draw the halos: every ring in one additive blit call, then the notches over them, then
-    each label (when given, beside its halo's upper right). Returns the rectangles touched."""
-    surf.fblits([h.ring for h in halos if h.ring is not None], pygame.BLEND_ADD)
-    out = []
-    for h in halos:
-        if h.notch is not None:
-            P.disc(surf, *h.notch)
-        out.append(h.rect)
-    for h, label in zip(halos, labels):
+def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float]],
+               to_screen: TableToScreen, puck_radius_m: float, t: float, trail_s: float,
+               label: Callable[[int], pygame.Surface] | None = None) -> list[pygame.Rect]:
+    """Every puck of ``items`` ((trace, state, opacity) each, see
+    :meth:`tabletop.drawing.life.Traces.update`), in layers: the trails, then each halo's ring
+    of light (coloured by state, the puck's centre left dark; every ring in one additive blit
+    call), then the bright notches along the pucks' headings (one compiled call per colour),
+    then, given ``label`` (puck id -> its text), each id beside its halo's upper right.
+    ``puck_radius_m``: a puck's radius in metres. A coasting puck's ring breathes quickly; a
+    lost one's widens as it fades. The geometry of every halo is one compiled call
+    (:func:`tabletop.drawing.halo_kernel.halos`). Returns the rectangles touched."""
+    n = len(items)
+    if not n:
+        return []
+    v = np.fromiter((c for tr, _, _ in items for c in (tr.puck.x, tr.puck.y, tr.puck.angle)),
+                    np.float64, 3 * n).reshape(n, 3)
+    states = [s for _, s, _ in items]
+    geo = np.empty((n, halo_kernel.FIELDS))
+    halo_kernel.halos(v, np.array([_STATE_CODES.get(s, 0) for s in states], dtype=np.int64),
+                      np.fromiter((a for *_, a in items), np.float64, n), to_screen.H,
+                      float(puck_radius_m), 0.7 + 0.3 * math.sin(t * 9.0), _TABLE_RGB, geo)
+    colors = [state_color(s) for s in states]
+    paths = [tr.path for tr, _, _ in items]
+    inks = [trail_inks(c, a) for c, (_, _, a) in zip(colors, items)]
+    keep = geo[:, 8] >= 0                        # (not finite or too far: not drawn)
+    if keep.all():
+        out = draw_trails(surf, paths, geo[:, 0:2], inks, geo[:, 2], to_screen.H, t, trail_s)
+    else:
+        k = keep.tolist()
+        out = draw_trails(surf, [p for p, ok in zip(paths, k) if ok], geo[keep, 0:2],
+                          [i for i, ok in zip(inks, k) if ok], geo[keep, 2], to_screen.H, t,
+                          trail_s)
+    rings, notches, labels = [], {}, []
+    for (tr, _, _), color, (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
+            items, colors, geo.tolist()):
+        if e < 0:
+            continue
+        xi, yi = int(xi), int(yi)
+        half = int(e)
+        if a > 0.02 and R >= 1:
+            g = P.ring_surface(R, w, color, a)
+            gw = g.get_width()
+            rings.append((g, (xi - gw // 2, yi - gw // 2)))
+            half = max(half, gw // 2)
+        out.append(pygame.Rect(xi - half, yi - half, 2 * half + 1, 2 * half + 1))
+        if nr > 0:
+            notches.setdefault((int(ncol), nr), []).append((nx, ny))
         if label is not None:
-            x, y = h.label_at
-            out.append(surf.blit(label, (x, y - label.get_height() * 0.6)))
+            rr = round(R)
+            labels.append((label(tr.puck.id), xi + rr * 0.75, yi - rr))
+    surf.fblits(rings, pygame.BLEND_ADD)
+    for (col, rad), q in notches.items():
+        # (filled to the whole pixels of its radius + 0.5 px, as gfxdraw's discs are)
+        raster.draw(surf, raster.discs, np.array(q, dtype=np.float64),
+                    float(int(rad + 0.5) + 0.5), col)
+    for img, lx, ly in labels:
+        out.append(surf.blit(img, (lx, ly - img.get_height() * 0.6)))
     return out
 
 
-def draw_halo(surf: pygame.Surface, center: tuple[float, float], r_px: float, angle_px: float,
-              state: str, alpha: float, t: float,
-              label: pygame.Surface | None = None) -> pygame.Rect | None:
-    """One puck's halo (see :func:`halo`), drawn now; returns the rectangle it touched."""
-    h = halo(center, r_px, angle_px, state, alpha, t)
-    if h is None:
-        return None
-    return P.union(draw_halos(surf, [h], [label]))
+def warm() -> None:
+    """Compile (or load from the cache) the halos' kernel."""
+    halo_kernel.warm()

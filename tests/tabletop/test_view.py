@@ -72,7 +72,7 @@ def test_halo_surrounds_the_puck_and_leaves_its_centre_dark(angle):
     img = settled(r, Frame(seq=0, t=0.0, pucks=(Puck(3, 0.4, 0.3, angle),)))
     m = r.map
     cx, cy = m.point(0.4, 0.3)
-    R = 0.03 * m.scale_at(0.4, 0.3) * 1.35 + 3.0        # the halo's radius (pucks.halo_radius)
+    R = 0.03 * m.scale_at(0.4, 0.3) * 1.35 + 3.0        # the halo's radius (halo_kernel.halos)
     ring = [brightness(img, (cx + R * math.cos(a), cy + R * math.sin(a)))
             for a in np.linspace(0, 2 * math.pi, 16, endpoint=False)]
     table = ground(r, (cx, cy))

@@ -1,0 +1,53 @@
+"""Dirty tiles (tabletop/drawing/dirty.py): the rectangles a frame repaints and presents cover
+every pixel drawn, never overlap, and cover little more than what was drawn."""
+
+import numpy as np
+import pygame
+
+from tabletop.drawing import dirty
+
+SIZE = (640, 360)
+
+
+def coverage(rects, size=SIZE):
+    """How many of the given rectangles cover each pixel (rows x columns)."""
+    n = np.zeros((size[1], size[0]), dtype=int)
+    for r in rects:
+        c = pygame.Rect(r).clip(pygame.Rect((0, 0), size))
+        n[c.top:c.bottom, c.left:c.right] += 1
+    return n
+
+
+def test_tiles_cover_every_drawn_pixel_once_and_little_else():
+    rng = np.random.default_rng(4)
+    for trial in range(20):
+        drawn = [pygame.Rect(int(x), int(y), int(w), int(h)) for x, y, w, h in
+                 zip(rng.integers(-60, 620, 6), rng.integers(-60, 340, 6),
+                     rng.integers(1, 90, 6), rng.integers(1, 90, 6))] + [None]
+        boxes = dirty.rectangles(dirty.mark(SIZE, drawn), SIZE)
+        cover = coverage(boxes)
+        painted = coverage([r.inflate(2 * dirty.PAD, 2 * dirty.PAD) for r in drawn if r])
+        if boxes == [pygame.Rect((0, 0), SIZE)]:
+            assert np.count_nonzero(painted) > 0.2 * SIZE[0] * SIZE[1]
+            continue
+        assert cover.max() <= 1, f"trial {trial}: rectangles overlap"
+        assert np.all(cover[painted > 0] == 1), f"trial {trial}: a drawn pixel is not repainted"
+        # whole tiles: at most a tile's width around what was drawn
+        grown = coverage([r.inflate(2 * dirty.PAD + 2 * dirty.TILE, 2 * dirty.PAD + 2 * dirty.TILE)
+                          for r in drawn if r])
+        assert np.all(grown[cover > 0] > 0), f"trial {trial}: a far pixel is repainted"
+
+
+def test_two_rectangles_crossing_are_not_repainted_as_their_bounding_box():
+    a, b = pygame.Rect(40, 40, 400, 40), pygame.Rect(40, 40, 40, 280)   # an L
+    boxes = dirty.rectangles(dirty.mark(SIZE, [a, b]), SIZE)
+    area = sum(r.w * r.h for r in boxes)
+    drawn = np.count_nonzero(coverage([a, b]))
+    assert area < 0.45 * a.union(b).w * a.union(b).h      # not the 400 x 280 box
+    assert area < 2.0 * drawn
+
+
+def test_more_than_half_the_target_is_presented_whole():
+    boxes = dirty.rectangles(dirty.mark(SIZE, [pygame.Rect(0, 0, 500, 300)]), SIZE)
+    assert boxes == [pygame.Rect((0, 0), SIZE)]
+    assert dirty.rectangles(dirty.mark(SIZE, []), SIZE) == []
