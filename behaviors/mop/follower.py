@@ -152,6 +152,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # template states relative to their first, in units (for the size estimate)
         self._rel = np.concatenate([(b.template(k) * b.scale[k] + b.center[k] - b.first[k]) / self._units
                                     for k in range(len(self.names))])
+        # each template's extent: its farthest state from its first (units)
+        self._extent = np.array([np.sqrt(np.sum(self._rel[s:s + n] ** 2, axis=1)).max()
+                                 for s, n in zip(b.starts, b.lengths)])
         rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
         self._prior = float(scale_prior) * rho2                   # (K,) prior weight at size 1
         # the still radius (raw units): half the onset in the smallest spread of each column (a
@@ -211,6 +214,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._shape = np.zeros(len(self.names))
         self._acquired = -1
         self._after_end = 0
+        self._peak, self._peak_k = 0.0, -1
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()

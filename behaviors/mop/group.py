@@ -118,13 +118,16 @@ class FollowerGroup(GroupRules):
         self._end_x = np.zeros((m, dmax))
         self._has_end = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)
+        self._peak, self._peak_k = np.zeros(m), np.full(m, -1, dtype=np.intp)
+        self._extent = np.concatenate([f._extent for f in fs])
         self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
         self._thr_has_x = np.zeros(m, dtype=bool)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired", "_after_end", "_thr_ev", "_thr_x", "_thr_has_x")
+                   "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
+                   "_thr_has_x")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -134,6 +137,7 @@ class FollowerGroup(GroupRules):
             a[rows] = 0
         self._ended[rows] = -1
         self._has_end[rows] = False
+        self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._thr_ev[rows] = 0.0
         self._thr_has_x[rows] = False
         self._acquired[rows] = -1
@@ -300,7 +304,7 @@ class FollowerGroup(GroupRules):
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
-            self._after_end, self._m_kept,
+            self._after_end, self._m_kept, self._extent, self._peak, self._peak_k,
             variance, valid, loglik, distance, show, holding, prog_b, restart)
         refused, bi, any_engaged = self._refused, self._best, self._m_any_engaged
         gb = self._bounds + bi

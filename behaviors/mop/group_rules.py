@@ -43,4 +43,5 @@ class GroupRules:
         for a in (self._best, self._run, self._lost, self._after_end):
             a[rows] = 0
         self._has_end[rows] = False
+        self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._anchor[rows] = anchor[rows]

@@ -18,7 +18,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.spotting import END_GRACE
+from behaviors.mop.spotting import END_GRACE, RETURN_BACK, RETURN_RADIUS
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -117,11 +117,11 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
 
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _F1, _F1, _I1,
                        _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept,
+             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
@@ -132,8 +132,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
 
     In place: ``run``, ``acquired``, the recent samples ``buf``/``nbuf``, the gesture's end
-    ``has_end``/``end_x``, ``lost`` (refused samples in a row) and ``after_end`` (samples since
-    the end was reached). Out per member: ``best``'s
+    ``has_end``/``end_x``, ``lost`` (refused samples in a row), ``after_end`` (samples since
+    the end was reached) and ``peak``/``peak_k`` (the highest progress of the action driving,
+    and which; ``extent`` (K,): each template's farthest state from its first, in units). Out per member: ``best``'s
     variance (progress units squared), valid, recent mean log-likelihood and its distance,
     whether the likeliest actions are shown, holding, progress, and how a new attempt starts
     (:data:`GOES_ON`...)."""
@@ -185,7 +186,18 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         holding[i] = holds[off + int(np.rint(g))] or pb >= 0.9
         restart[i] = GOES_ON
         if spots and present[i]:
-            if val and pb >= m[8] and not has_end[i]:
+            peak[i] = (max(peak[i], pb) if bi == peak_k[i] else pb) if val else 0.0
+            peak_k[i] = bi if val else -1
+            ended = val and not has_end[i] and pb >= m[8]
+            if val and not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
+                # GestureSpotting._returned: back at the last point while followed backwards
+                acc = 0.0
+                for c in range(d):
+                    r = x[i, c] / units[c] - (states[start + length - 1 + off, d + c] * sk
+                                              + anchor[i, c] / units[c])
+                    acc += r * r
+                ended = math.sqrt(acc) <= RETURN_RADIUS * sk * extent[gb]
+            if ended:
                 end_x[i] = x[i]
                 has_end[i] = True
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])

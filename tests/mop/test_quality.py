@@ -80,6 +80,28 @@ def test_gestures_back_to_back_are_each_recognised(gestures):
         assert len(late) <= 2, (before, after, len(late))
 
 
+def test_a_line_followed_backwards_ends_when_the_input_is_back_at_its_end(gestures):
+    # a line (out and back) at 0.7x whose size was overestimated: its return is followed backwards
+    # along the outward stroke and its progress never reaches its end; it ends when the input is
+    # back at its last point (measured, seeds 0-3: the line drove 9, 7, 15, 14 samples of the
+    # wave that followed and the wave drove 4, 1, 30, 26; with the rule 0 and 30, 51, 37, 31)
+    f = puck_follower(gestures)
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        parts, truth, at = [], [], np.zeros(2)
+        for g, size in (("line", 0.7), ("wave", 1.0)):
+            phase, p = phase_of(rng, len(gestures[g]))
+            parts.append(size * at_phase(gestures[g], phase) + at)
+            at = parts[-1][-1].copy()
+            truth += [g] * len(p)
+        x = np.concatenate([np.zeros((15, 2))] + parts) + rng.normal(0, 0.0007, (15 + len(truth), 2))
+        truth = [None] * 15 + truth
+        states = run(f, x)
+        late = sum(truth[i] == "wave" and s.valid and s.best == "line" for i, s in enumerate(states))
+        wave = sum(truth[i] == "wave" and s.valid and s.best == "wave" for i, s in enumerate(states))
+        assert late <= 2 and wave >= 20, (seed, late, wave)
+
+
 def test_a_still_puck_is_never_valid_whatever_the_window(gestures):
     # the floor is shared by the window's states: a wide window only reaches further
     # (before: 43% valid with window 40 and the ``follow`` command's defaults, 0% with 15)
