@@ -184,6 +184,121 @@ def _side(pix: np.ndarray, x: int, y: int, ink: tuple, px: float, py: float, vx:
         _put(pix, x, y, ink, e - math.sqrt(d2))
 
 
+@numba.njit(inline="always")
+def _quad(ax: float, ay: float, ra: float, bx: float, by: float, rb: float) -> tuple:
+    """The corners (x, y) x 4 where the lines touching both circles (radius ``ra`` around a,
+    ``rb`` around b) touch them, in order around; all at a when one circle holds the other."""
+    dx, dy = bx - ax, by - ay
+    d = math.sqrt(dx * dx + dy * dy)
+    if d <= abs(ra - rb) + 1e-9:
+        return ax, ay, ax, ay, ax, ay, ax, ay
+    ux, uy = dx / d, dy / d
+    k = (ra - rb) / d
+    s = math.sqrt(max(0.0, 1.0 - k * k))
+    px, py = ux * k - uy * s, uy * k + ux * s      # the touching lines' normals
+    mx, my = ux * k + uy * s, uy * k - ux * s
+    return (ax + ra * px, ay + ra * py, bx + rb * px, by + rb * py,
+            bx + rb * mx, by + rb * my, ax + ra * mx, ay + ra * my)
+
+
+@numba.njit(inline="always")
+def _cross(lo: float, hi: float, y: float, x0: float, y0: float, x1: float,
+           y1: float) -> tuple:
+    """(lo, hi) widened to where the segment (x0, y0)-(x1, y1) crosses row ``y``."""
+    if (y0 - y) * (y1 - y) <= 0.0 and y0 != y1:
+        x = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+        lo, hi = min(lo, x), max(hi, x)
+    return lo, hi
+
+
+@numba.njit(inline="always")
+def _cone_row(y: float, ax: float, ay: float, ra: float, bx: float, by: float, rb: float,
+              qd: tuple) -> tuple:
+    """(lo, hi): the x of row ``y`` inside the hull of the circles (radius ``ra`` around a,
+    ``rb`` around b; ``qd`` from :func:`_quad`) (lo > hi: none). The hull is convex: its row
+    is the union of the circles' chords and the touching quadrilateral's."""
+    lo, hi = 1e9, -1e9
+    d = y - ay
+    if d * d < ra * ra:
+        h = math.sqrt(ra * ra - d * d)
+        lo, hi = ax - h, ax + h
+    d = y - by
+    if d * d < rb * rb:
+        h = math.sqrt(rb * rb - d * d)
+        lo, hi = min(lo, bx - h), max(hi, bx + h)
+    x1, y1, x2, y2, x3, y3, x4, y4 = qd
+    lo, hi = _cross(lo, hi, y, x1, y1, x2, y2)
+    lo, hi = _cross(lo, hi, y, x3, y3, x4, y4)
+    return lo, hi
+
+
+@numba.njit(inline="always")
+def _cone_sd(px: float, py: float, vx: float, vy: float, l2: float, a2: float, il2: float,
+             rr: float, ra: float, rb: float) -> float:
+    """Signed distance (px) from (px, py) (from a) to the hull of the circles of radius ``ra``
+    around a and ``rb`` around b = a + (vx, vy) (``l2`` = |v|^2, ``rr`` = ra - rb, ``a2`` =
+    l2 - rr^2, ``il2`` = 1 / l2): the round cone's distance after Inigo Quilez."""
+    y = px * vx + py * vy
+    z = y - l2
+    qx, qy = px * l2 - vx * y, py * l2 - vy * y
+    x2 = qx * qx + qy * qy
+    k = rr * abs(rr) * x2
+    if math.copysign(a2 * z * z * l2, z) > k:
+        return math.sqrt(x2 + z * z * l2) * il2 - rb
+    if math.copysign(a2 * y * y * l2, y) < k:
+        return math.sqrt(x2 + y * y * l2) * il2 - ra
+    return (math.sqrt(x2 * a2 * il2) + y * rr) * il2 - ra
+
+
+@numba.njit(**_JIT)
+def cone(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, ra: float, bx: float,
+         by: float, rb: float, col: int) -> None:
+    """A tapered limb: every pixel within the hull of the discs of radius ``ra`` px around
+    (ax, ay) and ``rb`` around (bx, by), its sides anti-aliased by their distance (a joint's
+    disc is the limb's own round end). Rows are walked only where the limb crosses them and
+    distances measured only near its sides."""
+    if not (-30000.0 < ax < 30000.0 and -30000.0 < ay < 30000.0 and -30000.0 < bx < 30000.0
+            and -30000.0 < by < 30000.0 and 0.0 < ra < 30000.0 and 0.0 < rb < 30000.0):
+        return
+    vx, vy = bx - ax, by - ay
+    l2 = vx * vx + vy * vy
+    rr = ra - rb
+    if l2 <= rr * rr + 1e-9:                   # one disc holds the other
+        if rb > ra:
+            disc(pix, fmt, bx, by, rb, col)
+        else:
+            disc(pix, fmt, ax, ay, ra, col)
+        return
+    W, H = pix.shape[0], pix.shape[1]
+    ea, eb = ra + 0.5, rb + 0.5
+    y0 = max(0, int(math.floor(min(ay - ea, by - eb))))
+    y1 = min(H - 1, int(math.ceil(max(ay + ea, by + eb))))
+    outer = _quad(ax, ay, ea, bx, by, eb)
+    ia_, ib_ = max(0.0, ra - 0.5), max(0.0, rb - 0.5)
+    inner = _quad(ax, ay, ia_, bx, by, ib_)
+    # the signed distance to the hull (a round cone), one square root per pixel
+    a2 = l2 - rr * rr
+    il2 = 1.0 / l2
+    ink = _ink(fmt, col)
+    for y in range(y0, y1 + 1):
+        lo, hi = _cone_row(y, ax, ay, ea, bx, by, eb, outer)
+        xa, xb = max(0, int(math.ceil(lo))), min(W - 1, int(math.floor(hi)))
+        if xa > xb:
+            continue
+        ia, ib = xb + 1, xb
+        if ia_ > 0.0 or ib_ > 0.0:
+            lo, hi = _cone_row(y, ax, ay, ia_, bx, by, ib_, inner)
+            if lo <= hi:
+                ia, ib = max(xa, int(math.ceil(lo))), min(xb, int(math.floor(hi)))
+        for x in range(ia, ib + 1):
+            _put(pix, x, y, ink, 1.0)
+        py = y - ay
+        for x in range(xa, min(ia, xb + 1)):
+            _put(pix, x, y, ink, 0.5 - _cone_sd(x - ax, py, vx, vy, l2, a2, il2, rr, ra, rb))
+        for x in range(max(ib + 1, xa), xb + 1):
+            _put(pix, x, y, ink, 0.5 - _cone_sd(x - ax, py, vx, vy, l2, a2, il2, rr, ra, rb))
+
+
 @numba.njit(**_JIT)
 def _edge(acc: np.ndarray, X0: int, Y0: int, x0: float, y0: float, x1: float, y1: float,
           xmax: float) -> None:
@@ -369,13 +484,16 @@ def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, w: np.ndarray, tp: n
     osp = ol + nlp
     ok = osp + nsp
     os_ = ok + nk
-    for k in range(nl):                                      # limbs
+    spined = np.zeros(q.shape[0], np.bool_)
+    for j in range(ns):
+        spined[tp[os_ + j]] = True
+    # Limbs taper from joint to joint, each joint's disc (radius w + 0.5) a round end of the
+    # limbs meeting there; a limb's end on the spine (which covers it) is as thick as the limb.
+    for k in range(nl):
         a, b = tp[o + 2 * k], tp[o + 2 * k + 1]
-        capsule(pix, fmt, q[a, 0], q[a, 1], q[b, 0], q[b, 1],
-                0.5 * max(1, int(w[a] + w[b])), dark)
-    for j in range(nlp):                                     # their joints and ends
-        i = tp[ol + j]
-        disc(pix, fmt, q[i, 0], q[i, 1], w[i] + 0.5, dark)
+        wl = 0.5 * max(1, int(w[a] + w[b]))
+        cone(pix, fmt, q[a, 0], q[a, 1], wl if spined[a] else w[a] + 0.5, q[b, 0], q[b, 1],
+             wl if spined[b] else w[b] + 0.5, dark)
     if (kind == CREATURE or kind == SPRITE) and ns >= 3:     # the torso along the spine
         s0, s1 = tp[os_], tp[os_ + ns - 2]
         ax, ay, bx, by = q[s0, 0], q[s0, 1], q[s1, 0], q[s1, 1]
@@ -386,15 +504,13 @@ def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, w: np.ndarray, tp: n
             ry = max(wspine * 1.6, 0.3 * rx if kind == SPRITE else wspine * 1.3)
             ellipse(pix, fmt, (ax + bx) / 2, (ay + by) / 2, rx, ry, math.atan2(dy, dx), 20,
                     body)
-    for k in range(nl, nb):                                  # the spine over them
+    for k in range(nl, nb):                                  # the spine over them, tapered
         a, b = tp[o + 2 * k], tp[o + 2 * k + 1]
-        bx, by = q[b, 0], q[b, 1]
+        bx, by, rb = q[b, 0], q[b, 1], w[b] + 0.5
         if head and kind == SKELETON and b == tp[os_ + ns - 1]:
             bx, by = (q[a, 0] + bx) / 2, (q[a, 1] + by) / 2  # ends in the head: no round tip
-        capsule(pix, fmt, q[a, 0], q[a, 1], bx, by, 0.5 * max(1, int(w[a] + w[b])), body)
-    for j in range(nsp):
-        i = tp[osp + j]
-        disc(pix, fmt, q[i, 0], q[i, 1], w[i] + 0.5, body)
+            rb = 0.5 * max(1, int(w[a] + w[b]))
+        cone(pix, fmt, q[a, 0], q[a, 1], w[a] + 0.5, bx, by, rb, body)
     for j in range(nk):                                      # a lighter knot where a limb bends
         i = tp[ok + j]
         if w[i] > 3:
