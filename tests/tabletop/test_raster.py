@@ -71,3 +71,21 @@ def test_24_bit_surfaces_and_subsurfaces_get_the_same_pixels():
     raster.draw(sub, raster.disc, 100.3, 80.6, 25.0, 0xF0A040)
     assert np.array_equal(pygame.surfarray.array3d(sub), pygame.surfarray.array3d(ref))
     assert pygame.surfarray.array3d(big)[:50].sum() == 0        # nothing outside it
+
+
+def test_a_tapered_limb_covers_the_hull_of_its_joints():
+    s = fresh()
+    ra, rb = 12.0, 5.0
+    raster.draw(s, raster.cone, 50.3, 60.7, ra, 140.2, 120.9, rb, WHITE)
+    cov = covered(s)
+    d = math.hypot(140.2 - 50.3, 120.9 - 60.7)
+    th = math.acos((ra - rb) / d)          # where the touching lines meet each circle
+    area = ra * ra * (math.pi - th) + rb * rb * th + (ra + rb) * d * math.sin(th)
+    assert abs(cov.sum() - area) < 0.005 * area
+    assert cov[50, 60] == 1.0 and cov[140, 121] == 1.0 and cov[140, 60] == 0.0
+    assert cov[50, 60 + 12] > 0.2 and cov[50, 60 - 14] == 0.0    # a's rim, 12 px out
+    edge = ((cov > 0.05) & (cov < 0.95)).sum()
+    assert edge > 0.8 * (2 * d * math.sin(th) + 2 * ra * (math.pi - th) + 2 * rb * th)
+    s2 = fresh()                           # one disc inside the other: that disc
+    raster.draw(s2, raster.cone, 80.0, 80.0, 20.0, 84.0, 82.0, 6.0, WHITE)
+    assert abs(covered(s2).sum() - math.pi * 400) < 0.01 * math.pi * 400
