@@ -109,6 +109,7 @@ class FollowerGroup(GroupRules):
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._x = np.zeros((m, dmax))
+        self._one_dim = all(f.dim == dmax for f in fs)
         self._anchor = np.zeros((m, dmax))
         self._has_anchor = np.zeros(m, dtype=bool)
         self._buf = np.zeros((m, int(self._m_keep.max()), dmax))
@@ -164,16 +165,30 @@ class FollowerGroup(GroupRules):
         if len(samples) != len(self.followers):
             raise SampleError(f"{len(samples)} samples for a group of {len(self.followers)} followers")
         X = self._x
-        lost = []
-        for i, (f, x) in enumerate(zip(self.followers, samples)):
-            x = f._sample(x)
-            if x is None:
-                lost.append(i)
-            else:
-                X[i, :f.dim] = x
-        present = np.ones(len(self.followers), dtype=bool)
-        if lost:
-            present[lost] = False
+        lost: list[int] = []
+        stacked = None
+        if self._one_dim:   # every member's samples alike: checked and copied at once
+            try:
+                stacked = np.asarray(samples, dtype=float)
+            except (ValueError, TypeError):
+                stacked = None
+        if stacked is not None and stacked.shape == X.shape:
+            present = np.isfinite(stacked.sum(axis=1))
+            if present.all():
+                X[:] = stacked
+            else:   # a lost member keeps its last sample
+                X[present] = stacked[present]
+                lost = np.flatnonzero(~present).tolist()
+        else:
+            for i, (f, x) in enumerate(zip(self.followers, samples)):
+                x = f._sample(x)
+                if x is None:
+                    lost.append(i)
+                else:
+                    X[i, :f.dim] = x
+            present = np.ones(len(self.followers), dtype=bool)
+            if lost:
+                present[lost] = False
         if not self._has_anchor.all():
             fresh = present & ~self._has_anchor
             self._anchor[fresh] = X[fresh]
