@@ -286,10 +286,7 @@ class FollowerGroup(GroupRules):
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
         self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
-        self._thr_boxes, self._thr_cix, self._thr_tchunk = group_kernel.threshold_chunks(self._means, self._ti)
-        self._thr_live = np.zeros(len(self._thr_cix), dtype=bool)
-        self._thr_dead = np.zeros(len(self._thr_cix), dtype=bool)
-        self._thr_top = np.full(m, -1, dtype=np.intp)
+        self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
 
     def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._finish` for every member at once: the per-template rules in
@@ -304,8 +301,7 @@ class FollowerGroup(GroupRules):
             LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
             self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads,
             present, self._means, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
-            self._m_kept, self._thr_boxes, self._thr_cix, self._thr_tchunk, self._thr_live, self._thr_dead,
-            self._thr_top)
+            self._m_kept, self._thr_z, self._thr_lj)
         return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:

@@ -80,145 +80,67 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
-#: States per chunk of the threshold model's bounding boxes (a template's last chunk is shorter).
-CHUNK = 16
-#: A chunk is skipped when its box's best log-density is below the likeliest state's found so
-#: far by more than this: every state of it weighs nothing (its log-weight < THRESHOLD_FLOOR;
-#: the half nat keeps that true whatever the rounding).
-SKIP = -THRESHOLD_FLOOR + 0.5
-
-
-def threshold_chunks(means: np.ndarray, ti: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The threshold model's chunks of :data:`CHUNK` states, template by template: their
-    bounding boxes (C, 2D: least then largest per column of ``means`` (D, S)), their first
-    state and length (C, 2), and each template's first chunk (K + 1,)."""
-    boxes, cix, tchunk = [], [], [0]
-    for start, length, off in ti:
-        for c in range(0, int(length), CHUNK):
-            first, n = int(off + start + c), int(min(CHUNK, length - c))
-            part = means[:, first:first + n]
-            boxes.append(np.concatenate([part.min(axis=1), part.max(axis=1)]))
-            cix.append((first, n))
-        tchunk.append(len(cix))
-    return (np.ascontiguousarray(boxes, dtype=float).reshape(len(cix), 2 * means.shape[0]),
-            np.ascontiguousarray(cix, dtype=np.intp).reshape(len(cix), 2), np.asarray(tchunk, dtype=np.intp))
-
-
-@numba.njit(numba.float64(_F1, numba.intp), cache=True, nogil=True, inline="always")
-def _largest(v: np.ndarray, n: int) -> float:
-    """The largest of ``v[:n]``, in four interleaved parts (exact in any order; vectorises)."""
-    t0 = t1 = t2 = t3 = -np.inf
-    for j in range(0, n - n % 4, 4):
-        t0, t1, t2, t3 = max(t0, v[j]), max(t1, v[j + 1]), max(t2, v[j + 2]), max(t3, v[j + 3])
-    for j in range(n - n % 4, n):
-        t0 = max(t0, v[j])
-    return max(max(t0, t1), max(t2, t3))
-
-
-@numba.njit(numba.float64(_F1, numba.intp), cache=True, nogil=True, inline="always")
-def _sum(v: np.ndarray, n: int) -> float:
-    """The sum of ``v[:n]`` in four interleaved parts (vectorises)."""
-    t0 = t1 = t2 = t3 = 0.0
-    for j in range(0, n - n % 4, 4):
-        t0, t1, t2, t3 = t0 + v[j], t1 + v[j + 1], t2 + v[j + 2], t3 + v[j + 3]
-    for j in range(n - n % 4, n):
-        t0 += v[j]
-    return (t0 + t1) + (t2 + t3)
-
-
-@numba.njit(numba.float64(_F2, _I2, _F2, _F1, numba.intp, numba.intp, _F1, _F1, _F1, _F1, _F1,
-                          numba.boolean, _F2, _I2, _I1, _B1, _B1, _I1, numba.intp), cache=True, nogil=True)
-def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh, boxes, cix, tchunk,
-                   live, dead, top_t, i) -> float:
-    """:func:`behaviors.mop.threshold.threshold_model_step` of member ``i`` (templates
+@numba.njit(numba.float64(_F2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _F1, _F1,
+                          numba.boolean), cache=True, nogil=True)
+def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh) -> float:
+    """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
-    its sample ``x`` seen from ``anchor`` as :meth:`Validity._threshold_evidence` maps it
-    (``m``: its row of ``mc``; ``ll``: scratch of at least its states); returns the sample's
-    log-likelihood. Its exponentials by :func:`~behaviors.mop.compiled.exp_neg`, its sums in
-    another order (the same to about 1e-16).
+    its sample seen by each template as :meth:`Validity._threshold_evidence` maps it (``zs``
+    (K, D)) and each template's log-density terms ``ljs`` (K,: the Gaussian's constant and the
+    map's log Jacobian), as :func:`update_templates` left them (``m``: the member's row of
+    ``mc``; ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its
+    sum is taken in eight interleaved parts (the same to about 1e-16) and its exponentials by
+    :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises
+    (DESIGN's 8 x 100 templates: 80 000 states per tick).
 
-    Most states weigh nothing (DESIGN's 8 x 100 templates: 80,000 states per tick, about a
-    quarter within e^-40 of the likeliest): chunks of states (``boxes``, ``cix``, ``tchunk``:
-    :func:`threshold_chunks`) whose bounding box is :data:`SKIP` nats below the likeliest state
-    found so far are not computed (the template of last tick's likeliest, ``top_t[i]``, first),
-    and their weights stay 0 (``dead`` (C,): the chunk's weights are all 0; ``live``: scratch).
-    Exact: a skipped chunk's states are below the likeliest by more than e^-40."""
-    d = x.size
-    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d
-    dims, scaled, none = m[0], m[8] > 0.0, m[16] > 0.0
-    factor, const = m[19], m[20]
+    Most states weigh nothing (in DESIGN's case about a quarter are within e^-40 of the
+    likeliest). Skipping chunks of 16 states whose bounding box lay further than that below
+    the likeliest state found so far computed a third of the states and was exact, but with
+    the caches cold (the bench's tick) it was slower: 8 members 537 -> 612 us p10 (hot
+    379 -> 330), the skipped stretches breaking the streams the processor fetches ahead."""
+    d = zs.shape[1]
+    factor = m[19]
     base = ti[a0, 2]
-    n = ti[a1 - 1, 2] + ti[a1 - 1, 0] + ti[a1 - 1, 1] - base
-    z = np.empty(d)
-    top = -np.inf
-    best_t = a0
-    first_t = top_t[i] if a0 <= top_t[i] < a1 else a0
-    for q in range(a0 - 1, a1):
-        k = first_t if q < a0 else q
-        if q >= a0 and k == first_t:
-            continue
-        t = tc[k]
-        jac = -t[0]
-        for c in range(d):
-            z[c] = (x[c] - (t[ce0 + c] if none else anchor[c])) / t[sc0 + c]
-        if scaled:
-            for c in range(d):
-                z[c] /= size[k]
-            jac = jac - dims * math.log(size[k])
-        for c in range(d):
-            z[c] = z[c] + t[uf0 + c] + t[co0 + c]
-        lj = const + jac
-        for h in range(tchunk[k], tchunk[k + 1]):
-            box = boxes[h]
-            gap2 = 0.0
-            for c in range(d):
-                gap = max(box[c] - z[c], z[c] - box[d + c], 0.0)
-                gap2 += gap * gap
-            if gap2 * factor + lj < top - SKIP:
-                live[h] = False
-                continue
-            live[h] = True
-            first, length = cix[h, 0], cix[h, 1]
-            out = ll[first - base:first - base + length]
-            out[:] = 0.0
-            for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
-                zc, mc_ = z[c], means[c, first:first + length]
-                for j in range(length):
-                    e = zc - mc_[j]
-                    out[j] += e * e
+    n = 0
+    for k in range(a0, a1):
+        z = zs[k]
+        first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
+        out = ll[first - base:first - base + length]
+        out[:] = 0.0
+        for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
+            zc, mc_ = z[c], means[c, first:first + length]
             for j in range(length):
-                out[j] = out[j] * factor + lj
-            big = _largest(out, length)
-            if big > top:
-                top = big
-                best_t = k
-    top_t[i] = best_t
+                e = zc - mc_[j]
+                out[j] += e * e
+        lj = ljs[k]
+        for j in range(length):
+            out[j] = out[j] * factor + lj
+        n += length
+    # views from 0 (indices the compiler knows are not negative: the loops vectorise)
+    a, v = alpha[base:base + n], ll[:n]
+    tops = np.full(8, -np.inf)   # the largest, in eight parts (exact in any order)
+    for j in range(0, n - n % 8, 8):
+        for r in range(8):
+            tops[r] = max(tops[r], v[j + r])
+    for j in range(n - n % 8, n):
+        tops[0] = max(tops[0], v[j])
+    top = tops.max()
+    if fresh:
+        a[:] = 1.0 / n
     rest = (1.0 - THRESHOLD_STAY) / n
-    uniform = 1.0 / n
-    total = 0.0
-    for h in range(tchunk[a0], tchunk[a1]):
-        first, length = cix[h, 0] - base, cix[h, 1]
-        a = alpha[base + first:base + first + length]
-        if not live[h]:
-            if not dead[h]:
-                a[:] = 0.0
-                dead[h] = True
-            continue
-        dead[h] = False
-        v = ll[first:first + length]
-        if fresh:
-            a[:] = uniform
-        for j in range(length):   # no weight under e^-40 of the likeliest state's (threshold_model_step)
-            e = v[j] - top
-            w = (THRESHOLD_STAY * a[j] + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
-            a[j] = w if e >= THRESHOLD_FLOOR else 0.0
-        total += _sum(a, length)
-    for h in range(tchunk[a0], tchunk[a1]):
-        if live[h]:
-            first, length = cix[h, 0], cix[h, 1]
-            a = alpha[first:first + length]
-            for j in range(length):
-                a[j] /= total
+    for j in range(n):   # no weight under e^-40 of the likeliest state's (threshold_model_step)
+        e = v[j] - top
+        w = (THRESHOLD_STAY * a[j] + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
+        a[j] = w if e >= THRESHOLD_FLOOR else 0.0
+    parts = np.zeros(8)
+    for j in range(0, n - n % 8, 8):
+        for r in range(8):
+            parts[r] += a[j + r]
+    for j in range(n - n % 8, n):
+        parts[0] += a[j]
+    total = ((parts[0] + parts[1]) + (parts[2] + parts[3])) + ((parts[4] + parts[5]) + (parts[6] + parts[7]))
+    for j in range(n):
+        a[j] /= total
     return top + math.log(total)
 
 
@@ -227,13 +149,13 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh, 
                        numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                        numba.intp, numba.intp, numba.float64, numba.float64,
                        _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _I2, _I1, _B1, _B1, _I1),
+                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1),
             cache=True, nogil=True)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x, scratch,
-                     kept_out, boxes, cix, tchunk, live, dead, top_t) -> None:
+                     kept_out, thr_z, thr_lj) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -306,7 +228,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 size[k] = min(max((num[k] + t[2]) / (den[k] + t[2]), lo), hi)
             sk = size[k]
             raw = step_ll[k] - t[0]
-            raw -= dims * math.log(sk)
+            log_size = dims * math.log(sk)
+            raw -= log_size
+            thr_lj[k] = m[20] + (-t[0] - log_size)   # the threshold model's log-density terms
             ev[k] = ev[k] * decay + raw
             rec[k] = rec[k] * null_decay + step_ll[k]
             rw[k] = rw[k] * null_decay + 1.0
@@ -345,6 +269,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 base = t[ce0 + c] if none else anchor[i, c]
                 u[c] = (x[i, c] - base) / t[sc0 + c] + t[uf0 + c]
                 z[c] = u[c] / ssz + t[co0 + c]
+                thr_z[k, c] = z[c]   # the sample as the template sees it (the threshold model's too)
             gf = int(math.floor(g))
             last = start + lk - 1
             best_d = np.inf
@@ -419,8 +344,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         # templates keep against it
         kept = 1.0
         if present[i] and math.isfinite(m[18]):
-            step = threshold_step(means, ti, tc, m, a0, a1, x[i], anchor[i], size, alpha, scratch,
-                                  not thr_has_x[i], boxes, cix, tchunk, live, dead, top_t, i) - m[18]
+            step = threshold_step(means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
+                                  not thr_has_x[i]) - m[18]
             lead = step_ll[first] - tc[first, 0]
             lead -= dims * math.log(size[first])
             still = thr_has_x[i]
