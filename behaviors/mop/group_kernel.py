@@ -81,8 +81,8 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
 
 
 @numba.njit(numba.float64(_F2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _F1, _F1,
-                          numba.boolean), cache=True, nogil=True)
-def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh) -> float:
+                          numba.boolean, _F1, numba.intp), cache=True, nogil=True)
+def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
     its sample seen by each template as :meth:`Validity._threshold_evidence` maps it (``zs``
@@ -91,7 +91,10 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh) -> float:
     ``mc``; ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its
     sum is taken in eight interleaved parts (the same to about 1e-16) and its exponentials by
     :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises
-    (DESIGN's 8 x 100 templates: 80 000 states per tick).
+    (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
+    member ``i``'s are ``alpha`` divided by ``totals[i]``, the division done as they are read
+    at the next step (the same numbers as normalising them at once, one pass over the states
+    fewer).
 
     Most states weigh nothing (in DESIGN's case about a quarter are within e^-40 of the
     likeliest). Skipping chunks of 16 states whose bounding box lay further than that below
@@ -127,10 +130,11 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh) -> float:
     top = tops.max()
     if fresh:
         a[:] = 1.0 / n
+    norm = 1.0 if fresh else totals[i]
     rest = (1.0 - THRESHOLD_STAY) / n
     for j in range(n):   # no weight under e^-40 of the likeliest state's (threshold_model_step)
         e = v[j] - top
-        w = (THRESHOLD_STAY * a[j] + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
+        w = (THRESHOLD_STAY * (a[j] / norm) + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
         a[j] = w if e >= THRESHOLD_FLOOR else 0.0
     parts = np.zeros(8)
     for j in range(0, n - n % 8, 8):
@@ -139,8 +143,7 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh) -> float:
     for j in range(n - n % 8, n):
         parts[0] += a[j]
     total = ((parts[0] + parts[1]) + (parts[2] + parts[3])) + ((parts[4] + parts[5]) + (parts[6] + parts[7]))
-    for j in range(n):
-        a[j] /= total
+    totals[i] = total
     return top + math.log(total)
 
 
@@ -149,13 +152,13 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh) -> float:
                        numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                        numba.intp, numba.intp, numba.float64, numba.float64,
                        _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1),
+                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1),
             cache=True, nogil=True)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x, scratch,
-                     kept_out, thr_z, thr_lj) -> None:
+                     kept_out, thr_z, thr_lj, thr_total) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -345,7 +348,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         kept = 1.0
         if present[i] and math.isfinite(m[18]):
             step = threshold_step(means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
-                                  not thr_has_x[i]) - m[18]
+                                  not thr_has_x[i], thr_total, i) - m[18]
             lead = step_ll[first] - tc[first, 0]
             lead -= dims * math.log(size[first])
             still = thr_has_x[i]

@@ -166,8 +166,8 @@ def test_the_group_threshold_models_keep_the_followers_own_weights():
         xs = [s[i] for s in streams]
         for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
             _same(a, b)
-        for f, lo in zip(alone, offsets):
-            mine = group._thr_alpha[lo:lo + len(f._threshold_alpha)]
+        for f, lo, total in zip(alone, offsets, group._thr_total):
+            mine = group._thr_alpha[lo:lo + len(f._threshold_alpha)] / total
             assert np.array_equal(mine == 0.0, f._threshold_alpha == 0.0)
             assert np.allclose(mine, f._threshold_alpha, rtol=1e-12, atol=0.0)
     assert 0.0 < np.mean(group._thr_alpha == 0.0) < 1.0
