@@ -39,7 +39,7 @@ from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.spotting import GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
-from behaviors.mop.validity import Validity
+from behaviors.mop.validity import Validity, backs_first
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
@@ -210,6 +210,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._acquired = -1
+        self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._after_end = 0
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
@@ -350,10 +351,17 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             # a new action drives only once its shape clearly leads (spotting.LEAD)
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             ok = ok and (self._acquired == bi or leads)
+            if self._drive_k == bi:
+                # an action that has not yet carried its performer forward does not drive
+                # them back behind where it began (validity.backs_first)
+                self._drive_peak = max(self._drive_peak, progress_list[bi])
+                ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
         self._run = self._run + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting)
         self._after_end = self._after_end + 1 if self._end_x is not None else 0
         valid = drives(self._run, self.confirm, self._after_end)
+        if valid and self._drive_k != bi:
+            self._drive_k, self._drive_from, self._drive_peak = bi, progress_list[bi], progress_list[bi]
         self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names

@@ -104,6 +104,8 @@ class FollowerGroup(GroupRules):
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
         self._acquired = np.full(m, -1, dtype=np.intp)
+        self._drive_k = np.full(m, -1, dtype=np.intp)
+        self._drive_from, self._drive_peak = np.zeros(m), np.zeros(m)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._spans = [(s.start, s.stop) for s in self._slices]
         self._x = np.zeros((m, dmax))
@@ -124,7 +126,8 @@ class FollowerGroup(GroupRules):
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired", "_after_end", "_thr_ev", "_thr_x", "_thr_has_x")
+                   "_end_x", "_has_end", "_acquired", "_after_end", "_thr_ev", "_thr_x", "_thr_has_x",
+                   "_drive_k", "_drive_from", "_drive_peak")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -137,6 +140,7 @@ class FollowerGroup(GroupRules):
         self._thr_ev[rows] = 0.0
         self._thr_has_x[rows] = False
         self._acquired[rows] = -1
+        self._drive_k[rows] = -1
         self._shape[np.isin(self._owner, np.arange(len(self.followers))[rows])] = 0.0
 
     def reset(self) -> None:
@@ -300,7 +304,8 @@ class FollowerGroup(GroupRules):
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
-            self._after_end, self._m_kept,
+            self._after_end, self._m_kept, self._drive_k, self._drive_from,
+            self._drive_peak,
             variance, valid, loglik, distance, show, holding, prog_b, restart)
         refused, bi, any_engaged = self._refused, self._best, self._m_any_engaged
         gb = self._bounds + bi

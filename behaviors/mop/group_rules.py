@@ -37,6 +37,7 @@ class GroupRules:
                   "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape"):
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
+        self._drive_k[rows] = -1
         self._size[cols] = 1.0
         self._thr_ev[rows] = 0.0   # the threshold model starts afresh with the evidence
         self._thr_has_x[rows] = False

@@ -19,6 +19,7 @@ import numba
 import numpy as np
 
 from behaviors.mop.spotting import END_GRACE
+from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -117,11 +118,11 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
 
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1,
                        _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept,
+             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
              variance, valid, loglik, distance, show, holding, prog, restart) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
@@ -131,7 +132,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
 
-    In place: ``run``, ``acquired``, the recent samples ``buf``/``nbuf``, the gesture's end
+    In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
+    highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples ``buf``/``nbuf``, the gesture's end
     ``has_end``/``end_x``, ``lost`` (refused samples in a row) and ``after_end`` (samples since
     the end was reached). Out per member: ``best``'s
     variance (progress units squared), valid, recent mean log-likelihood and its distance,
@@ -167,11 +169,19 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
         # a new action drives only once its shape clearly leads (spotting)
         ok = ok and (not spots or acquired[i] == bi or leads[i])
+        if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
+            drive_peak[i] = max(drive_peak[i], progress[gb])
+            ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
+                             and progress[gb] < drive_from[i] - BACK_FIRST)
         run[i] = run[i] + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
         val = run[i] >= m[3] and after_end[i] <= END_GRACE
         valid[i] = val
+        if val and drive_k[i] != bi:
+            drive_k[i] = bi
+            drive_from[i] = progress[gb]
+            drive_peak[i] = progress[gb]
         acquired[i] = bi if val else -1
         ll = mean_ll[gb]
         loglik[i] = ll

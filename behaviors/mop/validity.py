@@ -104,6 +104,22 @@ stroke of a triangle is the outward half of the line):
   before a template is recognised (once valid it stays so): 0.91 -> 0.82 at margin 0.3 (0.72
   at 0.6), while the longest wrong-valid run back to back fell from 11 to 5 samples (median);
   recognition at 30% of gestures 0.73 -> 0.47.
+
+Not back before forward (:func:`backs_first`): an action that has not yet carried its
+performer forward (its progress never passed where it began driving by :data:`FORWARD_FIRST`)
+stops driving once its progress falls :data:`BACK_FIRST` behind where it began, and is not taken
+again until it goes forward (the last action that drove keeps where it began until another one
+drives or the gesture starts anew). A performer going back along a gesture they performed still
+drives it backwards; what this refuses is a path that is a template's stretch gone *backwards*:
+the triangle's last two strokes are the wave's first hump reversed (the wave was taken at its
+hump and drove the triangle back to the wave's start, 62 ticks at 0.7x), a mirrored line is the
+end of another clip's path gone backwards. Measured with ``bench/follow_quality.py``'s sized and
+unrelated sections (tuned; held-out in brackets; unrelated worst / mean, valid after 30% of
+gestures at 0.7-1.4x): before 0.435 / 0.153, 0.9008 (0.595 / 0.161, 0.8854); after 0.367 /
+0.147, 0.9008 (0.565 / 0.153, 0.8853). Screened beside it on recorded ticks: going forward by
+5% first and back by 3% (the line at 0.7x, its return followed backwards while its size was
+still wrong, lost 18 ticks); stopped only while it drives (a stopped action was taken again 2
+samples later, one step further back: tuned 0.415 / 0.151 only).
 """
 
 from __future__ import annotations
@@ -115,6 +131,20 @@ from behaviors.mop import threshold
 #: States before and after the followed state whose joining segments make up the path the
 #: input is measured against (the followed state lags or leads a fast performer by a few).
 PATH_REACH = (3, 3)
+
+
+#: An action that drives has carried its performer forward once its progress passed where it
+#: began driving by this much (progress units).
+FORWARD_FIRST = 0.02
+#: Before that, it stops driving once its progress fell this far behind where it began.
+BACK_FIRST = 0.03
+
+
+def backs_first(began: float, peak: float, progress: float) -> bool:
+    """Whether a driving action goes back before it went forward: its progress ``progress``
+    is :data:`BACK_FIRST` behind ``began`` (where it began driving) while its highest since
+    then, ``peak``, never passed ``began`` by :data:`FORWARD_FIRST`."""
+    return peak - began < FORWARD_FIRST and progress < began - BACK_FIRST
 
 
 def path_lengths(bank) -> np.ndarray:
