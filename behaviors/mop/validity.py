@@ -115,11 +115,12 @@ the triangle's last two strokes are the wave's first hump reversed (the wave was
 hump and drove the triangle back to the wave's start, 62 ticks at 0.7x), a mirrored line is the
 end of another clip's path gone backwards. Measured with ``bench/follow_quality.py``'s sized and
 unrelated sections (tuned; held-out in brackets; unrelated worst / mean, valid after 30% of
-gestures at 0.7-1.4x): before 0.435 / 0.153, 0.9008 (0.595 / 0.161, 0.8854); after 0.367 /
-0.147, 0.9008 (0.565 / 0.153, 0.8853). Screened beside it on recorded ticks: going forward by
-5% first and back by 3% (the line at 0.7x, its return followed backwards while its size was
-still wrong, lost 18 ticks); stopped only while it drives (a stopped action was taken again 2
-samples later, one step further back: tuned 0.415 / 0.151 only).
+gestures at 0.7-1.4x): before 0.435 / 0.153, 0.9008 (0.595 / 0.161, 0.8854); kept (forward
+2%, back 2%) 0.367 / 0.145, 0.9008 (0.565 / 0.151, 0.8853); back 3%: 0.367 / 0.147, 0.9008
+(0.565 / 0.153, 0.8853); forward 4%, back 3%: 0.367 / 0.147, 0.8948. Screened on recorded
+ticks: forward 5%, back 3% (the line at 0.7x, its return followed backwards while its size was
+still wrong, lost 18 ticks). Stopped only while it drives (a stopped action was taken again 2
+samples later, one step further back): tuned 0.415 / 0.151 only.
 """
 
 from __future__ import annotations
@@ -137,7 +138,7 @@ PATH_REACH = (3, 3)
 #: began driving by this much (progress units).
 FORWARD_FIRST = 0.02
 #: Before that, it stops driving once its progress fell this far behind where it began.
-BACK_FIRST = 0.03
+BACK_FIRST = 0.02
 
 
 def backs_first(began: float, peak: float, progress: float) -> bool:
