@@ -118,16 +118,17 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
 
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1,
                        _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
+             turn_ok,
              variance, valid, loglik, distance, show, holding, prog, restart) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
-    ``leads`` and ``kept`` (the share of the probability the templates keep against the
+    ``leads``, ``turn_ok`` (the input turned as ``best`` does) and ``kept`` (the share of the probability the templates keep against the
     threshold model) it reads; ``best`` already switched there). ``states``, ``ti``: as there;
     ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
@@ -168,7 +169,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
         # a new action drives only once its shape clearly leads (spotting)
-        ok = ok and (not spots or acquired[i] == bi or leads[i])
+        ok = ok and (not spots or acquired[i] == bi or (leads[i] and turn_ok[i]))
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
