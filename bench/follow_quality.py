@@ -21,7 +21,8 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
 
 Figures: progress RMSE of the true template (its ``progress_by``) over each gesture; recognition
 (``valid`` with ``best`` the true template) at 30, 60 and 100% of the gesture; the share of ticks
-valid and right after 30% progress; the share of ticks valid on unrelated input; for
+valid and right after 30% progress (and of those "on track": progress within 0.1 of the truth);
+the share of ticks valid on unrelated input; for
 raise-hold-return the RMSE and the largest backward slide of the progress shown while the
 action drives its character (the performer only goes forward); for sequences the progress at which each gesture is recognised (1 when never) and the
 longest run of ticks with a wrong action valid (resting after the last gesture, that gesture
@@ -231,6 +232,9 @@ def true_metrics(states: list, name: str, prog: np.ndarray) -> dict[str, float]:
     out["at100"] = float(np.any(right))   # by the end
     late = p >= 0.3
     out["valid_after30"] = float(right[late].mean())
+    # the same, counting only ticks whose progress is within 0.1 of the truth: a character driven
+    # at the wrong place of the action (a return followed backwards) is no success for a performer
+    out["valid_on_track_after30"] = float((right & (err <= 0.1))[late].mean())
     # backward slides a performer sees: over the ticks the true action drives its character
     shown = got[right]
     out["backward"] = float(np.max(np.maximum.accumulate(shown) - shown)) if shown.size else 0.0
@@ -255,6 +259,7 @@ def sized(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Gen
         for q in ("at30", "at60", "at100"):
             out[f"{key}_recognised_{q}_share"] = float(np.mean([m[q] for m in ms]))
         out[f"{key}_valid_after30_share"] = float(np.mean([m["valid_after30"] for m in ms]))
+        out[f"{key}_valid_on_track_after30_share"] = float(np.mean([m["valid_on_track_after30"] for m in ms]))
     return out
 
 

@@ -14,7 +14,7 @@ from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
-from behaviors.mop.validity import PATH_REACH
+from behaviors.mop.validity import PATH_REACH, TURN_REACH, turn_fits, turn_step
 
 
 class FollowerGroup(GroupRules):
@@ -107,6 +107,14 @@ class FollowerGroup(GroupRules):
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
         self._acquired = np.full(m, -1, dtype=np.intp)
+        self._drive_k = np.full(m, -1, dtype=np.intp)
+        # the input's turning (Validity._turned), members with 2-D spatial inputs only
+        self._m_turning = [i for i, f in enumerate(fs) if f._turn is not None]
+        self._turn_in, self._turn_h = np.zeros(m), np.zeros(m)
+        self._turn_ref = np.zeros((m, dmax))
+        self._turn_has_ref, self._turn_has_h = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
+        self._turn_ok = np.ones(m, dtype=bool)
+        self._drive_from, self._drive_peak = np.zeros(m), np.zeros(m)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._x = np.zeros((m, dmax))
         self._one_dim = all(f.dim == dmax for f in fs)
@@ -121,13 +129,17 @@ class FollowerGroup(GroupRules):
         self._end_x = np.zeros((m, dmax))
         self._has_end = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)
+        self._peak, self._peak_k = np.zeros(m), np.full(m, -1, dtype=np.intp)
+        self._extent = np.concatenate([f._extent for f in fs])
         self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
         self._thr_has_x = np.zeros(m, dtype=bool)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired", "_after_end", "_thr_ev", "_thr_x", "_thr_has_x")
+                   "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
+                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_turn_in", "_turn_h", "_turn_ref",
+                   "_turn_has_ref", "_turn_has_h")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -137,9 +149,14 @@ class FollowerGroup(GroupRules):
             a[rows] = 0
         self._ended[rows] = -1
         self._has_end[rows] = False
+        self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._thr_ev[rows] = 0.0
         self._thr_has_x[rows] = False
         self._acquired[rows] = -1
+        self._drive_k[rows] = -1
+        self._turn_in[rows] = 0.0
+        self._turn_has_ref[rows] = False
+        self._turn_has_h[rows] = False
         self._shape[np.isin(self._owner, np.arange(len(self.followers))[rows])] = 0.0
 
     def reset(self) -> None:
@@ -305,6 +322,30 @@ class FollowerGroup(GroupRules):
             self._m_kept, self._thr_z, self._thr_lj, self._thr_total)
         return self._conclude(step_ll, present)
 
+    def _turned(self, present: np.ndarray) -> None:
+        """Each present member's turning since its gesture began, and whether it fits its best
+        template's near the followed state (:meth:`Validity._turned`), in ``_turn_ok``."""
+        for i in self._m_turning:
+            if not present[i]:
+                continue
+            f, x = self.followers[i], self._x[i, :2]
+            if not self._turn_has_ref[i]:
+                self._turn_ref[i, :2] = self._anchor[i, :2]
+                self._turn_has_ref[i] = True
+            else:
+                h = self._turn_h[i] if self._turn_has_h[i] else None
+                turn, h, ref = turn_step(x, self._turn_ref[i, :2], h, self._turn_in[i], f._turn_step)
+                self._turn_in[i] = turn
+                if h is not None:
+                    self._turn_h[i], self._turn_has_h[i] = h, True
+                self._turn_ref[i, :2] = ref
+            bi = int(self._best[i])
+            b = f.bank
+            lo, n = int(b.starts[bi]), int(b.lengths[bi])
+            c = int(lo + min(self.forward.mean[self._bounds[i] + bi], n - 1.0))
+            self._turn_ok[i] = turn_fits(f._turn[max(lo, c - TURN_REACH):min(lo + n - 1, c + TURN_REACH) + 1],
+                                         self._turn_in[i], f.turn_limit)
+
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template
         pass (best already switched there): validity and spotting compiled
@@ -316,12 +357,14 @@ class FollowerGroup(GroupRules):
         flags = np.empty((3, m), dtype=bool)
         valid, show, holding = flags
         restart = np.empty(m, dtype=np.intp)
+        self._turned(present)
         members.conclude(
             self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p, progress, mean_ll,
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
-            self._after_end, self._m_kept,
+            self._after_end, self._m_kept, self._drive_k, self._drive_from,
+            self._drive_peak, self._turn_ok, self._extent, self._peak, self._peak_k,
             variance, valid, loglik, distance, show, holding, prog_b, restart)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best

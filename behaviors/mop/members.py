@@ -18,7 +18,8 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.spotting import END_GRACE
+from behaviors.mop.spotting import END_GRACE, RETURN_BACK, RETURN_RADIUS
+from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -117,23 +118,27 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
 
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
                        _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept,
+             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
+             turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
-    ``leads`` and ``kept`` (the share of the probability the templates keep against the
+    ``leads``, ``turn_ok`` (the input turned as ``best`` does) and ``kept`` (the share of the probability the templates keep against the
     threshold model) it reads; ``best`` already switched there). ``states``, ``ti``: as there;
     ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
 
-    In place: ``run``, ``acquired``, the recent samples ``buf``/``nbuf``, the gesture's end
-    ``has_end``/``end_x``, ``lost`` (refused samples in a row) and ``after_end`` (samples since
-    the end was reached). Out per member: ``best``'s
+    In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
+    highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples
+    ``buf``/``nbuf``, the gesture's end ``has_end``/``end_x``, ``lost`` (refused samples in a
+    row), ``after_end`` (samples since the end was reached) and ``peak``/``peak_k`` (the highest
+    progress of the action driving, and which; ``extent`` (K,): each template's farthest state
+    from its first, in units). Out per member: ``best``'s
     variance (progress units squared), valid, recent mean log-likelihood and its distance,
     whether the likeliest actions are shown, holding, progress, and how a new attempt starts
     (:data:`GOES_ON`...)."""
@@ -166,12 +171,20 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
         # a new action drives only once its shape clearly leads (spotting)
-        ok = ok and (not spots or acquired[i] == bi or leads[i])
+        ok = ok and (not spots or acquired[i] == bi or (leads[i] and turn_ok[i]))
+        if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
+            drive_peak[i] = max(drive_peak[i], progress[gb])
+            ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
+                             and progress[gb] < drive_from[i] - BACK_FIRST)
         run[i] = run[i] + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
         val = run[i] >= m[3] and after_end[i] <= END_GRACE
         valid[i] = val
+        if val and drive_k[i] != bi:
+            drive_k[i] = bi
+            drive_from[i] = progress[gb]
+            drive_peak[i] = progress[gb]
         acquired[i] = bi if val else -1
         ll = mean_ll[gb]
         loglik[i] = ll
@@ -185,7 +198,18 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         holding[i] = holds[off + int(np.rint(g))] or pb >= 0.9
         restart[i] = GOES_ON
         if spots and present[i]:
-            if val and pb >= m[8] and not has_end[i]:
+            peak[i] = (max(peak[i], pb) if bi == peak_k[i] else pb) if val else 0.0
+            peak_k[i] = bi if val else -1
+            ended = val and not has_end[i] and pb >= m[8]
+            if val and not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
+                # GestureSpotting._returned: back at the last point while followed backwards
+                acc = 0.0
+                for c in range(d):
+                    r = x[i, c] / units[c] - (states[start + length - 1 + off, d + c] * sk
+                                              + anchor[i, c] / units[c])
+                    acc += r * r
+                ended = math.sqrt(acc) <= RETURN_RADIUS * sk * extent[gb]
+            if ended:
                 end_x[i] = x[i]
                 has_end[i] = True
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])

@@ -137,6 +137,35 @@ def test_gesture_end_rules_over_members_equal_the_followers_own():
     assert 100 < moved < 500 and 50 < gone < 550   # both sides of each limit were tried
 
 
+class Returning(ActionFollower):
+    """A follower that counts the gestures it ended by the input's return to their last point."""
+
+    returned = 0
+
+    def _returned(self, x, k, progress):
+        back = super()._returned(x, k, progress)
+        self.returned += back and self._end_x is None
+        return back
+
+
+def test_a_return_followed_backwards_ends_in_the_group_as_alone():
+    from bench.follow_quality import at_phase, gesture_templates, phase_of
+    gestures = gesture_templates()
+    rng = np.random.default_rng(3)
+    kws = [dict(units=np.ones(2), invariance="scale"), dict(units=np.ones(2), invariance="scale", confirm=1)]
+    streams = []
+    for _ in kws:
+        parts, at = [np.zeros((15, 2))], np.zeros(2)
+        for name, size in (("line", 0.7), ("wave", 1.0), ("line", 0.75), ("circle", 1.0)):
+            parts.append(size * at_phase(gestures[name], phase_of(rng, len(gestures[name]))[0]) + at)
+            at = parts[-1][-1].copy()
+        streams.append(np.concatenate(parts) + rng.normal(0, 0.0007, (sum(map(len, parts)), 2)))
+    alone = [Returning(gestures, **kw) for kw in kws]
+    group = FollowerGroup([ActionFollower(gestures, **kw) for kw in kws])
+    assert _step_both(alone, group, streams) > 100
+    assert all(f.returned >= 1 for f in alone), [f.returned for f in alone]
+
+
 def test_a_group_of_many_puck_templates_equals_its_followers_alone():
     # DESIGN's case in small: puck paths (metres), scale invariance, many rivals per member
     rng = np.random.default_rng(3)
