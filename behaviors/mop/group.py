@@ -14,7 +14,7 @@ from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
-from behaviors.mop.validity import PATH_REACH, TURN_REACH, turn_fits, turn_step
+from behaviors.mop.validity import FIRST_TURN_STEPS, PATH_REACH, TURN_REACH
 
 
 class FollowerGroup(GroupRules):
@@ -110,6 +110,10 @@ class FollowerGroup(GroupRules):
         self._drive_k = np.full(m, -1, dtype=np.intp)
         # the input's turning (Validity._turned), members with 2-D spatial inputs only
         self._m_turning = [i for i, f in enumerate(fs) if f._turn is not None]
+        self._turning = np.array([f._turn is not None for f in fs], dtype=bool)
+        self._turns = np.concatenate([f._turn if f._turn is not None else np.zeros(len(f.bank.means)) for f in fs])
+        self._turn_steps = np.array([f._turn_step for f in fs], dtype=float)
+        self._turn_limits = np.array([f.turn_limit for f in fs], dtype=float)
         self._turn_in, self._turn_h = np.zeros(m), np.zeros(m)
         self._turn_ref = np.zeros((m, dmax))
         self._turn_has_ref, self._turn_has_h = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
@@ -324,27 +328,13 @@ class FollowerGroup(GroupRules):
 
     def _turned(self, present: np.ndarray) -> None:
         """Each present member's turning since its gesture began, and whether it fits its best
-        template's near the followed state (:meth:`Validity._turned`), in ``_turn_ok``."""
-        for i in self._m_turning:
-            if not present[i]:
-                continue
-            f, x = self.followers[i], self._x[i, :2]
-            if not self._turn_has_ref[i]:
-                self._turn_ref[i, :2] = self._anchor[i, :2]
-                self._turn_has_ref[i] = True
-            else:
-                h = self._turn_h[i] if self._turn_has_h[i] else None
-                turn, h, ref = turn_step(x, self._turn_ref[i, :2], h, self._turn_in[i], f._turn_step)
-                self._turn_in[i] = turn
-                if h is not None:
-                    self._turn_h[i], self._turn_has_h[i] = h, True
-                self._turn_ref[i, :2] = ref
-            bi = int(self._best[i])
-            b = f.bank
-            lo, n = int(b.starts[bi]), int(b.lengths[bi])
-            c = int(lo + min(self.forward.mean[self._bounds[i] + bi], n - 1.0))
-            self._turn_ok[i] = turn_fits(f._turn[max(lo, c - TURN_REACH):min(lo + n - 1, c + TURN_REACH) + 1],
-                                         self._turn_in[i], f.turn_limit)
+        template's near the followed state (:meth:`Validity._turned`), in ``_turn_ok``
+        (compiled: :func:`members.turned`)."""
+        if self._m_turning:
+            members.turned(self._x, self._anchor, present, self._turning, self._turn_ref, self._turn_has_ref,
+                           self._turn_h, self._turn_has_h, self._turn_in, self._best, self._bounds, self._ti,
+                           self.forward.mean, self._turns, self._turn_steps, self._turn_limits, TURN_REACH,
+                           FIRST_TURN_STEPS, self._turn_ok)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template

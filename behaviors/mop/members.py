@@ -219,3 +219,38 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
                               any_engaged[i])
+
+
+@numba.njit(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
+                       _F1, numba.intp, numba.float64, _B1), cache=True, nogil=True)
+def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
+           mean, turns, step, limit, reach, first_steps, ok) -> None:
+    """:meth:`Validity._turned` for every present member whose input ``turning`` is measured
+    (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
+    ``ref`` and direction ``heading``, :func:`~behaviors.mop.validity.turn_step`; ``step``:
+    its step length), and whether it is within ``limit`` (M,) radians of its best template's at the
+    states within ``reach`` of the followed one (:func:`~behaviors.mop.validity.turn_fits`;
+    ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``. The same operations
+    in the same order as the follower's own."""
+    pi, two_pi = math.pi, 2.0 * math.pi
+    for i in range(x.shape[0]):
+        if not (turning[i] and present[i]):
+            continue
+        if not has_ref[i]:
+            ref[i, 0], ref[i, 1] = anchor[i, 0], anchor[i, 1]
+            has_ref[i] = True
+        else:
+            d0, d1 = x[i, 0] - ref[i, 0], x[i, 1] - ref[i, 1]
+            if math.hypot(d0, d1) > (step[i] if has_heading[i] else first_steps * step[i]):
+                h = math.atan2(d1, d0)
+                if has_heading[i]:
+                    turn[i] += (h - heading[i] + pi) % two_pi - pi
+                heading[i], has_heading[i] = h, True
+                ref[i, 0], ref[i, 1] = x[i, 0], x[i, 1]
+        k = bounds[i] + best[i]
+        lo, n, off = ti[k, 0], ti[k, 1], ti[k, 2]
+        c = int(lo + min(mean[k], n - 1.0))
+        least = np.inf
+        for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
+            least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
+        ok[i] = least <= limit[i]
