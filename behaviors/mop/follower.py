@@ -76,7 +76,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
                  shape_memory: float = 16.0, dwell: float | None = None,
-                 threshold: float = 0.0, turn_limit: float = 1.3) -> None:
+                 threshold: float = 0.0, turn_limit: float = math.inf) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),

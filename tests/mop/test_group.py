@@ -55,7 +55,8 @@ KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="off
          dict(invariance="offset", lost_samples=3, switch_margin=0.5, min_probability=0.4)]
 
 
-def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone():
+@pytest.mark.parametrize("turn", [math.inf, 1.3])   # with the turning gate too (2-D members)
+def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone(turn):
     rng = np.random.default_rng(36)
     sets, streams = [], []
     for c in range(len(KINDS)):
@@ -76,8 +77,8 @@ def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone():
         s = np.concatenate(parts)
         s[rng.random(len(s)) < 0.04] = np.nan   # lost samples
         streams.append(s)
-    alone = [Counting(s, **kw) for s, kw in zip(sets, KINDS)]
-    group = FollowerGroup([ActionFollower(s, **kw) for s, kw in zip(sets, KINDS)])
+    alone = [Counting(s, turn_limit=turn, **kw) for s, kw in zip(sets, KINDS)]
+    group = FollowerGroup([ActionFollower(s, turn_limit=turn, **kw) for s, kw in zip(sets, KINDS)])
     valid = _step_both(alone, group, streams)
     why = [w for f in alone for w in f.why]
     # the run went through every way an attempt starts afresh, and was followed in between
