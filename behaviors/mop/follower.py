@@ -39,7 +39,7 @@ from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.spotting import GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
-from behaviors.mop.validity import Validity
+from behaviors.mop.validity import Validity, backs_first
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
@@ -76,7 +76,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
                  shape_memory: float = 16.0, dwell: float | None = None,
-                 threshold: float = 0.0) -> None:
+                 threshold: float = 0.0, turn_limit: float = math.inf) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -98,6 +98,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
+        if not turn_limit > 0:
+            raise TemplateError(f"follower parameter turn_limit = {turn_limit} is out of range")
         if math.isnan(threshold) or threshold == -math.inf:
             raise TemplateError(f"follower parameter threshold = {threshold} is out of range")
         if invariance not in INVARIANCES:
@@ -141,7 +143,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
                             coverage=float(coverage), shape_distance=float(shape_distance),
                             shape_accept=float(shape_accept), shape_memory=float(shape_memory),
-                            threshold=float(threshold))
+                            threshold=float(threshold), turn_limit=float(turn_limit))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -167,7 +169,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # against it: valid 0.72 instead of 0.95 of the time in tests/mop/test_follower.py), and
         # it sees positions only (off with direction features); off at infinity
         self.threshold = math.inf if tangent > 0 or invariance == "none" else float(threshold)
+        self.turn_limit = float(turn_limit)
         self._setup_validity()
+        self._setup_turning()
         self.reset()
 
     def _onset_states(self) -> np.ndarray:
@@ -213,6 +217,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._acquired = -1
+        self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
+        self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
         self._after_end = 0
         self._peak, self._peak_k = 0.0, -1
         self._end_x: np.ndarray | None = None
@@ -353,11 +359,20 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         if self.invariance != "none":
             # a new action drives only once its shape clearly leads (spotting.LEAD)
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
-            ok = ok and (self._acquired == bi or leads)
+            # ... and once the input turned as the template does (validity.turning)
+            turned = self._turned(x, bi, float(g[bi]))
+            ok = ok and (self._acquired == bi or (leads and turned))
+            if self._drive_k == bi:
+                # an action that has not yet carried its performer forward does not drive
+                # them back behind where it began (validity.backs_first)
+                self._drive_peak = max(self._drive_peak, progress_list[bi])
+                ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
         self._run = self._run + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting)
         self._after_end = self._after_end + 1 if self._end_x is not None else 0
         valid = drives(self._run, self.confirm, self._after_end)
+        if valid and self._drive_k != bi:
+            self._drive_k, self._drive_from, self._drive_peak = bi, progress_list[bi], progress_list[bi]
         self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names

@@ -80,34 +80,33 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
-@numba.njit(numba.float64(_F2, _I2, _F2, _F1, numba.intp, numba.intp, _F1, _F1, _F1, _F1, _F1,
-                          numba.boolean), cache=True, nogil=True)
-def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) -> float:
+@numba.njit(numba.float64(_F2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _F1, _F1,
+                          numba.boolean, _F1, numba.intp), cache=True, nogil=True)
+def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
-    its sample ``x`` seen from ``anchor`` as :meth:`Validity._threshold_evidence` maps it
-    (``m``: its row of ``mc``; ``ll``: scratch of at least its states); returns the sample's
-    log-likelihood. Its sum is taken in eight interleaved parts (the same to about 1e-16) and
-    its exponentials by :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states
-    vectorises (DESIGN's 8 x 100 templates: 80 000 states per tick)."""
-    d = x.size
-    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d
-    dims, scaled, none = m[0], m[8] > 0.0, m[16] > 0.0
-    factor, const = m[19], m[20]
+    its sample seen by each template as :meth:`Validity._threshold_evidence` maps it (``zs``
+    (K, D)) and each template's log-density terms ``ljs`` (K,: the Gaussian's constant and the
+    map's log Jacobian), as :func:`update_templates` left them (``m``: the member's row of
+    ``mc``; ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its
+    sum is taken in eight interleaved parts (the same to about 1e-16) and its exponentials by
+    :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises
+    (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
+    member ``i``'s are ``alpha`` divided by ``totals[i]``, the division done as they are read
+    at the next step (the same numbers as normalising them at once, one pass over the states
+    fewer).
+
+    Most states weigh nothing (in DESIGN's case about a quarter are within e^-40 of the
+    likeliest). Skipping chunks of 16 states whose bounding box lay further than that below
+    the likeliest state found so far computed a third of the states and was exact, but with
+    the caches cold (the bench's tick) it was slower: 8 members 537 -> 612 us p10 (hot
+    379 -> 330), the skipped stretches breaking the streams the processor fetches ahead."""
+    d = zs.shape[1]
+    factor = m[19]
     base = ti[a0, 2]
     n = 0
-    z = np.empty(d)
     for k in range(a0, a1):
-        t = tc[k]
-        jac = -t[0]
-        for c in range(d):
-            z[c] = (x[c] - (t[ce0 + c] if none else anchor[c])) / t[sc0 + c]
-        if scaled:
-            for c in range(d):
-                z[c] /= size[k]
-            jac = jac - dims * math.log(size[k])
-        for c in range(d):
-            z[c] = z[c] + t[uf0 + c] + t[co0 + c]
+        z = zs[k]
         first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
         out = ll[first - base:first - base + length]
         out[:] = 0.0
@@ -116,7 +115,7 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
             for j in range(length):
                 e = zc - mc_[j]
                 out[j] += e * e
-        lj = const + jac
+        lj = ljs[k]
         for j in range(length):
             out[j] = out[j] * factor + lj
         n += length
@@ -131,10 +130,11 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
     top = tops.max()
     if fresh:
         a[:] = 1.0 / n
+    norm = 1.0 if fresh else totals[i]
     rest = (1.0 - THRESHOLD_STAY) / n
     for j in range(n):   # no weight under e^-40 of the likeliest state's (threshold_model_step)
         e = v[j] - top
-        w = (THRESHOLD_STAY * a[j] + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
+        w = (THRESHOLD_STAY * (a[j] / norm) + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
         a[j] = w if e >= THRESHOLD_FLOOR else 0.0
     parts = np.zeros(8)
     for j in range(0, n - n % 8, 8):
@@ -143,8 +143,7 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
     for j in range(n - n % 8, n):
         parts[0] += a[j]
     total = ((parts[0] + parts[1]) + (parts[2] + parts[3])) + ((parts[4] + parts[5]) + (parts[6] + parts[7]))
-    for j in range(n):
-        a[j] /= total
+    totals[i] = total
     return top + math.log(total)
 
 
@@ -153,13 +152,13 @@ def threshold_step(means, ti, tc, m, a0, a1, x, anchor, size, alpha, ll, fresh) 
                        numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                        numba.intp, numba.intp, numba.float64, numba.float64,
                        _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1),
+                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1),
             cache=True, nogil=True)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x, scratch,
-                     kept_out) -> None:
+                     kept_out, thr_z, thr_lj, thr_total) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -232,7 +231,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 size[k] = min(max((num[k] + t[2]) / (den[k] + t[2]), lo), hi)
             sk = size[k]
             raw = step_ll[k] - t[0]
-            raw -= dims * math.log(sk)
+            log_size = dims * math.log(sk)
+            raw -= log_size
+            thr_lj[k] = m[20] + (-t[0] - log_size)   # the threshold model's log-density terms
             ev[k] = ev[k] * decay + raw
             rec[k] = rec[k] * null_decay + step_ll[k]
             rw[k] = rw[k] * null_decay + 1.0
@@ -271,6 +272,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 base = t[ce0 + c] if none else anchor[i, c]
                 u[c] = (x[i, c] - base) / t[sc0 + c] + t[uf0 + c]
                 z[c] = u[c] / ssz + t[co0 + c]
+                thr_z[k, c] = z[c]   # the sample as the template sees it (the threshold model's too)
             gf = int(math.floor(g))
             last = start + lk - 1
             best_d = np.inf
@@ -345,8 +347,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         # templates keep against it
         kept = 1.0
         if present[i] and math.isfinite(m[18]):
-            step = threshold_step(means, ti, tc, m, a0, a1, x[i], anchor[i], size, alpha, scratch,
-                                  not thr_has_x[i]) - m[18]
+            step = threshold_step(means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
+                                  not thr_has_x[i], thr_total, i) - m[18]
             lead = step_ll[first] - tc[first, 0]
             lead -= dims * math.log(size[first])
             still = thr_has_x[i]

@@ -37,6 +37,10 @@ class GroupRules:
                   "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape"):
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
+        self._drive_k[rows] = -1
+        self._turn_in[rows] = 0.0
+        self._turn_has_ref[rows] = False
+        self._turn_has_h[rows] = False
         self._size[cols] = 1.0
         self._thr_ev[rows] = 0.0   # the threshold model starts afresh with the evidence
         self._thr_has_x[rows] = False

@@ -19,6 +19,7 @@ import numba
 import numpy as np
 
 from behaviors.mop.spotting import END_GRACE, RETURN_BACK, RETURN_RADIUS
+from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -117,24 +118,27 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
 
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _F1, _F1, _I1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
                        _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, extent, peak, peak_k,
+             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
+             turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
-    ``leads`` and ``kept`` (the share of the probability the templates keep against the
+    ``leads``, ``turn_ok`` (the input turned as ``best`` does) and ``kept`` (the share of the probability the templates keep against the
     threshold model) it reads; ``best`` already switched there). ``states``, ``ti``: as there;
     ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
 
-    In place: ``run``, ``acquired``, the recent samples ``buf``/``nbuf``, the gesture's end
-    ``has_end``/``end_x``, ``lost`` (refused samples in a row), ``after_end`` (samples since
-    the end was reached) and ``peak``/``peak_k`` (the highest progress of the action driving,
-    and which; ``extent`` (K,): each template's farthest state from its first, in units). Out per member: ``best``'s
+    In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
+    highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples
+    ``buf``/``nbuf``, the gesture's end ``has_end``/``end_x``, ``lost`` (refused samples in a
+    row), ``after_end`` (samples since the end was reached) and ``peak``/``peak_k`` (the highest
+    progress of the action driving, and which; ``extent`` (K,): each template's farthest state
+    from its first, in units). Out per member: ``best``'s
     variance (progress units squared), valid, recent mean log-likelihood and its distance,
     whether the likeliest actions are shown, holding, progress, and how a new attempt starts
     (:data:`GOES_ON`...)."""
@@ -167,12 +171,20 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
         # a new action drives only once its shape clearly leads (spotting)
-        ok = ok and (not spots or acquired[i] == bi or leads[i])
+        ok = ok and (not spots or acquired[i] == bi or (leads[i] and turn_ok[i]))
+        if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
+            drive_peak[i] = max(drive_peak[i], progress[gb])
+            ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
+                             and progress[gb] < drive_from[i] - BACK_FIRST)
         run[i] = run[i] + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
         val = run[i] >= m[3] and after_end[i] <= END_GRACE
         valid[i] = val
+        if val and drive_k[i] != bi:
+            drive_k[i] = bi
+            drive_from[i] = progress[gb]
+            drive_peak[i] = progress[gb]
         acquired[i] = bi if val else -1
         ll = mean_ll[gb]
         loglik[i] = ll
@@ -207,3 +219,38 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
                               any_engaged[i])
+
+
+@numba.njit(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
+                       _F1, numba.intp, numba.float64, _B1), cache=True, nogil=True)
+def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
+           mean, turns, step, limit, reach, first_steps, ok) -> None:
+    """:meth:`Validity._turned` for every present member whose input ``turning`` is measured
+    (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
+    ``ref`` and direction ``heading``, :func:`~behaviors.mop.validity.turn_step`; ``step``:
+    its step length), and whether it is within ``limit`` (M,) radians of its best template's at the
+    states within ``reach`` of the followed one (:func:`~behaviors.mop.validity.turn_fits`;
+    ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``. The same operations
+    in the same order as the follower's own."""
+    pi, two_pi = math.pi, 2.0 * math.pi
+    for i in range(x.shape[0]):
+        if not (turning[i] and present[i]):
+            continue
+        if not has_ref[i]:
+            ref[i, 0], ref[i, 1] = anchor[i, 0], anchor[i, 1]
+            has_ref[i] = True
+        else:
+            d0, d1 = x[i, 0] - ref[i, 0], x[i, 1] - ref[i, 1]
+            if math.hypot(d0, d1) > (step[i] if has_heading[i] else first_steps * step[i]):
+                h = math.atan2(d1, d0)
+                if has_heading[i]:
+                    turn[i] += (h - heading[i] + pi) % two_pi - pi
+                heading[i], has_heading[i] = h, True
+                ref[i, 0], ref[i, 1] = x[i, 0], x[i, 1]
+        k = bounds[i] + best[i]
+        lo, n, off = ti[k, 0], ti[k, 1], ti[k, 2]
+        c = int(lo + min(mean[k], n - 1.0))
+        least = np.inf
+        for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
+            least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
+        ok[i] = least <= limit[i]

@@ -104,9 +104,46 @@ stroke of a triangle is the outward half of the line):
   before a template is recognised (once valid it stays so): 0.91 -> 0.82 at margin 0.3 (0.72
   at 0.6), while the longest wrong-valid run back to back fell from 11 to 5 samples (median);
   recognition at 30% of gestures 0.73 -> 0.47.
+
+Not back before forward (:func:`backs_first`): an action that has not yet carried its
+performer forward (its progress never passed where it began driving by :data:`FORWARD_FIRST`)
+stops driving once its progress falls :data:`BACK_FIRST` behind where it began, and is not taken
+again until it goes forward (the last action that drove keeps where it began until another one
+drives or the gesture starts anew). A performer going back along a gesture they performed still
+drives it backwards; what this refuses is a path that is a template's stretch gone *backwards*:
+the triangle's last two strokes are the wave's first hump reversed (the wave was taken at its
+hump and drove the triangle back to the wave's start, 62 ticks at 0.7x), a mirrored line is the
+end of another clip's path gone backwards. Measured with ``bench/follow_quality.py``'s sized and
+unrelated sections (tuned; held-out in brackets; unrelated worst / mean, valid after 30% of
+gestures at 0.7-1.4x): before 0.435 / 0.153, 0.9008 (0.595 / 0.161, 0.8854); kept (forward
+2%, back 2%) 0.367 / 0.145, 0.9008 (0.565 / 0.151, 0.8853); back 3%: 0.367 / 0.147, 0.9008
+(0.565 / 0.153, 0.8853); forward 4%, back 3%: 0.367 / 0.147, 0.8948. Screened on recorded
+ticks: forward 5%, back 3% (the line at 0.7x, its return followed backwards while its size was
+still wrong, lost 18 ticks). Stopped only while it drives (a stopped action was taken again 2
+samples later, one step further back): tuned 0.415 / 0.151 only.
+
+Turning (:func:`turning`, 2-D spatial inputs; an option, off by default: ``turn_limit`` infinite):
+a new action is taken only while the input's
+signed turning since the gesture began is within ``turn_limit`` radians (e.g. 1.3) of its template's
+near the followed state (:data:`TURN_REACH` states either way; whole turns aside). Turning is
+blind to size and tempo, and tells what the positions within a sigma do not: a diagonal is
+no chord of a circle (the circle has turned by 2 radians at 37%), a mirrored path turns the
+other way. Measured as above (after "not back before forward"): tuned 0.367 / 0.145, 0.9008
+-> 0.363 / 0.135, 0.9006 (held-out 0.565 / 0.151, 0.8853 -> 0.472 / 0.136, 0.8838: the
+held-out sized cost is 0.0015). Steps of 3 still radii, first direction after 3 steps, limit
+1 rad: 0.344 / 0.123 but 0.873 (the first direction, taken in the eased start's jitter, was
+off by up to a half turn: a figure eight at 1x and a circle at 0.7x never taken); first after
+6 steps: 0.367 / 0.131, 0.898; limit 1.3: 0.367 / 0.135, 0.898 (held-out 0.476 / 0.139,
+0.885); 1.6: 0.367 / 0.138, 0.8998; steps of 6 radii, first after 4: above. Off by default
+because the full bench shows other costs at 1.3: gestures back to back among the twenty
+held-out templates never recognised 0.125 -> 0.188 (the turning is counted from where the
+gesture was spotted to begin, which in a stream can lie in the previous gesture's tail),
+recognised within 20% 0.28 -> 0.25, 0.6x/1.5x recognised by the end 0.90 -> 0.85-0.875.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -115,6 +152,60 @@ from behaviors.mop import threshold
 #: States before and after the followed state whose joining segments make up the path the
 #: input is measured against (the followed state lags or leads a fast performer by a few).
 PATH_REACH = (3, 3)
+
+
+#: An action that drives has carried its performer forward once its progress passed where it
+#: began driving by this much (progress units).
+FORWARD_FIRST = 0.02
+#: Before that, it stops driving once its progress fell this far behind where it began.
+BACK_FIRST = 0.02
+
+
+def backs_first(began: float, peak: float, progress: float) -> bool:
+    """Whether a driving action goes back before it went forward: its progress ``progress``
+    is :data:`BACK_FIRST` behind ``began`` (where it began driving) while its highest since
+    then, ``peak``, never passed ``began`` by :data:`FORWARD_FIRST`."""
+    return peak - began < FORWARD_FIRST and progress < began - BACK_FIRST
+
+
+#: Turning (below) is measured along steps of this many still radii (the smallest column's)...
+TURN_STEP = 6.0
+#: ... and the first direction once the path left its start by this many steps.
+FIRST_TURN_STEPS = 4.0
+#: Samples within this many states of the followed one whose turning may match the input's.
+TURN_REACH = 3
+
+
+def turning(path: np.ndarray, step: float) -> np.ndarray:
+    """Per sample of a 2-D path (n, 2), its signed turning (radians) since its first direction:
+    the direction of each step of length ``step`` (the first :data:`FIRST_TURN_STEPS` long)
+    against the last one's, summed."""
+    out = np.zeros(len(path))
+    ref, h0, turn = path[0], None, 0.0
+    for i, p in enumerate(path):
+        turn, h0, ref = turn_step(p, ref, h0, turn, step)
+        out[i] = turn
+    return out
+
+
+def turn_step(x: np.ndarray, ref: np.ndarray, heading: float | None, turn: float,
+              step: float) -> tuple[float, float | None, np.ndarray]:
+    """One sample ``x`` of :func:`turning`: (turning, last direction or None, last step's end)."""
+    d = x - ref
+    if math.hypot(d[0], d[1]) <= (step if heading is not None else FIRST_TURN_STEPS * step):
+        return turn, heading, ref
+    h = math.atan2(d[1], d[0])
+    if heading is not None:
+        turn += (h - heading + math.pi) % (2.0 * math.pi) - math.pi
+    return turn, h, x
+
+
+def turn_fits(turns: np.ndarray, turn: float, limit: float) -> bool:
+    """Whether the input's turning ``turn`` is within ``limit`` radians of the template's at
+    some of the states ``turns`` (around the followed one), whole turns aside (a hairpin is
+    +pi or -pi by the jitter)."""
+    off = np.abs((turns - turn + math.pi) % (2.0 * math.pi) - math.pi)
+    return bool(off.min() <= limit)
 
 
 def path_lengths(bank) -> np.ndarray:
@@ -252,6 +343,31 @@ class Validity:
         self._threshold_x = x
         self._threshold_ev = self._threshold_ev * self._decay + step
         return self._threshold_ev
+
+    def _setup_turning(self) -> None:
+        """Per state, its template's turning (:func:`turning`), for 2-D spatial inputs only."""
+        self._turn_step = TURN_STEP * float(self._still_radius.min())
+        b = self.bank
+        self._turn = None
+        if self.dim == 2 and self.invariance != "none" and math.isfinite(self.turn_limit):
+            self._turn = np.concatenate([turning(b.template(k) * b.scale[k] + b.center[k], self._turn_step)
+                                         for k in range(len(self.names))])
+
+    def _turned(self, x: np.ndarray, bi: int, g: float) -> bool:
+        """After sample ``x``: the input's turning since the gesture began, and whether it fits
+        template ``bi``'s near its followed state ``g`` (bank index)."""
+        if self._turn is None:
+            return True
+        if self._turn_ref is None:
+            self._turn_ref = (self._anchor if self._anchor is not None else x).copy()
+        else:
+            self._turn_in, self._turn_h, self._turn_ref = turn_step(
+                x, self._turn_ref, self._turn_h, self._turn_in, self._turn_step)
+        lo = int(self.bank.starts[bi])
+        hi = lo + int(self.bank.lengths[bi]) - 1
+        c = int(g)
+        return turn_fits(self._turn[max(lo, c - TURN_REACH):min(hi, c + TURN_REACH) + 1],
+                         self._turn_in, self.turn_limit)
 
     def _shaped(self, k: int) -> bool:
         """Template ``k`` may drive as far as its path is concerned."""
