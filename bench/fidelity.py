@@ -56,8 +56,6 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-import numpy as np  # noqa: E402
-
 from bench.common import emit  # noqa: E402
 from behaviors.puppet_master import fidelity  # noqa: E402
 from tabletop.examples import (designer_table, fidelity_table, print_designer,  # noqa: E402

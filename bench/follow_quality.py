@@ -243,7 +243,7 @@ def true_metrics(states: list, name: str, prog: np.ndarray) -> dict[str, float]:
 
 def sized(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator) -> dict[str, float]:
     f = factory(templates)
-    rows, small, nominal = [], [], []
+    small, nominal = [], []
     for name, tpl in templates.items():
         for scale in (0.6, 0.7, 0.85, 1.0, 1.2, 1.4, 1.5):
             pause = float(rng.uniform(0.3, 1.0)) if rng.uniform() < 0.3 else 0.0

@@ -20,6 +20,8 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.studio.review import contact_sheet
     if args.columns < 1:
         raise InputError(f"--columns must be at least 1, got {args.columns}")
+    if args.session.is_dir():     # also '' (the current folder): it has no name to derive --out
+        raise InputError(f"{args.session}: is a folder, expected a studio session log (.jsonl)")
     out = args.out or args.session.with_name(args.session.stem + "-sheet.png")
     print(f"{out}: {contact_sheet(args.session, out, args.columns)}")
     return 0

@@ -312,7 +312,7 @@ def _edge(acc: np.ndarray, X0: int, Y0: int, x0: float, y0: float, x1: float, y1
     if y0 > y1:
         d = -1.0
         x0, y0, x1, y1 = x1, y1, x0, y0
-    rows, cols = acc.shape[0], acc.shape[1]
+    rows = acc.shape[0]
     dxdy = (x1 - x0) / (y1 - y0)
     ys, ye = max(y0, float(Y0)), min(y1, float(Y0 + rows))
     if ys >= ye:

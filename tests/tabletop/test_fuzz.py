@@ -155,6 +155,16 @@ def test_argument_lists(capfd, argv):
         check(capfd, argv)
 
 
+@pytest.mark.parametrize("argv", [["review", ""], ["review", "session.jsonl", "--out", ""],
+                                  ["replay", ""], ["run", "--config", ""]])
+def test_an_empty_path_is_refused_in_one_line(capfd, argv):
+    # an empty path is the current folder ('review' once failed deriving its --out from it)
+    with workdir() as root:
+        make_files(root)
+        (root / "session.jsonl").write_text("", encoding="utf-8")
+        assert check(capfd, argv) != 0
+
+
 # --- generated configs ----------------------------------------------------------------------------
 
 LEAVES = st.one_of(st.none(), st.booleans(), st.integers(-10**6, 10**12),
