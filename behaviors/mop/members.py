@@ -128,8 +128,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
-    ``leads``, ``turn_ok`` (the input turned as ``best`` does) and ``kept`` (the share of the probability the templates keep against the
-    threshold model) it reads; ``best`` already switched there). ``states``, ``ti``: as there;
+    ``leads``, ``turn_ok`` (the input turned as ``best`` does) and ``kept`` (the share of the
+    probability the templates keep against the threshold model) it reads; ``best`` already
+    switched there). ``states``, ``ti``: as there;
     ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
 

@@ -44,7 +44,8 @@ class Params:
     min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
     the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change;
     0 (default) takes it from the demonstration (look.train_look). detail_levels: Haar
-    levels (4, cut at fs/16; at most 10: the signal is padded to 2**levels samples). patch: detail patch length in steps (16). detail_clip: rad.
+    levels (4, cut at fs/16; at most 10: the signal is padded to 2**levels samples). patch:
+    detail patch length in steps (16). detail_clip: rad.
     ratio: target situation:coherence choice ratio (1 = 1:1). balance_gain, share_window: see
     similarity.Balancer. w_*: designer weights per feature on top of the inverse spreads.
     max_extrapolation: s a live main pose may be extrapolated past its newest sample.
