@@ -111,20 +111,29 @@ def _slab(lo: float, hi: float, c: float, slope: float, inv: float, a: float,
 
 
 @numba.njit(inline="always")
+def _chords(y: float, ax: float, ay: float, ra: float, bx: float, by: float,
+            rb: float) -> tuple:
+    """(lo, hi): the x of row ``y`` inside the circle of radius ``ra`` around a or ``rb``
+    around b (lo > hi: none)."""
+    lo, hi = 1e9, -1e9
+    d = y - ay
+    if d * d < ra * ra:
+        h = math.sqrt(ra * ra - d * d)
+        lo, hi = ax - h, ax + h
+    d = y - by
+    if d * d < rb * rb:
+        h = math.sqrt(rb * rb - d * d)
+        lo, hi = min(lo, bx - h), max(hi, bx + h)
+    return lo, hi
+
+
+@numba.njit(inline="always")
 def _row(y: float, ax: float, ay: float, bx: float, by: float, vx: float, vy: float, ll: float,
          ux: float, uy: float, ivx: float, iuy: float, r: float) -> tuple:
     """(lo, hi): the x of row ``y`` within ``r`` px of the segment (a, b) (lo > hi: none);
     (vx, vy) = b - a, ``ll`` its squared length, (ux, uy) its direction, ``ivx`` = 1 / vx,
     ``iuy`` = 1 / uy."""
-    lo, hi = 1e9, -1e9
-    d = y - ay
-    if d * d < r * r:                                    # the round ends
-        h = math.sqrt(r * r - d * d)
-        lo, hi = ax - h, ax + h
-    d = y - by
-    if d * d < r * r:
-        h = math.sqrt(r * r - d * d)
-        lo, hi = min(lo, bx - h), max(hi, bx + h)
+    lo, hi = _chords(y, ax, ay, r, bx, by, r)          # the round ends
     if ll > 1e-12:                                       # the band between them
         py = y - ay
         s0, s1 = _slab(-1e9, 1e9, -ax * vx + py * vy, vx, ivx, 0.0, ll)
@@ -219,15 +228,7 @@ def _cone_row(y: float, ax: float, ay: float, ra: float, bx: float, by: float, r
     """(lo, hi): the x of row ``y`` inside the hull of the circles (radius ``ra`` around a,
     ``rb`` around b; ``qd`` from :func:`_quad`) (lo > hi: none). The hull is convex: its row
     is the union of the circles' chords and the touching quadrilateral's."""
-    lo, hi = 1e9, -1e9
-    d = y - ay
-    if d * d < ra * ra:
-        h = math.sqrt(ra * ra - d * d)
-        lo, hi = ax - h, ax + h
-    d = y - by
-    if d * d < rb * rb:
-        h = math.sqrt(rb * rb - d * d)
-        lo, hi = min(lo, bx - h), max(hi, bx + h)
+    lo, hi = _chords(y, ax, ay, ra, bx, by, rb)
     x1, y1, x2, y2, x3, y3, x4, y4 = qd
     lo, hi = _cross(lo, hi, y, x1, y1, x2, y2)
     lo, hi = _cross(lo, hi, y, x3, y3, x4, y4)
