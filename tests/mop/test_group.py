@@ -50,6 +50,22 @@ def _step_both(alone, group, streams) -> int:
     return valid
 
 
+def _puck_members(rng: np.random.Generator, count: int, templates: int, n: int,
+                  performed: int) -> tuple[list, FollowerGroup, list]:
+    """``count`` members following puck paths (metres, scale invariance), each with
+    ``templates`` of ``n`` samples: the followers alone, the same as a group, and each
+    member's stream performing ``performed`` of its templates."""
+    sets = [{f"p{c}t{i}": 0.1 * g.template(rng, n=n, d=2) for i in range(templates)}
+            for c in range(count)]
+    kw = dict(units=np.ones(2), invariance="scale")
+    alone = [ActionFollower(s, **kw) for s in sets]
+    group = FollowerGroup([ActionFollower(s, **kw) for s in sets])
+    streams = [np.concatenate([g.perform(rng, s[f"p{c}t{i}"], g.warped_phase(rng, n))
+                               for i in rng.integers(0, templates, performed)])
+               for c, s in enumerate(sets)]
+    return alone, group, streams
+
+
 KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="offset", end=0.9),
          dict(invariance="scale", tangent=0.3), dict(invariance="scale", still_samples=3, confirm=1),
          dict(invariance="offset", lost_samples=3, switch_margin=0.5, min_probability=0.4)]
@@ -169,13 +185,7 @@ def test_a_return_followed_backwards_ends_in_the_group_as_alone():
 
 def test_a_group_of_many_puck_templates_equals_its_followers_alone():
     # DESIGN's case in small: puck paths (metres), scale invariance, many rivals per member
-    rng = np.random.default_rng(3)
-    sets = [{f"p{c}t{i}": 0.1 * g.template(rng, n=60, d=2) for i in range(30)} for c in range(3)]
-    kw = dict(units=np.ones(2), invariance="scale")
-    alone = [ActionFollower(s, **kw) for s in sets]
-    group = FollowerGroup([ActionFollower(s, **kw) for s in sets])
-    streams = [np.concatenate([g.perform(rng, s[f"p{c}t{i}"], g.warped_phase(rng, 60))
-                               for i in rng.integers(0, 30, 4)]) for c, s in enumerate(sets)]
+    alone, group, streams = _puck_members(np.random.default_rng(3), 3, 30, 60, 4)
     streams[1][50:53] = np.nan   # one performer lost for a moment (the members' samples alike)
     valid = _step_both(alone, group, streams)
     assert valid > 100
@@ -184,13 +194,7 @@ def test_a_group_of_many_puck_templates_equals_its_followers_alone():
 def test_the_group_threshold_models_keep_the_followers_own_weights():
     # each state's weight equals the follower's own threshold model (zeros where it is 0),
     # with the sample's map and log-density terms taken from the per-template pass
-    rng = np.random.default_rng(8)
-    sets = [{f"p{c}t{i}": 0.1 * g.template(rng, n=70, d=2) for i in range(25)} for c in range(2)]
-    kw = dict(units=np.ones(2), invariance="scale")
-    alone = [ActionFollower(s, **kw) for s in sets]
-    group = FollowerGroup([ActionFollower(s, **kw) for s in sets])
-    streams = [np.concatenate([g.perform(rng, s[f"p{c}t{i}"], g.warped_phase(rng, 70))
-                               for i in rng.integers(0, 25, 3)]) for c, s in enumerate(sets)]
+    alone, group, streams = _puck_members(np.random.default_rng(8), 2, 25, 70, 3)
     offsets = np.cumsum([0] + [len(f._threshold_alpha) for f in alone])
     for i in range(min(len(s) for s in streams)):
         xs = [s[i] for s in streams]
