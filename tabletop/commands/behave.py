@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from tabletop.commands import number_in_range
+from tabletop.commands import number_in_range, output_file
 from tabletop.frames import InputError
 
 HELP = ("train a reactive behaviour from a demonstration CSV and generate the reactor's motion "
@@ -141,6 +141,8 @@ def main(args: argparse.Namespace) -> int:
         raise BehaveArgumentError(f"--rate {args.rate} and --param rate_hz={params['rate_hz']} "
                                   "disagree; give one")
     params.setdefault("rate_hz", rate)
+    output_file(args.out, "--out", BehaveArgumentError,
+                inputs=(args.train, args.train_main, args.train_react, args.input))
     demo, source = read_demonstration(args)
     header, main_rows, lines = read_csv_lines(args.input, MAIN_COLUMNS, what="main path CSV",
                                               min_rows=1)

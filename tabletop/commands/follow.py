@@ -14,7 +14,7 @@ import argparse
 import re
 from pathlib import Path
 
-from tabletop.commands import number_in_range
+from tabletop.commands import number_in_range, output_file
 from tabletop.frames import InputError
 
 HELP = "follow a performance along action templates (MOP): progress, recognition, validity per row"
@@ -81,6 +81,8 @@ def main(args: argparse.Namespace) -> int:
     window = number_in_range(args.window, "--window", "template samples", *WINDOW,
                              FollowArgumentError, integer=True)
     pairs = parse_template_args(args.template)
+    output_file(args.out, "--out", FollowArgumentError,
+                inputs=[args.input] + [path for _, path in pairs])
     templates: dict[str, np.ndarray] = {}
     columns: list[str] | None = None
     first: Path | None = None

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from tabletop.commands import positive_number
+from tabletop.commands import output_file, positive_number
 from tabletop.frames import InputError
 
 HELP = ("drive a touch-posed humanoid (posing, actions, tracking) from recorded touches, or "
@@ -115,6 +115,8 @@ def main(args: argparse.Namespace) -> int:
     height = positive_number(args.height, "--height", "metres", PoseArgumentError)
     if not args.describe and (not args.input or not args.out):
         raise PoseArgumentError("give --input TOUCHES.csv and --out POSES.jsonl (or --describe)")
+    if args.out:
+        output_file(args.out, "--out", PoseArgumentError, inputs=(args.input,))
     frames = None if args.describe else read_touches(args.input)
     from behaviors.touch_pose.engine import TouchPose
     from tabletop.files import atomic_write_text

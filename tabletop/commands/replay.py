@@ -65,7 +65,7 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.recorder import SessionError, read_header
 
     if args.out is not None:
-        output_file(args.out, "--out", ReplayError)
+        output_file(args.out, "--out", ReplayError, inputs=args.session)
     configure_logging(args.verbose)
     first = args.session[0]
     header = read_header(first)

@@ -18,7 +18,7 @@ import time
 from pathlib import Path
 from typing import Any, Iterator
 
-from tabletop.commands import number_in_range
+from tabletop.commands import number_in_range, output_file
 from tabletop.files import atomic_writer
 from tabletop.frames import InputError
 
@@ -212,6 +212,7 @@ def main(args: argparse.Namespace) -> int:
     out = Path(args.out)
     if out.is_dir():
         raise TrackInputError(f"--out {args.out!r} is a folder; give a file name")
+    output_file(out, "--out", TrackInputError, inputs=(args.input,))
     reader = FrameReader(args.input)
     fps = fps_arg or reader.fps or 30.0
     detector = plugin.build_detector(options)

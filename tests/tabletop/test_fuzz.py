@@ -54,8 +54,9 @@ def workdir() -> Iterator[Path]:
             os.chdir(old)
 
 
-def check(capfd, argv: list[str]) -> int:
-    """Run one command in this process; assert the property; return its exit status."""
+def check(capfd, argv: list[str], expect: str | None = None) -> int:
+    """Run one command in this process; assert the property (and that its error names
+    ``expect`` where given); return its exit status."""
     capfd.readouterr()
     with alarm(CALL_LIMIT_S):
         try:
@@ -71,6 +72,7 @@ def check(capfd, argv: list[str]) -> int:
         errors = [ln for ln in lines if ": error:" in ln]
         assert len(errors) == 1, (argv, err)
         assert code not in (0, 1), (argv, code, err)  # 1: the CLI's "internal error"
+    assert expect is None or expect in err, (argv, err)
     return code
 
 
@@ -163,6 +165,23 @@ def test_an_empty_path_is_refused_in_one_line(capfd, argv):
         make_files(root)
         (root / "session.jsonl").write_text("", encoding="utf-8")
         assert check(capfd, argv) != 0
+
+
+@pytest.mark.parametrize("argv", [
+    ["follow", "--template", "a=good.csv", "--input", "good.csv", "--out", "./good.csv"],
+    ["follow", "--template", "a=good.csv", "--input", "image.png", "--out", "folder/../good.csv"],
+    ["behave", "--train", "demo.csv", "--input", "good.csv", "--out", "./demo.csv"],
+    ["pose", "--input", "good.csv", "--out", "good.csv"],
+    ["review", "session.jsonl", "--out", "./session.jsonl"],
+    ["replay", "session.jsonl", "--no-view", "--fast", "--out", "session.jsonl"],
+    ["track", "image.png", "--out", "./image.png"]])
+def test_an_output_naming_an_input_is_refused_and_the_input_kept(capfd, argv):
+    with workdir() as root:
+        make_files(root)
+        target = root / argv[-1]
+        before = target.read_bytes()
+        assert check(capfd, argv, expect="is the input file") != 0
+        assert target.read_bytes() == before
 
 
 # --- generated configs ----------------------------------------------------------------------------
