@@ -142,6 +142,11 @@ def main() -> None:
             figures[f"seed{seed}.pursuit.designer.thresholds_met"] = p_ref_met
             figures[f"seed{seed}.engine_only_misses"] = _count(engine)
             figures[f"seed{seed}.pursuit.engine_only_misses"] = _count(p_engine)
+            for name, paths in pursuit.items():      # time at a table edge (no threshold)
+                for path, row in paths.items():
+                    figures[f"seed{seed}.pursuit.{name}.gen_edge_share"] = row["gen_edge_share"]
+                    figures[f"seed{seed}.pursuit.{name}.designer_edge_share"] = \
+                        pursuit_ref[name][path]["gen_edge_share"]
         if n:
             continue
         print_fidelity(table)

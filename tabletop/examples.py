@@ -100,7 +100,8 @@ Rows = dict[str, dict[str, dict]]
 def _trained(folder: Path, name: str) -> tuple[Behavior, dict]:
     stored = library.load_behavior(folder / name)
     behavior = Behavior.train(stored.demonstration, **stored.parameters)
-    return behavior, fidelity.demonstration_figures(behavior)
+    # the shipped demonstrations were made on the bench's table (designers.demonstrate)
+    return behavior, fidelity.demonstration_figures(behavior, (0.0, 0.0, *TABLE))
 
 
 def fidelity_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.PERSONALITIES,
@@ -144,7 +145,8 @@ def designer_table(seconds: float = 40.0, seed: int = 0, pursuit: bool = False,
 
         def row(t: np.ndarray, main: np.ndarray, react: np.ndarray) -> dict:
             return fidelity.compare(demo, fidelity.figures(main, react, rate,
-                                                           behavior.turn_limit))
+                                                           behavior.turn_limit,
+                                                           (0.0, 0.0, *TABLE)))
         if pursuit:
             out[name] = {visitors.PURSUIT: row(*designers.pursued_on_grid(
                 name, visitors.pursuer(seed, seconds, TABLE), rate, TABLE))}

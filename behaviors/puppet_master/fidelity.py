@@ -20,7 +20,10 @@ demonstration's, with the thresholds a designer would notice:
 - ``contact``: share of steps within 0.08 m of the main (an event figure);
 - ``orbit_radps``: the reactor's own angular rate around the main (its velocity's tangential
   part over its distance, so a follower carried round by a turning main does not count),
-  averaged over one second, absolute, while within 0.6 m (an event figure).
+  averaged over one second, absolute, while within 0.6 m (an event figure);
+- ``edge_share``: share of steps the reactor spends within 0.1 m of a table edge (reported,
+  no threshold; only where the table is known: a fleeing character that runs into the edges
+  is caught there).
 
 Event figures must stay within 30% of the demonstration's, or within a floor where the
 demonstration's figure is near zero (a character that never touches has no 30% of it).
@@ -44,6 +47,7 @@ CONTACT_M = 0.08
 ORBIT_NEAR_M = 0.6
 TEXTURE_MIN_MPS = 0.05
 SECTORS = 8
+EDGE_M = 0.1              # a reactor nearer than this to a table edge is at the edge
 SATURATED = 0.95          # a step turning at least this share of the limit is saturated
 
 # thresholds (issue: facing within 0.1; look change and texture 0.67-1.5x; speed W1 within
@@ -77,12 +81,12 @@ def span_speed(xy: np.ndarray, rate_hz: float, span_s: float) -> np.ndarray:
     return np.hypot(d[:, 0], d[:, 1]) * rate_hz / (b - a)
 
 
-def figures(main: np.ndarray, react: np.ndarray, rate_hz: float,
-            max_turn_rate: float) -> dict[str, Any]:
+def figures(main: np.ndarray, react: np.ndarray, rate_hz: float, max_turn_rate: float,
+            table: tuple[float, float, float, float] | None = None) -> dict[str, Any]:
     """Figures of one main/reactor pair: ``main`` and ``react`` are (n, 3) x, y, look on one
-    grid at ``rate_hz``; ``max_turn_rate`` (rad/s) is the look limiter's limit. Returns scalar
-    figures plus the samples that distributions are compared on (``_dist``, ``_speed``,
-    ``_sector``)."""
+    grid at ``rate_hz``; ``max_turn_rate`` (rad/s) is the look limiter's limit; ``table``
+    (x0, y0, x1, y1) adds ``edge_share``. Returns scalar figures plus the samples that
+    distributions are compared on (``_dist``, ``_speed``, ``_sector``)."""
     main, react = np.asarray(main, dtype=float), np.asarray(react, dtype=float)
     dt = 1.0 / rate_hz
     rel = react[:, :2] - main[:, :2]
@@ -111,6 +115,12 @@ def figures(main: np.ndarray, react: np.ndarray, rate_hz: float,
     orbit = np.abs(np.convolve(omega, np.ones(s) / s, mode="valid"))
     near = np.convolve((dist[1:] < ORBIT_NEAR_M).astype(float), np.ones(s) / s,
                        mode="valid") > 0.999
+    edge = math.nan
+    if table is not None:
+        x0, y0, x1, y1 = table
+        room = np.minimum(np.minimum(react[:, 0] - x0, x1 - react[:, 0]),
+                          np.minimum(react[:, 1] - y0, y1 - react[:, 1]))
+        edge = float(np.mean(room < EDGE_M))
     v_still = float(np.mean(speed[still])) if still.any() else math.nan
     v_moving = float(np.mean(speed[moving])) if moving.any() else math.nan
     return {
@@ -125,6 +135,7 @@ def figures(main: np.ndarray, react: np.ndarray, rate_hz: float,
         "texture_rad": float(np.sqrt(np.mean(turn[ok] ** 2))) if ok.any() else 0.0,
         "contact": float(np.mean(dist < CONTACT_M)),
         "orbit_radps": float(orbit[near].mean()) if near.any() else 0.0,
+        "edge_share": edge,
         "_dist": dist, "_speed": speed,
         "_sector": np.bincount(sector, minlength=SECTORS) / sector.size,
     }
@@ -148,9 +159,9 @@ def compare(demo: dict[str, Any], gen: dict[str, Any]) -> dict[str, Any]:
     row: dict[str, Any] = {}
     for key in ("distance_mean_m", "speed_mean_mps", "speed_still_mps", "speed_moving_mps",
                 "still_moving_ratio", "facing", "look_change_rad", "saturation", "texture_rad",
-                "contact", "orbit_radps"):
-        row[f"demo_{key}"] = demo[key]
-        row[f"gen_{key}"] = gen[key]
+                "contact", "orbit_radps", "edge_share"):
+        row[f"demo_{key}"] = demo.get(key, math.nan)
+        row[f"gen_{key}"] = gen.get(key, math.nan)
     row["distance_w1_m"] = w1(demo["_dist"], gen["_dist"])
     row["sectors_tv"] = float(0.5 * np.abs(demo["_sector"] - gen["_sector"]).sum())
     row["speed_w1_mps"] = w1(demo["_speed"], gen["_speed"])
@@ -193,10 +204,13 @@ def generate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, 
     return np.array(rows, dtype=float).reshape(-1, 4)
 
 
-def demonstration_figures(behavior: Any) -> dict[str, Any]:
-    """Figures of a trained behaviour's own demonstration (at its generation rate)."""
+def demonstration_figures(behavior: Any,
+                          table: tuple[float, float, float, float] | None = None
+                          ) -> dict[str, Any]:
+    """Figures of a trained behaviour's own demonstration (at its generation rate; ``table``:
+    the table it was made on, for ``edge_share``)."""
     p = behavior.params
-    return figures(behavior.main, behavior.react, p.rate_hz, behavior.turn_limit)
+    return figures(behavior.main, behavior.react, p.rate_hz, behavior.turn_limit, table)
 
 
 def evaluate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, float],
@@ -204,7 +218,8 @@ def evaluate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, 
     """Generate for ``main`` and compare with the demonstration (see :func:`compare`)."""
     p = behavior.params
     rows = generate(behavior, main, table)
-    gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, behavior.turn_limit)
+    gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, behavior.turn_limit,
+                  table)
     return compare(demonstration_figures(behavior) if demo is None else demo, gen)
 
 
@@ -232,5 +247,6 @@ def evaluate_pursuit(behavior: Any, pursuer: Any, table: tuple[float, float, flo
     with the demonstration (see :func:`compare`)."""
     p = behavior.params
     main, rows = pursue(behavior, pursuer, table)
-    gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, behavior.turn_limit)
+    gen = figures(main_on_grid(main, rows[:, 0]), rows[:, 1:], p.rate_hz, behavior.turn_limit,
+                  table)
     return compare(demonstration_figures(behavior) if demo is None else demo, gen)

@@ -217,6 +217,24 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     main reach it (choosing the smallest turn of the bearing instead made it run back and forth
     under the main as that side flipped); a follower behind a main at the edge walks beside it.
     If no bearing fits (the distance exceeds the table), the nearest table point.
+
+    It is also what turns the afraid character's flight into circling when a visitor chases
+    it toward an edge (bench/fidelity.py's pursuit: orbit 0.41-0.51 rad/s against 0.335, missed
+    on 5 of 7 seeds). Traced on seeds 0 and 2 (steps 0.2-0.45 m from the visitor while it
+    closes): the flight target lies beyond the edge and is moved onto the table on 52-100% of
+    them, by 0.17-0.21 m round the visitor; the drift correction toward it (the share
+    Params.relative_motion of the way) is then 0.36-0.67 m/s sideways, the step is capped at
+    the demonstrated speed (0.24-0.29 m/s), and what is left of the flight is 0.00-0.08 m/s away from the visitor
+    against 0.11-0.32 demonstrated: the visitor comes within 0.2 m a quarter of the time (6%
+    in the demonstration), where the same sideways speed is a faster orbit. Measured remedies
+    (Python step, pursuit thresholds on seeds 0-5 / 7, against 40 / 7): the table point
+    nearest the target instead 26 / 4; no fitting (keep_on_table slides the step) 28 / 6;
+    the correction toward a moved target at most the demonstrated step length there, in a
+    place held in the world 39 / 7 (orbit 0.34-0.53), in both place frames 38 / 7; the flight
+    kept whole under the cap and the correction given what is left 41 / 7 (orbit 0.38-0.60).
+    None kept: the matched moments are themselves slow flights (0.42-0.45 m from the main,
+    0.19-0.24 m/s, where the live character is at 0.2-0.45 m), so the flight left is short
+    whatever the correction does.
     """
     x0, y0, x1, y1 = table
     if x0 <= tx <= x1 and y0 <= ty <= y1:
@@ -243,6 +261,20 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
     fleeing reactor would run off it. A step that would cross an edge loses its outward part and
     keeps its length along the edge (a cornered character slides away along the wall instead
     of stopping there); the result is clamped to the table.
+
+    Against a visitor chasing it (bench/fidelity.py's pursuit, seeds 0-5) the afraid character
+    spends 44-79% of its steps within 0.1 m of an edge (``edge_share``; demonstration 37%, its
+    designer's own hand 18-59%). Two extensions of the paper's model that bring the table in
+    were measured (thresholds met on seeds 0-5 / held-out seed 7, open paths and pursuit,
+    against 623 / 107 and 40 / 7): the reactor's distance to the nearest edge (clipped at
+    0.2 m; the demonstration's edges its bounds) as a seventh situation feature, weighed as the
+    relative position: 620 / 103 and 40 / 6, the edge share unchanged (0.49-0.66); weighed by
+    its own inverse spread: 610 / 104 and 42 / 8. The step's part toward an edge held to the
+    edge's distance over the demonstrated reactor's median time to an edge (0.38-1.7 s), the
+    rest along it: edge share 0.18-0.43, 625 / 108 and 39 / 7, but the character is then
+    caught in the open (mean distance to the visitor 0.29-0.38 -> 0.23-0.32 m on every seed,
+    against 0.41 demonstrated); the same only within 0.2 m of an edge: 621 / 105 and 41 / 7.
+    Neither is used. What makes its orbit is :func:`fit_target` (see there).
     """
     x0, y0, x1, y1 = table
     length = math.hypot(sx, sy)

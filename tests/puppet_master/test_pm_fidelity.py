@@ -171,3 +171,19 @@ def test_a_character_shown_chased_is_checked_against_a_visitor_chasing_it(shippe
                                             b.params.rate_hz, examples.TABLE)
     own = fidelity.compare(demo, fidelity.figures(m, react, b.params.rate_hz, b.turn_limit))
     assert own["ok"], fidelity.failures(own)
+
+
+def test_the_time_at_a_table_edge_is_reported(shipped):
+    # edge_share: steps within 0.1 m of a table edge, where the table is known (reported, no
+    # threshold). The afraid demonstration spends 37% of its time there (measured 0.372);
+    # a reactor circling the table's centre none, one sliding along an edge all of it
+    b = shipped["afraid"]
+    demo = fidelity.demonstration_figures(b, TABLE)
+    assert 0.3 < demo["edge_share"] < 0.45, demo["edge_share"]
+    assert np.isnan(fidelity.demonstration_figures(b)["edge_share"])
+    t = np.arange(400) / 40.0
+    main = np.column_stack([0.6 + 0.1 * np.cos(t), 0.4 + 0.1 * np.sin(t), t + np.pi / 2])
+    centre = np.column_stack([0.6 + 0.3 * np.cos(t), 0.4 + 0.2 * np.sin(t), t])
+    along = np.column_stack([0.1 + 0.1 * t, np.full(t.size, 0.05), np.zeros(t.size)])
+    assert fidelity.figures(main, centre, 40.0, 6.0, TABLE)["edge_share"] == 0.0
+    assert fidelity.figures(main, along, 40.0, 6.0, TABLE)["edge_share"] == 1.0
