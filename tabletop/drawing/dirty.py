@@ -45,6 +45,25 @@ def cover(grid: np.ndarray, rects: np.ndarray, tile: int, pad: int) -> None:
 
 
 @numba.njit(**_JIT)
+def cover_discs(grid: np.ndarray, discs: np.ndarray, tile: int, pad: int) -> None:
+    """Mark in ``grid`` every tile holding a pixel nearer than radius + ``pad`` to the centre of
+    a disc of ``discs`` (N x 3: centre x, y, radius px): a glow lights only its disc."""
+    rows, cols = grid.shape
+    for i in range(discs.shape[0]):
+        cx, cy, rr = discs[i, 0], discs[i, 1], discs[i, 2] + pad
+        if discs[i, 2] <= 0:
+            continue
+        r0, r1 = max(0, (cy - rr) // tile), min(rows - 1, (cy + rr) // tile)
+        c0, c1 = max(0, (cx - rr) // tile), min(cols - 1, (cx + rr) // tile)
+        for r in range(r0, r1 + 1):
+            ny = min(max(cy, r * tile), r * tile + tile - 1) - cy
+            for c in range(c0, c1 + 1):
+                nx = min(max(cx, c * tile), c * tile + tile - 1) - cx
+                if nx * nx + ny * ny < rr * rr:
+                    grid[r, c] = 1
+
+
+@numba.njit(**_JIT)
 def boxes(grid: np.ndarray, tile: int, width: int, height: int, out: np.ndarray) -> int:
     """The marked tiles of ``grid`` as rectangles (x, y, width, height px, clipped to
     ``width`` x ``height``) into ``out`` (at least rows x (columns // 2 + 1) rows): each row's runs
@@ -81,12 +100,25 @@ def tiles(size: tuple[int, int]) -> np.ndarray:
 
 
 def mark(size: tuple[int, int], rects: Sequence[pygame.Rect | None]) -> np.ndarray:
-    """The grid of tiles (see :func:`tiles`) that ``rects`` (px; None ones ignored) touch."""
+    """The grid of tiles (see :func:`tiles`) that ``rects`` (px; None ones ignored) touch: of
+    a :class:`tabletop.drawing.primitives.Disc` (a glow's square, a halo's; also as a part of a
+    :class:`~tabletop.drawing.primitives.Parts`) only the tiles its disc touches."""
     grid = tiles(size)
-    rs = [r for r in rects if r is not None]
+    rs, discs = [], []
+    for r in rects:
+        if r is None:
+            continue
+        for q in getattr(r, "parts", (r,)):
+            d = getattr(q, "disc", None)
+            if d is None:
+                rs.append(q)
+            elif q.w > 0 and q.h > 0:
+                discs.append(d)
     if rs:                  # (a Rect iterates as x, y, width, height)
         cover(grid, np.fromiter(chain.from_iterable(rs), np.int64, 4 * len(rs)).reshape(-1, 4),
               TILE, PAD)
+    if discs:
+        cover_discs(grid, np.array(discs, dtype=np.int64), TILE, PAD)
     return grid
 
 
@@ -105,4 +137,6 @@ def rectangles(grid: np.ndarray, size: tuple[int, int]) -> list[pygame.Rect]:
 
 def warm() -> None:
     """Compile (or load from the cache) the kernels."""
-    rectangles(mark((64, 48), [pygame.Rect(3, 4, 20, 30), None]), (64, 48))
+    from tabletop.drawing.primitives import disc_rect
+    rectangles(mark((64, 48), [pygame.Rect(3, 4, 20, 30), None, disc_rect(20, 20, 10)]),
+               (64, 48))

@@ -51,3 +51,18 @@ def test_more_than_half_the_target_is_presented_whole():
     boxes = dirty.rectangles(dirty.mark(SIZE, [pygame.Rect(0, 0, 500, 300)]), SIZE)
     assert boxes == [pygame.Rect((0, 0), SIZE)]
     assert dirty.rectangles(dirty.mark(SIZE, []), SIZE) == []
+
+
+def test_a_glow_repaints_the_tiles_of_its_disc_not_its_dark_corners():
+    from tabletop.drawing import primitives as P
+    for (x, y), radius in (((200.3, 150.6), 120.0), ((30.0, 340.0), 70.0), ((333.0, 20.0), 9.0)):
+        surf = pygame.Surface(SIZE)
+        lit = P.glow(surf, (x, y), radius, (255, 255, 255), 1.0)
+        changed = pygame.surfarray.array3d(surf).max(axis=2).T > 0
+        boxes = dirty.rectangles(dirty.mark(SIZE, [P.union([lit, None])]), SIZE)
+        cover = coverage(boxes)
+        assert np.all(cover[changed] == 1), f"glow at {(x, y)}: a lit pixel is not repainted"
+        square = np.count_nonzero(coverage(dirty.rectangles(dirty.mark(
+            SIZE, [pygame.Rect(lit)]), SIZE)))
+        if radius > 50:      # (a small glow's disc touches its square's every tile)
+            assert np.count_nonzero(cover) < 0.92 * square
