@@ -21,6 +21,8 @@ import numpy as np
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 import pygame  # noqa: E402
 
+from tabletop.drawing.primitives import Disc, Parts, disc_rect  # noqa: E402
+
 TILE = 16        # pixels per tile side
 PAD = 2          # pixels added around each rectangle (anti-aliased edges may spill over)
 
@@ -108,12 +110,11 @@ def mark(size: tuple[int, int], rects: Sequence[pygame.Rect | None]) -> np.ndarr
     for r in rects:
         if r is None:
             continue
-        for q in getattr(r, "parts", (r,)):
-            d = getattr(q, "disc", None)
-            if d is None:
+        for q in (r.parts if type(r) is Parts else (r,)):
+            if type(q) is not Disc:
                 rs.append(q)
             elif q.w > 0 and q.h > 0:
-                discs.append(d)
+                discs.append(q.disc)
     if rs:                  # (a Rect iterates as x, y, width, height)
         cover(grid, np.fromiter(chain.from_iterable(rs), np.int64, 4 * len(rs)).reshape(-1, 4),
               TILE, PAD)
@@ -137,6 +138,5 @@ def rectangles(grid: np.ndarray, size: tuple[int, int]) -> list[pygame.Rect]:
 
 def warm() -> None:
     """Compile (or load from the cache) the kernels."""
-    from tabletop.drawing.primitives import disc_rect
     rectangles(mark((64, 48), [pygame.Rect(3, 4, 20, 30), None, disc_rect(20, 20, 10)]),
                (64, 48))
