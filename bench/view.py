@@ -20,7 +20,8 @@ Candidates, interleaved A B A B ... (every candidate once per round, rounds alte
   streaming texture of pygame-ce's ``_sdl2.video.Renderer`` (software renderer) and present it.
 
 Per frame: wall milliseconds of draw + present (median, p99), this thread's CPU, and the X
-server's CPU (what presenting costs the server; 10 ms clock ticks summed over the run).
+server's CPU (what presenting costs the server; 10 ms clock ticks summed over the run); for
+``dirty``, the pixels and rectangles presented per frame.
 Budget (DESIGN.md, issue 14): <= 4 ms median and <= 8 ms p99 per 1280x720 frame in the real window.
 """
 
@@ -79,6 +80,7 @@ class Run:
         self.renderer = Renderer(TABLE, inner, margin=24 * inner[0] // size[0])
         self.renderer.incremental = candidate in ("dirty", "sdl2_texture")
         self.inner = pygame.Surface(inner) if candidate == "half_scaled" else None
+        self.presented: list[tuple[int, int]] = []   # (pixels, rectangles) per dirty present
 
     def frame(self, frame) -> tuple[float, float, float]:
         """Draw and present one frame; (draw seconds, present seconds, this thread's CPU
@@ -92,6 +94,8 @@ class Run:
             pygame.display.flip()
         elif self.candidate == "dirty":
             pygame.display.update(self.renderer.dirty)
+            self.presented.append((sum(r.w * r.h for r in self.renderer.dirty),
+                                   len(self.renderer.dirty)))
         elif self.candidate == "half_scaled":
             pygame.transform.scale(self.inner, self.size, self.surface)
             pygame.display.flip()
@@ -159,6 +163,8 @@ def main() -> None:
                         d["total"].append(a + b)
                         d["cpu"].append(c)
                     server[key] = server.get(key, 0.0) + server_cpu_s(disp) - x0
+                    if run.presented:
+                        d.setdefault("presented", []).extend(run.presented[10:])
                     run.close()
         pygame.display.quit()
     figures: dict[str, object] = {}
@@ -172,6 +178,11 @@ def main() -> None:
                         "frames": len(d["total"])}
         if xs == xs:
             figures[key]["xserver_cpu_mean_ms"] = xs
+        if d.get("presented"):
+            figures[key]["presented_kpx_mean"] = sum(p for p, _ in d["presented"]) / len(
+                d["presented"]) / 1e3
+            figures[key]["presented_rects_mean"] = sum(n for _, n in d["presented"]) / len(
+                d["presented"])
         print(f"{key:34s} {tot['median_ms']:6.2f} ms median {tot['p99_ms']:6.2f} ms p99 "
               f"(draw {dr['median_ms']:5.2f}, present {pr['median_ms']:5.2f}; cpu "
               f"{cpu['median_ms']:5.2f} median {cpu['p99_ms']:5.2f} p99; X server "

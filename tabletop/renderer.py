@@ -152,7 +152,7 @@ class Renderer:
         else:
             now = dirty.mark(size, drawn)
             self.dirty = [target.get_rect()] if full else dirty.rectangles(now | self._tiles,
-                                                                            size)
+                                                                            size, dirty.SLACK)
             self._drawn, self._tiles = dirty.rectangles(now, size), now
         self._last_target = target
 

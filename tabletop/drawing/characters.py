@@ -107,9 +107,8 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
                 rgb(fade(lighten(pose.color, 0.35), pose.alpha)), float(pose.blink),
                 float(pose.gaze), float(pose.angle), rgb(fade(EYE_WHITE, pose.alpha)),
                 rgb(fade(INK, pose.alpha)))
-    pad = 0.9 * L * pose.stretch
-    x0, y0, x1, y1 = cx - pad - 1, cy - pad - 1, cx + pad + 2, cy + pad + 2
-    return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
+    # (everything of it lies within 0.9 L of its centre, its feet and stretch included)
+    return P.union([touched, P.disc_rect(int(cx), int(cy), int(0.9 * L * pose.stretch) + 3)])
 
 
 def _chains(bones: Sequence[tuple[int, int]]) -> list[list[int]]:

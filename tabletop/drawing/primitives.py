@@ -139,14 +139,37 @@ def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface
 _glow_calls: dict[tuple, pygame.Surface] = {}
 
 
+class Disc(pygame.Rect):
+    """A rectangle of which only the disc ``disc`` (centre x, y and radius px) was drawn on: a
+    glow's square has dark corners, and :mod:`tabletop.drawing.dirty` repaints the disc."""
+
+    disc: tuple[int, int, int]
+
+
+def disc_rect(x: int, y: int, r: int) -> Disc:
+    """The square around the disc of radius ``r`` px about pixel (``x``, ``y``), as a
+    :class:`Disc`."""
+    out = Disc(x - r, y - r, 2 * r + 1, 2 * r + 1)
+    out.disc = (x, y, r)
+    return out
+
+
+class Parts(pygame.Rect):
+    """A rectangle made of ``parts`` (rectangles and :class:`Disc` ones)."""
+
+    parts: list[pygame.Rect]
+
+
 def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
-         strength: float) -> pygame.Rect | None:
+         strength: float) -> Disc | None:
     """Add a soft light of ``radius`` pixels around ``c``; returns the rectangle touched."""
     if strength <= 0.02 or radius < 2 or not math.isfinite(c[0] + c[1]):
         return None
     g = glow_surface(radius, color, strength)
-    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
-                     special_flags=pygame.BLEND_ADD)
+    x, y = int(round(c[0])), int(round(c[1]))
+    out = Disc(surf.blit(g, g.get_rect(center=(x, y)), special_flags=pygame.BLEND_ADD))
+    out.disc = (x, y, g.get_width() // 2)
+    return out
 
 
 def shadow_surface(rx: float, ry: float, depth: float) -> pygame.Surface:
@@ -228,4 +251,6 @@ def union(rects: Sequence[pygame.Rect | None]) -> pygame.Rect | None:
     rs = [r for r in rects if r is not None]
     if not rs:
         return None
-    return rs[0].unionall(rs[1:])
+    out = Parts(rs[0].unionall(rs[1:]))
+    out.parts = [q for r in rs for q in getattr(r, "parts", (r,))]
+    return out

@@ -112,7 +112,7 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
             gw = g.get_width()
             rings.append((g, (xi - gw // 2, yi - gw // 2)))
             half = max(half, gw // 2)
-        out.append(pygame.Rect(xi - half, yi - half, 2 * half + 1, 2 * half + 1))
+        out.append(P.disc_rect(xi, yi, half + 1))   # (ring and notch lie in this disc)
         if nr > 0:
             notches.setdefault((int(ncol), nr), []).append((nx, ny))
         if label is not None:

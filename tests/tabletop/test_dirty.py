@@ -51,3 +51,40 @@ def test_more_than_half_the_target_is_presented_whole():
     boxes = dirty.rectangles(dirty.mark(SIZE, [pygame.Rect(0, 0, 500, 300)]), SIZE)
     assert boxes == [pygame.Rect((0, 0), SIZE)]
     assert dirty.rectangles(dirty.mark(SIZE, []), SIZE) == []
+
+
+def test_a_glow_repaints_the_tiles_of_its_disc_not_its_dark_corners():
+    from tabletop.drawing import primitives as P
+    for (x, y), radius in (((200.3, 150.6), 120.0), ((30.0, 340.0), 70.0), ((333.0, 20.0), 9.0)):
+        surf = pygame.Surface(SIZE)
+        lit = P.glow(surf, (x, y), radius, (255, 255, 255), 1.0)
+        changed = pygame.surfarray.array3d(surf).max(axis=2).T > 0
+        boxes = dirty.rectangles(dirty.mark(SIZE, [P.union([lit, None])]), SIZE)
+        cover = coverage(boxes)
+        assert np.all(cover[changed] == 1), f"glow at {(x, y)}: a lit pixel is not repainted"
+        square = np.count_nonzero(coverage(dirty.rectangles(dirty.mark(
+            SIZE, [pygame.Rect(lit)]), SIZE)))
+        if radius > 50:      # (a small glow's disc touches its square's every tile)
+            assert np.count_nonzero(cover) < 0.92 * square
+
+
+def test_joined_rectangles_still_cover_every_tile_once_and_add_little():
+    rng = np.random.default_rng(7)
+    fewer = 0
+    for trial in range(20):
+        drawn = [pygame.Rect(int(x), int(y), int(w), int(h)) for x, y, w, h in
+                 zip(rng.integers(-20, 600, 9), rng.integers(-20, 330, 9),
+                     rng.integers(1, 60, 9), rng.integers(1, 60, 9))]
+        grid = dirty.mark(SIZE, drawn)
+        tiles = dirty.rectangles(grid, SIZE)
+        joined = dirty.rectangles(grid, SIZE, 2000)
+        if tiles == [pygame.Rect((0, 0), SIZE)]:
+            continue
+        cover, was = coverage(joined), coverage(tiles)
+        assert cover.max() <= 1, f"trial {trial}: joined rectangles overlap"
+        assert np.all(cover[was > 0] == 1), f"trial {trial}: a tile is not presented"
+        assert len(joined) <= len(tiles)
+        fewer += len(joined) < len(tiles)
+        # each join adds at most the slack
+        assert np.count_nonzero(cover) - np.count_nonzero(was) <= 2000 * (len(tiles) - len(joined))
+    assert fewer >= 10
