@@ -67,6 +67,22 @@ def draw_trails(surf: pygame.Surface, paths: Sequence[Sequence[tuple[float, floa
 
 _STATE_CODES = {"seen": halo_kernel.SEEN, "coasting": halo_kernel.COASTING,
                 "lost": halo_kernel.LOST}
+_looks: dict[tuple, tuple] = {}
+
+
+def _look(state: str, alpha: float) -> tuple[int, Color, tuple[int, int, int]]:
+    """(state code for the halos' kernel, halo colour, trail inks) of a puck in ``state``
+    shown at opacity ``alpha`` (remembered)."""
+    key = (state, alpha)
+    look = _looks.get(key)
+    if look is None:
+        if len(_looks) >= 1024:
+            _looks.clear()
+        color = state_color(state)
+        look = _looks[key] = (_STATE_CODES.get(state, 0), color, trail_inks(color, alpha))
+    return look
+
+
 _TABLE_RGB = np.array(TABLE, dtype=np.float64)
 
 
@@ -84,16 +100,14 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
     n = len(items)
     if not n:
         return []
-    v = np.fromiter((c for tr, _, _ in items for c in (tr.puck.x, tr.puck.y, tr.puck.angle)),
-                    np.float64, 3 * n).reshape(n, 3)
-    states = [s for _, s, _ in items]
+    v = np.array([(tr.puck.x, tr.puck.y, tr.puck.angle) for tr, _, _ in items], dtype=np.float64)
+    looks = [_look(s, a) for _, s, a in items]
     geo = np.empty((n, halo_kernel.FIELDS))
-    halo_kernel.halos(v, np.array([_STATE_CODES.get(s, 0) for s in states], dtype=np.int64),
-                      np.fromiter((a for *_, a in items), np.float64, n), to_screen.H,
+    halo_kernel.halos(v, np.array([lk[0] for lk in looks], dtype=np.int64),
+                      np.array([a for *_, a in items], dtype=np.float64), to_screen.H,
                       float(puck_radius_m), 0.7 + 0.3 * math.sin(t * 9.0), _TABLE_RGB, geo)
-    colors = [state_color(s) for s in states]
     paths = [tr.path for tr, _, _ in items]
-    inks = [trail_inks(c, a) for c, (_, _, a) in zip(colors, items)]
+    inks = [lk[2] for lk in looks]
     keep = geo[:, 8] >= 0                        # (not finite or too far: not drawn)
     if keep.all():
         out = draw_trails(surf, paths, geo[:, 0:2], inks, geo[:, 2], to_screen.H, t, trail_s)
@@ -103,18 +117,20 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
                           [i for i, ok in zip(inks, k) if ok], geo[keep, 2], to_screen.H, t,
                           trail_s)
     rings, notches, labels = [], {}, []
-    for (tr, _, _), color, (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
-            items, colors, geo.tolist()):
+    ring, rect, append = P.ring_surface, pygame.Rect, out.append
+    for (tr, _, _), (_, color, _), (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
+            items, looks, geo.tolist()):
         if e < 0:
             continue
         xi, yi = int(xi), int(yi)
         half = int(e)
         if a > 0.02 and R >= 1:
-            g = P.ring_surface(R, w, color, a)
+            g = ring(R, w, color, a)
             gw = g.get_width()
             rings.append((g, (xi - gw // 2, yi - gw // 2)))
-            half = max(half, gw // 2)
-        out.append(pygame.Rect(xi - half, yi - half, 2 * half + 1, 2 * half + 1))
+            if gw // 2 > half:
+                half = gw // 2
+        append(rect(xi - half, yi - half, 2 * half + 1, 2 * half + 1))
         if nr > 0:
             notches.setdefault((int(ncol), nr), []).append((nx, ny))
         if label is not None:
