@@ -91,6 +91,8 @@ class Presence:
 
     def alpha(self, t: float) -> float:
         """Opacity 0..1 now: fading in after ``born``, fading out after ``gone``."""
+        if self.gone is None and t - self.born >= FADE_IN_S:
+            return 1.0                                       # (here, and in scale: settled)
         a = smoothstep((t - self.born) / FADE_IN_S)
         if self.gone is not None:
             a *= 1.0 - smoothstep((t - self.gone) / FADE_OUT_S)
@@ -98,6 +100,8 @@ class Presence:
 
     def scale(self, t: float) -> float:
         """Size factor now: grows in from 0.6 with a small overshoot, shrinks to 0.7 on leaving."""
+        if self.gone is None and t - self.born >= FADE_IN_S:
+            return 1.0
         s = 0.6 + 0.4 * ease_out_back((t - self.born) / FADE_IN_S)
         if self.gone is not None:
             s *= 1.0 - 0.3 * smoothstep((t - self.gone) / FADE_OUT_S)
@@ -140,11 +144,15 @@ class Lives:
                 p.vy += k * (vy - p.vy)
                 p.speed = math.hypot(p.vx, p.vy)
                 p.phase = (p.phase + p.speed * dt * math.tau / STRIDE_M) % math.tau
-                p.hint += (1.0 - math.exp(-dt / HINT_TAU_S)) * (hint_level(c) - p.hint)
+                level = hint_level(c)
+                if level or p.hint:
+                    p.hint += (1.0 - math.exp(-dt / HINT_TAU_S)) * (level - p.hint)
             if c.hint_points is not None and not c.valid:
                 p.hint_points = c.hint_points
             p.state, p.t = c, t
             out.append(p)
+        if len(now) == len(self.presences):     # (none left)
+            return out
         for name, p in list(self.presences.items()):
             if name in now:
                 continue
@@ -188,6 +196,8 @@ class Traces:
             while path and t - path[0][2] > TRAIL_S:
                 path.popleft()
             out.append((tr, p.state, 1.0))
+        if len(here) == len(self.traces):       # (none lost)
+            return out
         for pid, tr in list(self.traces.items()):
             if pid in here:
                 continue

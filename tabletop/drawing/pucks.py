@@ -135,14 +135,15 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
             notches.setdefault((int(ncol), nr), []).append((nx, ny))
         if label is not None:
             rr = round(R)
-            labels.append((label(tr.puck.id), xi + rr * 0.75, yi - rr))
+            img = label(tr.puck.id)
+            labels.append((img, (xi + rr * 0.75, yi - rr - img.get_height() * 0.6)))
     surf.fblits(rings, pygame.BLEND_ADD)
     for (col, rad), q in notches.items():
         # (filled to the whole pixels of its radius + 0.5 px, as gfxdraw's discs are)
         raster.draw(surf, raster.discs, np.array(q, dtype=np.float64),
                     float(int(rad + 0.5) + 0.5), col)
-    for img, lx, ly in labels:
-        out.append(surf.blit(img, (lx, ly - img.get_height() * 0.6)))
+    if labels:
+        out.extend(surf.blits(labels))
     return out
 
 
