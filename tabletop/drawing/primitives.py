@@ -145,8 +145,9 @@ def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
     if strength <= 0.02 or radius < 2 or not math.isfinite(c[0] + c[1]):
         return None
     g = glow_surface(radius, color, strength)
-    return surf.blit(g, g.get_rect(center=(int(round(c[0])), int(round(c[1])))),
-                     special_flags=pygame.BLEND_ADD)
+    w, h = g.get_size()                  # (centred on the rounded point, as get_rect(center=))
+    return surf.blit(g, (int(round(c[0])) - w // 2, int(round(c[1])) - h // 2), None,
+                     pygame.BLEND_ADD)
 
 
 def shadow_surface(rx: float, ry: float, depth: float) -> pygame.Surface:
@@ -225,6 +226,11 @@ def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
 
 def union(rects: Sequence[pygame.Rect | None]) -> pygame.Rect | None:
     """The rectangle covering every given rectangle (None ones ignored), or None."""
+    if len(rects) == 2:                  # (a character's light and body: the common case)
+        a, b = rects
+        if a is None or b is None:
+            return None if a is None and b is None else (b if a is None else a).copy()
+        return a.union(b)
     rs = [r for r in rects if r is not None]
     if not rs:
         return None
