@@ -107,9 +107,12 @@ def test_kernels_draw_through_a_view_that_follows_the_surface_and_leaves_it_unlo
     assert tuple(s.get_at((5, 5)))[:3] == (0, 0, 255) and covered(s)[150, 40] == 1.0
     # a new surface in the old one's place, and a window whose memory changes, are drawn into
     del s
-    again = fresh()
-    raster.draw(again, raster.disc, 30.0, 30.0, 5.0, WHITE)
-    assert covered(again)[30, 30] == 1.0
+    again, other = fresh(), fresh((90, 70))
+    for k in range(3):                                # two targets in turn: each its own
+        raster.draw(again, raster.disc, 30.0 + 40 * k, 30.0, 5.0, WHITE)
+        raster.draw(other, raster.disc, 20.0 + 20 * k, 50.0, 3.0, WHITE)
+    assert all(covered(again)[30 + 40 * k, 30] == 1.0 for k in range(3))
+    assert all(covered(other)[20 + 20 * k, 50] == 1.0 for k in range(3))
     pygame.display.init()
     try:
         for size in ((160, 120), (240, 200)):
