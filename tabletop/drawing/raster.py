@@ -5,13 +5,13 @@ A figure's ~50 limbs, joints, torso, head and eyes, a face's loops, a reactor's 
 eyes cost one call instead of a Python-level drawing call each (the busy frame's time was per
 call, spread over ~4,900 of them); :mod:`tabletop.drawing.characters` computes each character's
 pose, geometry and colours and calls these. Shapes are rasterised into the surface's 32-bit
-pixels (``pygame.surfarray.pixels2d``: indexed ``[x, y]``). Coverage is exact: filled polygons by the
-signed area each edge leaves in each pixel (accumulated along the row), discs, strokes
-(capsules: segments with round ends) and a figure's tapered limbs (the hull of the discs at
-their two joints, so the joints need no discs of their own) by their distance from each pixel's
-centre. Pixel centres sit on integer coordinates, as for pygame's own drawing. Colours are
-packed ``0xRRGGBB`` and blended over what is there by coverage (the surface's channel shifts
-say where each goes).
+pixels (indexed ``[x, y]`` as ``pygame.surfarray.pixels2d``; see :func:`pixels`). Coverage is
+exact: filled polygons by the signed area each edge leaves in each pixel (accumulated along the
+row), discs, strokes (capsules: segments with round ends) and a figure's tapered limbs (the hull
+of the discs at their two joints, so the joints need no discs of their own) by their distance
+from each pixel's centre. Pixel centres sit on integer coordinates, as for pygame's own drawing.
+Colours are packed ``0xRRGGBB`` and blended over what is there by coverage (the surface's
+channel shifts say where each goes).
 
 Discs keep pygame.gfxdraw's look: a disc of radius ``r`` is filled out to ``r + 0.5`` px, as gfx
 fills every pixel centre within ``r``.
