@@ -57,6 +57,32 @@ class Pose:
         return fade(shade(self.color, k), self.alpha)
 
 
+_inks: dict[tuple, tuple[int, ...]] = {}
+
+
+def inks(color: Color, alpha: float) -> tuple[int, ...]:
+    """A character's colours at opacity ``alpha`` over the table, packed 0xRRGGBB as the
+    compiled drawing takes them (remembered: the same few recur frame after frame): its body
+    shaded by 0.62, 0.68, 0.7 and 0.72 and whole, lightened by 0.18 and 0.35, eye white and
+    ink."""
+    key = (color, alpha)
+    try:
+        return _inks[key]
+    except KeyError:
+        pass
+    except TypeError:          # a colour given as a list
+        key = (tuple(color), alpha)
+        if key in _inks:
+            return _inks[key]
+    c = key[0]
+    out = tuple(rgb(fade(shade(c, k), alpha)) for k in (0.62, 0.68, 0.7, 0.72, 1.0)) + tuple(
+        rgb(fade(x, alpha)) for x in (lighten(c, 0.18), lighten(c, 0.35), EYE_WHITE, INK))
+    if len(_inks) >= 4096:
+        _inks.clear()
+    _inks[key] = out
+    return out
+
+
 def _squash(pose: Pose) -> tuple[float, float, float, float]:
     """The 2x2 map (row vectors, ``p @ S``, as four floats s00, s01, s10, s11) that stretches
     local points (x along the heading) by ``pose.stretch`` along the motion and squashes them
@@ -101,12 +127,10 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
     # (every scalar a float: a kernel given an int where it was compiled for a float compiles
     # again, seconds, in the middle of a frame)
+    foot, _, _, dark, body, _, belly, white, ink = inks(pose.color, pose.alpha)
     raster.draw(surf, raster.reactor, _BODY_UV, _EYES_UV, M, float(pose.breath), float(cx),
-                float(cy), float(L), ca, sa, float(step), rgb(pose.body(0.62)),
-                rgb(pose.body(0.72)), rgb(pose.body()),
-                rgb(fade(lighten(pose.color, 0.35), pose.alpha)), float(pose.blink),
-                float(pose.gaze), float(pose.angle), rgb(fade(EYE_WHITE, pose.alpha)),
-                rgb(fade(INK, pose.alpha)))
+                float(cy), float(L), ca, sa, float(step), foot, dark, body, belly,
+                float(pose.blink), float(pose.gaze), float(pose.angle), white, ink)
     # (everything of it lies within 0.9 L of its centre, its feet and stretch included)
     return P.union([touched, P.disc_rect(int(cx), int(cy), int(0.9 * L * pose.stretch) + 3)])
 
@@ -207,6 +231,7 @@ def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple | None:
 
 
 _KINDS = {"skeleton": raster.SKELETON, "creature": raster.CREATURE, "sprite": raster.SPRITE}
+_WIDTHS = {"skeleton": 0.03, "sprite": 0.075}      # a limb's half-width, of the figure's size
 
 
 def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, float] | None:
@@ -235,22 +260,17 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
     touched = P.glow(surf, ((x0 + x1) / 2, (y0 + y1) / 2), 0.42 * c.size * pose.ppm + 6, pose.color,
                      0.26 * pose.alpha * pose.light)
     topo = topology(n, c.bones)
-    w0 = max(1.5, {"skeleton": 0.03, "sprite": 0.075}.get(c.kind, 0.045) * fig)
-    body = pose.body()
+    w0 = max(1.5, _WIDTHS.get(c.kind, 0.045) * fig)
+    _, dark, _, _, body, light, _, white, ink = inks(pose.color, pose.alpha)
     if topo is None:
         r = max(2.0, 0.03 * fig)
-        raster.draw(surf, raster.discs, np.ascontiguousarray(pts, dtype=np.float64),
-                    float(r + 0.5), rgb(body))
+        raster.draw(surf, raster.discs, pts, float(r + 0.5), body)
         return P.union([touched, P.bounds(pts, r + 2)])
-    rel, spine_points, tp = topo
-    w = w0 * rel
+    rel, _, tp = topo
     wspine = w0 * (1.25 if c.kind == "skeleton" else 1.0)
-    w[spine_points] = np.maximum(w[spine_points], wspine * rel[spine_points])
-    raster.draw(surf, raster.figure, np.ascontiguousarray(pts, dtype=np.float64), w, tp,
-                _KINDS.get(c.kind, raster.OTHER), float(wspine), float(fig), bool(head),
-                rgb(pose.body(0.68)), rgb(body), rgb(fade(lighten(pose.color, 0.18), pose.alpha)),
-                float(pose.angle), float(pose.gaze), float(pose.blink),
-                rgb(fade(EYE_WHITE, pose.alpha)), rgb(fade(INK, pose.alpha)))
+    raster.draw(surf, raster.figure, pts, rel, tp, _KINDS.get(c.kind, raster.OTHER), float(w0),
+                float(wspine), float(fig), bool(head), dark, body, light, float(pose.angle),
+                float(pose.gaze), float(pose.blink), white, ink)
     pad = wspine + 0.08 * fig + 2
     x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
     return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
@@ -293,13 +313,12 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
     lp, head = loops
     glow = None
     if len(head):
-        mx, my = pts[head].mean(axis=0).tolist()
+        mx, my = (np.add.reduce(pts[head], axis=0) / len(head)).tolist()   # (= mean, faster)
         glow = P.glow(surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
                       0.32 * pose.alpha * pose.light)
-    raster.draw(surf, raster.face, np.ascontiguousarray(pts, dtype=np.float64), lp,
-                float(max(1.5, 0.022 * fig)), rgb(pose.body(0.7)), rgb(pose.body()),
-                rgb(fade(EYE_WHITE, pose.alpha)), rgb(fade(INK, pose.alpha)), float(pose.blink),
-                float(pose.gaze), float(pose.angle))
+    _, _, shadow, _, body, _, _, white, ink = inks(pose.color, pose.alpha)
+    raster.draw(surf, raster.face, pts, lp, float(max(1.5, 0.022 * fig)), shadow, body, white,
+                ink, float(pose.blink), float(pose.gaze), float(pose.angle))
     return P.union([P.bounds(pts, 0.06 * fig + 2), glow])
 
 

@@ -166,9 +166,10 @@ def glow(surf: pygame.Surface, c: Sequence[float], radius: float, color: Color,
     if strength <= 0.02 or radius < 2 or not math.isfinite(c[0] + c[1]):
         return None
     g = glow_surface(radius, color, strength)
+    w, h = g.get_size()                  # (centred on the rounded point, as get_rect(center=))
     x, y = int(round(c[0])), int(round(c[1]))
-    out = Disc(surf.blit(g, g.get_rect(center=(x, y)), special_flags=pygame.BLEND_ADD))
-    out.disc = (x, y, g.get_width() // 2)
+    out = Disc(surf.blit(g, (x - w // 2, y - h // 2), None, pygame.BLEND_ADD))
+    out.disc = (x, y, w // 2)
     return out
 
 
@@ -248,6 +249,11 @@ def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
 
 def union(rects: Sequence[pygame.Rect | None]) -> pygame.Rect | None:
     """The rectangle covering every given rectangle (None ones ignored), or None."""
+    if len(rects) == 2:                  # (a character's light and body: the common case)
+        a, b = rects
+        if a is None or b is None:
+            return None if a is None and b is None else (b if a is None else a).copy()
+        return a.union(b)
     rs = [r for r in rects if r is not None]
     if not rs:
         return None

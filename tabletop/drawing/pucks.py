@@ -4,7 +4,6 @@ and the hand on it are not painted), coloured by state, with a short fading trai
 from __future__ import annotations
 
 import math
-from itertools import chain
 from typing import Callable, Sequence
 
 import numpy as np
@@ -38,21 +37,19 @@ def trail_inks(color: Color, alpha: float) -> tuple[int, int, int]:
     return ink
 
 
-def draw_trails(surf: pygame.Surface, paths: Sequence[Sequence[tuple[float, float, float]]],
-                centers: np.ndarray, inks: Sequence[tuple[int, int, int]], holes: np.ndarray,
-                H: np.ndarray, t: float, span_s: float) -> list[pygame.Rect]:
-    """Every puck's recent path (``paths``: table x, y metres and time s each) as a line that
-    fades with age (three steps, newest brightest: ``inks``, see :func:`trail_inks`), ending
-    at its halo, in one compiled call. ``centers``: each puck's centre px (N x 2); ``holes``:
-    radius px around it that stays dark; ``H``: table metres -> pixels. Returns the rectangles
-    touched."""
+def draw_trails(surf: pygame.Surface, paths: Sequence[np.ndarray], centers: np.ndarray,
+                inks: Sequence[tuple[int, int, int]], holes: np.ndarray, H: np.ndarray, t: float,
+                span_s: float) -> list[pygame.Rect]:
+    """Every puck's recent path (``paths``: N x 3 arrays of table x, y metres and time s) as a
+    line that fades with age (three steps, newest brightest: ``inks``, see
+    :func:`trail_inks`), ending at its halo, in one compiled call. ``centers``: each puck's
+    centre px (N x 2); ``holes``: radius px around it that stays dark; ``H``: table metres ->
+    pixels. Returns the rectangles touched."""
     starts = np.zeros(len(paths) + 1, dtype=np.int64)
     starts[1:] = np.cumsum([len(path) for path in paths])
-    n = int(starts[-1])
-    if not n:
+    if not starts[-1]:
         return []
-    pts = np.fromiter(chain.from_iterable(chain.from_iterable(paths)), np.float64,
-                      3 * n).reshape(n, 3)
+    pts = np.concatenate(paths)
     rects = np.zeros((len(paths), 4), dtype=np.int64)
     # age steps: 2 newest (v >= 2, with v = 3 (1 - age / span)), 1, 0 oldest and anything older
     raster.draw(surf, raster.trails, pts, starts, H,
@@ -65,6 +62,22 @@ def draw_trails(surf: pygame.Surface, paths: Sequence[Sequence[tuple[float, floa
 
 _STATE_CODES = {"seen": halo_kernel.SEEN, "coasting": halo_kernel.COASTING,
                 "lost": halo_kernel.LOST}
+_looks: dict[tuple, tuple] = {}
+
+
+def _look(state: str, alpha: float) -> tuple[int, Color, tuple[int, int, int]]:
+    """(state code for the halos' kernel, halo colour, trail inks) of a puck in ``state``
+    shown at opacity ``alpha`` (remembered)."""
+    key = (state, alpha)
+    look = _looks.get(key)
+    if look is None:
+        if len(_looks) >= 1024:
+            _looks.clear()
+        color = state_color(state)
+        look = _looks[key] = (_STATE_CODES.get(state, 0), color, trail_inks(color, alpha))
+    return look
+
+
 _TABLE_RGB = np.array(TABLE, dtype=np.float64)
 
 
@@ -82,16 +95,14 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
     n = len(items)
     if not n:
         return []
-    v = np.fromiter((c for tr, _, _ in items for c in (tr.puck.x, tr.puck.y, tr.puck.angle)),
-                    np.float64, 3 * n).reshape(n, 3)
-    states = [s for _, s, _ in items]
+    v = np.array([(tr.puck.x, tr.puck.y, tr.puck.angle) for tr, _, _ in items], dtype=np.float64)
+    looks = [_look(s, a) for _, s, a in items]
     geo = np.empty((n, halo_kernel.FIELDS))
-    halo_kernel.halos(v, np.array([_STATE_CODES.get(s, 0) for s in states], dtype=np.int64),
-                      np.fromiter((a for *_, a in items), np.float64, n), to_screen.H,
+    halo_kernel.halos(v, np.array([lk[0] for lk in looks], dtype=np.int64),
+                      np.array([a for *_, a in items], dtype=np.float64), to_screen.H,
                       float(puck_radius_m), 0.7 + 0.3 * math.sin(t * 9.0), _TABLE_RGB, geo)
-    colors = [state_color(s) for s in states]
-    paths = [tr.path for tr, _, _ in items]
-    inks = [trail_inks(c, a) for c, (_, _, a) in zip(colors, items)]
+    paths = [tr.path.points() for tr, _, _ in items]
+    inks = [lk[2] for lk in looks]
     keep = geo[:, 8] >= 0                        # (not finite or too far: not drawn)
     if keep.all():
         out = draw_trails(surf, paths, geo[:, 0:2], inks, geo[:, 2], to_screen.H, t, trail_s)
@@ -101,30 +112,33 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
                           [i for i, ok in zip(inks, k) if ok], geo[keep, 2], to_screen.H, t,
                           trail_s)
     rings, notches, labels = [], {}, []
-    for (tr, _, _), color, (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
-            items, colors, geo.tolist()):
+    ring, append = P.ring_surface, out.append
+    for (tr, _, _), (_, color, _), (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
+            items, looks, geo.tolist()):
         if e < 0:
             continue
         xi, yi = int(xi), int(yi)
         half = int(e)
         if a > 0.02 and R >= 1:
-            g = P.ring_surface(R, w, color, a)
+            g = ring(R, w, color, a)
             gw = g.get_width()
             rings.append((g, (xi - gw // 2, yi - gw // 2)))
-            half = max(half, gw // 2)
-        out.append(P.disc_rect(xi, yi, half + 1))   # (ring and notch lie in this disc)
+            if gw // 2 > half:
+                half = gw // 2
+        append(P.disc_rect(xi, yi, half + 1))   # (ring and notch lie in this disc)
         if nr > 0:
             notches.setdefault((int(ncol), nr), []).append((nx, ny))
         if label is not None:
             rr = round(R)
-            labels.append((label(tr.puck.id), xi + rr * 0.75, yi - rr))
+            img = label(tr.puck.id)
+            labels.append((img, (xi + rr * 0.75, yi - rr - img.get_height() * 0.6)))
     surf.fblits(rings, pygame.BLEND_ADD)
     for (col, rad), q in notches.items():
         # (filled to the whole pixels of its radius + 0.5 px, as gfxdraw's discs are)
         raster.draw(surf, raster.discs, np.array(q, dtype=np.float64),
                     float(int(rad + 0.5) + 0.5), col)
-    for img, lx, ly in labels:
-        out.append(surf.blit(img, (lx, ly - img.get_height() * 0.6)))
+    if labels:
+        out.extend(surf.blits(labels))
     return out
 
 

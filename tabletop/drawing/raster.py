@@ -5,13 +5,13 @@ A figure's ~50 limbs, joints, torso, head and eyes, a face's loops, a reactor's 
 eyes cost one call instead of a Python-level drawing call each (the busy frame's time was per
 call, spread over ~4,900 of them); :mod:`tabletop.drawing.characters` computes each character's
 pose, geometry and colours and calls these. Shapes are rasterised into the surface's 32-bit
-pixels (``pygame.surfarray.pixels2d``: indexed ``[x, y]``). Coverage is exact: filled polygons by the
-signed area each edge leaves in each pixel (accumulated along the row), discs, strokes
-(capsules: segments with round ends) and a figure's tapered limbs (the hull of the discs at
-their two joints, so the joints need no discs of their own) by their distance from each pixel's
-centre. Pixel centres sit on integer coordinates, as for pygame's own drawing. Colours are
-packed ``0xRRGGBB`` and blended over what is there by coverage (the surface's channel shifts
-say where each goes).
+pixels (indexed ``[x, y]`` as ``pygame.surfarray.pixels2d``; see :func:`pixels`). Coverage is
+exact: filled polygons by the signed area each edge leaves in each pixel (accumulated along the
+row), discs, strokes (capsules: segments with round ends) and a figure's tapered limbs (the hull
+of the discs at their two joints, so the joints need no discs of their own) by their distance
+from each pixel's centre. Pixel centres sit on integer coordinates, as for pygame's own drawing.
+Colours are packed ``0xRRGGBB`` and blended over what is there by coverage (the surface's
+channel shifts say where each goes).
 
 Discs keep pygame.gfxdraw's look: a disc of radius ``r`` is filled out to ``r + 0.5`` px, as gfx
 fills every pixel centre within ``r``.
@@ -24,7 +24,9 @@ file would keep a stale copy of it after that file changed.
 
 from __future__ import annotations
 
+import ctypes
 import math
+import weakref
 
 import numba
 import numpy as np
@@ -474,13 +476,15 @@ def reactor(pix: np.ndarray, fmt: np.ndarray, uv: np.ndarray, eyes_uv: np.ndarra
 
 
 @numba.njit(**_JIT)
-def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, w: np.ndarray, tp: np.ndarray,
-           kind: int, wspine: float, fig: float, head: bool, dark: int, body: int, light: int,
-           angle: float, gaze: float, blink: float, white: int, ink: int) -> None:
-    """An articulated figure (points ``q`` px, half-widths ``w`` px per point, topology ``tp``
-    from :func:`pack_topology`): limbs and their joints in the ``dark`` shade, a torso for a
-    creature or bird, the spine and its joints over them, lighter knots where limbs bend, and a
-    head with eyes at the spine's end (unless ``head`` is False). ``fig``: its size in px."""
+def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, rel: np.ndarray, tp: np.ndarray,
+           kind: int, w0: float, wspine: float, fig: float, head: bool, dark: int, body: int,
+           light: int, angle: float, gaze: float, blink: float, white: int, ink: int) -> None:
+    """An articulated figure (points ``q`` px, topology ``tp`` from :func:`pack_topology`):
+    limbs and their joints in the ``dark`` shade, a torso for a creature or bird, the spine and
+    its joints over them, lighter knots where limbs bend, and a head with eyes at the spine's
+    end (unless ``head`` is False). Half-widths are ``w0`` px times each point's relative
+    thickness ``rel``, at least ``wspine`` times it on the spine but its end. ``fig``: its size
+    in px."""
     nb, nl, nlp, nsp, nk, ns = tp[0], tp[1], tp[2], tp[3], tp[4], tp[5]
     o = 6
     ol = o + 2 * nb
@@ -490,6 +494,12 @@ def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, w: np.ndarray, tp: n
     spined = np.zeros(q.shape[0], np.bool_)
     for j in range(ns):
         spined[tp[os_ + j]] = True
+    w = np.empty(q.shape[0])
+    for i in range(q.shape[0]):
+        w[i] = w0 * rel[i]
+    for j in range(ns - 1):
+        i = tp[os_ + j]
+        w[i] = max(w[i], wspine * rel[i])
     # Limbs taper from joint to joint, each joint's disc (radius w + 0.5) a round end of the
     # limbs meeting there; a limb's end on the spine (which covers it) is as thick as the limb.
     for k in range(nl):
@@ -657,16 +667,44 @@ def surface_format(surf) -> np.ndarray:
     return fmt
 
 
+_views: dict[int, tuple] = {}   # id of a surface -> (weak reference, layout, pixels, format)
+
+
+def pixels(surf) -> tuple[np.ndarray, np.ndarray] | None:
+    """``surf``'s 32-bit pixels (indexed ``[x, y]``, column-major as the kernels are compiled
+    for) and format, or None for a surface of another depth, a subsurface (strided rows) or one
+    that must be locked. The view is made once per surface and pixel memory (address, pitch,
+    size) and holds no lock, unlike ``pygame.surfarray.pixels2d``, so the surface can be
+    blitted between two kernels' draws (a frame's glows between its characters): ~5 us per
+    drawing call less."""
+    try:
+        now = (surf._pixels_address, surf.get_pitch(), surf.get_size())
+    except Exception:              # (a display surface after the display quit)
+        return None
+    known = _views.get(id(surf))
+    if known is not None and known[0]() is surf and known[1] == now:
+        return known[2], known[3]
+    addr, pitch, (w, h) = now
+    if surf.get_bytesize() != 4 or pitch != 4 * w or surf.mustlock() or not addr or not w * h:
+        return None
+    buf = (ctypes.c_uint32 * (w * h)).from_address(addr)
+    pix = np.frombuffer(buf, np.uint32).reshape(h, w).T
+    if len(_views) >= 64:          # (surfaces gone long ago)
+        _views.clear()
+    fmt = surface_format(surf)
+    _views[id(surf)] = (weakref.ref(surf), now, pix, fmt)
+    return pix, fmt
+
+
 def draw(surf, kernel, *args) -> None:
-    """Run a drawing ``kernel(pixels, format, *args)`` on ``surf``'s pixels (a surface of
-    another depth, or a subsurface, is drawn through a 32-bit copy)."""
+    """Run a drawing ``kernel(pixels, format, *args)`` on ``surf``'s pixels (see
+    :func:`pixels`; a surface of another depth, or a subsurface, is drawn through a 32-bit
+    copy)."""
+    view = pixels(surf)
+    if view is not None:
+        kernel(view[0], view[1], *args)
+        return
     import pygame
-    if surf.get_bytesize() == 4:
-        pix = pygame.surfarray.pixels2d(surf)
-        if pix.flags.f_contiguous:     # (a subsurface's rows are strided: it would compile anew)
-            kernel(pix, surface_format(surf), *args)
-            return
-        del pix
     tmp = pygame.Surface(surf.get_size(), 0, 32)
     tmp.blit(surf, (0, 0))
     kernel(pygame.surfarray.pixels2d(tmp), surface_format(tmp), *args)
@@ -694,8 +732,8 @@ def warm() -> None:
     lp = np.array([2, 7, 3, 1, 10, 2, 0, 0, 1, 2, 1, 2], dtype=np.int64)
     draw(surf, reactor, uv, uv[:2].copy(), m, 1.0, 30.0, 30.0, 20.0, 1.0, 0.0, 0.0, 1, 2, 3, 4,
          0.5, 0.0, 0.0, 5, 6)
-    draw(surf, figure, q, np.full(3, 2.0), tp, CREATURE, 2.0, 30.0, True, 1, 2, 3, 0.0, 0.0, 1.0,
-         4, 5)
+    draw(surf, figure, q, np.full(3, 1.0), tp, CREATURE, 2.0, 2.0, 30.0, True, 1, 2, 3, 0.0, 0.0,
+         1.0, 4, 5)
     draw(surf, face, q, lp, 1.5, 1, 2, 3, 4, 1.0, 0.0, 0.0)
     draw(surf, discs, q, 2.0, 1)
     path = np.array([(0.1, 0.1, 0.0), (0.2, 0.3, 0.5), (0.3, 0.2, 1.0)])

@@ -89,3 +89,37 @@ def test_a_tapered_limb_covers_the_hull_of_its_joints():
     s2 = fresh()                           # one disc inside the other: that disc
     raster.draw(s2, raster.cone, 80.0, 80.0, 20.0, 84.0, 82.0, 6.0, WHITE)
     assert abs(covered(s2).sum() - math.pi * 400) < 0.01 * math.pi * 400
+
+
+def test_kernels_draw_through_a_view_that_follows_the_surface_and_leaves_it_unlocked():
+    # the same pixels as a kernel run on pixels2d, and the surface can be blitted in between
+    ref = fresh()
+    raster.disc(pygame.surfarray.pixels2d(ref), raster.surface_format(ref), 100.3, 80.6, 25.0,
+                0xF0A040)
+    s = fresh()
+    raster.draw(s, raster.disc, 100.3, 80.6, 25.0, 0xF0A040)
+    assert not s.get_locked()
+    assert np.array_equal(pygame.surfarray.array3d(s), pygame.surfarray.array3d(ref))
+    spot = pygame.Surface((10, 10), 0, 32)
+    spot.fill((0, 0, 255))
+    s.blit(spot, (0, 0))                              # (refused while pixels2d locks it)
+    raster.draw(s, raster.disc, 150.0, 40.0, 6.0, WHITE)
+    assert tuple(s.get_at((5, 5)))[:3] == (0, 0, 255) and covered(s)[150, 40] == 1.0
+    # a new surface in the old one's place, and a window whose memory changes, are drawn into
+    del s
+    again, other = fresh(), fresh((90, 70))
+    for k in range(3):                                # two targets in turn: each its own
+        raster.draw(again, raster.disc, 30.0 + 40 * k, 30.0, 5.0, WHITE)
+        raster.draw(other, raster.disc, 20.0 + 20 * k, 50.0, 3.0, WHITE)
+    assert all(covered(again)[30 + 40 * k, 30] == 1.0 for k in range(3))
+    assert all(covered(other)[20 + 20 * k, 50] == 1.0 for k in range(3))
+    pygame.display.init()
+    try:
+        for size in ((160, 120), (240, 200)):
+            win = pygame.display.set_mode(size)
+            win.fill((0, 0, 0))
+            raster.draw(win, raster.disc, 100.0, 90.0, 8.0, WHITE)
+            lit = pygame.surfarray.array3d(win)[..., 0] > 0
+            assert lit[100, 90] and 150 < lit.sum() < 260, size      # pi 8.5^2 ~ 227 px
+    finally:
+        pygame.display.quit()
