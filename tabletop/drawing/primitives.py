@@ -249,11 +249,6 @@ def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
 
 def union(rects: Sequence[pygame.Rect | None]) -> pygame.Rect | None:
     """The rectangle covering every given rectangle (None ones ignored), or None."""
-    if len(rects) == 2:                  # (a character's light and body: the common case)
-        a, b = rects
-        if a is None or b is None:
-            return None if a is None and b is None else (b if a is None else a).copy()
-        return a.union(b)
     rs = [r for r in rects if r is not None]
     if not rs:
         return None
