@@ -29,7 +29,8 @@ from behaviors.puppet_master.behavior import (COLUMNS, FOLLOW_SHARE, STILL_MPS, 
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
 from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, fit_target,
                                                 keep_apart, keep_on_table, limit_turn,
-                                                rotate_step, step_around, target_position)
+                                                rotate_step, share_around, step_around,
+                                                target_position)
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look
 from behaviors.puppet_master.resample import CausalResampler
 from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
@@ -353,6 +354,18 @@ class Reactor:
                 c, s_ = math.cos(md), math.sin(md)
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
+                if self._charge_end < 0:
+                    # toward a target farther out at another bearing: round the main, not
+                    # through it (generation.share_around; a charge closes in straight).
+                    # Measured with the detail kept out of charges (below): bench/fidelity.py
+                    # --seeds 0,1,2,3,4,5 628 -> 628 of 720, held-out seed 7 106 -> 108; the
+                    # playful friend's fast-path contact met on 5 of 6 paths instead of none
+                    # (0.076-0.098 -> 0.032-0.047 against 0.041), its slow and loops contact
+                    # on seed 0 undershoot (0.029 / 0.061 -> 0.019 / 0.020). Also in a
+                    # charge 621 / 107 (the bully overshoots); only where the bearings differ
+                    # by over 90 degrees 633 / 101; round the main for every target (also
+                    # nearer ones; with the detail in charges) 619 / 96
+                    cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
                 if b.own_steps[target][0] >= FOLLOW_SHARE:
                     corr = math.hypot(cx, cy)
                     most = b.span_step[target]
@@ -424,7 +437,18 @@ class Reactor:
         i_detail = self.patch.next(target)
         src = i_detail if i_detail >= 0 else target
         detail, frame, angle, still_frame, still_angle, look_detail = b.texture_rows[src]
-        if i_detail >= 0:
+        if i_detail >= 0 and self._charge_end < 0:
+            # not in a charge: its step repeats the demonstrated step itself, direction and
+            # all, and is closed on the live main; turned by the demonstrated detail on top
+            # (clipped at 1.05 rad x the governor's gain up to 1.5), a push held at the
+            # demonstrated speed went sideways round the main 13 cm off instead of in (the
+            # bully's charges arrived in 2 of 7 on seed 0's slow path). Measured with
+            # bench/fidelity.py --seeds 0,1,2,3,4,5: 623 -> 628 of 720 (held-out seed 7:
+            # 107 -> 106); the bully's contact met on 15 of 18 paths instead of 10 (2 now
+            # overshoot: 0.21 against at most 0.204), its orbit on 16 instead of 15; only
+            # the other characters' one charge each changed otherwise (the playful friend
+            # -2, by 0.001-0.003). Without the detail only before the touch 623 / 104, only
+            # after it 627 / 105
             sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
         # the others' discs, then the main's personal space (Behavior.personal_space): the

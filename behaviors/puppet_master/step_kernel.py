@@ -9,7 +9,7 @@ A change to any of these must be made here too:
   new sample pair)
 - similarity.Balancer.choose
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
-  rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
+  share_around, rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
@@ -207,6 +207,22 @@ def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float
     return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
 
 
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _f8), **_opts)
+def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
+                 share: float) -> tuple[float, float]:
+    """generation.share_around."""
+    cx, cy = share * (tx - rx), share * (ty - ry)
+    ax, ay = rx - mx, ry - my
+    bx, by = tx - mx, ty - my
+    ra, rb = hypot(ax, ay), hypot(bx, by)
+    if ra > 1e-6 and rb > 1e-6 and rb > ra:
+        a0 = math.atan2(ay, ax)
+        da = remainder(math.atan2(by, bx) - a0, math.tau)
+        rho, ang = ra + share * (rb - ra), a0 + share * da
+        cx, cy = mx + rho * math.cos(ang) - rx, my + rho * math.sin(ang) - ry
+    return cx, cy
+
+
 @numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _F1), **_opts)
 def keep_on_table(rx: float, ry: float, sx: float, sy: float,
                   c: np.ndarray) -> tuple[float, float]:
@@ -391,6 +407,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             cm, s_ = math.cos(md), math.sin(md)
             dfx, dfy = row[T_DFX], row[T_DFY]
             cx, cy = gain * (tx - rx), gain * (ty - ry)
+            if ints[CHARGE_END] < 0:
+                cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
             if row[T_K] >= c[FOLLOW_SHARE]:
                 corr = hypot(cx, cy)
                 most = row[T_SPAN_STEP]
@@ -448,7 +466,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     if not (0 <= i_detail < table.shape[0]):
         i_detail = -1
     tex = table[i_detail if i_detail >= 0 else target]
-    if i_detail >= 0:
+    if i_detail >= 0 and ints[CHARGE_END] < 0:
         angle = _detail_gain(fs[GOV_Z], c[GOV_Z_MIN], c[GOV_Z_MAX]) * tex[T_DETAIL]
         ca, sa = math.cos(angle), math.sin(angle)
         sx, sy = ca * sx - sa * sy, sa * sx + ca * sy
