@@ -156,8 +156,9 @@ class Reactor:
         s = b.scales
         c[[sk.S_V_MAIN, sk.S_V_REACT, sk.S_REL_POSITION, sk.S_REL_LOOK, sk.S_NORM_LOOK,
            sk.S_DDIR]] = s.v_main, s.v_react, s.rel_position, s.rel_look, s.norm_look, s.ddir
-        c[[sk.STILL_DISTANCE, sk.PATCH_LENGTH, sk.HEADING_MIN_SPEED, sk.FOLLOW_SHARE]] = (
-            STILL_MPS * STILL_SPAN_S, p.patch, HEADING_MIN_SPEED, FOLLOW_SHARE)
+        c[[sk.STILL_DISTANCE, sk.PATCH_LENGTH, sk.HEADING_MIN_SPEED, sk.FOLLOW_SHARE,
+           sk.PERSONAL_SPACE]] = (STILL_MPS * STILL_SPAN_S, p.patch, HEADING_MIN_SPEED,
+                                  FOLLOW_SHARE, b.personal_space)
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))
@@ -354,17 +355,20 @@ class Reactor:
                 c, s_ = math.cos(md), math.sin(md)
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
-                if self._charge_end < 0:
+                if self._charge_end < 0 and b.personal_space <= 0.0:
                     # toward a target farther out at another bearing: round the main, not
-                    # through it (generation.share_around; a charge closes in straight).
-                    # Measured with the detail kept out of charges (below): bench/fidelity.py
-                    # --seeds 0,1,2,3,4,5 628 -> 628 of 720, held-out seed 7 106 -> 108; the
-                    # playful friend's fast-path contact met on 5 of 6 paths instead of none
-                    # (0.076-0.098 -> 0.032-0.047 against 0.041), its slow and loops contact
-                    # on seed 0 undershoot (0.029 / 0.061 -> 0.019 / 0.020). Also in a
-                    # charge 621 / 107 (the bully overshoots); only where the bearings differ
-                    # by over 90 degrees 633 / 101; round the main for every target (also
-                    # nearer ones; with the detail in charges) 619 / 96
+                    # through it (generation.share_around), for a character that touches its
+                    # main (one with a personal space is held out of it by keep_apart below;
+                    # a charge closes in straight). Measured with the detail kept out of
+                    # charges (below): bench/fidelity.py --seeds 0,1,2,3,4,5 628 -> 627 of
+                    # 720, held-out seed 7 106 -> 108; the playful friend's fast-path contact
+                    # met on 5 of 6 paths instead of none (0.076-0.098 -> 0.032-0.047 against
+                    # 0.041), its slow and loops contact on seed 0 undershoot (0.029 / 0.061
+                    # -> 0.019 / 0.020). For every character 628 / 108, but the afraid one
+                    # lost 3 of 48 against the chasing visitor (and 1 of 8 on seed 7); also
+                    # in a charge 621 / 107 (the bully overshoots); only where the bearings
+                    # differ by over 90 degrees 633 / 101; round the main for every target
+                    # (also nearer ones; with the detail in charges) 619 / 96
                     cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
                 if b.own_steps[target][0] >= FOLLOW_SHARE:
                     corr = math.hypot(cx, cy)

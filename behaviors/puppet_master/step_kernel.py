@@ -45,8 +45,8 @@ X0, Y0, X1, Y1, DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX
     LOOK_TARGET, LOOK_GAIN, LOOK_DECAY, LOOK_Z_MIN, LOOK_Z_MAX, \
     TARGET_SHARE, BALANCE_GAIN, SHARE_WINDOW, LOG_K_LIMIT, \
     S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
-    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE = range(37)
-CONSTANTS = 37
+    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE = range(38)
+CONSTANTS = 38
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -407,7 +407,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             cm, s_ = math.cos(md), math.sin(md)
             dfx, dfy = row[T_DFX], row[T_DFY]
             cx, cy = gain * (tx - rx), gain * (ty - ry)
-            if ints[CHARGE_END] < 0:
+            if ints[CHARGE_END] < 0 and c[PERSONAL_SPACE] <= 0.0:
                 cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
             if row[T_K] >= c[FOLLOW_SHARE]:
                 corr = hypot(cx, cy)
