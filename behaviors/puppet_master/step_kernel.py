@@ -403,6 +403,10 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                 ex, ey = 1.0, 0.0
             sx = k * (mx - mxp) + u_rad * ex - u_tan * ey + gain * (tx - rx)
             sy = k * (my - myp) + u_rad * ey + u_tan * ex + gain * (ty - ry)
+            if ints[CHARGE_END] >= 0:      # in a charge: the main's step along the bearing
+                along = (mx - mxp) * ex + (my - myp) * ey
+                sx -= k * ((mx - mxp) - along * ex)
+                sy -= k * ((my - myp) - along * ey)
         else:
             cm, s_ = math.cos(md), math.sin(md)
             dfx, dfy = row[T_DFX], row[T_DFY]

@@ -1,6 +1,7 @@
 """Contact on unseen main paths (issue 12, event figures): a charge's push arrives and a
 character that touches its main reaches its targets round the main, not through it
-(engine.Reactor._step: no detail turn in a charge, generation.share_around)."""
+(engine.Reactor._step: in a charge no detail turn and only the main's step along the
+bearing gone along with; generation.share_around)."""
 
 import math
 
@@ -22,7 +23,7 @@ def _shipped(name: str) -> Behavior:
 
 @pytest.fixture(scope="module")
 def paths():
-    return {seed: visitors.unseen_main_paths(seed, 40.0, examples.TABLE) for seed in (0, 1)}
+    return {seed: visitors.unseen_main_paths(seed, 40.0, examples.TABLE) for seed in (0, 1, 3)}
 
 
 def test_a_target_farther_out_is_reached_round_the_main():
@@ -40,14 +41,20 @@ def test_a_target_farther_out_is_reached_round_the_main():
 def test_the_bullys_charges_arrive_on_unseen_paths(paths):
     b = _shipped("bully")
     demo = fidelity.demonstration_figures(b)
-    # contact within the issue's 30% of the demonstration's (0.157): measured 0.164 and
-    # 0.160 on seed 0's fast and slow paths; 0.086 and 0.100 while the demonstrated detail
+    # contact within the issue's 30% of the demonstration's (0.157): measured 0.135 and
+    # 0.171 on seed 0's fast and slow paths; 0.086 and 0.100 while the demonstrated detail
     # still turned a charge's steps (a push went sideways round the main 13 cm off)
     for path in ("fast_reversals_60hz", "slow_pauses_30hz"):
         row = fidelity.evaluate(b, paths[0][path], TABLE, demo)
         assert row["ok_contact"], (path, row["gen_contact"], row["demo_contact"])
+        assert row["ok_orbit"], (path, row["gen_orbit_radps"], row["demo_orbit_radps"])
+    # and it does not circle its main meanwhile: orbit within 30% of the demonstration's
+    # (0.275 rad/s) on seed 3's slow path, measured 0.342; 0.404 while a charge went along
+    # with the main's whole step (a main walking past carried it round at 5 cm)
+    row = fidelity.evaluate(b, paths[3]["slow_pauses_30hz"], TABLE, demo)
+    assert row["ok_orbit"], (row["gen_orbit_radps"], row["demo_orbit_radps"])
     # the charges the match enters from beyond 0.15 m and keeps for over half a second reach
-    # their main: measured 9 of 12 on seed 0's slow path (6 of 14 before)
+    # their main: measured 10 of 12 on seed 0's slow path (6 of 14 before)
     r = Reactor(b, TABLE, max_backlog=None)
     live, kept = [], []
     for t, x, y, d in paths[0]["slow_pauses_30hz"]:
@@ -67,7 +74,7 @@ def test_the_bullys_charges_arrive_on_unseen_paths(paths):
             i = j + 1
         else:
             i += 1
-    assert len(runs) >= 8 and np.mean(runs) >= 0.65, runs
+    assert len(runs) >= 8 and np.mean(runs) >= 0.7, runs
 
 
 def test_the_playful_friend_does_not_drive_into_its_main_on_fast_paths(paths):

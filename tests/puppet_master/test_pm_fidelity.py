@@ -135,11 +135,11 @@ def test_the_bully_charges_into_contact_and_keeps_a_charge_whole(shipped, paths)
             prev = r.source
     assert kept > 50
     # and arrives: the contact share within the 30% of the demonstration's on two
-    # unseen paths (measured 0.149 and 0.169 against 0.157; 0.053 and 0.055 before charges
-    # were kept whole)
+    # unseen paths (measured 0.145 and 0.154 against 0.157; 0.053 on the first before charges
+    # were kept whole, 0.124 on the second while the detail still turned a charge's steps)
     demo = fidelity.demonstration_figures(b)
-    slow2 = visitors.unseen_main_paths(2, 40.0, examples.TABLE)["slow_pauses_30hz"]
-    for main in (paths["loops_spins_45hz"], slow2):
+    loops1 = visitors.unseen_main_paths(1, 40.0, examples.TABLE)["loops_spins_45hz"]
+    for main in (paths["loops_spins_45hz"], loops1):
         row = fidelity.evaluate(b, main, TABLE, demo)
         assert row["ok_contact"], (row["gen_contact"], row["demo_contact"])
 
