@@ -156,6 +156,29 @@ def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float
     return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
 
 
+def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
+                 share: float) -> tuple[float, float]:
+    """Step (metres) covering ``share`` (0..1) of the way from the reactor (rx, ry) to a target
+    (tx, ty) farther from the main at (mx, my) than the reactor is, along :func:`step_around`'s
+    path (distance and bearing from the main changing linearly); a target at most as far
+    from the main (or either on it) is taken along the straight line.
+
+    A relative target is a place round the main: on the straight line to one farther out at
+    another bearing the reactor first closes in on the main. The playful friend's drift
+    correction so drove it into its main at 0.35-0.75 m/s while the target it corrected toward
+    was farther out (0.14 m against a live 0.07-0.13 m), on the fast path."""
+    cx, cy = share * (tx - rx), share * (ty - ry)
+    ax, ay = rx - mx, ry - my
+    bx, by = tx - mx, ty - my
+    ra, rb = math.hypot(ax, ay), math.hypot(bx, by)
+    if ra > 1e-6 and rb > 1e-6 and rb > ra:
+        a0 = math.atan2(ay, ax)
+        da = math.remainder(math.atan2(by, bx) - a0, math.tau)
+        rho, ang = ra + share * (rb - ra), a0 + share * da
+        cx, cy = mx + rho * math.cos(ang) - rx, my + rho * math.sin(ang) - ry
+    return cx, cy
+
+
 def rotate_step(sx: float, sy: float, angle: float) -> tuple[float, float]:
     """Turn a step by ``angle`` radians, keeping its length."""
     c, s = math.cos(angle), math.sin(angle)

@@ -9,7 +9,7 @@ A change to any of these must be made here too:
   new sample pair)
 - similarity.Balancer.choose
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
-  rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
+  share_around, rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
@@ -45,8 +45,8 @@ X0, Y0, X1, Y1, DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX
     LOOK_TARGET, LOOK_GAIN, LOOK_DECAY, LOOK_Z_MIN, LOOK_Z_MAX, \
     TARGET_SHARE, BALANCE_GAIN, SHARE_WINDOW, LOG_K_LIMIT, \
     S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
-    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE = range(37)
-CONSTANTS = 37
+    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE = range(38)
+CONSTANTS = 38
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -205,6 +205,22 @@ def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float
     f = length / path
     rho, ang = ra + f * (rb - ra), a0 + f * da
     return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
+
+
+@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _f8), **_opts)
+def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
+                 share: float) -> tuple[float, float]:
+    """generation.share_around."""
+    cx, cy = share * (tx - rx), share * (ty - ry)
+    ax, ay = rx - mx, ry - my
+    bx, by = tx - mx, ty - my
+    ra, rb = hypot(ax, ay), hypot(bx, by)
+    if ra > 1e-6 and rb > 1e-6 and rb > ra:
+        a0 = math.atan2(ay, ax)
+        da = remainder(math.atan2(by, bx) - a0, math.tau)
+        rho, ang = ra + share * (rb - ra), a0 + share * da
+        cx, cy = mx + rho * math.cos(ang) - rx, my + rho * math.sin(ang) - ry
+    return cx, cy
 
 
 @numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _F1), **_opts)
@@ -387,10 +403,16 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                 ex, ey = 1.0, 0.0
             sx = k * (mx - mxp) + u_rad * ex - u_tan * ey + gain * (tx - rx)
             sy = k * (my - myp) + u_rad * ey + u_tan * ex + gain * (ty - ry)
+            if ints[CHARGE_END] >= 0:      # in a charge: the main's step along the bearing
+                along = (mx - mxp) * ex + (my - myp) * ey
+                sx -= k * ((mx - mxp) - along * ex)
+                sy -= k * ((my - myp) - along * ey)
         else:
             cm, s_ = math.cos(md), math.sin(md)
             dfx, dfy = row[T_DFX], row[T_DFY]
             cx, cy = gain * (tx - rx), gain * (ty - ry)
+            if ints[CHARGE_END] < 0 and c[PERSONAL_SPACE] <= 0.0:
+                cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
             if row[T_K] >= c[FOLLOW_SHARE]:
                 corr = hypot(cx, cy)
                 most = row[T_SPAN_STEP]
@@ -448,7 +470,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     if not (0 <= i_detail < table.shape[0]):
         i_detail = -1
     tex = table[i_detail if i_detail >= 0 else target]
-    if i_detail >= 0:
+    if i_detail >= 0 and ints[CHARGE_END] < 0:
         angle = _detail_gain(fs[GOV_Z], c[GOV_Z_MIN], c[GOV_Z_MAX]) * tex[T_DETAIL]
         ca, sa = math.cos(angle), math.sin(angle)
         sx, sy = ca * sx - sa * sy, sa * sx + ca * sy

@@ -11,6 +11,7 @@ import pytest
 from behaviors.puppet_master.engine import Behavior, Reactor
 from behaviors.puppet_master.step_kernel import hypot, remainder, wrap_angle
 from tabletop.frames import wrap_angle as wrap_angle_py
+from tabletop import examples, library
 from tests.puppet_master import demos
 
 TABLE = (0.0, 0.0, 1.6, 1.0)
@@ -48,14 +49,21 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
     ("circling", 30.0, {"half_life": 10.0}, 20.0),
     ("keep_away", 55.0, {"relative_motion": 0.0}, 20.0),
     ("follow", 40.0, {}, 1.5),      # shorter than look.train_place's span
+    ("playful_friend", 45.0, {}, 0.0),  # shipped; touches its main: no personal space
+    ("bully", 30.0, {}, 0.0),           # shipped; charges held in the world
 ])
 def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params, duration):
-    if kind == "keep_away":
+    shipped = kind in ("playful_friend", "bully")
+    if shipped:
+        stored = library.load_behavior(examples.DEFAULT_OUT / kind)
+        demo, params = stored.demonstration, stored.parameters
+    elif kind == "keep_away":
         demo = demos.keep_away(3, duration, rate_hz=40.0)
     else:
         m = demos.main_path(3, duration, rate_hz=40.0, reversals=kind == "circling")
         demo = demos.circling(m) if kind == "circling" else demos.follow_behind(m)
     b = Behavior.train(demo, **params)
+    assert (b.personal_space == 0.0) == shipped      # round the main (share_around)
     main = demos.main_path(11, 60.0, rate_hz=rate, reversals=True)
     fast, fast_trace, fast_shown = _run(b, main, True)
     slow, slow_trace, slow_shown = _run(b, main, False)
@@ -63,10 +71,10 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
     assert np.array_equal(fast.view(np.uint64), slow.view(np.uint64))
     assert np.array_equal(fast_shown.view(np.uint64), slow_shown.view(np.uint64))
     assert fast_trace == slow_trace
-    if duration > 10:
+    if duration > 10 or shipped:
         choices = {t[1] for t in fast_trace}
         assert {"situation", "coherence"} <= choices <= {"situation", "coherence", "charge"}
-        if kind == "follow":             # its demonstration has charges: kept whole, both ways
+        if kind in ("follow", "playful_friend", "bully"):   # charges kept whole, both ways
             assert "charge" in choices
 
 

@@ -1,0 +1,87 @@
+"""Contact on unseen main paths (issue 12, event figures): a charge's push arrives and a
+character that touches its main reaches its targets round the main, not through it
+(engine.Reactor._step: in a charge no detail turn and only the main's step along the
+bearing gone along with; generation.share_around)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master.engine import Behavior, Reactor
+from behaviors.puppet_master.generation import share_around
+from tabletop import examples, library
+
+TABLE = (0.0, 0.0, *examples.TABLE)
+
+
+def _shipped(name: str) -> Behavior:
+    stored = library.load_behavior(examples.DEFAULT_OUT / name)
+    return Behavior.train(stored.demonstration, **stored.parameters)
+
+
+@pytest.fixture(scope="module")
+def paths():
+    return {seed: visitors.unseen_main_paths(seed, 40.0, examples.TABLE) for seed in (0, 1, 3)}
+
+
+def test_a_target_farther_out_is_reached_round_the_main():
+    # reactor 0.08 m east of the main, target 0.14 m west: the straight tenth of the way
+    # heads at the main, the way round keeps the distance growing
+    cx, cy = share_around(0.0, 0.0, 0.08, 0.0, -0.14, 0.0, 0.1)
+    assert math.hypot(0.08 + cx, cy) > 0.08
+    assert abs(0.08 + cx - (0.08 + 0.1 * (0.14 - 0.08)) * math.cos(0.1 * math.pi)) < 1e-12
+    straight = (0.1 * (-0.14 - 0.08), 0.0)
+    assert math.hypot(0.08 + straight[0], straight[1]) < 0.08
+    # a nearer target (a charge's closing, a follower catching up) is taken straight
+    assert share_around(0.0, 0.0, 0.3, 0.0, 0.0, 0.1, 0.1) == pytest.approx((-0.03, 0.01))
+
+
+def test_the_bullys_charges_arrive_on_unseen_paths(paths):
+    b = _shipped("bully")
+    demo = fidelity.demonstration_figures(b)
+    # contact within the issue's 30% of the demonstration's (0.157): measured 0.135 and
+    # 0.171 on seed 0's fast and slow paths; 0.086 and 0.100 while the demonstrated detail
+    # still turned a charge's steps (a push went sideways round the main 13 cm off)
+    for path in ("fast_reversals_60hz", "slow_pauses_30hz"):
+        row = fidelity.evaluate(b, paths[0][path], TABLE, demo)
+        assert row["ok_contact"], (path, row["gen_contact"], row["demo_contact"])
+        assert row["ok_orbit"], (path, row["gen_orbit_radps"], row["demo_orbit_radps"])
+    # and it does not circle its main meanwhile: orbit within 30% of the demonstration's
+    # (0.275 rad/s) on seed 3's slow path, measured 0.342; 0.404 while a charge went along
+    # with the main's whole step (a main walking past carried it round at 5 cm)
+    row = fidelity.evaluate(b, paths[3]["slow_pauses_30hz"], TABLE, demo)
+    assert row["ok_orbit"], (row["gen_orbit_radps"], row["demo_orbit_radps"])
+    # the charges the match enters from beyond 0.15 m and keeps for over half a second reach
+    # their main: measured 10 of 12 on seed 0's slow path (6 of 14 before)
+    r = Reactor(b, TABLE, max_backlog=None)
+    live, kept = [], []
+    for t, x, y, d in paths[0]["slow_pauses_30hz"]:
+        for _ in r.advance(float(t), float(x), float(y), float(d)):
+            live.append(math.hypot(r.pose[0] - x, r.pose[1] - y))
+            kept.append(r.last_choice == "charge")
+    live, kept = np.array(live), np.array(kept)
+    runs = []
+    i = 1
+    while i < len(kept):
+        if kept[i] and not kept[i - 1]:
+            j = i
+            while j + 1 < len(kept) and kept[j + 1]:
+                j += 1
+            if j - i >= 20 and live[i - 1] > 0.15:
+                runs.append(live[i:j + 1].min() < 0.08)
+            i = j + 1
+        else:
+            i += 1
+    assert len(runs) >= 8 and np.mean(runs) >= 0.7, runs
+
+
+def test_the_playful_friend_does_not_drive_into_its_main_on_fast_paths(paths):
+    b = _shipped("playful_friend")
+    demo = fidelity.demonstration_figures(b)
+    # demonstrated contact 0.041; measured 0.042 and 0.032 on seeds 0 and 1 (0.091 and 0.089
+    # when the drift correction toward a target farther out cut through the main)
+    for seed in (0, 1):
+        row = fidelity.evaluate(b, paths[seed]["fast_reversals_60hz"], TABLE, demo)
+        assert row["ok_contact"], (seed, row["gen_contact"], row["demo_contact"])
