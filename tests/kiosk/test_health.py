@@ -138,6 +138,31 @@ def test_status_command_prints_every_table(tmp_path, capsys):
     assert lines[1].startswith("south")
 
 
+def test_status_command_survives_bad_heartbeats(capsys):
+    """Another program sending wrong heartbeats to the port gets one line each on stderr, and
+    the tables after it are still printed (no traceback, the listener keeps listening)."""
+    from pythonosc.udp_client import SimpleUDPClient
+    port = free_udp_port()
+    out = {}
+    th = threading.Thread(target=lambda: out.update(
+        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])))
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)
+    bad = SimpleUDPClient("127.0.0.1", port)
+    bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
+    bad.send_message("/tabletop/heartbeat", ["t2", 1.0, 2.0, 0, 7])           # status a number
+    bad.send_message("/tabletop/heartbeat", ["t3", 1.0, 2.0, 0])              # too few
+    hb = Heartbeat("127.0.0.1", port)
+    hb.send("north\nfake", 3.0, 60.0, 0, "[1, 2]")  # JSON that is no status: shown as "?"
+    hb.close()
+    th.join()
+    cap = capsys.readouterr()
+    assert out["rc"] == 0 and "Traceback" not in cap.err
+    assert len(cap.err.splitlines()) == 3 and cap.err.count("bad heartbeat") == 3
+    lines = cap.out.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
+
+
 @pytest.mark.parametrize("address,words", [("nowhere", "HOST:PORT"), ("h:99999", "1..65535"),
                                           ("h:x", "port")])
 def test_status_command_refuses_a_bad_address(address, words, capsys):
