@@ -40,8 +40,8 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
         raise FileFormatError(f"{target}: cannot make its folder: {exc.strerror or exc}") from None
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    except OSError as exc:
-        raise FileFormatError(f"{target}: cannot be written: {exc.strerror or exc}") from None
+    except OSError as exc:  # still an OSError (callers catch it), naming the target
+        raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
     try:
         os.chmod(tmp, _new_file_mode(target))
         with os.fdopen(fd, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:

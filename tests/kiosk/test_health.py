@@ -203,3 +203,23 @@ def test_the_log_file_rotates(tmp_path):
     assert files == ["tabletop.log", "tabletop.log.1", "tabletop.log.2"]
     assert all((tmp_path / "logs" / f).stat().st_size <= 10_000 for f in files)
     assert "line 599" in (tmp_path / "logs" / "tabletop.log").read_text()
+
+
+def test_a_status_file_that_cannot_be_written_is_logged_once_then_recovers(tmp_path, caplog):
+    """A kiosk runs for weeks: a status folder it cannot use (a full or read-only disk) is one
+    warning, not one a second, and the file is written again once the folder can be used."""
+    from tabletop.kiosk.health import LatestWriter
+    blocker = tmp_path / "blocked"
+    blocker.write_text("a file where the status folder should be")
+    w = LatestWriter(blocker / "status.json")
+    with caplog.at_level("INFO", logger="tabletop"):
+        for i in range(5):
+            w.put(f'{{"n": {i}}}')
+            assert wait_for(lambda: w.failed == i + 1, 5.0)
+        blocker.unlink()
+        w.put('{"n": 5}')
+        assert wait_for(lambda: w.written == 1, 5.0)
+    w.close()
+    assert json.loads((blocker / "status.json").read_text()) == {"n": 5}
+    said = [r.getMessage() for r in caplog.records if "status file" in r.getMessage()]
+    assert len(said) == 2 and "not written" in said[0] and "written again" in said[1]
