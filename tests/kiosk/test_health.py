@@ -223,3 +223,17 @@ def test_a_status_file_that_cannot_be_written_is_logged_once_then_recovers(tmp_p
     assert json.loads((blocker / "status.json").read_text()) == {"n": 5}
     said = [r.getMessage() for r in caplog.records if "status file" in r.getMessage()]
     assert len(said) == 2 and "not written" in said[0] and "written again" in said[1]
+
+
+@pytest.mark.parametrize("supervised", [False, True])
+def test_a_kiosk_log_that_cannot_be_made_names_its_key(tmp_path, capfd, supervised):
+    blocker = tmp_path / "blocked"
+    blocker.write_text("a file where the log folder should be")
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\nview: {enabled: false}\n"
+                   f"kiosk: {{log_file: {blocker / 'logs' / 'k.log'}, "
+                   "heartbeat: {enabled: false}}\n")
+    argv = ["run", "--config", str(cfg), "--headless", "--seconds", "0.2", "--kiosk"]
+    assert cli(argv + ([] if supervised else ["--no-supervisor"])) == 2
+    err = capfd.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"tabletop run: error: {cfg}: kiosk.log_file: ")
