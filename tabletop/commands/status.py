@@ -73,13 +73,14 @@ def main(args: argparse.Namespace) -> int:
     from pythonosc.dispatcher import Dispatcher
     from pythonosc.osc_server import BlockingOSCUDPServer
 
-    from tabletop.commands import positive_number
+    from tabletop.commands import number_in_range
+    from tabletop.commands.run import MAX_SECONDS
     from tabletop.frames import InputError
     from tabletop.kiosk.health import HEARTBEAT_ADDRESS
 
     host, port = parse_address(args.address)
     if args.seconds is not None:
-        positive_number(str(args.seconds), "--seconds", "seconds")
+        number_in_range(args.seconds, "--seconds", "seconds", 0.001, MAX_SECONDS)
 
     def on_heartbeat(client, address, *values) -> None:
         wrong = check_heartbeat(values)

@@ -171,6 +171,15 @@ def test_status_command_refuses_a_bad_address(address, words, capsys):
     assert words in err and "Traceback" not in err and len(err.splitlines()) == 1
 
 
+@pytest.mark.parametrize("seconds", ["1e300", "nan", "-1", "0"])
+def test_status_command_refuses_a_bad_duration(seconds, capsys):
+    """--seconds 1e300 overflowed the stop timer in its thread (a traceback, then listening
+    for ever): refused in one line like run's --seconds."""
+    assert cli(["status", f"127.0.0.1:{free_udp_port()}", "--seconds", seconds]) == 2
+    err = capsys.readouterr().err
+    assert "--seconds" in err and "Traceback" not in err and len(err.splitlines()) == 1
+
+
 def port_taken(port: int) -> bool:
     """Whether a UDP socket is bound to ``port``, read from the kernel's socket table (binding
     the port to find out would race the command binding it)."""
