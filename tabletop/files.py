@@ -38,8 +38,12 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise FileFormatError(f"{target}: cannot make its folder: {exc.strerror or exc}") from None
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    except OSError as exc:  # still an OSError (callers catch it), naming the target
+        raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
+    try:
+        os.chmod(tmp, _new_file_mode(target))
         with os.fdopen(fd, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
             yield f
             f.flush()
@@ -55,6 +59,29 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
             pass
         raise
     fsync_folder(target.parent)
+
+
+def _umask() -> int:
+    """The process's file-creation mask, read without changing it where the system tells."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _new_file_mode(target: Path) -> int:
+    """Permission bits for a file written over ``target``: the existing file's, else those a
+    plain ``open`` would give (0o666 less the umask), never mkstemp's owner-only 0o600."""
+    try:
+        return target.stat().st_mode & 0o7777
+    except OSError:
+        return 0o666 & ~_umask()
 
 
 def atomic_write_bytes(path: str | Path, data: bytes) -> None:

@@ -113,7 +113,8 @@ def parse_line(line: bytes) -> Command | None:
 
 
 class LineSplitter:
-    """Bytes in, complete lines out, holding at most ``max_line`` bytes of an unfinished line.
+    """Bytes in, complete lines out, holding at most ``max_line`` bytes of an unfinished line
+    (and the ``\r`` of a ``\r\n`` ending: the limit counts the line, not its ending).
 
     A line longer than ``max_line`` is dropped up to its newline and counted in ``overlong``."""
 
@@ -131,8 +132,12 @@ class LineSplitter:
             if nl < 0:
                 break
             piece = data[start:nl]
-            if not self._skipping and len(self._buf) + len(piece) <= self.max_line:
-                lines.append(bytes(self._buf) + piece)
+            if not self._skipping and len(self._buf) + len(piece) <= self.max_line + 1:
+                line = bytes(self._buf) + piece
+                if len(line) - line.endswith(b"\r") <= self.max_line:  # \r\n ends it too
+                    lines.append(line)
+                else:
+                    self.overlong += 1
             elif not self._skipping:
                 self.overlong += 1
             self._buf.clear()
@@ -140,7 +145,7 @@ class LineSplitter:
             start = nl + 1
         rest = data[start:]
         if not self._skipping:
-            if len(self._buf) + len(rest) > self.max_line:
+            if len(self._buf) + len(rest) > self.max_line + 1:  # room for the \r of \r\n
                 self.overlong += 1
                 self._skipping = True
                 self._buf.clear()

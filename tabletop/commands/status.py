@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
+
+from tabletop.cli import one_line
 
 HELP = "listen for the tables' heartbeats on HOST:PORT and print one line per heartbeat"
 
@@ -31,6 +34,20 @@ def parse_address(text: str) -> tuple[str, int]:
     return host, n
 
 
+def check_heartbeat(values: tuple) -> str:
+    """What is wrong with a heartbeat's OSC arguments (name, uptime s, fps, unhealthy sources,
+    status JSON), or "" when they are what a table sends."""
+    if len(values) != 5:
+        return f"{len(values)} values, expected 5"
+    name, uptime, fps, unhealthy, status = values
+    for what, v in (("uptime", uptime), ("fps", fps), ("unhealthy sources", unhealthy)):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            return f"{what} {str(v)[:40]!r} is not a number"
+    if not isinstance(name, str) or not isinstance(status, str):
+        return "name and status must be strings"
+    return ""
+
+
 def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealthy: int,
                      status: str) -> str:
     """One line: name, sender, uptime, fps, unhealthy sources, mode and any problem."""
@@ -38,13 +55,15 @@ def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealth
         st = json.loads(status)
     except ValueError:
         st = {}
+    if not isinstance(st, dict):
+        st = {}
     mode = st.get("mode", "?")
     extra = ""
     if st.get("config_error"):
         extra += "  config refused"
     if st.get("restarts"):
         extra += f"  restarts {st['restarts']}"
-    return (f"{name:<16} {sender:<21} up {uptime:9.1f} s  {fps:5.1f} fps  "
+    return one_line(f"{name:<16} {sender:<21} up {uptime:9.1f} s  {fps:5.1f} fps  "
             f"{unhealthy} unhealthy  {mode}{extra}")
 
 
@@ -54,21 +73,23 @@ def main(args: argparse.Namespace) -> int:
     from pythonosc.dispatcher import Dispatcher
     from pythonosc.osc_server import BlockingOSCUDPServer
 
-    from tabletop.commands import positive_number
+    from tabletop.commands import number_in_range
+    from tabletop.commands.run import MAX_SECONDS
     from tabletop.frames import InputError
     from tabletop.kiosk.health import HEARTBEAT_ADDRESS
 
     host, port = parse_address(args.address)
     if args.seconds is not None:
-        positive_number(str(args.seconds), "--seconds", "seconds")
+        number_in_range(args.seconds, "--seconds", "seconds", 0.001, MAX_SECONDS)
 
     def on_heartbeat(client, address, *values) -> None:
-        if len(values) != 5:
-            print(f"{client[0]}:{client[1]}: bad heartbeat ({len(values)} values)", file=sys.stderr)
+        wrong = check_heartbeat(values)
+        if wrong:  # another program on the port: said in one line, listening goes on
+            print(f"{client[0]}:{client[1]}: bad heartbeat ({wrong})", file=sys.stderr)
             return
         name, uptime, fps, unhealthy, status = values
         if args.json:
-            print(status, flush=True)
+            print(one_line(status), flush=True)
         else:
             print(format_heartbeat(f"{client[0]}:{client[1]}", str(name), float(uptime),
                                    float(fps), int(unhealthy), str(status)), flush=True)

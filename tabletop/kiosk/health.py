@@ -29,7 +29,7 @@ from typing import Any, Callable
 
 from tabletop import __version__
 from tabletop.files import atomic_write_text
-from tabletop.frames import Frame
+from tabletop.frames import Frame, InputError
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -60,6 +60,7 @@ class LatestWriter:
         self._cv = threading.Condition()
         self._closed = False
         self.written = 0
+        self.failed = 0  # writes failed in a row
         self._thread = threading.Thread(target=self._run, name="status-writer", daemon=True)
         self._thread.start()
 
@@ -79,9 +80,15 @@ class LatestWriter:
             try:
                 self.path.parent.mkdir(parents=True, exist_ok=True)
                 atomic_write_text(self.path, text)
-                self.written += 1
-            except OSError as exc:
-                log.warning("status file %s not written: %s", self.path, exc)
+            except (OSError, InputError) as exc:  # said once, not every second for weeks
+                self.failed += 1
+                if self.failed == 1:
+                    log.warning("status file %s not written: %s; retrying at every heartbeat",
+                                self.path, getattr(exc, "strerror", None) or exc)
+                continue
+            if self.failed:
+                log.info("status file %s written again", self.path)
+            self.written, self.failed = self.written + 1, 0
 
     def close(self) -> None:
         with self._cv:

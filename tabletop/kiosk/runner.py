@@ -34,6 +34,18 @@ def kiosk_paths(cfg: dict[str, Any], base: Path) -> dict[str, Path]:
             "crash_log": Path(k["crash_log"] or base / "logs" / "crashes.log")}
 
 
+def kiosk_log(cfg: dict[str, Any], path: Path) -> None:
+    """The kiosk's rotating log at ``path``; a place it cannot be made stops the start in one
+    line naming the config file and ``kiosk.log_file``."""
+    from tabletop.schema import ConfigError
+    k = cfg["kiosk"]
+    try:
+        setup_log_file(path, k["log_max_bytes"], k["log_backups"])
+    except OSError as exc:
+        raise ConfigError(f"{getattr(cfg, 'file', 'config')}: kiosk.log_file: {path}: cannot "
+                          f"be used: {exc.strerror or exc}") from None
+
+
 def kiosk_view(cfg: dict[str, Any], kiosk: bool) -> dict[str, Any]:
     """The config as the kiosk runs it: fullscreen, no overlay until the service key."""
     if not kiosk:
@@ -50,7 +62,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
     from tabletop.kiosk.supervisor import Policy, Supervisor
     k = cfg["kiosk"]
     paths = kiosk_paths(cfg, config_path.resolve().parent)
-    setup_log_file(paths["log_file"], k["log_max_bytes"], k["log_backups"])
+    kiosk_log(cfg, paths["log_file"])
     policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
     sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
                      spares=k["spares"])
@@ -92,11 +104,9 @@ class Runner:
         self.inst = None
         self.ticks = 0
         if self.kiosk:
+            kiosk_log(cfg, kiosk_paths(cfg, self.base)["log_file"])
             import faulthandler
             faulthandler.enable()     # a native crash leaves its Python stack in the crash log
-            paths = kiosk_paths(cfg, self.base)
-            setup_log_file(paths["log_file"], cfg["kiosk"]["log_max_bytes"],
-                           cfg["kiosk"]["log_backups"])
 
     def _apply(self, cfg: dict[str, Any]) -> None:
         self.pending = cfg

@@ -212,6 +212,8 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
         back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
         if k < 0 or (k >= mine and not is_pm):
             where = f"engines[{mine}].main" if mine < len(names) else "main"
+            if getattr(ctx.config, "file", None):  # name the config file like every other key
+                where = f"{ctx.config.file}: {where}"
             raise PuppetMasterError(
                 f"{where}: character {name!r} is not made by an engine listed before "
                 f"{options['name']!r} (a puppet_master engine may also be listed after it or "

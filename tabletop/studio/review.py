@@ -166,6 +166,7 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
     """Every try's review sheet (or its figures when it has none) on one PNG; returns the
     session's :func:`summary`."""
     tries = read_session(session)
+    columns = max(1, min(columns, len(tries)))  # never wider than the tries (--columns 100000)
     rows = max(1, math.ceil(len(tries) / columns))
     fig, axes = _figure(columns, rows, size=5.0)
     for ax in axes:

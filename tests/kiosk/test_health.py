@@ -138,12 +138,46 @@ def test_status_command_prints_every_table(tmp_path, capsys):
     assert lines[1].startswith("south")
 
 
+def test_status_command_survives_bad_heartbeats(capsys):
+    """Another program sending wrong heartbeats to the port gets one line each on stderr, and
+    the tables after it are still printed (no traceback, the listener keeps listening)."""
+    from pythonosc.udp_client import SimpleUDPClient
+    port = free_udp_port()
+    out = {}
+    th = threading.Thread(target=lambda: out.update(
+        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])))
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)
+    bad = SimpleUDPClient("127.0.0.1", port)
+    bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
+    bad.send_message("/tabletop/heartbeat", ["t2", 1.0, 2.0, 0, 7])           # status a number
+    bad.send_message("/tabletop/heartbeat", ["t3", 1.0, 2.0, 0])              # too few
+    hb = Heartbeat("127.0.0.1", port)
+    hb.send("north\nfake", 3.0, 60.0, 0, "[1, 2]")  # JSON that is no status: shown as "?"
+    hb.close()
+    th.join()
+    cap = capsys.readouterr()
+    assert out["rc"] == 0 and "Traceback" not in cap.err
+    assert len(cap.err.splitlines()) == 3 and cap.err.count("bad heartbeat") == 3
+    lines = cap.out.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
+
+
 @pytest.mark.parametrize("address,words", [("nowhere", "HOST:PORT"), ("h:99999", "1..65535"),
                                           ("h:x", "port")])
 def test_status_command_refuses_a_bad_address(address, words, capsys):
     assert cli(["status", address, "--seconds", "1"]) == 2
     err = capsys.readouterr().err
     assert words in err and "Traceback" not in err and len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("seconds", ["1e300", "nan", "-1", "0"])
+def test_status_command_refuses_a_bad_duration(seconds, capsys):
+    """--seconds 1e300 overflowed the stop timer in its thread (a traceback, then listening
+    for ever): refused in one line like run's --seconds."""
+    assert cli(["status", f"127.0.0.1:{free_udp_port()}", "--seconds", seconds]) == 2
+    err = capsys.readouterr().err
+    assert "--seconds" in err and "Traceback" not in err and len(err.splitlines()) == 1
 
 
 def port_taken(port: int) -> bool:
@@ -178,3 +212,37 @@ def test_the_log_file_rotates(tmp_path):
     assert files == ["tabletop.log", "tabletop.log.1", "tabletop.log.2"]
     assert all((tmp_path / "logs" / f).stat().st_size <= 10_000 for f in files)
     assert "line 599" in (tmp_path / "logs" / "tabletop.log").read_text()
+
+
+def test_a_status_file_that_cannot_be_written_is_logged_once_then_recovers(tmp_path, caplog):
+    """A kiosk runs for weeks: a status folder it cannot use (a full or read-only disk) is one
+    warning, not one a second, and the file is written again once the folder can be used."""
+    from tabletop.kiosk.health import LatestWriter
+    blocker = tmp_path / "blocked"
+    blocker.write_text("a file where the status folder should be")
+    w = LatestWriter(blocker / "status.json")
+    with caplog.at_level("INFO", logger="tabletop"):
+        for i in range(5):
+            w.put(f'{{"n": {i}}}')
+            assert wait_for(lambda: w.failed == i + 1, 5.0)
+        blocker.unlink()
+        w.put('{"n": 5}')
+        assert wait_for(lambda: w.written == 1, 5.0)
+    w.close()
+    assert json.loads((blocker / "status.json").read_text()) == {"n": 5}
+    said = [r.getMessage() for r in caplog.records if "status file" in r.getMessage()]
+    assert len(said) == 2 and "not written" in said[0] and "written again" in said[1]
+
+
+@pytest.mark.parametrize("supervised", [False, True])
+def test_a_kiosk_log_that_cannot_be_made_names_its_key(tmp_path, capfd, supervised):
+    blocker = tmp_path / "blocked"
+    blocker.write_text("a file where the log folder should be")
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\nview: {enabled: false}\n"
+                   f"kiosk: {{log_file: {blocker / 'logs' / 'k.log'}, "
+                   "heartbeat: {enabled: false}}\n")
+    argv = ["run", "--config", str(cfg), "--headless", "--seconds", "0.2", "--kiosk"]
+    assert cli(argv + ([] if supervised else ["--no-supervisor"])) == 2
+    err = capfd.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"tabletop run: error: {cfg}: kiosk.log_file: ")

@@ -51,11 +51,26 @@ def test_the_splitter_holds_at_most_one_line_and_skips_overlong_ones():
     assert s.feed(b" line\n") == [b"partial line"]
     for _ in range(500):                           # a line without a newline, for minutes
         assert s.feed(b"x" * 100) == []
-        assert len(s._buf) <= MAX_LINE
+        assert len(s._buf) <= MAX_LINE + 1          # the line and the \r of a \r\n
     assert s.overlong == 1
     assert s.feed(b"tail of it\nlift 1\n") == [b"lift 1"]
     assert s.feed(b"y" * (MAX_LINE + 1) + b"\nlift 2\n") == [b"lift 2"]
     assert s.overlong == 2
+
+
+@pytest.mark.parametrize("ending", [b"\n", b"\r\n"])
+def test_a_line_of_exactly_max_line_bytes_passes_with_either_ending(ending):
+    """DESIGN: at most 1024 bytes a line, ended by \\n or \\r\\n (an Arduino's println
+    sends \\r\\n): the ending does not count, whole or fed byte by byte."""
+    line = b"stream hand " + b"0.5 " * ((MAX_LINE - 12) // 4)
+    line = line + b"1" * (MAX_LINE - len(line))
+    assert len(line) == MAX_LINE and parse_line(line.rstrip(b"\r")) is not None
+    for chunks in ([line + ending], [bytes([b]) for b in line + ending]):
+        s = LineSplitter()
+        got = [out for c in chunks for out in s.feed(c)]
+        assert got == [line + ending[:-1]] and s.overlong == 0
+    s = LineSplitter()                                   # one byte more is too long
+    assert s.feed(b"x" + line + ending + b"lift 1\n") == [b"lift 1"] and s.overlong == 1
 
 
 def open_pty():

@@ -136,6 +136,20 @@ def test_review_refuses_a_bad_session_log_in_one_line(tmp_path, capsys):
     assert cli(["review", str(tmp_path / "missing.jsonl")]) == 2
 
 
+def test_review_with_more_columns_than_tries_draws_the_tries_wide(tmp_path, capsys):
+    """--columns 100000 on a two-try log drew a figure 100,000 sheets wide (minutes, gigabytes);
+    the sheet is as wide as its tries."""
+    import matplotlib.image as mpimg
+    log = tmp_path / "s.jsonl"
+    log.write_text('{"target": "pet", "outcome": "kept"}\n{"target": "pet"}\n')
+    widths = []
+    for columns in ("2", "100000"):
+        out = tmp_path / f"sheet-{columns}.png"
+        assert cli(["review", str(log), "--columns", columns, "--out", str(out)]) == 0
+        widths.append(mpimg.imread(str(out)).shape[1])
+    assert widths[0] == widths[1] and "2 tries, 1 kept" in capsys.readouterr().out
+
+
 def test_a_playing_behaviour_outside_the_studio_is_reloaded_or_kept(tmp_path):
     from tabletop.config import validate_config
     from tabletop.frames import Frame

@@ -111,3 +111,15 @@ def test_empty_file(tmp_path):
 def test_missing_config_file(tmp_path):
     with pytest.raises(ConfigError, match="not found"):
         load_config(tmp_path / "absent.yaml")
+
+
+def test_a_main_character_no_engine_makes_names_the_file(tmp_path, capsys):
+    """A build-time check (the character a reactor reacts to) names the file like the schema's."""
+    from tabletop.cli import main as cli
+    lover = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
+    path = write(tmp_path, GOOD + f"engines:\n  - kind: puppet_master\n    name: l\n"
+                                  f"    behavior: {lover}\n    main: {{character: nobody}}\n")
+    assert cli(["run", "--config", str(path), "--headless", "--seconds", "0.1"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith(f"tabletop run: error: {path}: engines[0].main: ")
+    assert "'nobody'" in err[0]

@@ -1,0 +1,62 @@
+"""The shared atomic writer: permissions as a plain write gives them, clear refusals."""
+
+from __future__ import annotations
+
+import os
+import stat
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tabletop.files import atomic_write_text
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _mode(path: Path) -> int:
+    return stat.S_IMODE(path.stat().st_mode)
+
+
+def test_new_file_gets_the_umask_mode_not_owner_only(tmp_path):
+    """A status file or a calibration written atomically must be readable by the others a
+    plain write lets read it (a monitoring user, the operator's account), not mkstemp's 0o600."""
+    old = os.umask(0o022)
+    try:
+        atomic_write_text(tmp_path / "status.json", "{}")
+        plain = tmp_path / "plain.txt"
+        plain.write_text("{}")
+    finally:
+        os.umask(old)
+    assert _mode(tmp_path / "status.json") == _mode(plain) == 0o644
+
+
+def test_rewrite_keeps_the_existing_files_mode(tmp_path):
+    target = tmp_path / "calibration.yaml"
+    target.write_text("a: 1\n")
+    os.chmod(target, 0o640)
+    atomic_write_text(target, "a: 2\n")
+    assert target.read_text() == "a: 2\n"
+    assert _mode(target) == 0o640
+
+
+def test_unwritable_folder_names_the_target_not_a_temporary_file():
+    target = Path("/proc/tabletop-out.csv")  # exists, cannot hold new files, even for root
+    with pytest.raises(OSError) as err:  # an OSError still, as runtime writers expect
+        atomic_write_text(target, "x")
+    assert err.value.filename == str(target) and ".tmp" not in str(err.value)
+
+
+def test_cli_output_into_an_unwritable_folder_is_one_line(tmp_path):
+    main = tmp_path / "main.csv"
+    main.write_text("t,main_x,main_y,main_dir\n" + "".join(
+        f"{i / 40},{0.5 + 0.001 * i},0.4,0\n" for i in range(40)))
+    demo = ROOT / "behaviors" / "library" / "lover" / "demonstration.csv"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "behave", "--train", str(demo),
+                        "--input", str(main), "--out", "/proc/tabletop-react.csv"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(
+        "tabletop behave: error: /proc/tabletop-react.csv: "), r.stderr
