@@ -309,6 +309,7 @@ class FollowerGroup(GroupRules):
         self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
         self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
         self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
+        self._thr_tops = np.zeros(k)   # scratch: each template's likeliest threshold state
 
     def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._finish` for every member at once: the per-template rules in
@@ -323,7 +324,7 @@ class FollowerGroup(GroupRules):
             LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
             self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads,
             present, self._means, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
-            self._m_kept, self._thr_z, self._thr_lj, self._thr_total)
+            self._m_kept, self._thr_z, self._thr_lj, self._thr_total, self._thr_tops)
         return self._conclude(step_ll, present)
 
     def _turned(self, present: np.ndarray) -> None:
