@@ -39,7 +39,7 @@ from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.spotting import GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
-from behaviors.mop.validity import Validity, backs_first
+from behaviors.mop.validity import Validity, backs_first, resting, stalls
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
@@ -218,6 +218,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._shape = np.zeros(len(self.names))
         self._acquired = -1
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
+        self._drive_moved = False
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
         self._after_end = 0
         self._peak, self._peak_k = 0.0, -1
@@ -352,6 +353,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         variance = var * slope * slope
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
+        still = self._still(x)
+        rests = resting(self._recent_x, self._still_radius)
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
                   and p_list[bi] * self._kept >= self.min_probability
@@ -367,16 +370,21 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                 # them back behind where it began (validity.backs_first)
                 self._drive_peak = max(self._drive_peak, progress_list[bi])
                 ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
+                # ... nor, once the performer moved it without carrying it forward, hold them
+                # while they stop (validity.stalls)
+                ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
         self._run = self._run + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting)
         self._after_end = self._after_end + 1 if self._end_x is not None else 0
         valid = drives(self._run, self.confirm, self._after_end)
         if valid and self._drive_k != bi:
             self._drive_k, self._drive_from, self._drive_peak = bi, progress_list[bi], progress_list[bi]
+            self._drive_moved = False
+        if valid and not rests:
+            self._drive_moved = True
         self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names
-        still = self._still(x)
         likely: tuple[tuple[str, float, float], ...] = ()
         if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
             order = [i for i in np.argsort(-p, kind="stable")[:3] if not self._refused[i]]

@@ -168,6 +168,37 @@ def backs_first(began: float, peak: float, progress: float) -> bool:
     return peak - began < FORWARD_FIRST and progress < began - BACK_FIRST
 
 
+#: An action that drove while the performer moved carries them forward by this much (progress
+#: units) before it may hold them while they stop (:func:`stalls`).
+CARRY_FIRST = 0.05
+
+
+def stalls(began: float, peak: float, moved: bool, still: bool) -> bool:
+    """Whether a driving action holds a performer who stopped without having been carried
+    forward: the input is ``still``, it ``moved`` while the action drove, and the action's
+    highest progress since it began driving, ``peak``, never passed ``began`` by
+    :data:`CARRY_FIRST`. Such an action was moved on the spot by the input (a wander hovering
+    at a template's start, a chord stopped part way): no evidence specific to it."""
+    return still and moved and peak - began < CARRY_FIRST
+
+
+#: The performer rests when the mean of their last samples moved less than this many still
+#: radii (every column) from the mean of the samples before (:func:`resting`).
+RESTING_RADII = 2.0
+
+
+def resting(recent: list[np.ndarray], radius: np.ndarray) -> bool:
+    """Whether the performer rests: the mean of the later half of the ``recent`` samples (at
+    least 4, oldest first) is within :data:`RESTING_RADII` ``radius`` (per column, raw units) of
+    the earlier half's. Net motion, not the samples' spread, so the tracking jitter (about one
+    still radius with many templates loaded) does not read as moving."""
+    n = len(recent) // 2
+    if n < 2:
+        return False
+    d = np.mean(recent[-n:], axis=0) - np.mean(recent[:n], axis=0)
+    return bool(np.all(np.abs(d) <= RESTING_RADII * radius))
+
+
 #: Turning (below) is measured along steps of this many still radii (the smallest column's)...
 TURN_STEP = 6.0
 #: ... and the first direction once the path left its start by this many steps.
