@@ -37,7 +37,8 @@ import numpy as np
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
-from behaviors.mop.spotting import GestureSpotting, drives
+from behaviors.mop.sharing import shared_until
+from behaviors.mop.spotting import SHARE_RADIUS, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.validity import Validity, backs_first, resting, stalls
 
@@ -171,6 +172,11 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self.threshold = math.inf if tangent > 0 or invariance == "none" else float(threshold)
         self.turn_limit = float(turn_limit)
         self._setup_validity()
+        lo_hi = hi / lo
+        self._shared = shared_until(np.ascontiguousarray(self._rel * self._units),
+                                    b.starts.astype(np.intp), b.lengths.astype(np.intp),
+                                    np.geomspace(1.0 / lo_hi, lo_hi, 25),
+                                    np.ascontiguousarray(SHARE_RADIUS * self._still_radius), 3)
         self._setup_turning()
         self.reset()
 
@@ -216,6 +222,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._run = 0
         self._lost = 0
         self._shape = np.zeros(len(self.names))
+        self._gone = np.zeros(len(self.names))
         self._acquired = -1
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False
@@ -301,6 +308,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             back &= (self._log_constant - step_ll) * (2.0 / self._zdim) <= self._null2
             new |= back
         if np.count_nonzero(new):
+            self._gone[new] = 0.0
             self._recent[new] = self._log_constant
             self._recent_weight[new] = 1.0
             self._refused[new] = False
@@ -360,11 +368,12 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                   and p_list[bi] * self._kept >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
         if self.invariance != "none":
+            np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (spotting.LEAD)
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             # ... and once the input turned as the template does (validity.turning)
             turned = self._turned(x, bi, float(g[bi]))
-            ok = ok and (self._acquired == bi or (leads and turned))
+            ok = ok and (self._acquired == bi or (leads and turned and not self._shares(bi, float(g[bi]), progress)))
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
                 # them back behind where it began (validity.backs_first)

@@ -101,6 +101,21 @@ END_GRACE = 2
 #: for the input's return to that point to end the gesture (:meth:`GestureSpotting._returned`).
 RETURN_BACK = 0.2
 RETURN_RADIUS = 0.05
+#: An action that reaches its end while the input moved less than this many still radii (per
+#: column) since the sample before has one sample less of grace
+#: (:meth:`GestureSpotting._arrived`): the performer stopped there a sample before.
+ARRIVE_RADIUS = 2.0
+#: Radius (still radii, per column) within which a template's start is shared with another's
+#: (:mod:`behaviors.mop.sharing`).
+SHARE_RADIUS = 3.0
+#: A template whose followed progress fell this far below its highest since the gesture began
+#: is going back: no start read forwards, so it keeps no other action from driving.
+SHARE_BACK = 0.03
+
+
+def at_point(x: np.ndarray, point: np.ndarray, radius: np.ndarray) -> bool:
+    """Whether ``x`` is within ``radius`` of ``point`` in every column (raw units)."""
+    return bool(np.all(np.abs(x - point) <= radius))
 
 
 def drives(run: np.ndarray | int, confirm: np.ndarray | int,
@@ -158,6 +173,24 @@ class GestureSpotting:
         r = (x - last) / self._units
         return bool(np.sqrt(np.sum(r * r)) <= RETURN_RADIUS * self._size[k] * self._extent[k])
 
+    def _arrived(self, x: np.ndarray) -> bool:
+        """The input stopped: within :data:`ARRIVE_RADIUS` still radii (per column) of the
+        sample before (``x`` is the last of the recent samples)."""
+        recent = self._recent_x
+        return len(recent) >= 2 and at_point(x, recent[-2], ARRIVE_RADIUS * self._still_radius)
+
+    def _shares(self, k: int, g: float, progress: np.ndarray) -> bool:
+        """Whether template ``k``'s followed state ``g`` (bank index) is still within its start
+        shared with another template that is neither refused nor off its path nor going back
+        (:func:`behaviors.mop.sharing.shared_until`; ``progress``: every template's followed
+        progress, ``_gone`` its highest since the gesture began): the input cannot yet tell
+        them apart."""
+        i = int(g) - int(self.bank.starts[k])
+        rivals = ((self._shared[k] >= i) & ~self._refused & ~self._misshaped
+                  & (progress >= self._gone - SHARE_BACK))
+        rivals[k] = False
+        return bool(rivals.any())
+
     def _leads(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray, bi: int,
                p: np.ndarray) -> bool:
         """Accumulate, per template, the squared distance (in still radii) between the input
@@ -202,6 +235,8 @@ class GestureSpotting:
         self._peak_k = bi if valid else -1
         if valid and self._end_x is None and (progress >= self.end or self._returned(x, bi, progress)):
             self._end_x = x.copy()
+            # the performer had already stopped there: the grace counts from the sample before
+            self._after_end = int(self._arrived(x))
         step_d2 = (self._log_constant - step_ll) * (2.0 / self._zdim)
         self._lost = self._lost + 1 if bool(self._refused.all()) else 0
         if self._end_x is not None and (still or step_d2 > self._null2 or not ok or
