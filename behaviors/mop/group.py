@@ -106,6 +106,11 @@ class FollowerGroup(GroupRules):
                                         else np.zeros((len(f.names), dmax)) for f in fs])
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
+        self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
+        # spotting's shared starts (sharing.shared_until): each member's (K_i, K_i), flattened
+        self._shared = np.concatenate([f._shared.ravel() for f in fs]).astype(np.intp)
+        self._sh_off = np.cumsum([0] + [f._shared.size for f in fs])[:-1].astype(np.intp)
+        self._drive_moved = np.zeros(m, dtype=bool)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)
         # the input's turning (Validity._turned), members with 2-D spatial inputs only
@@ -143,7 +148,7 @@ class FollowerGroup(GroupRules):
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
                    "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_turn_in", "_turn_h", "_turn_ref",
-                   "_turn_has_ref", "_turn_has_h")
+                   "_turn_has_ref", "_turn_has_h", "_drive_moved")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -161,7 +166,10 @@ class FollowerGroup(GroupRules):
         self._turn_in[rows] = 0.0
         self._turn_has_ref[rows] = False
         self._turn_has_h[rows] = False
-        self._shape[np.isin(self._owner, np.arange(len(self.followers))[rows])] = 0.0
+        self._drive_moved[rows] = False
+        mine = np.isin(self._owner, np.arange(len(self.followers))[rows])
+        self._shape[mine] = 0.0
+        self._gone[mine] = 0.0
 
     def reset(self) -> None:
         """Forget every performance."""
@@ -219,7 +227,7 @@ class FollowerGroup(GroupRules):
         saved = None
         if lost:
             saved = fw.snapshot(np.flatnonzero(self._owner_of(lost)))
-            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE + ("_shape",)] + \
+            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE + ("_shape", "_gone")] + \
                    [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
         step_ll = fw.step(self._z)
         if saved is not None:
@@ -356,7 +364,8 @@ class FollowerGroup(GroupRules):
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
             self._after_end, self._m_kept, self._drive_k, self._drive_from,
             self._drive_peak, self._turn_ok, self._extent, self._peak, self._peak_k,
-            variance, valid, loglik, distance, show, holding, prog_b, restart)
+            variance, valid, loglik, distance, show, holding, prog_b, restart, self._gone, self._shared,
+            self._sh_off, self._drive_moved)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays

@@ -49,7 +49,8 @@ MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "nu
 AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
-FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape")
+FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
+          "_gone")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered")
 
@@ -206,7 +207,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``. ``before``/``after``: the path's reach in states."""
-    ev, rec, rw, num, den, size, misfit_w, shape = floats
+    ev, rec, rw, num, den, size, misfit_w, shape, gone = floats
     refused, engaged, misshaped, covered = flags
     d = x.shape[1]
     s = buf.shape[1]
@@ -279,6 +280,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 refused[k] = False
                 engaged[k] = False
             new_out[k] = new
+            if new:
+                gone[k] = 0.0
+            if spots:   # the highest progress since the gesture began (spotting's _gone)
+                gone[k] = max(gone[k], progress_out[k])
             mll = rec[k] / rw[k]
             mean_ll_out[k] = mll
             dist2 = (log_constant - mll) * two_over
