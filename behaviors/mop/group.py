@@ -311,6 +311,8 @@ class FollowerGroup(GroupRules):
         self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_leads = np.zeros(m, dtype=bool)
         self._m_kept = np.ones(m)
+        self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
+        self._m_restart = np.empty(m, dtype=np.intp)
         # the threshold models' state (Validity._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
@@ -351,11 +353,9 @@ class FollowerGroup(GroupRules):
         (:func:`members.conclude`), then each member's state."""
         fw, m = self.forward, len(self.followers)
         p, progress, mean_ll, new = self._k_p, self._k_progress, self._k_mean_ll, self._k_new
-        per = self._m_out = np.empty((4, m))
-        variance, loglik, distance, prog_b = per
-        flags = np.empty((3, m), dtype=bool)
-        valid, show, holding = flags
-        restart = np.empty(m, dtype=np.intp)
+        variance, loglik, distance, prog_b = self._m_out   # read within the tick only
+        valid, show, holding = self._m_flags
+        restart = self._m_restart
         self._turned(present)
         members.conclude(
             self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p, progress, mean_ll,
@@ -371,11 +371,14 @@ class FollowerGroup(GroupRules):
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
         names, index = self._k_names, self._m_index
         likely = [()] * m
-        if show.any():
-            refused, top3 = self._refused, self._m_top3.tolist()
-            for i in np.flatnonzero(show).tolist():
-                likely[i] = tuple((names[j], float(p[j]), float(progress[j])) for j in top3[i]
-                                  if j >= 0 and not refused[j])
+        if show.any():   # each member's top three not refused, read at once
+            top3 = self._m_top3
+            at = np.maximum(top3, 0)
+            keep = ((top3 >= 0) & ~self._refused[at]).tolist()
+            rows = zip(show.tolist(), at.tolist(), p[at].tolist(), progress[at].tolist(), keep)
+            for i, (shows, js, ps, qs, ks) in enumerate(rows):
+                if shows:
+                    likely[i] = tuple([(names[j], a, b) for j, a, b, k in zip(js, ps, qs, ks) if k])
         ended = self._ended
         shown = [progress] * m
         best, best_progress = [names[j] for j in gb.tolist()], prog_b.tolist()
