@@ -119,6 +119,7 @@ class FollowerGroup(GroupRules):
         self._turn_has_ref, self._turn_has_h = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._turn_ok = np.ones(m, dtype=bool)
         self._drive_from, self._drive_peak = np.zeros(m), np.zeros(m)
+        self._drive_moved = np.zeros(m, dtype=bool)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._x = np.zeros((m, dmax))
         self._one_dim = all(f.dim == dmax for f in fs)
@@ -142,7 +143,7 @@ class FollowerGroup(GroupRules):
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
-                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_turn_in", "_turn_h", "_turn_ref",
+                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_drive_moved", "_turn_in", "_turn_h", "_turn_ref",
                    "_turn_has_ref", "_turn_has_h")
 
     def _clear_members(self, rows: np.ndarray) -> None:
@@ -354,7 +355,7 @@ class FollowerGroup(GroupRules):
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
             self._after_end, self._m_kept, self._drive_k, self._drive_from,
-            self._drive_peak, self._turn_ok, self._extent, self._peak, self._peak_k,
+            self._drive_peak, self._drive_moved, self._turn_ok, self._extent, self._peak, self._peak_k,
             variance, valid, loglik, distance, show, holding, prog_b, restart)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best

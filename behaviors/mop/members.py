@@ -19,7 +19,7 @@ import numba
 import numpy as np
 
 from behaviors.mop.spotting import END_GRACE, RETURN_BACK, RETURN_RADIUS
-from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST
+from behaviors.mop.validity import BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, RESTING_RADII
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -59,6 +59,26 @@ def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.n
             hi = max(hi, buf[i, r, c])
             lo = min(lo, buf[i, r, c])
         if not hi - lo <= 2.0 * radius[c]:
+            return False
+    return True
+
+
+@numba.njit(numba.boolean(_F3, _I1, numba.intp, _F1), cache=True, nogil=True)
+def resting(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> bool:
+    """:func:`behaviors.mop.validity.resting` over member ``i``'s buffered samples after the
+    push: the mean of the later half within ``RESTING_RADII radius`` (D,) of the earlier's."""
+    n = count[i] // 2
+    if n < 2:
+        return False
+    s = buf.shape[1]
+    first = s - count[i]
+    for c in range(buf.shape[2]):
+        early = 0.0
+        late = 0.0
+        for r in range(n):
+            early += buf[i, first + r, c]
+            late += buf[i, s - n + r, c]
+        if not abs(late / n - early / n) <= RESTING_RADII * radius[c]:
             return False
     return True
 
@@ -118,12 +138,12 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
 
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
+                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _B1, _F1, _F1, _I1,
                        _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
-             turn_ok, extent, peak, peak_k,
+             drive_moved, turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
@@ -169,6 +189,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             for c in range(d):
                 last[c] = states[start + length - 1 + off, d + c] * units[c] * sk + anchor[i, c]
             moved = moved_on(x[i], end_x[i], last, radius)
+        if present[i]:
+            push(buf, nbuf, x, i, int(m[6]))
+        rests = resting(buf, nbuf, i, radius)
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
         # a new action drives only once its shape clearly leads (spotting)
@@ -177,6 +200,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
+            # nor holds a resting performer it never carried forward (validity.stalls)
+            ok = ok and not (rests and drive_moved[i] and drive_peak[i] - drive_from[i] < CARRY_FIRST)
         run[i] = run[i] + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
@@ -186,12 +211,13 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             drive_k[i] = bi
             drive_from[i] = progress[gb]
             drive_peak[i] = progress[gb]
+            drive_moved[i] = False
+        if val and not rests:
+            drive_moved[i] = True
         acquired[i] = bi if val else -1
         ll = mean_ll[gb]
         loglik[i] = ll
         distance[i] = math.sqrt(max(0.0, -2.0 * (ll - m[4]) / m[5]))
-        if present[i]:
-            push(buf, nbuf, x, i, int(m[6]))
         st = still(buf, nbuf, i, int(m[6]), radius)
         show[i] = any_engaged[i] or (not st and moving[i] >= m[7])
         pb = progress[gb]
