@@ -18,7 +18,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.spotting import END_GRACE, RETURN_BACK, RETURN_RADIUS
+from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS
 from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
@@ -213,6 +213,11 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             if ended:
                 end_x[i] = x[i]
                 has_end[i] = True
+                # GestureSpotting._arrived: the input had stopped there, one sample less of grace
+                stopped = nbuf[i] >= 2
+                for c in range(d):
+                    stopped = stopped and abs(x[i, c] - buf[i, buf.shape[1] - 2, c]) <= ARRIVE_RADIUS * radius[c]
+                after_end[i] = 1 if stopped else 0
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
             lost[i] = lost[i] + 1 if all_refused[i] else 0
             for c in range(d):

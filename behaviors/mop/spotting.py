@@ -105,9 +105,11 @@ RETURN_RADIUS = 0.05
 #: column) since the sample before has one sample less of grace
 #: (:meth:`GestureSpotting._arrived`): the performer stopped there a sample before.
 ARRIVE_RADIUS = 2.0
-#: Radius (still radii, per column) within which a template's start is shared with another's
-#: (:mod:`behaviors.mop.sharing`).
-SHARE_RADIUS = 3.0
+#: Shared starts (:mod:`behaviors.mop.sharing`, ``ActionFollower(share_radius=...)`` in still
+#: radii per column): sizes tried between the size range's extremes' ratio and its inverse, and
+#: states another template may run ahead per state.
+SHARE_SIZES = 25
+SHARE_SKIP = 3
 #: A template whose followed progress fell this far below its highest since the gesture began
 #: is going back: no start read forwards, so it keeps no other action from driving.
 SHARE_BACK = 0.03
@@ -185,6 +187,8 @@ class GestureSpotting:
         (:func:`behaviors.mop.sharing.shared_until`; ``progress``: every template's followed
         progress, ``_gone`` its highest since the gesture began): the input cannot yet tell
         them apart."""
+        if self._shared is None:
+            return False
         i = int(g) - int(self.bank.starts[k])
         rivals = ((self._shared[k] >= i) & ~self._refused & ~self._misshaped
                   & (progress >= self._gone - SHARE_BACK))
