@@ -71,11 +71,9 @@ def test_gestures_back_to_back_are_each_recognised(gestures):
     truth = [None] * 15 + truth
     prog = np.concatenate([np.full(15, np.nan)] + prog)
     states = run(f, x)
-    # the line's outward stroke is the square's first side: it drives once it turns back at
-    # half of it (measured: circle 0.30, line 0.51, figure eight 0.25, wave 0.23)
     for g in order:
         hit = [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
-        assert hit and hit[0] <= (0.6 if g == "line" else 0.45), (g, hit[:1])
+        assert hit and hit[0] <= 0.45, (g, hit[:1])
     # an ended gesture drives at most two samples after it reached its end, so at most two of
     # the next one (measured: 1, 0, 1; while it drove until the input moved on: 1, 0, 5)
     for before, after in zip(order, order[1:]):
@@ -181,15 +179,17 @@ def test_unrelated_motion_rarely_drives(gestures):
     assert all(now[k] <= plain[k] + 0.01 for k in now), (now, plain)
 
 
-def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures):
+@pytest.mark.parametrize("share_radius", [0.0, 3.0])
+def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures, share_radius):
     # the line's outward stroke is the square's first side and the circle's start: the line
-    # explains it best (it is narrower), but no action drives while its start is shared with
-    # another that the input still fits (spotting._shares), so the line drives once it turns back
-    # at half of it and the square once it turns its corner. Measured, seeds 0-5: the line drove
-    # no tick during squares (before this rule 15, before the shape lead 76) and none during
-    # circles; the line was recognised at 0.49-0.64 of it (before: 0.31-0.35), the circle at
-    # 0.27-0.31 (unchanged), the square at 0.41-0.43 (after its corner, as before)
-    f = puck_follower(gestures)
+    # explains it best (it is narrower), but its shape does not lead until the paths part
+    # (spotting.LEAD). Measured, seeds 0-5: the line drove 15 ticks during squares in all (before
+    # the shape lead: 76) and none during circles; the line and the circle were recognised by
+    # 32% and 31% of them, the square by 43%. With shared starts (share_radius 3 still radii:
+    # no new action drives while its start is shared with another the input still fits,
+    # spotting._shares) the line drives no tick of a square, and drives itself once it turns
+    # back at half of it (0.49-0.64; the circle 0.27-0.31 and the square 0.41-0.43 as without)
+    f = puck_follower(gestures, share_radius=share_radius)
     wrong = {"square": 0, "circle": 0}
     first = {"square": [], "circle": [], "line": []}
     for seed in range(6):
@@ -201,9 +201,11 @@ def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures
                 wrong[name] += sum(s.valid and s.best == "line" for s in states)
             first[name].append(next((prog[i, 0] for i, s in enumerate(states)
                                      if s.valid and s.best == name), 1.0))
-    assert wrong["square"] <= 2 and wrong["circle"] == 0, wrong
-    assert 0.45 <= min(first["line"]) and max(first["line"]) <= 0.7, first
-    assert max(first["circle"]) <= 0.35 and max(first["square"]) <= 0.5, first
+    assert wrong["circle"] == 0 and max(first["circle"]) <= 0.35 and max(first["square"]) <= 0.5, first
+    if share_radius:
+        assert wrong["square"] <= 2 and 0.45 <= min(first["line"]) and max(first["line"]) <= 0.7, (wrong, first)
+    else:
+        assert wrong["square"] <= 30 and max(first["line"]) <= 0.35, (wrong, first)
 
 
 def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypatch):
