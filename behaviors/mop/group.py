@@ -34,6 +34,9 @@ class FollowerGroup(GroupRules):
             if not first.same_parameters(f):
                 raise TemplateError(f"follower {i} of the group has other parameters than follower 0; "
                                     "a group's followers must share sigma, window, transitions and limits")
+        if any(f._shared is not None for f in self.followers):
+            # spotting._shares is not batched yet: a group would not equal its followers alone
+            raise TemplateError("a follower group cannot use share_radius yet; step such followers alone")
         width = max(f._zdim for f in self.followers)
         means, starts, lengths, dims, names, owner = [], [], [], [], [], []
         offset = 0

@@ -205,3 +205,14 @@ def test_the_group_threshold_models_keep_the_followers_own_weights():
             assert np.array_equal(mine == 0.0, f._threshold_alpha == 0.0)
             assert np.allclose(mine, f._threshold_alpha, rtol=1e-12, atol=0.0)
     assert 0.0 < np.mean(group._thr_alpha == 0.0) < 1.0
+
+
+def test_a_group_refuses_followers_with_shared_starts():
+    # spotting._shares is not batched: such a group would not equal its followers alone
+    from behaviors.mop.hmm import TemplateError
+    rng = np.random.default_rng(3)
+    templates = {f"t{i}": 0.1 * g.template(rng, n=40, d=2) for i in range(2)}
+    kw = dict(units=np.ones(2), invariance="scale")
+    FollowerGroup([ActionFollower(templates, **kw)])
+    with pytest.raises(TemplateError, match="share_radius"):
+        FollowerGroup([ActionFollower(templates, share_radius=3.0, **kw)])
