@@ -38,7 +38,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.sharing import shared_until
-from behaviors.mop.spotting import SHARE_RADIUS, GestureSpotting, drives
+from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.validity import Validity, backs_first, resting, stalls
 
@@ -77,7 +77,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
                  shape_memory: float = 16.0, dwell: float | None = None,
-                 threshold: float = 0.0, turn_limit: float = math.inf) -> None:
+                 threshold: float = 0.0, turn_limit: float = math.inf,
+                 share_radius: float = 0.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -99,6 +100,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
+        if not (math.isfinite(share_radius) and share_radius >= 0):
+            raise TemplateError(f"follower parameter share_radius = {share_radius} is out of range")
         if not turn_limit > 0:
             raise TemplateError(f"follower parameter turn_limit = {turn_limit} is out of range")
         if math.isnan(threshold) or threshold == -math.inf:
@@ -144,7 +147,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
                             coverage=float(coverage), shape_distance=float(shape_distance),
                             shape_accept=float(shape_accept), shape_memory=float(shape_memory),
-                            threshold=float(threshold), turn_limit=float(turn_limit))
+                            threshold=float(threshold), turn_limit=float(turn_limit),
+                            share_radius=float(share_radius))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -172,11 +176,15 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self.threshold = math.inf if tangent > 0 or invariance == "none" else float(threshold)
         self.turn_limit = float(turn_limit)
         self._setup_validity()
-        lo_hi = hi / lo
-        self._shared = shared_until(np.ascontiguousarray(self._rel * self._units),
-                                    b.starts.astype(np.intp), b.lengths.astype(np.intp),
-                                    np.geomspace(1.0 / lo_hi, lo_hi, 25),
-                                    np.ascontiguousarray(SHARE_RADIUS * self._still_radius), 3)
+        self.share_radius = float(share_radius)
+        self._shared = None   # spotting._shares: off at 0 and for streams
+        if self.share_radius > 0 and invariance != "none":
+            lo_hi = hi / lo
+            self._shared = shared_until(np.ascontiguousarray(self._rel * self._units),
+                                        b.starts.astype(np.intp), b.lengths.astype(np.intp),
+                                        np.geomspace(1.0 / lo_hi, lo_hi, SHARE_SIZES),
+                                        np.ascontiguousarray(self.share_radius * self._still_radius),
+                                        SHARE_SKIP)
         self._setup_turning()
         self.reset()
 

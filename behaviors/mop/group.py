@@ -107,9 +107,12 @@ class FollowerGroup(GroupRules):
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
         self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
-        # spotting's shared starts (sharing.shared_until): each member's (K_i, K_i), flattened
-        self._shared = np.concatenate([f._shared.ravel() for f in fs]).astype(np.intp)
-        self._sh_off = np.cumsum([0] + [f._shared.size for f in fs])[:-1].astype(np.intp)
+        # spotting's shared starts (sharing.shared_until, ``share_radius``): each member's
+        # (K_i, K_i) flattened, from _sh_off[i]; -1 for members without
+        shared = [np.zeros(0, np.intp) if f._shared is None else f._shared.ravel() for f in fs]
+        self._shared = np.concatenate(shared).astype(np.intp)
+        self._sh_off = np.where([f._shared is None for f in fs], -1,
+                                np.cumsum([0] + [a.size for a in shared])[:-1]).astype(np.intp)
         self._drive_moved = np.zeros(m, dtype=bool)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)

@@ -217,9 +217,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         # a new action drives only once its shape clearly leads, the input turned as it does
         # and its start is no longer shared with another the input still fits (spotting)
         ok = ok and (not spots or acquired[i] == bi or (
-            leads[i] and turn_ok[i] and not shares(bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0],
-                                                   gb, int(g) - start, shared, sh_off[i], refused, misshaped,
-                                                   progress, highest)))
+            leads[i] and turn_ok[i] and not (sh_off[i] >= 0 and shares(
+                bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb, int(g) - start, shared,
+                sh_off[i], refused, misshaped, progress, highest))))
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
