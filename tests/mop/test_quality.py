@@ -158,13 +158,14 @@ def _unrelated_shares(gestures, **kw):
 
 def test_unrelated_motion_rarely_drives(gestures):
     # a template drives once its followed progress covered 8% of its path and while the input
-    # keeps to its path; measured: mean valid share 0.26 with them, 0.46 without (the
+    # keeps to its path; measured: mean valid share 0.185 with them, 0.308 without (the
     # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
-    # they stay valid for those stretches)
+    # they stay valid for those stretches; validity.stalls takes part of what they would, the
+    # wander hovering at the circle's start then resting)
     now = _unrelated_shares(gestures)
     before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)
-    assert np.mean(list(now.values())) <= 0.3, now
-    assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.15, (now, before)
+    assert np.mean(list(now.values())) <= 0.25, now
+    assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.1, (now, before)
     # with the circle alone, an aimless wander and a spiral drive it at most a tenth of the time
     # (measured 0.03 and 0; without the rules 0.42 and 0.05)
     assert now["circle:wander"] <= 0.1 and now["circle:spiral"] <= 0.1, now
