@@ -150,8 +150,8 @@ class FollowerGroup(GroupRules):
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
-                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_turn_in", "_turn_h", "_turn_ref",
-                   "_turn_has_ref", "_turn_has_h", "_drive_moved")
+                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_drive_moved", "_turn_in",
+                   "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""

@@ -159,13 +159,13 @@ def _unrelated_shares(gestures, **kw):
 
 def test_unrelated_motion_rarely_drives(gestures):
     # a template drives once its followed progress covered 8% of its path and while the input
-    # keeps to its path; measured: mean valid share 0.18 with them, 0.31 without (0.26 and 0.46
-    # before validity.stalls, which refuses part of the same stretches either way; the
+    # keeps to its path; measured: mean valid share 0.185 with them, 0.308 without (the
     # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
-    # they stay valid for those stretches)
+    # they stay valid for those stretches; validity.stalls takes part of what they would, the
+    # wander hovering at the circle's start then resting)
     now = _unrelated_shares(gestures)
     before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)
-    assert np.mean(list(now.values())) <= 0.3, now
+    assert np.mean(list(now.values())) <= 0.25, now
     assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.1, (now, before)
     # with the circle alone, an aimless wander and a spiral drive it at most a tenth of the time
     # (measured 0.03 and 0; without the rules 0.42 and 0.05)
