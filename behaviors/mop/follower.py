@@ -376,7 +376,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                   and p_list[bi] * self._kept >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
         if self.invariance != "none":
-            np.maximum(self._gone, progress, out=self._gone)
+            if self._shared is not None:   # spotting._shares: each template's highest progress
+                np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (spotting.LEAD)
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             # ... and once the input turned as the template does (validity.turning)
