@@ -26,7 +26,7 @@ $(STAMP): pyproject.toml
 kernels: $(STAMP)
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "import behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel" & pm=$$!; \
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, behaviors.mop.threshold" \
+	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, behaviors.mop.threshold, behaviors.mop.sharing" \
 	  && wait $$view && wait $$pm
 
 run: $(STAMP) kernels

@@ -71,6 +71,8 @@ MOCAP_HELD_OUT = (("punch", "left_ankle"), ("kick", "left_wrist"), ("jump", "lef
                   ("crawl", "left_ankle"), ("roll", "right_wrist"), ("dance_b", "left_ankle"),
                   ("getup_facedown", "right_wrist"), ("spin", "left_wrist"))
 HELD_OUT_SEED = 101
+#: Seed of the back-to-back draws on which an option is compared with the defaults.
+OPTION_SEED = 29
 Factory = Callable[[Mapping[str, np.ndarray]], ActionFollower]
 
 
@@ -413,6 +415,12 @@ def main() -> None:
     figures.update({"heldout_" + k: v for k, v in
                     evaluate(puck_follower, HELD_OUT_SEED, MOCAP_HELD_OUT).items()})
     figures.update({"cli_default_" + k: v for k, v in evaluate(paper_follower).items()})
+    # shared starts (an option, ActionFollower(share_radius=3)) and the defaults on the same
+    # back-to-back draws of the six gestures (a seed of their own)
+    for tag, kw in (("default", {}), ("shared_starts", {"share_radius": 3.0})):
+        figures.update(sequences(lambda t, kw=kw: puck_follower(t, **kw), gesture_templates(),
+                                 np.random.default_rng(OPTION_SEED), count=16,
+                                 key=f"option_{tag}_sequence_6_gestures"))
     everything = {**gesture_templates(), **mocap_templates()}
     figures["step_20_templates_median_us"] = step_cost_us(puck_follower, everything)
     figures["bench_seconds"] = time.perf_counter() - t0

@@ -37,9 +37,10 @@ import numpy as np
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
-from behaviors.mop.spotting import GestureSpotting, drives
+from behaviors.mop.sharing import shared_until
+from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
-from behaviors.mop.validity import Validity, backs_first
+from behaviors.mop.validity import Validity, backs_first, resting, stalls
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
@@ -76,7 +77,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
                  shape_memory: float = 16.0, dwell: float | None = None,
-                 threshold: float = 0.0, turn_limit: float = math.inf) -> None:
+                 threshold: float = 0.0, turn_limit: float = math.inf,
+                 share_radius: float = 0.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
                             ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
@@ -98,6 +100,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
+        if not (math.isfinite(share_radius) and share_radius >= 0):
+            raise TemplateError(f"follower parameter share_radius = {share_radius} is out of range")
         if not turn_limit > 0:
             raise TemplateError(f"follower parameter turn_limit = {turn_limit} is out of range")
         if math.isnan(threshold) or threshold == -math.inf:
@@ -143,7 +147,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
                             coverage=float(coverage), shape_distance=float(shape_distance),
                             shape_accept=float(shape_accept), shape_memory=float(shape_memory),
-                            threshold=float(threshold), turn_limit=float(turn_limit))
+                            threshold=float(threshold), turn_limit=float(turn_limit),
+                            share_radius=float(share_radius))
         self._null_decay = 1.0 - 1.0 / self.null_memory
         self._log_constant = self.log_constant
         b = self.bank
@@ -171,6 +176,15 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self.threshold = math.inf if tangent > 0 or invariance == "none" else float(threshold)
         self.turn_limit = float(turn_limit)
         self._setup_validity()
+        self.share_radius = float(share_radius)
+        self._shared = None   # spotting._shares: off at 0 and for streams
+        if self.share_radius > 0 and invariance != "none":
+            lo_hi = hi / lo
+            self._shared = shared_until(np.ascontiguousarray(self._rel * self._units),
+                                        b.starts.astype(np.intp), b.lengths.astype(np.intp),
+                                        np.geomspace(1.0 / lo_hi, lo_hi, SHARE_SIZES),
+                                        np.ascontiguousarray(self.share_radius * self._still_radius),
+                                        SHARE_SKIP)
         self._setup_turning()
         self.reset()
 
@@ -216,8 +230,10 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._run = 0
         self._lost = 0
         self._shape = np.zeros(len(self.names))
+        self._gone = np.zeros(len(self.names))
         self._acquired = -1
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
+        self._drive_moved = False
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
         self._after_end = 0
         self._peak, self._peak_k = 0.0, -1
@@ -300,6 +316,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             back &= (self._log_constant - step_ll) * (2.0 / self._zdim) <= self._null2
             new |= back
         if np.count_nonzero(new):
+            self._gone[new] = 0.0
             self._recent[new] = self._log_constant
             self._recent_weight[new] = 1.0
             self._refused[new] = False
@@ -352,31 +369,40 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         variance = var * slope * slope
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
+        still = self._still(x)
+        rests = resting(self._recent_x, self._still_radius)
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
                   and p_list[bi] * self._kept >= self.min_probability
                   and (self._end_x is None or not self._moved_on(x, bi)))
         if self.invariance != "none":
+            if self._shared is not None:   # spotting._shares: each template's highest progress
+                np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (spotting.LEAD)
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             # ... and once the input turned as the template does (validity.turning)
             turned = self._turned(x, bi, float(g[bi]))
-            ok = ok and (self._acquired == bi or (leads and turned))
+            ok = ok and (self._acquired == bi or (leads and turned and not self._shares(bi, float(g[bi]), progress)))
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
                 # them back behind where it began (validity.backs_first)
                 self._drive_peak = max(self._drive_peak, progress_list[bi])
                 ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
+                # ... nor, once the performer moved it without carrying it forward, hold them
+                # while they stop (validity.stalls)
+                ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
         self._run = self._run + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting)
         self._after_end = self._after_end + 1 if self._end_x is not None else 0
         valid = drives(self._run, self.confirm, self._after_end)
         if valid and self._drive_k != bi:
             self._drive_k, self._drive_from, self._drive_peak = bi, progress_list[bi], progress_list[bi]
+            self._drive_moved = False
+        if valid and not rests:
+            self._drive_moved = True
         self._acquired = bi if valid else -1
         loglik = mean_ll_list[bi]
         names = self.names
-        still = self._still(x)
         likely: tuple[tuple[str, float, float], ...] = ()
         if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
             order = [i for i in np.argsort(-p, kind="stable")[:3] if not self._refused[i]]

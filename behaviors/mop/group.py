@@ -106,6 +106,14 @@ class FollowerGroup(GroupRules):
                                         else np.zeros((len(f.names), dmax)) for f in fs])
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
+        self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
+        # spotting's shared starts (sharing.shared_until, ``share_radius``): each member's
+        # (K_i, K_i) flattened, from _sh_off[i]; -1 for members without
+        shared = [np.zeros(0, np.intp) if f._shared is None else f._shared.ravel() for f in fs]
+        self._shared = np.concatenate(shared).astype(np.intp)
+        self._sh_off = np.where([f._shared is None for f in fs], -1,
+                                np.cumsum([0] + [a.size for a in shared])[:-1]).astype(np.intp)
+        self._drive_moved = np.zeros(m, dtype=bool)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)
         # the input's turning (Validity._turned), members with 2-D spatial inputs only
@@ -142,8 +150,8 @@ class FollowerGroup(GroupRules):
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
-                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_turn_in", "_turn_h", "_turn_ref",
-                   "_turn_has_ref", "_turn_has_h")
+                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_drive_moved", "_turn_in",
+                   "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -161,7 +169,10 @@ class FollowerGroup(GroupRules):
         self._turn_in[rows] = 0.0
         self._turn_has_ref[rows] = False
         self._turn_has_h[rows] = False
-        self._shape[np.isin(self._owner, np.arange(len(self.followers))[rows])] = 0.0
+        self._drive_moved[rows] = False
+        mine = np.isin(self._owner, np.arange(len(self.followers))[rows])
+        self._shape[mine] = 0.0
+        self._gone[mine] = 0.0
 
     def reset(self) -> None:
         """Forget every performance."""
@@ -219,7 +230,7 @@ class FollowerGroup(GroupRules):
         saved = None
         if lost:
             saved = fw.snapshot(np.flatnonzero(self._owner_of(lost)))
-            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE + ("_shape",)] + \
+            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE + ("_shape", "_gone")] + \
                    [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
         step_ll = fw.step(self._z)
         if saved is not None:
@@ -303,12 +314,15 @@ class FollowerGroup(GroupRules):
         self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_leads = np.zeros(m, dtype=bool)
         self._m_kept = np.ones(m)
+        self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
+        self._m_restart = np.empty(m, dtype=np.intp)
         # the threshold models' state (Validity._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
         self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
         self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
         self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
+        self._thr_tops = np.zeros(k)   # scratch: each template's likeliest threshold state
 
     def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._finish` for every member at once: the per-template rules in
@@ -323,7 +337,7 @@ class FollowerGroup(GroupRules):
             LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
             self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads,
             present, self._means, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
-            self._m_kept, self._thr_z, self._thr_lj, self._thr_total)
+            self._m_kept, self._thr_z, self._thr_lj, self._thr_total, self._thr_tops)
         return self._conclude(step_ll, present)
 
     def _turned(self, present: np.ndarray) -> None:
@@ -342,11 +356,9 @@ class FollowerGroup(GroupRules):
         (:func:`members.conclude`), then each member's state."""
         fw, m = self.forward, len(self.followers)
         p, progress, mean_ll, new = self._k_p, self._k_progress, self._k_mean_ll, self._k_new
-        per = self._m_out = np.empty((4, m))
-        variance, loglik, distance, prog_b = per
-        flags = np.empty((3, m), dtype=bool)
-        valid, show, holding = flags
-        restart = np.empty(m, dtype=np.intp)
+        variance, loglik, distance, prog_b = self._m_out   # read within the tick only
+        valid, show, holding = self._m_flags
+        restart = self._m_restart
         self._turned(present)
         members.conclude(
             self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p, progress, mean_ll,
@@ -355,17 +367,21 @@ class FollowerGroup(GroupRules):
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
             self._after_end, self._m_kept, self._drive_k, self._drive_from,
             self._drive_peak, self._turn_ok, self._extent, self._peak, self._peak_k,
-            variance, valid, loglik, distance, show, holding, prog_b, restart)
+            variance, valid, loglik, distance, show, holding, prog_b, restart, self._gone, self._shared,
+            self._sh_off, self._drive_moved)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
         names, index = self._k_names, self._m_index
         likely = [()] * m
-        if show.any():
-            refused, top3 = self._refused, self._m_top3.tolist()
-            for i in np.flatnonzero(show).tolist():
-                likely[i] = tuple((names[j], float(p[j]), float(progress[j])) for j in top3[i]
-                                  if j >= 0 and not refused[j])
+        if show.any():   # each member's top three not refused, read at once
+            top3 = self._m_top3
+            at = np.maximum(top3, 0)
+            keep = ((top3 >= 0) & ~self._refused[at]).tolist()
+            rows = zip(show.tolist(), at.tolist(), p[at].tolist(), progress[at].tolist(), keep)
+            for i, (shows, js, ps, qs, ks) in enumerate(rows):
+                if shows:
+                    likely[i] = tuple([(names[j], a, b) for j, a, b, k in zip(js, ps, qs, ks) if k])
         ended = self._ended
         shown = [progress] * m
         best, best_progress = [names[j] for j in gb.tolist()], prog_b.tolist()

@@ -49,7 +49,8 @@ MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "nu
 AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
-FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape")
+FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
+          "_gone")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered")
 
@@ -80,16 +81,31 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
+@numba.njit(numba.float64(_F1, _F1), cache=True, nogil=True)
+def _largest(v: np.ndarray, tops: np.ndarray) -> float:
+    """The largest of ``v``, in eight interleaved parts (exact in any order: the loop
+    vectorises); ``tops`` (8,): scratch."""
+    n = v.size
+    tops[:] = -np.inf
+    for j in range(0, n - n % 8, 8):
+        for r in range(8):
+            tops[r] = max(tops[r], v[j + r])
+    for j in range(n - n % 8, n):
+        tops[0] = max(tops[0], v[j])
+    return tops.max()
+
+
 @numba.njit(numba.float64(_F2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _F1, _F1,
-                          numba.boolean, _F1, numba.intp), cache=True, nogil=True)
-def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i) -> float:
+                          numba.boolean, _F1, numba.intp, _F1), cache=True, nogil=True)
+def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
     its sample seen by each template as :meth:`Validity._threshold_evidence` maps it (``zs``
     (K, D)) and each template's log-density terms ``ljs`` (K,: the Gaussian's constant and the
     map's log Jacobian), as :func:`update_templates` left them (``m``: the member's row of
-    ``mc``; ``ll``: scratch of at least its states); returns the sample's log-likelihood. Its
-    sum is taken in eight interleaved parts (the same to about 1e-16) and its exponentials by
+    ``mc``; ``ll``: scratch of at least its states; ``tops_k`` (K,): scratch, each template's
+    likeliest state); returns the sample's log-likelihood. Its sum is taken in eight
+    interleaved parts (the same to about 1e-16) and its exponentials by
     :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises
     (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
     member ``i``'s are ``alpha`` divided by ``totals[i]``, the division done as they are read
@@ -97,45 +113,61 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i) -
     fewer).
 
     Most states weigh nothing (in DESIGN's case about a quarter are within e^-40 of the
-    likeliest). Skipping chunks of 16 states whose bounding box lay further than that below
-    the likeliest state found so far computed a third of the states and was exact, but with
-    the caches cold (the bench's tick) it was slower: 8 members 537 -> 612 us p10 (hot
-    379 -> 330), the skipped stretches breaking the streams the processor fetches ahead."""
+    likeliest), and so do whole templates (43 % of them): a template whose likeliest state
+    lies further than that below the member's likeliest gets zero weights without an
+    exponential (hot 348 -> 306 us for 8 members, cold 546 -> 509 us p10, same numbers).
+    Skipping also the distances of chunks of 16 states whose bounding box lay that far below
+    the likeliest state found so far computed a third of the states, but with the caches cold
+    it was slower: 8 members 537 -> 612 us p10 (hot 379 -> 330), the skipped stretches
+    breaking the streams the processor fetches ahead."""
     d = zs.shape[1]
     factor = m[19]
     base = ti[a0, 2]
     n = 0
+    top = -np.inf
+    tops = np.empty(8)
     for k in range(a0, a1):
         z = zs[k]
         first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
         out = ll[first - base:first - base + length]
-        out[:] = 0.0
-        for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
-            zc, mc_ = z[c], means[c, first:first + length]
-            for j in range(length):
-                e = zc - mc_[j]
-                out[j] += e * e
         lj = ljs[k]
-        for j in range(length):
-            out[j] = out[j] * factor + lj
+        if d == 2:   # a puck's case, in one pass (the same operations)
+            z0, z1 = z[0], z[1]
+            m0, m1 = means[0, first:first + length], means[1, first:first + length]
+            for j in range(length):
+                e0 = z0 - m0[j]
+                e1 = z1 - m1[j]
+                out[j] = (e0 * e0 + e1 * e1) * factor + lj
+        else:
+            out[:] = 0.0
+            for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
+                zc, mc_ = z[c], means[c, first:first + length]
+                for j in range(length):
+                    e = zc - mc_[j]
+                    out[j] += e * e
+            for j in range(length):
+                out[j] = out[j] * factor + lj
+        tops_k[k] = _largest(out, tops)
+        top = max(top, tops_k[k])
         n += length
     # views from 0 (indices the compiler knows are not negative: the loops vectorise)
     a, v = alpha[base:base + n], ll[:n]
-    tops = np.full(8, -np.inf)   # the largest, in eight parts (exact in any order)
-    for j in range(0, n - n % 8, 8):
-        for r in range(8):
-            tops[r] = max(tops[r], v[j + r])
-    for j in range(n - n % 8, n):
-        tops[0] = max(tops[0], v[j])
-    top = tops.max()
     if fresh:
         a[:] = 1.0 / n
     norm = 1.0 if fresh else totals[i]
     rest = (1.0 - THRESHOLD_STAY) / n
-    for j in range(n):   # no weight under e^-40 of the likeliest state's (threshold_model_step)
-        e = v[j] - top
-        w = (THRESHOLD_STAY * (a[j] / norm) + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
-        a[j] = w if e >= THRESHOLD_FLOOR else 0.0
+    cut = top + THRESHOLD_FLOOR
+    for k in range(a0, a1):
+        lo = ti[k, 2] + ti[k, 0] - base
+        hi = lo + ti[k, 1]
+        ak, vk = a[lo:hi], v[lo:hi]
+        if tops_k[k] < cut:   # the whole template under e^-40 of the likeliest state
+            ak[:] = 0.0
+            continue
+        for j in range(hi - lo):   # no weight under e^-40 (threshold_model_step)
+            e = vk[j] - top
+            w = (THRESHOLD_STAY * (ak[j] / norm) + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
+            ak[j] = w if e >= THRESHOLD_FLOOR else 0.0
     parts = np.zeros(8)
     for j in range(0, n - n % 8, 8):
         for r in range(8):
@@ -152,13 +184,13 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i) -
                        numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                        numba.intp, numba.intp, numba.float64, numba.float64,
                        _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1),
+                       _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1),
             cache=True, nogil=True)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x, scratch,
-                     kept_out, thr_z, thr_lj, thr_total) -> None:
+                     kept_out, thr_z, thr_lj, thr_total, thr_tops) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -175,7 +207,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``. ``before``/``after``: the path's reach in states."""
-    ev, rec, rw, num, den, size, misfit_w, shape = floats
+    ev, rec, rw, num, den, size, misfit_w, shape, gone = floats
     refused, engaged, misshaped, covered = flags
     d = x.shape[1]
     s = buf.shape[1]
@@ -248,6 +280,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 refused[k] = False
                 engaged[k] = False
             new_out[k] = new
+            if new:
+                gone[k] = 0.0
+            if spots:   # the highest progress since the gesture began (spotting's _gone)
+                gone[k] = max(gone[k], progress_out[k])
             mll = rec[k] / rw[k]
             mean_ll_out[k] = mll
             dist2 = (log_constant - mll) * two_over
@@ -348,7 +384,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         kept = 1.0
         if present[i] and math.isfinite(m[18]):
             step = threshold_step(means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
-                                  not thr_has_x[i], thr_total, i) - m[18]
+                                  not thr_has_x[i], thr_total, i, thr_tops) - m[18]
             lead = step_ll[first] - tc[first, 0]
             lead -= dims * math.log(size[first])
             still = thr_has_x[i]

@@ -34,10 +34,11 @@ class GroupRules:
         cols = np.flatnonzero(np.isin(self._owner, rows))
         self.forward.reset_templates(cols)
         for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den",
-                  "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape"):
+                  "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape", "_gone"):
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
         self._drive_k[rows] = -1
+        self._drive_moved[rows] = False
         self._turn_in[rows] = 0.0
         self._turn_has_ref[rows] = False
         self._turn_has_h[rows] = False

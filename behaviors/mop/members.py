@@ -18,8 +18,8 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.spotting import END_GRACE, RETURN_BACK, RETURN_RADIUS
-from behaviors.mop.validity import BACK_FIRST, FORWARD_FIRST
+from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
+from behaviors.mop.validity import BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, RESTING_RADII
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -116,15 +116,54 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
     return GOES_ON
 
 
+@numba.njit(numba.boolean(_F3, _I1, numba.intp, _F1), cache=True, nogil=True)
+def resting(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> bool:
+    """:func:`behaviors.mop.validity.resting` of member ``i``'s buffered samples (after the
+    push): the mean of the later half within :data:`~behaviors.mop.validity.RESTING_RADII`
+    ``radius`` (D,) of the earlier half's, each summed oldest first as ``np.mean``."""
+    n = count[i] // 2
+    if n < 2:
+        return False
+    s = buf.shape[1]
+    first = s - count[i]
+    for c in range(buf.shape[2]):
+        early = 0.0
+        late = 0.0
+        for r in range(n):
+            early += buf[i, first + r, c]
+            late += buf[i, s - n + r, c]
+        if not abs(late / n - early / n) <= RESTING_RADII * radius[c]:
+            return False
+    return True
+
+
+@numba.njit(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _B1, _B1,
+                          _F1, _F1), cache=True, nogil=True)
+def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, refused: np.ndarray,
+           misshaped: np.ndarray, progress: np.ndarray, gone: np.ndarray) -> bool:
+    """:meth:`GestureSpotting._shares`: whether template ``k`` (group index; its member's
+    templates ``a0..a1``) at its own state ``state`` is still within its start shared with
+    another of them neither refused, misshaped nor going back. ``shared``: every member's
+    :func:`~behaviors.mop.sharing.shared_until` matrix flattened, this member's from ``at``."""
+    n = a1 - a0
+    row = at + (k - a0) * n
+    for j in range(a0, a1):
+        if (j != k and shared[row + j - a0] >= state and not refused[j] and not misshaped[j]
+                and progress[j] >= gone[j] - SHARE_BACK):
+            return True
+    return False
+
+
 @numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                        _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
                        _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                       _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1), cache=True, nogil=True)
+                       _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1), cache=True, nogil=True)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
              turn_ok, extent, peak, peak_k,
-             variance, valid, loglik, distance, show, holding, prog, restart) -> None:
+             variance, valid, loglik, distance, show, holding, prog, restart, highest, shared, sh_off,
+             drive_moved) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -169,14 +208,24 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             for c in range(d):
                 last[c] = states[start + length - 1 + off, d + c] * units[c] * sk + anchor[i, c]
             moved = moved_on(x[i], end_x[i], last, radius)
+        if present[i]:
+            push(buf, nbuf, x, i, int(m[6]))
+        st = still(buf, nbuf, i, int(m[6]), radius)
+        rests = resting(buf, nbuf, i, radius)
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
-        # a new action drives only once its shape clearly leads (spotting)
-        ok = ok and (not spots or acquired[i] == bi or (leads[i] and turn_ok[i]))
+        # a new action drives only once its shape clearly leads, the input turned as it does
+        # and its start is no longer shared with another the input still fits (spotting)
+        ok = ok and (not spots or acquired[i] == bi or (
+            leads[i] and turn_ok[i] and not (sh_off[i] >= 0 and shares(
+                bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb, int(g) - start, shared,
+                sh_off[i], refused, misshaped, progress, highest))))
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
+            # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
+            ok = ok and not (rests and drive_moved[i] and drive_peak[i] - drive_from[i] < CARRY_FIRST)
         run[i] = run[i] + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
@@ -186,13 +235,13 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             drive_k[i] = bi
             drive_from[i] = progress[gb]
             drive_peak[i] = progress[gb]
+            drive_moved[i] = False
+        if val and not rests:
+            drive_moved[i] = True
         acquired[i] = bi if val else -1
         ll = mean_ll[gb]
         loglik[i] = ll
         distance[i] = math.sqrt(max(0.0, -2.0 * (ll - m[4]) / m[5]))
-        if present[i]:
-            push(buf, nbuf, x, i, int(m[6]))
-        st = still(buf, nbuf, i, int(m[6]), radius)
         show[i] = any_engaged[i] or (not st and moving[i] >= m[7])
         pb = progress[gb]
         prog[i] = pb
@@ -213,6 +262,12 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             if ended:
                 end_x[i] = x[i]
                 has_end[i] = True
+                # the performer had already stopped there: one sample less of grace (_arrived)
+                arrived = nbuf[i] >= 2
+                for c in range(d):
+                    if not abs(x[i, c] - buf[i, buf.shape[1] - 2, c]) <= ARRIVE_RADIUS * radius[c]:
+                        arrived = False
+                after_end[i] = 1 if arrived else 0
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
             lost[i] = lost[i] + 1 if all_refused[i] else 0
             for c in range(d):

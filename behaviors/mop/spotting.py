@@ -71,6 +71,41 @@ never recognised now at 42%; valid after 30% of gestures at 0.7-1.4x 0.901 -> 0.
 last sample with the progress 0.7 short (RMSE 0.33-0.48); they now end 3-8 samples before their
 last (radius 0.15 of the extent: 0.895, 0.08: 0.895, 0.05: 0.896, kept).
 
+An ended action whose end the follower reached where the input had already stopped (within
+:data:`ARRIVE_RADIUS` still radii of the sample before, :meth:`_arrived`) has one sample less of
+grace: on an eased end the follower reaches ``end`` one or two samples after the performer,
+often at the next gesture's first sample (the same point), and the ended action drove three
+samples into it. Measured with ``bench/follow_quality.py``'s six gestures back to back (partial
+runs; held-out in brackets): runs of the ended action of three samples 7 -> 2 (5 -> 1), median
+longest wrong run 3 -> 2.5 (3 -> 2.5); the two left are the follower two samples behind an eased
+end. It costs valid after 30% of gestures at 0.7-1.4x 0.8959 -> 0.8941 (0.8844 -> 0.8829): where
+the follower reaches ``end`` a sample before the performer's last, on the eased approach; with
+1 still radius instead of 2 the runs of three stay (7 and 5). Measured and not kept: the end reached once past 0.9 with the input within 2 still radii
+of the template's last point (at the estimated size): also runs of at most two, but valid after
+30% of gestures at 0.7-1.4x 0.896 -> 0.886 (it ended closed gestures, whose eased approach
+lies within that radius, several samples early); the last point instead of the sample before
+as the place the input stopped in: the same runs, and on the sized subset of
+``tests/mop/test_quality.py`` one tick less of a figure eight.
+
+Shared starts, measured with the arrival grace above (an option: ``ActionFollower(share_radius=...)`` in still radii, 0 = off, the
+default; :meth:`_shares`, :func:`behaviors.mop.sharing.shared_until`): a new action does not
+drive while its followed state is within the stretch of its start that is the start of another
+template at some size (from the size range's smallest to largest ratio), as long as that other
+template is neither refused nor off its path nor going back (its followed progress
+:data:`SHARE_BACK` below its highest since the gesture began): the input cannot tell them apart,
+so both are only shown as ``likely``. This is what the shape lead does not catch where the
+other template's evidence is already below :data:`RIVAL_PROBABILITY` (the square's falls to
+0.001 on its first side, since its broader eased start lags the input). At 3 still radii
+(partial runs, tuned / held-out): six gestures back to back, longest wrong-valid run 10 -> 3
+(the line no longer drives the square's first side) / 7 -> 10 (one square, held back at its
+corner until the line was refused, was then taken by the threshold model and never
+recognised: never recognised 0 -> 0.031), median 3 -> 2 / 3 -> 2; recognition median 0.262 ->
+0.278 / 0.279 -> 0.282 (lines are recognised after their turn, 0.45-0.73 instead of 0.25-0.43);
+twenty templates 7 / 14 unchanged; valid after 30% of gestures at 0.7-1.4x 0.896 -> 0.883 /
+0.884 -> 0.882 (on track 0.871 -> 0.863 / 0.845 -> 0.842): the line is valid only after its
+turn, and some clips' starts are shared (punch and spin, 0.24-0.29 of them). Off by default
+for that cost; a performer who draws strokes that begin other gestures may prefer it on.
+
 What is out of reach here (``bench/follow_quality.py``'s sequences): recognising every gesture
 within 20% of it. An ideal observer (noise-free paths, any size 0.46-2.25x, any tempo) tells
 the zigzag from every other of the six gestures at 9% of it, the figure eight at 11%, the wave
@@ -101,6 +136,23 @@ END_GRACE = 2
 #: for the input's return to that point to end the gesture (:meth:`GestureSpotting._returned`).
 RETURN_BACK = 0.2
 RETURN_RADIUS = 0.05
+#: An action that reaches its end while the input moved less than this many still radii (per
+#: column) since the sample before has one sample less of grace
+#: (:meth:`GestureSpotting._arrived`): the performer stopped there a sample before.
+ARRIVE_RADIUS = 2.0
+#: Shared starts (:mod:`behaviors.mop.sharing`, ``ActionFollower(share_radius=...)`` in still
+#: radii per column): sizes tried between the size range's extremes' ratio and its inverse, and
+#: states another template may run ahead per state.
+SHARE_SIZES = 25
+SHARE_SKIP = 3
+#: A template whose followed progress fell this far below its highest since the gesture began
+#: is going back: no start read forwards, so it keeps no other action from driving.
+SHARE_BACK = 0.03
+
+
+def at_point(x: np.ndarray, point: np.ndarray, radius: np.ndarray) -> bool:
+    """Whether ``x`` is within ``radius`` of ``point`` in every column (raw units)."""
+    return bool(np.all(np.abs(x - point) <= radius))
 
 
 def drives(run: np.ndarray | int, confirm: np.ndarray | int,
@@ -158,6 +210,26 @@ class GestureSpotting:
         r = (x - last) / self._units
         return bool(np.sqrt(np.sum(r * r)) <= RETURN_RADIUS * self._size[k] * self._extent[k])
 
+    def _arrived(self, x: np.ndarray) -> bool:
+        """The input stopped: within :data:`ARRIVE_RADIUS` still radii (per column) of the
+        sample before (``x`` is the last of the recent samples)."""
+        recent = self._recent_x
+        return len(recent) >= 2 and at_point(x, recent[-2], ARRIVE_RADIUS * self._still_radius)
+
+    def _shares(self, k: int, g: float, progress: np.ndarray) -> bool:
+        """Whether template ``k``'s followed state ``g`` (bank index) is still within its start
+        shared with another template that is neither refused nor off its path nor going back
+        (:func:`behaviors.mop.sharing.shared_until`; ``progress``: every template's followed
+        progress, ``_gone`` its highest since the gesture began): the input cannot yet tell
+        them apart."""
+        if self._shared is None:
+            return False
+        i = int(g) - int(self.bank.starts[k])
+        rivals = ((self._shared[k] >= i) & ~self._refused & ~self._misshaped
+                  & (progress >= self._gone - SHARE_BACK))
+        rivals[k] = False
+        return bool(rivals.any())
+
     def _leads(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray, bi: int,
                p: np.ndarray) -> bool:
         """Accumulate, per template, the squared distance (in still radii) between the input
@@ -202,6 +274,8 @@ class GestureSpotting:
         self._peak_k = bi if valid else -1
         if valid and self._end_x is None and (progress >= self.end or self._returned(x, bi, progress)):
             self._end_x = x.copy()
+            # the performer had already stopped there: the grace counts from the sample before
+            self._after_end = int(self._arrived(x))
         step_d2 = (self._log_constant - step_ll) * (2.0 / self._zdim)
         self._lost = self._lost + 1 if bool(self._refused.all()) else 0
         if self._end_x is not None and (still or step_d2 > self._null2 or not ok or

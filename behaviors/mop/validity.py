@@ -122,6 +122,30 @@ ticks: forward 5%, back 3% (the line at 0.7x, its return followed backwards whil
 still wrong, lost 18 ticks). Stopped only while it drives (a stopped action was taken again 2
 samples later, one step further back): tuned 0.415 / 0.151 only.
 
+Carried forward before it holds (:func:`stalls`): an action that drove while the performer
+moved, without its progress passing where it began driving by :data:`CARRY_FIRST`, stops
+driving once the performer rests (:func:`resting`: the net motion of the last samples within
+:data:`RESTING_RADII` still radii), and drives again when they move on. The input moved it on
+the spot, so nothing specific to it was seen: a wander hovering at the circle's start (the
+circle taken at 0.23, still there 47 samples later), a diagonal stopped on the circle's chord or
+on the figure eight's first stroke, the triangle's stroke stopped in the square's first side.
+A gesture carried forward keeps driving through a pause (the performer expects the character to
+wait with them). Measured with ``bench/follow_quality.py``'s sized and unrelated sections (as
+above): unrelated 0.367 / 0.145 -> 0.301 / 0.123 (held-out 0.565 / 0.151 -> 0.476 / 0.132), valid
+after 30% 0.8959 -> 0.8928 (held-out 0.8844 -> 0.8844): a 0.7x kick paused 0.6 s whose followed
+progress lagged the performer by 0.2 is no longer valid through the pause, a 0.85x spin paused
+right after its recognition loses 4 samples, and a 0.7x line (its return followed backwards)
+gains 3 (the full bench: 0.6x/1.5x valid after 30% 0.619 -> 0.603, held-out unchanged; holds,
+gestures back to back and streams unchanged to the last digit). Measured and not kept: the
+follower's still test (every sample within 2 still radii over
+6 samples) instead of net motion: 0.316 / 0.130 (0.551 / 0.147; with twenty templates loaded the
+still radius is about the tracking jitter, so a resting puck rarely read as still); the rule only
+after 6 moving samples (a gesture paused just after its recognition spared): 0.367 / 0.133
+(0.537 / 0.140) at the same 0.8927; :data:`CARRY_FIRST` 0.08: 0.291 / 0.116 at 0.8928 but held-out
+0.476 / 0.129 at 0.8796; and no *new* action taken while the performer rests (there is no evidence
+then either): 0.301 / 0.108 (0.476 / 0.126) but valid after 30% 0.8886 (0.8838): gestures whose
+recognition fell in a pause waited for the performer to move on.
+
 Turning (:func:`turning`, 2-D spatial inputs; an option, off by default: ``turn_limit`` infinite):
 a new action is taken only while the input's
 signed turning since the gesture began is within ``turn_limit`` radians (e.g. 1.3) of its template's
@@ -166,6 +190,37 @@ def backs_first(began: float, peak: float, progress: float) -> bool:
     is :data:`BACK_FIRST` behind ``began`` (where it began driving) while its highest since
     then, ``peak``, never passed ``began`` by :data:`FORWARD_FIRST`."""
     return peak - began < FORWARD_FIRST and progress < began - BACK_FIRST
+
+
+#: An action that drove while the performer moved carries them forward by this much (progress
+#: units) before it may hold them while they stop (:func:`stalls`).
+CARRY_FIRST = 0.05
+
+
+def stalls(began: float, peak: float, moved: bool, still: bool) -> bool:
+    """Whether a driving action holds a performer who stopped without having been carried
+    forward: the input is ``still``, it ``moved`` while the action drove, and the action's
+    highest progress since it began driving, ``peak``, never passed ``began`` by
+    :data:`CARRY_FIRST`. Such an action was moved on the spot by the input (a wander hovering
+    at a template's start, a chord stopped part way): no evidence specific to it."""
+    return still and moved and peak - began < CARRY_FIRST
+
+
+#: The performer rests when the mean of their last samples moved less than this many still
+#: radii (every column) from the mean of the samples before (:func:`resting`).
+RESTING_RADII = 2.0
+
+
+def resting(recent: list[np.ndarray], radius: np.ndarray) -> bool:
+    """Whether the performer rests: the mean of the later half of the ``recent`` samples (at
+    least 4, oldest first) is within :data:`RESTING_RADII` ``radius`` (per column, raw units) of
+    the earlier half's. Net motion, not the samples' spread, so the tracking jitter (about one
+    still radius with many templates loaded) does not read as moving."""
+    n = len(recent) // 2
+    if n < 2:
+        return False
+    d = np.mean(recent[-n:], axis=0) - np.mean(recent[:n], axis=0)
+    return bool(np.all(np.abs(d) <= RESTING_RADII * radius))
 
 
 #: Turning (below) is measured along steps of this many still radii (the smallest column's)...

@@ -205,3 +205,34 @@ def test_the_group_threshold_models_keep_the_followers_own_weights():
             assert np.array_equal(mine == 0.0, f._threshold_alpha == 0.0)
             assert np.allclose(mine, f._threshold_alpha, rtol=1e-12, atol=0.0)
     assert 0.0 < np.mean(group._thr_alpha == 0.0) < 1.0
+
+
+def test_a_group_with_shared_starts_equals_its_followers_alone():
+    # spotting's shared starts (share_radius) batched: members with and without them (a stream
+    # member has none), the six gestures performed back to back
+    from bench.follow_quality import at_phase, gesture_templates, phase_of
+    gestures = gesture_templates()
+    rng = np.random.default_rng(4)
+    kws = [dict(units=np.ones(2), invariance="scale", share_radius=3.0),
+           dict(units=np.ones(2), invariance="scale", share_radius=3.0, confirm=1),
+           dict(units=np.ones(2), invariance="none", share_radius=3.0)]
+    streams = []
+    for _ in kws:
+        parts, at = [np.zeros((15, 2))], np.zeros(2)
+        for name in rng.permutation(list(gestures)):
+            parts.append(rng.uniform(0.7, 1.4) * at_phase(gestures[name], phase_of(rng, len(gestures[name]))[0]) + at)
+            at = parts[-1][-1].copy()
+        streams.append(np.concatenate(parts) + rng.normal(0, 0.0007, (sum(map(len, parts)), 2)))
+    alone = [ActionFollower(gestures, **kw) for kw in kws]
+    group = FollowerGroup([ActionFollower(gestures, **kw) for kw in kws])
+    assert group._sh_off.tolist()[2] == -1 and min(group._sh_off.tolist()[:2]) >= 0
+    shares = [0, 0]
+    for f, kw in zip(alone[:2], kws):   # the rule holds actions back in these streams
+        rule = f._shares
+        def counting(k, g, progress, rule=rule, i=kws.index(kw)):
+            held = rule(k, g, progress)
+            shares[i] += held
+            return held
+        f._shares = counting
+    assert _step_both(alone, group, streams) > 100
+    assert min(shares) >= 1, shares

@@ -9,6 +9,7 @@ from bench.follow_quality import (gesture_templates, performance, phase_of, at_p
                                   puck_follower, raise_hold_return, run, true_metrics,
                                   unrelated_motions)
 from behaviors.mop.follower import ActionFollower
+from behaviors.mop.sharing import shared_until
 
 
 @pytest.fixture(scope="module")
@@ -158,13 +159,14 @@ def _unrelated_shares(gestures, **kw):
 
 def test_unrelated_motion_rarely_drives(gestures):
     # a template drives once its followed progress covered 8% of its path and while the input
-    # keeps to its path; measured: mean valid share 0.26 with them, 0.46 without (the
+    # keeps to its path; measured: mean valid share 0.185 with them, 0.308 without (the
     # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
-    # they stay valid for those stretches)
+    # they stay valid for those stretches; validity.stalls takes part of what they would, the
+    # wander hovering at the circle's start then resting)
     now = _unrelated_shares(gestures)
     before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)
-    assert np.mean(list(now.values())) <= 0.3, now
-    assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.15, (now, before)
+    assert np.mean(list(now.values())) <= 0.25, now
+    assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.1, (now, before)
     # with the circle alone, an aimless wander and a spiral drive it at most a tenth of the time
     # (measured 0.03 and 0; without the rules 0.42 and 0.05)
     assert now["circle:wander"] <= 0.1 and now["circle:spiral"] <= 0.1, now
@@ -178,13 +180,17 @@ def test_unrelated_motion_rarely_drives(gestures):
     assert all(now[k] <= plain[k] + 0.01 for k in now), (now, plain)
 
 
-def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures):
+@pytest.mark.parametrize("share_radius", [0.0, 3.0])
+def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures, share_radius):
     # the line's outward stroke is the square's first side and the circle's start: the line
-    # explains it best (it is narrower), but its shape does not lead until the paths part, so it
-    # does not drive meanwhile. Measured, seeds 0-5: the line drove 15 ticks during squares in all
-    # (before this rule: 76) and none during circles (before: 20); the line and the circle were
-    # recognised by 32% and 31% of them, the square by 43% (after its corner).
-    f = puck_follower(gestures)
+    # explains it best (it is narrower), but its shape does not lead until the paths part
+    # (spotting.LEAD). Measured, seeds 0-5: the line drove 15 ticks during squares in all (before
+    # the shape lead: 76) and none during circles; the line and the circle were recognised by
+    # 32% and 31% of them, the square by 43%. With shared starts (share_radius 3 still radii:
+    # no new action drives while its start is shared with another the input still fits,
+    # spotting._shares) the line drives no tick of a square, and drives itself once it turns
+    # back at half of it (0.49-0.64; the circle 0.27-0.31 and the square 0.41-0.43 as without)
+    f = puck_follower(gestures, share_radius=share_radius)
     wrong = {"square": 0, "circle": 0}
     first = {"square": [], "circle": [], "line": []}
     for seed in range(6):
@@ -196,42 +202,45 @@ def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures
                 wrong[name] += sum(s.valid and s.best == "line" for s in states)
             first[name].append(next((prog[i, 0] for i, s in enumerate(states)
                                      if s.valid and s.best == name), 1.0))
-    assert wrong["square"] <= 30 and wrong["circle"] == 0, wrong
-    assert max(first["line"]) <= 0.35 and max(first["circle"]) <= 0.35 and max(first["square"]) <= 0.5, first
+    assert wrong["circle"] == 0 and max(first["circle"]) <= 0.35 and max(first["square"]) <= 0.5, first
+    if share_radius:
+        assert wrong["square"] <= 2 and 0.45 <= min(first["line"]) and max(first["line"]) <= 0.7, (wrong, first)
+    else:
+        assert wrong["square"] <= 30 and max(first["line"]) <= 0.35, (wrong, first)
 
 
+def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypatch):
+    # the six gestures back to back in random orders (seeds 0-3, 0.8-1.2x): ticks of each next
+    # gesture during which the one just ended still drove. An action that reaches its end where
+    # the input already stopped has one sample less of grace (spotting._arrived); measured: 22
+    # ticks over 20 changes, one of 3 (the follower two samples behind an eased end); with the
+    # rule off 33, four of 3-4
+    from behaviors.mop import spotting
 
-def test_an_action_never_drives_back_before_it_drove_forward(gestures, monkeypatch):
-    # the triangle's last two strokes are the wave's first hump gone backwards: once the wave
-    # was taken at its hump it drove the performer back to its start (bench/follow_quality.py:
-    # 62 ticks of a triangle at 0.7x). Now an action that has not yet carried its performer
-    # forward stops driving once it falls behind where it began. Measured, seeds 0-3 at 0.7x
-    # and 1x: 0 such ticks with the rule, 182 without (valid ticks 520 vs 714)
-    from behaviors.mop import validity
-
-    def backward_ticks() -> tuple[int, int]:
+    def late_ticks() -> list[int]:
         f = puck_follower(gestures)
-        back = valid = 0
+        out = []
         for seed in range(4):
             rng = np.random.default_rng(seed)
-            triangle = unrelated_motions(rng, gestures)["triangle"]
-            for scale in (0.7, 1.0):
-                x, _ = performance(rng, triangle, scale)
-                kind, began, peak = None, 0.0, 0.0
-                for s in run(f, x):
-                    if s.valid and s.best != kind:
-                        kind, began, peak = s.best, s.progress, s.progress
-                    if s.valid:
-                        peak = max(peak, s.progress)
-                        back += s.progress < began - 0.05 and peak - began < 0.02
-                        valid += 1
-        return back, valid
+            order = list(rng.permutation(list(gestures)))
+            parts, truth, at = [], [], np.zeros(2)
+            for g in order:
+                phase, p = phase_of(rng, len(gestures[g]))
+                parts.append(float(rng.uniform(0.8, 1.2)) * at_phase(gestures[g], phase) + at)
+                at = parts[-1][-1].copy()
+                truth += [g] * len(p)
+            x = np.concatenate([np.zeros((15, 2))] + parts) + rng.normal(0, 0.0007, (15 + len(truth), 2))
+            truth = [None] * 15 + truth
+            states = run(f, x)
+            out += [sum(truth[i] == b and s.valid and s.best == a for i, s in enumerate(states))
+                    for a, b in zip(order, order[1:])]
+        return out
 
-    now = backward_ticks()
-    monkeypatch.setattr(validity, "BACK_FIRST", float("inf"))
-    plain = backward_ticks()
-    assert now[0] <= 5 and plain[0] >= 60, (now, plain)
-    assert now[1] <= plain[1] - 60, (now, plain)
+    now = late_ticks()
+    monkeypatch.setattr(spotting, "ARRIVE_RADIUS", 0.0)
+    plain = late_ticks()
+    assert sum(now) <= 25 and sum(v >= 3 for v in now) <= 1 and max(now) <= 3, now
+    assert sum(plain) >= 29, plain
 
 
 def test_turning_is_blind_to_size_and_tempo_and_tells_a_mirror():
@@ -248,3 +257,77 @@ def test_turning_is_blind_to_size_and_tempo_and_tells_a_mirror():
     # a hairpin is +pi or -pi by the jitter: both fit; a quarter turn the other way does not
     assert turn_fits(np.array([np.pi]), -np.pi + 0.1, 1.3)
     assert not turn_fits(np.array([0.5 * np.pi]), -0.5 * np.pi, 1.3)
+
+
+def _tail_and_paused(gestures) -> tuple[int, int, float]:
+    """Valid ticks of the diagonal, wander and triangle (0.7, 1.4x; the circle alone and the six
+    gestures loaded) while their last half second rests, all their valid ticks, and the six
+    gestures' share after 30% valid and within 0.1 of the truth when paused 0.6 s part way
+    (0.7, 1.4x, two seeds)."""
+    tail = total = 0
+    for loaded in ({"circle": gestures["circle"]}, gestures):
+        rng = np.random.default_rng(5)
+        f = puck_follower(loaded)
+        paths = unrelated_motions(rng, loaded)
+        for name in ("diagonal", "wander", "triangle"):
+            for scale in (0.7, 1.4):
+                x, _ = performance(rng, paths[name], scale)
+                valid = [s.valid for s in run(f, x)]
+                tail += sum(valid[-15:])
+                total += sum(valid)
+    f = puck_follower(gestures)
+    on_track = []
+    for seed in (5, 6):
+        rng = np.random.default_rng(seed)
+        for name, tpl in gestures.items():
+            for scale in (0.7, 1.4):
+                x, prog = performance(rng, tpl, scale, pause_s=0.6)
+                on_track.append(true_metrics(run(f, x), name, prog)["valid_on_track_after30"])
+    return tail, total, float(np.mean(on_track))
+
+
+def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkeypatch):
+    # a wander hovering at the circle's start, a diagonal stopped on the circle's chord: the
+    # action taken was moved by the input without carrying it forward, and the performer then
+    # rests; it no longer holds them there (validity.stalls). The price: a gesture paused within
+    # a few samples of its recognition at a slow tempo (a 0.7x figure eight, a 1.4x square:
+    # 2 of 24 here). Measured: valid ticks in the resting tail 49 (without 78), in all 435 (472),
+    # paused gestures valid on track after 30% 0.695 (0.714)
+    from behaviors.mop import validity
+
+    now = _tail_and_paused(gestures)
+    monkeypatch.setattr(validity, "CARRY_FIRST", -1.0)
+    plain = _tail_and_paused(gestures)
+    assert now[0] <= plain[0] - 20 and now[1] <= plain[1] - 20, (now, plain)
+    assert now[2] >= plain[2] - 0.03, (now, plain)
+
+
+def test_resting_reads_net_motion_not_jitter():
+    # the bench's tracking jitter (0.7 mm) around a resting puck against a still radius of 0.9 mm
+    # (twenty templates loaded), and a slow stroke (0.1 m in 3 s at 30 Hz)
+    from behaviors.mop.validity import resting
+    rng = np.random.default_rng(0)
+    radius = np.full(2, 0.0009)
+    rest = [resting(list(rng.normal(0, 0.0007, (6, 2))), radius) for _ in range(500)]
+    stroke = np.stack([np.linspace(0, 0.1, 90), np.zeros(90)], 1) + rng.normal(0, 0.0007, (90, 2))
+    slow = [resting(list(stroke[i:i + 6]), radius) for i in range(84)]
+    assert np.mean(rest) >= 0.95 and not any(slow), (np.mean(rest), np.mean(slow))
+    assert not resting(list(rng.normal(0, 0.0007, (3, 2))), radius)   # too few samples to tell
+
+
+def test_shared_starts_end_where_the_paths_part():
+    # a stroke of 10 cm is the first side of an L (6 cm then a corner) at 10/6 of its size; the
+    # L's first side is the stroke's start at any size, its corner is not (states 2 mm apart)
+    stroke = np.stack([np.linspace(0, 0.1, 51), np.zeros(51)], axis=1)
+    ell = np.concatenate([np.stack([np.linspace(0, 0.06, 31), np.zeros(31)], axis=1),
+                          np.stack([np.full(30, 0.06), np.linspace(0.002, 0.06, 30)], axis=1)])
+    rel = np.concatenate([stroke, ell])
+    starts, lengths = np.array([0, 51]), np.array([51, 61])
+    radius = np.full(2, 0.002)
+    out = shared_until(rel, starts, lengths, np.geomspace(0.5, 2.0, 25), radius, 3)
+    assert out[0, 0] == -1 and out[1, 1] == -1
+    assert out[0, 1] == 50            # the whole stroke (the L at 1.67x)
+    assert 30 <= out[1, 0] <= 31      # the L up to its corner, not beyond
+    # sizes up to 1.2x only: the L's side covers about 7.2 cm of the stroke
+    short = shared_until(rel, starts, lengths, np.geomspace(0.5, 1.2, 15), radius, 3)
+    assert 35 <= short[0, 1] <= 38, short

@@ -1,0 +1,79 @@
+"""Shared starts: how far each template's path is the start of another's at some size.
+
+The line's outward stroke is the square's first side and the start of the circle: until the
+performer turns, nothing in the input tells them apart, at any size. :func:`shared_until`
+finds, for every pair of templates (A, B), the last state of A whose path from A's start lies,
+state by state in order, within a radius of B's path from B's start scaled by one of a range of
+sizes (B may run up to ``skip`` states per state of A, or stay); spotting
+(:meth:`~behaviors.mop.spotting.GestureSpotting._shares`) keeps a new action from driving while
+its followed state is within its start shared with another template the input still fits.
+B's states are taken as points: where they lie farther apart than twice the radius at a size
+(a fast stretch), the sharing ends there, on the side of holding fewer actions back (measured
+with segments between B's states instead: the line's start shared with the square up to 0.58
+of it, past its turn, as its return runs back along the same side). Compiled (numba): 20 templates of 30-110 states take a few milliseconds (numpy: 1.4 s).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+_F1 = numba.float64[::1]
+_F2 = numba.float64[:, ::1]
+_I1 = numba.intp[::1]
+
+
+@numba.njit(numba.intp[:, ::1](_F2, _I1, _I1, _F1, _F1, numba.intp), cache=True, nogil=True)
+def shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes: np.ndarray,
+                 radius: np.ndarray, skip: int) -> np.ndarray:
+    """(K, K) state indices: entry [a, b] is the last state of template ``a`` whose path up to
+    there follows template ``b``'s scaled by one of ``sizes`` within ``radius`` (d,) in every
+    column, both from their first points; -1 on the diagonal. ``rel`` (states, d): every
+    template's states relative to its first (raw units), template k at ``starts[k]``,
+    ``lengths[k]`` states."""
+    k, d = starts.size, rel.shape[1]
+    out = np.full((k, k), -1, dtype=np.intp)
+    reach = np.zeros(int(lengths.max()), dtype=np.bool_)
+    grown = np.zeros_like(reach)
+    for a in range(k):
+        sa, na = starts[a], lengths[a]
+        for b in range(k):
+            if a == b:
+                continue
+            sb, nb = starts[b], lengths[b]
+            best = -1
+            for s in sizes:
+                reach[:nb] = False
+                reach[0] = True
+                lo, hi = 0, 0           # the states of b still reached lie within lo..hi
+                last = -1
+                for i in range(na):
+                    top = min(hi + (skip if i else 0), nb - 1)
+                    new_lo, new_hi = -1, -1
+                    for j in range(lo, top + 1):
+                        r = reach[j]
+                        if i:
+                            for o in range(1, min(skip, j - lo) + 1):
+                                r = r or reach[j - o]
+                        if r:
+                            for c in range(d):
+                                if abs(s * rel[sb + j, c] - rel[sa + i, c]) > radius[c]:
+                                    r = False
+                                    break
+                        grown[j] = r
+                        if r:
+                            new_hi = j
+                            if new_lo < 0:
+                                new_lo = j
+                    if new_lo < 0:
+                        break
+                    reach[lo:top + 1] = grown[lo:top + 1]
+                    lo, hi = new_lo, new_hi
+                    last = i
+                    if last == na - 1:
+                        break
+                best = max(best, last)
+                if best == na - 1:
+                    break
+            out[a, b] = best
+    return out
