@@ -39,7 +39,8 @@ BUILD_KERNELS = \
 	  && wait $$view && wait $$pm && touch $(KERNELS)
 # (make decides before the install runs: the test skips a build the install has just made)
 $(KERNELS): $(wildcard tabletop/drawing/*.py behaviors/mop/*.py behaviors/puppet_master/*.py) | $(STAMP)
-	test -f $@ -a -z "$$(find $^ -newer $@ 2>/dev/null)" || { $(BUILD_KERNELS); }
+	@test -f $@ -a -z "$$(find $^ -newer $@ 2>/dev/null)" \
+	  || { echo "building the compiled kernels"; $(BUILD_KERNELS); }
 
 kernels: $(KERNELS)
 
