@@ -32,11 +32,15 @@ $(STAMP): pyproject.toml
 # cache) when a file of theirs changes. The three builds run side by side (about 80 s of CPU
 # cold in all).
 KERNELS := $(VENV)/.kernels
+# (MOP's threshold model is compiled on its first call: a follower takes a few steps)
+MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members; \
+	from behaviors.mop.follower import ActionFollower; \
+	f = ActionFollower({'a': np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]}, invariance='scale'); \
+	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]
 BUILD_KERNELS = \
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "import behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel" & pm=$$!; \
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, behaviors.mop.threshold" \
-	  && wait $$view && wait $$pm && touch $(KERNELS)
+	$(PY) -c "$(MOP_STEPS)" && wait $$view && wait $$pm && touch $(KERNELS)
 # (make decides before the install runs: the test skips a build the install has just made)
 $(KERNELS): $(wildcard tabletop/drawing/*.py behaviors/mop/*.py behaviors/puppet_master/*.py) | $(STAMP)
 	@test -f $@ -a -z "$$(find $^ -newer $@ 2>/dev/null)" \
