@@ -8,26 +8,46 @@ STAMP := $(VENV)/.installed
 
 # The environment is made without pip (ensurepip's copy is old, slow to install and slow to
 # resolve with); the interpreter's pip puts the current pip into it (`pip --python`, pip 22.3 or
-# newer; otherwise ensurepip's copy is used). Byte-code is compiled afterwards on every core,
-# the packages' own test suites left out.
+# newer; otherwise ensurepip's copy is used). What the compiled kernels need (numpy, numba,
+# pygame: their pyproject lines) is installed first, so that the kernels build on the idle core
+# while pip downloads and unpacks the rest (pip works on one core). Byte-code is compiled after
+# each step on every core, the packages' own test suites left out.
+KERNEL_DEPS = $$(sed -n 's/^ *"\(\(numpy\|numba\|pygame-ce\)[^"]*\)".*/\1/p' pyproject.toml)
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv --without-pip $(VENV)
 	$(PY) -m pip --version >/dev/null 2>&1 \
 	  || $(PYTHON) -m pip --python $(PY) install --quiet --no-compile pip \
 	  || $(PY) -m ensurepip >/dev/null
-	$(PY) -m pip install --quiet --no-compile -e '.[test]'
+	$(PY) -m pip install --quiet --no-compile $(KERNEL_DEPS)
 	$(PY) -m compileall -q -j0 -x '/tests?/' $(VENV)/lib >/dev/null
+	( $(BUILD_KERNELS) ) & kernels=$$!; \
+	$(PY) -m pip install --quiet --no-compile -e '.[test]' \
+	  && $(PY) -m compileall -q -j0 -x '/tests?/' $(VENV)/lib >/dev/null; \
+	status=$$?; wait $$kernels || rm -f $(KERNELS); exit $$status
 	touch $(STAMP)
 
 # The compiled kernels (numba: MOP's, Puppet Master's searches and step, the view's drawing) are
-# built once here, into the cache beside their sources, so neither the installation's first start
-# nor each test worker compiles them.
-# The three builds run side by side (about 60 s of CPU cold in all; a few seconds cached).
-kernels: $(STAMP)
+# built once, into the cache beside their sources, so neither the installation's first start
+# nor each test worker compiles them: during the install, and again (a few seconds, from the
+# cache) when a file of theirs changes. The three builds run side by side (about 80 s of CPU
+# cold in all).
+KERNELS := $(VENV)/.kernels
+# (MOP's threshold model is compiled on its first call: a follower takes a few steps)
+MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, \
+	behaviors.mop.sharing; \
+	from behaviors.mop.follower import ActionFollower; \
+	f = ActionFollower({'a': np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]}, invariance='scale'); \
+	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]
+BUILD_KERNELS = \
 	$(PY) -c "from tabletop.drawing import raster, dirty, halo_kernel, pose_kernel; [m.warm() for m in (raster, dirty, halo_kernel, pose_kernel)]" & view=$$!; \
 	$(PY) -c "import behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel" & pm=$$!; \
-	$(PY) -c "import behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, behaviors.mop.threshold, behaviors.mop.sharing" \
-	  && wait $$view && wait $$pm
+	$(PY) -c "$(MOP_STEPS)" && wait $$view && wait $$pm && touch $(KERNELS)
+# (make decides before the install runs: the test skips a build the install has just made)
+$(KERNELS): $(wildcard tabletop/drawing/*.py behaviors/mop/*.py behaviors/puppet_master/*.py) | $(STAMP)
+	@test -f $@ -a -z "$$(find $^ -newer $@ 2>/dev/null)" \
+	  || { echo "building the compiled kernels"; $(BUILD_KERNELS); }
+
+kernels: $(KERNELS)
 
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)

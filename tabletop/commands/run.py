@@ -31,6 +31,12 @@ EXIT_RECORDING_FAILED = 3
 
 
 def main(args: argparse.Namespace) -> int:
+    from tabletop.commands import number_in_range, output_file
+    # the arguments first, before the installation's modules (and their compiled kernels) load
+    seconds = None if args.seconds is None else number_in_range(
+        args.seconds, "--seconds", "seconds", 1e-3, MAX_SECONDS)
+    if args.record is not None:
+        output_file(args.record, "--record")
     from tabletop.kiosk import spare
     prepared = None
     if spare.is_spare():                 # the supervisor's warm spare: ready before its go
@@ -38,14 +44,9 @@ def main(args: argparse.Namespace) -> int:
         if not go:
             return 0
     from tabletop.app import configure_logging, stop_on_signals
-    from tabletop.commands import number_in_range, output_file
     from tabletop.config import load_config
     from tabletop.kiosk.runner import Runner, supervise, supervised
 
-    seconds = None if args.seconds is None else number_in_range(
-        args.seconds, "--seconds", "seconds", 1e-3, MAX_SECONDS)
-    if args.record is not None:
-        output_file(args.record, "--record")
     configure_logging(args.verbose)
     cfg = prepared.cfg if prepared is not None else load_config(args.config)
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]

@@ -107,3 +107,6 @@ def warm() -> None:
     out = np.empty((1, FIELDS))
     places(np.zeros((1, 6)), np.eye(3), np.zeros((1, 2)), 0.5, out)
     bounds(grown(to_pixels(np.eye(3), np.zeros((1, 2))), 0.0, 0.0, 1.0))
+    frozen = np.zeros((1, 2))
+    frozen.setflags(write=False)          # characters' points are read-only: another signature
+    to_pixels(np.eye(3), frozen)
