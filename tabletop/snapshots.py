@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import datetime as _dt
 import logging
-import os
 import re
 import threading
 import time
@@ -145,18 +144,14 @@ class Snapshots:
 
 
 def save_png(surface, path: Path) -> str:
-    """Write ``surface`` to ``path`` as PNG atomically (temporary file, then rename); returns
-    what went wrong, or "" when it was written."""
+    """Write ``surface`` to ``path`` as PNG atomically (:func:`tabletop.files.atomic_writer`:
+    temporary file, fsync, rename); returns what went wrong, or "" when it was written."""
     import pygame
-    tmp = path.with_name(f".{path.name}.tmp.png")
+
+    from tabletop.files import FileFormatError, atomic_writer
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        pygame.image.save(surface, str(tmp))
-        os.replace(tmp, path)
-    except (OSError, pygame.error) as exc:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
+        with atomic_writer(path, binary=True) as f:
+            pygame.image.save(surface, f, path.name)
+    except (OSError, pygame.error, FileFormatError) as exc:
         return str(getattr(exc, "strerror", None) or exc)
     return ""

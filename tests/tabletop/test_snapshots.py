@@ -15,7 +15,7 @@ import pytest
 from tabletop.config import validate_config
 from tabletop.frames import Frame, Observation, SourceHealth
 from tabletop.loop import LatestMeasurements, LiveInputs, Loop, LoopStats
-from tabletop.snapshots import Snapshots, next_number, prune
+from tabletop.snapshots import Snapshots, next_number, prune, save_png
 from tabletop.view import ProjectorView, overlay_lines
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -57,6 +57,17 @@ def test_due_on_the_clock_and_numbering_continues_across_runs(tmp_path):
     again = take(second, clock, 2.0)
     assert [p.name for p in again] == ["snapshot-00010.png", "snapshot-00011.png"]
     assert next_number(tmp_path) == 12
+
+
+def test_a_snapshot_is_written_whole_or_not_at_all(tmp_path):
+    s = surface()
+    s.set_at((3, 4), (10, 220, 90))
+    assert save_png(s, tmp_path / "snapshot-00001.png") == ""
+    back = pygame.image.load(str(tmp_path / "snapshot-00001.png"))
+    assert back.get_size() == (64, 48) and back.get_at((3, 4))[:3] == (10, 220, 90)
+    assert [p.name for p in tmp_path.iterdir()] == ["snapshot-00001.png"]  # no temporary left
+    error = save_png(s, Path("/proc/no-such-folder/snapshot-00002.png"))
+    assert error and "no-such-folder" in error
 
 
 def test_per_run_folders(tmp_path):
