@@ -22,6 +22,7 @@ growing back-off and the health says why.
 
 from __future__ import annotations
 
+import logging
 import math
 import re
 import socket
@@ -41,6 +42,8 @@ MAX_STREAMS = 64
 MAX_STREAM_VALUES = 256
 STREAM_NAME = re.compile(r"[A-Za-z0-9_.\-/]{1,64}\Z")  # /mocap/left/hand: "left/hand"
 RECEIVE_BUFFER = 1 << 20   # bytes of kernel socket buffer asked for
+
+log = logging.getLogger("tabletop.osc")
 
 
 class OscInput(BackgroundSource):
@@ -204,6 +207,7 @@ class OscInput(BackgroundSource):
     # ------------------------------------------------------------------ the thread
     def _run(self) -> None:
         delay = self.retry_min_s
+        failing = False
         while not self._stop.is_set():
             try:
                 server = make_server(self.host, self.port, self)
@@ -212,10 +216,15 @@ class OscInput(BackgroundSource):
                 msg = f"cannot listen on {self.host}:{self.port}: {reason}"
                 with self._lock:
                     self._message = f"{msg}; retrying in {delay:.1f} s"
-                self.bad.count("bind_failed", msg)
+                if not failing:  # said once, then in the health until it listens
+                    log.warning("%s: %s; retrying until it can", self.name, msg)
+                failing = True
                 self._stop.wait(delay)
                 delay = min(2.0 * delay, self.retry_max_s)
                 continue
+            if failing:
+                log.info("%s: listening on %s:%s", self.name, self.host,
+                         server.server_address[1])
             self.bound_port = server.server_address[1]
             with self._lock:
                 self._message = f"listening on {self.host}:{self.bound_port}"

@@ -177,7 +177,8 @@ def test_a_sender_not_on_the_allow_list_changes_nothing():
         src.close()
 
 
-def test_a_busy_port_is_retried_and_reported():
+def test_a_busy_port_is_retried_and_reported(caplog):
+    caplog.set_level("INFO", logger="tabletop.osc")
     first = OscInput("first", port=0, table=TABLE)
     first.open()
     assert first.wait_listening()
@@ -191,6 +192,9 @@ def test_a_busy_port_is_retried_and_reported():
         assert second.wait_listening(5.0)
         RefSender(second.bound_port).objects([(1, 5, 0.5, 0.5, 0.0)])
         assert sent(second, 1)
+        said = [r.getMessage() for r in caplog.records if r.name == "tabletop.osc"]
+        assert len([m for m in said if "cannot listen" in m]) == 1, said  # once, not per retry
+        assert not any("ignored" in m for m in said) and any("listening on" in m for m in said)
     finally:
         first.close()
         second.close()
