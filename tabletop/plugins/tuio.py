@@ -12,6 +12,7 @@ counted and logged at a limited rate.
 
 from __future__ import annotations
 
+import logging
 import math
 import socket
 import time
@@ -23,6 +24,11 @@ from tabletop.registry import BuildContext
 from tabletop.schema import Bool, MapOf, Number, Optional_, Record, Str
 from tracking.badinput import BadInput
 from tracking.tuio import from_table, profile_bundles, set_args
+
+log = logging.getLogger("tabletop.tuio")
+# a listed character no frame has shown for this long is named once in the log (a typo in
+# ``characters`` otherwise sends nothing, silently); seconds of frame time
+UNSEEN_AFTER_S = 10.0
 
 SCHEMA = Record({
     "host": Str("127.0.0.1", doc="receiver address (an IP address or host name; a broadcast "
@@ -67,6 +73,8 @@ class TuioSink:
                  send: Callable[[bytes], None] | None = None) -> None:
         self.name, self.address, self.table = name, address, table
         self.characters = dict(characters or {})
+        self._unseen, self._seen = set(self.characters), set()
+        self._first_t: float | None = None
         self.source = source or f"tabletop@{socket.gethostname()}"
         self.full_every_s, self.with_touches = full_every_s, touches
         self.changes_only = changes_only
@@ -106,6 +114,8 @@ class TuioSink:
         for p in frame.pucks:
             objects.append((("puck", p.id), p.id,
                             from_table(p.x, p.y, p.angle, p.vx, p.vy, p.omega, self.table)))
+        if self._unseen:
+            self._check_listed(frame)
         for c in frame.characters:
             cid = self.characters.get(c.name)
             if cid is not None:
@@ -117,6 +127,19 @@ class TuioSink:
                                                          self.table)) for tc in frame.touches]
             out += self._profile("2Dcur", self._cursors, cursors, full)
         return out
+
+    def _check_listed(self, frame: Frame) -> None:
+        """Name, once, the listed characters no frame has shown in ``UNSEEN_AFTER_S``."""
+        self._seen.update(c.name for c in frame.characters)
+        self._unseen -= self._seen
+        if self._first_t is None:
+            self._first_t = frame.t
+        if self._unseen and frame.t - self._first_t >= UNSEEN_AFTER_S:
+            log.warning("%s: characters %s are listed in its 'characters' but no engine has "
+                        "shown them in %g s (characters seen: %s)", self.name,
+                        ", ".join(sorted(self._unseen)), UNSEEN_AFTER_S,
+                        ", ".join(sorted(self._seen)) or "none")
+            self._unseen = set()
 
     def _profile(self, profile: str, sessions: Sessions, items: list, full: bool) -> list[bytes]:
         items = [it for it in items if all(math.isfinite(v) for v in it[2])]

@@ -125,3 +125,13 @@ def test_a_receiver_that_is_not_there_costs_nothing():
         unresolvable.consume(frame(k, k / 60, [Puck(1, 0.5, 0.5, 0.0)]))
     assert unresolvable.bad.counts()["send_failed"] == 100    # counted, never raised
     unresolvable.close()
+
+
+def test_a_listed_character_no_engine_shows_is_named_once(caplog):
+    sink = TuioSink("tuio", ("127.0.0.1", 9), TABLE, characters={"lover": 100, "lovre": 101},
+                    send=lambda data: None)
+    lover = CharacterState("lover", 0.5, 0.4, 0.0)
+    for k in range(60 * 15):                                  # 15 s of frames at 60 Hz
+        sink.consume(frame(k, k / 60, characters=[lover]))
+    said = [r.getMessage() for r in caplog.records if r.name == "tabletop.tuio"]
+    assert len(said) == 1 and "lovre" in said[0] and "characters seen: lover" in said[0], said
