@@ -18,7 +18,8 @@ import pygame
 
 from tabletop.drawing import primitives as P
 from tabletop.drawing import pose_kernel, raster
-from tabletop.drawing.palette import EYE_WHITE, INK, Color, fade, lighten, rgb, shade
+from tabletop.drawing.palette import (EYE_WHITE, INK, Color, fade, lighten, remember, rgb,
+                                      shade)
 from tabletop.frames import CharacterState
 
 # Reactor body outline in units of its length, nose along +x (an egg, fuller at the front).
@@ -77,10 +78,7 @@ def inks(color: Color, alpha: float) -> tuple[int, ...]:
     c = key[0]
     out = tuple(rgb(fade(shade(c, k), alpha)) for k in (0.62, 0.68, 0.7, 0.72, 1.0)) + tuple(
         rgb(fade(x, alpha)) for x in (lighten(c, 0.18), lighten(c, 0.35), EYE_WHITE, INK))
-    if len(_inks) >= 4096:
-        _inks.clear()
-    _inks[key] = out
-    return out
+    return remember(_inks, key, out, 4096)
 
 
 def _squash(pose: Pose) -> tuple[float, float, float, float]:
@@ -224,10 +222,7 @@ def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple | None:
         tp = pack_topology([valid[i] for i in order], sorted(used - in_spine), spine_points,
                              knots, spine, sum(not f for f in on_spine))
         topo = (rel, np.array(spine_points, dtype=np.int64), tp)
-    if len(_topologies) > 256:
-        _topologies.clear()
-    _topologies[key] = topo
-    return topo
+    return remember(_topologies, key, topo, 256)
 
 
 _KINDS = {"skeleton": raster.SKELETON, "creature": raster.CREATURE, "sprite": raster.SPRITE}

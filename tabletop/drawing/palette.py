@@ -8,6 +8,9 @@ from __future__ import annotations
 
 import colorsys
 import functools
+from typing import Any, TypeVar
+
+T = TypeVar("T")
 
 Color = tuple[int, int, int]
 
@@ -79,6 +82,16 @@ def lighten(color: Color, w: float) -> Color:
     return mix(color, (255, 255, 255), w)
 
 
+def remember(cache: dict[Any, T], key: Any, value: T, limit: int) -> T:
+    """Keep ``value`` under ``key`` in ``cache`` and return it; a cache holding ``limit``
+    entries forgets its oldest first (not all of them: a cleared cache would make every colour,
+    light or shape of the next frames again at once)."""
+    while len(cache) >= limit:
+        del cache[next(iter(cache))]
+    cache[key] = value
+    return value
+
+
 _faded: dict[tuple, Color] = {}
 
 
@@ -92,11 +105,8 @@ def fade(color: Color, alpha: float, ground: Color = TABLE) -> Color:
         pass
     except TypeError:         # a colour given as a list
         return _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)), tuple(ground))
-    if len(_faded) >= 4096:
-        _faded.clear()
-    out = _faded[key] = _fade(tuple(color), int(round(max(0.0, min(1.0, alpha)) * 128)),
-                              tuple(ground))
-    return out
+    level = int(round(max(0.0, min(1.0, alpha)) * 128))
+    return remember(_faded, key, _fade(tuple(color), level, tuple(ground)), 4096)
 
 
 @functools.lru_cache(maxsize=4096)

@@ -23,7 +23,7 @@ import pygame
 import pygame.gfxdraw as gfx
 
 from tabletop.drawing import pose_kernel
-from tabletop.drawing.palette import Color
+from tabletop.drawing.palette import Color, remember
 
 _CACHE_MAX = 512
 _glows: dict[tuple, pygame.Surface] = {}
@@ -99,12 +99,9 @@ def _size_bucket(v: float) -> int:
 
 
 def _remember(cache: dict, key: tuple, surf: pygame.Surface) -> pygame.Surface:
-    """Keep ``surf`` under ``key``; a full cache forgets its oldest entry (not all of them:
-    a cleared cache would render every light of the next frames again at once)."""
-    while len(cache) >= _CACHE_MAX:
-        del cache[next(iter(cache))]
-    cache[key] = surf
-    return surf
+    """Keep ``surf`` under ``key`` (:func:`~tabletop.drawing.palette.remember`, at most
+    :data:`_CACHE_MAX` surfaces)."""
+    return remember(cache, key, surf, _CACHE_MAX)
 
 
 def fast(surf: pygame.Surface) -> pygame.Surface:

@@ -12,7 +12,7 @@ import pygame
 from tabletop.drawing import halo_kernel, raster
 from tabletop.drawing import primitives as P
 from tabletop.drawing.life import PuckTrace
-from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade, rgb
+from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade, remember, rgb
 from tabletop.table_map import TableToScreen
 
 
@@ -30,10 +30,8 @@ def trail_inks(color: Color, alpha: float) -> tuple[int, int, int]:
     key = (color, alpha)
     ink = _inks.get(key)
     if ink is None:
-        if len(_inks) >= 1024:
-            _inks.clear()
-        ink = _inks[key] = tuple(rgb(fade(color, alpha * k, TABLE))  # type: ignore[assignment]
-                                 for k in (0.18, 0.32, 0.5))
+        ink = remember(_inks, key, tuple(rgb(fade(color, alpha * k, TABLE))  # type: ignore
+                                         for k in (0.18, 0.32, 0.5)), 1024)
     return ink
 
 
@@ -71,10 +69,9 @@ def _look(state: str, alpha: float) -> tuple[int, Color, tuple[int, int, int]]:
     key = (state, alpha)
     look = _looks.get(key)
     if look is None:
-        if len(_looks) >= 1024:
-            _looks.clear()
         color = state_color(state)
-        look = _looks[key] = (_STATE_CODES.get(state, 0), color, trail_inks(color, alpha))
+        look = remember(_looks, key, (_STATE_CODES.get(state, 0), color,
+                                      trail_inks(color, alpha)), 1024)
     return look
 
 
