@@ -209,10 +209,7 @@ def main(args: argparse.Namespace) -> int:
     if args.calibration:
         from calibration.files import load_calibration
         calibration = load_calibration(args.calibration)
-    out = Path(args.out)
-    if out.is_dir():
-        raise TrackInputError(f"--out {args.out!r} is a folder; give a file name")
-    output_file(out, "--out", TrackInputError, inputs=(args.input,))
+    out = output_file(args.out, "--out", TrackInputError, inputs=(args.input,))
     reader = FrameReader(args.input)
     fps = fps_arg or reader.fps or 30.0
     detector = plugin.build_detector(options)

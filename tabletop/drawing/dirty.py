@@ -7,8 +7,9 @@ the last frame's rectangles merged covered ~443,000 px, their 16 px tiles ~355,0
 themselves ~334,000). Every pixel repainted is a pixel copied from the table's image and again
 sent to the X server. A glow or a halo lights only the disc inside its square: marking only the
 tiles of that disc (:class:`tabletop.drawing.primitives.Disc`) took the busy frame's tiles from
-~348,000 to ~325,000 px (same pixels drawn: the corners are dark). Compiled once into the cache beside this file (``warm``); its kernels call
-no compiled function of another file (numba's cache checks only a kernel's own file).
+~348,000 to ~325,000 px (same pixels drawn: the corners are dark). Compiled once into the cache
+beside this file (``warm``); its kernels call no compiled function of another file (numba's
+cache checks only a kernel's own file).
 """
 
 from __future__ import annotations
