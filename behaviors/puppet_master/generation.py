@@ -114,7 +114,7 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     0.92, met on 20 of 21 instead of 17, and its contact on 20 instead of 18 (seed 4 fast
     0.108 -> 0.142, seeds 2 and 5 slow 0.224 / 0.206 -> 0.170 / 0.197 against 0.157: with
     the cap, a charge at a main that stood crept in at 0.19 m/s and stayed pressed against
-    it). bench/fidelity.py --seeds 0,1,2,3,4,5: 632 -> 637 of 720, --seeds 7: 108 -> 110.
+    it). bench/fidelity.py --seeds 0,1,2,3,4,5: 632 -> 635 of 720, --seeds 7: 108 -> 110.
     The playful friend (0.98 of its speed beside a walking main) is held: released too,
     its still/moving mean moved 0.89 -> 0.96 (against 0.99) but its darts reached contact
     less often (contact met on 13 of 21 paths instead of 18): 631 / 110."""
