@@ -182,7 +182,19 @@ def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: floa
     A relative target is a place round the main: on the straight line to one farther out at
     another bearing the reactor first closes in on the main. The playful friend's drift
     correction so drove it into its main at 0.35-0.75 m/s while the target it corrected toward
-    was farther out (0.14 m against a live 0.07-0.13 m), on the fast path."""
+    was farther out (0.14 m against a live 0.07-0.13 m), on the fast path.
+
+    What it costs, the friend's contact on seed 0's slow path and loops (0.019 / 0.020 against
+    0.041): its darts stop short (median least distance of a dip 0.097 / 0.102 m against
+    0.077 demonstrated), where the matched moments dart deeper (under 0.08 m in 38% of the
+    dips; 78% with the straight correction). Traced (seed 0 slow): the demonstrated step
+    relative to the main is carried in the main's frame, and the live friend circles at
+    another bearing than the matched moment, up to the far side, so a dart's inward step
+    comes out sideways or outward (0.27-0.47 m/s outward while the moment darted in) and the
+    correction alone pulls it in. That step turned by the bearing between the live reactor
+    and the moment (characters without a personal space, outside charges) meets both paths'
+    contact (0.049 / 0.022) but bench/fidelity.py --seeds 0,1,2,3,4,5 falls 635 -> 628 of
+    720 (bully -5, friend -3, stalker +1; seed 7 110 -> 109): not used."""
     cx, cy = share * (tx - rx), share * (ty - ry)
     ax, ay = rx - mx, ry - my
     bx, by = tx - mx, ty - my
