@@ -260,7 +260,18 @@ def dwell_states(bank: TemplateBank, dwell: float, margin: float = 0.1) -> np.nd
     template's progress) is no such hold: the start is where every performance waits, the end
     must be reached for the gesture to end (the circle's eased end is a hold at 91-95%)."""
     out = np.zeros(len(bank.means))
-    if bank.holds is None or bank.source is None or dwell <= 0:
+    if dwell <= 0:
+        return out
+    for a, b in inner_holds(bank, margin):
+        out[a:b] = dwell
+    return out
+
+
+def inner_holds(bank: TemplateBank, margin: float = 0.1) -> list[tuple[int, int]]:
+    """The compressed holds inside the templates of ``bank``, as (first, past the last) state
+    indices: not within the first or last ``margin`` of a template's progress."""
+    out: list[tuple[int, int]] = []
+    if bank.holds is None or bank.source is None:
         return out
     for s, n in zip(bank.starts, bank.lengths):
         h = bank.holds[s:s + n].astype(int)
@@ -268,7 +279,7 @@ def dwell_states(bank: TemplateBank, dwell: float, margin: float = 0.1) -> np.nd
         edges = np.flatnonzero(np.diff(np.concatenate([[0], h, [0]])))
         for a, b in zip(edges[::2], edges[1::2]):
             if src[a] >= margin and src[b - 1] <= 1.0 - margin:
-                out[s + a:s + b] = dwell
+                out.append((int(s + a), int(s + b)))
     return out
 
 
