@@ -237,8 +237,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             self._refused, self._engaged = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
             self._entries = np.zeros(k, dtype=np.int64)
             self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
+            self._at_hold_end = np.zeros(k, dtype=bool)
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
-                  self._entries, self._num, self._den):
+                  self._entries, self._num, self._den, self._at_hold_end):
             a.fill(0)
         self._size.fill(1.0)
         self._best = 0
@@ -246,7 +247,6 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._gone = np.zeros(len(self.names))
-        self._at_hold_end = np.zeros(len(self.names), dtype=bool)
         self._acquired = -1
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False

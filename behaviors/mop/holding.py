@@ -35,6 +35,7 @@ import numba
 import numpy as np
 
 from behaviors.mop.hmm import TemplateBank, inner_holds
+from behaviors.mop.validity import RESTING_RADII
 
 #: States before a hold inside a template from which a resting performer may be holding it.
 HOLD_AHEAD = 6
@@ -80,3 +81,37 @@ def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndar
         if abs(r[c] - s * q[c]) > tol[c]:
             return 0.0
     return s
+
+
+@numba.njit(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
+                          numba.float64[::1]), cache=True, nogil=True)
+def resting_with(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, radius: np.ndarray) -> bool:
+    """:func:`behaviors.mop.validity.resting` of a group member ``i``'s buffered samples
+    (``buf`` (M, S, D), its last ``count[i]`` rows) before they take this sample ``x[i]``: over
+    their last S - 1 and this one, as the follower reads its recent samples and this one."""
+    s = buf.shape[1]
+    c0 = min(count[i], s - 1)
+    total = c0 + 1
+    n = total // 2
+    if n < 2:
+        return False
+    for c in range(buf.shape[2]):
+        early = 0.0
+        late = 0.0
+        for r in range(n):
+            early += buf[i, s - c0 + r, c] if r < c0 else x[i, c]
+            j = total - n + r
+            late += buf[i, s - c0 + j, c] if j < c0 else x[i, c]
+        if not abs(late / n - early / n) <= RESTING_RADII * radius[c]:
+            return False
+    return True
+
+
+def holding_columns(follower) -> np.ndarray:
+    """A follower's hold maps as two columns per state (where its hold ends, NaN elsewhere; the
+    first state of a hold a few states ahead, -1 where none) for a group's state table."""
+    n = len(follower.bank.means)
+    if follower._holds is None:
+        return np.column_stack([np.full(n, np.nan), np.full(n, -1.0)])
+    end, first = follower._holds
+    return np.column_stack([end, first.astype(float)])
