@@ -35,7 +35,7 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.holding import SNAP_RADII, hold_maps, hold_size
+from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_progress
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.sharing import shared_until
@@ -191,18 +191,6 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._setup_turning()
         self.reset()
 
-    def _hold_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
-        """A resting performer within a few states before a hold takes the size that puts the
-        input on it, when smaller (:func:`behaviors.mop.holding.hold_size`)."""
-        ahead = self._holds[1][gi]
-        r = (x - self._anchor) / self._units
-        tol = SNAP_RADII * self._still_radius / self._units
-        lo = self.scale_range[0]
-        for k in np.flatnonzero(ahead >= 0):
-            s = hold_size(self._rel[ahead[k]], r, float(self._size[k]), lo, tol)
-            if s > 0.0:   # the estimate's sums give s (behaviors.mop.invariance)
-                self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
-
     def _onset_states(self) -> np.ndarray:
         """Per template, the first state at least ``onset`` sigmas (RMS per feature) from its first
         state, or its farthest state when none is (state index)."""
@@ -314,20 +302,16 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         src = b.source
         progress = src[gi] + frac * (src[gi + 1] - src[gi])
         rest = False
-        if self._holds is not None:
+        if self._holds is not None:   # holds inside a template (behaviors.mop.holding)
             # resting over this sample and the ones before (the samples _still will keep)
             rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
             if rest and self.invariance == "scale":
-                self._hold_sizes(x, gi)
+                rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units, self._size,
+                             self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
+                             self._num, self._den, self._prior)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
-            # once the performer rests in a hold, it shows where the hold ends until left
-            end = self._holds[0][gi]
-            inside = ~np.isnan(end)
-            if rest:
-                self._at_hold_end |= inside
-            self._at_hold_end &= inside
-            progress = np.where(self._at_hold_end, np.fmax(progress, end), progress)
+            progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)
         raw_ll = step_ll - self._jacobian
         if self.invariance == "scale":
             raw_ll = raw_ll - self.dim * np.log(self._size)
