@@ -78,7 +78,7 @@ def _glow_base(radius: int) -> pygame.Surface:
     surf = _glow_bases.get(radius)
     if surf is None:
         vals = _radial(radius, lambda d: (1.0 - d * d) ** 2 * (d < 1))
-        surf = _remember(_glow_bases, radius, _rgb_surface(vals, (255, 255, 255)))
+        surf = _remember(_glow_bases, radius, _lit_square(_rgb_surface(vals, (255, 255, 255))))
     return surf
 
 
@@ -113,6 +113,18 @@ def fast(surf: pygame.Surface) -> pygame.Surface:
 def _rgb_surface(values: np.ndarray, color: Color) -> pygame.Surface:
     rgb = (values[..., None] * np.asarray(color, dtype=np.float32)).astype(np.uint8)
     return fast(pygame.surfarray.make_surface(np.ascontiguousarray(rgb.transpose(1, 0, 2))))
+
+
+def _lit_square(surf: pygame.Surface) -> pygame.Surface:
+    """A light's square (odd side, its centre the centre pixel) without its dark border: the
+    edge of its ramp rounds to black, and every pixel blitted costs (a glow's square is ~7 %,
+    a halo's ring ~15 % smaller; a tint keeps black black)."""
+    lit = np.nonzero(pygame.surfarray.pixels3d(surf).max(axis=2))
+    c = surf.get_width() // 2
+    if not len(lit[0]):
+        return surf
+    k = int(max(np.abs(lit[0] - c).max(), np.abs(lit[1] - c).max()))
+    return surf.subsurface((c - k, c - k, 2 * k + 1, 2 * k + 1)).copy()
 
 
 def glow_surface(radius: float, color: Color, strength: float) -> pygame.Surface:
@@ -227,7 +239,7 @@ def _ring_base(r: int, w: float) -> pygame.Surface:
         outer = int(r + 2.5 * w + 2)
         vals = _radial(outer, lambda d: np.exp(-((d * outer - r) / (0.45 * w)) ** 2)
                        + 0.35 * np.exp(-((d * outer - r) / w) ** 2))
-        surf = _remember(_ring_bases, (r, w), _rgb_surface(vals, (255, 255, 255)))
+        surf = _remember(_ring_bases, (r, w), _lit_square(_rgb_surface(vals, (255, 255, 255))))
     return surf
 
 

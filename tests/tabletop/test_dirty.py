@@ -88,3 +88,23 @@ def test_joined_rectangles_still_cover_every_tile_once_and_add_little():
         # each join adds at most the slack
         assert np.count_nonzero(cover) - np.count_nonzero(was) <= 2000 * (len(tiles) - len(joined))
     assert fewer >= 10
+
+
+def test_a_light_is_blitted_without_a_dark_border():
+    """Glows and halo rings are pre-rendered as the square of their lit pixels: no row or
+    column of black around them to blend and repaint every frame, their centre still the
+    square's centre pixel, the ramp the same."""
+    from tabletop.drawing import primitives as P
+    lights = [P.glow_surface(r, (240, 170, 60), 0.3) for r in (9.0, 55.0, 110.0)]
+    lights += [P.ring_surface(r, w, (90, 200, 255), 0.8) for r, w in ((45, 6.2), (60, 8.0))]
+    for g in lights:
+        v = pygame.surfarray.array3d(g).max(axis=2)
+        n = v.shape[0]
+        assert v.shape == (n, n) and n % 2 == 1
+        for edge in (v[0], v[-1], v[:, 0], v[:, -1]):
+            assert edge.max() > 0, "a dark row or column around the light"
+        assert np.array_equal(v, v[::-1]) and np.array_equal(v, v[:, ::-1])   # centred
+    glow = pygame.surfarray.array3d(lights[2]).max(axis=2)
+    c = glow.shape[0] // 2
+    assert glow[c, c] == glow.max()               # brightest in the middle, fading out
+    assert glow[c, 0] < 0.05 * glow.max()
