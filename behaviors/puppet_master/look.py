@@ -21,9 +21,9 @@ the live reactor does not move.
 The steadiest frame is taken even where it wins by a hair. At the lover's RELATIVE samples (3%
 of them) it faced its main throughout and both frames were steady within its hand's tremor
 (spreads 4e-4 against 5e-4); on an unseen main whose look goes elsewhere those moments turn
-the look off the main: a third of its steps at the turn limit on seed 0's fast path, its
-per-step look change 1.4-1.8x the demonstration's on 5 of 21 fast and loops paths (its
-designer's own lover 1.05x). Another frame required to be 1.5x as steady as the gaze brings
+the look off the main: 34 of its 87 steps at the turn limit on seed 0's fast path, its
+per-step look change 1.5-1.8x the demonstration's on 5 of its 14 fast and loops paths of seeds
+0-5 and 7 (its designer's own lover 1.0-1.1x). Another frame required to be 1.5x as steady as the gaze brings
 the lover's look change under 1.5x on all of them and lowers it on 20 of 21, but re-matches
 every character: bench/fidelity.py --seeds 0,1,2,3,4,5 632 -> 640 of 720 (pursuit 40 -> 43),
 held-out seed 7 108 -> 108, seeds 8-13 630 -> 636, 14-19 650 -> 650; yet on seed 0's slow path
