@@ -285,7 +285,18 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     kept whole under the cap and the correction given what is left 41 / 7 (orbit 0.38-0.60).
     None kept: the matched moments are themselves slow flights (0.42-0.45 m from the main,
     0.19-0.24 m/s, where the live character is at 0.2-0.45 m), so the flight left is short
-    whatever the correction does.
+    whatever the correction does. Measured as well (same figures): the part cut off carried
+    along the edge away from the visitor 28 / 5 (caught: 0.14-0.32 m from it); the fit at the
+    live distance where it is nearer than the matched one 34 / 7; onto the table shrunk by
+    0.05 / 0.1 / 0.2 m 40 / 40 / 39 (7 / 7 / 6); the bearing point nearest the reactor less 1x /
+    2x its room to an edge (at most 0.2 m) 41 / 39 (7 / 7; seeds 8-19: 79 -> 78 / 81 of 96),
+    edge share 0.24-0.71 but orbit unchanged; the correction toward a moved target only along
+    the bearing 29 / 7 (pinned at the edge); the catch-up from the unmoved target 37 / 7; a
+    world-held place nearer than its moment at least as fast as the demonstration at that
+    distance while its main closed in (median 0.17-0.26 m/s) 41 / 7 (seeds 8-19: 79 -> 75).
+    The orbit (0.41-0.51 rad/s) fell only where the visitor caught the character: the turn
+    round the visitor is the dodge that keeps it uncaught; between 0.3 and 0.45 m the matched
+    moments' own outward step is 0.04-0.07 m/s against the demonstration's 0.12 there.
     """
     x0, y0, x1, y1 = table
     if x0 <= tx <= x1 and y0 <= ty <= y1:
