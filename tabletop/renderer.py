@@ -226,26 +226,19 @@ class Renderer:
                 # character's own (lively) colour, casting no glow
                 ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
                                             light=0.0, color=lighten(vivid(tuple(c.color)), 0.3))
-                hinted = self._draw_points(target, c, ghost, self._pixels(pr.hint_points))
-            return P.union([hinted, self._draw_points(target, c, pose, self._pixels(c.points))])
+                hinted = self._draw_points(target, c, ghost, pr.hint_points)
+            return P.union([hinted, self._draw_points(target, c, pose, c.points)])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
         return characters.draw_reactor(target, c, pose)
 
-    def _pixels(self, xy: np.ndarray) -> np.ndarray:
-        """Table points (N x 2 metres) -> pixels, compiled (a character's few points)."""
-        return pose_kernel.to_pixels(self.map.H, np.ascontiguousarray(xy, dtype=np.float64)
-                                     .reshape(-1, 2))
-
-    @staticmethod
-    def _draw_points(target: pygame.Surface, c: CharacterState, pose: Pose,
-                     pts: np.ndarray) -> pygame.Rect | None:
-        """A character given by points (``pts``: pixels), drawn as its kind."""
-        if c.kind == "face":
-            return characters.draw_face(target, c, pose, pts)
-        if c.kind == "hybrid":
-            return characters.draw_hybrid(target, c, pose, pts)
-        return characters.draw_figure(target, c, pose, pts)
+    def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
+                     xy: np.ndarray) -> pygame.Rect | None:
+        """A character given by points (``xy``: N x 2 table metres), drawn as its kind."""
+        xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
+        draw = (characters.draw_face if c.kind == "face" else characters.draw_hybrid
+                if c.kind == "hybrid" else characters.draw_figure)
+        return draw(target, c, pose, xy, self.map.H)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         img = self._labels.get(puck_id)
