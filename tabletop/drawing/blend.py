@@ -43,3 +43,16 @@ def put(pix: np.ndarray, x: int, y: int, ink: tuple, cov: float) -> None:
     b = db + (((sb - db) * c + 128) >> 8)
     pix[x, y] = np.uint32((r << rs) | (g << gs) | (b << bs) | (old & keep) | opaque)
 
+
+
+@kernel(inline="always")
+def fill(pix: np.ndarray, y: int, x0: int, x1: int, ink: tuple) -> None:
+    """Pixels x0..x1 (inclusive, on the surface) of row ``y`` fully covered by ``ink``: what
+    :func:`put` writes at coverage 1, in a loop the compiler vectorises (a row's run, not a
+    pixel at a time)."""
+    sr, sg, sb, rs, gs, bs, keep, opaque = ink
+    col = np.uint32((sr << rs) | (sg << gs) | (sb << bs) | opaque)
+    k = np.uint32(keep & 0xFFFFFFFF)
+    row = pix[x0:x1 + 1, y]
+    for x in range(row.shape[0]):
+        row[x] = (row[x] & k) | col

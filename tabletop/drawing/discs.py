@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from tabletop.drawing.blend import pen, put
+from tabletop.drawing.blend import fill, pen, put
 from tabletop.drawing.kernel_cache import kernel
 
 
@@ -41,8 +41,8 @@ def disc(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, col: 
         for x in range(xa, min(ia, xb + 1)):
             dx = x - cx
             put(pix, x, y, ink, e - math.sqrt(dx * dx + dy * dy))
-        for x in range(ia, ib + 1):
-            put(pix, x, y, ink, 1.0)
+        if ia <= ib:
+            fill(pix, y, ia, ib, ink)
         for x in range(max(ib + 1, xa), xb + 1):
             dx = x - cx
             put(pix, x, y, ink, e - math.sqrt(dx * dx + dy * dy))

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from tabletop.drawing.blend import pen, put
+from tabletop.drawing.blend import fill, pen, put
 from tabletop.drawing.discs import disc
 from tabletop.drawing.kernel_cache import kernel
 
@@ -97,8 +97,8 @@ def capsule(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, bx: float, b
             if lo <= hi:
                 ia, ib = max(xa, int(math.ceil(lo))), min(xb, int(math.floor(hi)))
         py = y - ay
-        for x in range(ia, ib + 1):
-            put(pix, x, y, ink, 1.0)
+        if ia <= ib:
+            fill(pix, y, ia, ib, ink)
         for x in range(xa, min(ia, xb + 1)):
             _side(pix, x, y, ink, x - ax, py, vx, vy, inv, e)
         for x in range(max(ib + 1, xa), xb + 1):
@@ -135,34 +135,46 @@ def _quad(ax: float, ay: float, ra: float, bx: float, by: float, rb: float) -> t
 
 
 @kernel(inline="always")
-def _cross(lo: float, hi: float, y: float, x0: float, y0: float, x1: float,
-           y1: float) -> tuple:
-    """(lo, hi) widened to where the segment (x0, y0)-(x1, y1) crosses row ``y``."""
+def _slopes(qd: tuple) -> tuple:
+    """dx/dy of the two touching lines of a :func:`_quad` (0 where one is level)."""
+    x1, y1, x2, y2, x3, y3, x4, y4 = qd
+    return ((x2 - x1) / (y2 - y1) if y1 != y2 else 0.0,
+            (x4 - x3) / (y4 - y3) if y3 != y4 else 0.0)
+
+
+@kernel(inline="always")
+def _cross(lo: float, hi: float, y: float, x0: float, y0: float, y1: float,
+           dxdy: float) -> tuple:
+    """(lo, hi) widened to where the segment from (x0, y0) to height ``y1`` (``dxdy`` its
+    dx/dy) crosses row ``y``."""
     if (y0 - y) * (y1 - y) <= 0.0 and y0 != y1:
-        x = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+        x = x0 + (y - y0) * dxdy
         lo, hi = min(lo, x), max(hi, x)
     return lo, hi
 
 
 @kernel(inline="always")
 def _cone_row(y: float, ax: float, ay: float, ra: float, bx: float, by: float, rb: float,
-              qd: tuple) -> tuple:
+              qd: tuple, sl: tuple) -> tuple:
     """(lo, hi): the x of row ``y`` inside the hull of the circles (radius ``ra`` around a,
     ``rb`` around b; ``qd`` from :func:`_quad`) (lo > hi: none). The hull is convex: its row
-    is the union of the circles' chords and the touching quadrilateral's."""
+    is the union of the circles' chords and the touching quadrilateral's (``sl``: its sides'
+    :func:`_slopes`)."""
     lo, hi = _chords(y, ax, ay, ra, bx, by, rb)
     x1, y1, x2, y2, x3, y3, x4, y4 = qd
-    lo, hi = _cross(lo, hi, y, x1, y1, x2, y2)
-    lo, hi = _cross(lo, hi, y, x3, y3, x4, y4)
+    lo, hi = _cross(lo, hi, y, x1, y1, y2, sl[0])
+    lo, hi = _cross(lo, hi, y, x3, y3, y4, sl[1])
     return lo, hi
 
 
 @kernel(inline="always")
-def _cone_sd(px: float, py: float, vx: float, vy: float, l2: float, a2: float, il2: float,
-             rr: float, ra: float, rb: float) -> float:
+def _cone_sd(px: float, py: float, vx: float, vy: float, l2: float, a2: float, sa2: float,
+             il2: float, rr: float, ra: float, rb: float) -> float:
     """Signed distance (px) from (px, py) (from a) to the hull of the circles of radius ``ra``
     around a and ``rb`` around b = a + (vx, vy) (``l2`` = |v|^2, ``rr`` = ra - rb, ``a2`` =
-    l2 - rr^2, ``il2`` = 1 / l2): the round cone's distance after Inigo Quilez."""
+    l2 - rr^2, ``sa2`` its square root, ``il2`` = 1 / l2): the round cone's distance after
+    Inigo Quilez. Beside the limb (most of its edge pixels) no square root is taken: there
+    Quilez's sqrt(x2 a2 / l2) is |p x v| sqrt(a2)."""
     y = px * vx + py * vy
     z = y - l2
     qx, qy = px * l2 - vx * y, py * l2 - vy * y
@@ -172,7 +184,7 @@ def _cone_sd(px: float, py: float, vx: float, vy: float, l2: float, a2: float, i
         return math.sqrt(x2 + z * z * l2) * il2 - rb
     if math.copysign(a2 * y * y * l2, y) < k:
         return math.sqrt(x2 + y * y * l2) * il2 - ra
-    return (math.sqrt(x2 * a2 * il2) + y * rr) * il2 - ra
+    return (abs(px * vy - py * vx) * sa2 + y * rr) * il2 - ra
 
 
 @kernel
@@ -201,25 +213,27 @@ def cone(pix: np.ndarray, fmt: np.ndarray, ax: float, ay: float, ra: float, bx: 
     outer = _quad(ax, ay, ea, bx, by, eb)
     ia_, ib_ = max(0.0, ra - 0.5), max(0.0, rb - 0.5)
     inner = _quad(ax, ay, ia_, bx, by, ib_)
+    so, si = _slopes(outer), _slopes(inner)
     # the signed distance to the hull (a round cone), one square root per pixel
     a2 = l2 - rr * rr
+    sa2 = math.sqrt(a2)
     il2 = 1.0 / l2
     ink = pen(fmt, col)
     for y in range(y0, y1 + 1):
-        lo, hi = _cone_row(y, ax, ay, ea, bx, by, eb, outer)
+        lo, hi = _cone_row(y, ax, ay, ea, bx, by, eb, outer, so)
         xa, xb = max(0, int(math.ceil(lo))), min(W - 1, int(math.floor(hi)))
         if xa > xb:
             continue
         ia, ib = xb + 1, xb
         if ia_ > 0.0 or ib_ > 0.0:
-            lo, hi = _cone_row(y, ax, ay, ia_, bx, by, ib_, inner)
+            lo, hi = _cone_row(y, ax, ay, ia_, bx, by, ib_, inner, si)
             if lo <= hi:
                 ia, ib = max(xa, int(math.ceil(lo))), min(xb, int(math.floor(hi)))
-        for x in range(ia, ib + 1):
-            put(pix, x, y, ink, 1.0)
+        if ia <= ib:
+            fill(pix, y, ia, ib, ink)
         py = y - ay
         for x in range(xa, min(ia, xb + 1)):
-            put(pix, x, y, ink, 0.5 - _cone_sd(x - ax, py, vx, vy, l2, a2, il2, rr, ra, rb))
+            put(pix, x, y, ink, 0.5 - _cone_sd(x - ax, py, vx, vy, l2, a2, sa2, il2, rr, ra, rb))
         for x in range(max(ib + 1, xa), xb + 1):
-            put(pix, x, y, ink, 0.5 - _cone_sd(x - ax, py, vx, vy, l2, a2, il2, rr, ra, rb))
+            put(pix, x, y, ink, 0.5 - _cone_sd(x - ax, py, vx, vy, l2, a2, sa2, il2, rr, ra, rb))
 
