@@ -1,6 +1,7 @@
 """Filled polygons, compiled (numba), anti-aliased by the exact area they cover in each pixel:
 each edge leaves a signed area in the pixels it crosses, accumulated along the row (non-zero
-winding); ellipses as polygons.
+winding); a run of pixels no edge touched has the coverage of the pixel before it and is
+filled at once (found eight columns at a time); ellipses as polygons.
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ import math
 
 import numpy as np
 
-from tabletop.drawing.blend import pen, put
+from tabletop.drawing.blend import fill, pen, put
 from tabletop.drawing.kernel_cache import kernel
 
 
@@ -94,11 +95,31 @@ def polygon(pix: np.ndarray, fmt: np.ndarray, xs: np.ndarray, ys: np.ndarray, n:
     for i in range(n):
         j = i + 1 if i + 1 < n else 0
         _edge(acc, X0, Y0, xs[i] + 0.5, ys[i] + 0.5, xs[j] + 0.5, ys[j] + 0.5, xmax)
+    nw = (cols + 8) // 8
+    hit = np.zeros(8 * nw, np.bool_)     # the row's columns an edge touched, and an end mark
+    words = hit.view(np.uint64)
     for r in range(acc.shape[0]):
-        s = 0.0
-        for c in range(cols):
-            s += acc[r, c]
-            put(pix, X0 + c, Y0 + r, ink, abs(s))
+        y, s, c = Y0 + r, 0.0, 0
+        row = acc[r]
+        for x in range(cols):
+            hit[x] = row[x] != 0.0
+        hit[cols] = True
+        while c < cols:
+            s += row[c]
+            e = c + 1                  # the columns after c that no edge touched: same cover
+            while not hit[e]:
+                if e & 7 == 0 and words[e >> 3] == 0:
+                    e += 8
+                else:
+                    e += 1
+            cov = abs(s)
+            k = np.int64(cov * 256.0 + 0.5)      # (as put rounds it)
+            if k >= 256:
+                fill(pix, y, X0 + c, X0 + e - 1, ink)
+            elif k > 0:
+                for x in range(X0 + c, X0 + e):
+                    put(pix, x, y, ink, cov)
+            c = e
 
 
 @kernel
