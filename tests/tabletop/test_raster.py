@@ -126,3 +126,32 @@ def test_kernels_draw_through_a_view_that_follows_the_surface_and_leaves_it_unlo
             assert lit[100, 90] and 150 < lit.sum() < 260, size      # pi 8.5^2 ~ 227 px
     finally:
         pygame.display.quit()
+
+
+def test_runs_filled_at_once_blend_as_pixel_by_pixel_and_keep_what_is_between():
+    # A U (concave: rows cross it twice, a notch of untouched pixels between two filled runs)
+    # over a translucent ground: inside exactly the colour made opaque, the notch and the
+    # outside untouched, the area exact; a tapered limb's and a disc's inner runs likewise.
+    s = pygame.Surface((200, 160), pygame.SRCALPHA, 32)
+    ground = (20, 40, 60, 64)
+    s.fill(ground)
+    xs = np.array([20.4, 180.2, 180.2, 130.7, 130.7, 70.3, 70.3, 20.4])
+    ys = np.array([140.6, 140.6, 20.2, 20.2, 100.5, 100.5, 20.2, 20.2])
+    raster.draw(s, polygon, xs, ys, len(xs), 0xC08040)
+    px = pygame.surfarray.pixels3d(s)
+    alpha = pygame.surfarray.pixels_alpha(s)
+    assert tuple(px[100, 120]) == (0xC0, 0x80, 0x40) and alpha[100, 120] == 255
+    assert tuple(px[50, 40]) == (0xC0, 0x80, 0x40) and tuple(px[150, 40]) == (0xC0, 0x80, 0x40)
+    assert tuple(px[100, 60]) == ground[:3] and alpha[100, 60] == 64      # the notch
+    assert tuple(px[5, 5]) == ground[:3] and alpha[5, 5] == 64
+    red = px[..., 0].astype(float)
+    cov = (red - ground[0]) / (0xC0 - ground[0])
+    area = 160 * 120 - 60 * 80
+    assert abs(cov.sum() - area) < 0.002 * area
+    del px, alpha
+    t = fresh((120, 120))
+    t.fill((10, 10, 10))
+    raster.draw(t, cone, 20.0, 30.0, 12.0, 100.0, 90.0, 6.0, 0xFFFFFF)
+    raster.draw(t, disc, 90.0, 25.0, 15.0, 0xFFFFFF)
+    c = covered(t)
+    assert c[20, 30] == 1.0 and c[60, 60] == 1.0 and c[90, 25] == 1.0 and c[5, 110] == 10 / 255
