@@ -7,7 +7,9 @@ own stamp, a change to ``limbs.py`` would leave the figure drawn by the old limb
 ``character_kernel.py`` changed. Kernels made with :func:`kernel` are stamped with the contents of
 every file in :data:`FILES` instead: a change to any of them compiles them all again (about 20 s
 of CPU, once; ``make kernels`` does it). Everything else is numba's in-tree cache (or its
-user-wide one where the package's ``__pycache__`` cannot be written).
+user-wide one where the package's ``__pycache__`` cannot be written), through numba's own
+cache classes (``numba.core.caching``: the version is pinned in pyproject.toml;
+``tests/tabletop/test_kernel_cache.py`` checks every kernel is stamped so).
 """
 
 from __future__ import annotations
