@@ -29,10 +29,10 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 @functools.lru_cache(maxsize=8)
-def _stamp(stats: tuple) -> bytes:
+def _stamp(here: str, stats: tuple) -> bytes:
     h = hashlib.sha256()
     for name in FILES:
-        with open(os.path.join(_HERE, name), "rb") as f:
+        with open(os.path.join(here, name), "rb") as f:
             h.update(f.read())
     return h.digest()
 
@@ -40,8 +40,8 @@ def _stamp(stats: tuple) -> bytes:
 def stamp() -> bytes:
     """The digest of every file in :data:`FILES` (read again only when one's size or time
     changed)."""
-    return _stamp(tuple((st.st_mtime_ns, st.st_size) for st in
-                        (os.stat(os.path.join(_HERE, n)) for n in FILES)))
+    return _stamp(_HERE, tuple((st.st_mtime_ns, st.st_size) for st in
+                               (os.stat(os.path.join(_HERE, n)) for n in FILES)))
 
 
 class _Stamped:
