@@ -16,8 +16,10 @@ from typing import Sequence
 import numpy as np
 import pygame
 
-from tabletop.drawing import primitives as P
+from tabletop.drawing import character_kernel as K
 from tabletop.drawing import pose_kernel, raster
+from tabletop.drawing import primitives as P
+from tabletop.drawing.discs import discs
 from tabletop.drawing.palette import (EYE_WHITE, INK, Color, fade, lighten, remember, rgb,
                                       shade)
 from tabletop.frames import CharacterState
@@ -100,7 +102,7 @@ def _squash(pose: Pose) -> tuple[float, float, float, float]:
 # still blits the figure's whole rectangle with per-pixel alpha (a 221 px square costs ~0.1 ms
 # with a cold cache here) and a miss draws the figure twice (on black and on white, for its
 # coverage) and extracts it: more lost on misses than won on hits. Each character's shapes are
-# rasterised by one compiled call (tabletop.drawing.raster) instead.
+# rasterised by one compiled call (tabletop.drawing.character_kernel) instead.
 _BODY_UV = np.ascontiguousarray(REACTOR_BODY, dtype=np.float64)
 _EYES_UV = np.ascontiguousarray(REACTOR_EYES, dtype=np.float64)
 
@@ -126,7 +128,7 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     # (every scalar a float: a kernel given an int where it was compiled for a float compiles
     # again, seconds, in the middle of a frame)
     foot, _, _, dark, body, _, belly, white, ink = inks(pose.color, pose.alpha)
-    raster.draw(surf, raster.reactor, _BODY_UV, _EYES_UV, M, float(pose.breath), float(cx),
+    raster.draw(surf, K.reactor, _BODY_UV, _EYES_UV, M, float(pose.breath), float(cx),
                 float(cy), float(L), ca, sa, float(step), foot, dark, body, belly,
                 float(pose.blink), float(pose.gaze), float(pose.angle), white, ink)
     # (everything of it lies within 0.9 L of its centre, its feet and stretch included)
@@ -174,9 +176,10 @@ def _valid_bones(n: int, bones: Sequence[tuple[int, int]]) -> list[tuple[int, in
 
 def pack_topology(bones: list, limb_points: list, spine_points: list, knots: list,
                   spine: list, n_limbs: int) -> np.ndarray:
-    """A figure's topology as one int array for :func:`tabletop.drawing.raster.figure`: a header of (bones, limbs,
-    limb points, spine points, knots, spine length), then the bones (limbs first) as pairs,
-    the limb points, spine points, knots and the spine."""
+    """A figure's topology as one int array for
+    :func:`tabletop.drawing.character_kernel.figure`: a header of (bones, limbs, limb points,
+    spine points, knots, spine length), then the bones (limbs first) as pairs, the limb
+    points, spine points, knots and the spine."""
     flat = [p for ab in bones for p in ab]
     return np.array([len(bones), n_limbs, len(limb_points), len(spine_points), len(knots),
                      len(spine)] + flat + list(limb_points) + list(spine_points) + list(knots)
@@ -184,8 +187,9 @@ def pack_topology(bones: list, limb_points: list, spine_points: list, knots: lis
 
 
 def pack_loops(loops: list) -> np.ndarray:
-    """A face's loops ((point indices, closed) pairs) as one int array for :func:`tabletop.drawing.raster.face`: their
-    count, (start, length, closed) per loop, then every loop's indices."""
+    """A face's loops ((point indices, closed) pairs) as one int array for
+    :func:`tabletop.drawing.character_kernel.face`: their count, (start, length, closed) per
+    loop, then every loop's indices."""
     head = [len(loops)]
     flat: list[int] = []
     start = 1 + 3 * len(loops)
@@ -200,8 +204,8 @@ _topologies: dict[tuple, tuple | None] = {}
 
 def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple | None:
     """(relative thickness per point, the spine's points but its last, the topology packed for
-    :func:`tabletop.drawing.raster.figure`: valid bones limbs first, the spine over them) of a
-    figure, computed once per bone set; None when no bone is valid."""
+    :func:`tabletop.drawing.character_kernel.figure`: valid bones limbs first, the spine over
+    them) of a figure, computed once per bone set; None when no bone is valid."""
     key = (n, tuple(bones))
     try:
         return _topologies[key]
@@ -225,50 +229,49 @@ def topology(n: int, bones: Sequence[tuple[int, int]]) -> tuple | None:
     return remember(_topologies, key, topo, 256)
 
 
-_KINDS = {"skeleton": raster.SKELETON, "creature": raster.CREATURE, "sprite": raster.SPRITE}
+_KINDS = {"skeleton": K.SKELETON, "creature": K.CREATURE, "sprite": K.SPRITE}
 _WIDTHS = {"skeleton": 0.03, "sprite": 0.075}      # a limb's half-width, of the figure's size
 
 
-def _posed(c: CharacterState, pose: Pose, pts: np.ndarray) -> tuple[np.ndarray, float] | None:
-    """A figure's points (pixels) scaled about the pose's centre by its growth and breath, and
-    the figure's size in pixels; None when there is nothing finite to draw."""
-    out = pose_kernel.grown(np.ascontiguousarray(pts, dtype=np.float64), float(pose.center[0]),
-                            float(pose.center[1]), float(pose.scale * pose.breath))
-    if len(out) == 0:                                          # NaN or inf anywhere
+def _posed(c: CharacterState, pose: Pose, xy: np.ndarray, H: np.ndarray) -> tuple | None:
+    """A figure's points (table metres ``xy``, mapped to pixels by ``H``) scaled about the
+    pose's centre by its growth and breath, in one compiled call: (points px, their bounds
+    (x0, y0, x1, y1) px, the figure's size px); None when there is nothing finite to draw."""
+    pts, x0, y0, x1, y1 = pose_kernel.posed(H, xy, float(pose.center[0]), float(pose.center[1]),
+                                            float(pose.scale * pose.breath))
+    if len(pts) == 0:                                          # NaN or inf anywhere
         return None
-    return out, c.size * pose.ppm * pose.scale
+    return pts, (x0, y0, x1, y1), c.size * pose.ppm * pose.scale
 
 
-def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose,
-                pts: np.ndarray, head: bool = True) -> pygame.Rect | None:
-    """An articulated figure (skeleton, creature, sprite sheet): limbs with thickness and
-    joints, the spine (from the first bone, first children on) thickest, a head with eyes at the
-    spine's end (unless ``head`` is False). Returns the rectangle it touched."""
-    n = len(pts)
-    posed = _posed(c, pose, pts)
+def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
+                H: np.ndarray, head: bool = True) -> pygame.Rect | None:
+    """An articulated figure (skeleton, creature, sprite sheet) of points ``xy`` (N x 2 table
+    metres, mapped to pixels by ``H``): limbs with thickness and joints, the spine (from the
+    first bone, first children on) thickest, a head with eyes at the spine's end (unless
+    ``head`` is False). Returns the rectangle it touched."""
+    posed = _posed(c, pose, xy, H)
     if posed is None:
         return None
-    pts, fig = posed
-    x0, y0, x1, y1 = pose_kernel.bounds(pts)
+    pts, box, fig = posed
+    x0, y0, x1, y1 = box
     # The glow's size follows the figure's grown-up size, not its pose or its growing in (its
     # strength fades in): one cached light per figure.
     touched = P.glow(surf, ((x0 + x1) / 2, (y0 + y1) / 2), 0.42 * c.size * pose.ppm + 6, pose.color,
                      0.26 * pose.alpha * pose.light)
-    topo = topology(n, c.bones)
+    topo = topology(len(pts), c.bones)
     w0 = max(1.5, _WIDTHS.get(c.kind, 0.045) * fig)
     _, dark, _, _, body, light, _, white, ink = inks(pose.color, pose.alpha)
     if topo is None:
         r = max(2.0, 0.03 * fig)
-        raster.draw(surf, raster.discs, pts, float(r + 0.5), body)
-        return P.union([touched, P.bounds(pts, r + 2)])
+        raster.draw(surf, discs, pts, float(r + 0.5), body)
+        return P.union([touched, P.box(box, r + 2)])
     rel, _, tp = topo
     wspine = w0 * (1.25 if c.kind == "skeleton" else 1.0)
-    raster.draw(surf, raster.figure, pts, rel, tp, _KINDS.get(c.kind, raster.OTHER), float(w0),
+    raster.draw(surf, K.figure, pts, rel, tp, _KINDS.get(c.kind, K.OTHER), float(w0),
                 float(wspine), float(fig), bool(head), dark, body, light, float(pose.angle),
                 float(pose.gaze), float(pose.blink), white, ink)
-    pad = wspine + 0.08 * fig + 2
-    x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
-    return P.union([touched, pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)])
+    return P.union([touched, P.box(box, wspine + 0.08 * fig + 2)])
 
 
 def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
@@ -282,9 +285,9 @@ def _loops(bones: Sequence[tuple[int, int]]) -> list[tuple[list[int], bool]]:
 
 @functools.lru_cache(maxsize=64)
 def _face_loops(n: int, bones: tuple) -> tuple[np.ndarray, np.ndarray] | None:
-    """A face's loops (see :func:`_loops`) packed for :func:`tabletop.drawing.raster.face`, and
-    its head's points (the first closed loop; none without one), found once per bone set; None
-    without loops."""
+    """A face's loops (see :func:`_loops`) packed for
+    :func:`tabletop.drawing.character_kernel.face`, and its head's points (the first closed
+    loop; none without one), found once per bone set; None without loops."""
     loops = _loops(_valid_bones(n, bones))
     if not loops:
         return None
@@ -292,17 +295,17 @@ def _face_loops(n: int, bones: tuple) -> tuple[np.ndarray, np.ndarray] | None:
     return pack_loops(loops), np.array(heads[0], dtype=np.int64)
 
 
-def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
-              pts: np.ndarray) -> pygame.Rect | None:
-    """A face: its first closed loop is the head (filled, on a glow), smaller closed loops are
-    eyes (white with pupils looking along the gaze, blinking) or the mouth (dark), open strokes
-    are brows and nose drawn thick. Returns the rectangle it touched."""
-    n = len(pts)
-    posed = _posed(c, pose, pts)
+def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
+              H: np.ndarray) -> pygame.Rect | None:
+    """A face of points ``xy`` (N x 2 table metres, mapped to pixels by ``H``): its first closed
+    loop is the head (filled, on a glow), smaller closed loops are eyes (white with pupils
+    looking along the gaze, blinking) or the mouth (dark), open strokes are brows and nose
+    drawn thick. Returns the rectangle it touched."""
+    posed = _posed(c, pose, xy, H)
     if posed is None:
         return None
-    pts, fig = posed
-    loops = _face_loops(n, tuple(c.bones))
+    pts, box, fig = posed
+    loops = _face_loops(len(pts), tuple(c.bones))
     if loops is None:
         return None
     lp, head = loops
@@ -312,9 +315,9 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose,
         glow = P.glow(surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
                       0.32 * pose.alpha * pose.light)
     _, _, shadow, _, body, _, _, white, ink = inks(pose.color, pose.alpha)
-    raster.draw(surf, raster.face, pts, lp, float(max(1.5, 0.022 * fig)), shadow, body, white,
+    raster.draw(surf, K.face, pts, lp, float(max(1.5, 0.022 * fig)), shadow, body, white,
                 ink, float(pose.blink), float(pose.gaze), float(pose.angle))
-    return P.union([P.bounds(pts, 0.06 * fig + 2), glow])
+    return P.union([P.box(box, 0.06 * fig + 2), glow])
 
 
 @functools.lru_cache(maxsize=64)
@@ -340,14 +343,14 @@ def hybrid_parts(n: int, bones: tuple) -> tuple[int, tuple, tuple] | None:
             tuple((a - k, b - k) for a, b in valid if a >= k))
 
 
-def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose,
-                pts: np.ndarray) -> pygame.Rect | None:
+def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
+                H: np.ndarray) -> pygame.Rect | None:
     """A hybrid character: its body drawn as a creature's (no head of its own) and its face
-    drawn as a face where the head would be. ``pts``: every point in pixels. Returns the
-    rectangle it touched."""
-    parts = hybrid_parts(len(pts), tuple(c.bones))
+    drawn as a face where the head would be. ``xy``: every point (table metres, mapped to
+    pixels by ``H``). Returns the rectangle it touched."""
+    parts = hybrid_parts(len(xy), tuple(c.bones))
     if parts is None or c.points is None:
-        return draw_figure(surf, c, pose, pts)
+        return draw_figure(surf, c, pose, xy, H)
     k, body_bones, face_bones = parts
     face_m = np.asarray(c.points)[k:]
     if not np.all(np.isfinite(face_m)):
@@ -355,5 +358,5 @@ def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose,
     body = replace(c, kind="creature", bones=body_bones, points=None, hint_points=None)
     face = replace(c, kind="face", bones=face_bones, points=None, hint_points=None,
                    size=float(np.ptp(face_m, axis=0).max()))
-    return P.union([draw_figure(surf, body, pose, pts[:k], head=False),
-                    draw_face(surf, face, pose, pts[k:])])
+    return P.union([draw_figure(surf, body, pose, xy[:k], H, head=False),
+                    draw_face(surf, face, pose, xy[k:], H)])

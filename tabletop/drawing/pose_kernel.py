@@ -1,6 +1,6 @@
 """Characters' placement on screen, compiled (numba): every character's centre, scale, heading,
 gaze and motion direction in one call per frame, and a figure's points mapped to pixels, grown
-about its centre and bounded in one call each.
+about its centre and bounded in one call per figure.
 
 Each was a handful of small numpy operations or a Python loop over the pucks per character
 (~1-3 us apiece); one compiled call replaces them. Compiled once into the cache beside this
@@ -68,45 +68,28 @@ def places(v: np.ndarray, H: np.ndarray, pucks: np.ndarray, look_range: float,
 
 
 @numba.njit(**_JIT)
-def to_pixels(H: np.ndarray, xy: np.ndarray) -> np.ndarray:
-    """Points (N x 2 table metres) -> pixels (N x 2) through ``H``."""
-    out = np.empty((xy.shape[0], 2))
-    for i in range(xy.shape[0]):
-        out[i, 0], out[i, 1] = _map(H, xy[i, 0], xy[i, 1])
-    return out
-
-
-@numba.njit(**_JIT)
-def grown(pts: np.ndarray, cx: float, cy: float, k: float) -> np.ndarray:
-    """Points (N x 2 px) grown by ``k`` about (cx, cy); an empty array when any is not
-    finite."""
-    out = np.empty((pts.shape[0], 2))
-    for i in range(pts.shape[0]):
-        x, y = pts[i, 0], pts[i, 1]
+def posed(H: np.ndarray, xy: np.ndarray, cx: float, cy: float, k: float) -> tuple:
+    """A figure's points on screen: table points (N x 2 metres) mapped to pixels by ``H`` and
+    grown by ``k`` about (cx, cy) px, with their bounds: (points N x 2 px, smallest x, y,
+    largest x, y); no points (0 x 2) when one is not finite or there are none."""
+    n = xy.shape[0]
+    out = np.empty((n, 2))
+    x0, y0, x1, y1 = math.inf, math.inf, -math.inf, -math.inf
+    for i in range(n):
+        x, y = _map(H, xy[i, 0], xy[i, 1])
         if not (math.isfinite(x) and math.isfinite(y)):
-            return np.empty((0, 2))
-        out[i, 0], out[i, 1] = (x - cx) * k + cx, (y - cy) * k + cy
-    return out
-
-
-@numba.njit(**_JIT)
-def bounds(pts: np.ndarray) -> tuple:
-    """(x0, y0, x1, y1): the smallest and largest x and y of points (N >= 1 x 2); NaN when any
-    is not finite."""
-    x0, y0, x1, y1 = pts[0, 0], pts[0, 1], pts[0, 0], pts[0, 1]
-    for i in range(pts.shape[0]):
-        x, y = pts[i, 0], pts[i, 1]
-        if not (math.isfinite(x) and math.isfinite(y)):
-            return math.nan, math.nan, math.nan, math.nan
+            return np.empty((0, 2)), math.nan, math.nan, math.nan, math.nan
+        x, y = (x - cx) * k + cx, (y - cy) * k + cy
+        out[i, 0], out[i, 1] = x, y
         x0, y0, x1, y1 = min(x0, x), min(y0, y), max(x1, x), max(y1, y)
-    return x0, y0, x1, y1
+    return out, x0, y0, x1, y1
 
 
 def warm() -> None:
     """Compile (or load from the cache) the kernels."""
     out = np.empty((1, FIELDS))
     places(np.zeros((1, 6)), np.eye(3), np.zeros((1, 2)), 0.5, out)
-    bounds(grown(to_pixels(np.eye(3), np.zeros((1, 2))), 0.0, 0.0, 1.0))
+    posed(np.eye(3), np.zeros((1, 2)), 0.0, 0.0, 1.0)
     frozen = np.zeros((1, 2))
     frozen.setflags(write=False)          # characters' points are read-only: another signature
-    to_pixels(np.eye(3), frozen)
+    posed(np.eye(3), frozen, 0.0, 0.0, 1.0)

@@ -22,7 +22,6 @@ import numpy as np
 import pygame
 import pygame.gfxdraw as gfx
 
-from tabletop.drawing import pose_kernel
 from tabletop.drawing.palette import Color, remember
 
 _CACHE_MAX = 512
@@ -243,15 +242,10 @@ def _ring_base(r: int, w: float) -> pygame.Surface:
     return surf
 
 
-def bounds(pts: np.ndarray, pad: float) -> pygame.Rect | None:
-    """The pixel rectangle around points (N x 2) grown by ``pad`` on every side (None without
-    points or when one is not finite)."""
-    pts = np.ascontiguousarray(pts, dtype=np.float64).reshape(-1, 2)
-    if not len(pts):
-        return None
-    x0, y0, x1, y1 = pose_kernel.bounds(pts)
-    if not math.isfinite(x0):
-        return None   # NaN or infinity
+def box(bounds: tuple[float, float, float, float], pad: float) -> pygame.Rect:
+    """The pixel rectangle around ``bounds`` (x0, y0, x1, y1 px, finite) grown by ``pad`` on
+    every side."""
+    x0, y0, x1, y1 = bounds
     x0, y0, x1, y1 = x0 - pad - 1, y0 - pad - 1, x1 + pad + 2, y1 + pad + 2
     return pygame.Rect(int(x0), int(y0), int(x1 - x0) + 1, int(y1 - y0) + 1)
 

@@ -10,6 +10,8 @@ import numpy as np
 import pygame
 
 from tabletop.drawing import halo_kernel, raster
+from tabletop.drawing.discs import discs
+from tabletop.drawing.trail_kernel import trails
 from tabletop.drawing import primitives as P
 from tabletop.drawing.life import PuckTrace
 from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade, remember, rgb
@@ -50,7 +52,7 @@ def draw_trails(surf: pygame.Surface, paths: Sequence[np.ndarray], centers: np.n
     pts = np.concatenate(paths)
     rects = np.zeros((len(paths), 4), dtype=np.int64)
     # age steps: 2 newest (v >= 2, with v = 3 (1 - age / span)), 1, 0 oldest and anything older
-    raster.draw(surf, raster.trails, pts, starts, H,
+    raster.draw(surf, trails, pts, starts, H,
                 np.ascontiguousarray(centers, dtype=np.float64),
                 np.ascontiguousarray(holes, dtype=np.float64), np.array(inks, dtype=np.int64),
                 float(t - span_s / 3.0), float(t - 2.0 * span_s / 3.0), rects)
@@ -132,7 +134,7 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
     surf.fblits(rings, pygame.BLEND_ADD)
     for (col, rad), q in notches.items():
         # (filled to the whole pixels of its radius + 0.5 px, as gfxdraw's discs are)
-        raster.draw(surf, raster.discs, np.array(q, dtype=np.float64),
+        raster.draw(surf, discs, np.array(q, dtype=np.float64),
                     float(int(rad + 0.5) + 0.5), col)
     if labels:
         out.extend(surf.blits(labels))

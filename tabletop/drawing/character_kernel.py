@@ -1,0 +1,216 @@
+"""Each character kind drawn whole by one compiled call (numba): the default reactor, an
+articulated figure (skeleton, creature, sprite sheet) and a face, with their eyes.
+
+A figure's ~50 limbs, joints, torso, head and eyes, a face's loops, a reactor's feet, body and
+eyes cost one call instead of a Python-level drawing call each (the busy frame's time was per
+call, spread over ~4,900 of them); :mod:`tabletop.drawing.characters` computes each character's
+pose, geometry and colours and calls these through :func:`tabletop.drawing.raster.draw`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tabletop.drawing.discs import disc
+from tabletop.drawing.kernel_cache import kernel
+from tabletop.drawing.limbs import capsule, cone
+from tabletop.drawing.polygons import ellipse, polygon
+
+SKELETON, CREATURE, SPRITE, OTHER = 0, 1, 2, 3     # figure kinds (``figure``'s ``kind``)
+
+
+@kernel
+def _eye(pix: np.ndarray, fmt: np.ndarray, cx: float, cy: float, r: float, blink: float,
+         gx: float, gy: float, angle: float, white: int, ink: int) -> None:
+    if blink > 0.97:
+        disc(pix, fmt, cx, cy, r + 0.5, white)
+    else:
+        ellipse(pix, fmt, cx, cy, r + 0.5, max(0.6, r * blink) + 0.5, angle + math.pi / 2, 14,
+                white)
+    if blink > 0.45:
+        px, py = cx + gx * r * 0.42, cy + gy * r * 0.42
+        disc(pix, fmt, px, py, r * 0.52 + 0.5, ink)
+        disc(pix, fmt, px - 0.125 * r, py - 0.175 * r, max(1.0, r * 0.16) + 0.5, white)
+
+
+@kernel
+def eyes(pix: np.ndarray, fmt: np.ndarray, x1: float, y1: float, x2: float, y2: float,
+         r: float, blink: float, gaze: float, angle: float, white: int, ink: int) -> None:
+    """Two eyes of radius ``r`` px at (x1, y1) and (x2, y2): white, a dark pupil turned along
+    ``gaze`` (screen radians) with a glint, lids closing with ``blink`` (opening 0..1) across
+    ``angle``."""
+    if r < 1.5:
+        return
+    gx, gy = math.cos(gaze), math.sin(gaze)
+    _eye(pix, fmt, x1, y1, r, blink, gx, gy, angle, white, ink)
+    _eye(pix, fmt, x2, y2, r, blink, gx, gy, angle, white, ink)
+
+
+@kernel
+def _mapped(uv: np.ndarray, a: float, b: float, c: float, d: float, k: float, ox: float,
+            oy: float) -> tuple[np.ndarray, np.ndarray]:
+    n = uv.shape[0]
+    xs, ys = np.empty(n), np.empty(n)
+    for i in range(n):
+        u, v = uv[i, 0], uv[i, 1]
+        xs[i] = (u * a + v * c) * k + ox
+        ys[i] = (u * b + v * d) * k + oy
+    return xs, ys
+
+
+@kernel
+def reactor(pix: np.ndarray, fmt: np.ndarray, uv: np.ndarray, eyes_uv: np.ndarray,
+            m: np.ndarray, breath: float, cx: float, cy: float, L: float, ca: float, sa: float,
+            step: float, foot: int, dark: int, body: int, belly: int, blink: float,
+            gaze: float, angle: float, white: int, ink: int) -> None:
+    """The default character around (cx, cy) px, ``L`` px long: two stepping feet, a shadowed
+    egg body breathing (``breath``), a lighter belly and two eyes. ``m``: the 2x2 row-vector map
+    (4 floats) of its squash and stretch, heading and length; ``uv``, ``eyes_uv``: its outline
+    and eyes in body lengths."""
+    for fx, fy in ((-0.05 + step, 0.3), (-0.05 - step, -0.3)):
+        fx, fy = fx * L, fy * L
+        disc(pix, fmt, fx * ca - fy * sa + cx, fx * sa + fy * ca + cy, 0.085 * L + 0.5, foot)
+    rb = math.sqrt(breath)
+    a, b, c, d = m[0] * rb, m[1] * rb, m[2] * breath, m[3] * breath
+    xs, ys = _mapped(uv, a, b, c, d, 1.06, cx, cy + 0.04 * L)
+    polygon(pix, fmt, xs, ys, len(xs), dark)
+    xs, ys = _mapped(uv, a, b, c, d, 1.0, cx, cy)
+    polygon(pix, fmt, xs, ys, len(xs), body)
+    xs, ys = _mapped(uv, m[0], m[1], m[2], m[3], 0.55, cx + 0.05 * (m[0] - m[2]),
+                     cy + 0.05 * (m[1] - m[3]))
+    polygon(pix, fmt, xs, ys, len(xs), belly)
+    xs, ys = _mapped(eyes_uv, m[0], m[1], m[2], m[3], 1.0, cx, cy)
+    eyes(pix, fmt, xs[0], ys[0], xs[1], ys[1], 0.1 * L, blink, gaze, angle, white, ink)
+
+
+@kernel
+def figure(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, rel: np.ndarray, tp: np.ndarray,
+           kind: int, w0: float, wspine: float, fig: float, head: bool, dark: int, body: int,
+           light: int, angle: float, gaze: float, blink: float, white: int, ink: int) -> None:
+    """An articulated figure (points ``q`` px, topology ``tp`` from :func:`pack_topology`):
+    limbs and their joints in the ``dark`` shade, a torso for a creature or bird, the spine and
+    its joints over them, lighter knots where limbs bend, and a head with eyes at the spine's
+    end (unless ``head`` is False). Half-widths are ``w0`` px times each point's relative
+    thickness ``rel``, at least ``wspine`` times it on the spine but its end. ``fig``: its size
+    in px."""
+    nb, nl, nlp, nsp, nk, ns = tp[0], tp[1], tp[2], tp[3], tp[4], tp[5]
+    o = 6
+    ol = o + 2 * nb
+    osp = ol + nlp
+    ok = osp + nsp
+    os_ = ok + nk
+    spined = np.zeros(q.shape[0], np.bool_)
+    for j in range(ns):
+        spined[tp[os_ + j]] = True
+    w = np.empty(q.shape[0])
+    for i in range(q.shape[0]):
+        w[i] = w0 * rel[i]
+    for j in range(ns - 1):
+        i = tp[os_ + j]
+        w[i] = max(w[i], wspine * rel[i])
+    # Limbs taper from joint to joint, each joint's disc (radius w + 0.5) a round end of the
+    # limbs meeting there; a limb's end on the spine (which covers it) is as thick as the limb.
+    for k in range(nl):
+        a, b = tp[o + 2 * k], tp[o + 2 * k + 1]
+        wl = 0.5 * max(1, int(w[a] + w[b]))
+        cone(pix, fmt, q[a, 0], q[a, 1], wl if spined[a] else w[a] + 0.5, q[b, 0], q[b, 1],
+             wl if spined[b] else w[b] + 0.5, dark)
+    if (kind == CREATURE or kind == SPRITE) and ns >= 3:     # the torso along the spine
+        s0, s1 = tp[os_], tp[os_ + ns - 2]
+        ax, ay, bx, by = q[s0, 0], q[s0, 1], q[s1, 0], q[s1, 1]
+        dx, dy = bx - ax, by - ay
+        length = math.hypot(dx, dy)
+        if length >= 2:
+            rx = 0.5 * length + wspine
+            ry = max(wspine * 1.6, 0.3 * rx if kind == SPRITE else wspine * 1.3)
+            ellipse(pix, fmt, (ax + bx) / 2, (ay + by) / 2, rx, ry, math.atan2(dy, dx), 20,
+                    body)
+    for k in range(nl, nb):                                  # the spine over them, tapered
+        a, b = tp[o + 2 * k], tp[o + 2 * k + 1]
+        bx, by, rb = q[b, 0], q[b, 1], w[b] + 0.5
+        if head and kind == SKELETON and b == tp[os_ + ns - 1]:
+            bx, by = (q[a, 0] + bx) / 2, (q[a, 1] + by) / 2  # ends in the head: no round tip
+            rb = 0.5 * max(1, int(w[a] + w[b]))
+        cone(pix, fmt, q[a, 0], q[a, 1], w[a] + 0.5, bx, by, rb, body)
+    for j in range(nk):                                      # a lighter knot where a limb bends
+        i = tp[ok + j]
+        if w[i] > 3:
+            disc(pix, fmt, q[i, 0], q[i, 1], w[i] * 0.45 + 0.5, light)
+    if head and ns >= 2:
+        _head(pix, fmt, q, tp[os_ + ns - 1], tp[os_ + ns - 2], kind, fig, body, angle, gaze,
+              blink, white, ink)
+
+
+@kernel
+def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind: int,
+          fig: float, body: int, angle: float, gaze: float, blink: float, white: int,
+          ink: int) -> None:
+    """A head at the spine's end ``h`` (``p`` before it), facing along that last bone, eyes
+    looking along the gaze."""
+    hx, hy, px, py = q[h, 0], q[h, 1], q[p, 0], q[p, 1]
+    dx, dy = hx - px, hy - py
+    dn = math.hypot(dx, dy)
+    facing = math.atan2(dy, dx) if dn > 1e-6 else angle
+    if kind == SKELETON:   # the last spine bone runs from the neck to the top of the head
+        ox, oy = (hx + px) / 2, (hy + py) / 2
+        r = max(0.5 * dn, 0.06 * fig)
+    else:
+        ox, oy = hx - dx * 0.35, hy - dy * 0.35
+        r = 0.06 * fig
+    disc(pix, fmt, ox, oy, max(2.5, r) + 0.5, body)
+    sx, sy = -math.sin(facing), math.cos(facing)
+    if kind == SKELETON:   # seen from the side or above: the eyes turned toward the gaze
+        ex, ey, k = ox + 0.35 * r * math.cos(gaze), oy + 0.35 * r * math.sin(gaze), 0.33 * r
+    else:
+        ex, ey, k = ox + math.cos(facing) * 0.25 * r, oy + math.sin(facing) * 0.25 * r, 0.5 * r
+    eyes(pix, fmt, ex + sx * k, ey + sy * k, ex - sx * k, ey - sy * k, max(1.6, 0.32 * r),
+         blink, gaze, angle, white, ink)
+
+
+@kernel
+def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke: float,
+         shadow: int, body: int, white: int, ink: int, blink: float, gaze: float,
+         angle: float) -> None:
+    """A face from its loops (``lp`` from :func:`pack_loops`, points ``q`` px): the first closed
+    loop is the head (on a ``shadow`` rim), smaller round closed loops are eyes (lids closing
+    with ``blink`` across ``angle``, pupils looking along ``gaze``), other closed loops the
+    mouth, open strokes (brows, nose) ``stroke`` px thick."""
+    gx, gy = math.cos(gaze), math.sin(gaze)
+    ux, uy = -math.sin(angle), math.cos(angle)     # up the face
+    first = True
+    for k in range(lp[0]):
+        st, n, closed = lp[1 + 3 * k], lp[2 + 3 * k], lp[3 + 3 * k]
+        if not closed:                                           # brows, nose
+            w = stroke * 0.8
+            width = max(1, int(2 * w + 0.5))
+            for j in range(n - 1):
+                a, b = lp[st + j], lp[st + j + 1]
+                capsule(pix, fmt, q[a, 0], q[a, 1], q[b, 0], q[b, 1],
+                        w + 0.5 if width > 2 else 0.5 * width, ink)
+            continue
+        xs, ys = np.empty(n), np.empty(n)
+        for j in range(n):
+            xs[j], ys[j] = q[lp[st + j], 0], q[lp[st + j], 1]
+        mx, my = xs.mean(), ys.mean()
+        if first:                                                # the head
+            polygon(pix, fmt, (xs - mx) * 1.04 + mx, (ys - my) * 1.04 + my, n, shadow)
+            polygon(pix, fmt, xs, ys, n, body)
+            first = False
+            continue
+        w, h = xs.max() - xs.min(), ys.max() - ys.min()
+        if abs(w - h) < 0.8 * max(w, h) and n <= 10:             # an eye
+            shut = 1.0 - blink
+            lx, ly = np.empty(n), np.empty(n)
+            for j in range(n):
+                rx, ry = xs[j] - mx, ys[j] - my
+                along = (rx * ux + ry * uy) * shut
+                lx[j], ly[j] = rx - along * ux + mx, ry - along * uy + my
+            polygon(pix, fmt, lx, ly, n, white)
+            if blink > 0.45:
+                d = 0.3 * max(w, h)
+                disc(pix, fmt, mx + gx * d, my + gy * d, 0.45 * min(w, h) + 1.5, ink)
+        else:                                                    # the mouth
+            polygon(pix, fmt, xs, ys, n, ink)
+
