@@ -56,8 +56,6 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     # OpenCV's own "[ WARN:0@...]" lines (a missing camera, a video back-end probing) are not for
@@ -66,6 +64,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("OPENCV_VIDEOIO_DEBUG", "0")
     parser = build_parser()
     args = parser.parse_args(argv)
+    nul = [a for a in (sys.argv[1:] if argv is None else argv) if "\x00" in a]
+    if nul:  # (a shell cannot pass one; a script building its arguments can)
+        parser.error(f"argument {nul[0]!r} contains a NUL character: no path or value can")
     if not getattr(args, "_main", None):
         parser.print_help()
         return EXIT_BAD_INPUT

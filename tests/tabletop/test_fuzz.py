@@ -167,6 +167,16 @@ def test_an_empty_path_is_refused_in_one_line(capfd, argv):
         assert check(capfd, argv) != 0
 
 
+@pytest.mark.parametrize("argv", [["run", "--config", "a\x00.yaml"],
+                                  ["review", "session.jsonl", "--out", "x\x00.png"],
+                                  ["track", "image.png", "--out", "p.jsonl", "--dictionary", "\x00"]])
+def test_a_nul_character_in_an_argument_is_refused_in_one_line(capfd, argv):
+    # (a shell cannot pass one; a script calling main() can: os.stat raised ValueError)
+    with workdir() as root:
+        make_files(root)
+        assert check(capfd, argv, expect="NUL character") != 0
+
+
 @pytest.mark.parametrize("argv", [
     ["follow", "--template", "a=good.csv", "--input", "good.csv", "--out", "./good.csv"],
     ["follow", "--template", "a=good.csv", "--input", "image.png", "--out", "folder/../good.csv"],
