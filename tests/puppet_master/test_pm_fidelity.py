@@ -18,8 +18,8 @@ PATHS = ("slow_pauses_30hz", "loops_spins_45hz")
 # demonstrated) and the afraid character's share of looking at the main. Every other
 # threshold must hold.
 KNOWN_MISSES = {
-    "lover": {"slow_pauses_30hz": {"still_moving", "orbit"},
-              "loops_spins_45hz": {"still_moving"}},
+    # (the lover's loops still/moving is met: 0.369 against 0.419, limits 0.293-0.545)
+    "lover": {"slow_pauses_30hz": {"still_moving", "orbit"}, "loops_spins_45hz": set()},
     "bully": {"slow_pauses_30hz": set(), "loops_spins_45hz": set()},
     # the playful friend's and stalker's targets reached round the main (share_around): the
     # friend's slow-path contact undershoots (0.019 against 0.041), the stalker's still/moving
