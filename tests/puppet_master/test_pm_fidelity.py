@@ -4,8 +4,9 @@ demonstration's figures (behaviors/puppet_master/fidelity.py), measured, not tim
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import designers, fidelity, visitors
+from behaviors.puppet_master import designers, fidelity, look, visitors
 from behaviors.puppet_master.engine import Behavior
+from behaviors.puppet_master.look import train_look
 from behaviors.puppet_master.sequential import pair_takes
 from tabletop import examples, library
 
@@ -17,8 +18,8 @@ PATHS = ("slow_pauses_30hz", "loops_spins_45hz")
 # demonstrated) and the afraid character's share of looking at the main. Every other
 # threshold must hold.
 KNOWN_MISSES = {
-    "lover": {"slow_pauses_30hz": {"still_moving", "orbit"},
-              "loops_spins_45hz": {"still_moving"}},
+    # (the lover's loops still/moving is met: 0.369 against 0.419, limits 0.293-0.545)
+    "lover": {"slow_pauses_30hz": {"still_moving", "orbit"}, "loops_spins_45hz": set()},
     "bully": {"slow_pauses_30hz": set(), "loops_spins_45hz": set()},
     # the playful friend's and stalker's targets reached round the main (share_around): the
     # friend's slow-path contact undershoots (0.019 against 0.041), the stalker's still/moving
@@ -66,6 +67,27 @@ def test_the_looks_that_were_lost_are_kept(shipped, paths):
         assert row["gen_saturation"] < 0.12
         ratio = row["gen_look_change_rad"] / row["demo_look_change_rad"]
         assert 0.67 <= ratio <= 1.5
+
+
+def test_the_lovers_look_stays_on_its_main_on_fast_paths(shipped, paths, monkeypatch):
+    # where the lover faced its main and its main's look frame was as steady (3% of its
+    # samples), that frame turned its look off an unseen fast main: per-step look change
+    # 1.56 and 1.76x the demonstration's on seeds 0 and 1 (look.GAZE_MARGIN: 1.31 and 1.36)
+    fast1 = visitors.unseen_main_paths(1, 40.0, examples.TABLE)["fast_reversals_60hz"]
+    b = shipped["lover"]
+    demo = fidelity.demonstration_figures(b)
+    for main in (paths["fast_reversals_60hz"], fast1):
+        row = fidelity.evaluate(b, main, TABLE, demo)
+        ratio = row["gen_look_change_rad"] / row["demo_look_change_rad"]
+        assert 0.67 <= ratio <= 1.5, ratio
+    # the margin re-chooses only a gazing character's moments (the lover 34 of 2400, the bully
+    # 17): the playful friend (looks where it runs) and the afraid one keep every frame
+    chosen = {n: shipped[n].look.frame for n in designers.PERSONALITIES}
+    monkeypatch.setattr(look, "GAZE_MARGIN", 1.0)
+    for name, frame in chosen.items():
+        b = shipped[name]
+        changed = int(np.sum(train_look(b.main, b.react, b.params.rate_hz).frame != frame))
+        assert (changed > 0) == (name in ("lover", "bully")), (name, changed)
 
 
 @pytest.mark.parametrize("name", designers.PERSONALITIES)
