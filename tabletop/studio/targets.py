@@ -265,7 +265,20 @@ class PuppetMasterTarget:
             self.play_poller = Poller(self.playing)
 
     def remove(self, name: str) -> Callable[[], None]:
-        return trash(self.lib / name)
+        """Delete ``name`` into the trash. The item in play plays on from memory, no longer
+        in the library (nothing to reload, delete or rename) until undo puts it back."""
+        folder, was_playing = self.lib / name, self.current() == name
+        put_back = trash(folder)
+        if was_playing:
+            self.playing, self.play_poller = None, None
+            self.engine.behavior_name = f"{name} (deleted)"
+
+        def restore() -> None:
+            put_back()
+            if was_playing and self.playing is None:
+                self.playing, self.play_poller = folder, Poller(folder)
+                self.engine.behavior_name = name
+        return restore
 
     def poll(self) -> list[str]:
         """Reload the behaviour in play when its files change; report the library's bad
@@ -278,8 +291,11 @@ class PuppetMasterTarget:
             except InputError as exc:
                 problems = problems + [str(exc)]
         if self.lib_poller.changed():
-            problems = [p for p in problems if self.playing is None
-                        or p.startswith(str(self.playing))]
+            # the library is listed afresh; only a reload problem of a behaviour in play from
+            # outside the library stays
+            problems = [p for p in problems if self.playing is not None
+                        and self.playing.parent != self.lib
+                        and p.startswith(str(self.playing))]
             for n in self.items():
                 try:
                     library.load_behavior(self.lib / n)
