@@ -83,9 +83,16 @@ class PuppetMasterTarget:
         self.play_poller = Poller(Path(folder)) if folder else None
         self.playing: Path | None = Path(folder) if folder else None
         self._problems: list[str] = []
-        self.cue = (f"get ready: puck {self.main_puck} the main" if self.sequential else
-                    f"get ready: puck {self.main_puck} the main, puck {self.react_puck} the "
+
+    @property
+    def cue(self) -> str:
+        """The countdown's line: which puck to get ready with for the part about to start."""
+        if not self.sequential:
+            return (f"get ready: puck {self.main_puck} the main, puck {self.react_puck} the "
                     "reactor")
+        if self.session.phase == "ready":
+            return f"get ready: puck {self.react_puck} reacts to the main's playback"
+        return f"get ready: puck {self.main_puck} the main"
 
     # --- the take ------------------------------------------------------------------------------
 

@@ -31,7 +31,9 @@ def test_a_message_ends_with_the_state_or_the_target_it_was_said_for(tmp_path):
         labels.append(c.label)
         states.append(c.action)
     assert states[229] == "ready" and "R records the reaction" in labels[229]
-    assert states[231] == "countdown" and "get ready" in labels[231]
+    assert states[11] == "countdown" and "get ready: puck 1 the main" in labels[11]
+    # the reaction's countdown names the reactor's puck, not the main's again
+    assert states[231] == "countdown" and "get ready: puck 2 reacts" in labels[231]
     after = [lab for s, lab in zip(states[231:], labels[231:]) if s in ("countdown", "recording")]
     assert len(after) > 100
     assert not any("R records the reaction" in lab for lab in after)
