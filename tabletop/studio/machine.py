@@ -313,6 +313,8 @@ class Studio:
         fn = getattr(target, "assign", None)
         if fn is not None:
             self.say(fn())
+        else:           # said, so that the key is not taken for broken
+            self.say(f"A: a {target.what} has no motion to assign (MOP actions do)")
 
     # --- the library -----------------------------------------------------------------------------
 

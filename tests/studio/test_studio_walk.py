@@ -102,3 +102,10 @@ def test_a_bad_library_file_is_counted_once_however_often_the_library_changes(tm
         (lib / f"new{i}").mkdir()
         (lib / f"new{i}" / "notes.txt").write_text("x")
     assert counts == [1, 1, 1], counts
+
+
+def test_the_assign_key_on_a_behaviour_says_why_it_does_nothing(tmp_path):
+    _, s, _ = playing_a(tmp_path)
+    s.command("designer.assign")
+    assert s.message == "A: a behaviour has no motion to assign (MOP actions do)"
+    assert s.state == "idle"
