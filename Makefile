@@ -62,8 +62,11 @@ test: $(STAMP) kernels
 	$(PY) -m compileall -q -j0 tabletop behaviors tracking calibration >/dev/null
 	$(PY) -m pytest -n $(TEST_WORKERS) --dist worksteal
 
+# Every benchmark script in turn (`python -m bench`, bench/__main__.py), each one's last line;
+# exits 1 naming those that failed. BENCHES="bench/osc.py bench/view.py" runs only those.
+BENCHES ?=
 bench: $(STAMP)
-	for b in bench/*.py; do echo "== $$b"; $(PY) $$b | tail -n 1; done
+	$(PY) -m bench $(BENCHES)
 
 clean:
 	rm -rf $(VENV) build *.egg-info

@@ -31,14 +31,23 @@ ROUNDS = 400
 ALIAS = "behaviors_before"
 
 
+class Unavailable(Exception):
+    """The older version cannot be had (a clone without its history, a wrong argument)."""
+
+
 def load_older(source: str, into: Path):
     """The older version's engine module, from a commit of this repository or a folder."""
     tree = Path(source)
     if not tree.is_dir():
         tree = into / "tree"
         tree.mkdir()
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", source, "behaviors"],
-                                 check=True, capture_output=True).stdout
+        try:
+            archive = subprocess.run(["git", "-C", str(ROOT), "archive", source, "behaviors"],
+                                     check=True, capture_output=True).stdout
+        except (OSError, subprocess.CalledProcessError) as exc:
+            said = getattr(exc, "stderr", b"") or b""
+            raise Unavailable(f"{source}: not a folder, nor a commit of {ROOT} "
+                              f"({said.decode(errors='replace').strip() or exc})") from None
         subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True)
     for f in (tree / "behaviors").rglob("*.py"):
         out = into / ALIAS / f.relative_to(tree / "behaviors")
@@ -52,7 +61,15 @@ def main() -> None:
     source = sys.argv[1] if len(sys.argv) > 1 else BEFORE
     folder = tempfile.TemporaryDirectory()  # the older code and a cache folder, for the run
     os.environ["XDG_CACHE_HOME"] = folder.name  # not the user's cache
-    old = load_older(source, Path(folder.name))
+    try:
+        old = load_older(source, Path(folder.name))
+    except Unavailable as exc:
+        folder.cleanup()
+        if len(sys.argv) > 1:               # asked for: a wrong argument
+            sys.exit(f"bench/touch_pose_compare.py: {exc}")
+        # the default older commit is not in this copy (e.g. a shallow clone): skipped
+        emit("touch_pose_compare", {"skipped": str(exc)}, {})
+        return
     versions = {"before": (old.learned_models(), old.TouchPose, old),
                 "after": (learned_models(), TouchPose, sys.modules[TouchPose.__module__])}
     configs, drivers = {}, []

@@ -179,6 +179,9 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],
                 stats=stats, commands=commands, stop=stop, **timing)
     loop.realtime_priority = cfg["loop"].get("realtime_priority", 0)
+    if any(getattr(e, "mouse", False) for e in engines):
+        from tabletop.pointer import with_mouse_fingers
+        loop.filters.insert(0, with_mouse_fingers)   # recorded, so a replay has them
     return Installation(loop, ctx, engines, sinks)
 
 

@@ -1,17 +1,19 @@
 """Fingers made with the mouse in the projector view, for testing touch engines at a desk.
 
-The view writes (table metres), engines that accept mouse touches read: one button held is one
-finger that follows the pointer; Shift + click pins a finger where it is (it stays down after
+The view writes (table metres); with an engine that takes mouse touches the loop adds them to
+every frame's touches (:func:`with_mouse_fingers`, so a recording keeps them). One button held
+is one finger that follows the pointer; Shift + click pins a finger where it is (it stays down after
 the button is released, as a second hand holding a part); Shift + click on a pinned finger lifts
 it. Thread-safe; ids start at :data:`FIRST_ID` so they never clash with a touch source's ids.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 
-from tabletop.frames import Touch
+from tabletop.frames import Frame, Touch
 
 FIRST_ID = 90_000
 #: A Shift + click within this many metres of a pinned finger lifts it.
@@ -61,3 +63,11 @@ class PointerFingers:
 
 #: The one pointer of this process (the view writes it).
 POINTER = PointerFingers()
+
+
+def with_mouse_fingers(frame: Frame) -> Frame:
+    """Loop filter (with an engine taking ``mouse: true``): the mouse's fingers join the frame's
+    touches, so every engine sees them as a touch source's, and a recording keeps them (a
+    session posed with the mouse replays as it ran)."""
+    fingers = POINTER.touches()
+    return dataclasses.replace(frame, touches=frame.touches + fingers) if fingers else frame

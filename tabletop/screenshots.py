@@ -11,15 +11,22 @@ keeps the liveliest snapshot of the run's second half as ``docs/screenshots/NAME
 from __future__ import annotations
 
 import argparse
-import shutil
+import os
+import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
-import pygame
 
-from tabletop.app import build_live
-from tabletop.config import load_config
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+import pygame  # noqa: E402
+
+from tabletop.app import build_live  # noqa: E402
+from tabletop.commands import positive_number  # noqa: E402
+from tabletop.config import load_config  # noqa: E402
+from tabletop.files import atomic_write_bytes  # noqa: E402
+from tabletop.frames import InputError  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -49,22 +56,41 @@ def shoot(config: Path, seconds: float, out: Path, overlay: bool) -> Path:
             raise SystemExit(f"screenshots: {config}: no snapshot was written")
         best = max(shots[len(shots) // 2:], key=vividness)
         out.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(best, out)
+        atomic_write_bytes(out, best.read_bytes())   # a README picture is whole or not there
     return out
+
+
+def _seconds(text: str) -> float:
+    try:
+        return positive_number(text, "--seconds", "seconds")
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seconds", type=float, default=None,
+    ap.add_argument("--seconds", type=_seconds, default=None,
                     help="run time of each configuration (default: 8 s, MOP 24 s)")
     ap.add_argument("--out", type=Path, default=ROOT / "docs" / "screenshots")
     ap.add_argument("--overlay", action="store_true", help="keep the operator overlay on")
     ap.add_argument("--only", choices=sorted(SHOTS), help="one configuration only")
     args = ap.parse_args(argv)
+    if args.out.exists() and not args.out.is_dir():
+        ap.error(f"--out {args.out}: is a file; give the folder the pictures go into")
+    try:
+        args.out.mkdir(parents=True, exist_ok=True)   # refused now, not after the runs
+    except OSError as exc:
+        print(f"screenshots: error: {args.out}: {exc.strerror or exc}", file=sys.stderr)
+        return 1
     for name, (config, seconds) in SHOTS.items():
         if args.only and name != args.only:
             continue
-        print(shoot(config, args.seconds or seconds, args.out / f"{name}.png", args.overlay))
+        try:
+            print(shoot(config, args.seconds or seconds, args.out / f"{name}.png", args.overlay))
+        except OSError as exc:
+            print(f"screenshots: error: {exc.filename or args.out}: {exc.strerror or exc}",
+                  file=sys.stderr)
+            return 1
     return 0
 
 

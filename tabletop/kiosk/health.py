@@ -143,6 +143,7 @@ class HealthReporter:
         self.last: dict[str, Any] | None = None
 
     def status(self, frame: Frame) -> dict[str, Any]:
+        from tabletop.renderer import cameras_down   # the view's rule for its calm screen
         sources = [{"name": h.name, "ok": bool(h.ok), "message": h.message,
                     "age_s": None if math.isinf(h.age) else round(float(h.age), 3)}
                    for h in frame.health]
@@ -154,7 +155,9 @@ class HealthReporter:
             "uptime_s": round(self.clock() - self.started, 3),
             "fps": round(float(st.fps()), 2) if st is not None else 0.0,
             "ticks": int(st.ticks) if st is not None else frame.seq,
-            "mode": frame.status or "live",
+            # what the table shows: "one_moment" also while every source is down without
+            # ever having worked (a camera not plugged in at boot), as the view then shows it
+            "mode": "one_moment" if cameras_down(frame) else frame.status or "live",
             "unhealthy_sources": sum(1 for s in sources if not s["ok"]),
             "sources": sources,
             "errors": int(sum(st.errors.values())) if st is not None else 0,

@@ -76,10 +76,7 @@ class TouchPoseEngine:
         for c in frame.commands:
             if c in TURNS:
                 self.core.turn(*TURNS[c])
-        touches = {t.id: (t.x, t.y) for t in frame.touches}
-        if self.mouse:
-            from tabletop.pointer import POINTER
-            touches.update({t.id: (t.x, t.y) for t in POINTER.touches()})
+        touches = {t.id: (t.x, t.y) for t in frame.touches}   # the mouse's too (pointer.py)
         core = self.core
         core.step(frame.t, touches, record=False)
         pts = core.table_points()

@@ -102,6 +102,9 @@ class Studio:
         self.selected: str | None = self.order[0] if self.order else None
         self.until = 0.0             # countdown end (frame time)
         self.message, self._message_until = "", -math.inf
+        # the state and target a message was said in (None: said this tick); it is shown while
+        # they last, at most MESSAGE_S
+        self._message_for: tuple[str, str | None] | None = None
         self.problems: list[str] = []
         self.undo_stack: list[tuple[str, Callable[[], None]]] = []
         self.tries: list[Try] = []
@@ -122,8 +125,21 @@ class Studio:
         return self.targets.get(self.selected) if self.selected else None
 
     def say(self, text: str) -> None:
-        self.message, self._message_until = text, self._t + MESSAGE_S
+        self._show(text, MESSAGE_S)
         log.info("studio: %s", text)
+
+    def _show(self, text: str, seconds: float) -> None:
+        self.message, self._message_until = text, self._t + seconds
+        self._message_for = None
+
+    def _message_ends(self) -> None:
+        """A message belongs to the state and target it was said in: a new state (the
+        countdown after "R records ...") or another target (Tab) ends it."""
+        now = (self.state, self.selected)
+        if self._message_for is None:
+            self._message_for = now
+        elif self._message_for != now:
+            self._message_until = -math.inf
 
     # --- the filter ----------------------------------------------------------------------------
 
@@ -152,9 +168,10 @@ class Studio:
             if self.state == "recording":
                 problem = target.record(frame)
                 if problem:
-                    self.message, self._message_until = problem, self._t + 0.2
+                    self._show(problem, 0.2)
                 if target.ended():
                     self._stop(target, "")
+        self._message_ends()
         rest = tuple(c for c in frame.commands if c not in mine)
         return dataclasses.replace(frame, commands=rest).with_characters((self.character(frame),))
 
@@ -168,6 +185,8 @@ class Studio:
             getattr(self, "_" + name.removeprefix("designer."), self._unknown)(target, arg)
         except InputError as exc:
             self.say(f"cannot: {exc}")
+        except OSError as exc:      # the library's folder went away or refuses: said, not raised
+            self.say(f"cannot: {exc.filename or ''}: {exc.strerror or exc}")
 
     def _unknown(self, target: Target, arg: str) -> None:
         pass
@@ -294,6 +313,8 @@ class Studio:
         fn = getattr(target, "assign", None)
         if fn is not None:
             self.say(fn())
+        else:           # said, so that the key is not taken for broken
+            self.say(f"A: a {target.what} has no motion to assign (MOP actions do)")
 
     # --- the library -----------------------------------------------------------------------------
 

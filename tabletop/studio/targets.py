@@ -83,9 +83,16 @@ class PuppetMasterTarget:
         self.play_poller = Poller(Path(folder)) if folder else None
         self.playing: Path | None = Path(folder) if folder else None
         self._problems: list[str] = []
-        self.cue = (f"get ready: puck {self.main_puck} the main" if self.sequential else
-                    f"get ready: puck {self.main_puck} the main, puck {self.react_puck} the "
+
+    @property
+    def cue(self) -> str:
+        """The countdown's line: which puck to get ready with for the part about to start."""
+        if not self.sequential:
+            return (f"get ready: puck {self.main_puck} the main, puck {self.react_puck} the "
                     "reactor")
+        if self.session.phase == "ready":
+            return f"get ready: puck {self.react_puck} reacts to the main's playback"
+        return f"get ready: puck {self.main_puck} the main"
 
     # --- the take ------------------------------------------------------------------------------
 
@@ -265,7 +272,20 @@ class PuppetMasterTarget:
             self.play_poller = Poller(self.playing)
 
     def remove(self, name: str) -> Callable[[], None]:
-        return trash(self.lib / name)
+        """Delete ``name`` into the trash. The item in play plays on from memory, no longer
+        in the library (nothing to reload, delete or rename) until undo puts it back."""
+        folder, was_playing = self.lib / name, self.current() == name
+        put_back = trash(folder)
+        if was_playing:
+            self.playing, self.play_poller = None, None
+            self.engine.behavior_name = f"{name} (deleted)"
+
+        def restore() -> None:
+            put_back()
+            if was_playing and self.playing is None:
+                self.playing, self.play_poller = folder, Poller(folder)
+                self.engine.behavior_name = name
+        return restore
 
     def poll(self) -> list[str]:
         """Reload the behaviour in play when its files change; report the library's bad
@@ -278,8 +298,11 @@ class PuppetMasterTarget:
             except InputError as exc:
                 problems = problems + [str(exc)]
         if self.lib_poller.changed():
-            problems = [p for p in problems if self.playing is None
-                        or p.startswith(str(self.playing))]
+            # the library is listed afresh; only a reload problem of a behaviour in play from
+            # outside the library stays
+            problems = [p for p in problems if self.playing is not None
+                        and self.playing.parent != self.lib
+                        and p.startswith(str(self.playing))]
             for n in self.items():
                 try:
                     library.load_behavior(self.lib / n)

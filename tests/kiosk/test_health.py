@@ -246,3 +246,18 @@ def test_a_kiosk_log_that_cannot_be_made_names_its_key(tmp_path, capfd, supervis
     assert cli(argv + ([] if supervised else ["--no-supervisor"])) == 2
     err = capfd.readouterr().err.splitlines()
     assert len(err) == 1 and err[0].startswith(f"tabletop run: error: {cfg}: kiosk.log_file: ")
+
+
+def test_mode_is_one_moment_whenever_the_table_shows_it():
+    """A camera not plugged in at boot never worked, so the kiosk's grace rule does not mark the
+    frames; the view still shows "One moment" (every source down) and the status says so too,
+    not "live"."""
+    rep = HealthReporter("table-7", None, clock=Clock())
+    never = (SourceHealth("overhead", False, "cannot open camera 0; reconnecting in 2.0 s"),)
+    ok = (SourceHealth("overhead", True, "ok", 0.01),)
+    half = never + ok
+    assert rep.status(Frame(seq=1, t=1.0, health=never))["mode"] == "one_moment"
+    assert rep.status(Frame(seq=2, t=2.0, health=never, status="attract"))["mode"] == "one_moment"
+    assert rep.status(Frame(seq=3, t=3.0, health=half))["mode"] == "live"
+    assert rep.status(Frame(seq=4, t=4.0, health=ok, status="attract"))["mode"] == "attract"
+    assert rep.status(Frame(seq=5, t=5.0))["mode"] == "live"      # no sources at all

@@ -25,3 +25,23 @@ def test_default_config_snapshot_shows_characters_and_pucks(tmp_path, monkeypatc
     assert np.count_nonzero(character) > 300
     assert np.count_nonzero(halo) > 150
     assert Path(out).stat().st_size > 10_000
+
+
+def test_make_screenshots_refuses_bad_arguments_in_one_line_before_running(tmp_path):
+    """``--seconds nan`` ran for ever and then wrote into docs/; a negative time ran and said
+    "no snapshot was written"; an --out that cannot be a folder was a traceback after the runs."""
+    import subprocess
+    import sys
+    (tmp_path / "file").write_text("x")
+    shots = str(tmp_path / "shots")
+    cases = [(["--seconds", "-1", "--out", shots], 2,
+              "--seconds '-1' must be a positive number of seconds"),
+             (["--seconds", "nan", "--out", shots], 2,
+              "--seconds 'nan' must be a positive number of seconds"),
+             (["--out", str(tmp_path / "file")], 2, "is a file; give the folder"),
+             (["--out", "/proc/no/such"], 1, "screenshots: error: /proc/no/such: ")]
+    for args, status, said in cases:
+        out = subprocess.run([sys.executable, "-m", "tabletop.screenshots", "--only", "default",
+                              *args], capture_output=True, text=True, timeout=60)
+        assert out.returncode == status and said in out.stderr, (args, out.stderr[-300:])
+        assert "Traceback" not in out.stderr and not out.stdout.strip()

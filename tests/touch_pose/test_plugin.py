@@ -8,7 +8,7 @@ import pytest
 from tabletop.config import validate_config
 from tabletop.frames import Frame, Touch
 from tabletop.plugins import touch_pose
-from tabletop.pointer import POINTER
+from tabletop.pointer import POINTER, with_mouse_fingers
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
 from tabletop.view import Renderer
@@ -63,10 +63,10 @@ def test_touches_from_the_bus_pose_the_drawn_humanoid(engine):
 def test_mouse_fingers_and_camera_keys(engine):
     head = engine.core.describe()["parts"]["head"]
     POINTER.press(*head)
-    engine.step(Frame(0, 0.0))
+    engine.step(with_mouse_fingers(Frame(0, 0.0)))
     assert list(engine.core.fingers.values())[0].part == "head"
     POINTER.release()
-    engine.step(Frame(1, 1 / 30))
+    engine.step(with_mouse_fingers(Frame(1, 1 / 30)))
     assert engine.core.fingers == {}
     az = engine.core.camera.azimuth
     engine.step(Frame(2, 2 / 30, commands=("camera.left", "camera.left")))
@@ -121,3 +121,45 @@ def test_a_broken_touch_is_ignored_and_the_engine_keeps_going(engine):
                                                      Touch(2, *hand))))
     assert 1 not in engine.core.fingers and engine.core.fingers[2].part == "right_hand"
     assert np.all(np.isfinite(c.points))
+
+
+def test_a_session_posed_with_the_mouse_is_recorded_and_replays_the_same(tmp_path, models):
+    """The mouse's fingers were read by the engine alone: a recording had no touches and its
+    replay stood still where the live character had been posed."""
+    import json
+    import subprocess
+    import sys
+
+    from tabletop.app import build_live
+    data = {"sources": [{"kind": "scripted", "pucks": []}], "view": {"enabled": False},
+            "loop": {"rate_hz": 30},
+            "engines": [{"kind": "touch_pose", "name": "poser", "view": [90, 15],
+                         "physics": False, "mouse": True}]}
+    cfg = validate_config(data, str(tmp_path / "c.yaml"), tmp_path)
+    path = tmp_path / "live.jsonl"
+    inst = build_live(cfg, headless=True, record_path=path)
+    hand = np.array(inst.engines[0].core.describe()["parts"]["right_hand"])
+    import threading
+    import time
+    run = threading.Thread(target=inst.loop.run, kwargs={"seconds": 2.0})
+    run.start()
+    try:
+        time.sleep(0.3)
+        POINTER.press(*hand)
+        for k in range(1, 21):
+            POINTER.move(*(hand + [0.003 * k, 0.004 * k]))
+            time.sleep(0.04)
+    finally:
+        POINTER.release()
+        run.join()
+    live = [json.loads(x) for x in path.read_text().splitlines()[1:]]
+    held = [f for f in live if f["touches"]]
+    assert len(held) >= 15 and all(t["id"] >= 90_000 for f in held for t in f["touches"])
+    out = subprocess.run([sys.executable, "-m", "tabletop", "replay", str(path), "--fast",
+                          "--no-view", "--out", str(tmp_path / "again.jsonl")],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-500:]
+    again = [json.loads(x) for x in (tmp_path / "again.jsonl").read_text().splitlines()[1:]]
+    assert [f["characters"] for f in again] == [f["characters"] for f in live]
+    moved = [f["characters"][0]["points"] for f in (live[4], live[-1])]
+    assert moved[0] != moved[1]                   # the mouse did pose it

@@ -1,0 +1,52 @@
+"""Run every benchmark (``make bench``): each ``bench/NAME.py`` that is a script, one after the
+other in its own process, printing ``== bench/NAME.py`` and its last line (the JSON result).
+
+A benchmark that fails is named at the end and the run exits 1, so a broken benchmark is not
+mistaken for a finished one; the helper modules (``common.py``, ``xwindow.py``) are not run.
+
+    python -m bench [bench/NAME.py ...]
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def benchmarks(folder: Path = HERE) -> list[Path]:
+    """The scripts of ``folder``: files run as ``__main__``, in name order."""
+    return [p for p in sorted(folder.glob("*.py"))
+            if not p.name.startswith("_") and 'if __name__ == "__main__":' in p.read_text()]
+
+
+def run(paths: list[Path]) -> list[str]:
+    """Run each script with this interpreter; returns the failures, one line each."""
+    failed = []
+    for path in paths:
+        print(f"== {path}", flush=True)
+        proc = subprocess.run([sys.executable, str(path)], stdout=subprocess.PIPE, text=True)
+        lines = proc.stdout.strip().splitlines()
+        print(lines[-1] if lines else "(no output)", flush=True)
+        if proc.returncode != 0:
+            failed.append(f"{path}: exit status {proc.returncode}")
+    return failed
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = sys.argv[1:] if argv is None else argv
+    paths = [Path(a) for a in args] if args else benchmarks()
+    missing = [str(p) for p in paths if not p.is_file()]
+    if missing:
+        print(f"bench: no such benchmark: {', '.join(missing)}", file=sys.stderr)
+        return 2
+    failed = run(paths)
+    for line in failed:
+        print(f"bench: failed: {line}", file=sys.stderr)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
