@@ -127,8 +127,8 @@ class Renderer:
             target.blit(bg, (0, 0))
         else:
             target.blits([(bg, r, r) for r in self._drawn], doreturn=False)
-        self._update_idle(frame, dt)
         down = cameras_down(frame)
+        self._update_idle(frame, dt, down)
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
         if self.idle > 0:
@@ -160,7 +160,9 @@ class Renderer:
         """Something was painted over the last frame: present and repaint the whole target."""
         self.dirty, self._drawn, self._tiles = [pygame.Rect((0, 0), self.size)], None, None
 
-    def _update_idle(self, frame: Frame, dt: float) -> None:
+    def _update_idle(self, frame: Frame, dt: float, down: bool = False) -> None:
+        """The idle look's opacity: in when nobody plays, out while someone does or while
+        every camera is down (``down``: the table cannot see a puck, "One moment" shows alone)."""
         t = frame.t
         if self._last_play_t is None:
             self._last_play_t = self._last_present_t = t
@@ -173,7 +175,8 @@ class Renderer:
                   or any(math.hypot(p.vx, p.vy) > 0.02 for p in frame.pucks))
         if moving or any(p.id not in self.traces.traces for p in frame.pucks):
             self._last_play_t = t
-        nobody = (t - self._last_present_t >= IDLE_EMPTY_S or t - self._last_play_t >= IDLE_STILL_S)
+        nobody = not down and (t - self._last_present_t >= IDLE_EMPTY_S
+                               or t - self._last_play_t >= IDLE_STILL_S)
         k = dt / 1.5
         self.idle = min(1.0, max(0.0, self.idle + (k if nobody else -2 * k)))
 

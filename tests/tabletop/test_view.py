@@ -280,6 +280,27 @@ def test_one_moment_screen_while_every_camera_is_down_and_gone_when_one_recovers
     assert r.moment == 0.0 and rgb(s)[text_box].sum(axis=2).max() <= calm + 30
 
 
+def test_no_invitation_to_play_under_the_one_moment_screen():
+    # every camera down: the table cannot see a puck, so "put a puck on the table" (and its
+    # motes) must not show under "One moment"
+    r = new_renderer()
+    s = pygame.Surface(SIZE)
+    down = (SourceHealth("overhead", False, "cannot open camera 0; reconnecting in 2 s"),)
+    for k in range(120):                              # 12 s of an empty table, camera down
+        r.draw(s, Frame(seq=k, t=k * 0.1, health=down))
+    assert r.moment == 1.0 and r.idle == 0.0
+    lo, hi = r._corners().min(axis=0), r._corners().max(axis=0)
+    y = int((lo[1] + hi[1]) / 2 + 0.3 * (hi[1] - lo[1]))  # the invitation's line
+    x0, x1 = int(lo[0] + 0.3 * (hi[0] - lo[0])), int(lo[0] + 0.7 * (hi[0] - lo[0]))
+    band = rgb(s)[y - 15:y + 15, x0:x1].sum(axis=2)
+    assert band.max() < 60, band.max()                # no words there, only the dim table
+    ok = (SourceHealth("overhead", True),)
+    for k in range(120, 200):                         # back, nobody at the table: it invites
+        r.draw(s, Frame(seq=k, t=k * 0.1, health=ok))
+    assert r.moment == 0.0 and r.idle == 1.0
+    assert rgb(s)[y - 15:y + 15, x0:x1].sum(axis=2).max() > 150
+
+
 def test_idle_look_when_nobody_plays_and_not_while_someone_does():
     r = new_renderer()
     s = pygame.Surface(SIZE)
