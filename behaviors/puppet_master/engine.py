@@ -24,7 +24,6 @@ from collections import deque
 
 import numpy as np
 
-from behaviors.puppet_master import advance_kernel as ak
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
 from behaviors.puppet_master.behavior import (COLUMNS, FOLLOW_SHARE, STILL_MPS,  # noqa: F401
@@ -50,10 +49,9 @@ class Reactor(GenerationStep):
     missed steps generated at once after an input gap; beyond that the grid skips ahead and
     the reactor waits where it was (None: generate every step, as ``tabletop behave`` does).
 
-    ``compiled`` (chosen before the first sample): an input sample's steps run in one
-    compiled call (advance_kernel.advance, the same arithmetic as :meth:`_step` and the
-    resampler to the last bit); False runs :meth:`_step` itself, the readable definition
-    (step.GenerationStep). (Measured: see advance_kernel and step_kernel.)
+    ``compiled``: steps run as one compiled call (step_kernel.step, the same arithmetic as
+    :meth:`_step` to the last bit); False runs :meth:`_step` itself, the readable definition
+    (step.GenerationStep). (Measured: see step_kernel.)
     """
 
     compiled = True
@@ -75,8 +73,6 @@ class Reactor(GenerationStep):
         self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid,
                                          behavior.situation_aug, p.half_life)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
-        if self.situation.run is None:   # the compiled loop takes one run of window ends
-            self.compiled = False        # (a Behavior's always are)
         self._xs = np.zeros(ft.SITUATION_DIMS)
         self._xc = np.zeros(ft.COHERENCE_DIMS)
         self.started = False
@@ -170,11 +166,6 @@ class Reactor(GenerationStep):
         self._recent = np.zeros((self._main_recent.maxlen, 2))
         self._space = np.array([[0.0, 0.0, b.personal_space]])
         self._kernel_state: tuple | None = None     # made by the first compiled step
-        # the input as the compiled loop resamples it (advance_kernel)
-        self._res = np.full(ak.RES_SIZE, math.nan)
-        self._res[[ak.LAST_T, ak.LAST_X, ak.LAST_Y, ak.LAST_D]] = (self.t0, main_x, main_y, md)
-        self._res[ak.HAS_PREV] = 0.0
-        self._rows = np.zeros((16, 4))
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -192,10 +183,6 @@ class Reactor(GenerationStep):
         self._fs[[sk.MAIN_X, sk.MAIN_Y, sk.MAIN_MOVE]] = main_x, main_y, wrap_angle(main_dir)
         self._is[sk.RECENT_COUNT] = 0
         self._is[sk.CHARGE_END] = -1
-        self._res[:] = math.nan
-        self._res[[ak.LAST_T, ak.LAST_X, ak.LAST_Y, ak.LAST_D]] = (t, main_x, main_y,
-                                                                 wrap_angle(main_dir))
-        self._res[ak.HAS_PREV] = 0.0
 
     @property
     def coherence_share(self) -> float:
@@ -221,10 +208,8 @@ class Reactor(GenerationStep):
             return [(t, *self.pose)]
         isfinite = math.isfinite
         resampler = self.resampler
-        compiled = self.compiled
-        last = self._res[ak.LAST_T] if compiled else (resampler.last_time or -math.inf)
         if not (isfinite(t) and isfinite(main_x) and isfinite(main_y) and isfinite(main_dir)) \
-                or t <= last:
+                or t <= (resampler.last_time or -math.inf):
             return []
         # plain floats from here on: numpy scalars (rows of a numpy array) carry the same
         # doubles but make every later operation of the step several times slower
@@ -236,10 +221,8 @@ class Reactor(GenerationStep):
             behind = t - (t0 + (self.i + 1) / rate)
             if behind > self.max_backlog:
                 self.i = int(math.floor((t - self.max_backlog - t0) * rate))
-        if compiled:
-            return self._advance_compiled(t, main_x, main_y, main_dir)
         rows: list[tuple[float, float, float, float]] = []
-        step, at = self._step, resampler.at
+        step, at = self._step_compiled if self.compiled else self._step, resampler.at
         while True:  # steps strictly before this sample: extrapolate from earlier samples
             g = t0 + (self.i + 1) / rate
             if g >= t - eps:
@@ -280,63 +263,42 @@ class Reactor(GenerationStep):
                     x, y = keep_apart(x, y, self.obstacles, self.table)
         return x, y, d
 
-    # -- the compiled steps ---------------------------------------------------------------------
+    # -- one generation step ------------------------------------------------------------------
 
-    def _advance_compiled(self, t: float, mx: float, my: float,
-                          md: float) -> list[tuple[float, float, float, float]]:
-        """:meth:`advance`'s steps for the input sample (t, mx, my, md) in one compiled call
-        (advance_kernel.advance: the resampling and every step due; more than its rows
-        buffer holds in several)."""
-        situation, rate = self.situation, self.behavior.params.rate_hz
-        obstacles, state, buffer = self._step_obstacles(), self._state(), self._rows
-        out: list[tuple[float, float, float, float]] = []
-        pushed = 0
-        while True:
-            js, cost_s = situation.best()
-            count, self.i, pushed, o, k, j, least = ak.advance(
-                *state, obstacles, self._res, buffer, t, mx, my, md, self.i, self.t0, rate,
-                self.behavior.params.max_extrapolation, js, cost_s, situation.offset,
-                situation.k, pushed)
-            if count:
-                situation.pushed(k, o, j, least)
-                out.extend(map(tuple, buffer[:count].tolist()))
-            if count < len(buffer):
-                break
-        if out:
-            self._stepped(out[-1][0])
-        return out
-
-    def _state(self) -> tuple:
-        """What advance_kernel.advance takes before the obstacles: the same objects all
-        along (made at the first compiled step)."""
-        if self._kernel_state is None:
-            b = self.behavior
-            self._kernel_state = (
-                self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
-                self._smooth_y, self._recent, self._xs, self._xc,
-                *self.coherence.kernel_state(), *self.situation.kernel_state())
-        return self._kernel_state
-
-    def _step_obstacles(self) -> np.ndarray:
-        """The others' discs (x, y, least distance) as rows, then the main's personal space
-        (Behavior.personal_space; its place is set per step)."""
+    def _step_compiled(self, g: float, mx: float, my: float,
+                       md: float) -> tuple[float, float, float, float]:
+        """:meth:`_step` as one compiled call (step_kernel.step_and_push: the coherence
+        search's proposal, the step, the new sample pair into both searches)."""
+        situation = self.situation
+        js, cost_s = situation.best()
+        b = self.behavior
         rows = self._obstacle_rows
         if rows is None:
             rows = np.array(self.obstacles, dtype=float).reshape(-1, 3) if self.obstacles \
                 else _NO_OBSTACLES
-        if self.behavior.personal_space <= 0.0:
-            return rows
-        if len(rows):
-            return np.vstack([rows, self._space])
-        return self._space
-
-    def _stepped(self, g: float) -> None:
-        """The Python state after compiled steps, the last at grid time ``g``."""
+        if b.personal_space <= 0.0:
+            obstacles = rows
+        elif len(rows):                    # the others' discs, then the main's personal space
+            obstacles = np.vstack([rows, [(mx, my, b.personal_space)]])
+        else:                              # the main's personal space alone (see _step)
+            obstacles = self._space
+            obstacles[0, 0], obstacles[0, 1] = mx, my
+        state = self._kernel_state
+        if state is None:   # what step_and_push takes before the obstacles, all along the same
+            state = self._kernel_state = (
+                self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
+                self._smooth_y, self._recent, self._xs, self._xc,
+                *self.coherence.kernel_state(), *situation.kernel_state())
+        k = situation.k + 1
+        self.source, o, j, least = sk.step_and_push(
+            *state, obstacles, mx, my, md, js, cost_s, situation.offset, k)
+        situation.pushed(k, o, j, least)
         ints = self._is
-        self.source = int(ints[sk.SOURCE])
         self.last_choice = ("charge" if ints[sk.KEPT_CHARGE] else
                             "coherence" if ints[sk.USED_COHERENCE] else "situation")
+        self.i += 1
         self.t = g
         rx, ry, look, sx, sy = self._fs.take(_POSE_AND_STEP).tolist()
         self.pose = (rx, ry, look)
         self._last_step = (sx, sy)
+        return g, rx, ry, look

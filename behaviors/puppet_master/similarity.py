@@ -139,7 +139,7 @@ class SituationSearch:
         self.pushed(k, o, j, least)
 
     def kernel_state(self) -> tuple:
-        """What search_kernel.situation_push takes but the offset, the count and the query:
+        """The arrays and constants search_kernel.situation_push takes after (buf, o, n):
         (aug, buf, n, queries, norms, decay, decay^n, lo, hi, e_new, e_old); the same objects
         for the search's life (a push made by a compiled caller: :meth:`pushed`)."""
         return (self.aug, self._buf, self.n, self._queries, self._norms, self.decay,
