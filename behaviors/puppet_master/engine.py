@@ -165,7 +165,6 @@ class Reactor(GenerationStep):
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))
         self._space = np.array([[0.0, 0.0, b.personal_space]])
-        self._kernel_state: tuple | None = None     # made by the first compiled step
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -267,10 +266,9 @@ class Reactor(GenerationStep):
 
     def _step_compiled(self, g: float, mx: float, my: float,
                        md: float) -> tuple[float, float, float, float]:
-        """:meth:`_step` as one compiled call (step_kernel.step_and_push: the coherence
-        search's proposal, the step, the new sample pair into both searches)."""
-        situation = self.situation
-        js, cost_s = situation.best()
+        """:meth:`_step` as one compiled call (step_kernel.step), the searches around it."""
+        js, cost_s = self.situation.best()
+        jc, cost_c = self.coherence.best()
         b = self.behavior
         rows = self._obstacle_rows
         if rows is None:
@@ -283,19 +281,14 @@ class Reactor(GenerationStep):
         else:                              # the main's personal space alone (see _step)
             obstacles = self._space
             obstacles[0, 0], obstacles[0, 1] = mx, my
-        state = self._kernel_state
-        if state is None:   # what step_and_push takes before the obstacles, all along the same
-            state = self._kernel_state = (
-                self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
-                self._smooth_y, self._recent, self._xs, self._xc,
-                *self.coherence.kernel_state(), *situation.kernel_state())
-        k = situation.k + 1
-        self.source, o, j, least = sk.step_and_push(
-            *state, obstacles, mx, my, md, js, cost_s, situation.offset, k)
-        situation.pushed(k, o, j, least)
-        ints = self._is
-        self.last_choice = ("charge" if ints[sk.KEPT_CHARGE] else
-                            "coherence" if ints[sk.USED_COHERENCE] else "situation")
+        self.source = target = sk.step(
+            self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
+            self._smooth_y, self._recent, obstacles, self._xs, self._xc, mx, my, md, js, cost_s,
+            jc, cost_c)
+        self.last_choice = ("charge" if self._is[sk.KEPT_CHARGE] else
+                            "coherence" if self._is[sk.USED_COHERENCE] else "situation")
+        self.situation.push(self._xs)
+        self.coherence.push(self._xc, target)
         self.i += 1
         self.t = g
         rx, ry, look, sx, sy = self._fs.take(_POSE_AND_STEP).tolist()

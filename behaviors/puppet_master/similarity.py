@@ -113,6 +113,7 @@ class SituationSearch:
         # buffers); when o reaches 0 the values move once to the end (every N steps)
         self._buf = np.zeros(2 * N)
         self._o = N
+        self.dist = self._buf[N:]
         self._out = np.zeros(N)
         self._e = np.zeros(N, dtype=E_DTYPE)
         self._e_new = np.zeros(search_kernel.BLOCK, dtype=E_DTYPE)
@@ -125,6 +126,7 @@ class SituationSearch:
         N = self.N
         self._buf[:] = 0.0
         self._o = N
+        self.dist = self._buf[N:]
         search_kernel.situation_reset(self.aug, self.dist, self.n, self._queries,
                                          self._norms, window, self.decay, self._e)
         self.k = self.n - 1
@@ -132,36 +134,14 @@ class SituationSearch:
 
     def push(self, x: np.ndarray) -> None:
         """Advance the live window by the newest vector ``x`` (d,)."""
-        k = self.k + 1
+        self.k = k = self.k + 1
         o, j, least = search_kernel.situation_push(
             self.aug, self._buf, self._o, self.n, self._queries, self._norms, k, x,
             self.decay, self._lam_n, self._lo, self._hi, self._e_new, self._e_old)
-        self.pushed(k, o, j, least)
-
-    def kernel_state(self) -> tuple:
-        """The arrays and constants search_kernel.situation_push takes after (buf, o, n):
-        (aug, buf, n, queries, norms, decay, decay^n, lo, hi, e_new, e_old); the same objects
-        for the search's life (a push made by a compiled caller: :meth:`pushed`)."""
-        return (self.aug, self._buf, self.n, self._queries, self._norms, self.decay,
-                self._lam_n, self._lo, self._hi, self._e_new, self._e_old)
-
-    def pushed(self, k: int, o: int, j: int, least: float) -> None:
-        """Take the k-th push made by search_kernel.situation_push on :meth:`kernel_state`
-        (its new offset ``o``, best window end ``j`` and distance ``least``)."""
-        self.k = k
         self._o = o
+        self.dist = self._buf[o:o + self.N]
         # the best match found in the same pass, while the distances were in the cache
         self._best = (j, max(least, 0.0)) if self.run is not None else self._find_best()
-
-    @property
-    def offset(self) -> int:
-        """Where the distances start in the buffer (search_kernel.situation_push's ``o``)."""
-        return self._o
-
-    @property
-    def dist(self) -> np.ndarray:
-        """Current window distances to every training window end (a view)."""
-        return self._buf[self._o:self._o + self.N]
 
     def distances(self) -> np.ndarray:
         """Current window distances to every training window end (inf where not allowed).
@@ -241,12 +221,6 @@ class CoherenceSearch:
         """Add the newest live vector (d,) and the training index it was generated from."""
         search_kernel.coherence_push(self.buf, self.sq, self._bases, self._sx, self._ik, x,
                                      source)
-
-    def kernel_state(self) -> tuple:
-        """The arrays search_kernel.coherence_best and coherence_push work on: (y, buf,
-        bases, ik, valid, sy, sx, sq); the same objects for the search's life."""
-        return (self.y, self.buf, self._bases, self._ik, self.valid, self.sy, self._sx,
-                self.sq)
 
     def window(self) -> np.ndarray:
         """Live window (n, d), oldest first (a view)."""

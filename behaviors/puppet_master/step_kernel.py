@@ -34,7 +34,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import generation_kernel, search_kernel, step_math
+from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, moved_on, share_around,
     step_around)
@@ -313,37 +313,3 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     fs[STEP_X], fs[STEP_Y] = sx, sy
     return target
 
-
-
-_F1S, _F2S = numba.float32[::1], numba.float32[:, ::1]
-
-
-@compiled(numba.types.Tuple((numba.int64, numba.int64, numba.int64, _f8))(
-    _F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F1, _F1,
-    _F2, _F2, _I1, _I1, numba.boolean[::1], _F1, _F1, _F1,
-    _F2S, _F1, numba.int64, _F2S, _F1S, _f8, _f8, numba.int64, numba.int64, _F1S, _F1S,
-    _F2, _f8, _f8, _f8, numba.int64, _f8, numba.int64, numba.int64),
-    step_math, generation_kernel, search_kernel)
-def step_and_push(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
-                  bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
-                  recent: np.ndarray, xs: np.ndarray, xc: np.ndarray,
-                  y: np.ndarray, cbuf: np.ndarray, bases: np.ndarray, ik: np.ndarray,
-                  valid: np.ndarray, sy: np.ndarray, sx: np.ndarray, sq: np.ndarray,
-                  aug: np.ndarray, sbuf: np.ndarray, n: int, queries: np.ndarray,
-                  norms: np.ndarray, lam: float, lam_n: float, lo: int, hi: int,
-                  e_new: np.ndarray, e_old: np.ndarray, obstacles: np.ndarray,
-                  mx: float, my: float, md: float, js: int, cost_s: float, o: int,
-                  k: int) -> tuple[int, int, int, float]:
-    """One whole generation step as engine.Reactor._step_compiled makes it: the coherence
-    search's best proposal (search_kernel.coherence_best; ``y`` ... ``sq``: its state,
-    similarity.CoherenceSearch.kernel_state), :func:`step` with the situation search's best
-    (``js``, ``cost_s``), then the new sample pair pushed into both windows (the situation
-    search's k-th vector: ``aug`` ... ``e_old``, ``o``: similarity.SituationSearch).
-    Returns the target, and the situation push's new offset, best window end and distance."""
-    jc, cost_c = search_kernel.coherence_best(y, cbuf, bases, ik, valid, sy, sx)
-    target = step(fs, ints, c, table, bearings, smooth_x, smooth_y, recent, obstacles, xs, xc,
-                  mx, my, md, js, cost_s, jc, cost_c)
-    o, j, least = search_kernel.situation_push(aug, sbuf, o, n, queries, norms, k, xs, lam,
-                                               lam_n, lo, hi, e_new, e_old)
-    search_kernel.coherence_push(cbuf, sq, bases, sx, ik, xc, target)
-    return target, o, j, least

@@ -33,9 +33,6 @@ def _run(behavior: Behavior, main: np.ndarray, reference: bool, obstacles: bool)
                                                p.half_life)
         r.coherence = ReferenceCoherenceSearch(behavior.coherence_vectors, p.window,
                                                behavior.valid)
-        # the Python step around them: the compiled step runs the compiled searches inside
-        # its one call (and equals the Python step bit for bit: test_pm_step_kernel)
-        r.compiled = False
     rows, choices = [], set()
     for k, sample in enumerate(main):
         if k % 97 in (5, 6, 7):          # input gaps: several steps from one sample
