@@ -20,6 +20,11 @@ which leaves out the time it waited for a core while other processes ran.
    frame where all 8 step). This adds what the plugin does per engine and frame (reading the
    main, the other reactors to keep apart from, the drawn character) to the reactor updates.
 
+The machine's own tail: a constant piece of work (a Python loop over a list in the first-level
+cache, calibrated to about 40 us) timed in the same rotation (``reference_constant_work``):
+what its p99 over its median shows is added by the machine (timer ticks, interrupts and the
+hypervisor, 10-16 us for one page fault on the development VM), whatever the code timed.
+
 The step's own tail: the generation is deterministic, so the step run is replayed (alone,
 after the interleaved timing, five times) and each step keeps the least CPU time of its replays
 (``step_*_replayed_*``). What is left is what the step itself costs on that step (its branch,
@@ -42,6 +47,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import Callable
 
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")     # one core, as the budgets are stated
@@ -112,6 +118,23 @@ class Feed:
         self.reactor.advance(*self.main[self.i])
 
 
+def constant_work(seconds: float) -> Callable[[], int]:
+    """A fixed loop over a small list (in the first-level cache) taking about ``seconds`` of
+    CPU, calibrated here."""
+    data = list(range(100))
+
+    def work(rounds: int) -> int:
+        s = 0
+        for _ in range(rounds):
+            for v in data:
+                s += v
+        return s
+    c0 = time.thread_time()
+    work(2000)
+    rounds = max(1, round(2000 * seconds / max(time.thread_time() - c0, 1e-9)))
+    return lambda: work(rounds)
+
+
 def replayed_least(behavior: Behavior, seed: int, seconds: float, rounds: int,
                    replays: int = 5) -> np.ndarray:
     """Per-step thread CPU seconds of the same ``rounds`` steps replayed ``replays`` times
@@ -166,6 +189,7 @@ def main() -> None:
         for e in engines:
             e.step(frame)
     feeds["plugin_8_shipped_frame"] = plugin_frame
+    feeds["reference_constant_work"] = constant_work(40e-6)
     cpu: dict[str, list[float]] = {}
     times = interleaved(feeds, ROUNDS, cpu=cpu)
 
@@ -185,7 +209,7 @@ def main() -> None:
             figures[f"{prefix}{name}_p99_us"] = s["p99_ms"] * 1e3
             figures[f"{prefix}{name}_mean_us"] = s["mean_ms"] * 1e3
         for name in ("step_3200", "step_24000", "tick_8x3200", "tick_8x24000",
-                     "plugin_8_shipped_frame"):
+                     "plugin_8_shipped_frame", "reference_constant_work"):
             figures[f"{prefix}{name}_p99_over_median"] = (
                 figures[f"{prefix}{name}_p99_us"] / figures[f"{prefix}{name}_median_us"])
     figures["steps_timed_per_config"] = ROUNDS
