@@ -96,13 +96,28 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     """Per training sample, whether the main stood still (its speed over 0.5 s centred on the
     sample below ``still_mps``), and the reactor's typical speed while it did (m/s: the
     ``share`` percentile of its speed over 0.1 s at those samples; inf with fewer than ten
-    such samples). ``main``, ``react``: (n, 2) positions at ``rate_hz``.
+    such samples, or where the reactor was on average no slower beside a still main than
+    beside a walking one). ``main``, ``react``: (n, 2) positions at ``rate_hz``.
 
     A live main that stops is still matched for about a second to windows where the
     demonstrated main walked (the window is 1 s long): a stalker kept walking after its main
     stopped (speed while the main stood 0.15 m/s against 0.07 demonstrated, still/moving 0.43-0.85
     against 0.29). Its step is then held to how fast the demonstrated reactor typically moved
-    beside a still main (engine.Reactor._step)."""
+    beside a still main (engine.Reactor._step).
+
+    A character whose pace does not drop when its main stops has nothing to hold: the bully
+    (mean 0.252 m/s beside a still main, 0.248 beside a walking one) charges and backs off
+    from a main that stands as from one that walks, and held to its median beside a still
+    main (0.194 m/s) it lost the upper half of that, its charges and back-offs: its speed
+    beside a still main fell to 0.12-0.14 m/s on the missed paths (still/moving 0.57-0.64
+    against 0.971; mean over the 21 unseen paths of seeds 0-5 and 7 0.80). Not held: mean
+    0.92, met on 20 of 21 instead of 17, and its contact on 20 instead of 18 (seed 4 fast
+    0.108 -> 0.142, seeds 2 and 5 slow 0.224 / 0.206 -> 0.170 / 0.197 against 0.157: with
+    the cap, a charge at a main that stood crept in at 0.19 m/s and stayed pressed against
+    it). bench/fidelity.py --seeds 0,1,2,3,4,5: 632 -> 635 of 720, --seeds 7: 108 -> 110.
+    The playful friend (0.98 of its speed beside a walking main) is held: released too,
+    its still/moving mean moved 0.89 -> 0.96 (against 0.99) but its darts reached contact
+    less often (contact met on 13 of 21 paths instead of 18): 631 / 110."""
     n = main.shape[0]
     v = np.zeros(n)
     v[1:] = np.hypot(*np.diff(react, axis=0).T) * rate_hz
@@ -112,8 +127,9 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     a, b = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
     vm = np.hypot(*(main[b] - main[a]).T) * rate_hz / np.maximum(b - a, 1)
     still = vm < still_mps
-    cap = float(np.percentile(v[still], share)) if still.sum() > 10 else math.inf
-    return still, cap
+    if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
+        return still, math.inf
+    return still, float(np.percentile(v[still], share))
 
 
 def step_toward(rx: float, ry: float, tx: float, ty: float,
@@ -166,7 +182,19 @@ def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: floa
     A relative target is a place round the main: on the straight line to one farther out at
     another bearing the reactor first closes in on the main. The playful friend's drift
     correction so drove it into its main at 0.35-0.75 m/s while the target it corrected toward
-    was farther out (0.14 m against a live 0.07-0.13 m), on the fast path."""
+    was farther out (0.14 m against a live 0.07-0.13 m), on the fast path.
+
+    What it costs, the friend's contact on seed 0's slow path and loops (0.019 / 0.020 against
+    0.041): its darts stop short (median least distance of a dip 0.097 / 0.102 m against
+    0.077 demonstrated), where the matched moments dart deeper (under 0.08 m in 38% of the
+    dips; 78% with the straight correction). Traced (seed 0 slow): the demonstrated step
+    relative to the main is carried in the main's frame, and the live friend circles at
+    another bearing than the matched moment, up to the far side, so a dart's inward step
+    comes out sideways or outward (0.27-0.47 m/s outward while the moment darted in) and the
+    correction alone pulls it in. That step turned by the bearing between the live reactor
+    and the moment (characters without a personal space, outside charges) meets both paths'
+    contact (0.049 / 0.022) but bench/fidelity.py --seeds 0,1,2,3,4,5 falls 635 -> 628 of
+    720 (bully -5, friend -3, stalker +1; seed 7 110 -> 109): not used."""
     cx, cy = share * (tx - rx), share * (ty - ry)
     ax, ay = rx - mx, ry - my
     bx, by = tx - mx, ty - my
@@ -257,7 +285,18 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     kept whole under the cap and the correction given what is left 41 / 7 (orbit 0.38-0.60).
     None kept: the matched moments are themselves slow flights (0.42-0.45 m from the main,
     0.19-0.24 m/s, where the live character is at 0.2-0.45 m), so the flight left is short
-    whatever the correction does.
+    whatever the correction does. Measured as well (same figures): the part cut off carried
+    along the edge away from the visitor 28 / 5 (caught: 0.14-0.32 m from it); the fit at the
+    live distance where it is nearer than the matched one 34 / 7; onto the table shrunk by
+    0.05 / 0.1 / 0.2 m 40 / 40 / 39 (7 / 7 / 6); the bearing point nearest the reactor less 1x /
+    2x its room to an edge (at most 0.2 m) 41 / 39 (7 / 7; seeds 8-19: 79 -> 78 / 81 of 96),
+    edge share 0.24-0.71 but orbit unchanged; the correction toward a moved target only along
+    the bearing 29 / 7 (pinned at the edge); the catch-up from the unmoved target 37 / 7; a
+    world-held place nearer than its moment at least as fast as the demonstration at that
+    distance while its main closed in (median 0.17-0.26 m/s) 41 / 7 (seeds 8-19: 79 -> 75).
+    The orbit (0.41-0.51 rad/s) fell only where the visitor caught the character: the turn
+    round the visitor is the dodge that keeps it uncaught; between 0.3 and 0.45 m the matched
+    moments' own outward step is 0.04-0.07 m/s against the demonstration's 0.12 there.
     """
     x0, y0, x1, y1 = table
     if x0 <= tx <= x1 and y0 <= ty <= y1:
