@@ -1,15 +1,15 @@
 """The generation step's arithmetic (engine.Reactor._step) compiled as one call.
 
-The readable definition is the Python step, ``engine.Reactor._step``, and the pure functions
-it calls; this module (the step: the balancing of BestMatch, paper section 4.3.3, the step's
+The readable definition is the Python step, ``engine.Reactor._step`` (step.py), and the
+functions it calls; this module (the step: the balancing of BestMatch, paper section 4.3.3, the step's
 stages of Output Generation, 4.4, the look and the new sample pair's features, 4.2) with
 generation_kernel (the general trajectory's functions, 4.4.1) and step_math (CPython's
 arithmetic) repeats them operation for operation, so a compiled step gives the same pose to
 the last bit (tests/puppet_master/test_pm_step_kernel.py runs both side by side). A change to
 any of these must be made here too:
 
-- engine.Reactor._step (from the balancing, with a charge kept whole, to the features of the
-  new sample pair)
+- step.GenerationStep, Reactor's ``_step`` and its stages (from the balancing, with a charge
+  kept whole, to the features of the new sample pair)
 - similarity.Balancer.choose
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
   share_around, rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
