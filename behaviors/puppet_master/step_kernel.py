@@ -1,8 +1,8 @@
 """The generation step's arithmetic (engine.Reactor._step) compiled as one call.
 
 The readable definition is the Python step, ``engine.Reactor._step`` (step.py), and the
-functions it calls; this module (the step: the balancing of BestMatch, paper section 4.3.3, the step's
-stages of Output Generation, 4.4, the look and the new sample pair's features, 4.2) with
+functions it calls; this module (the step: the balancing of BestMatch, paper section 4.3.3,
+the stages of Output Generation, 4.4, the look and the new sample pair's features, 4.2) with
 generation_kernel (the general trajectory's functions, 4.4.1) and step_math (CPython's
 arithmetic) repeats them operation for operation, so a compiled step gives the same pose to
 the last bit (tests/puppet_master/test_pm_step_kernel.py runs both side by side). A change to
