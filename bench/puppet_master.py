@@ -20,6 +20,17 @@ which leaves out the time it waited for a core while other processes ran.
    frame where all 8 step). This adds what the plugin does per engine and frame (reading the
    main, the other reactors to keep apart from, the drawn character) to the reactor updates.
 
+The machine's own tail: a constant piece of work (a Python loop over a list in the first-level
+cache, calibrated to about 40 us) timed in the same rotation (``reference_constant_work``):
+what its p99 over its median shows is added by the machine (timer ticks, interrupts and the
+hypervisor, 10-16 us for one page fault on the development VM), whatever the code timed.
+
+The same configurations are timed again as an installation with ``loop.realtime_priority``
+(10) runs them (``rt_`` figures; SCHED_FIFO: no other program takes the core between or
+during the calls; skipped where the system refuses it, ``realtime_priority_timed`` 0): on a
+shared machine the ordinary figures' tail is mostly other programs taking the core, which
+leaves the step's data and code cold (a loop in the first-level cache hardly feels it).
+
 The step's own tail: the generation is deterministic, so the step run is replayed (alone,
 after the interleaved timing, five times) and each step keeps the least CPU time of its replays
 (``step_*_replayed_*``). What is left is what the step itself costs on that step (its branch,
@@ -42,6 +53,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import Callable
 
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")     # one core, as the budgets are stated
@@ -53,6 +65,7 @@ import numpy as np  # noqa: E402
 
 from bench.common import emit, interleaved, stats_ms  # noqa: E402
 from behaviors.puppet_master.engine import Behavior, Reactor  # noqa: E402
+from tabletop.realtime import realtime_threads  # noqa: E402
 
 _spec = importlib.util.spec_from_file_location(
     "pm_demos", ROOT / "tests" / "puppet_master" / "demos.py")
@@ -60,6 +73,7 @@ demos = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(demos)
 
 RATE = 40.0
+REALTIME_PRIORITY = 10     # as bench/loop.py's real-time case
 TABLE = (0.0, 0.0, 1.6, 1.0)
 ROUNDS = 2000
 
@@ -112,6 +126,23 @@ class Feed:
         self.reactor.advance(*self.main[self.i])
 
 
+def constant_work(seconds: float) -> Callable[[], int]:
+    """A fixed loop over a small list (in the first-level cache) taking about ``seconds`` of
+    CPU, calibrated here."""
+    data = list(range(100))
+
+    def work(rounds: int) -> int:
+        s = 0
+        for _ in range(rounds):
+            for v in data:
+                s += v
+        return s
+    c0 = time.thread_time()
+    work(2000)
+    rounds = max(1, round(2000 * seconds / max(time.thread_time() - c0, 1e-9)))
+    return lambda: work(rounds)
+
+
 def replayed_least(behavior: Behavior, seed: int, seconds: float, rounds: int,
                    replays: int = 5) -> np.ndarray:
     """Per-step thread CPU seconds of the same ``rounds`` steps replayed ``replays`` times
@@ -150,24 +181,45 @@ def main() -> None:
     kinds = ("follow", "keep_away", "circling", "follow")
     group_small = [Behavior.train(demonstration(k, 3200, 10 + i)) for i, k in enumerate(kinds)]
     group_large = [Behavior.train(demonstration(k, 24000, 20 + i)) for i, k in enumerate(kinds)]
-    feeds = {
-        "step_3200": Feed(small, 101, seconds),
-        "step_24000": Feed(large, 102, seconds),
-    }
-    eight_small = [Feed(group_small[i % 4], 200 + i, seconds) for i in range(8)]
-    eight_large = [Feed(group_large[i % 4], 300 + i, seconds) for i in range(8)]
-    feeds["tick_8x3200"] = lambda: [f() for f in eight_small]
-    feeds["tick_8x24000"] = lambda: [f() for f in eight_large]
-    engines, frames = shipped_engines(8, ROUNDS + 1)
-    frame_iter = iter(frames)
+    reference = constant_work(40e-6)
 
-    def plugin_frame() -> None:
-        frame = next(frame_iter)
-        for e in engines:
-            e.step(frame)
-    feeds["plugin_8_shipped_frame"] = plugin_frame
+    eight_small: list[Feed] = []      # the first run's 8 x 3,200 reactors
+
+    def configs() -> dict[str, Callable[[], object]]:
+        """The timed configurations, from their start (the same steps every time)."""
+        feeds: dict[str, Callable[[], object]] = {
+            "step_3200": Feed(small, 101, seconds),
+            "step_24000": Feed(large, 102, seconds),
+        }
+        small8 = [Feed(group_small[i % 4], 200 + i, seconds) for i in range(8)]
+        eight_small[:] = eight_small or small8
+        eight_large = [Feed(group_large[i % 4], 300 + i, seconds) for i in range(8)]
+        feeds["tick_8x3200"] = lambda: [f() for f in small8]
+        feeds["tick_8x24000"] = lambda: [f() for f in eight_large]
+        engines, frames = shipped_engines(8, ROUNDS + 1)
+        frame_iter = iter(frames)
+
+        def plugin_frame() -> None:
+            frame = next(frame_iter)
+            for e in engines:
+                e.step(frame)
+        feeds["plugin_8_shipped_frame"] = plugin_frame
+        feeds["reference_constant_work"] = reference
+        return feeds
     cpu: dict[str, list[float]] = {}
+    feeds = configs()
     times = interleaved(feeds, ROUNDS, cpu=cpu)
+    # again as an installation with loop.realtime_priority runs (tabletop.realtime: no other
+    # program takes the core; what is left of the tail is the machine's own)
+    restore = realtime_threads(REALTIME_PRIORITY)
+    rt_cpu: dict[str, list[float]] = {}
+    if restore is not None:
+        try:
+            rt_times = interleaved(configs(), ROUNDS, cpu=rt_cpu)
+        finally:
+            restore()
+        times.update({f"rt_{k}": v for k, v in rt_times.items()})
+        cpu.update({f"rt_{k}": v for k, v in rt_cpu.items()})
 
     replayed = {f"step_{n}_replayed": replayed_least(b, seed, seconds, ROUNDS)
                 for n, b, seed in (("3200", small, 101), ("24000", large, 102))}
@@ -184,11 +236,11 @@ def main() -> None:
             figures[f"{prefix}{name}_median_us"] = s["median_ms"] * 1e3
             figures[f"{prefix}{name}_p99_us"] = s["p99_ms"] * 1e3
             figures[f"{prefix}{name}_mean_us"] = s["mean_ms"] * 1e3
-        for name in ("step_3200", "step_24000", "tick_8x3200", "tick_8x24000",
-                     "plugin_8_shipped_frame"):
+        for name in measured:
             figures[f"{prefix}{name}_p99_over_median"] = (
                 figures[f"{prefix}{name}_p99_us"] / figures[f"{prefix}{name}_median_us"])
     figures["steps_timed_per_config"] = ROUNDS
+    figures["realtime_priority_timed"] = float(restore is not None)
     figures["load_average_1min"] = os.getloadavg()[0]
     figures["train_80s_demo_ms"] = min(train_times["80s"]) * 1e3
     figures["train_600s_demo_ms"] = min(train_times["600s"]) * 1e3
@@ -204,7 +256,9 @@ def main() -> None:
                "note": "wall-clock figures (no prefix) include waiting for the CPU on a shared "
                        "machine (see load_average_1min); cpu_ figures are the thread's own CPU "
                        "time per call; cpu_step_*_replayed_*: the least of 5 replays per step "
-                       "(alone, caches warm)"}
+                       "(alone, caches warm); rt_: the same with real-time priority "
+                       "(loop.realtime_priority 10); reference_constant_work: 40 us of work in "
+                       "the first-level cache, the machine's own tail"}
     emit("puppet_master", figures, budgets)
 
 

@@ -4,7 +4,10 @@ A designer demonstrates with two pucks how a reactor responds to a main characte
 reactor's motion is generated step by step at 40 Hz from the main's motion, keeping the
 demonstrated style. Modules: ``resample`` (fixed generation rate, causal live resampling),
 ``features`` (4.2), ``similarity`` (4.3: situation similarity, path coherence, balancing),
-``generation`` (4.4.1 and the table), ``detail`` (4.4.2 Haar texture), ``engine``
+``generation`` (4.4.1 and the table), ``detail`` (4.4.2 Haar texture), ``step`` (one
+generation step: BestMatch, then Output Generation's stages), ``engine``
 (:class:`~behaviors.puppet_master.engine.Behavior` and
-:class:`~behaviors.puppet_master.engine.Reactor`).
+:class:`~behaviors.puppet_master.engine.Reactor`); compiled: ``search_kernel`` (the searches),
+``step_kernel`` with ``generation_kernel`` and ``step_math`` (the step, to the Python step's
+bits), built by ``kernels``.
 """

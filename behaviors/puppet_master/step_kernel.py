@@ -1,12 +1,15 @@
 """The generation step's arithmetic (engine.Reactor._step) compiled as one call.
 
-The readable definition is the Python step, ``engine.Reactor._step``, and the pure functions
-it calls; this module repeats them operation for operation, so a compiled step gives the same
-pose to the last bit (tests/puppet_master/test_pm_step_kernel.py runs both side by side).
-A change to any of these must be made here too:
+The readable definition is the Python step, ``engine.Reactor._step`` (step.py), and the
+functions it calls; this module (the step: the balancing of BestMatch, paper section 4.3.3,
+the stages of Output Generation, 4.4, the look and the new sample pair's features, 4.2) with
+generation_kernel (the general trajectory's functions, 4.4.1) and step_math (CPython's
+arithmetic) repeats them operation for operation, so a compiled step gives the same pose to
+the last bit (tests/puppet_master/test_pm_step_kernel.py runs both side by side). A change to
+any of these must be made here too:
 
-- engine.Reactor._step (from the balancing, with a charge kept whole, to the features of the
-  new sample pair)
+- step.GenerationStep, Reactor's ``_step`` and its stages (from the balancing, with a charge
+  kept whole, to the features of the new sample pair)
 - similarity.Balancer.choose
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
   share_around, rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
@@ -31,6 +34,13 @@ import math
 import numba
 import numpy as np
 
+from behaviors.puppet_master import generation_kernel, step_math
+from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
+    X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, moved_on, share_around,
+    step_around)
+from behaviors.puppet_master.kernels import compiled
+from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
+
 # float state (Reactor._fs)
 RX, RY, LOOK, MAIN_X, MAIN_Y, MAIN_MOVE, REACT_X, REACT_Y, REACT_MOVE, EMA_X, EMA_Y, \
     GOV_MS, GOV_Z, GOV_PREV, LOOK_MS, LOOK_Z, LOG_K, SHARE, STEP_X, STEP_Y = range(20)
@@ -39,13 +49,13 @@ FLOAT_STATE = 20
 PATCH_START, PATCH_OFFSET, SMOOTH_I, RECENT_COUNT, RECENT_HEAD, CHOICES, COHERENCE_CHOICES, \
     SOURCE, USED_COHERENCE, CHARGE_END, KEPT_CHARGE = range(11)
 INT_STATE = 11
-# constants (Reactor._cs)
-X0, Y0, X1, Y1, DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
+# constants (Reactor._cs): the table X0, Y0, X1, Y1 (generation_kernel), then
+DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     GOV_TARGET, GOV_MIN_STEP, GOV_GAIN, GOV_DECAY, GOV_Z_MIN, GOV_Z_MAX, \
     LOOK_TARGET, LOOK_GAIN, LOOK_DECAY, LOOK_Z_MIN, LOOK_Z_MAX, \
     TARGET_SHARE, BALANCE_GAIN, SHARE_WINDOW, LOG_K_LIMIT, \
     S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
-    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE = range(38)
+    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE = range(4, 38)
 CONSTANTS = 38
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
@@ -58,227 +68,9 @@ GAZE, RELATIVE, NORMALISED = 0.0, 1.0, 2.0
 
 _f8 = numba.float64
 _F1, _F2, _I1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1]
-_opts = {"cache": True, "nogil": True}
 
 
-@numba.njit(_f8(_f8, _f8), **_opts)
-def remainder(x: float, y: float) -> float:
-    """math.remainder(x, y) for finite x and y > 0, as CPython computes it (exact)."""
-    absx, absy = abs(x), abs(y)
-    m = np.fmod(absx, absy)
-    c = absy - m
-    if m < c:
-        r = m
-    elif m > c:
-        r = -c
-    else:
-        r = m - 2.0 * np.fmod(0.5 * (absx - m), absy)
-    return math.copysign(1.0, x) * r
-
-
-@numba.njit(_f8(_f8, _f8), **_opts)
-def hypot(a: float, b: float) -> float:
-    """math.hypot(a, b) as CPython 3.11 computes it (vector_norm: scaled by a power of two,
-    exact squares by Veltkamp splitting, compensated sums and one correction of the root);
-    libm's hypot differs from it in the last bit now and then."""
-    x0, x1 = abs(a), abs(b)
-    mx = x0 if x0 > x1 else x1
-    if math.isinf(mx):
-        return mx
-    if math.isnan(a) or math.isnan(b):
-        return math.nan
-    if mx == 0.0:
-        return mx
-    _, max_e = math.frexp(mx)
-    if max_e < -1023:                      # subnormal: not met at table scale
-        return math.sqrt(a * a + b * b)
-    scale = math.ldexp(1.0, -max_e)
-    t27 = 134217729.0
-    csum, frac1, frac2, frac3 = 1.0, 0.0, 0.0, 0.0
-    for i in range(2):
-        x = (x0 if i == 0 else x1) * scale
-        t = x * t27
-        hi = t - (t - x)
-        lo = x - hi
-        x = hi * hi
-        old = csum
-        csum += x
-        frac1 += (old - csum) + x
-        x = 2.0 * hi * lo
-        old = csum
-        csum += x
-        frac2 += (old - csum) + x
-        frac3 += lo * lo
-    h = math.sqrt(csum - 1.0 + (frac1 + frac2 + frac3))
-    t = h * t27
-    hi = t - (t - h)
-    lo = h - hi
-    x = -hi * hi
-    old = csum
-    csum += x
-    frac1 += (old - csum) + x
-    x = -2.0 * hi * lo
-    old = csum
-    csum += x
-    frac2 += (old - csum) + x
-    x = -lo * lo
-    old = csum
-    csum += x
-    frac3 += (old - csum) + x
-    x = csum - 1.0 + (frac1 + frac2 + frac3)
-    return (h + x / (2.0 * h)) / scale
-
-
-@numba.njit(_f8(_f8), **_opts)
-def wrap_angle(a: float) -> float:
-    """tabletop.frames.wrap_angle."""
-    w = remainder(a, math.tau)
-    return math.pi if w == -math.pi else w
-
-
-@numba.njit(_f8(_f8, _f8), **_opts)
-def _max(a: float, b: float) -> float:
-    """Python's max(a, b): a unless b is greater."""
-    return b if b > a else a
-
-
-@numba.njit(_f8(_f8, _f8), **_opts)
-def _min(a: float, b: float) -> float:
-    """Python's min(a, b): a unless b is less."""
-    return b if b < a else a
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _F1), **_opts)
-def clamp_to_table(x: float, y: float, c: np.ndarray) -> tuple[float, float]:
-    """generation.clamp_to_table (table from the constants)."""
-    return _min(_max(x, c[X0]), c[X1]), _min(_max(y, c[Y0]), c[Y1])
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _F1, _F2), **_opts)
-def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
-               c: np.ndarray, bearings: np.ndarray) -> tuple[float, float]:
-    """generation.fit_target (``bearings``: generation._bearings as an (m, 2) array)."""
-    x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
-    if x0 <= tx <= x1 and y0 <= ty <= y1:
-        return tx, ty
-    rho = hypot(tx - mx, ty - my)
-    found = False
-    bd, bx, by = 0.0, 0.0, 0.0
-    if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
-        for k in range(bearings.shape[0]):
-            px, py = mx + rho * bearings[k, 0], my + rho * bearings[k, 1]
-            if x0 <= px <= x1 and y0 <= py <= y1:
-                d = (px - rx) ** 2 + (py - ry) ** 2
-                if not found or d < bd:
-                    found = True
-                    bd, bx, by = d, px, py
-    if found:
-        return bx, by
-    return clamp_to_table(tx, ty, c)
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8), **_opts)
-def step_toward(rx: float, ry: float, tx: float, ty: float,
-                length: float) -> tuple[float, float]:
-    """generation.step_toward."""
-    dx, dy = tx - rx, ty - ry
-    dist = hypot(dx, dy)
-    if dist < 1e-12:
-        return 0.0, 0.0
-    return dx * length / dist, dy * length / dist
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _f8), **_opts)
-def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
-                length: float) -> tuple[float, float]:
-    """generation.step_around."""
-    ax, ay = rx - mx, ry - my
-    bx, by = tx - mx, ty - my
-    ra, rb = hypot(ax, ay), hypot(bx, by)
-    if ra < 1e-6 or rb < 1e-6:
-        return step_toward(rx, ry, tx, ty, _min(length, hypot(tx - rx, ty - ry)))
-    a0 = math.atan2(ay, ax)
-    da = remainder(math.atan2(by, bx) - a0, math.tau)
-    path = hypot(rb - ra, 0.5 * (ra + rb) * da)
-    if path <= length or path < 1e-12:
-        return tx - rx, ty - ry
-    f = length / path
-    rho, ang = ra + f * (rb - ra), a0 + f * da
-    return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _f8, _f8), **_opts)
-def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
-                 share: float) -> tuple[float, float]:
-    """generation.share_around."""
-    cx, cy = share * (tx - rx), share * (ty - ry)
-    ax, ay = rx - mx, ry - my
-    bx, by = tx - mx, ty - my
-    ra, rb = hypot(ax, ay), hypot(bx, by)
-    if ra > 1e-6 and rb > 1e-6 and rb > ra:
-        a0 = math.atan2(ay, ax)
-        da = remainder(math.atan2(by, bx) - a0, math.tau)
-        rho, ang = ra + share * (rb - ra), a0 + share * da
-        cx, cy = mx + rho * math.cos(ang) - rx, my + rho * math.sin(ang) - ry
-    return cx, cy
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _F1), **_opts)
-def keep_on_table(rx: float, ry: float, sx: float, sy: float,
-                  c: np.ndarray) -> tuple[float, float]:
-    """generation.keep_on_table."""
-    x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
-    length = hypot(sx, sy)
-    nx, ny = rx + sx, ry + sy
-    changed = False
-    if nx < x0 or nx > x1:
-        sx = 0.0
-        changed = True
-    if ny < y0 or ny > y1:
-        sy = 0.0
-        changed = True
-    if changed:
-        rest = hypot(sx, sy)
-        if rest > 1e-12:
-            sx, sy = sx * length / rest, sy * length / rest
-    nx, ny = clamp_to_table(rx + sx, ry + sy, c)
-    return nx - rx, ny - ry
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _F2, _F1), **_opts)
-def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
-    """generation.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
-    for k in range(others.shape[0]):
-        ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
-        dx, dy = x - ox, y - oy
-        d = hypot(dx, dy)
-        if d < least:
-            if d < 1e-9:
-                dx, dy, d = 1.0, 0.0, 1.0
-            x, y = ox + dx * least / d, oy + dy * least / d
-    return clamp_to_table(x, y, c)
-
-
-@numba.njit(numba.types.UniTuple(_f8, 2)(_f8, _f8, _f8, _f8, _f8, _F2, _F1), **_opts)
-def moved_on(x: float, y: float, sx: float, sy: float, f: float, others: np.ndarray,
-             c: np.ndarray) -> tuple[float, float]:
-    """engine.Reactor.update's position between two steps: (x, y) moved on by the share ``f``
-    of the last step (sx, sy), kept on the table and apart from ``others`` (m, 3)."""
-    x, y = clamp_to_table(x + sx * f, y + sy * f, c)
-    if others.shape[0] > 0:
-        x, y = keep_apart(x, y, others, c)
-    return x, y
-
-
-@numba.njit(_f8(_f8, _f8, _f8), **_opts)
-def limit_turn(previous: float, desired: float, max_delta: float) -> float:
-    """generation.limit_turn."""
-    d = wrap_angle(desired - previous)
-    d = _min(_max(d, -max_delta), max_delta)
-    return wrap_angle(previous + d)
-
-
-@numba.njit(_f8(_f8, _f8, _f8, _f8, numba.boolean, _f8, _f8, _f8), **_opts)
+@compiled(_f8(_f8, _f8, _f8, _f8, numba.boolean, _f8, _f8, _f8))
 def desired_look(frame: float, angle: float, still_frame: float, still_angle: float,
                  moving: bool, move_dir: float, md: float, gaze_base: float) -> float:
     """look.desired_look."""
@@ -288,20 +80,19 @@ def desired_look(frame: float, angle: float, still_frame: float, still_angle: fl
     return base + angle
 
 
-@numba.njit(_f8(_f8, _f8, _f8), **_opts)
+@compiled(_f8(_f8, _f8, _f8), step_math)
 def _detail_gain(z: float, z_min: float, z_max: float) -> float:
     """TextureGovernor.detail_gain."""
     return _min(_max(1.0 + z, 0.0), 1.0 + z_max)
 
 
-@numba.njit(_f8(_f8), **_opts)
+@compiled(_f8(_f8), step_math)
 def _alpha(z: float) -> float:
     """TextureGovernor.alpha."""
     return 1.0 if z >= -1.0 else _max(0.2, 1.0 + 0.8 * (z + 1.0))
 
 
-@numba.njit(numba.void(_F1, numba.int64, numba.int64, _f8, _f8, _f8, _f8, _f8, _f8),
-            **_opts)
+@compiled(numba.void(_F1, numba.int64, numba.int64, _f8, _f8, _f8, _f8, _f8, _f8), step_math)
 def _update(s: np.ndarray, ms: int, z: int, value: float, target: float, gain: float,
             decay: float, z_min: float, z_max: float) -> None:
     """TextureGovernor.update on s[ms], s[z]."""
@@ -310,7 +101,7 @@ def _update(s: np.ndarray, ms: int, z: int, value: float, target: float, gain: f
     s[z] = _min(_max(s[z], z_min), z_max)
 
 
-@numba.njit(numba.types.UniTuple(_f8, 3)(_F1, numba.int64, _f8, _f8, _f8, _f8), **_opts)
+@compiled(numba.types.UniTuple(_f8, 3)(_F1, numba.int64, _f8, _f8, _f8, _f8), step_math)
 def _motion(s: np.ndarray, at: int, x: float, y: float, rate_hz: float,
             min_speed: float) -> tuple[float, float, float]:
     """features.EntityMotion.step on s[at: at + 3] (x, y, move)."""
@@ -324,7 +115,7 @@ def _motion(s: np.ndarray, at: int, x: float, y: float, rate_hz: float,
     return speed, s[at + 2], (math.pi if d == -math.pi else d)
 
 
-@numba.njit(numba.types.UniTuple(_f8, 3)(_f8, _f8, _f8, _f8, _f8, _f8), **_opts)
+@compiled(numba.types.UniTuple(_f8, 3)(_f8, _f8, _f8, _f8, _f8, _f8), step_math)
 def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
                   rd: float) -> tuple[float, float, float]:
     """features.relative_pose."""
@@ -334,7 +125,7 @@ def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
     return c * dx + s * dy, -s * dx + c * dy, (math.pi if d == -math.pi else d)
 
 
-@numba.njit(numba.boolean(_F1, numba.int64[::1], _F1, _f8, _f8), **_opts)
+@compiled(numba.boolean(_F1, numba.int64[::1], _F1, _f8, _f8), step_math)
 def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: float,
            coherence_cost: float) -> bool:
     """similarity.Balancer.choose."""
@@ -352,8 +143,9 @@ def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: floa
     return use
 
 
-@numba.njit(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
-                        _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8), **_opts)
+@compiled(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
+                      _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8),
+          step_math, generation_kernel)
 def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
          bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
          recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
@@ -520,3 +312,4 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     fs[RX], fs[RY], fs[LOOK] = rx, ry, look
     fs[STEP_X], fs[STEP_Y] = sx, sy
     return target
+

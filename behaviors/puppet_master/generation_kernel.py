@@ -1,0 +1,157 @@
+"""General trajectory generation (paper section 4.4.1: generation.py) compiled for the step:
+the target fitted onto the table, the step toward or around it, kept on the table and apart
+from the other characters, and the look's limited turn; each function repeats its Python
+definition in generation.py operation for operation (the same bits).
+
+The table (x0, y0, x1, y1, metres) is the first four of the step's constants (``c``, see
+step_kernel); ``others``: (m, 3) rows x, y, least distance (metres).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from behaviors.puppet_master import step_math
+from behaviors.puppet_master.kernels import compiled
+from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
+
+# the table among the step's constants (Reactor._cs)
+X0, Y0, X1, Y1 = range(4)
+
+_f8 = numba.float64
+_F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
+_P2 = numba.types.UniTuple(_f8, 2)
+
+
+@compiled(_P2(_f8, _f8, _F1), step_math)
+def clamp_to_table(x: float, y: float, c: np.ndarray) -> tuple[float, float]:
+    """generation.clamp_to_table (table from the constants)."""
+    return _min(_max(x, c[X0]), c[X1]), _min(_max(y, c[Y0]), c[Y1])
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _F1, _F2), step_math)
+def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
+               c: np.ndarray, bearings: np.ndarray) -> tuple[float, float]:
+    """generation.fit_target (``bearings``: generation._bearings as an (m, 2) array)."""
+    x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
+    if x0 <= tx <= x1 and y0 <= ty <= y1:
+        return tx, ty
+    rho = hypot(tx - mx, ty - my)
+    found = False
+    bd, bx, by = 0.0, 0.0, 0.0
+    if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
+        for k in range(bearings.shape[0]):
+            px, py = mx + rho * bearings[k, 0], my + rho * bearings[k, 1]
+            if x0 <= px <= x1 and y0 <= py <= y1:
+                d = (px - rx) ** 2 + (py - ry) ** 2
+                if not found or d < bd:
+                    found = True
+                    bd, bx, by = d, px, py
+    if found:
+        return bx, by
+    return clamp_to_table(tx, ty, c)
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8), step_math)
+def step_toward(rx: float, ry: float, tx: float, ty: float,
+                length: float) -> tuple[float, float]:
+    """generation.step_toward."""
+    dx, dy = tx - rx, ty - ry
+    dist = hypot(dx, dy)
+    if dist < 1e-12:
+        return 0.0, 0.0
+    return dx * length / dist, dy * length / dist
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8), step_math)
+def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
+                length: float) -> tuple[float, float]:
+    """generation.step_around."""
+    ax, ay = rx - mx, ry - my
+    bx, by = tx - mx, ty - my
+    ra, rb = hypot(ax, ay), hypot(bx, by)
+    if ra < 1e-6 or rb < 1e-6:
+        return step_toward(rx, ry, tx, ty, _min(length, hypot(tx - rx, ty - ry)))
+    a0 = math.atan2(ay, ax)
+    da = remainder(math.atan2(by, bx) - a0, math.tau)
+    path = hypot(rb - ra, 0.5 * (ra + rb) * da)
+    if path <= length or path < 1e-12:
+        return tx - rx, ty - ry
+    f = length / path
+    rho, ang = ra + f * (rb - ra), a0 + f * da
+    return step_toward(rx, ry, mx + rho * math.cos(ang), my + rho * math.sin(ang), length)
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8), step_math)
+def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
+                 share: float) -> tuple[float, float]:
+    """generation.share_around."""
+    cx, cy = share * (tx - rx), share * (ty - ry)
+    ax, ay = rx - mx, ry - my
+    bx, by = tx - mx, ty - my
+    ra, rb = hypot(ax, ay), hypot(bx, by)
+    if ra > 1e-6 and rb > 1e-6 and rb > ra:
+        a0 = math.atan2(ay, ax)
+        da = remainder(math.atan2(by, bx) - a0, math.tau)
+        rho, ang = ra + share * (rb - ra), a0 + share * da
+        cx, cy = mx + rho * math.cos(ang) - rx, my + rho * math.sin(ang) - ry
+    return cx, cy
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _F1), step_math)
+def keep_on_table(rx: float, ry: float, sx: float, sy: float,
+                  c: np.ndarray) -> tuple[float, float]:
+    """generation.keep_on_table."""
+    x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
+    length = hypot(sx, sy)
+    nx, ny = rx + sx, ry + sy
+    changed = False
+    if nx < x0 or nx > x1:
+        sx = 0.0
+        changed = True
+    if ny < y0 or ny > y1:
+        sy = 0.0
+        changed = True
+    if changed:
+        rest = hypot(sx, sy)
+        if rest > 1e-12:
+            sx, sy = sx * length / rest, sy * length / rest
+    nx, ny = clamp_to_table(rx + sx, ry + sy, c)
+    return nx - rx, ny - ry
+
+
+@compiled(_P2(_f8, _f8, _F2, _F1), step_math)
+def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
+    """generation.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
+    for k in range(others.shape[0]):
+        ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
+        dx, dy = x - ox, y - oy
+        d = hypot(dx, dy)
+        if d < least:
+            if d < 1e-9:
+                dx, dy, d = 1.0, 0.0, 1.0
+            x, y = ox + dx * least / d, oy + dy * least / d
+    return clamp_to_table(x, y, c)
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _F2, _F1), step_math)
+def moved_on(x: float, y: float, sx: float, sy: float, f: float, others: np.ndarray,
+             c: np.ndarray) -> tuple[float, float]:
+    """engine.Reactor.update's position between two steps: (x, y) moved on by the share ``f``
+    of the last step (sx, sy), kept on the table and apart from ``others`` (m, 3)."""
+    x, y = clamp_to_table(x + sx * f, y + sy * f, c)
+    if others.shape[0] > 0:
+        x, y = keep_apart(x, y, others, c)
+    return x, y
+
+
+@compiled(_f8(_f8, _f8, _f8), step_math)
+def limit_turn(previous: float, desired: float, max_delta: float) -> float:
+    """generation.limit_turn."""
+    d = wrap_angle(desired - previous)
+    d = _min(_max(d, -max_delta), max_delta)
+    return wrap_angle(previous + d)
+
