@@ -34,8 +34,12 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from behaviors.mop import validity
 from behaviors.mop.hmm import TemplateBank, inner_holds
 from behaviors.mop.validity import RESTING_RADII
+from tabletop.kernel_cache import compiled
+
+_CALLS_INTO = (validity,)   # the file whose constants the kernels take in
 
 #: States before a hold inside a template from which a resting performer may be holding it.
 HOLD_AHEAD = 6
@@ -60,8 +64,8 @@ def hold_maps(bank: TemplateBank, ahead: int = HOLD_AHEAD) -> tuple[np.ndarray, 
     return end, first
 
 
-@numba.njit(numba.float64(numba.float64[::1], numba.float64[::1], numba.float64, numba.float64,
-                          numba.float64[::1]), cache=True, nogil=True)
+@compiled(numba.float64(numba.float64[::1], numba.float64[::1], numba.float64, numba.float64,
+                      numba.float64[::1]), *_CALLS_INTO)
 def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndarray) -> float:
     """The size (least squares) at which the input ``r`` (d,: from the anchor, in units) lies
     on a hold's place ``q`` (d,: from the template's first state, in units), when it is at
@@ -108,8 +112,8 @@ def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray, re
     return np.where(at_end, np.fmax(progress, end), progress)
 
 
-@numba.njit(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
-                          numba.float64[::1]), cache=True, nogil=True)
+@compiled(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
+                      numba.float64[::1]), *_CALLS_INTO)
 def resting_with(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, radius: np.ndarray) -> bool:
     """:func:`behaviors.mop.validity.resting` of a group member ``i``'s buffered samples
     (``buf`` (M, S, D), its last ``count[i]`` rows) before they take this sample ``x[i]``: over

@@ -18,8 +18,12 @@ import math
 import numba
 import numpy as np
 
+from behaviors.mop import spotting, validity
 from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
 from behaviors.mop.validity import BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, RESTING_RADII
+from tabletop.kernel_cache import compiled
+
+_CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -34,7 +38,7 @@ MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", 
 _RAD = len(MEMBER_RULES)
 
 
-@numba.njit(numba.void(_F3, _I1, _F2, numba.intp, numba.intp), cache=True, nogil=True)
+@compiled(numba.void(_F3, _I1, _F2, numba.intp, numba.intp), *_CALLS_INTO)
 def push(buf: np.ndarray, count: np.ndarray, x: np.ndarray, i: int, keep: int) -> None:
     """Append member ``i``'s sample ``x[i]`` to its recent-sample buffer ``buf[i]`` (S, D),
     oldest row first, the newest last; ``count[i]``: valid rows, at most ``keep``."""
@@ -45,7 +49,7 @@ def push(buf: np.ndarray, count: np.ndarray, x: np.ndarray, i: int, keep: int) -
     count[i] = min(count[i] + 1, keep)
 
 
-@numba.njit(numba.boolean(_F3, _I1, numba.intp, numba.intp, _F1), cache=True, nogil=True)
+@compiled(numba.boolean(_F3, _I1, numba.intp, numba.intp, _F1), *_CALLS_INTO)
 def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.ndarray) -> bool:
     """:meth:`GestureSpotting._still` after the push: member ``i``'s last ``samples`` buffered
     samples all within ``2 radius`` (D,) per column (False while fewer were seen)."""
@@ -77,7 +81,7 @@ def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
     return total / n[:, None]
 
 
-@numba.njit(numba.boolean(_F1, _F1, _F1, _F1), cache=True, nogil=True)
+@compiled(numba.boolean(_F1, _F1, _F1, _F1), *_CALLS_INTO)
 def moved_on(x: np.ndarray, end_x: np.ndarray, last: np.ndarray, still_radius: np.ndarray) -> bool:
     """:meth:`GestureSpotting._moved_on`: farther from the template's last point ``last`` (D,)
     than the end ``end_x`` was, by more than 3 still radii in some column."""
@@ -87,7 +91,7 @@ def moved_on(x: np.ndarray, end_x: np.ndarray, last: np.ndarray, still_radius: n
     return False
 
 
-@numba.njit(numba.boolean(_F1, _F1, _F1, numba.float64, numba.float64), cache=True, nogil=True)
+@compiled(numba.boolean(_F1, _F1, _F1, numba.float64, numba.float64), *_CALLS_INTO)
 def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float, limit2: float) -> bool:
     """:meth:`GestureSpotting._departed`: the mean over ``dims`` columns of
     ``((x - end_x) / spread)^2`` at least ``limit2`` (``(distance sigma)^2``)."""
@@ -98,9 +102,9 @@ def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float, 
     return acc / dims >= limit2
 
 
-@numba.njit(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
-                       numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
-                       numba.boolean), cache=True, nogil=True)
+@compiled(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
+                   numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
+                   numba.boolean), *_CALLS_INTO)
 def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, gone: bool,
          valid: bool, progress: float, lost: int, lost_samples: int, engaged: bool) -> int:
     """:meth:`GestureSpotting._spot`'s choice (after ``_end_x`` was set this sample): one of
@@ -116,7 +120,7 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
     return GOES_ON
 
 
-@numba.njit(numba.boolean(_F3, _I1, numba.intp, _F1), cache=True, nogil=True)
+@compiled(numba.boolean(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)
 def resting(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> bool:
     """:func:`behaviors.mop.validity.resting` of member ``i``'s buffered samples (after the
     push): the mean of the later half within :data:`~behaviors.mop.validity.RESTING_RADII`
@@ -137,8 +141,8 @@ def resting(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> b
     return True
 
 
-@numba.njit(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _B1, _B1,
-                          _F1, _F1), cache=True, nogil=True)
+@compiled(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _B1, _B1,
+                      _F1, _F1), *_CALLS_INTO)
 def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, refused: np.ndarray,
            misshaped: np.ndarray, progress: np.ndarray, gone: np.ndarray) -> bool:
     """:meth:`GestureSpotting._shares`: whether template ``k`` (group index; its member's
@@ -154,10 +158,10 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
     return False
 
 
-@numba.njit(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
-                       _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
-                       _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                       _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1), cache=True, nogil=True)
+@compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
+                   _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
+                   _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
+                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1), *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
@@ -277,8 +281,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
                               any_engaged[i])
 
 
-@numba.njit(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
-                       _F1, numba.intp, numba.float64, _B1), cache=True, nogil=True)
+@compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
+                   _F1, numba.intp, numba.float64, _B1), *_CALLS_INTO)
 def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
            mean, turns, step, limit, reach, first_steps, ok) -> None:
     """:meth:`Validity._turned` for every present member whose input ``turning`` is measured

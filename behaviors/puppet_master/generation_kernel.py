@@ -15,7 +15,7 @@ import numba
 import numpy as np
 
 from behaviors.puppet_master import step_math
-from behaviors.puppet_master.kernels import compiled
+from tabletop.kernel_cache import compiled
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 
 # the table among the step's constants (Reactor._cs)

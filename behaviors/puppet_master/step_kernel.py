@@ -38,7 +38,7 @@ from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, moved_on, share_around,
     step_around)
-from behaviors.puppet_master.kernels import compiled
+from tabletop.kernel_cache import compiled
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 
 # float state (Reactor._fs)

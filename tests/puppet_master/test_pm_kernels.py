@@ -1,6 +1,6 @@
 """A compiled kernel that calls compiled functions of another file is rebuilt when that file
-changes (behaviors/puppet_master/kernels.compiled): numba's own cache checks only the
-kernel's file and would keep the old callee built into it."""
+changes (tabletop/kernel_cache.compiled, as the Puppet Master's kernels are built): numba's own
+cache checks only the kernel's file and would keep the old callee built into it."""
 
 import subprocess
 import sys
@@ -11,7 +11,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 CALLEE = """
 import numba
-from behaviors.puppet_master.kernels import compiled
+from tabletop.kernel_cache import compiled
 
 @compiled(numba.float64(numba.float64))
 def bump(x):
@@ -21,7 +21,7 @@ def bump(x):
 CALLER = """
 import numba
 import callee
-from behaviors.puppet_master.kernels import compiled
+from tabletop.kernel_cache import compiled
 
 @compiled(numba.float64(numba.float64), {calls_into})
 def twice_bumped(x):

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numba
 
+from tabletop import kernel_cache as shared
 from tabletop.drawing import kernel_cache
 
 DRAWING = Path(kernel_cache.__file__).parent
@@ -27,7 +28,7 @@ def test_every_module_compiling_with_the_shared_stamp_is_stamped_and_every_kerne
                  and v.__module__ == mod.__name__]
         assert found, name
         for disp in found:
-            assert isinstance(disp._cache, kernel_cache._Cache), (name, disp.__name__)
+            assert isinstance(disp._cache, shared.StampedCache), (name, disp.__name__)
             assert disp._cache._impl.locator.get_source_stamp() == kernel_cache.stamp()
 
 

@@ -1,0 +1,93 @@
+"""How compiled kernels (numba) are built and cached, kept fresh across files.
+
+A kernel is ``numba.njit(nogil=True)``: no fast-math (each value's arithmetic is fixed, so a
+kernel gives its Python definition's bits and keeps its NaN checks), the interpreter lock
+released, the machine code cached beside the source (or in numba's user-wide folder where the
+package's ``__pycache__`` cannot be written) so that neither the installation's start nor a
+test worker compiles it (``make kernels`` builds the caches).
+
+numba's cache trusts itself while the kernel's own file is unchanged, yet every compiled
+function the kernel calls from another file, and every constant it reads from one, is built
+into it: after that file changed, the cache would keep the old callee. :func:`compiled`
+stamps the cache with the contents of the kernel's file, of this file and of the files it
+names instead (numba's own cache classes, ``numba.core.caching``: the version is pinned in
+pyproject.toml), so a change to any of them builds the kernel again.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+from types import ModuleType
+from typing import Any, Callable, Iterable, Union
+
+import numba
+from numba.core import caching
+
+Source = Union[ModuleType, str, "os.PathLike[str]"]
+
+
+def _path(source: Source) -> str:
+    return os.path.abspath(source.__file__ if isinstance(source, ModuleType) else source)
+
+
+def files(sources: Iterable[Source]) -> tuple[str, ...]:
+    """The files a stamp covers: ``sources`` (modules or paths) and this file, each once, in
+    order."""
+    return tuple(sorted({_path(s) for s in sources} | {os.path.abspath(__file__)}))
+
+
+@functools.lru_cache(maxsize=64)
+def _digest(paths: tuple[str, ...], stats: tuple) -> bytes:
+    h = hashlib.sha256()
+    for path in paths:
+        with open(path, "rb") as f:
+            h.update(f.read())
+    return h.digest()
+
+
+def stamp(sources: Iterable[Source]) -> bytes:
+    """SHA-256 of the contents of :func:`files` of ``sources`` (read again only when one's size
+    or time changed)."""
+    paths = files(sources)
+    return _digest(paths, tuple((st.st_mtime_ns, st.st_size) for st in map(os.stat, paths)))
+
+
+class StampedCache(caching.FunctionCache):
+    """numba's cache of one function, its index stamped with :func:`stamp` of ``covers``."""
+    covers: tuple[str, ...] = ()
+
+
+@functools.lru_cache(maxsize=None)
+def _cache_class(covers: tuple[str, ...]) -> type[StampedCache]:
+    class Stamped:
+        def get_source_stamp(self) -> bytes:
+            return stamp(covers)
+
+    class InTree(Stamped, caching.InTreeCacheLocator):
+        pass
+
+    class UserWide(Stamped, caching.UserWideCacheLocator):
+        pass
+
+    class Impl(caching.CompileResultCacheImpl):
+        _locator_classes = [InTree, UserWide]
+
+    return type("StampedCache", (StampedCache,), {"_impl_class": Impl, "covers": covers})
+
+
+def compiled(signature: Any = None, *calls_into: Source, **options: Any) -> Callable[[Callable], Any]:
+    """``numba.njit(nogil=True, **options)``, cached under :func:`stamp` of the function's own
+    file and ``calls_into``: every module (or file) whose compiled functions or constants it
+    takes in, directly or through another. With a ``signature`` it is compiled for that one at
+    once and never again (a call with other types raises)."""
+    def build(fn: Callable) -> Any:
+        dispatcher = numba.njit(nogil=True, **options)(fn)
+        covers = files((fn.__code__.co_filename, *calls_into))
+        dispatcher._cache = _cache_class(covers)(fn)   # (what ``cache=True`` sets: numba's stamp)
+        if signature is not None:
+            dispatcher.compile(signature)
+            dispatcher.disable_compile()
+        return dispatcher
+    return build
