@@ -1,8 +1,10 @@
-"""The drawing's shape kernels are cached under one stamp of all their files, so that a kernel
-never runs a stale copy of a compiled function it took in from another file."""
+"""Compiled kernels are cached under a stamp of every file they take code or constants from
+(tabletop/kernel_cache.py), so that a kernel never runs a stale copy of a compiled function it
+took in from another file; the drawing's shape kernels share one stamp of all their files."""
 
 from __future__ import annotations
 
+import ast
 import importlib
 import os
 import shutil
@@ -50,3 +52,53 @@ def test_the_stamp_changes_when_any_of_the_files_changes(tmp_path, monkeypatch):
         p.write_text(text)
         os.utime(p, ns=(1, 2 * 10 ** 18 + len(seen)))
         assert kernel_cache.stamp() == first, name     # the same contents: the same stamp
+
+
+def _imported(mod) -> dict[str, str]:
+    """Each name ``mod`` takes from another of the project's modules, with that module's file."""
+    found = {}
+    for node in ast.walk(ast.parse(Path(mod.__file__).read_text())):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0 \
+                and node.module.split(".")[0] in ("tabletop", "behaviors"):
+            source = importlib.import_module(node.module)
+            for a in node.names:
+                obj = getattr(source, a.name)
+                found[a.asname or a.name] = getattr(obj, "__file__", None) or source.__file__
+    return found
+
+
+def _takes_in(disp, seen: set) -> set[str]:
+    """The files whose compiled functions or constants ``disp`` builds into itself."""
+    mod = importlib.import_module(disp.__module__)
+    imported, files = _imported(mod), {os.path.abspath(mod.__file__)}
+    codes = [disp.py_func.__code__]
+    while codes:
+        code = codes.pop()
+        codes += [c for c in code.co_consts if hasattr(c, "co_names")]
+        for name in code.co_names:
+            obj = vars(mod).get(name)
+            if isinstance(obj, numba.core.registry.CPUDispatcher) and obj not in seen:
+                seen.add(obj)
+                files |= _takes_in(obj, seen)
+            elif name in imported:
+                files.add(os.path.abspath(imported[name]))
+    return files
+
+
+def test_every_cached_kernel_is_stamped_with_every_file_it_takes_in():
+    checked = 0
+    for folder in ("tabletop/drawing", "behaviors/mop", "behaviors/puppet_master"):
+        for p in sorted((DRAWING.parents[1] / folder).glob("*.py")):
+            if "numba" not in p.read_text():
+                continue
+            mod = importlib.import_module(f"{folder.replace('/', '.')}.{p.stem}")
+            for disp in vars(mod).values():
+                if not isinstance(disp, numba.core.registry.CPUDispatcher) \
+                        or disp.__module__ != mod.__name__ \
+                        or isinstance(disp._cache, numba.core.caching.NullCache):
+                    continue
+                needs = _takes_in(disp, {disp})
+                covers = set(getattr(disp._cache, "covers", (os.path.abspath(p),)))
+                assert needs <= covers, (mod.__name__, disp.__name__, sorted(needs - covers))
+                checked += 1
+    assert checked >= 40
