@@ -19,7 +19,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.compiled import exp_neg, prefetch
+from behaviors.mop.compiled import CONTRACT, exp_neg, prefetch
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY, STILL_RADII as THRESHOLD_STILL_RADII
 
 #: Log-weights below the threshold model's likeliest state by more than this weigh nothing
@@ -54,7 +54,7 @@ FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_m
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered")
 
-@numba.njit(numba.void(_F1, numba.intp, numba.intp, _I1), cache=True, nogil=True)
+@numba.njit(numba.void(_F1, numba.intp, numba.intp, _I1), cache=True, nogil=True, fastmath=CONTRACT)
 def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
     """The three largest of ``p[a0:a1]`` (indices into ``p``, largest first, ties in index
     order as ``np.argsort(-p, kind="stable")[:3]``) into ``out`` (3,); -1 where fewer."""
@@ -71,7 +71,7 @@ def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
     out[0], out[1], out[2] = t0, t1, t2
 
 
-@numba.njit(numba.intp(_F1, numba.intp, numba.intp), cache=True, nogil=True)
+@numba.njit(numba.intp(_F1, numba.intp, numba.intp), cache=True, nogil=True, fastmath=CONTRACT)
 def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     """The index of the first largest of ``values[a0:a1]`` (``a0 + np.argmax``)."""
     best = a0
@@ -81,7 +81,7 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
-@numba.njit(numba.float64(_F1, _F1), cache=True, nogil=True)
+@numba.njit(numba.float64(_F1, _F1), cache=True, nogil=True, fastmath=CONTRACT)
 def _largest(v: np.ndarray, tops: np.ndarray) -> float:
     """The largest of ``v``, in eight interleaved parts (exact in any order: the loop
     vectorises); ``tops`` (8,): scratch."""
@@ -96,7 +96,7 @@ def _largest(v: np.ndarray, tops: np.ndarray) -> float:
 
 
 @numba.njit(numba.float64(_F2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _F1, _F1,
-                          numba.boolean, _F1, numba.intp, _F1), cache=True, nogil=True)
+                          numba.boolean, _F1, numba.intp, _F1), cache=True, nogil=True, fastmath=CONTRACT)
 def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
@@ -185,7 +185,7 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
                        numba.intp, numba.intp, numba.float64, numba.float64,
                        _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
                        _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1),
-            cache=True, nogil=True)
+            cache=True, nogil=True, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
@@ -409,7 +409,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         leads_out[i] = rival == np.inf or rival - shape[gb] >= min_lead
 
 
-@numba.njit(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), cache=True, nogil=True)
+@numba.njit(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), cache=True, nogil=True, fastmath=CONTRACT)
 def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
     """:meth:`PerformanceFrame._inputs` (without direction of motion) of every member into the
     forward's input ``z`` (K, width; its first D columns): each member's sample ``x`` (M, D) from

@@ -20,14 +20,14 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop.compiled import exp_neg, prefetch
+from behaviors.mop.compiled import CONTRACT, exp_neg, prefetch
 
 START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
 CLAMP = -200.0        # log-weights below the window's best by more than this count as e^-200
 AHEAD = 2             # templates ahead whose window states are fetched while one is stepped
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath=CONTRACT)
 def _transit(x: np.ndarray, y: np.ndarray, n: int, back: float, fwd: np.ndarray, at_start: bool,
              at_end: bool) -> None:
     """y = the transitions applied to window x (first ``n`` states): what moves before the
@@ -71,7 +71,7 @@ def _transit(x: np.ndarray, y: np.ndarray, n: int, back: float, fwd: np.ndarray,
         y[n - 1] += tail
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath=CONTRACT)
 def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.ndarray) -> float:
     """Squared distances (prescaled) of ``n`` states from ``first`` on to z; returns the least."""
     best = np.inf
@@ -89,7 +89,7 @@ def _distances(means: np.ndarray, first: int, z: np.ndarray, n: int, out: np.nda
 _F1, _F2, _I1, _B1 = numba.float64[::1], numba.float64[:, ::1], numba.int64[::1], numba.boolean[::1]
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, fastmath=CONTRACT)
 def _dwell(x: np.ndarray, kept: np.ndarray, stay: np.ndarray, first: int, n: int) -> None:
     """kept = the part of window x (first ``n`` states, from bank state ``first``) that moves by
     the transitions: each state's share ``stay`` stays where it is (added after the move)."""
@@ -101,7 +101,7 @@ def _dwell(x: np.ndarray, kept: np.ndarray, stay: np.ndarray, first: int, n: int
 @numba.njit(numba.void(_F2, _I1, _I1, _I1, _B1, _F2, _F2, _F2, _F1, _I1, _F1, _F2, _I1, _B1,
                        numba.int64, numba.float64, _F1, numba.float64, numba.float64, _F1, _F1,
                        _F1, _B1),
-            cache=True, nogil=True)
+            cache=True, nogil=True, fastmath=CONTRACT)
 def step_windows(means: np.ndarray, starts: np.ndarray, wk: np.ndarray, max_lo: np.ndarray,
                  start_tail: np.ndarray, z: np.ndarray, a: np.ndarray, b: np.ndarray,
                  s: np.ndarray, lo: np.ndarray, mean: np.ndarray, mom: np.ndarray,
