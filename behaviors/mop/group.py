@@ -149,7 +149,8 @@ class FollowerGroup(GroupRules):
         self._thr_has_x = np.zeros(m, dtype=bool)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered")
+                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered", "_least",
+                     "_judged")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
                    "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_drive_moved", "_turn_in",
@@ -283,6 +284,7 @@ class FollowerGroup(GroupRules):
             np.concatenate([f._onset_state for f in fs])[:, None],
             np.concatenate([f._prior for f in fs])[:, None],
             np.concatenate([f._arc_need for f in fs])[:, None],
+            np.concatenate([f._reach_inv for f in fs])[:, None],
             self._scale,
             self._k_center,
             np.concatenate([z(f, f.invariance == "offset") for f in fs]),
@@ -298,7 +300,7 @@ class FollowerGroup(GroupRules):
                    "spots": lambda f: f.invariance != "none", "none": lambda f: f.invariance == "none",
                    "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
-                   "thr_const": lambda f: f._threshold_const}
+                   "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at}
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))

@@ -36,21 +36,22 @@ _I2 = numba.intp[:, ::1]
 #: first state. Read around each followed state: one contiguous stretch per template (the
 #: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
 STATE_COLUMNS = ("means", "rel", "source", "arc")
-#: Per-template scalars (columns of ``tc`` (K, 4 + 4D), then the rows ``scale``, ``center``,
+#: Per-template scalars (columns of ``tc`` (K, 5 + 4D), then the rows ``scale``, ``center``,
 #: ``ufirst``, ``c_off`` of D columns each).
-TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need")
+TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
 TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
-#: Per-member scalars (columns of ``mc`` (M, 21 + 2D), then the rows ``radius`` and ``units``;
+#: Per-member scalars (columns of ``mc`` (M, 22 + 2D), then the rows ``radius`` and ``units``;
 #: ``threshold`` infinite where a member has no threshold model).
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
-                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const")
+                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
+                  "rejudge_at")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
-          "_gone")
+          "_gone", "_least", "_judged")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered")
 
@@ -207,12 +208,12 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``. ``before``/``after``: the path's reach in states."""
-    ev, rec, rw, num, den, size, misfit_w, shape, gone = floats
+    ev, rec, rw, num, den, size, misfit_w, shape, gone, least, judged = floats
     refused, engaged, misshaped, covered = flags
     d = x.shape[1]
     s = buf.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
-    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d  # columns of tc
+    sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
     ra0, un0 = _MC_ROWS, _MC_ROWS + d                 # columns of mc
     u = np.empty(d)
     z = np.empty(d)
@@ -236,6 +237,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             away[c] = (tot + x[i, c]) / (n + 1) - anchor[i, c]
             dx[c] = x[i, c] - anchor[i, c]
         moving = 0.0
+        far = 0.0   # the sample's distance from the anchor in units (the reach's least size)
+        for c in range(d):
+            far += (dx[c] / m[un0 + c]) ** 2
+        far = math.sqrt(far)
+        rejudge_at = m[21]
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD
@@ -260,7 +266,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     qq += q * q
                 num[k] += qr
                 den[k] += qq
-                size[k] = min(max((num[k] + t[2]) / (den[k] + t[2]), lo), hi)
+                least[k] = max(least[k], far * t[4])
+                size[k] = min(max(max((num[k] + t[2]) / (den[k] + t[2]), least[k]), lo), hi)
             sk = size[k]
             raw = step_ll[k] - t[0]
             log_size = dims * math.log(sk)
@@ -269,6 +276,14 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             ev[k] = ev[k] * decay + raw
             rec[k] = rec[k] * null_decay + step_ll[k]
             rw[k] = rw[k] * null_decay + 1.0
+            # judged afresh once the size moved (PerformanceFrame._rejudge)
+            if scaled and abs(math.log(size[k] / judged[k])) > rejudge_at:
+                judged[k] = size[k]
+                rec[k] = log_constant
+                rw[k] = 1.0
+                for c in range(misfit.shape[1]):
+                    misfit[k, c] = 0.0
+                misfit_w[k] = 0.0
             new = fw_entries[k] > entries[k]
             entries[k] = fw_entries[k]
             # a refused template back at its start and matching it begins anew
@@ -416,7 +431,7 @@ def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
     its ``anchor`` (the template's center for "none"), divided by the estimated ``size`` for
     "scale", in the template's spread, plus its ``first`` state (K, D)."""
     d = x.shape[1]
-    sc0, ce0 = 4, 4 + d
+    sc0, ce0 = 5, 5 + d
     for i in range(bounds.size):
         scaled, none = mc[i, 8] > 0.0, mc[i, 16] > 0.0
         for k in range(bounds[i], bounds[i] + counts[i]):

@@ -20,6 +20,7 @@ going back is allowed, it did not help (:mod:`behaviors.mop.validity`).
 
 from __future__ import annotations
 
+import math
 from typing import Mapping
 
 import numpy as np
@@ -27,6 +28,12 @@ import numpy as np
 from behaviors.mop.hmm import TemplateBank
 
 INVARIANCES = ("scale", "offset", "none")
+#: The least size a performance's reach allows: its farthest sample from the anchor over the
+#: template's farthest state from its first, times this (0: no bound).
+REACH_BOUND = 1.0
+#: A template's refusal and path misfit are judged afresh once its size estimate moved by this
+#: factor since they began (0: never).
+REJUDGE = 1.2
 #: Samples over which the direction of motion is measured (template and performance alike).
 TANGENT_LAG = 2
 
@@ -115,5 +122,23 @@ class PerformanceFrame:
         r = (x - self._anchor) / self._units
         self._num += q @ r
         self._den += np.einsum("kd,kd->k", q, q)
+        np.maximum(self._least, math.sqrt(float(r @ r)) * self._reach_inv, out=self._least)
         lo, hi = self.scale_range
-        np.clip((self._num + self._prior) / (self._den + self._prior), lo, hi, out=self._size)
+        np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least), lo, hi,
+                out=self._size)
+
+    def _rejudge(self) -> None:
+        """Templates whose size estimate moved by :data:`REJUDGE` since their recent likelihood
+        and path misfit began to be remembered forget them, as a performance begun anew: they
+        were judged at a size now known wrong (a 1.4x cartwheel's stroke was refused at size
+        1.23 on its way to 1.40)."""
+        if self.invariance != "scale" or self._rejudge_at == math.inf:
+            return
+        moved = np.abs(np.log(self._size / self._judged)) > self._rejudge_at
+        if not np.count_nonzero(moved):
+            return
+        self._judged[moved] = self._size[moved]
+        self._recent[moved] = self._log_constant
+        self._recent_weight[moved] = 1.0
+        self._misfit[moved] = 0.0
+        self._misfit_w[moved] = 0.0
