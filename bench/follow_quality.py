@@ -282,10 +282,13 @@ def holds(factory: Factory, base: dict[str, np.ndarray], rng: np.random.Generato
 
 
 def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator,
-              count: int = 8, length: int = 4, key: str = "sequence") -> dict[str, float]:
+              count: int = 8, length: int = 4, key: str = "sequence",
+              record: list | None = None) -> dict[str, float]:
+    """Back-to-back figures; ``record`` (when given) receives (gesture, recognition progress)
+    pairs, one per gesture performed."""
     f = factory(templates)
     names = list(templates)
-    delays, wrong_runs, ended_runs, other_runs = [], [], [], []
+    delays, wrong_runs, ended_runs, other_runs, named = [], [], [], [], []
     for _ in range(count):
         order = list(rng.choice(names, size=length, replace=False))
         parts, truth, prog, at = [], [], [], np.zeros(2)
@@ -324,8 +327,15 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
             hit = [prog[i] for i in idx
                    if np.isfinite(prog[i]) and states[i].valid and states[i].best == g]
             delays.append(float(hit[0]) if hit else 1.0)
+            named.append(g)
+            if record is not None:
+                record.append((g, delays[-1]))
     d = np.array(delays)
-    return {f"{key}_gestures": int(d.size),
+    # per gesture among a few (bench/spotting_reach.py prints beside it how early any observer
+    # could tell each from the others)
+    per = {f"{key}_{g}_recognition_progress_median": float(np.median(d[[n == g for n in named]]))
+           for g in names if g in named} if len(names) <= 6 else {}
+    return {**per, f"{key}_gestures": int(d.size),
             f"{key}_recognition_progress_median": float(np.median(d)),
             f"{key}_recognition_progress_p90": float(np.percentile(d, 90)),
             f"{key}_recognised_within_20pct_share": float(np.mean(d <= 0.2)),

@@ -9,7 +9,11 @@ length): the gesture can be told apart at p when every other path strays from it
 millimetres of tracking jitter and model error, whatever the follower. Printed: that earliest
 progress per gesture at theta 2 and 4 mm, and the share of the six that can be told apart
 before 20% of them (``follow_quality``'s back-to-back target: each gesture recognised within
-20%). Deterministic; not timed.
+20%). Beside each gesture: its median recognition progress by the follower in back-to-back
+sequences (``bench/follow_quality.py``'s draws for options, seed ``OPTION_SEED``, 16 sequences of
+four), how far that lies behind the reach, and the share of gestures recognised within 20% or,
+where no observer could tell them apart so early, by their reach at 2 mm. Deterministic; not
+timed.
 
     python bench/spotting_reach.py
 """
@@ -26,7 +30,8 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from bench.follow_quality import at_phase, gesture_templates  # noqa: E402
+from bench.follow_quality import (OPTION_SEED, at_phase, gesture_templates, puck_follower,  # noqa: E402
+                                  sequences)
 
 POINTS = 24
 SIZES = np.geomspace(0.46, 2.25, 40)
@@ -83,6 +88,20 @@ def main() -> None:
         for name, p in at.items():
             figures[f"{name}_told_apart_progress_theta_{mm}mm"] = p
         figures[f"told_apart_before_20pct_share_theta_{mm}mm"] = float(np.mean([p < 0.2 for p in at.values()]))
+        if mm == 2:
+            reach = at
+    # beside it, the follower: each gesture's recognition in back-to-back sequences (the draws
+    # bench/follow_quality.py compares options on), and the share recognised within 20% or, where
+    # no observer can tell the gesture apart that early, by its reach at 2 mm
+    record: list = []
+    sequences(puck_follower, templates, np.random.default_rng(OPTION_SEED), count=16, record=record)
+    for name in templates:
+        got = [p for g, p in record if g == name]
+        figures[f"{name}_recognition_progress_median"] = float(np.median(got))
+        figures[f"{name}_recognition_minus_reach_median"] = float(np.median(got)) - reach[name]
+    figures["recognised_within_20pct_share"] = float(np.mean([p <= 0.2 for _, p in record]))
+    figures["recognised_within_20pct_or_reach_share"] = float(np.mean([p <= max(0.2, reach[g])
+                                                                       for g, p in record]))
     figures["bench_seconds"] = time.perf_counter() - t0
     for k, v in figures.items():
         print(f"{k:50s} {v:.4g}")

@@ -35,6 +35,7 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_progress
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop import invariance as invariance_rules
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
@@ -154,6 +155,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._log_constant = self.log_constant
         b = self.bank
         self._onset_state = self._onset_states()
+        # holds inside a template, where they dwell (behaviors.mop.holding)
+        self._holds = hold_maps(b) if dwell > 0 else None
         self._jacobian = np.log(b.scale).sum(axis=1)            # (K,) log |d z / d x|
         self._units = b.units
         self._first_z = (b.first - b.center) / b.scale           # (K, d)
@@ -227,8 +230,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             self._entries = np.zeros(k, dtype=np.int64)
             self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
             self._least, self._judged = np.zeros(k), np.ones(k)
+            self._at_hold_end = np.zeros(k, dtype=bool)
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
-                  self._entries, self._num, self._den, self._least):
+                  self._entries, self._num, self._den, self._least, self._at_hold_end):
             a.fill(0)
         self._size.fill(1.0)
         self._judged.fill(1.0)
@@ -303,7 +307,17 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         frac = g - gi
         src = b.source
         progress = src[gi] + frac * (src[gi + 1] - src[gi])
+        rest = False
+        if self._holds is not None:   # holds inside a template (behaviors.mop.holding)
+            # resting over this sample and the ones before (the samples _still will keep)
+            rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
+            if rest and self.invariance == "scale":
+                rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units, self._size,
+                             self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
+                             self._num, self._den, self._prior)
         self._estimate_size(x, gi, frac)
+        if self._holds is not None:
+            progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)
         raw_ll = step_ll - self._jacobian
         if self.invariance == "scale":
             raw_ll = raw_ll - self.dim * np.log(self._size)

@@ -14,6 +14,7 @@ from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
+from behaviors.mop.holding import holding_columns
 from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
 from behaviors.mop.validity import FIRST_TURN_STEPS, PATH_REACH, TURN_REACH
 
@@ -150,7 +151,7 @@ class FollowerGroup(GroupRules):
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered", "_least",
-                     "_judged")
+                     "_judged", "_at_hold_end")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
                    "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_drive_moved", "_turn_in",
@@ -275,8 +276,8 @@ class FollowerGroup(GroupRules):
         dmax = self._rel.shape[1]
         padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
         self._states = np.ascontiguousarray(np.concatenate(
-            [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None], f._arc[:, None]])
-             for f in fs]))
+            [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None], f._arc[:, None],
+                        holding_columns(f)]) for f in fs]))
         self._ti = np.ascontiguousarray(np.stack([self._starts_local, self._lengths, self._state_off], axis=1))
         z = lambda f, on: padded(f._first_z, f) if on else np.zeros((len(f.names), dmax))
         self._tc = np.ascontiguousarray(np.hstack([
@@ -300,7 +301,8 @@ class FollowerGroup(GroupRules):
                    "spots": lambda f: f.invariance != "none", "none": lambda f: f.invariance == "none",
                    "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
-                   "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at}
+                   "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
+                   "keep": lambda f: f.still_samples}
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
@@ -368,7 +370,7 @@ class FollowerGroup(GroupRules):
         restart = self._m_restart
         self._turned(present)
         members.conclude(
-            self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p, progress, mean_ll,
+            self._states, self._ti, fw.mean, fw._mom, self._size, self._flags[:4], p, progress, mean_ll,
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,

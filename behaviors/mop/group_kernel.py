@@ -20,6 +20,7 @@ import numba
 import numpy as np
 
 from behaviors.mop.compiled import CONTRACT, exp_neg, prefetch
+from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY, STILL_RADII as THRESHOLD_STILL_RADII
 
 #: Log-weights below the threshold model's likeliest state by more than this weigh nothing
@@ -35,17 +36,17 @@ _I2 = numba.intp[:, ::1]
 #: to the template's first in units (D), its progress (``source``) and its path length from the
 #: first state. Read around each followed state: one contiguous stretch per template (the
 #: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
-STATE_COLUMNS = ("means", "rel", "source", "arc")
+STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
 #: Per-template scalars (columns of ``tc`` (K, 5 + 4D), then the rows ``scale``, ``center``,
 #: ``ufirst``, ``c_off`` of D columns each).
 TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
 TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
-#: Per-member scalars (columns of ``mc`` (M, 22 + 2D), then the rows ``radius`` and ``units``;
+#: Per-member scalars (columns of ``mc`` (M, 23 + 2D), then the rows ``radius`` and ``units``;
 #: ``threshold`` infinite where a member has no threshold model).
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
                   "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
-                  "rejudge_at")
+                  "rejudge_at", "keep")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
@@ -53,7 +54,7 @@ _MC_ROWS = len(MEMBER_SCALARS)
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
           "_gone", "_least", "_judged")
 #: Per-template flags updated in place, in this order.
-FLAGS = ("_refused", "_engaged", "_misshaped", "_covered")
+FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")
 
 @numba.njit(numba.void(_F1, numba.intp, numba.intp, _I1), cache=True, nogil=True, fastmath=CONTRACT)
 def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
@@ -209,10 +210,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``. ``before``/``after``: the path's reach in states."""
     ev, rec, rw, num, den, size, misfit_w, shape, gone, least, judged = floats
-    refused, engaged, misshaped, covered = flags
+    refused, engaged, misshaped, covered, at_hold_end = flags
     d = x.shape[1]
     s = buf.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
+    hend, hahead = 2 * d + 2, 2 * d + 3
     sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
     ra0, un0 = _MC_ROWS, _MC_ROWS + d                 # columns of mc
     u = np.empty(d)
@@ -220,6 +222,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     v = np.empty(d)
     away = np.empty(d)
     dx = np.empty(d)
+    hq = np.empty(d)
+    hr = np.empty(d)
+    htol = np.empty(d)
+    hrad = np.empty(d)
     for i in range(bounds.size):
         a0 = bounds[i]
         a1 = a0 + counts[i]
@@ -242,6 +248,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             far += (dx[c] / m[un0 + c]) ** 2
         far = math.sqrt(far)
         rejudge_at = m[21]
+        for c in range(d):
+            hrad[c] = m[ra0 + c]
+        rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD
@@ -257,6 +266,15 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             gs = gi + off
             row, nrow = states[gs], states[gs + 1]
             progress_out[k] = row[src] + frac * (nrow[src] - row[src])
+            if rest and scaled and row[hahead] >= 0.0:   # ActionFollower._hold_sizes
+                hrow = states[int(row[hahead]) + off]
+                for c in range(d):
+                    hq[c] = hrow[rel0 + c]
+                    hr[c] = dx[c] / m[un0 + c]
+                    htol[c] = SNAP_RADII * m[ra0 + c] / m[un0 + c]
+                sh = hold_size(hq, hr, size[k], lo, htol)
+                if sh > 0.0:
+                    num[k] = sh * (den[k] + t[2]) - t[2]
             if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0
@@ -268,6 +286,12 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 den[k] += qq
                 least[k] = max(least[k], far * t[4])
                 size[k] = min(max(max((num[k] + t[2]) / (den[k] + t[2]), least[k]), lo), hi)
+            if row[hend] == row[hend]:   # a hold rested in shows where it ends (holding)
+                at_hold_end[k] = at_hold_end[k] or rest
+                if at_hold_end[k]:
+                    progress_out[k] = max(progress_out[k], row[hend])
+            else:
+                at_hold_end[k] = False
             sk = size[k]
             raw = step_ll[k] - t[0]
             log_size = dims * math.log(sk)

@@ -34,7 +34,8 @@ class GroupRules:
         cols = np.flatnonzero(np.isin(self._owner, rows))
         self.forward.reset_templates(cols)
         for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den",
-                  "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape", "_gone", "_least"):
+                  "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape", "_gone", "_least",
+                  "_at_hold_end"):
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
         self._drive_k[rows] = -1

@@ -25,10 +25,11 @@ action, max / median of 15 performances (held-out seed in brackets): dwell 0 0.0
 (0.080 / 0.035), 0.5 0.074 / 0.033 (0.091 / 0.032), 0.65 0.063 / 0.032 (0.095 / 0.030), 0.7
 0.059 / 0.032 (0.098 / 0.029), 0.8 0.055 / 0.028 (0.102 / 0.028; kept), 0.95 0.075 / 0.040,
 0.98 0.089 / 0.054 (too slow to leave the hold); dwelling on the hold's middle and last states
-only, 0.8: 0.073 / 0.032 (0.094 / 0.031). The held-out worst is a lift at 0.3x hold whose size
-was overestimated during the raise (1.06 for 0.89): the follower stays short of the hold until
-the return begins (a straight line's size and progress are one), and the dwell leaves the hold
-one sample later.
+only, 0.8: 0.073 / 0.032 (0.094 / 0.031). The held-out worst was a lift at 0.3x hold whose size
+was overestimated during the raise (1.06 for 0.89): the follower stayed short of the hold until
+the return began (a straight line's size and progress are one); :mod:`behaviors.mop.holding`
+now takes a performer resting just short of a hold as holding it, at the size that puts them
+there, and shows where the hold ends (0.102 -> 0.048).
 
 Transitions (:class:`Transitions`) go left to right: self (offset 0), next (+1) and skips
 (+2, +3, ...) so a performer may be up to about twice as fast as the recording, a small backward
@@ -260,7 +261,18 @@ def dwell_states(bank: TemplateBank, dwell: float, margin: float = 0.1) -> np.nd
     template's progress) is no such hold: the start is where every performance waits, the end
     must be reached for the gesture to end (the circle's eased end is a hold at 91-95%)."""
     out = np.zeros(len(bank.means))
-    if bank.holds is None or bank.source is None or dwell <= 0:
+    if dwell <= 0:
+        return out
+    for a, b in inner_holds(bank, margin):
+        out[a:b] = dwell
+    return out
+
+
+def inner_holds(bank: TemplateBank, margin: float = 0.1) -> list[tuple[int, int]]:
+    """The compressed holds inside the templates of ``bank``, as (first, past the last) state
+    indices: not within the first or last ``margin`` of a template's progress."""
+    out: list[tuple[int, int]] = []
+    if bank.holds is None or bank.source is None:
         return out
     for s, n in zip(bank.starts, bank.lengths):
         h = bank.holds[s:s + n].astype(int)
@@ -268,7 +280,7 @@ def dwell_states(bank: TemplateBank, dwell: float, margin: float = 0.1) -> np.nd
         edges = np.flatnonzero(np.diff(np.concatenate([[0], h, [0]])))
         for a, b in zip(edges[::2], edges[1::2]):
             if src[a] >= margin and src[b - 1] <= 1.0 - margin:
-                out[s + a:s + b] = dwell
+                out.append((int(s + a), int(s + b)))
     return out
 
 

@@ -1,0 +1,144 @@
+"""Holds inside an action (raise, hold, return): where a performer resting there is, and at
+what size.
+
+A performer holding an action rests where its template holds (a compressed hold, dwelling:
+:mod:`behaviors.mop.hmm`). Two rules, for followers whose holds dwell:
+
+- Size: a straight stroke's size and progress are one unknown, so a lift performed at 0.89x
+  whose size the follower overestimated during the raise (1.05, lagging a fast rise) was
+  followed as a stop short of the top of the rise at 1x, not as the hold at 0.89x; the
+  follower stayed at 0.30-0.36 while the performer held (the hold spans 0.38-0.62). When the
+  performer rests (:func:`~behaviors.mop.validity.resting`, over the samples before this one)
+  within :data:`HOLD_AHEAD` states before a hold inside the template, and the input lies on
+  that hold's place at a smaller size within the size range (every column within
+  :data:`SNAP_RADII` still radii), the size becomes that one (:func:`hold_size`): templates
+  hold where performers stop.
+- Progress: once the performer rests in a hold, its states report the progress where the
+  hold ends (:func:`hold_maps`) until the followed state leaves the hold (any progress within
+  a hold is the same pose, and how long it lasts is unknown): a return begins with an eased
+  start that looks held for a few samples, and a follower at the hold's first state was 0.25-0.3
+  behind for those samples. Shown only once resting: reported from the hold's first state on,
+  the progress ran 0.3 ahead while a performer slowed into the hold.
+
+Measured with ``bench/follow_quality.py``'s raise-hold-return section (15 performances, holds
+0.3-3x at 0.8-1.2x; progress RMSE max / median, tuned and held-out seeds): before 0.055 /
+0.028, 0.102 / 0.028; the progress rule alone 0.052 / 0.032, 0.102 / 0.030; the size rule
+alone 0.055 / 0.028, 0.075 / 0.028; both 0.052 / 0.032, 0.048 / 0.030 (kept; longer holds
+cost about 0.005 each: the hold's last state lies 0.026 past where the bench's hold ends, in
+the return's eased start). The progress shown from the hold's first state on, without the
+rest: 0.107 / 0.040, 0.090 / 0.042.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from behaviors.mop.hmm import TemplateBank, inner_holds
+from behaviors.mop.validity import RESTING_RADII
+
+#: States before a hold inside a template from which a resting performer may be holding it.
+HOLD_AHEAD = 6
+#: How far (still radii, every column) the input may lie from a hold's place at the size that
+#: puts it there.
+SNAP_RADII = 3.0
+
+
+def hold_maps(bank: TemplateBank, ahead: int = HOLD_AHEAD) -> tuple[np.ndarray, np.ndarray] | None:
+    """Per state of ``bank``: the progress where its hold ends when it is a state of a hold
+    inside a template (:func:`~behaviors.mop.hmm.inner_holds`; NaN elsewhere), and the first
+    state of such a hold within ``ahead`` states after it (-1 where none); None without holds."""
+    holds = inner_holds(bank)
+    if not holds:
+        return None
+    end = np.full(len(bank.means), np.nan)
+    first = np.full(len(bank.means), -1, dtype=np.intp)
+    for a, b in holds:
+        end[a:b] = bank.source[b - 1]
+        start = int(bank.starts[np.searchsorted(bank.starts, a, side="right") - 1])
+        first[max(a - ahead, start):a] = a
+    return end, first
+
+
+@numba.njit(numba.float64(numba.float64[::1], numba.float64[::1], numba.float64, numba.float64,
+                          numba.float64[::1]), cache=True, nogil=True)
+def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndarray) -> float:
+    """The size (least squares) at which the input ``r`` (d,: from the anchor, in units) lies
+    on a hold's place ``q`` (d,: from the template's first state, in units), when it is at
+    least ``lo``, smaller than ``size`` and puts ``r`` within ``tol`` (d,, units) of it in every
+    column; 0 otherwise."""
+    qq = 0.0
+    qr = 0.0
+    for c in range(q.size):
+        qq += q[c] * q[c]
+        qr += q[c] * r[c]
+    if qq <= 0.0:
+        return 0.0
+    s = qr / qq
+    if not (lo <= s < size):
+        return 0.0
+    for c in range(q.size):
+        if abs(r[c] - s * q[c]) > tol[c]:
+            return 0.0
+    return s
+
+
+def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.ndarray, lo: float,
+                 tol: np.ndarray, num: np.ndarray, den: np.ndarray, prior: np.ndarray) -> None:
+    """A performer resting within a few states before a hold takes, per template, the size that
+    puts the input on it when smaller (:func:`hold_size`), in place on the size estimate's sums
+    ``num`` (``den``, ``prior``: :meth:`~behaviors.mop.invariance.PerformanceFrame._estimate_size`'s).
+    ``ahead`` (K,): each template's hold ahead (-1: none); ``rel``: the states from their first
+    (units); ``r``: the input from the anchor (units); ``tol`` (d,): :data:`SNAP_RADII` still radii
+    in units."""
+    for k in np.flatnonzero(ahead >= 0):
+        s = hold_size(rel[ahead[k]], r, float(size[k]), lo, tol)
+        if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
+            num[k] = s * (den[k] + prior[k]) - prior[k]
+
+
+def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray, rest: bool) -> np.ndarray:
+    """Each template's progress (K,) as shown: where its hold ends (``end``, NaN outside a hold)
+    once the performer rested in it (``rest`` now; ``at_end`` (K,) remembers it, in place, until
+    the followed state leaves the hold)."""
+    inside = ~np.isnan(end)
+    if rest:
+        at_end |= inside
+    at_end &= inside
+    return np.where(at_end, np.fmax(progress, end), progress)
+
+
+@numba.njit(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
+                          numba.float64[::1], numba.intp), cache=True, nogil=True)
+def resting_with(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, radius: np.ndarray,
+                 keep: int) -> bool:
+    """:func:`behaviors.mop.validity.resting` of a group member ``i``'s buffered samples
+    (``buf`` (M, S, D), its last ``count[i]`` rows) before they take this sample ``x[i]``: over
+    their last ``keep - 1`` (the member's ``still_samples``; S is the group's largest) and this
+    one, as the follower reads its recent samples and this one."""
+    s = buf.shape[1]
+    c0 = min(count[i], keep - 1)
+    total = c0 + 1
+    n = total // 2
+    if n < 2:
+        return False
+    for c in range(buf.shape[2]):
+        early = 0.0
+        late = 0.0
+        for r in range(n):
+            early += buf[i, s - c0 + r, c] if r < c0 else x[i, c]
+            j = total - n + r
+            late += buf[i, s - c0 + j, c] if j < c0 else x[i, c]
+        if not abs(late / n - early / n) <= RESTING_RADII * radius[c]:
+            return False
+    return True
+
+
+def holding_columns(follower) -> np.ndarray:
+    """A follower's hold maps as two columns per state (where its hold ends, NaN elsewhere; the
+    first state of a hold a few states ahead, -1 where none) for a group's state table."""
+    n = len(follower.bank.means)
+    if follower._holds is None:
+        return np.column_stack([np.full(n, np.nan), np.full(n, -1.0)])
+    end, first = follower._holds
+    return np.column_stack([end, first.astype(float)])
