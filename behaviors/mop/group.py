@@ -317,6 +317,7 @@ class FollowerGroup(GroupRules):
         self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
         self._floats = tuple(getattr(self, n) for n in group_kernel.FLOATS)
         self._flags = tuple(getattr(self, n) for n in group_kernel.FLAGS)
+        self._member_flags = self._flags[:4]   # the flags members.conclude reads
         self._k_new = np.zeros(k, dtype=bool)
         self._m_top3 = np.zeros((m, 3), dtype=np.intp)
         self._m_moving = np.zeros(m)
@@ -370,7 +371,7 @@ class FollowerGroup(GroupRules):
         restart = self._m_restart
         self._turned(present)
         members.conclude(
-            self._states, self._ti, fw.mean, fw._mom, self._size, self._flags[:4], p, progress, mean_ll,
+            self._states, self._ti, fw.mean, fw._mom, self._size, self._member_flags, p, progress, mean_ll,
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,

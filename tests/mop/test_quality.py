@@ -85,14 +85,15 @@ def test_the_group_reads_resting_as_its_followers_do():
     rng = np.random.default_rng(4)
     radius = np.array([1.0, 0.5])
     seen = set()
-    for count in list(range(7)) * 6:
-        spread = rng.choice([0.2, 0.6, 1.5])
-        buf = rng.normal(0, spread, (2, 6, 2))
-        x = rng.normal(0, spread, (2, 2))
-        recent = list(buf[1, 6 - count:]) if count else []
-        want = resting(recent[-5:] + [x[1]], radius)
-        assert resting_with(buf, np.array([0, count], dtype=np.intp), 1, x, radius) == want, count
-        seen.add(want)
+    for keep in (6, 5, 3):   # the member's still_samples (the group's buffer holds the largest)
+        for count in list(range(keep + 1)) * 6:
+            spread = rng.choice([0.2, 0.6, 1.5])
+            buf = rng.normal(0, spread, (2, 6, 2))
+            x = rng.normal(0, spread, (2, 2))
+            recent = list(buf[1, 6 - count:]) if count else []
+            want = resting(recent[1 - keep:] + [x[1]], radius)
+            assert resting_with(buf, np.array([0, count], dtype=np.intp), 1, x, radius, keep) == want, (keep, count)
+            seen.add(want)
     assert seen == {True, False}
 
 
