@@ -77,10 +77,15 @@ def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndar
     s = qr / qq
     if not (lo <= s < size):
         return 0.0
+    rr = 0.0
+    tt = 0.0
     for c in range(q.size):
         if abs(r[c] - s * q[c]) > tol[c]:
             return 0.0
-    return s
+        rr += r[c] * r[c]
+        tt += tol[c] * tol[c]
+    # the input within the tolerance's reach of the anchor lies on the hold at any size
+    return s if rr > tt else 0.0
 
 
 def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.ndarray, lo: float,

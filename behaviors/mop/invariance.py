@@ -145,7 +145,8 @@ class PerformanceFrame:
         r = (x - self._anchor) / self._units
         self._num += q @ r
         self._den += np.einsum("kd,kd->k", q, q)
-        np.maximum(self._least, math.sqrt(float(r @ r)) * self._reach_inv, out=self._least)
+        np.maximum(self._least, max(math.sqrt(float(r @ r)) - self._reach_slack, 0.0) * self._reach_inv,
+                   out=self._least)
         lo, hi = self.scale_range
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least), lo, hi,
                 out=self._size)
