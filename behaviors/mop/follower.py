@@ -175,10 +175,6 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # radius in RMS spread made a slow start look still: the anchor crept along a 0.7x
         # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93)
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
-        # the reach's slack (units): a sample may lie this far past the template's place at the
-        # performance's size (the hold's tolerance, behaviors.mop.holding), so the least size
-        # never excludes a size at which the input lies on a hold (PerformanceFrame._estimate_size)
-        self._reach_slack = float(np.linalg.norm(SNAP_RADII * self._still_radius / self._units))
         self.coverage, self.shape_distance = float(coverage), float(shape_distance)
         self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
         # the threshold model: spatial inputs only (a noisy stream's own performance lost
@@ -318,7 +314,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             if rest and self.invariance == "scale":
                 rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units, self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
-                             self._num, self._den, self._prior)
+                             self._num, self._den, self._prior, self._least)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
             progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)

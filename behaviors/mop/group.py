@@ -302,7 +302,7 @@ class FollowerGroup(GroupRules):
                    "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
                    "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
-                   "keep": lambda f: f.still_samples, "reach_slack": lambda f: f._reach_slack}
+                   "keep": lambda f: f.still_samples}
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))

@@ -39,12 +39,12 @@ STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
 #: ``ufirst``, ``c_off`` of D columns each).
 TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
 TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
-#: Per-member scalars (columns of ``mc`` (M, 24 + 2D), then the rows ``radius`` and ``units``;
+#: Per-member scalars (columns of ``mc`` (M, 23 + 2D), then the rows ``radius`` and ``units``;
 #: ``threshold`` infinite where a member has no threshold model).
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
                   "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
-                  "rejudge_at", "keep", "reach_slack")
+                  "rejudge_at", "keep")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
@@ -146,7 +146,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         far = 0.0   # the sample's distance from the anchor in units (the reach's least size)
         for c in range(d):
             far += (dx[c] / m[un0 + c]) ** 2
-        far = max(math.sqrt(far) - m[23], 0.0)   # less the reach's slack (ActionFollower._reach_slack)
+        far = math.sqrt(far)
         rejudge_at = m[21]
         for c in range(d):
             hrad[c] = m[ra0 + c]
@@ -176,6 +176,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 sh = hold_size(hq, hr, size[k], lo, htol)
                 if sh > 0.0:
                     num[k] = sh * (den[k] + t[2]) - t[2]
+                    least[k] = min(least[k], sh)
             if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0

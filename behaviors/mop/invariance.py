@@ -22,12 +22,9 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   least size it can have. Alone: 0.891 -> 0.902 / 0.883 -> 0.883 (crawl 1.4x 0.00 -> 0.72, walk
   1.4x 0.30 -> 0.74; the held-out line 1.4x 0.96 -> 0.67: the size jumped while the remembered
   likelihood and misfit were still those of the old size); at 0.9x the reach 0.904 / 0.890,
-  but the held-out unrelated worst 0.476 -> 0.556. The farthest sample is taken less the
-  hold's tolerance (:data:`behaviors.mop.holding.SNAP_RADII` still radii, its norm), so the bound
-  never excludes a size at which the input lies on a hold: a 0.8x lift resting on its hold
-  (``tests/mop/test_quality.py``) snapped to 0.79 by the hold but was clamped back to 0.81 by
-  one jittered sample at the top, never entered the hold and lagged the return (RMSE 0.088;
-  with the slack 0.068, as without the bound; the four 1.4x clips unchanged, 0.989).
+  but the held-out unrelated worst 0.476 -> 0.556. A size measured on a hold
+  (:mod:`behaviors.mop.holding`) lowers the bound to it: the farthest sample is one jittered
+  sample, the hold's place the rest itself (see there).
 - Judged afresh (:data:`REJUDGE`): once a template's size estimate moved 1.2x since its recent
   likelihood and path misfit began, they are forgotten as when a performance begins anew, so
   they do not refuse it for what was seen at a size now known wrong. With the reach:
@@ -150,8 +147,7 @@ class PerformanceFrame:
         r = (x - self._anchor) / self._units
         self._num += q @ r
         self._den += np.einsum("kd,kd->k", q, q)
-        np.maximum(self._least, max(math.sqrt(float(r @ r)) - self._reach_slack, 0.0) * self._reach_inv,
-                   out=self._least)
+        np.maximum(self._least, math.sqrt(float(r @ r)) * self._reach_inv, out=self._least)
         lo, hi = self.scale_range
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least), lo, hi,
                 out=self._size)
