@@ -65,6 +65,10 @@ def _as_bits(typingctx, value):
     return types.int64(types.float64), codegen
 
 
+#: numba's ``fastmath`` flags of MOP's compiled passes: a product and a sum fused into one
+#: instruction (one rounding instead of two; no reordering, no assumption on infinities or NaNs).
+CONTRACT = {"contract"}
+
 _SHIFT = 6755399441055744.0           # 1.5 * 2^52: adding it rounds to an integer in the low bits
 _LOG2E = 1.4426950408889634
 _LN2_HI = 6.93147180369123816490e-01  # ln 2 split so that k * _LN2_HI is exact

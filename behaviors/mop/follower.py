@@ -37,6 +37,7 @@ import numpy as np
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_progress
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
+from behaviors.mop import invariance as invariance_rules
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
@@ -165,6 +166,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # each template's extent: its farthest state from its first (units)
         self._extent = np.array([np.sqrt(np.sum(self._rel[s:s + n] ** 2, axis=1)).max()
                                  for s, n in zip(b.starts, b.lengths)])
+        # the least size a performance's reach allows, per unit of its farthest sample
+        self._reach_inv = invariance_rules.REACH_BOUND / np.maximum(self._extent, 1e-12)
+        self._rejudge_at = math.log(invariance_rules.REJUDGE) if invariance_rules.REJUDGE > 1 else math.inf
         rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
         self._prior = float(scale_prior) * rho2                   # (K,) prior weight at size 1
         # the still radius (raw units): half the onset in the smallest spread of each column (a
@@ -225,11 +229,13 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             self._refused, self._engaged = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
             self._entries = np.zeros(k, dtype=np.int64)
             self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
+            self._least, self._judged = np.zeros(k), np.ones(k)
             self._at_hold_end = np.zeros(k, dtype=bool)
         for a in (self._evidence, self._recent, self._recent_weight, self._refused, self._engaged,
-                  self._entries, self._num, self._den, self._at_hold_end):
+                  self._entries, self._num, self._den, self._least, self._at_hold_end):
             a.fill(0)
         self._size.fill(1.0)
+        self._judged.fill(1.0)
         self._best = 0
         self._run = 0
         self._lost = 0
@@ -308,7 +314,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             if rest and self.invariance == "scale":
                 rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units, self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
-                             self._num, self._den, self._prior)
+                             self._num, self._den, self._prior, self._least)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
             progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)
@@ -329,6 +335,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         if np.count_nonzero(back):
             back &= (self._log_constant - step_ll) * (2.0 / self._zdim) <= self._null2
             new |= back
+        self._rejudge()
         if np.count_nonzero(new):
             self._gone[new] = 0.0
             self._recent[new] = self._log_constant

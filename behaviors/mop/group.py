@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Sequence
 
 import numpy as np
@@ -115,6 +116,7 @@ class FollowerGroup(GroupRules):
         self._sh_off = np.where([f._shared is None for f in fs], -1,
                                 np.cumsum([0] + [a.size for a in shared])[:-1]).astype(np.intp)
         self._drive_moved = np.zeros(m, dtype=bool)
+        self._everyone = np.ones(m, dtype=bool)   # every member has a sample (never written)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)
         # the input's turning (Validity._turned), members with 2-D spatial inputs only
@@ -148,8 +150,8 @@ class FollowerGroup(GroupRules):
         self._thr_has_x = np.zeros(m, dtype=bool)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
-                     "_at_hold_end")
+                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered", "_least",
+                     "_judged", "_at_hold_end")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
                    "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_drive_moved", "_turn_in",
@@ -202,15 +204,18 @@ class FollowerGroup(GroupRules):
         lost: list[int] = []
         stacked = None
         if self._one_dim:   # every member's samples alike: checked and copied at once
-            try:
-                stacked = np.asarray(samples, dtype=float)
+            try:   # (np.array then a cast when needed: asarray(dtype=float) of arrays costs 6x)
+                stacked = np.array(samples)
+                if stacked.dtype != np.float64:
+                    stacked = stacked.astype(float)
             except (ValueError, TypeError):
                 stacked = None
         if stacked is not None and stacked.shape == X.shape:
-            present = np.isfinite(stacked.sum(axis=1))
-            if present.all():
+            if math.isfinite(stacked.sum()):   # every sample finite (one check for all)
                 X[:] = stacked
+                present = self._everyone
             else:   # a lost member keeps its last sample
+                present = np.isfinite(stacked.sum(axis=1))
                 X[present] = stacked[present]
                 lost = np.flatnonzero(~present).tolist()
         else:
@@ -280,6 +285,7 @@ class FollowerGroup(GroupRules):
             np.concatenate([f._onset_state for f in fs])[:, None],
             np.concatenate([f._prior for f in fs])[:, None],
             np.concatenate([f._arc_need for f in fs])[:, None],
+            np.concatenate([f._reach_inv for f in fs])[:, None],
             self._scale,
             self._k_center,
             np.concatenate([z(f, f.invariance == "offset") for f in fs]),
@@ -295,7 +301,8 @@ class FollowerGroup(GroupRules):
                    "spots": lambda f: f.invariance != "none", "none": lambda f: f.invariance == "none",
                    "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
-                   "thr_const": lambda f: f._threshold_const}
+                   "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
+                   "keep": lambda f: f.still_samples}
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
@@ -310,6 +317,7 @@ class FollowerGroup(GroupRules):
         self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
         self._floats = tuple(getattr(self, n) for n in group_kernel.FLOATS)
         self._flags = tuple(getattr(self, n) for n in group_kernel.FLAGS)
+        self._member_flags = self._flags[:4]   # the flags members.conclude reads
         self._k_new = np.zeros(k, dtype=bool)
         self._m_top3 = np.zeros((m, 3), dtype=np.intp)
         self._m_moving = np.zeros(m)
@@ -363,7 +371,7 @@ class FollowerGroup(GroupRules):
         restart = self._m_restart
         self._turned(present)
         members.conclude(
-            self._states, self._ti, fw.mean, fw._mom, self._size, self._flags[:4], p, progress, mean_ll,
+            self._states, self._ti, fw.mean, fw._mom, self._size, self._member_flags, p, progress, mean_ll,
             step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
             self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
             self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
@@ -375,15 +383,14 @@ class FollowerGroup(GroupRules):
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
         names, index = self._k_names, self._m_index
-        likely = [()] * m
-        if show.any():   # each member's top three not refused, read at once
-            top3 = self._m_top3
+        likely: list[tuple] = [()] * m
+        if show.any():   # each shown member's top three not refused, read at once
+            top3 = self._m_top3.ravel()
             at = np.maximum(top3, 0)
-            keep = ((top3 >= 0) & ~self._refused[at]).tolist()
-            rows = zip(show.tolist(), at.tolist(), p[at].tolist(), progress[at].tolist(), keep)
-            for i, (shows, js, ps, qs, ks) in enumerate(rows):
-                if shows:
-                    likely[i] = tuple([(names[j], a, b) for j, a, b, k in zip(js, ps, qs, ks) if k])
+            rows = np.flatnonzero((top3 >= 0) & ~self._refused[at] & show.repeat(3))
+            at = at[rows]
+            for r, j, a, b in zip((rows // 3).tolist(), at.tolist(), p[at].tolist(), progress[at].tolist()):
+                likely[r] += ((names[j], a, b),)
         ended = self._ended
         shown = [progress] * m
         best, best_progress = [names[j] for j in gb.tolist()], prog_b.tolist()

@@ -9,7 +9,8 @@ operations over the group's templates (``behaviors/mop/group.py`` before this mo
 about 150 numpy calls per tick, most of DESIGN's 8 performers x 100 templates tick after the
 forward step; here it is one loop per template, in the same order of operations as the
 follower's own array code (the group stays equal to its followers stepped alone), followed per
-member by its likeliest template, best (with the switch margin), top three and shape lead.
+member by its likeliest template, best (with the switch margin), top three, shape lead and
+threshold model (:mod:`behaviors.mop.threshold_kernel`).
 """
 
 from __future__ import annotations
@@ -20,18 +21,15 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import holding, threshold, validity
-from behaviors.mop.compiled import exp_neg, prefetch
+from behaviors.mop import holding, threshold, threshold_kernel, validity
+from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
-from behaviors.mop.threshold import STAY as THRESHOLD_STAY, STILL_RADII as THRESHOLD_STILL_RADII
+from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
+from behaviors.mop.threshold_kernel import threshold_step
 from tabletop.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, holding, threshold, validity)
-
-#: Log-weights below the threshold model's likeliest state by more than this weigh nothing
-#: (as :func:`behaviors.mop.threshold.threshold_model_step`).
-THRESHOLD_FLOOR = -40.0
+_CALLS_INTO = (behaviors.mop.compiled, holding, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -43,25 +41,26 @@ _I2 = numba.intp[:, ::1]
 #: first state. Read around each followed state: one contiguous stretch per template (the
 #: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
 STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
-#: Per-template scalars (columns of ``tc`` (K, 4 + 4D), then the rows ``scale``, ``center``,
+#: Per-template scalars (columns of ``tc`` (K, 5 + 4D), then the rows ``scale``, ``center``,
 #: ``ufirst``, ``c_off`` of D columns each).
-TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need")
+TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
 TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
-#: Per-member scalars (columns of ``mc`` (M, 21 + 2D), then the rows ``radius`` and ``units``;
+#: Per-member scalars (columns of ``mc`` (M, 23 + 2D), then the rows ``radius`` and ``units``;
 #: ``threshold`` infinite where a member has no threshold model).
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
-                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const")
+                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
+                  "rejudge_at", "keep")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
-          "_gone")
+          "_gone", "_least", "_judged")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")
 
-@compiled(numba.void(_F1, numba.intp, numba.intp, _I1), *_CALLS_INTO)
+@compiled(numba.void(_F1, numba.intp, numba.intp, _I1), *_CALLS_INTO, fastmath=CONTRACT)
 def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
     """The three largest of ``p[a0:a1]`` (indices into ``p``, largest first, ties in index
     order as ``np.argsort(-p, kind="stable")[:3]``) into ``out`` (3,); -1 where fewer."""
@@ -78,7 +77,7 @@ def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
     out[0], out[1], out[2] = t0, t1, t2
 
 
-@compiled(numba.intp(_F1, numba.intp, numba.intp), *_CALLS_INTO)
+@compiled(numba.intp(_F1, numba.intp, numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
 def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     """The index of the first largest of ``values[a0:a1]`` (``a0 + np.argmax``)."""
     best = a0
@@ -88,111 +87,12 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
     return best
 
 
-@compiled(numba.float64(_F1, _F1), *_CALLS_INTO)
-def _largest(v: np.ndarray, tops: np.ndarray) -> float:
-    """The largest of ``v``, in eight interleaved parts (exact in any order: the loop
-    vectorises); ``tops`` (8,): scratch."""
-    n = v.size
-    tops[:] = -np.inf
-    for j in range(0, n - n % 8, 8):
-        for r in range(8):
-            tops[r] = max(tops[r], v[j + r])
-    for j in range(n - n % 8, n):
-        tops[0] = max(tops[0], v[j])
-    return tops.max()
-
-
-@compiled(numba.float64(_F2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _F1, _F1,
-                      numba.boolean, _F1, numba.intp, _F1), *_CALLS_INTO)
-def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
-    """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
-    ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
-    its sample seen by each template as :meth:`Validity._threshold_evidence` maps it (``zs``
-    (K, D)) and each template's log-density terms ``ljs`` (K,: the Gaussian's constant and the
-    map's log Jacobian), as :func:`update_templates` left them (``m``: the member's row of
-    ``mc``; ``ll``: scratch of at least its states; ``tops_k`` (K,): scratch, each template's
-    likeliest state); returns the sample's log-likelihood. Its sum is taken in eight
-    interleaved parts (the same to about 1e-16) and its exponentials by
-    :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises
-    (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
-    member ``i``'s are ``alpha`` divided by ``totals[i]``, the division done as they are read
-    at the next step (the same numbers as normalising them at once, one pass over the states
-    fewer).
-
-    Most states weigh nothing (in DESIGN's case about a quarter are within e^-40 of the
-    likeliest), and so do whole templates (43 % of them): a template whose likeliest state
-    lies further than that below the member's likeliest gets zero weights without an
-    exponential (hot 348 -> 306 us for 8 members, cold 546 -> 509 us p10, same numbers).
-    Skipping also the distances of chunks of 16 states whose bounding box lay that far below
-    the likeliest state found so far computed a third of the states, but with the caches cold
-    it was slower: 8 members 537 -> 612 us p10 (hot 379 -> 330), the skipped stretches
-    breaking the streams the processor fetches ahead."""
-    d = zs.shape[1]
-    factor = m[19]
-    base = ti[a0, 2]
-    n = 0
-    top = -np.inf
-    tops = np.empty(8)
-    for k in range(a0, a1):
-        z = zs[k]
-        first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
-        out = ll[first - base:first - base + length]
-        lj = ljs[k]
-        if d == 2:   # a puck's case, in one pass (the same operations)
-            z0, z1 = z[0], z[1]
-            m0, m1 = means[0, first:first + length], means[1, first:first + length]
-            for j in range(length):
-                e0 = z0 - m0[j]
-                e1 = z1 - m1[j]
-                out[j] = (e0 * e0 + e1 * e1) * factor + lj
-        else:
-            out[:] = 0.0
-            for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
-                zc, mc_ = z[c], means[c, first:first + length]
-                for j in range(length):
-                    e = zc - mc_[j]
-                    out[j] += e * e
-            for j in range(length):
-                out[j] = out[j] * factor + lj
-        tops_k[k] = _largest(out, tops)
-        top = max(top, tops_k[k])
-        n += length
-    # views from 0 (indices the compiler knows are not negative: the loops vectorise)
-    a, v = alpha[base:base + n], ll[:n]
-    if fresh:
-        a[:] = 1.0 / n
-    norm = 1.0 if fresh else totals[i]
-    rest = (1.0 - THRESHOLD_STAY) / n
-    cut = top + THRESHOLD_FLOOR
-    for k in range(a0, a1):
-        lo = ti[k, 2] + ti[k, 0] - base
-        hi = lo + ti[k, 1]
-        ak, vk = a[lo:hi], v[lo:hi]
-        if tops_k[k] < cut:   # the whole template under e^-40 of the likeliest state
-            ak[:] = 0.0
-            continue
-        for j in range(hi - lo):   # no weight under e^-40 (threshold_model_step)
-            e = vk[j] - top
-            w = (THRESHOLD_STAY * (ak[j] / norm) + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
-            ak[j] = w if e >= THRESHOLD_FLOOR else 0.0
-    parts = np.zeros(8)
-    for j in range(0, n - n % 8, 8):
-        for r in range(8):
-            parts[r] += a[j + r]
-    for j in range(n - n % 8, n):
-        parts[0] += a[j]
-    total = ((parts[0] + parts[1]) + (parts[2] + parts[3])) + ((parts[4] + parts[5]) + (parts[6] + parts[7]))
-    totals[i] = total
-    return top + math.log(total)
-
-
 @compiled(numba.void(_F2, _I2, _F2, _F2, numba.types.UniTuple(_F1, len(FLOATS)),
-                   numba.types.UniTuple(_B1, len(FLAGS)), _F2, numba.int64[::1], _F1,
-                   numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
-                   numba.intp, numba.intp, numba.float64, numba.float64,
-                   _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                   _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1),
-        *_CALLS_INTO)
+                     numba.types.UniTuple(_B1, len(FLAGS)), _F2, numba.int64[::1], _F1,
+                     numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
+                     numba.intp, numba.intp, numba.float64, numba.float64,
+                     _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
+                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1), *_CALLS_INTO, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
@@ -214,13 +114,13 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``. ``before``/``after``: the path's reach in states."""
-    ev, rec, rw, num, den, size, misfit_w, shape, gone = floats
+    ev, rec, rw, num, den, size, misfit_w, shape, gone, least, judged = floats
     refused, engaged, misshaped, covered, at_hold_end = flags
     d = x.shape[1]
     s = buf.shape[1]
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     hend, hahead = 2 * d + 2, 2 * d + 3
-    sc0, ce0, uf0, co0 = 4, 4 + d, 4 + 2 * d, 4 + 3 * d  # columns of tc
+    sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
     ra0, un0 = _MC_ROWS, _MC_ROWS + d                 # columns of mc
     u = np.empty(d)
     z = np.empty(d)
@@ -248,9 +148,14 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             away[c] = (tot + x[i, c]) / (n + 1) - anchor[i, c]
             dx[c] = x[i, c] - anchor[i, c]
         moving = 0.0
+        far = 0.0   # the sample's distance from the anchor in units (the reach's least size)
+        for c in range(d):
+            far += (dx[c] / m[un0 + c]) ** 2
+        far = math.sqrt(far)
+        rejudge_at = m[21]
         for c in range(d):
             hrad[c] = m[ra0 + c]
-        rest = resting_with(buf, nbuf, i, x, hrad)   # holding (ActionFollower._finish)
+        rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD
@@ -271,10 +176,12 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 for c in range(d):
                     hq[c] = hrow[rel0 + c]
                     hr[c] = dx[c] / m[un0 + c]
-                    htol[c] = SNAP_RADII * m[ra0 + c] / m[un0 + c]
+                    # none in the padding past the member's columns (hold_size sums the tolerance)
+                    htol[c] = SNAP_RADII * m[ra0 + c] / m[un0 + c] if c < dims else 0.0
                 sh = hold_size(hq, hr, size[k], lo, htol)
                 if sh > 0.0:
                     num[k] = sh * (den[k] + t[2]) - t[2]
+                    least[k] = min(least[k], sh)
             if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0
@@ -284,7 +191,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     qq += q * q
                 num[k] += qr
                 den[k] += qq
-                size[k] = min(max((num[k] + t[2]) / (den[k] + t[2]), lo), hi)
+                least[k] = max(least[k], far * t[4])
+                size[k] = min(max(max((num[k] + t[2]) / (den[k] + t[2]), least[k]), lo), hi)
             if row[hend] == row[hend]:   # a hold rested in shows where it ends (holding)
                 at_hold_end[k] = at_hold_end[k] or rest
                 if at_hold_end[k]:
@@ -299,6 +207,14 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             ev[k] = ev[k] * decay + raw
             rec[k] = rec[k] * null_decay + step_ll[k]
             rw[k] = rw[k] * null_decay + 1.0
+            # judged afresh once the size moved (PerformanceFrame._rejudge)
+            if scaled and abs(math.log(size[k] / judged[k])) > rejudge_at:
+                judged[k] = size[k]
+                rec[k] = log_constant
+                rw[k] = 1.0
+                for c in range(misfit.shape[1]):
+                    misfit[k, c] = 0.0
+                misfit_w[k] = 0.0
             new = fw_entries[k] > entries[k]
             entries[k] = fw_entries[k]
             # a refused template back at its start and matching it begins anew
@@ -439,14 +355,14 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         leads_out[i] = rival == np.inf or rival - shape[gb] >= min_lead
 
 
-@compiled(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), *_CALLS_INTO)
+@compiled(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), *_CALLS_INTO, fastmath=CONTRACT)
 def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
     """:meth:`PerformanceFrame._inputs` (without direction of motion) of every member into the
     forward's input ``z`` (K, width; its first D columns): each member's sample ``x`` (M, D) from
     its ``anchor`` (the template's center for "none"), divided by the estimated ``size`` for
     "scale", in the template's spread, plus its ``first`` state (K, D)."""
     d = x.shape[1]
-    sc0, ce0 = 4, 4 + d
+    sc0, ce0 = 5, 5 + d
     for i in range(bounds.size):
         scaled, none = mc[i, 8] > 0.0, mc[i, 16] > 0.0
         for k in range(bounds[i], bounds[i] + counts[i]):

@@ -34,7 +34,8 @@ class GroupRules:
         cols = np.flatnonzero(np.isin(self._owner, rows))
         self.forward.reset_templates(cols)
         for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den",
-                  "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape", "_gone", "_at_hold_end"):
+                  "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape", "_gone", "_least",
+                  "_at_hold_end"):
             getattr(self, n)[cols] = 0
         self._acquired[rows] = -1
         self._drive_k[rows] = -1
@@ -43,6 +44,7 @@ class GroupRules:
         self._turn_has_ref[rows] = False
         self._turn_has_h[rows] = False
         self._size[cols] = 1.0
+        self._judged[cols] = 1.0
         self._thr_ev[rows] = 0.0   # the threshold model starts afresh with the evidence
         self._thr_has_x[rows] = False
         for a in (self._best, self._run, self._lost, self._after_end):

@@ -73,7 +73,9 @@ KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="off
 
 @pytest.mark.parametrize("turn", [math.inf, 1.3])   # with the turning gate too (2-D members)
 def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone(turn):
-    rng = np.random.default_rng(36)
+    # a draw whose run goes through every way an attempt starts afresh (with the sizes judged
+    # afresh, seed 36 no longer rests within the shortest stream)
+    rng = np.random.default_rng(37)
     sets, streams = [], []
     for c in range(len(KINDS)):
         d = 2 + c % 3
