@@ -34,6 +34,7 @@ IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
+GHOST_ALPHA = 0.45       # opacity of a played-back take (the studio's ghost of the main)
 
 # Reactor body in units of its size, nose along +x (the default character's outline).
 BODY = REACTOR_BODY
@@ -235,6 +236,9 @@ class Renderer:
             return P.union([hinted, self._draw_points(target, c, pose, c.points)])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
+        if c.kind == "playback":   # the main take played back in the studio: a faint ghost
+            pose = dataclasses.replace(pose, alpha=pose.alpha * GHOST_ALPHA, light=0.0,
+                                       color=lighten(pose.color, 0.3))
         return characters.draw_reactor(target, c, pose)
 
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,

@@ -244,6 +244,20 @@ def test_characters_fade_in_and_out_nothing_pops():
     assert gone[3] < ground(r, where) + 10
 
 
+def test_a_played_back_take_is_drawn_as_a_faint_ghost():
+    # the studio's sequential take plays the main back as NAME.main of kind "playback": the
+    # designer must tell it from the live character it drives (same colour, same place)
+    lit = {}
+    for kind in ("reactor", "playback"):
+        r = new_renderer()
+        c = CharacterState("pet", 0.6, 0.4, 0.0, size=0.1, color=(240, 110, 150), kind=kind)
+        img = settled(r, Frame(seq=0, t=0.0, characters=(c,)))
+        x, y = (int(v) for v in r.map.point(0.6, 0.4))
+        patch = img[y - 40:y + 40, x - 40:x + 40].sum(axis=2) - ground(r, (x, y))
+        lit[kind] = (int(patch.max()), int(np.count_nonzero(patch > 30)))
+    assert lit["playback"][0] < 0.7 * lit["reactor"][0], lit       # fainter body
+    assert lit["playback"][1] > 0.2 * lit["reactor"][1], lit       # yet drawn, not gone
+
 def test_resting_character_is_calmer_but_does_not_vanish():
     r = new_renderer()
     c = CharacterState("face", 0.6, 0.4, 0.0, size=0.1, color=(120, 180, 255), valid=False)
