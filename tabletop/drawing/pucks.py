@@ -23,18 +23,10 @@ def state_color(state: str) -> Color:
     return PUCK_STATES.get(state, PUCK_STATES["seen"])
 
 
-_inks: dict[tuple, tuple[int, int, int]] = {}
-
-
 def trail_inks(color: Color, alpha: float) -> tuple[int, int, int]:
     """A trail's three age steps' colours (oldest to newest, packed 0xRRGGBB) for a puck of
-    ``color`` shown at opacity ``alpha`` (remembered: the same few recur frame after frame)."""
-    key = (color, alpha)
-    ink = _inks.get(key)
-    if ink is None:
-        ink = remember(_inks, key, tuple(rgb(fade(color, alpha * k, TABLE))  # type: ignore
-                                         for k in (0.18, 0.32, 0.5)), 1024)
-    return ink
+    ``color`` shown at opacity ``alpha`` (remembered with the puck's look: :func:`_look`)."""
+    return tuple(rgb(fade(color, alpha * k, TABLE)) for k in (0.18, 0.32, 0.5))  # type: ignore
 
 
 def draw_trails(surf: pygame.Surface, paths: Sequence[np.ndarray], centers: np.ndarray,
