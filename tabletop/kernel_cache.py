@@ -1,7 +1,8 @@
 """How compiled kernels (numba) are built and cached, kept fresh across files.
 
-A kernel is ``numba.njit(nogil=True)``: no fast-math (each value's arithmetic is fixed, so a
-kernel gives its Python definition's bits and keeps its NaN checks), the interpreter lock
+A kernel is ``numba.njit(nogil=True)``: no fast-math unless its caller asks (each value's
+arithmetic is fixed, so a kernel gives its Python definition's bits and keeps its NaN checks;
+MOP's forward and group kernels ask only for fused multiply-adds), the interpreter lock
 released, the machine code cached beside the source (or in numba's user-wide folder where the
 package's ``__pycache__`` cannot be written) so that neither the installation's start nor a
 test worker compiles it (``make kernels`` builds the caches).
