@@ -201,14 +201,17 @@ class Renderer:
         return out
 
     def _pose(self, pr: Presence, t: float, place: Sequence[float]) -> Pose:
-        """``pr``'s pose at time ``t`` (s), standing at ``place`` (a row of :meth:`_places`)."""
+        """``pr``'s pose at time ``t`` (s), standing at ``place`` (a row of :meth:`_places`).
+        While the "one moment" screen shows, characters fade out with its fade in (the table
+        sees nothing then, and a reactor waiting for its main stands at the table's centre, right
+        under the ring of lights): the calm screen shows alone, and they fade back with it."""
         c = pr.state
         cx, cy, ppm, angle, looks, look_angle, motion, _ = place
         still = pr.stillness()
         gaze = look_angle if looks else angle + 0.5 * math.sin(0.37 * t + 6.0 * pr.seed) * still
         color = vivid(tuple(c.color)) if c.valid else resting(vivid(tuple(c.color)))
         # (positional: a dataclass made with keywords costs 3-4 times as much)
-        return Pose((cx, cy), angle, ppm, pr.alpha(t), pr.scale(t),
+        return Pose((cx, cy), angle, ppm, pr.alpha(t) * (1.0 - self.moment), pr.scale(t),
                     breath(t, pr.seed, still if c.valid else 1.0), stretch(pr.speed), motion,
                     eyes_open(t, pr.seed), gaze, color, pr.phase)
 

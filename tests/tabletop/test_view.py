@@ -426,3 +426,29 @@ def test_broken_states_are_skipped_and_never_raise():
     # the good character is drawn all the same, and recovers after a broken pose
     img = rgb(s)
     assert at(img, r.map.point(0.58, 0.4))[0] > 200
+
+
+def test_characters_step_back_under_the_one_moment_screen():
+    # every camera down: a reactor waiting for its main stands at the table's centre, right
+    # under the ring of lights; the calm screen shows alone, and the character is back with
+    # the camera
+    r = new_renderer()
+    s = pygame.Surface(SIZE)
+    c = CharacterState("lover", 0.6, 0.4, 0.0, size=0.08, color=(240, 110, 150), valid=False)
+    down = (SourceHealth("overhead", False, "cannot open camera 0; reconnecting in 2 s"),)
+    ok = (SourceHealth("overhead", True),)
+    x, y = r.map.point(0.6, 0.4)
+    body = (slice(int(y) - 25, int(y) + 25), slice(int(x) - 40, int(x) + 40))
+
+    def pink(img):   # pixels of the body's hue: red above blue and green (the ring is blue)
+        a = img[body]
+        return int(((a[..., 0] - np.maximum(a[..., 1], a[..., 2])) > 5).sum())
+    for k in range(30):
+        r.draw(s, Frame(seq=k, t=k * 0.1, health=ok, characters=(c,)))
+    assert pink(rgb(s)) > 1500                # measured 2367 pixels of the body
+    for k in range(30, 60):
+        r.draw(s, Frame(seq=k, t=k * 0.1, health=down, characters=(c,)))
+    assert r.moment == 1.0 and pink(rgb(s)) == 0   # was 2203: a dim body under the ring
+    for k in range(60, 90):
+        r.draw(s, Frame(seq=k, t=k * 0.1, health=ok, characters=(c,)))
+    assert r.moment == 0.0 and pink(rgb(s)) > 1500
