@@ -18,6 +18,8 @@ from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, Fil
 
 # Sources that draw markers from the configured ids (so every id must be in the dictionary).
 MARKER_SOURCES = ("synthetic_camera",)
+# Sources whose pucks are printed markers read by the tracker (a marker id is a puck id).
+CAMERA_SOURCES = ("camera", "synthetic_camera")
 
 class ImageFile(FilePath):
     """An image file pygame can read (PNG, JPEG...): checked when the config is loaded."""
@@ -142,6 +144,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         _unique_names(key)(cfg, path, ctx)
     _check_calibrations(cfg, ctx)
     _check_marker_ids(cfg, ctx)
+    _check_studio_markers(cfg, ctx)
 
 
 def _check_calibrations(cfg: dict, ctx: Context) -> None:
@@ -191,6 +194,36 @@ def _check_marker_ids(cfg: dict, ctx: Context) -> None:
             check(f"sources[{i}].pucks[{j}]", marker, name)
         for j, perf in enumerate(s.get("performers", [])):
             check(f"sources[{i}].performers[{j}].puck", perf["puck"], name)
+
+
+def _check_studio_markers(cfg: dict, ctx: Context) -> None:
+    """The studio's control markers: each its own id (one marker sending two commands would
+    start and stop a take at once), none a puck a source moves (the studio takes control
+    markers out of the frame: that puck would vanish from the characters' inputs), and each in
+    the marker dictionary when a camera reads them."""
+    studio = cfg.get("studio") or {}
+    tracking = cfg.get("tracking") or {}
+    first: dict[int, str] = {}
+    moved = {}
+    for i, s in enumerate(cfg["sources"]):
+        moved.update({m: f"sources[{i}].pucks" for m in s.get("pucks", [])})
+        moved.update({p["puck"]: f"sources[{i}].performers" for p in s.get("performers", [])})
+    camera = any(s["kind"] in CAMERA_SOURCES for s in cfg["sources"])
+    n = dictionary_size(tracking["dictionary"]) if camera and tracking.get("dictionary") else None
+    for cmd, marker in (studio.get("markers") or {}).items():
+        if marker is None:
+            continue
+        key = f"studio.markers.{cmd}"
+        if marker in first:
+            raise ctx.error(key, f"marker {marker} is also studio.markers.{first[marker]}; "
+                                 "give each command its own marker (or null)")
+        if marker in moved:
+            raise ctx.error(key, f"marker {marker} is a puck of {moved[marker]}; a control "
+                                 "marker is taken off the table's inputs: use another id")
+        if n is not None and not 0 <= marker < n:
+            raise ctx.error(key, f"marker id {marker} is not in {tracking['dictionary']} (ids 0 "
+                                 f"to {n - 1}); use a smaller id or a larger dictionary")
+        first[marker] = cmd
 
 
 def tracking_schema() -> Spec:

@@ -76,6 +76,27 @@ def test_marker_ids_outside_the_dictionary(tmp_path, capfd, snippet, key):
     assert code == 2 and f"kiosk.yaml: {key}: marker id" in line and "not in DICT_4X4" in line
 
 
+@pytest.mark.parametrize("snippet, key, words", [
+    ("studio: {markers: {record: 45, stop: 45}}\n", "studio.markers.stop",
+     "marker 45 is also studio.markers.record"),
+    ("studio: {markers: {keep: 2}}\n", "studio.markers.keep",
+     "marker 2 is a puck of sources[0].pucks"),
+])
+def test_studio_markers_each_their_own(tmp_path, capfd, snippet, key, words):
+    # one marker sending two commands would start and stop a take at once; a visitor's puck
+    # used as a control marker would vanish from the characters' inputs
+    code, err = run_config(tmp_path, BASE + snippet, capfd)
+    line = one_line(err)
+    assert code == 2 and f"kiosk.yaml: {key}: {words}" in line
+
+
+def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
+    code, err = run_config(tmp_path, "sources: [{kind: synthetic_camera, pucks: [1]}]\n"
+                           "view: {enabled: false}\nstudio: {markers: {next: 50}}\n", capfd)
+    line = one_line(err)
+    assert code == 2 and "studio.markers.next: marker id 50 is not in DICT_4X4_50" in line
+
+
 def test_a_key_given_twice(tmp_path, capfd):
     code, err = run_config(tmp_path, BASE + "loop: {rate_hz: 30}\nloop: {rate_hz: 60}\n", capfd)
     line = one_line(err)
