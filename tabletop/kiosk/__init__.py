@@ -15,8 +15,34 @@ The ``kiosk:`` section of config.yaml is :data:`SCHEMA`.
 
 from __future__ import annotations
 
+from typing import Any
+
 from tabletop.plugins import scripted
-from tabletop.schema import Bool, FilePath, ListOf, Number, Optional_, Record, Str
+from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str
+
+
+def service_key_code(name: str) -> int | None:
+    """pygame's key code of a key name (``F12``, ``o``, ``f12``...), None when pygame has no
+    such key (an empty name: no service key)."""
+    if not name:
+        return None
+    import os
+    os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+    import pygame
+    return next((getattr(pygame, f"K_{n}") for n in (name, name.upper(), name.lower())
+                 if hasattr(pygame, f"K_{n}")), None)
+
+
+def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
+    """What the fields cannot say alone: a back-off that grows, a key the keyboard has."""
+    first, longest = k["backoff_s"]
+    if first > longest:
+        raise ctx.error(f"{path}.backoff_s", f"the first wait {first:g} s is longer than the "
+                                             f"longest {longest:g} s; give [first, longest]")
+    if k["service_key"] not in ("", "F12") and service_key_code(k["service_key"]) is None:
+        raise ctx.error(f"{path}.service_key", f"{k['service_key']!r} is not a key name; "
+                                               "expected a pygame key name such as F12 or o")
+
 
 SCHEMA = Record({
     "enabled": Bool(False, doc="run as a gallery kiosk (same as run --kiosk)"),
@@ -51,4 +77,4 @@ SCHEMA = Record({
     "log_backups": Number(5, integer=True, lo=1, hi=100),
     "crash_log": Optional_(FilePath(must_exist=False),
                            doc="supervisor's crash log (default: logs/crashes.log)"),
-})
+}, check=_check)

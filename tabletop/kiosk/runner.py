@@ -176,14 +176,8 @@ class Runner:
 
     @staticmethod
     def _kiosk_view(inst, k: dict[str, Any]) -> None:
-        import pygame
-        name = k["service_key"]
-        key = next((getattr(pygame, f"K_{n}") for n in (name, name.upper(), name.lower())
-                    if name and hasattr(pygame, f"K_{n}")), None)
-        if name and key is None:
-            log.warning("kiosk.service_key %r is not a key name (pygame K_ names such as F12, "
-                        "o); F12 shows the overlay", name)
-            key = pygame.K_F12
+        from tabletop.kiosk import service_key_code
+        key = service_key_code(k["service_key"])   # (a name it has not is refused at load)
         for s in inst.sinks:
             if s.name == "view":
                 s.kiosk, s.service_key = True, key

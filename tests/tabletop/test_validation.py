@@ -97,6 +97,17 @@ def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
     assert code == 2 and "studio.markers.next: marker id 50 is not in DICT_4X4_50" in line
 
 
+@pytest.mark.parametrize("snippet, words", [
+    ("kiosk: {backoff_s: [30, 0.1]}\n", "kiosk.backoff_s: the first wait 30 s is longer"),
+    ("kiosk: {service_key: F13x}\n", "kiosk.service_key: 'F13x' is not a key name"),
+])
+def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
+    # (they ran: a back-off that never grew, and a service key warned about only once the
+    # kiosk was up, replaced by F12)
+    code, err = run_config(tmp_path, BASE + snippet, capfd)
+    assert code == 2 and f"kiosk.yaml: {words}" in one_line(err)
+
+
 def test_a_key_given_twice(tmp_path, capfd):
     code, err = run_config(tmp_path, BASE + "loop: {rate_hz: 30}\nloop: {rate_hz: 60}\n", capfd)
     line = one_line(err)
