@@ -18,7 +18,6 @@ SOURCES: dict[str, str] = {
     "scripted": "tabletop.plugins.scripted",
     "synthetic_camera": "tabletop.plugins.synthetic_camera",
     "camera": "tabletop.plugins.camera",
-    "replay": "tabletop.plugins.replay_source",
     "osc": "tabletop.plugins.osc",
     "serial": "tabletop.plugins.serial",
 }

@@ -195,14 +195,18 @@ class ListOf(Spec):
             item, default, min_len, max_len, doc)
 
     def describe(self) -> str:
-        n = f"{self.min_len}" if self.max_len is None else f"{self.min_len}..{self.max_len}"
-        return f"a list ({n} items) of {self.item.describe()}"
+        lo, hi = self.min_len, self.max_len
+        n = ("" if hi is None and lo == 0 else f"at least {lo}" if hi is None
+             else f"{lo}" if lo == hi else f"{lo} to {hi}")
+        items = f" ({n} item{'' if n.endswith(' 1') or n == '1' else 's'})" if n else ""
+        return f"a list{items} of {self.item.describe()}"
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, list):
             raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
         if len(value) < self.min_len or (self.max_len is not None and len(value) > self.max_len):
-            raise ctx.error(path, f"expected {self.describe()}, got {len(value)} items")
+            got = f"{len(value)} item{'' if len(value) == 1 else 's'}"
+            raise ctx.error(path, f"expected {self.describe()}, got {got}")
         return [self.item.validate(v, f"{path}[{i}]", ctx) for i, v in enumerate(value)]
 
 

@@ -93,6 +93,16 @@ def test_missing_required_key(tmp_path):
     assert "sources" in msg and "missing" in msg
 
 
+def test_list_lengths_and_kinds_said_as_they_are(tmp_path):
+    # (it said "a list (1 items) of a source mapping with 'kind' (camera, osc, replay, ...)":
+    # no source is called replay)
+    msg = error_of(tmp_path, "table: {width: 1.0, height: 1.0}\n")
+    assert ("sources: missing; expected a list (at least 1 item) of a source mapping with "
+            "'kind' (camera, osc, scripted, serial, synthetic_camera)") in msg
+    msg = error_of(tmp_path, GOOD + "view: {size: [640]}\n")
+    assert "view.size: expected a list (2 items) of an integer in [64, 8192], got 1 item" in msg
+
+
 def test_unknown_component_kind(tmp_path):
     msg = error_of(tmp_path, GOOD.replace("kind: scripted", "kind: telepathy"))
     assert "sources[0].kind" in msg and "telepathy" in msg and "scripted" in msg
