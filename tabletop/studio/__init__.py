@@ -8,7 +8,19 @@ The ``studio:`` section of config.yaml is :data:`SCHEMA`.
 
 from __future__ import annotations
 
-from tabletop.schema import Bool, FilePath, Number, Optional_, Record
+from typing import Any
+
+from tabletop.schema import Bool, Context, FilePath, Number, Optional_, Record
+
+
+def _check(studio: dict[str, Any], path: str, ctx: Context) -> None:
+    """A session log folder that cannot be made is refused at load, not at the first try."""
+    if studio["folder"] is not None:
+        from tabletop.studio.session import unusable
+        why = unusable(studio["folder"])
+        if why:
+            raise ctx.error(f"{path}.folder", f"cannot hold the session log: {why}")
+
 
 SCHEMA = Record({
     "enabled": Bool(False, doc="studio mode (same as run --studio)"),
@@ -26,4 +38,4 @@ SCHEMA = Record({
     "folder": Optional_(FilePath(must_exist=False, kind="dir"),
                         doc="session logs and review sheets (default: studio/ beside the config)"),
     "review": Bool(True, doc="draw a review sheet (PNG) for every try"),
-})
+}, check=_check)

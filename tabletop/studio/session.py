@@ -32,9 +32,23 @@ def _load_plotting() -> None:
         log.exception("the plotting library for review sheets did not load")
 
 
+def unusable(folder: Path) -> str:
+    """Why ``folder`` cannot hold the session log ("" when it can, or can be made): its
+    nearest existing ancestor must be a folder this process may write in. Nothing is made."""
+    p = Path(folder).absolute()
+    while not p.exists() and p != p.parent:
+        p = p.parent
+    if not p.is_dir():
+        return f"{p} is not a folder"
+    if not os.access(p, os.W_OK | os.X_OK):
+        return f"{p} is not writable"
+    return ""
+
+
 class SessionLog:
     def __init__(self, folder: Path, review: bool = True) -> None:
         self.folder = Path(folder)
+        self.failing = ""           # why the last line could not be written ("" when it was)
         stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
         self.path = self.folder / f"session-{stamp}.jsonl"
         self.review = review
@@ -66,11 +80,19 @@ class SessionLog:
         d = dataclasses.asdict(t)
         d["time"] = _dt.datetime.fromtimestamp(d.pop("started"), _dt.timezone.utc).isoformat(
             timespec="seconds")
-        self.folder.mkdir(parents=True, exist_ok=True)
-        with open(self.path, "a", encoding="utf-8") as f:
-            f.write(json.dumps(d) + "\n")
-            f.flush()
-            os.fsync(f.fileno())
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            with open(self.path, "a", encoding="utf-8") as f:
+                f.write(json.dumps(d) + "\n")
+                f.flush()
+                os.fsync(f.fileno())
+        except OSError as exc:   # (a disk full or gone): one line while it lasts, no traceback
+            why = f"{getattr(exc, 'filename', None) or self.path}: {exc.strerror or exc}"
+            if why != self.failing:
+                log.warning("studio: session log not written: %s", why)
+            self.failing = why
+            return
+        self.failing = ""
         self.lines += 1
 
     def _draw(self, what: str, demo: np.ndarray, t: Try, path: Path) -> None:

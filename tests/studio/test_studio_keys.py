@@ -233,3 +233,24 @@ def test_commands_for_a_target_the_studio_does_not_hold_pass_through(tmp_path):
     assert f.commands == ("designer.record",) and s.state == "idle"
     f = s(Frame(seq=1, t=1.1, commands=("designer.record",), focus="pet"))
     assert f.commands == () and s.state == "recording"     # no countdown in this bench
+
+
+def test_a_session_log_that_cannot_be_written_is_said_once_and_the_studio_goes_on(tmp_path,
+                                                                                   caplog):
+    # a folder that is gone or a full disk: one warning line (it was a traceback per try)
+    from types import SimpleNamespace
+
+    from tabletop.studio.machine import Try
+    (tmp_path / "file").write_text("not a folder")
+    log_ = SessionLog(tmp_path / "file" / "studio", review=False)
+    target = SimpleNamespace(what="behaviour")
+    with caplog.at_level("WARNING", logger="tabletop"):
+        for k in range(3):
+            log_.log_try(Try("pet", "behaviour", 1e9 + k, outcome="kept"), target)
+    said = [r for r in caplog.records if "session log not written" in r.getMessage()]
+    assert len(said) == 1 and said[0].exc_info is None and log_.lines == 0
+    assert "Not a directory" in said[0].getMessage() and log_.failing
+    log_.folder = tmp_path / "studio"             # back: written, and said again if it fails
+    log_.path = log_.folder / log_.path.name
+    log_.log_try(Try("pet", "behaviour", 1e9, outcome="kept"), target)
+    assert log_.lines == 1 and not log_.failing

@@ -108,6 +108,14 @@ def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     assert code == 2 and f"kiosk.yaml: {words}" in one_line(err)
 
 
+def test_a_studio_folder_that_cannot_be_made(tmp_path, capfd):
+    (tmp_path / "afile").write_text("a file, not a folder")
+    code, err = run_config(tmp_path, BASE + "studio: {folder: afile/studio}\n", capfd)
+    line = one_line(err)
+    assert code == 2 and "kiosk.yaml: studio.folder: cannot hold the session log" in line
+    assert "afile is not a folder" in line
+
+
 def test_a_key_given_twice(tmp_path, capfd):
     code, err = run_config(tmp_path, BASE + "loop: {rate_hz: 30}\nloop: {rate_hz: 60}\n", capfd)
     line = one_line(err)
