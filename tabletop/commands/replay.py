@@ -11,6 +11,7 @@ the frame's ``consumed``), so takes, their training and tries are made again fra
 from __future__ import annotations
 
 import argparse
+import itertools
 import math
 from pathlib import Path
 from typing import Iterator
@@ -90,6 +91,11 @@ def main(args: argparse.Namespace) -> int:
             raise SessionError(f"{first}: line 1: the header holds no config to replay with")
         cfg = validate_config(header["config"], f"{first} (recorded config)", base)
         frames = session_frames(args.session, header)
+        start = next(frames, None)    # (a bad first frame is said before anything is written)
+        if start is None:
+            raise SessionError(f"{first}: no complete frame after the header line: nothing to "
+                               "replay")
+        frames = itertools.chain([start], frames)
         studio = header.get("studio")
         if isinstance(studio, dict):
             from tabletop.studio.build import studio_input

@@ -75,6 +75,24 @@ def test_corrupt_middle_line_is_named(tmp_path):
         list(read_frames(path))
 
 
+@pytest.mark.parametrize("cut", ["header only", "first frame cut short", "bad first frame"])
+def test_replay_of_a_session_without_a_frame_is_one_line_and_writes_nothing(tmp_path, capfd,
+                                                                            cut):
+    # (it replayed nothing, said "replayed 0 frames" and exited 0 with an empty --out file)
+    from tabletop.cli import main as tabletop
+    path = record(tmp_path, seconds=0.2)
+    lines = path.read_text().splitlines(keepends=True)
+    tail = {"header only": "", "first frame cut short": lines[1][:30],
+            "bad first frame": '{"seq": -1}\n'}[cut]
+    path.write_text(lines[0] + tail)
+    out = tmp_path / "out.jsonl"
+    code = tabletop(["replay", str(path), "--fast", "--no-view", "--out", str(out)])
+    err = [ln for ln in capfd.readouterr().err.splitlines() if ln.strip()]
+    assert code == 2 and len(err) == 1 and not out.exists()
+    assert ("line 2: not a valid frame" if cut == "bad first frame"
+            else "no complete frame after the header line") in err[0]
+
+
 def test_not_a_session(tmp_path):
     p = tmp_path / "x.jsonl"
     p.write_text(json.dumps({"format": "something-else"}) + "\n")
