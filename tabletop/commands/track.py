@@ -148,11 +148,15 @@ class FrameReader:
 
 
 class Progress:
-    """A one-line progress bar on stderr (for files, where the frame count is known)."""
+    """A one-line progress bar on stderr (for files, where the frame count is known), only
+    when stderr is a terminal: a script reading stderr gets the error line alone. :meth:`end`
+    ends the bar's line, so an error is said on a line of its own."""
 
     def __init__(self, total: int | None, enabled: bool) -> None:
-        self.total, self.enabled = total, enabled and total is not None
+        self.total = total
+        self.enabled = enabled and total is not None and sys.stderr.isatty()
         self._last = 0.0
+        self._open = False      # the bar's line is on screen, not ended yet
 
     def update(self, done: int, force: bool = False) -> None:
         if not self.enabled:
@@ -164,9 +168,16 @@ class Progress:
         frac = min(done / max(self.total or 1, 1), 1.0)
         bar = "#" * int(frac * 30)
         sys.stderr.write(f"\rtrack [{bar:<30}] {done}/{self.total} frames")
+        self._open = True
         if force:
-            sys.stderr.write("\n")
+            self.end()
         sys.stderr.flush()
+
+    def end(self) -> None:
+        if self._open:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+            self._open = False
 
 
 def _tracking_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -253,5 +264,6 @@ def main(args: argparse.Namespace) -> int:
                     raise
         progress.update(frames, force=True)
     finally:
+        progress.end()
         reader.close()
     return 0

@@ -150,3 +150,21 @@ def test_video_file_every_frame_at_the_video_rate(scene, tmp_path):
     for ln, f in zip(lines, truth):
         seen = {p["id"] for p in ln["pucks"] if p["state"] == "seen"}
         assert seen == {int(i) for i, v in zip(f.ids, f.visible) if v}
+
+
+def test_a_script_reading_stderr_gets_the_error_line_alone(scene, tmp_path):
+    # a frame that cannot be read, mid-folder: the error was appended to the progress bar
+    # ("\rtrack [####...] 1/3 frames" + the error on one line); stderr not being a terminal,
+    # no bar is drawn at all
+    import shutil
+    folder, _, _ = scene
+    broken = tmp_path / "frames"
+    broken.mkdir()
+    for src in sorted(folder.iterdir())[:3]:
+        shutil.copy(src, broken / src.name)
+    sorted(broken.iterdir())[1].write_bytes(b"not a png")
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(broken), "--out",
+                        str(tmp_path / "p.jsonl")], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2
+    assert r.stderr.splitlines() == [f"tabletop track: error: {sorted(broken.iterdir())[1]}: "
+                                     "not an image OpenCV can read"], r.stderr
