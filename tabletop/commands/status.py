@@ -50,20 +50,21 @@ def check_heartbeat(values: tuple) -> str:
 
 def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealthy: int,
                      status: str) -> str:
-    """One line: name, sender, uptime, fps, unhealthy sources, mode and any problem."""
+    """One line, in columns: name, sender, uptime, fps, unhealthy sources, mode and any
+    problem (what the sender wrote is put on one line field by field, the columns kept)."""
     try:
         st = json.loads(status)
     except ValueError:
         st = {}
     if not isinstance(st, dict):
         st = {}
-    mode = st.get("mode", "?")
+    mode = one_line(st.get("mode", "?"))
     extra = ""
     if st.get("config_error"):
         extra += "  config refused"
     if st.get("restarts"):
-        extra += f"  restarts {st['restarts']}"
-    return one_line(f"{name:<16} {sender:<21} up {uptime:9.1f} s  {fps:5.1f} fps  "
+        extra += f"  restarts {one_line(st['restarts'])}"
+    return (f"{one_line(name):<16} {sender:<21} up {uptime:9.1f} s  {fps:5.1f} fps  "
             f"{unhealthy} unhealthy  {mode}{extra}")
 
 

@@ -138,6 +138,16 @@ def test_status_command_prints_every_table(tmp_path, capsys):
     assert lines[1].startswith("south")
 
 
+def test_status_lines_keep_their_columns():
+    # (the whole line went through one_line, which collapsed the padding of every column)
+    from tabletop.commands.status import format_heartbeat
+    a = format_heartbeat("10.0.0.7:50000", "north", 12.5, 59.8, 0, '{"mode": "live"}')
+    b = format_heartbeat("10.0.0.12:50123", "gallery-south\nb", 3600.0, 6.0, 1,
+                         json.dumps({"mode": "one\nmoment", "restarts": 2}))
+    assert a.index(" up ") == b.index(" up ") == 38 and a.index(" fps") == b.index(" fps")
+    assert b.startswith("gallery-south b ") and b.endswith("one moment  restarts 2")
+
+
 def test_status_command_survives_bad_heartbeats(capsys):
     """Another program sending wrong heartbeats to the port gets one line each on stderr, and
     the tables after it are still printed (no traceback, the listener keeps listening)."""
