@@ -66,6 +66,35 @@ class BadInput:
         return SourceHealth(self.source, ok, f"{message} ({bad})" if bad else message, age)
 
 
+class RetryLog:
+    """The log lines of a device that reconnects (a camera, a serial port): a failure is said
+    when its reason is new, and again at most every ``repeat_s`` while it lasts, and the
+    device's return once, so a camera left unplugged for a week writes a few lines, not one per
+    retry (8 s apart: 75,000 lines, rotating the kiosk's log away). The health keeps the
+    current reason and countdown meanwhile."""
+
+    def __init__(self, name: str, logger: logging.Logger, repeat_s: float = 600.0,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.name, self.log, self.repeat_s, self.clock = name, logger, repeat_s, clock
+        self._reason = ""
+        self._said_t = -math.inf
+        self.failures = 0            # since the device last worked
+
+    def failed(self, reason: str, delay: float) -> None:
+        now = self.clock()
+        self.failures += 1
+        if reason != self._reason or now - self._said_t >= self.repeat_s:
+            again = f" (failed {self.failures} times)" if reason == self._reason else ""
+            self.log.warning("%s: %s; retrying in %.1f s%s", self.name, reason, delay, again)
+            self._reason, self._said_t = reason, now
+
+    def worked(self, what: str) -> None:
+        if self.failures:
+            self.log.info("%s: %s back after %d failed attempts", self.name, what,
+                          self.failures)
+        self._reason, self._said_t, self.failures = "", -math.inf, 0
+
+
 class BackgroundSource:
     """``open``/``close`` for a source whose work runs in one daemon thread: ``_run`` until
     ``_stop`` is set. Subclasses call ``_init_thread()`` in their constructor."""

@@ -27,6 +27,7 @@ from typing import Any, Callable, Protocol
 import numpy as np
 
 from tabletop.frames import Observation, SourceHealth
+from tracking.badinput import RetryLog
 
 log = logging.getLogger("tabletop.camera")
 
@@ -234,6 +235,7 @@ class CameraSource:
                  clock: Callable[[], float] = time.monotonic,
                  phase_lock: PhaseLock | None = None) -> None:
         self.name, self.settings, self.clock = name, settings, clock
+        self._retries = RetryLog(name, log, clock=clock)
         self.phase_lock = phase_lock
         self.process = process or (lambda image, t, n: Observation(name, t, n, image=image))
         self.opener = opener
@@ -319,7 +321,7 @@ class CameraSource:
                     delay = self.settings.retry_min_s
             if self._stop.is_set():
                 break
-            log.warning("%s: %s; retrying in %.1f s", self.name, reason, delay)
+            self._retries.failed(reason, delay)
             self._set(False, reason, self.clock() + delay)
             self._stop.wait(delay)
             delay = min(delay * 2.0, self.settings.retry_max_s)
@@ -354,6 +356,8 @@ class CameraSource:
                     return f"{what} lost", delivered
                 return f"{what} ended", delivered
             last_good = t
+            if not delivered:
+                self._retries.worked(what)
             delivered = True
             self._publish(image, t if shutter is None else shutter)
         return "closed", delivered

@@ -31,7 +31,7 @@ from typing import Any, Callable
 import numpy as np
 
 from tabletop.frames import InputError, Observation, PuckMeasurement, SourceHealth, Touch
-from tracking.badinput import BackgroundSource, BadInput
+from tracking.badinput import BackgroundSource, BadInput, RetryLog
 
 log = logging.getLogger("tabletop.serial")
 
@@ -212,6 +212,7 @@ class SerialInput(BackgroundSource):
         self.opener = opener or _open_serial
         self.state = SerialState(timeout_s)
         self.bad = BadInput(name, clock=clock)
+        self._retries = RetryLog(name, log, clock=clock)
         self.port_object: Any = None
         self.lines = 0
         self.reconnects = 0
@@ -279,7 +280,7 @@ class SerialInput(BackgroundSource):
                     delay = self.retry_min_s
             if self._stop.is_set():
                 break
-            log.warning("%s: %s; retrying in %.1f s", self.name, reason, delay)
+            self._retries.failed(reason, delay)
             self._set(False, reason, self.clock() + delay)
             self._stop.wait(delay)
             delay = min(delay * 2.0, self.retry_max_s)
@@ -295,6 +296,8 @@ class SerialInput(BackgroundSource):
                 return f"{self.port} lost: {exc}", got
             if not data:
                 continue  # read timed out: nothing sent
+            if not got:
+                self._retries.worked(self.port)
             got = True
             overlong = splitter.overlong
             lines = splitter.feed(data)

@@ -174,3 +174,25 @@ def test_a_missing_device_is_reported_and_retried():
         assert not src.health().ok and src.latest() is None
     finally:
         src.close()
+
+
+def test_a_device_down_for_long_is_said_once_and_its_return_once(caplog):
+    # a kiosk's serial device unplugged for days: every retry was a log line (8 s apart at
+    # most); now the reason once (again every 10 minutes), and the return once
+    src = SerialInput("mcu", "/dev/does-not-exist", retry_min_s=0.01, retry_max_s=0.02)
+    with caplog.at_level("INFO", logger="tabletop.serial"):
+        src.open()
+        try:
+            assert wait_for(lambda: src._retries.failures >= 10, 5.0)
+            master, slave, name = open_pty()               # plugged in
+            src.port = name
+            assert wait_for(lambda: src.health().ok, 5.0)
+            os.write(master, b"puck 1 0.1 0.1 0\n")
+            assert wait_for(lambda: src.lines == 1, 5.0)
+        finally:
+            src.close()
+            os.close(master)
+            os.close(slave)
+    said = [r.getMessage() for r in caplog.records]
+    assert len(said) == 2, said                       # measured: 10+ lines before
+    assert "cannot open /dev/does-not-exist" in said[0] and "back after" in said[1]
