@@ -263,7 +263,7 @@ class SerialInput(BackgroundSource):
             try:
                 port = self.opener(self.port, self.baudrate)
             except Exception as exc:  # SerialException, OSError, ValueError from a bad URL
-                reason = f"cannot open {self.port}: {exc}"
+                reason = f"cannot open {self.port}: {open_failure(exc, self.port)}"
             else:
                 if opened_before:
                     self.reconnects += 1
@@ -321,6 +321,17 @@ class SerialInput(BackgroundSource):
                 self.bad.count(exc.kind, f"{exc}: {line[:60]!r}")
             except Exception as exc:  # a bug must not end the reading thread
                 self.bad.count("internal_error", f"{type(exc).__name__}: {exc}")
+
+
+def open_failure(exc: BaseException, port: str) -> str:
+    """Why pyserial could not open ``port``, without its own repetitions ("[Errno 2] could not
+    open port /dev/x: [Errno 2] No such file or directory: '/dev/x'" -> "No such file or
+    directory")."""
+    text = str(exc)
+    for pattern in (r"^(\[Errno -?\d+\] )?could not open port .*?: ", r"^\[Errno -?\d+\] ",
+                    r": '" + re.escape(port) + r"'$"):
+        text = re.sub(pattern, "", text, flags=re.IGNORECASE)
+    return text or str(exc)
 
 
 def _open_serial(port: str, baudrate: int) -> Any:

@@ -172,6 +172,10 @@ def test_a_missing_device_is_reported_and_retried():
     try:
         assert wait_for(lambda: "cannot open /dev/does-not-exist" in src.health().message, 5.0)
         assert not src.health().ok and src.latest() is None
+        # said once, not pyserial's "[Errno 2] could not open port /dev/...: [Errno 2] No such
+        # file or directory: '/dev/...'"
+        assert src.health().message.startswith("cannot open /dev/does-not-exist: No such file "
+                                               "or directory; reconnecting in")
     finally:
         src.close()
 
