@@ -129,21 +129,37 @@ def review_sheet(what: str, demo: np.ndarray, path: Path, title: str = "") -> No
     _save(fig, path)
 
 
+FIELDS = {"duration_s": "seconds", "samples": "samples", "training_s": "seconds"}
+
+
+def _check_try(d: object) -> None:
+    """ValueError naming what is wrong with one session log line's try."""
+    if not isinstance(d, dict) or "target" not in d:
+        raise ValueError("not a try")
+    for key, unit in FIELDS.items():
+        v = d.get(key, 0)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < math.inf:
+            raise ValueError(f"{key} is {str(v)[:40]!r}, expected a number of {unit} >= 0")
+    for key in ("target", "outcome", "name", "review"):
+        if not isinstance(d.get(key, ""), str):
+            raise ValueError(f"{key} is {str(d[key])[:40]!r}, expected a string")
+
+
 def read_session(path: Path) -> list[dict]:
     """The tries of a session log; a line cut short (a power cut) at the end is skipped, a bad
-    line elsewhere is refused naming its line."""
+    line elsewhere is refused naming its line and what is wrong."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: session log not found")
-    lines = p.read_text(encoding="utf-8", errors="replace").splitlines()
+    text = p.read_text(encoding="utf-8", errors="replace")
+    lines = text.splitlines()
     out = []
     for i, line in enumerate(lines, 1):
         try:
             d = json.loads(line)
-            if not isinstance(d, dict) or "target" not in d:
-                raise ValueError("not a try")
+            _check_try(d)
         except ValueError as exc:
-            if i == len(lines):
+            if i == len(lines) and not text.endswith("\n"):   # written only in part
                 break
             raise InputError(f"{p}:{i}: not a session log line ({exc})") from None
         out.append(d)
@@ -175,7 +191,10 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
         png = (Path(session).parent / t["review"]) if t.get("review") else None
         if png is not None and png.is_file():
             import matplotlib.image as mpimg
-            ax.imshow(mpimg.imread(str(png)))
+            try:
+                ax.imshow(mpimg.imread(str(png)))
+            except (OSError, ValueError, SyntaxError):  # a damaged sheet: its caption alone
+                pass
         caption = (f"{t['target']} {t.get('outcome', '')} {t.get('name', '')}\n"
                    f"{t.get('duration_s', 0):.1f} s, {t.get('samples', 0)} samples, "
                    f"trained in {t.get('training_s', 0) * 1e3:.0f} ms")

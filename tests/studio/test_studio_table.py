@@ -136,6 +136,24 @@ def test_review_refuses_a_bad_session_log_in_one_line(tmp_path, capsys):
     assert cli(["review", str(tmp_path / "missing.jsonl")]) == 2
 
 
+@pytest.mark.parametrize("line, words", [
+    ('{"target": "pet", "duration_s": "x"}', "duration_s is 'x', expected a number of seconds"),
+    ('{"target": "pet", "training_s": -1}', "training_s is '-1', expected a number"),
+    ('{"target": ["pet"]}', "target is \"['pet']\", expected a string"),
+    ("not json", "not a session log line"),
+])
+def test_review_names_a_bad_field_of_a_complete_last_line(tmp_path, capsys, line, words):
+    # (a wrong field was an internal error; a complete last line that is wrong was skipped as
+    # if a power cut had cut it: only a line without its newline is)
+    log = tmp_path / "s.jsonl"
+    log.write_text('{"target": "pet", "outcome": "kept", "duration_s": 4.0}\n' + line + "\n")
+    assert cli(["review", str(log)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "s.jsonl:2: " in err and words in err, err
+    log.write_text('{"target": "pet", "outcome": "kept", "duration_s": 4.0}\n' + line[:12])
+    assert cli(["review", str(log)]) == 0               # cut short: the tries before it
+
+
 def test_review_with_more_columns_than_tries_draws_the_tries_wide(tmp_path, capsys):
     """--columns 100000 on a two-try log drew a figure 100,000 sheets wide (minutes, gigabytes);
     the sheet is as wide as its tries."""
