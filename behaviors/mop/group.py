@@ -326,6 +326,7 @@ class FollowerGroup(GroupRules):
         self._m_kept = np.ones(m)
         self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
         self._m_restart = np.empty(m, dtype=np.intp)
+        self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
         # the threshold models' state (Validity._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
@@ -347,7 +348,7 @@ class FollowerGroup(GroupRules):
             LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
             self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads,
             present, self._means, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
-            self._m_kept, self._thr_z, self._thr_lj, self._thr_total, self._thr_tops)
+            self._m_kept, self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest)
         return self._conclude(step_ll, present)
 
     def _turned(self, present: np.ndarray) -> None:
@@ -378,7 +379,7 @@ class FollowerGroup(GroupRules):
             self._after_end, self._m_kept, self._drive_k, self._drive_from,
             self._drive_peak, self._turn_ok, self._extent, self._peak, self._peak_k,
             variance, valid, loglik, distance, show, holding, prog_b, restart, self._gone, self._shared,
-            self._sh_off, self._drive_moved)
+            self._sh_off, self._drive_moved, self._m_rest)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
