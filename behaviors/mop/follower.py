@@ -307,10 +307,10 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         frac = g - gi
         src = b.source
         progress = src[gi] + frac * (src[gi + 1] - src[gi])
-        rest = False
+        # resting over this sample and the ones before (the samples _still will keep): once,
+        # for the holds here and for the stall rule after the push (_conclude)
+        rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
         if self._holds is not None:   # holds inside a template (behaviors.mop.holding)
-            # resting over this sample and the ones before (the samples _still will keep)
-            rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
             if rest and self.invariance == "scale":
                 rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units, self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
@@ -367,16 +367,18 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             rival = self._threshold_evidence(x, self._anchor, float(raw_ll[top])) - self._evidence[top]
             self._kept = total / (total + math.exp(min(rival, 700.0)))
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
-                              (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()))
+                              (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()),
+                              rest)
 
     def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
                   gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
                   forward: WindowedForward, offset: int, x: np.ndarray,
-                  lists: tuple[list, list, list, list]) -> FollowState:
+                  lists: tuple[list, list, list, list], rests: bool) -> FollowState:
         """The rest of :meth:`_finish` once the per-template arrays are updated (a group updates
         them for all its followers at once): best, validity, the state and spotting. ``top``:
         the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p``,
-        ``mean_ll`` and sizes as lists (for the state's dictionaries)."""
+        ``mean_ll`` and sizes as lists (for the state's dictionaries); ``rests``: the performer
+        rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
         b = self.bank
         src = b.source
         if self._evidence[top] - self._evidence[self._best] > self.switch_margin or self._refused[self._best]:
@@ -391,7 +393,6 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # the spread limit counts states, not the progress a compressed hold spans
         spread2 = var / (b.lengths[bi] - 1.0) ** 2
         still = self._still(x)
-        rests = resting(self._recent_x, self._still_radius)
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
                   and p_list[bi] * self._kept >= self.min_probability

@@ -34,8 +34,9 @@ class FollowerGroup(GroupRules):
         first = self.followers[0]
         for i, f in enumerate(self.followers[1:], 1):
             if not first.same_parameters(f):
-                raise TemplateError(f"follower {i} of the group has other parameters than follower 0; "
-                                    "a group's followers must share sigma, window, transitions and limits")
+                raise TemplateError(f"follower {i} of the group has other parameters than "
+                                    "follower 0; a group's followers must share sigma, window, "
+                                    "transitions and limits")
         width = max(f._zdim for f in self.followers)
         means, starts, lengths, dims, names, owner = [], [], [], [], [], []
         offset = 0
@@ -53,10 +54,10 @@ class FollowerGroup(GroupRules):
         bank = TemplateBank(tuple(names), np.concatenate(means), np.concatenate(starts),
                             np.concatenate(lengths), np.zeros(width), np.ones(width))
         p = first._params
+        stay = np.concatenate([f.forward._stay for f in self.followers])
         self.forward = WindowedForward(bank, sigma=p["sigma"], half_window=p["window"],
                                        transitions=first.forward.transitions, floor=p["floor"],
-                                       dims=np.array(dims),
-                                       stay=np.concatenate([f.forward._stay for f in self.followers]))
+                                       dims=np.array(dims), stay=stay)
         self._owner = np.array(owner, dtype=np.intp)
         bounds = np.concatenate([[0], np.cumsum([len(f.names) for f in self.followers])])
         self._slices = [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
@@ -84,15 +85,16 @@ class FollowerGroup(GroupRules):
         self._lengths = np.concatenate([f.bank.lengths for f in fs]).astype(np.intp)
         dmax = max(f.dim for f in fs)
         self._rel = np.concatenate([np.pad(f._rel, ((0, 0), (0, dmax - f.dim))) for f in fs])
-        self._scale = np.concatenate([np.pad(f.bank.scale, ((0, 0), (0, dmax - f.dim)), constant_values=1.0)
-                                      for f in fs])
+        self._scale = np.concatenate([np.pad(f.bank.scale, ((0, 0), (0, dmax - f.dim)),
+                                             constant_values=1.0) for f in fs])
 
     def _member_arrays(self) -> None:
         """Each member's own constants and state (anchor, recent samples, best, ends) as rows of
         arrays (M, ...), padded to the widest member's features with values that change nothing."""
         fs, m = self.followers, len(self.followers)
         dmax = self._rel.shape[1]
-        pad = lambda a, v=0.0: np.pad(np.asarray(a, dtype=float), (0, dmax - len(a)), constant_values=v)
+        pad = lambda a, v=0.0: np.pad(np.asarray(a, dtype=float), (0, dmax - len(a)),
+                                      constant_values=v)
         col = lambda fn, dtype=float: np.array([fn(f) for f in fs], dtype=dtype)
         self._m_units = np.array([pad(f._units, 1.0) for f in fs])
         self._m_radius = np.array([pad(f._still_radius) for f in fs])
@@ -100,11 +102,14 @@ class FollowerGroup(GroupRules):
         self._m_tangent = [i for i, f in enumerate(fs) if f.tangent > 0]
         # each member's template names and their rows in the group's per-template arrays
         self._k_names = [n for f in fs for n in f.names]
-        self._m_index = [{n: int(a) + j for j, n in enumerate(f.names)} for f, a in zip(fs, self._bounds)]
+        self._m_index = [{n: int(a) + j for j, n in enumerate(f.names)}
+                         for f, a in zip(fs, self._bounds)]
         # per template: what a sample is measured from (anchor, or the center for "none")
         self._k_none = np.concatenate([np.full(len(f.names), f.invariance == "none") for f in fs])
-        self._k_center = np.concatenate([np.pad(f.bank.center, ((0, 0), (0, dmax - f.dim))) for f in fs])
-        self._k_first = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim))) if f.invariance != "none"
+        self._k_center = np.concatenate([np.pad(f.bank.center, ((0, 0), (0, dmax - f.dim)))
+                                         for f in fs])
+        self._k_first = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim)))
+                                        if f.invariance != "none"
                                         else np.zeros((len(f.names), dmax)) for f in fs])
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
@@ -122,7 +127,8 @@ class FollowerGroup(GroupRules):
         # the input's turning (Validity._turned), members with 2-D spatial inputs only
         self._m_turning = [i for i, f in enumerate(fs) if f._turn is not None]
         self._turning = np.array([f._turn is not None for f in fs], dtype=bool)
-        self._turns = np.concatenate([f._turn if f._turn is not None else np.zeros(len(f.bank.means)) for f in fs])
+        self._turns = np.concatenate([f._turn if f._turn is not None
+                                      else np.zeros(len(f.bank.means)) for f in fs])
         self._turn_steps = np.array([f._turn_step for f in fs], dtype=float)
         self._turn_limits = np.array([f.turn_limit for f in fs], dtype=float)
         self._turn_in, self._turn_h = np.zeros(m), np.zeros(m)
@@ -150,12 +156,13 @@ class FollowerGroup(GroupRules):
         self._thr_has_x = np.zeros(m, dtype=bool)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered", "_least",
-                     "_judged", "_at_hold_end")
+                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
+                     "_least", "_judged", "_at_hold_end")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev", "_thr_x",
-                   "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak", "_drive_moved", "_turn_in",
-                   "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h")
+                   "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
+                   "_thr_x", "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak",
+                   "_drive_moved", "_turn_in", "_turn_h", "_turn_ref", "_turn_has_ref",
+                   "_turn_has_h")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -199,7 +206,8 @@ class FollowerGroup(GroupRules):
     def step(self, samples: Sequence[np.ndarray]) -> list[FollowState]:
         """One sample per follower, in order; returns each follower's state."""
         if len(samples) != len(self.followers):
-            raise SampleError(f"{len(samples)} samples for a group of {len(self.followers)} followers")
+            raise SampleError(f"{len(samples)} samples for a group of {len(self.followers)} "
+                              "followers")
         X = self._x
         lost: list[int] = []
         stacked = None
@@ -237,8 +245,9 @@ class FollowerGroup(GroupRules):
         saved = None
         if lost:
             saved = fw.snapshot(np.flatnonzero(self._owner_of(lost)))
-            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy()) for n in self._PER_TEMPLATE + ("_shape", "_gone")] + \
-                   [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
+            kept = [(n, getattr(self, n)[self._owner_of(lost)].copy())
+                    for n in self._PER_TEMPLATE + ("_shape", "_gone")]
+            kept += [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
         step_ll = fw.step(self._z)
         if saved is not None:
             fw.restore(saved)
@@ -259,8 +268,8 @@ class FollowerGroup(GroupRules):
     def _inputs(self, present: np.ndarray) -> None:
         """:meth:`PerformanceFrame._inputs` of every member into the forward's input (K, width);
         ``present`` (M,): the members with a sample."""
-        group_kernel.map_inputs(self._x, self._anchor, self._tc, self._mc, self._size, self._k_first,
-                                self._bounds, self._counts, self._z)
+        group_kernel.map_inputs(self._x, self._anchor, self._tc, self._mc, self._size,
+                                self._k_first, self._bounds, self._counts, self._z)
         for i in self._m_tangent:   # direction of motion: the member's own lag
             if not present[i]:
                 continue
@@ -276,9 +285,10 @@ class FollowerGroup(GroupRules):
         dmax = self._rel.shape[1]
         padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
         self._states = np.ascontiguousarray(np.concatenate(
-            [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None], f._arc[:, None],
-                        holding_columns(f)]) for f in fs]))
-        self._ti = np.ascontiguousarray(np.stack([self._starts_local, self._lengths, self._state_off], axis=1))
+            [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None],
+                        f._arc[:, None], holding_columns(f)]) for f in fs]))
+        self._ti = np.ascontiguousarray(np.stack([self._starts_local, self._lengths,
+                                                  self._state_off], axis=1))
         z = lambda f, on: padded(f._first_z, f) if on else np.zeros((len(f.names), dmax))
         self._tc = np.ascontiguousarray(np.hstack([
             np.concatenate([f._jacobian for f in fs])[:, None],
@@ -298,13 +308,15 @@ class FollowerGroup(GroupRules):
                    "hi": lambda f: f.scale_range[1], "misfit_decay": lambda f: f._misfit_decay,
                    "shape2": lambda f: f._shape2, "shape_accept2": lambda f: f._shape_accept2,
                    "path_scale": lambda f: f.sigma ** 2 * f.dim,
-                   "spots": lambda f: f.invariance != "none", "none": lambda f: f.invariance == "none",
+                   "spots": lambda f: f.invariance != "none",
+                   "none": lambda f: f.invariance == "none",
                    "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
                    "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
                    "keep": lambda f: f.still_samples}
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
-        radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0) for f in fs])
+        radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
+                           for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
         rules = {"spread2": lambda f: f.max_spread ** 2, "min_p": lambda f: f.min_probability,
                  "spots": lambda f: f.invariance != "none", "confirm": lambda f: f.confirm,
@@ -326,6 +338,7 @@ class FollowerGroup(GroupRules):
         self._m_kept = np.ones(m)
         self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
         self._m_restart = np.empty(m, dtype=np.intp)
+        self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
         # the threshold models' state (Validity._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
@@ -342,12 +355,13 @@ class FollowerGroup(GroupRules):
         self._k_p, self._k_progress, self._k_mean_ll = np.empty(k), np.empty(k), np.empty(k)
         group_kernel.update_templates(
             self._states, self._ti, self._tc, self._mc, self._floats, self._flags, self._misfit,
-            self._entries, fw.mean, fw.entries, step_ll, self._x, self._anchor, self._buf, self._nbuf,
-            self._bounds, self._counts, self._best, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY,
-            LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll, self._k_p, self._k_new,
-            self._m_top3, self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads,
-            present, self._means, self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
-            self._m_kept, self._thr_z, self._thr_lj, self._thr_total, self._thr_tops)
+            self._entries, fw.mean, fw.entries, step_ll, self._x, self._anchor, self._buf,
+            self._nbuf, self._bounds, self._counts, self._best, PATH_REACH[0], PATH_REACH[1],
+            RIVAL_PROBABILITY, LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll,
+            self._k_p, self._k_new, self._m_top3, self._m_moving, self._m_any_engaged,
+            self._m_all_refused, self._m_leads, present, self._means, self._thr_alpha,
+            self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch, self._m_kept,
+            self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest)
         return self._conclude(step_ll, present)
 
     def _turned(self, present: np.ndarray) -> None:
@@ -355,10 +369,11 @@ class FollowerGroup(GroupRules):
         template's near the followed state (:meth:`Validity._turned`), in ``_turn_ok``
         (compiled: :func:`members.turned`)."""
         if self._m_turning:
-            members.turned(self._x, self._anchor, present, self._turning, self._turn_ref, self._turn_has_ref,
-                           self._turn_h, self._turn_has_h, self._turn_in, self._best, self._bounds, self._ti,
-                           self.forward.mean, self._turns, self._turn_steps, self._turn_limits, TURN_REACH,
-                           FIRST_TURN_STEPS, self._turn_ok)
+            members.turned(self._x, self._anchor, present, self._turning, self._turn_ref,
+                           self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in,
+                           self._best, self._bounds, self._ti, self.forward.mean, self._turns,
+                           self._turn_steps, self._turn_limits, TURN_REACH, FIRST_TURN_STEPS,
+                           self._turn_ok)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template
@@ -371,32 +386,35 @@ class FollowerGroup(GroupRules):
         restart = self._m_restart
         self._turned(present)
         members.conclude(
-            self._states, self._ti, fw.mean, fw._mom, self._size, self._member_flags, p, progress, mean_ll,
-            step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present, self._m_moving,
-            self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds, self._best,
-            self._run, self._acquired, self._buf, self._nbuf, self._has_end, self._end_x, self._lost,
-            self._after_end, self._m_kept, self._drive_k, self._drive_from,
-            self._drive_peak, self._turn_ok, self._extent, self._peak, self._peak_k,
-            variance, valid, loglik, distance, show, holding, prog_b, restart, self._gone, self._shared,
-            self._sh_off, self._drive_moved)
+            self._states, self._ti, fw.mean, fw._mom, self._size, self._member_flags, p, progress,
+            mean_ll, step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present,
+            self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds,
+            self._best, self._run, self._acquired, self._buf, self._nbuf, self._has_end,
+            self._end_x, self._lost, self._after_end, self._m_kept, self._drive_k,
+            self._drive_from, self._drive_peak, self._turn_ok, self._extent, self._peak,
+            self._peak_k, variance, valid, loglik, distance, show, holding, prog_b, restart,
+            self._gone, self._shared, self._sh_off, self._drive_moved, self._m_rest)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
+        gbl = gb.tolist()
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
         names, index = self._k_names, self._m_index
+        # the glue below reads per member from lists and scalars: as array operations over
+        # the 8 members (mask, nonzero, fancy indexing) it cost more than the values it read
         likely: list[tuple] = [()] * m
-        if show.any():   # each shown member's top three not refused, read at once
-            top3 = self._m_top3.ravel()
-            at = np.maximum(top3, 0)
-            rows = np.flatnonzero((top3 >= 0) & ~self._refused[at] & show.repeat(3))
-            at = at[rows]
-            for r, j, a, b in zip((rows // 3).tolist(), at.tolist(), p[at].tolist(), progress[at].tolist()):
-                likely[r] += ((names[j], a, b),)
-        ended = self._ended
+        shows = show.tolist()
+        if True in shows:   # each shown member's top three not refused
+            top3, refused = self._m_top3.tolist(), self._refused
+            for i in [i for i, s in enumerate(shows) if s]:
+                likely[i] = tuple((names[j], float(p[j]), float(progress[j]))
+                                  for j in top3[i] if j >= 0 and not refused[j])
         shown = [progress] * m
-        best, best_progress = [names[j] for j in gb.tolist()], prog_b.tolist()
-        for i in np.flatnonzero((ended >= 0) & ~any_engaged).tolist():
+        best, best_progress = [names[j] for j in gbl], prog_b.tolist()
+        for i, (e, eng) in enumerate(zip(self._ended.tolist(), any_engaged.tolist())):
+            if e < 0 or eng:
+                continue
             # the last gesture ended and no new one has begun: it stays at its end, not driving
-            j = self._bounds[i] + ended[i]
+            j = self._bounds[i] + e
             best[i], best_progress[i] = names[j], 1.0
             shown[i] = progress.copy()
             shown[i][j] = 1.0
@@ -412,6 +430,7 @@ class FollowerGroup(GroupRules):
                 b, pb, var_b, ByName(ix, p), ByName(ix, sh), val, ll, dist, restarted,
                 ByName(ix, mean_ll), lk, ByName(ix, sizes), hold)
             out.append(state)
+        ended = self._ended
         ended[any_engaged & present] = -1
         if restart.any():
             self._restart(restart, gb)

@@ -92,12 +92,13 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
                      numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                      numba.intp, numba.intp, numba.float64, numba.float64,
                      _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1), *_CALLS_INTO, fastmath=CONTRACT)
+                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1, _B1), *_CALLS_INTO,
+           fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x, scratch,
-                     kept_out, thr_z, thr_lj, thr_total, thr_tops) -> None:
+                     kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -113,7 +114,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     performance began anew; per member: top three by probability (-1 where fewer), the largest
     RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
-    by ``min_lead``. ``before``/``after``: the path's reach in states."""
+    by ``min_lead``, whether the performer rests (``rest_out``: the holds' rule here, the stall
+    rule in :func:`behaviors.mop.members.conclude`). ``before``/``after``: the path's reach in
+    states."""
     ev, rec, rw, num, den, size, misfit_w, shape, gone, least, judged = floats
     refused, engaged, misshaped, covered, at_hold_end = flags
     d = x.shape[1]
@@ -156,6 +159,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         for c in range(d):
             hrad[c] = m[ra0 + c]
         rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
+        rest_out[i] = rest
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD

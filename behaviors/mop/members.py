@@ -20,7 +20,7 @@ import numpy as np
 
 from behaviors.mop import spotting, validity
 from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
-from behaviors.mop.validity import BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, RESTING_RADII
+from behaviors.mop.validity import BACK_FIRST, CARRY_FIRST, FORWARD_FIRST
 from tabletop.kernel_cache import compiled
 
 _CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
@@ -120,27 +120,6 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
     return GOES_ON
 
 
-@compiled(numba.boolean(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)
-def resting(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> bool:
-    """:func:`behaviors.mop.validity.resting` of member ``i``'s buffered samples (after the
-    push): the mean of the later half within :data:`~behaviors.mop.validity.RESTING_RADII`
-    ``radius`` (D,) of the earlier half's, each summed oldest first as ``np.mean``."""
-    n = count[i] // 2
-    if n < 2:
-        return False
-    s = buf.shape[1]
-    first = s - count[i]
-    for c in range(buf.shape[2]):
-        early = 0.0
-        late = 0.0
-        for r in range(n):
-            early += buf[i, first + r, c]
-            late += buf[i, s - n + r, c]
-        if not abs(late / n - early / n) <= RESTING_RADII * radius[c]:
-            return False
-    return True
-
-
 @compiled(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _B1, _B1,
                       _F1, _F1), *_CALLS_INTO)
 def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, refused: np.ndarray,
@@ -161,13 +140,13 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
                    _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
                    _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1), *_CALLS_INTO)
+                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1), *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
              turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart, highest, shared, sh_off,
-             drive_moved) -> None:
+             drive_moved, rest) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -175,7 +154,10 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     probability the templates keep against the threshold model) it reads; ``best`` already
     switched there). ``states``, ``ti``: as there;
     ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
-    :data:`MEMBER_RULES`; ``present``: the members with a sample this tick.
+    :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
+    each rests (:func:`~behaviors.mop.validity.resting` over the samples the push keeps,
+    measured once by the per-template pass; a member without a sample is put back after the
+    tick).
 
     In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
     highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples
@@ -215,7 +197,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         if present[i]:
             push(buf, nbuf, x, i, int(m[6]))
         st = still(buf, nbuf, i, int(m[6]), radius)
-        rests = resting(buf, nbuf, i, radius)
+        rests = rest[i]   # validity.resting, the holds' flag (group_kernel.update_templates)
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
         # a new action drives only once its shape clearly leads, the input turned as it does
