@@ -13,7 +13,8 @@ unseen path (:func:`designer_row`: the policy that made the demonstration, react
 main) and measured against the demonstration the same way. A threshold that the designer's own
 character misses on a path is a figure of the situation, not of the engine: a demonstration
 shows a character in the situations its main made, and a figure such as the share of time
-spent facing the main depends on them (measured on seeds 0, 1, 2: the afraid character's own
+spent facing the main depends on them (measured on seeds 0, 1, 2 with the former 60 s afraid
+demonstration, see behaviors/puppet_master/chased.py: the afraid character's own
 designer faced the main 78-94% of the time on the unseen paths, whose mains never chase it,
 against 39% in the demonstration, whose main chased it half of the time; the generated afraid
 character 53-76%). These are reported as ``designer.*`` figures and after the tables; they

@@ -45,15 +45,21 @@ DESCRIPTIONS = {
 def example_demonstration(name: str) -> np.ndarray:
     """The scripted designer's demonstration for ``name``, rounded to micrometres/microradians
     (read-only: computed once per process)."""
-    demo = designers.demonstrate(name, seconds=SECONDS, rate_hz=PARAMETERS["rate_hz"], table=TABLE)
+    demo = designers.demonstrate(name, seconds=_seconds(name), rate_hz=PARAMETERS["rate_hz"],
+                                 table=TABLE)
     out = np.round(demo, 6) + 0.0   # + 0.0 turns -0.0 into 0.0
     out.flags.writeable = False
     return out
 
 
+def _seconds(name: str) -> float:
+    """The length of ``name``'s demonstration (s): designers.DURATION_S's, else SECONDS."""
+    return designers.DURATION_S.get(name, SECONDS)
+
+
 def _source(name: str) -> str:
     return (f"scripted designer behaviors.puppet_master.designers.demonstrate({name!r}, "
-            f"seed={designers.SEEDS[name]}, seconds={SECONDS:g}, "
+            f"seed={designers.SEEDS[name]}, seconds={_seconds(name):g}, "
             f"table={TABLE[0]:g}x{TABLE[1]:g} m)")
 
 

@@ -24,6 +24,9 @@ COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir
 PERSONALITIES = ("lover", "bully", "playful_friend", "stalker", "afraid")
 CONTACT = 0.055  # metres between puck centres when two pucks touch
 SEEDS = {"lover": 11, "bully": 23, "playful_friend": 37, "stalker": 41, "afraid": 53}
+# a demonstration's length (s) where not 60 s: a character shown chased is shown in two kinds
+# of situation, calm and chased (chased.py: the longer demonstration and its figures)
+DURATION_S = {"afraid": 80.0}
 
 Table = tuple[float, float]
 Vec = np.ndarray
@@ -223,33 +226,6 @@ def _stalker(rng: np.random.Generator) -> Policy:
     return policy
 
 
-def _afraid(rng: np.random.Generator, table: Table) -> Policy:
-    """Keeps away (over about 0.5 m) and flees when the main comes closer, sliding off walls."""
-    w, h = table
-
-    def policy(t: float, p: Vec, v: Vec, look: float, m: _Seen) -> tuple[Vec, float]:
-        rel = p - m.p
-        d = float(np.hypot(*rel))
-        away = _unit(rel)
-        wall = np.array([
-            max(0.0, 0.2 - p[0]) - max(0.0, p[0] - (w - 0.2)),
-            max(0.0, 0.2 - p[1]) - max(0.0, p[1] - (h - 0.2))]) / 0.2
-        if d < 0.5:
-            urgency = (0.5 - d) / 0.5
-            flee = _unit(away + 1.5 * wall)
-            if float(np.dot(flee, away)) < 0.0:  # cornered: dodge sideways past the main
-                side = np.array([-away[1], away[0]])
-                flee = _unit(side if float(np.dot(side, wall)) >= 0 else -side)
-            v_des = flee * (0.15 + 0.45 * urgency)
-            sp = float(np.hypot(*v))
-            face = math.atan2(v[1], v[0]) if sp > 0.12 else math.atan2(-rel[1], -rel[0])
-        else:
-            v_des = 0.1 * wall
-            face = math.atan2(-rel[1], -rel[0])      # watching it from afar
-        return v_des, face
-    return policy
-
-
 class MainHand(Protocol):
     """A main hand that reacts to the reactor: the main pose (x, y, dir) of sample ``i`` from
     the previous one and the reactor's position now."""
@@ -257,43 +233,7 @@ class MainHand(Protocol):
     def step(self, i: int, prev: np.ndarray, react: Vec) -> np.ndarray: ...
 
 
-CHASED = ("afraid",)   # personalities whose designer shows them by chasing them
-
-
-class _Chaser:
-    """The designer's main hand showing a fearful character what it fears: it alternates
-    between its own wandering (2-5 s, moved as the designer's path moves) and going straight
-    for the reactor (2-4 s at 0.15-0.35 m/s), so the demonstration shows fleeing, not only
-    keeping away from a main that happens to pass by."""
-
-    def __init__(self, rng: np.random.Generator, wander: np.ndarray, table: Table,
-                 dt: float) -> None:
-        self.rng, self.wander, self.table, self.dt = rng, wander, table, dt
-        self.chasing, self.left, self.speed = False, float(rng.uniform(1.0, 3.0)), 0.2
-        self.v = np.zeros(2)
-
-    def step(self, i: int, prev: np.ndarray, react: Vec) -> np.ndarray:
-        """Main pose (x, y, dir) at sample ``i`` from the previous one and the reactor."""
-        dt, w, h = self.dt, self.table[0], self.table[1]
-        self.left -= dt
-        if self.left <= 0.0:
-            self.chasing = not self.chasing
-            self.left = float(self.rng.uniform(2.0, 4.0) if self.chasing
-                              else self.rng.uniform(2.0, 5.0))
-            self.speed = float(self.rng.uniform(0.15, 0.35))
-        p = prev[1:3]
-        if self.chasing:
-            v_des = _unit(react - p) * self.speed
-        else:
-            v_des = (self.wander[i, 1:3] - self.wander[i - 1, 1:3]) / dt
-        self.v = self.v + _limit(v_des - self.v, 1.2 * dt)
-        q = np.clip(p + self.v * dt, 0.05, (w - 0.05, h - 0.05))
-        look = float(prev[3])
-        if float(np.hypot(*self.v)) > 0.04:
-            look = _turn_toward(look, math.atan2(self.v[1], self.v[0]), 6.0 * dt)
-        elif not self.chasing:
-            look = wrap_angle(look + wrap_angle(float(self.wander[i, 3] - self.wander[i - 1, 3])))
-        return np.array([q[0], q[1], look])
+CHASED = ("afraid",)   # personalities whose designer shows them by chasing them (chased.py)
 
 
 def _policy(personality: str, rng: np.random.Generator, table: Table,
@@ -308,7 +248,8 @@ def _policy(personality: str, rng: np.random.Generator, table: Table,
     if personality == "stalker":
         return _stalker(rng), 0.45, 1.2
     if personality == "afraid":
-        return _afraid(rng, table), 0.65, 2.5
+        from behaviors.puppet_master import chased       # it imports this module's helpers
+        return chased.afraid(rng, table, dt), 0.65, 2.5
     raise ValueError(f"unknown personality {personality!r}; "
                      f"expected one of {', '.join(PERSONALITIES)}")
 
@@ -319,19 +260,21 @@ SHAKE = {"lover": (0.0012, 0.02, (3.0, 8.0)), "bully": (0.0025, 0.04, (3.0, 10.0
          "afraid": (0.0025, 0.05, (5.0, 12.0))}
 
 
-def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0,
+def demonstrate(personality: str, seed: int | None = None, seconds: float | None = None,
                 rate_hz: float = 40.0, table: Table = (1.2, 0.8),
                 main: np.ndarray | None = None, delay_s: float = 0.15,
                 chaser: MainHand | None = None) -> np.ndarray:
     """A scripted designer's demonstration of ``personality``: (n, 7) array (see module doc).
 
-    ``main``: the main path (n, 4) ``t, x, y, dir`` to react to; by default the designer's own
+    ``seconds``: by default the personality's DURATION_S, else 60. ``main``: the main path
+    (n, 4) ``t, x, y, dir`` to react to; by default the designer's own
     (:func:`designer_main_path` with the same seed). ``delay_s``: the reactor hand's reaction time.
     ``chaser``: a main hand that reacts to the reactor (``step(i, previous main pose, reactor
     position)`` gives the main pose x, y, dir of sample ``i``, e.g. visitors.Pursuer); ``main``
     then gives the times and the first pose.
     """
     seed = SEEDS.get(personality, 0) if seed is None else seed
+    seconds = DURATION_S.get(personality, 60.0) if seconds is None else seconds
     rng = np.random.default_rng([seed, 1])
     dt = 1.0 / rate_hz
     policy, top_speed, accel = _policy(personality, rng, table, dt)
@@ -342,7 +285,8 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float = 60.0
     elif main is None:
         main = designer_main_path(seed, seconds, rate_hz, table)
         if personality in CHASED:           # the designer's main hand goes after the reactor
-            chaser = _Chaser(np.random.default_rng([seed, 3]), main, table, dt)
+            from behaviors.puppet_master.chased import ChasingHand
+            chaser = ChasingHand(np.random.default_rng([seed, 3]), main, table, dt)
             main = main.copy()
     w, h = table
     n = len(main)
@@ -454,7 +398,7 @@ def stalker(seed: int = SEEDS["stalker"], seconds: float = 60.0, rate_hz: float 
     return demonstrate("stalker", seed, seconds, rate_hz, table)
 
 
-def afraid(seed: int = SEEDS["afraid"], seconds: float = 60.0, rate_hz: float = 40.0,
-           table: Table = (1.2, 0.8)) -> np.ndarray:
+def afraid(seed: int = SEEDS["afraid"], seconds: float = DURATION_S["afraid"],
+           rate_hz: float = 40.0, table: Table = (1.2, 0.8)) -> np.ndarray:
     """Afraid: keeps away from the main and flees when it approaches."""
     return demonstrate("afraid", seed, seconds, rate_hz, table)

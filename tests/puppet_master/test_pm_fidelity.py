@@ -27,8 +27,9 @@ KNOWN_MISSES = {
     "playful_friend": {"slow_pauses_30hz": {"contact"}, "loops_spins_45hz": {"contact"}},
     "stalker": {"slow_pauses_30hz": {"still_moving"},
                 "loops_spins_45hz": {"contact", "speed", "still_moving"}},
-    "afraid": {"slow_pauses_30hz": {"facing", "orbit", "speed"},
-               "loops_spins_45hz": {"facing", "orbit"}},
+    # (the afraid demonstration with the chasing hand of chased.py; before it: slow facing,
+    # orbit, speed and loops facing, orbit)
+    "afraid": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"still_moving"}},
 }
 
 
@@ -167,11 +168,10 @@ def test_the_bully_charges_into_contact_and_keeps_a_charge_whole(shipped, paths)
 
 
 def test_a_character_shown_chased_is_checked_against_a_visitor_chasing_it(shipped):
-    # the afraid demonstration's main chased it half of the time; the open unseen paths never
-    # do, and there the afraid character watches its main (facing 0.40-0.76 on seeds 0-2, off
-    # by more than 0.1 on 5 of 9 paths, against 0.39 demonstrated; the designer's own afraid
-    # character 0.78-0.94). A visitor going after it
-    # (a closed loop) is the situation its demonstration shows.
+    # the afraid demonstration's main goes for it about half of the time (chased.ChasingHand);
+    # the open unseen paths never do, and there the designer's own afraid character watches
+    # its main (facing 0.66-0.77 on seed 0, against 0.24 demonstrated). A visitor going after
+    # it (a closed loop) is the situation its demonstration shows.
     b = shipped["afraid"]
     main, rows = fidelity.pursue(b, visitors.pursuer(0, 10.0, examples.TABLE), TABLE)
     again = fidelity.pursue(b, visitors.pursuer(0, 10.0, examples.TABLE), TABLE)
@@ -184,10 +184,10 @@ def test_a_character_shown_chased_is_checked_against_a_visitor_chasing_it(shippe
         np.hypot(*to[:-1].T), 1e-9) * b.params.rate_hz
     assert np.mean(toward > 0.05) > 2 * np.mean(toward < -0.05), toward
     # on 40 s of it (seed 0) the generated afraid character keeps its demonstrated look change
-    # and texture, and its distance to the visitor within 0.15 m of the demonstration's (0.29
-    # against 0.41); the designer's own character meets every threshold there (measured: 8 of
-    # 8). Facing is a known miss of the 0.1 threshold on this path since the character keeps
-    # its personal space (0.275 against 0.39; met on seeds 1-5 of bench/fidelity.py's pursuit)
+    # and texture, its facing share within 0.15 (0.22 against 0.24) and its distance to the
+    # visitor within 0.15 m of the demonstration's (0.25 against 0.37). The designer's own
+    # character there misses only the still/moving ratio (0.57 against 0.87): its
+    # demonstration's main pauses beside it more often than this visitor does
     demo = fidelity.demonstration_figures(b)
     row = fidelity.evaluate_pursuit(b, visitors.pursuer(0, 40.0, examples.TABLE), TABLE, demo)
     assert row["ok_look_change"] and row["ok_texture"], row
@@ -196,16 +196,28 @@ def test_a_character_shown_chased_is_checked_against_a_visitor_chasing_it(shippe
     t, m, react = designers.pursued_on_grid("afraid", visitors.pursuer(0, 40.0, examples.TABLE),
                                             b.params.rate_hz, examples.TABLE)
     own = fidelity.compare(demo, fidelity.figures(m, react, b.params.rate_hz, b.turn_limit))
-    assert own["ok"], fidelity.failures(own)
+    assert set(fidelity.failures(own)) <= {"still_moving"}, fidelity.failures(own)
+
+
+def test_the_designers_afraid_character_escapes_the_edges_when_chased():
+    # chased by the unseen visitor, the scripted afraid character slides along an edge and
+    # escapes round the visitor instead of being pinned: at an edge 4.6% and 13.4% of the
+    # time on seeds 0 and 1 (0.045-0.134 on seeds 0-5; fleeing straight away from the
+    # visitor, as the former policy did: 0.18-0.59)
+    for seed in (0, 1):
+        t, m, react = designers.pursued_on_grid(
+            "afraid", visitors.pursuer(seed, 40.0, examples.TABLE), 40.0, examples.TABLE)
+        assert fidelity.figures(m, react, 40.0, 8.0, TABLE)["edge_share"] < 0.2, seed
 
 
 def test_the_time_at_a_table_edge_is_reported(shipped):
     # edge_share: steps within 0.1 m of a table edge, where the table is known (reported, no
-    # threshold). The afraid demonstration spends 37% of its time there (measured 0.372);
+    # threshold). The afraid demonstration spends 6% of its time there (measured 0.062; 0.372
+    # before its character slid along the edges and escaped round the chasing hand);
     # a reactor circling the table's centre none, one sliding along an edge all of it
     b = shipped["afraid"]
     demo = fidelity.demonstration_figures(b, TABLE)
-    assert 0.3 < demo["edge_share"] < 0.45, demo["edge_share"]
+    assert 0.03 < demo["edge_share"] < 0.1, demo["edge_share"]
     assert np.isnan(fidelity.demonstration_figures(b)["edge_share"])
     t = np.arange(400) / 40.0
     main = np.column_stack([0.6 + 0.1 * np.cos(t), 0.4 + 0.1 * np.sin(t), t + np.pi / 2])
