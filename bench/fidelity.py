@@ -106,6 +106,19 @@ def _count(misses: dict[str, dict[str, list[str]]]) -> int:
     return sum(len(v) for paths in misses.values() for v in paths.values())
 
 
+def behaviour_misses(table: dict[str, dict[str, dict]],
+                     engine: dict[str, dict[str, list[str]]], seed: int,
+                     into: dict[str, list[str]]) -> None:
+    """Adds each behaviour's misses on one seed's paths to ``into`` as ``seed:path:threshold``
+    (with a trailing ``*`` where the miss is the engine's alone, see :func:`engine_misses`)."""
+    for name, paths in table.items():
+        out = into.setdefault(name, [])
+        for path, row in paths.items():
+            own = engine.get(name, {}).get(path, [])
+            out.extend(f"{seed}:{path}:{k}{'*' if k in own else ''}"
+                       for k in fidelity.failures(row))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seconds", type=float, default=40.0)
@@ -120,6 +133,7 @@ def main() -> None:
     figures: dict[str, object] = {}
     met_all = total_all = ref_all = 0
     pursuit_all = pursuit_ref_all = engine_all = pursuit_engine_all = 0
+    by_behaviour: dict[str, list[str]] = {}
     for n, seed in enumerate(seeds):
         table = fidelity_table(seconds=args.seconds, seed=seed)
         passed, total, per_threshold, met = _met(table)
@@ -135,6 +149,7 @@ def main() -> None:
         pursuit_ref_all += p_ref_met
         engine, p_engine = engine_misses(table, reference), engine_misses(pursuit, pursuit_ref)
         engine_all += _count(engine)
+        behaviour_misses(table, engine, seed, by_behaviour)
         pursuit_engine_all += _count(p_engine)
         if len(seeds) > 1:
             figures[f"seed{seed}.thresholds_met"] = met
@@ -186,6 +201,13 @@ def main() -> None:
         figures["pursuit.engine_only_misses"] = _count(p_engine)
         figures["pursuit.thresholds_total"] = _met(pursuit)[1] * len(per_threshold)
         figures["seed"] = seed
+    print("misses per behaviour over the seeds (seed:path:threshold, * the engine's alone):")
+    for name, missed in by_behaviour.items():
+        alone = sum(m.endswith("*") for m in missed)
+        print(f"  {name:18s}{len(missed):3d} ({alone} the engine's): {' '.join(missed)}")
+        figures[f"all_seeds.{name}.misses"] = len(missed)
+        figures[f"all_seeds.{name}.engine_only_misses"] = alone
+        figures[f"all_seeds.{name}.missed"] = " ".join(missed)
     if len(seeds) > 1:
         figures["seeds"] = seeds
         figures["all_seeds.thresholds_met"] = met_all

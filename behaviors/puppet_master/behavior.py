@@ -18,7 +18,8 @@ import numpy as np
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.detail import direction_detail, texture_rms
 from behaviors.puppet_master.generation import (_bearings, charges, own_steps,
-                                                relative_world_steps, still_main_speed)
+                                                pace_ratio, relative_world_steps,
+                                                still_main_speed)
 from behaviors.puppet_master.look import train_look, train_place
 from behaviors.puppet_master.resample import resample_uniform
 from behaviors.puppet_master.similarity import augmented
@@ -174,6 +175,8 @@ STILL_SPAN_S = 0.5    # s
 FOLLOW_SHARE = 0.5    # share of the main's motion above which a reactor follows its main
 TOUCH_M = 0.08        # m: two pucks (0.075 m across) touching, centre to centre
 SPACE_PERCENTILE = 1.0  # the demonstrated distance to the main a personal space keeps
+STOPS_WITH_MAIN = 0.45  # pace beside a still main / beside a walking one (pace_ratio) below
+# which a character stops with its main (the stalker 0.37; the lover 0.50, the others 0.81-1.02)
 
 
 class Behavior:
@@ -234,6 +237,10 @@ class Behavior:
         # loops paths against 0.8% demonstrated. See Reactor._step for the figures.
         near = float(np.percentile(self.distance, SPACE_PERCENTILE))
         self.personal_space = near if near >= TOUCH_M else 0.0
+        # a character that stops when its main stops and touches it corrects its drift at
+        # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
+        self.keeps_pace = self.personal_space <= 0.0 and pace_ratio(
+            self.main[:, :2], self.react[:, :2], p.rate_hz, STILL_MPS) < STOPS_WITH_MAIN
         # the same per-sample values as one table for the compiled step (step_kernel columns)
         # (as many rows as the zipped lists: look.train_place's spans are longer than a
         # demonstration under two seconds and give one more value)

@@ -159,8 +159,9 @@ class Reactor(GenerationStep):
         c[[sk.S_V_MAIN, sk.S_V_REACT, sk.S_REL_POSITION, sk.S_REL_LOOK, sk.S_NORM_LOOK,
            sk.S_DDIR]] = s.v_main, s.v_react, s.rel_position, s.rel_look, s.norm_look, s.ddir
         c[[sk.STILL_DISTANCE, sk.PATCH_LENGTH, sk.HEADING_MIN_SPEED, sk.FOLLOW_SHARE,
-           sk.PERSONAL_SPACE]] = (STILL_MPS * STILL_SPAN_S, p.patch, HEADING_MIN_SPEED,
-                                  FOLLOW_SHARE, b.personal_space)
+           sk.PERSONAL_SPACE, sk.KEEPS_PACE]] = (STILL_MPS * STILL_SPAN_S, p.patch,
+                                                 HEADING_MIN_SPEED, FOLLOW_SHARE,
+                                                 b.personal_space, float(b.keeps_pace))
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))

@@ -118,6 +118,15 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     The playful friend (0.98 of its speed beside a walking main) is held: released too,
     its still/moving mean moved 0.89 -> 0.96 (against 0.99) but its darts reached contact
     less often (contact met on 13 of 21 paths instead of 18): 631 / 110."""
+    v, still = _paces(main, react, rate_hz, still_mps)
+    if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
+        return still, math.inf
+    return still, float(np.percentile(v[still], share))
+
+
+def _paces(main: np.ndarray, react: np.ndarray, rate_hz: float,
+           still_mps: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per sample, the reactor's speed (m/s) and whether the main stood (still_main_speed)."""
     n = main.shape[0]
     v = np.zeros(n)
     v[1:] = np.hypot(*np.diff(react, axis=0).T) * rate_hz
@@ -126,10 +135,19 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     i = np.arange(n)
     a, b = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
     vm = np.hypot(*(main[b] - main[a]).T) * rate_hz / np.maximum(b - a, 1)
-    still = vm < still_mps
-    if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
-        return still, math.inf
-    return still, float(np.percentile(v[still], share))
+    return v, vm < still_mps
+
+
+def pace_ratio(main: np.ndarray, react: np.ndarray, rate_hz: float,
+               still_mps: float = 0.02) -> float:
+    """The reactor's mean speed beside a still main over that beside a walking one (1.0 with
+    ten samples of either or fewer); ``main``, ``react``: (n, 2) positions at ``rate_hz``.
+    Shipped: the stalker 0.37 (stops when its main stops), lover 0.50, afraid 0.81, friend
+    0.98, bully 1.02."""
+    v, still = _paces(main, react, rate_hz, still_mps)
+    if still.sum() <= 10 or (~still).sum() <= 10 or v[~still].mean() <= 0.0:
+        return 1.0
+    return float(v[still].mean() / v[~still].mean())
 
 
 def step_toward(rx: float, ry: float, tx: float, ty: float,

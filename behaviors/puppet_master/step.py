@@ -117,6 +117,12 @@ class GenerationStep:
                 # 360 (stalker speed W1 on the fast and loops paths 0.063-0.08 -> 0.006-0.024);
                 # the world steps alone 295, with the cap everywhere 302, both only where
                 # k >= FOLLOW_SHARE 306 (seed 0 105 but seed 1 97 and the afraid -3 there)
+                # Turning that step by the live bearing's difference from the matched moment's
+                # (the playful friend's sideways dart, applied at another bearing, points at
+                # its main: its seed 0 slow and loops contact) was measured with the pace
+                # rule below for every character without a personal space (650 of 720 on
+                # seeds 0-5): turned always 640, only where that rule applies 641, only past
+                # 90 degrees 642; each cost the stalker 5-9 misses. Not kept.
                 c, s_ = math.cos(md), math.sin(md)
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
@@ -131,11 +137,31 @@ class GenerationStep:
                     # lost 3 of 48 against the chasing visitor; also in charges 621 / 107;
                     # only past 90 degrees 633 / 101; for every target 619 / 96
                     cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
+                most = math.inf
                 if b.own_steps[target][0] >= FOLLOW_SHARE:
-                    corr = math.hypot(cx, cy)
                     most = b.span_step[target]
-                    if corr > most:
-                        cx, cy = cx * most / corr, cy * most / corr
+                elif self._charge_end < 0 and b.keeps_pace and b.walked[target]:
+                    # a character that stops when its main stops (Behavior.keeps_pace: the
+                    # stalker), matched to a moment where its main walked, corrects its drift
+                    # at most at the matched moment's pace (with the catch-up), as the paper's
+                    # step moves at the target's speed: it chased targets 10-15 cm off at its
+                    # top speed (0.50 m/s on 30% of the steps of seed 0's loops, 0.34 m/s
+                    # while the main walked against 0.25 demonstrated; speed W1 missed on 10 of
+                    # 18 paths of seeds 0-5, now on none: 0.013-0.044 against 0.044).
+                    # bench/fidelity.py --seeds 0,1,2,3,4,5: 642 -> 649 of 720, engine-only
+                    # misses 27 -> 23 (stalker misses 21 -> 14; the others identical);
+                    # held-out --seeds 7: 109 -> 109, --seeds 8,...,13: 639 -> 646 (stalker 20
+                    # -> 13). Measured too on seeds 0-5: every moment of every character 648
+                    # (bully misses 4 -> 8), where the main walked 654 (bully 8), the
+                    # characters with a finite pace beside a still main 658 but held-out 106
+                    # and 642 (afraid -3 on each, pursuit -3), those without a personal space
+                    # 650 / 109 / 647 (the playful friend's misses moved from slow and loops
+                    # to the fast paths' contact: 5 -> 4 and 9 -> 8); the whole step capped at
+                    # the pace 624, at the pace plus the live main's step 636
+                    most = speed * self.dt
+                corr = math.hypot(cx, cy)
+                if corr > most:
+                    cx, cy = cx * most / corr, cy * most / corr
                 sx = (mx - mxp) + c * dfx - s_ * dfy + cx
                 sy = (my - myp) + s_ * dfx + c * dfy + cy
             if self._charge_end >= 0:

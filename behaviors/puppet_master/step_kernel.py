@@ -55,8 +55,9 @@ DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     LOOK_TARGET, LOOK_GAIN, LOOK_DECAY, LOOK_Z_MIN, LOOK_Z_MAX, \
     TARGET_SHARE, BALANCE_GAIN, SHARE_WINDOW, LOG_K_LIMIT, \
     S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
-    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE = range(4, 38)
-CONSTANTS = 38
+    STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE, \
+    KEEPS_PACE = range(4, 39)
+CONSTANTS = 39
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -208,6 +209,11 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             if row[T_K] >= c[FOLLOW_SHARE]:
                 corr = hypot(cx, cy)
                 most = row[T_SPAN_STEP]
+                if corr > most:
+                    cx, cy = cx * most / corr, cy * most / corr
+            elif ints[CHARGE_END] < 0 and c[KEEPS_PACE] != 0.0 and row[T_WALKED] != 0.0:
+                corr = hypot(cx, cy)                # the drift corrected at the moment's pace
+                most = speed * dt
                 if corr > most:
                     cx, cy = cx * most / corr, cy * most / corr
             sx = (mx - mxp) + cm * dfx - s_ * dfy + cx

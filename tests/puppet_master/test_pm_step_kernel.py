@@ -51,9 +51,10 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
     ("follow", 40.0, {}, 1.5),      # shorter than look.train_place's span
     ("playful_friend", 45.0, {}, 0.0),  # shipped; touches its main: no personal space
     ("bully", 30.0, {}, 0.0),           # shipped; charges held in the world
+    ("stalker", 40.0, {}, 0.0),         # shipped; its drift corrected at the moment's pace
 ])
 def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params, duration):
-    shipped = kind in ("playful_friend", "bully")
+    shipped = kind in ("playful_friend", "bully", "stalker")
     if shipped:
         stored = library.load_behavior(examples.DEFAULT_OUT / kind)
         demo, params = stored.demonstration, stored.parameters
@@ -64,6 +65,7 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
         demo = demos.circling(m) if kind == "circling" else demos.follow_behind(m)
     b = Behavior.train(demo, **params)
     assert (b.personal_space == 0.0) == shipped      # round the main (share_around)
+    assert b.keeps_pace == (kind == "stalker")
     main = demos.main_path(11, 60.0, rate_hz=rate, reversals=True)
     fast, fast_trace, fast_shown = _run(b, main, True)
     slow, slow_trace, slow_shown = _run(b, main, False)
