@@ -218,6 +218,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._state = None
         self._anchor: np.ndarray | None = None
         self._recent_x: list[np.ndarray] = []
+        self._tempo_past: list[tuple[np.ndarray, np.ndarray]] = []   # (mean, x) per sample
         self._lag: list[np.ndarray] = []
         self._ended = -1
 
@@ -404,7 +405,11 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             # ... and once the input turned as the template does (validity.turning)
             turned = self._turned(x, bi, float(g[bi]))
-            ok = ok and (self._acquired == bi or (leads and turned and not self._shares(bi, float(g[bi]), progress)))
+            # ... and once it is not taken at a crawl (validity.slow_take)
+            ok = ok and (self._acquired == bi or (leads and turned
+                                                  and not self._shares(bi, float(g[bi]), progress)
+                                                  and not self._slow_take(bi, g, x)))
+            self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
                 # them back behind where it began (validity.backs_first)

@@ -16,6 +16,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
+from behaviors.mop import validity
 from behaviors.mop.validity import FIRST_TURN_STEPS, PATH_REACH, TURN_REACH
 
 
@@ -154,6 +155,12 @@ class FollowerGroup(GroupRules):
         self._extent = np.concatenate([f._extent for f in fs])
         self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
         self._thr_has_x = np.zeros(m, dtype=bool)
+        # the last samples and followed states of members that spot (Validity._slow_take)
+        w = validity.TEMPO_SAMPLES
+        self._tempo_on = np.array([f.invariance != "none" for f in fs], dtype=bool)
+        self._tempo_x, self._tempo_g = np.zeros((w, m, dmax)), np.zeros((w, len(self._owner)))
+        self._tempo_at, self._tempo_n = np.zeros(m, dtype=np.intp), np.zeros(m, dtype=np.intp)
+        self._m_dim = col(lambda f: f.dim)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
@@ -181,6 +188,7 @@ class FollowerGroup(GroupRules):
         self._turn_has_ref[rows] = False
         self._turn_has_h[rows] = False
         self._drive_moved[rows] = False
+        self._tempo_n[rows] = 0
         mine = np.isin(self._owner, np.arange(len(self.followers))[rows])
         self._shape[mine] = 0.0
         self._gone[mine] = 0.0
@@ -375,6 +383,32 @@ class FollowerGroup(GroupRules):
                            self._turn_steps, self._turn_limits, TURN_REACH, FIRST_TURN_STEPS,
                            self._turn_ok)
 
+    def _tempo(self, present: np.ndarray) -> None:
+        """:meth:`Validity._slow_take` for every present member that spots: a new action taken too
+        slowly does not lead (``_m_leads``, read only for a new action); then this sample and the
+        followed states are remembered."""
+        w, fw = validity.TEMPO_SAMPLES, self.forward
+        g = np.minimum(fw.mean, self._lengths - 1.0)
+        on = present & self._tempo_on
+        full = on & (self._tempo_n >= w)
+        if full.any() and validity.LEAST_TEMPO > 0:
+            f0 = self.followers[0]
+            rows = np.flatnonzero(full)
+            at, gb = self._tempo_at[rows], self._bounds[rows] + self._best[rows]
+            r = (self._x[rows] - self._tempo_x[at, rows]) / (self._scale[gb] * self._size[gb, None])
+            moved = np.sqrt(np.sum(r * r, axis=1) / self._m_dim[rows])
+            slow = [validity.slow_take(a, b, f0.onset * f0.sigma)
+                    for a, b in zip((g[gb] - self._tempo_g[at, gb]).tolist(), moved.tolist())]
+            self._m_leads[rows[slow]] = False
+        if on.any():
+            rows = np.flatnonzero(on)
+            at = self._tempo_at[rows]
+            self._tempo_x[at, rows] = self._x[rows]
+            mine = on[self._owner]
+            self._tempo_g[self._tempo_at[self._owner[mine]], np.flatnonzero(mine)] = g[mine]
+            self._tempo_at[rows] = (at + 1) % w
+            self._tempo_n[rows] += 1
+
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template
         pass (best already switched there): validity and spotting compiled
@@ -385,6 +419,7 @@ class FollowerGroup(GroupRules):
         valid, show, holding = self._m_flags
         restart = self._m_restart
         self._turned(present)
+        self._tempo(present)
         members.conclude(
             self._states, self._ti, fw.mean, fw._mom, self._size, self._member_flags, p, progress,
             mean_ll, step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present,
