@@ -281,6 +281,30 @@ def holds(factory: Factory, base: dict[str, np.ndarray], rng: np.random.Generato
             "hold_recognised_at60_share": float(np.mean([m["at60"] for m in ms]))}
 
 
+def back_to_back(rng: np.random.Generator, templates: dict[str, np.ndarray],
+                 length: int) -> tuple[np.ndarray, list, np.ndarray, list]:
+    """One sequence of ``length`` different gestures at 0.8-1.2x, each starting where the last
+    ended, between still rests: samples (T, 2), the true gesture per tick (None during the first
+    rest, the last gesture during the final one), its true progress (NaN in the rests) and the
+    order."""
+    order = list(rng.choice(list(templates), size=length, replace=False))
+    parts, truth, prog, at = [], [], [], np.zeros(2)
+    for g in order:
+        phase, p = phase_of(rng, len(templates[g]))
+        path = float(rng.uniform(0.8, 1.2)) * at_phase(templates[g], phase)
+        parts.append(path + at)
+        at = parts[-1][-1].copy()
+        truth += [g] * len(p)
+        prog.append(p[:, 0])
+    lead = int(LEAD_S * RATE)
+    x = np.concatenate([np.zeros((lead, 2))] + parts + [np.repeat(at[None], lead, 0)])
+    x += rng.normal(0, JITTER_M, x.shape)
+    # resting where the last gesture ended, that gesture may still hold its last pose
+    truth = [None] * lead + truth + [order[-1]] * lead
+    prog = np.concatenate([np.full(lead, np.nan)] + prog + [np.full(lead, np.nan)])
+    return x, truth, prog, order
+
+
 def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator,
               count: int = 8, length: int = 4, key: str = "sequence",
               record: list | None = None) -> dict[str, float]:
@@ -290,21 +314,7 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
     names = list(templates)
     delays, wrong_runs, ended_runs, other_runs, named = [], [], [], [], []
     for _ in range(count):
-        order = list(rng.choice(names, size=length, replace=False))
-        parts, truth, prog, at = [], [], [], np.zeros(2)
-        for g in order:
-            phase, p = phase_of(rng, len(templates[g]))
-            path = float(rng.uniform(0.8, 1.2)) * at_phase(templates[g], phase)
-            parts.append(path + at)
-            at = parts[-1][-1].copy()
-            truth += [g] * len(p)
-            prog.append(p[:, 0])
-        lead = int(LEAD_S * RATE)
-        x = np.concatenate([np.zeros((lead, 2))] + parts + [np.repeat(at[None], lead, 0)])
-        x += rng.normal(0, JITTER_M, x.shape)
-        # resting where the last gesture ended, that gesture may still hold its last pose
-        truth = [None] * lead + truth + [order[-1]] * lead
-        prog = np.concatenate([np.full(lead, np.nan)] + prog + [np.full(lead, np.nan)])
+        x, truth, prog, order = back_to_back(rng, templates, length)
         runs = dict(ended=0, other=0, ended_worst=0, other_worst=0)
         states = run(f, x)
         run_len = 0

@@ -12,10 +12,15 @@ before 20% of them (``follow_quality``'s back-to-back target: each gesture recog
 20%). Beside each gesture: its median recognition progress by the follower in back-to-back
 sequences (``bench/follow_quality.py``'s draws for options, seed ``OPTION_SEED``, 16 sequences of
 four), how far that lies behind the reach, and the share of gestures recognised within 20% or,
-where no observer could tell them apart so early, by their reach at 2 mm. Deterministic; not
-timed.
+where no observer could tell them apart so early, by their reach at 2 mm.
 
-    python bench/spotting_reach.py
+What holds each gesture back (:func:`gates`): in the same sequences, for each rule an action must
+pass before it drives (:data:`GATES`), the progress of the gesture from which that rule held for
+the true template without a break until the gesture was recognised; per gesture the median, and
+the rule whose median is latest (printed as ``{gesture}_last_gate``; ``--debug`` prints every
+gesture performed). Deterministic; not timed.
+
+    python bench/spotting_reach.py [--debug]
 """
 
 from __future__ import annotations
@@ -30,8 +35,10 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from bench.follow_quality import (OPTION_SEED, at_phase, gesture_templates, puck_follower,  # noqa: E402
-                                  sequences)
+from behaviors.mop import spotting  # noqa: E402
+from behaviors.mop.follower import ActionFollower  # noqa: E402
+from bench.follow_quality import (DEBUG, OPTION_SEED, at_phase, back_to_back,  # noqa: E402
+                                  gesture_templates, puck_follower, sequences)
 
 POINTS = 24
 SIZES = np.geomspace(0.46, 2.25, 40)
@@ -78,6 +85,55 @@ def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float
     return 1.0
 
 
+#: What an action must pass before it drives (:mod:`behaviors.mop.follower`,
+#: :mod:`behaviors.mop.validity`, :mod:`behaviors.mop.spotting`): engaged (past its onset),
+#: accepted (not refused), covered (``coverage`` of its path), on its path (no misfit),
+#: probable (``min_probability`` with the threshold model counted), best (switch margin), leads
+#: (in shape by ``spotting.LEAD``).
+GATES = ("engaged", "accepted", "covered", "on_path", "probable", "best", "leads")
+
+
+def gate_state(f: ActionFollower, k: int) -> tuple[bool, ...]:
+    """Which of :data:`GATES` template ``k`` passes after the follower's last step."""
+    p = np.array([f._state.probabilities[n] for n in f.names]) * f._kept
+    rivals = ~f._refused & (p >= spotting.RIVAL_PROBABILITY)
+    rivals[k] = False
+    need = spotting.LEAD * 2.0 * spotting.SHAPE_SPREAD ** 2   # as GestureSpotting._leads
+    lead = not rivals.any() or f._shape[rivals].min() - f._shape[k] >= need
+    return (bool(f._engaged[k]), not f._refused[k], bool(f._covered[k]), not f._misshaped[k],
+            bool(p[k] >= f.min_probability), f._best == k, bool(lead))
+
+
+def gates(templates: dict[str, np.ndarray], rng: np.random.Generator,
+          count: int) -> dict[str, dict[str, list[float]]]:
+    """Per gesture and gate, the progress from which the gate held without a break until the
+    gesture was recognised (or its last tick, when never), in ``count`` back-to-back sequences
+    of four drawn as ``follow_quality.sequences`` draws them."""
+    f = puck_follower(templates)
+    out: dict[str, dict[str, list[float]]] = {g: {n: [] for n in GATES} for g in templates}
+    for _ in range(count):
+        x, truth, prog, order = back_to_back(rng, templates, 4)
+        f.reset()
+        ticks = []
+        for s, g in zip(x, truth):
+            st = f.step(s)
+            ticks.append((st.valid and st.best == g, gate_state(f, f._index[g]) if g else None))
+        for g in order:
+            idx = [i for i, t in enumerate(truth) if t == g and np.isfinite(prog[i])]
+            end = next((i for i in idx if ticks[i][0]), idx[-1])
+            held = []
+            for j, _ in enumerate(GATES):
+                i = end
+                while i > idx[0] and ticks[i - 1][1][j]:
+                    i -= 1
+                held.append(float(prog[i]) if ticks[end][1][j] else 1.0)
+                out[g][GATES[j]].append(held[-1])
+            if DEBUG:
+                print(g, f"recognised {prog[end]:.2f}" if ticks[end][0] else "never",
+                      dict(zip(GATES, np.round(held, 2))))
+    return out
+
+
 def main() -> None:
     t0 = time.perf_counter()
     templates = gesture_templates()
@@ -99,6 +155,12 @@ def main() -> None:
         got = [p for g, p in record if g == name]
         figures[f"{name}_recognition_progress_median"] = float(np.median(got))
         figures[f"{name}_recognition_minus_reach_median"] = float(np.median(got)) - reach[name]
+    # what holds each gesture back: the median progress from which each gate held
+    for name, by_gate in gates(templates, np.random.default_rng(OPTION_SEED), 16).items():
+        medians = {gate: float(np.median(v)) for gate, v in by_gate.items()}
+        for gate, v in medians.items():
+            figures[f"{name}_gate_{gate}_progress_median"] = v
+        print(f"{name}_last_gate".ljust(50), max(medians, key=medians.get))
     figures["recognised_within_20pct_share"] = float(np.mean([p <= 0.2 for _, p in record]))
     figures["recognised_within_20pct_or_reach_share"] = float(np.mean([p <= max(0.2, reach[g])
                                                                        for g, p in record]))
