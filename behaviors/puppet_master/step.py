@@ -172,7 +172,13 @@ class GenerationStep:
                 # on 5); entering a charge at the moment as far from its main as the live
                 # reactor 617 / 104
             length = math.hypot(sx, sy)
-            # a place held in the world moves at the demonstrated speed, as the paper's step
+            # a place held in the world moves at the demonstrated speed, as the paper's step,
+            # its drift correction included. The correction on top of the cap (cap + share x
+            # distance to the place) keeps the lover at its distance beside slow mains (0.14 ->
+            # 0.12 m, as shown) at 0.095-0.099 m/s (0.073-0.097; its designer 0.094-0.108), but
+            # it then keeps up with fast mains faster than shown, as its designer does, and
+            # the bully's charges overshoot: bench/fidelity.py --seeds 0,1,2,3,4,5 642 -> 597
+            # of 720, --seeds 7 109 -> 99, --seeds 8,9,10,11,12,13 639 -> 603
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
