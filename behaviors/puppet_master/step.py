@@ -182,7 +182,8 @@ class GenerationStep:
             # charges where the live main is no faster than the moment's main: the lover's
             # distance W1 0.021-0.025 -> 0.007-0.015 m on seed 0, but 629 / 108 / 644, the
             # afraid character's pursuit 40 -> 34 of 48, the lover's own misses 16 -> 19 (seeds
-            # 0-5) and 15 -> 15 (8-13)
+            # 0-5) and 15 -> 15 (8-13); also only where the moment went along with its main
+            # (k >= FOLLOW_SHARE) 630 / 108 / 639, pursuit 35, the lover's still/moving 5 -> 10
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
