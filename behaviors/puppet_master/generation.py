@@ -45,7 +45,15 @@ def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float,
     walks), a bully standing its ground while the main walks past goes along with none of it:
     repeating the whole demonstrated step relative to the main would move the bully with a
     live main that walks elsewhere, and copying only its world step would leave the lover
-    behind a main that walks another way than the demonstrated one did."""
+    behind a main that walks another way than the demonstrated one did.
+
+    The steps are per sample, so the own step carries the hand's tremor. Traced on the lover's
+    slow paths (seed 3): the step is over its cap on 60-75% of the steps the main walks, the
+    tremor spends part of that length and the three-step smooth shortens 0.093 to 0.079 m/s:
+    it walks at 0.073-0.097 m/s beside slow mains (matched moments 0.099-0.106, its designer
+    0.094-0.108), its still/moving miss there (0.64-0.69 against 0.42). The own step over
+    0.1 s instead lifts that path (ratio 0.51) but slows the lover elsewhere: bench/fidelity.py
+    --seeds 0,1,2,3,4,5 642 -> 637 of 720, 7 109 -> 106, 8,9,10,11,12,13 639 -> 632."""
     n = main.shape[0]
     dm = np.zeros((n, 2))
     dr = np.zeros((n, 2))
@@ -117,7 +125,12 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     it). bench/fidelity.py --seeds 0,1,2,3,4,5: 632 -> 635 of 720, --seeds 7: 108 -> 110.
     The playful friend (0.98 of its speed beside a walking main) is held: released too,
     its still/moving mean moved 0.89 -> 0.96 (against 0.99) but its darts reached contact
-    less often (contact met on 13 of 21 paths instead of 18): 631 / 110."""
+    less often (contact met on 13 of 21 paths instead of 18): 631 / 110.
+
+    Holding every step beside a still main (not only where the demonstrated main walked):
+    the lover's still/moving met on 3 more paths of seeds 0-13 (seed 0 slow 0.654 -> 0.52)
+    but its speed W1 missed on 4 more, the playful friend's still/moving on 3: bench/fidelity.py
+    --seeds 0,1,2,3,4,5 642 -> 639 of 720, 7 109 -> 104, 8,9,10,11,12,13 639 -> 645."""
     v, still = _paces(main, react, rate_hz, still_mps)
     if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
         return still, math.inf

@@ -198,7 +198,18 @@ class GenerationStep:
                 # on 5); entering a charge at the moment as far from its main as the live
                 # reactor 617 / 104
             length = math.hypot(sx, sy)
-            # a place held in the world moves at the demonstrated speed, as the paper's step
+            # a place held in the world moves at the demonstrated speed, as the paper's step,
+            # its drift correction included. The correction on top of the cap (cap + share x
+            # distance to the place) keeps the lover at its distance beside slow mains (0.14 ->
+            # 0.12 m, as shown) at 0.095-0.099 m/s (0.073-0.097; its designer 0.094-0.108), but
+            # it then keeps up with fast mains faster than shown, as its designer does, and
+            # the bully's charges overshoot: bench/fidelity.py --seeds 0,1,2,3,4,5 642 -> 597
+            # of 720, --seeds 7 109 -> 99, --seeds 8,9,10,11,12,13 639 -> 603. Only outside
+            # charges where the live main is no faster than the moment's main: the lover's
+            # distance W1 0.021-0.025 -> 0.007-0.015 m on seed 0, but 629 / 108 / 644, the
+            # afraid character's pursuit 40 -> 34 of 48, the lover's own misses 16 -> 19 (seeds
+            # 0-5) and 15 -> 15 (8-13); also only where the moment went along with its main
+            # (k >= FOLLOW_SHARE) 630 / 108 / 639, pursuit 35, the lover's still/moving 5 -> 10
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
