@@ -122,7 +122,13 @@ class GenerationStep:
                 # its main: its seed 0 slow and loops contact) was measured with the pace
                 # rule below for every character without a personal space (650 of 720 on
                 # seeds 0-5): turned always 640, only where that rule applies 641, only past
-                # 90 degrees 642; each cost the stalker 5-9 misses. Not kept.
+                # 90 degrees 642; each cost the stalker 5-9 misses. With the rule for the
+                # stalker alone (649, held-out 7: 109-110): turned where the demonstrated step
+                # kept its direction to the bearing over 1 s with half the spread it had in
+                # the main's frame (60% of the friend's samples, 0-2% of the others') 642 /
+                # 107 (the friend's contact undershot, 0.011-0.030); only on inward steps of
+                # the characters without a personal space 645 / 106 (friend 5 -> 3 misses,
+                # bully 4 -> 10). Not kept.
                 c, s_ = math.cos(md), math.sin(md)
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
