@@ -122,7 +122,13 @@ class GenerationStep:
                 # its main: its seed 0 slow and loops contact) was measured with the pace
                 # rule below for every character without a personal space (650 of 720 on
                 # seeds 0-5): turned always 640, only where that rule applies 641, only past
-                # 90 degrees 642; each cost the stalker 5-9 misses. Not kept.
+                # 90 degrees 642; each cost the stalker 5-9 misses. With the rule for the
+                # stalker alone (649, held-out 7: 109-110): turned where the demonstrated step
+                # kept its direction to the bearing over 1 s with half the spread it had in
+                # the main's frame (60% of the friend's samples, 0-2% of the others') 642 /
+                # 107 (the friend's contact undershot, 0.011-0.030); only on inward steps of
+                # the characters without a personal space 645 / 106 (friend 5 -> 3 misses,
+                # bully 4 -> 10). Not kept.
                 c, s_ = math.cos(md), math.sin(md)
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
@@ -140,24 +146,24 @@ class GenerationStep:
                 most = math.inf
                 if b.own_steps[target][0] >= FOLLOW_SHARE:
                     most = b.span_step[target]
-                elif self._charge_end < 0 and b.keeps_pace and b.walked[target]:
+                elif self._charge_end < 0 and b.keeps_pace:
                     # a character that stops when its main stops (Behavior.keeps_pace: the
-                    # stalker), matched to a moment where its main walked, corrects its drift
-                    # at most at the matched moment's pace (with the catch-up), as the paper's
-                    # step moves at the target's speed: it chased targets 10-15 cm off at its
-                    # top speed (0.50 m/s on 30% of the steps of seed 0's loops, 0.34 m/s
-                    # while the main walked against 0.25 demonstrated; speed W1 missed on 10 of
-                    # 18 paths of seeds 0-5, now on none: 0.013-0.044 against 0.044).
-                    # bench/fidelity.py --seeds 0,1,2,3,4,5: 642 -> 649 of 720, engine-only
-                    # misses 27 -> 23 (stalker misses 21 -> 14; the others identical);
-                    # held-out --seeds 7: 109 -> 109, --seeds 8,...,13: 639 -> 646 (stalker 20
-                    # -> 13). Measured too on seeds 0-5: every moment of every character 648
-                    # (bully misses 4 -> 8), where the main walked 654 (bully 8), the
-                    # characters with a finite pace beside a still main 658 but held-out 106
-                    # and 642 (afraid -3 on each, pursuit -3), those without a personal space
-                    # 650 / 109 / 647 (the playful friend's misses moved from slow and loops
-                    # to the fast paths' contact: 5 -> 4 and 9 -> 8); the whole step capped at
-                    # the pace 624, at the pace plus the live main's step 636
+                    # stalker) corrects its drift at most at the matched moment's pace (with
+                    # the catch-up; a resting moment rests), as the paper's step moves at the
+                    # target's speed: it chased targets 10-15 cm off at its top speed (0.50
+                    # m/s on 30% of the steps of seed 0's loops, 0.34 m/s while the main
+                    # walked against 0.25 demonstrated; speed W1 missed on 10 of 18 paths of
+                    # seeds 0-5, now on 1, seed 5's fast path). bench/fidelity.py --seeds
+                    # 0,1,2,3,4,5: 642 -> 649 of 720, engine-only misses 27 -> 21 (stalker
+                    # misses 21 -> 14; the other four identical to the last digit); held-out
+                    # --seeds 7: 109 -> 110, --seeds 8,...,13: 639 -> 648 (stalker 20 -> 11).
+                    # Measured too on seeds 0-5 (7 / 8-13): only at moments whose main walked
+                    # 649 (109 / 646); for every character at moments whose main walked 654
+                    # (bully misses 4 -> 8), at every moment 648; the characters with a finite
+                    # pace beside a still main 658 but 106 / 642 (afraid -3 on each, pursuit
+                    # -3); all without a personal space 650 / 109 / 647 (the playful friend's
+                    # misses moved from slow and loops to the fast paths' contact); the whole
+                    # step capped at the pace 624, at the pace plus the live main's step 636
                     most = speed * self.dt
                 corr = math.hypot(cx, cy)
                 if corr > most:

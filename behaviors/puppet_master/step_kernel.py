@@ -211,7 +211,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                 most = row[T_SPAN_STEP]
                 if corr > most:
                     cx, cy = cx * most / corr, cy * most / corr
-            elif ints[CHARGE_END] < 0 and c[KEEPS_PACE] != 0.0 and row[T_WALKED] != 0.0:
+            elif ints[CHARGE_END] < 0 and c[KEEPS_PACE] != 0.0:
                 corr = hypot(cx, cy)                # the drift corrected at the moment's pace
                 most = speed * dt
                 if corr > most:
