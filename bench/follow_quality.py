@@ -32,13 +32,19 @@ Held out: the same evaluation on fourteen other joints of the clips (``MOCAP_HEL
 another seed (``heldout_`` figures); the follower's rules and parameters were never chosen on
 them. ``cli_default_`` figures: the ``follow`` command's defaults (features as recorded).
 
-    python bench/follow_quality.py
+    python bench/follow_quality.py [--debug] [--sections=sized,holds,sequences,unrelated]
+
+``--sections`` measures only those sections of the tuned and held-out evaluations (a section
+left out still draws its random numbers, so the others' figures are those of a full run);
+``--debug`` prints each sized performance's and each unrelated motion's figures.
 """
 
 from __future__ import annotations
 
 import math
 import sys
+from collections import defaultdict
+from types import SimpleNamespace
 import time
 from pathlib import Path
 from typing import Callable, Mapping
@@ -54,6 +60,9 @@ from tabletop.files import read_csv  # noqa: E402
 
 RATE = 30.0
 DEBUG = "--debug" in sys.argv
+#: The sections measured (``--sections=``...); None: all, with the CLI defaults and options.
+SECTIONS = next((set(a.split("=", 1)[1].split(",")) for a in sys.argv
+                 if a.startswith("--sections=")), None)
 JITTER_M = 0.0007
 LEAD_S = 0.5
 GESTURES = ("circle", "zigzag", "figure_eight", "line", "square", "wave")
@@ -73,7 +82,9 @@ MOCAP_HELD_OUT = (("punch", "left_ankle"), ("kick", "left_wrist"), ("jump", "lef
 HELD_OUT_SEED = 101
 #: Seed of the back-to-back draws on which an option is compared with the defaults.
 OPTION_SEED = 29
-Factory = Callable[[Mapping[str, np.ndarray]], ActionFollower]
+Factory = Callable[[Mapping[str, np.ndarray]], ActionFollower | None]
+#: What a left-out section's performances read at every tick (nothing valid, progress 0).
+_UNFOLLOWED = SimpleNamespace(valid=False, best=None, progress_by=defaultdict(float))
 
 
 # --- templates ------------------------------------------------------------------------------------
@@ -217,7 +228,9 @@ def _path_gap(a: np.ndarray, b: np.ndarray) -> float:
 
 # --- evaluation -----------------------------------------------------------------------------------
 
-def run(follower: ActionFollower, x: np.ndarray) -> list:
+def run(follower: ActionFollower | None, x: np.ndarray) -> list:
+    if follower is None:   # a section left out (SECTIONS): nothing followed, nothing valid
+        return [_UNFOLLOWED] * len(x)
     follower.reset()
     return [follower.step(s) for s in x]
 
@@ -374,6 +387,8 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
                 x, _ = performance(rng, path, scale)
                 vals.append(np.mean([s.valid for s in run(f, x)]))
             shares[name] = float(np.mean(vals))
+            if DEBUG:
+                print(k, name, [round(float(v), 3) for v in vals])
         mirrored = [v for n, v in shares.items() if n.startswith("mirrored_")]
         # every motion with this many templates loaded (the target holds for any count)
         out[f"unrelated_{k}_templates_valid_share_mean"] = float(np.mean(list(shares.values())))
@@ -394,11 +409,16 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
     gestures = gesture_templates()
     everything = {**gestures, **mocap_templates(joints=joints)}
     figures: dict[str, float] = {}
-    figures.update(sized(factory, everything, rng))
-    figures.update(holds(factory, gestures, rng))
-    figures.update(sequences(factory, gestures, rng, key="sequence_6_gestures"))
-    figures.update(sequences(factory, everything, rng, key="sequence_20_templates"))
-    figures.update(unrelated(factory, everything, rng))
+    parts = (("sized", lambda f: sized(f, everything, rng)),
+             ("holds", lambda f: holds(f, gestures, rng)),
+             ("sequences", lambda f: sequences(f, gestures, rng, key="sequence_6_gestures")),
+             ("sequences", lambda f: sequences(f, everything, rng, key="sequence_20_templates")),
+             ("unrelated", lambda f: unrelated(f, everything, rng)))
+    for part, measure in parts:
+        wanted = SECTIONS is None or part in SECTIONS
+        out = measure(factory if wanted else lambda templates: None)
+        if wanted:
+            figures.update(out)
     return figures
 
 
@@ -434,6 +454,11 @@ def main() -> None:
     # held out: other joints and another seed, never tuned on
     figures.update({"heldout_" + k: v for k, v in
                     evaluate(puck_follower, HELD_OUT_SEED, MOCAP_HELD_OUT).items()})
+    if SECTIONS is not None:
+        for k, v in figures.items():
+            print(f"{k:60s} {v:.4g}" if isinstance(v, float) else f"{k:60s} {v}")
+        emit("follow_quality", figures, {})
+        return
     figures.update({"cli_default_" + k: v for k, v in evaluate(paper_follower).items()})
     # shared starts (an option, ActionFollower(share_radius=3)) and the defaults on the same
     # back-to-back draws of the six gestures (a seed of their own)
