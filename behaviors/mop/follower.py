@@ -71,7 +71,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  restart: float = 1e-4, memory: float = 20.0, null_distance: float = 1.8,
                  max_spread: float = 0.15, relative_floor: float = 0.05, floor: float = 1e-8,
                  min_scale: np.ndarray | None = None, null_memory: float = 16.0,
-                 onset: float = 0.5, accept_distance: float = 1.2, invariance: str = "none", spotting: bool = True,
+                 onset: float = 0.5, accept_distance: float = 1.2, invariance: str = "none",
+                 spotting: bool = True,
                  scale_range: tuple[float, float] = (0.55, 1.8), scale_prior: float = 3.0,
                  units: np.ndarray | None = None, hold_tolerance: float = 0.02,
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
@@ -82,13 +83,16 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                  threshold: float = 0.0, turn_limit: float = math.inf,
                  share_radius: float = 0.0) -> None:
         for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
-                            ("memory", memory, memory >= 1), ("null_distance", null_distance, null_distance > 0),
+                            ("memory", memory, memory >= 1),
+                            ("null_distance", null_distance, null_distance > 0),
                             ("null_memory", null_memory, null_memory >= 1),
                             ("onset", onset, onset >= 0),
-                            ("accept_distance", accept_distance, 0 < accept_distance <= null_distance),
+                            ("accept_distance", accept_distance,
+                             0 < accept_distance <= null_distance),
                             ("max_spread", max_spread, max_spread > 0),
                             ("relative_floor", relative_floor, relative_floor >= 0),
-                            ("floor", floor, floor >= 0), ("scale_prior", scale_prior, scale_prior > 0),
+                            ("floor", floor, floor >= 0),
+                            ("scale_prior", scale_prior, scale_prior > 0),
                             ("hold_tolerance", hold_tolerance, hold_tolerance >= 0),
                             ("switch_margin", switch_margin, switch_margin >= 0),
                             ("confirm", confirm, confirm >= 1), ("end", end, 0 < end <= 1),
@@ -99,7 +103,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                             ("shape_distance", shape_distance, shape_distance > 0),
                             ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
                             ("shape_memory", shape_memory, shape_memory >= 1),
-                            ("dwell", 0.0 if dwell is None else dwell, dwell is None or 0 <= dwell < 1)):
+                            ("dwell", 0.0 if dwell is None else dwell,
+                             dwell is None or 0 <= dwell < 1)):
             if not (math.isfinite(v) and ok):
                 raise TemplateError(f"follower parameter {name} = {v} is out of range")
         if not (math.isfinite(share_radius) and share_radius >= 0):
@@ -109,12 +114,14 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         if math.isnan(threshold) or threshold == -math.inf:
             raise TemplateError(f"follower parameter threshold = {threshold} is out of range")
         if invariance not in INVARIANCES:
-            raise TemplateError(f"follower invariance {invariance!r}: choose from {', '.join(INVARIANCES)}")
+            raise TemplateError(f"follower invariance {invariance!r}: "
+                                f"choose from {', '.join(INVARIANCES)}")
         if dwell is None:   # features as recorded: a hold at another size is never reached
             dwell = HOLD_DWELL if invariance != "none" else 0.0
         lo, hi = (float(v) for v in scale_range)
         if not (0 < lo <= 1 <= hi and math.isfinite(hi)):
-            raise TemplateError(f"follower scale_range {list(scale_range)} must hold 1, e.g. [0.55, 1.8]")
+            raise TemplateError(f"follower scale_range {list(scale_range)} must hold 1, "
+                                "e.g. [0.55, 1.8]")
         self.bank = build_bank(templates, relative_floor, min_scale, units, hold_tolerance)
         self.names: tuple[str, ...] = self.bank.names
         self._index = {n: i for i, n in enumerate(self.names)}
@@ -133,10 +140,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._tvel, self._v0 = template_velocities(templates, self.bank, TANGENT_LAG)
         self._fbank = self._with_tangents()
         self._zdim = int(self._fbank.means.shape[1])
+        moves = Transitions(tuple(transitions), backward, restart, float(dwell))
         self.forward = WindowedForward(self._fbank, sigma=sigma, half_window=int(window),
-                                       transitions=Transitions(tuple(transitions), backward, restart,
-                                                               float(dwell)),
-                                       floor=floor)
+                                       transitions=moves, floor=floor)
         self._decay = 1.0 - 1.0 / self.memory
         self.null_memory = float(null_memory)
         self._null2 = self.null_distance ** 2
@@ -161,14 +167,16 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._units = b.units
         self._first_z = (b.first - b.center) / b.scale           # (K, d)
         # template states relative to their first, in units (for the size estimate)
-        self._rel = np.concatenate([(b.template(k) * b.scale[k] + b.center[k] - b.first[k]) / self._units
+        self._rel = np.concatenate([(b.template(k) * b.scale[k] + b.center[k] - b.first[k])
+                                    / self._units
                                     for k in range(len(self.names))])
         # each template's extent: its farthest state from its first (units)
         self._extent = np.array([np.sqrt(np.sum(self._rel[s:s + n] ** 2, axis=1)).max()
                                  for s, n in zip(b.starts, b.lengths)])
         # the least size a performance's reach allows, per unit of its farthest sample
         self._reach_inv = invariance_rules.REACH_BOUND / np.maximum(self._extent, 1e-12)
-        self._rejudge_at = math.log(invariance_rules.REJUDGE) if invariance_rules.REJUDGE > 1 else math.inf
+        rejudge = invariance_rules.REJUDGE
+        self._rejudge_at = math.log(rejudge) if rejudge > 1 else math.inf
         rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
         self._prior = float(scale_prior) * rho2                   # (K,) prior weight at size 1
         # the still radius (raw units): half the onset in the smallest spread of each column (a
@@ -190,7 +198,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             self._shared = shared_until(np.ascontiguousarray(self._rel * self._units),
                                         b.starts.astype(np.intp), b.lengths.astype(np.intp),
                                         np.geomspace(1.0 / lo_hi, lo_hi, SHARE_SIZES),
-                                        np.ascontiguousarray(self.share_radius * self._still_radius),
+                                        np.ascontiguousarray(self.share_radius
+                                                             * self._still_radius),
                                         SHARE_SKIP)
         self._setup_turning()
         self.reset()
@@ -226,7 +235,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         """Forget the evidence, sizes and validity of every template (not the forward state)."""
         if not hasattr(self, "_evidence"):   # allocated once: a group holds views of them
             k = len(self.names)
-            self._evidence, self._recent, self._recent_weight = np.zeros(k), np.zeros(k), np.zeros(k)
+            self._evidence, self._recent = np.zeros(k), np.zeros(k)
+            self._recent_weight = np.zeros(k)
             self._refused, self._engaged = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
             self._entries = np.zeros(k, dtype=np.int64)
             self._num, self._den, self._size = np.zeros(k), np.zeros(k), np.ones(k)
@@ -255,7 +265,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
 
     @property
     def log_constant(self) -> float:
-        """The Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` in every log-likelihood."""
+        """The Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` in every
+        log-likelihood."""
         return -self._zdim * math.log(self.sigma) - 0.5 * self._zdim * math.log(2.0 * math.pi)
 
     def distance_of(self, loglik: float) -> float:
@@ -313,7 +324,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
         if self._holds is not None:   # holds inside a template (behaviors.mop.holding)
             if rest and self.invariance == "scale":
-                rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units, self._size,
+                rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units,
+                             self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
                              self._num, self._den, self._prior, self._least)
         self._estimate_size(x, gi, frac)
@@ -365,11 +377,12 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         # templates' among themselves)
         self._kept = 1.0
         if math.isfinite(self.threshold):
-            rival = self._threshold_evidence(x, self._anchor, float(raw_ll[top])) - self._evidence[top]
+            rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top]))
+                     - self._evidence[top])
             self._kept = total / (total + math.exp(min(rival, 700.0)))
+        lists = (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist())
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
-                              (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist()),
-                              rest)
+                              lists, rest)
 
     def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
                   gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
@@ -382,7 +395,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
         b = self.bank
         src = b.source
-        if self._evidence[top] - self._evidence[self._best] > self.switch_margin or self._refused[self._best]:
+        if (self._evidence[top] - self._evidence[self._best] > self.switch_margin
+                or self._refused[self._best]):
             self._best = top
         bi = self._best
         self._judge_shape(x, g, new)
@@ -406,9 +420,9 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
             # ... and once the input turned as the template does (validity.turning)
             turned = self._turned(x, bi, float(g[bi]))
             # ... and once it is not taken at a crawl (validity.slow_take)
-            ok = ok and (self._acquired == bi or (leads and turned
-                                                  and not self._shares(bi, float(g[bi]), progress)
-                                                  and not self._slow_take(bi, g, x)))
+            ok = ok and (self._acquired == bi or (
+                leads and turned and not self._shares(bi, float(g[bi]), progress)
+                and not self._slow_take(bi, g, x)))
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
@@ -423,7 +437,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         self._after_end = self._after_end + 1 if self._end_x is not None else 0
         valid = drives(self._run, self.confirm, self._after_end)
         if valid and self._drive_k != bi:
-            self._drive_k, self._drive_from, self._drive_peak = bi, progress_list[bi], progress_list[bi]
+            self._drive_k = bi
+            self._drive_from = self._drive_peak = progress_list[bi]
             self._drive_moved = False
         if valid and not rests:
             self._drive_moved = True
@@ -452,7 +467,8 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
         if engaged:
             self._ended = -1
         if self.invariance != "none":
-            self._spot(valid, ok, engaged, still, bi, progress_list[bi], step_ll[bi], x, forward, offset)
+            self._spot(valid, ok, engaged, still, bi, progress_list[bi], step_ll[bi], x, forward,
+                       offset)
         self._state = state
         return state
 
