@@ -8,6 +8,7 @@ right. Validation is strict: unknown keys, wrong types and out-of-range values a
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
@@ -76,6 +77,10 @@ class Spec:
         raise NotImplementedError
 
 
+# "1e9", "1.0e9", "1e+9": YAML 1.1 (PyYAML) reads them as strings ("1.0e+9" is a number)
+YAML_TEXT_NUMBER = re.compile(r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+")
+
+
 class Number(Spec):
     """An int or float (``integer=True``: int only) within [lo, hi]."""
 
@@ -96,7 +101,14 @@ class Number(Spec):
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         ok_types = (int,) if self.integer else (int, float)
         if isinstance(value, bool) or not isinstance(value, ok_types):
-            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+            hint = ""
+            if isinstance(value, str) and YAML_TEXT_NUMBER.fullmatch(value.strip()):
+                m, e = value.strip().lower().split("e")
+                m, e = m if "." in m else f"{m}.0", e if e[0] in "+-" else f"+{e}"
+                hint = (" (YAML reads a number with an exponent as text unless it has a point "
+                        f"and a signed exponent: write {m}e{e})")
+            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} "
+                                  f"{value!r}{hint}")
         if not self.integer:
             try:
                 value = float(value)

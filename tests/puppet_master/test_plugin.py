@@ -67,7 +67,7 @@ def test_defaults_and_paths_relative_to_the_config():
 @pytest.mark.parametrize("entry, words", [
     ({"main": {"puck": 1, "touch": 2}}, ["engines[0].main", "exactly one"]),
     ({"main": {"stream": "arm"}}, ["engines[0].main.columns", "missing"]),
-    ({"main": {"stream": "arm", "columns": [0]}}, ["engines[0].main.columns", "1 items"]),
+    ({"main": {"stream": "arm", "columns": [0]}}, ["engines[0].main.columns", "got 1 item"]),
     ({"main": {"puck": "one"}}, ["engines[0].main.puck", "integer"]),
     ({"main": {"puck": 1, "colour": 3}}, ["engines[0].main.colour", "unknown key"]),
     ({"behavior": None}, ["engines[0].behavior", "designer.enabled"]),

@@ -103,6 +103,15 @@ def test_list_lengths_and_kinds_said_as_they_are(tmp_path):
     assert "view.size: expected a list (2 items) of an integer in [64, 8192], got 1 item" in msg
 
 
+def test_an_exponent_without_a_point_says_how_to_write_it(tmp_path):
+    # PyYAML (YAML 1.1) reads 1e3 as the text '1e3': "got a string '1e3'" alone puzzled
+    msg = error_of(tmp_path, GOOD + "recorder: {max_mb: 1e3}\n")
+    assert "recorder.max_mb" in msg and "got a string '1e3'" in msg and "write 1.0e+3" in msg
+    assert "write 2.5e+2" in error_of(tmp_path, GOOD + "recorder: {max_mb: 2.5e2}\n")
+    assert load_config(write(tmp_path, GOOD + "recorder: {max_mb: 1.0e+3}\n"))[
+        "recorder"]["max_mb"] == 1000.0
+
+
 def test_unknown_component_kind(tmp_path):
     msg = error_of(tmp_path, GOOD.replace("kind: scripted", "kind: telepathy"))
     assert "sources[0].kind" in msg and "telepathy" in msg and "scripted" in msg
