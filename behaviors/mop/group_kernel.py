@@ -97,8 +97,8 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
-                     all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x, scratch,
-                     kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out) -> None:
+                     all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x,
+                     scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -164,7 +164,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD
                 row0 = int(ti[h, 0] + min(mean[h], ti[h, 1] - 1.0)) + ti[h, 2]
-                for r in range(max(row0 - before, ti[h, 0] + ti[h, 2]), min(row0 + after + 2, ti[h, 0] + ti[h, 1] + ti[h, 2])):
+                for r in range(max(row0 - before, ti[h, 0] + ti[h, 2]),
+                               min(row0 + after + 2, ti[h, 0] + ti[h, 1] + ti[h, 2])):
                     prefetch(states, r)
             t = tc[k]
             start, lk, off = ti[k, 0], ti[k, 1], ti[k, 2]
@@ -258,7 +259,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 base = t[ce0 + c] if none else anchor[i, c]
                 u[c] = (x[i, c] - base) / t[sc0 + c] + t[uf0 + c]
                 z[c] = u[c] / ssz + t[co0 + c]
-                thr_z[k, c] = z[c]   # the sample as the template sees it (the threshold model's too)
+                # the sample as the template sees it (the threshold model's too)
+                thr_z[k, c] = z[c]
             gf = int(math.floor(g))
             last = start + lk - 1
             best_d = np.inf
@@ -293,7 +295,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             misfit[k, 1] = misfit[k, 1] * misfit_decay + uv
             misfit[k, 2] = misfit[k, 2] * misfit_decay + vv
             misfit_w[k] = misfit_w[k] * misfit_decay + 1.0
-            m2 = (misfit[k, 0] / (ssz * ssz) - 2.0 * misfit[k, 1] / ssz + misfit[k, 2]) / misfit_w[k]
+            m2 = ((misfit[k, 0] / (ssz * ssz) - 2.0 * misfit[k, 1] / ssz + misfit[k, 2])
+                  / misfit_w[k])
             m2 *= 1.0 / path_scale
             misshaped[k] = (misshaped[k] or m2 > shape2) and not m2 < shape_accept2
             at = states[gf + off, arc]

@@ -4,7 +4,8 @@ Once ``best`` reached ``end`` progress while valid, the gesture has ended: it dr
 :data:`END_GRACE` samples more (the character then holds its last pose for the puppet's
 ``hold_s``), and none once the input moved on from that point; the next gesture starts when
 the input rests or moves on from where it ended, or stops matching; it is anchored where the
-last one ended, and forward, evidence and sizes start afresh. A valid action resting at 90% or more has ended too.
+last one ended, and forward, evidence and sizes start afresh. A valid action resting at 90% or
+more has ended too.
 When every template has been refused for ``lost_samples`` samples the attempt is abandoned and
 a new one starts at the current sample. While nothing is engaged and the input is still
 (``still_samples`` within a quarter of the onset), the anchor follows it.
@@ -80,14 +81,16 @@ runs; held-out in brackets): runs of the ended action of three samples 7 -> 2 (5
 longest wrong run 3 -> 2.5 (3 -> 2.5); the two left are the follower two samples behind an eased
 end. It costs valid after 30% of gestures at 0.7-1.4x 0.8959 -> 0.8941 (0.8844 -> 0.8829): where
 the follower reaches ``end`` a sample before the performer's last, on the eased approach; with
-1 still radius instead of 2 the runs of three stay (7 and 5). Measured and not kept: the end reached once past 0.9 with the input within 2 still radii
+1 still radius instead of 2 the runs of three stay (7 and 5). Measured and not kept: the end
+reached once past 0.9 with the input within 2 still radii
 of the template's last point (at the estimated size): also runs of at most two, but valid after
 30% of gestures at 0.7-1.4x 0.896 -> 0.886 (it ended closed gestures, whose eased approach
 lies within that radius, several samples early); the last point instead of the sample before
 as the place the input stopped in: the same runs, and on the sized subset of
 ``tests/mop/test_quality.py`` one tick less of a figure eight.
 
-Shared starts, measured with the arrival grace above (an option: ``ActionFollower(share_radius=...)`` in still radii, 0 = off, the
+Shared starts, measured with the arrival grace above (an option:
+``ActionFollower(share_radius=...)`` in still radii, 0 = off, the
 default; :meth:`_shares`, :func:`behaviors.mop.sharing.shared_until`): a new action does not
 drive while its followed state is within the stretch of its start that is the start of another
 template at some size (from the size range's smallest to largest ratio), as long as that other
@@ -214,8 +217,10 @@ class GestureSpotting:
         The template's own onset (0.1 of its spread) let the last action drive the first 13% of
         the next gesture (whose start is slow), and anchored that one too late to be followed."""
         b = self.bank
-        last = self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k] + self._anchor
-        return bool(np.any(np.abs(x - last) > np.abs(self._end_x - last) + 3.0 * self._still_radius))
+        last = (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
+                + self._anchor)
+        return bool(np.any(np.abs(x - last)
+                           > np.abs(self._end_x - last) + 3.0 * self._still_radius))
 
     def _returned(self, x: np.ndarray, k: int, progress: float) -> bool:
         """The input came back to template ``k``'s last point (within :data:`RETURN_RADIUS` of
@@ -226,7 +231,8 @@ class GestureSpotting:
         if self._peak - progress < RETURN_BACK:
             return False
         b = self.bank
-        last = self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k] + self._anchor
+        last = (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
+                + self._anchor)
         r = (x - last) / self._units
         return bool(np.sqrt(np.sum(r * r)) <= RETURN_RADIUS * self._size[k] * self._extent[k])
 
@@ -290,9 +296,11 @@ class GestureSpotting:
         # spotting: the gesture ended (its end reached, or it rests near its end), or every
         # template refused it: start afresh here; a still input waiting for a gesture anchors it
         # the highest progress of the action driving since it began (for _returned)
-        self._peak = (max(self._peak, progress) if bi == self._peak_k else progress) if valid else 0.0
+        self._peak = ((max(self._peak, progress) if bi == self._peak_k else progress)
+                      if valid else 0.0)
         self._peak_k = bi if valid else -1
-        if valid and self._end_x is None and (progress >= self.end or self._returned(x, bi, progress)):
+        if valid and self._end_x is None and (progress >= self.end
+                                              or self._returned(x, bi, progress)):
             self._end_x = x.copy()
             # the performer had already stopped there: the grace counts from the sample before
             self._after_end = int(self._arrived(x))
