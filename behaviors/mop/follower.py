@@ -42,12 +42,13 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
+from behaviors.mop.turning import Turning
 from behaviors.mop.validity import Validity, backs_first, resting, stalls
 
 __all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
 
 
-class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
+class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
     """Follows the progress of a live performance along several action templates at once.
 
     ``templates``: name -> (n_i, d) samples, regularly spaced at the rate the follower is stepped.
@@ -417,7 +418,7 @@ class ActionFollower(PerformanceFrame, Validity, GestureSpotting):
                 np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (spotting.LEAD)
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
-            # ... and once the input turned as the template does (validity.turning)
+            # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))
             # ... and once it is not taken at a crawl (validity.slow_take)
             ok = ok and (self._acquired == bi or (

@@ -16,8 +16,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
-from behaviors.mop import validity
-from behaviors.mop.validity import FIRST_TURN_STEPS, PATH_REACH, TURN_REACH
+from behaviors.mop.validity import PATH_REACH
 
 
 class FollowerGroup(GroupRules):
@@ -125,17 +124,7 @@ class FollowerGroup(GroupRules):
         self._everyone = np.ones(m, dtype=bool)   # every member has a sample (never written)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)
-        # the input's turning (Validity._turned), members with 2-D spatial inputs only
-        self._m_turning = [i for i, f in enumerate(fs) if f._turn is not None]
-        self._turning = np.array([f._turn is not None for f in fs], dtype=bool)
-        self._turns = np.concatenate([f._turn if f._turn is not None
-                                      else np.zeros(len(f.bank.means)) for f in fs])
-        self._turn_steps = np.array([f._turn_step for f in fs], dtype=float)
-        self._turn_limits = np.array([f.turn_limit for f in fs], dtype=float)
-        self._turn_in, self._turn_h = np.zeros(m), np.zeros(m)
-        self._turn_ref = np.zeros((m, dmax))
-        self._turn_has_ref, self._turn_has_h = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
-        self._turn_ok = np.ones(m, dtype=bool)
+        self._turning_arrays()
         self._drive_from, self._drive_peak = np.zeros(m), np.zeros(m)
         self._last_state = self._state_off + self._starts_local + self._lengths - 1
         self._x = np.zeros((m, dmax))
@@ -155,11 +144,7 @@ class FollowerGroup(GroupRules):
         self._extent = np.concatenate([f._extent for f in fs])
         self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
         self._thr_has_x = np.zeros(m, dtype=bool)
-        # the last samples and followed states of members that spot (Validity._slow_take)
-        w = validity.TEMPO_SAMPLES
-        self._tempo_on = np.array([f.invariance != "none" for f in fs], dtype=bool)
-        self._tempo_x, self._tempo_g = np.zeros((w, m, dmax)), np.zeros((w, len(self._owner)))
-        self._tempo_at, self._tempo_n = np.zeros(m, dtype=np.intp), np.zeros(m, dtype=np.intp)
+        self._tempo_arrays()
         self._m_dim = col(lambda f: f.dim)
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
@@ -371,43 +356,6 @@ class FollowerGroup(GroupRules):
             self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch, self._m_kept,
             self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest)
         return self._conclude(step_ll, present)
-
-    def _turned(self, present: np.ndarray) -> None:
-        """Each present member's turning since its gesture began, and whether it fits its best
-        template's near the followed state (:meth:`Validity._turned`), in ``_turn_ok``
-        (compiled: :func:`members.turned`)."""
-        if self._m_turning:
-            members.turned(self._x, self._anchor, present, self._turning, self._turn_ref,
-                           self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in,
-                           self._best, self._bounds, self._ti, self.forward.mean, self._turns,
-                           self._turn_steps, self._turn_limits, TURN_REACH, FIRST_TURN_STEPS,
-                           self._turn_ok)
-
-    def _tempo(self, present: np.ndarray) -> None:
-        """:meth:`Validity._slow_take` for every present member that spots: a new action taken too
-        slowly does not lead (``_m_leads``, read only for a new action); then this sample and the
-        followed states are remembered."""
-        w, fw = validity.TEMPO_SAMPLES, self.forward
-        g = np.minimum(fw.mean, self._lengths - 1.0)
-        on = present & self._tempo_on
-        full = on & (self._tempo_n >= w)
-        if full.any() and validity.LEAST_TEMPO > 0:
-            f0 = self.followers[0]
-            rows = np.flatnonzero(full)
-            at, gb = self._tempo_at[rows], self._bounds[rows] + self._best[rows]
-            r = (self._x[rows] - self._tempo_x[at, rows]) / (self._scale[gb] * self._size[gb, None])
-            moved = np.sqrt(np.sum(r * r, axis=1) / self._m_dim[rows])
-            slow = [validity.slow_take(a, b, f0.onset * f0.sigma)
-                    for a, b in zip((g[gb] - self._tempo_g[at, gb]).tolist(), moved.tolist())]
-            self._m_leads[rows[slow]] = False
-        if on.any():
-            rows = np.flatnonzero(on)
-            at = self._tempo_at[rows]
-            self._tempo_x[at, rows] = self._x[rows]
-            mine = on[self._owner]
-            self._tempo_g[self._tempo_at[self._owner[mine]], np.flatnonzero(mine)] = g[mine]
-            self._tempo_at[rows] = (at + 1) % w
-            self._tempo_n[rows] += 1
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template

@@ -1,26 +1,90 @@
-"""A follower group's new attempts (gesture spotting) over all its members at once.
+"""A follower group's rules over all its members at once: new attempts (gesture spotting),
+the input's turning and the tempo of a new action.
 
 Mixin of :class:`~behaviors.mop.group.FollowerGroup`: where :func:`members.conclude` chose that
 a member's new attempt starts, :meth:`GestureSpotting._restart_here` for all of them at once;
-the rules themselves are those of :mod:`behaviors.mop.spotting`.
+the rules themselves are those of :mod:`behaviors.mop.spotting`. Before it, each member's
+turning (:mod:`behaviors.mop.turning`) and tempo (:func:`behaviors.mop.validity.slow_take`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import members
+from behaviors.mop import members, validity
+from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 
 
 class GroupRules:
-    """New attempts for the members of a follower group."""
+    """New attempts, turning and tempo for the members of a follower group."""
+
+    def _turning_arrays(self) -> None:
+        """Each member's turning constants and state (:meth:`Turning._turned`), as rows."""
+        fs, m, dmax = self.followers, len(self.followers), self._rel.shape[1]
+        self._m_turning = [i for i, f in enumerate(fs) if f._turn is not None]
+        self._turning = np.array([f._turn is not None for f in fs], dtype=bool)
+        self._turns = np.concatenate([f._turn if f._turn is not None
+                                      else np.zeros(len(f.bank.means)) for f in fs])
+        self._turn_steps = np.array([f._turn_step for f in fs], dtype=float)
+        self._turn_limits = np.array([f.turn_limit for f in fs], dtype=float)
+        self._turn_in, self._turn_h = np.zeros(m), np.zeros(m)
+        self._turn_ref = np.zeros((m, dmax))
+        self._turn_has_ref, self._turn_has_h = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
+        self._turn_ok = np.ones(m, dtype=bool)
+
+    def _tempo_arrays(self) -> None:
+        """The last samples and followed states of members that spot
+        (:meth:`Validity._slow_take`)."""
+        fs, m, dmax = self.followers, len(self.followers), self._rel.shape[1]
+        w = validity.TEMPO_SAMPLES
+        self._tempo_on = np.array([f.invariance != "none" for f in fs], dtype=bool)
+        self._tempo_x, self._tempo_g = np.zeros((w, m, dmax)), np.zeros((w, len(self._owner)))
+        self._tempo_at, self._tempo_n = np.zeros(m, dtype=np.intp), np.zeros(m, dtype=np.intp)
+
+    def _turned(self, present: np.ndarray) -> None:
+        """Each present member's turning since its gesture began, and whether it fits its best
+        template's near the followed state (:meth:`Turning._turned`), in ``_turn_ok``
+        (compiled: :func:`members.turned`)."""
+        if self._m_turning:
+            members.turned(self._x, self._anchor, present, self._turning, self._turn_ref,
+                           self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in,
+                           self._best, self._bounds, self._ti, self.forward.mean, self._turns,
+                           self._turn_steps, self._turn_limits, TURN_REACH, FIRST_TURN_STEPS,
+                           self._turn_ok)
+
+    def _tempo(self, present: np.ndarray) -> None:
+        """:meth:`Validity._slow_take` for every present member that spots: a new action taken too
+        slowly does not lead (``_m_leads``, read only for a new action); then this sample and the
+        followed states are remembered."""
+        w, fw = validity.TEMPO_SAMPLES, self.forward
+        g = np.minimum(fw.mean, self._lengths - 1.0)
+        on = present & self._tempo_on
+        full = on & (self._tempo_n >= w)
+        if full.any() and validity.LEAST_TEMPO > 0:
+            f0 = self.followers[0]
+            rows = np.flatnonzero(full)
+            at, gb = self._tempo_at[rows], self._bounds[rows] + self._best[rows]
+            r = (self._x[rows] - self._tempo_x[at, rows]) / (self._scale[gb] * self._size[gb, None])
+            moved = np.sqrt(np.sum(r * r, axis=1) / self._m_dim[rows])
+            slow = [validity.slow_take(a, b, f0.onset * f0.sigma)
+                    for a, b in zip((g[gb] - self._tempo_g[at, gb]).tolist(), moved.tolist())]
+            self._m_leads[rows[slow]] = False
+        if on.any():
+            rows = np.flatnonzero(on)
+            at = self._tempo_at[rows]
+            self._tempo_x[at, rows] = self._x[rows]
+            mine = on[self._owner]
+            self._tempo_g[self._tempo_at[self._owner[mine]], np.flatnonzero(mine)] = g[mine]
+            self._tempo_at[rows] = (at + 1) % w
+            self._tempo_n[rows] += 1
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now
         (``how``: :data:`members.GOES_ON` and the rest per member, as :func:`members.conclude`
         chose; ``gb``: each member's best template, group index)."""
         X = self._x
-        after_end, resting, waiting = how == members.AFTER_END, how == members.RESTING, how == members.WAITING
+        after_end, resting = how == members.AFTER_END, how == members.RESTING
+        waiting = how == members.WAITING
         restart = how != members.GOES_ON
         rows = np.flatnonzero(restart)
         anchor = X.copy()

@@ -92,7 +92,8 @@ def moved_on(x: np.ndarray, end_x: np.ndarray, last: np.ndarray, still_radius: n
 
 
 @compiled(numba.boolean(_F1, _F1, _F1, numba.float64, numba.float64), *_CALLS_INTO)
-def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float, limit2: float) -> bool:
+def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float,
+             limit2: float) -> bool:
     """:meth:`GestureSpotting._departed`: the mean over ``dims`` columns of
     ``((x - end_x) / spread)^2`` at least ``limit2`` (``(distance sigma)^2``)."""
     acc = 0.0
@@ -143,10 +144,10 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
                    _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1), *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from, drive_peak,
-             turn_ok, extent, peak, peak_k,
-             variance, valid, loglik, distance, show, holding, prog, restart, highest, shared, sh_off,
-             drive_moved, rest) -> None:
+             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from,
+             drive_peak, turn_ok, extent, peak, peak_k,
+             variance, valid, loglik, distance, show, holding, prog, restart, highest, shared,
+             sh_off, drive_moved, rest) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -204,14 +205,15 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         # and its start is no longer shared with another the input still fits (spotting)
         ok = ok and (not spots or acquired[i] == bi or (
             leads[i] and turn_ok[i] and not (sh_off[i] >= 0 and shares(
-                bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb, int(g) - start, shared,
-                sh_off[i], refused, misshaped, progress, highest))))
+                bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb,
+                int(g) - start, shared, sh_off[i], refused, misshaped, progress, highest))))
         if spots and drive_k[i] == bi:   # not back before forward (validity.backs_first)
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
-            ok = ok and not (rests and drive_moved[i] and drive_peak[i] - drive_from[i] < CARRY_FIRST)
+            ok = ok and not (rests and drive_moved[i]
+                             and drive_peak[i] - drive_from[i] < CARRY_FIRST)
         run[i] = run[i] + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
@@ -267,11 +269,11 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
                    _F1, numba.intp, numba.float64, _B1), *_CALLS_INTO)
 def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
            mean, turns, step, limit, reach, first_steps, ok) -> None:
-    """:meth:`Validity._turned` for every present member whose input ``turning`` is measured
+    """:meth:`Turning._turned` for every present member whose input ``turning`` is measured
     (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
-    ``ref`` and direction ``heading``, :func:`~behaviors.mop.validity.turn_step`; ``step``:
+    ``ref`` and direction ``heading``, :func:`~behaviors.mop.turning.turn_step`; ``step``:
     its step length), and whether it is within ``limit`` (M,) radians of its best template's at the
-    states within ``reach`` of the followed one (:func:`~behaviors.mop.validity.turn_fits`;
+    states within ``reach`` of the followed one (:func:`~behaviors.mop.turning.turn_fits`;
     ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``. The same operations
     in the same order as the follower's own."""
     pi, two_pi = math.pi, 2.0 * math.pi

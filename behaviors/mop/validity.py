@@ -1,5 +1,5 @@
 """When a followed template may drive its character: refusal, path misfit, coverage (and what
-was tried beside them).
+was tried beside them). The input's turning: :mod:`behaviors.mop.turning`.
 
 Refusal (null rejection), per template against its own spread (:mod:`behaviors.mop.hmm`):
 per-step log-likelihoods forgotten with ``null_memory`` samples, read as an RMS distance in
@@ -60,7 +60,8 @@ coverage 8% + misfit 1.25 / 1.05, current size  0.58 / 0.19      0.68 / 0.21    
 memory 16 unless said.) Coverage delays recognition a little, which gestures back to back
 feel: among the six, recognised within 20% of each gesture 0.31 of them with the misfit alone,
 0.28 at coverage 4%, 0.03 at 6%, 0 at 8% (median recognition 0.24 -> 0.26); set ``coverage``
-lower where that matters more than refusal. Sizes tried around the estimate let a triangle's stroke cutting a square's corner fit the square's
+lower where that matters more than refusal. Sizes tried around the estimate let a triangle's
+stroke cutting a square's corner fit the square's
 side at 0.8x, hence worse. What is left: motions that *are* a stretch of some template at some
 size and tempo: the triangle's first stroke is the line's outward half (valid from 8% of the
 line's path to its far end), a diagonal is the figure eight's first stroke and then a chord
@@ -169,24 +170,6 @@ track (valid 0.70 -> 0.17, on track 0.07 both). An upper tempo (2x) refused no u
 What is left is taken at a performer's tempo: the mirrored line's return is the line's outward
 stroke, then rests at its turn (a line paused there); a triangle's base is the square's first
 side.
-
-Turning (:func:`turning`, 2-D spatial inputs; an option, off by default: ``turn_limit`` infinite):
-a new action is taken only while the input's
-signed turning since the gesture began is within ``turn_limit`` radians (e.g. 1.3) of its template's
-near the followed state (:data:`TURN_REACH` states either way; whole turns aside). Turning is
-blind to size and tempo, and tells what the positions within a sigma do not: a diagonal is
-no chord of a circle (the circle has turned by 2 radians at 37%), a mirrored path turns the
-other way. Measured as above (after "not back before forward"): tuned 0.367 / 0.145, 0.9008
--> 0.363 / 0.135, 0.9006 (held-out 0.565 / 0.151, 0.8853 -> 0.472 / 0.136, 0.8838: the
-held-out sized cost is 0.0015). Steps of 3 still radii, first direction after 3 steps, limit
-1 rad: 0.344 / 0.123 but 0.873 (the first direction, taken in the eased start's jitter, was
-off by up to a half turn: a figure eight at 1x and a circle at 0.7x never taken); first after
-6 steps: 0.367 / 0.131, 0.898; limit 1.3: 0.367 / 0.135, 0.898 (held-out 0.476 / 0.139,
-0.885); 1.6: 0.367 / 0.138, 0.8998; steps of 6 radii, first after 4: above. Off by default
-because the full bench shows other costs at 1.3: gestures back to back among the twenty
-held-out templates never recognised 0.125 -> 0.188 (the turning is counted from where the
-gesture was spotted to begin, which in a stream can lie in the previous gesture's tail),
-recognised within 20% 0.28 -> 0.25, 0.6x/1.5x recognised by the end 0.90 -> 0.85-0.875.
 """
 
 from __future__ import annotations
@@ -264,45 +247,6 @@ def resting(recent: list[np.ndarray], radius: np.ndarray) -> bool:
     return bool(np.all(np.abs(d) <= RESTING_RADII * radius))
 
 
-#: Turning (below) is measured along steps of this many still radii (the smallest column's)...
-TURN_STEP = 6.0
-#: ... and the first direction once the path left its start by this many steps.
-FIRST_TURN_STEPS = 4.0
-#: Samples within this many states of the followed one whose turning may match the input's.
-TURN_REACH = 3
-
-
-def turning(path: np.ndarray, step: float) -> np.ndarray:
-    """Per sample of a 2-D path (n, 2), its signed turning (radians) since its first direction:
-    the direction of each step of length ``step`` (the first :data:`FIRST_TURN_STEPS` long)
-    against the last one's, summed."""
-    out = np.zeros(len(path))
-    ref, h0, turn = path[0], None, 0.0
-    for i, p in enumerate(path):
-        turn, h0, ref = turn_step(p, ref, h0, turn, step)
-        out[i] = turn
-    return out
-
-
-def turn_step(x: np.ndarray, ref: np.ndarray, heading: float | None, turn: float,
-              step: float) -> tuple[float, float | None, np.ndarray]:
-    """One sample ``x`` of :func:`turning`: (turning, last direction or None, last step's end)."""
-    d = x - ref
-    if math.hypot(d[0], d[1]) <= (step if heading is not None else FIRST_TURN_STEPS * step):
-        return turn, heading, ref
-    h = math.atan2(d[1], d[0])
-    if heading is not None:
-        turn += (h - heading + math.pi) % (2.0 * math.pi) - math.pi
-    return turn, h, x
-
-
-def turn_fits(turns: np.ndarray, turn: float, limit: float) -> bool:
-    """Whether the input's turning ``turn`` is within ``limit`` radians of the template's at
-    some of the states ``turns`` (around the followed one), whole turns aside (a hairpin is
-    +pi or -pi by the jitter)."""
-    off = np.abs((turns - turn + math.pi) % (2.0 * math.pi) - math.pi)
-    return bool(off.min() <= limit)
-
 
 def path_lengths(bank) -> np.ndarray:
     """Per state of ``bank``, the length of its template's path from the first state to it
@@ -337,7 +281,8 @@ class Validity:
         k = len(self.names)
         self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
-        self._threshold_alpha, self._threshold_scratch = np.zeros(len(b.means)), np.zeros(len(b.means))
+        self._threshold_alpha = np.zeros(len(b.means))
+        self._threshold_scratch = np.zeros(len(b.means))
         self._threshold_means = np.ascontiguousarray(b.means, dtype=float)
         self._threshold_lengths = np.ascontiguousarray(b.lengths, dtype=np.int64)
         self._threshold_const = -b.dim * np.log(self.sigma) - 0.5 * b.dim * np.log(2.0 * np.pi)
@@ -374,7 +319,8 @@ class Validity:
         before, after = PATH_REACH
         c = np.floor(g).astype(np.intp)
         # segments start at these states (clipped: a repeated segment changes no minimum)
-        idx = np.clip(c[:, None] + self._reach, b.starts[:, None], (b.starts + b.lengths - 1)[:, None])
+        idx = np.clip(c[:, None] + self._reach, b.starts[:, None],
+                      (b.starts + b.lengths - 1)[:, None])
         a, ab = b.means[idx], self._seg[idx]                         # (K, m, d)
         az = z[:, None, :] - a
         t = np.clip((az * ab).sum(axis=2) * self._seg_inv[idx], 0.0, 1.0)
@@ -439,31 +385,6 @@ class Validity:
         self._threshold_x = x
         self._threshold_ev = self._threshold_ev * self._decay + step
         return self._threshold_ev
-
-    def _setup_turning(self) -> None:
-        """Per state, its template's turning (:func:`turning`), for 2-D spatial inputs only."""
-        self._turn_step = TURN_STEP * float(self._still_radius.min())
-        b = self.bank
-        self._turn = None
-        if self.dim == 2 and self.invariance != "none" and math.isfinite(self.turn_limit):
-            self._turn = np.concatenate([turning(b.template(k) * b.scale[k] + b.center[k], self._turn_step)
-                                         for k in range(len(self.names))])
-
-    def _turned(self, x: np.ndarray, bi: int, g: float) -> bool:
-        """After sample ``x``: the input's turning since the gesture began, and whether it fits
-        template ``bi``'s near its followed state ``g`` (bank index)."""
-        if self._turn is None:
-            return True
-        if self._turn_ref is None:
-            self._turn_ref = (self._anchor if self._anchor is not None else x).copy()
-        else:
-            self._turn_in, self._turn_h, self._turn_ref = turn_step(
-                x, self._turn_ref, self._turn_h, self._turn_in, self._turn_step)
-        lo = int(self.bank.starts[bi])
-        hi = lo + int(self.bank.lengths[bi]) - 1
-        c = int(g)
-        return turn_fits(self._turn[max(lo, c - TURN_REACH):min(hi, c + TURN_REACH) + 1],
-                         self._turn_in, self.turn_limit)
 
     def _slow_take(self, k: int, g: np.ndarray, x: np.ndarray) -> bool:
         """Template ``k`` (followed states ``g``, bank index) is taken too slowly by sample ``x``

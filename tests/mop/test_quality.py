@@ -285,8 +285,8 @@ def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypa
 
 
 def test_turning_is_blind_to_size_and_tempo_and_tells_a_mirror():
-    # the signed turning a new action must share with its template (validity.turning)
-    from behaviors.mop.validity import turn_fits, turning
+    # the signed turning a new action must share with its template (turning.turning)
+    from behaviors.mop.turning import turn_fits, turning
     u = np.linspace(0.0, 1.0, 200)
     circle = np.stack([np.sin(2 * np.pi * u), 1 - np.cos(2 * np.pi * u)], axis=1) * 0.05
     for size, n in ((0.7, 60), (1.4, 200)):
