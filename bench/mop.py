@@ -37,7 +37,8 @@ import tabletop  # noqa: E402,F401  (one BLAS thread, as the loop runs, set befo
 import numpy as np  # noqa: E402
 
 from bench.common import emit, interleaved  # noqa: E402
-from behaviors.mop.follower import ActionFollower, FollowerGroup  # noqa: E402
+from behaviors.mop.follower import ActionFollower  # noqa: E402
+from behaviors.mop.group import FollowerGroup  # noqa: E402
 
 STEPS_PER_CALL = 40
 ROUNDS = 40

@@ -37,15 +37,15 @@ import numpy as np
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_progress
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
-from behaviors.mop import invariance as invariance_rules
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
+from behaviors.mop.parameters import check_ranges
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
 from behaviors.mop.validity import Validity, backs_first, resting, stalls
 
-__all__ = ["ActionFollower", "FollowerGroup", "FollowState", "TemplateError", "SampleError"]
+__all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
 
 class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
@@ -83,37 +83,15 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
                  shape_memory: float = 16.0, dwell: float | None = None,
                  threshold: float = 0.0, turn_limit: float = math.inf,
                  share_radius: float = 0.0) -> None:
-        for name, v, ok in (("sigma", sigma, sigma > 0), ("window", window, window >= 1),
-                            ("memory", memory, memory >= 1),
-                            ("null_distance", null_distance, null_distance > 0),
-                            ("null_memory", null_memory, null_memory >= 1),
-                            ("onset", onset, onset >= 0),
-                            ("accept_distance", accept_distance,
-                             0 < accept_distance <= null_distance),
-                            ("max_spread", max_spread, max_spread > 0),
-                            ("relative_floor", relative_floor, relative_floor >= 0),
-                            ("floor", floor, floor >= 0),
-                            ("scale_prior", scale_prior, scale_prior > 0),
-                            ("hold_tolerance", hold_tolerance, hold_tolerance >= 0),
-                            ("switch_margin", switch_margin, switch_margin >= 0),
-                            ("confirm", confirm, confirm >= 1), ("end", end, 0 < end <= 1),
-                            ("still_samples", still_samples, still_samples >= 2),
-                            ("min_probability", min_probability, 0 <= min_probability < 1),
-                            ("tangent", tangent, tangent >= 0),
-                            ("coverage", coverage, 0 <= coverage < 1),
-                            ("shape_distance", shape_distance, shape_distance > 0),
-                            ("shape_accept", shape_accept, 0 < shape_accept <= shape_distance),
-                            ("shape_memory", shape_memory, shape_memory >= 1),
-                            ("dwell", 0.0 if dwell is None else dwell,
-                             dwell is None or 0 <= dwell < 1)):
-            if not (math.isfinite(v) and ok):
-                raise TemplateError(f"follower parameter {name} = {v} is out of range")
-        if not (math.isfinite(share_radius) and share_radius >= 0):
-            raise TemplateError(f"follower parameter share_radius = {share_radius} is out of range")
-        if not turn_limit > 0:
-            raise TemplateError(f"follower parameter turn_limit = {turn_limit} is out of range")
-        if math.isnan(threshold) or threshold == -math.inf:
-            raise TemplateError(f"follower parameter threshold = {threshold} is out of range")
+        check_ranges(sigma=sigma, window=window, memory=memory, null_distance=null_distance,
+                     null_memory=null_memory, onset=onset, accept_distance=accept_distance,
+                     max_spread=max_spread, relative_floor=relative_floor, floor=floor,
+                     scale_prior=scale_prior, hold_tolerance=hold_tolerance,
+                     switch_margin=switch_margin, confirm=confirm, end=end,
+                     still_samples=still_samples, min_probability=min_probability,
+                     tangent=tangent, coverage=coverage, shape_distance=shape_distance,
+                     shape_accept=shape_accept, shape_memory=shape_memory, dwell=dwell,
+                     share_radius=share_radius, turn_limit=turn_limit, threshold=threshold)
         if invariance not in INVARIANCES:
             raise TemplateError(f"follower invariance {invariance!r}: "
                                 f"choose from {', '.join(INVARIANCES)}")
@@ -164,26 +142,7 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
         self._onset_state = self._onset_states()
         # holds inside a template, where they dwell (behaviors.mop.holding)
         self._holds = hold_maps(b) if dwell > 0 else None
-        self._jacobian = np.log(b.scale).sum(axis=1)            # (K,) log |d z / d x|
-        self._units = b.units
-        self._first_z = (b.first - b.center) / b.scale           # (K, d)
-        # template states relative to their first, in units (for the size estimate)
-        self._rel = np.concatenate([(b.template(k) * b.scale[k] + b.center[k] - b.first[k])
-                                    / self._units
-                                    for k in range(len(self.names))])
-        # each template's extent: its farthest state from its first (units)
-        self._extent = np.array([np.sqrt(np.sum(self._rel[s:s + n] ** 2, axis=1)).max()
-                                 for s, n in zip(b.starts, b.lengths)])
-        # the least size a performance's reach allows, per unit of its farthest sample
-        self._reach_inv = invariance_rules.REACH_BOUND / np.maximum(self._extent, 1e-12)
-        rejudge = invariance_rules.REJUDGE
-        self._rejudge_at = math.log(rejudge) if rejudge > 1 else math.inf
-        rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
-        self._prior = float(scale_prior) * rho2                   # (K,) prior weight at size 1
-        # the still radius (raw units): half the onset in the smallest spread of each column (a
-        # radius in RMS spread made a slow start look still: the anchor crept along a 0.7x
-        # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93)
-        self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
+        self._setup_frame(float(scale_prior))
         self.coverage, self.shape_distance = float(coverage), float(shape_distance)
         self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
         # the threshold model: spatial inputs only (a noisy stream's own performance lost
@@ -477,5 +436,3 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
         """True when ``other`` follows with the same parameters (its templates may differ)."""
         return self._params == other._params
 
-
-from behaviors.mop.group import FollowerGroup  # noqa: E402  (re-exported: one import for both)

@@ -87,6 +87,31 @@ class PerformanceFrame:
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: the live sample in every
     template's units (anchor, estimated size, direction of motion)."""
 
+    def _setup_frame(self, scale_prior: float) -> None:
+        """The templates' constants the frame reads (after the bank is built): Jacobians, first
+        states, states relative to the first (units), extents and reach, the size prior
+        (``scale_prior``: its weight at size 1) and the still radius (raw units)."""
+        b = self.bank
+        self._jacobian = np.log(b.scale).sum(axis=1)            # (K,) log |d z / d x|
+        self._units = b.units
+        self._first_z = (b.first - b.center) / b.scale           # (K, d)
+        # template states relative to their first, in units (for the size estimate)
+        self._rel = np.concatenate([(b.template(k) * b.scale[k] + b.center[k] - b.first[k])
+                                    / self._units
+                                    for k in range(len(self.names))])
+        # each template's extent: its farthest state from its first (units)
+        self._extent = np.array([np.sqrt(np.sum(self._rel[s:s + n] ** 2, axis=1)).max()
+                                 for s, n in zip(b.starts, b.lengths)])
+        # the least size a performance's reach allows, per unit of its farthest sample
+        self._reach_inv = REACH_BOUND / np.maximum(self._extent, 1e-12)
+        self._rejudge_at = math.log(REJUDGE) if REJUDGE > 1 else math.inf
+        rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
+        self._prior = scale_prior * rho2                          # (K,) prior weight at size 1
+        # the still radius (raw units): half the onset in the smallest spread of each column (a
+        # radius in RMS spread made a slow start look still: the anchor crept along a 0.7x
+        # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93)
+        self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
+
     def _with_tangents(self) -> TemplateBank:
         """The bank the forward algorithm runs on: each state's features followed, when
         ``tangent`` > 0, by its direction of motion (``tangent`` x the velocity over

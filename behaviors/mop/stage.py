@@ -68,7 +68,7 @@ class MopStage:
     ``templates``: character -> action -> (performer name, samples (n x d) at ``rate_hz``);
     ``motions``: character -> motion names the designer may assign; ``load_motion(character,
     motion) -> Clip``; ``save(character, action, samples, feature names, motion) -> message``; ``make_group(followers)``
-(optional) steps all followers together, e.g. :class:`~behaviors.mop.follower.FollowerGroup`.
+(optional) steps all followers together, e.g. :class:`~behaviors.mop.group.FollowerGroup`.
     """
 
     def __init__(self, name: str, rate_hz: float, performers: Mapping[str, Performer],

@@ -253,7 +253,8 @@ def _make_performer(p: dict) -> Performer:
 # --- building -----------------------------------------------------------------------------------
 
 def build(options: dict, ctx: BuildContext) -> MopStage:
-    from behaviors.mop.follower import ActionFollower, FollowerGroup
+    from behaviors.mop.follower import ActionFollower
+    from behaviors.mop.group import FollowerGroup
     rate = float(options["rate_hz"])
     fo = options["follower"]
     params = dict(sigma=fo["sigma"], window=fo["window"], transitions=tuple(fo["transitions"]),

@@ -7,7 +7,8 @@ from tests.mop import gestures as g
 import numpy as np
 import pytest
 
-from behaviors.mop.follower import ActionFollower, FollowerGroup, FollowState, SampleError, TemplateError
+from behaviors.mop.follower import ActionFollower, FollowState, SampleError, TemplateError
+from behaviors.mop.group import FollowerGroup
 from tabletop.frames import InputError
 
 

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from behaviors.mop import group_kernel, members
-from behaviors.mop.follower import ActionFollower, FollowerGroup
+from behaviors.mop.follower import ActionFollower
+from behaviors.mop.group import FollowerGroup
 
 
 class Counting(ActionFollower):
