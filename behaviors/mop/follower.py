@@ -207,7 +207,7 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
             a.fill(0)
         self._size.fill(1.0)
         self._judged.fill(1.0)
-        self._best = 0
+        self._best = -1   # none before the first sample: the likeliest then, without the margin
         self._run = 0
         self._lost = 0
         self._shape = np.zeros(len(self.names))
@@ -355,7 +355,7 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
         rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
         b = self.bank
         src = b.source
-        if (self._evidence[top] - self._evidence[self._best] > self.switch_margin
+        if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
                 or self._refused[self._best]):
             self._best = top
         bi = self._best

@@ -133,7 +133,7 @@ class FollowerGroup(GroupRules):
         self._has_anchor = np.zeros(m, dtype=bool)
         self._buf = np.zeros((m, int(self._m_keep.max()), dmax))
         self._nbuf = np.zeros(m, dtype=np.intp)
-        self._best = np.zeros(m, dtype=np.intp)
+        self._best = np.full(m, -1, dtype=np.intp)   # -1: none yet (ActionFollower._best)
         self._run = np.zeros(m, dtype=np.intp)
         self._lost = np.zeros(m, dtype=np.intp)
         self._ended = np.full(m, -1, dtype=np.intp)
@@ -160,8 +160,9 @@ class FollowerGroup(GroupRules):
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
         self._has_anchor[rows] = False
         self._nbuf[rows] = 0
-        for a in (self._best, self._run, self._lost, self._after_end):
+        for a in (self._run, self._lost, self._after_end):
             a[rows] = 0
+        self._best[rows] = -1
         self._ended[rows] = -1
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1

@@ -352,7 +352,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
         kept_out[i] = kept
         gb = a0 + best[i]
-        if ev[first] - ev[gb] > margin or refused[gb]:
+        if best[i] < 0 or ev[first] - ev[gb] > margin or refused[gb]:
             gb = first
         best[i] = gb - a0
         rival = np.inf

@@ -111,8 +111,9 @@ class GroupRules:
         self._judged[cols] = 1.0
         self._thr_ev[rows] = 0.0   # the threshold model starts afresh with the evidence
         self._thr_has_x[rows] = False
-        for a in (self._best, self._run, self._lost, self._after_end):
+        for a in (self._run, self._lost, self._after_end):
             a[rows] = 0
+        self._best[rows] = -1
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._anchor[rows] = anchor[rows]
