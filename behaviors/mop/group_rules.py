@@ -55,28 +55,13 @@ class GroupRules:
     def _tempo(self, present: np.ndarray) -> None:
         """:meth:`Validity._slow_take` for every present member that spots: a new action taken too
         slowly does not lead (``_m_leads``, read only for a new action); then this sample and the
-        followed states are remembered."""
-        w, fw = validity.TEMPO_SAMPLES, self.forward
-        g = np.minimum(fw.mean, self._lengths - 1.0)
-        on = present & self._tempo_on
-        full = on & (self._tempo_n >= w)
-        if full.any() and validity.LEAST_TEMPO > 0:
-            f0 = self.followers[0]
-            rows = np.flatnonzero(full)
-            at, gb = self._tempo_at[rows], self._bounds[rows] + self._best[rows]
-            r = (self._x[rows] - self._tempo_x[at, rows]) / (self._scale[gb] * self._size[gb, None])
-            moved = np.sqrt(np.sum(r * r, axis=1) / self._m_dim[rows])
-            slow = [validity.slow_take(a, b, f0.onset * f0.sigma)
-                    for a, b in zip((g[gb] - self._tempo_g[at, gb]).tolist(), moved.tolist())]
-            self._m_leads[rows[slow]] = False
-        if on.any():
-            rows = np.flatnonzero(on)
-            at = self._tempo_at[rows]
-            self._tempo_x[at, rows] = self._x[rows]
-            mine = on[self._owner]
-            self._tempo_g[self._tempo_at[self._owner[mine]], np.flatnonzero(mine)] = g[mine]
-            self._tempo_at[rows] = (at + 1) % w
-            self._tempo_n[rows] += 1
+        followed states are remembered (compiled: :func:`members.tempo`; as array operations
+        over the members it cost 0.2 ms a tick of 8 performers x 100 templates)."""
+        f0 = self.followers[0]
+        members.tempo(self.forward.mean, self._lengths, present, self._tempo_on, self._tempo_at,
+                      self._tempo_n, self._bounds, self._counts, self._best, self._x,
+                      self._tempo_x, self._tempo_g, self._scale, self._size, self._m_dim,
+                      f0.onset * f0.sigma, self._m_leads)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

@@ -20,7 +20,8 @@ import numpy as np
 
 from behaviors.mop import spotting, validity
 from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
-from behaviors.mop.validity import BACK_FIRST, CARRY_FIRST, FORWARD_FIRST
+from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAST_TEMPO,
+                                    TEMPO_SAMPLES)
 from tabletop.kernel_cache import compiled
 
 _CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
@@ -298,3 +299,39 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
         for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
             least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
         ok[i] = least <= limit[i]
+
+
+@compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,
+                     numba.float64, _B1), *_CALLS_INTO)
+def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
+          at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
+          best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
+          scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
+          leads: np.ndarray) -> None:
+    """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
+    :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
+    (:func:`validity.slow_take`: followed state, ``mean`` clipped to the template, against the
+    oldest kept in ``past_g``; the input against ``past_x[at]`` in the template's spread
+    ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``); then this
+    sample and the followed states are kept in the ring's slot ``at``, which moves on."""
+    w = TEMPO_SAMPLES
+    for i in range(bounds.size):
+        if not (present[i] and spots[i]):
+            continue
+        a = at[i]
+        if seen[i] >= w and LEAST_TEMPO > 0:
+            gb = bounds[i] + best[i]
+            tot = 0.0
+            for c in range(x.shape[1]):
+                r = (x[i, c] - past_x[a, i, c]) / (scale[gb, c] * size[gb])
+                tot += r * r
+            moved = math.sqrt(tot / dims[i])
+            advance = min(mean[gb], lengths[gb] - 1.0) - past_g[a, gb]
+            if moved >= onset and abs(advance) < LEAST_TEMPO * w:
+                leads[i] = False
+        for c in range(x.shape[1]):
+            past_x[a, i, c] = x[i, c]
+        for k in range(bounds[i], bounds[i] + counts[i]):
+            past_g[a, k] = min(mean[k], lengths[k] - 1.0)
+        at[i] = (a + 1) % w
+        seen[i] += 1
