@@ -45,9 +45,9 @@ without the rule, and 305 against 306 on seeds 0-2 alone at 0.15; a change worth
 about 15 of 720 on six seeds cannot be told from the re-matching's chaos. With several seeds,
 each behaviour's misses are also listed over every seed (:func:`behaviour_misses`:
 ``seed:path:threshold``, the engine's alone marked; ``all_seeds.<behaviour>.misses``), as the
-first seed's tables show only that seed. Measured on seeds 0-5: the lover misses orbit on 4 paths (the
-engine's alone 1), speed W1 on 7 (1) and still/moving on 5 (4); the bully contact 2 (2),
-orbit 1 (1), still/moving 1 (0).
+first seed's tables show only that seed. Measured on seeds 0-5 (misses, of them the
+engine's alone): lover 16 (6), bully 4 (3), playful friend 5 (4), stalker 14 (7), afraid 22
+(4, most of them where its own designer misses too: the open paths never chase it).
 
     .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2]
 """
