@@ -17,9 +17,9 @@ import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.detail import direction_detail, texture_rms
-from behaviors.puppet_master.generation import (_bearings, charges, own_steps,
-                                                pace_ratio, relative_world_steps,
-                                                still_main_speed)
+from behaviors.puppet_master.demonstrated import (charges, own_steps, pace_ratio,
+                                                  relative_world_steps, still_main_speed)
+from behaviors.puppet_master.generation import _bearings
 from behaviors.puppet_master.look import train_look, train_place
 from behaviors.puppet_master.resample import resample_uniform
 from behaviors.puppet_master.similarity import augmented
@@ -56,13 +56,13 @@ class Params:
     circle) is lost for good: the playful friend circled at 1.2-1.6 rad/s against 2.3
     demonstrated, the bully rarely reached contact. With relative_motion > 0 the step is the
     demonstrated step relative to the main (target minus its predecessor, in the main's
-    frame; taken from the two world steps, generation.relative_world_steps), carried along
+    frame; taken from the two world steps, demonstrated.relative_world_steps), carried along
     with the main's own step, plus this share of the remaining way to the target (drift
     correction), never faster than the demonstrated top speed. Measured with
     bench/fidelity.py on three sets of unseen paths (seeds 0, 1, 2; 120 thresholds each):
     misses 28, 31, 30 with the paper's rule (0); 24, 29, 21 with 0.1; 27, 29 with 0.05;
     28, 33 with 0.2. Where the place is held in the world (look.train_place) the step repeats
-    the demonstrated reactor's own way of moving instead (generation.own_steps: the share of
+    the demonstrated reactor's own way of moving instead (demonstrated.own_steps: the share of
     the main's step it went along with, plus its own step along and across the bearing from
     the main), plus the same share of the way to the target, at most at the demonstrated
     speed there (the paper's step length). With the paper's step there, a lover whose main

@@ -5,12 +5,13 @@ velocity and a look. The target relative position is carried into the main chara
 current frame (or kept at the reactor's world bearing, look.train_place) and onto the table
 (:func:`fit_target`). The step repeats the demonstrated step relative to the main plus a share
 of the way to the target (engine.Params.relative_motion; where the place is held in the world,
-the demonstrated reactor's own way of moving, :func:`own_steps`), or, with that share 0 (the paper),
-heads for the target (:func:`step_around`: around the main, not through it) with the length
-of the target velocity (engine.Params.catch_up may lengthen it when far off); the last three
-steps are averaged (the paper's linear smooth), the patch's Haar detail turns the averaged
-step (detail.py), the table keeps the reactor (:func:`keep_on_table`) and so do the other
-characters (:func:`keep_apart`); the look follows look.py at a limited turn rate
+the demonstrated reactor's own way of moving, demonstrated.own_steps, which with the other
+measures of the demonstration taken at training is in demonstrated.py), or, with that share 0
+(the paper), heads for the target (:func:`step_around`: around the main, not through it) with
+the length of the target velocity (engine.Params.catch_up may lengthen it when far off); the
+last three steps are averaged (the paper's linear smooth), the patch's Haar detail turns the
+averaged step (detail.py), the table keeps the reactor (:func:`keep_on_table`) and so do the
+other characters (:func:`keep_apart`); the look follows look.py at a limited turn rate
 (:func:`limit_turn`).
 
 Positions in table metres, steps in metres per generation step, angles in radians.
@@ -31,136 +32,6 @@ def target_position(mx: float, my: float, md: float, fwd: float,
     """World position of a point ``fwd`` ahead and ``left`` to the left of a pose."""
     c, s = math.cos(md), math.sin(md)
     return mx + c * fwd - s * left, my + s * fwd + c * left
-
-
-def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float,
-              span_s: float = 0.5) -> list[tuple[float, float, float]]:
-    """Per training sample i: the share k (0..1) of the main's motion the reactor went along
-    with (least squares of its velocity on the main's over ``span_s`` centred on i), and the
-    rest of its step from i - 1 to i, its own motion, split along the bearing from the main
-    (metres outward, and counter-clockwise round it). ``main``, ``react``: (n, 2) positions at
-    ``rate_hz``; (0, 0, 0) at the first sample.
-
-    A lover that follows its main goes along with most of its step (k 0.5-0.85 while the main
-    walks), a bully standing its ground while the main walks past goes along with none of it:
-    repeating the whole demonstrated step relative to the main would move the bully with a
-    live main that walks elsewhere, and copying only its world step would leave the lover
-    behind a main that walks another way than the demonstrated one did.
-
-    The steps are per sample, so the own step carries the hand's tremor. Traced on the lover's
-    slow paths (seed 3): the step is over its cap on 60-75% of the steps the main walks, the
-    tremor spends part of that length and the three-step smooth shortens 0.093 to 0.079 m/s:
-    it walks at 0.073-0.097 m/s beside slow mains (matched moments 0.099-0.106, its designer
-    0.094-0.108), its still/moving miss there (0.64-0.69 against 0.42). The own step over
-    0.1 s instead lifts that path (ratio 0.51) but slows the lover elsewhere: bench/fidelity.py
-    --seeds 0,1,2,3,4,5 642 -> 637 of 720, 7 109 -> 106, 8,9,10,11,12,13 639 -> 632."""
-    n = main.shape[0]
-    dm = np.zeros((n, 2))
-    dr = np.zeros((n, 2))
-    dm[1:] = np.diff(main, axis=0)
-    dr[1:] = np.diff(react, axis=0)
-    w = np.ones(2 * max(1, int(round(0.5 * span_s * rate_hz))) + 1)
-    num = np.convolve(np.einsum("ij,ij->i", dr, dm), w, "same")
-    den = np.convolve(np.einsum("ij,ij->i", dm, dm), w, "same")
-    k = np.clip(np.where(den > 1e-12, num / np.maximum(den, 1e-12), 0.0), 0.0, 1.0)
-    u = dr - k[:, None] * dm
-    rel = np.zeros((n, 2))
-    rel[1:] = react[:-1] - main[:-1]
-    rho = np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-9)
-    ex, ey = rel[:, 0] / rho, rel[:, 1] / rho
-    u_rad = u[:, 0] * ex + u[:, 1] * ey
-    u_tan = -u[:, 0] * ey + u[:, 1] * ex
-    k[0] = u_rad[0] = u_tan[0] = 0.0
-    return list(zip(k.tolist(), u_rad.tolist(), u_tan.tolist()))
-
-
-def relative_world_steps(main: np.ndarray, look: np.ndarray, react: np.ndarray, rate_hz: float,
-                         span_s: float = 0.2) -> tuple[list[tuple[float, float]], list[float]]:
-    """Per training sample i: the reactor's step from i - 1 to i minus the main's, in the
-    main's frame at i (metres ahead of and left of the main; (0, 0) at the first sample), and
-    the reactor's mean step length over ``span_s`` centred on i (metres per sample).
-    ``main``, ``react``: (n, 2) positions, ``look``: (n,) the main's look (rad), at ``rate_hz``.
-
-    The change of the relative position (fwd, left) from sample to sample also holds the turn
-    of the main's frame: the demonstrated main's look trembles (1.46 rad/s while it walks,
-    0.80 while it stands, in the stalker's demonstration), which at 0.3 m is 0.3-0.5 m/s of
-    apparent motion while that stalker moved 0.07-0.25 m/s. The difference of the world steps
-    carries no turn of the frame."""
-    n = main.shape[0]
-    d = np.zeros((n, 2))
-    d[1:] = np.diff(react, axis=0) - np.diff(main, axis=0)
-    c, s = np.cos(look), np.sin(look)
-    steps = list(zip((c * d[:, 0] + s * d[:, 1]).tolist(), (-s * d[:, 0] + c * d[:, 1]).tolist()))
-    h = max(1, int(round(0.5 * span_s * rate_hz)))
-    i = np.arange(n)
-    lo, hi = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
-    span = react[hi] - react[lo]
-    most = (np.hypot(span[:, 0], span[:, 1]) / np.maximum(hi - lo, 1)).tolist()
-    return steps, most
-
-
-def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
-                     still_mps: float = 0.02, share: float = 50.0) -> tuple[np.ndarray, float]:
-    """Per training sample, whether the main stood still (its speed over 0.5 s centred on the
-    sample below ``still_mps``), and the reactor's typical speed while it did (m/s: the
-    ``share`` percentile of its speed over 0.1 s at those samples; inf with fewer than ten
-    such samples, or where the reactor was on average no slower beside a still main than
-    beside a walking one). ``main``, ``react``: (n, 2) positions at ``rate_hz``.
-
-    A live main that stops is still matched for about a second to windows where the
-    demonstrated main walked (the window is 1 s long): a stalker kept walking after its main
-    stopped (speed while the main stood 0.15 m/s against 0.07 demonstrated, still/moving 0.43-0.85
-    against 0.29). Its step is then held to how fast the demonstrated reactor typically moved
-    beside a still main (engine.Reactor._step).
-
-    A character whose pace does not drop when its main stops has nothing to hold: the bully
-    (mean 0.252 m/s beside a still main, 0.248 beside a walking one) charges and backs off
-    from a main that stands as from one that walks, and held to its median beside a still
-    main (0.194 m/s) it lost the upper half of that, its charges and back-offs: its speed
-    beside a still main fell to 0.12-0.14 m/s on the missed paths (still/moving 0.57-0.64
-    against 0.971; mean over the 21 unseen paths of seeds 0-5 and 7 0.80). Not held: mean
-    0.92, met on 20 of 21 instead of 17, and its contact on 20 instead of 18 (seed 4 fast
-    0.108 -> 0.142, seeds 2 and 5 slow 0.224 / 0.206 -> 0.170 / 0.197 against 0.157: with
-    the cap, a charge at a main that stood crept in at 0.19 m/s and stayed pressed against
-    it). bench/fidelity.py --seeds 0,1,2,3,4,5: 632 -> 635 of 720, --seeds 7: 108 -> 110.
-    The playful friend (0.98 of its speed beside a walking main) is held: released too,
-    its still/moving mean moved 0.89 -> 0.96 (against 0.99) but its darts reached contact
-    less often (contact met on 13 of 21 paths instead of 18): 631 / 110.
-
-    Holding every step beside a still main (not only where the demonstrated main walked):
-    the lover's still/moving met on 3 more paths of seeds 0-13 (seed 0 slow 0.654 -> 0.52)
-    but its speed W1 missed on 4 more, the playful friend's still/moving on 3: bench/fidelity.py
-    --seeds 0,1,2,3,4,5 642 -> 639 of 720, 7 109 -> 104, 8,9,10,11,12,13 639 -> 645."""
-    v, still = _paces(main, react, rate_hz, still_mps)
-    if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
-        return still, math.inf
-    return still, float(np.percentile(v[still], share))
-
-
-def _paces(main: np.ndarray, react: np.ndarray, rate_hz: float,
-           still_mps: float) -> tuple[np.ndarray, np.ndarray]:
-    """Per sample, the reactor's speed (m/s) and whether the main stood (still_main_speed)."""
-    n = main.shape[0]
-    v = np.zeros(n)
-    v[1:] = np.hypot(*np.diff(react, axis=0).T) * rate_hz
-    v = np.convolve(v, np.ones(4) / 4, "same")
-    h = int(round(0.25 * rate_hz))
-    i = np.arange(n)
-    a, b = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
-    vm = np.hypot(*(main[b] - main[a]).T) * rate_hz / np.maximum(b - a, 1)
-    return v, vm < still_mps
-
-
-def pace_ratio(main: np.ndarray, react: np.ndarray, rate_hz: float,
-               still_mps: float = 0.02) -> float:
-    """The reactor's mean speed beside a still main over that beside a walking one (1.0 with
-    ten samples of either or fewer); ``main``, ``react``: (n, 2) positions at ``rate_hz``.
-    Shipped: the stalker 0.37 (stops when its main stops), lover 0.50, afraid 0.81, friend
-    0.98, bully 1.02."""
-    v, still = _paces(main, react, rate_hz, still_mps)
-    if still.sum() <= 10 or (~still).sum() <= 10 or v[~still].mean() <= 0.0:
-        return 1.0
-    return float(v[still].mean() / v[~still].mean())
 
 
 def step_toward(rx: float, ry: float, tx: float, ty: float,
@@ -306,9 +177,10 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     closes): the flight target lies beyond the edge and is moved onto the table on 52-100% of
     them, by 0.17-0.21 m round the visitor; the drift correction toward it (the share
     Params.relative_motion of the way) is then 0.36-0.67 m/s sideways, the step is capped at
-    the demonstrated speed (0.24-0.29 m/s), and what is left of the flight is 0.00-0.08 m/s away from the visitor
-    against 0.11-0.32 demonstrated: the visitor comes within 0.2 m a quarter of the time (6%
-    in the demonstration), where the same sideways speed is a faster orbit. Measured remedies
+    the demonstrated speed (0.24-0.29 m/s), and what is left of the flight is 0.00-0.08 m/s
+    away from the visitor against 0.11-0.32 demonstrated: the visitor comes within 0.2 m a
+    quarter of the time (6% in the demonstration), where the same sideways speed is a faster
+    orbit. Measured remedies
     (Python step, pursuit thresholds on seeds 0-5 / 7, against 40 / 7): the table point
     nearest the target instead 26 / 4; no fitting (keep_on_table slides the step) 28 / 6;
     the correction toward a moved target at most the demonstrated step length there, in a
@@ -408,58 +280,3 @@ def keep_apart(x: float, y: float, others: list[tuple[float, float, float]],
                 dx, dy, d = 1.0, 0.0, 1.0
             x, y = ox + dx * least / d, oy + dy * least / d
     return clamp_to_table(x, y, table)
-
-
-def charges(main: np.ndarray, react: np.ndarray, rate_hz: float, span_s: float = 0.1,
-            least_s: float = 0.15, hold_s: float = 0.2,
-            hold_share: float = 1.25, push: float = 0.25) -> tuple[list[int], list[int]]:
-    """Per training sample, the last sample of the charge it belongs to and the sample where
-    that charge touches (both -1: none). A charge is a run of at least ``least_s`` in which
-    the reactor itself moves toward the main faster than its median speed (its velocity over
-    ``span_s`` along the bearing to the main), reaching its least distance (the touch) nearer
-    than nine in ten of the demonstration's samples and staying within ``hold_share`` x that
-    distance for at least ``hold_s``, the distance growing meanwhile at under ``push`` x the
-    reactor's median speed (a push, not a pass by or a look from close up before backing off);
-    it lasts to the end of that hold. ``main``, ``react``: (n, 2) positions at ``rate_hz``.
-
-    The shipped bully's 15 charges from its lurking distance (0.2-0.33 m) into contact
-    (0.05 m) are found, one pass near the main by the stalker and one dart by the playful
-    friend; none for the lover and the afraid character. Without the push criterion the
-    stalker's passes behind a reversing main (10) counted too, and keeping them whole cost
-    its still/moving figure on 3 of 9 unseen paths. The playful friend's dart stops at
-    0.107 m, short of a touch; leaving it out (only charges whose touch is under 0.08 m)
-    moved bench/fidelity.py seeds 0-5 from 623 to 621 and seed 7 from 107 to 106 (its
-    fast-path contact met on 2 more paths, lost on 2 others), so it stays."""
-    n = main.shape[0]
-    h = max(1, int(round(0.5 * span_s * rate_hz)))
-    i = np.arange(n)
-    a, b = np.maximum(i - h, 0), np.minimum(i + h, n - 1)
-    v = (react[b] - react[a]) * (rate_hz / np.maximum(b - a, 1))[:, None]
-    rel = main - react
-    dist = np.hypot(rel[:, 0], rel[:, 1])
-    inward = np.einsum("ij,ij->i", v, rel) / np.maximum(dist, 1e-9)
-    typical = float(np.median(np.hypot(v[:, 0], v[:, 1])))
-    fast = inward > typical
-    near = float(np.percentile(dist, 10))
-    ends, touch = [-1] * n, [-1] * n
-    least = max(1, int(round(least_s * rate_hz)))
-    hold = max(1, int(round(hold_s * rate_hz)))
-    j = 0
-    while j < n:
-        if not fast[j]:
-            j += 1
-            continue
-        k = j
-        while k + 1 < n and fast[k + 1]:
-            k += 1
-        t = j + int(np.argmin(dist[j:min(n - 1, k + h + 1) + 1]))
-        e = t
-        while e + 1 < n and dist[e + 1] <= hold_share * dist[t]:
-            e += 1
-        if k - j + 1 >= least and dist[t] <= near and e - t >= hold \
-                and (dist[e] - dist[t]) * rate_hz / (e - t) < push * typical:
-            for m in range(j, e + 1):
-                ends[m], touch[m] = e, t
-            k = max(k, e)
-        j = k + 1
-    return ends, touch

@@ -51,7 +51,7 @@ class GenerationStep:
         target = (jc if use_c else js) + 1
         self.last_choice = "coherence" if use_c else "situation"
         # a charge the match has entered is kept whole to the end of its push
-        # (generation.charges): the bully's matches joined charges partway and left them within
+        # (demonstrated.charges): the bully's matches joined charges partway and left them within
         # a few steps (14 jumps in 26 steps), so it went 9-14 cm short of its main while the
         # matched moments touched (contact 0.02-0.08 against 0.157 on all nine unseen paths)
         if 0 <= self.source < self._charge_end:
@@ -107,7 +107,7 @@ class GenerationStep:
                     sy -= k * ((my - myp) - along * ey)
             else:
                 # the demonstrated step relative to the main from the two world steps, free of
-                # the demonstrated main's look tremor (generation.relative_world_steps); where
+                # the demonstrated main's look tremor (demonstrated.relative_world_steps); where
                 # the demonstrated reactor went along with the main (k >= FOLLOW_SHARE), the
                 # drift correction is at most its own demonstrated step there: it chased
                 # matched relative positions 6-20 cm off at 0.18-0.42 m/s while the main stood.
@@ -219,7 +219,7 @@ class GenerationStep:
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
-            # reactor's typical speed beside a still main (generation.still_main_speed).
+            # reactor's typical speed beside a still main (demonstrated.still_main_speed).
             # Measured with bench/fidelity.py --seeds 0,1,2: 293 -> 297 of 360 thresholds,
             # stalker still/moving met on 5 of 9 paths instead of 0 (0.43-0.85 -> 0.14-0.48
             # against 0.29); the 60th and 70th percentile gave 301 and 290, the mean 294, and

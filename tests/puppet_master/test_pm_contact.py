@@ -2,7 +2,7 @@
 character that touches its main reaches its targets round the main, not through it
 (engine.Reactor._step: in a charge no detail turn and only the main's step along the
 bearing gone along with; generation.share_around); a character whose pace does not drop
-beside a still main is not held to its median pace there (generation.still_main_speed)."""
+beside a still main is not held to its median pace there (demonstrated.still_main_speed)."""
 
 import math
 
@@ -11,7 +11,8 @@ import pytest
 
 from behaviors.puppet_master import fidelity, visitors
 from behaviors.puppet_master.engine import Behavior, Reactor
-from behaviors.puppet_master.generation import share_around, still_main_speed
+from behaviors.puppet_master.demonstrated import still_main_speed
+from behaviors.puppet_master.generation import share_around
 from tabletop import examples, library
 
 TABLE = (0.0, 0.0, *examples.TABLE)

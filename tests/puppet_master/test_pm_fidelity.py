@@ -133,7 +133,7 @@ def test_sequential_training_keeps_the_character_as_a_two_puck_demonstration(pat
 
 def test_the_bully_charges_into_contact_and_keeps_a_charge_whole(shipped, paths):
     from behaviors.puppet_master.engine import Reactor
-    from behaviors.puppet_master.generation import charges
+    from behaviors.puppet_master.demonstrated import charges
     # the demonstrated bully charges from its lurking distance into contact again and again
     # (measured: 15 charges, most from 0.2-0.33 m, into 0.05 m); the lover and the afraid
     # never do
