@@ -180,9 +180,8 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     the demonstrated speed (0.24-0.29 m/s), and what is left of the flight is 0.00-0.08 m/s
     away from the visitor against 0.11-0.32 demonstrated: the visitor comes within 0.2 m a
     quarter of the time (6% in the demonstration), where the same sideways speed is a faster
-    orbit. Measured remedies
-    (Python step, pursuit thresholds on seeds 0-5 / 7, against 40 / 7): the table point
-    nearest the target instead 26 / 4; no fitting (keep_on_table slides the step) 28 / 6;
+    orbit. Measured remedies (Python step, pursuit thresholds on seeds 0-5 / 7, against 40 /
+    7): the table point nearest the target instead 26 / 4; no fitting (keep_on_table slides the step) 28 / 6;
     the correction toward a moved target at most the demonstrated step length there, in a
     place held in the world 39 / 7 (orbit 0.34-0.53), in both place frames 38 / 7; the flight
     kept whole under the cap and the correction given what is left 41 / 7 (orbit 0.38-0.60).

@@ -206,16 +206,14 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             cx, cy = gain * (tx - rx), gain * (ty - ry)
             if ints[CHARGE_END] < 0 and c[PERSONAL_SPACE] <= 0.0:
                 cx, cy = share_around(mx, my, rx, ry, tx, ty, gain)
+            most = math.inf                         # the drift correction's longest
             if row[T_K] >= c[FOLLOW_SHARE]:
-                corr = hypot(cx, cy)
                 most = row[T_SPAN_STEP]
-                if corr > most:
-                    cx, cy = cx * most / corr, cy * most / corr
             elif ints[CHARGE_END] < 0 and c[KEEPS_PACE] != 0.0:
-                corr = hypot(cx, cy)                # the drift corrected at the moment's pace
-                most = speed * dt
-                if corr > most:
-                    cx, cy = cx * most / corr, cy * most / corr
+                most = speed * dt                   # at the moment's pace
+            corr = hypot(cx, cy)
+            if corr > most:
+                cx, cy = cx * most / corr, cy * most / corr
             sx = (mx - mxp) + cm * dfx - s_ * dfy + cx
             sy = (my - myp) + s_ * dfx + cm * dfy + cy
         if ints[CHARGE_END] >= 0:
