@@ -160,20 +160,8 @@ class FollowerGroup(GroupRules):
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
         self._has_anchor[rows] = False
         self._nbuf[rows] = 0
-        for a in (self._run, self._lost, self._after_end):
-            a[rows] = 0
-        self._best[rows] = -1
         self._ended[rows] = -1
-        self._has_end[rows] = False
-        self._peak[rows], self._peak_k[rows] = 0.0, -1
-        self._thr_ev[rows] = 0.0
-        self._thr_has_x[rows] = False
-        self._acquired[rows] = -1
-        self._drive_k[rows] = -1
-        self._turn_in[rows] = 0.0
-        self._turn_has_ref[rows] = False
-        self._turn_has_h[rows] = False
-        self._drive_moved[rows] = False
+        self._forget_members(rows)
         self._tempo_n[rows] = 0
         mine = np.isin(self._owner, np.arange(len(self.followers))[rows])
         self._shape[mine] = 0.0

@@ -86,19 +86,24 @@ class GroupRules:
                   "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape", "_gone", "_least",
                   "_at_hold_end"):
             getattr(self, n)[cols] = 0
-        self._acquired[rows] = -1
-        self._drive_k[rows] = -1
-        self._drive_moved[rows] = False
-        self._turn_in[rows] = 0.0
-        self._turn_has_ref[rows] = False
-        self._turn_has_h[rows] = False
         self._size[cols] = 1.0
         self._judged[cols] = 1.0
-        self._thr_ev[rows] = 0.0   # the threshold model starts afresh with the evidence
-        self._thr_has_x[rows] = False
+        self._forget_members(rows)   # the threshold model starts afresh with the evidence
+        self._anchor[rows] = anchor[rows]
+
+    def _forget_members(self, rows: np.ndarray) -> None:
+        """Members ``rows`` (bool or indices) forget their own part of the evidence: best, runs,
+        drive, end, turning and the threshold model (ActionFollower._forget, per member)."""
         for a in (self._run, self._lost, self._after_end):
             a[rows] = 0
         self._best[rows] = -1
+        self._acquired[rows] = -1
+        self._drive_k[rows] = -1
+        self._drive_moved[rows] = False
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
-        self._anchor[rows] = anchor[rows]
+        self._thr_ev[rows] = 0.0
+        self._thr_has_x[rows] = False
+        self._turn_in[rows] = 0.0
+        self._turn_has_ref[rows] = False
+        self._turn_has_h[rows] = False

@@ -61,8 +61,7 @@ memory 16 unless said.) Coverage delays recognition a little, which gestures bac
 feel: among the six, recognised within 20% of each gesture 0.31 of them with the misfit alone,
 0.28 at coverage 4%, 0.03 at 6%, 0 at 8% (median recognition 0.24 -> 0.26); set ``coverage``
 lower where that matters more than refusal. Sizes tried around the estimate let a triangle's
-stroke cutting a square's corner fit the square's
-side at 0.8x, hence worse. What is left: motions that *are* a stretch of some template at some
+stroke cutting a square's corner fit the square's side at 0.8x, hence worse. What is left: motions that *are* a stretch of some template at some
 size and tempo: the triangle's first stroke is the line's outward half (valid from 8% of the
 line's path to its far end), a diagonal is the figure eight's first stroke and then a chord
 of the circle that stays within 1.4 sigma, a mirrored mocap path's slow start is another's.
