@@ -53,8 +53,9 @@ def _frozen_array(a: np.ndarray | None) -> np.ndarray | None:
 class PuckMeasurement:
     """One marker seen by a source at time ``t`` (seconds): position in table metres, angle rad.
 
-    ``corners`` (4x2, table metres or pixels as the source reports) is optional evidence the
-    tracker may use; ``quality`` in 0..1 (1 = confident).
+    ``quality`` in 0..1 (1 = confident). ``vx``, ``vy`` (m/s) and ``omega`` (rad/s) are the
+    velocity the source itself measured (a TUIO sender's X, Y, A), NaN when it measured none
+    (the tracker then estimates it from the positions).
     """
 
     id: int
@@ -63,6 +64,9 @@ class PuckMeasurement:
     angle: float
     t: float
     quality: float = 1.0
+    vx: float = math.nan
+    vy: float = math.nan
+    omega: float = math.nan
 
 
 @dataclass(frozen=True, slots=True)

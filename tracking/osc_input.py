@@ -9,11 +9,14 @@ counted per kind (``tracking.badinput``) and otherwise ignored: nothing from the
 raise out of the thread, poison a frame or grow memory without bound.
 
 ``latest()`` returns the committed state as an Observation in table metres: objects as puck
-measurements (class id = marker id), cursors and blobs as touches (session id = touch id).
+measurements (class id = marker id) carrying the sender's velocities (X, Y, A mapped as
+positions and angles are), cursors and blobs as touches (session id = touch id).
 TUIO is a state protocol and reference servers resend an unchanged state only once a second, so
 while a sender is heard from (within ``quiet_s``) its objects are held present: their time is
 their commit time, or ``now - HOLD_S`` if older, and so is the observation's time (it says
 what the network holds as of then, so the frame clock moves on while the senders are quiet).
+A held object carries no velocity (NaN): its reported pose stands still, so the tracker's
+estimate from it fades to rest instead of a stale velocity carrying the puck off when it coasts.
 An id that leaves ``alive`` leaves the bus at once (``Observation.removed``); a sender that goes
 quiet stops being reported: the puck tracker coasts its pucks, then drops them, and its touches
 and streams leave. If the port cannot be bound the thread retries with a
@@ -90,9 +93,13 @@ class OscInput(BackgroundSource):
         with self._lock:
             pucks, touches = [], []
             for key, e in self.client.entities("2Dobj", self.quiet_s, now):
-                x, y, a, *_ = to_table(e, self.table)
-                t = max(self._commit_t(key, "2Dobj"), now - HOLD_S)
-                pucks.append(PuckMeasurement(e.class_id, x, y, a, min(t, now)))
+                x, y, a, vx, vy, w = to_table(e, self.table)
+                commit_t = self._commit_t(key, "2Dobj")
+                t = max(commit_t, now - HOLD_S)
+                if t > commit_t:  # held: the pose stands still, the sent velocity is stale
+                    vx = vy = w = math.nan
+                pucks.append(PuckMeasurement(e.class_id, x, y, a, min(t, now), vx=vx, vy=vy,
+                                             omega=w))
             for profile in ("2Dcur", "2Dblb"):
                 for _key, e in self.client.entities(profile, self.quiet_s, now):
                     x, y, _a, vx, vy, _w = to_table(e, self.table)

@@ -13,7 +13,8 @@ Per marker id one track. Each update:
    is never ``seen``. When it comes back, its measured pose (``raw_*``) is reported at once and
    its smoothed pose (``x``, ``y``, ``angle``) moves at most ``reacquire_step_m`` per update
    toward it;
-4. velocity (``vx``, ``vy``) and angular velocity (``omega``) from the measurements, low-passed.
+4. velocity (``vx``, ``vy``) and angular velocity (``omega``): the measurement's own when its
+   source measured them (a TUIO sender's), else estimated from the positions, low-passed.
 
 Units: whatever the measurements use, table metres by default; ``units_per_metre`` converts the
 metre-valued settings (gate, speeds, steps, beta) when the tracker runs on pixels. Angles in
@@ -191,8 +192,10 @@ class PuckTracker:
     @staticmethod
     def _new_track(m: PuckMeasurement, source: str) -> _Track:
         meas = [float(m.x), float(m.y), float(m.angle)]
-        return _Track(int(m.id), source, float(m.t), meas, list(meas), meas[:2], [0.0, 0.0],
-                      meas[2:], [0.0])
+        tr = _Track(int(m.id), source, float(m.t), meas, list(meas), meas[:2], [0.0, 0.0],
+                    meas[2:], [0.0])
+        _take_measured_velocity(tr, m)
+        return tr
 
     def _associate(self, tr: _Track, ms: list[PuckMeasurement], source: str) -> bool:
         """Take the measurement consistent with the track; False if every one is an outlier."""
@@ -239,6 +242,7 @@ class PuckTracker:
                 tr.vx += a * ((meas[0] - old[0]) / dt - tr.vx)
                 tr.vy += a * ((meas[1] - old[1]) / dt - tr.vy)
                 tr.omega += a * ((meas[2] - old[2]) / dt - tr.omega)
+        _take_measured_velocity(tr, m)
         if returning:
             tr.pos, tr.dpos, tr.ang, tr.dang = meas[:2], [0.0, 0.0], meas[2:], [0.0]
             tr.reacquiring = True
@@ -294,3 +298,11 @@ class PuckTracker:
         return Puck(tr.id, tr.out[0], tr.out[1], wrap_angle(tr.out[2]), tr.vx * k, tr.vy * k,
                     tr.omega * k, tr.state,  # type: ignore[arg-type]
                     raw_x=tr.meas[0], raw_y=tr.meas[1], raw_angle=wrap_angle(tr.meas[2]))
+
+
+def _take_measured_velocity(tr: _Track, m: PuckMeasurement) -> None:
+    """The velocity the source measured, where it measured one, replaces the estimate."""
+    if math.isfinite(m.vx) and math.isfinite(m.vy):
+        tr.vx, tr.vy = float(m.vx), float(m.vy)
+    if math.isfinite(m.omega):
+        tr.omega = float(m.omega)

@@ -41,7 +41,9 @@ def bundle(*contents: OscMessage | OscBundle) -> OscBundle:
 class RefSender:
     """Sends TUIO 1.1 bundles with python-osc: source, alive, set..., fseq, one bundle per profile.
 
-    Objects are (session, class id, x, y, angle) in TUIO units; cursors (session, x, y)."""
+    Objects are (session, class id, x, y, angle) or (session, class id, x, y, angle, X, Y, A) in
+    TUIO units (velocities per second, rotation speed in turns per second); cursors
+    (session, x, y)."""
 
     def __init__(self, port: int, source: str | None = None, host: str = "127.0.0.1") -> None:
         self.client = SimpleUDPClient(host, port)
@@ -62,8 +64,8 @@ class RefSender:
         if fseq is None:
             self.fseq += 1
             fseq = self.fseq
-        sets = [(s, c, float(x), float(y), float(a), 0.0, 0.0, 0.0, 0.0, 0.0)
-                for s, c, x, y, a in objects]
+        sets = [(o[0], o[1], *(float(v) for v in (tuple(o[2:]) + (0.0,) * 3)[:6]), 0.0, 0.0)
+                for o in objects]
         ids = [o[0] for o in objects] if alive is None else alive
         self.send(self.profile_bundle("2Dobj", ids, sets, fseq))
 

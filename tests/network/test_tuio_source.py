@@ -3,12 +3,13 @@ reference server does (one bundle per profile: source, alive, set..., fseq)."""
 
 import math
 import socket
+import time
 
 import pytest
 
 from tabletop.loop import LiveInputs
 from tabletop.plugins.tracking import Tracker
-from tracking.osc_input import OscInput
+from tracking.osc_input import HOLD_S, OscInput
 from tracking.pucks import TrackerSettings
 
 from tests.network.helpers import RefSender, bundle, message, wait_for
@@ -83,7 +84,6 @@ def test_restarted_sender_is_accepted(source):
     assert sent(source, 4)
     assert pucks_by_id(source)[5].x == pytest.approx(0.24, abs=1e-6)
     source.client.restart_s = 0.2                     # a sender silent that long restarted
-    import time
     time.sleep(0.3)
     ref.objects([(1, 5, 0.5, 0.5, 0.0)], fseq=420)
     assert sent(source, 5)
@@ -221,3 +221,30 @@ def test_bad_packet_counts_show_in_the_overlay(source):
     frame = LiveInputs([source], Tracker()).next(0, 0.0)
     line, = [t for t in overlay_lines(frame, None) if t.startswith("source osc:")]
     assert "ignored: 2 malformed, 1 unknown address" in line
+
+
+def test_sent_velocities_reach_the_frame_mapped_like_positions(source):
+    """X, Y (TUIO units/s, y down) and A (turns/s, clockwise) of a 2Dobj set become the puck's
+    vx = X * W, vy = -Y * H (m/s) and omega = -2 pi A (rad/s), as positions and angles map;
+    the tracker does not replace them by its estimate from positions (which says 0 for a puck
+    whose sender holds its position while reporting it moving)."""
+    inputs = LiveInputs([source], Tracker(TrackerSettings(smooth=False)))
+    ref = RefSender(source.bound_port)
+    for k in range(3):
+        ref.objects([(1, 5, 0.5, 0.5, 0.0, 0.25, -0.5, 0.125)])
+        assert sent(source, k + 1)
+        f = inputs.next(k, 0.0)
+    m, = source.latest().pucks
+    assert (m.vx, m.vy, m.omega) == pytest.approx((0.3, 0.4, -math.pi / 4), abs=1e-6)
+    p, = f.pucks
+    assert p.state == "seen"
+    assert (p.vx, p.vy, p.omega) == pytest.approx((0.3, 0.4, -math.pi / 4), abs=1e-6)
+    ref.objects([(1, 5, 0.5, 0.5, 0.0)])              # the sender says it stopped
+    assert sent(source, 4)
+    p, = inputs.next(3, 0.0).pucks
+    assert (p.vx, p.vy, p.omega) == (0.0, 0.0, 0.0)
+    ref.objects([(1, 5, 0.5, 0.5, 0.0, 0.25, -0.5, 0.125)])
+    assert sent(source, 5)
+    time.sleep(2 * HOLD_S)                            # then falls silent: its state is held
+    m, = source.latest().pucks
+    assert math.isnan(m.vx) and math.isnan(m.vy) and math.isnan(m.omega)
