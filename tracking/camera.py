@@ -228,6 +228,8 @@ class CameraSource:
     announced; an Observation it returns (the same capture time: what a put-off search added)
     replaces it, unless a newer frame did, and is announced again.
     ``opener`` opens the input (default :func:`open_reader`), ``clock`` gives monotonic seconds.
+    Health: a camera starting (opening, or open with its first frame on its way) is healthy for
+    ``settings.stall_s`` after ``open()``; a failure, or no frame for ``stall_s``, is not.
     """
 
     def __init__(self, name: str, settings: CameraSettings, process: Process | None = None,
@@ -248,6 +250,8 @@ class CameraSource:
         self._ok = False
         self._message = "starting"
         self._retry_at: float | None = None
+        self._started_t = math.inf   # when open() started the thread (monotonic s)
+        self._starting = True        # nothing has failed since open(), no frame came yet
         self.reconnects = 0  # successful reopenings after a loss (for the overlay and tests)
         # Called with the capture time of each new observation, from this source's thread (the
         # loop ticks on it: tabletop.loop.LiveInputs). A loop that follows the frames needs no
@@ -259,6 +263,7 @@ class CameraSource:
         if self._thread is not None:
             return
         self._stop.clear()
+        self._started_t, self._starting = self.clock(), True
         self._thread = threading.Thread(target=self._run, name=f"camera:{self.name}", daemon=True)
         self._thread.start()
 
@@ -272,10 +277,18 @@ class CameraSource:
         now = self.clock()
         with self._lock:
             age = now - self._last_frame_t
-            ok, message = self._ok, self._message
+            ok, message, starting = self._ok, self._message, self._starting
             if self._retry_at is not None:
                 message = f"{message}; reconnecting in {max(0.0, self._retry_at - now):.1f} s"
-        if ok and age > self.settings.stall_s:
+        if starting and math.isinf(age):
+            # Starting: opening, or open with the first frame on its way. Nothing has failed,
+            # so the table is not down (no "one moment", no unhealthy heartbeat) until the
+            # start has taken the camera's stall_s.
+            waited = now - self._started_t
+            ok = waited <= self.settings.stall_s
+            message = (f"{message}, waiting for the first frame" if ok
+                       else f"no frame {max(waited, 0.0):.1f} s after starting ({message})")
+        elif ok and age > self.settings.stall_s:
             ok, message = False, ("no frame yet" if math.isinf(age)
                                   else f"no frame for {age:.1f} s")
         note = getattr(self.process, "note", "")  # e.g. "uncalibrated" from the processing
@@ -293,6 +306,7 @@ class CameraSource:
     def _set(self, ok: bool, message: str, retry_at: float | None = None) -> None:
         with self._lock:
             self._ok, self._message, self._retry_at = ok, message, retry_at
+            self._starting = self._starting and ok
 
     def _run(self) -> None:
         delay = self.settings.retry_min_s

@@ -271,3 +271,53 @@ def test_mode_is_one_moment_whenever_the_table_shows_it():
     assert rep.status(Frame(seq=3, t=3.0, health=half))["mode"] == "live"
     assert rep.status(Frame(seq=4, t=4.0, health=ok, status="attract"))["mode"] == "attract"
     assert rep.status(Frame(seq=5, t=5.0))["mode"] == "live"      # no sources at all
+
+
+def test_a_camera_still_starting_is_not_reported_down(tmp_path):
+    """At start-up the camera opens and its first frame is on its way: the table has not lost
+    anything, so the first heartbeats say mode "live" with 0 unhealthy sources (they said
+    "one_moment", 1 unhealthy: "no frame yet"). A start that brings no frame within the
+    camera's ``stall_s`` is down, and a camera absent at boot is down at once."""
+    import cv2
+    import numpy as np
+
+    from tracking.camera import CameraSettings, CameraSource
+
+    folder = tmp_path / "frames"
+    folder.mkdir()
+    for k in range(3):
+        cv2.imwrite(str(folder / f"{k}.png"), np.full((48, 64, 3), 40 * k, np.uint8))
+    first_frame = threading.Event()
+    processing = threading.Event()
+
+    def process(image, t, n):           # the first frame takes its time (a detector warming up)
+        processing.set()
+        first_frame.wait(10.0)
+
+    settings = CameraSettings(device=str(folder), fps=30.0, stall_s=1.0, retry_min_s=0.05)
+    cam = CameraSource("overhead", settings, process)
+    rep = HealthReporter("table-7", None)
+    cam.open()
+    try:
+        assert processing.wait(5.0)
+        h = cam.health()
+        status = rep.status(Frame(seq=1, t=0.0, health=(h,)))
+        assert h.ok and "first frame" in h.message, h
+        assert status["mode"] == "live" and status["unhealthy_sources"] == 0, status
+        assert wait_for(lambda: not cam.health().ok, 5.0)          # stall_s 1 s without a frame
+        assert "no frame" in cam.health().message
+        first_frame.set()
+        assert wait_for(lambda: cam.health().ok, 5.0)
+    finally:
+        first_frame.set()
+        cam.close()
+    absent = CameraSource("overhead", CameraSettings(device=str(tmp_path / "none"), stall_s=5.0,
+                                                     retry_min_s=0.05))
+    absent.open()
+    try:
+        assert wait_for(lambda: "none" in absent.health().message, 5.0)
+        h = absent.health()
+        assert not h.ok
+        assert rep.status(Frame(seq=2, t=0.0, health=(h,)))["mode"] == "one_moment"
+    finally:
+        absent.close()
