@@ -34,8 +34,8 @@ import math
 
 import numpy as np
 
-from behaviors.puppet_master.designers import (Policy, Table, Vec, _limit, _Seen, _turn_toward,
-                                               _unit)
+from behaviors.puppet_master.hand_motion import (Policy, Table, Vec, _limit, _Seen, _turn_toward,
+                                                 _unit)
 from tabletop.frames import wrap_angle
 
 ALARM_M = 0.5        # the afraid character keeps at least this far from a moving main

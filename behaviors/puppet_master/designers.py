@@ -14,10 +14,13 @@ seconds from 0 at ``rate_hz``, table metres, look directions in radians wrapped 
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
+from behaviors.puppet_master import chased
+from behaviors.puppet_master.hand_motion import (Policy, Table, Vec, _limit, _Seen, _tremor,
+                                                 _turn_toward, _unit)
 from tabletop.frames import wrap_angle, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
@@ -27,38 +30,6 @@ SEEDS = {"lover": 11, "bully": 23, "playful_friend": 37, "stalker": 41, "afraid"
 # a demonstration's length (s) where not 60 s: a character shown chased is shown in two kinds
 # of situation, calm and chased (chased.py: the longer demonstration and its figures)
 DURATION_S = {"afraid": 80.0}
-
-Table = tuple[float, float]
-Vec = np.ndarray
-
-
-def _tremor(rng: np.random.Generator, n: int, rate_hz: float, lo_hz: float, hi_hz: float,
-            rms: float) -> np.ndarray:
-    """Band-limited noise (lo_hz..hi_hz) of ``n`` samples with the given RMS: a hand's shake."""
-    if n < 4 or rms <= 0.0:
-        return np.zeros(n)
-    white = rng.standard_normal(n)
-    spec = np.fft.rfft(white)
-    f = np.fft.rfftfreq(n, 1.0 / rate_hz)
-    spec[(f < lo_hz) | (f > hi_hz)] = 0.0
-    band = np.fft.irfft(spec, n)
-    s = float(np.sqrt(np.mean(band ** 2)))
-    return band * (rms / s) if s > 0 else band
-
-
-def _unit(v: Vec) -> Vec:
-    n = float(np.hypot(v[0], v[1]))
-    return v / n if n > 1e-9 else np.zeros(2)
-
-
-def _limit(v: Vec, most: float) -> Vec:
-    n = float(np.hypot(v[0], v[1]))
-    return v * (most / n) if n > most else v
-
-
-def _turn_toward(a: float, target: float, most: float) -> float:
-    return wrap_angle(a + float(np.clip(wrap_angle(target - a), -most, most)))
-
 
 def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
                        table: Table = (1.2, 0.8), margin: float = 0.15,
@@ -115,17 +86,6 @@ def designer_main_path(seed: int, seconds: float = 60.0, rate_hz: float = 40.0,
             look = _turn_toward(look, heading, step)
         out[i] = (i * dt, p[0], p[1], look)
     return out
-
-
-class _Seen:
-    """What the reactor's hand perceives of the main puck (delayed): position, velocity, look."""
-
-    def __init__(self, p: Vec, v: Vec, look: float) -> None:
-        self.p, self.v, self.look = p, v, look
-        self.speed = float(np.hypot(v[0], v[1]))
-
-
-Policy = Callable[[float, Vec, Vec, float, _Seen], tuple[Vec, float]]
 
 
 def _lover(rng: np.random.Generator) -> Policy:
@@ -248,7 +208,6 @@ def _policy(personality: str, rng: np.random.Generator, table: Table,
     if personality == "stalker":
         return _stalker(rng), 0.45, 1.2
     if personality == "afraid":
-        from behaviors.puppet_master import chased       # it imports this module's helpers
         return chased.afraid(rng, table, dt), 0.65, 2.5
     raise ValueError(f"unknown personality {personality!r}; "
                      f"expected one of {', '.join(PERSONALITIES)}")
@@ -285,8 +244,7 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float | None
     elif main is None:
         main = designer_main_path(seed, seconds, rate_hz, table)
         if personality in CHASED:           # the designer's main hand goes after the reactor
-            from behaviors.puppet_master.chased import ChasingHand
-            chaser = ChasingHand(np.random.default_rng([seed, 3]), main, table, dt)
+            chaser = chased.ChasingHand(np.random.default_rng([seed, 3]), main, table, dt)
             main = main.copy()
     w, h = table
     n = len(main)

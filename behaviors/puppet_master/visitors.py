@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from behaviors.puppet_master.designers import (Table, _limit, _tremor, _turn_toward, _unit,
-                                               designer_main_path)
+from behaviors.puppet_master.designers import designer_main_path
+from behaviors.puppet_master.hand_motion import Table, _limit, _tremor, _turn_toward, _unit
 from tabletop.frames import wrap_angle, wrap_angles
 
 
