@@ -286,8 +286,7 @@ class CameraSource:
             # start has taken the camera's stall_s.
             waited = now - self._started_t
             ok = waited <= self.settings.stall_s
-            message = (f"{message}, waiting for the first frame" if ok
-                       else f"no frame {max(waited, 0.0):.1f} s after starting ({message})")
+            message = f"{message}, waiting for the first frame" if ok else "no frame yet"
         elif ok and age > self.settings.stall_s:
             ok, message = False, ("no frame yet" if math.isinf(age)
                                   else f"no frame for {age:.1f} s")
