@@ -113,7 +113,9 @@ class ProjectorView:
                  invitation: str = INVITATIONS["puck"]) -> None:
         self.name = name
         self.stats, self.commands, self.stop = stats, commands, stop
-        self.headless = headless_needed(headless or options["headless"])
+        asked = headless or options["headless"]
+        self.headless = headless_needed(asked)
+        self._headless_why = "asked for (--headless, view.headless)" if asked else "no display"
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
         pygame.display.init()
@@ -153,7 +155,7 @@ class ProjectorView:
     def consume(self, frame: Frame) -> None:
         if self.headless and not self._said_headless:  # once running, not while starting
             self._said_headless = True
-            log.info("no display: the view runs headless (SDL dummy driver)")
+            log.info("%s: the view runs headless (SDL dummy driver)", self._headless_why)
         self._events()
         overlay = None
         if self.show_overlay:

@@ -83,3 +83,17 @@ def test_a_full_light_cache_forgets_its_oldest_light_only():
     assert (20, 4.0, (255 % 256, 0, 7), 1.0) in P._rings         # recent ones stay
     again = P.ring_surface(20, 4, (255, 0, 0), 1.0)
     assert pygame.image.tobytes(again, "RGB") == pygame.image.tobytes(first, "RGB")
+
+
+def test_a_view_asked_to_run_headless_does_not_say_there_is_no_display(caplog, monkeypatch):
+    monkeypatch.setenv("DISPLAY", ":99")          # a display there, not opened: headless asked
+    cfg = validate_config({"sources": [{"kind": "scripted"}],
+                           "view": {"size": [320, 200], "headless": True}})
+    view = ProjectorView((1.2, 0.8), cfg["view"])
+    try:
+        with caplog.at_level("INFO", logger="tabletop"):
+            view.consume(Frame(seq=1, t=0.0))
+    finally:
+        view.close()
+    said = [r.getMessage() for r in caplog.records if "headless" in r.getMessage()]
+    assert len(said) == 1 and "no display" not in said[0] and "asked" in said[0], said
