@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import Any
 
 from tabletop.plugins import scripted
+from tabletop.plugins.osc import HostName, port_spec
 from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str
 
 
@@ -65,8 +66,9 @@ SCHEMA = Record({
     "service_key": Str("F12", doc="key (pygame name) that shows the overlay in kiosk mode"),
     "heartbeat": Record({
         "enabled": Bool(True),
-        "host": Str("127.0.0.1", doc="where heartbeats go (a broadcast address works too)"),
-        "port": Number(9000, integer=True, lo=1, hi=65535),
+        "host": HostName("127.0.0.1", doc="where heartbeats go (a broadcast address works "
+                                          "too)"),
+        "port": port_spec(9000, "heartbeat UDP port", lo=1),
         "every_s": Number(1.0, lo=0.05, hi=3600.0),
     }),
     "status_file": Optional_(FilePath(must_exist=False),

@@ -107,6 +107,7 @@ class Heartbeat:
         self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
         self.sent = 0
+        self.failing = 0   # sends failed in a row: the first is said, and the return
 
     def send(self, name: str, uptime_s: float, fps: float, unhealthy: int, status: str) -> None:
         b = self._builder(HEARTBEAT_ADDRESS)
@@ -117,9 +118,16 @@ class Heartbeat:
         b.add_arg(status, "s")
         try:
             self._sock.sendto(b.build().dgram, self.address)
-            self.sent += 1
-        except OSError as exc:  # no route, network down: the table keeps running
-            log.debug("heartbeat not sent: %s", exc)
+        except OSError as exc:  # no route, network down, a name not found: the table runs on
+            self.failing += 1
+            if self.failing == 1:
+                log.warning("heartbeat to %s:%s not sent: %s; trying at every heartbeat",
+                            *self.address, getattr(exc, "strerror", None) or exc)
+            return
+        if self.failing:
+            log.info("heartbeat to %s:%s sent again after %d failed", *self.address,
+                     self.failing)
+        self.sent, self.failing = self.sent + 1, 0
 
     def close(self) -> None:
         self._sock.close()

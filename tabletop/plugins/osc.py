@@ -11,6 +11,7 @@ tracker's identity, jitter filter and coasting apply to them as to camera pucks.
 from __future__ import annotations
 
 import ipaddress
+import re
 from typing import Any
 
 from tabletop.registry import BuildContext
@@ -32,8 +33,27 @@ class IPAddress(Str):
             raise ctx.error(path, f"expected {self.describe()}, got {value!r}") from None
 
 
-def port_spec(default: int, doc: str) -> Spec:
-    return Number(default, integer=True, lo=0, hi=65535, doc=doc)
+class HostName(IPAddress):
+    """Where datagrams go: an IP address, or a host name (letters, digits, hyphens and dots,
+    its last label not all digits; looked up when sending, so a name that does not resolve yet
+    is not refused at load)."""
+
+    NAME = re.compile(r"(?=.{1,253}\Z)(?:[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?\.)*"
+                      r"(?=[A-Za-z0-9-]*[A-Za-z-])[A-Za-z0-9](?:[A-Za-z0-9-]{0,61}[A-Za-z0-9])?"
+                      r"\.?\Z")
+
+    def describe(self) -> str:
+        return "an IP address or a host name such as 192.168.1.255 or table-7.local"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        if isinstance(value, str) and self.NAME.match(value):
+            return value
+        return super().validate(value, path, ctx)
+
+
+def port_spec(default: int, doc: str, lo: int = 0) -> Spec:
+    """A UDP port; ``lo`` 0 lets a listener take any free port, a destination needs 1."""
+    return Number(default, integer=True, lo=lo, hi=65535, doc=doc)
 
 
 SCHEMA = Record({

@@ -19,7 +19,7 @@ import time
 from typing import Any, Callable
 
 from tabletop.frames import Frame
-from tabletop.plugins.osc import port_spec
+from tabletop.plugins.osc import HostName, port_spec
 from tabletop.registry import BuildContext
 from tabletop.schema import Bool, MapOf, Number, Optional_, Record, Str
 from tracking.badinput import BadInput
@@ -31,9 +31,9 @@ log = logging.getLogger("tabletop.tuio")
 UNSEEN_AFTER_S = 10.0
 
 SCHEMA = Record({
-    "host": Str("127.0.0.1", doc="receiver address (an IP address or host name; a broadcast "
-                                 "address reaches a whole network)"),
-    "port": port_spec(3333, "receiver UDP port"),
+    "host": HostName("127.0.0.1", doc="receiver address (an IP address or host name; a "
+                                      "broadcast address reaches a whole network)"),
+    "port": port_spec(3333, "receiver UDP port", lo=1),
     "characters": MapOf(Number(integer=True, lo=0, hi=2**31 - 1), default={},
                         doc="character name -> TUIO class id, sent as objects"),
     "source": Optional_(Str(), doc="TUIO source name (default tabletop@HOSTNAME)"),

@@ -321,3 +321,19 @@ def test_a_camera_still_starting_is_not_reported_down(tmp_path):
         assert rep.status(Frame(seq=2, t=0.0, health=(h,)))["mode"] == "one_moment"
     finally:
         absent.close()
+
+
+def test_a_heartbeat_that_cannot_be_sent_is_said_once(caplog):
+    """A heartbeat host that does not resolve lost every heartbeat with a debug line only: the
+    monitor heard nothing and the log said nothing. Now one warning while it lasts."""
+    hb = Heartbeat("no-such-host.invalid", 9000)
+    try:
+        with caplog.at_level("DEBUG", logger="tabletop"):
+            for k in range(5):
+                hb.send("north", float(k), 60.0, 0, "{}")
+    finally:
+        hb.close()
+    said = [r for r in caplog.records if "heartbeat" in r.getMessage()]
+    assert hb.sent == 0 and hb.failing == 5
+    assert len(said) == 1 and said[0].levelname == "WARNING", [r.getMessage() for r in said]
+    assert "no-such-host.invalid:9000" in said[0].getMessage()

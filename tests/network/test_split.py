@@ -100,3 +100,30 @@ def test_bad_network_options_are_one_clear_line():
     with pytest.raises(ConfigError, match=r"sinks\[0\].characters.lover: expected an integer"):
         validate_config({"sources": [{"kind": "serial", "port": "loop://"}],
                          "sinks": [{"kind": "tuio", "characters": {"lover": "x"}}]}, "cfg.yaml")
+
+
+def test_a_destination_that_can_never_be_reached_is_refused_at_load():
+    """A TUIO sink sending to port 0, or a sink or heartbeat host that is not an address or a
+    host name at all ("my host"), ran and lost every datagram (the heartbeat said so only at
+    debug level): refused at load, naming the key."""
+    import pytest
+
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    src = [{"kind": "scripted", "name": "a"}]
+    cases = [
+        ({"sources": src, "sinks": [{"kind": "tuio", "port": 0}]}, "sinks[0].port",
+         "out of range"),
+        ({"sources": src, "sinks": [{"kind": "tuio", "host": "not a host"}]}, "sinks[0].host",
+         "host name"),
+        ({"sources": src, "kiosk": {"heartbeat": {"host": "my host"}}}, "kiosk.heartbeat.host",
+         "host name"),
+    ]
+    for cfg, where, what in cases:
+        with pytest.raises(ConfigError) as info:
+            validate_config(cfg, "cfg.yaml")
+        assert f"cfg.yaml: {where}:" in str(info.value) and what in str(info.value), info.value
+    for host in ("10.0.0.255", "table-7.local", "::1", "localhost", "gallery.example.org"):
+        validate_config({"sources": src, "sinks": [{"kind": "tuio", "host": host}],
+                         "kiosk": {"heartbeat": {"host": host}}}, "cfg.yaml")
