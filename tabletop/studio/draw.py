@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import pygame
@@ -54,8 +55,36 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
     x, y = renderer.map.point(0.02, 0.02)
-    img = font(26).render(c.label, True, (235, 235, 235), (0, 0, 0))
-    target.blit(img, (x, y - img.get_height() - 4))
+    f = font(26)
+    for line in reversed(fit_lines(c.label, 26, target.get_width() - x - max(x, 12))):
+        img = f.render(line, True, (235, 235, 235), (0, 0, 0))
+        y -= img.get_height() + 4
+        target.blit(img, (x, y))
+
+
+@functools.lru_cache(maxsize=16)   # drawn every frame, the same text for seconds
+def fit_lines(text: str, size: int, width: int) -> tuple[str, ...]:
+    """``text`` cut into lines no wider than ``width`` pixels in the font of ``size``: at
+    spaces, and inside a word (a file path) only when the word alone is wider."""
+    f = font(size)
+    lines: list[str] = []
+    line = ""
+    for word in text.split(" "):
+        trial = f"{line} {word}" if line else word
+        if f.size(trial)[0] <= width or not trial.strip():
+            line = trial
+            continue
+        if line:
+            lines.append(line)
+        line = word
+        while len(line) > 1 and f.size(line)[0] > width:
+            k = len(line) - 1
+            while k > 1 and f.size(line[:k])[0] > width:
+                k -= 1
+            lines.append(line[:k])
+            line = line[k:]
+    lines.append(line)
+    return tuple(lines)
 
 
 def _guide(target: pygame.Surface, renderer, points, color) -> None:

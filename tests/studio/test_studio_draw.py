@@ -1,0 +1,38 @@
+"""The studio's status line on the table: it fits the window, whatever it has to say."""
+
+import numpy as np
+import pygame
+
+from tabletop.frames import CharacterState
+from tabletop.renderer import Renderer
+from tabletop.studio.draw import draw_studio
+
+SIZE = (480, 270)
+GREY = (60, 60, 60)
+
+
+def drawn(label: str) -> np.ndarray:
+    renderer = Renderer((1.2, 0.8), SIZE, margin=24)
+    surface = pygame.Surface(SIZE)
+    surface.fill(GREY)
+    draw_studio(surface, renderer, CharacterState("studio", 0.0, 0.0, 0.0, kind="studio",
+                                                  size=0.0, label=label))
+    return pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
+
+
+def rows_with_text(img: np.ndarray) -> np.ndarray:
+    return np.flatnonzero((img != GREY).any(axis=2).any(axis=1))
+
+
+def test_a_long_status_line_wraps_within_the_window():
+    """A bad library file's path made the line run off the window's right edge (the path,
+    what the designer needs, unseen): it wraps onto lines above within the window."""
+    short = drawn("[lover] behaviour lover: R record")
+    long = drawn("[lover] behaviour lover: R record, [ ] switch, F2 rename, Del delete, U undo"
+                 "   | 2 bad library file(s): /tmp/studio/library/bully/behavior.yaml: "
+                 "corrupt YAML at line 3, column 1")
+    right = long[:, -12:]
+    assert not (right != GREY).any(), "text runs to the window's right edge"
+    # three lines or more at this width, the last (lowest) where the short line stands
+    assert rows_with_text(long).max() == rows_with_text(short).max()
+    assert len(rows_with_text(long)) >= 2.5 * len(rows_with_text(short))
