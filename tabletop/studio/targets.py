@@ -82,7 +82,7 @@ class PuppetMasterTarget:
         folder = getattr(engine, "folder", None)
         self.play_poller = Poller(Path(folder)) if folder else None
         self.playing: Path | None = Path(folder) if folder else None
-        self._problems: list[str] = []
+        self._problems: list[str] = self._library_problems([])   # read at start, reported
 
     @property
     def cue(self) -> str:
@@ -300,15 +300,20 @@ class PuppetMasterTarget:
         if self.lib_poller.changed():
             # the library is listed afresh; only a reload problem of a behaviour in play from
             # outside the library stays
-            problems = [p for p in problems if self.playing is not None
-                        and self.playing.parent != self.lib
-                        and p.startswith(str(self.playing))]
-            for n in self.items():
-                try:
-                    library.load_behavior(self.lib / n)
-                except InputError as exc:
-                    problems.append(str(exc))
+            problems = self._library_problems(
+                [p for p in problems if self.playing is not None
+                 and self.playing.parent != self.lib and p.startswith(str(self.playing))])
         self._problems = problems
+        return problems
+
+    def _library_problems(self, kept: list[str]) -> list[str]:
+        """``kept`` and the error of every behaviour in the library that does not load."""
+        problems = list(kept)
+        for n in self.items():
+            try:
+                library.load_behavior(self.lib / n)
+            except InputError as exc:
+                problems.append(str(exc))
         return problems
 
 

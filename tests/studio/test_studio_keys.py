@@ -254,3 +254,21 @@ def test_a_session_log_that_cannot_be_written_is_said_once_and_the_studio_goes_o
     log_.path = log_.folder / log_.path.name
     log_.log_try(Try("pet", "behaviour", 1e9, outcome="kept"), target)
     assert log_.lines == 1 and not log_.failing
+
+
+def test_a_corrupt_library_file_there_at_start_is_reported(tmp_path, caplog):
+    """The library is read at start: a bad behaviour already there was skipped silently (only
+    an edit made while running was reported), so the designer never learnt why it was gone."""
+    (e,) = designer(tmp_path)
+    bad = tmp_path / "lib" / "bully"
+    bad.mkdir(parents=True)
+    (bad / "behavior.yaml").write_text("kind: puppet_master\nparams: [1, 2\n")
+    bench = Bench([e], tmp_path)
+    with caplog.at_level("ERROR", logger="tabletop"):
+        bench.studio.poll()
+    assert len(bench.studio.problems) == 1 and str(bad / "behavior.yaml") in \
+        bench.studio.problems[0]
+    said = [r.getMessage() for r in caplog.records]
+    assert len(said) == 1 and "corrupt YAML" in said[0], said
+    _, studio = bench.step(Frame(seq=0, t=0.0, commands=("designer.record",)))
+    assert "1 bad library file(s)" in studio.label
