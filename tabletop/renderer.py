@@ -82,7 +82,7 @@ class Renderer:
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
-        self._overlay_key: tuple[str, ...] = ()
+        self._overlay_key: tuple = ()
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
         self._labels: dict[int, pygame.Surface] = {}
@@ -294,12 +294,12 @@ class Renderer:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
         would hide what is drawn in ``avoid`` and another corner hides at most half as much);
         rendered again only when the lines change. Returns the panel's rectangle."""
-        key = tuple(lines)
+        W, H = target.get_size()
+        key = (*lines, W)
         if key != self._overlay_key or self._overlay_img is None:
-            self._overlay_img = screens.panel(lines)
+            self._overlay_img = screens.panel(lines, width=W - 16)   # wraps within the window
             self._overlay_key = key
         w, h = self._overlay_img.get_size()
-        W, H = target.get_size()
         corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
 
         def hidden(i: int) -> int:

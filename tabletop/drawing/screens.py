@@ -65,9 +65,41 @@ def panel_line(line: str, px: int = 20) -> pygame.Surface:
     return img
 
 
-def panel(lines: Sequence[str], px: int = 20, pad: int = 10) -> pygame.Surface:
-    """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface)."""
-    imgs = [panel_line(line, px) for line in lines]
+def fit_lines(text: str, f: pygame.font.Font, width: int) -> list[str]:
+    """``text`` cut into lines no wider than ``width`` pixels in font ``f``: at spaces, and
+    inside a word (a file path) only when the word alone is wider."""
+    lines: list[str] = []
+    line = ""
+    for word in text.split(" "):
+        trial = f"{line} {word}" if line else word
+        if f.size(trial)[0] <= width or not trial.strip():
+            line = trial
+            continue
+        if line:
+            lines.append(line)
+        line = word
+        while len(line) > 1 and f.size(line)[0] > width:
+            k = len(line) - 1
+            while k > 1 and f.size(line[:k])[0] > width:
+                k -= 1
+            lines.append(line[:k])
+            line = line[k:]
+    lines.append(line)
+    return lines
+
+
+def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
+          width: int | None = None) -> pygame.Surface:
+    """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
+    line that would make the panel wider than ``width`` pixels wraps."""
+    imgs = []
+    for line in lines:
+        img = panel_line(line, px)
+        if width is not None and img.get_width() > width - 2 * pad:
+            imgs.extend(panel_line(part, px) for part in fit_lines(line, font(px),
+                                                                   width - 2 * pad))
+        else:
+            imgs.append(img)
     w = max((i.get_width() for i in imgs), default=0) + 2 * pad
     h = sum(i.get_height() + 2 for i in imgs) + 2 * pad - 2
     s = pygame.Surface((max(w, 1), max(h, 1)), pygame.SRCALPHA)

@@ -7,6 +7,7 @@ import math
 
 import pygame
 
+from tabletop.drawing import screens
 from tabletop.frames import CharacterState
 
 _fonts: dict[int, pygame.font.Font] = {}
@@ -64,27 +65,8 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
 
 @functools.lru_cache(maxsize=16)   # drawn every frame, the same text for seconds
 def fit_lines(text: str, size: int, width: int) -> tuple[str, ...]:
-    """``text`` cut into lines no wider than ``width`` pixels in the font of ``size``: at
-    spaces, and inside a word (a file path) only when the word alone is wider."""
-    f = font(size)
-    lines: list[str] = []
-    line = ""
-    for word in text.split(" "):
-        trial = f"{line} {word}" if line else word
-        if f.size(trial)[0] <= width or not trial.strip():
-            line = trial
-            continue
-        if line:
-            lines.append(line)
-        line = word
-        while len(line) > 1 and f.size(line)[0] > width:
-            k = len(line) - 1
-            while k > 1 and f.size(line[:k])[0] > width:
-                k -= 1
-            lines.append(line[:k])
-            line = line[k:]
-    lines.append(line)
-    return tuple(lines)
+    """``text`` cut into lines no wider than ``width`` pixels in the font of ``size``."""
+    return tuple(screens.fit_lines(text, font(size), width))
 
 
 def _guide(target: pygame.Surface, renderer, points, color) -> None:

@@ -97,3 +97,18 @@ def test_a_view_asked_to_run_headless_does_not_say_there_is_no_display(caplog, m
         view.close()
     said = [r.getMessage() for r in caplog.records if "headless" in r.getMessage()]
     assert len(said) == 1 and "no display" not in said[0] and "asked" in said[0], said
+
+
+def test_an_overlay_line_wider_than_the_window_wraps_inside_it():
+    """The studio's line naming a bad library file ran past the window's right edge."""
+    from tabletop.renderer import Renderer
+    renderer = Renderer((1.2, 0.8), (480, 270), margin=24)
+    target = pygame.Surface((480, 270))
+    short = renderer.draw_overlay(target, ["tick 1", "studio: [lover] R record"])
+    long = renderer.draw_overlay(target, ["tick 1", "studio: [lover] R record, [ ] switch, "
+                                          "F2 rename | 1 bad library file(s): /tmp/studio/lib/"
+                                          "bully/behavior.yaml: corrupt YAML at line 3"])
+    assert long.right <= 480 - 8 and long.left >= 8
+    pad = 2 * 10 - 2                           # the panel's padding less one line gap
+    line = (short.height - pad) / 2
+    assert long.height - pad >= 3 * line       # the long line wrapped (measured: 3 lines)
