@@ -37,7 +37,10 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise FileFormatError(f"{target}: cannot make its folder: {exc.strerror or exc}") from None
+        blocker = next((p for p in (target.parent, *target.parent.parents)
+                        if p.exists() and not p.is_dir()), None)
+        why = f"{blocker} is a file" if blocker is not None else (exc.strerror or exc)
+        raise FileFormatError(f"{target}: cannot make its folder: {why}") from None
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     except OSError as exc:  # still an OSError (callers catch it), naming the target

@@ -60,3 +60,13 @@ def test_cli_output_into_an_unwritable_folder_is_one_line(tmp_path):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(
         "tabletop behave: error: /proc/tabletop-react.csv: "), r.stderr
+
+
+def test_a_file_where_the_output_folder_should_be_is_named(tmp_path):
+    """It said "cannot make its folder: File exists" (which folder, what exists?)."""
+    from tabletop.frames import InputError
+    (tmp_path / "runs").write_text("a file")
+    with pytest.raises(InputError) as err:
+        atomic_write_text(tmp_path / "runs" / "day1" / "out.csv", "x")
+    assert str(err.value) == (f"{tmp_path / 'runs' / 'day1' / 'out.csv'}: cannot make its "
+                              f"folder: {tmp_path / 'runs'} is a file")
