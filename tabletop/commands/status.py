@@ -48,16 +48,22 @@ def check_heartbeat(values: tuple) -> str:
     return ""
 
 
+def status_object(status: str) -> dict | None:
+    """The status JSON as a dict (strict JSON: no NaN or Infinity), None when it is not one."""
+    def refuse(constant: str) -> None:
+        raise ValueError(constant)
+    try:
+        st = json.loads(status, parse_constant=refuse)
+    except (ValueError, RecursionError):
+        return None
+    return st if isinstance(st, dict) else None
+
+
 def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealthy: int,
                      status: str) -> str:
     """One line, in columns: name, sender, uptime, fps, unhealthy sources, mode and any
     problem (what the sender wrote is put on one line field by field, the columns kept)."""
-    try:
-        st = json.loads(status)
-    except ValueError:
-        st = {}
-    if not isinstance(st, dict):
-        st = {}
+    st = status_object(status) or {}
     mode = one_line(st.get("mode", "?"))
     extra = ""
     if st.get("config_error"):
@@ -85,12 +91,15 @@ def main(args: argparse.Namespace) -> int:
 
     def on_heartbeat(client, address, *values) -> None:
         wrong = check_heartbeat(values)
+        st = status_object(values[4]) if not wrong and args.json else None
+        if args.json and not wrong and st is None:   # --json prints JSON objects only
+            wrong = "status is not a JSON object"
         if wrong:  # another program on the port: said in one line, listening goes on
             print(f"{client[0]}:{client[1]}: bad heartbeat ({wrong})", file=sys.stderr)
             return
         name, uptime, fps, unhealthy, status = values
-        if args.json:
-            print(one_line(status), flush=True)
+        if args.json:  # one line of strict JSON, whatever white space the sender used
+            print(json.dumps(st, separators=(",", ":")), flush=True)
         else:
             print(format_heartbeat(f"{client[0]}:{client[1]}", str(name), float(uptime),
                                    float(fps), int(unhealthy), str(status)), flush=True)

@@ -337,3 +337,27 @@ def test_a_heartbeat_that_cannot_be_sent_is_said_once(caplog):
     assert hb.sent == 0 and hb.failing == 5
     assert len(said) == 1 and said[0].levelname == "WARNING", [r.getMessage() for r in said]
     assert "no-such-host.invalid:9000" in said[0].getMessage()
+
+
+def test_status_json_prints_only_json_objects(tmp_path, capsys):
+    """An outside script reads ``tabletop status --json`` line by line with json.loads: a
+    datagram on the port whose status is not a JSON object was printed as it came ("{not
+    json"), breaking the script. It is a bad heartbeat now (one line on stderr)."""
+    port = free_udp_port()
+    out = {}
+
+    def listen():
+        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "2", "--json"])
+
+    th = threading.Thread(target=listen)
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)
+    hb = Heartbeat("127.0.0.1", port)
+    for status in ("{not json", "[1, 2]", '{"fps": NaN}', '{\n  "mode": "live"\n}'):
+        hb.send("north", 1.0, 60.0, 0, status)
+    hb.close()
+    th.join()
+    captured = capsys.readouterr()
+    lines = captured.out.splitlines()
+    assert out["rc"] == 0 and [json.loads(x) for x in lines] == [{"mode": "live"}], lines
+    assert captured.err.count("bad heartbeat (status is not a JSON object)") == 3, captured.err
