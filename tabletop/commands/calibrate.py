@@ -89,7 +89,7 @@ def parse_pair(text: str, option: str, unit: str, integer: bool = False) -> tupl
     parts = text.split(",")
     if len(parts) != 2:
         raise CalibrateError(f"{option} {text!r}: expected two numbers A,B ({unit})")
-    a, b = (positive_number(p, option, unit, CalibrateError) for p in parts)
+    a, b = (positive_number(p, f"{option} {text!r}:", unit, CalibrateError) for p in parts)
     if integer:
         if a != int(a) or b != int(b):
             raise CalibrateError(f"{option} {text!r}: expected whole numbers of {unit}")

@@ -189,6 +189,9 @@ def test_board_writes_the_picture_and_its_size(tmp_path, capsys):
     assert img.shape == (round(h_mm / 25.4 * 150), round(w_mm / 25.4 * 150))
     refused(capsys, "board", "--out", tmp_path / "b.png", "--dpi", "-3", words="--dpi")
     refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", "1280", words="--size")
+    # the whole value is quoted, then the part that is wrong (it quoted only "0")
+    refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", "0,720",
+            words="--size '0,720': '0' must be a positive number")
 
 
 def test_check_from_a_config_passes_and_fails_when_the_projector_moved(tmp_path, capsys):
