@@ -159,6 +159,8 @@ class Observation:
     view and the recorder's snapshots, never required downstream). ``seq`` rises by one per new
     observation of that source. ``removed`` lists puck ids the source says have left (a TUIO
     sender's ``alive``): the tracker drops them at once instead of coasting them.
+    ``held``: nothing new came for a while and ``t`` is a stamp that moves the frame clock on
+    (a network state held as of ``t``), not a capture time (no capture-to-render latency).
     """
 
     source: str
@@ -170,6 +172,7 @@ class Observation:
     image: np.ndarray | None = None
     complete: bool = True
     removed: tuple[int, ...] = ()
+    held: bool = False
 
 
 @dataclass(frozen=True, slots=True)

@@ -113,7 +113,8 @@ class OscInput(BackgroundSource):
             self._seq += 1
             t = max(min(self._heard_t, now), now - HOLD_S)
             return Observation(self.name, t, self._seq, pucks=tuple(pucks),
-                               touches=tuple(touches), streams=streams, removed=removed)
+                               touches=tuple(touches), streams=streams, removed=removed,
+                               held=t > self._heard_t)
 
     def health(self) -> SourceHealth:
         now = self.clock()

@@ -241,7 +241,7 @@ class SerialInput(BackgroundSource):
             self._seq += 1
             t = max(min(self._heard_t, now), now - HOLD_S)
         return Observation(self.name, t, self._seq, pucks=pucks, touches=touches,
-                           streams=streams, removed=removed)
+                           streams=streams, removed=removed, held=t > self._heard_t)
 
     def health(self) -> SourceHealth:
         now = self.clock()

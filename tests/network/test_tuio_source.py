@@ -248,3 +248,25 @@ def test_sent_velocities_reach_the_frame_mapped_like_positions(source):
     time.sleep(2 * HOLD_S)                            # then falls silent: its state is held
     m, = source.latest().pucks
     assert math.isnan(m.vx) and math.isnan(m.vy) and math.isnan(m.omega)
+
+
+def test_a_held_tuio_state_is_not_counted_as_capture_to_render_latency():
+    """While a sender's state is held (nothing new for over HOLD_S) the frame clock moves on at
+    now - HOLD_S; those ticks carry no capture, yet each was recorded as 100 ms of
+    capture-to-render latency (the overlay and the run's last line read ~100 ms median for a
+    TUIO table at rest). Only ticks carrying a capture count."""
+    from tabletop.loop import Loop, LoopStats
+    src = OscInput("osc", port=0, table=TABLE)
+    src.open()
+    try:
+        assert src.wait_listening()
+        stats = LoopStats()
+        loop = Loop(LiveInputs([src], Tracker()), [], [], rate_hz=60.0, stats=stats)
+        RefSender(src.bound_port).objects([(1, 5, 0.5, 0.5, 0.0)])
+        assert sent(src, 1)
+        loop.run(seconds=1.0)                          # held after the first 0.1 s
+        ages = list(stats.samples.get("capture_age", ()))
+        assert stats.ticks > 30 and len(ages) <= 0.2 * stats.ticks, (len(ages), stats.ticks)
+        assert all(a < HOLD_S for a in ages), ages
+    finally:
+        src.close()
