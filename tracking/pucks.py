@@ -31,6 +31,8 @@ from typing import Iterable, Sequence
 from tabletop.frames import Observation, Puck, PuckMeasurement, wrap_angle
 from tracking.filters import one_euro_floats
 
+MAX_OMEGA = 8.0 * math.pi   # rad/s: 4 turns a second, faster than a hand turns a puck
+
 
 @dataclass(frozen=True)
 class TrackerSettings:
@@ -189,12 +191,11 @@ class PuckTracker:
                 if pid not in by_id and tr.source == source:
                     self._miss(tr, t)
 
-    @staticmethod
-    def _new_track(m: PuckMeasurement, source: str) -> _Track:
+    def _new_track(self, m: PuckMeasurement, source: str) -> _Track:
         meas = [float(m.x), float(m.y), float(m.angle)]
         tr = _Track(int(m.id), source, float(m.t), meas, list(meas), meas[:2], [0.0, 0.0],
                     meas[2:], [0.0])
-        _take_measured_velocity(tr, m)
+        _take_measured_velocity(tr, m, self.s.max_speed * self.s.units_per_metre)
         return tr
 
     def _associate(self, tr: _Track, ms: list[PuckMeasurement], source: str) -> bool:
@@ -242,7 +243,7 @@ class PuckTracker:
                 tr.vx += a * ((meas[0] - old[0]) / dt - tr.vx)
                 tr.vy += a * ((meas[1] - old[1]) / dt - tr.vy)
                 tr.omega += a * ((meas[2] - old[2]) / dt - tr.omega)
-        _take_measured_velocity(tr, m)
+        _take_measured_velocity(tr, m, s.max_speed * u)
         if returning:
             tr.pos, tr.dpos, tr.ang, tr.dang = meas[:2], [0.0, 0.0], meas[2:], [0.0]
             tr.reacquiring = True
@@ -300,9 +301,14 @@ class PuckTracker:
                     raw_x=tr.meas[0], raw_y=tr.meas[1], raw_angle=wrap_angle(tr.meas[2]))
 
 
-def _take_measured_velocity(tr: _Track, m: PuckMeasurement) -> None:
-    """The velocity the source measured, where it measured one, replaces the estimate."""
+def _take_measured_velocity(tr: _Track, m: PuckMeasurement, most_speed: float) -> None:
+    """The velocity the source measured, where it measured one, replaces the estimate; held
+    to ``most_speed`` (units/s) and MAX_OMEGA, so a sender's absurd figure cannot carry the
+    prediction (the gate, the coasting) off the table."""
     if math.isfinite(m.vx) and math.isfinite(m.vy):
-        tr.vx, tr.vy = float(m.vx), float(m.vy)
+        vx, vy = float(m.vx), float(m.vy)
+        speed = math.hypot(vx, vy)
+        k = most_speed / speed if speed > most_speed else 1.0
+        tr.vx, tr.vy = vx * k, vy * k
     if math.isfinite(m.omega):
-        tr.omega = float(m.omega)
+        tr.omega = min(max(float(m.omega), -MAX_OMEGA), MAX_OMEGA)

@@ -212,3 +212,20 @@ def test_a_measurement_older_than_the_track_is_ignored():
     p = tr.update([Observation("b", 0.9, 1, pucks=(PuckMeasurement(1, 0.52, 0.5, 0.0, 0.9),),
                                complete=False)], 1.0)[0]
     assert p.raw_x == 0.5 and p.state == "seen"
+
+
+def test_a_measured_velocity_beyond_belief_is_held_to_the_fastest_plausible_puck():
+    """A source's own velocity (a TUIO sender's) is taken as measured, but one of 1e30 m/s
+    (a sender's bug) would carry the prediction off the table: the next true positions fell
+    outside the gate and the coasting puck flew away. It is held to ``max_speed`` (m/s) and
+    the rotation to MAX_OMEGA."""
+    from tracking.pucks import MAX_OMEGA
+    s = TrackerSettings(smooth=False)
+    tr = PuckTracker(s)
+    for k in range(6):
+        t = k / FPS
+        p = tr.step([PuckMeasurement(3, 0.5, 0.4, 0.0, t, vx=1e30, vy=-1e30, omega=1e30)], t)[0]
+        assert p.state == "seen" and p.x == pytest.approx(0.5), p
+    assert math.hypot(p.vx, p.vy) == pytest.approx(s.max_speed) and p.omega == MAX_OMEGA
+    p = tr.step([], 6 / FPS)[0]                       # hidden: coasts a plausible way
+    assert p.state == "coasting" and abs(p.x - 0.5) < s.max_speed / FPS
