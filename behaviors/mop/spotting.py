@@ -142,7 +142,27 @@ first stroke better until 0.25), the square for probability, best and the shape 
 its corner). Coverage at 4% of the path instead of 8% brings the zigzag to 0.21 / 0.19 and the
 figure eight to 0.21 / 0.19 (tuned / held-out), within 20% 0 -> 0.03 / 0 -> 0.22 of the six
 gestures back to back, but unrelated motions are valid more (mean 0.105 -> 0.128 / 0.122 ->
-0.144, worst 0.305 -> 0.375); at 6%: within 20% 0 / 0.125, mean 0.113 / 0.131.
+0.144, worst 0.305 -> 0.375); at 6%: within 20% 0 / 0.125, mean 0.113 / 0.131. Measured again
+once the tempo rule (:func:`behaviors.mop.validity.slow_take`) refused slow takes: coverage 4%
+unrelated mean 0.085 -> 0.110 / 0.098 -> 0.122 (worst 0.305 -> 0.375), 5% 0.106 / 0.118
+(zigzag 0.23 / 0.22, within 20% 0 / 0.125); 4% with the turning rule on (``turn_limit`` 1.3,
+refusing what does not turn as the template does) 0.103 / 0.108, valid after 30% of gestures
+at 0.7-1.4x 0.8959 / 0.9115, twenty templates back to back never recognised 0.031 / 0.094 ->
+0.031 / 0.125: no rule tried refuses what coverage refuses without holding the zigzag back.
+The wave waits for probability because the figure eight, whose first stroke leaves at 45
+degrees where the wave's leaves at 62, keeps 0.4-0.55 of it up to 0.23 of the wave (at 0.6
+needed). The line and the square share the line's outward stroke at any size until the line
+turns back (its reach, 0.35) or the square turns its corner (0.37), so one of two targets
+gives: the line drives the square's first side (the longest wrong runs, 5-10 ticks, all of
+them the line's: ``bench/follow_quality.py``'s six gestures back to back, tuned and held-out),
+or it waits for its turn (shared starts, above: valid after 30% of gestures at 0.7-1.4x under
+0.9). Measured again: shared starts at 3 still radii, longest wrong run 10 -> 3 / 7 -> 10 (a
+zigzag took a square held back at its corner; with the grace counted back), valid after 30%
+0.9016 -> 0.8897 / 0.9112 -> 0.9101 (before it). An end declared also where a valid action at
+90% or more of its progress finds the input stood still :data:`END_GRACE` samples before
+(:meth:`_arrived`; before the follower reaches ``end``): no ended action's run over 2 left on either, but valid after 30% 0.9001 ->
+0.8816 / 0.9105 -> 0.9015 (performers creep into eased ends for several samples); from 95%:
+0.8944 / 0.9072, one run of 3 left on the draws for options.
 """
 
 from __future__ import annotations
