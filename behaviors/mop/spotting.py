@@ -165,8 +165,9 @@ the follower reaches ``end``): no ended action's run over 2 left on either, but 
 95%: 0.8944 / 0.9072, one run of 3 left on the draws for options. The end reached where the
 followed progress is within one standard deviation of ``end`` (the posterior piles against the
 template's last state, so its mean lags the bulk): a wave the follower ended three samples late
-ends at the performer's last sample, but valid after 30% 0.8798 / 0.8920; half a deviation 0.8885 / 0.9044. Every rule that
-ends sooner costs the sized performances their eased last samples, which look the same.
+ends at the performer's last sample, but valid after 30% 0.8798 / 0.8920; half a deviation
+0.8885 / 0.9044. Every rule that ends sooner costs the sized performances their eased last
+samples, which look the same.
 """
 
 from __future__ import annotations
