@@ -68,6 +68,26 @@ def still(buf: np.ndarray, count: np.ndarray, i: int, samples: int, radius: np.n
     return True
 
 
+@compiled(numba.intp(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)
+def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> int:
+    """:func:`behaviors.mop.spotting.arrived` over member ``i``'s buffered samples (the last the
+    newest): how many before the last lie, with it, within ``ARRIVE_RADIUS radius`` (D,) per
+    column (range), at most ``END_GRACE``."""
+    s = buf.shape[1]
+    n = 0
+    while n < min(END_GRACE, count[i] - 1):
+        for c in range(buf.shape[2]):
+            hi = -np.inf
+            lo = np.inf
+            for r in range(s - n - 2, s):
+                hi = max(hi, buf[i, r, c])
+                lo = min(lo, buf[i, r, c])
+            if not hi - lo <= ARRIVE_RADIUS * radius[c]:
+                return n
+        n += 1
+    return n
+
+
 def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
                 x: np.ndarray | None = None) -> np.ndarray:
     """The mean of each member's last ``last`` buffered samples, and of ``x`` when given (M, D),
@@ -251,12 +271,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             if ended:
                 end_x[i] = x[i]
                 has_end[i] = True
-                # the performer had already stopped there: one sample less of grace (_arrived)
-                arrived = nbuf[i] >= 2
-                for c in range(d):
-                    if not abs(x[i, c] - buf[i, buf.shape[1] - 2, c]) <= ARRIVE_RADIUS * radius[c]:
-                        arrived = False
-                after_end[i] = 1 if arrived else 0
+                # the performer had already stopped there: the grace counts from where they
+                # stopped (GestureSpotting._arrived)
+                after_end[i] = arrived(buf, nbuf, i, radius)
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
             lost[i] = lost[i] + 1 if all_refused[i] else 0
             for c in range(d):
