@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Sequence
 
 import numpy as np
@@ -200,28 +199,28 @@ class FollowerGroup(GroupRules):
                     stacked = stacked.astype(float)
             except (ValueError, TypeError):
                 stacked = None
-        if stacked is not None and stacked.shape == X.shape:
-            if math.isfinite(stacked.sum()):   # every sample finite (one check for all)
-                X[:] = stacked
-                present = self._everyone
-            else:   # a lost member keeps its last sample
+        fits = stacked is not None and stacked.shape == X.shape
+        if fits and group_kernel.take_samples(stacked, X, self._anchor, self._has_anchor):
+            present = self._everyone   # every sample finite, anchors taken
+        else:
+            if fits:   # a lost member keeps its last sample
                 present = np.isfinite(stacked.sum(axis=1))
                 X[present] = stacked[present]
                 lost = np.flatnonzero(~present).tolist()
-        else:
-            for i, (f, x) in enumerate(zip(self.followers, samples)):
-                x = f._sample(x)
-                if x is None:
-                    lost.append(i)
-                else:
-                    X[i, :f.dim] = x
-            present = np.ones(len(self.followers), dtype=bool)
-            if lost:
-                present[lost] = False
-        if not self._has_anchor.all():
-            fresh = present & ~self._has_anchor
-            self._anchor[fresh] = X[fresh]
-            self._has_anchor |= present
+            else:
+                for i, (f, x) in enumerate(zip(self.followers, samples)):
+                    x = f._sample(x)
+                    if x is None:
+                        lost.append(i)
+                    else:
+                        X[i, :f.dim] = x
+                present = np.ones(len(self.followers), dtype=bool)
+                if lost:
+                    present[lost] = False
+            if not self._has_anchor.all():
+                fresh = present & ~self._has_anchor
+                self._anchor[fresh] = X[fresh]
+                self._has_anchor |= present
         self._inputs(present)
         fw = self.forward
         saved = None
@@ -309,9 +308,9 @@ class FollowerGroup(GroupRules):
                  "lost_after": lambda f: f.lost_samples, "dims": lambda f: f.dim}
         cols = np.array([[float(rules[n](f)) for n in members.MEMBER_RULES] for f in fs])
         self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
-        self._floats = tuple(getattr(self, n) for n in group_kernel.FLOATS)
-        self._flags = tuple(getattr(self, n) for n in group_kernel.FLAGS)
-        self._member_flags = self._flags[:4]   # the flags members.conclude reads
+        # the per-template state the compiled passes update, one row each of two arrays
+        self._floats = self._rows(group_kernel.FLOATS, float)
+        self._flags = self._rows(group_kernel.FLAGS, bool)
         self._k_new = np.zeros(k, dtype=bool)
         self._m_top3 = np.zeros((m, 3), dtype=np.intp)
         self._m_moving = np.zeros(m)
@@ -328,6 +327,17 @@ class FollowerGroup(GroupRules):
         self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
         self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
         self._thr_tops = np.zeros(k)   # scratch: each template's likeliest threshold state
+
+    def _rows(self, names: tuple[str, ...], dtype: type) -> np.ndarray:
+        """The per-template arrays ``names`` (K,) as the rows of one array (len(names), K): each
+        name (and its members' share of it) becomes a view of its row."""
+        rows = np.array([getattr(self, n) for n in names], dtype=dtype)
+        for n, row in zip(names, rows):
+            setattr(self, n, row)
+            if n in self._PER_TEMPLATE:
+                for f, sl in zip(self.followers, self._slices):
+                    setattr(f, n, row[sl])
+        return rows
 
     def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._finish` for every member at once: the per-template rules in
@@ -358,7 +368,7 @@ class FollowerGroup(GroupRules):
         self._turned(present)
         self._tempo(present)
         members.conclude(
-            self._states, self._ti, fw.mean, fw._mom, self._size, self._member_flags, p, progress,
+            self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p, progress,
             mean_ll, step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present,
             self._m_moving, self._m_any_engaged, self._m_all_refused, self._m_leads, self._bounds,
             self._best, self._run, self._acquired, self._buf, self._nbuf, self._has_end,
@@ -374,29 +384,39 @@ class FollowerGroup(GroupRules):
         # the glue below reads per member from lists and scalars: as array operations over
         # the 8 members (mask, nonzero, fancy indexing) it cost more than the values it read
         # (with resting measured once: DESIGN's tick 1.98 -> 1.86 ms thread time, interleaved
-        # in one process on a machine at load 15)
+        # in one process on a machine at load 15). The rows read in one call each, the ends
+        # cleared in the same loop, the samples taken by one compiled call
+        # (group_kernel.take_samples) and the per-template state passed as two arrays: numpy
+        # calls per tick 47.5 -> 37.5, the tick's Python part 0.35 -> 0.29 ms thread time
+        # (interleaved in one process, load 10-12)
         likely: list[tuple] = [()] * m
-        shows = show.tolist()
+        var_l, ll_l, dist_l, prog_l = self._m_out.tolist()   # (one call for the rows)
+        valid_l, shows, hold_l = self._m_flags.tolist()
         if True in shows:   # each shown member's top three not refused
             top3, refused = self._m_top3.tolist(), self._refused
             for i in [i for i, s in enumerate(shows) if s]:
                 likely[i] = tuple((names[j], float(p[j]), float(progress[j]))
                                   for j in top3[i] if j >= 0 and not refused[j])
         shown = [progress] * m
-        best, best_progress = [names[j] for j in gbl], prog_b.tolist()
-        for i, (e, eng) in enumerate(zip(self._ended.tolist(), any_engaged.tolist())):
-            if e < 0 or eng:
+        best = [names[j] for j in gbl]
+        here_l = present.tolist()
+        ended = self._ended
+        for i, (e, eng, here) in enumerate(zip(ended.tolist(), any_engaged.tolist(), here_l)):
+            if e < 0:
+                continue
+            if eng:   # a new gesture has begun
+                if here:
+                    ended[i] = -1
                 continue
             # the last gesture ended and no new one has begun: it stays at its end, not driving
             j = self._bounds[i] + e
-            best[i], best_progress[i] = names[j], 1.0
+            best[i], prog_l[i] = names[j], 1.0
             shown[i] = progress.copy()
             shown[i][j] = 1.0
         out: list[FollowState] = []
         for i, (here, b, pb, var_b, val, ll, dist, restarted, hold, ix, sh, lk) in enumerate(zip(
-                present.tolist(), best, best_progress, variance.tolist(), valid.tolist(),
-                loglik.tolist(), distance.tolist(), new[gb].tolist(), holding.tolist(), index,
-                shown, likely)):
+                here_l, best, prog_l, var_l, valid_l, ll_l, dist_l, new[gb].tolist(), hold_l,
+                index, shown, likely)):
             if not here:
                 out.append(None)  # type: ignore[arg-type]
                 continue
@@ -404,9 +424,7 @@ class FollowerGroup(GroupRules):
                 b, pb, var_b, ByName(ix, p), ByName(ix, sh), val, ll, dist, restarted,
                 ByName(ix, mean_ll), lk, ByName(ix, sizes), hold)
             out.append(state)
-        ended = self._ended
-        ended[any_engaged & present] = -1
-        if restart.any():
+        if any(restart.tolist()):
             self._restart(restart, gb)
         return out
 

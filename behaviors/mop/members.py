@@ -159,7 +159,7 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
     return False
 
 
-@compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.types.UniTuple(_B1, 4), _F1, _F1, _F1, _F1,
+@compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.boolean[:, ::1], _F1, _F1, _F1, _F1,
                    _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
                    _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
                    _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1), *_CALLS_INTO)
@@ -175,7 +175,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     ``leads``, ``turn_ok`` (the input turned as ``best`` does) and ``kept`` (the share of the
     probability the templates keep against the threshold model) it reads; ``best`` already
     switched there). ``states``, ``ti``: as there;
-    ``mean``, ``mom``: the forward's; ``flags``: refused, engaged, misshaped, covered; ``mk``: see
+    ``mean``, ``mom``: the forward's; ``flags``: the group's flag rows (refused, engaged,
+    misshaped, covered first); ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
     each rests (:func:`~behaviors.mop.validity.resting` over the samples the push keeps,
     measured once by the per-template pass; a member without a sample is put back after the
@@ -190,7 +191,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     variance (progress units squared), valid, recent mean log-likelihood and its distance,
     whether the likeliest actions are shown, holding, progress, and how a new attempt starts
     (:data:`GOES_ON`...)."""
-    refused, engaged, misshaped, covered = flags
+    refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
     d = x.shape[1]
     src = 2 * d
     last = np.empty(d)
