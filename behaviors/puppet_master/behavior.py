@@ -17,7 +17,7 @@ import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.detail import direction_detail, texture_rms
-from behaviors.puppet_master.demonstrated import (charges, own_steps, pace_ratio,
+from behaviors.puppet_master.demonstrated import (charge_entries, charges, own_steps, pace_ratio,
                                                   relative_world_steps, still_main_speed)
 from behaviors.puppet_master.generation import _bearings
 from behaviors.puppet_master.look import train_look, train_place
@@ -222,8 +222,9 @@ class Behavior:
         main_still, self.still_speed = still_main_speed(self.main[:, :2], self.react[:, :2],
                                                         p.rate_hz, STILL_MPS)
         self.walked = (~main_still).tolist()    # the demonstrated main moved at this sample
-        self.charge_end, self.charge_touch = charges(self.main[:, :2], self.react[:, :2],
-                                                     p.rate_hz)
+        ends, self.charge_touch = charges(self.main[:, :2], self.react[:, :2], p.rate_hz)
+        # the charge a match entering at this sample keeps whole (-1: none, or joined late)
+        self.charge_end = charge_entries(ends, p.rate_hz)
         self.texture_rows = list(zip(
             self.detail.tolist(), lk.frame.tolist(), lk.angle.tolist(), lk.still_frame.tolist(),
             lk.still_angle.tolist(), lk.detail.tolist()))
