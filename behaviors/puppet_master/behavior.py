@@ -17,8 +17,9 @@ import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.detail import direction_detail, texture_rms
-from behaviors.puppet_master.demonstrated import (charges, own_steps, pace_ratio,
-                                                  relative_world_steps, still_main_speed)
+from behaviors.puppet_master.demonstrated import (charge_entries, charges, circles, own_steps,
+                                                  pace_ratio, relative_world_steps,
+                                                  still_main_speed)
 from behaviors.puppet_master.generation import _bearings
 from behaviors.puppet_master.look import train_look, train_place
 from behaviors.puppet_master.resample import resample_uniform
@@ -208,7 +209,9 @@ class Behavior:
                                        p.detail_levels, p.detail_clip)
         self.look = train_look(self.main, self.react, p.rate_hz, p.detail_levels)
         self.turn_limit = p.max_turn_rate if p.max_turn_rate > 0 else self.look.turn_limit
-        self.place_frame, self.bearing_turn = train_place(self.main, self.react, p.rate_hz)
+        self.circling = circles(self.main[:, :2], self.react[:, :2], p.rate_hz)
+        self.place_frame, self.bearing_turn = train_place(self.main, self.react, p.rate_hz,
+                                                          self.circling)
         self.distance = np.hypot(f.rel_fwd, f.rel_left)
         lk = self.look
         # what a generation step reads of one training sample, as plain Python numbers
@@ -216,14 +219,16 @@ class Behavior:
         self.rows = list(zip(
             self.place_frame.tolist(), self.bearing_turn.tolist(), self.distance.tolist(),
             f.rel_fwd.tolist(), f.rel_left.tolist(), f.v_react.tolist()))
-        self.own_steps = own_steps(self.main[:, :2], self.react[:, :2], p.rate_hz)
+        self.own_steps = own_steps(self.main[:, :2], self.react[:, :2], p.rate_hz,
+                                   radial=self.circling)
         self.world_rel, self.span_step = relative_world_steps(
             self.main[:, :2], self.main[:, 2], self.react[:, :2], p.rate_hz)
         main_still, self.still_speed = still_main_speed(self.main[:, :2], self.react[:, :2],
                                                         p.rate_hz, STILL_MPS)
         self.walked = (~main_still).tolist()    # the demonstrated main moved at this sample
-        self.charge_end, self.charge_touch = charges(self.main[:, :2], self.react[:, :2],
-                                                     p.rate_hz)
+        ends, self.charge_touch = charges(self.main[:, :2], self.react[:, :2], p.rate_hz)
+        # the charge a match entering at this sample keeps whole (-1: none, or joined late)
+        self.charge_end = charge_entries(ends, p.rate_hz)
         self.texture_rows = list(zip(
             self.detail.tolist(), lk.frame.tolist(), lk.angle.tolist(), lk.still_frame.tolist(),
             lk.still_angle.tolist(), lk.detail.tolist()))

@@ -53,7 +53,9 @@ class GenerationStep:
         # a charge the match has entered is kept whole to the end of its push
         # (demonstrated.charges): the bully's matches joined charges partway and left them within
         # a few steps (14 jumps in 26 steps), so it went 9-14 cm short of its main while the
-        # matched moments touched (contact 0.02-0.08 against 0.157 on all nine unseen paths)
+        # matched moments touched (contact 0.02-0.08 against 0.157 on all nine unseen paths);
+        # entered in its run-up only (demonstrated.charge_entries: joined in its push, a push
+        # followed another back to back)
         if 0 <= self.source < self._charge_end:
             target = self.source + 1
             self.last_choice = "charge"
