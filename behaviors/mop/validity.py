@@ -169,6 +169,23 @@ track (valid 0.70 -> 0.17, on track 0.07 both). An upper tempo (2x) refused no u
 What is left is taken at a performer's tempo: the mirrored line's return is the line's outward
 stroke, then rests at its turn (a line paused there); a triangle's base is the square's first
 side.
+
+Crawling (:func:`crawls`): an action, taken or not, stops driving once the tempo test above has
+found it crawling for :data:`CRAWL_SAMPLES` samples in a row (its followed state moved less than
+:data:`LEAST_TEMPO` states per sample over the last :data:`TEMPO_SAMPLES` while the input moved
+at least the onset): taken at tempo, a stretch of a template still crawls once the input leaves
+what the template explains (a diagonal held at the circle's 0.38 along its chord, the triangle's
+stroke in a template's turn). It is then taken again only at tempo. Measured with
+``bench/follow_quality.py --sections=sized,holds,unrelated`` (tuned; held-out in brackets;
+unrelated worst / mean, valid after 30% of gestures at 0.7-1.4x): before 0.305 / 0.0846, 0.9016
+(0.515 / 0.0977, 0.9112); kept (6 samples) 0.305 / 0.0803, 0.9016 (0.488 / 0.0925, 0.9025):
+the tuned gestures lose no tick; the held-out loss is mostly valid *off track* (a 0.85x punch
+ankle 0.97 -> 0.63, on track 0.28 both; a 0.7x walk wrist 0.74 -> 0.53, on track 0.03 both),
+beside a 1.4x line (on track 0.49 -> 0.39); holds unchanged to the digit. 4 samples: 0.294 /
+0.0773, 0.8997 (0.473 / 0.0887, 0.8992); 8: 0.305 / 0.0822, 0.9016 (0.504 / 0.0948, 0.9063);
+10: 0.305 / 0.0833, 0.9016 (0.515 / 0.0963, 0.9081). Most gained: a diagonal along the figure
+eight with six templates 0.165 -> 0.088, a triangle with twenty 0.298 -> 0.246, the held-out
+diagonal with twenty 0.293 -> 0.183 and wander 0.186 -> 0.117.
 """
 
 from __future__ import annotations
@@ -227,6 +244,18 @@ def slow_take(advance: float, moved: float, onset: float) -> bool:
     recorded tempo; a template whose followed state crawls while the input sweeps on is being
     stretched over a path that is not its own (see the module docstring)."""
     return LEAST_TEMPO > 0 and moved >= onset and abs(advance) < LEAST_TEMPO * TEMPO_SAMPLES
+
+
+#: Crawling (:func:`crawls`): samples in a row an action may be followed at a crawl while it
+#: drives (0: no limit).
+CRAWL_SAMPLES = 6
+
+
+def crawls(run: int) -> bool:
+    """Whether an action has been followed at a crawl (:func:`slow_take` true for it) for
+    ``run`` samples in a row, :data:`CRAWL_SAMPLES` or more: taken or not, it does not drive (a
+    template stretched over a path not its own, see the module docstring)."""
+    return 0 < CRAWL_SAMPLES <= run
 
 
 #: The performer rests when the mean of their last samples moved less than this many still
