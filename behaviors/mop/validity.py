@@ -182,8 +182,12 @@ unrelated worst / mean, valid after 30% of gestures at 0.7-1.4x): before 0.305 /
 the tuned gestures lose no tick; the held-out loss is mostly valid *off track* (a 0.85x punch
 ankle 0.97 -> 0.63, on track 0.28 both; a 0.7x walk wrist 0.74 -> 0.53, on track 0.03 both),
 beside a 1.4x line (on track 0.49 -> 0.39); holds unchanged to the digit. 4 samples: 0.294 /
-0.0773, 0.8997 (0.473 / 0.0887, 0.8992); 8: 0.305 / 0.0822, 0.9016 (0.504 / 0.0948, 0.9063);
-10: 0.305 / 0.0833, 0.9016 (0.515 / 0.0963, 0.9081). Most gained: a diagonal along the figure
+0.0773, 0.8997 (0.473 / 0.0887, 0.8992); 5: 0.305 / 0.0794, 0.9014 (0.480 / 0.0907, 0.9009:
+too close to the target for 0.002 of unrelated share); 8: 0.305 / 0.0822, 0.9016 (0.504 /
+0.0948, 0.9063);
+10: 0.305 / 0.0833, 0.9016 (0.515 / 0.0963, 0.9081). Gestures back to back (its sequences
+section) are unchanged, but for twenty templates: never recognised 0.031 -> 0 and the ended
+action's longest wrong run 7 -> 3 ticks (held-out identical). Most gained: a diagonal along the figure
 eight with six templates 0.165 -> 0.088, a triangle with twenty 0.298 -> 0.246, the held-out
 diagonal with twenty 0.293 -> 0.183 and wander 0.186 -> 0.117.
 """
