@@ -43,7 +43,8 @@ from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
-from behaviors.mop.validity import Validity, backs_first, crawls, resting, stalls
+from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind,
+                                    stalls)
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
@@ -396,6 +397,8 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)
                 ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
+                # ... nor hold them resting behind where it began (validity.rests_behind)
+                ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
         self._run = self._run + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting)
         self._after_end = self._after_end + 1 if self._end_x is not None else 0

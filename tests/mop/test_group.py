@@ -260,3 +260,21 @@ def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
                 for x in s[:n])
     assert valid <= plain - 3, (valid, plain)
+
+
+def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkeypatch):
+    # validity.rests_behind, compiled in members.conclude: a wave and a zigzag performed to 60%,
+    # back to their start and rested; measured 122 valid states (168 without the rule)
+    from bench.follow_quality import gesture_templates, puck_follower
+    from behaviors.mop import validity
+    from tests.mop.test_quality import _there_and_back
+    gestures = gesture_templates()
+    streams = [_there_and_back(gestures, n, 1) for n in ("wave", "zigzag")]
+    alone = [puck_follower(gestures) for _ in streams]
+    group = FollowerGroup([puck_follower(gestures) for _ in streams])
+    valid = _step_both(alone, group, streams)
+    monkeypatch.setattr(validity, "REST_BEHIND", -1.0)   # the followers alone read it each step
+    n = min(len(s) for s in streams)
+    plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
+                for x in s[:n])
+    assert valid <= plain - 30, (valid, plain)
