@@ -43,7 +43,8 @@ from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
-from behaviors.mop.validity import Validity, backs_first, resting, stalls
+from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind,
+                                    stalls)
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
@@ -188,6 +189,7 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
         self._anchor: np.ndarray | None = None
         self._recent_x: list[np.ndarray] = []
         self._tempo_past: list[tuple[np.ndarray, np.ndarray]] = []   # (mean, x) per sample
+        self._crawl, self._crawl_k = 0, -1   # samples in a row best crawled (validity.crawls)
         self._lag: list[np.ndarray] = []
         self._ended = -1
 
@@ -379,10 +381,13 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
             leads = self._leads(x, gi, g - gi, bi, p * self._kept)
             # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))
-            # ... and once it is not taken at a crawl (validity.slow_take)
-            ok = ok and (self._acquired == bi or (
-                leads and turned and not self._shares(bi, float(g[bi]), progress)
-                and not self._slow_take(bi, g, x)))
+            # ... and once it is not taken at a crawl (validity.slow_take); nor does any action
+            # drive once it crawled so for CRAWL_SAMPLES samples in a row (validity.crawls)
+            slow = self._slow_take(bi, g, x)
+            self._crawl = self._crawl + 1 if slow and bi == self._crawl_k else int(slow)
+            self._crawl_k = bi
+            ok = ok and not crawls(self._crawl) and (self._acquired == bi or (
+                leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow))
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
@@ -392,6 +397,8 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)
                 ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
+                # ... nor hold them resting behind where it began (validity.rests_behind)
+                ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
         self._run = self._run + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting)
         self._after_end = self._after_end + 1 if self._end_x is not None else 0

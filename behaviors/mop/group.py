@@ -375,7 +375,8 @@ class FollowerGroup(GroupRules):
             self._end_x, self._lost, self._after_end, self._m_kept, self._drive_k,
             self._drive_from, self._drive_peak, self._turn_ok, self._extent, self._peak,
             self._peak_k, variance, valid, loglik, distance, show, holding, prog_b, restart,
-            self._gone, self._shared, self._sh_off, self._drive_moved, self._m_rest)
+            self._gone, self._shared, self._sh_off, self._drive_moved, self._m_rest,
+            self._crawl)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
         gbl = gb.tolist()

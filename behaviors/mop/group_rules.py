@@ -40,6 +40,7 @@ class GroupRules:
         self._tempo_on = np.array([f.invariance != "none" for f in fs], dtype=bool)
         self._tempo_x, self._tempo_g = np.zeros((w, m, dmax)), np.zeros((w, len(self._owner)))
         self._tempo_at, self._tempo_n = np.zeros(m, dtype=np.intp), np.zeros(m, dtype=np.intp)
+        self._crawl = np.zeros((m, 2), dtype=np.intp)   # validity.crawls: run, best
 
     def _turned(self, present: np.ndarray) -> None:
         """Each present member's turning since its gesture began, and whether it fits its best
@@ -61,7 +62,7 @@ class GroupRules:
         members.tempo(self.forward.mean, self._lengths, present, self._tempo_on, self._tempo_at,
                       self._tempo_n, self._bounds, self._counts, self._best, self._x,
                       self._tempo_x, self._tempo_g, self._scale, self._size, self._m_dim,
-                      f0.onset * f0.sigma, self._m_leads)
+                      f0.onset * f0.sigma, self._m_leads, self._crawl)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

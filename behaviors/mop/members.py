@@ -20,8 +20,8 @@ import numpy as np
 
 from behaviors.mop import spotting, validity
 from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
-from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, FORWARD_FIRST, LEAST_TEMPO,
-                                    TEMPO_SAMPLES)
+from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
+                                    LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
 from tabletop.kernel_cache import compiled
 
 _CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
@@ -162,13 +162,14 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.boolean[:, ::1], _F1, _F1, _F1, _F1,
                    _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
                    _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1), *_CALLS_INTO)
+                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2),
+          *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from,
              drive_peak, turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart, highest, shared,
-             sh_off, drive_moved, rest) -> None:
+             sh_off, drive_moved, rest, crawl) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -180,7 +181,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
     each rests (:func:`~behaviors.mop.validity.resting` over the samples the push keeps,
     measured once by the per-template pass; a member without a sample is put back after the
-    tick).
+    tick); ``crawl``: each member's crawling run and its best, as :func:`tempo` left them.
 
     In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
     highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples
@@ -225,7 +226,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
               and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
         # a new action drives only once its shape clearly leads, the input turned as it does
         # and its start is no longer shared with another the input still fits (spotting)
-        ok = ok and (not spots or acquired[i] == bi or (
+        # ... and no action drives once it crawled CRAWL_SAMPLES samples in a row (crawls)
+        ok = ok and not (spots and 0 < CRAWL_SAMPLES <= crawl[i, 0]) and (
+            not spots or acquired[i] == bi or (
             leads[i] and turn_ok[i] and not (sh_off[i] >= 0 and shares(
                 bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb,
                 int(g) - start, shared, sh_off[i], refused, misshaped, progress, highest))))
@@ -236,6 +239,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             ok = ok and not (rests and drive_moved[i]
                              and drive_peak[i] - drive_from[i] < CARRY_FIRST)
+            # ... nor holds them resting behind where it began (validity.rests_behind)
+            ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
         run[i] = run[i] + 1 if ok else 0
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
@@ -320,23 +325,26 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,
-                     numba.float64, _B1), *_CALLS_INTO)
+                     numba.float64, _B1, _I2), *_CALLS_INTO)
 def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
           at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
           best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
           scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
-          leads: np.ndarray) -> None:
+          leads: np.ndarray, crawl: np.ndarray) -> None:
     """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
     :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
     (:func:`validity.slow_take`: followed state, ``mean`` clipped to the template, against the
     oldest kept in ``past_g``; the input against ``past_x[at]`` in the template's spread
-    ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``); then this
-    sample and the followed states are kept in the ring's slot ``at``, which moves on."""
+    ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``), and
+    ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`validity.crawls`);
+    then this sample and the followed states are kept in the ring's slot ``at``, which moves
+    on."""
     w = TEMPO_SAMPLES
     for i in range(bounds.size):
         if not (present[i] and spots[i]):
             continue
         a = at[i]
+        slow = False
         if seen[i] >= w and LEAST_TEMPO > 0:
             gb = bounds[i] + best[i]
             tot = 0.0
@@ -347,6 +355,9 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
             advance = min(mean[gb], lengths[gb] - 1.0) - past_g[a, gb]
             if moved >= onset and abs(advance) < LEAST_TEMPO * w:
                 leads[i] = False
+                slow = True
+        crawl[i, 0] = crawl[i, 0] + 1 if slow and crawl[i, 1] == best[i] else int(slow)
+        crawl[i, 1] = best[i]
         for c in range(x.shape[1]):
             past_x[a, i, c] = x[i, c]
         for k in range(bounds[i], bounds[i] + counts[i]):

@@ -239,3 +239,42 @@ def test_a_group_with_shared_starts_equals_its_followers_alone():
         f._shares = counting
     assert _step_both(alone, group, streams) > 100
     assert min(shares) >= 1, shares
+
+
+def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
+    # validity.crawls, compiled in members.tempo/conclude: unrelated puck motions (a triangle, a
+    # diagonal, a wander) whose best crawls; measured 50 valid states (55 without the rule)
+    from bench.follow_quality import (gesture_templates, performance, puck_follower,
+                                      unrelated_motions)
+    from behaviors.mop import validity
+    gestures = gesture_templates()
+    rng = np.random.default_rng(11)
+    paths = unrelated_motions(rng, gestures)
+    streams = [performance(rng, paths[n], s)[0]
+               for n, s in (("triangle", 1.4), ("diagonal", 0.7), ("wander", 1.0))]
+    alone = [puck_follower(gestures) for _ in streams]
+    group = FollowerGroup([puck_follower(gestures) for _ in streams])
+    valid = _step_both(alone, group, streams)
+    monkeypatch.setattr(validity, "CRAWL_SAMPLES", 0)   # the followers alone read it at each step
+    n = min(len(s) for s in streams)
+    plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
+                for x in s[:n])
+    assert valid <= plain - 3, (valid, plain)
+
+
+def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkeypatch):
+    # validity.rests_behind, compiled in members.conclude: a wave and a zigzag performed to 60%,
+    # back to their start and rested; measured 122 valid states (168 without the rule)
+    from bench.follow_quality import gesture_templates, puck_follower
+    from behaviors.mop import validity
+    from tests.mop.test_quality import _there_and_back
+    gestures = gesture_templates()
+    streams = [_there_and_back(gestures, n, 1) for n in ("wave", "zigzag")]
+    alone = [puck_follower(gestures) for _ in streams]
+    group = FollowerGroup([puck_follower(gestures) for _ in streams])
+    valid = _step_both(alone, group, streams)
+    monkeypatch.setattr(validity, "REST_BEHIND", -1.0)   # the followers alone read it each step
+    n = min(len(s) for s in streams)
+    plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
+                for x in s[:n])
+    assert valid <= plain - 30, (valid, plain)

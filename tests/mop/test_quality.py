@@ -200,14 +200,14 @@ def _unrelated_shares(gestures, **kw):
 
 def test_unrelated_motion_rarely_drives(gestures):
     # a template drives once its followed progress covered 8% of its path and while the input
-    # keeps to its path; measured: mean valid share 0.185 with them, 0.308 without (the
+    # keeps to its path; measured: mean valid share 0.103 with them, 0.197 without (the
     # triangle's first stroke is the line's outward half, a diagonal the figure eight's start:
-    # they stay valid for those stretches; validity.stalls takes part of what they would, the
-    # wander hovering at the circle's start then resting)
+    # they stay valid for those stretches; validity.stalls and validity.crawls take part of
+    # what they would: without crawls 0.121 with them, 0.251 without)
     now = _unrelated_shares(gestures)
     before = _unrelated_shares(gestures, coverage=0.0, shape_distance=99.0, shape_accept=98.0)
     assert np.mean(list(now.values())) <= 0.25, now
-    assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.1, (now, before)
+    assert np.mean(list(now.values())) <= np.mean(list(before.values())) - 0.07, (now, before)
     # with the circle alone, an aimless wander and a spiral drive it at most a tenth of the time
     # (measured 0.03 and 0; without the rules 0.42 and 0.05)
     assert now["circle:wander"] <= 0.1 and now["circle:spiral"] <= 0.1, now
@@ -332,14 +332,15 @@ def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkey
     # action taken was moved by the input without carrying it forward, and the performer then
     # rests; it no longer holds them there (validity.stalls). The price: a gesture paused within
     # a few samples of its recognition at a slow tempo (a 0.7x figure eight, a 1.4x square:
-    # 2 of 24 here). Measured: valid ticks in the resting tail 49 (without 78), in all 435 (472),
-    # paused gestures valid on track after 30% 0.695 (0.714)
+    # 2 of 24 here). Measured: valid ticks in the resting tail 33 (without 47), in all 181 (198),
+    # paused gestures valid on track after 30% 0.693 (0.703); validity.crawls takes part of what
+    # it took (without crawls: 44 (70), 257 (286))
     from behaviors.mop import validity
 
     now = _tail_and_paused(gestures)
     monkeypatch.setattr(validity, "CARRY_FIRST", -1.0)
     plain = _tail_and_paused(gestures)
-    assert now[0] <= plain[0] - 20 and now[1] <= plain[1] - 20, (now, plain)
+    assert now[0] <= plain[0] - 10 and now[1] <= plain[1] - 10, (now, plain)
     assert now[2] >= plain[2] - 0.03, (now, plain)
 
 
@@ -424,3 +425,61 @@ def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
     plain = _crawl_shares(gestures)
     assert now["triangle"] <= 0.1 and now["triangle"] <= plain["triangle"] - 0.07, (now, plain)
     assert now["wander"] <= plain["wander"] - 0.02, (now, plain)
+
+
+def _stretch_shares(gestures) -> tuple[float, float, float]:
+    """The triangle's and the diagonal's valid share (0.7, 1.0, 1.4x) and the six gestures'
+    valid share after 30% (0.7, 1.4x), the six gestures loaded, over three seeds."""
+    tri, diag, true = [], [], []
+    for seed in (3, 11, 13):
+        rng = np.random.default_rng(seed)
+        f = puck_follower(gestures)
+        paths = unrelated_motions(rng, gestures)
+        for out, name in ((diag, "diagonal"), (tri, "triangle")):
+            out += [np.mean([s.valid for s in run(f, performance(rng, paths[name], scale)[0])])
+                    for scale in (0.7, 1.0, 1.4)]
+        for name, tpl in gestures.items():
+            for scale in (0.7, 1.4):
+                x, prog = performance(rng, tpl, scale)
+                true.append(true_metrics(run(f, x), name, prog)["valid_after30"])
+    return float(np.mean(tri)), float(np.mean(diag)), float(np.mean(true))
+
+
+def test_an_action_followed_at_a_crawl_stops_driving(gestures, monkeypatch):
+    # a taken action whose followed state crawls for six samples in a row while the input sweeps
+    # on is a template stretched over a path not its own (validity.crawls): the triangle's
+    # stroke along the line, a diagonal on the circle's chord. Measured: triangle 0.098 (0.130
+    # without), diagonal 0.217 (0.226); the gestures themselves 0.816 (0.814)
+    from behaviors.mop import validity
+
+    now = _stretch_shares(gestures)
+    monkeypatch.setattr(validity, "CRAWL_SAMPLES", 0)
+    plain = _stretch_shares(gestures)
+    assert now[0] <= plain[0] - 0.025 and now[1] <= plain[1], (now, plain)
+    assert now[2] >= plain[2] - 0.005, (now, plain)
+
+
+def _there_and_back(gestures, name: str, seed: int, reach: float = 0.6) -> np.ndarray:
+    """``name`` performed to ``reach`` of it, back along itself to its start, then resting."""
+    rng = np.random.default_rng(seed)
+    tpl = gestures[name]
+    phase = phase_of(rng, len(tpl))[0]
+    phase = phase[phase <= reach * (len(tpl) - 1)]
+    path = at_phase(tpl, np.concatenate([phase, phase[::-1]]))
+    x = np.concatenate([np.zeros((15, 2)), path, np.repeat(path[-1:], 25, axis=0)])
+    return x + rng.normal(0, 0.0007, x.shape)
+
+
+def test_an_action_does_not_hold_a_performer_resting_behind_where_it_began(gestures,
+                                                                          monkeypatch):
+    # a wave or a zigzag performed to 60%, back to its start and rested: the action no longer
+    # drives once the performer rests behind where it began driving (validity.rests_behind).
+    # Measured: valid ticks in the resting tails 0 (83 without)
+    from behaviors.mop import validity
+
+    streams = [_there_and_back(gestures, n, s) for n in ("wave", "zigzag") for s in (0, 1)]
+    f = puck_follower(gestures)
+    now = sum(sum(s.valid for s in run(f, x)[-25:]) for x in streams)
+    monkeypatch.setattr(validity, "REST_BEHIND", -1.0)
+    plain = sum(sum(s.valid for s in run(f, x)[-25:]) for x in streams)
+    assert now <= 2 and plain >= 40, (now, plain)
