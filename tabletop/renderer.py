@@ -82,7 +82,8 @@ class Renderer:
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
-        self._overlay_key: tuple = ()
+        self._overlay_key: tuple[str, ...] = ()
+        self._overlay_w = 0          # the window width the panel was wrapped for (px)
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
         self._labels: dict[int, pygame.Surface] = {}
@@ -295,10 +296,10 @@ class Renderer:
         would hide what is drawn in ``avoid`` and another corner hides at most half as much);
         rendered again only when the lines change. Returns the panel's rectangle."""
         W, H = target.get_size()
-        key = (*lines, W)
-        if key != self._overlay_key or self._overlay_img is None:
+        key = tuple(lines)
+        if key != self._overlay_key or self._overlay_img is None or W != self._overlay_w:
             self._overlay_img = screens.panel(lines, width=W - 16)   # wraps within the window
-            self._overlay_key = key
+            self._overlay_key, self._overlay_w = key, W
         w, h = self._overlay_img.get_size()
         corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
 
