@@ -132,26 +132,29 @@ class StepSmoother:
     before this smooth (step.py). What the stages leave of the speed, traced with the Python
     step (the fidelity figure's speed over 0.1 s): the afraid character beside its still main
     (seed 5 slow path) matches moments at 0.24 m/s, its composed step is 0.31 (the drift
-    correction toward the matched distance, 0.25, as long as its own flight, 0.26: it is at
-    0.50 m from its main where the moments are at 0.37), capped 0.20, the correction and the
-    flight pulling against each other leave 0.13 over 0.1 s and this smooth and the detail
-    0.10 (0.22 demonstrated); beside its walking main 0.45 -> 0.26 -> 0.22 -> 0.19 (0.25),
-    hence still/moving 0.53 against 0.87. The lover beside its walking main (seed 3 slow):
-    0.128 -> 0.093 (capped on 59% of the steps) -> 0.074 -> 0.073 m/s. The cap applied to
-    the smoothed step instead (the raw steps uncapped), measured with bench/fidelity.py
-    (seeds 0-5 / 7 / 8-13, against 659 / 107 / 651 of 720 / 120 / 720; pursuit 37 / 8 / 42 of
-    48 / 8 / 48): outside charges 656 / 112 / 645, engine-only misses 24 -> 19 on seeds 0-5,
-    pursuit 43 / 6 / 39; over the 39 paths of those 13 seeds still/moving met on 33 instead
-    of 29 (lover) and 28 instead of 24 (afraid), but speed W1 on 22 instead of 26 (lover) and
-    27 (afraid): the lover, no longer held by its tremor, outruns fast mains; its seed 3 slow
-    path stays at 0.073 m/s: there its slow walk is the composition's, not the cap's. In
-    charges too 648 (bully misses 4 -> 15); only where the moment went along with its main
-    (k >= FOLLOW_SHARE) 640; only while the live main walks 651; only while it stands 639;
+    correction, 0.25, as long as its own flight, 0.26: the matched moment changes on about half
+    of the steps, and with it the place corrected toward), capped 0.20, the two pulling against
+    each other leave 0.13 over 0.1 s and this smooth and the detail 0.10 (0.22 demonstrated,
+    where beside a still main it fled at 0.39 m/s nearer than 0.3 m, 0.26 at 0.3-0.45 m and 0.11
+    farther; on these paths it is at 0.4-0.56 m); beside its walking main 0.45 -> 0.26 -> 0.22
+    -> 0.19 (0.25), hence still/moving 0.53 against 0.87. The lover beside its walking main
+    (seed 3 slow): 0.128 -> 0.093 (capped on 59% of the steps) -> 0.074 -> 0.073 m/s. The cap
+    applied to the smoothed step instead (the raw steps uncapped), measured with
+    bench/fidelity.py (seeds 0-5 / 7 / 8-13, against 659 / 107 / 651 of 720 / 120 / 720; pursuit
+    37 / 8 / 42 of 48 / 8 / 48): outside charges 656 / 112 / 645, engine-only misses 24 -> 19 on
+    seeds 0-5, pursuit 43 / 6 / 39; over the 39 paths of those 13 seeds still/moving met on 33
+    instead of 29 (lover) and 28 instead of 24 (afraid), but speed W1 on 22 instead of 26
+    (lover) and 27 (afraid): the lover, no longer held by its tremor, outruns fast mains; its
+    seed 3 slow path stays at 0.073 m/s: there its slow walk is the composition's, not the
+    cap's. In charges too 648 (bully misses 4 -> 15); only where the moment went along with its
+    main (k >= FOLLOW_SHARE) 640; only while the live main walks 651; only while it stands 639;
     only where the correction is at most the cap 653 (at most half of it 645); the correction
-    given what the own step leaves of the cap, raw 638 (own step capped too 621); the cap
-    from the moment's 0.2 s step length (demonstrated.relative_world_steps) after the smooth
-    632, before it 637; the raw step scaled to the moment's speed (the paper's "scaled to the
-    target velocity") 637. None is used."""
+    given what the own step leaves of the cap, raw 638 (own step capped too 621); the cap from
+    the moment's 0.2 s step length (demonstrated.relative_world_steps) after the smooth 632,
+    before it 637; the cap after the smooth times that length over the moment's per-sample step
+    (its tremor-free share) 613, seeds 8-13 621 (the afraid 22 -> 56 misses); the raw step
+    scaled to the moment's speed (the paper's "scaled to the target velocity") 637. None is
+    used."""
 
     __slots__ = ("size", "xs", "ys", "i")
 
