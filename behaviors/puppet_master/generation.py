@@ -267,6 +267,25 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
     caught in the open (mean distance to the visitor 0.29-0.38 -> 0.23-0.32 m on every seed,
     against 0.41 demonstrated); the same only within 0.2 m of an edge: 621 / 105 and 41 / 7.
     Neither is used. What makes its orbit is :func:`fit_target` (see there).
+
+    Traced on the pursuit of seed 0 (24 of its 40 s at an edge): the matched moments flee
+    straight away from the visitor (they were 0.15 m from an edge in the demonstration, 0.42 m
+    from their main), this clamp turns each into a slide, and the character runs along the
+    edges; the longest spell (13.4 s) was a corner, see :func:`keep_apart`. Two more ways of
+    bringing the table in were measured (bench/fidelity.py, open paths met on seeds 0-5 / 7 /
+    8-13 against 659 / 109 / 651, pursuit against 41 / 8 / 38, mean time at an edge under
+    pursuit against 0.533 / 0.48 / 0.500). In BestMatch, where the best window's
+    continuation (its reactor's way over the next 0.5 s, along and across the bearing from its
+    main, turned to the live bearing) leaves the table, the best window whose continuation
+    stays on it within 1.5x the best distance (at an edge the best one's left in 61% of the
+    steps of seed 0; the best fitting one cost 1.21x, 90th percentile 2.1x): 642 / 109 / 633,
+    pursuit 45 / 6 / 42, at an edge 0.452 / 0.32 / 0.448; over 1 s 641 / 109 / 632; within
+    1.2x 648 / 108 / 630 (0.462 / 0.36 / 0.488); over 0.25 s 645 / 105 / 641; only while the
+    main closes in over 0.5 s 644 / 110 / 631 (0.415 / 0.56 / 0.423). The afraid character's
+    own misses on the open paths rose 22 -> 29-35 (orbit and facing) and 28 -> 33-47 on seeds
+    8-13. A step that would cross an edge turned across the bearing from the main, to the
+    table's side (as its designer escapes round the hand): at an edge 0.43 -> 0.59 (seed 0,
+    40 s pursuit), 0.73 -> 0.77 (seed 20). None is used.
     """
     x0, y0, x1, y1 = table
     length = math.hypot(sx, sy)
@@ -293,17 +312,47 @@ def limit_turn(previous: float, desired: float, max_delta: float) -> float:
     return wrap_angle(previous + d)
 
 
+def table_reach(x: float, y: float, ux: float, uy: float,
+                table: tuple[float, float, float, float]) -> float:
+    """Distance (metres) from (x, y) along the unit direction (ux, uy) to the table's edge
+    (inf along no edge; negative where (x, y) is already beyond the edge it heads for)."""
+    x0, y0, x1, y1 = table
+    reach = math.inf
+    if ux > 0.0:
+        reach = min(reach, (x1 - x) / ux)
+    elif ux < 0.0:
+        reach = min(reach, (x0 - x) / ux)
+    if uy > 0.0:
+        reach = min(reach, (y1 - y) / uy)
+    elif uy < 0.0:
+        reach = min(reach, (y0 - y) / uy)
+    return reach
+
+
 def keep_apart(x: float, y: float, others: list[tuple[float, float, float]],
                table: tuple[float, float, float, float]) -> tuple[float, float]:
     """Position (x, y) moved out of every other character's disc (ox, oy, least distance),
-    along the line between the centres (a puck pushed aside, as two pucks cannot overlap), then
-    kept on the table. Discs are visited in order; a position pinned between two is pushed
-    from each in turn."""
+    along the line between the centres (a puck pushed aside, as two pucks cannot overlap), as
+    far as the table's edge lets it (:func:`table_reach`), then kept on the table. Discs are
+    visited in order; a position pinned between two is pushed from each in turn.
+
+    Pushed the whole way and clamped, a point beyond the edge went back along the edge toward
+    the corner: a hand resting 7 cm from the afraid character (personal space 0.105 m) in a
+    corner held it there for good, as every step out along an edge came back to the corner
+    (bench/fidelity.py's pursuit, seed 0: 13.4 s of 40 at (0, 0), contact 0.30; a hand that
+    stays on it, tests/puppet_master/test_pm_personal_space.py: contact 0.33-0.42). Measured
+    with bench/fidelity.py, thresholds met on the open paths / pursuit (time at an edge under
+    pursuit, mean): --seeds 0,1,2,3,4,5 659 -> 659 / 37 -> 41 (0.565 -> 0.533), --seeds 7
+    107 -> 109 / 8 -> 8 (0.48 -> 0.48; the afraid character's misses 7 -> 5), --seeds
+    8,9,10,11,12,13 651 -> 651 / 42 -> 38 (0.458 -> 0.500); the open paths of seeds 0-5 and
+    8-13 are the same to the last digit. It frees the cornered character; it does not keep it
+    off the edges (see :func:`keep_on_table`)."""
     for ox, oy, least in others:
         dx, dy = x - ox, y - oy
         d = math.hypot(dx, dy)
         if d < least:
             if d < 1e-9:
                 dx, dy, d = 1.0, 0.0, 1.0
-            x, y = ox + dx * least / d, oy + dy * least / d
+            push = max(d, min(least, table_reach(ox, oy, dx / d, dy / d, table)))
+            x, y = ox + dx * push / d, oy + dy * push / d
     return clamp_to_table(x, y, table)
