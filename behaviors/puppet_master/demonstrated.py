@@ -60,7 +60,20 @@ def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float, span_s: float
     it walks at 0.073-0.097 m/s beside slow mains (matched moments 0.099-0.106, its designer
     0.094-0.108), its still/moving miss there (0.64-0.69 against 0.42). The own step over
     0.1 s instead lifts that path (ratio 0.51) but slows the lover elsewhere: bench/fidelity.py
-    --seeds 0,1,2,3,4,5 642 -> 637 of 720, 7 109 -> 106, 8,9,10,11,12,13 639 -> 632."""
+    --seeds 0,1,2,3,4,5 642 -> 637 of 720, 7 109 -> 106, 8,9,10,11,12,13 639 -> 632.
+
+    The share k from per-sample steps is diluted by the main hand's tremor (in the
+    denominator of the least squares): while the demonstrated main walks the lover's mean k
+    is 0.66, from displacements over 0.05 / 0.1 / 0.2 s 0.69 / 0.76 / 0.79 (its designer
+    goes along with 0.8 of its main's velocity); the bully 0.54 -> 0.60, the others within
+    0.03. k from the displacements over 0.1 s centred on i (the own step still per sample):
+    the lover's still/moving missed on 4 paths of seeds 0-5 instead of 5 (the engine's alone
+    4 -> 1, by its speed beside a still main: seed 0 slow 0.063 -> 0.039 m/s against 0.053),
+    but it is no faster beside slow mains (seed 3 slow 0.073 -> 0.070 m/s while its main
+    walks: with the true share, beside a main slower than the moment's it slows by k x the
+    difference) and bench/fidelity.py --seeds 0,1,2,3,4,5 659 -> 641 of 720 (the afraid
+    character 22 -> 37 misses); over 0.05 s 641, over 0.2 s 643; with the cap after the smooth
+    (generation.StepSmoother) 640. Not used."""
     n = main.shape[0]
     dm = np.zeros((n, 2))
     dr = np.zeros((n, 2))

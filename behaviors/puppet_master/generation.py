@@ -126,7 +126,35 @@ class StepSmoother:
     thresholds (306 -> 301 on seeds 0-2), inside the re-matching noise of about 15: the lover
     gained 4 (slow-path speed W1 0.027-0.040 -> 0.022-0.032 on seeds 1-5, against 0.022) and
     the afraid character 9, the stalker lost 6 (its still-main and fast-path speeds) and the
-    bully 4, so it is not used."""
+    bully 4, so it is not used.
+
+    Where the place is held in the world the raw step is capped at the matched moment's speed
+    before this smooth (step.py). What the stages leave of the speed, traced with the Python
+    step (the fidelity figure's speed over 0.1 s): the afraid character beside its still main
+    (seed 5 slow path) matches moments at 0.24 m/s, its composed step is 0.31 (the drift
+    correction, 0.25, as long as its own flight, 0.26: the matched moment changes on about half
+    of the steps, and with it the place corrected toward), capped 0.20, the two pulling against
+    each other leave 0.13 over 0.1 s and this smooth and the detail 0.10 (0.22 demonstrated,
+    where beside a still main it fled at 0.39 m/s nearer than 0.3 m, 0.26 at 0.3-0.45 m and 0.11
+    farther; on these paths it is at 0.4-0.56 m); beside its walking main 0.45 -> 0.26 -> 0.22
+    -> 0.19 (0.25), hence still/moving 0.53 against 0.87. The lover beside its walking main
+    (seed 3 slow): 0.128 -> 0.093 (capped on 59% of the steps) -> 0.074 -> 0.073 m/s. The cap
+    applied to the smoothed step instead (the raw steps uncapped), measured with
+    bench/fidelity.py (seeds 0-5 / 7 / 8-13, against 659 / 107 / 651 of 720 / 120 / 720; pursuit
+    37 / 8 / 42 of 48 / 8 / 48): outside charges 656 / 112 / 645, engine-only misses 24 -> 19 on
+    seeds 0-5, pursuit 43 / 6 / 39; over the 39 paths of those 13 seeds still/moving met on 33
+    instead of 29 (lover) and 28 instead of 24 (afraid), but speed W1 on 22 instead of 26
+    (lover) and 27 (afraid): the lover, no longer held by its tremor, outruns fast mains; its
+    seed 3 slow path stays at 0.073 m/s: there its slow walk is the composition's, not the
+    cap's. In charges too 648 (bully misses 4 -> 15); only where the moment went along with its
+    main (k >= FOLLOW_SHARE) 640; only while the live main walks 651; only while it stands 639;
+    only where the correction is at most the cap 653 (at most half of it 645); the correction
+    given what the own step leaves of the cap, raw 638 (own step capped too 621); the cap from
+    the moment's 0.2 s step length (demonstrated.relative_world_steps) after the smooth 632,
+    before it 637; the cap after the smooth times that length over the moment's per-sample step
+    (its tremor-free share) 613, seeds 8-13 621 (the afraid 22 -> 56 misses); the raw step
+    scaled to the moment's speed (the paper's "scaled to the target velocity") 637. None is
+    used."""
 
     __slots__ = ("size", "xs", "ys", "i")
 
@@ -239,6 +267,25 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
     caught in the open (mean distance to the visitor 0.29-0.38 -> 0.23-0.32 m on every seed,
     against 0.41 demonstrated); the same only within 0.2 m of an edge: 621 / 105 and 41 / 7.
     Neither is used. What makes its orbit is :func:`fit_target` (see there).
+
+    Traced on the pursuit of seed 0 (24 of its 40 s at an edge): the matched moments flee
+    straight away from the visitor (they were 0.15 m from an edge in the demonstration, 0.42 m
+    from their main), this clamp turns each into a slide, and the character runs along the
+    edges; the longest spell (13.4 s) was a corner, see :func:`keep_apart`. Two more ways of
+    bringing the table in were measured (bench/fidelity.py, open paths met on seeds 0-5 / 7 /
+    8-13 against 659 / 109 / 651, pursuit against 41 / 8 / 38, mean time at an edge under
+    pursuit against 0.533 / 0.48 / 0.500). In BestMatch, where the best window's
+    continuation (its reactor's way over the next 0.5 s, along and across the bearing from its
+    main, turned to the live bearing) leaves the table, the best window whose continuation
+    stays on it within 1.5x the best distance (at an edge the best one's left in 61% of the
+    steps of seed 0; the best fitting one cost 1.21x, 90th percentile 2.1x): 642 / 109 / 633,
+    pursuit 45 / 6 / 42, at an edge 0.452 / 0.32 / 0.448; over 1 s 641 / 109 / 632; within
+    1.2x 648 / 108 / 630 (0.462 / 0.36 / 0.488); over 0.25 s 645 / 105 / 641; only while the
+    main closes in over 0.5 s 644 / 110 / 631 (0.415 / 0.56 / 0.423). The afraid character's
+    own misses on the open paths rose 22 -> 29-35 (orbit and facing) and 28 -> 33-47 on seeds
+    8-13. A step that would cross an edge turned across the bearing from the main, to the
+    table's side (as its designer escapes round the hand): at an edge 0.43 -> 0.59 (seed 0,
+    40 s pursuit), 0.73 -> 0.77 (seed 20). None is used.
     """
     x0, y0, x1, y1 = table
     length = math.hypot(sx, sy)
@@ -265,17 +312,47 @@ def limit_turn(previous: float, desired: float, max_delta: float) -> float:
     return wrap_angle(previous + d)
 
 
+def table_reach(x: float, y: float, ux: float, uy: float,
+                table: tuple[float, float, float, float]) -> float:
+    """Distance (metres) from (x, y) along the unit direction (ux, uy) to the table's edge
+    (inf along no edge; negative where (x, y) is already beyond the edge it heads for)."""
+    x0, y0, x1, y1 = table
+    reach = math.inf
+    if ux > 0.0:
+        reach = min(reach, (x1 - x) / ux)
+    elif ux < 0.0:
+        reach = min(reach, (x0 - x) / ux)
+    if uy > 0.0:
+        reach = min(reach, (y1 - y) / uy)
+    elif uy < 0.0:
+        reach = min(reach, (y0 - y) / uy)
+    return reach
+
+
 def keep_apart(x: float, y: float, others: list[tuple[float, float, float]],
                table: tuple[float, float, float, float]) -> tuple[float, float]:
     """Position (x, y) moved out of every other character's disc (ox, oy, least distance),
-    along the line between the centres (a puck pushed aside, as two pucks cannot overlap), then
-    kept on the table. Discs are visited in order; a position pinned between two is pushed
-    from each in turn."""
+    along the line between the centres (a puck pushed aside, as two pucks cannot overlap), as
+    far as the table's edge lets it (:func:`table_reach`), then kept on the table. Discs are
+    visited in order; a position pinned between two is pushed from each in turn.
+
+    Pushed the whole way and clamped, a point beyond the edge went back along the edge toward
+    the corner: a hand resting 7 cm from the afraid character (personal space 0.105 m) in a
+    corner held it there for good, as every step out along an edge came back to the corner
+    (bench/fidelity.py's pursuit, seed 0: 13.4 s of 40 at (0, 0), contact 0.30; a hand that
+    stays on it, tests/puppet_master/test_pm_personal_space.py: contact 0.33-0.42). Measured
+    with bench/fidelity.py, thresholds met on the open paths / pursuit (time at an edge under
+    pursuit, mean): --seeds 0,1,2,3,4,5 659 -> 659 / 37 -> 41 (0.565 -> 0.533), --seeds 7
+    107 -> 109 / 8 -> 8 (0.48 -> 0.48; the afraid character's misses 7 -> 5), --seeds
+    8,9,10,11,12,13 651 -> 651 / 42 -> 38 (0.458 -> 0.500); the open paths of seeds 0-5 and
+    8-13 are the same to the last digit. It frees the cornered character; it does not keep it
+    off the edges (see :func:`keep_on_table`)."""
     for ox, oy, least in others:
         dx, dy = x - ox, y - oy
         d = math.hypot(dx, dy)
         if d < least:
             if d < 1e-9:
                 dx, dy, d = 1.0, 0.0, 1.0
-            x, y = ox + dx * least / d, oy + dy * least / d
+            push = max(d, min(least, table_reach(ox, oy, dx / d, dy / d, table)))
+            x, y = ox + dx * push / d, oy + dy * push / d
     return clamp_to_table(x, y, table)

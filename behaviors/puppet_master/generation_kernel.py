@@ -123,6 +123,21 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
     return nx - rx, ny - ry
 
 
+@compiled(_f8(_f8, _f8, _f8, _f8, _F1), step_math)
+def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> float:
+    """generation.table_reach (table from the constants)."""
+    reach = math.inf
+    if ux > 0.0:
+        reach = _min(reach, (c[X1] - x) / ux)
+    elif ux < 0.0:
+        reach = _min(reach, (c[X0] - x) / ux)
+    if uy > 0.0:
+        reach = _min(reach, (c[Y1] - y) / uy)
+    elif uy < 0.0:
+        reach = _min(reach, (c[Y0] - y) / uy)
+    return reach
+
+
 @compiled(_P2(_f8, _f8, _F2, _F1), step_math)
 def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
     """generation.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
@@ -133,7 +148,8 @@ def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[f
         if d < least:
             if d < 1e-9:
                 dx, dy, d = 1.0, 0.0, 1.0
-            x, y = ox + dx * least / d, oy + dy * least / d
+            push = _max(d, _min(least, table_reach(ox, oy, dx / d, dy / d, c)))
+            x, y = ox + dx * push / d, oy + dy * push / d
     return clamp_to_table(x, y, c)
 
 

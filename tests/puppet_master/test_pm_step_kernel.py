@@ -66,7 +66,8 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
     b = Behavior.train(demo, **params)
     assert (b.personal_space == 0.0) == shipped      # round the main (share_around)
     assert b.keeps_pace == (kind == "stalker")
-    main = demos.main_path(11, 60.0, rate_hz=rate, reversals=True)
+    # a main on which the charging kinds enter charges here (with the obstacles below)
+    main = demos.main_path(12, 60.0, rate_hz=rate, reversals=True)
     fast, fast_trace, fast_shown = _run(b, main, True)
     slow, slow_trace, slow_shown = _run(b, main, False)
     assert len(fast) == len(slow) > 1000 and len(fast_trace) > 1500
