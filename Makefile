@@ -43,7 +43,7 @@ BUILD_KERNELS = \
 	$(PY) -c "import behaviors.puppet_master.search_kernel, behaviors.puppet_master.step_kernel" & pm=$$!; \
 	$(PY) -c "$(MOP_STEPS)" && wait $$view && wait $$pm && touch $(KERNELS)
 # (make decides before the install runs: the test skips a build the install has just made)
-$(KERNELS): $(wildcard tabletop/kernel_cache.py tabletop/drawing/*.py behaviors/mop/*.py behaviors/puppet_master/*.py) | $(STAMP)
+$(KERNELS): $(wildcard behaviors/kernel_cache.py tabletop/drawing/*.py behaviors/mop/*.py behaviors/puppet_master/*.py) | $(STAMP)
 	@test -f $@ -a -z "$$(find $^ -newer $@ 2>/dev/null)" \
 	  || { echo "building the compiled kernels"; $(BUILD_KERNELS); }
 

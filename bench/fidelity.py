@@ -46,7 +46,7 @@ about 15 of 720 on six seeds cannot be told from the re-matching's chaos. With s
 each behaviour's misses are also listed over every seed (:func:`behaviour_misses`:
 ``seed:path:threshold``, the engine's alone marked; ``all_seeds.<behaviour>.misses``), as the
 first seed's tables show only that seed. Measured on seeds 0-5 (misses, of them the
-engine's alone): lover 16 (6), bully 4 (3), playful friend 5 (4), stalker 14 (7), afraid 22
+engine's alone): lover 16 (6), bully 4 (2), playful friend 1 (1), stalker 11 (5), afraid 22
 (4, most of them where its own designer misses too: the open paths never chase it).
 
     .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2]

@@ -11,10 +11,11 @@ import csv
 import io
 import math
 import os
+import shutil
 import tempfile
 from pathlib import Path
 from contextlib import contextmanager
-from typing import IO, Any, Iterable, Iterator, Sequence
+from typing import IO, Any, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 import yaml
@@ -105,6 +106,29 @@ def fsync_folder(folder: Path) -> None:
         pass
     finally:
         os.close(dir_fd)
+
+
+def _write_synced(path: Path, text: str) -> None:
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+        f.flush()
+        os.fsync(f.fileno())
+
+
+def new_folder(target: Path, files: Mapping[str, str]) -> None:
+    """Make the folder ``target`` holding ``files`` (name -> text) whole or not at all: written
+    and synced in a hidden temporary folder beside it, then renamed (OSError on failure)."""
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
+    try:
+        for name, text in files.items():
+            _write_synced(tmp / name, text)
+        fsync_folder(tmp)
+        os.chmod(tmp, 0o755)
+        os.rename(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    fsync_folder(target.parent)
 
 
 def atomic_write_text(path: str | Path, text: str) -> None:

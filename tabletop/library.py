@@ -13,10 +13,7 @@ one message naming the file, the line or key, and what is wrong, and it is never
 
 from __future__ import annotations
 
-import os
 import re
-import shutil
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
@@ -25,7 +22,7 @@ import numpy as np
 import yaml
 
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, format_csv,
-                            fsync_folder, read_csv_lines, read_yaml)
+                            new_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
 from tabletop.schema import ConfigError, Context, FilePath, Number, Record, Spec, Str
 
@@ -192,29 +189,6 @@ def describe_yaml(name: str, demo: np.ndarray, parameters: Mapping[str, Any],
         "source": source,
     }
     return yaml.safe_dump(doc, sort_keys=False, default_flow_style=False, allow_unicode=True)
-
-
-def _write_synced(path: Path, text: str) -> None:
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text)
-        f.flush()
-        os.fsync(f.fileno())
-
-
-def new_folder(target: Path, files: Mapping[str, str]) -> None:
-    """Make the folder ``target`` holding ``files`` (name -> text) whole or not at all: written
-    and synced in a hidden temporary folder beside it, then renamed (OSError on failure)."""
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
-    try:
-        for name, text in files.items():
-            _write_synced(tmp / name, text)
-        fsync_folder(tmp)
-        os.chmod(tmp, 0o755)
-        os.rename(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    fsync_folder(target.parent)
 
 
 def save_behavior(library: str | Path, name: str, demo: np.ndarray,

@@ -26,7 +26,7 @@ from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
 _CALLS_INTO = (behaviors.mop.compiled, holding, threshold, threshold_kernel, validity)

@@ -49,7 +49,7 @@ import numpy as np
 from behaviors.mop import validity
 from behaviors.mop.hmm import TemplateBank, inner_holds
 from behaviors.mop.validity import RESTING_RADII
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 _CALLS_INTO = (validity,)   # the file whose constants the kernels take in
 

@@ -22,7 +22,7 @@ from behaviors.mop import spotting, validity
 from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
                                     LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 _CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
 

@@ -54,7 +54,7 @@ from behaviors.motion.clips import Clip
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Take, Vote
 from tabletop.frames import CharacterState, Frame, InputError
-from tabletop.worker import Worker
+from behaviors.worker import Worker
 
 FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None"], object]
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]

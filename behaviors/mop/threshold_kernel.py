@@ -14,7 +14,7 @@ import behaviors.mop.compiled
 from behaviors.mop import threshold
 from behaviors.mop.compiled import CONTRACT, exp_neg
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in
 _CALLS_INTO = (behaviors.mop.compiled, threshold)

@@ -22,7 +22,7 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop.compiled import CONTRACT, exp_neg, prefetch
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 _CALLS_INTO = (behaviors.mop.compiled,)   # the files whose compiled functions the kernels take in
 

@@ -22,8 +22,6 @@ from __future__ import annotations
 import functools
 import math
 
-import numpy as np
-
 from tabletop.frames import wrap_angle
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from behaviors.puppet_master import step_math
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 # the table among the step's constants (Reactor._cs)
 X0, Y0, X1, Y1 = range(4)

@@ -39,7 +39,7 @@ from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: s
     X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, moved_on, share_around,
     step_around)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 # float state (Reactor._fs)
 RX, RY, LOOK, MAIN_X, MAIN_Y, MAIN_MOVE, REACT_X, REACT_Y, REACT_MOVE, EMA_X, EMA_Y, \

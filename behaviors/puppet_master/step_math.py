@@ -12,7 +12,7 @@ import math
 import numba
 import numpy as np
 
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 _f8 = numba.float64
 

@@ -2,7 +2,7 @@
 
 Training a minute of demonstration takes tens of milliseconds (ten minutes: about 0.3 s), and
 a reactor preallocates its search buffers; done inside a tick, either would stall the loop.
-:class:`BackgroundTrainer` runs one job at a time in a daemon thread (:class:`tabletop.worker.
+:class:`BackgroundTrainer` runs one job at a time in a daemon thread (:class:`behaviors.worker.
 Worker`); the studio polls it once a tick and swaps the new behaviour in between ticks. Only the
 reactor's start (placing it at the main's pose, O(N n d)) stays in the tick, once.
 """
@@ -15,7 +15,7 @@ import numpy as np
 
 from behaviors.puppet_master.engine import Behavior, Reactor
 from tabletop.frames import InputError
-from tabletop.worker import Worker
+from behaviors.worker import Worker
 
 
 def _train(demo: np.ndarray, params: dict[str, Any],

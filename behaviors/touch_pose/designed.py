@@ -31,7 +31,7 @@ from behaviors.touch_pose.humanoid import PARTS, Humanoid, Pose
 from behaviors.touch_pose.latent import LearnedModel
 from behaviors.touch_pose.samples import ActionSpec, Segment, relative
 from tabletop.frames import InputError
-from tabletop.library import new_folder
+from tabletop.files import new_folder
 
 FORMAT = "tabletop.touch_pose_action"
 FILE = "action.json"

@@ -3,7 +3,7 @@
 A figure's kernel holds its own copy of the limbs', discs' and polygons' compiled code; with
 numba's own stamp, a change to ``limbs.py`` would leave the figure drawn by the old limbs until
 ``character_kernel.py`` changed. Kernels made with :func:`kernel` are stamped with the contents
-of every file in :data:`FILES` (:func:`tabletop.kernel_cache.compiled`): a change to any of them
+of every file in :data:`FILES` (:func:`behaviors.kernel_cache.compiled`): a change to any of them
 compiles them all again (about 20 s of CPU, once; ``make kernels`` does it;
 ``tests/tabletop/test_kernel_cache.py`` checks every kernel is stamped so).
 """
@@ -14,8 +14,8 @@ import functools
 import os
 from typing import Callable
 
-from tabletop.kernel_cache import compiled
-from tabletop.kernel_cache import stamp as stamp_of
+from behaviors.kernel_cache import compiled
+from behaviors.kernel_cache import stamp as stamp_of
 
 # the files whose compiled functions call one another (shapes, characters, trails)
 FILES = ("kernel_cache.py", "blend.py", "discs.py", "polygons.py", "limbs.py",
@@ -30,7 +30,7 @@ def stamp() -> bytes:
 
 
 def kernel(fn: Callable | None = None, **options) -> Callable:
-    """:func:`tabletop.kernel_cache.compiled` with the stamp of :data:`FILES`, compiled on its
+    """:func:`behaviors.kernel_cache.compiled` with the stamp of :data:`FILES`, compiled on its
     first call. Use bare (``@kernel``) or with numba options."""
     if fn is None:
         return functools.partial(kernel, **options)

@@ -15,7 +15,7 @@ import numpy as np
 
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
-from tabletop.worker import Worker
+from behaviors.worker import Worker
 
 
 class MopTarget:

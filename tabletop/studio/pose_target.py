@@ -25,7 +25,7 @@ from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.targets import rename_folder, trash
-from tabletop.worker import Worker
+from behaviors.worker import Worker
 
 
 def _learn(body, name: str, times: np.ndarray, poses: list[Pose], part: str | None) -> tuple:

@@ -24,6 +24,7 @@ import numpy as np
 from behaviors.puppet_master.sequential import SequentialSession
 from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
+from tabletop.files import fsync_folder
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
 
@@ -36,7 +37,7 @@ def trash(folder: Path) -> Callable[[], None]:
     bin_.mkdir(exist_ok=True)
     dest = bin_ / f"{folder.name}.{time.time_ns()}"
     os.rename(folder, dest)
-    library.fsync_folder(folder.parent)
+    fsync_folder(folder.parent)
 
     def restore() -> None:
         if folder.exists():
@@ -50,7 +51,7 @@ def rename_folder(lib: Path, old: str, new: str) -> None:
     if (lib / new).exists():
         raise InputError(f"{lib / new}: already exists")
     os.rename(lib / old, lib / new)
-    library.fsync_folder(lib)
+    fsync_folder(lib)
 
 
 class PuppetMasterTarget:

@@ -1,5 +1,5 @@
 """A compiled kernel that calls compiled functions of another file is rebuilt when that file
-changes (tabletop/kernel_cache.compiled, as the Puppet Master's kernels are built): numba's own
+changes (behaviors/kernel_cache.compiled, as the Puppet Master's kernels are built): numba's own
 cache checks only the kernel's file and would keep the old callee built into it."""
 
 import subprocess
@@ -11,7 +11,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 CALLEE = """
 import numba
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 @compiled(numba.float64(numba.float64))
 def bump(x):
@@ -21,7 +21,7 @@ def bump(x):
 CALLER = """
 import numba
 import callee
-from tabletop.kernel_cache import compiled
+from behaviors.kernel_cache import compiled
 
 @compiled(numba.float64(numba.float64), {calls_into})
 def twice_bumped(x):

@@ -5,7 +5,7 @@ import sys
 import threading
 import time
 
-from tabletop.worker import SWITCH_S, Worker
+from behaviors.worker import SWITCH_S, Worker
 
 
 def test_results_once_cancel_drops_a_job_failures_are_results_and_the_thread_ends():

@@ -48,3 +48,28 @@ def test_no_import_cycles():
     graph = {m: imported(p, known) - {m} for m, p in known.items()}
     cycles = [c for m in sorted(graph) if (c := cycle_through(m, graph))]
     assert not cycles, " | ".join(" -> ".join(c) for c in cycles[:5])
+
+
+def layer_breaks() -> list[str]:
+    """DESIGN.md's layers: ``tabletop.frames`` and ``tabletop.files`` import nothing of the
+    project but each other (the files' errors are the vocabulary's ``InputError``); ``tracking``, ``calibration`` and ``behaviors`` import those two and nothing of each
+    other but ``tracking`` using ``calibration``; only ``tabletop`` wires everything."""
+    shared = {"tabletop.frames", "tabletop.files"}
+    allowed = {"tracking": {"tracking", "calibration"}, "calibration": {"calibration"},
+               "behaviors": {"behaviors"}}
+    known = modules()
+    breaks = []
+    for name, path in sorted(known.items()):
+        targets = imported(path, known) - {name}
+        targets = {m for m in targets if not any(o.startswith(m + ".") for o in targets)}
+        if name in shared:
+            breaks += [f"{name} -> {m}" for m in sorted(targets - shared)]
+        elif (package := name.split(".")[0]) in allowed:
+            breaks += [f"{name} -> {m}" for m in sorted(targets)
+                       if m not in shared and m.split(".")[0] not in allowed[package]]
+    return breaks
+
+
+def test_the_layers_of_the_design():
+    breaks = layer_breaks()
+    assert not breaks, " | ".join(breaks)

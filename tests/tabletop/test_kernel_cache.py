@@ -1,5 +1,5 @@
 """Compiled kernels are cached under a stamp of every file they take code or constants from
-(tabletop/kernel_cache.py), so that a kernel never runs a stale copy of a compiled function it
+(behaviors/kernel_cache.py), so that a kernel never runs a stale copy of a compiled function it
 took in from another file; the drawing's shape kernels share one stamp of all their files."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numba
 
-from tabletop import kernel_cache as shared
+from behaviors import kernel_cache as shared
 from tabletop.drawing import kernel_cache
 
 DRAWING = Path(kernel_cache.__file__).parent
