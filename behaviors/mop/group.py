@@ -162,7 +162,8 @@ class FollowerGroup(GroupRules):
         self._ended[rows] = -1
         self._forget_members(rows)
         self._tempo_n[rows] = 0
-        mine = np.isin(self._owner, np.arange(len(self.followers))[rows])
+        self._crawl[rows] = (0, -1)   # as ActionFollower.reset: no crawl, no best
+        mine = self._owner_of(rows)
         self._shape[mine] = 0.0
         self._gone[mine] = 0.0
 
@@ -240,8 +241,9 @@ class FollowerGroup(GroupRules):
                 out[i] = self.followers[i]._held()
         return out
 
-    def _owner_of(self, members: list[int]) -> np.ndarray:
-        """Which templates (K,) belong to ``members`` (a mask: ``np.isin`` costs ~20x more)."""
+    def _owner_of(self, members: list[int] | np.ndarray | slice) -> np.ndarray:
+        """Which templates (K,) belong to ``members`` (indices, a mask or a slice of the
+        members; a mask over the templates: ``np.isin`` costs ~20x more)."""
         mine = np.zeros(len(self.followers), dtype=bool)
         mine[members] = True
         return mine[self._owner]

@@ -81,7 +81,7 @@ class GroupRules:
         self._nbuf[fresh] = 1
         self._ended[after_end | resting] = (gb - self._bounds)[after_end | resting]
         # every template of these members at its first state, no evidence
-        cols = np.flatnonzero(np.isin(self._owner, rows))
+        cols = np.flatnonzero(self._owner_of(rows))
         self.forward.reset_templates(cols)
         for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num", "_den",
                   "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape", "_gone", "_least",
