@@ -29,9 +29,10 @@ from behaviors.puppet_master.engine import Behavior
 from tabletop import library
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / "behaviors" / "library"
-PARAMETERS = {"rate_hz": 40.0, "window": 40}
 SECONDS = 60.0
 TABLE = (1.2, 0.8)
+# the table each demonstration was made on is stored with it (Params.table_width / height)
+PARAMETERS = {"rate_hz": 40.0, "window": 40, "table_width": TABLE[0], "table_height": TABLE[1]}
 DESCRIPTIONS = {
     "lover": "Approaches the main character and stays close, facing it, nuzzling side to side.",
     "bully": "Lurks facing the main character, charges at it, pushes into it, then backs off.",

@@ -73,7 +73,7 @@ class Reactor(GenerationStep):
         self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid,
                                          behavior.situation_aug, p.half_life)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
-        self._xs = np.zeros(ft.SITUATION_DIMS)
+        self._xs = np.zeros(behavior.situation_vectors.shape[1])
         self._xc = np.zeros(ft.COHERENCE_DIMS)
         self.started = False
         self.t = math.nan
@@ -110,7 +110,8 @@ class Reactor(GenerationStep):
         self.main_motion = ft.EntityMotion(main_x, main_y, md, p.rate_hz, p.min_speed)
         self.react_motion = ft.EntityMotion(rx, ry, rd, p.rate_hz, p.min_speed)
         f, l, rl = ft.relative_pose(main_x, main_y, md, rx, ry, rd)
-        ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl)
+        ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl,
+                         ft.room_at(main_x, main_y, rx, ry, self.table))
         ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0, 0.0)
         self.situation.reset(np.tile(self._xs, (p.window, 1)))
         self.coherence.reset(np.tile(self._xc, (p.window, 1)))
@@ -157,7 +158,9 @@ class Reactor(GenerationStep):
             bal.target_share, bal.gain, bal.window, bal.log_k_limit)
         s = b.scales
         c[[sk.S_V_MAIN, sk.S_V_REACT, sk.S_REL_POSITION, sk.S_REL_LOOK, sk.S_NORM_LOOK,
-           sk.S_DDIR]] = s.v_main, s.v_react, s.rel_position, s.rel_look, s.norm_look, s.ddir
+           sk.S_DDIR, sk.S_ROOM]] = (s.v_main, s.v_react, s.rel_position, s.rel_look,
+                                     s.norm_look, s.ddir, s.room)
+        c[sk.ROOM_CLIP] = ft.ROOM_CLIP
         c[[sk.STILL_DISTANCE, sk.PATCH_LENGTH, sk.HEADING_MIN_SPEED, sk.FOLLOW_SHARE,
            sk.PERSONAL_SPACE, sk.KEEPS_PACE]] = (STILL_MPS * STILL_SPAN_S, p.patch,
                                                  HEADING_MIN_SPEED, FOLLOW_SHARE,

@@ -10,7 +10,12 @@ Per entity and sample i (sampled at the generation rate, dt = 1/rate):
 - delta direction: change of movement direction from the previous sample;
 - relative position (reactor only): the reactor's position in the main character's frame,
   ``fwd`` along the main's look direction and ``left`` to its left, metres;
-- relative look direction: reactor look - main look.
+- relative look direction: reactor look - main look;
+- room (an extension, off unless Params.w_room > 0): the reactor's free room on its table along
+  the bearing from its main (how far it can still back away) and to that bearing's left less
+  its right, metres clipped at ROOM_CLIP (:func:`room`). The paper's features ignore the
+  table; with the room the match can tell a moment with a wall behind the reactor from one in
+  the open, and learn from the demonstration what the character does there.
 
 All angles are wrapped to (-pi, pi]. For the distance computations every angle is embedded as a
 point on the unit circle (cos, sin): the squared distance between two embedded angles is
@@ -30,14 +35,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from behaviors.puppet_master.generation import table_reach
 from tabletop.frames import wrap_angles
 
-SITUATION_DIMS = 6   # v_main, v_react, fwd, left, cos/sin relative look
+SITUATION_DIMS = 6   # v_main, v_react, fwd, left, cos/sin relative look (+ room: ROOM_DIMS)
 COHERENCE_DIMS = 8   # cos/sin normalised look, cos/sin delta direction, fwd, left, v_react, v_main
 
 SPEED_FLOOR = 0.02      # m/s
 POSITION_FLOOR = 0.02   # m
 ANGLE_FLOOR = 0.05      # rad
+ROOM_DIMS = 2        # the reactor's room on the table: behind it, to its left less its right
+ROOM_CLIP = 0.3         # m: the room beyond which a wall does not matter (features.room)
 
 
 @dataclass(frozen=True)
@@ -67,6 +75,7 @@ class Scales:
     rel_look: float
     norm_look: float
     ddir: float
+    room: float = 0.0
 
 
 def movement(pos: np.ndarray, look: np.ndarray, rate_hz: float,
@@ -111,8 +120,9 @@ def angle_spread(a: np.ndarray) -> float:
 
 def feature_scales(f: PairFeatures, w_velocity: float = 1.0, w_rel_position: float = 1.0,
                    w_rel_look: float = 1.0, w_norm_look: float = 1.0,
-                   w_delta_direction: float = 1.0) -> Scales:
-    """Inverse-spread weights from training features, times the designer's weights."""
+                   w_delta_direction: float = 1.0, w_room: float = 0.0) -> Scales:
+    """Inverse-spread weights from training features, times the designer's weights (the
+    room, metres as the relative position, by the relative position's spread)."""
     pos_spread = math.sqrt(0.5 * (float(np.var(f.rel_fwd)) + float(np.var(f.rel_left))))
     return Scales(
         v_main=w_velocity / max(float(np.std(f.v_main)), SPEED_FLOOR),
@@ -120,15 +130,63 @@ def feature_scales(f: PairFeatures, w_velocity: float = 1.0, w_rel_position: flo
         rel_position=w_rel_position / max(pos_spread, POSITION_FLOOR),
         rel_look=w_rel_look / max(angle_spread(f.rel_look), ANGLE_FLOOR),
         norm_look=w_norm_look / max(angle_spread(f.norm_look_react), ANGLE_FLOOR),
-        ddir=w_delta_direction / max(angle_spread(f.ddir_react), ANGLE_FLOOR))
+        ddir=w_delta_direction / max(angle_spread(f.ddir_react), ANGLE_FLOOR),
+        room=w_room / max(pos_spread, POSITION_FLOOR))
 
 
-def situation_vectors(f: PairFeatures, s: Scales) -> np.ndarray:
-    """(n, 6) situation-similarity vectors (4.3.1): velocities, relative position and look."""
-    return np.column_stack([
-        s.v_main * f.v_main, s.v_react * f.v_react,
-        s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
-        s.rel_look * np.cos(f.rel_look), s.rel_look * np.sin(f.rel_look)])
+def _reach(px: np.ndarray, py: np.ndarray, ux: np.ndarray, uy: np.ndarray,
+           table: tuple[float, float, float, float], clip: float) -> np.ndarray:
+    """generation.table_reach per sample, clipped to 0..clip (metres)."""
+    x0, y0, x1, y1 = table
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rx = np.where(ux > 0, (x1 - px) / ux, np.where(ux < 0, (x0 - px) / ux, np.inf))
+        ry = np.where(uy > 0, (y1 - py) / uy, np.where(uy < 0, (y0 - py) / uy, np.inf))
+    return np.clip(np.minimum(rx, ry), 0.0, clip)
+
+
+def room(main: np.ndarray, react: np.ndarray, table: tuple[float, float, float, float],
+         clip: float = ROOM_CLIP) -> np.ndarray:
+    """(n, 2) the reactor's free room on the table (x0, y0, x1, y1), metres: along the bearing
+    from its main (n, 2+) to it (n, 2+), how far it could still back away (0..clip); and to
+    the bearing's left less to its right (-clip..clip), which way round it has room. ``clip``
+    and 0 where the two are on one spot. As :func:`room_at` per sample."""
+    dx, dy = react[:, 0] - main[:, 0], react[:, 1] - main[:, 1]
+    rho = np.hypot(dx, dy)
+    ok = rho > 1e-9
+    r = np.where(ok, rho, 1.0)
+    ux, uy = np.where(ok, dx / r, 1.0), np.where(ok, dy / r, 0.0)
+    px, py = react[:, 0], react[:, 1]
+    back = _reach(px, py, ux, uy, table, clip)
+    side = _reach(px, py, -uy, ux, table, clip) - _reach(px, py, uy, -ux, table, clip)
+    return np.column_stack([np.where(ok, back, clip), np.where(ok, side, 0.0)])
+
+
+def room_at(mx: float, my: float, rx: float, ry: float,
+            table: tuple[float, float, float, float],
+            clip: float = ROOM_CLIP) -> tuple[float, float]:
+    """The reactor's free room at (rx, ry) behind it and to the left less the right of the
+    bearing from its main at (mx, my), metres (see :func:`room`)."""
+    rho = math.hypot(rx - mx, ry - my)
+    if rho <= 1e-9:
+        return clip, 0.0
+    ux, uy = (rx - mx) / rho, (ry - my) / rho
+    back = max(0.0, min(table_reach(rx, ry, ux, uy, table), clip))
+    left = max(0.0, min(table_reach(rx, ry, -uy, ux, table), clip))
+    right = max(0.0, min(table_reach(rx, ry, uy, -ux, table), clip))
+    return back, left - right
+
+
+def situation_vectors(f: PairFeatures, s: Scales,
+                      room_m: np.ndarray | None = None) -> np.ndarray:
+    """(n, 6) situation-similarity vectors (4.3.1): velocities, relative position and look;
+    (n, 8) with the reactor's room on the table (``room_m`` (n, 2) metres, :func:`room`)
+    where the scales weigh it (s.room > 0; Params.w_room)."""
+    cols = [s.v_main * f.v_main, s.v_react * f.v_react,
+            s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
+            s.rel_look * np.cos(f.rel_look), s.rel_look * np.sin(f.rel_look)]
+    if s.room > 0.0 and room_m is not None:
+        cols.extend([s.room * room_m[:, 0], s.room * room_m[:, 1]])
+    return np.column_stack(cols)
 
 
 def coherence_vectors(f: PairFeatures, s: Scales) -> np.ndarray:
@@ -177,14 +235,19 @@ def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
 
 
 def situation_row(out: np.ndarray, s: Scales, v_main: float, v_react: float, fwd: float,
-                  left: float, rel_look: float) -> None:
-    """Write one live situation vector into ``out`` (6,), as :func:`situation_vectors`."""
+                  left: float, rel_look: float,
+                  room_m: tuple[float, float] = (ROOM_CLIP, 0.0)) -> None:
+    """Write one live situation vector into ``out`` (6,), or (8,) with the room (metres,
+    :func:`room_at`), as :func:`situation_vectors`."""
     out[0] = s.v_main * v_main
     out[1] = s.v_react * v_react
     out[2] = s.rel_position * fwd
     out[3] = s.rel_position * left
     out[4] = s.rel_look * math.cos(rel_look)
     out[5] = s.rel_look * math.sin(rel_look)
+    if out.shape[0] > SITUATION_DIMS:
+        out[6] = s.room * room_m[0]
+        out[7] = s.room * room_m[1]
 
 
 def coherence_row(out: np.ndarray, s: Scales, norm_look: float, ddir: float, fwd: float,

@@ -16,7 +16,7 @@ any of these must be made here too:
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
-- features: EntityMotion.step, relative_pose, situation_row, coherence_row
+- features: EntityMotion.step, relative_pose, situation_row, room_at, coherence_row
 - tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
 
 In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
@@ -37,7 +37,7 @@ import numpy as np
 from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, moved_on, share_around,
-    step_around)
+    step_around, table_reach)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -56,8 +56,8 @@ DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     TARGET_SHARE, BALANCE_GAIN, SHARE_WINDOW, LOG_K_LIMIT, \
     S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
     STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE, \
-    KEEPS_PACE = range(4, 39)
-CONSTANTS = 39
+    KEEPS_PACE, S_ROOM, ROOM_CLIP = range(4, 41)
+CONSTANTS = 41
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -304,6 +304,17 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     xs[3] = c[S_REL_POSITION] * left
     xs[4] = c[S_REL_LOOK] * math.cos(rel_look)
     xs[5] = c[S_REL_LOOK] * math.sin(rel_look)
+    if xs.shape[0] > 6:             # the reactor's room on the table (features.room_at)
+        rho = hypot(rx - mx, ry - my)
+        clip = c[ROOM_CLIP]
+        back, side = clip, 0.0
+        if rho > 1e-9:
+            ux, uy = (rx - mx) / rho, (ry - my) / rho
+            back = _max(0.0, _min(table_reach(rx, ry, ux, uy, c), clip))
+            side = (_max(0.0, _min(table_reach(rx, ry, -uy, ux, c), clip))
+                    - _max(0.0, _min(table_reach(rx, ry, uy, -ux, c), clip)))
+        xs[6] = c[S_ROOM] * back
+        xs[7] = c[S_ROOM] * side
     norm_look = wrap_angle(look - move_r)
     xc[0] = c[S_NORM_LOOK] * math.cos(norm_look)
     xc[1] = c[S_NORM_LOOK] * math.sin(norm_look)

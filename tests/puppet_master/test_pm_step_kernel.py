@@ -48,6 +48,8 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
     ("follow", 40.0, {}, 20.0),
     ("circling", 30.0, {"half_life": 10.0}, 20.0),
     ("keep_away", 55.0, {"relative_motion": 0.0}, 20.0),
+    # with the room on the table among the situation features (features.room_at)
+    ("keep_away", 40.0, {"w_room": 2.0, "table_width": 1.2, "table_height": 0.8}, 20.0),
     ("follow", 40.0, {}, 1.5),      # shorter than look.train_place's span
     ("playful_friend", 45.0, {}, 0.0),  # shipped; touches its main: no personal space
     ("bully", 30.0, {}, 0.0),           # shipped; charges held in the world
@@ -64,6 +66,7 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
         m = demos.main_path(3, duration, rate_hz=40.0, reversals=kind == "circling")
         demo = demos.circling(m) if kind == "circling" else demos.follow_behind(m)
     b = Behavior.train(demo, **params)
+    assert b.situation_vectors.shape[1] == (8 if params.get("w_room") else 6)
     assert (b.personal_space == 0.0) == shipped      # round the main (share_around)
     assert b.keeps_pace == (kind == "stalker")
     # a main on which the charging kinds enter charges here (with the obstacles below)
