@@ -48,7 +48,7 @@ def test_live_room_equals_training_room():
         near += room[0] < ft.ROOM_CLIP
         ft.situation_row(xs, b.scales, vm, vr, fwd, left, rl, room)
         assert np.allclose(xs, b.situation_vectors[i], atol=1e-9)
-    assert near > 0.1 * b.samples        # the walls are in the demonstration (measured 0.52)
+    assert near > 0.5 * b.samples        # the walls are in the demonstration (measured 0.998)
 
 
 def test_without_a_stored_table_the_data_bounds_stand_for_it():
