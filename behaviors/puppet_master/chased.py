@@ -25,6 +25,15 @@ open paths 96-121 of 144; the hand then shows no approach from a side and no her
 wandering half of the time and never pausing 129/156/149. Held-out seeds 7-13, the afraid
 generation alone (of 168 + 56): former 133 + 45, this 133 + 50.
 
+Two wall-richer hands measured later (all five behaviours, bench/fidelity.py --seeds
+0,1,2,3,4,5 / 7 / 8,9,10,11,12,13, open paths met against 666 / 109 / 652, pursuit against 41
+/ 8 / 38, the generated character's time at an edge chased against 0.53 / 0.48 / 0.50): herding
+twice as often 658 / 110 / 649, pursuit 45 / 8 / 44, at an edge 0.53 / 0.38 / 0.46 (with the
+room among the situation features, Params.w_room 2: 659 / 111 / 647, 44 / 8 / 43, 0.40 / 0.36
+/ 0.43); herds of 3-6 s (a wall within 0.15 m behind the reactor in 58% of the demonstration,
+24% here) 640 / 107 / 629, 41 / 8 / 43, 0.63 / 0.52 / 0.51. Neither kept: both lose open-path
+checks (the afraid character's facing, orbit and speed, which its designer misses there too).
+
 Positions in table metres, speeds in m/s, times in seconds, angles in radians.
 """
 
