@@ -103,7 +103,8 @@ class Params:
     farther off and watches its main more (facing 0.2-0.33 -> 0.4-0.61), as its own designer
     does there (0.78-0.94), where the demonstration (chased half of the time) shows 0.24.
     The room behind alone (1 dimension) at weight 1: 660 / 110 / 643, at an edge 0.42 / 0.60
-    / 0.50; with the sides, weight 1 656 / 110 / 644 (0.48 / 0.36 / 0.46), weight 3 653 on
+    / 0.50; with the sides, weight 1 656 / 110 / 644 (0.48 / 0.36 / 0.46), weight 1.5 662 /
+    109 / 650, pursuit 45 / 6 / 40 (0.47 / 0.24 / 0.44), weight 3 653 on
     seeds 0-5 (0.38), clipped at 0.2 m 648 (0.47), at 0.4 m 657 (0.43); the sides alone at
     weight 2 653 (0.50). For every character, the room behind at weight 1, 643 (the bully
     and the playful friend 13 misses more). So a designer's choice for a character chased
