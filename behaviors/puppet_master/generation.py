@@ -156,8 +156,10 @@ class StepSmoother:
 
     Measured again with the charges entered in their run-up and the circling friend's place
     held in the world (seeds 0-5: 666 of 720, the engine's alone 18): the cap after this
-    smooth (world places, outside charges) 650 / 23. The lover gains (misses 16 -> 12, its
-    own 6 -> 3; its fast paths' speed W1 is missed with either cap, and by its designer), the
+    smooth (world places, outside charges) 650 / 23, held-out seeds 8-13 638 / 36 against
+    652 / 30 (a step perturbed by nothing but 0.1% of its correction share: 655-658 and
+    648-651, bench/fidelity.py). On seeds 0-5 the lover gains (misses 16 -> 12, its own 6 -> 3; on
+    8-13 15 -> 16; its fast paths' speed W1 is missed with either cap, and by its designer), the
     bully loses (4 -> 12: contact, orbit), the playful friend's darts reach contact half as
     often (1 -> 6 misses; seed 1 slow 0.024 -> 0.011 against 0.026), the afraid 22 -> 30. Not
     a leak of uncapped raw steps into charges and main-frame places: the raw steps held to
@@ -177,7 +179,9 @@ class StepSmoother:
     places outside charges) 643 / 28; the main-frame correction at the moment's pace for the
     characters with a personal space 636 (afraid 22 -> 50), or for 0.25 s after a switch
     from a world place 639 / 27 (the lover's seed 0 slow still speed 0.063 -> 0.040, but it
-    walks slower, 0.097 -> 0.091: speed W1 lost). None is used."""
+    walks slower, 0.097 -> 0.091: speed W1 lost); outside charges, a main-frame place's step
+    at most the moment's speed plus the way the main's step and turn carry it 638 / 30
+    (afraid 22 -> 39, pursuit 41 -> 47). None is used."""
 
     __slots__ = ("size", "xs", "ys", "i")
 
