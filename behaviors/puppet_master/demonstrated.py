@@ -73,7 +73,13 @@ def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float, span_s: float
     walks: with the true share, beside a main slower than the moment's it slows by k x the
     difference) and bench/fidelity.py --seeds 0,1,2,3,4,5 659 -> 641 of 720 (the afraid
     character 22 -> 37 misses); over 0.05 s 641, over 0.2 s 643; with the cap after the smooth
-    (generation.StepSmoother) 640. Not used."""
+    (generation.StepSmoother) 640. Not used. Measured again on 3eabb10 (666 of 720): k over
+    0.1 / 0.2 s leaves the lover's walking speed on seeds 0, 3 and 5 slow at 0.070-0.092 m/s
+    (0.073-0.097 before; its designer 0.096-0.108). The own step taken against the main's step
+    averaged over three samples (in the demonstration the main's tremor carried with k
+    cancelled against the -k x tremor in the own step; live the two add): 643 of 720, the
+    engine's alone 18 -> 24 (stalker 11 -> 16, afraid 22 -> 32, friend 1 -> 2 misses; the
+    lover's seed 3 slow walk 0.073 -> 0.083 m/s, seed 0 0.097 -> 0.089). Not used."""
     n = main.shape[0]
     dm = np.zeros((n, 2))
     dr = np.zeros((n, 2))

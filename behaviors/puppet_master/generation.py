@@ -152,7 +152,36 @@ class StepSmoother:
     before it 637; the cap after the smooth times that length over the moment's per-sample step
     (its tremor-free share) 613, seeds 8-13 621 (the afraid 22 -> 56 misses); the raw step
     scaled to the moment's speed (the paper's "scaled to the target velocity") 637. None is
-    used."""
+    used.
+
+    Measured again with the charges entered in their run-up and the circling friend's place
+    held in the world (seeds 0-5: 666 of 720, the engine's alone 18): the cap after this
+    smooth (world places, outside charges) 650 / 23, held-out seeds 8-13 638 / 36 against
+    652 / 30 (a step perturbed by nothing but 0.1% of its correction share: 655-658 and
+    648-651, bench/fidelity.py). On seeds 0-5 the lover gains (misses 16 -> 12, its own 6 -> 3; on
+    8-13 15 -> 16; its fast paths' speed W1 is missed with either cap, and by its designer), the
+    bully loses (4 -> 12: contact, orbit), the playful friend's darts reach contact half as
+    often (1 -> 6 misses; seed 1 slow 0.024 -> 0.011 against 0.026), the afraid 22 -> 30. Not
+    a leak of uncapped raw steps into charges and main-frame places: the raw steps held to
+    the top speed as well 633. Traced on the lover's slow paths (seeds 0, 3, 5, main walking,
+    world places): its composed motion (k x the live main's step + its own step) is as long
+    as the matched moments' step (0.106-0.116 against 0.104-0.110 m/s) and as straight (0.79
+    of its parts' lengths; 0.72-0.75 demonstrated); on top comes the drift correction
+    (0.04-0.11 m/s, a lag of 0.2-2.2 cm behind the matched distance), which the cap takes
+    out, and this smooth takes 8-15% of the capped steps (0.093-0.110 -> 0.079-0.101; the
+    demonstrated reactor's steps lose 5% over three samples): 0.073-0.097 m/s out, its
+    designer 0.096-0.108. Beside its still main (seed 0 slow) 63 of its 229 steps are at
+    places held in the main's frame, each entered from a world place with an uncapped
+    correction of 0.12 m/s (3 cm): 0.100 m/s there, 0.050 at world places (0.053 shown).
+    Measured (seeds 0-5, met / the engine's alone): the cap raised by catch_up x the distance
+    to the target 638 / 32 (the lover 16 -> 24 misses), only where k >= FOLLOW_SHARE 631 / 30;
+    the smoothed step lengthened to the raw steps' mean length, at most the cap (world
+    places outside charges) 643 / 28; the main-frame correction at the moment's pace for the
+    characters with a personal space 636 (afraid 22 -> 50), or for 0.25 s after a switch
+    from a world place 639 / 27 (the lover's seed 0 slow still speed 0.063 -> 0.040, but it
+    walks slower, 0.097 -> 0.091: speed W1 lost); outside charges, a main-frame place's step
+    at most the moment's speed plus the way the main's step and turn carry it 638 / 30
+    (afraid 22 -> 39, pursuit 41 -> 47). None is used."""
 
     __slots__ = ("size", "xs", "ys", "i")
 
