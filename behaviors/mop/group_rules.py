@@ -98,8 +98,9 @@ class GroupRules:
             self._anchor[i] = anchor
 
     def _forget_members(self, rows: np.ndarray | int) -> None:
-        """Members ``rows`` (bool, indices or one index) forget their own part of the evidence: best, runs,
-        drive, end, turning and the threshold model (ActionFollower._forget, per member)."""
+        """Members ``rows`` (bool, indices or one index) forget their own part of the evidence:
+        best, runs, drive, end, turning and the threshold model (ActionFollower._forget, per
+        member)."""
         for a in (self._run, self._lost, self._after_end):
             a[rows] = 0
         self._best[rows] = -1
