@@ -29,6 +29,9 @@ _CALLS_INTO = (behaviors.mop.compiled,)   # the files whose compiled functions t
 START_FLOOR = 1e-100  # keeps the first-states windows' products far from subnormal numbers
 CLAMP = -200.0        # log-weights below the window's best by more than this count as e^-200
 AHEAD = 2             # templates ahead whose window states are fetched while one is stepped
+# The helpers below are inlined into :func:`step_windows` (``inline="always"``: the same
+# operations; as calls, step_windows alone on real states of DESIGN's group took 378 -> 361 and
+# 397 -> 378 us at best, 410 -> 384 and 467 -> 464 us median, two interleaved runs at load 8).
 
 
 @compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
