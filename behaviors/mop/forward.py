@@ -91,12 +91,12 @@ class WindowedForward:
         self.steps = 0
         self._fresh = np.ones(k, dtype=bool)   # the next step is a first one (no transitions, no restart)
 
-    def reset_templates(self, templates: np.ndarray, fresh: bool = False) -> None:
-        """Forget the performance of some templates (indices): they wait at their first state,
-        as after :meth:`reset`, while the others go on. ``fresh``: their next step is a first
-        step too (no transitions, no restart), as after :meth:`reset`."""
-        t = np.asarray(templates, dtype=np.intp)
-        if t.size == 0:
+    def reset_templates(self, templates: np.ndarray | slice, fresh: bool = False) -> None:
+        """Forget the performance of some templates (indices or a slice): they wait at their
+        first state, as after :meth:`reset`, while the others go on. ``fresh``: their next step
+        is a first step too (no transitions, no restart), as after :meth:`reset`."""
+        t = templates if isinstance(templates, slice) else np.asarray(templates, dtype=np.intp)
+        if not isinstance(t, slice) and t.size == 0:
             return
         self._fresh[t] |= fresh
         self._a[t] = 0.0

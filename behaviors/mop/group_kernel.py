@@ -270,6 +270,31 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             best_d = np.inf
             for o in range(-before, after + 1):
                 j = min(max(gf + o, start), last)
+                # a puck's two features: the loops over them written out (the same operations;
+                # update_templates on its real arguments 605 -> 569, 624 -> 569, 588 -> 538 us
+                # median, interleaved, load 22)
+                if d == 2:
+                    ja, jb = j + off, min(j + 1, last) + off
+                    sa0, sa1, sb0, sb1 = states[ja, 0], states[ja, 1], states[jb, 0], states[jb, 1]
+                    ab0 = sb0 - sa0
+                    ab1 = sb1 - sa1
+                    za = 0.0
+                    ab2 = 0.0
+                    za += (z[0] - sa0) * ab0
+                    ab2 += ab0 * ab0
+                    za += (z[1] - sa1) * ab1
+                    ab2 += ab1 * ab1
+                    tt = min(max(za * (1.0 / max(ab2, 1e-12)), 0.0), 1.0)
+                    dd = 0.0
+                    e = (z[0] - sa0) - tt * (sb0 - sa0)
+                    dd += e * e
+                    e = (z[1] - sa1) - tt * (sb1 - sa1)
+                    dd += e * e
+                    if dd < best_d:
+                        best_d = dd
+                        v[0] = sa0 + tt * (sb0 - sa0)
+                        v[1] = sa1 + tt * (sb1 - sa1)
+                    continue
                 a = states[j + off]
                 b = states[min(j + 1, last) + off]   # a template's last state has no segment
                 za = 0.0
