@@ -182,6 +182,18 @@ drives (kept; the likelier explanation of a straight stroke: a line is driven fr
 it, a square's first side shows the line's outward stroke and the square takes over at its
 corner) or neither does (shared starts, above: every line waits for its turn, and valid after
 30% of gestures at 0.7-1.4x falls under 0.9).
+The held-out 5: the square, recognised at its corner (0.40-0.42), lost its evidence as the
+forward caught up with the corner (probability 0.99 -> 0.04 -> 0.000 in three samples) while it
+still led the circle in shape by 40 nats; below :data:`RIVAL_PROBABILITY` it is no rival, so
+the circle led and drove 0.47-0.54. Rivals widened, measured and not kept (``--sections=
+sequences`` and ``sized,holds,unrelated``; tuned / held-out): a template that was ``best``
+within the last 4 samples stays a rival however improbable: the avoidable run 5 -> 2 (held-out;
+tuned 2 both), every other sequence figure the same but the square 0.404 -> 0.409, unrelated
+mean 0.0786 -> 0.0775 / 0.0909 -> 0.0890, but valid after 30% of gestures at 0.7-1.4x 0.9001 ->
+0.8995 / 0.9019 (8 samples: 0.8989); one that drove within 4 or 8 samples (the line, which
+drove last, then kept the square from driving at its corner, and the circle took it the same):
+0.8995, the run unchanged; one probable within 4 samples: 0.8909 / 0.8872 (the line waits:
+recognised 0.30 -> 0.38); every covered template on its path: 0.8878 / 0.8843.
 
 Committing early where the shape clearly leads, measured and not kept: an action whose followed
 progress covered 4% of its path (half of ``coverage``) drives before it covers 8% when it leads
