@@ -347,10 +347,11 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
             wrong = s.valid and s.best != g
             run_len = run_len + 1 if wrong else 0
             worst = max(worst, run_len)
-            if observer is not None and wrong and g is not None:
-                # resting after the last gesture: at its end
-                same = observer(g, float(p) if np.isfinite(p) else 1.0, s.best, templates,
-                                memo=memo)
+            if observer is not None and wrong:
+                # resting after the last gesture: at its end; before the first: nothing
+                # performed, an action driving there is told at once
+                same = g is not None and observer(g, float(p) if np.isfinite(p) else 1.0,
+                                                  s.best, templates, memo=memo)
                 wrong_ticks += 1
                 same_ticks += same
                 told_len = 0 if same else told_len + 1
