@@ -190,8 +190,10 @@ sequences`` and ``sized,holds,unrelated``; tuned / held-out): a template that wa
 within the last 4 samples stays a rival however improbable: the avoidable run 5 -> 2 (held-out;
 tuned 2 both), every other sequence figure the same but the square 0.404 -> 0.409, unrelated
 mean 0.0786 -> 0.0775 / 0.0909 -> 0.0890, but valid after 30% of gestures at 0.7-1.4x 0.9001 ->
-0.8995 / 0.9019 (8 samples: 0.8989); one that drove within 4 or 8 samples (the line, which
-drove last, then kept the square from driving at its corner, and the circle took it the same):
+0.8995 / 0.9019: squares at 0.7x and 0.85x (0.849 -> 0.811) are taken later, the line, best on
+their first side, now a rival at the corner (8 samples: 0.8989); one that drove within 4 or 8
+samples (the line, which drove last, then kept the square from driving at its corner, and the
+circle took it the same):
 0.8995, the run unchanged; one probable within 4 samples: 0.8909 / 0.8872 (the line waits:
 recognised 0.30 -> 0.38); every covered template on its path: 0.8878 / 0.8843.
 
