@@ -26,7 +26,9 @@ the share of ticks valid on unrelated input; for
 raise-hold-return the RMSE and the largest backward slide of the progress shown while the
 action drives its character (the performer only goes forward); for sequences the progress at which each gesture is recognised (1 when never) and the
 longest run of ticks with a wrong action valid (resting after the last gesture, that gesture
-may hold its last pose). Deterministic (seeded): quality is not timed.
+may hold its last pose); among the six gestures, the share of wrong-valid ticks where no
+observer could yet tell the gesture from the driving action and the longest run of those it
+could (``bench/spotting_reach.py``). Deterministic (seeded): quality is not timed.
 
 Held out: the same evaluation on fourteen other joints of the clips (``MOCAP_HELD_OUT``) with
 another seed (``heldout_`` figures); the follower's rules and parameters were never chosen on
@@ -326,23 +328,43 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
     f = factory(templates)
     names = list(templates)
     delays, wrong_runs, ended_runs, other_runs, named = [], [], [], [], []
+    # among a few gestures: which wrong ticks an ideal observer could already tell
+    # (bench/spotting_reach.py: the gesture's path so far is no start of the driving action's)
+    observer = None
+    if len(names) <= 6 and f is not None:
+        from bench.spotting_reach import indistinguishable as observer
+    memo: dict = {}
+    avoidable, wrong_ticks, same_ticks = [], 0, 0
     for _ in range(count):
         x, truth, prog, order = back_to_back(rng, templates, length)
         runs = dict(ended=0, other=0, ended_worst=0, other_worst=0)
         states = run(f, x)
         run_len = 0
         worst = 0
+        told_len, told_worst = 0, 0
         previous = {b: a for a, b in zip(order, order[1:])}
-        for s, g in zip(states, truth):
+        for s, g, p in zip(states, truth, prog):
             wrong = s.valid and s.best != g
             run_len = run_len + 1 if wrong else 0
             worst = max(worst, run_len)
+            if observer is not None and wrong:
+                # resting after the last gesture: at its end; before the first: nothing
+                # performed, an action driving there is told at once
+                same = g is not None and observer(g, float(p) if np.isfinite(p) else 1.0,
+                                                  s.best, templates, memo=memo)
+                wrong_ticks += 1
+                same_ticks += same
+                told_len = 0 if same else told_len + 1
+            else:
+                told_len = 0
+            told_worst = max(told_worst, told_len)
             # the same run, apart: the gesture just ended still driving vs any other action
             kind = "ended" if wrong and previous.get(g) == s.best else "other"
             runs[kind] = runs[kind] + 1 if wrong else 0
             runs[kind + "_worst"] = max(runs[kind + "_worst"], runs[kind])
             runs["other" if kind == "ended" else "ended"] = 0
         wrong_runs.append(worst)
+        avoidable.append(told_worst)
         ended_runs.append(runs["ended_worst"])
         other_runs.append(runs["other_worst"])
         for g in order:
@@ -369,7 +391,10 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
             # under a few millimetres for several ticks), and any other wrong action
             f"{key}_wrong_valid_ended_longest_ticks_max": int(max(ended_runs)),
             f"{key}_wrong_valid_other_longest_ticks_max": int(max(other_runs)),
-            f"{key}_wrong_valid_other_longest_ticks_median": float(np.median(other_runs))}
+            f"{key}_wrong_valid_other_longest_ticks_median": float(np.median(other_runs)),
+            **({f"{key}_wrong_valid_indistinguishable_share": same_ticks / max(wrong_ticks, 1),
+                f"{key}_wrong_valid_avoidable_longest_ticks_max": int(max(avoidable))}
+               if observer is not None else {})}
 
 
 def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator) -> dict[str, float]:

@@ -18,7 +18,17 @@ What holds each gesture back (:func:`gates`): in the same sequences, for each ru
 pass before it drives (:data:`GATES`), the progress of the gesture from which that rule held for
 the true template without a break until the gesture was recognised; per gesture the median, and
 the rule whose median is latest (printed as ``{gesture}_last_gate``; ``--debug`` prints every
-gesture performed). Deterministic; not timed.
+gesture performed).
+
+Which wrong runs any follower could have avoided (``follow_quality.sequences`` among a few
+gestures, with :func:`indistinguishable`): in the same sequences, each tick where a wrong
+action drives (``valid`` with ``best`` not the gesture performed) is *indistinguishable* when
+the gesture's path so far (noise-free) is still within 2 mm of a start of the driving action's
+path at some size and tempo (:func:`closest_start`), or has not yet left its own start by
+2 mm (the ended gesture's rest and the next one's eased start look the same). Printed: the
+share of wrong ticks indistinguishable, and the longest run of wrong ticks an observer could
+already have told (``wrong_valid_avoidable_longest_ticks_max``; the issue's target for
+back-to-back gestures is at most 2). Deterministic; not timed.
 
     python bench/spotting_reach.py [--debug]
 """
@@ -134,6 +144,23 @@ def gates(templates: dict[str, np.ndarray], rng: np.random.Generator,
     return out
 
 
+def indistinguishable(name: str, p: float, other: str, templates: dict[str, np.ndarray],
+                      theta: float = 0.002, memo: dict | None = None) -> bool:
+    """Whether gesture ``name``'s path up to progress ``p`` (noise-free) is still within
+    ``theta`` metres of a start of ``other``'s at some size and tempo, or has not yet left its
+    own start by ``theta``: no observer could tell ``other`` wrong there."""
+    key = (name, round(p, 2), other)
+    if memo is not None and key in memo:
+        return memo[key]
+    tpl = templates[name]
+    prefix = at_phase(tpl, np.linspace(0, key[1] * (len(tpl) - 1), int(400 * key[1]) + 2))
+    same = bool(np.max(np.linalg.norm(prefix - prefix[0], axis=1)) <= theta
+                or closest_start(prefix, templates[other]) <= theta)
+    if memo is not None:
+        memo[key] = same
+    return same
+
+
 def main() -> None:
     t0 = time.perf_counter()
     templates = gesture_templates()
@@ -150,7 +177,12 @@ def main() -> None:
     # bench/follow_quality.py compares options on), and the share recognised within 20% or, where
     # no observer can tell the gesture apart that early, by its reach at 2 mm
     record: list = []
-    sequences(puck_follower, templates, np.random.default_rng(OPTION_SEED), count=16, record=record)
+    seq = sequences(puck_follower, templates, np.random.default_rng(OPTION_SEED), count=16,
+                    record=record)
+    # which wrong runs any observer could have avoided (indistinguishable, via sequences)
+    for k in ("wrong_valid_longest_ticks_max", "wrong_valid_indistinguishable_share",
+              "wrong_valid_avoidable_longest_ticks_max"):
+        figures[k] = seq[f"sequence_{k}"]
     for name in templates:
         got = [p for g, p in record if g == name]
         figures[f"{name}_recognition_progress_median"] = float(np.median(got))

@@ -168,6 +168,53 @@ template's last state, so its mean lags the bulk): a wave the follower ended thr
 ends at the performer's last sample, but valid after 30% 0.8798 / 0.8920; half a deviation
 0.8885 / 0.9044. Every rule that ends sooner costs the sized performances their eased last
 samples, which look the same.
+
+Which wrong runs any follower could avoid (``bench/follow_quality.py --sections=sequences``,
+``..._wrong_valid_indistinguishable_share`` and ``..._avoidable_longest_ticks_max``, by
+``bench/spotting_reach.indistinguishable``): of the ticks where a wrong action drives among the
+six gestures back to back, 0.86 (held-out 0.64) fall where the gesture's path so far is still,
+within 2 mm, a start of the driving action's path at some size and tempo, or has not yet left
+its own start; the longest run an observer could already have told is 2 ticks (held-out 5: the
+circle on a square's second side, just after its corner). The longest wrong runs (10 / 7, the
+line on the square's first side) end within 2 ticks of the corner, where the two part: no
+follower tells them apart sooner. What the character does meanwhile is the choice: the line
+drives (kept; the likelier explanation of a straight stroke: a line is driven from about 30% of
+it, a square's first side shows the line's outward stroke and the square takes over at its
+corner) or neither does (shared starts, above: every line waits for its turn, and valid after
+30% of gestures at 0.7-1.4x falls under 0.9).
+The held-out 5: the square, recognised at its corner (0.40-0.42), lost its evidence as the
+forward caught up with the corner (probability 0.99 -> 0.04 -> 0.000 in three samples) while it
+still led the circle in shape by 40 nats; below :data:`RIVAL_PROBABILITY` it is no rival, so
+the circle led and drove 0.47-0.54. Rivals widened, measured and not kept (``--sections=
+sequences`` and ``sized,holds,unrelated``; tuned / held-out): a template that was ``best``
+within the last 4 samples stays a rival however improbable: the avoidable run 5 -> 2 (held-out;
+tuned 2 both), every other sequence figure the same but the square 0.404 -> 0.409, unrelated
+mean 0.0786 -> 0.0775 / 0.0909 -> 0.0890, but valid after 30% of gestures at 0.7-1.4x 0.9001 ->
+0.8995 / 0.9019: squares at 0.7x and 0.85x (0.849 -> 0.811) are taken later, the line, best on
+their first side, now a rival at the corner (8 samples: 0.8989); one that drove within 4 or 8
+samples (the line, which drove last, then kept the square from driving at its corner, and the
+circle took it the same):
+0.8995, the run unchanged; one probable within 4 samples: 0.8909 / 0.8872 (the line waits:
+recognised 0.30 -> 0.38); every covered template on its path: 0.8878 / 0.8843.
+
+Committing early where the shape clearly leads, measured and not kept: an action whose followed
+progress covered 4% of its path (half of ``coverage``) drives before it covers 8% when it leads
+every rival in shape by 8 nats (twice :data:`LEAD`) or no other template is left probable (a
+lone template never: nothing told it apart). ``bench/follow_quality.py --sections=sequences``
+(tuned / held-out): six gestures back to back, the zigzag recognised at 0.255 -> 0.210 / 0.241
+-> 0.193, the figure eight 0.244 -> 0.234 / 0.227 -> 0.197, within 20% 0 -> 0.03 / 0 -> 0.22;
+twenty templates within 20% 0.34 -> 0.41 / 0.31 -> 0.41, but the held-out longest wrong run 12
+-> 20 (a jump ankle took a backflip ankle's start); ``--sections=sized,holds,unrelated``: valid
+after 30% of gestures at 0.7-1.4x 0.9001 -> 0.9014 / 0.9019 -> 0.9049, holds unchanged, but
+unrelated motions mean 0.0786 -> 0.0892 / 0.0909 -> 0.1043, spread over nearly every motion
+with 6 and 20 templates (a diagonal with six, 1.0x, 0.165 -> 0.275; a wander with twenty,
+0.7x, 0.28 -> 0.40): the shape leads an unrelated motion's stretch of a template as clearly
+as the template's own start. Also requiring the threshold model's share of the probability at
+0.95 / 0.99: unrelated mean 0.0889 / 0.1038 and 0.0872 / 0.1023, the rest the same; only where
+a rival is left (the zigzag's fall below :data:`RIVAL_PROBABILITY` first: unchanged), 8 nats:
+the figure eight 0.234 / 0.227, within 20% 0 / 0.06, unrelated mean 0.0837 / 0.0939; 4 nats:
+0.214 / 0.186, within 20% 0 / 0.13, unrelated 0.0850 / 0.0952. Half the unrelated cost of
+``coverage`` at 4% for the same six gestures within 20% (above), still a cost.
 """
 
 from __future__ import annotations
