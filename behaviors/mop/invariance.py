@@ -49,7 +49,11 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   getup wrist 1.0 -> 0.0). With :data:`~behaviors.mop.validity.UNJUDGED_AT_REST`: 0.5 (kept)
   0.9112 / 0.9033, 0.306 / 0.0734 and 0.418 / 0.0814; 0.75: 0.8998 / 0.9016. Holds unchanged
   (RMSE max 0.055 / 0.046, was 0.048 held-out). What it costs: the held-out 0.7x line 0.75 ->
-  0.11 (mostly valid off track before: 0.19 on track), a 0.7x run wrist 0.90 -> 0.68.
+  0.11 (mostly valid off track before: 0.19 on track), a 0.7x run wrist 0.90 -> 0.68; back to
+  back among twenty templates (``--sections=sequences``) never recognised 0 -> 0.031 (held-out
+  0.094 -> 0.156: one sequence whose unrecognised kick held the attempt open longer, every
+  template no longer refused, so its next two gestures began in it), within 20% 0.344 both
+  (0.313 -> 0.281); six gestures unchanged but the median recognition 0.262 -> 0.269.
 
 Direction of motion (``tangent``, 0 by default) as extra features of every state: it raised
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the

@@ -210,6 +210,12 @@ template's step while resting changed nothing. Without ``ALONG`` (1): the refusa
 0.8978, 0.315 / 0.0779 (0.8999, 0.451 / 0.0849). It buys no margin on gestures paused at a
 wrong size: a 1.4x spinkick stopping at 0.41 at size 1.13 is refused as it stops, before the
 rest shows (a few samples), and the threshold model keeps its probability through the pause.
+Tried after it and not kept: no action driving its performer back behind where it began
+(0.02, moving or not): unrelated mean 0.0734 -> 0.0724 (held-out 0.0814 -> 0.0783, a
+mirrored line with twenty templates 0.31 -> 0.23), worst unchanged, valid after 30% 0.9112 ->
+0.9062 (held-out 0.9033 both; the loss all off track: a 0.7x line's return followed
+backwards), but a line's end seen on its way back (:meth:`GestureSpotting._returned`) was no
+longer reached; 0.05: 0.0726 (0.0787), 0.9069.
 """
 
 from __future__ import annotations
