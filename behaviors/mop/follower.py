@@ -43,8 +43,8 @@ from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
-from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind,
-                                    stalls)
+from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind, stalls,
+                                    unjudged)
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
@@ -298,10 +298,10 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
             raw_ll = raw_ll - self.dim * np.log(self._size)
         self._evidence *= self._decay
         self._evidence += raw_ll
-        self._recent *= self._null_decay
-        self._recent += step_ll
-        self._recent_weight *= self._null_decay
-        self._recent_weight += 1.0
+        # none while the performer rests (validity.unjudged), but on a fresh start
+        upd = self._recent_weight <= 0 if unjudged(rest) else slice(None)
+        self._recent[upd] = self._recent[upd] * self._null_decay + step_ll[upd]
+        self._recent_weight[upd] = self._recent_weight[upd] * self._null_decay + 1.0
         new = entries > self._entries   # re-entered: a new performance, judged afresh
         self._entries[:] = entries
         # a refused template whose performance is back at its start, matching it, may begin
@@ -361,7 +361,7 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
                 or self._refused[self._best]):
             self._best = top
         bi = self._best
-        self._judge_shape(x, g, new)
+        self._judge_shape(x, g, new, rests)
         progress_list, p_list, mean_ll_list, size_list = lists
         engaged = bool(self._engaged.any())
         slope = src[gi[bi] + 1] - src[gi[bi]]

@@ -21,15 +21,18 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import holding, threshold, threshold_kernel, validity
+from behaviors.mop import holding, invariance, threshold, threshold_kernel, validity
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
+from behaviors.mop.invariance import ALONG
+from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, holding, threshold, threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, holding, invariance, threshold, threshold_kernel,
+               validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -194,10 +197,20 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0
+                qt = 0.0
+                rt = 0.0
+                tt = 0.0
                 for c in range(d):
-                    q = row[rel0 + c] + frac * (nrow[rel0 + c] - row[rel0 + c])
+                    seg = nrow[rel0 + c] - row[rel0 + c]
+                    q = row[rel0 + c] + frac * seg
                     qr += q * (dx[c] / m[un0 + c])
                     qq += q * q
+                    qt += q * seg
+                    rt += (dx[c] / m[un0 + c]) * seg
+                    tt += seg * seg
+                if ALONG < 1.0 and tt > 1e-12:   # invariance.ALONG: less along the path
+                    qr -= (1.0 - ALONG) / tt * qt * rt
+                    qq -= (1.0 - ALONG) / tt * qt * qt
                 num[k] += qr
                 den[k] += qq
                 least[k] = max(least[k], far * t[4])
@@ -214,8 +227,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             raw -= log_size
             thr_lj[k] = m[20] + (-t[0] - log_size)   # the threshold model's log-density terms
             ev[k] = ev[k] * decay + raw
-            rec[k] = rec[k] * null_decay + step_ll[k]
-            rw[k] = rw[k] * null_decay + 1.0
+            if not (rest and UNJUDGED_AT_REST) or rw[k] <= 0.0:   # validity.UNJUDGED_AT_REST
+                rec[k] = rec[k] * null_decay + step_ll[k]
+                rw[k] = rw[k] * null_decay + 1.0
             # judged afresh once the size moved (PerformanceFrame._rejudge)
             if scaled and abs(math.log(size[k] / judged[k])) > rejudge_at:
                 judged[k] = size[k]
@@ -320,10 +334,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 uu += u[c] * u[c]
                 uv += u[c] * vc
                 vv += vc * vc
-            misfit[k, 0] = misfit[k, 0] * misfit_decay + uu
-            misfit[k, 1] = misfit[k, 1] * misfit_decay + uv
-            misfit[k, 2] = misfit[k, 2] * misfit_decay + vv
-            misfit_w[k] = misfit_w[k] * misfit_decay + 1.0
+            if not (rest and UNJUDGED_AT_REST) or misfit_w[k] <= 0.0:
+                misfit[k, 0] = misfit[k, 0] * misfit_decay + uu
+                misfit[k, 1] = misfit[k, 1] * misfit_decay + uv
+                misfit[k, 2] = misfit[k, 2] * misfit_decay + vv
+                misfit_w[k] = misfit_w[k] * misfit_decay + 1.0
             m2 = ((misfit[k, 0] / (ssz * ssz) - 2.0 * misfit[k, 1] / ssz + misfit[k, 2])
                   / misfit_w[k])
             m2 *= 1.0 / path_scale

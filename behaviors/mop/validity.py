@@ -193,6 +193,29 @@ it): the held-out mirrored line with twenty templates, a punch ankle taken at 0.
 0.273, the held-out mirrored line 0.7x 0.595 -> 0.417; valid after 30% and holds unchanged to
 the digit (no true performance of the bench rests there); 0.05 the same. Back to back: tuned
 identical; held-out, twenty templates, the longest wrong run 17 -> 12, six gestures 7 both.
+
+Not judged at rest (:data:`UNJUDGED_AT_REST`): while the performer rests (:func:`resting`),
+every template's recent likelihood (refusal) and path misfit stay as they were. A still input
+tells nothing new about the path: a pause refused gestures as the transitions' prior moved on
+past the rest, and a refused stretch of unrelated motion was accepted again while its still
+tail sat on some state. ``bench/follow_quality.py --sections=sized,holds,unrelated`` (tuned;
+held-out in brackets; valid after 30% at 0.7-1.4x, unrelated worst / mean), with
+:data:`~behaviors.mop.invariance.ALONG` 0.5: before 0.9138, 0.336 / 0.0758 (0.9033, 0.418 /
+0.0863); the refusal alone 0.9112, 0.306 / 0.0745 (0.9033, 0.418 / 0.0834); with the misfit
+(kept) 0.9112, 0.306 / 0.0734 (0.9033, 0.418 / 0.0814): a mirrored line, six templates, 1.4x
+0.12 -> 0, held-out mirrored cartwheel ankle 0.12 -> 0; the cost is a 0.7x spin ankle paused
+after a misfit (0.44 -> 0.18); holds unchanged. The threshold model kept to at most the best
+template's step while resting changed nothing. Without ``ALONG`` (1): the refusal alone
+0.8976, 0.315 / 0.0783 (0.9013, 0.451 / 0.0858); refusal, misfit and the threshold model
+0.8978, 0.315 / 0.0779 (0.8999, 0.451 / 0.0849). It buys no margin on gestures paused at a
+wrong size: a 1.4x spinkick stopping at 0.41 at size 1.13 is refused as it stops, before the
+rest shows (a few samples), and the threshold model keeps its probability through the pause.
+Tried after it and not kept: no action driving its performer back behind where it began
+(0.02, moving or not): unrelated mean 0.0734 -> 0.0724 (held-out 0.0814 -> 0.0783, a
+mirrored line with twenty templates 0.31 -> 0.23), worst unchanged, valid after 30% 0.9112 ->
+0.9062 (held-out 0.9033 both; the loss all off track: a 0.7x line's return followed
+backwards), but a line's end seen on its way back (:meth:`GestureSpotting._returned`) was no
+longer reached; 0.05: 0.0726 (0.0787), 0.9069.
 """
 
 from __future__ import annotations
@@ -246,6 +269,16 @@ def rests_behind(began: float, progress: float, rests: bool) -> bool:
     behind ``began``, where it began driving: back within what did not yet tell the action."""
     return rests and 0 <= REST_BEHIND < began - progress
 
+
+#: While the performer rests (:func:`resting`), every template's recent likelihood (refusal)
+#: and path misfit stay as they were (see the module docstring).
+UNJUDGED_AT_REST = True
+
+
+def unjudged(rests: bool) -> bool:
+    """Whether a sample taken while the performer ``rests`` leaves every template's refusal and
+    path misfit as they were (:data:`UNJUDGED_AT_REST`)."""
+    return rests and UNJUDGED_AT_REST
 
 #: Tempo (:func:`slow_take`): samples over which a new action's tempo is read...
 TEMPO_SAMPLES = 10
@@ -375,7 +408,7 @@ class Validity:
         rows = np.arange(len(j))
         return a[rows, j] + t[rows, j, None] * ab[rows, j]
 
-    def _judge_shape(self, x: np.ndarray, g: np.ndarray, new: np.ndarray) -> None:
+    def _judge_shape(self, x: np.ndarray, g: np.ndarray, new: np.ndarray, rests: bool) -> None:
         """After a sample: each template's path misfit (forgotten over ``shape_memory``
         samples, refused beyond ``shape_distance``, accepted again below ``shape_accept``) and
         whether its followed progress has covered ``coverage`` of its path since it engaged.
@@ -390,12 +423,12 @@ class Validity:
         v = self._nearest_on_path(u / size[:, None] + c, g) - c
         decay = self._misfit_decay
         sums, w = self._misfit, self._misfit_w
-        sums *= decay
-        sums[:, 0] += (u * u).sum(axis=1)
-        sums[:, 1] += (u * v).sum(axis=1)
-        sums[:, 2] += (v * v).sum(axis=1)
-        w *= decay
-        w += 1.0
+        upd = w <= 0 if unjudged(rests) else slice(None)
+        sums[upd] *= decay
+        sums[upd, 0] += (u * u).sum(axis=1)[upd]
+        sums[upd, 1] += (u * v).sum(axis=1)[upd]
+        sums[upd, 2] += (v * v).sum(axis=1)[upd]
+        w[upd] = w[upd] * decay + 1.0
         m2 = (sums[:, 0] / size ** 2 - 2.0 * sums[:, 1] / size + sums[:, 2]) / w
         m2 *= 1.0 / (self.sigma ** 2 * self.dim)
         self._misfit2 = m2

@@ -61,7 +61,8 @@ def test_a_smaller_lift_held_briefly_is_followed_through_its_hold(gestures, rule
     # a lift at 0.8x: its size was overestimated during the raise, so the stop at the top read
     # as a stop short of it at 1x and the return was followed backwards along the raise.
     # Measured: RMSE 0.068 / 0.043 and 0.03 at 0.9x with the hold rules (behaviors.mop.holding),
-    # 0.377 / 0.482 without (0.18 backward)
+    # 0.377 / 0.136 without (0.377 / 0.482 before the size was read less along the path,
+    # invariance.ALONG)
     rhr, spans = raise_hold_return()
     f = puck_follower({**gestures, **rhr})
     if not rules:
@@ -75,7 +76,7 @@ def test_a_smaller_lift_held_briefly_is_followed_through_its_hold(gestures, rule
     if rules:
         assert max(worst) <= 0.08, worst
     else:
-        assert min(worst) >= 0.2, worst
+        assert min(worst) >= 0.12, worst
 
 
 def test_the_group_reads_resting_as_its_followers_do():
@@ -332,15 +333,16 @@ def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkey
     # action taken was moved by the input without carrying it forward, and the performer then
     # rests; it no longer holds them there (validity.stalls). The price: a gesture paused within
     # a few samples of its recognition at a slow tempo (a 0.7x figure eight, a 1.4x square:
-    # 2 of 24 here). Measured: valid ticks in the resting tail 33 (without 47), in all 181 (198),
-    # paused gestures valid on track after 30% 0.693 (0.703); validity.crawls takes part of what
-    # it took (without crawls: 44 (70), 257 (286))
+    # 2 of 24 here). Measured: valid ticks in the resting tail 29 (without 35), in all 168 (177),
+    # paused gestures valid on track after 30% 0.693 (0.718); validity.crawls and
+    # validity.unjudged take part of what it took (before unjudged: 33 (47), 181 (198); without
+    # crawls either: 44 (70), 257 (286))
     from behaviors.mop import validity
 
     now = _tail_and_paused(gestures)
     monkeypatch.setattr(validity, "CARRY_FIRST", -1.0)
     plain = _tail_and_paused(gestures)
-    assert now[0] <= plain[0] - 10 and now[1] <= plain[1] - 10, (now, plain)
+    assert now[0] <= plain[0] - 5 and now[1] <= plain[1] - 5, (now, plain)
     assert now[2] >= plain[2] - 0.03, (now, plain)
 
 
@@ -448,14 +450,15 @@ def _stretch_shares(gestures) -> tuple[float, float, float]:
 def test_an_action_followed_at_a_crawl_stops_driving(gestures, monkeypatch):
     # a taken action whose followed state crawls for six samples in a row while the input sweeps
     # on is a template stretched over a path not its own (validity.crawls): the triangle's
-    # stroke along the line, a diagonal on the circle's chord. Measured: triangle 0.098 (0.130
-    # without), diagonal 0.217 (0.226); the gestures themselves 0.816 (0.814)
+    # stroke along the line, a diagonal on the circle's chord. Measured: triangle 0.087 (0.106
+    # without), diagonal 0.170 (0.173); the gestures themselves 0.821 (0.821) (before
+    # invariance.ALONG and validity.unjudged: 0.098 (0.130), 0.217 (0.226), 0.816 (0.814))
     from behaviors.mop import validity
 
     now = _stretch_shares(gestures)
     monkeypatch.setattr(validity, "CRAWL_SAMPLES", 0)
     plain = _stretch_shares(gestures)
-    assert now[0] <= plain[0] - 0.025 and now[1] <= plain[1], (now, plain)
+    assert now[0] <= plain[0] - 0.015 and now[1] <= plain[1], (now, plain)
     assert now[2] >= plain[2] - 0.005, (now, plain)
 
 
@@ -524,3 +527,25 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
     monkeypatch.setattr(spotting, "LEAD", 0.0)
     wrong, told, _ = wrong_ticks()
     assert wrong >= 36 and told >= 6, (wrong, told)
+
+
+def test_a_gesture_drawn_smaller_is_sized_once_its_stroke_turns(gestures, monkeypatch):
+    # on a straight stroke size and progress are one; what tells the size is what does not lie
+    # along the template's direction (invariance.ALONG): a 0.85x crawl wrist and a 0.7x square,
+    # each paused 0.6 s part way, three seeds. Measured valid after 30%: crawl 0.93 (0.54 with
+    # the whole of each sample counted), square 0.32 (0.21)
+    from bench.follow_quality import mocap_templates
+    from behaviors.mop import invariance
+    templates = {**gestures, **mocap_templates(joints=(("crawl", "right_wrist"),))}
+    shares, now, plain = {}, invariance.ALONG, 1.0
+    for along in (now, plain):
+        monkeypatch.setattr(invariance, "ALONG", along)
+        f = puck_follower(templates)
+        for name, scale in (("crawl_right_wrist", 0.85), ("square", 0.7)):
+            shares[along, name] = np.mean([
+                true_metrics(run(f, x), name, prog)["valid_after30"]
+                for x, prog in (performance(np.random.default_rng(seed), templates[name], scale,
+                                            pause_s=0.6) for seed in range(3))])
+    assert shares[now, "crawl_right_wrist"] >= 0.85, shares
+    assert shares[now, "crawl_right_wrist"] >= shares[plain, "crawl_right_wrist"] + 0.3, shares
+    assert shares[now, "square"] >= shares[plain, "square"] + 0.05, shares
