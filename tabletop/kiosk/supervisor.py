@@ -14,7 +14,10 @@
   from the first READY). So the service's watchdog follows the frame loop, and
   ``NotifyAccess=main`` is enough.
 - SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
-- A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too.
+- A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too, and so
+  with ``EXIT_RECORDING_FAILED`` (3: ended on purpose, its recording failed, e.g. a full disk),
+  which it passes on. Restarted instead, a ``--seconds`` kiosk on a full disk never ended: each
+  new child failed its recording again and exited 3 after its seconds.
 - Warm spares (``spares``, 2): the next children are started early (with the first child,
   then once a child is ready) and wait for ``go RESTARTS`` on their stdin (``$TABLETOP_WAIT_GO``)
   with their libraries imported, config validated and engines built
@@ -42,6 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 
+from tabletop.commands.run import EXIT_RECORDING_FAILED
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -308,11 +312,11 @@ class Supervisor:
             while not self.stop.is_set():
                 how, code = self._watch(child)
                 if how == "stop":
-                    return 0
+                    return EXIT_RECORDING_FAILED if code == EXIT_RECORDING_FAILED else 0
                 if how == "exit":
-                    if code == 0:
+                    if code in (0, EXIT_RECORDING_FAILED):
                         log.info("supervisor: the installation ended; stopping")
-                        return 0
+                        return code
                     self.events.append(("crash", child.ended))
                     child.why = describe_exit(code)
                 ran = (child.ended or self.clock()) - child.started
