@@ -44,16 +44,18 @@ def main(args: argparse.Namespace) -> int:
         if not go:
             return 0
     from tabletop.app import configure_logging, stop_on_signals
-    from tabletop.config import load_config
+    from tabletop.kiosk import last_good
     from tabletop.kiosk.runner import Runner, supervise, supervised
 
     configure_logging(args.verbose)
-    cfg = prepared.cfg if prepared is not None else load_config(args.config)
+    # a kiosk whose config is refused at its start runs the last one that ran (last_good)
+    cfg, refused = ((prepared.cfg, None) if prepared is not None
+                    else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
     if kiosk and not args.no_supervisor and not supervised():
         return supervise(Path(args.config), cfg, _argv(args))
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
-                    kiosk=kiosk, studio=args.studio, prepared=prepared)
+                    kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused)
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly
         runner.run(seconds=seconds)
     inst = runner.inst
