@@ -53,7 +53,7 @@ def main(args: argparse.Namespace) -> int:
                     else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
     if kiosk and not args.no_supervisor and not supervised():
-        return supervise(Path(args.config), cfg, _argv(args))
+        return supervise(Path(args.config), cfg, _argv(args), seconds)
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
                     kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused)
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly
@@ -73,12 +73,11 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _argv(args: argparse.Namespace) -> list[str]:
-    """The arguments of this run, for the supervised child."""
+    """The arguments of this run, for the supervised child (``--seconds`` is the supervisor's:
+    it stops the kiosk that long after it was first ready, restarts included)."""
     out = ["--config", str(args.config)]
     if args.headless:
         out.append("--headless")
-    if args.seconds is not None:
-        out += ["--seconds", str(args.seconds)]
     if args.record is not None:
         out += ["--record", str(args.record)]
     if args.verbose:

@@ -56,8 +56,10 @@ def kiosk_view(cfg: dict[str, Any], kiosk: bool) -> dict[str, Any]:
     return cfg
 
 
-def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
-    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT."""
+def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
+              seconds: float | None = None) -> int:
+    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT, or
+    ``seconds`` after the installation was first ready."""
     import signal
 
     from tabletop.kiosk.supervisor import Policy, Supervisor
@@ -66,7 +68,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
     kiosk_log(cfg, paths["log_file"])
     policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
     sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
-                     spares=k["spares"])
+                     spares=k["spares"], seconds=seconds)
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()

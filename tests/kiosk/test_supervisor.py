@@ -141,3 +141,19 @@ def test_a_kiosk_whose_recording_fails_ends_after_its_seconds_with_status_3(tmp_
     assert sup.starts == 1, [e for e, _ in sup.events]   # before: restarted ("crash")
     assert result["rc"] == 3
     assert not (tmp_path / "crashes.log").exists()
+
+
+def test_kiosk_seconds_count_from_the_first_ready_restarts_included(tmp_path):
+    """``tabletop run --kiosk --seconds 2``: the child was given ``--seconds 2`` and a restarted
+    one ran its 2 s again (a drill of 40 s ran 70 s). Now the kiosk stops 2 s after it was
+    first ready: the child restarted after the first crash (at 1 s) is stopped before its own
+    crash (1.5 s after its first frame), which it reached before."""
+    cfg = drill_config(tmp_path, [{"start": 0, "after_s": 1.0, "kind": "crash"},
+                                  {"start": 1, "after_s": 1.5, "kind": "crash"}])
+    cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
+    out = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--kiosk", "--headless", "--seconds", "2"],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    crashes = (tmp_path / "logs" / "crashes.log").read_text().count("=== ")
+    assert crashes == 1, out.stderr[-2000:]   # before: 2 (the second child's crash too)
