@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from tabletop.cli import EXIT_RECORDING_FAILED
+
 MAX_SECONDS = 10 * 365 * 86_400.0  # ten years: a longer run is a typing mistake
 
 HELP = "run the installation (synthetic camera and headless view where there is no camera or display)"
@@ -25,9 +27,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with --kiosk: run the loop in this process (e.g. when systemd restarts it)")
     p.add_argument("--studio", action="store_true",
                    help="designer studio: record, train, try, keep and manage the library")
-
-
-EXIT_RECORDING_FAILED = 3
 
 
 def main(args: argparse.Namespace) -> int:

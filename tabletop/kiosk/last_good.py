@@ -51,6 +51,8 @@ def load(config_path: Path, kiosk: bool) -> tuple[Any, str | None]:
     try:
         return load_config(config_path), None
     except InputError as exc:
+        if not Path(config_path).name:   # no file named at all: nothing was ever kept
+            raise
         kept = path_of(config_path)
         if not kept.is_file():
             raise

@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 
-from tabletop.commands.run import EXIT_RECORDING_FAILED
+from tabletop.cli import EXIT_RECORDING_FAILED
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
