@@ -19,12 +19,15 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import logging
 import os
 from types import ModuleType
 from typing import Any, Callable, Iterable, Union
 
 import numba
 from numba.core import caching
+
+log = logging.getLogger("tabletop")
 
 Source = Union[ModuleType, str, "os.PathLike[str]"]
 
@@ -58,6 +61,23 @@ def stamp(sources: Iterable[Source]) -> bytes:
 class StampedCache(caching.FunctionCache):
     """numba's cache of one function, its index stamped with :func:`stamp` of ``covers``."""
     covers: tuple[str, ...] = ()
+
+    def load_overload(self, sig: Any, target_context: Any) -> Any:
+        """numba's load; a damaged cache file (cut short by a power cut or a full disk) is
+        a miss: its index is removed and the kernel is compiled again and saved afresh. numba
+        raised the unpickling error, so nothing started: "internal error: UnpicklingError:
+        pickle data was truncated" at every start (a kiosk restarting it for ever)."""
+        try:
+            return super().load_overload(sig, target_context)
+        except Exception as exc:   # what unpickling damaged bytes raises is open-ended
+            index = self._cache_file._index_path
+            log.warning("the compiled cache of %s in %s is damaged (%s: %s); compiling it "
+                        "again", self._py_func.__qualname__, os.path.dirname(index), type(exc).__name__, exc)
+            try:
+                os.unlink(index)
+            except OSError:
+                pass
+            return None
 
 
 @functools.lru_cache(maxsize=None)

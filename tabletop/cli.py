@@ -20,6 +20,9 @@ COMMANDS = ("run", "track", "behave", "follow", "pose", "calibrate", "replay", "
             "review")
 
 EXIT_BAD_INPUT = 2
+# ``run`` ended on purpose but its recording failed (a full disk): the kiosk's supervisor ends
+# on it as on 0 instead of restarting
+EXIT_RECORDING_FAILED = 3
 
 
 def one_line(message: object) -> str:

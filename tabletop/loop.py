@@ -133,7 +133,9 @@ class LiveInputs:
         self._ready: dict[float, float] = {}   # capture time -> monotonic time it was announced
         self._announced: dict[int, float] = {}  # source index -> its newest announced capture time
         self._lock = threading.Lock()
-        self.held = False   # the last frame's time is a held state's stamp (see next())
+        # The last frame's time is a new capture (see next()): not a held state's stamp, not
+        # the stamp of a tick without input (STALE_S), not a capture already drawn.
+        self.captured = False
 
     def open(self) -> None:
         for i, s in enumerate(self.sources):
@@ -192,9 +194,11 @@ class LiveInputs:
                 self.fresh.clear()
         t = max((o.t for o in observations), default=now)
         t = max(t, now - self.STALE_S, self._last_t)
-        # the frame's time is a held state's stamp, no capture: no latency to measure
-        self.held = any(o.held and o.t == t for o in observations) and not any(
-            not o.held and o.t == t for o in observations)
+        # Capture-to-render is measured once per capture, at its first drawing: a held state's
+        # stamp, the stamp of every source stalled and a capture drawn again (a 30 Hz camera on
+        # the 60 Hz timer) are no capture, and counting them made a 30 fps camera's figure read
+        # 21.6 ms median, 49.6 p99 (8.8 and 30.9 at 60 fps, the same run).
+        self.captured = t > self._last_t and any(not o.held and o.t == t for o in observations)
         self._last_t = t
         pucks = self.tracker.update(observations, t)
         touches = tuple(tc for o in observations for tc in o.touches)
@@ -304,8 +308,8 @@ class Loop:
         st.record("engines", t2 - t1)
         st.record("sinks", t3 - t2)
         st.record("tick", t3 - t0)
-        if frame.t <= t3 and getattr(self.inputs, "live", True) and not getattr(
-                self.inputs, "held", False):
+        if frame.t <= t3 and getattr(self.inputs, "live", True) and getattr(
+                self.inputs, "captured", True):
             st.record("capture_age", (t3 if shown is None else shown) - frame.t)
             ready = getattr(self.inputs, "ready_time", None)
             ready = ready(frame.t) if ready is not None else None

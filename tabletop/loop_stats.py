@@ -17,10 +17,11 @@ class LoopStats:
 
     Stages: ``inputs`` (sources and tracker), ``engines`` and ``sinks`` (all of them, and each
     as ``engine:NAME`` / ``sink:NAME``, the view's being its render time), ``tick`` (the whole
-    tick) and ``capture_age``, the capture-to-render latency: from the frame's input capture time
-    to its presentation, i.e. the end of the first sink with a true ``presents`` attribute (the
-    view; what later sinks and hooks do, such as recording, comes after the visitor saw it), or
-    the end of the tick when no sink presents. For sources that announce new observations (cameras) also
+    tick) and ``capture_age``, the capture-to-render latency: from a capture's time to its first
+    presentation (a capture drawn again, or a tick with no new capture, is not counted), i.e.
+    the end of the first sink with a true ``presents`` attribute (the view; what later sinks
+    and hooks do, such as recording, comes after the visitor saw it), or the end of the tick
+    when no sink presents. For sources that announce new observations (cameras) also
     ``source`` (capture to observation ready) and ``queued`` (ready to the tick that took it):
     ``capture_age`` = ``source`` + ``queued`` + the tick up to the view for those frames. Read by the view's
     overlay and by the benchmarks.

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from tabletop.cli import EXIT_RECORDING_FAILED
+
 MAX_SECONDS = 10 * 365 * 86_400.0  # ten years: a longer run is a typing mistake
 
 HELP = "run the installation (synthetic camera and headless view where there is no camera or display)"
@@ -27,9 +29,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="designer studio: record, train, try, keep and manage the library")
 
 
-EXIT_RECORDING_FAILED = 3
-
-
 def main(args: argparse.Namespace) -> int:
     from tabletop.commands import number_in_range, output_file
     # the arguments first, before the installation's modules (and their compiled kernels) load
@@ -44,16 +43,18 @@ def main(args: argparse.Namespace) -> int:
         if not go:
             return 0
     from tabletop.app import configure_logging, stop_on_signals
-    from tabletop.config import load_config
+    from tabletop.kiosk import last_good
     from tabletop.kiosk.runner import Runner, supervise, supervised
 
     configure_logging(args.verbose)
-    cfg = prepared.cfg if prepared is not None else load_config(args.config)
+    # a kiosk whose config is refused at its start runs the last one that ran (last_good)
+    cfg, refused = ((prepared.cfg, None) if prepared is not None
+                    else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
     if kiosk and not args.no_supervisor and not supervised():
-        return supervise(Path(args.config), cfg, _argv(args))
+        return supervise(Path(args.config), cfg, _argv(args), seconds)
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
-                    kiosk=kiosk, studio=args.studio, prepared=prepared)
+                    kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused)
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly
         runner.run(seconds=seconds)
     inst = runner.inst
@@ -71,12 +72,11 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _argv(args: argparse.Namespace) -> list[str]:
-    """The arguments of this run, for the supervised child."""
+    """The arguments of this run, for the supervised child (``--seconds`` is the supervisor's:
+    it stops the kiosk that long after it was first ready, restarts included)."""
     out = ["--config", str(args.config)]
     if args.headless:
         out.append("--headless")
-    if args.seconds is not None:
-        out += ["--seconds", str(args.seconds)]
     if args.record is not None:
         out += ["--record", str(args.record)]
     if args.verbose:

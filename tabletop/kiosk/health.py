@@ -31,6 +31,7 @@ from tabletop import __version__
 from tabletop.files import atomic_write_text
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.notify import Notifier
+from tabletop.resolve import Destination
 
 log = logging.getLogger("tabletop")
 
@@ -104,8 +105,9 @@ class Heartbeat:
         from pythonosc.osc_message_builder import OscMessageBuilder
         self._builder = OscMessageBuilder
         self.address = (host, int(port))
-        self._sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
+        # a host name is looked up away from the frame loop (see tabletop.resolve)
+        self.destination = Destination("heartbeat", host, port, log)
+        self._sock: socket.socket | None = None
         self.sent = 0
         self.failing = 0   # sends failed in a row: the first is said, and the return
 
@@ -116,8 +118,14 @@ class Heartbeat:
         b.add_arg(float(fps), "f")
         b.add_arg(int(unhealthy), "i")
         b.add_arg(status, "s")
+        target = self.destination.target()
+        if target is None:   # the name is being looked up, or did not resolve (logged there)
+            return
         try:
-            self._sock.sendto(b.build().dgram, self.address)
+            if self._sock is None:
+                self._sock = socket.socket(target[0], socket.SOCK_DGRAM)
+                self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
+            self._sock.sendto(b.build().dgram, target[1])
         except OSError as exc:  # no route, network down, a name not found: the table runs on
             self.failing += 1
             if self.failing == 1:
@@ -130,7 +138,8 @@ class Heartbeat:
         self.sent, self.failing = self.sent + 1, 0
 
     def close(self) -> None:
-        self._sock.close()
+        if self._sock is not None:
+            self._sock.close()
 
 
 class HealthReporter:

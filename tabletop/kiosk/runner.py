@@ -16,6 +16,7 @@ from typing import Any
 from tabletop.app import build_live
 from tabletop.frames import InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
+from tabletop.kiosk import last_good
 from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing, setup_log_file
 from tabletop.kiosk.notify import Notifier
 from tabletop.plugins import scripted
@@ -55,8 +56,10 @@ def kiosk_view(cfg: dict[str, Any], kiosk: bool) -> dict[str, Any]:
     return cfg
 
 
-def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
-    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT."""
+def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
+              seconds: float | None = None) -> int:
+    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT, or
+    ``seconds`` after the installation was first ready."""
     import signal
 
     from tabletop.kiosk.supervisor import Policy, Supervisor
@@ -65,7 +68,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str]) -> int:
     kiosk_log(cfg, paths["log_file"])
     policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
     sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
-                     spares=k["spares"])
+                     spares=k["spares"], seconds=seconds)
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()
@@ -83,7 +86,8 @@ class Runner:
 
     def __init__(self, config_path: Path, cfg: dict[str, Any], headless: bool = False,
                  record_path: Path | None = None, kiosk: bool = False,
-                 studio: bool = False, clock=None, wrap_source=None, prepared=None) -> None:
+                 studio: bool = False, clock=None, wrap_source=None, prepared=None,
+                 config_error: str | None = None) -> None:
         self.config_path = Path(config_path)
         self.base = self.config_path.resolve().parent
         self.cfg, self.headless, self.record_path = cfg, headless, record_path
@@ -96,6 +100,8 @@ class Runner:
             for e in cfg["engines"])
         self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
         self.prepared = prepared    # a warm spare's engines (tabletop.kiosk.spare), built for cfg
+        # the config file's refusal when cfg is the last good one (tabletop.kiosk.last_good)
+        self.config_error = config_error
         self.started = (clock or time.monotonic)()
         self.stop = threading.Event()
         self.pending: dict[str, Any] | None = None
@@ -187,6 +193,7 @@ class Runner:
         from tabletop.kiosk.watch import ConfigWatcher
         if self.kiosk and self.cfg["kiosk"]["watch_config"] or self.studio_on:
             self.watcher = ConfigWatcher(self.config_path, self.cfg, load_config, self._apply)
+            self.watcher.error = self.config_error
         cfg = self.cfg
         left = seconds              # run time, not counting the builds
         while True:
@@ -201,6 +208,8 @@ class Runner:
                     self.watcher.current, self.watcher.error = cfg, str(exc)
                 continue
             self.cfg = cfg
+            if self.kiosk and getattr(cfg, "raw", None) is not None:
+                last_good.remember(self.config_path, cfg)   # it built: the next start's fallback
             relay = threading.Thread(target=_relay, args=(self.stop, self.inst.loop.stop),
                                      daemon=True)
             relay.start()

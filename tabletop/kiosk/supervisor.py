@@ -14,7 +14,10 @@
   from the first READY). So the service's watchdog follows the frame loop, and
   ``NotifyAccess=main`` is enough.
 - SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
-- A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too.
+- A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too, and so
+  with ``EXIT_RECORDING_FAILED`` (3: ended on purpose, its recording failed, e.g. a full disk),
+  which it passes on. Restarted instead, a ``--seconds`` kiosk on a full disk never ended: each
+  new child failed its recording again and exited 3 after its seconds.
 - Warm spares (``spares``, 2): the next children are started early (with the first child,
   then once a child is ready) and wait for ``go RESTARTS`` on their stdin (``$TABLETOP_WAIT_GO``)
   with their libraries imported, config validated and engines built
@@ -42,6 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 
+from tabletop.cli import EXIT_RECORDING_FAILED
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -103,8 +107,12 @@ class Supervisor:
     def __init__(self, command: Sequence[str], policy: Policy, crash_log: Path,
                  env: dict[str, str] | None = None, notifier: Notifier | None = None,
                  echo: bool = True, clock: Callable[[], float] = time.monotonic,
-                 spares: int = 2) -> None:
+                 spares: int = 2, seconds: float | None = None) -> None:
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
+        # ``--seconds``: the kiosk stops that long after its first READY, restarts included (a
+        # child given ``--seconds`` ran them again after each restart: a 40 s drill ran 70 s)
+        self.seconds = seconds
+        self._end_at: float | None = None
         self.env = dict(os.environ if env is None else env)
         self.notifier = notifier or Notifier()
         self.echo, self.clock = echo, clock
@@ -218,6 +226,8 @@ class Supervisor:
         if msg == "READY=1" and child.ready_at is None:
             child.ready_at = child.last_ping = now
             self.events.append(("ready", now))
+            if self.seconds is not None and self._end_at is None:
+                self._end_at = now + self.seconds
             log.info("supervisor: installation ready after %.2f s", now - child.started)
             if not self._announced:
                 self._announced = self.notifier.send("READY=1")
@@ -268,10 +278,17 @@ class Supervisor:
                 p.kill()
                 p.wait()
 
+    def _check_end(self) -> bool:
+        """Stop once ``seconds`` have passed since the first READY; is the supervisor stopped?"""
+        if self._end_at is not None and self.clock() >= self._end_at:
+            self.stop.set()
+        return self.stop.is_set()
+
     def _watch(self, child: Child) -> tuple[str, int | None]:
         """Until the child ends: ("exit", code), ("stall", None) or ("stop", None)."""
         last_own_ping = -1e9
         while True:
+            self._check_end()
             if self.stop.is_set():
                 self._terminate(child)
                 return "stop", child.process.returncode
@@ -308,11 +325,11 @@ class Supervisor:
             while not self.stop.is_set():
                 how, code = self._watch(child)
                 if how == "stop":
-                    return 0
+                    return EXIT_RECORDING_FAILED if code == EXIT_RECORDING_FAILED else 0
                 if how == "exit":
-                    if code == 0:
+                    if code in (0, EXIT_RECORDING_FAILED):
                         log.info("supervisor: the installation ended; stopping")
-                        return 0
+                        return code
                     self.events.append(("crash", child.ended))
                     child.why = describe_exit(code)
                 ran = (child.ended or self.clock()) - child.started
@@ -325,7 +342,7 @@ class Supervisor:
                     continue
                 self._record_crash(failed, failed.why)
                 end = self.clock() + delay
-                while not self.stop.is_set() and self.clock() < end:
+                while not self._check_end() and self.clock() < end:
                     if self._announced:               # waiting to restart: still in control
                         self.notifier.send("WATCHDOG=1")
                     self.stop.wait(min(1.0, max(0.0, end - self.clock())))

@@ -6,8 +6,9 @@ Every frame, one ``/tuio/2Dobj`` bundle (source ``tabletop@HOSTNAME``, alive, a 
 own alive and fseq, as reference servers do. With ``changes_only`` a set is sent only for an
 entity that changed, as the reference server does, plus the full state every ``full_every_s``. Positions go through
 the inverse of the ``osc`` source's mapping (:func:`tracking.tuio.from_table`). Session ids are
-stable while a thing stays and never reused. Sending never blocks the loop; a failed send is
-counted and logged at a limited rate.
+stable while a thing stays and never reused. Sending never blocks the loop (a host name is
+looked up in the background, :mod:`tabletop.resolve`); a failed send is counted and logged at a
+limited rate.
 """
 
 from __future__ import annotations
@@ -15,12 +16,12 @@ from __future__ import annotations
 import logging
 import math
 import socket
-import time
 from typing import Any, Callable
 
 from tabletop.frames import Frame
 from tabletop.plugins.osc import HostName, port_spec
 from tabletop.registry import BuildContext
+from tabletop.resolve import Destination
 from tabletop.schema import Bool, MapOf, Number, Optional_, Record, Str
 from tracking.badinput import BadInput
 from tracking.tuio import from_table, profile_bundles, set_args
@@ -85,24 +86,21 @@ class TuioSink:
         self._last: dict[tuple[str, int], tuple] = {}
         self._full_t = -math.inf
         self._sock: socket.socket | None = None
-        self._target: Any = None
-        self._resolve_after = -math.inf
+        # a host name is looked up away from the frame loop, once (see tabletop.resolve)
+        self.destination = Destination(name, address[0], address[1], log)
+        self.unresolved = 0   # bundles dropped while the host name was not known
         self._send = send or self._udp_send
 
     def _udp_send(self, data: bytes) -> None:
+        target = self.destination.target()
+        if target is None:
+            self.unresolved += 1
+            return
         if self._sock is None:
-            if time.monotonic() < self._resolve_after:
-                raise OSError(f"cannot resolve {self.address[0]}")
-            try:  # a host name is looked up once, not on every send
-                info = socket.getaddrinfo(self.address[0], self.address[1], type=socket.SOCK_DGRAM)
-            except OSError:
-                self._resolve_after = time.monotonic() + 5.0
-                raise
-            family, _, _, _, self._target = info[0]
-            self._sock = socket.socket(family, socket.SOCK_DGRAM)
+            self._sock = socket.socket(target[0], socket.SOCK_DGRAM)
             self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
             self._sock.setblocking(False)
-        self._sock.sendto(data, self._target)
+        self._sock.sendto(data, target[1])
 
     def bundles(self, frame: Frame) -> list[bytes]:
         """The bundles of one frame (pure apart from session ids, fseq and change tracking)."""

@@ -1,13 +1,15 @@
 """Editing config.yaml while the table runs: a bad edit is refused (the running configuration
 stays and keeps running), a good one is applied."""
 
+import contextlib
 import threading
 from pathlib import Path
 
+import pytest
 import yaml
 
 from tabletop.config import load_config
-from tabletop.frames import Frame
+from tabletop.frames import Frame, InputError
 from tabletop.kiosk.runner import Runner
 from tests.tracking.scenes import wait_for
 
@@ -31,14 +33,24 @@ def write(path: Path, text: str) -> None:
     tmp.replace(path)
 
 
-def test_bad_edit_refused_good_edit_applied(tmp_path):
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(config([10, 20, 30])))
-    runner = Runner(path, load_config(path), headless=True, kiosk=True)
+@contextlib.contextmanager
+def running(runner: Runner):
+    """``runner`` running in a thread, its first ticks made; stopped and joined after."""
     th = threading.Thread(target=runner.run)
     th.start()
     try:
         assert wait_for(lambda: runner.inst is not None and runner.inst.loop.stats.ticks > 5, 15)
+        yield runner
+    finally:
+        runner.stop.set()
+        th.join(20)
+    assert not th.is_alive()
+
+
+def test_bad_edit_refused_good_edit_applied(tmp_path):
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
         first = runner.inst
         bad = config([10, 20, 30])
         bad["engines"][0]["colour"] = [1, 2, 3]
@@ -62,8 +74,30 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
         assert runner.watcher.error is None and runner.watcher.applied == 1
         assert runner.inst.engines[0].color == (200, 100, 50)
         assert first.loop.stop.is_set()                     # the old one was closed
-    finally:
-        runner.stop.set()
-        th.join(20)
-    assert not th.is_alive()
 
+
+def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_path):
+    """A refused edit left on disk, then a restart (a crash, a reboot): the start read the
+    refused file and stopped ("exit status 2" at every restart: a dark table for good). Now it
+    runs the last configuration that ran, says why, and a fix on disk is applied as any edit."""
+    from tabletop.kiosk import last_good
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)):
+        pass
+    bad = config([10, 20, 30])
+    bad["loop"]["rate_hz"] = "sixty"
+    write(path, yaml.safe_dump(bad))
+    cfg, refused = last_good.load(path, kiosk=True)     # before: ConfigError, nothing started
+    assert "loop.rate_hz" in refused and cfg["engines"][0]["color"] == [10, 20, 30]
+    with running(Runner(path, cfg, headless=True, kiosk=True, config_error=refused)) as runner:
+        status = runner.reporter.status(Frame(seq=0, t=0.0))
+        assert "loop.rate_hz" in status["config_error"]
+        first = runner.inst
+        write(path, yaml.safe_dump(config([200, 100, 50])))
+        assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5, 15)
+        assert runner.inst.engines[0].color == (200, 100, 50) and runner.watcher.error is None
+    assert last_good.load(path, kiosk=True)[0]["engines"][0]["color"] == [200, 100, 50]
+    path.write_text("engines: [")                       # not even YAML, and not a kiosk:
+    with pytest.raises(InputError, match="config.yaml"):   # a kiosk's fallback only
+        last_good.load(path, kiosk=False)

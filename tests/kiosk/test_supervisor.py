@@ -115,3 +115,45 @@ def test_a_spare_builds_the_engines_before_its_go_and_notices_a_config_edit(tmp_
     assert not prepared.current()                            # the go loads it again
     path.write_text("engines: [{kind: nothing}]\n")
     assert spare.prepare(path) is None                       # the run after the go reports it
+
+
+def test_a_kiosk_whose_recording_fails_ends_after_its_seconds_with_status_3(tmp_path):
+    """``tabletop run --kiosk --seconds S`` on a full disk: the child's recording stops, the
+    table runs on, and the child ends after S seconds with status 3. The supervisor took that
+    for a crash and started another child, which failed its recording again: it never ended.
+    The disk is full as the kernel says it (EFBIG: the child's file size limit, 64 KB)."""
+    cfg = drill_config(tmp_path, [])
+    limited = ("import os, resource, sys; resource.setrlimit(resource.RLIMIT_FSIZE, "
+               "(65536, 65536)); os.execv(sys.executable, [sys.executable] + sys.argv[1:])")
+    sup = Supervisor([sys.executable, "-c", limited, "-m", "tabletop", "run", "--config",
+                      str(cfg), "--kiosk", "--headless", "--seconds", "1",
+                      "--record", str(tmp_path / "session.jsonl")],
+                     Policy(stall_s=5.0, backoff_s=(0.1, 2.0), startup_s=60),
+                     tmp_path / "crashes.log", echo=False, spares=0)
+    result = {}
+    th = threading.Thread(target=lambda: result.setdefault("rc", sup.run()))
+    th.start()
+    end = time.monotonic() + 90
+    while time.monotonic() < end and th.is_alive() and sup.starts < 3:
+        time.sleep(0.05)
+    sup.stop.set()
+    th.join(30)
+    assert sup.starts == 1, [e for e, _ in sup.events]   # before: restarted ("crash")
+    assert result["rc"] == 3
+    assert not (tmp_path / "crashes.log").exists()
+
+
+def test_kiosk_seconds_count_from_the_first_ready_restarts_included(tmp_path):
+    """``tabletop run --kiosk --seconds 2``: the child was given ``--seconds 2`` and a restarted
+    one ran its 2 s again (a drill of 40 s ran 70 s). Now the kiosk stops 2 s after it was
+    first ready: the child restarted after the first crash (at 1 s) is stopped before its own
+    crash (1.5 s after its first frame), which it reached before."""
+    cfg = drill_config(tmp_path, [{"start": 0, "after_s": 1.0, "kind": "crash"},
+                                  {"start": 1, "after_s": 1.5, "kind": "crash"}])
+    cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
+    out = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--kiosk", "--headless", "--seconds", "2"],
+                         capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    crashes = (tmp_path / "logs" / "crashes.log").read_text().count("=== ")
+    assert crashes == 1, out.stderr[-2000:]   # before: 2 (the second child's crash too)

@@ -102,3 +102,36 @@ def test_every_cached_kernel_is_stamped_with_every_file_it_takes_in():
                 assert needs <= covers, (mod.__name__, disp.__name__, sorted(needs - covers))
                 checked += 1
     assert checked >= 40
+
+
+KERNEL = '''
+from behaviors.kernel_cache import compiled
+
+
+def twice(x):
+    return 2.0 * x
+'''
+
+
+def test_a_damaged_cache_file_is_compiled_again(tmp_path, caplog):
+    """A cache file cut short (a power cut, a full disk) stopped every start with numba's
+    UnpicklingError; now the kernel is compiled again, saved afresh, and later starts load it."""
+    import importlib.util
+    from behaviors.kernel_cache import compiled
+    (tmp_path / "tiny_kernel.py").write_text(KERNEL)
+    spec = importlib.util.spec_from_file_location("tiny_kernel", tmp_path / "tiny_kernel.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+
+    def build():
+        return compiled("float64(float64)")(mod.twice)
+
+    assert build()(2.0) == 4.0                       # compiled and cached
+    cache = tmp_path / "__pycache__"
+    for damaged in ("nbc", "nbi"):                   # the machine code, then the index
+        for path in cache.glob(f"*.{damaged}"):
+            path.write_bytes(path.read_bytes()[:20])
+        assert build()(3.0) == 6.0, damaged          # before: UnpicklingError
+        assert build()(4.0) == 8.0                   # the cache written afresh loads
+    said = [r.getMessage() for r in caplog.records if "damaged" in r.getMessage()]
+    assert len(said) == 2, said

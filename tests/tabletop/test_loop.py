@@ -317,3 +317,20 @@ def test_capture_to_render_ends_when_the_view_has_presented():
     ages = sorted(loop.stats.samples["capture_age"])
     ticks = sorted(loop.stats.samples["tick"])
     assert ticks[0] >= 0.07 and ages[len(ages) // 2] < 0.035
+
+
+def test_capture_to_render_counts_each_capture_once_and_no_stalled_stamp():
+    """A 30 Hz camera on the 60 Hz loop: each capture's latency is counted at its first drawing
+    only (drawn again on the timer, it is no new capture), and while the camera is stalled the
+    frames stamped ``STALE_S`` back are no capture either: the figure says how old a capture is
+    when the visitor first sees it."""
+    source = AnnouncingSource(hz=30.0, phase=0.0)
+    sink = Collect()
+    loop = Loop(LiveInputs([source], LatestMeasurements()), [], [sink], rate_hz=60.0)
+    threading.Timer(0.6, source._stop.set).start()   # the camera stalls after 0.6 s
+    loop.run(seconds=1.2)
+    ages = list(loop.stats.samples["capture_age"])
+    drawn = {f.t for f in sink.frames if f.t in source.announced}
+    assert len(sink.frames) >= len(drawn) + 20   # redrawn on the timer, and while stalled
+    assert len(ages) == len(drawn)   # measured before: 74 ages for 18 captures
+    assert max(ages) < LiveInputs.STALE_S   # measured before: 0.25 s (the stalled stamp)

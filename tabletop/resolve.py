@@ -1,0 +1,82 @@
+"""A UDP destination whose host name is looked up away from the frame loop.
+
+The ``tuio`` sink and the kiosk heartbeat send from the frame loop. A host name looked up
+there blocked the loop for as long as the system's resolver took: with a gallery's name server
+not answering, 10 s per look-up (measured: glibc's 5 s timeout, two tries), so the installation
+drew 266 frames in 20 s and a kiosk's stall watch (``stall_s`` 5) would kill it again and again.
+Here an address (``127.0.0.1``, a broadcast address) is used at once, and a name is looked up
+in a thread of its own, again ``RETRY_S`` after a failure, while the sender drops what it would
+send; the failure is logged when its reason is new (again every 10 min) and the name's arrival
+once, so a week without a name server writes a few lines.
+"""
+
+from __future__ import annotations
+
+import logging
+import socket
+import threading
+import time
+from typing import Any, Callable
+
+from tracking.badinput import RetryLog
+
+Target = tuple[int, Any]   # (address family, socket address for sendto)
+
+
+class Destination:
+    """``(host, port)`` for UDP datagrams; ``target()`` is None until the host is known."""
+
+    RETRY_S = 5.0   # seconds between look-ups of a name that did not resolve
+
+    def __init__(self, name: str, host: str, port: int, logger: logging.Logger,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.host, self.port, self.clock = host, int(port), clock
+        self._log = RetryLog(name, logger)
+        self._lock = threading.Lock()
+        self._target: Target | None = None
+        self._looking = False
+        self._retry_at = -float("inf")
+        try:   # an address needs no look-up
+            self._target = self._lookup(socket.AI_NUMERICHOST)
+        except OSError:
+            pass
+
+    def _lookup(self, flags: int = 0) -> Target:
+        info = socket.getaddrinfo(self.host, self.port, type=socket.SOCK_DGRAM, flags=flags)
+        return info[0][0], info[0][4]
+
+    def target(self) -> Target | None:
+        """The family and socket address to send to, or None while the name is not known (a
+        look-up is started then, unless one runs or the last failed under ``RETRY_S`` ago)."""
+        with self._lock:
+            if self._target is not None or self._looking or self.clock() < self._retry_at:
+                return self._target
+            self._looking = True
+        threading.Thread(target=self._resolve, name=f"resolve:{self.host}", daemon=True).start()
+        return None
+
+    def _resolve(self) -> None:
+        try:
+            found: Target | None = self._lookup()
+            reason = ""
+        except (OSError, UnicodeError) as exc:
+            found, reason = None, getattr(exc, "strerror", None) or str(exc)
+        with self._lock:
+            self._target, self._looking = found, False
+            if found is None:
+                self._retry_at = self.clock() + self.RETRY_S
+        if found is None:
+            self._log.failed(f"cannot resolve {self.host}: {reason}", self.RETRY_S)
+        else:
+            self._log.worked(f"{self.host} resolved,")
+
+    def wait(self, timeout: float) -> Target | None:
+        """The target, waiting up to ``timeout`` s for a look-up under way (tests, tools)."""
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            target = self.target()
+            with self._lock:
+                if target is not None or not self._looking:
+                    return target
+            time.sleep(0.01)
+        return self.target()
