@@ -72,7 +72,8 @@ class StampedCache(caching.FunctionCache):
         except Exception as exc:   # what unpickling damaged bytes raises is open-ended
             index = self._cache_file._index_path
             log.warning("the compiled cache of %s in %s is damaged (%s: %s); compiling it "
-                        "again", self._py_func.__qualname__, os.path.dirname(index), type(exc).__name__, exc)
+                        "again", self._py_func.__qualname__, os.path.dirname(index),
+                        type(exc).__name__, exc)
             try:
                 os.unlink(index)
             except OSError:
