@@ -228,8 +228,8 @@ class Behavior:
                            if p.table_width > 0.0 and p.table_height > 0.0 else self.bounds)
         self.scales = ft.feature_scales(f, p.w_velocity, p.w_rel_position, p.w_rel_look,
                                         p.w_norm_look, p.w_delta_direction, p.w_room)
-        self.room = ft.room(self.main, self.react, self.demo_table)
-        self.situation_vectors = ft.situation_vectors(f, self.scales, self.room)
+        room_m = ft.room(self.main, self.react, self.demo_table) if p.w_room > 0.0 else None
+        self.situation_vectors = ft.situation_vectors(f, self.scales, room_m)
         self.situation_aug = augmented(self.situation_vectors)
         self.coherence_vectors = ft.coherence_vectors(f, self.scales)
         # a window ending at j needs n samples and a following target sample j + 1

@@ -110,8 +110,8 @@ class Reactor(GenerationStep):
         self.main_motion = ft.EntityMotion(main_x, main_y, md, p.rate_hz, p.min_speed)
         self.react_motion = ft.EntityMotion(rx, ry, rd, p.rate_hz, p.min_speed)
         f, l, rl = ft.relative_pose(main_x, main_y, md, rx, ry, rd)
-        ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl,
-                         ft.room_at(main_x, main_y, rx, ry, self.table))
+        ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl)
+        ft.room_row(self._xs, b.scales, main_x, main_y, rx, ry, self.table)
         ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0, 0.0)
         self.situation.reset(np.tile(self._xs, (p.window, 1)))
         self.coherence.reset(np.tile(self._xc, (p.window, 1)))

@@ -235,19 +235,26 @@ def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
 
 
 def situation_row(out: np.ndarray, s: Scales, v_main: float, v_react: float, fwd: float,
-                  left: float, rel_look: float,
-                  room_m: tuple[float, float] = (ROOM_CLIP, 0.0)) -> None:
-    """Write one live situation vector into ``out`` (6,), or (8,) with the room (metres,
-    :func:`room_at`), as :func:`situation_vectors`."""
+                  left: float, rel_look: float) -> None:
+    """Write one live situation vector's paper part into ``out[:6]``, as
+    :func:`situation_vectors` (the room, where the vectors carry it: :func:`room_row`)."""
     out[0] = s.v_main * v_main
     out[1] = s.v_react * v_react
     out[2] = s.rel_position * fwd
     out[3] = s.rel_position * left
     out[4] = s.rel_look * math.cos(rel_look)
     out[5] = s.rel_look * math.sin(rel_look)
+
+
+def room_row(out: np.ndarray, s: Scales, mx: float, my: float, rx: float, ry: float,
+             table: tuple[float, float, float, float]) -> None:
+    """Write the reactor's room on the live ``table`` (:func:`room_at`, main at (mx, my),
+    reactor at (rx, ry), metres) into ``out[6:8]`` where the situation vectors carry it
+    (Params.w_room > 0); with the room off nothing is computed."""
     if out.shape[0] > SITUATION_DIMS:
-        out[6] = s.room * room_m[0]
-        out[7] = s.room * room_m[1]
+        back, side = room_at(mx, my, rx, ry, table)
+        out[6] = s.room * back
+        out[7] = s.room * side
 
 
 def coherence_row(out: np.ndarray, s: Scales, norm_look: float, ddir: float, fwd: float,

@@ -308,8 +308,8 @@ class GenerationStep:
         vm, _, _ = self.main_motion.step(mx, my)
         vr, move_r, ddir_r = self.react_motion.step(rx, ry)
         fwd, left, rel_look = ft.relative_pose(mx, my, md, rx, ry, look)
-        ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look,
-                         ft.room_at(mx, my, rx, ry, self.table))
+        ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
+        ft.room_row(self._xs, b.scales, mx, my, rx, ry, self.table)
         self.situation.push(self._xs)
         ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr,
                          vm)

@@ -16,7 +16,7 @@ any of these must be made here too:
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
-- features: EntityMotion.step, relative_pose, situation_row, room_at, coherence_row
+- features: EntityMotion.step, relative_pose, situation_row, room_row, coherence_row
 - tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
 
 In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
@@ -304,7 +304,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     xs[3] = c[S_REL_POSITION] * left
     xs[4] = c[S_REL_LOOK] * math.cos(rel_look)
     xs[5] = c[S_REL_LOOK] * math.sin(rel_look)
-    if xs.shape[0] > 6:             # the reactor's room on the table (features.room_at)
+    if xs.shape[0] > 6:             # the reactor's room on the table (features.room_row)
         rho = hypot(rx - mx, ry - my)
         clip = c[ROOM_CLIP]
         back, side = clip, 0.0

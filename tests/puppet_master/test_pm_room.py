@@ -46,7 +46,9 @@ def test_live_room_equals_training_room():
         fwd, left, rl = ft.relative_pose(*main[i], *react[i])
         room = ft.room_at(main[i, 0], main[i, 1], react[i, 0], react[i, 1], b.demo_table)
         near += room[0] < ft.ROOM_CLIP
-        ft.situation_row(xs, b.scales, vm, vr, fwd, left, rl, room)
+        ft.situation_row(xs, b.scales, vm, vr, fwd, left, rl)
+        ft.room_row(xs, b.scales, main[i, 0], main[i, 1], react[i, 0], react[i, 1],
+                    b.demo_table)
         assert np.allclose(xs, b.situation_vectors[i], atol=1e-9)
     assert near > 0.5 * b.samples        # the walls are in the demonstration (measured 0.998)
 
