@@ -77,7 +77,8 @@ class GroupRules:
             if h == members.AFTER_END:
                 anchor = self._end_x[i].copy()
             elif h == members.WAITING:
-                anchor = members.recent_mean(self._buf, self._nbuf, self._m_keep)[i]
+                anchor = members.recent_mean(self._buf[i:i + 1], self._nbuf[i:i + 1],
+                                             self._m_keep[i:i + 1])[0]
             else:
                 anchor = self._x[i].copy()
             if h != members.WAITING:
