@@ -29,8 +29,10 @@ class Destination:
     RETRY_S = 5.0   # seconds between look-ups of a name that did not resolve
 
     def __init__(self, name: str, host: str, port: int, logger: logging.Logger,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic, blocking: bool = True) -> None:
         self.host, self.port, self.clock = host, int(port), clock
+        self.blocking = blocking   # the socket's mode (see :meth:`sendto`)
+        self._sock: socket.socket | None = None
         self._log = RetryLog(name, logger)
         self._lock = threading.Lock()
         self._target: Target | None = None
@@ -69,6 +71,27 @@ class Destination:
             self._log.failed(f"cannot resolve {self.host}: {reason}", self.RETRY_S)
         else:
             self._log.worked(f"{self.host} resolved,")
+
+    def sendto(self, data: bytes) -> bool:
+        """Send one datagram; False (nothing sent) while the host name is not known. The socket,
+        of the target's family with broadcast allowed, is made at the first send; OSError as
+        ``socket.sendto`` raises it."""
+        target = self.target()
+        if target is None:
+            return False
+        if self._sock is None:
+            sock = socket.socket(target[0], socket.SOCK_DGRAM)
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
+            sock.setblocking(self.blocking)
+            self._sock = sock
+        self._sock.sendto(data, target[1])
+        return True
+
+    def close(self) -> None:
+        """Close the socket, if one was made (a later send makes another)."""
+        if self._sock is not None:
+            self._sock.close()
+            self._sock = None
 
     def wait(self, timeout: float) -> Target | None:
         """The target, waiting up to ``timeout`` s for a look-up under way (tests, tools)."""

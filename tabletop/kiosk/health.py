@@ -107,7 +107,6 @@ class Heartbeat:
         self.address = (host, int(port))
         # a host name is looked up away from the frame loop (see tabletop.resolve)
         self.destination = Destination("heartbeat", host, port, log)
-        self._sock: socket.socket | None = None
         self.sent = 0
         self.failing = 0   # sends failed in a row: the first is said, and the return
 
@@ -118,14 +117,9 @@ class Heartbeat:
         b.add_arg(float(fps), "f")
         b.add_arg(int(unhealthy), "i")
         b.add_arg(status, "s")
-        target = self.destination.target()
-        if target is None:   # the name is being looked up, or did not resolve (logged there)
-            return
         try:
-            if self._sock is None:
-                self._sock = socket.socket(target[0], socket.SOCK_DGRAM)
-                self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
-            self._sock.sendto(b.build().dgram, target[1])
+            if not self.destination.sendto(b.build().dgram):
+                return   # the name is being looked up, or did not resolve (logged there)
         except OSError as exc:  # no route, network down, a name not found: the table runs on
             self.failing += 1
             if self.failing == 1:
@@ -138,8 +132,7 @@ class Heartbeat:
         self.sent, self.failing = self.sent + 1, 0
 
     def close(self) -> None:
-        if self._sock is not None:
-            self._sock.close()
+        self.destination.close()
 
 
 class HealthReporter:

@@ -85,22 +85,14 @@ class TuioSink:
         self._objects, self._cursors = Sessions(), Sessions()
         self._last: dict[tuple[str, int], tuple] = {}
         self._full_t = -math.inf
-        self._sock: socket.socket | None = None
         # a host name is looked up away from the frame loop, once (see tabletop.resolve)
-        self.destination = Destination(name, address[0], address[1], log)
+        self.destination = Destination(name, address[0], address[1], log, blocking=False)
         self.unresolved = 0   # bundles dropped while the host name was not known
         self._send = send or self._udp_send
 
     def _udp_send(self, data: bytes) -> None:
-        target = self.destination.target()
-        if target is None:
+        if not self.destination.sendto(data):
             self.unresolved += 1
-            return
-        if self._sock is None:
-            self._sock = socket.socket(target[0], socket.SOCK_DGRAM)
-            self._sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
-            self._sock.setblocking(False)
-        self._sock.sendto(data, target[1])
 
     def bundles(self, frame: Frame) -> list[bytes]:
         """The bundles of one frame (pure apart from session ids, fseq and change tracking)."""
@@ -162,9 +154,7 @@ class TuioSink:
                 self.bad.count("send_failed", f"to {self.address[0]}:{self.address[1]}: {exc}")
 
     def close(self) -> None:
-        if self._sock is not None:
-            self._sock.close()
-            self._sock = None
+        self.destination.close()
 
 
 def build(options: dict, ctx: BuildContext) -> TuioSink:
