@@ -8,7 +8,8 @@ entity that changed, as the reference server does, plus the full state every ``f
 the inverse of the ``osc`` source's mapping (:func:`tracking.tuio.from_table`). Session ids are
 stable while a thing stays and never reused. Sending never blocks the loop (a host name is
 looked up in the background, :mod:`tabletop.resolve`); a failed send is counted and logged at a
-limited rate.
+limited rate. ``sent`` counts the bundles handed to the network, ``unresolved`` those dropped
+while the host name was not known.
 """
 
 from __future__ import annotations
@@ -66,12 +67,13 @@ class Sessions:
 
 class TuioSink:
     """Sends each frame as TUIO 1.1 bundles to ``address`` (host, port); see the module
-    docstring. ``send(bundle)`` is the transport (a UDP socket by default)."""
+    docstring. ``send(bundle)`` is the transport (a UDP socket by default); it returns False
+    for a bundle it dropped without sending."""
 
     def __init__(self, name: str, address: tuple[str, int], table: tuple[float, float],
                  characters: dict[str, int] | None = None, source: str | None = None,
                  full_every_s: float = 1.0, touches: bool = True, changes_only: bool = False,
-                 send: Callable[[bytes], None] | None = None) -> None:
+                 send: Callable[[bytes], bool | None] | None = None) -> None:
         self.name, self.address, self.table = name, address, table
         self.characters = dict(characters or {})
         self._unseen, self._seen = set(self.characters), set()
@@ -90,9 +92,11 @@ class TuioSink:
         self.unresolved = 0   # bundles dropped while the host name was not known
         self._send = send or self._udp_send
 
-    def _udp_send(self, data: bytes) -> None:
-        if not self.destination.sendto(data):
-            self.unresolved += 1
+    def _udp_send(self, data: bytes) -> bool:
+        if self.destination.sendto(data):
+            return True
+        self.unresolved += 1
+        return False
 
     def bundles(self, frame: Frame) -> list[bytes]:
         """The bundles of one frame (pure apart from session ids, fseq and change tracking)."""
@@ -148,8 +152,8 @@ class TuioSink:
     def consume(self, frame: Frame) -> None:
         for b in self.bundles(frame):
             try:
-                self._send(b)
-                self.sent += 1
+                if self._send(b) is not False:   # a dropped bundle was not sent
+                    self.sent += 1
             except OSError as exc:  # no route, buffer full, receiver gone: try next frame
                 self.bad.count("send_failed", f"to {self.address[0]}:{self.address[1]}: {exc}")
 

@@ -125,6 +125,7 @@ def test_a_receiver_that_is_not_there_costs_nothing(caplog):
     for k in range(50):
         unresolvable.consume(frame(k, k / 60, [Puck(1, 0.5, 0.5, 0.0)]))
     assert unresolvable.unresolved == 100    # dropped, never raised
+    assert unresolvable.sent == 0            # and not counted as sent (it said 100)
     said = [r.getMessage() for r in caplog.records if "no-such-host" in r.getMessage()]
     assert len(said) == 1 and "cannot resolve" in said[0], said   # said once, not per send
     unresolvable.close()
