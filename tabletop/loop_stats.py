@@ -10,6 +10,8 @@ import collections
 import numpy as np
 
 STAGES = ("capture_age", "inputs", "engines", "sinks", "tick")
+# how the overlay names a stage whose key is not the README's word for it
+LABELS = {"capture_age": "capture-to-render"}
 
 
 class LoopStats:

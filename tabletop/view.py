@@ -30,6 +30,7 @@ from tabletop.drawing import screens  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
 from tabletop.frames import Frame  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
+from tabletop.loop_stats import LABELS  # noqa: E402
 # the renderer and the table mapping, importable from here as before
 from tabletop.renderer import (BODY, EYES, PUCK_COLORS, Renderer, body_polygon,  # noqa: E402,F401
                                cameras_down, puck_color)
@@ -70,7 +71,8 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
             m = stats.stage_ms(stage)
             yield None
             if m is not None:
-                lines.append(f"  {stage:<12} {m[0]:6.2f} ms median  {m[1]:6.2f} ms p99")
+                label = LABELS.get(stage, stage)
+                lines.append(f"  {label:<17} {m[0]:6.2f} ms median  {m[1]:6.2f} ms p99")
     for h in frame.health:
         age = "-" if math.isinf(h.age) else f"{h.age * 1e3:.0f} ms"
         lines.append(f"source {h.name}: {'ok' if h.ok else 'DOWN'}  {h.message}  age {age}")

@@ -391,6 +391,21 @@ def test_overlay_lists_rates_and_sources():
     assert "camera: DOWN" in text and "reconnecting" in text
 
 
+def test_overlay_names_the_latency_capture_to_render_as_the_readme_and_run_log_do():
+    from tabletop.loop import LoopStats
+
+    st = LoopStats()
+    for i in range(10):
+        st.record("capture_age", 0.012)
+        st.record("engines", 0.001)
+    lines = overlay_lines(Frame(seq=5, t=1.0), st)
+    latency = [line for line in lines if "12.00 ms median" in line]
+    assert len(latency) == 1 and "capture-to-render" in latency[0], lines  # said capture_age
+    assert not any("capture_age" in line for line in lines)
+    engines = next(line for line in lines if "engines" in line)
+    assert engines.index("ms median") == latency[0].index("ms median")   # columns kept
+
+
 def test_sprite_is_drawn_rotated_to_the_heading(tmp_path):
     """A sprite facing +x, half red (front) half blue (back), turned to face +y on the table."""
     img = pygame.Surface((40, 20))
