@@ -86,6 +86,7 @@ class Renderer:
         self._overlay_w = 0          # the window width the panel was wrapped for (px)
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
+        self._keep_clear: list[pygame.Rect] = []   # what the panel must not hide (pixels)
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
         self.lives = Lives()
@@ -136,18 +137,27 @@ class Renderer:
         if self.idle > 0:
             screens.idle(target, t, self.idle, self._corners(), self.invitation)
         drawn: list[pygame.Rect | None] = []
+        # what the overlay panel keeps clear of: characters, pucks and the studio's marks and
+        # words (its REC seconds and TRY keys were under the panel; the studio's dirty
+        # rectangle, the whole window for its recording frame, would hide in every corner)
+        self._keep_clear: list[pygame.Rect] = []
         prs = sorted(self.lives.update(t, frame.characters),
                      key=lambda p: p.state.kind == "studio")   # the studio's marks on top
         for p, place in zip(prs, self._places(prs, frame).tolist()):
-            drawn.append(self._draw_presence(target, p, frame, place))
-        drawn.extend(pucks.draw_pucks(target, self.traces.update(t, frame.pucks), self.map,
-                                      self.puck_radius, t, TRAIL_S,
-                                      self._label if overlay is not None else None))
+            r = self._draw_presence(target, p, frame, place)
+            drawn.append(r)
+            if r is not None and p.state.kind != "studio":
+                self._keep_clear.append(r)
+        on_pucks = pucks.draw_pucks(target, self.traces.update(t, frame.pucks), self.map,
+                                    self.puck_radius, t, TRAIL_S,
+                                    self._label if overlay is not None else None)
+        drawn.extend(on_pucks)
+        self._keep_clear.extend(r for r in on_pucks if r is not None)
         if self.moment > 0:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
         if overlay:
-            drawn.append(self.draw_overlay(target, overlay, [r for r in drawn if r is not None]))
+            drawn.append(self.draw_overlay(target, overlay, self._keep_clear))
         size = target.get_size()
         if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
             self.dirty, self._drawn, self._tiles = [target.get_rect()], None, None
@@ -221,7 +231,7 @@ class Renderer:
         c = pr.state
         if c.kind == "studio":           # the studio's countdown, recording mark and status
             from tabletop.studio.draw import draw_studio
-            draw_studio(target, self, c)
+            self._keep_clear.extend(draw_studio(target, self, c))
             return target.get_rect()
         if not (place[7] and 0.0 <= c.size <= max(self.table)):   # (place: finite, near)
             return None                     # a broken state is not drawn (never raises)

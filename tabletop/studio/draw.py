@@ -20,13 +20,15 @@ def font(size: int) -> pygame.font.Font:
     return _fonts[size]
 
 
-def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
+def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pygame.Rect]:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
     number in the middle of the table, a red dot and seconds while recording, a green TRY mark
     (and the path to drag, when the target gives one) while a take is tried, and the status
-    line along the table's near edge (nothing while it has nothing to say)."""
+    line along the table's near edge (nothing while it has nothing to say). Returns the
+    rectangles of the marks and words (pixels), which the operator overlay keeps clear of."""
     if not c.label:
-        return
+        return []
+    marks: list[pygame.Rect] = []
     w, h = renderer.table
     cx, cy = renderer.map.point(w / 2, h / 2)
     if c.action == "countdown" and c.progress is not None:
@@ -39,12 +41,14 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
         pygame.draw.arc(target, c.color, rect, math.pi / 2 - (end + math.pi / 2), math.pi / 2, 8)
         img = font(int(r * 1.4)).render(str(n), True, (255, 255, 255))
         target.blit(img, img.get_rect(center=(cx, cy)))
+        marks.append(rect)
     elif c.action == "recording":
         x, y = renderer.map.point(0.04, h - 0.04)
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
         pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), 14)
         img = font(36).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
-        target.blit(img, (x + 22, y - img.get_height() // 2))
+        marks.append(target.blit(img, (x + 22, y - img.get_height() // 2)).union(
+            (x - 14, y - 14, 28, 28)))
         pygame.draw.rect(target, c.color, target.get_rect(), width=6)
     elif c.action in ("trying", "training"):
         x, y = renderer.map.point(0.04, h - 0.04)
@@ -52,7 +56,8 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
         pygame.draw.circle(target, green, (x, y), 14, width=0 if c.action == "trying" else 3)
         img = font(36).render("TRY: K keep  X discard  R redo" if c.action == "trying"
                               else "training...", True, green)
-        target.blit(img, (x + 22, y - img.get_height() // 2))
+        marks.append(target.blit(img, (x + 22, y - img.get_height() // 2)).union(
+            (x - 14, y - 14, 28, 28)))
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
     x, y = renderer.map.point(0.02, 0.02)
@@ -60,7 +65,8 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> None:
     for line in reversed(fit_lines(c.label, 26, target.get_width() - x - max(x, 12))):
         img = f.render(line, True, (235, 235, 235), (0, 0, 0))
         y -= img.get_height() + 4
-        target.blit(img, (x, y))
+        marks.append(target.blit(img, (x, y)))
+    return marks
 
 
 @functools.lru_cache(maxsize=16)   # drawn every frame, the same text for seconds

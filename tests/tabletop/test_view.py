@@ -378,6 +378,30 @@ def test_overlay_panel_moves_away_from_a_character_in_its_corner():
     assert r._corner != 0                   # which has left the top-left corner
 
 
+@pytest.mark.parametrize("action,least", [("recording", 450), ("trying", 1100)])
+def test_overlay_panel_leaves_the_studios_rec_seconds_and_try_keys_visible(action, least):
+    """The designer records with the overlay on (it marks the selected target): the panel sat
+    top-left over the studio's "REC 4.6 s" and "TRY: K keep ..." (seen in an Xvfb walk)."""
+    r = new_renderer()
+    s = pygame.Surface(SIZE)
+    studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action=action,
+                            progress=4.6, label=f"[lover] {action}", color=(255, 60, 60))
+    lines = ["tick 1", "60.0 fps   skipped 0   errors 0"] + [f"  stage{i}  1.00 ms"
+                                                            for i in range(10)]
+    for k in range(3):
+        r.draw(s, Frame(seq=k, t=k * 0.3, characters=(studio,)), lines)
+    x, y = map(int, r.map.point(0.04, TABLE[1] - 0.04))   # where the studio puts its mark
+    mark = pygame.Rect(x - 14, y - 18, 236, 36)               # its dot and words
+    (W, H), (w, h) = SIZE, r._overlay_img.get_size()
+    panel = pygame.Rect([(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
+                        [r._corner], (w, h))
+    assert not panel.colliderect(mark), (panel, mark)         # top-left over it before
+    word = rgb(s)[mark.top:mark.bottom, mark.left:mark.right].astype(int)
+    colour = np.array((255, 60, 60) if action == "recording" else (90, 220, 120))
+    bright = int((np.abs(word - colour).sum(axis=2) < 20).sum())   # its own colour, unveiled
+    assert bright > least, bright   # measured REC 548, TRY 1540; under the panel 323, 749
+
+
 def test_overlay_lists_rates_and_sources():
     from tabletop.loop import LoopStats
 
