@@ -42,8 +42,10 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
                         if p.exists() and not p.is_dir()), None)
         why = f"{blocker} is a file" if blocker is not None else (exc.strerror or exc)
         raise FileFormatError(f"{target}: cannot make its folder: {why}") from None
+    _remove_stale(target)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp",
+                                   dir=target.parent)
     except OSError as exc:  # still an OSError (callers catch it), naming the target
         raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
     try:
@@ -63,6 +65,38 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
             pass
         raise
     fsync_folder(target.parent)
+
+
+def _remove_stale(target: Path) -> None:
+    """Remove the temporary files of ``target`` that a process which has ended left behind (a
+    crash or a power cut between their making and their renaming). The kiosk's status file is
+    written every second: a crash drill of 50 restarts left 3 of them, a crashing table weeks
+    of them. A temporary file names its writer's process id; one still running keeps its own."""
+    prefix = f".{target.name}."
+    try:
+        names = [n for n in os.listdir(target.parent)
+                 if n.startswith(prefix) and n.endswith(".tmp")]
+    except OSError:
+        return
+    for name in names:
+        pid = name[len(prefix):].split(".", 1)[0]
+        if not pid.isdigit() or int(pid) == os.getpid() or _alive(int(pid)):
+            continue
+        try:
+            os.unlink(target.parent / name)
+        except OSError:
+            pass
+
+
+def _alive(pid: int) -> bool:
+    """Is process ``pid`` running (or not ours to ask about)?"""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def _umask() -> int:
