@@ -43,7 +43,7 @@ import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 from tabletop.cli import EXIT_RECORDING_FAILED
 from tabletop.kiosk.notify import Notifier
@@ -107,8 +107,12 @@ class Supervisor:
     def __init__(self, command: Sequence[str], policy: Policy, crash_log: Path,
                  env: dict[str, str] | None = None, notifier: Notifier | None = None,
                  echo: bool = True, clock: Callable[[], float] = time.monotonic,
-                 spares: int = 2, seconds: float | None = None) -> None:
+                 spares: int = 2, seconds: float | None = None,
+                 crash_log_max_bytes: int = 1_000_000, crash_log_backups: int = 5) -> None:
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
+        # the crash log rotates as the kiosk's log does: unrotated, a table crashing every
+        # half minute for weeks (the longest back-off) grew it ~9 MB a day (3.3 KB a crash)
+        self.crash_log_max_bytes, self.crash_log_backups = crash_log_max_bytes, crash_log_backups
         # ``--seconds``: the kiosk stops that long after its first READY, restarts included (a
         # child given ``--seconds`` ran them again after each restart: a 40 s drill ran 70 s)
         self.seconds = seconds
@@ -261,12 +265,25 @@ class Supervisor:
         log.error("supervisor: the installation %s after %.1f s; restarting", what, ran)
         try:
             self.crash_log.parent.mkdir(parents=True, exist_ok=True)
+            self._rotate_crash_log()
             with open(self.crash_log, "a", encoding="utf-8") as f:
                 f.write("\n".join(lines) + "\n")
                 f.flush()
                 os.fsync(f.fileno())
         except OSError as exc:
             log.error("supervisor: crash log %s not written: %s", self.crash_log, exc)
+
+    def _rotate_crash_log(self) -> None:
+        """``crashes.log`` -> ``crashes.log.1`` -> ... ``.N`` (``crash_log_backups``) once it
+        has reached ``crash_log_max_bytes``, as logging's RotatingFileHandler does."""
+        path = self.crash_log
+        if not path.exists() or path.stat().st_size < self.crash_log_max_bytes:
+            return
+        for i in range(self.crash_log_backups - 1, 0, -1):
+            older = path.with_name(f"{path.name}.{i}")
+            if older.exists():
+                os.replace(older, path.with_name(f"{path.name}.{i + 1}"))
+        os.replace(path, path.with_name(f"{path.name}.1"))
 
     def _terminate(self, child: Child) -> None:
         p = child.process
@@ -360,3 +377,52 @@ class Supervisor:
                 self._dir.rmdir()
             except OSError:
                 pass
+
+
+def kiosk_paths(cfg: dict[str, Any], base: Path) -> dict[str, Path]:
+    """The kiosk's status file, log and crash log, defaults beside the config file."""
+    k = cfg["kiosk"]
+    return {"status_file": Path(k["status_file"] or base / "status.json"),
+            "log_file": Path(k["log_file"] or base / "logs" / "tabletop.log"),
+            "crash_log": Path(k["crash_log"] or base / "logs" / "crashes.log")}
+
+
+def kiosk_log(cfg: dict[str, Any], path: Path) -> None:
+    """The kiosk's rotating log at ``path``; a place it cannot be made stops the start in one
+    line naming the config file and ``kiosk.log_file``."""
+    from tabletop.kiosk.health import setup_log_file
+    from tabletop.schema import ConfigError
+    k = cfg["kiosk"]
+    try:
+        setup_log_file(path, k["log_max_bytes"], k["log_backups"])
+    except OSError as exc:
+        raise ConfigError(f"{getattr(cfg, 'file', 'config')}: kiosk.log_file: {path}: cannot "
+                          f"be used: {exc.strerror or exc}") from None
+
+
+def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
+              seconds: float | None = None) -> int:
+    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT, or
+    ``seconds`` after the installation was first ready."""
+    k = cfg["kiosk"]
+    paths = kiosk_paths(cfg, config_path.resolve().parent)
+    kiosk_log(cfg, paths["log_file"])
+    policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
+    sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
+                     spares=k["spares"], seconds=seconds, crash_log_max_bytes=k["log_max_bytes"],
+                     crash_log_backups=k["log_backups"])
+
+    def handler(signum: int, _frame: Any) -> None:
+        sup.stop.set()
+
+    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        return sup.run()
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+def supervised() -> bool:
+    """True in the child process the kiosk supervisor started."""
+    return os.environ.get("TABLETOP_SUPERVISED") == "1"

@@ -157,3 +157,25 @@ def test_kiosk_seconds_count_from_the_first_ready_restarts_included(tmp_path):
     assert out.returncode == 0, out.stderr[-2000:]
     crashes = (tmp_path / "logs" / "crashes.log").read_text().count("=== ")
     assert crashes == 1, out.stderr[-2000:]   # before: 2 (the second child's crash too)
+
+
+def test_the_crash_log_rotates_as_the_kiosk_log_does(tmp_path):
+    """A table crashing again and again for weeks: the crash log is kept to max_bytes x
+    (backups + 1) (it grew without end: 3.3 KB a crash of a real installation)."""
+    crash_log = tmp_path / "logs" / "crashes.log"
+    crash = "import sys; sys.stderr.write('the same native crash ' * 20 + '\\n'); sys.exit(1)"
+    sup = Supervisor([sys.executable, "-c", crash], Policy(backoff_s=(0.0, 0.0)), crash_log,
+                     echo=False, spares=0, crash_log_max_bytes=2000, crash_log_backups=2)
+    th = threading.Thread(target=sup.run)
+    th.start()
+    end = time.monotonic() + 60
+    while time.monotonic() < end and sup.crashes < 30:
+        time.sleep(0.05)
+    sup.stop.set()
+    th.join(30)
+    assert sup.crashes >= 30
+    files = sorted(p.name for p in crash_log.parent.iterdir())
+    assert files == ["crashes.log", "crashes.log.1", "crashes.log.2"], files
+    sizes = [p.stat().st_size for p in crash_log.parent.iterdir()]
+    assert max(sizes) < 2000 + 1000 and sum(sizes) < 3 * 3000   # each entry ~600 bytes
+    assert "the same native crash" in crash_log.read_text()      # the newest one is there
