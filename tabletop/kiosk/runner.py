@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import copy
 import logging
-import os
-import sys
 import threading
 import time
 from pathlib import Path
@@ -17,34 +15,15 @@ from tabletop.app import build_live
 from tabletop.frames import InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
-from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing, setup_log_file
+from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing
 from tabletop.kiosk.notify import Notifier
+from tabletop.kiosk.supervisor import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.studio.build import attach_studio
 from tabletop.studio.targets import BehaviorReloader
 
 log = logging.getLogger("tabletop")
-
-
-def kiosk_paths(cfg: dict[str, Any], base: Path) -> dict[str, Path]:
-    """The kiosk's status file, log and crash log, defaults beside the config file."""
-    k = cfg["kiosk"]
-    return {"status_file": Path(k["status_file"] or base / "status.json"),
-            "log_file": Path(k["log_file"] or base / "logs" / "tabletop.log"),
-            "crash_log": Path(k["crash_log"] or base / "logs" / "crashes.log")}
-
-
-def kiosk_log(cfg: dict[str, Any], path: Path) -> None:
-    """The kiosk's rotating log at ``path``; a place it cannot be made stops the start in one
-    line naming the config file and ``kiosk.log_file``."""
-    from tabletop.schema import ConfigError
-    k = cfg["kiosk"]
-    try:
-        setup_log_file(path, k["log_max_bytes"], k["log_backups"])
-    except OSError as exc:
-        raise ConfigError(f"{getattr(cfg, 'file', 'config')}: kiosk.log_file: {path}: cannot "
-                          f"be used: {exc.strerror or exc}") from None
 
 
 def kiosk_view(cfg: dict[str, Any], kiosk: bool) -> dict[str, Any]:
@@ -54,31 +33,6 @@ def kiosk_view(cfg: dict[str, Any], kiosk: bool) -> dict[str, Any]:
     cfg = copy.copy(cfg)
     cfg["view"] = dict(cfg["view"], fullscreen=True, overlay=False)
     return cfg
-
-
-def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
-              seconds: float | None = None) -> int:
-    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT, or
-    ``seconds`` after the installation was first ready."""
-    import signal
-
-    from tabletop.kiosk.supervisor import Policy, Supervisor
-    k = cfg["kiosk"]
-    paths = kiosk_paths(cfg, config_path.resolve().parent)
-    kiosk_log(cfg, paths["log_file"])
-    policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
-    sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
-                     spares=k["spares"], seconds=seconds)
-
-    def handler(signum: int, _frame: Any) -> None:
-        sup.stop.set()
-
-    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        return sup.run()
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
 
 
 class Runner:
@@ -243,8 +197,3 @@ class _Closer:
 
     def close(self) -> None:
         self._close()
-
-
-def supervised() -> bool:
-    """True in the child process the kiosk supervisor started."""
-    return os.environ.get("TABLETOP_SUPERVISED") == "1"

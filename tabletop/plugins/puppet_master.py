@@ -36,9 +36,8 @@ is read one tick old (see :mod:`tabletop.plugins.puppet_master_mains`).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
-from behaviors.puppet_master.engine import Behavior, Reactor
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.registry import BuildContext
@@ -46,6 +45,10 @@ from tabletop.plugins.puppet_master_mains import (Board, MainBinding, MainReader
                                                   bound_characters, singles)
 from tabletop.plugins.puppet_master_mains import board as shared_board
 from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str
+
+if TYPE_CHECKING:   # the engine (its compiled kernels) loads when an engine is built, so that
+    # validating a config (the kiosk supervisor does) does not load them (bench/cold_start.py)
+    from behaviors.puppet_master.engine import Behavior, Reactor
 
 
 class PuppetMasterError(InputError):
@@ -137,6 +140,7 @@ class PuppetMasterEngine:
         ``reactor``: one already built for it, e.g. in a training worker)."""
         self.behavior, self.behavior_name = behavior, name
         if reactor is None and behavior is not None:
+            from behaviors.puppet_master.engine import Reactor
             reactor = Reactor(behavior, self.table)
         self.reactor = reactor
 
@@ -224,6 +228,7 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
 
 
 def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
+    from behaviors.puppet_master.engine import Behavior
     delayed = _delayed(options, ctx)
     behavior, bname = None, ""
     if options["behavior"] is not None:

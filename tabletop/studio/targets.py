@@ -22,7 +22,6 @@ from typing import Callable
 import numpy as np
 
 from behaviors.puppet_master.sequential import SequentialSession
-from behaviors.puppet_master.training import BackgroundTrainer
 from tabletop import library
 from tabletop.files import fsync_folder
 from tabletop.frames import CharacterState, Frame, InputError
@@ -73,6 +72,8 @@ class PuppetMasterTarget:
         self.sequential = bool(d.get("sequential", False))
         self.session = SequentialSession()
         self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
+        # imported here: a studio without Puppet Master engines never loads their kernels
+        from behaviors.puppet_master.training import BackgroundTrainer
         self.trainer = BackgroundTrainer() if d.get("background_training", True) else None
         self._training: np.ndarray | None = None              # the demonstration in the worker
         self._t = 0.0                                         # the last recorded frame's time
