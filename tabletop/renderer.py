@@ -35,6 +35,7 @@ MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 GHOST_ALPHA = 0.45       # opacity of a played-back take (the studio's ghost of the main)
+MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 
 # Reactor body in units of its size, nose along +x (the default character's outline).
 BODY = REACTOR_BODY
@@ -86,7 +87,8 @@ class Renderer:
         self._overlay_w = 0          # the window width the panel was wrapped for (px)
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
-        self._keep_clear: list[pygame.Rect] = []   # what the panel must not hide (pixels)
+        self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
+        self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
         self.lives = Lives()
@@ -140,7 +142,7 @@ class Renderer:
         # what the overlay panel keeps clear of: characters, pucks and the studio's marks and
         # words (its REC seconds and TRY keys were under the panel; the studio's dirty
         # rectangle, the whole window for its recording frame, would hide in every corner)
-        self._keep_clear: list[pygame.Rect] = []
+        self._keep_clear, self._studio_marks = [], []
         prs = sorted(self.lives.update(t, frame.characters),
                      key=lambda p: p.state.kind == "studio")   # the studio's marks on top
         for p, place in zip(prs, self._places(prs, frame).tolist()):
@@ -157,7 +159,8 @@ class Renderer:
             bad = [h.message for h in frame.health if h.message]
             screens.one_moment(target, t, self.moment, bad[0] if bad else "")
         if overlay:
-            drawn.append(self.draw_overlay(target, overlay, self._keep_clear))
+            drawn.append(self.draw_overlay(target, overlay, self._keep_clear,
+                                           self._studio_marks))
         size = target.get_size()
         if self.idle > 0 or self.moment > 0:   # whole-table looks: repaint everything next time
             self.dirty, self._drawn, self._tiles = [target.get_rect()], None, None
@@ -231,7 +234,7 @@ class Renderer:
         c = pr.state
         if c.kind == "studio":           # the studio's countdown, recording mark and status
             from tabletop.studio.draw import draw_studio
-            self._keep_clear.extend(draw_studio(target, self, c))
+            self._studio_marks.extend(draw_studio(target, self, c))
             return target.get_rect()
         if not (place[7] and 0.0 <= c.size <= max(self.table)):   # (place: finite, near)
             return None                     # a broken state is not drawn (never raises)
@@ -301,9 +304,12 @@ class Renderer:
                                                                     int(pose.center[1]))))])
 
     def draw_overlay(self, target: pygame.Surface, lines: Sequence[str],
-                     avoid: Sequence[pygame.Rect] = ()) -> pygame.Rect:
+                     avoid: Sequence[pygame.Rect] = (),
+                     must: Sequence[pygame.Rect] = ()) -> pygame.Rect:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
-        would hide what is drawn in ``avoid`` and another corner hides at most half as much);
+        would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
+        pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
+        the status line saying the disk is full stayed there, other corners having characters);
         rendered again only when the lines change. Returns the panel's rectangle."""
         W, H = target.get_size()
         key = tuple(lines)
@@ -315,7 +321,8 @@ class Renderer:
 
         def hidden(i: int) -> int:
             r = pygame.Rect(corners[i], (w, h))
-            return sum(c.w * c.h for c in (r.clip(avoid[k]) for k in r.collidelistall(avoid)))
+            return sum(weight * c.w * c.h for rects, weight in ((avoid, 1), (must, MUST_WEIGHT))
+                       for c in (r.clip(rects[k]) for k in r.collidelistall(rects)))
         now = hidden(self._corner)
         if now > 0:
             best = min(range(4), key=hidden)

@@ -402,6 +402,33 @@ def test_overlay_panel_leaves_the_studios_rec_seconds_and_try_keys_visible(actio
     assert bright > least, bright   # measured REC 548, TRY 1540; under the panel 323, 749
 
 
+def test_overlay_panel_leaves_the_studio_status_line_even_for_a_corner_with_a_character():
+    """Seen in an Xvfb walk: the panel, moved bottom-left while the status line was short,
+    stayed over "cannot save behaviour: No space left on device" (characters elsewhere)."""
+    r = new_renderer()
+    s = pygame.Surface(SIZE)
+    w, h = TABLE
+    chars = tuple(CharacterState(f"c{i}", x, y, 0.0, size=0.15, color=(240, 110, 150))
+                  for i, (x, y) in enumerate([(0.1, h - 0.1), (w - 0.1, h - 0.1),
+                                              (w - 0.1, 0.1)]))
+    lines = ["tick 1", "60.0 fps   skipped 0   errors 0"] + [f"  stage{i}  1.00 ms"
+                                                            for i in range(10)]
+    for k in range(3):                                  # no studio words: bottom-left is free
+        r.draw(s, Frame(seq=k, t=k * 0.3, characters=chars), lines)
+    assert r._corner == 2
+    said = ("[lover] cannot: /media/library/lover-2: cannot save behaviour: No space left on "
+            "device")
+    studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action="trying",
+                            label=said, color=(255, 60, 60))
+    for k in range(3, 6):
+        r.draw(s, Frame(seq=k, t=k * 0.3, characters=chars + (studio,)), lines)
+    x, y = map(int, r.map.point(0.02, 0.02))           # the status line's start
+    (W, H), (pw, ph) = SIZE, r._overlay_img.get_size()
+    panel = pygame.Rect([(8, 8), (W - pw - 8, 8), (8, H - ph - 8), (W - pw - 8, H - ph - 8)]
+                        [r._corner], (pw, ph))
+    assert not panel.collidepoint(x + 5, y - 10), r._corner   # stayed in corner 2 before
+
+
 def test_overlay_lists_rates_and_sources():
     from tabletop.loop import LoopStats
 
