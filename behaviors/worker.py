@@ -20,6 +20,8 @@ import threading
 import weakref
 from typing import Any, Callable
 
+from tabletop.frames import InputError
+
 log = logging.getLogger("tabletop")
 
 SWITCH_S = 0.0005        # GIL switch interval while a job runs (s)
@@ -82,6 +84,8 @@ class Worker:
         _job_begins()
         try:
             result = fn(*args)
+        except InputError as exc:    # the take refused (too still, too short): the caller
+            result = exc             # says so to the designer; no traceback in the log
         except Exception as exc:     # the job's failure is its result; the loop goes on
             log.exception("%s: job failed", self.name)
             result = exc

@@ -43,3 +43,24 @@ def test_a_failing_job_is_its_result_and_the_worker_goes_on():
     w.start(lambda: "after")
     w.wait(10.0)
     assert w.poll() == "after"
+
+
+def test_a_refused_take_is_a_result_without_a_traceback_a_failure_is_logged(caplog):
+    """A touch-pose take whose part hardly moved logged "ERROR poser-training: job failed"
+    and a traceback, though the studio tells the designer (seen in an Xvfb walk)."""
+    from behaviors.touch_pose.designed import DesignedActionError
+
+    def refused():
+        raise DesignedActionError("the head hardly moves (0.00 m)")
+
+    def broken():
+        raise ZeroDivisionError("a bug")
+    w = Worker("test-worker-refusal")
+    w.start(refused)
+    w.wait(10.0)
+    assert isinstance(w.poll(), DesignedActionError)
+    assert not [r for r in caplog.records if r.levelname == "ERROR"]   # one before
+    w.start(broken)
+    w.wait(10.0)
+    assert isinstance(w.poll(), ZeroDivisionError)
+    assert [r.exc_info is not None for r in caplog.records if r.levelname == "ERROR"] == [True]
