@@ -165,7 +165,7 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
     for _ in range(12):
         p.tick()
     assert p.studio.state == "idle" and p.studio.tries[-1].outcome == "refused"
-    assert "hardly moves" in p.studio.message
+    assert "no body part was held" in p.studio.message   # said "the head hardly moves (0.00 m)"
 
 
 def test_a_bad_action_file_is_reported_and_skipped_and_a_fix_is_picked_up(tmp_path, models):
