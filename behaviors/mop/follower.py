@@ -44,7 +44,7 @@ from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, dri
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
 from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind, stalls,
-                                    unjudged)
+                                    unbegun, unjudged)
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
@@ -215,6 +215,8 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
         self._shape = np.zeros(len(self.names))
         self._gone = np.zeros(len(self.names))
         self._acquired = -1
+        # begun by abandonment, and the input's way to its anchor (validity.unbegun)
+        self._abandoned, self._came = False, np.zeros(self.dim)
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
@@ -386,8 +388,13 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
             slow = self._slow_take(bi, g, x)
             self._crawl = self._crawl + 1 if slow and bi == self._crawl_k else int(slow)
             self._crawl_k = bi
+            # ... nor while the input goes back the way it came to an abandonment's anchor
+            # (validity.unbegun), until the performer rests
+            back = unbegun(self._abandoned, x - self._anchor, self._came)
+            self._abandoned = self._abandoned and not rests
             ok = ok and not crawls(self._crawl) and (self._acquired == bi or (
-                leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow))
+                leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow
+                and not back))
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
