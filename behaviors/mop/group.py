@@ -324,7 +324,7 @@ class FollowerGroup(GroupRules):
         self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
         self._m_restart = np.empty(m, dtype=np.intp)
         self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
-        # the threshold models' state (Validity._threshold_evidence): over every state of a member
+        # the threshold models' state (Refusal._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
         self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))

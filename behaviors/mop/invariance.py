@@ -59,7 +59,7 @@ Direction of motion (``tangent``, 0 by default) as extra features of every state
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the
 raise-hold-return error, but a performer going back along the path is refused after about
 0.2 s (``tests/mop/test_plugin.py``), so it is an option. Judged apart from the features, where
-going back is allowed, it did not help (:mod:`behaviors.mop.validity`).
+going back is allowed, it did not help (:mod:`behaviors.mop.refusal`).
 """
 
 from __future__ import annotations
