@@ -25,11 +25,11 @@ template's own spread, whatever the other templates:
 - Path misfit: the distance of the input, mapped as the forward algorithm sees it, from the
   path's segments within :data:`~behaviors.mop.validity.PATH_REACH` states of the followed
   state, as an RMS over the last ``shape_memory`` samples in ``sigma`` units; refused beyond
-  ``shape_distance``, accepted again below ``shape_accept``. The predictive likelihood
-  carries the transitions' uncertainty (about 1 sigma on exact copies); the distance to the joined states does not (a
-  time-warped copy sits at 0.12 sigma median), so a diagonal line along a circle's chord
-  (0.3 of its radius off at the middle) shows. The remembered samples are read at the
-  current size estimate: read at the size each had when it came, a 0.7x circle, whose size
+  ``shape_distance``, accepted again below ``shape_accept``. The predictive likelihood carries
+  the transitions' uncertainty (about 1 sigma on exact copies); the distance to the joined
+  states does not (a time-warped copy sits at 0.12 sigma median), so a diagonal line along a
+  circle's chord (0.3 of its radius off at the middle) shows. The remembered samples are read at
+  the current size estimate: read at the size each had when it came, a 0.7x circle, whose size
   converges from 1 to 0.76 between 30% and 45% of it, was refused for a third of its length.
 
 Measured with ``bench/follow_quality.py`` partial runs (sizes and unrelated sections, seed 13
