@@ -208,6 +208,7 @@ def unbegun(abandoned: bool, way: np.ndarray, came: np.ndarray) -> bool:
     dot = float(way @ came)
     return abandoned and dot < -REVERSED * math.sqrt(float(way @ way) * float(came @ came))
 
+
 #: Tempo (:func:`slow_take`): samples over which a new action's tempo is read...
 TEMPO_SAMPLES = 10
 #: ... and the least tempo (template states per sample) at which a moving input may take it
