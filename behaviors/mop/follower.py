@@ -20,7 +20,7 @@ installation builds it for a puck, unless said otherwise.
   still input lets the transitions' prior drift along the first states (a still tail after a
   diagonal line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused,
   its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
-  :mod:`behaviors.mop.validity`), its spread at most ``max_spread`` (in states), its end not
+  :mod:`behaviors.mop.refusal`), its spread at most ``max_spread`` (in states), its end not
   yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
   other likely template in shape since the gesture began, and one that reached its end drives
   at most two samples more (:mod:`behaviors.mop.spotting`).
@@ -39,17 +39,18 @@ from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_pro
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.parameters import check_ranges
+from behaviors.mop.refusal import Refusal
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
 from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind, stalls,
-                                    unjudged)
+                                    unbegun, unjudged)
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
 
-class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
+class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotting):
     """Follows the progress of a live performance along several action templates at once.
 
     ``templates``: name -> (n_i, d) samples, regularly spaced at the rate the follower is stepped.
@@ -62,7 +63,7 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
     ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
-    and ``shape_memory`` (samples): see :mod:`behaviors.mop.validity`; ``dwell``: the share of a
+    and ``shape_memory`` (samples): see :mod:`behaviors.mop.refusal`; ``dwell``: the share of a
     hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`;
     default :data:`~behaviors.mop.hmm.HOLD_DWELL` with ``invariance``, else 0); the rest: see the
     module docstring.
@@ -151,7 +152,7 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
         # it sees positions only (off with direction features); off at infinity
         self.threshold = math.inf if tangent > 0 or invariance == "none" else float(threshold)
         self.turn_limit = float(turn_limit)
-        self._setup_validity()
+        self._setup_refusal()
         self.share_radius = float(share_radius)
         self._shared = None   # spotting._shares: off at 0 and for streams
         if self.share_radius > 0 and invariance != "none":
@@ -215,6 +216,8 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
         self._shape = np.zeros(len(self.names))
         self._gone = np.zeros(len(self.names))
         self._acquired = -1
+        # begun by abandonment, and the input's way to its anchor (validity.unbegun)
+        self._abandoned, self._came = False, np.zeros(self.dim)
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
@@ -386,8 +389,13 @@ class ActionFollower(PerformanceFrame, Validity, Turning, GestureSpotting):
             slow = self._slow_take(bi, g, x)
             self._crawl = self._crawl + 1 if slow and bi == self._crawl_k else int(slow)
             self._crawl_k = bi
+            # ... nor while the input goes back the way it came to an abandonment's anchor
+            # (validity.unbegun), until the performer rests
+            back = unbegun(self._abandoned, x - self._anchor, self._came)
+            self._abandoned = self._abandoned and not rests
             ok = ok and not crawls(self._crawl) and (self._acquired == bi or (
-                leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow))
+                leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow
+                and not back))
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive

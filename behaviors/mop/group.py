@@ -120,6 +120,8 @@ class FollowerGroup(GroupRules):
         self._sh_off = np.where([f._shared is None for f in fs], -1,
                                 np.cumsum([0] + [a.size for a in shared])[:-1]).astype(np.intp)
         self._drive_moved = np.zeros(m, dtype=bool)
+        # begun by abandonment, and the input's way to its anchor (validity.unbegun)
+        self._abandoned, self._came = np.zeros(m, dtype=bool), np.zeros((m, dmax))
         self._everyone = np.ones(m, dtype=bool)   # every member has a sample (never written)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)
@@ -153,7 +155,7 @@ class FollowerGroup(GroupRules):
                    "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
                    "_thr_x", "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak",
                    "_drive_moved", "_turn_in", "_turn_h", "_turn_ref", "_turn_has_ref",
-                   "_turn_has_h")
+                   "_turn_has_h", "_abandoned", "_came")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -322,7 +324,7 @@ class FollowerGroup(GroupRules):
         self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
         self._m_restart = np.empty(m, dtype=np.intp)
         self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
-        # the threshold models' state (Validity._threshold_evidence): over every state of a member
+        # the threshold models' state (Refusal._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
         self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
@@ -369,6 +371,7 @@ class FollowerGroup(GroupRules):
         restart = self._m_restart
         self._turned(present)
         self._tempo(present)
+        self._unbegun(present)
         members.conclude(
             self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p, progress,
             mean_ll, step_ll, self._holds, self._scale, self._mk, self._x, self._anchor, present,
@@ -427,6 +430,7 @@ class FollowerGroup(GroupRules):
                 b, pb, var_b, ByName(ix, p), ByName(ix, sh), val, ll, dist, restarted,
                 ByName(ix, mean_ll), lk, ByName(ix, sizes), hold)
             out.append(state)
+        self._abandoned &= ~(self._m_rest & present)   # until the performer rests
         if any(restart.tolist()):
             self._restart(restart, gb)
         return out

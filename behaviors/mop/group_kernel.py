@@ -276,7 +276,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     r = away[c] / t[sc0 + c] / sk
                     acc += r * r
                 engaged[k] = math.sqrt(acc / dims) >= onset_sigma
-            # path misfit and coverage (Validity._judge_shape): the nearest point on the
+            # path misfit and coverage (Refusal._judge_shape): the nearest point on the
             # segments from the states within the reach of the followed one
             if new:
                 misfit[k, 0] = 0.0
@@ -388,7 +388,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         for k in range(a0, a1):
             p_out[k] /= tot
         top_three(p_out, a0, a1, top3_out[i])
-        # the threshold model (Validity._threshold_evidence): the share of the probability the
+        # the threshold model (Refusal._threshold_evidence): the share of the probability the
         # templates keep against it
         kept = 1.0
         if present[i] and math.isfinite(m[18]):

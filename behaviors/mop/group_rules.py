@@ -64,6 +64,14 @@ class GroupRules:
                       self._tempo_x, self._tempo_g, self._scale, self._size, self._m_dim,
                       f0.onset * f0.sigma, self._m_leads, self._crawl)
 
+    def _unbegun(self, present: np.ndarray) -> None:
+        """:func:`behaviors.mop.validity.unbegun` for every present member whose attempt was
+        begun by abandonment: no new action leads (``_m_leads``) while its input goes back the
+        way it came to the anchor."""
+        for i in np.flatnonzero(self._abandoned & present).tolist():
+            if validity.unbegun(True, self._x[i] - self._anchor[i], self._came[i]):
+                self._m_leads[i] = False
+
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now
         (``how``: :data:`members.GOES_ON` and the rest per member, as :func:`members.conclude`
@@ -81,6 +89,7 @@ class GroupRules:
                                              self._m_keep[i:i + 1])[0]
             else:
                 anchor = self._x[i].copy()
+            came = self._x[i] - self._buf[i, -min(int(self._nbuf[i]), int(self._m_keep[i]))]
             if h != members.WAITING:
                 self._buf[i, -1] = self._x[i]
                 self._nbuf[i] = 1
@@ -96,6 +105,8 @@ class GroupRules:
             self._size[cols] = 1.0
             self._judged[cols] = 1.0
             self._forget_members(i)   # the threshold model starts afresh with the evidence
+            if h == members.ABANDONED:   # the input's way here (validity.unbegun)
+                self._abandoned[i], self._came[i] = True, came
             self._anchor[i] = anchor
 
     def _forget_members(self, rows: np.ndarray | int) -> None:
@@ -108,6 +119,7 @@ class GroupRules:
         self._acquired[rows] = -1
         self._drive_k[rows] = -1
         self._drive_moved[rows] = False
+        self._abandoned[rows] = False
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._thr_ev[rows] = 0.0

@@ -54,12 +54,23 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   0.094 -> 0.156: one sequence whose unrecognised kick held the attempt open longer, every
   template no longer refused, so its next two gestures began in it), within 20% 0.344 both
   (0.313 -> 0.281); six gestures unchanged but the median recognition 0.262 -> 0.269.
+- Measured and not kept: a landmark size at the input's turning (as
+  :func:`~behaviors.mop.holding.rested_sizes` at rests): where the input reverses (its motion
+  over 3 samples against the 3 before, cosine below 0) within 6 states of a template's own
+  reversal, the size that puts the turning sample on that state (within 0.15 of its reach).
+  Screened in the follower alone, ``--sections=sized,holds,unrelated`` (tuned / held-out):
+  valid after 30% 0.9112 -> 0.9278 / 0.9033 -> 0.9062 (a 0.7x punch wrist 0.11 -> 0.71, a
+  0.85x punch ankle 0.66 -> 1.0; a kick wrist 0.7x 0.87 -> 0.56, 1.4x 1.0 -> 0.94),
+  unrelated mean 0.0688 -> 0.0695 / 0.0771 -> 0.0784 (worst 0.418 -> 0.423; a mirrored dance
+  ankle 0.29 -> 0.55), holds unchanged; only smaller sizes 0.9237 / 0.8973, only larger
+  0.9119 / 0.9002, 3 states 0.9192 / 0.8942, 4 samples 0.9147 / 0.8859: the held-out gain is
+  within the variants' spread, so it was not ported into the compiled group.
 
 Direction of motion (``tangent``, 0 by default) as extra features of every state: it raised
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the
 raise-hold-return error, but a performer going back along the path is refused after about
 0.2 s (``tests/mop/test_plugin.py``), so it is an option. Judged apart from the features, where
-going back is allowed, it did not help (:mod:`behaviors.mop.validity`).
+going back is allowed, it did not help (:mod:`behaviors.mop.refusal`).
 """
 
 from __future__ import annotations

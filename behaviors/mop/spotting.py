@@ -406,6 +406,8 @@ class GestureSpotting:
             self._restart_here(x, forward, offset)
             self._ended = bi
         elif self._lost >= self.lost_samples:
+            came = x - self._recent_x[0]   # the input's way here (validity.unbegun)
             self._restart_here(x, forward, offset)
+            self._abandoned, self._came = True, came
         elif still and not engaged:
             self._restart_here(x, forward, offset, still=True)

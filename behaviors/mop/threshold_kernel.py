@@ -59,7 +59,7 @@ def _largest(v: np.ndarray, lo: int, hi: int) -> float:
 def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
     ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order) with
-    its sample seen by each template as :meth:`Validity._threshold_evidence` maps it (``zs``
+    its sample seen by each template as :meth:`Refusal._threshold_evidence` maps it (``zs``
     (K, D)) and each template's log-density terms ``ljs`` (K,: the Gaussian's constant and the
     map's log Jacobian), as :func:`update_templates` left them (``m``: the member's row of
     ``mc``; ``ll``: scratch of at least its states; ``tops_k`` (K,): scratch, each template's

@@ -310,3 +310,28 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
                 for x in s)
     assert valid <= plain - 30, (valid, plain)
+
+
+def test_a_group_takes_nothing_back_the_way_an_abandoned_attempt_came(monkeypatch):
+    # validity.unbegun, in group_rules._unbegun: a mirrored line (out along -x, back) among the
+    # six gestures, its return taken as the line's outward stroke from an abandonment's anchor at
+    # the turn (streams padded with their rest). Measured 109 valid states, 189 with it off
+    from bench.follow_quality import gesture_templates, performance, puck_follower
+    from behaviors.mop import validity
+    gestures = gesture_templates()
+    mirrored = gestures["line"] * np.array([-1.0, 1.0])
+    streams = []
+    for seed, scales in ((3, (0.7, 1.0)), (5, (0.7, 1.4))):
+        rng = np.random.default_rng(seed)
+        drawn = [performance(rng, mirrored, s)[0] for s in (0.7, 1.0, 1.4)]
+        streams += [x for x, s in zip(drawn, (0.7, 1.0, 1.4)) if s in scales]
+    n = max(len(s) for s in streams)
+    streams = [np.concatenate([s, np.repeat(s[-1:], n - len(s), axis=0)]) for s in streams]
+    alone = [Counting(gestures, units=np.ones(2), invariance="scale") for _ in streams]
+    group = FollowerGroup([puck_follower(gestures) for _ in streams])
+    valid = _step_both(alone, group, streams)
+    assert all("abandoned" in f.why for f in alone)
+    monkeypatch.setattr(validity, "REVERSED", 2.0)   # off: the followers alone read it each step
+    plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
+                for x in s)
+    assert valid <= plain - 40, (valid, plain)   # measured 109 vs 189
