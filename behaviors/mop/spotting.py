@@ -42,6 +42,31 @@ the line still drove 12 ticks of a square), a forgetting of the shape sums (0.95
 0.883); a separate 2-tick confirmation when ``best`` switches (no effect once the lead is
 required).
 
+Where the next gesture is anchored: where the last one's end was reached or, when the input was
+still coming closer to the ended template's last point (at its estimated size, from the anchor)
+as the new attempt began, that last point. The follower reaches ``end`` (97% of the progress)
+before the performer on a fast end (a crawl ankle moves 2.6-2.8 cm over its last 3%), and the
+next gesture, anchored centimetres short of where it began, was never recognised; its attempt
+stayed open (a template at the size range's limit, off its path but not refused, kept it from
+being abandoned) and the gestures after it began inside it. ``bench/follow_quality.py
+--sections=sequences`` (tuned / held-out): twenty templates back to back never recognised
+0.031 / 0.156 -> 0 / 0, within 20% 0.344 / 0.281 -> 0.344 / 0.344, median recognition 0.279 /
+0.302 -> 0.247 / 0.225, the ended action's longest run into the next 3 / 12 -> 2 / 4, longest
+wrong run 7 / 12 unchanged; six gestures: recognition medians (0.269 / 0.279), longest wrong
+runs (10 / 7) and the avoidable ones (2 / 2) unchanged, the line 0.311 -> 0.331 tuned;
+``--sections=sized,holds,unrelated``: valid after 30% of gestures at 0.7-1.4x 0.9112 / 0.9033
+unchanged, progress RMSE median 0.0196 -> 0.0191 / 0.0211, holds and unrelated motions
+unchanged. Measured and not kept: always the last point (the same twenty-template figures but
+the held-out longest wrong run 12 -> 14, and on ``tests/mop/test_spotting.py``'s subset the
+line drove 3 ticks of a circle's start that an observer could tell: an estimated size off
+moves that anchor with it); the sample at which the new attempt begins: never recognised
+0.062 / 0.125, within 20% 0.219 / 0.313; the slowest sample among the next 3 / 6 (a new
+attempt each time the input slows further): never recognised 0.344 / 0.094 and 0.375 /
+0.156; the attempt abandoned when every template is refused *or off its path* (instead of
+refused): held-out never recognised 0.156 -> 0.125 (the next gesture's anchor still short),
+but unrelated motions valid more (mean 0.0734 -> 0.0828 / 0.0814 -> 0.0939, worst 0.306 ->
+0.422): each fresh attempt in an unrelated motion gives every template a new start.
+
 Why an ended action stops driving two samples after its end and not when the input moves on:
 every gesture starts eased (within 2 mm of its start for its first 4-7 samples, under the
 tracking jitter), so the next gesture cannot be told from resting at the end, and the ended
@@ -291,6 +316,21 @@ class GestureSpotting:
             self._anchor = x.copy()
             self._recent_x = [x]
 
+    def _last_point(self, k: int) -> np.ndarray:
+        """Template ``k``'s last point at its estimated size, from the anchor (raw units)."""
+        b = self.bank
+        return (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
+                + self._anchor)
+
+    def _next_anchor(self, x: np.ndarray, k: int) -> np.ndarray:
+        """Where the gesture after template ``k``'s (ended, the input now at ``x``) begins: where
+        its end was reached, or its last point while the input was still coming closer to it
+        (the follower reached ``end`` before the performer)."""
+        last = self._last_point(k)
+        if np.sum((x - last) ** 2) < np.sum((self._end_x - last) ** 2):
+            return last
+        return self._end_x
+
     def _departed(self, x: np.ndarray, k: int, distance: float) -> bool:
         """The input left the point where template ``k`` reached its end by ``distance`` sigmas
         (RMS per column, in the template's spread and size)."""
@@ -304,9 +344,7 @@ class GestureSpotting:
         next gesture has begun; the slow final approach to the last point is not moving on.
         The template's own onset (0.1 of its spread) let the last action drive the first 13% of
         the next gesture (whose start is slow), and anchored that one too late to be followed."""
-        b = self.bank
-        last = (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
-                + self._anchor)
+        last = self._last_point(k)
         return bool(np.any(np.abs(x - last)
                            > np.abs(self._end_x - last) + 3.0 * self._still_radius))
 
@@ -318,10 +356,7 @@ class GestureSpotting:
         progress would never reach."""
         if self._peak - progress < RETURN_BACK:
             return False
-        b = self.bank
-        last = (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
-                + self._anchor)
-        r = (x - last) / self._units
+        r = (x - self._last_point(k)) / self._units
         return bool(np.sqrt(np.sum(r * r)) <= RETURN_RADIUS * self._size[k] * self._extent[k])
 
     def _arrived(self) -> int:
@@ -397,10 +432,10 @@ class GestureSpotting:
         if self._end_x is not None and (still or step_d2 > self._null2 or not ok or
                                         self._departed(x, bi, self.accept_distance)):
             # the end was reached and the performer rests there or moves on: a new gesture
-            # starts where the last one ended
-            end_x = self._end_x
+            # starts where the last one ended: its template's last point at its size
+            anchor = self._next_anchor(x, bi)
             self._restart_here(x, forward, offset)
-            self._anchor = end_x
+            self._anchor = anchor
             self._ended = bi
         elif valid and still and progress >= 0.9:
             self._restart_here(x, forward, offset)
