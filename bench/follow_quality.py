@@ -1,6 +1,7 @@
 """How well MOP follows performances nobody scripted: sizes, holds, pauses, sequences, refusals.
 
-Templates (2-D puck paths, metres relative to the gesture's start, 30 Hz):
+Templates (2-D puck paths, metres relative to the gesture's start, 30 Hz; they and the
+performances are drawn in ``bench/motions.py``):
 - the six example gestures (``examples/mop/gestures``: circle, zigzag, figure eight, line,
   square, wave), drawn by a script;
 - fourteen real motions: a hand's or a foot's path in DeepMimic motion-capture clips (the
@@ -24,7 +25,8 @@ Figures: progress RMSE of the true template (its ``progress_by``) over each gest
 valid and right after 30% progress (and of those "on track": progress within 0.1 of the truth);
 the share of ticks valid on unrelated input; for
 raise-hold-return the RMSE and the largest backward slide of the progress shown while the
-action drives its character (the performer only goes forward); for sequences the progress at which each gesture is recognised (1 when never) and the
+action drives its character (the performer only goes forward); for sequences the progress at
+which each gesture is recognised (1 when never) and the
 longest run of ticks with a wrong action valid (resting after the last gesture, that gesture
 may hold its last pose); among the six gestures, the share of wrong-valid ticks where no
 observer could yet tell the gesture from the driving action and the longest run of those it
@@ -43,7 +45,6 @@ left out still draws its random numbers, so the others' figures are those of a f
 
 from __future__ import annotations
 
-import math
 import sys
 from collections import defaultdict
 from types import SimpleNamespace
@@ -58,174 +59,21 @@ import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
-from tabletop.files import read_csv  # noqa: E402
+from bench.motions import (MOCAP, MOCAP_HELD_OUT, back_to_back,  # noqa: E402
+                           gesture_templates, mocap_templates, performance, raise_hold_return,
+                           unrelated_motions)
 
-RATE = 30.0
 DEBUG = "--debug" in sys.argv
 #: The sections measured (``--sections=``...); None: all, with the CLI defaults and options.
 SECTIONS = next((set(a.split("=", 1)[1].split(",")) for a in sys.argv
                  if a.startswith("--sections=")), None)
-JITTER_M = 0.0007
-LEAD_S = 0.5
-GESTURES = ("circle", "zigzag", "figure_eight", "line", "square", "wave")
-#: (clip, joint) of the real motions, in the order they are loaded after the six gestures.
-MOCAP = (("punch", "right_wrist"), ("kick", "right_ankle"), ("jump", "right_wrist"),
-         ("dance_a", "left_wrist"), ("backflip", "right_wrist"), ("spinkick", "left_ankle"),
-         ("cartwheel", "left_wrist"), ("walk", "right_ankle"), ("run", "left_wrist"),
-         ("crawl", "right_wrist"), ("roll", "left_ankle"), ("dance_b", "right_wrist"),
-         ("getup_faceup", "left_wrist"), ("spin", "right_ankle"))
-#: Held out: other joints of the clips (and the one clip not above), never used to choose the
-#: follower's rules or parameters; reported apart with another seed (``heldout_`` figures).
-MOCAP_HELD_OUT = (("punch", "left_ankle"), ("kick", "left_wrist"), ("jump", "left_ankle"),
-                  ("dance_a", "right_ankle"), ("backflip", "left_ankle"), ("spinkick", "right_wrist"),
-                  ("cartwheel", "right_ankle"), ("walk", "left_wrist"), ("run", "right_ankle"),
-                  ("crawl", "left_ankle"), ("roll", "right_wrist"), ("dance_b", "left_ankle"),
-                  ("getup_facedown", "right_wrist"), ("spin", "left_wrist"))
+#: Seed of the held-out evaluation (other joints: ``MOCAP_HELD_OUT``).
 HELD_OUT_SEED = 101
 #: Seed of the back-to-back draws on which an option is compared with the defaults.
 OPTION_SEED = 29
 Factory = Callable[[Mapping[str, np.ndarray]], ActionFollower | None]
 #: What a left-out section's performances read at every tick (nothing valid, progress 0).
 _UNFOLLOWED = SimpleNamespace(valid=False, best=None, progress_by=defaultdict(float))
-
-
-# --- templates ------------------------------------------------------------------------------------
-
-def gesture_templates() -> dict[str, np.ndarray]:
-    """The example installation's puck gestures (dx, dy metres at 30 Hz)."""
-    out = {}
-    for name in GESTURES:
-        header, data = read_csv(ROOT / "examples" / "mop" / "gestures" / f"{name}.csv")
-        out[name] = data[:, [header.index("dx"), header.index("dy")]]
-    return out
-
-
-def _normalise(path: np.ndarray, extent_m: float = 0.15) -> np.ndarray:
-    p = path - path[0]
-    return p * (extent_m / max(1e-9, float(np.ptp(p, axis=0).max())))
-
-
-def mocap_templates(max_seconds: float = 3.0, joints=MOCAP) -> dict[str, np.ndarray]:
-    """A joint's path in each DeepMimic clip (side view, 15 cm, at most ``max_seconds``);
-    ``joints``: (clip, joint) pairs."""
-    from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf, load_motion
-    from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf
-    from behaviors.mop.puppetry import HumanoidRig
-    figure = ProjectedFigure(load_urdf(humanoid_urdf()), Projection(view_yaw=0.0, elevation=0.0),
-                             root_scale=ROOT_SCALE)
-    rig = HumanoidRig(figure)
-    names = list(figure.skeleton.point_names)
-    out = {}
-    for clip_name, joint in joints:
-        clip = load_motion(clip_name)
-        seconds = min(clip.duration, max_seconds)
-        n = int(seconds * RATE) + 1
-        pts = np.stack([rig.exact_pose(clip, u) for u in np.linspace(0, seconds / clip.duration, n)])
-        point = names.index(f"{joint}_tip" if f"{joint}_tip" in names else joint)
-        out[f"{clip_name}_{joint}"] = _normalise(pts[:, point])
-    return out
-
-
-def raise_hold_return() -> tuple[dict[str, np.ndarray], dict[str, tuple[int, int]]]:
-    """Templates whose middle is a hold, and each one's hold (first, last sample)."""
-    def ease(n):
-        u = np.linspace(0, 1, n)
-        return u - np.sin(2 * np.pi * u) / (2 * np.pi)
-    out, holds = {}, {}
-    rise = ease(24)
-    arc = np.stack([0.12 * np.sin(0.5 * np.pi * rise), 0.12 * (1 - np.cos(0.5 * np.pi * rise))], axis=1)
-    line = np.stack([0.0 * rise, 0.12 * rise], axis=1)
-    for name, out_path in (("arc_hold", arc), ("lift_hold", line)):
-        hold = np.repeat(out_path[-1:], 18, axis=0)
-        out[name] = np.concatenate([np.zeros((6, 2)), out_path, hold, out_path[::-1], np.zeros((6, 2))])
-        holds[name] = (6 + len(out_path) - 1, 6 + len(out_path) + len(hold))
-    punch = mocap_templates(3.0)["punch_right_wrist"]
-    far = int(np.argmax(np.linalg.norm(punch, axis=1)))
-    out["punch_hold"] = np.concatenate([punch[:far + 1], np.repeat(punch[far:far + 1], 18, axis=0),
-                                        punch[far + 1:]])
-    holds["punch_hold"] = (far, far + 19)
-    return out, holds
-
-
-# --- performances ---------------------------------------------------------------------------------
-
-def speed_profile(rng: np.random.Generator, slow: float = 0.6, fast: float = 1.6) -> Callable[[int], float]:
-    """Template samples per live sample, swinging between ``slow`` and ``fast``."""
-    c, f = rng.uniform(0, 2 * np.pi), rng.uniform(0.04, 0.1)
-    return lambda i: float(np.exp(np.log(slow) + (np.log(fast) - np.log(slow)) * (0.5 + 0.5 * math.sin(c + f * i))))
-
-
-def phase_of(rng: np.random.Generator, n: int, hold: tuple[int, int] | None = None,
-             hold_factor: float = 1.0, pause_s: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """Fractional template indices of a performance, and its true progress (T, 2: lowest and
-    highest correct value). A template hold (first, last sample) is stretched by
-    ``hold_factor``: while the performer holds, any progress within the template's hold is
-    right (nobody can tell how long a hold will last); a pause of ``pause_s`` at a random
-    progress 0.3-0.7 holds the progress."""
-    speed = speed_profile(rng)
-    pause_at = rng.uniform(0.3, 0.7) * (n - 1) if pause_s > 0 else math.inf
-    phase, prog, x, i = [], [], 0.0, 0
-    while x < n - 1:
-        if hold is not None and hold[0] <= x < hold[1]:
-            steps = max(1, int(round((hold[1] - hold[0]) * hold_factor)))
-            phase += [float(hold[0])] * steps
-            prog += [(hold[0] / (n - 1), hold[1] / (n - 1))] * steps
-            x = float(hold[1])
-            continue
-        phase.append(x)
-        prog.append((x / (n - 1),) * 2)
-        if x >= pause_at:
-            for _ in range(int(pause_s * RATE)):
-                phase.append(x)
-                prog.append((x / (n - 1),) * 2)
-            pause_at = math.inf
-        x += speed(i)
-        i += 1
-    phase.append(n - 1.0)
-    prog.append((1.0, 1.0))
-    return np.asarray(phase), np.asarray(prog)
-
-
-def at_phase(tpl: np.ndarray, phase: np.ndarray) -> np.ndarray:
-    base = np.arange(tpl.shape[0])
-    return np.stack([np.interp(phase, base, tpl[:, j]) for j in range(tpl.shape[1])], axis=1)
-
-
-def performance(rng: np.random.Generator, tpl: np.ndarray, scale: float, **kw) -> tuple[np.ndarray, np.ndarray]:
-    """(samples (T, 2), true progress (T, 2) as :func:`phase_of`, NaN outside the gesture):
-    still lead-in, the scaled, warped gesture, still tail; tracking jitter throughout."""
-    phase, prog = phase_of(rng, len(tpl), **kw)
-    x = scale * at_phase(tpl, phase)
-    lead = int(LEAD_S * RATE)
-    x = np.concatenate([np.repeat(x[:1], lead, 0), x, np.repeat(x[-1:], lead, 0)])
-    prog = np.concatenate([np.full((lead, 2), np.nan), prog, np.full((lead, 2), np.nan)])
-    return x + rng.normal(0, JITTER_M, x.shape), prog
-
-
-def unrelated_motions(rng: np.random.Generator, templates: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """Paths that are none of the templates (metres, starting at 0)."""
-    u = np.linspace(0, 1, 60)
-    out = {"diagonal": np.stack([0.12 * u, 0.12 * u], 1),
-           "triangle": np.concatenate([np.stack([0.12 * u, 0 * u], 1), np.stack([0.12 - 0.06 * u, 0.1 * u], 1),
-                                       np.stack([0.06 - 0.06 * u, 0.1 - 0.1 * u], 1)]),
-           "spiral": np.stack([0.1 * u * np.sin(4 * np.pi * u), 0.1 * u * (np.cos(4 * np.pi * u) - 1) * -1], 1),
-           "still": np.zeros((60, 2))}
-    steps = np.cumsum(rng.normal(0, 0.004, (120, 2)), axis=0)
-    kernel = np.ones(9) / 9
-    out["wander"] = np.stack([np.convolve(steps[:, j], kernel, mode="same") for j in range(2)], 1)
-    out["wander"] -= out["wander"][0]
-    for name, tpl in templates.items():
-        m = tpl * np.array([-1.0, 1.0])
-        if all(_path_gap(m, other) > 0.03 for other in templates.values()):
-            out[f"mirrored_{name}"] = m
-    return out
-
-
-def _path_gap(a: np.ndarray, b: np.ndarray) -> float:
-    """RMS distance (metres) between two paths resampled to 50 points."""
-    ra = at_phase(a, np.linspace(0, len(a) - 1, 50))
-    rb = at_phase(b, np.linspace(0, len(b) - 1, 50))
-    return float(np.sqrt(np.mean(np.sum((ra - rb) ** 2, axis=1))))
 
 
 # --- evaluation -----------------------------------------------------------------------------------
@@ -258,7 +106,8 @@ def true_metrics(states: list, name: str, prog: np.ndarray) -> dict[str, float]:
     return out
 
 
-def sized(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator) -> dict[str, float]:
+def sized(factory: Factory, templates: dict[str, np.ndarray],
+          rng: np.random.Generator) -> dict[str, float]:
     f = factory(templates)
     small, nominal = [], []
     for name, tpl in templates.items():
@@ -276,17 +125,20 @@ def sized(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Gen
         for q in ("at30", "at60", "at100"):
             out[f"{key}_recognised_{q}_share"] = float(np.mean([m[q] for m in ms]))
         out[f"{key}_valid_after30_share"] = float(np.mean([m["valid_after30"] for m in ms]))
-        out[f"{key}_valid_on_track_after30_share"] = float(np.mean([m["valid_on_track_after30"] for m in ms]))
+        out[f"{key}_valid_on_track_after30_share"] = float(
+            np.mean([m["valid_on_track_after30"] for m in ms]))
     return out
 
 
-def holds(factory: Factory, base: dict[str, np.ndarray], rng: np.random.Generator) -> dict[str, float]:
+def holds(factory: Factory, base: dict[str, np.ndarray],
+          rng: np.random.Generator) -> dict[str, float]:
     rhr, spans = raise_hold_return()
     f = factory({**base, **rhr})
     ms = []
     for name, tpl in rhr.items():
         for hf in (0.3, 0.6, 1.0, 2.0, 3.0):
-            x, prog = performance(rng, tpl, float(rng.uniform(0.8, 1.2)), hold=spans[name], hold_factor=hf)
+            x, prog = performance(rng, tpl, float(rng.uniform(0.8, 1.2)), hold=spans[name],
+                                  hold_factor=hf)
             ms.append(true_metrics(run(f, x), name, prog))
     return {"hold_progress_rmse_median": float(np.median([m["rmse"] for m in ms])),
             "hold_progress_rmse_max": float(np.max([m["rmse"] for m in ms])),
@@ -296,28 +148,42 @@ def holds(factory: Factory, base: dict[str, np.ndarray], rng: np.random.Generato
             "hold_recognised_at60_share": float(np.mean([m["at60"] for m in ms]))}
 
 
-def back_to_back(rng: np.random.Generator, templates: dict[str, np.ndarray],
-                 length: int) -> tuple[np.ndarray, list, np.ndarray, list]:
-    """One sequence of ``length`` different gestures at 0.8-1.2x, each starting where the last
-    ended, between still rests: samples (T, 2), the true gesture per tick (None during the first
-    rest, the last gesture during the final one), its true progress (NaN in the rests) and the
-    order."""
-    order = list(rng.choice(list(templates), size=length, replace=False))
-    parts, truth, prog, at = [], [], [], np.zeros(2)
-    for g in order:
-        phase, p = phase_of(rng, len(templates[g]))
-        path = float(rng.uniform(0.8, 1.2)) * at_phase(templates[g], phase)
-        parts.append(path + at)
-        at = parts[-1][-1].copy()
-        truth += [g] * len(p)
-        prog.append(p[:, 0])
-    lead = int(LEAD_S * RATE)
-    x = np.concatenate([np.zeros((lead, 2))] + parts + [np.repeat(at[None], lead, 0)])
-    x += rng.normal(0, JITTER_M, x.shape)
-    # resting where the last gesture ended, that gesture may still hold its last pose
-    truth = [None] * lead + truth + [order[-1]] * lead
-    prog = np.concatenate([np.full(lead, np.nan)] + prog + [np.full(lead, np.nan)])
-    return x, truth, prog, order
+def wrong_valid(states: list, truth: list, prog: np.ndarray, order: list,
+                templates: Mapping[str, np.ndarray], observer: Callable | None = None,
+                memo: dict | None = None) -> dict[str, int]:
+    """The ticks of one back-to-back sequence (:func:`bench.motions.back_to_back`) where a wrong
+    action drives (``valid``, ``best`` not the gesture performed): the longest run of them
+    (``longest``), apart where the gesture just ended drives into the next and any other
+    (``ended_longest``, ``other_longest``); with ``observer``
+    (:func:`bench.spotting_reach.indistinguishable`) also their count (``wrong``), how many no
+    observer could yet tell (``indistinguishable``) and the longest run of those it could
+    (``avoidable_longest``)."""
+    out = dict(longest=0, ended_longest=0, other_longest=0, wrong=0, indistinguishable=0,
+               avoidable_longest=0)
+    runs = dict(ended=0, other=0)
+    run_len, told_len = 0, 0
+    previous = {b: a for a, b in zip(order, order[1:])}
+    for s, g, p in zip(states, truth, prog):
+        wrong = s.valid and s.best != g
+        run_len = run_len + 1 if wrong else 0
+        out["longest"] = max(out["longest"], run_len)
+        if observer is not None and wrong:
+            # resting after the last gesture: at its end; before the first: nothing
+            # performed, an action driving there is told at once
+            same = g is not None and observer(g, float(p) if np.isfinite(p) else 1.0,
+                                              s.best, templates, memo=memo)
+            out["wrong"] += 1
+            out["indistinguishable"] += same
+            told_len = 0 if same else told_len + 1
+        else:
+            told_len = 0
+        out["avoidable_longest"] = max(out["avoidable_longest"], told_len)
+        # the same run, apart: the gesture just ended still driving vs any other action
+        kind = "ended" if wrong and previous.get(g) == s.best else "other"
+        runs[kind] = runs[kind] + 1 if wrong else 0
+        out[kind + "_longest"] = max(out[kind + "_longest"], runs[kind])
+        runs["other" if kind == "ended" else "ended"] = 0
+    return out
 
 
 def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator,
@@ -337,36 +203,14 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
     avoidable, wrong_ticks, same_ticks = [], 0, 0
     for _ in range(count):
         x, truth, prog, order = back_to_back(rng, templates, length)
-        runs = dict(ended=0, other=0, ended_worst=0, other_worst=0)
         states = run(f, x)
-        run_len = 0
-        worst = 0
-        told_len, told_worst = 0, 0
-        previous = {b: a for a, b in zip(order, order[1:])}
-        for s, g, p in zip(states, truth, prog):
-            wrong = s.valid and s.best != g
-            run_len = run_len + 1 if wrong else 0
-            worst = max(worst, run_len)
-            if observer is not None and wrong:
-                # resting after the last gesture: at its end; before the first: nothing
-                # performed, an action driving there is told at once
-                same = g is not None and observer(g, float(p) if np.isfinite(p) else 1.0,
-                                                  s.best, templates, memo=memo)
-                wrong_ticks += 1
-                same_ticks += same
-                told_len = 0 if same else told_len + 1
-            else:
-                told_len = 0
-            told_worst = max(told_worst, told_len)
-            # the same run, apart: the gesture just ended still driving vs any other action
-            kind = "ended" if wrong and previous.get(g) == s.best else "other"
-            runs[kind] = runs[kind] + 1 if wrong else 0
-            runs[kind + "_worst"] = max(runs[kind + "_worst"], runs[kind])
-            runs["other" if kind == "ended" else "ended"] = 0
-        wrong_runs.append(worst)
-        avoidable.append(told_worst)
-        ended_runs.append(runs["ended_worst"])
-        other_runs.append(runs["other_worst"])
+        w = wrong_valid(states, truth, prog, order, templates, observer, memo)
+        wrong_ticks += w["wrong"]
+        same_ticks += w["indistinguishable"]
+        wrong_runs.append(w["longest"])
+        avoidable.append(w["avoidable_longest"])
+        ended_runs.append(w["ended_longest"])
+        other_runs.append(w["other_longest"])
         for g in order:
             idx = [i for i, tg in enumerate(truth) if tg == g]
             hit = [prog[i] for i in idx
@@ -397,7 +241,8 @@ def sequences(factory: Factory, templates: dict[str, np.ndarray], rng: np.random
                if observer is not None else {})}
 
 
-def unrelated(factory: Factory, templates: dict[str, np.ndarray], rng: np.random.Generator) -> dict[str, float]:
+def unrelated(factory: Factory, templates: dict[str, np.ndarray],
+              rng: np.random.Generator) -> dict[str, float]:
     out = {}
     names = list(templates)
     worst_all = 0.0

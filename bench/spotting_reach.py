@@ -47,8 +47,8 @@ import numpy as np  # noqa: E402
 from bench.common import emit  # noqa: E402
 from behaviors.mop import spotting  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
-from bench.follow_quality import (DEBUG, OPTION_SEED, at_phase, back_to_back,  # noqa: E402
-                                  gesture_templates, puck_follower, sequences)
+from bench.follow_quality import DEBUG, OPTION_SEED, puck_follower, sequences  # noqa: E402
+from bench.motions import at_phase, back_to_back, gesture_templates  # noqa: E402
 
 POINTS = 24
 SIZES = np.geomspace(0.46, 2.25, 40)

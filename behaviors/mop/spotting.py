@@ -42,6 +42,31 @@ the line still drove 12 ticks of a square), a forgetting of the shape sums (0.95
 0.883); a separate 2-tick confirmation when ``best`` switches (no effect once the lead is
 required).
 
+Where the next gesture is anchored: where the last one's end was reached or, when the input was
+still coming closer to the ended template's last point (at its estimated size, from the anchor)
+as the new attempt began, that last point. The follower reaches ``end`` (97% of the progress)
+before the performer on a fast end (a crawl ankle moves 2.6-2.8 cm over its last 3%), and the
+next gesture, anchored centimetres short of where it began, was never recognised; its attempt
+stayed open (a template at the size range's limit, off its path but not refused, kept it from
+being abandoned) and the gestures after it began inside it. ``bench/follow_quality.py
+--sections=sequences`` (tuned / held-out): twenty templates back to back never recognised
+0.031 / 0.156 -> 0 / 0, within 20% 0.344 / 0.281 -> 0.344 / 0.344, median recognition 0.279 /
+0.302 -> 0.247 / 0.225, the ended action's longest run into the next 3 / 12 -> 2 / 4, longest
+wrong run 7 / 12 unchanged; six gestures: recognition medians (0.269 / 0.279), longest wrong
+runs (10 / 7) and the avoidable ones (2 / 2) unchanged, the line 0.311 -> 0.331 tuned;
+``--sections=sized,holds,unrelated``: valid after 30% of gestures at 0.7-1.4x 0.9112 / 0.9033
+unchanged, progress RMSE median 0.0196 -> 0.0191 / 0.0211, holds and unrelated motions
+unchanged. Measured and not kept: always the last point (the same twenty-template figures but
+the held-out longest wrong run 12 -> 14, and on ``tests/mop/test_spotting.py``'s subset the
+line drove 3 ticks of a circle's start that an observer could tell: an estimated size off
+moves that anchor with it); the sample at which the new attempt begins: never recognised
+0.062 / 0.125, within 20% 0.219 / 0.313; the slowest sample among the next 3 / 6 (a new
+attempt each time the input slows further): never recognised 0.344 / 0.094 and 0.375 /
+0.156; the attempt abandoned when every template is refused *or off its path* (instead of
+refused): held-out never recognised 0.156 -> 0.125 (the next gesture's anchor still short),
+but unrelated motions valid more (mean 0.0734 -> 0.0828 / 0.0814 -> 0.0939, worst 0.306 ->
+0.422): each fresh attempt in an unrelated motion gives every template a new start.
+
 Why an ended action stops driving two samples after its end and not when the input moves on:
 every gesture starts eased (within 2 mm of its start for its first 4-7 samples, under the
 tracking jitter), so the next gesture cannot be told from resting at the end, and the ended
@@ -133,32 +158,21 @@ within 20% of it. An ideal observer (noise-free paths, any size 0.46-2.25x, any 
 the zigzag from every other of the six gestures at 9% of it, the figure eight at 11%, the wave
 at 13%, the circle at 20%, the line at 35% and the square at 37% (paths within 2 mm; at 4 mm:
 11, 14, 16, 22, 54, 38%); in the bench's sequences that leaves 56% of the gestures (held-out
-50%) that any follower could recognise by 20%. What holds each back (``bench/spotting_reach.py``,
-the progress from which each rule held until recognition, medians over 16 sequences): the
-zigzag and the figure eight wait for coverage (0.23, 0.22; every other rule holds by 0.18,
-0.19), the wave for probability and best (0.23, 0.24; coverage 0.22), the circle for
-probability and best (0.27, 0.28: the line's narrower template explains the circle's straight
-first stroke better until 0.25), the square for probability, best and the shape lead (0.39-0.40,
-its corner). Coverage at 4% of the path instead of 8% brings the zigzag to 0.21 / 0.19 and the
-figure eight to 0.21 / 0.19 (tuned / held-out), within 20% 0 -> 0.03 / 0 -> 0.22 of the six
-gestures back to back, but unrelated motions are valid more (mean 0.105 -> 0.128 / 0.122 ->
-0.144, worst 0.305 -> 0.375); at 6%: within 20% 0 / 0.125, mean 0.113 / 0.131. Measured again
-once the tempo rule (:func:`behaviors.mop.validity.slow_take`) refused slow takes: coverage 4%
-unrelated mean 0.085 -> 0.110 / 0.098 -> 0.122 (worst 0.305 -> 0.375), 5% 0.106 / 0.118
-(zigzag 0.23 / 0.22, within 20% 0 / 0.125); 4% with the turning rule on (``turn_limit`` 1.3,
-refusing what does not turn as the template does) 0.103 / 0.108, valid after 30% of gestures
-at 0.7-1.4x 0.8959 / 0.9115, twenty templates back to back never recognised 0.031 / 0.094 ->
-0.031 / 0.125: no rule tried refuses what coverage refuses without holding the zigzag back.
+50%) that any follower could recognise by 20%; what holds each back: below. Coverage at 4% of
+the path instead of 8% (with the tempo rule, :func:`behaviors.mop.validity.slow_take`): the
+zigzag and the figure eight at 0.21 / 0.19 (tuned / held-out), within 20% 0 -> 0.03 / 0.22 of
+the six gestures back to back, but unrelated motions mean 0.085 -> 0.110 / 0.098 -> 0.122
+(worst 0.305 -> 0.375); 5%: 0.106 / 0.118; 4% with the turning rule (``turn_limit`` 1.3):
+0.103 / 0.108, valid after 30% of gestures at 0.7-1.4x 0.8959 / 0.9115: no rule tried refuses
+what coverage refuses without holding the zigzag back.
 The wave waits for probability because the figure eight, whose first stroke leaves at 45 degrees
 where the wave's leaves at 62, keeps 0.4-0.55 of it up to 0.23 of the wave (at 0.6 needed). The
 line and the square share the line's outward stroke at any size until the line turns back (its
 reach, 0.35) or the square turns its corner (0.37), so one of two targets gives: the line drives
 the square's first side (the longest wrong runs, 5-10 ticks, all of them the line's:
 ``bench/follow_quality.py``'s six gestures back to back, tuned and held-out), or it waits for
-its turn (shared starts, above: valid after 30% of gestures at 0.7-1.4x under 0.9). Measured
-again: shared starts at 3 still radii, longest wrong run 10 -> 3 / 7 -> 10 (a zigzag took a
-square held back at its corner; with the grace counted back), valid after 30% 0.9016 -> 0.8897 /
-0.9112 -> 0.9101 (before it). An end declared also where a valid action at 90% or more of its
+its turn (shared starts, above: valid after 30% of gestures at 0.7-1.4x under 0.9). An end
+declared also where a valid action at 90% or more of its
 progress finds the input stood still :data:`END_GRACE` samples before (:meth:`_arrived`; before
 the follower reaches ``end``): no ended action's run over 2 left on either, but valid after 30%
 0.9001 -> 0.8816 / 0.9105 -> 0.9015 (performers creep into eased ends for several samples); from
@@ -177,11 +191,7 @@ within 2 mm, a start of the driving action's path at some size and tempo, or has
 its own start; the longest run an observer could already have told is 2 ticks (held-out 5: the
 circle on a square's second side, just after its corner). The longest wrong runs (10 / 7, the
 line on the square's first side) end within 2 ticks of the corner, where the two part: no
-follower tells them apart sooner. What the character does meanwhile is the choice: the line
-drives (kept; the likelier explanation of a straight stroke: a line is driven from about 30% of
-it, a square's first side shows the line's outward stroke and the square takes over at its
-corner) or neither does (shared starts, above: every line waits for its turn, and valid after
-30% of gestures at 0.7-1.4x falls under 0.9).
+follower tells them apart sooner; the line drives there (kept; or neither: shared starts, above).
 The held-out 5: the square, recognised at its corner (0.40-0.42), lost its evidence as the
 forward caught up with the corner (probability 0.99 -> 0.04 -> 0.000 in three samples) while it
 still led the circle in shape by 40 nats; below :data:`RIVAL_PROBABILITY` it is no rival, so
@@ -196,6 +206,32 @@ samples (the line, which drove last, then kept the square from driving at its co
 circle took it the same):
 0.8995, the run unchanged; one probable within 4 samples: 0.8909 / 0.8872 (the line waits:
 recognised 0.30 -> 0.38); every covered template on its path: 0.8878 / 0.8843.
+
+What holds the four gestures an observer could tell by 20% (``bench/spotting_reach.py``, the
+draws for options, with the anchor above; the progress from which each rule held until
+recognition, medians): the zigzag waits for coverage (0.233; every other rule by 0.175, reach
+0.09), the figure eight for coverage (0.221; the shape lead 0.194, reach 0.11), the wave for
+best and probability (0.240, 0.228; coverage 0.224, reach 0.13: the figure eight keeps part of
+its probability), the circle for probability and best (0.274; coverage 0.246, the shape lead
+0.236, reach 0.20). A commitment on the observer's own evidence, measured and not kept: an
+action not yet driving may drive before it is covered and probable when the gesture's path so
+far matches its template closely (the shape sums of :meth:`_leads` at most 1.5, 2 or 3 still
+radii per column, RMS per sample since the gesture began) and it leads *every* unrefused
+template in shape by 8 nats (16 with 2 radii; engaged, on its path, turned, not slow, as any
+new action). ``bench/follow_quality.py`` (tuned / held-out), six gestures back to back within
+20%: 0 / 0 -> 0.031 / 0.156 (1.5 radii), 0.063 / 0.25 (2), 0.094 / 0.25 (3), 0.063 / 0.125 (2,
+16 nats); the zigzag 0.257 / 0.248 -> 0.196 / 0.189 (3 radii), the figure eight 0.244 / 0.216
+-> 0.234 / 0.197; the wave and the circle unchanged (a rival keeps leading in shape); twenty
+templates within 20% 0.344 / 0.344 -> 0.406 / 0.406 (3); longest wrong runs unchanged (10 / 7,
+7 / 12); valid after 30% of gestures at 0.7-1.4x 0.9112 / 0.9033 -> 0.9114-0.9129 / 0.9033;
+but unrelated motions valid more, worst unchanged (0.306 / 0.418), mean 0.0734 / 0.0814 ->
+0.0756 / 0.0818 (1.5), 0.0768 / 0.0824 (2), 0.0781 / 0.0840 (3), 0.0762 / 0.0823 (2, 16 nats):
+a close, exclusive fit of a template's start is found on unrelated stretches too, less often
+than a lead alone (committing on a lead of 8 nats at 4% coverage: +0.011 / +0.013), most with
+one template loaded (a 0.7x wander 0.118 -> 0.229 at 1.5 radii). With a rival required (a lone
+template never commits early; 2 radii, 8 nats): within 20% 0.063 / 0.25, the zigzag 0.213 /
+0.189, the figure eight 0.234 / 0.197, twenty templates 0.375 / 0.344, unrelated mean 0.0742 /
+0.0817 (still above 0.0734 / 0.0814), valid after 30% 0.9119 / 0.9033.
 
 Committing early where the shape clearly leads, measured and not kept: an action whose followed
 progress covered 4% of its path (half of ``coverage``) drives before it covers 8% when it leads
@@ -291,6 +327,21 @@ class GestureSpotting:
             self._anchor = x.copy()
             self._recent_x = [x]
 
+    def _last_point(self, k: int) -> np.ndarray:
+        """Template ``k``'s last point at its estimated size, from the anchor (raw units)."""
+        b = self.bank
+        return (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
+                + self._anchor)
+
+    def _next_anchor(self, x: np.ndarray, k: int) -> np.ndarray:
+        """Where the gesture after template ``k``'s (ended, the input now at ``x``) begins: where
+        its end was reached, or its last point while the input was still coming closer to it
+        (the follower reached ``end`` before the performer)."""
+        last = self._last_point(k)
+        if np.sum((x - last) ** 2) < np.sum((self._end_x - last) ** 2):
+            return last
+        return self._end_x
+
     def _departed(self, x: np.ndarray, k: int, distance: float) -> bool:
         """The input left the point where template ``k`` reached its end by ``distance`` sigmas
         (RMS per column, in the template's spread and size)."""
@@ -304,9 +355,7 @@ class GestureSpotting:
         next gesture has begun; the slow final approach to the last point is not moving on.
         The template's own onset (0.1 of its spread) let the last action drive the first 13% of
         the next gesture (whose start is slow), and anchored that one too late to be followed."""
-        b = self.bank
-        last = (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
-                + self._anchor)
+        last = self._last_point(k)
         return bool(np.any(np.abs(x - last)
                            > np.abs(self._end_x - last) + 3.0 * self._still_radius))
 
@@ -318,10 +367,7 @@ class GestureSpotting:
         progress would never reach."""
         if self._peak - progress < RETURN_BACK:
             return False
-        b = self.bank
-        last = (self._rel[b.starts[k] + b.lengths[k] - 1] * self._units * self._size[k]
-                + self._anchor)
-        r = (x - last) / self._units
+        r = (x - self._last_point(k)) / self._units
         return bool(np.sqrt(np.sum(r * r)) <= RETURN_RADIUS * self._size[k] * self._extent[k])
 
     def _arrived(self) -> int:
@@ -397,10 +443,10 @@ class GestureSpotting:
         if self._end_x is not None and (still or step_d2 > self._null2 or not ok or
                                         self._departed(x, bi, self.accept_distance)):
             # the end was reached and the performer rests there or moves on: a new gesture
-            # starts where the last one ended
-            end_x = self._end_x
+            # starts where the last one ended: its template's last point at its size
+            anchor = self._next_anchor(x, bi)
             self._restart_here(x, forward, offset)
-            self._anchor = end_x
+            self._anchor = anchor
             self._ended = bi
         elif valid and still and progress >= 0.9:
             self._restart_here(x, forward, offset)

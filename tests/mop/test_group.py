@@ -170,7 +170,7 @@ class Returning(ActionFollower):
 
 
 def test_a_return_followed_backwards_ends_in_the_group_as_alone():
-    from bench.follow_quality import at_phase, gesture_templates, phase_of
+    from bench.motions import at_phase, gesture_templates, phase_of
     gestures = gesture_templates()
     rng = np.random.default_rng(3)
     kws = [dict(units=np.ones(2), invariance="scale"), dict(units=np.ones(2), invariance="scale", confirm=1)]
@@ -214,7 +214,7 @@ def test_the_group_threshold_models_keep_the_followers_own_weights():
 def test_a_group_with_shared_starts_equals_its_followers_alone():
     # spotting's shared starts (share_radius) batched: members with and without them (a stream
     # member has none), the six gestures performed back to back
-    from bench.follow_quality import at_phase, gesture_templates, phase_of
+    from bench.motions import at_phase, gesture_templates, phase_of
     gestures = gesture_templates()
     rng = np.random.default_rng(4)
     kws = [dict(units=np.ones(2), invariance="scale", share_radius=3.0),
@@ -245,8 +245,8 @@ def test_a_group_with_shared_starts_equals_its_followers_alone():
 def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
     # validity.crawls, compiled in members.tempo/conclude: unrelated puck motions (a triangle, a
     # diagonal, a wander) whose best crawls; measured 50 valid states (55 without the rule)
-    from bench.follow_quality import (gesture_templates, performance, puck_follower,
-                                      unrelated_motions)
+    from bench.follow_quality import puck_follower
+    from bench.motions import gesture_templates, performance, unrelated_motions
     from behaviors.mop import validity
     gestures = gesture_templates()
     rng = np.random.default_rng(11)
@@ -266,7 +266,8 @@ def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
 def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkeypatch):
     # validity.rests_behind, compiled in members.conclude: a wave and a zigzag performed to 60%,
     # back to their start and rested; measured 122 valid states (168 without the rule)
-    from bench.follow_quality import gesture_templates, puck_follower
+    from bench.follow_quality import puck_follower
+    from bench.motions import gesture_templates
     from behaviors.mop import validity
     from tests.mop.test_quality import _there_and_back
     gestures = gesture_templates()
@@ -287,8 +288,8 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     # triangle, mirrored figure eight, square and wave). Measured 93 valid states, 141 with the
     # refusal and misfit judged at rest too (the mirrored figure eight accepted again as it
     # rests: 53 vs 0; the whole draw, every motion at 0.7, 1.0, 1.4x: 362 vs 371)
-    from bench.follow_quality import (gesture_templates, performance, puck_follower,
-                                      unrelated_motions)
+    from bench.follow_quality import puck_follower
+    from bench.motions import gesture_templates, performance, unrelated_motions
     from behaviors.mop import validity
     gestures = gesture_templates()
     rng = np.random.default_rng(0)

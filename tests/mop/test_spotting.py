@@ -1,0 +1,226 @@
+"""Gesture spotting in a continuous stream (:mod:`behaviors.mop.spotting`,
+:mod:`behaviors.mop.sharing`), on a fixed subset of ``bench/follow_quality.py``'s back-to-back
+sequences: each gesture recognised, an ended one stops driving where the next begins, a shared
+stroke drives none until the paths part, a wrong action drives only where no observer could
+tell."""
+
+import numpy as np
+import pytest
+
+from bench.follow_quality import puck_follower, run, wrong_valid
+from bench.motions import at_phase, back_to_back, performance, phase_of
+from behaviors.mop.sharing import shared_until
+
+
+def _chain(rng: np.random.Generator, gestures: dict, order: list,
+           size=lambda: 1.0) -> tuple[np.ndarray, list, np.ndarray]:
+    """``order``'s gestures back to back (time-warped, each at ``size()``, starting where the
+    last ended) after half a second still, with tracking jitter: samples, the true gesture per
+    tick (None while still) and its true progress (NaN while still)."""
+    parts, truth, prog, at = [], [], [], np.zeros(2)
+    for g in order:
+        phase, p = phase_of(rng, len(gestures[g]))
+        parts.append(size() * at_phase(gestures[g], phase) + at)
+        at = parts[-1][-1].copy()
+        truth += [g] * len(p)
+        prog.append(p[:, 0])
+    x = (np.concatenate([np.zeros((15, 2))] + parts)
+         + rng.normal(0, 0.0007, (15 + len(truth), 2)))
+    return x, [None] * 15 + truth, np.concatenate([np.full(15, np.nan)] + prog)
+
+
+def test_gestures_back_to_back_are_each_recognised(gestures):
+    rng = np.random.default_rng(8)
+    f = puck_follower(gestures)
+    order = ["circle", "line", "figure_eight", "wave"]
+    x, truth, prog = _chain(rng, gestures, order)
+    states = run(f, x)
+    for g in order:
+        hit = [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
+        assert hit and hit[0] <= 0.45, (g, hit[:1])
+    # an ended gesture drives at most two samples after it reached its end, so at most two of
+    # the next one (measured: 1, 0, 1; while it drove until the input moved on: 1, 0, 5)
+    for before, after in zip(order, order[1:]):
+        late = [s for i, s in enumerate(states)
+                if truth[i] == after and s.valid and s.best == before]
+        assert len(late) <= 2, (before, after, len(late))
+
+
+def test_a_line_followed_backwards_ends_when_the_input_is_back_at_its_end(gestures):
+    # a line (out and back) at 0.7x whose size was overestimated: its return is followed backwards
+    # along the outward stroke and its progress never reaches its end; it ends when the input is
+    # back at its last point (measured, seeds 0-3: the line drove 9, 7, 15, 14 samples of the
+    # wave that followed and the wave drove 4, 1, 30, 26; with the rule 0 and 30, 51, 37, 31).
+    # Known conflict with not-back-before-forward (validity.backs_first): on seeds 0 and 1 the
+    # wave, first valid at 0.53, steps back to 0.50, is held, and the zigzag drives the rest
+    # (the wave drives 2 and 1 samples); seeds 2 and 3 keep 37 and 31
+    f = puck_follower(gestures)
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        sizes = iter((0.7, 1.0))
+        x, truth, _ = _chain(rng, gestures, ["line", "wave"], lambda: next(sizes))
+        states = run(f, x)
+        on_wave = [s for i, s in enumerate(states) if truth[i] == "wave" and s.valid]
+        late = sum(s.best == "line" for s in on_wave)
+        wave = sum(s.best == "wave" for s in on_wave)
+        assert late <= 2 and (seed < 2 or wave >= 20), (seed, late, wave)
+
+
+@pytest.mark.parametrize("share_radius", [0.0, 3.0])
+def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures, share_radius):
+    # the line's outward stroke is the square's first side and the circle's start: the line
+    # explains it best (it is narrower), but its shape does not lead until the paths part
+    # (spotting.LEAD). Measured, seeds 0-5: the line drove 15 ticks during squares in all (before
+    # the shape lead: 76) and none during circles; the line and the circle were recognised by
+    # 32% and 31% of them, the square by 43%. With shared starts (share_radius 3 still radii:
+    # no new action drives while its start is shared with another the input still fits,
+    # spotting._shares) the line drives no tick of a square, and drives itself once it turns
+    # back at half of it (0.49-0.64; the circle 0.27-0.31 and the square 0.41-0.43 as without)
+    f = puck_follower(gestures, share_radius=share_radius)
+    wrong = {"square": 0, "circle": 0}
+    first = {"square": [], "circle": [], "line": []}
+    for seed in range(6):
+        rng = np.random.default_rng(seed)
+        for name in ("square", "line", "circle"):
+            x, prog = performance(rng, gestures[name], 1.0)
+            states = run(f, x)
+            if name != "line":
+                wrong[name] += sum(s.valid and s.best == "line" for s in states)
+            first[name].append(next((prog[i, 0] for i, s in enumerate(states)
+                                     if s.valid and s.best == name), 1.0))
+    assert wrong["circle"] == 0 and max(first["circle"]) <= 0.35, first
+    assert max(first["square"]) <= 0.5, first
+    if share_radius:
+        assert wrong["square"] <= 2, wrong
+        assert 0.45 <= min(first["line"]) and max(first["line"]) <= 0.7, first
+    else:
+        assert wrong["square"] <= 30 and max(first["line"]) <= 0.35, (wrong, first)
+
+
+def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypatch):
+    # the six gestures back to back in random orders (seeds 0-3, 0.8-1.2x): ticks of each next
+    # gesture during which the one just ended still drove. An action that reaches its end where
+    # the input already stood still has as many samples less of grace (spotting._arrived, up to
+    # END_GRACE); measured: 17 ticks over 20 changes, none over 2; one sample less at most: 22,
+    # one of 3 (the follower two samples behind an eased end); with the rule off 33, four of 3-4
+    from behaviors.mop import spotting
+
+    def late_ticks() -> list[int]:
+        f = puck_follower(gestures)
+        out = []
+        for seed in range(4):
+            rng = np.random.default_rng(seed)
+            order = list(rng.permutation(list(gestures)))
+            x, truth, _ = _chain(rng, gestures, order, lambda: float(rng.uniform(0.8, 1.2)))
+            states = run(f, x)
+            out += [sum(truth[i] == b and s.valid and s.best == a for i, s in enumerate(states))
+                    for a, b in zip(order, order[1:])]
+        return out
+
+    now = late_ticks()
+    monkeypatch.setattr(spotting, "ARRIVE_RADIUS", 0.0)
+    plain = late_ticks()
+    assert sum(now) <= 19 and max(now) <= 2, now
+    assert sum(plain) >= 29, plain
+
+
+def test_shared_starts_end_where_the_paths_part():
+    # a stroke of 10 cm is the first side of an L (6 cm then a corner) at 10/6 of its size; the
+    # L's first side is the stroke's start at any size, its corner is not (states 2 mm apart)
+    stroke = np.stack([np.linspace(0, 0.1, 51), np.zeros(51)], axis=1)
+    ell = np.concatenate([np.stack([np.linspace(0, 0.06, 31), np.zeros(31)], axis=1),
+                          np.stack([np.full(30, 0.06), np.linspace(0.002, 0.06, 30)], axis=1)])
+    rel = np.concatenate([stroke, ell])
+    starts, lengths = np.array([0, 51]), np.array([51, 61])
+    radius = np.full(2, 0.002)
+    out = shared_until(rel, starts, lengths, np.geomspace(0.5, 2.0, 25), radius, 3)
+    assert out[0, 0] == -1 and out[1, 1] == -1
+    assert out[0, 1] == 50            # the whole stroke (the L at 1.67x)
+    assert 30 <= out[1, 0] <= 31      # the L up to its corner, not beyond
+    # sizes up to 1.2x only: the L's side covers about 7.2 cm of the stroke
+    short = shared_until(rel, starts, lengths, np.geomspace(0.5, 1.2, 15), radius, 3)
+    assert 35 <= short[0, 1] <= 38, short
+
+
+def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monkeypatch):
+    # the six gestures back to back (bench/motions.back_to_back, seeds 0-3): the ticks
+    # where a wrong action drives, and those of them where an ideal observer could already tell
+    # (bench/spotting_reach.indistinguishable: the gesture's path so far is no start of the
+    # driving action's at any size and tempo, within 2 mm). Measured: 14 wrong ticks, 13 of
+    # them indistinguishable (the line on a square's first side, ended gestures on the next's
+    # eased start), 1 told (the line at a square's corner); without the shape lead
+    # (spotting.LEAD 0): 46 wrong, 8 told (the line on a circle's first stroke, 0.20-0.23)
+    from bench.spotting_reach import indistinguishable
+    from behaviors.mop import spotting
+
+    # the square's first side is the start of the line at some size until its corner
+    assert indistinguishable("square", 0.36, "line", gestures)
+    assert not indistinguishable("square", 0.40, "line", gestures)
+    assert not indistinguishable("circle", 0.30, "line", gestures)
+
+    def wrong_ticks() -> tuple[int, int, int]:
+        f = puck_follower(gestures)
+        memo: dict = {}
+        wrong, told, longest = 0, 0, 0
+        for seed in range(4):
+            x, truth, prog, order = back_to_back(np.random.default_rng(seed), gestures, 6)
+            w = wrong_valid(run(f, x), truth, prog, order, gestures, indistinguishable, memo)
+            wrong += w["wrong"]
+            told += w["wrong"] - w["indistinguishable"]
+            longest = max(longest, w["avoidable_longest"])
+        return wrong, told, longest
+
+    wrong, told, longest = wrong_ticks()
+    assert wrong <= 16 and told <= 2 and longest <= 2, (wrong, told, longest)
+    monkeypatch.setattr(spotting, "LEAD", 0.0)
+    wrong, told, _ = wrong_ticks()
+    assert wrong >= 36 and told >= 6, (wrong, told)
+
+
+def test_the_next_gesture_begins_where_a_fast_ending_one_ends(gestures, monkeypatch):
+    # a crawl wrist and a run wrist end fast (3.5 and 2.5 cm over their last 3%): the follower
+    # reaches their end (97%) centimetres before the performer, who goes on to the last point;
+    # the next gesture (one of the six) is anchored there (GestureSpotting._next_anchor).
+    # Measured, seeds 0-2: the next gesture recognised at 0.31, 0.31, 0.27, 0.29, 0.29, 0.29;
+    # anchored where the end was reached: 1.0 (never), 0.31, 0.45, 0.37, 1.0, 0.29 (four of six
+    # at 0.36 or later)
+    from bench.motions import mocap_templates
+    from behaviors.mop.spotting import GestureSpotting
+    templates = {**gestures, **mocap_templates(joints=(("crawl", "right_wrist"),
+                                                       ("run", "left_wrist")))}
+
+    def recognised() -> list[float]:
+        f = puck_follower(templates)
+        out = []
+        for seed in range(3):
+            for clip in ("crawl_right_wrist", "run_left_wrist"):
+                rng = np.random.default_rng(seed)
+                after = list(gestures)[int(rng.integers(6))]
+                x, truth, prog = _chain(rng, templates, [clip, after])
+                out.append(next((float(prog[i]) for i, s in enumerate(run(f, x))
+                                 if truth[i] == after and s.valid and s.best == after), 1.0))
+        return out
+
+    now = recognised()
+    monkeypatch.setattr(GestureSpotting, "_next_anchor", lambda self, x, k: self._end_x)
+    plain = recognised()
+    assert max(now) <= 0.35, now
+    assert sum(p >= 0.36 for p in plain) >= 3, plain
+
+
+def test_a_group_anchors_the_next_gesture_as_its_followers_alone(gestures):
+    # the crawl wrist's fast end then a gesture (seeds 0 and 2 above: anchored at the crawl's
+    # last point); a group of two such members equals its followers stepped alone (every
+    # state; valid states measured: 217; without the rule in the group the first differs)
+    from bench.motions import mocap_templates
+    from behaviors.mop.group import FollowerGroup
+    from tests.mop.test_group import _step_both
+    templates = {**gestures, **mocap_templates(joints=(("crawl", "right_wrist"),))}
+    streams = []
+    for seed in (0, 2):
+        rng = np.random.default_rng(seed)
+        after = list(gestures)[int(rng.integers(6))]
+        streams.append(_chain(rng, templates, ["crawl_right_wrist", after])[0])
+    alone = [puck_follower(templates) for _ in streams]
+    group = FollowerGroup([puck_follower(templates) for _ in streams])
+    assert _step_both(alone, group, streams) >= 150
