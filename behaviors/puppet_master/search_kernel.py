@@ -22,7 +22,9 @@ column ``g0`` on is weighed by its own gate g, ``(|x_<g0|^2 + g |x_>=g0|^2) + (|
 g |y_>=g0|^2) + sum_c q_c y_c`` with q = -2x (times g from ``g0`` on); the table then holds
 the two parts of |y|^2 (similarity.augmented) and each query keeps its gate for when it
 leaves the window. The eight columns of the situation vectors with the room run in one
-pass as the six without it do. The least value is
+pass as the six without it do (a push at 3,200 samples, CPU time median on a loaded
+machine: the room off 6.3-8.1 us, the room ungated through the general loop 10.4 us, gated in
+one pass 8.0-10.2 us, the gate worked out in Python included). The least value is
 found with four running minima (a minimum does not depend on the order); ties take the
 earliest window end.
 
