@@ -105,7 +105,11 @@ class Params:
     bench/fidelity.py; [least-most]): room off 25.2 [22-28] / 5.2 / 33.8 [28-39], chased 5.8
     / 0.4 / 7.0, at an edge 0.49 / 0.40 / 0.49 (its designer's 0.05-0.13); gated, w_room 2:
     22.8 [18-28] / 4.6 / 31.0 [24-38], chased 3.2 / 0.8 / 7.2, at an edge 0.42 / 0.38 /
-    0.38. Counted whatever the main's distance (ungated): w_room 1 31.2 / 4.0 / 37.2, 1.25
+    0.38. Gated at the neighbouring weights the open paths lose (w_room 1.5 30.6 / 5.6 /
+    34.2, 2.5 32.6 / 5.2 / 39.0, 3 34.8 / 5.8 / 38.6) while the time at an edge chased falls
+    as at 2 (0.42-0.44 / 0.37-0.45 / 0.41-0.44): the open-path count of one weight moves by
+    more than its five runs spread, so w_room 2's is partly chance; the edge share's fall is
+    not. Counted whatever the main's distance (ungated): w_room 1 31.2 / 4.0 / 37.2, 1.25
     26.6 / 3.8 / 31.4, 1.5 (nine runs) 28.8 / 3.8 / 29.7, 1.75 26.0 / 3.2 / 40.8, 2 35.8 /
     6.4 / 40.4 (at an edge chased 0.37 / 0.37 / 0.41); gated by the wall's nearness instead
     (1 - room behind / 0.3 m, or the side's), w_room 2: 30.2 / 5.0 / 34.4, at an edge 0.46 /
