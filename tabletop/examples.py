@@ -33,6 +33,9 @@ SECONDS = 60.0
 TABLE = (1.2, 0.8)
 # the table each demonstration was made on is stored with it (Params.table_width / height)
 PARAMETERS = {"rate_hz": 40.0, "window": 40, "table_width": TABLE[0], "table_height": TABLE[1]}
+# a character's own parameters on top (the afraid character chased into walls: its room among
+# the situation features, Params.w_room, where the figures are)
+OWN_PARAMETERS = {"afraid": {"w_room": 2.0}}
 DESCRIPTIONS = {
     "lover": "Approaches the main character and stays close, facing it, nuzzling side to side.",
     "bully": "Lurks facing the main character, charges at it, pushes into it, then backs off.",
@@ -58,6 +61,11 @@ def _seconds(name: str) -> float:
     return designers.DURATION_S.get(name, SECONDS)
 
 
+def parameters(name: str) -> dict:
+    """The behaviour parameters ``name`` is saved with: PARAMETERS and its OWN_PARAMETERS."""
+    return {**PARAMETERS, **OWN_PARAMETERS.get(name, {})}
+
+
 def _source(name: str) -> str:
     return (f"scripted designer behaviors.puppet_master.designers.demonstrate({name!r}, "
             f"seed={designers.SEEDS[name]}, seconds={_seconds(name):g}, "
@@ -69,7 +77,7 @@ def example_files(name: str) -> dict[str, str]:
     demo = example_demonstration(name)
     return {
         library.DEMONSTRATION_FILE: library.demonstration_csv(demo),
-        library.BEHAVIOR_FILE: library.describe_yaml(name, demo, PARAMETERS,
+        library.BEHAVIOR_FILE: library.describe_yaml(name, demo, parameters(name),
                                                      description=DESCRIPTIONS[name],
                                                      source=_source(name)),
     }
@@ -77,7 +85,7 @@ def example_files(name: str) -> dict[str, str]:
 
 def regenerate(out: Path, names: Sequence[str] = designers.PERSONALITIES) -> list[Path]:
     """Write every example into ``out`` (replacing earlier versions); returns the folders."""
-    return [library.save_behavior(out, name, example_demonstration(name), PARAMETERS,
+    return [library.save_behavior(out, name, example_demonstration(name), parameters(name),
                                   description=DESCRIPTIONS[name], source=_source(name),
                                   replace=True)
             for name in names]

@@ -71,7 +71,8 @@ class Reactor(GenerationStep):
         self.dt = 1.0 / p.rate_hz
         self.max_turn = behavior.turn_limit * self.dt
         self.situation = SituationSearch(behavior.situation_vectors, p.window, behavior.valid,
-                                         behavior.situation_aug, p.half_life)
+                                         behavior.situation_aug, p.half_life,
+                                         behavior.situation_gate)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
         self._xs = np.zeros(behavior.situation_vectors.shape[1])
         self._xc = np.zeros(ft.COHERENCE_DIMS)

@@ -15,7 +15,8 @@ Per entity and sample i (sampled at the generation rate, dt = 1/rate):
   the bearing from its main (how far it can still back away) and to that bearing's left less
   its right, metres clipped at ROOM_CLIP (:func:`room`). The paper's features ignore the
   table; with the room the match can tell a moment with a wall behind the reactor from one in
-  the open, and learn from the demonstration what the character does there.
+  the open, and learn from the demonstration what the character does there. A live sample's
+  room counts by how near its main is (:func:`room_gate`).
 
 All angles are wrapped to (-pi, pi]. For the distance computations every angle is embedded as a
 point on the unit circle (cos, sin): the squared distance between two embedded angles is
@@ -46,6 +47,7 @@ POSITION_FLOOR = 0.02   # m
 ANGLE_FLOOR = 0.05      # rad
 ROOM_DIMS = 2        # the reactor's room on the table: behind it, to its left less its right
 ROOM_CLIP = 0.3         # m: the room beyond which a wall does not matter (features.room)
+ROOM_NEAR = 0.5         # m: a live main this far or farther leaves the room out (room_gate)
 
 
 @dataclass(frozen=True)
@@ -255,6 +257,18 @@ def room_row(out: np.ndarray, s: Scales, mx: float, my: float, rx: float, ry: fl
         back, side = room_at(mx, my, rx, ry, table)
         out[6] = s.room * back
         out[7] = s.room * side
+
+
+def room_gate(x: np.ndarray, s: Scales) -> float:
+    """The weight (0..1) of a live situation vector ``x``'s room in its window distance:
+    1 - (distance to the main) / ROOM_NEAR, at least 0 (the distance read from x's relative
+    position, weighed by ``s``). A wall matters to a fleeing character whose main is near;
+    with its main far it behaves as in the open, and the match then takes any moment of the
+    demonstration, wall or none (similarity.SituationSearch's gate; the demonstration's
+    vectors are not gated). ROOM_NEAR 0.5 m is the afraid designer's alarm distance
+    (chased.ALARM_M); at 0.4 m (w_room 2) the afraid character's open-path misses rose to
+    36.8 / 4.0 / 39.2 (figures as in Params.w_room's docstring; 0.5 m: 22.8 / 4.6 / 31.0)."""
+    return max(0.0, 1.0 - math.hypot(x[2], x[3]) / (s.rel_position * ROOM_NEAR))
 
 
 def coherence_row(out: np.ndarray, s: Scales, norm_look: float, ddir: float, fwd: float,

@@ -16,6 +16,7 @@ the training length.
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 
@@ -40,12 +41,17 @@ def window_distances(live: np.ndarray, train: np.ndarray) -> np.ndarray:
 E_DTYPE = np.float32
 
 
-def augmented(train: np.ndarray) -> np.ndarray:
-    """``[y, |y|^2, 1]^T`` (d + 2, N) of training vectors (N, d), in ``E_DTYPE``: what one
-    matrix-vector product per step multiplies (shared by every reactor of a behaviour)."""
+def augmented(train: np.ndarray, gate_from: int | None = None) -> np.ndarray:
+    """``[y, |y|^2, 1]^T`` (d + 2, N) of training vectors (N, d), in ``E_DTYPE`` (shared by
+    every reactor of a behaviour); with columns gated from ``gate_from`` on
+    (:class:`SituationSearch`), ``[y, |y_<g|^2, |y_>=g|^2]^T``."""
     y = np.asarray(train, dtype=float)
-    return np.ascontiguousarray(np.vstack([y.T, np.einsum("jd,jd->j", y, y)[None],
-                                           np.ones((1, y.shape[0]))]), dtype=E_DTYPE)
+    if gate_from is None or gate_from >= y.shape[1]:
+        tail = [np.einsum("jd,jd->j", y, y)[None], np.ones((1, y.shape[0]))]
+    else:
+        a, b = y[:, :gate_from], y[:, gate_from:]
+        tail = [np.einsum("jd,jd->j", a, a)[None], np.einsum("jd,jd->j", b, b)[None]]
+    return np.ascontiguousarray(np.vstack([y.T, *tail]), dtype=E_DTYPE)
 
 
 class SituationSearch:
@@ -87,15 +93,19 @@ class SituationSearch:
     """
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray,
-                 aug: np.ndarray | None = None, half_life: float = 0.0) -> None:
+                 aug: np.ndarray | None = None, half_life: float = 0.0,
+                 gate: tuple[int, Callable[[np.ndarray], float]] | None = None) -> None:
         y = np.asarray(train, dtype=float)
         self.n = n
+        # (first gated column, the live vector's gate): those columns' part of each live
+        # sample's distance weighed by its gate (features.room_gate); (d, None): none
+        self.gate_from, self.gate = gate if gate is not None else (y.shape[1], None)
         # weight of a sample ``age`` steps old: decay**age (1: the paper's uniform window)
         self.decay = 0.5 ** (1.0 / half_life) if half_life > 0 else 1.0
         self._lam_n = self.decay ** n
         N, d = y.shape
         self.d = d
-        self.aug = augmented(y) if aug is None else aug
+        self.aug = augmented(y, self.gate_from) if aug is None else aug
         ok = np.asarray(valid, dtype=bool)
         self.mask = np.where(ok, 0.0, np.inf)
         idx = np.flatnonzero(ok)
@@ -106,6 +116,7 @@ class SituationSearch:
         # -2x and |x|^2 of the last n + 1 live vectors, by step number mod n + 1
         self._queries = np.zeros((n + 1, d), dtype=E_DTYPE)
         self._norms = np.zeros(n + 1, dtype=E_DTYPE)
+        self._gates = np.ones(n + 1, dtype=E_DTYPE)
         self.k = n - 1
         self.N = N
         # the distances D live at _buf[o: o + N]; a step moves o back by one, so D[j - 1]
@@ -127,8 +138,10 @@ class SituationSearch:
         self._buf[:] = 0.0
         self._o = N
         self.dist = self._buf[N:]
+        gates = np.array([self._gate(x) for x in window])
         search_kernel.situation_reset(self.aug, self.dist, self.n, self._queries,
-                                         self._norms, window, self.decay, self._e)
+                                      self._norms, window, self.decay, self._e, self._gates,
+                                      gates, self.gate_from)
         self.k = self.n - 1
         self._best = None
 
@@ -137,11 +150,15 @@ class SituationSearch:
         self.k = k = self.k + 1
         o, j, least = search_kernel.situation_push(
             self.aug, self._buf, self._o, self.n, self._queries, self._norms, k, x,
-            self.decay, self._lam_n, self._lo, self._hi, self._e_new, self._e_old)
+            self.decay, self._lam_n, self._lo, self._hi, self._e_new, self._e_old,
+            self._gates, self._gate(x), self.gate_from)
         self._o = o
         self.dist = self._buf[o:o + self.N]
         # the best match found in the same pass, while the distances were in the cache
         self._best = (j, max(least, 0.0)) if self.run is not None else self._find_best()
+
+    def _gate(self, x: np.ndarray) -> float:
+        return 1.0 if self.gate is None else self.gate(x)
 
     def distances(self) -> np.ndarray:
         """Current window distances to every training window end (inf where not allowed).

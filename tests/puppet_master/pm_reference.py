@@ -23,11 +23,14 @@ class ReferenceSituationSearch:
     ``(|x|^2 + |y|^2) + sum_c (-2 x_c) y_c`` (terms in that order), D in double."""
 
     def __init__(self, train: np.ndarray, n: int, valid: np.ndarray,
-                 aug: np.ndarray | None = None, half_life: float = 0.0) -> None:
+                 aug: np.ndarray | None = None, half_life: float = 0.0,
+                 gate=None) -> None:
         y = np.asarray(train, dtype=float)
         self.n, (N, self.d) = n, y.shape
         self.decay = 0.5 ** (1.0 / half_life) if half_life > 0 else 1.0
-        self.aug = augmented(y) if aug is None else aug
+        # columns from g0 on weighed by each live vector's gate: (g0, gate(x)) or none
+        self.g0, self.gate = gate if gate is not None else (self.d, None)
+        self.aug = augmented(y, self.g0) if aug is None else aug
         self.mask = np.where(np.asarray(valid, dtype=bool), 0.0, np.inf)
         self.ring = np.zeros((n + 1, N), dtype=self.aug.dtype)
         self.k = n - 1
@@ -35,11 +38,22 @@ class ReferenceSituationSearch:
 
     def _e(self, x: np.ndarray, out: np.ndarray) -> None:
         f = self.aug.dtype.type
-        q = (np.asarray(x, dtype=float) * -2.0).astype(self.aug.dtype)
+        x = np.asarray(x, dtype=float)
+        g0 = self.g0
+        q = (x * -2.0).astype(self.aug.dtype)
         xx = 0.0
-        for v in np.asarray(x, dtype=float).tolist():
+        for v in x[:g0].tolist():
             xx += v * v
-        out[:] = f(xx) + self.aug[self.d]
+        if g0 < self.d:
+            g = self.gate(x)
+            q[g0:] = (x[g0:] * (-2.0 * g)).astype(self.aug.dtype)
+            xr = 0.0
+            for v in x[g0:].tolist():
+                xr += v * v
+            xx += g * xr
+            out[:] = f(xx) + (self.aug[self.d] + f(g) * self.aug[self.d + 1])
+        else:
+            out[:] = f(xx) + self.aug[self.d]
         for c in range(self.d):
             out += q[c] * self.aug[c]
 

@@ -75,12 +75,15 @@ def _training(seed: int, N: int, n: int, d: int):
     return rng, rng.normal(size=(N, d)), valid
 
 
-@pytest.mark.parametrize("half_life", [0.0, 7.0])
-def test_situation_search_equals_reference_at_every_step(half_life):
-    N, n, d = 180, 20, 6
+@pytest.mark.parametrize("half_life,d", [(0.0, 6), (7.0, 6), (0.0, 8), (7.0, 8), (0.0, 5)])
+def test_situation_search_equals_reference_at_every_step(half_life, d):
+    N, n = 180, 20
     rng, train, valid = _training(4, N, n, d)
-    fast = SituationSearch(train, n, valid, half_life=half_life)
-    ref = ReferenceSituationSearch(train, n, valid, half_life=half_life)
+    # 8 columns: the room's two gated by the live vector (features.room_gate's kind: 0 far,
+    # rising near); 5: the generic ungated loop
+    gate = (6, lambda x: max(0.0, 1.0 - 0.7 * math.hypot(x[2], x[3]))) if d == 8 else None
+    fast = SituationSearch(train, n, valid, half_life=half_life, gate=gate)
+    ref = ReferenceSituationSearch(train, n, valid, half_life=half_life, gate=gate)
     start = rng.normal(size=(n, d))
     fast.reset(start)
     ref.reset(start)
