@@ -235,7 +235,9 @@ class GenerationStep:
             # by the live main's speed over the moment's main's 618 (half of that 628; only
             # while behind its place 620; scaled by the lag over 2 cm 641): the lover reaches
             # its place (0.148 -> 0.132 m) and stills (0.063 -> 0.047 m/s) but outruns its
-            # fast and loops mains (16 -> 39 misses); the cap x live / matched distance 644;
+            # fast and loops mains (16 -> 39 misses); only while the live main is no faster
+            # than the demonstrated main's 90th percentile 645 (lover 16, bully 4 -> 9,
+            # afraid 22 -> 36); the cap x live / matched distance 644;
             # the own step round the main x that ratio (the moment's bearing rate kept) 636,
             # with the cap 639; the own step from the detail patch's source 637 (and its k
             # 635). None is used.
