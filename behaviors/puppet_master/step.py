@@ -79,6 +79,13 @@ class GenerationStep:
         place, bearing_turn, dist, fwd_t, left_t, speed = b.rows[target]
         if place == PLACE_WORLD:               # holds its place while the main turns
             phi = math.atan2(ry - my, rx - mx) + bearing_turn
+            # at the matched moment's distance, not the live one's: the lover lags it by
+            # 0.2-2.2 cm beside walking mains (seed 0 slow: 0.148 m live, 0.127 matched). The
+            # moment's change of distance applied to the live distance instead (live + the
+            # distance at the target less at the window's end, outside charges) leaves the
+            # drift to the match, which does not follow it: the lover drifted out to 0.22 m
+            # (matched 0.122) and walked slower (0.097 -> 0.080 m/s); bench/fidelity.py
+            # --seeds 0,1,2,3,4,5 666 -> 614 of 720; half that change 620 (bully 4 -> 13).
             tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
         else:
             tx, ty = target_position(mx, my, md, fwd_t, left_t)
@@ -218,6 +225,22 @@ class GenerationStep:
             # afraid character's pursuit 40 -> 34 of 48, the lover's own misses 16 -> 19 (seeds
             # 0-5) and 15 -> 15 (8-13); also only where the moment went along with its main
             # (k >= FOLLOW_SHARE) 630 / 108 / 639, pursuit 35, the lover's still/moving 5 -> 10
+            # Traced on the lover (seed 0 slow, main walking, world places): its composed step
+            # (k x the live main's step + its own) is 0.116 m/s per step but 0.0945 over 0.1 s
+            # (its own steps turn from match to match; taken from the 16-step patch's
+            # continuous source as well: 0.095), about its main's 0.0985; the correction of its
+            # lag (0.110 m/s) then spends half of the cap, so behind a main walking faster
+            # than the moment's main it does not gain on its place. Measured (seeds 0-5,
+            # against 666; the correction share changed by 0.1% alone: 655-658): the cap raised
+            # by the live main's speed over the moment's main's 618 (half of that 628; only
+            # while behind its place 620; scaled by the lag over 2 cm 641): the lover reaches
+            # its place (0.148 -> 0.132 m) and stills (0.063 -> 0.047 m/s) but outruns its
+            # fast and loops mains (16 -> 39 misses); only while the live main is no faster
+            # than the demonstrated main's 90th percentile 645 (lover 16, bully 4 -> 9,
+            # afraid 22 -> 36); the cap x live / matched distance 644;
+            # the own step round the main x that ratio (the moment's bearing rate kept) 636,
+            # with the cap 639; the own step from the detail patch's source 637 (and its k
+            # 635). None is used.
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
