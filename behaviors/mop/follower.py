@@ -84,7 +84,7 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
                  shape_distance: float = 1.4, shape_accept: float = 1.2,
                  shape_memory: float = 16.0, dwell: float | None = None,
                  threshold: float = 0.0, turn_limit: float = math.inf,
-                 share_radius: float = 0.0) -> None:
+                 share_radius: float = 3.0) -> None:
         check_ranges(sigma=sigma, window=window, memory=memory, null_distance=null_distance,
                      null_memory=null_memory, onset=onset, accept_distance=accept_distance,
                      max_spread=max_spread, relative_floor=relative_floor, floor=floor,

@@ -263,10 +263,10 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         holding[i] = holds[off + int(np.rint(g))] or pb >= 0.9
         restart[i] = GOES_ON
         if spots and present[i]:
-            peak[i] = (max(peak[i], pb) if bi == peak_k[i] else pb) if val else 0.0
-            peak_k[i] = bi if val else -1
+            peak[i] = max(peak[i], pb) if bi == peak_k[i] else pb
+            peak_k[i] = bi
             ended = val and not has_end[i] and pb >= m[8]
-            if val and not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
+            if not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
                 # GestureSpotting._returned: back at the last point while followed backwards
                 acc = 0.0
                 for c in range(d):

@@ -88,14 +88,17 @@ straight stroke are one unknown), and the return then matches the outward stroke
 so the progress never reaches ``end`` and the line drove 7-19 samples of the next gesture, whose
 evidence it also kept from starting afresh. So the gesture also ends (:meth:`_returned`) when the
 input is back at the template's last point, within :data:`RETURN_RADIUS` of its extent, while
-the followed progress has slid back :data:`RETURN_BACK` from its peak since the action began
-driving (a figure eight passes its last point at half of it, going forward: no slide). Measured
+the followed progress has slid back :data:`RETURN_BACK` from its peak since it became ``best``
+(a figure eight passes its last point at half of it, going forward: no slide). Measured
 with ``bench/follow_quality.py`` (partial runs of its sections; held-out in brackets): six
 gestures back to back, the longest wrong-valid run 16 -> 10 samples (19 -> 7), a held-out square
 never recognised now at 42%; valid after 30% of gestures at 0.7-1.4x 0.901 -> 0.896 (0.885 ->
 0.884): the lines at 0.6-0.85x followed backwards were counted valid (and right) until their
 last sample with the progress 0.7 short (RMSE 0.33-0.48); they now end 3-8 samples before their
-last (radius 0.15 of the extent: 0.895, 0.08: 0.895, 0.05: 0.896, kept).
+last (radius 0.15 of the extent: 0.895, 0.08: 0.895, 0.05: 0.896, kept). The peak counted
+since the action began driving instead of since it became ``best``: the same without shared
+starts (valid after 30% 0.9112 / 0.9033, now 0.9099 / 0.9033), but with them a line held back
+until its turn never ended (above).
 
 An ended action whose end the follower reached where the input had already stopped has as
 many samples less of grace as the input stood there before (the samples before lying, with the
@@ -122,36 +125,29 @@ lies within that radius, several samples early); the last point instead of the s
 as the place the input stopped in: the same runs, and on the sized subset of
 ``tests/mop/test_quality.py`` one tick less of a figure eight.
 
-Shared starts, measured with the arrival grace above (an option:
-``ActionFollower(share_radius=...)`` in still radii, 0 = off, the
-default; :meth:`_shares`, :func:`behaviors.mop.sharing.shared_until`): a new action does not
-drive while its followed state is within the stretch of its start that is the start of another
-template at some size (from the size range's smallest to largest ratio), as long as that other
-template is neither refused nor off its path nor going back (its followed progress
-:data:`SHARE_BACK` below its highest since the gesture began): the input cannot tell them apart,
-so both are only shown as ``likely``. This is what the shape lead does not catch where the
-other template's evidence is already below :data:`RIVAL_PROBABILITY` (the square's falls to
-0.001 on its first side, since its broader eased start lags the input). At 3 still radii
-(partial runs, tuned / held-out): six gestures back to back, longest wrong-valid run 10 -> 3
-(the line no longer drives the square's first side) / 7 -> 10 (one square, held back at its
-corner until the line was refused, was then taken by the threshold model and never
-recognised: never recognised 0 -> 0.031), median 3 -> 2 / 3 -> 2; recognition median 0.262 ->
-0.278 / 0.279 -> 0.282 (lines are recognised after their turn, 0.45-0.73 instead of 0.25-0.43);
-twenty templates 7 / 14 unchanged; valid after 30% of gestures at 0.7-1.4x 0.896 -> 0.883 /
-0.884 -> 0.882 (on track 0.871 -> 0.863 / 0.845 -> 0.842): the line is valid only after its
-turn, and some clips' starts are shared (punch and spin, 0.24-0.29 of them). Off by default
-for that cost; a performer who draws strokes that begin other gestures may prefer it on.
-Measured again with every later rule in (full sections, tuned / held-out): six gestures back to
-back, longest wrong-valid run 10 -> 3 / 7 -> 10 (the 3 are ended actions' runs into the next
-gesture; the held-out 10 a zigzag taking a square held back at its corner, as above); unrelated
-motions worst 0.305 -> 0.292 / 0.573 -> 0.568, mean 0.105 -> 0.098 / 0.122 -> 0.113; valid
-after 30% of gestures at 0.7-1.4x 0.902 -> 0.890 / 0.912 -> 0.911, below the 0.9 target: the
-line at 1.0-1.4x is valid 0.86-0.91 of the time after 30% instead of 0.96-1.0 (it cannot be
-told from the square before its turn), and at 0.7x, followed backwards at size 1.0 after its
-turn, 0.07 instead of 0.70 (valid before only while followed backwards). So the line either
-drives the square's first side (a wrong run of 5-10 ticks) or waits for its turn (sized
-validity under 0.9): the two targets conflict on this pair until the size of a straight
-stroke can be told before its turn.
+Shared starts (``ActionFollower(share_radius=...)`` in still radii, 0 = off; :meth:`_shares`,
+:func:`behaviors.mop.sharing.shared_until`): a new action does not drive while its followed
+state is within the stretch of its start that is the start of another template at some size
+(from the size range's smallest to largest ratio), as long as that other template is neither
+refused nor off its path nor going back (its followed progress :data:`SHARE_BACK` below its
+highest since the gesture began): the input cannot tell them apart, so both are only shown as
+``likely``. This is what the shape lead does not catch where the other template's evidence is
+already below :data:`RIVAL_PROBABILITY` (the square's falls to 0.001 on its first side, since
+its broader eased start lags the input): without it the line drives the square's first side
+(every wrong run over 2 ticks among the six gestures back to back: 3-10 ticks, all where no
+observer could yet tell them apart). On by default at 3 still radii, with a gesture that ends
+where it returned also while its action was held back (:meth:`_returned`, below): ``bench/
+follow_quality.py`` (tuned / held-out), six gestures back to back, longest wrong-valid run 10 /
+7 -> 2 / 2 (other than the ended gesture's 10 / 7 -> 0 / 0), never recognised 0 / 0, the line
+recognised at 0.33 / 0.38 -> 0.45 / 0.53 (after its turn; the observer tells it from the
+square at 0.35), the square 0.40 / 0.41 -> 0.41 / 0.42; twenty templates longest wrong run 7 /
+12 -> 3 / 11, within 20% 0.344 / 0.344 -> 0.344 / 0.313; ``--sections=sized,holds,unrelated``:
+valid after 30% of gestures at 0.7-1.4x 0.9112 / 0.9033 -> 0.9005 / 0.9023 (the line at
+1.0-1.4x is valid only after its turn, and some clips' starts are shared: punch and spin,
+0.24-0.29 of them), unrelated motions mean 0.0688 / 0.0772 -> 0.0659 / 0.0723, worst 0.258 /
+0.418 -> 0.258 / 0.414, holds unchanged. Before the held-back return rule it was off: a line
+held back until its turn, then followed backwards at the wrong size, never reached its end,
+and the square after it began inside its attempt (held-out: a zigzag drove 8 ticks of it).
 
 What is out of reach here (``bench/follow_quality.py``'s sequences): recognising every gesture
 within 20% of it. An ideal observer (noise-free paths, any size 0.46-2.25x, any tempo) tells
@@ -167,10 +163,9 @@ the six gestures back to back, but unrelated motions mean 0.085 -> 0.110 / 0.098
 what coverage refuses without holding the zigzag back.
 The wave waits for probability because the figure eight, whose first stroke leaves at 45 degrees
 where the wave's leaves at 62, keeps 0.4-0.55 of it up to 0.23 of the wave (at 0.6 needed). The
-line and the square share the line's outward stroke at any size until the line turns back (its
-reach, 0.35) or the square turns its corner (0.37), so one of two targets gives: the line drives
-the square's first side (the longest wrong runs, 5-10 ticks, all of them the line's:
-``bench/follow_quality.py``'s six gestures back to back, tuned and held-out), or it waits for
+line and the square share the line's outward stroke at any size in the size range until the line
+turns back or the square turns its corner (the observer, 0.35 and 0.37), so one of two targets
+gives: the line drives the square's first side (wrong runs of 3-10 ticks), or it waits for
 its turn (shared starts, above: valid after 30% of gestures at 0.7-1.4x under 0.9). An end
 declared also where a valid action at 90% or more of its
 progress finds the input stood still :data:`END_GRACE` samples before (:meth:`_arrived`; before
@@ -190,8 +185,8 @@ six gestures back to back, 0.86 (held-out 0.64) fall where the gesture's path so
 within 2 mm, a start of the driving action's path at some size and tempo, or has not yet left
 its own start; the longest run an observer could already have told is 2 ticks (held-out 5: the
 circle on a square's second side, just after its corner). The longest wrong runs (10 / 7, the
-line on the square's first side) end within 2 ticks of the corner, where the two part: no
-follower tells them apart sooner; the line drives there (kept; or neither: shared starts, above).
+line on the square's first side, before shared starts were on) end within 2 ticks of the
+corner, where the two part: no follower tells them apart sooner.
 The held-out 5: the square, recognised at its corner (0.40-0.42), lost its evidence as the
 forward caught up with the corner (probability 0.99 -> 0.04 -> 0.000 in three samples) while it
 still led the circle in shape by 40 nats; below :data:`RIVAL_PROBABILITY` it is no rival, so
@@ -213,44 +208,19 @@ recognition, medians): the zigzag waits for coverage (0.233; every other rule by
 0.09), the figure eight for coverage (0.221; the shape lead 0.194, reach 0.11), the wave for
 best and probability (0.240, 0.228; coverage 0.224, reach 0.13: the figure eight keeps part of
 its probability), the circle for probability and best (0.274; coverage 0.246, the shape lead
-0.236, reach 0.20). A commitment on the observer's own evidence, measured and not kept: an
-action not yet driving may drive before it is covered and probable when the gesture's path so
-far matches its template closely (the shape sums of :meth:`_leads` at most 1.5, 2 or 3 still
-radii per column, RMS per sample since the gesture began) and it leads *every* unrefused
-template in shape by 8 nats (16 with 2 radii; engaged, on its path, turned, not slow, as any
-new action). ``bench/follow_quality.py`` (tuned / held-out), six gestures back to back within
-20%: 0 / 0 -> 0.031 / 0.156 (1.5 radii), 0.063 / 0.25 (2), 0.094 / 0.25 (3), 0.063 / 0.125 (2,
-16 nats); the zigzag 0.257 / 0.248 -> 0.196 / 0.189 (3 radii), the figure eight 0.244 / 0.216
--> 0.234 / 0.197; the wave and the circle unchanged (a rival keeps leading in shape); twenty
-templates within 20% 0.344 / 0.344 -> 0.406 / 0.406 (3); longest wrong runs unchanged (10 / 7,
-7 / 12); valid after 30% of gestures at 0.7-1.4x 0.9112 / 0.9033 -> 0.9114-0.9129 / 0.9033;
-but unrelated motions valid more, worst unchanged (0.306 / 0.418), mean 0.0734 / 0.0814 ->
-0.0756 / 0.0818 (1.5), 0.0768 / 0.0824 (2), 0.0781 / 0.0840 (3), 0.0762 / 0.0823 (2, 16 nats):
-a close, exclusive fit of a template's start is found on unrelated stretches too, less often
-than a lead alone (committing on a lead of 8 nats at 4% coverage: +0.011 / +0.013), most with
-one template loaded (a 0.7x wander 0.118 -> 0.229 at 1.5 radii). With a rival required (a lone
-template never commits early; 2 radii, 8 nats): within 20% 0.063 / 0.25, the zigzag 0.213 /
-0.189, the figure eight 0.234 / 0.197, twenty templates 0.375 / 0.344, unrelated mean 0.0742 /
-0.0817 (still above 0.0734 / 0.0814), valid after 30% 0.9119 / 0.9033.
-
-Committing early where the shape clearly leads, measured and not kept: an action whose followed
-progress covered 4% of its path (half of ``coverage``) drives before it covers 8% when it leads
-every rival in shape by 8 nats (twice :data:`LEAD`) or no other template is left probable (a
-lone template never: nothing told it apart). ``bench/follow_quality.py --sections=sequences``
-(tuned / held-out): six gestures back to back, the zigzag recognised at 0.255 -> 0.210 / 0.241
--> 0.193, the figure eight 0.244 -> 0.234 / 0.227 -> 0.197, within 20% 0 -> 0.03 / 0 -> 0.22;
-twenty templates within 20% 0.34 -> 0.41 / 0.31 -> 0.41, but the held-out longest wrong run 12
--> 20 (a jump ankle took a backflip ankle's start); ``--sections=sized,holds,unrelated``: valid
-after 30% of gestures at 0.7-1.4x 0.9001 -> 0.9014 / 0.9019 -> 0.9049, holds unchanged, but
-unrelated motions mean 0.0786 -> 0.0892 / 0.0909 -> 0.1043, spread over nearly every motion
-with 6 and 20 templates (a diagonal with six, 1.0x, 0.165 -> 0.275; a wander with twenty,
-0.7x, 0.28 -> 0.40): the shape leads an unrelated motion's stretch of a template as clearly
-as the template's own start. Also requiring the threshold model's share of the probability at
-0.95 / 0.99: unrelated mean 0.0889 / 0.1038 and 0.0872 / 0.1023, the rest the same; only where
-a rival is left (the zigzag's fall below :data:`RIVAL_PROBABILITY` first: unchanged), 8 nats:
-the figure eight 0.234 / 0.227, within 20% 0 / 0.06, unrelated mean 0.0837 / 0.0939; 4 nats:
-0.214 / 0.186, within 20% 0 / 0.13, unrelated 0.0850 / 0.0952. Half the unrelated cost of
-``coverage`` at 4% for the same six gestures within 20% (above), still a cost.
+0.236, reach 0.20). Measured and not kept (``bench/follow_quality.py``, tuned / held-out,
+before shared starts): a commitment on the observer's own evidence (an action not yet driving
+drives before it is covered and probable when the shape sums of :meth:`_leads` are at most 1.5-3
+still radii per column, RMS per sample, and it leads *every* unrefused template in shape by 8
+nats): six gestures within 20% 0 / 0 -> 0.031-0.094 / 0.125-0.25, twenty templates 0.344 / 0.344
+-> 0.406 / 0.406, but unrelated motions mean 0.0734 / 0.0814 -> 0.0756-0.0781 / 0.0818-0.0840 (a
+close, exclusive fit of a template's start is found on unrelated stretches too; with a rival
+required, 2 radii: 0.063 / 0.25 within 20%, unrelated 0.0742 / 0.0817); committing at 4% coverage
+(half of ``coverage``) when the shape leads every rival by 8 nats: within 20% 0.03 / 0.22, the
+held-out longest wrong run 12 -> 20 among twenty templates, unrelated mean 0.0786 -> 0.0892 /
+0.0909 -> 0.1043 (also with the threshold model's share at 0.95 / 0.99: 0.0889 / 0.1038, 0.0872 /
+0.1023; only where a rival is left, 8 nats: within 20% 0 / 0.06, unrelated 0.0837 / 0.0939): the
+shape leads an unrelated motion's stretch of a template as clearly as the template's own start.
 """
 
 from __future__ import annotations
@@ -362,7 +332,7 @@ class GestureSpotting:
     def _returned(self, x: np.ndarray, k: int, progress: float) -> bool:
         """The input came back to template ``k``'s last point (within :data:`RETURN_RADIUS` of
         its extent, at the estimated size, from the anchor) while its followed progress slid back
-        by :data:`RETURN_BACK` from its peak since it began driving: a return followed backwards
+        by :data:`RETURN_BACK` from its peak since it became best: a return followed backwards
         along the outward stroke (a line's out-and-back at another size and tempo) whose end the
         progress would never reach."""
         if self._peak - progress < RETURN_BACK:
@@ -430,11 +400,10 @@ class GestureSpotting:
         # spotting: the gesture ended (its end reached, or it rests near its end), or every
         # template refused it: start afresh here; a still input waiting for a gesture anchors it
         # the highest progress of the action driving since it began (for _returned)
-        self._peak = ((max(self._peak, progress) if bi == self._peak_k else progress)
-                      if valid else 0.0)
-        self._peak_k = bi if valid else -1
-        if valid and self._end_x is None and (progress >= self.end
-                                              or self._returned(x, bi, progress)):
+        self._peak = max(self._peak, progress) if bi == self._peak_k else progress
+        self._peak_k = bi
+        if self._end_x is None and ((valid and progress >= self.end)
+                                    or self._returned(x, bi, progress)):
             self._end_x = x.copy()
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()

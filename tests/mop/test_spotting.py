@@ -35,9 +35,11 @@ def test_gestures_back_to_back_are_each_recognised(gestures):
     order = ["circle", "line", "figure_eight", "wave"]
     x, truth, prog = _chain(rng, gestures, order)
     states = run(f, x)
+    # measured: circle 0.30, line 0.46 (held back until its turn: its stroke is the square's
+    # first side, spotting._shares), figure eight 0.23, wave 0.25
     for g in order:
         hit = [prog[i] for i, s in enumerate(states) if truth[i] == g and s.valid and s.best == g]
-        assert hit and hit[0] <= 0.45, (g, hit[:1])
+        assert hit and hit[0] <= (0.5 if g == "line" else 0.35), (g, hit[:1])
     # an ended gesture drives at most two samples after it reached its end, so at most two of
     # the next one (measured: 1, 0, 1; while it drove until the input moved on: 1, 0, 5)
     for before, after in zip(order, order[1:]):
@@ -144,11 +146,12 @@ def test_shared_starts_end_where_the_paths_part():
 
 def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monkeypatch):
     # the six gestures back to back (bench/motions.back_to_back, seeds 0-3): the ticks
-    # where a wrong action drives, and those of them where an ideal observer could already tell
+    # where a wrong action drives, those of them where an ideal observer could already tell
     # (bench/spotting_reach.indistinguishable: the gesture's path so far is no start of the
-    # driving action's at any size and tempo, within 2 mm). Measured: 14 wrong ticks, 13 of
-    # them indistinguishable (the line on a square's first side, ended gestures on the next's
-    # eased start), 1 told (the line at a square's corner); without the shape lead
+    # driving action's at any size and tempo, within 2 mm) and the longest run of wrong ticks.
+    # Measured with shared starts (the default, share_radius 3): 8 wrong ticks, none told, no run
+    # over 2 (ended gestures on the next's eased start); without them: 14 wrong, 1 told, the
+    # longest run 6 (the line on a square's first side); without them nor the shape lead
     # (spotting.LEAD 0): 46 wrong, 8 told (the line on a circle's first stroke, 0.20-0.23)
     from bench.spotting_reach import indistinguishable
     from behaviors.mop import spotting
@@ -158,8 +161,8 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
     assert not indistinguishable("square", 0.40, "line", gestures)
     assert not indistinguishable("circle", 0.30, "line", gestures)
 
-    def wrong_ticks() -> tuple[int, int, int]:
-        f = puck_follower(gestures)
+    def wrong_ticks(**kw) -> tuple[int, int, int]:
+        f = puck_follower(gestures, **kw)
         memo: dict = {}
         wrong, told, longest = 0, 0, 0
         for seed in range(4):
@@ -167,13 +170,15 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
             w = wrong_valid(run(f, x), truth, prog, order, gestures, indistinguishable, memo)
             wrong += w["wrong"]
             told += w["wrong"] - w["indistinguishable"]
-            longest = max(longest, w["avoidable_longest"])
+            longest = max(longest, w["longest"])
         return wrong, told, longest
 
     wrong, told, longest = wrong_ticks()
-    assert wrong <= 16 and told <= 2 and longest <= 2, (wrong, told, longest)
+    assert wrong <= 10 and told <= 1 and longest <= 2, (wrong, told, longest)
+    wrong, told, longest = wrong_ticks(share_radius=0.0)
+    assert wrong >= 12 and longest >= 5, (wrong, told, longest)
     monkeypatch.setattr(spotting, "LEAD", 0.0)
-    wrong, told, _ = wrong_ticks()
+    wrong, told, _ = wrong_ticks(share_radius=0.0)
     assert wrong >= 36 and told >= 6, (wrong, told)
 
 
