@@ -139,6 +139,7 @@ class FollowerGroup(GroupRules):
         self._lost = np.zeros(m, dtype=np.intp)
         self._ended = np.full(m, -1, dtype=np.intp)
         self._end_x = np.zeros((m, dmax))
+        self._end_last = np.zeros((m, dmax))   # the ended template's last point (_moved_on)
         self._has_end = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)
         self._peak, self._peak_k = np.zeros(m), np.full(m, -1, dtype=np.intp)
@@ -152,7 +153,7 @@ class FollowerGroup(GroupRules):
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
                      "_least", "_judged", "_at_hold_end")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
+                   "_end_x", "_end_last", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
                    "_thr_x", "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak",
                    "_drive_moved", "_turn_in", "_turn_h", "_turn_ref", "_turn_has_ref",
                    "_turn_has_h", "_abandoned", "_came")
@@ -381,7 +382,7 @@ class FollowerGroup(GroupRules):
             self._drive_from, self._drive_peak, self._turn_ok, self._extent, self._peak,
             self._peak_k, variance, valid, loglik, distance, show, holding, prog_b, restart,
             self._gone, self._shared, self._sh_off, self._drive_moved, self._m_rest,
-            self._crawl)
+            self._crawl, self._end_last)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
         gbl = gb.tolist()

@@ -86,9 +86,7 @@ class GroupRules:
                 # where the end was reached, or the ended template's last point at its size
                 # while the input was still coming closer to it (GestureSpotting._spot)
                 anchor = self._end_x[i].copy()
-                g = gb[i]
-                row = self._state_off[g] + self._starts_local[g] + self._lengths[g] - 1
-                last = self._rel[row] * self._m_units[i] * self._size[g] + self._anchor[i]
+                last = self._end_last[i]
                 if np.sum((self._x[i] - last) ** 2) < np.sum((anchor - last) ** 2):
                     anchor = last
             elif h == members.WAITING:

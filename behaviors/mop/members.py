@@ -162,14 +162,14 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.boolean[:, ::1], _F1, _F1, _F1, _F1,
                    _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
                    _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2),
+                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2, _F2),
           *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from,
              drive_peak, turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart, highest, shared,
-             sh_off, drive_moved, rest, crawl) -> None:
+             sh_off, drive_moved, rest, crawl, end_last) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -185,7 +185,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
 
     In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
     highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples
-    ``buf``/``nbuf``, the gesture's end ``has_end``/``end_x``, ``lost`` (refused samples in a
+    ``buf``/``nbuf``, the gesture's end ``has_end``/``end_x`` (and the ended template's last
+    point there, ``end_last``: :meth:`GestureSpotting._moved_on`), ``lost`` (refused samples in a
     row), ``after_end`` (samples since the end was reached) and ``peak``/``peak_k`` (the highest
     progress of the action driving, and which; ``extent`` (K,): each template's farthest state
     from its first, in units). Out per member: ``best``'s
@@ -195,7 +196,6 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
     d = x.shape[1]
     src = 2 * d
-    last = np.empty(d)
     spread = np.empty(d)
     for i in range(bounds.size):
         m = mk[i]
@@ -215,9 +215,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         sk = size[gb]
         moved = False
         if has_end[i]:
-            for c in range(d):
-                last[c] = states[start + length - 1 + off, d + c] * units[c] * sk + anchor[i, c]
-            moved = moved_on(x[i], end_x[i], last, radius)
+            moved = moved_on(x[i], end_x[i], end_last[i], radius)
         if present[i]:
             push(buf, nbuf, x, i, int(m[6]))
         st = still(buf, nbuf, i, int(m[6]), radius)
@@ -276,6 +274,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
                 ended = math.sqrt(acc) <= RETURN_RADIUS * sk * extent[gb]
             if ended:
                 end_x[i] = x[i]
+                for c in range(d):
+                    end_last[i, c] = (states[start + length - 1 + off, d + c] * units[c] * sk
+                                      + anchor[i, c])
                 has_end[i] = True
                 # the performer had already stopped there: the grace counts from where they
                 # stopped (GestureSpotting._arrived)

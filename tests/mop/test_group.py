@@ -146,6 +146,7 @@ def test_gesture_end_rules_over_members_equal_the_followers_own():
         f._end_x = f._rel[f.bank.starts[k] + f.bank.lengths[k] - 1] * f._units * f._size[k] + f._anchor \
             + rng.normal(size=2) * f._still_radius
         last = group._rel[group._last_state[k]] * group._m_units[0] * f._size[k] + f._anchor
+        f._end_last = f._last_point(k)   # frozen where the end was reached (spotting._spot)
         spread = group._scale[k] * f._size[k]
         for _ in range(300):
             x = f._end_x + rng.normal(size=2) * rng.choice([1.0, 3.0, 10.0]) * f._still_radius
