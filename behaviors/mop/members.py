@@ -19,7 +19,8 @@ import numba
 import numpy as np
 
 from behaviors.mop import spotting, validity
-from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
+from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
+                                   RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
                                     LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
 from behaviors.kernel_cache import compiled
@@ -105,9 +106,9 @@ def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
 @compiled(numba.boolean(_F1, _F1, _F1, _F1), *_CALLS_INTO)
 def moved_on(x: np.ndarray, end_x: np.ndarray, last: np.ndarray, still_radius: np.ndarray) -> bool:
     """:meth:`GestureSpotting._moved_on`: farther from the template's last point ``last`` (D,)
-    than the end ``end_x`` was, by more than 3 still radii in some column."""
+    than the end ``end_x`` was, by more than ``MOVE_RADII`` still radii in some column."""
     for c in range(x.size):
-        if abs(x[c] - last[c]) > abs(end_x[c] - last[c]) + 3.0 * still_radius[c]:
+        if abs(x[c] - last[c]) > abs(end_x[c] - last[c]) + MOVE_RADII * still_radius[c]:
             return True
     return False
 

@@ -240,6 +240,10 @@ LEAD = 4.0
 RIVAL_PROBABILITY = 0.005
 #: Samples an action still drives after the one at which it reached its end.
 END_GRACE = 2
+#: Still radii (in a column) by which the input, farther from an ended template's last point than
+#: where the end was reached, has moved on: the next gesture has begun
+#: (:meth:`GestureSpotting._moved_on`).
+MOVE_RADII = 2.0
 #: Progress by which a driving action's followed progress must have slid back from its peak,
 #: and distance from its last point (share of the template's extent at the estimated size),
 #: for the input's return to that point to end the gesture (:meth:`GestureSpotting._returned`).
@@ -321,18 +325,25 @@ class GestureSpotting:
     def _moved_on(self, x: np.ndarray, k: int) -> bool:
         """The input moved on from where template ``k`` reached its end: it is farther from the
         template's last point (at the estimated size, from the anchor) than when the end was
-        reached, by more than the jitter of a still input (3 still radii in a column), so the
-        next gesture has begun; the slow final approach to the last point is not moving on.
+        reached, by more than the jitter of a still input (:data:`MOVE_RADII` in a column), so
+        the next gesture has begun; the slow final approach to the last point is not moving on.
         The template's own onset (0.1 of its spread) let the last action drive the first 13% of
         the next gesture (whose start is slow), and anchored that one too late to be followed.
         The last point is taken where the end was reached (``_end_last``): the size estimate goes
         on adapting to the next gesture, and the point moved with the input (a wave's, at 1.19x
         to 1.24x, along a square's first side until 0.16 of it; the square, anchored there, was
         never recognised). Measured on ``bench/motions.back_to_back``'s six gestures, seeds
-        0-39 (240 gestures; the bench's own draws unchanged): never recognised 2 -> 0."""
+        0-39 (240 gestures; the bench's own draws unchanged): never recognised 2 -> 0.
+        :data:`MOVE_RADII` 3 -> 2 (``bench/follow_quality.py``, tuned / held-out): twenty
+        templates back to back, median recognition 0.303 / 0.236 -> 0.258 / 0.236, longest
+        wrong run 3 / 11 -> 2 / 11; six gestures the same but the wave 0.247 -> 0.246 and the
+        held-out circle 0.282 -> 0.280; valid after 30% of gestures at 0.7-1.4x 0.9005 / 0.9023
+        -> 0.9005 / 0.9014, holds valid after 30% 0.958 / 0.965 -> 0.958 / 0.963, unrelated
+        unchanged; seeds 0-39 above: a line's 5 ticks on a square begun late gone. 1.5: sized
+        0.9002 / 0.9008, too near the 0.9 target."""
         last = self._end_last
         return bool(np.any(np.abs(x - last)
-                           > np.abs(self._end_x - last) + 3.0 * self._still_radius))
+                           > np.abs(self._end_x - last) + MOVE_RADII * self._still_radius))
 
     def _returned(self, x: np.ndarray, k: int, progress: float) -> bool:
         """The input came back to template ``k``'s last point (within :data:`RETURN_RADIUS` of
