@@ -355,9 +355,9 @@ def main() -> None:
         emit("follow_quality", figures, {})
         return
     figures.update({"cli_default_" + k: v for k, v in evaluate(paper_follower).items()})
-    # shared starts (an option, ActionFollower(share_radius=3)) and the defaults on the same
+    # the defaults (shared starts on, share_radius 3) and without shared starts on the same
     # back-to-back draws of the six gestures (a seed of their own)
-    for tag, kw in (("default", {}), ("shared_starts", {"share_radius": 3.0})):
+    for tag, kw in (("default", {}), ("no_shared_starts", {"share_radius": 0.0})):
         figures.update(sequences(lambda t, kw=kw: puck_follower(t, **kw), gesture_templates(),
                                  np.random.default_rng(OPTION_SEED), count=16,
                                  key=f"option_{tag}_sequence_6_gestures"))
