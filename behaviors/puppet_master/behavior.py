@@ -98,7 +98,7 @@ class Params:
     (features.room_gate: 1 - distance / 0.5 m, at least 0; the demonstration's vectors are
     not gated): a wall matters to a character fleeing a near main, and with its main far the
     match takes any moment, wall or none, as without the room. The shipped afraid character
-    has w_room 2 (tabletop.examples.OWN_PARAMETERS). Measured on the afraid character alone,
+    had w_room 2 (now Params.edge_percentile instead). Measured on the afraid character alone,
     its misses on the open paths (of 144 / 24 / 144 on seeds 0-5 / 7 / 8-13), its misses
     chased (pursuit, of 48 / 8 / 48) and its time at an edge chased (mean), each the mean of
     five runs with relative_motion x 1, 1 -+ 0.001, 1 -+ 0.002 (the bench's own spread,
@@ -131,7 +131,8 @@ class Params:
     live table shrunk by this percentile of the demonstrated reactor's distances to its
     table's edges (Behavior.edge_margin; generation.fit_target), not onto the table's very
     edge, where the demonstrated character never was. The shipped afraid character has 50 (its
-    median distance to an edge, 0.157 m), see tabletop.examples.OWN_PARAMETERS for the figures.
+    median distance to an edge, 0.157 m; its room feature, w_room, off: with the margin it
+    cost open-path checks), measured in generation.fit_target's docstring.
     """
 
     rate_hz: float = 40.0
