@@ -33,9 +33,10 @@ SECONDS = 60.0
 TABLE = (1.2, 0.8)
 # the table each demonstration was made on is stored with it (Params.table_width / height)
 PARAMETERS = {"rate_hz": 40.0, "window": 40, "table_width": TABLE[0], "table_height": TABLE[1]}
-# a character's own parameters on top (the afraid character chased into walls: its room among
-# the situation features, Params.w_room, where the figures are)
-OWN_PARAMETERS = {"afraid": {"w_room": 2.0}}
+# a character's own parameters on top: the afraid character, chased into walls, fits its
+# targets no nearer to an edge than its demonstration's median distance to one
+# (Params.edge_percentile; generation.fit_target has the figures)
+OWN_PARAMETERS = {"afraid": {"edge_percentile": 50.0}}
 DESCRIPTIONS = {
     "lover": "Approaches the main character and stays close, facing it, nuzzling side to side.",
     "bully": "Lurks facing the main character, charges at it, pushes into it, then backs off.",

@@ -98,7 +98,7 @@ class Params:
     (features.room_gate: 1 - distance / 0.5 m, at least 0; the demonstration's vectors are
     not gated): a wall matters to a character fleeing a near main, and with its main far the
     match takes any moment, wall or none, as without the room. The shipped afraid character
-    has w_room 2 (tabletop.examples.OWN_PARAMETERS). Measured on the afraid character alone,
+    had w_room 2 (now Params.edge_percentile instead). Measured on the afraid character alone,
     its misses on the open paths (of 144 / 24 / 144 on seeds 0-5 / 7 / 8-13), its misses
     chased (pursuit, of 48 / 8 / 48) and its time at an edge chased (mean), each the mean of
     five runs with relative_motion x 1, 1 -+ 0.001, 1 -+ 0.002 (the bench's own spread,
@@ -125,7 +125,14 @@ class Params:
     the playful friend 13 misses more): a designer's choice for a character chased into
     walls, not a default.
     table_width, table_height: metres, the table the demonstration was made on (origin at its
-    corner 0), for the room; 0 (a file without them) takes the demonstration's bounds.
+    corner 0), for the room and the edge margin; 0 (a file without them) takes the
+    demonstration's bounds.
+    edge_percentile: 0..100, 0 (default) off. A target the step heads for is fitted onto the
+    live table shrunk by this percentile of the demonstrated reactor's distances to its
+    table's edges (Behavior.edge_margin; generation.fit_target), not onto the table's very
+    edge, where the demonstrated character never was. The shipped afraid character has 50 (its
+    median distance to an edge, 0.157 m; its room feature, w_room, off: with the margin it
+    cost open-path checks), measured in generation.fit_target's docstring.
     """
 
     rate_hz: float = 40.0
@@ -151,6 +158,7 @@ class Params:
     w_room: float = 0.0
     table_width: float = 0.0
     table_height: float = 0.0
+    edge_percentile: float = 0.0
 
     def check(self) -> None:
         """Raise ParameterError for a value out of range."""
@@ -169,6 +177,9 @@ class Params:
                     or not math.isfinite(float(v)):
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number")
             positive = f.name in ("rate_hz", "ratio", "balance_gain", "detail_clip")
+            if f.name == "edge_percentile" and v >= 100:
+                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 0 "
+                                     "(off) to under 100")
             if f.name == "relative_motion" and v > 1:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be in 0..1")
             if f.name == "rate_hz" and not 1.0 <= v <= 1000.0:
@@ -296,6 +307,14 @@ class Behavior:
         # loops paths against 0.8% demonstrated. See Reactor._step for the figures.
         near = float(np.percentile(self.distance, SPACE_PERCENTILE))
         self.personal_space = near if near >= TOUCH_M else 0.0
+        # the edge margin (Params.edge_percentile): that percentile of the demonstrated
+        # reactor's distances to its table's edges (metres, 0 = off), kept by fitted targets
+        self.edge_margin = 0.0
+        if p.edge_percentile > 0.0:
+            x0, y0, x1, y1 = self.demo_table
+            r = self.react
+            edge = np.minimum.reduce([r[:, 0] - x0, r[:, 1] - y0, x1 - r[:, 0], y1 - r[:, 1]])
+            self.edge_margin = max(0.0, float(np.percentile(edge, p.edge_percentile)))
         # a character that stops when its main stops and touches it corrects its drift at
         # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
         self.keeps_pace = self.personal_space <= 0.0 and pace_ratio(

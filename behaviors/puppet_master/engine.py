@@ -66,6 +66,10 @@ class Reactor(GenerationStep):
             raise ParameterError(f"table {table!r} must have x0 < x1 and y0 < y1 (metres)")
         self.behavior = behavior
         self.table = (x0, y0, x1, y1)
+        # where a target is fitted (generation.fit_target): the table less the demonstrated
+        # character's edge margin (Behavior.edge_margin), at most a quarter of its smaller side
+        m = min(behavior.edge_margin, 0.25 * min(x1 - x0, y1 - y0))
+        self.target_table = (x0 + m, y0 + m, x1 - m, y1 - m)
         self.max_backlog = max_backlog
         p = behavior.params
         self.dt = 1.0 / p.rate_hz
@@ -148,6 +152,7 @@ class Reactor(GenerationStep):
         ints[sk.SOURCE] = ints[sk.CHARGE_END] = -1
         c = self._cs = np.zeros(sk.CONSTANTS)
         c[[sk.X0, sk.Y0, sk.X1, sk.Y1]] = self.table
+        c[sk.TARGET_TABLE:sk.TARGET_TABLE + 4] = self.target_table
         c[[sk.DT, sk.RATE, sk.MIN_SPEED, sk.CATCH_UP, sk.GAIN]] = (
             self.dt, p.rate_hz, p.min_speed, p.catch_up, p.relative_motion)
         c[[sk.TOP_SPEED, sk.STILL_SPEED, sk.MAX_TURN]] = b.top_speed, b.still_speed, self.max_turn

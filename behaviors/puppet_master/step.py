@@ -89,7 +89,8 @@ class GenerationStep:
             tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
         else:
             tx, ty = target_position(mx, my, md, fwd_t, left_t)
-        tx, ty = fit_target(mx, my, tx, ty, rx, ry, self.table)
+        # onto the table less the demonstrated edge margin (Params.edge_percentile)
+        tx, ty = fit_target(mx, my, tx, ty, rx, ry, self.target_table)
         if p.catch_up > 0.0 and speed >= 3.0 * p.min_speed:   # a resting target rests
             speed = max(speed, min(p.catch_up * math.hypot(tx - rx, ty - ry), b.top_speed))
         gain = p.relative_motion

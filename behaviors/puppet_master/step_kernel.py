@@ -56,8 +56,8 @@ DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     TARGET_SHARE, BALANCE_GAIN, SHARE_WINDOW, LOG_K_LIMIT, \
     S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
     STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE, \
-    KEEPS_PACE, S_ROOM, ROOM_CLIP = range(4, 41)
-CONSTANTS = 41
+    KEEPS_PACE, S_ROOM, ROOM_CLIP, TARGET_TABLE = range(4, 42)
+CONSTANTS = 45      # TARGET_TABLE: x0, y0, x1, y1 of Reactor.target_table
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -179,7 +179,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     else:
         cm, sm = math.cos(md), math.sin(md)
         tx, ty = mx + cm * fwd_t - sm * left_t, my + sm * fwd_t + cm * left_t
-    tx, ty = fit_target(mx, my, tx, ty, rx, ry, c, bearings)
+    tx, ty = fit_target(mx, my, tx, ty, rx, ry, c[TARGET_TABLE:TARGET_TABLE + 4], bearings)
     dt = c[DT]
     if c[CATCH_UP] > 0.0 and speed >= 3.0 * c[MIN_SPEED]:
         speed = _max(speed, _min(c[CATCH_UP] * hypot(tx - rx, ty - ry), c[TOP_SPEED]))

@@ -65,10 +65,10 @@ def test_a_cornered_afraid_character_escapes_round_the_hand():
     # put it back in the corner): in contact 42% and 33% of the time, at an edge 91% and 70%.
     # Pushed only as far as the table lets it (generation.keep_apart) it slips out along the
     # edge: contact 0.006 and 0.025, at an edge 88% and 59% (measured). The push is what is
-    # tested, so the character without its room feature (the shipped one, w_room 2: contact
-    # 0.026 and 0.0, at an edge 77% and 72%)
+    # tested, so the character without its edge margin (the shipped one, edge_percentile 50:
+    # contact 0.048 and 0.034, at an edge 43% and 39%)
     stored = library.load_behavior(examples.DEFAULT_OUT / "afraid")
-    b = Behavior.train(stored.demonstration, **{**stored.parameters, "w_room": 0.0})
+    b = Behavior.train(stored.demonstration, **{**stored.parameters, "edge_percentile": 0.0})
     for start, contact, edge in (((0.3, 0.3), 0.1, 0.9), ((0.9, 0.5), 0.1, 0.65)):
         main, rows = fidelity.pursue(b, _Herder(20.0, start, 0.35), TABLE)
         f = fidelity.figures(fidelity.main_on_grid(main, rows[:, 0]), rows[:, 1:],

@@ -50,6 +50,9 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
     ("keep_away", 55.0, {"relative_motion": 0.0}, 20.0),
     # with the room on the table among the situation features (features.room_at)
     ("keep_away", 40.0, {"w_room": 2.0, "table_width": 1.2, "table_height": 0.8}, 20.0),
+    # with targets fitted off the edges (Params.edge_percentile, Reactor.target_table)
+    ("keep_away", 40.0, {"edge_percentile": 50.0, "table_width": 1.2, "table_height": 0.8},
+     20.0),
     ("follow", 40.0, {}, 1.5),      # shorter than look.train_place's span
     ("playful_friend", 45.0, {}, 0.0),  # shipped; touches its main: no personal space
     ("bully", 30.0, {}, 0.0),           # shipped; charges held in the world
