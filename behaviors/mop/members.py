@@ -21,7 +21,7 @@ import numpy as np
 from behaviors.mop import spotting, validity
 from behaviors.mop.spotting import ARRIVE_RADIUS, END_GRACE, RETURN_BACK, RETURN_RADIUS, SHARE_BACK
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
-                                    LEAST_TEMPO, REST_BEHIND, REVERSED, TEMPO_SAMPLES)
+                                    LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
 from behaviors.kernel_cache import compiled
 
 _CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
@@ -387,5 +387,5 @@ def unbegun(abandoned: np.ndarray, present: np.ndarray, x: np.ndarray, anchor: n
             dot += w * came[i, c]
             ww += w * w
             cc += came[i, c] * came[i, c]
-        if dot < -REVERSED * math.sqrt(ww * cc):
+        if dot < -validity.REVERSED * math.sqrt(ww * cc):
             leads[i] = False
