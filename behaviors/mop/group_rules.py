@@ -67,10 +67,9 @@ class GroupRules:
     def _unbegun(self, present: np.ndarray) -> None:
         """:func:`behaviors.mop.validity.unbegun` for every present member whose attempt was
         begun by abandonment: no new action leads (``_m_leads``) while its input goes back the
-        way it came to the anchor."""
-        for i in np.flatnonzero(self._abandoned & present).tolist():
-            if validity.unbegun(True, self._x[i] - self._anchor[i], self._came[i]):
-                self._m_leads[i] = False
+        way it came to the anchor (compiled: :func:`members.unbegun`)."""
+        members.unbegun(self._abandoned, present, self._x, self._anchor, self._came,
+                        self._m_leads)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

@@ -24,3 +24,33 @@ def test_the_forward_exponential_is_within_two_ulp_of_the_library_over_its_range
     rel = np.abs(got - want) / want
     assert rel.max() <= 4.5e-16, x[np.argmax(rel)]     # 2 ulp
     assert got[-4] == 1.0 and np.all(np.diff(got[:400_001]) <= 0)   # exact at 0, monotone
+
+
+def test_the_members_unbegun_rule_decides_as_the_followers_own():
+    # members.unbegun (every member at once, compiled) against validity.unbegun member by member:
+    # random ways and comings, straight back, just either side of the cosine's limit, zeros (at
+    # the limit itself the products' last bit decides: numpy's dot may round them otherwise)
+    from behaviors.mop import members, validity
+    rng = np.random.default_rng(11)
+    m = 4000
+    came = rng.normal(size=(m, 2))
+    way = rng.normal(size=(m, 2))
+    way[:500] = -came[:500] * rng.uniform(0.1, 3.0, (500, 1))          # straight back
+    for lo, hi, off in ((500, 750, 1e-6), (750, 1000, -1e-6)):         # either side of the limit
+        turn = math.acos(-validity.REVERSED) + off
+        c, s = math.cos(turn), math.sin(turn)
+        way[lo:hi] = np.c_[c * came[lo:hi, 0] - s * came[lo:hi, 1],
+                           s * came[lo:hi, 0] + c * came[lo:hi, 1]]
+    way[1000:1100] = 0.0
+    anchor = rng.normal(size=(m, 2))
+    x = anchor + way
+    abandoned = rng.random(m) < 0.8
+    present = rng.random(m) < 0.9
+    leads = np.ones(m, dtype=bool)
+    members.unbegun(abandoned, present, x, anchor, came, leads)
+    want = np.array([not (a and p and validity.unbegun(True, xi - ai, ci))
+                     for a, p, xi, ai, ci in zip(abandoned, present, x, anchor, came)])
+    assert np.array_equal(leads, want)
+    on = abandoned & present
+    assert not leads[:750][on[:750]].any()   # back the way it came: no new action leads
+    assert leads[750:1100].all()
