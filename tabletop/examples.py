@@ -25,7 +25,7 @@ from typing import Sequence
 import numpy as np
 
 from behaviors.puppet_master import designers, fidelity, visitors
-from behaviors.puppet_master.engine import Behavior
+from behaviors.puppet_master.engine import Behavior, Params
 from tabletop import library
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / "behaviors" / "library"
@@ -112,20 +112,27 @@ FIDELITY_COLUMNS = (
 Rows = dict[str, dict[str, dict]]
 
 
-def _trained(folder: Path, name: str) -> tuple[Behavior, dict]:
+def _trained(folder: Path, name: str, perturb: float = 0.0) -> tuple[Behavior, dict]:
+    """``name``'s behaviour from ``folder`` and its demonstration's figures; ``perturb``: its
+    drift correction's share (Params.relative_motion) scaled by 1 + perturb."""
     stored = library.load_behavior(folder / name)
-    behavior = Behavior.train(stored.demonstration, **stored.parameters)
+    params = dict(stored.parameters)
+    if perturb:
+        share = float(params.get("relative_motion", Params.relative_motion))
+        params["relative_motion"] = share * (1.0 + perturb)
+    behavior = Behavior.train(stored.demonstration, **params)
     # the shipped demonstrations were made on the bench's table (designers.demonstrate)
     return behavior, fidelity.demonstration_figures(behavior, (0.0, 0.0, *TABLE))
 
 
 def fidelity_table(folder: Path = DEFAULT_OUT, names: Sequence[str] = designers.PERSONALITIES,
-                   seconds: float = 40.0, seed: int = 0) -> Rows:
-    """{behaviour: {unseen path: compared row}} for the behaviours saved in ``folder``."""
+                   seconds: float = 40.0, seed: int = 0, perturb: float = 0.0) -> Rows:
+    """{behaviour: {unseen path: compared row}} for the behaviours saved in ``folder``
+    (``perturb``: see :func:`_trained`; bench/fidelity.py --perturb)."""
     paths = visitors.unseen_main_paths(seed, seconds, TABLE)
     out: Rows = {}
     for name in names:
-        behavior, demo = _trained(folder, name)
+        behavior, demo = _trained(folder, name, perturb)
         out[name] = {path: fidelity.evaluate(behavior, main, (0.0, 0.0, *TABLE), demo)
                      for path, main in paths.items()}
     return out
