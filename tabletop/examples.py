@@ -43,7 +43,8 @@ OWN_PARAMETERS = {"afraid": {"w_room": 2.0}}
 # 20 (9); window 30 20 (7) / 19 (8), 60 19 (9) / 16 (8); smooth 4 20 (6) / 17 (7); catch_up 2
 # 18 (5) / 15 (7), 0.5 19 (6) / 19 (7); relative_motion 0.07 21 (7) / 21 (10), 0.14 20 (7) /
 # 15 (4); w_delta_direction 0.5 17 (5) / 15 (7); w_norm_look 0.5 17 (5) / 19 (6); balance_gain
-# 0.05 17 (7) / 15 (6); on 0-5 only: patch 24 19 (8), 32 20 (8); smooth 2 17 (4); ratio 2 18
+# 0.05 17 (7) / 15 (6); w_rel_position 0.5 20 (6) / 21 (9), 0.75 23 (8) / 14 (4); w_rel_look
+# 2 18 (6) / 14 (7); on 0-5 only: patch 24 19 (8), 32 20 (8); smooth 2 17 (4); ratio 2 18
 # (4); half_life 10 17 (4); w_velocity 2 24 (5); w_rel_position 2 21 (6); w_rel_look 0.5 21
 # (6); detail_levels 5 16 (5), 6 20 (9). The balance ratio for the others (0.5 / 0.75; 0-5 and
 # 8-13 against 4 (2) / 6 (6), 1 (1) / 6 (6), 11 (5) / 13 (8)): bully 10 (7) / 9 (6) and 10 (9) /
