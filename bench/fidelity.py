@@ -58,7 +58,17 @@ first seed's tables show only that seed. Measured on seeds 0-5 (misses, of them 
 engine's alone): lover 16 (6), bully 4 (2), playful friend 1 (1), stalker 11 (5), afraid 22
 (4, most of them where its own designer misses too: the open paths never chase it).
 
-    .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2]
+``--perturb K`` measures that cloud itself (:func:`cloud`): the open paths of every seed
+generated again K times with the drift correction's share scaled by 1 + d (d = +0.001,
+-0.001, +0.002, -0.002, ...), and reports, per behaviour and in total, the misses and the
+engine's alone of the unperturbed run and of each perturbed one (``cloud.*``, first the
+unperturbed). A change is read against the spread of those lists on seeds 0-5 and on the
+held-out seeds. Measured on seeds 0-5 / 8-13 with K = 4 (mean [least-most] of the five runs;
+lover generated alone, tools outside the bench): the lover misses 16.8 [16-18] / 14.4
+[13-15], the engine's alone 6.0 [5-7] / 5.0 [3-6]; the playful friend 2.2 [1-4] / 5.0 [4-6]
+(all of them contact, both ways: 0.000-0.071 against 0.041, its designer 0.022-0.056).
+
+    .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2] [--perturb K]
 """
 
 from __future__ import annotations
@@ -67,6 +77,8 @@ import argparse
 import sys
 import time
 from pathlib import Path
+
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -133,27 +145,63 @@ def behaviour_misses(table: dict[str, dict[str, dict]],
                        for k in fidelity.failures(row))
 
 
+PERTURBATIONS = (0.001, -0.001, 0.002, -0.002, 0.003, -0.003, 0.004, -0.004)
+
+
+def cloud(runs: int, seeds: list[int], seconds: float,
+          references: dict[int, dict[str, dict[str, dict]]]) -> dict[str, list[int]]:
+    """The bench's own spread: for the first ``runs`` of PERTURBATIONS, the open paths of
+    ``seeds`` generated with the drift correction's share scaled by 1 + d, against the
+    designer ``references`` of each seed. Returns {key: [per run]}: ``thresholds_met``,
+    ``engine_only_misses`` and each behaviour's ``<name>.misses`` and
+    ``<name>.engine_only_misses`` (summed over the seeds)."""
+    out: dict[str, list[int]] = {}
+    for d in PERTURBATIONS[:runs]:
+        run: dict[str, int] = {"thresholds_met": 0, "engine_only_misses": 0}
+        for seed in seeds:
+            table = fidelity_table(seconds=seconds, seed=seed, perturb=d)
+            run["thresholds_met"] += _met(table)[3]
+            engine = engine_misses(table, references[seed])
+            run["engine_only_misses"] += _count(engine)
+            for name, paths in table.items():
+                missed = sum(len(fidelity.failures(row)) for row in paths.values())
+                alone = sum(len(v) for v in engine.get(name, {}).values())
+                run[f"{name}.misses"] = run.get(f"{name}.misses", 0) + missed
+                run[f"{name}.engine_only_misses"] = \
+                    run.get(f"{name}.engine_only_misses", 0) + alone
+        for k, v in run.items():
+            out.setdefault(k, []).append(v)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seconds", type=float, default=40.0)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--seeds", type=_seeds, default=None, metavar="S[,S...]",
                     help="several sets of unseen paths (overrides --seed)")
+    ap.add_argument("--perturb", type=int, default=0, metavar="K",
+                    help=f"also K runs (at most {len(PERTURBATIONS)}) with the drift "
+                         "correction's share scaled by 1 + 0.001, 1 - 0.001, ...: the "
+                         "spread a change is read against")
     args = ap.parse_args()
     if not args.seconds > 0:
         ap.error(f"--seconds {args.seconds}: must be > 0")
+    if not 0 <= args.perturb <= len(PERTURBATIONS):
+        ap.error(f"--perturb {args.perturb}: must be from 0 to {len(PERTURBATIONS)}")
     seeds = args.seeds or [args.seed]
     t0 = time.perf_counter()
     figures: dict[str, object] = {}
     met_all = total_all = ref_all = 0
     pursuit_all = pursuit_ref_all = engine_all = pursuit_engine_all = 0
     by_behaviour: dict[str, list[str]] = {}
+    references: dict[int, dict[str, dict[str, dict]]] = {}
     for n, seed in enumerate(seeds):
         table = fidelity_table(seconds=args.seconds, seed=seed)
         passed, total, per_threshold, met = _met(table)
         met_all += met
         total_all += total * len(per_threshold)
-        reference = designer_table(args.seconds, seed)
+        reference = references[seed] = designer_table(args.seconds, seed)
         ref_met = _met(reference)[3]
         ref_all += ref_met
         pursuit = pursuit_table(seconds=args.seconds, seed=seed)
@@ -231,6 +279,17 @@ def main() -> None:
         figures["all_seeds.pursuit.designer.thresholds_met"] = pursuit_ref_all
         figures["all_seeds.engine_only_misses"] = engine_all
         figures["all_seeds.pursuit.engine_only_misses"] = pursuit_engine_all
+    if args.perturb:
+        spread = cloud(args.perturb, seeds, args.seconds, references)
+        unperturbed = {"thresholds_met": met_all, "engine_only_misses": engine_all}
+        for name, missed in by_behaviour.items():
+            unperturbed[f"{name}.misses"] = len(missed)
+            unperturbed[f"{name}.engine_only_misses"] = sum(m.endswith("*") for m in missed)
+        print(f"the bench's own spread ({args.perturb} perturbed runs; unperturbed first):")
+        for k, v in spread.items():
+            runs = [unperturbed[k], *v]
+            figures[f"cloud.{k}"] = runs
+            print(f"  {k:34s} {' '.join(map(str, runs))}   mean {np.mean(runs):.1f}")
     figures["seconds_per_path"] = args.seconds
     figures["run_s"] = time.perf_counter() - t0
     budgets = {"facing_abs_diff": 0.1, "look_change_ratio": [0.67, 1.5],
