@@ -279,3 +279,12 @@ def test_pose_touches_spanning_too_long_a_time(tmp_path, capfd):
     code, err = cli(capfd, "pose", "--input", touches, "--out", tmp_path / "p.jsonl")
     line = one_line(err)
     assert code == 2 and "t.csv: the touches span 1e+09 s" in line and "1,000,000 steps" in line
+
+
+@pytest.mark.parametrize("command", [["run", "--config", "absent.yaml"], ["status", "127.0.0.1:9"]])
+@pytest.mark.parametrize("value, words", [("x", "is not a number (seconds)"),
+                                          ("nan", "from 0.001 to"), ("-2", "from 0.001 to")])
+def test_seconds_said_alike_by_run_and_status(capfd, command, value, words):
+    code, err = cli(capfd, *command, "--seconds", value)
+    line = one_line(err)
+    assert code == 2 and f"--seconds '{value}'" in line and words in line
