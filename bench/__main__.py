@@ -1,10 +1,13 @@
-"""Run every benchmark (``make bench``): each ``bench/NAME.py`` that is a script, one after the
+"""Run the benchmarks (``make bench``): each ``bench/NAME.py`` that is a script, one after the
 other in its own process, printing ``== bench/NAME.py`` and its last line (the JSON result).
 
 A benchmark that fails is named at the end and the run exits 1, so a broken benchmark is not
 mistaken for a finished one; the helper modules (``common.py``, ``xwindow.py``) are not run.
+The soaks (``*soak.py``: the 15-minute real-time gallery soak, the simulated hour, the
+follower's 200,000 steps) are long-run checks, not speed figures: they run only with
+``--soaks`` (``make bench SOAKS=1``) or when named.
 
-    python -m bench [bench/NAME.py ...]
+    python -m bench [--soaks] [bench/NAME.py ...]
 """
 
 from __future__ import annotations
@@ -16,10 +19,17 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 
 
-def benchmarks(folder: Path = HERE) -> list[Path]:
-    """The scripts of ``folder``: files run as ``__main__``, in name order."""
+def is_soak(path: Path) -> bool:
+    """A long-run check (``soak.py``, ``gallery_soak.py``, ``mop_soak.py``)."""
+    return path.name.endswith("soak.py")
+
+
+def benchmarks(folder: Path = HERE, soaks: bool = False) -> list[Path]:
+    """The scripts of ``folder``: files run as ``__main__``, in name order; the soaks only
+    with ``soaks``."""
     return [p for p in sorted(folder.glob("*.py"))
-            if not p.name.startswith("_") and 'if __name__ == "__main__":' in p.read_text()]
+            if not p.name.startswith("_") and 'if __name__ == "__main__":' in p.read_text()
+            and (soaks or not is_soak(p))]
 
 
 def run(paths: list[Path]) -> list[str]:
@@ -36,8 +46,10 @@ def run(paths: list[Path]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = sys.argv[1:] if argv is None else argv
-    paths = [Path(a) for a in args] if args else benchmarks()
+    args = list(sys.argv[1:] if argv is None else argv)
+    soaks = "--soaks" in args
+    args = [a for a in args if a != "--soaks"]
+    paths = [Path(a) for a in args] if args else benchmarks(soaks=soaks)
     missing = [str(p) for p in paths if not p.is_file()]
     if missing:
         print(f"bench: no such benchmark: {', '.join(missing)}", file=sys.stderr)

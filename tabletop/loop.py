@@ -245,6 +245,7 @@ class Loop:
         self.clock, self.paced = clock, paced
         self.focus = DesignerFocus(self.engines)
         self.seq = 0
+        self.ran_s = 0.0   # seconds the last run() lasted, from its start to its stop (not closing)
         self._last_characters: dict[str, tuple[CharacterState, ...]] = {}
         self._last_ready_t = -math.inf
         self._tick_start: float | None = None   # clock time the previous tick started
@@ -371,6 +372,7 @@ class Loop:
                     self.stats.skipped += missed
                     next_t += missed * self.period
         finally:
+            self.ran_s = self.clock() - start
             if restore is not None:
                 restore()
             sys.setswitchinterval(switch)

@@ -36,6 +36,12 @@ LOOK_RANGE_M = 0.6       # a character without a stated target looks at the near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 GHOST_ALPHA = 0.45       # opacity of a played-back take (the studio's ghost of the main)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
+# The overlay panel is at most half the window wide (its long lines wrap; a small window's
+# panel may take its whole width less 16 px, up to PANEL_MIN_PX): a panel as wide as the
+# window, made by one long line (the studio's naming a bad library file), hid the studio's REC
+# mark (top-left) or its status line (bottom) in every corner; half as wide, the top-right
+# corner is clear of both (1280x720, seen in an Xvfb snapshot).
+PANEL_MIN_PX = 480
 
 # Reactor body in units of its size, nose along +x (the default character's outline).
 BODY = REACTOR_BODY
@@ -314,7 +320,8 @@ class Renderer:
         W, H = target.get_size()
         key = tuple(lines)
         if key != self._overlay_key or self._overlay_img is None or W != self._overlay_w:
-            self._overlay_img = screens.panel(lines, width=W - 16)   # wraps within the window
+            width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # wraps within it
+            self._overlay_img = screens.panel(lines, width=width)
             self._overlay_key, self._overlay_w = key, W
         w, h = self._overlay_img.get_size()
         corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]

@@ -57,6 +57,15 @@ class Context:
         self.refs.append(FileRef(key, value, Path(resolved), embed))
 
 
+SHOWN_CHARS = 60   # a value quoted in a message: a whole file read as one string stays out
+
+
+def shown(value: Any, limit: int = SHOWN_CHARS) -> str:
+    """``repr(value)`` for a one-line message, cut to about ``limit`` characters."""
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
+
+
 def _type_name(value: Any) -> str:
     if value is None:
         return "nothing (null)"
@@ -108,16 +117,17 @@ class Number(Spec):
                 hint = (" (YAML reads a number with an exponent as text unless it has a point "
                         f"and a signed exponent: write {m}e{e})")
             raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} "
-                                  f"{value!r}{hint}")
+                                  f"{shown(value)}{hint}")
         if not self.integer:
             try:
                 value = float(value)
             except OverflowError:
-                raise ctx.error(path, f"expected {self.describe()}, got {value!r} (too large)") from None
+                raise ctx.error(path, f"expected {self.describe()}, got {shown(value)} "
+                                      "(too large)") from None
         if isinstance(value, float) and not math.isfinite(value):  # NaN, inf
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}")
         if (self.lo is not None and value < self.lo) or (self.hi is not None and value > self.hi):
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r} (out of range)")
+            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)} (out of range)")
         return value
 
 
@@ -130,7 +140,7 @@ class Bool(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, bool):
-            raise ctx.error(path, f"expected true or false, got {_type_name(value)} {value!r}")
+            raise ctx.error(path, f"expected true or false, got {_type_name(value)} {shown(value)}")
         return value
 
 
@@ -146,9 +156,10 @@ class Str(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, str):
-            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, "
+                            f"got {_type_name(value)} {shown(value)}")
         if self.choices and value not in self.choices:
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}")
         return value
 
 
@@ -170,17 +181,18 @@ class FilePath(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, str) or not value:
-            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, "
+                            f"got {_type_name(value)} {shown(value)}")
         p = Path(value).expanduser()
         if not p.is_absolute():
             p = ctx.base / p
         if self.must_exist:
             if not p.exists():
-                raise ctx.error(path, f"{value!r} does not exist (looked for {p})")
+                raise ctx.error(path, f"{shown(value)} does not exist (looked for {p})")
             if self.kind == "file" and not p.is_file():
-                raise ctx.error(path, f"{value!r} is not a file")
+                raise ctx.error(path, f"{shown(value)} is not a file")
             if self.kind == "dir" and not p.is_dir():
-                raise ctx.error(path, f"{value!r} is not a folder")
+                raise ctx.error(path, f"{shown(value)} is not a folder")
         ctx.refer(path, value, p, self.embed)
         return p
 
@@ -215,7 +227,8 @@ class ListOf(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, list):
-            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, "
+                            f"got {_type_name(value)} {shown(value)}")
         if len(value) < self.min_len or (self.max_len is not None and len(value) > self.max_len):
             got = f"{len(value)} item{'' if len(value) == 1 else 's'}"
             raise ctx.error(path, f"expected {self.describe()}, got {got}")
@@ -235,7 +248,8 @@ class MapOf(Spec):
         if value is None:
             value = {}
         if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, "
+                            f"got {_type_name(value)} {shown(value)}")
         return {str(k): self.value.validate(v, _join(path, str(k)), ctx) for k, v in value.items()}
 
 
@@ -256,7 +270,8 @@ class Record(Spec):
         if value is None:
             value = {}
         if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, "
+                            f"got {_type_name(value)} {shown(value)}")
         out: dict[str, Any] = {}
         for key in value:
             if key not in self.fields:

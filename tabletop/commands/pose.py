@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from tabletop.commands import output_file, positive_number
+from tabletop.commands import number_in_range, output_file
 from tabletop.frames import InputError
 
 HELP = ("drive a touch-posed humanoid (posing, actions, tracking) from recorded touches, or "
@@ -23,6 +23,10 @@ HELP = ("drive a touch-posed humanoid (posing, actions, tracking) from recorded 
 
 TOUCH_COLUMNS = ("t", "id", "x", "y")
 RUN_ON_S = 2.0
+MAX_RATE_HZ = 1000.0     # output steps per second (the paper's control runs at about 30)
+MAX_STEPS = 1_000_000    # output steps (9 h of touches at 30 Hz; a line is about 1 kB)
+TABLE_M = (0.05, 20.0)   # metres: a table side, as config.yaml's table section and behave
+HEIGHT_M = (0.01, 20.0)  # metres: the character's drawn height
 
 
 class PoseArgumentError(InputError):
@@ -108,16 +112,24 @@ def run(frames: list[tuple[float, dict[int, tuple[float, float]]]], engine, rate
 
 def main(args: argparse.Namespace) -> int:
     az, el = parse_view(args.view)
-    rate = positive_number(args.rate, "--rate", "Hz", PoseArgumentError)
+    rate = number_in_range(args.rate, "--rate", "Hz", 1.0, MAX_RATE_HZ, PoseArgumentError)
     w, h = parse_pair(args.table, "--table", "W,H in metres, e.g. 1.2,0.8")
-    if w <= 0 or h <= 0:
-        raise PoseArgumentError(f"--table {args.table!r}: width and height must be positive")
-    height = positive_number(args.height, "--height", "metres", PoseArgumentError)
+    lo, hi = TABLE_M
+    if not (lo <= w <= hi and lo <= h <= hi):
+        raise PoseArgumentError(f"--table {args.table!r}: width and height must be metres from "
+                                f"{lo:g} to {hi:g}")
+    height = number_in_range(args.height, "--height", "metres", *HEIGHT_M, PoseArgumentError)
     if not args.describe and (not args.input or not args.out):
         raise PoseArgumentError("give --input TOUCHES.csv and --out POSES.jsonl (or --describe)")
     if args.out:
         output_file(args.out, "--out", PoseArgumentError, inputs=(args.input,))
     frames = None if args.describe else read_touches(args.input)
+    if frames is not None:
+        span = frames[-1][0] - frames[0][0] + RUN_ON_S
+        if span * rate > MAX_STEPS:
+            raise PoseArgumentError(f"{args.input}: the touches span {span - RUN_ON_S:g} s, "
+                                    f"{span * rate:.3g} steps at {rate:g} Hz; at most "
+                                    f"{MAX_STEPS:,} steps are made")
     from behaviors.touch_pose.engine import TouchPose
     from tabletop.files import atomic_write_text
     engine = TouchPose((w, h), height, az, el, physics=not args.describe)

@@ -65,8 +65,8 @@ def main(args: argparse.Namespace) -> int:
     summary = st.summary_ms()
     import logging
     logging.getLogger("tabletop").info(
-        "ran %d ticks at %.1f fps; capture-to-render %.1f ms median, %.1f ms p99", runner.ticks,
-        st.fps(), *(summary.get("capture_age", (float("nan"),) * 2)))
+        "ran %d ticks in %.2f s at %.1f fps; capture-to-render %.1f ms median, %.1f ms p99",
+        runner.ticks, runner.run_s, st.fps(), *(summary.get("capture_age", (float("nan"),) * 2)))
     recorder = inst.recorder
     if recorder is not None and recorder.failed:
         logging.getLogger("tabletop").error("the recording failed: %s", recorder.failed)

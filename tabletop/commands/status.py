@@ -15,7 +15,7 @@ HELP = "listen for the tables' heartbeats on HOST:PORT and print one line per he
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("address", metavar="HOST:PORT",
                    help="where to listen, e.g. 0.0.0.0:9000 (the tables' kiosk.heartbeat)")
-    p.add_argument("--seconds", type=float, default=None, metavar="S",
+    p.add_argument("--seconds", default=None, metavar="S",
                    help="stop after S seconds (default: until Ctrl-C)")
     p.add_argument("--json", action="store_true", help="print each table's status JSON instead")
 
@@ -86,8 +86,8 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.kiosk.health import HEARTBEAT_ADDRESS
 
     host, port = parse_address(args.address)
-    if args.seconds is not None:
-        number_in_range(args.seconds, "--seconds", "seconds", 0.001, MAX_SECONDS)
+    seconds = None if args.seconds is None else number_in_range(
+        args.seconds, "--seconds", "seconds", 0.001, MAX_SECONDS)
 
     def on_heartbeat(client, address, *values) -> None:
         wrong = check_heartbeat(values)
@@ -110,8 +110,8 @@ def main(args: argparse.Namespace) -> int:
         server = BlockingOSCUDPServer((host, port), d)
     except OSError as exc:
         raise InputError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from None
-    if args.seconds is not None:
-        threading.Timer(args.seconds, server.shutdown).start()
+    if seconds is not None:
+        threading.Timer(seconds, server.shutdown).start()
     try:
         server.serve_forever(poll_interval=0.1)
     except KeyboardInterrupt:

@@ -63,6 +63,7 @@ class Runner:
         self.watcher = None
         self.inst = None
         self.ticks = 0
+        self.run_s = 0.0   # seconds the frame loops ran (builds and closing not counted)
         if self.kiosk:
             kiosk_log(cfg, kiosk_paths(cfg, self.base)["log_file"])
             import faulthandler
@@ -169,6 +170,7 @@ class Runner:
             relay.start()
             t0 = time.monotonic()
             self.ticks += self.inst.loop.run(seconds=left)
+            self.run_s += self.inst.loop.ran_s
             if left is not None:
                 left -= time.monotonic() - t0
             if self.pending is None or self.stop.is_set() or (left is not None and left <= 0):

@@ -22,6 +22,28 @@ def test_every_benchmark_script_is_run_and_no_helper_module(tmp_path):
     assert [p.name for p in benchmarks(tmp_path)] == ["real.py"]
 
 
+def test_the_soaks_run_only_when_asked_for(tmp_path):
+    """``make bench`` is the speed figures; the soaks (the 15-minute gallery soak among them)
+    run with ``SOAKS=1`` or when named."""
+    names = [p.name for p in benchmarks()]
+    assert not [n for n in names if "soak" in n]
+    with_soaks = {p.name for p in benchmarks(soaks=True)}
+    assert {"gallery_soak.py", "soak.py", "mop_soak.py"} <= with_soaks
+    assert with_soaks - {"gallery_soak.py", "soak.py", "mop_soak.py"} == set(names)
+    (tmp_path / "long_soak.py").write_text('if __name__ == "__main__":\n    print("{}")\n')
+    assert benchmarks(tmp_path) == [] and len(benchmarks(tmp_path, soaks=True)) == 1
+    if shutil.which("make") is None:
+        pytest.skip("make is not installed")
+    stamp = tmp_path / "installed"   # newer than pyproject.toml: nothing to install
+    stamp.touch()
+    for soaks, words in (([], ["-m", "bench"]), (["SOAKS=1"], ["-m", "bench", "--soaks"])):
+        dry = subprocess.run(["make", "-n", "-s", "-C", str(ROOT), "bench", f"STAMP={stamp}",
+                              f"PY={sys.executable}", *soaks], capture_output=True, text=True,
+                             timeout=60)
+        assert dry.returncode == 0, dry.stderr
+        assert [ln.split()[1:] for ln in dry.stdout.splitlines()] == [words]
+
+
 def test_make_bench_prints_each_last_line_and_fails_when_one_fails(tmp_path):
     if shutil.which("make") is None:
         pytest.skip("make is not installed")

@@ -243,3 +243,48 @@ def test_a_usage_error_is_one_line(capfd):
         tabletop(["behave", "--rate"])
     err = capfd.readouterr().err
     assert info.value.code == 2 and "--rate" in one_line(err)
+
+
+def test_a_file_that_is_no_config_is_named_in_one_short_line(tmp_path, capfd):
+    """A CSV given as the config is one YAML string: the line says what it got, not all of it."""
+    rows = "t,main_x,main_y\n" + "".join(f"{i / 40},{0.3 + 0.001 * i},0.4\n" for i in range(400))
+    code, err = run_config(tmp_path, rows, capfd)
+    line = one_line(err)
+    assert code == 2 and "kiosk.yaml: <top>: expected a mapping" in line
+    assert "got a string 't,main_x" in line and len(line) < 400
+
+
+@pytest.mark.parametrize("option, value, words", [
+    ("--rate", "1e9", ["--rate '1e9'", "from 1 to 1000"]),
+    ("--rate", "0", ["--rate '0'"]),
+    ("--table", "1e300,1", ["--table '1e300,1'", "from 0.05 to 20"]),
+    ("--height", "1e300", ["--height '1e300'", "from 0.01 to 20"]),
+])
+def test_pose_numbers_in_range(tmp_path, capfd, option, value, words):
+    """Numbers that made ``pose`` run for hours (2 s of touches at 1e9 Hz) or write overflowed
+    poses are refused at once."""
+    touches = tmp_path / "t.csv"
+    touches.write_text("t,id,x,y\n0,1,0.6,0.5\n0.1,1,0.6,0.52\n")
+    out = tmp_path / "p.jsonl"
+    code, err = cli(capfd, "pose", "--input", touches, "--out", out, option, value)
+    line = one_line(err)
+    assert code == 2 and not out.exists()
+    for w in words:
+        assert w in line
+
+
+def test_pose_touches_spanning_too_long_a_time(tmp_path, capfd):
+    touches = tmp_path / "t.csv"
+    touches.write_text("t,id,x,y\n0,1,0.6,0.5\n1e9,1,0.6,0.52\n")
+    code, err = cli(capfd, "pose", "--input", touches, "--out", tmp_path / "p.jsonl")
+    line = one_line(err)
+    assert code == 2 and "t.csv: the touches span 1e+09 s" in line and "1,000,000 steps" in line
+
+
+@pytest.mark.parametrize("command", [["run", "--config", "absent.yaml"], ["status", "127.0.0.1:9"]])
+@pytest.mark.parametrize("value, words", [("x", "is not a number (seconds)"),
+                                          ("nan", "from 0.001 to"), ("-2", "from 0.001 to")])
+def test_seconds_said_alike_by_run_and_status(capfd, command, value, words):
+    code, err = cli(capfd, *command, "--seconds", value)
+    line = one_line(err)
+    assert code == 2 and f"--seconds '{value}'" in line and words in line

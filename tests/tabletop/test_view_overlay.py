@@ -217,3 +217,28 @@ def test_overlay_names_the_latency_capture_to_render_as_the_readme_and_run_log_d
     assert not any("capture_age" in line for line in lines)
     engines = next(line for line in lines if "engines" in line)
     assert engines.index("ms median") == latency[0].index("ms median")   # columns kept
+
+
+def test_a_long_overlay_line_leaves_a_corner_clear_of_the_studios_words():
+    """Seen in an Xvfb snapshot: one long overlay line (the studio's, naming a bad library file)
+    made the panel as wide as the window, and every corner then hid the REC mark (top-left) or
+    the wrapped status line (bottom)."""
+    from tabletop.renderer import Renderer
+    size = (1280, 720)
+    r = Renderer(TABLE, size, margin=24)
+    s = pygame.Surface(size)
+    label = ("[lover] behaviour (none): R record, [ ] switch, F2 rename, Del delete, U undo | 1 "
+             "bad library file(s): /home/gallery/studio/library/bully-3/behavior.yaml: corrupt "
+             "YAML at line 3 (mapping values are not allowed here)")
+    studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action="recording",
+                            progress=4.6, label=label, color=(255, 60, 60))
+    lines = ["tick 1", "60.0 fps   skipped 0   errors 0"] + [
+        f"  stage{i}   1.00 ms median   2.00 ms p99" for i in range(9)] + ["studio: " + label]
+    for k in range(3):
+        r.draw(s, Frame(seq=k, t=k * 0.3, characters=(studio,)), lines)
+    (W, H), (w, h) = size, r._overlay_img.get_size()
+    panel = pygame.Rect([(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
+                        [r._corner], (w, h))
+    assert len(r._studio_marks) >= 3                      # the REC mark, two status lines
+    assert panel.collidelist(r._studio_marks) == -1, (panel, r._studio_marks)
+    assert w <= W // 2                                     # was 1245 px wide
