@@ -45,7 +45,7 @@ from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, dri
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
 from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind, stalls,
-                                    unbegun, unjudged)
+                                    still_unbegun, unbegun, unjudged)
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
@@ -218,6 +218,7 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
         self._acquired = -1
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)
         self._abandoned, self._came = False, np.zeros(self.dim)
+        self._abandon_rested = False
         self._drive_k, self._drive_from, self._drive_peak = -1, 0.0, 0.0
         self._drive_moved = False
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
@@ -390,9 +391,10 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
             self._crawl = self._crawl + 1 if slow and bi == self._crawl_k else int(slow)
             self._crawl_k = bi
             # ... nor while the input goes back the way it came to an abandonment's anchor
-            # (validity.unbegun), until the performer rests
+            # (validity.unbegun), until the performer moves on after a rest
             back = unbegun(self._abandoned, x - self._anchor, self._came)
-            self._abandoned = self._abandoned and not rests
+            self._abandoned, self._abandon_rested = still_unbegun(self._abandoned,
+                                                                  self._abandon_rested, rests)
             ok = ok and not crawls(self._crawl) and (self._acquired == bi or (
                 leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow
                 and not back))

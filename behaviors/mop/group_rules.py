@@ -127,6 +127,7 @@ class GroupRules:
         self._drive_k[rows] = -1
         self._drive_moved[rows] = False
         self._abandoned[rows] = False
+        self._abandon_rested[rows] = False
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._thr_ev[rows] = 0.0
