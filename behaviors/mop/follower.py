@@ -81,7 +81,7 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
-                 shape_distance: float = 1.4, shape_accept: float = 1.2,
+                 shape_distance: float = 1.2, shape_accept: float = 1.0,
                  shape_memory: float = 16.0, dwell: float | None = None,
                  threshold: float = 0.0, turn_limit: float = math.inf,
                  share_radius: float = 0.0) -> None:
