@@ -131,6 +131,12 @@ unrelated motion, no rest between, was recognised 0.55 -> 0.20 of the time (six 
 draws; twenty templates 0.39 -> 0.27 of 44), after a 1 s rest 0.75 -> 0.50 (a template left
 engaged keeps the anchor); the same until a rest, 0.0628 / 0.0718, 0.55 -> 0.50 and 0.75 ->
 0.70. Back the way it came until a rest (kept): 0.55, 0.39, 0.75 unchanged.
+The ban lasts through that rest and lifts once the performer moves on from it
+(:func:`still_unbegun`): lifted at the rest itself, the line, followed back along its outward
+stroke to its far end, was taken as the performer stopped there. ``--sections=sized,holds,
+sequences,unrelated`` (tuned / held-out): unrelated mean 0.0688 -> 0.0650 / 0.0771 -> 0.0754
+(a mirrored line, six templates, 0.122 -> 0), worst unchanged; valid after 30%, holds and
+back to back unchanged to the digit.
 """
 
 from __future__ import annotations
