@@ -39,7 +39,7 @@ from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_pro
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.parameters import check_ranges
-from behaviors.mop.refusal import SHAPE_LIMITS, Refusal
+from behaviors.mop.refusal import Refusal, shape_limits
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
@@ -89,9 +89,7 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
         # the limits as given (a group's followers share them; resolved per invariance, each
         # member's own in the group)
         given_shape = (shape_distance, shape_accept)
-        limits = SHAPE_LIMITS["none" if invariance == "none" else "scale"]
-        shape_distance = limits[0] if shape_distance is None else shape_distance
-        shape_accept = min(limits[1], shape_distance) if shape_accept is None else shape_accept
+        shape_distance, shape_accept = shape_limits(invariance, *given_shape)
         check_ranges(sigma=sigma, window=window, memory=memory, null_distance=null_distance,
                      null_memory=null_memory, onset=onset, accept_distance=accept_distance,
                      max_spread=max_spread, relative_floor=relative_floor, floor=floor,

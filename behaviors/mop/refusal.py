@@ -139,6 +139,15 @@ from behaviors.mop.validity import PATH_REACH, unjudged
 SHAPE_LIMITS = {"scale": (1.2, 1.0), "none": (1.4, 1.2)}
 
 
+def shape_limits(invariance: str, distance: float | None,
+                 accept: float | None) -> tuple[float, float]:
+    """The path misfit limits (sigma) a follower with ``invariance`` uses: those given, or
+    :data:`SHAPE_LIMITS`' (the accept limit at most the refusal's)."""
+    default = SHAPE_LIMITS["none" if invariance == "none" else "scale"]
+    distance = default[0] if distance is None else distance
+    return distance, min(default[1], distance) if accept is None else accept
+
+
 def path_lengths(bank) -> np.ndarray:
     """Per state of ``bank``, the length of its template's path from the first state to it
     (segments between states, RMS per column in the template's own spread)."""
