@@ -44,7 +44,7 @@ from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
-from behaviors.mop.validity import (Validity, backs_first, crawls, resting, rests_behind, stalls,
+from behaviors.mop.validity import (Validity, backs_first, crawl_run, crawls, resting, rests_behind, stalls,
                                     still_unbegun, unbegun, unjudged)
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
@@ -392,8 +392,9 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
             turned = self._turned(x, bi, float(g[bi]))
             # ... and once it is not taken at a crawl (validity.slow_take); nor does any action
             # drive once it crawled so for CRAWL_SAMPLES samples in a row (validity.crawls)
-            slow = self._slow_take(bi, g, x)
-            self._crawl = self._crawl + 1 if slow and bi == self._crawl_k else int(slow)
+            slow, hovers = self._slow_take(bi, g, x)
+            self._crawl = crawl_run(self._crawl, bi == self._crawl_k, slow,
+                                    hovers and self._drive_k != bi)
             self._crawl_k = bi
             # ... nor while the input goes back the way it came to an abandonment's anchor
             # (validity.unbegun), until the performer moves on after a rest
