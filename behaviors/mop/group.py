@@ -15,7 +15,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
-from behaviors.mop.validity import PATH_REACH
+from behaviors.mop.validity import PATH_REACH, RESTED_LIFTS
 
 
 class FollowerGroup(GroupRules):
@@ -122,6 +122,7 @@ class FollowerGroup(GroupRules):
         self._drive_moved = np.zeros(m, dtype=bool)
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)
         self._abandoned, self._came = np.zeros(m, dtype=bool), np.zeros((m, dmax))
+        self._abandon_rested = np.zeros(m, dtype=bool)   # ... and rested since (still_unbegun)
         self._everyone = np.ones(m, dtype=bool)   # every member has a sample (never written)
         self._acquired = np.full(m, -1, dtype=np.intp)
         self._drive_k = np.full(m, -1, dtype=np.intp)
@@ -156,7 +157,7 @@ class FollowerGroup(GroupRules):
                    "_end_x", "_end_last", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
                    "_thr_x", "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak",
                    "_drive_moved", "_turn_in", "_turn_h", "_turn_ref", "_turn_has_ref",
-                   "_turn_has_h", "_abandoned", "_came")
+                   "_turn_has_h", "_abandoned", "_came", "_abandon_rested")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -431,7 +432,11 @@ class FollowerGroup(GroupRules):
                 b, pb, var_b, ByName(ix, p), ByName(ix, sh), val, ll, dist, restarted,
                 ByName(ix, mean_ll), lk, ByName(ix, sizes), hold)
             out.append(state)
-        self._abandoned &= ~(self._m_rest & present)   # until the performer rests
+        # until the performer moves on after a rest (validity.still_unbegun)
+        rest, lifts = self._m_rest & present, RESTED_LIFTS
+        self._abandoned &= ~(present & ~self._m_rest & self._abandon_rested)
+        self._abandoned &= ~(rest & (not lifts))
+        self._abandon_rested[present] = (self._abandoned & rest)[present]
         if any(restart.tolist()):
             self._restart(restart, gb)
         return out

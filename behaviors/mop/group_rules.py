@@ -62,7 +62,7 @@ class GroupRules:
         members.tempo(self.forward.mean, self._lengths, present, self._tempo_on, self._tempo_at,
                       self._tempo_n, self._bounds, self._counts, self._best, self._x,
                       self._tempo_x, self._tempo_g, self._scale, self._size, self._m_dim,
-                      f0.onset * f0.sigma, self._m_leads, self._crawl)
+                      f0.onset * f0.sigma, self._m_leads, self._crawl, self._drive_k)
 
     def _unbegun(self, present: np.ndarray) -> None:
         """:func:`behaviors.mop.validity.unbegun` for every present member whose attempt was
@@ -124,6 +124,7 @@ class GroupRules:
         self._drive_k[rows] = -1
         self._drive_moved[rows] = False
         self._abandoned[rows] = False
+        self._abandon_rested[rows] = False
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._thr_ev[rows] = 0.0

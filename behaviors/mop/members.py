@@ -21,8 +21,8 @@ import numpy as np
 from behaviors.mop import spotting, validity
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
                                    RETURN_RADIUS, SHARE_BACK)
-from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
-                                    LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
+from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_HOVERS, CRAWL_SAMPLES,
+                                    FORWARD_FIRST, LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
 from behaviors.kernel_cache import compiled
 
 _CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
@@ -327,18 +327,20 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,
-                     numba.float64, _B1, _I2), *_CALLS_INTO)
+                     numba.float64, _B1, _I2, _I1), *_CALLS_INTO)
 def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
           at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
           best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
           scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
-          leads: np.ndarray, crawl: np.ndarray) -> None:
+          leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray) -> None:
     """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
     :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
     (:func:`validity.slow_take`: followed state, ``mean`` clipped to the template, against the
     oldest kept in ``past_g``; the input against ``past_x[at]`` in the template's spread
     ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``), and
-    ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`validity.crawls`);
+    ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`validity.crawls`;
+    kept while the input hovers as :func:`validity.crawl_run` says, ``drive_k``: the action
+    that last drove);
     then this sample and the followed states are kept in the ring's slot ``at``, which moves
     on."""
     w = TEMPO_SAMPLES
@@ -347,6 +349,7 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
             continue
         a = at[i]
         slow = False
+        hovers = False
         if seen[i] >= w and LEAST_TEMPO > 0:
             gb = bounds[i] + best[i]
             tot = 0.0
@@ -358,7 +361,12 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
             if moved >= onset and abs(advance) < LEAST_TEMPO * w:
                 leads[i] = False
                 slow = True
-        crawl[i, 0] = crawl[i, 0] + 1 if slow and crawl[i, 1] == best[i] else int(slow)
+            hovers = moved < onset and abs(advance) < LEAST_TEMPO * w and drive_k[i] != best[i]
+        same = crawl[i, 1] == best[i]
+        if slow:
+            crawl[i, 0] = crawl[i, 0] + 1 if same else 1
+        elif not (same and hovers and CRAWL_HOVERS and 0 < CRAWL_SAMPLES <= crawl[i, 0]):
+            crawl[i, 0] = 0   # validity.crawl_run
         crawl[i, 1] = best[i]
         for c in range(x.shape[1]):
             past_x[a, i, c] = x[i, c]

@@ -287,17 +287,17 @@ def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkey
 def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypatch):
     # validity.unjudged (and invariance.ALONG), compiled in group_kernel.update_templates:
     # unrelated puck motions paused 0.6 s part way and resting to the longest one's end (a
-    # triangle, mirrored figure eight, square and wave). Measured 93 valid states, 141 with the
-    # refusal and misfit judged at rest too (the mirrored figure eight accepted again as it
-    # rests: 53 vs 0; the whole draw, every motion at 0.7, 1.0, 1.4x: 362 vs 371)
+    # triangle, spiral, mirrored zigzag and wave). Measured 71 valid states, 82 with the refusal
+    # and misfit judged at rest too (the whole draw, every motion at 0.7, 1.0, 1.4x: 289 vs 293;
+    # before validity.crawl_run kept a crawl through hovering, 362 vs 371, and the mirrored
+    # figure eight accepted again as it rests, 53 vs 0, which crawl_run now stops either way)
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates, performance, unrelated_motions
     from behaviors.mop import validity
     gestures = gesture_templates()
     rng = np.random.default_rng(0)
-    keep = {("triangle", 0.7), ("triangle", 1.0), ("triangle", 1.4),
-            ("mirrored_figure_eight", 0.7), ("mirrored_square", 0.7), ("mirrored_square", 1.4),
-            ("mirrored_wave", 1.4)}
+    keep = {("triangle", 0.7), ("triangle", 1.0), ("spiral", 0.7), ("spiral", 1.4),
+            ("mirrored_zigzag", 1.4), ("mirrored_wave", 1.0), ("mirrored_wave", 1.4)}
     streams = []
     for name, path in unrelated_motions(rng, gestures).items():
         for scale in (0.7, 1.0, 1.4):   # drawn in the bench's order, a few kept
@@ -312,7 +312,7 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     monkeypatch.setattr(validity, "UNJUDGED_AT_REST", False)   # the followers alone read it
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
                 for x in s)
-    assert valid <= plain - 30, (valid, plain)
+    assert valid <= plain - 8, (valid, plain)   # measured 71 vs 82
 
 
 def test_a_group_takes_nothing_back_the_way_an_abandoned_attempt_came(monkeypatch):
