@@ -83,8 +83,15 @@ once its memory holds 4 samples' weight (after :data:`~behaviors.mop.invariance.
 holds one, and the circle was accepted again at once on the diagonal): 0.233 / 0.0805, 0.9058 /
 0.8879, since a refused best hands the performer to the next template (mirrored gestures with
 twenty loaded 0.12 -> 0.22). Features as recorded (``invariance="none"``, the ``follow``
-command's default) keep 1.4 / 1.2: there a gesture at another size is off its path by its size,
-and 1.2 / 1.0 cost valid after 30% at 0.7-1.4x 0.644 -> 0.606 (unrelated mean 0.144 -> 0.120).
+command's default): there a gesture at another size is off its path by its size, and 1.2 / 1.0
+cost valid after 30% at 0.7-1.4x 0.644 -> 0.606 (unrelated mean 0.144 -> 0.120). With shared
+starts on (``share_radius`` 3, :mod:`behaviors.mop.spotting`) 1.2 / 1.0 took valid after 30% of
+gestures at 0.7-1.4x below its 0.90 target (tuned / held-out 0.8941 / 0.8989; 1.3 / 1.0 0.8959 /
+0.9000; 1.3 / 1.1 0.8979 / 0.9008; 1.4 / 1.0 0.8995 / 0.9007; 1.4 / 1.2 0.9005 / 0.9014,
+unrelated worst / mean 0.2577 / 0.0588, held-out 0.4141 / 0.0657, against 0.2284 / 0.0485 and
+0.4141 / 0.0610 at 1.2 / 1.0): the defaults stay 1.4 / 1.2 for every invariance until a
+gesture's size is judged with more margin; pass the tighter limits where refusing chords of a
+circle matters more than gestures drawn at other sizes.
 
 Tried beside the likelihood before, measured with ``bench/follow_quality.py`` and left out,
 since the unrelated motions still find stretches of some template that match them in every
@@ -132,27 +139,6 @@ import numpy as np
 
 from behaviors.mop import threshold
 from behaviors.mop.validity import PATH_REACH, unjudged
-
-
-#: Default path misfit limits (``shape_distance``, ``shape_accept``, sigma) with size invariance
-#: ("scale", "offset") and for features as recorded ("none"), see the module docstring. With
-#: shared starts on (``share_radius`` 3, :mod:`behaviors.mop.spotting`) the tighter 1.2 / 1.0
-#: took valid after 30% of gestures at 0.7-1.4x below its 0.90 target (tuned / held-out 0.8941
-#: / 0.8989; 1.3 / 1.0 0.8959 / 0.9000; 1.3 / 1.1 0.8979 / 0.9008; 1.4 / 1.0 0.8995 / 0.9007;
-#: 1.4 / 1.2 0.9005 / 0.9014, unrelated worst / mean 0.2577 / 0.0588, held-out 0.4141 /
-#: 0.0657, against 0.2284 / 0.0485 and 0.4141 / 0.0610 at 1.2 / 1.0): 1.4 / 1.2 for both until
-#: a gesture's size is judged with less margin; pass the tighter limits where refusing chords
-#: of a circle matters more than gestures drawn at other sizes.
-SHAPE_LIMITS = {"scale": (1.4, 1.2), "none": (1.4, 1.2)}
-
-
-def shape_limits(invariance: str, distance: float | None,
-                 accept: float | None) -> tuple[float, float]:
-    """The path misfit limits (sigma) a follower with ``invariance`` uses: those given, or
-    :data:`SHAPE_LIMITS`' (the accept limit at most the refusal's)."""
-    default = SHAPE_LIMITS["none" if invariance == "none" else "scale"]
-    distance = default[0] if distance is None else distance
-    return distance, min(default[1], distance) if accept is None else accept
 
 
 def path_lengths(bank) -> np.ndarray:
