@@ -15,7 +15,7 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
-from behaviors.mop.validity import PATH_REACH, RESTED_LIFTS
+from behaviors.mop.validity import PATH_REACH, still_unbegun
 
 
 class FollowerGroup(GroupRules):
@@ -432,11 +432,9 @@ class FollowerGroup(GroupRules):
                 b, pb, var_b, ByName(ix, p), ByName(ix, sh), val, ll, dist, restarted,
                 ByName(ix, mean_ll), lk, ByName(ix, sizes), hold)
             out.append(state)
-        # until the performer moves on after a rest (validity.still_unbegun)
-        rest, lifts = self._m_rest & present, RESTED_LIFTS
-        self._abandoned &= ~(present & ~self._m_rest & self._abandon_rested)
-        self._abandoned &= ~(rest & (not lifts))
-        self._abandon_rested[present] = (self._abandoned & rest)[present]
+        # until the performer moves on after a rest
+        self._abandoned[present], self._abandon_rested[present] = still_unbegun(
+            self._abandoned[present], self._abandon_rested[present], self._m_rest[present])
         if any(restart.tolist()):
             self._restart(restart, gb)
         return out

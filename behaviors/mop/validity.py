@@ -228,17 +228,17 @@ def unbegun(abandoned: bool, way: np.ndarray, came: np.ndarray) -> bool:
     return abandoned and dot < -REVERSED * math.sqrt(float(way @ way) * float(came @ came))
 
 
-def still_unbegun(abandoned: bool, rested: bool, rests: bool) -> tuple[bool, bool]:
+def still_unbegun(abandoned, rested, rests):
     """The attempt's :func:`unbegun` state after a sample: (still ``abandoned``, ``rested``
-    since). The ban lasts through the rest that ends the unexplained motion and lifts once the
-    performer moves on from it (the next gesture's onset): lifted at the rest itself, a
-    mirrored line abandoned at its turn took the line, followed back along its outward stroke to
-    its far end, as the performer stopped (see the module docstring)."""
-    if not abandoned:
-        return False, False
-    if rests:
-        return RESTED_LIFTS, RESTED_LIFTS
-    return not rested, False
+    since); bools, or bool arrays of members elementwise (``FollowerGroup``). The ban lasts
+    through the rest that ends the unexplained motion and lifts once the performer moves on
+    from it (the next gesture's onset): lifted at the rest itself, a mirrored line abandoned at
+    its turn took the line, followed back along its outward stroke to its far end, as the
+    performer stopped (see the module docstring)."""
+    # (x ^ True: not x, for bools and bool arrays alike)
+    lifted = (rests & (not RESTED_LIFTS)) | (rested & (rests ^ True))
+    still = abandoned & (lifted ^ True)
+    return still, still & rests
 
 
 #: Whether the ban of :func:`unbegun` lasts until the performer moves on after a rest (True) or
