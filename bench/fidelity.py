@@ -157,20 +157,27 @@ def cloud(runs: int, seeds: list[int], seconds: float,
     ``<name>.engine_only_misses`` (summed over the seeds)."""
     out: dict[str, list[int]] = {}
     for d in PERTURBATIONS[:runs]:
-        run: dict[str, int] = {"thresholds_met": 0, "engine_only_misses": 0}
+        met = engine_n = 0
+        by_behaviour: dict[str, list[str]] = {}
         for seed in seeds:
             table = fidelity_table(seconds=seconds, seed=seed, perturb=d)
-            run["thresholds_met"] += _met(table)[3]
+            met += _met(table)[3]
             engine = engine_misses(table, references[seed])
-            run["engine_only_misses"] += _count(engine)
-            for name, paths in table.items():
-                missed = sum(len(fidelity.failures(row)) for row in paths.values())
-                alone = sum(len(v) for v in engine.get(name, {}).values())
-                run[f"{name}.misses"] = run.get(f"{name}.misses", 0) + missed
-                run[f"{name}.engine_only_misses"] = \
-                    run.get(f"{name}.engine_only_misses", 0) + alone
+            engine_n += _count(engine)
+            behaviour_misses(table, engine, seed, by_behaviour)
+        run = miss_counts(met, engine_n, by_behaviour)
         for k, v in run.items():
             out.setdefault(k, []).append(v)
+    return out
+
+
+def miss_counts(met: int, engine_n: int, by_behaviour: dict[str, list[str]]) -> dict[str, int]:
+    """``thresholds_met``, ``engine_only_misses`` and each behaviour's ``<name>.misses`` and
+    ``<name>.engine_only_misses`` from its :func:`behaviour_misses` list."""
+    out = {"thresholds_met": met, "engine_only_misses": engine_n}
+    for name, missed in by_behaviour.items():
+        out[f"{name}.misses"] = len(missed)
+        out[f"{name}.engine_only_misses"] = sum(m.endswith("*") for m in missed)
     return out
 
 
@@ -281,10 +288,7 @@ def main() -> None:
         figures["all_seeds.pursuit.engine_only_misses"] = pursuit_engine_all
     if args.perturb:
         spread = cloud(args.perturb, seeds, args.seconds, references)
-        unperturbed = {"thresholds_met": met_all, "engine_only_misses": engine_all}
-        for name, missed in by_behaviour.items():
-            unperturbed[f"{name}.misses"] = len(missed)
-            unperturbed[f"{name}.engine_only_misses"] = sum(m.endswith("*") for m in missed)
+        unperturbed = miss_counts(met_all, engine_all, by_behaviour)
         print(f"the bench's own spread ({args.perturb} perturbed runs; unperturbed first):")
         for k, v in spread.items():
             runs = [unperturbed[k], *v]
