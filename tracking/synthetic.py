@@ -3,8 +3,8 @@
 The camera is a pinhole above the table, tilted about its x axis, with optional radial/tangential
 lens distortion. Pucks are white discs with an ArUco/AprilTag marker (``cv2.aruco.generateImageMarker``)
 on top, rendered by warping only their small texture patches onto a precomputed background; then a
-lighting gradient, Gaussian blur, per-puck motion blur, sensor noise and hand-shaped occluders are
-applied. Every frame comes with its ground truth (marker corners and centres in pixels, poses in
+lighting gradient, per-puck motion blur, hand-shaped occluders, the optics (Gaussian blur and lens
+distortion, :mod:`tracking.optics`) and sensor noise are applied. Every frame comes with its ground truth (marker corners and centres in pixels, poses in
 table metres, which markers are fully visible).
 
 Units: table metres, radians CCW from +x, image pixels x right / y down. Output images are 8-bit
@@ -22,6 +22,7 @@ import numpy as np
 
 from tracking.hands import Occluder, hand_polygons, scripted_hands  # noqa: F401  (re-exported)
 from tracking.markers import dictionary_by_name  # noqa: F401  (re-exported)
+from tracking.optics import Optics
 
 Pose = tuple[int, float, float, float]  # id, x m, y m, angle rad
 
@@ -95,8 +96,9 @@ class SyntheticCamera:
         self._setup_background()
         self._setup_textures()
         self._setup_noise()
-        self._setup_distortion()
-        self._setup_optics()
+        self.optics = Optics(self.K, self.dist, (self.w, self.h), s.blur_sigma,
+                             s.full_frame_optics)
+        self.optics.set_background(self.background)
 
     # ----------------------------------------------------------------- geometry
     def _setup_camera(self) -> None:
@@ -181,7 +183,7 @@ class SyntheticCamera:
         else:
             lit = self.unlit * (1.0 + np.asarray(light, np.float32) / 255.0)
             self.background = np.clip(lit, 0, 255).astype(np.uint8)
-        self._setup_optics()
+        self.optics.set_background(self.background)
 
     def _setup_textures(self) -> None:
         s = self.s
@@ -229,28 +231,6 @@ class SyntheticCamera:
         self._noise = (np.clip(noise, 0, None).astype(np.uint8),
                        np.clip(-noise, 0, None).astype(np.uint8))
 
-    def _setup_distortion(self) -> None:
-        if not self.has_distortion:
-            self._map = None
-            return
-        # For each output (distorted) pixel, where it lies in the ideal pinhole image.
-        yy, xx = np.mgrid[0:self.h, 0:self.w].astype(np.float32)
-        pts = np.stack([xx.ravel(), yy.ravel()], axis=1).reshape(-1, 1, 2)
-        ideal = cv2.undistortPoints(pts, self.K, self.dist, P=self.K).reshape(self.h, self.w, 2)
-        self._map = cv2.convertMaps(ideal[..., 0].astype(np.float32),
-                                    ideal[..., 1].astype(np.float32), cv2.CV_16SC2)
-
-    def _setup_optics(self) -> None:
-        """The background through the optics (blur, distortion), computed once."""
-        bg = self.background
-        if self.s.blur_sigma > 0:
-            bg = cv2.GaussianBlur(bg, (0, 0), self.s.blur_sigma)
-        self._bg_blurred = bg
-        if self._map is not None:
-            bg = cv2.remap(bg, self._map[0], self._map[1], cv2.INTER_LINEAR,
-                           borderMode=cv2.BORDER_REPLICATE)
-        self._bg_final = bg
-
     # ----------------------------------------------------------------- rendering
     def marker_corners_table(self, x: float, y: float, angle: float) -> np.ndarray:
         """The marker's four corners (4, 2) in table metres, in OpenCV's order (c0 -> c1 along
@@ -290,7 +270,7 @@ class SyntheticCamera:
             rect = self._draw_occluders(img, occluders)
             if rect is not None:
                 dirty.append(rect)
-        img = self._finish(img, dirty)
+        img = self.optics.apply(img, dirty)
         if self._noise is not None:
             ox, oy = self._rng.integers(0, 64, 2)
             up, down = (part[oy:oy + self.h, ox:ox + self.w] for part in self._noise)
@@ -298,63 +278,6 @@ class SyntheticCamera:
         centres = self.project(poses_arr[:, :2]) if n else np.zeros((0, 2))
         visible = self._visibility(corners, occluders) & ~self._covered_by_pucks(poses_arr)
         return SyntheticFrame(img, t, ids, corners, centres, poses_arr, visible, tuple(occluders))
-
-    def _finish(self, ideal: np.ndarray, dirty: list[tuple[int, int, int, int]]) -> np.ndarray:
-        """Optics on the drawn ideal image: blur, then lens distortion. Only the dirty rectangles
-        (x0, y0, x1, y1) differ from the background, whose optics are precomputed; the result
-        equals blurring and distorting the whole frame."""
-        if self.s.full_frame_optics:
-            dirty = [(0, 0, self.w, self.h)]
-        sigma = self.s.blur_sigma
-        r = int(math.ceil(3.0 * sigma)) + 1 if sigma > 0 else 0  # how far blur spreads a change
-        blurred = self._bg_blurred.copy() if self._map is not None else self._bg_final.copy()
-        changed = []
-        for x0, y0, x1, y1 in dirty:
-            # The blur changes pixels up to r beyond the drawing; computing them needs r more.
-            cx0, cy0 = max(x0 - r, 0), max(y0 - r, 0)
-            cx1, cy1 = min(x1 + r, self.w), min(y1 + r, self.h)
-            gx0, gy0 = max(cx0 - r, 0), max(cy0 - r, 0)
-            gx1, gy1 = min(cx1 + r, self.w), min(cy1 + r, self.h)
-            region = ideal[gy0:gy1, gx0:gx1]
-            if sigma > 0:
-                region = cv2.GaussianBlur(region, (0, 0), sigma)
-            blurred[cy0:cy1, cx0:cx1] = region[cy0 - gy0:cy1 - gy0, cx0 - gx0:cx1 - gx0]
-            changed.append((cx0, cy0, cx1, cy1))
-        dirty = changed
-        if self._map is None:
-            return blurred
-        out = self._bg_final.copy()
-        for rect in dirty:
-            d = self._distorted_rect(rect)
-            if d is None:
-                continue
-            x0, y0, x1, y1 = d
-            out[y0:y1, x0:x1] = cv2.remap(blurred, self._map[0][y0:y1, x0:x1],
-                                          self._map[1][y0:y1, x0:x1], cv2.INTER_LINEAR,
-                                          borderMode=cv2.BORDER_REPLICATE)
-        return out
-
-    def _distorted_rect(self, rect: tuple[int, int, int, int]) -> tuple[int, int, int, int] | None:
-        """Bounding box in the distorted image of an ideal-image rectangle (with 4 px to spare)."""
-        x0, y0, x1, y1 = rect
-        u = np.linspace(0.0, 1.0, 6)
-        xs, ys = x0 - 1 + u * (x1 - x0 + 1), y0 - 1 + u * (y1 - y0 + 1)
-        edge = np.concatenate([np.column_stack([xs, np.full(6, y0 - 1.0)]),
-                               np.column_stack([xs, np.full(6, y1 + 0.0)]),
-                               np.column_stack([np.full(6, x0 - 1.0), ys]),
-                               np.column_stack([np.full(6, x1 + 0.0), ys])])
-        Kinv = np.linalg.inv(self.K)
-        norm = np.column_stack([edge, np.ones(len(edge))]) @ Kinv.T
-        img, _ = cv2.projectPoints(norm, np.zeros(3), np.zeros(3), self.K, self.dist)
-        img = img.reshape(-1, 2)
-        lo = np.maximum(np.floor(img.min(axis=0)).astype(int) - 4, 0)
-        hi = np.minimum(np.ceil(img.max(axis=0)).astype(int) + 5, [self.w, self.h])
-        # Distorted pixels whose source lies outside the image replicate its border pixels.
-        lo = np.where([x0 <= 0, y0 <= 0], 0, lo)
-        hi = np.where([x1 >= self.w, y1 >= self.h], [self.w, self.h], hi)
-        if np.any(hi <= lo):
-            return None
-        return int(lo[0]), int(lo[1]), int(hi[0]), int(hi[1])
 
     def _draw_puck(self, img: np.ndarray, tex: np.ndarray, M: np.ndarray,
                    vel: tuple[float, float] | None, H: np.ndarray
