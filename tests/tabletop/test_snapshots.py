@@ -9,6 +9,7 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pygame
 import pytest
 
@@ -193,3 +194,40 @@ def test_a_folder_that_cannot_be_written_is_said_once(tmp_path, caplog):
     warnings = [r for r in caplog.records if "not saved" in r.getMessage()]
     assert snaps.taken >= 6 and len(warnings) == 1 and snaps.failing
     assert not list(tmp_path.glob("**/*.png"))
+
+
+def test_a_snapshots_health_panel_keeps_clear_of_the_characters_and_pucks(tmp_path):
+    """With the overlay hidden (a visitor's view) a snapshot still shows the health of its
+    moment: its panel is placed as the shown overlay would be, off the character and the puck
+    in the top-left corner (it was always drawn top-left, over them)."""
+    from tabletop.frames import CharacterState, Puck
+    cfg = validate_config({"sources": [{"kind": "scripted"}],
+                           "view": {"headless": True, "size": [1280, 720], "snapshot_every_s": 0.05,
+                                    "snapshot_folder": "snaps"}}, "test", tmp_path)
+    view = ProjectorView((1.2, 0.8), cfg["view"], stats=LoopStats(), headless=True)
+    saved = []   # (the view as shown, the snapshot) at each snapshot
+    save = view.snapshots.save
+
+    def keep(surface):
+        saved.append((pygame.surfarray.array3d(view.screen), pygame.surfarray.array3d(surface)))
+        return save(surface)
+
+    view.snapshots.save = keep
+    lover = CharacterState("lover", 0.1, 0.75, 0.0, size=0.15, color=(240, 110, 150))
+    puck = Puck(1, 0.25, 0.7, 0.0, state="seen")
+    try:
+        for k in range(30):
+            view.consume(Frame(seq=k, t=k * 0.05, pucks=(puck,), characters=(lover,)))
+            time.sleep(0.01)
+    finally:
+        view.close()
+    assert len(saved) >= 3 and len(list((tmp_path / "snaps").glob("snapshot-*.png"))) == len(saved)
+    bare = pygame.surfarray.array3d(view.renderer._background(pygame.Surface((1280, 720))))
+    top_left = np.zeros((1280, 720), bool)
+    top_left[:640, :360] = True
+    for shown, snapshot in saved:
+        panel = (shown != snapshot).any(axis=2)           # (x, y): where the panel was drawn
+        drawn = np.abs(shown.astype(int) - bare).sum(axis=2) > 30   # characters, pucks, glows
+        assert panel.sum() > 2000                          # there is one (text on it)
+        assert not (panel & drawn).any()
+    assert (drawn & top_left).sum() > 5000                # where the panel used to be
