@@ -48,6 +48,18 @@ def test_run_headless_two_seconds_records_consecutive_frames(tmp_path):
     assert all(len(f["pucks"]) >= 1 for f in frames[len(frames) // 2:])
 
 
+def test_a_run_that_captured_nothing_says_so_in_its_last_line(tmp_path):
+    """A camera that never opens: the run goes on ("one moment") and its last line says no
+    capture was rendered, not "nan ms"."""
+    cfg = tmp_path / "nocamera.yaml"
+    cfg.write_text("sources: [{kind: camera, name: overhead, device: 57}]\n")
+    r = tabletop("run", "--config", str(cfg), "--headless", "--seconds", "0.5")
+    assert r.returncode == 0, r.stderr
+    (ran,) = [ln for ln in r.stderr.splitlines() if "ran " in ln and " ticks in " in ln]
+    assert ran.endswith("capture-to-render none (nothing was captured)") and "nan" not in ran
+    assert "cannot open camera 57" in r.stderr and "Traceback" not in r.stderr
+
+
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
 def test_a_stop_signal_ends_cleanly_with_a_complete_recording(tmp_path, sig):
     out = tmp_path / "term.jsonl"
