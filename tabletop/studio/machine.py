@@ -394,7 +394,8 @@ class Studio:
         elif target is None:
             text = "no designer target"
         else:
-            text = {"idle": f"{target.what} {target.current() or '(none)'}: R record, "
+            name = getattr(target, "shown", target.current)()
+            text = {"idle": f"{target.what} {name or '(none)'}: R record, "
                             "[ ] switch, F2 rename, Del delete, U undo",
                     "countdown": getattr(target, "cue", "get ready"),
                     "recording": f"recording{' ' + self._part if self._part else ''}: R stop",

@@ -253,6 +253,13 @@ class PuppetMasterTarget:
             return self.playing.name
         return None
 
+    def shown(self) -> str | None:
+        """The behaviour in play as the status line names it: also one from outside the library
+        (the engine's own ``behavior``; the line said "(none)" while it played)."""
+        if self.playing is not None and self.playing.parent != self.lib:
+            return f"{self.playing.name} (not in the library)"
+        return self.current()
+
     def use(self, name: str) -> None:
         self._load(self.lib / name)
 

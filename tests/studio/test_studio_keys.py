@@ -272,3 +272,16 @@ def test_a_corrupt_library_file_there_at_start_is_reported(tmp_path, caplog):
     assert len(said) == 1 and "corrupt YAML" in said[0], said
     _, studio = bench.step(Frame(seq=0, t=0.0, commands=("designer.record",)))
     assert "1 bad library file(s)" in studio.label
+
+
+def test_the_status_line_names_a_behaviour_played_from_outside_the_library(tmp_path):
+    """The engine's own ``behavior`` (not one of the studio's library) was shown as "(none)"."""
+    (e,) = build([{"kind": "puppet_master", "name": "pet", "behavior": "behaviors/library/lover",
+                   "designer": {"enabled": True, "library": str(tmp_path / "lib")}}])
+    bench = Bench([e], tmp_path)
+    _, studio = bench.step(Frame(seq=0, t=0.0, pucks=(Puck(1, 0.5, 0.4, 0.0),)))
+    assert studio.label.startswith("[pet] behaviour lover (not in the library): R record")
+    library.save_behavior(tmp_path / "lib", "shy", designers.demonstrate("afraid", seconds=4), {})
+    bench.studio.command("designer.item_next")
+    _, studio = bench.step(Frame(seq=1, t=30.0, pucks=(Puck(1, 0.5, 0.4, 0.0),)))  # said
+    assert studio.label.startswith("[pet] behaviour shy: R record")
