@@ -269,18 +269,20 @@ class GenerationStep:
                     cap = min(cap, b.still_speed * self.dt)
             if place == PLACE_WORLD and self._charge_end < 0 and b.walks_with_main:
                 # a character that walks with its main (Behavior.walks_with_main: the lover) at
-                # a place held in the world: the cap holds the mean of its last three raw steps, what
-                # the linear smooth passes on (generation.mean_capped), not each raw step,
+                # a place held in the world: the cap holds the mean of its last three raw steps,
+                # what the linear smooth passes on (generation.mean_capped), not each raw step,
                 # whose changes of direction from match to match took a fifth of the capped
-                # speed (the lover beside its walking main, seed 3 slow: 0.073 -> 0.088 m/s,
-                # its designer 0.096). bench/fidelity.py --perturb 2, three runs per set,
-                # seeds 0-5 / 8-13 / 26-31: met 1980 -> 1973 / 1946 -> 1950 / 1940 -> 1957,
-                # the engine's alone 59 -> 57 / 79 -> 73 / 105 -> 88 (the lover's 18 -> 16 /
-                # 15 -> 9 / 28 -> 11; it outruns some fast mains, as its designer does: its
-                # misses on 0-5 50 -> 57). For the afraid character too 5892 met and the
-                # engine's alone 217, but its pursuit 386 -> 380 of 432; only where the moment
-                # went along with its main (k >= FOLLOW_SHARE) the lover's misses 143 -> 152
-                # (the three sets, three runs); only while the live main walks 135 (129 here)
+                # speed (the lover beside its walking main, seed 3 slow: 0.073 -> 0.090 m/s,
+                # its designer 0.096). bench/fidelity.py --perturb 2 (three runs per set),
+                # seeds 0-5 / 8-13 / 26-31: met 1980 -> 1987 / 1946 -> 1943 / 1940 -> 1955 of
+                # 2160, the engine's alone 59 -> 47 / 79 -> 72 / 105 -> 89 (the lover's 18 -> 6
+                # / 15 -> 8 / 28 -> 12), pursuit 127 -> 127; the other characters unchanged.
+                # Measured too (the lover's misses over those nine runs, 143 before): without
+                # the smoothed step's cap below 129 (but its steps 1.2x its demonstrated
+                # largest), that cap at this step's cap alone 138, raw steps at most 1.5x the
+                # cap 142, only where the moment went along with its main (k >= FOLLOW_SHARE)
+                # 152, only while the live main walks 135; for the afraid character as well
+                # (a personal space) its pursuit fell 386 -> 380 of 432
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):
