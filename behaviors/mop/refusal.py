@@ -102,17 +102,17 @@ gestures at 60%, 0 before); ``turn_limit`` 1.6: mean 0.0540, diagonal unchanged,
 0.8928; :data:`~behaviors.mop.validity.CRAWL_SAMPLES` 5: 0.0578 / 0.0640, 0.9003 / 0.8993;
 :data:`~behaviors.mop.invariance.REJUDGE` 1.25: 0.0573 / 0.0655, 0.9023 / 0.9072, but on
 ``tests/mop/test_refusal.py``'s own draws a mirrored line's rest 28 -> 60 valid samples and a
-wander 101 -> 153 (1.3: mean 0.0639); ``PATH_REACH`` (2, 2): 0.0577 / 0.0657, 0.8987 / 0.9000.
-The input's bulge (its farthest sample from the chord anchor -> now) against the template's near
-the followed state: a diagonal on the circle's path differs by at most 0.85 sigma within
-``PATH_REACH``, true performances at 0.7x by up to 3.5 sigma (their size not yet known). What is
-left is told apart only by more than the path within its spread: the diagonal with the circle
-alone (at 1x: 6 samples to misfit 1.4, then the size shrinking along the chord, 1.0 -> 0.83,
-judges it afresh and it drives 12 more at misfit 0.8-1.3); a mirrored square is the first half
-of the roll ankle (left, up, right; within 1 cm at 15 cm) at misfit 0.3-0.8. A spiral's second
-turn, begun anew at its start, is a closed loop the circle's way round, 15 cm high against its
-16 (within 8 mm of the circle's start at half of it): the circle follows it at misfit 0.6-0.7 as
-a performer expects.
+wander 101 -> 153 (1.3: mean 0.0639); ``PATH_REACH`` (2, 2): 0.0577 / 0.0657, 0.8987 / 0.9000;
+``shape_memory`` 12: 0.0566 / 0.0655, 0.8995 / 0.9012. The input's bulge (its farthest sample
+from the chord anchor -> now) against the template's near the followed state: a diagonal on the
+circle's path differs by at most 0.85 sigma within ``PATH_REACH``, true performances at 0.7x by
+up to 3.5 sigma (their size not yet known). What is left is told apart only by more than the
+path within its spread: the diagonal with the circle alone (at 1x: 6 samples to misfit 1.4, then
+the size shrinking along the chord, 1.0 -> 0.83, judges it afresh and it drives 12 more at
+misfit 0.8-1.3); a mirrored square is the first half of the roll ankle (left, up, right; within
+1 cm at 15 cm) at misfit 0.3-0.8. A spiral's second turn, begun anew at its start, is a closed
+loop the circle's way round, 15 cm high against its 16 (within 8 mm of the circle's start at
+half of it): the circle follows it at misfit 0.6-0.7 as a performer expects.
 
 Tried beside the likelihood before, measured with ``bench/follow_quality.py`` and left out,
 since the unrelated motions still find stretches of some template that match them in every
