@@ -37,6 +37,11 @@ PARAMETERS = {"rate_hz": 40.0, "window": 40, "table_width": TABLE[0], "table_hei
 # targets no nearer to an edge than its demonstration's median distance to one
 # (Params.edge_percentile; generation.fit_target has the figures)
 OWN_PARAMETERS = {"afraid": {"edge_percentile": 50.0}}
+# The afraid character's other parameters measured on top (its misses on the open paths, the
+# engine's alone in brackets, seeds 0-5 + 8-13 + 26-31, against 24 (2) + 29 (3) + 30 (3) = 83
+# (8), pursuit 42 + 42 + 43 = 127 of 144): ratio 0.5 96 (17) / 126, ratio 2 97 (12) / 129,
+# smooth 4 100 (15) / 130, w_velocity 2 92 (8) / 129, window 30 94 (11) / 127, half_life 10 86
+# (15) / 127, w_rel_look 0.5 97 (10) / 127. None kept.
 # None for the lover: its misses beside slow mains (still/moving, speed, orbit) moved with no
 # parameter beyond the bench's own spread (bench/fidelity.py --perturb 4: misses 16-18 / 13-15,
 # the engine's alone 5-7 / 3-6 on seeds 0-5 / 8-13). Measured on the lover alone, misses (the

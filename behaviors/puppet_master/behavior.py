@@ -229,6 +229,8 @@ TOUCH_M = 0.08        # m: two pucks (0.075 m across) touching, centre to centre
 SPACE_PERCENTILE = 1.0  # the demonstrated distance to the main a personal space keeps
 STOPS_WITH_MAIN = 0.45  # pace beside a still main / beside a walking one (pace_ratio) below
 # which a character stops with its main (the stalker 0.37; the lover 0.50, the others 0.81-1.02)
+WALKS_WITH_MAIN = 0.65  # pace ratio below which a character with a personal space walks with
+# its main (the lover 0.50; the afraid character 0.81, whose pursuit lost 6 of 432 checks with it)
 
 
 class Behavior:
@@ -320,8 +322,12 @@ class Behavior:
             self.edge_margin = max(0.0, float(np.percentile(edge, p.edge_percentile)))
         # a character that stops when its main stops and touches it corrects its drift at
         # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
-        self.keeps_pace = self.personal_space <= 0.0 and pace_ratio(
-            self.main[:, :2], self.react[:, :2], p.rate_hz, STILL_MPS) < STOPS_WITH_MAIN
+        pace = pace_ratio(self.main[:, :2], self.react[:, :2], p.rate_hz, STILL_MPS)
+        self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
+        # a character that keeps a personal space round its main and slows when it stops
+        # walks with its main: the cap at a place held in the world holds the mean of its
+        # raw steps (step.py, generation.mean_capped): the lover
+        self.walks_with_main = self.personal_space > 0.0 and pace < WALKS_WITH_MAIN
         # the same per-sample values as one table for the compiled step (step_kernel columns)
         # (as many rows as the zipped lists: look.train_place's spans are longer than a
         # demonstration under two seconds and give one more value)

@@ -165,7 +165,23 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     Holding every step beside a still main (not only where the demonstrated main walked):
     the lover's still/moving met on 3 more paths of seeds 0-13 (seed 0 slow 0.654 -> 0.52)
     but its speed W1 missed on 4 more, the playful friend's still/moving on 3: bench/fidelity.py
-    --seeds 0,1,2,3,4,5 642 -> 639 of 720, 7 109 -> 104, 8,9,10,11,12,13 639 -> 645."""
+    --seeds 0,1,2,3,4,5 642 -> 639 of 720, 7 109 -> 104, 8,9,10,11,12,13 639 -> 645.
+
+    The bully's still/moving misses go both ways (0.56-0.68 on seeds 4 and 5 slow, 1.42-1.64
+    on seeds 5 fast, 8 and 10 slow, against 0.97). Traced (Python step, steps beside the still
+    main): at places held in its main's frame it moves 0.39-0.46 m/s where the matched moments
+    moved 0.19-0.24 (seeds 8, 10 slow: the uncapped drift correction), at places held in the
+    world 0.11-0.15 against 0.17-0.19 (seeds 4, 5 slow, nearly all world places). Its step at
+    a main-frame place held to the moment's pace (with the catch-up) while the live main
+    stands, outside charges, for a character not held here (the bully), measured as four runs
+    each (the drift correction's share x 1, 1 + 0.001, 1 - 0.001, 1 + 0.002), the bully's
+    misses (the engine's alone) summed on seeds 0-5 / 8-13 / 26-31: 24 (15) / 28 (24) / 39
+    (28) -> 35 (23) / 19 (18) / 37 (31); only its drift correction so held, one run of seeds
+    0-5: 4 (2) -> 8 (7). The afraid character (held at its median, 0.81 of its walking pace)
+    moves at 40-60% of its matched moments' speed beside a still main (seeds 0, 1, 13 slow:
+    0.10-0.16 against 0.20-0.29 m/s) at places of either frame; held at the 75th percentile
+    its misses on seeds 0-5 go 24 (2) -> 26 (3), pursuit 42 -> 44 of 48; not held 27 (5) / 44.
+    Not used."""
     v, still = _paces(main, react, rate_hz, still_mps)
     if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
         return still, math.inf

@@ -125,6 +125,7 @@ class Reactor(GenerationStep):
         self.governor = TextureGovernor(b.texture, p.rate_hz)
         self.look_governor = LookGovernor(b.look_change, p.rate_hz)
         self._ema = (0.0, 0.0)
+        self._caps = (0.0, 0.0)         # the last two raw steps' caps (step.py)
         self.patch = DetailPatch(b.detail, p.patch)
         # the main's latest positions (STILL_SPAN_S x rate of them), to tell a main that stands
         self._main_recent: deque[tuple[float, float]] = deque(
@@ -171,6 +172,7 @@ class Reactor(GenerationStep):
            sk.PERSONAL_SPACE, sk.KEEPS_PACE]] = (STILL_MPS * STILL_SPAN_S, p.patch,
                                                  HEADING_MIN_SPEED, FOLLOW_SHARE,
                                                  b.personal_space, float(b.keeps_pace))
+        c[sk.WALKS_WITH_MAIN] = float(b.walks_with_main)
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))

@@ -55,6 +55,23 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     return clamp_to_table(tx, ty, c)
 
 
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, numba.int64), step_math)
+def mean_capped(px: float, py: float, sx: float, sy: float, cap: float,
+                size: int) -> tuple[float, float]:
+    """generation.mean_capped."""
+    length = hypot(sx, sy)
+    if length <= cap:
+        return sx, sy
+    f = cap / length
+    most = size * cap
+    cc = px * px + py * py - most * most
+    if cc < 0.0 and size > 1:
+        a = sx * sx + sy * sy
+        b = px * sx + py * sy
+        f = _max(f, _min((-b + math.sqrt(b * b - a * cc)) / a, 1.0))
+    return sx * f, sy * f
+
+
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8), step_math)
 def step_toward(rx: float, ry: float, tx: float, ty: float,
                 length: float) -> tuple[float, float]:

@@ -36,15 +36,16 @@ import numpy as np
 
 from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
-    X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, moved_on, share_around,
-    step_around, table_reach)
+    X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, mean_capped, moved_on,
+    share_around, step_around, table_reach)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
 # float state (Reactor._fs)
 RX, RY, LOOK, MAIN_X, MAIN_Y, MAIN_MOVE, REACT_X, REACT_Y, REACT_MOVE, EMA_X, EMA_Y, \
-    GOV_MS, GOV_Z, GOV_PREV, LOOK_MS, LOOK_Z, LOG_K, SHARE, STEP_X, STEP_Y = range(20)
-FLOAT_STATE = 20
+    GOV_MS, GOV_Z, GOV_PREV, LOOK_MS, LOOK_Z, LOG_K, SHARE, STEP_X, STEP_Y, CAP_1, \
+    CAP_2 = range(22)
+FLOAT_STATE = 22
 # integer state (Reactor._is)
 PATCH_START, PATCH_OFFSET, SMOOTH_I, RECENT_COUNT, RECENT_HEAD, CHOICES, COHERENCE_CHOICES, \
     SOURCE, USED_COHERENCE, CHARGE_END, KEPT_CHARGE = range(11)
@@ -57,7 +58,8 @@ DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     S_V_MAIN, S_V_REACT, S_REL_POSITION, S_REL_LOOK, S_NORM_LOOK, S_DDIR, \
     STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE, \
     KEEPS_PACE, S_ROOM, ROOM_CLIP, TARGET_TABLE = range(4, 42)
-CONSTANTS = 45      # TARGET_TABLE: x0, y0, x1, y1 of Reactor.target_table
+WALKS_WITH_MAIN = 45  # after TARGET_TABLE: x0, y0, x1, y1 of Reactor.target_table
+CONSTANTS = 46
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -184,6 +186,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     if c[CATCH_UP] > 0.0 and speed >= 3.0 * c[MIN_SPEED]:
         speed = _max(speed, _min(c[CATCH_UP] * hypot(tx - rx, ty - ry), c[TOP_SPEED]))
     gain = c[GAIN]
+    mean_cap = math.inf
+    step_cap = math.inf
     if gain > 0.0 and target > 0:
         mxp, myp = fs[MAIN_X], fs[MAIN_Y]
         if place == PLACE_WORLD:
@@ -238,8 +242,20 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             ox, oy = recent[head, 0], recent[head, 1]      # the oldest
             if hypot(mx - ox, my - oy) < c[STILL_DISTANCE]:
                 cap = _min(cap, c[STILL_SPEED] * dt)
-        if length > cap:
+        if place == PLACE_WORLD and ints[CHARGE_END] < 0 and c[WALKS_WITH_MAIN] != 0.0:
+            # the mean of three raw steps held to the cap (generation.mean_capped)
+            size = smooth_x.size
+            i = ints[SMOOTH_I]
+            px, py = 0.0, 0.0
+            for q in range(size):
+                if q != i:
+                    px += smooth_x[q]
+                    py += smooth_y[q]
+            sx, sy = mean_capped(px, py, sx, sy, cap, size)
+            mean_cap = _max(cap, _max(fs[CAP_1], fs[CAP_2]))
+        elif length > cap:
             sx, sy = sx * cap / length, sy * cap / length
+        step_cap = cap
     else:
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * dt)
     # StepSmoother.push
@@ -253,6 +269,10 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     for q in range(size):
         tot_y += smooth_y[q]
     sx, sy = tot_x / size, tot_y / size
+    fs[CAP_2], fs[CAP_1] = fs[CAP_1], step_cap
+    length = hypot(sx, sy)
+    if length > mean_cap:
+        sx, sy = sx * mean_cap / length, sy * mean_cap / length
     a = _alpha(fs[GOV_Z])
     sx = a * sx + (1.0 - a) * fs[EMA_X]
     sy = a * sy + (1.0 - a) * fs[EMA_Y]

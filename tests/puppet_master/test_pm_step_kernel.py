@@ -57,9 +57,10 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
     ("playful_friend", 45.0, {}, 0.0),  # shipped; touches its main: no personal space
     ("bully", 30.0, {}, 0.0),           # shipped; charges held in the world
     ("stalker", 40.0, {}, 0.0),         # shipped; its drift corrected at the moment's pace
+    ("lover", 30.0, {}, 0.0),           # shipped; the mean of its raw steps capped
 ])
 def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params, duration):
-    shipped = kind in ("playful_friend", "bully", "stalker")
+    shipped = kind in ("playful_friend", "bully", "stalker", "lover")
     if shipped:
         stored = library.load_behavior(examples.DEFAULT_OUT / kind)
         demo, params = stored.demonstration, stored.parameters
@@ -70,8 +71,9 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
         demo = demos.circling(m) if kind == "circling" else demos.follow_behind(m)
     b = Behavior.train(demo, **params)
     assert b.situation_vectors.shape[1] == (8 if params.get("w_room") else 6)
-    assert (b.personal_space == 0.0) == shipped      # round the main (share_around)
+    assert (b.personal_space == 0.0) == (shipped and kind != "lover")   # share_around
     assert b.keeps_pace == (kind == "stalker")
+    assert b.walks_with_main == (kind in ("follow", "lover"))   # generation.mean_capped
     # a main on which the charging kinds enter charges here (with the obstacles below)
     main = demos.main_path(12, 60.0, rate_hz=rate, reversals=True)
     fast, fast_trace, fast_shown = _run(b, main, True)
