@@ -68,7 +68,8 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   within 0.15: 0.9170 / 0.9056, mean 0.0586 / 0.0609; 0.1: 0.9174 / 0.9056, 0.0593 / 0.0621;
   cosine below -0.3: 0.9133 / 0.9048, 0.0591 / 0.0614; below 0.3: 0.9149 / 0.9098, 0.0592 /
   0.0622; 3 states behind: 0.9170 / 0.8958; 10 behind: 0.9074 / 0.8873; 12 ahead: 0.9136 /
-  0.9041, held-out worst 0.556 (a mirrored path among twenty templates).
+  0.9041, held-out worst 0.556 (a mirrored path among twenty templates); each motion longer
+  than 4 still radii (:data:`REVERSAL_MOVE`, kept 2): 0.9125 / 0.9108; than 1: 0.9198 / 0.8881.
   The full bench otherwise: holds and gestures back to back unchanged (six gestures' wrong
   action valid at most 2 ticks, tuned and held-out), 0.6x and 1.5x valid after 30% (tuned,
   held-out) 0.663 -> 0.777, 0.604 -> 0.710; twenty templates back to back, median recognition 0.258
