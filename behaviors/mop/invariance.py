@@ -74,7 +74,8 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   action valid at most 2 ticks, tuned and held-out), 0.6x and 1.5x valid after 30% (tuned,
   held-out) 0.663 -> 0.777, 0.604 -> 0.710; twenty templates back to back, median recognition 0.258
   -> 0.298 (held-out within 20% 0.313 -> 0.344). DESIGN's group tick: no cost measurable
-  (``bench/mop.py --design`` at load 4: 1.46 ms median before, 1.28 after).
+  (``bench/mop.py --design``, before / after, run in turn: 1.46 / 1.28 ms median at load 4,
+  1.37 / 1.39 ms at load 0.6).
 
 Direction of motion (``tangent``, 0 by default) as extra features of every state: it raised
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the
