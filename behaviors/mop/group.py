@@ -300,7 +300,7 @@ class FollowerGroup(GroupRules):
                    "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
                    "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
-                   "keep": lambda f: f.still_samples}
+                   "keep": lambda f: f.still_samples, "reversal_move2": lambda f: f._reversal_move2}
         cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])
@@ -326,6 +326,8 @@ class FollowerGroup(GroupRules):
         self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
         self._m_restart = np.empty(m, dtype=np.intp)
         self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
+        self._reversal_at = np.concatenate([f._reversal_at for f in fs]).astype(np.intp)
+        self._reversal_tol = np.concatenate([f._reversal_tol for f in fs])
         # the threshold models' state (Refusal._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         self._thr_alpha = np.zeros(len(self._states))
@@ -359,7 +361,8 @@ class FollowerGroup(GroupRules):
             self._k_p, self._k_new, self._m_top3, self._m_moving, self._m_any_engaged,
             self._m_all_refused, self._m_leads, present, self._means, self._thr_alpha,
             self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch, self._m_kept,
-            self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest)
+            self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest,
+            self._reversal_at, self._reversal_tol)
         return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:

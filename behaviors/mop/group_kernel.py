@@ -26,7 +26,7 @@ from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.invariance import ALONG
+from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
@@ -53,7 +53,7 @@ TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
 MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
                   "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
                   "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
-                  "rejudge_at", "keep")
+                  "rejudge_at", "keep", "reversal_move2")
 #: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
 AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
@@ -94,13 +94,14 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
                      numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                      numba.intp, numba.intp, numba.float64, numba.float64,
                      _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1, _B1), *_CALLS_INTO,
-           fastmath=CONTRACT)
+                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1, _B1, _I1, _F1),
+           *_CALLS_INTO, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x,
-                     scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out) -> None:
+                     scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out,
+                     reversal_at, reversal_tol) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -121,7 +122,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``, whether the performer rests (``rest_out``: the holds' rule here, the stall
     rule in :func:`behaviors.mop.members.conclude`). ``before``/``after``: the path's reach in
-    states."""
+    states. ``reversal_at`` (S,), ``reversal_tol`` (K,): each state's reversal landmark (its
+    bank's state, -1 where none) and each template's tolerance there
+    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     refused, engaged, misshaped = flags[0], flags[1], flags[2]
@@ -144,6 +147,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     htol = np.empty(d)
     hrad = np.empty(d)
     dxu = np.empty(d)
+    tu = np.empty(d)
+    tr = np.empty(d)
     for i in range(bounds.size):
         a0 = bounds[i]
         a1 = a0 + counts[i]
@@ -180,6 +185,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             hrad[c] = m[ra0 + c]
         rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
         rest_out[i] = rest
+        turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
+        if scaled:
+            for c in range(d):
+                tu[c] = m[un0 + c]
+            turned = input_reversal(buf, nbuf, i, x, anchor[i], tu, m[23], tr)
         for k in range(a0, a1):
             if k + AHEAD < mean.size:   # the states the template a few ahead will read
                 h = k + AHEAD
@@ -217,6 +227,13 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 if sh > 0.0:
                     num[k] = sh * (den[k] + t[2]) - t[2]
                     least[k] = min(least[k], sh)
+            if turned and reversal_at[gs] >= 0:   # ... and a reversal's (_reversal_sizes)
+                rrow = states[reversal_at[gs] + off]
+                for c in range(d):
+                    hq[c] = rrow[rel0 + c]
+                sr = reversal_size(hq, tr, lo, hi, reversal_tol[k])
+                if sr > 0.0:
+                    num[k] = sr * (den[k] + t[2]) - t[2]
             if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0

@@ -46,12 +46,13 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from behaviors.mop import validity
+from behaviors.mop import invariance, validity
 from behaviors.mop.hmm import TemplateBank, inner_holds
+from behaviors.mop.invariance import fitted_size
 from behaviors.mop.validity import RESTING_RADII
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (validity,)   # the file whose constants the kernels take in
+_CALLS_INTO = (invariance, validity)   # the files whose constants or kernels they take in
 
 #: States before a hold inside a template from which a resting performer may be holding it.
 HOLD_AHEAD = 6
@@ -83,15 +84,8 @@ def hold_size(q: np.ndarray, r: np.ndarray, size: float, lo: float, tol: np.ndar
     on a hold's place ``q`` (d,: from the template's first state, in units), when it is at
     least ``lo``, smaller than ``size`` and puts ``r`` within ``tol`` (d,, units) of it in every
     column; 0 otherwise."""
-    qq = 0.0
-    qr = 0.0
-    for c in range(q.size):
-        qq += q[c] * q[c]
-        qr += q[c] * r[c]
-    if qq <= 0.0:
-        return 0.0
-    s = qr / qq
-    if not (lo <= s < size):
+    s = fitted_size(q, r)
+    if s == 0.0 or not (lo <= s < size):
         return 0.0
     rr = 0.0
     tt = 0.0

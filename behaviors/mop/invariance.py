@@ -54,17 +54,28 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   0.094 -> 0.156: one sequence whose unrecognised kick held the attempt open longer, every
   template no longer refused, so its next two gestures began in it), within 20% 0.344 both
   (0.313 -> 0.281); six gestures unchanged but the median recognition 0.262 -> 0.269.
-- Measured and not kept: a landmark size at the input's turning (as
-  :func:`~behaviors.mop.holding.rested_sizes` at rests): where the input reverses (its motion
-  over 3 samples against the 3 before, cosine below 0) within 6 states of a template's own
-  reversal, the size that puts the turning sample on that state (within 0.15 of its reach).
-  Screened in the follower alone, ``--sections=sized,holds,unrelated`` (tuned / held-out):
-  valid after 30% 0.9112 -> 0.9278 / 0.9033 -> 0.9062 (a 0.7x punch wrist 0.11 -> 0.71, a
-  0.85x punch ankle 0.66 -> 1.0; a kick wrist 0.7x 0.87 -> 0.56, 1.4x 1.0 -> 0.94),
-  unrelated mean 0.0688 -> 0.0695 / 0.0771 -> 0.0784 (worst 0.418 -> 0.423; a mirrored dance
-  ankle 0.29 -> 0.55), holds unchanged; only smaller sizes 0.9237 / 0.8973, only larger
-  0.9119 / 0.9002, 3 states 0.9192 / 0.8942, 4 samples 0.9147 / 0.8859: the held-out gain is
-  within the variants' spread, so it was not ported into the compiled group.
+- At a reversal (:data:`REVERSAL_FIT`; as :func:`~behaviors.mop.holding.rested_sizes` at
+  rests): where the input turns back (its motion over :data:`REVERSAL_LAG` samples against
+  as many before at a cosine below 0, :func:`input_reversal`) while the followed state lies
+  within 6 states of its template's own reversal (:func:`reversal_map`), the template takes
+  the size that puts the turning sample on that state (:func:`reversal_size`). A straight
+  first stroke drawn smaller kept the size near 1 and stopped at the turn, where another
+  action took over (the largest loss left at 0.7-1.4x). ``bench/follow_quality.py
+  --sections=sized,unrelated`` (tuned / held-out; valid after 30% at 0.7-1.4x, unrelated
+  worst / mean): before 0.9005 / 0.9014, 0.258 / 0.0588 and 0.414 / 0.0657; kept (within
+  0.25 of the extent) 0.9170 / 0.9056, 0.258 / 0.0576 and 0.414 / 0.0607 (a 0.7x punch wrist
+  0.03 -> 0.64, kick ankle 0.59 -> 0.86, four seeds; ``tests/mop/test_invariance.py``);
+  within 0.15: 0.9170 / 0.9056, mean 0.0586 / 0.0609; 0.1: 0.9174 / 0.9056, 0.0593 / 0.0621;
+  cosine below -0.3: 0.9133 / 0.9048, 0.0591 / 0.0614; below 0.3: 0.9149 / 0.9098, 0.0592 /
+  0.0622; 3 states behind: 0.9170 / 0.8958; 10 behind: 0.9074 / 0.8873; 12 ahead: 0.9136 /
+  0.9041, held-out worst 0.556 (a mirrored path among twenty templates); each motion longer
+  than 4 still radii (:data:`REVERSAL_MOVE`, kept 2): 0.9125 / 0.9108; than 1: 0.9198 / 0.8881.
+  The full bench otherwise: holds and gestures back to back unchanged (six gestures' wrong
+  action valid at most 2 ticks, tuned and held-out), 0.6x and 1.5x valid after 30% (tuned,
+  held-out) 0.663 -> 0.777, 0.604 -> 0.710; twenty templates back to back, median recognition 0.258
+  -> 0.298 (held-out within 20% 0.313 -> 0.344). DESIGN's group tick: no cost measurable
+  (``bench/mop.py --design``, before / after, run in turn: 1.46 / 1.28 ms median at load 4,
+  1.37 / 1.39 ms at load 0.6).
 
 Direction of motion (``tangent``, 0 by default) as extra features of every state: it raised
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the
@@ -78,8 +89,10 @@ from __future__ import annotations
 import math
 from typing import Mapping
 
+import numba
 import numpy as np
 
+from behaviors.kernel_cache import compiled
 from behaviors.mop.hmm import TemplateBank
 
 INVARIANCES = ("scale", "offset", "none")
@@ -116,6 +129,124 @@ def template_velocities(templates: Mapping[str, np.ndarray], bank: TemplateBank,
     return np.concatenate(parts), v0
 
 
+#: The input reverses where its motion over this many samples and over as many before meet
+#: at a cosine below :data:`REVERSAL_COS` (each longer than :data:`REVERSAL_MOVE` still radii).
+REVERSAL_LAG = 3
+REVERSAL_COS = 0.0
+REVERSAL_MOVE = 2.0
+#: A template's reversal (its states as the input's samples, the sharpest of a run) is a
+#: landmark of the followed state from this many states behind it to this many ahead.
+REVERSAL_BEHIND = 6
+REVERSAL_AHEAD = 6
+#: How far (share of the template's extent at the size found) the input's reversal may lie
+#: from the landmark's place (0: no size taken at reversals).
+REVERSAL_FIT = 0.25
+
+
+def reversal_map(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """Per state (``rel``: states from their template's first, units), the state of its
+    template's first reversal from :data:`REVERSAL_BEHIND` states before it to
+    :data:`REVERSAL_AHEAD` after, -1 where none: where a template turns back (as
+    :func:`input_reversal`)."""
+    lag, behind, ahead = REVERSAL_LAG, REVERSAL_BEHIND, REVERSAL_AHEAD
+    out = np.full(len(rel), -1, dtype=np.intp)
+    for s, n in zip(starts.tolist(), lengths.tolist()):
+        a = rel[s:s + n]
+        if n < 2 * lag + 1:
+            continue
+        extent = float(np.sqrt(np.sum(a * a, axis=1)).max())
+        v1, v2 = a[lag:n - lag] - a[:n - 2 * lag], a[2 * lag:] - a[lag:n - lag]
+        n1, n2 = np.sqrt(np.sum(v1 * v1, axis=1)), np.sqrt(np.sum(v2 * v2, axis=1))
+        moving = (n1 > 1e-3 * extent) & (n2 > 1e-3 * extent)
+        cos = np.where(moving, np.sum(v1 * v2, axis=1) / np.maximum(n1 * n2, 1e-300), 1.0)
+        turns = []
+        j = 0
+        while j < cos.size:   # each run of reversing states: its sharpest
+            if cos[j] < REVERSAL_COS:
+                e = j
+                while e < cos.size and cos[e] < REVERSAL_COS:
+                    e += 1
+                turns.append(lag + j + int(np.argmin(cos[j:e])))
+                j = e
+            else:
+                j += 1
+        for t in turns:
+            for i in range(max(t - ahead, 0), min(t + behind, n - 1) + 1):
+                if out[s + i] < 0:
+                    out[s + i] = s + t
+    return out
+
+
+@compiled(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp,
+                        numba.float64[:, ::1], numba.float64[::1], numba.float64[::1],
+                        numba.float64, numba.float64[::1]))
+def input_reversal(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, anchor: np.ndarray,
+                   units: np.ndarray, move2: float, out: np.ndarray) -> bool:
+    """Whether the input reverses at this sample ``x[i]``: its motion over the last
+    :data:`REVERSAL_LAG` samples against the motion over as many before (``buf[i]``'s last
+    rows, ``count[i]`` of them valid) at a cosine below :data:`REVERSAL_COS`, each longer than
+    ``sqrt(move2)`` (units). Then ``out`` (d,: from the ``anchor``, in ``units``) is the
+    sample where it turned: the farthest along the motion before."""
+    lag = REVERSAL_LAG
+    s = buf.shape[1]
+    if count[i] < 2 * lag or s < 2 * lag:
+        return False
+    d = x.shape[1]
+    a, b = s - 2 * lag, s - lag
+    n1 = 0.0
+    n2 = 0.0
+    dot = 0.0
+    for c in range(d):
+        v1 = (buf[i, b, c] - buf[i, a, c]) / units[c]
+        v2 = (x[i, c] - buf[i, b, c]) / units[c]
+        n1 += v1 * v1
+        n2 += v2 * v2
+        dot += v1 * v2
+    if not (n1 > move2 and n2 > move2 and dot < REVERSAL_COS * math.sqrt(n1 * n2)):
+        return False
+    far = -np.inf
+    at = s   # s: the sample x itself
+    for r in range(a, s + 1):
+        along = 0.0
+        for c in range(d):
+            y = x[i, c] if r == s else buf[i, r, c]
+            along += (y - buf[i, a, c]) / units[c] * ((buf[i, b, c] - buf[i, a, c]) / units[c])
+        if along > far:
+            far = along
+            at = r
+    for c in range(d):
+        y = x[i, c] if at == s else buf[i, at, c]
+        out[c] = (y - anchor[c]) / units[c]
+    return True
+
+
+@compiled(numba.float64(numba.float64[::1], numba.float64[::1]))
+def fitted_size(q: np.ndarray, r: np.ndarray) -> float:
+    """The size ``s`` (least squares) of ``r ~ s q`` (d,), 0 where ``q`` is 0."""
+    qq = 0.0
+    qr = 0.0
+    for c in range(q.size):
+        qq += q[c] * q[c]
+        qr += q[c] * r[c]
+    return qr / qq if qq > 0.0 else 0.0
+
+
+@compiled(numba.float64(numba.float64[::1], numba.float64[::1], numba.float64, numba.float64,
+                        numba.float64))
+def reversal_size(q: np.ndarray, r: np.ndarray, lo: float, hi: float, tol: float) -> float:
+    """The size (:func:`fitted_size`) at which the input's reversal ``r`` (d,: from the anchor,
+    in units) lies on its template's ``q`` (d,: from the first state, in units), when within
+    ``lo``-``hi`` and it puts ``r`` within ``tol`` times itself (units) of ``q``; 0 otherwise."""
+    s = fitted_size(q, r)
+    if not (lo <= s <= hi):
+        return 0.0
+    e2 = 0.0
+    for c in range(q.size):
+        e = r[c] - s * q[c]
+        e2 += e * e
+    return s if e2 <= (tol * s) ** 2 else 0.0
+
+
 class PerformanceFrame:
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: the live sample in every
     template's units (anchor, estimated size, direction of motion)."""
@@ -137,6 +268,10 @@ class PerformanceFrame:
                                  for s, n in zip(b.starts, b.lengths)])
         # the least size a performance's reach allows, per unit of its farthest sample
         self._reach_inv = REACH_BOUND / np.maximum(self._extent, 1e-12)
+        # where each template turns back, the landmark of a size (_reversal_sizes)
+        self._reversal_at = (reversal_map(self._rel, b.starts, b.lengths) if REVERSAL_FIT > 0
+                             else np.full(len(self._rel), -1, dtype=np.intp))
+        self._reversal_tol = REVERSAL_FIT * self._extent
         self._rejudge_at = math.log(REJUDGE) if REJUDGE > 1 else math.inf
         rho2 = np.mean((b.scale / self._units) ** 2, axis=1) * self.dim
         self._prior = scale_prior * rho2                          # (K,) prior weight at size 1
@@ -144,6 +279,8 @@ class PerformanceFrame:
         # radius in RMS spread made a slow start look still: the anchor crept along a 0.7x
         # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93)
         self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
+        self._reversal_move2 = float(np.sum((REVERSAL_MOVE * self._still_radius
+                                             / self._units) ** 2))
 
     def _with_tangents(self) -> TemplateBank:
         """The bank the forward algorithm runs on: each state's features followed, when
@@ -218,6 +355,26 @@ class PerformanceFrame:
         lo, hi = self.scale_range
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least), lo, hi,
                 out=self._size)
+
+    def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
+        """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
+        template whose followed state ``gi`` has a reversal near (:func:`reversal_map`) takes
+        the size that puts the input's reversal on it (:func:`reversal_size`), in place on the
+        size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does."""
+        recent = self._recent_x
+        if self.invariance != "scale" or len(recent) < 2 * REVERSAL_LAG:
+            return
+        r = np.empty(self.dim)
+        buf = np.array(recent[-2 * REVERSAL_LAG:])[None]
+        if not input_reversal(buf, np.array([len(recent)], dtype=np.intp), 0, x[None],
+                              self._anchor, self._units, self._reversal_move2, r):
+            return
+        at = self._reversal_at[gi]
+        lo, hi = self.scale_range
+        for k in np.flatnonzero(at >= 0).tolist():
+            s = reversal_size(self._rel[at[k]], r, lo, hi, float(self._reversal_tol[k]))
+            if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
+                self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
 
     def _rejudge(self) -> None:
         """Templates whose size estimate moved by :data:`REJUDGE` since their recent likelihood

@@ -235,9 +235,10 @@ def test_an_ended_gestures_last_point_stays_where_its_end_was_reached(gestures, 
     # the six gestures back to back (bench/motions.back_to_back, seeds 6 and 7): after an end the
     # size estimate goes on adapting to the next gesture; read at the live size, the ended
     # template's last point moved with the input (GestureSpotting._moved_on), the next gesture
-    # began late and was never recognised. Measured: every gesture recognised by 0.49 (the line
-    # after a zigzag 0.32, the square after a wave 0.43); with the live last point the square
-    # never (and at spotting.MOVE_RADII 3 the line never either)
+    # began late and was never recognised. Measured: every gesture recognised by 0.56 (the line
+    # after a figure eight 0.49, the square after a wave 0.56, its first side taken for the
+    # line; 0.43 without the sizes at reversals, invariance.REVERSAL_FIT); with the live last
+    # point the square never (and at spotting.MOVE_RADII 3 the line never either)
     from behaviors.mop.spotting import GestureSpotting
 
     def recognised() -> list[float]:
@@ -255,5 +256,5 @@ def test_an_ended_gestures_last_point_stays_where_its_end_was_reached(gestures, 
                         property(lambda self: self._last_point(self._best), lambda self, v: None),
                         raising=False)
     live = recognised()
-    assert max(now) <= 0.52, now
+    assert max(now) <= 0.57, now
     assert sum(p >= 1.0 for p in live) >= 1, live
