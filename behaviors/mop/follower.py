@@ -214,6 +214,7 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
         self._run = 0
         self._lost = 0
         self._shape = np.zeros(len(self.names))
+        self._shape_n = 0
         self._gone = np.zeros(len(self.names))
         self._acquired = -1
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)
@@ -365,8 +366,14 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
         if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
                 or self._refused[self._best]):
             self._best = top
-        bi = self._best
         self._judge_shape(x, g, new, rests)
+        committed = -1   # committed to by shape: best, however improbable (spotting)
+        if self.invariance != "none":
+            self._add_shape(x, gi, g - gi)
+            committed = self._committed()
+            if committed >= 0:
+                self._best = committed
+        bi = self._best
         progress_list, p_list, mean_ll_list, size_list = lists
         engaged = bool(self._engaged.any())
         slope = src[gi[bi] + 1] - src[gi[bi]]
@@ -377,13 +384,13 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
         still = self._still(x)
         ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
                   and spread2 <= self.max_spread ** 2
-                  and p_list[bi] * self._kept >= self.min_probability
+                  and (p_list[bi] * self._kept >= self.min_probability or committed == bi)
                   and (self._end_x is None or not self._moved_on(x, bi)))
         if self.invariance != "none":
             if self._shared is not None:   # spotting._shares: each template's highest progress
                 np.maximum(self._gone, progress, out=self._gone)
             # a new action drives only once its shape clearly leads (spotting.LEAD)
-            leads = self._leads(x, gi, g - gi, bi, p * self._kept)
+            leads = self._leads(bi, p * self._kept)
             # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))
             # ... and once it is not taken at a crawl (validity.slow_take); nor does any action

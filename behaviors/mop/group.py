@@ -112,6 +112,7 @@ class FollowerGroup(GroupRules):
                                         else np.zeros((len(f.names), dmax)) for f in fs])
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
+        self._shape_n = np.zeros(m)   # ... and their samples (per member)
         self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
         # spotting's shared starts (sharing.shared_until, ``share_radius``): each member's
         # (K_i, K_i) flattened, from _sh_off[i]; -1 for members without
@@ -156,8 +157,8 @@ class FollowerGroup(GroupRules):
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
                    "_end_x", "_end_last", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
                    "_thr_x", "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak",
-                   "_drive_moved", "_turn_in", "_turn_h", "_turn_ref", "_turn_has_ref",
-                   "_turn_has_h", "_abandoned", "_came", "_abandon_rested")
+                   "_drive_moved", "_shape_n", "_turn_in", "_turn_h", "_turn_ref",
+                   "_turn_has_ref", "_turn_has_h", "_abandoned", "_came", "_abandon_rested")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -321,7 +322,7 @@ class FollowerGroup(GroupRules):
         self._m_top3 = np.zeros((m, 3), dtype=np.intp)
         self._m_moving = np.zeros(m)
         self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
-        self._m_leads = np.zeros(m, dtype=bool)
+        self._m_leads, self._m_committed = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_kept = np.ones(m)
         self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
         self._m_restart = np.empty(m, dtype=np.intp)
@@ -362,7 +363,7 @@ class FollowerGroup(GroupRules):
             self._m_all_refused, self._m_leads, present, self._means, self._thr_alpha,
             self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch, self._m_kept,
             self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest,
-            self._reversal_at, self._reversal_tol)
+            self._shape_n, self._m_committed, self._reversal_at, self._reversal_tol)
         return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
@@ -386,7 +387,7 @@ class FollowerGroup(GroupRules):
             self._drive_from, self._drive_peak, self._turn_ok, self._extent, self._peak,
             self._peak_k, variance, valid, loglik, distance, show, holding, prog_b, restart,
             self._gone, self._shared, self._sh_off, self._drive_moved, self._m_rest,
-            self._crawl, self._end_last)
+            self._crawl, self._end_last, self._m_committed)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
         gbl = gb.tolist()

@@ -21,18 +21,20 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import holding, invariance, threshold, threshold_kernel, validity
+from behaviors.mop import holding, invariance, members, threshold, threshold_kernel, validity
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
+from behaviors.mop.members import committed
+from behaviors.mop.spotting import KEPT_COMMIT
 from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, holding, invariance, threshold, threshold_kernel,
-               validity)
+_CALLS_INTO = (behaviors.mop.compiled, holding, invariance, members, threshold,
+               threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -94,14 +96,15 @@ def first_max(values: np.ndarray, a0: int, a1: int) -> int:
                      numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                      numba.intp, numba.intp, numba.float64, numba.float64,
                      _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1, _B1, _I1, _F1),
+                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1, _B1, _F1, _B1, _I1,
+                     _F1),
            *_CALLS_INTO, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x,
-                     scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out,
-                     reversal_at, reversal_tol) -> None:
+                     scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out, shape_n,
+                     committed_out, reversal_at, reversal_tol) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -121,10 +124,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``, whether the performer rests (``rest_out``: the holds' rule here, the stall
-    rule in :func:`behaviors.mop.members.conclude`). ``before``/``after``: the path's reach in
-    states. ``reversal_at`` (S,), ``reversal_tol`` (K,): each state's reversal landmark (its
-    bank's state, -1 where none) and each template's tolerance there
-    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
+    rule in :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
+    (``committed_out``: :meth:`GestureSpotting._committed`; ``shape_n``: each member's samples
+    in its shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
+    ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
+    each template's tolerance there (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     refused, engaged, misshaped = flags[0], flags[1], flags[2]
@@ -439,6 +443,12 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         gb = a0 + best[i]
         if best[i] < 0 or ev[first] - ev[gb] > margin or refused[gb]:
             gb = first
+        # committed to by shape (GestureSpotting._committed): best, however improbable
+        shape_n[i] += spots
+        c = committed(shape, flags, a0, a1, shape_n[i] * dims, min_lead) if spots > 0.0 else -1
+        committed_out[i] = c >= 0 and kept >= KEPT_COMMIT
+        if committed_out[i]:
+            gb = c
         best[i] = gb - a0
         rival = np.inf
         for k in range(a0, a1):

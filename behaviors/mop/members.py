@@ -19,8 +19,8 @@ import numba
 import numpy as np
 
 from behaviors.mop import spotting, validity
-from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
-                                   RETURN_RADIUS, SHARE_BACK)
+from behaviors.mop.spotting import (ARRIVE_RADIUS, COMMIT_FIT, END_GRACE, MOVE_RADII,
+                                   RETURN_BACK, RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_HOVERS, CRAWL_SAMPLES,
                                     FORWARD_FIRST, LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
 from behaviors.kernel_cache import compiled
@@ -125,6 +125,28 @@ def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float,
     return acc / dims >= limit2
 
 
+@compiled(numba.intp(_F1, numba.boolean[:, ::1], numba.intp, numba.intp, numba.float64,
+                     numba.float64), *_CALLS_INTO)
+def committed(shape: np.ndarray, flags: np.ndarray, a0: int, a1: int, samples: float,
+              lead: float) -> int:
+    """:meth:`GestureSpotting._committed` among templates ``a0..a1`` (group indices; ``flags``:
+    the group's flag rows, refused, engaged, misshaped, covered first), but for the threshold
+    model's share: the one committed to by shape, or -1. ``samples``: the shape sums' samples
+    times the features; ``lead``: :data:`~behaviors.mop.spotting.LEAD` in shape units."""
+    refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
+    c = -1
+    for k in range(a0, a1):
+        if (not refused[k] and engaged[k] and covered[k] and not misshaped[k]
+                and (c < 0 or shape[k] < shape[c])):
+            c = k
+    if c < 0 or COMMIT_FIT <= 0.0 or shape[c] > samples * COMMIT_FIT ** 2:
+        return -1
+    for k in range(a0, a1):
+        if k != c and not refused[k] and shape[k] - shape[c] < lead:
+            return -1
+    return c
+
+
 @compiled(numba.intp(numba.boolean, numba.boolean, numba.float64, numba.float64, numba.boolean,
                    numba.boolean, numba.boolean, numba.float64, numba.intp, numba.intp,
                    numba.boolean), *_CALLS_INTO)
@@ -163,14 +185,14 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.boolean[:, ::1], _F1, _F1, _F1, _F1,
                    _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
                    _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2, _F2),
+                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2, _F2, _B1),
           *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from,
              drive_peak, turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart, highest, shared,
-             sh_off, drive_moved, rest, crawl, end_last) -> None:
+             sh_off, drive_moved, rest, crawl, end_last, committed) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -182,7 +204,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
     each rests (:func:`~behaviors.mop.validity.resting` over the samples the push keeps,
     measured once by the per-template pass; a member without a sample is put back after the
-    tick); ``crawl``: each member's crawling run and its best, as :func:`tempo` left them.
+    tick); ``crawl``: each member's crawling run and its best, as :func:`tempo` left them;
+    ``committed``: ``best`` committed to by shape (drives however improbable).
 
     In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
     highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples
@@ -222,7 +245,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         st = still(buf, nbuf, i, int(m[6]), radius)
         rests = rest[i]   # validity.resting, the holds' flag (group_kernel.update_templates)
         ok = (engaged[gb] and not refused[gb] and covered[gb] and not misshaped[gb]
-              and spread2 <= m[0] and p[gb] * kept[i] >= m[1] and not moved)
+              and spread2 <= m[0] and (p[gb] * kept[i] >= m[1] or committed[i]) and not moved)
         # a new action drives only once its shape clearly leads, the input turned as it does
         # and its start is no longer shared with another the input still fits (spotting)
         # ... and no action drives once it crawled CRAWL_SAMPLES samples in a row (crawls)
