@@ -21,7 +21,8 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import holding, invariance, members, threshold, threshold_kernel, validity
+from behaviors.mop import (holding, invariance, members, spotting, threshold, threshold_kernel,
+                           validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
@@ -33,7 +34,7 @@ from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, holding, invariance, members, threshold,
+_CALLS_INTO = (behaviors.mop.compiled, holding, invariance, members, spotting, threshold,
                threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
