@@ -446,8 +446,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             gb = first
         # committed to by shape (GestureSpotting._committed): best, however improbable
         shape_n[i] += spots
-        c = committed(shape, flags, a0, a1, shape_n[i] * dims, min_lead) if spots > 0.0 else -1
-        committed_out[i] = c >= 0 and kept >= KEPT_COMMIT
+        c = -1   # (searched only where the threshold model allows it, as _committed)
+        if spots > 0.0 and kept >= KEPT_COMMIT:
+            c = committed(shape, flags, a0, a1, shape_n[i] * dims, min_lead)
+        committed_out[i] = c >= 0
         if committed_out[i]:
             gb = c
         best[i] = gb - a0

@@ -26,7 +26,7 @@ since its broader eased start lags the input): without it the line drives the sq
 (every wrong run over 2 ticks among the six gestures back to back: 3-10 ticks, all where no
 observer could yet tell them apart). On by default at 3 still radii, with a gesture that ends where
 it returned also while its action was held back
-(:meth:`~behaviors.mop.spotting.GestureSpotting._returned`): ``bench/ follow_quality.py`` (tuned /
+(:meth:`~behaviors.mop.spotting.GestureSpotting._returned`): ``bench/follow_quality.py`` (tuned /
 held-out), six gestures back to back, longest wrong-valid run 10 / 7 -> 2 / 2 (other than the ended
 gesture's 10 / 7 -> 0 / 0), never recognised 0 / 0, the line recognised at 0.33 / 0.38 -> 0.45 /
 0.53 (after its turn; the observer tells it from the square at 0.35), the square 0.40 / 0.41 ->

@@ -111,8 +111,8 @@ def mean_capped(px: float, py: float, sx: float, sy: float, cap: float,
                 size: int) -> tuple[float, float]:
     """Raw step (sx, sy) (metres) held so that the mean of it and the ``size`` - 1 raw steps
     before it (their sum (px, py)), which is what the linear smooth passes on, moves at most
-    ``cap`` metres: as long as keeps that mean within ``cap``, at most its own length, at
-    least ``cap`` (where longer).
+    ``cap`` metres: shortened only as far as that mean needs, never below ``cap`` (where it
+    is longer than ``cap``) and never longer than it was.
 
     A cap on every raw step (step.py) leaves what the steps' change of direction takes: the
     lover beside its walking main (seed 3 slow) has raw steps of 0.128 m/s whose mean over
