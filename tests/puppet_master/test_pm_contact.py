@@ -132,3 +132,23 @@ def test_a_charge_is_kept_whole_only_when_entered_in_its_run_up(paths):
     for seed in (2, 5):
         row = fidelity.evaluate(b, paths[seed]["slow_pauses_30hz"], TABLE, demo)
         assert row["ok_contact"], (seed, row["gen_contact"], row["demo_contact"])
+
+
+def test_a_single_pass_close_by_is_not_kept_whole_as_a_charge():
+    # the stalker's demonstration passes its reversing main once (one charge found), the
+    # playful friend's darts touched once: an incident, not a character that charges
+    # (Behavior.charging, MIN_CHARGES). Kept whole, the stalker's pass closed the live
+    # distance to a touch wherever a match entered its run-up (14-21 samples in contact each
+    # time on the fast paths): contact 0.050 and 0.054 on seeds 2 and 13 (at most 0.042),
+    # measured 0.034 and 0.039 now
+    b = _shipped("stalker")
+    demo = fidelity.demonstration_figures(b)
+    for seed in (2, 13):
+        main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"]
+        row = fidelity.evaluate(b, main, TABLE, demo)
+        assert row["ok_contact"], (seed, row["gen_contact"], row["demo_contact"])
+    assert _shipped("bully").charging
+    for name in ("stalker", "playful_friend"):
+        b = _shipped(name)
+        ends, _ = charges(b.main[:, :2], b.react[:, :2], b.params.rate_hz)
+        assert len({e for e in ends if e >= 0}) == 1 and not b.charging

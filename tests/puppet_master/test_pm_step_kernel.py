@@ -85,10 +85,10 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
     if duration > 10 or shipped:
         choices = {t[1] for t in fast_trace}
         assert {"situation", "coherence"} <= choices <= {"situation", "coherence", "charge"}
-        # charges kept whole, both ways (the playful friend's one dart is kept only when the
-        # match enters it in its first 0.2 s, demonstrated.charge_entries: not on this path)
-        if kind in ("follow", "bully"):
-            assert "charge" in choices
+        # charges kept whole, both ways, where the demonstration charges again and again
+        # (Behavior.charging: the bully; the follower's one pass, the playful friend's one
+        # dart and the stalker's one pass are not kept)
+        assert ("charge" in choices) == (kind == "bully") == b.charging
 
 
 def test_the_compiled_remainder_is_pythons():
