@@ -260,7 +260,14 @@ class GenerationStep:
             # stalker still/moving met on 5 of 9 paths instead of 0 (0.43-0.85 -> 0.14-0.48
             # against 0.29); the 60th and 70th percentile gave 301 and 290, the mean 294, and
             # holding every step beside a still main (not only stale matches) 294 at the 75th
-            # and 90th percentile, costing the bully, which charges a main that stands
+            # and 90th percentile, costing the bully, which charges a main that stands.
+            # For the stalker (Behavior.keeps_pace), stalker misses over seeds 0-5, 8-13 and
+            # 26-31 (one run each) against 37: every step beside a still main held 50 (its
+            # loops too slow there, 0.13-0.18 against at least 0.185); where the moment's
+            # main stood, held to the larger of its previous step and this cap (it may not
+            # speed up: seed 10 slow copied a moment still running at 0.3-0.4 m/s beside a
+            # main that had just stopped) 45; the held steps' mean of three capped
+            # (generation.mean_capped) 44. None kept
             recent = self._main_recent
             recent.append((mx, my))
             if len(recent) == recent.maxlen and b.walked[target]:
