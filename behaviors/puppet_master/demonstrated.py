@@ -235,10 +235,10 @@ def charges(main: np.ndarray, react: np.ndarray, rate_hz: float, span_s: float =
     too often: contact 0.06-0.12 against at most 0.061 (its misses on seeds 0-5, 8-13,
     26-31, one run each, 11 -> 17 kept to 0.2 s after the touch, 32 ending at the touch).
     Without the push criterion the stalker's passes behind a reversing main (10) counted
-    too, and keeping them whole cost its still/moving figure on 3 of 9 unseen paths. The playful friend's dart stops at
-    0.107 m, short of a touch; leaving it out (only charges whose touch is under 0.08 m)
-    moved bench/fidelity.py seeds 0-5 from 623 to 621 and seed 7 from 107 to 106 (its
-    fast-path contact met on 2 more paths, lost on 2 others), so it stays."""
+    too, and keeping them whole cost its still/moving figure on 3 of 9 unseen paths. The
+    playful friend's dart stops at 0.107 m, short of a touch; leaving it out (only charges
+    whose touch is under 0.08 m) moved bench/fidelity.py seeds 0-5 from 623 to 621 and seed
+    7 from 107 to 106 (its fast-path contact met on 2 more paths, lost on 2 others)."""
     n = main.shape[0]
     h = max(1, int(round(0.5 * span_s * rate_hz)))
     i = np.arange(n)
