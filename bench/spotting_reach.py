@@ -109,8 +109,10 @@ def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float
 #: :mod:`behaviors.mop.validity`, :mod:`behaviors.mop.spotting`): engaged (past its onset),
 #: accepted (not refused), covered (``coverage`` of its path), on its path (no misfit),
 #: probable (``min_probability`` with the threshold model counted), best (switch margin), leads
-#: (in shape by ``spotting.LEAD``).
-GATES = ("engaged", "accepted", "covered", "on_path", "probable", "best", "leads")
+#: (in shape by ``spotting.LEAD``), unshared (its start no longer shared with another template
+#: the input fits, :meth:`~behaviors.mop.spotting.GestureSpotting._shares`: what holds the line,
+#: whose other gates all pass from about its reach, until 0.43-0.50 of it).
+GATES = ("engaged", "accepted", "covered", "on_path", "probable", "best", "leads", "unshared")
 
 
 def gate_state(f: ActionFollower, k: int) -> tuple[bool, ...]:
@@ -120,8 +122,12 @@ def gate_state(f: ActionFollower, k: int) -> tuple[bool, ...]:
     rivals[k] = False
     need = spotting.LEAD * 2.0 * spotting.SHAPE_SPREAD ** 2   # as GestureSpotting._leads
     lead = not rivals.any() or f._shape[rivals].min() - f._shape[k] >= need
+    b = f.bank
+    g = float(b.starts[k] + min(f.forward.mean[k], b.lengths[k] - 1.0))
+    progress = np.array([f._state.progress_by[n] for n in f.names])
     return (bool(f._engaged[k]), not f._refused[k], bool(f._covered[k]), not f._misshaped[k],
-            bool(p[k] >= f.min_probability), f._best == k, bool(lead))
+            bool(p[k] >= f.min_probability), f._best == k, bool(lead),
+            not f._shares(k, g, progress))
 
 
 def gates(templates: dict[str, np.ndarray], rng: np.random.Generator,
