@@ -125,7 +125,12 @@ the size shrinking along the chord, 1.0 -> 0.83, judges it afresh and it drives 
 misfit 0.8-1.3); a mirrored square is the first half of the roll ankle (left, up, right; within
 1 cm at 15 cm) at misfit 0.3-0.8. A spiral's second turn, begun anew at its start, is a closed
 loop the circle's way round, 15 cm high against its 16 (within 8 mm of the circle's start at
-half of it): the circle follows it at misfit 0.6-0.7 as a performer expects.
+half of it): the circle follows it at misfit 0.6-0.7 as a performer expects. The bench counts
+those ticks against it (its ``told`` figure reads the motion from the spiral's first start);
+left so: read from the loop's own start, the loop strays 8-11 mm from the circle from half of it
+on, beyond the 4 mm within which the bench calls a motion a performance of an action
+(``PERFORMS_M``), and the circle drives from 0.52 of it: a lopsided circle, followed within its
+spread, not one the bench's observer would name.
 
 Tried beside the likelihood before, measured with ``bench/follow_quality.py`` and left out,
 since the unrelated motions still find stretches of some template that match them in every
