@@ -39,7 +39,7 @@ from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_pro
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.parameters import check_ranges
-from behaviors.mop.refusal import Refusal
+from behaviors.mop.refusal import Refusal, shape_limits
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
@@ -62,8 +62,9 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
     the pooled spread of each column; ``min_scale`` (d,): floor of every template's scale in the
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
-    ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma)
-    and ``shape_memory`` (samples): see :mod:`behaviors.mop.refusal`; ``dwell``: the share of a
+    ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma;
+    default by ``invariance``, :func:`~behaviors.mop.refusal.shape_limits`) and ``shape_memory``
+    (samples): see :mod:`behaviors.mop.refusal`; ``dwell``: the share of a
     hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`;
     default :data:`~behaviors.mop.hmm.HOLD_DWELL` with ``invariance``, else 0); the rest: see the
     module docstring.
@@ -81,10 +82,13 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
                  switch_margin: float = 1.0, confirm: int = 2, end: float = 0.97,
                  still_samples: int = 6, min_probability: float = 0.6,
                  tangent: float = 0.0, lost_samples: int = 6, coverage: float = 0.08,
-                 shape_distance: float = 1.4, shape_accept: float = 1.2,
+                 shape_distance: float | None = None, shape_accept: float | None = None,
                  shape_memory: float = 16.0, dwell: float | None = None,
                  threshold: float = 0.0, turn_limit: float = math.inf,
                  share_radius: float = 3.0) -> None:
+        # as given: the defaults differ by invariance, which a group's members may mix
+        shape_given = (shape_distance, shape_accept)
+        shape_distance, shape_accept = shape_limits(invariance, shape_distance, shape_accept)
         check_ranges(sigma=sigma, window=window, memory=memory, null_distance=null_distance,
                      null_memory=null_memory, onset=onset, accept_distance=accept_distance,
                      max_spread=max_spread, relative_floor=relative_floor, floor=floor,
@@ -134,8 +138,8 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
                             backward=float(backward), restart=float(restart), memory=float(memory),
                             null_distance=float(null_distance), max_spread=float(max_spread),
                             floor=float(floor), null_memory=float(null_memory), onset=float(onset),
-                            coverage=float(coverage), shape_distance=float(shape_distance),
-                            shape_accept=float(shape_accept), shape_memory=float(shape_memory),
+                            coverage=float(coverage), shape_limits=shape_given,
+                            shape_memory=float(shape_memory),
                             threshold=float(threshold), turn_limit=float(turn_limit),
                             share_radius=float(share_radius))
         self._null_decay = 1.0 - 1.0 / self.null_memory

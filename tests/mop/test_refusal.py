@@ -8,6 +8,7 @@ from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
 from behaviors.mop import validity
 from behaviors.mop.group import FollowerGroup
+from behaviors.mop.refusal import shape_limits
 
 
 def _circle_alone_shares(gestures, **kw) -> dict[str, float]:
@@ -23,16 +24,27 @@ def _circle_alone_shares(gestures, **kw) -> dict[str, float]:
     return out
 
 
-def test_tighter_path_limits_keep_a_chord_of_the_circle_from_driving_it(gestures):
-    # refusal.py: the path misfit refused beyond 1.2 sigma of the circle's own spread (accepted
-    # again below 1.0) instead of the default 1.4 / 1.2. A diagonal is a chord of the circle's
-    # first 40% at 0.8-0.95x, within 1.4 sigma of it. Measured: diagonal 0.101 (0.27 / 0.02 /
-    # 0.01), spiral 0.124, wander 0; with 1.4 / 1.2, 0.263 and 0.133
-    now = _circle_alone_shares(gestures, shape_distance=1.2, shape_accept=1.0)
-    before = _circle_alone_shares(gestures)
-    assert now["diagonal"] <= 0.12 and now["diagonal"] <= before["diagonal"] - 0.1, (now, before)
+def test_the_scaled_path_limits_keep_a_chord_of_the_circle_from_driving_it(gestures):
+    # refusal.SCALED_SHAPE_LIMITS: with "scale" invariance the path misfit is refused beyond 1.2
+    # sigma of the circle's own spread (accepted again below 1.0), not 1.4 / 1.2 as for features
+    # as recorded. A diagonal is a chord of the circle's first 40% at 0.8-0.95x, within 1.4 sigma
+    # of it. Measured: diagonal 0.101 (0.27 / 0.02 / 0.01), spiral 0.124, wander 0; with
+    # 1.4 / 1.2, 0.263 and 0.133
+    now = _circle_alone_shares(gestures)
+    loose = _circle_alone_shares(gestures, shape_distance=1.4, shape_accept=1.2)
+    assert now["diagonal"] <= 0.12 and now["diagonal"] <= loose["diagonal"] - 0.1, (now, loose)
     assert now["wander"] <= 0.05 and now["spiral"] <= 0.15, now
-    assert all(now[k] <= before[k] + 1e-9 for k in now), (now, before)
+    assert all(now[k] <= loose[k] + 1e-9 for k in now), (now, loose)
+
+
+def test_path_limits_default_by_invariance():
+    # refusal.shape_limits: tighter where the size is estimated, given values kept, the
+    # acceptance never above a given refusal limit
+    assert shape_limits("scale", None, None) == (1.2, 1.0)
+    assert shape_limits("none", None, None) == (1.4, 1.2)
+    assert shape_limits("offset", None, None) == (1.4, 1.2)
+    assert shape_limits("scale", 0.9, None) == (0.9, 0.9)
+    assert shape_limits("scale", 1.5, 1.3) == (1.5, 1.3)
 
 
 def _mirrored_line_rest_valid(gestures) -> int:
