@@ -260,10 +260,23 @@ class GenerationStep:
             # stalker still/moving met on 5 of 9 paths instead of 0 (0.43-0.85 -> 0.14-0.48
             # against 0.29); the 60th and 70th percentile gave 301 and 290, the mean 294, and
             # holding every step beside a still main (not only stale matches) 294 at the 75th
-            # and 90th percentile, costing the bully, which charges a main that stands
+            # and 90th percentile, costing the bully, which charges a main that stands.
+            # A character that walks with its main (the lover) is so held at places in its
+            # main's frame too, whatever the moment: there the drift correction is uncapped
+            # and the cap the top speed, so beside its still main it went 0.11-0.16 m/s at
+            # moments that moved 0.04 (seeds 0 and 2 slow; 0.053 demonstrated), its speed
+            # there 0.057 / 0.070 m/s, now 0.049 / 0.054. bench/fidelity.py --perturb 2 (three
+            # runs per set), seeds 0-5 / 8-13 / 26-31: met 1986 -> 1986 / 1945 -> 1947 / 1955
+            # -> 1959, the engine's alone 47 -> 46 / 71 -> 70 / 89 -> 89 (the lover's 123 ->
+            # 117 misses, 25 -> 23 the engine's over the nine runs; with 1 +- 0.002 as well,
+            # 91 -> 79 / 23 -> 17), the others and the pursuit the same to the last digit.
+            # Measured too (the lover's misses / the engine's over those nine runs, against
+            # 124 / 26): its main-frame correction at the moment's pace 148 / 40 (its walk
+            # slowed), only while the live main stands 127 / 29 (loops: 0.039 m/s, too slow)
             recent = self._main_recent
             recent.append((mx, my))
-            if len(recent) == recent.maxlen and b.walked[target]:
+            if len(recent) == recent.maxlen and (b.walked[target] or (
+                    b.walks_with_main and place != PLACE_WORLD)):
                 ox, oy = recent[0]
                 if math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S:
                     cap = min(cap, b.still_speed * self.dt)

@@ -239,7 +239,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         ints[RECENT_HEAD] = head
         if ints[RECENT_COUNT] < m:
             ints[RECENT_COUNT] += 1
-        if ints[RECENT_COUNT] == m and row[T_WALKED] != 0.0:
+        if ints[RECENT_COUNT] == m and (row[T_WALKED] != 0.0 or (
+                c[WALKS_WITH_MAIN] != 0.0 and place != PLACE_WORLD)):
             ox, oy = recent[head, 0], recent[head, 1]      # the oldest
             if hypot(mx - ox, my - oy) < c[STILL_DISTANCE]:
                 cap = _min(cap, c[STILL_SPEED] * dt)
