@@ -324,6 +324,9 @@ class Behavior:
         # loops paths against 0.8% demonstrated. See Reactor._step for the figures.
         near = float(np.percentile(self.distance, SPACE_PERCENTILE))
         self.personal_space = near if near >= TOUCH_M else 0.0
+        # the demonstrated reactor's largest step (metres per sample; inf if it never moved)
+        steps = np.hypot(*np.diff(self.react[:, :2], axis=0).T)
+        self.largest_step = float(steps.max()) if steps.max() > 0.0 else math.inf
         # the edge margin (Params.edge_percentile): that percentile of the demonstrated
         # reactor's distances to its table's edges (metres, 0 = off), kept by fitted targets
         self.edge_margin = 0.0

@@ -173,6 +173,7 @@ class Reactor(GenerationStep):
                                                  HEADING_MIN_SPEED, FOLLOW_SHARE,
                                                  b.personal_space, float(b.keeps_pace))
         c[sk.WALKS_WITH_MAIN] = float(b.walks_with_main)
+        c[sk.LARGEST_STEP] = b.largest_step
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))

@@ -59,7 +59,8 @@ DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     STILL_DISTANCE, PATCH_LENGTH, HEADING_MIN_SPEED, FOLLOW_SHARE, PERSONAL_SPACE, \
     KEEPS_PACE, S_ROOM, ROOM_CLIP, TARGET_TABLE = range(4, 42)
 WALKS_WITH_MAIN = 45  # after TARGET_TABLE: x0, y0, x1, y1 of Reactor.target_table
-CONSTANTS = 46
+LARGEST_STEP = 46
+CONSTANTS = 47
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -238,7 +239,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         ints[RECENT_HEAD] = head
         if ints[RECENT_COUNT] < m:
             ints[RECENT_COUNT] += 1
-        if ints[RECENT_COUNT] == m and row[T_WALKED] != 0.0:
+        if ints[RECENT_COUNT] == m and (row[T_WALKED] != 0.0 or (
+                c[WALKS_WITH_MAIN] != 0.0 and place != PLACE_WORLD)):
             ox, oy = recent[head, 0], recent[head, 1]      # the oldest
             if hypot(mx - ox, my - oy) < c[STILL_DISTANCE]:
                 cap = _min(cap, c[STILL_SPEED] * dt)
@@ -294,6 +296,9 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     if obstacles.shape[0] > 0:
         nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)
         sx, sy = nx - rx, ny - ry
+        length = hypot(sx, sy)
+        if c[WALKS_WITH_MAIN] != 0.0 and length > c[LARGEST_STEP]:     # shoved (step.py)
+            sx, sy = sx * c[LARGEST_STEP] / length, sy * c[LARGEST_STEP] / length
     # TextureGovernor.observe
     if hypot(sx, sy) <= c[GOV_MIN_STEP]:
         fs[GOV_PREV] = math.nan
