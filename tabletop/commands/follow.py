@@ -82,7 +82,7 @@ def main(args: argparse.Namespace) -> int:
                              FollowArgumentError, integer=True)
     pairs = parse_template_args(args.template)
     output_file(args.out, "--out", FollowArgumentError,
-                inputs=[args.input] + [path for _, path in pairs])
+                inputs=[args.input] + [path for _, path in pairs], example="progress.csv")
     templates: dict[str, np.ndarray] = {}
     columns: list[str] | None = None
     first: Path | None = None

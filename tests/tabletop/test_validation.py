@@ -236,6 +236,9 @@ def test_out_naming_a_folder_names_that_folder(tmp_path, capfd, demo, command):
     code, err = cli(capfd, *args, "--out", out)
     line = one_line(err)
     assert code == 2 and str(out) in line and "folder" in line and ".tmp" not in line
+    # the file it suggests is of the kind the command writes (a CSV was suggested "out.jsonl")
+    kind = {"behave": ".csv", "follow": ".csv", "track": ".jsonl", "replay": ".jsonl"}[command]
+    assert line.endswith(kind), line
 
 
 def test_a_usage_error_is_one_line(capfd):
