@@ -248,6 +248,26 @@ def test_a_usage_error_is_one_line(capfd):
     assert info.value.code == 2 and "--rate" in one_line(err)
 
 
+@pytest.mark.parametrize("argv, words", [
+    (["studio"], "invalid choice: 'studio'", ),
+    (["kiosk", "--seconds", "5"], "invalid choice: 'kiosk'"),
+    (["run", "--studio2"], "tabletop run: error: unrecognized arguments: --studio2 "
+                           "(see tabletop run --help)"),
+    (["calibrate", "board", "--out", "b.png", "extra"],
+     "tabletop calibrate board: error: unrecognized arguments: extra "
+     "(see tabletop calibrate board --help)"),
+])
+def test_a_usage_error_points_to_the_right_command(capfd, argv, words):
+    # `tabletop studio` is what a designer types: the studio is a mode of run; an unknown
+    # option was blamed on `tabletop` and sent to its --help, not to the command's
+    with pytest.raises(SystemExit) as info:
+        tabletop(argv)
+    line = one_line(capfd.readouterr().err)
+    assert info.value.code == 2 and words in line, line
+    if argv[0] in ("studio", "kiosk"):
+        assert line.endswith(f"(the {argv[0]} is `tabletop run --{argv[0]}`)"), line
+
+
 def test_a_file_that_is_no_config_is_named_in_one_short_line(tmp_path, capfd):
     """A CSV given as the config is one YAML string: the line says what it got, not all of it."""
     rows = "t,main_x,main_y\n" + "".join(f"{i / 40},{0.3 + 0.001 * i},0.4\n" for i in range(400))
