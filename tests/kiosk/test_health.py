@@ -138,6 +138,16 @@ def test_status_command_prints_every_table(tmp_path, capsys):
     assert lines[1].startswith("south")
 
 
+def test_status_command_says_when_no_heartbeat_came(capsys):
+    # it printed nothing at all: a wrong address looked like a quiet gallery
+    port = free_udp_port()
+    assert cli(["status", f"127.0.0.1:{port}", "--seconds", "0.3"]) == 0
+    cap = capsys.readouterr()
+    assert cap.out == "" and "Traceback" not in cap.err
+    assert cap.err.splitlines() == [cap.err.strip()]
+    assert f"no heartbeat came to 127.0.0.1:{port} in 0 s" in cap.err and "kiosk.heartbeat" in cap.err
+
+
 def test_status_lines_keep_their_columns():
     # (the whole line went through one_line, which collapsed the padding of every column)
     from tabletop.commands.status import format_heartbeat
