@@ -283,6 +283,40 @@ def test_mode_is_one_moment_whenever_the_table_shows_it():
     assert rep.status(Frame(seq=5, t=5.0))["mode"] == "live"      # no sources at all
 
 
+def test_the_log_says_when_and_why_the_table_shows_one_moment(caplog):
+    """The visitors' screen says only "One moment"; the operator's log says when it began, the
+    sources' own words and when it ended (an osc source whose tracker stopped logged nothing:
+    the table was calm and the log silent). A flapping source: one line a minute at most."""
+    clock = Clock()
+    rep = HealthReporter("table-7", LoopStats(), every_s=1.0, clock=clock)
+    ok = (SourceHealth("tracker", True, "listening on 127.0.0.1:3333; TUIO from t", 0.01),)
+    down = (SourceHealth("tracker", False, "listening on 127.0.0.1:3333; nothing received "
+                                           "for 5 s", 5.0),)
+
+    def run(health, seconds):
+        for _ in range(int(seconds * 4)):
+            rep(Frame(seq=0, t=clock.t, health=health))
+            clock.t += 0.25
+    with caplog.at_level("INFO", logger="tabletop"):
+        run(down, 1.5)              # a source still starting: no line
+        run(ok, 5)
+        run(down, 23)
+        run(ok, 5)
+        for _ in range(3):          # flapping: 10 s down, 5 s up, three times within a minute
+            run(down, 10)
+            run(ok, 5)
+        clock.t += 60
+        run(down, 3)
+    said = [(r.levelname, r.getMessage()) for r in caplog.records]
+    assert said == [
+        ("WARNING", 'the table shows "one moment" (for 2 s): source tracker: listening on '
+                    "127.0.0.1:3333; nothing received for 5 s"),
+        ("INFO", 'the table is live again after 23 s of "one moment"'),
+        ("WARNING", 'the table shows "one moment" (for 2 s, 3 more times since the last such '
+                    "line): source tracker: listening on 127.0.0.1:3333; nothing received for "
+                    "5 s")]
+
+
 def test_a_camera_still_starting_is_not_reported_down(tmp_path):
     """At start-up the camera opens and its first frame is on its way: the table has not lost
     anything, so the first heartbeats say mode "live" with 0 unhealthy sources (they said
