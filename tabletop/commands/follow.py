@@ -87,7 +87,7 @@ def main(args: argparse.Namespace) -> int:
     columns: list[str] | None = None
     first: Path | None = None
     for name, path in pairs:
-        header, data = read_csv(path, what=f"template {name!r} CSV file", min_rows=1)
+        header, data = read_csv(path, what=f"template {name!r} CSV file", min_rows=2)
         names, feats = _features(path, header, data, f"template {name!r}")
         if feats.shape[0] < 2:
             raise TemplateError(

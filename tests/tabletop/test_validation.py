@@ -222,6 +222,17 @@ def test_follow_numbers_in_range(tmp_path, capfd, option, value):
     assert code == 2 and f"{option} '{value}'" in line
 
 
+@pytest.mark.parametrize("rows", [0, 1])
+def test_follow_template_too_short_says_what_it_needs(tmp_path, capfd, rows):
+    # an empty template said "needs at least 1" row, a one-row one "needs at least 2"
+    tpl = tmp_path / "a.csv"
+    tpl.write_text("x,y\n" + "0,0\n" * rows)
+    code, err = cli(capfd, "follow", "--template", f"a={tpl}", "--input", tpl, "--out",
+                    tmp_path / "o.csv")
+    line = one_line(err)
+    assert code == 2 and f"{tpl}: " in line and "needs at least 2" in line, line
+
+
 @pytest.mark.parametrize("command", ["behave", "follow", "track", "replay"])
 def test_out_naming_a_folder_names_that_folder(tmp_path, capfd, demo, command):
     out = tmp_path / "results"
