@@ -121,6 +121,9 @@ def main(args: argparse.Namespace) -> int:
     height = number_in_range(args.height, "--height", "metres", *HEIGHT_M, PoseArgumentError)
     if not args.describe and (not args.input or not args.out):
         raise PoseArgumentError("give --input TOUCHES.csv and --out POSES.jsonl (or --describe)")
+    if args.describe and args.input:   # it was ignored: the user expected poses of it
+        raise PoseArgumentError(f"--describe describes the standing character and its actions; "
+                                f"it reads no --input ({args.input}): give one or the other")
     if args.out:
         output_file(args.out, "--out", PoseArgumentError, inputs=(args.input,))
     frames = None if args.describe else read_touches(args.input)

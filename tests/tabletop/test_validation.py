@@ -222,6 +222,16 @@ def test_follow_numbers_in_range(tmp_path, capfd, option, value):
     assert code == 2 and f"{option} '{value}'" in line
 
 
+def test_pose_describe_takes_no_input(tmp_path, capfd):
+    # --input was silently ignored by --describe (no poses of it were written)
+    touches = tmp_path / "t.csv"
+    touches.write_text("t,id,x,y\n0,1,0.6,0.5\n")
+    code, err = cli(capfd, "pose", "--describe", "--input", touches, "--out", tmp_path / "d.json")
+    line = one_line(err)
+    assert code == 2 and "--describe" in line and str(touches) in line, line
+    assert not (tmp_path / "d.json").exists()
+
+
 @pytest.mark.parametrize("rows", [0, 1])
 def test_follow_template_too_short_says_what_it_needs(tmp_path, capfd, rows):
     # an empty template said "needs at least 1" row, a one-row one "needs at least 2"
