@@ -232,6 +232,21 @@ def test_pose_describe_takes_no_input(tmp_path, capfd):
     assert not (tmp_path / "d.json").exists()
 
 
+@pytest.mark.parametrize("rows, words", [
+    ("0,1,0.6,0.5\n# \n0,1,0.7,0.5\n", "line 4: finger 1 is given twice at t = 0 s"),
+    ("0,1,0.6,0.5\n\n1,1.5,0.6,0.5\n", "line 4: id 1.5 must be a whole number"),
+    ("1,1,0.6,0.5\n0,1,0.6,0.5\n", "line 3: time 0 s goes back from 1 s (line 2;"),
+])
+def test_pose_touches_name_the_file_line(tmp_path, capfd, rows, words):
+    # they said "data row N" (blank lines not counted) where every other CSV says its line;
+    # a finger given twice at one time was taken silently (the last row won)
+    touches = tmp_path / "t.csv"
+    touches.write_text("t,id,x,y\n" + rows.replace("# \n", "\n"))
+    code, err = cli(capfd, "pose", "--input", touches, "--out", tmp_path / "p.jsonl")
+    line = one_line(err)
+    assert code == 2 and f"{touches}: {words}" in line, line
+
+
 @pytest.mark.parametrize("rows", [0, 1])
 def test_follow_template_too_short_says_what_it_needs(tmp_path, capfd, rows):
     # an empty template said "needs at least 1" row, a one-row one "needs at least 2"
