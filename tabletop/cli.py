@@ -32,12 +32,19 @@ def one_line(message: object) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
+# modes of ``run`` that people take for commands of their own
+RUN_MODES = {"studio": "tabletop run --studio", "kiosk": "tabletop run --kiosk"}
+
+
 class Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line (what is wrong, and where to read more)."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {one_line(message)} "
-                                  f"(see {self.prog} --help)\n")
+        hint = f"see {self.prog} --help"
+        for mode, command in RUN_MODES.items():
+            if self.prog == "tabletop" and f"invalid choice: '{mode}'" in message:
+                hint = f"the {mode} is `{command}`"
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {one_line(message)} ({hint})\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -59,6 +66,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def command_parser(parser: argparse.ArgumentParser,
+                   args: argparse.Namespace) -> argparse.ArgumentParser:
+    """The parser of the (sub)command ``args`` were parsed for: ``calibrate``'s step's for a
+    step, ``parser`` itself when no command was given."""
+    for action in parser._subparsers._group_actions if parser._subparsers else ():
+        chosen = action.choices.get(getattr(args, action.dest, None) or "")
+        if chosen is not None:
+            return command_parser(chosen, args)
+    return parser
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     # OpenCV's own "[ WARN:0@...]" lines (a missing camera, a video back-end probing) are not for
@@ -66,7 +84,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     os.environ.setdefault("OPENCV_LOG_LEVEL", "SILENT")
     os.environ.setdefault("OPENCV_VIDEOIO_DEBUG", "0")
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:   # said by the command's own parser, which argparse leaves to the top one
+        command_parser(parser, args).error(f"unrecognized arguments: {' '.join(extra)}")
     nul = [a for a in (sys.argv[1:] if argv is None else argv) if "\x00" in a]
     if nul:  # (a shell cannot pass one; a script building its arguments can)
         parser.error(f"argument {nul[0]!r} contains a NUL character: no path or value can")

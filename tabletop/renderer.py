@@ -162,8 +162,7 @@ class Renderer:
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
         if self.moment > 0:
-            bad = [h.message for h in frame.health if h.message]
-            screens.one_moment(target, t, self.moment, bad[0] if bad else "")
+            screens.one_moment(target, t, self.moment)
         if overlay:
             drawn.append(self.draw_overlay(target, overlay, self._keep_clear,
                                            self._studio_marks))

@@ -117,7 +117,8 @@ class ProjectorView:
         self.stats, self.commands, self.stop = stats, commands, stop
         asked = headless or options["headless"]
         self.headless = headless_needed(asked)
-        self._headless_why = "asked for (--headless, view.headless)" if asked else "no display"
+        self._headless_why = ("as asked (--headless or view.headless)" if asked
+                              else "as there is no display (DISPLAY is not set)")
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
         pygame.display.init()
@@ -157,7 +158,7 @@ class ProjectorView:
     def consume(self, frame: Frame) -> None:
         if self.headless and not self._said_headless:  # once running, not while starting
             self._said_headless = True
-            log.info("%s: the view runs headless (SDL dummy driver)", self._headless_why)
+            log.info("the view runs headless (SDL dummy driver), %s", self._headless_why)
         self._events()
         overlay = None
         if self.show_overlay:

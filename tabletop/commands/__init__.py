@@ -35,14 +35,15 @@ def number_in_range(text: str | float, option: str, unit: str, lo: float, hi: fl
     return int(value) if integer else value
 
 
-def output_file(path, option: str, error: type[InputError] = InputError, inputs=()):
-    """``path`` of an output ``option`` (a Path), refused at once when it names a folder or the
-    same file as one of ``inputs`` (the command's input paths, None where not given), which the
-    output would overwrite."""
+def output_file(path, option: str, error: type[InputError] = InputError, inputs=(),
+                example: str = "out.jsonl"):
+    """``path`` of an output ``option`` (a Path), refused at once when it names a folder (the
+    message suggests the file ``example`` in it) or the same file as one of ``inputs`` (the
+    command's input paths, None where not given), which the output would overwrite."""
     from pathlib import Path
     p = Path(path)
     if p.is_dir():
-        raise error(f"{option} {p}: is a folder; give a file name such as {p / 'out.jsonl'}")
+        raise error(f"{option} {p}: is a folder; give a file name such as {p / example}")
     target = p.resolve()
     for source in inputs:
         if source is not None and Path(source).resolve() == target:

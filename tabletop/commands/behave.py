@@ -142,7 +142,8 @@ def main(args: argparse.Namespace) -> int:
                                   "disagree; give one")
     params.setdefault("rate_hz", rate)
     output_file(args.out, "--out", BehaveArgumentError,
-                inputs=(args.train, args.train_main, args.train_react, args.input))
+                inputs=(args.train, args.train_main, args.train_react, args.input),
+                example="react.csv")
     demo, source = read_demonstration(args)
     header, main_rows, lines = read_csv_lines(args.input, MAIN_COLUMNS, what="main path CSV",
                                               min_rows=1)

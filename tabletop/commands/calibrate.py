@@ -71,6 +71,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     p.add_argument("--config", default="config.yaml", metavar="FILE")
     p.add_argument("--tolerance", default=None, metavar="MM",
                    help="pass when every cross lands this close (default 2 mm)")
+    for name, step in sub.choices.items():   # errors name the step, as its usage errors do
+        step.set_defaults(_prog=f"tabletop calibrate {name}")
 
 
 class CalibrateError(InputError):
@@ -78,6 +80,13 @@ class CalibrateError(InputError):
 
 
 def main(args: argparse.Namespace) -> int:
+    if args.step in ("camera", "table", "projector"):
+        # the file a step will write into is checked before the work (a live lens solve takes
+        # minutes of views): a folder, or an existing file that is not a calibration, is
+        # refused now rather than after it
+        from tabletop.commands import output_file
+        output_file(args.out, "--out", CalibrateError, example="calibration.yaml")
+        load_existing(args.out)
     return {"board": board_main, "camera": camera_main, "table": table_main,
             "pattern": pattern_main, "projector": projector_main,
             "check": check_main}[args.step](args)
@@ -109,6 +118,31 @@ def parse_marker(text: str) -> tuple[int, float, float]:
     if marker_id < 0 or not (np.isfinite(x) and np.isfinite(y)):
         raise CalibrateError(usage)
     return marker_id, x, y
+
+
+def write_png(path: str | Path, option: str, image: np.ndarray, dpi: float | None = None) -> None:
+    """``image`` written atomically to ``path`` (the ``option``'s file, which must end in .png:
+    a .jpg would hold PNG bytes, and JPEG's blur would move the corners), with ``dpi`` in the
+    file's pHYs chunk so that printing at 100% scale prints at that resolution (without it a
+    print dialog assumes 72 or 96 dpi and the board comes out 3-4 times too large)."""
+    import struct
+    import zlib
+
+    import cv2
+    from tabletop.commands import output_file
+    from tabletop.files import atomic_write_bytes
+    output_file(path, option, CalibrateError, example="out.png")
+    if Path(path).suffix.lower() != ".png":
+        raise CalibrateError(f"{option} {path}: the image is written as PNG; give a file name "
+                             f"ending in .png, e.g. {Path(path).with_suffix('.png').name}")
+    ok, data = cv2.imencode(".png", image)
+    png = data.tobytes()
+    if dpi is not None:   # pHYs: pixels per metre on x and y, unit 1 (metre), after IHDR
+        body = b"pHYs" + struct.pack(">IIB", round(dpi / 0.0254), round(dpi / 0.0254), 1)
+        chunk = struct.pack(">I", 9) + body + struct.pack(">I", zlib.crc32(body))
+        end = 8 + 8 + 13 + 4                      # signature, IHDR length + type, data, CRC
+        png = png[:end] + chunk + png[end:]
+    atomic_write_bytes(path, png)
 
 
 def read_image(path: str | Path) -> np.ndarray:
@@ -179,14 +213,11 @@ def refuse_or_force(over: bool, message: str, force: bool) -> None:
 
 # ------------------------------------------------------------------------------------- steps
 def board_main(args: argparse.Namespace) -> int:
-    import cv2
     from calibration.charuco import board_image, parse_board
     spec = parse_board(args.board)
     dpi = positive_number(args.dpi, "--dpi", "dots per inch", CalibrateError)
     img, (w_mm, h_mm) = board_image(spec, dpi)
-    ok, data = cv2.imencode(".png", img)
-    from tabletop.files import atomic_write_bytes
-    atomic_write_bytes(args.out, data.tobytes())
+    write_png(args.out, "--out", img, dpi)
     print(f"wrote {args.out}: {spec.cols}x{spec.rows} squares of {spec.square_m * 1e3:g} mm, "
           f"markers {spec.marker_m * 1e3:g} mm ({spec.dictionary}); print at {dpi:g} dpi, "
           f"100% scale: {w_mm:.1f} x {h_mm:.1f} mm. Measure a printed square: it must be "
@@ -298,14 +329,11 @@ def table_main(args: argparse.Namespace) -> int:
 
 
 def pattern_main(args: argparse.Namespace) -> int:
-    import cv2
     from calibration.charuco import pattern_image, pattern_spec
     size = parse_pair(args.size, "--size", "projector pixels", integer=True)
     if min(size) < 160:
         raise CalibrateError(f"--size {args.size}: at least 160 pixels each way")
-    from tabletop.files import atomic_write_bytes
-    ok, data = cv2.imencode(".png", pattern_image(size))
-    atomic_write_bytes(args.out, data.tobytes())
+    write_png(args.out, "--out", pattern_image(size))
     spec, _ = pattern_spec(size)
     print(f"wrote {args.out}: {size[0]}x{size[1]} projector pixels, a {spec.cols}x{spec.rows} "
           f"ChArUco pattern; show it fullscreen, unscaled, on the projector")

@@ -82,12 +82,13 @@ def main(args: argparse.Namespace) -> int:
                              FollowArgumentError, integer=True)
     pairs = parse_template_args(args.template)
     output_file(args.out, "--out", FollowArgumentError,
-                inputs=[args.input] + [path for _, path in pairs])
+                inputs=[args.input] + [path for _, path in pairs], example="progress.csv")
     templates: dict[str, np.ndarray] = {}
     columns: list[str] | None = None
     first: Path | None = None
     for name, path in pairs:
-        header, data = read_csv(path, what=f"template {name!r} CSV file", min_rows=1)
+        # (no row is said as one row is: "has 0 sample(s), needs at least 2" just below)
+        header, data = read_csv(path, what=f"template {name!r} CSV file", min_rows=0)
         names, feats = _features(path, header, data, f"template {name!r}")
         if feats.shape[0] < 2:
             raise TemplateError(

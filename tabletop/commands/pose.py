@@ -72,24 +72,27 @@ def parse_view(text: str) -> tuple[float, float]:
 
 def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]]:
     """Input frames [(t, {id: (x, y)})] from TOUCHES.csv; one clear error for bad rows."""
-    from tabletop.files import read_csv
-    header, data = read_csv(path, TOUCH_COLUMNS, what="touches CSV", min_rows=1)
+    from tabletop.files import read_csv_lines
+    header, data, lines = read_csv_lines(path, TOUCH_COLUMNS, what="touches CSV", min_rows=1)
     col = {c: header.index(c) for c in TOUCH_COLUMNS}
     t, ids = data[:, col["t"]], data[:, col["id"]]
     back = np.flatnonzero(np.diff(t) < 0)
-    if back.size:
+    if back.size:   # (file lines, as every other CSV error says; "data row" counted otherwise)
         i = int(back[0]) + 1
-        raise PoseArgumentError(f"{path}: data row {i + 1}: time {t[i]:g} s goes back from "
-                                f"{t[i - 1]:g} s (times must not decrease)")
+        raise PoseArgumentError(f"{path}: line {lines[i]}: time {t[i]:g} s goes back from "
+                                f"{t[i - 1]:g} s (line {lines[i - 1]}; times must not decrease)")
     bad = np.flatnonzero((ids != np.round(ids)) | (ids < 0))
     if bad.size:
-        raise PoseArgumentError(f"{path}: data row {int(bad[0]) + 1}: id {ids[bad[0]]:g} must be "
+        raise PoseArgumentError(f"{path}: line {lines[bad[0]]}: id {ids[bad[0]]:g} must be "
                                 "a whole number >= 0")
     frames: list[tuple[float, dict[int, tuple[float, float]]]] = []
-    for row in data:
+    for row, line in zip(data, lines):
         tt, fid = float(row[col["t"]]), int(row[col["id"]])
         if not frames or frames[-1][0] != tt:
             frames.append((tt, {}))
+        if fid in frames[-1][1]:   # one finger in two places at once: the last row won silently
+            raise PoseArgumentError(f"{path}: line {line}: finger {fid} is given twice at "
+                                    f"t = {tt:g} s (one row per finger and time)")
         frames[-1][1][fid] = (float(row[col["x"]]), float(row[col["y"]]))
     return frames
 
@@ -121,6 +124,9 @@ def main(args: argparse.Namespace) -> int:
     height = number_in_range(args.height, "--height", "metres", *HEIGHT_M, PoseArgumentError)
     if not args.describe and (not args.input or not args.out):
         raise PoseArgumentError("give --input TOUCHES.csv and --out POSES.jsonl (or --describe)")
+    if args.describe and args.input:   # it was ignored: the user expected poses of it
+        raise PoseArgumentError(f"--describe describes the standing character and its actions; "
+                                f"it reads no --input ({args.input}): give one or the other")
     if args.out:
         output_file(args.out, "--out", PoseArgumentError, inputs=(args.input,))
     frames = None if args.describe else read_touches(args.input)

@@ -24,6 +24,6 @@ def main(args: argparse.Namespace) -> int:
     if args.session.is_dir():     # also '' (the current folder): it has no name to derive --out
         raise InputError(f"{args.session}: is a folder, expected a studio session log (.jsonl)")
     out = args.out or args.session.with_name(args.session.stem + "-sheet.png")
-    output_file(out, "--out", InputError, inputs=(args.session,))
+    output_file(out, "--out", InputError, inputs=(args.session,), example="sheet.png")
     print(f"{out}: {contact_sheet(args.session, out, args.columns)}")
     return 0

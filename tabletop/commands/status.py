@@ -6,6 +6,7 @@ import argparse
 import json
 import math
 import sys
+import time
 
 from tabletop.cli import one_line
 
@@ -89,7 +90,10 @@ def main(args: argparse.Namespace) -> int:
     seconds = None if args.seconds is None else number_in_range(
         args.seconds, "--seconds", "seconds", 0.001, MAX_SECONDS)
 
+    came = []
+
     def on_heartbeat(client, address, *values) -> None:
+        came.append(True)
         wrong = check_heartbeat(values)
         st = status_object(values[4]) if not wrong and args.json else None
         if args.json and not wrong and st is None:   # --json prints JSON objects only
@@ -112,10 +116,15 @@ def main(args: argparse.Namespace) -> int:
         raise InputError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from None
     if seconds is not None:
         threading.Timer(seconds, server.shutdown).start()
+    start = time.monotonic()
     try:
         server.serve_forever(poll_interval=0.1)
     except KeyboardInterrupt:
         pass
     finally:
         server.server_close()
+    if not came:   # silence alone does not tell a quiet gallery from a wrong address
+        print(f"tabletop status: no heartbeat came to {host}:{port} in "
+              f"{time.monotonic() - start:.0f} s (a table in kiosk mode sends one every "
+              "kiosk.heartbeat.every_s to kiosk.heartbeat.host:port)", file=sys.stderr)
     return 0

@@ -128,9 +128,11 @@ def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
     surf.blit(img, img.get_rect(center=(int(center[0]), int(center[1]))))
 
 
-def one_moment(surf: pygame.Surface, t: float, alpha: float, detail: str = "") -> None:
+def one_moment(surf: pygame.Surface, t: float, alpha: float) -> None:
     """The calm screen while every camera reconnects: the table dims, a slow ring of lights
-    turns and breathes at its centre, "One moment" below it."""
+    turns and breathes at its centre, "One moment" below it. It is for visitors, so it says
+    nothing of why: the source's own words ("cannot open camera 0; reconnecting in 3 s") go to
+    the log, the status file and the operator overlay's health lines."""
     if alpha <= 0.0:
         return
     w, h = surf.get_size()
@@ -145,8 +147,6 @@ def one_moment(surf: pygame.Surface, t: float, alpha: float, detail: str = "") -
         P.glow(surf, (cx + R * math.cos(a), cy + R * math.sin(a)), 0.22 * R, col,
                alpha * (0.25 + 0.55 * b))
     text(surf, "One moment", (cx, cy + 2.0 * R), int(0.05 * h), mix(col, TEXT, 0.6), alpha)
-    if detail:
-        text(surf, detail, (cx, cy + 2.0 * R + 0.05 * h), int(0.028 * h), (120, 130, 150), alpha)
 
 
 INVITATIONS = {"puck": "put a puck on the table", "touch": "touch the table",

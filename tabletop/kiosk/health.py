@@ -137,7 +137,18 @@ class Heartbeat:
 
 class HealthReporter:
     """Frame-loop hook: every ``every_s`` of frame time, builds the status, writes it and sends
-    the heartbeat. ``extra()`` adds fields (attract mode, config watcher, studio)."""
+    the heartbeat. ``extra()`` adds fields (attract mode, config watcher, studio).
+
+    It also logs when the table starts showing "one moment" (with every unhealthy source's
+    own words, which the visitors' screen leaves out) and when it is live again: otherwise a
+    source that logs nothing of its own (an ``osc`` source whose tracker stopped) left the
+    table calm for visitors and the log silent. Episodes shorter than ``MOMENT_GRACE_S`` (a
+    source still starting) are not logged; at most one line every ``MOMENT_LOG_S`` (a flapping
+    source), the next line counting the episodes not logged."""
+
+    MOMENT_LOG_S = 60.0   # seconds between two "one moment" lines at least
+    # an episode shorter than this is not logged (a source still starting, a blip), seconds
+    MOMENT_GRACE_S = 2.0
 
     def __init__(self, name: str, stats: Any, every_s: float = 1.0,
                  status_file: Path | None = None, heartbeat: Heartbeat | None = None,
@@ -151,6 +162,11 @@ class HealthReporter:
         self.started = clock() if started is None else started
         self._next = -math.inf
         self.last: dict[str, Any] | None = None
+        self._moment_since: float | None = None   # clock time "one moment" began showing
+        self._moment_said = -math.inf             # ... and when it was last logged
+        self._unsaid = 0                          # episodes since then, not logged
+        self._said_this = False                   # the present episode was logged
+        self._judged = False                      # ... or counted as not logged
 
     def status(self, frame: Frame) -> dict[str, Any]:
         from tabletop.renderer import cameras_down   # the view's rule for its calm screen
@@ -184,12 +200,37 @@ class HealthReporter:
         self._next = now + self.every_s
         status = self.status(frame)
         self.last = status
+        self._say_mode(status, now)
         text = json.dumps(status, separators=(",", ":"), allow_nan=False)
         if self.writer is not None:
             self.writer.put(text + "\n")
         if self.heartbeat is not None:
             self.heartbeat.send(self.name, status["uptime_s"], status["fps"],
                                 status["unhealthy_sources"], text)
+
+    def _say_mode(self, status: dict[str, Any], now: float) -> None:
+        """Log an episode of "one moment" that lasted ``MOMENT_GRACE_S`` (warning, with why)
+        and its end (with its length, seconds); see the class docstring for how often."""
+        down = status["mode"] == "one_moment"
+        if down and self._moment_since is None:
+            self._moment_since, self._judged, self._said_this = now, False, False
+        elif down and not self._judged and now - self._moment_since >= self.MOMENT_GRACE_S:
+            self._judged = True
+            if now - self._moment_said < self.MOMENT_LOG_S:
+                self._unsaid += 1
+                return
+            why = "; ".join(f"source {s['name']}: {s['message']}" for s in status["sources"]
+                            if not s["ok"]) or "no source is ok"
+            more = (f", {self._unsaid} more time{'s' if self._unsaid > 1 else ''} since the "
+                    "last such line" if self._unsaid else "")
+            log.warning('the table shows "one moment" (for %.0f s%s): %s',
+                        now - self._moment_since, more, why)
+            self._moment_said, self._unsaid, self._said_this = now, 0, True
+        elif not down and self._moment_since is not None:
+            if self._said_this:
+                log.info('the table is live again after %.0f s of "one moment"',
+                         now - self._moment_since)
+            self._moment_since = None
 
     def close(self) -> None:
         if self.writer is not None:

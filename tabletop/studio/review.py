@@ -175,7 +175,8 @@ def summary(tries: list[dict]) -> str:
     rec = sum(float(t.get("duration_s", 0)) for t in tries)
     train = [float(t.get("training_s", 0)) for t in tries if t.get("training_s")]
     mean = f", training {1e3 * sum(train) / len(train):.0f} ms on average" if train else ""
-    return f"{len(tries)} tries, {kept} kept ({per}), {rec:.0f} s recorded{mean}"
+    n = len(tries)
+    return f"{n} {'try' if n == 1 else 'tries'}, {kept} kept ({per}), {rec:.0f} s recorded{mean}"
 
 
 def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
@@ -200,6 +201,10 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
                    f"trained in {t.get('training_s', 0) * 1e3:.0f} ms")
         ax.set_title(caption, fontsize=8)
     line = summary(tries)
-    fig.suptitle(f"{Path(session).name}: {line}")
+    # the file's name, then the summary wrapped to the sheet's width (one line, centred, ran
+    # off both edges of a one- or two-try sheet): about 6.5 px a character at 11 pt, 80 dpi
+    import textwrap
+    chars = max(20, int(fig.get_figwidth() * fig.dpi / 6.5))
+    fig.suptitle(f"{Path(session).name}\n" + textwrap.fill(line, chars), fontsize=11)
     _save(fig, out)
     return line

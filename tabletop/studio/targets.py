@@ -219,8 +219,12 @@ class PuppetMasterTarget:
         e.play(behavior, "new take", reactor)
 
     def _summary(self) -> str:
-        secs = float(self.demo[-1, 0]) if self.demo is not None and len(self.demo) else 0.0
-        return f"trained {self.pending.samples} samples ({secs:.1f} s)"
+        """What was trained, in the session log's and the review's figures: the take's
+        recorded samples and seconds (the behaviour's own count, resampled at its rate, read
+        428 where the review said 246 for one take of a 23 fps loop)."""
+        n = len(self.demo) if self.demo is not None else 0
+        secs = float(self.demo[-1, 0]) if n else 0.0
+        return f"trained {n} samples ({secs:.1f} s)"
 
     def revert(self) -> None:
         self.engine.hold, self.ghost, self._training = None, None, None

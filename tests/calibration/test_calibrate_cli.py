@@ -245,3 +245,34 @@ def test_an_image_of_another_resolution_than_the_lens_is_refused(tmp_path, capsy
     refused(capsys, "table", "--image", small, "--out", out, "--marker", "0=0,0",
             "--marker", "1=1,0", "--marker", "2=1,1", "--marker", "3=0,1",
             words="640x480 pixels, but the lens was calibrated at 1280x720")
+
+
+def test_board_file_carries_its_print_resolution(tmp_path, capsys):
+    # a PNG without its resolution prints at the viewer's 72 or 96 dpi: a 300 dpi board 3-4
+    # times too large; with it, "100% scale" prints the squares at their size
+    from PIL import Image
+    code, stdout, _ = run(capsys, "board", "--out", tmp_path / "b.png", "--dpi", "150")
+    assert code == 0
+    with Image.open(tmp_path / "b.png") as im:
+        dpi, width_px = im.info["dpi"], im.size[0]
+    assert dpi == pytest.approx((150, 150), abs=0.05)
+    assert width_px / dpi[0] * 25.4 == pytest.approx(300, abs=0.3)   # the printed width, mm
+
+
+def test_images_are_png_files_and_steps_are_named(tmp_path, capsys):
+    # PNG bytes under a .jpg name, or no suffix at all, were written without a word
+    for step, more in (("board", ()), ("pattern", ("--size", "1280,720"))):
+        for name in ("b.jpg", "b"):
+            line = refused(capsys, step, "--out", tmp_path / name, *more, words="ending in .png")
+            assert line.startswith(f"tabletop calibrate {step}: error: --out ")
+            assert not (tmp_path / name).exists()
+    # the file a step writes into is checked before its work: a folder, or a file that is
+    # not a calibration (the installation's config.yaml), is refused at once
+    markers = [a for i in range(4) for a in ("--marker", f"{i}={i * 0.1},{i % 2 * 0.1}")]
+    refused(capsys, "table", "--image", tmp_path / "none.png", *markers, "--out", tmp_path,
+            words=f"--out {tmp_path}: is a folder; give a file name such as "
+                  f"{tmp_path / 'calibration.yaml'}")
+    (tmp_path / "config.yaml").write_text("table: {width: 1.2, height: 0.8}\n")
+    line = refused(capsys, "table", "--image", tmp_path / "none.png", *markers,
+                   "--out", tmp_path / "config.yaml", words="config.yaml: table: unknown key")
+    assert line.startswith("tabletop calibrate table: error:") and "image not found" not in line

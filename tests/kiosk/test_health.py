@@ -138,6 +138,16 @@ def test_status_command_prints_every_table(tmp_path, capsys):
     assert lines[1].startswith("south")
 
 
+def test_status_command_says_when_no_heartbeat_came(capsys):
+    # it printed nothing at all: a wrong address looked like a quiet gallery
+    port = free_udp_port()
+    assert cli(["status", f"127.0.0.1:{port}", "--seconds", "0.3"]) == 0
+    cap = capsys.readouterr()
+    assert cap.out == "" and "Traceback" not in cap.err
+    assert cap.err.splitlines() == [cap.err.strip()]
+    assert f"no heartbeat came to 127.0.0.1:{port} in 0 s" in cap.err and "kiosk.heartbeat" in cap.err
+
+
 def test_status_lines_keep_their_columns():
     # (the whole line went through one_line, which collapsed the padding of every column)
     from tabletop.commands.status import format_heartbeat
@@ -271,6 +281,40 @@ def test_mode_is_one_moment_whenever_the_table_shows_it():
     assert rep.status(Frame(seq=3, t=3.0, health=half))["mode"] == "live"
     assert rep.status(Frame(seq=4, t=4.0, health=ok, status="attract"))["mode"] == "attract"
     assert rep.status(Frame(seq=5, t=5.0))["mode"] == "live"      # no sources at all
+
+
+def test_the_log_says_when_and_why_the_table_shows_one_moment(caplog):
+    """The visitors' screen says only "One moment"; the operator's log says when it began, the
+    sources' own words and when it ended (an osc source whose tracker stopped logged nothing:
+    the table was calm and the log silent). A flapping source: one line a minute at most."""
+    clock = Clock()
+    rep = HealthReporter("table-7", LoopStats(), every_s=1.0, clock=clock)
+    ok = (SourceHealth("tracker", True, "listening on 127.0.0.1:3333; TUIO from t", 0.01),)
+    down = (SourceHealth("tracker", False, "listening on 127.0.0.1:3333; nothing received "
+                                           "for 5 s", 5.0),)
+
+    def run(health, seconds):
+        for _ in range(int(seconds * 4)):
+            rep(Frame(seq=0, t=clock.t, health=health))
+            clock.t += 0.25
+    with caplog.at_level("INFO", logger="tabletop"):
+        run(down, 1.5)              # a source still starting: no line
+        run(ok, 5)
+        run(down, 23)
+        run(ok, 5)
+        for _ in range(3):          # flapping: 10 s down, 5 s up, three times within a minute
+            run(down, 10)
+            run(ok, 5)
+        clock.t += 60
+        run(down, 3)
+    said = [(r.levelname, r.getMessage()) for r in caplog.records]
+    assert said == [
+        ("WARNING", 'the table shows "one moment" (for 2 s): source tracker: listening on '
+                    "127.0.0.1:3333; nothing received for 5 s"),
+        ("INFO", 'the table is live again after 23 s of "one moment"'),
+        ("WARNING", 'the table shows "one moment" (for 2 s, 3 more times since the last such '
+                    "line): source tracker: listening on 127.0.0.1:3333; nothing received for "
+                    "5 s")]
 
 
 def test_a_camera_still_starting_is_not_reported_down(tmp_path):

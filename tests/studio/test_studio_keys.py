@@ -64,6 +64,20 @@ def designer(tmp_path, **extra):
                    "designer": {"enabled": True, "library": str(tmp_path / "lib"), **extra}}])
 
 
+def test_the_status_line_and_the_session_log_count_the_same_samples(tmp_path):
+    # a take recorded at 60 fps: the status line said the behaviour's own count, resampled at
+    # 40 Hz (2/3 of the samples), where the session log and its review said the recorded ones
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=16)[:640]
+    demo[:, 0] *= 40.0 / 60.0                        # the same take, seen by a 60 fps loop
+    labels = [bench.step(f)[1].label for f in demo_frames(
+        demo, {10: ("designer.record",), 610: ("designer.record",), 611: ("designer.keep",)})]
+    logged = [json.loads(ln) for ln in bench.session.path.read_text().splitlines()]
+    assert logged[-1]["outcome"] == "kept" and 595 <= logged[-1]["samples"] <= 605
+    assert f"trained {logged[-1]['samples']} samples" in labels[610], labels[610]
+
+
 def test_record_train_try_keep_and_it_is_in_the_library_after_a_restart(tmp_path):
     (e,) = designer(tmp_path)
     bench = Bench([e], tmp_path)

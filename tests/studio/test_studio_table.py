@@ -91,7 +91,7 @@ def test_control_markers_through_the_camera_record_train_and_keep(tmp_path, caps
     sheet = tmp_path / "sheet.png"
     assert cli(["review", str(runner.studio.session.path), "--out", str(sheet)]) == 0
     assert sheet.stat().st_size > 10_000
-    assert "1 tries, 1 kept (1.0 tries per kept take)" in capsys.readouterr().out
+    assert "1 try, 1 kept (1.0 tries per kept take)" in capsys.readouterr().out
 
 
 def test_a_corrupt_behaviour_is_reported_and_skipped_and_a_fix_is_picked_up(tmp_path):
@@ -152,6 +152,20 @@ def test_review_names_a_bad_field_of_a_complete_last_line(tmp_path, capsys, line
     assert len(err.splitlines()) == 1 and "s.jsonl:2: " in err and words in err, err
     log.write_text('{"target": "pet", "outcome": "kept", "duration_s": 4.0}\n' + line[:12])
     assert cli(["review", str(log)]) == 0               # cut short: the tries before it
+
+
+def test_review_sheet_title_stays_on_the_sheet(tmp_path):
+    # the summary was one centred line wider than a one-try sheet: cut at both edges
+    import matplotlib.image as mpimg
+    log = tmp_path / "session-20261203-071321.jsonl"
+    log.write_text('{"target": "lover", "outcome": "kept", "name": "lover", "duration_s": 10.7, '
+                   '"samples": 246, "training_s": 0.217}\n')
+    out = tmp_path / "sheet.png"
+    assert cli(["review", str(log), "--out", str(out)]) == 0
+    img = mpimg.imread(str(out))[..., :3].sum(axis=2)           # white 3.0, text darker
+    top = img[: img.shape[0] // 8]                               # the title's band
+    assert (top < 2.0).any()                                     # the title is drawn
+    assert (top[:, :4] > 2.9).all() and (top[:, -4:] > 2.9).all()   # within the edges
 
 
 def test_review_with_more_columns_than_tries_draws_the_tries_wide(tmp_path, capsys):

@@ -222,6 +222,42 @@ def test_follow_numbers_in_range(tmp_path, capfd, option, value):
     assert code == 2 and f"{option} '{value}'" in line
 
 
+def test_pose_describe_takes_no_input(tmp_path, capfd):
+    # --input was silently ignored by --describe (no poses of it were written)
+    touches = tmp_path / "t.csv"
+    touches.write_text("t,id,x,y\n0,1,0.6,0.5\n")
+    code, err = cli(capfd, "pose", "--describe", "--input", touches, "--out", tmp_path / "d.json")
+    line = one_line(err)
+    assert code == 2 and "--describe" in line and str(touches) in line, line
+    assert not (tmp_path / "d.json").exists()
+
+
+@pytest.mark.parametrize("rows, words", [
+    ("0,1,0.6,0.5\n# \n0,1,0.7,0.5\n", "line 4: finger 1 is given twice at t = 0 s"),
+    ("0,1,0.6,0.5\n\n1,1.5,0.6,0.5\n", "line 4: id 1.5 must be a whole number"),
+    ("1,1,0.6,0.5\n0,1,0.6,0.5\n", "line 3: time 0 s goes back from 1 s (line 2;"),
+])
+def test_pose_touches_name_the_file_line(tmp_path, capfd, rows, words):
+    # they said "data row N" (blank lines not counted) where every other CSV says its line;
+    # a finger given twice at one time was taken silently (the last row won)
+    touches = tmp_path / "t.csv"
+    touches.write_text("t,id,x,y\n" + rows.replace("# \n", "\n"))
+    code, err = cli(capfd, "pose", "--input", touches, "--out", tmp_path / "p.jsonl")
+    line = one_line(err)
+    assert code == 2 and f"{touches}: {words}" in line, line
+
+
+@pytest.mark.parametrize("rows", [0, 1])
+def test_follow_template_too_short_says_what_it_needs(tmp_path, capfd, rows):
+    # an empty template said "needs at least 1" row, a one-row one "needs at least 2"
+    tpl = tmp_path / "a.csv"
+    tpl.write_text("x,y\n" + "0,0\n" * rows)
+    code, err = cli(capfd, "follow", "--template", f"a={tpl}", "--input", tpl, "--out",
+                    tmp_path / "o.csv")
+    line = one_line(err)
+    assert code == 2 and f"{tpl}: " in line and "needs at least 2" in line, line
+
+
 @pytest.mark.parametrize("command", ["behave", "follow", "track", "replay"])
 def test_out_naming_a_folder_names_that_folder(tmp_path, capfd, demo, command):
     out = tmp_path / "results"
@@ -236,6 +272,9 @@ def test_out_naming_a_folder_names_that_folder(tmp_path, capfd, demo, command):
     code, err = cli(capfd, *args, "--out", out)
     line = one_line(err)
     assert code == 2 and str(out) in line and "folder" in line and ".tmp" not in line
+    # the file it suggests is of the kind the command writes (a CSV was suggested "out.jsonl")
+    kind = {"behave": ".csv", "follow": ".csv", "track": ".jsonl", "replay": ".jsonl"}[command]
+    assert line.endswith(kind), line
 
 
 def test_a_usage_error_is_one_line(capfd):
@@ -243,6 +282,26 @@ def test_a_usage_error_is_one_line(capfd):
         tabletop(["behave", "--rate"])
     err = capfd.readouterr().err
     assert info.value.code == 2 and "--rate" in one_line(err)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["studio"], "invalid choice: 'studio'", ),
+    (["kiosk", "--seconds", "5"], "invalid choice: 'kiosk'"),
+    (["run", "--studio2"], "tabletop run: error: unrecognized arguments: --studio2 "
+                           "(see tabletop run --help)"),
+    (["calibrate", "board", "--out", "b.png", "extra"],
+     "tabletop calibrate board: error: unrecognized arguments: extra "
+     "(see tabletop calibrate board --help)"),
+])
+def test_a_usage_error_points_to_the_right_command(capfd, argv, words):
+    # `tabletop studio` is what a designer types: the studio is a mode of run; an unknown
+    # option was blamed on `tabletop` and sent to its --help, not to the command's
+    with pytest.raises(SystemExit) as info:
+        tabletop(argv)
+    line = one_line(capfd.readouterr().err)
+    assert info.value.code == 2 and words in line, line
+    if argv[0] in ("studio", "kiosk"):
+        assert line.endswith(f"(the {argv[0]} is `tabletop run --{argv[0]}`)"), line
 
 
 def test_a_file_that_is_no_config_is_named_in_one_short_line(tmp_path, capfd):

@@ -294,6 +294,25 @@ def test_one_moment_screen_while_every_camera_is_down_and_gone_when_one_recovers
     assert r.moment == 0.0 and rgb(s)[text_box].sum(axis=2).max() <= calm + 30
 
 
+def test_one_moment_screen_tells_visitors_nothing_technical():
+    # the source's own words are for the operator (overlay, log, status), not the gallery: the
+    # screen a visitor sees is the same whatever the camera says, and the overlay still says it
+    technical = "cannot open camera 7; reconnecting in 3.1 s (uncalibrated)"
+    shown = {}
+    for message in (technical, "no frames", ""):
+        r, s = new_renderer(), pygame.Surface(SIZE)
+        for k in range(20):                      # 2 s down: the screen has faded fully in
+            r.draw(s, Frame(seq=k, t=k * 0.1, health=(SourceHealth("overhead", False, message),)))
+        assert r.moment == 1.0
+        shown[message] = rgb(s)
+    words = shown[""][360:470, 490:790].sum(axis=2)
+    assert words.max() > 200                      # "One moment" is drawn
+    for message in (technical, "no frames"):
+        assert np.array_equal(shown[message], shown[""]), message
+    down = Frame(seq=0, t=0.0, health=(SourceHealth("overhead", False, technical),))
+    assert any(technical in line for line in overlay_lines(down, None))
+
+
 def test_no_invitation_to_play_under_the_one_moment_screen():
     # every camera down: the table cannot see a puck, so "put a puck on the table" (and its
     # motes) must not show under "One moment"

@@ -101,6 +101,7 @@ def test_a_view_asked_to_run_headless_does_not_say_there_is_no_display(caplog, m
         view.close()
     said = [r.getMessage() for r in caplog.records if "headless" in r.getMessage()]
     assert len(said) == 1 and "no display" not in said[0] and "asked" in said[0], said
+    assert said[0].startswith("the view runs headless"), said   # what first, then why
 
 
 def test_an_overlay_line_wider_than_the_window_wraps_inside_it():
