@@ -41,7 +41,8 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.refusal import Refusal
 from behaviors.mop.sharing import shared_until
-from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives, finished
+from behaviors.mop.handover import finished
+from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
 from behaviors.mop.validity import (Validity, backs_first, crawl_run, crawls, resting,
@@ -413,7 +414,7 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
                 # them back behind where it began (validity.backs_first)
                 self._drive_peak = max(self._drive_peak, progress_list[bi])
                 ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
-                # ... nor once its performer finished it short of its end (spotting.finished)
+                # ... nor once its performer finished it short of its end (handover.finished)
                 ok = ok and not finished(self._drive_peak, progress_list[bi])
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)

@@ -18,15 +18,15 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import spotting, validity
-from behaviors.mop.spotting import (ARRIVE_RADIUS, COMMIT_FIT, END_GRACE, FINISH_BACK,
-                                   FINISH_FROM, MOVE_RADII, RETURN_BACK, RETURN_RADIUS,
-                                   SHARE_BACK)
+from behaviors.mop import handover, spotting, validity
+from behaviors.mop.handover import FINISH_BACK, FINISH_FROM
+from behaviors.mop.spotting import (ARRIVE_RADIUS, COMMIT_FIT, END_GRACE, MOVE_RADII,
+                                   RETURN_BACK, RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_HOVERS, CRAWL_SAMPLES,
                                     FORWARD_FIRST, LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
+_CALLS_INTO = (handover, spotting, validity)   # the files whose constants the kernels take in
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -275,7 +275,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
-            # ... nor once its performer finished it short of its end (spotting.finished)
+            # ... nor once its performer finished it short of its end (handover.finished)
             ok = ok and not (drive_peak[i] >= FINISH_FROM
                              and drive_peak[i] - progress[gb] >= FINISH_BACK)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
@@ -308,7 +308,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             peak[i] = max(peak[i], pb) if bi == peak_k[i] else pb
             peak_k[i] = bi
             ended = val and not has_end[i] and pb >= m[8]
-            # finished short of its end (spotting.finished): ended where the input came nearest
+            # finished short of its end (handover.finished): ended where the input came nearest
             # its last point
             done = (not has_end[i] and not ended and drive_k[i] == bi
                     and drive_peak[i] >= FINISH_FROM and drive_peak[i] - pb >= FINISH_BACK)

@@ -211,6 +211,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.handover import finished, nearest
 
 
 #: Common spread, in still radii (per column: the still input's jitter scale, 1-2 mm for a puck),
@@ -239,10 +240,6 @@ MOVE_RADII = 2.0
 #: for the input's return to that point to end the gesture (:meth:`GestureSpotting._returned`).
 RETURN_BACK = 0.2
 RETURN_RADIUS = 0.05
-#: A driving action that carried its performer to :data:`FINISH_FROM` of its progress and whose
-#: followed progress then slid back :data:`FINISH_BACK` from there has ended (:func:`finished`).
-FINISH_FROM = 0.9
-FINISH_BACK = 0.03
 #: An action that reaches its end while the input moved less than this many still radii (per
 #: column) since the sample before has one sample less of grace
 #: (:meth:`GestureSpotting._arrived`): the performer stopped there a sample before.
@@ -268,24 +265,6 @@ def arrived(recent: list[np.ndarray], radius: np.ndarray) -> int:
             break
         n += 1
     return n
-
-
-def finished(peak: float, progress: float) -> bool:
-    """Whether the action driving, whose highest progress since it began driving is ``peak``,
-    has ended though the follower never reached ``end``: it carried its performer past
-    :data:`FINISH_FROM` and its progress now slid back :data:`FINISH_BACK` from there. The
-    performer finished it (the follower lagged: a wave at 0.88x ended at 0.94) and went on with
-    the next gesture, whose first stroke the follower then read as the action run backwards
-    (0.95 -> 0.54 in five samples, all driving); nobody goes back along an action they finished.
-    """
-    return peak >= FINISH_FROM and peak - progress >= FINISH_BACK
-
-
-def nearest(recent: list[np.ndarray], point: np.ndarray) -> np.ndarray:
-    """The sample of ``recent`` (oldest first) nearest ``point``, the latest among equals:
-    where a performer who ended there finished."""
-    d = [float(np.sum((r - point) ** 2)) for r in recent]
-    return recent[len(d) - 1 - int(np.argmin(d[::-1]))].copy()
 
 
 def drives(run: np.ndarray | int, confirm: np.ndarray | int,

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from behaviors.mop import spotting
+from behaviors.mop import handover
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
 from bench.follow_quality import wrong_valid
@@ -32,7 +32,7 @@ def test_an_action_finished_short_of_its_end_hands_over(wave_then_run, monkeypat
     # with the rule: the wave stops as its progress slides back from 0.95, the run is followed
     # from where the wave ended; without it the wave drove the run's first 5 samples backwards
     on, states = _wrong_run(*wave_then_run)
-    monkeypatch.setattr(spotting, "FINISH_FROM", 9.0)
+    monkeypatch.setattr(handover, "FINISH_FROM", 9.0)
     off, _ = _wrong_run(*wave_then_run)
     assert on <= 2 < off, (on, off)
     truth, prog = wave_then_run[2], wave_then_run[3]
