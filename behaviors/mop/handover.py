@@ -28,6 +28,12 @@ def finished(peak: float, progress: float) -> bool:
     ``bench/follow_quality.py --sections=sized,sequences,unrelated``: all 154 figures unchanged
     (none of its draws finishes so). Chosen, not tuned: 0.9 as the rule that ends an action
     resting there, 0.03 as :data:`~behaviors.mop.spotting.SHARE_BACK`.
+    Measured and not kept: also ending an action past 0.9 once the input is 2 still radii
+    farther from its last point (at its estimated size) than the nearest of its last 6 samples
+    came: a kick followed at 0.94-0.96 as its performer went on drove 3 -> 1 samples of the next
+    gesture, but valid after 30% of gestures at 0.7-1.4x 0.9184 / 0.9056 -> 0.8865 / 0.8580
+    (tuned / held-out) and twenty templates' longest wrong run 2 -> 8 tuned: true performances
+    ended early (which ones and why not traced).
     """
     return peak >= FINISH_FROM and peak - progress >= FINISH_BACK
 
