@@ -41,6 +41,7 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.refusal import Refusal, shape_limits
 from behaviors.mop.sharing import shared_until
+from behaviors.mop.handover import finished
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
 from behaviors.mop.state import ByName, FollowState, SampleError
 from behaviors.mop.turning import Turning
@@ -417,6 +418,8 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
                 # them back behind where it began (validity.backs_first)
                 self._drive_peak = max(self._drive_peak, progress_list[bi])
                 ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
+                # ... nor once its performer finished it short of its end (handover.finished)
+                ok = ok and not finished(self._drive_peak, progress_list[bi])
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)
                 ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)

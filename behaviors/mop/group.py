@@ -7,7 +7,7 @@ from typing import Sequence
 
 import numpy as np
 
-from behaviors.mop import group_kernel, members
+from behaviors.mop import group_kernel, group_steps, members
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
 from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
@@ -206,7 +206,7 @@ class FollowerGroup(GroupRules):
             except (ValueError, TypeError):
                 stacked = None
         fits = stacked is not None and stacked.shape == X.shape
-        if fits and group_kernel.take_samples(stacked, X, self._anchor, self._has_anchor):
+        if fits and group_steps.take_samples(stacked, X, self._anchor, self._has_anchor):
             present = self._everyone   # every sample finite, anchors taken
         else:
             if fits:   # a lost member keeps its last sample
@@ -256,7 +256,7 @@ class FollowerGroup(GroupRules):
     def _inputs(self, present: np.ndarray) -> None:
         """:meth:`PerformanceFrame._inputs` of every member into the forward's input (K, width);
         ``present`` (M,): the members with a sample."""
-        group_kernel.map_inputs(self._x, self._anchor, self._tc, self._mc, self._size,
+        group_steps.map_inputs(self._x, self._anchor, self._tc, self._mc, self._size,
                                 self._k_first, self._bounds, self._counts, self._z)
         for i in self._m_tangent:   # direction of motion: the member's own lag
             if not present[i]:
@@ -398,7 +398,7 @@ class FollowerGroup(GroupRules):
         # (with resting measured once: DESIGN's tick 1.98 -> 1.86 ms thread time, interleaved
         # in one process on a machine at load 15). The rows read in one call each, the ends
         # cleared in the same loop, the samples taken by one compiled call
-        # (group_kernel.take_samples) and the per-template state passed as two arrays: numpy
+        # (group_steps.take_samples) and the per-template state passed as two arrays: numpy
         # calls per tick 47.5 -> 37.5, the tick's Python part 0.35 -> 0.29 ms thread time
         # (interleaved in one process, load 10-12)
         likely: list[tuple] = [()] * m

@@ -9,8 +9,9 @@ operations over the group's templates (``behaviors/mop/group.py`` before this mo
 about 150 numpy calls per tick, most of DESIGN's 8 performers x 100 templates tick after the
 forward step; here it is one loop per template, in the same order of operations as the
 follower's own array code (the group stays equal to its followers stepped alone), followed per
-member by its likeliest template, best (with the switch margin), top three, shape lead and
-threshold model (:mod:`behaviors.mop.threshold_kernel`).
+member by its likeliest template, best (with the switch margin), top three
+(:mod:`behaviors.mop.group_steps`), shape lead and threshold model
+(:mod:`behaviors.mop.threshold_kernel`).
 """
 
 from __future__ import annotations
@@ -21,9 +22,10 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (holding, invariance, members, spotting, threshold, threshold_kernel,
-                           validity)
+from behaviors.mop import (group_steps, holding, invariance, members, spotting, threshold,
+                           threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
+from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
@@ -34,8 +36,8 @@ from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, holding, invariance, members, spotting, threshold,
-               threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, group_steps, holding, invariance, members, spotting,
+               threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -65,32 +67,6 @@ FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_m
           "_gone", "_least", "_judged")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")
-
-@compiled(numba.void(_F1, numba.intp, numba.intp, _I1), *_CALLS_INTO, fastmath=CONTRACT)
-def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
-    """The three largest of ``p[a0:a1]`` (indices into ``p``, largest first, ties in index
-    order as ``np.argsort(-p, kind="stable")[:3]``) into ``out`` (3,); -1 where fewer."""
-    t0 = t1 = t2 = -1
-    v0 = v1 = v2 = -np.inf
-    for k in range(a0, a1):
-        pk = p[k]
-        if pk > v0 or t0 < 0:
-            t2, v2, t1, v1, t0, v0 = t1, v1, t0, v0, k, pk
-        elif pk > v1 or t1 < 0:
-            t2, v2, t1, v1 = t1, v1, k, pk
-        elif pk > v2 or t2 < 0:
-            t2, v2 = k, pk
-    out[0], out[1], out[2] = t0, t1, t2
-
-
-@compiled(numba.intp(_F1, numba.intp, numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
-def first_max(values: np.ndarray, a0: int, a1: int) -> int:
-    """The index of the first largest of ``values[a0:a1]`` (``a0 + np.argmax``)."""
-    best = a0
-    for k in range(a0 + 1, a1):
-        if values[k] > values[best]:
-            best = k
-    return best
 
 
 @compiled(numba.void(_F2, _I2, _F2, _F2, _F2, _BB2, _F2, numba.int64[::1], _F1,
@@ -458,36 +434,3 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             if k != gb and not refused[k] and p_out[k] * kept >= rival_p and shape[k] < rival:
                 rival = shape[k]
         leads_out[i] = rival == np.inf or rival - shape[gb] >= min_lead
-
-
-@compiled(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), *_CALLS_INTO, fastmath=CONTRACT)
-def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
-    """:meth:`PerformanceFrame._inputs` (without direction of motion) of every member into the
-    forward's input ``z`` (K, width; its first D columns): each member's sample ``x`` (M, D) from
-    its ``anchor`` (the template's center for "none"), divided by the estimated ``size`` for
-    "scale", in the template's spread, plus its ``first`` state (K, D)."""
-    d = x.shape[1]
-    sc0, ce0 = 5, 5 + d
-    for i in range(bounds.size):
-        scaled, none = mc[i, 8] > 0.0, mc[i, 16] > 0.0
-        for k in range(bounds[i], bounds[i] + counts[i]):
-            ssz = size[k] if scaled else 1.0
-            for c in range(d):
-                r = x[i, c] - (tc[k, ce0 + c] if none else anchor[i, c])
-                z[k, c] = r / ssz / tc[k, sc0 + c] + first[k, c]
-
-
-@compiled(numba.boolean(_F2, _F2, _F2, _B1), *_CALLS_INTO, fastmath=CONTRACT)
-def take_samples(samples, x, anchor, has_anchor) -> bool:
-    """Every member's sample (``samples`` (M, D)) into ``x`` when all are finite, each member
-    without an anchor taking its sample as one; returns whether they were (if not, nothing
-    changed). One call for what cost four numpy calls on 16 numbers (a sum, a copy, two tests)."""
-    for v in samples.ravel():
-        if not math.isfinite(v):
-            return False
-    x[:] = samples
-    for i in range(x.shape[0]):
-        if not has_anchor[i]:
-            anchor[i] = x[i]
-            has_anchor[i] = True
-    return True

@@ -18,14 +18,15 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import spotting, validity
+from behaviors.mop import handover, spotting, validity
+from behaviors.mop.handover import FINISH_BACK, FINISH_FROM
 from behaviors.mop.spotting import (ARRIVE_RADIUS, COMMIT_FIT, END_GRACE, MOVE_RADII,
                                    RETURN_BACK, RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_HOVERS, CRAWL_SAMPLES,
                                     FORWARD_FIRST, LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (spotting, validity)   # the files whose constants the kernels take in
+_CALLS_INTO = (handover, spotting, validity)   # the files whose constants the kernels take in
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -87,6 +88,22 @@ def arrived(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> i
                 return n
         n += 1
     return n
+
+
+@compiled(numba.void(_F3, _I1, numba.intp, _F1, _F1), *_CALLS_INTO)
+def nearest(buf: np.ndarray, count: np.ndarray, i: int, point: np.ndarray,
+            out: np.ndarray) -> None:
+    """:func:`behaviors.mop.spotting.nearest` over member ``i``'s buffered samples (the last the
+    newest) into ``out``: the one nearest ``point`` (D,), the latest among equals."""
+    s = buf.shape[1]
+    best, at = np.inf, s - 1
+    for r in range(s - 1, s - 1 - count[i], -1):
+        acc = 0.0
+        for c in range(buf.shape[2]):
+            acc += (buf[i, r, c] - point[c]) ** 2
+        if acc < best:
+            best, at = acc, r
+    out[:] = buf[i, at]
 
 
 def recent_mean(buf: np.ndarray, count: np.ndarray, last: np.ndarray | int,
@@ -258,6 +275,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             drive_peak[i] = max(drive_peak[i], progress[gb])
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
+            # ... nor once its performer finished it short of its end (handover.finished)
+            ok = ok and not (drive_peak[i] >= FINISH_FROM
+                             and drive_peak[i] - progress[gb] >= FINISH_BACK)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             ok = ok and not (rests and drive_moved[i]
                              and drive_peak[i] - drive_from[i] < CARRY_FIRST)
@@ -288,6 +308,11 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             peak[i] = max(peak[i], pb) if bi == peak_k[i] else pb
             peak_k[i] = bi
             ended = val and not has_end[i] and pb >= m[8]
+            # finished short of its end (handover.finished): ended where the input came nearest
+            # its last point
+            done = (not has_end[i] and not ended and drive_k[i] == bi
+                    and drive_peak[i] >= FINISH_FROM and drive_peak[i] - pb >= FINISH_BACK)
+            ended = ended or done
             if not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
                 # GestureSpotting._returned: back at the last point while followed backwards
                 acc = 0.0
@@ -301,6 +326,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
                 for c in range(d):
                     end_last[i, c] = (states[start + length - 1 + off, d + c] * units[c] * sk
                                       + anchor[i, c])
+                if done:
+                    nearest(buf, nbuf, i, end_last[i], end_x[i])
                 has_end[i] = True
                 # the performer had already stopped there: the grace counts from where they
                 # stopped (GestureSpotting._arrived)

@@ -211,6 +211,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.handover import finished, nearest
 
 
 #: Common spread, in still radii (per column: the still input's jitter scale, 1-2 mm for a puck),
@@ -433,10 +434,13 @@ class GestureSpotting:
         # the highest progress of the action driving since it began (for _returned)
         self._peak = max(self._peak, progress) if bi == self._peak_k else progress
         self._peak_k = bi
-        if self._end_x is None and ((valid and progress >= self.end)
+        done = (self._end_x is None and self._drive_k == bi
+                and finished(self._drive_peak, progress))
+        if self._end_x is None and ((valid and progress >= self.end) or done
                                     or self._returned(x, bi, progress)):
-            self._end_x = x.copy()
             self._end_last = self._last_point(bi)
+            # finished short of the end: it ended where the input came nearest its last point
+            self._end_x = nearest(self._recent_x, self._end_last) if done else x.copy()
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()
         step_d2 = (self._log_constant - step_ll) * (2.0 / self._zdim)

@@ -7,7 +7,7 @@ from tests.mop import gestures as g
 import numpy as np
 import pytest
 
-from behaviors.mop import group_kernel, members
+from behaviors.mop import group_steps, members
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
 
@@ -113,8 +113,8 @@ def test_the_member_rules_equal_the_followers_own_operations():
     p = rng.choice([0.0, 0.1, 0.25, 0.5], size=counts.sum())   # many ties
     three = np.zeros(3, dtype=np.intp)
     for a, n in zip(bounds, counts):
-        assert group_kernel.first_max(p, a, a + n) == a + np.argmax(p[a:a + n])
-        group_kernel.top_three(p, a, a + n, three)
+        assert group_steps.first_max(p, a, a + n) == a + np.argmax(p[a:a + n])
+        group_steps.top_three(p, a, a + n, three)
         want = a + np.argsort(-p[a:a + n], kind="stable")[:3]
         assert three[:len(want)].tolist() == want.tolist() and (three[len(want):] == -1).all()
     buf = rng.normal(size=(3, 5, 2))

@@ -1,0 +1,82 @@
+"""A follower group's small compiled steps around its per-template pass
+(:mod:`behaviors.mop.group_kernel`): the members' samples taken in, mapped into every template's
+units for the forward step, and each member's likeliest templates among its own (a slice of the
+group's). Each equals the numpy operations named in its docstring.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+import behaviors.mop.compiled
+from behaviors.mop.compiled import CONTRACT
+from behaviors.kernel_cache import compiled
+
+# the files whose compiled functions or constants the kernels take in
+_CALLS_INTO = (behaviors.mop.compiled,)
+
+_F1, _F2 = numba.float64[::1], numba.float64[:, ::1]
+_I1, _B1 = numba.intp[::1], numba.boolean[::1]
+
+
+@compiled(numba.void(_F2, _F2, _F2, _F2, _F1, _F2, _I1, _I1, _F2), *_CALLS_INTO, fastmath=CONTRACT)
+def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
+    """:meth:`PerformanceFrame._inputs` (without direction of motion) of every member into the
+    forward's input ``z`` (K, width; its first D columns): each member's sample ``x`` (M, D) from
+    its ``anchor`` (the template's center for "none"), divided by the estimated ``size`` for
+    "scale", in the template's spread, plus its ``first`` state (K, D)."""
+    d = x.shape[1]
+    sc0, ce0 = 5, 5 + d
+    for i in range(bounds.size):
+        scaled, none = mc[i, 8] > 0.0, mc[i, 16] > 0.0
+        for k in range(bounds[i], bounds[i] + counts[i]):
+            ssz = size[k] if scaled else 1.0
+            for c in range(d):
+                r = x[i, c] - (tc[k, ce0 + c] if none else anchor[i, c])
+                z[k, c] = r / ssz / tc[k, sc0 + c] + first[k, c]
+
+
+@compiled(numba.boolean(_F2, _F2, _F2, _B1), *_CALLS_INTO, fastmath=CONTRACT)
+def take_samples(samples, x, anchor, has_anchor) -> bool:
+    """Every member's sample (``samples`` (M, D)) into ``x`` when all are finite, each member
+    without an anchor taking its sample as one; returns whether they were (if not, nothing
+    changed). One call for what cost four numpy calls on 16 numbers (a sum, a copy, two tests)."""
+    for v in samples.ravel():
+        if not math.isfinite(v):
+            return False
+    x[:] = samples
+    for i in range(x.shape[0]):
+        if not has_anchor[i]:
+            anchor[i] = x[i]
+            has_anchor[i] = True
+    return True
+
+
+@compiled(numba.void(_F1, numba.intp, numba.intp, _I1), *_CALLS_INTO, fastmath=CONTRACT)
+def top_three(p: np.ndarray, a0: int, a1: int, out: np.ndarray) -> None:
+    """The three largest of ``p[a0:a1]`` (indices into ``p``, largest first, ties in index
+    order as ``np.argsort(-p, kind="stable")[:3]``) into ``out`` (3,); -1 where fewer."""
+    t0 = t1 = t2 = -1
+    v0 = v1 = v2 = -np.inf
+    for k in range(a0, a1):
+        pk = p[k]
+        if pk > v0 or t0 < 0:
+            t2, v2, t1, v1, t0, v0 = t1, v1, t0, v0, k, pk
+        elif pk > v1 or t1 < 0:
+            t2, v2, t1, v1 = t1, v1, k, pk
+        elif pk > v2 or t2 < 0:
+            t2, v2 = k, pk
+    out[0], out[1], out[2] = t0, t1, t2
+
+
+@compiled(numba.intp(_F1, numba.intp, numba.intp), *_CALLS_INTO, fastmath=CONTRACT)
+def first_max(values: np.ndarray, a0: int, a1: int) -> int:
+    """The index of the first largest of ``values[a0:a1]`` (``a0 + np.argmax``)."""
+    best = a0
+    for k in range(a0 + 1, a1):
+        if values[k] > values[best]:
+            best = k
+    return best

@@ -1,0 +1,57 @@
+"""Gesture after gesture with no rest: an action whose performer finished it hands over."""
+
+import numpy as np
+import pytest
+
+from behaviors.mop import handover
+from behaviors.mop.follower import ActionFollower
+from behaviors.mop.group import FollowerGroup
+from bench.follow_quality import wrong_valid
+from bench.motions import MOCAP, back_to_back, gesture_templates, mocap_templates
+
+
+@pytest.fixture(scope="module")
+def wave_then_run():
+    """A wave at 0.88x, then a run's wrist stroke back along it at once (bench/motions.py's
+    twenty-template draw, seed 2, its first two gestures), with the six gestures and the run
+    loaded: the follower lags the wave to 0.94 and never reaches its end."""
+    everything = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
+    x, truth, prog, order = back_to_back(np.random.default_rng(2), everything, 4)
+    cut = truth.index(order[2])
+    names = [*gesture_templates(), "run_left_wrist"]
+    return {n: everything[n] for n in names}, x[:cut], truth[:cut], prog[:cut], order[:2]
+
+
+def _wrong_run(templates, x, truth, prog, order) -> tuple[int, list]:
+    f = ActionFollower(templates, units=np.ones(2), invariance="scale")
+    states = [f.step(s) for s in x]
+    return wrong_valid(states, truth, prog, order, templates)["longest"], states
+
+
+def test_an_action_finished_short_of_its_end_hands_over(wave_then_run, monkeypatch):
+    # with the rule: the wave stops as its progress slides back from 0.95, the run is followed
+    # from where the wave ended; without it the wave drove the run's first 5 samples backwards
+    on, states = _wrong_run(*wave_then_run)
+    monkeypatch.setattr(handover, "FINISH_FROM", 9.0)
+    off, _ = _wrong_run(*wave_then_run)
+    assert on <= 2 < off, (on, off)
+    truth, prog = wave_then_run[2], wave_then_run[3]
+    got = [p for s, t, p in zip(states, truth, prog) if t == "run_left_wrist" and s.valid
+           and s.best == t]
+    assert got and got[0] <= 0.2, got[:1]   # recognised within 20% of it (0.155)
+
+
+def test_a_group_ends_a_finished_action_as_its_followers_alone(wave_then_run):
+    templates, x = wave_then_run[0], wave_then_run[1]
+    kws = [dict(units=np.ones(2), invariance="scale"),
+           dict(units=np.ones(2), invariance="scale", confirm=1)]
+    alone = [ActionFollower(templates, **kw) for kw in kws]
+    group = FollowerGroup([ActionFollower(templates, **kw) for kw in kws])
+    from tests.mop.test_group import _same
+    handed = 0
+    for s in x:
+        a = [f.step(s) for f in alone]
+        for u, v in zip(a, group.step([s, s])):
+            _same(u, v)
+        handed += a[0].best == "run_left_wrist" and a[0].valid
+    assert handed > 10
