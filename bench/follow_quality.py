@@ -418,6 +418,7 @@ def main() -> None:
                "sized_0.7_1.4_progress_rmse_median": "<= 0.05",
                "unrelated_valid_share_max": "<= 0.1",
                "unrelated_told_valid_share_max": "<= 0.1",
+               "after_valid_share_max": "<= 0.1",
                "hold_progress_rmse_max": "<= 0.06",
                "hold_backward_max": "<= 0.05",
                "sequence_6_gestures_recognised_within_20pct_share": "1.0",
