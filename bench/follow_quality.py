@@ -18,7 +18,9 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
   with no rest in between, among the six example gestures and among all twenty templates;
 - unrelated: a diagonal line, a triangle, a spiral, an aimless wander, a still puck and every
   template mirrored (x -> -x, when that differs from every template), with 1, 6 and 20
-  templates loaded.
+  templates loaded;
+- after: each of the six gestures, then with no rest an unrelated stroke (diagonal, triangle,
+  spiral, wander at 0.7-1.4x): the valid share over the stroke (``bench/follow_after.py``).
 
 Figures: progress RMSE of the true template (its ``progress_by``) over each gesture; recognition
 (``valid`` with ``best`` the true template) at 30, 60 and 100% of the gesture; the share of ticks
@@ -41,7 +43,7 @@ Held out: the same evaluation on fourteen other joints of the clips (``MOCAP_HEL
 another seed (``heldout_`` figures); the follower's rules and parameters were never chosen on
 them. ``cli_default_`` figures: the ``follow`` command's defaults (features as recorded).
 
-    python bench/follow_quality.py [--debug] [--sections=sized,holds,sequences,unrelated]
+    python bench/follow_quality.py [--debug] [--sections=sized,holds,sequences,unrelated,after]
 
 ``--sections`` measures only those sections of the tuned and held-out evaluations (a section
 left out still draws its random numbers, so the others' figures are those of a full run);
@@ -345,6 +347,7 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
 
 
 def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]:
+    from bench.follow_after import after
     rng = np.random.default_rng(seed)
     gestures = gesture_templates()
     everything = {**gestures, **mocap_templates(joints=joints)}
@@ -353,7 +356,9 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
              ("holds", lambda f: holds(f, gestures, rng)),
              ("sequences", lambda f: sequences(f, gestures, rng, key="sequence_6_gestures")),
              ("sequences", lambda f: sequences(f, everything, rng, key="sequence_20_templates")),
-             ("unrelated", lambda f: unrelated(f, everything, rng)))
+             ("unrelated", lambda f: unrelated(f, everything, rng)),
+             # last, so the other sections draw what they drew before it was added
+             ("after", lambda f: after(f, gestures, rng, run, performs, DEBUG)))
     for part, measure in parts:
         wanted = SECTIONS is None or part in SECTIONS
         out = measure(factory if wanted else lambda templates: None)
@@ -413,6 +418,7 @@ def main() -> None:
                "sized_0.7_1.4_progress_rmse_median": "<= 0.05",
                "unrelated_valid_share_max": "<= 0.1",
                "unrelated_told_valid_share_max": "<= 0.1",
+               "after_valid_share_max": "<= 0.1",
                "hold_progress_rmse_max": "<= 0.06",
                "hold_backward_max": "<= 0.05",
                "sequence_6_gestures_recognised_within_20pct_share": "1.0",

@@ -1,0 +1,80 @@
+"""``bench/follow_quality.py``'s ``after`` section: unrelated motion straight after a gesture.
+
+A performer often finishes a gesture and then, with no rest, moves the puck aimlessly or draws
+something that is none of the actions. Each of the six example gestures (at 0.8-1.2x, time-warped,
+as in the back-to-back sequences, with those six loaded) is followed at once, where it ended, by
+an unrelated stroke: a diagonal line, a triangle, a spiral or an aimless wander (the ``unrelated``
+section's paths, :func:`bench.motions.unrelated_motions`) at 0.7, 1.0 and 1.4x, time-warped, then a
+0.5 s rest; tracking jitter throughout (72 performances).
+
+Figures, over the unrelated stroke only (from its third tick: the gesture just ended may hold
+its last pose for two ticks, as the back-to-back target allows a wrong run of two; the rests
+are not counted):
+- ``after_valid_share_mean``: the share of ticks with any action ``valid``, over every
+  performance; ``after_valid_share_max``: the largest over the 24 motions (a gesture then a
+  stroke, averaged over the three sizes), as ``unrelated_valid_share_max`` takes the largest
+  over motions; ``after_<stroke>_valid_share``: each stroke's mean over the six gestures;
+- ``after_told_valid_share_mean`` / ``_max``: the same, counting only ticks where the stroke so
+  far is no start of the action driving (:func:`bench.follow_quality.performs`).
+The issue's target for unrelated motion, valid <= 10% of the time, holds here as well.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Mapping
+
+import numpy as np
+
+from bench.motions import JITTER_M, LEAD_S, RATE, at_phase, phase_of, unrelated_motions
+
+#: The unrelated strokes played after each gesture (``unrelated_motions``' names).
+STROKES = ("diagonal", "triangle", "spiral", "wander")
+#: The strokes' sizes (as in the ``unrelated`` section).
+SCALES = (0.7, 1.0, 1.4)
+#: Ticks at the stroke's start not counted: the gesture just ended may hold its last pose.
+ENDED_TICKS = 2
+
+
+def after(factory: Callable, templates: Mapping[str, np.ndarray], rng: np.random.Generator,
+          run: Callable, performs: Callable, debug: bool = False) -> dict[str, float]:
+    """The ``after_`` figures (module docstring) with ``templates`` (the gestures) loaded;
+    ``run`` and ``performs`` are ``bench.follow_quality``'s. A left-out section (``factory``
+    returning None) draws the same random numbers."""
+    f = factory(templates)
+    paths = unrelated_motions(rng, templates)
+    lead = int(LEAD_S * RATE)
+    memo: dict = {}
+    shares: dict[tuple[str, str], list[float]] = {}
+    told: dict[tuple[str, str], list[float]] = {}
+    for g, tpl in templates.items():
+        for name in STROKES:
+            for scale in SCALES:
+                phase, _ = phase_of(rng, len(tpl))
+                gesture = float(rng.uniform(0.8, 1.2)) * at_phase(tpl, phase)
+                stroke_phase, _ = phase_of(rng, len(paths[name]))
+                stroke = scale * at_phase(paths[name], stroke_phase) + gesture[-1]
+                x = np.concatenate([np.zeros((lead, 2)), gesture, stroke,
+                                    np.repeat(stroke[-1:], lead, 0)])
+                x = x + rng.normal(0, JITTER_M, x.shape)
+                start = lead + len(gesture)
+                states = run(f, x)[start + ENDED_TICKS:start + len(stroke)]
+                # the stroke's progress (0-1) at each counted tick
+                prog = stroke_phase[ENDED_TICKS:] / (len(paths[name]) - 1)
+                shares.setdefault((g, name), []).append(
+                    float(np.mean([s.valid for s in states])))
+                told.setdefault((g, name), []).append(float(np.mean([
+                    s.valid and not performs(paths[name], float(q), templates[s.best], memo,
+                                             ("after", name, s.best))
+                    for s, q in zip(states, prog)])) if f is not None else 0.0)
+                if debug and f is not None:
+                    print("after", g, name, scale, round(shares[g, name][-1], 3),
+                          "told", round(told[g, name][-1], 3))
+    motion = {k: float(np.mean(v)) for k, v in shares.items()}
+    out = {"after_valid_share_mean": float(np.mean(list(shares.values()))),
+           "after_valid_share_max": max(motion.values())}
+    for name in STROKES:
+        out[f"after_{name}_valid_share"] = float(np.mean(
+            [v for (_, n), v in shares.items() if n == name]))
+    out["after_told_valid_share_mean"] = float(np.mean(list(told.values())))
+    out["after_told_valid_share_max"] = max(float(np.mean(v)) for v in told.values())
+    return out
