@@ -40,6 +40,7 @@ from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.refusal import Refusal, shape_limits
+from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.handover import finished
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
@@ -51,7 +52,7 @@ from behaviors.mop.validity import (Validity, backs_first, crawl_run, crawls, re
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
 
-class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotting):
+class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotting, ShapeLead):
     """Follows the progress of a live performance along several action templates at once.
 
     ``templates``: name -> (n_i, d) samples, regularly spaced at the rate the follower is stepped.
@@ -394,7 +395,7 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
         if self.invariance != "none":
             if self._shared is not None:   # spotting._shares: each template's highest progress
                 np.maximum(self._gone, progress, out=self._gone)
-            # a new action drives only once its shape clearly leads (spotting.LEAD)
+            # a new action drives only once its shape clearly leads (shape_lead.LEAD)
             leads = self._leads(bi, p * self._kept)
             # ... and once the input turned as the template does (turning.turning)
             turned = self._turned(x, bi, float(g[bi]))

@@ -14,7 +14,7 @@ from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.holding import holding_columns
-from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
+from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
 from behaviors.mop.validity import PATH_REACH, still_unbegun
 
 

@@ -20,15 +20,17 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, spotting, validity
+from behaviors.mop import handover, shape_lead, spotting, validity
 from behaviors.mop.handover import FINISH_BACK, FINISH_FROM
-from behaviors.mop.spotting import (ARRIVE_RADIUS, COMMIT_FIT, END_GRACE, MOVE_RADII,
-                                   RETURN_BACK, RETURN_RADIUS, SHARE_BACK)
+from behaviors.mop.shape_lead import COMMIT_FIT
+from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
+                                   RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
                                     REST_BEHIND)
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (handover, spotting, validity)   # the files whose constants the kernels take in
+# the files whose constants the kernels take in
+_CALLS_INTO = (handover, shape_lead, spotting, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -148,10 +150,10 @@ def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float,
                      numba.float64), *_CALLS_INTO)
 def committed(shape: np.ndarray, flags: np.ndarray, a0: int, a1: int, samples: float,
               lead: float) -> int:
-    """:meth:`GestureSpotting._committed` among templates ``a0..a1`` (group indices; ``flags``:
+    """:meth:`ShapeLead._committed` among templates ``a0..a1`` (group indices; ``flags``:
     the group's flag rows, refused, engaged, misshaped, covered first), but for the threshold
     model's share: the one committed to by shape, or -1. ``samples``: the shape sums' samples
-    times the features; ``lead``: :data:`~behaviors.mop.spotting.LEAD` in shape units."""
+    times the features; ``lead``: :data:`~behaviors.mop.shape_lead.LEAD` in shape units."""
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
     c = -1
     for k in range(a0, a1):
