@@ -34,7 +34,7 @@ $(STAMP): pyproject.toml
 KERNELS := $(VENV)/.kernels
 # (MOP's threshold model is compiled on its first call: a follower takes a few steps)
 MOP_STEPS = import numpy as np, behaviors.mop.window_kernel, behaviors.mop.group_kernel, behaviors.mop.members, \
-	behaviors.mop.sharing; \
+	behaviors.mop.member_validity, behaviors.mop.sharing; \
 	from behaviors.mop.follower import ActionFollower; \
 	f = ActionFollower({'a': np.c_[np.linspace(0, 0.3, 30), np.zeros(30)]}, invariance='scale'); \
 	[f.step(np.array([0.01 * i, 0.0])) for i in range(40)]

@@ -55,7 +55,7 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from behaviors.mop import spotting  # noqa: E402
+from behaviors.mop import shape_lead  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 from bench.follow_quality import DEBUG, OPTION_SEED, puck_follower, sequences  # noqa: E402
 from bench.motions import at_phase, back_to_back, gesture_templates  # noqa: E402
@@ -109,7 +109,7 @@ def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float
 #: :mod:`behaviors.mop.validity`, :mod:`behaviors.mop.spotting`): engaged (past its onset),
 #: accepted (not refused), covered (``coverage`` of its path), on its path (no misfit),
 #: probable (``min_probability`` with the threshold model counted), best (switch margin), leads
-#: (in shape by ``spotting.LEAD``), unshared (its start no longer shared with another template
+#: (in shape by ``shape_lead.LEAD``), unshared (its start no longer shared with another template
 #: the input fits, :meth:`~behaviors.mop.spotting.GestureSpotting._shares`: what holds the line,
 #: whose other gates all pass from about its reach, until 0.43-0.50 of it).
 GATES = ("engaged", "accepted", "covered", "on_path", "probable", "best", "leads", "unshared")
@@ -118,9 +118,9 @@ GATES = ("engaged", "accepted", "covered", "on_path", "probable", "best", "leads
 def gate_state(f: ActionFollower, k: int) -> tuple[bool, ...]:
     """Which of :data:`GATES` template ``k`` passes after the follower's last step."""
     p = np.array([f._state.probabilities[n] for n in f.names]) * f._kept
-    rivals = ~f._refused & (p >= spotting.RIVAL_PROBABILITY)
+    rivals = ~f._refused & (p >= shape_lead.RIVAL_PROBABILITY)
     rivals[k] = False
-    need = spotting.LEAD * 2.0 * spotting.SHAPE_SPREAD ** 2   # as GestureSpotting._leads
+    need = shape_lead.LEAD * 2.0 * shape_lead.SHAPE_SPREAD ** 2   # as ShapeLead._leads
     lead = not rivals.any() or f._shape[rivals].min() - f._shape[k] >= need
     b = f.bank
     g = float(b.starts[k] + min(f.forward.mean[k], b.lengths[k] - 1.0))

@@ -8,22 +8,10 @@ and progress (:class:`~behaviors.mop.state.FollowState`). Whether it may drive a
 decided in :mod:`behaviors.mop.validity`, where gestures begin and end in
 :mod:`behaviors.mop.spotting`. Figures come from ``bench/follow_quality.py`` (puck paths: six
 drawn gestures and fourteen DeepMimic hand and foot paths) run on this follower as the
-installation builds it for a puck, unless said otherwise.
+installation builds it for a puck, unless said otherwise. This module builds the follower (its
+parameters, templates and state); each sample's evidence, probabilities, best and validity are
+concluded in :mod:`behaviors.mop.recognition`.
 
-- Probabilities: each template's evidence is its sum of per-step log-likelihoods of the *raw*
-  sample (its own scale and the estimated size enter as the Gaussian's Jacobian, so templates of
-  different sizes compare fairly), forgotten with time constant ``memory`` samples; a softmax
-  gives probabilities summing to 1. ``best`` changes only when another template leads by
-  ``switch_margin`` nats, and drives only while at least ``min_probability`` likely.
-- Engagement: a template drives nothing until its progress passed its onset (the first state
-  ``onset`` sigmas from its first state) *and* the input itself left the anchor by as much: a
-  still input lets the transitions' prior drift along the first states (a still tail after a
-  diagonal line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused,
-  its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
-  :mod:`behaviors.mop.refusal`), its spread at most ``max_spread`` (in states), its end not
-  yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
-  other likely template in shape since the gesture began, and one that reached its end drives
-  at most two samples more (:mod:`behaviors.mop.spotting`).
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
 """
 
@@ -35,23 +23,24 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.holding import SNAP_RADII, hold_maps, rested_sizes, shown_progress
+from behaviors.mop.holding import hold_maps
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
 from behaviors.mop.parameters import check_ranges
+from behaviors.mop.recognition import Recognition
 from behaviors.mop.refusal import Refusal, shape_limits
+from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
-from behaviors.mop.handover import finished
-from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting, drives
-from behaviors.mop.state import ByName, FollowState, SampleError
+from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
+from behaviors.mop.state import FollowState, SampleError
 from behaviors.mop.turning import Turning
-from behaviors.mop.validity import (Validity, backs_first, crawl_run, crawls, resting,
-                                    rests_behind, stalls, still_unbegun, unbegun, unjudged)
+from behaviors.mop.validity import Validity
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
 
 
-class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotting):
+class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,
+                     ShapeLead):
     """Follows the progress of a live performance along several action templates at once.
 
     ``templates``: name -> (n_i, d) samples, regularly spaced at the rate the follower is stepped.
@@ -277,193 +266,6 @@ class ActionFollower(PerformanceFrame, Validity, Refusal, Turning, GestureSpotti
         fw = self.forward
         step_ll = fw.step(self._inputs(x))
         return self._finish(step_ll, fw, 0, fw.entries, x)
-
-    def _finish(self, step_ll: np.ndarray, forward: WindowedForward, offset: int,
-                entries: np.ndarray, x: np.ndarray) -> FollowState:
-        """Evidence, probabilities, best, validity and spotting from one forward step's
-        per-template log-likelihoods; this follower's templates are ``forward``'s from
-        ``offset`` on."""
-        k = len(self.names)
-        b = self.bank
-        mean = forward.mean[offset:offset + k]
-        g = b.starts + np.minimum(mean, b.lengths - 1.0)
-        gi = np.minimum(g.astype(np.intp), b.starts + b.lengths - 2)
-        frac = g - gi
-        src = b.source
-        progress = src[gi] + frac * (src[gi + 1] - src[gi])
-        # resting over this sample and the ones before (the samples _still will keep): once,
-        # for the holds here and for the stall rule after the push (_conclude)
-        rest = resting(self._recent_x[1 - self.still_samples:] + [x], self._still_radius)
-        if self._holds is not None:   # holds inside a template (behaviors.mop.holding)
-            if rest and self.invariance == "scale":
-                rested_sizes(self._holds[1][gi], self._rel, (x - self._anchor) / self._units,
-                             self._size,
-                             self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
-                             self._num, self._den, self._prior, self._least)
-        self._reversal_sizes(x, gi)
-        self._estimate_size(x, gi, frac)
-        if self._holds is not None:
-            progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)
-        raw_ll = step_ll - self._jacobian
-        if self.invariance == "scale":
-            raw_ll = raw_ll - self.dim * np.log(self._size)
-        self._evidence *= self._decay
-        self._evidence += raw_ll
-        # none while the performer rests (validity.unjudged), but on a fresh start
-        upd = self._recent_weight <= 0 if unjudged(rest) else slice(None)
-        self._recent[upd] = self._recent[upd] * self._null_decay + step_ll[upd]
-        self._recent_weight[upd] = self._recent_weight[upd] * self._null_decay + 1.0
-        new = entries > self._entries   # re-entered: a new performance, judged afresh
-        self._entries[:] = entries
-        # a refused template whose performance is back at its start, matching it, may begin
-        # anew (re-entry is not counted while the main window already holds the first states)
-        back = self._refused & (mean < self._onset_state)
-        if np.count_nonzero(back):
-            back &= (self._log_constant - step_ll) * (2.0 / self._zdim) <= self._null2
-            new |= back
-        self._rejudge()
-        if np.count_nonzero(new):
-            self._gone[new] = 0.0
-            self._recent[new] = self._log_constant
-            self._recent_weight[new] = 1.0
-            self._refused[new] = False
-            self._engaged[new] = False
-        mean_ll = self._recent / self._recent_weight
-        dist2 = (self._log_constant - mean_ll) * (2.0 / self._zdim)
-        self._refuse(dist2)
-        # engaged once past the onset state *and* the input itself has left the anchor by the
-        # onset (template units): a still input lets the prior drift along the first states
-        # (measured: a still tail after a diagonal re-engaged the circle within 6 samples)
-        past = (mean >= self._onset_state) & ~self._refused
-        if np.count_nonzero(past & ~self._engaged):
-            # averaged over the last samples: single jitter spikes crossed the onset of a
-            # template with a narrow column (a still puck took the line's end, 29% of the time)
-            r = self._displacement(np.mean(self._recent_x[-3:] + [x], axis=0))
-            past &= r >= self.onset * self.sigma
-        self._engaged |= past
-        top = int(np.argmax(self._evidence))
-        p = np.exp(self._evidence - self._evidence[top])
-        total = p.sum()
-        p /= total
-        # the threshold model competes as one more, never driving, explanation: the share of
-        # the probability the templates keep against it (the states' probabilities are the
-        # templates' among themselves)
-        self._kept = 1.0
-        if math.isfinite(self.threshold):
-            rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top]))
-                     - self._evidence[top])
-            self._kept = total / (total + math.exp(min(rival, 700.0)))
-        lists = (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist())
-        return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
-                              lists, rest)
-
-    def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
-                  gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
-                  forward: WindowedForward, offset: int, x: np.ndarray,
-                  lists: tuple[list, list, list, list], rests: bool) -> FollowState:
-        """The rest of :meth:`_finish` once the per-template arrays are updated (a group updates
-        them for all its followers at once): best, validity, the state and spotting. ``top``:
-        the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p``,
-        ``mean_ll`` and sizes as lists (for the state's dictionaries); ``rests``: the performer
-        rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
-        b = self.bank
-        src = b.source
-        if (self._best < 0 or self._evidence[top] - self._evidence[self._best] > self.switch_margin
-                or self._refused[self._best]):
-            self._best = top
-        self._judge_shape(x, g, new, rests)
-        committed = -1   # committed to by shape: best, however improbable (spotting)
-        if self.invariance != "none":
-            self._add_shape(x, gi, g - gi)
-            committed = self._committed()
-            if committed >= 0:
-                self._best = committed
-        bi = self._best
-        progress_list, p_list, mean_ll_list, size_list = lists
-        engaged = bool(self._engaged.any())
-        slope = src[gi[bi] + 1] - src[gi[bi]]
-        var = forward.var_of(offset + bi)
-        variance = var * slope * slope
-        # the spread limit counts states, not the progress a compressed hold spans
-        spread2 = var / (b.lengths[bi] - 1.0) ** 2
-        still = self._still(x)
-        ok = bool(self._engaged[bi] and not self._refused[bi] and self._shaped(bi)
-                  and spread2 <= self.max_spread ** 2
-                  and (p_list[bi] * self._kept >= self.min_probability or committed == bi)
-                  and (self._end_x is None or not self._moved_on(x, bi)))
-        if self.invariance != "none":
-            if self._shared is not None:   # spotting._shares: each template's highest progress
-                np.maximum(self._gone, progress, out=self._gone)
-            # a new action drives only once its shape clearly leads (spotting.LEAD)
-            leads = self._leads(bi, p * self._kept)
-            # ... and once the input turned as the template does (turning.turning)
-            turned = self._turned(x, bi, float(g[bi]))
-            # ... and once it is not taken at a crawl (validity.slow_take); nor does any action
-            # drive once it crawled so for CRAWL_SAMPLES samples in a row (validity.crawls)
-            slow, hovers = self._slow_take(bi, g, x)
-            self._crawl = crawl_run(self._crawl, bi == self._crawl_k, slow,
-                                    hovers and self._drive_k != bi)
-            self._crawl_k = bi
-            # ... nor while the input goes back the way it came to an abandonment's anchor
-            # (validity.unbegun), until the performer moves on after a rest
-            back = unbegun(self._abandoned, x - self._anchor, self._came)
-            self._abandoned, self._abandon_rested = still_unbegun(self._abandoned,
-                                                                  self._abandon_rested, rests)
-            ok = ok and not crawls(self._crawl) and (self._acquired == bi or (
-                leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow
-                and not back))
-            self._remember_tempo(g - b.starts, x)
-            if self._drive_k == bi:
-                # an action that has not yet carried its performer forward does not drive
-                # them back behind where it began (validity.backs_first)
-                self._drive_peak = max(self._drive_peak, progress_list[bi])
-                ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
-                # ... nor once its performer finished it short of its end (handover.finished)
-                ok = ok and not finished(self._drive_peak, progress_list[bi])
-                # ... nor, once the performer moved it without carrying it forward, hold them
-                # while they stop (validity.stalls)
-                ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
-                # ... nor hold them resting behind where it began (validity.rests_behind)
-                ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
-        self._run = self._run + 1 if ok else 0
-        # an action that reached its end drives at most END_GRACE samples more (spotting)
-        self._after_end = self._after_end + 1 if self._end_x is not None else 0
-        valid = drives(self._run, self.confirm, self._after_end)
-        if valid and self._drive_k != bi:
-            self._drive_k = bi
-            self._drive_from = self._drive_peak = progress_list[bi]
-            self._drive_moved = False
-        if valid and not rests:
-            self._drive_moved = True
-        self._acquired = bi if valid else -1
-        loglik = mean_ll_list[bi]
-        names = self.names
-        likely: tuple[tuple[str, float, float], ...] = ()
-        if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
-            order = [i for i in np.argsort(-p, kind="stable")[:3] if not self._refused[i]]
-            likely = tuple((names[i], p_list[i], progress_list[i]) for i in order)
-        shown = progress_list
-        best, best_progress = names[bi], progress_list[bi]
-        if self._ended >= 0 and not engaged:
-            # the last gesture ended and no new one has begun: it stays at its end, not driving
-            best, best_progress = names[self._ended], 1.0
-            shown = list(progress_list)
-            shown[self._ended] = 1.0
-        index = self._index
-        state = self._state = FollowState(
-            best=best, progress=best_progress, variance=variance,
-            probabilities=ByName(index, p_list), progress_by=ByName(index, shown),
-            valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
-            loglik_by=ByName(index, mean_ll_list), likely=likely,
-            scale_by=ByName(index, size_list),
-            holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
-        if engaged:
-            self._ended = -1
-        if self.invariance != "none":
-            self._spot(valid, ok, engaged, still, bi, progress_list[bi], step_ll[bi], x, forward,
-                       offset)
-        self._state = state
-        return state
 
     def same_parameters(self, other: "ActionFollower") -> bool:
         """True when ``other`` follows with the same parameters (its templates may differ)."""

@@ -1,4 +1,11 @@
-"""Several followers stepped as one (one per performer), in one vectorised forward pass."""
+"""Several followers stepped as one (one per performer), in one vectorised forward pass.
+
+A tick: the samples taken, the forward step, the per-template pass
+(:func:`behaviors.mop.group_kernel.update_templates`), the per-member rules
+(:func:`behaviors.mop.members.conclude`) and each member's state. The arrays it steps with (the
+members' state shared as views, the constants as the compiled passes read them) are built in
+:mod:`behaviors.mop.group_arrays`.
+"""
 
 from __future__ import annotations
 
@@ -9,16 +16,16 @@ import numpy as np
 
 from behaviors.mop import group_kernel, group_steps, members
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
+from behaviors.mop.group_arrays import GroupArrays
 from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
-from behaviors.mop.holding import holding_columns
-from behaviors.mop.spotting import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
+from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
 from behaviors.mop.validity import PATH_REACH, still_unbegun
 
 
-class FollowerGroup(GroupRules):
+class FollowerGroup(GroupArrays, GroupRules):
     """Several followers (one per performer or character, each with its own templates and
     input) stepped together in one vectorised forward pass: one tick of many characters costs
     about as much as one follower over all their templates. The followers must share their
@@ -67,98 +74,6 @@ class FollowerGroup(GroupRules):
         self._member_arrays()
         self._kernel_arrays()
         self.reset()
-
-    def _share_state(self) -> None:
-        """Every member's per-template state becomes a view of one array over the whole group,
-        and its constants are stacked, so a tick updates all of them in a few array operations."""
-        fs, sl = self.followers, self._slices
-        per = lambda fn: np.concatenate([np.broadcast_to(fn(f), (len(f.names),)) for f in fs])
-        for name in self._PER_TEMPLATE:
-            whole = np.concatenate([getattr(f, name) for f in fs])
-            setattr(self, name, whole)
-            for f, s in zip(fs, sl):
-                setattr(f, name, whole[s])
-        state_off = np.cumsum([0] + [len(f.bank.source) for f in fs])[:-1]
-        self._state_off = per(lambda f: state_off[fs.index(f)]).astype(np.intp)
-        self._starts_local = np.concatenate([f.bank.starts for f in fs]).astype(np.intp)
-        self._lengths = np.concatenate([f.bank.lengths for f in fs]).astype(np.intp)
-        dmax = max(f.dim for f in fs)
-        self._rel = np.concatenate([np.pad(f._rel, ((0, 0), (0, dmax - f.dim))) for f in fs])
-        self._scale = np.concatenate([np.pad(f.bank.scale, ((0, 0), (0, dmax - f.dim)),
-                                             constant_values=1.0) for f in fs])
-
-    def _member_arrays(self) -> None:
-        """Each member's own constants and state (anchor, recent samples, best, ends) as rows of
-        arrays (M, ...), padded to the widest member's features with values that change nothing."""
-        fs, m = self.followers, len(self.followers)
-        dmax = self._rel.shape[1]
-        pad = lambda a, v=0.0: np.pad(np.asarray(a, dtype=float), (0, dmax - len(a)),
-                                      constant_values=v)
-        col = lambda fn, dtype=float: np.array([fn(f) for f in fs], dtype=dtype)
-        self._m_units = np.array([pad(f._units, 1.0) for f in fs])
-        self._m_radius = np.array([pad(f._still_radius) for f in fs])
-        self._m_keep = col(lambda f: f.still_samples, np.intp)
-        self._m_tangent = [i for i, f in enumerate(fs) if f.tangent > 0]
-        # each member's template names and their rows in the group's per-template arrays
-        self._k_names = [n for f in fs for n in f.names]
-        self._m_index = [{n: int(a) + j for j, n in enumerate(f.names)}
-                         for f, a in zip(fs, self._bounds)]
-        # per template: what a sample is measured from (anchor, or the center for "none")
-        self._k_none = np.concatenate([np.full(len(f.names), f.invariance == "none") for f in fs])
-        self._k_center = np.concatenate([np.pad(f.bank.center, ((0, 0), (0, dmax - f.dim)))
-                                         for f in fs])
-        self._k_first = np.concatenate([np.pad(f._first_z, ((0, 0), (0, dmax - f.dim)))
-                                        if f.invariance != "none"
-                                        else np.zeros((len(f.names), dmax)) for f in fs])
-        self._holds = np.concatenate([f.bank.holds for f in fs])
-        self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
-        self._shape_n = np.zeros(m)   # ... and their samples (per member)
-        self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
-        # spotting's shared starts (sharing.shared_until, ``share_radius``): each member's
-        # (K_i, K_i) flattened, from _sh_off[i]; -1 for members without
-        shared = [np.zeros(0, np.intp) if f._shared is None else f._shared.ravel() for f in fs]
-        self._shared = np.concatenate(shared).astype(np.intp)
-        self._sh_off = np.where([f._shared is None for f in fs], -1,
-                                np.cumsum([0] + [a.size for a in shared])[:-1]).astype(np.intp)
-        self._drive_moved = np.zeros(m, dtype=bool)
-        # begun by abandonment, and the input's way to its anchor (validity.unbegun)
-        self._abandoned, self._came = np.zeros(m, dtype=bool), np.zeros((m, dmax))
-        self._abandon_rested = np.zeros(m, dtype=bool)   # ... and rested since (still_unbegun)
-        self._everyone = np.ones(m, dtype=bool)   # every member has a sample (never written)
-        self._acquired = np.full(m, -1, dtype=np.intp)
-        self._drive_k = np.full(m, -1, dtype=np.intp)
-        self._turning_arrays()
-        self._drive_from, self._drive_peak = np.zeros(m), np.zeros(m)
-        self._last_state = self._state_off + self._starts_local + self._lengths - 1
-        self._x = np.zeros((m, dmax))
-        self._one_dim = all(f.dim == dmax for f in fs)
-        self._anchor = np.zeros((m, dmax))
-        self._has_anchor = np.zeros(m, dtype=bool)
-        self._buf = np.zeros((m, int(self._m_keep.max()), dmax))
-        self._nbuf = np.zeros(m, dtype=np.intp)
-        self._best = np.full(m, -1, dtype=np.intp)   # -1: none yet (ActionFollower._best)
-        self._run = np.zeros(m, dtype=np.intp)
-        self._lost = np.zeros(m, dtype=np.intp)
-        self._ended = np.full(m, -1, dtype=np.intp)
-        self._end_x = np.zeros((m, dmax))
-        self._end_last = np.zeros((m, dmax))   # the ended template's last point (_moved_on)
-        self._has_end = np.zeros(m, dtype=bool)
-        self._after_end = np.zeros(m, dtype=np.intp)
-        self._peak, self._peak_k = np.zeros(m), np.full(m, -1, dtype=np.intp)
-        self._extent = np.concatenate([f._extent for f in fs])
-        self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
-        self._thr_has_x = np.zeros(m, dtype=bool)
-        self._tempo_arrays()
-        self._m_dim = col(lambda f: f.dim)
-
-    _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
-                     "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
-                     "_least", "_judged", "_at_hold_end")
-    _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_end_last", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
-                   "_thr_x", "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak",
-                   "_drive_moved", "_shape_n", "_turn_in", "_turn_h", "_turn_ref",
-                   "_turn_has_ref", "_turn_has_h", "_abandoned", "_came", "_abandon_rested")
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
@@ -264,89 +179,6 @@ class FollowerGroup(GroupRules):
             f, sl = self.followers[i], self._slices[i]
             f._anchor = self._anchor[i, :f.dim].copy()
             self._z[sl, :f._zdim] = f._inputs(self._x[i, :f.dim].copy())
-
-    def _kernel_arrays(self) -> None:
-        """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out
-        as it reads them (see :data:`~behaviors.mop.group_kernel.STATE_COLUMNS` and the rest),
-        and the per-template state it updates (the members' own arrays, shared)."""
-        fs, k, m = self.followers, len(self._owner), len(self.followers)
-        dmax = self._rel.shape[1]
-        padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
-        self._states = np.ascontiguousarray(np.concatenate(
-            [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None],
-                        f._arc[:, None], holding_columns(f)]) for f in fs]))
-        self._ti = np.ascontiguousarray(np.stack([self._starts_local, self._lengths,
-                                                  self._state_off], axis=1))
-        z = lambda f, on: padded(f._first_z, f) if on else np.zeros((len(f.names), dmax))
-        self._tc = np.ascontiguousarray(np.hstack([
-            np.concatenate([f._jacobian for f in fs])[:, None],
-            np.concatenate([f._onset_state for f in fs])[:, None],
-            np.concatenate([f._prior for f in fs])[:, None],
-            np.concatenate([f._arc_need for f in fs])[:, None],
-            np.concatenate([f._reach_inv for f in fs])[:, None],
-            self._scale,
-            self._k_center,
-            np.concatenate([z(f, f.invariance == "offset") for f in fs]),
-            np.concatenate([z(f, f.invariance == "scale") for f in fs])]))
-        scalars = {"dims": lambda f: f.dim, "decay": lambda f: f._decay,
-                   "null_decay": lambda f: f._null_decay, "log_constant": lambda f: f._log_constant,
-                   "two_over": lambda f: 2.0 / f._zdim, "null2": lambda f: f._null2,
-                   "accept2": lambda f: f._accept2, "onset_sigma": lambda f: f.onset * f.sigma,
-                   "scaled": lambda f: f.invariance == "scale", "lo": lambda f: f.scale_range[0],
-                   "hi": lambda f: f.scale_range[1], "misfit_decay": lambda f: f._misfit_decay,
-                   "shape2": lambda f: f._shape2, "shape_accept2": lambda f: f._shape_accept2,
-                   "path_scale": lambda f: f.sigma ** 2 * f.dim,
-                   "spots": lambda f: f.invariance != "none",
-                   "none": lambda f: f.invariance == "none",
-                   "margin": lambda f: f.switch_margin, "threshold": lambda f: f.threshold,
-                   "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
-                   "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
-                   "keep": lambda f: f.still_samples, "reversal_move2": lambda f: f._reversal_move2}
-        cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
-        radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
-                           for f in fs])
-        self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
-        rules = {"spread2": lambda f: f.max_spread ** 2, "min_p": lambda f: f.min_probability,
-                 "spots": lambda f: f.invariance != "none", "confirm": lambda f: f.confirm,
-                 "log_constant": lambda f: f._log_constant, "zdim": lambda f: f._zdim,
-                 "keep": lambda f: f.still_samples, "onset": lambda f: f.onset * f.sigma,
-                 "end": lambda f: f.end, "null2": lambda f: f._null2,
-                 "depart2": lambda f: (f.accept_distance * f.sigma) ** 2,
-                 "lost_after": lambda f: f.lost_samples, "dims": lambda f: f.dim}
-        cols = np.array([[float(rules[n](f)) for n in members.MEMBER_RULES] for f in fs])
-        self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
-        # the per-template state the compiled passes update, one row each of two arrays
-        self._floats = self._rows(group_kernel.FLOATS, float)
-        self._flags = self._rows(group_kernel.FLAGS, bool)
-        self._k_new = np.zeros(k, dtype=bool)
-        self._m_top3 = np.zeros((m, 3), dtype=np.intp)
-        self._m_moving = np.zeros(m)
-        self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
-        self._m_leads, self._m_committed = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
-        self._m_kept = np.ones(m)
-        self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
-        self._m_restart = np.empty(m, dtype=np.intp)
-        self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
-        self._reversal_at = np.concatenate([f._reversal_at for f in fs]).astype(np.intp)
-        self._reversal_tol = np.concatenate([f._reversal_tol for f in fs])
-        # the threshold models' state (Refusal._threshold_evidence): over every state of a member
-        self._means = np.ascontiguousarray(self._states[:, :dmax].T)
-        self._thr_alpha = np.zeros(len(self._states))
-        self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
-        self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
-        self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
-        self._thr_tops = np.zeros(k)   # scratch: each template's likeliest threshold state
-
-    def _rows(self, names: tuple[str, ...], dtype: type) -> np.ndarray:
-        """The per-template arrays ``names`` (K,) as the rows of one array (len(names), K): each
-        name (and its members' share of it) becomes a view of its row."""
-        rows = np.array([getattr(self, n) for n in names], dtype=dtype)
-        for n, row in zip(names, rows):
-            setattr(self, n, row)
-            if n in self._PER_TEMPLATE:
-                for f, sl in zip(self.followers, self._slices):
-                    setattr(f, n, row[sl])
-        return rows
 
     def _finish(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._finish` for every member at once: the per-template rules in

@@ -2,7 +2,7 @@
 template of every member.
 
 :meth:`ActionFollower._finish <behaviors.mop.follower.ActionFollower._finish>` and the shape
-rules it applies (:mod:`behaviors.mop.validity`, :mod:`behaviors.mop.spotting`) update a dozen
+rules it applies (:mod:`behaviors.mop.validity`, :mod:`behaviors.mop.shape_lead`) update a dozen
 arrays over the templates after each step: followed state, size estimate, evidence, refusal with
 hysteresis, engagement, probabilities, path misfit and coverage, shape sums. Written as array
 operations over the group's templates (``behaviors/mop/group.py`` before this module) that was
@@ -22,7 +22,7 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (group_steps, holding, invariance, members, spotting, threshold,
+from behaviors.mop import (group_steps, holding, invariance, members, shape_lead, threshold,
                            threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
 from behaviors.mop.group_steps import first_max, top_three
@@ -31,12 +31,12 @@ from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
-from behaviors.mop.spotting import KEPT_COMMIT
+from behaviors.mop.shape_lead import KEPT_COMMIT
 from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, group_steps, holding, invariance, members, spotting,
+_CALLS_INTO = (behaviors.mop.compiled, group_steps, holding, invariance, members, shape_lead,
                threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
@@ -102,7 +102,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
     by ``min_lead``, whether the performer rests (``rest_out``: the holds' rule here, the stall
     rule in :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
-    (``committed_out``: :meth:`GestureSpotting._committed`; ``shape_n``: each member's samples
+    (``committed_out``: :meth:`ShapeLead._committed`; ``shape_n``: each member's samples
     in its shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
     ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
     each template's tolerance there (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
@@ -368,7 +368,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             at = states[gf + off, arc]
             if engaged[k] and at + (g - gf) * (states[min(gf + 1, last) + off, arc] - at) >= t[3]:
                 covered[k] = True
-            # shape sums (GestureSpotting._leads) and displacement (early feedback)
+            # shape sums (ShapeLead._leads) and displacement (early feedback)
             acc = 0.0
             mv = 0.0
             for c in range(d):
@@ -420,7 +420,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         gb = a0 + best[i]
         if best[i] < 0 or ev[first] - ev[gb] > margin or refused[gb]:
             gb = first
-        # committed to by shape (GestureSpotting._committed): best, however improbable
+        # committed to by shape (ShapeLead._committed): best, however improbable
         shape_n[i] += spots
         c = -1   # (searched only where the threshold model allows it, as _committed)
         if spots > 0.0 and kept >= KEPT_COMMIT:

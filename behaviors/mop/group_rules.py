@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import members, validity
+from behaviors.mop import member_validity, members, validity
 from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 
 
@@ -45,31 +45,32 @@ class GroupRules:
     def _turned(self, present: np.ndarray) -> None:
         """Each present member's turning since its gesture began, and whether it fits its best
         template's near the followed state (:meth:`Turning._turned`), in ``_turn_ok``
-        (compiled: :func:`members.turned`)."""
+        (compiled: :func:`member_validity.turned`)."""
         if self._m_turning:
-            members.turned(self._x, self._anchor, present, self._turning, self._turn_ref,
-                           self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in,
-                           self._best, self._bounds, self._ti, self.forward.mean, self._turns,
-                           self._turn_steps, self._turn_limits, TURN_REACH, FIRST_TURN_STEPS,
-                           self._turn_ok)
+            member_validity.turned(
+                self._x, self._anchor, present, self._turning, self._turn_ref,
+                self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in, self._best,
+                self._bounds, self._ti, self.forward.mean, self._turns, self._turn_steps,
+                self._turn_limits, TURN_REACH, FIRST_TURN_STEPS, self._turn_ok)
 
     def _tempo(self, present: np.ndarray) -> None:
         """:meth:`Validity._slow_take` for every present member that spots: a new action taken too
         slowly does not lead (``_m_leads``, read only for a new action); then this sample and the
-        followed states are remembered (compiled: :func:`members.tempo`; as array operations
-        over the members it cost 0.2 ms a tick of 8 performers x 100 templates)."""
+        followed states are remembered (compiled: :func:`member_validity.tempo`; as array
+        operations over the members it cost 0.2 ms a tick of 8 performers x 100 templates)."""
         f0 = self.followers[0]
-        members.tempo(self.forward.mean, self._lengths, present, self._tempo_on, self._tempo_at,
-                      self._tempo_n, self._bounds, self._counts, self._best, self._x,
-                      self._tempo_x, self._tempo_g, self._scale, self._size, self._m_dim,
-                      f0.onset * f0.sigma, self._m_leads, self._crawl, self._drive_k)
+        member_validity.tempo(
+            self.forward.mean, self._lengths, present, self._tempo_on, self._tempo_at,
+            self._tempo_n, self._bounds, self._counts, self._best, self._x, self._tempo_x,
+            self._tempo_g, self._scale, self._size, self._m_dim, f0.onset * f0.sigma,
+            self._m_leads, self._crawl, self._drive_k)
 
     def _unbegun(self, present: np.ndarray) -> None:
         """:func:`behaviors.mop.validity.unbegun` for every present member whose attempt was
         begun by abandonment: no new action leads (``_m_leads``) while its input goes back the
-        way it came to the anchor (compiled: :func:`members.unbegun`)."""
-        members.unbegun(self._abandoned, present, self._x, self._anchor, self._came,
-                        self._m_leads)
+        way it came to the anchor (compiled: :func:`member_validity.unbegun`)."""
+        member_validity.unbegun(self._abandoned, present, self._x, self._anchor, self._came,
+                                self._m_leads)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

@@ -7,8 +7,10 @@ of members: per-template arrays ``(K,)`` of the whole group cut into members by 
 member's first template), per-member arrays ``(M,)`` or ``(M, D)`` (``D`` the widest member's
 features, narrower members padded with values that change nothing). Each function states the
 follower method it equals; ``tests/mop/test_group.py`` checks them and the group against
-followers stepped alone. Compiled: as array operations over the members (about 90 numpy calls
-on arrays of 8) they cost more than the per-template pass.
+followers stepped alone; the rules applied before the conclusion (turning, tempo, a way back to
+an abandonment's anchor) are in :mod:`behaviors.mop.member_validity`. Compiled: as array
+operations over the members (about 90 numpy calls on arrays of 8) they cost more than the
+per-template pass.
 """
 
 from __future__ import annotations
@@ -18,15 +20,17 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, spotting, validity
+from behaviors.mop import handover, shape_lead, spotting, validity
 from behaviors.mop.handover import FINISH_BACK, FINISH_FROM
-from behaviors.mop.spotting import (ARRIVE_RADIUS, COMMIT_FIT, END_GRACE, MOVE_RADII,
-                                   RETURN_BACK, RETURN_RADIUS, SHARE_BACK)
-from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_HOVERS, CRAWL_SAMPLES,
-                                    FORWARD_FIRST, LEAST_TEMPO, REST_BEHIND, TEMPO_SAMPLES)
+from behaviors.mop.shape_lead import COMMIT_FIT
+from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
+                                   RETURN_RADIUS, SHARE_BACK)
+from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
+                                    REST_BEHIND)
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (handover, spotting, validity)   # the files whose constants the kernels take in
+# the files whose constants the kernels take in
+_CALLS_INTO = (handover, shape_lead, spotting, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -146,10 +150,10 @@ def departed(x: np.ndarray, end_x: np.ndarray, spread: np.ndarray, dims: float,
                      numba.float64), *_CALLS_INTO)
 def committed(shape: np.ndarray, flags: np.ndarray, a0: int, a1: int, samples: float,
               lead: float) -> int:
-    """:meth:`GestureSpotting._committed` among templates ``a0..a1`` (group indices; ``flags``:
+    """:meth:`ShapeLead._committed` among templates ``a0..a1`` (group indices; ``flags``:
     the group's flag rows, refused, engaged, misshaped, covered first), but for the threshold
     model's share: the one committed to by shape, or -1. ``samples``: the shape sums' samples
-    times the features; ``lead``: :data:`~behaviors.mop.spotting.LEAD` in shape units."""
+    times the features; ``lead``: :data:`~behaviors.mop.shape_lead.LEAD` in shape units."""
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
     c = -1
     for k in range(a0, a1):
@@ -221,7 +225,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
     each rests (:func:`~behaviors.mop.validity.resting` over the samples the push keeps,
     measured once by the per-template pass; a member without a sample is put back after the
-    tick); ``crawl``: each member's crawling run and its best, as :func:`tempo` left them;
+    tick); ``crawl``: each member's crawling run and its best, as
+    :func:`~behaviors.mop.member_validity.tempo` left them;
     ``committed``: ``best`` committed to by shape (drives however improbable).
 
     In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
@@ -339,113 +344,3 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
                               any_engaged[i])
-
-
-@compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
-                   _F1, numba.intp, numba.float64, _B1), *_CALLS_INTO)
-def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
-           mean, turns, step, limit, reach, first_steps, ok) -> None:
-    """:meth:`Turning._turned` for every present member whose input ``turning`` is measured
-    (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
-    ``ref`` and direction ``heading``, :func:`~behaviors.mop.turning.turn_step`; ``step``:
-    its step length), and whether it is within ``limit`` (M,) radians of its best template's at the
-    states within ``reach`` of the followed one (:func:`~behaviors.mop.turning.turn_fits`;
-    ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``. The same operations
-    in the same order as the follower's own."""
-    pi, two_pi = math.pi, 2.0 * math.pi
-    for i in range(x.shape[0]):
-        if not (turning[i] and present[i]):
-            continue
-        if not has_ref[i]:
-            ref[i, 0], ref[i, 1] = anchor[i, 0], anchor[i, 1]
-            has_ref[i] = True
-        else:
-            d0, d1 = x[i, 0] - ref[i, 0], x[i, 1] - ref[i, 1]
-            if math.hypot(d0, d1) > (step[i] if has_heading[i] else first_steps * step[i]):
-                h = math.atan2(d1, d0)
-                if has_heading[i]:
-                    turn[i] += (h - heading[i] + pi) % two_pi - pi
-                heading[i], has_heading[i] = h, True
-                ref[i, 0], ref[i, 1] = x[i, 0], x[i, 1]
-        k = bounds[i] + best[i]
-        lo, n, off = ti[k, 0], ti[k, 1], ti[k, 2]
-        c = int(lo + min(mean[k], n - 1.0))
-        least = np.inf
-        for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
-            least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
-        ok[i] = least <= limit[i]
-
-
-@compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,
-                     numba.float64, _B1, _I2, _I1), *_CALLS_INTO)
-def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
-          at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
-          best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
-          scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
-          leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray) -> None:
-    """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
-    :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
-    (:func:`validity.slow_take`: followed state, ``mean`` clipped to the template, against the
-    oldest kept in ``past_g``; the input against ``past_x[at]`` in the template's spread
-    ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``), and
-    ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`validity.crawls`;
-    kept while the input hovers as :func:`validity.crawl_run` says, ``drive_k``: the action
-    that last drove);
-    then this sample and the followed states are kept in the ring's slot ``at``, which moves
-    on."""
-    w = TEMPO_SAMPLES
-    for i in range(bounds.size):
-        if not (present[i] and spots[i]):
-            continue
-        a = at[i]
-        slow = False
-        hovers = False
-        if seen[i] >= w and LEAST_TEMPO > 0:
-            gb = bounds[i] + best[i]
-            tot = 0.0
-            for c in range(x.shape[1]):
-                r = (x[i, c] - past_x[a, i, c]) / (scale[gb, c] * size[gb])
-                tot += r * r
-            moved = math.sqrt(tot / dims[i])
-            advance = min(mean[gb], lengths[gb] - 1.0) - past_g[a, gb]
-            if moved >= onset and abs(advance) < LEAST_TEMPO * w:
-                leads[i] = False
-                slow = True
-            hovers = moved < onset and abs(advance) < LEAST_TEMPO * w and drive_k[i] != best[i]
-        same = crawl[i, 1] == best[i]
-        if slow:
-            crawl[i, 0] = crawl[i, 0] + 1 if same else 1
-        elif not (same and hovers and CRAWL_HOVERS and 0 < CRAWL_SAMPLES <= crawl[i, 0]):
-            crawl[i, 0] = 0   # validity.crawl_run
-        crawl[i, 1] = best[i]
-        for c in range(x.shape[1]):
-            past_x[a, i, c] = x[i, c]
-        for k in range(bounds[i], bounds[i] + counts[i]):
-            past_g[a, k] = min(mean[k], lengths[k] - 1.0)
-        at[i] = (a + 1) % w
-        seen[i] += 1
-
-
-@compiled(numba.void(_B1, _B1, _F2, _F2, _F2, _B1), *_CALLS_INTO)
-def unbegun(abandoned: np.ndarray, present: np.ndarray, x: np.ndarray, anchor: np.ndarray,
-            came: np.ndarray, leads: np.ndarray) -> None:
-    """:func:`behaviors.mop.validity.unbegun` for every present member whose attempt was begun
-    by abandonment (``abandoned``): no new action leads (``leads`` cleared) while its way from
-    the ``anchor`` (``x - anchor``, (M, D)) goes back against ``came``. As a loop over the
-    members calling the function (three numpy products each) it took 33 us median of DESIGN's
-    8 x 100 templates tick back to back, 53 us after the view's two frames; compiled, one call:
-    5 us (the products summed in column order: numpy's may round the last bit otherwise, which
-    decides only a cosine of exactly -REVERSED)."""
-    for i in range(x.shape[0]):
-        if not (abandoned[i] and present[i]):
-            continue
-        dot = 0.0
-        ww = 0.0
-        cc = 0.0
-        for c in range(x.shape[1]):
-            w = x[i, c] - anchor[i, c]
-            dot += w * came[i, c]
-            ww += w * w
-            cc += came[i, c] * came[i, c]
-        if dot < -validity.REVERSED * math.sqrt(ww * cc):
-            leads[i] = False

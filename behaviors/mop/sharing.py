@@ -21,7 +21,7 @@ template is neither refused nor off its path nor going back (its followed progre
 :data:`~behaviors.mop.spotting.SHARE_BACK` below its highest since the gesture began): the input
 cannot tell them apart, so both are only shown as ``likely``. This is what the shape lead does not
 catch where the other template's evidence is already below
-:data:`~behaviors.mop.spotting.RIVAL_PROBABILITY` (the square's falls to 0.001 on its first side,
+:data:`~behaviors.mop.shape_lead.RIVAL_PROBABILITY` (the square's falls to 0.001 on its first side,
 since its broader eased start lags the input): without it the line drives the square's first side
 (every wrong run over 2 ticks among the six gestures back to back: 3-10 ticks, all where no
 observer could yet tell them apart). On by default at 3 still radii, with a gesture that ends where

@@ -16,32 +16,6 @@ six gestures the median longest run of a wrong action driving 13 -> 11.5 samples
 recognition at 24% -> 24%; among twenty templates gestures never recognised 16% -> 3% (held-out
 joints: 16% -> 9%, median recognition 35% -> 25%).
 
-A shared stroke: the line's outward stroke is the square's first side and the start of the
-circle. The evidence favours the line there (its template is narrow across the stroke, so it
-predicts the input more sharply), and the line drove squares from 16-22% of them up to their
-corner (about 38%). So an action not yet driving must also *lead in shape*
-(:meth:`GestureSpotting._leads`): the squared distance between the input and each template's
-followed state (at its size, from where the gesture began), summed since then, compared at one
-common spread (:data:`SHAPE_SPREAD`, in still radii, whatever the features' units) for every
-template; the action drives once it is ahead of every rival by :data:`LEAD` nats. Until then the
-likeliest actions are only shown (``FollowState.likely``). Measured with
-``bench/follow_quality.py`` (before -> after; held-out in brackets): back to back among the six
-gestures, the longest run of a wrong action other than the gesture just ended 23 -> 10 ticks (25
--> 14), median 10.5 -> 0.5 (11.5 -> 2); among twenty templates 8 -> 8 (26 -> 24), median 5.5 ->
-1.5 (15.5 -> 10); recognition median 24% -> 25% (22% -> 27%), so fewer gestures are recognised
-within 20% (28% -> 9%; 47% -> 25%); valid after 30% of gestures at 0.7-1.4x 0.916 -> 0.909
-(0.912 -> 0.903: the line alone is now valid only once it turns back, where the square cannot
-follow it). Unrelated motions valid 0.66 -> 0.57 at worst (0.72 -> 0.64). Kept at LEAD 4 nats,
-SHAPE_SPREAD 3.5 still radii (a fixed 5 mm in the features' units measured about the same: valid
-after 30% 0.906, held-out 0.903, within 20% 16%, 28%; but a puck's units are 0.1 m in the
-installation and 1 m in the bench) and rivals down to a probability of 0.005; measured and not
-kept: LEAD 5 (valid after 30% held-out 0.899), LEAD 2 (the line still drove 16 ticks of a
-square), any rival however improbable (valid after 30% 0.888: a template with no evidence left
-still shares some shape), rivals down to 0.02 (the square falls below it while the line leads:
-the line still drove 12 ticks of a square), a forgetting of the shape sums (0.95 per sample:
-0.883); a separate 2-tick confirmation when ``best`` switches (no effect once the lead is
-required).
-
 Where the next gesture is anchored: where the last one's end was reached or, when the input was
 still coming closer to the ended template's last point (at its estimated size, from the anchor)
 as the new attempt began, that last point. The follower reaches ``end`` (97% of the progress)
@@ -129,25 +103,6 @@ Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new act
 drive while its start is still the start of another template the input fits; the rule and its
 figures are in :mod:`behaviors.mop.sharing`.
 
-Committed to by shape (:meth:`_committed`): the evidence lags the shape where a narrower template
-predicts the stroke more sharply. On the circle's start, once covered (0.22-0.23 of it), its shape
-sum since the gesture began was 12 against the line's 140 and the square's 198 (still radii), yet
-its probability stayed at 0.00-0.07 for four more samples. So a template engaged, covered, on its
-path, whose shape fits within :data:`COMMIT_FIT` still radii (RMS per column and sample) and
-leads every template not refused by :data:`LEAD`, becomes ``best`` and may drive however
-improbable, while the templates keep :data:`KEPT_COMMIT` against the threshold model.
-``bench/follow_quality.py --sections=sequences`` (tuned / held-out), six gestures back to back,
-recognition minus the observer's reach: circle 0.090 / 0.080 -> 0.062 / 0.066, wave 0.116 /
-0.134 -> 0.095 / 0.099, the others unchanged, longest wrong run 2 / 2 unchanged; sized valid
-after 30% at 0.7-1.4x 0.9005 / 0.9014 -> 0.9019 / 0.9014; unrelated and holds unchanged.
-Measured and not kept: no fit limit (unrelated mean 0.0588 / 0.0657 -> 0.1199 / 0.1122) or the
-threshold model's share only (0.0703 / 0.0745); fit 2 radii: 0.0591 / 0.0657 (a wander, a
-triangle and a diagonal at 1x: ticks where they perform a start of the action); 1.5: no gain.
-The held-out twenty templates' 11-tick run is the same lag the other way: a spin wrist drove a
-circle's 0.30-0.40 (its path within 2-4 mm of the spin's start) while the circle, probability
-0.000, fitted better by only 13-35 (no commitment). Any better-fitting covered template on its
-path counted as a rival: 11 -> 4, but lines held behind squares (sized 0.9014 -> 0.8942 held-out).
-
 What is out of reach here (``bench/follow_quality.py``'s sequences): recognising every gesture
 within 20% of it. An ideal observer (noise-free paths, any size 0.46-2.25x, any tempo) tells
 the zigzag from every other of the six gestures at 9% of it, the figure eight at 11%, the wave
@@ -177,33 +132,8 @@ ends at the performer's last sample, but valid after 30% 0.8798 / 0.8920; half a
 0.8885 / 0.9044. Every rule that ends sooner costs the sized performances their eased last
 samples, which look the same.
 
-Which wrong runs any follower could avoid: ``bench/spotting_reach.py`` (the observer); the
-longest, where the six gestures' paths part, is 2 ticks.
-The held-out 5: the square, recognised at its corner (0.40-0.42), lost its evidence as the
-forward caught up with the corner (probability 0.99 -> 0.04 -> 0.000 in three samples) while it
-still led the circle in shape by 40 nats; below :data:`RIVAL_PROBABILITY` it is no rival, so
-the circle led and drove 0.47-0.54. Rivals widened, measured and not kept (``--sections=
-sequences`` and ``sized,holds,unrelated``; tuned / held-out): a template that was ``best``
-within the last 4 samples stays a rival however improbable: the avoidable run 5 -> 2 (held-out;
-tuned 2 both), every other sequence figure the same but the square 0.404 -> 0.409, unrelated
-mean 0.0786 -> 0.0775 / 0.0909 -> 0.0890, but valid after 30% of gestures at 0.7-1.4x 0.9001 ->
-0.8995 / 0.9019: squares at 0.7x and 0.85x (0.849 -> 0.811) are taken later, the line, best on
-their first side, now a rival at the corner (8 samples: 0.8989); one that drove within 4 or 8
-samples (the line, which drove last, then kept the square from driving at its corner, and the
-circle took it the same):
-0.8995, the run unchanged; one probable within 4 samples: 0.8909 / 0.8872 (the line waits:
-recognised 0.30 -> 0.38); every covered template on its path: 0.8878 / 0.8843.
-
-What holds the gestures an observer could tell by 20%: coverage (``coverage``, 8% of the path,
-:mod:`behaviors.mop.refusal`) is reached at 0.22-0.24 of every one of the six gestures (their
-eased starts; 4% at 0.16-0.19), so none is recognised by 20% while it holds: the zigzag and the
-figure eight wait for it alone (probable and best from 0.19-0.22), the circle and the wave then
-for probability (committed to by shape above). Measured and not kept (tuned / held-out, before
-shared starts): committing before coverage on the shape alone (sums at most 1.5-3 still radii,
-leading every template by 8 nats): within 20% 0 / 0 -> 0.03-0.09 / 0.13-0.25, unrelated mean
-0.0734 / 0.0814 -> 0.0756-0.0781 / 0.0818-0.0840; at 4% coverage: within 20% 0.03 / 0.22,
-unrelated 0.0786 -> 0.0892 / 0.0909 -> 0.1043: the shape leads an unrelated motion's stretch of a
-template as clearly as the template's own start.
+Which action may drive while a gesture is under way (it must lead every rival in shape, or be
+committed to by shape) and the figures behind those rules: :mod:`behaviors.mop.shape_lead`.
 """
 
 from __future__ import annotations
@@ -214,21 +144,6 @@ from behaviors.mop.forward import WindowedForward
 from behaviors.mop.handover import finished, nearest
 
 
-#: Common spread, in still radii (per column: the still input's jitter scale, 1-2 mm for a puck),
-#: at which the templates' shapes are compared: the jitter and the follower's own error together.
-SHAPE_SPREAD = 3.5
-#: Lead in nats (at :data:`SHAPE_SPREAD`) by which an action must explain the gesture's shape
-#: better than every rival before it may drive.
-LEAD = 4.0
-#: Templates less probable than this (the evidence's probabilities) are no rivals.
-RIVAL_PROBABILITY = 0.005
-#: An action whose shape fits within this many still radii (RMS per column per sample since the
-#: gesture began) and leads every template not refused by :data:`LEAD` drives without being
-#: probable (:meth:`GestureSpotting._committed`; 0: never).
-COMMIT_FIT = 1.75
-#: ... while the templates keep at least this share of the probability against the threshold
-#: model (as ``min_probability``'s default).
-KEPT_COMMIT = 0.6
 #: Samples an action still drives after the one at which it reached its end.
 END_GRACE = 2
 #: Still radii (in a column) by which the input, farther from an ended template's last point than
@@ -366,50 +281,6 @@ class GestureSpotting:
                   & (progress >= self._gone - SHARE_BACK))
         rivals[k] = False
         return bool(rivals.any())
-
-    def _add_shape(self, x: np.ndarray, gi: np.ndarray, frac: np.ndarray) -> None:
-        """Add to every template's shape sum the squared distance (in still radii) between the
-        input and its followed state ``gi`` + ``frac`` at its estimated size, both from where
-        the gesture began; count the sample (``_shape_n``)."""
-        q = self._rel[gi] + frac[:, None] * (self._rel[gi + 1] - self._rel[gi])
-        d = (x - self._anchor)[None, :] - self._size[:, None] * q * self._units
-        d /= self._still_radius
-        self._shape += np.einsum("kd,kd->k", d, d)
-        self._shape_n += 1
-
-    def _committed(self) -> int:
-        """The template committed to by shape (-1: none): engaged, covered, on its path, its
-        shape sum within :data:`COMMIT_FIT` and ahead of every other template not refused by
-        :data:`LEAD` (at :data:`SHAPE_SPREAD`), while the templates keep :data:`KEPT_COMMIT`
-        against the threshold model. It becomes ``best`` and may drive however improbable."""
-        if COMMIT_FIT <= 0 or self._kept < KEPT_COMMIT:
-            return -1
-        open_ = ~self._refused
-        ok = open_ & self._engaged & self._covered & ~self._misshaped
-        if not ok.any():
-            return -1
-        c = int(np.argmin(np.where(ok, self._shape, np.inf)))
-        if self._shape[c] > self._shape_n * self.dim * COMMIT_FIT ** 2:
-            return -1
-        others = open_.copy()
-        others[c] = False
-        if others.any() and (self._shape[others].min() - self._shape[c]
-                             < LEAD * 2.0 * SHAPE_SPREAD ** 2):
-            return -1
-        return c
-
-    def _leads(self, bi: int, p: np.ndarray) -> bool:
-        """Whether ``bi`` explains the gesture's shape (:meth:`_add_shape`'s sums since it
-        began, reset with the evidence at each new gesture) better than every rival (not
-        refused, probability ``p`` at least :data:`RIVAL_PROBABILITY`) by :data:`LEAD` nats at
-        the common :data:`SHAPE_SPREAD`. Unlike the evidence, this compares every template at one
-        spread: a narrow template (a line) does not win over a broad one (a square) whose path
-        it shares."""
-        rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
-        rivals[bi] = False
-        if not rivals.any():
-            return True
-        return bool(self._shape[rivals].min() - self._shape[bi] >= LEAD * 2.0 * SHAPE_SPREAD ** 2)
 
     def _still(self, x: np.ndarray) -> bool:
         """The input stayed within the still radius for ``still_samples`` samples."""

@@ -27,10 +27,11 @@ def test_the_forward_exponential_is_within_two_ulp_of_the_library_over_its_range
 
 
 def test_the_members_unbegun_rule_decides_as_the_followers_own():
-    # members.unbegun (every member at once, compiled) against validity.unbegun member by member:
+    # member_validity.unbegun (every member at once, compiled) against validity.unbegun member
+    # by member:
     # random ways and comings, straight back, just either side of the cosine's limit, zeros (at
     # the limit itself the products' last bit decides: numpy's dot may round them otherwise)
-    from behaviors.mop import members, validity
+    from behaviors.mop import member_validity, validity
     rng = np.random.default_rng(11)
     m = 4000
     came = rng.normal(size=(m, 2))
@@ -47,7 +48,7 @@ def test_the_members_unbegun_rule_decides_as_the_followers_own():
     abandoned = rng.random(m) < 0.8
     present = rng.random(m) < 0.9
     leads = np.ones(m, dtype=bool)
-    members.unbegun(abandoned, present, x, anchor, came, leads)
+    member_validity.unbegun(abandoned, present, x, anchor, came, leads)
     want = np.array([not (a and p and validity.unbegun(True, xi - ai, ci))
                      for a, p, xi, ai, ci in zip(abandoned, present, x, anchor, came)])
     assert np.array_equal(leads, want)

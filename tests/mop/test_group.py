@@ -244,9 +244,10 @@ def test_a_group_with_shared_starts_equals_its_followers_alone():
 
 
 def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
-    # validity.crawls, compiled in members.tempo/conclude: unrelated puck motions (a triangle, a
-    # diagonal, a wander) whose best crawls; measured 50 valid states (55 without the rule), with
-    # shared starts off (share_radius 0; with them on the rule has nothing left to stop here)
+    # validity.crawls, compiled in member_validity.tempo and members.conclude: unrelated puck
+    # motions (a triangle, a diagonal, a wander) whose best crawls; measured 50 valid states (55
+    # without the rule), with shared starts off (share_radius 0; with them on the rule has
+    # nothing left to stop here)
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates, performance, unrelated_motions
     from behaviors.mop import validity

@@ -1,8 +1,8 @@
 """Gesture spotting in a continuous stream (:mod:`behaviors.mop.spotting`,
-:mod:`behaviors.mop.sharing`), on a fixed subset of ``bench/follow_quality.py``'s back-to-back
-sequences: each gesture recognised, an ended one stops driving where the next begins, a shared
-stroke drives none until the paths part, a wrong action drives only where no observer could
-tell."""
+:mod:`behaviors.mop.shape_lead`, :mod:`behaviors.mop.sharing`), on a fixed subset of
+``bench/follow_quality.py``'s back-to-back sequences: each gesture recognised, an ended one
+stops driving where the next begins, a shared stroke drives none until the paths part, a wrong
+action drives only where no observer could tell."""
 
 import numpy as np
 import pytest
@@ -72,7 +72,7 @@ def test_a_line_followed_backwards_ends_when_the_input_is_back_at_its_end(gestur
 def test_a_stroke_shared_by_several_actions_drives_none_until_they_part(gestures, share_radius):
     # the line's outward stroke is the square's first side and the circle's start: the line
     # explains it best (it is narrower), but its shape does not lead until the paths part
-    # (spotting.LEAD). Measured, seeds 0-5: the line drove 15 ticks during squares in all (before
+    # (shape_lead.LEAD). Measured, seeds 0-5: the line drove 15 ticks during squares in all (before
     # the shape lead: 76) and none during circles; the line and the circle were recognised by
     # 32% and 31% of them, the square by 43%. With shared starts (share_radius 3 still radii:
     # no new action drives while its start is shared with another the input still fits,
@@ -152,9 +152,9 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
     # Measured with shared starts (the default, share_radius 3): 9 wrong ticks, none told, no run
     # over 2 (ended gestures on the next's eased start); without them: 15 wrong, 1 told, the
     # longest run 6 (the line on a square's first side); without them nor the shape lead
-    # (spotting.LEAD 0): 43 wrong, 4 told (the line on a circle's first stroke, 0.20-0.23)
+    # (shape_lead.LEAD 0): 43 wrong, 4 told (the line on a circle's first stroke, 0.20-0.23)
     from bench.spotting_reach import indistinguishable
-    from behaviors.mop import spotting
+    from behaviors.mop import shape_lead
 
     # the square's first side is the start of the line at some size until its corner
     assert indistinguishable("square", 0.36, "line", gestures)
@@ -177,7 +177,7 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
     assert wrong <= 10 and told <= 1 and longest <= 2, (wrong, told, longest)
     wrong, told, longest = wrong_ticks(share_radius=0.0)
     assert wrong >= 12 and longest >= 5, (wrong, told, longest)
-    monkeypatch.setattr(spotting, "LEAD", 0.0)
+    monkeypatch.setattr(shape_lead, "LEAD", 0.0)
     wrong, told, _ = wrong_ticks(share_radius=0.0)
     assert wrong >= 36 and told >= 3, (wrong, told)
 
@@ -261,13 +261,13 @@ def test_an_ended_gestures_last_point_stays_where_its_end_was_reached(gestures, 
 
 
 def test_an_action_whose_shape_alone_fits_drives_before_it_is_probable(gestures, monkeypatch):
-    # the circle's and the wave's starts: once covered, their shape (spotting._add_shape) fits
+    # the circle's and the wave's starts: once covered, their shape (shape_lead._add_shape) fits
     # the input within a still radius or two and leads every other template's by LEAD, while
     # their evidence still lags the narrower line's and square's (circle) or the figure eight's
-    # (wave): committed to by shape (spotting._committed), they drive before they are probable.
+    # (wave): committed to by shape (shape_lead._committed), they drive before they are probable.
     # Measured on these chains (seeds 4, 5): circle 0.298 / 0.290 -> 0.267 / 0.250, wave
     # 0.266 / 0.248 -> 0.246 / 0.231; no wrong action drives more than 2 ticks either way
-    from behaviors.mop import spotting
+    from behaviors.mop import shape_lead
 
     def recognised(seed: int, order: list[str]) -> tuple[dict[str, float], int]:
         x, truth, prog = _chain(np.random.default_rng(seed), gestures, order)
@@ -286,6 +286,6 @@ def test_an_action_whose_shape_alone_fits_drives_before_it_is_probable(gestures,
     for seed, order in chains:
         first, longest = recognised(seed, order)
         assert first["circle"] <= 0.27 and first["wave"] <= 0.25 and longest <= 2, (seed, first)
-    monkeypatch.setattr(spotting, "COMMIT_FIT", 0.0)
+    monkeypatch.setattr(shape_lead, "COMMIT_FIT", 0.0)
     late = [recognised(seed, order)[0]["circle"] for seed, order in chains]
     assert min(late) >= 0.28, late

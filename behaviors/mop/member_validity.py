@@ -1,0 +1,135 @@
+"""A follower group's per-member validity rules before its conclusion, compiled.
+
+What :meth:`~behaviors.mop.group_rules.GroupRules._turned`, ``_tempo`` and ``_unbegun`` apply to
+every member before :func:`behaviors.mop.members.conclude`: the input's turning against its best
+template's (:mod:`behaviors.mop.turning`), the tempo at which a new action is taken and the
+crawling run (:func:`behaviors.mop.validity.slow_take`, :func:`~behaviors.mop.validity.crawls`),
+and a way back to an abandonment's anchor (:func:`behaviors.mop.validity.unbegun`). Arrays as in
+:mod:`behaviors.mop.members`; each function states the follower method it equals.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from behaviors.mop import validity
+from behaviors.mop.validity import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
+from behaviors.kernel_cache import compiled
+
+_CALLS_INTO = (validity,)   # the files whose constants the kernels take in
+
+_F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
+_I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
+
+
+@compiled(numba.void(_F2, _F2, _B1, _B1, _F2, _B1, _F1, _B1, _F1, _I1, _I1, _I2, _F1, _F1, _F1,
+                   _F1, numba.intp, numba.float64, _B1), *_CALLS_INTO)
+def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn, best, bounds, ti,
+           mean, turns, step, limit, reach, first_steps, ok) -> None:
+    """:meth:`Turning._turned` for every present member whose input ``turning`` is measured
+    (2-D spatial): its turning since its gesture began (``turn``, from the last step's end
+    ``ref`` and direction ``heading``, :func:`~behaviors.mop.turning.turn_step`; ``step``:
+    its step length), and whether it is within ``limit`` (M,) radians of its best template's at the
+    states within ``reach`` of the followed one (:func:`~behaviors.mop.turning.turn_fits`;
+    ``turns`` (S,): each state's turning, laid out as ``ti``), into ``ok``. The same operations
+    in the same order as the follower's own."""
+    pi, two_pi = math.pi, 2.0 * math.pi
+    for i in range(x.shape[0]):
+        if not (turning[i] and present[i]):
+            continue
+        if not has_ref[i]:
+            ref[i, 0], ref[i, 1] = anchor[i, 0], anchor[i, 1]
+            has_ref[i] = True
+        else:
+            d0, d1 = x[i, 0] - ref[i, 0], x[i, 1] - ref[i, 1]
+            if math.hypot(d0, d1) > (step[i] if has_heading[i] else first_steps * step[i]):
+                h = math.atan2(d1, d0)
+                if has_heading[i]:
+                    turn[i] += (h - heading[i] + pi) % two_pi - pi
+                heading[i], has_heading[i] = h, True
+                ref[i, 0], ref[i, 1] = x[i, 0], x[i, 1]
+        k = bounds[i] + best[i]
+        lo, n, off = ti[k, 0], ti[k, 1], ti[k, 2]
+        c = int(lo + min(mean[k], n - 1.0))
+        least = np.inf
+        for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
+            least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
+        ok[i] = least <= limit[i]
+
+
+@compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,
+                     numba.float64, _B1, _I2, _I1), *_CALLS_INTO)
+def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
+          at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
+          best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
+          scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
+          leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray) -> None:
+    """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
+    :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
+    (:func:`validity.slow_take`: followed state, ``mean`` clipped to the template, against the
+    oldest kept in ``past_g``; the input against ``past_x[at]`` in the template's spread
+    ``scale`` at its ``size``, RMS over ``dims`` columns) does not lead (``leads``), and
+    ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`validity.crawls`;
+    kept while the input hovers as :func:`validity.crawl_run` says, ``drive_k``: the action
+    that last drove);
+    then this sample and the followed states are kept in the ring's slot ``at``, which moves
+    on."""
+    w = TEMPO_SAMPLES
+    for i in range(bounds.size):
+        if not (present[i] and spots[i]):
+            continue
+        a = at[i]
+        slow = False
+        hovers = False
+        if seen[i] >= w and LEAST_TEMPO > 0:
+            gb = bounds[i] + best[i]
+            tot = 0.0
+            for c in range(x.shape[1]):
+                r = (x[i, c] - past_x[a, i, c]) / (scale[gb, c] * size[gb])
+                tot += r * r
+            moved = math.sqrt(tot / dims[i])
+            advance = min(mean[gb], lengths[gb] - 1.0) - past_g[a, gb]
+            if moved >= onset and abs(advance) < LEAST_TEMPO * w:
+                leads[i] = False
+                slow = True
+            hovers = moved < onset and abs(advance) < LEAST_TEMPO * w and drive_k[i] != best[i]
+        same = crawl[i, 1] == best[i]
+        if slow:
+            crawl[i, 0] = crawl[i, 0] + 1 if same else 1
+        elif not (same and hovers and CRAWL_HOVERS and 0 < CRAWL_SAMPLES <= crawl[i, 0]):
+            crawl[i, 0] = 0   # validity.crawl_run
+        crawl[i, 1] = best[i]
+        for c in range(x.shape[1]):
+            past_x[a, i, c] = x[i, c]
+        for k in range(bounds[i], bounds[i] + counts[i]):
+            past_g[a, k] = min(mean[k], lengths[k] - 1.0)
+        at[i] = (a + 1) % w
+        seen[i] += 1
+
+
+@compiled(numba.void(_B1, _B1, _F2, _F2, _F2, _B1), *_CALLS_INTO)
+def unbegun(abandoned: np.ndarray, present: np.ndarray, x: np.ndarray, anchor: np.ndarray,
+            came: np.ndarray, leads: np.ndarray) -> None:
+    """:func:`behaviors.mop.validity.unbegun` for every present member whose attempt was begun
+    by abandonment (``abandoned``): no new action leads (``leads`` cleared) while its way from
+    the ``anchor`` (``x - anchor``, (M, D)) goes back against ``came``. As a loop over the
+    members calling the function (three numpy products each) it took 33 us median of DESIGN's
+    8 x 100 templates tick back to back, 53 us after the view's two frames; compiled, one call:
+    5 us (the products summed in column order: numpy's may round the last bit otherwise, which
+    decides only a cosine of exactly -REVERSED)."""
+    for i in range(x.shape[0]):
+        if not (abandoned[i] and present[i]):
+            continue
+        dot = 0.0
+        ww = 0.0
+        cc = 0.0
+        for c in range(x.shape[1]):
+            w = x[i, c] - anchor[i, c]
+            dot += w * came[i, c]
+            ww += w * w
+            cc += came[i, c] * came[i, c]
+        if dot < -validity.REVERSED * math.sqrt(ww * cc):
+            leads[i] = False
