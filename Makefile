@@ -64,7 +64,7 @@ test: $(STAMP) kernels
 
 # Every benchmark script in turn (`python -m bench`, bench/__main__.py), each one's last line;
 # exits 1 naming those that failed. BENCHES="bench/osc.py bench/view.py" runs only those. The
-# soaks (bench/*soak.py: the 15-minute real-time gallery soak, the simulated hour, the
+# soaks (bench/*soak.py: the 20-minute real-time gallery soak, the simulated hour, the
 # follower's 200,000 steps) run only with SOAKS=1 (`make bench SOAKS=1`) or when named.
 BENCHES ?=
 SOAKS ?=

@@ -3,7 +3,7 @@ other in its own process, printing ``== bench/NAME.py`` and its last line (the J
 
 A benchmark that fails is named at the end and the run exits 1, so a broken benchmark is not
 mistaken for a finished one; the helper modules (``common.py``, ``xwindow.py``) are not run.
-The soaks (``*soak.py``: the 15-minute real-time gallery soak, the simulated hour, the
+The soaks (``*soak.py``: the 20-minute real-time gallery soak, the simulated hour, the
 follower's 200,000 steps) are long-run checks, not speed figures: they run only with
 ``--soaks`` (``make bench SOAKS=1``) or when named.
 

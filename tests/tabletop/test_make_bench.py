@@ -23,7 +23,7 @@ def test_every_benchmark_script_is_run_and_no_helper_module(tmp_path):
 
 
 def test_the_soaks_run_only_when_asked_for(tmp_path):
-    """``make bench`` is the speed figures; the soaks (the 15-minute gallery soak among them)
+    """``make bench`` is the speed figures; the soaks (the 20-minute gallery soak among them)
     run with ``SOAKS=1`` or when named."""
     names = [p.name for p in benchmarks()]
     assert not [n for n in names if "soak" in n]
@@ -85,3 +85,21 @@ def test_touch_pose_compare_without_its_older_commit_is_one_line_or_a_skip(tmp_p
     import json
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert last["bench"] == "touch_pose_compare" and "0000000000" in last["figures"]["skipped"]
+
+
+def test_the_gallery_soaks_memory_slope_leaves_out_the_warm_up():
+    """The slope is taken after ``settle_s``: a kiosk that grows 20 KB/s while its caches and
+    histories fill, then stays (in 1 MB heap steps), reads about 0; one that keeps growing
+    1.5 KB/s reads that, not the warm-up's rate."""
+    from bench.gallery_soak import rss_slope_kb_s
+
+    def run(mb_at):
+        return [{"t_s": t, "installation": {"rss_mb": round(mb_at(t), 2)}}
+                for t in range(20, 1201, 20)]
+
+    warm = run(lambda t: 400 + min(t, 700) * 20 / 1024 + 0.3 * ((t // 100) % 2))
+    steady = run(lambda t: 400 + min(t, 700) * 20 / 1024 + t * 1.5 / 1024)
+    assert abs(rss_slope_kb_s(warm, 720.0)) < 0.5
+    assert rss_slope_kb_s(warm[:45], 0.0) > 5.0   # a 15-minute run's half without settling
+    assert 1.4 < rss_slope_kb_s(steady, 720.0) < 1.6
+    assert rss_slope_kb_s(warm[:30], 720.0) != rss_slope_kb_s(warm[:30], 720.0)   # nan: too few
