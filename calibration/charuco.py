@@ -90,14 +90,27 @@ def make_board(spec: BoardSpec) -> cv2.aruco.CharucoBoard:
 def board_image(spec: BoardSpec, dpi: float, margin_mm: float = 10.0
                 ) -> tuple[np.ndarray, tuple[float, float]]:
     """The board drawn for printing at ``dpi`` with a white margin: (grey image, printed size
-    (width, height) in millimetres including the margin)."""
+    (width, height) in millimetres including the margin).
+
+    OpenCV's marker placement rounds outside a square at some sizes (the 7x5 40 mm board at
+    64 or 97 dpi, the 9x6 25 mm one at 100 or 150 dpi): there the board is drawn 1-2 pixels
+    wider or taller (0.2 mm at 300 dpi), and the printed size returned is the drawn one."""
     px_per_mm = dpi / 25.4
     square_px = spec.square_m * 1e3 * px_per_mm
     margin = int(round(margin_mm * px_per_mm))
     w = int(round(spec.cols * square_px)) + 2 * margin
     h = int(round(spec.rows * square_px)) + 2 * margin
-    img = make_board(spec).generateImage((w, h), marginSize=margin, borderBits=1)
-    return img, (w / px_per_mm, h / px_per_mm)
+    board = make_board(spec)
+    if square_px >= 8:
+        for dw, dh in ((0, 0), (1, 0), (0, 1), (1, 1), (-1, 0), (0, -1), (-1, -1), (2, 0),
+                       (0, 2), (2, 2), (-2, 0), (0, -2), (-2, -2)):
+            try:
+                img = board.generateImage((w + dw, h + dh), marginSize=margin, borderBits=1)
+            except cv2.error:
+                continue
+            return img, ((w + dw) / px_per_mm, (h + dh) / px_per_mm)
+    raise CalibrationInputError(f"{dpi:g} dpi is too coarse to draw {spec.square_m * 1e3:g} mm "
+                                f"squares with their markers: use a higher --dpi")
 
 
 def detect_board(detector: cv2.aruco.CharucoDetector, image: np.ndarray

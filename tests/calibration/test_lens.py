@@ -97,3 +97,22 @@ def test_coverage_counts_views_per_cell():
 def test_command_line_default_board_is_the_library_default():
     from tabletop.commands import calibrate
     assert calibrate.DEFAULT_BOARD == DEFAULT_BOARD
+
+
+@pytest.mark.parametrize("text, dpi", [("7x5:40:30:DICT_5X5_100", 64), ("7x5:40:30:DICT_5X5_100", 97),
+                                       ("9x6:25:18:DICT_6X6_250", 100), ("9x6:25:18:DICT_6X6_250", 150)])
+def test_the_board_draws_at_resolutions_whose_squares_are_not_whole_pixels(text, dpi):
+    # OpenCV placed these boards' markers outside the image (an assertion, not a board)
+    spec = parse_board(text)
+    img, (w_mm, h_mm) = board_image(spec, dpi)
+    pixel_mm = 25.4 / dpi   # drawn at most 2 pixels wider or taller, the margin rounded to one
+    assert abs(w_mm - (spec.cols * spec.square_m * 1e3 + 20)) <= 3 * pixel_mm
+    assert abs(h_mm - (spec.rows * spec.square_m * 1e3 + 20)) <= 3 * pixel_mm
+    assert img.shape == (round(h_mm / 25.4 * dpi), round(w_mm / 25.4 * dpi))
+    det = cv2.aruco.CharucoDetector(make_board(spec))
+    assert len(detect_board(det, img)[1]) == (spec.cols - 1) * (spec.rows - 1)
+
+
+def test_a_resolution_too_coarse_for_the_markers_is_refused():
+    with pytest.raises(CalibrationInputError, match="too coarse"):
+        board_image(parse_board("7x5:40:30:DICT_5X5_100"), 3)
