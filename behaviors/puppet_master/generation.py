@@ -107,6 +107,14 @@ def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: floa
     return cx, cy
 
 
+def capped(sx: float, sy: float, cap: float) -> tuple[float, float]:
+    """Step (sx, sy) (metres) shortened to at most ``cap`` metres, its direction kept."""
+    length = math.hypot(sx, sy)
+    if length > cap:
+        return sx * cap / length, sy * cap / length
+    return sx, sy
+
+
 def mean_capped(px: float, py: float, sx: float, sy: float, cap: float,
                 size: int) -> tuple[float, float]:
     """Raw step (sx, sy) (metres) held so that the mean of it and the ``size`` - 1 raw steps

@@ -55,6 +55,15 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     return clamp_to_table(tx, ty, c)
 
 
+@compiled(_P2(_f8, _f8, _f8), step_math)
+def capped(sx: float, sy: float, cap: float) -> tuple[float, float]:
+    """generation.capped."""
+    length = hypot(sx, sy)
+    if length > cap:
+        return sx * cap / length, sy * cap / length
+    return sx, sy
+
+
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, numba.int64), step_math)
 def mean_capped(px: float, py: float, sx: float, sy: float, cap: float,
                 size: int) -> tuple[float, float]:

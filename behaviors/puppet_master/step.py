@@ -16,7 +16,7 @@ import math
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.behavior import FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S
 from behaviors.puppet_master.generation import (fit_target, keep_apart, keep_on_table,
-                                                limit_turn, mean_capped, rotate_step,
+                                                capped, limit_turn, mean_capped, rotate_step,
                                                 share_around, step_around, target_position)
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look
 from tabletop.frames import wrap_angle
@@ -215,7 +215,6 @@ class GenerationStep:
                 # with that detail, 622 / 107 (contact 13, orbit 14, the still/moving ratio lost
                 # on 5); entering a charge at the moment as far from its main as the live
                 # reactor 617 / 104
-            length = math.hypot(sx, sy)
             # a place held in the world moves at the demonstrated speed, as the paper's step,
             # its drift correction included. The correction on top of the cap (cap + share x
             # distance to the place) keeps the lover at its distance beside slow mains (0.14 ->
@@ -316,8 +315,8 @@ class GenerationStep:
                 # demonstrated step, 0.0098). At this step's cap alone the slow walk is lost
                 # (seed 3 slow 0.072 m/s)
                 self._mean_cap = max(cap, max(self._caps[0], self._caps[1]))
-            elif length > cap:
-                sx, sy = sx * cap / length, sy * cap / length
+            else:
+                sx, sy = capped(sx, sy, cap)
             step_cap = cap
         else:
             sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * self.dt)
@@ -332,9 +331,7 @@ class GenerationStep:
         b = self.behavior
         rx, ry, _ = self.pose
         sx, sy = self.smoother.push(sx, sy)
-        length = math.hypot(sx, sy)
-        if length > self._mean_cap:        # where the cap fell below the raw steps' mean
-            sx, sy = sx * self._mean_cap / length, sy * self._mean_cap / length
+        sx, sy = capped(sx, sy, self._mean_cap)   # where the cap fell below the raw steps' mean
         gov = self.governor
         # extra smoothing while the output is too rough. Its average keeping the steps' mean
         # length (their lengths smoothed alike): bench/fidelity.py --seeds 0,1,2,3,4,5 664 ->
@@ -386,9 +383,8 @@ class GenerationStep:
             # afraid one, chased without its edge margin and room (test_pm_room.py), was
             # shoved once on seed 2 (1.16x), and the chase from there ran another way (time
             # at an edge 0.73 -> 0.48; with the room 0.49)
-            length = math.hypot(sx, sy)
-            if b.walks_with_main and length > b.largest_step:
-                sx, sy = sx * b.largest_step / length, sy * b.largest_step / length
+            if b.walks_with_main:
+                sx, sy = capped(sx, sy, b.largest_step)
         gov.observe(sx, sy)
         return sx, sy, heading, texture
 

@@ -36,8 +36,8 @@ import numpy as np
 
 from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
-    X0, X1, Y0, Y1, fit_target, keep_apart, keep_on_table, limit_turn, mean_capped, moved_on,
-    share_around, step_around, table_reach)
+    X0, X1, Y0, Y1, capped, fit_target, keep_apart, keep_on_table, limit_turn, mean_capped,
+    moved_on, share_around, step_around, table_reach)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -230,7 +230,6 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             if gap > 0.0 and live > 1e-9:
                 gap /= max(1, touch - target + 1)
                 sx, sy = sx + gap * lx / live, sy + gap * ly / live
-        length = hypot(sx, sy)
         cap = (speed if place == PLACE_WORLD else c[TOP_SPEED]) * dt
         m = recent.shape[0]
         head = ints[RECENT_HEAD]
@@ -255,8 +254,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                     py += smooth_y[q]
             sx, sy = mean_capped(px, py, sx, sy, cap, size)
             mean_cap = _max(cap, _max(fs[CAP_1], fs[CAP_2]))
-        elif length > cap:
-            sx, sy = sx * cap / length, sy * cap / length
+        else:
+            sx, sy = capped(sx, sy, cap)
         step_cap = cap
     else:
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * dt)
@@ -272,9 +271,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         tot_y += smooth_y[q]
     sx, sy = tot_x / size, tot_y / size
     fs[CAP_2], fs[CAP_1] = fs[CAP_1], step_cap
-    length = hypot(sx, sy)
-    if length > mean_cap:
-        sx, sy = sx * mean_cap / length, sy * mean_cap / length
+    sx, sy = capped(sx, sy, mean_cap)
     a = _alpha(fs[GOV_Z])
     sx = a * sx + (1.0 - a) * fs[EMA_X]
     sy = a * sy + (1.0 - a) * fs[EMA_Y]
@@ -296,9 +293,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     if obstacles.shape[0] > 0:
         nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)
         sx, sy = nx - rx, ny - ry
-        length = hypot(sx, sy)
-        if c[WALKS_WITH_MAIN] != 0.0 and length > c[LARGEST_STEP]:     # shoved (step.py)
-            sx, sy = sx * c[LARGEST_STEP] / length, sy * c[LARGEST_STEP] / length
+        if c[WALKS_WITH_MAIN] != 0.0:     # shoved (step.py)
+            sx, sy = capped(sx, sy, c[LARGEST_STEP])
     # TextureGovernor.observe
     if hypot(sx, sy) <= c[GOV_MIN_STEP]:
         fs[GOV_PREV] = math.nan
