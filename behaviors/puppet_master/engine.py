@@ -38,7 +38,6 @@ from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, Situat
 from behaviors.puppet_master.step import GenerationStep
 from tabletop.frames import wrap_angle
 
-_NO_OBSTACLES = np.zeros((0, 3))
 _POSE_AND_STEP = np.array([sk.RX, sk.RY, sk.LOOK, sk.STEP_X, sk.STEP_Y])
 
 
@@ -88,6 +87,7 @@ class Reactor(GenerationStep):
         # other characters to keep apart from: (x, y, least distance m), set by the caller
         self.obstacles: list[tuple[float, float, float]] = []
         self._obstacle_rows: np.ndarray | None = None   # as an array during update()
+        self._rows = np.zeros((8, 3))   # the obstacles' rows (_obstacle_array), one spare
 
     # -- life cycle ---------------------------------------------------------------------------
 
@@ -177,7 +177,6 @@ class Reactor(GenerationStep):
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))
-        self._space = np.array([[0.0, 0.0, b.personal_space]])
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -255,8 +254,7 @@ class Reactor(GenerationStep):
         faster than the generation rate sees smooth motion (kept apart from the obstacles, as
         the step was)."""
         if self.compiled:    # the obstacles as rows once per call, for steps and display
-            self._obstacle_rows = np.array(self.obstacles, dtype=float).reshape(-1, 3) \
-                if self.obstacles else _NO_OBSTACLES
+            self._obstacle_rows = self._obstacle_array()
         try:
             self.advance(t, main_x, main_y, main_dir)
         finally:
@@ -275,6 +273,19 @@ class Reactor(GenerationStep):
                     x, y = keep_apart(x, y, self.obstacles, self.table)
         return x, y, d
 
+    def _obstacle_array(self) -> np.ndarray:
+        """The obstacles as rows (k, 3) (x, y, least distance m): a view of a buffer kept
+        between calls, with a row spare after them for the main's personal space
+        (_step_compiled). Made afresh (np.array of the list, then np.vstack with the personal
+        space) they were two to three allocations a step and a call of the plugin's."""
+        k = len(self.obstacles)
+        if len(self._rows) <= k:
+            self._rows = np.zeros((2 * k + 2, 3))
+        rows = self._rows[:k]
+        if k:
+            rows[:] = self.obstacles
+        return rows
+
     # -- one generation step ------------------------------------------------------------------
 
     def _step_compiled(self, g: float, mx: float, my: float,
@@ -285,15 +296,13 @@ class Reactor(GenerationStep):
         b = self.behavior
         rows = self._obstacle_rows
         if rows is None:
-            rows = np.array(self.obstacles, dtype=float).reshape(-1, 3) if self.obstacles \
-                else _NO_OBSTACLES
+            rows = self._obstacle_array()
         if b.personal_space <= 0.0:
             obstacles = rows
-        elif len(rows):                    # the others' discs, then the main's personal space
-            obstacles = np.vstack([rows, [(mx, my, b.personal_space)]])
-        else:                              # the main's personal space alone (see _step)
-            obstacles = self._space
-            obstacles[0, 0], obstacles[0, 1] = mx, my
+        else:                   # the others' discs, then the main's personal space (see _step)
+            k = len(rows)
+            obstacles = self._rows[:k + 1]
+            obstacles[k] = mx, my, b.personal_space
         self.source = target = sk.step(
             self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
             self._smooth_y, self._recent, obstacles, self._xs, self._xc, mx, my, md, js, cost_s,
