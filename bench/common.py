@@ -12,9 +12,15 @@ import platform
 import sys
 import time
 from importlib import metadata
+
 from typing import Any, Callable, Sequence
 
 import numpy as np
+
+try:
+    import resource
+except ImportError:         # not on Windows
+    resource = None  # type: ignore[assignment]
 
 PACKAGES = ("numpy", "scipy", "opencv-contrib-python-headless", "pygame-ce", "PyWavelets",
             "python-osc", "pyserial", "numba")
@@ -40,7 +46,8 @@ def stats_ms(samples_s: Sequence[float]) -> dict[str, float]:
 
 
 def interleaved(configs: dict[str, Callable[[], None]], rounds: int,
-                cpu: dict[str, list[float]] | None = None) -> dict[str, list[float]]:
+                cpu: dict[str, list[float]] | None = None,
+                switched: dict[str, list[bool]] | None = None) -> dict[str, list[float]]:
     """Time each named callable once per round, in turn (A B A B ...), returning seconds each.
 
     Interleaving keeps a drifting machine speed from favouring whichever runs first. With
@@ -51,22 +58,38 @@ def interleaved(configs: dict[str, Callable[[], None]], rounds: int,
     process by a page every ~80 calls, and the page fault (10-16 us on the development VM) hit
     whichever timed call next allocated an object (bench/puppet_master.py, real-time priority:
     72-136 of 2,000 step calls took a fault, 0-1 with the arrays).
+    With ``switched`` (a dict to fill; Linux), whether the scheduler took the core from the
+    call (an involuntary context switch of this thread during it) is kept per call: the
+    share of calls that waited for another program, and the tail of the calls that did not.
     """
     names = list(configs)
     wall = np.zeros((len(names), rounds))
     used = np.zeros((len(names), rounds))
+    taken = np.zeros((len(names), rounds), dtype=bool)
     calls = list(enumerate(configs.values()))
     thread_time, perf_counter = time.thread_time, time.perf_counter
+    usage = _thread_switches if switched is not None else None
     for r in range(rounds):
         for c, fn in calls:
+            s0 = usage() if usage is not None else 0
             c0 = thread_time()
             t0 = perf_counter()
             fn()
             wall[c, r] = perf_counter() - t0
             used[c, r] = thread_time() - c0
+            if usage is not None:
+                taken[c, r] = usage() != s0
     if cpu is not None:
         cpu.update({k: used[c].tolist() for c, k in enumerate(names)})
+    if switched is not None:
+        switched.update({k: taken[c].tolist() for c, k in enumerate(names)})
     return {k: wall[c].tolist() for c, k in enumerate(names)}
+
+
+def _thread_switches() -> int:
+    """Involuntary context switches of the calling thread so far (0 where not reported)."""
+    who = getattr(resource, "RUSAGE_THREAD", None) if resource is not None else None
+    return resource.getrusage(who).ru_nivcsw if who is not None else 0
 
 
 def emit(name: str, figures: dict[str, Any], budgets: dict[str, Any]) -> None:

@@ -256,8 +256,9 @@ def main() -> None:
         feeds["reference_constant_work"] = reference
         return feeds
     cpu: dict[str, list[float]] = {}
+    switched: dict[str, list[bool]] = {}
     feeds = configs()
-    times = interleaved(feeds, ROUNDS, cpu=cpu)
+    times = interleaved(feeds, ROUNDS, cpu=cpu, switched=switched)
     # again as an installation with loop.realtime_priority runs (tabletop.realtime: no other
     # program takes the core; what is left of the tail is the machine's own)
     restore = realtime_threads(REALTIME_PRIORITY)
@@ -290,6 +291,12 @@ def main() -> None:
                 figures[f"{prefix}{rt}step_{n}_tail_over_reference"] = (
                     figures[f"{prefix}{rt}step_{n}_p99_over_median"]
                     / figures[f"{prefix}{rt}reference_step_{n}_p99_over_median"])
+    for name, taken in switched.items():   # the scheduler's part of the ordinary figures
+        kept = np.asarray(times[name])[~np.asarray(taken)]
+        figures[f"{name}_preempted_share"] = float(np.mean(taken))
+        if kept.size:
+            figures[f"{name}_not_preempted_p99_over_median"] = (
+                float(np.percentile(kept, 99)) / float(np.median(times[name])))
     figures["steps_timed_per_config"] = ROUNDS
     figures["realtime_priority_timed"] = float(restore is not None)
     figures["load_average_1min"] = os.getloadavg()[0]
@@ -313,7 +320,10 @@ def main() -> None:
                        "fixed step's worth of work (the search pass over a copy of the table, "
                        "one fixed query, then constant work to the replayed step's median); "
                        "step_N_tail_over_reference: the step's p99/median over that "
-                       "reference's (1: the step's tail is the machine's)"}
+                       "reference's (1: the step's tail is the machine's); *_preempted_share: "
+                       "calls during which the scheduler gave the core to another program "
+                       "(ordinary run), *_not_preempted_p99_over_median: the p99 of the other "
+                       "calls over the median of all"}
     emit("puppet_master", figures, budgets)
 
 
