@@ -17,7 +17,7 @@ from tests.puppet_master import demos
 TABLE = (0.0, 0.0, 1.6, 1.0)
 
 
-def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
+def _run(behavior: Behavior, main: np.ndarray, compiled: bool, crowd: int = 0):
     r = Reactor(behavior, TABLE)
     r.compiled = compiled
     rows, trace, shown = [], [], []
@@ -30,6 +30,10 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool):
         # a character to keep apart from, wandering over the reactor's ground
         r.obstacles = [(0.8 + 0.5 * math.sin(k / 40), 0.5 + 0.3 * math.cos(k / 55), 0.1)] \
             if k % 300 < 200 else []
+        if crowd and r.started and k % 300 >= 250:   # a crowd round the reactor: more rows
+            r.obstacles = [(r.pose[0] + 0.1 * math.cos(i + k / 30),   # than its first buffer
+                            r.pose[1] + 0.1 * math.sin(i + k / 30), 0.08 + 0.02 * (i % 3))
+                           for i in range(crowd)]
         if k % 3 == 0:   # the display's call: the pose moved on between steps, kept apart
             before = r.i if r.started else -1
             if r.started and k % 300 < 200:     # one right beside the reactor
@@ -89,6 +93,21 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
         # (Behavior.charging: the bully; the follower's one pass, the playful friend's one
         # dart and the stalker's one pass are not kept)
         assert ("charge" in choices) == (kind == "bully") == b.charging
+
+
+def test_the_compiled_step_equals_the_python_step_in_a_crowd():
+    """Twelve characters to keep apart from, and a main's personal space after them (the rows
+    kept between calls, Reactor._obstacle_array, grow for them)."""
+    m = demos.main_path(3, 20.0, rate_hz=40.0)
+    b = Behavior.train(demos.follow_behind(m))
+    assert b.personal_space > 0.0
+    main = demos.main_path(12, 30.0, rate_hz=40.0, reversals=True)
+    fast, fast_trace, fast_shown = _run(b, main, True, crowd=12)
+    slow, slow_trace, slow_shown = _run(b, main, False, crowd=12)
+    assert len(fast) == len(slow) > 500
+    assert np.array_equal(fast.view(np.uint64), slow.view(np.uint64))
+    assert np.array_equal(fast_shown.view(np.uint64), slow_shown.view(np.uint64))
+    assert fast_trace == slow_trace
 
 
 def test_the_compiled_remainder_is_pythons():
