@@ -38,6 +38,7 @@ from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, Situat
 from behaviors.puppet_master.step import GenerationStep
 from tabletop.frames import wrap_angle
 
+_NO_OBSTACLES = np.zeros((0, 3))
 _POSE_AND_STEP = np.array([sk.RX, sk.RY, sk.LOOK, sk.STEP_X, sk.STEP_Y])
 
 
@@ -177,6 +178,7 @@ class Reactor(GenerationStep):
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))
+        self._space = np.array([[0.0, 0.0, b.personal_space]])
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -279,11 +281,12 @@ class Reactor(GenerationStep):
         (_step_compiled). Made afresh (np.array of the list, then np.vstack with the personal
         space) they were two to three allocations a step and a call of the plugin's."""
         k = len(self.obstacles)
+        if not k:
+            return _NO_OBSTACLES
         if len(self._rows) <= k:
             self._rows = np.zeros((2 * k + 2, 3))
         rows = self._rows[:k]
-        if k:
-            rows[:] = self.obstacles
+        rows[:] = self.obstacles
         return rows
 
     # -- one generation step ------------------------------------------------------------------
@@ -299,10 +302,13 @@ class Reactor(GenerationStep):
             rows = self._obstacle_array()
         if b.personal_space <= 0.0:
             obstacles = rows
-        else:                   # the others' discs, then the main's personal space (see _step)
+        elif len(rows):         # the others' discs, then the main's personal space (see _step)
             k = len(rows)
             obstacles = self._rows[:k + 1]
             obstacles[k] = mx, my, b.personal_space
+        else:                   # the main's personal space alone
+            obstacles = self._space
+            obstacles[0, 0], obstacles[0, 1] = mx, my
         self.source = target = sk.step(
             self._fs, self._is, self._cs, b.step_table, b.bearings, self._smooth_x,
             self._smooth_y, self._recent, obstacles, self._xs, self._xc, mx, my, md, js, cost_s,
