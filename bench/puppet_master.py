@@ -31,7 +31,9 @@ p99/median over this reference's, 1 where the step's tail is all the machine's. 
 with per-phase timers over 2,000 steps: the interleaved step's p99 is every phase slower at
 once, the search pass most at 24,000 samples, cache misses after the other configurations;
 the garbage collector never ran inside a timed call; least of 5 replays the step's own
-p99/median is 1.2-1.6.)
+p99/median is 1.2-1.6. The reference's rest is a loop in the first-level cache: at 3,200
+samples, where the step is mostly interpreted code that the other configurations push out of
+the caches, the reference feels less of the machine than the step does.)
 
 The same configurations are timed again as an installation with ``loop.realtime_priority``
 (10) runs them (``rt_`` figures; SCHED_FIFO: no other program takes the core between or
