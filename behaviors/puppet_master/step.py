@@ -141,7 +141,9 @@ class GenerationStep:
                 # the main's frame (60% of the friend's samples, 0-2% of the others') 642 /
                 # 107 (the friend's contact undershot, 0.011-0.030); only on inward steps of
                 # the characters without a personal space 645 / 106 (friend 5 -> 3 misses,
-                # bully 4 -> 10). Not kept.
+                # bully 4 -> 10). Not kept. Taken from the detail patch's source (continuous for
+                # 16 steps, so a dart's run-up goes on whatever the match): friend / stalker
+                # misses on seeds 0-5, 8-13, 26-31 11 / 34 -> 17 / 44 (Python step). Not kept.
                 c, s_ = math.cos(md), math.sin(md)
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
