@@ -194,12 +194,17 @@ def main_still(main: np.ndarray, span: int, distance: float) -> np.ndarray:
             ).astype(float)
 
 
+STILL_FLOOR = 0.25      # the least spread of the main's still/moving state (a 0/1 flag)
+
+
 def still_scale(still: np.ndarray) -> float:
     """The weight of the main's still/moving state (:func:`main_still`, 0/1) among the
-    situation features: the inverse of its spread (standard deviation), as every feature; 0
-    (left out) where the demonstrated main never stood or never moved."""
+    situation features: the inverse of its spread (standard deviation), as every feature,
+    with a floor (STILL_FLOOR: the spread of a main standing in 1 of 15 samples; the shipped
+    stalker's is 0.325), so a demonstration with few stops does not turn the flag into the
+    whole cost; 0 (left out) where the demonstrated main never stood or never moved."""
     spread = float(np.std(still))
-    return 1.0 / spread if spread > 0.0 else 0.0
+    return 1.0 / max(spread, STILL_FLOOR) if spread > 0.0 else 0.0
 
 
 def room_column(s: Scales) -> int:
