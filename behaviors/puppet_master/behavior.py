@@ -9,6 +9,7 @@ seconds, table metres, radians.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import asdict, dataclass, fields
@@ -267,16 +268,35 @@ class Behavior:
         self.scales = ft.feature_scales(f, p.w_velocity, p.w_rel_position, p.w_rel_look,
                                         p.w_norm_look, p.w_delta_direction, p.w_room)
         room_m = ft.room(self.main, self.react, self.demo_table) if p.w_room > 0.0 else None
-        self.situation_vectors = ft.situation_vectors(f, self.scales, room_m)
+        pace = pace_ratio(self.main[:, :2], self.react[:, :2], p.rate_hz, STILL_MPS)
+        still_m = ft.main_still(self.main, int(round(STILL_SPAN_S * p.rate_hz)),
+                                STILL_MPS * STILL_SPAN_S)
+        if pace < STOPS_WITH_MAIN:
+            # a character that stops when its main stops (the stalker, pace 0.37) matches by
+            # its main's still/moving state too (features.main_still, in the situation and
+            # coherence vectors, weighed by its inverse spread as every feature): by the
+            # per-sample speeds alone (a still main's camera jitter, 0.03-0.04 m/s, against
+            # the demonstrated main's tremor 0.05 and its walk 0.12) a standing main matched
+            # moments where the demonstrated main walked, and coherence went on with them:
+            # the stalker's steps beside a standing main matched to moments whose main stood
+            # (seeds 0, 2, 13, 30 loops, 2, 13 slow) 0.19-0.67 -> 0.29-0.75.
+            # bench/fidelity.py --perturb 2 (three runs per set), seeds 0-5 / 8-13 / 26-31:
+            # stalker misses 30 / 31 / 43 -> 25 / 35 / 40 (the engine's alone 15 / 16 / 33
+            # -> 10 / 20 / 31), met 1989 / 1953 / 1959 -> 1994 / 1949 / 1962; the other
+            # characters and the pursuit identical to the last digit (their vectors are the
+            # paper's). Only in the situation vectors (unperturbed runs): 10 / 10 / 17 against
+            # 10 / 11 / 16. The state read over 0.25 s / 0.375 s instead of the still cap's
+            # 0.5 s (a stop told sooner), stalker misses over those nine runs 94 / 111 against
+            # 100: no trend, the 0.5 s ring kept.
+            self.scales = dataclasses.replace(self.scales, still=ft.still_scale(still_m))
+        self.situation_vectors = ft.situation_vectors(f, self.scales, room_m, still_m)
         # the room's part of a live sample's distance weighed by its main's nearness
-        self.situation_gate = ((ft.SITUATION_DIMS, functools.partial(ft.room_gate,
-                                                                     s=self.scales))
-                               if self.situation_vectors.shape[1] > ft.SITUATION_DIMS
-                               else None)
+        room_at = ft.room_column(self.scales)
+        self.situation_gate = ((room_at, functools.partial(ft.room_gate, s=self.scales))
+                               if self.situation_vectors.shape[1] > room_at else None)
         self.situation_aug = augmented(self.situation_vectors,
-                                       None if self.situation_gate is None
-                                       else ft.SITUATION_DIMS)
-        self.coherence_vectors = ft.coherence_vectors(f, self.scales)
+                                       None if self.situation_gate is None else room_at)
+        self.coherence_vectors = ft.coherence_vectors(f, self.scales, still_m)
         # a window ending at j needs n samples and a following target sample j + 1
         self.valid = np.zeros(N, dtype=bool)
         self.valid[n - 1:N - 1] = True
@@ -337,7 +357,6 @@ class Behavior:
             self.edge_margin = max(0.0, float(np.percentile(edge, p.edge_percentile)))
         # a character that stops when its main stops and touches it corrects its drift at
         # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
-        pace = pace_ratio(self.main[:, :2], self.react[:, :2], p.rate_hz, STILL_MPS)
         self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
         # a character that keeps a personal space round its main and slows when it stops
         # walks with its main: the cap at a place held in the world holds the mean of its

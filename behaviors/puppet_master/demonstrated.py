@@ -181,7 +181,18 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     moves at 40-60% of its matched moments' speed beside a still main (seeds 0, 1, 13 slow:
     0.10-0.16 against 0.20-0.29 m/s) at places of either frame; held at the 75th percentile
     its misses on seeds 0-5 go 24 (2) -> 26 (3), pursuit 42 -> 44 of 48; not held 27 (5) / 44.
-    Not used."""
+    Not used.
+
+    The stalker beside a standing main is too slow on some loops and slow paths (still/moving
+    0.12-0.18 against at least 0.185; seeds 12 slow and loops, 30 loops, 31 slow). Traced
+    (Python step, seeds 30 loops and 12 slow, steps beside the standing main): the matched
+    moments step 0.061-0.063 m/s per sample, the raw steps 0.055-0.064, the linear smooth
+    leaves 0.041-0.045 and the texture governor's filter 0.037-0.038 (0.033-0.035 over 0.1 s);
+    the demonstration's own pace 0.5-2 s into a stop is 0.038-0.040, its mean beside a still
+    main (0.071) made by its coast to a stop (0.141 over the first 0.25 s). Its designer on
+    these paths keeps 0.05-0.065 there: it steers by the camera's jitter of the unseen mains
+    (0.8 mm, read as 0.03-0.05 m/s, over its 0.03 m/s threshold), which its demonstration's
+    main never had. Not held up here."""
     v, still = _paces(main, react, rate_hz, still_mps)
     if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
         return still, math.inf

@@ -79,7 +79,7 @@ class Reactor(GenerationStep):
                                          behavior.situation_gate)
         self.coherence = CoherenceSearch(behavior.coherence_vectors, p.window, behavior.valid)
         self._xs = np.zeros(behavior.situation_vectors.shape[1])
-        self._xc = np.zeros(ft.COHERENCE_DIMS)
+        self._xc = np.zeros(behavior.coherence_vectors.shape[1])
         self.started = False
         self.t = math.nan
         self.pose = (math.nan, math.nan, math.nan)
@@ -117,8 +117,10 @@ class Reactor(GenerationStep):
         self.react_motion = ft.EntityMotion(rx, ry, rd, p.rate_hz, p.min_speed)
         f, l, rl = ft.relative_pose(main_x, main_y, md, rx, ry, rd)
         ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl)
+        ft.still_row(self._xs, b.scales, True, ft.SITUATION_DIMS)
         ft.room_row(self._xs, b.scales, main_x, main_y, rx, ry, self.table)
         ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0, 0.0)
+        ft.still_row(self._xc, b.scales, True, ft.COHERENCE_DIMS)
         self.situation.reset(np.tile(self._xs, (p.window, 1)))
         self.coherence.reset(np.tile(self._xc, (p.window, 1)))
         self.balancer = Balancer(p.ratio, p.balance_gain, p.share_window)
@@ -166,8 +168,9 @@ class Reactor(GenerationStep):
             bal.target_share, bal.gain, bal.window, bal.log_k_limit)
         s = b.scales
         c[[sk.S_V_MAIN, sk.S_V_REACT, sk.S_REL_POSITION, sk.S_REL_LOOK, sk.S_NORM_LOOK,
-           sk.S_DDIR, sk.S_ROOM]] = (s.v_main, s.v_react, s.rel_position, s.rel_look,
-                                     s.norm_look, s.ddir, s.room)
+           sk.S_DDIR, sk.S_ROOM, sk.S_STILL]] = (s.v_main, s.v_react, s.rel_position,
+                                                 s.rel_look, s.norm_look, s.ddir, s.room,
+                                                 s.still)
         c[sk.ROOM_CLIP] = ft.ROOM_CLIP
         c[[sk.STILL_DISTANCE, sk.PATCH_LENGTH, sk.HEADING_MIN_SPEED, sk.FOLLOW_SHARE,
            sk.PERSONAL_SPACE, sk.KEEPS_PACE]] = (STILL_MPS * STILL_SPAN_S, p.patch,

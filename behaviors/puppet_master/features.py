@@ -82,6 +82,7 @@ class Scales:
     norm_look: float
     ddir: float
     room: float = 0.0
+    still: float = 0.0
 
 
 def movement(pos: np.ndarray, look: np.ndarray, rate_hz: float,
@@ -182,31 +183,67 @@ def room_at(mx: float, my: float, rx: float, ry: float,
     return back, left - right
 
 
-def situation_vectors(f: PairFeatures, s: Scales,
-                      room_m: np.ndarray | None = None) -> np.ndarray:
+def main_still(main: np.ndarray, span: int, distance: float) -> np.ndarray:
+    """(n,) 1.0 at the samples where the main (n, 2+ positions, metres) is within
+    ``distance`` metres of where it was ``span`` - 1 samples before (of its first sample,
+    sooner), else 0.0: its still/moving state as the live step reads it from its ring of the
+    main's last ``span`` positions (causal; :func:`still_row`)."""
+    i = np.arange(main.shape[0])
+    j = np.maximum(i - span + 1, 0)
+    return (np.hypot(main[i, 0] - main[j, 0], main[i, 1] - main[j, 1]) < distance
+            ).astype(float)
+
+
+STILL_FLOOR = 0.25      # the least spread of the main's still/moving state (a 0/1 flag)
+
+
+def still_scale(still: np.ndarray) -> float:
+    """The weight of the main's still/moving state (:func:`main_still`, 0/1) among the
+    situation features: the inverse of its spread (standard deviation), as every feature,
+    with a floor (STILL_FLOOR: the spread of a main standing in 1 of 15 samples; the shipped
+    stalker's is 0.325), so a demonstration with few stops does not turn the flag into the
+    whole cost; 0 (left out) where the demonstrated main never stood or never moved."""
+    spread = float(np.std(still))
+    return 1.0 / max(spread, STILL_FLOOR) if spread > 0.0 else 0.0
+
+
+def room_column(s: Scales) -> int:
+    """The first situation column of the room (after the paper's six and the main's
+    still/moving state where the scales weigh it)."""
+    return SITUATION_DIMS + (1 if s.still > 0.0 else 0)
+
+
+def situation_vectors(f: PairFeatures, s: Scales, room_m: np.ndarray | None = None,
+                      still: np.ndarray | None = None) -> np.ndarray:
     """(n, 6) situation-similarity vectors (4.3.1): velocities, relative position and look;
-    (n, 8) with the reactor's room on the table (``room_m`` (n, 2) metres, :func:`room`)
-    where the scales weigh it (s.room > 0; Params.w_room)."""
+    then the main's still/moving state (``still`` (n,) 0/1, :func:`main_still`) where the
+    scales weigh it (s.still > 0); then the reactor's room on the table (``room_m`` (n, 2)
+    metres, :func:`room`) where the scales weigh it (s.room > 0; Params.w_room)."""
     cols = [s.v_main * f.v_main, s.v_react * f.v_react,
             s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
             s.rel_look * np.cos(f.rel_look), s.rel_look * np.sin(f.rel_look)]
+    if s.still > 0.0 and still is not None:
+        cols.append(s.still * still)
     if s.room > 0.0 and room_m is not None:
         cols.extend([s.room * room_m[:, 0], s.room * room_m[:, 1]])
     return np.column_stack(cols)
 
 
-def coherence_vectors(f: PairFeatures, s: Scales) -> np.ndarray:
+def coherence_vectors(f: PairFeatures, s: Scales, still: np.ndarray | None = None
+                      ) -> np.ndarray:
     """(n, 8) coherence vectors (4.3.2) of the reactor: normalised look, delta direction,
     relative position, velocity; and the main's velocity (the paper computes velocity on both
     entities). Without it a coherence match continues a stretch where the demonstrated main
     moved while the live main stands still: a stalker kept walking (measured on the slow path
     with pauses: 40% of steps with a still main chose coherence; targets moved at 0.14 m/s
     against 0.08 m/s in the demonstration's own still moments)."""
-    return np.column_stack([
-        s.norm_look * np.cos(f.norm_look_react), s.norm_look * np.sin(f.norm_look_react),
-        s.ddir * np.cos(f.ddir_react), s.ddir * np.sin(f.ddir_react),
-        s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
-        s.v_react * f.v_react, s.v_main * f.v_main])
+    cols = [s.norm_look * np.cos(f.norm_look_react), s.norm_look * np.sin(f.norm_look_react),
+            s.ddir * np.cos(f.ddir_react), s.ddir * np.sin(f.ddir_react),
+            s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
+            s.v_react * f.v_react, s.v_main * f.v_main]
+    if s.still > 0.0 and still is not None:
+        cols.append(s.still * still)
+    return np.column_stack(cols)
 
 
 class EntityMotion:
@@ -252,15 +289,25 @@ def situation_row(out: np.ndarray, s: Scales, v_main: float, v_react: float, fwd
     out[5] = s.rel_look * math.sin(rel_look)
 
 
+def still_row(out: np.ndarray, s: Scales, still: bool, column: int) -> None:
+    """Write the main's still/moving state (``still``: within the still distance of where it
+    was at the oldest of its last positions, :func:`main_still`) into ``out[column]`` (the
+    situation vector's SITUATION_DIMS, the coherence vector's COHERENCE_DIMS) where the
+    vectors carry it (s.still > 0)."""
+    if s.still > 0.0:
+        out[column] = s.still if still else 0.0
+
+
 def room_row(out: np.ndarray, s: Scales, mx: float, my: float, rx: float, ry: float,
              table: tuple[float, float, float, float]) -> None:
     """Write the reactor's room on the live ``table`` (:func:`room_at`, main at (mx, my),
-    reactor at (rx, ry), metres) into ``out[6:8]`` where the situation vectors carry it
-    (Params.w_room > 0); with the room off nothing is computed."""
-    if out.shape[0] > SITUATION_DIMS:
+    reactor at (rx, ry), metres) into its two columns (:func:`room_column`) where the
+    situation vectors carry it (Params.w_room > 0); with the room off nothing is computed."""
+    at = room_column(s)
+    if out.shape[0] > at:
         back, side = room_at(mx, my, rx, ry, table)
-        out[6] = s.room * back
-        out[7] = s.room * side
+        out[at] = s.room * back
+        out[at + 1] = s.room * side
 
 
 def room_gate(x: np.ndarray, s: Scales) -> float:

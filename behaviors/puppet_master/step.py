@@ -29,6 +29,7 @@ class GenerationStep:
         """One generation step at grid time ``g`` (seconds) from the main pose there: the
         reactor's new pose (table metres, radians) as the row (g, x, y, look)."""
         target = self._best_match()
+        self._main_recent.append((mx, my))      # the main's last positions (still or not)
         sx, sy = self._trajectory(target, mx, my, md)
         sx, sy, heading, texture = self._detail(target, mx, my, sx, sy)
         rx, ry = self.pose[0] + sx, self.pose[1] + sy
@@ -140,7 +141,9 @@ class GenerationStep:
                 # the main's frame (60% of the friend's samples, 0-2% of the others') 642 /
                 # 107 (the friend's contact undershot, 0.011-0.030); only on inward steps of
                 # the characters without a personal space 645 / 106 (friend 5 -> 3 misses,
-                # bully 4 -> 10). Not kept.
+                # bully 4 -> 10). Not kept. Taken from the detail patch's source (continuous for
+                # 16 steps, so a dart's run-up goes on whatever the match): friend / stalker
+                # misses on seeds 0-5, 8-13, 26-31 11 / 34 -> 17 / 44 (Python step). Not kept.
                 c, s_ = math.cos(md), math.sin(md)
                 dfx, dfy = b.world_rel[target]
                 cx, cy = gain * (tx - rx), gain * (ty - ry)
@@ -280,7 +283,6 @@ class GenerationStep:
             # 124 / 26): its main-frame correction at the moment's pace 148 / 40 (its walk
             # slowed), only while the live main stands 127 / 29 (loops: 0.039 m/s, too slow).
             recent = self._main_recent
-            recent.append((mx, my))
             if len(recent) == recent.maxlen and (b.walked[target] or (
                     b.walks_with_main and place != PLACE_WORLD)):
                 ox, oy = recent[0]
@@ -413,8 +415,12 @@ class GenerationStep:
         vr, move_r, ddir_r = self.react_motion.step(rx, ry)
         fwd, left, rel_look = ft.relative_pose(mx, my, md, rx, ry, look)
         ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
+        ox, oy = self._main_recent[0]
+        still = math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
+        ft.still_row(self._xs, b.scales, still, ft.SITUATION_DIMS)
         ft.room_row(self._xs, b.scales, mx, my, rx, ry, self.table)
         self.situation.push(self._xs)
         ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr,
                          vm)
+        ft.still_row(self._xc, b.scales, still, ft.COHERENCE_DIMS)
         self.coherence.push(self._xc, target)

@@ -60,7 +60,8 @@ DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
     KEEPS_PACE, S_ROOM, ROOM_CLIP, TARGET_TABLE = range(4, 42)
 WALKS_WITH_MAIN = 45  # after TARGET_TABLE: x0, y0, x1, y1 of Reactor.target_table
 LARGEST_STEP = 46
-CONSTANTS = 47
+S_STILL = 47          # the weight of the main's still/moving state (0: not a feature)
+CONSTANTS = 48
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -187,6 +188,13 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     if c[CATCH_UP] > 0.0 and speed >= 3.0 * c[MIN_SPEED]:
         speed = _max(speed, _min(c[CATCH_UP] * hypot(tx - rx, ty - ry), c[TOP_SPEED]))
     gain = c[GAIN]
+    m = recent.shape[0]                 # the main's last positions (still or not)
+    head = ints[RECENT_HEAD]
+    recent[head, 0], recent[head, 1] = mx, my
+    head = (head + 1) % m
+    ints[RECENT_HEAD] = head
+    if ints[RECENT_COUNT] < m:
+        ints[RECENT_COUNT] += 1
     mean_cap = math.inf
     step_cap = math.inf
     if gain > 0.0 and target > 0:
@@ -231,13 +239,6 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                 gap /= max(1, touch - target + 1)
                 sx, sy = sx + gap * lx / live, sy + gap * ly / live
         cap = (speed if place == PLACE_WORLD else c[TOP_SPEED]) * dt
-        m = recent.shape[0]
-        head = ints[RECENT_HEAD]
-        recent[head, 0], recent[head, 1] = mx, my
-        head = (head + 1) % m
-        ints[RECENT_HEAD] = head
-        if ints[RECENT_COUNT] < m:
-            ints[RECENT_COUNT] += 1
         if ints[RECENT_COUNT] == m and (row[T_WALKED] != 0.0 or (
                 c[WALKS_WITH_MAIN] != 0.0 and place != PLACE_WORLD)):
             ox, oy = recent[head, 0], recent[head, 1]      # the oldest
@@ -325,7 +326,15 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     xs[3] = c[S_REL_POSITION] * left
     xs[4] = c[S_REL_LOOK] * math.cos(rel_look)
     xs[5] = c[S_REL_LOOK] * math.sin(rel_look)
-    if xs.shape[0] > 6:             # the reactor's room on the table (features.room_row)
+    at = 6
+    still = 0.0
+    if c[S_STILL] > 0.0:            # the main's still/moving state (features.still_row)
+        o = head if ints[RECENT_COUNT] == m else 0        # the oldest
+        if hypot(mx - recent[o, 0], my - recent[o, 1]) < c[STILL_DISTANCE]:
+            still = c[S_STILL]
+        xs[6] = still
+        at = 7
+    if xs.shape[0] > at:            # the reactor's room on the table (features.room_row)
         rho = hypot(rx - mx, ry - my)
         clip = c[ROOM_CLIP]
         back, side = clip, 0.0
@@ -334,8 +343,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             back = _max(0.0, _min(table_reach(rx, ry, ux, uy, c), clip))
             side = (_max(0.0, _min(table_reach(rx, ry, -uy, ux, c), clip))
                     - _max(0.0, _min(table_reach(rx, ry, uy, -ux, c), clip)))
-        xs[6] = c[S_ROOM] * back
-        xs[7] = c[S_ROOM] * side
+        xs[at] = c[S_ROOM] * back
+        xs[at + 1] = c[S_ROOM] * side
     norm_look = wrap_angle(look - move_r)
     xc[0] = c[S_NORM_LOOK] * math.cos(norm_look)
     xc[1] = c[S_NORM_LOOK] * math.sin(norm_look)
@@ -345,6 +354,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     xc[5] = c[S_REL_POSITION] * left
     xc[6] = c[S_V_REACT] * vr
     xc[7] = c[S_V_MAIN] * vm
+    if c[S_STILL] > 0.0:
+        xc[8] = still
     fs[RX], fs[RY], fs[LOOK] = rx, ry, look
     fs[STEP_X], fs[STEP_Y] = sx, sy
     return target

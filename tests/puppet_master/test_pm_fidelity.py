@@ -28,7 +28,8 @@ KNOWN_MISSES = {
     # against 0.041 (0.019 / 0.020 before, missed). The stalker's drift corrected at the matched
     # moment's pace (step.py) meets its speed (loops W1 0.062 -> 0.010) and its slow-path
     # still/moving (0.45 -> 0.31 against 0.285); on the loops, where its main spins in place,
-    # still/moving (0.150) and contact (0.0 against 0.022) stay missed
+    # still/moving (0.150; 0.161 matched by its main's still/moving state too,
+    # features.main_still) and contact (0.0 against 0.022) stay missed
     "playful_friend": {"slow_pauses_30hz": set(), "loops_spins_45hz": set()},
     "stalker": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact", "still_moving"}},
     # (the afraid demonstration with the chasing hand of chased.py). Its targets kept off the

@@ -54,6 +54,8 @@ def _run(behavior: Behavior, main: np.ndarray, compiled: bool, crowd: int = 0):
     ("keep_away", 55.0, {"relative_motion": 0.0}, 20.0),
     # with the room on the table among the situation features (features.room_at)
     ("keep_away", 40.0, {"w_room": 2.0, "table_width": 1.2, "table_height": 0.8}, 20.0),
+    # the main's still/moving state and the room both among the situation features
+    ("follow", 40.0, {"w_room": 2.0, "table_width": 1.2, "table_height": 0.8}, 20.0),
     # with targets fitted off the edges (Params.edge_percentile, Reactor.target_table)
     ("keep_away", 40.0, {"edge_percentile": 50.0, "table_width": 1.2, "table_height": 0.8},
      20.0),
@@ -74,7 +76,11 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
         m = demos.main_path(3, duration, rate_hz=40.0, reversals=kind == "circling")
         demo = demos.circling(m) if kind == "circling" else demos.follow_behind(m)
     b = Behavior.train(demo, **params)
-    assert b.situation_vectors.shape[1] == (8 if params.get("w_room") else 6)
+    # the main's still/moving state among the situation features where the reactor stops
+    # with its main (the follower, the stalker), then the room where weighed
+    still = kind in ("follow", "stalker")
+    assert (b.scales.still > 0.0) == still
+    assert b.situation_vectors.shape[1] == 6 + still + (2 if params.get("w_room") else 0)
     assert (b.personal_space == 0.0) == (shipped and kind != "lover")   # share_around
     assert b.keeps_pace == (kind == "stalker")
     assert b.walks_with_main == (kind in ("follow", "lover"))   # generation.mean_capped
