@@ -197,7 +197,7 @@ class Reactor(GenerationStep):
         self._main_recent.clear()
         self._charge_end = -1
         self._fs[[sk.MAIN_X, sk.MAIN_Y, sk.MAIN_MOVE]] = main_x, main_y, wrap_angle(main_dir)
-        self._is[sk.RECENT_COUNT] = 0
+        self._is[sk.RECENT_COUNT] = self._is[sk.RECENT_HEAD] = 0   # as the deque cleared
         self._is[sk.CHARGE_END] = -1
 
     @property
