@@ -11,9 +11,12 @@ import numpy as np
 #: followed progress then slid back :data:`FINISH_BACK` from there has ended (:func:`finished`).
 FINISH_FROM = 0.9
 FINISH_BACK = 0.03
+#: ... or that is followed at a crawl there (:func:`~behaviors.mop.validity.slow_take`) while
+#: its performer moves on (:func:`finished`).
+FINISH_CRAWLS = True
 
 
-def finished(peak: float, progress: float) -> bool:
+def finished(peak: float, progress: float, crawls: bool = False) -> bool:
     """Whether the action driving, whose highest progress since it began driving is ``peak``,
     has ended though the follower never reached ``end``: it carried its performer past
     :data:`FINISH_FROM` and its progress now slid back :data:`FINISH_BACK` from there. The
@@ -34,8 +37,18 @@ def finished(peak: float, progress: float) -> bool:
     gesture, but valid after 30% of gestures at 0.7-1.4x 0.9184 / 0.9056 -> 0.8865 / 0.8580
     (tuned / held-out) and twenty templates' longest wrong run 2 -> 8 tuned: true performances
     ended early (which ones and why not traced).
+
+    Or followed at a crawl there (``crawls``: :func:`~behaviors.mop.validity.slow_take` true
+    for it this sample, :data:`FINISH_CRAWLS`): its state all but stopped while the input moved
+    on by the onset. A dance at 0.80x, lagged to 0.93, crept 0.93 -> 0.94 as the punch after it
+    began (never sliding back) and drove its first 7 samples, until it had crawled
+    ``CRAWL_SAMPLES``; now 2. Twenty templates back to back, tuned joints, seeds 1-6 (8
+    sequences each): runs over 2 ticks summed 22 -> 18, seed 6's longest 7 -> 3; the rest the
+    same. ``bench/follow_quality.py --sections=sequences,unrelated,after,sized``: every tuned
+    figure the same to the digit; held-out the same but valid after 30% at 0.6 / 1.5x 0.6916
+    -> 0.6874 (0.7-1.4x 0.9033 both).
     """
-    return peak >= FINISH_FROM and peak - progress >= FINISH_BACK
+    return peak >= FINISH_FROM and (peak - progress >= FINISH_BACK or (crawls and FINISH_CRAWLS))
 
 
 def nearest(recent: list[np.ndarray], point: np.ndarray) -> np.ndarray:

@@ -21,7 +21,7 @@ import numba
 import numpy as np
 
 from behaviors.mop import handover, shape_lead, spotting, validity
-from behaviors.mop.handover import FINISH_BACK, FINISH_FROM
+from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
                                    RETURN_RADIUS, SHARE_BACK)
@@ -282,8 +282,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
             # ... nor once its performer finished it short of its end (handover.finished)
-            ok = ok and not (drive_peak[i] >= FINISH_FROM
-                             and drive_peak[i] - progress[gb] >= FINISH_BACK)
+            ok = ok and not (drive_peak[i] >= FINISH_FROM and (
+                drive_peak[i] - progress[gb] >= FINISH_BACK or (crawl[i, 0] > 0 and FINISH_CRAWLS)))
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             ok = ok and not (rests and drive_moved[i]
                              and drive_peak[i] - drive_from[i] < CARRY_FIRST)
@@ -319,7 +319,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             # finished short of its end (handover.finished): ended where the input came nearest
             # its last point
             done = (not has_end[i] and not ended and drive_k[i] == bi
-                    and drive_peak[i] >= FINISH_FROM and drive_peak[i] - pb >= FINISH_BACK)
+                    and drive_peak[i] >= FINISH_FROM and (
+                        drive_peak[i] - pb >= FINISH_BACK or (crawl[i, 0] > 0 and FINISH_CRAWLS)))
             ended = ended or done
             if not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
                 # GestureSpotting._returned: back at the last point while followed backwards

@@ -196,7 +196,7 @@ class Recognition:
                 self._drive_peak = max(self._drive_peak, progress_list[bi])
                 ok = ok and not backs_first(self._drive_from, self._drive_peak, progress_list[bi])
                 # ... nor once its performer finished it short of its end (handover.finished)
-                ok = ok and not finished(self._drive_peak, progress_list[bi])
+                ok = ok and not finished(self._drive_peak, progress_list[bi], self._crawl > 0)
                 # ... nor, once the performer moved it without carrying it forward, hold them
                 # while they stop (validity.stalls)
                 ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
