@@ -205,7 +205,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._size.fill(1.0)
         self._judged.fill(1.0)
         self._best = -1   # none before the first sample: the likeliest then, without the margin
-        self._run = 0
+        self._run, self._run_k = 0, -1   # samples in a row best was ok, and whose
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._shape_n = 0

@@ -89,6 +89,7 @@ class GroupArrays:
         self._nbuf = np.zeros(m, dtype=np.intp)
         self._best = np.full(m, -1, dtype=np.intp)   # -1: none yet (ActionFollower._best)
         self._run = np.zeros(m, dtype=np.intp)
+        self._run_k = np.full(m, -1, dtype=np.intp)   # whose samples _run counts (recognition)
         self._lost = np.zeros(m, dtype=np.intp)
         self._ended = np.full(m, -1, dtype=np.intp)
         self._end_x = np.zeros((m, dmax))
@@ -105,11 +106,12 @@ class GroupArrays:
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
                      "_least", "_judged", "_at_hold_end")
-    _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_lost", "_ended",
-                   "_end_x", "_end_last", "_has_end", "_acquired", "_after_end", "_peak", "_peak_k", "_thr_ev",
-                   "_thr_x", "_thr_has_x", "_drive_k", "_drive_from", "_drive_peak",
-                   "_drive_moved", "_shape_n", "_turn_in", "_turn_h", "_turn_ref",
-                   "_turn_has_ref", "_turn_has_h", "_abandoned", "_came", "_abandon_rested")
+    _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
+                   "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
+                   "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
+                   "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
+                   "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
+                   "_abandon_rested")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

@@ -21,7 +21,7 @@ import numba
 import numpy as np
 
 from behaviors.mop import handover, shape_lead, spotting, validity
-from behaviors.mop.handover import FINISH_BACK, FINISH_FROM
+from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
                                    RETURN_RADIUS, SHARE_BACK)
@@ -204,14 +204,14 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 
 
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.boolean[:, ::1], _F1, _F1, _F1, _F1,
-                   _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1,
+                   _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1, _I1,
                    _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
                    _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2, _F2, _B1),
           *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k, drive_from,
-             drive_peak, turn_ok, extent, peak, peak_k,
+             run, run_k, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k,
+             drive_from, drive_peak, turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart, highest, shared,
              sh_off, drive_moved, rest, crawl, end_last, committed) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
@@ -229,7 +229,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     :func:`~behaviors.mop.member_validity.tempo` left them;
     ``committed``: ``best`` committed to by shape (drives however improbable).
 
-    In place: ``run``, ``acquired`` (and the last action that drove, where it began and its
+    In place: ``run`` (samples in a row ``best`` was ok) and whose they are (``run_k``),
+    ``acquired`` (and the last action that drove, where it began and its
     highest progress since: ``drive_k``, ``drive_from``, ``drive_peak``), the recent samples
     ``buf``/``nbuf``, the gesture's end ``has_end``/``end_x`` (and the ended template's last
     point there, ``end_last``: :meth:`GestureSpotting._moved_on`), ``lost`` (refused samples in a
@@ -281,14 +282,16 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
             # ... nor once its performer finished it short of its end (handover.finished)
-            ok = ok and not (drive_peak[i] >= FINISH_FROM
-                             and drive_peak[i] - progress[gb] >= FINISH_BACK)
+            ok = ok and not (drive_peak[i] >= FINISH_FROM and (
+                drive_peak[i] - progress[gb] >= FINISH_BACK or (crawl[i, 0] > 0 and FINISH_CRAWLS)))
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             ok = ok and not (rests and drive_moved[i]
                              and drive_peak[i] - drive_from[i] < CARRY_FIRST)
             # ... nor holds them resting behind where it began (validity.rests_behind)
             ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
-        run[i] = run[i] + 1 if ok else 0
+        # a new best confirms on samples of its own (recognition: the run does not carry over)
+        run[i] = run[i] + 1 if ok and run_k[i] == bi else (1 if ok else 0)
+        run_k[i] = bi
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
         val = run[i] >= m[3] and after_end[i] <= END_GRACE
@@ -316,7 +319,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             # finished short of its end (handover.finished): ended where the input came nearest
             # its last point
             done = (not has_end[i] and not ended and drive_k[i] == bi
-                    and drive_peak[i] >= FINISH_FROM and drive_peak[i] - pb >= FINISH_BACK)
+                    and drive_peak[i] >= FINISH_FROM and (
+                        drive_peak[i] - pb >= FINISH_BACK or (crawl[i, 0] > 0 and FINISH_CRAWLS)))
             ended = ended or done
             if not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
                 # GestureSpotting._returned: back at the last point while followed backwards

@@ -306,7 +306,7 @@ class GestureSpotting:
         self._peak = max(self._peak, progress) if bi == self._peak_k else progress
         self._peak_k = bi
         done = (self._end_x is None and self._drive_k == bi
-                and finished(self._drive_peak, progress))
+                and finished(self._drive_peak, progress, self._crawl > 0))
         if self._end_x is None and ((valid and progress >= self.end) or done
                                     or self._returned(x, bi, progress)):
             self._end_last = self._last_point(bi)
