@@ -42,12 +42,13 @@ class LoopStats:
     def record(self, stage: str, seconds: float) -> None:
         self.samples.setdefault(stage, collections.deque(maxlen=self.window)).append(seconds)
 
-    def fps(self) -> float:
-        """Ticks per second over the kept window."""
+    def fps(self) -> float | None:
+        """Ticks per second over the kept window; None while there is no rate yet (fewer than
+        two ticks ended): 0.0 there read as a loop that had stalled."""
         if len(self.tick_times) < 2:
-            return 0.0
+            return None
         span = self.tick_times[-1] - self.tick_times[0]
-        return (len(self.tick_times) - 1) / span if span > 0 else 0.0
+        return (len(self.tick_times) - 1) / span if span > 0 else None
 
     def summary_ms(self) -> dict[str, tuple[float, float]]:
         """Stage -> (median ms, p99 ms) over the kept window."""

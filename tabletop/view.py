@@ -65,7 +65,9 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
     start = stats.first_t if stats is not None and stats.first_t is not None else frame.t
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
-        lines.append(f"{stats.fps():5.1f} fps   skipped {stats.skipped}   errors "
+        fps = stats.fps()   # None on the first tick: no rate yet
+        rate = "  -.-" if fps is None else f"{fps:5.1f}"
+        lines.append(f"{rate} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
         for stage in list(stats.samples):
             m = stats.stage_ms(stage)
