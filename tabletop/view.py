@@ -245,7 +245,10 @@ class ProjectorView:
         surface = self.screen
         if self.snapshot_overlay and not self.show_overlay:
             surface = self.screen.copy()
-            self.renderer.draw_overlay(surface, overlay_lines(frame, self.stats))
+            # its lines (figures of this minute) are not kept: kept, a kiosk's snapshot a
+            # minute filled the overlay's line cache to 257 renders (4.5 MB) over 15 minutes,
+            # cleared and filled again, the heap growing as it filled (bench/gallery_soak.py)
+            self.renderer.draw_overlay(surface, overlay_lines(frame, self.stats), keep=False)
         self.snapshots.save(surface)
 
     def close(self) -> None:
