@@ -11,7 +11,7 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
 Every ``every_s`` it is written atomically to the status file (in a writer thread: the frame loop
 never waits for a disk) and sent as OSC ``/tabletop/heartbeat`` with the installation name
 (string), uptime s (float), fps (float), unhealthy sources (int) and the status JSON (string).
-The first goes once the loop has a rate (its third tick), not with "0 fps" from its first.
+The first goes once the loop has a rate (a second of ticks), not with "0 fps" from its first.
 """
 
 from __future__ import annotations
