@@ -46,7 +46,10 @@ def test_crash_and_stall_are_logged_and_the_kiosk_comes_back(tmp_path):
     end = time.monotonic() + 60
     while time.monotonic() < end and [e for e, _ in sup.events].count("ready") < 3:
         time.sleep(0.05)
-    time.sleep(0.5)
+    status_file = tmp_path / "status.json"    # the first status comes with a rate (a second)
+    while time.monotonic() < end and '"restarts":2' not in (
+            status_file.read_text() if status_file.exists() else ""):
+        time.sleep(0.05)
     sup.stop.set()
     th.join(30)
     kinds = [e for e, _ in sup.events]
