@@ -18,7 +18,9 @@ levels off by then (the scripted pucks' ``HISTORY_S`` of past, the drawing cache
 colours and shapes, the loop's and recorder's bounded deques, the heap's first arenas: about
 20 KB/s over 2-5 min, 9 KB/s over 5-8 min), steady growth does not, and 1 KB/s is 1.2 GB over a
 two-week exhibition (the heap grows in steps of 0.5-2 MB: a window of 8 min, the default
-20-minute run's, reads one step as 1-4 KB/s). Budgets: a supervisor that does not grow (fds,
+20-minute run's, reads one step as 1-4 KB/s). Measured over 30 min: the glibc heap grew to
+~600 s and stayed (0.3 KB/s over 900-1660 s); its 26-30 MB free is the frames' working space
+(``malloc_trim`` gave back 16 MB, back within two minutes), Python's own arenas flat from 300 s. Budgets: a supervisor that does not grow (fds,
 threads, processes within 0 and memory within 5 MB over a drill), the installation's memory
 within 20 MB and fds/threads within 0 after the warm-up, its slope within ``SLOPE_KB_S``. Not
 part of ``make test`` (minutes).

@@ -151,7 +151,7 @@ def main() -> None:
             r["committed"] += got
             r["latency"] += lat
             r["processing"] += proc
-    ticks, fps = loop.stats.ticks, loop.stats.fps()
+    ticks, fps = loop.stats.ticks, loop.stats.fps() or 0.0
     loop.stop.set()
     thread.join(5.0)
     figures: dict[str, object] = {}

@@ -29,6 +29,8 @@ class LoopStats:
     overlay and by the benchmarks.
     """
 
+    RATE_MIN_S = 1.0   # seconds of ticks before a rate is said
+
     def __init__(self, window: int = 600) -> None:
         self.window = window
         self.samples: dict[str, collections.deque[float]] = {
@@ -42,12 +44,15 @@ class LoopStats:
     def record(self, stage: str, seconds: float) -> None:
         self.samples.setdefault(stage, collections.deque(maxlen=self.window)).append(seconds)
 
-    def fps(self) -> float:
-        """Ticks per second over the kept window."""
+    def fps(self) -> float | None:
+        """Ticks per second over the kept window; None while there is no rate yet (less than
+        ``RATE_MIN_S`` of ticks): 0.0 there read as a loop that had stalled, and the rate of
+        the first few ticks is that of a late first tick's catch-up (70.6 fps at tick 12 of
+        a 60 Hz loop)."""
         if len(self.tick_times) < 2:
-            return 0.0
+            return None
         span = self.tick_times[-1] - self.tick_times[0]
-        return (len(self.tick_times) - 1) / span if span > 0 else 0.0
+        return (len(self.tick_times) - 1) / span if span >= self.RATE_MIN_S else None
 
     def summary_ms(self) -> dict[str, tuple[float, float]]:
         """Stage -> (median ms, p99 ms) over the kept window."""

@@ -310,21 +310,23 @@ class Renderer:
 
     def draw_overlay(self, target: pygame.Surface, lines: Sequence[str],
                      avoid: Sequence[pygame.Rect] | None = None,
-                     must: Sequence[pygame.Rect] | None = None) -> pygame.Rect:
+                     must: Sequence[pygame.Rect] | None = None,
+                     keep: bool = True) -> pygame.Rect:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
         would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
         pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
         the status line saying the disk is full stayed there, other corners having characters);
         rendered again only when the lines change. Returns the panel's rectangle. ``avoid`` and
         ``must`` default to what the last :meth:`draw` drew (a snapshot's panel over the view
-        drawn without one was always top-left, over a character or puck there)."""
+        drawn without one was always top-left, over a character or puck there). ``keep``
+        False: the lines' renders are not remembered (:func:`screens.panel_line`)."""
         avoid = self._keep_clear if avoid is None else avoid
         must = self._studio_marks if must is None else must
         W, H = target.get_size()
         key = tuple(lines)
         if key != self._overlay_key or self._overlay_img is None or W != self._overlay_w:
             width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # wraps within it
-            self._overlay_img = screens.panel(lines, width=width)
+            self._overlay_img = screens.panel(lines, width=width, keep=keep)
             self._overlay_key, self._overlay_w = key, W
         w, h = self._overlay_img.get_size()
         corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]

@@ -65,7 +65,9 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
     start = stats.first_t if stats is not None and stats.first_t is not None else frame.t
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
-        lines.append(f"{stats.fps():5.1f} fps   skipped {stats.skipped}   errors "
+        fps = stats.fps()   # None on the first tick: no rate yet
+        rate = "  -.-" if fps is None else f"{fps:5.1f}"
+        lines.append(f"{rate} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
         for stage in list(stats.samples):
             m = stats.stage_ms(stage)
@@ -243,7 +245,10 @@ class ProjectorView:
         surface = self.screen
         if self.snapshot_overlay and not self.show_overlay:
             surface = self.screen.copy()
-            self.renderer.draw_overlay(surface, overlay_lines(frame, self.stats))
+            # its lines (figures of this minute) are not kept: kept, a kiosk's snapshot a
+            # minute filled the overlay's line cache to 257 renders (4.5 MB) over 15 minutes,
+            # cleared and filled again, the heap growing as it filled (bench/gallery_soak.py)
+            self.renderer.draw_overlay(surface, overlay_lines(frame, self.stats), keep=False)
         self.snapshots.save(surface)
 
     def close(self) -> None:

@@ -53,15 +53,18 @@ def table_surface(size: tuple[int, int], corners_px: np.ndarray, grid_px: Sequen
 _panel_lines: dict[tuple[str, int], pygame.Surface] = {}
 
 
-def panel_line(line: str, px: int = 20) -> pygame.Surface:
+def panel_line(line: str, px: int = 20, keep: bool = True) -> pygame.Surface:
     """One line of a :func:`panel`, rendered once while it stays the same (the operator
-    overlay's figures change a few lines at a time; a whole panel of renders costs ~1 ms)."""
+    overlay's figures change a few lines at a time; a whole panel of renders costs ~1 ms).
+    ``keep`` False: a line not seen again soon (a snapshot's, once a minute) is not kept."""
     key = (line, px)
     img = _panel_lines.get(key)
     if img is None:
-        if len(_panel_lines) > 256:
-            _panel_lines.clear()
-        img = _panel_lines[key] = font(px).render(line, True, TEXT)
+        img = font(px).render(line, True, TEXT)
+        if keep:
+            if len(_panel_lines) > 256:
+                _panel_lines.clear()
+            _panel_lines[key] = img
     return img
 
 
@@ -89,15 +92,16 @@ def fit_lines(text: str, f: pygame.font.Font, width: int) -> list[str]:
 
 
 def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
-          width: int | None = None) -> pygame.Surface:
+          width: int | None = None, keep: bool = True) -> pygame.Surface:
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
-    line that would make the panel wider than ``width`` pixels wraps."""
+    line that would make the panel wider than ``width`` pixels wraps (``keep``: see
+    :func:`panel_line`)."""
     imgs = []
     for line in lines:
-        img = panel_line(line, px)
+        img = panel_line(line, px, keep)
         if width is not None and img.get_width() > width - 2 * pad:
-            imgs.extend(panel_line(part, px) for part in fit_lines(line, font(px),
-                                                                   width - 2 * pad))
+            imgs.extend(panel_line(part, px, keep) for part in fit_lines(line, font(px),
+                                                                         width - 2 * pad))
         else:
             imgs.append(img)
     w = max((i.get_width() for i in imgs), default=0) + 2 * pad

@@ -11,6 +11,7 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
 Every ``every_s`` it is written atomically to the status file (in a writer thread: the frame loop
 never waits for a disk) and sent as OSC ``/tabletop/heartbeat`` with the installation name
 (string), uptime s (float), fps (float), unhealthy sources (int) and the status JSON (string).
+The first goes once the loop has a rate (a second of ticks), not with "0 fps" from its first.
 """
 
 from __future__ import annotations
@@ -179,7 +180,7 @@ class HealthReporter:
             "version": __version__,
             "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "uptime_s": round(self.clock() - self.started, 3),
-            "fps": round(float(st.fps()), 2) if st is not None else 0.0,
+            "fps": round(float(st.fps() or 0.0), 2) if st is not None else 0.0,
             "ticks": int(st.ticks) if st is not None else frame.seq,
             # what the table shows: "one_moment" also while every source is down without
             # ever having worked (a camera not plugged in at boot), as the view then shows it
@@ -197,6 +198,8 @@ class HealthReporter:
         now = self.clock()
         if now < self._next:
             return
+        if self.stats is not None and self.stats.fps() is None:
+            return   # the loop's first ticks: the first status waits for a rate (not "0 fps")
         self._next = now + self.every_s
         status = self.status(frame)
         self.last = status

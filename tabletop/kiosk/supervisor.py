@@ -104,6 +104,8 @@ def describe_exit(code: int) -> str:
 class Supervisor:
     """Keeps ``command`` running; see the module docstring."""
 
+    EVENTS_KEPT = 1000
+
     def __init__(self, command: Sequence[str], policy: Policy, crash_log: Path,
                  env: dict[str, str] | None = None, notifier: Notifier | None = None,
                  echo: bool = True, clock: Callable[[], float] = time.monotonic,
@@ -123,8 +125,11 @@ class Supervisor:
         self.stop = threading.Event()
         self.starts = 0
         self.crashes = 0
-        self.events: list[tuple[str, float]] = []   # ("ready" | "crash" | "stall", clock time)
-        self.warm: list[bool] = []                  # per start: was it a prepared spare?
+        # ("ready" | "crash" | "stall", clock time) and, per start, was it a prepared spare:
+        # the last EVENTS_KEPT (a table crashing every half minute for two weeks kept 40,000)
+        self.events: collections.deque[tuple[str, float]] = collections.deque(
+            maxlen=self.EVENTS_KEPT)
+        self.warm: collections.deque[bool] = collections.deque(maxlen=self.EVENTS_KEPT)
         self._dir = Path(tempfile.mkdtemp(prefix="tabletop-supervisor-"))
         self.socket_path = self._dir / "notify.sock"
         self._sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)

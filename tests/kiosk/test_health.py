@@ -14,7 +14,8 @@ from tabletop.cli import main as cli
 from tabletop.frames import Frame, SourceHealth
 from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing
 from tabletop.kiosk.notify import Notifier
-from tabletop.loop import LoopStats
+from tabletop.loop import Loop, LoopStats
+from tabletop.replay_inputs import FrameInputs
 from tests.tracking.scenes import wait_for
 
 STATUS_FIELDS = {"name", "host", "pid", "version", "time", "uptime_s", "fps", "ticks", "mode",
@@ -87,7 +88,7 @@ def test_heartbeat_reaches_a_python_osc_server_and_the_status_file_parses(tmp_pa
     osc = OscListener()
     stats = LoopStats()
     clock = Clock()
-    for k in range(30):
+    for k in range(31):                      # a second of ticks at 30 Hz
         stats.tick_times.append(k / 30.0)
     stats.errors["engine x"] += 2
     status_file = tmp_path / "state" / "status.json"
@@ -115,6 +116,42 @@ def test_heartbeat_reaches_a_python_osc_server_and_the_status_file_parses(tmp_pa
     on_disk = json.loads(status_file.read_text())
     assert on_disk == status
     assert not [p for p in status_file.parent.iterdir() if p.name != "status.json"]
+
+
+class StepClock:
+    """A clock read ``step`` s later at every reading."""
+
+    def __init__(self, step: float) -> None:
+        self.t, self.step = 100.0, step
+
+    def __call__(self) -> float:
+        self.t += self.step
+        return self.t
+
+
+def test_the_first_heartbeat_says_a_rate_not_0_fps(tmp_path):
+    """The reporter runs in the loop's first tick, before any tick has ended: it waits for a
+    rate (a second of ticks) rather than say 0.0 fps, which reads as a loop that stalled; then
+    a heartbeat every ``every_s`` as before."""
+    osc = OscListener()
+    clock = StepClock(0.002)
+    frames = (Frame(seq=i, t=i / 60.0) for i in range(200))
+    loop = Loop(FrameInputs(frames, honour_times=False), [], [], clock=clock, paced=False)
+    status_file = tmp_path / "status.json"
+    rep = HealthReporter("table-7", loop.stats, every_s=0.1, status_file=status_file,
+                         heartbeat=Heartbeat("127.0.0.1", osc.port), clock=clock)
+    loop.hooks.append(rep)
+    first = []
+    loop.hooks.append(lambda frame: first.append(rep.last) if rep.last and not first else None)
+    loop.run()
+    rep.close()
+    assert wait_for(lambda: len(osc.got) >= 4, 5.0)
+    osc.close()
+    fps = [v[2] for v in osc.got]
+    assert min(fps) > 0.0
+    assert first[0]["uptime_s"] >= LoopStats.RATE_MIN_S
+    assert first[0]["fps"] == pytest.approx(fps[0], abs=0.01)
+    assert json.loads(status_file.read_text())["fps"] > 0.0
 
 
 def test_status_command_prints_every_table(tmp_path, capsys):
@@ -288,7 +325,9 @@ def test_the_log_says_when_and_why_the_table_shows_one_moment(caplog):
     sources' own words and when it ended (an osc source whose tracker stopped logged nothing:
     the table was calm and the log silent). A flapping source: one line a minute at most."""
     clock = Clock()
-    rep = HealthReporter("table-7", LoopStats(), every_s=1.0, clock=clock)
+    stats = LoopStats()
+    stats.tick_times.extend((0.0, 1.0))   # a loop that has run: a rate to report
+    rep = HealthReporter("table-7", stats, every_s=1.0, clock=clock)
     ok = (SourceHealth("tracker", True, "listening on 127.0.0.1:3333; TUIO from t", 0.01),)
     down = (SourceHealth("tracker", False, "listening on 127.0.0.1:3333; nothing received "
                                            "for 5 s", 5.0),)

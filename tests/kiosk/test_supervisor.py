@@ -46,7 +46,10 @@ def test_crash_and_stall_are_logged_and_the_kiosk_comes_back(tmp_path):
     end = time.monotonic() + 60
     while time.monotonic() < end and [e for e, _ in sup.events].count("ready") < 3:
         time.sleep(0.05)
-    time.sleep(0.5)
+    status_file = tmp_path / "status.json"    # the first status comes with a rate (a second)
+    while time.monotonic() < end and '"restarts":2' not in (
+            status_file.read_text() if status_file.exists() else ""):
+        time.sleep(0.05)
     sup.stop.set()
     th.join(30)
     kinds = [e for e, _ in sup.events]
@@ -179,3 +182,22 @@ def test_the_crash_log_rotates_as_the_kiosk_log_does(tmp_path):
     sizes = [p.stat().st_size for p in crash_log.parent.iterdir()]
     assert max(sizes) < 2000 + 1000 and sum(sizes) < 3 * 3000   # each entry ~600 bytes
     assert "the same native crash" in crash_log.read_text()      # the newest one is there
+
+
+def test_the_supervisor_keeps_its_last_events_not_every_one(tmp_path, monkeypatch):
+    """A table crashing again and again for weeks: the supervisor's record of starts, crashes
+    and stalls keeps the last ``EVENTS_KEPT`` (it grew by one per event)."""
+    monkeypatch.setattr(Supervisor, "EVENTS_KEPT", 3, raising=False)
+    sup = Supervisor([sys.executable, "-c", "import sys; sys.exit(1)"],
+                     Policy(backoff_s=(0.001, 0.001)), tmp_path / "crashes.log", echo=False,
+                     spares=0)
+    th = threading.Thread(target=sup.run)
+    th.start()
+    end = time.monotonic() + 30
+    while time.monotonic() < end and sup.starts < 6:
+        time.sleep(0.02)
+    sup.stop.set()
+    th.join(30)
+    assert sup.starts >= 6
+    assert list(sup.events) == [("crash", t) for _, t in sup.events] and len(sup.events) == 3
+    assert len(sup.warm) == 3

@@ -231,3 +231,20 @@ def test_a_snapshots_health_panel_keeps_clear_of_the_characters_and_pucks(tmp_pa
         assert panel.sum() > 2000                          # there is one (text on it)
         assert not (panel & drawn).any()
     assert (drawn & top_left).sum() > 5000                # where the panel used to be
+
+
+def test_a_snapshots_health_panel_leaves_the_overlays_line_cache_alone(tmp_path):
+    """A snapshot's panel (figures of that moment, once a minute in a kiosk) is not kept line
+    by line: kept, the overlay's line cache grew by each snapshot's lines to its 257 renders
+    and was cleared, again and again, for nothing seen twice."""
+    from tabletop.drawing import screens
+    cfg = validate_config({"sources": [{"kind": "scripted"}],
+                           "view": {"headless": True, "size": [320, 200], "snapshot_every_s": 0.2,
+                                    "snapshot_folder": "snaps"}}, "test", tmp_path)
+    stats = LoopStats()
+    view = ProjectorView((1.2, 0.8), cfg["view"], stats=stats, headless=True)
+    loop = Loop(LiveInputs([StalledCamera()], LatestMeasurements()), [], [view], stats=stats)
+    screens._panel_lines.clear()
+    loop.run(seconds=1.1)
+    assert len(list((tmp_path / "snaps").glob("snapshot-*.png"))) >= 3
+    assert not screens._panel_lines

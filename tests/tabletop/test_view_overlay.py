@@ -201,6 +201,9 @@ def test_overlay_lists_rates_and_sources():
         st.record("engines", 0.001)
         st.tick_times.append(i / 60.0)
     f = Frame(seq=5, t=1.0, health=(SourceHealth("camera", False, "reconnecting in 2 s", 3.0),))
+    assert "-.- fps" in "\n".join(overlay_lines(f, st))   # 0.15 s of ticks: no rate yet
+    for i in range(10, 61):
+        st.tick_times.append(i / 60.0)
     text = "\n".join(overlay_lines(f, st))
     assert "60.0 fps" in text and "engines" in text and "1.00 ms" in text
     assert "camera: DOWN" in text and "reconnecting" in text
