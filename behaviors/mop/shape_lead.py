@@ -101,6 +101,9 @@ COMMIT_FIT = 1.75
 #: ... while the templates keep at least this share of the probability against the threshold
 #: model (as ``min_probability``'s default).
 KEPT_COMMIT = 0.6
+#: A new action is taken only while its shape since the gesture began fits within this many
+#: still radii (RMS per column and sample, :meth:`ShapeLead._leads`; infinite: no limit).
+TAKE_FIT = 12.0
 
 
 class ShapeLead:
@@ -144,6 +147,8 @@ class ShapeLead:
         the common :data:`SHAPE_SPREAD`. Unlike the evidence, this compares every template at one
         spread: a narrow template (a line) does not win over a broad one (a square) whose path
         it shares."""
+        if self._shape[bi] > self._shape_n * self.dim * TAKE_FIT ** 2:
+            return False
         rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
         rivals[bi] = False
         if not rivals.any():
