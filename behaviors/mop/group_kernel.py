@@ -31,7 +31,7 @@ from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
-from behaviors.mop.shape_lead import KEPT_COMMIT
+from behaviors.mop.shape_lead import KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
@@ -433,4 +433,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         for k in range(a0, a1):
             if k != gb and not refused[k] and p_out[k] * kept >= rival_p and shape[k] < rival:
                 rival = shape[k]
-        leads_out[i] = rival == np.inf or rival - shape[gb] >= min_lead
+        # ... and only while its shape since the gesture began fits (ShapeLead._leads)
+        leads_out[i] = (not shape[gb] > shape_n[i] * dims * TAKE_FIT ** 2
+                        and (rival == np.inf or rival - shape[gb] >= min_lead))

@@ -79,6 +79,27 @@ leading every template by 8 nats): within 20% 0 / 0 -> 0.03-0.09 / 0.13-0.25, un
 0.0734 / 0.0814 -> 0.0756-0.0781 / 0.0818-0.0840; at 4% coverage: within 20% 0.03 / 0.22,
 unrelated 0.0786 -> 0.0892 / 0.0909 -> 0.1043: the shape leads an unrelated motion's stretch of a
 template as clearly as the template's own start.
+
+Taken only while its shape fits (:data:`TAKE_FIT`): a new action is taken only while its shape sum
+since the gesture began is within 14 still radii RMS (per column and sample), whatever its rivals.
+A spiral's second loop passes through where the gesture began and is a circle the circle's way
+round: the circle took it at 0.5-0.6 of itself, 14-26 radii off since the gesture began (the loop
+before). At their first valid tick true performances at 0.6-1.5x (``bench/follow_quality.py
+--sections=sized``, tuned) fitted within 3.1 radii (median), 8.6 (95%), 12.3 at most (a 0.6x spin
+ankle); unrelated motions' takes 5.4 median, up to 26. ``--sections=unrelated,after,sized`` (tuned;
+held-out in brackets, not chosen by): an unrelated stroke straight after a gesture valid 0.1146 ->
+0.0999 of its ticks (0.1159 -> 0.1035; spirals 0.146 -> 0.088, 0.166 -> 0.110), unrelated motions
+from rest 0.0481 -> 0.0445 mean (0.0556 -> 0.0526), valid after 30% of gestures at 0.7-1.4x 0.9131
+and at 0.6x / 1.5x 0.7724 unchanged (0.9038 unchanged; 0.6944 -> 0.6866), gestures back to back and
+holds identical. 12: 0.0999, 0.0435, but 0.6x / 1.5x 0.7695 (that spin ankle); 11: 0.0989, 0.0429;
+10: 0.0975, 0.0407, 0.7-1.4x 0.9125. What is left after a gesture is the diagonal (0.21 of its
+ticks): the figure eight's first stroke at its own tempo, fitting within 1-5 radii when taken;
+about two thirds of its ticks come after the figure eight's path turned (0.25-0.28 of it) while the
+stroke goes on straight, the input drifting off the followed state by 2 -> 12 radii over 10-12
+samples (true performances: 5.2 at 90%, 12 at 99% of their valid ticks): the path misfit (16
+samples) reaches 0.9-1.0 sigma by then and a 4-sample one 1.3. That one (refused beyond 1.6,
+accepted below 1.2 with the misfit): after 0.1146 -> 0.1118, unrelated 0.0470, 0.7-1.4x 0.9124; not
+kept.
 """
 
 from __future__ import annotations
@@ -101,6 +122,10 @@ COMMIT_FIT = 1.75
 #: ... while the templates keep at least this share of the probability against the threshold
 #: model (as ``min_probability``'s default).
 KEPT_COMMIT = 0.6
+#: A new action is taken only while its shape since the gesture began fits within this many
+#: still radii (RMS per column and sample, :meth:`ShapeLead._leads`; infinite: no limit; see
+#: the module docstring).
+TAKE_FIT = 14.0
 
 
 class ShapeLead:
@@ -143,7 +168,9 @@ class ShapeLead:
         refused, probability ``p`` at least :data:`RIVAL_PROBABILITY`) by :data:`LEAD` nats at
         the common :data:`SHAPE_SPREAD`. Unlike the evidence, this compares every template at one
         spread: a narrow template (a line) does not win over a broad one (a square) whose path
-        it shares."""
+        it shares. Nor does it lead while its own sum is beyond :data:`TAKE_FIT`."""
+        if self._shape[bi] > self._shape_n * self.dim * TAKE_FIT ** 2:
+            return False
         rivals = ~self._refused & (p >= RIVAL_PROBABILITY)
         rivals[bi] = False
         if not rivals.any():

@@ -2,11 +2,13 @@
 section, on seeded draws of its own): the path misfit against each template's own spread, and
 no action taken back the way an abandoned attempt came, through the rest that follows."""
 
+import math
+
 import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import validity
+from behaviors.mop import shape_lead, validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import shape_limits
 
@@ -124,3 +126,46 @@ def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gest
     monkeypatch.setattr(validity, "CRAWL_HOVERS", False)   # the followers read it each step
     reset = _wander_valid(gestures)
     assert now <= reset - 30, (now, reset)
+
+
+def _circle_on_spirals(gestures) -> int:
+    """Ticks the circle drives a spiral (two loops the circle's way round, the second through
+    its start) at 0.7, 1.0 and 1.4x, six gestures loaded, eight seeds."""
+    total = 0
+    for seed in range(8):
+        rng = np.random.default_rng(seed)
+        f = puck_follower(gestures)
+        path = unrelated_motions(rng, gestures)["spiral"]
+        for sc in (0.7, 1.0, 1.4):
+            states = run(f, performance(rng, path, sc)[0])
+            total += sum(s.valid and s.best == "circle" for s in states)
+    return total
+
+
+def test_an_action_whose_shape_since_the_gesture_began_is_off_is_not_taken(gestures, monkeypatch):
+    # shape_lead.TAKE_FIT: the spiral's second loop is a circle begun at the circle's start, but
+    # the gesture began a loop before it (its shape since then 14-26 still radii RMS off the
+    # circle's; true performances at 0.6-1.5x took their action within 12.3). Measured 23 ticks,
+    # 46 with no limit
+    now = _circle_on_spirals(gestures)
+    monkeypatch.setattr(shape_lead, "TAKE_FIT", math.inf)   # read at each step
+    unlimited = _circle_on_spirals(gestures)
+    assert now <= 30 and now <= unlimited - 15, (now, unlimited)
+
+
+def test_a_group_refuses_to_take_an_ill_fitting_shape_as_its_followers_alone(gestures):
+    # the same limit over members (group_kernel.update_templates' leads): every tick equal
+    streams = []
+    for seed in (1, 3):
+        rng = np.random.default_rng(seed)
+        path = unrelated_motions(rng, gestures)["spiral"]
+        streams += [performance(rng, path, s)[0] for s in (0.7, 1.0, 1.4)]
+    n = max(len(s) for s in streams)
+    streams = [np.concatenate([s, np.repeat(s[-1:], n - len(s), axis=0)]) for s in streams]
+    alone = [puck_follower(gestures) for _ in streams]
+    group = FollowerGroup([puck_follower(gestures) for _ in streams])
+    for t in range(n):
+        together = group.step([s[t] for s in streams])
+        for f, s, g in zip(alone, streams, together):
+            a = f.step(s[t])
+            assert (a.valid, a.best) == (g.valid, g.best), t
