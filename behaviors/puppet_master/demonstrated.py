@@ -181,7 +181,23 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     moves at 40-60% of its matched moments' speed beside a still main (seeds 0, 1, 13 slow:
     0.10-0.16 against 0.20-0.29 m/s) at places of either frame; held at the 75th percentile
     its misses on seeds 0-5 go 24 (2) -> 26 (3), pursuit 42 -> 44 of 48; not held 27 (5) / 44.
-    Not used."""
+    Not used.
+
+    The bully's two halves fixed together (Python step, seeds 0-5, 8-13, 26-31, three runs:
+    relative_motion x 1, 1 +- 0.001; its misses / still/moving misses against 67 / 20): beside
+    a still main its main-frame places held to the moment's pace (with the catch-up, three-step
+    mean cap, generation.mean_capped) and its world places mean-capped 96 / 39; only the part
+    of the main-frame correction round the main so held, with the world mean cap 86 / 28,
+    without it 78 / 20; main-frame places beside a still main held in the world 82 / 35, with
+    the mean cap 103 / 45; every lurking place in the world 84 / 26; the world mean cap alone
+    72 / 22. Both halves fixed bring it nearer its own designer on the same path (mean |its
+    ratio - the designer's| 0.24 -> 0.19; spread of its ratio over 0.971 0.26 -> 0.20) but
+    lower (mean ratio over 0.971 0.99 -> 0.84-0.87). On these paths the designer's own bully has
+    0.78 (still 0.188, moving 0.243 m/s, against 0.218 / 0.224 demonstrated; 0.71 on the fast
+    paths, its lurk carried with the faster main; it misses on 12 of 54 paths): the
+    demonstration's 0.971 is met on average only by the two halves' errors cancelling (at
+    main-frame places beside a still main it moves 0.21 m/s where the matched moments moved
+    0.17 and the demonstration 0.12; at world places 0.17 where they moved 0.22). Not used."""
     v, still = _paces(main, react, rate_hz, still_mps)
     if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
         return still, math.inf
