@@ -177,7 +177,7 @@ class Reactor(GenerationStep):
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))
-        self._space = np.array([[0.0, 0.0, b.personal_space]])
+        self._space = np.array([[0.0, 0.0, b.main_disc]])
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -287,11 +287,11 @@ class Reactor(GenerationStep):
         if rows is None:
             rows = np.array(self.obstacles, dtype=float).reshape(-1, 3) if self.obstacles \
                 else _NO_OBSTACLES
-        if b.personal_space <= 0.0:
+        if b.main_disc <= 0.0:
             obstacles = rows
-        elif len(rows):                    # the others' discs, then the main's personal space
-            obstacles = np.vstack([rows, [(mx, my, b.personal_space)]])
-        else:                              # the main's personal space alone (see _step)
+        elif len(rows):                    # the others' discs, then the main's (Behavior.main_disc)
+            obstacles = np.vstack([rows, [(mx, my, b.main_disc)]])
+        else:                              # the main's disc alone (see _step)
             obstacles = self._space
             obstacles[0, 0], obstacles[0, 1] = mx, my
         self.source = target = sk.step(
