@@ -332,8 +332,9 @@ class Behavior:
         # 0.30-0.33 rad/s against 0.275). Tuning seeds 0-5, 8-13, 26-31 x3 runs
         # (relative_motion x 1, 1 +- 0.001), the bully's misses (the engine's alone) 67 (50)
         # -> 62 (55): orbit 21 -> 7, contact 26 -> 29, still/moving 20 -> 25 (which seconds of
-        # a pause a charge falls in moved); at 0.0485 m 52 (41), at the 0.5th percentile
-        # (0.051 m) 58 (44). bench/fidelity.py, one run per set, thresholds met 667 / 654 /
+        # a pause a charge falls in moved); at 1 +- 0.002 (two runs) 52 (39) -> 33 (26), orbit
+        # 16 -> 8, contact 20 -> 14; at 0.0485 m 52 (41), at the 0.5th percentile (0.051 m)
+        # 58 (44). bench/fidelity.py, one run per set, thresholds met 667 / 654 /
         # 649 -> 667 / 651 / 652 of 720, the others the same to the last digit
         self.main_disc = self.personal_space if self.personal_space > 0.0 else (
             float(self.distance.min()) if self.charging else 0.0)
