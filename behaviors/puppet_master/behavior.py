@@ -344,6 +344,20 @@ class Behavior:
         # loops paths against 0.8% demonstrated. See Reactor._step for the figures.
         near = float(np.percentile(self.distance, SPACE_PERCENTILE))
         self.personal_space = near if near >= TOUCH_M else 0.0
+        # the main's disc (m): the reactor is kept out of it (step.py, GenerationStep._detail).
+        # The personal space, or for a character that charges into its main (the bully) the
+        # least distance its demonstration shows, as its puck stops against the main's: its
+        # charges pressed on to 0.025-0.038 m (1st percentile, the least 0.008 m; 0.049 m
+        # demonstrated), where any step sideways is a fast turn round the main (orbit mean
+        # 0.30-0.33 rad/s against 0.275). Tuning seeds 0-5, 8-13, 26-31 x3 runs
+        # (relative_motion x 1, 1 +- 0.001), the bully's misses (the engine's alone) 67 (50)
+        # -> 62 (55): orbit 21 -> 7, contact 26 -> 29, still/moving 20 -> 25 (which seconds of
+        # a pause a charge falls in moved); at 1 +- 0.002 (two runs) 52 (39) -> 33 (26), orbit
+        # 16 -> 8, contact 20 -> 14; at 0.0485 m 52 (41), at the 0.5th percentile (0.051 m)
+        # 58 (44). bench/fidelity.py, one run per set, thresholds met 667 / 654 /
+        # 649 -> 667 / 651 / 652 of 720, the others the same to the last digit
+        self.main_disc = self.personal_space if self.personal_space > 0.0 else (
+            float(self.distance.min()) if self.charging else 0.0)
         # the demonstrated reactor's largest step (metres per sample; inf if it never moved)
         steps = np.hypot(*np.diff(self.react[:, :2], axis=0).T)
         self.largest_step = float(steps.max()) if steps.max() > 0.0 else math.inf

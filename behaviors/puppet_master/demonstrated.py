@@ -192,7 +192,25 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     main (0.071) made by its coast to a stop (0.141 over the first 0.25 s). Its designer on
     these paths keeps 0.05-0.065 there: it steers by the camera's jitter of the unseen mains
     (0.8 mm, read as 0.03-0.05 m/s, over its 0.03 m/s threshold), which its demonstration's
-    main never had. Not held up here."""
+    main never had. Not held up here.
+
+    The bully's two halves fixed together (Python step, seeds 0-5, 8-13, 26-31, three runs:
+    relative_motion x 1, 1 +- 0.001; its misses / still/moving misses against 67 / 20): beside
+    a still main its main-frame places held to the moment's pace (with the catch-up, three-step
+    mean cap, generation.mean_capped) and its world places mean-capped 96 / 39; only the part
+    of the main-frame correction round the main so held, with the world mean cap 86 / 28,
+    without it 78 / 20; main-frame places beside a still main held in the world 82 / 35, with
+    the mean cap 103 / 45; every lurking place in the world 84 / 26; the world mean cap alone
+    72 / 22; the lover's rule (main-frame places beside a still main held to its median pace
+    there, 0.194 m/s) 99 / 36, with the world mean cap 93 / 41. Both halves fixed bring it
+    nearer its own designer on the same path (mean |its ratio - the designer's| 0.24 ->
+    0.16-0.19; spread of its ratio over 0.971 0.26 -> 0.19-0.21) but lower (mean ratio over
+    0.971 0.99 -> 0.83-0.87). On these paths the designer's own bully has 0.78 (still 0.188,
+    moving 0.243 m/s, against 0.218 / 0.224 demonstrated; 0.71 on the fast paths, its lurk
+    carried with the faster main; it misses on 12 of 54 paths): the demonstration's 0.971 is
+    met on average only by the two halves' errors cancelling (at main-frame places beside a
+    still main it moves 0.21 m/s where the matched moments moved 0.17 and the demonstration
+    0.12; at world places 0.17 where they moved 0.22). Not used."""
     v, still = _paces(main, react, rate_hz, still_mps)
     if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
         return still, math.inf

@@ -181,7 +181,7 @@ class Reactor(GenerationStep):
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))
-        self._space = np.array([[0.0, 0.0, b.personal_space]])
+        self._space = np.array([[0.0, 0.0, b.main_disc]])
 
     def rebind(self, t: float, main_x: float, main_y: float, main_dir: float) -> None:
         """The main is another character from time ``t`` (one of several mains): its motion
@@ -303,13 +303,13 @@ class Reactor(GenerationStep):
         rows = self._obstacle_rows
         if rows is None:
             rows = self._obstacle_array()
-        if b.personal_space <= 0.0:
+        if b.main_disc <= 0.0:
             obstacles = rows
-        elif len(rows):         # the others' discs, then the main's personal space (see _step)
+        elif len(rows):         # the others' discs, then the main's (Behavior.main_disc)
             k = len(rows)
             obstacles = self._rows[:k + 1]
-            obstacles[k] = mx, my, b.personal_space
-        else:                   # the main's personal space alone
+            obstacles[k] = mx, my, b.main_disc
+        else:                   # the main's disc alone (see _step)
             obstacles = self._space
             obstacles[0, 0], obstacles[0, 1] = mx, my
         self.source = target = sk.step(

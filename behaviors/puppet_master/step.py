@@ -217,7 +217,19 @@ class GenerationStep:
                 # both 623 / 107 (contact 13, orbit 12); the top speed only before the touch,
                 # with that detail, 622 / 107 (contact 13, orbit 14, the still/moving ratio lost
                 # on 5); entering a charge at the moment as far from its main as the live
-                # reactor 617 / 104
+                # reactor 617 / 104.
+                # Traced again on seeds 0-5, 8-13, 26-31 x3 runs (Behavior.main_disc in place
+                # or not): contact is short on the fast paths (mean 0.128, 14 of 54 under
+                # 0.110; the designer 0.145) and over on the slow (0.173, 7 over 0.204; the
+                # designer 0.158). On the fast paths 20-30% of the charges never touch: a world
+                # place's cap is the moment's speed (0.26-0.43 m/s) while the live main walks
+                # away at 0.25-0.39 (seed 0 fast, 3.1 s: all 40 steps capped, 0.325 -> 0.097
+                # m). Raising that cap in a charge by the live main's step away from the
+                # reactor meets the fast paths (14 -> 1-5 low) but overshoots the slow and
+                # loops paths and orbits: bully misses 67 -> 106 (contact 34, orbit 43); at
+                # most the top speed 80 (18, 37), with the main's disc 60 (contact 3 under on
+                # the fast paths, 13 over on both others); only while farther than the moment
+                # 73; the main's step away added after the cap 115 (orbit 62). None kept
             # a place held in the world moves at the demonstrated speed, as the paper's step,
             # its drift correction included. The correction on top of the cap (cap + share x
             # distance to the place) keeps the lover at its distance beside slow mains (0.14 ->
@@ -367,8 +379,8 @@ class GenerationStep:
         # moved; contact lost on 5 paths); at the 0.5th percentile for every character: 603
         # and 99
         others = self.obstacles
-        if b.personal_space > 0.0:
-            others = [*others, (mx, my, b.personal_space)]
+        if b.main_disc > 0.0:            # the personal space, or a charger's least distance
+            others = [*others, (mx, my, b.main_disc)]
         if others:
             nx, ny = keep_apart(rx + sx, ry + sy, others, self.table)
             sx, sy = nx - rx, ny - ry
