@@ -209,6 +209,9 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._lost = 0
         self._shape = np.zeros(len(self.names))
         self._shape_n = 0
+        # the last squared distance off each followed state, and the samples in a row it grew
+        # (shape_lead.ShapeLead._drifts)
+        self._drift, self._drift_run = np.zeros(len(self.names)), np.zeros(len(self.names))
         self._gone = np.zeros(len(self.names))
         self._acquired = -1
         # begun by abandonment, and the input's way to its anchor (validity.unbegun)

@@ -85,6 +85,8 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._crawl[rows] = (0, -1)   # as ActionFollower.reset: no crawl, no best
         mine = self._owner_of(rows)
         self._shape[mine] = 0.0
+        self._drift[mine] = 0.0
+        self._drift_run[mine] = 0.0
         self._gone[mine] = 0.0
 
     def reset(self) -> None:
@@ -148,7 +150,7 @@ class FollowerGroup(GroupArrays, GroupRules):
         if lost:
             saved = fw.snapshot(np.flatnonzero(self._owner_of(lost)))
             kept = [(n, getattr(self, n)[self._owner_of(lost)].copy())
-                    for n in self._PER_TEMPLATE + ("_shape", "_gone")]
+                    for n in self._PER_TEMPLATE + ("_shape", "_drift", "_drift_run", "_gone")]
             kept += [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
         step_ll = fw.step(self._z)
         if saved is not None:
@@ -219,7 +221,7 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._drive_from, self._drive_peak, self._turn_ok, self._extent, self._peak,
             self._peak_k, variance, valid, loglik, distance, show, holding, prog_b, restart,
             self._gone, self._shared, self._sh_off, self._drive_moved, self._m_rest,
-            self._crawl, self._end_last, self._m_committed)
+            self._crawl, self._end_last, self._m_committed, self._drift_run)
         any_engaged = self._m_any_engaged
         gb = self._bounds + self._best
         gbl = gb.tolist()

@@ -64,6 +64,8 @@ class GroupArrays:
         self._holds = np.concatenate([f.bank.holds for f in fs])
         self._shape = np.zeros(len(self._owner))      # spotting's shape sums (per template)
         self._shape_n = np.zeros(m)   # ... and their samples (per member)
+        self._drift = np.zeros(len(self._owner))      # ... the last one's, and its run (_drifts)
+        self._drift_run = np.zeros(len(self._owner))
         self._gone = np.zeros(len(self._owner))       # spotting's highest progress (per template)
         # spotting's shared starts (sharing.shared_until, ``share_radius``): each member's
         # (K_i, K_i) flattened, from _sh_off[i]; -1 for members without

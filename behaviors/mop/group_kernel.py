@@ -31,7 +31,7 @@ from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
-from behaviors.mop.shape_lead import KEPT_COMMIT, TAKE_FIT
+from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import UNJUDGED_AT_REST
 from behaviors.kernel_cache import compiled
 
@@ -64,7 +64,7 @@ AHEAD = 2
 _MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
-          "_gone", "_least", "_judged")
+          "_gone", "_least", "_judged", "_drift", "_drift_run")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")
 
@@ -108,6 +108,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     each template's tolerance there (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
+    drift, drift_run = floats[11], floats[12]
     refused, engaged, misshaped = flags[0], flags[1], flags[2]
     covered, at_hold_end = flags[3], flags[4]
     d = x.shape[1]
@@ -378,6 +379,10 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 r = dx[c] / t[sc0 + c] / ssz
                 mv += r * r
             shape[k] += acc * spots
+            if spots > 0.0:   # ... and the run of samples it drifts further off (_drifts)
+                rising = acc > drift[k] and acc > dims * DRIFT_FROM ** 2
+                drift_run[k] = drift_run[k] + 1.0 if rising else 0.0
+                drift[k] = acc
             mv = mv / dims
             if mv > moving:
                 moving = mv

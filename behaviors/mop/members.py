@@ -22,7 +22,7 @@ import numpy as np
 
 from behaviors.mop import handover, shape_lead, spotting, validity
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM
-from behaviors.mop.shape_lead import COMMIT_FIT
+from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
                                    RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
@@ -206,14 +206,15 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.boolean[:, ::1], _F1, _F1, _F1, _F1,
                    _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1, _I1,
                    _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2, _F2, _B1),
+                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2, _F2, _B1,
+                   _F1),
           *_CALLS_INTO)
 def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
              x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
              run, run_k, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k,
              drive_from, drive_peak, turn_ok, extent, peak, peak_k,
              variance, valid, loglik, distance, show, holding, prog, restart, highest, shared,
-             sh_off, drive_moved, rest, crawl, end_last, committed) -> None:
+             sh_off, drive_moved, rest, crawl, end_last, committed, drift_run) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -227,7 +228,8 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     measured once by the per-template pass; a member without a sample is put back after the
     tick); ``crawl``: each member's crawling run and its best, as
     :func:`~behaviors.mop.member_validity.tempo` left them;
-    ``committed``: ``best`` committed to by shape (drives however improbable).
+    ``committed``: ``best`` committed to by shape (drives however improbable); ``drift_run``
+    (K,): the samples in a row each template drifted further off (:meth:`ShapeLead._drifts`).
 
     In place: ``run`` (samples in a row ``best`` was ok) and whose they are (``run_k``),
     ``acquired`` (and the last action that drove, where it began and its
@@ -272,7 +274,9 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         # a new action drives only once its shape clearly leads, the input turned as it does
         # and its start is no longer shared with another the input still fits (spotting)
         # ... and no action drives once it crawled CRAWL_SAMPLES samples in a row (crawls)
-        ok = ok and not (spots and 0 < CRAWL_SAMPLES <= crawl[i, 0]) and (
+        # ... nor once the input drifted further off it DRIFT_SAMPLES in a row (_drifts)
+        ok = ok and not (spots and 0 < CRAWL_SAMPLES <= crawl[i, 0]) and not (
+            spots and 0 < DRIFT_SAMPLES <= drift_run[gb]) and (
             not spots or acquired[i] == bi or (
             leads[i] and turn_ok[i] and not (sh_off[i] >= 0 and shares(
                 bounds[i], bounds[i + 1] if i + 1 < bounds.size else ti.shape[0], gb,

@@ -316,7 +316,9 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     plain = sum(f.step(x).valid
                 for f, s in zip([puck_follower(gestures, **tight) for _ in streams], streams)
                 for x in s)
-    assert valid <= plain - 8, (valid, plain)   # measured 71 vs 82
+    # measured 37 vs 44 (71 vs 82 before shape_lead.DRIFT_SAMPLES refused the same motions'
+    # drifts off the templates they took)
+    assert valid <= plain - 5, (valid, plain)
 
 
 def test_a_group_takes_nothing_back_the_way_an_abandoned_attempt_came(monkeypatch):
