@@ -162,6 +162,17 @@ def test_kiosk_seconds_count_from_the_first_ready_restarts_included(tmp_path):
     assert crashes == 1, out.stderr[-2000:]   # before: 2 (the second child's crash too)
 
 
+def _run_until(sup: Supervisor, done, timeout_s: float) -> None:
+    """Run the supervisor in a thread until ``done()`` or ``timeout_s`` seconds, then stop it."""
+    th = threading.Thread(target=sup.run)
+    th.start()
+    end = time.monotonic() + timeout_s
+    while time.monotonic() < end and not done():
+        time.sleep(0.02)
+    sup.stop.set()
+    th.join(30)
+
+
 def test_the_crash_log_rotates_as_the_kiosk_log_does(tmp_path):
     """A table crashing again and again for weeks: the crash log is kept to max_bytes x
     (backups + 1) (it grew without end: 3.3 KB a crash of a real installation)."""
@@ -169,13 +180,7 @@ def test_the_crash_log_rotates_as_the_kiosk_log_does(tmp_path):
     crash = "import sys; sys.stderr.write('the same native crash ' * 20 + '\\n'); sys.exit(1)"
     sup = Supervisor([sys.executable, "-c", crash], Policy(backoff_s=(0.0, 0.0)), crash_log,
                      echo=False, spares=0, crash_log_max_bytes=2000, crash_log_backups=2)
-    th = threading.Thread(target=sup.run)
-    th.start()
-    end = time.monotonic() + 60
-    while time.monotonic() < end and sup.crashes < 30:
-        time.sleep(0.05)
-    sup.stop.set()
-    th.join(30)
+    _run_until(sup, lambda: sup.crashes >= 30, 60.0)
     assert sup.crashes >= 30
     files = sorted(p.name for p in crash_log.parent.iterdir())
     assert files == ["crashes.log", "crashes.log.1", "crashes.log.2"], files
@@ -191,13 +196,7 @@ def test_the_supervisor_keeps_its_last_events_not_every_one(tmp_path, monkeypatc
     sup = Supervisor([sys.executable, "-c", "import sys; sys.exit(1)"],
                      Policy(backoff_s=(0.001, 0.001)), tmp_path / "crashes.log", echo=False,
                      spares=0)
-    th = threading.Thread(target=sup.run)
-    th.start()
-    end = time.monotonic() + 30
-    while time.monotonic() < end and sup.starts < 6:
-        time.sleep(0.02)
-    sup.stop.set()
-    th.join(30)
+    _run_until(sup, lambda: sup.starts >= 6, 30.0)
     assert sup.starts >= 6
     assert list(sup.events) == [("crash", t) for _, t in sup.events] and len(sup.events) == 3
     assert len(sup.warm) == 3

@@ -83,16 +83,19 @@ def test_a_new_best_drives_only_after_its_own_confirmation(crawl_stream):
     assert wrong_valid(states, truth, prog, order, everything)["longest"] <= 8
 
 
-def test_a_group_confirms_a_new_best_as_its_followers_alone(crawl_stream):
-    everything, x = crawl_stream[0], crawl_stream[1]
-    kws = [dict(units=np.ones(2), invariance="scale"),
-           dict(units=np.ones(2), invariance="scale", confirm=3)]
+def _group_equals_alone(everything: dict, x: np.ndarray, confirms: tuple[int, int]) -> None:
+    """A group of two scale-invariant followers (their ``confirm`` given) steps as each alone."""
+    kws = [dict(units=np.ones(2), invariance="scale", confirm=c) for c in confirms]
     alone = [ActionFollower(everything, **kw) for kw in kws]
     group = FollowerGroup([ActionFollower(everything, **kw) for kw in kws])
     from tests.mop.test_group import _same
     for s in x:
         for u, v in zip([f.step(s) for f in alone], group.step([s, s])):
             _same(u, v)
+
+
+def test_a_group_confirms_a_new_best_as_its_followers_alone(crawl_stream):
+    _group_equals_alone(crawl_stream[0], crawl_stream[1], (2, 3))
 
 
 @pytest.fixture(scope="module")
@@ -124,12 +127,4 @@ def test_an_action_followed_at_a_crawl_past_its_finish_hands_over(dance_then_pun
 
 
 def test_a_group_hands_over_a_crawling_finished_action_as_its_followers_alone(dance_then_punch):
-    everything, x = dance_then_punch[0], dance_then_punch[1]
-    kws = [dict(units=np.ones(2), invariance="scale"),
-           dict(units=np.ones(2), invariance="scale", confirm=1)]
-    alone = [ActionFollower(everything, **kw) for kw in kws]
-    group = FollowerGroup([ActionFollower(everything, **kw) for kw in kws])
-    from tests.mop.test_group import _same
-    for s in x:
-        for u, v in zip([f.step(s) for f in alone], group.step([s, s])):
-            _same(u, v)
+    _group_equals_alone(dance_then_punch[0], dance_then_punch[1], (2, 1))

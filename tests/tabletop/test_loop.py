@@ -235,14 +235,18 @@ class AnnouncingSource(CountingSource):
     def _run(self) -> None:
         next_t = time.monotonic() + self.phase
         while not self._stop.wait(max(0.0, next_t - time.monotonic())):
-            t = time.monotonic()
-            self.produced += 1
-            with self._lock:
-                self._latest = Observation(self.name, t, self.produced)
-            self.announced.append(t)
-            if self.notify is not None:
-                self.notify(t)
+            self._announce()
             next_t += 1.0 / self.hz
+
+    def _announce(self) -> None:
+        """A frame now: kept as the latest and announced to the loop."""
+        t = time.monotonic()
+        self.produced += 1
+        with self._lock:
+            self._latest = Observation(self.name, t, self.produced)
+        self.announced.append(t)
+        if self.notify is not None:
+            self.notify(t)
 
 
 @pytest.mark.parametrize("follow", [True, False])
@@ -286,13 +290,7 @@ class LateSource(AnnouncingSource):
             due = start + k / self.hz + (self.late if k % self.every == 1 else 0.0)
             if self._stop.wait(max(0.0, due - time.monotonic())):
                 return
-            t = time.monotonic()
-            self.produced += 1
-            with self._lock:
-                self._latest = Observation(self.name, t, self.produced)
-            self.announced.append(t)
-            if self.notify is not None:
-                self.notify(t)
+            self._announce()
             k += 1
 
 
