@@ -105,7 +105,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     (``committed_out``: :meth:`ShapeLead._committed`; ``shape_n``: each member's samples
     in its shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
     ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
-    each template's tolerance there (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
+    each template's tolerance there
+    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run = floats[11], floats[12]

@@ -186,9 +186,9 @@ class Recognition:
             back = unbegun(self._abandoned, x - self._anchor, self._came)
             self._abandoned, self._abandon_rested = still_unbegun(self._abandoned,
                                                                   self._abandon_rested, rests)
-            ok = ok and not crawls(self._crawl) and not self._drifts(bi) and (self._acquired == bi or (
-                leads and turned and not self._shares(bi, float(g[bi]), progress) and not slow
-                and not back))
+            ok = ok and not crawls(self._crawl) and not self._drifts(bi) and (
+                self._acquired == bi or (leads and turned and not slow and not back
+                                         and not self._shares(bi, float(g[bi]), progress)))
             self._remember_tempo(g - b.starts, x)
             if self._drive_k == bi:
                 # an action that has not yet carried its performer forward does not drive
