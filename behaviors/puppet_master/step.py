@@ -297,8 +297,7 @@ class GenerationStep:
             recent = self._main_recent
             if len(recent) == recent.maxlen and (b.walked[target] or (
                     b.walks_with_main and place != PLACE_WORLD)):
-                ox, oy = recent[0]
-                if math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S:
+                if self._main_stands(mx, my):
                     cap = min(cap, b.still_speed * self.dt)
             if place == PLACE_WORLD and self._charge_end < 0 and b.walks_with_main:
                 # a character that walks with its main (Behavior.walks_with_main: the lover) at
@@ -419,6 +418,12 @@ class GenerationStep:
         lg.observe_look(wrap_angle(turned - look))
         return turned
 
+    def _main_stands(self, mx: float, my: float) -> bool:
+        """Whether the main at (mx, my) is within the still distance (STILL_MPS over
+        STILL_SPAN_S, metres) of the oldest of its last positions (``_main_recent``)."""
+        ox, oy = self._main_recent[0]
+        return math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
+
     def _features(self, target: int, mx: float, my: float, md: float, rx: float, ry: float,
                   look: float) -> None:
         """The new sample pair's features (section 4.2) into the search windows."""
@@ -427,8 +432,7 @@ class GenerationStep:
         vr, move_r, ddir_r = self.react_motion.step(rx, ry)
         fwd, left, rel_look = ft.relative_pose(mx, my, md, rx, ry, look)
         ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
-        ox, oy = self._main_recent[0]
-        still = math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
+        still = self._main_stands(mx, my)
         ft.still_row(self._xs, b.scales, still, ft.SITUATION_DIMS)
         ft.room_row(self._xs, b.scales, mx, my, rx, ry, self.table)
         self.situation.push(self._xs)

@@ -130,6 +130,15 @@ def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
     return c * dx + s * dy, -s * dx + c * dy, (math.pi if d == -math.pi else d)
 
 
+@compiled(numba.boolean(_F2, _I1, _f8, _f8, _f8), step_math)
+def main_stands(recent: np.ndarray, ints: np.ndarray, mx: float, my: float,
+                distance: float) -> bool:
+    """GenerationStep._main_stands: the main at (mx, my) within ``distance`` metres of the
+    oldest of its last positions (the ring ``recent``, its first slot while not yet full)."""
+    o = ints[RECENT_HEAD] if ints[RECENT_COUNT] == recent.shape[0] else 0
+    return hypot(mx - recent[o, 0], my - recent[o, 1]) < distance
+
+
 @compiled(numba.boolean(_F1, numba.int64[::1], _F1, _f8, _f8), step_math)
 def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: float,
            coherence_cost: float) -> bool:
@@ -241,8 +250,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         cap = (speed if place == PLACE_WORLD else c[TOP_SPEED]) * dt
         if ints[RECENT_COUNT] == m and (row[T_WALKED] != 0.0 or (
                 c[WALKS_WITH_MAIN] != 0.0 and place != PLACE_WORLD)):
-            ox, oy = recent[head, 0], recent[head, 1]      # the oldest
-            if hypot(mx - ox, my - oy) < c[STILL_DISTANCE]:
+            if main_stands(recent, ints, mx, my, c[STILL_DISTANCE]):
                 cap = _min(cap, c[STILL_SPEED] * dt)
         if place == PLACE_WORLD and ints[CHARGE_END] < 0 and c[WALKS_WITH_MAIN] != 0.0:
             # the mean of three raw steps held to the cap (generation.mean_capped)
@@ -329,8 +337,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     at = 6
     still = 0.0
     if c[S_STILL] > 0.0:            # the main's still/moving state (features.still_row)
-        o = head if ints[RECENT_COUNT] == m else 0        # the oldest
-        if hypot(mx - recent[o, 0], my - recent[o, 1]) < c[STILL_DISTANCE]:
+        if main_stands(recent, ints, mx, my, c[STILL_DISTANCE]):
             still = c[S_STILL]
         xs[6] = still
         at = 7
