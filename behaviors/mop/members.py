@@ -186,6 +186,13 @@ def spot(has_end: bool, still_: bool, step_d2: float, null2: float, ok: bool, go
     return GOES_ON
 
 
+@compiled(numba.boolean(numba.float64, numba.float64, numba.boolean), *_CALLS_INTO)
+def finished_short(peak: float, progress: float, crawls: bool) -> bool:
+    """:func:`behaviors.mop.handover.finished` (its :data:`FINISH_CRAWLS` as compiled): the
+    action driving, at highest progress ``peak``, ended though never reaching its end."""
+    return peak >= FINISH_FROM and (peak - progress >= FINISH_BACK or (crawls and FINISH_CRAWLS))
+
+
 @compiled(numba.boolean(numba.intp, numba.intp, numba.intp, numba.intp, _I1, numba.intp, _B1, _B1,
                       _F1, _F1), *_CALLS_INTO)
 def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, refused: np.ndarray,
@@ -286,8 +293,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             ok = ok and not (drive_peak[i] - drive_from[i] < FORWARD_FIRST
                              and progress[gb] < drive_from[i] - BACK_FIRST)
             # ... nor once its performer finished it short of its end (handover.finished)
-            ok = ok and not (drive_peak[i] >= FINISH_FROM and (
-                drive_peak[i] - progress[gb] >= FINISH_BACK or (crawl[i, 0] > 0 and FINISH_CRAWLS)))
+            ok = ok and not finished_short(drive_peak[i], progress[gb], crawl[i, 0] > 0)
             # ... nor, moved without carrying the performer forward, holds them at rest (stalls)
             ok = ok and not (rests and drive_moved[i]
                              and drive_peak[i] - drive_from[i] < CARRY_FIRST)
@@ -323,8 +329,7 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
             # finished short of its end (handover.finished): ended where the input came nearest
             # its last point
             done = (not has_end[i] and not ended and drive_k[i] == bi
-                    and drive_peak[i] >= FINISH_FROM and (
-                        drive_peak[i] - pb >= FINISH_BACK or (crawl[i, 0] > 0 and FINISH_CRAWLS)))
+                    and finished_short(drive_peak[i], pb, crawl[i, 0] > 0))
             ended = ended or done
             if not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
                 # GestureSpotting._returned: back at the last point while followed backwards
