@@ -65,9 +65,10 @@ def main(args: argparse.Namespace) -> int:
     summary = st.summary_ms()
     import logging
     age = summary.get("capture_age")   # none while no source delivered (a camera unplugged)
+    latency = "%.1f ms median, %.1f ms p99" % age if age else "none (nothing was captured)"
     logging.getLogger("tabletop").info(
         "ran %d ticks in %.2f s at %.1f fps; capture-to-render %s", runner.ticks, runner.run_s,
-        st.fps() or 0.0, "%.1f ms median, %.1f ms p99" % age if age else "none (nothing was captured)")
+        st.fps() or 0.0, latency)
     recorder = inst.recorder
     if recorder is not None and recorder.failed:
         logging.getLogger("tabletop").error("the recording failed: %s", recorder.failed)
