@@ -12,7 +12,6 @@ import platform
 import sys
 import time
 from importlib import metadata
-
 from typing import Any, Callable, Sequence
 
 import numpy as np
