@@ -115,13 +115,20 @@ class StalledCamera:
         pass
 
 
-def test_headless_snapshots_go_on_while_the_camera_is_down(tmp_path):
+def _snapshotting_loop(tmp_path, every_s: float) -> Loop:
+    """A headless 320x200 view snapshotting every ``every_s`` s into tmp_path/snaps, fed by a
+    stalled camera."""
     cfg = validate_config({"sources": [{"kind": "scripted"}],
-                           "view": {"headless": True, "size": [320, 200], "snapshot_every_s": 0.3,
-                                    "snapshot_folder": "snaps"}}, "test", tmp_path)
+                           "view": {"headless": True, "size": [320, 200],
+                                    "snapshot_every_s": every_s, "snapshot_folder": "snaps"}},
+                          "test", tmp_path)
     stats = LoopStats()
     view = ProjectorView((1.2, 0.8), cfg["view"], stats=stats, headless=True)
-    loop = Loop(LiveInputs([StalledCamera()], LatestMeasurements()), [], [view], stats=stats)
+    return Loop(LiveInputs([StalledCamera()], LatestMeasurements()), [], [view], stats=stats)
+
+
+def test_headless_snapshots_go_on_while_the_camera_is_down(tmp_path):
+    loop = _snapshotting_loop(tmp_path, 0.3)
     loop.run(seconds=1.6)
     snaps = sorted((tmp_path / "snaps").glob("snapshot-*.png"))
     # the first after 0.3 s, then every 0.3 s: 5 in 1.6 s (the last may still be being written)
@@ -238,12 +245,7 @@ def test_a_snapshots_health_panel_leaves_the_overlays_line_cache_alone(tmp_path)
     by line: kept, the overlay's line cache grew by each snapshot's lines to its 257 renders
     and was cleared, again and again, for nothing seen twice."""
     from tabletop.drawing import screens
-    cfg = validate_config({"sources": [{"kind": "scripted"}],
-                           "view": {"headless": True, "size": [320, 200], "snapshot_every_s": 0.2,
-                                    "snapshot_folder": "snaps"}}, "test", tmp_path)
-    stats = LoopStats()
-    view = ProjectorView((1.2, 0.8), cfg["view"], stats=stats, headless=True)
-    loop = Loop(LiveInputs([StalledCamera()], LatestMeasurements()), [], [view], stats=stats)
+    loop = _snapshotting_loop(tmp_path, 0.2)
     screens._panel_lines.clear()
     loop.run(seconds=1.1)
     assert len(list((tmp_path / "snaps").glob("snapshot-*.png"))) >= 3
