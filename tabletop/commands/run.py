@@ -66,9 +66,14 @@ def main(args: argparse.Namespace) -> int:
     import logging
     age = summary.get("capture_age")   # none while no source delivered (a camera unplugged)
     latency = "%.1f ms median, %.1f ms p99" % age if age else "none (nothing was captured)"
+    # the rate over the kept window; a run shorter than that window has none yet (LoopStats.fps)
+    # and says its own average, not 0.0 fps (a loop that stalled)
+    rate = st.fps()
+    if rate is None:
+        rate = runner.ticks / runner.run_s if runner.run_s > 0 else 0.0
     logging.getLogger("tabletop").info(
         "ran %d ticks in %.2f s at %.1f fps; capture-to-render %s", runner.ticks, runner.run_s,
-        st.fps() or 0.0, latency)
+        rate, latency)
     recorder = inst.recorder
     if recorder is not None and recorder.failed:
         logging.getLogger("tabletop").error("the recording failed: %s", recorder.failed)

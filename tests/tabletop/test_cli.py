@@ -48,6 +48,19 @@ def test_run_headless_two_seconds_records_consecutive_frames(tmp_path):
     assert all(len(f["pucks"]) >= 1 for f in frames[len(frames) // 2:])
 
 
+def test_a_run_shorter_than_a_second_says_its_own_rate():
+    """Under a second there is no windowed rate yet: the last line gives the run's own average
+    (ticks over seconds), not 0.0 fps, which reads as a loop that stalled."""
+    r = tabletop("run", "--config", "config.yaml", "--headless", "--seconds", "0.5")
+    assert r.returncode == 0, r.stderr
+    (ran,) = [ln for ln in r.stderr.splitlines() if "ran " in ln and " ticks in " in ln]
+    ticks = int(ran.split("ran ")[1].split()[0])
+    run_s = float(ran.split(" ticks in ")[1].split()[0])
+    fps = float(ran.split(" at ")[1].split()[0])
+    assert ticks >= 5 and fps > 0.0
+    assert abs(fps - ticks / run_s) <= 0.05 * ticks / run_s + 0.1
+
+
 def test_a_run_that_captured_nothing_says_so_in_its_last_line(tmp_path):
     """A camera that never opens: the run goes on ("one moment") and its last line says no
     capture was rendered, not "nan ms"."""
