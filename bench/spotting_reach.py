@@ -17,8 +17,8 @@ where no observer could tell them apart so early, by their reach at 2 mm.
 What holds each gesture back (:func:`gates`): in the same sequences, for each rule an action must
 pass before it drives (:data:`GATES`), the progress of the gesture from which that rule held for
 the true template without a break until the gesture was recognised; per gesture the median, and
-the rule whose median is latest (printed as ``{gesture}_last_gate``; ``--debug`` prints every
-gesture performed).
+the rules whose median is latest (printed as ``{gesture}_last_gate``, joined by ``+`` where
+several clear at the same sample; ``--debug`` prints every gesture performed).
 
 Which wrong runs any follower could have avoided (``follow_quality.sequences`` among a few
 gestures, with :func:`indistinguishable`): in the same sequences, each tick where a wrong
@@ -108,7 +108,9 @@ def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float
 #: What an action must pass before it drives (:mod:`behaviors.mop.follower`,
 #: :mod:`behaviors.mop.validity`, :mod:`behaviors.mop.spotting`): engaged (past its onset),
 #: accepted (not refused), covered (``coverage`` of its path), on its path (no misfit),
-#: probable (``min_probability`` with the threshold model counted), best (switch margin), leads
+#: probable (``min_probability`` with the threshold model counted, or committed to by shape,
+#: :meth:`~behaviors.mop.shape_lead.ShapeLead._committed`, which drives however improbable: the
+#: circle drives at 0.26 of itself with a probability of 0.00-0.13), best (switch margin), leads
 #: (in shape by ``shape_lead.LEAD``), unshared (its start no longer shared with another template
 #: the input fits, :meth:`~behaviors.mop.spotting.GestureSpotting._shares`: what holds the line,
 #: whose other gates all pass from about its reach, until 0.43-0.50 of it).
@@ -126,7 +128,7 @@ def gate_state(f: ActionFollower, k: int) -> tuple[bool, ...]:
     g = float(b.starts[k] + min(f.forward.mean[k], b.lengths[k] - 1.0))
     progress = np.array([f._state.progress_by[n] for n in f.names])
     return (bool(f._engaged[k]), not f._refused[k], bool(f._covered[k]), not f._misshaped[k],
-            bool(p[k] >= f.min_probability), f._best == k, bool(lead),
+            bool(p[k] >= f.min_probability or f._committed() == k), f._best == k, bool(lead),
             not f._shares(k, g, progress))
 
 
@@ -208,7 +210,8 @@ def main() -> None:
         medians = {gate: float(np.median(v)) for gate, v in by_gate.items()}
         for gate, v in medians.items():
             figures[f"{name}_gate_{gate}_progress_median"] = v
-        print(f"{name}_last_gate".ljust(50), max(medians, key=medians.get))
+        last = max(medians.values())   # the rules that clear at the same sample, all named
+        print(f"{name}_last_gate".ljust(50), "+".join(g for g, v in medians.items() if v == last))
     figures["recognised_within_20pct_share"] = float(np.mean([p <= 0.2 for _, p in record]))
     figures["recognised_within_20pct_or_reach_share"] = float(np.mean([p <= max(0.2, reach[g])
                                                                        for g, p in record]))
