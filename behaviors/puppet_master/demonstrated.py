@@ -203,8 +203,9 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     generation 0.246 / 0.336 / 0.305. On the fast paths the generation stops late: the 0.5 s
     ring tells the stop 0.25 s into the bench's still window, and until then it goes on at
     0.23-0.34 m/s (matched moments whose main walked, 0.27-0.32) where its designer coasts at
-    0.17-0.21 (the demonstration 0.141). The stop read over the last 0.25 s for this cap (the
-    main within 0.005 m of each of its last 10 positions) brings the fast paths to 0.261 and
+    0.17-0.21 (the demonstration 0.141): its cap reads the stop over 0.2 s instead
+    (behavior.STOP_SPAN_S, with the figures). Read over 0.25 s (the main within 0.005 m of
+    each of its last 10 positions) it brings the fast paths to 0.261 and
     the slow to 0.288 (means of four runs: relative_motion x 1, 1 + 0.001, 1 - 0.001,
     1 + 0.002; the generation's distance from its clean-path designer's figure, mean over the
     54 paths, 0.090 -> 0.059) and the stalker's still/moving misses over those seeds 11 / 11 /
@@ -215,7 +216,7 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     more: the loops paths fall further under 0.2). Only the oldest of those positions read
     (as the 0.5 s ring is) 39 / 38 / 37 / 40 (25 / 24 / 24 / 27); coasting down to this cap at
     1.8 m/s^2 (the demonstration's 5th percentile of deceleration over 0.1 s) 35 (24); the
-    texture governor's filter left out beside a standing main 35 (22). Not used.
+    texture governor's filter left out beside a standing main 35 (22). Neither used.
 
     The bully's two halves fixed together (Python step, seeds 0-5, 8-13, 26-31, three runs:
     relative_motion x 1, 1 +- 0.001; its misses / still/moving misses against 67 / 20): beside
