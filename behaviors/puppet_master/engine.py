@@ -178,6 +178,8 @@ class Reactor(GenerationStep):
                                                  b.personal_space, float(b.keeps_pace))
         c[sk.WALKS_WITH_MAIN] = float(b.walks_with_main)
         c[sk.LARGEST_STEP] = b.largest_step
+        span = min(b.stop_span, self._main_recent.maxlen - 1)    # as GenerationStep._main_stopped
+        c[[sk.STOP_SPAN, sk.STOP_DISTANCE]] = span, STILL_MPS * span / p.rate_hz
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)
         self._recent = np.zeros((self._main_recent.maxlen, 2))

@@ -297,7 +297,7 @@ class GenerationStep:
             recent = self._main_recent
             if len(recent) == recent.maxlen and (b.walked[target] or (
                     b.walks_with_main and place != PLACE_WORLD)):
-                if self._main_stands(mx, my):
+                if self._main_stopped(mx, my) if b.keeps_pace else self._main_stands(mx, my):
                     cap = min(cap, b.still_speed * self.dt)
             if place == PLACE_WORLD and self._charge_end < 0 and b.walks_with_main:
                 # a character that walks with its main (Behavior.walks_with_main: the lover) at
@@ -423,6 +423,14 @@ class GenerationStep:
         STILL_SPAN_S, metres) of the oldest of its last positions (``_main_recent``)."""
         ox, oy = self._main_recent[0]
         return math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
+
+    def _main_stopped(self, mx: float, my: float) -> bool:
+        """Whether the main at (mx, my) is within STILL_MPS x the stop span (metres) of each of
+        its last Behavior.stop_span positions before it (behavior.STOP_SPAN_S)."""
+        r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
+        d = STILL_MPS * k / self.behavior.params.rate_hz
+        return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
+                              for j in range(1, k + 1))
 
     def _features(self, target: int, mx: float, my: float, md: float, rx: float, ry: float,
                   look: float) -> None:

@@ -61,7 +61,8 @@ DT, RATE, MIN_SPEED, CATCH_UP, GAIN, TOP_SPEED, STILL_SPEED, MAX_TURN, \
 WALKS_WITH_MAIN = 45  # after TARGET_TABLE: x0, y0, x1, y1 of Reactor.target_table
 LARGEST_STEP = 46
 S_STILL = 47          # the weight of the main's still/moving state (0: not a feature)
-CONSTANTS = 48
+STOP_SPAN, STOP_DISTANCE = 48, 49   # Behavior.stop_span (held to the ring) and its distance
+CONSTANTS = 50
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -137,6 +138,19 @@ def main_stands(recent: np.ndarray, ints: np.ndarray, mx: float, my: float,
     oldest of its last positions (the ring ``recent``, its first slot while not yet full)."""
     o = ints[RECENT_HEAD] if ints[RECENT_COUNT] == recent.shape[0] else 0
     return hypot(mx - recent[o, 0], my - recent[o, 1]) < distance
+
+
+@compiled(numba.boolean(_F2, _I1, _f8, _f8, numba.int64, _f8), step_math)
+def main_stopped(recent: np.ndarray, ints: np.ndarray, mx: float, my: float, span: int,
+                 distance: float) -> bool:
+    """GenerationStep._main_stopped: the main at (mx, my) within ``distance`` metres of each
+    of the ``span`` positions before the newest in the ring ``recent``."""
+    m = recent.shape[0]
+    for j in range(1, span + 1):
+        o = (ints[RECENT_HEAD] - 1 - j) % m
+        if not hypot(mx - recent[o, 0], my - recent[o, 1]) < distance:
+            return False
+    return span >= 1
 
 
 @compiled(numba.boolean(_F1, numba.int64[::1], _F1, _f8, _f8), step_math)
@@ -250,7 +264,9 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         cap = (speed if place == PLACE_WORLD else c[TOP_SPEED]) * dt
         if ints[RECENT_COUNT] == m and (row[T_WALKED] != 0.0 or (
                 c[WALKS_WITH_MAIN] != 0.0 and place != PLACE_WORLD)):
-            if main_stands(recent, ints, mx, my, c[STILL_DISTANCE]):
+            if main_stopped(recent, ints, mx, my, int(c[STOP_SPAN]), c[STOP_DISTANCE]) if (
+                    c[KEEPS_PACE] != 0.0) else main_stands(recent, ints, mx, my,
+                                                           c[STILL_DISTANCE]):
                 cap = _min(cap, c[STILL_SPEED] * dt)
         if place == PLACE_WORLD and ints[CHARGE_END] < 0 and c[WALKS_WITH_MAIN] != 0.0:
             # the mean of three raw steps held to the cap (generation.mean_capped)
