@@ -187,11 +187,13 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     target = (jc if use_c else js) + 1
     ints[USED_COHERENCE] = 1 if use_c else 0
     # a charge the match has entered is kept whole to the end of its push
+    ended = False
     if 0 <= ints[SOURCE] < ints[CHARGE_END]:
         target = ints[SOURCE] + 1
         ints[KEPT_CHARGE] = 1
     else:
         ints[KEPT_CHARGE] = 0
+        ended = ints[CHARGE_END] >= 0
         ints[CHARGE_END] = int(table[target, T_CHARGE_END])
         if ints[CHARGE_END] >= 0:
             ints[PATCH_OFFSET] = int(c[PATCH_LENGTH])     # DetailPatch.restart
@@ -284,6 +286,10 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         step_cap = cap
     else:
         sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * dt)
+    if ended:           # a kept charge has ended: the smooths restart at the raw step
+        for q in range(smooth_x.size):
+            smooth_x[q], smooth_y[q] = sx, sy
+        fs[EMA_X], fs[EMA_Y] = sx, sy
     # StepSmoother.push
     size = smooth_x.size
     i = ints[SMOOTH_I]
