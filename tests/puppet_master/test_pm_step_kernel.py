@@ -77,8 +77,9 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
         demo = demos.circling(m) if kind == "circling" else demos.follow_behind(m)
     b = Behavior.train(demo, **params)
     # the main's still/moving state among the situation features where the reactor stops
-    # with its main (the follower, the stalker), then the room where weighed
-    still = kind in ("follow", "stalker")
+    # with its main (the follower, the stalker) or keeps away from it (a personal space, not
+    # walking with its main: the keep-away and circling characters), then the room
+    still = kind in ("follow", "stalker", "keep_away", "circling")
     assert (b.scales.still > 0.0) == still
     assert b.situation_vectors.shape[1] == 6 + still + (2 if params.get("w_room") else 0)
     assert (b.personal_space == 0.0) == (shipped and kind != "lover")   # share_around
