@@ -39,7 +39,7 @@ def _largest(v: np.ndarray, lo: int, hi: int) -> float:
     """The largest of ``v[lo:hi]``, in eight interleaved parts (exact in any order) kept in
     eight locals, which stay in registers; kept in an array of eight (a call per template)
     they went through memory value by value, and so did the sum's parts in
-    :func:`threshold_step`: with both in locals, update_templates 0.545 -> 0.428 and 0.596 ->
+    :func:`threshold_step` (now :func:`_summed`): with both in locals, update_templates 0.545 -> 0.428 and 0.596 ->
     0.492 ms, DESIGN's tick 1.168 -> 0.971 and 1.285 -> 1.073 ms (median thread time,
     interleaved in one process, load 19; the same numbers to the bit)."""
     t0 = t1 = t2 = t3 = t4 = t5 = t6 = t7 = _NEG_INF32
@@ -59,6 +59,21 @@ def _largest(v: np.ndarray, lo: int, hi: int) -> float:
     return max(max(max(t0, t1), max(t2, t3)), max(max(t4, t5), max(t6, t7)))
 
 
+@compiled(numba.float64(_S1), *_CALLS_INTO, fastmath=CONTRACT | {"reassoc"})
+def _summed(v: np.ndarray) -> float:
+    """The sum of the float32 ``v`` in double precision, in any order (``reassoc``: the loop
+    vectorises; the same to about 1e-16). Called for each template of :func:`threshold_step`
+    with any weight, the others' being zeros: 8 members on DESIGN's real state, interleaved in
+    one process, 119 -> 103 us median hot (another run: 129 -> 121 hot, 149 -> 144 cold)
+    against one pass over every state in eight interleaved parts (as :func:`_largest`; half
+    of it zeros); a reassociating maximum in :func:`_largest`'s place was slower (103 -> 138
+    us)."""
+    total = 0.0
+    for j in range(v.size):
+        total += v[j]
+    return total
+
+
 @compiled(numba.float64(_S2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _S1, _S1,
                         numba.boolean, _F1, numba.intp, _F1), *_CALLS_INTO, fastmath=CONTRACT)
 def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
@@ -68,8 +83,8 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     (K, D)) and each template's log-density terms ``ljs`` (K,: the Gaussian's constant and the
     map's log Jacobian), as :func:`update_templates` left them (``m``: the member's row of
     ``mc``; ``ll``: scratch of at least its states; ``tops_k`` (K,): scratch, each template's
-    likeliest state); returns the sample's log-likelihood. Its sum is taken in eight
-    interleaved parts (the same to about 1e-16) and its exponentials by
+    likeliest state); returns the sample's log-likelihood. Its sum is taken template by
+    template (:func:`_summed`, the same to about 1e-16) and its exponentials by
     :func:`~behaviors.mop.compiled.exp_neg32`, so every loop over the states vectorises
     (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
     member ``i``'s are ``alpha`` divided by ``totals[i]``, the division done as they are read
@@ -94,7 +109,10 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     inverse: 197 -> 190 alone); DESIGN's tick 1272, 1232, 1254 -> 1103, 1070, 1144 us median
     thread time (update_templates 617, 593, 599 -> 484, 494, 511; alternating runs, load 4-8).
     Its log-likelihood moves by about 3e-7 relative; every figure of ``bench/follow_quality.py
-    --sections=sized,holds,sequences,unrelated,after`` stayed the same."""
+    --sections=sized,holds,sequences,unrelated,after`` stayed the same. A coarser model, every
+    second state of each template (half the states, in both twins), refused less there:
+    unrelated valid share 0.0394 -> 0.0403 (20 templates 0.0467 -> 0.0483, a diagonal 0.051
+    -> 0.059), valid after the gestures 0.0790 -> 0.0795; not taken."""
     d = zs.shape[1]
     factor = _F32(m[19])
     base = ti[a0, 2]
@@ -131,6 +149,7 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     keep = _F32(THRESHOLD_STAY / (1.0 if fresh else totals[i]))   # (a product, not a quotient)
     rest = _F32((1.0 - THRESHOLD_STAY) / n)
     cut = top + _FLOOR32
+    total = 0.0
     for k in range(a0, a1):
         lo = ti[k, 2] + ti[k, 0] - base
         hi = lo + ti[k, 1]
@@ -142,20 +161,6 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
             e = vk[j] - top
             w = (keep * ak[j] + rest) * exp_neg32(max(e, _FLOOR32))
             ak[j] = w if e >= _FLOOR32 else _ZERO32
-    # the sum in double precision, in eight interleaved parts, as locals (see _largest)
-    p0 = p1 = p2 = p3 = p4 = p5 = p6 = p7 = 0.0
-    for j in range(0, n - n % 8, 8):
-        u = _U(j)
-        p0 += a[u]
-        p1 += a[u + _U(1)]
-        p2 += a[u + _U(2)]
-        p3 += a[u + _U(3)]
-        p4 += a[u + _U(4)]
-        p5 += a[u + _U(5)]
-        p6 += a[u + _U(6)]
-        p7 += a[u + _U(7)]
-    for j in range(n - n % 8, n):
-        p0 += a[j]
-    total = ((p0 + p1) + (p2 + p3)) + ((p4 + p5) + (p6 + p7))
+        total += _summed(ak)
     totals[i] = total
     return float(top) + math.log(total)
