@@ -51,7 +51,8 @@ def prefetch(typingctx, array, index):
 
 
 #: The integer of a float's width, and the LLVM type of the float (the bit casts below).
-_WIDTHS = {types.float64: (types.int64, ir.DoubleType()), types.float32: (types.int32, ir.FloatType())}
+_WIDTHS = {types.float64: (types.int64, ir.DoubleType()),
+           types.float32: (types.int32, ir.FloatType())}
 
 
 @intrinsic

@@ -81,8 +81,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
                      all_refused, leads_out, present, means, thr_means, alpha, thr_ev, thr_x,
-                     thr_has_x, scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out, shape_n,
-                     committed_out, reversal_at, reversal_tol) -> None:
+                     thr_has_x, scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out,
+                     shape_n, committed_out, reversal_at, reversal_tol) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -107,7 +107,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     in its shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
     ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
     each template's tolerance there
-    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
+    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`). ``means``,
+    ``thr_means``: the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run = floats[11], floats[12]
@@ -183,7 +184,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 if row0 + 1 < end_h:
                     prefetch(states, row0 + 1)
                 # ... and the means of the path's segments from ``means`` (D, S), which the
-                # threshold model then streams for the same member anyway: read from ``states``
+                # threshold model streamed too before its own float32 copy: read from ``states``
                 # (64-byte rows) the path's eight states cost eight lines a template, now two
                 # there (DESIGN's tick, interleaved in one process at load 18: update_templates
                 # 0.677 -> 0.629 ms, the tick 1.476 -> 1.396 ms median thread time)

@@ -39,9 +39,9 @@ def _largest(v: np.ndarray, lo: int, hi: int) -> float:
     """The largest of ``v[lo:hi]``, in eight interleaved parts (exact in any order) kept in
     eight locals, which stay in registers; kept in an array of eight (a call per template)
     they went through memory value by value, and so did the sum's parts in
-    :func:`threshold_step` (now :func:`_summed`): with both in locals, update_templates 0.545 -> 0.428 and 0.596 ->
-    0.492 ms, DESIGN's tick 1.168 -> 0.971 and 1.285 -> 1.073 ms (median thread time,
-    interleaved in one process, load 19; the same numbers to the bit)."""
+    :func:`threshold_step` (now :func:`_summed`): with both in locals, update_templates 0.545
+    -> 0.428 and 0.596 -> 0.492 ms, DESIGN's tick 1.168 -> 0.971 and 1.285 -> 1.073 ms
+    (median thread time, interleaved in one process, load 19; the same numbers to the bit)."""
     t0 = t1 = t2 = t3 = t4 = t5 = t6 = t7 = _NEG_INF32
     end = hi - (hi - lo) % 8
     for j in range(lo, end, 8):
