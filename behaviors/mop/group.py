@@ -194,8 +194,9 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._nbuf, self._bounds, self._counts, self._best, PATH_REACH[0], PATH_REACH[1],
             RIVAL_PROBABILITY, LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll,
             self._k_p, self._k_new, self._m_top3, self._m_moving, self._m_any_engaged,
-            self._m_all_refused, self._m_leads, present, self._means, self._thr_alpha,
-            self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch, self._m_kept,
+            self._m_all_refused, self._m_leads, present, self._means, self._thr_means,
+            self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
+            self._m_kept,
             self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest,
             self._shape_n, self._m_committed, self._reversal_at, self._reversal_tol)
         return self._conclude(step_ll, present)

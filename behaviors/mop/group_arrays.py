@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import group_kernel, members
+from behaviors.mop import group_kernel, members, threshold
 from behaviors.mop.holding import holding_columns
 
 
@@ -181,8 +181,10 @@ class GroupArrays:
         self._reversal_tol = np.concatenate([f._reversal_tol for f in fs])
         # the threshold models' state (Refusal._threshold_evidence): over every state of a member
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
-        self._thr_alpha = np.zeros(len(self._states))
-        self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs))
+        # ... in single precision (threshold.PRECISION)
+        self._thr_means = self._means.astype(threshold.PRECISION)
+        self._thr_alpha = np.zeros(len(self._states), dtype=threshold.PRECISION)
+        self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs), dtype=threshold.PRECISION)
         self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
         self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
         self._thr_tops = np.zeros(k)   # scratch: each template's likeliest threshold state

@@ -42,6 +42,7 @@ _CALLS_INTO = (behaviors.mop.compiled, group_steps, holding, invariance, members
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
 _I2, _BB2 = numba.intp[:, ::1], numba.boolean[:, ::1]
+_S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
 
 #: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
 #: group (D: the widest member's features): its mean (D, raw template units), its place relative
@@ -73,15 +74,15 @@ FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")
                      numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
                      numba.intp, numba.intp, numba.float64, numba.float64,
                      _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                     _B1, _F2, _F1, _F1, _F2, _B1, _F1, _F1, _F2, _F1, _F1, _F1, _B1, _F1, _B1, _I1,
-                     _F1),
+                     _B1, _F2, _S2, _S1, _F1, _F2, _B1, _S1, _F1, _F2, _F1, _F1, _F1, _B1, _F1, _B1,
+                     _I1, _F1),
            *_CALLS_INTO, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
                      progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
-                     all_refused, leads_out, present, means, alpha, thr_ev, thr_x, thr_has_x,
-                     scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out, shape_n,
-                     committed_out, reversal_at, reversal_tol) -> None:
+                     all_refused, leads_out, present, means, thr_means, alpha, thr_ev, thr_x,
+                     thr_has_x, scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out,
+                     shape_n, committed_out, reversal_at, reversal_tol) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -106,7 +107,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     in its shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
     ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
     each template's tolerance there
-    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
+    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`). ``means``,
+    ``thr_means``: the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run = floats[11], floats[12]
@@ -182,7 +184,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 if row0 + 1 < end_h:
                     prefetch(states, row0 + 1)
                 # ... and the means of the path's segments from ``means`` (D, S), which the
-                # threshold model then streams for the same member anyway: read from ``states``
+                # threshold model streamed too before its own float32 copy: read from ``states``
                 # (64-byte rows) the path's eight states cost eight lines a template, now two
                 # there (DESIGN's tick, interleaved in one process at load 18: update_templates
                 # 0.677 -> 0.629 ms, the tick 1.476 -> 1.396 ms median thread time)
@@ -408,7 +410,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         # templates keep against it
         kept = 1.0
         if present[i] and math.isfinite(m[18]):
-            step = threshold_step(means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
+            step = threshold_step(thr_means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
                                   not thr_has_x[i], thr_total, i, thr_tops) - m[18]
             lead = step_ll[first] - tc[first, 0]
             lead -= dims * math.log(size[first])

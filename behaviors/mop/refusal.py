@@ -277,9 +277,9 @@ class Refusal:
         k = len(self.names)
         self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
-        self._threshold_alpha = np.zeros(len(b.means))
-        self._threshold_scratch = np.zeros(len(b.means))
-        self._threshold_means = np.ascontiguousarray(b.means, dtype=float)
+        self._threshold_alpha = np.zeros(len(b.means), dtype=threshold.PRECISION)
+        self._threshold_scratch = np.zeros(len(b.means), dtype=threshold.PRECISION)
+        self._threshold_means = np.ascontiguousarray(b.means, dtype=threshold.PRECISION)
         self._threshold_lengths = np.ascontiguousarray(b.lengths, dtype=np.int64)
         self._threshold_const = -b.dim * np.log(self.sigma) - 0.5 * b.dim * np.log(2.0 * np.pi)
 

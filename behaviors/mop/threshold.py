@@ -59,6 +59,14 @@ STAY = 0.3
 STILL_RADII = 2.0
 
 
+#: The threshold model's states, log-densities and weights are kept in single precision (its
+#: sums and its log-likelihood in double): it only weighs the templates against any stitching of
+#: them, its log-likelihood within about 1e-6 of the double-precision one's, and its pass over
+#: every state (the group's :func:`~behaviors.mop.threshold_kernel.threshold_step`) the tick's
+#: largest after the forward step. See :mod:`behaviors.mop.threshold_kernel` for the figures.
+PRECISION = np.float32
+
+
 @numba.njit(cache=True, nogil=True)
 def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, sigma: float,
                          log_constant: float, log_jacobian: np.ndarray, alpha: np.ndarray,
@@ -68,39 +76,43 @@ def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, 
     ``stay * alpha_j + (1 - stay) / N``. ``z`` (K, d): the sample in each template's standardised
     units; ``means`` (N, d): their states, template after template, ``lengths`` (K,) states
     each; ``log_jacobian`` (K,): each map's log |dz / dx|; ``scratch`` (N,): room for the states'
-    log-densities. The cost is one distance and one exp per state, the tick's largest after
-    the forward step (8 performers x 100 templates: 80,000 states)."""
+    log-densities. ``means``, ``alpha`` and ``scratch`` are of :data:`PRECISION`, and so is
+    the arithmetic on them (the weights' sum in double precision). The cost is one distance and
+    one exp per state, the tick's largest after the forward step (8 performers x 100 templates:
+    80,000 states)."""
     k_count, d = z.shape
     n = means.shape[0]
-    inv = -0.5 / (sigma * sigma)
-    top = -np.inf
+    f32 = np.float32
+    inv = f32(-0.5 / (sigma * sigma))
+    floor = f32(-40.0)
+    top = f32(-np.inf)
     j = 0
     for k in range(k_count):
-        lj = log_constant + log_jacobian[k]
+        lj = f32(log_constant + log_jacobian[k])
         for _ in range(lengths[k]):
-            s = 0.0
+            s = f32(0.0)
             for c in range(d):
-                diff = means[j, c] - z[k, c]
+                diff = f32(z[k, c]) - means[j, c]
                 s += diff * diff
             v = s * inv + lj
             scratch[j] = v
             if v > top:
                 top = v
             j += 1
-    jump = (1.0 - stay) / n
+    keep, jump = f32(stay), f32((1.0 - stay) / n)
     total = 0.0
     for j in range(n):
         e = scratch[j] - top
-        if e < -40.0:   # under 4e-18 of the likeliest state: no exp (most states are far)
+        if e < floor:   # under 4e-18 of the likeliest state: no exp (most states are far)
             alpha[j] = 0.0
             continue
-        a = 1.0 / n if fresh else alpha[j]
-        w = (stay * a + jump) * np.exp(e)
+        a = f32(1.0 / n) if fresh else alpha[j]
+        w = (keep * a + jump) * np.exp(e)
         alpha[j] = w
         total += w
     for j in range(n):
-        alpha[j] /= total
-    return top + np.log(total)
+        alpha[j] = alpha[j] / total
+    return float(top) + np.log(total)
 
 
 def gated(step: float, best_step: float, x: np.ndarray, previous: np.ndarray | None,

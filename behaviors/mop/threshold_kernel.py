@@ -12,7 +12,7 @@ import numpy as np
 
 import behaviors.mop.compiled
 from behaviors.mop import threshold
-from behaviors.mop.compiled import CONTRACT, exp_neg
+from behaviors.mop.compiled import CONTRACT, exp_neg32
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY
 from behaviors.kernel_cache import compiled
 
@@ -24,6 +24,11 @@ _CALLS_INTO = (behaviors.mop.compiled, threshold)
 THRESHOLD_FLOOR = -40.0
 
 _F1, _F2, _I2 = numba.float64[::1], numba.float64[:, ::1], numba.intp[:, ::1]
+_S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
+
+# single-precision constants (a float64 one would widen every operation it meets)
+_F32 = np.float32
+_FLOOR32, _NEG_INF32, _ZERO32 = _F32(THRESHOLD_FLOOR), _F32(-np.inf), _F32(0.0)
 
 
 _U = numba.uintp   # an index known to be >= 0: no wrap-around of negative indices
@@ -34,10 +39,10 @@ def _largest(v: np.ndarray, lo: int, hi: int) -> float:
     """The largest of ``v[lo:hi]``, in eight interleaved parts (exact in any order) kept in
     eight locals, which stay in registers; kept in an array of eight (a call per template)
     they went through memory value by value, and so did the sum's parts in
-    :func:`threshold_step`: with both in locals, update_templates 0.545 -> 0.428 and 0.596 ->
-    0.492 ms, DESIGN's tick 1.168 -> 0.971 and 1.285 -> 1.073 ms (median thread time,
-    interleaved in one process, load 19; the same numbers to the bit)."""
-    t0 = t1 = t2 = t3 = t4 = t5 = t6 = t7 = -np.inf
+    :func:`threshold_step` (now :func:`_summed`): with both in locals, update_templates 0.545
+    -> 0.428 and 0.596 -> 0.492 ms, DESIGN's tick 1.168 -> 0.971 and 1.285 -> 1.073 ms
+    (median thread time, interleaved in one process, load 19; the same numbers to the bit)."""
+    t0 = t1 = t2 = t3 = t4 = t5 = t6 = t7 = _NEG_INF32
     end = hi - (hi - lo) % 8
     for j in range(lo, end, 8):
         u = _U(j)
@@ -54,7 +59,22 @@ def _largest(v: np.ndarray, lo: int, hi: int) -> float:
     return max(max(max(t0, t1), max(t2, t3)), max(max(t4, t5), max(t6, t7)))
 
 
-@compiled(numba.float64(_F2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _F1, _F1,
+@compiled(numba.float64(_S1), *_CALLS_INTO, fastmath=CONTRACT | {"reassoc"})
+def _summed(v: np.ndarray) -> float:
+    """The sum of the float32 ``v`` in double precision, in any order (``reassoc``: the loop
+    vectorises; the same to about 1e-16). Called for each template of :func:`threshold_step`
+    with any weight, the others' being zeros: 8 members on DESIGN's real state, interleaved in
+    one process, 119 -> 103 us median hot (another run: 129 -> 121 hot, 149 -> 144 cold)
+    against one pass over every state in eight interleaved parts (as :func:`_largest`; half
+    of it zeros); a reassociating maximum in :func:`_largest`'s place was slower (103 -> 138
+    us)."""
+    total = 0.0
+    for j in range(v.size):
+        total += v[j]
+    return total
+
+
+@compiled(numba.float64(_S2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _S1, _S1,
                         numba.boolean, _F1, numba.intp, _F1), *_CALLS_INTO, fastmath=CONTRACT)
 def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
@@ -63,12 +83,13 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     (K, D)) and each template's log-density terms ``ljs`` (K,: the Gaussian's constant and the
     map's log Jacobian), as :func:`update_templates` left them (``m``: the member's row of
     ``mc``; ``ll``: scratch of at least its states; ``tops_k`` (K,): scratch, each template's
-    likeliest state); returns the sample's log-likelihood. Its sum is taken in eight
-    interleaved parts (the same to about 1e-16) and its exponentials by
-    :func:`~behaviors.mop.compiled.exp_neg`, so every loop over the states vectorises
+    likeliest state); returns the sample's log-likelihood. Its sum is taken template by
+    template (:func:`_summed`, the same to about 1e-16) and its exponentials by
+    :func:`~behaviors.mop.compiled.exp_neg32`, so every loop over the states vectorises
     (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
     member ``i``'s are ``alpha`` divided by ``totals[i]``, the division done as they are read
-    at the next step (the same numbers as normalising them at once, one pass over the states
+    at the next step (as a product by ``STAY / totals[i]``; about the same numbers as
+    normalising them at once, one pass over the states
     fewer).
 
     Most states weigh nothing (in DESIGN's case about a quarter are within e^-40 of the
@@ -78,68 +99,68 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     Skipping also the distances of chunks of 16 states whose bounding box lay that far below
     the likeliest state found so far computed a third of the states, but with the caches cold
     it was slower: 8 members 537 -> 612 us p10 (hot 379 -> 330), the skipped stretches
-    breaking the streams the processor fetches ahead."""
+    breaking the streams the processor fetches ahead.
+
+    In single precision (:data:`behaviors.mop.threshold.PRECISION`: ``means``, ``alpha``,
+    ``ll`` float32, their arithmetic too, by :func:`~behaviors.mop.compiled.exp_neg32`; the
+    sum and the result in double): eight states to a vector instead of four and half the
+    memory. 8 members on DESIGN's real state, interleaved in one process: 197 -> 125 us median
+    hot, 207 -> 135 cold (dividing by the total, as before, instead of multiplying by its
+    inverse: 197 -> 190 alone); DESIGN's tick 1272, 1232, 1254 -> 1103, 1070, 1144 us median
+    thread time (update_templates 617, 593, 599 -> 484, 494, 511; alternating runs, load 4-8).
+    Its log-likelihood moves by about 3e-7 relative; every figure of ``bench/follow_quality.py
+    --sections=sized,holds,sequences,unrelated,after`` stayed the same. A coarser model, every
+    second state of each template (half the states, in both twins), refused less there:
+    unrelated valid share 0.0394 -> 0.0403 (20 templates 0.0467 -> 0.0483, a diagonal 0.051
+    -> 0.059), valid after the gestures 0.0790 -> 0.0795; not taken."""
     d = zs.shape[1]
-    factor = m[19]
+    factor = _F32(m[19])
     base = ti[a0, 2]
     n = 0
-    top = -np.inf
+    top = _NEG_INF32
     for k in range(a0, a1):
-        z = zs[k]
         first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
         out = ll[first - base:first - base + length]
-        lj = ljs[k]
+        lj = _F32(ljs[k])
         if d == 2:   # a puck's case, in one pass (the same operations)
-            z0, z1 = z[0], z[1]
+            z0, z1 = _F32(zs[k, 0]), _F32(zs[k, 1])
             m0, m1 = means[0, first:first + length], means[1, first:first + length]
             for j in range(length):
                 e0 = z0 - m0[j]
                 e1 = z1 - m1[j]
                 out[j] = (e0 * e0 + e1 * e1) * factor + lj
         else:
-            out[:] = 0.0
+            out[:] = _ZERO32
             for c in range(d):   # column by column (``means`` is (D, S)): the loops vectorise
-                zc, mc_ = z[c], means[c, first:first + length]
+                zc, mc_ = _F32(zs[k, c]), means[c, first:first + length]
                 for j in range(length):
                     e = zc - mc_[j]
                     out[j] += e * e
             for j in range(length):
                 out[j] = out[j] * factor + lj
-        tops_k[k] = _largest(ll, first - base, first - base + length)
-        top = max(top, tops_k[k])
+        tk = _largest(ll, first - base, first - base + length)
+        tops_k[k] = tk
+        top = max(top, tk)
         n += length
     # views from 0 (indices the compiler knows are not negative: the loops vectorise)
     a, v = alpha[base:base + n], ll[:n]
     if fresh:
-        a[:] = 1.0 / n
-    norm = 1.0 if fresh else totals[i]
-    rest = (1.0 - THRESHOLD_STAY) / n
-    cut = top + THRESHOLD_FLOOR
+        a[:] = _F32(1.0 / n)
+    keep = _F32(THRESHOLD_STAY / (1.0 if fresh else totals[i]))   # (a product, not a quotient)
+    rest = _F32((1.0 - THRESHOLD_STAY) / n)
+    cut = top + _FLOOR32
+    total = 0.0
     for k in range(a0, a1):
         lo = ti[k, 2] + ti[k, 0] - base
         hi = lo + ti[k, 1]
         ak, vk = a[lo:hi], v[lo:hi]
         if tops_k[k] < cut:   # the whole template under e^-40 of the likeliest state
-            ak[:] = 0.0
+            ak[:] = _ZERO32
             continue
         for j in range(hi - lo):   # no weight under e^-40 (threshold_model_step)
             e = vk[j] - top
-            w = (THRESHOLD_STAY * (ak[j] / norm) + rest) * exp_neg(max(e, THRESHOLD_FLOOR))
-            ak[j] = w if e >= THRESHOLD_FLOOR else 0.0
-    # the sum in eight interleaved parts, as locals (see _largest)
-    p0 = p1 = p2 = p3 = p4 = p5 = p6 = p7 = 0.0
-    for j in range(0, n - n % 8, 8):
-        u = _U(j)
-        p0 += a[u]
-        p1 += a[u + _U(1)]
-        p2 += a[u + _U(2)]
-        p3 += a[u + _U(3)]
-        p4 += a[u + _U(4)]
-        p5 += a[u + _U(5)]
-        p6 += a[u + _U(6)]
-        p7 += a[u + _U(7)]
-    for j in range(n - n % 8, n):
-        p0 += a[j]
-    total = ((p0 + p1) + (p2 + p3)) + ((p4 + p5) + (p6 + p7))
+            w = (keep * ak[j] + rest) * exp_neg32(max(e, _FLOOR32))
+            ak[j] = w if e >= _FLOOR32 else _ZERO32
+        total += _summed(ak)
     totals[i] = total
-    return top + math.log(total)
+    return float(top) + math.log(total)

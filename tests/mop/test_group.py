@@ -198,7 +198,9 @@ def test_a_group_of_many_puck_templates_equals_its_followers_alone():
 
 def test_the_group_threshold_models_keep_the_followers_own_weights():
     # each state's weight equals the follower's own threshold model (zeros where it is 0),
-    # with the sample's map and log-density terms taken from the per-template pass
+    # with the sample's map and log-density terms taken from the per-template pass: to the
+    # single precision's rounding of the log-densities (threshold.PRECISION: a log-density of
+    # ~100 nats rounded to ~1e-5, the weight by as much; here at most 1.1e-5 apart)
     alone, group, streams = _puck_members(np.random.default_rng(8), 2, 25, 70, 3)
     offsets = np.cumsum([0] + [len(f._threshold_alpha) for f in alone])
     for i in range(min(len(s) for s in streams)):
@@ -208,7 +210,7 @@ def test_the_group_threshold_models_keep_the_followers_own_weights():
         for f, lo, total in zip(alone, offsets, group._thr_total):
             mine = group._thr_alpha[lo:lo + len(f._threshold_alpha)] / total
             assert np.array_equal(mine == 0.0, f._threshold_alpha == 0.0)
-            assert np.allclose(mine, f._threshold_alpha, rtol=1e-12, atol=0.0)
+            assert np.allclose(mine, f._threshold_alpha, rtol=1e-4, atol=0.0)
     assert 0.0 < np.mean(group._thr_alpha == 0.0) < 1.0
 
 
