@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import sys
 from typing import Sequence
 
@@ -36,8 +37,20 @@ def one_line(message: object) -> str:
 RUN_MODES = {"studio": "tabletop run --studio", "kiosk": "tabletop run --kiosk"}
 
 
+# a number, or a comma list of numbers, beginning with '-': a value such as ``--view -90,15`` or
+# ``--table -1,0.8`` (refused with its own message), not an option (argparse's own pattern takes
+# only a single number, so a list was "expected one argument")
+_NUMBER = r"(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+NEGATIVE_VALUE = re.compile(rf"^-{_NUMBER}(?:,\s*-?{_NUMBER})*$")
+
+
 class Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line (what is wrong, and where to read more)."""
+    """argparse, but a usage error is one line (what is wrong, and where to read more), and a
+    value list beginning with a minus sign is a value (:data:`NEGATIVE_VALUE`)."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_VALUE
 
     def error(self, message: str) -> None:  # type: ignore[override]
         hint = f"see {self.prog} --help"

@@ -246,8 +246,9 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
                            {n: loglik for n in self.names})
 
     def _sample(self, x: np.ndarray) -> np.ndarray | None:
-        """x as floats of the templates' shape, or None when it holds a non-finite value."""
-        x = np.asarray(x, dtype=float)
+        """x as contiguous floats of the templates' shape (a row of a column pick is strided,
+        which the compiled rules refuse), or None when it holds a non-finite value."""
+        x = np.ascontiguousarray(x, dtype=float)
         if x.shape != (self.dim,):
             raise SampleError(
                 f"sample has shape {x.shape}, expected ({self.dim},) like the templates' features")

@@ -152,6 +152,11 @@ def _check_motion(ctx: Context, key: str, kind: str, motion: str) -> None:
 
 
 def _check_all(cfg: dict, path: str, ctx: Context) -> None:
+    if cfg["library"] is not None:   # refused at load, not at the designer's first keep
+        from tabletop.studio.session import unusable
+        why = unusable(cfg["library"])
+        if why:
+            raise ctx.error(f"{path}.library", f"cannot hold kept actions: {why}")
     names = set()
     for i, p in enumerate(cfg["performers"]):
         if p["name"] in names:

@@ -73,8 +73,35 @@ DESIGNER = Record({
 })
 
 
+def _check_designer(opts: dict, path: str, ctx: Context) -> None:
+    """A designer whose take cannot be recorded or kept is refused at load, not at the first
+    take: the reactor puck is the main puck (a take in parts may use one puck for both), the
+    record marker is one of the two pucks (the studio takes a marker off the table before the
+    engines see it), or the library cannot be made."""
+    d = opts["designer"]
+    where = f"{path}.designer" if path else "designer"
+    main = d["main_puck"]
+    if main is None:   # as the engine resolves it
+        first = singles(opts["main"])[0]
+        main = first["puck"] if first["kind"] == "puck" else 1
+    if d["react_puck"] == main and not d["sequential"]:
+        raise ctx.error(f"{where}.react_puck", f"puck {main} is also the designer's main puck; "
+                        "give the reactor another puck (or sequential: true to play both parts "
+                        "with one)")
+    for role, puck in (("main", main), ("reactor", d["react_puck"])):
+        if d["record_marker"] == puck:
+            raise ctx.error(f"{where}.record_marker", f"{puck} is the designer's {role} puck; "
+                            "the record marker needs a marker id of its own")
+    from tabletop.studio.session import unusable
+    why = unusable(d["library"])
+    if why:
+        raise ctx.error(f"{where}.library", f"cannot hold kept behaviours: {why}")
+
+
 def _check(opts: dict, path: str, ctx: Context) -> None:
     where = f"{path}.behavior" if path else "behavior"
+    if opts["designer"]["enabled"]:
+        _check_designer(opts, path, ctx)
     if opts["behavior"] is None:
         if not opts["designer"]["enabled"]:
             raise ctx.error(where, "missing; expected a behaviour folder (e.g. "

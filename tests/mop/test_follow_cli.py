@@ -141,3 +141,16 @@ def test_the_installed_command_runs_without_pygame(files):
     r = subprocess.run([sys.executable, "-c", code, *_args(d)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert (d / "out.csv").exists()
+
+
+@pytest.mark.parametrize("invariance", ["offset", "scale"])
+def test_every_invariance_follows_a_file_whose_columns_are_reordered(files, invariance):
+    """The performance's columns are picked into the templates' order; the rows of that pick
+    are not contiguous in memory, which the compiled size estimate of ``scale`` refused with a
+    numba TypeError (an internal error) before the sample was made contiguous."""
+    d, truth = files
+    assert cli(_args(d, "--invariance", invariance)) == 0
+    _, rows = _read(d / "out.csv")
+    assert len(rows) == len(truth)
+    assert all(math.isfinite(float(r["progress"])) for r in rows)
+    assert sum(r["valid"] == "1" and r["best"] == "circle" for r in rows) > len(rows) // 2

@@ -227,6 +227,21 @@ def test_a_lost_sample_holds_the_state_and_marks_it_invalid():
     assert after.progress == pytest.approx(101 / 199, abs=0.05)
 
 
+@pytest.mark.parametrize("invariance", ["none", "offset", "scale"])
+def test_strided_samples_are_followed_as_contiguous_ones(invariance):
+    """Samples that are rows of a column pick (strided in memory) give the states contiguous
+    copies give; under ``scale`` the compiled reversal rule refused them (numba TypeError)."""
+    rng = np.random.default_rng(23)
+    tpls = {"a": g.template(rng, d=3), "b": g.template(rng, d=3)}
+    perf = g.perform(rng, tpls["a"], g.warped_phase(rng, 200), 0.1)
+    strided = np.asfortranarray(perf)
+    assert not strided[0].flags.c_contiguous
+    one = ActionFollower(tpls, invariance=invariance)
+    other = ActionFollower(tpls, invariance=invariance)
+    for row, x in zip(strided, perf):
+        assert one.step(row) == other.step(x.copy())
+
+
 def test_bad_templates_and_samples_are_refused_with_clear_messages():
     good = np.zeros((10, 2))
     with pytest.raises(TemplateError, match=r"'one'.*1 sample\(s\), needs at least 2"):

@@ -379,6 +379,10 @@ def test_config_errors_name_the_key_or_file(tmp_path):
            "characters[2].actions[0].motion", "humanoid3d_moonwalk.txt")
     expect(lambda e: e["performers"][0]["inputs"].append({"kind": "stream"}),
            "performers[0].inputs[1].name", "needs the stream's name")
+    blocked = tmp_path / "a_file"      # a library that cannot be made: refused at load, not at K
+    blocked.write_text("")
+    expect(lambda e: e.update(library=str(blocked / "lib")), "engines[0].library",
+           "cannot hold kept actions", "a_file is not a folder")
     bad = tmp_path / "bad.csv"
     bad.write_text("t,dx,speed\n0,0,0\n0.1,0.1,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(bad)),

@@ -75,6 +75,18 @@ def test_defaults_and_paths_relative_to_the_config():
     ({"color": [1, 2]}, ["engines[0].color"]),
     ({"designer": {"enabled": True, "bogus": 1}}, ["engines[0].designer.bogus", "unknown key"]),
     ({"designer": {"react_puck": -1}}, ["engines[0].designer.react_puck"]),
+    # a take whose reactor is its main puck, or whose record marker is one of its pucks (the
+    # studio takes a marker off the table before the engines see it), cannot be recorded
+    ({"designer": {"enabled": True, "react_puck": 1}},
+     ["engines[0].designer.react_puck", "puck 1", "the designer's main puck"]),
+    ({"main": {"puck": 2}, "designer": {"enabled": True}},
+     ["engines[0].designer.react_puck", "puck 2", "the designer's main puck"]),
+    ({"designer": {"enabled": True, "record_marker": 2}},
+     ["engines[0].designer.record_marker", "2", "reactor puck"]),
+    ({"designer": {"enabled": True, "main_puck": 3, "record_marker": 3}},
+     ["engines[0].designer.record_marker", "3", "main puck"]),
+    ({"designer": {"enabled": True, "library": "behaviors/library/lover/behavior.yaml/kept"}},
+     ["engines[0].designer.library", "cannot hold kept behaviours", "behavior.yaml is not a folder"]),
 ])
 def test_bad_options_name_their_key(entry, words):
     e = {"kind": "puppet_master", "behavior": "behaviors/library/lover", **entry}
@@ -82,6 +94,14 @@ def test_bad_options_name_their_key(entry, words):
         build([e])
     for w in words:
         assert w in str(err.value)
+
+
+def test_sequential_training_may_use_one_puck_for_both_parts():
+    """The one-hand interface records the main, then the reactor against its playback: the
+    same puck may play both parts."""
+    (e,) = build([{"kind": "puppet_master", "behavior": "behaviors/library/lover",
+                   "designer": {"enabled": True, "sequential": True, "react_puck": 1}}])
+    assert e.designer["main_puck"] == e.designer["react_puck"] == 1
 
 
 def test_corrupt_behaviour_is_refused_at_load_and_left_alone(tmp_path):

@@ -249,3 +249,17 @@ def test_scripted_key_events_through_the_view_record_train_try_and_keep(tmp_path
     take = library.load_behavior(tmp_path / "lib" / "pet").demonstration
     # pressed at 1 s (read by the view that tick, handled the next), 1 s countdown, stopped at 5 s
     assert take[-1, 0] == pytest.approx(3.0, abs=2.5 / RATE)
+
+
+def test_studio_mode_gives_a_reactor_on_puck_2_another_puck_to_demonstrate_with(tmp_path):
+    """``--studio`` makes every reactor a designer target; one whose main is puck 2 (the
+    default reactor puck) demonstrates its reaction with puck 1, not with its main puck."""
+    from tabletop.studio.build import studio_targets
+    from tests.puppet_master.test_plugin import build
+
+    entries = [{"kind": "puppet_master", "name": n, "behavior": "behaviors/library/lover",
+                "main": {"puck": p}} for n, p in (("on_one", 1), ("on_two", 2))]
+    cfg = {"engines": [dict(e, designer={"enabled": False}) for e in entries]}
+    targets = studio_targets(build(entries), cfg, tmp_path, all_engines=True)
+    pucks = {t.engine.name: (t.main_puck, t.react_puck) for t in targets}
+    assert pucks == {"on_one": (1, 2), "on_two": (2, 1)}

@@ -130,3 +130,17 @@ def test_building_the_command_line_imports_no_pygame():
             "print('pygame' in sys.modules, 'cv2' in sys.modules)")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert r.stdout.split() == ["False", "False"], r.stderr
+
+
+def test_a_value_list_beginning_with_a_minus_sign_is_a_value():
+    """``--view -90,15`` (the character's left side) is the azimuth -90, as ``--view=-90,15``
+    is; argparse took a comma list beginning with '-' for an option ("expected one argument")."""
+    spaced = tabletop("pose", "--describe", "--view", "-90,15")
+    joined = tabletop("pose", "--describe", "--view=-90,15")
+    assert spaced.returncode == joined.returncode == 0, spaced.stderr
+    assert spaced.stdout == joined.stdout
+    bad = tabletop("behave", "--train", "d.csv", "--input", "m.csv", "--out", "r.csv",
+                   "--table", "-1.2,0.8")
+    assert bad.returncode == 2
+    assert bad.stderr.strip() == ("tabletop behave: error: --table '-1.2,0.8': width and height "
+                                  "must be metres from 0.05 to 20")
