@@ -21,7 +21,7 @@ from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.detail import direction_detail, texture_rms
 from behaviors.puppet_master.demonstrated import (charge_entries, charges, circles, own_steps,
                                                   pace_ratio, relative_world_steps,
-                                                  still_main_speed)
+                                                  still_main_speed, straightness)
 from behaviors.puppet_master.generation import _bearings
 from behaviors.puppet_master.look import train_look, train_place
 from behaviors.puppet_master.resample import resample_uniform
@@ -416,6 +416,8 @@ class Behavior:
         # walks with its main: the cap at a place held in the world holds the mean of its
         # raw steps (step.py, generation.mean_capped): the lover
         self.walks_with_main = self.personal_space > 0.0 and pace < WALKS_WITH_MAIN
+        # the share of its steps' length its path keeps over the linear smooth (step.py)
+        self.straightness = straightness(self.react[:, :2], p.smooth)
         # the same per-sample values as one table for the compiled step (step_kernel columns)
         # (as many rows as the zipped lists: look.train_place's spans are longer than a
         # demonstration under two seconds and give one more value)

@@ -134,6 +134,21 @@ def relative_world_steps(main: np.ndarray, look: np.ndarray, react: np.ndarray, 
     return steps, most
 
 
+def straightness(react: np.ndarray, size: int) -> float:
+    """How much of its steps' length the demonstrated reactor's path ``react`` (n, 2, metres)
+    keeps over ``size`` samples (the linear smooth's span): the summed lengths of the means of
+    ``size`` consecutive steps over the summed means of their lengths (1: straight; 1.0 when
+    it never moved)."""
+    d = np.diff(np.asarray(react, dtype=float)[:, :2], axis=0)
+    if size < 2 or d.shape[0] < size:
+        return 1.0
+    kernel = np.ones(size) / size
+    mx, my = np.convolve(d[:, 0], kernel, "valid"), np.convolve(d[:, 1], kernel, "valid")
+    lengths = np.convolve(np.hypot(d[:, 0], d[:, 1]), kernel, "valid")
+    total = float(lengths.sum())
+    return float(np.hypot(mx, my).sum()) / total if total > 0.0 else 1.0
+
+
 def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
                      still_mps: float = 0.02, share: float = 50.0) -> tuple[np.ndarray, float]:
     """Per training sample, whether the main stood still (its speed over 0.5 s centred on the

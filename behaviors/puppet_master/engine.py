@@ -129,6 +129,7 @@ class Reactor(GenerationStep):
         self.look_governor = LookGovernor(b.look_change, p.rate_hz)
         self._ema = (0.0, 0.0)
         self._caps = (0.0, 0.0)         # the last two raw steps' caps (step.py)
+        self._straight = b.straightness  # the share of the raw steps' length the smooth kept
         self.patch = DetailPatch(b.detail, p.patch)
         # the main's latest positions (STILL_SPAN_S x rate of them), to tell a main that stands
         self._main_recent: deque[tuple[float, float]] = deque(
@@ -151,6 +152,7 @@ class Reactor(GenerationStep):
         fs[[sk.GOV_MS, sk.GOV_Z, sk.GOV_PREV]] = gov.ms, gov.z, gov.prev
         fs[[sk.LOOK_MS, sk.LOOK_Z]] = lg.ms, lg.z
         fs[[sk.LOG_K, sk.SHARE]] = bal.log_k, bal.share
+        fs[sk.STRAIGHT] = self._straight
         ints = self._is = np.zeros(sk.INT_STATE, dtype=np.int64)
         ints[sk.PATCH_START], ints[sk.PATCH_OFFSET] = self.patch.start, self.patch.offset
         ints[sk.SOURCE] = ints[sk.CHARGE_END] = -1
@@ -178,6 +180,7 @@ class Reactor(GenerationStep):
                                                  b.personal_space, float(b.keeps_pace))
         c[sk.WALKS_WITH_MAIN] = float(b.walks_with_main)
         c[sk.LARGEST_STEP] = b.largest_step
+        c[sk.STRAIGHTNESS] = b.straightness
         span = min(b.stop_span, self._main_recent.maxlen - 1)    # as GenerationStep._main_stopped
         c[[sk.STOP_SPAN, sk.STOP_DISTANCE]] = span, STILL_MPS * span / p.rate_hz
         self._smooth_x = np.zeros(p.smooth)

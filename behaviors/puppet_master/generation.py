@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
 
 from tabletop.frames import wrap_angle
 
@@ -113,6 +114,31 @@ def capped(sx: float, sy: float, cap: float) -> tuple[float, float]:
     if length > cap:
         return sx * cap / length, sy * cap / length
     return sx, sy
+
+
+def kept_straightness(sx: float, sy: float, xs: Sequence[float], ys: Sequence[float],
+                      share: float, kept: float, decay: float,
+                      most: float) -> tuple[float, float, float]:
+    """The smoothed step (sx, sy) (metres) of the raw steps ``xs``, ``ys`` it averages, and
+    ``kept``, the running share of the raw steps' mean length the smooth has kept (its
+    exponential mean, ``decay`` per step): where that share has fallen below ``share`` (the
+    demonstration's, Behavior.straightness) the step is lengthened by their ratio, at most to
+    ``most`` metres, never shortened. Returns the step and the updated running share."""
+    n = len(xs)
+    total = 0.0
+    for q in range(n):
+        total += math.hypot(xs[q], ys[q])
+    mean = total / n
+    length = math.hypot(sx, sy)
+    if mean <= 1e-12:
+        return sx, sy, kept
+    kept += decay * (length / mean - kept)
+    if kept >= share or length <= 1e-12:
+        return sx, sy, kept
+    f = min(share / kept, most / length)
+    if f <= 1.0:
+        return sx, sy, kept
+    return sx * f, sy * f, kept
 
 
 def mean_capped(px: float, py: float, sx: float, sy: float, cap: float,

@@ -64,6 +64,27 @@ def capped(sx: float, sy: float, cap: float) -> tuple[float, float]:
     return sx, sy
 
 
+@compiled(numba.types.UniTuple(_f8, 3)(_f8, _f8, _F1, _F1, _f8, _f8, _f8, _f8), step_math)
+def kept_straightness(sx: float, sy: float, xs: np.ndarray, ys: np.ndarray, share: float,
+                      kept: float, decay: float, most: float) -> tuple[float, float, float]:
+    """generation.kept_straightness."""
+    n = xs.size
+    total = 0.0
+    for q in range(n):
+        total += hypot(xs[q], ys[q])
+    mean = total / n
+    length = hypot(sx, sy)
+    if mean <= 1e-12:
+        return sx, sy, kept
+    kept += decay * (length / mean - kept)
+    if kept >= share or length <= 1e-12:
+        return sx, sy, kept
+    f = _min(share / kept, most / length)
+    if f <= 1.0:
+        return sx, sy, kept
+    return sx * f, sy * f, kept
+
+
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, numba.int64), step_math)
 def mean_capped(px: float, py: float, sx: float, sy: float, cap: float,
                 size: int) -> tuple[float, float]:

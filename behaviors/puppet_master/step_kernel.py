@@ -36,16 +36,16 @@ import numpy as np
 
 from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
-    X0, X1, Y0, Y1, capped, fit_target, keep_apart, keep_on_table, limit_turn, mean_capped,
-    moved_on, share_around, step_around, table_reach)
+    X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness, keep_on_table, limit_turn,
+    mean_capped, moved_on, share_around, step_around, table_reach)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
 # float state (Reactor._fs)
 RX, RY, LOOK, MAIN_X, MAIN_Y, MAIN_MOVE, REACT_X, REACT_Y, REACT_MOVE, EMA_X, EMA_Y, \
     GOV_MS, GOV_Z, GOV_PREV, LOOK_MS, LOOK_Z, LOG_K, SHARE, STEP_X, STEP_Y, CAP_1, \
-    CAP_2 = range(22)
-FLOAT_STATE = 22
+    CAP_2, STRAIGHT = range(23)
+FLOAT_STATE = 23
 # integer state (Reactor._is)
 PATCH_START, PATCH_OFFSET, SMOOTH_I, RECENT_COUNT, RECENT_HEAD, CHOICES, COHERENCE_CHOICES, \
     SOURCE, USED_COHERENCE, CHARGE_END, KEPT_CHARGE = range(11)
@@ -62,7 +62,8 @@ WALKS_WITH_MAIN = 45  # after TARGET_TABLE: x0, y0, x1, y1 of Reactor.target_tab
 LARGEST_STEP = 46
 S_STILL = 47          # the weight of the main's still/moving state (0: not a feature)
 STOP_SPAN, STOP_DISTANCE = 48, 49   # Behavior.stop_span (held to the ring) and its distance
-CONSTANTS = 50
+STRAIGHTNESS = 50     # Behavior.straightness
+CONSTANTS = 51
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -222,6 +223,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         ints[RECENT_COUNT] += 1
     mean_cap = math.inf
     step_cap = math.inf
+    keep_length = 0.0                   # the smooth's length kept up to this (step.py)
     if gain > 0.0 and target > 0:
         mxp, myp = fs[MAIN_X], fs[MAIN_Y]
         if place == PLACE_WORLD:
@@ -281,6 +283,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
                     py += smooth_y[q]
             sx, sy = mean_capped(px, py, sx, sy, cap, size)
             mean_cap = _max(cap, _max(fs[CAP_1], fs[CAP_2]))
+            keep_length = cap
         else:
             sx, sy = capped(sx, sy, cap)
         step_cap = cap
@@ -301,6 +304,10 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     for q in range(size):
         tot_y += smooth_y[q]
     sx, sy = tot_x / size, tot_y / size
+    if keep_length > 0.0:
+        sx, sy, kept = kept_straightness(sx, sy, smooth_x, smooth_y, c[STRAIGHTNESS],
+                                         fs[STRAIGHT], c[GOV_DECAY], keep_length)
+        fs[STRAIGHT] = kept
     fs[CAP_2], fs[CAP_1] = fs[CAP_1], step_cap
     sx, sy = capped(sx, sy, mean_cap)
     a = _alpha(fs[GOV_Z])

@@ -125,8 +125,9 @@ def test_never_leaves_the_table_never_jumps_and_is_reproducible(shipped, paths, 
         assert len(a) >= 0.95 * 20.0 * b.params.rate_hz                # every step generated
         assert ((a[:, 1] >= x0) & (a[:, 1] <= x1) & (a[:, 2] >= y0) & (a[:, 2] <= y1)).all()
         step = np.hypot(*np.diff(a[:, 1:3], axis=0).T)
-        # measured: the largest generated step is 0.73-0.93 of the demonstration's largest
-        assert step.max() <= largest, (name, i, step.max(), largest)
+        # measured: the largest generated step is 0.73-1.0 of the demonstration's largest
+        # (a shoved lover is held at it: step.py, to its cap's rounding)
+        assert step.max() <= largest * (1.0 + 1e-12), (name, i, step.max(), largest)
 
 
 def test_sequential_training_keeps_the_character_as_a_two_puck_demonstration(paths):
