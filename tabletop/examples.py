@@ -35,7 +35,7 @@ TABLE = (1.2, 0.8)
 PARAMETERS = {"rate_hz": 40.0, "window": 40, "table_width": TABLE[0], "table_height": TABLE[1]}
 # a character's own parameters on top: the afraid character, chased into walls, fits its
 # targets no nearer to an edge than its demonstration's median distance to one
-# (Params.edge_percentile; generation.fit_target has the figures)
+# (Params.edge_percentile; table_boundary.fit_target has the figures)
 OWN_PARAMETERS = {"afraid": {"edge_percentile": 50.0}}
 # The afraid character's other parameters measured on top (its misses on the open paths, the
 # engine's alone in brackets, seeds 0-5 + 8-13 + 26-31, against 24 (2) + 29 (3) + 30 (3) = 83

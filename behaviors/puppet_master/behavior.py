@@ -22,10 +22,10 @@ from behaviors.puppet_master.detail import direction_detail, texture_rms
 from behaviors.puppet_master.demonstrated import (charge_entries, charges, circles, own_steps,
                                                   pace_ratio, relative_world_steps,
                                                   still_main_speed, straightness)
-from behaviors.puppet_master.generation import _bearings
 from behaviors.puppet_master.look import train_look, train_place
 from behaviors.puppet_master.resample import resample_uniform
 from behaviors.puppet_master.similarity import augmented
+from behaviors.puppet_master.table_boundary import _bearings
 from tabletop.frames import InputError, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
@@ -132,10 +132,10 @@ class Params:
     demonstration's bounds.
     edge_percentile: 0..100, 0 (default) off. A target the step heads for is fitted onto the
     live table shrunk by this percentile of the demonstrated reactor's distances to its
-    table's edges (Behavior.edge_margin; generation.fit_target), not onto the table's very
+    table's edges (Behavior.edge_margin; table_boundary.fit_target), not onto the table's very
     edge, where the demonstrated character never was. The shipped afraid character has 50 (its
     median distance to an edge, 0.157 m; its room feature, w_room, off: with the margin it
-    cost open-path checks), measured in generation.fit_target's docstring.
+    cost open-path checks), measured in table_boundary.fit_target's docstring.
     """
 
     rate_hz: float = 40.0
@@ -229,7 +229,7 @@ STILL_MPS = 0.02      # m/s: a main slower than this over STILL_SPAN_S stands st
 STILL_SPAN_S = 0.5    # s
 STOP_SPAN_S = 0.2     # s: a character that stops with its main (Behavior.keeps_pace) holds its
 # step to its still pace once its main has kept within STILL_MPS x this of each of its positions
-# over this span (step.py, GenerationStep._main_stopped), not from STILL_SPAN_S on: the 0.5 s
+# over this span (step_senses.py, StepSenses._main_stopped), not from STILL_SPAN_S on: the 0.5 s
 # read tells a stop 0.25 s into the fidelity bench's still window, and until then the stalker
 # went on at its matched walking moments' pace (fast unseen paths 0.23-0.34 m/s where its
 # designer coasts at 0.17-0.21; demonstrated.still_main_speed), now 0.12-0.19. Its

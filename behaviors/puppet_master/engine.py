@@ -30,10 +30,10 @@ from behaviors.puppet_master.behavior import (COLUMNS, FOLLOW_SHARE, STILL_MPS, 
                                               STILL_SPAN_S, Behavior, DemonstrationError,
                                               ParameterError, Params)
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
-from behaviors.puppet_master.generation import (StepSmoother, clamp_to_table, keep_apart,
-                                                target_position)
+from behaviors.puppet_master.generation import StepSmoother, target_position
 from behaviors.puppet_master.look import HEADING_MIN_SPEED
 from behaviors.puppet_master.resample import CausalResampler
+from behaviors.puppet_master.table_boundary import clamp_to_table, keep_apart
 from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch
 from behaviors.puppet_master.step import GenerationStep
 from tabletop.frames import wrap_angle
@@ -66,7 +66,7 @@ class Reactor(GenerationStep):
             raise ParameterError(f"table {table!r} must have x0 < x1 and y0 < y1 (metres)")
         self.behavior = behavior
         self.table = (x0, y0, x1, y1)
-        # where a target is fitted (generation.fit_target): the table less the demonstrated
+        # where a target is fitted (table_boundary.fit_target): the table less the demonstrated
         # character's edge margin (Behavior.edge_margin), at most a quarter of its smaller side
         m = min(behavior.edge_margin, 0.25 * min(x1 - x0, y1 - y0))
         self.target_table = (x0 + m, y0 + m, x1 - m, y1 - m)
@@ -181,7 +181,7 @@ class Reactor(GenerationStep):
         c[sk.WALKS_WITH_MAIN] = float(b.walks_with_main)
         c[sk.LARGEST_STEP] = b.largest_step
         c[sk.STRAIGHTNESS] = b.straightness
-        span = min(b.stop_span, self._main_recent.maxlen - 1)    # as GenerationStep._main_stopped
+        span = min(b.stop_span, self._main_recent.maxlen - 1)    # as StepSenses._main_stopped
         c[[sk.STOP_SPAN, sk.STOP_DISTANCE]] = span, STILL_MPS * span / p.rate_hz
         self._smooth_x = np.zeros(p.smooth)
         self._smooth_y = np.zeros(p.smooth)

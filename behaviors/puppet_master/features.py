@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from behaviors.puppet_master.generation import table_reach
+from behaviors.puppet_master.table_boundary import table_reach
 from tabletop.frames import wrap_angles
 
 SITUATION_DIMS = 6   # v_main, v_react, fwd, left, cos/sin relative look (+ room: ROOM_DIMS)
@@ -143,7 +143,7 @@ def feature_scales(f: PairFeatures, w_velocity: float = 1.0, w_rel_position: flo
 
 def _reach(px: np.ndarray, py: np.ndarray, ux: np.ndarray, uy: np.ndarray,
            table: tuple[float, float, float, float], clip: float) -> np.ndarray:
-    """generation.table_reach per sample, clipped to 0..clip (metres)."""
+    """table_boundary.table_reach per sample, clipped to 0..clip (metres)."""
     x0, y0, x1, y1 = table
     with np.errstate(divide="ignore", invalid="ignore"):
         rx = np.where(ux > 0, (x1 - px) / ux, np.where(ux < 0, (x0 - px) / ux, np.inf))

@@ -28,14 +28,14 @@ _P2 = numba.types.UniTuple(_f8, 2)
 
 @compiled(_P2(_f8, _f8, _F1), step_math)
 def clamp_to_table(x: float, y: float, c: np.ndarray) -> tuple[float, float]:
-    """generation.clamp_to_table (table from the constants)."""
+    """table_boundary.clamp_to_table (table from the constants)."""
     return _min(_max(x, c[X0]), c[X1]), _min(_max(y, c[Y0]), c[Y1])
 
 
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _F1, _F2), step_math)
 def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
                c: np.ndarray, bearings: np.ndarray) -> tuple[float, float]:
-    """generation.fit_target (``bearings``: generation._bearings as an (m, 2) array)."""
+    """table_boundary.fit_target (``bearings``: table_boundary._bearings as an (m, 2) array)."""
     x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
     if x0 <= tx <= x1 and y0 <= ty <= y1:
         return tx, ty
@@ -151,7 +151,7 @@ def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: floa
 @compiled(_P2(_f8, _f8, _f8, _f8, _F1), step_math)
 def keep_on_table(rx: float, ry: float, sx: float, sy: float,
                   c: np.ndarray) -> tuple[float, float]:
-    """generation.keep_on_table."""
+    """table_boundary.keep_on_table."""
     x0, y0, x1, y1 = c[X0], c[Y0], c[X1], c[Y1]
     length = hypot(sx, sy)
     nx, ny = rx + sx, ry + sy
@@ -172,7 +172,7 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
 
 @compiled(_f8(_f8, _f8, _f8, _f8, _F1), step_math)
 def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> float:
-    """generation.table_reach (table from the constants)."""
+    """table_boundary.table_reach (table from the constants)."""
     reach = math.inf
     if ux > 0.0:
         reach = _min(reach, (c[X1] - x) / ux)
@@ -187,7 +187,7 @@ def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> floa
 
 @compiled(_P2(_f8, _f8, _F2, _F1), step_math)
 def keep_apart(x: float, y: float, others: np.ndarray, c: np.ndarray) -> tuple[float, float]:
-    """generation.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
+    """table_boundary.keep_apart (``others``: (m, 3) rows x, y, least distance)."""
     for k in range(others.shape[0]):
         ox, oy, least = others[k, 0], others[k, 1], others[k, 2]
         dx, dy = x - ox, y - oy

@@ -5,25 +5,25 @@ The paper's loop (section 4.1), ``e = BestMatch(...); newMovement = Generate(e)`
 BestMatch's choice between situation and coherence (4.3.3), with a demonstrated charge kept
 whole; General Trajectory Generation (4.4.1: the step toward the target's place relative to
 the main); Detail Incorporation (4.4.2: the linear smooth, the texture governor and the
-patch's demonstrated detail, then the table and the other characters); the look; the new
-sample pair's features (4.2) into the search windows. Units: seconds, table metres, radians.
+patch's demonstrated detail, then the table and the other characters); the look and the new
+sample pair's features (4.2) into the search windows (step_senses.py). Units: seconds, table
+metres, radians.
 """
 
 from __future__ import annotations
 
 import math
 
-from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.behavior import FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S
-from behaviors.puppet_master.generation import (fit_target, keep_apart, keep_on_table,
-                                                kept_straightness, capped, limit_turn,
-                                                mean_capped, rotate_step, share_around,
-                                                step_around, target_position)
-from behaviors.puppet_master.look import HEADING_MIN_SPEED, PLACE_WORLD, desired_look
-from tabletop.frames import wrap_angle
+from behaviors.puppet_master.behavior import FOLLOW_SHARE
+from behaviors.puppet_master.generation import (capped, kept_straightness, mean_capped,
+                                                rotate_step, share_around, step_around,
+                                                target_position)
+from behaviors.puppet_master.look import PLACE_WORLD
+from behaviors.puppet_master.step_senses import StepSenses
+from behaviors.puppet_master.table_boundary import fit_target, keep_apart, keep_on_table
 
 
-class GenerationStep:
+class GenerationStep(StepSenses):
     """The generation step of :class:`engine.Reactor` (its state: see Reactor.start)."""
 
     def _step(self, g: float, mx: float, my: float, md: float) -> tuple[float, float, float, float]:
@@ -437,51 +437,3 @@ class GenerationStep:
                 sx, sy = capped(sx, sy, b.largest_step)
         gov.observe(sx, sy)
         return sx, sy, heading, texture
-
-    def _look(self, texture: tuple, sx: float, sy: float, heading: float, mx: float,
-              my: float, md: float, rx: float, ry: float) -> float:
-        """The new look (radians) of the reactor stepped to (rx, ry) by (sx, sy)."""
-        p = self.behavior.params
-        look = self.pose[2]
-        _, frame, angle, still_frame, still_angle, look_detail = texture
-        # the look: its frame and smooth angle from the patch's source (continuous within a
-        # patch, like the texture), plus the demonstrated look texture
-        moving = math.hypot(sx, sy) * p.rate_hz >= HEADING_MIN_SPEED
-        desired = desired_look(frame, angle, still_frame, still_angle, moving, heading, md,
-                               math.atan2(my - ry, mx - rx))
-        lg = self.look_governor
-        desired += lg.detail_gain * look_detail
-        turned = limit_turn(look, look + lg.alpha * wrap_angle(desired - look), self.max_turn)
-        lg.observe_look(wrap_angle(turned - look))
-        return turned
-
-    def _main_stands(self, mx: float, my: float) -> bool:
-        """Whether the main at (mx, my) is within the still distance (STILL_MPS over
-        STILL_SPAN_S, metres) of the oldest of its last positions (``_main_recent``)."""
-        ox, oy = self._main_recent[0]
-        return math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
-
-    def _main_stopped(self, mx: float, my: float) -> bool:
-        """Whether the main at (mx, my) is within STILL_MPS x the stop span (metres) of each of
-        its last Behavior.stop_span positions before it (behavior.STOP_SPAN_S)."""
-        r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
-        d = STILL_MPS * k / self.behavior.params.rate_hz
-        return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
-                              for j in range(1, k + 1))
-
-    def _features(self, target: int, mx: float, my: float, md: float, rx: float, ry: float,
-                  look: float) -> None:
-        """The new sample pair's features (section 4.2) into the search windows."""
-        b = self.behavior
-        vm, _, _ = self.main_motion.step(mx, my)
-        vr, move_r, ddir_r = self.react_motion.step(rx, ry)
-        fwd, left, rel_look = ft.relative_pose(mx, my, md, rx, ry, look)
-        ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
-        still = self._main_stands(mx, my)
-        ft.still_row(self._xs, b.scales, still, ft.SITUATION_DIMS)
-        ft.room_row(self._xs, b.scales, mx, my, rx, ry, self.table)
-        self.situation.push(self._xs)
-        ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr,
-                         vm)
-        ft.still_row(self._xc, b.scales, still, ft.COHERENCE_DIMS)
-        self.coherence.push(self._xc, target)

@@ -135,7 +135,7 @@ def relative_pose(mx: float, my: float, md: float, rx: float, ry: float,
 @compiled(numba.boolean(_F2, _I1, _f8, _f8, _f8), step_math)
 def main_stands(recent: np.ndarray, ints: np.ndarray, mx: float, my: float,
                 distance: float) -> bool:
-    """GenerationStep._main_stands: the main at (mx, my) within ``distance`` metres of the
+    """StepSenses._main_stands: the main at (mx, my) within ``distance`` metres of the
     oldest of its last positions (the ring ``recent``, its first slot while not yet full)."""
     o = ints[RECENT_HEAD] if ints[RECENT_COUNT] == recent.shape[0] else 0
     return hypot(mx - recent[o, 0], my - recent[o, 1]) < distance
@@ -144,7 +144,7 @@ def main_stands(recent: np.ndarray, ints: np.ndarray, mx: float, my: float,
 @compiled(numba.boolean(_F2, _I1, _f8, _f8, numba.int64, _f8), step_math)
 def main_stopped(recent: np.ndarray, ints: np.ndarray, mx: float, my: float, span: int,
                  distance: float) -> bool:
-    """GenerationStep._main_stopped: the main at (mx, my) within ``distance`` metres of each
+    """StepSenses._main_stopped: the main at (mx, my) within ``distance`` metres of each
     of the ``span`` positions before the newest in the ring ``recent``."""
     m = recent.shape[0]
     for j in range(1, span + 1):

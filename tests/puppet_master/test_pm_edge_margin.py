@@ -1,12 +1,12 @@
 """A character's edge margin (Params.edge_percentile, Behavior.edge_margin): the targets its
 step heads for are fitted onto the live table less that percentile of its demonstration's
-distances to the edges (generation.fit_target, Reactor.target_table), so the afraid character
+distances to the edges (table_boundary.fit_target, Reactor.target_table), so the afraid character
 chased by a visitor no longer runs along the table's edges, where its demonstration never was."""
 
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, generation, visitors
+from behaviors.puppet_master import fidelity, table_boundary, visitors
 from behaviors.puppet_master.behavior import ParameterError
 from behaviors.puppet_master.engine import Behavior, Reactor
 from tabletop import examples, library
@@ -40,11 +40,11 @@ def test_a_target_beyond_the_edge_is_fitted_inside_the_margin():
     # main 0.2 m from the right edge, its flight target 0.4 m further right, off the table:
     # kept 0.4 m from the main, on the table shrunk by 0.15 m, nearest the reactor
     inner = (0.15, 0.15, 1.05, 0.65)
-    tx, ty = generation.fit_target(1.0, 0.4, 1.4, 0.4, 1.1, 0.45, inner)
+    tx, ty = table_boundary.fit_target(1.0, 0.4, 1.4, 0.4, 1.1, 0.45, inner)
     assert np.hypot(tx - 1.0, ty - 0.4) == pytest.approx(0.4)
     assert inner[0] <= tx <= inner[2] and inner[1] <= ty <= inner[3]
     assert ty > 0.4                      # on the reactor's side of the bearing
-    assert generation.fit_target(1.0, 0.4, 0.9, 0.5, 1.1, 0.45, inner) == (0.9, 0.5)
+    assert table_boundary.fit_target(1.0, 0.4, 0.9, 0.5, 1.1, 0.45, inner) == (0.9, 0.5)
 
 
 @pytest.fixture(scope="module")

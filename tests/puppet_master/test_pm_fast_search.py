@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from behaviors.puppet_master.engine import Behavior, Reactor
-from behaviors.puppet_master.generation import clamp_to_table, fit_target
+from behaviors.puppet_master.table_boundary import clamp_to_table, fit_target
 from behaviors.puppet_master.similarity import CoherenceSearch, SituationSearch
 from tests.puppet_master import demos
 from tests.puppet_master.pm_reference import ReferenceCoherenceSearch, ReferenceSituationSearch

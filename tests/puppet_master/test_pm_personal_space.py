@@ -63,7 +63,7 @@ def test_a_cornered_afraid_character_escapes_round_the_hand():
     # a hand that herds the afraid character and stays on it pinned it into a corner for good
     # (its personal space pushed it off the table along the line from the hand, and the table
     # put it back in the corner): in contact 42% and 33% of the time, at an edge 91% and 70%.
-    # Pushed only as far as the table lets it (generation.keep_apart) it slips out along the
+    # Pushed only as far as the table lets it (table_boundary.keep_apart) it slips out along the
     # edge: contact 0.006 and 0.025, at an edge 88% and 59% (measured). The push is what is
     # tested, so the character without its edge margin (the shipped one, edge_percentile 50:
     # contact 0.048 and 0.034, at an edge 43% and 39%)
@@ -81,15 +81,15 @@ def test_a_push_off_the_table_goes_as_far_as_the_edge():
     # a disc at (0.05, 0.05) with a least distance of 0.105 m pushes a point beside the
     # corner along the line between the centres only as far as the table's edge: a point on
     # the edge stays there (pushed past it and clamped, it went to the corner (0, 0))
-    from behaviors.puppet_master import generation, generation_kernel
+    from behaviors.puppet_master import generation_kernel, table_boundary
     table = (0.0, 0.0, 1.2, 0.8)
     c = np.array(table)
     disc = [(0.05, 0.05, 0.105)]
     for x, y in ((0.0135, 0.0), (0.0, 0.03), (0.02, 0.02), (0.3, 0.0), (0.12, 0.1)):
-        got = generation.keep_apart(x, y, disc, table)
+        got = table_boundary.keep_apart(x, y, disc, table)
         assert got == generation_kernel.keep_apart(x, y, np.array(disc), c)
-        assert generation.clamp_to_table(*got, table) == got
-    x, y = generation.keep_apart(0.0135, 0.0, disc, table)
+        assert table_boundary.clamp_to_table(*got, table) == got
+    x, y = table_boundary.keep_apart(0.0135, 0.0, disc, table)
     assert abs(x - 0.0135) < 1e-12 and y == 0.0
-    x, y = generation.keep_apart(0.12, 0.1, disc, table)          # room inside: the full push
+    x, y = table_boundary.keep_apart(0.12, 0.1, disc, table)          # room inside: the full push
     assert abs(np.hypot(x - 0.05, y - 0.05) - 0.105) < 1e-12
