@@ -75,7 +75,13 @@ def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealth
             f"{unhealthy} unhealthy  {mode}{extra}")
 
 
+#: exit status when no table's heartbeat came (a monitoring script's ``status ... || alert``)
+EXIT_NO_TABLE = 1
+
+
 def main(args: argparse.Namespace) -> int:
+    """Print every table's heartbeat until ``--seconds`` or Ctrl-C; 0 when a table's heartbeat
+    came, EXIT_NO_TABLE when none did (only silence or bad heartbeats)."""
     import threading
 
     from pythonosc.dispatcher import Dispatcher
@@ -90,7 +96,7 @@ def main(args: argparse.Namespace) -> int:
     seconds = None if args.seconds is None else number_in_range(
         args.seconds, "--seconds", "seconds", 0.001, MAX_SECONDS)
 
-    came = []
+    came, shown = [], []
 
     def on_heartbeat(client, address, *values) -> None:
         came.append(True)
@@ -107,6 +113,7 @@ def main(args: argparse.Namespace) -> int:
         else:
             print(format_heartbeat(f"{client[0]}:{client[1]}", str(name), float(uptime),
                                    float(fps), int(unhealthy), str(status)), flush=True)
+        shown.append(True)
 
     d = Dispatcher()
     d.map(HEARTBEAT_ADDRESS, on_heartbeat, needs_reply_address=True)
@@ -127,4 +134,4 @@ def main(args: argparse.Namespace) -> int:
         print(f"tabletop status: no heartbeat came to {host}:{port} in "
               f"{time.monotonic() - start:.0f} s (a table in kiosk mode sends one every "
               "kiosk.heartbeat.every_s to kiosk.heartbeat.host:port)", file=sys.stderr)
-    return 0
+    return 0 if shown else EXIT_NO_TABLE

@@ -1,0 +1,153 @@
+"""``tabletop status``: every table's heartbeat on a port, one line each (or ``--json``); bad
+heartbeats, bad addresses and durations said in one line; exit status 1 when no table came."""
+
+import json
+import socket
+import threading
+
+import pytest
+
+from tabletop.cli import main as cli
+from tabletop.kiosk.health import Heartbeat
+from tests.tracking.scenes import wait_for
+
+
+def test_status_command_prints_every_table(tmp_path, capsys):
+    port = free_udp_port()
+    out = {}
+
+    def listen():
+        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])
+
+    th = threading.Thread(target=listen)
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)        # the command is listening
+    for name in ("north", "south"):
+        hb = Heartbeat("127.0.0.1", port)
+        hb.send(name, 12.5, 59.8, 0, json.dumps({"mode": "live", "restarts": 2}))
+        hb.close()
+    th.join()
+    lines = capsys.readouterr().out.splitlines()
+    assert out["rc"] == 0 and len(lines) == 2
+    assert lines[0].startswith("north") and "59.8 fps" in lines[0] and "restarts 2" in lines[0]
+    assert lines[1].startswith("south")
+
+
+def test_status_command_says_when_no_heartbeat_came(capsys):
+    # it printed nothing at all: a wrong address looked like a quiet gallery; and it exits 1,
+    # so that a monitoring script's `tabletop status ... || alert` alerts (it exited 0)
+    port = free_udp_port()
+    assert cli(["status", f"127.0.0.1:{port}", "--seconds", "0.3"]) == 1
+    cap = capsys.readouterr()
+    assert cap.out == "" and "Traceback" not in cap.err
+    assert cap.err.splitlines() == [cap.err.strip()]
+    assert f"no heartbeat came to 127.0.0.1:{port} in 0 s" in cap.err
+    assert "kiosk.heartbeat" in cap.err
+
+
+def test_status_command_with_only_bad_heartbeats_exits_1(capsys):
+    # another program's datagrams on the port are no table: said on stderr, and no table came
+    from pythonosc.udp_client import SimpleUDPClient
+    port = free_udp_port()
+    out = {}
+    th = threading.Thread(target=lambda: out.update(
+        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", "1"])))
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)
+    bad = SimpleUDPClient("127.0.0.1", port)
+    bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
+    th.join()
+    cap = capsys.readouterr()
+    assert out["rc"] == 1 and cap.out == "" and cap.err.count("bad heartbeat") == 1
+
+
+def test_status_lines_keep_their_columns():
+    # (the whole line went through one_line, which collapsed the padding of every column)
+    from tabletop.commands.status import format_heartbeat
+    a = format_heartbeat("10.0.0.7:50000", "north", 12.5, 59.8, 0, '{"mode": "live"}')
+    b = format_heartbeat("10.0.0.12:50123", "gallery-south\nb", 3600.0, 6.0, 1,
+                         json.dumps({"mode": "one\nmoment", "restarts": 2}))
+    assert a.index(" up ") == b.index(" up ") == 38 and a.index(" fps") == b.index(" fps")
+    assert b.startswith("gallery-south b ") and b.endswith("one moment  restarts 2")
+
+
+def test_status_command_survives_bad_heartbeats(capsys):
+    """Another program sending wrong heartbeats to the port gets one line each on stderr, and
+    the tables after it are still printed (no traceback, the listener keeps listening)."""
+    from pythonosc.udp_client import SimpleUDPClient
+    port = free_udp_port()
+    out = {}
+    th = threading.Thread(target=lambda: out.update(
+        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])))
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)
+    bad = SimpleUDPClient("127.0.0.1", port)
+    bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
+    bad.send_message("/tabletop/heartbeat", ["t2", 1.0, 2.0, 0, 7])           # status a number
+    bad.send_message("/tabletop/heartbeat", ["t3", 1.0, 2.0, 0])              # too few
+    hb = Heartbeat("127.0.0.1", port)
+    hb.send("north\nfake", 3.0, 60.0, 0, "[1, 2]")  # JSON that is no status: shown as "?"
+    hb.close()
+    th.join()
+    cap = capsys.readouterr()
+    assert out["rc"] == 0 and "Traceback" not in cap.err
+    assert len(cap.err.splitlines()) == 3 and cap.err.count("bad heartbeat") == 3
+    lines = cap.out.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
+
+
+@pytest.mark.parametrize("address,words", [("nowhere", "HOST:PORT"), ("h:99999", "1..65535"),
+                                          ("h:x", "port")])
+def test_status_command_refuses_a_bad_address(address, words, capsys):
+    assert cli(["status", address, "--seconds", "1"]) == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err and len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("seconds", ["1e300", "nan", "-1", "0"])
+def test_status_command_refuses_a_bad_duration(seconds, capsys):
+    """--seconds 1e300 overflowed the stop timer in its thread (a traceback, then listening
+    for ever): refused in one line like run's --seconds."""
+    assert cli(["status", f"127.0.0.1:{free_udp_port()}", "--seconds", seconds]) == 2
+    err = capsys.readouterr().err
+    assert "--seconds" in err and "Traceback" not in err and len(err.splitlines()) == 1
+
+
+def port_taken(port: int) -> bool:
+    """Whether a UDP socket is bound to ``port``, read from the kernel's socket table (binding
+    the port to find out would race the command binding it)."""
+    with open("/proc/net/udp") as table:
+        next(table)
+        return any(int(line.split()[1].split(":")[1], 16) == port for line in table)
+
+
+def free_udp_port() -> int:
+    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+def test_status_json_prints_only_json_objects(tmp_path, capsys):
+    """An outside script reads ``tabletop status --json`` line by line with json.loads: a
+    datagram on the port whose status is not a JSON object was printed as it came ("{not
+    json"), breaking the script. It is a bad heartbeat now (one line on stderr)."""
+    port = free_udp_port()
+    out = {}
+
+    def listen():
+        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "2", "--json"])
+
+    th = threading.Thread(target=listen)
+    th.start()
+    assert wait_for(lambda: port_taken(port), 5.0)
+    hb = Heartbeat("127.0.0.1", port)
+    for status in ("{not json", "[1, 2]", '{"fps": NaN}', '{\n  "mode": "live"\n}'):
+        hb.send("north", 1.0, 60.0, 0, status)
+    hb.close()
+    th.join()
+    captured = capsys.readouterr()
+    lines = captured.out.splitlines()
+    assert out["rc"] == 0 and [json.loads(x) for x in lines] == [{"mode": "live"}], lines
+    assert captured.err.count("bad heartbeat (status is not a JSON object)") == 3, captured.err
