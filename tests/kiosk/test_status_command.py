@@ -12,16 +12,20 @@ from tabletop.kiosk.health import Heartbeat
 from tests.tracking.scenes import wait_for
 
 
-def test_status_command_prints_every_table(tmp_path, capsys):
+def listening(seconds: str, *options: str) -> tuple[int, threading.Thread, dict]:
+    """``tabletop status`` on a free loopback port for ``seconds``, in a thread, once it listens:
+    (port, the thread, {"rc": its exit status once joined})."""
     port = free_udp_port()
-    out = {}
-
-    def listen():
-        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])
-
-    th = threading.Thread(target=listen)
+    out: dict = {}
+    th = threading.Thread(target=lambda: out.update(
+        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", seconds, *options])))
     th.start()
     assert wait_for(lambda: port_taken(port), 5.0)        # the command is listening
+    return port, th, out
+
+
+def test_status_command_prints_every_table(tmp_path, capsys):
+    port, th, out = listening("3")
     for name in ("north", "south"):
         hb = Heartbeat("127.0.0.1", port)
         hb.send(name, 12.5, 59.8, 0, json.dumps({"mode": "live", "restarts": 2}))
@@ -48,12 +52,7 @@ def test_status_command_says_when_no_heartbeat_came(capsys):
 def test_status_command_with_only_bad_heartbeats_exits_1(capsys):
     # another program's datagrams on the port are no table: said on stderr, and no table came
     from pythonosc.udp_client import SimpleUDPClient
-    port = free_udp_port()
-    out = {}
-    th = threading.Thread(target=lambda: out.update(
-        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", "1"])))
-    th.start()
-    assert wait_for(lambda: port_taken(port), 5.0)
+    port, th, out = listening("1")
     bad = SimpleUDPClient("127.0.0.1", port)
     bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
     th.join()
@@ -75,12 +74,7 @@ def test_status_command_survives_bad_heartbeats(capsys):
     """Another program sending wrong heartbeats to the port gets one line each on stderr, and
     the tables after it are still printed (no traceback, the listener keeps listening)."""
     from pythonosc.udp_client import SimpleUDPClient
-    port = free_udp_port()
-    out = {}
-    th = threading.Thread(target=lambda: out.update(
-        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", "3"])))
-    th.start()
-    assert wait_for(lambda: port_taken(port), 5.0)
+    port, th, out = listening("3")
     bad = SimpleUDPClient("127.0.0.1", port)
     bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
     bad.send_message("/tabletop/heartbeat", ["t2", 1.0, 2.0, 0, 7])           # status a number
@@ -133,15 +127,7 @@ def test_status_json_prints_only_json_objects(tmp_path, capsys):
     """An outside script reads ``tabletop status --json`` line by line with json.loads: a
     datagram on the port whose status is not a JSON object was printed as it came ("{not
     json"), breaking the script. It is a bad heartbeat now (one line on stderr)."""
-    port = free_udp_port()
-    out = {}
-
-    def listen():
-        out["rc"] = cli(["status", f"127.0.0.1:{port}", "--seconds", "2", "--json"])
-
-    th = threading.Thread(target=listen)
-    th.start()
-    assert wait_for(lambda: port_taken(port), 5.0)
+    port, th, out = listening("2", "--json")
     hb = Heartbeat("127.0.0.1", port)
     for status in ("{not json", "[1, 2]", '{"fps": NaN}', '{\n  "mode": "live"\n}'):
         hb.send("north", 1.0, 60.0, 0, status)
