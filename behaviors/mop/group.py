@@ -14,7 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
-from behaviors.mop import group_kernel, group_steps, members
+from behaviors.mop import group_kernel, group_steps, member_validity, members
 from behaviors.mop.follower import ActionFollower, FollowState, SampleError
 from behaviors.mop.group_arrays import GroupArrays
 from behaviors.mop.group_rules import GroupRules
@@ -22,7 +22,7 @@ from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
-from behaviors.mop.validity import PATH_REACH, still_unbegun
+from behaviors.mop.validity import PATH_REACH
 
 
 class FollowerGroup(GroupArrays, GroupRules):
@@ -272,8 +272,7 @@ class FollowerGroup(GroupArrays, GroupRules):
                 ByName(ix, mean_ll), lk, ByName(ix, sizes), hold)
             out.append(state)
         # until the performer moves on after a rest
-        self._abandoned[present], self._abandon_rested[present] = still_unbegun(
-            self._abandoned[present], self._abandon_rested[present], self._m_rest[present])
+        member_validity.still_unbegun(self._abandoned, self._abandon_rested, self._m_rest, present)
         if any(restart.tolist()):
             self._restart(restart, gb)
         return out

@@ -74,3 +74,18 @@ def test_the_members_unbegun_rule_decides_as_the_followers_own():
     on = abandoned & present
     assert not leads[:750][on[:750]].any()   # back the way it came: no new action leads
     assert leads[750:1100].all()
+
+
+def test_still_unbegun_of_every_member_equals_the_followers_rule():
+    # member_validity.still_unbegun (every present member, in place) against
+    # validity.still_unbegun member by member, over every combination of abandoned, rested
+    # since, resting and present; an absent member keeps its state
+    import itertools
+    from behaviors.mop import member_validity, validity
+    rows = np.array(list(itertools.product((False, True), repeat=4)), dtype=bool)
+    abandoned, rested, rests, present = (np.ascontiguousarray(c) for c in rows.T)
+    got_a, got_r = abandoned.copy(), rested.copy()
+    member_validity.still_unbegun(got_a, got_r, rests, present)
+    for i, (a, r, s, p) in enumerate(rows.tolist()):
+        want = validity.still_unbegun(a, r, s) if p else (a, r)
+        assert (bool(got_a[i]), bool(got_r[i])) == want, (a, r, s, p)
