@@ -251,6 +251,11 @@ class StepSmoother:
         self.ys = [0.0] * size
         self.i = 0
 
+    def restart(self, sx: float, sy: float) -> None:
+        """Every remembered raw step set to (sx, sy): the next mean starts from that step."""
+        self.xs[:] = [sx] * self.size
+        self.ys[:] = [sy] * self.size
+
     def push(self, sx: float, sy: float) -> tuple[float, float]:
         """Add a raw step; returns the mean of the last ``size`` steps."""
         self.xs[self.i] = sx

@@ -358,8 +358,7 @@ class GenerationStep(StepSenses):
             # still/moving 134 -> 107, orbit 46 -> 74. Over the first 8 runs (147 (124)): at
             # rest 172 (135); the world cap raised by the live main's step away beyond the
             # moment's main's 160 (102) (contact 65 -> 40 misses, orbit 24 -> 42)
-            sm = self.smoother
-            sm.xs[:], sm.ys[:] = [sx] * sm.size, [sy] * sm.size
+            self.smoother.restart(sx, sy)
             self._ema = (sx, sy)
         sm = self.smoother
         sx, sy = sm.push(sx, sy)
