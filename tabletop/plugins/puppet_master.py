@@ -73,6 +73,13 @@ DESIGNER = Record({
 })
 
 
+def designer_main_puck(main: dict) -> int:
+    """The designer's main puck where its config names none: the engine's first main binding's
+    puck, or puck 1 where that binding is no puck."""
+    first = singles(main)[0]
+    return first["puck"] if first["kind"] == "puck" else 1
+
+
 def _check_designer(opts: dict, path: str, ctx: Context) -> None:
     """A designer whose take cannot be recorded or kept is refused at load, not at the first
     take: the reactor puck is the main puck (a take in parts may use one puck for both), the
@@ -80,10 +87,7 @@ def _check_designer(opts: dict, path: str, ctx: Context) -> None:
     engines see it), or the library cannot be made."""
     d = opts["designer"]
     where = f"{path}.designer" if path else "designer"
-    main = d["main_puck"]
-    if main is None:   # as the engine resolves it
-        first = singles(opts["main"])[0]
-        main = first["puck"] if first["kind"] == "puck" else 1
+    main = d["main_puck"] if d["main_puck"] is not None else designer_main_puck(opts["main"])
     if d["react_puck"] == main and not d["sequential"]:
         raise ctx.error(f"{where}.react_puck", f"puck {main} is also the designer's main puck; "
                         "give the reactor another puck (or sequential: true to play both parts "
@@ -154,8 +158,7 @@ class PuppetMasterEngine:
         self.note = ""                                               # the studio's label
         if self.designer is not None:
             if self.designer["main_puck"] is None:
-                first = singles(main)[0]
-                self.designer["main_puck"] = first["puck"] if first["kind"] == "puck" else 1
+                self.designer["main_puck"] = designer_main_puck(main)
             if self.designer["name"] is None:
                 self.designer["name"] = name
 
