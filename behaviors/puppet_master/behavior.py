@@ -252,6 +252,8 @@ TOUCH_M = 0.08        # m: two pucks (0.075 m across) touching, centre to centre
 SPACE_PERCENTILE = 1.0  # the demonstrated distance to the main a personal space keeps
 STOPS_WITH_MAIN = 0.45  # pace beside a still main / beside a walking one (pace_ratio) below
 # which a character stops with its main (the stalker 0.37; the lover 0.50, the others 0.81-1.02)
+SINCE_WEIGHT = 0.5    # weight of the steps since the last push among the features of a
+# character that charges (Behavior.charging: the bully), chosen on the data (features.since_scale)
 MIN_CHARGES = 3       # charges (demonstrated.charges) from which a demonstration shows a
 # character that charges (the bully 15 in its minute); one pass close by is an incident: the
 # stalker's one pass round its reversing main, the playful friend's one dart that touched.
@@ -329,14 +331,29 @@ class Behavior:
             # / 2. For every character 1972 / 72 (the playful friend 11 -> 18 misses, the
             # lover 38 -> 43, the bully 21 -> 17); for the lover too 1975 / 69 (38 -> 43).
             self.scales = dataclasses.replace(self.scales, still=ft.still_scale(still_m))
-        self.situation_vectors = ft.situation_vectors(f, self.scales, room_m, still_m)
+        ends, self.charge_touch = charges(self.main[:, :2], self.react[:, :2], p.rate_hz)
+        # the charge a match entering at this sample keeps whole (-1: none, or joined late),
+        # where the demonstration charges again and again (MIN_CHARGES; Behavior.charging)
+        self.charging = len({e for e in ends if e >= 0}) >= MIN_CHARGES
+        self.charge_end = charge_entries(ends, p.rate_hz) if self.charging else [-1] * len(ends)
+        # a character that charges again and again matches by the steps since its last push
+        # too (features.since_push, in the situation and coherence vectors), so the match
+        # keeps the demonstrated rhythm of its charges, not the re-matching's
+        self.since_clip = 0.0           # steps: where the count stops (features.push_interval)
+        since_m = None
+        if self.charging:
+            self.since_clip = ft.push_interval(self.distance, TOUCH_M)
+            since_m = ft.since_push(self.distance, TOUCH_M, self.since_clip)
+            self.scales = dataclasses.replace(self.scales,
+                                              since=ft.since_scale(since_m, SINCE_WEIGHT))
+        self.situation_vectors = ft.situation_vectors(f, self.scales, room_m, still_m, since_m)
         # the room's part of a live sample's distance weighed by its main's nearness
         room_at = ft.room_column(self.scales)
         self.situation_gate = ((room_at, functools.partial(ft.room_gate, s=self.scales))
                                if self.situation_vectors.shape[1] > room_at else None)
         self.situation_aug = augmented(self.situation_vectors,
                                        None if self.situation_gate is None else room_at)
-        self.coherence_vectors = ft.coherence_vectors(f, self.scales, still_m)
+        self.coherence_vectors = ft.coherence_vectors(f, self.scales, still_m, since_m)
         # a window ending at j needs n samples and a following target sample j + 1
         self.valid = np.zeros(N, dtype=bool)
         self.valid[n - 1:N - 1] = True
@@ -365,11 +382,6 @@ class Behavior:
         main_still, self.still_speed = still_main_speed(self.main[:, :2], self.react[:, :2],
                                                         p.rate_hz, STILL_MPS)
         self.walked = (~main_still).tolist()    # the demonstrated main moved at this sample
-        ends, self.charge_touch = charges(self.main[:, :2], self.react[:, :2], p.rate_hz)
-        # the charge a match entering at this sample keeps whole (-1: none, or joined late),
-        # where the demonstration charges again and again (MIN_CHARGES; Behavior.charging)
-        self.charging = len({e for e in ends if e >= 0}) >= MIN_CHARGES
-        self.charge_end = charge_entries(ends, p.rate_hz) if self.charging else [-1] * len(ends)
         self.texture_rows = list(zip(
             self.detail.tolist(), lk.frame.tolist(), lk.angle.tolist(), lk.still_frame.tolist(),
             lk.still_angle.tolist(), lk.detail.tolist()))

@@ -27,7 +27,7 @@ import numpy as np
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
 from behaviors.puppet_master.behavior import (COLUMNS, FOLLOW_SHARE, STILL_MPS,  # noqa: F401
-                                              STILL_SPAN_S, Behavior, DemonstrationError,
+                                              STILL_SPAN_S, TOUCH_M, Behavior, DemonstrationError,
                                               ParameterError, Params)
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
 from behaviors.puppet_master.generation import StepSmoother, target_position
@@ -118,9 +118,13 @@ class Reactor(GenerationStep):
         f, l, rl = ft.relative_pose(main_x, main_y, md, rx, ry, rd)
         ft.situation_row(self._xs, b.scales, 0.0, 0.0, f, l, rl)
         ft.still_row(self._xs, b.scales, True, ft.SITUATION_DIMS)
+        self._since = 0.0               # steps since the last push: the start counts as one
+        ft.since_row(self._xs, b.scales, self._since, ft.since_column(b.scales))
         ft.room_row(self._xs, b.scales, main_x, main_y, rx, ry, self.table)
         ft.coherence_row(self._xc, b.scales, 0.0, 0.0, f, l, 0.0, 0.0)
         ft.still_row(self._xc, b.scales, True, ft.COHERENCE_DIMS)
+        ft.since_row(self._xc, b.scales, self._since,
+                     ft.since_column(b.scales, ft.COHERENCE_DIMS))
         self.situation.reset(np.tile(self._xs, (p.window, 1)))
         self.coherence.reset(np.tile(self._xc, (p.window, 1)))
         self.balancer = Balancer(p.ratio, p.balance_gain, p.share_window)
@@ -153,6 +157,7 @@ class Reactor(GenerationStep):
         fs[[sk.LOOK_MS, sk.LOOK_Z]] = lg.ms, lg.z
         fs[[sk.LOG_K, sk.SHARE]] = bal.log_k, bal.share
         fs[sk.STRAIGHT] = self._straight
+        fs[sk.SINCE] = self._since
         ints = self._is = np.zeros(sk.INT_STATE, dtype=np.int64)
         ints[sk.PATCH_START], ints[sk.PATCH_OFFSET] = self.patch.start, self.patch.offset
         ints[sk.SOURCE] = ints[sk.CHARGE_END] = -1
@@ -181,6 +186,7 @@ class Reactor(GenerationStep):
         c[sk.WALKS_WITH_MAIN] = float(b.walks_with_main)
         c[sk.LARGEST_STEP] = b.largest_step
         c[sk.STRAIGHTNESS] = b.straightness
+        c[[sk.S_SINCE, sk.SINCE_CLIP, sk.TOUCH]] = b.scales.since, b.since_clip, TOUCH_M
         span = min(b.stop_span, self._main_recent.maxlen - 1)    # as StepSenses._main_stopped
         c[[sk.STOP_SPAN, sk.STOP_DISTANCE]] = span, STILL_MPS * span / p.rate_hz
         self._smooth_x = np.zeros(p.smooth)

@@ -83,6 +83,7 @@ class Scales:
     ddir: float
     room: float = 0.0
     still: float = 0.0
+    since: float = 0.0
 
 
 def movement(pos: np.ndarray, look: np.ndarray, rate_hz: float,
@@ -207,42 +208,125 @@ def still_scale(still: np.ndarray) -> float:
     return 1.0 / max(spread, STILL_FLOOR) if spread > 0.0 else 0.0
 
 
+def since_push(distance: np.ndarray, touch: float, clip_steps: float) -> np.ndarray:
+    """(n,) steps since the reactor last touched its main (``distance`` (n,) metres under
+    ``touch``; 0 there and at the first sample, as the start counts as a push), at most
+    ``clip_steps``: as :func:`since_step` advances it live, sample by sample, so the
+    demonstration's samples and the live reactor's are counted alike.
+
+    An extension of the paper's situation features, for a character that charges again and
+    again (behavior.Behavior.charging: the bully). Its demonstrated designer lurks for a time
+    after each push and then charges (every 2.8-4.6 s, 15 charges in its minute); the paper's
+    features tell a moment just after a push from one about to charge only by where the
+    reactor stands, and the match jumped between them every 2-3 steps, so the lurk lasted as
+    long as the re-matching let it: beside slow mains the bully charged too often, beside fast
+    ones too seldom (contact episodes on the 54 unseen paths of seeds 0-5, 8-13, 26-31, mean
+    over 24 runs with the drift share x 1 + d, d = 0, +-0.001 ... +-0.012: slow 10.7-10.8,
+    fast 9.7-9.9 against its designer's own character's 10.0 and 11.6 on the same paths; a
+    path's count off the designer's by 1.3 / 2.4 / 1.5 on the slow / fast / loops paths).
+    With the steps since the last push among the features the match takes moments as long
+    after their push as the live reactor is after its own (10.3 / 10.5 episodes, off by 0.7-0.8
+    / 1.6-1.7 / 1.2-1.3). See :func:`since_scale` for the weight and the figures."""
+    out = np.zeros(distance.shape[0])
+    k = 0.0
+    for i in range(1, distance.shape[0]):
+        k = since_step(k, float(distance[i]), touch, clip_steps)
+        out[i] = k
+    return out
+
+
+def since_step(since: float, distance: float, touch: float, clip_steps: float) -> float:
+    """The steps since the last push one step on: 0 where the reactor is nearer its main
+    than ``touch`` metres, else one more, at most ``clip_steps``."""
+    return 0.0 if distance < touch else min(since + 1.0, clip_steps)
+
+
+def push_interval(distance: np.ndarray, touch: float) -> float:
+    """The most steps the demonstrated reactor went without touching its main (``distance``
+    (n,) metres under ``touch``) before touching it again, the start counting as a touch
+    (0: it never touched): where :func:`since_push` stops counting, so a live reactor that
+    has not pushed for longer matches the demonstration's longest waits (the bully 152
+    steps, 3.8 s)."""
+    since = since_push(distance, touch, math.inf)
+    touched = np.flatnonzero(distance[1:] < touch)
+    return float(since[touched].max()) if touched.size else 0.0
+
+
+def since_scale(since: np.ndarray, weight: float) -> float:
+    """The weight of the steps since the last push (:func:`since_push`) among the situation
+    and coherence features: ``weight`` over their spread (standard deviation), as every
+    feature; behavior.SINCE_WEIGHT 0.5, chosen on the data.
+
+    The bully's misses (the engine's alone: where its designer's own character meets the
+    threshold on the same path) over the 54 unseen paths of seeds 0-5, 8-13, 26-31, 24 runs
+    (the drift share x 1 + d, d = 0, +-0.001 ... +-0.012), compiled step: without the feature
+    407 (332): contact 189, orbit 87, still/moving 131. In the situation and coherence vectors
+    at weight 0.35 331 (230), 0.5 258 (161): contact 40, orbit 95, still/moving 123; 0.75 319
+    (221): orbit 160. In the situation vectors alone (the paper's similarity of the situation;
+    coherence then continued moments whatever their time since a push) 0.5 289 (190), 0.75 307
+    (205); over the first 12 runs 0.25 210 (153) (base 181 (142)), 1 174 (120), 2 251 (154):
+    the heavier the weight, the fewer contact misses and the more orbit and still/moving ones
+    (the relative position counts for less in the match). bench/fidelity.py --seeds 0-5 /
+    8-13 / 26-31: met 666 / 661 / 660 -> 673 / 664 / 659 of 720, the engine's alone 13 / 19
+    / 22 -> 7 / 17 / 22; the bully's misses 7 (6) / 6 (4) / 6 (3) -> 0 / 3 (2) / 7 (3); the
+    other characters and the pursuit identical (the feature is theirs only where their
+    demonstration charges again and again, behavior.MIN_CHARGES)."""
+    spread = float(np.std(since))
+    return weight / spread if spread > 0.0 else 0.0
+
+
+def since_column(s: Scales, first: int = SITUATION_DIMS) -> int:
+    """The column of the steps since the last push in the situation vectors (``first``
+    SITUATION_DIMS) or the coherence vectors (COHERENCE_DIMS): after the paper's features
+    and the main's still/moving state where the scales weigh it."""
+    return first + (1 if s.still > 0.0 else 0)
+
+
 def room_column(s: Scales) -> int:
-    """The first situation column of the room (after the paper's six and the main's
-    still/moving state where the scales weigh it)."""
-    return SITUATION_DIMS + (1 if s.still > 0.0 else 0)
+    """The first situation column of the room (after the paper's six, the main's
+    still/moving state and the steps since the last push where the scales weigh them)."""
+    return since_column(s) + (1 if s.since > 0.0 else 0)
 
 
 def situation_vectors(f: PairFeatures, s: Scales, room_m: np.ndarray | None = None,
-                      still: np.ndarray | None = None) -> np.ndarray:
+                      still: np.ndarray | None = None,
+                      since: np.ndarray | None = None) -> np.ndarray:
     """(n, 6) situation-similarity vectors (4.3.1): velocities, relative position and look;
     then the main's still/moving state (``still`` (n,) 0/1, :func:`main_still`) where the
-    scales weigh it (s.still > 0); then the reactor's room on the table (``room_m`` (n, 2)
-    metres, :func:`room`) where the scales weigh it (s.room > 0; Params.w_room)."""
+    scales weigh it (s.still > 0); then the steps since the last push (``since`` (n,),
+    :func:`since_push`) where the scales weigh them (s.since > 0); then the reactor's room on
+    the table (``room_m`` (n, 2) metres, :func:`room`) where the scales weigh it (s.room > 0;
+    Params.w_room)."""
     cols = [s.v_main * f.v_main, s.v_react * f.v_react,
             s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
             s.rel_look * np.cos(f.rel_look), s.rel_look * np.sin(f.rel_look)]
     if s.still > 0.0 and still is not None:
         cols.append(s.still * still)
+    if s.since > 0.0 and since is not None:
+        cols.append(s.since * since)
     if s.room > 0.0 and room_m is not None:
         cols.extend([s.room * room_m[:, 0], s.room * room_m[:, 1]])
     return np.column_stack(cols)
 
 
-def coherence_vectors(f: PairFeatures, s: Scales, still: np.ndarray | None = None
-                      ) -> np.ndarray:
+def coherence_vectors(f: PairFeatures, s: Scales, still: np.ndarray | None = None,
+                      since: np.ndarray | None = None) -> np.ndarray:
     """(n, 8) coherence vectors (4.3.2) of the reactor: normalised look, delta direction,
     relative position, velocity; and the main's velocity (the paper computes velocity on both
-    entities). Without it a coherence match continues a stretch where the demonstrated main
-    moved while the live main stands still: a stalker kept walking (measured on the slow path
-    with pauses: 40% of steps with a still main chose coherence; targets moved at 0.14 m/s
-    against 0.08 m/s in the demonstration's own still moments)."""
+    entities); then the main's still/moving state and the steps since the last push where the
+    scales weigh them (as :func:`situation_vectors`). Without the main's velocity a coherence
+    match continues a stretch where the demonstrated main moved while the live main stands
+    still: a stalker kept walking (measured on the slow path with pauses: 40% of steps with a
+    still main chose coherence; targets moved at 0.14 m/s against 0.08 m/s in the
+    demonstration's own still moments)."""
     cols = [s.norm_look * np.cos(f.norm_look_react), s.norm_look * np.sin(f.norm_look_react),
             s.ddir * np.cos(f.ddir_react), s.ddir * np.sin(f.ddir_react),
             s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
             s.v_react * f.v_react, s.v_main * f.v_main]
     if s.still > 0.0 and still is not None:
         cols.append(s.still * still)
+    if s.since > 0.0 and since is not None:
+        cols.append(s.since * since)
     return np.column_stack(cols)
 
 
@@ -296,6 +380,13 @@ def still_row(out: np.ndarray, s: Scales, still: bool, column: int) -> None:
     vectors carry it (s.still > 0)."""
     if s.still > 0.0:
         out[column] = s.still if still else 0.0
+
+
+def since_row(out: np.ndarray, s: Scales, since: float, column: int) -> None:
+    """Write the steps since the last push (:func:`since_step`) into ``out[column]`` where
+    the vectors carry them (s.since > 0)."""
+    if s.since > 0.0:
+        out[column] = s.since * since
 
 
 def room_row(out: np.ndarray, s: Scales, mx: float, my: float, rx: float, ry: float,

@@ -16,7 +16,8 @@ any of these must be made here too:
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
-- features: EntityMotion.step, relative_pose, situation_row, room_row, coherence_row
+- features: EntityMotion.step, relative_pose, situation_row, since_step, since_row, room_row,
+  coherence_row
 - tabletop.frames.wrap_angle and math.remainder, math.hypot as CPython 3.11 computes them
 
 In Python the step cost about 60-100 us of interpreter time in 40 small helpers (the
@@ -44,8 +45,8 @@ from behaviors.kernel_cache import compiled
 # float state (Reactor._fs)
 RX, RY, LOOK, MAIN_X, MAIN_Y, MAIN_MOVE, REACT_X, REACT_Y, REACT_MOVE, EMA_X, EMA_Y, \
     GOV_MS, GOV_Z, GOV_PREV, LOOK_MS, LOOK_Z, LOG_K, SHARE, STEP_X, STEP_Y, CAP_1, \
-    CAP_2, STRAIGHT = range(23)
-FLOAT_STATE = 23
+    CAP_2, STRAIGHT, SINCE = range(24)
+FLOAT_STATE = 24
 # integer state (Reactor._is)
 PATCH_START, PATCH_OFFSET, SMOOTH_I, RECENT_COUNT, RECENT_HEAD, CHOICES, COHERENCE_CHOICES, \
     SOURCE, USED_COHERENCE, CHARGE_END, KEPT_CHARGE = range(11)
@@ -63,7 +64,8 @@ LARGEST_STEP = 46
 S_STILL = 47          # the weight of the main's still/moving state (0: not a feature)
 STOP_SPAN, STOP_DISTANCE = 48, 49   # Behavior.stop_span (held to the ring) and its distance
 STRAIGHTNESS = 50     # Behavior.straightness
-CONSTANTS = 51
+S_SINCE, SINCE_CLIP, TOUCH = 51, 52, 53   # the steps since the last push (0: not a feature)
+CONSTANTS = 54
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -370,6 +372,13 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             still = c[S_STILL]
         xs[6] = still
         at = 7
+    if c[S_SINCE] > 0.0:            # the steps since the last push (features.since_step)
+        if hypot(fwd, left) < c[TOUCH]:
+            fs[SINCE] = 0.0
+        else:
+            fs[SINCE] = _min(fs[SINCE] + 1.0, c[SINCE_CLIP])
+        xs[at] = c[S_SINCE] * fs[SINCE]
+        at += 1
     if xs.shape[0] > at:            # the reactor's room on the table (features.room_row)
         rho = hypot(rx - mx, ry - my)
         clip = c[ROOM_CLIP]
@@ -392,6 +401,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     xc[7] = c[S_V_MAIN] * vm
     if c[S_STILL] > 0.0:
         xc[8] = still
+    if c[S_SINCE] > 0.0:            # features.since_column
+        xc[9 if c[S_STILL] > 0.0 else 8] = c[S_SINCE] * fs[SINCE]
     fs[RX], fs[RY], fs[LOOK] = rx, ry, look
     fs[STEP_X], fs[STEP_Y] = sx, sy
     return target

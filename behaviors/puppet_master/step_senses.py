@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.behavior import STILL_MPS, STILL_SPAN_S
+from behaviors.puppet_master.behavior import STILL_MPS, STILL_SPAN_S, TOUCH_M
 from behaviors.puppet_master.generation import limit_turn
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, desired_look
 from tabletop.frames import wrap_angle
@@ -61,9 +61,15 @@ class StepSenses:
         ft.situation_row(self._xs, b.scales, vm, vr, fwd, left, rel_look)
         still = self._main_stands(mx, my)
         ft.still_row(self._xs, b.scales, still, ft.SITUATION_DIMS)
+        if b.scales.since > 0.0:    # the steps since the last push (features.since_step)
+            self._since = ft.since_step(self._since, math.hypot(fwd, left), TOUCH_M,
+                                        b.since_clip)
+            ft.since_row(self._xs, b.scales, self._since, ft.since_column(b.scales))
         ft.room_row(self._xs, b.scales, mx, my, rx, ry, self.table)
         self.situation.push(self._xs)
         ft.coherence_row(self._xc, b.scales, wrap_angle(look - move_r), ddir_r, fwd, left, vr,
                          vm)
         ft.still_row(self._xc, b.scales, still, ft.COHERENCE_DIMS)
+        ft.since_row(self._xc, b.scales, self._since,
+                     ft.since_column(b.scales, ft.COHERENCE_DIMS))
         self.coherence.push(self._xc, target)
