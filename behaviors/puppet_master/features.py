@@ -259,18 +259,19 @@ def since_scale(since: np.ndarray, weight: float) -> float:
 
     The bully's misses (the engine's alone: where its designer's own character meets the
     threshold on the same path) over the 54 unseen paths of seeds 0-5, 8-13, 26-31, 24 runs
-    (the drift share x 1 + d, d = 0, +-0.001 ... +-0.012), compiled step: without the feature
-    407 (332): contact 189, orbit 87, still/moving 131. In the situation and coherence vectors
-    at weight 0.35 331 (230), 0.5 258 (161): contact 40, orbit 95, still/moving 123; 0.75 319
-    (221): orbit 160. In the situation vectors alone (the paper's similarity of the situation;
-    coherence then continued moments whatever their time since a push) 0.5 289 (190), 0.75 307
-    (205); over the first 12 runs 0.25 210 (153) (base 181 (142)), 1 174 (120), 2 251 (154):
-    the heavier the weight, the fewer contact misses and the more orbit and still/moving ones
-    (the relative position counts for less in the match). bench/fidelity.py --seeds 0-5 /
-    8-13 / 26-31: met 666 / 661 / 660 -> 673 / 664 / 659 of 720, the engine's alone 13 / 19
-    / 22 -> 7 / 17 / 22; the bully's misses 7 (6) / 6 (4) / 6 (3) -> 0 / 3 (2) / 7 (3); the
-    other characters and the pursuit identical (the feature is theirs only where their
-    demonstration charges again and again, behavior.MIN_CHARGES)."""
+    (the drift share x 1 + d, d = 0, +-0.001 ... +-0.012), compiled step: without the
+    feature 407 (332): contact 189, orbit 87, still/moving 131. In the situation and
+    coherence vectors at weight 0.35 331 (230), 0.5 258 (161): contact 40, orbit 95,
+    still/moving 123; 0.6 247 (158); 0.75 319 (221): orbit 160. In the situation vectors
+    alone (the paper's similarity of the situation; coherence then continued moments
+    whatever their time since a push) 0.5 289 (190), 0.75 307 (205); over the first 12 runs
+    0.25 210 (153) (base 181 (142)), 1 174 (120), 2 251 (154): the heavier the weight, the
+    fewer contact misses and the more orbit and still/moving ones (the relative position
+    counts for less in the match). bench/fidelity.py --seeds 0-5 / 8-13 / 26-31: met 666 /
+    661 / 660 -> 673 / 664 / 659 of 720, the engine's alone 13 / 19 / 22 -> 7 / 17 / 22; the
+    bully's misses 7 (6) / 6 (4) / 6 (3) -> 0 / 3 (2) / 7 (3); the other characters and the
+    pursuit identical (the feature is theirs only where their demonstration charges again
+    and again, behavior.MIN_CHARGES)."""
     spread = float(np.std(since))
     return weight / spread if spread > 0.0 else 0.0
 
