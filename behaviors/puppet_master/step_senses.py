@@ -52,7 +52,8 @@ class StepSenses:
         (its designer flees from where the hand is; a paused hand turns in place). Held in the
         standing main's frame, the place lay round the main (chased, 18 seeds: 0.22 m from
         the character, 0.17 m of it across the bearing) and the uncapped drift correction ran
-        round to it at 0.42 m/s where the moment went 0.24: still/moving over its limit.
+        round to it at 0.42 m/s where the moment went 0.24 (now 0.38: the way out to the
+        moment's distance, 0.1 m farther than the live one, remains; held to the pace below).
         bench/fidelity.py on seeds 0-5, 8-13, 26-31: met 1987 -> 1988 of 2160, the engine's
         alone 54 -> 52 (afraid 7 -> 5, the others identical), chased 127 -> 131 of 144 (the
         engine's 11 -> 9). The afraid character alone on those seeds x relative_motion 1, 1
