@@ -124,9 +124,9 @@ class Params:
     does. Gated, a far main leaves the match as it was. For every character (ungated, the
     room behind, weight 1), bench/fidelity.py seeds 0-5 met 643 against 666 (the bully and
     the playful friend 13 misses more): a designer's choice for a character chased into
-    walls, not a default. Since the main's still/moving state is among the afraid character's
-    features (Behavior.scales.still) the room no longer keeps it off the edges chased (seeds
-    2 / 5: 0.48 / 0.46 without it, 0.50 / 0.47 with; 0.73 / 0.65 -> 0.49 / 0.31 before).
+    walls, not a default. Chased without the edge margin, at an edge (18 tuning seeds' mean)
+    0.53 without it, 0.47 with (0.48 / 0.47 before StepSenses._stood_place; seeds 2 / 5
+    now 0.72 / 0.53 -> 0.29 / 0.63; 0.73 / 0.65 -> 0.49 / 0.31 before the still state).
     table_width, table_height: metres, the table the demonstration was made on (origin at its
     corner 0), for the room and the edge margin; 0 (a file without them) takes the
     demonstration's bounds.

@@ -94,6 +94,12 @@ class GenerationStep(StepSenses):
             # (matched 0.122) and walked slower (0.097 -> 0.080 m/s); bench/fidelity.py
             # --seeds 0,1,2,3,4,5 666 -> 614 of 720; half that change 620 (bully 4 -> 13).
             tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
+        elif self._stood_place(target, mx, my):
+            # a character that keeps away, at a moment whose demonstrated main stood, beside a
+            # live main that stands: the moment's distance on the live bearing (figures in
+            # StepSenses._stood_place)
+            phi = math.atan2(ry - my, rx - mx)
+            tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
         else:
             tx, ty = target_position(mx, my, md, fwd_t, left_t)
         # onto the table less the demonstrated edge margin (Params.edge_percentile)

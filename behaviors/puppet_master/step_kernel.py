@@ -205,8 +205,21 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     row = table[target]
     place, bearing_turn, dist = row[T_PLACE], row[T_BEARING_TURN], row[T_DISTANCE]
     fwd_t, left_t, speed = row[T_FWD], row[T_LEFT], row[T_SPEED]
+    m = recent.shape[0]                 # the main's last positions (still or not)
+    head = ints[RECENT_HEAD]
+    recent[head, 0], recent[head, 1] = mx, my
+    head = (head + 1) % m
+    ints[RECENT_HEAD] = head
+    if ints[RECENT_COUNT] < m:
+        ints[RECENT_COUNT] += 1
     if place == PLACE_WORLD:
         phi = math.atan2(ry - my, rx - mx) + bearing_turn
+        tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
+    elif (c[PERSONAL_SPACE] > 0.0 and c[WALKS_WITH_MAIN] == 0.0 and row[T_WALKED] == 0.0
+          and ints[RECENT_COUNT] == m and main_stands(recent, ints, mx, my,
+                                                      c[STILL_DISTANCE])):
+        # StepSenses._stood_place: its distance on the live bearing
+        phi = math.atan2(ry - my, rx - mx)
         tx, ty = mx + dist * math.cos(phi), my + dist * math.sin(phi)
     else:
         cm, sm = math.cos(md), math.sin(md)
@@ -216,13 +229,6 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     if c[CATCH_UP] > 0.0 and speed >= 3.0 * c[MIN_SPEED]:
         speed = _max(speed, _min(c[CATCH_UP] * hypot(tx - rx, ty - ry), c[TOP_SPEED]))
     gain = c[GAIN]
-    m = recent.shape[0]                 # the main's last positions (still or not)
-    head = ints[RECENT_HEAD]
-    recent[head, 0], recent[head, 1] = mx, my
-    head = (head + 1) % m
-    ints[RECENT_HEAD] = head
-    if ints[RECENT_COUNT] < m:
-        ints[RECENT_COUNT] += 1
     mean_cap = math.inf
     step_cap = math.inf
     keep_length = 0.0                   # the smooth's length kept up to this (step.py)

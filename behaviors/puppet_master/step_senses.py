@@ -1,8 +1,9 @@
 """What a generation step perceives and shows, in Python (:class:`step.GenerationStep` inherits
 it; the compiled step, step_kernel, repeats it): the main's standing and stopped states read
-from its last positions, the new look at a limited turn rate (look.py), and the new sample
-pair's features (paper section 4.2) pushed into the search windows. Units: seconds, table
-metres, radians.
+from its last positions (and whether a character keeping away then holds its place on the
+live bearing), the new look at a limited turn rate (look.py), and the new sample pair's
+features (paper section 4.2) pushed into the search windows. Units: seconds, table metres,
+radians.
 """
 
 from __future__ import annotations
@@ -42,6 +43,31 @@ class StepSenses:
         STILL_SPAN_S, metres) of the oldest of its last positions (``_main_recent``)."""
         ox, oy = self._main_recent[0]
         return math.hypot(mx - ox, my - oy) < STILL_MPS * STILL_SPAN_S
+
+    def _stood_place(self, target: int, mx: float, my: float) -> bool:
+        """Whether a character that keeps away from its main (a personal space, not walking
+        with it: the afraid one) is at training sample ``target``, where its demonstrated main
+        stood, beside a live main at (mx, my) that stands. Its place is then its distance on
+        the live bearing (step.py, _trajectory): a standing hand's heading does not place it
+        (its designer flees from where the hand is; a paused hand turns in place). Held in the
+        standing main's frame, the place lay round the main (chased, 18 seeds: 0.22 m from
+        the character, 0.17 m of it across the bearing) and the uncapped drift correction ran
+        round to it at 0.42 m/s where the moment went 0.24 (now 0.38: the way out to the
+        moment's distance, 0.1 m farther than the live one, remains; held to the pace below).
+        bench/fidelity.py on seeds 0-5, 8-13, 26-31: met 1987 -> 1988 of 2160, the engine's
+        alone 54 -> 52 (afraid 7 -> 5, the others identical), chased 127 -> 131 of 144 (the
+        engine's 11 -> 9). The afraid character alone on those seeds x relative_motion 1, 1
+        +- 0.001, 1 +- 0.002, met on the open paths / chased (the engine's alone): 1787 (24) /
+        652 (45) -> 1792 (18) / 658 (48), at an edge chased 0.138 -> 0.129, still/moving
+        misses chased 15 -> 11, caught 4 -> 0. Measured too: also at moments whose main
+        walked 1784 (25) / 653 (52) (orbit chased 12 -> 18 misses); instead the step held to
+        the moment's pace beside a standing main 1754 (28) / 657 (50), at moments whose main
+        stood 1746 (41) / 655 (46) for its correction alone, only where the table moved the
+        target 1794 (23) / 653 (47) but caught 4 -> 12; the cap of a place held in the world
+        raised by the live main's step toward it 1767 (19) / 642 (62)."""
+        b, recent = self.behavior, self._main_recent
+        return (b.personal_space > 0.0 and not b.walks_with_main and not b.walked[target]
+                and len(recent) == recent.maxlen and self._main_stands(mx, my))
 
     def _main_stopped(self, mx: float, my: float) -> bool:
         """Whether the main at (mx, my) is within STILL_MPS x the stop span (metres) of each of
