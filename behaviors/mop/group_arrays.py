@@ -174,7 +174,9 @@ class GroupArrays:
         self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_leads, self._m_committed = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_kept = np.ones(m)
-        self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
+        self._m_out = np.empty((len(members.MEMBER_OUT), m))   # members.conclude's answers
+        self._m_flags = np.empty((len(members.MEMBER_FLAGS), m), dtype=bool)
+        self._m_likely, self._m_likely_v = np.empty((m, 3), dtype=np.intp), np.empty((m, 3, 2))
         self._m_restart = np.empty(m, dtype=np.intp)
         self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
         self._reversal_at = np.concatenate([f._reversal_at for f in fs]).astype(np.intp)
