@@ -186,18 +186,16 @@ class FollowerGroup(GroupArrays, GroupRules):
         one compiled pass over the group, then each member's validity, state and spotting."""
         fw, k = self.forward, len(self._owner)
         # fresh each tick: the states' maps are views of them
-        self._k_p, self._k_progress, self._k_mean_ll = np.empty(k), np.empty(k), np.empty(k)
+        self._k_out = k_out = np.empty((3, k))
+        self._k_progress, self._k_mean_ll, self._k_p = k_out
         group_kernel.update_templates(
             self._states, self._ti, self._tc, self._mc, self._floats, self._flags, self._misfit,
-            self._entries, fw.mean, fw.entries, step_ll, self._x, self._anchor, self._buf,
-            self._nbuf, self._bounds, self._counts, self._best, PATH_REACH[0], PATH_REACH[1],
-            RIVAL_PROBABILITY, LEAD * 2.0 * SHAPE_SPREAD ** 2, self._k_progress, self._k_mean_ll,
-            self._k_p, self._k_new, self._m_top3, self._m_moving, self._m_any_engaged,
-            self._m_all_refused, self._m_leads, present, self._means, self._thr_means,
-            self._thr_alpha, self._thr_ev, self._thr_x, self._thr_has_x, self._thr_scratch,
-            self._m_kept,
-            self._thr_z, self._thr_lj, self._thr_total, self._thr_tops, self._m_rest,
-            self._shape_n, self._m_committed, self._reversal_at, self._reversal_tol)
+            self._entries, fw.mean, fw.entries, step_ll, self._m_vectors, self._buf,
+            self._m_ints, PATH_REACH[0], PATH_REACH[1], RIVAL_PROBABILITY,
+            LEAD * 2.0 * SHAPE_SPREAD ** 2, k_out, self._k_new, self._m_top3, self._m_floats,
+            self._m_bools, present, self._means, self._thr_means, self._thr_alpha,
+            self._thr_scratch, self._thr_z, self._thr_lj, self._thr_tops, self._reversal_at,
+            self._reversal_tol)
         return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
@@ -210,16 +208,11 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._tempo(present)
         self._unbegun(present)
         members.conclude(
-            self._states, self._ti, fw.mean, fw._mom, self._size, self._flags, p,
-            self._k_progress, mean_ll, step_ll, self._holds, self._scale, self._mk, self._x,
-            self._anchor, present, self._m_moving, self._m_any_engaged, self._m_all_refused,
-            self._m_leads, self._bounds, self._best, self._run, self._run_k, self._acquired,
-            self._buf, self._nbuf, self._has_end, self._end_x, self._lost, self._after_end,
-            self._m_kept, self._drive_k, self._drive_from, self._drive_peak, self._turn_ok,
-            self._extent, self._peak, self._peak_k, self._m_out, self._m_flags, restart,
-            self._gone, self._shared, self._sh_off, self._drive_moved, self._m_rest,
-            self._crawl, self._end_last, self._m_committed, self._drift_run, self._k_new,
-            self._m_top3, self._m_likely, self._m_likely_v)
+            self._states, self._ti, fw.mean, fw._mom, self._floats, self._flags, self._k_out,
+            step_ll, self._holds, self._scale, self._mk, self._m_vectors, present, self._m_floats,
+            self._m_bools, self._m_ints, self._buf, self._extent, self._m_out, self._m_flags,
+            self._shared, self._crawl, self._k_new, self._m_top3, self._m_likely,
+            self._m_likely_v)
         progress = self._k_progress
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays
