@@ -174,7 +174,9 @@ class GroupArrays:
         self._m_any_engaged, self._m_all_refused = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_leads, self._m_committed = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
         self._m_kept = np.ones(m)
-        self._m_out, self._m_flags = np.empty((4, m)), np.empty((3, m), dtype=bool)
+        self._m_out = np.empty((len(members.MEMBER_OUT), m))   # members.conclude's answers
+        self._m_flags = np.empty((len(members.MEMBER_FLAGS), m), dtype=bool)
+        self._m_likely, self._m_likely_v = np.empty((m, 3), dtype=np.intp), np.empty((m, 3, 2))
         self._m_restart = np.empty(m, dtype=np.intp)
         self._m_rest = np.zeros(m, dtype=bool)   # resting (validity.resting): once per tick
         self._reversal_at = np.concatenate([f._reversal_at for f in fs]).astype(np.intp)
@@ -188,10 +190,15 @@ class GroupArrays:
         self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
         self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
         self._thr_tops = np.zeros(k)   # scratch: each template's likeliest threshold state
+        # the members' own arrays, each a row of one array (members.MEMBER_VECTORS, ...)
+        self._m_vectors = self._rows(members.MEMBER_VECTORS, float)
+        self._m_ints = self._rows(members.MEMBER_INTS, np.intp)
+        self._m_floats = self._rows(members.MEMBER_FLOATS, float)
+        self._m_bools = self._rows(members.MEMBER_BOOLS, bool)
 
     def _rows(self, names: tuple[str, ...], dtype: type) -> np.ndarray:
-        """The per-template arrays ``names`` (K,) as the rows of one array (len(names), K): each
-        name (and its members' share of it) becomes a view of its row."""
+        """The arrays ``names`` (K,) or (M, ...) as the rows of one array (len(names), ...):
+        each name (and the members' share of a per-template one) becomes a view of its row."""
         rows = np.array([getattr(self, n) for n in names], dtype=dtype)
         for n, row in zip(names, rows):
             setattr(self, n, row)

@@ -71,33 +71,30 @@ FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")
 
 
 @compiled(numba.void(_F2, _I2, _F2, _F2, _F2, _BB2, _F2, numba.int64[::1], _F1,
-                     numba.int64[::1], _F1, _F2, _F2, _F3, _I1, _I1, _I1, _I1,
-                     numba.intp, numba.intp, numba.float64, numba.float64,
-                     _F1, _F1, _F1, _B1, _I2, _F1, _B1, _B1, _B1,
-                     _B1, _F2, _S2, _S1, _F1, _F2, _B1, _S1, _F1, _F2, _F1, _F1, _F1, _B1, _F1, _B1,
-                     _I1, _F1),
+                     numba.int64[::1], _F1, _F3, _F3, _I2, numba.intp, numba.intp, numba.float64,
+                     numba.float64, _F2, _B1, _I2, _F2, _BB2, _B1, _F2, _S2, _S1, _S1, _F2, _F1,
+                     _F1, _I1, _F1),
            *_CALLS_INTO, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
-                     x, anchor, buf, nbuf, bounds, counts, best, before, after, rival_p, min_lead,
-                     progress_out, mean_ll_out, p_out, new_out, top3_out, moving_out, any_engaged,
-                     all_refused, leads_out, present, means, thr_means, alpha, thr_ev, thr_x,
-                     thr_has_x, scratch, kept_out, thr_z, thr_lj, thr_total, thr_tops, rest_out,
-                     shape_n, committed_out, reversal_at, reversal_tol) -> None:
+                     vectors, buf, ints, before, after, rival_p, min_lead, k_out, new_out,
+                     top3_out, m_floats, m_flags, present, means, thr_means, alpha, scratch,
+                     thr_z, thr_lj, thr_tops, reversal_at, reversal_tol) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
 
     ``states``: see :data:`STATE_COLUMNS`; ``ti`` (K, 3): each template's first state and
     length in its member's bank and where that bank begins in ``states``; ``tc``, ``mc``: see
-    :data:`TEMPLATE_SCALARS`, :data:`MEMBER_SCALARS`; ``x``, ``anchor`` (M, D): each member's
-    sample and anchor; ``buf``/``nbuf``: its recent samples; ``bounds``/``counts``: its first
-    template and template count. In place: ``floats`` (:data:`FLOATS`), ``flags``
-    (:data:`FLAGS`), ``misfit`` (K, 3) sums, ``entries`` and ``best`` (M,: each member's own
-    template index, switched when another leads by the member's margin in nats or it is
-    refused); ``floats`` (len(FLOATS), K) and ``flags`` (len(FLAGS), K): one row each (arrays,
-    not tuples of them: numba types a tuple's arrays one by one at every call; the call's
-    dispatch alone 6.5 -> 4.7 us median, a no-op of each signature with the group's
-    arguments). Out per template: progress, recent mean log-likelihood, probability, whether its
+    :data:`TEMPLATE_SCALARS`, :data:`MEMBER_SCALARS`; the members' arrays are rows of
+    ``vectors``, ``ints``, ``m_floats``, ``m_flags`` (:data:`~behaviors.mop.members.MEMBER_INTS`
+    and the rest): ``x``, ``anchor`` (M, D): each member's sample and anchor; ``buf``/``nbuf``:
+    its recent samples; ``bounds``/``counts``: its first template and template count;
+    ``k_out``: the rows progress, mean_ll, p below (fresh each tick). In place: ``floats``
+    (:data:`FLOATS`), ``flags`` (:data:`FLAGS`), ``misfit`` (K, 3) sums, ``entries`` and
+    ``best`` (M,: each member's own template index, switched when another leads by the
+    member's margin in nats or it is refused); ``floats`` (len(FLOATS), K), ``flags`` and the
+    members' arrays: one row each (not tuples of arrays: numba types a tuple's arrays one by
+    one at every call, 6.5 -> 4.7 us; nor an argument each: see :func:`members.conclude`). Out per template: progress, recent mean log-likelihood, probability, whether its
     performance began anew; per member: top three by probability (-1 where fewer), the largest
     RMS displacement from the anchor (template units and size), any engaged, all refused,
     whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
@@ -112,6 +109,13 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run = floats[11], floats[12]
+    x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
+    bounds, counts, best, nbuf = ints[0], ints[1], ints[3], ints[7]
+    progress_out, mean_ll_out, p_out = k_out[0], k_out[1], k_out[2]
+    moving_out, thr_ev, kept_out, thr_total, shape_n = (m_floats[0], m_floats[1], m_floats[2],
+                                                        m_floats[3], m_floats[4])
+    any_engaged, all_refused, leads_out = m_flags[0], m_flags[1], m_flags[2]
+    thr_has_x, rest_out, committed_out = m_flags[3], m_flags[4], m_flags[5]
     refused, engaged, misshaped = flags[0], flags[1], flags[2]
     covered, at_hold_end = flags[3], flags[4]
     d = x.shape[1]

@@ -34,6 +34,7 @@ _CALLS_INTO = (handover, shape_lead, spotting, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
+_BB2 = numba.boolean[:, ::1]
 
 #: How a member's new attempt starts (:meth:`GestureSpotting._spot`): none; its gesture ended
 #: and the input moved on or rests (anchored at the end); it rests at 90% or more while valid;
@@ -43,6 +44,19 @@ GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING = range(5)
 MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep", "onset",
                 "end", "null2", "depart2", "lost_after", "dims")
 _RAD = len(MEMBER_RULES)
+#: The members' own arrays of a follower group (its attributes of these names), each a row of
+#: one array: per member (R, M, D), (R, M) integers, floats and flags, as the compiled passes
+#: (:func:`conclude`, :func:`~behaviors.mop.group_kernel.update_templates`) take them.
+MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last")
+MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
+               "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart")
+MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
+                 "_drive_peak", "_peak")
+MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
+                "_m_committed", "_has_end", "_turn_ok", "_drive_moved")
+#: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
+MEMBER_OUT = ("variance", "loglik", "distance", "progress")
+MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
 
 
 @compiled(numba.void(_F3, _I1, _F2, numba.intp, numba.intp), *_CALLS_INTO)
@@ -210,24 +224,24 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
     return False
 
 
-@compiled(numba.void(_F2, _I2, _F1, _F2, _F1, numba.boolean[:, ::1], _F1, _F1, _F1, _F1,
-                   _B1, _F2, _F2, _F2, _F2, _B1, _F1, _B1, _B1, _B1, _I1, _I1, _I1,
-                   _I1, _I1, _F3, _I1, _B1, _F2, _I1, _I1, _F1, _I1, _F1, _F1, _B1, _F1, _F1, _I1,
-                   _F1, _B1, _F1, _F1, _B1, _B1, _F1, _I1, _F1, _I1, _I1, _B1, _B1, _I2, _F2, _B1,
-                   _F1),
+@compiled(numba.void(_F2, _I2, _F1, _F2, _F2, _BB2, _F2, _F1, _B1, _F2, _F2, _F3, _B1, _F2,
+                   numba.boolean[:, ::1], _I2, _F3, _F1, _F2, _BB2, _I1, _I2, _B1, _I2, _I2, _F3),
           *_CALLS_INTO)
-def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, holds, scale, mk,
-             x, anchor, present, moving, any_engaged, all_refused, leads, bounds, best,
-             run, run_k, acquired, buf, nbuf, has_end, end_x, lost, after_end, kept, drive_k,
-             drive_from, drive_peak, turn_ok, extent, peak, peak_k,
-             variance, valid, loglik, distance, show, holding, prog, restart, highest, shared,
-             sh_off, drive_moved, rest, crawl, end_last, committed, drift_run) -> None:
+def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale, mk, vectors,
+             present, m_floats, m_flags, ints, buf, extent, out, out_flags, shared, crawl, new,
+             top3, likely_k, likely_v) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
     ``leads``, ``turn_ok`` (the input turned as ``best`` does) and ``kept`` (the share of the
     probability the templates keep against the threshold model) it reads; ``best`` already
-    switched there). ``states``, ``ti``: as there;
+    switched there). The members' own arrays are rows of ``vectors``, ``ints``, ``m_floats``
+    and ``m_flags`` (:data:`MEMBER_VECTORS` and the rest), ``size``, ``highest`` and
+    ``drift_run`` rows of ``floats`` and ``progress``, ``mean_ll``, ``p`` of ``k_out``, as in
+    :func:`~behaviors.mop.group_kernel.update_templates` (an argument each, their unboxing
+    cost more: a no-op of each signature with the group's arguments, dispatched in the tick
+    after two view frames, median 12.7-14.5 -> 6.8-7.8 us for this pass's 56 -> 26 arguments,
+    15.1-19.1 -> 14.2-14.3 us for update_templates' 49 -> 33). ``states``, ``ti``: as there;
     ``mean``, ``mom``: the forward's; ``flags``: the group's flag rows (refused, engaged,
     misshaped, covered first); ``mk``: see
     :data:`MEMBER_RULES`; ``present``: the members with a sample this tick; ``rest``: whether
@@ -245,11 +259,30 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
     point there, ``end_last``: :meth:`GestureSpotting._moved_on`), ``lost`` (refused samples in a
     row), ``after_end`` (samples since the end was reached) and ``peak``/``peak_k`` (the highest
     progress of the action driving, and which; ``extent`` (K,): each template's farthest state
-    from its first, in units). Out per member: ``best``'s
-    variance (progress units squared), valid, recent mean log-likelihood and its distance,
-    whether the likeliest actions are shown, holding, progress, and how a new attempt starts
-    (:data:`GOES_ON`...)."""
+    from its first, in units). Out per member: the rows of ``out`` (:data:`MEMBER_OUT`:
+    ``best``'s variance in progress units squared, recent mean log-likelihood, its distance,
+    progress) and of ``out_flags`` (:data:`MEMBER_FLAGS`: valid, the likeliest actions shown,
+    holding, ``best`` began anew: ``new`` (K,) of the forward step), how a new attempt starts
+    (``restart``: :data:`GOES_ON`...) and, where shown, the likeliest actions (the early
+    feedback of :meth:`ActionFollower._conclude`): ``top3``'s templates (group indices) not
+    refused into ``likely_k`` (M, 3; -1 after the last), their probability and progress into
+    ``likely_v`` (M, 3, 2). Rows, not seven arrays and the top three read from Python: the
+    tick's Python part read them with ~80 numpy calls (scalar indexing of ``p``, ``progress``
+    and ``refused``, row views)."""
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
+    size, highest, drift_run = floats[5], floats[8], floats[12]   # (group_kernel.FLOATS)
+    progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
+    x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
+    bounds, sh_off, best, run, run_k = ints[0], ints[2], ints[3], ints[4], ints[5]
+    acquired, nbuf, lost, after_end = ints[6], ints[7], ints[8], ints[9]
+    drive_k, peak_k, restart = ints[10], ints[11], ints[12]
+    moving, kept, drive_from, drive_peak, peak = (m_floats[0], m_floats[2], m_floats[5],
+                                                  m_floats[6], m_floats[7])
+    any_engaged, all_refused, leads, rest, committed = (m_flags[0], m_flags[1], m_flags[2],
+                                                        m_flags[4], m_flags[5])
+    has_end, turn_ok, drive_moved = m_flags[6], m_flags[7], m_flags[8]
+    variance, loglik, distance, prog = out[0], out[1], out[2], out[3]
+    valid, show, holding, restarted = out_flags[0], out_flags[1], out_flags[2], out_flags[3]
     d = x.shape[1]
     src = 2 * d
     spread = np.empty(d)
@@ -321,6 +354,18 @@ def conclude(states, ti, mean, mom, size, flags, p, progress, mean_ll, step_ll, 
         pb = progress[gb]
         prog[i] = pb
         holding[i] = holds[off + int(np.rint(g))] or pb >= 0.9
+        restarted[i] = new[gb]
+        shown = 0
+        if show[i]:   # the top three not refused, likeliest first
+            for t in range(3):
+                j = top3[i, t]
+                if j >= 0 and not refused[j]:
+                    likely_k[i, shown] = j
+                    likely_v[i, shown, 0] = p[j]
+                    likely_v[i, shown, 1] = progress[j]
+                    shown += 1
+        for t in range(shown, 3):
+            likely_k[i, t] = -1
         restart[i] = GOES_ON
         if spots and present[i]:
             peak[i] = max(peak[i], pb) if bi == peak_k[i] else pb

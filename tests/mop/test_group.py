@@ -1,6 +1,7 @@
 """FollowerGroup's batched per-member rules: equal to each follower stepped alone, through gesture
 ends, rests, abandoned attempts, lost samples and members of different settings."""
 
+import dataclasses
 import math
 
 from tests.mop import gestures as g
@@ -9,7 +10,8 @@ import pytest
 
 from behaviors.mop import group_steps, members
 from behaviors.mop.follower import ActionFollower
-from behaviors.mop.group import FollowerGroup
+from behaviors.mop.group import FollowerGroup, _new_state
+from behaviors.mop.state import FollowState
 
 
 class Counting(ActionFollower):
@@ -32,6 +34,8 @@ def _close(a: float, b: float) -> bool:
 def _same(a, b) -> None:
     assert (a.best, a.valid, a.restarted, a.holding) == (b.best, b.valid, b.restarted, b.holding)
     assert [n for n, *_ in a.likely] == [n for n, *_ in b.likely]
+    assert all(_close(u, v) for (_, *x), (_, *y) in zip(a.likely, b.likely)
+               for u, v in zip(x, y))   # each one's probability and progress
     for k in ("progress", "variance", "loglik", "distance"):
         assert _close(getattr(a, k), getattr(b, k)), k
     for k in ("probabilities", "progress_by", "loglik_by", "scale_by"):
@@ -346,3 +350,9 @@ def test_a_group_takes_nothing_back_the_way_an_abandoned_attempt_came(monkeypatc
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
                 for x in s)
     assert valid <= plain - 40, (valid, plain)   # measured 109 vs 189
+
+
+def test_a_group_state_is_the_followers_state_of_the_same_values():
+    # the group builds its states without the dataclass's __init__: every field, in order
+    values = [f"value {i}" for i in range(len(dataclasses.fields(FollowState)))]
+    assert _new_state(*values) == FollowState(*values)
