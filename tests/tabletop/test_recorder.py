@@ -232,7 +232,14 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path,
     (b'{"seq": 1, "t": NaN}\n', ["line 3", "t is nan"]),
     (b'{"seq": 1, "t": -5.0}\n', ["line 3", "goes back in time"]),
     (b'{"seq": 1, "t": 0.1, "pucks": [{"id": 1, "x": "far", "y": 0, "angle": 0}]}\n',
-     ["line 3", "not a valid frame"]),
+     ["line 3", "not a valid frame (x is 'far', expected a finite number)"]),
+    (b'{"seq": 1, "t": "zz"}\n', ["line 3", "(t is 'zz', expected a finite number)"]),
+    (b'{"seq": 1, "t": 0.1, "touches": [{"id": "a", "x": 0, "y": 0}]}\n',
+     ["line 3", "(touch id is 'a', expected a whole number)"]),
+    (b'{"seq": 1, "t": 0.1, "streams": {"hand": [1, "b"]}}\n',
+     ["line 3", "(streams.hand is 'b', expected a finite number)"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": [1], "heading": 0}]}\n',
+     ["line 3", "(y is [1], expected a finite number)"]),
 ])
 def test_damaged_frame_lines_are_named(tmp_path, line, words):
     p = tmp_path / "s.jsonl"
