@@ -8,7 +8,7 @@ import pytest
 
 from tabletop.app import build_live, build_replay
 from tabletop.config import validate_config
-from tabletop.recorder import SessionError, read_frames, read_header
+from tabletop.recorder import Recorder, SessionError, read_frames, read_header
 
 CONFIG = {
     "sources": [{"kind": "scripted", "name": "visitor", "pucks": [1, 2, 5], "seed": 4}],
@@ -278,3 +278,14 @@ def test_a_stop_ends_a_replay_waiting_for_a_distant_frame(tmp_path):
     t0 = time.monotonic()
     assert inst.loop.run() == 1
     assert time.monotonic() - t0 < 5.0
+
+
+def test_a_recording_under_a_file_names_that_file(tmp_path):
+    """``--record notes.txt/s.jsonl``: the system says only "File exists" (or "Not a
+    directory"); the refusal names the file standing where a folder must be."""
+    (tmp_path / "notes.txt").write_text("")
+    for path in (tmp_path / "notes.txt" / "s.jsonl", tmp_path / "notes.txt" / "sub" / "s.jsonl"):
+        with pytest.raises(SessionError) as info:
+            Recorder(path, header={"format": "tabletop-session", "version": 2})
+        assert str(info.value) == (f"{path.parent}: cannot start a recording there: "
+                                   f"{tmp_path / 'notes.txt'} is a file")
