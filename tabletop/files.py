@@ -27,6 +27,13 @@ class FileFormatError(InputError):
     """A file is missing, empty or malformed; the message names the file and the line."""
 
 
+def folder_failure(folder: Path, exc: OSError) -> str:
+    """Why ``folder`` could not be made: "X is a file" when a file stands on its path (the
+    system says only "File exists" or "Not a directory"), else the system's reason."""
+    blocker = next((p for p in (folder, *folder.parents) if p.exists() and not p.is_dir()), None)
+    return f"{blocker} is a file" if blocker is not None else str(exc.strerror or exc)
+
+
 @contextmanager
 def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
     """A file to write ``path`` through atomically: the data go to a temporary file in the same
@@ -38,10 +45,8 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        blocker = next((p for p in (target.parent, *target.parent.parents)
-                        if p.exists() and not p.is_dir()), None)
-        why = f"{blocker} is a file" if blocker is not None else (exc.strerror or exc)
-        raise FileFormatError(f"{target}: cannot make its folder: {why}") from None
+        raise FileFormatError(f"{target}: cannot make its folder: "
+                              f"{folder_failure(target.parent, exc)}") from None
     _remove_stale(target)
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp",

@@ -24,7 +24,8 @@ import yaml
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, format_csv,
                             new_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
-from tabletop.schema import ConfigError, Context, FilePath, Number, Record, Spec, Str
+from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
+                             yaml_number_hint)
 
 BEHAVIOR_FILE = "behavior.yaml"
 DEMONSTRATION_FILE = "demonstration.csv"
@@ -57,7 +58,8 @@ class _NumberMap(Spec):
             if not isinstance(k, str):
                 raise ctx.error(path, f"parameter name {k!r} is not a string")
             if isinstance(v, bool) or not isinstance(v, (int, float)) or v != v:
-                raise ctx.error(f"{path}.{k}", f"expected a number, got {v!r}")
+                raise ctx.error(f"{path}.{k}", f"expected a number, got {v!r}"
+                                               f"{yaml_number_hint(v)}")
             out[k] = v
         return out
 

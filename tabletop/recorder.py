@@ -38,7 +38,7 @@ from pathlib import Path
 from typing import Any
 
 from tabletop import __version__
-from tabletop.files import fsync_folder
+from tabletop.files import folder_failure, fsync_folder
 from tabletop.frames import Frame
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
@@ -135,7 +135,7 @@ class Recorder:
         except OSError as exc:
             if exc.errno not in DISK_FULL:
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
-                                   f"{exc.strerror or exc}") from None
+                                   f"{folder_failure(self.folder, exc)}") from None
             self._fail(exc)  # a full disk: the installation runs, without recording
         self._syncer = threading.Thread(target=self._sync_lines, name="recorder-sync",
                                         daemon=True)

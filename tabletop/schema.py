@@ -110,14 +110,8 @@ class Number(Spec):
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         ok_types = (int,) if self.integer else (int, float)
         if isinstance(value, bool) or not isinstance(value, ok_types):
-            hint = ""
-            if isinstance(value, str) and YAML_TEXT_NUMBER.fullmatch(value.strip()):
-                m, e = value.strip().lower().split("e")
-                m, e = m if "." in m else f"{m}.0", e if e[0] in "+-" else f"+{e}"
-                hint = (" (YAML reads a number with an exponent as text unless it has a point "
-                        f"and a signed exponent: write {m}e{e})")
             raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} "
-                                  f"{shown(value)}{hint}")
+                                  f"{shown(value)}{yaml_number_hint(value)}")
         if not self.integer:
             try:
                 value = float(value)
@@ -129,6 +123,17 @@ class Number(Spec):
         if (self.lo is not None and value < self.lo) or (self.hi is not None and value > self.hi):
             raise ctx.error(path, f"expected {self.describe()}, got {shown(value)} (out of range)")
         return value
+
+
+def yaml_number_hint(value: Any) -> str:
+    """For a string YAML read from a number with an exponent (``1e9``), how to write it so
+    that YAML reads a number; else ''."""
+    if not (isinstance(value, str) and YAML_TEXT_NUMBER.fullmatch(value.strip())):
+        return ""
+    m, e = value.strip().lower().split("e")
+    m, e = m if "." in m else f"{m}.0", e if e[0] in "+-" else f"+{e}"
+    return (" (YAML reads a number with an exponent as text unless it has a point and a signed "
+            f"exponent: write {m}e{e})")
 
 
 class Bool(Spec):

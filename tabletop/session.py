@@ -75,9 +75,10 @@ def _puck_to_dict(p: Puck) -> dict[str, Any]:
 
 
 def _puck_from_dict(p: dict[str, Any]) -> Puck:
-    return Puck(int(p["id"]), _finite(p["x"], "x"), _finite(p["y"], "y"),
-                _finite(p["angle"], "angle"), float(p.get("vx", 0.0)), float(p.get("vy", 0.0)),
-                float(p.get("omega", 0.0)), str(p.get("state", "seen")), _unnum(p.get("raw_x")),
+    return Puck(_whole(p["id"], "puck id"), _finite(p["x"], "x"), _finite(p["y"], "y"),
+                _finite(p["angle"], "angle"), _finite(p.get("vx", 0.0), "vx"),
+                _finite(p.get("vy", 0.0), "vy"), _finite(p.get("omega", 0.0), "omega"),
+                str(p.get("state", "seen")), _unnum(p.get("raw_x")),
                 _unnum(p.get("raw_y")), _unnum(p.get("raw_angle")))
 
 
@@ -112,10 +113,28 @@ def _character_to_dict(c: CharacterState) -> dict[str, Any]:
 
 
 def _finite(v: Any, what: str) -> float:
-    x = float(v)
-    if not math.isfinite(x):
+    """``v`` as a finite float; ValueError naming ``what`` (a frame field) when it is not."""
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        x = math.nan        # 'far', a list: said like NaN, with the field's name
+    if isinstance(v, bool) or not math.isfinite(x):
         raise ValueError(f"{what} is {v!r}, expected a finite number")
     return x
+
+
+def _vector(v: Any, what: str) -> np.ndarray:
+    """A list of finite numbers as a float array; ValueError naming ``what`` otherwise."""
+    if not isinstance(v, list):
+        raise ValueError(f"{what}: expected a list of numbers")
+    return np.array([_finite(x, what) for x in v], dtype=float)
+
+
+def _whole(v: Any, what: str) -> int:
+    """``v`` as an int (an id); ValueError naming ``what`` when it is no whole number."""
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise ValueError(f"{what} is {v!r}, expected a whole number")
+    return v
 
 
 def frame_from_dict(d: dict[str, Any]) -> Frame:
@@ -123,14 +142,14 @@ def frame_from_dict(d: dict[str, Any]) -> Frame:
     if not isinstance(d, dict):
         raise TypeError("expected a JSON object")
     pucks = tuple(_puck_from_dict(p) for p in d.get("pucks", []))
-    touches = tuple(Touch(int(c["id"]), _finite(c["x"], "x"), _finite(c["y"], "y"),
-                          float(c.get("vx", 0.0)), float(c.get("vy", 0.0)))
+    touches = tuple(Touch(_whole(c["id"], "touch id"), _finite(c["x"], "x"), _finite(c["y"], "y"),
+                          _finite(c.get("vx", 0.0), "vx"), _finite(c.get("vy", 0.0), "vy"))
                     for c in d.get("touches", []))
-    streams = {str(k): np.asarray(v, dtype=float).reshape(-1)
-               for k, v in dict(d.get("streams", {})).items()}
+    streams = {str(k): _vector(v, f"streams.{k}") for k, v in dict(d.get("streams", {})).items()}
     characters = tuple(
-        CharacterState(str(c["name"]), float(c["x"]), float(c["y"]), float(c["heading"]),
-                       kind=c.get("kind", "reactor"), size=float(c.get("size", 0.08)),
+        CharacterState(str(c["name"]), _finite(c["x"], "x"), _finite(c["y"], "y"),
+                       _finite(c["heading"], "heading"), kind=c.get("kind", "reactor"),
+                       size=_finite(c.get("size", 0.08), "size"),
                        color=tuple(c.get("color", (240, 170, 60))),
                        points=None if c.get("points") is None else np.asarray(c["points"], float),
                        bones=tuple(tuple(b) for b in c.get("bones", ())),

@@ -30,7 +30,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from tabletop.frames import InputError, Observation, PuckMeasurement, SourceHealth, Touch
+from tabletop.frames import (InputError, Observation, PuckMeasurement, SourceHealth, Touch,
+                             wrap_angle)
 from tracking.badinput import BackgroundSource, BadInput, RetryLog
 
 log = logging.getLogger("tabletop.serial")
@@ -98,6 +99,9 @@ def parse_line(line: bytes) -> Command | None:
         values = tuple(_number(a, f"{verb} {pid} value") for a in args[1:])
         if any(abs(v) > MAX_COORD for v in values[:2]):
             raise LineError("out_of_range", f"{verb} {pid} at {values[:2]} is off the table")
+        if verb == "puck":  # wrapped to (-pi, pi]: the tracker unwraps from differences, and
+            # two huge angles (1e308, then -1e308) differ by an infinity it cannot wrap
+            values = (*values[:2], wrap_angle(values[2]))
         return Command(verb, pid, values=values)
     if verb == "stream":
         if len(args) < 2 or len(args) > MAX_STREAM_VALUES + 1:

@@ -31,6 +31,8 @@ SET_ARGS = {"2Dobj": 10, "2Dcur": 6, "2Dblb": 12}  # s i x y a X Y A m r | s x y
 LATE_GAP = 100            # a larger backwards jump of fseq is a restarted sender
 MAX_ALIVE = 1024          # live entities per sender and profile
 MAX_COORD = 100.0         # |x|, |y| beyond this (in TUIO units) is refused
+MAX_SPEED = 1e6           # |X|, |Y| (TUIO units/s) and |A| (turns/s) beyond this are refused:
+# finite doubles near 1.7e308 become infinite once mapped to table metres (x width)
 PACKET_LIMIT = 4096       # reference servers split bundles at this size
 
 
@@ -98,6 +100,9 @@ def parse_set(profile: str, args: Sequence[Any]) -> Entity:
         x, y, a, _w, _h, _f, vx, vy, va, _m, _r = _floats(args[1:], "2Dblb set")
     if abs(x) > MAX_COORD or abs(y) > MAX_COORD:
         raise TuioError("out_of_range", f"/tuio/{profile} position ({x}, {y}) is far off 0..1")
+    if max(abs(vx), abs(vy), abs(va)) > MAX_SPEED:
+        raise TuioError("out_of_range", f"/tuio/{profile} velocity ({vx}, {vy}, {va}) is beyond "
+                                        f"{MAX_SPEED:g} a second")
     return Entity(profile, s, c, x, y, a, vx, vy, va)
 
 

@@ -193,6 +193,10 @@ class Params:
                                      f"{'> 0' if positive else '>= 0'}")
 
 
+MAX_DEMO_S = 3600.0    # seconds of demonstration (the paper's are 10 to 80 s): resampled at
+# the generation rate, a demonstration file ending at t = 1e6 s asked for gigabytes at load
+
+
 def _check_demo(demo: Any, p: Params) -> np.ndarray:
     try:
         a = np.array(demo, dtype=float)
@@ -222,6 +226,9 @@ def _check_demo(demo: Any, p: Params) -> np.ndarray:
         raise DemonstrationError(
             f"demonstration lasts {duration:.3f} s, needs at least {need:.3f} s for a window of "
             f"{p.window} samples at {p.rate_hz:g} Hz")
+    if duration > MAX_DEMO_S:
+        raise DemonstrationError(f"demonstration lasts {duration:g} s; at most {MAX_DEMO_S:g} s "
+                                 "can be trained")
     return a
 
 

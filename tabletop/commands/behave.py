@@ -46,7 +46,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 MAX_RATE_HZ = 1000.0   # generation steps per second (the behaviours are made at 40)
-MAX_DEMO_S = 3600.0    # seconds of demonstration (the paper's are 10 to 80 s)
 MAX_ROWS = 2_000_000   # output rows (14 h of main path at 40 Hz)
 TABLE_M = (0.05, 20.0)  # metres: a table side, as config.yaml's table section
 
@@ -149,10 +148,6 @@ def main(args: argparse.Namespace) -> int:
                                               min_rows=1)
     main_rows = main_rows[:, [header.index(c) for c in MAIN_COLUMNS]]
     check_increasing(main_rows[:, 0], args.input, lines=lines)
-    span = float(demo[-1, 0] - demo[0, 0])
-    if span > MAX_DEMO_S:
-        raise BehaveArgumentError(f"{source}: the demonstration spans {span:g} s; at most "
-                                  f"{MAX_DEMO_S:g} s can be trained")
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
         raise BehaveArgumentError(f"{args.input}: the main path spans "

@@ -106,6 +106,20 @@ def parse_pair(text: str, option: str, unit: str, integer: bool = False) -> tupl
     return a, b
 
 
+MIN_PROJECTOR_PX, MAX_PROJECTOR_PX = 160, 8192   # the pattern's least; view.size's most
+
+
+def parse_projector_size(text: str) -> tuple[int, int]:
+    """``--size W,H`` in projector pixels, each from MIN_PROJECTOR_PX to MAX_PROJECTOR_PX (the
+    largest ``view.size``): a larger one could never be shown, and drawing it ran out of
+    memory instead of naming the option."""
+    size = parse_pair(text, "--size", "projector pixels", integer=True)
+    if min(size) < MIN_PROJECTOR_PX or max(size) > MAX_PROJECTOR_PX:
+        raise CalibrateError(f"--size {text}: from {MIN_PROJECTOR_PX} to {MAX_PROJECTOR_PX} "
+                             "pixels each way")
+    return size
+
+
 def parse_marker(text: str) -> tuple[int, float, float]:
     """``ID=X,Y`` -> (id, x m, y m); one clear line when malformed."""
     usage = f"--marker {text!r}: expected ID=X,Y (marker id, table metres), e.g. 3=0.1,0.7"
@@ -330,9 +344,7 @@ def table_main(args: argparse.Namespace) -> int:
 
 def pattern_main(args: argparse.Namespace) -> int:
     from calibration.charuco import pattern_image, pattern_spec
-    size = parse_pair(args.size, "--size", "projector pixels", integer=True)
-    if min(size) < 160:
-        raise CalibrateError(f"--size {args.size}: at least 160 pixels each way")
+    size = parse_projector_size(args.size)
     write_png(args.out, "--out", pattern_image(size))
     spec, _ = pattern_spec(size)
     print(f"wrote {args.out}: {size[0]}x{size[1]} projector pixels, a {spec.cols}x{spec.rows} "
@@ -351,7 +363,7 @@ def projector_main(args: argparse.Namespace) -> int:
                              "calibrate table` first")
     table = parse_pair(args.table, "--table", "metres") if args.table else None
     if args.live:
-        size = parse_pair(args.size, "--size", "pixels", integer=True) if args.size else None
+        size = parse_projector_size(args.size) if args.size else None
         fit, size = live_projector(args.device, int(args.display), size, cal, table)
     else:
         if not args.pattern or not args.image:

@@ -49,9 +49,11 @@ class Poller:
     ``every_s`` seconds of ``clock``."""
 
     def __init__(self, path: Path, every_s: float = 1.0,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic, since_start: bool = False) -> None:
+        """``since_start``: the first look counts as a change (what was read of ``path`` may be
+        older than this poller)."""
         self.path, self.every_s, self.clock = Path(path), every_s, clock
-        self.signature = tree_signature(self.path)
+        self.signature: tuple | None = None if since_start else tree_signature(self.path)
         self._next = clock()
 
     def changed(self) -> bool:
@@ -67,13 +69,17 @@ class Poller:
 
 
 class ConfigWatcher:
-    """Frame-loop hook validating edits of ``path``; ``apply(config)`` receives a good one."""
+    """Frame-loop hook validating edits of ``path``; ``apply(config)`` receives a good one.
+
+    The first look validates the file whatever its time: the running configuration was read
+    before the installation was built (seconds at a cold start, at a warm spare's go), and an
+    edit saved meanwhile was neither applied nor refused (status ``config_error: null``)."""
 
     def __init__(self, path: Path, current: dict[str, Any], load: Callable[[Path], dict],
                  apply: Callable[[dict[str, Any]], None], every_s: float = 1.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.path, self.current, self.load, self.apply = Path(path), current, load, apply
-        self.poller = Poller(self.path, every_s, clock)
+        self.poller = Poller(self.path, every_s, clock, since_start=True)
         self.error: str | None = None
         self.refused = 0
         self.applied = 0
@@ -84,6 +90,8 @@ class ConfigWatcher:
         try:
             cfg = self.load(self.path)
         except InputError as exc:
+            if str(exc) == self.error:    # already said (a kiosk started on the last good one)
+                return
             self.error = str(exc)
             self.refused += 1
             log.error("config edit refused, the running configuration stays: %s", exc)

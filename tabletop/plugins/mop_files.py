@@ -78,6 +78,10 @@ class MotionLoader:
         return BUILTIN[self.kind] if self.kind in BUILTIN else DEEPMIMIC
 
 
+MAX_TEMPLATE_S = 3600.0   # seconds an action's template may span (gestures take seconds): one
+# whose last t was 1e9 was resampled at the engine's rate and stopped the run "out of memory"
+
+
 def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
     """A template (n x d) with the performer's feature columns, resampled to ``rate_hz`` when it
     has a ``t`` column. Raises FileFormatError naming the file."""
@@ -91,6 +95,9 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
         t = data[:, header.index("t")]
         if np.any(np.diff(t) <= 0):
             raise FileFormatError(f"{path}: column 't' must strictly increase")
+        if t[-1] - t[0] > MAX_TEMPLATE_S:
+            raise FileFormatError(f"{path}: the template spans {t[-1] - t[0]:g} s (column 't'); "
+                                  f"at most {MAX_TEMPLATE_S:g} s can be followed")
         n = max(2, int(round((t[-1] - t[0]) * rate_hz)) + 1)
         tt = t[0] + np.arange(n) / rate_hz
         x = np.stack([np.interp(tt, t, x[:, k]) for k in range(x.shape[1])], axis=1)

@@ -99,7 +99,7 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
                 d = pm.DESIGNER.validate({"enabled": True}, "designer", Context("studio", base))
                 lib = Path(d["library"])
                 d["library"] = lib if lib.is_absolute() else base / lib
-                d["main_puck"] = e.main["puck"] if e.main["kind"] == "puck" else 1
+                d["main_puck"] = pm.designer_main_puck(e.main)
                 if d["react_puck"] == d["main_puck"]:   # a main on puck 2: react with puck 1
                     d["react_puck"] = 1
                 d["name"] = e.name

@@ -192,6 +192,14 @@ def test_board_writes_the_picture_and_its_size(tmp_path, capsys):
     # the whole value is quoted, then the part that is wrong (it quoted only "0")
     refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", "0,720",
             words="--size '0,720': '0' must be a positive number")
+    for size in ("1e9,720", "8193,720", "100,720"):   # 1e9 ran out of memory, naming nothing
+        refused(capsys, "pattern", "--out", tmp_path / "p.png", "--size", size,
+                words=f"--size {size}: from 160 to 8192 pixels each way")
+    from calibration.files import Calibration
+    save_calibration(tmp_path / "c.yaml", Calibration(np.eye(3)))
+    refused(capsys, "projector", "--live", "--calibration", tmp_path / "c.yaml", "--out",
+            tmp_path / "c.yaml", "--size", "20000,20000", words="--size 20000,20000: from 160")
+    assert not (tmp_path / "p.png").exists()
 
 
 def test_check_from_a_config_passes_and_fails_when_the_projector_moved(tmp_path, capsys):

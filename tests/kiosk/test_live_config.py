@@ -101,3 +101,24 @@ def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_pat
     path.write_text("engines: [")                       # not even YAML, and not a kiosk:
     with pytest.raises(InputError, match="config.yaml"):   # a kiosk's fallback only
         last_good.load(path, kiosk=False)
+
+
+def test_an_edit_saved_while_the_installation_starts_is_refused_or_applied(tmp_path):
+    """The configuration is read seconds before the installation runs (14 s for a kiosk's
+    cold start on a loaded machine); an edit saved meanwhile was never looked at: a bad one
+    left ``config_error: null``, a good one was not applied until the next restart."""
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    cfg = load_config(path)
+    bad = config([10, 20, 30])
+    bad["engines"][0]["colour"] = [1, 2, 3]
+    write(path, yaml.safe_dump(bad))
+    with running(Runner(path, cfg, headless=True, kiosk=True)) as runner:
+        assert wait_for(lambda: runner.watcher.refused == 1, 15)
+        assert "engines[0].colour: unknown key" in runner.watcher.error
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    cfg = load_config(path)
+    write(path, yaml.safe_dump(config([200, 100, 50])))
+    with running(Runner(path, cfg, headless=True, kiosk=True)) as runner:
+        assert wait_for(lambda: runner.watcher.applied == 1 and runner.inst.loop.stats.ticks > 5
+                        and runner.inst.engines[0].color == (200, 100, 50), 15)

@@ -1,7 +1,9 @@
 """The ``serial`` source through real pseudo-terminals, pyserial's ``loop://`` and ``socket://``."""
 
+import math
 import os
 import socket
+from contextlib import contextmanager
 
 import pytest
 
@@ -21,6 +23,7 @@ from tests.network.helpers import wait_for
     (b"stream hand 1 2.5 -3e-2", Command("stream", name="hand", values=(1.0, 2.5, -0.03))),
     (b"# a comment", None),
     (b"lift 4   # the finger left", Command("lift", 4)),
+    (b"puck 2 0.5 0.25 7.0", Command("puck", 2, values=(0.5, 0.25, 7.0 - 2 * math.pi))),
     (b"", None),
 ])
 def test_lines_parse(line, command):
@@ -78,13 +81,25 @@ def open_pty():
     return master, slave, os.ttyname(slave)
 
 
-def test_lines_through_a_pty_become_pucks_touches_and_streams():
+@contextmanager
+def tracked_pty(timeout_s: float):
+    """A serial source on a fresh pseudo-terminal, open and healthy, with the tracker's inputs:
+    yields (the terminal's master end, the source, the inputs)."""
     master, slave, name = open_pty()
-    src = SerialInput("mcu", name, timeout_s=0.3)
+    src = SerialInput("mcu", name, timeout_s=timeout_s)
     inputs = LiveInputs([src], Tracker(TrackerSettings(smooth=False)))
     src.open()
     try:
         assert wait_for(lambda: src.health().ok, 5.0)
+        yield master, src, inputs
+    finally:
+        src.close()
+        os.close(master)
+        os.close(slave)
+
+
+def test_lines_through_a_pty_become_pucks_touches_and_streams():
+    with tracked_pty(0.3) as (master, src, inputs):
         os.write(master, b"puck 4 0.5 0.25 1.0\ntouch 2 0.1 0.2\r\nstream hand 1 2 3\n"
                          b"# note\nnonsense here\n")
         assert wait_for(lambda: src.lines == 3, 5.0)
@@ -100,10 +115,18 @@ def test_lines_through_a_pty_become_pucks_touches_and_streams():
         # Not repeated for timeout_s: the puck leaves the bus (not coasting), the stream too.
         assert wait_for(lambda: inputs.next(2, 0.0).pucks == (), 5.0)
         assert dict(inputs.next(3, 0.0).streams) == {}
-    finally:
-        src.close()
-        os.close(master)
-        os.close(slave)
+
+
+def test_huge_puck_angles_through_a_pty_leave_the_tracker_running():
+    """An angle is any finite number of radians: 1e308 and then -1e308 (a board sending
+    garbage that parses) are wrapped, not an infinite turn that stopped the installation."""
+    with tracked_pty(5.0) as (master, src, inputs):
+        for seq, angle in enumerate((b"1e308", b"-1e308", b"3.0")):
+            os.write(master, b"puck 4 0.5 0.25 " + angle + b"\n")
+            assert wait_for(lambda: src.lines == seq + 1, 5.0)
+            (p,) = inputs.next(seq, 0.0).pucks
+            assert -math.pi < p.angle <= math.pi
+        assert p.angle == 3.0
 
 
 def test_a_vanished_pty_is_reopened():

@@ -270,3 +270,41 @@ def test_a_held_tuio_state_is_not_counted_as_capture_to_render_latency():
         assert all(a < HOLD_S for a in ages), ages
     finally:
         src.close()
+
+
+def test_velocities_too_large_for_table_metres_are_refused(source):
+    """A double velocity near the largest float is finite in TUIO units but infinite once
+    mapped to metres: such a set is refused (counted ``out_of_range``), so no infinite speed
+    reaches a frame (the recorder could not write the touch's: 'Out of range float values')."""
+    import json
+
+    from pythonosc.osc_message_builder import OscMessageBuilder
+
+    from tabletop.session import frame_to_dict
+
+    def doubles(address: str, head: list, values: list) -> OscMessageBuilder:
+        b = OscMessageBuilder(address)
+        for a in head:
+            b.add_arg(a)
+        for v in values:
+            b.add_arg(v, "d")
+        return b.build()
+
+    ref = RefSender(source.bound_port)
+    big = 1.7e308
+    for n, (profile, head, values) in enumerate((
+            ("2Dcur", ["set", 3], [0.5, 0.5, big, -big, 0.0]),
+            ("2Dobj", ["set", 1, 5], [0.5, 0.5, 0.0, 0.0, 0.0, big, 0.0, 0.0]),
+            ("2Dblb", ["set", 4], [0.5, 0.5, 0.0, 0.1, 0.1, 0.01, -big, 0.0, 0.0, 0.0, 0.0]))):
+        address = f"/tuio/{profile}"
+        ref.send(bundle(message(address, "alive", head[1]), doubles(address, head, values),
+                        message(address, "fseq", n + 1)))
+    assert wait_for(lambda: source.bad.total() == 3, 5.0)
+    assert source.bad.counts() == {"out_of_range": 3}
+    frame = LiveInputs([source], Tracker()).next(0, 0.0)
+    assert frame.touches == () and frame.pucks == ()
+    ref.cursors([(3, 0.5, 0.75)])
+    assert sent(source, 4)
+    frame = LiveInputs([source], Tracker()).next(1, 0.0)
+    assert [c.id for c in frame.touches] == [3]
+    json.dumps(frame_to_dict(frame), allow_nan=False)

@@ -65,6 +65,8 @@ def test_replace_writes_the_new_take(tmp_path, demo):
      ["window", "unknown key"]),
     ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nparameters: {window: lots}\n",
      ["parameters.window", "number"]),
+    ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nparameters: {ratio: 2e1}\n",
+     ["parameters.ratio: expected a number, got '2e1'", "as text", "write 2.0e+1"]),
     ("- just\n- a list\n", ["expected a mapping"]),
     ("\x00\x01garbage", ["behavior.yaml"]),
 ])

@@ -114,6 +114,19 @@ def test_corrupt_behaviour_is_refused_at_load_and_left_alone(tmp_path):
     assert (folder / "behavior.yaml").read_bytes() == before
 
 
+def test_a_behaviour_demonstrated_for_too_long_is_refused_at_load(tmp_path):
+    """A demonstration.csv whose last time is 1e9 s (a damaged file) is refused naming its
+    folder; it was resampled at 40 Hz and the run stopped with 'out of memory' (1e6 s: the
+    process was killed)."""
+    demo = designers.demonstrate("lover", seconds=5)
+    demo[-1, 0] = 1e9
+    folder = library.save_behavior(tmp_path, "x", demo, {})
+    with pytest.raises(pm.PuppetMasterError) as err:
+        build([{"kind": "puppet_master", "behavior": str(folder)}])
+    assert str(err.value) == f"{folder}: demonstration lasts {1e9 - demo[0, 0]:g} s; at most " \
+                             "3600 s can be trained"
+
+
 def test_character_binding_must_name_a_known_engine():
     with pytest.raises(pm.PuppetMasterError, match=r"engines\[0\]\.main.*'nobody'"):
         build([{"kind": "puppet_master", "name": "a", "behavior": "behaviors/library/stalker",

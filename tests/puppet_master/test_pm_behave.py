@@ -91,6 +91,9 @@ def _bad(tmp_path, name, text):
     ("column", lambda d: "\n".join([",".join(DEMO_HEADER[:-1])] + [
         f"{i * 0.025},0.5,0.5,0,0.2,0.5" for i in range(100)]),
      ["demo.csv", "missing", "react_dir"]),
+    ("long", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
+        f"{t},0.5,0.5,0,0.2,0.5,0" for t in [0.025 * i for i in range(60)] + [4000.0]]),
+     ["demo.csv: demonstration lasts 4000 s; at most 3600 s can be trained"]),
 ])
 def test_bad_demonstrations_exit_2_with_one_clear_line(tmp_path, files, capsys, what, make, words):
     d, _ = files

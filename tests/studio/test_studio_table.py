@@ -263,3 +263,27 @@ def test_studio_mode_gives_a_reactor_on_puck_2_another_puck_to_demonstrate_with(
     targets = studio_targets(build(entries), cfg, tmp_path, all_engines=True)
     pucks = {t.engine.name: (t.main_puck, t.react_puck) for t in targets}
     assert pucks == {"on_one": (1, 2), "on_two": (2, 1)}
+
+
+MAINS = {"nearest_3_1": {"nearest": [{"puck": 3}, {"puck": 1}]},
+         "first_2": {"first": [{"puck": 2}, {"touch": 4}]},
+         "first_character": {"first": [{"character": "on_one"}, {"puck": 3}]}}
+
+
+def test_studio_mode_takes_the_main_puck_of_several_mains_as_designer_mode_does(tmp_path):
+    """A reactor bound to several mains is demonstrated in studio mode with the main puck its
+    own designer mode takes (the first binding's puck, else puck 1), not always puck 1."""
+    from tabletop.studio.build import studio_targets
+    from tests.puppet_master.test_plugin import build
+
+    entries = [{"kind": "puppet_master", "name": "on_one", "behavior": "behaviors/library/lover",
+                "main": {"puck": 1}}]
+    entries += [{"kind": "puppet_master", "name": n, "behavior": "behaviors/library/lover",
+                 "main": m} for n, m in MAINS.items()]
+    cfg = {"engines": [dict(e, designer={"enabled": False}) for e in entries]}
+    studio = {t.engine.name: t.main_puck
+              for t in studio_targets(build(entries), cfg, tmp_path, all_engines=True)}
+    designed = [dict(e, designer={"enabled": True, "library": str(tmp_path / "lib"),
+                                  "sequential": True}) for e in entries]
+    own = {e.name: e.designer["main_puck"] for e in build(designed)}
+    assert studio == own == {"on_one": 1, "nearest_3_1": 3, "first_2": 2, "first_character": 1}

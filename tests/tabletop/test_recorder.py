@@ -8,7 +8,7 @@ import pytest
 
 from tabletop.app import build_live, build_replay
 from tabletop.config import validate_config
-from tabletop.recorder import SessionError, read_frames, read_header
+from tabletop.recorder import Recorder, SessionError, read_frames, read_header
 
 CONFIG = {
     "sources": [{"kind": "scripted", "name": "visitor", "pucks": [1, 2, 5], "seed": 4}],
@@ -232,7 +232,14 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path,
     (b'{"seq": 1, "t": NaN}\n', ["line 3", "t is nan"]),
     (b'{"seq": 1, "t": -5.0}\n', ["line 3", "goes back in time"]),
     (b'{"seq": 1, "t": 0.1, "pucks": [{"id": 1, "x": "far", "y": 0, "angle": 0}]}\n',
-     ["line 3", "not a valid frame"]),
+     ["line 3", "not a valid frame (x is 'far', expected a finite number)"]),
+    (b'{"seq": 1, "t": "zz"}\n', ["line 3", "(t is 'zz', expected a finite number)"]),
+    (b'{"seq": 1, "t": 0.1, "touches": [{"id": "a", "x": 0, "y": 0}]}\n',
+     ["line 3", "(touch id is 'a', expected a whole number)"]),
+    (b'{"seq": 1, "t": 0.1, "streams": {"hand": [1, "b"]}}\n',
+     ["line 3", "(streams.hand is 'b', expected a finite number)"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": [1], "heading": 0}]}\n',
+     ["line 3", "(y is [1], expected a finite number)"]),
 ])
 def test_damaged_frame_lines_are_named(tmp_path, line, words):
     p = tmp_path / "s.jsonl"
@@ -271,3 +278,14 @@ def test_a_stop_ends_a_replay_waiting_for_a_distant_frame(tmp_path):
     t0 = time.monotonic()
     assert inst.loop.run() == 1
     assert time.monotonic() - t0 < 5.0
+
+
+def test_a_recording_under_a_file_names_that_file(tmp_path):
+    """``--record notes.txt/s.jsonl``: the system says only "File exists" (or "Not a
+    directory"); the refusal names the file standing where a folder must be."""
+    (tmp_path / "notes.txt").write_text("")
+    for path in (tmp_path / "notes.txt" / "s.jsonl", tmp_path / "notes.txt" / "sub" / "s.jsonl"):
+        with pytest.raises(SessionError) as info:
+            Recorder(path, header={"format": "tabletop-session", "version": 2})
+        assert str(info.value) == (f"{path.parent}: cannot start a recording there: "
+                                   f"{tmp_path / 'notes.txt'} is a file")
