@@ -7,7 +7,9 @@ demonstrated style. Modules: ``resample`` (fixed generation rate, causal live re
 ``generation`` (4.4.1 and the table), ``detail`` (4.4.2 Haar texture), ``step`` (one
 generation step: BestMatch, then Output Generation's stages), ``engine``
 (:class:`~behaviors.puppet_master.engine.Behavior` and
-:class:`~behaviors.puppet_master.engine.Reactor`); compiled: ``search_kernel`` (the searches),
+:class:`~behaviors.puppet_master.engine.Reactor`), ``character`` (the measured constants by
+which a behaviour reads its character: a still main, a touch, one that stops with, walks with,
+keeps away from or charges into its main); compiled: ``search_kernel`` (the searches),
 ``step_kernel`` with ``generation_kernel`` and ``step_math`` (the step, to the Python step's
 bits), built by ``kernels``.
 """

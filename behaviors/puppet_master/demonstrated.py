@@ -219,7 +219,7 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     ring tells the stop 0.25 s into the bench's still window, and until then it goes on at
     0.23-0.34 m/s (matched moments whose main walked, 0.27-0.32) where its designer coasts at
     0.17-0.21 (the demonstration 0.141): its cap reads the stop over 0.2 s instead
-    (behavior.STOP_SPAN_S, with the figures). Read over 0.25 s (the main within 0.005 m of
+    (character.STOP_SPAN_S, with the figures). Read over 0.25 s (the main within 0.005 m of
     each of its last 10 positions) it brings the fast paths to 0.261 and
     the slow to 0.288 (means of four runs: relative_motion x 1, 1 + 0.001, 1 - 0.001,
     1 + 0.002; the generation's distance from its clean-path designer's figure, mean over the
@@ -297,7 +297,7 @@ def charges(main: np.ndarray, react: np.ndarray, rate_hz: float, span_s: float =
     The shipped bully's 15 charges from its lurking distance (0.2-0.33 m) into contact
     (0.05 m) are found, one pass near the main by the stalker and one dart by the playful
     friend; none for the lover and the afraid character. Only a demonstration with at least
-    behavior.MIN_CHARGES of them has its charges kept whole (Behavior.charging: the bully).
+    character.MIN_CHARGES of them has its charges kept whole (Behavior.charging: the bully).
     The playful friend's darts (in to 0.05-0.06 m and straight out, 15 in its minute) found
     as charges (its typical speed taken along the bearing, no hold) and kept whole touched
     too often: contact 0.06-0.12 against at most 0.061 (its misses on seeds 0-5, 8-13,

@@ -26,9 +26,9 @@ import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
-from behaviors.puppet_master.behavior import (COLUMNS, FOLLOW_SHARE, STILL_MPS,  # noqa: F401
-                                              STILL_SPAN_S, TOUCH_M, Behavior, DemonstrationError,
-                                              ParameterError, Params)
+from behaviors.puppet_master.behavior import (COLUMNS, Behavior,  # noqa: F401
+                                              DemonstrationError, ParameterError, Params)
+from behaviors.puppet_master.character import FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S, TOUCH_M
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
 from behaviors.puppet_master.generation import StepSmoother, target_position
 from behaviors.puppet_master.look import HEADING_MIN_SPEED

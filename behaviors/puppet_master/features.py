@@ -255,7 +255,7 @@ def push_interval(distance: np.ndarray, touch: float) -> float:
 def since_scale(since: np.ndarray, weight: float) -> float:
     """The weight of the steps since the last push (:func:`since_push`) among the situation
     and coherence features: ``weight`` over their spread (standard deviation), as every
-    feature; behavior.SINCE_WEIGHT 0.5, chosen on the data.
+    feature; character.SINCE_WEIGHT 0.5, chosen on the data.
 
     The bully's misses (the engine's alone: where its designer's own character meets the
     threshold on the same path) over the 54 unseen paths of seeds 0-5, 8-13, 26-31, 24 runs
@@ -271,7 +271,7 @@ def since_scale(since: np.ndarray, weight: float) -> float:
     661 / 660 -> 673 / 664 / 659 of 720, the engine's alone 13 / 19 / 22 -> 7 / 17 / 22; the
     bully's misses 7 (6) / 6 (4) / 6 (3) -> 0 / 3 (2) / 7 (3); the other characters and the
     pursuit identical (the feature is theirs only where their demonstration charges again
-    and again, behavior.MIN_CHARGES)."""
+    and again, character.MIN_CHARGES)."""
     spread = float(np.std(since))
     return weight / spread if spread > 0.0 else 0.0
 

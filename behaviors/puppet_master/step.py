@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from behaviors.puppet_master.behavior import FOLLOW_SHARE
+from behaviors.puppet_master.character import FOLLOW_SHARE
 from behaviors.puppet_master.generation import (capped, kept_straightness, mean_capped,
                                                 rotate_step, share_around, step_around,
                                                 target_position)

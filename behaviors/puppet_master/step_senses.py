@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.behavior import STILL_MPS, STILL_SPAN_S, TOUCH_M
+from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S, TOUCH_M
 from behaviors.puppet_master.generation import limit_turn
 from behaviors.puppet_master.look import HEADING_MIN_SPEED, desired_look
 from tabletop.frames import wrap_angle
@@ -71,7 +71,7 @@ class StepSenses:
 
     def _main_stopped(self, mx: float, my: float) -> bool:
         """Whether the main at (mx, my) is within STILL_MPS x the stop span (metres) of each of
-        its last Behavior.stop_span positions before it (behavior.STOP_SPAN_S)."""
+        its last Behavior.stop_span positions before it (character.STOP_SPAN_S)."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d

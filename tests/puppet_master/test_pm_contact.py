@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from behaviors.puppet_master import fidelity, visitors
-from behaviors.puppet_master.behavior import TOUCH_M
+from behaviors.puppet_master.character import TOUCH_M
 from behaviors.puppet_master.engine import Behavior, Reactor
 from behaviors.puppet_master.demonstrated import charge_entries, charges, still_main_speed
 from behaviors.puppet_master.generation import share_around
@@ -142,7 +142,7 @@ def test_a_single_pass_close_by_is_not_kept_whole_as_a_charge():
     # (Behavior.charging, MIN_CHARGES). Kept whole, the stalker's pass closed the live
     # distance to a touch wherever a match entered its run-up (14-21 samples in contact each
     # time on the fast paths): contact 0.046 and 0.048 on seeds 0 and 8 (at most 0.042),
-    # measured 0.041 and 0.032 now (with its stop read over 0.2 s, behavior.STOP_SPAN_S; with
+    # measured 0.041 and 0.032 now (with its stop read over 0.2 s, character.STOP_SPAN_S; with
     # the 0.5 s read the figures were taken on seeds 2 and 13, 0.050 / 0.054 -> 0.034 / 0.039,
     # where seed 13 is now 0.059 not kept whole: its step held to its still pace as it passes
     # its main that has just stopped)

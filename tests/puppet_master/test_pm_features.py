@@ -7,7 +7,8 @@ import numpy as np
 from tests.puppet_master import demos as pm_demos
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.engine import STILL_MPS, STILL_SPAN_S, Behavior
+from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S
+from behaviors.puppet_master.engine import Behavior
 
 
 def _demo():

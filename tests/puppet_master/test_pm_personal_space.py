@@ -5,7 +5,7 @@ touch (the bully charges, the stalker and the playful friend come close) have no
 import numpy as np
 
 from behaviors.puppet_master import fidelity, visitors
-from behaviors.puppet_master.behavior import TOUCH_M
+from behaviors.puppet_master.character import TOUCH_M
 from behaviors.puppet_master.engine import Behavior
 from tabletop import examples, library
 from tests.puppet_master.test_pm_fidelity import TABLE, shipped  # noqa: F401 (fixture)

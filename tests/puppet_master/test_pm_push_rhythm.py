@@ -6,7 +6,7 @@ charges as often as its designer's own character beside slow and fast mains alik
 import numpy as np
 
 from behaviors.puppet_master import designers, features, fidelity, visitors
-from behaviors.puppet_master.behavior import TOUCH_M
+from behaviors.puppet_master.character import TOUCH_M
 from behaviors.puppet_master.engine import Behavior
 from tabletop import examples, library
 

@@ -8,7 +8,8 @@ stood (features.main_still)."""
 import numpy as np
 
 from behaviors.puppet_master import fidelity, visitors
-from behaviors.puppet_master.engine import STILL_MPS, STILL_SPAN_S, Reactor
+from behaviors.puppet_master.character import STILL_MPS, STILL_SPAN_S
+from behaviors.puppet_master.engine import Reactor
 from tabletop import examples
 from tests.puppet_master.test_pm_fidelity import TABLE, shipped  # noqa: F401 (fixture)
 
@@ -75,7 +76,7 @@ def _first_still_speed(b, main, first_s=0.25):
 
 def test_the_stalker_stops_soon_after_its_main(shipped):
     # its step held to its still pace once its main has kept within 0.004 m of its positions
-    # over 0.2 s (behavior.STOP_SPAN_S): measured on the fast paths of seeds 10 and 27, in the
+    # over 0.2 s (character.STOP_SPAN_S): measured on the fast paths of seeds 10 and 27, in the
     # first 0.25 s of the bench's still windows, 0.311 / 0.339 m/s with the 0.5 s read, now
     # 0.122 / 0.140 (the demonstration 0.141; its designer on those paths 0.21 / 0.18)
     b = shipped["stalker"]
