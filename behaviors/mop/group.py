@@ -205,13 +205,12 @@ class FollowerGroup(GroupArrays, GroupRules):
 
     def _remember_takes(self, present: np.ndarray) -> None:
         """:meth:`ShapeLead._remember_take` for every member with a sample and an anchor."""
-        for i in np.flatnonzero(present & self._has_anchor).tolist():
-            d, n = self.followers[i].dim, int(self._taken_n[i])
-            if n == TAKE_SAMPLES:
-                self._taken[i, :-1] = self._taken[i, 1:]
-                n -= 1
-            self._taken[i, n, :d] = self._x[i, :d] - self._anchor[i, :d]
-            self._taken_n[i] = n + 1
+        rows = np.flatnonzero(present & self._has_anchor)
+        full = rows[self._taken_n[rows] == TAKE_SAMPLES]
+        self._taken[full, :-1] = self._taken[full, 1:]   # the oldest out
+        n = np.minimum(self._taken_n[rows], TAKE_SAMPLES - 1)
+        self._taken[rows, n] = self._x[rows] - self._anchor[rows]   # (zero past a member's dim)
+        self._taken_n[rows] = n + 1
 
     def _takes_fit(self, present: np.ndarray) -> None:
         """The last of :meth:`ShapeLead._leads`' conditions, :meth:`ShapeLead._fits_take`, for
