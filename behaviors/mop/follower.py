@@ -226,6 +226,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._state: FollowState | None = None
         self._forget_shape()
         self._threshold_ev, self._threshold_x = 0.0, None
+        self._taken: list[np.ndarray] = []   # the gesture's last samples (Refusal._fits_take)
 
     @property
     def log_constant(self) -> float:

@@ -20,7 +20,7 @@ from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank, TemplateError
-from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
+from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD, TAKE_SAMPLES
 from behaviors.mop.validity import PATH_REACH
 
 
@@ -185,6 +185,7 @@ class FollowerGroup(GroupArrays, GroupRules):
         """:meth:`ActionFollower._finish` for every member at once: the per-template rules in
         one compiled pass over the group, then each member's validity, state and spotting."""
         fw, k = self.forward, len(self._owner)
+        self._remember_takes(present)
         # fresh each tick: the states' maps are views of them
         self._k_out = k_out = np.empty((3, k))
         self._k_progress, self._k_mean_ll, self._k_p = k_out
@@ -196,7 +197,27 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._m_bools, present, self._means, self._thr_means, self._thr_alpha,
             self._thr_scratch, self._thr_z, self._thr_lj, self._thr_tops, self._reversal_at,
             self._reversal_tol)
+        self._takes_fit(present)
         return self._conclude(step_ll, present)
+
+    def _remember_takes(self, present: np.ndarray) -> None:
+        """:meth:`ShapeLead._remember_take` for every member with a sample and an anchor."""
+        rows = np.flatnonzero(present & self._has_anchor)
+        full = rows[self._taken_n[rows] == TAKE_SAMPLES]
+        self._taken[full, :-1] = self._taken[full, 1:]   # the oldest out
+        n = np.minimum(self._taken_n[rows], TAKE_SAMPLES - 1)
+        self._taken[rows, n] = self._x[rows] - self._anchor[rows]   # (zero past a member's dim)
+        self._taken_n[rows] = n + 1
+
+    def _takes_fit(self, present: np.ndarray) -> None:
+        """The last of :meth:`ShapeLead._leads`' conditions, :meth:`ShapeLead._fits_take`, for
+        every member with a sample whose ``best`` leads otherwise (``_m_leads``, in place)."""
+        for i in np.flatnonzero(present & self._m_leads & (self._acquired != self._best)).tolist():
+            f, k = self.followers[i], int(self._best[i])
+            gb = int(self._bounds[i]) + k
+            g = float(f.bank.starts[k] + min(self.forward.mean[gb], f.bank.lengths[k] - 1.0))
+            self._m_leads[i] = f._fits_take(self._taken[i, :self._taken_n[i], :f.dim], k, g,
+                                            float(self._size[gb]))
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template

@@ -14,6 +14,7 @@ import numpy as np
 
 from behaviors.mop import group_kernel, members, threshold
 from behaviors.mop.holding import holding_columns
+from behaviors.mop.shape_lead import TAKE_SAMPLES
 
 
 class GroupArrays:
@@ -102,6 +103,8 @@ class GroupArrays:
         self._extent = np.concatenate([f._extent for f in fs])
         self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
         self._thr_has_x = np.zeros(m, dtype=bool)
+        # the gesture's last samples from the anchor, oldest first (ShapeLead._fits_take)
+        self._taken, self._taken_n = np.zeros((m, TAKE_SAMPLES, dmax)), np.zeros(m, dtype=np.intp)
         self._tempo_arrays()
         self._m_dim = col(lambda f: f.dim)
 
@@ -113,7 +116,7 @@ class GroupArrays:
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
                    "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
-                   "_abandon_rested")
+                   "_abandon_rested", "_taken", "_taken_n")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

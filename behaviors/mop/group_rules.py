@@ -129,6 +129,7 @@ class GroupRules:
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
         self._shape_n[rows] = 0.0
+        self._taken_n[rows] = 0
         self._thr_ev[rows] = 0.0
         self._thr_has_x[rows] = False
         self._turn_in[rows] = 0.0

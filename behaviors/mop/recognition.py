@@ -62,6 +62,7 @@ class Recognition:
         ``offset`` on."""
         k = len(self.names)
         b = self.bank
+        self._remember_take(x)
         mean = forward.mean[offset:offset + k]
         g = b.starts + np.minimum(mean, b.lengths - 1.0)
         gi = np.minimum(g.astype(np.intp), b.starts + b.lengths - 2)
