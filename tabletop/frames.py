@@ -20,6 +20,9 @@ import numpy as np
 
 PuckState = Literal["seen", "coasting"]
 
+MAX_POSITION_M = 1000.0   # m: no table position is further from the origin; a demonstration
+# row at 1e300 m (a damaged file) was trained with only numpy's overflow warning
+
 
 class InputError(ValueError):
     """Bad input from outside (a file, a packet, a CLI argument, a config value).
