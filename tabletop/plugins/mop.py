@@ -47,6 +47,7 @@ from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_files import (MopError, MotionLoader, library_actions, load_template,
                                         resolve_motion, save_to_library)
 from tabletop.files import FileFormatError
+from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
 from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str)
 
@@ -299,6 +300,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     puppets, templates, motions, loaders, bound = [], {}, {}, {}, {}
     problems: dict[str, list[str]] = {}      # each character's bad library files (skipped)
     loaded: dict[str, list[str]] = {}        # each character's actions from the library
+    read: dict[str, tuple] = {}              # its folder's signature: the studio's first baseline
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
@@ -316,6 +318,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
             actions.append(Action(a["name"], clip, warp))
             tmpl[a["name"]] = (a["performer"], load_template(Path(a["template"]), performer.names, rate))
         if library is not None:
+            read[c["name"]] = tree_signature(library / c["name"])
             kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
                                         rate, loader)
             for action, samples in kept:
@@ -341,7 +344,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                      save if library is not None else None, bound, make_group=FollowerGroup)
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
-    stage.library_problems, stage.library_loaded = problems, loaded
+    stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read
     stage.library_actions = lambda character: library_actions(          # the studio reloads
         library, character, performers[bound[character]].names, rate, loaders[character])
     return stage
