@@ -188,3 +188,14 @@ def test_examples_check_command(tmp_path, capsys):
     assert out.count("pursuit_50hz") == 2 * len(designers.CHASED)
     assert out.count("  demonstration  ") == len(designers.PERSONALITIES) + len(designers.CHASED)
     assert "fidelity:" in out and "the designer's own character" in out
+
+
+def test_examples_check_refuses_fidelity_seconds_it_cannot_measure(capsys):
+    """nan and -5 printed no table as if 0 was given; 0.01 and inf ended in a traceback, 1e9
+    asked for 224 GiB: each is refused naming the option, before anything is read."""
+    for bad in ("nan", "-5", "0.01", "inf", "1e9"):
+        with pytest.raises(SystemExit) as exc:
+            examples.main(["--check", "--fidelity-seconds", bad])
+        assert exc.value.code == 2
+        err = capsys.readouterr().err
+        assert "argument --fidelity-seconds" in err and bad in err and "Traceback" not in err
