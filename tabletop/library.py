@@ -22,7 +22,7 @@ import numpy as np
 import yaml
 
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
-                            format_csv, new_folder, read_csv_lines, read_yaml)
+                            folder_failure, format_csv, new_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
                              yaml_number_hint)
@@ -228,7 +228,8 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
             return target
         new_folder(target, {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text})
     except OSError as exc:
-        raise LibraryError(f"{target}: cannot save behaviour: {exc.strerror or exc}") from None
+        raise LibraryError(f"{target}: cannot save behaviour: {folder_failure(target, exc)}") \
+            from None
     return target
 
 

@@ -50,6 +50,15 @@ def test_existing_behaviour_is_not_overwritten(tmp_path, demo):
     assert library.free_name(tmp_path, "afraid") == "afraid"
 
 
+def test_a_library_under_a_file_names_that_file(tmp_path, demo):
+    """'python -m tabletop.examples --out notes.txt/lib' said only 'Not a directory'."""
+    (tmp_path / "notes.txt").write_text("")
+    with pytest.raises(LibraryError) as err:
+        library.save_behavior(tmp_path / "notes.txt" / "lib", "lover", demo, {})
+    assert str(err.value) == (f"{tmp_path / 'notes.txt' / 'lib' / 'lover'}: cannot save "
+                              f"behaviour: {tmp_path / 'notes.txt'} is a file")
+
+
 def test_replace_writes_the_new_take(tmp_path, demo):
     library.save_behavior(tmp_path, "b", demo, {"window": 40})
     library.save_behavior(tmp_path, "b", demo[:200], {"window": 20}, replace=True)
