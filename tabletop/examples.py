@@ -227,13 +227,30 @@ def print_fidelity(table: Rows) -> None:
                   + f"{row['speed_w1_mps']:10.3f}  {','.join(fidelity.failures(row)) or '-'}")
 
 
+MAX_FIDELITY_S = 3600.0   # seconds of each unseen main path the --check table may ask for
+
+
+def fidelity_seconds(text: str) -> float:
+    """``--fidelity-seconds``: 0 (no table) or 1 to MAX_FIDELITY_S seconds. 1e9 asked for a
+    224 GiB path and inf, 0.01 (paths of under two samples), each ended in a traceback; nan
+    and negative values silently printed no table."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if v != 0 and not 1.0 <= v <= MAX_FIDELITY_S:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: give 0 (no fidelity table) or 1 to {MAX_FIDELITY_S:g} seconds")
+    return v
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tabletop.examples",
                                      description=__doc__.split("\n")[0])
     parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="library folder to write")
     parser.add_argument("--check", action="store_true",
                         help="write nothing; exit 1 if the shipped files differ")
-    parser.add_argument("--fidelity-seconds", type=float, default=40.0, metavar="S",
+    parser.add_argument("--fidelity-seconds", type=fidelity_seconds, default=40.0, metavar="S",
                         help="with --check: seconds of each unseen main path the fidelity "
                              "table is measured on (0: no table; default 40)")
     args = parser.parse_args(argv)

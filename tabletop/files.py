@@ -20,7 +20,7 @@ from typing import IO, Any, Iterable, Iterator, Mapping, Sequence
 import numpy as np
 import yaml
 
-from tabletop.frames import InputError
+from tabletop.frames import MAX_POSITION_M, InputError
 
 
 class FileFormatError(InputError):
@@ -331,3 +331,20 @@ def check_increasing(t: np.ndarray, path: str | Path, column: str = "t",
         raise FileFormatError(
             f"{path}: {where}: column {column!r} must strictly increase; {float(t[i])!r} is "
             f"not after {float(t[i - 1])!r} ({before})")
+
+
+def check_positions(data: np.ndarray, header: Sequence[str], columns: Sequence[str],
+                    path: str | Path, lines: Sequence[int] | None = None,
+                    limit: float = MAX_POSITION_M, unit: str = " m",
+                    what: str = "not a table position") -> None:
+    """Raise FileFormatError unless every value of ``columns`` is within ``limit`` (by default
+    table positions, metres, within ``frames.MAX_POSITION_M``); names the first bad row by its
+    file line (``lines``) or else by its data row number."""
+    index = [list(header).index(c) for c in columns]
+    bad = np.argwhere(np.abs(data[:, index]) > limit)
+    if bad.size:
+        r, c = (int(v) for v in bad[0])
+        where = f"line {int(lines[r])}" if lines is not None else f"data row {r + 1}"
+        raise FileFormatError(
+            f"{path}: {where}: column {columns[c]!r}: {float(data[r, index[c]])!r}{unit} is "
+            f"beyond {limit:g}{unit}, {what}")

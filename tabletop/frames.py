@@ -20,6 +20,13 @@ import numpy as np
 
 PuckState = Literal["seen", "coasting"]
 
+MAX_POSITION_M = 1000.0   # m: no table position is further from the origin; a demonstration
+# row at 1e300 m (a damaged file) was trained with only numpy's overflow warning
+MAX_FEATURE = 1e100       # largest magnitude of a followed feature (a stream's values have no
+# known units): the action follower squares and sums differences over its window; one sample of
+# 1e160 made its probabilities NaN and then stopped 'tabletop follow' with an IndexError (1e150
+# and less followed on; a window of 1e100 samples squared stays far within float64)
+
 
 class InputError(ValueError):
     """Bad input from outside (a file, a packet, a CLI argument, a config value).

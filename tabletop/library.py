@@ -21,8 +21,8 @@ from typing import Any, Mapping
 import numpy as np
 import yaml
 
-from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, format_csv,
-                            new_folder, read_csv_lines, read_yaml)
+from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
+                            folder_failure, format_csv, new_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
                              yaml_number_hint)
@@ -32,6 +32,7 @@ DEMONSTRATION_FILE = "demonstration.csv"
 FORMAT = "tabletop-behavior"
 VERSION = 1
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
+POSITIONS = ("main_x", "main_y", "react_x", "react_y")   # table metres
 KINDS = ("puppet_master",)
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
@@ -106,12 +107,14 @@ def read_demonstration(path: str | Path) -> np.ndarray:
     """Read a demonstration CSV; returns (n, 7) in :data:`COLUMNS` order (extra columns ignored).
 
     Raises LibraryError naming the file and line for a missing file, a missing column, a value
-    that is not a finite number, fewer than two rows or times that do not strictly increase.
+    that is not a finite number, fewer than two rows, times that do not strictly increase or a
+    position beyond ``frames.MAX_POSITION_M``.
     """
     try:
         header, data, lines = read_csv_lines(path, required=COLUMNS, what="demonstration",
                                              min_rows=2)
         check_increasing(data[:, header.index("t")], path, lines=lines)
+        check_positions(data, header, POSITIONS, path, lines=lines)
     except FileFormatError as exc:
         raise LibraryError(str(exc)) from None
     return data[:, [header.index(c) for c in COLUMNS]]
@@ -225,7 +228,8 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
             return target
         new_folder(target, {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text})
     except OSError as exc:
-        raise LibraryError(f"{target}: cannot save behaviour: {exc.strerror or exc}") from None
+        raise LibraryError(f"{target}: cannot save behaviour: {folder_failure(target, exc)}") \
+            from None
     return target
 
 

@@ -35,7 +35,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
-from tabletop.frames import Observation, PuckMeasurement, SourceHealth, Touch
+from tabletop.frames import MAX_FEATURE, Observation, PuckMeasurement, SourceHealth, Touch
 from tracking.badinput import BackgroundSource, BadInput
 from tracking.osc_codec import OscError, decode_packet
 from tracking.tuio import ADDRESSES, MAX_ALIVE, TuioClient, to_table
@@ -205,6 +205,9 @@ class OscInput(BackgroundSource):
         v = np.array(args, dtype=float)
         if not np.all(np.isfinite(v)):
             self.bad.count("non_finite", f"/mocap/{name}")
+            return
+        if np.abs(v).max() > MAX_FEATURE:   # OSC doubles: a followed stream became NaN
+            self.bad.count("out_of_range", f"/mocap/{name} with a value beyond {MAX_FEATURE:g}")
             return
         if name not in self._streams and len(self._streams) >= MAX_STREAMS:
             oldest = min(self._streams, key=lambda k: self._streams[k][1])

@@ -30,8 +30,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from tabletop.frames import (InputError, Observation, PuckMeasurement, SourceHealth, Touch,
-                             wrap_angle)
+from tabletop.frames import (MAX_FEATURE, InputError, Observation, PuckMeasurement, SourceHealth,
+                             Touch, wrap_angle)
 from tracking.badinput import BackgroundSource, BadInput, RetryLog
 
 log = logging.getLogger("tabletop.serial")
@@ -109,8 +109,11 @@ def parse_line(line: bytes) -> Command | None:
                                                f"values, got {len(args)} fields")
         if not NAME.match(args[0]):
             raise LineError("wrong_arguments", f"stream name {args[0][:40]!r} is not a name")
-        return Command("stream", name=args[0],
-                       values=tuple(_number(a, f"stream {args[0]} value") for a in args[1:]))
+        values = tuple(_number(a, f"stream {args[0]} value") for a in args[1:])
+        if max(map(abs, values)) > MAX_FEATURE:   # a followed stream became NaN
+            raise LineError("out_of_range", f"stream {args[0]} has a value beyond "
+                                            f"{MAX_FEATURE:g}")
+        return Command("stream", name=args[0], values=values)
     if not verb.isprintable():
         raise LineError("garbage", "line has control characters")
     raise LineError("unknown_command", f"unknown command {verb[:40]!r}")

@@ -29,7 +29,7 @@ from behaviors.puppet_master.look import train_look, train_place
 from behaviors.puppet_master.resample import resample_uniform
 from behaviors.puppet_master.similarity import augmented
 from behaviors.puppet_master.table_boundary import _bearings
-from tabletop.frames import InputError, wrap_angles
+from tabletop.frames import MAX_POSITION_M, InputError, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
 
@@ -215,6 +215,12 @@ def _check_demo(demo: Any, p: Params) -> np.ndarray:
         raise DemonstrationError(
             f"demonstration row {r + 1}: column {COLUMNS[c]} is {float(a[r, c])!r}, "
             "not a finite number")
+    far = np.argwhere(np.abs(a[:, [1, 2, 4, 5]]) > MAX_POSITION_M)
+    if far.size:
+        r, c = int(far[0, 0]), (1, 2, 4, 5)[int(far[0, 1])]
+        raise DemonstrationError(
+            f"demonstration row {r + 1}: column {COLUMNS[c]} is {float(a[r, c])!r} m, beyond "
+            f"{MAX_POSITION_M:g} m: not a table position")
     if a.shape[0] < 2:
         raise DemonstrationError(f"demonstration has {a.shape[0]} row(s), needs at least 2")
     steps = np.diff(a[:, 0])

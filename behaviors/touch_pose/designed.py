@@ -20,7 +20,6 @@ Stored as ``<library>/<name>/action.json`` (written whole or not at all)::
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 from typing import Sequence
 
@@ -30,7 +29,7 @@ from behaviors.touch_pose.action import ACTION_SAMPLES, ActionModel
 from behaviors.touch_pose.humanoid import PARTS, Humanoid, Pose
 from behaviors.touch_pose.latent import LearnedModel
 from behaviors.touch_pose.samples import ActionSpec, Segment, relative
-from tabletop.frames import InputError
+from tabletop.frames import MAX_POSITION_M, InputError
 from tabletop.files import new_folder
 
 FORMAT = "tabletop.touch_pose_action"
@@ -41,6 +40,9 @@ MAX_FRAMES = 60
 #: Shortest take that becomes an action (seconds) and least travel of its primary part (m).
 MIN_SECONDS = 0.5
 MIN_TRAVEL = 0.05
+#: Longest stored take (seconds): a damaged file whose last time was 1e300 loaded as an action
+#: lasting 1e300 s.
+MAX_SECONDS = 3600.0
 
 
 class DesignedActionError(InputError):
@@ -118,9 +120,21 @@ def read_take(path: Path, body: Humanoid) -> tuple[str, np.ndarray, list[Pose]]:
     except (KeyError, TypeError, ValueError) as exc:
         what = f"missing {exc}" if isinstance(exc, KeyError) else str(exc)
         raise DesignedActionError(f"{path}: not a touch-pose action ({what})") from None
-    norms = np.linalg.norm(rots, axis=2, keepdims=True)
-    if np.any(norms < 1e-9) or not math.isfinite(float(norms.max())):
-        raise DesignedActionError(f"{path}: not a touch-pose action (a zero rotation)")
+    far = np.flatnonzero(np.abs(root).max(axis=1) > MAX_POSITION_M)
+    if far.size:   # 1e300 loaded with only numpy's overflow warning
+        raise DesignedActionError(f"{path}: frame {int(far[0]) + 1}: root {root[far[0]].tolist()} "
+                                  f"is beyond {MAX_POSITION_M:g} m")
+    if times[-1] - times[0] > MAX_SECONDS:
+        raise DesignedActionError(f"{path}: the take lasts {times[-1] - times[0]:g} s; at most "
+                                  f"{MAX_SECONDS:g} s")
+    with np.errstate(over="ignore"):
+        norms = np.linalg.norm(rots, axis=2, keepdims=True)
+    bad = np.flatnonzero(((norms < 1e-9) | ~np.isfinite(norms)).any(axis=(1, 2)))
+    if bad.size:   # a quaternion of 1e300 was refused as "a zero rotation"
+        n = norms[bad[0]]
+        length = float(n.min() if n.min() < 1e-9 else n.max())
+        raise DesignedActionError(f"{path}: frame {int(bad[0]) + 1}: a rotation of length "
+                                  f"{length:g}, not a rotation quaternion")
     return part, times, [Pose(r, q / n) for r, q, n in zip(root, rots, norms)]
 
 

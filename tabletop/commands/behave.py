@@ -16,6 +16,11 @@ MAIN_COLUMNS = ("t", "main_x", "main_y", "main_dir")
 OUT_COLUMNS = ("t", "react_x", "react_y", "react_dir")
 
 
+def _positions(columns: tuple[str, ...]) -> tuple[str, ...]:
+    """The columns of ``columns`` that are table positions (metres)."""
+    return tuple(c for c in columns if c.endswith(("_x", "_y")))
+
+
 class BehaveArgumentError(InputError):
     """A bad ``behave`` argument."""
 
@@ -103,7 +108,7 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
 def read_demonstration(args: argparse.Namespace):
     """The demonstration (n, 7) from --train, or paired from --train-main and --train-react."""
     from behaviors.puppet_master.sequential import TakeError, pair_takes
-    from tabletop.files import check_increasing, read_csv_lines
+    from tabletop.files import check_increasing, check_positions, read_csv_lines
 
     if (args.train is None) == (args.train_main is None and args.train_react is None):
         raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
@@ -113,6 +118,7 @@ def read_demonstration(args: argparse.Namespace):
                                              min_rows=2)
         demo = demo[:, [header.index(c) for c in DEMO_COLUMNS]]
         check_increasing(demo[:, 0], args.train, lines=lines)
+        check_positions(demo, DEMO_COLUMNS, _positions(DEMO_COLUMNS), args.train, lines=lines)
         return demo, args.train
     if args.train_main is None or args.train_react is None:
         raise BehaveArgumentError("sequential training needs both --train-main and --train-react")
@@ -121,6 +127,7 @@ def read_demonstration(args: argparse.Namespace):
         header, a, lines = read_csv_lines(path, cols, what="take CSV", min_rows=2)
         a = a[:, [header.index(c) for c in cols]]
         check_increasing(a[:, 0], path, lines=lines)
+        check_positions(a, cols, _positions(cols), path, lines=lines)
         takes.append(a)
     try:
         return pair_takes(*takes), args.train_react
@@ -131,7 +138,7 @@ def read_demonstration(args: argparse.Namespace):
 def main(args: argparse.Namespace) -> int:
     from behaviors.puppet_master.engine import Behavior, ParameterError
     from behaviors.puppet_master.fidelity import generate
-    from tabletop.files import check_increasing, read_csv_lines, write_csv
+    from tabletop.files import check_increasing, check_positions, read_csv_lines, write_csv
 
     rate = parse_rate(args.rate if args.rate is not None else "40")
     table = parse_table(args.table) if args.table is not None else None
@@ -148,6 +155,7 @@ def main(args: argparse.Namespace) -> int:
                                               min_rows=1)
     main_rows = main_rows[:, [header.index(c) for c in MAIN_COLUMNS]]
     check_increasing(main_rows[:, 0], args.input, lines=lines)
+    check_positions(main_rows, MAIN_COLUMNS, _positions(MAIN_COLUMNS), args.input, lines=lines)
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
         raise BehaveArgumentError(f"{args.input}: the main path spans "

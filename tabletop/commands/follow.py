@@ -63,18 +63,25 @@ def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
     return out
 
 
-def _features(path: Path, header: list[str], data, what: str):
+def _features(path: Path, header: list[str], data, what: str, lines=None):
+    """(feature names, their columns) of a template or performance CSV; a value beyond
+    ``frames.MAX_FEATURE`` is refused naming its line (``lines``) or data row."""
+    from tabletop.files import check_positions
+    from tabletop.frames import MAX_FEATURE
     cols = [i for i, c in enumerate(header) if c != "t"]
     if not cols:
         raise FollowArgumentError(f"{path}: {what} has no feature columns (only 't')")
-    return [header[i] for i in cols], data[:, cols]
+    names = [header[i] for i in cols]
+    check_positions(data, header, names, path, lines, MAX_FEATURE, "",
+                    "more than a feature can be followed with")
+    return names, data[:, cols]
 
 
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
     from behaviors.mop.follower import ActionFollower, TemplateError
-    from tabletop.files import check_increasing, read_csv, read_csv_lines, write_csv
+    from tabletop.files import check_increasing, read_csv_lines, write_csv
 
     sigma = number_in_range(args.sigma, "--sigma", "standardised units", *SIGMA,
                             FollowArgumentError)
@@ -88,8 +95,9 @@ def main(args: argparse.Namespace) -> int:
     first: Path | None = None
     for name, path in pairs:
         # (no row is said as one row is: "has 0 sample(s), needs at least 2" just below)
-        header, data = read_csv(path, what=f"template {name!r} CSV file", min_rows=0)
-        names, feats = _features(path, header, data, f"template {name!r}")
+        header, data, tlines = read_csv_lines(path, what=f"template {name!r} CSV file",
+                                              min_rows=0)
+        names, feats = _features(path, header, data, f"template {name!r}", tlines)
         if feats.shape[0] < 2:
             raise TemplateError(
                 f"{path}: template {name!r} has {feats.shape[0]} sample(s), needs at least 2")
@@ -103,7 +111,7 @@ def main(args: argparse.Namespace) -> int:
         templates[name] = feats[:, order]
     assert columns is not None
     header, data, lines = read_csv_lines(args.input, what="performance CSV file", min_rows=1)
-    names, feats = _features(args.input, header, data, "performance")
+    names, feats = _features(args.input, header, data, "performance", lines)
     if sorted(names) != sorted(columns):
         missing = [c for c in columns if c not in names]
         extra = [c for c in names if c not in columns]

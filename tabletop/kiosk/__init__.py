@@ -35,7 +35,14 @@ def service_key_code(name: str) -> int | None:
 
 
 def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
-    """What the fields cannot say alone: a back-off that grows, a key the keyboard has."""
+    """What the fields cannot say alone: a back-off that grows, a key the keyboard has, a
+    status file and crash log that are not folders (a status file naming a folder was one
+    warning and never written, the table's monitors seeing none for weeks; a folder that
+    cannot be made yet, a disk still mounting, is retried while running)."""
+    from pathlib import Path
+    for key in ("status_file", "crash_log"):
+        if k[key] is not None and Path(k[key]).is_dir():
+            raise ctx.error(f"{path}.{key}", f"{k[key]} is a folder; expected a file name")
     first, longest = k["backoff_s"]
     if first > longest:
         raise ctx.error(f"{path}.backoff_s", f"the first wait {first:g} s is longer than the "

@@ -49,11 +49,15 @@ class Poller:
     ``every_s`` seconds of ``clock``."""
 
     def __init__(self, path: Path, every_s: float = 1.0,
-                 clock: Callable[[], float] = time.monotonic, since_start: bool = False) -> None:
+                 clock: Callable[[], float] = time.monotonic, since_start: bool = False,
+                 read: tuple | None = None) -> None:
         """``since_start``: the first look counts as a change (what was read of ``path`` may be
-        older than this poller)."""
+        older than this poller). ``read``: the signature taken just before ``path`` was read
+        (an engine's build, seconds before its studio or reloader exists): the first look
+        compares with it, so an edit saved in between is seen."""
         self.path, self.every_s, self.clock = Path(path), every_s, clock
-        self.signature: tuple | None = None if since_start else tree_signature(self.path)
+        self.signature: tuple | None = (None if since_start else read if read is not None
+                                        else tree_signature(self.path))
         self._next = clock()
 
     def changed(self) -> bool:

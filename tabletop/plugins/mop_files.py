@@ -11,8 +11,9 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from tabletop.files import FileFormatError, atomic_write_text, read_csv, write_csv
-from tabletop.frames import InputError
+from tabletop.files import (FileFormatError, atomic_write_text, check_positions, read_csv_lines,
+                            write_csv)
+from tabletop.frames import MAX_FEATURE, InputError
 
 BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
            "face": ("laugh", "surprise", "angry", "wink", "talk"),
@@ -85,11 +86,13 @@ MAX_TEMPLATE_S = 3600.0   # seconds an action's template may span (gestures take
 def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndarray:
     """A template (n x d) with the performer's feature columns, resampled to ``rate_hz`` when it
     has a ``t`` column. Raises FileFormatError naming the file."""
-    header, data = read_csv(path, what="template CSV", min_rows=2)
+    header, data, lines = read_csv_lines(path, what="template CSV", min_rows=2)
     cols = [c for c in header if c != "t"]
     if sorted(cols) != sorted(names):
         raise FileFormatError(f"{path}: template columns {','.join(cols)} do not match the "
                               f"performer's features {','.join(names)}")
+    check_positions(data, header, cols, path, lines, MAX_FEATURE, "",
+                    "more than a feature can be followed with")
     x = data[:, [header.index(n) for n in names]]
     if "t" in header:
         t = data[:, header.index("t")]

@@ -40,6 +40,7 @@ from typing import TYPE_CHECKING, Callable
 
 from tabletop import library
 from tabletop.frames import CharacterState, Frame, InputError
+from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
 from tabletop.plugins.puppet_master_mains import (Board, MainBinding, MainReader, Posted,
                                                   bound_characters, singles)
@@ -260,8 +261,9 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
 def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     from behaviors.puppet_master.engine import Behavior
     delayed = _delayed(options, ctx)
-    behavior, bname = None, ""
+    behavior, bname, read = None, "", None
     if options["behavior"] is not None:
+        read = tree_signature(Path(options["behavior"]))   # its reloader's first baseline
         stored = library.load_behavior(options["behavior"])
         params = dict(stored.parameters)
         if options["rate_hz"] is not None:
@@ -279,4 +281,5 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                                 options["rate_hz"], board=shared_board(ctx.shared),
                                 delayed=delayed, keep_apart=options["keep_apart"])
     engine.folder = options["behavior"]   # the studio reloads it when it changes on disk
+    engine.folder_read = read
     return engine

@@ -65,6 +65,8 @@ class TouchPoseEngine:
         self.color = tuple(int(c) for c in options["color"])
         self.library = Path(options["library"])
         from behaviors.touch_pose.designed import load_library
+        from tabletop.kiosk.watch import tree_signature
+        self.library_read = tree_signature(self.library)   # the studio poller's first baseline
         actions, self.problems = load_library(self.library, self.core.body)
         for a in actions:
             self.core.add_action(a)

@@ -32,7 +32,9 @@ class MopTarget:
         self.name = f"{stage.name}/{character}"
         self.kept: str | None = None
         self.demo: np.ndarray | None = None
-        self._poller = Poller(lib / character) if lib is not None else None
+        self._poller = (Poller(lib / character,
+                               read=getattr(stage, "library_read", {}).get(character))
+                        if lib is not None else None)
         self._problems: list[str] = list(getattr(stage, "library_problems", {}).get(character, []))
         self.loaded = set(getattr(stage, "library_loaded", {}).get(character, []))
 

@@ -54,7 +54,7 @@ class TouchPoseTarget:
         self.demo: np.ndarray | None = None  # t and its primary part's path (the session log)
         self.kept: str | None = None
         self._loaded = set(engine.designed)   # the library's actions the character knows
-        self._poller = Poller(self.lib)
+        self._poller = Poller(self.lib, read=getattr(engine, "library_read", None))
         self._problems: list[str] = list(engine.problems)
 
     # --- the take ------------------------------------------------------------------------------

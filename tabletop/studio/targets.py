@@ -82,7 +82,8 @@ class PuppetMasterTarget:
         self.previous: tuple = (None, "")
         self.lib_poller = Poller(self.lib)
         folder = getattr(engine, "folder", None)
-        self.play_poller = Poller(Path(folder)) if folder else None
+        self.play_poller = (Poller(Path(folder), read=getattr(engine, "folder_read", None))
+                            if folder else None)
         self.playing: Path | None = Path(folder) if folder else None
         self._problems: list[str] = self._library_problems([])   # read at start, reported
 
@@ -338,7 +339,7 @@ class BehaviorReloader:
     def __init__(self, engine) -> None:
         self.engine = engine
         self.folder = Path(engine.folder)
-        self.poller = Poller(self.folder)
+        self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
         self.problem: str | None = None
 
     def __call__(self, frame: Frame | None = None) -> None:

@@ -209,6 +209,21 @@ def test_a_kiosk_log_that_cannot_be_made_names_its_key(tmp_path, capfd, supervis
     assert len(err) == 1 and err[0].startswith(f"tabletop run: error: {cfg}: kiosk.log_file: ")
 
 
+@pytest.mark.parametrize("key", ["status_file", "crash_log"])
+def test_a_status_file_or_crash_log_naming_a_folder_names_its_key(tmp_path, capfd, key):
+    """A status file naming a folder was one warning and never written (a crash log naming
+    one, an error at each crash): refused at load, naming the key."""
+    (tmp_path / "state").mkdir()
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\nview: {enabled: false}\n"
+                   f"kiosk: {{{key}: state, heartbeat: {{enabled: false}}}}\n")
+    assert cli(["run", "--config", str(cfg), "--headless", "--seconds", "0.2", "--kiosk",
+                "--no-supervisor"]) == 2
+    err = capfd.readouterr().err.splitlines()
+    assert err == [f"tabletop run: error: {cfg}: kiosk.{key}: {tmp_path / 'state'} is a folder; "
+                   "expected a file name"]
+
+
 def test_mode_is_one_moment_whenever_the_table_shows_it():
     """A camera not plugged in at boot never worked, so the kiosk's grace rule does not mark the
     frames; the view still shows "One moment" (every source down) and the status says so too,

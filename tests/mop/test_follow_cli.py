@@ -131,6 +131,12 @@ def test_bad_input_gives_one_clear_line(files, capsys):
     _fails(_args(d)[:-4] + ["--input", str(d / "back.csv"), "--out", str(d / "o.csv")], capsys,
            "back.csv", "'t' must strictly increase")
     _fails(_args(d, "--sigma", "-1"), capsys, "--sigma")
+    # one sample of 1e160 made the probabilities NaN, then stopped with an IndexError
+    (d / "far.csv").write_text("a,b,c\n1,2,3\n4,5,6\n7,-1e160,9\n")
+    for where in (["--template", f"f={d / 'far.csv'}", "--input", str(d / "perf.csv")],
+                  _args(d)[1:-4] + ["--input", str(d / "far.csv")]):
+        _fails(["follow", *where, "--out", str(d / "o.csv")], capsys, "far.csv", "line 4",
+               "column 'b': -1e+160 is beyond 1e+100")
     assert not (d / "o.csv").exists() and not (d / "out.csv").exists()
 
 

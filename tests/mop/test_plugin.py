@@ -386,12 +386,18 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("t,dx,speed\n0,0,0\n0.1,0.1,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(bad)),
-           "bad.csv", "do not match the performer's features dx,dy", error=FileFormatError)
+           "engines[0].characters[0].actions[0].template", "bad.csv",
+           "do not match the performer's features dx,dy")
     long = tmp_path / "long.csv"     # resampled at the engine's rate: it ran out of memory
     long.write_text("t,dx,dy\n0,0,0\n0.1,0.1,0.1\n1e9,0.2,0.2\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(long)),
-           "long.csv: the template spans 1e+09 s (column 't'); at most 3600 s can be followed",
-           error=FileFormatError)
+           "engines[0].characters[0].actions[0].template",
+           "long.csv: the template spans 1e+09 s (column 't'); at most 3600 s can be followed")
+    far = tmp_path / "far.csv"       # its followers' probabilities became NaN
+    far.write_text("t,dx,dy\n0,0,0\n0.1,1e300,0.1\n")
+    expect(lambda e: e["characters"][0]["actions"][0].update(template=str(far)),
+           "engines[0].characters[0].actions[0].template",
+           "far.csv: line 3: column 'dx': 1e+300 is beyond 1e+100")
 
 
 def test_a_hybrid_character_moves_body_and_face_with_one_action(example_cfg):

@@ -38,6 +38,7 @@ def test_lines_parse(line, command):
     (b"touch 1 1e9 0", "out_of_range"),
     (b"stream 1", "wrong_arguments"),
     (b"stream b@d 1", "wrong_arguments"),
+    (b"stream hand 1 -1e200", "out_of_range"),   # a followed stream became NaN
     (b"jump 1 2", "unknown_command"),
     (b"\x00\x01\x02", "garbage"),
     (b"puck \xff 1 2 3", "garbage"),

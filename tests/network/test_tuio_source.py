@@ -158,6 +158,21 @@ def test_mocap_vectors_become_named_streams(source):
     assert source.bad.counts() == {"wrong_arguments": 1, "non_finite": 1}
 
 
+def test_mocap_doubles_too_large_to_follow_are_refused(source):
+    """An OSC double of 1e160 in a followed stream made the follower's probabilities NaN (and
+    the follow command stopped with an IndexError): refused as out_of_range."""
+    from pythonosc.osc_message_builder import OscMessageBuilder
+    ref = RefSender(source.bound_port)
+    for v in (1e160, 1e99):
+        b = OscMessageBuilder("/mocap/hand")
+        b.add_arg(0.5, "d")
+        b.add_arg(v, "d")
+        ref.send(b.build())
+    assert sent(source, 2)
+    assert source.latest().streams["hand"].tolist() == [0.5, 1e99]
+    assert source.bad.counts() == {"out_of_range": 1}
+
+
 def test_a_sender_not_on_the_allow_list_changes_nothing():
     src = OscInput("osc", port=0, table=TABLE, allow=["127.0.0.2"])
     src.open()

@@ -50,6 +50,15 @@ def test_existing_behaviour_is_not_overwritten(tmp_path, demo):
     assert library.free_name(tmp_path, "afraid") == "afraid"
 
 
+def test_a_library_under_a_file_names_that_file(tmp_path, demo):
+    """'python -m tabletop.examples --out notes.txt/lib' said only 'Not a directory'."""
+    (tmp_path / "notes.txt").write_text("")
+    with pytest.raises(LibraryError) as err:
+        library.save_behavior(tmp_path / "notes.txt" / "lib", "lover", demo, {})
+    assert str(err.value) == (f"{tmp_path / 'notes.txt' / 'lib' / 'lover'}: cannot save "
+                              f"behaviour: {tmp_path / 'notes.txt'} is a file")
+
+
 def test_replace_writes_the_new_take(tmp_path, demo):
     library.save_behavior(tmp_path, "b", demo, {"window": 40})
     library.save_behavior(tmp_path, "b", demo[:200], {"window": 20}, replace=True)
@@ -188,3 +197,14 @@ def test_examples_check_command(tmp_path, capsys):
     assert out.count("pursuit_50hz") == 2 * len(designers.CHASED)
     assert out.count("  demonstration  ") == len(designers.PERSONALITIES) + len(designers.CHASED)
     assert "fidelity:" in out and "the designer's own character" in out
+
+
+def test_examples_check_refuses_fidelity_seconds_it_cannot_measure(capsys):
+    """nan and -5 printed no table as if 0 was given; 0.01 and inf ended in a traceback, 1e9
+    asked for 224 GiB: each is refused naming the option, before anything is read."""
+    for bad in ("nan", "-5", "0.01", "inf", "1e9"):
+        with pytest.raises(SystemExit) as exc:
+            examples.main(["--check", "--fidelity-seconds", bad])
+        assert exc.value.code == 2
+        err = capsys.readouterr().err
+        assert "argument --fidelity-seconds" in err and bad in err and "Traceback" not in err

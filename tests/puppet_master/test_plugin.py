@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from behaviors.puppet_master import designers
+from behaviors.puppet_master.behavior import Behavior, DemonstrationError
 from tabletop import library
 from tabletop.config import validate_config
-from tabletop.frames import Frame, Puck, Touch
+from tabletop.frames import Frame, InputError, Puck, Touch
 from tabletop.plugins import puppet_master as pm
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
@@ -125,6 +126,26 @@ def test_a_behaviour_demonstrated_for_too_long_is_refused_at_load(tmp_path):
         build([{"kind": "puppet_master", "behavior": str(folder)}])
     assert str(err.value) == f"{folder}: demonstration lasts {1e9 - demo[0, 0]:g} s; at most " \
                              "3600 s can be trained"
+
+
+def test_a_behaviour_demonstrated_beyond_the_table_is_refused_naming_file_and_line(tmp_path):
+    """A demonstration.csv with a position of 1e300 m (a damaged file) is refused naming the
+    file and its line; it was trained with only numpy's overflow warning. Demonstrations given
+    in memory (the studio's, tabletop behave's paired takes) are refused naming the row."""
+    demo = designers.demonstrate("lover", seconds=5)
+    demo[9, 4] = 1e300
+    folder = tmp_path / "x"
+    folder.mkdir()
+    (folder / "behavior.yaml").write_text(library.describe_yaml("x", demo, {}))
+    (folder / "demonstration.csv").write_text(library.demonstration_csv(demo))
+    with pytest.raises(InputError) as err:
+        build([{"kind": "puppet_master", "behavior": str(folder)}])
+    assert f"{folder / 'demonstration.csv'}: line 11: column 'react_x': 1e+300 m is beyond " \
+           "1000 m" in str(err.value)
+    demo[9, 4], demo[3, 2] = 0.5, -1001.0
+    with pytest.raises(DemonstrationError, match="row 4: column main_y is -1001.0 m, beyond "
+                                                 "1000 m"):
+        Behavior.train(demo)
 
 
 def test_character_binding_must_name_a_known_engine():

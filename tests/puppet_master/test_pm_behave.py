@@ -94,6 +94,9 @@ def _bad(tmp_path, name, text):
     ("long", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
         f"{t},0.5,0.5,0,0.2,0.5,0" for t in [0.025 * i for i in range(60)] + [4000.0]]),
      ["demo.csv: demonstration lasts 4000 s; at most 3600 s can be trained"]),
+    ("far", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
+        f"{i * 0.025},0.5,0.5,0,{'1e300' if i == 30 else 0.2},0.5,0" for i in range(100)]),
+     ["demo.csv: line 32: column 'react_x': 1e+300 m is beyond 1000 m"]),
 ])
 def test_bad_demonstrations_exit_2_with_one_clear_line(tmp_path, files, capsys, what, make, words):
     d, _ = files
@@ -121,6 +124,10 @@ def test_bad_main_and_arguments(tmp_path, files, capsys):
     assert behave("--train", tmp_path / "none.csv", "--input", d / "main.csv",
                   "--out", tmp_path / "o.csv") == 2
     assert "not found" in capsys.readouterr().err
+    main = _bad(tmp_path, "main3.csv", "t,main_x,main_y,main_dir\n0,0.5,0.5,0\n0.5,0.5,-2e3,0\n")
+    assert behave("--train", d / "demo.csv", "--input", main, "--out", tmp_path / "o.csv") == 2
+    assert "main3.csv: line 3: column 'main_y': -2000.0 m is beyond 1000 m" in \
+        capsys.readouterr().err
 
 
 def test_the_installed_command_runs_without_pygame(files):

@@ -207,6 +207,29 @@ def test_a_playing_behaviour_outside_the_studio_is_reloaded_or_kept(tmp_path):
     assert "playing x" in engine.step(Frame(seq=1, t=1.1, pucks=(Puck(1, 0.3, 0.3, 0.0),)))[0].label
 
 
+def test_an_edit_saved_between_build_and_its_watchers_is_seen(tmp_path):
+    """The behaviour folder's watchers (the reloader outside the studio, the studio's target)
+    are made after the engine read the folder (seconds later at a cold start): their first
+    look compares with the folder as it was read, so an edit saved in between is refused or
+    reloaded. Before, their baseline was the edited folder and the edit was never seen."""
+    from tabletop.config import validate_config
+    from tabletop.plugins import puppet_master as pm
+    from tabletop.registry import BuildContext
+    from tabletop.studio.targets import BehaviorReloader
+    folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=4), {})
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": "pet", "behavior": str(folder), "main": {"puck": 1},
+         "designer": {"enabled": True, "library": "lib"}}]}, "t.yaml", tmp_path)
+    engine = pm.build(cfg["engines"][0], BuildContext((1.2, 0.8), 60.0, cfg, tmp_path))
+    (folder / "behavior.yaml").write_text("format: [\n")     # saved while the rest starts
+    hook = BehaviorReloader(engine)
+    hook()
+    assert "behavior.yaml" in (hook.problem or "")
+    target = PuppetMasterTarget(engine)
+    target.play_poller.every_s = 0.0
+    assert any("behavior.yaml" in p for p in target.poll())
+
+
 def test_an_action_review_sheet_shows_the_take_and_its_followed_progress(tmp_path):
     from tabletop.files import read_csv
     from tabletop.studio.review import followed_progress, review_sheet
