@@ -170,7 +170,11 @@ def _matrix(value: Any, rows: int, cols: int, where: str, key: str) -> np.ndarra
 
 def _homography(value: Any, where: str, key: str) -> np.ndarray:
     H = _matrix(value, 3, 3, where, key)
-    if abs(np.linalg.det(H)) < 1e-12 * max(1.0, float(np.abs(H).max()) ** 3):
+    # The test is det(H) < 1e-12 * max(1, |H|max)^3, taken on H scaled by max(1, |H|max) so
+    # that entries near 1e300 neither overflow the cube (an OverflowError that stopped
+    # `tabletop run` with "internal error") nor the determinant.
+    scale = max(1.0, float(np.abs(H).max()))
+    if abs(np.linalg.det(H / scale)) < 1e-12:
         raise CalibrationError(f"{where}: {key}: the homography is singular (not invertible)")
     return H
 
