@@ -204,7 +204,7 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
             raise CalibrationError(f"{where}: {key}: unknown key (known: {', '.join(sorted(known))})")
     if data.get("format") != FORMAT:
         raise CalibrationError(f"{where}: format: expected {FORMAT!r}, got {data.get('format')!r}")
-    if data.get("version") != VERSION:
+    if isinstance(data.get("version"), bool) or data.get("version") != VERSION:
         raise CalibrationError(f"{where}: version: expected {VERSION}, got {data.get('version')!r}")
     if "camera_to_table" not in data:
         raise CalibrationError(f"{where}: camera_to_table: missing; expected a 3x3 homography "

@@ -84,6 +84,7 @@ def good() -> dict:
      "table_to_projector"),
     (lambda d: d.update(format="other"), "format: expected"),
     (lambda d: d.update(version=7), "version: expected 1"),
+    (lambda d: d.update(version=True), "version: expected 1, got True"),
     (lambda d: d.update(colour="red"), "colour: unknown key"),
     (lambda d: d.update(image_size=[1280]), "image_size: expected"),
     (lambda d: d.update(intrinsics={"camera_matrix": [[0, 0, 1], [0, 1, 1], [0, 0, 1]]}),
