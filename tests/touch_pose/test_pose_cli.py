@@ -68,6 +68,7 @@ def test_a_recorded_session_is_replayed_causally_and_reproducibly(tmp_path):
     ("t,id,x\n0,1,0.5\n", [], "missing column(s) y"),
     ("t,id,x,y\n0.5,1,0.5,0.4\n0.2,1,0.5,0.4\n", [], "goes back"),
     ("t,id,x,y\n0,1,nan,0.4\n", [], "not a finite number"),
+    ("t,id,x,y\n0,1,0.5,0.4\n0.1,1,1e200,0.4\n", [], "line 3: column 'x': 1e+200 m is beyond"),
     ("t,id,x,y\n0,1,0.5,0.4\n", ["--view", "front"], "--view"),
     ("t,id,x,y\n0,1,0.5,0.4\n", ["--view", "0,95"], "elevation"),
     ("t,id,x,y\n0,1.5,0.5,0.4\n", [], "whole number"),
