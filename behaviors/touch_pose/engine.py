@@ -32,6 +32,7 @@ from behaviors.touch_pose.latent import Blend, yaw_view
 from behaviors.touch_pose.models import Models, load_or_build
 from behaviors.touch_pose.samples import place
 from behaviors.touch_pose.tracking import PhysicalEffect, Tracker, apply_effect, free_segments
+from tabletop.frames import MAX_POSITION_M
 
 #: Height (m) under which a foot counts as on the ground.
 GROUND = 0.08
@@ -202,8 +203,10 @@ class TouchPose:
         output record (see :meth:`frame`) unless ``record`` is False."""
         dt = 1.0 / 30.0 if self.last_t is None else min(max(t - self.last_t, 1e-4), 0.2)
         self.last_t = t
-        # a source's broken touch (not a finite position) is no finger
-        touches = {i: xy for i, xy in touches.items() if math.isfinite(xy[0]) and math.isfinite(xy[1])}
+        # a source's broken touch (not a finite position, or beyond frames.MAX_POSITION_M: one
+        # at 1e200 m made every later joint NaN) is no finger
+        touches = {i: xy for i, xy in touches.items()
+                   if abs(xy[0]) <= MAX_POSITION_M and abs(xy[1]) <= MAX_POSITION_M}
         self._fingers(t, touches)
         if self.mode == "posing":
             self._posing(t)

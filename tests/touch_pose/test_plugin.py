@@ -114,11 +114,11 @@ def test_the_view_turns_the_mouse_into_fingers_and_arrows_into_camera_commands(t
         POINTER.release()
 
 
-def test_a_broken_touch_is_ignored_and_the_engine_keeps_going(engine):
+@pytest.mark.parametrize("x", [float("nan"), 1e200])
+def test_a_broken_touch_is_ignored_and_the_engine_keeps_going(engine, x):
     hand = engine.core.describe()["parts"]["right_hand"]
     for k in range(5):
-        (c,) = engine.step(Frame(k, k / 30, touches=(Touch(1, float("nan"), 0.4),
-                                                     Touch(2, *hand))))
+        (c,) = engine.step(Frame(k, k / 30, touches=(Touch(1, x, 0.4), Touch(2, *hand))))
     assert 1 not in engine.core.fingers and engine.core.fingers[2].part == "right_hand"
     assert np.all(np.isfinite(c.points))
 
