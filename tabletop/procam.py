@@ -167,8 +167,11 @@ def run_check(procam: ProCam, calibration: Any, detector: Any) -> CheckResult:
     dark = procam.grab()
     size = calibration.image_size
     if size is not None and tuple(size) != (dark.shape[1], dark.shape[0]):
-        raise CalibrationInputError(f"the camera delivers {dark.shape[1]}x{dark.shape[0]} "
-                                    f"pixels, the calibration is for {size[0]}x{size[1]}")
+        raise CalibrationInputError(
+            f"{calibration.path or '<calibration>'}: image_size: the calibration is for "
+            f"{size[0]}x{size[1]} camera pixels but the camera delivers "
+            f"{dark.shape[1]}x{dark.shape[0]}; set the camera source's resolution to "
+            f"[{size[0]}, {size[1]}] or calibrate the camera again at its new size")
     ids, corners = detect_markers(dark, detector)
     if len(ids) == 0:
         raise CalibrationInputError("no puck is seen by the camera: put pucks on the table, "

@@ -136,6 +136,17 @@ def test_a_view_of_another_size_than_the_calibrated_projector_is_refused(tmp_pat
     assert code == 2 and "projector_size" in capsys.readouterr().err
 
 
+def test_a_camera_of_another_size_than_the_calibrated_one_names_the_file_and_key(tmp_path,
+                                                                                capsys):
+    path = write_installation(tmp_path)
+    cal = load_calibration(tmp_path / "cal.yaml")
+    cal.image_size = (640, 480)
+    save_calibration(tmp_path / "cal.yaml", cal)
+    assert main(["calibrate", "check", "--config", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "cal.yaml: image_size: the calibration is for 640x480" in err[0], err
+
+
 def test_a_puck_moved_during_the_check_is_not_measured(tmp_path):
     """A hand moves puck 2 by 2 cm between the dark and the lit frame: its cross cannot be
     compared, so it is named and left out; the still pucks are measured."""
