@@ -145,6 +145,24 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     _check_calibrations(cfg, ctx)
     _check_marker_ids(cfg, ctx)
     _check_studio_markers(cfg, ctx)
+    _check_on_table(cfg, ctx)
+
+
+def _check_on_table(cfg: dict, ctx: Context) -> None:
+    """Places given in table metres (a performer's ``home``, an engine's or a MOP character's
+    ``at``) lie on the table: one off it (``home: [1e300, 0.4]`` was accepted) put a puck the
+    camera never sees or a character nobody can reach."""
+    w, h = cfg["table"]["width"], cfg["table"]["height"]
+    places = [(f"sources[{i}].performers[{j}].home", p.get("home"))
+              for i, s in enumerate(cfg["sources"]) for j, p in enumerate(s.get("performers") or [])]
+    for i, e in enumerate(cfg["engines"]):
+        places.append((f"engines[{i}].at", e.get("at")))
+        places += [(f"engines[{i}].characters[{j}].at", c.get("at"))
+                   for j, c in enumerate(e.get("characters") or []) if isinstance(c, dict)]
+    for key, xy in places:
+        if isinstance(xy, list) and not (0.0 <= xy[0] <= w and 0.0 <= xy[1] <= h):
+            raise ctx.error(key, f"[{xy[0]:g}, {xy[1]:g}] is off the {w:g} x {h:g} m table "
+                                 f"(x from 0 to {w:g}, y from 0 to {h:g} metres)")
 
 
 def _check_calibrations(cfg: dict, ctx: Context) -> None:

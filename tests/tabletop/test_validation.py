@@ -76,6 +76,22 @@ def test_marker_ids_outside_the_dictionary(tmp_path, capfd, snippet, key):
     assert code == 2 and f"kiosk.yaml: {key}: marker id" in line and "not in DICT_4X4" in line
 
 
+@pytest.mark.parametrize("snippet, key", [
+    ("sources:\n  - kind: synthetic_camera\n    pucks: [1]\n    performers:\n"
+     "      - {puck: 1, home: [1.0e+300, 0.4], gestures: [g.csv]}\n",
+     "sources[0].performers[0].home: [1e+300, 0.4] is off the 1.2 x 0.8 m table"),
+    ("sources:\n  - kind: scripted\n    pucks: [1]\n    performers:\n"
+     "      - {puck: 1, home: [0.5, 0.9], gestures: [g.csv]}\n",
+     "sources[0].performers[0].home: [0.5, 0.9] is off"),
+    ("sources:\n  - kind: scripted\nengines:\n  - {kind: touch_pose, at: [-0.1, 0.4]}\n",
+     "engines[0].at: [-0.1, 0.4] is off"),
+])
+def test_places_off_the_table(tmp_path, capfd, snippet, key):
+    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
+    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
+    assert code == 2 and f"kiosk.yaml: {key}" in one_line(err)
+
+
 @pytest.mark.parametrize("snippet, key, words", [
     ("studio: {markers: {record: 45, stop: 45}}\n", "studio.markers.stop",
      "marker 45 is also studio.markers.record"),
