@@ -232,21 +232,29 @@ TAKE_SAMPLES = 24
 TAKE_REACH = (30, 3)
 #: ... at the best of these sizes (times the estimate, within ``scale_range``).
 TAKE_SIZES = (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4)
-_TAKE_SIZES = np.array(TAKE_SIZES)
+# ... tried from the estimate outwards, so a take that fits stops at the first size that does
+_TAKE_SIZES = np.array(sorted(TAKE_SIZES, key=lambda f: abs(math.log(f))))
 
 
 @numba.njit(cache=True, nogil=True)
-def take_misfit2(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
-                 size: float, lo: float, hi: float, decay: float, norm: float,
-                 sizes: np.ndarray) -> float:
-    """The least over ``sizes`` (:data:`TAKE_SIZES`, times ``size``, within ``lo``..``hi``) of
+def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
+              size: float, lo: float, hi: float, decay: float, norm: float,
+              sizes: np.ndarray, limit: float) -> bool:
+    """Whether at any of ``sizes`` (:data:`TAKE_SIZES`, times ``size``, within ``lo``..``hi``)
     the mean square distance (forgotten with ``decay`` per sample, the last weighing most;
-    divided by ``norm``) between ``samples`` (n, d: raw, from the anchor) read at that size in a
-    template's units (``scale``, ``first``: its spread and first state) and the segments
-    joining the states ``path`` (m, d). Compiled: the follower and the group call it alike."""
+    divided by ``norm``) between ``samples`` (n, d: raw, from the anchor) read at that size in
+    a template's units (``scale``, ``first``: its spread and first state) and the segments
+    joining the states ``path`` (m, d) is within ``limit``. Stops at the first size that fits,
+    and leaves a size once its samples so far exceed ``limit`` even were the rest to lie on the
+    path (the same answer as the least over every size, at a seventh of the work for a true
+    take). Compiled: the follower and the group call it alike."""
     n, d = samples.shape
-    least = math.inf
     z = np.empty(d)
+    total_weight = 0.0
+    w = 1.0
+    for j in range(n):
+        total_weight += w
+        w *= decay
     for f in sizes:
         s = min(max(size * f, lo), hi)
         total, weight, w = 0.0, 0.0, 1.0
@@ -269,8 +277,12 @@ def take_misfit2(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first
             total += w * nearest
             weight += w
             w *= decay
-        least = min(least, total / weight / norm)
-    return least
+            if total / total_weight / norm > limit:
+                break
+        else:
+            if total / weight / norm <= limit:
+                return True
+    return False
 
 
 class ShapeLead:
@@ -349,7 +361,7 @@ class ShapeLead:
     def _fits_take(self, samples: np.ndarray, k: int, g: float, size: float) -> bool:
         """Whether template ``k``, followed at state ``g`` (bank index) at size ``size``, may
         be taken as far as the gesture's last ``samples`` (n, d: from the anchor) are concerned:
-        :func:`take_misfit2` within :data:`TAKE_MISFIT2` over its path from
+        :func:`take_fits` within :data:`TAKE_MISFIT2` over its path from
         :data:`TAKE_REACH` states behind ``g`` to ahead of it ("scale" invariance only)."""
         if self.invariance != "scale" or len(samples) == 0:
             return True
@@ -358,8 +370,7 @@ class ShapeLead:
         lo, hi = max(start, int(g) - TAKE_REACH[0]), min(int(g) + TAKE_REACH[1], last)
         if hi <= lo:
             return True
-        return take_misfit2(np.ascontiguousarray(samples, dtype=float),
-                            np.ascontiguousarray(b.means[lo:hi + 1]), b.scale[k],
-                            self._first_z[k], float(size), *self.scale_range,
-                            self._misfit_decay, self.sigma ** 2 * self.dim,
-                            _TAKE_SIZES) <= TAKE_MISFIT2
+        return take_fits(np.ascontiguousarray(samples, dtype=float),
+                         np.ascontiguousarray(b.means[lo:hi + 1]), b.scale[k], self._first_z[k],
+                         float(size), *self.scale_range, self._misfit_decay,
+                         self.sigma ** 2 * self.dim, _TAKE_SIZES, TAKE_MISFIT2)
