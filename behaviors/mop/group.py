@@ -72,11 +72,16 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._share_state()
         self._member_arrays()
         self._kernel_arrays()
+        dmax = self._x.shape[1]   # glitches (ActionFollower._glitch): the members' limits
+        self._jump = np.array([np.pad(f._jump, (0, dmax - f.dim), constant_values=np.inf)
+                               for f in self.followers])
+        self._jumped = np.zeros(len(self.followers), dtype=bool)
         self.reset()
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
         self._has_anchor[rows] = False
+        self._jumped[rows] = False
         self._nbuf[rows] = 0
         self._ended[rows] = -1
         self._forget_members(rows)
@@ -122,23 +127,25 @@ class FollowerGroup(GroupArrays, GroupRules):
             except (ValueError, TypeError):
                 stacked = None
         fits = stacked is not None and stacked.shape == X.shape
-        if fits and group_steps.take_samples(stacked, X, self._anchor, self._has_anchor):
-            present = self._everyone   # every sample finite, anchors taken
-        else:
-            if fits:   # a lost member keeps its last sample
+        if fits and group_steps.take_samples(stacked, X, self._anchor, self._has_anchor,
+                                             self._jump, self._jumped):
+            present = self._everyone   # every sample finite, none a glitch, anchors taken
+        else:   # a lost member (or a glitch) keeps its last sample
+            if fits:
                 present = np.isfinite(stacked.sum(axis=1))
-                X[present] = stacked[present]
-                lost = np.flatnonzero(~present).tolist()
+                new = stacked
             else:
+                new = X.copy()
+                present = np.ones(len(self.followers), dtype=bool)
                 for i, (f, x) in enumerate(zip(self.followers, samples)):
                     x = f._sample(x)
                     if x is None:
-                        lost.append(i)
+                        present[i] = False
                     else:
-                        X[i, :f.dim] = x
-                present = np.ones(len(self.followers), dtype=bool)
-                if lost:
-                    present[lost] = False
+                        new[i, :f.dim] = x
+            present &= ~self._glitched(new, present)
+            X[present] = new[present]
+            lost = np.flatnonzero(~present).tolist()
             if not self._has_anchor.all():
                 fresh = present & ~self._has_anchor
                 self._anchor[fresh] = X[fresh]
@@ -161,6 +168,18 @@ class FollowerGroup(GroupArrays, GroupRules):
             for i in lost:
                 out[i] = self.followers[i]._held()
         return out
+
+    def _glitched(self, new: np.ndarray, present: np.ndarray) -> np.ndarray:
+        """:meth:`ActionFollower._glitch` of every member: which of the ``present`` members'
+        samples ``new`` (M, D) are glitches to hold (counted in their followers' ``glitches``)."""
+        rows = np.flatnonzero(present & self._has_anchor)
+        far = (np.abs(new[rows] - self._x[rows]) > self._jump[rows]).any(axis=1)
+        glitch = np.zeros(len(self.followers), dtype=bool)
+        glitch[rows] = far & ~self._jumped[rows]
+        self._jumped[present] = glitch[present]
+        for i in np.flatnonzero(glitch).tolist():
+            self.followers[i].glitches += 1
+        return glitch
 
     def _owner_of(self, members: list[int] | np.ndarray | slice) -> np.ndarray:
         """Which templates (K,) belong to ``members`` (indices, a mask or a slice of the

@@ -39,15 +39,23 @@ def map_inputs(x, anchor, tc, mc, size, first, bounds, counts, z) -> None:
                 z[k, c] = r / ssz / tc[k, sc0 + c] + first[k, c]
 
 
-@compiled(numba.boolean(_F2, _F2, _F2, _B1), *_CALLS_INTO, fastmath=CONTRACT)
-def take_samples(samples, x, anchor, has_anchor) -> bool:
-    """Every member's sample (``samples`` (M, D)) into ``x`` when all are finite, each member
-    without an anchor taking its sample as one; returns whether they were (if not, nothing
-    changed). One call for what cost four numpy calls on 16 numbers (a sum, a copy, two tests)."""
+@compiled(numba.boolean(_F2, _F2, _F2, _B1, _F2, _B1), *_CALLS_INTO, fastmath=CONTRACT)
+def take_samples(samples, x, anchor, has_anchor, jump, jumped) -> bool:
+    """Every member's sample (``samples`` (M, D)) into ``x`` when all are finite and none is a
+    glitch (in a column farther than ``jump`` (M, D) from its last, ``x``, the last not
+    ``jumped``: :meth:`ActionFollower._glitch`), each member without an anchor
+    taking its sample as one; returns whether they were (if not, nothing changed). One call
+    for what cost four numpy calls on 16 numbers (a sum, a copy, two tests)."""
     for v in samples.ravel():
         if not math.isfinite(v):
             return False
+    for i in range(x.shape[0]):
+        if has_anchor[i] and not jumped[i]:
+            for c in range(x.shape[1]):
+                if abs(samples[i, c] - x[i, c]) > jump[i, c]:
+                    return False
     x[:] = samples
+    jumped[:] = False
     for i in range(x.shape[0]):
         if not has_anchor[i]:
             anchor[i] = x[i]
