@@ -3,9 +3,12 @@
 A kernel is ``numba.njit(nogil=True)``: no fast-math unless its caller asks (each value's
 arithmetic is fixed, so a kernel gives its Python definition's bits and keeps its NaN checks;
 MOP's forward and group kernels ask only for fused multiply-adds), the interpreter lock
-released, the machine code cached beside the source (or in numba's user-wide folder where the
-package's ``__pycache__`` cannot be written) so that neither the installation's start nor a
-test worker compiles it (``make kernels`` builds the caches).
+released, numpy's error model (a float divided by zero is an infinity or NaN, as in the numpy
+rules the kernels twin: with Python's, MOP's group fed two samples of 1e30 in a row raised
+ZeroDivisionError on every tick from there on while its followers went on), the machine code
+cached beside the source (or in numba's user-wide folder where the package's ``__pycache__``
+cannot be written) so that neither the installation's start nor a test worker compiles it
+(``make kernels`` builds the caches).
 
 numba's cache trusts itself while the kernel's own file is unchanged, yet every compiled
 function the kernel calls from another file, and every constant it reads from one, is built
@@ -100,12 +103,12 @@ def _cache_class(covers: tuple[str, ...]) -> type[StampedCache]:
 
 
 def compiled(signature: Any = None, *calls_into: Source, **options: Any) -> Callable[[Callable], Any]:
-    """``numba.njit(nogil=True, **options)``, cached under :func:`stamp` of the function's own
-    file and ``calls_into``: every module (or file) whose compiled functions or constants it
-    takes in, directly or through another. With a ``signature`` it is compiled for that one at
-    once and never again (a call with other types raises)."""
+    """``numba.njit(nogil=True, error_model="numpy", **options)``, cached under :func:`stamp`
+    of the function's own file and ``calls_into``: every module (or file) whose compiled
+    functions or constants it takes in, directly or through another. With a ``signature`` it
+    is compiled for that one at once and never again (a call with other types raises)."""
     def build(fn: Callable) -> Any:
-        dispatcher = numba.njit(nogil=True, **options)(fn)
+        dispatcher = numba.njit(nogil=True, **{"error_model": "numpy", **options})(fn)
         covers = files((fn.__code__.co_filename, *calls_into))
         dispatcher._cache = _cache_class(covers)(fn)   # (what ``cache=True`` sets: numba's stamp)
         if signature is not None:

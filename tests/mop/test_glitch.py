@@ -56,3 +56,21 @@ def test_a_group_holds_a_glitch_as_its_follower_alone(gestures):
     end = group.followers[0]._state
     assert end.best == "circle" and end.valid
     assert [f.glitches for f in group.followers] == [f.glitches for f in alone] == [1, 0, 2]
+
+
+def test_a_group_fed_absurd_samples_keeps_stepping_as_its_follower_alone(gestures):
+    # two samples of 1e30 in a row (a broken stream, under the inputs' 1e100 bound): the
+    # compiled group divided by zero on every tick from there on (ZeroDivisionError: the
+    # MOP engine stopped for good) where the follower, in numpy, went on; after a rest the
+    # next circle is recognised by both
+    perf = gestures["circle"].copy()
+    perf[11:13, 0] = 1e30
+    rest = np.repeat(gestures["circle"][-1:], 40, axis=0)
+    stream = np.vstack([perf, rest, gestures["circle"], rest])
+    alone = ActionFollower(gestures, invariance="scale")
+    group = FollowerGroup([ActionFollower(gestures, invariance="scale")])
+    with np.errstate(all="ignore"):
+        pairs = [(group.step([x])[0], alone.step(x)) for x in stream]
+    assert [(g.best, g.valid) for g, _ in pairs] == [(a.best, a.valid) for _, a in pairs]
+    again = pairs[len(perf) + len(rest):][:len(gestures["circle"])]
+    assert again[-1][0].best == "circle" and sum(g.valid for g, _ in again) >= 30
