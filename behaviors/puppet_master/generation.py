@@ -173,6 +173,16 @@ def rotate_step(sx: float, sy: float, angle: float) -> tuple[float, float]:
     return c * sx - s * sy, s * sx + c * sy
 
 
+def turn_between(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
+    """Cosine and sine of the turn from the bearing (ax, ay) to the bearing (bx, by) (the
+    reactor from its main, metres); no turn (1, 0) where either is within 1e-9 m."""
+    la, lb = math.hypot(ax, ay), math.hypot(bx, by)
+    if la < 1e-9 or lb < 1e-9:
+        return 1.0, 0.0
+    n = la * lb
+    return (ax * bx + ay * by) / n, (ax * by - ay * bx) / n
+
+
 class StepSmoother:
     """Linear smooth: the mean of the last ``size`` raw steps (3 in the paper); the history
     starts at rest (zero steps), so a start accelerates gently.
@@ -255,6 +265,32 @@ class StepSmoother:
         """Every remembered raw step set to (sx, sy): the next mean starts from that step."""
         self.xs[:] = [sx] * self.size
         self.ys[:] = [sy] * self.size
+
+    def turn(self, c: float, s: float) -> None:
+        """Every remembered raw step turned by the angle whose cosine and sine are (c, s).
+
+        A character that circles its main (Behavior.circling: the playful friend, 2.4 rad/s
+        round it) has its remembered steps turned by its bearing's turn from the main before
+        each mean (step.py, the compiled step alike): averaged as taken, the earlier ones
+        point out of the circle (a lag of about one step's turn), so the smooth drove it
+        outward and the drift correction held it 0.9 cm beyond its matched moments' distance
+        (seeds 0-2, every path; 0.4 cm now, tests/puppet_master/test_pm_circling.py); its
+        darts, begun farther out, touched its main less: contact 0.032 -> 0.038 mean over the
+        54 paths of seeds 0-5, 8-13, 26-31 (0.041 shown), orbit 2.12 -> 2.15 rad/s (2.30).
+        bench/fidelity.py on those seeds: met 670 / 666 / 661 -> 668 / 667 / 665 of 720, the
+        engine's alone 7 / 16 / 21 -> 9 / 15 / 17 (the friend's 1 / 6 / 4 -> 3 / 5 / 0, all
+        contact), the other characters and the pursuit the same to the last digit; the friend
+        alone with the drift share x 1, 1 +- 0.001, 1 +- 0.002: 11, 10, 13, 10, 15 -> 8, 8,
+        10, 14, 13 misses. Measured too (its misses over the first three of those runs, 34
+        before): the texture governor's filter turned as well 35; the steps since its last
+        dart nearer than 0.12 m as a feature (features.since_push) at weight 0.5 33, 1.0 32;
+        at a world place the correction's part along the bearing added after the cap 50
+        (contact 0.028: it pulls out as well), its inward part only 42, only at moments going
+        inward 43; the world cap raised by the main's carried step 64 (orbit 2.29, contact
+        0.026). None is used."""
+        for q in range(self.size):
+            x, y = self.xs[q], self.ys[q]
+            self.xs[q], self.ys[q] = c * x - s * y, s * x + c * y
 
     def push(self, sx: float, sy: float) -> tuple[float, float]:
         """Add a raw step; returns the mean of the last ``size`` steps."""

@@ -102,6 +102,16 @@ def mean_capped(px: float, py: float, sx: float, sy: float, cap: float,
     return sx * f, sy * f
 
 
+@compiled(_P2(_f8, _f8, _f8, _f8), step_math)
+def turn_between(ax: float, ay: float, bx: float, by: float) -> tuple[float, float]:
+    """generation.turn_between."""
+    la, lb = hypot(ax, ay), hypot(bx, by)
+    if la < 1e-9 or lb < 1e-9:
+        return 1.0, 0.0
+    n = la * lb
+    return (ax * bx + ay * by) / n, (ax * by - ay * bx) / n
+
+
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8), step_math)
 def step_toward(rx: float, ry: float, tx: float, ty: float,
                 length: float) -> tuple[float, float]:

@@ -17,7 +17,7 @@ import math
 from behaviors.puppet_master.character import FOLLOW_SHARE
 from behaviors.puppet_master.generation import (capped, kept_straightness, mean_capped,
                                                 rotate_step, share_around, step_around,
-                                                target_position)
+                                                target_position, turn_between)
 from behaviors.puppet_master.look import PLACE_WORLD
 from behaviors.puppet_master.step_senses import StepSenses
 from behaviors.puppet_master.table_boundary import fit_target, keep_apart, keep_on_table
@@ -367,6 +367,12 @@ class GenerationStep(StepSenses):
             self.smoother.restart(sx, sy)
             self._ema = (sx, sy)
         sm = self.smoother
+        if b.circling:
+            # a circling character's raw steps averaged in the frame that turns with its
+            # bearing from the main (StepSmoother.turn: why, and the figures)
+            lx, ly = self._last_step
+            sm.turn(*turn_between(rx - lx - self.main_motion.x, ry - ly - self.main_motion.y,
+                                  rx - mx, ry - my))
         sx, sy = sm.push(sx, sy)
         if self._keep_length > 0.0:
             # a character that walks with its main at a place held in the world (the lover):

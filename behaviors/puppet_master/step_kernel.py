@@ -12,7 +12,8 @@ any of these must be made here too:
   kept whole, to the features of the new sample pair)
 - similarity.Balancer.choose
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
-  share_around, rotate_step, keep_on_table, keep_apart, limit_turn, StepSmoother.push
+  share_around, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
+  StepSmoother.turn and push
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
@@ -37,8 +38,9 @@ import numpy as np
 
 from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
-    X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness, keep_on_table, limit_turn,
-    mean_capped, moved_on, share_around, step_around, table_reach)
+    X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
+    keep_on_table, limit_turn, mean_capped, moved_on, share_around, step_around, table_reach,
+    turn_between)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -65,7 +67,8 @@ S_STILL = 47          # the weight of the main's still/moving state (0: not a fe
 STOP_SPAN, STOP_DISTANCE = 48, 49   # Behavior.stop_span (held to the ring) and its distance
 STRAIGHTNESS = 50     # Behavior.straightness
 S_SINCE, SINCE_CLIP, TOUCH = 51, 52, 53   # the steps since the last push (0: not a feature)
-CONSTANTS = 54
+CIRCLING = 54         # Behavior.circling (1.0: the smooth turns with the bearing)
+CONSTANTS = 55
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -301,8 +304,14 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         for q in range(smooth_x.size):
             smooth_x[q], smooth_y[q] = sx, sy
         fs[EMA_X], fs[EMA_Y] = sx, sy
-    # StepSmoother.push
     size = smooth_x.size
+    if c[CIRCLING] > 0.0:   # a circling character's smooth turns with its bearing (step.py)
+        ct, st = turn_between(rx - fs[STEP_X] - fs[MAIN_X], ry - fs[STEP_Y] - fs[MAIN_Y],
+                              rx - mx, ry - my)
+        for q in range(size):       # StepSmoother.turn
+            x, y = smooth_x[q], smooth_y[q]
+            smooth_x[q], smooth_y[q] = ct * x - st * y, st * x + ct * y
+    # StepSmoother.push
     i = ints[SMOOTH_I]
     smooth_x[i], smooth_y[i] = sx, sy
     ints[SMOOTH_I] = (i + 1) % size
