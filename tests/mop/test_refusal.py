@@ -129,7 +129,10 @@ def test_an_action_stopped_at_a_crawl_is_not_retaken_while_the_input_hovers(gest
                                                                             monkeypatch):
     # validity.crawl_run: a wander crawling in the wave's first hump is stopped (crawls); as it
     # slows below the onset the wave was retaken at once, its state not moving. Measured 94
-    # valid ticks, 140 with the crawl reset while hovering
+    # valid ticks, 140 with the crawl reset while hovering (before the last samples' fit); with
+    # the take sizes up to 1.4 times the estimate (shape_lead.TAKE_SIZES), as here, 48 and 80;
+    # with them up to 1.12, the default, 42 and 67
+    monkeypatch.setattr(shape_lead, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
     now = _wander_valid(gestures)
     monkeypatch.setattr(validity, "CRAWL_HOVERS", False)   # the followers read it each step
     reset = _wander_valid(gestures)
@@ -240,3 +243,35 @@ def test_a_group_takes_an_action_only_where_its_path_fits_as_its_followers_alone
     # the same rule over members (group.FollowerGroup._takes_fit): every tick equal
     templates, streams = _mirrored_squares()
     _group_as_alone(templates, streams)
+
+
+def _mirrored_waves() -> tuple[dict[str, np.ndarray], list[np.ndarray]]:
+    """The twenty templates of ``bench/follow_quality.py`` and the wave drawn mirrored (x ->
+    -x) at 1.2 and 1.4x, time-warped, with jitter (seeds 0-3)."""
+    from bench.motions import gesture_templates, mocap_templates
+    templates = {**gesture_templates(), **mocap_templates()}
+    path = templates["wave"] * np.array([-1.0, 1.0])
+    streams = []
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        streams += [performance(rng, path, s)[0] for s in (1.2, 1.4)]
+    return templates, streams
+
+
+def test_a_new_action_is_taken_only_at_a_size_near_the_one_it_is_followed_at(monkeypatch):
+    # shape_lead.TAKE_SIZES: the backflip wrist follows the mirrored wave's start at 1.01-1.05
+    # of its size, where the last samples stray 0.29-0.58 sigma^2 from its path; they fit
+    # within TAKE_MISFIT2 only read at 1.25-1.4 times that size (1.12 once). Measured 2 valid
+    # ticks of the eight performances with the sizes up to 1.12, 47 with them up to 1.4
+    templates, streams = _mirrored_waves()
+    f = puck_follower(templates)
+    now = sum(s.valid for x in streams for s in run(f, x))
+    monkeypatch.setattr(shape_lead, "TAKE_SIZES", (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4))
+    wide = sum(s.valid for x in streams for s in run(f, x))
+    assert now <= 6 and wide >= 30, (now, wide)
+
+
+def test_a_group_takes_an_action_only_at_a_size_near_its_own_as_its_followers_alone():
+    # the same sizes over members (group.FollowerGroup._takes_fit): every tick equal
+    templates, streams = _mirrored_waves()
+    _group_as_alone(templates, streams[:4])

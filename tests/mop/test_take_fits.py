@@ -35,7 +35,7 @@ def test_take_fits_answers_as_the_least_misfit_over_every_size():
         if abs(least - limit) < 1e-9 * limit:
             continue                                    # a tie only rounding decides
         fits = shape_lead.take_fits(samples, path, scale, first, size, 0.6, 1.5, decay, norm,
-                                    shape_lead._TAKE_SIZES, limit)
+                                    shape_lead.outwards(shape_lead.TAKE_SIZES), limit)
         assert fits == (least <= limit), (least, limit)
         answers.append(fits)
         near_limit += abs(least - limit) < 0.05 * limit
