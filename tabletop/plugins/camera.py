@@ -21,7 +21,8 @@ import numpy as np
 from tabletop import registry
 from tabletop.frames import Observation, PuckMeasurement
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Spec
+from tabletop.schema import (Bool, ConfigError, Context, FilePath, ListOf, Number, Optional_,
+                             Record, Spec)
 
 log = logging.getLogger("tabletop")
 
@@ -52,13 +53,38 @@ class Device(Spec):
         return str(FilePath(kind="any").validate(value, path, ctx))
 
 
+class Exposure(Number):
+    """A manual exposure in V4L2 units of 100 us: 1 (0.1 ms) to 10000 (1 s).
+
+    OpenCV's V4L2 backend passes the number on as ``exposure_time_absolute``, which counts
+    100 us from 1; 10000 (1 s) is longer than any frame a tracking camera delivers. A negative
+    number is DirectShow's convention (log2 seconds: -5 is 1/32 s), which V4L2 drivers refuse
+    or clamp to their least exposure: the message gives the value in these units."""
+
+    def __init__(self) -> None:
+        super().__init__(lo=1, hi=10_000)
+
+    def describe(self) -> str:
+        return f"{super().describe()} (V4L2 units of 100 us)"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        try:
+            return super().validate(value, path, ctx)
+        except ConfigError as exc:
+            if isinstance(value, (int, float)) and not isinstance(value, bool) and -16 <= value < 0:
+                raise ctx.error(path, f"{value:g} is out of range: expected V4L2 units of 100 us "
+                                      f"from 1 to 10000 ({value:g} as DirectShow's log2 seconds "
+                                      f"is {2.0 ** value * 1e4:.0f} here)") from None
+            raise exc
+
+
 SCHEMA = Record({
     "device": Device(0),
     "resolution": Optional_(ListOf(Number(integer=True, lo=16, hi=16384), min_len=2, max_len=2),
                             doc="requested [width, height] in pixels (devices)"),
     "fps": Optional_(Number(lo=1.0, hi=1000.0),
                      doc="requested frame rate (devices); playback rate (files, folders)"),
-    "exposure": Optional_(Number(), doc="manual exposure in the driver's units (V4L2: 100 us)"),
+    "exposure": Optional_(Exposure(), doc="manual exposure in V4L2 units of 100 us"),
     "calibration": Optional_(FilePath(kind="file"),
                              doc="calibration YAML for this camera (default: the top-level one)"),
     "retry_max_s": Number(8.0, lo=0.1, hi=600.0, doc="longest wait between reconnections"),

@@ -119,6 +119,20 @@ def test_devices_may_be_absent_at_start(tmp_path):
     assert cfg["sources"][0]["device"] == "/dev/video63" and cfg["sources"][1]["device"] == 3
 
 
+@pytest.mark.parametrize("exposure, words", [
+    (-5, "-5 is out of range: expected V4L2 units of 100 us from 1 to 10000 (-5 as DirectShow's "
+         "log2 seconds is 312 here)"),
+    (0, "expected a number in [1, 10000] (V4L2 units of 100 us), got 0.0 (out of range)"),
+    (50_000, "expected a number in [1, 10000] (V4L2 units of 100 us), got 50000.0"),
+])
+def test_an_exposure_v4l2_does_not_take_is_refused_with_its_units(tmp_path, exposure, words):
+    with pytest.raises(InputError) as info:
+        validate_config({"sources": [{"kind": "camera", "exposure": exposure}]}, "t.yaml", tmp_path)
+    assert str(info.value).startswith("t.yaml: sources[0].exposure: ") and words in str(info.value)
+    cfg = validate_config({"sources": [{"kind": "camera", "exposure": 156}]}, "t.yaml", tmp_path)
+    assert cfg["sources"][0]["exposure"] == 156.0
+
+
 def test_synthetic_camera_reports_the_visitor_and_hides_covered_pucks(tmp_path):
     start = {pid: (x, y) for pid, x, y, _ in ScriptedVisitor(TABLE, [1, 2], seed=4).poses(0.0)}
     hand = {"x": start[2][0], "y": start[2][1], "size": 0.12}  # lying on puck 2
