@@ -58,7 +58,7 @@ SCHEMA = Record({
     "idle_s": Number(60.0, lo=1.0, doc="attract mode after this long with no visitor, seconds"),
     "handover_s": Number(1.0, lo=0.0, hi=30.0,
                          doc="seconds over which attract pucks glide to a visitor's pucks"),
-    "attract": Record(dict(scripted.SCHEMA.fields),
+    "attract": Record(dict(scripted.SCHEMA.fields), check=scripted.check_pucks,
                       doc="the scripted visitor of attract mode (pucks, seed, performers)"),
     "grace_s": Number(1.0, lo=0.0, hi=60.0,
                       doc="an input down this long shows the 'one moment' screen, seconds"),

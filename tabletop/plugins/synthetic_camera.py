@@ -60,7 +60,7 @@ SCHEMA = Record({
     "sync_to_loop": Bool(True, doc="time each frame to be ready just before a loop tick, as a "
                                    "camera triggered by the loop would (only for a loop that "
                                    "does not tick on the camera's frames itself)"),
-})
+}, check=scripted.check_pucks)
 
 
 class SyntheticCameraSource(CameraSource):

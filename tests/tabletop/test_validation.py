@@ -93,6 +93,22 @@ def test_places_off_the_table(tmp_path, capfd, snippet, key):
 
 
 @pytest.mark.parametrize("snippet, key, words", [
+    ("sources:\n  - {kind: synthetic_camera, pucks: [1, 2, 1]}\n", "sources[0].pucks[2]",
+     "puck 1 is also pucks[0]"),
+    ("sources:\n  - kind: scripted\n    pucks: []\n    performers:\n"
+     "      - {puck: 3, home: [0.5, 0.5], gestures: [g.csv]}\n"
+     "      - {puck: 3, home: [0.2, 0.5], gestures: [g.csv]}\n", "sources[0].performers[1].puck",
+     "puck 3 is also performers[0]"),
+    ("sources: [{kind: scripted}]\nkiosk: {attract: {pucks: [4, 4]}}\n", "kiosk.attract.pucks[1]",
+     "puck 4 is also pucks[0]"),
+])
+def test_a_puck_given_twice_in_a_source(tmp_path, capfd, snippet, key, words):
+    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
+    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
+    assert code == 2 and f"kiosk.yaml: {key}: {words}; give each puck once" in one_line(err)
+
+
+@pytest.mark.parametrize("snippet, key, words", [
     ("studio: {markers: {record: 45, stop: 45}}\n", "studio.markers.stop",
      "marker 45 is also studio.markers.record"),
     ("studio: {markers: {keep: 2}}\n", "studio.markers.keep",
