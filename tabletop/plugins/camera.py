@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+import os
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
@@ -22,7 +23,7 @@ from tabletop import registry
 from tabletop.frames import Observation, PuckMeasurement
 from tabletop.registry import BuildContext
 from tabletop.schema import (Bool, ConfigError, Context, FilePath, ListOf, Number, Optional_,
-                             Record, Spec)
+                             Record, Spec, shown)
 
 log = logging.getLogger("tabletop")
 
@@ -49,8 +50,47 @@ class Device(Spec):
         if value.isdigit():
             return int(value)
         if value.startswith("/dev/"):
+            if not is_video_device(value):
+                raise ctx.error(path, f"{value} is not a video device (a camera is "
+                                      "/dev/videoN)")
             return value  # a camera may be plugged in later: checked (and retried) at run time
-        return str(FilePath(kind="any").validate(value, path, ctx))
+        p = FilePath(kind="any").validate(value, path, ctx)
+        problem = unreadable_input(p)
+        if problem:   # it was retried for ever as "cannot open ..."
+            raise ctx.error(path, f"{shown(value)}: {problem}")
+        return str(p)
+
+
+V4L_MAJOR = 81   # Linux's device number of every video4linux device (/dev/video*)
+
+
+def is_video_device(path: str) -> bool:
+    """False for a path that exists on Linux and is no video4linux device (/dev/null,
+    /dev/ttyACM0); True otherwise (a camera not plugged in yet, another system)."""
+    import stat
+    import sys
+    try:
+        st = os.stat(path)
+    except OSError:
+        return True
+    return (not sys.platform.startswith("linux")
+            or (stat.S_ISCHR(st.st_mode) and os.major(st.st_rdev) == V4L_MAJOR))
+
+
+def unreadable_input(path: Path) -> str:
+    """Why a video file or image folder cannot be played as a camera, or '' when it can."""
+    import cv2
+    from tabletop.quiet import quiet_stderr
+    from tracking.camera import IMAGE_SUFFIXES
+    if path.is_dir():
+        if any(p.suffix.lower() in IMAGE_SUFFIXES for p in path.iterdir()):
+            return ""
+        return f"the folder holds no images ({', '.join(IMAGE_SUFFIXES)})"
+    with quiet_stderr():   # FFmpeg's own complaint ("moov atom not found")
+        capture = cv2.VideoCapture(str(path))
+        ok = capture.isOpened()
+        capture.release()
+    return "" if ok else "not a video file OpenCV can read"
 
 
 class Exposure(Number):

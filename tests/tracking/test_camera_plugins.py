@@ -112,6 +112,21 @@ def test_bad_devices_are_refused_at_start(tmp_path, device, message):
     assert "sources[0].device" in str(info.value)
 
 
+@pytest.mark.parametrize("device, words", [
+    ("notes.txt", "'notes.txt': not a video file OpenCV can read"),
+    ("empty.mp4", "'empty.mp4': not a video file OpenCV can read"),
+    ("empty", "'empty': the folder holds no images (.png, .jpg"),
+    ("/dev/null", "/dev/null is not a video device (a camera is /dev/videoN)"),
+])
+def test_an_input_that_cannot_be_played_is_refused_at_start(tmp_path, device, words):
+    (tmp_path / "notes.txt").write_text("hello")
+    (tmp_path / "empty.mp4").write_bytes(b"")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(InputError) as info:
+        validate_config({"sources": [{"kind": "camera", "device": device}]}, "t.yaml", tmp_path)
+    assert str(info.value).startswith(f"t.yaml: sources[0].device: {words}")
+
+
 def test_devices_may_be_absent_at_start(tmp_path):
     cfg = validate_config({"sources": [{"kind": "camera", "device": "/dev/video63"},
                                        {"kind": "camera", "name": "b", "device": "3"}]},
