@@ -20,6 +20,20 @@ def mop_config(template: str, motion: str) -> dict:
                                              "motion": motion}]}]}]}
 
 
+@pytest.mark.parametrize("content, words", [
+    ("hello", "notes.json: cannot read clip: Expecting value: line 1 column 1"),
+    ('{"Loop": "wrap", "Frames": [[1, 2]]}', "notes.json: unknown key 'Frames'"),
+])
+def test_a_clip_file_that_is_no_clip_names_its_key(tmp_path, content, words):
+    """It passed validation and stopped the build as "character 'd', action 'a': ..."."""
+    (tmp_path / "notes.json").write_text(content)
+    with pytest.raises(ConfigError) as info:
+        validate_config(mop_config(str(CIRCLE), "notes.json"), "m.yaml", tmp_path)
+    assert str(info.value).startswith("m.yaml: engines[0].characters[0].actions[0].motion: "
+                                      f"{tmp_path}/{words}"), info.value
+    validate_config(mop_config(str(CIRCLE), "walk"), "m.yaml", tmp_path)
+
+
 def test_a_template_going_back_in_time_names_its_line(tmp_path):
     (tmp_path / "back.csv").write_text("t,dx,dy\n\n0,0,0\n0.1,0.1,0\n0.05,0.2,0\n")
     with pytest.raises(ConfigError) as info:
