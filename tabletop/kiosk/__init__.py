@@ -43,6 +43,12 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
     for key in ("status_file", "crash_log"):
         if k[key] is not None and Path(k[key]).is_dir():
             raise ctx.error(f"{path}.{key}", f"{k[key]} is a folder; expected a file name")
+        # a folder that is a file never becomes one: the status was a warning every heartbeat
+        # and the crash log silently never written
+        blocking = next((a for a in Path(k[key] or "").parents if a.exists()), None)
+        if k[key] is not None and blocking is not None and not blocking.is_dir():
+            raise ctx.error(f"{path}.{key}", f"{k[key]} cannot be written: {blocking} is a "
+                                             "file, not a folder")
     first, longest = k["backoff_s"]
     if first > longest:
         raise ctx.error(f"{path}.backoff_s", f"the first wait {first:g} s is longer than the "

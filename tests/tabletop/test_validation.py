@@ -132,10 +132,17 @@ def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
 @pytest.mark.parametrize("snippet, words", [
     ("kiosk: {backoff_s: [30, 0.1]}\n", "kiosk.backoff_s: the first wait 30 s is longer"),
     ("kiosk: {service_key: F13x}\n", "kiosk.service_key: 'F13x' is not a key name"),
+    ("kiosk: {crash_log: notes.txt/crashes.log}\n", "kiosk.crash_log: {tmp}/notes.txt/crashes"
+     ".log cannot be written: {tmp}/notes.txt is a file, not a folder"),
+    ("kiosk: {status_file: notes.txt/a/status.json}\n", "kiosk.status_file: {tmp}/notes.txt/a/"
+     "status.json cannot be written: {tmp}/notes.txt is a file, not a folder"),
 ])
 def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
-    # (they ran: a back-off that never grew, and a service key warned about only once the
-    # kiosk was up, replaced by F12)
+    # (they ran: a back-off that never grew, a service key warned about only once the kiosk
+    # was up, replaced by F12, a status file warned about at every heartbeat and a crash log
+    # never written)
+    (tmp_path / "notes.txt").write_text("a file where a folder was meant")
+    words = words.format(tmp=tmp_path)
     code, err = run_config(tmp_path, BASE + snippet, capfd)
     assert code == 2 and f"kiosk.yaml: {words}" in one_line(err)
 
