@@ -113,33 +113,9 @@ def _check(opts: dict, path: str, ctx: Context) -> None:
                             "behaviors/library/lover) unless designer.enabled is true")
         return
     try:
-        desc = library.read_description(opts["behavior"])
+        library.read_description(opts["behavior"])
     except library.LibraryError as exc:
         raise ctx.error(where, str(exc)) from None
-    problem = _parameter_problem(desc["parameters"], opts["rate_hz"])
-    if problem:
-        raise ctx.error(where, f"{Path(opts['behavior']) / library.BEHAVIOR_FILE}: parameters: "
-                               f"{problem}")
-
-
-def _parameter_problem(parameters: dict, rate_hz: float | None) -> str:
-    """What is wrong with a behaviour's parameters (with the engine's ``rate_hz``), or ''.
-    Checked with the config, as the rest of behavior.yaml is: a 'rate_hz: 0' there stopped the
-    build with no key named, and a kiosk took such an edit for a good one and rebuilt."""
-    from dataclasses import fields
-
-    from behaviors.puppet_master.behavior import ParameterError, Params
-    params = dict(parameters) if rate_hz is None else {**parameters, "rate_hz": rate_hz}
-    known = {f.name for f in fields(Params)}
-    unknown = sorted(set(params) - known)
-    if unknown:
-        return (f"unknown behaviour parameter(s) {', '.join(unknown)}; known: "
-                f"{', '.join(sorted(known))}")
-    try:
-        Params(**params).check()
-    except ParameterError as exc:
-        return str(exc)
-    return ""
 
 
 SCHEMA = Record({

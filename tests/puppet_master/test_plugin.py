@@ -115,27 +115,6 @@ def test_corrupt_behaviour_is_refused_at_load_and_left_alone(tmp_path):
     assert (folder / "behavior.yaml").read_bytes() == before
 
 
-@pytest.mark.parametrize("parameters, rate_hz, words", [
-    ({"rate_hz": 0}, None, "behaviour parameter rate_hz: 0 must be from 1 to 1000 Hz"),
-    ({"window": 1}, None, "behaviour parameter window: 1 must be an integer >= 2"),
-    ({"bogus": 3}, None, "unknown behaviour parameter(s) bogus; known: balance_gain, "),
-    ({"relative_motion": 2.0}, 20.0, "behaviour parameter relative_motion: 2.0 must be in 0..1"),
-])
-def test_bad_behaviour_parameters_are_refused_with_the_config(tmp_path, parameters, rate_hz,
-                                                                words):
-    """Refused when the config is validated (a kiosk's edit is refused, the running table
-    stays), naming the config key and the behavior.yaml; they stopped the build naming only
-    the folder."""
-    folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=5), {})
-    (folder / "behavior.yaml").write_text(library.describe_yaml(
-        "x", designers.demonstrate("lover", seconds=5), parameters))
-    entry = {"kind": "puppet_master", "behavior": str(folder), "rate_hz": rate_hz}
-    with pytest.raises(ConfigError) as err:
-        validate_config({"sources": [{"kind": "scripted"}], "engines": [entry]}, "c.yaml")
-    assert str(err.value).startswith(f"c.yaml: engines[0].behavior: {folder}/behavior.yaml: "
-                                     f"parameters: {words}"), err.value
-
-
 def test_a_behaviour_demonstrated_for_too_long_is_refused_at_load(tmp_path):
     """A demonstration.csv whose last time is 1e9 s (a damaged file) is refused naming its
     folder; it was resampled at 40 Hz and the run stopped with 'out of memory' (1e6 s: the
