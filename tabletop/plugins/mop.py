@@ -49,7 +49,8 @@ from tabletop.plugins.mop_files import (MopError, MotionLoader, library_actions,
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
-from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str)
+from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Range, Record,
+                             Str)
 
 #: The creature's point its face rides on in a hybrid character (its nose).
 HYBRID_HEAD = 3
@@ -134,8 +135,8 @@ FOLLOWER = Record({
                           "begin; auto: scale for puck and touch inputs, none for streams"),
     "tangent": Number(0.0, lo=0.0, hi=10.0, doc="weight of the direction of motion (puck and "
                       "touch inputs): tells a raise from its return, a gesture from its mirror"),
-    "scale_range": ListOf(Number(lo=0.05, hi=20.0), default=[0.55, 1.8], min_len=2, max_len=2,
-                          doc="smallest and largest size of a performance, x the recorded"),
+    "scale_range": Range(Number(lo=0.05, hi=20.0), default=[0.55, 1.8], contains=1.0,
+                         doc="smallest and largest size of a performance, x the recorded"),
     "switch_margin": Number(1.0, lo=0.0, doc="nats: another action takes over once this much likelier"),
     "confirm": Number(2, integer=True, lo=1, hi=100, doc="samples a match must last to drive"),
     "hold_tolerance": Number(0.02, lo=0.0, hi=1.0,

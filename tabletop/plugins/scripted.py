@@ -12,7 +12,7 @@ import time
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
 from tabletop.files import read_csv
-from tabletop.schema import Context, FilePath, ListOf, Number, Record
+from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
 from tracking.visitor import GesturePerformer, ScriptedVisitor
 
 
@@ -42,8 +42,8 @@ SCHEMA = Record({
         "home": ListOf(Number(lo=0.0), min_len=2, max_len=2, doc="where it rests, metres"),
         "gestures": ListOf(FilePath(kind="file"), min_len=1,
                            doc="CSV files with columns t,dx,dy (s, m, m from the start)"),
-        "speed": ListOf(Number(lo=0.05, hi=20.0), default=[0.6, 1.6], min_len=2, max_len=2,
-                        doc="range of speed factors (1 = as recorded)"),
+        "speed": Range(Number(lo=0.05, hi=20.0), default=[0.6, 1.6],
+                       doc="range of speed factors (1 = as recorded)"),
     }), default=[], doc="pucks drawing recorded gestures"),
 }, check=check_pucks)
 

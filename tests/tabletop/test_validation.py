@@ -109,6 +109,26 @@ def test_a_puck_given_twice_in_a_source(tmp_path, capfd, snippet, key, words):
 
 
 @pytest.mark.parametrize("snippet, key, words", [
+    ("sources:\n  - kind: scripted\n    pucks: []\n    performers:\n"
+     "      - {puck: 3, home: [0.5, 0.5], gestures: [g.csv], speed: [2, 0.5]}\n",
+     "sources[0].performers[0].speed", "expected [least, most], each a number in [0.05, 20.0], "
+     "got [2, 0.5]"),
+    ("sources: [{kind: scripted, pucks: [1]}]\nengines:\n  - kind: mop\n    follower: "
+     "{scale_range: [1.2, 1.8]}\n    performers: [{name: p, inputs: [{kind: puck, id: 1, "
+     "features: [dx, dy]}]}]\n    characters: [{name: c, kind: creature, performer: p, "
+     "actions: [{name: a, template: g.csv, motion: walk}]}]\n",
+     "engines[0].follower.scale_range", "expected [least, most] holding 1, each a number in "
+     "[0.05, 20.0], got [1.2, 1.8]"),
+])
+def test_a_range_given_the_wrong_way_round(tmp_path, capfd, snippet, key, words):
+    # a performer's speed [2, 0.5] ran with the scripted source raising in every tick (its
+    # pucks never came); a scale_range without 1 stopped the build naming no key
+    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
+    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
+    assert code == 2 and f"kiosk.yaml: {key}: {words}" in one_line(err)
+
+
+@pytest.mark.parametrize("snippet, key, words", [
     ("studio: {markers: {record: 45, stop: 45}}\n", "studio.markers.stop",
      "marker 45 is also studio.markers.record"),
     ("studio: {markers: {keep: 2}}\n", "studio.markers.keep",
