@@ -168,6 +168,17 @@ def test_synthetic_camera_reports_the_visitor_and_hides_covered_pucks(tmp_path):
     assert obs.t == frame.t
 
 
+@pytest.mark.parametrize("marker, puck", [(0.4, 0.3), (0.06, 0.075)])
+def test_synthetic_camera_refuses_a_marker_its_puck_cannot_carry(tmp_path, marker, puck):
+    """A marker wider than its puck failed every render, for ever; one whose corners stick out
+    was rendered cut and never found."""
+    with pytest.raises(InputError) as info:
+        build({"kind": "synthetic_camera", "marker_size": marker, "puck_diameter": puck}, tmp_path)
+    assert str(info.value).startswith(f"test.yaml: sources[0].puck_diameter: a {puck:g} m puck "
+                                      f"cannot carry a {marker:g} m marker (its corners stick "
+                                      "out); give a puck_diameter of at least")
+
+
 def test_synthetic_camera_refuses_an_unknown_dictionary(tmp_path):
     with pytest.raises(InputError, match="DICT_5X5_NOPE"):
         build({"kind": "synthetic_camera", "dictionary": "DICT_5X5_NOPE"}, tmp_path)
