@@ -32,6 +32,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from calibration.plausible import lens_problem, scale_problem
 from calibration.transforms import (apply_homography, distort_pixels, inverse, normalised,
                                     undistort_pixels)
 from tabletop.files import atomic_write_bytes, atomic_write_text, read_yaml
@@ -239,6 +240,14 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
             raise CalibrationError(f"{where}: intrinsics.distortion: expected a list of 4, 5, "
                                    f"8, 12 or 14 numbers, got {raw!r}")
         dist = _matrix([raw], 1, len(raw), where, "intrinsics.distortion").ravel()
+    if K is not None:
+        key, problem = lens_problem(K, dist, size)
+        if problem:
+            raise CalibrationError(f"{where}: {key}: {problem}")
+    centre = ((size[0] / 2, size[1] / 2) if size is not None
+              else (K[0, 2], K[1, 2]) if K is not None else None)
+    if c2t is not None and centre is not None and scale_problem(c2t, centre):
+        raise CalibrationError(f"{where}: camera_to_table: {scale_problem(c2t, centre)}")
     errors = data.get("reprojection_error") or {}
     if not isinstance(errors, dict):
         raise CalibrationError(f"{where}: reprojection_error: expected a mapping of names to "

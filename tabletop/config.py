@@ -146,6 +146,44 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     _check_marker_ids(cfg, ctx)
     _check_studio_markers(cfg, ctx)
     _check_on_table(cfg, ctx)
+    _check_udp_ports(cfg, ctx)
+
+
+def _reaches(sender: str, listener: str) -> bool:
+    """Whether datagrams sent to host ``sender`` arrive at a socket bound to ``listener`` on
+    this machine (the same address, or loopback to a loopback or any-interface socket)."""
+    import ipaddress
+
+    def loopback(host: str) -> bool:
+        try:
+            return host == "localhost" or ipaddress.ip_address(host).is_loopback
+        except ValueError:
+            return False
+    return sender == listener or (loopback(sender) and (loopback(listener)
+                                                        or listener in ("0.0.0.0", "::")))
+
+
+def _check_udp_ports(cfg: dict, ctx: Context) -> None:
+    """Two ``osc`` sources listening on one port (the second never could: it retried for
+    ever), and a ``tuio`` sink sending to this installation's own ``osc`` source (every puck
+    came back as a second sighting, and every character as a puck: a feedback loop)."""
+    listening: list[tuple[str, str, int]] = []
+    for i, s in enumerate(cfg["sources"]):
+        if s["kind"] != "osc":
+            continue
+        for key, host, port in listening:
+            if port == s["port"] and (_reaches(s["host"], host) or _reaches(host, s["host"])):
+                raise ctx.error(f"sources[{i}].port", f"port {port} is also {key}'s; only one "
+                                                     "socket can listen on it: give another")
+        listening.append((f"sources[{i}]", s["host"], s["port"]))
+    for i, k in enumerate(cfg["sinks"]):
+        if k["kind"] != "tuio":
+            continue
+        for key, host, port in listening:
+            if port == k["port"] and _reaches(k["host"], host):
+                raise ctx.error(f"sinks[{i}].port", f"{k['host']}:{port} is this installation's "
+                                f"own {key} (osc): its pucks and characters would come back "
+                                "as pucks; send to another port or machine")
 
 
 def _check_on_table(cfg: dict, ctx: Context) -> None:

@@ -136,6 +136,10 @@ class LiveInputs:
         # The last frame's time is a new capture (see next()): not a held state's stamp, not
         # the stamp of a tick without input (STALE_S), not a capture already drawn.
         self.captured = False
+        # A source whose latest() raised: {name: [times, last logged (monotonic s)]};
+        # logged at most every 10 s (it was logged with its stack on every tick) and unhealthy
+        # on the ticks it raised
+        self.raised: dict[str, list] = {}
 
     def open(self) -> None:
         for i, s in enumerate(self.sources):
@@ -180,11 +184,18 @@ class LiveInputs:
     def next(self, seq: int, now: float) -> Frame | None:
         observations = []
         taken: dict[int, float] = {}
+        failed: dict[str, str] = {}
         for i, s in enumerate(self.sources):
             try:
                 obs = s.latest()
-            except Exception:
-                log.exception("source %s raised in latest(); treated as empty", s.name)
+            except Exception as exc:
+                r = self.raised.setdefault(s.name, [0, -math.inf])
+                r[0] += 1
+                failed[s.name] = f"failed: {exc} ({r[0]} times so far)"
+                if now - r[1] >= 10.0:
+                    r[1] = now
+                    log.exception("source %s raised in latest() (%d times so far); treated "
+                                  "as empty", s.name, r[0])
                 obs = None
             if obs is not None:
                 observations.append(obs)
@@ -203,7 +214,8 @@ class LiveInputs:
         pucks = self.tracker.update(observations, t)
         touches = tuple(tc for o in observations for tc in o.touches)
         streams = {k: v for o in observations for k, v in o.streams.items()}
-        health = tuple(self._health(s) for s in self.sources)
+        health = tuple(SourceHealth(s.name, False, failed[s.name]) if s.name in failed
+                       else self._health(s) for s in self.sources)
         return Frame(seq=seq, t=t, pucks=pucks, touches=touches, streams=streams, health=health)
 
     @staticmethod

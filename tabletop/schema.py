@@ -240,6 +240,27 @@ class ListOf(Spec):
         return [self.item.validate(v, f"{path}[{i}]", ctx) for i, v in enumerate(value)]
 
 
+class Range(ListOf):
+    """``[least, most]``: two numbers of ``item``, the first not above the second (and, with
+    ``contains``, that value between them)."""
+
+    def __init__(self, item: Spec, default: Any = REQUIRED, contains: float | None = None,
+                 doc: str = "") -> None:
+        super().__init__(item, default, 2, 2, doc)
+        self.contains = contains
+
+    def describe(self) -> str:
+        held = "" if self.contains is None else f" holding {self.contains:g}"
+        return f"[least, most]{held}, each {self.item.describe()}"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        lo, hi = super().validate(value, path, ctx)
+        c = self.contains
+        if lo > hi or (c is not None and not lo <= c <= hi):
+            raise ctx.error(path, f"expected {self.describe()}, got [{lo:g}, {hi:g}]")
+        return [lo, hi]
+
+
 class MapOf(Spec):
     """A mapping from free-form string keys to values of one spec (e.g. character -> sprite)."""
 

@@ -29,7 +29,7 @@ from typing import Any, Iterator
 
 import numpy as np
 
-from tabletop.frames import CharacterState, Frame, InputError, Puck, Touch
+from tabletop.frames import MAX_POSITION_M, CharacterState, Frame, InputError, Puck, Touch
 
 log = logging.getLogger("tabletop")
 
@@ -37,6 +37,7 @@ FORMAT = "tabletop-session"
 VERSION = 2
 READABLE = (1, 2)
 MAX_T = 1e8   # seconds (three years): a larger recorded time is damage, not a session
+MAX_SPEED = 1e6   # m/s or rad/s: no puck or finger crosses a 1000 m table in a millisecond
 
 
 class SessionError(InputError):
@@ -75,9 +76,9 @@ def _puck_to_dict(p: Puck) -> dict[str, Any]:
 
 
 def _puck_from_dict(p: dict[str, Any]) -> Puck:
-    return Puck(_whole(p["id"], "puck id"), _finite(p["x"], "x"), _finite(p["y"], "y"),
-                _finite(p["angle"], "angle"), _finite(p.get("vx", 0.0), "vx"),
-                _finite(p.get("vy", 0.0), "vy"), _finite(p.get("omega", 0.0), "omega"),
+    return Puck(_whole(p["id"], "puck id"), _position(p["x"], "x"), _position(p["y"], "y"),
+                _finite(p["angle"], "angle"), _speed(p.get("vx", 0.0), "vx"),
+                _speed(p.get("vy", 0.0), "vy"), _speed(p.get("omega", 0.0), "omega"),
                 str(p.get("state", "seen")), _unnum(p.get("raw_x")),
                 _unnum(p.get("raw_y")), _unnum(p.get("raw_angle")))
 
@@ -123,6 +124,24 @@ def _finite(v: Any, what: str) -> float:
     return x
 
 
+def _position(v: Any, what: str) -> float:
+    """A puck's or touch's table coordinate, metres, within ``frames.MAX_POSITION_M`` (a puck
+    at x = 1e300 replayed through every engine, and the TUIO sink failed on every frame: it
+    does not fit an OSC float)."""
+    x = _finite(v, what)
+    if abs(x) > MAX_POSITION_M:
+        raise ValueError(f"{what} is {v!r} m, beyond {MAX_POSITION_M:g} m of the table")
+    return x
+
+
+def _speed(v: Any, what: str) -> float:
+    """A velocity (m/s, or rad/s for omega) within MAX_SPEED."""
+    x = _finite(v, what)
+    if abs(x) > MAX_SPEED:
+        raise ValueError(f"{what} is {v!r} per second, beyond {MAX_SPEED:g}")
+    return x
+
+
 def _vector(v: Any, what: str) -> np.ndarray:
     """A list of finite numbers as a float array; ValueError naming ``what`` otherwise."""
     if not isinstance(v, list):
@@ -142,8 +161,9 @@ def frame_from_dict(d: dict[str, Any]) -> Frame:
     if not isinstance(d, dict):
         raise TypeError("expected a JSON object")
     pucks = tuple(_puck_from_dict(p) for p in d.get("pucks", []))
-    touches = tuple(Touch(_whole(c["id"], "touch id"), _finite(c["x"], "x"), _finite(c["y"], "y"),
-                          _finite(c.get("vx", 0.0), "vx"), _finite(c.get("vy", 0.0), "vy"))
+    touches = tuple(Touch(_whole(c["id"], "touch id"), _position(c["x"], "x"),
+                          _position(c["y"], "y"), _speed(c.get("vx", 0.0), "vx"),
+                          _speed(c.get("vy", 0.0), "vy"))
                     for c in d.get("touches", []))
     streams = {str(k): _vector(v, f"streams.{k}") for k, v in dict(d.get("streams", {})).items()}
     characters = tuple(

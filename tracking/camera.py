@@ -93,7 +93,8 @@ class VideoReader:
         self.cap = cv2.VideoCapture(dev) if isinstance(dev, int) else cv2.VideoCapture(str(dev))
         if not self.cap.isOpened():
             self.cap.release()
-            raise InputLost(f"cannot open {describe(dev)}")
+            what = "" if is_device(dev) else ": not a video file OpenCV can read"
+            raise InputLost(f"cannot open {describe(dev)}{what}")
         self.paced_fps: float | None = None
         if is_device(dev):
             self._configure(settings)

@@ -265,6 +265,11 @@ def yaw_of(q: np.ndarray) -> float:
     return math.atan2(-float(fwd[2]), float(fwd[0]))
 
 
+# Elevations a view may be set to (degrees): at +-90 the camera looks straight down or up the
+# character's vertical axis, where azimuth no longer turns the view and the screen's up flips.
+VIEW_ELEVATION_DEG = (-89.0, 89.0)
+
+
 class Camera:
     """Orthographic virtual camera at ``azimuth``/``elevation`` (degrees) around the character.
 

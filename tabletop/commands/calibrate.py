@@ -307,6 +307,12 @@ def table_main(args: argparse.Namespace) -> int:
         detector = make_detector(DetectorSettings(dictionary=args.dictionary))
     except ValueError as exc:
         raise CalibrateError(f"--dictionary: {exc}") from None
+    from tabletop.config import dictionary_size
+    n = dictionary_size(args.dictionary) or 0
+    for m in ids_given:   # was "not found", sending the installer to look for it on the table
+        if m >= n:
+            raise CalibrateError(f"--marker {m}=...: marker id {m} is not in {args.dictionary} "
+                                 f"(ids 0 to {n - 1}); use the ids printed on the markers")
     ids, corners = detect_markers(grey, detector)
     corners = refine_corners(grey, corners)
     seen = {int(i): c for i, c in zip(ids, corners)}

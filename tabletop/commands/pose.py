@@ -64,9 +64,11 @@ def parse_pair(text: str, option: str, what: str) -> tuple[float, float]:
 
 def parse_view(text: str) -> tuple[float, float]:
     """``AZ,EL`` degrees; elevation within -89..89."""
+    from behaviors.touch_pose.humanoid import VIEW_ELEVATION_DEG
     az, el = parse_pair(text, "--view", "AZ,EL in degrees, e.g. 90,15")
-    if not -89.0 <= el <= 89.0:
-        raise PoseArgumentError(f"--view {text!r}: elevation must be within -89..89 degrees")
+    lo, hi = VIEW_ELEVATION_DEG
+    if not lo <= el <= hi:
+        raise PoseArgumentError(f"--view {text!r}: elevation must be within {lo:g}..{hi:g} degrees")
     return az, el
 
 

@@ -43,6 +43,12 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
     for key in ("status_file", "crash_log"):
         if k[key] is not None and Path(k[key]).is_dir():
             raise ctx.error(f"{path}.{key}", f"{k[key]} is a folder; expected a file name")
+        # a folder that is a file never becomes one: the status was a warning every heartbeat
+        # and the crash log silently never written
+        blocking = next((a for a in Path(k[key] or "").parents if a.exists()), None)
+        if k[key] is not None and blocking is not None and not blocking.is_dir():
+            raise ctx.error(f"{path}.{key}", f"{k[key]} cannot be written: {blocking} is a "
+                                             "file, not a folder")
     first, longest = k["backoff_s"]
     if first > longest:
         raise ctx.error(f"{path}.backoff_s", f"the first wait {first:g} s is longer than the "
@@ -58,7 +64,7 @@ SCHEMA = Record({
     "idle_s": Number(60.0, lo=1.0, doc="attract mode after this long with no visitor, seconds"),
     "handover_s": Number(1.0, lo=0.0, hi=30.0,
                          doc="seconds over which attract pucks glide to a visitor's pucks"),
-    "attract": Record(dict(scripted.SCHEMA.fields),
+    "attract": Record(dict(scripted.SCHEMA.fields), check=scripted.check_pucks,
                       doc="the scripted visitor of attract mode (pucks, seed, performers)"),
     "grace_s": Number(1.0, lo=0.0, hi=60.0,
                       doc="an input down this long shows the 'one moment' screen, seconds"),

@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import math
+import os
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
@@ -21,7 +22,8 @@ import numpy as np
 from tabletop import registry
 from tabletop.frames import Observation, PuckMeasurement
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Spec
+from tabletop.schema import (Bool, ConfigError, Context, FilePath, ListOf, Number, Optional_,
+                             Record, Spec, shown)
 
 log = logging.getLogger("tabletop")
 
@@ -48,8 +50,72 @@ class Device(Spec):
         if value.isdigit():
             return int(value)
         if value.startswith("/dev/"):
+            if not is_video_device(value):
+                raise ctx.error(path, f"{value} is not a video device (a camera is "
+                                      "/dev/videoN)")
             return value  # a camera may be plugged in later: checked (and retried) at run time
-        return str(FilePath(kind="any").validate(value, path, ctx))
+        p = FilePath(kind="any").validate(value, path, ctx)
+        problem = unreadable_input(p)
+        if problem:   # it was retried for ever as "cannot open ..."
+            raise ctx.error(path, f"{shown(value)}: {problem}")
+        return str(p)
+
+
+V4L_MAJOR = 81   # Linux's device number of every video4linux device (/dev/video*)
+
+
+def is_video_device(path: str) -> bool:
+    """False for a path that exists on Linux and is no video4linux device (/dev/null,
+    /dev/ttyACM0); True otherwise (a camera not plugged in yet, another system)."""
+    import stat
+    import sys
+    try:
+        st = os.stat(path)
+    except OSError:
+        return True
+    return (not sys.platform.startswith("linux")
+            or (stat.S_ISCHR(st.st_mode) and os.major(st.st_rdev) == V4L_MAJOR))
+
+
+def unreadable_input(path: Path) -> str:
+    """Why a video file or image folder cannot be played as a camera, or '' when it can."""
+    import cv2
+    from tabletop.quiet import quiet_stderr
+    from tracking.camera import IMAGE_SUFFIXES
+    if path.is_dir():
+        if any(p.suffix.lower() in IMAGE_SUFFIXES for p in path.iterdir()):
+            return ""
+        return f"the folder holds no images ({', '.join(IMAGE_SUFFIXES)})"
+    with quiet_stderr():   # FFmpeg's own complaint ("moov atom not found")
+        capture = cv2.VideoCapture(str(path))
+        ok = capture.isOpened()
+        capture.release()
+    return "" if ok else "not a video file OpenCV can read"
+
+
+class Exposure(Number):
+    """A manual exposure in V4L2 units of 100 us: 1 (0.1 ms) to 10000 (1 s).
+
+    OpenCV's V4L2 backend passes the number on as ``exposure_time_absolute``, which counts
+    100 us from 1; 10000 (1 s) is longer than any frame a tracking camera delivers. A negative
+    number is DirectShow's convention (log2 seconds: -5 is 1/32 s), which V4L2 drivers refuse
+    or clamp to their least exposure: the message gives the value in these units."""
+
+    def __init__(self) -> None:
+        super().__init__(lo=1, hi=10_000)
+
+    def describe(self) -> str:
+        return f"{super().describe()} (V4L2 units of 100 us)"
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        try:
+            return super().validate(value, path, ctx)
+        except ConfigError as exc:
+            if isinstance(value, (int, float)) and not isinstance(value, bool) and -16 <= value < 0:
+                raise ctx.error(path, f"{value:g} is out of range: expected V4L2 units of 100 us "
+                                      f"from 1 to 10000 ({value:g} as DirectShow's log2 seconds "
+                                      f"is {2.0 ** value * 1e4:.0f} here)") from None
+            raise exc
 
 
 SCHEMA = Record({
@@ -58,7 +124,7 @@ SCHEMA = Record({
                             doc="requested [width, height] in pixels (devices)"),
     "fps": Optional_(Number(lo=1.0, hi=1000.0),
                      doc="requested frame rate (devices); playback rate (files, folders)"),
-    "exposure": Optional_(Number(), doc="manual exposure in the driver's units (V4L2: 100 us)"),
+    "exposure": Optional_(Exposure(), doc="manual exposure in V4L2 units of 100 us"),
     "calibration": Optional_(FilePath(kind="file"),
                              doc="calibration YAML for this camera (default: the top-level one)"),
     "retry_max_s": Number(8.0, lo=0.1, hi=600.0, doc="longest wait between reconnections"),

@@ -96,8 +96,11 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
     x = data[:, [header.index(n) for n in names]]
     if "t" in header:
         t = data[:, header.index("t")]
-        if np.any(np.diff(t) <= 0):
-            raise FileFormatError(f"{path}: column 't' must strictly increase")
+        back = np.flatnonzero(np.diff(t) <= 0)
+        if back.size:   # named by its file line, as every other CSV error is
+            i = int(back[0]) + 1
+            raise FileFormatError(f"{path}: line {lines[i]}: column 't' must strictly increase; "
+                                  f"{t[i]:g} is not after {t[i - 1]:g} (line {lines[i - 1]})")
         if t[-1] - t[0] > MAX_TEMPLATE_S:
             raise FileFormatError(f"{path}: the template spans {t[-1] - t[0]:g} s (column 't'); "
                                   f"at most {MAX_TEMPLATE_S:g} s can be followed")

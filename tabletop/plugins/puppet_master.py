@@ -246,16 +246,23 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
         is_pm = other.get("kind") == "puppet_master"
         back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
         if k < 0 or (k >= mine and not is_pm):
-            where = f"engines[{mine}].main" if mine < len(names) else "main"
-            if getattr(ctx.config, "file", None):  # name the config file like every other key
-                where = f"{ctx.config.file}: {where}"
             raise PuppetMasterError(
-                f"{where}: character {name!r} is not made by an engine listed before "
-                f"{options['name']!r} (a puppet_master engine may also be listed after it or "
-                "react back: it is then read one tick old)")
+                f"{config_key(options, ctx, 'main')}: character {name!r} is not made by an "
+                f"engine listed before {options['name']!r} (a puppet_master engine may also be "
+                "listed after it or react back: it is then read one tick old)")
         if k >= mine or back:
             delayed.add(name)
     return delayed
+
+
+def config_key(options: dict, ctx: BuildContext, key: str) -> str:
+    """``FILE: engines[N].KEY`` of this engine's ``key``, for a message of its build, named
+    like every other key."""
+    engines = ctx.config.get("engines", []) if isinstance(ctx.config, dict) else []
+    names = [e.get("name") for e in engines]
+    where = f"engines[{names.index(options['name'])}].{key}" if options["name"] in names else key
+    file = getattr(ctx.config, "file", None)
+    return f"{file}: {where}" if file else where
 
 
 def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
@@ -270,8 +277,9 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
             params["rate_hz"] = options["rate_hz"]
         try:
             behavior = Behavior.train(stored.demonstration, **params)
-        except InputError as exc:
-            raise PuppetMasterError(f"{stored.folder}: {exc}") from None
+        except InputError as exc:   # its parameters or demonstration: named with its key
+            raise PuppetMasterError(f"{config_key(options, ctx, 'behavior')}: {stored.folder}: "
+                                    f"{exc}") from None
         bname = stored.name
     designer = dict(options["designer"])
     lib = Path(designer["library"]).expanduser()

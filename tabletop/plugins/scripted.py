@@ -12,8 +12,26 @@ import time
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
 from tabletop.files import read_csv
-from tabletop.schema import FilePath, ListOf, Number, Record
+from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
 from tracking.visitor import GesturePerformer, ScriptedVisitor
+
+
+
+def check_pucks(options: dict, path: str, ctx: Context) -> None:
+    """Each puck once in ``pucks`` and once among the ``performers``: ``pucks: [1, 1]`` was
+    accepted and put two markers of one id on the table (the tracker took them for one puck
+    jumping between them), and a second performer of a puck silently replaced the first. (A
+    performer's puck may be in ``pucks``, as by default: it performs instead of wandering.)"""
+    for key, ids in (("pucks", options["pucks"]),
+                     ("performers", [p["puck"] for p in options["performers"]])):
+        first: dict[int, int] = {}
+        for j, pid in enumerate(ids):
+            if pid in first:
+                where = f"{path}.{key}[{j}]" + (".puck" if key == "performers" else "")
+                raise ctx.error(where, f"puck {pid} is also {key}[{first[pid]}]; give each "
+                                       "puck once")
+            first[pid] = j
+
 
 SCHEMA = Record({
     "pucks": ListOf(Number(integer=True, lo=0, hi=10_000), default=[1, 2], min_len=0,
@@ -24,10 +42,10 @@ SCHEMA = Record({
         "home": ListOf(Number(lo=0.0), min_len=2, max_len=2, doc="where it rests, metres"),
         "gestures": ListOf(FilePath(kind="file"), min_len=1,
                            doc="CSV files with columns t,dx,dy (s, m, m from the start)"),
-        "speed": ListOf(Number(lo=0.05, hi=20.0), default=[0.6, 1.6], min_len=2, max_len=2,
-                        doc="range of speed factors (1 = as recorded)"),
+        "speed": Range(Number(lo=0.05, hi=20.0), default=[0.6, 1.6],
+                       doc="range of speed factors (1 = as recorded)"),
     }), default=[], doc="pucks drawing recorded gestures"),
-})
+}, check=check_pucks)
 
 
 class ScriptedSource:

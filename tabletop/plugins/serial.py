@@ -8,13 +8,59 @@ later is reopened with a growing back-off while the installation keeps running. 
 
 from __future__ import annotations
 
+import os
+import stat
+from typing import Any
+
 from tabletop.registry import BuildContext
-from tabletop.schema import Number, Record, Str
+from tabletop.schema import Context, Number, Record, Str, shown
 from tracking.serial_input import SerialInput
 
+
+class Port(Str):
+    """A serial device (``/dev/ttyACM0``, ``COM3``: it may be plugged in later) or a pyserial
+    URL. Refused at start, as they can never open: an empty name, a URL of a protocol pyserial
+    does not have, and a path that exists but is a file or a folder (each was retried for
+    ever)."""
+
+    def __init__(self) -> None:
+        super().__init__(doc="a serial device such as /dev/ttyACM0, or a pyserial URL such as "
+                             "loop:// or socket://HOST:PORT")
+
+    def validate(self, value: Any, path: str, ctx: Context) -> Any:
+        value = super().validate(value, path, ctx)
+        if not value.strip():
+            raise ctx.error(path, f"expected {self.doc}, got {shown(value)}")
+        if "://" in value:
+            protocol = value.split("://", 1)[0]
+            known = url_protocols()
+            if protocol not in known:
+                raise ctx.error(path, f"{shown(value)}: pyserial has no URL protocol "
+                                      f"{protocol!r} (known: {', '.join(known)})")
+            return value
+        try:
+            mode = os.stat(value).st_mode
+        except (OSError, ValueError):   # not there (yet), or not a path at all
+            return value
+        if not stat.S_ISCHR(mode):
+            what = "a folder" if stat.S_ISDIR(mode) else "a file"
+            raise ctx.error(path, f"{shown(value, 200)} is {what}, not a serial device (such as "
+                                  "/dev/ttyACM0) or a pyserial URL")
+        return value
+
+
+def url_protocols() -> list[str]:
+    """The URL protocols pyserial's ``serial_for_url`` opens (``loop``, ``socket``, ...)."""
+    import pkgutil
+
+    import serial.urlhandler
+    return sorted(m.name.removeprefix("protocol_") for m in
+                  pkgutil.iter_modules(serial.urlhandler.__path__)
+                  if m.name.startswith("protocol_"))
+
+
 SCHEMA = Record({
-    "port": Str(doc="a serial device such as /dev/ttyACM0, or a pyserial URL such as loop:// "
-                    "or socket://HOST:PORT"),
+    "port": Port(),
     "baudrate": Number(115200, integer=True, lo=50, hi=12_000_000, doc="bits per second"),
     "timeout_s": Number(0.5, lo=0.01, hi=600.0,
                         doc="a puck, touch or stream not repeated this long leaves the bus"),

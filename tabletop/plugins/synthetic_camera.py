@@ -11,6 +11,7 @@ installation runs through real images, exactly as a camera would feed it.
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Any, Callable
 
@@ -20,12 +21,27 @@ from tabletop.plugins import scripted
 from tabletop.plugins.camera import (MarkerMeasurer, make_detector, share_calibration,
                                      tracker_predictions, tracking_dictionary)
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, FilePath, ListOf, Number, Optional_, Record, Str
+from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str
 from tabletop.plugins.synthetic_render import (RenderProcessReader, ScriptedHands,
                                                SyntheticReader)
 from tracking.camera import CameraSettings as CaptureSettings
 from tracking.camera import CameraSource, PhaseLock
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera, SyntheticFrame
+
+
+def _check(options: dict, path: str, ctx: Context) -> None:
+    """Each puck once (scripted.check_pucks); a marker printed on its puck: a square of side s
+    lies within a disc of diameter d only when d >= s * sqrt(2). Measured on 10 rendered pucks
+    of 0.075 m: d / s = 1.25 found 10, 1.21 found 5, 1.17 to 1.0 none (the cut corners), and
+    below 1 every render failed ("could not broadcast input array"), for ever."""
+    scripted.check_pucks(options, path, ctx)
+    s, d = options["marker_size"], options["puck_diameter"]
+    if d < s * math.sqrt(2.0):
+        raise ctx.error(f"{path}.puck_diameter", f"a {d:g} m puck cannot carry a {s:g} m marker "
+                        f"(its corners stick out); give a puck_diameter of at least "
+                        f"{math.ceil(s * math.sqrt(2.0) * 1e4) / 1e4:g} m or a smaller "
+                        "marker_size")
+
 
 SCHEMA = Record({
     **scripted.SCHEMA.fields,
@@ -60,7 +76,8 @@ SCHEMA = Record({
     "sync_to_loop": Bool(True, doc="time each frame to be ready just before a loop tick, as a "
                                    "camera triggered by the loop would (only for a loop that "
                                    "does not tick on the camera's frames itself)"),
-})
+}, check=_check)
+
 
 
 class SyntheticCameraSource(CameraSource):

@@ -28,13 +28,26 @@ from typing import Any
 
 from tabletop.frames import CharacterState, Frame
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, FilePath, ListOf, Number, Optional_, Record
+from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record
 
 log = logging.getLogger("tabletop")
 
 KEY_TURN_DEG = 15.0
 TURNS = {"camera.left": (-KEY_TURN_DEG, 0.0), "camera.right": (KEY_TURN_DEG, 0.0),
          "camera.up": (0.0, KEY_TURN_DEG), "camera.down": (0.0, -KEY_TURN_DEG)}
+
+
+
+def _check_view(options: dict, path: str, ctx: Context) -> None:
+    """The view's elevation within the bounds ``tabletop pose --view`` takes (``view: [90,
+    1000]`` was accepted and turned the character upside down)."""
+    from behaviors.touch_pose.humanoid import VIEW_ELEVATION_DEG
+    lo, hi = VIEW_ELEVATION_DEG
+    el = options["view"][1]
+    if not lo <= el <= hi:
+        raise ctx.error(f"{path}.view[1]", f"elevation {el:g} degrees is out of range; expected "
+                                           f"{lo:g} to {hi:g} (90 looks straight down)")
+
 
 SCHEMA = Record({
     "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
@@ -48,7 +61,7 @@ SCHEMA = Record({
                     max_len=3),
     "library": FilePath("pose_actions", must_exist=False, kind="dir", embed=True,
                         doc="folder of the actions designed at the table"),
-})
+}, check=_check_view)
 
 
 class TouchPoseEngine:

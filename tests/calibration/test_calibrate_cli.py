@@ -169,6 +169,8 @@ def test_table_refusals(tmp_path, capsys, rig):
             words="expected ID=X,Y")
     refused(capsys, "table", "--image", img, "--out", out, "--marker", "40=0.1,0.2", *row,
             words="marker(s) 40 of DICT_4X4_50 not found")
+    refused(capsys, "table", "--image", img, "--out", out, "--marker", "999=0.1,0.2", *row,
+            words="--marker 999=...: marker id 999 is not in DICT_4X4_50 (ids 0 to 49)")
     refused(capsys, "table", "--image", tmp_path / "nope.png", "--out", out, *row,
             words="image not found")
     # Markers given at wrong positions: a residual over the threshold, kept only with --force.

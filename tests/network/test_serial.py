@@ -224,3 +224,31 @@ def test_a_device_down_for_long_is_said_once_and_its_return_once(caplog):
     said = [r.getMessage() for r in caplog.records]
     assert len(said) == 2, said                       # measured: 10+ lines before
     assert "cannot open /dev/does-not-exist" in said[0] and "back after" in said[1]
+
+
+def test_a_port_that_can_never_open_is_refused_at_load(tmp_path):
+    """A regular file, a folder, an empty name or a URL of a protocol pyserial lacks started
+    and was retried for ever ("cannot open ...: Inappropriate ioctl for device")."""
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    (tmp_path / "notes.txt").write_text("puck 1 0.5 0.5 0\n")
+    cases = [(str(tmp_path / "notes.txt"), f"{str(tmp_path / 'notes.txt')!r} is a file, not a "
+              "serial device (such as /dev/ttyACM0) or a pyserial URL"),
+             (str(tmp_path), f"{str(tmp_path)!r} is a folder, not a serial device"),
+             ("", "expected a serial device such as /dev/ttyACM0, or a pyserial URL such as "
+                  "loop:// or socket://HOST:PORT, got ''"),
+             ("bogus://x", "'bogus://x': pyserial has no URL protocol 'bogus' (known: alt, "
+                           "cp2110, hwgrep, loop, rfc2217, socket, spy)")]
+    for port, words in cases:
+        with pytest.raises(ConfigError) as info:
+            validate_config({"sources": [{"kind": "serial", "port": port}]}, "cfg.yaml")
+        assert str(info.value).startswith(f"cfg.yaml: sources[0].port: {words}"), info.value
+    master, slave, name = open_pty()
+    try:   # a device, or one not plugged in yet, and a known URL are taken
+        for port in (name, "/dev/ttyACM9", "loop://", "socket://localhost:7"):
+            cfg = validate_config({"sources": [{"kind": "serial", "port": port}]}, "cfg.yaml")
+            assert cfg["sources"][0]["port"] == port
+    finally:
+        os.close(master)
+        os.close(slave)

@@ -127,3 +127,31 @@ def test_a_destination_that_can_never_be_reached_is_refused_at_load():
     for host in ("10.0.0.255", "table-7.local", "::1", "localhost", "gallery.example.org"):
         validate_config({"sources": src, "sinks": [{"kind": "tuio", "host": host}],
                          "kiosk": {"heartbeat": {"host": host}}}, "cfg.yaml")
+
+
+def test_a_port_this_installation_already_uses_is_refused_at_load():
+    """Two osc sources on one port (the second retried for ever: 'Address already in use'),
+    and a tuio sink sending to the installation's own osc source (every puck came back as a
+    second sighting and every character as a puck: a feedback loop)."""
+    import pytest
+
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    src = [{"kind": "scripted", "name": "a"}, {"kind": "osc", "name": "in", "port": 3400}]
+    cases = [
+        ({"sources": src + [{"kind": "osc", "name": "in2", "host": "0.0.0.0", "port": 3400}]},
+         "cfg.yaml: sources[2].port: port 3400 is also sources[1]'s; only one socket can "
+         "listen on it: give another"),
+        ({"sources": src, "sinks": [{"kind": "tuio", "host": "localhost", "port": 3400}]},
+         "cfg.yaml: sinks[0].port: localhost:3400 is this installation's own sources[1] (osc): "
+         "its pucks and characters would come back as pucks; send to another port or machine"),
+    ]
+    for cfg, message in cases:
+        with pytest.raises(ConfigError) as info:
+            validate_config(cfg, "cfg.yaml")
+        assert str(info.value) == message
+    validate_config({"sources": src + [{"kind": "osc", "name": "in2", "port": 3401}],
+                     "sinks": [{"kind": "tuio", "port": 3402},
+                               {"kind": "tuio", "name": "far", "host": "10.0.0.7", "port": 3400}]},
+                    "cfg.yaml")

@@ -124,8 +124,19 @@ def test_a_behaviour_demonstrated_for_too_long_is_refused_at_load(tmp_path):
     folder = library.save_behavior(tmp_path, "x", demo, {})
     with pytest.raises(pm.PuppetMasterError) as err:
         build([{"kind": "puppet_master", "behavior": str(folder)}])
-    assert str(err.value) == f"{folder}: demonstration lasts {1e9 - demo[0, 0]:g} s; at most " \
-                             "3600 s can be trained"
+    assert str(err.value) == f"test.yaml: engines[0].behavior: {folder}: demonstration lasts " \
+                             f"{1e9 - demo[0, 0]:g} s; at most 3600 s can be trained"
+
+
+def test_bad_behaviour_parameters_name_the_config_key(tmp_path):
+    """'rate_hz: 0' in a behavior.yaml stopped the build naming only the folder."""
+    demo = designers.demonstrate("lover", seconds=5)
+    folder = library.save_behavior(tmp_path, "x", demo, {"rate_hz": 0})
+    with pytest.raises(pm.PuppetMasterError) as err:
+        build([{"kind": "puppet_master", "behavior": "behaviors/library/lover"},
+               {"kind": "puppet_master", "name": "x", "behavior": str(folder)}])
+    assert str(err.value) == (f"test.yaml: engines[1].behavior: {folder}: behaviour parameter "
+                              "rate_hz: 0 must be from 1 to 1000 Hz")
 
 
 def test_a_behaviour_demonstrated_beyond_the_table_is_refused_naming_file_and_line(tmp_path):

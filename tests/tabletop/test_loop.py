@@ -407,3 +407,28 @@ def test_capture_to_render_counts_each_capture_once_and_no_stalled_stamp():
     assert len(sink.frames) >= len(drawn) + 20   # redrawn on the timer, and while stalled
     assert len(ages) == len(drawn)   # measured before: 74 ages for 18 captures
     assert max(ages) < LiveInputs.STALE_S   # measured before: 0.25 s (the stalled stamp)
+
+
+def test_a_source_raising_on_every_tick_is_unhealthy_and_logged_every_10_s(caplog):
+    """A scripted visitor whose speed range runs backwards raises in latest(); it was logged
+    with its stack on every tick (91 tracebacks in 3 s) and its health stayed good."""
+    from tabletop.plugins.tracking import Tracker
+    from tracking.pucks import TrackerSettings
+
+    clock = [0.0]
+    broken = ScriptedSource("broken", ScriptedVisitor((1.2, 0.8), [1], speed=(0.35, 0.08)),
+                            clock=lambda: clock[0])
+    good = ScriptedSource("good", ScriptedVisitor((1.2, 0.8), [2]), clock=lambda: clock[0])
+    inputs = LiveInputs([broken, good], Tracker(TrackerSettings(smooth=False)))
+    inputs.open()
+    frames = []
+    with caplog.at_level("ERROR", logger="tabletop"):
+        for k in range(1, 1201):   # 20 s at 60 Hz
+            clock[0] = k / 60
+            frames.append(inputs.next(k, clock[0]))
+    logged = [r for r in caplog.records if "source broken raised in latest()" in r.getMessage()]
+    assert len(logged) == 2 and "(601 times so far)" in logged[1].getMessage()
+    health = {h.name: h for h in frames[-1].health}
+    assert not health["broken"].ok and health["good"].ok
+    assert health["broken"].message == "failed: high - low < 0 (1170 times so far)"  # from 0.5 s
+    assert {p.id for p in frames[-1].pucks} == {2}

@@ -240,6 +240,11 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path,
      ["line 3", "(streams.hand is 'b', expected a finite number)"]),
     (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": [1], "heading": 0}]}\n',
      ["line 3", "(y is [1], expected a finite number)"]),
+    # finite but no table's: replayed, the TUIO sink failed on every frame (no OSC float holds it)
+    (b'{"seq": 1, "t": 0.1, "pucks": [{"id": 1, "x": 1e300, "y": 0, "angle": 0}]}\n',
+     ["line 3", "(x is 1e+300 m, beyond 1000 m of the table)"]),
+    (b'{"seq": 1, "t": 0.1, "touches": [{"id": 1, "x": 0, "y": 0, "vy": -1e300}]}\n',
+     ["line 3", "(vy is -1e+300 per second, beyond 1e+06)"]),
 ])
 def test_damaged_frame_lines_are_named(tmp_path, line, words):
     p = tmp_path / "s.jsonl"

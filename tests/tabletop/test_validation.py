@@ -93,6 +93,42 @@ def test_places_off_the_table(tmp_path, capfd, snippet, key):
 
 
 @pytest.mark.parametrize("snippet, key, words", [
+    ("sources:\n  - {kind: synthetic_camera, pucks: [1, 2, 1]}\n", "sources[0].pucks[2]",
+     "puck 1 is also pucks[0]"),
+    ("sources:\n  - kind: scripted\n    pucks: []\n    performers:\n"
+     "      - {puck: 3, home: [0.5, 0.5], gestures: [g.csv]}\n"
+     "      - {puck: 3, home: [0.2, 0.5], gestures: [g.csv]}\n", "sources[0].performers[1].puck",
+     "puck 3 is also performers[0]"),
+    ("sources: [{kind: scripted}]\nkiosk: {attract: {pucks: [4, 4]}}\n", "kiosk.attract.pucks[1]",
+     "puck 4 is also pucks[0]"),
+])
+def test_a_puck_given_twice_in_a_source(tmp_path, capfd, snippet, key, words):
+    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
+    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
+    assert code == 2 and f"kiosk.yaml: {key}: {words}; give each puck once" in one_line(err)
+
+
+@pytest.mark.parametrize("snippet, key, words", [
+    ("sources:\n  - kind: scripted\n    pucks: []\n    performers:\n"
+     "      - {puck: 3, home: [0.5, 0.5], gestures: [g.csv], speed: [2, 0.5]}\n",
+     "sources[0].performers[0].speed", "expected [least, most], each a number in [0.05, 20.0], "
+     "got [2, 0.5]"),
+    ("sources: [{kind: scripted, pucks: [1]}]\nengines:\n  - kind: mop\n    follower: "
+     "{scale_range: [1.2, 1.8]}\n    performers: [{name: p, inputs: [{kind: puck, id: 1, "
+     "features: [dx, dy]}]}]\n    characters: [{name: c, kind: creature, performer: p, "
+     "actions: [{name: a, template: g.csv, motion: walk}]}]\n",
+     "engines[0].follower.scale_range", "expected [least, most] holding 1, each a number in "
+     "[0.05, 20.0], got [1.2, 1.8]"),
+])
+def test_a_range_given_the_wrong_way_round(tmp_path, capfd, snippet, key, words):
+    # a performer's speed [2, 0.5] ran with the scripted source raising in every tick (its
+    # pucks never came); a scale_range without 1 stopped the build naming no key
+    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
+    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
+    assert code == 2 and f"kiosk.yaml: {key}: {words}" in one_line(err)
+
+
+@pytest.mark.parametrize("snippet, key, words", [
     ("studio: {markers: {record: 45, stop: 45}}\n", "studio.markers.stop",
      "marker 45 is also studio.markers.record"),
     ("studio: {markers: {keep: 2}}\n", "studio.markers.keep",
@@ -116,10 +152,17 @@ def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
 @pytest.mark.parametrize("snippet, words", [
     ("kiosk: {backoff_s: [30, 0.1]}\n", "kiosk.backoff_s: the first wait 30 s is longer"),
     ("kiosk: {service_key: F13x}\n", "kiosk.service_key: 'F13x' is not a key name"),
+    ("kiosk: {crash_log: notes.txt/crashes.log}\n", "kiosk.crash_log: {tmp}/notes.txt/crashes"
+     ".log cannot be written: {tmp}/notes.txt is a file, not a folder"),
+    ("kiosk: {status_file: notes.txt/a/status.json}\n", "kiosk.status_file: {tmp}/notes.txt/a/"
+     "status.json cannot be written: {tmp}/notes.txt is a file, not a folder"),
 ])
 def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
-    # (they ran: a back-off that never grew, and a service key warned about only once the
-    # kiosk was up, replaced by F12)
+    # (they ran: a back-off that never grew, a service key warned about only once the kiosk
+    # was up, replaced by F12, a status file warned about at every heartbeat and a crash log
+    # never written)
+    (tmp_path / "notes.txt").write_text("a file where a folder was meant")
+    words = words.format(tmp=tmp_path)
     code, err = run_config(tmp_path, BASE + snippet, capfd)
     assert code == 2 and f"kiosk.yaml: {words}" in one_line(err)
 

@@ -68,12 +68,18 @@ def announcements(src: CameraSource, count: int) -> list[tuple[float, Observatio
 FAST = dict(fps=200.0, retry_min_s=0.05, retry_max_s=0.2)
 
 
-def test_video_file_removed_and_restored(tmp_path):
+def playing(tmp_path: Path) -> tuple[Path, list, CameraSource]:
+    """A camera source opened on a 12-frame video: (the video, the frames seen, the source)."""
     video = tmp_path / "table.avi"
     write_video(video)
     seen: list = []
     src = CameraSource("cam", CameraSettings(device=str(video), **FAST), counting_process(seen))
     src.open()
+    return video, seen, src
+
+
+def test_video_file_removed_and_restored(tmp_path):
+    video, seen, src = playing(tmp_path)
     try:
         assert wait_for(lambda: len(seen) >= 12)
         first = src.latest()
@@ -130,6 +136,19 @@ def test_absent_device_keeps_retrying_without_raising(tmp_path):
         h = src.health()
         assert not h.ok and h.age == float("inf")
         assert src.latest() is None
+    finally:
+        src.close()
+
+
+def test_a_video_replaced_by_a_file_that_is_no_video_is_reported_as_such(tmp_path):
+    video, seen, src = playing(tmp_path)
+    try:
+        assert wait_for(lambda: len(seen) >= 12)
+        video.write_text("a text file where the video was")
+        assert wait_for(lambda: "not a video file OpenCV can read" in src.health().message)
+        h = src.health()
+        assert not h.ok and h.message.startswith(f"cannot open {video}: not a video file OpenCV "
+                                                 "can read; reconnecting in")
     finally:
         src.close()
 

@@ -112,11 +112,40 @@ def test_bad_devices_are_refused_at_start(tmp_path, device, message):
     assert "sources[0].device" in str(info.value)
 
 
+@pytest.mark.parametrize("device, words", [
+    ("notes.txt", "'notes.txt': not a video file OpenCV can read"),
+    ("empty.mp4", "'empty.mp4': not a video file OpenCV can read"),
+    ("empty", "'empty': the folder holds no images (.png, .jpg"),
+    ("/dev/null", "/dev/null is not a video device (a camera is /dev/videoN)"),
+])
+def test_an_input_that_cannot_be_played_is_refused_at_start(tmp_path, device, words):
+    (tmp_path / "notes.txt").write_text("hello")
+    (tmp_path / "empty.mp4").write_bytes(b"")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(InputError) as info:
+        validate_config({"sources": [{"kind": "camera", "device": device}]}, "t.yaml", tmp_path)
+    assert str(info.value).startswith(f"t.yaml: sources[0].device: {words}")
+
+
 def test_devices_may_be_absent_at_start(tmp_path):
     cfg = validate_config({"sources": [{"kind": "camera", "device": "/dev/video63"},
                                        {"kind": "camera", "name": "b", "device": "3"}]},
                           "t.yaml", tmp_path)
     assert cfg["sources"][0]["device"] == "/dev/video63" and cfg["sources"][1]["device"] == 3
+
+
+@pytest.mark.parametrize("exposure, words", [
+    (-5, "-5 is out of range: expected V4L2 units of 100 us from 1 to 10000 (-5 as DirectShow's "
+         "log2 seconds is 312 here)"),
+    (0, "expected a number in [1, 10000] (V4L2 units of 100 us), got 0.0 (out of range)"),
+    (50_000, "expected a number in [1, 10000] (V4L2 units of 100 us), got 50000.0"),
+])
+def test_an_exposure_v4l2_does_not_take_is_refused_with_its_units(tmp_path, exposure, words):
+    with pytest.raises(InputError) as info:
+        validate_config({"sources": [{"kind": "camera", "exposure": exposure}]}, "t.yaml", tmp_path)
+    assert str(info.value).startswith("t.yaml: sources[0].exposure: ") and words in str(info.value)
+    cfg = validate_config({"sources": [{"kind": "camera", "exposure": 156}]}, "t.yaml", tmp_path)
+    assert cfg["sources"][0]["exposure"] == 156.0
 
 
 def test_synthetic_camera_reports_the_visitor_and_hides_covered_pucks(tmp_path):
@@ -137,6 +166,17 @@ def test_synthetic_camera_reports_the_visitor_and_hides_covered_pucks(tmp_path):
     m = obs.pucks[0]
     assert math.hypot(m.x - frame.poses[0, 0], m.y - frame.poses[0, 1]) <= 0.002
     assert obs.t == frame.t
+
+
+@pytest.mark.parametrize("marker, puck", [(0.4, 0.3), (0.06, 0.075)])
+def test_synthetic_camera_refuses_a_marker_its_puck_cannot_carry(tmp_path, marker, puck):
+    """A marker wider than its puck failed every render, for ever; one whose corners stick out
+    was rendered cut and never found."""
+    with pytest.raises(InputError) as info:
+        build({"kind": "synthetic_camera", "marker_size": marker, "puck_diameter": puck}, tmp_path)
+    assert str(info.value).startswith(f"test.yaml: sources[0].puck_diameter: a {puck:g} m puck "
+                                      f"cannot carry a {marker:g} m marker (its corners stick "
+                                      "out); give a puck_diameter of at least")
 
 
 def test_synthetic_camera_refuses_an_unknown_dictionary(tmp_path):
