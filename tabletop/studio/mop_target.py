@@ -117,8 +117,11 @@ class MopTarget:
                           yaml.safe_dump({"actions": entries}, sort_keys=False))
 
     def rename(self, old: str, new: str) -> None:
+        """Rename a kept action; a name the character already has (kept, configured or the take
+        being tried) is refused: the reload would replace that action with this one, and undo
+        would then remove it from the character."""
         entries = self._entries()
-        if any(a["name"] == new for a in entries):
+        if any(a["name"] == new for a in entries) or new in self.stage.templates[self.character]:
             raise InputError(f"an action {new!r} already exists")
         self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
         if self.kept == old:

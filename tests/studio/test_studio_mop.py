@@ -214,3 +214,30 @@ def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
     assert runner2.studio.target.items() == ["take1"]
     assert "take1" in inst2.engines[0].puppets["lizard"].actions
     inst2.loop.close()
+
+
+def test_a_kept_take_is_not_renamed_over_a_configured_action(tmp_path):
+    """Renaming the face's kept take "circle" replaced its configured circle (talk) with the
+    take on reload, and undo then took "circle" from the face altogether."""
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    for t in table.targets:
+        t._poller.every_s = 0.0
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    s = table.studio
+    s.command("designer.item_next")
+    s.command("designer.rename:circle")
+    assert "already exists" in s.message
+    s.poll()
+    face = engine.puppets["face"].actions
+    assert set(face) == {"circle", "take1"} and face["circle"].clip.name == "talk"
+    s.command("designer.rename:line")                  # a free name is still renamed to
+    s.poll()
+    assert set(face) == {"circle", "line"} and face["circle"].clip.name == "talk"
+    s.command("designer.undo")
+    s.poll()
+    assert set(face) == {"circle", "take1"}
