@@ -133,6 +133,12 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
     p.take()
     p.tick(cmds=["designer.keep"])
     lib = tmp_path / "actions"
+    # a built-in action's name is refused: renamed "punch", the take replaced the character's
+    # own punch, and undo then took the punch away from it
+    punch = next(a for a in p.engine.core.m.actions if a.name == "punch")
+    p.studio.command("designer.rename:punch")
+    assert "already exists" in p.studio.message and p.target.items() == ["poser-action"]
+    assert punch in p.engine.core.m.actions
     p.studio.command("designer.rename:uppercut")
     assert p.target.items() == ["uppercut"] and "renamed poser-action to uppercut" in p.studio.message
     names = [a.name for a in p.engine.core.m.actions]
