@@ -8,7 +8,9 @@ Config (see ``examples/mop.yaml``)::
       follower: {sigma: 0.2, window: 15, ...}
       performers:
         - name: left
-          inputs: [{kind: puck, id: 1, features: [dx, dy]}, {kind: stream, name: arm}]
+          inputs:
+            - {kind: puck, id: 1, features: [dx, dy]}
+            - {kind: stream, name: arm, columns: [0, 1]}
       characters:
         - name: dancer
           kind: skeleton          # skeleton (URDF humanoid), creature, face, hybrid or sprite
@@ -71,7 +73,20 @@ INPUT = Record({
 })
 
 
+PUCK_KEYS = ("id", "features", "rest_time", "rest_radius")   # what a puck input alone reads
+STREAM_KEYS = ("name", "columns")                             # and a stream input
+
+
 def _check_input(value: dict, path: str, ctx: Context) -> None:
+    kind = value["kind"]
+    for key in (PUCK_KEYS if kind != "puck" else ()) + (STREAM_KEYS if kind != "stream" else ()):
+        if value[key] != INPUT.fields[key].default:   # given: it would change nothing
+            owner = "puck" if key in PUCK_KEYS else "stream"
+            what = ("follows the first finger's dx, dy from where it touched down, until it lifts"
+                    if kind == "touch" else "follows its columns as they come" if kind == "stream"
+                    else "follows the puck's path features")
+            raise ctx.error(f"{path}.{key}", f"only a {owner} input takes {key}; a {kind} input "
+                            f"{what}")
     if value["kind"] == "stream" and not value["name"]:
         raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
     if value["kind"] == "stream" and value["columns"] is None:

@@ -379,6 +379,17 @@ def test_config_errors_name_the_key_or_file(tmp_path):
            "characters[2].actions[0].motion", "humanoid3d_moonwalk.txt")
     expect(lambda e: e["performers"][0]["inputs"].append({"kind": "stream"}),
            "performers[0].inputs[1].name", "needs the stream's name")
+    # an option the input's kind does not read (it was taken and changed nothing)
+    expect(lambda e: e["performers"][0]["inputs"].append({"kind": "touch", "features": ["speed"]}),
+           "performers[0].inputs[1].features", "only a puck input takes features",
+           "first finger's dx, dy")
+    expect(lambda e: e["performers"][0]["inputs"].append({"kind": "touch", "rest_time": 2}),
+           "performers[0].inputs[1].rest_time", "only a puck input takes rest_time")
+    expect(lambda e: e["performers"][0]["inputs"].append(
+        {"kind": "stream", "name": "arm", "columns": [0], "id": 3}),
+           "performers[0].inputs[1].id", "only a puck input takes id")
+    expect(lambda e: e["performers"][0]["inputs"][0].update(columns=[0, 1]),
+           "performers[0].inputs[0].columns", "only a stream input takes columns")
     blocked = tmp_path / "a_file"      # a library that cannot be made: refused at load, not at K
     blocked.write_text("")
     expect(lambda e: e.update(library=str(blocked / "lib")), "engines[0].library",
