@@ -75,18 +75,23 @@ INPUT = Record({
 
 PUCK_KEYS = ("id", "features", "rest_time", "rest_radius")   # what a puck input alone reads
 STREAM_KEYS = ("name", "columns")                             # and a stream input
+SKELETON_KEYS = ("skeleton", "view_yaw", "elevation", "travel")  # a skeleton character alone
+
+
+def _refuse_unread(value: dict, spec: Record, keys: tuple[str, ...], owner: str, noun: str,
+                   path: str, ctx: Context) -> None:
+    """Refuse a key of ``keys`` given other than its default: a ``value["kind"]`` ``noun`` does
+    not read it (it was taken and changed nothing)."""
+    for key in keys:
+        if value[key] != spec.fields[key].default:
+            raise ctx.error(f"{path}.{key}", f"only a {owner} {noun} takes {key}; a "
+                                             f"{value['kind']} {noun} does not read it")
 
 
 def _check_input(value: dict, path: str, ctx: Context) -> None:
-    kind = value["kind"]
-    for key in (PUCK_KEYS if kind != "puck" else ()) + (STREAM_KEYS if kind != "stream" else ()):
-        if value[key] != INPUT.fields[key].default:   # given: it would change nothing
-            owner = "puck" if key in PUCK_KEYS else "stream"
-            what = ("follows the first finger's dx, dy from where it touched down, until it lifts"
-                    if kind == "touch" else "follows its columns as they come" if kind == "stream"
-                    else "follows the puck's path features")
-            raise ctx.error(f"{path}.{key}", f"only a {owner} input takes {key}; a {kind} input "
-                            f"{what}")
+    for keys, owner in ((PUCK_KEYS, "puck"), (STREAM_KEYS, "stream")):
+        if value["kind"] != owner:
+            _refuse_unread(value, INPUT, keys, owner, "input", path, ctx)
     if value["kind"] == "stream" and not value["name"]:
         raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
     if value["kind"] == "stream" and value["columns"] is None:
@@ -196,6 +201,10 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                             f"(performers: {', '.join(sorted(names))})")
         if c["kind"] == "sprite" and c["sheet"] is None:
             raise ctx.error(f"{where}.sheet", "a sprite character needs its sheet (a JSON file)")
+        if c["kind"] != "sprite":
+            _refuse_unread(c, CHARACTER, ("sheet",), "sprite", "character", where, ctx)
+        if c["kind"] != "skeleton":
+            _refuse_unread(c, CHARACTER, SKELETON_KEYS, "skeleton", "character", where, ctx)
         if c["kind"] == "skeleton" and c["skeleton"] is None:
             from behaviors.motion.deepmimic import humanoid_urdf
             try:

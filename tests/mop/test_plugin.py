@@ -382,7 +382,7 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     # an option the input's kind does not read (it was taken and changed nothing)
     expect(lambda e: e["performers"][0]["inputs"].append({"kind": "touch", "features": ["speed"]}),
            "performers[0].inputs[1].features", "only a puck input takes features",
-           "first finger's dx, dy")
+           "a touch input does not read it")
     expect(lambda e: e["performers"][0]["inputs"].append({"kind": "touch", "rest_time": 2}),
            "performers[0].inputs[1].rest_time", "only a puck input takes rest_time")
     expect(lambda e: e["performers"][0]["inputs"].append(
@@ -390,6 +390,11 @@ def test_config_errors_name_the_key_or_file(tmp_path):
            "performers[0].inputs[1].id", "only a puck input takes id")
     expect(lambda e: e["performers"][0]["inputs"][0].update(columns=[0, 1]),
            "performers[0].inputs[0].columns", "only a stream input takes columns")
+    expect(lambda e: e["characters"][0].update(travel=True),
+           "characters[0].travel", "only a skeleton character takes travel",
+           "a face character does not read it")
+    expect(lambda e: e["characters"][1].update(sheet=str(EXAMPLES / "mop/bird.json")),
+           "characters[1].sheet", "only a sprite character takes sheet")
     blocked = tmp_path / "a_file"      # a library that cannot be made: refused at load, not at K
     blocked.write_text("")
     expect(lambda e: e.update(library=str(blocked / "lib")), "engines[0].library",
