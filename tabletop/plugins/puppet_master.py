@@ -232,13 +232,43 @@ class PuppetMasterEngine:
         return status
 
 
+def _engines(options: dict, ctx: BuildContext) -> tuple[list[dict], list, int]:
+    """The config's engines, their names and this engine's index (len(names) if not there)."""
+    engines = ctx.config.get("engines", []) if isinstance(ctx.config, dict) else []
+    names = [e.get("name") for e in engines]
+    return engines, names, names.index(options["name"]) if options["name"] in names else len(names)
+
+
+def _where(options: dict, ctx: BuildContext, key: str) -> str:
+    """``FILE: engines[i].KEY`` of this engine, as config errors name a key."""
+    _, names, mine = _engines(options, ctx)
+    where = f"engines[{mine}].{key}" if mine < len(names) else key
+    if getattr(ctx.config, "file", None):  # name the config file like every other key
+        where = f"{ctx.config.file}: {where}"
+    return where
+
+
+def _check_kept_name(options: dict, ctx: BuildContext) -> None:
+    """A designer's kept behaviours are folders named ``designer.name`` (default: the engine's
+    name): a name no folder may have is refused at load, not at the first keep of a take."""
+    d = options["designer"]
+    if not d["enabled"]:
+        return
+    own = d["name"] is not None
+    try:
+        library.check_name(d["name"] if own else options["name"])
+    except library.LibraryError as exc:
+        raise PuppetMasterError(
+            f"{_where(options, ctx, 'designer.name' if own else 'name')}: kept behaviours are "
+            f"saved under this name{'' if own else ' (give designer.name for another)'}: "
+            f"{exc}") from None
+
+
 def _delayed(options: dict, ctx: BuildContext) -> set[str]:
     """Characters this engine reads from the previous tick: Puppet Master engines listed at or
     after it, or bound back to it (a mutual pair). Any other bound character must be made by
     an engine listed earlier."""
-    engines = ctx.config.get("engines", []) if isinstance(ctx.config, dict) else []
-    names = [e.get("name") for e in engines]
-    mine = names.index(options["name"]) if options["name"] in names else len(names)
+    engines, names, mine = _engines(options, ctx)
     delayed = set()
     for name in bound_characters(options["main"]):
         k = names.index(name) if name in names else -1
@@ -246,11 +276,8 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
         is_pm = other.get("kind") == "puppet_master"
         back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
         if k < 0 or (k >= mine and not is_pm):
-            where = f"engines[{mine}].main" if mine < len(names) else "main"
-            if getattr(ctx.config, "file", None):  # name the config file like every other key
-                where = f"{ctx.config.file}: {where}"
             raise PuppetMasterError(
-                f"{where}: character {name!r} is not made by an engine listed before "
+                f"{_where(options, ctx, 'main')}: character {name!r} is not made by an engine listed before "
                 f"{options['name']!r} (a puppet_master engine may also be listed after it or "
                 "react back: it is then read one tick old)")
         if k >= mine or back:
@@ -260,6 +287,7 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
 
 def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     from behaviors.puppet_master.engine import Behavior
+    _check_kept_name(options, ctx)
     delayed = _delayed(options, ctx)
     behavior, bname, read = None, "", None
     if options["behavior"] is not None:
