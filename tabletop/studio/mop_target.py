@@ -121,7 +121,8 @@ class MopTarget:
         being tried) is refused: the reload would replace that action with this one, and undo
         would then remove it from the character."""
         entries = self._entries()
-        if any(a["name"] == new for a in entries) or new in self.stage.templates[self.character]:
+        own = set(self.stage.templates[self.character]) - self.loaded   # not from the library
+        if any(a["name"] == new for a in entries) or new in own:
             raise InputError(f"an action {new!r} already exists")
         self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
         if self.kept == old:
