@@ -2,6 +2,7 @@
 
 import numpy as np
 import pygame
+import pytest
 
 from tabletop.frames import CharacterState
 from tabletop.renderer import Renderer
@@ -54,3 +55,5 @@ def test_the_rename_prompt_takes_only_what_a_library_name_may_hold():
     cmd = prompt.handle(key(pygame.K_RETURN))
     assert cmd == "designer.rename:wtend.2-"
     assert library.check_name(cmd.partition(":")[2])
+    with pytest.raises(library.LibraryError, match="use 1-64 ASCII letters"):   # ü is a letter
+        library.check_name("wütend")
