@@ -442,3 +442,22 @@ def test_early_feedback_shows_the_likeliest_actions_faintly(example_cfg):
     u, dancer = hinted[0]
     assert dancer.hint_points is not None and dancer.hint_points.shape == dancer.points.shape
     assert run[-1][1]["dancer"].valid and run[-1][1]["dancer"].action == "circle"
+
+
+def test_two_engines_keeping_a_character_of_one_name_in_one_library_are_refused(tmp_path):
+    """Both kept that character's takes as lib/face/take1.csv (the later keep wrote over the
+    earlier) and each loaded the other's actions as its own."""
+    first = _designer_config(tmp_path)["engines"][0]
+    second = dict(copy.deepcopy(first), name="mop2")
+    data = {"sources": [{"kind": "scripted"}], "engines": [first, second]}
+    cfg = validate_config(data, str(tmp_path / "test.yaml"), tmp_path)
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=tmp_path)
+    mop.build(cfg["engines"][0], ctx)
+    with pytest.raises(mop.MopError) as err:
+        mop.build(cfg["engines"][1], ctx)
+    assert str(err.value).startswith(f"{tmp_path / 'test.yaml'}: engines[1].library: engines[0]")
+    assert "character 'face'" in str(err.value)
+    second["library"] = "lib2"                       # its own library: both build
+    cfg = validate_config(data, str(tmp_path / "test.yaml"), tmp_path)
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=tmp_path)
+    assert [mop.build(e, ctx).name for e in cfg["engines"]] == ["mop", "mop2"]
