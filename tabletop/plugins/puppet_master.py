@@ -277,9 +277,9 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
         back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
         if k < 0 or (k >= mine and not is_pm):
             raise PuppetMasterError(
-                f"{_where(options, ctx, 'main')}: character {name!r} is not made by an engine listed before "
-                f"{options['name']!r} (a puppet_master engine may also be listed after it or "
-                "react back: it is then read one tick old)")
+                f"{_where(options, ctx, 'main')}: character {name!r} is not made by an engine "
+                f"listed before {options['name']!r} (a puppet_master engine may also be listed "
+                "after it or react back: it is then read one tick old)")
         if k >= mine or back:
             delayed.add(name)
     return delayed
