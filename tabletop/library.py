@@ -98,8 +98,8 @@ def check_name(name: str) -> str:
     """Return ``name`` if it can name a behaviour folder, else raise LibraryError."""
     if not isinstance(name, str) or not NAME_RE.match(name) or name in (".", ".."):
         raise LibraryError(
-            f"behaviour name {name!r} is not usable as a folder name: use 1-64 letters, digits, "
-            "'_', '-' or '.', starting with a letter or digit")
+            f"behaviour name {name!r} is not usable as a folder name: use 1-64 ASCII letters, "
+            "digits, '_', '-' or '.', starting with a letter or digit")
     return name
 
 

@@ -181,13 +181,16 @@ class TouchPose:
 
     def describe(self) -> dict:
         """The standing pose's parts and every action's projected stroke from where its part
-        stands now (DESIGN.md ``--describe``)."""
+        stands now, with the seconds it takes (DESIGN.md ``--describe``)."""
         parts = self.body.parts(place(self.m.stand, self.base, self.yaw))
         excluded = self.excluded()
         actions = []
         for a in self.m.actions:
             traj = self.stroke_on_table(a)
+            # stroke_s: the seconds its trajectory takes at the action's pace, which a drag
+            # must keep up with to start it (over duration_s, the whole clip's, none started)
             actions.append({"name": a.name, "part": a.spec.part, "duration_s": round(a.duration, 4),
+                            "stroke_s": round(float(a.stroke_t[-1]), 4),
                             "excluded": a.name in excluded,
                             "trajectory": np.round(traj, 5).tolist()})
         return {"height_m": round(self.scale * self.stand_height, 6),

@@ -106,7 +106,8 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
 
 
 def read_demonstration(args: argparse.Namespace):
-    """The demonstration (n, 7) from --train, or paired from --train-main and --train-react."""
+    """The demonstration (n, 7) from --train, or paired from --train-main and --train-react,
+    and the file(s) its errors name."""
     from behaviors.puppet_master.sequential import TakeError, pair_takes
     from tabletop.files import check_increasing, check_positions, read_csv_lines
 
@@ -129,8 +130,8 @@ def read_demonstration(args: argparse.Namespace):
         check_increasing(a[:, 0], path, lines=lines)
         check_positions(a, cols, _positions(cols), path, lines=lines)
         takes.append(a)
-    try:
-        return pair_takes(*takes), args.train_react
+    try:   # what the paired demonstration says (too short, no area) is of both takes
+        return pair_takes(*takes), f"{args.train_main}, {args.train_react} (paired)"
     except TakeError as exc:
         raise BehaveArgumentError(f"{args.train_main}, {args.train_react}: {exc}") from None
 

@@ -56,7 +56,8 @@ def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
             raise FollowArgumentError(f"--template {v!r}: expected NAME=FILE.csv")
         if not _NAME.match(name):
             raise FollowArgumentError(
-                f"--template {v!r}: name {name!r} may only hold letters, digits, '_', '.' and '-'")
+                f"--template {v!r}: name {name!r} may only hold ASCII letters, digits, '_', '.' "
+                "and '-'")
         if any(name == n for n, _ in out):
             raise FollowArgumentError(f"--template {v!r}: template name {name!r} is given twice")
         out.append((name, Path(file.strip())))

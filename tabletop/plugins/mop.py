@@ -8,7 +8,9 @@ Config (see ``examples/mop.yaml``)::
       follower: {sigma: 0.2, window: 15, ...}
       performers:
         - name: left
-          inputs: [{kind: puck, id: 1, features: [dx, dy]}, {kind: stream, name: arm}]
+          inputs:
+            - {kind: puck, id: 1, features: [dx, dy]}
+            - {kind: stream, name: arm, columns: [0, 1]}
       characters:
         - name: dancer
           kind: skeleton          # skeleton (URDF humanoid), creature, face, hybrid or sprite
@@ -72,7 +74,25 @@ INPUT = Record({
 })
 
 
+PUCK_KEYS = ("id", "features", "rest_time", "rest_radius")   # what a puck input alone reads
+STREAM_KEYS = ("name", "columns")                             # and a stream input
+SKELETON_KEYS = ("skeleton", "view_yaw", "elevation", "travel")  # a skeleton character alone
+
+
+def _refuse_unread(value: dict, spec: Record, keys: tuple[str, ...], owner: str, noun: str,
+                   path: str, ctx: Context) -> None:
+    """Refuse a key of ``keys`` given other than its default: a ``value["kind"]`` ``noun`` does
+    not read it (it was taken and changed nothing)."""
+    for key in keys:
+        if value[key] != spec.fields[key].default:
+            raise ctx.error(f"{path}.{key}", f"only a {owner} {noun} takes {key}; a "
+                                             f"{value['kind']} {noun} does not read it")
+
+
 def _check_input(value: dict, path: str, ctx: Context) -> None:
+    for keys, owner in ((PUCK_KEYS, "puck"), (STREAM_KEYS, "stream")):
+        if value["kind"] != owner:
+            _refuse_unread(value, INPUT, keys, owner, "input", path, ctx)
     if value["kind"] == "stream" and not value["name"]:
         raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
     if value["kind"] == "stream" and value["columns"] is None:
@@ -185,6 +205,10 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                             f"(performers: {', '.join(sorted(names))})")
         if c["kind"] == "sprite" and c["sheet"] is None:
             raise ctx.error(f"{where}.sheet", "a sprite character needs its sheet (a JSON file)")
+        if c["kind"] != "sprite":
+            _refuse_unread(c, CHARACTER, ("sheet",), "sprite", "character", where, ctx)
+        if c["kind"] != "skeleton":
+            _refuse_unread(c, CHARACTER, SKELETON_KEYS, "skeleton", "character", where, ctx)
         if c["kind"] == "skeleton" and c["skeleton"] is None:
             from behaviors.motion.deepmimic import humanoid_urdf
             try:
@@ -277,9 +301,33 @@ def _make_performer(p: dict) -> Performer:
 
 # --- building -----------------------------------------------------------------------------------
 
+def _check_shared_library(options: dict, ctx: BuildContext) -> None:
+    """An engine listed earlier keeping actions in the same library may not have a character
+    of the same name: both kept takes as ``<library>/<character>/take1.csv`` (the later keep
+    wrote over the earlier) and each loaded the other's actions with its own performer."""
+    engines = ctx.config.get("engines", []) if isinstance(ctx.config, dict) else []
+    names = [e.get("name") for e in engines]
+    if options["library"] is None or options["name"] not in names:
+        return
+    mine = names.index(options["name"])
+    lib = Path(options["library"]).resolve()
+    for i, e in enumerate(engines[:mine]):
+        if e.get("kind") != "mop" or e.get("library") is None \
+                or Path(e["library"]).resolve() != lib:
+            continue
+        common = sorted({c["name"] for c in options["characters"]}
+                        & {c["name"] for c in e["characters"]})
+        if common:
+            file = getattr(ctx.config, "file", None)
+            raise MopError(f"{file + ': ' if file else ''}engines[{mine}].library: engines[{i}] "
+                           f"({e['name']!r}) keeps its actions there too and has a character "
+                           f"{common[0]!r} as well; give one of them another library")
+
+
 def build(options: dict, ctx: BuildContext) -> MopStage:
     from behaviors.mop.follower import ActionFollower
     from behaviors.mop.group import FollowerGroup
+    _check_shared_library(options, ctx)
     rate = float(options["rate_hz"])
     fo = options["follower"]
     params = dict(sigma=fo["sigma"], window=fo["window"], transitions=tuple(fo["transitions"]),

@@ -100,7 +100,8 @@ class TouchPoseEngine:
         action = core.clock.action.name if acting else None
         cam = core.camera
         held = sum(f.part is not None for f in core.fingers.values())
-        label = f"{core.mode} {action or ''} view {cam.azimuth:.0f},{cam.elevation:.0f} touches {held}"
+        label = (f"{core.mode} {action + ' ' if action else ''}view {cam.azimuth:.0f},"
+                 f"{cam.elevation:.0f} touches {held}")
         return (CharacterState(self.name, float(pelvis[0]), float(pelvis[1]), 0.0, kind="humanoid",
                                size=core.scale * core.stand_height, color=self.color,
                                points=pts, bones=core.body.bones,

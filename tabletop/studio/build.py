@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 from typing import Any, Mapping
 
+from tabletop import library
 from tabletop.frames import Frame
 from tabletop.studio.machine import Studio
 from tabletop.studio.session import SessionLog
@@ -102,7 +103,9 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
                 d["main_puck"] = pm.designer_main_puck(e.main)
                 if d["react_puck"] == d["main_puck"]:   # a main on puck 2: react with puck 1
                     d["react_puck"] = 1
-                d["name"] = e.name
+                # its takes are kept under its name, or "behaviour" where no folder may have
+                # it ("mein Liebling": K refused every take)
+                d["name"] = e.name if library.NAME_RE.match(e.name) else "behaviour"
                 e.designer = d
             targets.append(PuppetMasterTarget(e))
         elif hasattr(e, "core") and hasattr(e, "designed"):      # a touch-pose character

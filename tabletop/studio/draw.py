@@ -7,6 +7,7 @@ import math
 
 import pygame
 
+from tabletop import library
 from tabletop.drawing import screens
 from tabletop.frames import CharacterState
 
@@ -111,7 +112,9 @@ class NamePrompt:
             return f"designer.rename:{name}" if name else None
         elif ev.key == pygame.K_BACKSPACE:
             self.text = self.text[:-1]
-        elif ev.unicode and (ev.unicode.isalnum() or ev.unicode in "_-.") and len(self.text) < 64:
+        elif ev.unicode and library.NAME_RE.match(self.text + ev.unicode):
+            # only what a library name may hold: 'ü' or a leading '_' was typed, and the
+            # rename then refused the name
             self.text += ev.unicode
         return None
 

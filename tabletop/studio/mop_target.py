@@ -15,6 +15,7 @@ import numpy as np
 
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
+from tabletop.studio.targets import trash
 from behaviors.worker import Worker
 
 
@@ -117,21 +118,35 @@ class MopTarget:
                           yaml.safe_dump({"actions": entries}, sort_keys=False))
 
     def rename(self, old: str, new: str) -> None:
+        """Rename a kept action; a name the character already has (kept, configured or the take
+        being tried) is refused: the reload would replace that action with this one, and undo
+        would then remove it from the character."""
         entries = self._entries()
-        if any(a["name"] == new for a in entries):
+        own = set(self.stage.templates[self.character]) - self.loaded   # not from the library
+        if any(a["name"] == new for a in entries) or new in own:
             raise InputError(f"an action {new!r} already exists")
         self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
         if self.kept == old:
             self.kept = new
 
     def remove(self, name: str) -> Callable[[], None]:
+        """Delete ``name``: its entry, and its template CSV into the library's ``.trash`` when
+        it is the library's own and no other entry uses it (it stayed in place, and the next
+        run's take of its name wrote over it). Returns the undo."""
+        assert self.lib is not None
+        folder = self.lib / self.character
         entries = self._entries()
         gone = [a for a in entries if a["name"] == name]
+        others = {a["template"] for a in entries if a["name"] != name}
+        files = {folder / a["template"] for a in gone if a["template"] not in others}
+        backs = [trash(f) for f in files if f.parent == folder and f.is_file()]
         self._write([a for a in entries if a["name"] != name])
         if self.kept == name:
             self.kept = None
 
         def restore() -> None:
+            for back in backs:
+                back()
             self._write(self._entries() + gone)
         return restore
 

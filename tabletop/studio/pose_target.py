@@ -86,7 +86,11 @@ class TouchPoseTarget:
         return self.times[-1] - self.times[0] if self.times else 0.0
 
     def _free_name(self) -> str:
-        base = library.check_name(f"{self.name}-action")
+        """``ENGINE-action`` (then ``-2``, ``-3``...), or ``action`` for an engine whose name no
+        folder may have ("mein Poser"): its takes were refused as they stopped."""
+        base = f"{self.name}-action"
+        if not library.NAME_RE.match(base):
+            base = "action"
         taken = {a.name for a in self.core.m.actions}
         name, i = base, 2
         while name in taken or (self.lib / name).exists():
@@ -173,6 +177,10 @@ class TouchPoseTarget:
         self.kept = name      # every kept action is known to the character; this one is selected
 
     def rename(self, old: str, new: str) -> None:
+        """Rename a kept action; a name the character already knows (a built-in action such as
+        the punch) is refused: the renamed action would replace it, and undo then remove it."""
+        if new in {a.name for a in self.core.m.actions}:
+            raise InputError(f"an action {new!r} already exists")
         rename_folder(self.lib, old, new)
         action = next((a for a in self.core.m.actions if a.name == old), None)
         if action is not None:

@@ -239,9 +239,13 @@ class PuppetMasterTarget:
         if self.pending is None or self.demo is None:
             raise InputError("nothing to keep")
         name = library.free_name(self.lib, self.engine.designer["name"])
+        # with the table it was made on, as the shipped behaviours are: a room or an edge
+        # margin set later (w_room, edge_percentile) measured against the take's own bounds
+        x0, y0, x1, y1 = self.engine.table
         folder = library.save_behavior(
             self.lib, name, self.demo,
-            {"rate_hz": self.pending.params.rate_hz, "window": self.pending.params.window},
+            {"rate_hz": self.pending.params.rate_hz, "window": self.pending.params.window,
+             "table_width": x1 - x0, "table_height": y1 - y0},
             description=f"demonstrated at the table for {self.name}",
             source="designer studio, recorded from the table")
         self.engine.behavior_name, self.playing, self.pending = name, folder, None

@@ -124,6 +124,8 @@ def test_bad_input_gives_one_clear_line(files, capsys):
     _fails(["follow", "--template", "nonsense", "--input", str(d / "perf.csv"), "--out", str(d / "o.csv")],
            capsys, "NAME=FILE.csv")
     _fails(_args(d) + ["--template", f"wave={d / 'wave.csv'}"], capsys, "'wave' is given twice")
+    _fails(_args(d) + ["--template", f"wütend={d / 'wave.csv'}"], capsys,  # ü is a letter
+           "'wütend' may only hold ASCII letters")
     (d / "empty.csv").write_text("a,b,c\n")
     _fails(_args(d)[:-4] + ["--input", str(d / "empty.csv"), "--out", str(d / "o.csv")], capsys,
            "empty.csv", "0 data row(s)")

@@ -379,6 +379,22 @@ def test_config_errors_name_the_key_or_file(tmp_path):
            "characters[2].actions[0].motion", "humanoid3d_moonwalk.txt")
     expect(lambda e: e["performers"][0]["inputs"].append({"kind": "stream"}),
            "performers[0].inputs[1].name", "needs the stream's name")
+    # an option the input's kind does not read (it was taken and changed nothing)
+    expect(lambda e: e["performers"][0]["inputs"].append({"kind": "touch", "features": ["speed"]}),
+           "performers[0].inputs[1].features", "only a puck input takes features",
+           "a touch input does not read it")
+    expect(lambda e: e["performers"][0]["inputs"].append({"kind": "touch", "rest_time": 2}),
+           "performers[0].inputs[1].rest_time", "only a puck input takes rest_time")
+    expect(lambda e: e["performers"][0]["inputs"].append(
+        {"kind": "stream", "name": "arm", "columns": [0], "id": 3}),
+           "performers[0].inputs[1].id", "only a puck input takes id")
+    expect(lambda e: e["performers"][0]["inputs"][0].update(columns=[0, 1]),
+           "performers[0].inputs[0].columns", "only a stream input takes columns")
+    expect(lambda e: e["characters"][0].update(travel=True),
+           "characters[0].travel", "only a skeleton character takes travel",
+           "a face character does not read it")
+    expect(lambda e: e["characters"][1].update(sheet=str(EXAMPLES / "mop/bird.json")),
+           "characters[1].sheet", "only a sprite character takes sheet")
     blocked = tmp_path / "a_file"      # a library that cannot be made: refused at load, not at K
     blocked.write_text("")
     expect(lambda e: e.update(library=str(blocked / "lib")), "engines[0].library",
@@ -426,3 +442,22 @@ def test_early_feedback_shows_the_likeliest_actions_faintly(example_cfg):
     u, dancer = hinted[0]
     assert dancer.hint_points is not None and dancer.hint_points.shape == dancer.points.shape
     assert run[-1][1]["dancer"].valid and run[-1][1]["dancer"].action == "circle"
+
+
+def test_two_engines_keeping_a_character_of_one_name_in_one_library_are_refused(tmp_path):
+    """Both kept that character's takes as lib/face/take1.csv (the later keep wrote over the
+    earlier) and each loaded the other's actions as its own."""
+    first = _designer_config(tmp_path)["engines"][0]
+    second = dict(copy.deepcopy(first), name="mop2")
+    data = {"sources": [{"kind": "scripted"}], "engines": [first, second]}
+    cfg = validate_config(data, str(tmp_path / "test.yaml"), tmp_path)
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=tmp_path)
+    mop.build(cfg["engines"][0], ctx)
+    with pytest.raises(mop.MopError) as err:
+        mop.build(cfg["engines"][1], ctx)
+    assert str(err.value).startswith(f"{tmp_path / 'test.yaml'}: engines[1].library: engines[0]")
+    assert "character 'face'" in str(err.value)
+    second["library"] = "lib2"                       # its own library: both build
+    cfg = validate_config(data, str(tmp_path / "test.yaml"), tmp_path)
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=tmp_path)
+    assert [mop.build(e, ctx).name for e in cfg["engines"]] == ["mop", "mop2"]

@@ -97,6 +97,24 @@ def test_bad_options_name_their_key(entry, words):
         assert w in str(err.value)
 
 
+@pytest.mark.parametrize("entry, words", [
+    ({"name": "mein Liebling"}, ["test.yaml: engines[0].name", "give designer.name",
+                                 "'mein Liebling' is not usable as a folder name"]),
+    ({"designer": {"enabled": True, "name": "x/y"}}, ["test.yaml: engines[0].designer.name",
+                                                      "'x/y' is not usable"]),
+])
+def test_a_name_no_kept_behaviour_can_have_is_refused_at_load(entry, words):
+    """A take of an engine named 'mein Liebling' was recorded and trained, and K then said
+    'behaviour name 'mein Liebling' is not usable': the take could not be kept."""
+    e = {"kind": "puppet_master", "behavior": "behaviors/library/lover", **entry}
+    e["designer"] = {"enabled": True, **e.get("designer", {})}
+    with pytest.raises(pm.PuppetMasterError) as err:
+        build([e])
+    for w in words:
+        assert w in str(err.value), str(err.value)
+    build([{**e, "designer": {"enabled": False}}])      # no designer: any engine name
+
+
 def test_sequential_training_may_use_one_puck_for_both_parts():
     """The one-hand interface records the main, then the reactor against its playback: the
     same puck may play both parts."""

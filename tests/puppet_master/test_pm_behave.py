@@ -217,3 +217,11 @@ def test_sequential_training_from_files(files, tmp_path, capsys):
     assert behave("--train-main", tmp_path / "main_take.csv", "--train-react",
                   tmp_path / "late.csv", "--input", d / "main.csv", "--out", tmp_path / "o.csv") == 2
     assert "does not overlap" in capsys.readouterr().err
+    # a main take too short to pair names it too: it named the 30 s reactor take alone
+    # ("react_take.csv: demonstration lasts 0.483 s")
+    write_csv(tmp_path / "short.csv", MAIN_HEADER, demo[:30, :4].tolist())
+    assert behave("--train-main", tmp_path / "short.csv", "--train-react",
+                  tmp_path / "react_take.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv") == 2
+    err = capsys.readouterr().err
+    assert "short.csv, " in err and "react_take.csv (paired): demonstration lasts" in err

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pygame
+import pytest
 
 from tabletop.frames import CharacterState
 from tabletop.renderer import Renderer
@@ -36,3 +37,23 @@ def test_a_long_status_line_wraps_within_the_window():
     # three lines or more at this width, the last (lowest) where the short line stands
     assert rows_with_text(long).max() == rows_with_text(short).max()
     assert len(rows_with_text(long)) >= 2.5 * len(rows_with_text(short))
+
+
+def test_the_rename_prompt_takes_only_what_a_library_name_may_hold():
+    """F2 took 'ü' and a leading '_' as typed (a space was left out), and the rename refused
+    the name ("use 1-64 letters, ..."): the designer typed it all again."""
+    from tabletop import library
+    from tabletop.studio.draw import NamePrompt
+
+    def key(k: int, text: str = "") -> pygame.event.Event:
+        return pygame.event.Event(pygame.KEYDOWN, key=k, unicode=text, mod=0)
+
+    prompt = NamePrompt()
+    prompt.handle(key(pygame.K_F2))
+    for c in "_wü tend.2-":
+        prompt.handle(key(pygame.K_a, c))
+    cmd = prompt.handle(key(pygame.K_RETURN))
+    assert cmd == "designer.rename:wtend.2-"
+    assert library.check_name(cmd.partition(":")[2])
+    with pytest.raises(library.LibraryError, match="use 1-64 ASCII letters"):   # ü is a letter
+        library.check_name("wütend")

@@ -100,8 +100,11 @@ def test_record_train_try_keep_and_it_is_in_the_library_after_a_restart(tmp_path
     assert np.median(np.hypot(*(np.array(xy) - main[:, 1:3]).T)[80:]) < 0.22
     _, studio = bench.step(Frame(seq=5000, t=300.0, commands=("designer.keep",)))
     assert "kept as pet" in studio.label and bench.studio.state == "idle"
-    take = library.load_behavior(tmp_path / "lib" / "pet").demonstration
+    stored = library.load_behavior(tmp_path / "lib" / "pet")
+    take = stored.demonstration
     assert len(take) == stop - start and take[0, 0] == 0.0
+    # with the table it was made on (an edge margin set later measured the take's own bounds)
+    assert (stored.parameters["table_width"], stored.parameters["table_height"]) == TABLE
     assert np.allclose(take[:, 1:], demo[start:stop, 1:])
     # a restart: a new engine and studio list it and play it
     (e2,) = designer(tmp_path)

@@ -214,3 +214,54 @@ def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
     assert runner2.studio.target.items() == ["take1"]
     assert "take1" in inst2.engines[0].puppets["lizard"].actions
     inst2.loop.close()
+
+
+def kept_line(tmp_path):
+    """The face's take of a line, kept as take1; (engine, table), the library read at once."""
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    for t in table.targets:
+        t._poller.every_s = 0.0
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    return engine, table
+
+
+def test_a_kept_take_is_not_renamed_over_a_configured_action(tmp_path):
+    """Renaming the face's kept take "circle" replaced its configured circle (talk) with the
+    take on reload, and undo then took "circle" from the face altogether."""
+    engine, table = kept_line(tmp_path)
+    s = table.studio
+    s.command("designer.item_next")
+    s.command("designer.rename:circle")
+    assert "already exists" in s.message
+    s.poll()
+    face = engine.puppets["face"].actions
+    assert set(face) == {"circle", "take1"} and face["circle"].clip.name == "talk"
+    s.command("designer.rename:line")                  # a free name is still renamed to
+    s.poll()
+    assert set(face) == {"circle", "line"} and face["circle"].clip.name == "talk"
+    s.command("designer.undo")
+    s.poll()
+    assert set(face) == {"circle", "take1"}
+
+
+def test_a_deleted_action_goes_into_the_trash_and_undo_brings_it_back(tmp_path):
+    """README: Delete moves the item into the library's .trash. A kept MOP take lost its entry
+    only: its CSV stayed, and the next run's take1 wrote over it."""
+    engine, table = kept_line(tmp_path)
+    folder = tmp_path / "lib" / "face"
+    kept = (folder / "take1.csv").read_bytes()
+    s = table.studio
+    s.command("designer.item_next")
+    s.command("designer.delete")
+    s.poll()
+    assert not (folder / "take1.csv").exists() and "take1" not in engine.puppets["face"].actions
+    (trashed,) = (folder / ".trash").iterdir()
+    assert trashed.name.startswith("take1.csv.") and trashed.read_bytes() == kept
+    s.command("designer.undo")
+    s.poll()
+    assert (folder / "take1.csv").read_bytes() == kept and "take1" in engine.puppets["face"].actions

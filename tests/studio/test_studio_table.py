@@ -310,3 +310,28 @@ def test_studio_mode_takes_the_main_puck_of_several_mains_as_designer_mode_does(
                                   "sequential": True}) for e in entries]
     own = {e.name: e.designer["main_puck"] for e in build(designed)}
     assert studio == own == {"on_one": 1, "nearest_3_1": 3, "first_2": 2, "first_character": 1}
+
+
+def test_studio_mode_keeps_the_takes_of_a_reactor_whose_name_no_folder_may_have(tmp_path):
+    """``--studio`` keeps a reactor's takes under its engine's name; for one named "mein
+    Liebling" K refused every take (the name is no folder's), now they are "behaviour"."""
+    from tabletop.studio.build import studio_targets
+    from tabletop.studio.machine import Studio
+    from tabletop.frames import Frame, Puck
+    from tests.puppet_master.test_plugin import build
+
+    entries = [{"kind": "puppet_master", "name": n, "behavior": "behaviors/library/lover"}
+               for n in ("mein Liebling", "pet")]
+    cfg = {"engines": [dict(e, designer={"enabled": False, "library": str(tmp_path / "lib")})
+                       for e in entries]}
+    targets = studio_targets(build(entries), cfg, tmp_path, all_engines=True)
+    assert [t.engine.designer["name"] for t in targets] == ["behaviour", "pet"]
+    studio = Studio(targets[:1], countdown_s=0.0)
+    demo = designers.demonstrate("lover", seed=2, seconds=4)
+    for i, row in enumerate(demo):
+        studio(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                     commands=("designer.record",) if i in (0, len(demo) - 1) else ()))
+    studio(Frame(seq=len(demo), t=100.5 + demo[-1, 0]))     # trained in its worker: in play
+    studio.command("designer.keep")
+    assert studio.message == "kept as behaviour"
+    assert library.list_behaviors(targets[0].lib) == ["behaviour"]

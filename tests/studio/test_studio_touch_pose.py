@@ -133,6 +133,12 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
     p.take()
     p.tick(cmds=["designer.keep"])
     lib = tmp_path / "actions"
+    # a built-in action's name is refused: renamed "punch", the take replaced the character's
+    # own punch, and undo then took the punch away from it
+    punch = next(a for a in p.engine.core.m.actions if a.name == "punch")
+    p.studio.command("designer.rename:punch")
+    assert "already exists" in p.studio.message and p.target.items() == ["poser-action"]
+    assert punch in p.engine.core.m.actions
     p.studio.command("designer.rename:uppercut")
     assert p.target.items() == ["uppercut"] and "renamed poser-action to uppercut" in p.studio.message
     names = [a.name for a in p.engine.core.m.actions]
@@ -276,3 +282,18 @@ def test_control_markers_through_the_camera_record_and_keep_a_posed_action(tmp_p
     assert runner2.studio.target.items() == ["poser-action"]
     assert "poser-action" in [a.name for a in inst2.engines[0].core.m.actions]
     inst2.loop.close()
+
+
+def test_an_engine_whose_name_no_folder_may_have_keeps_its_takes(tmp_path, models):
+    """A take of a touch-pose engine named "mein Poser" was refused when it stopped ("behaviour
+    name 'mein Poser-action' is not usable"): every take it recorded was lost."""
+    p = Poser(tmp_path, models)
+    p.cfg["engines"][0]["name"] = "mein Poser"
+    p.engine = p.build()
+    p.target = TouchPoseTarget(p.engine)
+    p.target._poller.every_s = 0.0
+    p.studio = Studio([p.target], countdown_s=0.0)
+    p.take()
+    assert p.studio.state == "trying" and "trained action: its right hand" in p.status
+    p.tick(cmds=["designer.keep"])
+    assert "kept as action" in p.status and p.target.items() == ["action"]

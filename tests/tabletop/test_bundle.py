@@ -58,6 +58,21 @@ def test_paths_inside_keep_their_names_others_are_renamed_and_all_validate_again
     assert again["engines"][0]["designer"]["library"].is_relative_to(there)
 
 
+def test_a_librarys_trash_and_unfinished_writes_are_not_embedded(tmp_path):
+    """A designer's library kept inside the config's folder is embedded, but not what its
+    studio deleted (.trash) or an atomic write left unfinished: every recording carried them."""
+    cfg_path = write_config(tmp_path / "repo", tmp_path / "far")
+    cfg_path.write_text(cfg_path.read_text().replace(str(tmp_path / "far" / "kept"), "kept"))
+    kept = tmp_path / "repo" / "kept"
+    for folder in ("lover", ".trash/lover.1", ".lover-2.x.tmp"):
+        (kept / folder).mkdir(parents=True)
+        (kept / folder / "demonstration.csv").write_text("t,main_x\n0,0\n")
+    cfg = load_config(cfg_path)
+    written, files, external = portable(cfg.raw, cfg.refs)
+    assert written["engines"][0]["designer"]["library"] == "kept" and external == []
+    assert [n for n in files if n.startswith("kept/")] == ["kept/lover/demonstration.csv"]
+
+
 def test_a_file_too_large_stays_outside(tmp_path, monkeypatch):
     monkeypatch.setattr(bundle, "FILE_LIMIT", 10)
     cfg = load_config(write_config(tmp_path / "repo", tmp_path / "far"))

@@ -53,6 +53,7 @@ def test_touches_from_the_bus_pose_the_drawn_humanoid(engine):
         goal = hand + np.array([0.0, 0.03]) * min(t, 1.0)
         (c,) = engine.step(Frame(k, t, touches=(Touch(11, *goal),)))
     assert c.name == "poser" and c.points.shape == (19, 2) and len(c.bones) == 17
+    assert c.label == "posing view 90,15 touches 1"      # the overlay's line said "posing  view"
     assert engine.core.fingers[11].part == "right_hand"
     drawn = c.points[len(engine.core.body.names) + 3]  # the right hand's point
     assert np.linalg.norm(drawn - goal) < 0.005
