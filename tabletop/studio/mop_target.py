@@ -128,6 +128,7 @@ class MopTarget:
         self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
         if self.kept == old:
             self.kept = new
+        self._applied()
 
     def remove(self, name: str) -> Callable[[], None]:
         """Delete ``name``: its entry, and its template CSV into the library's ``.trash`` when
@@ -141,20 +142,37 @@ class MopTarget:
         files = {folder / a["template"] for a in gone if a["template"] not in others}
         backs = [trash(f) for f in files if f.parent == folder and f.is_file()]
         self._write([a for a in entries if a["name"] != name])
-        if self.kept == name:
+        was_kept = self.kept == name
+        if was_kept:
             self.kept = None
+        self._applied()
 
         def restore() -> None:
             for back in backs:
                 back()
             self._write(self._entries() + gone)
+            if was_kept and self.kept is None:
+                self.kept = name               # in play again: F2 said "nothing to rename"
+            self._applied()
         return restore
+
+    def _applied(self) -> None:
+        """The library as this target just changed it (delete, undo, rename) is followed from
+        this tick on, and is no change for the watcher. Left to the watcher's next look (once a
+        second of wall-clock time), the characters changed on another tick in a replay: the
+        MOP studio session replayed with 371 of 1147 frames unlike the live run's."""
+        self._reload()
+        if self._poller is not None:
+            self._poller.signature = tree_signature(self._poller.path)
 
     def poll(self) -> list[str]:
         """Reload the character's kept actions when its library files change: new and fixed
         ones are followed at once, removed ones dropped; a bad one is reported and skipped."""
         if self._poller is None or not self._poller.changed():
             return self._problems
+        return self._reload()
+
+    def _reload(self) -> list[str]:
         st = self.stage
         kept, self._problems = st.library_actions(self.character)
         names = {a.name for a, _ in kept}

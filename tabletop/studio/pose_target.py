@@ -196,7 +196,8 @@ class TouchPoseTarget:
         put_back = trash(self.lib / name)
         self.core.remove_action(name)
         self._loaded.discard(name)
-        if self.kept == name:
+        was_kept = self.kept == name
+        if was_kept:
             self.kept = None
         self._seen()
 
@@ -204,6 +205,8 @@ class TouchPoseTarget:
             put_back()
             self.core.add_action(designed.load_action(self.lib / name, self.core.body))
             self._loaded.add(name)
+            if was_kept and self.kept is None:
+                self.kept = name               # in play again: F2 said "nothing to rename"
             self._seen()
         return restore
 

@@ -265,3 +265,22 @@ def test_a_deleted_action_goes_into_the_trash_and_undo_brings_it_back(tmp_path):
     s.command("designer.undo")
     s.poll()
     assert (folder / "take1.csv").read_bytes() == kept and "take1" in engine.puppets["face"].actions
+
+
+def test_delete_undo_and_rename_are_followed_on_their_own_tick(tmp_path):
+    """They were followed when the library's watcher next looked (wall-clock time), so a
+    replay changed the characters on other ticks than the live run (371 of 1147 frames
+    differed); and after undoing a delete, F2 said "nothing to rename"."""
+    engine, table = kept_line(tmp_path)
+    s, target = table.studio, table.targets[0]
+    target._poller.every_s = 1e9                 # the watcher does not look again
+    s.command("designer.item_next")
+    s.command("designer.delete")
+    assert "take1" not in engine.puppets["face"].actions
+    s.command("designer.undo")
+    assert "take1" in engine.puppets["face"].actions and s.message == "undone: delete take1"
+    s.command("designer.rename:wave")
+    assert s.message == "renamed take1 to wave"
+    assert set(engine.puppets["face"].actions) == {"circle", "wave"}
+    target._poller.every_s = 0.0
+    assert not target._poller.changed()          # nothing left for the watcher to apply

@@ -148,6 +148,7 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
     assert len(list((lib / ".trash").iterdir())) == 1
     p.studio.command("designer.undo")                 # the delete
     assert p.target.items() == ["uppercut"] and "uppercut" in [a.name for a in p.engine.core.m.actions]
+    assert p.target.current() == "uppercut"           # selected again: F2 said nothing to rename
     p.studio.command("designer.undo")                 # the rename
     assert p.target.items() == ["poser-action"]
     p.studio.command("designer.undo")                 # the keep
