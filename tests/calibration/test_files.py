@@ -136,3 +136,18 @@ def test_unreadable_files(tmp_path):
     (tmp_path / "l.yaml").write_text("- 1\n- 2\n")
     with pytest.raises(CalibrationError, match="expected a mapping"):
         load_calibration(tmp_path / "l.yaml")
+
+
+def test_a_calibration_loading_would_refuse_is_not_saved(tmp_path):
+    """A forced result of numbers no camera has replaced a working file with one no table
+    could start on; the working file now stays byte for byte."""
+    path = tmp_path / "calib.yaml"
+    good_cal = Calibration(np.diag([0.001, 0.001, 1.0]), image_size=(1280, 720))
+    save_calibration(path, good_cal)
+    before = path.read_bytes()
+    absurd = Calibration(np.diag([0.001, 0.001, 1.0]), image_size=(1280, 720),
+                         camera_matrix=np.array([[900.0, 0, 640], [0, 900, 360], [0, 0, 1]]),
+                         distortion=np.array([-50.0, 0, 0, 0, 0]))
+    with pytest.raises(CalibrationError, match=r"calib.yaml: intrinsics.distortion: \[-50.0, "):
+        save_calibration(path, absurd)
+    assert path.read_bytes() == before and list(tmp_path.iterdir()) == [path]
