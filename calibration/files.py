@@ -278,8 +278,11 @@ def load_calibration(path: str | Path, require_table: bool = True) -> Calibratio
 
 
 def save_calibration(path: str | Path, calibration: Calibration) -> None:
-    """Write ``calibration`` to ``path`` atomically (temporary file, fsync, rename)."""
+    """Write ``calibration`` to ``path`` atomically (temporary file, fsync, rename). One that
+    loading would refuse (CalibrationError naming the file and key) is not written: a forced
+    result of numbers no camera has replaced a working file with one no table could start on."""
     import yaml
+    calibration_from_dict(calibration.to_dict(), str(path), require_table=False)
     text = ("# Tabletop calibration: camera pixels <-> table metres <-> projector pixels.\n"
             + yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None))
     atomic_write_text(path, text)

@@ -147,6 +147,25 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     _check_studio_markers(cfg, ctx)
     _check_on_table(cfg, ctx)
     _check_udp_ports(cfg, ctx)
+    _check_sprites(cfg, ctx)
+
+
+def _check_sprites(cfg: dict, ctx: Context) -> None:
+    """A sprite names a character an engine makes (a misspelt name was drawn never, silently).
+    Only when every engine is of a kind whose characters the config names."""
+    made: set[str] = set()
+    for e in cfg["engines"]:
+        if e["kind"] in ("puppet_master", "touch_pose"):
+            made |= {e["name"], f"{e['name']}.main"}   # (.main: the studio's playback ghost)
+        elif e["kind"] == "mop":
+            made |= {c["name"] for c in e["characters"]}
+        elif e["kind"] != "fault":
+            return
+    shown = ", ".join(sorted(m for m in made if not m.endswith(".main"))) or "none"
+    for name in cfg["view"]["sprites"]:
+        if name not in made:
+            raise ctx.error(f"view.sprites.{name}", f"no engine makes a character {name!r} "
+                                                    f"(characters: {shown})")
 
 
 def _reaches(sender: str, listener: str) -> bool:

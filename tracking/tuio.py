@@ -25,6 +25,8 @@ from typing import Any, Iterable, Sequence
 from tabletop.frames import InputError, wrap_angle
 from tracking.osc_codec import encode_bundle, encode_message
 
+MAX_SOURCE = 200   # characters of a sender's source name kept (a longer one is cut)
+
 PROFILES = ("2Dobj", "2Dcur", "2Dblb")
 ADDRESSES = {f"/tuio/{p}": p for p in PROFILES}
 SET_ARGS = {"2Dobj": 10, "2Dcur": 6, "2Dblb": 12}  # s i x y a X Y A m r | s x y X Y m | s x y a w h f X Y A m r
@@ -178,7 +180,7 @@ class TuioClient:
                 if cmd == "source":
                     if len(rest) != 1 or not isinstance(rest[0], str) or not rest[0]:
                         raise TuioError("wrong_arguments", "source takes one name")
-                    key = rest[0][:200]
+                    key = rest[0][:MAX_SOURCE]
                     continue
                 alive, sets = staged.setdefault(profile, (None, {}))
                 if cmd == "alive":

@@ -60,18 +60,28 @@ def status_object(status: str) -> dict | None:
     return st if isinstance(st, dict) else None
 
 
+SHOWN = 64   # characters of a heartbeat's name or mode printed (a 5000-character name, sent by
+# anything on the network, filled the terminal)
+
+
+def shortened(value: object) -> str:
+    """``value`` on one line, cut to SHOWN characters (an ellipsis says so)."""
+    text = one_line(value)
+    return text if len(text) <= SHOWN else text[:SHOWN - 3] + "..."
+
+
 def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealthy: int,
                      status: str) -> str:
     """One line, in columns: name, sender, uptime, fps, unhealthy sources, mode and any
     problem (what the sender wrote is put on one line field by field, the columns kept)."""
     st = status_object(status) or {}
-    mode = one_line(st.get("mode", "?"))
+    mode = shortened(st.get("mode", "?"))
     extra = ""
     if st.get("config_error"):
         extra += "  config refused"
     if st.get("restarts"):
-        extra += f"  restarts {one_line(st['restarts'])}"
-    return (f"{one_line(name):<16} {sender:<21} up {uptime:9.1f} s  {fps:5.1f} fps  "
+        extra += f"  restarts {shortened(st['restarts'])}"
+    return (f"{shortened(name):<16} {sender:<21} up {uptime:9.1f} s  {fps:5.1f} fps  "
             f"{unhealthy} unhealthy  {mode}{extra}")
 
 

@@ -23,14 +23,24 @@ from tabletop.frames import Frame
 from tabletop.plugins.osc import HostName, port_spec
 from tabletop.registry import BuildContext
 from tabletop.resolve import Destination
-from tabletop.schema import Bool, MapOf, Number, Optional_, Record, Str
+from tabletop.schema import Bool, Context, MapOf, Number, Optional_, Record, Str
 from tracking.badinput import BadInput
-from tracking.tuio import from_table, profile_bundles, set_args
+from tracking.tuio import MAX_SOURCE, from_table, profile_bundles, set_args
 
 log = logging.getLogger("tabletop.tuio")
 # a listed character no frame has shown for this long is named once in the log (a typo in
 # ``characters`` otherwise sends nothing, silently); seconds of frame time
 UNSEEN_AFTER_S = 10.0
+
+
+def _check_source(options: dict, path: str, ctx: Context) -> None:
+    """A source name receivers keep whole: a 70 kB one made every datagram fail ("Message too
+    long", one warning) for the whole run, and receivers cut it to MAX_SOURCE characters."""
+    source = options["source"]
+    if source is not None and not 0 < len(source) <= MAX_SOURCE:
+        raise ctx.error(f"{path}.source", f"{len(source)} characters; expected 1 to "
+                                          f"{MAX_SOURCE} (a name such as tracker@table-7)")
+
 
 SCHEMA = Record({
     "host": HostName("127.0.0.1", doc="receiver address (an IP address or host name; a "
@@ -38,12 +48,14 @@ SCHEMA = Record({
     "port": port_spec(3333, "receiver UDP port", lo=1),
     "characters": MapOf(Number(integer=True, lo=0, hi=2**31 - 1), default={},
                         doc="character name -> TUIO class id, sent as objects"),
-    "source": Optional_(Str(), doc="TUIO source name (default tabletop@HOSTNAME)"),
+    "source": Optional_(Str(), doc="TUIO source name (default tabletop@HOSTNAME), at most "
+                                   f"{MAX_SOURCE} characters"),
     "changes_only": Bool(False, doc="send a set only for what changed (as TuioServer does), "
                                     "plus the full state every full_every_s"),
     "full_every_s": Number(1.0, lo=0.05, hi=60.0, doc="full-state resend period, seconds"),
     "touches": Bool(True, doc="send the touches as /tuio/2Dcur"),
-})
+}, check=_check_source)
+
 
 
 class Sessions:

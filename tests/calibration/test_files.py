@@ -73,6 +73,11 @@ def lens(f: float, k1: float = 0.0, cx: float = 640.0, skew: float = 0.0) -> dic
             "distortion": [k1, 0.0, 0.0, 0.0, 0.0]}
 
 
+def sized(**entries):
+    """A change giving a 1280x720 image and ``entries``."""
+    return lambda d: d.update(image_size=[1280, 720], **entries)
+
+
 def good() -> dict:
     return {"format": "tabletop-calibration", "version": 1, "date": "2026-01-01",
             "camera_to_table": [[0.001, 0, 0], [0, 0.001, 0], [0, 0, 1]]}
@@ -99,20 +104,19 @@ def good() -> dict:
                                     "distortion": [0.1, 0.2, 0.3]}), "intrinsics.distortion"),
     (lambda d: d.update(reprojection_error={"intrinsics_px": -1}), "reprojection_error.intrinsics_px"),
     # numbers no camera has: each used to load and map every marker to one point, NaN or nowhere
-    (lambda d: d.update(image_size=[1280, 720], intrinsics=lens(1e300)), r"intrinsics: fx = 1e\+300, fy = 1e\+300 px with "
-     r"this distortion give a 0.000\d+ degree field of view across the image's short side; "
+    (sized(intrinsics=lens(1e300)), r"intrinsics: fx = 1e\+300, fy = 1e\+300 px with this "
+     r"distortion give a 0.000\d+ degree field of view across the image's short side; "
      r"expected 1 to 179"),
-    (lambda d: d.update(image_size=[1280, 720], intrinsics=lens(900.0, k1=1e9)), r"intrinsics: .* 0.08\d+ degree field"),
-    (lambda d: d.update(image_size=[1280, 720], intrinsics=lens(900.0, k1=-50.0)), r"intrinsics.distortion: \[-50.0, 0.0, "
-     r"0.0, 0.0, 0.0\] folds the image back on itself 14% of the way from its centre to its long "
-     r"edges \(no lens does"),
-    (lambda d: d.update(image_size=[1280, 720], intrinsics=lens(900.0, cx=1e300)), r"intrinsics.camera_matrix: the "
-     r"principal point \(1e\+300, 360\) px lies outside the 1280x720 image"),
-    (lambda d: d.update(image_size=[1280, 720], intrinsics=lens(900.0, skew=1e300)), r"intrinsics.camera_matrix: the skew "
-     r"1e\+300 px exceeds fx = 900 px"),
-    (lambda d: d.update(image_size=[1280, 720], camera_to_table=[[1e6, 0, 0], [0, 1e6, 0], [0, 0, 1]]),
-     r"camera_to_table: "
-     r"a pixel at the image's centre \(640, 360\) covers 1e\+06 m of table; expected 1e-06 to 20"),
+    (sized(intrinsics=lens(900.0, k1=1e9)), r"intrinsics: .* 0.08\d+ degree field"),
+    (sized(intrinsics=lens(900.0, k1=-50.0)), r"intrinsics.distortion: \[-50.0, 0.0, 0.0, 0.0, "
+     r"0.0\] folds the image back on itself 14% of the way from its centre to its long edges "
+     r"\(no lens does"),
+    (sized(intrinsics=lens(900.0, cx=1e300)), r"intrinsics.camera_matrix: the principal point "
+     r"\(1e\+300, 360\) px lies outside the 1280x720 image"),
+    (sized(intrinsics=lens(900.0, skew=1e300)), r"intrinsics.camera_matrix: the skew 1e\+300 px "
+     r"exceeds fx = 900 px"),
+    (sized(camera_to_table=[[1e6, 0, 0], [0, 1e6, 0], [0, 0, 1]]), r"camera_to_table: a pixel "
+     r"at the image's centre \(640, 360\) covers 1e\+06 m of table; expected 1e-06 to 20"),
 ])
 def test_malformed_files_name_file_and_key(tmp_path, change, expected):
     data = good()
@@ -136,3 +140,18 @@ def test_unreadable_files(tmp_path):
     (tmp_path / "l.yaml").write_text("- 1\n- 2\n")
     with pytest.raises(CalibrationError, match="expected a mapping"):
         load_calibration(tmp_path / "l.yaml")
+
+
+def test_a_calibration_loading_would_refuse_is_not_saved(tmp_path):
+    """A forced result of numbers no camera has replaced a working file with one no table
+    could start on; the working file now stays byte for byte."""
+    path = tmp_path / "calib.yaml"
+    good_cal = Calibration(np.diag([0.001, 0.001, 1.0]), image_size=(1280, 720))
+    save_calibration(path, good_cal)
+    before = path.read_bytes()
+    absurd = Calibration(np.diag([0.001, 0.001, 1.0]), image_size=(1280, 720),
+                         camera_matrix=np.array([[900.0, 0, 640], [0, 900, 360], [0, 0, 1]]),
+                         distortion=np.array([-50.0, 0, 0, 0, 0]))
+    with pytest.raises(CalibrationError, match=r"calib.yaml: intrinsics.distortion: \[-50.0, "):
+        save_calibration(path, absurd)
+    assert path.read_bytes() == before and list(tmp_path.iterdir()) == [path]

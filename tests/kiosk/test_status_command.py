@@ -68,6 +68,10 @@ def test_status_lines_keep_their_columns():
                          json.dumps({"mode": "one\nmoment", "restarts": 2}))
     assert a.index(" up ") == b.index(" up ") == 38 and a.index(" fps") == b.index(" fps")
     assert b.startswith("gallery-south b ") and b.endswith("one moment  restarts 2")
+    # what anything on the network sends is cut, not printed whole (5000 characters filled
+    # the terminal)
+    c = format_heartbeat("10.0.0.9:1", "x" * 5000, 1.0, 60.0, 0, json.dumps({"mode": "m" * 900}))
+    assert c.startswith("x" * 61 + "... 10.0.0.9:1") and c.endswith("m" * 61 + "...")
 
 
 def test_status_command_survives_bad_heartbeats(capsys):

@@ -190,3 +190,20 @@ def test_a_listed_character_no_engine_shows_is_named_once(caplog):
         sink.consume(frame(k, k / 60, characters=[lover]))
     said = [r.getMessage() for r in caplog.records if r.name == "tabletop.tuio"]
     assert len(said) == 1 and "lovre" in said[0] and "characters seen: lover" in said[0], said
+
+
+def test_a_source_name_receivers_cannot_keep_is_refused_at_load():
+    """A 70 kB source name made every datagram fail ('Message too long', one warning) for the
+    whole run; receivers keep 200 characters of it."""
+    import pytest
+
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    src = [{"kind": "scripted"}]
+    for name in ("x" * 201, ""):
+        with pytest.raises(ConfigError) as info:
+            validate_config({"sources": src, "sinks": [{"kind": "tuio", "source": name}]}, "c.yaml")
+        assert str(info.value) == (f"c.yaml: sinks[0].source: {len(name)} characters; expected "
+                                   "1 to 200 (a name such as tracker@table-7)")
+    validate_config({"sources": src, "sinks": [{"kind": "tuio", "source": "t" * 200}]}, "c.yaml")

@@ -190,6 +190,18 @@ def test_a_sprite_that_is_not_an_image(tmp_path, capfd):
     assert code == 2 and "kiosk.yaml: view.sprites.lover: 'lover.png' is not an image" in line
 
 
+def test_a_sprite_of_a_character_no_engine_makes(tmp_path, capfd):
+    # (a misspelt name was never drawn, silently)
+    import shutil
+    shutil.copy(Path(__file__).resolve().parents[2] / "docs" / "board.png", tmp_path / "s.png")
+    lover = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
+    code, err = run_config(tmp_path, "sources: [{kind: scripted}]\nengines:\n  - {kind: "
+                           f"puppet_master, name: lover, behavior: {lover}, main: {{puck: 1}}}}\n"
+                           "view: {enabled: false, sprites: {lovr: s.png}}\n", capfd)
+    assert code == 2 and one_line(err).endswith("kiosk.yaml: view.sprites.lovr: no engine makes "
+                                                "a character 'lovr' (characters: lover)")
+
+
 def test_a_display_this_machine_does_not_have():
     import os
     os.environ.setdefault("SDL_VIDEODRIVER", "dummy")

@@ -41,7 +41,8 @@ def test_bad_engine_config_is_refused_with_its_key(tmp_path):
 @pytest.mark.parametrize("elevation", [90, -90, 1000])
 def test_a_view_elevation_pose_refuses_is_refused_in_the_config_too(tmp_path, elevation):
     with pytest.raises(ConfigError, match=r"c\.yaml: engines\[0\]\.view\[1\]: elevation "
-                                          rf"{elevation} degrees is out of range; expected -89 to 89"):
+                                          rf"{elevation} degrees is out of range; expected -89 "
+                                          "to 89"):
         _config(tmp_path, view=[90, elevation])
     assert _config(tmp_path, view=[-30, 89])["engines"][0]["view"] == [-30.0, 89.0]
 
