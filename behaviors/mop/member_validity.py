@@ -82,11 +82,8 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     new best led. With :func:`tempo`, :func:`unbegun` and :func:`still_unbegun` called from
     :func:`behaviors.mop.members.conclude` instead of one dispatch each from Python: see the
     figures in :meth:`behaviors.mop.group.FollowerGroup._conclude`. Strict arithmetic, as the
-    follower's, and called from the strict :func:`~behaviors.mop.members.conclude`: called
-    from :func:`~behaviors.mop.group_kernel.update_templates` (``contract``: products and sums
-    fused where the compiler sees fit), the same code made that pass's results depend on the
-    build (compiled afresh, equal to the followers'; with the caches ``make kernels`` left, a
-    probability 1e-14 relative apart on tick 49 of DESIGN's bench)."""
+    follower's; called from the strict :func:`~behaviors.mop.members.conclude`, the per-template
+    pass (compiled with ``contract``) is left as it was."""
     d = x.shape[1]
     for i in range(x.shape[0]):
         if not present[i]:
