@@ -4,7 +4,8 @@ the input's turning and the tempo of a new action.
 Mixin of :class:`~behaviors.mop.group.FollowerGroup`: where :func:`members.conclude` chose that
 a member's new attempt starts, :meth:`GestureSpotting._restart_here` for all of them at once;
 the rules themselves are those of :mod:`behaviors.mop.spotting`. Before it, each member's
-turning (:mod:`behaviors.mop.turning`) and tempo (:func:`behaviors.mop.validity.slow_take`).
+turning (:mod:`behaviors.mop.turning`); the arrays of the tempo
+(:func:`behaviors.mop.validity.slow_take`), which :func:`members.conclude` applies first.
 """
 
 from __future__ import annotations
@@ -52,25 +53,6 @@ class GroupRules:
                 self._turn_has_ref, self._turn_h, self._turn_has_h, self._turn_in, self._best,
                 self._bounds, self._ti, self.forward.mean, self._turns, self._turn_steps,
                 self._turn_limits, TURN_REACH, FIRST_TURN_STEPS, self._turn_ok)
-
-    def _tempo(self, present: np.ndarray) -> None:
-        """:meth:`Validity._slow_take` for every present member that spots: a new action taken too
-        slowly does not lead (``_m_leads``, read only for a new action); then this sample and the
-        followed states are remembered (compiled: :func:`member_validity.tempo`; as array
-        operations over the members it cost 0.2 ms a tick of 8 performers x 100 templates)."""
-        f0 = self.followers[0]
-        member_validity.tempo(
-            self.forward.mean, self._lengths, present, self._tempo_on, self._tempo_at,
-            self._tempo_n, self._bounds, self._counts, self._best, self._x, self._tempo_x,
-            self._tempo_g, self._scale, self._size, self._m_dim, f0.onset * f0.sigma,
-            self._m_leads, self._crawl, self._drive_k)
-
-    def _unbegun(self, present: np.ndarray) -> None:
-        """:func:`behaviors.mop.validity.unbegun` for every present member whose attempt was
-        begun by abandonment: no new action leads (``_m_leads``) while its input goes back the
-        way it came to the anchor (compiled: :func:`member_validity.unbegun`)."""
-        member_validity.unbegun(self._abandoned, present, self._x, self._anchor, self._came,
-                                self._m_leads)
 
     def _restart(self, how: np.ndarray, gb: np.ndarray) -> None:
         """:meth:`GestureSpotting._restart_here` for the members whose new attempt starts now

@@ -1,10 +1,12 @@
 """A follower group's per-member validity rules before its conclusion, compiled.
 
-What :meth:`~behaviors.mop.group_rules.GroupRules._turned`, ``_tempo`` and ``_unbegun`` apply to
-every member before :func:`behaviors.mop.members.conclude`: the input's turning against its best
-template's (:mod:`behaviors.mop.turning`), the tempo at which a new action is taken and the
-crawling run (:func:`behaviors.mop.validity.slow_take`, :func:`~behaviors.mop.validity.crawls`),
-and a way back to an abandonment's anchor (:func:`behaviors.mop.validity.unbegun`). Arrays as in
+What :meth:`~behaviors.mop.group_rules.GroupRules._turned` and
+:func:`behaviors.mop.members.conclude` (before its own rules; :func:`still_unbegun` after them)
+apply to every member: the gesture's last samples and whether a new action fits them
+(:mod:`behaviors.mop.shape_lead`), the input's turning against its best template's
+(:mod:`behaviors.mop.turning`), the tempo at which a new action is taken and the crawling run
+(:func:`behaviors.mop.validity.slow_take`, :func:`~behaviors.mop.validity.crawls`), and a way
+back to an abandonment's anchor (:func:`behaviors.mop.validity.unbegun`). Arrays as in
 :mod:`behaviors.mop.members`; each function states the follower method it equals.
 """
 
@@ -15,11 +17,13 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import validity
+from behaviors.mop import shape_lead, validity
+from behaviors.mop.shape_lead import TAKE_SIZES_OUTWARDS, take_fits_at
 from behaviors.mop.validity import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
 from behaviors.kernel_cache import compiled
 
-_CALLS_INTO = (validity,)   # the files whose constants the kernels take in
+# the files whose compiled functions or constants the kernels take in
+_CALLS_INTO = (shape_lead, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -58,6 +62,52 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
         for j in range(max(lo, c - reach), min(lo + n - 1, c + reach) + 1):
             least = min(least, abs((turns[off + j] - turn[i] + pi) % two_pi - pi))
         ok[i] = least <= limit[i]
+
+
+@compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,
+                     _F1, numba.float64), *_CALLS_INTO)
+def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired, leads, states,
+          ti, mean, tc, mc, size, limit) -> None:
+    """:meth:`ShapeLead._remember_take` for every present member with an ``anchor``: its sample
+    ``x - anchor`` appended to its last samples ``taken[i]`` (TAKE_SAMPLES, D; ``taken_n`` of
+    them, oldest first, the oldest out when full); then the last of :meth:`ShapeLead._leads`'
+    conditions, :meth:`ShapeLead._fits_take`, for each whose new ``best`` leads (not
+    ``acquired``): whether those samples fit its path within ``limit`` (``leads``, in place;
+    "scale" invariance only; ``states``, ``ti``, ``tc``, ``mc`` laid out as
+    :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
+    ``size`` the templates' estimates).
+
+    Before, the group's Python around its compiled passes: fancy indexing over the members
+    and a call through the follower (its Python, a copy of the samples) for each member whose
+    new best led. With :func:`tempo`, :func:`unbegun` and :func:`still_unbegun` called from
+    :func:`behaviors.mop.members.conclude` instead of one dispatch each from Python: see the
+    figures in :meth:`behaviors.mop.group.FollowerGroup._conclude`. Strict arithmetic, as the
+    follower's; called from the strict :func:`~behaviors.mop.members.conclude`, the per-template
+    pass (compiled with ``contract``) is left as it was."""
+    d = x.shape[1]
+    for i in range(x.shape[0]):
+        if not present[i]:
+            continue
+        n = taken_n[i]
+        if has_anchor[i]:
+            if n == taken.shape[1]:
+                for r in range(n - 1):
+                    for c in range(d):
+                        taken[i, r, c] = taken[i, r + 1, c]
+                n -= 1
+            for c in range(d):
+                taken[i, n, c] = x[i, c] - anchor[i, c]
+            n += 1
+            taken_n[i] = n
+        m = mc[i]   # group_kernel.MEMBER_SCALARS: dims, scaled, lo, hi, misfit_decay, path_scale
+        if not (leads[i] and acquired[i] != best[i] and m[8] > 0.0 and n > 0):
+            continue
+        gb = bounds[i] + best[i]
+        start, length = ti[gb, 0], ti[gb, 1]
+        leads[i] = take_fits_at(taken[i, :n, :int(m[0])], states, ti[gb, 2], start, length,
+                                start + min(mean[gb], length - 1.0), tc[gb, 5:],
+                                tc[gb, 5 + 3 * d:], size[gb], m[9], m[10], m[11], m[14],
+                                TAKE_SIZES_OUTWARDS, limit)
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,

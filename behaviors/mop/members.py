@@ -20,7 +20,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, shape_lead, spotting, validity
+from behaviors.mop import handover, member_validity, shape_lead, spotting, validity
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
@@ -30,7 +30,7 @@ from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORW
 from behaviors.kernel_cache import compiled
 
 # the files whose constants the kernels take in
-_CALLS_INTO = (handover, shape_lead, spotting, validity)
+_CALLS_INTO = (handover, member_validity, shape_lead, spotting, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -47,13 +47,15 @@ _RAD = len(MEMBER_RULES)
 #: The members' own arrays of a follower group (its attributes of these names), each a row of
 #: one array: per member (R, M, D), (R, M) integers, floats and flags, as the compiled passes
 #: (:func:`conclude`, :func:`~behaviors.mop.group_kernel.update_templates`) take them.
-MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last")
+MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
-               "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart")
+               "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
+               "_tempo_at", "_tempo_n")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
-                 "_drive_peak", "_peak")
+                 "_drive_peak", "_peak", "_m_dim")
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
-                "_m_committed", "_has_end", "_turn_ok", "_drive_moved")
+                "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
+                "_tempo_on", "_abandoned", "_abandon_rested")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -225,11 +227,13 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 
 
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F2, _BB2, _F2, _F1, _B1, _F2, _F2, _F3, _B1, _F2,
-                   numba.boolean[:, ::1], _I2, _F3, _F1, _F2, _BB2, _I1, _I2, _B1, _I2, _I2, _F3),
+                   numba.boolean[:, ::1], _I2, _F3, _F1, _F2, _BB2, _I1, _I2, _B1, _I2, _I2, _F3,
+                   _I1, _F3, _F2, numba.float64, _F2, _F2, _F3, numba.float64),
           *_CALLS_INTO)
 def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale, mk, vectors,
              present, m_floats, m_flags, ints, buf, extent, out, out_flags, shared, crawl, new,
-             top3, likely_k, likely_v) -> None:
+             top3, likely_k, likely_v, lengths, tempo_x, tempo_g, onset, tc, mc, taken,
+             take_limit) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -269,8 +273,21 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     ``likely_v`` (M, 3, 2). Rows, not seven arrays and the top three read from Python: the
     tick's Python part read them with ~80 numpy calls (scalar indexing of ``p``, ``progress``
     and ``refused``, row views)."""
+    size = floats[5]
+    # first the gesture's last samples and whether they fit a new best's path, the tempo of a
+    # new action and a way back to an abandonment's anchor, last the abandonment's end
+    # (member_validity: takes, tempo, unbegun, still_unbegun; ``tc``, ``mc``, ``taken``,
+    # ``take_limit``: the take's; ``lengths`` (K,), ``tempo_x``, ``tempo_g``, ``onset``: the
+    # tempo's). See member_validity.takes for what this saves
+    member_validity.takes(present, m_flags[9], vectors[0], vectors[1], taken, ints[13], ints[0],
+                          ints[3], ints[6], m_flags[2], states, ti, mean, tc, mc, size,
+                          take_limit)
+    member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
+                          ints[1], ints[3], vectors[0], tempo_x, tempo_g, scale, size,
+                          m_floats[8], onset, m_flags[2], crawl, ints[10])
+    member_validity.unbegun(m_flags[11], present, vectors[0], vectors[1], vectors[5], m_flags[2])
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
-    size, highest, drift_run = floats[5], floats[8], floats[12]   # (group_kernel.FLOATS)
+    highest, drift_run = floats[8], floats[12]   # (group_kernel.FLOATS)
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
     x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
     bounds, sh_off, best, run, run_k = ints[0], ints[2], ints[3], ints[4], ints[5]
@@ -402,3 +419,4 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
             gone = departed(x[i], end_x[i], spread, m[12], m[10])
             restart[i] = spot(has_end[i], st, step_d2, m[9], ok, gone, val, pb, lost[i], int(m[11]),
                               any_engaged[i])
+    member_validity.still_unbegun(m_flags[11], m_flags[12], rest, present)

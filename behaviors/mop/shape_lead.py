@@ -276,6 +276,11 @@ def outwards(sizes: tuple[float, ...]) -> np.ndarray:
     return np.array(sorted(sizes, key=lambda f: abs(math.log(f))))
 
 
+#: :data:`TAKE_SIZES` from the estimate outwards as the group's compiled pass reads them
+#: (:func:`behaviors.mop.member_validity.takes`; the follower reads TAKE_SIZES at each take).
+TAKE_SIZES_OUTWARDS = outwards(TAKE_SIZES)
+
+
 @numba.njit(cache=True, nogil=True)
 def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
               size: float, lo: float, hi: float, decay: float, norm: float,
@@ -323,6 +328,26 @@ def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
             if total / weight / norm <= limit:
                 return True
     return False
+
+
+@numba.njit(cache=True, nogil=True)
+def take_fits_at(samples: np.ndarray, means: np.ndarray, off: int, start: int, length: int,
+                 g: float, scale: np.ndarray, first: np.ndarray, size: float, lo: float,
+                 hi: float, decay: float, norm: float, sizes: np.ndarray,
+                 limit: float) -> bool:
+    """:func:`take_fits` at ``sizes`` (:data:`TAKE_SIZES` from the estimate outwards) within
+    ``limit`` of a template followed at state ``g`` (its bank's index; ``start``, ``length``: its first state and its states), over
+    its path from :data:`TAKE_REACH` states behind ``g`` to ahead of it: rows of ``means``
+    (bank index plus ``off``), their first ``d`` columns (``samples`` (n, d); ``scale``,
+    ``first``: as :func:`take_fits`, at least ``d`` long). True where that path is one state.
+    The follower and the group (:func:`behaviors.mop.member_validity.takes`) call it."""
+    a = max(start, int(g) - TAKE_REACH[0])
+    b = min(int(g) + TAKE_REACH[1], start + length - 1)
+    if b <= a:
+        return True
+    d = samples.shape[1]
+    return take_fits(samples, means[a + off:b + off + 1, :d], scale[:d], first[:d], size, lo, hi,
+                     decay, norm, sizes, limit)
 
 
 class ShapeLead:
@@ -406,11 +431,8 @@ class ShapeLead:
         if self.invariance != "scale" or len(samples) == 0:
             return True
         b = self.bank
-        start, last = int(b.starts[k]), int(b.starts[k] + b.lengths[k] - 1)
-        lo, hi = max(start, int(g) - TAKE_REACH[0]), min(int(g) + TAKE_REACH[1], last)
-        if hi <= lo:
-            return True
-        return take_fits(np.ascontiguousarray(samples, dtype=float),
-                         np.ascontiguousarray(b.means[lo:hi + 1]), b.scale[k], self._first_z[k],
-                         float(size), *self.scale_range, self._misfit_decay,
-                         self.sigma ** 2 * self.dim, outwards(TAKE_SIZES), TAKE_MISFIT2)
+        return take_fits_at(np.ascontiguousarray(samples, dtype=float), b.means, 0,
+                            int(b.starts[k]), int(b.lengths[k]), g, b.scale[k],
+                            self._first_z[k], float(size), *self.scale_range,
+                            self._misfit_decay, self.sigma ** 2 * self.dim,
+                            outwards(TAKE_SIZES), TAKE_MISFIT2)
