@@ -15,7 +15,8 @@ from tabletop.app import build_live
 from tabletop.frames import InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
-from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing
+from tabletop.kiosk.health import (Heartbeat, HealthReporter, WatchdogPing,
+                                   recording_status)
 from tabletop.kiosk.notify import Notifier
 from tabletop.kiosk.supervisor import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
@@ -107,6 +108,7 @@ class Runner:
                 if s.name == "view":
                     s.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
         if self.kiosk:
+            extra.append(recording_status(inst.recorder))
             self._health(inst, cfg, extra)
         loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
         return inst
