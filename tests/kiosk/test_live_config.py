@@ -142,3 +142,26 @@ def test_an_applied_edit_frees_the_previous_installation(tmp_path):
                         runner.inst.loop.stats.ticks > Loop.FREEZE_AGAIN_TICKS + 5, 30)
         gc.collect()
         assert engine() is None
+
+
+def test_an_applied_edit_closes_the_previous_touch_pose_physics(tmp_path):
+    """The previous installation's engines are closed with it: the touch-pose engine's pybullet
+    world is disconnected. Before, the loop closed its inputs and sinks only, and every applied
+    edit kept an old physics world."""
+    import pybullet as pb
+    cfg = config([10, 20, 30])
+    cfg["engines"] = [{"kind": "touch_pose", "name": "poser", "physics": True}]
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first = runner.inst
+        client = first.engines[0].core.physics.client
+        assert pb.getConnectionInfo(physicsClientId=client)["isConnected"] == 1
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5, 60)
+        assert first.loop.stop.is_set()
+        # one world is left, the new engine's (pybullet may give it the old one's number)
+        worlds = [c for c in range(client + 16)
+                  if pb.getConnectionInfo(physicsClientId=c)["isConnected"]]
+        assert worlds == [runner.inst.engines[0].core.physics.client]
