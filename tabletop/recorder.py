@@ -10,6 +10,8 @@
   same naming in that folder.
 - A write that fails (a full disk) stops recording with one clear log line; the installation
   keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
+  After a full disk, every ``RESUME_EVERY_S`` of frame time a new part is tried; once the disk
+  takes it the recording goes on there (logged; :attr:`Recorder.gaps` keeps why it stopped).
 
 Durable line by line, never waiting on the frame loop: :meth:`Recorder.consume` (the frame
 loop) writes each line to the operating system at once, so a ``kill -9`` loses at most the line
@@ -48,6 +50,11 @@ log = logging.getLogger("tabletop")
 
 MB = 2**20
 DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
+# Seconds of frame time between two tries to resume a recording a full disk stopped. Before,
+# it stayed stopped until the installation restarted: a gallery soak whose recordings folder
+# filled and was cleared two minutes later recorded nothing for the remaining 20 minutes (for
+# weeks, on a kiosk left alone). A failed try costs one file created and removed.
+RESUME_EVERY_S = 60.0
 
 
 def session_header(config: Any, calibration: dict[str, Any] | None = None,
@@ -119,6 +126,10 @@ class Recorder:
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0                  # frames written
         self.failed: str | None = None   # why recording stopped early, if it did
+        self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
+        self._resumable = False                # stopped by a full disk: tries go on
+        self._resume_at: float | None = None   # frame time of the next try, once known
+        self._last_t: float | None = None      # the last frame's time
         self.durability = Durability()
         self._f: Any = None
         self._size = 0
@@ -158,7 +169,9 @@ class Recorder:
         for n in range(2, 1_000_000):
             yield self.folder / f"{base}-{n}{self.suffix}"
 
-    def _open_part(self) -> None:
+    def _open_part(self, resumed: str | None = None) -> None:
+        """A new file: the first, the next part, or one ``resumed`` after a stop for that
+        reason."""
         self.folder.mkdir(parents=True, exist_ok=True)
         for candidate in self._candidates():
             try:
@@ -166,7 +179,9 @@ class Recorder:
             except FileExistsError:
                 continue
             break
-        if self.paths:
+        if resumed is not None:
+            log.info("recording resumes in %s (it stopped: %s)", candidate, resumed)
+        elif self.paths:
             log.info("recording continues in %s (%s reached %g MB)", candidate, self.path.name,
                      self.max_bytes / MB)
         elif self.stem is not None and candidate.name != f"{self.stem}{self.suffix}":
@@ -216,8 +231,12 @@ class Recorder:
         where = self.paths[-1] if self.paths else self.folder
         why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
         self.failed = f"{where}: {why}"
-        log.error("recording stopped after %d frames: %s; the installation keeps running",
-                  self.frames, self.failed)
+        resumable = isinstance(exc, OSError) and exc.errno in DISK_FULL
+        self._resumable = resumable
+        self._resume_at = None if self._last_t is None else self._last_t + RESUME_EVERY_S
+        log.error("recording stopped after %d frames: %s; the installation keeps running%s",
+                  self.frames, self.failed, f" (a new part is tried every {RESUME_EVERY_S:g} s)"
+                  if resumable else "")
         if self._f is not None:
             self._retired.append(self._f)   # the syncer syncs what it can and closes it
             self._f = None
@@ -285,7 +304,10 @@ class Recorder:
 
     def consume(self, frame: Frame) -> None:
         """Write the frame's line to the operating system; never waits for the disk's sync."""
-        if self.failed is not None or self._f is None or self._closing:
+        self._last_t = frame.t
+        if self.failed is not None and not self._resume(frame.t):
+            return
+        if self._f is None or self._closing:
             return
         d = frame_to_dict(frame, self._t0 if self._t0 is not None else frame.t)
         if self._t0 is None:
@@ -319,6 +341,35 @@ class Recorder:
             self.frames += 1
             self._unsynced.append(time.monotonic())
             self._cv.notify()
+
+    def _resume(self, t: float) -> bool:
+        """After a full disk, at ``_resume_at``: a new part, if the disk takes its header."""
+        if not self._resumable or self._closing:
+            return False
+        if self._resume_at is None:      # stopped before the first frame
+            self._resume_at = t + RESUME_EVERY_S
+        if t < self._resume_at:
+            return False
+        with self._cv:
+            n = len(self.paths)
+            try:
+                self._open_part(resumed=self.failed)
+            except OSError:              # still full: nothing of the try is left
+                if len(self.paths) > n:
+                    part = self.paths.pop()
+                    if self._f is not None:
+                        _close_quietly(self._f)
+                        self._f = None
+                    try:
+                        part.unlink()
+                    except OSError:
+                        pass
+                self._resume_at = t + RESUME_EVERY_S
+                return False
+            self.gaps.append(self.failed or "")
+            self.failed, self._resumable, self._resume_at = None, False, None
+            self._cv.notify()
+        return True
 
     def _stop_syncer(self, timeout_s: float = 30.0) -> bool:
         """Let the syncer finish what is left; False when the disk did not let it."""
@@ -366,3 +417,14 @@ class Recorder:
 
 def _encode(d: dict[str, Any]) -> bytes:
     return (json.dumps(d, separators=(",", ":"), allow_nan=False) + "\n").encode()
+
+
+def _close_quietly(f: Any) -> None:
+    """Close ``f``, dropping what its buffer could not write (a full disk)."""
+    try:
+        f.close()
+    except OSError:
+        try:
+            f.close()   # the buffer is dropped by the failed close; this closes the descriptor
+        except OSError:
+            pass

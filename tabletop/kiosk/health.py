@@ -242,6 +242,20 @@ class HealthReporter:
             self.heartbeat.close()
 
 
+def recording_status(recorder: Any) -> Callable[[], dict[str, Any]]:
+    """The status's ``recording`` field: null without a recorder, else the file being written
+    (null when none could be opened), its frames, why it stopped (``failed``, null while it
+    records) and how often it resumed after a full disk (``resumed``). Without it a full disk stopped the recording with one log line (on that disk
+    too, often) while the status and the heartbeat went on reading as a healthy table."""
+    def status() -> dict[str, Any]:
+        if recorder is None:
+            return {"recording": None}
+        return {"recording": {"file": str(recorder.paths[-1]) if recorder.paths else None,
+                              "frames": int(recorder.frames), "failed": recorder.failed,
+                              "resumed": len(recorder.gaps)}}
+    return status
+
+
 class WatchdogPing:
     """Frame-loop hook: ``READY=1`` after the first completed frame, then ``WATCHDOG=1`` at most
     every ``every_s``. Sent from the frame loop itself, so a frozen loop stops the pings."""

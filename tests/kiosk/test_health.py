@@ -340,3 +340,58 @@ def test_a_heartbeat_that_cannot_be_sent_is_said_once(caplog):
     assert hb.sent == 0
     assert len(said) == 1 and said[0].levelname == "WARNING", [r.getMessage() for r in said]
     assert "cannot resolve no-such-host.invalid" in said[0].getMessage()
+
+
+def test_the_status_says_when_the_recording_stopped_on_a_full_disk(tmp_path):
+    """A kiosk whose disk is full (as the kernel says it: EFBIG, the process's file size limit
+    of 8 KB, above the status file)
+    keeps running without recording; its status says so. Before, the status and heartbeat had
+    no word of it: one log line was the only trace."""
+    import resource
+    import signal
+    import subprocess
+    import sys
+
+    import yaml
+
+    def limit() -> None:
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8192, 8192))
+
+    gesture = tmp_path / "g.csv"
+    gesture.write_text("t,dx,dy\n" + "".join(f"{i / 100},{i / 1e4:.6f},0.0\n" for i in range(500)))
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text(yaml.safe_dump({
+        "sources": [{"kind": "scripted", "pucks": [1, 2, 5],
+                     "performers": [{"puck": 3, "home": [0.5, 0.4], "gestures": ["g.csv"]}]}],
+        "view": {"size": [320, 180], "headless": True},
+        "recorder": {"enabled": True, "folder": "sessions"},
+        "kiosk": {"heartbeat": {"enabled": False}}}))
+    r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--kiosk", "--no-supervisor", "--headless", "--seconds", "2"],
+                       capture_output=True, text=True, preexec_fn=limit, timeout=120)
+    assert r.returncode == 3, r.stderr[-2000:]
+    status = json.loads((tmp_path / "status.json").read_text())
+    assert "File too large" in status["recording"]["failed"]
+    assert str(tmp_path / "sessions") in status["recording"]["failed"]
+
+
+def test_the_status_of_a_kiosk_that_records_names_its_file(tmp_path):
+    """The ``recording`` field while recording: the file, frames written, ``failed`` null."""
+    import subprocess
+    import sys
+
+    import yaml
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text(yaml.safe_dump({
+        "sources": [{"kind": "scripted", "pucks": [1, 2]}],
+        "view": {"size": [320, 180], "headless": True},
+        "recorder": {"enabled": True, "folder": "sessions"},
+        "kiosk": {"heartbeat": {"enabled": False}}}))
+    r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--kiosk", "--no-supervisor", "--headless", "--seconds", "2"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
+    rec = json.loads((tmp_path / "status.json").read_text())["recording"]
+    (session,) = (tmp_path / "sessions").glob("session-*.jsonl")
+    assert rec["file"] == str(session) and rec["frames"] > 0 and rec["failed"] is None

@@ -122,3 +122,46 @@ def test_an_edit_saved_while_the_installation_starts_is_refused_or_applied(tmp_p
     with running(Runner(path, cfg, headless=True, kiosk=True)) as runner:
         assert wait_for(lambda: runner.watcher.applied == 1 and runner.inst.loop.stats.ticks > 5
                         and runner.inst.engines[0].color == (200, 100, 50), 15)
+
+
+def test_an_applied_edit_frees_the_previous_installation(tmp_path):
+    """After an applied edit the previous installation's engine is freed while the new one
+    runs. Before, the new loop froze it out of the garbage collector's passes (Loop.run's
+    gc.freeze) before it was ever collected: every applied edit kept the old installation."""
+    import gc
+    import weakref
+
+    from tabletop.loop import Loop
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first = weakref.ref(runner.inst)      # (a reference here would keep it alive)
+        engine = weakref.ref(runner.inst.engines[0])
+        write(path, yaml.safe_dump(config([200, 100, 50])))
+        assert wait_for(lambda: runner.inst is not first() and
+                        runner.inst.loop.stats.ticks > Loop.FREEZE_AGAIN_TICKS + 5, 30)
+        gc.collect()
+        assert engine() is None
+
+
+def test_an_applied_edit_closes_the_previous_touch_pose_physics(tmp_path):
+    """The previous installation's engines are closed with it: the touch-pose engine's pybullet
+    world is disconnected. Before, the loop closed its inputs and sinks only, and every applied
+    edit kept an old physics world."""
+    import pybullet as pb
+    cfg = config([10, 20, 30])
+    cfg["engines"] = [{"kind": "touch_pose", "name": "poser", "physics": True}]
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first = runner.inst
+        client = first.engines[0].core.physics.client
+        assert pb.getConnectionInfo(physicsClientId=client)["isConnected"] == 1
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5, 60)
+        assert first.loop.stop.is_set()
+        # one world is left, the new engine's (pybullet may give it the old one's number)
+        worlds = [c for c in range(client + 16)
+                  if pb.getConnectionInfo(physicsClientId=c)["isConnected"]]
+        assert worlds == [runner.inst.engines[0].core.physics.client]

@@ -1,0 +1,58 @@
+"""A recording a full disk stopped resumes in a new part once the disk takes one again.
+
+The disk is full as the kernel says it: EFBIG from this process's file size limit
+(RLIMIT_FSIZE, the soft limit only, so it can be raised again), real files, real writes."""
+
+import resource
+import signal
+
+import numpy as np
+
+from tabletop.frames import Frame
+from tabletop.recorder import RESUME_EVERY_S, Recorder, read_frames, read_header
+
+HEADER = {"format": "tabletop-session", "version": 2, "config": {"note": "x" * 300}}
+
+
+def frames(t0: float, seconds: float, rate: float = 10.0):
+    """Frames every 1/rate s of frame time from ``t0`` (monotonic-like seconds), with a stream
+    of 40 values so a line is about 1 KB."""
+    for k in range(int(seconds * rate)):
+        yield Frame(seq=k, t=t0 + k / rate, streams={"hand": np.arange(40) / 7.0})
+
+
+def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path):
+    folder = tmp_path / "sessions"
+    soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+    old_handler = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    rec = Recorder(folder=folder, header=HEADER)
+    t = 5000.0
+    try:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (16 * 1024, hard))   # the disk fills
+        for f in frames(t, 10.0):
+            rec.consume(f)
+        assert rec.failed is not None and "File too large" in rec.failed
+        stopped_at = rec.frames
+        assert 0 < stopped_at < 100
+        resource.setrlimit(resource.RLIMIT_FSIZE, (200, hard))         # not even a header
+        for f in frames(t + 10.0, 3 * RESUME_EVERY_S):                # three tries fail
+            rec.consume(f)
+        assert rec.failed is not None and rec.frames == stopped_at
+        assert [p.name for p in folder.iterdir()] == [rec.paths[0].name]   # no try left behind
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))        # room again
+        for f in frames(t + 10.0 + 3 * RESUME_EVERY_S, RESUME_EVERY_S + 2.0):
+            rec.consume(f)
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+        signal.signal(signal.SIGXFSZ, old_handler)
+        rec.close()
+    assert rec.failed is None and len(rec.gaps) == 1 and "File too large" in rec.gaps[0]
+    assert len(rec.paths) == 2 and sorted(folder.iterdir()) == sorted(rec.paths)
+    first, second = (list(read_frames(p, absolute=True)) for p in rec.paths)
+    assert len(first) == stopped_at
+    assert read_header(rec.paths[1])["part"] == 2
+    # the second part starts at the first try after the room came back, times as they were
+    resumed_at = second[0].t
+    assert t + 10.0 + 3 * RESUME_EVERY_S <= resumed_at <= t + 10.0 + 4 * RESUME_EVERY_S + 1.0
+    assert rec.frames == stopped_at + len(second) and len(second) > 10
+    assert [f.t for f in second] == sorted(f.t for f in second)
