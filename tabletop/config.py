@@ -299,6 +299,56 @@ def _check_studio_markers(cfg: dict, ctx: Context) -> None:
             raise ctx.error(key, f"marker id {marker} is not in {tracking['dictionary']} (ids 0 "
                                  f"to {n - 1}); use a smaller id or a larger dictionary")
         first[marker] = cmd
+    _check_engine_pucks(cfg, first, ctx)
+
+
+def _engine_pucks(cfg: dict) -> list[tuple[str, int]]:
+    """Every puck an engine binds, with its key: a Puppet Master engine's mains (one, or each
+    of ``nearest``/``first``) and its designer's pucks, a MOP performer's puck inputs
+    (touch-pose binds touches only)."""
+    out: list[tuple[str, int]] = []
+    for i, e in enumerate(cfg["engines"]):
+        if e["kind"] == "puppet_master":
+            main = e["main"]
+            many = [(f"{main['kind']}[{j}]", b) for j, b in enumerate(main.get("mains") or [])]
+            for sub, b in many or [("", main)]:
+                if b["kind"] == "puck":
+                    out.append((f"engines[{i}].main{'.' + sub if sub else ''}.puck", b["puck"]))
+            d = e.get("designer") or {}
+            if d.get("enabled"):
+                out += [(f"engines[{i}].designer.{k}", d[k]) for k in ("main_puck", "react_puck")
+                        if d.get(k) is not None]
+        elif e["kind"] == "mop":
+            out += [(f"engines[{i}].performers[{j}].inputs[{k}].id", x["id"])
+                    for j, p in enumerate(e["performers"])
+                    for k, x in enumerate(p["inputs"]) if x["kind"] == "puck"]
+    return out
+
+
+def _check_engine_pucks(cfg: dict, controls: dict[int, str], ctx: Context) -> None:
+    """No engine binds a studio control marker's puck: the studio takes control markers out of
+    the frame (the character would never see its puck, and setting it down would stop or keep
+    a take). The studio is on for every MOP, touch-pose and designer config and with ``run
+    --studio``, so this holds whether or not ``studio.enabled`` is. Through
+    ``tracking.puck_ids`` a control marker may arrive as another puck id: that puck is
+    refused too (the control marker would move the character instead)."""
+    controls = {int(m): f"studio.markers.{cmd}" for m, cmd in controls.items()}
+    for i, e in enumerate(cfg["engines"]):
+        d = e.get("designer") or {}
+        if d.get("enabled") and d.get("record_marker") is not None:
+            controls[int(d["record_marker"])] = f"engines[{i}].designer.record_marker"
+    mapped = {int(m): int(p) for m, p in ((cfg.get("tracking") or {}).get("puck_ids")
+                                          or {}).items() if str(m).isdigit()}
+    for key, puck in _engine_pucks(cfg):
+        if puck in controls:
+            raise ctx.error(key, f"puck {puck} is the studio's control marker {controls[puck]}"
+                                 "; the studio takes it off the table's inputs, so this engine "
+                                 "would never see it: use another puck or another marker id")
+        for marker, to in mapped.items():
+            if to == puck and marker in controls:
+                raise ctx.error(key, f"puck {puck} is marker {marker} (tracking.puck_ids."
+                                     f"{marker}), the studio's control marker "
+                                     f"{controls[marker]}: use another puck or marker id")
 
 
 def tracking_schema() -> Spec:

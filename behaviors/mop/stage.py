@@ -46,7 +46,7 @@ The designer's keys and control markers reach these through the studio's one sta
 from __future__ import annotations
 
 import math
-from typing import Callable, Mapping, Sequence
+from typing import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -67,8 +67,10 @@ class MopStage:
 
     ``templates``: character -> action -> (performer name, samples (n x d) at ``rate_hz``);
     ``motions``: character -> motion names the designer may assign; ``load_motion(character,
-    motion) -> Clip``; ``save(character, action, samples, feature names, motion) -> message``; ``make_group(followers)``
-(optional) steps all followers together, e.g. :class:`~behaviors.mop.group.FollowerGroup`.
+    motion) -> Clip``; ``save(character, action, samples, feature names, motion) -> message``;
+    ``taken(character)``: the names ``save`` holds already (a new take is named none of them);
+    ``make_group(followers)`` (optional) steps all followers together, e.g.
+    :class:`~behaviors.mop.group.FollowerGroup`.
     """
 
     def __init__(self, name: str, rate_hz: float, performers: Mapping[str, Performer],
@@ -77,7 +79,8 @@ class MopStage:
                  load_motion: Callable[[str, str], Clip], save: SaveFn | None = None,
                  character_performer: Mapping[str, str] | None = None,
                  max_catch_up: int = 4,
-                 make_group: Callable[[list], object] | None = None) -> None:
+                 make_group: Callable[[list], object] | None = None,
+                 taken: Callable[[str], Iterable[str]] | None = None) -> None:
         self.name = name
         self.rate_hz = float(rate_hz)
         self.performers = dict(performers)
@@ -91,6 +94,7 @@ class MopStage:
         self.character_performer = dict(character_performer or {})
         self.max_catch_up = int(max_catch_up)
         self.make_group = make_group
+        self.taken = taken or (lambda character: ())   # names ``save`` holds for a character
         self._group: object | None = None
         self._keys: list[str] = []
         self._followers: dict[str, object] = {}
@@ -229,7 +233,9 @@ class MopStage:
             self.take, self.take_action = None, None
             raise InputError(f"take too short ({len(samples)} samples)")
         self._counter += 1
-        existing = set(self.templates[take.character])
+        # every name the character's library holds, loaded or not (a template skipped at load
+        # as corrupt kept its file: a take of its name was saved over it)
+        existing = set(self.templates[take.character]) | set(self.taken(take.character))
         name = f"take{self._counter}"
         while name in existing:
             self._counter += 1

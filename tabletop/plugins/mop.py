@@ -46,8 +46,8 @@ from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
-from tabletop.plugins.mop_files import (MopError, MotionLoader, library_actions, load_template,
-                                        resolve_motion, save_to_library)
+from tabletop.plugins.mop_files import (MopError, MotionLoader, library_actions, library_names,
+                                        load_template, resolve_motion, save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
@@ -395,7 +395,9 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
 
     stage = MopStage(options["name"], rate, performers, puppets, templates, make_follower,
                      motions, lambda character, motion: loaders[character](motion),
-                     save if library is not None else None, bound, make_group=FollowerGroup)
+                     save if library is not None else None, bound, make_group=FollowerGroup,
+                     taken=(lambda character: library_names(library, character))
+                     if library is not None else None)
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
     stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read

@@ -158,14 +158,31 @@ def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_h
     return out, problems
 
 
+def library_names(folder: Path, character: str) -> set[str]:
+    """Every name ``character``'s library folder holds, loaded or not: its entries' names (when
+    actions.yaml reads) and the stems of its files (a template skipped at load as corrupt, or
+    one no entry names, is still someone's data). A new take is named none of them."""
+    d = folder / character
+    names = {p.stem for p in d.iterdir()} if d.is_dir() else set()
+    try:
+        names |= {a["name"] for a in read_library(folder, character)}
+    except MopError:
+        pass                        # (a keep is refused while actions.yaml is corrupt)
+    return names
+
+
 def save_to_library(folder: Path, character: str, action: str, samples: np.ndarray,
                     names: tuple[str, ...], motion: str, rate_hz: float) -> str:
     """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
-    atomically. Returns a short message for the operator."""
+    atomically. Returns a short message for the operator. A name the library holds already
+    (an entry, or a file, e.g. a template skipped at load) is refused: nothing saved is
+    written over."""
     import yaml
     d = folder / character
-    entries = [a for a in read_library(folder, character) if a["name"] != action]
+    entries = read_library(folder, character)
     csv_name = f"{action}.csv"
+    if action in library_names(folder, character):
+        raise MopError(f"{d}: {action!r} is in the library already; not written over")
     t = np.arange(len(samples)) / rate_hz
     write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
     entries.append({"name": action, "template": csv_name, "motion": motion})

@@ -4,9 +4,10 @@ keep (written to the library and loaded by a new engine), discard, redo, too sho
 from pathlib import Path
 
 import numpy as np
+import pytest
 import yaml
 
-from tabletop.frames import Frame, Puck
+from tabletop.frames import Frame, InputError, Puck
 from tabletop.studio.machine import Studio
 from tabletop.studio.mop_target import MopTarget
 from tests.mop.test_plugin import RATE, Table, _build, _designer_config
@@ -284,3 +285,32 @@ def test_delete_undo_and_rename_are_followed_on_their_own_tick(tmp_path):
     assert set(engine.puppets["face"].actions) == {"circle", "wave"}
     target._poller.every_s = 0.0
     assert not target._poller.changed()          # nothing left for the watcher to apply
+
+
+def test_a_new_take_never_takes_the_name_of_a_library_file_skipped_at_load(tmp_path):
+    # a kept take1 whose template was damaged: skipped at load, a new take was named take1 and
+    # its keep wrote over the file and the entry (take2.csv: a file no entry names)
+    kept_line(tmp_path)
+    folder = tmp_path / "lib" / "face"
+    (folder / "take1.csv").write_text("t,dx,dy\n0,0,oops\n")
+    (folder / "take2.csv").write_text("t,dx,dy\n0,0,0\n0.1,0.01,0\n")
+    saved = {f.name: f.read_text() for f in folder.iterdir()}
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    assert "action 'take1'" in engine.library_problems["face"][0]
+    table = StudioTable(engine, tmp_path / "lib")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    assert "take3 -> " in table.status
+    table.tick(["designer.keep"])
+    assert "kept as take3" in table.status
+    for name, text in saved.items():
+        if name != "actions.yaml":
+            assert (folder / name).read_text() == text
+    entries = yaml.safe_load((folder / "actions.yaml").read_text())["actions"]
+    assert [a["name"] for a in entries] == ["take1", "take3"]
+    # and a save under a name the library holds is refused, the file left as it was
+    with pytest.raises(InputError, match="in the library already"):
+        engine.save("face", "take2", np.zeros((9, 2)), ("dx", "dy"), "talk")
+    assert (folder / "take2.csv").read_text() == saved["take2.csv"]
