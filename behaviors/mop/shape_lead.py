@@ -186,6 +186,21 @@ percentile); the size's change over the 4 samples before a take (true takes up t
 the roll's 0.04-0.21). Its cost, DESIGN's case (``bench/mop.py --design``, before and after run
 in turn, twice): the group's tick median 0.80 -> 0.94 and 0.80 -> 0.85 ms, p99 1.44 -> 1.73 and
 1.44 -> 1.47 ms (budget 1 and 2 ms).
+
+Sized where the take is refused (:data:`TAKE_RESIZE`): traced per tick (tuned, seeds 13 / 201),
+the valid ticks lost after 30% at 0.7-1.4x are mostly the true template not ``best`` while its
+size is over 15% off (65 / 109 of 417 / 422): a square drawn 0.7-0.85x keeps size 1 along its
+first side, stalls at the corner and the circle takes over. The take refusal cost 0.0001-0.0027
+(without it seeds 13 / 201 / 202 / 203 0.9124 / 0.9122 / 0.9070 / 0.9016 -> 0.9125 / 0.9125 /
+0.9097 / 0.9026), nearly all off track (lines' returns followed backwards). So a take refused at
+the estimate reads its samples on the path on to where one :data:`TAKE_SIZES`' least times as
+large would be, and sizes the template at the smaller size fitting within 0.05: valid after 30%
+0.9146 / 0.9144 / 0.9092 / 0.9045 (on track, seed 13, 0.9016 -> 0.9038; squares at 0.7x 0.65 ->
+0.87, 0.50 -> 0.71); unrelated and after a gesture (13, 201) identical. Not kept: that path for
+every take: 0.9125 / 0.9125 / 0.9075 / 0.9022, off track, unrelated mean 0.0183 -> 0.0186; the
+best size of every take: 0.8610 (a straight stroke fits any); of a take the estimate misfits:
+0.9185 / 0.9193 / 0.9178 / 0.9050, unrelated worst 0.074 -> 0.139; smaller only: 0.9195 /
+0.9184, 0.076; within 0.05: 0.9198 / 0.9177, mean 0.0189; both: 0.9200 / 0.9151, 0.0186.
 """
 
 from __future__ import annotations
@@ -234,6 +249,66 @@ TAKE_REACH = (30, 3)
 TAKE_SIZES = (0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4)
 # ... tried from the estimate outwards, so a take that fits stops at the first size that does
 _TAKE_SIZES = np.array(sorted(TAKE_SIZES, key=lambda f: abs(math.log(f))))
+#: A take refused at its size estimate (:meth:`ShapeLead._fits_take`) sizes its template at the
+#: smaller of :data:`TAKE_SIZES` times the estimate at which the same samples lie nearest its path
+#: ahead, when within this mean square distance (as :data:`TAKE_MISFIT2`; 0: never).
+TAKE_RESIZE = 0.05
+
+
+@numba.njit(cache=True, nogil=True)
+def _nearest2(z: np.ndarray, path: np.ndarray) -> float:
+    """The squared distance from point ``z`` (d,) to the nearest of the segments joining the
+    states ``path`` (m, d)."""
+    d = z.size
+    nearest = math.inf
+    for a in range(path.shape[0] - 1):
+        za, ab2 = 0.0, 0.0
+        for c in range(d):
+            ab = path[a + 1, c] - path[a, c]
+            za += (z[c] - path[a, c]) * ab
+            ab2 += ab * ab
+        t = min(max(za / max(ab2, 1e-12), 0.0), 1.0)
+        dd = 0.0
+        for c in range(d):
+            e = z[c] - path[a, c] - t * (path[a + 1, c] - path[a, c])
+            dd += e * e
+        nearest = min(nearest, dd)
+    return nearest
+
+
+@numba.njit(cache=True, nogil=True)
+def _read_near2(x: np.ndarray, scale: np.ndarray, first: np.ndarray, size: float,
+                path: np.ndarray, z: np.ndarray) -> float:
+    """:func:`_nearest2` of sample ``x`` (d,: raw, from the anchor) read at ``size`` in a
+    template's units (``scale``, ``first``) into ``z``."""
+    for c in range(x.size):
+        z[c] = x[c] / scale[c] / size + first[c]
+    return _nearest2(z, path)
+
+
+@numba.njit(cache=True, nogil=True)
+def take_size(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
+              size: float, least: float, decay: float, norm: float, sizes: np.ndarray,
+              limit: float) -> float:
+    """The size below ``size`` (``sizes`` below 1 times it, none below ``least``) at which the
+    mean square distance of :func:`take_fits` between ``samples`` and the segments joining
+    ``path`` is least, when within ``limit``; 0 when none is. Compiled: the follower and the
+    group call it alike."""
+    n = samples.shape[0]
+    z = np.empty(samples.shape[1])
+    best, best_size = limit, 0.0
+    for f in sizes:
+        s = size * f
+        if f >= 1.0 or s < least:
+            continue
+        total, weight, w = 0.0, 0.0, 1.0
+        for j in range(n - 1, -1, -1):
+            total += w * _read_near2(samples[j], scale, first, s, path, z)
+            weight += w
+            w *= decay
+        if total / weight / norm <= best:
+            best, best_size = total / weight / norm, s
+    return best_size
 
 
 @numba.njit(cache=True, nogil=True)
@@ -248,8 +323,8 @@ def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
     and leaves a size once its samples so far exceed ``limit`` even were the rest to lie on the
     path (the same answer as the least over every size, at a seventh of the work for a true
     take). Compiled: the follower and the group call it alike."""
-    n, d = samples.shape
-    z = np.empty(d)
+    n = samples.shape[0]
+    z = np.empty(samples.shape[1])
     total_weight = 0.0
     w = 1.0
     for j in range(n):
@@ -259,22 +334,7 @@ def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
         s = min(max(size * f, lo), hi)
         total, weight, w = 0.0, 0.0, 1.0
         for j in range(n - 1, -1, -1):
-            for c in range(d):
-                z[c] = samples[j, c] / scale[c] / s + first[c]
-            nearest = math.inf
-            for a in range(path.shape[0] - 1):
-                za, ab2 = 0.0, 0.0
-                for c in range(d):
-                    ab = path[a + 1, c] - path[a, c]
-                    za += (z[c] - path[a, c]) * ab
-                    ab2 += ab * ab
-                t = min(max(za / max(ab2, 1e-12), 0.0), 1.0)
-                dd = 0.0
-                for c in range(d):
-                    e = z[c] - path[a, c] - t * (path[a + 1, c] - path[a, c])
-                    dd += e * e
-                nearest = min(nearest, dd)
-            total += w * nearest
+            total += w * _read_near2(samples[j], scale, first, s, path, z)
             weight += w
             w *= decay
             if total / total_weight / norm > limit:
@@ -370,7 +430,24 @@ class ShapeLead:
         lo, hi = max(start, int(g) - TAKE_REACH[0]), min(int(g) + TAKE_REACH[1], last)
         if hi <= lo:
             return True
-        return take_fits(np.ascontiguousarray(samples, dtype=float),
-                         np.ascontiguousarray(b.means[lo:hi + 1]), b.scale[k], self._first_z[k],
-                         float(size), *self.scale_range, self._misfit_decay,
-                         self.sigma ** 2 * self.dim, _TAKE_SIZES, TAKE_MISFIT2)
+        samples = np.ascontiguousarray(samples, dtype=float)
+        norm = self.sigma ** 2 * self.dim
+        if take_fits(samples, np.ascontiguousarray(b.means[lo:hi + 1]), b.scale[k],
+                     self._first_z[k], float(size), *self.scale_range, self._misfit_decay, norm,
+                     _TAKE_SIZES, TAKE_MISFIT2):
+            return True
+        if TAKE_RESIZE > 0:
+            # refused at its estimate: the samples may be those of a smaller performance the
+            # followed state lags along the path (by the size's ratio), read up to where it
+            # would be at the least of TAKE_SIZES
+            arc = self._arc[start:last + 1]
+            ahead = start + int(np.searchsorted(arc, arc[int(g) - start] / _TAKE_SIZES.min()))
+            s = take_size(samples, np.ascontiguousarray(b.means[lo:min(ahead + TAKE_REACH[1],
+                                                                        last) + 1]),
+                          b.scale[k], self._first_z[k], float(size),
+                          max(self.scale_range[0], float(self._least[k])), self._misfit_decay,
+                          norm, _TAKE_SIZES, TAKE_RESIZE)
+            if s > 0.0:   # in place on the estimate's sums (as invariance's reversal sizes)
+                self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
+                self._size[k] = s
+        return False
