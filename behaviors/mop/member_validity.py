@@ -17,13 +17,14 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import shape_lead, validity
-from behaviors.mop.shape_lead import TAKE_SIZES_OUTWARDS, take_fits_at
+from behaviors.mop import shape_lead, take_fit, validity
+from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
+from behaviors.mop.take_fit import size_of_refused, take_fits_at
 from behaviors.mop.validity import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in
-_CALLS_INTO = (shape_lead, validity)
+_CALLS_INTO = (shape_lead, take_fit, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -65,9 +66,9 @@ def turned(x, anchor, present, turning, ref, has_ref, heading, has_heading, turn
 
 
 @compiled(numba.void(_B1, _B1, _F2, _F2, _F3, _I1, _I1, _I1, _I1, _B1, _F2, _I2, _F1, _F2, _F2,
-                     _F1, numba.float64), *_CALLS_INTO)
+                     _F2, numba.float64), *_CALLS_INTO)
 def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired, leads, states,
-          ti, mean, tc, mc, size, limit) -> None:
+          ti, mean, tc, mc, floats, limit) -> None:
     """:meth:`ShapeLead._remember_take` for every present member with an ``anchor``: its sample
     ``x - anchor`` appended to its last samples ``taken[i]`` (TAKE_SAMPLES, D; ``taken_n`` of
     them, oldest first, the oldest out when full); then the last of :meth:`ShapeLead._leads`'
@@ -75,7 +76,9 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     ``acquired``): whether those samples fit its path within ``limit`` (``leads``, in place;
     "scale" invariance only; ``states``, ``ti``, ``tc``, ``mc`` laid out as
     :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
-    ``size`` the templates' estimates).
+    ``floats`` the per-template state of :data:`~behaviors.mop.group_kernel.FLOATS`); a take
+    refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
+    a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
 
     Before, the group's Python around its compiled passes: fancy indexing over the members
     and a call through the follower (its Python, a copy of the samples) for each member whose
@@ -85,6 +88,8 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     follower's; called from the strict :func:`~behaviors.mop.members.conclude`, the per-template
     pass (compiled with ``contract``) is left as it was."""
     d = x.shape[1]
+    num, den, size, least = floats[3], floats[4], floats[5], floats[9]   # (group_kernel.FLOATS)
+    arc = states[:, 2 * d + 1]   # (group_kernel.STATE_COLUMNS)
     for i in range(x.shape[0]):
         if not present[i]:
             continue
@@ -104,10 +109,18 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
             continue
         gb = bounds[i] + best[i]
         start, length = ti[gb, 0], ti[gb, 1]
-        leads[i] = take_fits_at(taken[i, :n, :int(m[0])], states, ti[gb, 2], start, length,
-                                start + min(mean[gb], length - 1.0), tc[gb, 5:],
-                                tc[gb, 5 + 3 * d:], size[gb], m[9], m[10], m[11], m[14],
-                                TAKE_SIZES_OUTWARDS, limit)
+        g = start + min(mean[gb], length - 1.0)
+        leads[i] = take_fits_at(taken[i, :n, :int(m[0])], states, ti[gb, 2], start, length, g,
+                                tc[gb, 5:], tc[gb, 5 + 3 * d:], size[gb], m[9], m[10], m[11],
+                                m[14], TAKE_SIZES_OUTWARDS, limit)
+        if leads[i] or TAKE_RESIZE <= 0.0:
+            continue
+        s = size_of_refused(taken[i, :n, :int(m[0])], states, arc, ti[gb, 2], start, length, g,
+                            tc[gb, 5:], tc[gb, 5 + 3 * d:], size[gb], max(m[9], least[gb]),
+                            m[11], m[14], TAKE_SIZES_OUTWARDS, TAKE_RESIZE)
+        if s > 0.0:   # as ShapeLead._fits_take: in place on the estimate's sums
+            num[gb] = s * (den[gb] + tc[gb, 2]) - tc[gb, 2]
+            size[gb] = s
 
 
 @compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,

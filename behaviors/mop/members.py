@@ -280,7 +280,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     # ``take_limit``: the take's; ``lengths`` (K,), ``tempo_x``, ``tempo_g``, ``onset``: the
     # tempo's). See member_validity.takes for what this saves
     member_validity.takes(present, m_flags[9], vectors[0], vectors[1], taken, ints[13], ints[0],
-                          ints[3], ints[6], m_flags[2], states, ti, mean, tc, mc, size,
+                          ints[3], ints[6], m_flags[2], states, ti, mean, tc, mc, floats,
                           take_limit)
     member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
                           ints[1], ints[3], vectors[0], tempo_x, tempo_g, scale, size,

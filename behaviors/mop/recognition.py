@@ -236,7 +236,8 @@ class Recognition:
             probabilities=ByName(index, p_list), progress_by=ByName(index, shown),
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
             loglik_by=ByName(index, mean_ll_list), likely=likely,
-            scale_by=ByName(index, size_list),
+            # (a take refused here may have sized its template: shape_lead.TAKE_RESIZE)
+            scale_by=ByName(index, size_list if valid else self._size.tolist()),
             holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
         if engaged:
             self._ended = -1

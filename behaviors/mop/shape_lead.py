@@ -218,15 +218,28 @@ valid ticks on mirrored paths, 0.45% of true ones; taken again only within 0.2):
 mean 0.0155, worst unchanged; a stricter limit off the estimate only (0.2 at it, 0.1 / 0.14 at
 0.7-0.9 and 1.12 times it): 0.9118 / 0.9122, gestures at 0.6 / 1.5x recognised by their end 0.975
 -> 0.925 / 0.95, unrelated mean 0.0146 / 0.0157.
+
+Sized where the take is refused (:data:`TAKE_RESIZE`): traced per tick (tuned, seeds 13 / 201),
+the valid ticks lost after 30% at 0.7-1.4x are mostly the true template not ``best`` while its
+size is over 15% off (65 / 109 of 417 / 422): a square drawn 0.7-0.85x keeps size 1 along its
+first side, stalls at the corner and the circle takes over. The take refusal cost 0.0001-0.0027
+(without it seeds 13 / 201 / 202 / 203 0.9124 / 0.9122 / 0.9070 / 0.9016 -> 0.9125 / 0.9125 /
+0.9097 / 0.9026), nearly all off track (lines' returns followed backwards). So a take refused at
+the estimate reads its samples on the path on to where one :data:`TAKE_SIZES`' least times as
+large would be, and sizes the template at the smaller size fitting within 0.05: valid after 30%
+0.9146 / 0.9144 / 0.9092 / 0.9045 (on track, seed 13, 0.9016 -> 0.9038; squares at 0.7x 0.65 ->
+0.87, 0.50 -> 0.71); unrelated and after a gesture (13, 201) identical. Not kept: that path for
+every take: 0.9125 / 0.9125 / 0.9075 / 0.9022, off track, unrelated mean 0.0183 -> 0.0186; the
+best size of every take: 0.8610 (a straight stroke fits any); of a take the estimate misfits:
+0.9185 / 0.9193 / 0.9178 / 0.9050, unrelated worst 0.074 -> 0.139; smaller only: 0.9195 /
+0.9184, 0.076; within 0.05: 0.9198 / 0.9177, mean 0.0189; both: 0.9200 / 0.9151, 0.0186.
 """
 
 from __future__ import annotations
 
-import functools
-import math
-
-import numba
 import numpy as np
+
+from behaviors.mop.take_fit import outwards, size_of_refused, take_fits_at
 
 
 #: Common spread, in still radii (per column: the still input's jitter scale, 1-2 mm for a puck),
@@ -261,93 +274,21 @@ DRIFT_FROM = 3.0
 TAKE_MISFIT2 = 0.2
 #: ... over this many samples since the gesture began ...
 TAKE_SAMPLES = 24
-#: ... from this many states behind its followed state to this many ahead ...
-TAKE_REACH = (30, 3)
+#: ... from :data:`~behaviors.mop.take_fit.TAKE_REACH` states behind its followed state to
+#: that many ahead ...
 #: ... at the best of these sizes (times the estimate, within ``scale_range``): down to 0.7 of it,
 #: up to only 1.12 (an input larger than the estimate shows itself at once; see the module
 #: docstring, "Not at a size the follower does not hold").
 TAKE_SIZES = (0.7, 0.8, 0.9, 1.0, 1.12)
 
 
-@functools.lru_cache(maxsize=8)
-def outwards(sizes: tuple[float, ...]) -> np.ndarray:
-    """``sizes`` (factors of the size estimate) ordered from the estimate outwards, so a take
-    that fits stops at the first size that does (:func:`take_fits`)."""
-    return np.array(sorted(sizes, key=lambda f: abs(math.log(f))))
-
-
 #: :data:`TAKE_SIZES` from the estimate outwards as the group's compiled pass reads them
 #: (:func:`behaviors.mop.member_validity.takes`; the follower reads TAKE_SIZES at each take).
 TAKE_SIZES_OUTWARDS = outwards(TAKE_SIZES)
-
-
-@numba.njit(cache=True, nogil=True)
-def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
-              size: float, lo: float, hi: float, decay: float, norm: float,
-              sizes: np.ndarray, limit: float) -> bool:
-    """Whether at any of ``sizes`` (:data:`TAKE_SIZES`, times ``size``, within ``lo``..``hi``)
-    the mean square distance (forgotten with ``decay`` per sample, the last weighing most;
-    divided by ``norm``) between ``samples`` (n, d: raw, from the anchor) read at that size in
-    a template's units (``scale``, ``first``: its spread and first state) and the segments
-    joining the states ``path`` (m, d) is within ``limit``. Stops at the first size that fits,
-    and leaves a size once its samples so far exceed ``limit`` even were the rest to lie on the
-    path (the same answer as the least over every size, at a seventh of the work for a true
-    take). Compiled: the follower and the group call it alike."""
-    n, d = samples.shape
-    z = np.empty(d)
-    total_weight = 0.0
-    w = 1.0
-    for j in range(n):
-        total_weight += w
-        w *= decay
-    for f in sizes:
-        s = min(max(size * f, lo), hi)
-        total, weight, w = 0.0, 0.0, 1.0
-        for j in range(n - 1, -1, -1):
-            for c in range(d):
-                z[c] = samples[j, c] / scale[c] / s + first[c]
-            nearest = math.inf
-            for a in range(path.shape[0] - 1):
-                za, ab2 = 0.0, 0.0
-                for c in range(d):
-                    ab = path[a + 1, c] - path[a, c]
-                    za += (z[c] - path[a, c]) * ab
-                    ab2 += ab * ab
-                t = min(max(za / max(ab2, 1e-12), 0.0), 1.0)
-                dd = 0.0
-                for c in range(d):
-                    e = z[c] - path[a, c] - t * (path[a + 1, c] - path[a, c])
-                    dd += e * e
-                nearest = min(nearest, dd)
-            total += w * nearest
-            weight += w
-            w *= decay
-            if total / total_weight / norm > limit:
-                break
-        else:
-            if total / weight / norm <= limit:
-                return True
-    return False
-
-
-@numba.njit(cache=True, nogil=True)
-def take_fits_at(samples: np.ndarray, means: np.ndarray, off: int, start: int, length: int,
-                 g: float, scale: np.ndarray, first: np.ndarray, size: float, lo: float,
-                 hi: float, decay: float, norm: float, sizes: np.ndarray,
-                 limit: float) -> bool:
-    """:func:`take_fits` at ``sizes`` (:data:`TAKE_SIZES` from the estimate outwards) within
-    ``limit`` of a template followed at state ``g`` (its bank's index; ``start``, ``length``: its first state and its states), over
-    its path from :data:`TAKE_REACH` states behind ``g`` to ahead of it: rows of ``means``
-    (bank index plus ``off``), their first ``d`` columns (``samples`` (n, d); ``scale``,
-    ``first``: as :func:`take_fits`, at least ``d`` long). True where that path is one state.
-    The follower and the group (:func:`behaviors.mop.member_validity.takes`) call it."""
-    a = max(start, int(g) - TAKE_REACH[0])
-    b = min(int(g) + TAKE_REACH[1], start + length - 1)
-    if b <= a:
-        return True
-    d = samples.shape[1]
-    return take_fits(samples, means[a + off:b + off + 1, :d], scale[:d], first[:d], size, lo, hi,
-                     decay, norm, sizes, limit)
+#: A take refused at its size estimate (:meth:`ShapeLead._fits_take`) sizes its template at the
+#: smaller of :data:`TAKE_SIZES` times the estimate at which the same samples lie nearest its path
+#: ahead, when within this mean square distance (as :data:`TAKE_MISFIT2`; 0: never).
+TAKE_RESIZE = 0.05
 
 
 class ShapeLead:
@@ -426,13 +367,25 @@ class ShapeLead:
     def _fits_take(self, samples: np.ndarray, k: int, g: float, size: float) -> bool:
         """Whether template ``k``, followed at state ``g`` (bank index) at size ``size``, may
         be taken as far as the gesture's last ``samples`` (n, d: from the anchor) are concerned:
-        :func:`take_fits` within :data:`TAKE_MISFIT2` over its path from
-        :data:`TAKE_REACH` states behind ``g`` to ahead of it ("scale" invariance only)."""
+        :func:`~behaviors.mop.take_fit.take_fits` within :data:`TAKE_MISFIT2` over its path
+        from :data:`~behaviors.mop.take_fit.TAKE_REACH` states behind ``g`` to ahead of it
+        ("scale" invariance only); refused, the size :data:`TAKE_RESIZE` may find is taken."""
         if self.invariance != "scale" or len(samples) == 0:
             return True
         b = self.bank
-        return take_fits_at(np.ascontiguousarray(samples, dtype=float), b.means, 0,
-                            int(b.starts[k]), int(b.lengths[k]), g, b.scale[k],
-                            self._first_z[k], float(size), *self.scale_range,
-                            self._misfit_decay, self.sigma ** 2 * self.dim,
-                            outwards(TAKE_SIZES), TAKE_MISFIT2)
+        samples = np.ascontiguousarray(samples, dtype=float)
+        start, length = int(b.starts[k]), int(b.lengths[k])
+        norm, sizes = self.sigma ** 2 * self.dim, outwards(TAKE_SIZES)
+        if take_fits_at(samples, b.means, 0, start, length, g, b.scale[k], self._first_z[k],
+                        float(size), *self.scale_range, self._misfit_decay, norm, sizes,
+                        TAKE_MISFIT2):
+            return True
+        if TAKE_RESIZE > 0:
+            s = size_of_refused(samples, b.means, self._arc, 0, start, length, g, b.scale[k],
+                                self._first_z[k], float(size),
+                                max(self.scale_range[0], float(self._least[k])),
+                                self._misfit_decay, norm, sizes, TAKE_RESIZE)
+            if s > 0.0:   # in place on the estimate's sums (as invariance's reversal sizes)
+                self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
+                self._size[k] = s
+        return False

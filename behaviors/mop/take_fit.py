@@ -1,0 +1,160 @@
+"""The fit of a gesture's last samples to a template's path near its followed state, read at
+several sizes (:meth:`behaviors.mop.shape_lead.ShapeLead._fits_take`: a new action is taken
+only while they fit; the rules, their thresholds and their figures are in
+:mod:`behaviors.mop.shape_lead`). Samples are raw (n, d: from the gesture's anchor, in the
+input's units); a template's path is its states (in its units: ``scale``, ``first``); misfits
+are mean square distances to the segments joining the states, forgotten with ``decay`` per
+sample (the last weighing most) and divided by ``norm`` (sigma squared per column times the
+columns). Compiled: the follower and the group call the same functions.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numba
+import numpy as np
+
+#: ... from this many states behind its followed state to this many ahead ...
+TAKE_REACH = (30, 3)
+
+
+@functools.lru_cache(maxsize=8)
+def outwards(sizes: tuple[float, ...]) -> np.ndarray:
+    """``sizes`` (factors of the size estimate) ordered from the estimate outwards, so a take
+    that fits stops at the first size that does (:func:`take_fits`)."""
+    return np.array(sorted(sizes, key=lambda f: abs(math.log(f))))
+
+
+@numba.njit(cache=True, nogil=True)
+def _nearest2(z: np.ndarray, path: np.ndarray) -> float:
+    """The squared distance from point ``z`` (d,) to the nearest of the segments joining the
+    states ``path`` (m, d)."""
+    d = z.size
+    nearest = math.inf
+    for a in range(path.shape[0] - 1):
+        za, ab2 = 0.0, 0.0
+        for c in range(d):
+            ab = path[a + 1, c] - path[a, c]
+            za += (z[c] - path[a, c]) * ab
+            ab2 += ab * ab
+        t = min(max(za / max(ab2, 1e-12), 0.0), 1.0)
+        dd = 0.0
+        for c in range(d):
+            e = z[c] - path[a, c] - t * (path[a + 1, c] - path[a, c])
+            dd += e * e
+        nearest = min(nearest, dd)
+    return nearest
+
+
+@numba.njit(cache=True, nogil=True)
+def _read_near2(x: np.ndarray, scale: np.ndarray, first: np.ndarray, size: float,
+                path: np.ndarray, z: np.ndarray) -> float:
+    """:func:`_nearest2` of sample ``x`` (d,: raw, from the anchor) read at ``size`` in a
+    template's units (``scale``, ``first``) into ``z``."""
+    for c in range(x.size):
+        z[c] = x[c] / scale[c] / size + first[c]
+    return _nearest2(z, path)
+
+
+@numba.njit(cache=True, nogil=True)
+def take_size(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
+              size: float, least: float, decay: float, norm: float, sizes: np.ndarray,
+              limit: float) -> float:
+    """The size below ``size`` (``sizes`` below 1 times it, none below ``least``) at which the
+    mean square distance of :func:`take_fits` between ``samples`` and the segments joining
+    ``path`` is least, when within ``limit``; 0 when none is. Compiled: the follower and the
+    group call it alike."""
+    n = samples.shape[0]
+    z = np.empty(samples.shape[1])
+    best, best_size = limit, 0.0
+    for f in sizes:
+        s = size * f
+        if f >= 1.0 or s < least:
+            continue
+        total, weight, w = 0.0, 0.0, 1.0
+        for j in range(n - 1, -1, -1):
+            total += w * _read_near2(samples[j], scale, first, s, path, z)
+            weight += w
+            w *= decay
+        if total / weight / norm <= best:
+            best, best_size = total / weight / norm, s
+    return best_size
+
+
+@numba.njit(cache=True, nogil=True)
+def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
+              size: float, lo: float, hi: float, decay: float, norm: float,
+              sizes: np.ndarray, limit: float) -> bool:
+    """Whether at any of ``sizes`` (``shape_lead.TAKE_SIZES``, times ``size``, within
+    ``lo``..``hi``) the mean square distance (forgotten with ``decay`` per sample, the last weighing most;
+    divided by ``norm``) between ``samples`` (n, d: raw, from the anchor) read at that size in
+    a template's units (``scale``, ``first``: its spread and first state) and the segments
+    joining the states ``path`` (m, d) is within ``limit``. Stops at the first size that fits,
+    and leaves a size once its samples so far exceed ``limit`` even were the rest to lie on the
+    path (the same answer as the least over every size, at a seventh of the work for a true
+    take). Compiled: the follower and the group call it alike."""
+    n = samples.shape[0]
+    z = np.empty(samples.shape[1])
+    total_weight = 0.0
+    w = 1.0
+    for j in range(n):
+        total_weight += w
+        w *= decay
+    for f in sizes:
+        s = min(max(size * f, lo), hi)
+        total, weight, w = 0.0, 0.0, 1.0
+        for j in range(n - 1, -1, -1):
+            total += w * _read_near2(samples[j], scale, first, s, path, z)
+            weight += w
+            w *= decay
+            if total / total_weight / norm > limit:
+                break
+        else:
+            if total / weight / norm <= limit:
+                return True
+    return False
+
+
+@numba.njit(cache=True, nogil=True)
+def take_fits_at(samples: np.ndarray, means: np.ndarray, off: int, start: int, length: int,
+                 g: float, scale: np.ndarray, first: np.ndarray, size: float, lo: float,
+                 hi: float, decay: float, norm: float, sizes: np.ndarray,
+                 limit: float) -> bool:
+    """:func:`take_fits` at ``sizes`` (``shape_lead.TAKE_SIZES`` from the estimate outwards)
+    within ``limit`` of a template followed at state ``g`` (its bank's index; ``start``,
+    ``length``: its first state and its states), over its path from :data:`TAKE_REACH` states
+    behind ``g`` to ahead of it: rows of ``means``
+    (bank index plus ``off``), their first ``d`` columns (``samples`` (n, d); ``scale``,
+    ``first``: as :func:`take_fits`, at least ``d`` long). True where that path is one state.
+    The follower and the group (:func:`behaviors.mop.member_validity.takes`) call it."""
+    a = max(start, int(g) - TAKE_REACH[0])
+    b = min(int(g) + TAKE_REACH[1], start + length - 1)
+    if b <= a:
+        return True
+    d = samples.shape[1]
+    return take_fits(samples, means[a + off:b + off + 1, :d], scale[:d], first[:d], size, lo, hi,
+                     decay, norm, sizes, limit)
+
+
+@numba.njit(cache=True, nogil=True)
+def size_of_refused(samples: np.ndarray, means: np.ndarray, arc: np.ndarray, off: int,
+                    start: int, length: int, g: float, scale: np.ndarray, first: np.ndarray,
+                    size: float, least: float, decay: float, norm: float, sizes: np.ndarray,
+                    limit: float) -> float:
+    """For a take :func:`take_fits_at` refused (same arguments; ``arc`` the rows' path lengths,
+    ``least`` the smallest size the template may take): the samples may be those of a smaller
+    performance the followed state lags along the path by the size's ratio, so they are read
+    on the path on to where it would be at the least of ``sizes``: :func:`take_size` there (0:
+    none within ``limit``). The follower and the group call it alike."""
+    a = max(start, int(g) - TAKE_REACH[0])
+    last = start + length - 1
+    want = arc[int(g) + off] / sizes.min()
+    ahead = start   # the first state as far along as ``want`` (numpy's searchsorted, left)
+    while ahead <= last and arc[ahead + off] < want:
+        ahead += 1
+    b = min(ahead + TAKE_REACH[1], last)
+    d = samples.shape[1]
+    return take_size(samples, means[a + off:b + off + 1, :d], scale[:d], first[:d], size, least,
+                     decay, norm, sizes, limit)
