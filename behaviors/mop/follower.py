@@ -13,24 +13,10 @@ parameters, templates and state); each sample's evidence, probabilities, best an
 concluded in :mod:`behaviors.mop.recognition`.
 
 - A non-finite sample (a lost input) changes nothing: the previous state is returned, invalid.
-- A glitch (a marker misread for one frame, a mocap joint flipped) is held as lost too: a
-  sample farther from the last one followed, in any column, than :data:`GLITCH_STEPS` times
-  the templates' largest per-sample step in that column at the largest size (``scale_range``'s
-  top) plus :data:`GLITCH_SIGMAS` sigmas of noise (:func:`glitch_limits`), counted in
-  ``glitches``. Only one: a second such sample in a row (measured again from the last one
-  followed) is a real departure and is followed. One sample of dx = 5 m at row 11 of the
-  example circle (61 rows, the six example gestures loaded) made the follower end on the
-  zigzag (features as recorded) or the line ("scale"), valid on no row, where the clean circle
-  ends on it at p 1.0 (valid on 45 / 43 rows): its log-likelihood, thousands of nats below
-  every state, outweighed the whole performance in the evidence and the refusal's memory.
-  Held, it ends as with that sample lost (44 / 43 rows valid). With the example gestures the
-  limit is 19 cm in x and y: a 20 cm misread is held (before: "scale" ended on the line,
-  valid on no row), a 10 cm one is not and still costs (valid on 23-26 rows instead of 43-44).
-  ``bench/follow_quality.py --sections=sized,holds,sequences,unrelated,after`` (no glitches):
-  all 182 figures unchanged to the last digit, held-out ones too. Tried first without the
-  noise term (3 largest steps at the largest size alone, 10-12 cm here): the bench equally
-  unchanged, but noisy streams (``tests/mop/test_follower.py``'s performances with noise of a
-  tenth of the spread, a still column's jitter) had samples held and lost accuracy.
+- A glitch (a marker misread for one frame, a mocap joint flipped) is held as lost too, counted
+  in ``glitches``: a sample that jumped farther than any performer moves in a sample, or that
+  left every likely template's path at once (:mod:`behaviors.mop.glitch`, its figures). Only
+  one: a second in a row is a real departure and is followed.
 """
 
 from __future__ import annotations
@@ -41,6 +27,8 @@ from typing import Mapping
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.glitch import (OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, glitch_limits,
+                                  path_distance)
 from behaviors.mop.holding import hold_maps
 from behaviors.mop.hmm import HOLD_DWELL, TemplateError, Transitions, build_bank
 from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame, template_velocities
@@ -55,27 +43,6 @@ from behaviors.mop.turning import Turning
 from behaviors.mop.validity import Validity
 
 __all__ = ["ActionFollower", "FollowState", "TemplateError", "SampleError"]
-
-#: A sample farther from the last one followed than this many of the templates' largest
-#: per-sample steps at the largest size (plus :data:`GLITCH_SIGMAS` of noise), in any column,
-#: is a glitch: the forward's longest skip (3 states a sample; performers go up to twice the
-#: recorded speed).
-GLITCH_STEPS = 3.0
-#: ... plus this many ``sigma`` of the templates' widest spread in that column: two samples
-#: each 3 sigma off, in opposite directions.
-GLITCH_SIGMAS = 6.0
-
-
-def glitch_limits(templates: Mapping[str, np.ndarray], largest_size: float, sigma: float,
-                  scale: np.ndarray) -> np.ndarray:
-    """Per column (d,), in the features' units, the step from the last sample followed beyond
-    which a sample is a glitch: :data:`GLITCH_STEPS` times the largest step of any template
-    in that column at ``largest_size``, plus :data:`GLITCH_SIGMAS` times ``sigma`` of the
-    widest of the templates' ``scale`` (K, d) there (the noise every template accepts)."""
-    top = np.max([np.abs(np.diff(np.asarray(a, dtype=float), axis=0)).max(axis=0)
-                  for a in templates.values()], axis=0)
-    return GLITCH_STEPS * largest_size * top + GLITCH_SIGMAS * sigma * scale.max(axis=0)
-
 
 class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, GestureSpotting,
                      ShapeLead):
@@ -198,6 +165,10 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._setup_turning()
         self._jump = glitch_limits(templates, hi, self.sigma, b.scale)
         self.glitches = 0   # samples held as glitches (module docstring)
+        # the squared path distances (glitch.path_distance) of a sample off every path and of
+        # one on a path
+        self._off_limit2 = OFF_PATH ** 2 * self.sigma ** 2 * float(self.dim)
+        self._on_limit2 = ON_PATH ** 2 * self.sigma ** 2 * float(self.dim)
         self.reset()
 
     def _onset_states(self) -> np.ndarray:
@@ -229,6 +200,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._ended = -1
         self._last_x: np.ndarray | None = None   # the last sample followed (_glitch)
         self._jumped = False   # the last finite sample was held as a glitch
+        self._strayed = False   # the last sample followed lay off every path (glitch.ON_PATH)
 
     def _forget(self) -> None:
         """Forget the evidence, sizes and validity of every template (not the forward state)."""
@@ -320,10 +292,24 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         last = self._last_x
         if last is None:
             return False
-        glitch = bool((np.abs(x - last) > self._jump).any()) and not self._jumped
+        near2 = self._path_distance2(x)
+        glitch = not self._jumped and (bool((np.abs(x - last) > self._jump).any())
+                                       or (near2 > self._off_limit2 and not self._strayed))
         self._jumped = glitch
+        if not glitch:
+            self._strayed = near2 > self._on_limit2
         self.glitches += glitch
         return glitch
+
+    def _path_distance2(self, x: np.ndarray) -> float:
+        """The finite sample x's squared distance from every likely template's reach
+        (:func:`behaviors.mop.glitch.path_distance`); 0 before any template was followed."""
+        if self._best < 0:
+            return 0.0
+        b = self.bank
+        return path_distance(np.ascontiguousarray(self._positions(x)), b.means, b.starts,
+                             b.lengths, self.forward.mean, self._evidence, self._refused, 0,
+                             len(self.names), self.dim, REACH_BACK, REACH_AHEAD)
 
     def same_parameters(self, other: "ActionFollower") -> bool:
         """True when ``other`` follows with the same parameters (its templates may differ)."""

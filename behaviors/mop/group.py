@@ -19,6 +19,7 @@ from behaviors.mop.group_arrays import GroupArrays
 from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
+from behaviors.mop.glitch import OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, path_distances
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
 from behaviors.mop.validity import PATH_REACH
@@ -76,12 +77,20 @@ class FollowerGroup(GroupArrays, GroupRules):
         self._jump = np.array([np.pad(f._jump, (0, dmax - f.dim), constant_values=np.inf)
                                for f in self.followers])
         self._jumped = np.zeros(len(self.followers), dtype=bool)
+        self._off_dims = np.array([f.dim for f in self.followers], dtype=np.intp)
+        self._off_limit2 = OFF_PATH ** 2 * p["sigma"] ** 2 * self._off_dims.astype(float)
+        self._on_limit2 = ON_PATH ** 2 * p["sigma"] ** 2 * self._off_dims.astype(float)
+        self._near2 = np.zeros(len(self.followers))   # the samples' path distances (squared)
+        self._off = np.zeros(len(self.followers), dtype=bool)   # each beyond OFF_PATH
+        # the last sample followed beyond ON_PATH (ActionFollower._strayed)
+        self._strayed = np.zeros(len(self.followers), dtype=bool)
         self.reset()
 
     def _clear_members(self, rows: np.ndarray) -> None:
         """Members ``rows`` (bool or indices) forget their performance (ActionFollower.reset)."""
         self._has_anchor[rows] = False
         self._jumped[rows] = False
+        self._strayed[rows] = False
         self._nbuf[rows] = 0
         self._ended[rows] = -1
         self._forget_members(rows)
@@ -127,9 +136,10 @@ class FollowerGroup(GroupArrays, GroupRules):
             except (ValueError, TypeError):
                 stacked = None
         fits = stacked is not None and stacked.shape == X.shape
-        if fits and group_steps.take_samples(stacked, X, self._anchor, self._has_anchor,
-                                             self._jump, self._jumped):
+        if fits and not self._off_paths(stacked) and group_steps.take_samples(
+                stacked, X, self._anchor, self._has_anchor, self._jump, self._jumped):
             present = self._everyone   # every sample finite, none a glitch, anchors taken
+            np.greater(self._near2, self._on_limit2, out=self._strayed)
         else:   # a lost member (or a glitch) keeps its last sample
             if fits:
                 present = np.isfinite(stacked.sum(axis=1))
@@ -143,6 +153,7 @@ class FollowerGroup(GroupArrays, GroupRules):
                         present[i] = False
                     else:
                         new[i, :f.dim] = x
+                self._off_paths(new)
             present &= ~self._glitched(new, present)
             X[present] = new[present]
             lost = np.flatnonzero(~present).tolist()
@@ -174,12 +185,28 @@ class FollowerGroup(GroupArrays, GroupRules):
         samples ``new`` (M, D) are glitches to hold (counted in their followers' ``glitches``)."""
         rows = np.flatnonzero(present & self._has_anchor)
         far = (np.abs(new[rows] - self._x[rows]) > self._jump[rows]).any(axis=1)
+        far |= self._off[rows] & ~self._strayed[rows]
         glitch = np.zeros(len(self.followers), dtype=bool)
         glitch[rows] = far & ~self._jumped[rows]
         self._jumped[present] = glitch[present]
+        kept = present & ~glitch
+        self._strayed[kept] = self._near2[kept] > self._on_limit2[kept]
         for i in np.flatnonzero(glitch).tolist():
             self.followers[i].glitches += 1
         return glitch
+
+    def _off_paths(self, new: np.ndarray) -> bool:
+        """:meth:`ActionFollower._path_distance2` of every member's sample ``new`` (M, D) into
+        ``_near2``, beyond OFF_PATH into ``_off``; whether any is a glitch by it (not held the tick before, nor its last sample
+        followed off every path: its samples then go one by one)."""
+        group_steps.map_inputs(new, self._anchor, self._tc, self._mc, self._size, self._k_first,
+                               self._bounds, self._counts, self._z)
+        fw = self.forward
+        path_distances(self._z, fw.bank.means, fw.bank.starts, fw.bank.lengths, fw.mean,
+                       self._evidence, self._refused, self._bounds, self._counts, self._off_dims,
+                       self._best, self._near2, REACH_BACK, REACH_AHEAD)
+        np.greater(self._near2, self._off_limit2, out=self._off)
+        return bool((self._off & ~self._jumped & ~self._strayed).any())
 
     def _owner_of(self, members: list[int] | np.ndarray | slice) -> np.ndarray:
         """Which templates (K,) belong to ``members`` (indices, a mask or a slice of the

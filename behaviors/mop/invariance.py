@@ -309,19 +309,24 @@ class PerformanceFrame:
         return TemplateBank(b.names, np.ascontiguousarray(np.hstack([b.means, self.tangent * t])),
                             b.starts, b.lengths, b.center, b.scale, b.first, b.source, b.units, b.holds)
 
+    def _positions(self, x: np.ndarray) -> np.ndarray:
+        """The sample's position in every template's standardised units (K, d), once anchored:
+        :meth:`_inputs` without direction of motion, changing nothing."""
+        b = self.bank
+        if self.invariance == "none":
+            return (x - b.center) / b.scale
+        r = (x - self._anchor)[None, :]
+        if self.invariance == "scale":
+            r = r / self._size[:, None]
+        return r / b.scale + self._first_z
+
     def _inputs(self, x: np.ndarray) -> np.ndarray:
         """The sample in every template's standardised units (K, d): relative to the anchor and
         divided by the template's estimated size (see ``invariance``)."""
         b = self.bank
         if self._anchor is None:
             self._anchor = x.copy()
-        if self.invariance == "none":
-            z = (x - b.center) / b.scale
-        else:
-            r = (x - self._anchor)[None, :]
-            if self.invariance == "scale":
-                r = r / self._size[:, None]
-            z = r / b.scale + self._first_z
+        z = self._positions(x)
         if self.tangent <= 0:
             return z
         lag = self._lag
