@@ -21,13 +21,13 @@ much. The sample lies farther than :data:`OFF_PATH` sigmas (RMS per feature, in 
 own units and estimated size) from every state that a likely template (not refused, its
 evidence within :data:`OFF_PATH_NATS` of the likeliest's) can reach from its progress in one
 step (:data:`REACH_BACK` states back to :data:`REACH_AHEAD` ahead of the state at its mean),
-while the last sample followed lay within :data:`ON_PATH` sigmas of one, and no likely
-template has its last state in reach (a gesture at its end: the next may begin anywhere). Its log-likelihood,
-four to nine sigmas (RMS) below the followed template's, let whichever template lay nearest
-the misread point (another gesture's stretch, 0.8 sigma from it at row 40 of the circle) take
-tens of nats of evidence at once and the refusal's recent likelihood refuse the circle; in the
-forward window all probability went to the state nearest the glitch. Held, none of that
-happens. Measured on the example circle in ``tabletop follow`` (the six example gestures
+while the last sample followed lay within :data:`ON_PATH` sigmas of one, and no likely template has
+its last state in reach (a gesture at its end: the next may begin anywhere). Its log-likelihood,
+four to nine sigmas (RMS) below the followed template's, let whichever template lay nearest the
+misread point (another gesture's stretch, 0.8 sigma from it at row 40 of the circle) take tens of
+nats of evidence at once and the refusal's recent likelihood refuse the circle; in the forward
+window all probability went to the state nearest the glitch. Held, none of that happens.
+Measured on the example circle in ``tabletop follow`` (the six example gestures
 loaded; one misread sample, dx or dy off by +-5, 8, 10, 13, 16 or 18 cm at row 6, 11, 20, 30, 40
 or 50: 144 runs per invariance): valid rows, min / median over the runs, and the runs that
 lost more than two rows against the clean circle (45 "none", 43 "scale" and "offset"):

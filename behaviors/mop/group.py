@@ -197,8 +197,8 @@ class FollowerGroup(GroupArrays, GroupRules):
 
     def _off_paths(self, new: np.ndarray) -> bool:
         """:meth:`ActionFollower._path_distance2` of every member's sample ``new`` (M, D) into
-        ``_near2``, beyond OFF_PATH into ``_off``; whether any is a glitch by it (not held the tick before, nor its last sample
-        followed off every path: its samples then go one by one)."""
+        ``_near2``, beyond OFF_PATH into ``_off``; whether any is a glitch by it (not held the tick
+        before, nor its last sample followed off every path: its samples then go one by one)."""
         group_steps.map_inputs(new, self._anchor, self._tc, self._mc, self._size, self._k_first,
                                self._bounds, self._counts, self._z)
         fw = self.forward

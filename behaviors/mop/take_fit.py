@@ -88,13 +88,13 @@ def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
               size: float, lo: float, hi: float, decay: float, norm: float,
               sizes: np.ndarray, limit: float) -> bool:
     """Whether at any of ``sizes`` (``shape_lead.TAKE_SIZES``, times ``size``, within
-    ``lo``..``hi``) the mean square distance (forgotten with ``decay`` per sample, the last weighing most;
-    divided by ``norm``) between ``samples`` (n, d: raw, from the anchor) read at that size in
-    a template's units (``scale``, ``first``: its spread and first state) and the segments
-    joining the states ``path`` (m, d) is within ``limit``. Stops at the first size that fits,
-    and leaves a size once its samples so far exceed ``limit`` even were the rest to lie on the
-    path (the same answer as the least over every size, at a seventh of the work for a true
-    take). Compiled: the follower and the group call it alike."""
+    ``lo``..``hi``) the mean square distance (forgotten with ``decay`` per sample, the last
+    weighing most; divided by ``norm``) between ``samples`` (n, d: raw, from the anchor) read at
+    that size in a template's units (``scale``, ``first``: its spread and first state) and the
+    segments joining the states ``path`` (m, d) is within ``limit``. Stops at the first size
+    that fits, and leaves a size once its samples so far exceed ``limit`` even were the rest to
+    lie on the path (the same answer as the least over every size, at a seventh of the work for
+    a true take). Compiled: the follower and the group call it alike."""
     n = samples.shape[0]
     z = np.empty(samples.shape[1])
     total_weight = 0.0

@@ -21,7 +21,8 @@ def pm(main: str) -> str:
 @pytest.mark.parametrize("engines, key, words", [
     (pm("{puck: 46}"), "engines[0].main.puck", "puck 46 is the studio's control marker "
      "studio.markers.stop"),
-    (pm("{first: [{character: c}, {puck: 48}]}") + MOP.replace("id: 47", "id: 2").replace("two.csv", "two_2.csv"),
+    (pm("{first: [{character: c}, {puck: 48}]}")
+     + MOP.replace("id: 47", "id: 2").replace("two.csv", "two_2.csv"),
      "engines[0].main.first[1].puck", "puck 48 is the studio's control marker "
      "studio.markers.redo"),
     (pm("{nearest: [{puck: 1}, {puck: 45}]}"), "engines[0].main.nearest[1].puck",

@@ -94,21 +94,15 @@ def test_places_off_the_table(tmp_path, capfd, snippet, key):
 
 @pytest.mark.parametrize("snippet, key, words", [
     ("sources:\n  - {kind: synthetic_camera, pucks: [1, 2, 1]}\n", "sources[0].pucks[2]",
-     "puck 1 is also pucks[0]"),
+     "puck 1 is also pucks[0]; give each puck once"),
     ("sources:\n  - kind: scripted\n    pucks: []\n    performers:\n"
      "      - {puck: 3, home: [0.5, 0.5], gestures: [g.csv]}\n"
      "      - {puck: 3, home: [0.2, 0.5], gestures: [g.csv]}\n", "sources[0].performers[1].puck",
-     "puck 3 is also performers[0]"),
+     "puck 3 is also performers[0]; give each puck once"),
     ("sources: [{kind: scripted}]\nkiosk: {attract: {pucks: [4, 4]}}\n", "kiosk.attract.pucks[1]",
-     "puck 4 is also pucks[0]"),
-])
-def test_a_puck_given_twice_in_a_source(tmp_path, capfd, snippet, key, words):
-    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
-    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
-    assert code == 2 and f"kiosk.yaml: {key}: {words}; give each puck once" in one_line(err)
-
-
-@pytest.mark.parametrize("snippet, key, words", [
+     "puck 4 is also pucks[0]; give each puck once"),
+    # a performer's speed [2, 0.5] ran with the scripted source raising in every tick (its
+    # pucks never came); a scale_range without 1 stopped the build naming no key
     ("sources:\n  - kind: scripted\n    pucks: []\n    performers:\n"
      "      - {puck: 3, home: [0.5, 0.5], gestures: [g.csv], speed: [2, 0.5]}\n",
      "sources[0].performers[0].speed", "expected [least, most], each a number in [0.05, 20.0], "
@@ -120,9 +114,7 @@ def test_a_puck_given_twice_in_a_source(tmp_path, capfd, snippet, key, words):
      "engines[0].follower.scale_range", "expected [least, most] holding 1, each a number in "
      "[0.05, 20.0], got [1.2, 1.8]"),
 ])
-def test_a_range_given_the_wrong_way_round(tmp_path, capfd, snippet, key, words):
-    # a performer's speed [2, 0.5] ran with the scripted source raising in every tick (its
-    # pucks never came); a scale_range without 1 stopped the build naming no key
+def test_a_puck_given_twice_or_a_range_the_wrong_way_round(tmp_path, capfd, snippet, key, words):
     (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
     code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
     assert code == 2 and f"kiosk.yaml: {key}: {words}" in one_line(err)
