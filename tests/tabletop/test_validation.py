@@ -26,6 +26,14 @@ def one_line(err: str) -> str:
     return lines[0]
 
 
+def run_snippet(tmp_path: Path, snippet: str, capfd) -> tuple[int, str]:
+    """``snippet`` run with the view off and a gesture ``g.csv`` beside it: the exit code and
+    the one line said."""
+    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
+    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
+    return code, one_line(err)
+
+
 @pytest.mark.parametrize("content, words", [
     ("just: garbage: [\n", ["YAML syntax error"]),
     ("format: tabletop-calibration\nversion: 1\ncamera_to_table: [[1, 0], [0, 1]]\n",
@@ -70,9 +78,7 @@ def test_the_top_level_calibration_maps_the_view(tmp_path):
     ("sources:\n  - kind: scripted\ntracking:\n  puck_ids: {\"77\": 1}\n", "tracking.puck_ids.77"),
 ])
 def test_marker_ids_outside_the_dictionary(tmp_path, capfd, snippet, key):
-    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
-    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
-    line = one_line(err)
+    code, line = run_snippet(tmp_path, snippet, capfd)
     assert code == 2 and f"kiosk.yaml: {key}: marker id" in line and "not in DICT_4X4" in line
 
 
@@ -87,9 +93,8 @@ def test_marker_ids_outside_the_dictionary(tmp_path, capfd, snippet, key):
      "engines[0].at: [-0.1, 0.4] is off"),
 ])
 def test_places_off_the_table(tmp_path, capfd, snippet, key):
-    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
-    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
-    assert code == 2 and f"kiosk.yaml: {key}" in one_line(err)
+    code, line = run_snippet(tmp_path, snippet, capfd)
+    assert code == 2 and f"kiosk.yaml: {key}" in line
 
 
 @pytest.mark.parametrize("snippet, key, words", [
@@ -115,9 +120,8 @@ def test_places_off_the_table(tmp_path, capfd, snippet, key):
      "[0.05, 20.0], got [1.2, 1.8]"),
 ])
 def test_a_puck_given_twice_or_a_range_the_wrong_way_round(tmp_path, capfd, snippet, key, words):
-    (tmp_path / "g.csv").write_text("t,dx,dy\n0,0,0\n1,0.1,0\n")
-    code, err = run_config(tmp_path, snippet + "view: {enabled: false}\n", capfd)
-    assert code == 2 and f"kiosk.yaml: {key}: {words}" in one_line(err)
+    code, line = run_snippet(tmp_path, snippet, capfd)
+    assert code == 2 and f"kiosk.yaml: {key}: {words}" in line
 
 
 @pytest.mark.parametrize("snippet, key, words", [
