@@ -11,8 +11,8 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from tabletop.files import (FileFormatError, atomic_write_text, check_positions, read_csv_lines,
-                            write_csv)
+from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
+                            read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
 
 BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
@@ -96,11 +96,7 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
     x = data[:, [header.index(n) for n in names]]
     if "t" in header:
         t = data[:, header.index("t")]
-        back = np.flatnonzero(np.diff(t) <= 0)
-        if back.size:   # named by its file line, as every other CSV error is
-            i = int(back[0]) + 1
-            raise FileFormatError(f"{path}: line {lines[i]}: column 't' must strictly increase; "
-                                  f"{t[i]:g} is not after {t[i - 1]:g} (line {lines[i - 1]})")
+        check_increasing(t, path, lines=lines)   # named by its file line, as every CSV error
         if t[-1] - t[0] > MAX_TEMPLATE_S:
             raise FileFormatError(f"{path}: the template spans {t[-1] - t[0]:g} s (column 't'); "
                                   f"at most {MAX_TEMPLATE_S:g} s can be followed")
@@ -158,14 +154,17 @@ def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_h
     return out, problems
 
 
-def library_names(folder: Path, character: str) -> set[str]:
+def library_names(folder: Path, character: str,
+                  entries: list[dict[str, str]] | None = None) -> set[str]:
     """Every name ``character``'s library folder holds, loaded or not: its entries' names (when
-    actions.yaml reads) and the stems of its files (a template skipped at load as corrupt, or
-    one no entry names, is still someone's data). A new take is named none of them."""
+    actions.yaml reads; ``entries``: as already read) and the stems of its files (a template
+    skipped at load as corrupt, or one no entry names, is still someone's data). A new take is
+    named none of them."""
     d = folder / character
     names = {p.stem for p in d.iterdir()} if d.is_dir() else set()
     try:
-        names |= {a["name"] for a in read_library(folder, character)}
+        names |= {a["name"] for a in (read_library(folder, character) if entries is None
+                                      else entries)}
     except MopError:
         pass                        # (a keep is refused while actions.yaml is corrupt)
     return names
@@ -181,7 +180,7 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
     d = folder / character
     entries = read_library(folder, character)
     csv_name = f"{action}.csv"
-    if action in library_names(folder, character):
+    if action in library_names(folder, character, entries):
         raise MopError(f"{d}: {action!r} is in the library already; not written over")
     t = np.arange(len(samples)) / rate_hz
     write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
