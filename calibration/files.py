@@ -246,8 +246,9 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
             raise CalibrationError(f"{where}: {key}: {problem}")
     centre = ((size[0] / 2, size[1] / 2) if size is not None
               else (K[0, 2], K[1, 2]) if K is not None else None)
-    if c2t is not None and centre is not None and scale_problem(c2t, centre):
-        raise CalibrationError(f"{where}: camera_to_table: {scale_problem(c2t, centre)}")
+    problem = scale_problem(c2t, centre) if c2t is not None and centre is not None else None
+    if problem:
+        raise CalibrationError(f"{where}: camera_to_table: {problem}")
     errors = data.get("reprojection_error") or {}
     if not isinstance(errors, dict):
         raise CalibrationError(f"{where}: reprojection_error: expected a mapping of names to "
@@ -282,9 +283,10 @@ def save_calibration(path: str | Path, calibration: Calibration) -> None:
     loading would refuse (CalibrationError naming the file and key) is not written: a forced
     result of numbers no camera has replaced a working file with one no table could start on."""
     import yaml
-    calibration_from_dict(calibration.to_dict(), str(path), require_table=False)
+    data = calibration.to_dict()
+    calibration_from_dict(data, str(path), require_table=False)
     text = ("# Tabletop calibration: camera pixels <-> table metres <-> projector pixels.\n"
-            + yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None))
+            + yaml.safe_dump(data, sort_keys=False, default_flow_style=None))
     atomic_write_text(path, text)
 
 
