@@ -19,7 +19,7 @@ from behaviors.mop.group_arrays import GroupArrays
 from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.glitch import OFF_PATH, ON_PATH, REACH_AHEAD, REACH_BACK, path_distances
+from behaviors.mop.glitch import REACH_AHEAD, REACH_BACK, path_distances
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
 from behaviors.mop.validity import PATH_REACH
@@ -78,8 +78,8 @@ class FollowerGroup(GroupArrays, GroupRules):
                                for f in self.followers])
         self._jumped = np.zeros(len(self.followers), dtype=bool)
         self._off_dims = np.array([f.dim for f in self.followers], dtype=np.intp)
-        self._off_limit2 = OFF_PATH ** 2 * p["sigma"] ** 2 * self._off_dims.astype(float)
-        self._on_limit2 = ON_PATH ** 2 * p["sigma"] ** 2 * self._off_dims.astype(float)
+        self._off_limit2 = np.array([f._off_limit2 for f in self.followers])
+        self._on_limit2 = np.array([f._on_limit2 for f in self.followers])
         self._near2 = np.zeros(len(self.followers))   # the samples' path distances (squared)
         self._off = np.zeros(len(self.followers), dtype=bool)   # each beyond OFF_PATH
         # the last sample followed beyond ON_PATH (ActionFollower._strayed)
