@@ -51,6 +51,22 @@ class BuildContext:
     base: Path
     shared: dict[str, Any] = field(default_factory=dict)
 
+    def engines(self, options: dict) -> tuple[list[dict], list, int]:
+        """The config's engines, their names and the index of the engine of ``options``
+        (len(names) if not there)."""
+        engines = self.config.get("engines", []) if isinstance(self.config, dict) else []
+        names = [e.get("name") for e in engines]
+        name = options["name"]
+        return engines, names, names.index(name) if name in names else len(names)
+
+    def where(self, options: dict, key: str) -> str:
+        """``FILE: engines[i].KEY`` of the engine of ``options``, as config errors name a key."""
+        _, names, mine = self.engines(options)
+        where = f"engines[{mine}].{key}" if mine < len(names) else key
+        if getattr(self.config, "file", None):  # name the config file like every other key
+            where = f"{self.config.file}: {where}"
+        return where
+
 
 def optional_module(target: str) -> ModuleType | None:
     """Import ``target``, or None when that module itself is not installed (an import error

@@ -305,11 +305,9 @@ def _check_shared_library(options: dict, ctx: BuildContext) -> None:
     """An engine listed earlier keeping actions in the same library may not have a character
     of the same name: both kept takes as ``<library>/<character>/take1.csv`` (the later keep
     wrote over the earlier) and each loaded the other's actions with its own performer."""
-    engines = ctx.config.get("engines", []) if isinstance(ctx.config, dict) else []
-    names = [e.get("name") for e in engines]
-    if options["library"] is None or options["name"] not in names:
+    engines, names, mine = ctx.engines(options)
+    if options["library"] is None or mine == len(names):
         return
-    mine = names.index(options["name"])
     lib = Path(options["library"]).resolve()
     for i, e in enumerate(engines[:mine]):
         if e.get("kind") != "mop" or e.get("library") is None \
@@ -318,10 +316,9 @@ def _check_shared_library(options: dict, ctx: BuildContext) -> None:
         common = sorted({c["name"] for c in options["characters"]}
                         & {c["name"] for c in e["characters"]})
         if common:
-            file = getattr(ctx.config, "file", None)
-            raise MopError(f"{file + ': ' if file else ''}engines[{mine}].library: engines[{i}] "
-                           f"({e['name']!r}) keeps its actions there too and has a character "
-                           f"{common[0]!r} as well; give one of them another library")
+            raise MopError(f"{ctx.where(options, 'library')}: engines[{i}] ({e['name']!r}) "
+                           f"keeps its actions there too and has a character {common[0]!r} as "
+                           "well; give one of them another library")
 
 
 def build(options: dict, ctx: BuildContext) -> MopStage:

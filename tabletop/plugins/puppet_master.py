@@ -232,22 +232,6 @@ class PuppetMasterEngine:
         return status
 
 
-def _engines(options: dict, ctx: BuildContext) -> tuple[list[dict], list, int]:
-    """The config's engines, their names and this engine's index (len(names) if not there)."""
-    engines = ctx.config.get("engines", []) if isinstance(ctx.config, dict) else []
-    names = [e.get("name") for e in engines]
-    return engines, names, names.index(options["name"]) if options["name"] in names else len(names)
-
-
-def _where(options: dict, ctx: BuildContext, key: str) -> str:
-    """``FILE: engines[i].KEY`` of this engine, as config errors name a key."""
-    _, names, mine = _engines(options, ctx)
-    where = f"engines[{mine}].{key}" if mine < len(names) else key
-    if getattr(ctx.config, "file", None):  # name the config file like every other key
-        where = f"{ctx.config.file}: {where}"
-    return where
-
-
 def _check_kept_name(options: dict, ctx: BuildContext) -> None:
     """A designer's kept behaviours are folders named ``designer.name`` (default: the engine's
     name): a name no folder may have is refused at load, not at the first keep of a take."""
@@ -259,7 +243,7 @@ def _check_kept_name(options: dict, ctx: BuildContext) -> None:
         library.check_name(d["name"] if own else options["name"])
     except library.LibraryError as exc:
         raise PuppetMasterError(
-            f"{_where(options, ctx, 'designer.name' if own else 'name')}: kept behaviours are "
+            f"{ctx.where(options, 'designer.name' if own else 'name')}: kept behaviours are "
             f"saved under this name{'' if own else ' (give designer.name for another)'}: "
             f"{exc}") from None
 
@@ -268,7 +252,7 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
     """Characters this engine reads from the previous tick: Puppet Master engines listed at or
     after it, or bound back to it (a mutual pair). Any other bound character must be made by
     an engine listed earlier."""
-    engines, names, mine = _engines(options, ctx)
+    engines, names, mine = ctx.engines(options)
     delayed = set()
     for name in bound_characters(options["main"]):
         k = names.index(name) if name in names else -1
@@ -277,7 +261,7 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
         back = is_pm and options["name"] in bound_characters(other.get("main", {"kind": "x"}))
         if k < 0 or (k >= mine and not is_pm):
             raise PuppetMasterError(
-                f"{_where(options, ctx, 'main')}: character {name!r} is not made by an engine "
+                f"{ctx.where(options, 'main')}: character {name!r} is not made by an engine "
                 f"listed before {options['name']!r} (a puppet_master engine may also be listed "
                 "after it or react back: it is then read one tick old)")
         if k >= mine or back:
@@ -299,7 +283,7 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
         try:
             behavior = Behavior.train(stored.demonstration, **params)
         except InputError as exc:   # its parameters or demonstration: named with its key
-            raise PuppetMasterError(f"{_where(options, ctx, 'behavior')}: {stored.folder}: "
+            raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: {stored.folder}: "
                                     f"{exc}") from None
         bname = stored.name
     designer = dict(options["designer"])
