@@ -27,10 +27,16 @@ class FileFormatError(InputError):
     """A file is missing, empty or malformed; the message names the file and the line."""
 
 
+def file_on_path(folder: Path) -> Path | None:
+    """The file standing where ``folder`` or one of the folders above it would be, if any (no
+    folder can then be made there, now or later)."""
+    return next((p for p in (folder, *folder.parents) if p.exists() and not p.is_dir()), None)
+
+
 def folder_failure(folder: Path, exc: OSError) -> str:
     """Why ``folder`` could not be made: "X is a file" when a file stands on its path (the
     system says only "File exists" or "Not a directory"), else the system's reason."""
-    blocker = next((p for p in (folder, *folder.parents) if p.exists() and not p.is_dir()), None)
+    blocker = file_on_path(folder)
     return f"{blocker} is a file" if blocker is not None else str(exc.strerror or exc)
 
 

@@ -40,13 +40,17 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
     warning and never written, the table's monitors seeing none for weeks; a folder that
     cannot be made yet, a disk still mounting, is retried while running)."""
     from pathlib import Path
+
+    from tabletop.files import file_on_path
     for key in ("status_file", "crash_log"):
-        if k[key] is not None and Path(k[key]).is_dir():
+        if k[key] is None:
+            continue
+        if Path(k[key]).is_dir():
             raise ctx.error(f"{path}.{key}", f"{k[key]} is a folder; expected a file name")
         # a folder that is a file never becomes one: the status was a warning every heartbeat
         # and the crash log silently never written
-        blocking = next((a for a in Path(k[key] or "").parents if a.exists()), None)
-        if k[key] is not None and blocking is not None and not blocking.is_dir():
+        blocking = file_on_path(Path(k[key]).parent)
+        if blocking is not None:
             raise ctx.error(f"{path}.{key}", f"{k[key]} cannot be written: {blocking} is a "
                                              "file, not a folder")
     first, longest = k["backoff_s"]
