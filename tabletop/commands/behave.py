@@ -105,31 +105,33 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
     return out
 
 
+def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int):
+    """The rows (n, len(columns)) of CSV ``path``, in ``columns``' order, its times (the first
+    column) strictly increasing and its positions on no absurd scale; errors name the line."""
+    from tabletop.files import check_increasing, check_positions, read_csv_lines
+
+    header, rows, lines = read_csv_lines(path, columns, what=what, min_rows=min_rows)
+    rows = rows[:, [header.index(c) for c in columns]]
+    check_increasing(rows[:, 0], path, lines=lines)
+    check_positions(rows, columns, _positions(columns), path, lines=lines)
+    return rows
+
+
 def read_demonstration(args: argparse.Namespace):
     """The demonstration (n, 7) from --train, or paired from --train-main and --train-react,
     and the file(s) its errors name."""
     from behaviors.puppet_master.sequential import TakeError, pair_takes
-    from tabletop.files import check_increasing, check_positions, read_csv_lines
 
     if (args.train is None) == (args.train_main is None and args.train_react is None):
         raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
                                   "--train-react")
     if args.train is not None:
-        header, demo, lines = read_csv_lines(args.train, DEMO_COLUMNS, what="demonstration CSV",
-                                             min_rows=2)
-        demo = demo[:, [header.index(c) for c in DEMO_COLUMNS]]
-        check_increasing(demo[:, 0], args.train, lines=lines)
-        check_positions(demo, DEMO_COLUMNS, _positions(DEMO_COLUMNS), args.train, lines=lines)
-        return demo, args.train
+        return read_rows(args.train, DEMO_COLUMNS, "demonstration CSV", 2), args.train
     if args.train_main is None or args.train_react is None:
         raise BehaveArgumentError("sequential training needs both --train-main and --train-react")
     takes = []
     for path, cols in ((args.train_main, MAIN_COLUMNS), (args.train_react, OUT_COLUMNS)):
-        header, a, lines = read_csv_lines(path, cols, what="take CSV", min_rows=2)
-        a = a[:, [header.index(c) for c in cols]]
-        check_increasing(a[:, 0], path, lines=lines)
-        check_positions(a, cols, _positions(cols), path, lines=lines)
-        takes.append(a)
+        takes.append(read_rows(path, cols, "take CSV", 2))
     try:   # what the paired demonstration says (too short, no area) is of both takes
         return pair_takes(*takes), f"{args.train_main}, {args.train_react} (paired)"
     except TakeError as exc:
@@ -139,7 +141,7 @@ def read_demonstration(args: argparse.Namespace):
 def main(args: argparse.Namespace) -> int:
     from behaviors.puppet_master.engine import Behavior, ParameterError
     from behaviors.puppet_master.fidelity import generate
-    from tabletop.files import check_increasing, check_positions, read_csv_lines, write_csv
+    from tabletop.files import write_csv
 
     rate = parse_rate(args.rate if args.rate is not None else "40")
     table = parse_table(args.table) if args.table is not None else None
@@ -152,11 +154,7 @@ def main(args: argparse.Namespace) -> int:
                 inputs=(args.train, args.train_main, args.train_react, args.input),
                 example="react.csv")
     demo, source = read_demonstration(args)
-    header, main_rows, lines = read_csv_lines(args.input, MAIN_COLUMNS, what="main path CSV",
-                                              min_rows=1)
-    main_rows = main_rows[:, [header.index(c) for c in MAIN_COLUMNS]]
-    check_increasing(main_rows[:, 0], args.input, lines=lines)
-    check_positions(main_rows, MAIN_COLUMNS, _positions(MAIN_COLUMNS), args.input, lines=lines)
+    main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
         raise BehaveArgumentError(f"{args.input}: the main path spans "
