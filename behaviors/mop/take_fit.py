@@ -59,6 +59,17 @@ def _read_near2(x: np.ndarray, scale: np.ndarray, first: np.ndarray, size: float
 
 
 @numba.njit(cache=True, nogil=True)
+def _forgotten_weight(n: int, decay: float) -> float:
+    """The sum of the weights of ``n`` samples forgotten with ``decay`` per sample (1 for the
+    last), summed as the misfit's terms are."""
+    weight, w = 0.0, 1.0
+    for _ in range(n):
+        weight += w
+        w *= decay
+    return weight
+
+
+@numba.njit(cache=True, nogil=True)
 def take_size(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: np.ndarray,
               size: float, least: float, decay: float, norm: float, sizes: np.ndarray,
               limit: float) -> float:
@@ -68,15 +79,15 @@ def take_size(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
     group call it alike."""
     n = samples.shape[0]
     z = np.empty(samples.shape[1])
+    weight = _forgotten_weight(n, decay)
     best, best_size = limit, 0.0
     for f in sizes:
         s = size * f
         if f >= 1.0 or s < least:
             continue
-        total, weight, w = 0.0, 0.0, 1.0
+        total, w = 0.0, 1.0
         for j in range(n - 1, -1, -1):
             total += w * _read_near2(samples[j], scale, first, s, path, z)
-            weight += w
             w *= decay
         if total / weight / norm <= best:
             best, best_size = total / weight / norm, s
@@ -97,19 +108,14 @@ def take_fits(samples: np.ndarray, path: np.ndarray, scale: np.ndarray, first: n
     a true take). Compiled: the follower and the group call it alike."""
     n = samples.shape[0]
     z = np.empty(samples.shape[1])
-    total_weight = 0.0
-    w = 1.0
-    for j in range(n):
-        total_weight += w
-        w *= decay
+    weight = _forgotten_weight(n, decay)
     for f in sizes:
         s = min(max(size * f, lo), hi)
-        total, weight, w = 0.0, 0.0, 1.0
+        total, w = 0.0, 1.0
         for j in range(n - 1, -1, -1):
             total += w * _read_near2(samples[j], scale, first, s, path, z)
-            weight += w
             w *= decay
-            if total / total_weight / norm > limit:
+            if total / weight / norm > limit:
                 break
         else:
             if total / weight / norm <= limit:
