@@ -7,7 +7,10 @@
   files are created exclusively, so two runs starting at once get two names.
 - Bounded: a file reaching ``max_mb`` continues in a new file (the next part, its own header,
   times still counted from the session's start); ``keep`` removes the oldest recordings of the
-  same naming in that folder.
+  same naming in that folder, oldest by the ``order`` each file's header carries (one more than
+  the highest in the folder when it was made), never by the clock: after the clock was set
+  back (a dead RTC battery, a time server correcting it) the newest files have the oldest
+  times, and pruning by modification time removed the recordings just made first.
 - A write that fails (a full disk) stops recording with one clear log line; the installation
   keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
   After a full disk, every ``RESUME_EVERY_S`` of frame time a new part is tried; once the disk
@@ -33,6 +36,7 @@ import errno
 import json
 import logging
 import os
+import re
 import threading
 import time
 from dataclasses import dataclass, field
@@ -55,6 +59,11 @@ DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 # filled and was cleared two minutes later recorded nothing for the remaining 20 minutes (for
 # weeks, on a kiosk left alone). A failed try costs one file created and removed.
 RESUME_EVERY_S = 60.0
+# The start of every header line this recorder writes; the ``order`` is read back from the
+# file's first bytes, so pruning never parses a header (which carries every file the config
+# names, megabytes at times).
+ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)[,}]')
+ORDER_BYTES = 128
 
 
 def session_header(config: Any, calibration: dict[str, Any] | None = None,
@@ -173,6 +182,8 @@ class Recorder:
         """A new file: the first, the next part, or one ``resumed`` after a stop for that
         reason."""
         self.folder.mkdir(parents=True, exist_ok=True)
+        mine = self._recordings()
+        order = max((o for o, _ in mine.values() if o is not None), default=0) + 1
         for candidate in self._candidates():
             try:
                 f = open(candidate, "xb")
@@ -189,7 +200,8 @@ class Recorder:
                      self.stem, self.suffix)
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
-        header = dict(self._header, part=len(self.paths),
+        header = {"format": FORMAT, "version": VERSION, "order": order}   # first: see ORDER
+        header.update(self._header, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
         self._f.flush()
@@ -198,7 +210,8 @@ class Recorder:
             fsync_folder(self.folder)    # the new file's name survives a power cut too
         else:
             self._folder_dirty = True
-        self._prune()
+        mine[candidate] = (order, 0.0)
+        self._prune(mine)
 
     def _mine(self, p: Path) -> bool:
         """Is ``p`` a recording of this recorder's naming (the ones ``keep`` counts)?"""
@@ -209,14 +222,37 @@ class Recorder:
         rest = p.stem[len(self.stem):]
         return p.stem.startswith(self.stem) and (rest == "" or (rest[0] == "-" and rest[1:].isdigit()))
 
-    def _prune(self) -> None:
+    def _recordings(self) -> dict[Path, tuple[int | None, float]]:
+        """This naming's recordings in the folder: path -> (its header's ``order``, None for a
+        file without one: written by an older tabletop, or empty; its modification time)."""
+        out: dict[Path, tuple[int | None, float]] = {}
+        try:
+            entries = [p for p in self.folder.iterdir() if self._mine(p)]
+        except OSError:
+            return out
+        for p in entries:
+            try:
+                with open(p, "rb") as f:
+                    m = ORDER.match(f.read(ORDER_BYTES))
+                out[p] = (int(m.group(1)) if m else None, p.stat().st_mtime)
+            except OSError:
+                continue                 # removed meanwhile, or unreadable: not counted
+        return out
+
+    def _prune(self, mine: dict[Path, tuple[int | None, float]]) -> None:
+        """Remove the oldest of ``mine`` beyond ``keep``: files without an order first (by
+        modification time), then by order; never the file being written."""
         if self.keep is None:
             return
+
+        def age(p: Path) -> tuple:
+            order, mtime = mine[p]
+            return (0, mtime, p.name) if order is None else (1, order, p.name)
+
+        oldest_first = sorted(mine, key=age)
+        current = self.path
         try:
-            mine = [p for p in self.folder.iterdir() if self._mine(p)]
-            mine.sort(key=lambda p: (p.stat().st_mtime, p.name))
-            current = self.path
-            for old in mine[:max(0, len(mine) - self.keep)]:
+            for old in oldest_first[:max(0, len(mine) - self.keep)]:
                 if old != current:
                     old.unlink()
                     log.info("removed old recording %s (recorder.keep: %d)", old, self.keep)

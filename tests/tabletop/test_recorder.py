@@ -192,6 +192,28 @@ def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path):
                             view=False).loop.run() == len(frames)
 
 
+def test_keep_removes_the_oldest_by_order_not_by_the_clock(tmp_path):
+    """Recordings made while the clock was a day ahead, then the clock set back (a dead RTC
+    battery, a time server's correction): the new recordings have the oldest modification
+    times. Before, ``keep`` removed them first (the one just made at the next start) and kept
+    the stale ones; now the headers' ``order`` decides."""
+    import time
+    header = {"format": "tabletop-session", "version": 2}
+
+    def one() -> Path:
+        rec = Recorder(folder=tmp_path, header=header, keep=3)
+        rec.close()
+        return rec.path
+
+    ahead = [one() for _ in range(3)]
+    day = time.time() + 86400
+    for p in ahead:
+        os.utime(p, (day, day))
+    newer = [one(), one()]
+    assert sorted(tmp_path.iterdir()) == sorted([ahead[2], *newer])
+    assert [read_header(p)["order"] for p in (ahead[2], *newer)] == [3, 4, 5]
+
+
 @pytest.mark.parametrize("limit_kb", [64, 1], ids=["while running", "at start-up"])
 def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path, limit_kb):
     """A real write failure: the process may not grow a file beyond ``limit_kb`` (RLIMIT_FSIZE).
