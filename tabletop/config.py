@@ -349,6 +349,25 @@ def _check_engine_pucks(cfg: dict, controls: dict[int, str], ctx: Context) -> No
                 raise ctx.error(key, f"puck {puck} is marker {marker} (tracking.puck_ids."
                                      f"{marker}), the studio's control marker "
                                      f"{controls[marker]}: use another puck or marker id")
+    _check_puck_map(cfg, controls, ctx)
+
+
+def _check_puck_map(cfg: dict, controls: dict[int, str], ctx: Context) -> None:
+    """No ``tracking.puck_ids`` entry moves a marker onto or off a studio control marker's id:
+    the studio looks for control markers among the mapped ids, so ``{10: 46}`` made marker 10
+    stop every take set down, and ``{46: 3}`` hid the stop marker from the studio for good."""
+    for key, to in ((cfg.get("tracking") or {}).get("puck_ids") or {}).items():
+        if not str(key).isdigit() or int(key) == int(to):
+            continue
+        marker, where = int(key), f"tracking.puck_ids.{key}"
+        if int(to) in controls:
+            raise ctx.error(where, f"marker {marker} would arrive as puck {to}, the studio's "
+                                   f"control marker {controls[int(to)]}: setting it down would "
+                                   "give that command; use another puck id")
+        if marker in controls:
+            raise ctx.error(where, f"marker {marker} is the studio's control marker "
+                                   f"{controls[marker]}; as puck {to} the studio would never see "
+                                   "it: map another marker (or set that control to null)")
 
 
 def tracking_schema() -> Spec:

@@ -44,6 +44,21 @@ def test_a_control_marker_mapped_onto_an_engine_puck(tmp_path, capfd):
                           "studio.markers.next") in err
 
 
+@pytest.mark.parametrize("puck_ids, words", [
+    ("{'10': 46}", "tracking.puck_ids.10: marker 10 would arrive as puck 46, the studio's "
+     "control marker studio.markers.stop"),     # marker 10 set down would stop every take
+    ("{'46': 3}", "tracking.puck_ids.46: marker 46 is the studio's control marker "
+     "studio.markers.stop; as puck 3"),         # the stop marker, never seen by the studio
+])
+def test_a_puck_map_onto_or_off_a_control_marker(tmp_path, capfd, puck_ids, words):
+    code, err = run(tmp_path, capfd, "engines:\n" + pm("{puck: 1}")
+                    + f"tracking: {{puck_ids: {puck_ids}}}\n")
+    assert code == 2 and f"kiosk.yaml: {words}" in err
+    code, err = run(tmp_path, capfd, "engines:\n" + pm("{puck: 1}")
+                    + f"tracking: {{puck_ids: {puck_ids}}}\nstudio: {{markers: {{stop: null}}}}\n")
+    assert code == 0, err                       # with no stop marker, both maps are harmless
+
+
 def test_a_control_marker_set_aside_frees_its_puck(tmp_path, capfd):
     # studio.markers.stop: null: puck 46 is no control marker and may be a main
     code, err = run(tmp_path, capfd, "engines:\n" + pm("{puck: 46}")
