@@ -318,6 +318,8 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise error(f"{p}: {missing}") from None
+    except IsADirectoryError:
+        raise error(f"{p}: is a folder; expected a YAML file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise error(f"{p}: cannot read: {exc}") from None
     return parse_yaml(text, p, error, problem)

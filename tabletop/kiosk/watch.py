@@ -44,20 +44,30 @@ def tree_signature(path: Path) -> tuple:
     return tuple(out)
 
 
+def file_signature(path: Path) -> tuple:
+    """:func:`tree_signature` and what ``path`` is (file, folder or nothing): a config file
+    removed and then replaced by an empty folder changes it. Before, both were ``()`` and the
+    kiosk kept saying "config file not found" of a folder."""
+    kind = "file" if path.is_file() else "folder" if path.is_dir() else None
+    return (kind, tree_signature(path))
+
+
 class Poller:
     """``changed()`` is True once after ``path``'s signature changes; looks at most every
     ``every_s`` seconds of ``clock``."""
 
     def __init__(self, path: Path, every_s: float = 1.0,
                  clock: Callable[[], float] = time.monotonic, since_start: bool = False,
-                 read: tuple | None = None) -> None:
+                 read: tuple | None = None,
+                 signature: Callable[[Path], tuple] = tree_signature) -> None:
         """``since_start``: the first look counts as a change (what was read of ``path`` may be
         older than this poller). ``read``: the signature taken just before ``path`` was read
         (an engine's build, seconds before its studio or reloader exists): the first look
         compares with it, so an edit saved in between is seen."""
         self.path, self.every_s, self.clock = Path(path), every_s, clock
+        self.sign = signature
         self.signature: tuple | None = (None if since_start else read if read is not None
-                                        else tree_signature(self.path))
+                                        else signature(self.path))
         self._next = clock()
 
     def changed(self) -> bool:
@@ -65,7 +75,7 @@ class Poller:
         if now < self._next:
             return False
         self._next = now + self.every_s
-        sig = tree_signature(self.path)
+        sig = self.sign(self.path)
         if sig == self.signature:
             return False
         self.signature = sig
@@ -83,7 +93,8 @@ class ConfigWatcher:
                  apply: Callable[[dict[str, Any]], None], every_s: float = 1.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.path, self.current, self.load, self.apply = Path(path), current, load, apply
-        self.poller = Poller(self.path, every_s, clock, since_start=True)
+        self.poller = Poller(self.path, every_s, clock, since_start=True,
+                             signature=file_signature)
         self.error: str | None = None
         self.refused = 0
         self.applied = 0

@@ -76,6 +76,28 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
         assert first.loop.stop.is_set()                     # the old one was closed
 
 
+def test_a_config_replaced_by_a_folder_is_called_a_folder(tmp_path):
+    """config.yaml removed, then a folder of that name made (a copy gone wrong): the watcher
+    saw no change between nothing and an empty folder and said "config file not found" for
+    as long as the folder stayed. The table runs on; a file put back is applied."""
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first = runner.inst
+        path.unlink()
+        assert wait_for(lambda: runner.watcher.refused == 1, 15)
+        assert runner.watcher.error.endswith("config.yaml: config file not found")
+        path.mkdir()
+        assert wait_for(lambda: runner.watcher.refused == 2, 15)
+        assert runner.watcher.error.endswith("config.yaml: is a folder; expected a YAML file")
+        ticks = first.loop.stats.ticks
+        assert wait_for(lambda: first.loop.stats.ticks > ticks + 10, 15)   # still running
+        path.rmdir()
+        path.write_text(yaml.safe_dump(config([200, 100, 50])))
+        assert wait_for(lambda: runner.inst is not first and runner.inst.loop.stats.ticks > 5, 15)
+        assert runner.watcher.error is None
+
+
 def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_path):
     """A refused edit left on disk, then a restart (a crash, a reboot): the start read the
     refused file and stopped ("exit status 2" at every restart: a dark table for good). Now it
