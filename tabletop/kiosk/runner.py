@@ -5,6 +5,7 @@ configuration edits applied by rebuilding the installation (or refused, see
 from __future__ import annotations
 
 import copy
+import ctypes
 import gc
 import logging
 import threading
@@ -175,6 +176,7 @@ class Runner:
                 # resident and +6 threads at the two edits of a gallery soak (tabletop run
                 # --kiosk, the shipped config with four reactors, MOP and touch-pose).
                 gc.collect()
+                trim_heap()
             rebuilt = True
             if self.kiosk and getattr(cfg, "raw", None) is not None:
                 last_good.remember(self.config_path, cfg)   # it built: the next start's fallback
@@ -191,6 +193,21 @@ class Runner:
             cfg, self.pending = self.pending, None
         self.notifier.send("STOPPING=1")
         return 0
+
+
+def trim_heap() -> None:
+    """Give the C heap's free pages back to the system (glibc's ``malloc_trim``; nothing where
+    the C library has none). A rebuilt installation frees the previous one's memory into the
+    heap, where it stayed resident: the objects in use grew 0.4 MB an applied config edit, but
+    the resident memory 5 MB (an in-process kiosk of the gallery soak's config, 20 edits: 350
+    -> 456 MB, trimming at the end gave 47 MB back). Trimmed after each rebuild: 356 -> 421
+    MB, and over the last ten edits +4.5 MB against +16 MB. Freeing the old installation
+    before building the new one (a lower peak) was tried too: 356 -> 456 MB, no better."""
+    try:
+        trim = ctypes.CDLL(None).malloc_trim
+    except (OSError, AttributeError):
+        return
+    trim(0)
 
 
 def _relay(outer: threading.Event, inner: threading.Event) -> None:
