@@ -7,7 +7,9 @@
   in the folder (nothing is overwritten), or each run writes into its own subfolder
   ``run-DATE-TIME`` (``per_run``).
 - Bounded: beyond ``keep`` snapshots or ``max_mb`` megabytes in the folder (its run subfolders
-  included), the oldest are removed.
+  included), the oldest are removed: oldest by number and run folder, the current run's last,
+  never by the clock (after the clock was set back each new snapshot had the oldest time and a
+  full folder removed it at once, so a technician saw the old ones only).
 
 Encoding a PNG takes tens of milliseconds, so the pixels are copied at once and written by a
 thread, atomically; a snapshot still being written makes the next one wait, never queue.
@@ -61,20 +63,26 @@ def run_folder(root: Path) -> Path:
             candidate, n = root / f"run-{stamp}-{n}", n + 1
 
 
-def prune(root: Path, keep: int, max_bytes: float) -> list[Path]:
+def prune(root: Path, keep: int, max_bytes: float, current: Path | None = None) -> list[Path]:
     """Remove the oldest snapshots under ``root`` beyond ``keep`` files or ``max_bytes``;
-    returns the removed ones. Empty run subfolders go too."""
+    returns the removed ones. Empty run subfolders go too. Oldest first: those directly in
+    ``root`` while a run folder is ``current`` (the folder being written, by default ``root``),
+    those of other run folders (by the folder's name), then those of ``current``; each
+    folder's by number."""
+    current = root if current is None else current
     entries = []
     for p in numbered(root):
         try:
             st = p.stat()
         except OSError:
             continue
-        entries.append((st.st_mtime, str(p), st.st_size, p))
+        rank = (2, "") if p.parent == current else (1, p.parent.name) if p.parent != root \
+            else (0, "")
+        entries.append((rank, int(NAME.match(p.name).group(1)), str(p), st.st_size, p))
     entries.sort()
-    total = sum(e[2] for e in entries)
+    total = sum(e[3] for e in entries)
     removed = []
-    for _, _, size, p in entries:
+    for _, _, _, size, p in entries:
         if len(entries) - len(removed) <= keep and total <= max_bytes:
             break
         try:
@@ -136,7 +144,7 @@ class Snapshots:
         elif not error and self.failing:
             log.info("snapshots are saved again (%s)", path)
         self.failing = bool(error)
-        prune(self.root, self.keep, self.max_bytes)
+        prune(self.root, self.keep, self.max_bytes, self.folder)
 
     def close(self) -> None:
         if self._saver is not None:

@@ -92,6 +92,31 @@ def test_retention_by_count_and_by_size(tmp_path):
     assert len(removed) == 3 and len(list(tmp_path.iterdir())) == 2
 
 
+def test_retention_by_number_not_by_the_clock(tmp_path):
+    """Snapshots taken while the clock was a day ahead, then the clock set back: each new
+    snapshot had the oldest modification time and a full folder removed it at once (the folder
+    kept showing the stale ones). Now the numbers decide; in per-run folders the current run's
+    snapshots are the newest."""
+    clock = Clock()
+    snaps = Snapshots(tmp_path, every_s=0.2, keep=3, clock=clock)
+    take(snaps, clock, 0.6)
+    day = time.time() + 86400
+    for p in tmp_path.iterdir():
+        os.utime(p, (day, day))
+    take(snaps, clock, 0.4)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        f"snapshot-{n:05d}.png" for n in range(snaps.number - 3, snaps.number)]
+    runs = tmp_path / "runs"
+    first = Snapshots(runs, every_s=0.2, keep=3, per_run=True, clock=clock)
+    take(first, clock, 0.6)
+    for p in first.folder.iterdir():
+        os.utime(p, (day, day))
+    os.rename(first.folder, runs / "run-29991231-235959")   # a name of the clock ahead, too
+    second = Snapshots(runs, every_s=0.2, keep=3, per_run=True, clock=clock)
+    made = take(second, clock, 0.6)
+    assert sorted(second.folder.iterdir()) == sorted(made) and len(made) == 3
+
+
 class StalledCamera:
     """A source whose newest observation stays the one of its first moment (a camera that
     delivered a frame, then stalled): every frame's time stands still."""
