@@ -49,12 +49,8 @@ class Runner:
         self.base = self.config_path.resolve().parent
         self.cfg, self.headless, self.record_path = cfg, headless, record_path
         self.kiosk = kiosk or cfg["kiosk"]["enabled"]
-        self.studio_all = studio or cfg["studio"]["enabled"]   # every engine, MOP included
-        # designer targets always go through the studio: Puppet Master engines in designer
-        # mode, MOP characters and touch-pose characters (drawn once a designer key is pressed)
-        self.studio_on = self.studio_all or any(
-            (e.get("designer") or {}).get("enabled") or e["kind"] in ("mop", "touch_pose")
-            for e in cfg["engines"])
+        self.studio_asked = studio   # run --studio
+        self._studio_of(cfg)
         self.clock, self.wrap_source = clock, wrap_source   # simulated time (tests, soaks)
         self.prepared = prepared    # a warm spare's engines (tabletop.kiosk.spare), built for cfg
         # the config file's refusal when cfg is the last good one (tabletop.kiosk.last_good)
@@ -72,6 +68,17 @@ class Runner:
             import faulthandler
             faulthandler.enable()     # a native crash leaves its Python stack in the crash log
 
+    def _studio_of(self, cfg: dict[str, Any]) -> None:
+        """Whether ``cfg`` runs the studio, and for every engine (``studio_all``, MOP included).
+        Taken again at each build: before, an applied edit that turned the studio on (a
+        designer engine, ``studio.enabled``) built no studio until the next restart."""
+        self.studio_all = self.studio_asked or cfg["studio"]["enabled"]
+        # designer targets always go through the studio: Puppet Master engines in designer
+        # mode, MOP characters and touch-pose characters (drawn once a designer key is pressed)
+        self.studio_on = self.studio_all or any(
+            (e.get("designer") or {}).get("enabled") or e["kind"] in ("mop", "touch_pose")
+            for e in cfg["engines"])
+
     def _apply(self, cfg: dict[str, Any]) -> None:
         self.pending = cfg
         if self.inst is not None:
@@ -80,6 +87,7 @@ class Runner:
     def _build(self, cfg: dict[str, Any]):
         """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
         prepared, self.prepared = self.prepared, None
+        self._studio_of(cfg)
         ready = None if prepared is None or prepared.cfg is not cfg else (
             prepared.context, prepared.engines)
         inst = build_live(kiosk_view(cfg, self.kiosk), headless=self.headless,

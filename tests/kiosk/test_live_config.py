@@ -251,3 +251,27 @@ def test_an_applied_edit_gives_the_previous_installations_memory_back(tmp_path):
         ctypes.CDLL(None).malloc_trim(0)
         print(f"a trim now gives back {before - rss_mb():.1f} MB")
         assert before - rss_mb() < 3.0
+
+
+def test_an_edit_that_turns_the_studio_on_or_off_is_applied(tmp_path):
+    """A kiosk started without the designer studio, its config then edited to put the lover in
+    designer mode: the rebuilt installation had no studio (no designer keys, status ``studio:
+    null``) until the next restart; and one edited back kept it. Now each build takes it from
+    its own configuration."""
+    cfg = config([10, 20, 30])
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        assert runner.reporter.status(Frame(seq=0, t=0.0)).get("studio") is None
+        first = runner.inst
+        cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                         "library": "lib"}
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, first), 30)
+        status = runner.reporter.status(Frame(seq=0, t=0.0)).get("studio")
+        assert status is not None and "lover" in str(status)
+        second = runner.inst
+        del cfg["engines"][0]["designer"]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, second), 30)
+        assert runner.reporter.status(Frame(seq=0, t=0.0)).get("studio") is None
