@@ -107,6 +107,27 @@ def test_video_file_removed_and_restored(tmp_path):
     assert src.health().message == "closed"
 
 
+def test_a_video_that_loops_is_logged_once(tmp_path, caplog):
+    """A video file played to its end is opened again from its start: said once, not as a
+    failure and a return at every end (two lines a loop filled a kiosk's log). A video that
+    goes away is still a failure, and its return is said."""
+    import logging
+    caplog.set_level(logging.INFO, logger="tabletop")
+    video, seen, src = playing(tmp_path)
+    try:
+        assert wait_for(lambda: src.reconnects >= 3, 10)
+        lines = [r.getMessage() for r in caplog.records]
+        assert len([m for m in lines if "ended" in m]) == 1, lines
+        assert not [m for m in lines if "back after" in m or "retrying" in m], lines
+        hidden = tmp_path / "away.avi"
+        os.rename(video, hidden)
+        assert wait_for(lambda: "not found" in src.health().message)
+        os.rename(hidden, video)
+        assert wait_for(lambda: any("back after" in r.getMessage() for r in caplog.records))
+    finally:
+        src.close()
+
+
 def test_folder_source_goes_and_comes_back(tmp_path):
     folder = tmp_path / "frames"
     folder.mkdir()
