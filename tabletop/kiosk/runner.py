@@ -96,7 +96,9 @@ class Runner:
                           header_extra={"studio": {"all": self.studio_all}}
                           if self.studio_on else None)
         loop = inst.loop
-        self.record_path = None          # one recording file per run, never overwritten
+        # (``record_path``, run --record, stays: each installation records to the next free name
+        # of it, FILE-2.jsonl..., as a supervised restart does. Before, the first applied config
+        # edit ended the recording for the rest of the run, without a word.)
         extra: list = []                 # providers of status fields
         held: set = set()
         if self.studio_on:

@@ -275,3 +275,23 @@ def test_an_edit_that_turns_the_studio_on_or_off_is_applied(tmp_path):
         write(path, yaml.safe_dump(cfg))
         assert wait_for(rebuilt(runner, second), 30)
         assert runner.reporter.status(Frame(seq=0, t=0.0)).get("studio") is None
+
+
+def test_a_recording_asked_for_goes_on_after_an_applied_edit(tmp_path):
+    """``tabletop run --record FILE`` (here a kiosk, as a supervised restart passes it on): the
+    installation an edit builds records to the next free name, FILE-2.jsonl, with its own
+    config in the header. Before, the first applied edit ended the recording for good."""
+    from tabletop.recorder import read_frames, read_header
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    rec = tmp_path / "rec.jsonl"
+    with running(Runner(path, load_config(path), headless=True, kiosk=True,
+                        record_path=rec)) as runner:
+        first = runner.inst
+        write(path, yaml.safe_dump(config([200, 100, 50])))
+        assert wait_for(rebuilt(runner, first, 20), 30)
+    assert read_header(rec)["config"]["engines"][0]["color"] == [10, 20, 30]
+    second = tmp_path / "rec-2.jsonl"
+    assert second.exists(), sorted(p.name for p in tmp_path.iterdir())
+    assert read_header(second)["config"]["engines"][0]["color"] == [200, 100, 50]
+    assert len(list(read_frames(second))) > 20
