@@ -4,7 +4,10 @@
 "duration_s", "samples", "training_s", "outcome" (kept | discarded | redone | too short |
 refused), "name" (kept name), "review" (PNG file name, or "")}``. Each line is written, flushed
 and fsynced on its own, so a power cut loses at most the line being written. Review sheets are
-drawn in a background thread (one at a time; a try arriving while one is drawn gets none).
+drawn in a background thread (one at a time; a try arriving while one is drawn gets none): one
+thread for the whole process, because matplotlib keeps each font open once per thread that
+draws (up to 64): a thread per sheet and per studio build left two more files open and their
+fonts in memory at each applied config edit of a kiosk (13 -> 28 files in 20 edits).
 """
 
 from __future__ import annotations
@@ -14,8 +17,10 @@ import datetime as _dt
 import json
 import logging
 import os
+import queue
 import threading
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -30,6 +35,45 @@ def _load_plotting() -> None:
         warm_plotting()
     except Exception:  # drawn sheets will say why; the studio runs without them
         log.exception("the plotting library for review sheets did not load")
+
+
+_jobs: queue.SimpleQueue = queue.SimpleQueue()
+_drawer_lock = threading.Lock()
+_drawer: threading.Thread | None = None
+_warmed = False
+
+
+def _draw_jobs() -> None:
+    while True:
+        job, done = _jobs.get()
+        try:
+            job()
+        finally:
+            done.set()
+
+
+def draw_later(job: Callable[[], None]) -> threading.Event:
+    """Run ``job`` in the process's one drawing thread (started on first use); the event is
+    set once it ran."""
+    global _drawer
+    done = threading.Event()
+    with _drawer_lock:
+        if _drawer is None or not _drawer.is_alive():
+            _drawer = threading.Thread(target=_draw_jobs, name="review", daemon=True)
+            _drawer.start()
+    _jobs.put((job, done))
+    return done
+
+
+def _warm_once() -> threading.Event:
+    """The plotting library loaded in the drawing thread, once for the process."""
+    global _warmed
+    if _warmed:
+        done = threading.Event()
+        done.set()
+        return done
+    _warmed = True
+    return draw_later(_load_plotting)
 
 
 def unusable(folder: Path) -> str:
@@ -52,24 +96,21 @@ class SessionLog:
         stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
         self.path = self.folder / f"session-{stamp}.jsonl"
         self.review = review
-        self._drawer: threading.Thread | None = None
+        self._drawn: threading.Event | None = None   # set once the sheet being drawn is done
         self.lines = 0
         if review:   # the plotting library loads at start, off the loop, not in the first try
-            self._drawer = threading.Thread(target=_load_plotting, name="review", daemon=True)
-            self._drawer.start()
+            self._drawn = _warm_once()
 
     def log_try(self, t: Try, target) -> None:
         demo = getattr(target, "demo", None)
         if demo is not None:
             t.samples = int(len(demo))
         if self.review and demo is not None and len(demo) >= 2 and not (
-                self._drawer is not None and self._drawer.is_alive()):
+                self._drawn is not None and not self._drawn.is_set()):
             png = self.path.with_suffix("").name + f"-try{len(self._names()) + 1:03d}.png"
             t.review = png
-            self._drawer = threading.Thread(
-                target=self._draw, args=(target.what, np.array(demo), t, self.folder / png),
-                name="review", daemon=True)
-            self._drawer.start()
+            what, demo, path = target.what, np.array(demo), self.folder / png
+            self._drawn = draw_later(lambda: self._draw(what, demo, t, path))
         self._append(t)
 
     def _names(self) -> list[str]:
@@ -104,5 +145,5 @@ class SessionLog:
 
     def wait(self, timeout: float = 30.0) -> None:
         """Wait for the review sheet being drawn (tests, shutdown)."""
-        if self._drawer is not None:
-            self._drawer.join(timeout)
+        if self._drawn is not None:
+            self._drawn.wait(timeout)

@@ -1,0 +1,52 @@
+"""Review sheets are drawn in one thread for the whole process: matplotlib keeps each font open
+once per thread that draws, so a thread per sheet (and per studio build) left two more font
+files open, and their fonts in memory, at each applied config edit of a kiosk."""
+
+import os
+import threading
+import time
+
+import numpy as np
+
+from tabletop.studio.machine import Try
+from tabletop.studio.session import SessionLog
+
+
+class PoseTake:
+    """A target's recorded take as the session log reads it: a touch-pose action's part path."""
+
+    what = "pose action"
+
+    def __init__(self) -> None:
+        t = np.linspace(0.0, 1.0, 30)
+        self.demo = np.c_[t, 0.1 * t, 0.2 + 0.1 * t, np.zeros_like(t)]
+
+
+def fonts_open() -> int:
+    """Files of matplotlib's fonts this process holds open."""
+    n = 0
+    for fd in os.listdir("/proc/self/fd"):
+        try:
+            n += "mpl-data/fonts" in os.readlink(f"/proc/self/fd/{fd}")
+        except OSError:
+            pass
+    return n
+
+
+def test_review_sheets_keep_each_font_open_once(tmp_path):
+    stop = threading.Event()
+    held = []   # threads that live on, as an installation's do: every new thread is a new one
+    counts = []
+    try:
+        for k in range(4):
+            held.append(threading.Thread(target=stop.wait, daemon=True))
+            held[-1].start()
+            log = SessionLog(tmp_path / f"studio{k}", review=True)   # a studio build
+            log.wait()
+            log.log_try(Try("poser", "pose action", time.time(), outcome="kept"), PoseTake())
+            log.wait()
+            assert (log.folder / f"{log.path.stem}-try001.png").stat().st_size > 1000
+            counts.append(fonts_open())
+    finally:
+        stop.set()
+    assert counts[0] > 0 and counts == [counts[0]] * 4, counts
