@@ -135,11 +135,12 @@ class Runner:
         10th edit: 360 -> 425 before; 360 -> 398 with :func:`trim_heap` after each rebuild;
         361 -> 393 with this too (the last five edits +11 MB, before +20). In process, 12
         edits: 360 -> 437 MB before (the heap 153 -> 226 MB, in use 131 -> 144 MB), 350 -> 401
-        trimmed, 360 -> 386 (heap 153 -> 193 MB) trimmed and freed first. Also measured, not
-        taken: glibc's MALLOC_ARENA_MAX=2 with the trim, 353 -> 376 MB (fewer arenas for the
-        threads each installation starts; it may slow the threads' allocations, unmeasured).
-        What remains, about 2 MB an edit, is freed memory the heap cannot give back, and the
-        0.4 MB in use (caches such as matplotlib's fonts per drawing thread, 64 at most)."""
+        trimmed, 360 -> 386 (heap 153 -> 193 MB) trimmed and freed first. With the studio's
+        review sheets also drawn in one thread (tabletop.studio.session), 20 edits every 20 s:
+        361 -> 371 -> 375 MB after 10 and 20 (0.44 MB an edit over the last ten), file
+        descriptors 11 throughout. Measured, not taken: glibc's MALLOC_ARENA_MAX=2 (fewer
+        arenas for the threads each installation starts), 355 -> 368 -> 373 MB over 25 edits
+        before the drawing thread; its cost to the threads' allocations was not measured."""
         self.inst = self.studio = self.reporter = None
         gc.collect()
 
