@@ -47,8 +47,9 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.spotting import drives
 from behaviors.mop.state import ByName, FollowState
-from behaviors.mop.validity import (backs_first, crawl_run, crawls, resting, rests_behind,
-                                    stalls, still_unbegun, unbegun, unjudged)
+from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, resting,
+                                    rests_behind, stalls, still_unbegun, unbegun, unjudged,
+                                    unweighed)
 
 
 class Recognition:
@@ -85,8 +86,12 @@ class Recognition:
         raw_ll = step_ll - self._jacobian
         if self.invariance == "scale":
             raw_ll = raw_ll - self.dim * np.log(self._size)
-        self._evidence *= self._decay
-        self._evidence += raw_ll
+        # none in a pause of an action that carried its performer forward (validity.unweighed)
+        weighed = not unweighed(rest, carried(self._acquired, self._drive_from, self._drive_peak,
+                                              self._drive_moved))
+        if weighed:
+            self._evidence *= self._decay
+            self._evidence += raw_ll
         # none while the performer rests (validity.unjudged), but on a fresh start
         upd = self._recent_weight <= 0 if unjudged(rest) else slice(None)
         self._recent[upd] = self._recent[upd] * self._null_decay + step_ll[upd]
@@ -128,8 +133,9 @@ class Recognition:
         # templates' among themselves)
         self._kept = 1.0
         if math.isfinite(self.threshold):
-            rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top]))
-                     - self._evidence[top])
+            # (not stepped either in such a pause: validity.unweighed)
+            rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top])) if weighed
+                     else self._threshold_ev) - self._evidence[top]
             self._kept = total / (total + math.exp(min(rival, 700.0)))
         lists = (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist())
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
