@@ -137,18 +137,18 @@ class Recognition:
             rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top])) if weighed
                      else self._threshold_ev) - self._evidence[top]
             self._kept = total / (total + math.exp(min(rival, 700.0)))
-        lists = (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist())
+        lists = (progress.tolist(), p.tolist(), mean_ll.tolist())
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
                               lists, rest)
 
     def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
                   gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
                   forward: WindowedForward, offset: int, x: np.ndarray,
-                  lists: tuple[list, list, list, list], rests: bool) -> FollowState:
+                  lists: tuple[list, list, list], rests: bool) -> FollowState:
         """The rest of :meth:`_finish` once the per-template arrays are updated (a group updates
         them for all its followers at once): best, validity, the state and spotting. ``top``:
-        the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p``,
-        ``mean_ll`` and sizes as lists (for the state's dictionaries); ``rests``: the performer
+        the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p`` and
+        ``mean_ll`` as lists (for the state's dictionaries); ``rests``: the performer
         rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
         b = self.bank
         src = b.source
@@ -163,7 +163,7 @@ class Recognition:
             if committed >= 0:
                 self._best = committed
         bi = self._best
-        progress_list, p_list, mean_ll_list, size_list = lists
+        progress_list, p_list, mean_ll_list = lists
         engaged = bool(self._engaged.any())
         slope = src[gi[bi] + 1] - src[gi[bi]]
         var = forward.var_of(offset + bi)
@@ -242,8 +242,9 @@ class Recognition:
             probabilities=ByName(index, p_list), progress_by=ByName(index, shown),
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
             loglik_by=ByName(index, mean_ll_list), likely=likely,
-            # (a take refused here may have sized its template: shape_lead.TAKE_RESIZE)
-            scale_by=ByName(index, size_list if valid else self._size.tolist()),
+            # after a refused take sized its template here (shape_lead.TAKE_RESIZE), as the group
+            # reports them: a valid sample sized none (a refused take does not drive)
+            scale_by=ByName(index, self._size.tolist()),
             holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
         if engaged:
             self._ended = -1
