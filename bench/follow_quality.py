@@ -21,6 +21,9 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
   templates loaded;
 - after: each of the six gestures, then with no rest an unrelated stroke (diagonal, triangle,
   spiral, wander at 0.7-1.4x): the valid share over the stroke (``bench/follow_after.py``).
+- pauses: every template at 0.7-1.4x paused 0.3-2 s anywhere within 20-80% of its progress:
+  the valid share over the pause, how far the progress moved, and the valid share after it
+  (``bench/follow_pauses.py``).
 
 Figures: progress RMSE of the true template (its ``progress_by``) over each gesture; recognition
 (``valid`` with ``best`` the true template) at 30, 60 and 100% of the gesture; the share of ticks
@@ -43,7 +46,7 @@ Held out: the same evaluation on fourteen other joints of the clips (``MOCAP_HEL
 another seed (``heldout_`` figures); the follower's rules and parameters were never chosen on
 them. ``cli_default_`` figures: the ``follow`` command's defaults (features as recorded).
 
-    python bench/follow_quality.py [--debug] [--sections=sized,holds,sequences,unrelated,after]
+    python bench/follow_quality.py [--debug] [--sections=sized,holds,sequences,unrelated,after,pauses]
 
 ``--sections`` measures only those sections of the tuned and held-out evaluations (a section
 left out still draws its random numbers, so the others' figures are those of a full run);
@@ -348,6 +351,7 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
 
 def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]:
     from bench.follow_after import after
+    from bench.follow_pauses import pauses
     rng = np.random.default_rng(seed)
     gestures = gesture_templates()
     everything = {**gestures, **mocap_templates(joints=joints)}
@@ -358,7 +362,9 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
              ("sequences", lambda f: sequences(f, everything, rng, key="sequence_20_templates")),
              ("unrelated", lambda f: unrelated(f, everything, rng)),
              # last, so the other sections draw what they drew before it was added
-             ("after", lambda f: after(f, gestures, rng, run, performs, DEBUG)))
+             ("after", lambda f: after(f, gestures, rng, run, performs, DEBUG)),
+             # after it, for the same reason
+             ("pauses", lambda f: pauses(f, everything, rng, run)))
     for part, measure in parts:
         wanted = SECTIONS is None or part in SECTIONS
         out = measure(factory if wanted else lambda templates: None)

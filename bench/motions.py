@@ -109,14 +109,15 @@ def speed_profile(rng: np.random.Generator, slow: float = 0.6,
 
 
 def phase_of(rng: np.random.Generator, n: int, hold: tuple[int, int] | None = None,
-             hold_factor: float = 1.0, pause_s: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+             hold_factor: float = 1.0, pause_s: float = 0.0,
+             pause_range: tuple[float, float] = (0.3, 0.7)) -> tuple[np.ndarray, np.ndarray]:
     """Fractional template indices of a performance, and its true progress (T, 2: lowest and
     highest correct value). A template hold (first, last sample) is stretched by
     ``hold_factor``: while the performer holds, any progress within the template's hold is
     right (nobody can tell how long a hold will last); a pause of ``pause_s`` at a random
-    progress 0.3-0.7 holds the progress."""
+    progress within ``pause_range`` holds the progress."""
     speed = speed_profile(rng)
-    pause_at = rng.uniform(0.3, 0.7) * (n - 1) if pause_s > 0 else math.inf
+    pause_at = rng.uniform(*pause_range) * (n - 1) if pause_s > 0 else math.inf
     phase, prog, x, i = [], [], 0.0, 0
     while x < n - 1:
         if hold is not None and hold[0] <= x < hold[1]:
@@ -154,6 +155,23 @@ def performance(rng: np.random.Generator, tpl: np.ndarray, scale: float,
     x = np.concatenate([np.repeat(x[:1], lead, 0), x, np.repeat(x[-1:], lead, 0)])
     prog = np.concatenate([np.full((lead, 2), np.nan), prog, np.full((lead, 2), np.nan)])
     return x + rng.normal(0, JITTER_M, x.shape), prog
+
+
+def paused(rng: np.random.Generator, tpl: np.ndarray, scale: float, pause_s: float,
+           pause_range: tuple[float, float]) -> tuple[np.ndarray, np.ndarray, tuple[int, int]]:
+    """:func:`performance` with a pause of ``pause_s`` seconds at a random progress within
+    ``pause_range`` (wherever that falls, not where the template holds): its samples, true
+    progress and the pause as (first, past the last) sample, the performer still from the first
+    on."""
+    phase, _ = phase_of(rng, len(tpl), pause_s=pause_s, pause_range=pause_range)
+    still = np.flatnonzero(np.diff(phase) == 0)   # the sample each paused one repeats
+    lead = int(LEAD_S * RATE)
+    first, last = int(still[0]) + 1, int(still[-1]) + 2
+    x = scale * at_phase(tpl, phase)
+    x = np.concatenate([np.repeat(x[:1], lead, 0), x, np.repeat(x[-1:], lead, 0)])
+    prog = np.full((len(x), 2), np.nan)
+    prog[lead:lead + len(phase)] = (phase / (len(tpl) - 1))[:, None]
+    return x + rng.normal(0, JITTER_M, x.shape), prog, (lead + first, lead + last)
 
 
 def unrelated_motions(rng: np.random.Generator,

@@ -32,7 +32,7 @@ from behaviors.mop.threshold_kernel import threshold_step
 from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
-from behaviors.mop.validity import UNJUDGED_AT_REST
+from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
@@ -110,7 +110,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run = floats[11], floats[12]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
-    bounds, counts, best, nbuf = ints[0], ints[1], ints[3], ints[7]
+    bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
+    drive_from, drive_peak, drive_moved = m_floats[5], m_floats[6], m_flags[8]
     progress_out, mean_ll_out, p_out = k_out[0], k_out[1], k_out[2]
     moving_out, thr_ev, kept_out, thr_total, shape_n = (m_floats[0], m_floats[1], m_floats[2],
                                                         m_floats[3], m_floats[4])
@@ -174,6 +175,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             hrad[c] = m[ra0 + c]
         rest = resting_with(buf, nbuf, i, x, hrad, int(m[22]))   # holding (ActionFollower._finish)
         rest_out[i] = rest
+        # a pause of an action that carried its performer forward (validity.unweighed)
+        paused = (rest and UNWEIGHED_AT_REST and acquired[i] >= 0 and drive_moved[i]
+                  and drive_peak[i] - drive_from[i] >= CARRY_FIRST)
         turned = False   # the input reverses here (PerformanceFrame._reversal_sizes)
         if scaled:
             for c in range(d):
@@ -255,7 +259,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             log_size = dims * math.log(sk)
             raw -= log_size
             thr_lj[k] = m[20] + (-t[0] - log_size)   # the threshold model's log-density terms
-            ev[k] = ev[k] * decay + raw
+            ev[k] = ev[k] if paused else ev[k] * decay + raw
             if not (rest and UNJUDGED_AT_REST) or rw[k] <= 0.0:   # validity.UNJUDGED_AT_REST
                 rec[k] = rec[k] * null_decay + step_ll[k]
                 rw[k] = rw[k] * null_decay + 1.0
@@ -414,19 +418,20 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         # templates keep against it
         kept = 1.0
         if present[i] and math.isfinite(m[18]):
-            step = threshold_step(thr_means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
-                                  not thr_has_x[i], thr_total, i, thr_tops) - m[18]
-            lead = step_ll[first] - tc[first, 0]
-            lead -= dims * math.log(size[first])
-            still = thr_has_x[i]
-            for c in range(d):
-                if abs(x[i, c] - thr_x[i, c]) > THRESHOLD_STILL_RADII * m[ra0 + c]:
-                    still = False
-            if not thr_has_x[i] or still:
-                step = min(step, lead)
-            thr_x[i] = x[i]
-            thr_has_x[i] = True
-            thr_ev[i] = thr_ev[i] * decay + step
+            if not paused:   # (nor stepped in such a pause: validity.unweighed)
+                step = threshold_step(thr_means, ti, m, a0, a1, thr_z, thr_lj, alpha, scratch,
+                                      not thr_has_x[i], thr_total, i, thr_tops) - m[18]
+                lead = step_ll[first] - tc[first, 0]
+                lead -= dims * math.log(size[first])
+                still = thr_has_x[i]
+                for c in range(d):
+                    if abs(x[i, c] - thr_x[i, c]) > THRESHOLD_STILL_RADII * m[ra0 + c]:
+                        still = False
+                if not thr_has_x[i] or still:
+                    step = min(step, lead)
+                thr_x[i] = x[i]
+                thr_has_x[i] = True
+                thr_ev[i] = thr_ev[i] * decay + step
             kept = tot / (tot + math.exp(min(thr_ev[i] - top, 700.0)))
         kept_out[i] = kept
         gb = a0 + best[i]

@@ -47,8 +47,9 @@ from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
 from behaviors.mop.spotting import drives
 from behaviors.mop.state import ByName, FollowState
-from behaviors.mop.validity import (backs_first, crawl_run, crawls, resting, rests_behind,
-                                    stalls, still_unbegun, unbegun, unjudged)
+from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, resting,
+                                    rests_behind, stalls, still_unbegun, unbegun, unjudged,
+                                    unweighed)
 
 
 class Recognition:
@@ -85,8 +86,12 @@ class Recognition:
         raw_ll = step_ll - self._jacobian
         if self.invariance == "scale":
             raw_ll = raw_ll - self.dim * np.log(self._size)
-        self._evidence *= self._decay
-        self._evidence += raw_ll
+        # none in a pause of an action that carried its performer forward (validity.unweighed)
+        weighed = not unweighed(rest, carried(self._acquired, self._drive_from, self._drive_peak,
+                                              self._drive_moved))
+        if weighed:
+            self._evidence *= self._decay
+            self._evidence += raw_ll
         # none while the performer rests (validity.unjudged), but on a fresh start
         upd = self._recent_weight <= 0 if unjudged(rest) else slice(None)
         self._recent[upd] = self._recent[upd] * self._null_decay + step_ll[upd]
@@ -128,21 +133,22 @@ class Recognition:
         # templates' among themselves)
         self._kept = 1.0
         if math.isfinite(self.threshold):
-            rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top]))
-                     - self._evidence[top])
+            # (not stepped either in such a pause: validity.unweighed)
+            rival = (self._threshold_evidence(x, self._anchor, float(raw_ll[top])) if weighed
+                     else self._threshold_ev) - self._evidence[top]
             self._kept = total / (total + math.exp(min(rival, 700.0)))
-        lists = (progress.tolist(), p.tolist(), mean_ll.tolist(), self._size.tolist())
+        lists = (progress.tolist(), p.tolist(), mean_ll.tolist())
         return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
                               lists, rest)
 
     def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
                   gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,
                   forward: WindowedForward, offset: int, x: np.ndarray,
-                  lists: tuple[list, list, list, list], rests: bool) -> FollowState:
+                  lists: tuple[list, list, list], rests: bool) -> FollowState:
         """The rest of :meth:`_finish` once the per-template arrays are updated (a group updates
         them for all its followers at once): best, validity, the state and spotting. ``top``:
-        the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p``,
-        ``mean_ll`` and sizes as lists (for the state's dictionaries); ``rests``: the performer
+        the template of most evidence; ``p``: probabilities; ``lists``: progress, ``p`` and
+        ``mean_ll`` as lists (for the state's dictionaries); ``rests``: the performer
         rests (:func:`~behaviors.mop.validity.resting` over the samples ``_still`` keeps)."""
         b = self.bank
         src = b.source
@@ -157,7 +163,7 @@ class Recognition:
             if committed >= 0:
                 self._best = committed
         bi = self._best
-        progress_list, p_list, mean_ll_list, size_list = lists
+        progress_list, p_list, mean_ll_list = lists
         engaged = bool(self._engaged.any())
         slope = src[gi[bi] + 1] - src[gi[bi]]
         var = forward.var_of(offset + bi)
@@ -236,8 +242,9 @@ class Recognition:
             probabilities=ByName(index, p_list), progress_by=ByName(index, shown),
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
             loglik_by=ByName(index, mean_ll_list), likely=likely,
-            # (a take refused here may have sized its template: shape_lead.TAKE_RESIZE)
-            scale_by=ByName(index, size_list if valid else self._size.tolist()),
+            # after a refused take sized its template here (shape_lead.TAKE_RESIZE), as the group
+            # reports them: a valid sample sized none (a refused take does not drive)
+            scale_by=ByName(index, self._size.tolist()),
             holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
         if engaged:
             self._ended = -1

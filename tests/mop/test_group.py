@@ -361,3 +361,29 @@ def test_a_group_state_is_the_followers_state_of_the_same_values():
     # the group builds its states without the dataclass's __init__: every field, in order
     values = [f"value {i}" for i in range(len(dataclasses.fields(FollowState)))]
     assert _new_state(*values) == FollowState(*values)
+
+
+def test_a_group_holds_a_paused_action_as_its_followers_alone(monkeypatch):
+    # validity.unweighed, compiled in group_kernel.update_templates: gestures paused 1.5 s part
+    # way (tests/mop/test_pauses.py's draws whose action stopped driving in the pause without
+    # the rule), one per member. Measured 446 valid states, 331 with the evidence weighed at rest
+    from bench.follow_quality import puck_follower
+    from bench.motions import gesture_templates, paused
+    from behaviors.mop import validity
+    gestures = gesture_templates()
+    streams = []
+    for seed, kept in ((0, ("zigzag", "wave")), (2, ("circle",)), (3, ("zigzag", "wave"))):
+        rng = np.random.default_rng(seed)
+        for name, tpl in gestures.items():   # drawn in the test's order, a few kept
+            x = paused(rng, tpl, float(rng.uniform(0.8, 1.2)), 1.5, (0.3, 0.7))[0]
+            if name in kept:
+                streams.append(x)
+    n = max(len(s) for s in streams)
+    streams = [np.concatenate([s, np.repeat(s[-1:], n - len(s), axis=0)]) for s in streams]
+    alone = [puck_follower(gestures) for _ in streams]
+    group = FollowerGroup([puck_follower(gestures) for _ in streams])
+    valid = _step_both(alone, group, streams)
+    monkeypatch.setattr(validity, "UNWEIGHED_AT_REST", False)   # the followers alone read it
+    plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams],
+                                                 streams) for x in s)
+    assert valid >= plain + 60, (valid, plain)
