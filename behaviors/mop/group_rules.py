@@ -76,7 +76,9 @@ class GroupRules:
                                              self._m_keep[i:i + 1])[0]
             else:
                 anchor = self._x[i].copy()
-            came = self._x[i] - self._buf[i, -min(int(self._nbuf[i]), int(self._m_keep[i]))]
+            # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
+            came = self._x[i] - (self._anchor[i] if self._has_anchor[i] else
+                                 self._buf[i, -min(int(self._nbuf[i]), int(self._m_keep[i]))])
             if h != members.WAITING:
                 self._buf[i, -1] = self._x[i]
                 self._nbuf[i] = 1

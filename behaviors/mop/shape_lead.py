@@ -233,6 +233,19 @@ every take: 0.9125 / 0.9125 / 0.9075 / 0.9022, off track, unrelated mean 0.0183 
 best size of every take: 0.8610 (a straight stroke fits any); of a take the estimate misfits:
 0.9185 / 0.9193 / 0.9178 / 0.9050, unrelated worst 0.074 -> 0.139; smaller only: 0.9195 /
 0.9184, 0.076; within 0.05: 0.9198 / 0.9177, mean 0.0189; both: 0.9200 / 0.9151, 0.0186.
+
+Mirrored paths among twenty templates, traced on the tuned joints with seeds 201-210: every wrong
+take passed :meth:`_fits_take`; of their valid ticks 49% were taken at a misfit of 0.1-0.2 at the
+estimate, 31% within 0.1, 18% only at 1.12 times it (true takes at 0.7-1.4x, seeds 201-204: 85%,
+5.5%, 6.5% of their valid ticks). What drove on after the take (a dance wrist on the mirrored
+figure eight at 0.7x, 0.24 -> 0.59 of itself) strayed 0.4-1.0 sigma^2 for 10 samples before the
+threshold model refused it. Measured and not kept (``--sections=sized,unrelated``, tuned seed
+13; unrelated mean over seeds 201-206): :data:`TAKE_MISFIT2` 0.1: valid after 30% 0.9147 ->
+0.9139, 0.6 / 1.5x 0.7581 -> 0.7498 (recognised by their end 0.975 -> 0.925), mean 0.0232 ->
+0.0176; 0.08: 0.9134, 0.7302, mean 0.0155, but the ``follow`` command's circle with scale
+invariance (``tests/mop/test_follow_cli.py``) is then valid on no tick (over half at 0.09); the
+take's fit asked again of the action's first 10 / 15 samples while it drives (stopped beyond
+0.5 / 0.4): 0.9147 / 0.9123, mean 0.0232 -> 0.0222 / 0.0216.
 """
 
 from __future__ import annotations

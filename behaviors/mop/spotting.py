@@ -328,7 +328,8 @@ class GestureSpotting:
             self._restart_here(x, forward, offset)
             self._ended = bi
         elif self._lost >= self.lost_samples:
-            came = x - self._recent_x[0]   # the input's way here (validity.unbegun)
+            # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
+            came = x - (self._recent_x[0] if self._anchor is None else self._anchor)
             self._restart_here(x, forward, offset)
             self._abandoned, self._came = True, came
         elif still and not engaged:

@@ -181,6 +181,23 @@ stroke to its far end, was taken as the performer stopped there. ``--sections=si
 sequences,unrelated`` (tuned / held-out): unrelated mean 0.0688 -> 0.0650 / 0.0771 -> 0.0754
 (a mirrored line, six templates, 0.122 -> 0), worst unchanged; valid after 30%, holds and
 back to back unchanged to the digit.
+The way it came is the abandoned attempt's net motion, from its anchor to the sample where it is
+abandoned (it was the motion over the last ``still_samples`` before it): an attempt is abandoned
+``lost_samples`` after every template was refused, so a mirrored line refused at its turn was
+abandoned 6 samples into its return, which was then the way it came (6.6 cm along the return,
+cosine +1 with the way on); the line was taken on the rest of the return as its outward stroke
+and held at its turn while the performer rested (0.41-0.45 of a mirrored line's ticks among the
+six gestures, traced on the tuned joints with seeds 201-210: the worst motion of seeds 201, 204
+and 207). ``bench/follow_quality.py --sections=sized,holds,sequences,unrelated,after`` (tuned;
+held-out in brackets, not chosen by): unrelated mean 0.0161 -> 0.0154 (0.0328 -> 0.0299),
+twenty templates' mean 0.0154 -> 0.0149 (0.0450 -> 0.0401), told mean 0.0106 -> 0.0100 (0.0186
+-> 0.0156), mirrored paths among six 0.0159 -> 0 at worst, worst 0.0681 unchanged (0.3458);
+sized, holds, back to back and after a gesture unchanged to the digit. The same draws with seeds
+201-207 (``evaluate(puck_follower, seed)``): unrelated worst 0.137 / 0.112 / 0.099 / 0.151 /
+0.156 / 0.134 / 0.139 -> 0.086 / 0.112 / 0.099 / 0.151 / 0.113 / 0.134 / 0.139 (the mirrored
+figure eight among twenty on 205), mean 0.0227 / 0.0204 / 0.0190 / 0.0329 / 0.0232 / 0.0212 /
+0.0236 -> 0.0189 / 0.0200 / 0.0174 / 0.0288 / 0.0196 / 0.0210 / 0.0198; no motion's share rose
+(seeds 201, 204 motion by motion).
 """
 
 from __future__ import annotations
@@ -274,9 +291,9 @@ REVERSED = 0.5
 def unbegun(abandoned: bool, way: np.ndarray, came: np.ndarray) -> bool:
     """Whether the input goes back the way it came to the anchor of an attempt begun by
     ``abandoned`` (every template refused, :meth:`~behaviors.mop.spotting.GestureSpotting._spot`):
-    its way from the anchor ``way`` against its net motion ``came`` over the samples before the
-    anchor, cosine below -:data:`REVERSED`. Such an anchor is a turn within one unexplained motion,
-    not an onset (see the module docstring)."""
+    its way from the anchor ``way`` against its net motion ``came`` over the attempt abandoned
+    there (from that attempt's anchor), cosine below -:data:`REVERSED`. Such an anchor is a turn
+    within one unexplained motion, not an onset (see the module docstring)."""
     dot = float(way @ came)
     return abandoned and dot < -REVERSED * math.sqrt(float(way @ way) * float(came @ came))
 

@@ -100,6 +100,34 @@ def test_a_group_keeps_the_ban_through_the_rest_as_its_followers_alone(gestures)
     _group_as_alone(gestures, streams)
 
 
+def _mirrored_line_streams(gestures, seeds) -> list[np.ndarray]:
+    """A mirrored line (out along -x, back), as the bench draws it, at 0.7, 1.0 and 1.4x."""
+    mirrored = gestures["line"] * np.array([-1.0, 1.0])
+    streams = []
+    for seed in seeds:
+        rng = np.random.default_rng(seed)
+        streams += [performance(rng, mirrored, s)[0] for s in (0.7, 1.0, 1.4)]
+    return streams
+
+
+def test_no_action_is_taken_back_the_way_an_attempt_abandoned_after_its_turn_came(gestures):
+    # validity.unbegun, the way the input came read over the whole abandoned attempt (from its
+    # anchor): abandoned a few samples after its turn, the mirrored line's return was the way it
+    # came over the last samples, and the line was taken on it as its outward stroke, then held
+    # at its turn while the performer rested. Six gestures, twelve seeds: measured 22 valid
+    # ticks, 189 with the way read over the last still_samples before the anchor
+    f = puck_follower(gestures)
+    valid = sum(sum(s.valid for s in run(f, x)) for x in _mirrored_line_streams(gestures,
+                                                                                range(12)))
+    assert valid <= 60, valid
+
+
+def test_a_group_reads_the_way_an_abandoned_attempt_came_as_its_followers_alone(gestures):
+    # the same over members (group.FollowerGroup): every tick's validity and action equal, on
+    # the draws where the line was taken after an abandonment
+    _group_as_alone(gestures, _mirrored_line_streams(gestures, (1, 2, 6, 11)))
+
+
 def test_a_stroke_that_starts_an_action_is_read_as_its_performance(gestures):
     # bench/follow_quality.performs: the triangle's first stroke is the line drawn outward, its
     # second is not; a still puck performs nothing
