@@ -40,6 +40,17 @@ attempt each time the input slows further): never recognised 0.344 / 0.094 and 0
 refused): held-out never recognised 0.156 -> 0.125 (the next gesture's anchor still short),
 but unrelated motions valid more (mean 0.0734 -> 0.0828 / 0.0814 -> 0.0939, worst 0.306 ->
 0.422): each fresh attempt in an unrelated motion gives every template a new start.
+Measured and not kept: after an end, every template started where the forward weights take it
+in the samples since the end was reached (at most :data:`END_GRACE`; none while the input
+rests or still comes closer to the ended template's last point): the next gesture's follower
+lags its start by those samples, and a roll ankle's, summing 624 in shape against a walk
+ankle's 150 by 0.21 of it, let the walk drive 0.24-0.29 of the roll. Twenty templates back to
+back (seeds 201-210 of ``bench/follow_quality.evaluate``), the longest run of an action other
+than the one just ended 2, 3, 2, 4, 1, 0, 0, 1, 0, 2 -> 1, 0, 0, 4, 1, 0, 0, 1, 0, 2; but an
+unrelated stroke right after a gesture valid 0.0730 -> 0.0761 of its ticks (every template
+gets the head start); started so also while the input was still coming closer to the last
+point, progress RMSE p90 at 0.7-1.4x 0.0405 -> 0.0423 (a fast-ending crawl wrist's 0.019 ->
+0.144: the performer was still finishing it).
 
 Why an ended action stops driving two samples after its end and not when the input moves on:
 every gesture starts eased (within 2 mm of its start for its first 4-7 samples, under the
@@ -97,7 +108,18 @@ of the template's last point (at the estimated size): also runs of at most two, 
 30% of gestures at 0.7-1.4x 0.896 -> 0.886 (it ended closed gestures, whose eased approach
 lies within that radius, several samples early); the last point instead of the sample before
 as the place the input stopped in: the same runs, and on the sized subset of
-``tests/mop/test_quality.py`` one tick less of a figure eight.
+``tests/mop/test_quality.py`` one tick less of a figure eight. The grace counted from where the
+performer came to rest (:func:`~behaviors.mop.validity.resting`) with the action followed
+inside its end hold (a compressed hold in the last 10% of its progress: a kick ankle's at
+0.89-0.96, the wave's, the circle's): among twenty templates back to back (seeds 201-210 of
+``bench/follow_quality.evaluate``, 80 sequences) ended actions' runs over two ticks 6 -> 5, the
+longest 4 -> 3; but valid after 30% of gestures at 0.7-1.4x 0.9147 -> 0.9144, at 0.6 and 1.5x
+0.7582 -> 0.7574, raise-hold-return 0.958 -> 0.956 (a wave at 0.6x, a kick ankle at 1.4x and
+a lift each lost their last tick: the follower, level with or ahead of the performer there,
+reached ``end`` two to four samples after they came to rest). The runs left lie *before* the
+end is reached: the follower crosses an eased end at the prior's drift (about a state per
+sample), and a kick ankle performed at 1.5 states per sample is followed at 0.92-0.95 at its
+last one.
 
 Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new action does not
 drive while its start is still the start of another template the input fits; the rule and its
