@@ -310,7 +310,11 @@ class StepSmoother:
         The stalker alone on those paths, misses (the engine's alone) with the drift share x
         1, 1 + 0.001, 1 - 0.001, 1 + 0.002, 1 - 0.002: before 31 (18), 32 (19), 30 (17), 30
         (18), 29 (17), sum 152 (89); now 30 (16), 29 (15), 31 (16), 29 (16), 31 (18), sum 150
-        (81); fast-path contact 0.044 both ways (its designer 0.039, at most 0.042). The disc
+        (81); with 1 + 0.003, 1 - 0.003, 1 + 0.004, 1 - 0.004 as well: before 29 (17), 34
+        (22), 34 (21), 31 (19), now 31 (17), 39 (24), 34 (21), 31 (19); over the nine runs 280
+        (168) -> 285 (162): the misses as before within the runs' spread, the passes through
+        the main gone. Fast-path contact 0.042-0.045 -> 0.043-0.048 over the nine runs (its
+        designer 0.039, at most 0.042): held against the disc a little longer. The disc
         alone 35, 34, 32, 32, 30, sum 163 (89): still/moving missed 40 times over the five
         runs (now 29, before 33); with the governor's filter losing its inward part as well
         (disc 0.053 m) 152 (83). bench/fidelity.py --seeds 0,1,2,3,4,5 / 8,...,13 /
