@@ -367,6 +367,9 @@ class Behavior:
         # capped at its demonstrated speed, so it touched 3-20% of the time on the fast and
         # loops paths against 0.8% demonstrated. See Reactor._step for the figures.
         self.personal_space = near if near >= TOUCH_M else 0.0
+        # a character that stops when its main stops and touches it corrects its drift at
+        # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
+        self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
         # the main's disc (m): the reactor is kept out of it (step.py, GenerationStep._detail).
         # The personal space, or for a character that charges into its main (the bully) the
         # least distance its demonstration shows, as its puck stops against the main's: its
@@ -378,9 +381,12 @@ class Behavior:
         # a pause a charge falls in moved); at 1 +- 0.002 (two runs) 52 (39) -> 33 (26), orbit
         # 16 -> 8, contact 20 -> 14; at 0.0485 m 52 (41), at the 0.5th percentile (0.051 m)
         # 58 (44). bench/fidelity.py, one run per set, thresholds met 667 / 654 /
-        # 649 -> 667 / 651 / 652 of 720, the others the same to the last digit
+        # 649 -> 667 / 651 / 652 of 720, the others the same to the last digit. The stalker's
+        # too (keeps_pace; 0.053 m), which ran through its main at reversals (1-3 cm between
+        # centres); pushed aside, its smooth's remembered steps lose their part into the main
+        # (generation.StepSmoother.lose_inward: the figures)
         self.main_disc = self.personal_space if self.personal_space > 0.0 else (
-            float(self.distance.min()) if self.charging else 0.0)
+            float(self.distance.min()) if self.charging or self.keeps_pace else 0.0)
         # the demonstrated reactor's largest step (metres per sample; inf if it never moved)
         steps = np.hypot(*np.diff(self.react[:, :2], axis=0).T)
         self.largest_step = float(steps.max()) if steps.max() > 0.0 else math.inf
@@ -392,9 +398,6 @@ class Behavior:
             r = self.react
             edge = np.minimum.reduce([r[:, 0] - x0, r[:, 1] - y0, x1 - r[:, 0], y1 - r[:, 1]])
             self.edge_margin = max(0.0, float(np.percentile(edge, p.edge_percentile)))
-        # a character that stops when its main stops and touches it corrects its drift at
-        # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
-        self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
         # the positions before the newest over which its main has stopped (STOP_SPAN_S)
         self.stop_span = max(1, int(round(STOP_SPAN_S * p.rate_hz)))
         # a character that keeps a personal space round its main and slows when it stops

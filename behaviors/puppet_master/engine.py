@@ -187,6 +187,7 @@ class Reactor(GenerationStep):
         c[sk.LARGEST_STEP] = b.largest_step
         c[sk.STRAIGHTNESS] = b.straightness
         c[sk.CIRCLING] = float(b.circling)
+        c[sk.MAIN_DISC] = b.main_disc
         c[[sk.S_SINCE, sk.SINCE_CLIP, sk.TOUCH]] = b.scales.since, b.since_clip, TOUCH_M
         span = min(b.stop_span, self._main_recent.maxlen - 1)    # as StepSenses._main_stopped
         c[[sk.STOP_SPAN, sk.STOP_DISTANCE]] = span, STILL_MPS * span / p.rate_hz

@@ -228,3 +228,17 @@ def limit_turn(previous: float, desired: float, max_delta: float) -> float:
     d = _min(_max(d, -max_delta), max_delta)
     return wrap_angle(previous + d)
 
+
+
+@compiled(numba.void(_F1, _F1, _f8, _f8), step_math)
+def lose_inward(xs: np.ndarray, ys: np.ndarray, bx: float, by: float) -> None:
+    """generation.StepSmoother.lose_inward on the smooth's remembered steps ``xs``, ``ys``."""
+    length = hypot(bx, by)
+    if length <= 1e-9:
+        return
+    ux, uy = bx / length, by / length
+    for q in range(xs.size):
+        inward = xs[q] * ux + ys[q] * uy
+        if inward < 0.0:
+            xs[q] -= inward * ux
+            ys[q] -= inward * uy

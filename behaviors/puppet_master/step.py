@@ -426,10 +426,12 @@ class GenerationStep(StepSenses):
         # moved; contact lost on 5 paths); at the 0.5th percentile for every character: 603
         # and 99
         others = self.obstacles
-        if b.main_disc > 0.0:            # the personal space, or a charger's least distance
+        if b.main_disc > 0.0:            # the personal space, or the least distance shown
             others = [*others, (mx, my, b.main_disc)]
         if others:
             nx, ny = keep_apart(rx + sx, ry + sy, others, self.table)
+            if b.keeps_pace and math.hypot(rx + sx - mx, ry + sy - my) < b.main_disc:
+                self.smoother.lose_inward(nx - mx, ny - my)   # pushed aside by its main's puck
             sx, sy = nx - rx, ny - ry
             # a main faster than the character's largest demonstrated step that walks into
             # its personal space shoved it at the main's own speed: the lover's steps 1.0-1.25x

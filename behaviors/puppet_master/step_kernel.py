@@ -13,7 +13,7 @@ any of these must be made here too:
 - similarity.Balancer.choose
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
   share_around, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
-  StepSmoother.turn and push
+  StepSmoother.turn, push and lose_inward
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
@@ -39,8 +39,8 @@ import numpy as np
 from behaviors.puppet_master import generation_kernel, step_math
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
-    keep_on_table, limit_turn, mean_capped, moved_on, share_around, step_around, table_reach,
-    turn_between)
+    keep_on_table, limit_turn, lose_inward, mean_capped, moved_on, share_around, step_around,
+    table_reach, turn_between)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -68,7 +68,8 @@ STOP_SPAN, STOP_DISTANCE = 48, 49   # Behavior.stop_span (held to the ring) and 
 STRAIGHTNESS = 50     # Behavior.straightness
 S_SINCE, SINCE_CLIP, TOUCH = 51, 52, 53   # the steps since the last push (0: not a feature)
 CIRCLING = 54         # Behavior.circling (1.0: the smooth turns with the bearing)
-CONSTANTS = 55
+MAIN_DISC = 55        # Behavior.main_disc (metres; 0: none)
+CONSTANTS = 56
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -347,6 +348,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
     sx, sy = keep_on_table(rx, ry, sx, sy, c)
     if obstacles.shape[0] > 0:
         nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)
+        if c[KEEPS_PACE] != 0.0 and hypot(rx + sx - mx, ry + sy - my) < c[MAIN_DISC]:
+            lose_inward(smooth_x, smooth_y, nx - mx, ny - my)     # pushed aside (step.py)
         sx, sy = nx - rx, ny - ry
         if c[WALKS_WITH_MAIN] != 0.0:     # shoved (step.py)
             sx, sy = capped(sx, sy, c[LARGEST_STEP])
