@@ -63,7 +63,9 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     places are held relative to the main, so it follows a visitor that backs off. Measured
     (unperturbed, 18 seeds; open paths of 432 / chased of 144 met, distance chased, against
     361 / 131 / 0.302 m): the main's step away from it not carried 349 / 132 / 0.306; nor
-    the drift correction's part toward a main that backs off 343 / 128 / 0.316. Not used.
+    the drift correction's part toward a main that backs off 343 / 128 / 0.316; only that part
+    343 / 133 / 0.310; both only at moments whose demonstrated main stood 355 / 134 / 0.298.
+    Not used: the open paths lose orbit and facing.
 
     It is also what turns the afraid character's flight into circling when a visitor chases
     it toward an edge (bench/fidelity.py's pursuit: orbit 0.41-0.51 rad/s against 0.335, missed
