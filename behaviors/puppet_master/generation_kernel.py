@@ -42,7 +42,7 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     rho = hypot(tx - mx, ty - my)
     found = False
     bd, bx, by = 0.0, 0.0, 0.0
-    if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
+    if rho > 1e-9:
         for k in range(bearings.shape[0]):
             px, py = mx + rho * bearings[k, 0], my + rho * bearings[k, 1]
             if x0 <= px <= x1 and y0 <= py <= y1:

@@ -40,6 +40,33 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     under the main as that side flipped); a follower behind a main at the edge walks beside it.
     If no bearing fits (the distance exceeds the table), the nearest table point.
 
+    The bearings are searched wherever the main is, also in the band between the live table's
+    edge and the character's edge margin (a visitor that has followed the afraid character
+    toward an edge). Searched only with the main on the margin table, such a target was
+    clamped, toward the main: chased (seeds 0-5, 8-13, 26-31), 24% of its steps within 0.2 m
+    of the visitor had their target shrunk toward it, by 0.10 m on average (now none; within
+    0.2 m on 29% of its steps instead of 34%). bench/fidelity.py, seeds 0-5 / 8-13 /
+    26-31: met 668 / 667 / 665 -> 672 / 673 / 659 of 720, the engine's alone 9 / 15 / 17 -> 8 /
+    15 / 17, chased 47 / 41 / 43 -> 45 / 45 / 41 of 48 (the engine's 0 / 7 / 2 -> 1 / 3 / 4);
+    the afraid character's misses 26 / 24 / 25 -> 22 / 18 / 31, the other characters the
+    same to the last digit; --perturb 2 (three runs per set) 2002 / 1993 / 2005 -> 2011 / 2010
+    / 1985 of 2160, the engine's alone 32 / 43 / 47 -> 32 / 43 / 49 (the afraid character's
+    misses 78 / 78 / 66 -> 69 / 61 / 86: seeds 26-31 lose facing, orbit and speed on the open
+    paths). Its mean distance chased 0.292 -> 0.302 m (at an edge 0.133 ->
+    0.123; its demonstration 0.366 m, its designer 0.39). The afraid character alone with
+    Params.relative_motion x 1 +- 0.001, 1 +- 0.002 (four runs of those 18 seeds): open paths
+    1435 -> 1443 of 1728 met, chased 527 -> 521 of 576 (facing 21 -> 24 misses, caught once),
+    distance chased 0.293 -> 0.299 m: the distance gained is small and the chase's thresholds
+    do not follow it. The rest of the gap opens while the visitor does not chase (the
+    distance's rate per visitors.Pursuer mode, against its designer's: pulling back +0.12
+    against +0.21 m/s, wandering +0.013 against +0.030, chasing -0.039 against -0.054): its
+    places are held relative to the main, so it follows a visitor that backs off. Measured
+    (unperturbed, 18 seeds; open paths of 432 / chased of 144 met, distance chased, against
+    361 / 131 / 0.302 m): the main's step away from it not carried 349 / 132 / 0.306; nor
+    the drift correction's part toward a main that backs off 343 / 128 / 0.316; only that part
+    343 / 133 / 0.310; both only at moments whose demonstrated main stood 355 / 134 / 0.298.
+    Not used: the open paths lose orbit and facing.
+
     It is also what turns the afraid character's flight into circling when a visitor chases
     it toward an edge (bench/fidelity.py's pursuit: orbit 0.41-0.51 rad/s against 0.335, missed
     on 5 of 7 seeds). Traced on seeds 0 and 2 (steps 0.2-0.45 m from the visitor while it
@@ -102,7 +129,7 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
         return tx, ty
     rho = math.hypot(tx - mx, ty - my)
     best: tuple[float, float, float] | None = None
-    if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
+    if rho > 1e-9:
         for c, s in _bearings(int(round(360.0 / step_deg))):
             px, py = mx + rho * c, my + rho * s
             if x0 <= px <= x1 and y0 <= py <= y1:

@@ -128,7 +128,7 @@ def _fit_target_reference(mx, my, tx, ty, rx, ry, table, step_deg=5.0):
         return tx, ty
     rho = math.hypot(tx - mx, ty - my)
     best = None
-    if rho > 1e-9 and x0 <= mx <= x1 and y0 <= my <= y1:
+    if rho > 1e-9:
         count = int(round(360.0 / step_deg))
         for k in range(count):
             a = math.tau * k / count
