@@ -186,7 +186,7 @@ class Recorder:
         order = max((o for o, _ in mine.values() if o is not None), default=0) + 1
         for candidate in self._candidates():
             try:
-                f = open(candidate, "xb")
+                f = open(candidate, "xb", buffering=0)   # each line one write: see _write
             except FileExistsError:
                 continue
             break
@@ -260,7 +260,24 @@ class Recorder:
             log.warning("old recordings in %s not removed: %s", self.folder, exc.strerror or exc)
 
     def _write(self, data: bytes) -> None:
-        self._f.write(data)
+        """Write all of ``data`` to the part, or none of it: a full disk takes a line's head and
+        refuses the rest (OSError); the head is cut off again, so a stopped part holds exactly
+        the :attr:`frames` counted (a buffered part kept the rest to write on its close, and a
+        disk with room by then completed a line counted as lost)."""
+        view = memoryview(data)
+        try:
+            while view:
+                n = self._f.write(view)
+                if not n:
+                    raise OSError(errno.ENOSPC, "the disk took nothing of a line")
+                view = view[n:]
+        except OSError:
+            if len(view) < len(data):
+                try:
+                    os.ftruncate(self._f.fileno(), self._size)
+                except OSError:
+                    pass
+            raise
         self._size += len(data)
 
     def _fail(self, exc: OSError | str) -> None:

@@ -56,3 +56,27 @@ def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path):
     assert t + 10.0 + 3 * RESUME_EVERY_S <= resumed_at <= t + 10.0 + 4 * RESUME_EVERY_S + 1.0
     assert rec.frames == stopped_at + len(second) and len(second) > 10
     assert [f.t for f in second] == sorted(f.t for f in second)
+
+
+def test_a_line_the_full_disk_took_part_of_is_cut_off(tmp_path):
+    """The disk takes the head of a line and refuses the rest: the head is cut off, so the part
+    holds exactly the frames counted, also once the disk has room again (a buffered part kept
+    the rest and wrote it on its close, completing a line counted as lost)."""
+    folder = tmp_path / "sessions"
+    soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+    old_handler = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    rec = Recorder(folder=folder, header=HEADER)
+    try:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (16 * 1024 + 300, hard))   # mid-line
+        for f in frames(5000.0, 10.0):
+            rec.consume(f)
+        assert rec.failed is not None and "File too large" in rec.failed
+        on_disk = rec.paths[0].read_bytes()
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))            # room again
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+        signal.signal(signal.SIGXFSZ, old_handler)
+        rec.close()
+    assert on_disk.endswith(b"\n") and on_disk.count(b"\n") == rec.frames + 1
+    closed = rec.paths[0].read_bytes()
+    assert closed == on_disk and len(list(read_frames(rec.paths[0]))) == rec.frames
