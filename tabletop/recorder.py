@@ -134,6 +134,7 @@ class Recorder:
         self.keep, self.max_queue = keep, max(1, int(max_queue))
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0                  # frames written
+        self._orders: dict[Path, int | None] = {}   # recordings' header orders, read once
         self.failed: str | None = None   # why recording stopped early, if it did
         self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
         self._resumable = False                # stopped by a full disk: tries go on
@@ -201,7 +202,7 @@ class Recorder:
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
         header = {"format": FORMAT, "version": VERSION, "order": order}   # first: see ORDER
-        header.update(self._header, part=len(self.paths),
+        header.update(self._header, order=order, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
         self._f.flush()
@@ -211,6 +212,7 @@ class Recorder:
         else:
             self._folder_dirty = True
         mine[candidate] = (order, 0.0)
+        self._orders[candidate] = order
         self._prune(mine)
 
     def _mine(self, p: Path) -> bool:
@@ -232,9 +234,11 @@ class Recorder:
             return out
         for p in entries:
             try:
-                with open(p, "rb") as f:
-                    m = ORDER.match(f.read(ORDER_BYTES))
-                out[p] = (int(m.group(1)) if m else None, p.stat().st_mtime)
+                if p not in self._orders:   # each header read once (later parts, resumes)
+                    with open(p, "rb") as f:
+                        m = ORDER.match(f.read(ORDER_BYTES))
+                    self._orders[p] = int(m.group(1)) if m else None
+                out[p] = (self._orders[p], p.stat().st_mtime)
             except OSError:
                 continue                 # removed meanwhile, or unreadable: not counted
         return out

@@ -233,7 +233,7 @@ def trim_heap() -> None:
     the resident memory 6.5 MB (see :meth:`Runner._drop` for the figures)."""
     try:
         trim = ctypes.CDLL(None).malloc_trim
-    except (OSError, AttributeError):
+    except (OSError, AttributeError, TypeError):   # TypeError: no C library by that name
         return
     trim(0)
 

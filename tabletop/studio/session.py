@@ -37,19 +37,23 @@ def _load_plotting() -> None:
         log.exception("the plotting library for review sheets did not load")
 
 
-_jobs: queue.SimpleQueue = queue.SimpleQueue()
+_jobs: queue.SimpleQueue[tuple[Callable[[], None], threading.Event]] = queue.SimpleQueue()
 _drawer_lock = threading.Lock()
 _drawer: threading.Thread | None = None
 _warmed = False
 
 
 def _draw_jobs() -> None:
+    """The drawing thread: each job in turn; a job that fails is logged and the next runs."""
     while True:
         job, done = _jobs.get()
         try:
             job()
+        except Exception:   # the studio runs on without that sheet
+            log.exception("a review sheet was not drawn")
         finally:
             done.set()
+            job = done = None   # nothing of the last sheet kept alive while the thread waits
 
 
 def draw_later(job: Callable[[], None]) -> threading.Event:

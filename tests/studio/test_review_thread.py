@@ -50,3 +50,18 @@ def test_review_sheets_keep_each_font_open_once(tmp_path):
     finally:
         stop.set()
     assert counts[0] > 0 and counts == [counts[0]] * 4, counts
+
+
+def test_a_sheet_that_fails_does_not_stop_the_drawing_thread(caplog):
+    """A drawing job raising is logged; the jobs after it still run (the thread ended with the
+    first failure and every later sheet waited for ever)."""
+    from tabletop.studio.session import draw_later
+
+    def fails() -> None:
+        raise ValueError("no such sheet")
+
+    ran: list[int] = []
+    first = draw_later(fails)
+    second = draw_later(lambda: ran.append(1))
+    assert first.wait(30) and second.wait(30) and ran == [1]
+    assert "a review sheet was not drawn" in caplog.text

@@ -214,6 +214,15 @@ def test_keep_removes_the_oldest_by_order_not_by_the_clock(tmp_path):
     assert [read_header(p)["order"] for p in (ahead[2], *newer)] == [3, 4, 5]
 
 
+def test_an_order_in_the_given_header_is_not_kept(tmp_path):
+    """A header copied from another recording (``tabletop replay --out``) carries that one's
+    ``order``: the new recording's own is written, else ``keep`` ages it by the other's."""
+    rec = Recorder(folder=tmp_path, header={"format": "tabletop-session", "version": 2,
+                                             "order": 99})
+    rec.close()
+    assert read_header(rec.path)["order"] == 1
+
+
 @pytest.mark.parametrize("limit_kb", [64, 1], ids=["while running", "at start-up"])
 def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path, limit_kb):
     """A real write failure: the process may not grow a file beyond ``limit_kb`` (RLIMIT_FSIZE).
