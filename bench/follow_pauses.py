@@ -1,11 +1,11 @@
 """``bench/follow_quality.py``'s ``pauses`` section: a performer pausing in the middle of a gesture.
 
 A performer stops part way through an action, wherever they like (not where its template
-holds), for a moment or two and goes on. They expect the character to hold its pose where they stopped and to continue with
-them. Every template loaded in the bench (six gestures, fourteen DeepMimic joints) is performed
-:data:`DRAWS` times at 0.7-1.4x, time-warped, with a pause of :data:`PAUSE_SECONDS` at a progress
-within :data:`PAUSE_AT` (:func:`bench.motions.paused`), between still rests; tracking jitter
-throughout.
+holds), for a moment or two and goes on. They expect the character to hold its pose where they
+stopped and to continue with them. Every template loaded in the bench (six gestures, fourteen
+DeepMimic joints) is performed :data:`DRAWS` times at 0.7-1.4x, time-warped, with a pause of
+:data:`PAUSE_SECONDS` at a progress within :data:`PAUSE_AT` (:func:`bench.motions.paused`),
+between still rests; tracking jitter throughout.
 
 Figures, over the performances whose action drove (``valid``, ``best`` the true template) on
 the :data:`BEFORE` samples before the pause (``pause_driving_performances`` of them):
@@ -36,8 +36,9 @@ PAUSE_AT = (0.2, 0.8)
 
 def pauses(factory: Callable, templates: Mapping[str, np.ndarray], rng: np.random.Generator,
            run: Callable, draws: int = DRAWS) -> dict[str, float]:
-    """The ``pause_`` figures (module docstring) with ``templates`` loaded; ``run`` steps a
-    follower (None: the section left out, its random numbers drawn all the same) over samples."""
+    """The ``pause_`` figures (module docstring) with ``templates`` loaded; ``factory`` makes the
+    follower (None: the section left out, its random numbers drawn all the same) and ``run``
+    (:func:`bench.follow_quality.run`) steps it over samples."""
     f = factory(templates)
     rows = []
     for name, tpl in templates.items():

@@ -46,7 +46,8 @@ Held out: the same evaluation on fourteen other joints of the clips (``MOCAP_HEL
 another seed (``heldout_`` figures); the follower's rules and parameters were never chosen on
 them. ``cli_default_`` figures: the ``follow`` command's defaults (features as recorded).
 
-    python bench/follow_quality.py [--debug] [--sections=sized,holds,sequences,unrelated,after,pauses]
+    python bench/follow_quality.py [--debug]
+        [--sections=sized,holds,sequences,unrelated,after,pauses]
 
 ``--sections`` measures only those sections of the tuned and held-out evaluations (a section
 left out still draws its random numbers, so the others' figures are those of a full run);

@@ -222,7 +222,8 @@ class Recorder:
         if self.stem is None:
             return p.name.startswith("session-")
         rest = p.stem[len(self.stem):]
-        return p.stem.startswith(self.stem) and (rest == "" or (rest[0] == "-" and rest[1:].isdigit()))
+        return p.stem.startswith(self.stem) and (rest == ""
+                                                 or (rest[0] == "-" and rest[1:].isdigit()))
 
     def _recordings(self) -> dict[Path, tuple[int | None, float]]:
         """This naming's recordings in the folder: path -> (its header's ``order``, None for a

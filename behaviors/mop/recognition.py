@@ -242,8 +242,8 @@ class Recognition:
             probabilities=ByName(index, p_list), progress_by=ByName(index, shown),
             valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
             loglik_by=ByName(index, mean_ll_list), likely=likely,
-            # after a refused take sized its template here (shape_lead.TAKE_RESIZE), as the group
-            # reports them: a valid sample sized none (a refused take does not drive)
+            # the sizes after this sample (a refused take may have resized its template here,
+            # shape_lead.TAKE_RESIZE), as the group reports them
             scale_by=ByName(index, self._size.tolist()),
             holding=bool(b.holds[int(round(g[bi]))] or progress_list[bi] >= 0.9))
         if engaged:

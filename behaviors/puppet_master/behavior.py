@@ -374,9 +374,9 @@ class Behavior:
         # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
         self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
         # the main's disc (m): the reactor is kept out of it (step.py, GenerationStep._detail).
-        # The personal space, or for a character that charges into its main (the bully) the
-        # least distance its demonstration shows, as its puck stops against the main's: its
-        # charges pressed on to 0.025-0.038 m (1st percentile, the least 0.008 m; 0.049 m
+        # The personal space, or for a character that charges into its main (the bully) or
+        # keeps pace with it (the stalker) the least distance its demonstration shows, as its
+        # puck stops against the main's: its charges pressed on to 0.025-0.038 m (1st percentile, the least 0.008 m; 0.049 m
         # demonstrated), where any step sideways is a fast turn round the main (orbit mean
         # 0.30-0.33 rad/s against 0.275). Tuning seeds 0-5, 8-13, 26-31 x3 runs
         # (relative_motion x 1, 1 +- 0.001), the bully's misses (the engine's alone) 67 (50)

@@ -229,7 +229,6 @@ def limit_turn(previous: float, desired: float, max_delta: float) -> float:
     return wrap_angle(previous + d)
 
 
-
 @compiled(numba.void(_F1, _F1, _f8, _f8), step_math)
 def lose_inward(xs: np.ndarray, ys: np.ndarray, bx: float, by: float) -> None:
     """generation.StepSmoother.lose_inward on the smooth's remembered steps ``xs``, ``ys``."""

@@ -1,15 +1,15 @@
 """A performer pausing in the middle of a gesture, at no hold of its template: the action goes on
-driving through the pause and after it (``bench/follow_pauses.py``; the group: ``test_group.py``)."""
+driving through the pause and after it (``bench/follow_pauses.py``; the group:
+``test_group.py``)."""
 
 import numpy as np
-import pytest
 
 from bench.follow_quality import puck_follower, run
 from bench.motions import paused
 from behaviors.mop import validity
 
 
-def _pauses(gestures) -> list[tuple[float, float]]:
+def _pauses(gestures: dict[str, np.ndarray]) -> list[tuple[float, float]]:
     """Each gesture drawn at 0.8-1.2x, paused 1.5 s at 30-70% of it, seeds 0-3: for those whose
     action drove on the 3 samples before the pause, the share of the pause it drove on and the
     share a wrong action drove on."""

@@ -3,6 +3,7 @@ section, on seeded draws of its own): the path misfit against each template's ow
 no action taken back the way an abandoned attempt came, through the rest that follows."""
 
 import math
+from collections.abc import Iterable
 
 import numpy as np
 
@@ -100,7 +101,8 @@ def test_a_group_keeps_the_ban_through_the_rest_as_its_followers_alone(gestures)
     _group_as_alone(gestures, streams)
 
 
-def _mirrored_line_streams(gestures, seeds) -> list[np.ndarray]:
+def _mirrored_line_streams(gestures: dict[str, np.ndarray],
+                           seeds: Iterable[int]) -> list[np.ndarray]:
     """A mirrored line (out along -x, back), as the bench draws it, at 0.7, 1.0 and 1.4x."""
     mirrored = gestures["line"] * np.array([-1.0, 1.0])
     streams = []

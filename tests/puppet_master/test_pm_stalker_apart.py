@@ -26,6 +26,25 @@ def test_a_push_aside_leaves_no_remembered_motion_into_the_main():
     assert sm.xs == [0.0, 0.004, 0.0]
 
 
+def test_the_compiled_loss_equals_the_smooths():
+    """generation_kernel.lose_inward (the compiled step's) equals StepSmoother.lose_inward to
+    the last digit, on random steps and bearings (one of them none)."""
+    from behaviors.puppet_master.generation_kernel import lose_inward
+
+    rng = np.random.default_rng(7)
+    for k in range(200):
+        steps = rng.normal(0.0, 0.01, (2, 3))
+        bx, by = (0.0, 0.0) if k == 0 else tuple(rng.normal(0.0, 0.05, 2))
+        sm = StepSmoother(3)
+        for x, y in steps.T:
+            sm.push(float(x), float(y))
+        sm.lose_inward(bx, by)
+        xs, ys = np.array(sm.xs), np.array(sm.ys)
+        cx, cy = (np.array(v[::-1]) for v in steps)   # any order: each step on its own
+        lose_inward(cx, cy, bx, by)
+        assert sorted(zip(cx.tolist(), cy.tolist())) == sorted(zip(xs.tolist(), ys.tolist()))
+
+
 @pytest.fixture(scope="module")
 def stalker() -> Behavior:
     stored = library.load_behavior(examples.DEFAULT_OUT / "stalker")
