@@ -80,6 +80,11 @@ def main(args: argparse.Namespace) -> int:
             "the recording failed: %s%s", recorder.failed or recorder.gaps[-1],
             f" (it stopped {len(recorder.gaps)} time(s) and resumed)" if recorder.gaps else "")
         return EXIT_RECORDING_FAILED
+    if runner.recording_failures:   # an installation's before an applied config edit
+        logging.getLogger("tabletop").error(
+            "the recording failed before a config edit was applied: %s",
+            runner.recording_failures[-1])
+        return EXIT_RECORDING_FAILED
     return 0
 
 

@@ -63,6 +63,10 @@ class Runner:
         self.inst = None
         self.ticks = 0
         self.run_s = 0.0   # seconds the frame loops ran (builds and closing not counted)
+        # why the recordings of installations that ran before stopped (each "FILE: why")
+        self.recording_failures: list[str] = []
+        self.studio: Any = None
+        self.reporter: Any = None
         if self.kiosk:
             kiosk_log(cfg, kiosk_paths(cfg, self.base)["log_file"])
             import faulthandler
@@ -127,20 +131,13 @@ class Runner:
 
     def _drop(self) -> None:
         """Free the installation that ran (its loop closed it) before the next one is built,
-        so that the build reuses its memory (before, both lived during the build).
-
-        ``tabletop run --kiosk --no-supervisor --headless`` with the gallery soak's config
-        (bench/gallery_soak.py: the shipped config with designer, MOP, touch-pose, recorder,
-        studio, tuio), the config edited every 25 s, resident MB before the 1st and after the
-        10th edit: 360 -> 425 before; 360 -> 398 with :func:`trim_heap` after each rebuild;
-        361 -> 393 with this too (the last five edits +11 MB, before +20). In process, 12
-        edits: 360 -> 437 MB before (the heap 153 -> 226 MB, in use 131 -> 144 MB), 350 -> 401
-        trimmed, 360 -> 386 (heap 153 -> 193 MB) trimmed and freed first. With the studio's
-        review sheets also drawn in one thread (tabletop.studio.session), 20 edits every 20 s:
-        361 -> 371 -> 375 MB after 10 and 20 (0.44 MB an edit over the last ten), file
-        descriptors 11 throughout. Measured, not taken: glibc's MALLOC_ARENA_MAX=2 (fewer
-        arenas for the threads each installation starts), 355 -> 368 -> 373 MB over 25 edits
-        before the drawing thread; its cost to the threads' allocations was not measured."""
+        so that the build reuses its memory (before, both lived during the build: a kiosk of
+        the gallery soak's config grew 6.5 MB an applied edit; now, with :func:`trim_heap` and
+        the studio's one drawing thread, 0.44 MB an edit over 20 edits, file descriptors flat).
+        A recording of it that failed is remembered for ``tabletop run``'s exit status."""
+        recorder = self.inst.recorder if self.inst is not None else None
+        if recorder is not None and (recorder.failed or recorder.gaps):
+            self.recording_failures.append(recorder.failed or recorder.gaps[-1])
         self.inst = self.studio = self.reporter = None
         gc.collect()
 
@@ -200,12 +197,10 @@ class Runner:
                 continue
             self.cfg = cfg
             if rebuilt:
-                # The previous installation is garbage now, in reference cycles: collected
+                # The build's own garbage collected (the previous installation's by _drop)
                 # before the new loop freezes what exists out of the collector's passes
-                # (Loop.run). Before, it was frozen with the new one and never freed: every
-                # applied config edit kept the old engines, view and sinks, +66 and +72 MB
-                # resident and +6 threads at the two edits of a gallery soak (tabletop run
-                # --kiosk, the shipped config with four reactors, MOP and touch-pose).
+                # (Loop.run): frozen, an old installation was never freed, +66 and +72 MB
+                # resident and +6 threads at the two edits of a gallery soak.
                 gc.collect()
                 trim_heap()
             rebuilt = True

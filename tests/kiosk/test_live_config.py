@@ -295,3 +295,30 @@ def test_a_recording_asked_for_goes_on_after_an_applied_edit(tmp_path):
     assert second.exists(), sorted(p.name for p in tmp_path.iterdir())
     assert read_header(second)["config"]["engines"][0]["color"] == [200, 100, 50]
     assert len(list(read_frames(second))) > 20
+
+
+def test_a_recording_that_failed_before_an_applied_edit_is_remembered(tmp_path):
+    """The disk fills while the first installation records, then the config is edited: the
+    failure is kept for ``tabletop run``'s exit status (3). Before, only the last installation's
+    recording was asked, and a run whose recording had stopped ended with status 0."""
+    import resource
+    import signal
+
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+    old_handler = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    try:
+        with running(Runner(path, load_config(path), headless=True, kiosk=True,
+                            record_path=tmp_path / "rec.jsonl")) as runner:
+            first = runner.inst
+            resource.setrlimit(resource.RLIMIT_FSIZE, (64 * 1024, hard))   # the disk fills
+            assert wait_for(lambda: first.recorder.failed is not None, 30)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))       # room again
+            write(path, yaml.safe_dump(config([200, 100, 50])))
+            assert wait_for(rebuilt(runner, first, 5), 30)
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+        signal.signal(signal.SIGXFSZ, old_handler)
+    assert len(runner.recording_failures) == 1
+    assert "File too large" in runner.recording_failures[0]
