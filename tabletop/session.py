@@ -1,8 +1,10 @@
 """The session recording format: JSON Lines, a header line then one frame per line.
 
-Header: ``{"format": "tabletop-session", "version": 2, "created": ISO date, "config": {...}
-(as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}} (every file the
-config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null, "part": n}``, and
+Header: ``{"format": "tabletop-session", "version": 2, "order": n (one more than the highest in
+the folder when the file was made: what ``recorder.keep`` removes by), "created": ISO date,
+"config": {...} (as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}}
+(every file the config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null,
+"part": n}``, and
 ``"studio": {"all": bool}`` when the designer studio ran (``all``: every engine was a target, as
 with ``run --studio``). Version 1 headers (no ``files``) are still read; a reader ignores keys it
 does not know.
