@@ -34,6 +34,18 @@ PAUSE_SECONDS = (0.3, 2.0)
 PAUSE_AT = (0.2, 0.8)
 
 
+def driven_over(states: list, name: str, pause: tuple[int, int],
+                before: int = BEFORE) -> tuple[np.ndarray, np.ndarray] | None:
+    """Whether ``name`` drove (valid and best) and whether another action did, at each state from
+    the ``pause``'s first sample on; None unless ``name`` drove on the ``before`` samples before
+    the pause."""
+    right = np.array([s.valid and s.best == name for s in states])
+    if not right[pause[0] - before:pause[0]].all():
+        return None
+    wrong = np.array([s.valid and s.best != name for s in states])
+    return right[pause[0]:], wrong[pause[0]:]
+
+
 def pauses(factory: Callable, templates: Mapping[str, np.ndarray], rng: np.random.Generator,
            run: Callable, draws: int = DRAWS) -> dict[str, float]:
     """The ``pause_`` figures (module docstring) with ``templates`` loaded; ``factory`` makes the
@@ -49,14 +61,14 @@ def pauses(factory: Callable, templates: Mapping[str, np.ndarray], rng: np.rando
             if f is None:
                 continue
             states = run(f, x)
-            right = np.array([s.valid and s.best == name for s in states])
-            wrong = np.array([s.valid and s.best != name for s in states])
-            if not right[a - BEFORE:a].all():
+            driven = driven_over(states, name, (a, b))
+            if driven is None:
                 continue
+            right, wrong = driven                       # from the pause's first sample on
             got = np.array([s.progress_by[name] for s in states[a:b]])
             end = int(np.flatnonzero(np.isfinite(prog[:, 0]))[-1]) + 1
-            rows.append((right[a:b].mean(), wrong[a:b].mean(),
-                         float(np.max(np.abs(got - prog[a, 0]))), right[b:end].mean()))
+            rows.append((right[:b - a].mean(), wrong[:b - a].mean(),
+                         float(np.max(np.abs(got - prog[a, 0]))), right[b - a:end - a].mean()))
     if not rows:
         return {}
     during, wrong, drift, after = (np.array(c) for c in zip(*rows))

@@ -163,15 +163,9 @@ def paused(rng: np.random.Generator, tpl: np.ndarray, scale: float, pause_s: flo
     ``pause_range`` (wherever that falls, not where the template holds): its samples, true
     progress and the pause as (first, past the last) sample, the performer still from the first
     on."""
-    phase, _ = phase_of(rng, len(tpl), pause_s=pause_s, pause_range=pause_range)
-    still = np.flatnonzero(np.diff(phase) == 0)   # the sample each paused one repeats
-    lead = int(LEAD_S * RATE)
-    first, last = int(still[0]) + 1, int(still[-1]) + 2
-    x = scale * at_phase(tpl, phase)
-    x = np.concatenate([np.repeat(x[:1], lead, 0), x, np.repeat(x[-1:], lead, 0)])
-    prog = np.full((len(x), 2), np.nan)
-    prog[lead:lead + len(phase)] = (phase / (len(tpl) - 1))[:, None]
-    return x + rng.normal(0, JITTER_M, x.shape), prog, (lead + first, lead + last)
+    x, prog = performance(rng, tpl, scale, pause_s=pause_s, pause_range=pause_range)
+    still = np.flatnonzero(np.diff(prog[:, 0]) == 0)   # the sample each paused one repeats
+    return x, prog, (int(still[0]) + 1, int(still[-1]) + 2)
 
 
 def unrelated_motions(rng: np.random.Generator,

@@ -4,6 +4,7 @@ driving through the pause and after it (``bench/follow_pauses.py``; the group:
 
 import numpy as np
 
+from bench.follow_pauses import driven_over
 from bench.follow_quality import puck_follower, run
 from bench.motions import paused
 from behaviors.mop import validity
@@ -19,11 +20,10 @@ def _pauses(gestures: dict[str, np.ndarray]) -> list[tuple[float, float]]:
         rng = np.random.default_rng(seed)
         for name, tpl in gestures.items():
             x, _, (a, b) = paused(rng, tpl, float(rng.uniform(0.8, 1.2)), 1.5, (0.3, 0.7))
-            states = run(f, x)
-            right = np.array([s.valid and s.best == name for s in states])
-            wrong = np.array([s.valid and s.best != name for s in states])
-            if right[a - 3:a].all():
-                out.append((float(right[a:b].mean()), float(wrong[a:b].mean())))
+            driven = driven_over(run(f, x), name, (a, b))
+            if driven is not None:
+                right, wrong = (d[:b - a] for d in driven)
+                out.append((float(right.mean()), float(wrong.mean())))
     return out
 
 
