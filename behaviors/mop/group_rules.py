@@ -77,8 +77,7 @@ class GroupRules:
             else:
                 anchor = self._x[i].copy()
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
-            came = self._x[i] - (self._anchor[i] if self._has_anchor[i] else
-                                 self._buf[i, -min(int(self._nbuf[i]), int(self._m_keep[i]))])
+            came = self._x[i] - self._anchor[i]   # (set at the member's first sample)
             if h != members.WAITING:
                 self._buf[i, -1] = self._x[i]
                 self._nbuf[i] = 1

@@ -351,7 +351,7 @@ class GestureSpotting:
             self._ended = bi
         elif self._lost >= self.lost_samples:
             # the input's way here (validity.unbegun): over the attempt abandoned, from its anchor
-            came = x - (self._recent_x[0] if self._anchor is None else self._anchor)
+            came = x - self._anchor   # (the anchor is set at the first sample: _inputs)
             self._restart_here(x, forward, offset)
             self._abandoned, self._came = True, came
         elif still and not engaged:
