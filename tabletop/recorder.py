@@ -15,6 +15,7 @@
   keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
   After a full disk, every ``RESUME_EVERY_S`` of frame time a new part is tried; once the disk
   takes it the recording goes on there (logged; :attr:`Recorder.gaps` keeps why it stopped).
+  A disk that could not keep up (below) is tried alike, once its syncs have caught up.
 
 Durable line by line, never waiting on the frame loop: :meth:`Recorder.consume` (the frame
 loop) writes each line to the operating system at once, so a ``kill -9`` loses at most the line
@@ -150,6 +151,7 @@ class Recorder:
         self._folder_dirty = False         # a part was created since the last folder sync
         self._cv = threading.Condition()
         self._closing = False
+        self._syncing = False              # the syncer is working on a batch
         self._slow_logged = -float("inf")
         try:
             self._open_part()
@@ -285,11 +287,13 @@ class Recorder:
             raise
         self._size += len(data)
 
-    def _fail(self, exc: OSError | str) -> None:
+    def _fail(self, exc: OSError | str, resumable: bool = False) -> None:
+        """Stop recording because of ``exc``; ``resumable`` (also every full disk): new parts
+        are tried from ``RESUME_EVERY_S`` of frame time on."""
         where = self.paths[-1] if self.paths else self.folder
         why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
         self.failed = f"{where}: {why}"
-        resumable = isinstance(exc, OSError) and exc.errno in DISK_FULL
+        resumable = resumable or (isinstance(exc, OSError) and exc.errno in DISK_FULL)
         self._resumable = resumable
         self._resume_at = None if self._last_t is None else self._last_t + RESUME_EVERY_S
         log.error("recording stopped after %d frames: %s; the installation keeps running%s",
@@ -311,11 +315,13 @@ class Recorder:
         parts; until closed and nothing is left to sync."""
         while True:
             with self._cv:
+                self._syncing = False
                 while not (self._unsynced or self._retired or self._folder_dirty) \
                         and not self._closing:
                     self._cv.wait()
                 if not (self._unsynced or self._retired or self._folder_dirty):
                     return
+                self._syncing = True
                 batch, self._unsynced = self._unsynced, []
                 retired, self._retired = self._retired, []
                 folder, self._folder_dirty = self._folder_dirty, False
@@ -378,7 +384,8 @@ class Recorder:
         with self._cv:
             if len(self._unsynced) >= self.max_queue:
                 self._fail(f"the disk cannot keep up ({self.max_queue} lines waited, the "
-                           f"oldest {time.monotonic() - self._unsynced[0]:.1f} s)")
+                           f"oldest {time.monotonic() - self._unsynced[0]:.1f} s)",
+                           resumable=True)
                 self._cv.notify()
                 return
             try:
@@ -400,13 +407,23 @@ class Recorder:
             self._unsynced.append(time.monotonic())
             self._cv.notify()
 
+    @property
+    def caught_up(self) -> bool:
+        """Has the syncer synced and closed everything written (it waits for more)?"""
+        with self._cv:
+            return not (self._syncing or self._unsynced or self._retired or self._folder_dirty)
+
     def _resume(self, t: float) -> bool:
-        """After a full disk, at ``_resume_at``: a new part, if the disk takes its header."""
+        """After a full disk or a disk that could not keep up, at ``_resume_at`` or the first
+        frame after it that finds the syncer caught up: a new part, if the disk takes its
+        header. Before, a disk that stalled past ``max_queue`` lines stopped the recording
+        for good, also once its syncs came back: the rest of a weeks-long run went unrecorded.
+        A disk slow for good stops and resumes at most once a ``RESUME_EVERY_S`` (logged)."""
         if not self._resumable or self._closing:
             return False
         if self._resume_at is None:      # stopped before the first frame
             self._resume_at = t + RESUME_EVERY_S
-        if t < self._resume_at:
+        if t < self._resume_at or not self.caught_up:
             return False
         with self._cv:
             n = len(self.paths)

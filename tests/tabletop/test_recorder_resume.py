@@ -1,10 +1,15 @@
-"""A recording a full disk stopped resumes in a new part once the disk takes one again.
+"""A recording a full disk (or a disk that could not keep up) stopped resumes in a new part once
+the disk takes one again.
 
 The disk is full as the kernel says it: EFBIG from this process's file size limit
-(RLIMIT_FSIZE, the soft limit only, so it can be raised again), real files, real writes."""
+(RLIMIT_FSIZE, the soft limit only, so it can be raised again), real files, real writes; a disk
+that cannot keep up: the real syncer thread, its fdatasync held until released."""
 
+import os
 import resource
 import signal
+import threading
+import time
 
 import numpy as np
 
@@ -80,3 +85,49 @@ def test_a_line_the_full_disk_took_part_of_is_cut_off(tmp_path):
     assert on_disk.endswith(b"\n") and on_disk.count(b"\n") == rec.frames + 1
     closed = rec.paths[0].read_bytes()
     assert closed == on_disk and len(list(read_frames(rec.paths[0]))) == rec.frames
+
+
+def test_a_recording_the_disk_could_not_keep_up_with_resumes_once_it_caught_up(
+        tmp_path, monkeypatch, caplog):
+    """The real syncer thread and real files, the disk's sync held until released (a stalled
+    disk): past ``max_queue`` lines the recording stops; once the held syncs return and the
+    syncer caught up, the next try opens a new part and the recording goes on there."""
+    caplog.set_level("INFO", logger="tabletop")
+    real, gate, syncing = os.fdatasync, threading.Event(), threading.Event()
+
+    def stalled(fd):
+        syncing.set()
+        gate.wait(30)
+        real(fd)
+
+    folder = tmp_path / "sessions"
+    rec = Recorder(folder=folder, header=HEADER, max_queue=20)
+    monkeypatch.setattr(os, "fdatasync", stalled)
+    stream = list(frames(5000.0, RESUME_EVERY_S + 20.0))
+    try:
+        rec.consume(stream[0])
+        assert syncing.wait(10)                 # the syncer is held in the first line's sync
+        for f in stream[1:60]:
+            rec.consume(f)
+        assert rec.failed is not None and "cannot keep up" in rec.failed
+        stopped_at = rec.frames
+        gate.set()                              # the disk answers again
+        for f in stream[60:]:                   # and keeps up: each line synced before the next
+            end = time.monotonic() + 30
+            while not rec.caught_up and time.monotonic() < end:
+                time.sleep(0.001)
+            rec.consume(f)
+    finally:
+        gate.set()
+        rec.close()
+    assert rec.failed is None and len(rec.gaps) == 1 and "cannot keep up" in rec.gaps[0]
+    assert len(rec.paths) == 2 and sorted(folder.iterdir()) == sorted(rec.paths)
+    first, second = (list(read_frames(p, absolute=True)) for p in rec.paths)
+    assert len(first) == stopped_at == 21       # one line in the held sync, 20 waiting
+    assert read_header(rec.paths[1])["part"] == 2
+    # resumed at the first frame RESUME_EVERY_S after the stop, every later frame recorded
+    stop_t = stream[stopped_at].t          # the frame that found 20 lines waiting
+    assert second[0].t == next(f.t for f in stream if f.t >= stop_t + RESUME_EVERY_S)
+    assert [f.t for f in second] == [f.t for f in stream if f.t >= second[0].t]
+    resumed = [r for r in caplog.records if "recording resumes" in r.getMessage()]
+    assert len(resumed) == 1 and "cannot keep up" in resumed[0].getMessage()
