@@ -96,6 +96,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     # the user: every failure is reported as one clear line of ours instead.
     os.environ.setdefault("OPENCV_LOG_LEVEL", "SILENT")
     os.environ.setdefault("OPENCV_VIDEOIO_DEBUG", "0")
+    # FFmpeg's own log (read by OpenCV when it first opens a video; -8 is AV_LOG_QUIET): a file
+    # named .png that is none printed "[png @ 0x...] Invalid PNG signature ..." above our line
+    os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
     parser = build_parser()
     args, extra = parser.parse_known_args(argv)
     if extra:   # said by the command's own parser, which argparse leaves to the top one

@@ -144,3 +144,14 @@ def test_a_value_list_beginning_with_a_minus_sign_is_a_value():
     assert bad.returncode == 2
     assert bad.stderr.strip() == ("tabletop behave: error: --table '-1.2,0.8': width and height "
                                   "must be metres from 0.05 to 20")
+
+
+def test_a_file_named_as_an_image_that_is_none_is_one_line(tmp_path):
+    """``track`` of a ``.png`` holding text: OpenCV hands it to FFmpeg, whose own log line
+    ("[png @ 0x...] Invalid PNG signature") came before ours: two lines, one of them not ours."""
+    fake = tmp_path / "frame.png"
+    fake.write_text("not an image")
+    r = tabletop("track", str(fake), "--out", str(tmp_path / "o.jsonl"))
+    assert r.returncode == 2
+    lines = r.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"tabletop track: error: {fake}:"), lines
