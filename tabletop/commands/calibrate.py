@@ -163,6 +163,8 @@ def read_image(path: str | Path) -> np.ndarray:
     """An image file as 8-bit grey; one line when missing or unreadable."""
     import cv2
     p = Path(path)
+    if p.is_dir():
+        raise CalibrateError(f"{p}: is a folder, expected an image file")
     if not p.is_file():
         raise CalibrateError(f"{p}: image not found")
     img = cv2.imread(str(p), cv2.IMREAD_GRAYSCALE)
@@ -174,6 +176,8 @@ def read_image(path: str | Path) -> np.ndarray:
 def image_files(folder: str) -> list[Path]:
     """Every PNG/JPEG in ``folder``, in name order; one line when there is none."""
     p = Path(folder)
+    if p.exists() and not p.is_dir():
+        raise CalibrateError(f"{p}: is a file, expected a folder of images")
     if not p.is_dir():
         raise CalibrateError(f"{p}: no such folder")
     files = sorted(f for f in p.iterdir() if f.suffix.lower() in IMAGE_SUFFIXES)

@@ -55,6 +55,9 @@ def test_camera_refusals(tmp_path, capsys, views):
             "--force", words="3 usable views of the board")
     refused(capsys, "camera", "--images", tmp_path / "none", "--out", tmp_path / "c.yaml",
             words="no such folder")
+    (tmp_path / "a.png").write_bytes(b"not a folder")      # was "no such folder" too
+    refused(capsys, "camera", "--images", tmp_path / "a.png", "--out", tmp_path / "c.yaml",
+            words=f"{tmp_path / 'a.png'}: is a file, expected a folder of images")
     (tmp_path / "empty").mkdir()
     refused(capsys, "camera", "--images", tmp_path / "empty", "--out", tmp_path / "c.yaml",
             words="holds no PNG or JPEG")
@@ -173,6 +176,8 @@ def test_table_refusals(tmp_path, capsys, rig):
             words="--marker 999=...: marker id 999 is not in DICT_4X4_50 (ids 0 to 49)")
     refused(capsys, "table", "--image", tmp_path / "nope.png", "--out", out, *row,
             words="image not found")
+    refused(capsys, "table", "--image", tmp_path, "--out", out, *row,   # was "image not found"
+            words=f"{tmp_path}: is a folder, expected an image file")
     # Markers given at wrong positions: a residual over the threshold, kept only with --force.
     grid = [a for i, x, y, _ in rig.pucks for a in ("--marker", f"{i}={x},{y}")]
     grid[1] = "0=0.1,0.1"  # 2 cm off
