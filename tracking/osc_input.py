@@ -173,9 +173,13 @@ class OscInput(BackgroundSource):
             commits, errors, late = self.client.apply(tuio, f"{address[0]}:{address[1]}", t)
             if commits:
                 self._note_removed(before)
-            for name, args in mocap:
-                self._stream(name, args, t)
-            self._heard_t = t
+            streams = sum(self._stream(name, args, t) for name, args in mocap)
+            # heard: a sender whose input applied (late fseqs too: it is alive). A packet that
+            # applied nothing (another OSC program's message sent to this port) made the source
+            # "heard", then stalled stall_s later: a kiosk that never had a TUIO sender showed
+            # "one moment" for good, its camera working, after one stray packet.
+            if commits or late or streams:
+                self._heard_t = t
             self.packets += 1
         for exc in errors:
             self.bad.count(exc.kind, f"from {address[0]}: {exc}")
@@ -192,28 +196,30 @@ class OscInput(BackgroundSource):
             if len(self._removed) < MAX_ALIVE:
                 self._removed |= ids - now_ids
 
-    def _stream(self, name: str, args: tuple, t: float) -> None:
+    def _stream(self, name: str, args: tuple, t: float) -> bool:
+        """Store the stream ``name``; False when refused (counted)."""
         if not STREAM_NAME.match(name):
             self.bad.count("unknown_address", f"bad stream name {name[:80]!r}")
-            return
+            return False
         if not args or len(args) > MAX_STREAM_VALUES:
             self.bad.count("wrong_arguments", f"/mocap/{name} with {len(args)} values")
-            return
+            return False
         if any(isinstance(a, bool) or not isinstance(a, (int, float)) for a in args):
             self.bad.count("wrong_arguments", f"/mocap/{name} with a non-number")
-            return
+            return False
         v = np.array(args, dtype=float)
         if not np.all(np.isfinite(v)):
             self.bad.count("non_finite", f"/mocap/{name}")
-            return
+            return False
         if np.abs(v).max() > MAX_FEATURE:   # OSC doubles: a followed stream became NaN
             self.bad.count("out_of_range", f"/mocap/{name} with a value beyond {MAX_FEATURE:g}")
-            return
+            return False
         if name not in self._streams and len(self._streams) >= MAX_STREAMS:
             oldest = min(self._streams, key=lambda k: self._streams[k][1])
             del self._streams[oldest]  # the newest input always gets in
             self.bad.count("too_many", f"more than {MAX_STREAMS} streams: {oldest} forgotten")
         self._streams[name] = (v, t)
+        return True
 
     # ------------------------------------------------------------------ the thread
     def _run(self) -> None:

@@ -323,3 +323,31 @@ def test_velocities_too_large_for_table_metres_are_refused(source):
     frame = LiveInputs([source], Tracker()).next(1, 0.0)
     assert [c.id for c in frame.touches] == [3]
     json.dumps(frame_to_dict(frame), allow_nan=False)
+
+
+def test_packets_that_apply_nothing_never_make_the_source_stall():
+    """Another OSC program's messages (and TUIO messages refused whole) sent to the port, the
+    source never having had a sender: counted, and the source stays healthy ("nothing received
+    yet") however long after; they made it "heard" and then unhealthy ``stall_s`` later, so a
+    kiosk (whose camera worked) showed "one moment" for good. A real sender heard, then quiet,
+    still stalls."""
+    now = [0.0]
+    src = OscInput("osc", port=0, table=TABLE, stall_s=5.0, clock=lambda: now[0])
+    src.open()
+    try:
+        assert src.wait_listening()
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            for m in (message("/lights/dim", 0.5), message("/tuio/2Dobj", "set", 1),
+                      message("/mocap/arm", "x"), bundle(message("/tuio/2Dcur", "alive", 3))):
+                s.sendto(m.dgram, ("127.0.0.1", src.bound_port))
+        assert wait_for(lambda: src.packets == 4, 5.0)
+        now[0] = 60.0
+        h = src.health()
+        assert h.ok and "nothing received yet" in h.message and "ignored:" in h.message, h
+        RefSender(src.bound_port).objects([(1, 5, 0.5, 0.5, 0.0)])
+        assert wait_for(lambda: src.latest() is not None and src.latest().pucks, 5.0)
+        now[0] = 120.0
+        h = src.health()
+        assert not h.ok and "nothing received for 60 s" in h.message, h
+    finally:
+        src.close()
