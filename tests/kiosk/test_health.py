@@ -395,3 +395,27 @@ def test_the_status_of_a_kiosk_that_records_names_its_file(tmp_path):
     rec = json.loads((tmp_path / "status.json").read_text())["recording"]
     (session,) = (tmp_path / "sessions").glob("session-*.jsonl")
     assert rec["file"] == str(session) and rec["frames"] > 0 and rec["failed"] is None
+
+
+def test_the_status_carries_every_promised_field_also_for_parts_that_are_off(tmp_path):
+    """Every field the status promises (README "Health", health.py) is there, null for a part
+    that is off: a kiosk without a studio and with ``watch_config: false`` sent no ``studio``,
+    ``config`` or ``config_error`` at all, and a script reading ``status["studio"]`` failed."""
+    import subprocess
+    import sys
+
+    import yaml
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text(yaml.safe_dump({
+        "sources": [{"kind": "scripted", "pucks": [1, 2]}],
+        "view": {"size": [320, 180], "headless": True},
+        "kiosk": {"heartbeat": {"enabled": False}, "watch_config": False}}))
+    r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--kiosk", "--no-supervisor", "--headless", "--seconds", "2"],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
+    status = json.loads((tmp_path / "status.json").read_text())
+    promised = STATUS_FIELDS | {"idle_s", "config", "config_error", "studio", "recording"}
+    assert promised <= set(status), promised - set(status)
+    assert status["studio"] is None and status["config_error"] is None
+    assert status["config"] == str(cfg) and status["recording"] is None
