@@ -44,9 +44,20 @@ def output_file(path, option: str, error: type[InputError] = InputError, inputs=
     p = Path(path)
     if p.is_dir():
         raise error(f"{option} {p}: is a folder; give a file name such as {p / example}")
-    target = p.resolve()
-    for source in inputs:
-        if source is not None and Path(source).resolve() == target:
+    target = _resolved(p)
+    if target is None:
+        raise error(f"{option} {p}: cannot be written: too many levels of symbolic links")
+    for source in inputs:   # (an input that does not resolve is refused by its own reader)
+        if source is not None and _resolved(Path(source)) == target:
             raise error(f"{option} {p}: is the input file {source}; writing there would "
                         "overwrite it, give another file name")
     return p
+
+
+def _resolved(p):
+    """``p.resolve()``, or None for a symbolic link loop (Python before 3.13 raises
+    RuntimeError there, which the command line reported as an internal error)."""
+    try:
+        return p.resolve()
+    except (RuntimeError, OSError):
+        return None

@@ -414,3 +414,17 @@ def test_seconds_said_alike_by_run_and_status(capfd, command, value, words):
     code, err = cli(capfd, *command, "--seconds", value)
     line = one_line(err)
     assert code == 2 and f"--seconds '{value}'" in line and words in line
+
+
+@pytest.mark.parametrize("where", ["--train", "--out"])
+def test_a_symbolic_link_loop_is_one_line_not_an_internal_error(tmp_path, capfd, demo, where):
+    """A path that is a symbolic link loop (a -> b -> a): Path.resolve raised RuntimeError in the
+    output check, reported as "internal error: RuntimeError: Symlink loop" with exit status 1."""
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    paths = {"--train": demo, "--out": tmp_path / "o.csv", where: tmp_path / "a"}
+    code, err = cli(capfd, "behave", "--train", paths["--train"], "--input", demo,
+                    "--out", paths["--out"])
+    line = one_line(err)
+    assert code == 2 and "internal error" not in line and str(tmp_path / "a") in line, line
+    assert "symbolic links" in line and len(err.strip().splitlines()) == 1
