@@ -30,6 +30,7 @@ from tabletop.frames import (CharacterState, Engine, Frame, Observation, Puck, S
 from tabletop.loop_stats import LoopStats
 from tabletop.realtime import realtime_threads
 from tabletop.replay_inputs import FrameInputs  # noqa: F401  (replays; kept importable here)
+from tracking.badinput import LogGaps
 
 log = logging.getLogger("tabletop")
 
@@ -136,10 +137,10 @@ class LiveInputs:
         # The last frame's time is a new capture (see next()): not a held state's stamp, not
         # the stamp of a tick without input (STALE_S), not a capture already drawn.
         self.captured = False
-        # A source whose latest() raised: {name: [times, last logged (monotonic s)]};
-        # logged at most every 10 s (it was logged with its stack on every tick) and unhealthy
-        # on the ticks it raised
-        self.raised: dict[str, list] = {}
+        # A source whose latest() raised: {name: times}; logged sparingly (LogGaps: it was
+        # logged with its stack on every tick) and unhealthy on the ticks it raised
+        self.raised: dict[str, int] = {}
+        self._raised_log = LogGaps()
 
     def open(self) -> None:
         for i, s in enumerate(self.sources):
@@ -189,13 +190,11 @@ class LiveInputs:
             try:
                 obs = s.latest()
             except Exception as exc:
-                r = self.raised.setdefault(s.name, [0, -math.inf])
-                r[0] += 1
-                failed[s.name] = f"failed: {exc} ({r[0]} times so far)"
-                if now - r[1] >= 10.0:
-                    r[1] = now
+                n = self.raised[s.name] = self.raised.get(s.name, 0) + 1
+                failed[s.name] = f"failed: {exc} ({n} times so far)"
+                if self._raised_log.due(s.name, now):
                     log.exception("source %s raised in latest() (%d times so far); treated "
-                                  "as empty", s.name, r[0])
+                                  "as empty", s.name, n)
                 obs = None
             if obs is not None:
                 observations.append(obs)
@@ -261,14 +260,12 @@ class Loop:
         self._last_characters: dict[str, tuple[CharacterState, ...]] = {}
         self._last_ready_t = -math.inf
         self._tick_start: float | None = None   # clock time the previous tick started
-        self._error_log_t: dict[str, float] = {}
+        self._error_log = LogGaps()
 
     def _report(self, where: str) -> None:
-        """Log an exception from a running part, at most once per 10 s per part."""
+        """Log an exception from a running part, sparingly (LogGaps) per part."""
         self.stats.errors[where] += 1
-        now = self.clock()
-        if now - self._error_log_t.get(where, -math.inf) >= 10.0:
-            self._error_log_t[where] = now
+        if self._error_log.due(where, self.clock()):
             log.exception("%s failed (%d times so far); the installation keeps running",
                           where, self.stats.errors[where])
 

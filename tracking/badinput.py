@@ -1,9 +1,9 @@
 """Counting bad input from the outside world (packets, serial lines) without being hurt by it.
 
 Every rejected thing is counted under a short kind name (``malformed``, ``wrong_arguments``,
-``not_allowed``, ...) and logged with the count so far: at once, then, while that kind keeps
-coming, after ``log_every_s``, twice that, ... up to every ``max_every_s``; a kind not seen for
-``max_every_s`` starts again at once. So a flood costs a counter increment, never a log storm.
+``not_allowed``, ...) and logged with the count so far, sparingly (:class:`LogGaps`: at once,
+then after 10 s, 20 s, ... up to every 600 s while it keeps coming), so a flood costs a counter
+increment, never a log storm.
 The counters are few and fixed in size (kinds come from the code, not from the input).
 """
 
@@ -20,41 +20,54 @@ from tabletop.frames import SourceHealth
 log = logging.getLogger("tabletop.input")
 
 
-class BadInput:
-    """Per-kind counters of rejected input for one source, with rate-limited logging."""
+class LogGaps:
+    """When to log a repeating failure, per key: at once, then, while it keeps coming, after
+    ``first_s``, twice that, ... up to every ``max_s``; a key not seen for ``max_s`` starts
+    again at once (times in seconds of the caller's clock). Not thread-safe: callers lock.
 
-    # The gap between two lines of one kind grows while it keeps coming. With a fixed 10 s, a
-    # sender that never stops sending something refused (another program's OSC on the port)
-    # wrote 8,640 lines a day, 60,480 a week: at about 200 bytes each the kiosk's rotating log
-    # (1 MB x 5) then held under four days, every other line older than that rotated away.
-    # Doubling up to 600 s: 1,015 lines a week (the RetryLog of a lost device repeats at 600 s).
+    A fixed 10 s gap wrote 8,640 lines a day for a failure that never stops (another program's
+    OSC sent to the port, an engine raising on every tick, with its stack): at about 200 bytes
+    a line (750 with the stack of a numpy error one call inside an engine) the kiosk's rotating
+    log (1 MB x 5) held under four days (under one), every line older than that rotated away.
+    Doubling up to 600 s: 1,013 lines a week (the RetryLog of a lost device repeats at 600 s)."""
+
+    def __init__(self, first_s: float = 10.0, max_s: float = 600.0) -> None:
+        self.first_s, self.max_s = first_s, max(max_s, first_s)
+        self._logged: dict[str, float] = {}    # key -> when it was last logged
+        self._gap: dict[str, float] = {}       # key -> seconds from that line to the next
+        self._seen: dict[str, float] = {}      # key -> when it last happened
+
+    def due(self, key: str, now: float) -> bool:
+        """``key`` happened at ``now``: is a line due?"""
+        if now - self._seen.get(key, -math.inf) > self.max_s:
+            self._gap[key] = 0.0               # a new episode: said at once
+        self._seen[key] = now
+        if now - self._logged.get(key, -math.inf) < self._gap[key]:
+            return False
+        self._logged[key] = now
+        self._gap[key] = min(max(2.0 * self._gap[key], self.first_s), self.max_s)
+        return True
+
+
+class BadInput:
+    """Per-kind counters of rejected input for one source, with sparing logging (:class:`LogGaps`
+    from ``log_every_s`` up to ``max_every_s``)."""
 
     def __init__(self, source: str, log_every_s: float = 10.0, max_every_s: float = 600.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
-        self.source, self.log_every_s, self.clock = source, log_every_s, clock
-        self.max_every_s = max(max_every_s, log_every_s)
+        self.source, self.clock = source, clock
         self._counts: dict[str, int] = {}
-        self._logged: dict[str, float] = {}    # kind -> when it was last logged
-        self._gap: dict[str, float] = {}       # kind -> seconds from that line to the next
-        self._seen: dict[str, float] = {}      # kind -> when it was last counted
+        self._gaps = LogGaps(log_every_s, max_every_s)
         self._lock = threading.Lock()
 
     def count(self, kind: str, detail: str = "", n: int = 1) -> None:
-        """Count ``n`` rejected items of ``kind``; log one line when this kind's gap since its
-        last line has passed (see the module docstring; ``detail`` says what was wrong and
-        where)."""
+        """Count ``n`` rejected items of ``kind``; log one line when one is due (``detail``
+        says what was wrong and where)."""
         now = self.clock()
         with self._lock:
             total = self._counts.get(kind, 0) + n
             self._counts[kind] = total
-            if now - self._seen.get(kind, -math.inf) > self.max_every_s:
-                self._gap[kind] = 0.0           # a new episode: said at once
-            self._seen[kind] = now
-            due = now - self._logged.get(kind, -math.inf) >= self._gap[kind]
-            if due:
-                self._logged[kind] = now
-                self._gap[kind] = min(max(2.0 * self._gap[kind], self.log_every_s),
-                                      self.max_every_s)
+            due = self._gaps.due(kind, now)
         if due:
             log.warning("%s: ignored %s input (%d so far)%s", self.source,
                         kind.replace("_", " "), total, f": {detail[:200]}" if detail else "")

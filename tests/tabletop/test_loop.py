@@ -432,3 +432,31 @@ def test_a_source_raising_on_every_tick_is_unhealthy_and_logged_every_10_s(caplo
     assert not health["broken"].ok and health["good"].ok
     assert health["broken"].message == "failed: high - low < 0 (1170 times so far)"  # from 0.5 s
     assert {p.id for p in frames[-1].pucks} == {2}
+
+
+def test_an_engine_failing_on_every_tick_for_hours_is_logged_sparingly(caplog):
+    """Each failure is counted; its line (with the stack) comes at once, then after 10, 20, 40
+    ... up to 600 s while it goes on: every 10 s before, 2,160 stacks in six hours, which
+    rotated the kiosk's log (1 MB x 5) away in hours."""
+    class Broken:
+        name = "broken"
+
+        def step(self, frame):
+            raise RuntimeError("boom")
+
+    now = [0.0]
+    src = ScriptedSource("visitor", ScriptedVisitor((1.2, 0.8), (1,), seed=1),
+                         clock=lambda: now[0])
+    loop = Loop(LiveInputs([src], LatestMeasurements()), [Broken()], [Collect()],
+                clock=lambda: now[0], paced=False)
+    loop.inputs.open()
+    hours = 6 * 3600
+    with caplog.at_level("ERROR", logger="tabletop"):
+        for k in range(hours):                  # one tick a second of the loop's clock
+            now[0] = float(k)
+            loop.tick()
+    lines = [r.getMessage() for r in caplog.records if "engine broken failed" in r.getMessage()]
+    assert loop.stats.errors["engine broken"] == hours
+    # at 0, 10, 30, 70, 150, 310, 630 s, then every 600 s
+    assert len(lines) == 7 + (hours - 1 - 630) // 600 == 41
+    assert "(1 times so far)" in lines[0] and "(11 times so far)" in lines[1]
