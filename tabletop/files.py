@@ -44,10 +44,19 @@ def folder_failure(folder: Path, exc: OSError) -> str:
 def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
     """A file to write ``path`` through atomically: the data go to a temporary file in the same
     folder, which replaces ``path`` (after fsync) only when the block ends without an error;
-    on an error the temporary file is removed and ``path`` is untouched."""
+    on an error the temporary file is removed and ``path`` is untouched.
+
+    An existing ``path`` that is no regular file (``/dev/stdout``, a pipe, ``/dev/null``) is
+    written to as it is: renaming over it replaced the device or pipe (or the link to it) with a
+    regular file, so ``--out /dev/stdout | next-step`` got nothing and, run as root, /dev/stdout
+    itself became a file until the next boot."""
     target = Path(path)
     if target.is_dir():
         raise FileFormatError(f"{target}: is a folder; expected a file name to write")
+    if target.exists() and not target.is_file():
+        with open(target, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
+            yield f
+        return
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

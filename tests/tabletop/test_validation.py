@@ -1,6 +1,10 @@
 """Bad input found at start-up: one line naming the file and the key (config), or the option
 (command line), a non-zero exit, and nothing of OpenCV's or Python's internals."""
 
+import json
+import os
+import stat
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -428,3 +432,22 @@ def test_a_symbolic_link_loop_is_one_line_not_an_internal_error(tmp_path, capfd,
     line = one_line(err)
     assert code == 2 and "internal error" not in line and str(tmp_path / "a") in line, line
     assert "symbolic links" in line and len(err.strip().splitlines()) == 1
+
+
+def test_out_to_a_pipe_writes_through_it_and_keeps_it(tmp_path, capfd):
+    """``--out`` naming a pipe (as ``/dev/stdout`` is when piped): the output goes through it
+    and the pipe stays. The atomic write renamed a regular file over it: the reader got
+    nothing and the pipe was gone (for /dev/stdout, run as root: the system's, until a boot)."""
+    fifo = tmp_path / "poses.pipe"
+    os.mkfifo(fifo)
+    got: list[bytes] = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+    reader.start()
+    code, err = cli(capfd, "pose", "--describe", "--out", fifo)
+    if reader.is_alive():            # (the command never opened the pipe: let the reader go)
+        with open(fifo, "wb"):
+            pass
+    reader.join(10)
+    assert code == 0, err
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert json.loads(got[0])["height_m"] == 0.3
