@@ -128,6 +128,9 @@ class Recorder:
             p = Path(path)
             if p.is_dir():
                 raise SessionError(f"{p}: is a folder; expected a file name for the recording")
+            if p.exists() and not p.is_file():   # it recorded to /dev/null-2, a file in /dev
+                raise SessionError(f"{p}: is a device or pipe; a recording is a file (synced, "
+                                   "in parts, never overwritten): give a file name")
             self.folder, self.stem, self.suffix = p.parent, p.stem, p.suffix
         else:
             self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"

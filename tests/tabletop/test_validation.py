@@ -451,3 +451,15 @@ def test_out_to_a_pipe_writes_through_it_and_keeps_it(tmp_path, capfd):
     assert code == 0, err
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
     assert json.loads(got[0])["height_m"] == 0.3
+
+
+def test_a_recording_to_a_device_or_pipe_is_refused(tmp_path, capfd):
+    """``run --record`` naming a pipe (or /dev/null): one line, nothing started. A recording is
+    never overwritten, so it went on beside it: to ``/dev/null-2``, a file in /dev."""
+    fifo = tmp_path / "session.pipe"
+    os.mkfifo(fifo)
+    code, err = cli(capfd, "run", "--config", Path(__file__).resolve().parents[2] / "config.yaml",
+                    "--headless", "--seconds", "0.5", "--record", fifo)
+    line = one_line(err)
+    assert code == 2 and f"{fifo}: is a device or pipe" in line, line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["session.pipe"]
