@@ -336,7 +336,12 @@ class StepSmoother:
         against 30 (16): the step's part into the main dropped while pushed 35 (19), the
         correction at the top speed while pushed 31 (18) (shoved 3.4); the disc at 0.054 /
         0.055 m (its designer's contact, the least shown being lowered by the tremor) 34 (18)
-        / 32 (18). None used. Its designer on the unseen mains without the camera's jitter
+        / 32 (18). Its drift correction at the top speed instead of the moment's pace where
+        it is nearer its main than the moment (backing off after a pass, as its designer)
+        181 (100) (fast contact 0.040, speed misses 4 -> 10-11); only within 0.08 m 154 (85)
+        (0.043); that with the turned step 159 (90) (0.042): the fast paths' contact spreads
+        over 0.004-0.071 either way, and a mean 0.002 lower moves misses from the high side
+        to the low. None used. Its designer on the unseen mains without the camera's jitter
         (as the hand that made the demonstration perceived its main) touches less: fast
         contact 0.033 against 0.039 (met on 14 / 10 of 18)."""
         length = math.hypot(bx, by)
