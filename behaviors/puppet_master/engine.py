@@ -28,7 +28,8 @@ from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
 from behaviors.puppet_master.behavior import (COLUMNS, Behavior,  # noqa: F401
                                               DemonstrationError, ParameterError, Params)
-from behaviors.puppet_master.character import FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S, TOUCH_M
+from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S, TOUCH_M,
+                                               still_span)
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
 from behaviors.puppet_master.generation import StepSmoother, target_position
 from behaviors.puppet_master.look import HEADING_MIN_SPEED
@@ -135,9 +136,9 @@ class Reactor(GenerationStep):
         self._caps = (0.0, 0.0)         # the last two raw steps' caps (step.py)
         self._straight = b.straightness  # the share of the raw steps' length the smooth kept
         self.patch = DetailPatch(b.detail, p.patch)
-        # the main's latest positions (STILL_SPAN_S x rate of them), to tell a main that stands
+        # the main's latest positions (still_span: STILL_SPAN_S x rate of them), to tell a main that stands
         self._main_recent: deque[tuple[float, float]] = deque(
-            maxlen=int(round(STILL_SPAN_S * p.rate_hz)))
+            maxlen=still_span(p.rate_hz))
         self._compiled_state(main_x, main_y, md)
         self.source = -1
         self._charge_end = -1

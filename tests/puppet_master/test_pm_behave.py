@@ -225,3 +225,16 @@ def test_sequential_training_from_files(files, tmp_path, capsys):
                   tmp_path / "o.csv") == 2
     err = capsys.readouterr().err
     assert "short.csv, " in err and "react_take.csv (paired): demonstration lasts" in err
+
+
+@pytest.mark.parametrize("rate", ["--rate=1", "--param=rate_hz=1", "--param=rate_hz=2"])
+def test_the_lowest_rates_train_and_generate(files, tmp_path, rate):
+    # at 1 Hz the main's 0.5 s still/moving read rounded to no sample: every demonstration
+    # failed with an internal IndexError (exit 1), also when a behaviour folder said rate_hz: 1
+    d, main = files
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--table", "1.6,1.0", "--param", "window=10", rate) == 0
+    _, out = read_csv(tmp_path / "o.csv")
+    hz = float(rate.rpartition("=")[2])
+    assert np.allclose(np.diff(out[:, 0]), 1.0 / hz)
+    assert np.isfinite(out).all() and len(out) == int((main[-1, 0] - main[0, 0]) * hz) + 1
