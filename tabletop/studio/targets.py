@@ -172,6 +172,9 @@ class PuppetMasterTarget:
             demo, what = self.take_array(), "both pucks"
         elif self.session.phase != "done":
             demo, what = np.array(self.session.main).reshape(-1, 4), "the main puck"
+        elif len(self.session.react) < 2:   # its puck never seen while the main played back
+            raise InputError(f"no reaction recorded: puck {self.react_puck} was not seen during "
+                             "the main's playback")
         else:
             demo, what = self.session.demonstration(), "the reaction"
         secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0

@@ -108,3 +108,20 @@ def test_sequential_training_at_the_table(tmp_path):
     assert np.allclose(saved, d)
     log = [json.loads(x)["outcome"] for x in bench.session.path.read_text().splitlines()]
     assert log == ["too short", "kept"]
+
+
+def test_a_reaction_part_without_its_puck_says_which_puck_was_missing(tmp_path):
+    # the main part recorded, then the playback runs to its end with no reactor puck on the
+    # table: the line said "both takes need at least two samples", naming neither take nor puck
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("stalker", seed=4, seconds=6)
+    sequential_takes(bench, demo, 200.0, 0, "main")
+    bench.step(Frame(seq=1000, t=210.0))
+    studios = [bench.step(Frame(seq=2000 + i, t=220.0 + row[0],
+                                commands=("designer.record",) if i == 0 else ()))[1]
+               for i, row in enumerate(demo)]
+    assert studios[0].action == "recording" and "no puck 2" in studios[0].label
+    assert studios[-1].action == "idle"
+    assert "no reaction recorded: puck 2 was not seen during the main's playback" in \
+        studios[-1].label, studios[-1].label
