@@ -250,7 +250,8 @@ def _check_kept_name(options: dict, ctx: BuildContext) -> None:
 
 def _reads_back(name: str, own: str, engines: list[dict]) -> bool:
     """Whether the Puppet Master engine ``name`` reacts, through its main bindings and theirs,
-    to the engine ``own``: the two are in one cycle (a mutual pair, or A -> B -> C -> A)."""
+    to the engine ``own``: the two are in one cycle (a mutual pair, or A -> B -> C -> A; an
+    engine bound to itself is refused by :func:`_delayed`)."""
     made = {e.get("name"): e for e in engines if e.get("kind") == "puppet_master"}
     seen, todo = set(), [name]
     while todo:
@@ -276,6 +277,9 @@ def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
     engines, names, mine = ctx.engines(options)
     delayed, cycle = set(), set()
     for name in bound_characters(options["main"]):
+        if name == options["name"]:     # it would chase its own last pose (nearest: always)
+            raise PuppetMasterError(f"{ctx.where(options, 'main')}: character {name!r} is "
+                                    "this engine's own; a reactor cannot react to itself")
         k = names.index(name) if name in names else -1
         other = engines[k] if k >= 0 else {}
         is_pm = other.get("kind") == "puppet_master"

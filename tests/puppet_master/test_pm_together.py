@@ -88,6 +88,10 @@ def test_two_bullies_keep_apart_on_every_frame():
     ({"nearest": [{"bogus": 1}]}, ["engines[0].main.nearest[0]", "bogus"]),
     ({"first": {"puck": 1}}, ["engines[0].main.first", "a list"]),
     ({"first": [{"puck": 1}, {"character": "nobody"}]}, ["engines[0].main", "'nobody'"]),
+    # itself: nearest of a puck and itself, it chased its own last pose (0.42 m from the
+    # puck a lover keeps 0.13 m from, 8 s on the synthetic camera); alone, the same
+    ({"nearest": [{"puck": 1}, {"character": "a"}]}, ["engines[0].main", "'a'", "itself"]),
+    ({"character": "a"}, ["engines[0].main", "'a'", "itself"]),
 ])
 def test_several_mains_badly_given_name_what_and_where(main, words):
     with pytest.raises(InputError) as err:
