@@ -21,7 +21,7 @@ def test_two_reactors_on_one_main_keep_apart_and_keep_their_behaviour():
     gap = np.hypot(*(a[:, :2] - b[:, :2]).T)
     # never overlapping by more than 10% of their sizes (discs of diameter ``size``), from
     # the first frame (both start from the same demonstrated pose) and on the frames between
-    # two generation steps (the displayed pose moves on by the last step)
+    # two generation steps (the displayed pose lies between the last two)
     assert a[:, 3].all() and b[:, 3].all()
     assert gap.min() >= 0.9 * size                                   # measured 0.080
     # without keeping apart, two lovers of one main do overlap
