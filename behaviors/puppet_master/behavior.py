@@ -20,7 +20,8 @@ import numpy as np
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master.character import (MIN_CHARGES, SINCE_WEIGHT, SPACE_PERCENTILE,
                                                STILL_MPS, STILL_SPAN_S, STOP_SPAN_S,
-                                               STOPS_WITH_MAIN, TOUCH_M, WALKS_WITH_MAIN)
+                                               STOPS_WITH_MAIN, TOUCH_M, WALKS_WITH_MAIN,
+                                               still_span)
 from behaviors.puppet_master.detail import direction_detail, texture_rms
 from behaviors.puppet_master.demonstrated import (charge_entries, charges, circles, own_steps,
                                                   pace_ratio, relative_world_steps,
@@ -266,7 +267,7 @@ class Behavior:
                                         p.w_norm_look, p.w_delta_direction, p.w_room)
         room_m = ft.room(self.main, self.react, self.demo_table) if p.w_room > 0.0 else None
         pace = pace_ratio(self.main[:, :2], self.react[:, :2], p.rate_hz, STILL_MPS)
-        still_m = ft.main_still(self.main, int(round(STILL_SPAN_S * p.rate_hz)),
+        still_m = ft.main_still(self.main, still_span(p.rate_hz),
                                 STILL_MPS * STILL_SPAN_S)
         self.distance = np.hypot(f.rel_fwd, f.rel_left)
         near = float(np.percentile(self.distance, SPACE_PERCENTILE))

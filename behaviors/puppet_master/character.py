@@ -8,6 +8,15 @@ from __future__ import annotations
 
 STILL_MPS = 0.02      # m/s: a main slower than this over STILL_SPAN_S stands still
 STILL_SPAN_S = 0.5    # s
+
+
+def still_span(rate_hz: float) -> int:
+    """Samples in the main's still/moving read at ``rate_hz`` (Hz): STILL_SPAN_S of them, at
+    least 2 (the newest and one before it). At 1 Hz the 0.5 s span rounded to none, and
+    training any demonstration failed on an index past its end (``--param rate_hz=1``)."""
+    return max(2, int(round(STILL_SPAN_S * rate_hz)))
+
+
 STOP_SPAN_S = 0.2     # s: a character that stops with its main (Behavior.keeps_pace) holds its
 # step to its still pace once its main has kept within STILL_MPS x this of each of its positions
 # over this span (step_senses.py, StepSenses._main_stopped), not from STILL_SPAN_S on: the 0.5 s

@@ -4,9 +4,14 @@ from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from tabletop.commands import number_in_range, output_file
 from tabletop.frames import InputError
+
+if TYPE_CHECKING:
+    import numpy as np
 
 HELP = ("train a reactive behaviour from a demonstration CSV and generate the reactor's motion "
         "for a main character's path, causally, at the generation rate")
@@ -28,7 +33,9 @@ class BehaveArgumentError(InputError):
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--train", metavar="DEMO.csv",
                         help="demonstration: t,main_x,main_y,main_dir,react_x,react_y,react_dir "
-                             "(seconds, table metres, radians), any sampling rate")
+                             "(seconds, table metres, radians), any sampling rate; or a "
+                             "behaviour folder (LIBRARY/NAME): its demonstration with its "
+                             "parameters, as the installation plays it")
     parser.add_argument("--train-main", metavar="MAIN_TAKE.csv",
                         help="sequential training, instead of --train: the main demonstrated "
                              "first, t,main_x,main_y,main_dir")
@@ -38,7 +45,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "times")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="a behaviour parameter (repeatable), e.g. --param ratio=2; every "
-                             "field of behaviors.puppet_master.engine.Params")
+                             "field of behaviors.puppet_master.engine.Params (over a behaviour "
+                             "folder's own)")
     parser.add_argument("--input", required=True, metavar="MAIN.csv",
                         help="main character's path: t,main_x,main_y,main_dir, any rate")
     parser.add_argument("--out", required=True, metavar="REACT.csv",
@@ -47,7 +55,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="generation rate in Hz (default 40)")
     parser.add_argument("--table", default=None, metavar="W,H",
                         help="table size in metres from the origin; the reactor stays on it "
-                             "(default: the bounds of the demonstration's positions)")
+                             "(default: a behaviour folder's table_width,table_height, else the "
+                             "bounds of the demonstration's positions)")
 
 
 MAX_RATE_HZ = 1000.0   # generation steps per second (the behaviours are made at 40)
@@ -117,23 +126,40 @@ def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int):
     return rows
 
 
+def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | int]]:
+    """A Puppet Master behaviour folder's demonstration (n, 7) and stored parameters; ``out``
+    (--out) must not be one of its files."""
+    from tabletop import library
+
+    stored = library.load_behavior(folder)
+    if stored.kind != "puppet_master":
+        raise BehaveArgumentError(f"{folder}: a {stored.kind} behaviour, not a puppet_master one")
+    data = library.read_description(folder)["data"]["demonstration"]
+    output_file(out, "--out", BehaveArgumentError, example="react.csv",
+                inputs=(Path(folder) / library.BEHAVIOR_FILE, Path(folder) / data))
+    return stored.demonstration, dict(stored.parameters)
+
+
 def read_demonstration(args: argparse.Namespace):
-    """The demonstration (n, 7) from --train, or paired from --train-main and --train-react,
-    and the file(s) its errors name."""
+    """The demonstration (n, 7) from --train (a CSV, or a behaviour folder with its stored
+    parameters), or paired from --train-main and --train-react; the file(s) its errors name;
+    and the stored parameters ({} but for a folder)."""
     from behaviors.puppet_master.sequential import TakeError, pair_takes
 
     if (args.train is None) == (args.train_main is None and args.train_react is None):
         raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
                                   "--train-react")
+    if args.train is not None and Path(args.train).is_dir():
+        return *read_folder(args.train, args.out), args.train
     if args.train is not None:
-        return read_rows(args.train, DEMO_COLUMNS, "demonstration CSV", 2), args.train
+        return read_rows(args.train, DEMO_COLUMNS, "demonstration CSV", 2), {}, args.train
     if args.train_main is None or args.train_react is None:
         raise BehaveArgumentError("sequential training needs both --train-main and --train-react")
     takes = []
     for path, cols in ((args.train_main, MAIN_COLUMNS), (args.train_react, OUT_COLUMNS)):
         takes.append(read_rows(path, cols, "take CSV", 2))
     try:   # what the paired demonstration says (too short, no area) is of both takes
-        return pair_takes(*takes), f"{args.train_main}, {args.train_react} (paired)"
+        return pair_takes(*takes), {}, f"{args.train_main}, {args.train_react} (paired)"
     except TakeError as exc:
         raise BehaveArgumentError(f"{args.train_main}, {args.train_react}: {exc}") from None
 
@@ -149,11 +175,16 @@ def main(args: argparse.Namespace) -> int:
     if "rate_hz" in params and args.rate is not None and params["rate_hz"] != rate:
         raise BehaveArgumentError(f"--rate {args.rate} and --param rate_hz={params['rate_hz']} "
                                   "disagree; give one")
-    params.setdefault("rate_hz", rate)
+    if args.rate is not None:
+        params.setdefault("rate_hz", rate)
     output_file(args.out, "--out", BehaveArgumentError,
                 inputs=(args.train, args.train_main, args.train_react, args.input),
                 example="react.csv")
-    demo, source = read_demonstration(args)
+    demo, stored, source = read_demonstration(args)
+    params = {"rate_hz": rate, **stored, **params}   # given over stored over the defaults
+    w, h = stored.get("table_width", 0.0), stored.get("table_height", 0.0)
+    if table is None and w > 0.0 and h > 0.0:   # the table a kept behaviour was made on
+        table = (0.0, 0.0, float(w), float(h))
     main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
@@ -163,8 +194,9 @@ def main(args: argparse.Namespace) -> int:
                                   "are generated")
     try:
         behavior = Behavior.train(demo, **params)
-    except ParameterError as exc:
-        raise BehaveArgumentError(f"--param: {exc}") from None
+    except ParameterError as exc:   # named by where it was given: --param or the folder
+        given = any(f"parameter {n}:" in str(exc) for n in parse_params(args.param))
+        raise BehaveArgumentError(f"{'--param' if given else source}: {exc}") from None
     except InputError as exc:
         raise BehaveArgumentError(f"{source}: {exc}") from None
     if table is None:

@@ -142,10 +142,10 @@ class PuppetMasterEngine:
                  designer: dict | None = None,
                  rate_hz: float | None = None,
                  board: Board | None = None, delayed: set[str] | None = None,
-                 keep_apart: bool = True) -> None:
+                 keep_apart: bool = True, cycle: set[str] | None = None) -> None:
         self.name, self.main, self.table = name, main, (0.0, 0.0, float(table[0]), float(table[1]))
         self.board = board if board is not None else Board()
-        self.mains = MainReader(main, set(delayed or ()), self.board)
+        self.mains = MainReader(main, set(delayed or ()), self.board, set(cycle or ()))
         self.keep_apart = keep_apart
         self.color, self.size, self.rate_hz = color, size, rate_hz
         self.designer = designer if designer and designer["enabled"] else None
@@ -248,13 +248,38 @@ def _check_kept_name(options: dict, ctx: BuildContext) -> None:
             f"{exc}") from None
 
 
-def _delayed(options: dict, ctx: BuildContext) -> set[str]:
+def _reads_back(name: str, own: str, engines: list[dict]) -> bool:
+    """Whether the Puppet Master engine ``name`` reacts, through its main bindings and theirs,
+    to the engine ``own``: the two are in one cycle (a mutual pair, or A -> B -> C -> A; an
+    engine bound to itself is refused by :func:`_delayed`)."""
+    made = {e.get("name"): e for e in engines if e.get("kind") == "puppet_master"}
+    seen, todo = set(), [name]
+    while todo:
+        e = made.get(todo.pop())
+        if e is None or e["name"] in seen:
+            continue
+        seen.add(e["name"])
+        bound = bound_characters(e.get("main", {"kind": "x"}))
+        if own in bound:
+            return True
+        todo += bound
+    return False
+
+
+def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
     """Characters this engine reads from the previous tick: Puppet Master engines listed at or
-    after it, or bound back to it (a mutual pair). Any other bound character must be made by
-    an engine listed earlier."""
+    after it, or bound back to it (a mutual pair); and of those, the ones in a cycle with it,
+    which count while they still wait for their own mains (drawn at the table's centre), as
+    a cycle would otherwise wait for itself for ever. Any other waiting character is absent,
+    as one listed earlier is: read while it waited, a reactor bound to an engine listed after
+    it played against that placeholder at the centre of the table. Any other bound character
+    must be made by an engine listed earlier."""
     engines, names, mine = ctx.engines(options)
-    delayed = set()
+    delayed, cycle = set(), set()
     for name in bound_characters(options["main"]):
+        if name == options["name"]:     # it would chase its own last pose (nearest: always)
+            raise PuppetMasterError(f"{ctx.where(options, 'main')}: character {name!r} is "
+                                    "this engine's own; a reactor cannot react to itself")
         k = names.index(name) if name in names else -1
         other = engines[k] if k >= 0 else {}
         is_pm = other.get("kind") == "puppet_master"
@@ -266,13 +291,15 @@ def _delayed(options: dict, ctx: BuildContext) -> set[str]:
                 "after it or react back: it is then read one tick old)")
         if k >= mine or back:
             delayed.add(name)
-    return delayed
+            if back or _reads_back(name, options["name"], engines):
+                cycle.add(name)
+    return delayed, cycle
 
 
 def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     from behaviors.puppet_master.engine import Behavior
     _check_kept_name(options, ctx)
-    delayed = _delayed(options, ctx)
+    delayed, cycle = _delayed(options, ctx)
     behavior, bname, read = None, "", None
     if options["behavior"] is not None:
         read = tree_signature(Path(options["behavior"]))   # its reloader's first baseline
@@ -292,7 +319,8 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     engine = PuppetMasterEngine(options["name"], options["main"], ctx.table, behavior, bname,
                                 tuple(options["color"]), options["size"], designer,
                                 options["rate_hz"], board=shared_board(ctx.shared),
-                                delayed=delayed, keep_apart=options["keep_apart"])
+                                delayed=delayed, keep_apart=options["keep_apart"],
+                                cycle=cycle)
     engine.folder = options["behavior"]   # the studio reloads it when it changes on disk
     engine.folder_read = read
     return engine

@@ -12,7 +12,9 @@ A main binding is one of ``{puck: ID}``, ``{touch: ID}``, ``{character: NAME}``,
 A ``character`` binding reads that character in the same tick when its engine is listed
 earlier and does not react back; otherwise (listed later, itself, or a mutual pair) it reads
 the character's state of the previous tick from the :class:`Board`, so both of a mutual pair
-see each other one tick old, whatever their order, and the run stays reproducible.
+see each other one tick old, whatever their order, and the run stays reproducible. A
+character still waiting for its own main is absent, whatever the order, except to the
+characters of a cycle with it (a mutual pair), which start from each other's waiting places.
 
 Every Puppet Master reactor posts its pose to the board; a reactor keeps at least the sum of
 both body radii (half the ``size``) from every other reactor: from the ones stepped earlier in
@@ -158,8 +160,10 @@ class MainReader:
     """Reads the main pose of one reactor from a frame and the board; keeps the look of
     inputs without one (touches, two-column streams) and which of several mains is in use."""
 
-    def __init__(self, main: dict, delayed: set[str], board_: Board) -> None:
+    def __init__(self, main: dict, delayed: set[str], board_: Board,
+                 cycle: set[str] | None = None) -> None:
         self.main, self.delayed, self.board = main, delayed, board_
+        self.cycle = set(cycle or ())   # delayed characters that count while they wait
         self.items = singles(main)
         self._dir = [0.0] * len(self.items)
         self._last: list[tuple[float, float, float] | None] = [None] * len(self.items)
@@ -181,9 +185,11 @@ class MainReader:
             return None if p is None else (p.x, p.y, p.angle)
         if kind == "character":
             name = m["character"]
-            if name in self.delayed:      # a waiting reactor counts too: a mutual pair
-                c = self.board.previous.get(name)   # would otherwise wait for each other
-                return None if c is None else (c.x, c.y, c.heading)
+            if name in self.delayed:      # a waiting reactor counts in a cycle (a mutual
+                c = self.board.previous.get(name)   # pair would wait for each other), no other
+                if c is None or not (c.valid or name in self.cycle):
+                    return None
+                return c.x, c.y, c.heading
             ch = frame.character(name)
             return None if ch is None or not ch.valid else (ch.x, ch.y, ch.heading)
         if kind == "touch":

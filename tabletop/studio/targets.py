@@ -172,6 +172,9 @@ class PuppetMasterTarget:
             demo, what = self.take_array(), "both pucks"
         elif self.session.phase != "done":
             demo, what = np.array(self.session.main).reshape(-1, 4), "the main puck"
+        elif len(self.session.react) < 2:   # its puck never seen while the main played back
+            raise InputError(f"no reaction recorded: puck {self.react_puck} was not seen during "
+                             "the main's playback")
         else:
             demo, what = self.session.demonstration(), "the reaction"
         secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0
@@ -186,15 +189,29 @@ class PuppetMasterTarget:
         from behaviors.puppet_master.engine import Behavior
         self.engine.hold, self.ghost = None, None
         demo = self.demonstration()
-        e = self.engine
-        params = {"rate_hz": e.rate_hz or (e.behavior.params.rate_hz if e.behavior else 40.0),
-                  "window": e.behavior.params.window if e.behavior else 40}
+        params = self.take_params()
         if self.trainer is not None:
             self._training = demo
-            self.trainer.start(demo, params, e.table)
+            self.trainer.start(demo, params, self.engine.table)
             return None
         self._play(Behavior.train(demo, **params), None, demo)
         return self._summary()
+
+    def take_params(self) -> dict[str, float | int]:
+        """The parameters a take trains with: the character's in play (a new take of the
+        afraid character keeps its edge_percentile 50; it trained with the defaults but the
+        rate and window), the engine's rate where its config gives one, and the table it is
+        made on (metres; as keep() saves it, so the behaviour tried is the one kept)."""
+        from dataclasses import asdict
+
+        from behaviors.puppet_master.engine import Params
+        e = self.engine
+        params = asdict(e.behavior.params if e.behavior is not None else Params())
+        x0, y0, x1, y1 = e.table
+        params.update(table_width=x1 - x0, table_height=y1 - y0)
+        if e.rate_hz:
+            params["rate_hz"] = e.rate_hz
+        return params
 
     def trained(self, wait: bool) -> str | None:
         """Between ticks: the worker's behaviour and reactor, once ready (``wait``: waits for
@@ -241,11 +258,14 @@ class PuppetMasterTarget:
         name = library.free_name(self.lib, self.engine.designer["name"])
         # with the table it was made on, as the shipped behaviours are: a room or an edge
         # margin set later (w_room, edge_percentile) measured against the take's own bounds
-        x0, y0, x1, y1 = self.engine.table
-        folder = library.save_behavior(
+        from dataclasses import asdict
+
+        from behaviors.puppet_master.engine import Params
+        default = asdict(Params())
+        folder = library.save_behavior(   # the rate, window and table, and any other not default
             self.lib, name, self.demo,
-            {"rate_hz": self.pending.params.rate_hz, "window": self.pending.params.window,
-             "table_width": x1 - x0, "table_height": y1 - y0},
+            {k: v for k, v in self.pending.param_dict().items()
+             if k in ("rate_hz", "window", "table_width", "table_height") or v != default[k]},
             description=f"demonstrated at the table for {self.name}",
             source="designer studio, recorded from the table")
         self.engine.behavior_name, self.playing, self.pending = name, folder, None

@@ -3,6 +3,7 @@
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 from tests.puppet_master import demos as pm_demos
@@ -13,6 +14,7 @@ from tabletop.files import read_csv, write_csv
 
 DEMO_HEADER = ["t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir"]
 MAIN_HEADER = ["t", "main_x", "main_y", "main_dir"]
+SHIPPED = Path(__file__).resolve().parents[2] / "behaviors" / "library"
 
 
 @pytest.fixture(scope="module")
@@ -225,3 +227,49 @@ def test_sequential_training_from_files(files, tmp_path, capsys):
                   tmp_path / "o.csv") == 2
     err = capsys.readouterr().err
     assert "short.csv, " in err and "react_take.csv (paired): demonstration lasts" in err
+
+
+@pytest.mark.parametrize("rate", ["--rate=1", "--param=rate_hz=1", "--param=rate_hz=2"])
+def test_the_lowest_rates_train_and_generate(files, tmp_path, rate):
+    # at 1 Hz the main's 0.5 s still/moving read rounded to no sample: every demonstration
+    # failed with an internal IndexError (exit 1), also when a behaviour folder said rate_hz: 1
+    d, main = files
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--table", "1.6,1.0", "--param", "window=10", rate) == 0
+    _, out = read_csv(tmp_path / "o.csv")
+    hz = float(rate.rpartition("=")[2])
+    assert np.allclose(np.diff(out[:, 0]), 1.0 / hz)
+    assert np.isfinite(out).all() and len(out) == int((main[-1, 0] - main[0, 0]) * hz) + 1
+
+
+def test_a_behaviour_folder_trains_with_its_saved_parameters(files, tmp_path, capsys):
+    # the shipped afraid character is saved with edge_percentile 50 on a 1.2 x 0.8 m table;
+    # its CSV alone (all --train took) made another character than the installation plays
+    d, main = files
+    folder = SHIPPED / "afraid"
+    before = {p.name: p.read_bytes() for p in folder.iterdir()}
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:150].tolist())       # 5 s
+    base = ["--input", tmp_path / "main.csv"]
+    assert behave("--train", folder, *base, "--out", tmp_path / "folder.csv") == 0
+    saved = ["--param", "edge_percentile=50", "--param", "table_width=1.2", "--param",
+             "table_height=0.8", "--table", "1.2,0.8"]
+    assert behave("--train", folder / "demonstration.csv", *base, *saved,
+                  "--out", tmp_path / "given.csv") == 0
+    assert behave("--train", folder / "demonstration.csv", *base, "--out",
+                  tmp_path / "csv.csv") == 0
+    assert (tmp_path / "folder.csv").read_text() == (tmp_path / "given.csv").read_text()
+    assert (tmp_path / "folder.csv").read_text() != (tmp_path / "csv.csv").read_text()
+    # --param is over the folder's own; --rate too
+    assert behave("--train", folder, *base, "--param", "edge_percentile=0", "--rate", "20",
+                  "--out", tmp_path / "over.csv") == 0
+    assert behave("--train", folder / "demonstration.csv", *base, "--param",
+                  "table_width=1.2", "--param", "table_height=0.8", "--table", "1.2,0.8",
+                  "--rate", "20", "--out", tmp_path / "over_given.csv") == 0
+    assert (tmp_path / "over.csv").read_text() == (tmp_path / "over_given.csv").read_text()
+    # the folder's files are inputs: never written over; a folder that is no behaviour says so
+    for name in ("demonstration.csv", "behavior.yaml"):
+        assert behave("--train", folder, *base, "--out", folder / name) == 2
+        assert "is the input file" in capsys.readouterr().err
+    assert {p.name: p.read_bytes() for p in folder.iterdir()} == before
+    assert behave("--train", tmp_path, *base, "--out", tmp_path / "o.csv") == 2
+    assert "behavior.yaml" in capsys.readouterr().err

@@ -108,3 +108,49 @@ def test_sequential_training_at_the_table(tmp_path):
     assert np.allclose(saved, d)
     log = [json.loads(x)["outcome"] for x in bench.session.path.read_text().splitlines()]
     assert log == ["too short", "kept"]
+
+
+def test_a_reaction_part_without_its_puck_says_which_puck_was_missing(tmp_path):
+    # the main part recorded, then the playback runs to its end with no reactor puck on the
+    # table: the line said "both takes need at least two samples", naming neither take nor puck
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("stalker", seed=4, seconds=6)
+    sequential_takes(bench, demo, 200.0, 0, "main")
+    bench.step(Frame(seq=1000, t=210.0))
+    studios = [bench.step(Frame(seq=2000 + i, t=220.0 + row[0],
+                                commands=("designer.record",) if i == 0 else ()))[1]
+               for i, row in enumerate(demo)]
+    assert studios[0].action == "recording" and "no puck 2" in studios[0].label
+    assert studios[-1].action == "idle"
+    assert "no reaction recorded: puck 2 was not seen during the main's playback" in \
+        studios[-1].label, studios[-1].label
+
+
+def test_a_new_take_keeps_the_character_s_parameters_and_is_kept_as_tried(tmp_path):
+    # redoing the shipped afraid character at the table: its take trained with the defaults
+    # but the rate and window (edge_percentile 50 lost), and the kept behaviour was reloaded
+    # with the table it was saved with, where the tried one had the take's own bounds
+    from dataclasses import asdict
+
+    from behaviors.puppet_master.engine import Behavior
+    from tests.studio.test_studio_keys import build
+    (e,) = build([{"kind": "puppet_master", "name": "pet", "behavior": "behaviors/library/afraid",
+                   "designer": {"enabled": True, "library": str(tmp_path / "lib"),
+                                "background_training": False}}])
+    assert e.behavior.params.edge_percentile == 50.0
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("afraid", seed=8, seconds=12)
+    frames = list(demo_frames(demo, {5: ("designer.record",), 400: ("designer.record",)}))
+    for f in frames[:401]:
+        _, studio = bench.step(f)
+    assert studio.action == "trying"
+    tried = e.behavior.params
+    assert tried.edge_percentile == 50.0 and (tried.table_width, tried.table_height) == (1.2, 0.8)
+    _, studio = bench.step(Frame(seq=1000, t=200.0, commands=("designer.keep",)))
+    assert "kept as pet" in studio.label
+    stored = library.load_behavior(tmp_path / "lib" / "pet")
+    assert stored.parameters["edge_percentile"] == 50.0
+    kept = Behavior.train(stored.demonstration, **stored.parameters)
+    assert asdict(kept.params) == asdict(tried)
+    assert kept.edge_margin == e.behavior.edge_margin > 0.0
