@@ -65,9 +65,13 @@ SCHEMA = Record({
     "timeout_s": Number(0.5, lo=0.01, hi=600.0,
                         doc="a puck, touch or stream not repeated this long leaves the bus"),
     "retry_max_s": Number(8.0, lo=0.1, hi=600.0, doc="longest wait between reconnections"),
+    "stall_s": Number(5.0, lo=0.1, hi=3600.0,
+                      doc="health turns bad when the open port delivered no valid line (a "
+                          "command, comment or blank line) this long"),
 })
 
 
 def build(options: dict, ctx: BuildContext) -> SerialInput:
     return SerialInput(options["name"], options["port"], options["baudrate"],
-                       options["timeout_s"], retry_max_s=options["retry_max_s"])
+                       options["timeout_s"], retry_max_s=options["retry_max_s"],
+                       stall_s=options["stall_s"])

@@ -252,3 +252,41 @@ def test_a_port_that_can_never_open_is_refused_at_load(tmp_path):
     finally:
         os.close(master)
         os.close(slave)
+
+
+def test_an_open_port_that_goes_silent_is_unhealthy_until_a_valid_line_comes():
+    """A board that hung with its port still open: the health said "open" for hours while no
+    position arrived. Silent (no valid line) for over ``stall_s`` of the source's clock it is
+    unhealthy with the reason; garbage does not count; a comment brings it back, a puck too."""
+    now = [100.0]
+    master, slave, name = open_pty()
+    src = SerialInput("mcu", name, stall_s=5.0, clock=lambda: now[0])
+    src.open()
+    try:
+        assert wait_for(lambda: src.health().ok, 5.0)
+        now[0] = 106.0                                     # opened, never a line
+        h = src.health()
+        assert not h.ok and h.message == f"{name} open; no valid line for 6 s"
+        os.write(master, b"puck 1 0.1 0.1 0\n")
+        assert wait_for(lambda: src.lines == 1, 5.0)
+        assert src.health().ok
+        now[0] = 110.9                                     # 4.9 s: within the limit
+        assert src.health().ok
+        now[0] = 4000.0                                    # an hour later
+        h = src.health()
+        assert not h.ok and h.message.startswith(f"{name} open; no valid line for 3894 s")
+        os.write(master, b"nonsense here\n")               # garbage is no sign of life
+        assert wait_for(lambda: src.bad.total() == 1, 5.0)
+        h = src.health()
+        assert not h.ok and h.message == (f"{name} open; no valid line for 3894 s "
+                                          "(ignored: 1 unknown command)")
+        os.write(master, b"# idle\n")                      # a device with nothing to report
+        assert wait_for(lambda: src.health().ok, 5.0)
+        now[0] = 4010.0
+        assert not src.health().ok
+        os.write(master, b"puck 1 0.2 0.1 0\n")
+        assert wait_for(lambda: src.health().ok, 5.0) and src.lines == 2
+    finally:
+        src.close()
+        os.close(master)
+        os.close(slave)
