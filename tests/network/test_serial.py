@@ -13,7 +13,7 @@ from tracking.pucks import TrackerSettings
 from tracking.serial_input import (MAX_LINE, Command, LineError, LineSplitter, SerialInput,
                                    parse_line)
 
-from tests.network.helpers import wait_for
+from tests.network.helpers import ipv6_loopback, wait_for
 
 
 @pytest.mark.parametrize("line, command", [
@@ -290,3 +290,44 @@ def test_an_open_port_that_goes_silent_is_unhealthy_until_a_valid_line_comes():
         src.close()
         os.close(master)
         os.close(slave)
+
+
+def test_a_socket_url_takes_an_ipv6_address_in_brackets_and_refuses_a_malformed_one():
+    """``socket://HOST:PORT`` reads HOST:PORT as ``tabletop status`` does: ``[::1]:7000`` is
+    taken, and a malformed one (``::1:7000``, a port out of range) is refused at load in one
+    line, where it was retried for ever ("Port could not be cast to integer value")."""
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    for url in ("socket://[::1]:7000", "socket://localhost:7?logging=debug",
+                "rfc2217://[fe80::1%lo]:2217"):
+        cfg = validate_config({"sources": [{"kind": "serial", "port": url}]}, "cfg.yaml")
+        assert cfg["sources"][0]["port"] == url
+    for url in ("socket://::1:7000", "socket://host:70000", "socket://[host]:7", "socket://h",
+                "rfc2217://:2217"):
+        where = url.split("://", 1)[1]
+        with pytest.raises(ConfigError) as info:
+            validate_config({"sources": [{"kind": "serial", "port": url}]}, "cfg.yaml")
+        assert str(info.value) == (
+            f"cfg.yaml: sources[0].port: {url.split(':')[0]}:// URL {where!r}: expected "
+            "HOST:PORT (port 1..65535; an IPv6 address in brackets), e.g. 0.0.0.0:9000 or "
+            "[::1]:9000"), info.value
+
+
+@pytest.mark.skipif(not ipv6_loopback(), reason="this machine has no IPv6 loopback (::1)")
+def test_pyserial_socket_url_on_ipv6_loopback():
+    server = socket.socket(socket.AF_INET6)
+    server.bind(("::1", 0))
+    server.listen()
+    port = server.getsockname()[1]
+    src = SerialInput("net", f"socket://[::1]:{port}")
+    src.open()
+    try:
+        conn, _ = server.accept()
+        conn.sendall(b"puck 9 0.3 0.5 0\n")
+        assert wait_for(lambda: src.lines == 1, 5.0)
+        assert src.latest().pucks[0].x == 0.3 and src.health().ok
+        conn.close()
+    finally:
+        src.close()
+        server.close()
