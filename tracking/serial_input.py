@@ -17,13 +17,14 @@ what the lines said, and forgets a puck, touch or stream not repeated for ``time
 ``loop://`` or ``socket://HOST:PORT``), reads in its thread, and when the device vanishes closes
 it and reopens it with a doubling back-off, saying so in its health as the camera does.
 
-Silence: an open port that has delivered no valid line (a command, a comment or a blank line)
-for ``stall_s`` (5 s, as the ``osc`` source's ``stall_s`` and the camera's) is unhealthy, with
-"no valid line for N s" in its health, and healthy again with the next valid line. A board that
-hung with its USB port still enumerated, or a cable whose data line broke, kept the port open
-and the status "open" for hours while no position arrived. A device with nothing to report (an
-empty table) keeps the source healthy by sending a comment (``# idle``) or a blank line at least
-every ``stall_s``; bad lines do not count (garbage is not a device that works).
+Silence, where the config asks for it (``stall_s``; off by default, because the serial
+contract lets a device say nothing while the table is empty): an open port that has delivered
+no valid line (a command, a comment or a blank line) for ``stall_s`` is unhealthy, with "no
+valid line for N s" in its health, and healthy again with the next valid line. A board that hung
+with its USB port still enumerated, or a cable whose data line broke, kept the port open and
+the status "open" for hours while no position arrived. A device that sends a comment
+(``# idle``) or a blank line at least every ``stall_s`` is told apart from one that hung; bad
+lines do not count (garbage is not a device that works).
 """
 
 from __future__ import annotations
@@ -217,10 +218,10 @@ class SerialInput(BackgroundSource):
     ``opener(port, baudrate)`` returns an open pyserial object (default
     ``serial.serial_for_url``); ``port_object`` is the one in use (tests write to ``loop://``
     through it). ``stall_s``: an open port silent this long (no valid line, seconds of
-    ``clock``) is unhealthy."""
+    ``clock``) is unhealthy; None: never."""
 
     def __init__(self, name: str, port: str, baudrate: int = 115200, timeout_s: float = 0.5,
-                 retry_min_s: float = 0.5, retry_max_s: float = 8.0, stall_s: float = 5.0,
+                 retry_min_s: float = 0.5, retry_max_s: float = 8.0, stall_s: float | None = None,
                  opener: Callable[[str, int], Any] | None = None,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.name, self.port, self.baudrate = name, port, baudrate
@@ -268,7 +269,7 @@ class SerialInput(BackgroundSource):
             silent = now - self._alive_t
         if retry_at is not None:
             message = f"{message}; reconnecting in {max(0.0, retry_at - now):.1f} s"
-        elif ok and silent > self.stall_s:
+        elif ok and self.stall_s is not None and silent > self.stall_s:
             ok, message = False, f"{message}; no valid line for {silent:.0f} s"
         return self.bad.health(ok, message, age)
 

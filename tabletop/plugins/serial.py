@@ -14,7 +14,7 @@ from typing import Any
 
 from tabletop.registry import BuildContext
 from tabletop.resolve import host_port
-from tabletop.schema import Context, Number, Record, Str, shown
+from tabletop.schema import Context, Number, Optional_, Record, Str, shown
 from tracking.serial_input import SerialInput
 
 
@@ -76,9 +76,10 @@ SCHEMA = Record({
     "timeout_s": Number(0.5, lo=0.01, hi=600.0,
                         doc="a puck, touch or stream not repeated this long leaves the bus"),
     "retry_max_s": Number(8.0, lo=0.1, hi=600.0, doc="longest wait between reconnections"),
-    "stall_s": Number(5.0, lo=0.1, hi=3600.0,
-                      doc="health turns bad when the open port delivered no valid line (a "
-                          "command, comment or blank line) this long"),
+    "stall_s": Optional_(Number(lo=0.1, hi=3600.0),
+                         doc="health turns bad when the open port delivered no valid line (a "
+                             "command, comment or blank line) this long; null: never (a "
+                             "device may stay silent while the table is empty)"),
 })
 
 

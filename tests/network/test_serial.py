@@ -323,7 +323,8 @@ def test_pyserial_socket_url_on_ipv6_loopback():
     src = SerialInput("net", f"socket://[::1]:{port}")
     src.open()
     try:
-        conn, _ = server.accept()
+        conn, _ = server.accept()   # pyserial's open ends by dropping what came before it
+        assert wait_for(lambda: src.port_object is not None, 5.0)
         conn.sendall(b"puck 9 0.3 0.5 0\n")
         assert wait_for(lambda: src.lines == 1, 5.0)
         assert src.latest().pucks[0].x == 0.3 and src.health().ok
@@ -331,3 +332,31 @@ def test_pyserial_socket_url_on_ipv6_loopback():
     finally:
         src.close()
         server.close()
+
+
+def test_a_device_silent_on_an_empty_table_stays_healthy_unless_stall_s_is_set():
+    """DESIGN's serial contract asks for no lines while nothing is on the table: by default
+    (``stall_s`` null) an open port that says nothing for an hour stays healthy; the config's
+    ``stall_s`` turns the silence check on."""
+    from tabletop.config import validate_config
+
+    master, slave, name = open_pty()
+    try:
+        src_cfg = validate_config({"sources": [{"kind": "serial", "port": name}]},
+                                  "cfg.yaml")["sources"][0]
+        assert src_cfg["stall_s"] is None
+        set_cfg = validate_config({"sources": [{"kind": "serial", "port": name, "stall_s": 5}]},
+                                  "cfg.yaml")["sources"][0]
+        assert set_cfg["stall_s"] == 5.0
+        now = [100.0]
+        src = SerialInput("mcu", name, stall_s=src_cfg["stall_s"], clock=lambda: now[0])
+        src.open()
+        try:
+            assert wait_for(lambda: src.health().ok, 5.0)
+            now[0] = 3700.0                                # an hour without a line
+            assert src.health().ok
+        finally:
+            src.close()
+    finally:
+        os.close(master)
+        os.close(slave)
