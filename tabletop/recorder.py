@@ -24,7 +24,8 @@ each sync while lines keep coming, so a power cut loses at most the lines writte
 sync in progress (one line at 60 Hz while the disk syncs within a frame). A new file is synced
 before its first frame (its folder entry too). Lines the disk has not synced yet are counted:
 when a sync covers several, the disk is slower than the frames (logged when a line waited
-0.5 s, at most every 10 s); more than ``max_queue`` of them (a disk that stopped) stops the
+0.5 s, sparingly: at once, then after 10 s, 20 s, ... up to every 600 s while the disk stays slow,
+:class:`~tracking.badinput.LogGaps`); more than ``max_queue`` of them (a disk that stopped) stops the
 recording like a full disk. :attr:`Recorder.durability` counts lines and syncs and keeps the
 latest durability latencies (line written -> its sync returned).
 """
@@ -42,7 +43,7 @@ import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from tabletop import __version__
 from tabletop.files import folder_failure, fsync_folder
@@ -50,6 +51,7 @@ from tabletop.frames import Frame
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header)
+from tracking.badinput import LogGaps
 
 log = logging.getLogger("tabletop")
 
@@ -108,22 +110,28 @@ class Recorder:
 
     Exactly one of ``path`` (a file name) or ``folder`` is given. ``header``: from
     :func:`session_header` (built once, written at the top of every part). ``max_queue``:
-    lines that may wait for the disk before the recording stops.
+    lines that may wait for the disk before the recording stops. ``clock``: monotonic seconds
+    for the lines' durability (when written, when synced).
     """
 
     name = "recorder"
     SLOW_S = 0.5                      # a line waiting this long for the disk is logged
-    SLOW_LOG_EVERY_S = 10.0
+    SLOW_LOG_EVERY_S = 10.0           # first gap between slow-disk lines, doubling ...
+    SLOW_LOG_MAX_S = 600.0            # ... up to this (LogGaps). Every 10 s, a disk that stayed
+    # slow (a worn SD card) wrote 8,640 lines a day and rotated the kiosk's log (1 MB x 5) away
+    # in days; doubling: 11 lines in its first hour, then 6 an hour.
 
     def __init__(self, path: str | Path | None = None, header: dict[str, Any] | None = None,
                  folder: str | Path | None = None, max_mb: float | None = None,
                  keep: int | None = None, config: Any = None,
-                 calibration: dict[str, Any] | None = None, max_queue: int = 1024) -> None:
+                 calibration: dict[str, Any] | None = None, max_queue: int = 1024,
+                 clock: Callable[[], float] = time.monotonic) -> None:
         if (path is None) == (folder is None):
             raise ValueError("give exactly one of path or folder")
         if header is None:
             header = session_header(config, calibration)
         self._header = dict(header)
+        self.clock = clock
         if path is not None:
             p = Path(path)
             if p.is_dir():
@@ -155,7 +163,7 @@ class Recorder:
         self._cv = threading.Condition()
         self._closing = False
         self._syncing = False              # the syncer is working on a batch
-        self._slow_logged = -float("inf")
+        self._slow_log = LogGaps(self.SLOW_LOG_EVERY_S, self.SLOW_LOG_MAX_S)   # syncer only
         try:
             self._open_part()
         except OSError as exc:
@@ -354,16 +362,14 @@ class Recorder:
                 self._synced(batch)
 
     def _synced(self, batch: list[float]) -> None:
-        now = time.monotonic()
+        now = self.clock()
         dur = self.durability
         dur.lines += len(batch)
         dur.syncs += 1
         dur.waited_max = max(dur.waited_max, len(batch))
         dur.latencies_s.extend(now - t for t in batch)
         waited = now - batch[0]
-        if len(batch) > 1 and waited >= self.SLOW_S and \
-                now - self._slow_logged >= self.SLOW_LOG_EVERY_S:
-            self._slow_logged = now
+        if len(batch) > 1 and waited >= self.SLOW_S and self._slow_log.due("slow", now):
             log.warning("recording %s: the disk is slower than the frames: %d lines waited "
                         "%.0f ms for one sync", self.path, len(batch), waited * 1e3)
 
@@ -387,7 +393,7 @@ class Recorder:
         with self._cv:
             if len(self._unsynced) >= self.max_queue:
                 self._fail(f"the disk cannot keep up ({self.max_queue} lines waited, the "
-                           f"oldest {time.monotonic() - self._unsynced[0]:.1f} s)",
+                           f"oldest {self.clock() - self._unsynced[0]:.1f} s)",
                            resumable=True)
                 self._cv.notify()
                 return
@@ -407,7 +413,7 @@ class Recorder:
                 return
             self._first_in_file = False
             self.frames += 1
-            self._unsynced.append(time.monotonic())
+            self._unsynced.append(self.clock())
             self._cv.notify()
 
     @property

@@ -8,10 +8,14 @@ Here an address (``127.0.0.1``, a broadcast address) is used at once, and a name
 in a thread of its own, again ``RETRY_S`` after a failure, while the sender drops what it would
 send; the failure is logged when its reason is new (again every 10 min) and the name's arrival
 once, so a week without a name server writes a few lines.
+
+:func:`host_port` reads a ``HOST:PORT`` given on a command line or in a URL, an IPv6 address in
+brackets (``[::1]:9000``, as in URLs); :func:`shown_host_port` writes one back.
 """
 
 from __future__ import annotations
 
+import ipaddress
 import logging
 import socket
 import threading
@@ -21,6 +25,34 @@ from typing import Any, Callable
 from tracking.badinput import RetryLog
 
 Target = tuple[int, Any]   # (address family, socket address for sendto)
+
+HOST_PORT = ("HOST:PORT (port 1..65535; an IPv6 address in brackets), e.g. 0.0.0.0:9000 or "
+             "[::1]:9000")
+
+
+def host_port(text: str) -> tuple[str, int]:
+    """``"0.0.0.0:9000"`` -> ("0.0.0.0", 9000), ``"[::1]:9000"`` -> ("::1", 9000); ValueError
+    with one message for anything else (``::1:9000`` too: its port would be a guess). The
+    last colon split the address before, so ``[::1]:9000`` was the host ``[::1]``, which no
+    socket takes."""
+    host, sep, port = text.rpartition(":")
+    if host.startswith("[") and host.endswith("]"):
+        host = host[1:-1]
+        try:
+            ipaddress.IPv6Address(host)
+        except ValueError:
+            host = ""
+    elif ":" in host or "[" in host or "]" in host:
+        host = ""
+    n = int(port) if port.isdigit() and len(port) <= 5 else 0
+    if not sep or not host or not 0 < n < 65536:
+        raise ValueError(f"{text!r}: expected {HOST_PORT}")
+    return host, n
+
+
+def shown_host_port(host: str, port: int) -> str:
+    """``HOST:PORT`` as :func:`host_port` reads it (an IPv6 address in brackets)."""
+    return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
 
 
 class Destination:

@@ -16,6 +16,15 @@ what the lines said, and forgets a puck, touch or stream not repeated for ``time
 :class:`SerialInput` is the ``Source``: it opens ``port`` (a device or any pyserial URL such as
 ``loop://`` or ``socket://HOST:PORT``), reads in its thread, and when the device vanishes closes
 it and reopens it with a doubling back-off, saying so in its health as the camera does.
+
+Silence, where the config asks for it (``stall_s``; off by default, because the serial
+contract lets a device say nothing while the table is empty): an open port that has delivered
+no valid line (a command, a comment or a blank line) for ``stall_s`` is unhealthy, with "no
+valid line for N s" in its health, and healthy again with the next valid line. A board that hung
+with its USB port still enumerated, or a cable whose data line broke, kept the port open and
+the status "open" for hours while no position arrived. A device that sends a comment
+(``# idle``) or a blank line at least every ``stall_s`` is told apart from one that hung; bad
+lines do not count (garbage is not a device that works).
 """
 
 from __future__ import annotations
@@ -208,14 +217,16 @@ class SerialInput(BackgroundSource):
 
     ``opener(port, baudrate)`` returns an open pyserial object (default
     ``serial.serial_for_url``); ``port_object`` is the one in use (tests write to ``loop://``
-    through it)."""
+    through it). ``stall_s``: an open port silent this long (no valid line, seconds of
+    ``clock``) is unhealthy; None: never."""
 
     def __init__(self, name: str, port: str, baudrate: int = 115200, timeout_s: float = 0.5,
-                 retry_min_s: float = 0.5, retry_max_s: float = 8.0,
+                 retry_min_s: float = 0.5, retry_max_s: float = 8.0, stall_s: float | None = None,
                  opener: Callable[[str, int], Any] | None = None,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.name, self.port, self.baudrate = name, port, baudrate
         self.retry_min_s, self.retry_max_s, self.clock = retry_min_s, retry_max_s, clock
+        self.stall_s = stall_s
         self.opener = opener or _open_serial
         self.state = SerialState(timeout_s)
         self.bad = BadInput(name, clock=clock)
@@ -226,7 +237,8 @@ class SerialInput(BackgroundSource):
         self._lock = threading.Lock()
         self._init_thread()
         self._ok, self._message, self._retry_at = False, "starting", None
-        self._heard_t = -math.inf
+        self._heard_t = -math.inf    # the last command (stamps the observations)
+        self._alive_t = -math.inf    # the port's opening or its last valid line (health)
         self._seq = 0
         self._emitted: set[int] = set()
 
@@ -254,14 +266,19 @@ class SerialInput(BackgroundSource):
         now = self.clock()
         with self._lock:
             ok, message, retry_at, age = self._ok, self._message, self._retry_at, now - self._heard_t
+            silent = now - self._alive_t
         if retry_at is not None:
             message = f"{message}; reconnecting in {max(0.0, retry_at - now):.1f} s"
+        elif ok and self.stall_s is not None and silent > self.stall_s:
+            ok, message = False, f"{message}; no valid line for {silent:.0f} s"
         return self.bad.health(ok, message, age)
 
     # ------------------------------------------------------------------ the thread
     def _set(self, ok: bool, message: str, retry_at: float | None = None) -> None:
         with self._lock:
             self._ok, self._message, self._retry_at = ok, message, retry_at
+            if ok:   # just opened: its silence counts from now
+                self._alive_t = self.clock()
 
     def _run(self) -> None:
         delay = self.retry_min_s
@@ -319,8 +336,9 @@ class SerialInput(BackgroundSource):
         for line in lines:
             try:
                 c = parse_line(line)
-                if c is not None:
-                    with self._lock:
+                with self._lock:
+                    self._alive_t = t    # a comment or a blank line says the device works
+                    if c is not None:
                         self.state.apply(c, t)
                         self._heard_t = t
                         self.lines += 1

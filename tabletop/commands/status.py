@@ -15,24 +15,21 @@ HELP = "listen for the tables' heartbeats on HOST:PORT and print one line per he
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("address", metavar="HOST:PORT",
-                   help="where to listen, e.g. 0.0.0.0:9000 (the tables' kiosk.heartbeat)")
+                   help="where to listen, e.g. 0.0.0.0:9000 or [::]:9000 (the tables' "
+                        "kiosk.heartbeat)")
     p.add_argument("--seconds", default=None, metavar="S",
                    help="stop after S seconds (default: until Ctrl-C)")
     p.add_argument("--json", action="store_true", help="print each table's status JSON instead")
 
 
 def parse_address(text: str) -> tuple[str, int]:
+    """``HOST:PORT`` -> (host, port); an IPv6 address in brackets (``[::1]:9000``)."""
     from tabletop.frames import InputError
-    host, sep, port = text.rpartition(":")
-    if not sep or not host:
-        raise InputError(f"address {text!r}: expected HOST:PORT, e.g. 0.0.0.0:9000")
+    from tabletop.resolve import host_port
     try:
-        n = int(port)
-    except ValueError:
-        n = -1
-    if not 0 < n < 65536:
-        raise InputError(f"address {text!r}: port {port!r} must be 1..65535")
-    return host, n
+        return host_port(text)
+    except ValueError as exc:
+        raise InputError(f"address {exc}") from None
 
 
 def check_heartbeat(values: tuple) -> str:
@@ -101,6 +98,7 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.commands.run import MAX_SECONDS
     from tabletop.frames import InputError
     from tabletop.kiosk.health import HEARTBEAT_ADDRESS
+    from tabletop.resolve import shown_host_port
 
     host, port = parse_address(args.address)
     seconds = None if args.seconds is None else number_in_range(
@@ -115,13 +113,13 @@ def main(args: argparse.Namespace) -> int:
         if args.json and not wrong and st is None:   # --json prints JSON objects only
             wrong = "status is not a JSON object"
         if wrong:  # another program on the port: said in one line, listening goes on
-            print(f"{client[0]}:{client[1]}: bad heartbeat ({wrong})", file=sys.stderr)
+            print(f"{shown_host_port(*client[:2])}: bad heartbeat ({wrong})", file=sys.stderr)
             return
         name, uptime, fps, unhealthy, status = values
         if args.json:  # one line of strict JSON, whatever white space the sender used
             print(json.dumps(st, separators=(",", ":")), flush=True)
         else:
-            print(format_heartbeat(f"{client[0]}:{client[1]}", str(name), float(uptime),
+            print(format_heartbeat(shown_host_port(*client[:2]), str(name), float(uptime),
                                    float(fps), int(unhealthy), str(status)), flush=True)
         shown.append(True)
 
@@ -130,7 +128,8 @@ def main(args: argparse.Namespace) -> int:
     try:
         server = BlockingOSCUDPServer((host, port), d)
     except OSError as exc:
-        raise InputError(f"cannot listen on {host}:{port}: {exc.strerror or exc}") from None
+        raise InputError(f"cannot listen on {shown_host_port(host, port)}: "
+                         f"{exc.strerror or exc}") from None
     if seconds is not None:
         threading.Timer(seconds, server.shutdown).start()
     start = time.monotonic()
@@ -141,7 +140,7 @@ def main(args: argparse.Namespace) -> int:
     finally:
         server.server_close()
     if not came:   # silence alone does not tell a quiet gallery from a wrong address
-        print(f"tabletop status: no heartbeat came to {host}:{port} in "
+        print(f"tabletop status: no heartbeat came to {shown_host_port(host, port)} in "
               f"{time.monotonic() - start:.0f} s (a table in kiosk mode sends one every "
               "kiosk.heartbeat.every_s to kiosk.heartbeat.host:port)", file=sys.stderr)
     return 0 if shown else EXIT_NO_TABLE

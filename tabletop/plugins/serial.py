@@ -13,14 +13,18 @@ import stat
 from typing import Any
 
 from tabletop.registry import BuildContext
-from tabletop.schema import Context, Number, Record, Str, shown
+from tabletop.resolve import host_port
+from tabletop.schema import Context, Number, Optional_, Record, Str, shown
 from tracking.serial_input import SerialInput
+
+
+NETWORK_URLS = ("socket", "rfc2217")   # pyserial URL protocols of a HOST:PORT
 
 
 class Port(Str):
     """A serial device (``/dev/ttyACM0``, ``COM3``: it may be plugged in later) or a pyserial
     URL. Refused at start, as they can never open: an empty name, a URL of a protocol pyserial
-    does not have, and a path that exists but is a file or a folder (each was retried for
+    does not have, a ``socket://`` or ``rfc2217://`` URL whose HOST:PORT is malformed, and a path that exists but is a file or a folder (each was retried for
     ever)."""
 
     def __init__(self) -> None:
@@ -37,6 +41,13 @@ class Port(Str):
             if protocol not in known:
                 raise ctx.error(path, f"{shown(value)}: pyserial has no URL protocol "
                                       f"{protocol!r} (known: {', '.join(known)})")
+            if protocol in NETWORK_URLS:   # socket://[::1]:7000; "socket://::1:7000" was
+                # retried for ever with pyserial's "Port could not be cast to integer value"
+                where = value.split("://", 1)[1].split("?", 1)[0]
+                try:
+                    host_port(where)
+                except ValueError as exc:
+                    raise ctx.error(path, f"{protocol}:// URL {exc}") from None
             return value
         try:
             mode = os.stat(value).st_mode
@@ -65,9 +76,14 @@ SCHEMA = Record({
     "timeout_s": Number(0.5, lo=0.01, hi=600.0,
                         doc="a puck, touch or stream not repeated this long leaves the bus"),
     "retry_max_s": Number(8.0, lo=0.1, hi=600.0, doc="longest wait between reconnections"),
+    "stall_s": Optional_(Number(lo=0.1, hi=3600.0),
+                         doc="health turns bad when the open port delivered no valid line (a "
+                             "command, comment or blank line) this long; null: never (a "
+                             "device may stay silent while the table is empty)"),
 })
 
 
 def build(options: dict, ctx: BuildContext) -> SerialInput:
     return SerialInput(options["name"], options["port"], options["baudrate"],
-                       options["timeout_s"], retry_max_s=options["retry_max_s"])
+                       options["timeout_s"], retry_max_s=options["retry_max_s"],
+                       stall_s=options["stall_s"])

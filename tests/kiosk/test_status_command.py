@@ -9,16 +9,18 @@ import pytest
 
 from tabletop.cli import main as cli
 from tabletop.kiosk.health import Heartbeat
+from tests.network.helpers import ipv6_loopback
 from tests.tracking.scenes import wait_for
 
 
-def listening(seconds: str, *options: str) -> tuple[int, threading.Thread, dict]:
+def listening(seconds: str, *options: str,
+              where: str = "127.0.0.1:{port}") -> tuple[int, threading.Thread, dict]:
     """``tabletop status`` on a free loopback port for ``seconds``, in a thread, once it listens:
     (port, the thread, {"rc": its exit status once joined})."""
-    port = free_udp_port()
+    port = free_udp_port(socket.AF_INET6 if where.startswith("[") else socket.AF_INET)
     out: dict = {}
     th = threading.Thread(target=lambda: out.update(
-        rc=cli(["status", f"127.0.0.1:{port}", "--seconds", seconds, *options])))
+        rc=cli(["status", where.format(port=port), "--seconds", seconds, *options])))
     th.start()
     assert wait_for(lambda: port_taken(port), 5.0)        # the command is listening
     return port, th, out
@@ -94,12 +96,35 @@ def test_status_command_survives_bad_heartbeats(capsys):
     assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
 
 
-@pytest.mark.parametrize("address,words", [("nowhere", "HOST:PORT"), ("h:99999", "1..65535"),
-                                          ("h:x", "port")])
-def test_status_command_refuses_a_bad_address(address, words, capsys):
+@pytest.mark.parametrize("address", ["nowhere", "h:99999", "h:x", "h:", ":9000", "::1",
+                                     "::1:9000", "[::1]", "[::1]9000", "[nowhere]:9000",
+                                     "[127.0.0.1]:9000", "[::1]:0", "h:+90", "h:1e3"])
+def test_status_command_refuses_a_bad_address(address, capsys):
+    """One message for every malformed address (an unbracketed IPv6 address too: ``::1:9000``
+    could be [::1]:9000 or [::]:19000), naming the form, the ports and the brackets."""
     assert cli(["status", address, "--seconds", "1"]) == 2
     err = capsys.readouterr().err
-    assert words in err and "Traceback" not in err and len(err.splitlines()) == 1
+    assert f"address {address!r}: expected HOST:PORT (port 1..65535; an IPv6 address in " \
+           "brackets), e.g. 0.0.0.0:9000 or [::1]:9000" in err
+    assert "Traceback" not in err and len(err.splitlines()) == 1
+
+
+@pytest.mark.skipif(not ipv6_loopback(), reason="this machine has no IPv6 loopback (::1)")
+def test_status_command_listens_on_an_ipv6_address_in_brackets(capsys):
+    """``tabletop status [::1]:9000`` was refused ("port ... must be 1..65535" or a socket
+    error for the host "[::1]"): a table's heartbeat sent to ::1 is printed, its sender in
+    brackets, and a silent address is named as it was given."""
+    port, th, out = listening("2", where="[::1]:{port}")
+    hb = Heartbeat("::1", port)
+    hb.send("north", 12.5, 59.8, 0, json.dumps({"mode": "live"}))
+    hb.close()
+    th.join()
+    cap = capsys.readouterr()
+    (line,) = cap.out.splitlines()
+    assert out["rc"] == 0 and line.startswith("north            [::1]:") and "59.8 fps" in line
+    silent = free_udp_port(socket.AF_INET6)
+    assert cli(["status", f"[::1]:{silent}", "--seconds", "0.2"]) == 1
+    assert f"no heartbeat came to [::1]:{silent} in 0 s" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("seconds", ["1e300", "nan", "-1", "0"])
@@ -114,14 +139,17 @@ def test_status_command_refuses_a_bad_duration(seconds, capsys):
 def port_taken(port: int) -> bool:
     """Whether a UDP socket is bound to ``port``, read from the kernel's socket table (binding
     the port to find out would race the command binding it)."""
-    with open("/proc/net/udp") as table:
-        next(table)
-        return any(int(line.split()[1].split(":")[1], 16) == port for line in table)
+    for name in ("/proc/net/udp", "/proc/net/udp6"):
+        with open(name) as table:
+            next(table)
+            if any(int(line.split()[1].split(":")[1], 16) == port for line in table):
+                return True
+    return False
 
 
-def free_udp_port() -> int:
-    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    s.bind(("127.0.0.1", 0))
+def free_udp_port(family: int = socket.AF_INET) -> int:
+    s = socket.socket(family, socket.SOCK_DGRAM)
+    s.bind(("::1" if family == socket.AF_INET6 else "127.0.0.1", 0))
     port = s.getsockname()[1]
     s.close()
     return port

@@ -15,6 +15,16 @@ from pythonosc.udp_client import SimpleUDPClient
 from tests.tracking.scenes import wait_for  # noqa: F401  (re-exported for the tests here)
 
 
+def ipv6_loopback() -> bool:
+    """Whether this machine has the IPv6 loopback address ::1 (some containers do not)."""
+    try:
+        with socket.socket(socket.AF_INET6, socket.SOCK_DGRAM) as s:
+            s.bind(("::1", 0))
+        return True
+    except OSError:
+        return False
+
+
 def free_udp_port() -> int:
     """A UDP port on 127.0.0.1 that is free right now (bound to 0, read, released)."""
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:

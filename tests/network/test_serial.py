@@ -13,7 +13,7 @@ from tracking.pucks import TrackerSettings
 from tracking.serial_input import (MAX_LINE, Command, LineError, LineSplitter, SerialInput,
                                    parse_line)
 
-from tests.network.helpers import wait_for
+from tests.network.helpers import ipv6_loopback, wait_for
 
 
 @pytest.mark.parametrize("line, command", [
@@ -249,6 +249,114 @@ def test_a_port_that_can_never_open_is_refused_at_load(tmp_path):
         for port in (name, "/dev/ttyACM9", "loop://", "socket://localhost:7"):
             cfg = validate_config({"sources": [{"kind": "serial", "port": port}]}, "cfg.yaml")
             assert cfg["sources"][0]["port"] == port
+    finally:
+        os.close(master)
+        os.close(slave)
+
+
+def test_an_open_port_that_goes_silent_is_unhealthy_until_a_valid_line_comes():
+    """A board that hung with its port still open: the health said "open" for hours while no
+    position arrived. Silent (no valid line) for over ``stall_s`` of the source's clock it is
+    unhealthy with the reason; garbage does not count; a comment brings it back, a puck too."""
+    now = [100.0]
+    master, slave, name = open_pty()
+    src = SerialInput("mcu", name, stall_s=5.0, clock=lambda: now[0])
+    src.open()
+    try:
+        assert wait_for(lambda: src.health().ok, 5.0)
+        now[0] = 106.0                                     # opened, never a line
+        h = src.health()
+        assert not h.ok and h.message == f"{name} open; no valid line for 6 s"
+        os.write(master, b"puck 1 0.1 0.1 0\n")
+        assert wait_for(lambda: src.lines == 1, 5.0)
+        assert src.health().ok
+        now[0] = 110.9                                     # 4.9 s: within the limit
+        assert src.health().ok
+        now[0] = 4000.0                                    # an hour later
+        h = src.health()
+        assert not h.ok and h.message.startswith(f"{name} open; no valid line for 3894 s")
+        os.write(master, b"nonsense here\n")               # garbage is no sign of life
+        assert wait_for(lambda: src.bad.total() == 1, 5.0)
+        h = src.health()
+        assert not h.ok and h.message == (f"{name} open; no valid line for 3894 s "
+                                          "(ignored: 1 unknown command)")
+        os.write(master, b"# idle\n")                      # a device with nothing to report
+        assert wait_for(lambda: src.health().ok, 5.0)
+        now[0] = 4010.0
+        assert not src.health().ok
+        os.write(master, b"puck 1 0.2 0.1 0\n")
+        assert wait_for(lambda: src.health().ok, 5.0) and src.lines == 2
+    finally:
+        src.close()
+        os.close(master)
+        os.close(slave)
+
+
+def test_a_socket_url_takes_an_ipv6_address_in_brackets_and_refuses_a_malformed_one():
+    """``socket://HOST:PORT`` reads HOST:PORT as ``tabletop status`` does: ``[::1]:7000`` is
+    taken, and a malformed one (``::1:7000``, a port out of range) is refused at load in one
+    line, where it was retried for ever ("Port could not be cast to integer value")."""
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    for url in ("socket://[::1]:7000", "socket://localhost:7?logging=debug",
+                "rfc2217://[fe80::1%lo]:2217"):
+        cfg = validate_config({"sources": [{"kind": "serial", "port": url}]}, "cfg.yaml")
+        assert cfg["sources"][0]["port"] == url
+    for url in ("socket://::1:7000", "socket://host:70000", "socket://[host]:7", "socket://h",
+                "rfc2217://:2217"):
+        where = url.split("://", 1)[1]
+        with pytest.raises(ConfigError) as info:
+            validate_config({"sources": [{"kind": "serial", "port": url}]}, "cfg.yaml")
+        assert str(info.value) == (
+            f"cfg.yaml: sources[0].port: {url.split(':')[0]}:// URL {where!r}: expected "
+            "HOST:PORT (port 1..65535; an IPv6 address in brackets), e.g. 0.0.0.0:9000 or "
+            "[::1]:9000"), info.value
+
+
+@pytest.mark.skipif(not ipv6_loopback(), reason="this machine has no IPv6 loopback (::1)")
+def test_pyserial_socket_url_on_ipv6_loopback():
+    server = socket.socket(socket.AF_INET6)
+    server.bind(("::1", 0))
+    server.listen()
+    port = server.getsockname()[1]
+    src = SerialInput("net", f"socket://[::1]:{port}")
+    src.open()
+    try:
+        conn, _ = server.accept()   # pyserial's open ends by dropping what came before it
+        assert wait_for(lambda: src.port_object is not None, 5.0)
+        conn.sendall(b"puck 9 0.3 0.5 0\n")
+        assert wait_for(lambda: src.lines == 1, 5.0)
+        assert src.latest().pucks[0].x == 0.3 and src.health().ok
+        conn.close()
+    finally:
+        src.close()
+        server.close()
+
+
+def test_a_device_silent_on_an_empty_table_stays_healthy_unless_stall_s_is_set():
+    """DESIGN's serial contract asks for no lines while nothing is on the table: by default
+    (``stall_s`` null) an open port that says nothing for an hour stays healthy; the config's
+    ``stall_s`` turns the silence check on."""
+    from tabletop.config import validate_config
+
+    master, slave, name = open_pty()
+    try:
+        src_cfg = validate_config({"sources": [{"kind": "serial", "port": name}]},
+                                  "cfg.yaml")["sources"][0]
+        assert src_cfg["stall_s"] is None
+        set_cfg = validate_config({"sources": [{"kind": "serial", "port": name, "stall_s": 5}]},
+                                  "cfg.yaml")["sources"][0]
+        assert set_cfg["stall_s"] == 5.0
+        now = [100.0]
+        src = SerialInput("mcu", name, stall_s=src_cfg["stall_s"], clock=lambda: now[0])
+        src.open()
+        try:
+            assert wait_for(lambda: src.health().ok, 5.0)
+            now[0] = 3700.0                                # an hour without a line
+            assert src.health().ok
+        finally:
+            src.close()
     finally:
         os.close(master)
         os.close(slave)

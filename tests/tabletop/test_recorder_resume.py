@@ -131,3 +131,30 @@ def test_a_recording_the_disk_could_not_keep_up_with_resumes_once_it_caught_up(
     assert [f.t for f in second] == [f.t for f in stream if f.t >= second[0].t]
     resumed = [r for r in caplog.records if "recording resumes" in r.getMessage()]
     assert len(resumed) == 1 and "cannot keep up" in resumed[0].getMessage()
+
+
+def test_a_disk_that_stays_slow_is_logged_sparingly(tmp_path, caplog):
+    """A disk slower than the frames for half an hour (every sync of the real syncer covering
+    two lines that waited 1 s of the recorder's clock, a sync every 10 s): logged at once, then
+    after 10, 20, 40 ... s up to every 600 s (LogGaps): 8 lines, where every 10 s wrote 180."""
+    caplog.set_level("WARNING", logger="tabletop")
+    now = [1000.0]
+    rec = Recorder(folder=tmp_path / "sessions", header=HEADER, clock=lambda: now[0])
+    stream = frames(5000.0, 3600.0)
+    try:
+        for _ in range(180):
+            with rec._cv:                        # the syncer waits: one sync takes both lines
+                rec.consume(next(stream))
+                rec.consume(next(stream))
+                now[0] += 1.0                    # read by the sync, once the lock is let go
+            end = time.monotonic() + 30
+            while not rec.caught_up and time.monotonic() < end:
+                time.sleep(0.001)
+            assert rec.caught_up
+            now[0] += 9.0
+    finally:
+        rec.close()
+    assert rec.durability.waited_max == 2 and rec.failed is None
+    slow = [r for r in caplog.records if "slower than the frames" in r.getMessage()]
+    assert len(slow) == 8                       # at 0, 10, 30, 70, 150, 310, 630 and 1230 s
+    assert "2 lines waited 1000 ms for one sync" in slow[0].getMessage()
