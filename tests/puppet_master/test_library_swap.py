@@ -104,6 +104,7 @@ def test_leftovers_of_ended_saves_are_recovered_and_logged(tmp_path, caplog):
                           capture_output=True, text=True, check=True).stdout.strip()
     os.rename(folder, lib / f".bully.{dead}.old")             # killed between the renames
     (lib / f".bully.{dead}.new").mkdir()                      # (its new one unfinished)
+    (lib / f".bully.{dead}.k2x_9.tmp").mkdir()                # a first save killed
     (lib / f".bully.1.{dead}.old").mkdir()                    # another behaviour's, "bully.1"
     assert library.list_behaviors(lib) == ["bully"]
     assert _which(library.load_behavior(folder)) == 0
