@@ -110,3 +110,29 @@ def test_leftovers_of_ended_saves_are_recovered_and_logged(tmp_path, caplog):
     assert _which(library.load_behavior(folder)) == 0
     assert sorted(p.name for p in lib.iterdir()) == ["bully", "bully.1"]
     assert "previous version is restored" in caplog.text and "unfinished save" in caplog.text
+
+
+def test_the_running_installation_reloads_only_whole_behaviours(tmp_path):
+    from tabletop.config import validate_config
+    from tabletop.plugins import puppet_master as pm
+    from tabletop.registry import BuildContext
+    from tabletop.studio.targets import BehaviorReloader
+    lib = tmp_path / "library"
+    demo, params = _version(0)
+    folder = library.save_behavior(lib, "bully", demo, params)
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": "pet", "behavior": str(folder)}]}, "t.yaml", tmp_path)
+    engine = pm.build(cfg["engines"][0], BuildContext((1.2, 0.8), 60.0, cfg, tmp_path))
+    hook = BehaviorReloader(engine)
+    hook.poller.every_s = 0.0                   # looks at every call (the loop: once a second)
+    child = _child(tmp_path, lib, 0, count=60)
+    played = set()
+    while child.poll() is None:
+        hook()
+        assert not hook.problem
+        b = engine.behavior
+        played.add(_which(library.StoredBehavior(folder, "bully", "puppet_master",
+                                                 {"ratio": b.params.ratio,
+                                                  "window": b.params.window}, b.demo,
+                                                 extra={"samples": len(b.demo)})))
+    assert child.wait() == 0 and played <= {0, 1}
