@@ -100,7 +100,7 @@ def _remove_stale(target: Path) -> None:
         return
     for name in names:
         pid = name[len(prefix):].split(".", 1)[0]
-        if not pid.isdigit() or int(pid) == os.getpid() or _alive(int(pid)):
+        if not pid.isdigit() or int(pid) == os.getpid() or alive(int(pid)):
             continue
         try:
             os.unlink(target.parent / name)
@@ -108,7 +108,7 @@ def _remove_stale(target: Path) -> None:
             pass
 
 
-def _alive(pid: int) -> bool:
+def alive(pid: int) -> bool:
     """Is process ``pid`` running (or not ours to ask about)?"""
     try:
         os.kill(pid, 0)
@@ -162,7 +162,8 @@ def fsync_folder(folder: Path) -> None:
         os.close(dir_fd)
 
 
-def _write_synced(path: Path, text: str) -> None:
+def write_synced(path: Path, text: str) -> None:
+    """Write UTF-8 ``text`` to a new file ``path`` and fsync it."""
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)
         f.flush()
@@ -172,10 +173,11 @@ def _write_synced(path: Path, text: str) -> None:
 def new_folder(target: Path, files: Mapping[str, str]) -> None:
     """Make the folder ``target`` holding ``files`` (name -> text) whole or not at all: written
     and synced in a hidden temporary folder beside it, then renamed (OSError on failure)."""
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent))
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp",
+                                dir=target.parent))   # its writer's id: see swap.recover
     try:
         for name, text in files.items():
-            _write_synced(tmp / name, text)
+            write_synced(tmp / name, text)
         fsync_folder(tmp)
         os.chmod(tmp, 0o755)
         os.rename(tmp, target)

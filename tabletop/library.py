@@ -6,14 +6,18 @@ which data files it uses (``data``); ``demonstration.csv`` has the header
 ``t,main_x,main_y,main_dir,react_x,react_y,react_dir`` (seconds, table metres, radians).
 
 Saved behaviours are never half-written: a new behaviour is written into a hidden temporary
-folder (every file fsynced) that is then renamed into place, and a replaced file is written to a
-temporary file and renamed over the old one. A corrupt ``behavior.yaml`` or CSV is refused with
+folder (every file fsynced) that is then renamed into place, and a replaced behaviour is
+written whole beside the old one and swapped in by renames (:mod:`tabletop.swap`), so a kill at
+any moment leaves the old behaviour or the new one, never the new demonstration beside the old
+``behavior.yaml``; a read that a swap overtook is read again (:func:`load_behavior`). A corrupt ``behavior.yaml`` or CSV is refused with
 one message naming the file, the line or key, and what is wrong, and it is never overwritten.
 """
 
 from __future__ import annotations
 
+import os
 import re
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
@@ -24,6 +28,7 @@ import yaml
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
                             folder_failure, format_csv, new_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
+from tabletop.swap import recover, recover_all, replace_folder, saving
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
                              yaml_number_hint)
 
@@ -165,9 +170,50 @@ def _data_file(folder: Path, value: str | Path, key: str) -> Path:
     return p
 
 
-def load_behavior(folder: str | Path) -> StoredBehavior:
-    """Read a behaviour folder: its description and its demonstration."""
+def _same(fd: int, folder: Path) -> bool:
+    """Does ``folder`` still name the directory open as ``fd``? (Held open, its inode cannot
+    be freed and given to a later version.)"""
+    try:
+        a, b = os.fstat(fd), os.stat(folder)
+    except OSError:
+        return False
+    return (a.st_dev, a.st_ino) == (b.st_dev, b.st_ino)
+
+
+def load_behavior(folder: str | Path, tries: int = 20) -> StoredBehavior:
+    """Read a behaviour folder: its description and its demonstration, both of one version.
+
+    A save swaps a whole new folder in (:func:`save_behavior`); a read it overtook (the folder
+    held open at the start no longer the one named at the end, or missing while the save
+    runs) is read again, up to ``tries`` times 10 ms apart. An interrupted save is first
+    recovered (logged). Comparing the folder's inode alone was not enough: the old folder's,
+    freed by the swap, was given to the next save's, and a reader under a process saving 150
+    times in a row loaded a mixed behaviour; held open, it cannot be reused."""
     folder = Path(folder)
+    recover(folder)
+    for attempt in range(1, tries + 1):
+        try:
+            fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
+        except OSError:
+            if attempt < tries and saving(folder):
+                time.sleep(0.01)
+                continue
+            return _load(folder)                 # not found or not a folder: says which
+        try:
+            try:
+                stored = _load(folder)
+            except LibraryError:
+                if attempt == tries or _same(fd, folder):
+                    raise
+                continue
+            if _same(fd, folder):
+                return stored
+        finally:
+            os.close(fd)
+    raise LibraryError(f"{folder}: changed while it was read, {tries} times; not loaded")
+
+
+def _load(folder: Path) -> StoredBehavior:
     desc = read_description(folder)
     demo = read_demonstration(_data_file(folder, desc["data"]["demonstration"], "demonstration"))
     return StoredBehavior(folder=folder, name=folder.name, kind=desc["kind"],
@@ -202,8 +248,9 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
     """Save a behaviour as ``<library>/<name>/``; returns the folder.
 
     A new folder appears whole or not at all. With ``replace`` an existing behaviour is
-    overwritten file by file (each atomically), but only if its ``behavior.yaml`` reads cleanly:
-    a corrupt one is refused and left byte-identical. Without ``replace`` an existing folder is
+    replaced whole (the new folder swapped in by renames, any other file it held copied along),
+    but only if its ``behavior.yaml`` reads cleanly: a corrupt one is refused and left
+    byte-identical. Without ``replace`` an existing folder is
     refused (see :func:`free_name`).
     """
     check_name(name)
@@ -215,6 +262,7 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
     target = lib / name
     try:
         lib.mkdir(parents=True, exist_ok=True)
+        recover(target)
         if target.exists():
             if not replace:
                 raise LibraryError(f"{target}: a behaviour of that name already exists")
@@ -223,8 +271,7 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
             elif any(target.iterdir()):
                 raise LibraryError(f"{target}: folder holds files but no {BEHAVIOR_FILE}; "
                                    "not a behaviour, left untouched")
-            atomic_write_text(target / DEMONSTRATION_FILE, csv_text)
-            atomic_write_text(target / BEHAVIOR_FILE, yaml_text)
+            replace_folder(target, {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text})
             return target
         new_folder(target, {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text})
     except OSError as exc:
@@ -238,6 +285,7 @@ def list_behaviors(library: str | Path) -> list[str]:
     lib = Path(library)
     if not lib.is_dir():
         return []
+    recover_all(lib)
     return sorted(p.name for p in lib.iterdir()
                   if not p.name.startswith(".") and (p / BEHAVIOR_FILE).is_file())
 

@@ -30,6 +30,28 @@ class BehaveArgumentError(InputError):
     """A bad ``behave`` argument."""
 
 
+def param_names() -> list[str]:
+    """The names ``--param`` takes: every field of behaviors.puppet_master.engine.Params."""
+    from dataclasses import fields
+
+    from behaviors.puppet_master.engine import Params
+    return sorted(f.name for f in fields(Params))
+
+
+class _ParamAction(argparse._AppendAction):
+    """``--param``, its help naming every parameter; the names are read (the engine module
+    imported, about 0.9 s) only when the help is shown, not for every command line parsed."""
+
+    @property
+    def help(self) -> str:
+        return ("a behaviour parameter (repeatable), e.g. --param ratio=2, over a behaviour "
+                f"folder's own; NAME is one of: {', '.join(param_names())}")
+
+    @help.setter
+    def help(self, value: str | None) -> None:
+        pass
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--train", metavar="DEMO.csv",
                         help="demonstration: t,main_x,main_y,main_dir,react_x,react_y,react_dir "
@@ -43,10 +65,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="sequential training: the reactor demonstrated against the main "
                              "take's playback, t,react_x,react_y,react_dir, t on the main take's "
                              "times")
-    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
-                        help="a behaviour parameter (repeatable), e.g. --param ratio=2; every "
-                             "field of behaviors.puppet_master.engine.Params (over a behaviour "
-                             "folder's own)")
+    parser.add_argument("--param", action=_ParamAction, default=[], metavar="NAME=VALUE")
     parser.add_argument("--input", required=True, metavar="MAIN.csv",
                         help="main character's path: t,main_x,main_y,main_dir, any rate")
     parser.add_argument("--out", required=True, metavar="REACT.csv",

@@ -165,6 +165,19 @@ def test_every_behaviour_parameter_can_be_given(files, tmp_path):
     assert (tmp_path / "r3.csv").read_text() != (tmp_path / "default.csv").read_text()
 
 
+def test_the_help_names_every_parameter():
+    from dataclasses import fields
+
+    from behaviors.puppet_master.engine import Params
+    res = subprocess.run([sys.executable, "-m", "tabletop", "behave", "--help"],
+                         capture_output=True, text=True, timeout=120,
+                         cwd=Path(__file__).resolve().parents[2])
+    assert res.returncode == 0, res.stderr
+    text = " ".join(res.stdout.split())               # (argparse wraps the help)
+    names = text.split("NAME is one of: ", 1)[1].split(" --input", 1)[0]
+    assert names.split(", ") == sorted(f.name for f in fields(Params))
+
+
 @pytest.mark.parametrize("param, words", [
     ("bogus=1", ["--param bogus", "unknown parameter", "ratio"]),
     ("window=4.5", ["--param window", "integer"]),
