@@ -45,6 +45,9 @@ def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path):
         assert rec.failed is not None and rec.frames == stopped_at
         assert [p.name for p in folder.iterdir()] == [rec.paths[0].name]   # no try left behind
         resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))        # room again
+        end = time.monotonic() + 30   # the frames come faster than real time: the syncer
+        while not rec.caught_up and time.monotonic() < end:   # closes the tries first, as it
+            time.sleep(0.001)                                 # would in a try's 60 s
         for f in frames(t + 10.0 + 3 * RESUME_EVERY_S, RESUME_EVERY_S + 2.0):
             rec.consume(f)
     finally:
