@@ -5,10 +5,11 @@ The gallery soak's configuration (:func:`bench.gallery_soak.soak_config`: the lo
 the 1280x720 synthetic camera in designer mode, MOP, touch-pose with physics, studio, recorder,
 kiosk with status file and heartbeat, a ``tuio`` sink) runs in this process in the real
 :class:`~tabletop.kiosk.runner.Runner` (what ``tabletop run --kiosk --no-supervisor`` runs),
-headless, in real time. ``--edits N`` (default 100) times the file is rewritten as a
-technician would (in turn: the lover's colour, the kiosk's ``idle_s``, the MOP character's
-place, the snapshot period), each time waiting until the rebuilt installation has made
-``--ticks`` ticks (past the loop's second ``gc.freeze``). After each, with a collection made:
+headless, in real time. ``--edits N`` (default 70, within a bench's 300 s; ``--edits 110``
+for the longer soak) times the file is rewritten as a technician would (in turn: the lover's
+colour, the kiosk's ``idle_s``, the MOP character's place, the snapshot period), each time
+waiting until the rebuilt installation has made ``--ticks`` ticks (past the loop's second
+``gc.freeze``). After each, with a collection made:
 resident memory (MB), open file descriptors, threads, Python objects the collector tracks
 (and the frozen ones). ``--trace-from K`` starts :mod:`tracemalloc` at edit K and prints to
 stderr what grew between edit 20 (or K if later) and the last edit, top by traceback, and the
@@ -19,7 +20,7 @@ the C heap in use per edit over the last 50, fds and threads at edit 1 and at th
 Budgets: the heap in use within 0.05 MB an edit over the last 50 (a leak of the installation
 grows it; the resident memory also counts the allocator's free space, which a rebuild
 fragments), fds within 1 (a file open at the moment of the sample: 14 or 15 throughout),
-threads growth 0. Not part of ``make test`` (about 6 min).
+threads growth 0. Not part of ``make test`` (70 edits: about 4 min).
 
 Measured (110 edits, two runs): resident 376-383 MB at edit 20, 392-396 MB at edit 110,
 0.08-0.26 MB an edit over the last 50 (0.39-0.82 over the first 20); the heap in use flat
@@ -131,7 +132,7 @@ def slope(points: list[tuple[int, float]]) -> float:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--edits", type=int, default=100)
+    ap.add_argument("--edits", type=int, default=70)
     ap.add_argument("--ticks", type=int, default=150, help="ticks of each installation")
     ap.add_argument("--trace-from", type=int, default=0, help="start tracemalloc (0: never)")
     ap.add_argument("--plot", help="PNG of resident MB per edit")
