@@ -38,19 +38,18 @@ import errno
 import json
 import logging
 import os
-import re
 import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-from tabletop import __version__
 from tabletop.files import folder_failure, fsync_folder
 from tabletop.frames import Frame
+from tabletop.recordings import candidates, prune, recordings
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
-                              frame_to_dict, jsonable, read_frames, read_header)
+                              frame_to_dict, jsonable, read_frames, read_header, session_header)
 from tracking.badinput import LogGaps
 
 log = logging.getLogger("tabletop")
@@ -62,35 +61,6 @@ DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 # filled and was cleared two minutes later recorded nothing for the remaining 20 minutes (for
 # weeks, on a kiosk left alone). A failed try costs one file created and removed.
 RESUME_EVERY_S = 60.0
-# The start of every header line this recorder writes; the ``order`` is read back from the
-# file's first bytes, so pruning never parses a header (which carries every file the config
-# names, megabytes at times).
-ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)[,}]')
-ORDER_BYTES = 128
-
-
-def session_header(config: Any, calibration: dict[str, Any] | None = None,
-                   **extra: Any) -> dict[str, Any]:
-    """The header of a recording of an installation built from ``config``: a validated
-    :class:`tabletop.config.Config` is carried as written with its files embedded; any other
-    mapping is written as it is."""
-    from tabletop.bundle import portable
-    raw, refs = getattr(config, "raw", None), getattr(config, "refs", None)
-    if raw is not None and refs is not None:
-        written, files, external = portable(raw, refs)
-    else:
-        written, files, external = config or {}, {}, []
-    header = {"format": FORMAT, "version": VERSION, "tabletop": __version__,
-              "config_file": getattr(config, "file", None), "config": jsonable(written),
-              "files": files, "calibration": jsonable(calibration)}
-    if external:
-        header["external"] = external
-    header.update(extra)
-    return header
-
-
-def _stamp() -> str:
-    return _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
 
 
 @dataclass
@@ -182,23 +152,13 @@ class Recorder:
 
     # -- files -----------------------------------------------------------------------------------
 
-    def _candidates(self):
-        if self.stem is None:
-            base = f"session-{_stamp()}"
-            yield self.folder / f"{base}{self.suffix}"
-        else:
-            base = self.stem
-            yield self.folder / f"{base}{self.suffix}"
-        for n in range(2, 1_000_000):
-            yield self.folder / f"{base}-{n}{self.suffix}"
-
     def _open_part(self, resumed: str | None = None) -> None:
         """A new file: the first, the next part, or one ``resumed`` after a stop for that
         reason."""
         self.folder.mkdir(parents=True, exist_ok=True)
-        mine = self._recordings()
+        mine = recordings(self.folder, self.stem, self.suffix, self._orders)
         order = max((o for o, _ in mine.values() if o is not None), default=0) + 1
-        for candidate in self._candidates():
+        for candidate in candidates(self.folder, self.stem, self.suffix):
             try:
                 f = open(candidate, "xb", buffering=0)   # each line one write: see _write
             except FileExistsError:
@@ -214,7 +174,7 @@ class Recorder:
                      self.stem, self.suffix)
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
-        header = {"format": FORMAT, "version": VERSION, "order": order}   # first: see ORDER
+        header = {"format": FORMAT, "version": VERSION, "order": order}   # first: see recordings.ORDER
         header.update(self._header, order=order, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
@@ -226,56 +186,7 @@ class Recorder:
             self._folder_dirty = True
         mine[candidate] = (order, 0.0)
         self._orders[candidate] = order
-        self._prune(mine)
-
-    def _mine(self, p: Path) -> bool:
-        """Is ``p`` a recording of this recorder's naming (the ones ``keep`` counts)?"""
-        if p.suffix != self.suffix or not p.is_file():
-            return False
-        if self.stem is None:
-            return p.name.startswith("session-")
-        rest = p.stem[len(self.stem):]
-        return p.stem.startswith(self.stem) and (rest == ""
-                                                 or (rest[0] == "-" and rest[1:].isdigit()))
-
-    def _recordings(self) -> dict[Path, tuple[int | None, float]]:
-        """This naming's recordings in the folder: path -> (its header's ``order``, None for a
-        file without one: written by an older tabletop, or empty; its modification time)."""
-        out: dict[Path, tuple[int | None, float]] = {}
-        try:
-            entries = [p for p in self.folder.iterdir() if self._mine(p)]
-        except OSError:
-            return out
-        for p in entries:
-            try:
-                if p not in self._orders:   # each header read once (later parts, resumes)
-                    with open(p, "rb") as f:
-                        m = ORDER.match(f.read(ORDER_BYTES))
-                    self._orders[p] = int(m.group(1)) if m else None
-                out[p] = (self._orders[p], p.stat().st_mtime)
-            except OSError:
-                continue                 # removed meanwhile, or unreadable: not counted
-        return out
-
-    def _prune(self, mine: dict[Path, tuple[int | None, float]]) -> None:
-        """Remove the oldest of ``mine`` beyond ``keep``: files without an order first (by
-        modification time), then by order; never the file being written."""
-        if self.keep is None:
-            return
-
-        def age(p: Path) -> tuple:
-            order, mtime = mine[p]
-            return (0, mtime, p.name) if order is None else (1, order, p.name)
-
-        oldest_first = sorted(mine, key=age)
-        current = self.path
-        try:
-            for old in oldest_first[:max(0, len(mine) - self.keep)]:
-                if old != current:
-                    old.unlink()
-                    log.info("removed old recording %s (recorder.keep: %d)", old, self.keep)
-        except OSError as exc:
-            log.warning("old recordings in %s not removed: %s", self.folder, exc.strerror or exc)
+        prune(mine, self.keep, self.path, self.folder)
 
     def _write(self, data: bytes) -> None:
         """Write all of ``data`` to the part, or none of it: a full disk takes a line's head and

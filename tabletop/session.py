@@ -31,6 +31,7 @@ from typing import Any, Iterator
 
 import numpy as np
 
+from tabletop import __version__
 from tabletop.frames import MAX_POSITION_M, CharacterState, Frame, InputError, Puck, Touch
 
 log = logging.getLogger("tabletop")
@@ -205,6 +206,26 @@ def jsonable(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
     return value
+
+
+def session_header(config: Any, calibration: dict[str, Any] | None = None,
+                   **extra: Any) -> dict[str, Any]:
+    """The header of a recording of an installation built from ``config``: a validated
+    :class:`tabletop.config.Config` is carried as written with its files embedded; any other
+    mapping is written as it is."""
+    from tabletop.bundle import portable
+    raw, refs = getattr(config, "raw", None), getattr(config, "refs", None)
+    if raw is not None and refs is not None:
+        written, files, external = portable(raw, refs)
+    else:
+        written, files, external = config or {}, {}, []
+    header = {"format": FORMAT, "version": VERSION, "tabletop": __version__,
+              "config_file": getattr(config, "file", None), "config": jsonable(written),
+              "files": files, "calibration": jsonable(calibration)}
+    if external:
+        header["external"] = external
+    header.update(extra)
+    return header
 
 
 def _lines(p: Path) -> Iterator[tuple[int, bytes]]:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import group_kernel, members, threshold
+from behaviors.mop import group_layout, members, threshold
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.shape_lead import TAKE_SAMPLES
 
@@ -120,7 +120,7 @@ class GroupArrays:
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out
-        as it reads them (see :data:`~behaviors.mop.group_kernel.STATE_COLUMNS` and the rest),
+        as it reads them (see :data:`~behaviors.mop.group_layout.STATE_COLUMNS` and the rest),
         and the per-template state it updates (the members' own arrays, shared)."""
         fs, k, m = self.followers, len(self._owner), len(self.followers)
         dmax = self._rel.shape[1]
@@ -155,7 +155,7 @@ class GroupArrays:
                    "thr_factor": lambda f: -0.5 / (f.sigma * f.sigma),
                    "thr_const": lambda f: f._threshold_const, "rejudge_at": lambda f: f._rejudge_at,
                    "keep": lambda f: f.still_samples, "reversal_move2": lambda f: f._reversal_move2}
-        cols = np.array([[float(scalars[n](f)) for n in group_kernel.MEMBER_SCALARS] for f in fs])
+        cols = np.array([[float(scalars[n](f)) for n in group_layout.MEMBER_SCALARS] for f in fs])
         radius = np.array([np.pad(f._still_radius, (0, dmax - f.dim), constant_values=1.0)
                            for f in fs])
         self._mc = np.ascontiguousarray(np.hstack([cols, radius, self._m_units]))
@@ -169,8 +169,8 @@ class GroupArrays:
         cols = np.array([[float(rules[n](f)) for n in members.MEMBER_RULES] for f in fs])
         self._mk = np.ascontiguousarray(np.hstack([cols, self._m_radius, self._m_units]))
         # the per-template state the compiled passes update, one row each of two arrays
-        self._floats = self._rows(group_kernel.FLOATS, float)
-        self._flags = self._rows(group_kernel.FLAGS, bool)
+        self._floats = self._rows(group_layout.FLOATS, float)
+        self._flags = self._rows(group_layout.FLAGS, bool)
         self._k_new = np.zeros(k, dtype=bool)
         self._m_top3 = np.zeros((m, 3), dtype=np.intp)
         self._m_moving = np.zeros(m)

@@ -22,9 +22,10 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (group_steps, holding, invariance, members, shape_lead, threshold,
-                           threshold_kernel, validity)
+from behaviors.mop import (group_layout, group_steps, holding, invariance, members, shape_lead,
+                           threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
+from behaviors.mop.group_layout import AHEAD, MC_ROWS
 from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
@@ -36,39 +37,13 @@ from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_R
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, group_steps, holding, invariance, members, shape_lead,
-               threshold, threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, group_layout, group_steps, holding, invariance, members,
+               shape_lead, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
 _I2, _BB2 = numba.intp[:, ::1], numba.boolean[:, ::1]
 _S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
-
-#: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
-#: group (D: the widest member's features): its mean (D, raw template units), its place relative
-#: to the template's first in units (D), its progress (``source``) and its path length from the
-#: first state. Read around each followed state: one contiguous stretch per template (the
-#: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
-STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
-#: Per-template scalars (columns of ``tc`` (K, 5 + 4D), then the rows ``scale``, ``center``,
-#: ``ufirst``, ``c_off`` of D columns each).
-TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
-TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
-#: Per-member scalars (columns of ``mc`` (M, 23 + 2D), then the rows ``radius`` and ``units``;
-#: ``threshold`` infinite where a member has no threshold model).
-MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
-                  "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
-                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
-                  "rejudge_at", "keep", "reversal_move2")
-#: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
-AHEAD = 2
-_MC_ROWS = len(MEMBER_SCALARS)
-#: Per-template float state updated in place, in this order.
-FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
-          "_gone", "_least", "_judged", "_drift", "_drift_run")
-#: Per-template flags updated in place, in this order.
-FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")
-
 
 @compiled(numba.void(_F2, _I2, _F2, _F2, _F2, _BB2, _F2, numba.int64[::1], _F1,
                      numba.int64[::1], _F1, _F3, _F3, _I2, numba.intp, numba.intp, numba.float64,
@@ -83,14 +58,15 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
 
-    ``states``: see :data:`STATE_COLUMNS`; ``ti`` (K, 3): each template's first state and
-    length in its member's bank and where that bank begins in ``states``; ``tc``, ``mc``: see
-    :data:`TEMPLATE_SCALARS`, :data:`MEMBER_SCALARS`; the members' arrays are rows of
+    ``states``: see :data:`~behaviors.mop.group_layout.STATE_COLUMNS`; ``ti`` (K, 3): each
+    template's first state and length in its member's bank and where that bank begins in
+    ``states``; ``tc``, ``mc``: see group_layout's ``TEMPLATE_SCALARS``, ``MEMBER_SCALARS``;
+    the members' arrays are rows of
     ``vectors``, ``ints``, ``m_floats``, ``m_flags`` (:data:`~behaviors.mop.members.MEMBER_INTS`
     and the rest): ``x``, ``anchor`` (M, D): each member's sample and anchor; ``buf``/``nbuf``:
     its recent samples; ``bounds``/``counts``: its first template and template count;
     ``k_out``: the rows progress, mean_ll, p below (fresh each tick). In place: ``floats``
-    (:data:`FLOATS`), ``flags`` (:data:`FLAGS`), ``misfit`` (K, 3) sums, ``entries`` and
+    (group_layout.FLOATS), ``flags`` (group_layout.FLAGS), ``misfit`` (K, 3) sums, ``entries`` and
     ``best`` (M,: each member's own template index, switched when another leads by the
     member's margin in nats or it is refused); ``floats`` (len(FLOATS), K), ``flags`` and the
     members' arrays: one row each (not tuples of arrays: numba types a tuple's arrays one by
@@ -124,7 +100,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     rel0, src, arc = d, 2 * d, 2 * d + 1              # columns of states
     hend, hahead = 2 * d + 2, 2 * d + 3
     sc0, ce0, uf0, co0 = 5, 5 + d, 5 + 2 * d, 5 + 3 * d  # columns of tc
-    ra0, un0 = _MC_ROWS, _MC_ROWS + d                 # columns of mc
+    ra0, un0 = MC_ROWS, MC_ROWS + d                 # columns of mc
     flat = means.reshape(-1)   # (prefetch's view of it)
     n_states = means.shape[1]
     u = np.empty(d)

@@ -76,7 +76,7 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     ``acquired``): whether those samples fit its path within ``limit`` (``leads``, in place;
     "scale" invariance only; ``states``, ``ti``, ``tc``, ``mc`` laid out as
     :func:`behaviors.mop.group_kernel.update_templates` reads them, ``mean`` the forward's,
-    ``floats`` the per-template state of :data:`~behaviors.mop.group_kernel.FLOATS`); a take
+    ``floats`` the per-template state of :data:`~behaviors.mop.group_layout.FLOATS`); a take
     refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
     a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
 
@@ -88,8 +88,8 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     follower's; called from the strict :func:`~behaviors.mop.members.conclude`, the per-template
     pass (compiled with ``contract``) is left as it was."""
     d = x.shape[1]
-    num, den, size, least = floats[3], floats[4], floats[5], floats[9]   # (group_kernel.FLOATS)
-    arc = states[:, 2 * d + 1]   # (group_kernel.STATE_COLUMNS)
+    num, den, size, least = floats[3], floats[4], floats[5], floats[9]   # (group_layout.FLOATS)
+    arc = states[:, 2 * d + 1]   # (group_layout.STATE_COLUMNS)
     for i in range(x.shape[0]):
         if not present[i]:
             continue
@@ -104,7 +104,7 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
                 taken[i, n, c] = x[i, c] - anchor[i, c]
             n += 1
             taken_n[i] = n
-        m = mc[i]   # group_kernel.MEMBER_SCALARS: dims, scaled, lo, hi, misfit_decay, path_scale
+        m = mc[i]   # group_layout.MEMBER_SCALARS: dims, scaled, lo, hi, misfit_decay, path_scale
         if not (leads[i] and acquired[i] != best[i] and m[8] > 0.0 and n > 0):
             continue
         gb = bounds[i] + best[i]

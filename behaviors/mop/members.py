@@ -287,7 +287,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                           m_floats[8], onset, m_flags[2], crawl, ints[10])
     member_validity.unbegun(m_flags[11], present, vectors[0], vectors[1], vectors[5], m_flags[2])
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
-    highest, drift_run = floats[8], floats[12]   # (group_kernel.FLOATS)
+    highest, drift_run = floats[8], floats[12]   # (group_layout.FLOATS)
     progress, mean_ll, p = k_out[0], k_out[1], k_out[2]
     x, anchor, end_x, end_last = vectors[0], vectors[1], vectors[3], vectors[4]
     bounds, sh_off, best, run, run_k = ints[0], ints[2], ints[3], ints[4], ints[5]

@@ -12,7 +12,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, fields
 from typing import Any
 
 import numpy as np
@@ -27,6 +27,7 @@ from behaviors.puppet_master.demonstrated import (charge_entries, charges, circl
                                                   pace_ratio, relative_world_steps,
                                                   still_main_speed, straightness)
 from behaviors.puppet_master.look import train_look, train_place
+from behaviors.puppet_master.params import ParameterError, Params
 from behaviors.puppet_master.resample import resample_uniform
 from behaviors.puppet_master.similarity import augmented
 from behaviors.puppet_master.table_boundary import _bearings
@@ -37,164 +38,6 @@ COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir
 
 class DemonstrationError(InputError):
     """A demonstration that cannot be trained on; the message says what and where."""
-
-
-class ParameterError(InputError):
-    """A behaviour or reactor parameter out of range; the message names it."""
-
-
-@dataclass(frozen=True)
-class Params:
-    """Behaviour parameters (defaults from the paper where it gives them).
-
-    rate_hz: generation rate (40; 1-1000 Hz). window: neighbourhood n in samples (40 = one
-    second).
-    min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
-    the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change;
-    0 (default) takes it from the demonstration (look.train_look). detail_levels: Haar
-    levels (4, cut at fs/16; at most 10: the signal is padded to 2**levels samples). patch:
-    detail patch length in steps (16). detail_clip: rad.
-    ratio: target situation:coherence choice ratio (1 = 1:1). balance_gain, share_window: see
-    similarity.Balancer. w_*: designer weights per feature on top of the inverse spreads.
-    max_extrapolation: s a live main pose may be extrapolated past its newest sample.
-    relative_motion: per-step share (0..1) of the way to the target relative position. The
-    paper moves toward the target position at the target's speed; then the reactor only ever
-    chases where the demonstration was one step later, and every lag in the match (a charge, a
-    circle) is lost for good: the playful friend circled at 1.2-1.6 rad/s against 2.3
-    demonstrated, the bully rarely reached contact. With relative_motion > 0 the step is the
-    demonstrated step relative to the main (target minus its predecessor, in the main's
-    frame; taken from the two world steps, demonstrated.relative_world_steps), carried along
-    with the main's own step, plus this share of the remaining way to the target (drift
-    correction), never faster than the demonstrated top speed. Measured with
-    bench/fidelity.py on three sets of unseen paths (seeds 0, 1, 2; 120 thresholds each):
-    misses 28, 31, 30 with the paper's rule (0); 24, 29, 21 with 0.1; 27, 29 with 0.05;
-    28, 33 with 0.2. Where the place is held in the world (look.train_place) the step repeats
-    the demonstrated reactor's own way of moving instead (demonstrated.own_steps: the share of
-    the main's step it went along with, plus its own step along and across the bearing from
-    the main), plus the same share of the way to the target, at most at the demonstrated
-    speed there (the paper's step length). With the paper's step there, a lover whose main
-    walked off lagged behind it and slid round to its back: orbit 0.11-0.19 rad/s against
-    0.46 demonstrated on every unseen path; the relative step in the main's frame swung it
-    with the main's turns, and the main's whole step carried along made the bully and the
-    lover as fast as a main faster than their demonstrations' (speed W1 2-4x its threshold).
-    Measured with `bench/fidelity.py --seeds 0,1,2`: 96, 91, 99 -> 99, 94, 100 thresholds
-    met (held-out seed 7: 88 -> 95); the lover's orbit 0.37-0.53 rad/s on all nine paths.
-    half_life: samples; 0 (default) compares windows uniformly as the paper does; h > 0 weighs
-    a sample ``age`` steps old by 0.5 ** (age / h) in the situation similarity, so the match
-    follows a change of the main sooner. Measured with bench/fidelity.py (h = 10): the stalker
-    moved less while its main stood still (speed still/moving 0.57 -> 0.46 over nine unseen
-    paths; demonstrated 0.29), but the thresholds missed overall went 28 -> 25 on one set of
-    paths and 31 -> 33 on another (with relative_motion 0.1: 24, 29, 21 -> 26, 24, 27 on
-    three sets), so it stays a designer's choice, not a default.
-    catch_up: 1/s. The paper moves toward the target relative position at the target velocity
-    only; when the matched reactor was resting but the live one is far from the demonstrated
-    relation, it does not get back. The step covers at least ``catch_up`` x the distance to the
-    target per second, never faster than the demonstrated top speed (99th percentile of the
-    reactor's speed). Measured over 8 seeded runs of each test behaviour: 0 (the paper's rule
-    exactly) let a keep-away main come closer than demonstrated on up to 2.0% of steps and a
-    circling reactor circle on as few as 67% of steps; 1 gave 0.7% and 70%; 2 gave 1.7% and
-    72% but raised the example personalities' mean speed by up to 60% over their
-    demonstrations (1: -15% to +35%).
-    w_room: designer weight of the reactor's room on the table among the situation features
-    (features.room: its free way behind it along the bearing from its main and to that
-    bearing's left less its right, clipped at 0.3 m, weighed as the relative position); 0
-    (default) keeps the paper's six. With it the match tells a moment with a wall behind the
-    reactor from one in the open. Each live sample's room counts by how near its main is
-    (features.room_gate: 1 - distance / 0.5 m, at least 0; the demonstration's vectors are
-    not gated): a wall matters to a character fleeing a near main, and with its main far the
-    match takes any moment, wall or none, as without the room. The shipped afraid character
-    had w_room 2 (now Params.edge_percentile instead). Measured on the afraid character alone,
-    its misses on the open paths (of 144 / 24 / 144 on seeds 0-5 / 7 / 8-13), its misses
-    chased (pursuit, of 48 / 8 / 48) and its time at an edge chased (mean), each the mean of
-    five runs with relative_motion x 1, 1 -+ 0.001, 1 -+ 0.002 (the bench's own spread,
-    bench/fidelity.py; [least-most]): room off 25.2 [22-28] / 5.2 / 33.8 [28-39], chased 5.8
-    / 0.4 / 7.0, at an edge 0.49 / 0.40 / 0.49 (its designer's 0.05-0.13); gated, w_room 2:
-    22.8 [18-28] / 4.6 / 31.0 [24-38], chased 3.2 / 0.8 / 7.2, at an edge 0.42 / 0.38 /
-    0.38. Gated at the neighbouring weights the open paths lose (w_room 1.5 30.6 / 5.6 /
-    34.2, 2.5 32.6 / 5.2 / 39.0, 3 34.8 / 5.8 / 38.6) while the time at an edge chased falls
-    as at 2 (0.42-0.44 / 0.37-0.45 / 0.41-0.44): the open-path count of one weight moves by
-    more than its five runs spread, so w_room 2's is partly chance; the edge share's fall is
-    not. Counted whatever the main's distance (ungated): w_room 1 31.2 / 4.0 / 37.2, 1.25
-    26.6 / 3.8 / 31.4, 1.5 (nine runs) 28.8 / 3.8 / 29.7, 1.75 26.0 / 3.2 / 40.8, 2 35.8 /
-    6.4 / 40.4 (at an edge chased 0.37 / 0.37 / 0.41); gated by the wall's nearness instead
-    (1 - room behind / 0.3 m, or the side's), w_room 2: 30.2 / 5.0 / 34.4, at an edge 0.46 /
-    0.38 / 0.43; the room in the coherence vectors as well, w_room 2: 36.0 / 8.2 / 36.6.
-    Why the open paths lose with the room ungated: the demonstration's orbit round its main
-    is made at the walls and near the main (64% of its samples have a wall within 0.3 m
-    behind them and carry 78% of its orbit; within 0.3 m of the main 72%), so a match that
-    tells the open from the walls takes open moments in the open, and the orbit (slow paths
-    0.38 -> 0.31 rad/s, demonstrated 0.67, limits 0.47-0.87) and speed fall; the character
-    there keeps off the walls (at an edge on the open paths 0.48 -> 0.33) as its designer
-    does. Gated, a far main leaves the match as it was. For every character (ungated, the
-    room behind, weight 1), bench/fidelity.py seeds 0-5 met 643 against 666 (the bully and
-    the playful friend 13 misses more): a designer's choice for a character chased into
-    walls, not a default. Chased without the edge margin, at an edge (18 tuning seeds' mean)
-    0.53 without it, 0.47 with (0.48 / 0.47 before StepSenses._stood_place; seeds 2 / 5
-    now 0.72 / 0.53 -> 0.29 / 0.63; 0.73 / 0.65 -> 0.49 / 0.31 before the still state).
-    table_width, table_height: metres, the table the demonstration was made on (origin at its
-    corner 0), for the room and the edge margin; 0 (a file without them) takes the
-    demonstration's bounds.
-    edge_percentile: 0..100, 0 (default) off. A target the step heads for is fitted onto the
-    live table shrunk by this percentile of the demonstrated reactor's distances to its
-    table's edges (Behavior.edge_margin; table_boundary.fit_target), not onto the table's very
-    edge, where the demonstrated character never was. The shipped afraid character has 50 (its
-    median distance to an edge, 0.157 m; its room feature, w_room, off: with the margin it
-    cost open-path checks), measured in table_boundary.fit_target's docstring.
-    """
-
-    rate_hz: float = 40.0
-    window: int = 40
-    min_speed: float = 0.01
-    smooth: int = 3
-    max_turn_rate: float = 0.0
-    detail_levels: int = 4
-    patch: int = 16
-    detail_clip: float = math.pi / 3
-    ratio: float = 1.0
-    balance_gain: float = 0.1
-    share_window: int = 200
-    w_velocity: float = 1.0
-    w_rel_position: float = 1.0
-    w_rel_look: float = 1.0
-    w_norm_look: float = 1.0
-    w_delta_direction: float = 1.0
-    max_extrapolation: float = 0.1
-    catch_up: float = 1.0
-    half_life: float = 0.0
-    relative_motion: float = 0.1
-    w_room: float = 0.0
-    table_width: float = 0.0
-    table_height: float = 0.0
-    edge_percentile: float = 0.0
-
-    def check(self) -> None:
-        """Raise ParameterError for a value out of range."""
-        ints = {"window": 2, "smooth": 1, "detail_levels": 1, "patch": 1, "share_window": 1}
-        if isinstance(self.detail_levels, (int, np.integer)) and self.detail_levels > 10:
-            raise ParameterError(f"behaviour parameter detail_levels: {self.detail_levels!r} "
-                                 "must be an integer from 1 to 10")
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if f.name in ints:
-                if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < ints[f.name]:
-                    raise ParameterError(
-                        f"behaviour parameter {f.name}: {v!r} must be an integer >= {ints[f.name]}")
-                continue
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
-                    or not math.isfinite(float(v)):
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number")
-            positive = f.name in ("rate_hz", "ratio", "balance_gain", "detail_clip")
-            if f.name == "edge_percentile" and v >= 100:
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 0 "
-                                     "(off) to under 100")
-            if f.name == "relative_motion" and v > 1:
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be in 0..1")
-            if f.name == "rate_hz" and not 1.0 <= v <= 1000.0:
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 1 to "
-                                     "1000 Hz")
-            if (positive and v <= 0) or v < 0:
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
-                                     f"{'> 0' if positive else '>= 0'}")
 
 
 MAX_DEMO_S = 3600.0    # seconds of demonstration (the paper's are 10 to 80 s): resampled at
@@ -374,7 +217,7 @@ class Behavior:
         # a character that stops when its main stops and touches it corrects its drift at
         # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
         self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
-        # the main's disc (m): the reactor is kept out of it (step.py, GenerationStep._detail).
+        # the main's disc (m): the reactor is kept out of it (step_detail.py, StepDetail._detail).
         # The personal space, or else the least distance its demonstration shows (the bully,
         # which charges into its main, the stalker, which keeps pace with it), as its
         # puck stops against the main's: its charges pressed on to 0.025-0.038 m (1st percentile, the least 0.008 m; 0.049 m

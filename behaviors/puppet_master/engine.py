@@ -1,6 +1,7 @@
 """Puppet Master engine: a trained :class:`Behavior` and live :class:`Reactor` instances.
 
-Training lives in :mod:`behaviors.puppet_master.behavior` (re-exported here), the generation
+Training lives in :mod:`behaviors.puppet_master.behavior` and its parameters in
+:mod:`behaviors.puppet_master.params` (both re-exported here), the generation
 step in :mod:`behaviors.puppet_master.step` (Python, the definition) and step_kernel (compiled);
 the Reactor here is the live character around them: its start, the main's input resampled to
 the generation rate, the steps due, the pose shown between steps. Paper section 4.1 loop, once
@@ -26,13 +27,13 @@ import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
-from behaviors.puppet_master.behavior import (COLUMNS, Behavior,  # noqa: F401
-                                              DemonstrationError, ParameterError, Params)
+from behaviors.puppet_master.behavior import COLUMNS, Behavior, DemonstrationError  # noqa: F401
 from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S, TOUCH_M,
                                                still_span)
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor
 from behaviors.puppet_master.generation import StepSmoother, target_position
 from behaviors.puppet_master.look import HEADING_MIN_SPEED
+from behaviors.puppet_master.params import ParameterError, Params  # noqa: F401
 from behaviors.puppet_master.resample import CausalResampler
 from behaviors.puppet_master.table_boundary import clamp_to_table, keep_apart
 from behaviors.puppet_master.similarity import Balancer, CoherenceSearch, SituationSearch

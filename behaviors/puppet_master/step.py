@@ -5,9 +5,9 @@ The paper's loop (section 4.1), ``e = BestMatch(...); newMovement = Generate(e)`
 BestMatch's choice between situation and coherence (4.3.3), with a demonstrated charge kept
 whole; General Trajectory Generation (4.4.1: the step toward the target's place relative to
 the main); Detail Incorporation (4.4.2: the linear smooth, the texture governor and the
-patch's demonstrated detail, then the table and the other characters); the look and the new
-sample pair's features (4.2) into the search windows (step_senses.py). Units: seconds, table
-metres, radians.
+patch's demonstrated detail, then the table and the other characters: step_detail.py); the
+look and the new sample pair's features (4.2) into the search windows (step_senses.py). Units:
+seconds, table metres, radians.
 """
 
 from __future__ import annotations
@@ -15,15 +15,14 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master.character import FOLLOW_SHARE
-from behaviors.puppet_master.generation import (capped, kept_straightness, mean_capped,
-                                                rotate_step, share_around, step_around,
-                                                target_position, turn_between)
+from behaviors.puppet_master.generation import (capped, mean_capped, share_around, step_around,
+                                                target_position)
 from behaviors.puppet_master.look import PLACE_WORLD
-from behaviors.puppet_master.step_senses import StepSenses
-from behaviors.puppet_master.table_boundary import fit_target, keep_apart, keep_on_table
+from behaviors.puppet_master.step_detail import StepDetail
+from behaviors.puppet_master.table_boundary import fit_target
 
 
-class GenerationStep(StepSenses):
+class GenerationStep(StepDetail):
     """The generation step of :class:`engine.Reactor` (its state: see Reactor.start)."""
 
     def _step(self, g: float, mx: float, my: float, md: float) -> tuple[float, float, float, float]:
@@ -346,107 +345,3 @@ class GenerationStep(StepSenses):
             sx, sy = step_around(mx, my, rx, ry, tx, ty, speed * self.dt)
         self._caps = (step_cap, self._caps[0])
         return sx, sy
-
-    def _detail(self, target: int, mx: float, my: float, sx: float,
-                sy: float) -> tuple[float, float, float, tuple]:
-        """Detail incorporation (section 4.4.2) on the step (sx, sy): the paper's linear
-        smooth, the texture governor, the patch's demonstrated detail, then the table and the
-        others. Returns the step, the smooth heading (radians) and the patch's texture row."""
-        b = self.behavior
-        rx, ry, _ = self.pose
-        if self._charge_ended:
-            # a kept charge has ended: its push's steps (pressed into the main, held out by its
-            # disc) are not averaged into the step leaving it. Traced on 5 slow paths, away from
-            # the main over 3 steps after a charge: matched moments 0.17 / 0.19 / 0.22 m/s, raw
-            # 0.15 / 0.18 / 0.20, smoothed 0.05 / 0.13 / 0.17. Both smooths restarted at the raw
-            # step, bully misses (the engine's) on seeds 0-5, 8-13, 26-31 x 20 runs (the drift
-            # share x 1, 1 +- 0.001 ... 0.010) 357 (306) -> 338 (273): contact 174 -> 157,
-            # still/moving 134 -> 107, orbit 46 -> 74. Over the first 8 runs (147 (124)): at
-            # rest 172 (135); the world cap raised by the live main's step away beyond the
-            # moment's main's 160 (102) (contact 65 -> 40 misses, orbit 24 -> 42)
-            self.smoother.restart(sx, sy)
-            self._ema = (sx, sy)
-        sm = self.smoother
-        if b.circling:
-            # a circling character's raw steps averaged in the frame that turns with its
-            # bearing from the main (StepSmoother.turn: why, and the figures)
-            lx, ly = self._last_step
-            sm.turn(*turn_between(rx - lx - self.main_motion.x, ry - ly - self.main_motion.y,
-                                  rx - mx, ry - my))
-        sx, sy = sm.push(sx, sy)
-        if self._keep_length > 0.0:
-            # a character that walks with its main at a place held in the world (the lover):
-            # its raw steps turn from match to match, and this smooth took 13% of their length
-            # beside slow mains (seed 9 slow, main walking: matched moments 0.112 m/s, raw
-            # steps 0.116, smoothed 0.104, out 0.101 m/s; 6% beside fast mains, where its
-            # steps turn as its demonstrated ones do: 5.6% over three samples,
-            # Behavior.straightness). Where the running share the smooth keeps falls below the
-            # demonstration's, the step is lengthened by their ratio, at most to this step's
-            # cap (generation.kept_straightness). bench/fidelity.py --perturb 2 (three runs)
-            # --seeds 0-5,8-13,26-31: met 1985 / 1978 / 1981 -> 1987 / 1982 / 1981 of 2160,
-            # the engine's alone 56 / 57 / 58 -> 54 / 53 / 56 (the lover's misses 38 / 43 / 36
-            # -> 36 / 39 / 36, the engine's 7 / 9 / 7 -> 5 / 5 / 5), the other characters and
-            # the pursuit the same to the last digit. Each smoothed step lengthened to that
-            # share of its raw steps' mean length (one run): 1989 / 55, but it sharpened the
-            # fast reversals' turns (the lover's look change on seed 1 fast 1.53x shown)
-            sx, sy, self._straight = kept_straightness(
-                sx, sy, sm.xs, sm.ys, b.straightness, self._straight, self.governor.decay,
-                self._keep_length)
-        sx, sy = capped(sx, sy, self._mean_cap)   # where the cap fell below the raw steps' mean
-        gov = self.governor
-        # extra smoothing while the output is too rough. Its average keeping the steps' mean
-        # length (their lengths smoothed alike): bench/fidelity.py --seeds 0,1,2,3,4,5 664 ->
-        # 656 (stalker 11 -> 16); the lover's slow walk unchanged (seed 3: 0.073 -> 0.076 m/s):
-        # what it loses is lost before, in the capped and re-matched raw steps
-        a = gov.alpha
-        sx = a * sx + (1.0 - a) * self._ema[0]
-        sy = a * sy + (1.0 - a) * self._ema[1]
-        self._ema = (sx, sy)
-        heading = math.atan2(sy, sx)           # the smooth heading, before the path's texture
-        i_detail = self.patch.next(target)
-        src = i_detail if i_detail >= 0 else target
-        texture = b.texture_rows[src]      # detail, then the look's (see _look)
-        detail = texture[0]
-        if i_detail >= 0 and self._charge_end < 0:
-            # not in a charge: its step repeats the demonstrated step itself and closes on the
-            # live main; turned on top by the demonstrated detail (up to 1.05 rad x the gain
-            # 1.5) a push went sideways round the main 13 cm off (the bully's charges arrived
-            # in 6 of 14 on seed 0's slow path, now 10 of 12). bench/fidelity.py --seeds
-            # 0,1,2,3,4,5: 623 -> 628 of 720 (seed 7: 107 -> 106); the bully's contact met on
-            # 15 of 18 paths instead of 10. Only before the touch 623 / 104, after 627 / 105
-            sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
-        sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
-        # the others' discs, then the main's personal space (Behavior.personal_space): the
-        # lover's contact met on all 21 unseen paths of seeds 0-5 and 7 instead of 7 (fast and
-        # loops paths 0.03-0.20 -> 0.000-0.004 against 0.008); bench/fidelity.py --seeds
-        # 0,1,2,3,4,5: 609 -> 623 of 720 (lover +13, afraid +1), held-out seed 7: 104 -> 107
-        # (lover +2, afraid +1); the other characters unchanged. Kept for every character
-        # (the 1st percentile of the bully, stalker and playful friend, 0.05-0.06 m, is a
-        # touch): 611 and 105, the bully and the playful friend -6 and -7 (their re-matching
-        # moved; contact lost on 5 paths); at the 0.5th percentile for every character: 603
-        # and 99
-        others = self.obstacles
-        if b.main_disc > 0.0:            # the personal space, or the least distance shown
-            others = [*others, (mx, my, b.main_disc)]
-        if others:
-            nx, ny = keep_apart(rx + sx, ry + sy, others, self.table)
-            if b.keeps_pace and math.hypot(rx + sx - mx, ry + sy - my) < b.main_disc:
-                self.smoother.lose_inward(nx - mx, ny - my)   # pushed aside by its main's puck
-            sx, sy = nx - rx, ny - ry
-            # a main faster than the character's largest demonstrated step that walks into
-            # its personal space shoved it at the main's own speed: the lover's steps 1.0-1.25x
-            # its largest (0.0098 m; the fast reversing hand at 0.46 m/s) on 14 of the 54
-            # paths of seeds 0-5, 8-13, 26-31. It gives way at that step and lets the main
-            # nearer for those steps (at least 0.078 m against 0.081; pucks 0.075 m across).
-            # bench/fidelity.py --perturb 2 (three runs per set), seeds 0-5 / 8-13 / 26-31: met
-            # 1987 -> 1986 / 1943 -> 1945 / 1955 -> 1955 of 2160, the engine's alone 47 -> 47 /
-            # 72 -> 71 / 89 -> 89 (the lover's 124 -> 123 misses, 26 -> 25 the engine's over
-            # the nine runs); the other characters and the pursuit the same to the last digit.
-            # Only for a character that walks with its main (Behavior.walks_with_main): the
-            # afraid one, chased without its edge margin and room (test_pm_room.py), was
-            # shoved once on seed 2 (1.16x), and the chase from there ran another way (time
-            # at an edge 0.73 -> 0.48; with the room 0.49)
-            if b.walks_with_main:
-                sx, sy = capped(sx, sy, b.largest_step)
-        gov.observe(sx, sy)
-        return sx, sy, heading, texture

@@ -3,7 +3,7 @@ character that touches its main reaches its targets round the main, not through 
 (engine.Reactor._step: in a charge no detail turn and only the main's step along the
 bearing gone along with; generation.share_around); a character whose pace does not drop
 beside a still main is not held to its median pace there (demonstrated.still_main_speed); a
-kept charge's push is left at once (step.py, GenerationStep._detail)."""
+kept charge's push is left at once (step_detail.py, StepDetail._detail)."""
 
 import math
 
@@ -186,7 +186,7 @@ def test_the_bully_stops_against_its_main_at_its_least_demonstrated_distance(pat
 
 def test_the_bully_leaves_its_push_at_once(paths):
     # where a charge kept whole ends, its push's steps (pressed into the main, held out by
-    # its disc) are not averaged into the step that leaves it (step.py, GenerationStep._detail):
+    # its disc) are not averaged into the step that leaves it (step_detail.py, StepDetail._detail):
     # the distance to the main grows over that first step by 0.145 m/s on average over the 12
     # paths of seeds 0, 1, 2, 5 (131 charges), 0.102 (123) while the linear smooth and the
     # texture governor's filter still held the push

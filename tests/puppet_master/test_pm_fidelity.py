@@ -26,7 +26,7 @@ KNOWN_MISSES = {
     # meets orbit on every path of seeds 0, 1, 2, 5 (0.21-0.34 rad/s against 0.275); which
     # seconds of a pause its charges fall in moved: seed 0's slow contact 0.157 -> 0.109
     # (limit 0.110; its fast path 0.110 -> 0.162), see test_pm_contact.py. Leaving its pushes
-    # at once (step.py, GenerationStep._detail) moved them again: slow 0.109 -> 0.164, loops
+    # at once (step_detail.py, StepDetail._detail) moved them again: slow 0.109 -> 0.164, loops
     # 0.126 -> 0.089 (limits 0.110-0.204)
     "bully": {"slow_pauses_30hz": set(), "loops_spins_45hz": {"contact"}},
     # the playful friend's targets reached round the main (share_around), its place held in

@@ -1,0 +1,31 @@
+"""The data layout of a follower group's compiled arrays: which column or row of ``states``,
+``tc``, ``mc``, ``floats`` and ``flags`` holds which template state, template scalar or member
+scalar. :class:`behaviors.mop.group_arrays.GroupArrays` fills them in this order and
+:mod:`behaviors.mop.group_kernel` (and its helpers in :mod:`behaviors.mop.members` and
+:mod:`behaviors.mop.member_validity`) read them by these positions.
+"""
+
+#: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
+#: group (D: the widest member's features): its mean (D, raw template units), its place relative
+#: to the template's first in units (D), its progress (``source``) and its path length from the
+#: first state. Read around each followed state: one contiguous stretch per template (the
+#: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
+STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
+#: Per-template scalars (columns of ``tc`` (K, 5 + 4D), then the rows ``scale``, ``center``,
+#: ``ufirst``, ``c_off`` of D columns each).
+TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")
+TEMPLATE_ROWS = ("_scale", "_k_center", "_k_ufirst", "_k_c")
+#: Per-member scalars (columns of ``mc`` (M, 23 + 2D), then the rows ``radius`` and ``units``;
+#: ``threshold`` infinite where a member has no threshold model).
+MEMBER_SCALARS = ("dims", "decay", "null_decay", "log_constant", "two_over", "null2", "accept2",
+                  "onset_sigma", "scaled", "lo", "hi", "misfit_decay", "shape2", "shape_accept2",
+                  "path_scale", "spots", "none", "margin", "threshold", "thr_factor", "thr_const",
+                  "rejudge_at", "keep", "reversal_move2")
+#: Templates ahead whose states are fetched while one is worked on (:mod:`behaviors.mop.compiled`).
+AHEAD = 2
+MC_ROWS = len(MEMBER_SCALARS)
+#: Per-template float state updated in place, in this order.
+FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
+          "_gone", "_least", "_judged", "_drift", "_drift_run")
+#: Per-template flags updated in place, in this order.
+FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")

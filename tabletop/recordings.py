@@ -1,0 +1,93 @@
+"""A recordings folder: how the recorder names session files and which of them ``keep`` prunes.
+
+A folder recording is named ``session-DATE-TIME-MICROSECONDS.jsonl``; an exact file name that
+exists already continues as ``NAME-2.jsonl``, ``NAME-3.jsonl``... (never overwritten). Each
+file's header carries an ``order`` (one more than the highest in the folder when it was made);
+pruning removes the oldest by that order, never by the clock (a clock set back gives the newest
+files the oldest times). Used by :class:`tabletop.recorder.Recorder`.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import logging
+import re
+from pathlib import Path
+from typing import Iterator
+
+log = logging.getLogger("tabletop")
+
+# The start of every header line the recorder writes; the ``order`` is read back from the
+# file's first bytes, so pruning never parses a header (which carries every file the config
+# names, megabytes at times).
+ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)[,}]')
+ORDER_BYTES = 128
+
+# A recording's path -> (its header's ``order``, None for a file without one; its modification
+# time, seconds since the epoch).
+Recordings = dict[Path, tuple[int | None, float]]
+
+
+def _stamp() -> str:
+    return _dt.datetime.now().strftime("%Y%m%d-%H%M%S-%f")
+
+
+def candidates(folder: Path, stem: str | None, suffix: str) -> Iterator[Path]:
+    """File names to try in turn for a new part: ``stem`` (None: a new ``session-`` stamp),
+    then ``stem-2``, ``stem-3``..."""
+    base = f"session-{_stamp()}" if stem is None else stem
+    yield folder / f"{base}{suffix}"
+    for n in range(2, 1_000_000):
+        yield folder / f"{base}-{n}{suffix}"
+
+
+def is_mine(p: Path, stem: str | None, suffix: str) -> bool:
+    """Is ``p`` a recording of this naming (the ones ``keep`` counts)?"""
+    if p.suffix != suffix or not p.is_file():
+        return False
+    if stem is None:
+        return p.name.startswith("session-")
+    rest = p.stem[len(stem):]
+    return p.stem.startswith(stem) and (rest == "" or (rest[0] == "-" and rest[1:].isdigit()))
+
+
+def recordings(folder: Path, stem: str | None, suffix: str,
+               orders: dict[Path, int | None]) -> Recordings:
+    """This naming's recordings in ``folder``: path -> (its header's ``order``, None for a
+    file without one: written by an older tabletop, or empty; its modification time).
+    ``orders`` caches the headers' orders, so each is read once (later parts, resumes)."""
+    out: Recordings = {}
+    try:
+        entries = [p for p in folder.iterdir() if is_mine(p, stem, suffix)]
+    except OSError:
+        return out
+    for p in entries:
+        try:
+            if p not in orders:
+                with open(p, "rb") as f:
+                    m = ORDER.match(f.read(ORDER_BYTES))
+                orders[p] = int(m.group(1)) if m else None
+            out[p] = (orders[p], p.stat().st_mtime)
+        except OSError:
+            continue                 # removed meanwhile, or unreadable: not counted
+    return out
+
+
+def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> None:
+    """Remove the oldest of ``mine`` beyond ``keep`` (None: keep all): files without an order
+    first (by modification time), then by order; never ``current`` (the file being written)."""
+    if keep is None:
+        return
+
+    def age(p: Path) -> tuple:
+        order, mtime = mine[p]
+        return (0, mtime, p.name) if order is None else (1, order, p.name)
+
+    oldest_first = sorted(mine, key=age)
+    try:
+        for old in oldest_first[:max(0, len(mine) - keep)]:
+            if old != current:
+                old.unlink()
+                log.info("removed old recording %s (recorder.keep: %d)", old, keep)
+    except OSError as exc:
+        log.warning("old recordings in %s not removed: %s", folder, exc.strerror or exc)
