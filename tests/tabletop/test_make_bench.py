@@ -28,8 +28,8 @@ def test_the_soaks_run_only_when_asked_for(tmp_path):
     names = [p.name for p in benchmarks()]
     assert not [n for n in names if "soak" in n]
     with_soaks = {p.name for p in benchmarks(soaks=True)}
-    assert {"gallery_soak.py", "soak.py", "mop_soak.py"} <= with_soaks
-    assert with_soaks - {"gallery_soak.py", "soak.py", "mop_soak.py"} == set(names)
+    assert {"gallery_soak.py", "soak.py", "mop_soak.py", "edit_soak.py"} <= with_soaks
+    assert with_soaks - {"gallery_soak.py", "soak.py", "mop_soak.py", "edit_soak.py"} == set(names)
     (tmp_path / "long_soak.py").write_text('if __name__ == "__main__":\n    print("{}")\n')
     assert benchmarks(tmp_path) == [] and len(benchmarks(tmp_path, soaks=True)) == 1
     if shutil.which("make") is None:
