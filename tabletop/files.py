@@ -40,21 +40,42 @@ def folder_failure(folder: Path, exc: OSError) -> str:
     return f"{blocker} is a file" if blocker is not None else str(exc.strerror or exc)
 
 
+def is_stream(path: str | Path) -> bool:
+    """Is ``path`` a device or pipe, or a name of one: ``/dev/stdout``, ``/proc/self/fd/1``, a
+    link to either (also while they lead on to a regular file: a shell's ``> out.jsonl``)?
+    Such a name is written through, never renamed over (that replaced the link or device with
+    a file). ``/dev/shm`` holds ordinary files; a name not there yet is none."""
+    p = Path(os.path.abspath(path))
+    for _ in range(40):                       # a link loop ends here, as the system's does
+        name = str(p)
+        if name.startswith(("/dev/", "/proc/")) and not name.startswith("/dev/shm/") \
+                and os.path.lexists(p):
+            return True
+        if not p.is_symlink():
+            break
+        p = Path(os.path.abspath(os.path.join(p.parent, os.readlink(p))))
+    return p.exists() and not p.is_file()
+
+
 @contextmanager
 def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
     """A file to write ``path`` through atomically: the data go to a temporary file in the same
     folder, which replaces ``path`` (after fsync) only when the block ends without an error;
     on an error the temporary file is removed and ``path`` is untouched.
 
-    An existing ``path`` that is no regular file (``/dev/stdout``, a pipe, ``/dev/null``) is
-    written to as it is: renaming over it replaced the device or pipe (or the link to it) with a
-    regular file, so ``--out /dev/stdout | next-step`` got nothing and, run as root, /dev/stdout
-    itself became a file until the next boot."""
+    A ``path`` that :func:`is_stream` (``/dev/stdout``, a pipe, ``/dev/null``) is written to as
+    it is: renaming over it replaced the device or pipe (or the link to it) with a regular file,
+    so ``--out /dev/stdout | next-step`` (or ``> file``) got nothing and, run as root,
+    /dev/stdout itself became a file until the next boot."""
     target = Path(path)
     if target.is_dir():
         raise FileFormatError(f"{target}: is a folder; expected a file name to write")
-    if target.exists() and not target.is_file():
-        with open(target, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
+    if is_stream(target):
+        try:
+            f = open(target, "wb" if binary else "w", encoding=None if binary else "utf-8")
+        except OSError as exc:  # an OSError still, naming the target, as runtime writers expect
+            raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
+        with f:
             yield f
         return
     try:

@@ -444,10 +444,13 @@ def test_out_to_a_pipe_writes_through_it_and_keeps_it(tmp_path, capfd):
     reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
     reader.start()
     code, err = cli(capfd, "pose", "--describe", "--out", fifo)
-    if reader.is_alive():            # (the command never opened the pipe: let the reader go)
-        with open(fifo, "wb"):
-            pass
     reader.join(10)
+    if reader.is_alive():            # (the command never opened the pipe: let the reader go)
+        try:
+            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+        except OSError:              # no reader left after all
+            pass
+        reader.join(10)
     assert code == 0, err
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
     assert json.loads(got[0])["height_m"] == 0.3
@@ -463,3 +466,28 @@ def test_a_recording_to_a_device_or_pipe_is_refused(tmp_path, capfd):
     line = one_line(err)
     assert code == 2 and f"{fifo}: is a device or pipe" in line, line
     assert sorted(p.name for p in tmp_path.iterdir()) == ["session.pipe"]
+
+
+def test_out_to_a_name_of_a_stream_leading_to_a_file_writes_through_it(tmp_path, capfd):
+    """``--out /dev/stdout > poses.json``: /dev/stdout is a link (through /proc/self/fd/1) to a
+    regular file, so it passed as one; the atomic write renamed a file over the link (run as
+    root: the system's /dev/stdout, until a boot) and the redirected file got nothing. A link
+    through /proc stands in for /dev/stdout; ``run --record`` of it is refused."""
+    out = tmp_path / "poses.json"
+    out.write_text("")
+    fd = os.open(out, os.O_WRONLY)
+    link = tmp_path / "stdout"
+    link.symlink_to(f"/proc/self/fd/{fd}")
+    try:
+        code, err = cli(capfd, "pose", "--describe", "--out", link)
+        assert code == 0, err
+        assert link.is_symlink() and os.readlink(link) == f"/proc/self/fd/{fd}"
+        assert json.loads(out.read_text())["height_m"] == 0.3
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json", "stdout"]
+        code, err = cli(capfd, "run", "--config",
+                        Path(__file__).resolve().parents[2] / "config.yaml",
+                        "--headless", "--seconds", "0.5", "--record", link)
+        assert code == 2 and f"{link}: is a device or pipe" in one_line(err), err
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json", "stdout"]
+    finally:
+        os.close(fd)
