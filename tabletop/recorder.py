@@ -15,7 +15,8 @@
   keeps running and :attr:`Recorder.failed` says why (``tabletop run`` then exits non-zero).
   After a full disk, every ``RESUME_EVERY_S`` of frame time a new part is tried; once the disk
   takes it the recording goes on there (logged; :attr:`Recorder.gaps` keeps why it stopped).
-  A disk that could not keep up (below) is tried alike, once its syncs have caught up.
+  A disk that could not keep up (below) is tried alike, once its syncs have caught up; one
+  that falls behind again waits twice as long before each try, up to an hour.
 
 Durable line by line, never waiting on the frame loop: :meth:`Recorder.consume` (the frame
 loop) writes each line to the operating system at once, so a ``kill -9`` loses at most the line
@@ -24,10 +25,10 @@ each sync while lines keep coming, so a power cut loses at most the lines writte
 sync in progress (one line at 60 Hz while the disk syncs within a frame). A new file is synced
 before its first frame (its folder entry too). Lines the disk has not synced yet are counted:
 when a sync covers several, the disk is slower than the frames (logged when a line waited
-0.5 s, sparingly: at once, then after 10 s, 20 s, ... up to every 600 s while the disk stays slow,
-:class:`~tracking.badinput.LogGaps`); more than ``max_queue`` of them (a disk that stopped) stops the
-recording like a full disk. :attr:`Recorder.durability` counts lines and syncs and keeps the
-latest durability latencies (line written -> its sync returned).
+0.5 s, sparingly: at once, then after 10 s, 20 s, ... up to every 600 s while the disk stays
+slow, :class:`~tracking.badinput.LogGaps`); more than ``max_queue`` of them (a disk that
+stopped) stops the recording like a full disk. :attr:`Recorder.durability` counts lines and
+syncs and keeps the latest durability latencies (line written -> its sync returned).
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
-from tabletop.files import folder_failure, fsync_folder
+from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
 from tabletop.recordings import candidates, prune, recordings
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
@@ -61,6 +62,9 @@ DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 # filled and was cleared two minutes later recorded nothing for the remaining 20 minutes (for
 # weeks, on a kiosk left alone). A failed try costs one file created and removed.
 RESUME_EVERY_S = 60.0
+#: A disk that keeps falling behind again: each stop waits twice the last, up to this (seconds
+#: of frame time); a part that then keeps up this long starts the count again.
+SLOW_RESUME_MAX_S = 3600.0
 
 
 @dataclass
@@ -106,7 +110,7 @@ class Recorder:
             p = Path(path)
             if p.is_dir():
                 raise SessionError(f"{p}: is a folder; expected a file name for the recording")
-            if p.exists() and not p.is_file():   # it recorded to /dev/null-2, a file in /dev
+            if is_stream(p):   # it recorded to /dev/null-2 or /dev/stdout-2, files in /dev
                 raise SessionError(f"{p}: is a device or pipe; a recording is a file (synced, "
                                    "in parts, never overwritten): give a file name")
             self.folder, self.stem, self.suffix = p.parent, p.stem, p.suffix
@@ -121,6 +125,8 @@ class Recorder:
         self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
         self._resumable = False                # stopped by a full disk: tries go on
         self._resume_at: float | None = None   # frame time of the next try, once known
+        self._slow_stops = 0                   # "cannot keep up" stops in a row
+        self._resumed_t: float | None = None   # frame time of the last resume
         self._last_t: float | None = None      # the last frame's time
         self.durability = Durability()
         self._f: Any = None
@@ -174,7 +180,8 @@ class Recorder:
                      self.stem, self.suffix)
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
-        header = {"format": FORMAT, "version": VERSION, "order": order}   # first: see recordings.ORDER
+        # the order first: see recordings.ORDER
+        header = {"format": FORMAT, "version": VERSION, "order": order}
         header.update(self._header, order=order, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
         self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
@@ -209,18 +216,19 @@ class Recorder:
             raise
         self._size += len(data)
 
-    def _fail(self, exc: OSError | str, resumable: bool = False) -> None:
+    def _fail(self, exc: OSError | str, resumable: bool = False,
+              wait_s: float = RESUME_EVERY_S) -> None:
         """Stop recording because of ``exc``; ``resumable`` (also every full disk): new parts
-        are tried from ``RESUME_EVERY_S`` of frame time on."""
+        are tried from ``wait_s`` of frame time on."""
         where = self.paths[-1] if self.paths else self.folder
         why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
         self.failed = f"{where}: {why}"
         resumable = resumable or (isinstance(exc, OSError) and exc.errno in DISK_FULL)
         self._resumable = resumable
-        self._resume_at = None if self._last_t is None else self._last_t + RESUME_EVERY_S
+        self._resume_at = None if self._last_t is None else self._last_t + wait_s
         log.error("recording stopped after %d frames: %s; the installation keeps running%s",
-                  self.frames, self.failed, f" (a new part is tried every {RESUME_EVERY_S:g} s)"
-                  if resumable else "")
+                  self.frames, self.failed, f" (a new part is tried in {wait_s:g} s, then every "
+                  f"{RESUME_EVERY_S:g} s)" if resumable else "")
         if self._f is not None:
             self._retired.append(self._f)   # the syncer syncs what it can and closes it
             self._f = None
@@ -303,9 +311,13 @@ class Recorder:
         line = _encode(d)
         with self._cv:
             if len(self._unsynced) >= self.max_queue:
+                if self._resumed_t is not None and frame.t - self._resumed_t > SLOW_RESUME_MAX_S:
+                    self._slow_stops = 0
+                self._slow_stops += 1   # a disk slow for good: 60, 120, 240 ... 3600 s apart
                 self._fail(f"the disk cannot keep up ({self.max_queue} lines waited, the "
-                           f"oldest {self.clock() - self._unsynced[0]:.1f} s)",
-                           resumable=True)
+                           f"oldest {self.clock() - self._unsynced[0]:.1f} s)", resumable=True,
+                           wait_s=min(RESUME_EVERY_S * 2.0 ** (self._slow_stops - 1),
+                                      SLOW_RESUME_MAX_S))
                 self._cv.notify()
                 return
             try:
@@ -338,7 +350,9 @@ class Recorder:
         frame after it that finds the syncer caught up: a new part, if the disk takes its
         header. Before, a disk that stalled past ``max_queue`` lines stopped the recording
         for good, also once its syncs came back: the rest of a weeks-long run went unrecorded.
-        A disk slow for good stops and resumes at most once a ``RESUME_EVERY_S`` (logged)."""
+        A disk that falls behind again and again waits twice as long before each try (up to
+        ``SLOW_RESUME_MAX_S``): each stop and resume is logged and starts a part, so a disk
+        slow for good stopped and resumed every 77 s at 60 Hz (1,024 lines, then 60 s)."""
         if not self._resumable or self._closing:
             return False
         if self._resume_at is None:      # stopped before the first frame
@@ -363,6 +377,7 @@ class Recorder:
                 return False
             self.gaps.append(self.failed or "")
             self.failed, self._resumable, self._resume_at = None, False, None
+            self._resumed_t = t
             self._cv.notify()
         return True
 

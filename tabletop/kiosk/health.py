@@ -245,9 +245,9 @@ class HealthReporter:
 def recording_status(recorder: Any) -> Callable[[], dict[str, Any]]:
     """The status's ``recording`` field: null without a recorder, else the file being written (null
     when none could be opened), its frames, why it stopped (``failed``, null while it records) and
-    how often it resumed after a full disk (``resumed``). Without it a full disk stopped the
-    recording with one log line (on that disk too, often) while the status and the heartbeat went on
-    reading as a healthy table."""
+    how often it resumed after a full disk or a disk that could not keep up (``resumed``).
+    Without it a full disk stopped the recording with one log line (on that disk too, often)
+    while the status and the heartbeat went on reading as a healthy table."""
     def status() -> dict[str, Any]:
         if recorder is None:
             return {"recording": None}

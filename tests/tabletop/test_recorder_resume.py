@@ -161,3 +161,39 @@ def test_a_disk_that_stays_slow_is_logged_sparingly(tmp_path, caplog):
     slow = [r for r in caplog.records if "slower than the frames" in r.getMessage()]
     assert len(slow) == 8                       # at 0, 10, 30, 70, 150, 310, 630 and 1230 s
     assert "2 lines waited 1000 ms for one sync" in slow[0].getMessage()
+
+
+def test_a_disk_that_falls_behind_again_waits_twice_as_long(tmp_path, monkeypatch):
+    """A disk slow for good stopped the recording every 77 s at 60 Hz (1,024 lines, then the
+    60 s try), each time with an error line and a new part: each stop in a row now waits twice
+    the last before its try (the real syncer, its syncs held while the disk falls behind)."""
+    real, answers = os.fdatasync, threading.Event()
+    answers.set()
+
+    def sync(fd):
+        answers.wait(30)
+        real(fd)
+
+    monkeypatch.setattr(os, "fdatasync", sync)
+    rec = Recorder(folder=tmp_path / "sessions", header=HEADER, max_queue=20)
+    stream = frames(5000.0, 9 * RESUME_EVERY_S)
+    waits = []
+    try:
+        for _ in range(3):
+            answers.clear()                          # the disk falls behind
+            while rec.failed is None:
+                last = next(stream)
+                rec.consume(last)
+            answers.set()                            # and keeps up again, a line a sync
+            while rec.failed is not None:
+                end = time.monotonic() + 30
+                while not rec.caught_up and time.monotonic() < end:
+                    time.sleep(0.001)
+                f = next(stream)
+                rec.consume(f)
+            waits.append(f.t - last.t)
+    finally:
+        answers.set()
+        rec.close()
+    assert len(rec.gaps) == 3 and all("cannot keep up" in g for g in rec.gaps)
+    assert [round(w / RESUME_EVERY_S) for w in waits] == [1, 2, 4], waits
