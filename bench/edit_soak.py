@@ -172,7 +172,8 @@ def run(a: argparse.Namespace, folder: Path) -> None:
         samples.append(probe())
         if tracemalloc.is_tracing():
             samples[-1]["tracemalloc_mb"] = round(tracemalloc.get_tracemalloc_memory() / 2**20, 2)
-        print({"edit": k, "t_s": round(time.monotonic() - t0), **samples[-1]}, file=sys.stderr, flush=True)
+        print({"edit": k, "t_s": round(time.monotonic() - t0), **samples[-1]}, file=sys.stderr,
+              flush=True)
         if k in (first_trace, a.edits):
             counts[k] = type_counts()
             if tracemalloc.is_tracing():

@@ -44,7 +44,7 @@ def host_port(text: str) -> tuple[str, int]:
             host = ""
     elif ":" in host or "[" in host or "]" in host:
         host = ""
-    n = int(port) if port.isdigit() and len(port) <= 5 else 0
+    n = int(port) if port.isascii() and port.isdigit() and len(port) <= 5 else 0
     if not sep or not host or not 0 < n < 65536:
         raise ValueError(f"{text!r}: expected {HOST_PORT}")
     return host, n

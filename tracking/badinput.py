@@ -39,7 +39,7 @@ class LogGaps:
 
     def due(self, key: str, now: float) -> bool:
         """``key`` happened at ``now``: is a line due?"""
-        if now - self._seen.get(key, -math.inf) > self.max_s:
+        if key not in self._gap or now - self._seen[key] > self.max_s:
             self._gap[key] = 0.0               # a new episode: said at once
         self._seen[key] = now
         if now - self._logged.get(key, -math.inf) < self._gap[key]:

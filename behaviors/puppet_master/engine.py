@@ -137,7 +137,8 @@ class Reactor(GenerationStep):
         self._caps = (0.0, 0.0)         # the last two raw steps' caps (step.py)
         self._straight = b.straightness  # the share of the raw steps' length the smooth kept
         self.patch = DetailPatch(b.detail, p.patch)
-        # the main's latest positions (still_span: STILL_SPAN_S x rate of them), to tell a main that stands
+        # the main's latest positions (still_span: STILL_SPAN_S x rate of them), to tell a main
+        # that stands
         self._main_recent: deque[tuple[float, float]] = deque(
             maxlen=still_span(p.rate_hz))
         self._compiled_state(main_x, main_y, md)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import math
 
 from tabletop.frames import InputError
@@ -59,5 +60,7 @@ def _resolved(p):
     RuntimeError there, which the command line reported as an internal error)."""
     try:
         return p.resolve()
-    except (RuntimeError, OSError):
+    except RuntimeError:
         return None
+    except OSError as exc:   # a loop; anything else is told by the write or read itself
+        return None if exc.errno == errno.ELOOP else p.absolute()

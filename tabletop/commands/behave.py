@@ -71,7 +71,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, metavar="REACT.csv",
                         help="output: t,react_x,react_y,react_dir, one row per generation step")
     parser.add_argument("--rate", default=None, metavar="HZ",
-                        help="generation rate in Hz (default 40)")
+                        help="generation rate in Hz (default: a behaviour folder's "
+                             "rate_hz, else 40)")
     parser.add_argument("--table", default=None, metavar="W,H",
                         help="table size in metres from the origin; the reactor stays on it "
                              "(default: a behaviour folder's table_width,table_height, else the "

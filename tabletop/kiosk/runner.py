@@ -106,8 +106,8 @@ class Runner:
         # providers of status fields; the first gives each one the status promises (README,
         # health.py) its null for a part that is off: without it a kiosk without a studio, or
         # with watch_config false, sent no "studio" (or "config", "config_error") at all
-        extra: list = [lambda: {"config": str(self.config_path), "config_error": None,
-                                "studio": None}]
+        extra: list = [lambda: {"config": str(self.config_path),
+                                "config_error": self.config_error, "studio": None}]
         held: set = set()
         if self.studio_on:
             self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)

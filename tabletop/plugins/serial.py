@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import stat
+from urllib.parse import urlsplit
 from typing import Any
 
 from tabletop.registry import BuildContext
@@ -24,8 +25,8 @@ NETWORK_URLS = ("socket", "rfc2217")   # pyserial URL protocols of a HOST:PORT
 class Port(Str):
     """A serial device (``/dev/ttyACM0``, ``COM3``: it may be plugged in later) or a pyserial
     URL. Refused at start, as they can never open: an empty name, a URL of a protocol pyserial
-    does not have, a ``socket://`` or ``rfc2217://`` URL whose HOST:PORT is malformed, and a path that exists but is a file or a folder (each was retried for
-    ever)."""
+    does not have, a ``socket://`` or ``rfc2217://`` URL whose HOST:PORT is malformed, and a
+    path that exists but is a file or a folder (each was retried for ever)."""
 
     def __init__(self) -> None:
         super().__init__(doc="a serial device such as /dev/ttyACM0, or a pyserial URL such as "
@@ -43,7 +44,10 @@ class Port(Str):
                                       f"{protocol!r} (known: {', '.join(known)})")
             if protocol in NETWORK_URLS:   # socket://[::1]:7000; "socket://::1:7000" was
                 # retried for ever with pyserial's "Port could not be cast to integer value"
-                where = value.split("://", 1)[1].split("?", 1)[0]
+                try:   # pyserial reads the URL with urlsplit: a path or fragment may follow
+                    where = urlsplit(value).netloc
+                except ValueError:   # "socket://[host]:7": told below as any bad HOST:PORT
+                    where = value.split("://", 1)[1]
                 try:
                     host_port(where)
                 except ValueError as exc:

@@ -2,6 +2,7 @@
 stays and keeps running), a good one is applied."""
 
 import contextlib
+import copy
 import ctypes.util
 import threading
 from pathlib import Path
@@ -122,6 +123,12 @@ def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_pat
     write(path, yaml.safe_dump(bad))
     cfg, refused = last_good.load(path, kiosk=True)     # before: ConfigError, nothing started
     assert "loop.rate_hz" in refused and cfg["engines"][0]["color"] == [10, 20, 30]
+    unwatched = copy.deepcopy(cfg)                      # the status says why, also unwatched
+    unwatched["kiosk"]["watch_config"] = False
+    with running(Runner(path, unwatched, headless=True, kiosk=True,
+                        config_error=refused)) as runner:
+        status = runner.reporter.status(Frame(seq=0, t=0.0))
+        assert "loop.rate_hz" in (status["config_error"] or ""), status["config_error"]
     with running(Runner(path, cfg, headless=True, kiosk=True, config_error=refused)) as runner:
         status = runner.reporter.status(Frame(seq=0, t=0.0))
         assert "loop.rate_hz" in status["config_error"]

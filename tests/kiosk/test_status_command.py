@@ -2,6 +2,7 @@
 heartbeats, bad addresses and durations said in one line; exit status 1 when no table came."""
 
 import json
+import re
 import socket
 import threading
 
@@ -47,7 +48,7 @@ def test_status_command_says_when_no_heartbeat_came(capsys):
     cap = capsys.readouterr()
     assert cap.out == "" and "Traceback" not in cap.err
     assert cap.err.splitlines() == [cap.err.strip()]
-    assert f"no heartbeat came to 127.0.0.1:{port} in 0 s" in cap.err
+    assert re.search(rf"no heartbeat came to 127\.0\.0\.1:{port} in \d+ s ", cap.err), cap.err
     assert "kiosk.heartbeat" in cap.err
 
 
@@ -124,7 +125,8 @@ def test_status_command_listens_on_an_ipv6_address_in_brackets(capsys):
     assert out["rc"] == 0 and line.startswith("north            [::1]:") and "59.8 fps" in line
     silent = free_udp_port(socket.AF_INET6)
     assert cli(["status", f"[::1]:{silent}", "--seconds", "0.2"]) == 1
-    assert f"no heartbeat came to [::1]:{silent} in 0 s" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert re.search(rf"no heartbeat came to \[::1\]:{silent} in \d+ s ", err), err
 
 
 @pytest.mark.parametrize("seconds", ["1e300", "nan", "-1", "0"])

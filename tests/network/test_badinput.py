@@ -2,8 +2,9 @@
 something refused writes about a thousand lines a week, not sixty thousand."""
 
 import logging
+import math
 
-from tracking.badinput import BadInput
+from tracking.badinput import BadInput, LogGaps
 
 WEEK_S = 7 * 24 * 3600
 
@@ -30,3 +31,10 @@ def test_a_week_of_refused_input_keeps_the_log_small_and_a_new_episode_is_said_a
         bad.count("malformed")                  # another kind: said at once
     lines = [r.getMessage() for r in caplog.records]
     assert len(lines) == 2 and f"({WEEK_S + 1} so far)" in lines[0] and "malformed" in lines[1]
+
+
+def test_log_gaps_without_a_longest_gap():
+    """``max_s`` infinite: the first line at once, then doubling for ever (it raised KeyError)."""
+    gaps = LogGaps(first_s=10.0, max_s=math.inf)
+    said = [t for t in range(0, 200) if gaps.due("k", float(t))]
+    assert said == [0, 10, 30, 70, 150]

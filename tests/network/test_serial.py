@@ -300,11 +300,12 @@ def test_a_socket_url_takes_an_ipv6_address_in_brackets_and_refuses_a_malformed_
     from tabletop.schema import ConfigError
 
     for url in ("socket://[::1]:7000", "socket://localhost:7?logging=debug",
-                "rfc2217://[fe80::1%lo]:2217"):
+                "rfc2217://[fe80::1%lo]:2217", "socket://host:7000/", "socket://host:7000#x",
+                "rfc2217://host:2217/"):
         cfg = validate_config({"sources": [{"kind": "serial", "port": url}]}, "cfg.yaml")
         assert cfg["sources"][0]["port"] == url
     for url in ("socket://::1:7000", "socket://host:70000", "socket://[host]:7", "socket://h",
-                "rfc2217://:2217"):
+                "rfc2217://:2217", "socket://h:\u00b2"):
         where = url.split("://", 1)[1]
         with pytest.raises(ConfigError) as info:
             validate_config({"sources": [{"kind": "serial", "port": url}]}, "cfg.yaml")
@@ -319,6 +320,7 @@ def test_pyserial_socket_url_on_ipv6_loopback():
     server = socket.socket(socket.AF_INET6)
     server.bind(("::1", 0))
     server.listen()
+    server.settimeout(10)
     port = server.getsockname()[1]
     src = SerialInput("net", f"socket://[::1]:{port}")
     src.open()

@@ -409,7 +409,7 @@ def test_capture_to_render_counts_each_capture_once_and_no_stalled_stamp():
     assert max(ages) < LiveInputs.STALE_S   # measured before: 0.25 s (the stalled stamp)
 
 
-def test_a_source_raising_on_every_tick_is_unhealthy_and_logged_every_10_s(caplog):
+def test_a_source_raising_on_every_tick_is_unhealthy_and_logged_sparingly(caplog):
     """A scripted visitor whose speed range runs backwards raises in latest(); it was logged
     with its stack on every tick (91 tracebacks in 3 s) and its health stayed good."""
     from tabletop.plugins.tracking import Tracker
