@@ -191,11 +191,13 @@ def write_synced(path: Path, text: str) -> None:
         os.fsync(f.fileno())
 
 
-def new_folder(target: Path, files: Mapping[str, str]) -> None:
+def new_folder(target: Path, files: Mapping[str, str], marker: str = "") -> None:
     """Make the folder ``target`` holding ``files`` (name -> text) whole or not at all: written
-    and synced in a hidden temporary folder beside it, then renamed (OSError on failure)."""
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp",
-                                dir=target.parent))   # its writer's id: see swap.recover
+    and synced in a hidden temporary folder beside it (``.<name>.<marker>-<random>.tmp``, or
+    ``.<name>.<process id>.<random>.tmp`` without a marker), then renamed (OSError on failure)."""
+    mark = f"{marker}-" if marker else f"{os.getpid()}."
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.{mark}", suffix=".tmp",
+                                dir=target.parent))
     try:
         for name, text in files.items():
             write_synced(tmp / name, text)

@@ -28,7 +28,7 @@ import yaml
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
                             folder_failure, format_csv, new_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
-from tabletop.swap import recover, recover_all, replace_folder, saving
+from tabletop.swap import MARKER, locked, real, recover, recover_all, replace_folder, saving
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
                              yaml_number_hint)
 
@@ -185,10 +185,11 @@ def load_behavior(folder: str | Path, tries: int = 20) -> StoredBehavior:
 
     A save swaps a whole new folder in (:func:`save_behavior`); a read it overtook (the folder
     held open at the start no longer the one named at the end, or missing while the save
-    runs) is read again, up to ``tries`` times 10 ms apart. An interrupted save is first
-    recovered (logged). Comparing the folder's inode alone was not enough: the old folder's,
-    freed by the swap, was given to the next save's, and a reader under a process saving 150
-    times in a row loaded a mixed behaviour; held open, it cannot be reused."""
+    holds its lock) is read again, up to ``tries`` times, 10 ms apart while the folder is
+    missing. An interrupted save is first recovered (logged). The folder is held open while it
+    is read, so its inode cannot be freed and given to a later version and compared equal.
+    A folder that cannot be opened is read by name only for the error that says why; if that
+    read succeeds (the folder was put back meanwhile), the loop reads it again."""
     folder = Path(folder)
     recover(folder)
     for attempt in range(1, tries + 1):
@@ -198,7 +199,8 @@ def load_behavior(folder: str | Path, tries: int = 20) -> StoredBehavior:
             if attempt < tries and saving(folder):
                 time.sleep(0.01)
                 continue
-            return _load(folder)                 # not found or not a folder: says which
+            _load(folder)                        # not found or not a folder: says which
+            continue                             # (it reappeared: not known whole)
         try:
             try:
                 stored = _load(folder)
@@ -250,9 +252,9 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
     A new folder appears whole or not at all. With ``replace`` an existing behaviour is
     replaced whole (the new folder swapped in by renames, any other file it held copied along),
     but only if its ``behavior.yaml`` reads cleanly: a corrupt one is refused and left
-    byte-identical. Without ``replace`` an existing folder is
-    refused (see :func:`free_name`).
-    """
+    byte-identical. Without ``replace`` an existing folder is refused (see :func:`free_name`).
+    Saves of one name, with or without ``replace``, run one at a time (:func:`swap.locked`); a
+    folder named through a symbolic link is replaced at the link's target, the link kept."""
     check_name(name)
     if kind not in KINDS:
         raise LibraryError(f"behaviour kind {kind!r} is unknown (known: {', '.join(KINDS)})")
@@ -262,22 +264,30 @@ def save_behavior(library: str | Path, name: str, demo: np.ndarray,
     target = lib / name
     try:
         lib.mkdir(parents=True, exist_ok=True)
-        recover(target)
-        if target.exists():
-            if not replace:
-                raise LibraryError(f"{target}: a behaviour of that name already exists")
-            if (target / BEHAVIOR_FILE).exists():
-                read_description(target)   # refuses (and keeps) a corrupt file
-            elif any(target.iterdir()):
-                raise LibraryError(f"{target}: folder holds files but no {BEHAVIOR_FILE}; "
-                                   "not a behaviour, left untouched")
-            replace_folder(target, {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text})
-            return target
-        new_folder(target, {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text})
+        if target.is_symlink():
+            target = real(target)                  # the link is kept, its folder replaced
+        with locked(target):                       # one save of a name at a time
+            _save(target, csv_text, yaml_text, replace)
     except OSError as exc:
         raise LibraryError(f"{target}: cannot save behaviour: {folder_failure(target, exc)}") \
             from None
-    return target
+    return lib / name
+
+
+def _save(target: Path, csv_text: str, yaml_text: str, replace: bool) -> None:
+    """The body of :func:`save_behavior`, its lock held."""
+    files = {DEMONSTRATION_FILE: csv_text, BEHAVIOR_FILE: yaml_text}
+    if not target.exists():
+        new_folder(target, files, marker=MARKER)
+        return
+    if not replace:
+        raise LibraryError(f"{target}: a behaviour of that name already exists")
+    if (target / BEHAVIOR_FILE).exists():
+        read_description(target)   # refuses (and keeps) a corrupt file
+    elif any(target.iterdir()):
+        raise LibraryError(f"{target}: folder holds files but no {BEHAVIOR_FILE}; "
+                           "not a behaviour, left untouched")
+    replace_folder(target, files)
 
 
 def list_behaviors(library: str | Path) -> list[str]:
@@ -295,6 +305,7 @@ def free_name(library: str | Path, name: str) -> str:
     ``name-3``..."""
     check_name(name)
     lib = Path(library)
+    recover(lib / name)                  # an interrupted save's old version is put back first
     if not (lib / name).exists():
         return name
     i = 2

@@ -1,37 +1,56 @@
 """Folders replaced whole or not at all: a saved behaviour is never half old, half new.
 
+A save of ``<parent>/<name>`` holds an exclusive ``flock`` on the lock file
+``<parent>/.<name>.tabletop-lock`` from start to end (:func:`locked`), so two saves of one
+name, in threads of one process or in two processes, run one after the other.
 :func:`replace_folder` writes the complete new folder beside the old one under a hidden name
-(``.<name>.<pid>.new``, every file and the folder fsynced), renames the old one aside
-(``.<name>.<pid>.old``), renames the new one into place, fsyncs the parent and only then
-removes the old one. A process killed at any point leaves either the old folder or the new
-one under the real name, or (between the two renames) the old one aside: :func:`recover`,
-run before a folder is read, listed or saved, puts that one back and removes unfinished new
-folders and old ones already replaced, with one logged line each. Only leftovers of processes
-that have ended are touched (their process id is in the name), so a reader never undoes a
-save that is still running; a reader that finds the folder missing while such a save runs
-waits for it (:func:`saving`).
+(``.<name>.tabletop-swap-<random>.new``, every file and the folder fsynced), renames the old one
+aside (``.<name>.tabletop-swap-<random>.old``), renames the new one into place, fsyncs the
+parent and only then removes the old one. A process killed at any point leaves either the old
+folder or the new one under the real name, or (between the two renames) the old one aside:
+:func:`recover`, run before a folder is read, listed or saved, puts that one back and removes
+unfinished new folders and old ones already replaced, with one logged line each. It touches
+only hidden folders carrying the ``tabletop-swap`` marker, and only when it gets the lock
+without waiting: the lock of a killed saver is released by the system with its process (a
+process id reused after a reboot holds nothing), so a reader never undoes a save that is still
+running; a reader that finds the folder missing while the lock is held waits (:func:`saving`).
+A folder named through a symbolic link is swapped at the link's target, the link kept.
 """
 
 from __future__ import annotations
 
+import fcntl
 import logging
 import os
 import re
 import shutil
+import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Mapping
+from typing import Iterator, Mapping
 
-from tabletop.files import alive, fsync_folder, write_synced
+from tabletop.files import fsync_folder, write_synced
 
 log = logging.getLogger("tabletop")
 
-_LEFTOVER = re.compile(r"^(\d+)\.(?:(new|old)|[A-Za-z0-9_]+\.tmp)$")   # after ".<name>."
-_HIDDEN = re.compile(r"^\.(.+)\.\d+\.(?:new|old|[A-Za-z0-9_]+\.tmp)$")
+MARKER = "tabletop-swap"          # in every hidden folder a save makes beside the behaviour
+LOCK_SUFFIX = ".tabletop-lock"    # ".<name>.tabletop-lock": kept, removing it races its waiters
+_LEFTOVER = re.compile(rf"^{MARKER}-[A-Za-z0-9_]+\.(new|old|tmp)$")   # after ".<name>."
+_HIDDEN = re.compile(rf"^\.(.+)\.{MARKER}-[A-Za-z0-9_]+\.(?:new|old|tmp)$")
 
 
-def _leftovers(target: Path) -> list[tuple[Path, int, str]]:
-    """(path, writer's process id, "new", "old" or "tmp") of the hidden folders that saves of
-    ``target`` made beside it."""
+def real(target: Path) -> Path:
+    """The folder ``target`` names, symbolic links followed (also when it is missing)."""
+    return Path(os.path.realpath(target))
+
+
+def _lock_file(target: Path) -> Path:
+    return target.parent / f".{target.name}{LOCK_SUFFIX}"
+
+
+def _leftovers(target: Path) -> list[tuple[Path, str]]:
+    """(path, "new", "old" or "tmp") of the hidden folders that saves of ``target`` made
+    beside it."""
     prefix = f".{target.name}."
     try:
         names = [n for n in os.listdir(target.parent) if n.startswith(prefix)]
@@ -40,37 +59,87 @@ def _leftovers(target: Path) -> list[tuple[Path, int, str]]:
     out = []
     for n in sorted(names):
         m = _LEFTOVER.match(n[len(prefix):])
-        if m and (target.parent / n).is_dir():
-            out.append((target.parent / n, int(m.group(1)), m.group(2) or "tmp"))
+        path = target.parent / n
+        if m and (path.is_dir() or path.is_symlink()):
+            out.append((path, m.group(1)))
     return out
 
 
+def _try_lock(target: Path) -> int | None:
+    """An open descriptor of ``target``'s lock file, locked, or None if another open file holds
+    the lock (or the lock file cannot be opened)."""
+    try:
+        fd = os.open(_lock_file(target), os.O_RDONLY | os.O_CREAT, 0o644)
+    except OSError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return None
+    return fd
+
+
+@contextmanager
+def locked(target: Path) -> Iterator[list[str]]:
+    """Hold the save lock of ``target`` (waiting for a save running elsewhere), its interrupted
+    saves recovered first; yields the recovery's lines (see :func:`recover`)."""
+    target = real(target)
+    fd = os.open(_lock_file(target), os.O_RDONLY | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield _recover_held(target)
+    finally:
+        os.close(fd)                                   # releases the lock
+
+
 def saving(target: Path) -> bool:
-    """Is a running process between the two renames of a save of ``target`` (the folder is
-    then briefly missing, its old version aside)?"""
-    return any(kind == "old" and pid != os.getpid() and alive(pid)
-               for _, pid, kind in _leftovers(target))
+    """Does another save (or recovery) hold the lock of ``target`` (the folder may then be
+    briefly missing, its old version aside)?"""
+    target = real(target)
+    if not os.path.exists(_lock_file(target)):
+        return False
+    fd = _try_lock(target)
+    if fd is None:
+        return True
+    os.close(fd)
+    return False
 
 
 def recover(target: Path) -> list[str]:
-    """Finish or undo the interrupted saves of ``target`` (by processes that have ended): an
+    """Finish or undo the interrupted saves of ``target`` (those whose lock nobody holds): an
     old version aside with no folder in place is put back, unfinished new folders and old
-    versions already replaced are removed. Returns (and logs) one line per leftover."""
+    versions already replaced are removed. Returns (and logs) one line per leftover; nothing
+    while a save holds the lock."""
+    target = real(target)
+    if not _leftovers(target):
+        return []
+    fd = _try_lock(target)
+    if fd is None:
+        return []
+    try:
+        return _recover_held(target)
+    finally:
+        os.close(fd)
+
+
+def _recover_held(target: Path) -> list[str]:
     done = []
-    for path, pid, kind in sorted(_leftovers(target), key=lambda x: x[2] != "old"):
-        if pid == os.getpid() or alive(pid):
-            continue
+    for path, kind in sorted(_leftovers(target), key=lambda x: x[1] != "old"):
         try:
             if kind == "old" and not os.path.lexists(target):
                 os.rename(path, target)
                 fsync_folder(target.parent)
                 done.append(f"{target}: a save was interrupted before the new version was in "
                             f"place; the previous version is restored from {path.name}")
+                continue
+            if path.is_symlink():
+                os.unlink(path)
             else:
                 shutil.rmtree(path)
-                what = ("the previous version, already replaced" if kind == "old"
-                        else "an unfinished save")
-                done.append(f"{target}: removed {path.name}, {what}")
+            what = ("the previous version, already replaced" if kind == "old"
+                    else "an unfinished save")
+            done.append(f"{target}: removed {path.name}, {what}")
         except OSError as exc:
             done.append(f"{target}: leftover {path.name} not cleaned: {exc.strerror or exc}")
     for line in done:
@@ -90,17 +159,20 @@ def recover_all(parent: Path) -> list[str]:
 
 
 def replace_folder(target: Path, files: Mapping[str, str]) -> None:
-    """Replace the folder ``target`` by one holding ``files`` (name -> text) and a copy of
-    every other file or folder it held, whole or not at all (see the module's docstring);
-    OSError on failure, the old folder then kept."""
-    parent, pid = target.parent, os.getpid()
-    new, old = parent / f".{target.name}.{pid}.new", parent / f".{target.name}.{pid}.old"
-    for stale in (new, old):
-        shutil.rmtree(stale, ignore_errors=True)
-    os.mkdir(new)
+    """Replace the folder ``target`` by one holding ``files`` (name -> text, each keeping the
+    permission mode of the file it replaces) and a copy of every other file, folder and
+    symbolic link it held (modes and times kept, links copied as links), whole or not at all
+    (see the module's docstring); OSError on failure, the old folder then kept. The caller
+    holds :func:`locked`; a ``target`` named through a link is replaced at the link's target."""
+    target = real(target)
+    parent = target.parent
+    new = Path(tempfile.mkdtemp(prefix=f".{target.name}.{MARKER}-", suffix=".new", dir=parent))
+    old = new.with_suffix(".old")
     try:
         for name, text in files.items():
             write_synced(new / name, text)
+            if os.path.isfile(target / name):
+                os.chmod(new / name, os.stat(target / name).st_mode & 0o7777)
         for entry in os.scandir(target):                # nothing else it held is lost
             if entry.name not in files:
                 if entry.is_dir(follow_symlinks=False):
@@ -120,4 +192,3 @@ def replace_folder(target: Path, files: Mapping[str, str]) -> None:
         raise
     fsync_folder(parent)
     shutil.rmtree(old, ignore_errors=True)
-
