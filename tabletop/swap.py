@@ -65,11 +65,24 @@ def _leftovers(target: Path) -> list[tuple[Path, str]]:
     return out
 
 
+def _open_lock(target: Path) -> int:
+    """An open descriptor of ``target``'s lock file, made if missing, readable by every user
+    (a flock needs only read access: under umask 077 a 0600 file of one user stopped every
+    other user saving that name)."""
+    fd = os.open(_lock_file(target), os.O_RDONLY | os.O_CREAT, 0o644)
+    try:
+        if os.fstat(fd).st_uid == os.geteuid():
+            os.fchmod(fd, 0o644)
+    except OSError:
+        pass
+    return fd
+
+
 def _try_lock(target: Path) -> int | None:
     """An open descriptor of ``target``'s lock file, locked, or None if another open file holds
     the lock (or the lock file cannot be opened)."""
     try:
-        fd = os.open(_lock_file(target), os.O_RDONLY | os.O_CREAT, 0o644)
+        fd = _open_lock(target)
     except OSError:
         return None
     try:
@@ -85,7 +98,7 @@ def locked(target: Path) -> Iterator[list[str]]:
     """Hold the save lock of ``target`` (waiting for a save running elsewhere), its interrupted
     saves recovered first; yields the recovery's lines (see :func:`recover`)."""
     target = real(target)
-    fd = os.open(_lock_file(target), os.O_RDONLY | os.O_CREAT, 0o644)
+    fd = _open_lock(target)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX)
         yield _recover_held(target)
@@ -136,7 +149,7 @@ def _recover_held(target: Path) -> list[str]:
             if path.is_symlink():
                 os.unlink(path)
             else:
-                shutil.rmtree(path)
+                shutil.rmtree(path, onerror=_writable_and_again)
             what = ("the previous version, already replaced" if kind == "old"
                     else "an unfinished save")
             done.append(f"{target}: removed {path.name}, {what}")
@@ -145,6 +158,15 @@ def _recover_held(target: Path) -> list[str]:
     for line in done:
         log.warning("%s", line)
     return done
+
+
+def _writable_and_again(func, path: str, _exc_info) -> None:
+    """``shutil.rmtree``'s error handler: a read-only folder inside (a designer's ``refs/`` at
+    0555, not run as root) is made writable and the removal tried again; OSError if not."""
+    os.chmod(os.path.dirname(path), 0o700)
+    if os.path.isdir(path) and not os.path.islink(path):
+        os.chmod(path, 0o700)
+    func(path)
 
 
 def recover_all(parent: Path) -> list[str]:
@@ -191,4 +213,13 @@ def replace_folder(target: Path, files: Mapping[str, str]) -> None:
         shutil.rmtree(new, ignore_errors=True)
         raise
     fsync_folder(parent)
-    shutil.rmtree(old, ignore_errors=True)
+    done = old.with_suffix(".tmp")    # never put back: a removal that fails part way leaves a
+    try:                              # leftover recovery removes, not one it restores over a
+        os.rename(old, done)          # behaviour deleted later (the studio's trash)
+    except OSError:
+        done = old
+    try:
+        shutil.rmtree(done, onerror=_writable_and_again)
+    except OSError as exc:
+        log.warning("%s: the previous version %s not removed: %s", target, done.name,
+                    exc.strerror or exc)

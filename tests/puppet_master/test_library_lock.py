@@ -139,3 +139,55 @@ def test_free_name_sees_a_behaviour_an_interrupted_save_left_aside(tmp_path):
     os.rename(folder, lib / ".bully.tabletop-swap-x1.old")      # killed between the renames
     assert library.free_name(lib, "bully") == "bully-2"
     assert _which(library.load_behavior(folder)) == 0
+
+
+def test_a_linked_folder_caught_between_renames_is_listed_again(tmp_path):
+    """The link's target keeps its leftovers beside it (not in the library): the listing
+    recovers linked folders too, or the studio never saw the behaviour again."""
+    lib, elsewhere = tmp_path / "library", tmp_path / "elsewhere"
+    real = _save(elsewhere, 0, name="shared")
+    lib.mkdir()
+    (lib / "bully").symlink_to(real, target_is_directory=True)
+    os.rename(real, elsewhere / ".shared.tabletop-swap-x1.old")  # killed between the renames
+    assert library.list_behaviors(lib) == ["bully"]
+    assert _which(library.load_behavior(lib / "bully")) == 0
+
+
+def test_the_lock_file_is_readable_by_every_user(tmp_path):
+    """Made under umask 077 it was 0600: another user's saves of that name all failed."""
+    lib = tmp_path / "library"
+    old = os.umask(0o077)
+    try:
+        _save(lib, 0)
+    finally:
+        os.umask(old)
+    assert (lib / ".bully.tabletop-lock").stat().st_mode & 0o777 == 0o644
+
+
+def test_a_replaced_version_that_cannot_be_removed_is_never_put_back(tmp_path, caplog):
+    """The replaced version's removal failed part way (a folder inside that cannot be
+    emptied: ``chattr +i`` here, a read-only ``refs/`` for a user) and left it aside as an
+    ``.old``: once the behaviour was deleted (the studio's trash), the listing restored that
+    stale version over the deletion. It is set aside as an unfinished ``.tmp`` first."""
+    import shutil
+    import subprocess
+    lib = tmp_path / "library"
+    folder = _save(lib, 0)
+    (folder / "refs").mkdir()
+    (folder / "refs" / "a.txt").write_text("x")
+    chattr = shutil.which("chattr")
+    if chattr is None or subprocess.run([chattr, "+i", str(folder / "refs")],
+                                        capture_output=True).returncode != 0:
+        pytest.skip("no chattr +i on this file system")
+    try:
+        with caplog.at_level(logging.WARNING, logger="tabletop"):
+            _save(lib, 1)
+        assert "not removed" in caplog.text
+        left = [n for n in os.listdir(lib) if "tabletop-swap" in n]
+        assert len(left) == 1 and left[0].endswith(".tmp"), left
+        shutil.rmtree(folder)                                   # the designer deletes it
+        assert library.list_behaviors(lib) == []
+        assert not folder.exists()
+    finally:
+        for p in lib.glob(".bully.tabletop-swap-*/refs"):
+            subprocess.run([chattr, "-i", str(p)], capture_output=True)
