@@ -296,11 +296,11 @@ def list_behaviors(library: str | Path) -> list[str]:
     if not lib.is_dir():
         return []
     recover_all(lib)
-    for p in lib.iterdir():            # a folder named through a link keeps its leftovers
-        if p.is_symlink() and not p.name.startswith("."):   # beside its target
+    entries = [p for p in lib.iterdir() if not p.name.startswith(".")]
+    for p in entries:                  # a folder named through a link keeps its leftovers
+        if p.is_symlink():             # beside its target
             recover(p)
-    return sorted(p.name for p in lib.iterdir()
-                  if not p.name.startswith(".") and (p / BEHAVIOR_FILE).is_file())
+    return sorted(p.name for p in entries if (p / BEHAVIOR_FILE).is_file())
 
 
 def free_name(library: str | Path, name: str) -> str:

@@ -14,7 +14,12 @@ from tabletop.frames import InputError
 
 
 class ParameterError(InputError):
-    """A behaviour or reactor parameter out of range; the message names it."""
+    """A behaviour or reactor parameter out of range; the message names it, and ``name`` is
+    the Params field it is about (None for one that is no field)."""
+
+    def __init__(self, message: str, name: str | None = None) -> None:
+        super().__init__(message)
+        self.name = name
 
 
 @dataclass(frozen=True)
@@ -146,26 +151,29 @@ class Params:
         ints = {"window": 2, "smooth": 1, "detail_levels": 1, "patch": 1, "share_window": 1}
         if isinstance(self.detail_levels, (int, np.integer)) and self.detail_levels > 10:
             raise ParameterError(f"behaviour parameter detail_levels: {self.detail_levels!r} "
-                                 "must be an integer from 1 to 10")
+                                 "must be an integer from 1 to 10", "detail_levels")
         for f in fields(self):
             v = getattr(self, f.name)
             if f.name in ints:
                 if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < ints[f.name]:
                     raise ParameterError(
-                        f"behaviour parameter {f.name}: {v!r} must be an integer >= {ints[f.name]}")
+                        f"behaviour parameter {f.name}: {v!r} must be an integer >= {ints[f.name]}",
+                        f.name)
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
                     or not math.isfinite(float(v)):
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number")
+                raise ParameterError(f"behaviour parameter {f.name}: {v!r} is not a finite number",
+                                     f.name)
             positive = f.name in ("rate_hz", "ratio", "balance_gain", "detail_clip")
             if f.name == "edge_percentile" and v >= 100:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 0 "
-                                     "(off) to under 100")
+                                     "(off) to under 100", f.name)
             if f.name == "relative_motion" and v > 1:
-                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be in 0..1")
+                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be in 0..1",
+                                     f.name)
             if f.name == "rate_hz" and not 1.0 <= v <= 1000.0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 1 to "
-                                     "1000 Hz")
+                                     "1000 Hz", f.name)
             if (positive and v <= 0) or v < 0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
-                                     f"{'> 0' if positive else '>= 0'}")
+                                     f"{'> 0' if positive else '>= 0'}", f.name)

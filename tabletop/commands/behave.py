@@ -31,25 +31,11 @@ class BehaveArgumentError(InputError):
 
 
 def param_names() -> list[str]:
-    """The names ``--param`` takes: every field of behaviors.puppet_master.engine.Params."""
+    """The names ``--param`` takes: every field of behaviors.puppet_master.params.Params."""
     from dataclasses import fields
 
-    from behaviors.puppet_master.engine import Params
+    from behaviors.puppet_master.params import Params
     return sorted(f.name for f in fields(Params))
-
-
-class _ParamAction(argparse._AppendAction):
-    """``--param``, its help naming every parameter; the names are read (the engine module
-    imported, about 0.9 s) only when the help is shown, not for every command line parsed."""
-
-    @property
-    def help(self) -> str:
-        return ("a behaviour parameter (repeatable), e.g. --param ratio=2, over a behaviour "
-                f"folder's own; NAME is one of: {', '.join(param_names())}")
-
-    @help.setter
-    def help(self, value: str | None) -> None:
-        pass
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -65,7 +51,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="sequential training: the reactor demonstrated against the main "
                              "take's playback, t,react_x,react_y,react_dir, t on the main take's "
                              "times")
-    parser.add_argument("--param", action=_ParamAction, default=[], metavar="NAME=VALUE")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                        help="a behaviour parameter (repeatable), e.g. --param ratio=2, over a "
+                             f"behaviour folder's own; NAME is one of: {', '.join(param_names())}")
     parser.add_argument("--input", required=True, metavar="MAIN.csv",
                         help="main character's path: t,main_x,main_y,main_dir, any rate")
     parser.add_argument("--out", required=True, metavar="REACT.csv",
@@ -110,7 +98,7 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
     name or a value of the wrong kind raises BehaveArgumentError naming it."""
     from dataclasses import fields
 
-    from behaviors.puppet_master.engine import Params
+    from behaviors.puppet_master.params import Params
 
     kinds = {f.name: f.type for f in fields(Params)}
     out: dict[str, float | int] = {}
@@ -215,7 +203,7 @@ def main(args: argparse.Namespace) -> int:
     try:
         behavior = Behavior.train(demo, **params)
     except ParameterError as exc:   # named by where it was given: --param or the folder
-        given = any(f"parameter {n}:" in str(exc) for n in parse_params(args.param))
+        given = exc.name is not None and exc.name in parse_params(args.param)
         raise BehaveArgumentError(f"{'--param' if given else source}: {exc}") from None
     except InputError as exc:
         raise BehaveArgumentError(f"{source}: {exc}") from None

@@ -291,7 +291,7 @@ def _delayed(options: dict, ctx: BuildContext) -> tuple[set[str], set[str]]:
                 "after it or react back: it is then read one tick old)")
         if k >= mine or back:
             delayed.add(name)
-            if back or _reads_back(name, options["name"], engines):
+            if _reads_back(name, options["name"], engines):   # back: its first step
                 cycle.add(name)
     return delayed, cycle
 

@@ -53,6 +53,14 @@ def rename_folder(lib: Path, old: str, new: str) -> None:
     fsync_folder(lib)
 
 
+def default_params() -> dict[str, float | int]:
+    """Every Puppet Master behaviour parameter at its default, by name."""
+    from dataclasses import asdict
+
+    from behaviors.puppet_master.params import Params
+    return asdict(Params())
+
+
 class PuppetMasterTarget:
     """A Puppet Master engine in designer mode as a studio target."""
 
@@ -202,11 +210,8 @@ class PuppetMasterTarget:
         afraid character keeps its edge_percentile 50; it trained with the defaults but the
         rate and window), the engine's rate where its config gives one, and the table it is
         made on (metres; as keep() saves it, so the behaviour tried is the one kept)."""
-        from dataclasses import asdict
-
-        from behaviors.puppet_master.engine import Params
         e = self.engine
-        params = asdict(e.behavior.params if e.behavior is not None else Params())
+        params = e.behavior.param_dict() if e.behavior is not None else default_params()
         x0, y0, x1, y1 = e.table
         params.update(table_width=x1 - x0, table_height=y1 - y0)
         if e.rate_hz:
@@ -258,10 +263,7 @@ class PuppetMasterTarget:
         name = library.free_name(self.lib, self.engine.designer["name"])
         # with the table it was made on, as the shipped behaviours are: a room or an edge
         # margin set later (w_room, edge_percentile) measured against the take's own bounds
-        from dataclasses import asdict
-
-        from behaviors.puppet_master.engine import Params
-        default = asdict(Params())
+        default = default_params()
         folder = library.save_behavior(   # the rate, window and table, and any other not default
             self.lib, name, self.demo,
             {k: v for k, v in self.pending.param_dict().items()
