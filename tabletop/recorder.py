@@ -125,7 +125,7 @@ class Recorder:
         self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
         self._resumable = False                # stopped by a full disk: tries go on
         self._resume_at: float | None = None   # frame time of the next try, once known
-        self._slow_stops = 0                   # "cannot keep up" stops in a row
+        self._slow_wait_s = RESUME_EVERY_S     # before the next "cannot keep up" stop's try
         self._resumed_t: float | None = None   # frame time of the last resume
         self._last_t: float | None = None      # the last frame's time
         self.durability = Durability()
@@ -180,7 +180,8 @@ class Recorder:
                      self.stem, self.suffix)
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
-        # the order first: see recordings.ORDER
+        # the order first (see recordings.ORDER), and this one, not a copied header's
+        # (replay --out hands on the recording's own)
         header = {"format": FORMAT, "version": VERSION, "order": order}
         header.update(self._header, order=order, part=len(self.paths),
                       created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
@@ -312,12 +313,12 @@ class Recorder:
         with self._cv:
             if len(self._unsynced) >= self.max_queue:
                 if self._resumed_t is not None and frame.t - self._resumed_t > SLOW_RESUME_MAX_S:
-                    self._slow_stops = 0
-                self._slow_stops += 1   # a disk slow for good: 60, 120, 240 ... 3600 s apart
+                    self._slow_wait_s = RESUME_EVERY_S
+                wait_s = self._slow_wait_s   # a disk slow for good: 60, 120, 240 ... 3600 s
+                self._slow_wait_s = min(2.0 * wait_s, SLOW_RESUME_MAX_S)
                 self._fail(f"the disk cannot keep up ({self.max_queue} lines waited, the "
                            f"oldest {self.clock() - self._unsynced[0]:.1f} s)", resumable=True,
-                           wait_s=min(RESUME_EVERY_S * 2.0 ** (self._slow_stops - 1),
-                                      SLOW_RESUME_MAX_S))
+                           wait_s=wait_s)
                 self._cv.notify()
                 return
             try:

@@ -103,11 +103,15 @@ class Runner:
         # (``record_path``, run --record, stays: each installation records to the next free name
         # of it, FILE-2.jsonl..., as a supervised restart does. Before, the first applied config
         # edit ended the recording for the rest of the run, without a word.)
-        # providers of status fields; the first gives each one the status promises (README,
-        # health.py) its null for a part that is off: without it a kiosk without a studio, or
-        # with watch_config false, sent no "studio" (or "config", "config_error") at all
-        extra: list = [lambda: {"config": str(self.config_path),
-                                "config_error": self.config_error, "studio": None}]
+        # providers of status fields; a part that is off still gives the fields the status
+        # promises (README, health.py): without them a kiosk without a studio, or with
+        # watch_config false, sent no "studio" (or "config", "config_error") at all
+        extra: list = []
+        if self.watcher is None:      # (the watcher gives them otherwise)
+            extra.append(lambda: {"config": str(self.config_path),
+                                  "config_error": self.config_error})
+        if not self.studio_on:
+            extra.append(lambda: {"studio": None})
         held: set = set()
         if self.studio_on:
             self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)

@@ -10,7 +10,7 @@ import pytest
 
 from tabletop.cli import main as cli
 from tabletop.kiosk.health import Heartbeat
-from tests.network.helpers import ipv6_loopback
+from tests.network.helpers import free_udp_port, ipv6_loopback
 from tests.tracking.scenes import wait_for
 
 
@@ -147,14 +147,6 @@ def port_taken(port: int) -> bool:
             if any(int(line.split()[1].split(":")[1], 16) == port for line in table):
                 return True
     return False
-
-
-def free_udp_port(family: int = socket.AF_INET) -> int:
-    s = socket.socket(family, socket.SOCK_DGRAM)
-    s.bind(("::1" if family == socket.AF_INET6 else "127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
 
 
 def test_status_json_prints_only_json_objects(tmp_path, capsys):

@@ -25,10 +25,11 @@ def ipv6_loopback() -> bool:
         return False
 
 
-def free_udp_port() -> int:
-    """A UDP port on 127.0.0.1 that is free right now (bound to 0, read, released)."""
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
+def free_udp_port(family: int = socket.AF_INET) -> int:
+    """A UDP port on 127.0.0.1 (``::1`` for AF_INET6) that is free right now (bound to 0,
+    read, released)."""
+    with socket.socket(family, socket.SOCK_DGRAM) as s:
+        s.bind(("::1" if family == socket.AF_INET6 else "127.0.0.1", 0))
         return s.getsockname()[1]
 
 
