@@ -62,7 +62,9 @@ OWN_PARAMETERS = {"afraid": {"edge_percentile": 50.0}}
 # bully 10 (7) / 5 (3) and 5 (5) / 8 (7); w_velocity 0.5 stalker 23 (10) / 15 (9), bully 13 /
 # 16 (12 / 12). The playful friend's window 80 / 160 (2 / 4 s, toward its sway's 4.8 s, see
 # bench/fidelity.py) on seeds 0-5, 8-13, 26-31, one run each: misses (all contact) 11 / 10
-# against 9, contact 0.037 +- 0.015 / 0.040 +- 0.018 against 0.038 +- 0.015. Not kept.
+# against 9, contact 0.037 +- 0.015 / 0.040 +- 0.018 against 0.038 +- 0.015; more coherence
+# choices to hold the sway across darts, ratio 0.5 / 0.25: 8 / 20 (contact +- 0.017 / 0.020,
+# runs on or off a dart lengthened). Not kept.
 DESCRIPTIONS = {
     "lover": "Approaches the main character and stays close, facing it, nuzzling side to side.",
     "bully": "Lurks facing the main character, charges at it, pushes into it, then backs off.",
