@@ -76,12 +76,13 @@ contact 0.038 against 0.034, stalker fast 0.044 / 0.039, lover slow still/moving
 0.53). A threshold missed as often by the generation as by its designer on one kind of path
 still gives engine-only misses where the two draws differ (stalker fast contact: 8 and 8 of
 18 missed, 4 the engine's alone); counted as independent draws at each side's miss rate, 63
-were expected, 47 seen. Only the playful friend's contact is missed more often than by its
-designer (9 against 1 of 54): it dips as often (15.4 / 15.7 dips under 0.12 m a path) and as
-deep (median least distance 0.089 m both, 38% / 37% under 0.08 m), but which of its dips
-reach 0.08 m varies from path to path as independent darts would (5.8 +- 1.8 a path), where
-its designer's darts, timed by a 2-4 s clock and deepened by a slow sway, vary less (5.8 +-
-1.3); their stay under 0.08 m 10.6 +- 2.8 samples against 9.3 +- 1.7. What the generation
+were expected, 47 seen. Missed clearly more often than by the designer: the playful friend's
+contact (9 against 1 of 54; the stalker's loops still/moving and orbit 4 / 3 against 1 / 0
+of 18, its still speed and orbit there a little under its designer's). The friend dips as
+often (15.4 / 15.7 dips under 0.12 m a path) and as deep (median least distance 0.089 m
+both, 38% / 37% under 0.08 m), but which of its dips reach 0.08 m varies from path to path
+as independent darts would (5.8 +- 1.8 a path), where its designer's darts, timed by a 2-4 s
+clock and deepened by a slow sway, vary less (5.8 +- 1.3); their stay under 0.08 m 10.6 +- 2.8 samples against 9.3 +- 1.7. What the generation
 does not keep is the slow sway of its distance (period 4.8 s, longer than the 1 s match
 window), which sets how deep a dart goes: the 1 s mean distance's autocorrelation at 2.4 / 4.8
 s is -0.46 / 0.42 in the demonstration, -0.42 / 0.29 for its designer on 24 unseen paths of
