@@ -68,26 +68,26 @@ lover generated alone, tools outside the bench): the lover misses 16.8 [16-18] /
 [13-15], the engine's alone 6.0 [5-7] / 5.0 [3-6]; the playful friend 2.2 [1-4] / 5.0 [4-6]
 (all of them contact, both ways: 0.000-0.071 against 0.041, its designer 0.022-0.056).
 
-What the engine's own misses are, measured on the 54 open paths and 18 pursuits of seeds
-0-5, 8-13, 26-31 (7 / 16 / 16 open, 1 / 3 / 4 pursuit): event figures on both sides of their
-band (contact 16, still/moving 16, orbit 5, speed 2 open; the friend's contact 3 over, 6
-under; the stalker's 5 over, 2 under), where the generation's mean is its designer's (friend
-contact 0.038 against 0.034, stalker fast 0.044 / 0.039, lover slow still/moving 0.52 /
-0.53). A threshold missed as often by the generation as by its designer on one kind of path
-still gives engine-only misses where the two draws differ (stalker fast contact: 8 and 8 of
-18 missed, 4 the engine's alone); counted as independent draws at each side's miss rate, 63
-were expected, 47 seen. Missed clearly more often than by the designer: the playful friend's
-contact (9 against 1 of 54; the stalker's loops still/moving and orbit 4 / 3 against 1 / 0
-of 18, its still speed and orbit there a little under its designer's). The friend dips as
-often (15.4 / 15.7 dips under 0.12 m a path) and as deep (median least distance 0.089 m
-both, 38% / 37% under 0.08 m), but which of its dips reach 0.08 m varies from path to path
-as independent darts would (5.8 +- 1.8 a path), where its designer's darts, timed by a 2-4 s
-clock and deepened by a slow sway, vary less (5.8 +- 1.3); their stay under 0.08 m 10.6 +- 2.8 samples against 9.3 +- 1.7. What the generation
-does not keep is the slow sway of its distance (period 4.8 s, longer than the 1 s match
-window), which sets how deep a dart goes: the 1 s mean distance's autocorrelation at 2.4 / 4.8
-s is -0.46 / 0.42 in the demonstration, -0.42 / 0.29 for its designer on 24 unseen paths of
-seeds 0-3, 8-11, -0.12 / 0.00 generated (its spread kept, 0.027 m both), so each dart falls
-at a sway phase of its own.
+What the engine's own misses are, measured on the 54 open paths and 18 pursuits of seeds 0-5,
+8-13, 26-31 (7 / 16 / 16 open, 1 / 3 / 4 pursuit): event figures on both sides of their band
+(contact 16, still/moving 16, orbit 5, speed 2 open; the friend's contact 3 over, 6 under; the
+stalker's 5 over, 2 under), where the generation's mean is its designer's (friend contact 0.038
+against 0.034, stalker fast 0.044 / 0.039, lover slow still/moving 0.52 / 0.53). A threshold
+missed as often by the generation as by its designer on one kind of path still gives
+engine-only misses where the two draws differ (stalker fast contact: 8 and 8 of 18 missed, 4
+the engine's alone); counted as independent draws at each side's miss rate, 63 were expected,
+47 seen. Missed clearly more often than by the designer: the playful friend's contact (9
+against 1 of 54; the stalker's loops still/moving and orbit 4 / 3 against 1 / 0 of 18, its
+still speed and orbit there a little under its designer's). The friend dips as often (15.4 /
+15.7 dips under 0.12 m a path) and as deep (median least distance 0.089 m both, 38% / 37% under
+0.08 m), but which of its dips reach 0.08 m varies from path to path as independent darts would
+(5.8 +- 1.8 a path), where its designer's darts, timed by a 2-4 s clock and deepened by a slow
+sway, vary less (5.8 +- 1.3); their stay under 0.08 m 10.6 +- 2.8 samples against 9.3 +- 1.7.
+What the generation does not keep is the slow sway of its distance (period 4.8 s, longer than
+the 1 s match window), which sets how deep a dart goes: the 1 s mean distance's autocorrelation
+at 2.4 / 4.8 s is -0.46 / 0.42 in the demonstration, -0.42 / 0.29 for its designer on 24 unseen
+paths of seeds 0-3, 8-11, -0.12 / 0.00 generated (its spread kept, 0.027 m both), so each dart
+falls at a sway phase of its own.
 
     .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2] [--perturb K]
 """
