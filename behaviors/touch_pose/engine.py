@@ -379,6 +379,14 @@ class TouchPose:
                 n = float(np.linalg.norm(d))
                 self.base = d if n <= ROAM else d * (ROAM / n)
                 self.yaw = yaw_of(self.target.rots[0])
+                # an action that ended beyond ROAM (a punch steps 1.9 m) is brought back to
+                # the base at once, tracking gliding it there as the action ends: left where
+                # the action put it, it slid back only under the next finger (0.13 m on the
+                # table at 0.3 m tall), away from the part the visitor had touched
+                shift = self.base - d
+                if n > ROAM:
+                    self.target = Pose(root + np.array([shift[0], 0.0, shift[1]]),
+                                       self.target.rots.copy())
             for f in self.fingers.values():
                 f.restart()
 
