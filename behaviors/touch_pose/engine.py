@@ -284,7 +284,7 @@ class TouchPose:
         free_now = {i: f.table for i, f in self.fingers.items() if f.part is None}
         both = [i for i in free_now if i in free_before]
         if len(free_now) >= 2 and len(both) >= 2 and not taken:
-            move = np.mean([free_now[i] - free_before[i] for i in both], axis=0)
+            move = common_motion(np.array([free_now[i] - free_before[i] for i in both]))
             if np.any(move != 0.0):
                 self.turn(-move[0] * TURN_DEG_PER_M, -move[1] * TURN_DEG_PER_M)
 
@@ -394,6 +394,16 @@ class TouchPose:
         if self.physics is not None:
             self.physics.close()
             self.physics = None
+
+
+def common_motion(moves: np.ndarray) -> np.ndarray:
+    """The motion (2,; metres) every finger of ``moves`` (n, 2) makes together: per axis, the
+    smallest move when all go the same way, else 0. Two fingers dragged together turn the
+    camera as their mean did; a finger resting on empty table (a second visitor's, a leaning
+    hand) beside one that moves turns nothing (the mean turned the view by half the move:
+    30 degrees for 0.2 m)."""
+    lo, hi = moves.min(axis=0), moves.max(axis=0)
+    return np.where(lo > 0.0, lo, np.where(hi < 0.0, hi, 0.0))
 
 
 def _yaw_matrix(yaw: float) -> np.ndarray:

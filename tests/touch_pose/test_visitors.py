@@ -1,6 +1,7 @@
 """What visitors do at the table: touch a part after an action, rest a finger, two at once."""
 
 import numpy as np
+import pytest
 
 from .conftest import stroke_drag
 
@@ -28,3 +29,22 @@ def test_a_part_touched_after_an_action_stays_under_the_finger(make, models):
         assert max(moved) < 0.01, (part, max(moved))
     pelvis = np.linalg.norm(np.array(e.frame(t)["parts"]["pelvis"]) - before["pelvis"])
     assert pelvis < 0.01
+
+
+def test_a_finger_resting_on_empty_table_beside_a_moving_one_turns_nothing(make):
+    # two visitors, each with one finger on empty table: one rests, the other drags 0.2 m
+    e = make(view=(90.0, 15.0), physics=False)
+    for k in range(31):
+        e.step(k / 30, {1: (0.1, 0.7), 2: (1.1, 0.1 + 0.2 * k / 30)})
+    assert e.fingers[1].part is None and e.fingers[2].part is None
+    assert (e.camera.azimuth, e.camera.elevation) == (90.0, 15.0)
+    # ... and two fingers dragged apart (a pinch) turn nothing either
+    f = make(view=(90.0, 15.0), physics=False)
+    for k in range(31):
+        f.step(k / 30, {1: (0.3 - 0.1 * k / 30, 0.7), 2: (0.5 + 0.1 * k / 30, 0.7)})
+    assert (f.camera.azimuth, f.camera.elevation) == (90.0, 15.0)
+    # two fingers dragged together still turn it, by their motion
+    g = make(view=(90.0, 15.0), physics=False)
+    for k in range(31):
+        g.step(k / 30, {1: (0.1, 0.1 + 0.05 * k / 30), 2: (0.2, 0.1 + 0.05 * k / 30)})
+    assert g.camera.elevation == pytest.approx(15.0 - 0.05 * 300.0)
