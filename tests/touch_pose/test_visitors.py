@@ -48,3 +48,21 @@ def test_a_finger_resting_on_empty_table_beside_a_moving_one_turns_nothing(make)
     for k in range(31):
         g.step(k / 30, {1: (0.1, 0.1 + 0.05 * k / 30), 2: (0.2, 0.1 + 0.05 * k / 30)})
     assert g.camera.elevation == pytest.approx(15.0 - 0.05 * 300.0)
+
+
+def test_a_finger_on_overlapping_parts_takes_the_one_in_front(make):
+    # from the character's right side the feet are drawn 0.015 m apart: a finger between them,
+    # a little nearer the hidden left foot, takes the right foot, which it sees in front
+    e = make(view=(90.0, 15.0), physics=False)
+    p = {k: np.array(v) for k, v in e.describe()["parts"].items()}
+    assert np.linalg.norm(p["left_foot"] - p["right_foot"]) < 0.02
+    between = 0.45 * p["right_foot"] + 0.55 * p["left_foot"]
+    assert e.step(0.0, {1: tuple(between)})["touches"] == {"1": "right_foot"}
+    # from the left side, the left foot is in front
+    f = make(view=(270.0, 15.0), physics=False)
+    q = {k: np.array(v) for k, v in f.describe()["parts"].items()}
+    between = 0.55 * q["right_foot"] + 0.45 * q["left_foot"]
+    assert f.step(0.0, {1: tuple(between)})["touches"] == {"1": "left_foot"}
+    # a finger right on a part apart from the others still takes it
+    g = make(view=(90.0, 15.0), physics=False)
+    assert g.step(0.0, {2: tuple(p["left_hand"])})["touches"] == {"2": "left_hand"}
