@@ -117,6 +117,7 @@ class TouchPose:
         body = self.m.body
         self.body = body
         self.ccd = CCD(body)
+        self.table = (float(table[0]), float(table[1]))
         self.centre = np.array(table, dtype=float) / 2.0 if at is None else np.array(at, float)
         pts = body.points(self.m.stand)
         self.stand_height = float(pts[:, 1].max())
@@ -221,6 +222,7 @@ class TouchPose:
             self._posing(t)
         if self.mode == "action":
             self._action(dt)
+        self.target = self._on_table(self.target)
         self.track(dt)
         return self.frame(t) if record else None
 
@@ -291,6 +293,18 @@ class TouchPose:
             move = common_motion(np.array([free_now[i] - free_before[i] for i in both]))
             if np.any(move != 0.0):
                 self.turn(-move[0] * TURN_DEG_PER_M, -move[1] * TURN_DEG_PER_M)
+
+    def _on_table(self, pose: Pose) -> Pose:
+        """``pose`` moved sideways (along the screen's x, the horizontal ``camera.right``) just
+        enough that every drawn point lies within the table's x extent, if one is beyond it.
+        Actions travel (a punch steps 1.9 m, character metres) from wherever the character
+        stands: three punches in a row took the hand to x = 1.26 m on a 1.2 m table."""
+        x = self.camera.table(self._points(pose))[:, 0]
+        lo, hi = float(x.min()), float(x.max())
+        shift = -lo if lo < 0.0 else (self.table[0] - hi if hi > self.table[0] else 0.0)
+        if shift == 0.0 or hi - lo > self.table[0]:
+            return pose
+        return Pose(pose.root + self.camera.right * (shift / self.scale), pose.rots.copy())
 
     def _part_at(self, parts: np.ndarray, xy: np.ndarray) -> str | None:
         """The part a finger put down at ``xy`` (table metres) takes, of the projected ``parts``

@@ -66,3 +66,21 @@ def test_a_finger_on_overlapping_parts_takes_the_one_in_front(make):
     # a finger right on a part apart from the others still takes it
     g = make(view=(90.0, 15.0), physics=False)
     assert g.step(0.0, {2: tuple(p["left_hand"])})["touches"] == {"2": "left_hand"}
+
+
+def test_punches_in_a_row_keep_the_character_on_the_table(make, models):
+    # 0.4 m tall on a 1.2 x 0.8 m table (examples/touch_pose.yaml): each punch steps 1.9 m
+    # (character metres) from where the last left it; three took the hand to x = 1.26 m
+    e = make(view=(90.0, 15.0), physics=False, height=0.4)
+    xs, t0, punches = [], 0.0, 0
+    for _ in range(3):
+        step = e.step
+        e.step = lambda t, touches, record=True, _s=step, _t0=t0: _s(t + _t0, touches, record)
+        recs, _, _ = stroke_drag(e, models, "punch", pace=1.0, after=3.0)
+        e.step = step
+        t0 = recs[-1]["t"] + 1 / 30
+        punches += "punch" in {r["action"] for r in recs}
+        xs += [x for r in recs for x, _ in r["parts"].values()]
+    assert punches == 3
+    assert max(xs) > 1.15            # it did reach the edge ...
+    assert 0.0 <= min(xs) and max(xs) <= 1.2 + 0.015   # ... and stayed on (tracking's lag)
