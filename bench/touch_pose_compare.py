@@ -53,6 +53,10 @@ def load_older(source: str, into: Path):
         out = into / ALIAS / f.relative_to(tree / "behaviors")
         out.parent.mkdir(parents=True, exist_ok=True)
         out.write_text(re.sub(r"\bbehaviors\.", f"{ALIAS}.", f.read_text()))
+    # the older models module hashes its own sources by their paths beside the package
+    # (behaviors/...), which the renamed copy does not have: the original tree is linked there
+    if not (into / "behaviors").exists():
+        (into / "behaviors").symlink_to((tree / "behaviors").resolve(), target_is_directory=True)
     sys.path.insert(0, str(into))
     return __import__(f"{ALIAS}.touch_pose.engine", fromlist=["TouchPose"])
 
