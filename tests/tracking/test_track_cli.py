@@ -168,3 +168,36 @@ def test_a_script_reading_stderr_gets_the_error_line_alone(scene, tmp_path):
     assert r.returncode == 2
     assert r.stderr.splitlines() == [f"tabletop track: error: {sorted(broken.iterdir())[1]}: "
                                      "not an image OpenCV can read"], r.stderr
+
+
+def test_a_folder_in_name_order_at_its_fps_and_no_config_unless_given(scene, tmp_path):
+    """As outside scripts call it (a process): a folder's images are taken in name order
+    (whatever order they were written in), ``t`` is frame index / ``--fps``, and ``track``
+    reads no configuration unless ``--config`` is given, not even a config.yaml where it runs
+    (that one would map marker 0 to puck 40)."""
+    import shutil
+    folder, _, truth = scene
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    sources = sorted(folder.iterdir())[:6]
+    for k in reversed(range(6)):               # written last to first
+        shutil.copy(sources[k], frames / f"view-{k:02d}.png")
+    (tmp_path / "config.yaml").write_text(
+        "sources:\n  - kind: scripted\ntracking:\n  puck_ids: {'0': 40}\n")
+    out = tmp_path / "poses.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(frames), "--out",
+                        str(out), "--fps", "12.5"], capture_output=True, text=True,
+                       timeout=120, cwd=tmp_path)
+    assert r.returncode == 0 and r.stderr == "" and r.stdout == "", r.stderr
+    lines = _read(out)
+    assert [ln["frame"] for ln in lines] == list(range(6))
+    assert [ln["t"] for ln in lines] == pytest.approx([k / 12.5 for k in range(6)], abs=1e-9)
+    for ln, f in zip(lines, truth):
+        assert set(ln) == {"frame", "t", "pucks"}
+        by_id = {p["id"]: p for p in ln["pucks"]}
+        assert set(by_id) == {int(i) for i, v in zip(f.ids, f.visible) if v}   # no puck 40
+        for i, pid in enumerate(f.ids):
+            if f.visible[i]:
+                p = by_id[int(pid)]
+                assert set(p) == {"id", "x", "y", "angle", "state"} and p["state"] == "seen"
+                assert math.hypot(p["x"] - f.centres[i, 0], p["y"] - f.centres[i, 1]) <= 1.5
