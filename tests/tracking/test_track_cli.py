@@ -201,3 +201,46 @@ def test_a_folder_in_name_order_at_its_fps_and_no_config_unless_given(scene, tmp
                 p = by_id[int(pid)]
                 assert set(p) == {"id", "x", "y", "angle", "state"} and p["state"] == "seen"
                 assert math.hypot(p["x"] - f.centres[i, 0], p["y"] - f.centres[i, 1]) <= 1.5
+
+
+def test_ctrl_c_mid_file_exits_130_with_one_line_and_leaves_no_output(scene, tmp_path):
+    """README: exit status 130 when interrupted, one line, never a traceback; the output is
+    written atomically, so an interrupted run leaves no POSES.jsonl at all. stderr is a
+    pseudo-terminal, so the progress bar says when frames are being tracked."""
+    import os
+    import select
+    import signal
+    folder, _, _ = scene
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    first = sorted(folder.iterdir())[0]
+    for k in range(2000):                      # far more than are tracked before the Ctrl-C
+        (frames / f"f{k:05d}.png").symlink_to(first)
+    out = tmp_path / "poses.jsonl"
+    master, slave = os.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "track", str(frames), "--out",
+                             str(out)], stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    seen = b""
+    try:
+        while b"frames" not in seen:           # the bar: "track [###   ] k/2000 frames"
+            ready, _, _ = select.select([master], [], [], 120)
+            assert ready, seen
+            seen += os.read(master, 4096)
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=120) == 130
+        while select.select([master], [], [], 1)[0]:
+            try:
+                chunk = os.read(master, 4096)
+            except OSError:                    # the terminal closed with the process
+                break
+            if not chunk:
+                break
+            seen += chunk
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        os.close(master)
+    lines = [ln for ln in seen.decode().replace("\r", "\n").splitlines() if ln.strip()]
+    assert lines[-1] == "tabletop track: interrupted" and b"Traceback" not in seen, seen
+    assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
