@@ -291,3 +291,41 @@ def test_images_are_png_files_and_steps_are_named(tmp_path, capsys):
     line = refused(capsys, "table", "--image", tmp_path / "none.png", *markers,
                    "--out", tmp_path / "config.yaml", words="config.yaml: table: unknown key")
     assert line.startswith("tabletop calibrate table: error:") and "image not found" not in line
+
+
+@pytest.mark.parametrize("spec, dpi", [(None, "300"), ("9x6:25:18:DICT_6X6_250", "100")])
+def test_the_printed_board_is_opencvs_current_charuco_board(tmp_path, spec, dpi):
+    """DESIGN: ``--board COLSxROWS:SQUARE_MM:MARKER_MM:DICTIONARY`` (default
+    7x5:40:30:DICT_5X5_100) is OpenCV's ``CharucoBoard((COLS, ROWS), square, marker,
+    dictionary)``, current pattern: an outside script's plain OpenCV board, made from the spec
+    alone, finds every inner corner of the PNG (as a process writes it) where the printed
+    squares put it, and a legacy board (which differs for an even number of rows) does not."""
+    import subprocess
+    import sys
+    out = tmp_path / "board.png"
+    args = ["--board", spec] if spec else []
+    r = subprocess.run([sys.executable, "-m", "tabletop", "calibrate", "board", "--out", str(out),
+                        "--dpi", dpi, *args], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    size, square, marker, name = (spec or "7x5:40:30:DICT_5X5_100").split(":")
+    cols, rows = map(int, size.split("x"))
+    img = cv2.imread(str(out), cv2.IMREAD_GRAYSCALE)
+    dictionary = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, name))
+    found = {}
+    for legacy in (False, True):
+        board = cv2.aruco.CharucoBoard((cols, rows), float(square) / 1e3, float(marker) / 1e3,
+                                       dictionary)
+        board.setLegacyPattern(legacy)
+        corners, ids, _, _ = cv2.aruco.CharucoDetector(board).detectBoard(img)
+        found[legacy] = (corners, ids)
+    corners, ids = found[False]
+    n = (cols - 1) * (rows - 1)
+    assert ids is not None and sorted(ids.ravel().tolist()) == list(range(n))
+    if rows % 2 == 0:
+        assert found[True][1] is None or len(found[True][1]) < n / 2
+    px = float(square) / 25.4 * float(dpi)                 # one square in pixels
+    h, w = img.shape
+    x0, y0 = (w - cols * px) / 2, (h - rows * px) / 2        # the board inside its margin
+    for k, c in zip(ids.ravel(), corners.reshape(-1, 2)):
+        expect = (x0 + (k % (cols - 1) + 1) * px, y0 + (k // (cols - 1) + 1) * px)
+        assert np.hypot(*(c - expect)) <= 2.0, (k, c, expect)   # 2% of a square at 100 dpi
