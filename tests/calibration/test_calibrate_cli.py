@@ -329,3 +329,33 @@ def test_the_printed_board_is_opencvs_current_charuco_board(tmp_path, spec, dpi)
     for k, c in zip(ids.ravel(), corners.reshape(-1, 2)):
         expect = (x0 + (k % (cols - 1) + 1) * px, y0 + (k // (cols - 1) + 1) * px)
         assert np.hypot(*(c - expect)) <= 2.0, (k, c, expect)   # 2% of a square at 100 dpi
+
+
+def test_table_takes_the_lens_from_another_file_with_calibration(tmp_path, capsys, rig):
+    """DESIGN: ``table`` undistorts the pixels with the intrinsics of ``--calibration`` when it
+    is given (else of the existing CALIB.yaml): a new file fitted with a lens kept elsewhere
+    carries that lens and maps within a millimetre; without any lens the same markers fit
+    pixels as they are, and the rig's distortion shows."""
+    cam = rig.camera
+    save_calibration(tmp_path / "lens.yaml", lens_only(rig))
+    rig.pucks = marker_layout(cam.s.table)
+    rig.show(None)
+    cv2.imwrite(str(tmp_path / "markers.png"), rig.grab())
+    markers = [a for i, x, y, _ in rig.pucks for a in ("--marker", f"{i}={x},{y}")]
+    grid = table_grid(cam.s.table, 13, 9)
+    out = tmp_path / "new.yaml"
+    code, stdout, err = run(capsys, "table", "--image", tmp_path / "markers.png", "--out", out,
+                            "--calibration", tmp_path / "lens.yaml", *markers)
+    assert code == 0, err
+    assert "no lens calibration" not in stdout and not (tmp_path / "new.yaml.bak").exists()
+    cal = load_calibration(out)
+    assert np.allclose(cal.camera_matrix, cam.K)
+    assert np.linalg.norm(cal.image_to_table(cam.project(grid)) - grid, axis=1).max() <= 0.001
+    bare = tmp_path / "bare.yaml"
+    code, stdout, _ = run(capsys, "table", "--image", tmp_path / "markers.png", "--out", bare,
+                          *markers, "--force")
+    assert code == 0 and "no lens calibration" in stdout
+    off = np.linalg.norm(load_calibration(bare).image_to_table(cam.project(grid)) - grid, axis=1)
+    assert off.max() > 0.002
+    refused(capsys, "table", "--image", tmp_path / "markers.png", "--out", out,
+            "--calibration", tmp_path / "absent.yaml", *markers, words="absent.yaml")
