@@ -167,8 +167,10 @@ class Progress:
         self._last = now
         frac = min(done / max(self.total or 1, 1), 1.0)
         bar = "#" * int(frac * 30)
-        sys.stderr.write(f"\rtrack [{bar:<30}] {done}/{self.total} frames")
+        # open before the write: a Ctrl-C landing just after it (a signal is handled between
+        # two statements) left the bar unended, and "interrupted" was glued to it
         self._open = True
+        sys.stderr.write(f"\rtrack [{bar:<30}] {done}/{self.total} frames")
         if force:
             self.end()
         sys.stderr.flush()
