@@ -244,3 +244,30 @@ def test_ctrl_c_mid_file_exits_130_with_one_line_and_leaves_no_output(scene, tmp
     lines = [ln for ln in seen.decode().replace("\r", "\n").splitlines() if ln.strip()]
     assert lines[-1] == "tabletop track: interrupted" and b"Traceback" not in seen, seen
     assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_a_cut_short_video_is_one_line_and_writes_nothing(scene, tmp_path):
+    """DESIGN: every frame of a file is processed, and bad input is one clear line. A video cut
+    in half (a copy that did not finish) wrote the lines of the frames before the cut, said
+    nothing, exited 0, and FFmpeg's own "[mjpeg @ 0x...] overread" came on stderr: now it is
+    refused as a folder with an unreadable image is, in one line of ours, as a process."""
+    folder, _, truth = scene
+    video = tmp_path / "clip.avi"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 25.0, (1280, 720))
+    for f in truth[:12]:
+        writer.write(cv2.cvtColor(f.image, cv2.COLOR_GRAY2BGR))
+    writer.release()
+    data = video.read_bytes()
+    cut = tmp_path / "cut.avi"
+    cut.write_bytes(data[:len(data) // 2])
+    out = tmp_path / "poses.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(cut), "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2
+    (line,) = r.stderr.splitlines()
+    assert line.startswith(f"tabletop track: error: {cut}: frame ") and "declares 12" in line
+    assert not out.exists()
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(video), "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    assert len(out.read_text().splitlines()) == 12
