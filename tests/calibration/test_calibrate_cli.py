@@ -359,3 +359,21 @@ def test_table_takes_the_lens_from_another_file_with_calibration(tmp_path, capsy
     assert off.max() > 0.002
     refused(capsys, "table", "--image", tmp_path / "markers.png", "--out", out,
             "--calibration", tmp_path / "absent.yaml", *markers, words="absent.yaml")
+
+
+def test_camera_takes_the_views_in_name_order_png_and_jpeg(tmp_path, capsys, views):
+    """DESIGN: ``camera`` reads every PNG/JPEG in DIR in name order (whatever order they were
+    written in, whatever the case of the suffix) and prints each view's error: the printed
+    views are the folder's images in name order."""
+    _, _, imgs = views
+    folder = tmp_path / "mixed"
+    folder.mkdir()
+    names = [f"{k:02d}-view.{('png', 'JPG', 'jpeg')[k % 3]}" for k in range(len(imgs))]
+    for k in reversed(range(len(imgs))):        # written last to first
+        cv2.imwrite(str(folder / names[k]), imgs[k], [cv2.IMWRITE_JPEG_QUALITY, 98])
+    (folder / "notes.txt").write_text("not a view")
+    code, out, err = run(capsys, "camera", "--images", folder, "--out", tmp_path / "c.yaml")
+    assert code == 0, err
+    printed = [ln.split(":")[0].strip() for ln in out.splitlines()
+               if ln.startswith("  ") and ln.rstrip().endswith(" px")]
+    assert printed == sorted(names)
