@@ -15,7 +15,6 @@ import sys
 from typing import Sequence
 
 from tabletop import __version__
-from tabletop.frames import InputError
 
 COMMANDS = ("run", "track", "behave", "follow", "pose", "calibrate", "replay", "status",
             "review")
@@ -91,6 +90,23 @@ def command_parser(parser: argparse.ArgumentParser,
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line (``argv``: the arguments, default ``sys.argv[1:]``); returns the
+    exit status. A Ctrl-C at any point is one line and status 130, also while the commands'
+    modules are still being imported (numpy, OpenCV: the first fraction of a second of every
+    command, which printed a KeyboardInterrupt traceback), which is why this module imports
+    nothing of the project's but the package itself at its top."""
+    words = list(sys.argv[1:] if argv is None else argv)
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        command = f" {words[0]}" if words and words[0] in COMMANDS else ""
+        print(f"tabletop{command}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _main(argv: Sequence[str] | None) -> int:
+    from tabletop.frames import InputError  # (numpy: here, where a Ctrl-C is caught)
+
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     # OpenCV's own "[ WARN:0@...]" lines (a missing camera, a video back-end probing) are not for
     # the user: every failure is reported as one clear line of ours instead.

@@ -31,6 +31,7 @@ PROFILES = ("2Dobj", "2Dcur", "2Dblb")
 ADDRESSES = {f"/tuio/{p}": p for p in PROFILES}
 SET_ARGS = {"2Dobj": 10, "2Dcur": 6, "2Dblb": 12}  # s i x y a X Y A m r | s x y X Y m | s x y a w h f X Y A m r
 LATE_GAP = 100            # a larger backwards jump of fseq is a restarted sender
+MAX_FSEQ = 2**31 - 1      # fseq is an int32: a sender counts 1 .. MAX_FSEQ, then from 1 again
 MAX_ALIVE = 1024          # live entities per sender and profile
 MAX_COORD = 100.0         # |x|, |y| beyond this (in TUIO units) is refused
 MAX_SPEED = 1e6           # |X|, |Y| (TUIO units/s) and |A| (turns/s) beyond this are refused:

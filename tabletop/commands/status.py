@@ -116,12 +116,12 @@ def main(args: argparse.Namespace) -> int:
             print(f"{shown_host_port(*client[:2])}: bad heartbeat ({wrong})", file=sys.stderr)
             return
         name, uptime, fps, unhealthy, status = values
+        shown.append(True)   # before its line: a Ctrl-C just after the line exited 1
         if args.json:  # one line of strict JSON, whatever white space the sender used
             print(json.dumps(st, separators=(",", ":")), flush=True)
         else:
             print(format_heartbeat(shown_host_port(*client[:2]), str(name), float(uptime),
                                    float(fps), int(unhealthy), str(status)), flush=True)
-        shown.append(True)
 
     d = Dispatcher()
     d.map(HEARTBEAT_ADDRESS, on_heartbeat, needs_reply_address=True)
@@ -130,14 +130,20 @@ def main(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise InputError(f"cannot listen on {shown_host_port(host, port)}: "
                          f"{exc.strerror or exc}") from None
-    if seconds is not None:
-        threading.Timer(seconds, server.shutdown).start()
+    timer = None
+    if seconds is not None:   # a daemon, cancelled on Ctrl-C: it kept the process for the rest
+        # of --seconds after a Ctrl-C, and a second Ctrl-C printed a traceback from threading
+        timer = threading.Timer(seconds, server.shutdown)
+        timer.daemon = True
+        timer.start()
     start = time.monotonic()
     try:
         server.serve_forever(poll_interval=0.1)
     except KeyboardInterrupt:
         pass
     finally:
+        if timer is not None:
+            timer.cancel()
         server.server_close()
     if not came:   # silence alone does not tell a quiet gallery from a wrong address
         print(f"tabletop status: no heartbeat came to {shown_host_port(host, port)} in "

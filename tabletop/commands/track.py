@@ -132,14 +132,24 @@ class FrameReader:
                     raise TrackInputError(f"{p}: not an image OpenCV can read")
                 yield img
             return
-        first = True
+        from tabletop.quiet import quiet_stderr
+        read = 0
         while True:
-            ok, img = self.capture.read()
+            if self.is_camera:
+                ok, img = self.capture.read()
+            else:   # FFmpeg's own complaints about a damaged file ("[mjpeg @ 0x..] overread")
+                with quiet_stderr():
+                    ok, img = self.capture.read()
             if not ok or img is None:
-                if first and not self.is_camera:
+                if read == 0 and not self.is_camera:
                     raise TrackInputError(f"{self.spec}: the video has no readable frames")
+                if self.total is not None and read < self.total:
+                    # as a folder's unreadable image is: every frame of a file is processed,
+                    # and a cut-short video wrote fewer lines than it has frames, saying nothing
+                    raise TrackInputError(f"{self.spec}: frame {read} cannot be read; the video "
+                                          f"declares {self.total} frames (damaged or cut short)")
                 return
-            first = False
+            read += 1
             yield cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.ndim == 3 else img
 
     def close(self) -> None:
@@ -167,8 +177,10 @@ class Progress:
         self._last = now
         frac = min(done / max(self.total or 1, 1), 1.0)
         bar = "#" * int(frac * 30)
-        sys.stderr.write(f"\rtrack [{bar:<30}] {done}/{self.total} frames")
+        # open before the write: a Ctrl-C landing just after it (a signal is handled between
+        # two statements) left the bar unended, and "interrupted" was glued to it
         self._open = True
+        sys.stderr.write(f"\rtrack [{bar:<30}] {done}/{self.total} frames")
         if force:
             self.end()
         sys.stderr.flush()

@@ -4,12 +4,14 @@ Every frame, one ``/tuio/2Dobj`` bundle (source ``tabletop@HOSTNAME``, alive, a 
 (class id = puck id) and per listed character (class id from ``characters``), fseq) and one
 ``/tuio/2Dcur`` bundle for the touches; a bundle over 4096 bytes is split, each part with its
 own alive and fseq, as reference servers do. With ``changes_only`` a set is sent only for an
-entity that changed, as the reference server does, plus the full state every ``full_every_s``. Positions go through
-the inverse of the ``osc`` source's mapping (:func:`tracking.tuio.from_table`). Session ids are
-stable while a thing stays and never reused. Sending never blocks the loop (a host name is
-looked up in the background, :mod:`tabletop.resolve`); a failed send is counted and logged at a
-limited rate. ``sent`` counts the bundles handed to the network, ``unresolved`` those dropped
-while the host name was not known.
+entity that changed, as the reference server does, plus the full state every ``full_every_s``.
+Positions go through the inverse of the ``osc`` source's mapping
+(:func:`tracking.tuio.from_table`). Session ids are stable while a thing stays and never reused;
+fseq rises by one a frame and, an int32, starts again at 1 after 2**31 - 1 (receivers take the
+jump back for a restarted sender). Sending never blocks the loop (a host name is looked up in
+the background, :mod:`tabletop.resolve`); a failed send is counted and logged at a limited
+rate. ``sent`` counts the bundles handed to the network, ``unresolved`` those dropped while the
+host name was not known.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from tabletop.registry import BuildContext
 from tabletop.resolve import Destination
 from tabletop.schema import Bool, Context, MapOf, Number, Optional_, Record, Str
 from tracking.badinput import BadInput
-from tracking.tuio import MAX_SOURCE, from_table, profile_bundles, set_args
+from tracking.tuio import MAX_FSEQ, MAX_SOURCE, from_table, profile_bundles, set_args
 
 log = logging.getLogger("tabletop.tuio")
 # a listed character no frame has shown for this long is named once in the log (a typo in
@@ -112,7 +114,9 @@ class TuioSink:
 
     def bundles(self, frame: Frame) -> list[bytes]:
         """The bundles of one frame (pure apart from session ids, fseq and change tracking)."""
-        self.fseq += 1
+        # an int32 on the wire: after MAX_FSEQ frames (414 days at 60 Hz) it starts again at
+        # 1, a backwards jump receivers take for a restarted sender (it raised every frame)
+        self.fseq = self.fseq % MAX_FSEQ + 1
         full = not self.changes_only or frame.t - self._full_t >= self.full_every_s
         if full:
             self._full_t = frame.t

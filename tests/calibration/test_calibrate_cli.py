@@ -291,3 +291,89 @@ def test_images_are_png_files_and_steps_are_named(tmp_path, capsys):
     line = refused(capsys, "table", "--image", tmp_path / "none.png", *markers,
                    "--out", tmp_path / "config.yaml", words="config.yaml: table: unknown key")
     assert line.startswith("tabletop calibrate table: error:") and "image not found" not in line
+
+
+@pytest.mark.parametrize("spec, dpi", [(None, "300"), ("9x6:25:18:DICT_6X6_250", "100")])
+def test_the_printed_board_is_opencvs_current_charuco_board(tmp_path, spec, dpi):
+    """DESIGN: ``--board COLSxROWS:SQUARE_MM:MARKER_MM:DICTIONARY`` (default
+    7x5:40:30:DICT_5X5_100) is OpenCV's ``CharucoBoard((COLS, ROWS), square, marker,
+    dictionary)``, current pattern: an outside script's plain OpenCV board, made from the spec
+    alone, finds every inner corner of the PNG (as a process writes it) where the printed
+    squares put it, and a legacy board (which differs for an even number of rows) does not."""
+    import subprocess
+    import sys
+    out = tmp_path / "board.png"
+    args = ["--board", spec] if spec else []
+    r = subprocess.run([sys.executable, "-m", "tabletop", "calibrate", "board", "--out", str(out),
+                        "--dpi", dpi, *args], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    size, square, marker, name = (spec or "7x5:40:30:DICT_5X5_100").split(":")
+    cols, rows = map(int, size.split("x"))
+    img = cv2.imread(str(out), cv2.IMREAD_GRAYSCALE)
+    dictionary = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, name))
+    found = {}
+    for legacy in (False, True):
+        board = cv2.aruco.CharucoBoard((cols, rows), float(square) / 1e3, float(marker) / 1e3,
+                                       dictionary)
+        board.setLegacyPattern(legacy)
+        corners, ids, _, _ = cv2.aruco.CharucoDetector(board).detectBoard(img)
+        found[legacy] = (corners, ids)
+    corners, ids = found[False]
+    n = (cols - 1) * (rows - 1)
+    assert ids is not None and sorted(ids.ravel().tolist()) == list(range(n))
+    if rows % 2 == 0:
+        assert found[True][1] is None or len(found[True][1]) < n / 2
+    px = float(square) / 25.4 * float(dpi)                 # one square in pixels
+    h, w = img.shape
+    x0, y0 = (w - cols * px) / 2, (h - rows * px) / 2        # the board inside its margin
+    for k, c in zip(ids.ravel(), corners.reshape(-1, 2)):
+        expect = (x0 + (k % (cols - 1) + 1) * px, y0 + (k // (cols - 1) + 1) * px)
+        assert np.hypot(*(c - expect)) <= 2.0, (k, c, expect)   # 2% of a square at 100 dpi
+
+
+def test_table_takes_the_lens_from_another_file_with_calibration(tmp_path, capsys, rig):
+    """DESIGN: ``table`` undistorts the pixels with the intrinsics of ``--calibration`` when it
+    is given (else of the existing CALIB.yaml): a new file fitted with a lens kept elsewhere
+    carries that lens and maps within a millimetre; without any lens the same markers fit
+    pixels as they are, and the rig's distortion shows."""
+    cam = rig.camera
+    save_calibration(tmp_path / "lens.yaml", lens_only(rig))
+    rig.pucks = marker_layout(cam.s.table)
+    rig.show(None)
+    cv2.imwrite(str(tmp_path / "markers.png"), rig.grab())
+    markers = [a for i, x, y, _ in rig.pucks for a in ("--marker", f"{i}={x},{y}")]
+    grid = table_grid(cam.s.table, 13, 9)
+    out = tmp_path / "new.yaml"
+    code, stdout, err = run(capsys, "table", "--image", tmp_path / "markers.png", "--out", out,
+                            "--calibration", tmp_path / "lens.yaml", *markers)
+    assert code == 0, err
+    assert "no lens calibration" not in stdout and not (tmp_path / "new.yaml.bak").exists()
+    cal = load_calibration(out)
+    assert np.allclose(cal.camera_matrix, cam.K)
+    assert np.linalg.norm(cal.image_to_table(cam.project(grid)) - grid, axis=1).max() <= 0.001
+    bare = tmp_path / "bare.yaml"
+    code, stdout, _ = run(capsys, "table", "--image", tmp_path / "markers.png", "--out", bare,
+                          *markers, "--force")
+    assert code == 0 and "no lens calibration" in stdout
+    off = np.linalg.norm(load_calibration(bare).image_to_table(cam.project(grid)) - grid, axis=1)
+    assert off.max() > 0.002
+    refused(capsys, "table", "--image", tmp_path / "markers.png", "--out", out,
+            "--calibration", tmp_path / "absent.yaml", *markers, words="absent.yaml")
+
+
+def test_camera_takes_the_views_in_name_order_png_and_jpeg(tmp_path, capsys, views):
+    """DESIGN: ``camera`` reads every PNG/JPEG in DIR in name order (whatever order they were
+    written in, whatever the case of the suffix) and prints each view's error: the printed
+    views are the folder's images in name order."""
+    _, _, imgs = views
+    folder = tmp_path / "mixed"
+    folder.mkdir()
+    names = [f"{k:02d}-view.{('png', 'JPG', 'jpeg')[k % 3]}" for k in range(len(imgs))]
+    for k in reversed(range(len(imgs))):        # written last to first
+        cv2.imwrite(str(folder / names[k]), imgs[k], [cv2.IMWRITE_JPEG_QUALITY, 98])
+    (folder / "notes.txt").write_text("not a view")
+    code, out, err = run(capsys, "camera", "--images", folder, "--out", tmp_path / "c.yaml")
+    assert code == 0, err
+    printed = [ln.split(":")[0].strip() for ln in out.splitlines()
+               if ln.startswith("  ") and ln.rstrip().endswith(" px")]
+    assert printed == sorted(names)

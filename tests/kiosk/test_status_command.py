@@ -163,3 +163,30 @@ def test_status_json_prints_only_json_objects(tmp_path, capsys):
     lines = captured.out.splitlines()
     assert out["rc"] == 0 and [json.loads(x) for x in lines] == [{"mode": "live"}], lines
     assert captured.err.count("bad heartbeat (status is not a JSON object)") == 3, captured.err
+
+
+def test_ctrl_c_ends_a_timed_status_at_once():
+    """``status HOST:PORT --seconds 120`` stopped with Ctrl-C after a heartbeat: it ends at once
+    with the heartbeat's line and status 0, no traceback. The --seconds timer (not a daemon)
+    kept the process for the rest of the 120 s, and a second Ctrl-C printed a traceback from
+    threading's shutdown."""
+    import signal
+    import subprocess
+    import sys
+    port = free_udp_port()
+    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
+                             "--seconds", "120"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        assert wait_for(lambda: port_taken(port), 60.0)
+        hb = Heartbeat("127.0.0.1", port)
+        hb.send("north", 12.5, 59.8, 0, json.dumps({"mode": "live"}))
+        hb.close()
+        first = proc.stdout.readline()       # the line of that heartbeat: it was served
+        assert first.startswith("north"), first
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=60)   # (the bug held it for the rest of 120 s)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0 and out == "" and err == "", err

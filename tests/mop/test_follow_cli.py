@@ -162,3 +162,24 @@ def test_every_invariance_follows_a_file_whose_columns_are_reordered(files, inva
     assert len(rows) == len(truth)
     assert all(math.isfinite(float(r["progress"])) for r in rows)
     assert sum(r["valid"] == "1" and r["best"] == "circle" for r in rows) > len(rows) // 2
+
+
+@pytest.mark.parametrize("far", [1e9, 1e-9])
+def test_a_performance_that_matches_nothing_gives_finite_rows_and_valid_0(files, far):
+    """DESIGN: ``best`` is always a template name and every value is finite, also while
+    nothing matches (a performance a billion template spreads away, or one standing still at
+    a point no template passes), ``p_NAME`` sums to 1 and ``valid`` is 0. As a process."""
+    d, _ = files
+    rng = np.random.default_rng(3)
+    _write(d / "perf.csv", ["a", "b", "c"],
+           far * (1.0 + 0.01 * rng.standard_normal((60, 3))) + (0 if far > 1 else 7.0))
+    r = subprocess.run([sys.executable, "-m", "tabletop", *_args(d)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    _, rows = _read(d / "out.csv")
+    assert len(rows) == 60
+    for row in rows:
+        assert row["best"] in ("wave", "circle") and row["valid"] == "0"
+        assert all(math.isfinite(float(v)) for k, v in row.items() if k != "best")
+        assert float(row["p_wave"]) + float(row["p_circle"]) == pytest.approx(1.0)
+        assert 0.0 <= float(row["progress"]) <= 1.0

@@ -118,6 +118,40 @@ def test_lines_through_a_pty_become_pucks_touches_and_streams():
         assert dict(inputs.next(3, 0.0).streams) == {}
 
 
+def test_what_is_not_repeated_for_timeout_s_leaves_the_bus_and_what_is_repeated_stays():
+    """DESIGN: a puck or touch not repeated for ``timeout_s`` leaves the bus. It leaves, not
+    coasts (the tracker here would coast a lost puck for 30 s), and a touch leaves without a
+    ``lift``; a puck and a touch repeated all along stay past ``timeout_s``."""
+    import time
+    master, slave, name = open_pty()
+    src = SerialInput("mcu", name, timeout_s=0.3)
+    inputs = LiveInputs([src], Tracker(TrackerSettings(smooth=False, coast_s=30.0)))
+    src.open()
+    try:
+        assert wait_for(lambda: src.health().ok, 5.0)
+        os.write(master, b"puck 4 0.5 0.25 1.0\ntouch 2 0.1 0.2\n")
+        start, seq, frames = time.monotonic(), 0, []
+        while time.monotonic() - start < 10.0:
+            os.write(master, b"puck 5 0.9 0.5 0\r\ntouch 6 0.3 0.3\r\n")
+            time.sleep(0.03)
+            f = inputs.next(seq, 0.0)
+            seq += 1
+            frames.append(f)
+            if time.monotonic() - start > 1.0 and 4 not in {p.id for p in f.pucks} \
+                    and 2 not in {c.id for c in f.touches}:
+                break
+        assert any(4 in {p.id for p in f.pucks} for f in frames)
+        assert any(2 in {c.id for c in f.touches} for f in frames)
+        last = frames[-1]
+        assert [p.id for p in last.pucks] == [5] and [c.id for c in last.touches] == [6]
+        assert all(p.state == "seen" for f in frames for p in f.pucks)   # never coasting
+        assert src.bad.counts() == {}
+    finally:
+        src.close()
+        os.close(master)
+        os.close(slave)
+
+
 def test_huge_puck_angles_through_a_pty_leave_the_tracker_running():
     """An angle is any finite number of radians: 1e308 and then -1e308 (a board sending
     garbage that parses) are wrapped, not an infinite turn that stopped the installation."""

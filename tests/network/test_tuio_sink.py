@@ -115,6 +115,35 @@ def test_a_large_frame_is_split_into_bundles_under_4096_bytes_and_read_back(rece
         sink.close()
 
 
+def test_fseq_passes_the_int32_limit_and_a_receiver_follows_on(receiver):
+    """fseq is an int32 rising every frame: after 2**31 - 1 frames (414 days at 60 Hz) the
+    sink starts again at 1, which an ``osc`` source takes for a restarted sender. It raised
+    struct.error on every frame from then on, and nothing was sent."""
+    src = OscInput("osc", port=0, table=TABLE)
+    src.open()
+    assert src.wait_listening()
+    sink = TuioSink("tuio", ("127.0.0.1", src.bound_port), TABLE)
+    probe = TuioSink("probe", ("127.0.0.1", receiver.port), TABLE)
+    sink.fseq = probe.fseq = 2**31 - 3
+    try:
+        for k in range(5):              # fseq 2**31 - 2, 2**31 - 1, 1, 2, 3
+            x = 0.1 + 0.2 * k
+            f = frame(k, 1.0 + k / 60, [Puck(4, x, 0.4, 0.0)], [Touch(2, x, 0.3)])
+            sink.consume(f)
+            probe.consume(f)
+            assert wait_for(lambda: src.packets == 2 * (k + 1), 5.0)
+            (p,) = src.latest().pucks   # each frame commits, none dropped as late
+            assert p.x == pytest.approx(x, abs=1e-6)
+        assert wait_for(lambda: len(receiver.packets) == 10, 5.0)
+        fseqs = [by_command(pk)["fseq"][0][1][0] for pk in receiver.packets]
+        assert fseqs == [f for f in (2**31 - 2, 2**31 - 1, 1, 2, 3) for _ in range(2)]
+        assert src.bad.counts() == {} and sink.sent == 10
+    finally:
+        src.close()
+        sink.close()
+        probe.close()
+
+
 def test_a_receiver_that_is_not_there_costs_nothing(caplog):
     sink = TuioSink("tuio", ("127.0.0.1", 9), TABLE)       # discard port, nobody listening
     for k in range(50):

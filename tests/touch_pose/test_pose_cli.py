@@ -103,3 +103,33 @@ def test_a_recorded_quick_punch_is_replayed_as_a_punch(tmp_path, models):
     assert acts and {r["action"] for r in acts} == {"punch"}
     assert all(r["action_time"] is not None for r in acts)
     assert recs[-1]["mode"] == "posing"  # finished after the finger lifted, back to posing
+
+
+def test_the_output_lines_as_a_process_writes_them(tmp_path):
+    """As outside scripts call it (a process): one line per step at ``--rate`` from the first
+    input time to the last + 2 s on the input's own time base, every contract key with its
+    type (``action`` and ``action_time`` null while posing), the six named parts as [x, y]
+    table metres around the character standing at the centre of the default 1.2 x 0.8 table,
+    joints as [x, y, z], touches keyed by the finger id as a string."""
+    import subprocess
+    import sys
+    touches = _write(tmp_path / "touches.csv", [(5.0, 1, 0.05, 0.05), (5.5, 1, 0.06, 0.05)])
+    out = tmp_path / "poses.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "pose", "--input", str(touches),
+                        "--out", str(out), "--rate", "10"], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0 and r.stdout == "" and r.stderr == "", r.stderr
+    recs = [json.loads(line) for line in out.read_text().splitlines()]
+    assert [x["t"] for x in recs] == pytest.approx([5.0 + k / 10 for k in range(26)], abs=1e-9)
+    for x in recs:
+        assert list(x) == ["t", "mode", "action", "action_time", "parts", "joints", "touches"]
+        assert x["mode"] == "posing" and x["action"] is None and x["action_time"] is None
+        assert {"head", "pelvis", "left_hand", "right_hand", "left_foot",
+                "right_foot"} <= set(x["parts"])
+        assert all(len(v) == 2 for v in x["parts"].values())
+        assert all(len(v) == 3 for v in x["joints"].values())
+    assert recs[0]["touches"] == {"1": None} and recs[-1]["touches"] == {}   # off the body
+    parts = np.array(list(recs[0]["parts"].values()))
+    centre = (parts.min(axis=0) + parts.max(axis=0)) / 2
+    assert centre == pytest.approx((0.6, 0.4), abs=0.03)
+    assert parts[:, 1].max() - parts[:, 1].min() == pytest.approx(0.3, rel=0.25)

@@ -168,3 +168,106 @@ def test_a_script_reading_stderr_gets_the_error_line_alone(scene, tmp_path):
     assert r.returncode == 2
     assert r.stderr.splitlines() == [f"tabletop track: error: {sorted(broken.iterdir())[1]}: "
                                      "not an image OpenCV can read"], r.stderr
+
+
+def test_a_folder_in_name_order_at_its_fps_and_no_config_unless_given(scene, tmp_path):
+    """As outside scripts call it (a process): a folder's images are taken in name order
+    (whatever order they were written in), ``t`` is frame index / ``--fps``, and ``track``
+    reads no configuration unless ``--config`` is given, not even a config.yaml where it runs
+    (that one would map marker 0 to puck 40)."""
+    import shutil
+    folder, _, truth = scene
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    sources = sorted(folder.iterdir())[:6]
+    for k in reversed(range(6)):               # written last to first
+        shutil.copy(sources[k], frames / f"view-{k:02d}.png")
+    (tmp_path / "config.yaml").write_text(
+        "sources:\n  - kind: scripted\ntracking:\n  puck_ids: {'0': 40}\n")
+    out = tmp_path / "poses.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(frames), "--out",
+                        str(out), "--fps", "12.5"], capture_output=True, text=True,
+                       timeout=120, cwd=tmp_path)
+    assert r.returncode == 0 and r.stderr == "" and r.stdout == "", r.stderr
+    lines = _read(out)
+    assert [ln["frame"] for ln in lines] == list(range(6))
+    assert [ln["t"] for ln in lines] == pytest.approx([k / 12.5 for k in range(6)], abs=1e-9)
+    for ln, f in zip(lines, truth):
+        assert set(ln) == {"frame", "t", "pucks"}
+        by_id = {p["id"]: p for p in ln["pucks"]}
+        assert set(by_id) == {int(i) for i, v in zip(f.ids, f.visible) if v}   # no puck 40
+        for i, pid in enumerate(f.ids):
+            if f.visible[i]:
+                p = by_id[int(pid)]
+                assert set(p) == {"id", "x", "y", "angle", "state"} and p["state"] == "seen"
+                assert math.hypot(p["x"] - f.centres[i, 0], p["y"] - f.centres[i, 1]) <= 1.5
+
+
+def test_ctrl_c_mid_file_exits_130_with_one_line_and_leaves_no_output(scene, tmp_path):
+    """README: exit status 130 when interrupted, one line, never a traceback; the output is
+    written atomically, so an interrupted run leaves no POSES.jsonl at all. stderr is a
+    pseudo-terminal, so the progress bar says when frames are being tracked."""
+    import os
+    import select
+    import signal
+    folder, _, _ = scene
+    frames = tmp_path / "frames"
+    frames.mkdir()
+    first = sorted(folder.iterdir())[0]
+    for k in range(2000):                      # far more than are tracked before the Ctrl-C
+        (frames / f"f{k:05d}.png").symlink_to(first)
+    out = tmp_path / "poses.jsonl"
+    master, slave = os.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "track", str(frames), "--out",
+                             str(out)], stdout=subprocess.DEVNULL, stderr=slave)
+    os.close(slave)
+    seen = b""
+    try:
+        while b"frames" not in seen:           # the bar: "track [###   ] k/2000 frames"
+            ready, _, _ = select.select([master], [], [], 120)
+            assert ready, seen
+            seen += os.read(master, 4096)
+        proc.send_signal(signal.SIGINT)
+        assert proc.wait(timeout=120) == 130
+        while select.select([master], [], [], 1)[0]:
+            try:
+                chunk = os.read(master, 4096)
+            except OSError:                    # the terminal closed with the process
+                break
+            if not chunk:
+                break
+            seen += chunk
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        os.close(master)
+    lines = [ln for ln in seen.decode().replace("\r", "\n").splitlines() if ln.strip()]
+    assert lines[-1] == "tabletop track: interrupted" and b"Traceback" not in seen, seen
+    assert not out.exists() and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_a_cut_short_video_is_one_line_and_writes_nothing(scene, tmp_path):
+    """DESIGN: every frame of a file is processed, and bad input is one clear line. A video cut
+    in half (a copy that did not finish) wrote the lines of the frames before the cut, said
+    nothing, exited 0, and FFmpeg's own "[mjpeg @ 0x...] overread" came on stderr: now it is
+    refused as a folder with an unreadable image is, in one line of ours, as a process."""
+    folder, _, truth = scene
+    video = tmp_path / "clip.avi"
+    writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 25.0, (1280, 720))
+    for f in truth[:12]:
+        writer.write(cv2.cvtColor(f.image, cv2.COLOR_GRAY2BGR))
+    writer.release()
+    data = video.read_bytes()
+    cut = tmp_path / "cut.avi"
+    cut.write_bytes(data[:len(data) // 2])
+    out = tmp_path / "poses.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(cut), "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2
+    (line,) = r.stderr.splitlines()
+    assert line.startswith(f"tabletop track: error: {cut}: frame ") and "declares 12" in line
+    assert not out.exists()
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(video), "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    assert len(out.read_text().splitlines()) == 12
