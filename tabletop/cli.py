@@ -23,6 +23,9 @@ EXIT_BAD_INPUT = 2
 # ``run`` ended on purpose but its recording failed (a full disk): the kiosk's supervisor ends
 # on it as on 0 instead of restarting
 EXIT_RECORDING_FAILED = 3
+# the reader of the command's output closed it early (``tabletop follow ... --out /dev/stdout |
+# head``): nothing more to say, as for a program the shell saw end by SIGPIPE (128 + 13)
+EXIT_OUTPUT_CLOSED = 141
 
 
 def one_line(message: object) -> str:
@@ -98,10 +101,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     words = list(sys.argv[1:] if argv is None else argv)
     try:
         return _main(argv)
+    except BrokenPipeError:
+        _drop_stdout()
+        return EXIT_OUTPUT_CLOSED
     except KeyboardInterrupt:
         command = f" {words[0]}" if words and words[0] in COMMANDS else ""
         print(f"tabletop{command}: interrupted", file=sys.stderr)
         return 130
+
+
+def _drop_stdout() -> None:
+    """Point standard output at /dev/null, so the interpreter's last flush of what is left in
+    its buffer (for a reader gone) does not print a second BrokenPipeError on its way out."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # no real standard output (a test's capture): nothing to drop
+        pass
 
 
 def _main(argv: Sequence[str] | None) -> int:
@@ -130,6 +147,8 @@ def _main(argv: Sequence[str] | None) -> int:
     except InputError as exc:
         print(f"{args._prog}: error: {one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except BrokenPipeError:
+        raise                  # the reader left: no error of the input (main's quiet status)
     except OSError as exc:
         where = f" {exc.filename}:" if getattr(exc, "filename", None) else ""
         print(f"{args._prog}: error:{where} {one_line(exc.strerror or exc)}", file=sys.stderr)

@@ -190,3 +190,18 @@ def free_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+@pytest.mark.parametrize("args", [("pose", "--describe"),
+                                  ("pose", "--describe", "--out", "/dev/stdout")])
+def test_a_reader_that_closes_the_output_early_ends_the_command_quietly(args):
+    """``tabletop pose --describe | head -c 0``: the reader is gone before the command writes;
+    no error line (the input was fine), status 141 as for a program ended by SIGPIPE. It was
+    "error: Broken pipe", status 2, the status of bad input."""
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", *args], cwd=ROOT,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         env=dict(os.environ, SDL_VIDEODRIVER="dummy"))
+    p.stdout.close()
+    err = p.stderr.read().decode()
+    p.stderr.close()
+    assert p.wait(timeout=60) == 141 and err == "", err
