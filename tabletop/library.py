@@ -87,7 +87,8 @@ def _schema() -> Record:
 
 @dataclass
 class StoredBehavior:
-    """A behaviour read from the library: its folder, what it is and its demonstration (n, 7)."""
+    """A behaviour read from the library: its folder, what it is and its demonstration (n, 7),
+    read from ``data_file`` (the file its behavior.yaml names, in the folder)."""
 
     folder: Path
     name: str
@@ -97,6 +98,7 @@ class StoredBehavior:
     description: str = ""
     source: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
+    data_file: Path | None = None
 
 
 def check_name(name: str) -> str:
@@ -217,11 +219,13 @@ def load_behavior(folder: str | Path, tries: int = 20) -> StoredBehavior:
 
 def _load(folder: Path) -> StoredBehavior:
     desc = read_description(folder)
-    demo = read_demonstration(_data_file(folder, desc["data"]["demonstration"], "demonstration"))
+    data_file = _data_file(folder, desc["data"]["demonstration"], "demonstration")
+    demo = read_demonstration(data_file)
     return StoredBehavior(folder=folder, name=folder.name, kind=desc["kind"],
                           parameters=dict(desc["parameters"]), demonstration=demo,
                           description=desc["description"], source=desc["source"],
-                          extra={"samples": desc["samples"], "duration_s": desc["duration_s"]})
+                          extra={"samples": desc["samples"], "duration_s": desc["duration_s"]},
+                          data_file=data_file)
 
 
 def describe_yaml(name: str, demo: np.ndarray, parameters: Mapping[str, Any],

@@ -142,9 +142,8 @@ def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | in
     stored = library.load_behavior(folder)
     if stored.kind != "puppet_master":
         raise BehaveArgumentError(f"{folder}: a {stored.kind} behaviour, not a puppet_master one")
-    data = library.read_description(folder)["data"]["demonstration"]
     output_file(out, "--out", BehaveArgumentError, example="react.csv",
-                inputs=(Path(folder) / library.BEHAVIOR_FILE, Path(folder) / data))
+                inputs=(Path(folder) / library.BEHAVIOR_FILE, stored.data_file))
     return stored.demonstration, dict(stored.parameters)
 
 

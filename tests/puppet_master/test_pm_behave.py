@@ -1,6 +1,7 @@
 """``tabletop behave``: real CSV files in, the DESIGN.md contract out."""
 
 import math
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -286,3 +287,29 @@ def test_a_behaviour_folder_trains_with_its_saved_parameters(files, tmp_path, ca
     assert {p.name: p.read_bytes() for p in folder.iterdir()} == before
     assert behave("--train", tmp_path, *base, "--out", tmp_path / "o.csv") == 2
     assert "behavior.yaml" in capsys.readouterr().err
+
+
+def test_a_folder_naming_its_own_demonstration_file_is_read_once(files, tmp_path, capsys):
+    """A behaviour whose behavior.yaml names its demonstration ``take-3.csv``: the stored
+    behaviour carries that file (``behave`` read behavior.yaml a second time for it), and
+    ``--out`` naming it is refused, the file left as it was."""
+    import yaml
+
+    from tabletop import library
+    d, main = files
+    folder = tmp_path / "lib" / "pet"
+    shutil.copytree(SHIPPED / "lover", folder)
+    (folder / "demonstration.csv").rename(folder / "take-3.csv")
+    desc = yaml.safe_load((folder / "behavior.yaml").read_text())
+    desc["data"]["demonstration"] = "take-3.csv"
+    (folder / "behavior.yaml").write_text(yaml.safe_dump(desc))
+    stored = library.load_behavior(folder)
+    assert stored.data_file == folder / "take-3.csv"
+    before = (folder / "take-3.csv").read_bytes()
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    assert behave("--train", folder, "--input", tmp_path / "main.csv",
+                  "--out", folder / "take-3.csv") == 2
+    assert "is the input file" in capsys.readouterr().err
+    assert (folder / "take-3.csv").read_bytes() == before
+    assert behave("--train", folder, "--input", tmp_path / "main.csv",
+                  "--out", tmp_path / "o.csv") == 0
