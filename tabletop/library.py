@@ -15,6 +15,7 @@ one message naming the file, the line or key, and what is wrong, and it is never
 
 from __future__ import annotations
 
+import errno
 import os
 import re
 import time
@@ -197,7 +198,13 @@ def load_behavior(folder: str | Path, tries: int = 20) -> StoredBehavior:
     for attempt in range(1, tries + 1):
         try:
             fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
-        except OSError:
+        except OSError as exc:
+            if exc.errno in (errno.EACCES, errno.EPERM) and folder.is_dir():
+                # its files may read one by one (execute only), but it cannot be held open:
+                # read by name alone, it looked changed by a save every time (20 tries)
+                raise LibraryError(f"{folder}: behaviour folder cannot be opened "
+                                   f"({exc.strerror}); it must be readable as a folder "
+                                   f"(chmod a+rx)") from None
             if attempt < tries and saving(folder):
                 time.sleep(0.01)
                 continue
@@ -295,12 +302,18 @@ def _save(target: Path, csv_text: str, yaml_text: str, replace: bool) -> None:
 
 
 def list_behaviors(library: str | Path) -> list[str]:
-    """Names of the behaviour folders (those holding a behavior.yaml) in ``library``, sorted."""
+    """Names of the behaviour folders (those holding a behavior.yaml) in ``library``, sorted;
+    LibraryError naming it if it cannot be listed."""
     lib = Path(library)
     if not lib.is_dir():
         return []
     recover_all(lib)
-    entries = [p for p in lib.iterdir() if not p.name.startswith(".")]
+    try:
+        entries = [p for p in lib.iterdir() if not p.name.startswith(".")]
+    except OSError as exc:   # execute only: a behaviour named in a config still loads by name
+        raise LibraryError(f"{lib}: the library folder cannot be listed ({exc.strerror}); its "
+                           "behaviours are not offered: it must be readable as a folder "
+                           "(chmod a+rx)") from None
     for p in entries:                  # a folder named through a link keeps its leftovers
         if p.is_symlink():             # beside its target
             recover(p)

@@ -349,7 +349,11 @@ class PuppetMasterTarget:
     def _library_problems(self, kept: list[str]) -> list[str]:
         """``kept`` and the error of every behaviour in the library that does not load."""
         problems = list(kept)
-        for n in self.items():
+        try:
+            names = self.items()
+        except InputError as exc:       # the library cannot be listed: said, the rest plays
+            return problems + [str(exc)]
+        for n in names:
             try:
                 library.load_behavior(self.lib / n)
             except InputError as exc:
