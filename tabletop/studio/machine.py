@@ -325,8 +325,18 @@ class Studio:
             return
         cur = target.current()
         i = (items.index(cur) + step) % len(items) if cur in items else 0
-        target.use(items[i])
-        self.say(f"playing {items[i]} ({i + 1} of {len(items)})")
+        skipped: list[str] = []     # an item that does not load is passed over, named: ]
+        for _ in items:             # on a broken first item played nothing, again and again
+            try:
+                target.use(items[i])
+                break
+            except InputError as exc:
+                skipped.append(str(exc))
+                i = (i + step) % len(items)
+        else:
+            raise InputError(f"no item of the library loads: {skipped[0]}")
+        note = f"; skipped {len(skipped)} that do not load: {skipped[0]}" if skipped else ""
+        self.say(f"playing {items[i]} ({i + 1} of {len(items)}){note}")
 
     def _item_next(self, target: Target, arg: str) -> None:
         self._item(target, 1)

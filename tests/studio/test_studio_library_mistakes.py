@@ -1,0 +1,45 @@
+"""The designer studio's library as designers leave it: a broken behaviour among good ones,
+folders named by hand, undo that cannot be done yet. Real folders, real engines."""
+
+import shutil
+from pathlib import Path
+
+from tabletop.frames import Frame
+from tests.studio.test_studio_keys import Bench, designer
+
+SHIPPED = Path(__file__).resolve().parents[2] / "behaviors" / "library"
+
+
+class Keys:
+    """Commands to a studio, one frame each; returns the status line."""
+
+    def __init__(self, bench: Bench) -> None:
+        self.bench, self.t = bench, 1000.0
+
+    def __call__(self, cmd: str) -> str:
+        self.t += 1.0
+        _, studio = self.bench.step(Frame(seq=int(self.t), t=self.t, commands=(cmd,)))
+        return studio.label
+
+
+def test_switching_passes_over_a_behaviour_that_does_not_load(tmp_path):
+    """A corrupt behaviour first in name order: ] tried it again and again, played nothing and
+    said only why that one failed; the others were out of reach."""
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (lib / "aaa").mkdir()
+    (lib / "aaa" / "behavior.yaml").write_text("kind: [\n")
+    (e,) = designer(tmp_path)
+    keys = Keys(Bench([e], tmp_path))
+    said = keys("designer.item_next")
+    assert "playing bully (2 of 3)" in said and "skipped 1 that do not load" in said
+    assert str(lib / "aaa" / "behavior.yaml") in said and e.behavior_name == "bully"
+    assert "playing lover (3 of 3)" in keys("designer.item_next")
+    said = keys("designer.item_next")                       # round again, past the broken one
+    assert "playing bully (2 of 3)" in said and e.behavior_name == "bully"
+    assert "playing lover (3 of 3)" in keys("designer.item_previous")
+    shutil.rmtree(lib / "bully")
+    shutil.rmtree(lib / "lover")
+    said = keys("designer.item_next")
+    assert "cannot: no item of the library loads" in said
