@@ -45,8 +45,11 @@ def trash(folder: Path) -> Callable[[], None]:
     return restore
 
 
-def rename_folder(lib: Path, old: str, new: str) -> None:
-    library.check_name(new)
+def rename_folder(lib: Path, old: str, new: str, check: bool = True) -> None:
+    """Rename ``lib/old`` to ``lib/new``; ``check``: ``new`` must be a usable name (an undo
+    gives back the name a folder had, also one made by hand: "my lover")."""
+    if check:
+        library.check_name(new)
     if (lib / new).exists():
         raise InputError(f"{lib / new}: already exists")
     os.rename(lib / old, lib / new)
@@ -304,8 +307,8 @@ class PuppetMasterTarget:
         self.playing = folder
         self.play_poller = Poller(folder)
 
-    def rename(self, old: str, new: str) -> None:
-        rename_folder(self.lib, old, new)
+    def rename(self, old: str, new: str, undo: bool = False) -> None:
+        rename_folder(self.lib, old, new, check=not undo)
         if self.current() == old:
             self.playing = self.lib / new
             self.engine.behavior_name = new

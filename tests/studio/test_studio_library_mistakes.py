@@ -43,3 +43,32 @@ def test_switching_passes_over_a_behaviour_that_does_not_load(tmp_path):
     shutil.rmtree(lib / "lover")
     said = keys("designer.item_next")
     assert "cannot: no item of the library loads" in said
+
+
+def test_undo_gives_back_a_name_made_by_hand_and_waits_until_it_can_be_done(tmp_path):
+    """A folder copied in by hand as "my lover", renamed in the studio: undo refused the old
+    name ("not usable as a folder name") and was gone from the undo list. An undo that cannot
+    be done now (the deleted name taken again) was dropped as well; it stays until it can."""
+    lib = tmp_path / "lib"
+    shutil.copytree(SHIPPED / "lover", lib / "my lover")
+    shutil.copytree(SHIPPED / "bully", lib / "bully")
+    (e,) = designer(tmp_path)
+    keys = Keys(Bench([e], tmp_path))
+    assert "playing bully" in keys("designer.item_next")
+    assert "playing my lover" in keys("designer.item_next")
+    assert "renamed my lover to shy" in keys("designer.rename:shy")
+    assert "undone: rename my lover -> shy" in keys("designer.undo")
+    assert sorted(p.name for p in lib.iterdir() if not p.name.startswith(".")) == \
+        ["bully", "my lover"]
+    assert e.behavior_name == "my lover"
+    assert "deleted my lover" in keys("designer.delete")
+    shutil.copytree(SHIPPED / "afraid", lib / "my lover")      # the name is taken again
+    said = keys("designer.undo")
+    assert "cannot" in said and "exists again" in said
+    assert (lib / "my lover" / "behavior.yaml").read_text() == \
+        (SHIPPED / "afraid" / "behavior.yaml").read_text()
+    shutil.rmtree(lib / "my lover")
+    assert "undone: delete my lover" in keys("designer.undo")
+    assert (lib / "my lover" / "behavior.yaml").read_text() == \
+        (SHIPPED / "lover" / "behavior.yaml").read_text()
+    assert "nothing to undo" in keys("designer.undo")
