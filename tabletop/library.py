@@ -40,6 +40,7 @@ VERSION = 1
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
 POSITIONS = ("main_x", "main_y", "react_x", "react_y")   # table metres
 KINDS = ("puppet_master",)
+NAME_MAX = 64                                              # characters of a behaviour's name
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
 
@@ -322,13 +323,20 @@ def list_behaviors(library: str | Path) -> list[str]:
 
 def free_name(library: str | Path, name: str) -> str:
     """``name`` if ``<library>/<name>`` does not exist, else the first free ``name-2``,
-    ``name-3``..."""
+    ``name-3``..., the name shortened to leave room for its number (a designer name of 64
+    characters was kept once, and every later keep of it refused as too long)."""
     check_name(name)
     lib = Path(library)
     recover(lib / name)                  # an interrupted save's old version is put back first
     if not (lib / name).exists():
         return name
     i = 2
-    while (lib / f"{name}-{i}").exists():
+    while (lib / _numbered(name, i)).exists():
         i += 1
-    return check_name(f"{name}-{i}")
+    return check_name(_numbered(name, i))
+
+
+def _numbered(name: str, i: int) -> str:
+    """``name-i`` within the longest name :data:`NAME_RE` takes (64 characters)."""
+    suffix = f"-{i}"
+    return name[:NAME_MAX - len(suffix)] + suffix
