@@ -48,6 +48,10 @@ class LibraryError(InputError):
     """A behaviour folder or file is missing, corrupt or cannot be written; the message names it."""
 
 
+class NameTakenError(LibraryError):
+    """A behaviour of that name exists already (:func:`save_behavior` without ``replace``)."""
+
+
 class _NumberMap(Spec):
     """A mapping of parameter names to numbers (the trainer checks names and ranges)."""
 
@@ -293,7 +297,7 @@ def _save(target: Path, csv_text: str, yaml_text: str, replace: bool) -> None:
         new_folder(target, files, marker=MARKER)
         return
     if not replace:
-        raise LibraryError(f"{target}: a behaviour of that name already exists")
+        raise NameTakenError(f"{target}: a behaviour of that name already exists")
     if (target / BEHAVIOR_FILE).exists():
         read_description(target)   # refuses (and keeps) a corrupt file
     elif any(target.iterdir()):
@@ -334,6 +338,21 @@ def free_name(library: str | Path, name: str) -> str:
     while (lib / _numbered(name, i)).exists():
         i += 1
     return check_name(_numbered(name, i))
+
+
+def save_new(library: str | Path, name: str, demo: np.ndarray, parameters: Mapping[str, Any],
+             **description: str) -> Path:
+    """Save a behaviour under ``name`` or the first free ``name-2``, ``name-3``... at the
+    moment it is saved; returns its folder. Two studios keeping one name in one library: the
+    name free when the second looked was taken by the first before the second's save, which
+    was refused ("already exists") and its take not kept."""
+    for _ in range(1000):
+        try:
+            return save_behavior(library, free_name(library, name), demo, parameters,
+                                 **description)
+        except NameTakenError:
+            continue                       # taken meanwhile by another saver: the next one
+    raise LibraryError(f"{Path(library) / name}: no free name for it after 1000 tries")
 
 
 def _numbered(name: str, i: int) -> str:

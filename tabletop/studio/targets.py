@@ -263,16 +263,16 @@ class PuppetMasterTarget:
     def keep(self) -> str:
         if self.pending is None or self.demo is None:
             raise InputError("nothing to keep")
-        name = library.free_name(self.lib, self.engine.designer["name"])
         # with the table it was made on, as the shipped behaviours are: a room or an edge
         # margin set later (w_room, edge_percentile) measured against the take's own bounds
         default = default_params()
-        folder = library.save_behavior(   # the rate, window and table, and any other not default
-            self.lib, name, self.demo,
+        folder = library.save_new(   # the rate, window and table, and any other not default
+            self.lib, self.engine.designer["name"], self.demo,
             {k: v for k, v in self.pending.param_dict().items()
              if k in ("rate_hz", "window", "table_width", "table_height") or v != default[k]},
             description=f"demonstrated at the table for {self.name}",
             source="designer studio, recorded from the table")
+        name = folder.name
         self.engine.behavior_name, self.playing, self.pending = name, folder, None
         self.lib_poller.signature = ()      # the library changed: list it again
         return name

@@ -72,3 +72,60 @@ def test_undo_gives_back_a_name_made_by_hand_and_waits_until_it_can_be_done(tmp_
     assert (lib / "my lover" / "behavior.yaml").read_text() == \
         (SHIPPED / "lover" / "behavior.yaml").read_text()
     assert "nothing to undo" in keys("designer.undo")
+
+
+OTHER_STUDIO = """
+import os, sys, time
+sys.path.insert(0, {root!r})
+from pathlib import Path
+from tabletop import swap
+from tabletop.files import new_folder
+target = Path({target!r})
+with swap.locked(target):
+    print("held", flush=True)
+    ino = os.stat(target.parent / ".pet.tabletop-lock").st_ino
+    end = time.monotonic() + 120
+    while not any("->" in ln and f":{{ino}} " in ln for ln in open("/proc/locks")):
+        if time.monotonic() > end:
+            sys.exit(3)
+        time.sleep(0.01)
+    shipped = Path({shipped!r})
+    new_folder(target, {{n: (shipped / n).read_text() for n in
+                         ("behavior.yaml", "demonstration.csv")}}, marker=swap.MARKER)
+"""
+
+
+def test_two_studios_keeping_one_name_in_one_library_both_keep(tmp_path):
+    """Another studio's keep of "pet" saves while this one's waits for the name's lock: the
+    name was free when this one looked, its save then refused ("already exists") and the take
+    not kept. It is kept under the next free name."""
+    import subprocess
+    import sys
+    from behaviors.puppet_master import designers
+    from tests.studio.test_studio_keys import demo_frames
+    if not Path("/proc/locks").exists():
+        import pytest
+        pytest.skip("needs /proc/locks to see the waiting save")
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=6)
+    for f in demo_frames(demo, {5: ("designer.record",), 200: ("designer.record",)}):
+        _, studio = bench.step(f)
+    assert studio.action == "trying"
+    root = str(Path(__file__).resolve().parents[2])
+    other = subprocess.Popen([sys.executable, "-c", OTHER_STUDIO.format(
+        root=root, target=str(lib / "pet"), shipped=str(SHIPPED / "bully"))],
+        stdout=subprocess.PIPE, text=True)
+    try:
+        assert other.stdout.readline().strip() == "held"
+        said = Keys(bench)("designer.keep")
+    finally:
+        assert other.wait(timeout=120) == 0
+    assert "kept as pet-2" in said, said
+    assert (lib / "pet" / "behavior.yaml").read_text() == \
+        (SHIPPED / "bully" / "behavior.yaml").read_text()
+    from tabletop import library
+    assert len(library.load_behavior(lib / "pet-2").demonstration) == 195
+    assert e.behavior_name == "pet-2"
