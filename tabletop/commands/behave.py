@@ -134,6 +134,18 @@ def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int):
     return rows
 
 
+def check_span(xy: np.ndarray, source: str, what: str) -> None:
+    """Positions (n, 2) that span more than any table side (TABLE_M, metres) are refused:
+    recorded in millimetres, a demonstration trained a reactor hundreds of metres from a main
+    given in metres, without a word."""
+    import numpy as np
+    span = np.ptp(xy, axis=0)
+    if float(span.max()) > TABLE_M[1]:
+        raise BehaveArgumentError(
+            f"{source}: the {what} positions span {span[0]:.4g} x {span[1]:.4g} m, more than "
+            f"any table ({TABLE_M[1]:g} m); positions are table metres (millimetres given?)")
+
+
 def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | int]]:
     """A Puppet Master behaviour folder's demonstration (n, 7) and stored parameters; ``out``
     (--out) must not be one of its files."""
@@ -193,6 +205,9 @@ def main(args: argparse.Namespace) -> int:
     if table is None and w > 0.0 and h > 0.0:   # the table a kept behaviour was made on
         table = (0.0, 0.0, float(w), float(h))
     main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
+    check_span(main_rows[:, 1:3], args.input, "main path")
+    check_span(demo[:, [1, 2]], source, "demonstration's main")
+    check_span(demo[:, [4, 5]], source, "demonstration's reactor")
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
         raise BehaveArgumentError(f"{args.input}: the main path spans "

@@ -313,3 +313,28 @@ def test_a_folder_naming_its_own_demonstration_file_is_read_once(files, tmp_path
     assert (folder / "take-3.csv").read_bytes() == before
     assert behave("--train", folder, "--input", tmp_path / "main.csv",
                   "--out", tmp_path / "o.csv") == 0
+
+
+def test_positions_in_mm_are_refused_naming_the_file(files, tmp_path, capsys):
+    """A demonstration (or a main path) recorded in millimetres trained and generated without
+    a word: the reactor hundreds of metres from a main given in metres."""
+    d, main = files
+    _, demo = read_csv(d / "demo.csv")
+    mm = demo.copy()
+    mm[:, [1, 2, 4, 5]] *= 700.0      # a take within 0.95 m of the corner (over 1000: refused)
+    write_csv(tmp_path / "demo_mm.csv", DEMO_HEADER, mm.tolist())
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    main_mm = main[:60].copy()
+    main_mm[:, 1:3] *= 1000.0
+    write_csv(tmp_path / "main_mm.csv", MAIN_HEADER, main_mm.tolist())
+    for train, path, table in ((tmp_path / "demo_mm.csv", "main.csv", []),
+                               (tmp_path / "demo_mm.csv", "main.csv", ["--table", "1.6,1.0"]),
+                               (d / "demo.csv", "main_mm.csv", [])):
+        assert behave("--train", train, "--input", tmp_path / path,
+                      "--out", tmp_path / "o.csv", *table) == 2
+        err = capsys.readouterr().err.splitlines()
+        bad = train if path == "main.csv" else tmp_path / path
+        assert len(err) == 1 and err[0].startswith(f"tabletop behave: error: {bad}: ")
+        assert "more than any table (20 m); positions are table metres" in err[0], err
+    assert not (tmp_path / "o.csv").exists()
+
