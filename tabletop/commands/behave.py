@@ -201,8 +201,10 @@ def main(args: argparse.Namespace) -> int:
                 example="react.csv")
     demo, stored, source = read_demonstration(args)
     params = {"rate_hz": rate, **stored, **params}   # given over stored over the defaults
-    w, h = stored.get("table_width", 0.0), stored.get("table_height", 0.0)
-    if table is None and w > 0.0 and h > 0.0:   # the table a kept behaviour was made on
+    # the table the behaviour was made on: a kept one's, or --param's over it (it trained on
+    # that table and played on the stored one)
+    w, h = params.get("table_width", 0.0), params.get("table_height", 0.0)
+    if table is None and w > 0.0 and h > 0.0:
         table = (0.0, 0.0, float(w), float(h))
     main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
     check_span(main_rows[:, 1:3], args.input, "main path")

@@ -338,3 +338,14 @@ def test_positions_in_mm_are_refused_naming_the_file(files, tmp_path, capsys):
         assert "more than any table (20 m); positions are table metres" in err[0], err
     assert not (tmp_path / "o.csv").exists()
 
+
+def test_a_folders_table_given_by_param_is_the_table_it_plays_on(files, tmp_path):
+    """--param table_width/table_height over a behaviour folder's own: it trained on that
+    table and was generated on the folder's stored one."""
+    d, main = files
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:150].tolist())
+    given = ["--param", "table_width=1.6", "--param", "table_height=1.0"]
+    base = ["--train", SHIPPED / "afraid", "--input", tmp_path / "main.csv"]
+    assert behave(*base, *given, "--out", tmp_path / "param.csv") == 0
+    assert behave(*base, *given, "--table", "1.6,1.0", "--out", tmp_path / "both.csv") == 0
+    assert (tmp_path / "param.csv").read_text() == (tmp_path / "both.csv").read_text()
