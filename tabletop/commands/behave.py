@@ -146,6 +146,35 @@ def check_span(xy: np.ndarray, source: str, what: str) -> None:
             f"any table ({TABLE_M[1]:g} m); positions are table metres (millimetres given?)")
 
 
+def check_library_path(path: Path) -> None:
+    """``--train`` naming a library instead of one of its behaviours, or a behaviour the
+    library does not have (a typo: "lovr"), is refused naming the library's behaviours (it said
+    only "behavior.yaml: not found" or "demonstration CSV not found")."""
+    import difflib
+
+    from tabletop import library
+    if path.is_dir() and not (path / library.BEHAVIOR_FILE).exists():
+        lib, name = path, ""
+    elif not path.exists() and path.parent.is_dir() and not path.suffix:
+        lib, name = path.parent, path.name
+    else:
+        return
+    try:
+        names = library.list_behaviors(lib)
+    except library.LibraryError:
+        return
+    if not names:
+        return
+    listed = ", ".join(names[:12]) + (", ..." if len(names) > 12 else "")
+    if not name:
+        raise BehaveArgumentError(f"--train {path}: a behaviour library, not a behaviour; give "
+                                  f"one of its folders, e.g. {path / names[0]} ({listed})")
+    close = difflib.get_close_matches(name, names, n=1)
+    hint = f"did you mean {lib / close[0]}? " if close else ""
+    raise BehaveArgumentError(f"--train {path}: no such behaviour; {hint}the library has "
+                              f"{listed}")
+
+
 def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | int]]:
     """A Puppet Master behaviour folder's demonstration (n, 7) and stored parameters; ``out``
     (--out) must not be one of its files."""
@@ -168,6 +197,8 @@ def read_demonstration(args: argparse.Namespace):
     if (args.train is None) == (args.train_main is None and args.train_react is None):
         raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
                                   "--train-react")
+    if args.train is not None:
+        check_library_path(Path(args.train))
     if args.train is not None and Path(args.train).is_dir():
         return *read_folder(args.train, args.out), args.train
     if args.train is not None:

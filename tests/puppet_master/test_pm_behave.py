@@ -349,3 +349,22 @@ def test_a_folders_table_given_by_param_is_the_table_it_plays_on(files, tmp_path
     assert behave(*base, *given, "--out", tmp_path / "param.csv") == 0
     assert behave(*base, *given, "--table", "1.6,1.0", "--out", tmp_path / "both.csv") == 0
     assert (tmp_path / "param.csv").read_text() == (tmp_path / "both.csv").read_text()
+
+
+def test_a_library_or_a_misspelt_behaviour_names_the_librarys_behaviours(files, tmp_path,
+                                                                          capsys):
+    """--train naming the library itself said "library/behavior.yaml: not found", and a
+    misspelt behaviour "demonstration CSV not found": neither named what there is."""
+    d, main = files
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    base = ["--input", tmp_path / "main.csv", "--out", tmp_path / "o.csv"]
+    assert behave("--train", SHIPPED / "lovr", *base) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and f"did you mean {SHIPPED / 'lover'}?" in err[0]
+    assert "afraid, bully, lover, playful_friend, stalker" in err[0]
+    assert behave("--train", SHIPPED, *base) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "a behaviour library, not a behaviour" in err[0]
+    assert f"e.g. {SHIPPED / 'afraid'}" in err[0]
+    assert not (tmp_path / "o.csv").exists()
+    assert behave("--train", SHIPPED / "lover", *base) == 0
