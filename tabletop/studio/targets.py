@@ -14,6 +14,7 @@ Library folders are renamed in place and deleted into ``<library>/.trash`` so un
 from __future__ import annotations
 
 import logging
+import math
 import os
 import time
 from pathlib import Path
@@ -190,7 +191,8 @@ class PuppetMasterTarget:
             demo, what = self.session.demonstration(), "the reaction"
         secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0
         if secs < self.min_seconds:
-            raise InputError(f"take too short ({secs:.1f} s of {what}, needs "
+            shown = math.floor(secs * 10) / 10      # cut, not rounded: 1.96 s read "2.0 s, needs 2 s"
+            raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
                              f"{self.min_seconds:g} s)")
         return demo
 

@@ -129,3 +129,16 @@ def test_two_studios_keeping_one_name_in_one_library_both_keep(tmp_path):
     from tabletop import library
     assert len(library.load_behavior(lib / "pet-2").demonstration) == 195
     assert e.behavior_name == "pet-2"
+
+
+def test_a_take_just_short_never_reads_as_long_enough(tmp_path):
+    """A take of 1.96 s against min_seconds 2 said "take too short (2.0 s of both pucks, needs
+    2 s)"."""
+    from behaviors.puppet_master import designers
+    from tests.studio.test_studio_keys import demo_frames
+    (e,) = designer(tmp_path, min_seconds=2.0)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=4)     # 40 Hz rows
+    labels = [bench.step(f)[1].label for f in demo_frames(
+        demo, {10: ("designer.record",), 89: ("designer.record",)})]
+    assert "take too short (1.9 s of both pucks, needs 2 s)" in labels[89], labels[89]
