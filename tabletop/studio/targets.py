@@ -191,7 +191,7 @@ class PuppetMasterTarget:
             demo, what = self.session.demonstration(), "the reaction"
         secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0
         if secs < self.min_seconds:
-            shown = math.floor(secs * 10) / 10      # cut, not rounded: 1.96 s read "2.0 s, needs 2 s"
+            shown = math.floor(secs * 10) / 10   # cut: 1.96 s read "2.0 s, needs 2 s"
             raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
                              f"{self.min_seconds:g} s)")
         return demo
