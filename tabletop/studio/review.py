@@ -99,7 +99,7 @@ def review_sheet(what: str, demo: np.ndarray, path: Path, title: str = "",
     run is generated with ``params`` (the take's, :func:`generated_run`)."""
     fig, (a, b) = _figure(2)
     if what == "behaviour":
-        start = {"lw": 1}
+        start = {"lw": 1, "marker": "o", "markevery": [0], "ms": 4}   # a still path: its dot
         a.plot(demo[:, 1], demo[:, 2], label="main (demonstrated)", **start)
         a.plot(demo[:, 4], demo[:, 5], label="reactor (demonstrated)", **start)
         a.set_title(f"demonstration, {demo[-1, 0] - demo[0, 0]:.1f} s")

@@ -40,3 +40,19 @@ def test_the_review_of_an_afraid_take_is_generated_as_it_was_tried(tmp_path):
     review_sheet("behaviour", taken, tmp_path / "defaults.png", title="afraid: kept afraid")
     assert png.read_bytes() == (tmp_path / "as_tried.png").read_bytes()
     assert png.read_bytes() != (tmp_path / "defaults.png").read_bytes()
+
+
+def test_a_take_that_stood_still_is_drawn(tmp_path):
+    """Both pucks held still for the take: the demonstration was drawn as lines of no length,
+    an empty panel. Each path's start is a dot: the reactor's orange shows beyond the legend's
+    sample (17 pixels of it; the dot 37 more)."""
+    demo = np.zeros((300, 7))
+    demo[:, 0] = np.arange(300) / 40.0
+    demo[:, 1:4] = (0.5, 0.4, 0.0)
+    demo[:, 4:7] = (0.7, 0.4, 3.1)
+    review_sheet("behaviour", demo, tmp_path / "still.png", title="pet: kept pet")
+    a = np.asarray(Image.open(tmp_path / "still.png").convert("RGB")).astype(int)
+    left = a[:, : a.shape[1] // 2]                          # the demonstration's panel
+    orange = int((np.abs(left - [255, 127, 14]).sum(-1) < 60).sum())
+    blue = int((np.abs(left - [31, 119, 180]).sum(-1) < 60).sum())
+    assert orange > 35 and blue > 35, (orange, blue)
