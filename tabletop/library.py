@@ -15,6 +15,7 @@ one message naming the file, the line or key, and what is wrong, and it is never
 
 from __future__ import annotations
 
+import errno
 import os
 import re
 import time
@@ -39,11 +40,16 @@ VERSION = 1
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
 POSITIONS = ("main_x", "main_y", "react_x", "react_y")   # table metres
 KINDS = ("puppet_master",)
+NAME_MAX = 64                                              # characters of a behaviour's name
 NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$")
 
 
 class LibraryError(InputError):
     """A behaviour folder or file is missing, corrupt or cannot be written; the message names it."""
+
+
+class NameTakenError(LibraryError):
+    """A behaviour of that name exists already (:func:`save_behavior` without ``replace``)."""
 
 
 class _NumberMap(Spec):
@@ -87,7 +93,8 @@ def _schema() -> Record:
 
 @dataclass
 class StoredBehavior:
-    """A behaviour read from the library: its folder, what it is and its demonstration (n, 7)."""
+    """A behaviour read from the library: its folder, what it is and its demonstration (n, 7),
+    read from ``data_file`` (the file its behavior.yaml names, in the folder)."""
 
     folder: Path
     name: str
@@ -97,6 +104,7 @@ class StoredBehavior:
     description: str = ""
     source: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
+    data_file: Path | None = None
 
 
 def check_name(name: str) -> str:
@@ -195,7 +203,13 @@ def load_behavior(folder: str | Path, tries: int = 20) -> StoredBehavior:
     for attempt in range(1, tries + 1):
         try:
             fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
-        except OSError:
+        except OSError as exc:
+            if exc.errno in (errno.EACCES, errno.EPERM) and folder.is_dir():
+                # its files may read one by one (execute only), but it cannot be held open:
+                # read by name alone, it looked changed by a save every time (20 tries)
+                raise LibraryError(f"{folder}: behaviour folder cannot be opened "
+                                   f"({exc.strerror}); it must be readable as a folder "
+                                   f"(chmod a+rx)") from None
             if attempt < tries and saving(folder):
                 time.sleep(0.01)
                 continue
@@ -217,11 +231,13 @@ def load_behavior(folder: str | Path, tries: int = 20) -> StoredBehavior:
 
 def _load(folder: Path) -> StoredBehavior:
     desc = read_description(folder)
-    demo = read_demonstration(_data_file(folder, desc["data"]["demonstration"], "demonstration"))
+    data_file = _data_file(folder, desc["data"]["demonstration"], "demonstration")
+    demo = read_demonstration(data_file)
     return StoredBehavior(folder=folder, name=folder.name, kind=desc["kind"],
                           parameters=dict(desc["parameters"]), demonstration=demo,
                           description=desc["description"], source=desc["source"],
-                          extra={"samples": desc["samples"], "duration_s": desc["duration_s"]})
+                          extra={"samples": desc["samples"], "duration_s": desc["duration_s"]},
+                          data_file=data_file)
 
 
 def describe_yaml(name: str, demo: np.ndarray, parameters: Mapping[str, Any],
@@ -281,7 +297,7 @@ def _save(target: Path, csv_text: str, yaml_text: str, replace: bool) -> None:
         new_folder(target, files, marker=MARKER)
         return
     if not replace:
-        raise LibraryError(f"{target}: a behaviour of that name already exists")
+        raise NameTakenError(f"{target}: a behaviour of that name already exists")
     if (target / BEHAVIOR_FILE).exists():
         read_description(target)   # refuses (and keeps) a corrupt file
     elif any(target.iterdir()):
@@ -291,12 +307,18 @@ def _save(target: Path, csv_text: str, yaml_text: str, replace: bool) -> None:
 
 
 def list_behaviors(library: str | Path) -> list[str]:
-    """Names of the behaviour folders (those holding a behavior.yaml) in ``library``, sorted."""
+    """Names of the behaviour folders (those holding a behavior.yaml) in ``library``, sorted;
+    LibraryError naming it if it cannot be listed."""
     lib = Path(library)
     if not lib.is_dir():
         return []
     recover_all(lib)
-    entries = [p for p in lib.iterdir() if not p.name.startswith(".")]
+    try:
+        entries = [p for p in lib.iterdir() if not p.name.startswith(".")]
+    except OSError as exc:   # execute only: a behaviour named in a config still loads by name
+        raise LibraryError(f"{lib}: the library folder cannot be listed ({exc.strerror}); its "
+                           "behaviours are not offered: it must be readable as a folder "
+                           "(chmod a+rx)") from None
     for p in entries:                  # a folder named through a link keeps its leftovers
         if p.is_symlink():             # beside its target
             recover(p)
@@ -305,13 +327,35 @@ def list_behaviors(library: str | Path) -> list[str]:
 
 def free_name(library: str | Path, name: str) -> str:
     """``name`` if ``<library>/<name>`` does not exist, else the first free ``name-2``,
-    ``name-3``..."""
+    ``name-3``..., the name shortened to leave room for its number (a designer name of 64
+    characters was kept once, and every later keep of it refused as too long)."""
     check_name(name)
     lib = Path(library)
     recover(lib / name)                  # an interrupted save's old version is put back first
     if not (lib / name).exists():
         return name
     i = 2
-    while (lib / f"{name}-{i}").exists():
+    while (lib / _numbered(name, i)).exists():
         i += 1
-    return check_name(f"{name}-{i}")
+    return check_name(_numbered(name, i))
+
+
+def save_new(library: str | Path, name: str, demo: np.ndarray, parameters: Mapping[str, Any],
+             **description: str) -> Path:
+    """Save a behaviour under ``name`` or the first free ``name-2``, ``name-3``... at the
+    moment it is saved; returns its folder. Two studios keeping one name in one library: the
+    name free when the second looked was taken by the first before the second's save, which
+    was refused ("already exists") and its take not kept."""
+    for _ in range(1000):
+        try:
+            return save_behavior(library, free_name(library, name), demo, parameters,
+                                 **description)
+        except NameTakenError:
+            continue                       # taken meanwhile by another saver: the next one
+    raise LibraryError(f"{Path(library) / name}: no free name for it after 1000 tries")
+
+
+def _numbered(name: str, i: int) -> str:
+    """``name-i`` within the longest name :data:`NAME_RE` takes (64 characters)."""
+    suffix = f"-{i}"
+    return name[:NAME_MAX - len(suffix)] + suffix

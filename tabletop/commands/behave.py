@@ -134,6 +134,47 @@ def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int):
     return rows
 
 
+def check_span(xy: np.ndarray, source: str, what: str) -> None:
+    """Positions (n, 2) that span more than any table side (TABLE_M, metres) are refused:
+    recorded in millimetres, a demonstration trained a reactor hundreds of metres from a main
+    given in metres, without a word."""
+    import numpy as np
+    span = np.ptp(xy, axis=0)
+    if float(span.max()) > TABLE_M[1]:
+        raise BehaveArgumentError(
+            f"{source}: the {what} positions span {span[0]:.4g} x {span[1]:.4g} m, more than "
+            f"any table ({TABLE_M[1]:g} m); positions are table metres (millimetres given?)")
+
+
+def check_library_path(path: Path) -> None:
+    """``--train`` naming a library instead of one of its behaviours, or a behaviour the
+    library does not have (a typo: "lovr"), is refused naming the library's behaviours (it said
+    only "behavior.yaml: not found" or "demonstration CSV not found")."""
+    import difflib
+
+    from tabletop import library
+    if path.is_dir() and not (path / library.BEHAVIOR_FILE).exists():
+        lib, name = path, ""
+    elif not path.exists() and path.parent.is_dir() and not path.suffix:
+        lib, name = path.parent, path.name
+    else:
+        return
+    try:
+        names = library.list_behaviors(lib)
+    except library.LibraryError:
+        return
+    if not names:
+        return
+    listed = ", ".join(names[:12]) + (", ..." if len(names) > 12 else "")
+    if not name:
+        raise BehaveArgumentError(f"--train {path}: a behaviour library, not a behaviour; give "
+                                  f"one of its folders, e.g. {path / names[0]} ({listed})")
+    close = difflib.get_close_matches(name, names, n=1)
+    hint = f"did you mean {lib / close[0]}? " if close else ""
+    raise BehaveArgumentError(f"--train {path}: no such behaviour; {hint}the library has "
+                              f"{listed}")
+
+
 def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | int]]:
     """A Puppet Master behaviour folder's demonstration (n, 7) and stored parameters; ``out``
     (--out) must not be one of its files."""
@@ -142,9 +183,8 @@ def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | in
     stored = library.load_behavior(folder)
     if stored.kind != "puppet_master":
         raise BehaveArgumentError(f"{folder}: a {stored.kind} behaviour, not a puppet_master one")
-    data = library.read_description(folder)["data"]["demonstration"]
     output_file(out, "--out", BehaveArgumentError, example="react.csv",
-                inputs=(Path(folder) / library.BEHAVIOR_FILE, Path(folder) / data))
+                inputs=(Path(folder) / library.BEHAVIOR_FILE, stored.data_file))
     return stored.demonstration, dict(stored.parameters)
 
 
@@ -157,6 +197,8 @@ def read_demonstration(args: argparse.Namespace):
     if (args.train is None) == (args.train_main is None and args.train_react is None):
         raise BehaveArgumentError("give either --train DEMO.csv or both --train-main and "
                                   "--train-react")
+    if args.train is not None:
+        check_library_path(Path(args.train))
     if args.train is not None and Path(args.train).is_dir():
         return *read_folder(args.train, args.out), args.train
     if args.train is not None:
@@ -190,10 +232,15 @@ def main(args: argparse.Namespace) -> int:
                 example="react.csv")
     demo, stored, source = read_demonstration(args)
     params = {"rate_hz": rate, **stored, **params}   # given over stored over the defaults
-    w, h = stored.get("table_width", 0.0), stored.get("table_height", 0.0)
-    if table is None and w > 0.0 and h > 0.0:   # the table a kept behaviour was made on
+    # the table the behaviour was made on: a kept one's, or --param's over it (it trained on
+    # that table and played on the stored one)
+    w, h = params.get("table_width", 0.0), params.get("table_height", 0.0)
+    if table is None and w > 0.0 and h > 0.0:
         table = (0.0, 0.0, float(w), float(h))
     main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
+    check_span(main_rows[:, 1:3], args.input, "main path")
+    check_span(demo[:, [1, 2]], source, "demonstration's main")
+    check_span(demo[:, [4, 5]], source, "demonstration's reactor")
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
         raise BehaveArgumentError(f"{args.input}: the main path spans "

@@ -68,7 +68,7 @@ class Target(Protocol):
     def items(self) -> list[str]: ...                     # the library's items, sorted
     def current(self) -> str | None: ...                  # the item in play
     def use(self, name: str) -> None: ...                 # play a library item
-    def rename(self, old: str, new: str) -> None: ...
+    def rename(self, old: str, new: str, undo: bool = False) -> None: ...  # undo: back
     def remove(self, name: str) -> Callable[[], None]: ...  # returns its restore
     def poll(self) -> list[str]: ...                      # reload changed files; problems
 
@@ -325,8 +325,18 @@ class Studio:
             return
         cur = target.current()
         i = (items.index(cur) + step) % len(items) if cur in items else 0
-        target.use(items[i])
-        self.say(f"playing {items[i]} ({i + 1} of {len(items)})")
+        skipped: list[str] = []     # an item that does not load is passed over, named: ]
+        for _ in items:             # on a broken first item played nothing, again and again
+            try:
+                target.use(items[i])
+                break
+            except InputError as exc:
+                skipped.append(str(exc))
+                i = (i + step) % len(items)
+        else:
+            raise InputError(f"no item of the library loads: {skipped[0]}")
+        note = f"; skipped {len(skipped)} that do not load: {skipped[0]}" if skipped else ""
+        self.say(f"playing {items[i]} ({i + 1} of {len(items)}){note}")
 
     def _item_next(self, target: Target, arg: str) -> None:
         self._item(target, 1)
@@ -340,7 +350,8 @@ class Studio:
             self.say("nothing to rename" if old is None else "rename needs a new name")
             return
         target.rename(old, arg)
-        self.undo_stack.append((f"rename {old} -> {arg}", lambda: target.rename(arg, old)))
+        self.undo_stack.append((f"rename {old} -> {arg}",
+                                lambda: target.rename(arg, old, undo=True)))
         self.say(f"renamed {old} to {arg}")
 
     def _delete(self, target: Target, arg: str) -> None:
@@ -356,8 +367,9 @@ class Studio:
         if not self.undo_stack:
             self.say("nothing to undo")
             return
-        what, fn = self.undo_stack.pop()
-        fn()
+        what, fn = self.undo_stack[-1]
+        fn()                  # one that cannot be done now (a read-only disk) stays to undo
+        self.undo_stack.pop()
         self.say(f"undone: {what}")
 
     # --- what the view draws ----------------------------------------------------------------------

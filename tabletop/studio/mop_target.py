@@ -117,10 +117,10 @@ class MopTarget:
         atomic_write_text(self.lib / self.character / LIBRARY_FILE,
                           yaml.safe_dump({"actions": entries}, sort_keys=False))
 
-    def rename(self, old: str, new: str) -> None:
+    def rename(self, old: str, new: str, undo: bool = False) -> None:
         """Rename a kept action; a name the character already has (kept, configured or the take
         being tried) is refused: the reload would replace that action with this one, and undo
-        would then remove it from the character."""
+        would then remove it from the character (``undo`` changes nothing: names are entries)."""
         entries = self._entries()
         own = set(self.stage.templates[self.character]) - self.loaded   # not from the library
         if any(a["name"] == new for a in entries) or new in own:

@@ -176,12 +176,12 @@ class TouchPoseTarget:
     def use(self, name: str) -> None:
         self.kept = name      # every kept action is known to the character; this one is selected
 
-    def rename(self, old: str, new: str) -> None:
+    def rename(self, old: str, new: str, undo: bool = False) -> None:
         """Rename a kept action; a name the character already knows (a built-in action such as
         the punch) is refused: the renamed action would replace it, and undo then remove it."""
         if new in {a.name for a in self.core.m.actions}:
             raise InputError(f"an action {new!r} already exists")
-        rename_folder(self.lib, old, new)
+        rename_folder(self.lib, old, new, check=not undo)
         action = next((a for a in self.core.m.actions if a.name == old), None)
         if action is not None:
             self.core.remove_action(old)

@@ -63,13 +63,21 @@ def new_main_path(demo: np.ndarray, seconds: float = 12.0, rate: float = 40.0) -
     return np.column_stack([t, x, y, d])
 
 
-def generated_run(demo: np.ndarray, main: np.ndarray) -> np.ndarray:
-    """The reactor (n, 2) the behaviour trained on ``demo`` generates for ``main``."""
+def generated_run(demo: np.ndarray, main: np.ndarray,
+                  params: dict | None = None) -> np.ndarray:
+    """The reactor (n, 2) the behaviour trained on ``demo`` with ``params`` (those of the take
+    tried: an afraid take's edge_percentile, the table it was made on; the defaults drew
+    another character than the one tried) generates for ``main``, on that table (metres),
+    else on the demonstration's area and 0.1 m round it."""
     from behaviors.puppet_master.engine import Behavior, Reactor
-    b = Behavior.train(demo)
+    p = dict(params or {})
+    b = Behavior.train(demo, **p)
+    w, h = float(p.get("table_width", 0.0)), float(p.get("table_height", 0.0))
     lo = np.minimum(demo[:, [1, 2]].min(0), demo[:, [4, 5]].min(0)) - 0.1
     hi = np.maximum(demo[:, [1, 2]].max(0), demo[:, [4, 5]].max(0)) + 0.1
-    r = Reactor(b, (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])))
+    table = ((0.0, 0.0, w, h) if w > 0.0 and h > 0.0
+             else (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])))
+    r = Reactor(b, table)
     return np.array([r.update(float(t), float(x), float(y), float(d))[:2] for t, x, y, d in main])
 
 
@@ -85,17 +93,20 @@ def followed_progress(take: np.ndarray, slower: float = 1.4) -> tuple[np.ndarray
     return u / (n - 1), got
 
 
-def review_sheet(what: str, demo: np.ndarray, path: Path, title: str = "") -> None:
-    """Draw the review sheet of one try to ``path`` (PNG, written atomically)."""
+def review_sheet(what: str, demo: np.ndarray, path: Path, title: str = "",
+                 params: dict | None = None) -> None:
+    """Draw the review sheet of one try to ``path`` (PNG, written atomically); a behaviour's
+    run is generated with ``params`` (the take's, :func:`generated_run`)."""
     fig, (a, b) = _figure(2)
     if what == "behaviour":
-        a.plot(demo[:, 1], demo[:, 2], lw=1, label="main (demonstrated)")
-        a.plot(demo[:, 4], demo[:, 5], lw=1, label="reactor (demonstrated)")
+        start = {"lw": 1, "marker": "o", "markevery": [0], "ms": 4}   # a still path: its dot
+        a.plot(demo[:, 1], demo[:, 2], label="main (demonstrated)", **start)
+        a.plot(demo[:, 4], demo[:, 5], label="reactor (demonstrated)", **start)
         a.set_title(f"demonstration, {demo[-1, 0] - demo[0, 0]:.1f} s")
         main = new_main_path(demo)
-        react = generated_run(demo, main)
-        b.plot(main[:, 1], main[:, 2], lw=1, label="new main path")
-        b.plot(react[:, 0], react[:, 1], lw=1, label="generated reactor")
+        react = generated_run(demo, main, params)
+        b.plot(main[:, 1], main[:, 2], label="new main path", **start)
+        b.plot(react[:, 0], react[:, 1], label="generated reactor", **start)
         b.set_title("generated on a new path")
         for ax in (a, b):
             ax.set_aspect("equal", adjustable="datalim")

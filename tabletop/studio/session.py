@@ -114,7 +114,9 @@ class SessionLog:
             png = self.path.with_suffix("").name + f"-try{len(self._names()) + 1:03d}.png"
             t.review = png
             what, demo, path = target.what, np.array(demo), self.folder / png
-            self._drawn = draw_later(lambda: self._draw(what, demo, t, path))
+            take_params = getattr(target, "take_params", None)   # what the take trained with
+            params = take_params() if callable(take_params) else None
+            self._drawn = draw_later(lambda: self._draw(what, demo, t, path, params))
         self._append(t)
 
     def _names(self) -> list[str]:
@@ -140,10 +142,12 @@ class SessionLog:
         self.failing = ""
         self.lines += 1
 
-    def _draw(self, what: str, demo: np.ndarray, t: Try, path: Path) -> None:
+    def _draw(self, what: str, demo: np.ndarray, t: Try, path: Path,
+              params: dict | None = None) -> None:
         from tabletop.studio.review import review_sheet
         try:
-            review_sheet(what, demo, path, title=f"{t.target}: {t.outcome} {t.name}".strip())
+            review_sheet(what, demo, path, title=f"{t.target}: {t.outcome} {t.name}".strip(),
+                         params=params)
         except Exception:  # a review sheet is a convenience: never stop the studio
             log.exception("review sheet %s not drawn", path)
 

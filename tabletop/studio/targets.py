@@ -14,6 +14,7 @@ Library folders are renamed in place and deleted into ``<library>/.trash`` so un
 from __future__ import annotations
 
 import logging
+import math
 import os
 import time
 from pathlib import Path
@@ -45,8 +46,11 @@ def trash(folder: Path) -> Callable[[], None]:
     return restore
 
 
-def rename_folder(lib: Path, old: str, new: str) -> None:
-    library.check_name(new)
+def rename_folder(lib: Path, old: str, new: str, check: bool = True) -> None:
+    """Rename ``lib/old`` to ``lib/new``; ``check``: ``new`` must be a usable name (an undo
+    gives back the name a folder had, also one made by hand: "my lover")."""
+    if check:
+        library.check_name(new)
     if (lib / new).exists():
         raise InputError(f"{lib / new}: already exists")
     os.rename(lib / old, lib / new)
@@ -187,7 +191,8 @@ class PuppetMasterTarget:
             demo, what = self.session.demonstration(), "the reaction"
         secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0
         if secs < self.min_seconds:
-            raise InputError(f"take too short ({secs:.1f} s of {what}, needs "
+            shown = math.floor(secs * 10) / 10   # cut: 1.96 s read "2.0 s, needs 2 s"
+            raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
                              f"{self.min_seconds:g} s)")
         return demo
 
@@ -260,16 +265,16 @@ class PuppetMasterTarget:
     def keep(self) -> str:
         if self.pending is None or self.demo is None:
             raise InputError("nothing to keep")
-        name = library.free_name(self.lib, self.engine.designer["name"])
         # with the table it was made on, as the shipped behaviours are: a room or an edge
         # margin set later (w_room, edge_percentile) measured against the take's own bounds
         default = default_params()
-        folder = library.save_behavior(   # the rate, window and table, and any other not default
-            self.lib, name, self.demo,
+        folder = library.save_new(   # the rate, window and table, and any other not default
+            self.lib, self.engine.designer["name"], self.demo,
             {k: v for k, v in self.pending.param_dict().items()
              if k in ("rate_hz", "window", "table_width", "table_height") or v != default[k]},
             description=f"demonstrated at the table for {self.name}",
             source="designer studio, recorded from the table")
+        name = folder.name
         self.engine.behavior_name, self.playing, self.pending = name, folder, None
         self.lib_poller.signature = ()      # the library changed: list it again
         return name
@@ -304,8 +309,8 @@ class PuppetMasterTarget:
         self.playing = folder
         self.play_poller = Poller(folder)
 
-    def rename(self, old: str, new: str) -> None:
-        rename_folder(self.lib, old, new)
+    def rename(self, old: str, new: str, undo: bool = False) -> None:
+        rename_folder(self.lib, old, new, check=not undo)
         if self.current() == old:
             self.playing = self.lib / new
             self.engine.behavior_name = new
@@ -349,7 +354,11 @@ class PuppetMasterTarget:
     def _library_problems(self, kept: list[str]) -> list[str]:
         """``kept`` and the error of every behaviour in the library that does not load."""
         problems = list(kept)
-        for n in self.items():
+        try:
+            names = self.items()
+        except InputError as exc:       # the library cannot be listed: said, the rest plays
+            return problems + [str(exc)]
+        for n in names:
             try:
                 library.load_behavior(self.lib / n)
             except InputError as exc:

@@ -209,3 +209,17 @@ def test_examples_check_refuses_fidelity_seconds_it_cannot_measure(capsys):
         assert exc.value.code == 2
         err = capsys.readouterr().err
         assert "argument --fidelity-seconds" in err and bad in err and "Traceback" not in err
+
+
+def test_a_long_name_is_kept_again_and_again(tmp_path, demo):
+    """A designer name of the longest length (64): the first keep took it, every later one
+    was refused ('...-2' is not usable as a folder name); the number now takes its room."""
+    name = "shy_" + "x" * 60
+    kept = []
+    for _ in range(11):
+        free = library.free_name(tmp_path, name)
+        library.save_behavior(tmp_path, free, demo, {})
+        kept.append(free)
+    assert kept[0] == name and kept[1] == name[:62] + "-2" and kept[10] == name[:61] + "-11"
+    assert all(len(k) == 64 for k in kept) and len(set(kept)) == 11
+    assert library.list_behaviors(tmp_path) == sorted(kept)

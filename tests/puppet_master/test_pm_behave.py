@@ -1,6 +1,7 @@
 """``tabletop behave``: real CSV files in, the DESIGN.md contract out."""
 
 import math
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -286,3 +287,84 @@ def test_a_behaviour_folder_trains_with_its_saved_parameters(files, tmp_path, ca
     assert {p.name: p.read_bytes() for p in folder.iterdir()} == before
     assert behave("--train", tmp_path, *base, "--out", tmp_path / "o.csv") == 2
     assert "behavior.yaml" in capsys.readouterr().err
+
+
+def test_a_folder_naming_its_own_demonstration_file_is_read_once(files, tmp_path, capsys):
+    """A behaviour whose behavior.yaml names its demonstration ``take-3.csv``: the stored
+    behaviour carries that file (``behave`` read behavior.yaml a second time for it), and
+    ``--out`` naming it is refused, the file left as it was."""
+    import yaml
+
+    from tabletop import library
+    d, main = files
+    folder = tmp_path / "lib" / "pet"
+    shutil.copytree(SHIPPED / "lover", folder)
+    (folder / "demonstration.csv").rename(folder / "take-3.csv")
+    desc = yaml.safe_load((folder / "behavior.yaml").read_text())
+    desc["data"]["demonstration"] = "take-3.csv"
+    (folder / "behavior.yaml").write_text(yaml.safe_dump(desc))
+    stored = library.load_behavior(folder)
+    assert stored.data_file == folder / "take-3.csv"
+    before = (folder / "take-3.csv").read_bytes()
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    assert behave("--train", folder, "--input", tmp_path / "main.csv",
+                  "--out", folder / "take-3.csv") == 2
+    assert "is the input file" in capsys.readouterr().err
+    assert (folder / "take-3.csv").read_bytes() == before
+    assert behave("--train", folder, "--input", tmp_path / "main.csv",
+                  "--out", tmp_path / "o.csv") == 0
+
+
+def test_positions_in_mm_are_refused_naming_the_file(files, tmp_path, capsys):
+    """A demonstration (or a main path) recorded in millimetres trained and generated without
+    a word: the reactor hundreds of metres from a main given in metres."""
+    d, main = files
+    _, demo = read_csv(d / "demo.csv")
+    mm = demo.copy()
+    mm[:, [1, 2, 4, 5]] *= 700.0      # a take within 0.95 m of the corner (over 1000: refused)
+    write_csv(tmp_path / "demo_mm.csv", DEMO_HEADER, mm.tolist())
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    main_mm = main[:60].copy()
+    main_mm[:, 1:3] *= 1000.0
+    write_csv(tmp_path / "main_mm.csv", MAIN_HEADER, main_mm.tolist())
+    for train, path, table in ((tmp_path / "demo_mm.csv", "main.csv", []),
+                               (tmp_path / "demo_mm.csv", "main.csv", ["--table", "1.6,1.0"]),
+                               (d / "demo.csv", "main_mm.csv", [])):
+        assert behave("--train", train, "--input", tmp_path / path,
+                      "--out", tmp_path / "o.csv", *table) == 2
+        err = capsys.readouterr().err.splitlines()
+        bad = train if path == "main.csv" else tmp_path / path
+        assert len(err) == 1 and err[0].startswith(f"tabletop behave: error: {bad}: ")
+        assert "more than any table (20 m); positions are table metres" in err[0], err
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_a_folders_table_given_by_param_is_the_table_it_plays_on(files, tmp_path):
+    """--param table_width/table_height over a behaviour folder's own: it trained on that
+    table and was generated on the folder's stored one."""
+    d, main = files
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:150].tolist())
+    given = ["--param", "table_width=1.6", "--param", "table_height=1.0"]
+    base = ["--train", SHIPPED / "afraid", "--input", tmp_path / "main.csv"]
+    assert behave(*base, *given, "--out", tmp_path / "param.csv") == 0
+    assert behave(*base, *given, "--table", "1.6,1.0", "--out", tmp_path / "both.csv") == 0
+    assert (tmp_path / "param.csv").read_text() == (tmp_path / "both.csv").read_text()
+
+
+def test_a_library_or_a_misspelt_behaviour_names_the_librarys_behaviours(files, tmp_path,
+                                                                          capsys):
+    """--train naming the library itself said "library/behavior.yaml: not found", and a
+    misspelt behaviour "demonstration CSV not found": neither named what there is."""
+    d, main = files
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    base = ["--input", tmp_path / "main.csv", "--out", tmp_path / "o.csv"]
+    assert behave("--train", SHIPPED / "lovr", *base) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and f"did you mean {SHIPPED / 'lover'}?" in err[0]
+    assert "afraid, bully, lover, playful_friend, stalker" in err[0]
+    assert behave("--train", SHIPPED, *base) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "a behaviour library, not a behaviour" in err[0]
+    assert f"e.g. {SHIPPED / 'afraid'}" in err[0]
+    assert not (tmp_path / "o.csv").exists()
+    assert behave("--train", SHIPPED / "lover", *base) == 0
