@@ -69,6 +69,8 @@ class Runner:
         self.reporter: Any = None
         if self.kiosk:
             kiosk_log(cfg, kiosk_paths(cfg, self.base)["log_file"])
+            if config_error is not None:
+                last_good.say(self.config_path, config_error)
             import faulthandler
             faulthandler.enable()     # a native crash leaves its Python stack in the crash log
 

@@ -200,3 +200,25 @@ def test_the_supervisor_keeps_its_last_events_not_every_one(tmp_path, monkeypatc
     assert sup.starts >= 6
     assert list(sup.events) == [("crash", t) for _, t in sup.events] and len(sup.events) == 3
     assert len(sup.warm) == 3
+
+
+def test_a_start_on_the_last_good_configuration_says_why_once_in_the_kiosk_log(tmp_path):
+    """A kiosk that ran, then a refused config.yaml and a start: the table runs the last good
+    configuration, and why is one line in ``logs/tabletop.log`` (where the technician reads)
+    and one on stderr. Before, the line went to stderr only, twice (the supervisor's load and
+    the installation's), and the log file never said it."""
+    cfg = drill_config(tmp_path, [])
+    cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
+    run = [sys.executable, "-m", "tabletop", "run", "--config", str(cfg), "--kiosk",
+           "--headless", "--seconds", "1"]
+    first = subprocess.run(run, capture_output=True, text=True, timeout=120)
+    assert first.returncode == 0, first.stderr[-2000:]
+    assert (tmp_path / ".config.yaml.last-good").is_file()
+    cfg.write_text(cfg.read_text().replace("rate_hz: 30", "rate_hz: sixty"))
+    out = subprocess.run(run, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    said = "the kiosk runs the last configuration that ran"
+    log_lines = [line for line in (tmp_path / "logs" / "tabletop.log").read_text().splitlines()
+                 if said in line]
+    assert len(log_lines) == 1 and "loop.rate_hz" in log_lines[0], log_lines
+    assert out.stderr.count(said) == 1, out.stderr[-2000:]
