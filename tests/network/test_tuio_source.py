@@ -386,3 +386,25 @@ def test_a_packet_refused_whole_does_not_keep_its_sender_alive():
         assert "TUIO from tracker@10.0.0.5" in src.health().message
     finally:
         src.close()
+
+
+def test_every_refused_mocap_message_names_its_sender(source, caplog):
+    """Each kind of refused ``/mocap/NAME`` message is logged with the address it came from,
+    as every other refusal is ("from 127.0.0.1"): a technician with several senders on the
+    network could not tell which one sent them."""
+    import logging
+    from pythonosc.osc_message_builder import OscMessageBuilder
+    caplog.set_level(logging.WARNING, logger="tabletop.input")
+    huge = OscMessageBuilder("/mocap/arm")
+    huge.add_arg(1e300, arg_type="d")                   # a double: beyond any feature
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        for m in (message("/mocap/bad name!", 1.0), message("/mocap/arm"),
+                  message("/mocap/arm", math.inf), huge.build()):
+            s.sendto(m.dgram, ("127.0.0.1", source.bound_port))
+    assert sent(source, 4)
+    counts = source.bad.counts()
+    assert set(counts) == {"unknown_address", "wrong_arguments", "non_finite", "out_of_range"}
+    lines = [r.getMessage() for r in caplog.records if "/mocap/" in r.getMessage()
+             or "stream name" in r.getMessage()]
+    assert len(lines) == 4, lines
+    assert all("from 127.0.0.1" in line for line in lines), lines
