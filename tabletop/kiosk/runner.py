@@ -227,6 +227,8 @@ class Runner:
             if self.pending is None or self.stop.is_set() or (left is not None and left <= 0):
                 break
             cfg, self.pending = self.pending, None
+        if self.reporter is not None:      # its loop closed it: the file says it stopped
+            self.reporter.stopped()
         self.notifier.send("STOPPING=1")
         return 0
 

@@ -329,3 +329,21 @@ def test_a_recording_that_failed_before_an_applied_edit_is_remembered(tmp_path):
         signal.signal(signal.SIGXFSZ, old_handler)
     assert len(runner.recording_failures) == 1
     assert "File too large" in runner.recording_failures[0]
+
+
+def test_a_kiosk_that_ends_leaves_a_status_file_saying_it_stopped(tmp_path):
+    """The status file a kiosk leaves when it ends on purpose says "stopped" (fps 0, the time
+    of the stop); it kept saying "live" with the pid of a process gone."""
+    import json
+    import os
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    status_file = tmp_path / "status.json"
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)):
+        assert wait_for(lambda: status_file.is_file(), 15)
+        live = json.loads(status_file.read_text())
+        assert live["mode"] in ("live", "attract") and live["fps"] > 0
+    left = json.loads(status_file.read_text())
+    assert left["mode"] == "stopped" and left["fps"] == 0.0, left
+    assert left["pid"] == os.getpid() and left["name"] == live["name"]
+    assert left["uptime_s"] >= live["uptime_s"]
