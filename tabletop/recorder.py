@@ -435,8 +435,11 @@ class Recorder:
             if self.failed is None:
                 self._fail(exc)
             return
-        if self.failed is None:
-            log.info("recording %s: %d frames", self.path, self.frames)
+        if self.failed is None:   # the session's frames: in its parts, not in the last alone
+            parts = (f" in {len(self.paths)} parts, {self.paths[0].name} to {self.path.name}"
+                     if len(self.paths) > 1 else "")
+            log.info("recording %s: %d frames%s", self.paths[0] if parts else self.path,
+                     self.frames, parts)
 
 
 def _encode(d: dict[str, Any]) -> bytes:

@@ -92,3 +92,21 @@ def test_keep_still_lists_the_folder_and_prunes_at_each_part(tmp_path):
     left = sorted(tmp_path.iterdir())
     assert len(left) == 10 and rec.path in left
     assert max(read_header(p)["order"] for p in left) == KEPT + len(rec.paths)
+
+
+def test_the_closing_line_counts_the_frames_of_every_part(tmp_path, caplog):
+    """A session in several parts ends with one line giving its frames and its parts, first
+    to last. It named the last part beside the session's frame count ("recording
+    session-...-3.jsonl: 2425 frames" for a file holding 270): frames looked lost."""
+    import logging
+    from tabletop.recorder import read_frames
+    caplog.set_level(logging.INFO, logger="tabletop")
+    rec = Recorder(folder=tmp_path, header={"config": {}}, max_mb=0.002, max_queue=10**6)
+    for i in range(200):
+        rec.consume(Frame(i, i / 60.0))
+    rec.close()
+    assert len(rec.paths) >= 3
+    assert sum(len(list(read_frames(p))) for p in rec.paths) == 200
+    line = [r.getMessage() for r in caplog.records if "200 frames" in r.getMessage()]
+    assert line == [f"recording {rec.paths[0]}: 200 frames in {len(rec.paths)} parts, "
+                    f"{rec.paths[0].name} to {rec.paths[-1].name}"], line
