@@ -236,7 +236,8 @@ class Recorder:
         are tried from ``wait_s`` of frame time on."""
         where = self.paths[-1] if self.paths else self.folder
         why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
-        self.failed = f"{where}: {why}"
+        empty = bool(self.paths) and self._first_in_file   # removed below: say so, not a
+        self.failed = f"{where}: {why}" + (" (it held no frame: removed)" if empty else "")
         resumable = resumable or (isinstance(exc, OSError) and exc.errno in DISK_FULL)
         self._resumable = resumable
         self._resume_at = None if self._last_t is None else self._last_t + wait_s
@@ -246,7 +247,7 @@ class Recorder:
         if self._f is not None:
             self._retired.append(self._f)   # the syncer syncs what it can and closes it
             self._f = None
-        if self.paths and self._first_in_file:  # a file without a frame is of no use
+        if empty:                        # a file without a frame is of no use
             try:
                 self.paths[-1].unlink()
             except OSError:
