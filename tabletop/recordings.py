@@ -10,6 +10,7 @@ files the oldest times). Used by :class:`tabletop.recorder.Recorder`.
 from __future__ import annotations
 
 import datetime as _dt
+import itertools
 import logging
 import os
 import re
@@ -39,7 +40,7 @@ def candidates(folder: Path, stem: str | None, suffix: str, first: int = 1) -> I
     base = f"session-{_stamp()}" if stem is None else stem
     if first <= 1:
         yield folder / f"{base}{suffix}"
-    for n in range(max(2, first), 1_000_000_000):
+    for n in itertools.count(max(2, first)):   # exclusive creation ends it: never endless
         yield folder / f"{base}-{n}{suffix}"
 
 

@@ -110,3 +110,13 @@ def test_the_closing_line_counts_the_frames_of_every_part(tmp_path, caplog):
     line = [r.getMessage() for r in caplog.records if "200 frames" in r.getMessage()]
     assert line == [f"recording {rec.paths[0]}: 200 frames in {len(rec.paths)} parts, "
                     f"{rec.paths[0].name} to {rec.paths[-1].name}"], line
+
+
+def test_a_path_naming_numbers_on_past_any_number_found(tmp_path):
+    """A copy named with a huge number (``kiosk-1000000000.jsonl``) beside the recordings: the
+    next recording is the number after it, never an error (the names tried ran out)."""
+    (tmp_path / "kiosk.jsonl").write_text("{}\n")
+    (tmp_path / "kiosk-1000000000.jsonl").write_text("{}\n")
+    rec = Recorder(path=tmp_path / "kiosk.jsonl", header={"config": {}})
+    rec.close()
+    assert rec.path.name == "kiosk-1000000001.jsonl"
