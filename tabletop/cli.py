@@ -67,7 +67,10 @@ def build_parser() -> argparse.ArgumentParser:
         prog="tabletop",
         description="Tangible tabletop installation: pucks on a table drive projected characters.")
     parser.add_argument("--version", action="version", version=f"tabletop {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
+    # a command is required: ``tabletop`` alone is a usage error (one line on stderr, status 2,
+    # as ``tabletop calibrate`` without its step); ``tabletop --help`` is the help (stdout, 0)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser,
+                                required=True)
     for name in COMMANDS:
         try:
             module = importlib.import_module(f"tabletop.commands.{name}")
@@ -139,9 +142,6 @@ def _main(argv: Sequence[str] | None) -> int:
     nul = [a for a in (sys.argv[1:] if argv is None else argv) if "\x00" in a]
     if nul:  # (a shell cannot pass one; a script building its arguments can)
         parser.error(f"argument {nul[0]!r} contains a NUL character: no path or value can")
-    if not getattr(args, "_main", None):
-        parser.print_help()
-        return EXIT_BAD_INPUT
     try:
         return int(args._main(args) or 0)
     except InputError as exc:

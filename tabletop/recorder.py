@@ -47,7 +47,7 @@ from typing import Any, Callable
 
 from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
-from tabletop.recordings import candidates, prune, recordings
+from tabletop.recordings import Recordings, candidates, number, prune, recordings
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header, session_header)
@@ -121,6 +121,8 @@ class Recorder:
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0                  # frames written
         self._orders: dict[Path, int | None] = {}   # recordings' header orders, read once
+        self._order = 0                  # the last part's order, and its name's number
+        self._number = 0                 # (recordings.number)
         self.failed: str | None = None   # why recording stopped early, if it did
         self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
         self._resumable = False                # stopped by a full disk: tries go on
@@ -162,9 +164,19 @@ class Recorder:
         """A new file: the first, the next part, or one ``resumed`` after a stop for that
         reason."""
         self.folder.mkdir(parents=True, exist_ok=True)
-        mine = recordings(self.folder, self.stem, self.suffix, self._orders)
-        order = max((o for o, _ in mine.values() if o is not None), default=0) + 1
-        for candidate in candidates(self.folder, self.stem, self.suffix):
+        if self.keep is None and self.paths:
+            # nothing is pruned: a later part goes on from this session's last order and name
+            # without listing the folder again (a listing grows with every recording kept)
+            mine: Recordings = {}
+            order, first = self._order + 1, self._number + 1
+        else:
+            mine = recordings(self.folder, self.stem, self.suffix, self._orders)
+            order = max((o for o, _ in mine.values() if o is not None), default=0) + 1
+            # on after the highest name: trying NAME, NAME-2 ... one by one cost an open()
+            # per recording kept (20,000 of them: 0.1 s, at every start and new part)
+            first = max((number(p.name, self.stem, self.suffix) for p in mine), default=0) + 1
+            first = max(first, self._number + 1)
+        for candidate in candidates(self.folder, self.stem, self.suffix, first):
             try:
                 f = open(candidate, "xb", buffering=0)   # each line one write: see _write
             except FileExistsError:
@@ -194,6 +206,7 @@ class Recorder:
             self._folder_dirty = True
         mine[candidate] = (order, 0.0)
         self._orders[candidate] = order
+        self._order, self._number = order, number(candidate.name, self.stem, self.suffix)
         prune(mine, self.keep, self.path, self.folder)
 
     def _write(self, data: bytes) -> None:
@@ -223,7 +236,8 @@ class Recorder:
         are tried from ``wait_s`` of frame time on."""
         where = self.paths[-1] if self.paths else self.folder
         why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
-        self.failed = f"{where}: {why}"
+        empty = bool(self.paths) and self._first_in_file   # removed below: say so, not a
+        self.failed = f"{where}: {why}" + (" (it held no frame: removed)" if empty else "")
         resumable = resumable or (isinstance(exc, OSError) and exc.errno in DISK_FULL)
         self._resumable = resumable
         self._resume_at = None if self._last_t is None else self._last_t + wait_s
@@ -233,7 +247,7 @@ class Recorder:
         if self._f is not None:
             self._retired.append(self._f)   # the syncer syncs what it can and closes it
             self._f = None
-        if self.paths and self._first_in_file:  # a file without a frame is of no use
+        if empty:                        # a file without a frame is of no use
             try:
                 self.paths[-1].unlink()
             except OSError:
@@ -422,8 +436,11 @@ class Recorder:
             if self.failed is None:
                 self._fail(exc)
             return
-        if self.failed is None:
-            log.info("recording %s: %d frames", self.path, self.frames)
+        if self.failed is None:   # the session's frames: in its parts, not in the last alone
+            parts = (f" in {len(self.paths)} parts, {self.paths[0].name} to {self.path.name}"
+                     if len(self.paths) > 1 else "")
+            log.info("recording %s: %d frames%s", self.paths[0] if parts else self.path,
+                     self.frames, parts)
 
 
 def _encode(d: dict[str, Any]) -> bytes:

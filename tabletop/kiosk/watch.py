@@ -111,8 +111,10 @@ class ConfigWatcher:
             self.refused += 1
             log.error("config edit refused, the running configuration stays: %s", exc)
             return
-        self.error = None
+        was_refused, self.error = self.error is not None, None
         if cfg == self.current:
+            if was_refused:   # the refusal logged is over: the log said nothing (status did)
+                log.info("config %s is valid again: it is the running configuration", self.path)
             return
         log.info("config %s changed: applying it", self.path)
         self.current = cfg

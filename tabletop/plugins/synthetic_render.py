@@ -30,6 +30,7 @@ import logging
 import mmap
 import os
 import pickle
+import signal
 import subprocess
 import sys
 import time
@@ -152,11 +153,16 @@ def _render_child(requests: Connection, answers: Connection, image_fd: int) -> N
         del out
 
 
+class RenderProcessLost(Exception):
+    """The render process died or stopped answering (the camera source reconnects)."""
+
+
 class RenderProcessReader:
     """A frame reader whose frames a child process renders (see the module's docstring).
     ``read()`` returns the image (a copy out of the shared buffer, 8-bit grey) with its shutter
-    time in ``capture_t`` and its ground truth in ``frame``; None when the child is gone or
-    late (the camera source then reconnects with a new child)."""
+    time in ``capture_t`` and its ground truth in ``frame``; it raises
+    :class:`RenderProcessLost` when the child is gone or late (the camera source then logs why
+    and reconnects with a new child)."""
 
     def __init__(self, settings: CameraSettings, poses: Callable[[float], list],
                  hands: Callable[[float], list[Occluder]], fps: float) -> None:
@@ -189,20 +195,35 @@ class RenderProcessReader:
         self.requests.send((settings, poses, hands, fps))
         self._frames = 0
 
-    def read(self) -> np.ndarray | None:
+    def read(self) -> np.ndarray:
+        """The next image; RenderProcessLost when the child died or did not answer. (It
+        returned None, which the camera takes for a video file's end: a killed render process
+        was logged as "ended; played again from its start ... (not logged again)", at INFO, and
+        every later death not at all.)"""
+        wait_s = FIRST_FRAME_S if self._frames == 0 else FRAME_S
         try:
             self.requests.send((self.t0, SyntheticReader.shutter_at_end))
-            if not self.answers.poll(FIRST_FRAME_S if self._frames == 0 else FRAME_S):
-                log.warning("synthetic camera: the render process did not answer")
-                return None
+            if not self.answers.poll(wait_s):
+                raise RenderProcessLost(f"the render process did not answer within "
+                                        f"{wait_s:g} s")
             t, ids, corners, centres, poses, visible, occluders = self.answers.recv()
         except (EOFError, OSError):
-            return None
+            raise RenderProcessLost(self._gone()) from None
         image = self.view.copy()
         self._frames += 1
         self.capture_t = t
         self.frame = SyntheticFrame(image, t, ids, corners, centres, poses, visible, occluders)
         return image
+
+    def _gone(self) -> str:
+        """Why the child is gone, in an operator's words."""
+        try:
+            code = self.proc.wait(timeout=1.0)
+        except subprocess.TimeoutExpired:
+            return "the render process stopped answering"
+        how = (f"killed by {signal.Signals(-code).name}" if code < 0 and -code in
+               signal.valid_signals() else f"exit status {code}")
+        return f"the render process ended ({how})"
 
     def release(self) -> None:
         try:

@@ -329,3 +329,48 @@ def test_a_recording_that_failed_before_an_applied_edit_is_remembered(tmp_path):
         signal.signal(signal.SIGXFSZ, old_handler)
     assert len(runner.recording_failures) == 1
     assert "File too large" in runner.recording_failures[0]
+
+
+def test_a_kiosk_that_ends_leaves_a_status_file_saying_it_stopped(tmp_path):
+    """The status file a kiosk leaves when it ends on purpose says "stopped" (fps 0, the time
+    of the stop); it kept saying "live" with the pid of a process gone."""
+    import json
+    import os
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    status_file = tmp_path / "status.json"
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)):
+        assert wait_for(lambda: status_file.is_file(), 15)
+        live = json.loads(status_file.read_text())
+        assert live["mode"] in ("live", "attract") and live["fps"] > 0
+    left = json.loads(status_file.read_text())
+    assert left["mode"] == "stopped" and left["fps"] == 0.0, left
+    assert left["pid"] == os.getpid() and left["name"] == live["name"]
+    assert left["uptime_s"] >= live["uptime_s"]
+
+
+def test_a_refused_edit_put_back_is_said_to_be_over_in_the_log(tmp_path, caplog):
+    """A refused edit (logged as an error), then the file put back as it runs: the log says
+    the file is valid again. It said nothing (only the status's ``config_error`` went back to
+    null), so a technician reading the log saw an error that never ended."""
+    import logging
+    from tabletop.kiosk.watch import ConfigWatcher
+    caplog.set_level(logging.INFO, logger="tabletop")
+    path = tmp_path / "config.yaml"
+    good = yaml.safe_dump(config([10, 20, 30]))
+    path.write_text(good)
+    now = [0.0]
+    applied = []
+    watcher = ConfigWatcher(path, load_config(path), load_config, applied.append,
+                            clock=lambda: now[0])
+    watcher()
+    assert watcher.error is None and not caplog.records
+    for text in ("loop: {rate_hz: sixty}\n" + good, good):
+        write(path, text)
+        now[0] += 2.0
+        watcher()
+    said = [(r.levelname, r.getMessage()) for r in caplog.records]
+    assert len(said) == 2 and said[0][0] == "ERROR" and "loop" in said[0][1], said
+    assert said[1] == ("INFO", f"config {path} is valid again: it is the running "
+                               "configuration"), said
+    assert watcher.error is None and applied == []

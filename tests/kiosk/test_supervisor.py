@@ -61,9 +61,10 @@ def test_crash_and_stall_are_logged_and_the_kiosk_comes_back(tmp_path):
     assert "killed by SIGABRT" in entries[0]
     assert "fault.py" in entries[0]                 # the Python stack of the crash
     assert "stalled: no frame for" in entries[1]
-    # the third installation ran, wrote its status, and stopped cleanly on SIGTERM
+    # the third installation ran, wrote its status, and stopped cleanly on SIGTERM (its
+    # status file says so)
     status = json.loads((tmp_path / "status.json").read_text())
-    assert status["restarts"] == 2 and status["mode"] in ("live", "attract")
+    assert status["restarts"] == 2 and status["mode"] == "stopped"
     for e, t in sup.events:
         print(e, round(t - sup.events[0][1], 2))
 
@@ -200,3 +201,72 @@ def test_the_supervisor_keeps_its_last_events_not_every_one(tmp_path, monkeypatc
     assert sup.starts >= 6
     assert list(sup.events) == [("crash", t) for _, t in sup.events] and len(sup.events) == 3
     assert len(sup.warm) == 3
+
+
+def test_a_start_on_the_last_good_configuration_says_why_once_in_the_kiosk_log(tmp_path):
+    """A kiosk that ran, then a refused config.yaml and a start: the table runs the last good
+    configuration, and why is one line in ``logs/tabletop.log`` (where the technician reads)
+    and one on stderr. Before, the line went to stderr only, twice (the supervisor's load and
+    the installation's), and the log file never said it."""
+    cfg = drill_config(tmp_path, [])
+    cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
+    run = [sys.executable, "-m", "tabletop", "run", "--config", str(cfg), "--kiosk",
+           "--headless", "--seconds", "1"]
+    first = subprocess.run(run, capture_output=True, text=True, timeout=120)
+    assert first.returncode == 0, first.stderr[-2000:]
+    assert (tmp_path / ".config.yaml.last-good").is_file()
+    cfg.write_text(cfg.read_text().replace("rate_hz: 30", "rate_hz: sixty"))
+    out = subprocess.run(run, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+    said = "the kiosk runs the last configuration that ran"
+    log_lines = [line for line in (tmp_path / "logs" / "tabletop.log").read_text().splitlines()
+                 if said in line]
+    assert len(log_lines) == 1 and "loop.rate_hz" in log_lines[0], log_lines
+    assert out.stderr.count(said) == 1, out.stderr[-2000:]
+
+
+def _running(pid: int) -> bool:
+    """Is ``pid`` a live process (not gone, not a zombie no one reaped)?"""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except (OSError, IndexError):
+        return False
+    return state != "Z"
+
+
+def test_an_installation_whose_supervisor_is_killed_ends_cleanly(tmp_path):
+    """``kill -9`` of the supervisor: its installation notices within a second, says so in the
+    kiosk log, closes its recording (every line complete) and leaves its status "stopped".
+    It ran on for good, unsupervised, holding its ports and camera against the next start."""
+    from tabletop.recorder import read_frames
+    cfg = drill_config(tmp_path, [])
+    cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1)
+                   + "recorder: {enabled: true, folder: sessions}\n")
+    sup = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                            "--kiosk", "--headless"], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL)
+    status_file = tmp_path / "status.json"
+    child = None
+    try:
+        end = time.monotonic() + 60
+        while time.monotonic() < end and child is None:
+            time.sleep(0.1)
+            if status_file.exists():
+                child = json.loads(status_file.read_text())["pid"]
+        assert child is not None and child != sup.pid
+        sup.kill()
+        sup.wait(10)
+        end = time.monotonic() + 20
+        while time.monotonic() < end and _running(child):
+            time.sleep(0.1)
+        assert not _running(child), "the installation ran on without its supervisor"
+    finally:
+        if sup.poll() is None:
+            sup.kill()
+        if child is not None and _running(child):
+            os.kill(child, signal.SIGKILL)
+    log = (tmp_path / "logs" / "tabletop.log").read_text()
+    assert f"the kiosk supervisor (pid {sup.pid}) is gone" in log
+    assert json.loads(status_file.read_text())["mode"] == "stopped"
+    (recording,) = (tmp_path / "sessions").iterdir()
+    assert recording.read_bytes().endswith(b"\n") and len(list(read_frames(recording))) > 10

@@ -351,3 +351,60 @@ def test_packets_that_apply_nothing_never_make_the_source_stall():
         assert not h.ok and "nothing received for 60 s" in h.message, h
     finally:
         src.close()
+
+
+def test_a_packet_refused_whole_does_not_keep_its_sender_alive():
+    """A sender that committed a puck, then sends only packets refused whole (bundles without
+    fseq, sets with wrong arguments, a lone source): after ``quiet_s`` from its last commit it
+    is gone (its puck leaves, the health names no sender), as if silent. Those packets kept it
+    heard, so a broken tracker's last pucks stayed on the table for as long as it sent garbage."""
+    now = [0.0]
+    src = OscInput("osc", port=0, table=TABLE, quiet_s=1.5, clock=lambda: now[0])
+    src.open()
+    try:
+        assert src.wait_listening()
+        ref = RefSender(src.bound_port, source="tracker@10.0.0.5")
+        ref.objects([(1, 5, 0.5, 0.5, 0.0)])
+        assert sent(src, 1)
+        assert [p.id for p in src.latest().pucks] == [5]
+        now[0] = 1.0
+        a = "/tuio/2Dobj"
+        refused = [bundle(message(a, "source", "tracker@10.0.0.5"), message(a, "alive", 1),
+                          message(a, "set", 1, 5, 0.6, 0.5)),           # wrong arguments, no fseq
+                   bundle(message(a, "source", "tracker@10.0.0.5")),    # nothing to apply
+                   bundle(message(a, "source", "tracker@10.0.0.5"), message(a, "fseq", "x"))]
+        for packet in refused:
+            ref.send(packet)
+        assert sent(src, 4)
+        assert src.bad.counts().get("wrong_arguments", 0) >= 2, src.bad.counts()
+        now[0] = 2.0        # 2 s after the commit, 1 s after the refused packets
+        assert src.latest().pucks == ()
+        assert "TUIO from" not in src.health().message, src.health()
+        ref.objects([(1, 5, 0.5, 0.5, 0.0)])                          # a valid frame: back
+        assert sent(src, 5)
+        assert [p.id for p in src.latest().pucks] == [5]
+        assert "TUIO from tracker@10.0.0.5" in src.health().message
+    finally:
+        src.close()
+
+
+def test_every_refused_mocap_message_names_its_sender(source, caplog):
+    """Each kind of refused ``/mocap/NAME`` message is logged with the address it came from,
+    as every other refusal is ("from 127.0.0.1"): a technician with several senders on the
+    network could not tell which one sent them."""
+    import logging
+    from pythonosc.osc_message_builder import OscMessageBuilder
+    caplog.set_level(logging.WARNING, logger="tabletop.input")
+    huge = OscMessageBuilder("/mocap/arm")
+    huge.add_arg(1e300, arg_type="d")                   # a double: beyond any feature
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        for m in (message("/mocap/bad name!", 1.0), message("/mocap/arm"),
+                  message("/mocap/arm", math.inf), huge.build()):
+            s.sendto(m.dgram, ("127.0.0.1", source.bound_port))
+    assert sent(source, 4)
+    counts = source.bad.counts()
+    assert set(counts) == {"unknown_address", "wrong_arguments", "non_finite", "out_of_range"}
+    lines = [r.getMessage() for r in caplog.records if "/mocap/" in r.getMessage()
+             or "stream name" in r.getMessage()]
+    assert len(lines) == 4, lines
+    assert all("from 127.0.0.1" in line for line in lines), lines

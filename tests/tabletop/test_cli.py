@@ -104,6 +104,18 @@ def test_version_and_help():
         assert sub.returncode == 0 and "usage: tabletop " + cmd in sub.stdout
 
 
+def test_no_command_is_a_usage_error_on_stderr():
+    """``tabletop`` alone is bad usage, as ``tabletop calibrate`` without its step: one line on
+    stderr naming what is missing, status 2, nothing on stdout (it printed the whole help on
+    stdout with status 2: a script's output got the help, and the README's statuses say 2 is
+    bad input told in one line on stderr)."""
+    r = tabletop()
+    assert r.returncode == 2
+    assert r.stdout == ""
+    lines = r.stderr.splitlines()
+    assert len(lines) == 1 and "COMMAND" in lines[0] and "tabletop --help" in lines[0], lines
+
+
 def test_bad_config_is_one_line_not_a_traceback(tmp_path):
     cfg = tmp_path / "bad.yaml"
     cfg.write_text("sources:\n  - kind: scripted\n    pucks: seven\n")

@@ -252,7 +252,8 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path,
     (ran,) = [ln for ln in r.stderr.splitlines() if "ran " in ln and " ticks in " in ln]
     assert float(ran.split(" ticks in ")[1].split()[0]) >= 2.0   # it ran the whole 2 s
     if limit_kb == 1:
-        assert not out.exists()  # a file without a single frame is not left behind
+        assert not out.exists()  # a file without a single frame is not left behind, and the
+        assert "(it held no frame: removed)" in stopped[0]   # line naming it says so
     else:
         assert 0 < len(list(read_frames(out))) < 100  # what was written before is readable
 

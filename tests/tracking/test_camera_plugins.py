@@ -349,3 +349,34 @@ def test_a_put_off_search_adds_a_puck_put_down_to_its_frame_in_table_metres():
             assert math.hypot(new[0].x - 0.6, new[0].y - 0.6) <= 0.003
             added_at = k
     assert added_at == 3   # the first full-frame search after it was put down
+
+
+def test_a_render_process_that_dies_is_logged_as_a_failure_each_time(tmp_path, caplog):
+    """A killed render process is a warning naming it (how it ended), each time it happens,
+    and the camera comes back. It was taken for a video file's end: one INFO line "ended;
+    played again from its start whenever it ends (not logged again)", and later deaths were
+    silent."""
+    import logging
+    caplog.set_level(logging.INFO)
+    src, _ = build({"kind": "synthetic_camera", "pucks": [1], "fps": 30.0,
+                    "resolution": [320, 180], "hands": {"every_s": 0},
+                    "render_process": True}, tmp_path)
+    frames = []
+    src.notify = lambda t: frames.append(t)
+    src.open()
+    try:
+        for death in range(2):
+            assert wait_for(lambda: len(frames) >= 3, timeout=60.0)
+            reader = src.reader
+            reader.proc.kill()
+            assert wait_for(lambda: src.reader is not reader and src.reconnects >= death + 1,
+                            timeout=60.0)
+            frames.clear()
+        assert wait_for(lambda: len(frames) >= 3, timeout=60.0)
+    finally:
+        src.close()
+    said = [r for r in caplog.records if "render process" in r.getMessage()]
+    assert len(said) == 2, [r.getMessage() for r in caplog.records]
+    assert all(r.levelno == logging.WARNING and "ended (killed by SIGKILL)" in r.getMessage()
+               for r in said), [r.getMessage() for r in said]
+    assert not [r for r in caplog.records if "played again" in r.getMessage()]

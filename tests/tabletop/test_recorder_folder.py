@@ -1,0 +1,122 @@
+"""A recordings folder that grows for weeks (``recorder.keep: null``): the work of starting a new
+part must not grow with the recordings kept. Counted with Python's audit events (every file
+opened, every directory listed by the recorder's own code), on real files."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+from tabletop.frames import Frame
+from tabletop.recorder import Recorder, read_header
+
+KEPT = 1500          # recordings already in the folder
+
+_counting: list[dict[str, int]] = []
+
+
+def _hook(event: str, args: tuple) -> None:
+    if _counting and event in ("open", "os.listdir", "os.scandir"):
+        _counting[-1][event] = _counting[-1].get(event, 0) + 1
+
+
+sys.addaudithook(_hook)
+
+
+class Count:
+    """Counts the audit events named in ``_hook`` within its ``with`` block."""
+
+    def __enter__(self) -> dict[str, int]:
+        _counting.append({})
+        return _counting[-1]
+
+    def __exit__(self, *exc) -> None:
+        _counting.pop()
+
+
+def fill(folder: Path, stem: str | None) -> None:
+    folder.mkdir(parents=True, exist_ok=True)
+    for i in range(KEPT):
+        if stem is None:
+            name = f"session-20260101-000000-{i:06d}.jsonl"
+        else:
+            name = f"{stem}.jsonl" if i == 0 else f"{stem}-{i + 1}.jsonl"
+        (folder / name).write_text(json.dumps({"format": "tabletop-session", "version": 3,
+                                               "order": i + 1}, separators=(",", ":")) + "\n")
+
+
+@pytest.mark.parametrize("stem", [None, "kiosk"], ids=["folder", "path"])
+def test_a_new_part_costs_the_same_however_many_recordings_are_kept(tmp_path, stem):
+    """keep: null with 1,500 recordings kept: each new part (``max_mb`` reached) opens its own
+    file and lists nothing; the start opens each header once and no more. Before, each new part
+    listed the folder and stat()ed every recording twice in the frame loop (20,000 recordings:
+    160-250 ms per part), and a ``path`` naming tried NAME, NAME-2, ... one open() each, at
+    start (1,501 opens beyond the headers) and at every part (1,500)."""
+    fill(tmp_path, stem)
+    where = dict(folder=tmp_path) if stem is None else dict(path=tmp_path / f"{stem}.jsonl")
+    with Count() as start:
+        rec = Recorder(header={"config": {}}, keep=None, max_mb=0.002, max_queue=10**6, **where)
+    try:
+        assert start.get("open", 0) <= KEPT + 2, start
+        with Count() as parts:
+            for i in range(400):
+                rec.consume(Frame(i, i / 60.0))
+    finally:
+        rec.close()
+    new_parts = len(rec.paths) - 1
+    assert new_parts >= 5, rec.paths
+    assert parts.get("os.listdir", 0) + parts.get("os.scandir", 0) == 0, parts
+    assert parts.get("open", 0) <= 2 * new_parts, parts
+    orders = [read_header(p)["order"] for p in rec.paths]
+    assert orders == list(range(KEPT + 1, KEPT + 2 + new_parts))
+    if stem is not None:
+        assert [p.name for p in rec.paths] == [f"{stem}-{KEPT + 1 + k}.jsonl"
+                                               for k in range(new_parts + 1)]
+
+
+def test_keep_still_lists_the_folder_and_prunes_at_each_part(tmp_path):
+    """With ``keep`` the folder is listed at every part, as before: recordings another run
+    added meanwhile are counted, and the oldest removed."""
+    fill(tmp_path, None)
+    rec = Recorder(folder=tmp_path, header={"config": {}}, keep=10, max_mb=0.002,
+                   max_queue=10**6)
+    try:
+        for i in range(200):
+            rec.consume(Frame(i, i / 60.0))
+    finally:
+        rec.close()
+    assert len(rec.paths) >= 3
+    left = sorted(tmp_path.iterdir())
+    assert len(left) == 10 and rec.path in left
+    assert max(read_header(p)["order"] for p in left) == KEPT + len(rec.paths)
+
+
+def test_the_closing_line_counts_the_frames_of_every_part(tmp_path, caplog):
+    """A session in several parts ends with one line giving its frames and its parts, first
+    to last. It named the last part beside the session's frame count ("recording
+    session-...-3.jsonl: 2425 frames" for a file holding 270): frames looked lost."""
+    import logging
+    from tabletop.recorder import read_frames
+    caplog.set_level(logging.INFO, logger="tabletop")
+    rec = Recorder(folder=tmp_path, header={"config": {}}, max_mb=0.002, max_queue=10**6)
+    for i in range(200):
+        rec.consume(Frame(i, i / 60.0))
+    rec.close()
+    assert len(rec.paths) >= 3
+    assert sum(len(list(read_frames(p))) for p in rec.paths) == 200
+    line = [r.getMessage() for r in caplog.records if "200 frames" in r.getMessage()]
+    assert line == [f"recording {rec.paths[0]}: 200 frames in {len(rec.paths)} parts, "
+                    f"{rec.paths[0].name} to {rec.paths[-1].name}"], line
+
+
+def test_a_path_naming_numbers_on_past_any_number_found(tmp_path):
+    """A copy named with a huge number (``kiosk-1000000000.jsonl``) beside the recordings: the
+    next recording is the number after it, never an error (the names tried ran out)."""
+    (tmp_path / "kiosk.jsonl").write_text("{}\n")
+    (tmp_path / "kiosk-1000000000.jsonl").write_text("{}\n")
+    rec = Recorder(path=tmp_path / "kiosk.jsonl", header={"config": {}})
+    rec.close()
+    assert rec.path.name == "kiosk-1000000001.jsonl"
