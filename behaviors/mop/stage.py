@@ -228,10 +228,11 @@ class MopStage:
         if take is None or not take.recording:
             raise InputError("no take is recording")
         take.recording = False
+        take.trim_still(self.performers[take.performer].units)
         samples = take.samples()
         if len(samples) < MIN_TAKE_SAMPLES:
             self.take, self.take_action = None, None
-            raise InputError(f"take too short ({len(samples)} samples)")
+            raise InputError(f"take too short ({len(samples)} samples of motion)")
         self._counter += 1
         # every name the character's library holds, loaded or not (a template skipped at load
         # as corrupt kept its file: a take of its name was saved over it)

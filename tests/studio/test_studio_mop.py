@@ -10,7 +10,7 @@ import yaml
 from tabletop.frames import Frame, InputError, Puck
 from tabletop.studio.machine import Studio
 from tabletop.studio.mop_target import MopTarget
-from tests.mop.test_plugin import RATE, Table, _build, _designer_config
+from tests.mop.test_plugin import G, RATE, Table, _build, _designer_config
 
 
 class StudioTable(Table):
@@ -314,3 +314,36 @@ def test_a_new_take_never_takes_the_name_of_a_library_file_skipped_at_load(tmp_p
     with pytest.raises(InputError, match="in the library already"):
         engine.save("face", "take2", np.zeros((9, 2)), ("dx", "dy"), "talk")
     assert (folder / "take2.csv").read_text() == saved["take2.csv"]
+
+
+def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):
+    """A designer waits after the countdown and before stopping: the still samples at both ends
+    are left out, so the action's progress reaches its end with the gesture's (it stopped at
+    0.84 with 0.4 s still on each side of the zigzag) and the rest after it drives nothing (the
+    held end kept it driven for 0.7 s of the rest); a take where nothing moved is refused."""
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.rest(0.4)
+    table.perform("zigzag")
+    table.rest(0.4)
+    table.tick(["designer.record"])
+    assert table.studio.state == "trying"
+    n = len(engine.templates["lizard"]["take1"][1])
+    gesture_samples = G.gesture("zigzag")[-1, 0] * engine.rate_hz
+    # (its own slowest first and last samples are as still)
+    assert 0.75 * gesture_samples <= n <= gesture_samples + 2, (n, gesture_samples)
+    table.rest(1.2)
+    run = table.perform("zigzag", speed=lambda u: 1.2)
+    shown = [ch["lizard"].progress for _, ch in run
+             if ch["lizard"].valid and ch["lizard"].action == "take1"]
+    assert len(shown) > 0.6 * len(run) and max(shown) > 0.95
+    after = table.rest(1.0)
+    assert not any(ch["lizard"].valid for ch in after[int(0.3 * RATE):])
+    # nothing moved: too short, and no action is made of it
+    table.tick(["designer.discard"])
+    table.tick(["designer.record"])
+    table.rest(2.0)
+    table.tick(["designer.record"])
+    assert "too short" in table.status and "take2" not in engine.puppets["lizard"].actions
