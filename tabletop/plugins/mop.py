@@ -352,6 +352,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     problems: dict[str, list[str]] = {}      # each character's bad library files (skipped)
     loaded: dict[str, list[str]] = {}        # each character's actions from the library
     read: dict[str, tuple] = {}              # its folder's signature: the studio's first baseline
+    configured = {c["name"]: {a["name"] for a in c["actions"]} for c in options["characters"]}
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
@@ -371,7 +372,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
             kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
-                                        rate, loader)
+                                        rate, loader, configured[c["name"]])
             for action, samples in kept:
                 actions.append(action)
                 tmpl[action.name] = (c["performer"], samples)
@@ -399,5 +400,6 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         log.error("MOP action skipped: %s", p)
     stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read
     stage.library_actions = lambda character: library_actions(          # the studio reloads
-        library, character, performers[bound[character]].names, rate, loaders[character])
+        library, character, performers[bound[character]].names, rate, loaders[character],
+        configured[character])
     return stage

@@ -10,7 +10,7 @@ import yaml
 from tabletop.frames import Frame, InputError, Puck
 from tabletop.studio.machine import Studio
 from tabletop.studio.mop_target import MopTarget
-from tests.mop.test_plugin import G, RATE, Table, _build, _designer_config
+from tests.mop.test_plugin import EXAMPLES, G, RATE, Table, _build, _designer_config
 
 
 class StudioTable(Table):
@@ -347,3 +347,29 @@ def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):
     table.rest(2.0)
     table.tick(["designer.record"])
     assert "too short" in table.status and "take2" not in engine.puppets["lizard"].actions
+
+
+def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_are_skipped(tmp_path):
+    """Each is reported naming the library file and skipped; the engine starts with the rest
+    (an empty name stopped the start naming no file; a repeated name or a configured one
+    silently replaced the earlier entry's or the configured action)."""
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    line = (EXAMPLES / "mop/gestures/line.csv").read_text()
+    for name in ("a", "b", "c"):
+        (lib / "face" / f"{name}.csv").write_text(line)
+    (lib / "face" / "d.csv").write_text("t,dx,dy\n0,0,0\n0.5,0,0.1\n1,0.1,0.1\n")
+    (lib / "face" / "actions.yaml").write_text(
+        "actions:\n- {name: '', template: d.csv, motion: laugh}\n"
+        "- {name: line, template: a.csv, motion: laugh}\n"
+        "- {name: line, template: b.csv, motion: wink}\n"
+        "- {name: circle, template: c.csv, motion: angry}\n")
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    problems = engine.library_problems["face"]
+    assert len(problems) == 3 and all("face/actions.yaml: action " in p for p in problems)
+    assert "'' needs a name" in problems[0] and "'line' is named twice" in problems[1]
+    assert "'circle' has the name of an action the config gives" in problems[2]
+    assert set(engine.puppets["face"].actions) == {"circle", "line"}
+    assert engine.puppets["face"].actions["line"].clip.name == "laugh"
+    circle = engine.templates["face"]["circle"][1]
+    assert len(circle) == len(G.gesture("circle"))     # the configured template, not c.csv
