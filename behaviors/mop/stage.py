@@ -56,7 +56,10 @@ from behaviors.mop.puppetry import Action, Puppet, Take, Vote
 from tabletop.frames import CharacterState, Frame, InputError
 from behaviors.worker import Worker
 
-FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None"], object]
+#: (templates, the performer's feature units, their smallest spread worth telling apart) ->
+#: a follower; units and min_scale None where unknown (a stream's columns)
+FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None", "np.ndarray | None"],
+                           object]
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
 
 MIN_TAKE_SAMPLES = 8
@@ -172,7 +175,8 @@ class MopStage:
     def _build(self, plan: tuple[dict, dict]) -> tuple:
         """The followers of a :meth:`_plan` (pure: may run in the worker)."""
         routes, by_performer = plan
-        followers = {performer: self.make_follower(templates, self.performers[performer].units)
+        followers = {performer: self.make_follower(templates, self.performers[performer].units,
+                                                   self.performers[performer].min_scale)
                      for performer, templates in by_performer.items()}
         # every follower stepped in one vectorised pass
         keys = list(followers)

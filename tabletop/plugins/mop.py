@@ -337,12 +337,12 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                   max_spread=fo["max_spread"],
                   relative_floor=fo["relative_floor"])
 
-    def make_follower(templates, units=None):
+    def make_follower(templates, units=None, min_scale=None):
         # size, place and direction of motion only where the features' units are known (puck
         # and touch paths); a stream's columns are followed as recorded
         spatial = units is not None
         invariance = fo["invariance"] if fo["invariance"] != "auto" else ("scale" if spatial else "none")
-        return ActionFollower(templates, units=units, invariance=invariance,
+        return ActionFollower(templates, units=units, invariance=invariance, min_scale=min_scale,
                               tangent=fo["tangent"] if spatial else 0.0, **params)
 
     performers = {p["name"]: _make_performer(p) for p in options["performers"]}

@@ -461,3 +461,22 @@ def test_two_engines_keeping_a_character_of_one_name_in_one_library_are_refused(
     cfg = validate_config(data, str(tmp_path / "test.yaml"), tmp_path)
     ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=tmp_path)
     assert [mop.build(e, ctx).name for e in cfg["engines"]] == ["mop", "mop2"]
+
+
+def test_an_action_of_a_few_millimetres_leaves_the_others_recognised(tmp_path):
+    """A designer's nudge (a 1 mm action beside a circle) is floored at the puck's smallest
+    spread worth telling apart: unfloored it shrank the follower's still radius to its own spread
+    and the circle never drove again (valid 0% of its second half)."""
+    (tmp_path / "nudge.csv").write_text("t,dx,dy\n0,0,0\n0.5,0.001,0\n1,0,0\n")
+    data = _designer_config(tmp_path)
+    data["engines"][0]["library"] = None
+    data["engines"][0]["characters"][1]["actions"] = [
+        {"name": "nudge", "template": str(tmp_path / "nudge.csv"), "motion": "curl"}]
+    engine = _build(data, tmp_path)
+    assert engine.performers["hand"].min_scale.tolist() == [0.01, 0.01]
+    table = Table(engine)
+    table.rest(1.5)
+    run = table.perform("circle")
+    late = [c["face"].valid and c["face"].action == "circle" for u, c in run if u > 0.5]
+    assert np.mean(late) > 0.9
+    assert not any(c["lizard"].valid for u, c in run)
