@@ -12,6 +12,8 @@ import pytest
 
 from tabletop.cli import main as cli
 
+ROOT = Path(__file__).resolve().parents[2]
+
 
 def _write(path: Path, header: list[str], rows) -> Path:
     with path.open("w", newline="") as f:
@@ -162,3 +164,19 @@ def test_every_invariance_follows_a_file_whose_columns_are_reordered(files, inva
     assert len(rows) == len(truth)
     assert all(math.isfinite(float(r["progress"])) for r in rows)
     assert sum(r["valid"] == "1" and r["best"] == "circle" for r in rows) > len(rows) // 2
+
+
+def test_a_template_of_a_thousandth_of_the_others_leaves_them_valid_at_any_size(tmp_path):
+    """With ``--invariance scale``, a template that barely moves (a 1 mm nudge beside the 15 cm
+    example circle) is floored at a share of the templates' pooled spread: unfloored, it left the
+    circle invalid on every row (0 of 61; 43 alone)."""
+    circle = ROOT / "examples" / "mop" / "gestures" / "circle.csv"
+    nudge = tmp_path / "nudge.csv"
+    nudge.write_text("t,dx,dy\n0,0,0\n0.5,0.001,0\n1,0,0\n")
+    valid = []
+    for extra in ([], ["--template", f"nudge={nudge}"]):
+        out = tmp_path / "out.csv"
+        assert cli(["follow", "--template", f"circle={circle}", *extra, "--input", str(circle),
+                    "--out", str(out), "--invariance", "scale"]) == 0
+        valid.append(sum(r["valid"] == "1" and r["best"] == "circle" for r in _read(out)[1]))
+    assert valid[0] > 30 and valid[1] >= valid[0] - 2, valid
