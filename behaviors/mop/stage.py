@@ -300,7 +300,13 @@ class MopStage:
             holding = (state is not None and bool(state.valid)  # type: ignore[attr-defined]
                        and bool(state.holding))  # type: ignore[attr-defined]
             # a rest ends a gesture, unless an action is held where it holds (a raise, hold,
-            # return held longer than the rest time); resting elsewhere ends it
+            # return held longer than the rest time); resting elsewhere ends it. So a performer
+            # pausing part way through an action for longer than the rest time loses it (a
+            # circle paused 1-3 s at half way drove 0% of its second half, 89% without the
+            # pause). Tried: an action that drives keeps its gesture's origin through rests of
+            # up to 3 s (85-100% of the second half), not kept: it also kept false drives
+            # going through the rest (the bird alone in tests/mop/test_live.py: 46 ticks driven
+            # by a puck resting over 1 s, 0 now)
             self._resting[key] = resting = self.performers[key].resting and not holding
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
