@@ -96,10 +96,15 @@ class StreamInput:
         #: A stream's columns have no known units: the follower takes them from the templates.
         self.units = None
         self.min_scale = None
+        #: Why the stream cannot be read (it has too few columns), or None.
+        self.problem: str | None = None
 
     def read(self, frame: object, t: float) -> np.ndarray:
         a = getattr(frame, "streams", {}).get(self.stream)
-        if a is None or a.size <= int(self.columns.max()):
+        short = a is not None and a.size <= int(self.columns.max())
+        self.problem = (f"stream {self.stream!r} has {a.size} column(s), reads column(s) "
+                        f"{', '.join(str(c) for c in self.columns)}") if short else None
+        if a is None or short:
             return np.full(len(self.columns), np.nan)
         return np.asarray(a, dtype=float)[self.columns]
 
@@ -144,6 +149,12 @@ class Performer:
 
     def read(self, frame: object, t: float) -> np.ndarray:
         return np.concatenate([i.read(frame, t) for i in self.inputs])
+
+    @property
+    def problem(self) -> str | None:
+        """Why an input cannot be read at the last :meth:`read` (a stream with too few
+        columns: nothing could be followed, and nothing said so), or None."""
+        return next((p for p in (getattr(i, "problem", None) for i in self.inputs) if p), None)
 
     @property
     def resting(self) -> bool:

@@ -45,6 +45,7 @@ The designer's keys and control markers reach these through the studio's one sta
 
 from __future__ import annotations
 
+import logging
 import math
 from typing import Callable, Iterable, Mapping, Sequence
 
@@ -63,6 +64,8 @@ FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None", "np.n
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
 
 MIN_TAKE_SAMPLES = 8
+
+log = logging.getLogger("tabletop")
 
 
 class MopStage:
@@ -104,6 +107,7 @@ class MopStage:
         self._routes: dict[str, list[tuple[str, str, str]]] = {}
         self._states: dict[str, object] = {}
         self._resting: dict[str, bool] = {}
+        self._told: set[str] = set()        # input problems logged (once each)
         self.worker: Worker | None = None   # set: followers rebuilt off the hot path
         self.building = False               # a rebuild runs in the worker
         self._retrain()
@@ -357,5 +361,9 @@ class MopStage:
             self._next_t = t + period
         out = []
         for c in self.order:
-            out.append(self.puppets[c].update(t, self._votes(c), ""))
+            problem = self.performers[self.performer_of(c)].problem
+            if problem and problem not in self._told:
+                self._told.add(problem)
+                log.error("MOP performer %r: %s", self.performer_of(c), problem)
+            out.append(self.puppets[c].update(t, self._votes(c), problem or ""))
         return tuple(out)

@@ -480,3 +480,26 @@ def test_an_action_of_a_few_millimetres_leaves_the_others_recognised(tmp_path):
     late = [c["face"].valid and c["face"].action == "circle" for u, c in run if u > 0.5]
     assert np.mean(late) > 0.9
     assert not any(c["lizard"].valid for u, c in run)
+
+
+def test_a_stream_with_too_few_columns_is_said_on_its_characters(tmp_path, caplog):
+    """A performer reading columns 0 and 1 of a stream that has one: nothing can be followed,
+    and the characters' label says why (it said "no action", like an unknown gesture), logged
+    once."""
+    g = G.gesture("wave")
+    rows = np.column_stack([g[:, 0], g[:, 1], g[:, 2]])
+    np.savetxt(tmp_path / "arm.csv", rows, delimiter=",", header="t,arm_0,arm_1", comments="")
+    data = {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop",
+        "performers": [{"name": "body", "inputs": [{"kind": "stream", "name": "arm",
+                                                    "columns": [0, 1]}]}],
+        "characters": [{"name": "face", "kind": "face", "performer": "body", "actions": [
+            {"name": "wave", "template": "arm.csv", "motion": "laugh"}]}]}]}
+    table = Table(_build(data, tmp_path))
+    table.streams = {"arm": np.zeros(1)}
+    with caplog.at_level("ERROR", logger="tabletop"):
+        labels = [table.tick()["face"].label for _ in range(30)]
+    assert labels[-1] == "stream 'arm' has 1 column(s), reads column(s) 0, 1"
+    assert sum("stream 'arm' has 1 column(s)" in r.getMessage() for r in caplog.records) == 1
+    table.streams = {"arm": np.zeros(2)}
+    assert "stream" not in table.tick()["face"].label
