@@ -197,6 +197,11 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     chars = set()
     for i, c in enumerate(cfg["characters"]):
         where = f"{path}.characters[{i}]"
+        if not c["name"].strip() or c["name"] in (".", "..") or any(s in c["name"] for s in "/\\"):
+            # its kept actions are the folder <library>/<name>: '..' kept them beside the
+            # library, '' in the library's own folder; and '/' splits the studio's focus
+            raise ctx.error(f"{where}.name", f"{c['name']!r} cannot name a character: it names "
+                            "its folder of kept actions (not empty, '.' or '..', no '/' or '\\')")
         if c["name"] in chars:
             raise ctx.error(f"{where}.name", f"duplicate character {c['name']!r}")
         chars.add(c["name"])
@@ -218,6 +223,8 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         seen = set()
         for j, a in enumerate(c["actions"]):
             aw = f"{where}.actions[{j}]"
+            if not a["name"].strip():   # the followers refused it, naming neither key nor file
+                raise ctx.error(f"{aw}.name", "an action needs a name")
             if a["name"] in seen:
                 raise ctx.error(f"{aw}.name", f"duplicate action {a['name']!r}")
             seen.add(a["name"])

@@ -409,6 +409,13 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(long)),
            "engines[0].characters[0].actions[0].template",
            "long.csv: the template spans 1e+09 s (column 't'); at most 3600 s can be followed")
+    # names: an empty action's stopped the followers' build naming no key; a character's names
+    # its library folder ('..' kept its actions beside the library)
+    expect(lambda e: e["characters"][0]["actions"][0].update(name=" "),
+           "engines[0].characters[0].actions[0].name", "an action needs a name")
+    for name in ("", "..", "a/b"):
+        expect(lambda e: e["characters"][1].update(name=name), "engines[0].characters[1].name",
+               f"{name!r} cannot name a character")
     far = tmp_path / "far.csv"       # its followers' probabilities became NaN
     far.write_text("t,dx,dy\n0,0,0\n0.1,1e300,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(far)),
