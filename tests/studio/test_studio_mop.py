@@ -242,6 +242,8 @@ def test_a_kept_take_is_not_renamed_over_a_configured_action(tmp_path):
     s.poll()
     face = engine.puppets["face"].actions
     assert set(face) == {"circle", "take1"} and face["circle"].clip.name == "talk"
+    s.command("designer.rename:  ")                    # a blank name is no name (the kept
+    assert "rename needs a new name" in s.message      # action was skipped at reload)
     s.command("designer.rename:line")                  # a free name is still renamed to
     s.poll()
     assert set(face) == {"circle", "line"} and face["circle"].clip.name == "talk"
