@@ -113,6 +113,8 @@ def main(args: argparse.Namespace) -> int:
         header, data, tlines = read_csv_lines(path, what=f"template {name!r} CSV file",
                                               min_rows=0)
         names, feats = _features(path, header, data, f"template {name!r}", tlines)
+        if "t" in header:   # (the engine refuses such a template; it was followed here)
+            check_increasing(data[:, header.index("t")], path, lines=tlines)
         if feats.shape[0] < 2:
             raise TemplateError(
                 f"{path}: template {name!r} has {feats.shape[0]} sample(s), needs at least 2")

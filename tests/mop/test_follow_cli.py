@@ -134,6 +134,9 @@ def test_bad_input_gives_one_clear_line(files, capsys):
     (d / "back.csv").write_text("t,a,b,c\n0,1,2,3\n0,1,2,3\n")
     _fails(_args(d)[:-4] + ["--input", str(d / "back.csv"), "--out", str(d / "o.csv")], capsys,
            "back.csv", "'t' must strictly increase")
+    # a template's times too (the engine refused it; this followed it)
+    _fails(["follow", "--template", f"back={d / 'back.csv'}", "--input", str(d / "perf.csv"),
+            "--out", str(d / "o.csv")], capsys, "back.csv", "line 3", "'t' must strictly increase")
     _fails(_args(d, "--sigma", "-1"), capsys, "--sigma")
     # one sample of 1e160 made the probabilities NaN, then stopped with an IndexError
     (d / "far.csv").write_text("a,b,c\n1,2,3\n4,5,6\n7,-1e160,9\n")
