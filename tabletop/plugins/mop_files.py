@@ -163,7 +163,10 @@ def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_h
         try:
             samples = load_template(p if p.is_absolute() else folder / character / p, names,
                                     rate_hz)
-            out.append((Action(a["name"], loader(a["motion"])), samples))
+            clip = loader(a["motion"])
+            if loader.rig is not None:   # a clip the character cannot play (a face's for a
+                loader.rig.check(clip)   # creature) stopped the engine's start
+            out.append((Action(a["name"], clip), samples))
         except InputError as exc:
             problems.append(f"{where}: {exc}")
     return out, problems

@@ -375,3 +375,22 @@ def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_ar
     assert engine.puppets["face"].actions["line"].clip.name == "laugh"
     circle = engine.templates["face"]["circle"][1]
     assert len(circle) == len(G.gesture("circle"))     # the configured template, not c.csv
+
+
+def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_path):
+    """A kept action playing a creature's clip file on the face: reported and skipped (the clip
+    was checked only when the face took the action, and that stopped the engine's start)."""
+    import json
+
+    from behaviors.mop.creatures import creature_clips
+    from behaviors.motion.clips import clip_to_mapping
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    (lib / "face" / "walk.json").write_text(json.dumps(clip_to_mapping(creature_clips()["walk"])))
+    (lib / "face" / "a.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
+    (lib / "face" / "actions.yaml").write_text(
+        f"actions:\n- {{name: a, template: a.csv, motion: {lib / 'face' / 'walk.json'}}}\n")
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    (problem,) = engine.library_problems["face"]
+    assert "face/actions.yaml: action 'a'" in problem and "no channel named after a blendshape" in problem
+    assert set(engine.puppets["face"].actions) == {"circle"}
