@@ -166,15 +166,23 @@ FOLLOWER = Record({
 })
 
 
+#: Character kinds whose rig is cheap to make at load (no URDF, no sprite sheet): a clip file
+#: they play is checked against it there.
+PLAIN_RIGS = ("creature", "face", "hybrid")
+
+
 def _check_motion(ctx: Context, key: str, kind: str, motion: str) -> None:
     """Resolve a motion (MopError if it cannot be); a clip file is noted so a recording embeds
-    it."""
+    it, and read, and for a :data:`PLAIN_RIGS` character checked against its rig (a face's
+    clip with no blendshape channel stopped the build naming the character alone)."""
     how, found = resolve_motion(kind, motion, ctx.base)
     if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
         ctx.refer(key, motion, found)
         # read now: a clip file that is no clip stopped the build naming no key, and a
         # kiosk took such an edit for a good one
-        MotionLoader(kind, ctx.base)(motion)
+        clip = MotionLoader(kind, ctx.base)(motion)
+        if kind in PLAIN_RIGS:
+            _make_rig({"kind": kind}).check(clip)
 
 
 def _check_all(cfg: dict, path: str, ctx: Context) -> None:

@@ -416,6 +416,15 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     for name in ("", "..", "a/b"):
         expect(lambda e: e["characters"][1].update(name=name), "engines[0].characters[1].name",
                f"{name!r} cannot name a character")
+    # a clip file the character cannot play: the key is named, not only the character
+    import json
+
+    from behaviors.mop.creatures import creature_clips
+    from behaviors.motion.clips import clip_to_mapping
+    walk = tmp_path / "walk.json"
+    walk.write_text(json.dumps(clip_to_mapping(creature_clips()["walk"])))
+    expect(lambda e: e["characters"][0]["actions"][0].update(motion=str(walk)),
+           "engines[0].characters[0].actions[0].motion", "no channel named after a blendshape")
     far = tmp_path / "far.csv"       # its followers' probabilities became NaN
     far.write_text("t,dx,dy\n0,0,0\n0.1,1e300,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(far)),
