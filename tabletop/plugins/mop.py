@@ -166,23 +166,22 @@ FOLLOWER = Record({
 })
 
 
-#: Character kinds whose rig is cheap to make at load (no URDF, no sprite sheet): a clip file
-#: they play is checked against it there.
-PLAIN_RIGS = ("creature", "face", "hybrid")
-
-
-def _check_motion(ctx: Context, key: str, kind: str, motion: str) -> None:
-    """Resolve a motion (MopError if it cannot be); a clip file is noted so a recording embeds
-    it, and read, and for a :data:`PLAIN_RIGS` character checked against its rig (a face's
-    clip with no blendshape channel stopped the build naming the character alone)."""
+def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> None:
+    """Resolve a motion of character ``c`` (MopError if it cannot be); a clip file is noted so
+    a recording embeds it, read, and checked against the character's rig (made once per
+    character in ``rigs``; a face's clip with no blendshape channel stopped the build naming
+    the character alone). A sprite's frames are its sheet's own."""
+    kind = c["kind"]
     how, found = resolve_motion(kind, motion, ctx.base)
     if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
         ctx.refer(key, motion, found)
         # read now: a clip file that is no clip stopped the build naming no key, and a
         # kiosk took such an edit for a good one
         clip = MotionLoader(kind, ctx.base)(motion)
-        if kind in PLAIN_RIGS:
-            _make_rig({"kind": kind}).check(clip)
+        if kind != "sprite":
+            if c["name"] not in rigs:
+                rigs[c["name"]] = _make_rig(c)
+            rigs[c["name"]].check(clip)
 
 
 def _check_all(cfg: dict, path: str, ctx: Context) -> None:
@@ -203,6 +202,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         except MopError as exc:
             raise ctx.error(f"{path}.performers[{i}].inputs", str(exc)) from None
     chars = set()
+    rigs: dict = {}                              # each character's rig, made for a clip file
     for i, c in enumerate(cfg["characters"]):
         where = f"{path}.characters[{i}]"
         if not c["name"].strip() or c["name"] in (".", "..") or any(s in c["name"] for s in "/\\"):
@@ -239,7 +239,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
             if a["performer"] is not None and a["performer"] not in names:
                 raise ctx.error(f"{aw}.performer", f"no performer {a['performer']!r}")
             try:
-                _check_motion(ctx, f"{aw}.motion", c["kind"], a["motion"])
+                _check_motion(ctx, f"{aw}.motion", c, a["motion"], rigs)
             except (MopError, ClipError) as exc:
                 raise ctx.error(f"{aw}.motion", str(exc)) from None
             try:
@@ -255,7 +255,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                 raise ctx.error(f"{aw}.template", str(exc)) from None
         for j, m in enumerate(c["motions"]):
             try:
-                _check_motion(ctx, f"{where}.motions[{j}]", c["kind"], m)
+                _check_motion(ctx, f"{where}.motions[{j}]", c, m, rigs)
             except (MopError, ClipError) as exc:
                 raise ctx.error(f"{where}.motions[{j}]", str(exc)) from None
 

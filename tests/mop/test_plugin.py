@@ -425,6 +425,9 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     walk.write_text(json.dumps(clip_to_mapping(creature_clips()["walk"])))
     expect(lambda e: e["characters"][0]["actions"][0].update(motion=str(walk)),
            "engines[0].characters[0].actions[0].motion", "no channel named after a blendshape")
+    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton",
+                                             "performer": "hand", "motions": [str(walk)]}),
+           "engines[0].characters[2].motions[0]", "clip 'walk' does not drive skeleton")
     far = tmp_path / "far.csv"       # its followers' probabilities became NaN
     far.write_text("t,dx,dy\n0,0,0\n0.1,1e300,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(far)),
