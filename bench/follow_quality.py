@@ -390,13 +390,16 @@ def step_cost_us(factory: Factory, templates: dict[str, np.ndarray]) -> float:
 
 def puck_follower(templates: Mapping[str, np.ndarray], **kw) -> ActionFollower:
     """The follower as the installation builds it for a puck's dx, dy (metres; size and place
-    from where each gesture begins)."""
-    return ActionFollower(templates, units=np.ones(2), **{"invariance": "scale", **kw})
+    from where each gesture begins; every template's scale floored as a puck input's)."""
+    from behaviors.mop.inputs import PuckInput
+    return ActionFollower(templates, units=np.ones(2),
+                          **{"invariance": "scale", "min_scale": PuckInput(1).min_scale, **kw})
 
 
 def paper_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
     """The follower as the ``follow`` command builds it by default (features as recorded)."""
-    return ActionFollower(templates)
+    from tabletop.commands.follow import min_scale
+    return ActionFollower(templates, min_scale=min_scale(dict(templates)))
 
 
 def main() -> None:

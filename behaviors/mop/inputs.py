@@ -32,6 +32,8 @@ class PuckInput:
         self._cols = [PATH_FEATURE_NAMES.index(f) for f in features]
         self.names = tuple(prefix + f for f in features)
         self.units = PUCK_UNITS[self._cols]
+        #: the follower's floor of every template's scale (:attr:`PathFeatures.min_scale`)
+        self.min_scale = PathFeatures.min_scale[self._cols]
         self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
 
     def read(self, frame: object, t: float) -> np.ndarray:
@@ -59,6 +61,7 @@ class TouchInput:
     def __init__(self, prefix: str = "") -> None:
         self.names = (prefix + "dx", prefix + "dy")
         self.units = np.array([0.1, 0.1])
+        self.min_scale = np.array([0.01, 0.01])   # metres, as a puck's path
         self._id: int | None = None
         self._origin = (0.0, 0.0)
 
@@ -92,10 +95,16 @@ class StreamInput:
         self.names = tuple(f"{prefix}{stream}_{c}" for c in columns)
         #: A stream's columns have no known units: the follower takes them from the templates.
         self.units = None
+        self.min_scale = None
+        #: Why the stream cannot be read (it has too few columns), or None.
+        self.problem: str | None = None
 
     def read(self, frame: object, t: float) -> np.ndarray:
         a = getattr(frame, "streams", {}).get(self.stream)
-        if a is None or a.size <= int(self.columns.max()):
+        short = a is not None and a.size <= int(self.columns.max())
+        self.problem = (f"stream {self.stream!r} has {a.size} column(s), reads column(s) "
+                        f"{', '.join(str(c) for c in self.columns)}") if short else None
+        if a is None or short:
             return np.full(len(self.columns), np.nan)
         return np.asarray(a, dtype=float)[self.columns]
 
@@ -125,8 +134,27 @@ class Performer:
         parts = [i.units for i in self.inputs]
         return None if any(u is None for u in parts) else np.concatenate(parts)
 
+    @property
+    def min_scale(self) -> np.ndarray | None:
+        """The smallest spread (d,) worth telling apart in each feature (none for a stream's
+        columns), the follower's floor of every template's scale; None when no input has one.
+        Unfloored, one action whose path moved a few millimetres (a designer's nudge) shrank
+        the follower's still radius to its spread, and no other action drove again (a circle
+        beside a 1 mm action: valid 0% of its second half, 94% with the floor)."""
+        parts = [i.min_scale for i in self.inputs]
+        if all(m is None for m in parts):
+            return None
+        return np.concatenate([np.zeros(len(i.names)) if m is None else m
+                               for i, m in zip(self.inputs, parts)])
+
     def read(self, frame: object, t: float) -> np.ndarray:
         return np.concatenate([i.read(frame, t) for i in self.inputs])
+
+    @property
+    def problem(self) -> str | None:
+        """Why an input cannot be read at the last :meth:`read` (a stream with too few
+        columns: nothing could be followed, and nothing said so), or None."""
+        return next((p for p in (getattr(i, "problem", None) for i in self.inputs) if p), None)
 
     @property
     def resting(self) -> bool:

@@ -45,6 +45,7 @@ The designer's keys and control markers reach these through the studio's one sta
 
 from __future__ import annotations
 
+import logging
 import math
 from typing import Callable, Iterable, Mapping, Sequence
 
@@ -56,10 +57,15 @@ from behaviors.mop.puppetry import Action, Puppet, Take, Vote
 from tabletop.frames import CharacterState, Frame, InputError
 from behaviors.worker import Worker
 
-FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None"], object]
+#: (templates, the performer's feature units, their smallest spread worth telling apart) ->
+#: a follower; units and min_scale None where unknown (a stream's columns)
+FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None", "np.ndarray | None"],
+                           object]
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
 
 MIN_TAKE_SAMPLES = 8
+
+log = logging.getLogger("tabletop")
 
 
 class MopStage:
@@ -101,6 +107,7 @@ class MopStage:
         self._routes: dict[str, list[tuple[str, str, str]]] = {}
         self._states: dict[str, object] = {}
         self._resting: dict[str, bool] = {}
+        self._told: set[str] = set()        # input problems logged (once each)
         self.worker: Worker | None = None   # set: followers rebuilt off the hot path
         self.building = False               # a rebuild runs in the worker
         self._retrain()
@@ -172,7 +179,8 @@ class MopStage:
     def _build(self, plan: tuple[dict, dict]) -> tuple:
         """The followers of a :meth:`_plan` (pure: may run in the worker)."""
         routes, by_performer = plan
-        followers = {performer: self.make_follower(templates, self.performers[performer].units)
+        followers = {performer: self.make_follower(templates, self.performers[performer].units,
+                                                   self.performers[performer].min_scale)
                      for performer, templates in by_performer.items()}
         # every follower stepped in one vectorised pass
         keys = list(followers)
@@ -228,10 +236,11 @@ class MopStage:
         if take is None or not take.recording:
             raise InputError("no take is recording")
         take.recording = False
+        take.trim_still(self.performers[take.performer].units)
         samples = take.samples()
         if len(samples) < MIN_TAKE_SAMPLES:
             self.take, self.take_action = None, None
-            raise InputError(f"take too short ({len(samples)} samples)")
+            raise InputError(f"take too short ({len(samples)} samples of motion)")
         self._counter += 1
         # every name the character's library holds, loaded or not (a template skipped at load
         # as corrupt kept its file: a take of its name was saved over it)
@@ -295,7 +304,13 @@ class MopStage:
             holding = (state is not None and bool(state.valid)  # type: ignore[attr-defined]
                        and bool(state.holding))  # type: ignore[attr-defined]
             # a rest ends a gesture, unless an action is held where it holds (a raise, hold,
-            # return held longer than the rest time); resting elsewhere ends it
+            # return held longer than the rest time); resting elsewhere ends it. So a performer
+            # pausing part way through an action for longer than the rest time loses it (a
+            # circle paused 1-3 s at half way drove 0% of its second half, 89% without the
+            # pause). Tried: an action that drives keeps its gesture's origin through rests of
+            # up to 3 s (85-100% of the second half), not kept: it also kept false drives
+            # going through the rest (the bird alone in tests/mop/test_live.py: 46 ticks driven
+            # by a puck resting over 1 s, 0 now)
             self._resting[key] = resting = self.performers[key].resting and not holding
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
@@ -346,5 +361,9 @@ class MopStage:
             self._next_t = t + period
         out = []
         for c in self.order:
-            out.append(self.puppets[c].update(t, self._votes(c), ""))
+            problem = self.performers[self.performer_of(c)].problem
+            if problem and problem not in self._told:
+                self._told.add(problem)
+                log.error("MOP performer %r: %s", self.performer_of(c), problem)
+            out.append(self.puppets[c].update(t, self._votes(c), problem or ""))
         return tuple(out)

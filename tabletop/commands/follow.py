@@ -78,6 +78,20 @@ def _features(path: Path, header: list[str], data, what: str, lines=None):
     return names, data[:, cols]
 
 
+#: Every template's scale is floored at this share of the templates' pooled spread per column
+#: (features of unknown units: the puck's 1 cm floor against the example gestures' ~5 cm). Without
+#: it, with ``--invariance scale``, a template that moved a thousandth of the others left every
+#: other template invalid on every row (a circle beside a 1 mm nudge: 0 of 61 rows valid, 43
+#: alone or with the floor); it binds on none of ``bench/follow_quality.py``'s templates.
+MIN_SCALE_SHARE = 0.2
+
+
+def min_scale(templates: dict) -> "np.ndarray":
+    """The floor (d,) of every template's scale: :data:`MIN_SCALE_SHARE` of the pooled spread."""
+    from behaviors.mop.features import fit_scale
+    return MIN_SCALE_SHARE * fit_scale(list(templates.values()))[1]
+
+
 def main(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -99,6 +113,8 @@ def main(args: argparse.Namespace) -> int:
         header, data, tlines = read_csv_lines(path, what=f"template {name!r} CSV file",
                                               min_rows=0)
         names, feats = _features(path, header, data, f"template {name!r}", tlines)
+        if "t" in header:   # (the engine refuses such a template; it was followed here)
+            check_increasing(data[:, header.index("t")], path, lines=tlines)
         if feats.shape[0] < 2:
             raise TemplateError(
                 f"{path}: template {name!r} has {feats.shape[0]} sample(s), needs at least 2")
@@ -129,7 +145,7 @@ def main(args: argparse.Namespace) -> int:
         t = np.arange(perf.shape[0], dtype=float)
 
     follower = ActionFollower(templates, sigma=sigma, window=window,
-                              invariance=args.invariance)
+                              invariance=args.invariance, min_scale=min_scale(templates))
     out_header = ["t", "best", "progress", "variance"]
     for name in templates:
         out_header += [f"p_{name}", f"progress_{name}"]

@@ -166,15 +166,22 @@ FOLLOWER = Record({
 })
 
 
-def _check_motion(ctx: Context, key: str, kind: str, motion: str) -> None:
-    """Resolve a motion (MopError if it cannot be); a clip file is noted so a recording embeds
-    it."""
+def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> None:
+    """Resolve a motion of character ``c`` (MopError if it cannot be); a clip file is noted so
+    a recording embeds it, read, and checked against the character's rig (made once per
+    character in ``rigs``; a face's clip with no blendshape channel stopped the build naming
+    the character alone). A sprite's frames are its sheet's own."""
+    kind = c["kind"]
     how, found = resolve_motion(kind, motion, ctx.base)
     if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
         ctx.refer(key, motion, found)
         # read now: a clip file that is no clip stopped the build naming no key, and a
         # kiosk took such an edit for a good one
-        MotionLoader(kind, ctx.base)(motion)
+        clip = MotionLoader(kind, ctx.base)(motion)
+        if kind != "sprite":
+            if c["name"] not in rigs:
+                rigs[c["name"]] = _make_rig(c)
+            rigs[c["name"]].check(clip)
 
 
 def _check_all(cfg: dict, path: str, ctx: Context) -> None:
@@ -195,8 +202,14 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         except MopError as exc:
             raise ctx.error(f"{path}.performers[{i}].inputs", str(exc)) from None
     chars = set()
+    rigs: dict = {}                              # each character's rig, made for a clip file
     for i, c in enumerate(cfg["characters"]):
         where = f"{path}.characters[{i}]"
+        if not c["name"].strip() or c["name"] in (".", "..") or any(s in c["name"] for s in "/\\"):
+            # its kept actions are the folder <library>/<name>: '..' kept them beside the
+            # library, '' in the library's own folder; and '/' splits the studio's focus
+            raise ctx.error(f"{where}.name", f"{c['name']!r} cannot name a character: it names "
+                            "its folder of kept actions (not empty, '.' or '..', no '/' or '\\')")
         if c["name"] in chars:
             raise ctx.error(f"{where}.name", f"duplicate character {c['name']!r}")
         chars.add(c["name"])
@@ -218,13 +231,15 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         seen = set()
         for j, a in enumerate(c["actions"]):
             aw = f"{where}.actions[{j}]"
+            if not a["name"].strip():   # the followers refused it, naming neither key nor file
+                raise ctx.error(f"{aw}.name", "an action needs a name")
             if a["name"] in seen:
                 raise ctx.error(f"{aw}.name", f"duplicate action {a['name']!r}")
             seen.add(a["name"])
             if a["performer"] is not None and a["performer"] not in names:
                 raise ctx.error(f"{aw}.performer", f"no performer {a['performer']!r}")
             try:
-                _check_motion(ctx, f"{aw}.motion", c["kind"], a["motion"])
+                _check_motion(ctx, f"{aw}.motion", c, a["motion"], rigs)
             except (MopError, ClipError) as exc:
                 raise ctx.error(f"{aw}.motion", str(exc)) from None
             try:
@@ -240,7 +255,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                 raise ctx.error(f"{aw}.template", str(exc)) from None
         for j, m in enumerate(c["motions"]):
             try:
-                _check_motion(ctx, f"{where}.motions[{j}]", c["kind"], m)
+                _check_motion(ctx, f"{where}.motions[{j}]", c, m, rigs)
             except (MopError, ClipError) as exc:
                 raise ctx.error(f"{where}.motions[{j}]", str(exc)) from None
 
@@ -337,12 +352,12 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                   max_spread=fo["max_spread"],
                   relative_floor=fo["relative_floor"])
 
-    def make_follower(templates, units=None):
+    def make_follower(templates, units=None, min_scale=None):
         # size, place and direction of motion only where the features' units are known (puck
         # and touch paths); a stream's columns are followed as recorded
         spatial = units is not None
         invariance = fo["invariance"] if fo["invariance"] != "auto" else ("scale" if spatial else "none")
-        return ActionFollower(templates, units=units, invariance=invariance,
+        return ActionFollower(templates, units=units, invariance=invariance, min_scale=min_scale,
                               tangent=fo["tangent"] if spatial else 0.0, **params)
 
     performers = {p["name"]: _make_performer(p) for p in options["performers"]}
@@ -352,6 +367,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     problems: dict[str, list[str]] = {}      # each character's bad library files (skipped)
     loaded: dict[str, list[str]] = {}        # each character's actions from the library
     read: dict[str, tuple] = {}              # its folder's signature: the studio's first baseline
+    configured = {c["name"]: {a["name"] for a in c["actions"]} for c in options["characters"]}
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
@@ -371,7 +387,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
             kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
-                                        rate, loader)
+                                        rate, loader, configured[c["name"]])
             for action, samples in kept:
                 actions.append(action)
                 tmpl[action.name] = (c["performer"], samples)
@@ -399,5 +415,6 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         log.error("MOP action skipped: %s", p)
     stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read
     stage.library_actions = lambda character: library_actions(          # the studio reloads
-        library, character, performers[bound[character]].names, rate, loaders[character])
+        library, character, performers[bound[character]].names, rate, loaders[character],
+        configured[character])
     return stage

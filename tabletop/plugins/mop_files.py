@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import Any, Collection
 
 import numpy as np
 
@@ -135,22 +135,40 @@ def read_library(folder: Path, character: str) -> list[dict[str, str]]:
 
 
 def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_hz: float,
-                    loader: MotionLoader) -> tuple[list[tuple[Action, np.ndarray]], list[str]]:
+                    loader: MotionLoader, configured: Collection[str] = ()
+                    ) -> tuple[list[tuple[Action, np.ndarray]], list[str]]:
     """The kept actions of ``character`` in the library ``folder`` (each with its template at
-    ``rate_hz``), and one message per bad file or entry: skipped, the others load."""
+    ``rate_hz``), and one message per bad file or entry: skipped, the others load. An entry
+    without a name, with the name of an earlier entry or of an action the config gives the
+    character (``configured``) is bad: an empty name stopped the engine's start, naming no file;
+    a repeated one silently replaced the earlier entry's action, and a configured one the
+    configured action."""
     try:
         entries = read_library(folder, character)
     except MopError as exc:
         return [], [str(exc)]
     out, problems = [], []
+    seen: set[str] = set()
     for a in entries:
         p = Path(a["template"])
+        where = f"{folder / character / LIBRARY_FILE}: action {a['name']!r}"
+        why = ("needs a name" if not a["name"].strip() else
+               "is named twice in the library; the first is kept" if a["name"] in seen else
+               "has the name of an action the config gives the character" if a["name"] in configured
+               else "")
+        seen.add(a["name"])
+        if why:
+            problems.append(f"{where} {why}")
+            continue
         try:
             samples = load_template(p if p.is_absolute() else folder / character / p, names,
                                     rate_hz)
-            out.append((Action(a["name"], loader(a["motion"])), samples))
+            clip = loader(a["motion"])
+            if loader.rig is not None:   # a clip the character cannot play (a face's for a
+                loader.rig.check(clip)   # creature) stopped the engine's start
+            out.append((Action(a["name"], clip), samples))
         except InputError as exc:
-            problems.append(f"{folder / character / LIBRARY_FILE}: action {a['name']!r}: {exc}")
+            problems.append(f"{where}: {exc}")
     return out, problems
 
 

@@ -346,7 +346,7 @@ class Studio:
 
     def _rename(self, target: Target, arg: str) -> None:
         old = target.current()
-        if old is None or not arg:
+        if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
             self.say("nothing to rename" if old is None else "rename needs a new name")
             return
         target.rename(old, arg)

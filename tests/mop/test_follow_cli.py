@@ -12,6 +12,8 @@ import pytest
 
 from tabletop.cli import main as cli
 
+ROOT = Path(__file__).resolve().parents[2]
+
 
 def _write(path: Path, header: list[str], rows) -> Path:
     with path.open("w", newline="") as f:
@@ -132,6 +134,9 @@ def test_bad_input_gives_one_clear_line(files, capsys):
     (d / "back.csv").write_text("t,a,b,c\n0,1,2,3\n0,1,2,3\n")
     _fails(_args(d)[:-4] + ["--input", str(d / "back.csv"), "--out", str(d / "o.csv")], capsys,
            "back.csv", "'t' must strictly increase")
+    # a template's times too (the engine refused it; this followed it)
+    _fails(["follow", "--template", f"back={d / 'back.csv'}", "--input", str(d / "perf.csv"),
+            "--out", str(d / "o.csv")], capsys, "back.csv", "line 3", "'t' must strictly increase")
     _fails(_args(d, "--sigma", "-1"), capsys, "--sigma")
     # one sample of 1e160 made the probabilities NaN, then stopped with an IndexError
     (d / "far.csv").write_text("a,b,c\n1,2,3\n4,5,6\n7,-1e160,9\n")
@@ -183,3 +188,19 @@ def test_a_performance_that_matches_nothing_gives_finite_rows_and_valid_0(files,
         assert all(math.isfinite(float(v)) for k, v in row.items() if k != "best")
         assert float(row["p_wave"]) + float(row["p_circle"]) == pytest.approx(1.0)
         assert 0.0 <= float(row["progress"]) <= 1.0
+
+
+def test_a_template_of_a_thousandth_of_the_others_leaves_them_valid_at_any_size(tmp_path):
+    """With ``--invariance scale``, a template that barely moves (a 1 mm nudge beside the 15 cm
+    example circle) is floored at a share of the templates' pooled spread: unfloored, it left the
+    circle invalid on every row (0 of 61; 43 alone)."""
+    circle = ROOT / "examples" / "mop" / "gestures" / "circle.csv"
+    nudge = tmp_path / "nudge.csv"
+    nudge.write_text("t,dx,dy\n0,0,0\n0.5,0.001,0\n1,0,0\n")
+    valid = []
+    for extra in ([], ["--template", f"nudge={nudge}"]):
+        out = tmp_path / "out.csv"
+        assert cli(["follow", "--template", f"circle={circle}", *extra, "--input", str(circle),
+                    "--out", str(out), "--invariance", "scale"]) == 0
+        valid.append(sum(r["valid"] == "1" and r["best"] == "circle" for r in _read(out)[1]))
+    assert valid[0] > 30 and valid[1] >= valid[0] - 2, valid

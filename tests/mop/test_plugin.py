@@ -409,6 +409,25 @@ def test_config_errors_name_the_key_or_file(tmp_path):
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(long)),
            "engines[0].characters[0].actions[0].template",
            "long.csv: the template spans 1e+09 s (column 't'); at most 3600 s can be followed")
+    # names: an empty action's stopped the followers' build naming no key; a character's names
+    # its library folder ('..' kept its actions beside the library)
+    expect(lambda e: e["characters"][0]["actions"][0].update(name=" "),
+           "engines[0].characters[0].actions[0].name", "an action needs a name")
+    for name in ("", "..", "a/b"):
+        expect(lambda e: e["characters"][1].update(name=name), "engines[0].characters[1].name",
+               f"{name!r} cannot name a character")
+    # a clip file the character cannot play: the key is named, not only the character
+    import json
+
+    from behaviors.mop.creatures import creature_clips
+    from behaviors.motion.clips import clip_to_mapping
+    walk = tmp_path / "walk.json"
+    walk.write_text(json.dumps(clip_to_mapping(creature_clips()["walk"])))
+    expect(lambda e: e["characters"][0]["actions"][0].update(motion=str(walk)),
+           "engines[0].characters[0].actions[0].motion", "no channel named after a blendshape")
+    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton",
+                                             "performer": "hand", "motions": [str(walk)]}),
+           "engines[0].characters[2].motions[0]", "clip 'walk' does not drive skeleton")
     far = tmp_path / "far.csv"       # its followers' probabilities became NaN
     far.write_text("t,dx,dy\n0,0,0\n0.1,1e300,0.1\n")
     expect(lambda e: e["characters"][0]["actions"][0].update(template=str(far)),
@@ -461,3 +480,45 @@ def test_two_engines_keeping_a_character_of_one_name_in_one_library_are_refused(
     cfg = validate_config(data, str(tmp_path / "test.yaml"), tmp_path)
     ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=tmp_path)
     assert [mop.build(e, ctx).name for e in cfg["engines"]] == ["mop", "mop2"]
+
+
+def test_an_action_of_a_few_millimetres_leaves_the_others_recognised(tmp_path):
+    """A designer's nudge (a 1 mm action beside a circle) is floored at the puck's smallest
+    spread worth telling apart: unfloored it shrank the follower's still radius to its own spread
+    and the circle never drove again (valid 0% of its second half)."""
+    (tmp_path / "nudge.csv").write_text("t,dx,dy\n0,0,0\n0.5,0.001,0\n1,0,0\n")
+    data = _designer_config(tmp_path)
+    data["engines"][0]["library"] = None
+    data["engines"][0]["characters"][1]["actions"] = [
+        {"name": "nudge", "template": str(tmp_path / "nudge.csv"), "motion": "curl"}]
+    engine = _build(data, tmp_path)
+    assert engine.performers["hand"].min_scale.tolist() == [0.01, 0.01]
+    table = Table(engine)
+    table.rest(1.5)
+    run = table.perform("circle")
+    late = [c["face"].valid and c["face"].action == "circle" for u, c in run if u > 0.5]
+    assert np.mean(late) > 0.9
+    assert not any(c["lizard"].valid for u, c in run)
+
+
+def test_a_stream_with_too_few_columns_is_said_on_its_characters(tmp_path, caplog):
+    """A performer reading columns 0 and 1 of a stream that has one: nothing can be followed,
+    and the characters' label says why (it said "no action", like an unknown gesture), logged
+    once."""
+    g = G.gesture("wave")
+    rows = np.column_stack([g[:, 0], g[:, 1], g[:, 2]])
+    np.savetxt(tmp_path / "arm.csv", rows, delimiter=",", header="t,arm_0,arm_1", comments="")
+    data = {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop",
+        "performers": [{"name": "body", "inputs": [{"kind": "stream", "name": "arm",
+                                                    "columns": [0, 1]}]}],
+        "characters": [{"name": "face", "kind": "face", "performer": "body", "actions": [
+            {"name": "wave", "template": "arm.csv", "motion": "laugh"}]}]}]}
+    table = Table(_build(data, tmp_path))
+    table.streams = {"arm": np.zeros(1)}
+    with caplog.at_level("ERROR", logger="tabletop"):
+        labels = [table.tick()["face"].label for _ in range(30)]
+    assert labels[-1] == "stream 'arm' has 1 column(s), reads column(s) 0, 1"
+    assert sum("stream 'arm' has 1 column(s)" in r.getMessage() for r in caplog.records) == 1
+    table.streams = {"arm": np.zeros(2)}
+    assert "stream" not in table.tick()["face"].label

@@ -10,7 +10,7 @@ import yaml
 from tabletop.frames import Frame, InputError, Puck
 from tabletop.studio.machine import Studio
 from tabletop.studio.mop_target import MopTarget
-from tests.mop.test_plugin import RATE, Table, _build, _designer_config
+from tests.mop.test_plugin import EXAMPLES, G, RATE, Table, _build, _designer_config
 
 
 class StudioTable(Table):
@@ -242,6 +242,8 @@ def test_a_kept_take_is_not_renamed_over_a_configured_action(tmp_path):
     s.poll()
     face = engine.puppets["face"].actions
     assert set(face) == {"circle", "take1"} and face["circle"].clip.name == "talk"
+    s.command("designer.rename:  ")                    # a blank name is no name (the kept
+    assert "rename needs a new name" in s.message      # action was skipped at reload)
     s.command("designer.rename:line")                  # a free name is still renamed to
     s.poll()
     assert set(face) == {"circle", "line"} and face["circle"].clip.name == "talk"
@@ -314,3 +316,81 @@ def test_a_new_take_never_takes_the_name_of_a_library_file_skipped_at_load(tmp_p
     with pytest.raises(InputError, match="in the library already"):
         engine.save("face", "take2", np.zeros((9, 2)), ("dx", "dy"), "talk")
     assert (folder / "take2.csv").read_text() == saved["take2.csv"]
+
+
+def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):
+    """A designer waits after the countdown and before stopping: the still samples at both ends
+    are left out, so the action's progress reaches its end with the gesture's (it stopped at
+    0.84 with 0.4 s still on each side of the zigzag) and the rest after it drives nothing (the
+    held end kept it driven for 0.7 s of the rest); a take where nothing moved is refused."""
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.rest(0.4)
+    table.perform("zigzag")
+    table.rest(0.4)
+    table.tick(["designer.record"])
+    assert table.studio.state == "trying"
+    n = len(engine.templates["lizard"]["take1"][1])
+    gesture_samples = G.gesture("zigzag")[-1, 0] * engine.rate_hz
+    # (its own slowest first and last samples are as still)
+    assert 0.75 * gesture_samples <= n <= gesture_samples + 2, (n, gesture_samples)
+    table.rest(1.2)
+    run = table.perform("zigzag", speed=lambda u: 1.2)
+    shown = [ch["lizard"].progress for _, ch in run
+             if ch["lizard"].valid and ch["lizard"].action == "take1"]
+    assert len(shown) > 0.6 * len(run) and max(shown) > 0.95
+    after = table.rest(1.0)
+    assert not any(ch["lizard"].valid for ch in after[int(0.3 * RATE):])
+    # nothing moved: too short, and no action is made of it
+    table.tick(["designer.discard"])
+    table.tick(["designer.record"])
+    table.rest(2.0)
+    table.tick(["designer.record"])
+    assert "too short" in table.status and "take2" not in engine.puppets["lizard"].actions
+
+
+def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_are_skipped(tmp_path):
+    """Each is reported naming the library file and skipped; the engine starts with the rest
+    (an empty name stopped the start naming no file; a repeated name or a configured one
+    silently replaced the earlier entry's or the configured action)."""
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    line = (EXAMPLES / "mop/gestures/line.csv").read_text()
+    for name in ("a", "b", "c"):
+        (lib / "face" / f"{name}.csv").write_text(line)
+    (lib / "face" / "d.csv").write_text("t,dx,dy\n0,0,0\n0.5,0,0.1\n1,0.1,0.1\n")
+    (lib / "face" / "actions.yaml").write_text(
+        "actions:\n- {name: '', template: d.csv, motion: laugh}\n"
+        "- {name: line, template: a.csv, motion: laugh}\n"
+        "- {name: line, template: b.csv, motion: wink}\n"
+        "- {name: circle, template: c.csv, motion: angry}\n")
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    problems = engine.library_problems["face"]
+    assert len(problems) == 3 and all("face/actions.yaml: action " in p for p in problems)
+    assert "'' needs a name" in problems[0] and "'line' is named twice" in problems[1]
+    assert "'circle' has the name of an action the config gives" in problems[2]
+    assert set(engine.puppets["face"].actions) == {"circle", "line"}
+    assert engine.puppets["face"].actions["line"].clip.name == "laugh"
+    circle = engine.templates["face"]["circle"][1]
+    assert len(circle) == len(G.gesture("circle"))     # the configured template, not c.csv
+
+
+def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_path):
+    """A kept action playing a creature's clip file on the face: reported and skipped (the clip
+    was checked only when the face took the action, and that stopped the engine's start)."""
+    import json
+
+    from behaviors.mop.creatures import creature_clips
+    from behaviors.motion.clips import clip_to_mapping
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    (lib / "face" / "walk.json").write_text(json.dumps(clip_to_mapping(creature_clips()["walk"])))
+    (lib / "face" / "a.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
+    (lib / "face" / "actions.yaml").write_text(
+        f"actions:\n- {{name: a, template: a.csv, motion: {lib / 'face' / 'walk.json'}}}\n")
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    (problem,) = engine.library_problems["face"]
+    assert "face/actions.yaml: action 'a'" in problem and "no channel named after a blendshape" in problem
+    assert set(engine.puppets["face"].actions) == {"circle"}
