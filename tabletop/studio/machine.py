@@ -257,8 +257,9 @@ class Studio:
         self.say(f"{exc}: R to record again")
 
     def _keep(self, target: Target, arg: str) -> None:
-        if self.state != "trying":
+        if self.state != "trying":    # ready: the main is recorded, its reaction not yet
             self.say("still training: K once it plays" if self.state == "training"
+                     else f"nothing to keep yet: R records {self._part}" if self.state == "ready"
                      else "nothing to keep: R records a take")
             return
         name = target.keep()
