@@ -142,3 +142,41 @@ def test_a_take_just_short_never_reads_as_long_enough(tmp_path):
     labels = [bench.step(f)[1].label for f in demo_frames(
         demo, {10: ("designer.record",), 89: ("designer.record",)})]
     assert "take too short (1.9 s of both pucks, needs 2 s)" in labels[89], labels[89]
+
+
+def test_switching_is_refused_during_a_take(tmp_path):
+    """] in the middle of a take switched the behaviour in play, and the take then trained with
+    the other behaviour's parameters: a take of the afraid character (edge_percentile 50) with
+    another character's defaults. It is refused while the take is recorded and between its
+    parts."""
+    from behaviors.puppet_master import designers
+    from tabletop.frames import Puck
+    lib = tmp_path / "lib"
+    for name in ("afraid", "bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    keys = Keys(bench)
+    assert "playing afraid (1 of 3)" in keys("designer.item_next")
+    demo = designers.demonstrate("afraid", seed=4, seconds=6)
+    said = []
+    for i, row in enumerate(demo):                            # the main part, ] halfway
+        cmds = {0: ("designer.record",), 100: ("designer.item_next",),
+                len(demo) - 1: ("designer.record",)}.get(i, ())
+        _, studio = bench.step(Frame(seq=i, t=2000.0 + row[0], pucks=(Puck(1, *row[1:4]),),
+                                     commands=cmds))
+        said.append(studio.label)
+    assert "no switching during a take" in said[100], said[100]
+    assert e.behavior_name == "afraid"
+    _, studio = bench.step(Frame(seq=1000, t=2010.0, commands=("designer.item_next",)))
+    assert studio.action == "ready" and "no switching during a take" in studio.label
+    assert e.behavior_name == "afraid"
+    for i, row in enumerate(demo):                            # the reaction, to the playback's end
+        _, studio = bench.step(Frame(seq=2000 + i, t=2020.0 + row[0],
+                                     pucks=(Puck(2, *row[4:7]),),
+                                     commands=("designer.record",) if i == 0 else ()))
+    assert studio.action == "trying", studio.label
+    assert bench.studio.target.pending.param_dict()["edge_percentile"] == 50.0
+    keys.t = 3000.0
+    assert "take discarded" in keys("designer.discard")
+    assert "playing bully (2 of 3)" in keys("designer.item_next")          # after the take
