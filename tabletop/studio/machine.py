@@ -384,6 +384,9 @@ class Studio:
         problems: list[str] = []
         for t in self.targets.values():
             problems.extend(t.poll())
+            news = getattr(t, "news", None)   # a change made elsewhere (a delete), said once
+            while news:
+                self.say(news.pop(0))
         if problems != self.problems:
             for p in problems:
                 if p not in self.problems:
