@@ -335,9 +335,9 @@ def free_name(library: str | Path, name: str) -> str:
     if not (lib / name).exists():
         return name
     i = 2
-    while (lib / _numbered(name, i)).exists():
+    while (lib / numbered(name, i)).exists():
         i += 1
-    return check_name(_numbered(name, i))
+    return check_name(numbered(name, i))
 
 
 def save_new(library: str | Path, name: str, demo: np.ndarray, parameters: Mapping[str, Any],
@@ -355,7 +355,7 @@ def save_new(library: str | Path, name: str, demo: np.ndarray, parameters: Mappi
     raise LibraryError(f"{Path(library) / name}: no free name for it after 1000 tries")
 
 
-def _numbered(name: str, i: int) -> str:
+def numbered(name: str, i: int) -> str:
     """``name-i`` within the longest name :data:`NAME_RE` takes (64 characters)."""
     suffix = f"-{i}"
     return name[:NAME_MAX - len(suffix)] + suffix

@@ -19,7 +19,7 @@ Commands (keys through the view, control markers through :class:`Markers`):
 ``designer.discard``    drop it, back to what played before
 ``designer.redo``       drop it and record again
 ``designer.assign``     the target's own choice (MOP: the motion a take plays)
-``designer.item_next``  play the next (``item_previous``: previous) library item
+``designer.item_next``  play the next (``item_previous``: previous) library item (not mid-take)
 ``designer.rename:NEW`` rename the item in play
 ``designer.delete``     delete the item in play (kept in the library's ``.trash``)
 ``designer.undo``       undo the last keep, rename or delete
@@ -257,8 +257,9 @@ class Studio:
         self.say(f"{exc}: R to record again")
 
     def _keep(self, target: Target, arg: str) -> None:
-        if self.state != "trying":
+        if self.state != "trying":    # ready: the main is recorded, its reaction not yet
             self.say("still training: K once it plays" if self.state == "training"
+                     else f"nothing to keep yet: R records {self._part}" if self.state == "ready"
                      else "nothing to keep: R records a take")
             return
         name = target.keep()
@@ -319,6 +320,10 @@ class Studio:
     # --- the library -----------------------------------------------------------------------------
 
     def _item(self, target: Target, step: int) -> None:
+        if self.state in ("countdown", "recording", "ready"):   # the take trains with the
+            # parameters in play at its stop: a switch mid-take trained it as another character
+            self.say("no switching during a take: finish it, or X cancels it")
+            return
         items = target.items()
         if not items:
             self.say("the library is empty")
@@ -379,6 +384,9 @@ class Studio:
         problems: list[str] = []
         for t in self.targets.values():
             problems.extend(t.poll())
+            news = getattr(t, "news", None)   # a change made elsewhere (a delete), said once
+            while news:
+                self.say(news.pop(0))
         if problems != self.problems:
             for p in problems:
                 if p not in self.problems:

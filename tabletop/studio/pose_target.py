@@ -86,15 +86,17 @@ class TouchPoseTarget:
         return self.times[-1] - self.times[0] if self.times else 0.0
 
     def _free_name(self) -> str:
-        """``ENGINE-action`` (then ``-2``, ``-3``...), or ``action`` for an engine whose name no
-        folder may have ("mein Poser"): its takes were refused as they stopped."""
+        """``ENGINE-action`` (then ``-2``, ``-3``..., shortened to leave room for the number
+        within the library's 64 characters, as a behaviour's name is), or ``action`` for an
+        engine whose name no folder may have ("mein Poser"): its takes were refused as they
+        stopped."""
         base = f"{self.name}-action"
         if not library.NAME_RE.match(base):
             base = "action"
         taken = {a.name for a in self.core.m.actions}
         name, i = base, 2
         while name in taken or (self.lib / name).exists():
-            name, i = f"{base}-{i}", i + 1
+            name, i = library.numbered(base, i), i + 1
         return name
 
     def train(self) -> str | None:

@@ -97,6 +97,8 @@ class PuppetMasterTarget:
         self.play_poller = (Poller(Path(folder), read=getattr(engine, "folder_read", None))
                             if folder else None)
         self.playing: Path | None = Path(folder) if folder else None
+        self.removed: Path | None = None     # the one in play, deleted elsewhere: it plays on
+        self.news: list[str] = []            # said once by the studio
         self._problems: list[str] = self._library_problems([])   # read at start, reported
 
     @property
@@ -306,7 +308,7 @@ class PuppetMasterTarget:
         if self.engine.rate_hz is not None:
             params["rate_hz"] = self.engine.rate_hz
         self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
-        self.playing = folder
+        self.playing, self.removed = folder, None
         self.play_poller = Poller(folder)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
@@ -341,8 +343,14 @@ class PuppetMasterTarget:
                 self._load(self.playing)
                 problems = [p for p in problems if not p.startswith(str(self.playing))]
             except InputError as exc:
-                problems = problems + [str(exc)]
+                if self.playing.parent == self.lib and not self.playing.exists():
+                    self._gone(self.playing)
+                    problems = [p for p in problems if not p.startswith(str(self.removed))]
+                else:
+                    problems = problems + [str(exc)]
         if self.lib_poller.changed():
+            if self.removed is not None and self.removed.exists():
+                self._back(self.removed)
             # the library is listed afresh; only a reload problem of a behaviour in play from
             # outside the library stays
             problems = self._library_problems(
@@ -350,6 +358,31 @@ class PuppetMasterTarget:
                  and self.playing.parent != self.lib and p.startswith(str(self.playing))])
         self._problems = problems
         return problems
+
+    def _named(self, name: str) -> None:
+        """The engine's name of the behaviour in play (or, while a take is tried, of the one
+        a discard goes back to)."""
+        if self.pending is None:
+            self.engine.behavior_name = name
+        else:
+            self.previous = (self.previous[0], name)
+
+    def _gone(self, folder: Path) -> None:
+        """The behaviour in play was deleted (or renamed) elsewhere, another studio on this
+        library: it plays on from memory, as after a delete here (it was reported as a bad
+        library file, "behaviour folder not found")."""
+        self.playing, self.play_poller, self.removed = None, None, folder
+        self._named(f"{folder.name} (deleted)")
+        self.news.append(f"{folder.name} was removed from the library elsewhere; it plays on "
+                         "from memory, ] plays another")
+
+    def _back(self, folder: Path) -> None:
+        """The deleted behaviour in play is back (undone elsewhere): it is in play again,
+        reloaded at the next look (its files may be another's)."""
+        self.playing, self.removed = folder, None
+        self.play_poller = Poller(folder, since_start=True)
+        self._named(folder.name)
+        self.news.append(f"{folder.name} is back in the library")
 
     def _library_problems(self, kept: list[str]) -> list[str]:
         """``kept`` and the error of every behaviour in the library that does not load."""

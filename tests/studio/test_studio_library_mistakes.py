@@ -16,9 +16,10 @@ class Keys:
     def __init__(self, bench: Bench) -> None:
         self.bench, self.t = bench, 1000.0
 
-    def __call__(self, cmd: str) -> str:
+    def __call__(self, cmd: str = "") -> str:
         self.t += 1.0
-        _, studio = self.bench.step(Frame(seq=int(self.t), t=self.t, commands=(cmd,)))
+        _, studio = self.bench.step(Frame(seq=int(self.t), t=self.t,
+                                          commands=(cmd,) if cmd else ()))
         return studio.label
 
 
@@ -142,3 +143,83 @@ def test_a_take_just_short_never_reads_as_long_enough(tmp_path):
     labels = [bench.step(f)[1].label for f in demo_frames(
         demo, {10: ("designer.record",), 89: ("designer.record",)})]
     assert "take too short (1.9 s of both pucks, needs 2 s)" in labels[89], labels[89]
+
+
+def test_switching_is_refused_during_a_take(tmp_path):
+    """] in the middle of a take switched the behaviour in play, and the take then trained with
+    the other behaviour's parameters: a take of the afraid character (edge_percentile 50) with
+    another character's defaults. It is refused while the take is recorded and between its
+    parts."""
+    from behaviors.puppet_master import designers
+    from tabletop.frames import Puck
+    lib = tmp_path / "lib"
+    for name in ("afraid", "bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    keys = Keys(bench)
+    assert "playing afraid (1 of 3)" in keys("designer.item_next")
+    demo = designers.demonstrate("afraid", seed=4, seconds=6)
+    said = []
+    for i, row in enumerate(demo):                            # the main part, ] halfway
+        cmds = {0: ("designer.record",), 100: ("designer.item_next",),
+                len(demo) - 1: ("designer.record",)}.get(i, ())
+        _, studio = bench.step(Frame(seq=i, t=2000.0 + row[0], pucks=(Puck(1, *row[1:4]),),
+                                     commands=cmds))
+        said.append(studio.label)
+    assert "no switching during a take" in said[100], said[100]
+    assert e.behavior_name == "afraid"
+    _, studio = bench.step(Frame(seq=1000, t=2010.0, commands=("designer.item_next",)))
+    assert studio.action == "ready" and "no switching during a take" in studio.label
+    assert e.behavior_name == "afraid"
+    for i, row in enumerate(demo):                            # the reaction, to the playback's end
+        _, studio = bench.step(Frame(seq=2000 + i, t=2020.0 + row[0],
+                                     pucks=(Puck(2, *row[4:7]),),
+                                     commands=("designer.record",) if i == 0 else ()))
+    assert studio.action == "trying", studio.label
+    assert bench.studio.target.pending.param_dict()["edge_percentile"] == 50.0
+    keys.t = 3000.0
+    assert "take discarded" in keys("designer.discard")
+    assert "playing bully (2 of 3)" in keys("designer.item_next")          # after the take
+
+
+def test_a_behaviour_deleted_by_another_studio_is_said_removed_and_the_studio_goes_on(tmp_path):
+    """Two studios on one library play bully; one deletes it. The other said "1 bad library
+    file(s): ... behaviour folder not found" until the delete was undone. It says bully was
+    removed, plays on from memory, switches to another, and takes it back after the undo."""
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (a,) = designer(tmp_path)
+    (b,) = designer(tmp_path)
+    bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
+    ka, kb = Keys(bench_a), Keys(bench_b)
+    assert "playing bully (1 of 2)" in ka("designer.item_next")
+    assert "playing bully (1 of 2)" in kb("designer.item_next")
+    tb = bench_b.studio.target
+
+    def look(listing: bool = True) -> str:
+        """B's watchers look now (each every second while the loop runs, in its own tick):
+        the behaviour in play's, and with ``listing`` the library's."""
+        tb.lib_poller._next = 0.0 if listing else float("inf")
+        if tb.play_poller is not None:
+            tb.play_poller.every_s = 0.0
+        bench_b.studio.poll()
+        return kb()
+
+    assert "deleted bully" in ka("designer.delete")
+    said = look(listing=False)
+    assert "bully was removed from the library" in said and "bad library file" not in said, said
+    assert bench_b.studio.problems == [] and tb.current() is None
+    assert b.behavior is not None                      # it plays on from memory
+    assert "bad library file" not in look()
+    assert "undone: delete bully" in ka("designer.undo")
+    said = look()
+    assert "bully is back in the library" in said and tb.current() == "bully", said
+    assert b.behavior_name == "bully" and bench_b.studio.problems == []
+    assert "deleted bully" in ka("designer.delete")
+    look()
+    assert "playing lover (1 of 1)" in kb("designer.item_next")    # goes on with another
+    assert "undone: delete bully" in ka("designer.undo")
+    assert "back in the library" not in look() and tb.current() == "lover"
+    assert b.behavior_name == "lover" and bench_b.studio.problems == []

@@ -154,3 +154,20 @@ def test_a_new_take_keeps_the_character_s_parameters_and_is_kept_as_tried(tmp_pa
     kept = Behavior.train(stored.demonstration, **stored.parameters)
     assert asdict(kept.params) == asdict(tried)
     assert kept.edge_margin == e.behavior.edge_margin > 0.0
+
+
+def test_keep_between_the_parts_tells_the_designer_to_record_the_reaction(tmp_path):
+    """K with the main recorded and the reaction not yet said "nothing to keep: R records a
+    take", as if nothing had been recorded; the take is half done, and R records its reaction
+    against the main's playback."""
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("stalker", seed=4, seconds=6)
+    sequential_takes(bench, demo, 200.0, 0, "main")
+    _, studio = bench.step(Frame(seq=1000, t=210.0, commands=("designer.keep",)))
+    assert studio.action == "ready"
+    assert "nothing to keep yet: R records the reaction against the main's playback" in \
+        studio.label, studio.label
+    assert "R records a take" not in studio.label
+    _, studio = bench.step(Frame(seq=1001, t=211.0, commands=("designer.record",)))
+    assert studio.action == "recording"                  # the reaction part, as told

@@ -298,3 +298,28 @@ def test_an_engine_whose_name_no_folder_may_have_keeps_its_takes(tmp_path, model
     assert p.studio.state == "trying" and "trained action: its right hand" in p.status
     p.tick(cmds=["designer.keep"])
     assert "kept as action" in p.status and p.target.items() == ["action"]
+
+
+def test_an_engine_with_a_long_name_keeps_take_after_take_within_the_name_rule(tmp_path, models):
+    """An engine named with 57 characters makes ``NAME-action`` of 64: the second keep was
+    named ``NAME-action-2``, 66 characters, past the library's rule (1-64), which F2 then
+    refused to give back. The name is shortened to leave room for its number, as a
+    behaviour's is."""
+    from tabletop import library
+    long_name = "p" * 57
+    p = Poser(tmp_path, models)
+    p.cfg["engines"][0]["name"] = long_name
+    p.engine = p.build()
+    p.target = TouchPoseTarget(p.engine)
+    p.target._poller.every_s = 0.0
+    p.studio = Studio([p.target], countdown_s=0.0)
+    kept = []
+    for _ in range(3):
+        p.take()
+        p.tick(cmds=["designer.keep"])
+        assert "kept as " in p.status, p.status
+        kept.append(p.status.split("kept as ", 1)[1].split()[0])
+    assert kept[0] == f"{long_name}-action" and len(set(kept)) == 3
+    assert all(library.NAME_RE.match(n) and len(n) <= 64 for n in kept), [len(n) for n in kept]
+    assert sorted(kept) == p.target.items()
+    assert kept[1:] == [f"{long_name}-acti-2", f"{long_name}-acti-3"]
