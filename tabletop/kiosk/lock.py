@@ -1,4 +1,4 @@
-"""One kiosk per installation folder: an advisory lock on ``.tabletop-kiosk.lock`` beside the
+"""One kiosk per installation folder: an advisory lock on ``.kiosk.tabletop-lock`` beside the
 config file, held for the kiosk's life.
 
 Two kiosks on one folder (the systemd service and a technician's ``tabletop run --kiosk``)
@@ -26,7 +26,7 @@ from tabletop.frames import InputError
 
 log = logging.getLogger("tabletop")
 
-LOCK_NAME = ".tabletop-kiosk.lock"
+LOCK_NAME = ".kiosk.tabletop-lock"
 
 
 class KioskBusy(InputError):

@@ -76,7 +76,7 @@ def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock
             lines = err.strip().splitlines()
             assert second.returncode == 2, err
             assert lines == [f"tabletop run: error: another kiosk is running on {tmp_path} "
-                             f"(pid {first.pid}, lock .tabletop-kiosk.lock); stop it first, or "
+                             f"(pid {first.pid}, lock .kiosk.tabletop-lock); stop it first, or "
                              f"start this one from another folder"], err
 
         # the first ran on, untouched: same installation, still writing its status and its
@@ -99,7 +99,7 @@ def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock
         if first.poll() is None:
             os.killpg(first.pid, signal.SIGKILL)
             first.wait(10)
-    assert (tmp_path / ".tabletop-kiosk.lock").exists()
+    assert (tmp_path / ".kiosk.tabletop-lock").exists()
     cfg = kiosk_config(tmp_path, [])
     third = run(cfg, "--seconds", "2")
     _, err = third.communicate(timeout=120)
