@@ -51,10 +51,16 @@ def main(args: argparse.Namespace) -> int:
     cfg, refused = ((prepared.cfg, None) if prepared is not None
                     else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
+    lock_fd = None
+    if kiosk and not supervised():
+        # one kiosk per folder, before anything of the folder is touched (the supervisor's
+        # installation and spares hold this lock with it: they are never refused)
+        from tabletop.kiosk.lock import lock_folder
+        lock_fd = lock_folder(Path(args.config).resolve().parent)
     if kiosk and not args.no_supervisor and not supervised():
         # the supervisor never loads the installation's modules: it starts the installation
         # sooner at boot and holds less memory for weeks (see bench/cold_start.py)
-        return supervise(Path(args.config), cfg, _argv(args), seconds)
+        return supervise(Path(args.config), cfg, _argv(args), seconds, lock_fd)
     from tabletop.kiosk.runner import Runner
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
                     kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused)

@@ -110,7 +110,10 @@ class Supervisor:
                  env: dict[str, str] | None = None, notifier: Notifier | None = None,
                  echo: bool = True, clock: Callable[[], float] = time.monotonic,
                  spares: int = 2, seconds: float | None = None,
-                 crash_log_max_bytes: int = 1_000_000, crash_log_backups: int = 5) -> None:
+                 crash_log_max_bytes: int = 1_000_000, crash_log_backups: int = 5,
+                 keep_fds: Sequence[int] = ()) -> None:
+        # open files every child holds too: the kiosk's folder lock (tabletop.kiosk.lock)
+        self.keep_fds = tuple(keep_fds)
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
         # the crash log rotates as the kiosk's log does: unrotated, a table crashing every
         # half minute for weeks (the longest back-off) grew it ~9 MB a day (3.3 KB a crash)
@@ -150,7 +153,8 @@ class Supervisor:
             env["TABLETOP_WAIT_GO"] = "1"
         p = subprocess.Popen(self.command, env=env,
                              stdin=subprocess.PIPE if spare else subprocess.DEVNULL,
-                             stderr=subprocess.PIPE, text=True, errors="replace")
+                             stderr=subprocess.PIPE, text=True, errors="replace",
+                             pass_fds=self.keep_fds)
         child = Child(p, self.clock())
         try:
             child.exit_fd = os.pidfd_open(p.pid)
@@ -406,16 +410,18 @@ def kiosk_log(cfg: dict[str, Any], path: Path) -> None:
 
 
 def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
-              seconds: float | None = None) -> int:
+              seconds: float | None = None, lock_fd: int | None = None) -> int:
     """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT, or
-    ``seconds`` after the installation was first ready."""
+    ``seconds`` after the installation was first ready. ``lock_fd``, the folder's kiosk lock,
+    is held by every child too."""
     k = cfg["kiosk"]
     paths = kiosk_paths(cfg, config_path.resolve().parent)
     kiosk_log(cfg, paths["log_file"])
     policy = Policy(stall_s=k["stall_s"], backoff_s=tuple(k["backoff_s"]))
     sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
                      spares=k["spares"], seconds=seconds, crash_log_max_bytes=k["log_max_bytes"],
-                     crash_log_backups=k["log_backups"])
+                     crash_log_backups=k["log_backups"],
+                     keep_fds=() if lock_fd is None else (lock_fd,))
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()

@@ -1,0 +1,73 @@
+"""One kiosk per installation folder: an advisory lock on ``.kiosk.tabletop-lock`` beside the
+config file, held for the kiosk's life.
+
+Two kiosks on one folder (the systemd service and a technician's ``tabletop run --kiosk``)
+shared the status file, the logs and the recordings with nothing between them: they fought
+over the camera and the ports, and ``status.json`` told a mix of both. The second start is now
+refused in one line naming the folder and the running kiosk's process id (exit status 2).
+
+The lock is ``fcntl.flock`` on the file's open description: the kernel drops it when the last
+process holding it ends, however it ends, so a kill -9 or a power cut never leaves a stale lock
+that blocks the next start. The supervisor hands the description to the installation and its
+warm spares (they are the same kiosk, never refused), so a supervisor killed outright keeps
+the folder locked until its installation has ended too (within a second, see
+:func:`tabletop.kiosk.supervisor.follow_supervisor`). The file holds the locking process's pid,
+for the refusal's line only; its presence means nothing.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import logging
+import os
+from pathlib import Path
+
+from tabletop.frames import InputError
+
+log = logging.getLogger("tabletop")
+
+LOCK_NAME = ".kiosk.tabletop-lock"
+
+
+class KioskBusy(InputError):
+    """Another kiosk holds the folder's lock."""
+
+
+def lock_folder(folder: Path) -> int | None:
+    """Take ``folder``'s kiosk lock and return its file descriptor (keep it open for the
+    kiosk's life); KioskBusy naming the folder and the holder's pid when another kiosk has it.
+    A folder where the lock file cannot be made (read-only) is logged and run unlocked
+    (None): a kiosk that does not start is worse than one unguarded."""
+    folder = Path(folder).resolve()
+    path = folder / LOCK_NAME
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    except OSError as exc:
+        log.warning("kiosk lock %s cannot be made (%s): a second kiosk on %s would not be "
+                    "refused", path, exc.strerror or exc, folder)
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        holder = _read_pid(fd)
+        os.close(fd)
+        who = f"pid {holder}" if holder else "its pid not yet written"
+        raise KioskBusy(f"another kiosk is running on {folder} ({who}, lock {LOCK_NAME}); "
+                        f"stop it first, or start this one from another folder") from None
+    except OSError as exc:      # a file system without flock (some network mounts)
+        os.close(fd)
+        log.warning("kiosk lock %s cannot be taken (%s): a second kiosk on %s would not be "
+                    "refused", path, exc.strerror or exc, folder)
+        return None
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    return fd
+
+
+def _read_pid(fd: int) -> int | None:
+    """The pid written in the lock file, or None (empty: its holder is just starting)."""
+    try:
+        text = os.pread(fd, 32, 0).decode("ascii", "replace").strip()
+        return int(text) if text.isdigit() else None
+    except OSError:
+        return None

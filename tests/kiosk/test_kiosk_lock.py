@@ -1,0 +1,108 @@
+"""One kiosk per installation folder, with real processes: a second kiosk started on the
+folder of a running one is refused in one line (status 2) and leaves the first untouched; the
+first's own restarts (warm spares) are never refused; a kiosk killed outright leaves no lock
+behind."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def kiosk_config(tmp_path: Path, faults: list[dict]) -> Path:
+    cfg = {
+        "loop": {"rate_hz": 30},
+        "sources": [{"kind": "synthetic_camera", "name": "camera", "pucks": [1, 2],
+                     "resolution": [320, 180], "fps": 30, "hands": {"every_s": 0}}],
+        "engines": [{"kind": "fault", "name": "drill", "faults": faults}],
+        "view": {"size": [320, 180], "headless": True},
+        "recorder": {"enabled": True, "folder": "sessions"},
+        "kiosk": {"spares": 1, "stall_s": 5.0, "backoff_s": [0.1, 2.0],
+                  "heartbeat": {"enabled": False}},
+    }
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    return path
+
+
+def run(cfg: Path, *extra: str, **kw) -> subprocess.Popen:
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    env.pop("TABLETOP_SUPERVISED", None)
+    return subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                             "--kiosk", "--headless", *extra], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, **kw)
+
+
+def status(tmp_path: Path) -> dict:
+    try:
+        return json.loads((tmp_path / "status.json").read_text())
+    except (OSError, ValueError):
+        return {}
+
+
+def wait_for(cond, timeout: float) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if cond():
+            return True
+        time.sleep(0.1)
+    return False
+
+
+def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock(tmp_path):
+    # the first kiosk's first installation crashes: its restart (a warm spare) must run
+    cfg = kiosk_config(tmp_path, [{"start": 0, "after_s": 1.0, "kind": "crash"}])
+    first = run(cfg, start_new_session=True)
+    try:
+        assert wait_for(lambda: status(tmp_path).get("restarts") == 1
+                        and status(tmp_path).get("mode") == "live"
+                        and status(tmp_path).get("ticks", 0) > 30, 90), \
+            "the first kiosk's restarted installation never ran: " + str(status(tmp_path))
+        assert first.poll() is None
+        before = status(tmp_path)
+        recordings = sorted(p.name for p in (tmp_path / "sessions").iterdir())
+        log_before = (tmp_path / "logs" / "tabletop.log").read_text()
+
+        for extra in ((), ("--no-supervisor",)):
+            second = run(cfg, "--seconds", "5", *extra)
+            _, err = second.communicate(timeout=60)
+            lines = err.strip().splitlines()
+            assert second.returncode == 2, err
+            assert lines == [f"tabletop run: error: another kiosk is running on {tmp_path} "
+                             f"(pid {first.pid}, lock .kiosk.tabletop-lock); stop it first, or "
+                             f"start this one from another folder"], err
+
+        # the first ran on, untouched: same installation, still writing its status and its
+        # recording; no recording, log line or start of the second
+        assert first.poll() is None
+        assert wait_for(lambda: status(tmp_path).get("ticks", 0) > before["ticks"] + 30, 30)
+        after = status(tmp_path)
+        assert after["pid"] == before["pid"] and after["restarts"] == 1
+        assert after["mode"] == "live"
+        assert sorted(p.name for p in (tmp_path / "sessions").iterdir()) == recordings
+        log_after = (tmp_path / "logs" / "tabletop.log").read_text()
+        assert log_after.startswith(log_before)
+        assert log_after.count("supervisor: started the installation") == 2
+        assert "another kiosk" not in log_after
+
+        # kill -9 of the whole kiosk (as a power cut): no stale lock refuses the next start
+        os.killpg(first.pid, signal.SIGKILL)
+        first.wait(10)
+    finally:
+        if first.poll() is None:
+            os.killpg(first.pid, signal.SIGKILL)
+            first.wait(10)
+    assert (tmp_path / ".kiosk.tabletop-lock").exists()
+    cfg = kiosk_config(tmp_path, [])
+    third = run(cfg, "--seconds", "2")
+    _, err = third.communicate(timeout=120)
+    assert third.returncode == 0, err[-2000:]
+    last = status(tmp_path)
+    assert last["pid"] != after["pid"] and last["mode"] == "stopped", last
