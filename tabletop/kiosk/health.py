@@ -170,17 +170,28 @@ class HealthReporter:
         self._said_this = False                   # the present episode was logged
         self._judged = False                      # ... or counted as not logged
 
+    def _own(self) -> dict[str, Any]:
+        """The fields a kiosk tells of itself without a frame (no sources, 0 fps)."""
+        st = self.stats
+        return {
+            "name": self.name, "host": socket.gethostname(), "pid": os.getpid(),
+            "version": __version__,
+            "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "uptime_s": round(self.clock() - self.started, 3), "fps": 0.0,
+            "ticks": int(st.ticks) if st is not None else 0, "mode": "stopped",
+            "unhealthy_sources": 0, "sources": [],
+            "errors": int(sum(st.errors.values())) if st is not None else 0,
+            "restarts": int(os.environ.get("TABLETOP_RESTARTS", "0") or 0),
+        }
+
     def status(self, frame: Frame) -> dict[str, Any]:
         from tabletop.renderer import cameras_down   # the view's rule for its calm screen
         sources = [{"name": h.name, "ok": bool(h.ok), "message": h.message,
                     "age_s": None if math.isinf(h.age) else round(float(h.age), 3)}
                    for h in frame.health]
         st = self.stats
-        out: dict[str, Any] = {
-            "name": self.name, "host": socket.gethostname(), "pid": os.getpid(),
-            "version": __version__,
-            "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-            "uptime_s": round(self.clock() - self.started, 3),
+        out = self._own()
+        out.update({
             "fps": round(float(st.fps() or 0.0), 2) if st is not None else 0.0,
             "ticks": int(st.ticks) if st is not None else frame.seq,
             # what the table shows: "one_moment" also while every source is down without
@@ -188,9 +199,7 @@ class HealthReporter:
             "mode": "one_moment" if cameras_down(frame) else frame.status or "live",
             "unhealthy_sources": sum(1 for s in sources if not s["ok"]),
             "sources": sources,
-            "errors": int(sum(st.errors.values())) if st is not None else 0,
-            "restarts": int(os.environ.get("TABLETOP_RESTARTS", "0") or 0),
-        }
+        })
         if self.extra is not None:
             out.update(self.extra())
         return out
@@ -246,10 +255,20 @@ class HealthReporter:
         """After :meth:`close`, when the kiosk ends on purpose: the status file says so, its
         last status again with ``mode`` "stopped", ``fps`` 0 and the time of the stop. It kept
         saying "live" (or "one_moment"), its pid gone, so a look at the file could not tell a
-        table stopped an hour ago from one running."""
-        if self.writer is None or self.last is None:
+        table stopped an hour ago from one running. A kiosk that ends before its first status
+        (within its first second) writes one of its own, without sources: the file would
+        otherwise go on telling the status of the kiosk that ran before it."""
+        if self.writer is None:
             return
-        status = dict(self.last, mode="stopped", fps=0.0,
+        last = self.last
+        if last is None:
+            last = self._own()
+            if self.extra is not None:
+                try:
+                    last.update(self.extra())
+                except Exception as exc:  # (its parts may be closed by now): said without
+                    log.debug("status fields at the stop not read: %s", exc)
+        status = dict(last, mode="stopped", fps=0.0,
                       time=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
                       uptime_s=round(self.clock() - self.started, 3))
         try:

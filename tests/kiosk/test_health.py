@@ -419,3 +419,24 @@ def test_the_status_carries_every_promised_field_also_for_parts_that_are_off(tmp
     assert promised <= set(status), promised - set(status)
     assert status["studio"] is None and status["config_error"] is None
     assert status["config"] == str(cfg) and status["recording"] is None
+
+
+def test_a_kiosk_that_stops_before_its_first_status_says_so_over_the_one_before(tmp_path):
+    """The status file held the last kiosk's "live" (a kiosk killed before it); this one
+    stopped within its first second, before its first status (the loop waits for a rate):
+    the file says this kiosk stopped, with every promised field, not the dead one's "live"."""
+    import os
+    status_file = tmp_path / "status.json"
+    status_file.write_text(json.dumps({"name": "table-7", "pid": 999_999, "mode": "live",
+                                       "fps": 60.0}) + "\n")
+    stats = LoopStats()
+    rep = HealthReporter("table-7", stats, status_file=status_file,
+                         extra=lambda: {"config_error": None})
+    rep(Frame(seq=0, t=0.0))                 # no rate yet: no status
+    assert json.loads(status_file.read_text())["pid"] == 999_999
+    rep.close()
+    rep.stopped()
+    status = json.loads(status_file.read_text())
+    assert STATUS_FIELDS | {"config_error"} <= set(status)
+    assert status["pid"] == os.getpid() and status["mode"] == "stopped" and status["fps"] == 0
+    assert status["sources"] == [] and status["ticks"] == 0
