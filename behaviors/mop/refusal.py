@@ -12,6 +12,13 @@ at 60% with one spread per template, and the hysteresis takes 0 with one per col
 Tighter limits did not separate unrelated motion from true performances: null 1.4 / accept
 1.05 cut true validity after 30% from 0.90 to 0.75 while unrelated motion stayed 0.55-0.62
 valid; 1.1 / 0.85: 0.65 and 0.51.
+Measured and not kept: refused only once past its onset state or engaged (before it, the template's
+first states are a small slow blob): on the tuned joints, seeds 201-210
+(``bench/follow_widened.py``), mirrored paths among twenty valid over 0.1 of the time 22 -> 19 of
+540 (mean 0.0146 -> 0.0134, worst 0.338 both), gestures back to back among twenty unchanged;
+``bench/follow_quality.py`` puck figures identical, but the ``follow`` command's defaults (features
+as recorded) recognised fewer gestures back to back (never recognised among the six 0.531 -> 0.563,
+median recognition among twenty 0.520 -> 0.600).
 
 Two rules on the template's *path* (its states joined by segments), each measured against the
 template's own spread, whatever the other templates:

@@ -104,6 +104,13 @@ it): the held-out mirrored line with twenty templates, a punch ankle taken at 0.
 0.273, the held-out mirrored line 0.7x 0.595 -> 0.417; valid after 30% and holds unchanged to
 the digit (no true performance of the bench rests there); 0.05 the same. Back to back: tuned
 identical; held-out, twenty templates, the longest wrong run 17 -> 12, six gestures 7 both.
+Measured and not kept: moving behind where it began too (not only resting), on the tuned joints,
+seeds 201-210 (``bench/follow_widened.py``) (mirrored paths among twenty at 0.7 / 1 / 1.4x; eight
+sequences of four among twenty each): a walk ankle taken at 0.13 on a mirrored spin ankle, followed
+to 0.27 and back to 0.09, stops at 0.11; mirrored paths valid over 0.1 of the time 22 -> 19 of 540
+(mean 0.0146 -> 0.0141, worst 0.338 both), tuned sized gestures identical, but runs of a wrong
+action over 2 samples 14 -> 15 of 80: a line's return followed backwards stops, its end is not
+seen, and the walk drives the roll after it 3 samples.
 
 Not judged at rest (:data:`UNJUDGED_AT_REST`): while the performer rests (:func:`resting`),
 every template's recent likelihood (refusal) and path misfit stay as they were. A still input
