@@ -18,14 +18,15 @@ from typing import Any
 import numpy as np
 
 from behaviors.puppet_master import features as ft
-from behaviors.puppet_master.character import (MIN_CHARGES, SINCE_WEIGHT, SPACE_PERCENTILE,
-                                               STILL_MPS, STILL_SPAN_S, STOP_SPAN_S,
-                                               STOPS_WITH_MAIN, TOUCH_M, WALKS_WITH_MAIN,
-                                               still_span)
+from behaviors.puppet_master.character import (MIN_CHARGES, MIN_OWN_TOUCHES, SINCE_WEIGHT,
+                                               SPACE_PERCENTILE, STILL_MPS, STILL_SPAN_S,
+                                               STOP_SPAN_S, STOPS_WITH_MAIN, TOUCH_M,
+                                               WALKS_WITH_MAIN, WALKS_WITHIN, still_span)
 from behaviors.puppet_master.detail import direction_detail, texture_rms
 from behaviors.puppet_master.demonstrated import (charge_entries, charges, circles, own_steps,
-                                                  pace_ratio, relative_world_steps,
-                                                  still_main_speed, straightness)
+                                                  own_touches, pace_ratio,
+                                                  relative_world_steps, still_main_speed,
+                                                  straightness)
 from behaviors.puppet_master.look import train_look, train_place
 from behaviors.puppet_master.params import ParameterError, Params
 from behaviors.puppet_master.resample import resample_uniform
@@ -114,10 +115,15 @@ class Behavior:
                                 STILL_MPS * STILL_SPAN_S)
         self.distance = np.hypot(f.rel_fwd, f.rel_left)
         near = float(np.percentile(self.distance, SPACE_PERCENTILE))
-        # a character that keeps a personal space (never touches: see below) and does not walk
-        # with its main (WALKS_WITH_MAIN) keeps away from it: the afraid one, pace 0.93
-        keeps_away = near >= TOUCH_M and pace >= WALKS_WITH_MAIN
-        if pace < STOPS_WITH_MAIN or keeps_away:
+        # a character that keeps a personal space (never touches its main of its own accord:
+        # see below) and does not walk with its main (see below) keeps away from it: the
+        # afraid one, pace 0.93, half of its time 3.6 x its personal space or further off
+        self.own_touches = own_touches(self.main[:, :2], self.react[:, :2], p.rate_hz, TOUCH_M)
+        space = max(near, TOUCH_M) if self.own_touches < MIN_OWN_TOUCHES else 0.0
+        walks = (space > 0.0 and pace < WALKS_WITH_MAIN
+                 and float(np.median(self.distance)) < WALKS_WITHIN * space)
+        self.keeps_away = space > 0.0 and not walks
+        if pace < STOPS_WITH_MAIN or self.keeps_away:
             # a character that stops when its main stops (the stalker, pace 0.37) matches by
             # its main's still/moving state too (features.main_still, in the situation and
             # coherence vectors, weighed by its inverse spread as every feature): by the
@@ -206,14 +212,15 @@ class Behavior:
             self.detail.tolist(), lk.frame.tolist(), lk.angle.tolist(), lk.still_frame.tolist(),
             lk.still_angle.tolist(), lk.detail.tolist()))
         self.top_speed = float(np.percentile(f.v_react, 99))
-        # personal space: a character whose demonstration never touched its main (nearer than
-        # TOUCH_M in under 1% of its samples) keeps the main out of that 1st-percentile
-        # distance, as the puck it is would be pushed aside (the lover 0.081 m, the afraid
-        # character 0.104 m; 0 = none: the bully, stalker and playful friend touch). Measured
+        # personal space: a character whose demonstration never walked into its main of its
+        # own accord (own_touches under MIN_OWN_TOUCHES: any contact its main's doing) keeps
+        # the main out of its 1st-percentile distance, at least TOUCH_M, as the puck it is
+        # would be pushed aside (the lover 0.081 m, the afraid character 0.105 m; 0 = none:
+        # the bully, stalker and playful friend walk into their mains). Measured
         # cause: an unseen main walking into the lover at 0.1-0.14 m/s outran the lover's step,
         # capped at its demonstrated speed, so it touched 3-20% of the time on the fast and
         # loops paths against 0.8% demonstrated. See Reactor._step for the figures.
-        self.personal_space = near if near >= TOUCH_M else 0.0
+        self.personal_space = space
         # a character that stops when its main stops and touches it corrects its drift at
         # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
         self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
@@ -256,10 +263,11 @@ class Behavior:
             self.edge_margin = max(0.0, float(np.percentile(edge, p.edge_percentile)))
         # the positions before the newest over which its main has stopped (STOP_SPAN_S)
         self.stop_span = max(1, int(round(STOP_SPAN_S * p.rate_hz)))
-        # a character that keeps a personal space round its main and slows when it stops
-        # walks with its main: the cap at a place held in the world holds the mean of its
-        # raw steps (step.py, generation.mean_capped): the lover
-        self.walks_with_main = self.personal_space > 0.0 and pace < WALKS_WITH_MAIN
+        # a character that keeps a personal space round its main, slows when it stops
+        # (WALKS_WITH_MAIN) and keeps close beside it (half of its time within WALKS_WITHIN x
+        # its personal space) walks with its main: the cap at a place held in the world holds
+        # the mean of its raw steps (step.py, generation.mean_capped): the lover (1.46 x)
+        self.walks_with_main = walks
         # the share of its steps' length its path keeps over the linear smooth (step.py)
         self.straightness = straightness(self.react[:, :2], p.smooth)
         # the same per-sample values as one table for the compiled step (step_kernel columns)

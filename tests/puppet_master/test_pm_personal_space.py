@@ -1,11 +1,12 @@
-"""A character whose demonstration never touched its main keeps it out of its personal space
-(Behavior.personal_space, applied in Reactor._step) on unseen main paths; the characters that
-touch (the bully charges, the stalker and the playful friend come close) have none."""
+"""A character whose demonstration never walked into its main of its own accord keeps it out of
+its personal space (Behavior.personal_space, applied in Reactor._step) on unseen main paths;
+the characters that touch (the bully charges, the stalker walks into its stopping main, the
+playful friend darts in) have none."""
 
 import numpy as np
 
 from behaviors.puppet_master import fidelity, visitors
-from behaviors.puppet_master.character import TOUCH_M
+from behaviors.puppet_master.character import MIN_OWN_TOUCHES, TOUCH_M
 from behaviors.puppet_master.engine import Behavior
 from tabletop import examples, library
 from tests.puppet_master.test_pm_fidelity import TABLE, shipped  # noqa: F401 (fixture)
@@ -14,10 +15,12 @@ from tests.puppet_master.test_pm_fidelity import TABLE, shipped  # noqa: F401 (f
 def test_personal_space_is_the_demonstrations_nearest_percentile_beyond_a_touch(shipped):
     for name, b in shipped.items():
         near = float(np.percentile(b.distance, 1.0))
-        if name in ("lover", "afraid"):      # measured 0.081 and 0.105 m
-            assert b.personal_space == near >= TOUCH_M
-        else:                                # 0.05-0.06 m: they touch
+        if name in ("lover", "afraid"):      # measured 0.081 and 0.105 m; touched only by
+            assert b.personal_space == near >= TOUCH_M      # their mains
+            assert b.own_touches < MIN_OWN_TOUCHES
+        else:                                # 0.05-0.06 m: they walk into their mains
             assert near < TOUCH_M and b.personal_space == 0.0
+            assert b.own_touches >= MIN_OWN_TOUCHES
 
 
 def test_the_lover_is_not_walked_into_on_unseen_paths(shipped):
