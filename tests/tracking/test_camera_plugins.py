@@ -2,6 +2,7 @@
 markers found by the tracking section's detector, pucks reported in table metres."""
 
 import math
+import threading
 import time
 from pathlib import Path
 
@@ -236,18 +237,26 @@ def test_tracker_predictions_guide_the_detector_to_the_right_pixels(tmp_path):
             return self.detector.detect(grey, predictions_px)
 
     real.detector = Recording(real.detector)
+    enough = threading.Event()
+
+    def notify(t: float) -> None:
+        """Each frame's observation is given to the tracker as it is announced, before the next
+        frame is detected (as a loop ticking on the camera's frames does): each prediction is
+        one frame ahead. (Fed from a thread polling at 60 Hz, a thread starved on a loaded
+        machine left the tracker 0.3 s behind: p95 error 38 px.)"""
+        obs = src.latest()
+        if obs is not None and obs.t == t:
+            tracker.update([obs], obs.t)
+        if len(errors) >= 180:
+            enough.set()
+
+    src.notify = notify
     src.open()
-    try:
-        # 2 s of frames (about 60 of 3 pucks), and on a busy machine until 60 predictions came
-        end = time.monotonic() + 2.0
-        while time.monotonic() < end or (len(errors) < 60 and time.monotonic() < end + 30.0):
-            obs = src.latest()
-            if obs is not None:
-                tracker.update([obs], obs.t)
-            time.sleep(1 / 60)
+    try:    # about 2 s of frames: 60 frames of 3 pucks predicted
+        enough.wait(60.0)
     finally:
         src.close()
-    assert len(errors) >= 60
+    assert len(errors) >= 180
     assert np.median(errors) <= 3.0 and np.percentile(errors, 95) <= 10.0  # pixels
 
 
