@@ -351,6 +351,39 @@ def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):
     assert "too short" in table.status and "take2" not in engine.puppets["lizard"].actions
 
 
+def _jittered_rest(table, seconds, rng, jitter):
+    """The puck still where it is for ``seconds``, tracked with ``jitter`` metres of noise."""
+    x0, y0 = table.pucks[1]
+    for _ in range(int(seconds * RATE)):
+        table.pucks[1] = (x0 + rng.normal(0, jitter), y0 + rng.normal(0, jitter))
+        table.tick()
+    table.pucks[1] = (x0, y0)
+
+
+@pytest.mark.parametrize("jitter", [0.0, 0.0003])
+def test_a_take_rested_longer_than_the_rest_time_and_tracked_with_jitter_is_trimmed(
+        tmp_path, jitter):
+    """A designer waits 1.5 s (longer than the puck's 0.8 s rest time) after the countdown and
+    before stopping, tracked with 0.3 mm of jitter: the take keeps its gesture's samples and ends
+    where the gesture ended (it kept the hold and a jump back to 0, 0 after the rest: 72 samples
+    of the gesture's 54; with the jitter the stills at both ends too: 92)."""
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    rng = np.random.default_rng(3)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    _jittered_rest(table, 1.5, rng, jitter)
+    table.perform("zigzag", noise=jitter, seed=4)
+    _jittered_rest(table, 1.5, rng, jitter)
+    table.tick(["designer.record"])
+    assert table.studio.state == "trying"
+    samples = engine.templates["lizard"]["take1"][1]
+    g = G.gesture("zigzag")
+    n = g[-1, 0] * engine.rate_hz     # 54 samples of a zigzag; up to 0.15 s more at each end
+    assert 0.75 * n <= len(samples) <= n + 2 + 0.3 * engine.rate_hz, (len(samples), n)
+    assert np.hypot(*(samples[-1, :2] - g[-1, 1:3])) < 0.003, (samples[-1], g[-1])
+
+
 def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_are_skipped(tmp_path):
     """Each is reported naming the library file and skipped; the engine starts with the rest
     (an empty name stopped the start naming no file; a repeated name or a configured one
