@@ -32,17 +32,22 @@ log = logging.getLogger("tabletop")
 
 
 def trash(folder: Path) -> Callable[[], None]:
-    """Move ``folder`` into its library's ``.trash``; returns the function that puts it back."""
+    """Move ``folder`` into its library's ``.trash``; returns the function that puts it back
+    (once: called again, as an undo that failed after it is, it does nothing)."""
     bin_ = folder.parent / ".trash"
     bin_.mkdir(exist_ok=True)
     dest = bin_ / f"{folder.name}.{time.time_ns()}"
     os.rename(folder, dest)
     fsync_folder(folder.parent)
+    done = [False]
 
     def restore() -> None:
+        if done[0]:
+            return
         if folder.exists():
             raise InputError(f"{folder}: exists again; not restored over it")
         os.rename(dest, folder)
+        done[0] = True
     return restore
 
 

@@ -270,6 +270,30 @@ def test_a_deleted_action_goes_into_the_trash_and_undo_brings_it_back(tmp_path):
     assert (folder / "take1.csv").read_bytes() == kept and "take1" in engine.puppets["face"].actions
 
 
+def test_an_undo_that_failed_half_way_is_done_on_the_next_try(tmp_path):
+    """The undo of a delete put the template back, then could not write the entries (here
+    actions.yaml stands as a folder): tried again, it said "take1.csv: exists again" forever
+    and every older undo stayed out of reach."""
+    engine, table = kept_line(tmp_path)
+    folder = tmp_path / "lib" / "face"
+    kept = (folder / "take1.csv").read_bytes()
+    s = table.studio
+    s.command("designer.item_next")
+    s.command("designer.delete")
+    (folder / "actions.yaml").unlink()
+    (folder / "actions.yaml").mkdir()
+    s.command("designer.undo")
+    assert s.message.startswith("cannot") and s.undo_stack[-1][0] == "delete take1", s.message
+    assert (folder / "take1.csv").read_bytes() == kept    # half-way: the template is back
+    (folder / "actions.yaml").rmdir()
+    s.command("designer.undo")
+    assert s.message == "undone: delete take1", s.message
+    assert [what for what, _ in s.undo_stack] == ["keep take1"]     # the older undo next
+    entries = yaml.safe_load((folder / "actions.yaml").read_text())["actions"]
+    assert [a["name"] for a in entries] == ["take1"]
+    assert (folder / "take1.csv").read_bytes() == kept and "take1" in engine.puppets["face"].actions
+
+
 def test_delete_undo_and_rename_are_followed_on_their_own_tick(tmp_path):
     """They were followed when the library's watcher next looked (wall-clock time), so a
     replay changed the characters on other ticks than the live run (371 of 1147 frames
