@@ -434,6 +434,23 @@ def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_ar
     assert len(circle) == len(G.gesture("circle"))     # the configured template, not c.csv
 
 
+def test_a_library_entry_that_fails_to_load_does_not_claim_its_name(tmp_path):
+    """Two entries named wave, the first's template damaged and the second a fixed copy: the
+    first is reported and the second loads (it was refused as "named twice; the first is
+    kept", and neither was kept)."""
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    (lib / "face" / "a.csv").write_text("t,dx,dy\n0,0,oops\n")
+    (lib / "face" / "b.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
+    (lib / "face" / "actions.yaml").write_text(
+        "actions:\n- {name: wave, template: a.csv, motion: laugh}\n"
+        "- {name: wave, template: b.csv, motion: wink}\n")
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    (problem,) = engine.library_problems["face"]
+    assert "action 'wave'" in problem and "a.csv" in problem and "twice" not in problem, problem
+    assert engine.puppets["face"].actions["wave"].clip.name == "wink"
+
+
 def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_path):
     """A kept action playing a creature's clip file on the face: reported and skipped (the clip
     was checked only when the face took the action, and that stopped the engine's start)."""
