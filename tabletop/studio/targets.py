@@ -198,7 +198,9 @@ class PuppetMasterTarget:
             demo, what = self.session.demonstration(), "the reaction"
         secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0
         if secs < self.min_seconds:
-            shown = math.floor(secs * 10) / 10   # cut: 1.96 s read "2.0 s, needs 2 s"
+            # cut: 1.96 s read "2.0 s, needs 2 s"; but not below the tenth a take of 2.3 s
+            # (2.299999999999997 s between frame times near t = 100 s) reaches: it read "2.2 s"
+            shown = math.floor(secs * 10 + 1e-6) / 10
             raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
                              f"{self.min_seconds:g} s)")
         return demo
