@@ -16,6 +16,11 @@ from behaviors.motion.clips import ClipError
 #: Units of the puck path features (dx, dy, heading, speed): columns of one unit get the same
 #: tolerance (a puck's x and y), and a turn of 1 rad weighs like 10 cm.
 PUCK_UNITS = np.array([0.1, 0.1, 1.0, 0.1])
+#: Tracking jitter of the puck path features (dx, dy, heading, speed; metres, radians, m/s): a
+#: take's differences within it are stillness (:func:`behaviors.mop.puppetry.moving_part`).
+#: 0.3 mm of position jitter reads as speeds up to 0.03 m/s at 30 Hz and 0.06 m/s at 60 Hz
+#: (99th percentile), 0.8 mm as 0.09 and 0.15 m/s.
+PUCK_JITTER = np.array([0.001, 0.001, 0.02, 0.1])
 
 
 class PuckInput:
@@ -34,6 +39,7 @@ class PuckInput:
         self.units = PUCK_UNITS[self._cols]
         #: the follower's floor of every template's scale (:attr:`PathFeatures.min_scale`)
         self.min_scale = PathFeatures.min_scale[self._cols]
+        self.jitter = PUCK_JITTER[self._cols]
         self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
 
     def read(self, frame: object, t: float) -> np.ndarray:
@@ -62,6 +68,7 @@ class TouchInput:
         self.names = (prefix + "dx", prefix + "dy")
         self.units = np.array([0.1, 0.1])
         self.min_scale = np.array([0.01, 0.01])   # metres, as a puck's path
+        self.jitter = PUCK_JITTER[:2]
         self._id: int | None = None
         self._origin = (0.0, 0.0)
 
@@ -96,6 +103,7 @@ class StreamInput:
         #: A stream's columns have no known units: the follower takes them from the templates.
         self.units = None
         self.min_scale = None
+        self.jitter = None
         #: Why the stream cannot be read (it has too few columns), or None.
         self.problem: str | None = None
 
@@ -146,6 +154,16 @@ class Performer:
             return None
         return np.concatenate([np.zeros(len(i.names)) if m is None else m
                                for i, m in zip(self.inputs, parts)])
+
+    @property
+    def jitter(self) -> np.ndarray | None:
+        """Each feature's tracking jitter (d,; 0 for a stream's columns), None when no input
+        knows its own."""
+        parts = [i.jitter for i in self.inputs]
+        if all(j is None for j in parts):
+            return None
+        return np.concatenate([np.zeros(len(i.names)) if j is None else j
+                               for i, j in zip(self.inputs, parts)])
 
     def read(self, frame: object, t: float) -> np.ndarray:
         return np.concatenate([i.read(frame, t) for i in self.inputs])

@@ -228,6 +228,13 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                 humanoid_urdf()
             except ClipError as exc:
                 raise ctx.error(f"{where}.skeleton", str(exc)) from None
+        if c["kind"] == "skeleton" and c["skeleton"] is not None:
+            # made now: a file that is no URDF stopped the check (or the build) naming no key
+            from behaviors.motion.skeleton import SkeletonError
+            try:
+                rigs[c["name"]] = _make_rig(c)
+            except SkeletonError as exc:
+                raise ctx.error(f"{where}.skeleton", str(exc)) from None
         seen = set()
         for j, a in enumerate(c["actions"]):
             aw = f"{where}.actions[{j}]"

@@ -156,7 +156,6 @@ def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_h
                "is named twice in the library; the first is kept" if a["name"] in seen else
                "has the name of an action the config gives the character" if a["name"] in configured
                else "")
-        seen.add(a["name"])
         if why:
             problems.append(f"{where} {why}")
             continue
@@ -167,6 +166,7 @@ def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_h
             if loader.rig is not None:   # a clip the character cannot play (a face's for a
                 loader.rig.check(clip)   # creature) stopped the engine's start
             out.append((Action(a["name"], clip), samples))
+            seen.add(a["name"])   # only a kept entry claims its name: a later fixed copy loads
         except InputError as exc:
             problems.append(f"{where}: {exc}")
     return out, problems

@@ -148,9 +148,12 @@ class MopTarget:
         self._applied()
 
         def restore() -> None:
+            # resumable: an undo that failed half-way (a read-only disk) is done again from
+            # where it stopped, not refused for the template it already put back
             for back in backs:
                 back()
-            self._write(self._entries() + gone)
+            entries = self._entries()
+            self._write(entries + [a for a in gone if a not in entries])
             if was_kept and self.kept is None:
                 self.kept = name               # in play again: F2 said "nothing to rename"
             self._applied()

@@ -32,17 +32,22 @@ log = logging.getLogger("tabletop")
 
 
 def trash(folder: Path) -> Callable[[], None]:
-    """Move ``folder`` into its library's ``.trash``; returns the function that puts it back."""
+    """Move ``folder`` into its library's ``.trash``; returns the function that puts it back
+    (once: called again, as an undo that failed after it is, it does nothing)."""
     bin_ = folder.parent / ".trash"
     bin_.mkdir(exist_ok=True)
     dest = bin_ / f"{folder.name}.{time.time_ns()}"
     os.rename(folder, dest)
     fsync_folder(folder.parent)
+    done = [False]
 
     def restore() -> None:
+        if done[0]:
+            return
         if folder.exists():
             raise InputError(f"{folder}: exists again; not restored over it")
         os.rename(dest, folder)
+        done[0] = True
     return restore
 
 
@@ -193,7 +198,9 @@ class PuppetMasterTarget:
             demo, what = self.session.demonstration(), "the reaction"
         secs = float(demo[-1, 0] - demo[0, 0]) if len(demo) else 0.0
         if secs < self.min_seconds:
-            shown = math.floor(secs * 10) / 10   # cut: 1.96 s read "2.0 s, needs 2 s"
+            # cut: 1.96 s read "2.0 s, needs 2 s"; but not below the tenth a take of 2.3 s
+            # (2.299999999999997 s between frame times near t = 100 s) reaches: it read "2.2 s"
+            shown = math.floor(secs * 10 + 1e-6) / 10
             raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
                              f"{self.min_seconds:g} s)")
         return demo

@@ -348,6 +348,22 @@ def _designer_config(tmp_path: Path) -> dict:
              "motions": ["strike", "curl"]}]}]}
 
 
+@pytest.mark.parametrize("clip_file", [False, True])
+def test_a_skeleton_file_that_is_no_urdf_is_refused_naming_its_key(tmp_path, clip_file):
+    """With a clip file to check against the rig it stopped the config check, and without one
+    the build, both naming the file alone (SkeletonError, not the character's key)."""
+    from tabletop.plugins.mop import resolve_motion
+    (tmp_path / "bad.urdf").write_text("<notrobot/>")
+    walk = str(resolve_motion("skeleton", "walk", tmp_path)[1]) if clip_file else "walk"
+    data = _designer_config(tmp_path)
+    data["engines"][0]["characters"].append({
+        "name": "dancer", "kind": "skeleton", "performer": "hand", "skeleton": "bad.urdf",
+        "actions": [{"name": "a", "template": str(EXAMPLES / "mop/gestures/line.csv"),
+                     "motion": walk}]})
+    with pytest.raises(ConfigError, match=r"engines\[0\]\.characters\[2\]\.skeleton: .*bad\.urdf"):
+        _build(data, tmp_path)
+
+
 def test_config_errors_name_the_key_or_file(tmp_path):
     base = _designer_config(tmp_path)
 

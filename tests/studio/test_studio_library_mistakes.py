@@ -145,6 +145,19 @@ def test_a_take_just_short_never_reads_as_long_enough(tmp_path):
     assert "take too short (1.9 s of both pucks, needs 2 s)" in labels[89], labels[89]
 
 
+def test_a_take_of_whole_tenths_reads_its_length(tmp_path):
+    """A take of 2.3 s (93 rows at 40 Hz; 2.299999999999997 s between frame times near
+    t = 100 s) said "take too short (2.2 s of both pucks, ...)"."""
+    from behaviors.puppet_master import designers
+    from tests.studio.test_studio_keys import demo_frames
+    (e,) = designer(tmp_path, min_seconds=3.0)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=4)     # 40 Hz rows
+    labels = [bench.step(f)[1].label for f in demo_frames(
+        demo, {10: ("designer.record",), 103: ("designer.record",)})]
+    assert "take too short (2.3 s of both pucks, needs 3 s)" in labels[103], labels[103]
+
+
 def test_switching_is_refused_during_a_take(tmp_path):
     """] in the middle of a take switched the behaviour in play, and the take then trained with
     the other behaviour's parameters: a take of the afraid character (edge_percentile 50) with

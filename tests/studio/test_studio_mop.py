@@ -270,6 +270,30 @@ def test_a_deleted_action_goes_into_the_trash_and_undo_brings_it_back(tmp_path):
     assert (folder / "take1.csv").read_bytes() == kept and "take1" in engine.puppets["face"].actions
 
 
+def test_an_undo_that_failed_half_way_is_done_on_the_next_try(tmp_path):
+    """The undo of a delete put the template back, then could not write the entries (here
+    actions.yaml stands as a folder): tried again, it said "take1.csv: exists again" forever
+    and every older undo stayed out of reach."""
+    engine, table = kept_line(tmp_path)
+    folder = tmp_path / "lib" / "face"
+    kept = (folder / "take1.csv").read_bytes()
+    s = table.studio
+    s.command("designer.item_next")
+    s.command("designer.delete")
+    (folder / "actions.yaml").unlink()
+    (folder / "actions.yaml").mkdir()
+    s.command("designer.undo")
+    assert s.message.startswith("cannot") and s.undo_stack[-1][0] == "delete take1", s.message
+    assert (folder / "take1.csv").read_bytes() == kept    # half-way: the template is back
+    (folder / "actions.yaml").rmdir()
+    s.command("designer.undo")
+    assert s.message == "undone: delete take1", s.message
+    assert [what for what, _ in s.undo_stack] == ["keep take1"]     # the older undo next
+    entries = yaml.safe_load((folder / "actions.yaml").read_text())["actions"]
+    assert [a["name"] for a in entries] == ["take1"]
+    assert (folder / "take1.csv").read_bytes() == kept and "take1" in engine.puppets["face"].actions
+
+
 def test_delete_undo_and_rename_are_followed_on_their_own_tick(tmp_path):
     """They were followed when the library's watcher next looked (wall-clock time), so a
     replay changed the characters on other ticks than the live run (371 of 1147 frames
@@ -351,6 +375,39 @@ def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):
     assert "too short" in table.status and "take2" not in engine.puppets["lizard"].actions
 
 
+def _jittered_rest(table, seconds, rng, jitter):
+    """The puck still where it is for ``seconds``, tracked with ``jitter`` metres of noise."""
+    x0, y0 = table.pucks[1]
+    for _ in range(int(seconds * RATE)):
+        table.pucks[1] = (x0 + rng.normal(0, jitter), y0 + rng.normal(0, jitter))
+        table.tick()
+    table.pucks[1] = (x0, y0)
+
+
+@pytest.mark.parametrize("jitter", [0.0, 0.0003])
+def test_a_take_rested_longer_than_the_rest_time_and_tracked_with_jitter_is_trimmed(
+        tmp_path, jitter):
+    """A designer waits 1.5 s (longer than the puck's 0.8 s rest time) after the countdown and
+    before stopping, tracked with 0.3 mm of jitter: the take keeps its gesture's samples and ends
+    where the gesture ended (it kept the hold and a jump back to 0, 0 after the rest: 72 samples
+    of the gesture's 54; with the jitter the stills at both ends too: 92)."""
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    rng = np.random.default_rng(3)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    _jittered_rest(table, 1.5, rng, jitter)
+    table.perform("zigzag", noise=jitter, seed=4)
+    _jittered_rest(table, 1.5, rng, jitter)
+    table.tick(["designer.record"])
+    assert table.studio.state == "trying"
+    samples = engine.templates["lizard"]["take1"][1]
+    g = G.gesture("zigzag")
+    n = g[-1, 0] * engine.rate_hz     # 54 samples of a zigzag; up to 0.15 s more at each end
+    assert 0.75 * n <= len(samples) <= n + 2 + 0.3 * engine.rate_hz, (len(samples), n)
+    assert np.hypot(*(samples[-1, :2] - g[-1, 1:3])) < 0.003, (samples[-1], g[-1])
+
+
 def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_are_skipped(tmp_path):
     """Each is reported naming the library file and skipped; the engine starts with the rest
     (an empty name stopped the start naming no file; a repeated name or a configured one
@@ -375,6 +432,23 @@ def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_ar
     assert engine.puppets["face"].actions["line"].clip.name == "laugh"
     circle = engine.templates["face"]["circle"][1]
     assert len(circle) == len(G.gesture("circle"))     # the configured template, not c.csv
+
+
+def test_a_library_entry_that_fails_to_load_does_not_claim_its_name(tmp_path):
+    """Two entries named wave, the first's template damaged and the second a fixed copy: the
+    first is reported and the second loads (it was refused as "named twice; the first is
+    kept", and neither was kept)."""
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+    (lib / "face" / "a.csv").write_text("t,dx,dy\n0,0,oops\n")
+    (lib / "face" / "b.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
+    (lib / "face" / "actions.yaml").write_text(
+        "actions:\n- {name: wave, template: a.csv, motion: laugh}\n"
+        "- {name: wave, template: b.csv, motion: wink}\n")
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    (problem,) = engine.library_problems["face"]
+    assert "action 'wave'" in problem and "a.csv" in problem and "twice" not in problem, problem
+    assert engine.puppets["face"].actions["wave"].clip.name == "wink"
 
 
 def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_path):
