@@ -4,6 +4,10 @@ folders named by hand, undo that cannot be done yet. Real folders, real engines.
 import shutil
 from pathlib import Path
 
+import numpy as np
+import pytest
+
+from tabletop import library
 from tabletop.frames import Frame
 from tests.studio.test_studio_keys import Bench, designer
 
@@ -79,6 +83,10 @@ OTHER_STUDIO = """
 import os, sys, time
 sys.path.insert(0, {root!r})
 from pathlib import Path
+
+import pytest
+
+from tabletop import library
 from tabletop import swap
 from tabletop.files import new_folder
 target = Path({target!r})
@@ -223,3 +231,36 @@ def test_a_behaviour_deleted_by_another_studio_is_said_removed_and_the_studio_go
     assert "undone: delete bully" in ka("designer.undo")
     assert "back in the library" not in look() and tb.current() == "lover"
     assert b.behavior_name == "lover" and bench_b.studio.problems == []
+
+
+@pytest.mark.parametrize("background", [False, True])
+def test_switching_is_refused_while_a_take_is_tried(tmp_path, background):
+    """] while a take was tried (or trained) played the library item; the studio still said
+    "try it", and K then kept the take under a name while the item played on. It is refused
+    there too, and K keeps the take that plays."""
+    from behaviors.puppet_master import designers
+    from tests.studio.test_studio_keys import demo_frames
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (e,) = designer(tmp_path, background_training=background)
+    bench = Bench([e], tmp_path)
+    keys = Keys(bench)
+    assert "playing bully (1 of 2)" in keys("designer.item_next")
+    demo = designers.demonstrate("lover", seed=8, seconds=6)
+    said = [bench.step(f)[1].label for f in demo_frames(
+        demo, {5: ("designer.record",), 200: ("designer.record", "designer.item_next")},
+        t0=2000.0)]
+    assert "no switching while a take is tried" in said[200], said[200]
+    keys.t = 3000.0
+    label = keys()                                   # a background take swaps in by now
+    assert bench.studio.state == "trying", label
+    take, demo = bench.studio.target.pending, bench.studio.target.demo
+    assert take is not None and e.behavior is take and e.behavior_name == "new take"
+    said = keys("designer.item_previous")
+    assert "no switching while a take is tried" in said, said
+    assert e.behavior is take and bench.studio.state == "trying"
+    assert "kept as pet" in keys("designer.keep")
+    assert e.behavior is take and e.behavior_name == "pet"
+    assert np.array_equal(library.load_behavior(lib / "pet").demonstration, demo)
+    assert "playing bully (1 of 3)" in keys("designer.item_next")      # after the take
