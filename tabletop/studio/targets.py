@@ -278,6 +278,9 @@ class PuppetMasterTarget:
             source="designer studio, recorded from the table")
         name = folder.name
         self.engine.behavior_name, self.playing, self.pending = name, folder, None
+        # the kept take is in play: the behaviour it replaced, deleted elsewhere and back, is
+        # no longer reloaded over it
+        self.play_poller, self.removed = Poller(folder), None
         self.lib_poller.signature = ()      # the library changed: list it again
         return name
 
@@ -338,7 +341,9 @@ class PuppetMasterTarget:
         """Reload the behaviour in play when its files change; report the library's bad
         files (each is skipped, the others keep working)."""
         problems = self._problems
-        if self.play_poller is not None and self.playing is not None and self.play_poller.changed():
+        # not while a take is tried: a reload would play over it (its change is seen after)
+        if (self.pending is None and self.play_poller is not None and self.playing is not None
+                and self.play_poller.changed()):
             try:
                 self._load(self.playing)
                 problems = [p for p in problems if not p.startswith(str(self.playing))]

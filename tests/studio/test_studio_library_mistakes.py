@@ -264,3 +264,75 @@ def test_switching_is_refused_while_a_take_is_tried(tmp_path, background):
     assert e.behavior is take and e.behavior_name == "pet"
     assert np.array_equal(library.load_behavior(lib / "pet").demonstration, demo)
     assert "playing bully (1 of 3)" in keys("designer.item_next")      # after the take
+
+
+def test_a_behaviour_deleted_elsewhere_and_back_never_plays_over_a_take(tmp_path):
+    """Two studios play bully. While B tried a take, A deleted bully and undid it: B reloaded
+    bully over the take, still said "try it", and K kept the take as pet while bully played
+    under that name. Deleted before the take and back after its keep, bully was put in play
+    over the kept take too. The take plays until K or X; after X, bully is reloaded."""
+    from behaviors.puppet_master import designers
+    from tests.studio.test_studio_keys import demo_frames
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (a,) = designer(tmp_path)
+    (b,) = designer(tmp_path)
+    bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
+    ka, kb = Keys(bench_a), Keys(bench_b)
+    assert "playing bully (1 of 2)" in ka("designer.item_next")
+    assert "playing bully (1 of 2)" in kb("designer.item_next")
+    tb = bench_b.studio.target
+    demo = designers.demonstrate("lover", seed=8, seconds=6)
+
+    def look() -> str:
+        """B's watchers look now (each every second while the loop runs)."""
+        tb.lib_poller._next = 0.0
+        if tb.play_poller is not None:
+            tb.play_poller.every_s, tb.play_poller._next = 0.0, 0.0
+        bench_b.studio.poll()
+        return kb()
+
+    def take(t0: float):
+        for f in demo_frames(demo, {5: ("designer.record",), 200: ("designer.record",)},
+                             t0=t0):
+            _, studio = bench_b.step(f)
+        assert studio.action == "trying", studio.label
+        kb.t = t0 + 100.0
+        return tb.pending
+
+    def plays(behavior, name: str) -> bool:
+        return b.behavior is behavior and b.behavior_name == name
+
+    tried = take(2000.0)                                 # A deletes bully and undoes it
+    assert "deleted bully" in ka("designer.delete")
+    look()
+    assert "undone: delete bully" in ka("designer.undo")
+    for _ in range(3):
+        said = look()
+        assert plays(tried, "new take"), (b.behavior_name, said)
+    assert "try it" in said and bench_b.studio.state == "trying", said
+    assert "take discarded" in kb("designer.discard")
+    assert b.behavior_name == "bully"
+    look()                                               # the change is seen after the take
+    assert b.behavior_name == "bully" and b.behavior is not tried and tb.current() == "bully"
+    tried = take(3000.0)
+    assert "deleted bully" in ka("designer.delete")
+    look()
+    assert "undone: delete bully" in ka("designer.undo")
+    look()
+    assert plays(tried, "new take")
+    assert "kept as pet" in kb("designer.keep") and plays(tried, "pet")
+    for _ in range(2):
+        look()
+        assert plays(tried, "pet") and tb.current() == "pet"
+    assert "playing bully (1 of 3)" in kb("designer.item_next")
+    assert "deleted bully" in ka("designer.delete")      # deleted before the take, back after
+    assert "bully was removed from the library" in look()
+    tried = take(4000.0)
+    assert "kept as pet-2" in kb("designer.keep") and plays(tried, "pet-2")
+    assert "undone: delete bully" in ka("designer.undo")
+    for _ in range(2):
+        said = look()
+        assert plays(tried, "pet-2") and tb.current() == "pet-2", (b.behavior_name, said)
+        assert "is back" not in said, said
