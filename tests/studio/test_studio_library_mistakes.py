@@ -336,3 +336,46 @@ def test_a_behaviour_deleted_elsewhere_and_back_never_plays_over_a_take(tmp_path
         said = look()
         assert plays(tried, "pet-2") and tb.current() == "pet-2", (b.behavior_name, said)
         assert "is back" not in said, said
+
+
+def test_a_problem_of_lover_2_stays_said_when_lover_reloads_or_goes(tmp_path):
+    """The problems of the behaviour in play were told from the others by the start of their
+    file names: lover reloaded or deleted elsewhere, lover-2's broken file was no longer said
+    (until the library was listed again)."""
+    import os
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (lib / "lover-2").mkdir()
+    (lib / "lover-2" / "behavior.yaml").write_text("kind: [\n")
+    (a,) = designer(tmp_path)
+    (b,) = designer(tmp_path)
+    bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
+    ka, kb = Keys(bench_a), Keys(bench_b)
+    for keys in (ka, kb):
+        keys("designer.item_next")
+        assert "playing lover (2 of 3)" in keys("designer.item_next")
+    tb = bench_b.studio.target
+
+    def problems() -> list[str]:
+        """B's watcher of the behaviour in play looks now (not the library's)."""
+        tb.lib_poller._next = float("inf")
+        if tb.play_poller is not None:
+            tb.play_poller.every_s, tb.play_poller._next = 0.0, 0.0
+        bench_b.studio.poll()
+        kb()
+        return bench_b.studio.problems
+
+    broken = str(lib / "lover-2" / "behavior.yaml")
+    assert [p for p in problems() if p.startswith(broken)] and len(problems()) == 1
+    csv, before = lib / "lover" / "demonstration.csv", b.behavior
+    csv.write_text(csv.read_text())                 # lover edited: reloaded
+    st = csv.stat()
+    os.utime(csv, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
+    said = problems()
+    assert b.behavior is not before and b.behavior_name == "lover"
+    assert len(said) == 1 and said[0].startswith(broken), said
+    assert "deleted lover" in ka("designer.delete")
+    said = problems()
+    assert tb.current() is None and "lover was removed" in bench_b.studio.message
+    assert len(said) == 1 and said[0].startswith(broken), said
