@@ -134,16 +134,24 @@ def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int):
     return rows
 
 
-def check_span(xy: np.ndarray, source: str, what: str) -> None:
-    """Positions (n, 2) that span more than any table side (TABLE_M, metres) are refused:
-    recorded in millimetres, a demonstration trained a reactor hundreds of metres from a main
-    given in metres, without a word."""
+def check_metres(xy: np.ndarray, source: str, what: str) -> None:
+    """Positions (n, 2) that span more than any table side (TABLE_M, metres), or lie farther
+    than that from the origin (the table's corner), are refused: recorded in millimetres, a
+    demonstration trained a reactor hundreds of metres from a main given in metres, without a
+    word; a main in millimetres that barely moves spans less than 20 and is caught by where
+    it lies."""
     import numpy as np
     span = np.ptp(xy, axis=0)
     if float(span.max()) > TABLE_M[1]:
         raise BehaveArgumentError(
             f"{source}: the {what} positions span {span[0]:.4g} x {span[1]:.4g} m, more than "
             f"any table ({TABLE_M[1]:g} m); positions are table metres (millimetres given?)")
+    far = np.abs(xy).max(axis=0)
+    if float(far.max()) > TABLE_M[1]:
+        raise BehaveArgumentError(
+            f"{source}: the {what} positions reach {far[0]:.4g} x {far[1]:.4g} m from the "
+            f"origin, beyond any table side ({TABLE_M[1]:g} m); positions are table metres "
+            "(millimetres given?)")
 
 
 def check_library_path(path: Path) -> None:
@@ -238,9 +246,9 @@ def main(args: argparse.Namespace) -> int:
     if table is None and w > 0.0 and h > 0.0:
         table = (0.0, 0.0, float(w), float(h))
     main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
-    check_span(main_rows[:, 1:3], args.input, "main path")
-    check_span(demo[:, [1, 2]], source, "demonstration's main")
-    check_span(demo[:, [4, 5]], source, "demonstration's reactor")
+    check_metres(main_rows[:, 1:3], args.input, "main path")
+    check_metres(demo[:, [1, 2]], source, "demonstration's main")
+    check_metres(demo[:, [4, 5]], source, "demonstration's reactor")
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
         raise BehaveArgumentError(f"{args.input}: the main path spans "

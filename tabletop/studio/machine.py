@@ -19,7 +19,8 @@ Commands (keys through the view, control markers through :class:`Markers`):
 ``designer.discard``    drop it, back to what played before
 ``designer.redo``       drop it and record again
 ``designer.assign``     the target's own choice (MOP: the motion a take plays)
-``designer.item_next``  play the next (``item_previous``: previous) library item (not mid-take)
+``designer.item_next``  play the next (``item_previous``: previous) library item (not mid-take,
+                        nor while a take is tried)
 ``designer.rename:NEW`` rename the item in play
 ``designer.delete``     delete the item in play (kept in the library's ``.trash``)
 ``designer.undo``       undo the last keep, rename or delete
@@ -323,6 +324,10 @@ class Studio:
         if self.state in ("countdown", "recording", "ready"):   # the take trains with the
             # parameters in play at its stop: a switch mid-take trained it as another character
             self.say("no switching during a take: finish it, or X cancels it")
+            return
+        if self.state in ("trying", "training"):   # the switch played the library item while
+            # the take waited for K, which then kept it under a name the item played under
+            self.say("no switching while a take is tried: K keeps or X discards it first")
             return
         items = target.items()
         if not items:

@@ -51,6 +51,12 @@ def trash(folder: Path) -> Callable[[], None]:
     return restore
 
 
+def _about(problem: str, folder: Path) -> bool:
+    """``problem`` names ``folder`` or a file in it (one of ``lover-2`` is not ``lover``'s)."""
+    f = str(folder)
+    return problem.startswith((f + os.sep, f + ":"))
+
+
 def rename_folder(lib: Path, old: str, new: str, check: bool = True) -> None:
     """Rename ``lib/old`` to ``lib/new``; ``check``: ``new`` must be a usable name (an undo
     gives back the name a folder had, also one made by hand: "my lover")."""
@@ -285,6 +291,9 @@ class PuppetMasterTarget:
             source="designer studio, recorded from the table")
         name = folder.name
         self.engine.behavior_name, self.playing, self.pending = name, folder, None
+        # the kept take is in play: the behaviour it replaced, deleted elsewhere and back, is
+        # no longer reloaded over it
+        self.play_poller, self.removed = Poller(folder), None
         self.lib_poller.signature = ()      # the library changed: list it again
         return name
 
@@ -345,14 +354,16 @@ class PuppetMasterTarget:
         """Reload the behaviour in play when its files change; report the library's bad
         files (each is skipped, the others keep working)."""
         problems = self._problems
-        if self.play_poller is not None and self.playing is not None and self.play_poller.changed():
+        # not while a take is tried: a reload would play over it (its change is seen after)
+        if (self.pending is None and self.play_poller is not None and self.playing is not None
+                and self.play_poller.changed()):
             try:
                 self._load(self.playing)
-                problems = [p for p in problems if not p.startswith(str(self.playing))]
+                problems = [p for p in problems if not _about(p, self.playing)]
             except InputError as exc:
                 if self.playing.parent == self.lib and not self.playing.exists():
                     self._gone(self.playing)
-                    problems = [p for p in problems if not p.startswith(str(self.removed))]
+                    problems = [p for p in problems if not _about(p, self.removed)]
                 else:
                     problems = problems + [str(exc)]
         if self.lib_poller.changed():
@@ -362,7 +373,7 @@ class PuppetMasterTarget:
             # outside the library stays
             problems = self._library_problems(
                 [p for p in problems if self.playing is not None
-                 and self.playing.parent != self.lib and p.startswith(str(self.playing))])
+                 and self.playing.parent != self.lib and _about(p, self.playing)])
         self._problems = problems
         return problems
 

@@ -339,6 +339,37 @@ def test_positions_in_mm_are_refused_naming_the_file(files, tmp_path, capsys):
     assert not (tmp_path / "o.csv").exists()
 
 
+def test_positions_in_mm_that_barely_move_are_refused_naming_the_file(files, tmp_path, capsys):
+    """A main path in millimetres standing near (600, 400) mm spans under 20 and passed the
+    span check: the reactor was generated hundreds of metres from it. Positions farther from
+    the origin than any table side (20 m) are refused, the file named."""
+    d, main = files
+    rng = np.random.default_rng(3)
+    still = main[:60].copy()
+    still[:, 1:3] = np.array([600.0, 400.0]) + rng.uniform(-5.0, 5.0, (60, 2))
+    assert float(np.ptp(still[:, 1:3], axis=0).max()) < 20.0
+    write_csv(tmp_path / "still_mm.csv", MAIN_HEADER, still.tolist())
+    _, demo = read_csv(d / "demo.csv")
+    small = demo.copy()                 # a small gesture recorded in mm, 0.5 m from the corner
+    for c in (1, 2, 4, 5):
+        small[:, c] = 500.0 + 5.0 * (demo[:, c] - demo[:, c].mean())
+    assert float(np.ptp(small[:, [1, 2, 4, 5]], axis=0).max()) < 20.0
+    write_csv(tmp_path / "small_mm.csv", DEMO_HEADER, small.tolist())
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    for train, path in ((d / "demo.csv", tmp_path / "still_mm.csv"),
+                        (tmp_path / "small_mm.csv", tmp_path / "main.csv")):
+        assert behave("--train", train, "--input", path, "--out", tmp_path / "o.csv",
+                      "--table", "1.6,1.0") == 2
+        err = capsys.readouterr().err.splitlines()
+        bad = path if train == d / "demo.csv" else train
+        assert len(err) == 1 and err[0].startswith(f"tabletop behave: error: {bad}: "), err
+        assert "beyond any table side (20 m); positions are table metres" in err[0], err
+        assert "millimetres given?" in err[0]
+    assert not (tmp_path / "o.csv").exists()
+    assert behave("--train", d / "demo.csv", "--input", tmp_path / "main.csv",
+                  "--out", tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+
+
 def test_a_folders_table_given_by_param_is_the_table_it_plays_on(files, tmp_path):
     """--param table_width/table_height over a behaviour folder's own: it trained on that
     table and was generated on the folder's stored one."""

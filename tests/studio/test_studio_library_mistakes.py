@@ -4,6 +4,10 @@ folders named by hand, undo that cannot be done yet. Real folders, real engines.
 import shutil
 from pathlib import Path
 
+import numpy as np
+import pytest
+
+from tabletop import library
 from tabletop.frames import Frame
 from tests.studio.test_studio_keys import Bench, designer
 
@@ -79,6 +83,10 @@ OTHER_STUDIO = """
 import os, sys, time
 sys.path.insert(0, {root!r})
 from pathlib import Path
+
+import pytest
+
+from tabletop import library
 from tabletop import swap
 from tabletop.files import new_folder
 target = Path({target!r})
@@ -236,3 +244,151 @@ def test_a_behaviour_deleted_by_another_studio_is_said_removed_and_the_studio_go
     assert "undone: delete bully" in ka("designer.undo")
     assert "back in the library" not in look() and tb.current() == "lover"
     assert b.behavior_name == "lover" and bench_b.studio.problems == []
+
+
+@pytest.mark.parametrize("background", [False, True])
+def test_switching_is_refused_while_a_take_is_tried(tmp_path, background):
+    """] while a take was tried (or trained) played the library item; the studio still said
+    "try it", and K then kept the take under a name while the item played on. It is refused
+    there too, and K keeps the take that plays."""
+    from behaviors.puppet_master import designers
+    from tests.studio.test_studio_keys import demo_frames
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (e,) = designer(tmp_path, background_training=background)
+    bench = Bench([e], tmp_path)
+    keys = Keys(bench)
+    assert "playing bully (1 of 2)" in keys("designer.item_next")
+    demo = designers.demonstrate("lover", seed=8, seconds=6)
+    said = [bench.step(f)[1].label for f in demo_frames(
+        demo, {5: ("designer.record",), 200: ("designer.record", "designer.item_next")},
+        t0=2000.0)]
+    assert "no switching while a take is tried" in said[200], said[200]
+    keys.t = 3000.0
+    label = keys()                                   # a background take swaps in by now
+    assert bench.studio.state == "trying", label
+    take, demo = bench.studio.target.pending, bench.studio.target.demo
+    assert take is not None and e.behavior is take and e.behavior_name == "new take"
+    said = keys("designer.item_previous")
+    assert "no switching while a take is tried" in said, said
+    assert e.behavior is take and bench.studio.state == "trying"
+    assert "kept as pet" in keys("designer.keep")
+    assert e.behavior is take and e.behavior_name == "pet"
+    assert np.array_equal(library.load_behavior(lib / "pet").demonstration, demo)
+    assert "playing bully (1 of 3)" in keys("designer.item_next")      # after the take
+
+
+def test_a_behaviour_deleted_elsewhere_and_back_never_plays_over_a_take(tmp_path):
+    """Two studios play bully. While B tried a take, A deleted bully and undid it: B reloaded
+    bully over the take, still said "try it", and K kept the take as pet while bully played
+    under that name. Deleted before the take and back after its keep, bully was put in play
+    over the kept take too. The take plays until K or X; after X, bully is reloaded."""
+    from behaviors.puppet_master import designers
+    from tests.studio.test_studio_keys import demo_frames
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (a,) = designer(tmp_path)
+    (b,) = designer(tmp_path)
+    bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
+    ka, kb = Keys(bench_a), Keys(bench_b)
+    assert "playing bully (1 of 2)" in ka("designer.item_next")
+    assert "playing bully (1 of 2)" in kb("designer.item_next")
+    tb = bench_b.studio.target
+    demo = designers.demonstrate("lover", seed=8, seconds=6)
+
+    def look() -> str:
+        """B's watchers look now (each every second while the loop runs)."""
+        tb.lib_poller._next = 0.0
+        if tb.play_poller is not None:
+            tb.play_poller.every_s, tb.play_poller._next = 0.0, 0.0
+        bench_b.studio.poll()
+        return kb()
+
+    def take(t0: float):
+        for f in demo_frames(demo, {5: ("designer.record",), 200: ("designer.record",)},
+                             t0=t0):
+            _, studio = bench_b.step(f)
+        assert studio.action == "trying", studio.label
+        kb.t = t0 + 100.0
+        return tb.pending
+
+    def plays(behavior, name: str) -> bool:
+        return b.behavior is behavior and b.behavior_name == name
+
+    tried = take(2000.0)                                 # A deletes bully and undoes it
+    assert "deleted bully" in ka("designer.delete")
+    look()
+    assert "undone: delete bully" in ka("designer.undo")
+    for _ in range(3):
+        said = look()
+        assert plays(tried, "new take"), (b.behavior_name, said)
+    assert "try it" in said and bench_b.studio.state == "trying", said
+    assert "take discarded" in kb("designer.discard")
+    assert b.behavior_name == "bully"
+    look()                                               # the change is seen after the take
+    assert b.behavior_name == "bully" and b.behavior is not tried and tb.current() == "bully"
+    tried = take(3000.0)
+    assert "deleted bully" in ka("designer.delete")
+    look()
+    assert "undone: delete bully" in ka("designer.undo")
+    look()
+    assert plays(tried, "new take")
+    assert "kept as pet" in kb("designer.keep") and plays(tried, "pet")
+    for _ in range(2):
+        look()
+        assert plays(tried, "pet") and tb.current() == "pet"
+    assert "playing bully (1 of 3)" in kb("designer.item_next")
+    assert "deleted bully" in ka("designer.delete")      # deleted before the take, back after
+    assert "bully was removed from the library" in look()
+    tried = take(4000.0)
+    assert "kept as pet-2" in kb("designer.keep") and plays(tried, "pet-2")
+    assert "undone: delete bully" in ka("designer.undo")
+    for _ in range(2):
+        said = look()
+        assert plays(tried, "pet-2") and tb.current() == "pet-2", (b.behavior_name, said)
+        assert "is back" not in said, said
+
+
+def test_a_problem_of_lover_2_stays_said_when_lover_reloads_or_goes(tmp_path):
+    """The problems of the behaviour in play were told from the others by the start of their
+    file names: lover reloaded or deleted elsewhere, lover-2's broken file was no longer said
+    (until the library was listed again)."""
+    import os
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (lib / "lover-2").mkdir()
+    (lib / "lover-2" / "behavior.yaml").write_text("kind: [\n")
+    (a,) = designer(tmp_path)
+    (b,) = designer(tmp_path)
+    bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
+    ka, kb = Keys(bench_a), Keys(bench_b)
+    for keys in (ka, kb):
+        keys("designer.item_next")
+        assert "playing lover (2 of 3)" in keys("designer.item_next")
+    tb = bench_b.studio.target
+
+    def problems() -> list[str]:
+        """B's watcher of the behaviour in play looks now (not the library's)."""
+        tb.lib_poller._next = float("inf")
+        if tb.play_poller is not None:
+            tb.play_poller.every_s, tb.play_poller._next = 0.0, 0.0
+        bench_b.studio.poll()
+        kb()
+        return bench_b.studio.problems
+
+    broken = str(lib / "lover-2" / "behavior.yaml")
+    assert [p for p in problems() if p.startswith(broken)] and len(problems()) == 1
+    csv, before = lib / "lover" / "demonstration.csv", b.behavior
+    csv.write_text(csv.read_text())                 # lover edited: reloaded
+    st = csv.stat()
+    os.utime(csv, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
+    said = problems()
+    assert b.behavior is not before and b.behavior_name == "lover"
+    assert len(said) == 1 and said[0].startswith(broken), said
+    assert "deleted lover" in ka("designer.delete")
+    said = problems()
+    assert tb.current() is None and "lover was removed" in bench_b.studio.message
+    assert len(said) == 1 and said[0].startswith(broken), said

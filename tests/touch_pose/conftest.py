@@ -2,6 +2,7 @@
 
 import fcntl
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -9,16 +10,29 @@ import pytest
 from behaviors.touch_pose.engine import TouchPose, learned_models
 
 
-@pytest.fixture(scope="session")
-def models(tmp_path_factory):
-    """Learned into (and kept in) a cache folder of the test session, not the user's. The
-    pytest-xdist workers share it: the first learns and writes the cache file, the others wait
-    for it and load it (identical models: tests/touch_pose/test_models_cache.py)."""
+def cache_folder(tmp_path_factory) -> Path:
+    """The test session's cache folder (an ``XDG_CACHE_HOME``), not the user's; shared by the
+    pytest-xdist workers."""
     root = tmp_path_factory.getbasetemp()
     if os.environ.get("PYTEST_XDIST_WORKER"):
         root = root.parent          # the run's folder, above each worker's own
     folder = root / "touch_pose_models"
     folder.mkdir(exist_ok=True)
+    return folder
+
+
+@pytest.fixture(scope="session")
+def models_cache(tmp_path_factory) -> Path:
+    """:func:`cache_folder`, for a process run by a test."""
+    return cache_folder(tmp_path_factory)
+
+
+@pytest.fixture(scope="session")
+def models(tmp_path_factory):
+    """Learned into (and kept in) :func:`cache_folder`. The pytest-xdist workers share it: the
+    first learns and writes the cache file, the others wait for it and load it (identical
+    models: tests/touch_pose/test_models_cache.py)."""
+    folder = cache_folder(tmp_path_factory)
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("XDG_CACHE_HOME", str(folder))
         with open(folder / "learning.lock", "w") as lock:

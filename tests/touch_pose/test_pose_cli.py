@@ -105,20 +105,26 @@ def test_a_recorded_quick_punch_is_replayed_as_a_punch(tmp_path, models):
     assert recs[-1]["mode"] == "posing"  # finished after the finger lifted, back to posing
 
 
-def test_the_output_lines_as_a_process_writes_them(tmp_path):
+def test_the_output_lines_as_a_process_writes_them(tmp_path, models, models_cache,
+                                                   monkeypatch):
     """As outside scripts call it (a process): one line per step at ``--rate`` from the first
     input time to the last + 2 s on the input's own time base, every contract key with its
     type (``action`` and ``action_time`` null while posing), the six named parts as [x, y]
     table metres around the character standing at the centre of the default 1.2 x 0.8 table,
-    joints as [x, y, z], touches keyed by the finger id as a string."""
+    joints as [x, y, z], touches keyed by the finger id as a string. The process uses the
+    session's learned models: it read (and on a cold machine filled) the user's cache."""
+    import os
     import subprocess
     import sys
+    user = tmp_path / "user_cache"       # the user's cache, as their environment names it
+    monkeypatch.setenv("XDG_CACHE_HOME", str(user))
     touches = _write(tmp_path / "touches.csv", [(5.0, 1, 0.05, 0.05), (5.5, 1, 0.06, 0.05)])
     out = tmp_path / "poses.jsonl"
     r = subprocess.run([sys.executable, "-m", "tabletop", "pose", "--input", str(touches),
                         "--out", str(out), "--rate", "10"], capture_output=True, text=True,
-                       timeout=120)
+                       timeout=120, env={**os.environ, "XDG_CACHE_HOME": str(models_cache)})
     assert r.returncode == 0 and r.stdout == "" and r.stderr == "", r.stderr
+    assert not user.exists() and list((models_cache / "tabletop").glob("*.npz"))
     recs = [json.loads(line) for line in out.read_text().splitlines()]
     assert [x["t"] for x in recs] == pytest.approx([5.0 + k / 10 for k in range(26)], abs=1e-9)
     for x in recs:
