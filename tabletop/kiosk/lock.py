@@ -59,9 +59,21 @@ def lock_folder(folder: Path) -> int | None:
         log.warning("kiosk lock %s cannot be taken (%s): a second kiosk on %s would not be "
                     "refused", path, exc.strerror or exc, folder)
         return None
-    os.ftruncate(fd, 0)
-    os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    _write_pid(fd, path)
     return fd
+
+
+def _write_pid(fd: int, path: Path) -> None:
+    """Write this process's pid in the held lock file ``path``, for a refused start's line. A
+    write that fails (a full disk, a quota, EIO) is logged and skipped: it stopped every
+    kiosk start with "No space left on device" where the table had played on; the lock is
+    held all the same, and a refusal then says the pid is not written."""
+    try:
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    except OSError as exc:
+        log.warning("kiosk lock %s: held, but this kiosk's pid cannot be written in it (%s)",
+                    path, exc.strerror or exc)
 
 
 def _read_pid(fd: int) -> int | None:
