@@ -7,6 +7,7 @@ import json
 import math
 import sys
 import time
+from typing import Any
 
 from tabletop.cli import one_line
 
@@ -130,6 +131,14 @@ def main(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise InputError(f"cannot listen on {shown_host_port(host, port)}: "
                          f"{exc.strerror or exc}") from None
+
+    def reraise(_request: Any, _client: Any) -> None:
+        """socketserver printed a handler's exception with its traceback and served on: a
+        reader gone (``status ... | head -1``) gave one traceback a heartbeat, for good. The
+        exception now leaves serve_forever: a closed output ends with the CLI's quiet 141."""
+        raise
+
+    server.handle_error = reraise  # type: ignore[method-assign]
     timer = None
     if seconds is not None:   # a daemon, cancelled on Ctrl-C: it kept the process for the rest
         # of --seconds after a Ctrl-C, and a second Ctrl-C printed a traceback from threading

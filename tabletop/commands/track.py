@@ -54,6 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 MAX_FPS = 10_000.0        # frames per second: beyond any camera or video
 MAX_CAMERA_INDEX = 1023    # OpenCV's camera indices (V4L2 has /dev/video0 to /dev/video63)
+# a video whose last frames, up to this share of its declared count (at least SHORT_MIN of
+# them), are not there is taken as over-declared, with a warning (FrameReader._short_at_end)
+SHORT_TOLERANCE = 0.05
+SHORT_MIN = 3
 
 
 def parse_fps(text: str | None) -> float | None:
@@ -90,6 +94,7 @@ class FrameReader:
         self.files: list[Path] | None = None
         self.capture = None
         self.total: int | None = None
+        self.missing = 0          # declared frames that were not there at the end
         self.fps: float | None = None
         self.is_camera = False
         path = Path(spec)
@@ -144,6 +149,9 @@ class FrameReader:
                 if read == 0 and not self.is_camera:
                     raise TrackInputError(f"{self.spec}: the video has no readable frames")
                 if self.total is not None and read < self.total:
+                    if self._short_at_end(read):
+                        self.missing = self.total - read
+                        return
                     # as a folder's unreadable image is: every frame of a file is processed,
                     # and a cut-short video wrote fewer lines than it has frames, saying nothing
                     raise TrackInputError(f"{self.spec}: frame {read} cannot be read; the video "
@@ -151,6 +159,21 @@ class FrameReader:
                 return
             read += 1
             yield cv2.cvtColor(img, cv2.COLOR_BGR2GRAY) if img.ndim == 3 else img
+
+    def _short_at_end(self, read: int) -> bool:
+        """Whether a video that ended after ``read`` of its declared frames only over-declared
+        them: the shortfall is at most SHORT_TOLERANCE of them (at least SHORT_MIN) and no
+        frame follows the failed one. The declared count is the container's estimate (OpenCV's
+        CAP_PROP_FRAME_COUNT: nb_frames, or duration x fps), known to exceed intact files'
+        decodable frames by a few; such a file was refused whole. A frame that cannot be
+        decoded with frames after it is a damaged file, refused whatever the shortfall."""
+        assert self.total is not None and self.capture is not None
+        short = self.total - read
+        if short > max(SHORT_MIN, int(self.total * SHORT_TOLERANCE)):
+            return False
+        from tabletop.quiet import quiet_stderr
+        with quiet_stderr():
+            return not any(self.capture.grab() for _ in range(short))
 
     def close(self) -> None:
         if self.capture is not None:
@@ -278,4 +301,8 @@ def main(args: argparse.Namespace) -> int:
     finally:
         progress.end()
         reader.close()
+    if reader.missing:
+        print(f"tabletop track: warning: {args.input}: {frames} frames read; the video declares "
+              f"{reader.total}, its last {reader.missing} are not there (an over-declared "
+              "count; every frame there was tracked)", file=sys.stderr)
     return 0

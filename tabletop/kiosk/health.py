@@ -62,6 +62,7 @@ class LatestWriter:
         self._text: str | None = None
         self._cv = threading.Condition()
         self._closed = False
+        self._ended = False      # the thread has left (under _cv): a last text is the caller's
         self.written = 0
         self.failed = 0  # writes failed in a row
         self._thread = threading.Thread(target=self._run, name="status-writer", daemon=True)
@@ -73,12 +74,20 @@ class LatestWriter:
             self._cv.notify()
 
     def _run(self) -> None:
+        try:
+            self._serve()
+        finally:
+            with self._cv:
+                self._ended = True
+
+    def _serve(self) -> None:
         while True:
             with self._cv:
                 while self._text is None and not self._closed:
                     self._cv.wait()
                 text, self._text = self._text, None
                 if text is None:
+                    self._ended = True
                     return
             try:
                 self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -93,11 +102,24 @@ class LatestWriter:
                 log.info("status file %s written again", self.path)
             self.written, self.failed = self.written + 1, 0
 
-    def close(self) -> None:
+    def close(self, wait_s: float = 5.0) -> None:
+        """Write what is pending and end the thread, waiting at most ``wait_s`` for it."""
         with self._cv:
             self._closed = True
             self._cv.notify()
-        self._thread.join(timeout=5.0)
+        self._thread.join(timeout=wait_s)
+
+    def last(self, text: str) -> bool:
+        """Have the thread write ``text`` as the file's last text, after the write it is in
+        (a slow fsync outlasting :meth:`close`'s wait) and instead of any text still pending;
+        False when the thread has ended and the caller writes it. Written beside a thread
+        still busy, a "stopped" was overwritten by the thread's late "live"."""
+        with self._cv:
+            if self._ended:
+                return False
+            self._text = text
+            self._cv.notify()
+            return True
 
 
 class Heartbeat:
@@ -271,9 +293,13 @@ class HealthReporter:
         status = dict(last, mode="stopped", fps=0.0,
                       time=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
                       uptime_s=round(self.clock() - self.started, 3))
-        try:
-            atomic_write_text(self.writer.path, json.dumps(status, separators=(",", ":"),
-                                                           allow_nan=False) + "\n")
+        text = json.dumps(status, separators=(",", ":"), allow_nan=False) + "\n"
+        if self.writer.last(text):       # its thread still writing: after that, in order
+            self.writer.close()
+            return
+        try:   # (the folder made as the writer makes it: a kiosk stopped before its first)
+            self.writer.path.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write_text(self.writer.path, text)
         except (OSError, InputError) as exc:
             log.warning("status file %s not written: %s", self.writer.path,
                         getattr(exc, "strerror", None) or exc)

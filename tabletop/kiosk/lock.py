@@ -17,6 +17,7 @@ for the refusal's line only; its presence means nothing.
 
 from __future__ import annotations
 
+import errno
 import fcntl
 import logging
 import os
@@ -36,12 +37,21 @@ class KioskBusy(InputError):
 def lock_folder(folder: Path) -> int | None:
     """Take ``folder``'s kiosk lock and return its file descriptor (keep it open for the
     kiosk's life); KioskBusy naming the folder and the holder's pid when another kiosk has it.
-    A folder where the lock file cannot be made (read-only) is logged and run unlocked
-    (None): a kiosk that does not start is worse than one unguarded."""
+    A lock file this account cannot write (the service's, 0644, for a technician's start; a
+    read-only remount) is locked read-only, without the pid: flock needs no write access,
+    and a technician's kiosk ran unlocked beside the service. A folder where the lock file
+    cannot be made at all is logged and run unlocked (None): a kiosk that does not start is
+    worse than one unguarded."""
     folder = Path(folder).resolve()
     path = folder / LOCK_NAME
+    writable = True
     try:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+        except OSError as exc:
+            if not isinstance(exc, PermissionError) and exc.errno != errno.EROFS:
+                raise
+            fd, writable = os.open(path, os.O_RDONLY | os.O_CLOEXEC), False
     except OSError as exc:
         log.warning("kiosk lock %s cannot be made (%s): a second kiosk on %s would not be "
                     "refused", path, exc.strerror or exc, folder)
@@ -59,9 +69,22 @@ def lock_folder(folder: Path) -> int | None:
         log.warning("kiosk lock %s cannot be taken (%s): a second kiosk on %s would not be "
                     "refused", path, exc.strerror or exc, folder)
         return None
-    os.ftruncate(fd, 0)
-    os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    if writable:
+        _write_pid(fd, path)
     return fd
+
+
+def _write_pid(fd: int, path: Path) -> None:
+    """Write this process's pid in the held lock file ``path``, for a refused start's line. A
+    write that fails (a full disk, a quota, EIO) is logged and skipped: it stopped every
+    kiosk start with "No space left on device" where the table had played on; the lock is
+    held all the same, and a refusal then says the pid is not written."""
+    try:
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    except OSError as exc:
+        log.warning("kiosk lock %s: held, but this kiosk's pid cannot be written in it (%s)",
+                    path, exc.strerror or exc)
 
 
 def _read_pid(fd: int) -> int | None:

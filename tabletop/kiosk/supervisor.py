@@ -145,7 +145,9 @@ class Supervisor:
 
     def _process(self, spare: bool) -> Child:
         # TABLETOP_DEBUG: an escaping exception prints its traceback, for the crash log
+        # TABLETOP_SUPERVISOR_PID: the installation follows this process (follow_supervisor)
         env = dict(self.env, NOTIFY_SOCKET=str(self.socket_path), TABLETOP_SUPERVISED="1",
+                   TABLETOP_SUPERVISOR_PID=str(os.getpid()),
                    TABLETOP_RESTARTS=str(self.starts), TABLETOP_DEBUG="1")
         env.pop("WATCHDOG_USEC", None)
         env.pop("WATCHDOG_PID", None)
@@ -446,15 +448,21 @@ def follow_supervisor(stop: threading.Event, every_s: float = 0.5) -> threading.
     outright (``kill -9``, an out-of-memory kill) left the table running for good without
     stall or crash restarts, holding its ports and camera against the next kiosk start and
     writing the status file beside it (systemd's unit kills it; a start from a shell script,
-    a desktop's autostart or a terminal does not). Polls ``os.getppid`` every ``every_s``."""
-    parent = os.getppid()
+    a desktop's autostart or a terminal does not). Polls ``os.getppid`` every ``every_s``
+    against the pid the supervisor put in ``TABLETOP_SUPERVISOR_PID``, first at once: the
+    parent read here (after the runtime's imports, 0.5-2 s after the start) was already the
+    new one when the supervisor died before, and the installation ran on for good."""
+    named = os.environ.get("TABLETOP_SUPERVISOR_PID", "")
+    parent = int(named) if named.isdigit() else os.getppid()
 
     def watch() -> None:
-        while not stop.wait(every_s):
+        while True:
             if os.getppid() != parent:
                 log.error("the kiosk supervisor (pid %d) is gone: the installation stops (the "
                           "next kiosk start runs it again)", parent)
                 stop.set()
+                return
+            if stop.wait(every_s):
                 return
 
     th = threading.Thread(target=watch, name="follow-supervisor", daemon=True)

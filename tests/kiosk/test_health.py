@@ -440,3 +440,45 @@ def test_a_kiosk_that_stops_before_its_first_status_says_so_over_the_one_before(
     assert STATUS_FIELDS | {"config_error"} <= set(status)
     assert status["pid"] == os.getpid() and status["mode"] == "stopped" and status["fps"] == 0
     assert status["sources"] == [] and status["ticks"] == 0
+
+
+def test_the_stopped_status_is_the_last_even_after_a_slow_status_write(tmp_path):
+    """The status writer still busy when the kiosk stops (an fsync on an SD card outlasting
+    close's wait, stood in for by its warning held in a log handler): the "stopped" written
+    beside it was overwritten by its late "live", the file saying live with a dead pid. And a
+    kiosk stopped before its first status made no status folder: "stopped" was not written."""
+    import logging
+    import threading
+    entered, release = threading.Event(), threading.Event()
+
+    class Held(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            if record.getMessage().startswith("status file") and not release.is_set():
+                entered.set()
+                release.wait(60)
+
+    folder = tmp_path / "run"
+    folder.write_text("a file where the status folder goes")   # the first write fails
+    held = Held()
+    logging.getLogger("tabletop").addHandler(held)
+    try:
+        rep = HealthReporter("table-7", LoopStats(), status_file=folder / "status.json")
+        rep.writer.put(json.dumps({"mode": "live"}))
+        assert entered.wait(60)            # the writer is in its (failed) write, held
+        folder.unlink()
+        rep.writer.put(json.dumps({"mode": "live"}) + "\n")   # the live still to be written
+        rep.close()                        # its wait (5 s) over, the writer still busy
+        rep.stopped()
+        release.set()
+        rep.writer._thread.join(60)
+        assert not rep.writer._thread.is_alive()
+    finally:
+        release.set()
+        logging.getLogger("tabletop").removeHandler(held)
+    assert json.loads((folder / "status.json").read_text())["mode"] == "stopped"
+
+    missing = tmp_path / "not" / "yet" / "status.json"
+    rep = HealthReporter("table-7", LoopStats(), status_file=missing)
+    rep.close()
+    rep.stopped()
+    assert json.loads(missing.read_text())["mode"] == "stopped"

@@ -11,6 +11,7 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
 import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -106,3 +107,89 @@ def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock
     assert third.returncode == 0, err[-2000:]
     last = status(tmp_path)
     assert last["pid"] != after["pid"] and last["mode"] == "stopped", last
+
+
+HOLD = """
+import logging, sys
+from pathlib import Path
+logging.basicConfig(level=logging.WARNING, format="%(message)s")
+{before}
+from tabletop.kiosk.lock import lock_folder
+print("fd", lock_folder(Path(sys.argv[1])), flush=True)
+sys.stdin.read()          # held until the test closes our standard input
+"""
+
+
+def holder(folder: Path, before: str = "", prefix: tuple[str, ...] = ()) -> subprocess.Popen:
+    """A process that takes ``folder``'s kiosk lock (after running ``before``) and keeps it
+    until its standard input closes; its first line says the descriptor it got."""
+    return subprocess.Popen([*prefix, sys.executable, "-c", HOLD.format(before=before),
+                             str(folder)], cwd=ROOT, stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def refusal(folder: Path, prefix: tuple[str, ...] = ()) -> subprocess.CompletedProcess:
+    """Another start's lock_folder on ``folder``, in its own process (run under ``prefix``)."""
+    code = ("import sys; from pathlib import Path; from tabletop.kiosk.lock import lock_folder\n"
+            "try:\n    print('fd', lock_folder(Path(sys.argv[1])))\n"
+            "except Exception as exc:\n    print('refused:', exc)\n")
+    return subprocess.run([*prefix, sys.executable, "-c", code, str(folder)], cwd=ROOT,
+                          capture_output=True, text=True, timeout=60)
+
+
+def test_a_full_disk_keeps_the_lock_and_skips_the_pid(tmp_path):
+    """The pid's 6-byte write fails as on a full disk (a file size limit of 0 stands in for
+    it): the kiosk starts, holding the lock, and says so in one log line; a second start is
+    still refused. The OSError stopped every kiosk start with "No space left on device"."""
+    first = holder(tmp_path, "import resource; resource.setrlimit(resource.RLIMIT_FSIZE, (0, 0))")
+    try:
+        line = first.stdout.readline()
+        assert line.startswith("fd ") and line.split()[1].isdigit(), \
+            line + first.communicate(timeout=30)[1][-2000:]
+        second = refusal(tmp_path)
+        assert second.stdout.strip() == (
+            f"refused: another kiosk is running on {tmp_path} (its pid not yet written, lock "
+            f".kiosk.tabletop-lock); stop it first, or start this one from another folder"), \
+            second.stdout + second.stderr
+    finally:
+        _, err = first.communicate(timeout=30)
+    assert err.splitlines() == [f"kiosk lock {tmp_path / '.kiosk.tabletop-lock'}: held, but "
+                                "this kiosk's pid cannot be written in it (File too large)"], err
+
+
+def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path):
+    """The service made the lock file (0644) and a technician starts a kiosk by hand under
+    another account: the lock is taken read-only, so the technician's start is refused while
+    the service runs (naming the service's pid) and locks the folder once it has ended. Its
+    open for writing failed and it ran unlocked beside the service."""
+    import shutil
+    if os.geteuid() == 0:          # root writes any file: run without that privilege
+        if shutil.which("setpriv") is None:
+            pytest.skip("root, and no setpriv to start a process without write override")
+        other = ("setpriv", "--bounding-set", "-dac_override,-dac_read_search",
+                 "--inh-caps", "-dac_override,-dac_read_search")
+    else:
+        other = ()
+    service = holder(tmp_path)
+    try:
+        assert service.stdout.readline().startswith("fd ")
+        lock = tmp_path / ".kiosk.tabletop-lock"
+        lock.chmod(0o444)          # not writable by the technician's account
+        technician = refusal(tmp_path, other)
+        assert technician.stdout.strip() == (
+            f"refused: another kiosk is running on {tmp_path} (pid {service.pid}, lock "
+            f".kiosk.tabletop-lock); stop it first, or start this one from another folder"), \
+            technician.stdout + technician.stderr
+    finally:
+        service.communicate(timeout=30)
+    technician = holder(tmp_path, prefix=other)
+    try:
+        line = technician.stdout.readline()
+        assert line.startswith("fd ") and line.split()[1].isdigit(), \
+            line + technician.communicate(timeout=30)[1][-2000:]
+        third = refusal(tmp_path)          # the technician's read-only lock refuses the next
+        assert third.stdout.startswith(f"refused: another kiosk is running on {tmp_path}"), \
+            third.stdout + third.stderr
+    finally:
+        _, err = technician.communicate(timeout=30)
+    assert err == "", err

@@ -190,3 +190,34 @@ def test_ctrl_c_ends_a_timed_status_at_once():
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 0 and out == "" and err == "", err
+
+
+def test_a_reader_that_closes_the_status_early_ends_it_quietly_with_141():
+    """``tabletop status HOST:PORT --json | head -1``: after its first line the reader is gone;
+    the command ends at the next heartbeat with status 141 and nothing on stderr. It printed
+    a traceback for every later heartbeat (socketserver took the BrokenPipeError) and never
+    ended."""
+    import subprocess
+    import sys
+    port = free_udp_port()
+    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
+                             "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    hb = Heartbeat("127.0.0.1", port)
+    try:
+        assert wait_for(lambda: port_taken(port), 60.0)
+        hb.send("north", 1.0, 60.0, 0, json.dumps({"mode": "live"}))
+        first = proc.stdout.readline()
+        assert json.loads(first) == {"mode": "live"}, first
+        proc.stdout.close()                   # head -1 has its line and is gone
+        beat = 1
+        while proc.poll() is None and beat < 300:   # one heartbeat more is enough
+            hb.send("north", 1.0 + beat, 60.0, 0, json.dumps({"mode": "live"}))
+            beat += 1
+            wait_for(lambda: proc.poll() is not None, 0.1)
+    finally:
+        hb.close()
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait(10)
+    err = proc.stderr.read().decode()
+    assert proc.returncode == 141 and err == "", err[-2000:]

@@ -270,3 +270,55 @@ def test_an_installation_whose_supervisor_is_killed_ends_cleanly(tmp_path):
     assert json.loads(status_file.read_text())["mode"] == "stopped"
     (recording,) = (tmp_path / "sessions").iterdir()
     assert recording.read_bytes().endswith(b"\n") and len(list(read_frames(recording))) > 10
+
+
+def _children(pid: int) -> list[int]:
+    """The live processes whose parent is ``pid`` (from /proc)."""
+    out = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except (OSError, IndexError):
+                continue
+            if int(fields[1]) == pid and fields[0] != "Z":
+                out.append(int(entry.name))
+    return out
+
+
+def test_a_supervisor_killed_as_its_installation_starts_ends_the_installation(tmp_path):
+    """``kill -9`` of the supervisor the moment its installation's process exists (before its
+    imports): the installation was handed to another parent before it looked at its own, ran
+    on for good, and its inherited lock refused every later kiosk start on the folder."""
+    cfg = drill_config(tmp_path, [])
+    cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    env.pop("TABLETOP_SUPERVISED", None)
+    sup = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                            "--kiosk", "--headless"], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL, env=env, start_new_session=True)
+    kids: list[int] = []
+    try:
+        end = time.monotonic() + 60
+        while time.monotonic() < end and not kids and sup.poll() is None:
+            kids = _children(sup.pid)
+            time.sleep(0.005)
+        assert kids, "the supervisor started no installation"
+        sup.kill()
+        sup.wait(10)
+        end = time.monotonic() + 30
+        while time.monotonic() < end and any(_running(k) for k in kids):
+            time.sleep(0.1)
+        assert not any(_running(k) for k in kids), "the installation ran on without its supervisor"
+    finally:
+        if sup.poll() is None:
+            sup.kill()
+        for k in kids:
+            if _running(k):
+                os.kill(k, signal.SIGKILL)
+    log = (tmp_path / "logs" / "tabletop.log").read_text()
+    assert f"the kiosk supervisor (pid {sup.pid}) is gone" in log
+    nxt = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--kiosk", "--headless", "--seconds", "1"], env=env,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=120)
+    assert nxt.returncode == 0, nxt.stderr[-2000:]

@@ -271,3 +271,54 @@ def test_a_cut_short_video_is_one_line_and_writes_nothing(scene, tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0 and r.stderr == "", r.stderr
     assert len(out.read_text().splitlines()) == 12
+
+
+def _mjpg_avi(path, n: int, declared: int | None = None, wiped: int | None = None) -> None:
+    """An MJPG AVI of ``n`` small numbered frames; its header declaring ``declared`` frames
+    (AVI's avih total and strh length), and frame ``wiped``'s JPEG data zeroed (undecodable)."""
+    import struct
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 30.0, (160, 120))
+    for i in range(n):
+        img = np.full((120, 160, 3), (i * 7) % 255, np.uint8)
+        cv2.putText(img, str(i), (10, 60), 0, 1, (255, 255, 255))
+        writer.write(img)
+    writer.release()
+    b = bytearray(path.read_bytes())
+    if declared is not None:
+        struct.pack_into("<I", b, b.find(b"avih") + 8 + 16, declared)
+        struct.pack_into("<I", b, b.find(b"strh") + 8 + 32, declared)
+    if wiped is not None:
+        pos, k = -1, -1
+        while k < wiped:
+            pos = b.find(b"00dc", pos + 1)
+            size = struct.unpack_from("<I", b, pos + 4)[0]
+            k += size > 100          # (the index's entries are small)
+        b[pos + 8:pos + 8 + size] = bytes(size)
+    path.write_bytes(b)
+
+
+def test_a_video_declaring_a_few_frames_too_many_is_tracked_with_a_warning(tmp_path):
+    """The declared frame count is the container's estimate and intact files can decode a few
+    frames fewer: 40 frames declared as 42 gave "frame 40 cannot be read", status 2 and no
+    output. Now every frame's line, status 0 and one warning; a frame that cannot be decoded
+    with frames after it (near the end, within the same shortfall) is still refused."""
+    video, out = tmp_path / "h42.avi", tmp_path / "poses.jsonl"
+    _mjpg_avi(video, 40, declared=42)
+    assert int(cv2.VideoCapture(str(video)).get(cv2.CAP_PROP_FRAME_COUNT)) == 42
+    r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(video), "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stderr.splitlines() == [
+        f"tabletop track: warning: {video}: 40 frames read; the video declares 42, its last 2 "
+        "are not there (an over-declared count; every frame there was tracked)"], r.stderr
+    assert [json.loads(ln)["frame"] for ln in out.read_text().splitlines()] == list(range(40))
+    for wiped in (38, 20):
+        damaged = tmp_path / f"wiped{wiped}.avi"
+        _mjpg_avi(damaged, 40, wiped=wiped)
+        out = tmp_path / f"poses{wiped}.jsonl"
+        r = subprocess.run([sys.executable, "-m", "tabletop", "track", str(damaged), "--out",
+                            str(out)], capture_output=True, text=True, timeout=120)
+        assert r.returncode == 2 and r.stderr.splitlines() == [
+            f"tabletop track: error: {damaged}: frame {wiped} cannot be read; the video "
+            "declares 40 frames (damaged or cut short)"], r.stderr
+        assert not out.exists()
