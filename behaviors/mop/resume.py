@@ -4,13 +4,18 @@ A rest (the puck still for the input's ``rest_time``) ends a gesture: its follow
 and nothing drives the resting puck. A performer who pauses part way through an action and then
 goes on with it would lose it (the fresh gesture starts at the pause, half way through the
 action: a circle paused 1-3 s at half way drove 0% of its second half). So the action that drove
-when the rest began is kept, with the gesture's samples and origin, as a hypothesis: while the
-puck rests, a spare follower replays the gesture's samples (a few per sample, off the moving
-puck's time); when the puck moves again it follows the samples read against the kept origin
-beside the fresh gesture. Its state drives only while the follower keeps it valid by its own
-rules from the first samples after the rest on, and while it out-weighs the fresh one (a higher
-log-likelihood when both are valid). It is dropped as soon as it is invalid, when the fresh
-gesture out-weighs it, or when the rest lasted longer than :data:`PAUSE_S`.
+when the puck stood still is kept, with the gesture's samples up to there and its origin, as a
+hypothesis: while the puck stands and rests, a spare follower replays those samples (a few per
+sample, so no tick pays for the whole gesture); when the puck moves again it follows the samples
+read against the kept origin beside the fresh gesture. Its state drives only while the
+follower keeps it valid by its own rules from the first samples after the rest on, once its
+progress has moved on past where the follower had it when the puck stopped (:data:`ADVANCE`),
+and while it out-weighs the fresh one (a higher log-likelihood when both are valid). It is
+dropped as soon as it is invalid, when the fresh gesture out-weighs it, or when the rest lasted
+longer than :data:`PAUSE_S`. Replayed only once the rest began, a pause just over the rest time
+left most of the gesture to catch up after it (driven 0.27-0.75 of the second half, a wrong
+action 0.39 of a figure eight's); replayed all at once, one tick would follow the whole
+gesture (a hundred samples and more).
 
 Measured on the example installation (``tests/mop/test_resume.py``): circles, zigzags, figure
 eights and lines paused 1-3 s at 30-70% drive 0.70-0.96 of their second half by their action
