@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import copy
 from collections import deque
+from typing import Any
 
 import numpy as np
 
@@ -121,15 +122,16 @@ class Resume:
         self.follower.reset()  # type: ignore[attr-defined]
         cut = min(self._drove, len(self.samples) - max(0, still - 2))
         self.kept, self._mine = origin.copy(), self.samples[:max(cut, 0)]
-        # the furthest the fresh follower took it while the puck stood still before the rest
-        # (a line's crept from 0.48 to 0.55: a different gesture after the pause took the
-        # resumed one as far and drove it 6-13% of its length measured from 0.48)
         self._cut, self.preparing = cut, False
         self._settle_stop()
         self._todo, self._rested, self.state, self._from = deque(self._mine), 0, None, None
         self._left = len(self._mine)
 
     def _settle_stop(self) -> None:
+        """Where the action was when the puck stopped: the furthest the fresh follower took it
+        while the puck stood still before the rest (a line's crept from 0.48 to 0.55; measured
+        from 0.48, a different gesture after the pause took the resumed line as far, and it
+        drove 6-13% of that gesture)."""
         cut = self._cut
         best = self._at[cut - 1][0] if 0 < cut <= len(self._at) else ""
         self._stopped = (best, max((p for b, p in self._at[max(cut - 1, 0):self._drove]
@@ -153,10 +155,12 @@ class Resume:
         self._settle_stop()
         self._rested = 0
 
-    def keep_resumed(self) -> None:
-        """The rest began while the resumed action drove: keep it again, as it was."""
+    def keep_resumed(self, still: int) -> None:
+        """The rest began while the resumed action drove: keep it again, as it was before the
+        puck stood ``still`` (samples, the rest's included)."""
         s = self.state
         self._stopped = (s.best, float(s.progress))  # type: ignore[attr-defined]
+        del self._mine[max(0, len(self._mine) - max(0, still - 2)):]
         self.follower.reset()  # type: ignore[attr-defined]
         self._todo, self._rested, self.state, self._from = deque(self._mine), 0, None, None
         self._left = len(self._mine)
@@ -174,16 +178,18 @@ class Resume:
     def _replay(self, n: int) -> bool:
         """Step the spare follower on up to ``n`` queued samples, the kept ones first; False
         when the resumed action was dropped (invalid, or another action, after the rest)."""
+        follower = self.follower
         while n > 0 and self._todo:
             if self._left == 0 and self._from is None:   # where the puck stopped along it
-                s = self.state
-                self._from = (s.best, max(s.progress, self._stopped[1])  # type: ignore[attr-defined]
-                              ) if s is not None and s.best == self._stopped[0] else ("", 1.0)  # type: ignore[attr-defined]
-            self.state = state = self.follower.step(self._todo.popleft())  # type: ignore[attr-defined]
+                s: Any = self.state
+                same = s is not None and s.best == self._stopped[0]
+                self._from = (s.best, max(s.progress, self._stopped[1])) if same else ("", 1.0)
+            state: Any = follower.step(self._todo.popleft())  # type: ignore[union-attr]
+            self.state = state
             n -= 1
             if self._left > 0:
                 self._left -= 1
-            elif not bool(state.valid) or state.best != self._from[0]:  # type: ignore[attr-defined,index]
+            elif not bool(state.valid) or state.best != self._from[0]:  # type: ignore[index]
                 self.drop()
                 return False
         return True

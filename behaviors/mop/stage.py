@@ -320,7 +320,7 @@ class MopStage:
             resting = performer.resting and not holding
             if resting and not self._resting.get(key, False):   # the rest begins
                 if shown is not None and shown is r.state:
-                    r.keep_resumed()
+                    r.keep_resumed(performer.still)
                 elif r.preparing:
                     r.settled()
                 elif r.drove_lately:

@@ -35,15 +35,16 @@ def _go_on(table: Table, name: str, upto: float) -> list:
     y0 = table.pucks[1][1] - np.interp(tau, g[:, 0], g[:, 2])
     out = []
     while tau < dur:
-        table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]), y0 + np.interp(tau, g[:, 0], g[:, 2]))
+        table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]),
+                          y0 + np.interp(tau, g[:, 0], g[:, 2]))
         out.append(table.tick())
         tau += 1.0 / RATE
     return out
 
 
 @pytest.mark.parametrize("name, upto, pause", [
-    ("circle", 0.5, 1.0), ("circle", 0.3, 3.0), ("zigzag", 0.7, 1.0), ("zigzag", 0.5, 2.0), ("figure_eight", 0.4, 1.5),
-    ("line", 0.6, 2.5)])
+    ("circle", 0.5, 1.0), ("circle", 0.3, 3.0), ("zigzag", 0.7, 1.0), ("zigzag", 0.5, 2.0),
+    ("figure_eight", 0.4, 1.5), ("line", 0.6, 2.5)])
 def test_an_action_paused_longer_than_the_rest_time_is_resumed(example_cfg, name, upto, pause):
     # measured: 0.79-0.96 of the second half driven by its action (0 when the rest dropped it)
     table = _table(example_cfg)
