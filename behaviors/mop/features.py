@@ -96,6 +96,11 @@ class PathFeatures:
         return self._resting
 
     @property
+    def still(self) -> int:
+        """Poses read since the puck last moved beyond ``rest_radius`` (1: it just moved)."""
+        return int(self._anchor[3])
+
+    @property
     def dim(self) -> int:
         return len(PATH_FEATURE_NAMES)
 

@@ -53,6 +53,18 @@ class PuckInput:
         """The puck has been still for ``rest_time``: its gesture has ended."""
         return self._pf.resting
 
+    @property
+    def origin(self) -> np.ndarray:
+        """Where the gesture started, in the features' terms: each feature is the pose's
+        (x, y in metres, heading turned in radians) less this; speed has none (0)."""
+        pf = self._pf
+        return np.array([pf.origin[0], pf.origin[1], pf._origin_turn, 0.0])[self._cols]
+
+    @property
+    def still(self) -> int:
+        """Samples read since the puck last moved (:attr:`PathFeatures.still`)."""
+        return self._pf.still
+
     def restart(self, frame: object, t: float) -> None:
         """Start a gesture here (a designer's recording begins)."""
         p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
@@ -179,6 +191,20 @@ class Performer:
         """Every input rests (after :meth:`read`): the performer's gesture has ended, so its
         followers wait for the next one and drive nothing meanwhile."""
         return all(i.resting for i in self.inputs)
+
+    @property
+    def origin(self) -> np.ndarray:
+        """Where the gesture started (d,), in the features' terms (:attr:`PuckInput.origin`;
+        0 for inputs without one): a feature read against another origin is shifted by the
+        difference."""
+        return np.concatenate([i.origin if isinstance(i, PuckInput) else np.zeros(len(i.names))
+                               for i in self.inputs])
+
+    @property
+    def still(self) -> int:
+        """Samples read since a puck of this performer last moved (1: one just moved; 1
+        without pucks)."""
+        return min((i.still for i in self.inputs if isinstance(i, PuckInput)), default=1)
 
     def restart(self, frame: object, t: float) -> None:
         for i in self.inputs:

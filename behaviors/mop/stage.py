@@ -54,6 +54,7 @@ import numpy as np
 from behaviors.motion.clips import Clip
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Take, Vote
+from behaviors.mop.resume import Resume
 from tabletop.frames import CharacterState, Frame, InputError
 from behaviors.worker import Worker
 
@@ -113,6 +114,8 @@ class MopStage:
         self._routes: dict[str, list[tuple[str, str, str]]] = {}
         self._states: dict[str, object] = {}
         self._resting: dict[str, bool] = {}
+        self._shown: dict[str, object] = {}    # the state that drives: fresh or resumed
+        self._resume: dict[str, Resume] = {}   # each performer's paused action
         self._told: set[str] = set()        # input problems logged (once each)
         self.worker: Worker | None = None   # set: followers rebuilt off the hot path
         self.building = False               # a rebuild runs in the worker
@@ -161,7 +164,9 @@ class MopStage:
 
     def _install(self, built: tuple) -> None:
         self._routes, self._followers, self._keys, self._group = built
-        self._states = {}
+        self._states, self._shown = {}, {}
+        for r in self._resume.values():
+            r.drop()
 
     def _plan(self) -> tuple[dict, dict]:
         """Routes (performer -> (character, action, template key)) and templates by performer."""
@@ -301,45 +306,75 @@ class MopStage:
     # --- running --------------------------------------------------------------------------------
 
     def _sample(self, frame: Frame, ts: float) -> None:
-        xs = {}
+        xs, kept = {}, {}
         for pname, performer in self.performers.items():
+            kept[pname] = performer.origin   # before the read: a rest beginning moves it
             xs[pname] = x = performer.read(frame, ts)
             # not while the performer rests: its gesture has ended (or not begun), and its path
             # features moved their origin to where it settled (a hold, then a jump to 0, 0)
             if (self.take is not None and self.take.recording and self.take.performer == pname
                     and not performer.resting):
                 self.take.add(x)
+        resumed = {}
         for i, key in enumerate(self._keys):
-            state = self._states.get(key)
-            holding = (state is not None and bool(state.valid)  # type: ignore[attr-defined]
-                       and bool(state.holding))  # type: ignore[attr-defined]
+            state, shown = self._states.get(key), self._shown.get(key)
+            holding = (shown is not None and bool(shown.valid)  # type: ignore[attr-defined]
+                       and bool(shown.holding))  # type: ignore[attr-defined]
             # a rest ends a gesture, unless an action is held where it holds (a raise, hold,
-            # return held longer than the rest time); resting elsewhere ends it. So a performer
-            # pausing part way through an action for longer than the rest time loses it (a
-            # circle paused 1-3 s at half way drove 0% of its second half, 89% without the
-            # pause). Tried: an action that drives keeps its gesture's origin through rests of
-            # up to 3 s (85-100% of the second half), not kept: it also kept false drives
-            # going through the rest (the bird alone in tests/mop/test_live.py: 46 ticks driven
-            # by a puck resting over 1 s, 0 now)
-            self._resting[key] = resting = self.performers[key].resting and not holding
+            # return held longer than the rest time); resting elsewhere ends it. An action
+            # that drove when the rest began is kept, to be resumed if the performer goes on
+            # with it (behaviors.mop.resume)
+            performer, r = self.performers[key], self._resume.get(key)
+            if r is None:
+                self._resume[key] = r = Resume(self.rate_hz)
+            resting = performer.resting and not holding
+            if resting and not self._resting.get(key, False):   # the rest begins
+                if shown is not None and shown is r.state:
+                    r.keep_resumed(performer.still)
+                elif r.preparing:
+                    r.settled()
+                elif r.drove_lately:
+                    r.keep(self._followers[key], kept[key], performer.still)
+                else:
+                    r.drop()
+            elif resting:
+                r.rest()
+            elif r.preparing and performer.still <= 1:   # it moves on: no pause
+                r.drop()
+            elif r.preparing:
+                r.stand()
+            elif (r.kept is None and performer.still > r.stand_samples and r.drives
+                    and not resting):
+                r.prepare(self._followers[key], kept[key], performer.still)
+            self._resting[key] = resting
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
                     self._group.reset_member(i)  # type: ignore[attr-defined]
                 else:
                     self._followers[key].reset()  # type: ignore[attr-defined]
+            elif not r.preparing:
+                resumed[key] = r.follow(xs[key], performer.origin)
         if self._group is not None:
             states = self._group.step([xs[k] for k in self._keys])  # type: ignore[attr-defined]
             self._states.update(zip(self._keys, states))
-            return
-        for key in self._keys:
-            self._states[key] = self._followers[key].step(xs[key])  # type: ignore[attr-defined]
+        else:
+            for key in self._keys:
+                self._states[key] = self._followers[key].step(xs[key])  # type: ignore[attr-defined]
+        for key in self._keys:   # the resumed action drives while it out-weighs the fresh one
+            fresh, mine = self._states[key], resumed.get(key)
+            self._resume[key].add(xs[key], self._resting[key], fresh)
+            if mine is not None and bool(fresh.valid) and (  # type: ignore[attr-defined]
+                    fresh.loglik > mine.loglik):  # type: ignore[attr-defined]
+                self._resume[key].drop()
+                mine = None
+            self._shown[key] = fresh if mine is None else mine
 
     def _votes(self, character: str) -> list[Vote]:
         """Votes on ``character``'s actions from the followers of the performers that perform
         them; a resting performer's votes are all invalid."""
         votes: list[Vote] = []
         for performer, routes in self._routes.items():
-            state = self._states.get(performer)
+            state = self._shown.get(performer)
             if state is None:
                 continue
             mine = [(action, key) for c, action, key in routes   # (not one dropped since)

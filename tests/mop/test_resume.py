@@ -1,0 +1,70 @@
+"""A performer pausing longer than the rest time part way through an action, in the engine: the
+rest ends driving, and the action is resumed when the puck goes on with it
+(``behaviors.mop.resume``); a different gesture after the pause is not driven by it."""
+
+import numpy as np
+import pytest
+
+from tabletop.config import load_config
+from tabletop.plugins import mop
+from tabletop.registry import BuildContext
+from tests.mop.test_plugin import EXAMPLES, G, RATE, Table
+
+CHAR = "dancer"   # its actions: circle, zigzag, figure_eight, line
+
+
+@pytest.fixture(scope="module")
+def example_cfg():
+    return load_config(EXAMPLES / "mop.yaml")
+
+
+def _table(example_cfg) -> Table:
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
+    table = Table(mop.build(example_cfg["engines"][0], ctx))
+    table.pucks = {1: (0.45, 0.35), 2: (0.75, 0.35)}
+    table.rest(1.5)
+    return table
+
+
+def _go_on(table: Table, name: str, upto: float) -> list:
+    """Move puck 1 along the rest of gesture ``name`` from ``upto`` (share of it), where it is."""
+    g = G.gesture(name)
+    dur = g[-1, 0]
+    tau = dur * upto
+    x0 = table.pucks[1][0] - np.interp(tau, g[:, 0], g[:, 1])
+    y0 = table.pucks[1][1] - np.interp(tau, g[:, 0], g[:, 2])
+    out = []
+    while tau < dur:
+        table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]),
+                          y0 + np.interp(tau, g[:, 0], g[:, 2]))
+        out.append(table.tick())
+        tau += 1.0 / RATE
+    return out
+
+
+@pytest.mark.parametrize("name, upto, pause", [
+    ("circle", 0.5, 1.0), ("circle", 0.3, 3.0), ("zigzag", 0.7, 1.0), ("zigzag", 0.5, 2.0),
+    ("figure_eight", 0.4, 1.5), ("line", 0.6, 2.5)])
+def test_an_action_paused_longer_than_the_rest_time_is_resumed(example_cfg, name, upto, pause):
+    # measured: 0.79-0.96 of the second half driven by its action (0 when the rest dropped it)
+    table = _table(example_cfg)
+    table.perform(name, upto=upto)
+    during = table.rest(pause)
+    after = _go_on(table, name, upto)
+    assert not any(c[CHAR].valid for c in during[int(0.9 * RATE):])   # nothing drives a rest
+    assert np.mean([c[CHAR].valid and c[CHAR].action == name for c in after]) >= 0.7
+    assert not any(c[CHAR].valid and c[CHAR].action != name for c in after)
+
+
+@pytest.mark.parametrize("first, then", [("line", "circle"), ("circle", "zigzag"),
+                                         ("figure_eight", "line"), ("line", "figure_eight")])
+def test_a_different_gesture_after_the_pause_is_not_taken_for_the_paused_action(
+        example_cfg, first, then):
+    # measured: a wrong action drove 0% of the next gesture (a line resumed from where the
+    # follower had it when the puck stopped, not from where it crept to: 10-13%)
+    table = _table(example_cfg)
+    table.perform(first, upto=0.5)
+    table.rest(1.5)
+    run = table.perform(then)
+    assert np.mean([c[CHAR].valid and c[CHAR].action == then for u, c in run if u > 0.3]) >= 0.9
+    assert np.mean([c[CHAR].valid and c[CHAR].action != then for _, c in run]) <= 0.02
