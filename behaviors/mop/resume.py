@@ -50,6 +50,32 @@ STAND_S = 0.2
 FINISHED = 0.95
 #: Samples of the kept gesture replayed per sample of the rest.
 REPLAY_PER_SAMPLE = 3
+#: Replay steps all of an engine's performers share per sample, a step of a follower of more
+#: than 20 templates counting one for every 20 (:func:`replay_cost`): a spare follower's step
+#: costs 0.13-0.25 ms with 1-80 templates of 6 features, 0.65 ms with 80 of 60 (bench/mop.py),
+#: so eight performers pausing at once replayed up to 24 steps a sample, 3-15 ms, where the
+#: engine's tick has 1 ms (DESIGN). Shared, a tick replays at most about 1 ms; one performer
+#: pausing alone replays at full pace, and the turn goes round the performers sample by sample.
+REPLAY_BUDGET = 6
+
+
+def replay_cost(templates: int) -> int:
+    """What one replay step of a follower of ``templates`` templates counts against
+    :data:`REPLAY_BUDGET`."""
+    return max(1, -(-templates // 20))
+
+
+def share_replay(templates: list[int], turn: int) -> list[int]:
+    """Replay steps this sample for each waiting performer, whose followers have
+    ``templates`` templates: :data:`REPLAY_PER_SAMPLE` each while :data:`REPLAY_BUDGET` lasts,
+    served from the ``turn``-th (mod their number) on, so the turn goes round them."""
+    steps, budget, k = [0] * len(templates), REPLAY_BUDGET, len(templates)
+    for j in range(k):
+        i = (turn + j) % k
+        cost = replay_cost(templates[i])
+        steps[i] = min(REPLAY_PER_SAMPLE, budget // cost)
+        budget -= steps[i] * cost
+    return steps
 #: Longest gesture (seconds) kept for resuming; a longer one keeps its last samples only.
 GESTURE_S = 20.0
 
@@ -144,9 +170,9 @@ class Resume:
         self.keep(follower, origin, still)
         self.preparing = True
 
-    def stand(self) -> None:
-        """One more still sample before the rest: replay a few kept samples."""
-        self._replay(REPLAY_PER_SAMPLE)
+    def stand(self, n: int = REPLAY_PER_SAMPLE) -> None:
+        """One more still sample before the rest: replay up to ``n`` kept samples."""
+        self._replay(n)
 
     def settled(self) -> None:
         """The rest began after :meth:`prepare`: where the follower had the action when the
@@ -165,15 +191,22 @@ class Resume:
         self._todo, self._rested, self.state, self._from = deque(self._mine), 0, None, None
         self._left = len(self._mine)
 
-    def rest(self) -> None:
-        """One sample of the rest: replay a few kept samples; drop beyond :data:`PAUSE_S`."""
+    def rest(self, n: int = REPLAY_PER_SAMPLE) -> None:
+        """One sample of the rest: replay up to ``n`` kept samples; drop beyond
+        :data:`PAUSE_S`."""
         if self.kept is None:
             return
         self._rested += 1
         if self._rested > self._pause:
             self.drop()
             return
-        self._replay(REPLAY_PER_SAMPLE)
+        self._replay(n)
+
+    @property
+    def replaying(self) -> bool:
+        """An action is kept: its spare follower steps (replays while the puck rests or
+        stands, follows the live samples when it moves on)."""
+        return self.kept is not None
 
     def _replay(self, n: int) -> bool:
         """Step the spare follower on up to ``n`` queued samples, the kept ones first; False
@@ -194,11 +227,12 @@ class Resume:
                 return False
         return True
 
-    def follow(self, x: np.ndarray, origin: np.ndarray) -> object | None:
+    def follow(self, x: np.ndarray, origin: np.ndarray,
+               n: int = REPLAY_PER_SAMPLE) -> object | None:
         """The moving puck's sample ``x`` read against the fresh ``origin``: the resumed
-        follower's state while it drives, else None. The follower steps on at most
-        :data:`REPLAY_PER_SAMPLE` samples per sample (the kept ones not replayed during the
-        rest first): it drives once it has caught up."""
+        follower's state while it drives, else None. The follower steps on at most ``n``
+        samples per sample (the kept ones not replayed during the rest first): it drives once
+        it has caught up."""
         if self.kept is None:
             return None
         x = x + (origin - self.kept)
@@ -206,7 +240,10 @@ class Resume:
         if len(self._mine) > self._most:
             del self._mine[0]
         self._todo.append(x)
-        if not self._replay(REPLAY_PER_SAMPLE) or self._todo:
+        if len(self._todo) > self._most:   # it cannot catch up (the replay budget is spent)
+            self.drop()
+            return None
+        if not self._replay(n) or self._todo:
             return None
         state = self.state
         if state.progress < self._from[1] + ADVANCE:  # type: ignore[attr-defined,index]

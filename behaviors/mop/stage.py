@@ -54,7 +54,7 @@ import numpy as np
 from behaviors.motion.clips import Clip
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Take, Vote
-from behaviors.mop.resume import Resume
+from behaviors.mop.resume import Resume, share_replay
 from tabletop.frames import CharacterState, Frame, InputError
 from behaviors.worker import Worker
 
@@ -116,6 +116,7 @@ class MopStage:
         self._resting: dict[str, bool] = {}
         self._shown: dict[str, object] = {}    # the state that drives: fresh or resumed
         self._resume: dict[str, Resume] = {}   # each performer's paused action
+        self._replay_turn = 0   # whose turn it is first to replay (_replay_steps)
         self._told: set[str] = set()        # input problems logged (once each)
         self.worker: Worker | None = None   # set: followers rebuilt off the hot path
         self.building = False               # a rebuild runs in the worker
@@ -316,6 +317,7 @@ class MopStage:
                     and not performer.resting):
                 self.take.add(x)
         resumed = {}
+        steps = self._replay_steps()
         for i, key in enumerate(self._keys):
             state, shown = self._states.get(key), self._shown.get(key)
             holding = (shown is not None and bool(shown.valid)  # type: ignore[attr-defined]
@@ -338,11 +340,11 @@ class MopStage:
                 else:
                     r.drop()
             elif resting:
-                r.rest()
+                r.rest(steps.get(key, 0))
             elif r.preparing and performer.still <= 1:   # it moves on: no pause
                 r.drop()
             elif r.preparing:
-                r.stand()
+                r.stand(steps.get(key, 0))
             elif (r.kept is None and performer.still > r.stand_samples and r.drives
                     and not resting):
                 r.prepare(self._followers[key], kept[key], performer.still)
@@ -353,7 +355,7 @@ class MopStage:
                 else:
                     self._followers[key].reset()  # type: ignore[attr-defined]
             elif not r.preparing:
-                resumed[key] = r.follow(xs[key], performer.origin)
+                resumed[key] = r.follow(xs[key], performer.origin, steps.get(key, 0))
         if self._group is not None:
             states = self._group.step([xs[k] for k in self._keys])  # type: ignore[attr-defined]
             self._states.update(zip(self._keys, states))
@@ -368,6 +370,14 @@ class MopStage:
                 self._resume[key].drop()
                 mine = None
             self._shown[key] = fresh if mine is None else mine
+
+    def _replay_steps(self) -> dict[str, int]:
+        """This sample's replay steps for each performer whose paused action is kept
+        (behaviors.mop.resume.share_replay; a function of the samples, so a replay is exact)."""
+        waiting = [k for k in self._keys if k in self._resume and self._resume[k].replaying]
+        self._replay_turn += 1
+        sizes = [len(self._followers[k].names) for k in waiting]  # type: ignore[attr-defined]
+        return dict(zip(waiting, share_replay(sizes, self._replay_turn)))
 
     def _votes(self, character: str) -> list[Vote]:
         """Votes on ``character``'s actions from the followers of the performers that perform

@@ -68,3 +68,22 @@ def test_a_different_gesture_after_the_pause_is_not_taken_for_the_paused_action(
     run = table.perform(then)
     assert np.mean([c[CHAR].valid and c[CHAR].action == then for u, c in run if u > 0.3]) >= 0.9
     assert np.mean([c[CHAR].valid and c[CHAR].action != then for _, c in run]) <= 0.02
+
+
+def test_performers_pausing_at_once_share_one_replay_budget_in_turn():
+    """Eight performers pausing at once replayed 3 steps each a sample (24 steps, 3-15 ms a
+    tick with 6-100 templates); they share REPLAY_BUDGET steps, a step of a follower of more
+    than 20 templates counting more; one pausing alone replays at full pace; over as many
+    samples as performers, each is served."""
+    from behaviors.mop.resume import (REPLAY_BUDGET, REPLAY_PER_SAMPLE, replay_cost,
+                                      share_replay)
+    assert share_replay([6], 0) == [REPLAY_PER_SAMPLE]
+    for sizes in ([6] * 8, [100] * 8, [6, 100, 20, 60, 6, 6, 250, 1]):
+        served = np.zeros(len(sizes))
+        for turn in range(len(sizes)):
+            steps = share_replay(sizes, turn)
+            assert sum(n * replay_cost(t) for n, t in zip(steps, sizes)) <= REPLAY_BUDGET
+            assert all(0 <= n <= REPLAY_PER_SAMPLE for n in steps)
+            served += steps
+        assert (served > 0).all() or max(map(replay_cost, sizes)) > REPLAY_BUDGET, served
+    assert share_replay([6] * 8, 0) == [3, 3, 0, 0, 0, 0, 0, 0]
