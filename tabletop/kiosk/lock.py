@@ -61,6 +61,9 @@ def lock_folder(folder: Path) -> int | None:
     except BlockingIOError:
         holder = _read_pid(fd)
         os.close(fd)
+        if holder and not _alive(holder):   # a supervisor gone, its installation ending
+            raise KioskBusy(f"the kiosk that ran on {folder} is still ending (pid {holder} "
+                            f"has ended, lock {LOCK_NAME}); try again in a few seconds") from None
         who = f"pid {holder}" if holder else "its pid not yet written"
         raise KioskBusy(f"another kiosk is running on {folder} ({who}, lock {LOCK_NAME}); "
                         f"stop it first, or start this one from another folder") from None
@@ -94,3 +97,14 @@ def _read_pid(fd: int) -> int | None:
         return int(text) if text.isdigit() else None
     except OSError:
         return None
+
+
+def _alive(pid: int) -> bool:
+    """Is process ``pid`` running (one of another account's counts)?"""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:             # PermissionError: another account's process
+        return True
+    return True

@@ -193,3 +193,23 @@ def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path):
     finally:
         _, err = technician.communicate(timeout=30)
     assert err == "", err
+
+
+def test_a_refusal_by_a_holder_whose_pid_has_ended_says_it_is_ending(tmp_path):
+    """The pid in the lock file is a process gone (a supervisor killed outright while its
+    installation, holding the lock, still ends): the refusal says so and to try again, not
+    "another kiosk is running (pid N)" naming a process that is not there."""
+    first = holder(tmp_path)
+    try:
+        line = first.stdout.readline()
+        assert line.startswith("fd "), line + first.communicate(timeout=30)[1][-2000:]
+        gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                              capture_output=True, text=True, timeout=60)
+        dead = int(gone.stdout)
+        (tmp_path / ".kiosk.tabletop-lock").write_text(f"{dead}\n")
+        second = refusal(tmp_path)
+        assert second.stdout.strip() == (
+            f"refused: the kiosk that ran on {tmp_path} is still ending (pid {dead} has "
+            f"ended, lock .kiosk.tabletop-lock); try again in a few seconds"), second.stdout
+    finally:
+        first.communicate(timeout=30)
