@@ -61,9 +61,12 @@ def lock_folder(folder: Path) -> int | None:
     except BlockingIOError:
         holder = _read_pid(fd)
         os.close(fd)
-        if holder and not _alive(holder):   # a supervisor gone, its installation ending
-            raise KioskBusy(f"the kiosk that ran on {folder} is still ending (pid {holder} "
-                            f"has ended, lock {LOCK_NAME}); try again in a few seconds") from None
+        if holder and not _alive(holder):   # a supervisor gone, its installation ending,
+            # or a holder that could not write its own pid (a read-only lock file)
+            raise KioskBusy(f"another kiosk is running on {folder} (lock {LOCK_NAME}; the pid "
+                            f"written there, {holder}, has ended: a kiosk still ending, or one "
+                            f"that could not write its pid); try again in a few seconds, or "
+                            f"stop it first") from None
         who = f"pid {holder}" if holder else "its pid not yet written"
         raise KioskBusy(f"another kiosk is running on {folder} ({who}, lock {LOCK_NAME}); "
                         f"stop it first, or start this one from another folder") from None

@@ -197,8 +197,8 @@ def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path):
 
 def test_a_refusal_by_a_holder_whose_pid_has_ended_says_it_is_ending(tmp_path):
     """The pid in the lock file is a process gone (a supervisor killed outright while its
-    installation, holding the lock, still ends): the refusal says so and to try again, not
-    "another kiosk is running (pid N)" naming a process that is not there."""
+    installation, holding the lock, still ends; a holder that could not write its own): the
+    refusal says so and to try again, not "pid N" alone, naming a process that is not there."""
     first = holder(tmp_path)
     try:
         line = first.stdout.readline()
@@ -209,7 +209,8 @@ def test_a_refusal_by_a_holder_whose_pid_has_ended_says_it_is_ending(tmp_path):
         (tmp_path / ".kiosk.tabletop-lock").write_text(f"{dead}\n")
         second = refusal(tmp_path)
         assert second.stdout.strip() == (
-            f"refused: the kiosk that ran on {tmp_path} is still ending (pid {dead} has "
-            f"ended, lock .kiosk.tabletop-lock); try again in a few seconds"), second.stdout
+            f"refused: another kiosk is running on {tmp_path} (lock .kiosk.tabletop-lock; the "
+            f"pid written there, {dead}, has ended: a kiosk still ending, or one that could not "
+            f"write its pid); try again in a few seconds, or stop it first"), second.stdout
     finally:
         first.communicate(timeout=30)
