@@ -4,6 +4,9 @@ stays and keeps running), a good one is applied."""
 import contextlib
 import copy
 import ctypes.util
+import os
+import subprocess
+import sys
 import threading
 from pathlib import Path
 from typing import Callable
@@ -232,32 +235,49 @@ def test_an_applied_edit_closes_the_previous_touch_pose_physics(tmp_path):
         assert worlds == [runner.inst.engines[0].core.physics.client]
 
 
+MEMORY_BACK = """
+import sys
+from pathlib import Path
+import yaml
+from tabletop.config import load_config
+from tabletop.kiosk.runner import Runner, trim_heap
+from tabletop.kiosk.simulate import rss_bytes
+from tabletop.loop import Loop
+from tests.kiosk.test_live_config import config, rebuilt, running, write
+from tests.tracking.scenes import wait_for
+
+cfg = config([10, 20, 30])
+cfg["engines"].append({"kind": "touch_pose", "name": "poser", "physics": True})
+path = Path(sys.argv[1]) / "config.yaml"
+path.write_text(yaml.safe_dump(cfg))
+with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+    for k in range(2):
+        first = runner.inst
+        cfg["engines"][0]["color"] = [k, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, first, Loop.FREEZE_AGAIN_TICKS + 5), 60)
+        del first
+    before = rss_bytes()
+    trim_heap()
+    print((before - rss_bytes()) / 2**20)
+"""
+
+
 @pytest.mark.skipif(not (Path("/proc/self/statm").exists() and ctypes.util.find_library("c")),
                     reason="resident memory read from Linux /proc, trimmed by the C library")
 def test_an_applied_edit_gives_the_previous_installations_memory_back(tmp_path):
     """What the previous installation freed is handed back to the system at the rebuild (the C
     heap's free pages): measured as what a trim made now would still give back once the new
-    installation runs, 0.5 MB here (7 MB before). Before, the freed memory stayed resident: a
+    installation runs, 0.46 MB here (2.23 MB without the rebuild's trim, 7 MB with both
+    installations alive through the build). Before, the freed memory stayed resident: a
     kiosk of the gallery soak's config grew 6.5 MB an applied edit (360 -> 425 MB over 10
-    edits; see Runner._drop)."""
-    from tabletop.kiosk.runner import trim_heap
-    from tabletop.kiosk.simulate import rss_bytes
-    from tabletop.loop import Loop
-
-    cfg = config([10, 20, 30])
-    cfg["engines"].append({"kind": "touch_pose", "name": "poser", "physics": True})
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(cfg))
-    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
-        for k in range(2):
-            first = runner.inst
-            cfg["engines"][0]["color"] = [k, 100, 50]
-            write(path, yaml.safe_dump(cfg))
-            assert wait_for(rebuilt(runner, first, Loop.FREEZE_AGAIN_TICKS + 5), 60)
-            del first
-        before = rss_bytes()
-        trim_heap()
-        assert (before - rss_bytes()) / 2**20 < 3.0
+    edits; see Runner._drop). In a process of its own, as a kiosk runs: in a test worker, what
+    earlier tests left running freed memory of their own meanwhile (5-6 MB more)."""
+    r = subprocess.run([sys.executable, "-c", MEMORY_BACK, str(tmp_path)], cwd=ROOT,
+                       capture_output=True, text=True, timeout=240,
+                       env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
+    assert r.returncode == 0, r.stderr[-3000:]
+    assert float(r.stdout.split()[-1]) < 1.2, r.stdout
 
 
 def test_an_edit_that_turns_the_studio_on_or_off_is_applied(tmp_path):
