@@ -1,8 +1,10 @@
 """Silencing libraries that write straight to the process's stderr (libpng, OpenCV's back-ends).
 
 Their messages bypass Python, so they cannot be caught; a failure is reported instead as one
-clear line of ours. Only for short calls at start-up: while silenced, nothing else can write to
-stderr either.
+clear line of ours. While silenced, nothing else can write to stderr either (a native crash
+within the block prints nothing), so it is for calls that write nothing of ours: opening a
+camera or a file at start-up, and ``tabletop track`` decoding each frame of a video (FFmpeg's
+lines about a damaged frame), a few system calls a frame.
 """
 
 from __future__ import annotations
