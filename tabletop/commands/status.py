@@ -132,13 +132,19 @@ def main(args: argparse.Namespace) -> int:
         raise InputError(f"cannot listen on {shown_host_port(host, port)}: "
                          f"{exc.strerror or exc}") from None
 
-    def reraise(_request: Any, _client: Any) -> None:
+    def handle_error(_request: Any, client: Any) -> None:
         """socketserver printed a handler's exception with its traceback and served on: a
-        reader gone (``status ... | head -1``) gave one traceback a heartbeat, for good. The
-        exception now leaves serve_forever: a closed output ends with the CLI's quiet 141."""
-        raise
+        reader gone (``status ... | head -1``) gave one traceback a heartbeat, for good. A
+        closed output now leaves serve_forever (the CLI's quiet 141); a packet the OSC decoder
+        refuses (a stray sender's: python-osc raises UnicodeDecodeError on a non-UTF-8 string)
+        is one line, and the heartbeats go on being shown."""
+        exc = sys.exc_info()[1]
+        if isinstance(exc, BrokenPipeError):
+            raise exc
+        print(f"tabletop status: a packet from {shown_host_port(*client[:2])} refused: "
+              f"{type(exc).__name__}: {one_line(exc)}", file=sys.stderr, flush=True)
 
-    server.handle_error = reraise  # type: ignore[method-assign]
+    server.handle_error = handle_error  # type: ignore[method-assign]
     timer = None
     if seconds is not None:   # a daemon, cancelled on Ctrl-C: it kept the process for the rest
         # of --seconds after a Ctrl-C, and a second Ctrl-C printed a traceback from threading

@@ -221,3 +221,23 @@ def test_a_reader_that_closes_the_status_early_ends_it_quietly_with_141():
             proc.wait(10)
     err = proc.stderr.read().decode()
     assert proc.returncode == 141 and err == "", err[-2000:]
+
+
+def test_a_packet_the_osc_decoder_refuses_is_one_line_and_status_goes_on(capsys):
+    """A stray sender's packet with a string that is no UTF-8 (python-osc raises
+    UnicodeDecodeError while decoding it): one line on stderr naming the sender, and the
+    heartbeat after it is still shown; it ended the command (status 1, an internal error)."""
+    def pad(b: bytes) -> bytes:
+        return b + b"\0" * (4 - len(b) % 4)
+    port, th, out = listening("2")
+    stray = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    stray.sendto(pad(b"/tabletop/heartbeat") + pad(b",s") + pad(b"\xff\xfe"), ("127.0.0.1", port))
+    stray.close()
+    hb = Heartbeat("127.0.0.1", port)
+    hb.send("north", 3.0, 60.0, 0, json.dumps({"mode": "live"}))
+    hb.close()
+    th.join()
+    cap = capsys.readouterr()
+    assert out["rc"] == 0 and "Traceback" not in cap.err, cap.err
+    assert len(cap.err.splitlines()) == 1 and "refused" in cap.err and "127.0.0.1" in cap.err
+    assert len(cap.out.splitlines()) == 1 and cap.out.startswith("north")
