@@ -48,14 +48,17 @@ ADVANCE = 0.02
 STAND_S = 0.2
 #: Progress from which an action has finished: a rest there ends it (nothing to resume).
 FINISHED = 0.95
+#: Longest gesture (seconds) kept for resuming; a longer one keeps its last samples only.
+GESTURE_S = 20.0
 #: Samples of the kept gesture replayed per sample of the rest.
 REPLAY_PER_SAMPLE = 3
 #: Replay steps all of an engine's performers share per sample, a step of a follower of more
 #: than 20 templates counting one for every 20 (:func:`replay_cost`): a spare follower's step
 #: costs 0.13-0.25 ms with 1-80 templates of 6 features, 0.65 ms with 80 of 60 (bench/mop.py),
 #: so eight performers pausing at once replayed up to 24 steps a sample, 3-15 ms, where the
-#: engine's tick has 1 ms (DESIGN). Shared, a tick replays at most about 1 ms; one performer
-#: pausing alone replays at full pace, and the turn goes round the performers sample by sample.
+#: engine's tick has 1 ms (DESIGN). Shared, a tick's catch-up replays take about 1 ms at most
+#: (beside them each performer going on with a kept action follows its live sample, as a second
+#: follower); one performer pausing alone replays at full pace, and the turn goes round them.
 REPLAY_BUDGET = 6
 
 
@@ -68,16 +71,16 @@ def replay_cost(templates: int) -> int:
 def share_replay(templates: list[int], turn: int) -> list[int]:
     """Replay steps this sample for each waiting performer, whose followers have
     ``templates`` templates: :data:`REPLAY_PER_SAMPLE` each while :data:`REPLAY_BUDGET` lasts,
-    served from the ``turn``-th (mod their number) on, so the turn goes round them."""
+    served from the ``turn``-th (mod their number) on, so the turn goes round them; the one
+    whose turn it is replays at least one step, however large its follower. (A performer
+    moving on follows its live sample besides: :meth:`Resume.follow`.)"""
     steps, budget, k = [0] * len(templates), REPLAY_BUDGET, len(templates)
     for j in range(k):
         i = (turn + j) % k
         cost = replay_cost(templates[i])
-        steps[i] = min(REPLAY_PER_SAMPLE, budget // cost)
+        steps[i] = min(REPLAY_PER_SAMPLE, max(budget // cost, int(j == 0)))
         budget -= steps[i] * cost
     return steps
-#: Longest gesture (seconds) kept for resuming; a longer one keeps its last samples only.
-GESTURE_S = 20.0
 
 
 class Resume:
@@ -243,7 +246,7 @@ class Resume:
         if len(self._todo) > self._most:   # it cannot catch up (the replay budget is spent)
             self.drop()
             return None
-        if not self._replay(n) or self._todo:
+        if not self._replay(n + 1) or self._todo:   # the live sample, and n of the backlog
             return None
         state = self.state
         if state.progress < self._from[1] + ADVANCE:  # type: ignore[attr-defined,index]
