@@ -204,29 +204,41 @@ def test_switching_is_refused_during_a_take(tmp_path):
     assert "playing bully (2 of 3)" in keys("designer.item_next")          # after the take
 
 
-def test_a_behaviour_deleted_by_another_studio_is_said_removed_and_the_studio_goes_on(tmp_path):
-    """Two studios on one library play bully; one deletes it. The other said "1 bad library
-    file(s): ... behaviour folder not found" until the delete was undone. It says bully was
-    removed, plays on from memory, switches to another, and takes it back after the undo."""
+def two_studios(tmp_path: Path) -> tuple:
+    """Two designer studios (A and B) on one library holding bully and lover: their benches,
+    key pressers and B's engine."""
     lib = tmp_path / "lib"
     for name in ("bully", "lover"):
         shutil.copytree(SHIPPED / name, lib / name)
     (a,) = designer(tmp_path)
     (b,) = designer(tmp_path)
     bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
-    ka, kb = Keys(bench_a), Keys(bench_b)
+    return bench_a, bench_b, Keys(bench_a), Keys(bench_b), b
+
+
+def looks(bench: Bench, keys: Keys, listing: bool = True) -> str:
+    """The studio's watchers look now (each every second while the loop runs, in its own
+    tick): the behaviour in play's, and with ``listing`` the library's; what it says."""
+    target = bench.studio.target
+    target.lib_poller._next = 0.0 if listing else float("inf")
+    if target.play_poller is not None:
+        target.play_poller.every_s, target.play_poller._next = 0.0, 0.0
+    bench.studio.poll()
+    return keys()
+
+
+def test_a_behaviour_deleted_by_another_studio_is_said_removed_and_the_studio_goes_on(tmp_path):
+    """Two studios on one library play bully; one deletes it. The other said "1 bad library
+    file(s): ... behaviour folder not found" until the delete was undone. It says bully was
+    removed, plays on from memory, switches to another, and takes it back after the undo."""
+    bench_a, bench_b, ka, kb, b = two_studios(tmp_path)
+    lib = tmp_path / "lib"
     assert "playing bully (1 of 2)" in ka("designer.item_next")
     assert "playing bully (1 of 2)" in kb("designer.item_next")
     tb = bench_b.studio.target
 
     def look(listing: bool = True) -> str:
-        """B's watchers look now (each every second while the loop runs, in its own tick):
-        the behaviour in play's, and with ``listing`` the library's."""
-        tb.lib_poller._next = 0.0 if listing else float("inf")
-        if tb.play_poller is not None:
-            tb.play_poller.every_s = 0.0
-        bench_b.studio.poll()
-        return kb()
+        return looks(bench_b, kb, listing)
 
     assert "deleted bully" in ka("designer.delete")
     said = look(listing=False)
@@ -286,25 +298,15 @@ def test_a_behaviour_deleted_elsewhere_and_back_never_plays_over_a_take(tmp_path
     over the kept take too. The take plays until K or X; after X, bully is reloaded."""
     from behaviors.puppet_master import designers
     from tests.studio.test_studio_keys import demo_frames
+    bench_a, bench_b, ka, kb, b = two_studios(tmp_path)
     lib = tmp_path / "lib"
-    for name in ("bully", "lover"):
-        shutil.copytree(SHIPPED / name, lib / name)
-    (a,) = designer(tmp_path)
-    (b,) = designer(tmp_path)
-    bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
-    ka, kb = Keys(bench_a), Keys(bench_b)
     assert "playing bully (1 of 2)" in ka("designer.item_next")
     assert "playing bully (1 of 2)" in kb("designer.item_next")
     tb = bench_b.studio.target
     demo = designers.demonstrate("lover", seed=8, seconds=6)
 
     def look() -> str:
-        """B's watchers look now (each every second while the loop runs)."""
-        tb.lib_poller._next = 0.0
-        if tb.play_poller is not None:
-            tb.play_poller.every_s, tb.play_poller._next = 0.0, 0.0
-        bench_b.studio.poll()
-        return kb()
+        return looks(bench_b, kb)
 
     def take(t0: float):
         for f in demo_frames(demo, {5: ("designer.record",), 200: ("designer.record",)},

@@ -82,3 +82,18 @@ def stroke_drag(engine, models, name, pace=1.0, frac=1.0, hold=0.0, after=3.0, r
         targets.append(engine.target.rots.copy())
         outputs.append(engine.output.rots.copy())
     return out, targets, outputs
+
+
+def actions_begun(engine, path, times, rate=30.0, rest=0.1) -> set:
+    """Rest on the path's start (table m) for ``rest`` s, drag it over ``times`` (s), lift;
+    the actions begun."""
+    begun, k = set(), 0
+    while True:
+        t = k / rate
+        k += 1
+        if t > rest + times[-1] + 1 / rate:
+            return begun - {None}
+        s = min(max(t - rest, 0.0), times[-1])
+        r = engine.step(t, {1: (float(np.interp(s, times, path[:, 0])),
+                                float(np.interp(s, times, path[:, 1])))})
+        begun.add(r["action"])

@@ -6,7 +6,7 @@ import pytest
 from behaviors.touch_pose.action import dp_distance, threshold
 from behaviors.touch_pose.tracking import rot_diff
 
-from .conftest import stroke_drag
+from .conftest import actions_begun, stroke_drag
 
 #: Largest rotation (degrees) any joint may make in one 30 fps frame when the control switches.
 SWITCH_DEG = 20.0
@@ -147,21 +147,6 @@ def test_once_the_time_reaches_the_synthesised_time_the_synthesised_posture_is_o
     assert max(turns) < SWITCH_DEG
 
 
-def _drag(engine, path, times, rate=30.0, rest=0.1):
-    """Rest on the path's start for ``rest`` s, drag it over ``times``, lift; the actions begun."""
-    begun, k = set(), 0
-    while True:
-        t = k / rate
-        k += 1
-        if t > rest + times[-1] + 1 / rate:
-            return begun
-        s = min(max(t - rest, 0.0), times[-1])
-        r = engine.step(t, {1: (float(np.interp(s, times, path[:, 0])),
-                                float(np.interp(s, times, path[:, 1])))})
-        begun.discard(None)
-        begun.add(r["action"])
-
-
 @pytest.mark.parametrize("pace", [0.5, 0.75])
 def test_a_quick_drag_across_the_bow_does_not_start_it(make, models, pace):
     # the head dragged quickly at right angles to the bow's short stroke (0.35 m) started the
@@ -172,6 +157,6 @@ def test_a_quick_drag_across_the_bow_does_not_start_it(make, models, pace):
         traj = np.array(next(a for a in e.describe()["actions"] if a["name"] == "bow")["trajectory"])
         c, s = np.cos(np.radians(turn)), np.sin(np.radians(turn))
         across = traj[0] + (traj - traj[0]) @ np.array([[c, s], [-s, c]])
-        assert "bow" not in _drag(e, across, bow.stroke_t * pace), turn
+        assert "bow" not in actions_begun(e, across, bow.stroke_t * pace), turn
     e = make(view=(90.0, 15.0), physics=False)
-    assert "bow" in _drag(e, traj, bow.stroke_t * pace)    # the stroke itself still does
+    assert "bow" in actions_begun(e, traj, bow.stroke_t * pace)    # the stroke itself still does

@@ -6,7 +6,7 @@ import pytest
 
 from behaviors.touch_pose.humanoid import PARTS
 
-from .conftest import stroke_drag
+from .conftest import actions_begun, stroke_drag
 
 
 def _walk(models):
@@ -51,18 +51,6 @@ def test_a_resting_foot_dragged_slowly_only_poses(make, models):
     assert all(r["mode"] == "posing" for r in recs)
 
 
-def _drag(engine, path, times, rate=30.0, rest=0.1):
-    begun, k = set(), 0
-    while True:
-        t = k / rate
-        k += 1
-        if t > rest + times[-1] + 1 / rate:
-            return begun - {None}
-        s = min(max(t - rest, 0.0), times[-1])
-        begun.add(engine.step(t, {1: (float(np.interp(s, times, path[:, 0])),
-                                      float(np.interp(s, times, path[:, 1])))})["action"])
-
-
 @pytest.mark.parametrize("turn", [90.0, -90.0, 180.0])
 def test_the_left_foot_dragged_quickly_another_way_does_not_walk(make, models, turn):
     w = _walk(models)
@@ -71,7 +59,7 @@ def test_the_left_foot_dragged_quickly_another_way_does_not_walk(make, models, t
         traj = np.array(next(a for a in e.describe()["actions"] if a["name"] == "walk")["trajectory"])
         c, s = np.cos(np.radians(turn)), np.sin(np.radians(turn))
         turned = traj[0] + (traj - traj[0]) @ np.array([[c, s], [-s, c]])
-        assert "walk" not in _drag(e, turned, w.stroke_t * pace), (turn, pace)
+        assert "walk" not in actions_begun(e, turned, w.stroke_t * pace), (turn, pace)
 
 
 @pytest.mark.parametrize("view", [(90.0, 15.0), (270.0, 30.0)])
