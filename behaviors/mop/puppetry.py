@@ -373,6 +373,9 @@ class Take:
 
     def __init__(self, performer: str, character: str, t0: float) -> None:
         self.performer, self.character, self.t0 = performer, character, t0
+        #: where the performer's gesture started when the take began (features' terms):
+        #: samples read against a later origin are shifted back to it
+        self.origin: np.ndarray | float = 0.0
         self.rows: list[np.ndarray] = []
         self.recording = True
         self.motion_index = 0

@@ -239,6 +239,7 @@ class MopStage:
         self.take = Take(performer, character, frame.t)
         self.take.motion_index = motion_index
         self.performers[performer].restart(frame, frame.t)
+        self.take.origin = self.performers[performer].origin
 
     def stop_take(self) -> str:
         """Stop recording: the take becomes an action of its character at once (its followers
@@ -311,11 +312,11 @@ class MopStage:
         for pname, performer in self.performers.items():
             kept[pname] = performer.origin   # before the read: a rest beginning moves it
             xs[pname] = x = performer.read(frame, ts)
-            # not while the performer rests: its gesture has ended (or not begun), and its path
-            # features moved their origin to where it settled (a hold, then a jump to 0, 0)
-            if (self.take is not None and self.take.recording and self.take.performer == pname
-                    and not performer.resting):
-                self.take.add(x)
+            # read against the take's origin: a rest moves the path features' origin to where
+            # the puck settled (a raise, a hold longer than the rest time, then the return
+            # recorded from 0, 0); the stills before and after the gesture are trimmed at its end
+            if self.take is not None and self.take.recording and self.take.performer == pname:
+                self.take.add(x + (performer.origin - self.take.origin))
         resumed = {}
         steps = self._replay_steps()
         for i, key in enumerate(self._keys):

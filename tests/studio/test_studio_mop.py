@@ -408,6 +408,38 @@ def test_a_take_rested_longer_than_the_rest_time_and_tracked_with_jitter_is_trim
     assert np.hypot(*(samples[-1, :2] - g[-1, 1:3])) < 0.003, (samples[-1], g[-1])
 
 
+def test_a_take_paused_longer_than_the_rest_time_keeps_its_hold_and_goes_on_from_it(tmp_path):
+    """A designer's raise, hold (1.5 s, longer than the puck's 0.8 s rest time), return: the
+    take holds where the puck held and goes on from there, as the puck did. The rest moved the
+    path features' origin to where the puck settled: the hold was left out and the return
+    recorded from 0, 0 (a jump of half the gesture's extent)."""
+    engine = _build(_designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.rest(0.3)
+    x0, y0 = table.pucks[1]
+    table.perform("zigzag", upto=0.5)
+    held = table.pucks[1]
+    table.rest(1.5)
+    g = G.gesture("zigzag")
+    dur, tau = g[-1, 0], 0.5 * g[-1, 0]
+    while tau < dur:
+        table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]),
+                          y0 + np.interp(tau, g[:, 0], g[:, 2]))
+        table.tick()
+        tau += 1.0 / RATE
+    table.rest(0.3)
+    table.tick(["designer.record"])
+    assert table.studio.state == "trying"
+    samples = engine.templates["lizard"]["take1"][1][:, :2]
+    steps = np.hypot(*np.diff(samples, axis=0).T)
+    assert steps.max() < 0.035, steps.max()   # the zigzag's own fastest step: 0.024 m
+    at_hold = np.hypot(*(samples - (held[0] - x0, held[1] - y0)).T) < 0.001
+    assert at_hold.sum() >= 1.2 * engine.rate_hz, at_hold.sum()
+    assert np.hypot(*(samples[-1] - g[-1, 1:3])) < 0.003, (samples[-1], g[-1])
+
+
 def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_are_skipped(tmp_path):
     """Each is reported naming the library file and skipped; the engine starts with the rest
     (an empty name stopped the start naming no file; a repeated name or a configured one
