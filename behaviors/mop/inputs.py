@@ -161,21 +161,22 @@ class Performer:
         Unfloored, one action whose path moved a few millimetres (a designer's nudge) shrank
         the follower's still radius to its spread, and no other action drove again (a circle
         beside a 1 mm action: valid 0% of its second half, 94% with the floor)."""
-        parts = [i.min_scale for i in self.inputs]
-        if all(m is None for m in parts):
-            return None
-        return np.concatenate([np.zeros(len(i.names)) if m is None else m
-                               for i, m in zip(self.inputs, parts)])
+        return self._joined("min_scale")
 
     @property
     def jitter(self) -> np.ndarray | None:
         """Each feature's tracking jitter (d,; 0 for a stream's columns), None when no input
         knows its own."""
-        parts = [i.jitter for i in self.inputs]
-        if all(j is None for j in parts):
+        return self._joined("jitter")
+
+    def _joined(self, name: str) -> np.ndarray | None:
+        """The inputs' per-feature figure ``name`` side by side (d,; 0 where an input has
+        none), None when no input has one."""
+        parts = [getattr(i, name) for i in self.inputs]
+        if all(m is None for m in parts):
             return None
-        return np.concatenate([np.zeros(len(i.names)) if j is None else j
-                               for i, j in zip(self.inputs, parts)])
+        return np.concatenate([np.zeros(len(i.names)) if m is None else m
+                               for i, m in zip(self.inputs, parts)])
 
     def read(self, frame: object, t: float) -> np.ndarray:
         return np.concatenate([i.read(frame, t) for i in self.inputs])

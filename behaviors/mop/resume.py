@@ -148,11 +148,15 @@ class Resume:
         after 46 still samples at once)."""
         if self._source is not follower:   # a rebuilt follower: a new spare
             self._source, self.follower = follower, copy.deepcopy(follower)
-        self.follower.reset()  # type: ignore[attr-defined]
         cut = min(self._drove, len(self.samples) - max(0, still - 2))
         self.kept, self._mine = origin.copy(), self.samples[:max(cut, 0)]
         self._cut, self.preparing = cut, False
         self._settle_stop()
+        self._requeue()
+
+    def _requeue(self) -> None:
+        """The spare follower starts afresh on the kept samples, all of them to replay."""
+        self.follower.reset()  # type: ignore[attr-defined]
         self._todo, self._rested, self.state, self._from = deque(self._mine), 0, None, None
         self._left = len(self._mine)
 
@@ -190,9 +194,7 @@ class Resume:
         s = self.state
         self._stopped = (s.best, float(s.progress))  # type: ignore[attr-defined]
         del self._mine[max(0, len(self._mine) - max(0, still - 2)):]
-        self.follower.reset()  # type: ignore[attr-defined]
-        self._todo, self._rested, self.state, self._from = deque(self._mine), 0, None, None
-        self._left = len(self._mine)
+        self._requeue()
 
     def rest(self, n: int = REPLAY_PER_SAMPLE) -> None:
         """One sample of the rest: replay up to ``n`` kept samples; drop beyond

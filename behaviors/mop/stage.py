@@ -331,6 +331,7 @@ class MopStage:
             if r is None:
                 self._resume[key] = r = Resume(self.rate_hz)
             resting = performer.resting and not holding
+            n = steps.get(key, 0)   # replay steps of its paused action this sample
             if resting and not self._resting.get(key, False):   # the rest begins
                 if shown is not None and shown is r.state:
                     r.keep_resumed(performer.still)
@@ -341,13 +342,12 @@ class MopStage:
                 else:
                     r.drop()
             elif resting:
-                r.rest(steps.get(key, 0))
+                r.rest(n)
             elif r.preparing and performer.still <= 1:   # it moves on: no pause
                 r.drop()
             elif r.preparing:
-                r.stand(steps.get(key, 0))
-            elif (r.kept is None and performer.still > r.stand_samples and r.drives
-                    and not resting):
+                r.stand(n)
+            elif r.kept is None and performer.still > r.stand_samples and r.drives:
                 r.prepare(self._followers[key], kept[key], performer.still)
             self._resting[key] = resting
             if resting:   # the gesture ended: wait for the next one from a clean start
@@ -356,7 +356,7 @@ class MopStage:
                 else:
                     self._followers[key].reset()  # type: ignore[attr-defined]
             elif not r.preparing:
-                resumed[key] = r.follow(xs[key], performer.origin, steps.get(key, 0))
+                resumed[key] = r.follow(xs[key], performer.origin, n)
         if self._group is not None:
             states = self._group.step([xs[k] for k in self._keys])  # type: ignore[attr-defined]
             self._states.update(zip(self._keys, states))
