@@ -103,7 +103,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     nothing of the project's but the package itself at its top."""
     words = list(sys.argv[1:] if argv is None else argv)
     try:
-        return _main(argv)
+        return _main(words)
     except BrokenPipeError:
         _drop_stdout()
         return EXIT_OUTPUT_CLOSED
@@ -124,7 +124,7 @@ def _drop_stdout() -> None:
         pass
 
 
-def _main(argv: Sequence[str] | None) -> int:
+def _main(words: list[str]) -> int:
     from tabletop.frames import InputError  # (numpy: here, where a Ctrl-C is caught)
 
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
@@ -136,10 +136,10 @@ def _main(argv: Sequence[str] | None) -> int:
     # named .png that is none printed "[png @ 0x...] Invalid PNG signature ..." above our line
     os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
     parser = build_parser()
-    args, extra = parser.parse_known_args(argv)
+    args, extra = parser.parse_known_args(words)
     if extra:   # said by the command's own parser, which argparse leaves to the top one
         command_parser(parser, args).error(f"unrecognized arguments: {' '.join(extra)}")
-    nul = [a for a in (sys.argv[1:] if argv is None else argv) if "\x00" in a]
+    nul = [a for a in words if "\x00" in a]
     if nul:  # (a shell cannot pass one; a script building its arguments can)
         parser.error(f"argument {nul[0]!r} contains a NUL character: no path or value can")
     try:

@@ -23,6 +23,7 @@ import logging
 import os
 from pathlib import Path
 
+from tabletop.files import alive
 from tabletop.frames import InputError
 
 log = logging.getLogger("tabletop")
@@ -61,7 +62,7 @@ def lock_folder(folder: Path) -> int | None:
     except BlockingIOError:
         holder = _read_pid(fd)
         os.close(fd)
-        if holder and not _alive(holder):   # a supervisor gone, its installation ending,
+        if holder and not alive(holder):   # a supervisor gone, its installation ending,
             # or a holder that could not write its own pid (a read-only lock file)
             raise KioskBusy(f"another kiosk is running on {folder} (lock {LOCK_NAME}; the pid "
                             f"written there, {holder}, has ended: a kiosk still ending, or one "
@@ -100,14 +101,3 @@ def _read_pid(fd: int) -> int | None:
         return int(text) if text.isdigit() else None
     except OSError:
         return None
-
-
-def _alive(pid: int) -> bool:
-    """Is process ``pid`` running (one of another account's counts)?"""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:             # PermissionError: another account's process
-        return True
-    return True
