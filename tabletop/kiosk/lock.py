@@ -54,9 +54,7 @@ def lock_folder(folder: Path) -> int | None:
                 raise
             fd, writable = os.open(path, os.O_RDONLY | os.O_CLOEXEC), False
     except OSError as exc:
-        log.warning("kiosk lock %s cannot be made (%s): a second kiosk on %s would not be "
-                    "refused", path, exc.strerror or exc, folder)
-        return None
+        return _unguarded("made", path, exc)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
@@ -73,12 +71,18 @@ def lock_folder(folder: Path) -> int | None:
                         f"stop it first, or start this one from another folder") from None
     except OSError as exc:      # a file system without flock (some network mounts)
         os.close(fd)
-        log.warning("kiosk lock %s cannot be taken (%s): a second kiosk on %s would not be "
-                    "refused", path, exc.strerror or exc, folder)
-        return None
+        return _unguarded("taken", path, exc)
     if writable:
         _write_pid(fd, path)
     return fd
+
+
+def _unguarded(what: str, path: Path, exc: OSError) -> None:
+    """The lock file ``path`` cannot be made or ``what`` ("taken"): logged; the kiosk runs
+    unlocked (None)."""
+    log.warning("kiosk lock %s cannot be %s (%s): a second kiosk on %s would not be refused",
+                path, what, exc.strerror or exc, path.parent)
+    return None
 
 
 def _write_pid(fd: int, path: Path) -> None:
