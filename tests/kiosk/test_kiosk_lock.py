@@ -8,11 +8,12 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 import yaml
+
+from tests.tracking.scenes import wait_for
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -48,15 +49,6 @@ def status(tmp_path: Path) -> dict:
         return {}
 
 
-def wait_for(cond, timeout: float) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if cond():
-            return True
-        time.sleep(0.1)
-    return False
-
-
 def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock(tmp_path):
     # the first kiosk's first installation crashes: its restart (a warm spare) must run
     cfg = kiosk_config(tmp_path, [{"start": 0, "after_s": 1.0, "kind": "crash"}])
@@ -64,7 +56,7 @@ def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock
     try:
         assert wait_for(lambda: status(tmp_path).get("restarts") == 1
                         and status(tmp_path).get("mode") == "live"
-                        and status(tmp_path).get("ticks", 0) > 30, 90), \
+                        and status(tmp_path).get("ticks", 0) > 30, 90, every_s=0.1), \
             "the first kiosk's restarted installation never ran: " + str(status(tmp_path))
         assert first.poll() is None
         before = status(tmp_path)
@@ -83,7 +75,8 @@ def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock
         # the first ran on, untouched: same installation, still writing its status and its
         # recording; no recording, log line or start of the second
         assert first.poll() is None
-        assert wait_for(lambda: status(tmp_path).get("ticks", 0) > before["ticks"] + 30, 30)
+        assert wait_for(lambda: status(tmp_path).get("ticks", 0) > before["ticks"] + 30, 30,
+                        every_s=0.1)
         after = status(tmp_path)
         assert after["pid"] == before["pid"] and after["restarts"] == 1
         assert after["mode"] == "live"

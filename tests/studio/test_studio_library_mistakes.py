@@ -140,30 +140,20 @@ def test_two_studios_keeping_one_name_in_one_library_both_keep(tmp_path):
     assert e.behavior_name == "pet-2"
 
 
-def test_a_take_just_short_never_reads_as_long_enough(tmp_path):
+@pytest.mark.parametrize("needs, stop, said", [(2.0, 89, "1.9 s of both pucks, needs 2 s"),
+                                                (3.0, 103, "2.3 s of both pucks, needs 3 s")])
+def test_a_take_too_short_reads_its_length_in_whole_tenths(tmp_path, needs, stop, said):
     """A take of 1.96 s against min_seconds 2 said "take too short (2.0 s of both pucks, needs
-    2 s)"."""
+    2 s)"; one of 2.3 s (93 rows at 40 Hz; 2.299999999999997 s between frame times near t =
+    100 s) said "2.2 s"."""
     from behaviors.puppet_master import designers
     from tests.studio.test_studio_keys import demo_frames
-    (e,) = designer(tmp_path, min_seconds=2.0)
+    (e,) = designer(tmp_path, min_seconds=needs)
     bench = Bench([e], tmp_path)
     demo = designers.demonstrate("lover", seed=8, seconds=4)     # 40 Hz rows
     labels = [bench.step(f)[1].label for f in demo_frames(
-        demo, {10: ("designer.record",), 89: ("designer.record",)})]
-    assert "take too short (1.9 s of both pucks, needs 2 s)" in labels[89], labels[89]
-
-
-def test_a_take_of_whole_tenths_reads_its_length(tmp_path):
-    """A take of 2.3 s (93 rows at 40 Hz; 2.299999999999997 s between frame times near
-    t = 100 s) said "take too short (2.2 s of both pucks, ...)"."""
-    from behaviors.puppet_master import designers
-    from tests.studio.test_studio_keys import demo_frames
-    (e,) = designer(tmp_path, min_seconds=3.0)
-    bench = Bench([e], tmp_path)
-    demo = designers.demonstrate("lover", seed=8, seconds=4)     # 40 Hz rows
-    labels = [bench.step(f)[1].label for f in demo_frames(
-        demo, {10: ("designer.record",), 103: ("designer.record",)})]
-    assert "take too short (2.3 s of both pucks, needs 3 s)" in labels[103], labels[103]
+        demo, {10: ("designer.record",), stop: ("designer.record",)})]
+    assert f"take too short ({said})" in labels[stop], labels[stop]
 
 
 def test_switching_is_refused_during_a_take(tmp_path):

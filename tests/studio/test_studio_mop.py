@@ -252,15 +252,22 @@ def test_a_kept_take_is_not_renamed_over_a_configured_action(tmp_path):
     assert set(face) == {"circle", "take1"}
 
 
-def test_a_deleted_action_goes_into_the_trash_and_undo_brings_it_back(tmp_path):
-    """README: Delete moves the item into the library's .trash. A kept MOP take lost its entry
-    only: its CSV stayed, and the next run's take1 wrote over it."""
+def deleted_take(tmp_path):
+    """The kept take1 of a line, deleted in the studio: (engine, studio, the face's library
+    folder, take1.csv's bytes before the delete)."""
     engine, table = kept_line(tmp_path)
     folder = tmp_path / "lib" / "face"
     kept = (folder / "take1.csv").read_bytes()
     s = table.studio
     s.command("designer.item_next")
     s.command("designer.delete")
+    return engine, s, folder, kept
+
+
+def test_a_deleted_action_goes_into_the_trash_and_undo_brings_it_back(tmp_path):
+    """README: Delete moves the item into the library's .trash. A kept MOP take lost its entry
+    only: its CSV stayed, and the next run's take1 wrote over it."""
+    engine, s, folder, kept = deleted_take(tmp_path)
     s.poll()
     assert not (folder / "take1.csv").exists() and "take1" not in engine.puppets["face"].actions
     (trashed,) = (folder / ".trash").iterdir()
@@ -274,12 +281,7 @@ def test_an_undo_that_failed_half_way_is_done_on_the_next_try(tmp_path):
     """The undo of a delete put the template back, then could not write the entries (here
     actions.yaml stands as a folder): tried again, it said "take1.csv: exists again" forever
     and every older undo stayed out of reach."""
-    engine, table = kept_line(tmp_path)
-    folder = tmp_path / "lib" / "face"
-    kept = (folder / "take1.csv").read_bytes()
-    s = table.studio
-    s.command("designer.item_next")
-    s.command("designer.delete")
+    engine, s, folder, kept = deleted_take(tmp_path)
     (folder / "actions.yaml").unlink()
     (folder / "actions.yaml").mkdir()
     s.command("designer.undo")

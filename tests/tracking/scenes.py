@@ -100,14 +100,14 @@ def score_detections(frames, outputs) -> tuple[float, np.ndarray, np.ndarray, in
     return found / max(visible, 1), np.array(errs), np.array(heads), false_ids
 
 
-def wait_for(predicate, timeout: float) -> bool:
-    """Poll ``predicate`` every 10 ms until it holds (True) or ``timeout`` seconds pass (False):
-    for sources whose threads deliver in their own time."""
+def wait_for(predicate, timeout: float, every_s: float = 0.01) -> bool:
+    """Poll ``predicate`` every ``every_s`` seconds until it holds (True) or ``timeout`` seconds
+    pass (False): for sources whose threads deliver in their own time."""
     import time
 
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         if predicate():
             return True
-        time.sleep(0.01)
+        time.sleep(every_s)
     return False
