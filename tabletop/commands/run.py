@@ -44,7 +44,8 @@ def main(args: argparse.Namespace) -> int:
             return 0
     from tabletop.app import configure_logging, stop_on_signals
     from tabletop.kiosk import last_good
-    from tabletop.kiosk.supervisor import follow_supervisor, supervise, supervised
+    from tabletop.kiosk.supervised import follow_supervisor, supervised
+    from tabletop.kiosk.supervisor import supervise
 
     configure_logging(args.verbose)
     # a kiosk whose config is refused at its start runs the last one that ran (last_good)

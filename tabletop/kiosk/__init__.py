@@ -2,6 +2,7 @@
 
 - :mod:`~tabletop.kiosk.supervisor` runs the installation in a child process and restarts it
   after a crash (with back-off and a crash log) or a stall (no frame for ``stall_s``);
+  :mod:`~tabletop.kiosk.supervised` is that child's side (it ends when the supervisor is gone);
 - :mod:`~tabletop.kiosk.notify` speaks systemd's notify protocol (READY, WATCHDOG) from the
   frame loop;
 - :mod:`~tabletop.kiosk.health` writes the status JSON file, sends the OSC heartbeat and keeps

@@ -11,7 +11,7 @@ process holding it ends, however it ends, so a kill -9 or a power cut never leav
 that blocks the next start. The supervisor hands the description to the installation and its
 warm spares (they are the same kiosk, never refused), so a supervisor killed outright keeps
 the folder locked until its installation has ended too (within a second, see
-:func:`tabletop.kiosk.supervisor.follow_supervisor`). The file holds the locking process's pid,
+:func:`tabletop.kiosk.supervised.follow_supervisor`). The file holds the locking process's pid,
 for the refusal's line only; its presence means nothing.
 """
 

@@ -434,37 +434,3 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
     finally:
         for s, h in old.items():
             signal.signal(s, h)
-
-
-def supervised() -> bool:
-    """True in the child process the kiosk supervisor started."""
-    return os.environ.get("TABLETOP_SUPERVISED") == "1"
-
-
-def follow_supervisor(stop: threading.Event, every_s: float = 0.5) -> threading.Thread:
-    """In the supervised installation: set ``stop`` when the supervisor that started it is gone
-    (this process handed to another parent), so the installation ends cleanly (its recording
-    closed, its status "stopped") instead of running on unsupervised. A supervisor killed
-    outright (``kill -9``, an out-of-memory kill) left the table running for good without
-    stall or crash restarts, holding its ports and camera against the next kiosk start and
-    writing the status file beside it (systemd's unit kills it; a start from a shell script,
-    a desktop's autostart or a terminal does not). Polls ``os.getppid`` every ``every_s``
-    against the pid the supervisor put in ``TABLETOP_SUPERVISOR_PID``, first at once: the
-    parent read here (after the runtime's imports, 0.5-2 s after the start) was already the
-    new one when the supervisor died before, and the installation ran on for good."""
-    named = os.environ.get("TABLETOP_SUPERVISOR_PID", "")
-    parent = int(named) if named.isdigit() else os.getppid()
-
-    def watch() -> None:
-        while True:
-            if os.getppid() != parent:
-                log.error("the kiosk supervisor (pid %d) is gone: the installation stops (the "
-                          "next kiosk start runs it again)", parent)
-                stop.set()
-                return
-            if stop.wait(every_s):
-                return
-
-    th = threading.Thread(target=watch, name="follow-supervisor", daemon=True)
-    th.start()
-    return th
