@@ -19,39 +19,32 @@
   that falls behind again waits twice as long before each try, up to an hour.
 
 Durable line by line, never waiting on the frame loop: :meth:`Recorder.consume` (the frame
-loop) writes each line to the operating system at once, so a ``kill -9`` loses at most the line
-being written; a syncer thread fdatasyncs the file as soon as a line is written and again after
-each sync while lines keep coming, so a power cut loses at most the lines written during the
-sync in progress (one line at 60 Hz while the disk syncs within a frame). A new file is synced
-before its first frame (its folder entry too). Lines the disk has not synced yet are counted:
-when a sync covers several, the disk is slower than the frames (logged when a line waited
-0.5 s, sparingly: at once, then after 10 s, 20 s, ... up to every 600 s while the disk stays
-slow, :class:`~tracking.badinput.LogGaps`); more than ``max_queue`` of them (a disk that
-stopped) stops the recording like a full disk. :attr:`Recorder.durability` counts lines and
-syncs and keeps the latest durability latencies (line written -> its sync returned).
+loop) writes each line to the operating system at once and the syncer thread
+(:mod:`tabletop.recorder_sync`) fdatasyncs it, so a power cut loses at most the lines written
+during the sync in progress. A new file is synced before its first frame (its folder entry
+too). More than ``max_queue`` lines the disk has not synced yet (a disk that stopped) stop the
+recording like a full disk. :attr:`Recorder.durability` counts lines and syncs and keeps the
+latest durability latencies (line written -> its sync returned).
 """
 
 from __future__ import annotations
 
-import collections
 import datetime as _dt
 import errno
 import json
 import logging
 import os
-import threading
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
 from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
+from tabletop.recorder_sync import Syncer
 from tabletop.recordings import Recordings, candidates, number, prune, recordings
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header, session_header)
-from tracking.badinput import LogGaps
 
 log = logging.getLogger("tabletop")
 
@@ -67,19 +60,7 @@ RESUME_EVERY_S = 60.0
 SLOW_RESUME_MAX_S = 3600.0
 
 
-@dataclass
-class Durability:
-    """What the writer thread has made durable: lines, fdatasyncs, and the latest latencies
-    (seconds from :meth:`Recorder.consume` writing a line to its sync returning)."""
-
-    lines: int = 0
-    syncs: int = 0
-    waited_max: int = 0               # most lines written by one sync
-    latencies_s: collections.deque = field(
-        default_factory=lambda: collections.deque(maxlen=4096))
-
-
-class Recorder:
+class Recorder(Syncer):
     """Sink writing every frame to session files (JSON Lines); see the module docstring.
 
     Exactly one of ``path`` (a file name) or ``folder`` is given. ``header``: from
@@ -89,11 +70,6 @@ class Recorder:
     """
 
     name = "recorder"
-    SLOW_S = 0.5                      # a line waiting this long for the disk is logged
-    SLOW_LOG_EVERY_S = 10.0           # first gap between slow-disk lines, doubling ...
-    SLOW_LOG_MAX_S = 600.0            # ... up to this (LogGaps). Every 10 s, a disk that stayed
-    # slow (a worn SD card) wrote 8,640 lines a day and rotated the kiosk's log (1 MB x 5) away
-    # in days; doubling: 11 lines in its first hour, then 6 an hour.
 
     def __init__(self, path: str | Path | None = None, header: dict[str, Any] | None = None,
                  folder: str | Path | None = None, max_mb: float | None = None,
@@ -130,18 +106,11 @@ class Recorder:
         self._slow_wait_s = RESUME_EVERY_S     # before the next "cannot keep up" stop's try
         self._resumed_t: float | None = None   # frame time of the last resume
         self._last_t: float | None = None      # the last frame's time
-        self.durability = Durability()
         self._f: Any = None
         self._size = 0
         self._t0: float | None = None
         self._first_in_file = True
-        self._unsynced: list[float] = []   # when each line not yet synced was written
-        self._retired: list[Any] = []      # finished parts, for the syncer to sync and close
-        self._folder_dirty = False         # a part was created since the last folder sync
-        self._cv = threading.Condition()
-        self._closing = False
-        self._syncing = False              # the syncer is working on a batch
-        self._slow_log = LogGaps(self.SLOW_LOG_EVERY_S, self.SLOW_LOG_MAX_S)   # syncer only
+        self._init_syncer()
         try:
             self._open_part()
         except OSError as exc:
@@ -149,9 +118,7 @@ class Recorder:
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
                                    f"{folder_failure(self.folder, exc)}") from None
             self._fail(exc)  # a full disk: the installation runs, without recording
-        self._syncer = threading.Thread(target=self._sync_lines, name="recorder-sync",
-                                        daemon=True)
-        self._syncer.start()
+        self._start_syncer()
 
     @property
     def path(self) -> Path:
@@ -253,60 +220,6 @@ class Recorder:
             except OSError:
                 pass
 
-    # -- the syncer thread ----------------------------------------------------------------------
-
-    def _sync_lines(self) -> None:
-        """fdatasync whenever lines were written since the last sync; sync and close finished
-        parts; until closed and nothing is left to sync."""
-        while True:
-            with self._cv:
-                self._syncing = False
-                while not (self._unsynced or self._retired or self._folder_dirty) \
-                        and not self._closing:
-                    self._cv.wait()
-                if not (self._unsynced or self._retired or self._folder_dirty):
-                    return
-                self._syncing = True
-                batch, self._unsynced = self._unsynced, []
-                retired, self._retired = self._retired, []
-                folder, self._folder_dirty = self._folder_dirty, False
-                f = self._f
-            for old in retired:
-                try:
-                    old.flush()
-                    os.fsync(old.fileno())
-                except (OSError, ValueError):
-                    pass                           # a failed part: what the disk took stays
-                finally:
-                    try:
-                        old.close()
-                    except OSError:
-                        pass
-            try:
-                if folder:
-                    fsync_folder(self.folder)
-                if batch and f is not None:
-                    os.fdatasync(f.fileno())
-            except (OSError, ValueError) as exc:   # ValueError: closed by a failed write
-                with self._cv:
-                    if self.failed is None and isinstance(exc, OSError):
-                        self._fail(exc)
-                continue
-            if batch:                              # in f, or in a part just synced above
-                self._synced(batch)
-
-    def _synced(self, batch: list[float]) -> None:
-        now = self.clock()
-        dur = self.durability
-        dur.lines += len(batch)
-        dur.syncs += 1
-        dur.waited_max = max(dur.waited_max, len(batch))
-        dur.latencies_s.extend(now - t for t in batch)
-        waited = now - batch[0]
-        if len(batch) > 1 and waited >= self.SLOW_S and self._slow_log.due("slow", now):
-            log.warning("recording %s: the disk is slower than the frames: %d lines waited "
-                        "%.0f ms for one sync", self.path, len(batch), waited * 1e3)
-
     # -- the sink (the frame loop) --------------------------------------------------------------
 
     def consume(self, frame: Frame) -> None:
@@ -354,12 +267,6 @@ class Recorder:
             self._unsynced.append(self.clock())
             self._cv.notify()
 
-    @property
-    def caught_up(self) -> bool:
-        """Has the syncer synced and closed everything written (it waits for more)?"""
-        with self._cv:
-            return not (self._syncing or self._unsynced or self._retired or self._folder_dirty)
-
     def _resume(self, t: float) -> bool:
         """After a full disk or a disk that could not keep up, at ``_resume_at`` or the first
         frame after it that finds the syncer caught up: a new part, if the disk takes its
@@ -395,14 +302,6 @@ class Recorder:
             self._resumed_t = t
             self._cv.notify()
         return True
-
-    def _stop_syncer(self, timeout_s: float = 30.0) -> bool:
-        """Let the syncer finish what is left; False when the disk did not let it."""
-        with self._cv:
-            self._closing = True
-            self._cv.notify()
-        self._syncer.join(timeout_s)
-        return not self._syncer.is_alive()
 
     def discard(self) -> None:
         """Close and remove what was written (the installation did not start)."""
