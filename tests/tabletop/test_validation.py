@@ -1,10 +1,7 @@
 """Bad input found at start-up: one line naming the file and the key (config), or the option
-(command line), a non-zero exit, and nothing of OpenCV's or Python's internals."""
+(command line), a non-zero exit, and nothing of OpenCV's or Python's internals (bad output
+paths: test_validation_outputs.py)."""
 
-import json
-import os
-import stat
-import threading
 from pathlib import Path
 
 import numpy as np
@@ -329,25 +326,6 @@ def test_follow_template_too_short_says_what_it_needs(tmp_path, capfd, rows):
     assert code == 2 and f"{tpl}: " in line and "needs at least 2" in line, line
 
 
-@pytest.mark.parametrize("command", ["behave", "follow", "track", "replay"])
-def test_out_naming_a_folder_names_that_folder(tmp_path, capfd, demo, command):
-    out = tmp_path / "results"
-    out.mkdir()
-    args = {"behave": ["behave", "--train", demo, "--input", demo],
-            "follow": ["follow", "--template", f"a={demo}", "--input", demo],
-            "track": ["track", tmp_path],
-            "replay": ["replay", tmp_path / "absent.jsonl"]}[command]
-    if command == "track":
-        import cv2
-        cv2.imwrite(str(tmp_path / "f.png"), np.full((60, 80), 255, np.uint8))
-    code, err = cli(capfd, *args, "--out", out)
-    line = one_line(err)
-    assert code == 2 and str(out) in line and "folder" in line and ".tmp" not in line
-    # the file it suggests is of the kind the command writes (a CSV was suggested "out.jsonl")
-    kind = {"behave": ".csv", "follow": ".csv", "track": ".jsonl", "replay": ".jsonl"}[command]
-    assert line.endswith(kind), line
-
-
 def test_a_usage_error_is_one_line(capfd):
     with pytest.raises(SystemExit) as info:
         tabletop(["behave", "--rate"])
@@ -418,76 +396,3 @@ def test_seconds_said_alike_by_run_and_status(capfd, command, value, words):
     code, err = cli(capfd, *command, "--seconds", value)
     line = one_line(err)
     assert code == 2 and f"--seconds '{value}'" in line and words in line
-
-
-@pytest.mark.parametrize("where", ["--train", "--out"])
-def test_a_symbolic_link_loop_is_one_line_not_an_internal_error(tmp_path, capfd, demo, where):
-    """A path that is a symbolic link loop (a -> b -> a): Path.resolve raised RuntimeError in the
-    output check, reported as "internal error: RuntimeError: Symlink loop" with exit status 1."""
-    (tmp_path / "a").symlink_to(tmp_path / "b")
-    (tmp_path / "b").symlink_to(tmp_path / "a")
-    paths = {"--train": demo, "--out": tmp_path / "o.csv", where: tmp_path / "a"}
-    code, err = cli(capfd, "behave", "--train", paths["--train"], "--input", demo,
-                    "--out", paths["--out"])
-    line = one_line(err)
-    assert code == 2 and "internal error" not in line and str(tmp_path / "a") in line, line
-    assert "symbolic links" in line and len(err.strip().splitlines()) == 1
-
-
-def test_out_to_a_pipe_writes_through_it_and_keeps_it(tmp_path, capfd):
-    """``--out`` naming a pipe (as ``/dev/stdout`` is when piped): the output goes through it
-    and the pipe stays. The atomic write renamed a regular file over it: the reader got
-    nothing and the pipe was gone (for /dev/stdout, run as root: the system's, until a boot)."""
-    fifo = tmp_path / "poses.pipe"
-    os.mkfifo(fifo)
-    got: list[bytes] = []
-    reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
-    reader.start()
-    code, err = cli(capfd, "pose", "--describe", "--out", fifo)
-    reader.join(10)
-    if reader.is_alive():            # (the command never opened the pipe: let the reader go)
-        try:
-            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
-        except OSError:              # no reader left after all
-            pass
-        reader.join(10)
-    assert code == 0, err
-    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
-    assert json.loads(got[0])["height_m"] == 0.3
-
-
-def test_a_recording_to_a_device_or_pipe_is_refused(tmp_path, capfd):
-    """``run --record`` naming a pipe (or /dev/null): one line, nothing started. A recording is
-    never overwritten, so it went on beside it: to ``/dev/null-2``, a file in /dev."""
-    fifo = tmp_path / "session.pipe"
-    os.mkfifo(fifo)
-    code, err = cli(capfd, "run", "--config", Path(__file__).resolve().parents[2] / "config.yaml",
-                    "--headless", "--seconds", "0.5", "--record", fifo)
-    line = one_line(err)
-    assert code == 2 and f"{fifo}: is a device or pipe" in line, line
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["session.pipe"]
-
-
-def test_out_to_a_name_of_a_stream_leading_to_a_file_writes_through_it(tmp_path, capfd):
-    """``--out /dev/stdout > poses.json``: /dev/stdout is a link (through /proc/self/fd/1) to a
-    regular file, so it passed as one; the atomic write renamed a file over the link (run as
-    root: the system's /dev/stdout, until a boot) and the redirected file got nothing. A link
-    through /proc stands in for /dev/stdout; ``run --record`` of it is refused."""
-    out = tmp_path / "poses.json"
-    out.write_text("")
-    fd = os.open(out, os.O_WRONLY)
-    link = tmp_path / "stdout"
-    link.symlink_to(f"/proc/self/fd/{fd}")
-    try:
-        code, err = cli(capfd, "pose", "--describe", "--out", link)
-        assert code == 0, err
-        assert link.is_symlink() and os.readlink(link) == f"/proc/self/fd/{fd}"
-        assert json.loads(out.read_text())["height_m"] == 0.3
-        assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json", "stdout"]
-        code, err = cli(capfd, "run", "--config",
-                        Path(__file__).resolve().parents[2] / "config.yaml",
-                        "--headless", "--seconds", "0.5", "--record", link)
-        assert code == 2 and f"{link}: is a device or pipe" in one_line(err), err
-        assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json", "stdout"]
-    finally:
-        os.close(fd)
