@@ -50,10 +50,10 @@ log = logging.getLogger("tabletop")
 
 MB = 2**20
 DISK_FULL = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
-# Seconds of frame time between two tries to resume a recording a full disk stopped. Before,
-# it stayed stopped until the installation restarted: a gallery soak whose recordings folder
-# filled and was cleared two minutes later recorded nothing for the remaining 20 minutes (for
-# weeks, on a kiosk left alone). A failed try costs one file created and removed.
+# Seconds of frame time between two tries to resume a recording a full disk stopped: without
+# tries it stays stopped until the installation restarts (a gallery soak whose recordings
+# folder filled and was cleared two minutes later recorded nothing for the remaining 20
+# minutes; for weeks, on a kiosk left alone). A failed try costs one file created and removed.
 RESUME_EVERY_S = 60.0
 #: A disk that keeps falling behind again: each stop waits twice the last, up to this (seconds
 #: of frame time); a part that then keeps up this long starts the count again.
@@ -270,11 +270,11 @@ class Recorder(Syncer):
     def _resume(self, t: float) -> bool:
         """After a full disk or a disk that could not keep up, at ``_resume_at`` or the first
         frame after it that finds the syncer caught up: a new part, if the disk takes its
-        header. Before, a disk that stalled past ``max_queue`` lines stopped the recording
-        for good, also once its syncs came back: the rest of a weeks-long run went unrecorded.
-        A disk that falls behind again and again waits twice as long before each try (up to
-        ``SLOW_RESUME_MAX_S``): each stop and resume is logged and starts a part, so a disk
-        slow for good stopped and resumed every 77 s at 60 Hz (1,024 lines, then 60 s)."""
+        header, so that a disk that stalled past ``max_queue`` lines and whose syncs came back
+        records the rest of a weeks-long run. A disk that falls behind again and again waits
+        twice as long before each try (up to ``SLOW_RESUME_MAX_S``): each stop and resume is
+        logged and starts a part, and with a fixed wait a disk slow for good stopped and
+        resumed every 77 s at 60 Hz (1,024 lines, then 60 s)."""
         if not self._resumable or self._closing:
             return False
         if self._resume_at is None:      # stopped before the first frame

@@ -33,8 +33,8 @@ HOST_PORT = ("HOST:PORT (port 1..65535; an IPv6 address in brackets), e.g. 0.0.0
 def host_port(text: str) -> tuple[str, int]:
     """``"0.0.0.0:9000"`` -> ("0.0.0.0", 9000), ``"[::1]:9000"`` -> ("::1", 9000); ValueError
     with one message for anything else (``::1:9000`` too: its port would be a guess). The
-    last colon split the address before, so ``[::1]:9000`` was the host ``[::1]``, which no
-    socket takes."""
+    brackets are taken off the host: split at the last colon alone, ``[::1]:9000`` would be
+    the host ``[::1]``, which no socket takes."""
     host, sep, port = text.rpartition(":")
     if host.startswith("[") and host.endswith("]"):
         host = host[1:-1]

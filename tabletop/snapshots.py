@@ -158,10 +158,10 @@ def save_png(surface, path: Path) -> str:
     temporary file, fsync, rename); returns what went wrong, or "" when it was written.
 
     Encoded by OpenCV, which lets go of the interpreter while it compresses: pygame's own PNG
-    writer holds it for the whole encode (60-170 ms at 1280x720), and the loop's thread stood
-    still that long at every snapshot (capture-to-render p99 61-70 ms in a 14 s window run
-    with a snapshot every 2 s, against 6 ms without; now the longest pause is the pixels'
-    copy, 3-5 ms)."""
+    writer holds it for the whole encode (60-170 ms at 1280x720), and with it the loop's
+    thread stood still that long at every snapshot (capture-to-render p99 61-70 ms in a 14 s
+    window run with a snapshot every 2 s, against 6 ms without); with OpenCV the longest
+    pause is the pixels' copy, 3-5 ms."""
     import cv2
     import numpy as np
     import pygame

@@ -133,9 +133,10 @@ def main(args: argparse.Namespace) -> int:
                          f"{exc.strerror or exc}") from None
 
     def handle_error(_request: Any, client: Any) -> None:
-        """socketserver printed a handler's exception with its traceback and served on: a
-        reader gone (``status ... | head -1``) gave one traceback a heartbeat, for good. A
-        closed output now leaves serve_forever (the CLI's quiet 141); a packet the OSC decoder
+        """In place of socketserver's own, which prints a handler's exception with its
+        traceback and serves on (a reader gone, ``status ... | head -1``, would give one
+        traceback a heartbeat, for good): a closed output leaves serve_forever (the CLI's
+        quiet 141); a packet the OSC decoder
         refuses (a stray sender's: python-osc raises UnicodeDecodeError on a non-UTF-8 string)
         is one line, and the heartbeats go on being shown."""
         exc = sys.exc_info()[1]

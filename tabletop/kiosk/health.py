@@ -275,9 +275,9 @@ class HealthReporter:
 
     def stopped(self) -> None:
         """After :meth:`close`, when the kiosk ends on purpose: the status file says so, its
-        last status again with ``mode`` "stopped", ``fps`` 0 and the time of the stop. It kept
-        saying "live" (or "one_moment"), its pid gone, so a look at the file could not tell a
-        table stopped an hour ago from one running. A kiosk that ends before its first status
+        last status again with ``mode`` "stopped", ``fps`` 0 and the time of the stop; a file
+        still saying "live" (or "one_moment") with its pid gone would not tell a table stopped
+        an hour ago from one running. A kiosk that ends before its first status
         (within its first second) writes one of its own, without sources: the file would
         otherwise go on telling the status of the kiosk that ran before it."""
         if self.writer is None:

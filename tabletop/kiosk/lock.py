@@ -2,8 +2,8 @@
 config file, held for the kiosk's life.
 
 Two kiosks on one folder (the systemd service and a technician's ``tabletop run --kiosk``)
-shared the status file, the logs and the recordings with nothing between them: they fought
-over the camera and the ports, and ``status.json`` told a mix of both. The second start is now
+would share the status file, the logs and the recordings with nothing between them, fight over
+the camera and the ports, and ``status.json`` would tell a mix of both: the second start is
 refused in one line naming the folder and the running kiosk's process id (exit status 2).
 
 The lock is ``fcntl.flock`` on the file's open description: the kernel drops it when the last
@@ -87,8 +87,8 @@ def _unguarded(what: str, path: Path, exc: OSError) -> None:
 
 def _write_pid(fd: int, path: Path) -> None:
     """Write this process's pid in the held lock file ``path``, for a refused start's line. A
-    write that fails (a full disk, a quota, EIO) is logged and skipped: it stopped every
-    kiosk start with "No space left on device" where the table had played on; the lock is
+    write that fails (a full disk, a quota, EIO) is logged and skipped, so a full disk never
+    stops a kiosk start ("No space left on device") where the table can play on; the lock is
     held all the same, and a refusal then says the pid is not written."""
     try:
         os.ftruncate(fd, 0)

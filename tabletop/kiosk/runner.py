@@ -76,8 +76,9 @@ class Runner:
 
     def _studio_of(self, cfg: dict[str, Any]) -> None:
         """Whether ``cfg`` runs the studio, and for every engine (``studio_all``, MOP included).
-        Taken again at each build: before, an applied edit that turned the studio on (a
-        designer engine, ``studio.enabled``) built no studio until the next restart."""
+        Taken again at each build, so that an applied edit that turns the studio on (a
+        designer engine, ``studio.enabled``) builds the studio at once, not at the next
+        restart."""
         self.studio_all = self.studio_asked or cfg["studio"]["enabled"]
         # designer targets always go through the studio: Puppet Master engines in designer
         # mode, MOP characters and touch-pose characters (drawn once a designer key is pressed)
@@ -103,8 +104,8 @@ class Runner:
                           if self.studio_on else None)
         loop = inst.loop
         # (``record_path``, run --record, stays: each installation records to the next free name
-        # of it, FILE-2.jsonl..., as a supervised restart does. Before, the first applied config
-        # edit ended the recording for the rest of the run, without a word.)
+        # of it, FILE-2.jsonl..., as a supervised restart does, so an applied config edit never
+        # ends the recording for the rest of the run.)
         # providers of status fields; a part that is off still gives the fields the status
         # promises (README, health.py): without them a kiosk without a studio, or with
         # watch_config false, sent no "studio" (or "config", "config_error") at all
@@ -141,9 +142,10 @@ class Runner:
 
     def _drop(self) -> None:
         """Free the installation that ran (its loop closed it) before the next one is built,
-        so that the build reuses its memory (before, both lived during the build: a kiosk of
-        the gallery soak's config grew 6.5 MB an applied edit; now, with :func:`trim_heap` and
-        the studio's one drawing thread, 0.44 MB an edit over 20 edits, file descriptors flat).
+        so that the build reuses its memory (both alive during the build, a kiosk of the
+        gallery soak's config grew 6.5 MB an applied edit; freed first, with :func:`trim_heap`
+        and the studio's one drawing thread, 0.44 MB an edit over 20 edits, file descriptors
+        flat).
         A recording of it that failed is remembered for ``tabletop run``'s exit status."""
         recorder = self.inst.recorder if self.inst is not None else None
         if recorder is not None and (recorder.failed or recorder.gaps):

@@ -18,14 +18,15 @@ def supervised() -> bool:
 def follow_supervisor(stop: threading.Event, every_s: float = 0.5) -> threading.Thread:
     """In the supervised installation: set ``stop`` when the supervisor that started it is gone
     (this process handed to another parent), so the installation ends cleanly (its recording
-    closed, its status "stopped") instead of running on unsupervised. A supervisor killed
-    outright (``kill -9``, an out-of-memory kill) left the table running for good without
-    stall or crash restarts, holding its ports and camera against the next kiosk start and
-    writing the status file beside it (systemd's unit kills it; a start from a shell script,
-    a desktop's autostart or a terminal does not). Polls ``os.getppid`` every ``every_s``
-    against the pid the supervisor put in ``TABLETOP_SUPERVISOR_PID``, first at once: the
-    parent read here (after the runtime's imports, 0.5-2 s after the start) was already the
-    new one when the supervisor died before, and the installation ran on for good."""
+    closed, its status "stopped") instead of running on unsupervised. Without it a supervisor
+    killed outright (``kill -9``, an out-of-memory kill) would leave the table running for good
+    without stall or crash restarts, holding its ports and camera against the next kiosk start
+    and writing the status file beside it (systemd's unit kills it; a start from a shell
+    script, a desktop's autostart or a terminal does not). Polls ``os.getppid`` every
+    ``every_s`` against the pid the supervisor put in ``TABLETOP_SUPERVISOR_PID``, first at
+    once; the parent is named by the supervisor, not read here, because here is after the
+    runtime's imports (0.5-2 s after the start): a supervisor that died in between would leave
+    the new parent read as the supervisor, and the installation running on for good."""
     named = os.environ.get("TABLETOP_SUPERVISOR_PID", "")
     parent = int(named) if named.isdigit() else os.getppid()
 

@@ -16,8 +16,8 @@
 - SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
 - A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too, and so
   with ``EXIT_RECORDING_FAILED`` (3: ended on purpose, its recording failed, e.g. a full disk),
-  which it passes on. Restarted instead, a ``--seconds`` kiosk on a full disk never ended: each
-  new child failed its recording again and exited 3 after its seconds.
+  which it passes on (restarted, a ``--seconds`` kiosk on a full disk would never end: each
+  new child fails its recording again and exits 3 after its seconds).
 - Warm spares (``spares``, 2): the next children are started early (with the first child,
   then once a child is ready) and wait for ``go RESTARTS`` on their stdin (``$TABLETOP_WAIT_GO``)
   with their libraries imported, config validated and engines built
@@ -116,10 +116,11 @@ class Supervisor:
         self.keep_fds = tuple(keep_fds)
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
         # the crash log rotates as the kiosk's log does: unrotated, a table crashing every
-        # half minute for weeks (the longest back-off) grew it ~9 MB a day (3.3 KB a crash)
+        # half minute for weeks (the longest back-off) grows it ~9 MB a day (3.3 KB a crash)
         self.crash_log_max_bytes, self.crash_log_backups = crash_log_max_bytes, crash_log_backups
-        # ``--seconds``: the kiosk stops that long after its first READY, restarts included (a
-        # child given ``--seconds`` ran them again after each restart: a 40 s drill ran 70 s)
+        # ``--seconds``: the kiosk stops that long after its first READY, restarts included,
+        # counted here and not by the child (a child given ``--seconds`` runs them again after
+        # each restart: a 40 s drill ran 70 s)
         self.seconds = seconds
         self._end_at: float | None = None
         self.env = dict(os.environ if env is None else env)
@@ -129,7 +130,8 @@ class Supervisor:
         self.starts = 0
         self.crashes = 0
         # ("ready" | "crash" | "stall", clock time) and, per start, was it a prepared spare:
-        # the last EVENTS_KEPT (a table crashing every half minute for two weeks kept 40,000)
+        # the last EVENTS_KEPT (all of them, for a table crashing every half minute for two
+        # weeks, would be 40,000)
         self.events: collections.deque[tuple[str, float]] = collections.deque(
             maxlen=self.EVENTS_KEPT)
         self.warm: collections.deque[bool] = collections.deque(maxlen=self.EVENTS_KEPT)

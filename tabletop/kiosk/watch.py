@@ -46,8 +46,8 @@ def tree_signature(path: Path) -> tuple:
 
 def file_signature(path: Path) -> tuple:
     """:func:`tree_signature` and what ``path`` is (file, folder or nothing): a config file
-    removed and then replaced by an empty folder changes it. Before, both were ``()`` and the
-    kiosk kept saying "config file not found" of a folder."""
+    removed and then replaced by an empty folder changes it (the tree signature alone is
+    ``()`` for both, and the kiosk would keep saying "config file not found" of a folder)."""
     kind = "file" if path.is_file() else "folder" if path.is_dir() else None
     return (kind, tree_signature(path))
 

@@ -291,8 +291,8 @@ class PuppetMasterTarget:
             source="designer studio, recorded from the table")
         name = folder.name
         self.engine.behavior_name, self.playing, self.pending = name, folder, None
-        # the kept take is in play: the behaviour it replaced, deleted elsewhere and back, is
-        # no longer reloaded over it
+        # the kept take is in play, followed by its own poller: the behaviour it replaced,
+        # deleted elsewhere and back, is not reloaded over it
         self.play_poller, self.removed = Poller(folder), None
         self.lib_poller.signature = ()      # the library changed: list it again
         return name
