@@ -4,8 +4,8 @@ template of every member.
 :meth:`ActionFollower._finish <behaviors.mop.follower.ActionFollower._finish>` and the shape
 rules it applies (:mod:`behaviors.mop.validity`, :mod:`behaviors.mop.shape_lead`) update a dozen
 arrays over the templates after each step: followed state, size estimate, evidence, refusal with
-hysteresis, engagement, probabilities, path misfit and coverage, shape sums. Written as array
-operations over the group's templates (``behaviors/mop/group.py`` before this module) that was
+hysteresis, engagement, probabilities, path misfit and coverage, shape sums. Written as numpy
+array operations over the group's templates (measured in :mod:`behaviors.mop.group`) that is
 about 150 numpy calls per tick, most of DESIGN's 8 performers x 100 templates tick after the
 forward step; here it is one loop per template, in the same order of operations as the
 follower's own array code (the group stays equal to its followers stepped alone), followed per

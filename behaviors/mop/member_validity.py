@@ -80,11 +80,12 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
     refused sizes its template where :func:`~behaviors.mop.shape_lead.size_of_refused` finds
     a size (:data:`~behaviors.mop.shape_lead.TAKE_RESIZE`).
 
-    Before, the group's Python around its compiled passes: fancy indexing over the members
-    and a call through the follower (its Python, a copy of the samples) for each member whose
-    new best led. With :func:`tempo`, :func:`unbegun` and :func:`still_unbegun` called from
-    :func:`behaviors.mop.members.conclude` instead of one dispatch each from Python: see the
-    figures in :meth:`behaviors.mop.group.FollowerGroup._conclude`. Strict arithmetic, as the
+    Compiled here rather than done by the group's Python around its compiled passes (fancy
+    indexing over the members and a call through the follower, its Python and a copy of the
+    samples, for each member whose new best led). With :func:`tempo`, :func:`unbegun` and
+    :func:`still_unbegun` called from :func:`behaviors.mop.members.conclude` instead of one
+    dispatch each from Python: see the figures in
+    :meth:`behaviors.mop.group.FollowerGroup._conclude`. Strict arithmetic, as the
     follower's; called from the strict :func:`~behaviors.mop.members.conclude`, the per-template
     pass (compiled with ``contract``) is left as it was."""
     d = x.shape[1]

@@ -14,14 +14,14 @@ demonstration: 60 s, a hand alternating its wandering with going straight for th
 pursuit 40 -> 37 of 48; held-out seed 7 109 -> 106 of 120, pursuit 7 -> 8 of 8; held-out
 seeds 8-13 639 -> 642 of 720, pursuit 38 -> 42 of 48. The generated afraid character alone on
 seeds 0-5 (open paths + pursuit, of 144 + 48): 112 + 40 -> 122 + 37; its misses on seed 0's
-open paths 7 -> 1. Chased by the unseen visitor, the designer's own character is at a table
-edge 5-13% of the time on seeds 0-5 (formerly 18-59%); the generated one still 60% on seed 0
-(79% before): the engine's match does not see the table. The choice among the variants
-measured (the afraid generation alone, seeds 0-5, open + pursuit, designer seeds 53/54/55;
-the shipped seed is 53): this policy and hand at 80 s 159/144/151; the former policy with
-this hand 152/145/137; the former policy and hand at 80 s 156/159/141 and at 60 s
-152/138/129; this policy with the former straight chase 165/149/142 (pursuit 44-47 of 48,
-open paths 96-121 of 144; the hand then shows no approach from a side and no herding); a hand
+open paths 7 -> 1. Chased by the unseen visitor, the designer's own character is at a table edge
+5-13% of the time on seeds 0-5 (18-59% with the former demonstration); the generated one still
+60% on seed 0 (79% with it): the engine's match does not see the table. The choice among the
+variants measured (the afraid generation alone, seeds 0-5, open + pursuit, designer seeds
+53/54/55; the shipped seed is 53): this policy and hand at 80 s 159/144/151; the former policy
+with this hand 152/145/137; the former policy and hand at 80 s 156/159/141 and at 60 s
+152/138/129; this policy with the former straight chase 165/149/142 (pursuit 44-47 of 48, open
+paths 96-121 of 144; the hand then shows no approach from a side and no herding); a hand
 wandering half of the time and never pausing 129/156/149. Held-out seeds 7-13, the afraid
 generation alone (of 168 + 56): former 133 + 45, this 133 + 50.
 
