@@ -172,7 +172,7 @@ def _matrix(value: Any, rows: int, cols: int, where: str, key: str) -> np.ndarra
 def _homography(value: Any, where: str, key: str) -> np.ndarray:
     H = _matrix(value, 3, 3, where, key)
     # The test is det(H) < 1e-12 * max(1, |H|max)^3, taken on H scaled by max(1, |H|max) so
-    # that entries near 1e300 neither overflow the cube (an OverflowError that stopped
+    # that entries near 1e300 neither overflow the cube (an OverflowError that would stop
     # `tabletop run` with "internal error") nor the determinant.
     scale = max(1.0, float(np.abs(H).max()))
     if abs(np.linalg.det(H / scale)) < 1e-12:

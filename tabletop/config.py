@@ -151,7 +151,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
 
 
 def _check_sprites(cfg: dict, ctx: Context) -> None:
-    """A sprite names a character an engine makes (a misspelt name was drawn never, silently).
+    """A sprite names a character an engine makes (a misspelt name would never be drawn, silently).
     Only when every engine is of a kind whose characters the config names."""
     made: set[str] = set()
     for e in cfg["engines"]:

@@ -235,9 +235,9 @@ MAX_FIDELITY_S = 3600.0   # seconds of each unseen main path the --check table m
 
 
 def fidelity_seconds(text: str) -> float:
-    """``--fidelity-seconds``: 0 (no table) or 1 to MAX_FIDELITY_S seconds. 1e9 asked for a
-    224 GiB path and inf, 0.01 (paths of under two samples), each ended in a traceback; nan
-    and negative values silently printed no table."""
+    """``--fidelity-seconds``: 0 (no table) or 1 to MAX_FIDELITY_S seconds, refused otherwise:
+    1e9 asks for a 224 GiB path and inf, 0.01 (paths of under two samples) end in a traceback;
+    nan and negative values would print no table, silently."""
     try:
         v = float(text)
     except ValueError:

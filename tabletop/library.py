@@ -343,9 +343,9 @@ def free_name(library: str | Path, name: str) -> str:
 def save_new(library: str | Path, name: str, demo: np.ndarray, parameters: Mapping[str, Any],
              **description: str) -> Path:
     """Save a behaviour under ``name`` or the first free ``name-2``, ``name-3``... at the
-    moment it is saved; returns its folder. Two studios keeping one name in one library: the
-    name free when the second looked was taken by the first before the second's save, which
-    was refused ("already exists") and its take not kept."""
+    moment it is saved (a name taken meanwhile: the next); returns its folder. So two studios
+    keeping one name in one library both keep their takes: a name looked up before the save
+    can be taken by the other studio first, and the save refused ("already exists")."""
     for _ in range(1000):
         try:
             return save_behavior(library, free_name(library, name), demo, parameters,

@@ -252,8 +252,8 @@ class MarkerTracker:
         result is out (a camera thread, after publishing): the full search costs the frame no
         latency, and the camera publishes what it adds at once (a new puck shows a full
         search later, not a frame later: measured in the default installation, a puck put
-        down was shown 7.1 ms after its frame's capture, median of 11; with the next frame, as
-        before, 20.2 ms)."""
+        down was shown 7.1 ms after its frame's capture, median of 11; searched with the next
+        frame instead, 20.2 ms)."""
         none = np.zeros(0, int), np.zeros((0, 4, 2))
         if self._pending is None:
             return none

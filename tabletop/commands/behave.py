@@ -156,8 +156,8 @@ def check_metres(xy: np.ndarray, source: str, what: str) -> None:
 
 def check_library_path(path: Path) -> None:
     """``--train`` naming a library instead of one of its behaviours, or a behaviour the
-    library does not have (a typo: "lovr"), is refused naming the library's behaviours (it said
-    only "behavior.yaml: not found" or "demonstration CSV not found")."""
+    library does not have (a typo: "lovr"), is refused naming the library's behaviours, not
+    only "behavior.yaml: not found" or "demonstration CSV not found"."""
     import difflib
 
     from tabletop import library

@@ -94,7 +94,7 @@ def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]
         tt, fid = float(row[col["t"]]), int(row[col["id"]])
         if not frames or frames[-1][0] != tt:
             frames.append((tt, {}))
-        if fid in frames[-1][1]:   # one finger in two places at once: the last row won silently
+        if fid in frames[-1][1]:   # one finger in two places at once (not the last row, silently)
             raise PoseArgumentError(f"{path}: line {line}: finger {fid} is given twice at "
                                     f"t = {tt:g} s (one row per finger and time)")
         frames[-1][1][fid] = (float(row[col["x"]]), float(row[col["y"]]))

@@ -147,8 +147,8 @@ def main(args: argparse.Namespace) -> int:
 
     server.handle_error = handle_error  # type: ignore[method-assign]
     timer = None
-    if seconds is not None:   # a daemon, cancelled on Ctrl-C: it kept the process for the rest
-        # of --seconds after a Ctrl-C, and a second Ctrl-C printed a traceback from threading
+    if seconds is not None:   # a daemon, cancelled on Ctrl-C: otherwise it keeps the process
+        # for the rest of --seconds after a Ctrl-C, and a second Ctrl-C prints a traceback
         timer = threading.Timer(seconds, server.shutdown)
         timer.daemon = True
         timer.start()

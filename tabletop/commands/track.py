@@ -165,7 +165,7 @@ class FrameReader:
         them: the shortfall is at most SHORT_TOLERANCE of them (at least SHORT_MIN) and no
         frame follows the failed one. The declared count is the container's estimate (OpenCV's
         CAP_PROP_FRAME_COUNT: nb_frames, or duration x fps), known to exceed intact files'
-        decodable frames by a few; such a file was refused whole. A frame that cannot be
+        decodable frames by a few, so such a file is not refused whole. A frame that cannot be
         decoded with frames after it is a damaged file, refused whatever the shortfall."""
         assert self.total is not None and self.capture is not None
         short = self.total - read

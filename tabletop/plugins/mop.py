@@ -82,7 +82,7 @@ SKELETON_KEYS = ("skeleton", "view_yaw", "elevation", "travel")  # a skeleton ch
 def _refuse_unread(value: dict, spec: Record, keys: tuple[str, ...], owner: str, noun: str,
                    path: str, ctx: Context) -> None:
     """Refuse a key of ``keys`` given other than its default: a ``value["kind"]`` ``noun`` does
-    not read it (it was taken and changed nothing)."""
+    not read it (taken, it would change nothing)."""
     for key in keys:
         if value[key] != spec.fields[key].default:
             raise ctx.error(f"{path}.{key}", f"only a {owner} {noun} takes {key}; a "

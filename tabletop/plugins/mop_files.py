@@ -140,9 +140,9 @@ def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_h
     """The kept actions of ``character`` in the library ``folder`` (each with its template at
     ``rate_hz``), and one message per bad file or entry: skipped, the others load. An entry
     without a name, with the name of an earlier entry or of an action the config gives the
-    character (``configured``) is bad: an empty name stopped the engine's start, naming no file;
-    a repeated one silently replaced the earlier entry's action, and a configured one the
-    configured action."""
+    character (``configured``) is bad, skipped and named with its file rather than stopping the
+    engine's start or silently replacing the earlier entry's action (a repeated name) or the
+    configured action (a configured one)."""
     try:
         entries = read_library(folder, character)
     except MopError as exc:

@@ -18,9 +18,9 @@ from tracking.visitor import GesturePerformer, ScriptedVisitor
 
 
 def check_pucks(options: dict, path: str, ctx: Context) -> None:
-    """Each puck once in ``pucks`` and once among the ``performers``: ``pucks: [1, 1]`` was
-    accepted and put two markers of one id on the table (the tracker took them for one puck
-    jumping between them), and a second performer of a puck silently replaced the first. (A
+    """Each puck once in ``pucks`` and once among the ``performers``: ``pucks: [1, 1]`` would
+    put two markers of one id on the table (the tracker takes them for one puck jumping
+    between them), and a second performer of a puck would silently replace the first. (A
     performer's puck may be in ``pucks``, as by default: it performs instead of wandering.)"""
     for key, ids in (("pucks", options["pucks"]),
                      ("performers", [p["puck"] for p in options["performers"]])):

@@ -104,8 +104,8 @@ class TouchPoseTarget:
         it in with :meth:`trained`), else at once; then the character knows it."""
         self.core.recognising = True
         if not self.held and self.seconds() >= designed.MIN_SECONDS:   # (a shorter one is
-            # too short, said by the learning) nobody posed it: it said "the head hardly moves
-            # (0.00 m)", the part that moved most, to a designer whose drag missed the figure
+            # too short, said by the learning) nobody posed it: said so, not as "the head hardly
+            # moves (0.00 m)", the part that moved most, to a designer whose drag missed the figure
             raise InputError("no body part was held: press on a part and move it while "
                              "recording")
         part = max(self.held, key=self.held.__getitem__) if self.held else None   # else: moved most
