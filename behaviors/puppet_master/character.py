@@ -78,7 +78,8 @@ STOPS_WITH_MAIN = 0.45  # pace beside a still main / beside a walking one (pace_
 # the afraid 0.52-0.99, the playful friend 0.88-1.04, the bully 0.71-1.11. keeps_pace as
 # shipped: the lover 19 -> 30, the stalker 22 -> 27 (2 with a space, 1 at pace 0.49)
 SINCE_WEIGHT = 0.5    # weight of the steps since the last push among the features of a
-# character that charges (Behavior.charging: the bully), chosen on the data (features.since_scale)
+# character that charges (Behavior.charging: the bully) or circles its main and darts into it
+# (Behavior.circling: the playful friend), chosen on the data (features.since_scale, behavior.py)
 MIN_CHARGES = 6       # charges (demonstrated.charges) from which a demonstration shows a
 # character that charges (the bully 15 in its minute); a few passes close by are incidents: the
 # stalker's one pass round its reversing main, the playful friend's one dart that touched.

@@ -81,9 +81,11 @@ def test_the_compiled_step_equals_the_python_step_bit_for_bit(kind, rate, params
     # walking with its main: the keep-away and circling characters), then the room
     still = kind in ("follow", "stalker", "keep_away", "circling")
     assert (b.scales.still > 0.0) == still
-    # the steps since the last push where the demonstration charges again and again
-    assert (b.scales.since > 0.0) == (kind == "bully") == b.charging
-    assert b.situation_vectors.shape[1] == 6 + still + (kind == "bully") + (
+    # the steps since the last push where the demonstration charges again and again, or
+    # circles its main and darts into it (the synthetic circler never touches its main)
+    since = kind in ("bully", "playful_friend")
+    assert (b.scales.since > 0.0) == since and b.charging == (kind == "bully")
+    assert b.situation_vectors.shape[1] == 6 + still + since + (
         2 if params.get("w_room") else 0)
     assert (b.personal_space == 0.0) == (shipped and kind != "lover")   # share_around
     assert b.keeps_pace == (kind == "stalker")
