@@ -11,7 +11,8 @@ Each :meth:`TouchPose.step` takes the fingers on the table (id -> table metres) 
 3. action control: generalised time toward the synthesised time, stillness and automatic
    direction by segment; once the time comes within one frame's interval of the synthesised
    time, the synthesised posture itself is output, else the sample motions' posture at the
-   time with the synthesis's motion weights (section 5); secondary touches by IK; at the end
+   time with the synthesis's motion weights (section 5); secondary touches by IK, unlimited
+   (``HELD_REACH``: a held part stays fixed under its finger as the action moves); at the end
    back to posing where the action left the character (its position and heading become the
    posing base, within ``ROAM``);
 4. tracking control: equations 2-4, then the physical effect (equations 5-7) on free segments,
@@ -31,7 +32,7 @@ import numpy as np
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel, recognise
 from behaviors.touch_pose.fingers import Finger, common_motion
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, yaw_of
-from behaviors.touch_pose.ik import CCD, limit_goal
+from behaviors.touch_pose.ik import CCD, MAX_CORRECTION, limit_goal
 from behaviors.touch_pose.latent import Blend, yaw_view
 from behaviors.touch_pose.models import Models, load_or_build
 from behaviors.touch_pose.samples import place
@@ -50,6 +51,13 @@ OVERLAP = 0.25
 TABLE_MARGIN = 0.02
 #: Seconds of each finger's path kept for recognising actions (a longer drag never matches).
 PATH_S = 2.5
+#: Farthest IK may move a part held by a secondary finger from where the running action puts
+#: it (character metres): no limit, so the part stays under its finger (fixed, section 7) as far
+#: as its chain reaches while the action moves the body. With posing's 0.2 m the part went with
+#: the travelling body and came back to the finger only when posing resumed: held part's median
+#: distance from its finger over the action (tests/touch_pose/test_held_during_action.py, table
+#: m at 0.3 m tall, view 90,15) walk 0.126 -> 0.018, punch 0.133 -> 0.051, kick 0.095 -> 0.006.
+HELD_REACH = math.inf
 #: Farthest the posing base may roam from where the character started (character metres).
 ROAM = 1.0
 
@@ -304,15 +312,16 @@ class TouchPose:
         return {p for p in ("left_foot", "right_foot") if parts[PARTS.index(p)][1] < GROUND}
 
     def _solve(self, pose: Pose, names: list[str], targets: np.ndarray, skip: str | None = None,
-               keep_feet: bool = True) -> Pose:
-        """CCD toward the touches (each limited to 0.2 m) and planted feet kept in place."""
+               keep_feet: bool = True, limit: float = MAX_CORRECTION) -> Pose:
+        """CCD toward the touches (each limited to ``limit`` m, the character's) and planted
+        feet kept in place."""
         parts = self.body.parts(pose)
         goals: dict[str, np.ndarray] = {}
         for name, s in zip(names, targets):
             if name == skip:
                 continue
             cur = parts[PARTS.index(name)]
-            goals[name] = limit_goal(cur, self.camera.ray_point(s, cur))
+            goals[name] = limit_goal(cur, self.camera.ray_point(s, cur), limit)
         if keep_feet:
             prev = self._points(self.target)[self._np:]
             for foot in self._grounded(self.target, prev):
@@ -374,7 +383,8 @@ class TouchPose:
         else:
             blend = a.model.at_time(last, u)
         pose = place(blend.pose, base, yaw)
-        self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False)
+        self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False,
+                                  limit=HELD_REACH)
         if clock.done:
             self.mode = "posing"
             if u >= 1.0:
