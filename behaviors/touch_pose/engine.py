@@ -57,6 +57,10 @@ PATH_S = 2.5
 #: the travelling body and came back to the finger only when posing resumed: held part's median
 #: distance from its finger over the action (tests/touch_pose/test_held_during_action.py, table
 #: m at 0.3 m tall, view 90,15) walk 0.126 -> 0.018, punch 0.133 -> 0.051, kick 0.095 -> 0.006.
+#: A finger that held its part through an action keeps this reach in the posing after it (the
+#: body stands where the action took it): over the posing second after the action, 0.102 ->
+#: 0.063 (walk), 0.099 -> 0.028 (punch), the head held through the walk 0.072 -> 0.000; the
+#: held hand's largest target step at the walk's switch back to posing 0.081 -> 0.047 m.
 HELD_REACH = math.inf
 #: Farthest the posing base may roam from where the character started (character metres).
 ROAM = 1.0
@@ -312,15 +316,16 @@ class TouchPose:
         return {p for p in ("left_foot", "right_foot") if parts[PARTS.index(p)][1] < GROUND}
 
     def _solve(self, pose: Pose, names: list[str], targets: np.ndarray, skip: str | None = None,
-               keep_feet: bool = True, limit: float = MAX_CORRECTION) -> Pose:
-        """CCD toward the touches (each limited to ``limit`` m, the character's) and planted
-        feet kept in place."""
+               keep_feet: bool = True, held: set[str] | frozenset = frozenset()) -> Pose:
+        """CCD toward the touches (each limited to 0.2 m, the ``held`` parts' to
+        ``HELD_REACH``) and planted feet kept in place."""
         parts = self.body.parts(pose)
         goals: dict[str, np.ndarray] = {}
         for name, s in zip(names, targets):
             if name == skip:
                 continue
             cur = parts[PARTS.index(name)]
+            limit = HELD_REACH if name in held else MAX_CORRECTION
             goals[name] = limit_goal(cur, self.camera.ray_point(s, cur), limit)
         if keep_feet:
             prev = self._points(self.target)[self._np:]
@@ -337,13 +342,17 @@ class TouchPose:
         idx = np.array([PARTS.index(n) for n in names])
         blend = self.m.posing.synthesize(idx, targets, view, offset)
         pose = place(blend.pose, self.base, self.yaw)
-        self.target = self._solve(pose, names, targets)
+        self.target = self._solve(pose, names, targets, held=self._held_through_action())
         match = self._recognise(view) if self.recognising else None
         if match is not None:
             self.mode = "action"
             self.clock = ActionClock(match.action, match.start_u)
             self.action_blend = None
             self.action_base = (self.base.copy(), self.yaw)
+
+    def _held_through_action(self) -> set[str]:
+        """Parts whose finger held them while an action ran (their IK stays unlimited)."""
+        return {f.part for f in self.fingers.values() if f.held_through_action}
 
     def _recognise(self, view: np.ndarray):
         excluded = self.excluded()
@@ -383,8 +392,10 @@ class TouchPose:
         else:
             blend = a.model.at_time(last, u)
         pose = place(blend.pose, base, yaw)
+        for f in self.fingers.values():
+            f.held_through_action = f.held_through_action or f.part not in (None, a.spec.part)
         self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False,
-                                  limit=HELD_REACH)
+                                  held=set(names))
         if clock.done:
             self.mode = "posing"
             if u >= 1.0:
