@@ -11,7 +11,8 @@ Each :meth:`TouchPose.step` takes the fingers on the table (id -> table metres) 
 3. action control: generalised time toward the synthesised time, stillness and automatic
    direction by segment; once the time comes within one frame's interval of the synthesised
    time, the synthesised posture itself is output, else the sample motions' posture at the
-   time with the synthesis's motion weights (section 5); secondary touches by IK; at the end
+   time with the synthesis's motion weights (section 5); secondary touches by IK, unlimited
+   (``HELD_REACH``: a held part stays fixed under its finger as the action moves); at the end
    back to posing where the action left the character (its position and heading become the
    posing base, within ``ROAM``);
 4. tracking control: equations 2-4, then the physical effect (equations 5-7) on free segments,
@@ -31,7 +32,7 @@ import numpy as np
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel, recognise
 from behaviors.touch_pose.fingers import Finger, common_motion
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, yaw_of
-from behaviors.touch_pose.ik import CCD, limit_goal
+from behaviors.touch_pose.ik import CCD, MAX_CORRECTION, limit_goal
 from behaviors.touch_pose.latent import Blend, yaw_view
 from behaviors.touch_pose.models import Models, load_or_build
 from behaviors.touch_pose.samples import place
@@ -50,6 +51,17 @@ OVERLAP = 0.25
 TABLE_MARGIN = 0.02
 #: Seconds of each finger's path kept for recognising actions (a longer drag never matches).
 PATH_S = 2.5
+#: Farthest IK may move a part held by a secondary finger from where the running action puts
+#: it (character metres): no limit, so the part stays under its finger (fixed, section 7) as far
+#: as its chain reaches while the action moves the body. With posing's 0.2 m the part went with
+#: the travelling body and came back to the finger only when posing resumed: held part's median
+#: distance from its finger over the action (tests/touch_pose/test_held_during_action.py, table
+#: m at 0.3 m tall, view 90,15) walk 0.126 -> 0.018, punch 0.133 -> 0.051, kick 0.095 -> 0.006.
+#: A finger that held its part through an action keeps this reach in the posing after it (the
+#: body stands where the action took it): over the posing second after the action, 0.102 ->
+#: 0.063 (walk), 0.099 -> 0.028 (punch), the head held through the walk 0.072 -> 0.000; the
+#: held hand's largest target step at the walk's switch back to posing 0.081 -> 0.047 m.
+HELD_REACH = math.inf
 #: Farthest the posing base may roam from where the character started (character metres).
 ROAM = 1.0
 
@@ -304,15 +316,17 @@ class TouchPose:
         return {p for p in ("left_foot", "right_foot") if parts[PARTS.index(p)][1] < GROUND}
 
     def _solve(self, pose: Pose, names: list[str], targets: np.ndarray, skip: str | None = None,
-               keep_feet: bool = True) -> Pose:
-        """CCD toward the touches (each limited to 0.2 m) and planted feet kept in place."""
+               keep_feet: bool = True, held: set[str] | frozenset = frozenset()) -> Pose:
+        """CCD toward the touches (each limited to 0.2 m, the ``held`` parts' to
+        ``HELD_REACH``) and planted feet kept in place."""
         parts = self.body.parts(pose)
         goals: dict[str, np.ndarray] = {}
         for name, s in zip(names, targets):
             if name == skip:
                 continue
             cur = parts[PARTS.index(name)]
-            goals[name] = limit_goal(cur, self.camera.ray_point(s, cur))
+            limit = HELD_REACH if name in held else MAX_CORRECTION
+            goals[name] = limit_goal(cur, self.camera.ray_point(s, cur), limit)
         if keep_feet:
             prev = self._points(self.target)[self._np:]
             for foot in self._grounded(self.target, prev):
@@ -328,13 +342,17 @@ class TouchPose:
         idx = np.array([PARTS.index(n) for n in names])
         blend = self.m.posing.synthesize(idx, targets, view, offset)
         pose = place(blend.pose, self.base, self.yaw)
-        self.target = self._solve(pose, names, targets)
+        self.target = self._solve(pose, names, targets, held=self._held_through_action())
         match = self._recognise(view) if self.recognising else None
         if match is not None:
             self.mode = "action"
             self.clock = ActionClock(match.action, match.start_u)
             self.action_blend = None
             self.action_base = (self.base.copy(), self.yaw)
+
+    def _held_through_action(self) -> set[str]:
+        """Parts whose finger held them while an action ran (their IK stays unlimited)."""
+        return {f.part for f in self.fingers.values() if f.held_through_action}
 
     def _recognise(self, view: np.ndarray):
         excluded = self.excluded()
@@ -374,7 +392,10 @@ class TouchPose:
         else:
             blend = a.model.at_time(last, u)
         pose = place(blend.pose, base, yaw)
-        self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False)
+        for f in self.fingers.values():
+            f.held_through_action = f.held_through_action or f.part not in (None, a.spec.part)
+        self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False,
+                                  held=set(names))
         if clock.done:
             self.mode = "posing"
             if u >= 1.0:

@@ -13,6 +13,8 @@ class Finger:
 
     def __init__(self, part: str | None, capacity: int = 128) -> None:
         self.part = part
+        #: the part was held while an action ran (set by the engine)
+        self.held_through_action = False
         self.table = np.zeros(2)
         self._t = np.empty(capacity)
         self._p = np.empty((capacity, 2))

@@ -22,7 +22,8 @@ part), not a sample of this one, so they keep their one motion. The hand-made wa
 single too: the bow is left-right symmetric (its mirror adds nothing) and more hand-made takes of
 the wave would be invented data, not samples. Nothing is time-warped or noised into a "sample".
 
-The walk is one cycle of the walk clip (1.27 s, 1.24 m: the left foot steps, then the right).
+The walk is one cycle of the walk clip (1.27 s, 1.24 m: the left foot steps, then the right),
+the seam between its recorded half cycles mended (:func:`mend_seam`).
 Its primary part is the left foot, whose step (generalised time 0.1-0.45) is a flat 1.2 m sweep
 forward, told apart from the side and from above; no other action has that part, so no kick or
 spin kick drag competes with it. Measured over six views, strokes dragged at 0.5-1.5 times
@@ -49,7 +50,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from behaviors.motion.clips import Clip, quat_from_axis_angle, quat_mul, quat_slerp
+from behaviors.motion.clips import (Clip, quat_conj, quat_from_axis_angle, quat_from_rotvec,
+                                    quat_mul, quat_slerp, quat_to_rotvec)
 from behaviors.motion.deepmimic import load_motion
 from behaviors.touch_pose.humanoid import Humanoid, Pose, yaw_of
 
@@ -175,6 +177,56 @@ def mirror_clip(clip: Clip) -> Clip:
     return Clip(clip.name + MIRRORED, clip.channels, clip.times.copy(), values, loop=clip.loop)
 
 
+#: Frames on each side of a recording's seam over which its jump is spread (:func:`mend_seam`).
+SEAM_FRAMES = 6
+#: A frame step counts as a seam when its largest joint turn is this many times the clip's
+#: median largest turn per frame (the walk's seam: 28.8 degrees against a median of 4.3).
+SEAM_FACTOR = 4.0
+
+
+def mend_seam(clip: Clip, frames: int = SEAM_FRAMES) -> Clip:
+    """``clip`` with its seam mended: the DeepMimic walk is two half cycles joined at frames
+    18-19, where every joint jumps at once (left shoulder 28.8 degrees in one 1/30 s frame,
+    right shoulder 13.1, left hip 10.0, root 7.2; elsewhere at most 6.7 and 4.3 typical), which
+    the walk action played as popping. The step beyond the motion's own pace there (the
+    average of the steps either side) is spread over ``frames`` frames each side, half before
+    and half after, tapering linearly: each channel's path is kept, the jump gone. Largest joint
+    turn between the walk's samples 28.8 -> 12.2 degrees (right knee, the motion's own); per
+    target frame while the walk is dragged, worst of four views (bench/touch_pose_turns.py
+    ``walk_drag_deg``) 28.6 -> 20.5, in line with the wave's 21.0 and the jump's 26.1 (punch,
+    kick and spin kick strike at 70-100); once the finger lifts 12.1 -> 13.0 (from most views
+    the seam is passed while dragging). A clip whose largest step is within
+    :data:`SEAM_FACTOR` of its median step has no seam and is returned as it is."""
+    v, sl = clip.values, clip.slices
+    n = len(v)
+    quats = [c.name for c in clip.channels if c.type == "quat"]
+    turn = np.zeros(n - 1)
+    for name in quats:
+        q = v[:, sl[name]]
+        turn = np.maximum(turn, np.linalg.norm(quat_to_rotvec(quat_mul(q[1:], quat_conj(q[:-1]))),
+                                               axis=1))
+    s = int(np.argmax(turn))
+    if n < 4 or s < 1 or s + 2 >= n or turn[s] < SEAM_FACTOR * float(np.median(turn)):
+        return clip
+    out = v.copy()
+    k = np.arange(n)
+    # share of the jump moved onto each frame: +1/2 .. 0 before the seam, -1/2 .. 0 after
+    share = np.where(k <= s, 0.5 * np.clip(1 - (s - k) / frames, 0, 1),
+                     -0.5 * np.clip(1 - (k - s - 1) / frames, 0, 1))
+    for c in clip.channels:
+        cols = sl[c.name]
+        if c.type == "quat":
+            q = v[:, cols]
+            step = [quat_to_rotvec(quat_mul(q[i + 1], quat_conj(q[i]))) for i in (s - 1, s, s + 1)]
+            jump = step[1] - 0.5 * (step[0] + step[2])
+            out[:, cols] = quat_mul(quat_from_rotvec(share[:, None] * jump), q)
+        else:
+            d = np.diff(v[s - 1: s + 3, cols], axis=0)
+            jump = d[1] - 0.5 * (d[0] + d[2])
+            out[:, cols] = v[:, cols] + share[:, None] * jump
+    return Clip(clip.name, clip.channels, clip.times.copy(), out, loop=clip.loop)
+
+
 @lru_cache(maxsize=None)
 def clip_named(name: str) -> Clip:
     """A DeepMimic clip by short name, or the hand-made wave or bow; ``name`` + :data:`MIRRORED`
@@ -185,6 +237,8 @@ def clip_named(name: str) -> Clip:
         return wave_clip(load_motion("jump"))
     if name == "bow":
         return bow_clip(load_motion("jump"))
+    if name == "walk":
+        return mend_seam(load_motion(name))
     return load_motion(name)
 
 

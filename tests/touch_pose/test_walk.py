@@ -79,3 +79,14 @@ def test_walks_in_a_row_keep_the_character_on_the_table(make, models):
         assert any(r["action"] == "walk" for r in recs)
         x = e.table_points()[:, 0]
         assert x.min() >= 0.0 and x.max() <= e.table[0]
+
+
+def test_the_walk_samples_turn_no_joint_abruptly(models):
+    # the recording's half cycles meet at frames 18-19 with every joint jumping at once (left
+    # shoulder 28.8 degrees in one 1/30 s frame); mended, the largest turn is 12.2 (right knee)
+    from behaviors.touch_pose.tracking import rot_diff
+    w = _walk(models)
+    q = w.model.rots[np.argsort(w.model.times)]
+    turns = [np.degrees(np.linalg.norm(rot_diff(q[k], q[k - 1]), axis=1)).max()
+             for k in range(1, len(q))]
+    assert max(turns) < 15.0
