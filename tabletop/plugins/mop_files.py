@@ -11,6 +11,7 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
+from behaviors.mop.stage import NameTaken
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
                             read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
@@ -192,14 +193,14 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
                     names: tuple[str, ...], motion: str, rate_hz: float) -> str:
     """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
     atomically. Returns a short message for the operator. A name the library holds already
-    (an entry, or a file, e.g. a template skipped at load) is refused: nothing saved is
-    written over."""
+    (an entry, or a file, e.g. a template skipped at load) is refused (:class:`NameTaken`: the
+    stage keeps the take under the next free name): nothing saved is written over."""
     import yaml
     d = folder / character
     entries = read_library(folder, character)
     csv_name = f"{action}.csv"
     if action in library_names(folder, character, entries):
-        raise MopError(f"{d}: {action!r} is in the library already; not written over")
+        raise NameTaken(f"{d}: {action!r} is in the library already; not written over")
     t = np.arange(len(samples)) / rate_hz
     write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
     entries.append({"name": action, "template": csv_name, "motion": motion})

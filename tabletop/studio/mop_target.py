@@ -76,18 +76,31 @@ class MopTarget:
         take = self.stage.take
         return np.asarray(take.samples()) if take is not None else np.zeros((0, 0))
 
+    def _take_named(self, name: str) -> bool:
+        """Is ``name`` this character's pending take's?"""
+        take = self.stage.take
+        return take is not None and take.character == self.character \
+            and self.stage.take_action == name
+
     def revert(self) -> None:
         if self.stage.take is not None and self.stage.take.character == self.character:
+            named = self.stage.take_action
             self.stage.drop_take()
+            if named in self.loaded:    # another run kept an action of its name: it plays
+                self._applied()
 
     def assign(self) -> str:
         return f"motion {self.stage.assign_motion(self.character)}"
 
     def keep(self) -> str:
-        action = self.stage.take_action
-        self.stage.keep_take()
+        """Keep the take under its name, or the next free one when another run on the library
+        kept one of its name meanwhile (that one is then followed too, from this tick)."""
+        named = self.stage.take_action
+        action = self.stage.keep_take()
         self.kept = action
-        if action and self._poller is not None:       # in play already: no reload for it
+        if action != named:
+            self._applied()
+        elif action and self._poller is not None:     # in play already: no reload for it
             self.loaded.add(action)
             self._poller.signature = tree_signature(self._poller.path)
         return action or ""
@@ -183,6 +196,8 @@ class MopTarget:
             if gone != st.take_action:
                 st.remove_action(self.character, gone)
         for action, samples in kept:
+            if self._take_named(action.name):
+                continue    # another run's keep of the take's name: the take is tried on
             st.put_action(self.character, action, st.performer_of(self.character), samples)
         self.loaded = names
         if self.kept is not None and self.kept not in names:
