@@ -122,23 +122,27 @@ class MopTarget:
         self.kept = name     # every kept action of a character plays; this one is selected
 
     def _write(self, entries: list[dict]) -> None:
-        import yaml
-
-        from tabletop.files import atomic_write_text
-        from tabletop.plugins.mop_files import LIBRARY_FILE
+        from tabletop.plugins.mop_files import write_library
         assert self.lib is not None
-        atomic_write_text(self.lib / self.character / LIBRARY_FILE,
-                          yaml.safe_dump({"actions": entries}, sort_keys=False))
+        write_library(self.lib, self.character, entries)
+
+    def _locked(self):
+        """The library's lock, held while its entries are read, changed and written (another
+        run may be keeping into it)."""
+        from tabletop.plugins.mop_files import library_lock
+        assert self.lib is not None
+        return library_lock(self.lib, self.character)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
         """Rename a kept action; a name the character already has (kept, configured or the take
         being tried) is refused: the reload would replace that action with this one, and undo
         would then remove it from the character (``undo`` changes nothing: names are entries)."""
-        entries = self._entries()
-        own = set(self.stage.templates[self.character]) - self.loaded   # not from the library
-        if any(a["name"] == new for a in entries) or new in own:
-            raise InputError(f"an action {new!r} already exists")
-        self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
+        with self._locked():
+            entries = self._entries()
+            own = set(self.stage.templates[self.character]) - self.loaded   # not the library's
+            if any(a["name"] == new for a in entries) or new in own:
+                raise InputError(f"an action {new!r} already exists")
+            self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
         if self.kept == old:
             self.kept = new
         self._applied()
@@ -149,12 +153,13 @@ class MopTarget:
         run's take of its name wrote over it). Returns the undo."""
         assert self.lib is not None
         folder = self.lib / self.character
-        entries = self._entries()
-        gone = [a for a in entries if a["name"] == name]
-        others = {a["template"] for a in entries if a["name"] != name}
-        files = {folder / a["template"] for a in gone if a["template"] not in others}
-        backs = [trash(f) for f in files if f.parent == folder and f.is_file()]
-        self._write([a for a in entries if a["name"] != name])
+        with self._locked():
+            entries = self._entries()
+            gone = [a for a in entries if a["name"] == name]
+            others = {a["template"] for a in entries if a["name"] != name}
+            files = {folder / a["template"] for a in gone if a["template"] not in others}
+            backs = [trash(f) for f in files if f.parent == folder and f.is_file()]
+            self._write([a for a in entries if a["name"] != name])
         was_kept = self.kept == name
         if was_kept:
             self.kept = None
@@ -163,10 +168,11 @@ class MopTarget:
         def restore() -> None:
             # resumable: an undo that failed half-way (a read-only disk) is done again from
             # where it stopped, not refused for the template it already put back
-            for back in backs:
-                back()
-            entries = self._entries()
-            self._write(entries + [a for a in gone if a not in entries])
+            with self._locked():
+                for back in backs:
+                    back()
+                entries = self._entries()
+                self._write(entries + [a for a in gone if a not in entries])
             if was_kept and self.kept is None:
                 self.kept = name               # in play again: F2 said "nothing to rename"
             self._applied()

@@ -549,3 +549,30 @@ def test_a_discarded_take_gives_way_to_the_other_runs_action_of_its_name(tmp_pat
     b.tick(["designer.discard"])
     assert np.array_equal(engine.templates["face"]["take1"][1], a.engine.templates["face"]["take1"][1])
     assert "take1" in engine.puppets["face"].actions
+
+
+KEEPER = """
+import sys
+from pathlib import Path
+import numpy as np
+sys.path.insert(0, {root!r})
+from tabletop.plugins.mop_files import save_to_library
+for i in range(40):
+    save_to_library(Path({lib!r}), "face", "{who}%d" % i, np.zeros((5, 2)), ("dx", "dy"),
+                    "talk", 30.0)
+"""
+
+
+def test_two_runs_keeping_into_one_library_at_once_keep_every_take(tmp_path):
+    """Each keep read actions.yaml, wrote its template and wrote the entries it had read with
+    its own: two processes keeping 40 takes each into one character's library left 43 entries
+    of 80 (the others' templates on disk, named by no entry)."""
+    import subprocess
+    import sys
+    from tabletop.plugins.mop_files import read_library
+    root = str(Path(__file__).resolve().parents[2])
+    runs = [subprocess.Popen([sys.executable, "-c", KEEPER.format(root=root, lib=str(tmp_path),
+                                                                  who=who)]) for who in "ab"]
+    assert [r.wait(timeout=120) for r in runs] == [0, 0]
+    names = sorted(a["name"] for a in read_library(tmp_path, "face"))
+    assert names == sorted(f"{who}{i}" for who in "ab" for i in range(40))
