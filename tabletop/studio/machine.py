@@ -148,8 +148,10 @@ class Studio:
     def __call__(self, frame: Frame) -> Frame:
         self._t = frame.t
         if frame.focus in self.targets and frame.focus != self.selected:
-            if self.state != "idle":     # the take is left: dropped (logged once trained)
-                self._drop("discarded" if self.state in ("trying", "training") else "")
+            left, tried = self.selected, self.state in ("trying", "training")
+            if self.state != "idle":     # the take is left: dropped (logged once trained), said
+                self._drop("discarded" if tried else "")
+                self.say(f"{left}: take {'discarded' if tried else 'cancelled'} (Tab left it)")
             self.selected = frame.focus
         if self.state == "training" and self.target is not None:
             self._poll_training(self.target)     # between ticks: the worker's take swaps in

@@ -335,3 +335,22 @@ def test_rename_delete_and_undo_wait_while_a_take_is_tried(tmp_path):
     s.command("designer.undo")
     assert s.message == "undone: rename pet -> shy"
     assert library.list_behaviors(lib) == ["lover", "pet"]
+
+
+def test_a_take_left_by_tab_is_said_discarded(tmp_path):
+    """Tab while a take was tried (or recorded) dropped it without a word: the next target's
+    line showed, and the take was gone when the designer came back."""
+    a, b = build([{"kind": "puppet_master", "name": n, "designer": {
+        "enabled": True, "library": str(tmp_path), "background_training": False}}
+        for n in ("a", "b")])
+    bench = Bench([a, b], tmp_path)
+    demo = designers.demonstrate("lover", seed=1, seconds=4)
+    for f in demo_frames(demo, {4: ("designer.record",), 120: ("designer.record",)}, focus="a"):
+        _, studio = bench.step(f)
+    assert bench.studio.state == "trying"
+    _, studio = bench.step(Frame(seq=500, t=200.0, focus="b"))
+    assert studio.label == "[b] a: take discarded (Tab left it)", studio.label
+    bench.step(Frame(seq=501, t=201.0, focus="b", commands=("designer.record",)))
+    _, studio = bench.step(Frame(seq=502, t=202.0, focus="a"))
+    assert studio.label == "[a] b: take cancelled (Tab left it)", studio.label
+    assert bench.studio.state == "idle" and a.behavior is None
