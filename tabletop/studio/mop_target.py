@@ -105,6 +105,15 @@ class MopTarget:
             self._poller.signature = tree_signature(self._poller.path)
         return action or ""
 
+    @property
+    def unsaved(self) -> str:
+        """What the keep's line adds when nothing is saved: an engine without a ``library``
+        keeps its takes for this run only, gone at the next start."""
+        if self.lib is not None:
+            return ""
+        return (f" for this run only: engine {self.stage.name!r} has no library to save it in "
+                "(give it library: FOLDER in the config)")
+
     def _entries(self) -> list[dict]:
         from tabletop.plugins.mop_files import read_library
         return read_library(self.lib, self.character) if self.lib is not None else []

@@ -576,3 +576,23 @@ def test_two_runs_keeping_into_one_library_at_once_keep_every_take(tmp_path):
     assert [r.wait(timeout=120) for r in runs] == [0, 0]
     names = sorted(a["name"] for a in read_library(tmp_path, "face"))
     assert names == sorted(f"{who}{i}" for who in "ab" for i in range(40))
+
+
+def test_a_keep_without_a_library_says_it_is_for_this_run_only(tmp_path):
+    """An engine without a library said "kept as take1" like a saved keep; nothing was
+    written and the take was gone at the next start."""
+    cfg = _designer_config(tmp_path)
+    del cfg["engines"][0]["library"]
+    engine = _build(cfg, tmp_path)
+    table = StudioTable(engine, None)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert table.status == ("[mop/face] kept as take1 for this run only: engine 'mop' has no "
+                            "library to save it in (give it library: FOLDER in the config)")
+    assert "take1" in engine.puppets["face"].actions and not any(tmp_path.iterdir())
+    _, saved = kept_line(tmp_path)                      # with a library: saved, said plainly
+    assert saved.status == "[mop/face] kept as take1"
+    assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
