@@ -192,8 +192,7 @@ class Studio:
         except OSError as exc:      # the library's folder went away or refuses: said, not raised
             self.say(f"cannot: {exc.filename or ''}: {exc.strerror or exc}")
 
-    def _unknown(self, target: Target, arg: str) -> None:
-        pass
+    def _unknown(self, target: Target, arg: str) -> None: ...
 
     # --- the take ----------------------------------------------------------------------------
 
@@ -300,8 +299,7 @@ class Studio:
             target.revert()
         if self._try is not None and outcome:
             self._finish(self._try, outcome)
-        self._try, self._part = None, ""
-        self.state = "idle"
+        self._try, self._part, self.state = None, "", "idle"
 
     def _finish(self, t: Try, outcome: str | None = None) -> None:
         if outcome is not None:
