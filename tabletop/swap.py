@@ -94,16 +94,24 @@ def _try_lock(target: Path) -> int | None:
 
 
 @contextmanager
+def exclusive(target: Path) -> Iterator[None]:
+    """Hold the lock of ``target`` (``.<name>.tabletop-lock`` beside it), waiting for another
+    process holding it: a file read, changed and written back by one process at a time."""
+    fd = _open_lock(target)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)                                   # releases the lock
+
+
+@contextmanager
 def locked(target: Path) -> Iterator[list[str]]:
     """Hold the save lock of ``target`` (waiting for a save running elsewhere), its interrupted
     saves recovered first; yields the recovery's lines (see :func:`recover`)."""
     target = real(target)
-    fd = _open_lock(target)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
+    with exclusive(target):
         yield _recover_held(target)
-    finally:
-        os.close(fd)                                   # releases the lock
 
 
 def saving(target: Path) -> bool:

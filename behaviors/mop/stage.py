@@ -75,6 +75,11 @@ TRIM_MARGIN_S = 0.15
 log = logging.getLogger("tabletop")
 
 
+class NameTaken(InputError):
+    """``save`` refused the take's name: the library holds it already (another run on the
+    library kept an action of that name after this take was named)."""
+
+
 class MopStage:
     """Engine ``step(frame) -> characters``; see the module docstring.
 
@@ -255,18 +260,20 @@ class MopStage:
         if len(samples) < MIN_TAKE_SAMPLES:
             self.take, self.take_action = None, None
             raise InputError(f"take too short ({len(samples)} samples of motion)")
-        self._counter += 1
-        # every name the character's library holds, loaded or not (a template skipped at load
-        # as corrupt kept its file: a take of its name was saved over it)
-        existing = set(self.templates[take.character]) | set(self.taken(take.character))
-        name = f"take{self._counter}"
-        while name in existing:
-            self._counter += 1
-            name = f"take{self._counter}"
-        self.take_action = name
+        name = self.take_action = self._free_name(take.character)
         motion = self.motion_of(take.character, take.motion_index)
         self._add_take_action(motion, background=True)
         return f"{name} -> {motion}"
+
+    def _free_name(self, character: str) -> str:
+        """The next ``takeN`` that is none of the names ``character``'s library holds, loaded
+        or not (a template skipped at load as corrupt kept its file: a take of its name was
+        saved over it), nor of its actions."""
+        existing = set(self.templates[character]) | set(self.taken(character))
+        self._counter += 1
+        while f"take{self._counter}" in existing:
+            self._counter += 1
+        return f"take{self._counter}"
 
     def assign_motion(self, character: str) -> str:
         """The next motion for ``character``'s take (chosen before recording, or played by the
@@ -282,21 +289,37 @@ class MopStage:
         return motion
 
     def keep_take(self) -> str:
-        """Keep the pending take (``save``d, e.g. to the library); returns the save's message.
-        InputError when there is nothing to keep or it cannot be saved (the take stays)."""
+        """Keep the pending take (``save``d, e.g. to the library); returns the name it is kept
+        under: its own, or the next free one when ``save`` finds its name taken meanwhile
+        (:class:`NameTaken`; the take's action is renamed, its followers rebuilt within the
+        tick). InputError when there is nothing to keep or it cannot be saved (the take
+        stays)."""
         take = self.take
         if take is None or self.take_action is None or take.recording:
             raise InputError("nothing to keep")
         motion = self.motion_of(take.character, take.motion_index)
-        msg = "kept (not saved: no library)"
         if self.save is not None:
-            try:
-                msg = self.save(take.character, self.take_action, take.samples(),
-                                self.performers[take.performer].names, motion)
-            except OSError as exc:
-                raise InputError(f"not saved: {exc}") from None
+            for _ in range(1000):
+                try:
+                    self.save(take.character, self.take_action, take.samples(),
+                              self.performers[take.performer].names, motion)
+                    break
+                except NameTaken:
+                    self._rename_take(self._free_name(take.character), motion)
+                except OSError as exc:
+                    raise InputError(f"not saved: {exc}") from None
+        name = self.take_action
         self.take, self.take_action = None, None
-        return msg
+        return name
+
+    def _rename_take(self, name: str, motion: str) -> None:
+        """The pending take's action is ``name`` from now (one rebuild of the followers)."""
+        assert self.take is not None and self.take_action is not None
+        c = self.take.character
+        self.templates[c].pop(self.take_action, None)
+        self.puppets[c].remove_action(self.take_action)
+        self.take_action = name
+        self._add_take_action(motion)
 
     def _add_take_action(self, motion: str, background: bool = False) -> None:
         take = self.take

@@ -49,6 +49,10 @@ class DesignedActionError(InputError):
     """A take or a stored action cannot become an action; the message names why (and the file)."""
 
 
+class ActionNameTaken(DesignedActionError):
+    """The library holds an action of that name already (:func:`save_action`)."""
+
+
 def primary_part(body: Humanoid, poses: Sequence[Pose]) -> str:
     """The part whose path through ``poses`` is longest (character metres)."""
     parts = np.array([body.parts(p) for p in poses])          # (n, 6, 3)
@@ -175,7 +179,7 @@ def save_action(library: Path, name: str, part: str, times: np.ndarray,
     try:
         lib.mkdir(parents=True, exist_ok=True)
         if target.exists():
-            raise DesignedActionError(f"{target}: an action of that name already exists")
+            raise ActionNameTaken(f"{target}: an action of that name already exists")
         new_folder(target, {FILE: text})
     except OSError as exc:
         raise DesignedActionError(f"{target}: cannot save the action: {exc.strerror or exc}") \

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from tabletop.app import build_live
-from tabletop.frames import InputError
+from tabletop.frames import Frame, InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
 from tabletop.kiosk.health import (Heartbeat, HealthReporter, WatchdogPing,
@@ -58,6 +58,7 @@ class Runner:
         self.started = (clock or time.monotonic)()
         self.stop = threading.Event()
         self.pending: dict[str, Any] | None = None
+        self._waiting = False      # the pending edit waits for a studio take (said)
         self.notifier = Notifier()
         self.watcher = None
         self.inst = None
@@ -87,9 +88,22 @@ class Runner:
             for e in cfg["engines"])
 
     def _apply(self, cfg: dict[str, Any]) -> None:
-        self.pending = cfg
-        if self.inst is not None:
-            self.inst.loop.stop.set()
+        self.pending, self._waiting = cfg, False
+        self._apply_when_idle()
+
+    def _apply_when_idle(self, frame: Frame | None = None) -> None:
+        """Stop the loop for the pending edit's rebuild, unless a studio take is under way
+        (recorded, in parts or tried): a rebuild would drop it. The edit then waits, said once
+        on the status line, until the take is kept or dropped."""
+        if self.pending is None or self.inst is None:
+            return
+        studio = self.studio
+        if studio is not None and studio.state != "idle":
+            if not self._waiting:
+                self._waiting = True
+                studio.say("config edit: applied once this take is kept (K) or dropped (X)")
+            return
+        self.inst.loop.stop.set()
 
     def _build(self, cfg: dict[str, Any]):
         """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
@@ -116,8 +130,10 @@ class Runner:
         if not self.studio_on:
             extra.append(lambda: {"studio": None})
         held: set = set()
+        self.studio = None
         if self.studio_on:
             self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
+            loop.hooks.append(self._apply_when_idle)   # an edit waiting for a take
             extra.append(self.studio.status)
             held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
         for e in loop.engines:           # behaviours outside the studio are reloaded too

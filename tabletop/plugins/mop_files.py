@@ -5,15 +5,17 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Collection
+from typing import Any, Collection, ContextManager
 
 import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
+from behaviors.mop.stage import NameTaken
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
                             read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
+from tabletop.swap import exclusive
 
 BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
            "face": ("laugh", "surprise", "angry", "wink", "talk"),
@@ -192,16 +194,32 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
                     names: tuple[str, ...], motion: str, rate_hz: float) -> str:
     """Write a kept take: its template CSV (with ``t``) and its entry in actions.yaml, both
     atomically. Returns a short message for the operator. A name the library holds already
-    (an entry, or a file, e.g. a template skipped at load) is refused: nothing saved is
-    written over."""
-    import yaml
+    (an entry, or a file, e.g. a template skipped at load) is refused (:class:`NameTaken`: the
+    stage keeps the take under the next free name): nothing saved is written over."""
     d = folder / character
-    entries = read_library(folder, character)
-    csv_name = f"{action}.csv"
-    if action in library_names(folder, character, entries):
-        raise MopError(f"{d}: {action!r} is in the library already; not written over")
-    t = np.arange(len(samples)) / rate_hz
-    write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
-    entries.append({"name": action, "template": csv_name, "motion": motion})
-    atomic_write_text(d / LIBRARY_FILE, yaml.safe_dump({"actions": entries}, sort_keys=False))
+    with library_lock(folder, character):
+        entries = read_library(folder, character)
+        csv_name = f"{action}.csv"
+        if action in library_names(folder, character, entries):
+            raise NameTaken(f"{d}: {action!r} is in the library already; not written over")
+        t = np.arange(len(samples)) / rate_hz
+        write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
+        write_library(folder, character, entries + [{"name": action, "template": csv_name,
+                                                     "motion": motion}])
     return f"kept {action} -> {motion} in {d}"
+
+
+def library_lock(folder: Path, character: str) -> ContextManager[None]:
+    """The lock of ``character``'s actions.yaml, held while it is read, changed and written:
+    without it two runs keeping into one library at once each write the entries they read and
+    lose the other's keeps (37 of 80 in two processes keeping 40 takes each)."""
+    d = folder / character
+    d.mkdir(parents=True, exist_ok=True)
+    return exclusive(d / LIBRARY_FILE)
+
+
+def write_library(folder: Path, character: str, entries: list[dict[str, str]]) -> None:
+    """Write ``character``'s actions.yaml atomically (its :func:`library_lock` held)."""
+    import yaml
+    atomic_write_text(folder / character / LIBRARY_FILE,
+                      yaml.safe_dump({"actions": entries}, sort_keys=False))

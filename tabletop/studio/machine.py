@@ -23,7 +23,8 @@ Commands (keys through the view, control markers through :class:`Markers`):
                         nor while a take is tried)
 ``designer.rename:NEW`` rename the item in play
 ``designer.delete``     delete the item in play (kept in the library's ``.trash``)
-``designer.undo``       undo the last keep, rename or delete
+``designer.undo``       undo the last keep, rename or delete (these three, as the
+                        switch, not while a take is under way or tried)
 ======================  =========================================================
 
 The machine is a frame filter: it runs before the engines, takes the ``designer.*`` commands
@@ -147,8 +148,10 @@ class Studio:
     def __call__(self, frame: Frame) -> Frame:
         self._t = frame.t
         if frame.focus in self.targets and frame.focus != self.selected:
-            if self.state != "idle":     # the take is left: dropped (logged once trained)
-                self._drop("discarded" if self.state in ("trying", "training") else "")
+            left, tried = self.selected, self.state in ("trying", "training")
+            if self.state != "idle":     # the take is left: dropped (logged once trained), said
+                self._drop("discarded" if tried else "")
+                self.say(f"{left}: take {'discarded' if tried else 'cancelled'} (Tab left it)")
             self.selected = frame.focus
         if self.state == "training" and self.target is not None:
             self._poll_training(self.target)     # between ticks: the worker's take swaps in
@@ -189,8 +192,7 @@ class Studio:
         except OSError as exc:      # the library's folder went away or refuses: said, not raised
             self.say(f"cannot: {exc.filename or ''}: {exc.strerror or exc}")
 
-    def _unknown(self, target: Target, arg: str) -> None:
-        pass
+    def _unknown(self, target: Target, arg: str) -> None: ...
 
     # --- the take ----------------------------------------------------------------------------
 
@@ -269,7 +271,7 @@ class Studio:
             self._try.name = name
             self._finish(self._try, "kept")
         self.undo_stack.append((f"keep {name}", lambda: target.remove(name)))
-        self.say(f"kept as {name}")
+        self.say(f"kept as {name}{getattr(target, 'unsaved', '')}")   # (MOP: no library)
 
     def _discard(self, target: Target, arg: str) -> None:
         if self.state in ("trying", "training"):
@@ -297,8 +299,7 @@ class Studio:
             target.revert()
         if self._try is not None and outcome:
             self._finish(self._try, outcome)
-        self._try, self._part = None, ""
-        self.state = "idle"
+        self._try, self._part, self.state = None, "", "idle"
 
     def _finish(self, t: Try, outcome: str | None = None) -> None:
         if outcome is not None:
@@ -320,14 +321,18 @@ class Studio:
 
     # --- the library -----------------------------------------------------------------------------
 
+    def _busy(self, doing: str) -> bool:
+        """Is a take under way? Then ``doing`` is refused, said: it acts on the library item
+        in play, not on the take (a switch would train the take with another character's
+        parameters; F2 on a take tried would rename the item played before it)."""
+        if self.state in ("countdown", "recording", "ready"):
+            self.say(f"no {doing} during a take: finish it, or X cancels it")
+        elif self.state in ("trying", "training"):
+            self.say(f"no {doing} while a take is tried: K keeps or X discards it first")
+        return self.state != "idle"
+
     def _item(self, target: Target, step: int) -> None:
-        if self.state in ("countdown", "recording", "ready"):   # the take trains with the
-            # parameters in play at its stop: a switch mid-take trained it as another character
-            self.say("no switching during a take: finish it, or X cancels it")
-            return
-        if self.state in ("trying", "training"):   # the switch played the library item while
-            # the take waited for K, which then kept it under a name the item played under
-            self.say("no switching while a take is tried: K keeps or X discards it first")
+        if self._busy("switching"):
             return
         items = target.items()
         if not items:
@@ -355,6 +360,8 @@ class Studio:
         self._item(target, -1)
 
     def _rename(self, target: Target, arg: str) -> None:
+        if self._busy("renaming"):
+            return
         old = target.current()
         if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
             self.say("nothing to rename" if old is None else "rename needs a new name")
@@ -365,6 +372,8 @@ class Studio:
         self.say(f"renamed {old} to {arg}")
 
     def _delete(self, target: Target, arg: str) -> None:
+        if self._busy("deleting"):
+            return
         name = target.current()
         if name is None:
             self.say("nothing to delete")
@@ -374,6 +383,8 @@ class Studio:
         self.say(f"deleted {name} (U undoes)")
 
     def _undo(self, target: Target, arg: str) -> None:
+        if self._busy("undoing"):
+            return
         if not self.undo_stack:
             self.say("nothing to undo")
             return

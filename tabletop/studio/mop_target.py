@@ -76,21 +76,43 @@ class MopTarget:
         take = self.stage.take
         return np.asarray(take.samples()) if take is not None else np.zeros((0, 0))
 
+    def _take_named(self, name: str) -> bool:
+        """Is ``name`` this character's pending take's?"""
+        take = self.stage.take
+        return take is not None and take.character == self.character \
+            and self.stage.take_action == name
+
     def revert(self) -> None:
         if self.stage.take is not None and self.stage.take.character == self.character:
+            named = self.stage.take_action
             self.stage.drop_take()
+            if named in self.loaded:    # another run kept an action of its name: it plays
+                self._applied()
 
     def assign(self) -> str:
         return f"motion {self.stage.assign_motion(self.character)}"
 
     def keep(self) -> str:
-        action = self.stage.take_action
-        self.stage.keep_take()
+        """Keep the take under its name, or the next free one when another run on the library
+        kept one of its name meanwhile (that one is then followed too, from this tick)."""
+        named = self.stage.take_action
+        action = self.stage.keep_take()
         self.kept = action
-        if action and self._poller is not None:       # in play already: no reload for it
+        if action != named:
+            self._applied()
+        elif action and self._poller is not None:     # in play already: no reload for it
             self.loaded.add(action)
             self._poller.signature = tree_signature(self._poller.path)
         return action or ""
+
+    @property
+    def unsaved(self) -> str:
+        """What the keep's line adds when nothing is saved: an engine without a ``library``
+        keeps its takes for this run only, gone at the next start."""
+        if self.lib is not None:
+            return ""
+        return (f" for this run only: engine {self.stage.name!r} has no library to save it in "
+                "(give it library: FOLDER in the config)")
 
     def _entries(self) -> list[dict]:
         from tabletop.plugins.mop_files import read_library
@@ -109,23 +131,27 @@ class MopTarget:
         self.kept = name     # every kept action of a character plays; this one is selected
 
     def _write(self, entries: list[dict]) -> None:
-        import yaml
-
-        from tabletop.files import atomic_write_text
-        from tabletop.plugins.mop_files import LIBRARY_FILE
+        from tabletop.plugins.mop_files import write_library
         assert self.lib is not None
-        atomic_write_text(self.lib / self.character / LIBRARY_FILE,
-                          yaml.safe_dump({"actions": entries}, sort_keys=False))
+        write_library(self.lib, self.character, entries)
+
+    def _locked(self):
+        """The library's lock, held while its entries are read, changed and written (another
+        run may be keeping into it)."""
+        from tabletop.plugins.mop_files import library_lock
+        assert self.lib is not None
+        return library_lock(self.lib, self.character)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
         """Rename a kept action; a name the character already has (kept, configured or the take
         being tried) is refused: the reload would replace that action with this one, and undo
         would then remove it from the character (``undo`` changes nothing: names are entries)."""
-        entries = self._entries()
-        own = set(self.stage.templates[self.character]) - self.loaded   # not from the library
-        if any(a["name"] == new for a in entries) or new in own:
-            raise InputError(f"an action {new!r} already exists")
-        self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
+        with self._locked():
+            entries = self._entries()
+            own = set(self.stage.templates[self.character]) - self.loaded   # not the library's
+            if any(a["name"] == new for a in entries) or new in own:
+                raise InputError(f"an action {new!r} already exists")
+            self._write([dict(a, name=new) if a["name"] == old else a for a in entries])
         if self.kept == old:
             self.kept = new
         self._applied()
@@ -136,12 +162,13 @@ class MopTarget:
         run's take of its name wrote over it). Returns the undo."""
         assert self.lib is not None
         folder = self.lib / self.character
-        entries = self._entries()
-        gone = [a for a in entries if a["name"] == name]
-        others = {a["template"] for a in entries if a["name"] != name}
-        files = {folder / a["template"] for a in gone if a["template"] not in others}
-        backs = [trash(f) for f in files if f.parent == folder and f.is_file()]
-        self._write([a for a in entries if a["name"] != name])
+        with self._locked():
+            entries = self._entries()
+            gone = [a for a in entries if a["name"] == name]
+            others = {a["template"] for a in entries if a["name"] != name}
+            files = {folder / a["template"] for a in gone if a["template"] not in others}
+            backs = [trash(f) for f in files if f.parent == folder and f.is_file()]
+            self._write([a for a in entries if a["name"] != name])
         was_kept = self.kept == name
         if was_kept:
             self.kept = None
@@ -150,10 +177,11 @@ class MopTarget:
         def restore() -> None:
             # resumable: an undo that failed half-way (a read-only disk) is done again from
             # where it stopped, not refused for the template it already put back
-            for back in backs:
-                back()
-            entries = self._entries()
-            self._write(entries + [a for a in gone if a not in entries])
+            with self._locked():
+                for back in backs:
+                    back()
+                entries = self._entries()
+                self._write(entries + [a for a in gone if a not in entries])
             if was_kept and self.kept is None:
                 self.kept = name               # in play again: F2 said "nothing to rename"
             self._applied()
@@ -183,6 +211,8 @@ class MopTarget:
             if gone != st.take_action:
                 st.remove_action(self.character, gone)
         for action, samples in kept:
+            if self._take_named(action.name):
+                continue    # another run's keep of the take's name: the take is tried on
             st.put_action(self.character, action, st.performer_of(self.character), samples)
         self.loaded = names
         if self.kept is not None and self.kept not in names:

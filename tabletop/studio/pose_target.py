@@ -149,19 +149,45 @@ class TouchPoseTarget:
         self.core.recognising = True
         if self.worker is not None:
             self.worker.cancel()              # a take still being learned is dropped
-        if self.pending is not None:
-            self.core.remove_action(self.pending.name)
-        self.pending = None
+        a, self.pending = self.pending, None
+        if a is not None:
+            self.core.remove_action(a.name)
+            if a.name in self._loaded:        # another run kept an action of its name: known
+                self._load(a.name)
 
     def keep(self) -> str:
+        """Save the take's action under its name, or the next free one when another run on the
+        library kept an action of its name after it was trained (that one is known from now)."""
         a = self.pending
         if a is None:
             raise InputError("nothing to keep")
-        designed.save_action(self.lib, a.name, a.spec.part, np.array(self.times), self.poses)
+        named = a.name
+        for _ in range(1000):
+            try:
+                designed.save_action(self.lib, a.name, a.spec.part, np.array(self.times),
+                                     self.poses)
+                break
+            except designed.ActionNameTaken:
+                self._rename_action(a, self._free_name())
         self.kept, self.pending = a.name, None
         self._loaded.add(a.name)
+        if named != a.name and named in self._loaded:
+            self._load(named)
         self._seen()
         return a.name
+
+    def _rename_action(self, action, new: str) -> None:
+        """The character knows ``action`` as ``new`` from now."""
+        self.core.remove_action(action.name)
+        action.spec = dataclasses.replace(action.spec, name=new)
+        self.core.add_action(action)
+
+    def _load(self, name: str) -> None:
+        """The library's action ``name`` is known from now (a bad one is reported)."""
+        try:
+            self.core.add_action(designed.load_action(self.lib / name, self.core.body))
+        except InputError as exc:
+            self._problems = [*self._problems, str(exc)]
 
     def _seen(self) -> None:
         """The library's changes made here are not reloads."""
@@ -186,9 +212,7 @@ class TouchPoseTarget:
         rename_folder(self.lib, old, new, check=not undo)
         action = next((a for a in self.core.m.actions if a.name == old), None)
         if action is not None:
-            self.core.remove_action(old)
-            action.spec = dataclasses.replace(action.spec, name=new)
-            self.core.add_action(action)
+            self._rename_action(action, new)
         self._loaded = (self._loaded - {old}) | {new}
         if self.kept == old:
             self.kept = new
@@ -221,7 +245,8 @@ class TouchPoseTarget:
             for gone in self._loaded - names:
                 if self.pending is None or gone != self.pending.name:
                     self.core.remove_action(gone)
-            for a in actions:
-                self.core.add_action(a)
+            for a in actions:   # (another run's keep of the take's name: the take is tried on)
+                if self.pending is None or a.name != self.pending.name:
+                    self.core.add_action(a)
             self._loaded = names
         return self._problems

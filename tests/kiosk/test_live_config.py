@@ -394,3 +394,32 @@ def test_a_refused_edit_put_back_is_said_to_be_over_in_the_log(tmp_path, caplog)
     assert said[1] == ("INFO", f"config {path} is valid again: it is the running "
                                "configuration"), said
     assert watcher.error is None and applied == []
+
+
+def test_an_edit_saved_while_a_studio_take_is_tried_waits_for_it(tmp_path):
+    """The designer edits config.yaml while trying a take: the applied edit rebuilt the
+    installation at once and the take was gone without a word. The edit waits, said on the
+    status line, until the take is kept (or dropped); then it is applied."""
+    cfg = config([10, 20, 30])
+    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                     "library": "lib", "background_training": False}
+    cfg["studio"] = {"countdown_s": 0.1}
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    with running(Runner(path, load_config(path), headless=True)) as runner:
+        first, studio = runner.inst, runner.studio
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "trying", 30)
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(lambda: runner.pending is not None, 15)
+        ticks = first.loop.stats.ticks
+        assert wait_for(lambda: first.loop.stats.ticks > ticks + 30, 15)
+        assert runner.inst is first and studio.state == "trying"
+        assert "config edit: applied once this take is kept (K)" in studio.message
+        first.loop.commands.put("designer.keep")
+        assert wait_for(rebuilt(runner, first), 30)
+        assert runner.inst.engines[0].color == (200, 100, 50)
+        assert (tmp_path / "lib" / "lover" / "behavior.yaml").is_file()

@@ -302,3 +302,55 @@ def test_the_status_line_names_a_behaviour_played_from_outside_the_library(tmp_p
     bench.studio.command("designer.item_next")
     _, studio = bench.step(Frame(seq=1, t=30.0, pucks=(Puck(1, 0.5, 0.4, 0.0),)))  # said
     assert studio.label.startswith("[pet] behaviour shy: R record")
+
+
+def test_rename_delete_and_undo_wait_while_a_take_is_tried(tmp_path):
+    """F2 on a take being tried renamed the library item played before it (the designer
+    naming the take: lover became "shy", the take then kept as "pet"); Delete deleted that
+    item and U undid the last keep under the take. Each is refused, said, until the take is
+    kept or discarded."""
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "lover", designers.demonstrate("lover", seconds=4), {})
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_next")
+    assert e.behavior_name == "lover"
+    demo = designers.demonstrate("afraid", seed=8, seconds=6)
+    for f in demo_frames(demo, {5: ("designer.record",), 200: ("designer.record",)}):
+        bench.step(f)
+    s = bench.studio
+    assert s.state == "trying"
+    for cmd, doing in (("designer.rename:shy", "renaming"), ("designer.delete", "deleting"),
+                       ("designer.undo", "undoing")):
+        s.command(cmd)
+        assert s.message == f"no {doing} while a take is tried: K keeps or X discards it first"
+    assert library.list_behaviors(lib) == ["lover"] and s.state == "trying"
+    s.command("designer.keep")
+    s.command("designer.rename:shy")                   # the kept take is the item in play
+    assert library.list_behaviors(lib) == ["lover", "shy"] and e.behavior_name == "shy"
+    s.command("designer.record")                       # a countdown: a take is under way
+    s.command("designer.undo")
+    assert s.message == "no undoing during a take: finish it, or X cancels it"
+    s.command("designer.discard")
+    s.command("designer.undo")
+    assert s.message == "undone: rename pet -> shy"
+    assert library.list_behaviors(lib) == ["lover", "pet"]
+
+
+def test_a_take_left_by_tab_is_said_discarded(tmp_path):
+    """Tab while a take was tried (or recorded) dropped it without a word: the next target's
+    line showed, and the take was gone when the designer came back."""
+    a, b = build([{"kind": "puppet_master", "name": n, "designer": {
+        "enabled": True, "library": str(tmp_path), "background_training": False}}
+        for n in ("a", "b")])
+    bench = Bench([a, b], tmp_path)
+    demo = designers.demonstrate("lover", seed=1, seconds=4)
+    for f in demo_frames(demo, {4: ("designer.record",), 120: ("designer.record",)}, focus="a"):
+        _, studio = bench.step(f)
+    assert bench.studio.state == "trying"
+    _, studio = bench.step(Frame(seq=500, t=200.0, focus="b"))
+    assert studio.label == "[b] a: take discarded (Tab left it)", studio.label
+    bench.step(Frame(seq=501, t=201.0, focus="b", commands=("designer.record",)))
+    _, studio = bench.step(Frame(seq=502, t=202.0, focus="a"))
+    assert studio.label == "[a] b: take cancelled (Tab left it)", studio.label
+    assert bench.studio.state == "idle" and a.behavior is None

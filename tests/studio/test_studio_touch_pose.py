@@ -323,3 +323,48 @@ def test_an_engine_with_a_long_name_keeps_take_after_take_within_the_name_rule(t
     assert all(library.NAME_RE.match(n) and len(n) <= 64 for n in kept), [len(n) for n in kept]
     assert sorted(kept) == p.target.items()
     assert kept[1:] == [f"{long_name}-acti-2", f"{long_name}-acti-3"]
+
+
+def back(u: float) -> np.ndarray:
+    """Another designer's drag: back and a little down."""
+    return np.array([-0.08 * u, -0.03 * u])
+
+
+def taken_meanwhile(tmp_path, models):
+    """Two runs (A and B) on one library, each trying a take named poser-action; A keeps its
+    take and B's watcher sees it. Returns (B, B's take's action)."""
+    a, b = Poser(tmp_path, models), Poser(tmp_path, models)
+    a.take()
+    b.take(path=back)
+    assert "trained poser-action" in b.status
+    tried = b.target.pending
+    a.tick(cmds=["designer.keep"])
+    assert "kept as poser-action" in a.status
+    b.tick()
+    return b, tried
+
+
+def test_a_take_whose_name_another_run_kept_meanwhile_is_kept_under_the_next_name(
+        tmp_path, models):
+    """Another run on the library kept its poser-action while this run's was tried: the
+    watcher put that action over the one tried here (the drag played the other's), and K was
+    refused ("an action of that name already exists") for as long as the take was tried."""
+    b, tried = taken_meanwhile(tmp_path, models)
+    known = {a.name: a for a in b.engine.core.m.actions}
+    assert known["poser-action"] is tried                 # the take is tried on
+    b.tick(cmds=["designer.keep"])
+    assert "kept as poser-action-2" in b.status and b.studio.state == "idle", b.status
+    assert b.target.items() == ["poser-action", "poser-action-2"]
+    known = {a.name: a for a in b.engine.core.m.actions}
+    assert known["poser-action-2"] is tried and known["poser-action"] is not tried
+    stored = json.loads((tmp_path / "actions" / "poser-action-2" / "action.json").read_text())
+    assert len(stored["times"]) == len(b.target.times)
+    again = Poser(tmp_path, models)
+    assert {"poser-action", "poser-action-2"} <= {a.name for a in again.engine.core.m.actions}
+
+
+def test_a_discarded_take_gives_way_to_the_other_runs_action_of_its_name(tmp_path, models):
+    b, tried = taken_meanwhile(tmp_path, models)
+    b.tick(cmds=["designer.discard"])
+    known = {a.name: a for a in b.engine.core.m.actions}
+    assert "poser-action" in known and known["poser-action"] is not tried
