@@ -1,0 +1,97 @@
+"""Two studio runs on one MOP library (a take named as the other run's keep, keeps at once), and a
+keep in an engine without a library."""
+
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from tests.mop.test_plugin import _build, _designer_config
+from tests.studio.test_studio_mop import StudioTable, face_take, kept_line
+
+
+def two_takes(tmp_path):
+    """Two runs (A and B) on one library, each with a pending take of the face named take1;
+    A keeps its take and B's watcher sees it. Returns (A's table, B's table, B's engine, B's
+    take's samples)."""
+    (engine_a, a), (engine_b, b) = (face_take(tmp_path, g) for g in ("line", "square"))
+    assert "take1 -> " in a.status and "take1 -> " in b.status
+    engines = [engine_a, engine_b]
+    own = engines[1].templates["face"]["take1"][1].copy()
+    a.tick(["designer.keep"])
+    assert "kept as take1" in a.status
+    b.studio.poll()
+    return a, b, engines[1], own
+
+
+def test_a_take_whose_name_another_run_kept_meanwhile_is_kept_under_the_next_name(tmp_path):
+    """Another run on the library kept its take1 while this run's take1 was tried: the
+    watcher put that take1 over the one tried here, and K was refused ("'take1' is in the
+    library already") for as long as the take was tried, so it could not be kept."""
+    a, b, engine, own = two_takes(tmp_path)
+    assert np.array_equal(engine.templates["face"]["take1"][1], own)   # still its own take
+    b.tick(["designer.keep"])
+    assert "kept as take2" in b.status and b.studio.state == "idle", b.status
+    folder = tmp_path / "lib" / "face"
+    entries = yaml.safe_load((folder / "actions.yaml").read_text())["actions"]
+    assert [e["name"] for e in entries] == ["take1", "take2"]
+    theirs = a.engine.templates["face"]["take1"][1]
+    assert np.array_equal(engine.templates["face"]["take2"][1], own)
+    assert np.array_equal(engine.templates["face"]["take1"][1], theirs)   # the other's, followed
+    assert set(engine.puppets["face"].actions) == {"circle", "take1", "take2"}
+    again = _build(_designer_config(tmp_path), tmp_path)
+    assert again.templates["face"]["take2"][1].shape == own.shape
+
+
+def test_a_discarded_take_gives_way_to_the_other_runs_action_of_its_name(tmp_path):
+    a, b, engine, own = two_takes(tmp_path)
+    b.tick(["designer.discard"])
+    assert np.array_equal(engine.templates["face"]["take1"][1], a.engine.templates["face"]["take1"][1])
+    assert "take1" in engine.puppets["face"].actions
+
+
+KEEPER = """
+import sys
+from pathlib import Path
+import numpy as np
+sys.path.insert(0, {root!r})
+from tabletop.plugins.mop_files import save_to_library
+for i in range(40):
+    save_to_library(Path({lib!r}), "face", "{who}%d" % i, np.zeros((5, 2)), ("dx", "dy"),
+                    "talk", 30.0)
+"""
+
+
+def test_two_runs_keeping_into_one_library_at_once_keep_every_take(tmp_path):
+    """Each keep read actions.yaml, wrote its template and wrote the entries it had read with
+    its own: two processes keeping 40 takes each into one character's library left 43 entries
+    of 80 (the others' templates on disk, named by no entry)."""
+    import subprocess
+    import sys
+    from tabletop.plugins.mop_files import read_library
+    root = str(Path(__file__).resolve().parents[2])
+    runs = [subprocess.Popen([sys.executable, "-c", KEEPER.format(root=root, lib=str(tmp_path),
+                                                                  who=who)]) for who in "ab"]
+    assert [r.wait(timeout=120) for r in runs] == [0, 0]
+    names = sorted(a["name"] for a in read_library(tmp_path, "face"))
+    assert names == sorted(f"{who}{i}" for who in "ab" for i in range(40))
+
+
+def test_a_keep_without_a_library_says_it_is_for_this_run_only(tmp_path):
+    """An engine without a library said "kept as take1" like a saved keep; nothing was
+    written and the take was gone at the next start."""
+    cfg = _designer_config(tmp_path)
+    del cfg["engines"][0]["library"]
+    engine = _build(cfg, tmp_path)
+    table = StudioTable(engine, None)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert table.status == ("[mop/face] kept as take1 for this run only: engine 'mop' has no "
+                            "library to save it in (give it library: FOLDER in the config)")
+    assert "take1" in engine.puppets["face"].actions and not any(tmp_path.iterdir())
+    _, saved = kept_line(tmp_path)                      # with a library: saved, said plainly
+    assert saved.status == "[mop/face] kept as take1"
+    assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
