@@ -14,6 +14,13 @@ sequences (``bench/follow_quality.py``'s draws for options, seed ``OPTION_SEED``
 four), how far that lies behind the reach, and the share of gestures recognised within 20% or,
 where no observer could tell them apart so early, by their reach at 2 mm.
 
+How long each gesture's start is also the start of an unrelated motion (:func:`told_from_unrelated`,
+``{gesture}_told_from_{motion}_progress_theta_2mm``): the figure eight's of the diagonal line until
+0.21 of it, the circle's of the triangle's first stroke until 0.18, the zigzag's 0.08 and the
+wave's 0.12 of any: recognised within 20%, the figure eight and the circle would drive those
+motions' starts too, which the follower refuses (:mod:`behaviors.mop.spotting`, "What is out of
+reach").
+
 What holds each gesture back (:func:`gates`): in the same sequences, for each rule an action must
 pass before it drives (:data:`GATES`), the progress of the gesture from which that rule held for
 the true template without a break until the gesture was recognised; per gesture the median, and
@@ -58,7 +65,8 @@ from bench.common import emit  # noqa: E402
 from behaviors.mop import shape_lead  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 from bench.follow_quality import DEBUG, OPTION_SEED, puck_follower, sequences  # noqa: E402
-from bench.motions import at_phase, back_to_back, gesture_templates  # noqa: E402
+from bench.motions import (at_phase, back_to_back, gesture_templates,  # noqa: E402
+                           unrelated_motions)
 
 POINTS = 24
 SIZES = np.geomspace(0.46, 2.25, 40)
@@ -103,6 +111,22 @@ def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float
         if all(closest_start(prefix, b) > theta for other, b in templates.items() if other != name):
             return round(float(p), 2)
     return 1.0
+
+
+#: The unrelated motions (``bench/motions.unrelated_motions``) a gesture's start is compared with
+#: in :func:`told_from_unrelated` (the drawn ones; the wander is random, the mirrored gestures
+#: are whole templates).
+UNRELATED = ("diagonal", "triangle", "spiral")
+
+
+def told_from_unrelated(templates: dict[str, np.ndarray],
+                        theta: float = 0.002) -> dict[str, dict[str, float]]:
+    """Per gesture and unrelated motion (:data:`UNRELATED`), the earliest progress at which the
+    gesture strays from every start of that motion (any size and tempo) by more than ``theta``
+    metres: before it, a follower that recognises the gesture also drives that motion's start."""
+    motions = unrelated_motions(np.random.default_rng(0), templates)
+    return {g: {m: earliest(g, {g: templates[g], m: motions[m]}, theta) for m in UNRELATED}
+            for g in templates}
 
 
 #: What an action must pass before it drives (:mod:`behaviors.mop.follower`,
@@ -191,6 +215,10 @@ def main() -> None:
         figures[f"told_apart_before_20pct_share_theta_{mm}mm"] = float(np.mean([p < 0.2 for p in at.values()]))
         if mm == 2:
             reach = at
+    # how long each gesture's start is also a start of an unrelated motion (at 2 mm)
+    for name, by in told_from_unrelated(templates).items():
+        for motion, p in by.items():
+            figures[f"{name}_told_from_{motion}_progress_theta_2mm"] = p
     # beside it, the follower: each gesture's recognition in back-to-back sequences (the draws
     # bench/follow_quality.py compares options on), and the share recognised within 20% or, where
     # no observer can tell the gesture apart that early, by its reach at 2 mm
