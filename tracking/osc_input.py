@@ -10,7 +10,10 @@ raise out of the thread, poison a frame or grow memory without bound.
 
 ``latest()`` returns the committed state as an Observation in table metres: objects as puck
 measurements (class id = marker id) carrying the sender's velocities (X, Y, A mapped as
-positions and angles are), cursors and blobs as touches (session id = touch id).
+positions and angles are), cursors and blobs as touches (session id = touch id; a blob sharing
+its session id with a cursor or object of its sender is that entity's outline, not a touch; a
+session id another sender's touch already holds gives the touch a free id instead,
+:mod:`tracking.touch_ids`).
 TUIO is a state protocol and reference servers resend an unchanged state only once a second, so
 while a sender is heard from (within ``quiet_s``) its objects are held present: their time is
 their commit time, or ``now - HOLD_S`` if older, and so is the observation's time (it says
@@ -38,6 +41,7 @@ import numpy as np
 from tabletop.frames import MAX_FEATURE, Observation, PuckMeasurement, SourceHealth, Touch
 from tracking.badinput import BackgroundSource, BadInput
 from tracking.osc_codec import OscError, decode_packet
+from tracking.touch_ids import TouchIds
 from tracking.tuio import ADDRESSES, MAX_ALIVE, TuioClient, to_table
 
 HOLD_S = 0.1               # a held (unchanged) state is reported at most this old
@@ -71,6 +75,7 @@ class OscInput(BackgroundSource):
         self.retry_min_s, self.retry_max_s = retry_min_s, retry_max_s
         self.bad = BadInput(name, clock=clock)
         self.client = TuioClient()
+        self._touch_ids = TouchIds()   # senders each count their sessions from 0 or 1
         self.on_packet: Callable[[float], None] | None = None
         self._streams: dict[str, tuple[np.ndarray, float]] = {}
         self._removed: set[int] = set()
@@ -100,10 +105,17 @@ class OscInput(BackgroundSource):
                     vx = vy = w = math.nan
                 pucks.append(PuckMeasurement(e.class_id, x, y, a, min(t, now), vx=vx, vy=vy,
                                              omega=w))
+            keys, found = [], []
             for profile in ("2Dcur", "2Dblb"):
-                for _key, e in self.client.entities(profile, self.quiet_s, now):
-                    x, y, _a, vx, vy, _w = to_table(e, self.table)
-                    touches.append(Touch(e.session, x, y, vx, vy))
+                for key, e in self.client.entities(profile, self.quiet_s, now):
+                    if profile == "2Dblb" and self._described(key, e.session):
+                        continue
+                    keys.append((key, e.session))
+                    found.append(e)
+            ids = self._touch_ids.assign(keys, [e.session for e in found])
+            for i, e in zip(ids, found):
+                x, y, _a, vx, vy, _w = to_table(e, self.table)
+                touches.append(Touch(i, x, y, vx, vy))
             streams = {k: v for k, (v, ts) in self._streams.items() if now - ts <= self.quiet_s}
             present = {p.id for p in pucks}
             removed = tuple(sorted(self._removed - present))
@@ -136,6 +148,13 @@ class OscInput(BackgroundSource):
         return self.bad.health(ok, message, age)
 
     # ------------------------------------------------------------------ receiving
+    def _described(self, key: str, session: int) -> bool:
+        """Whether a blob of sender ``key`` is the outline of one of its cursors or objects:
+        TUIO 1.1 gives a blob that describes a cursor or an object that entity's session id
+        (a sender numbers all its profiles from one counter), so it is no finger of its own."""
+        profiles = self.client.senders[key].profiles
+        return any(session in profiles[p].committed for p in ("2Dcur", "2Dobj") if p in profiles)
+
     def _commit_t(self, key: str, profile: str) -> float:
         st = self.client.senders[key].profiles.get(profile)
         return st.t if st is not None else -math.inf
