@@ -28,6 +28,7 @@ growing back-off and the health says why.
 
 from __future__ import annotations
 
+import ipaddress
 import logging
 import math
 import re
@@ -69,7 +70,7 @@ class OscInput(BackgroundSource):
                  retry_min_s: float = 0.5, retry_max_s: float = 8.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.name, self.host, self.port = name, host, int(port)
-        self.allow = frozenset(allow)
+        self.allow = frozenset(plain_address(a) for a in allow)
         self.table, self.quiet_s, self.stall_s = table, quiet_s, stall_s
         self.max_packet, self.clock = max_packet, clock
         self.retry_min_s, self.retry_max_s = retry_min_s, retry_max_s
@@ -278,6 +279,18 @@ class OscInput(BackgroundSource):
             self._message = "closed"
 
 
+def plain_address(address: str) -> str:
+    """A sender's IP address as it is written in ``allow``: an IPv4 sender reaching a socket
+    that listens on every IPv6 and IPv4 interface (``host: "::"``) arrives as
+    ``::ffff:192.168.1.10``, which no IPv4 entry of the allow-list matched (all refused)."""
+    try:
+        ip = ipaddress.ip_address(address)
+    except ValueError:
+        return address
+    mapped = getattr(ip, "ipv4_mapped", None)
+    return str(mapped if mapped is not None else ip)
+
+
 def make_server(host: str, port: int, sink: OscInput):
     """A python-osc ``BlockingOSCUDPServer`` on (host, port) that hands every datagram from an
     allowed sender to ``sink.handle`` (its dispatcher is not used)."""
@@ -292,13 +305,14 @@ def make_server(host: str, port: int, sink: OscInput):
             super().server_bind()
 
         def verify_request(self, request, client_address) -> bool:
-            if sink.allow and client_address[0] not in sink.allow:
-                sink.bad.count("not_allowed", f"packet from {client_address[0]}")
+            sender = plain_address(client_address[0])
+            if sink.allow and sender not in sink.allow:
+                sink.bad.count("not_allowed", f"packet from {sender}")
                 return False
             return True
 
         def finish_request(self, request, client_address) -> None:
-            sink.handle(request[0], client_address)
+            sink.handle(request[0], (plain_address(client_address[0]), client_address[1]))
 
         def handle_error(self, request, client_address) -> None:
             sink.bad.count("internal_error", f"from {client_address}")

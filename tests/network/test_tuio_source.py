@@ -12,7 +12,7 @@ from tabletop.plugins.tracking import Tracker
 from tracking.osc_input import HOLD_S, OscInput
 from tracking.pucks import TrackerSettings
 
-from tests.network.helpers import RefSender, bundle, message, wait_for
+from tests.network.helpers import RefSender, bundle, ipv6_loopback, message, wait_for
 
 TABLE = (1.2, 0.8)
 
@@ -188,6 +188,23 @@ def test_a_sender_not_on_the_allow_list_changes_nothing():
                 ("127.0.0.1", src.bound_port))
         assert sent(src, 1)
         assert [p.id for p in src.latest().pucks] == [5]
+    finally:
+        src.close()
+
+
+@pytest.mark.skipif(not ipv6_loopback(), reason="no IPv6 on this machine")
+def test_an_allowed_ipv4_sender_reaches_a_source_listening_on_every_ipv6_and_ipv4_interface():
+    """host "::" takes IPv4 senders too, as ::ffff:127.0.0.1: the allow-list's 127.0.0.1 is
+    that sender (every one was refused), and the health names it as the allow-list does."""
+    src = OscInput("osc", host="::", port=0, table=TABLE, allow=["127.0.0.1"])
+    src.open()
+    try:
+        assert src.wait_listening()
+        RefSender(src.bound_port).cursors([(3, 0.5, 0.5)])           # from 127.0.0.1
+        assert sent(src, 1)
+        assert [c.id for c in src.latest().touches] == [3]
+        assert src.bad.counts() == {}
+        assert "TUIO from 127.0.0.1:" in src.health().message
     finally:
         src.close()
 
