@@ -211,20 +211,24 @@ STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
 
 
 @contextmanager
-def stop_on_signals(stop: threading.Event) -> Iterator[None]:
+def stop_on_signals(stop: threading.Event) -> Iterator[list[str]]:
     """Within the block, SIGINT, SIGTERM and SIGHUP (a closed terminal or session) set ``stop``
-    instead of killing the process, so the run ends cleanly."""
+    instead of killing the process, so the run ends cleanly; the block is given the list of
+    the names of the signals received."""
+    received: list[str] = []
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield received
         return
 
     def handler(signum: int, _frame: Any) -> None:
-        log.info("%s received: stopping", signal.Signals(signum).name)
+        name = signal.Signals(signum).name
+        log.info("%s received: stopping", name)
+        received.append(name)
         stop.set()
 
     old = {s: signal.signal(s, handler) for s in STOP_SIGNALS}
     try:
-        yield
+        yield received
     finally:
         for s, h in old.items():
             signal.signal(s, h)
