@@ -134,7 +134,7 @@ class OscInput(BackgroundSource):
         with self._lock:
             age = now - self._heard_t
             message = self._message
-            senders = sorted(s.key for s in self.client.senders.values()
+            senders = sorted(s.name for s in self.client.senders.values()
                              if now - s.heard_t <= self.quiet_s)
         ok = self._listening.is_set()
         if ok:

@@ -123,6 +123,25 @@ def test_senders_with_different_sources_do_not_mix(source):
     assert len(source.client.senders) == 2
 
 
+def test_machines_sending_one_source_name_do_not_mix(source):
+    """Cloned machines (one image, one host name) send one default name, tabletop@HOSTNAME:
+    kept apart by their IP addresses, each machine's pucks stay (each bundle replaced the
+    other's alive list, and one machine's pucks flickered away at every packet)."""
+    a = RefSender(source.bound_port, source="tabletop@raspberrypi")          # from 127.0.0.1
+    b = RefSender(0, source="tabletop@raspberrypi")
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as other:
+        other.bind(("127.0.0.2", 0))                                          # another machine
+        for fseq in range(1, 4):
+            a.objects([(1, 5, 0.2, 0.5, 0.0)], fseq=fseq)
+            other.sendto(b.profile_bundle("2Dobj", [1], [
+                (1, 6, 0.8, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)], 1000 + fseq).dgram,
+                ("127.0.0.1", source.bound_port))
+            assert sent(source, 2 * fseq)
+            assert set(pucks_by_id(source)) == {5, 6}
+    assert source.bad.counts() == {}
+    assert "TUIO from tabletop@raspberrypi, tabletop@raspberrypi" in source.health().message
+
+
 def test_a_quiet_sender_coasts_then_leaves():
     src = OscInput("osc", port=0, table=TABLE, quiet_s=0.2)
     src.open()
