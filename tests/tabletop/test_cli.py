@@ -116,6 +116,24 @@ def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):
     assert "Traceback" not in err and "replayed " not in err
 
 
+def test_a_recorder_max_mb_the_header_alone_reaches_is_refused_at_start(tmp_path):
+    """Every part begins with the header (the config and the files it names: the lover's
+    behaviour makes it 0.14 MB): with max_mb 0.05 each frame started a part of its own (480
+    files in 8 s) and the run said nothing of it."""
+    lover = ROOT / "behaviors" / "library" / "lover"
+    cfg = tmp_path / "small.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\n"
+                   f"engines: [{{kind: puppet_master, name: lover, behavior: {lover}, "
+                   "main: {puck: 1}}]\nview: {enabled: false}\n"
+                   "recorder: {enabled: true, folder: rec, max_mb: 0.05}\n")
+    r = tabletop("run", "--config", str(cfg), "--seconds", "1")
+    assert r.returncode == 2, r.stderr
+    (line,) = r.stderr.splitlines()
+    assert line.startswith(f"tabletop run: error: {cfg}: recorder.max_mb: 0.05 MB is less than "
+                           "the header every part of the recording begins with (0.1"), line
+    assert not (tmp_path / "rec").exists() or not any((tmp_path / "rec").iterdir())
+
+
 def test_version_and_help():
     r = tabletop("--version")
     assert r.returncode == 0 and r.stdout.startswith("tabletop ")
