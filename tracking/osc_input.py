@@ -134,8 +134,11 @@ class OscInput(BackgroundSource):
         with self._lock:
             age = now - self._heard_t
             message = self._message
-            senders = sorted(s.name for s in self.client.senders.values()
-                             if now - s.heard_t <= self.quiet_s)
+            live = [s for s in self.client.senders.values() if now - s.heard_t <= self.quiet_s]
+            names = [s.name for s in live]
+            # a name two machines send is shown with each one's address ("... from IP")
+            senders = sorted(s.name[:40] + (s.key[len(s.name):] if names.count(s.name) > 1
+                                            else "") for s in live)
         ok = self._listening.is_set()
         if ok:
             if math.isinf(age):
@@ -143,7 +146,7 @@ class OscInput(BackgroundSource):
             elif age > self.stall_s:
                 ok, message = False, f"{message}; nothing received for {age:.0f} s"
             else:
-                names = ", ".join(k[:40] for k in senders[:3])
+                names = ", ".join(senders[:3])
                 more = f" and {len(senders) - 3} more" if len(senders) > 3 else ""
                 message += f"; TUIO from {names}{more}" if senders else "; no TUIO sender"
         return self.bad.health(ok, message, age)

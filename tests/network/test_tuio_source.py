@@ -139,7 +139,8 @@ def test_machines_sending_one_source_name_do_not_mix(source):
             assert sent(source, 2 * fseq)
             assert set(pucks_by_id(source)) == {5, 6}
     assert source.bad.counts() == {}
-    assert "TUIO from tabletop@raspberrypi, tabletop@raspberrypi" in source.health().message
+    assert ("TUIO from tabletop@raspberrypi from 127.0.0.1, tabletop@raspberrypi from "
+            "127.0.0.2" in source.health().message)
 
 
 def test_a_quiet_sender_coasts_then_leaves():
