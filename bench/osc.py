@@ -61,7 +61,7 @@ class Probe:
     def __call__(self, t_received: float) -> None:
         obs = self.src.latest()
         t = time.monotonic()
-        sender = self.src.client.senders.get(SOURCE)
+        sender = next((s for s in self.src.client.senders.values() if s.name == SOURCE), None)
         if obs is None or sender is None or len(obs.pucks) != OBJECTS:
             return
         fseq = sender.profiles["2Dobj"].fseq

@@ -80,14 +80,25 @@ def build_engines(cfg: dict[str, Any], ctx: BuildContext) -> list[Engine]:
 def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | None,
                    header: dict[str, Any] | None = None) -> Sink | None:
     """The recorder: to ``record_path`` when given, else as the ``recorder`` section says.
-    A folder that cannot be written fails at start-up naming its key."""
-    from tabletop.recorder import Recorder, session_header
+    A folder that cannot be written fails at start-up naming its key, and so does a
+    ``max_mb`` that this config's header alone reaches: every part repeats the header (the
+    config and the files it names, 0.15 MB with one shipped behaviour), so each frame started a
+    part of its own (480 files in 8 s, ``keep`` removing them as fast)."""
+    import json
+
+    from tabletop.recorder import MB, Recorder, session_header
     from tabletop.schema import ConfigError
     rec = cfg["recorder"]
     if record_path is None and not rec["enabled"]:
         return None
     if header is None:
         header = session_header(cfg, ctx.shared.get("calibration_dict"))
+    size = len(json.dumps(header, separators=(",", ":"), default=str).encode())
+    if rec["max_mb"] is not None and size >= rec["max_mb"] * MB:
+        raise ConfigError(f"{getattr(cfg, 'file', 'config')}: recorder.max_mb: {rec['max_mb']:g} "
+                          f"MB is less than the header every part of the recording begins with "
+                          f"({size / MB:.2f} MB: the config and the files it names); give "
+                          f"several times that")
     where = dict(path=record_path) if record_path is not None else (
         dict(path=rec["path"]) if rec["path"] is not None else dict(folder=rec["folder"]))
     try:
@@ -211,20 +222,24 @@ STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
 
 
 @contextmanager
-def stop_on_signals(stop: threading.Event) -> Iterator[None]:
+def stop_on_signals(stop: threading.Event) -> Iterator[list[str]]:
     """Within the block, SIGINT, SIGTERM and SIGHUP (a closed terminal or session) set ``stop``
-    instead of killing the process, so the run ends cleanly."""
+    instead of killing the process, so the run ends cleanly; the block is given the list of
+    the names of the signals received."""
+    received: list[str] = []
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield received
         return
 
     def handler(signum: int, _frame: Any) -> None:
-        log.info("%s received: stopping", signal.Signals(signum).name)
+        name = signal.Signals(signum).name
+        log.info("%s received: stopping", name)
+        received.append(name)
         stop.set()
 
     old = {s: signal.signal(s, handler) for s in STOP_SIGNALS}
     try:
-        yield
+        yield received
     finally:
         for s, h in old.items():
             signal.signal(s, h)

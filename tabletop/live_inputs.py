@@ -5,6 +5,7 @@ loop's frames (:class:`tabletop.loop.Loop`); the recorded counterpart is
 from __future__ import annotations
 
 import collections
+import dataclasses
 import logging
 import math
 import threading
@@ -13,8 +14,9 @@ from typing import Protocol, Sequence
 
 import numpy as np
 
-from tabletop.frames import Frame, Observation, Puck, Source, SourceHealth
+from tabletop.frames import Frame, Observation, Puck, Source, SourceHealth, Touch
 from tracking.badinput import LogGaps
+from tracking.touch_ids import TouchIds
 
 log = logging.getLogger("tabletop")
 
@@ -72,6 +74,7 @@ class LiveInputs:
         # logged with its stack on every tick) and unhealthy on the ticks it raised
         self.raised: dict[str, int] = {}
         self._raised_log = LogGaps()
+        self._touch_ids = TouchIds()
 
     def open(self) -> None:
         for i, s in enumerate(self.sources):
@@ -142,11 +145,20 @@ class LiveInputs:
         self.captured = t > self._last_t and any(not o.held and o.t == t for o in observations)
         self._last_t = t
         pucks = self.tracker.update(observations, t)
-        touches = tuple(tc for o in observations for tc in o.touches)
+        touches = self._touches(observations)
         streams = {k: v for o in observations for k, v in o.streams.items()}
         health = tuple(SourceHealth(s.name, False, failed[s.name]) if s.name in failed
                        else self._health(s) for s in self.sources)
         return Frame(seq=seq, t=t, pucks=pucks, touches=touches, streams=streams, health=health)
+
+    def _touches(self, observations: Sequence[Observation]) -> tuple[Touch, ...]:
+        """Every source's touches, ids unique in the frame (two sources numbering their
+        fingers alike, a serial board and a TUIO sender, gave two fingers one id)."""
+        found = [(o.source, tc) for o in observations for tc in o.touches]
+        ids = self._touch_ids.assign([(src, tc.id) for src, tc in found],
+                                     [tc.id for _src, tc in found])
+        return tuple(tc if i == tc.id else dataclasses.replace(tc, id=i)
+                     for i, (_src, tc) in zip(ids, found))
 
     @staticmethod
     def _health(s: Source) -> SourceHealth:

@@ -10,7 +10,10 @@ raise out of the thread, poison a frame or grow memory without bound.
 
 ``latest()`` returns the committed state as an Observation in table metres: objects as puck
 measurements (class id = marker id) carrying the sender's velocities (X, Y, A mapped as
-positions and angles are), cursors and blobs as touches (session id = touch id).
+positions and angles are), cursors and blobs as touches (session id = touch id; a blob sharing
+its session id with a cursor or object of its sender is that entity's outline, not a touch; a
+session id another sender's touch already holds gives the touch a free id instead,
+:mod:`tracking.touch_ids`).
 TUIO is a state protocol and reference servers resend an unchanged state only once a second, so
 while a sender is heard from (within ``quiet_s``) its objects are held present: their time is
 their commit time, or ``now - HOLD_S`` if older, and so is the observation's time (it says
@@ -25,6 +28,7 @@ growing back-off and the health says why.
 
 from __future__ import annotations
 
+import ipaddress
 import logging
 import math
 import re
@@ -38,6 +42,7 @@ import numpy as np
 from tabletop.frames import MAX_FEATURE, Observation, PuckMeasurement, SourceHealth, Touch
 from tracking.badinput import BackgroundSource, BadInput
 from tracking.osc_codec import OscError, decode_packet
+from tracking.touch_ids import TouchIds
 from tracking.tuio import ADDRESSES, MAX_ALIVE, TuioClient, to_table
 
 HOLD_S = 0.1               # a held (unchanged) state is reported at most this old
@@ -65,12 +70,13 @@ class OscInput(BackgroundSource):
                  retry_min_s: float = 0.5, retry_max_s: float = 8.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.name, self.host, self.port = name, host, int(port)
-        self.allow = frozenset(allow)
+        self.allow = frozenset(plain_address(a) for a in allow)
         self.table, self.quiet_s, self.stall_s = table, quiet_s, stall_s
         self.max_packet, self.clock = max_packet, clock
         self.retry_min_s, self.retry_max_s = retry_min_s, retry_max_s
         self.bad = BadInput(name, clock=clock)
         self.client = TuioClient()
+        self._touch_ids = TouchIds()   # senders each count their sessions from 0 or 1
         self.on_packet: Callable[[float], None] | None = None
         self._streams: dict[str, tuple[np.ndarray, float]] = {}
         self._removed: set[int] = set()
@@ -100,10 +106,17 @@ class OscInput(BackgroundSource):
                     vx = vy = w = math.nan
                 pucks.append(PuckMeasurement(e.class_id, x, y, a, min(t, now), vx=vx, vy=vy,
                                              omega=w))
+            keys, found = [], []
             for profile in ("2Dcur", "2Dblb"):
-                for _key, e in self.client.entities(profile, self.quiet_s, now):
-                    x, y, _a, vx, vy, _w = to_table(e, self.table)
-                    touches.append(Touch(e.session, x, y, vx, vy))
+                for key, e in self.client.entities(profile, self.quiet_s, now):
+                    if profile == "2Dblb" and self._described(key, e.session):
+                        continue
+                    keys.append((key, e.session))
+                    found.append(e)
+            ids = self._touch_ids.assign(keys, [e.session for e in found])
+            for i, e in zip(ids, found):
+                x, y, _a, vx, vy, _w = to_table(e, self.table)
+                touches.append(Touch(i, x, y, vx, vy))
             streams = {k: v for k, (v, ts) in self._streams.items() if now - ts <= self.quiet_s}
             present = {p.id for p in pucks}
             removed = tuple(sorted(self._removed - present))
@@ -121,8 +134,11 @@ class OscInput(BackgroundSource):
         with self._lock:
             age = now - self._heard_t
             message = self._message
-            senders = sorted(s.key for s in self.client.senders.values()
-                             if now - s.heard_t <= self.quiet_s)
+            live = [s for s in self.client.senders.values() if now - s.heard_t <= self.quiet_s]
+            names = [s.name for s in live]
+            # a name two machines send is shown with each one's address ("... from IP")
+            senders = sorted(s.name[:40] + (s.key[len(s.name):] if names.count(s.name) > 1
+                                            else "") for s in live)
         ok = self._listening.is_set()
         if ok:
             if math.isinf(age):
@@ -130,12 +146,19 @@ class OscInput(BackgroundSource):
             elif age > self.stall_s:
                 ok, message = False, f"{message}; nothing received for {age:.0f} s"
             else:
-                names = ", ".join(k[:40] for k in senders[:3])
+                names = ", ".join(senders[:3])
                 more = f" and {len(senders) - 3} more" if len(senders) > 3 else ""
                 message += f"; TUIO from {names}{more}" if senders else "; no TUIO sender"
         return self.bad.health(ok, message, age)
 
     # ------------------------------------------------------------------ receiving
+    def _described(self, key: str, session: int) -> bool:
+        """Whether a blob of sender ``key`` is the outline of one of its cursors or objects:
+        TUIO 1.1 gives a blob that describes a cursor or an object that entity's session id
+        (a sender numbers all its profiles from one counter), so it is no finger of its own."""
+        profiles = self.client.senders[key].profiles
+        return any(session in profiles[p].committed for p in ("2Dcur", "2Dobj") if p in profiles)
+
     def _commit_t(self, key: str, profile: str) -> float:
         st = self.client.senders[key].profiles.get(profile)
         return st.t if st is not None else -math.inf
@@ -259,6 +282,18 @@ class OscInput(BackgroundSource):
             self._message = "closed"
 
 
+def plain_address(address: str) -> str:
+    """A sender's IP address as it is written in ``allow``: an IPv4 sender reaching a socket
+    that listens on every IPv6 and IPv4 interface (``host: "::"``) arrives as
+    ``::ffff:192.168.1.10``, which no IPv4 entry of the allow-list matched (all refused)."""
+    try:
+        ip = ipaddress.ip_address(address)
+    except ValueError:
+        return address
+    mapped = getattr(ip, "ipv4_mapped", None)
+    return str(mapped if mapped is not None else ip)
+
+
 def make_server(host: str, port: int, sink: OscInput):
     """A python-osc ``BlockingOSCUDPServer`` on (host, port) that hands every datagram from an
     allowed sender to ``sink.handle`` (its dispatcher is not used)."""
@@ -273,13 +308,14 @@ def make_server(host: str, port: int, sink: OscInput):
             super().server_bind()
 
         def verify_request(self, request, client_address) -> bool:
-            if sink.allow and client_address[0] not in sink.allow:
-                sink.bad.count("not_allowed", f"packet from {client_address[0]}")
+            sender = plain_address(client_address[0])
+            if sink.allow and sender not in sink.allow:
+                sink.bad.count("not_allowed", f"packet from {sender}")
                 return False
             return True
 
         def finish_request(self, request, client_address) -> None:
-            sink.handle(request[0], client_address)
+            sink.handle(request[0], (plain_address(client_address[0]), client_address[1]))
 
         def handle_error(self, request, client_address) -> None:
             sink.bad.count("internal_error", f"from {client_address}")

@@ -2,9 +2,10 @@
 machine, no sockets: decoded OSC messages in, committed objects out; and frames out as bundles.
 
 Receiving follows the reference client (TUIO11_CPP ``TuioClient``): within a packet, ``source``
-names the sender (else the packet's UDP address does), ``alive`` lists the live session ids,
-``set`` stages one entity, and ``fseq`` commits that profile: entities in ``alive`` take their
-staged values, the others leave. An ``fseq`` below the sender's current one is late and its
+names the sender (else the packet's UDP address does; a name is kept apart per IP address, so
+two machines sending one name never mix), ``alive`` lists the live session ids, ``set`` stages
+one entity, and ``fseq`` commits that profile: entities in ``alive`` take their staged values,
+the others leave. An ``fseq`` below the sender's current one is late and its
 bundle is dropped, unless the gap is over 100 (the sender restarted) or the sender was silent for
 ``restart_s``; ``fseq`` <= 0 (-1: a redundant resend) always commits. Every sender and profile
 keeps its own state, so several senders never mix. Bad messages raise :class:`TuioError`, whose
@@ -134,9 +135,12 @@ class ProfileState:
 
 @dataclass
 class Sender:
-    """A TUIO sender (one ``source`` name, or one UDP address when it sends none)."""
+    """A TUIO sender: one ``source`` name from one IP address, or one UDP address (IP and
+    port) when it sends no name. ``name`` is what it is called by (its source name, else its
+    address)."""
 
     key: str
+    name: str = ""
     profiles: dict[str, ProfileState] = field(default_factory=dict)
     heard_t: float = -math.inf    # when a bundle of it last committed or came late
     commits: int = 0
@@ -155,18 +159,19 @@ class TuioClient:
         self.restart_s, self.max_senders = restart_s, max_senders
         self.senders: dict[str, Sender] = {}
 
-    def sender(self, key: str, t: float) -> Sender:
+    def sender(self, key: str, t: float, name: str = "") -> Sender:
         s = self.senders.get(key)
         if s is None:
             if len(self.senders) >= self.max_senders:
                 oldest = min(self.senders.values(), key=lambda x: x.heard_t)
                 del self.senders[oldest.key]
-            s = self.senders[key] = Sender(key)
+            s = self.senders[key] = Sender(key, name or key)
         return s
 
     def apply(self, messages: Iterable[tuple[str, tuple[Any, ...]]], address: str, t: float
               ) -> tuple[int, list[TuioError], int]:
-        key = address
+        key = name = address
+        ip = address.rsplit(":", 1)[0]
         staged: dict[str, tuple[list[int] | None, dict[int, Entity]]] = {}
         commits, late = 0, 0
         errors: list[TuioError] = []
@@ -182,7 +187,11 @@ class TuioClient:
                 if cmd == "source":
                     if len(rest) != 1 or not isinstance(rest[0], str) or not rest[0]:
                         raise TuioError("wrong_arguments", "source takes one name")
-                    key = rest[0][:MAX_SOURCE]
+                    # a name from one machine: cloned machines (one image, one host name)
+                    # send one default name (tabletop@HOSTNAME), and their objects replaced
+                    # each other's at every bundle, the pucks of all but one flickering away
+                    name = rest[0][:MAX_SOURCE]
+                    key = f"{name} from {ip}"
                     continue
                 alive, sets = staged.setdefault(profile, (None, {}))
                 if cmd == "alive":
@@ -195,7 +204,7 @@ class TuioClient:
                 elif cmd == "fseq":
                     fseq = parse_fseq(rest)
                     staged.pop(profile)
-                    if self._commit(self.sender(key, t), profile, alive, sets, fseq, t):
+                    if self._commit(self.sender(key, t, name), profile, alive, sets, fseq, t):
                         commits += 1
                     else:
                         late += 1

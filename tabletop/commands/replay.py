@@ -20,6 +20,7 @@ from tabletop.commands import output_file
 from tabletop.frames import Frame, InputError
 
 HELP = "replay a session recording (JSON Lines) through the engines and the view"
+INTERRUPTED = 130   # exit status of a replay a signal stopped (README: "130 interrupted")
 
 
 class ReplayError(InputError):
@@ -105,8 +106,12 @@ def main(args: argparse.Namespace) -> int:
         if isinstance(studio, dict):
             from tabletop.studio.build import attach_studio
             attach_studio(inst, cfg, base, all_engines=bool(studio.get("all")), replay=True)
-        with stop_on_signals(inst.loop.stop):
+        with stop_on_signals(inst.loop.stop) as received:
             ticks = inst.loop.run()
-    logging.getLogger("tabletop").info("replayed %d frames of %s", ticks,
-                                       ", ".join(map(str, args.session)))
+    names = ", ".join(map(str, args.session))
+    if received:   # a script must not take a replay cut short (and its --out) for a whole one
+        logging.getLogger("tabletop").warning("replay interrupted by %s after %d frames of %s",
+                                              received[0], ticks, names)
+        return INTERRUPTED
+    logging.getLogger("tabletop").info("replayed %d frames of %s", ticks, names)
     return 0

@@ -100,6 +100,12 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.frames import InputError
     from tabletop.kiosk.health import HEARTBEAT_ADDRESS
     from tabletop.resolve import shown_host_port
+    from tracking.osc_input import plain_address
+
+    def sender(client: Any) -> str:
+        """A table's address as HOST:PORT, an IPv4 table as its IPv4 address also when the
+        listener takes every IPv6 and IPv4 interface ([::]:9000 showed [::ffff:A.B.C.D]:P)."""
+        return shown_host_port(plain_address(client[0]), client[1])
 
     host, port = parse_address(args.address)
     seconds = None if args.seconds is None else number_in_range(
@@ -114,14 +120,14 @@ def main(args: argparse.Namespace) -> int:
         if args.json and not wrong and st is None:   # --json prints JSON objects only
             wrong = "status is not a JSON object"
         if wrong:  # another program on the port: said in one line, listening goes on
-            print(f"{shown_host_port(*client[:2])}: bad heartbeat ({wrong})", file=sys.stderr)
+            print(f"{sender(client)}: bad heartbeat ({wrong})", file=sys.stderr)
             return
         name, uptime, fps, unhealthy, status = values
         shown.append(True)   # before its line: a Ctrl-C just after the line exited 1
         if args.json:  # one line of strict JSON, whatever white space the sender used
             print(json.dumps(st, separators=(",", ":")), flush=True)
         else:
-            print(format_heartbeat(shown_host_port(*client[:2]), str(name), float(uptime),
+            print(format_heartbeat(sender(client), str(name), float(uptime),
                                    float(fps), int(unhealthy), str(status)), flush=True)
 
     d = Dispatcher()
@@ -142,7 +148,7 @@ def main(args: argparse.Namespace) -> int:
         exc = sys.exc_info()[1]
         if isinstance(exc, BrokenPipeError):
             raise exc
-        print(f"tabletop status: a packet from {shown_host_port(*client[:2])} refused: "
+        print(f"tabletop status: a packet from {sender(client)} refused: "
               f"{type(exc).__name__}: {one_line(exc)}", file=sys.stderr, flush=True)
 
     server.handle_error = handle_error  # type: ignore[method-assign]

@@ -20,7 +20,6 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import logging
-import logging.handlers
 import math
 import os
 import socket
@@ -32,6 +31,7 @@ from typing import Any, Callable
 from tabletop import __version__
 from tabletop.files import atomic_write_text
 from tabletop.frames import Frame, InputError
+from tabletop.kiosk.logfile import SharedRotatingFileHandler
 from tabletop.kiosk.notify import Notifier
 from tabletop.resolve import Destination
 
@@ -41,10 +41,10 @@ HEARTBEAT_ADDRESS = "/tabletop/heartbeat"
 
 
 def setup_log_file(path: Path, max_bytes: int = 1_000_000, backups: int = 5) -> logging.Handler:
-    """Add a rotating log file (``max_bytes`` each, ``backups`` kept) to the tabletop logger."""
+    """Add a rotating log file (``max_bytes`` each, ``backups`` kept) to the tabletop logger;
+    the kiosk's processes share it (:mod:`tabletop.kiosk.logfile`)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    handler = logging.handlers.RotatingFileHandler(path, maxBytes=max_bytes,
-                                                   backupCount=backups, encoding="utf-8")
+    handler = SharedRotatingFileHandler(path, max_bytes, backups)
     handler.setFormatter(logging.Formatter("%(asctime)s %(process)d %(levelname)s %(message)s"))
     logger = logging.getLogger("tabletop")
     logger.addHandler(handler)

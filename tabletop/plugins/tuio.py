@@ -91,6 +91,7 @@ class TuioSink:
         self.name, self.address, self.table = name, address, table
         self.characters = dict(characters or {})
         self._unseen, self._seen = set(self.characters), set()
+        self._clashed: set[str] = set()   # characters named sharing a puck's class id
         self._first_t: float | None = None
         self.source = source or f"tabletop@{socket.gethostname()}"
         self.full_every_s, self.with_touches = full_every_s, touches
@@ -126,9 +127,16 @@ class TuioSink:
                             from_table(p.x, p.y, p.angle, p.vx, p.vy, p.omega, self.table)))
         if self._unseen:
             self._check_listed(frame)
+        pucks = {p.id for p in frame.pucks}
         for c in frame.characters:
             cid = self.characters.get(c.name)
             if cid is not None:
+                if cid in pucks and c.name not in self._clashed:
+                    self._clashed.add(c.name)
+                    log.warning("%s: character %s is sent with class id %d, which puck %d "
+                                "has too: a receiver takes it for a second sighting of that "
+                                "puck; give it an id no puck's marker has", self.name, c.name,
+                                cid, cid)
                 objects.append((("character", c.name), cid,
                                 from_table(c.x, c.y, c.heading, 0.0, 0.0, 0.0, self.table)))
         out = self._profile("2Dobj", self._objects, objects, full)

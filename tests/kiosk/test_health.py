@@ -174,6 +174,49 @@ def test_the_log_file_rotates(tmp_path):
     assert "line 599" in (tmp_path / "logs" / "tabletop.log").read_text()
 
 
+LOG_WRITER = """
+import logging, sys
+from pathlib import Path
+from tabletop.kiosk.health import setup_log_file
+setup_log_file(Path(sys.argv[1]), max_bytes=10_000, backups=3)
+log = logging.getLogger("tabletop")
+for line in sys.stdin:   # one log line per line read, as the test says when
+    log.info("%s %s", line.strip(), "x" * 60)
+"""
+
+
+def test_processes_sharing_the_log_file_all_write_to_the_current_file(tmp_path):
+    """The supervisor and its installation log into one file: a rotation by one never leaves
+    the other writing into a renamed file that a later rotation deletes (every supervisor line
+    went nowhere once the installation's log had rotated ``log_backups`` times)."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "logs" / "tabletop.log"
+    path.parent.mkdir()
+    start = [sys.executable, "-c", LOG_WRITER, str(path)]
+    supervisor = subprocess.Popen(start, stdin=subprocess.PIPE, text=True)
+    try:
+        supervisor.stdin.write("supervisor first\n")
+        supervisor.stdin.flush()
+        assert wait_for(lambda: path.exists() and "supervisor first" in path.read_text(), 30.0)
+        installation = "".join(f"installation {i}\n" for i in range(1500))  # ~20 rotations
+        subprocess.run(start, input=installation, text=True, check=True, timeout=60)
+        supervisor.stdin.write("supervisor last\n")
+        supervisor.stdin.close()
+        assert supervisor.wait(30) == 0
+    finally:
+        supervisor.kill()
+    files = sorted(p.name for p in path.parent.iterdir())
+    assert files == ["tabletop.log", "tabletop.log.1", "tabletop.log.2", "tabletop.log.3"]
+    assert all((path.parent / f).stat().st_size <= 10_000 for f in files)
+    text = path.read_text()
+    assert "installation 1499" in text and text.rstrip().endswith("supervisor last " + "x" * 60)
+    kept = "".join((path.parent / f).read_text() for f in reversed(files))
+    numbers = [int(w.split()[5]) for w in kept.splitlines() if " installation " in w]
+    assert numbers == list(range(numbers[0], 1500))   # nothing lost within what is kept
+
+
 def test_a_status_file_that_cannot_be_written_is_logged_once_then_recovers(tmp_path, caplog):
     """A kiosk runs for weeks: a status folder it cannot use (a full or read-only disk) is one
     warning, not one a second, and the file is written again once the folder can be used."""

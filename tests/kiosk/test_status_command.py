@@ -129,6 +129,21 @@ def test_status_command_listens_on_an_ipv6_address_in_brackets(capsys):
     assert re.search(rf"no heartbeat came to \[::1\]:{silent} in \d+ s ", err), err
 
 
+@pytest.mark.skipif(not ipv6_loopback(), reason="this machine has no IPv6 loopback (::1)")
+def test_an_ipv4_table_heard_on_every_interface_is_named_by_its_ipv4_address(capsys):
+    """``tabletop status [::]:9000`` (every IPv6 and IPv4 interface) hears IPv4 tables as
+    ::ffff:A.B.C.D; the line names the table as the IPv4 address it sends from, in its column
+    (it showed [::ffff:127.0.0.1]:PORT, wider than the column)."""
+    port, th, out = listening("2", where="[::]:{port}")
+    hb = Heartbeat("127.0.0.1", port)
+    hb.send("north", 12.5, 59.8, 0, json.dumps({"mode": "live"}))
+    hb.close()
+    th.join()
+    (line,) = capsys.readouterr().out.splitlines()
+    assert out["rc"] == 0
+    assert re.match(r"north            127\.0\.0\.1:\d+ +up", line), line
+
+
 @pytest.mark.parametrize("seconds", ["1e300", "nan", "-1", "0"])
 def test_status_command_refuses_a_bad_duration(seconds, capsys):
     """--seconds 1e300 overflowed the stop timer in its thread (a traceback, then listening

@@ -221,6 +221,25 @@ def test_a_listed_character_no_engine_shows_is_named_once(caplog):
     assert len(said) == 1 and "lovre" in said[0] and "characters seen: lover" in said[0], said
 
 
+def test_a_character_sent_with_a_pucks_class_id_is_named_once(receiver, caplog):
+    """``characters: {lover: 2}`` beside puck 2: both go out as class id 2, which a receiving
+    stage takes for two sightings of puck 2 (its tracker keeps one, the other is lost). Said
+    once, with both, and still sent as configured."""
+    sink = TuioSink("out", ("127.0.0.1", receiver.port), TABLE, characters={"lover": 2})
+    lover = CharacterState("lover", 0.5, 0.4, 0.0)
+    for k in range(3):
+        sink.consume(frame(k, k / 60, pucks=[Puck(1, 0.2, 0.2, 0.0), Puck(2, 0.6, 0.3, 0.0)],
+                           characters=[lover]))
+    assert wait_for(lambda: len(receiver.packets) >= 6, 5.0)
+    sets = by_command(receiver.packets[-2])["set"]
+    assert sorted(params[1] for _a, params in sets) == [1, 2, 2]
+    said = [r.getMessage() for r in caplog.records if r.name == "tabletop.tuio"]
+    assert said == ["out: character lover is sent with class id 2, which puck 2 has too: a "
+                    "receiver takes it for a second sighting of that puck; give it an id no "
+                    "puck's marker has"], said
+    sink.close()
+
+
 def test_a_source_name_receivers_cannot_keep_is_refused_at_load():
     """A 70 kB source name made every datagram fail ('Message too long', one warning) for the
     whole run; receivers keep 200 characters of it."""

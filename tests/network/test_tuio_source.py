@@ -12,7 +12,7 @@ from tabletop.plugins.tracking import Tracker
 from tracking.osc_input import HOLD_S, OscInput
 from tracking.pucks import TrackerSettings
 
-from tests.network.helpers import RefSender, bundle, message, wait_for
+from tests.network.helpers import RefSender, bundle, ipv6_loopback, message, wait_for
 
 TABLE = (1.2, 0.8)
 
@@ -123,6 +123,26 @@ def test_senders_with_different_sources_do_not_mix(source):
     assert len(source.client.senders) == 2
 
 
+def test_machines_sending_one_source_name_do_not_mix(source):
+    """Cloned machines (one image, one host name) send one default name, tabletop@HOSTNAME:
+    kept apart by their IP addresses, each machine's pucks stay (each bundle replaced the
+    other's alive list, and one machine's pucks flickered away at every packet)."""
+    a = RefSender(source.bound_port, source="tabletop@raspberrypi")          # from 127.0.0.1
+    b = RefSender(0, source="tabletop@raspberrypi")
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as other:
+        other.bind(("127.0.0.2", 0))                                          # another machine
+        for fseq in range(1, 4):
+            a.objects([(1, 5, 0.2, 0.5, 0.0)], fseq=fseq)
+            other.sendto(b.profile_bundle("2Dobj", [1], [
+                (1, 6, 0.8, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)], 1000 + fseq).dgram,
+                ("127.0.0.1", source.bound_port))
+            assert sent(source, 2 * fseq)
+            assert set(pucks_by_id(source)) == {5, 6}
+    assert source.bad.counts() == {}
+    assert ("TUIO from tabletop@raspberrypi from 127.0.0.1, tabletop@raspberrypi from "
+            "127.0.0.2" in source.health().message)
+
+
 def test_a_quiet_sender_coasts_then_leaves():
     src = OscInput("osc", port=0, table=TABLE, quiet_s=0.2)
     src.open()
@@ -188,6 +208,23 @@ def test_a_sender_not_on_the_allow_list_changes_nothing():
                 ("127.0.0.1", src.bound_port))
         assert sent(src, 1)
         assert [p.id for p in src.latest().pucks] == [5]
+    finally:
+        src.close()
+
+
+@pytest.mark.skipif(not ipv6_loopback(), reason="no IPv6 on this machine")
+def test_an_allowed_ipv4_sender_reaches_a_source_listening_on_every_ipv6_and_ipv4_interface():
+    """host "::" takes IPv4 senders too, as ::ffff:127.0.0.1: the allow-list's 127.0.0.1 is
+    that sender (every one was refused), and the health names it as the allow-list does."""
+    src = OscInput("osc", host="::", port=0, table=TABLE, allow=["127.0.0.1"])
+    src.open()
+    try:
+        assert src.wait_listening()
+        RefSender(src.bound_port).cursors([(3, 0.5, 0.5)])           # from 127.0.0.1
+        assert sent(src, 1)
+        assert [c.id for c in src.latest().touches] == [3]
+        assert src.bad.counts() == {}
+        assert "TUIO from 127.0.0.1:" in src.health().message
     finally:
         src.close()
 
@@ -408,3 +445,56 @@ def test_every_refused_mocap_message_names_its_sender(source, caplog):
              or "stream name" in r.getMessage()]
     assert len(lines) == 4, lines
     assert all("from 127.0.0.1" in line for line in lines), lines
+
+
+def touch_xy(src) -> dict[int, tuple[float, float]]:
+    return {c.id: (round(c.x, 3), round(c.y, 3)) for c in src.latest().touches}
+
+
+def test_touches_of_senders_counting_alike_stay_apart_and_keep_their_ids(source):
+    """Two trackers each number their fingers from 0: two fingers, each keeping its id while it
+    stays (they were two touches of one id, one finger to every engine and to the tuio sink)."""
+    a = RefSender(source.bound_port, source="tableA@10.0.0.1")
+    b = RefSender(source.bound_port, source="tableB@10.0.0.2")
+    a.cursors([(0, 0.25, 0.5)])
+    assert sent(source, 1)
+    b.cursors([(0, 0.75, 0.5)])
+    assert sent(source, 2)
+    assert touch_xy(source) == {0: (0.3, 0.4), 1: (0.9, 0.4)}
+    a.cursors([])                                    # A's finger lifts: B's keeps its id
+    b.cursors([(0, 0.5, 0.25)])
+    assert sent(source, 4)
+    assert touch_xy(source) == {1: (0.6, 0.6)}
+    a.cursors([(0, 0.25, 0.5), (1, 0.25, 0.75)])     # A's session 1 is taken by B's finger
+    assert sent(source, 5)
+    assert touch_xy(source) == {0: (0.3, 0.4), 1: (0.6, 0.6), 2: (0.3, 0.2)}
+
+
+def test_a_blob_outlining_a_cursor_or_an_object_of_its_sender_is_no_touch(source):
+    """A sender's blob with the session id of its cursor or object is that entity's outline
+    (one counter numbers a TUIO sender's profiles): one finger, and a puck is no finger."""
+    ref = RefSender(source.bound_port, source="tracker@10.0.0.5")
+    ref.objects([(4, 5, 0.5, 0.5, 0.0)])
+    ref.cursors([(3, 0.25, 0.25)])
+    blob = [(s, x, 0.25, 0.0, 0.05, 0.05, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0)
+            for s, x in ((3, 0.25), (4, 0.5), (6, 0.75))]
+    ref.send(ref.profile_bundle("2Dblb", [3, 4, 6], blob, 1))
+    assert sent(source, 3)
+    assert touch_xy(source) == {3: (0.3, 0.6), 6: (0.9, 0.6)}   # the cursor, the lone blob
+
+
+def test_touches_of_two_sources_with_one_id_are_two_fingers_in_the_frame():
+    """Two osc sources (two ports, a tracker each), both sending finger 7."""
+    one, two = (OscInput(n, port=0, table=TABLE) for n in ("one", "two"))
+    inputs = LiveInputs([one, two], Tracker(TrackerSettings(smooth=False)))
+    inputs.open()
+    try:
+        assert one.wait_listening() and two.wait_listening()
+        RefSender(one.bound_port).cursors([(7, 0.25, 0.5)])
+        RefSender(two.bound_port).cursors([(7, 0.75, 0.5)])
+        assert sent(one, 1) and sent(two, 1)
+        for seq in range(3):   # stable from frame to frame
+            f = inputs.next(seq, time.monotonic())
+            assert {c.id: round(c.x, 3) for c in f.touches} == {7: 0.3, 0: 0.9}
+    finally:
+        inputs.close()

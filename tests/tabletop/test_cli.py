@@ -93,6 +93,47 @@ def test_a_stop_signal_ends_cleanly_with_a_complete_recording(tmp_path, sig):
     assert [f["seq"] for f in frames] == list(range(len(frames)))
 
 
+def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):
+    """An outside script comparing a replay's --out must not take a replay cut short for a
+    whole one: it exited 0, "replayed N frames", whatever part of the recording was left."""
+    cfg = tmp_path / "scripted.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\nengines: []\nview: {enabled: false}\n")
+    rec, out = tmp_path / "rec.jsonl", tmp_path / "out.jsonl"
+    r = tabletop("run", "--config", str(cfg), "--seconds", "4", "--record", str(rec))
+    assert r.returncode == 0, r.stderr
+    recorded = len(frames_of(rec))
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "replay", str(rec), "--no-view",
+                          "--out", str(out)], cwd=ROOT, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and (not out.exists() or out.read_bytes().count(b"\n") < 31):
+        time.sleep(0.05)   # the header and 30 frames
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=30)
+    assert p.returncode == 130, err
+    replayed = len(frames_of(out))
+    assert 30 <= replayed < recorded
+    assert f"replay interrupted by SIGINT after {replayed} frames of {rec}" in err, err
+    assert "Traceback" not in err and "replayed " not in err
+
+
+def test_a_recorder_max_mb_the_header_alone_reaches_is_refused_at_start(tmp_path):
+    """Every part begins with the header (the config and the files it names: the lover's
+    behaviour makes it 0.14 MB): with max_mb 0.05 each frame started a part of its own (480
+    files in 8 s) and the run said nothing of it."""
+    lover = ROOT / "behaviors" / "library" / "lover"
+    cfg = tmp_path / "small.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\n"
+                   f"engines: [{{kind: puppet_master, name: lover, behavior: {lover}, "
+                   "main: {puck: 1}}]\nview: {enabled: false}\n"
+                   "recorder: {enabled: true, folder: rec, max_mb: 0.05}\n")
+    r = tabletop("run", "--config", str(cfg), "--seconds", "1")
+    assert r.returncode == 2, r.stderr
+    (line,) = r.stderr.splitlines()
+    assert line.startswith(f"tabletop run: error: {cfg}: recorder.max_mb: 0.05 MB is less than "
+                           "the header every part of the recording begins with (0.1"), line
+    assert not (tmp_path / "rec").exists() or not any((tmp_path / "rec").iterdir())
+
+
 def test_version_and_help():
     r = tabletop("--version")
     assert r.returncode == 0 and r.stdout.startswith("tabletop ")
