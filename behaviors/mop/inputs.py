@@ -17,7 +17,7 @@ from behaviors.motion.clips import ClipError
 #: tolerance (a puck's x and y), and a turn of 1 rad weighs like 10 cm.
 PUCK_UNITS = np.array([0.1, 0.1, 1.0, 0.1])
 #: Tracking jitter of the puck path features (dx, dy, heading, speed; metres, radians, m/s): a
-#: take's differences within it are stillness (:func:`behaviors.mop.puppetry.moving_part`).
+#: take's differences within it are stillness (:func:`behaviors.mop.take.moving_part`).
 #: 0.3 mm of position jitter reads as speeds up to 0.03 m/s at 30 Hz and 0.06 m/s at 60 Hz
 #: (99th percentile), 0.8 mm as 0.09 and 0.15 m/s.
 PUCK_JITTER = np.array([0.001, 0.001, 0.02, 0.1])
@@ -82,7 +82,7 @@ class TouchInput:
         self.min_scale = np.array([0.01, 0.01])   # metres, as a puck's path
         self.jitter = PUCK_JITTER[:2]
         self._id: int | None = None
-        self._origin = (0.0, 0.0)
+        self._origin = (np.nan, np.nan)
 
     def read(self, frame: object, t: float) -> np.ndarray:
         touches = getattr(frame, "touches", ())
@@ -100,8 +100,17 @@ class TouchInput:
         """No finger on the table: the next touch starts a new gesture."""
         return self._id is None
 
+    @property
+    def origin(self) -> np.ndarray:
+        """Where the finger touched down (x, y metres; NaN after :meth:`restart` until one
+        touches): dx, dy are its position less this. A finger lifted part way through an
+        action and put down again reads from 0, 0; the action resumed reads it against the
+        first finger's origin (:mod:`behaviors.mop.resume`)."""
+        return np.array(self._origin)
+
     def restart(self, frame: object, t: float) -> None:
-        self._id = None
+        """Start a gesture at the next touch (a finger down now is read as touching down)."""
+        self._id, self._origin = None, (np.nan, np.nan)
 
 
 class StreamInput:
@@ -195,10 +204,10 @@ class Performer:
 
     @property
     def origin(self) -> np.ndarray:
-        """Where the gesture started (d,), in the features' terms (:attr:`PuckInput.origin`;
-        0 for inputs without one): a feature read against another origin is shifted by the
-        difference."""
-        return np.concatenate([i.origin if isinstance(i, PuckInput) else np.zeros(len(i.names))
+        """Where the gesture started (d,), in the features' terms (:attr:`PuckInput.origin`,
+        :attr:`TouchInput.origin`; 0 for a stream's columns): a feature read against another
+        origin is shifted by the difference."""
+        return np.concatenate([i.origin if hasattr(i, "origin") else np.zeros(len(i.names))
                                for i in self.inputs])
 
     @property
