@@ -43,6 +43,16 @@ class Take:
 #: a square went too, and the action ended before a performer's did (valid over 85% of its second
 #: half instead of 90%).
 STILL_SHARE = 0.005
+#: Rows in a row beyond the still radius that make a move (and the rows at each end whose
+#: median the stillness is first measured from): one row's jitter is no move. Measured on takes
+#: of the six example gestures recorded through the engine with 0-0.8 mm of jitter and 0.1-1.5 s
+#: still before and after (as ``tests/mop/test_take.py`` records them): with single rows and
+#: the first (last) row as the first reference, 0.5 mm left up to 47 still rows at the start and
+#: 30 at the end, 0.8 mm 47 and 47 (medians 5 and 18: start and end trimmed unevenly); runs of 3
+#: left up to 2 and 25 at 0.8 mm (an end row's jitter as the reference), with the medians as
+#: the first reference 2 and 13; runs of 4: 2 and 2, and at most 2 rows of gesture cut, as
+#: without jitter.
+MOVED_RUN = 4
 
 
 def moving_part(samples: np.ndarray, units: np.ndarray | None = None,
@@ -54,10 +64,12 @@ def moving_part(samples: np.ndarray, units: np.ndarray | None = None,
     take's extent of the take's first (last) sample, columns in ``units`` (default: each
     column's range over the take) and each column's difference reduced by its input's
     ``jitter`` (d,, in the inputs' units; none when None), measured from the mean of the still
-    samples; ``margin`` more samples are kept at each end. Without the jitter allowance a 2 s
+    samples, and a move is :data:`MOVED_RUN` rows beyond it in a row; ``margin`` more samples
+    are kept at each end. Without the jitter allowance a 2 s
     loop tracked with 0.3 mm of jitter and still 0.3 s at each end kept 71-78 of its 61 samples
     at 30 Hz (148-155 of 121 at 60 Hz; with the speed feature nothing was trimmed); with it 61
-    (121; 62 and 123 with the speed feature). A raw camera's 0.8 mm is beyond it (61-122 of 61).
+    (121; 62 and 123 with the speed feature). A raw camera's 0.8 mm is beyond it (61-122 of 61)
+    with single rows as moves; see :data:`MOVED_RUN`.
     Left in, a designer who waited 0.3 s before and after each
     of five gestures made actions whose progress stopped at 0.83-0.89 when the gesture was done
     and whose held end kept them driving while the puck rested: played back at 0.5-2x speed and
@@ -77,15 +89,20 @@ def moving_part(samples: np.ndarray, units: np.ndarray | None = None,
     r = share * extent
     allow = 0.0 if jitter is None else np.asarray(jitter, dtype=float) / np.where(u > 0, u, 1.0)
 
-    def moved(ref: np.ndarray) -> np.ndarray:
-        return np.linalg.norm(np.maximum(np.abs(z - ref) - allow, 0.0), axis=1) > r
-    away = np.flatnonzero(moved(z[0]))
-    left = np.flatnonzero(moved(z[-1]))
+    run = min(MOVED_RUN, n)
+
+    def moved(ref: np.ndarray, last: bool = False) -> np.ndarray:
+        """Rows starting (``last``: ending) a run of ``run`` rows away from ``ref``."""
+        out = np.linalg.norm(np.maximum(np.abs(z - ref) - allow, 0.0), axis=1) > r
+        runs = np.flatnonzero(np.convolve(out, np.ones(run, dtype=int), "valid") == run)
+        return runs + (run - 1) * last
+    away = moved(np.median(z[:run], axis=0))
+    left = moved(np.median(z[n - run:], axis=0), last=True)
     for _ in range(2):   # again from the still samples' mean: one sample's jitter doubles the spread
         if len(away) == 0 or len(left) == 0:
             break
-        away = np.flatnonzero(moved(z[:max(1, int(away[0]))].mean(axis=0)))
-        left = np.flatnonzero(moved(z[min(int(left[-1]) + 1, n - 1):].mean(axis=0)))
+        away = moved(z[:max(1, int(away[0]))].mean(axis=0))
+        left = moved(z[min(int(left[-1]) + 1, n - 1):].mean(axis=0), last=True)
     if len(away) == 0 or len(left) == 0:   # every difference within the jitter
         return 0, 1
     first = max(0, int(away[0]) - 1 - margin)
