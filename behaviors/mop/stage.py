@@ -8,7 +8,8 @@ it performs (a template shared by several characters is followed once). Each cha
 (:class:`Puppet`) then plays the most probable valid action among its followers.
 
 Rest: while a performer rests (:attr:`Performer.resting`: its puck has stayed where it settled
-for ``rest_time``, its finger is lifted) its follower is reset at every sample and drives
+for ``rest_time``, its finger is lifted or
+has stood still as long) its follower is reset at every sample and drives
 nothing, unless its action is valid and held where its template holds (``FollowState.holding``:
 a raise, hold, return whose hold outlasts the rest time): a puck at rest sits at the first sample of every template (gestures start where the
 puck rested), and a gesture that ended where it began stays matched at progress 1 for as long as
