@@ -17,7 +17,7 @@ from behaviors.motion.clips import ClipError
 #: tolerance (a puck's x and y), and a turn of 1 rad weighs like 10 cm.
 PUCK_UNITS = np.array([0.1, 0.1, 1.0, 0.1])
 #: Tracking jitter of the puck path features (dx, dy, heading, speed; metres, radians, m/s): a
-#: take's differences within it are stillness (:func:`behaviors.mop.puppetry.moving_part`).
+#: take's differences within it are stillness (:func:`behaviors.mop.take.moving_part`).
 #: 0.3 mm of position jitter reads as speeds up to 0.03 m/s at 30 Hz and 0.06 m/s at 60 Hz
 #: (99th percentile), 0.8 mm as 0.09 and 0.15 m/s.
 PUCK_JITTER = np.array([0.001, 0.001, 0.02, 0.1])
@@ -73,16 +73,27 @@ class PuckInput:
 
 
 class TouchInput:
-    """The first finger on the table (lowest id): dx, dy (metres) from where it touched down.
-    NaN while no finger touches."""
+    """The first finger on the table (lowest id): dx, dy (metres) from where its gesture
+    started, NaN while no finger touches. A gesture starts where the finger touches down and,
+    as a puck's (:class:`PathFeatures`), where it settled once it has stood still for
+    ``rest_time``: a still finger rests as a still puck does. Measured on the example
+    installation (``tests/mop/test_resume.py``): resting only when lifted, a finger held still
+    1-3 s part way through an action drove it through the whole pause, and a different gesture
+    drawn on after it was never recognised (a wrong action drove 16-22% of it); with the rest
+    nothing drives it after the rest time, the next gesture is driven 68-76% of it (as after a
+    lift) with no wrong action, and the paused action is resumed over 0.81-0.98 of its second
+    half (0.85-0.99 unrested)."""
 
-    def __init__(self, prefix: str = "") -> None:
+    def __init__(self, prefix: str = "", rest_time: float = 0.8,
+                 rest_radius: float = 0.003) -> None:
+        from behaviors.mop.features import PathFeatures
         self.names = (prefix + "dx", prefix + "dy")
         self.units = np.array([0.1, 0.1])
         self.min_scale = np.array([0.01, 0.01])   # metres, as a puck's path
         self.jitter = PUCK_JITTER[:2]
         self._id: int | None = None
-        self._origin = (0.0, 0.0)
+        self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
+        self._started = False
 
     def read(self, frame: object, t: float) -> np.ndarray:
         touches = getattr(frame, "touches", ())
@@ -92,16 +103,33 @@ class TouchInput:
         touch = next((c for c in touches if c.id == self._id), None)
         if touch is None:
             touch = min(touches, key=lambda c: c.id)
-            self._id, self._origin = touch.id, (touch.x, touch.y)
-        return np.array([touch.x - self._origin[0], touch.y - self._origin[1]])
+            self._id, self._started = touch.id, True
+            self._pf.reset(touch.x, touch.y, 0.0, t)
+        return self._pf.step(touch.x, touch.y, 0.0, t)[:2]
 
     @property
     def resting(self) -> bool:
-        """No finger on the table: the next touch starts a new gesture."""
-        return self._id is None
+        """No finger on the table, or the finger has stood still for ``rest_time``: the next
+        move starts a new gesture."""
+        return self._id is None or self._pf.resting
+
+    @property
+    def origin(self) -> np.ndarray:
+        """Where the gesture started (x, y metres; NaN after :meth:`restart` until a finger
+        touches): dx, dy are the finger's position less this. A finger lifted part way through
+        an action and put down again reads from 0, 0; the action resumed reads it against the
+        first finger's origin (:mod:`behaviors.mop.resume`)."""
+        return np.array(self._pf.origin[:2]) if self._started else np.full(2, np.nan)
+
+    @property
+    def still(self) -> int:
+        """Samples read since the finger last moved (:attr:`PathFeatures.still`; 1 while none
+        touches)."""
+        return self._pf.still if self._id is not None else 1
 
     def restart(self, frame: object, t: float) -> None:
-        self._id = None
+        """Start a gesture at the next touch (a finger down now is read as touching down)."""
+        self._id, self._started = None, False
 
 
 class StreamInput:
@@ -195,17 +223,17 @@ class Performer:
 
     @property
     def origin(self) -> np.ndarray:
-        """Where the gesture started (d,), in the features' terms (:attr:`PuckInput.origin`;
-        0 for inputs without one): a feature read against another origin is shifted by the
-        difference."""
-        return np.concatenate([i.origin if isinstance(i, PuckInput) else np.zeros(len(i.names))
+        """Where the gesture started (d,), in the features' terms (:attr:`PuckInput.origin`,
+        :attr:`TouchInput.origin`; 0 for a stream's columns): a feature read against another
+        origin is shifted by the difference."""
+        return np.concatenate([i.origin if hasattr(i, "origin") else np.zeros(len(i.names))
                                for i in self.inputs])
 
     @property
     def still(self) -> int:
         """Samples read since a puck of this performer last moved (1: one just moved; 1
         without pucks)."""
-        return min((i.still for i in self.inputs if isinstance(i, PuckInput)), default=1)
+        return min((i.still for i in self.inputs if hasattr(i, "still")), default=1)
 
     def restart(self, frame: object, t: float) -> None:
         for i in self.inputs:

@@ -20,6 +20,10 @@ gesture (a hundred samples and more).
 Measured on the example installation (``tests/mop/test_resume.py``): circles, zigzags, figure
 eights and lines paused 1-3 s at 30-70% drive 0.70-0.96 of their second half by their action
 (0-0.16 without); a different gesture after such a pause is driven by a wrong action 0% of it.
+A finger rests when it lifts: the gesture resumes read against the first touch's origin
+(:attr:`behaviors.mop.inputs.TouchInput.origin`) when a finger comes down where it lifted and
+draws on; the same gestures lifted at 30-70% for 1-3 s drive 0.86-0.97 of their second half
+(0-0.24 read from the new touch's origin).
 Tried before: keeping the gesture's origin through rests of up to 3 s while an action drives
 (85-100% of the second half), not kept: it drove through the rest too (the bird alone in
 ``tests/mop/test_live.py``: 46 ticks driven by a resting puck, 0 allowed).
@@ -46,6 +50,10 @@ ADVANCE = 0.02
 #: Seconds the puck stands still while an action drives before its samples are kept and
 #: replayed (a pause may follow), ahead of the rest (the input's rest time, 0.8 s).
 STAND_S = 0.2
+#: Seconds a copy of the spare follower stands on the last kept sample of a gesture whose rest
+#: began while it moved (a finger lifted mid-stroke), as long as a puck stands before its rest:
+#: the furthest it takes the action is where the action stopped (:meth:`Resume.keep`).
+SETTLE_PROBE_S = 0.8
 #: Progress from which an action has finished: a rest there ends it (nothing to resume).
 FINISHED = 0.95
 #: Longest gesture (seconds) kept for resuming; a longer one keeps its last samples only.
@@ -91,6 +99,9 @@ class Resume:
         self._pause = int(round(PAUSE_S * rate_hz))
         self._most = int(round(GESTURE_S * rate_hz))
         self._settle = int(round(SETTLE_S * rate_hz))
+        self._probe_n = int(round(SETTLE_PROBE_S * rate_hz))
+        self._probe = 0   # steps of the settle probe left (:meth:`_probe_step`)
+        self._probe_f: object | None = None   # its copy of the spare follower
         self.stand_samples = int(round(STAND_S * rate_hz))
         self._drove = 0   # how many of the fresh gesture's samples had been seen when it drove
         self._at: list[tuple[str, float]] = []   # its follower's action and progress at each
@@ -107,11 +118,12 @@ class Resume:
         self._rested = 0
         self.state: object | None = None      # the resumed follower's state, while followed
         self._from: tuple[str, float] | None = None   # the kept action and its progress
+        self._last: np.ndarray | None = None   # the last kept sample (the settle probe's)
 
     def drop(self) -> None:
         """Forget the kept action."""
         self.kept, self._todo, self.state, self._mine = None, deque(), None, []
-        self.preparing = False
+        self.preparing, self._probe, self._probe_f = False, 0, None
         self._from = None
 
     def add(self, x: np.ndarray, resting: bool, state: object) -> None:
@@ -145,20 +157,29 @@ class Resume:
         (:attr:`drove_lately`): keep it up to the last sample it drove at or the last one
         before the puck stood ``still`` (samples, the rest's included), the earlier: the
         stillness is the pause's, not the action's (kept, a follower refused a line resumed
-        after 46 still samples at once)."""
+        after 46 still samples at once). A rest begun as the input moved (``still`` 1: a finger
+        lifted mid-stroke) has no standing to tell where the action stopped: a copy of the
+        spare stands on the last kept sample instead (:meth:`_probe_step`; the follower's
+        progress lags a moving input: without it a circle begun where a line was lifted at
+        0.49 took the resumed line on to 0.53, and it drove 15-20% of the circle; kept as
+        still samples in the replay, the stillness made a circle or zigzag lifted at 30%
+        invalid: 0-5% of their second half driven)."""
         if self._source is not follower:   # a rebuilt follower: a new spare
             self._source, self.follower = follower, copy.deepcopy(follower)
         cut = min(self._drove, len(self.samples) - max(0, still - 2))
         self.kept, self._mine = origin.copy(), self.samples[:max(cut, 0)]
         self._cut, self.preparing = cut, False
         self._settle_stop()
-        self._requeue()
+        self._requeue(still)
 
-    def _requeue(self) -> None:
-        """The spare follower starts afresh on the kept samples, all of them to replay."""
+    def _requeue(self, still: int) -> None:
+        """The spare follower starts afresh on the kept samples, all of them to replay, then
+        the settle probe when the input moved up to the rest (``still`` 1)."""
         self.follower.reset()  # type: ignore[attr-defined]
         self._todo, self._rested, self.state, self._from = deque(self._mine), 0, None, None
         self._left = len(self._mine)
+        self._probe = self._probe_n if still <= 1 and self._mine else 0
+        self._probe_f, self._last = None, (self._mine[-1] if self._mine else None)
 
     def _settle_stop(self) -> None:
         """Where the action was when the puck stopped: the furthest the fresh follower took it
@@ -194,7 +215,7 @@ class Resume:
         s = self.state
         self._stopped = (s.best, float(s.progress))  # type: ignore[attr-defined]
         del self._mine[max(0, len(self._mine) - max(0, still - 2)):]
-        self._requeue()
+        self._requeue(still)
 
     def rest(self, n: int = REPLAY_PER_SAMPLE) -> None:
         """One sample of the rest: replay up to ``n`` kept samples; drop beyond
@@ -217,7 +238,14 @@ class Resume:
         """Step the spare follower on up to ``n`` queued samples, the kept ones first; False
         when the resumed action was dropped (invalid, or another action, after the rest)."""
         follower = self.follower
+        while n > 0 and self._left == 0 and self._probe > 0:   # the kept samples followed
+            self._probe_step()
+            n -= 1
         while n > 0 and self._todo:
+            if self._left == 0 and self._probe > 0:
+                self._probe_step()
+                n -= 1
+                continue
             if self._left == 0 and self._from is None:   # where the puck stopped along it
                 s: Any = self.state
                 same = s is not None and s.best == self._stopped[0]
@@ -231,6 +259,21 @@ class Resume:
                 self.drop()
                 return False
         return True
+
+    def _probe_step(self) -> None:
+        """One step of the settle probe (:meth:`keep`): a copy of the spare, which has followed
+        the kept samples, stands on the last of them; the furthest it takes the kept action
+        while valid is where the action stopped."""
+        if self._probe_f is None:
+            self._probe_f = copy.deepcopy(self.follower)
+        s: Any = self._probe_f.step(self._last)  # type: ignore[attr-defined]
+        self._probe -= 1
+        if bool(s.valid) and s.best == self._stopped[0]:
+            self._stopped = (s.best, max(self._stopped[1], float(s.progress)))
+        else:
+            self._probe = 0
+        if self._probe == 0:
+            self._probe_f = None
 
     def follow(self, x: np.ndarray, origin: np.ndarray,
                n: int = REPLAY_PER_SAMPLE) -> object | None:

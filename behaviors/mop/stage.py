@@ -8,7 +8,8 @@ it performs (a template shared by several characters is followed once). Each cha
 (:class:`Puppet`) then plays the most probable valid action among its followers.
 
 Rest: while a performer rests (:attr:`Performer.resting`: its puck has stayed where it settled
-for ``rest_time``, its finger is lifted) its follower is reset at every sample and drives
+for ``rest_time``, its finger is lifted or
+has stood still as long) its follower is reset at every sample and drives
 nothing, unless its action is valid and held where its template holds (``FollowState.holding``:
 a raise, hold, return whose hold outlasts the rest time): a puck at rest sits at the first sample of every template (gestures start where the
 puck rested), and a gesture that ended where it began stays matched at progress 1 for as long as
@@ -53,8 +54,9 @@ import numpy as np
 
 from behaviors.motion.clips import Clip
 from behaviors.mop.inputs import Performer
-from behaviors.mop.puppetry import Action, Puppet, Take, Vote
+from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
+from behaviors.mop.take import Take
 from tabletop.frames import CharacterState, Frame, InputError
 from behaviors.worker import Worker
 
@@ -66,7 +68,7 @@ SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
 
 MIN_TAKE_SAMPLES = 8
 #: Seconds of a take kept before its gesture's first move and after its last beyond the inputs'
-#: jitter (:func:`behaviors.mop.puppetry.moving_part`): an eased start and end move within the
+#: jitter (:func:`behaviors.mop.take.moving_part`): an eased start and end move within the
 #: jitter about as long. A square recorded with 0.5 mm of jitter kept 61 of its 73 samples with
 #: none, and its action was no longer valid when a performer ended it (85% of its second half
 #: valid); 67 and still not at 0.1 s; 69 and valid to the end (100%, progress 0.98) at 0.15 s.
@@ -339,7 +341,7 @@ class MopStage:
             # the puck settled (a raise, a hold longer than the rest time, then the return
             # recorded from 0, 0); the stills before and after the gesture are trimmed at its end
             if self.take is not None and self.take.recording and self.take.performer == pname:
-                self.take.add(x + (performer.origin - self.take.origin))
+                self.take.add(x, performer.origin)
         resumed = {}
         steps = self._replay_steps()
         for i, key in enumerate(self._keys):
