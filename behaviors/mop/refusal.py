@@ -208,6 +208,30 @@ on, beyond the 4 mm within which the bench calls a motion a performance of an ac
 (``PERFORMS_M``), and the circle drives from 0.52 of it: a lopsided circle, followed within its
 spread, not one the bench's observer would name.
 
+Mirrored paths among twenty templates (``bench/follow_widened.py``, tuned joints, seeds 201-210),
+traced: a template's stretch followed forward and back over itself within its own spread (the
+zigzag on a mirrored dance wrist at 0.7x, 0.24 -> 0.34 -> 0.24; the walk ankle on a mirrored spin
+ankle at 1.4x, 0.13 -> 0.27 -> 0.09; recent likelihood 0.7-1.4 sigma, misfit 0.2-0.6, probability
+1). On the worst the zigzag, taken at its corner, was strained (recent likelihood 1.31 -> 1.69)
+when the input turned there: the reversal sized it 1.06 -> 1.36
+(:data:`~behaviors.mop.invariance.REVERSAL_FIT`), which judged it afresh
+(:data:`~behaviors.mop.invariance.REJUDGE`) and it drove 20 samples more. So the action driving
+takes no size at a reversal while strained (:meth:`Refusal._strained`, recent likelihood beyond
+``accept_distance``; :data:`~behaviors.mop.invariance.REVERSAL_STRAINED`): at the reversals met by
+the action driving (seeds 201-202) true performances at 0.7-1.4x were strained at 69 of 857
+(recent likelihood 0.91 median, 1.19 at 90%), mirrored paths at 4 of 6. Widened: worst 0.338 ->
+0.239, mean 0.0146 -> 0.0145, over 0.1 22 of 540 both, sequences identical;
+``bench/follow_quality.py`` (every non-held-out figure): valid after 30% at 0.7-1.4x 0.9147 ->
+0.9157, 0.6 / 1.5x 0.7581 -> 0.7585, progress RMSE median 0.01897 -> 0.01905, 241 others
+identical. Not kept: refusal limits 1.5 / 1.2 with "scale" (widened worst 0.296, but valid after
+30% 0.9122 and the spiral with the circle alone 0.004 -> 0.174, refused sooner and taken again),
+1.4 / 1.1 (0.296; wrong runs over 2 samples 14 -> 17), 1.6 / 1.2 (0.310, mean 0.0148); an action
+judged afresh while it drives taken anew: the zigzag's last samples fit at 1.36, and 2755 of 8485
+true valid ticks follow such a judgement (62 of 798 mirrored); nor do the misfit's sums re-read at
+the new size tell them. Left: a stretch followed back over itself unstrained (the walk ankle; the
+held-out worst 0.346), as a performer going back along a gesture or a line's return followed
+backwards at a wrong size is (going back: :mod:`behaviors.mop.validity`).
+
 Tried beside the likelihood before, measured with ``bench/follow_quality.py`` and left out,
 since the unrelated motions still find stretches of some template that match them in every
 respect these rules see (a diagonal line is the chord of a circle's first quarter at 1.5x; a
@@ -252,7 +276,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import threshold
+from behaviors.mop import invariance, threshold
 from behaviors.mop.validity import PATH_REACH, unjudged
 
 
@@ -411,6 +435,12 @@ class Refusal:
         self._threshold_x = x
         self._threshold_ev = self._threshold_ev * self._decay + step
         return self._threshold_ev
+
+    def _strained(self, k: int) -> bool:
+        """Whether template ``k`` is strained: its recent likelihood (in its own spread) lies
+        beyond ``accept_distance``, and :data:`~behaviors.mop.invariance.REVERSAL_STRAINED`."""
+        d2 = (self._log_constant - self._recent[k] / self._recent_weight[k]) * (2.0 / self._zdim)
+        return invariance.REVERSAL_STRAINED and bool(d2 > self._accept2)
 
     def _shaped(self, k: int) -> bool:
         """Template ``k`` may drive as far as its path is concerned."""

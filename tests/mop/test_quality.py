@@ -356,7 +356,8 @@ def test_an_action_does_not_hold_a_performer_resting_behind_where_it_began(gestu
                                                                           monkeypatch):
     # a wave or a zigzag performed to 60%, back to its start and rested: the action no longer
     # drives once the performer rests behind where it began driving (validity.rests_behind).
-    # Measured: valid ticks in the resting tails 0 (83 without)
+    # Measured: valid ticks in the resting tails 0 (25 without; 50 without it and without
+    # invariance.REVERSAL_STRAINED, which keeps the zigzag strained at its turn from being sized)
     from behaviors.mop import validity
 
     streams = [_there_and_back(gestures, n, s) for n in ("wave", "zigzag") for s in (0, 1)]
@@ -364,7 +365,7 @@ def test_an_action_does_not_hold_a_performer_resting_behind_where_it_began(gestu
     now = sum(sum(s.valid for s in run(f, x)[-25:]) for x in streams)
     monkeypatch.setattr(validity, "REST_BEHIND", -1.0)
     plain = sum(sum(s.valid for s in run(f, x)[-25:]) for x in streams)
-    assert now <= 2 and plain >= 40, (now, plain)
+    assert now <= 2 and plain >= 20, (now, plain)
 
 
 def test_a_gesture_drawn_smaller_is_sized_once_its_stroke_turns(gestures, monkeypatch):

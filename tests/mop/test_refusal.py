@@ -9,7 +9,7 @@ import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import shape_lead, validity
+from behaviors.mop import invariance, shape_lead, validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import shape_limits
 
@@ -305,3 +305,37 @@ def test_a_group_takes_an_action_only_at_a_size_near_its_own_as_its_followers_al
     # the same sizes over members (group.FollowerGroup._takes_fit): every tick equal
     templates, streams = _mirrored_waves()
     _group_as_alone(templates, streams[:4])
+
+
+def _mirrored_dance() -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """The twenty templates of ``bench/follow_quality.py`` and the dance wrist drawn mirrored at
+    0.7x, as ``bench/follow_widened.py`` draws it with seed 208 (the zigzag drives it)."""
+    from bench.motions import gesture_templates, mocap_templates
+    templates = {**gesture_templates(), **mocap_templates()}
+    rng = np.random.default_rng(208)
+    for name, path in unrelated_motions(rng, templates).items():
+        if name.startswith("mirrored_"):
+            for scale in (0.7, 1.0, 1.4):
+                x = performance(rng, path, scale)[0]
+                if name == "mirrored_dance_a_left_wrist":
+                    return templates, x
+    raise AssertionError("no mirrored dance wrist drawn")
+
+
+def test_a_strained_action_takes_no_size_at_a_reversal(monkeypatch):
+    # invariance.REVERSAL_STRAINED: the zigzag drives the mirrored dance wrist with its recent
+    # likelihood at 1.3-1.7 sigma of its own spread (refused beyond 1.8) when the input turns
+    # at the zigzag's corner; sized there (1.06 -> 1.36) it was judged afresh
+    # (invariance.REJUDGE) and drove 20 samples more. Measured: valid 0.239 of the time, 0.338
+    # sized at the reversal
+    templates, x = _mirrored_dance()
+    now = np.mean([s.valid for s in run(puck_follower(templates), x)])
+    monkeypatch.setattr(invariance, "REVERSAL_STRAINED", False)
+    sized = np.mean([s.valid for s in run(puck_follower(templates), x)])
+    assert now <= 0.26 and sized >= now + 0.08, (now, sized)
+
+
+def test_a_group_sizes_no_strained_action_at_a_reversal_as_its_followers_alone():
+    # the same rule in the group's kernel (group_kernel.update_templates): every tick equal
+    templates, x = _mirrored_dance()
+    _group_as_alone(templates, [x, x[::-1].copy()])
