@@ -154,8 +154,13 @@ def test_switch_rename_delete_and_undo(tmp_path):
     assert e.behavior_name == "a"
     s.command("designer.item_next")
     assert e.behavior_name == "b"
+    (lib / "b" / "behavior.yaml").write_text("# made at the table\n"
+                                             + (lib / "b" / "behavior.yaml").read_text())
     s.command("designer.rename:brave")
     assert library.list_behaviors(lib) == ["a", "brave"] and e.behavior_name == "brave"
+    saved = (lib / "brave" / "behavior.yaml").read_text()   # the file says the new name too
+    assert library.read_description(lib / "brave")["name"] == "brave"
+    assert saved.startswith("# made at the table\n") and "name: brave\n" in saved
     s.command("designer.rename:a")                 # taken: refused, nothing changes
     assert "already exists" in s.message and library.list_behaviors(lib) == ["a", "brave"]
     s.command("designer.delete")
@@ -165,6 +170,7 @@ def test_switch_rename_delete_and_undo(tmp_path):
     s.command("designer.undo")                     # the rename
     assert library.list_behaviors(lib) == ["a", "b"]
     assert library.load_behavior(lib / "b").name == "b"
+    assert library.read_description(lib / "b")["name"] == "b"
     s.command("designer.undo")
     assert "nothing to undo" in s.message
 
