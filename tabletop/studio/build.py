@@ -64,6 +64,9 @@ class StudioStage:
     def __init__(self, markers: Markers, studio: Studio) -> None:
         self.markers, self.studio = markers, studio
 
+    def close(self) -> None:
+        self.studio.close()
+
     def __call__(self, frame: Frame) -> Frame:
         out = self.studio(self.markers(frame))
         if len(out.pucks) != len(frame.pucks) or out.commands != frame.commands:

@@ -38,56 +38,16 @@ import dataclasses
 import logging
 import math
 import time
-from typing import Callable, Protocol, Sequence
+from typing import Callable, Sequence
 
 from tabletop.frames import CharacterState, Frame, InputError
+from tabletop.studio.take import Target, Try
 
 log = logging.getLogger("tabletop")
 
 MESSAGE_S = 5.0
 SWAP_S = 0.15   # a take trained in a worker plays this long after the stop (frame time): a
                 # minute's take trains in 15-95 ms here (bench/studio.py), so the loop rarely waits
-
-
-class Target(Protocol):
-    """What the studio needs of an engine: one designer target (a behaviour, an action slot)."""
-
-    name: str   # the focus name (Frame.focus)
-    what: str   # "behaviour", "action", ...
-
-    def begin(self, frame: Frame) -> None: ...            # a take starts now
-    def resume(self, frame: Frame) -> None: ...           # its next part (cut() named) starts
-    def record(self, frame: Frame) -> str: ...            # sample this tick; a problem or ""
-    def ended(self) -> bool: ...                          # the part ended by itself
-    def cut(self) -> str: ...                             # part stopped: "" done, else the next
-    def seconds(self) -> float: ...                       # length of the part so far
-    def train(self) -> str | None: ...                    # train, play it; None: training in
-                                                          # the background; raises InputError
-    def trained(self, wait: bool) -> str | None: ...      # between ticks: it plays (wait: once
-                                                          # trained), else None; InputError
-    def revert(self) -> None: ...                         # back to what played before the take
-    def keep(self) -> str: ...                            # save the take; returns its name
-    def items(self) -> list[str]: ...                     # the library's items, sorted
-    def current(self) -> str | None: ...                  # the item in play
-    def use(self, name: str) -> None: ...                 # play a library item
-    def rename(self, old: str, new: str, undo: bool = False) -> None: ...  # undo: back
-    def remove(self, name: str) -> Callable[[], None]: ...  # returns its restore
-    def poll(self) -> list[str]: ...                      # reload changed files; problems
-
-
-@dataclasses.dataclass
-class Try:
-    """One take as the session log records it."""
-
-    target: str
-    what: str
-    started: float
-    duration_s: float = 0.0
-    samples: int = 0
-    training_s: float = 0.0    # from the stop until the take plays (a worker's wait included)
-    outcome: str = ""          # kept | discarded | redone | too short | refused
-    name: str = ""
-    review: str = ""
 
 
 class Studio:
@@ -318,6 +278,15 @@ class Studio:
             self.say(fn())
         else:           # said, so that the key is not taken for broken
             self.say(f"A: a {target.what} has no motion to assign (MOP actions do)")
+
+    def close(self) -> None:
+        """The studio stops (Esc, the end of a run): a take under way is dropped, and one tried
+        (or training) is logged with outcome "quit", so the session log still shows it."""
+        if self.state == "idle":
+            return
+        left, tried = self.selected, self.state in ("trying", "training")
+        self._drop("quit" if tried else "")
+        log.info("studio: %s: take %s at quit", left, "tried, not kept," if tried else "cancelled")
 
     # --- the library -----------------------------------------------------------------------------
 

@@ -360,3 +360,39 @@ def test_a_take_left_by_tab_is_said_discarded(tmp_path):
     _, studio = bench.step(Frame(seq=502, t=202.0, focus="a"))
     assert studio.label == "[a] b: take cancelled (Tab left it)", studio.label
     assert bench.studio.state == "idle" and a.behavior is None
+
+
+def test_esc_while_a_take_is_tried_logs_it_as_quit(tmp_path):
+    """Esc in the view while a take was tried ended the run and the take went without a line
+    in the session log: the loop closes the studio, which logs it (outcome "quit")."""
+    import threading
+
+    import pygame
+
+    from tabletop.loop import CommandQueue, Loop
+    from tabletop.replay_inputs import FrameInputs
+    from tabletop.studio.build import Markers, StudioStage
+    from tabletop.view import ProjectorView
+
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    stop, q = threading.Event(), CommandQueue()
+    cfg = validate_config({"sources": [{"kind": "scripted"}]}, "test.yaml", ROOT)
+    view = ProjectorView(TABLE, dict(cfg["view"], size=[320, 180]), commands=q, stop=stop,
+                         headless=True)
+    demo = designers.demonstrate("lover", seed=8, seconds=30)
+    frames = list(demo_frames(demo, {10: ("designer.record",), 300: ("designer.record",)}))
+
+    def esc_once_tried(frame):
+        if bench.studio.state == "trying" and not stop.is_set():
+            pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_ESCAPE, mod=0,
+                                                 unicode="", scancode=0))
+
+    loop = Loop(FrameInputs(iter(frames), honour_times=False), [e], [view], commands=q,
+                stop=stop, paced=False, hooks=[esc_once_tried],
+                filters=[StudioStage(Markers({}, bench.studio), bench.studio)])
+    ran = loop.run()
+    assert stop.is_set() and ran < len(frames)          # Esc ended the run
+    (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert line["outcome"] == "quit" and line["target"] == "pet" and line["samples"] == 290
+    assert bench.studio.state == "idle"
