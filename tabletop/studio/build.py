@@ -138,5 +138,8 @@ def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = Tru
     loop = inst.loop
     loop.filters.append(StudioStage(Markers(ids, studio, loop.commands, s["debounce_s"]), studio))
     loop.focus.extra.append(studio)
+    for sink in loop.sinks:     # F2 refused at once when there is nothing to rename
+        if hasattr(sink, "prompt"):
+            sink.prompt.ask = studio.may_rename
     loop.hooks.append(lambda frame: studio.poll())
     return studio

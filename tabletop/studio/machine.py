@@ -294,11 +294,17 @@ class Studio:
         """Is a take under way? Then ``doing`` is refused, said: it acts on the library item
         in play, not on the take (a switch would train the take with another character's
         parameters; F2 on a take tried would rename the item played before it)."""
-        if self.state in ("countdown", "recording", "ready"):
-            self.say(f"no {doing} during a take: finish it, or X cancels it")
-        elif self.state in ("trying", "training"):
-            self.say(f"no {doing} while a take is tried: K keeps or X discards it first")
+        why = self._busy_why(doing)
+        if why:
+            self.say(why)
         return self.state != "idle"
+
+    def _busy_why(self, doing: str) -> str:
+        if self.state in ("countdown", "recording", "ready"):
+            return f"no {doing} during a take: finish it, or X cancels it"
+        if self.state in ("trying", "training"):
+            return f"no {doing} while a take is tried: K keeps or X discards it first"
+        return ""
 
     def _item(self, target: Target, step: int) -> None:
         if self._busy("switching"):
@@ -327,6 +333,17 @@ class Studio:
 
     def _item_previous(self, target: Target, arg: str) -> None:
         self._item(target, -1)
+
+    def may_rename(self) -> bool:
+        """F2 in the view: may the name prompt open? If not, why is said at once (the same
+        refusal as the rename's), not after a name was typed."""
+        self.quiet = False
+        target = self.target
+        why = ("no designer target" if target is None else self._busy_why("renaming")
+               or ("nothing to rename" if target.current() is None else ""))
+        if why:
+            self.say(why)
+        return not why
 
     def _rename(self, target: Target, arg: str) -> None:
         if self._busy("renaming"):

@@ -396,3 +396,48 @@ def test_esc_while_a_take_is_tried_logs_it_as_quit(tmp_path):
     (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
     assert line["outcome"] == "quit" and line["target"] == "pet" and line["samples"] == 290
     assert bench.studio.state == "idle"
+
+
+def test_f2_with_nothing_to_rename_is_refused_at_once(tmp_path):
+    """F2 opened the name prompt with no library item in play; "nothing to rename" came only
+    after a name was typed and Enter: the prompt stays closed and the refusal is said at F2."""
+    import types
+
+    import pygame
+
+    from tabletop.loop import CommandQueue, Loop
+    from tabletop.replay_inputs import FrameInputs
+    from tabletop.studio.build import attach_studio
+    from tabletop.view import ProjectorView
+
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "shy", designers.demonstrate("lover", seconds=4), {})
+    engines = designer(tmp_path)
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": "pet",
+         "designer": {"enabled": True, "library": str(lib)}}],
+        "studio": {"folder": str(tmp_path / "studio"), "review": False}}, "test.yaml", ROOT)
+    q = CommandQueue()
+    view = ProjectorView(TABLE, dict(cfg["view"], size=[320, 180]), commands=q, headless=True)
+    loop = Loop(FrameInputs(iter(()), honour_times=False), engines, [view], commands=q,
+                paced=False)
+    studio = attach_studio(types.SimpleNamespace(loop=loop), cfg, tmp_path)
+
+    def f2(t):
+        pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_F2, mod=0,
+                                             unicode="", scancode=0))
+        view.consume(studio(Frame(seq=int(t), t=t)))
+    try:
+        f2(1.0)
+        assert not view.prompt.active and studio.message == "nothing to rename"
+        studio.command("designer.item_next")
+        f2(2.0)
+        assert view.prompt.active                      # shy is in play: type its new name
+        pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_ESCAPE, mod=0,
+                                             unicode="", scancode=0))
+        view.consume(studio(Frame(seq=3, t=3.0)))
+        studio.command("designer.record")              # a take under way: refused, said
+        f2(4.0)
+        assert not view.prompt.active and studio.message.startswith("no renaming during a take")
+    finally:
+        view.close()
