@@ -67,6 +67,7 @@ class Studio:
         # the state and target a message was said in (None: said this tick); it is shown while
         # they last, at most MESSAGE_S
         self._message_for: tuple[str, str | None] | None = None
+        self._warning, self._warning_until = "", -math.inf   # a take's problem ("no puck 2")
         self.problems: list[str] = []
         self.undo_stack: list[tuple[str, Callable[[], None]]] = []
         self.tries: list[Try] = []
@@ -131,8 +132,8 @@ class Studio:
                 self.state = "recording"
             if self.state == "recording":
                 problem = target.record(frame)
-                if problem:
-                    self._show(problem, 0.2)
+                if problem:     # beside a message said now (a refusal), not over it
+                    self._warning, self._warning_until = problem, self._t + 0.2
                 if target.ended():
                     self._stop(target, "")
         self._message_ends()
@@ -411,8 +412,11 @@ class Studio:
             value = None
         if self.state == "trying" and target is not None and hasattr(target, "guide"):
             points = target.guide()       # where to try it (table metres), drawn as a path
+        warning = self._warning if self._t < self._warning_until else ""
         if self._t < self._message_until:
-            text = self.message
+            text = f"{warning}   | {self.message}" if warning else self.message
+        elif warning:
+            text = warning
         elif target is None:
             text = "no designer target"
         else:

@@ -441,3 +441,21 @@ def test_f2_with_nothing_to_rename_is_refused_at_once(tmp_path):
         assert not view.prompt.active and studio.message.startswith("no renaming during a take")
     finally:
         view.close()
+
+
+def test_a_refusal_while_a_puck_is_missing_is_shown_beside_the_missing_puck(tmp_path):
+    """Recording with puck 2 gone, "recording: no puck 2" took the status line every tick: a
+    refusal said at that moment (F2 during the take) was never seen. Both are shown."""
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+
+    def tick(i, cmds=()):
+        _, studio = bench.step(Frame(seq=i, t=100 + i / 60, pucks=(Puck(1, 0.5, 0.4, 0.0),),
+                                     commands=cmds))
+        return studio.label
+    tick(0, ("designer.record",))
+    assert "recording: no puck 2" in tick(1)
+    said = tick(2, ("designer.rename:shy",))
+    assert "recording: no puck 2" in said and "no renaming during a take" in said
+    said = tick(30)                                    # half a second on: both still shown
+    assert "recording: no puck 2" in said and "no renaming during a take" in said
