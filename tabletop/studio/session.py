@@ -24,7 +24,7 @@ from typing import Callable
 
 import numpy as np
 
-from tabletop.studio.machine import Try
+from tabletop.studio.take import Try
 
 log = logging.getLogger("tabletop")
 
