@@ -260,6 +260,30 @@ def describe_yaml(name: str, demo: np.ndarray, parameters: Mapping[str, Any],
     return yaml.safe_dump(doc, sort_keys=False, default_flow_style=False, allow_unicode=True)
 
 
+def write_name(folder: str | Path, name: str) -> tuple[str, str] | None:
+    """Set the ``name`` line of ``<folder>/behavior.yaml`` to ``name`` (written atomically),
+    the rest of the file as it is (comments too). Loading names a behaviour by its folder; this
+    keeps the file saying the same after a rename. A file without a top-level ``name`` line, or
+    one that does not read as a mapping, is left untouched. Returns the text before and after
+    (None: not written)."""
+    path = Path(folder) / BEHAVIOR_FILE
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        return None
+    line = yaml.safe_dump({"name": name}, default_flow_style=False, allow_unicode=True,
+                          width=1000).rstrip("\n")
+    new, n = re.subn(r"^name:[^\n]*$", lambda _: line, text, flags=re.MULTILINE)
+    try:
+        doc = yaml.safe_load(new)
+    except yaml.YAMLError:
+        return None
+    if n != 1 or not isinstance(doc, dict) or doc.get("name") != name or new == text:
+        return None
+    atomic_write_text(path, new)
+    return text, new
+
+
 def save_behavior(library: str | Path, name: str, demo: np.ndarray,
                   parameters: Mapping[str, Any], kind: str = "puppet_master",
                   description: str = "", source: str = "", replace: bool = False) -> Path:

@@ -64,6 +64,9 @@ class StudioStage:
     def __init__(self, markers: Markers, studio: Studio) -> None:
         self.markers, self.studio = markers, studio
 
+    def close(self) -> None:
+        self.studio.close()
+
     def __call__(self, frame: Frame) -> Frame:
         out = self.studio(self.markers(frame))
         if len(out.pucks) != len(frame.pucks) or out.commands != frame.commands:
@@ -135,5 +138,8 @@ def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = Tru
     loop = inst.loop
     loop.filters.append(StudioStage(Markers(ids, studio, loop.commands, s["debounce_s"]), studio))
     loop.focus.extra.append(studio)
+    for sink in loop.sinks:     # F2 refused at once when there is nothing to rename
+        if hasattr(sink, "prompt"):
+            sink.prompt.ask = studio.may_rename
     loop.hooks.append(lambda frame: studio.poll())
     return studio

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import Callable
 
 import pygame
 
@@ -90,10 +91,13 @@ def _guide(target: pygame.Surface, renderer, points, color) -> None:
 
 
 class NamePrompt:
-    """F2 in the view: type a new name, Enter sends ``designer.rename:NAME``, Esc cancels."""
+    """F2 in the view: type a new name, Enter sends ``designer.rename:NAME``, Esc cancels.
+    ``ask`` (the studio's :meth:`~tabletop.studio.machine.Studio.may_rename`, in the loop's
+    thread) may refuse F2: the prompt stays closed and the studio says why."""
 
     def __init__(self) -> None:
         self.text: str | None = None
+        self.ask: Callable[[], bool] | None = None
 
     @property
     def active(self) -> bool:
@@ -102,7 +106,7 @@ class NamePrompt:
     def handle(self, ev) -> str | None:
         """Take a KEYDOWN event; returns a command when one is complete."""
         if self.text is None:
-            if ev.key == pygame.K_F2:
+            if ev.key == pygame.K_F2 and (self.ask is None or self.ask()):
                 self.text = ""
             return None
         if ev.key == pygame.K_ESCAPE:

@@ -38,56 +38,16 @@ import dataclasses
 import logging
 import math
 import time
-from typing import Callable, Protocol, Sequence
+from typing import Callable, Sequence
 
 from tabletop.frames import CharacterState, Frame, InputError
+from tabletop.studio.take import Target, Try
 
 log = logging.getLogger("tabletop")
 
 MESSAGE_S = 5.0
 SWAP_S = 0.15   # a take trained in a worker plays this long after the stop (frame time): a
                 # minute's take trains in 15-95 ms here (bench/studio.py), so the loop rarely waits
-
-
-class Target(Protocol):
-    """What the studio needs of an engine: one designer target (a behaviour, an action slot)."""
-
-    name: str   # the focus name (Frame.focus)
-    what: str   # "behaviour", "action", ...
-
-    def begin(self, frame: Frame) -> None: ...            # a take starts now
-    def resume(self, frame: Frame) -> None: ...           # its next part (cut() named) starts
-    def record(self, frame: Frame) -> str: ...            # sample this tick; a problem or ""
-    def ended(self) -> bool: ...                          # the part ended by itself
-    def cut(self) -> str: ...                             # part stopped: "" done, else the next
-    def seconds(self) -> float: ...                       # length of the part so far
-    def train(self) -> str | None: ...                    # train, play it; None: training in
-                                                          # the background; raises InputError
-    def trained(self, wait: bool) -> str | None: ...      # between ticks: it plays (wait: once
-                                                          # trained), else None; InputError
-    def revert(self) -> None: ...                         # back to what played before the take
-    def keep(self) -> str: ...                            # save the take; returns its name
-    def items(self) -> list[str]: ...                     # the library's items, sorted
-    def current(self) -> str | None: ...                  # the item in play
-    def use(self, name: str) -> None: ...                 # play a library item
-    def rename(self, old: str, new: str, undo: bool = False) -> None: ...  # undo: back
-    def remove(self, name: str) -> Callable[[], None]: ...  # returns its restore
-    def poll(self) -> list[str]: ...                      # reload changed files; problems
-
-
-@dataclasses.dataclass
-class Try:
-    """One take as the session log records it."""
-
-    target: str
-    what: str
-    started: float
-    duration_s: float = 0.0
-    samples: int = 0
-    training_s: float = 0.0    # from the stop until the take plays (a worker's wait included)
-    outcome: str = ""          # kept | discarded | redone | too short | refused
-    name: str = ""
-    review: str = ""
 
 
 class Studio:
@@ -107,6 +67,7 @@ class Studio:
         # the state and target a message was said in (None: said this tick); it is shown while
         # they last, at most MESSAGE_S
         self._message_for: tuple[str, str | None] | None = None
+        self._warning, self._warning_until = "", -math.inf   # a take's problem ("no puck 2")
         self.problems: list[str] = []
         self.undo_stack: list[tuple[str, Callable[[], None]]] = []
         self.tries: list[Try] = []
@@ -171,8 +132,8 @@ class Studio:
                 self.state = "recording"
             if self.state == "recording":
                 problem = target.record(frame)
-                if problem:
-                    self._show(problem, 0.2)
+                if problem:     # beside a message said now (a refusal), not over it
+                    self._warning, self._warning_until = problem, self._t + 0.2
                 if target.ended():
                     self._stop(target, "")
         self._message_ends()
@@ -319,17 +280,32 @@ class Studio:
         else:           # said, so that the key is not taken for broken
             self.say(f"A: a {target.what} has no motion to assign (MOP actions do)")
 
+    def close(self) -> None:
+        """The studio stops (Esc, the end of a run): a take under way is dropped, and one tried
+        (or training) is logged with outcome "quit", so the session log still shows it."""
+        if self.state == "idle":
+            return
+        left, tried = self.selected, self.state in ("trying", "training")
+        self._drop("quit" if tried else "")
+        log.info("studio: %s: take %s at quit", left, "tried, not kept," if tried else "cancelled")
+
     # --- the library -----------------------------------------------------------------------------
 
     def _busy(self, doing: str) -> bool:
         """Is a take under way? Then ``doing`` is refused, said: it acts on the library item
         in play, not on the take (a switch would train the take with another character's
         parameters; F2 on a take tried would rename the item played before it)."""
-        if self.state in ("countdown", "recording", "ready"):
-            self.say(f"no {doing} during a take: finish it, or X cancels it")
-        elif self.state in ("trying", "training"):
-            self.say(f"no {doing} while a take is tried: K keeps or X discards it first")
+        why = self._busy_why(doing)
+        if why:
+            self.say(why)
         return self.state != "idle"
+
+    def _busy_why(self, doing: str) -> str:
+        if self.state in ("countdown", "recording", "ready"):
+            return f"no {doing} during a take: finish it, or X cancels it"
+        if self.state in ("trying", "training"):
+            return f"no {doing} while a take is tried: K keeps or X discards it first"
+        return ""
 
     def _item(self, target: Target, step: int) -> None:
         if self._busy("switching"):
@@ -358,6 +334,17 @@ class Studio:
 
     def _item_previous(self, target: Target, arg: str) -> None:
         self._item(target, -1)
+
+    def may_rename(self) -> bool:
+        """F2 in the view: may the name prompt open? If not, why is said at once (the same
+        refusal as the rename's), not after a name was typed."""
+        self.quiet = False
+        target = self.target
+        why = ("no designer target" if target is None else self._busy_why("renaming")
+               or ("nothing to rename" if target.current() is None else ""))
+        if why:
+            self.say(why)
+        return not why
 
     def _rename(self, target: Target, arg: str) -> None:
         if self._busy("renaming"):
@@ -425,8 +412,11 @@ class Studio:
             value = None
         if self.state == "trying" and target is not None and hasattr(target, "guide"):
             points = target.guide()       # where to try it (table metres), drawn as a path
+        warning = self._warning if self._t < self._warning_until else ""
         if self._t < self._message_until:
-            text = self.message
+            text = f"{warning}   | {self.message}" if warning else self.message
+        elif warning:
+            text = warning
         elif target is None:
             text = "no designer target"
         else:

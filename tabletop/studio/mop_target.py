@@ -15,7 +15,7 @@ import numpy as np
 
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
-from tabletop.studio.targets import trash
+from tabletop.studio.folders import trash
 from behaviors.worker import Worker
 
 

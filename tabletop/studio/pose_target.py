@@ -24,7 +24,7 @@ from behaviors.touch_pose.samples import relative
 from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
-from tabletop.studio.targets import rename_folder, trash
+from tabletop.studio.folders import rename_folder, trash
 from behaviors.worker import Worker
 
 

@@ -2,7 +2,7 @@
 
 ``<folder>/session-YYYYmmdd-HHMMSS.jsonl``: each line ``{"target", "what", "time" (UTC ISO),
 "duration_s", "samples", "training_s", "outcome" (kept | discarded | redone | too short |
-refused), "name" (kept name), "review" (PNG file name, or "")}``. Each line is written, flushed
+refused | quit: tried, not kept, when the studio closed), "name" (kept name), "review" (PNG file name, or "")}``. Each line is written, flushed
 and fsynced on its own, so a power cut loses at most the line being written. Review sheets are
 drawn in a background thread (one at a time; a try arriving while one is drawn gets none): one
 thread for the whole process, because matplotlib keeps each font open once per thread that
@@ -24,7 +24,7 @@ from typing import Callable
 
 import numpy as np
 
-from tabletop.studio.machine import Try
+from tabletop.studio.take import Try
 
 log = logging.getLogger("tabletop")
 

@@ -8,7 +8,8 @@ and its reactor are swapped in between ticks); kept takes are behaviour folders
 (:mod:`tabletop.library`).
 :class:`~tabletop.studio.mop_target.MopTarget` (an action slot of one MOP character) lives in
 its own module.
-Library folders are renamed in place and deleted into ``<library>/.trash`` so undo restores them.
+Library folders are renamed in place and deleted into ``<library>/.trash`` so undo restores them
+(:mod:`tabletop.studio.folders`).
 """
 
 from __future__ import annotations
@@ -16,7 +17,6 @@ from __future__ import annotations
 import logging
 import math
 import os
-import time
 from pathlib import Path
 from typing import Callable
 
@@ -24,48 +24,18 @@ import numpy as np
 
 from behaviors.puppet_master.sequential import SequentialSession
 from tabletop import library
-from tabletop.files import fsync_folder
+from tabletop.files import atomic_write_text, fsync_folder
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
+from tabletop.studio.folders import rename_folder, trash
 
 log = logging.getLogger("tabletop")
-
-
-def trash(folder: Path) -> Callable[[], None]:
-    """Move ``folder`` into its library's ``.trash``; returns the function that puts it back
-    (once: called again, as an undo that failed after it is, it does nothing)."""
-    bin_ = folder.parent / ".trash"
-    bin_.mkdir(exist_ok=True)
-    dest = bin_ / f"{folder.name}.{time.time_ns()}"
-    os.rename(folder, dest)
-    fsync_folder(folder.parent)
-    done = [False]
-
-    def restore() -> None:
-        if done[0]:
-            return
-        if folder.exists():
-            raise InputError(f"{folder}: exists again; not restored over it")
-        os.rename(dest, folder)
-        done[0] = True
-    return restore
 
 
 def _about(problem: str, folder: Path) -> bool:
     """``problem`` names ``folder`` or a file in it (one of ``lover-2`` is not ``lover``'s)."""
     f = str(folder)
     return problem.startswith((f + os.sep, f + ":"))
-
-
-def rename_folder(lib: Path, old: str, new: str, check: bool = True) -> None:
-    """Rename ``lib/old`` to ``lib/new``; ``check``: ``new`` must be a usable name (an undo
-    gives back the name a folder had, also one made by hand: "my lover")."""
-    if check:
-        library.check_name(new)
-    if (lib / new).exists():
-        raise InputError(f"{lib / new}: already exists")
-    os.rename(lib / old, lib / new)
-    fsync_folder(lib)
 
 
 def default_params() -> dict[str, float | int]:
@@ -110,6 +80,8 @@ class PuppetMasterTarget:
         self.playing: Path | None = Path(folder) if folder else None
         self.removed: Path | None = None     # the one in play, deleted elsewhere: it plays on
         self.news: list[str] = []            # said once by the studio
+        self._yaml_before: dict[str, tuple[str, str]] = {}   # renamed: behavior.yaml's text
+                                                            # before and after, for undo
         self._problems: list[str] = self._library_problems([])   # read at start, reported
 
     @property
@@ -328,7 +300,23 @@ class PuppetMasterTarget:
         self.play_poller = Poller(folder)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
+        """Rename the folder and the name its behavior.yaml says; an undo gives the file back
+        as it was (a folder made by hand as "my lover" said "lover"), unless it was edited
+        since. A yaml that cannot be written puts the folder's old name back (the error said)."""
         rename_folder(self.lib, old, new, check=not undo)
+        path = self.lib / new / library.BEHAVIOR_FILE
+        try:
+            before = self._yaml_before.pop(old, None) if undo else None
+            if before is not None and path.read_bytes() == before[1].encode("utf-8"):
+                atomic_write_text(path, before[0])
+            else:
+                written = library.write_name(self.lib / new, new)
+                if written is not None:
+                    self._yaml_before[new] = written
+        except OSError:
+            os.rename(self.lib / new, self.lib / old)
+            fsync_folder(self.lib)
+            raise
         if self.current() == old:
             self.playing = self.lib / new
             self.engine.behavior_name = new

@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 
-from tabletop.studio.machine import Try
+from tabletop.studio.take import Try
 from tabletop.studio.session import SessionLog
 
 

@@ -154,8 +154,13 @@ def test_switch_rename_delete_and_undo(tmp_path):
     assert e.behavior_name == "a"
     s.command("designer.item_next")
     assert e.behavior_name == "b"
+    (lib / "b" / "behavior.yaml").write_text("# made at the table\n"
+                                             + (lib / "b" / "behavior.yaml").read_text())
     s.command("designer.rename:brave")
     assert library.list_behaviors(lib) == ["a", "brave"] and e.behavior_name == "brave"
+    saved = (lib / "brave" / "behavior.yaml").read_text()   # the file says the new name too
+    assert library.read_description(lib / "brave")["name"] == "brave"
+    assert saved.startswith("# made at the table\n") and "name: brave\n" in saved
     s.command("designer.rename:a")                 # taken: refused, nothing changes
     assert "already exists" in s.message and library.list_behaviors(lib) == ["a", "brave"]
     s.command("designer.delete")
@@ -165,6 +170,7 @@ def test_switch_rename_delete_and_undo(tmp_path):
     s.command("designer.undo")                     # the rename
     assert library.list_behaviors(lib) == ["a", "b"]
     assert library.load_behavior(lib / "b").name == "b"
+    assert library.read_description(lib / "b")["name"] == "b"
     s.command("designer.undo")
     assert "nothing to undo" in s.message
 
@@ -354,3 +360,102 @@ def test_a_take_left_by_tab_is_said_discarded(tmp_path):
     _, studio = bench.step(Frame(seq=502, t=202.0, focus="a"))
     assert studio.label == "[a] b: take cancelled (Tab left it)", studio.label
     assert bench.studio.state == "idle" and a.behavior is None
+
+
+def test_esc_while_a_take_is_tried_logs_it_as_quit(tmp_path):
+    """Esc in the view while a take was tried ended the run and the take went without a line
+    in the session log: the loop closes the studio, which logs it (outcome "quit")."""
+    import threading
+
+    import pygame
+
+    from tabletop.loop import CommandQueue, Loop
+    from tabletop.replay_inputs import FrameInputs
+    from tabletop.studio.build import Markers, StudioStage
+    from tabletop.view import ProjectorView
+
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    stop, q = threading.Event(), CommandQueue()
+    cfg = validate_config({"sources": [{"kind": "scripted"}]}, "test.yaml", ROOT)
+    view = ProjectorView(TABLE, dict(cfg["view"], size=[320, 180]), commands=q, stop=stop,
+                         headless=True)
+    demo = designers.demonstrate("lover", seed=8, seconds=30)
+    frames = list(demo_frames(demo, {10: ("designer.record",), 300: ("designer.record",)}))
+
+    def esc_once_tried(frame):
+        if bench.studio.state == "trying" and not stop.is_set():
+            pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_ESCAPE, mod=0,
+                                                 unicode="", scancode=0))
+
+    loop = Loop(FrameInputs(iter(frames), honour_times=False), [e], [view], commands=q,
+                stop=stop, paced=False, hooks=[esc_once_tried],
+                filters=[StudioStage(Markers({}, bench.studio), bench.studio)])
+    ran = loop.run()
+    assert stop.is_set() and ran < len(frames)          # Esc ended the run
+    (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert line["outcome"] == "quit" and line["target"] == "pet" and line["samples"] == 290
+    assert bench.studio.state == "idle"
+
+
+def test_f2_with_nothing_to_rename_is_refused_at_once(tmp_path):
+    """F2 opened the name prompt with no library item in play; "nothing to rename" came only
+    after a name was typed and Enter: the prompt stays closed and the refusal is said at F2."""
+    import types
+
+    import pygame
+
+    from tabletop.loop import CommandQueue, Loop
+    from tabletop.replay_inputs import FrameInputs
+    from tabletop.studio.build import attach_studio
+    from tabletop.view import ProjectorView
+
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "shy", designers.demonstrate("lover", seconds=4), {})
+    engines = designer(tmp_path)
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": "pet",
+         "designer": {"enabled": True, "library": str(lib)}}],
+        "studio": {"folder": str(tmp_path / "studio"), "review": False}}, "test.yaml", ROOT)
+    q = CommandQueue()
+    view = ProjectorView(TABLE, dict(cfg["view"], size=[320, 180]), commands=q, headless=True)
+    loop = Loop(FrameInputs(iter(()), honour_times=False), engines, [view], commands=q,
+                paced=False)
+    studio = attach_studio(types.SimpleNamespace(loop=loop), cfg, tmp_path)
+
+    def f2(t):
+        pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_F2, mod=0,
+                                             unicode="", scancode=0))
+        view.consume(studio(Frame(seq=int(t), t=t)))
+    try:
+        f2(1.0)
+        assert not view.prompt.active and studio.message == "nothing to rename"
+        studio.command("designer.item_next")
+        f2(2.0)
+        assert view.prompt.active                      # shy is in play: type its new name
+        pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_ESCAPE, mod=0,
+                                             unicode="", scancode=0))
+        view.consume(studio(Frame(seq=3, t=3.0)))
+        studio.command("designer.record")              # a take under way: refused, said
+        f2(4.0)
+        assert not view.prompt.active and studio.message.startswith("no renaming during a take")
+    finally:
+        view.close()
+
+
+def test_a_refusal_while_a_puck_is_missing_is_shown_beside_the_missing_puck(tmp_path):
+    """Recording with puck 2 gone, "recording: no puck 2" took the status line every tick: a
+    refusal said at that moment (F2 during the take) was never seen. Both are shown."""
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+
+    def tick(i, cmds=()):
+        _, studio = bench.step(Frame(seq=i, t=100 + i / 60, pucks=(Puck(1, 0.5, 0.4, 0.0),),
+                                     commands=cmds))
+        return studio.label
+    tick(0, ("designer.record",))
+    assert "recording: no puck 2" in tick(1)
+    said = tick(2, ("designer.rename:shy",))
+    assert "recording: no puck 2" in said and "no renaming during a take" in said
+    said = tick(30)                                    # half a second on: both still shown
+    assert "recording: no puck 2" in said and "no renaming during a take" in said
