@@ -180,6 +180,24 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
     return nx - rx, ny - ry
 
 
+@compiled(_P2(_f8, _f8, _f8, _f8, _F1, _f8, _f8), step_math)
+def turn_off_edges(rx: float, ry: float, sx: float, sy: float, c: np.ndarray, band: float,
+                   turn: float) -> tuple[float, float]:
+    """table_boundary.turn_off_edges (``turn``: table_boundary.EDGE_TURN)."""
+    if band <= 0.0:
+        return sx, sy
+    length = hypot(sx, sy)
+    wx = _max(0.0, 1.0 - (rx - c[X0]) / band) - _max(0.0, 1.0 - (c[X1] - rx) / band)
+    wy = _max(0.0, 1.0 - (ry - c[Y0]) / band) - _max(0.0, 1.0 - (c[Y1] - ry) / band)
+    if length <= 1e-12 or (wx == 0.0 and wy == 0.0):
+        return sx, sy
+    ux, uy = sx / length + turn * wx, sy / length + turn * wy
+    n = hypot(ux, uy)
+    if n <= 1e-12:
+        return sx, sy
+    return length * ux / n, length * uy / n
+
+
 @compiled(_f8(_f8, _f8, _f8, _f8, _F1), step_math)
 def table_reach(x: float, y: float, ux: float, uy: float, c: np.ndarray) -> float:
     """table_boundary.table_reach (table from the constants)."""

@@ -36,11 +36,11 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import generation_kernel, step_math
+from behaviors.puppet_master import generation_kernel, step_math, table_boundary
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
     keep_on_table, limit_turn, lose_inward, mean_capped, moved_on, share_around, step_around,
-    table_reach, turn_between)
+    table_reach, turn_between, turn_off_edges)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -180,7 +180,7 @@ def choose(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, situation_cost: floa
 
 @compiled(numba.int64(_F1, _I1, _F1, _F2, _F2, _F1, _F1, _F2, _F2, _F1, _F1,
                       _f8, _f8, _f8, numba.int64, _f8, numba.int64, _f8),
-          step_math, generation_kernel)
+          step_math, generation_kernel, table_boundary)
 def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
          bearings: np.ndarray, smooth_x: np.ndarray, smooth_y: np.ndarray,
          recent: np.ndarray, obstacles: np.ndarray, xs: np.ndarray, xc: np.ndarray,
@@ -345,6 +345,8 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         angle = _detail_gain(fs[GOV_Z], c[GOV_Z_MIN], c[GOV_Z_MAX]) * tex[T_DETAIL]
         ca, sa = math.cos(angle), math.sin(angle)
         sx, sy = ca * sx - sa * sy, sa * sx + ca * sy
+    sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[TARGET_TABLE] - c[X0],
+                            table_boundary.EDGE_TURN)
     sx, sy = keep_on_table(rx, ry, sx, sy, c)
     if obstacles.shape[0] > 0:
         nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)

@@ -2,7 +2,8 @@
 (paper section 4.4.1's target carried onto the table; :mod:`generation` steps toward it).
 
 :func:`fit_target` moves a target onto the table at its distance from the main,
-:func:`keep_on_table` shortens a step that would leave it, :func:`keep_apart` pushes a position
+:func:`turn_off_edges` turns a step off the edges near them, :func:`keep_on_table` shortens a
+step that would leave it, :func:`keep_apart` pushes a position
 out of other characters' discs as far as the table lets it. Positions in table metres, tables
 as (x0, y0, x1, y1).
 """
@@ -199,6 +200,53 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
             sx, sy = sx * length / rest, sy * length / rest
     nx, ny = clamp_to_table(rx + sx, ry + sy, table)
     return nx - rx, ny - ry
+
+
+EDGE_TURN = 0.75    # the inward pull at the very edge, against the step's unit direction
+
+
+def turn_off_edges(rx: float, ry: float, sx: float, sy: float,
+                   table: tuple[float, float, float, float], band: float
+                   ) -> tuple[float, float]:
+    """The step (sx, sy) from (rx, ry) turned away from the table's edges within ``band``
+    metres of them, its length kept: its direction plus an inward pull growing from 0 at
+    ``band`` from an edge to EDGE_TURN at the edge (both axes at a corner). ``band`` is the
+    character's edge margin (Behavior.edge_margin, the median distance to an edge in its
+    demonstration); 0 turns nothing.
+
+    The matched moments flee straight away from the main and do not see the table: chased
+    toward an edge, a character not turned runs into it and :func:`keep_on_table` slides it
+    along the edge (the same length, no room behind it); its designer turns off the walls before reaching
+    them (designers.afraid: flight plus 1.5x a push growing from 0.2 m). Chased by the unseen
+    visitor (bench/fidelity.py's pursuit, seeds 0-5, 8-13, 26-31, mean over the 18), the afraid
+    character's time within 0.1 m of an edge against its designer's 0.066: EDGE_TURN 0 0.123,
+    0.5 0.070, 0.75 0.049, 1.0 0.045, 1.5 0.025 (1.5 over 0.2 m: 0.009); pursuit thresholds
+    met 131 / 130 / 137 / 130 / 130 (135) of 144 (designer 119), the mean distance to the
+    visitor 0.302 / 0.299 / 0.303 / 0.296 / 0.289 m (designer 0.395): off the edges it is
+    not caught nearer, but the distance does not follow, its gap opens while the visitor pulls
+    back (see fit_target). Turning only steps heading outward (EDGE_TURN 0.75): 0.070, 125,
+    0.292 m. bench/fidelity.py --seeds 0-5 / 8-13 / 26-31 with 0.75: open paths met 673 / 675
+    / 661 -> 674 / 669 / 661 of 720 (the engine's alone 7 / 12 / 15 -> 8 / 13 / 15), pursuit
+    45 / 45 / 41 -> 47 / 45 / 45 of 48; the other characters the same to the last digit, the
+    afraid character's misses 22 / 18 / 31 -> 21 / 24 / 31. With --perturb 2 (three runs per
+    set) 2019 / 2016 / 1990 -> 2015 / 2002 / 1995 of 2160, the engine's alone 23 / 34 / 44 ->
+    22 / 39 / 43, the afraid character's misses 69 / 61 / 86 -> 73 / 75 / 81 (seeds 8-13 lose
+    facing, speed and orbit on the open paths, where its designer misses them too); with 0.5
+    1999 / 1998 / 2005, its misses 89 / 79 / 71, pursuit 45 / 43 / 42.
+    """
+    if band <= 0.0:
+        return sx, sy
+    x0, y0, x1, y1 = table
+    length = math.hypot(sx, sy)
+    wx = max(0.0, 1.0 - (rx - x0) / band) - max(0.0, 1.0 - (x1 - rx) / band)
+    wy = max(0.0, 1.0 - (ry - y0) / band) - max(0.0, 1.0 - (y1 - ry) / band)
+    if length <= 1e-12 or (wx == 0.0 and wy == 0.0):
+        return sx, sy
+    ux, uy = sx / length + EDGE_TURN * wx, sy / length + EDGE_TURN * wy
+    n = math.hypot(ux, uy)
+    if n <= 1e-12:
+        return sx, sy
+    return length * ux / n, length * uy / n
 
 
 def table_reach(x: float, y: float, ux: float, uy: float,

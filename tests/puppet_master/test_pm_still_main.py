@@ -93,15 +93,18 @@ def test_the_afraid_character_keeps_its_pace_beside_a_standing_main(shipped):
     # slow paths with pauses of seeds 0, 1, 13 and 31, the share of its steps beside the
     # standing main from moments whose main stood 0.39 / 0.32 / 0.23 / 0.04 -> 0.61 / 0.52 /
     # 0.49 / 0.39, its still/moving 0.517 / 0.575 / 0.596 / 0.471 -> 0.635 / 1.050 / 0.775 /
-    # 0.930 (demonstrated 0.872, limits 0.61-1.13)
+    # 0.930 (demonstrated 0.872, limits 0.61-1.13). Read over seeds 0-5, 13 and 31: a single
+    # path's share moves with the re-matching (seed 1: 0.52 -> 0.25 when the steps near the
+    # edges turned off them, table_boundary.turn_off_edges, while the mean went 0.451 -> 0.456
+    # and the still/moving mean 0.83 -> 0.88)
     b = shipped["afraid"]
     assert b.scales.still > 0.0 and b.personal_space > 0.0 and not b.walks_with_main
     demo = fidelity.demonstration_figures(b)
     shares, ratios = [], []
-    for seed in (0, 1, 13, 31):
+    for seed in (0, 1, 2, 3, 4, 5, 13, 31):
         main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["slow_pauses_30hz"]
         share, steps = _stood_share(b, main)
-        assert steps > 100
+        assert steps > 50           # seed 5's main stands least: 75 steps, the others 100+
         shares.append(share)
         ratios.append(fidelity.evaluate(b, main, TABLE, demo)["gen_still_moving_ratio"])
     assert np.mean(shares) > 0.4, shares
