@@ -96,7 +96,7 @@ def main() -> None:
         def run() -> None:
             t = d.advance()
             d.e._fingers(t, d.touches())
-            d.e._posing(t)
+            d.e._posing(t, DT)
             d.e.mode = "posing"  # a recognised action would change the stage measured
         return run
 

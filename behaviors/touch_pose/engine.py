@@ -14,7 +14,7 @@ Each :meth:`TouchPose.step` takes the fingers on the table (id -> table metres) 
    time with the synthesis's motion weights (section 5); secondary touches by IK, unlimited
    (``HELD_REACH``: a held part stays fixed under its finger as the action moves); at the end
    back to posing where the action left the character (its position and heading become the
-   posing base, within ``ROAM``);
+   posing base, within ``ROAM``), posing's target faded in from the action's (``HANDOVER_S``);
 4. tracking control: equations 2-4, then the physical effect (equations 5-7) on free segments,
    feet on the ground re-fixed by IK.
 
@@ -29,6 +29,7 @@ from typing import Mapping
 
 import numpy as np
 
+from behaviors.motion.clips import quat_slerp
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel, recognise
 from behaviors.touch_pose.fingers import Finger, common_motion
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, yaw_of
@@ -59,9 +60,18 @@ PATH_S = 2.5
 #: m at 0.3 m tall, view 90,15) walk 0.126 -> 0.018, punch 0.133 -> 0.051, kick 0.095 -> 0.006.
 #: A finger that held its part through an action keeps this reach in the posing after it (the
 #: body stands where the action took it): over the posing second after the action, 0.102 ->
-#: 0.063 (walk), 0.099 -> 0.028 (punch), the head held through the walk 0.072 -> 0.000; the
-#: held hand's largest target step at the walk's switch back to posing 0.081 -> 0.047 m.
+#: 0.063 (walk), 0.099 -> 0.028 (punch), the head held through the walk 0.072 -> 0.000 (the
+#: switch back to posing: ``HANDOVER_S``).
 HELD_REACH = math.inf
+#: Seconds over which posing's target is faded in from the action's last target (root lerped,
+#: joints slerped), also the time an action that ended beyond ``ROAM`` takes to come back to
+#: the base: parts, the held one above all, move on from where the action left them. Taken over
+#: at once, the held part jumped with the body brought back to the base, then moved back
+#: the next frame (posing's first frame kept the action's planted feet). Its largest target step
+#: over the action's last 10 frames and 8 frames after (table m, 0.3 m tall, view 90,15, physics
+#: off): walk 0.047 -> 0.007, punch 0.132 -> 0.008, kick 0.033 -> 0.004 (over the action alone
+#: 0.007, 0.008, 0.003); fading over 0.2 / 0.3 / 0.6 s: punch 0.016 / 0.011 / 0.008.
+HANDOVER_S = 0.4
 #: Farthest the posing base may roam from where the character started (character metres).
 ROAM = 1.0
 
@@ -115,6 +125,8 @@ class TouchPose:
         self.recognising = True   # False while a designer records a take: drags only pose
         self._np = len(body.names)
         self._memo: dict[int, tuple[Pose, np.ndarray]] = {}
+        # the ended action's last target, it moved to the base, and the faded-in part (0-1)
+        self.handover: tuple[Pose, Pose, float] | None = None
 
     # --- actions -------------------------------------------------------------------------------
 
@@ -191,7 +203,7 @@ class TouchPose:
                    if abs(xy[0]) <= MAX_POSITION_M and abs(xy[1]) <= MAX_POSITION_M}
         self._fingers(t, touches)
         if self.mode == "posing":
-            self._posing(t)
+            self._posing(t, dt)
         if self.mode == "action":
             self._action(dt)
         self.target = self._on_table(self.target)
@@ -334,21 +346,33 @@ class TouchPose:
                     goals[foot] = prev[PARTS.index(foot)]
         return self.ccd.solve(pose, goals) if goals else pose
 
-    def _posing(self, t: float) -> None:
+    def _posing(self, t: float, dt: float) -> None:
         names, targets = self._constraints()
-        if not names:
+        if not names:  # the posture stays (where the ended action left it, at the base)
+            if self.handover is not None:
+                self.target = self._handed_over(self.handover[1], dt)
             return
         view, offset = yaw_view(self.camera.matrix, self.base, self.yaw)
         idx = np.array([PARTS.index(n) for n in names])
         blend = self.m.posing.synthesize(idx, targets, view, offset)
         pose = place(blend.pose, self.base, self.yaw)
-        self.target = self._solve(pose, names, targets, held=self._held_through_action())
+        self.target = self._handed_over(self._solve(pose, names, targets,
+                                                    held=self._held_through_action()), dt)
         match = self._recognise(view) if self.recognising else None
         if match is not None:
-            self.mode = "action"
+            self.mode, self.handover = "action", None
             self.clock = ActionClock(match.action, match.start_u)
             self.action_blend = None
             self.action_base = (self.base.copy(), self.yaw)
+
+    def _handed_over(self, pose: Pose, dt: float) -> Pose:
+        """``pose`` faded in from the action's last target over ``HANDOVER_S`` seconds."""
+        if self.handover is None:
+            return pose
+        last, rest, w = self.handover
+        w = min(w + dt / HANDOVER_S, 1.0)
+        self.handover = None if w >= 1.0 else (last, rest, w)
+        return Pose(last.root + (pose.root - last.root) * w, quat_slerp(last.rots, pose.rots, w))
 
     def _held_through_action(self) -> set[str]:
         """Parts whose finger held them while an action ran (their IK stays unlimited)."""
@@ -397,7 +421,7 @@ class TouchPose:
         self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False,
                                   held=set(names))
         if clock.done:
-            self.mode = "posing"
+            self.mode, rest = "posing", self.target
             if u >= 1.0:
                 root = self.target.root
                 d = np.array([root[0], root[2]])
@@ -405,13 +429,11 @@ class TouchPose:
                 self.base = d if n <= ROAM else d * (ROAM / n)
                 self.yaw = yaw_of(self.target.rots[0])
                 # an action that ended beyond ROAM (a punch steps 1.9 m) is brought back to
-                # the base at once, tracking gliding it there as the action ends: left where
-                # the action put it, it slid back only under the next finger (0.13 m on the
-                # table at 0.3 m tall), away from the part the visitor had touched
+                # the base over HANDOVER_S (left where the action put it, it slid back only under
+                # the next finger, 0.13 m on the table at 0.3 m tall, away from the touched part)
                 shift = self.base - d
-                if n > ROAM:
-                    self.target = Pose(root + np.array([shift[0], 0.0, shift[1]]),
-                                       self.target.rots.copy())
+                rest = Pose(root + np.array([shift[0], 0.0, shift[1]]), self.target.rots.copy())
+            self.handover = (self.target, rest, 0.0)
             for f in self.fingers.values():
                 f.restart()
 
