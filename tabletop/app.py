@@ -77,13 +77,20 @@ def build_engines(cfg: dict[str, Any], ctx: BuildContext) -> list[Engine]:
     return [registry.plugin_module("engine", e["kind"]).build(e, ctx) for e in cfg["engines"]]
 
 
+HEADER_PARTS = 4
+"""A recording part's size, in headers, where ``recorder.max_mb`` is below one header."""
+
+
 def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | None,
-                   header: dict[str, Any] | None = None) -> Sink | None:
+                   header: dict[str, Any] | None = None, strict: bool = False) -> Sink | None:
     """The recorder: to ``record_path`` when given, else as the ``recorder`` section says.
-    A folder that cannot be written fails at start-up naming its key, and so does a
-    ``max_mb`` that this config's header alone reaches: every part repeats the header (the
-    config and the files it names, 0.15 MB with one shipped behaviour), so each frame started a
-    part of its own (480 files in 8 s, ``keep`` removing them as fast)."""
+    A folder that cannot be written fails at start-up naming its key. A ``max_mb`` that this
+    config's header alone reaches would start a part every frame (every part repeats the header:
+    the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
+    ``keep`` removing them as fast): ``strict`` (the first start outside the kiosk supervisor,
+    where someone reads the error) refuses it; otherwise (a supervised restart, a config edit,
+    after a named file grew) one warning is logged and parts of :data:`HEADER_PARTS` headers
+    are recorded, so a running table never goes down over it."""
     import json
 
     from tabletop.recorder import MB, Recorder, session_header
@@ -94,15 +101,19 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     if header is None:
         header = session_header(cfg, ctx.shared.get("calibration_dict"))
     size = len(json.dumps(header, separators=(",", ":"), default=str).encode())
-    if rec["max_mb"] is not None and size >= rec["max_mb"] * MB:
-        raise ConfigError(f"{getattr(cfg, 'file', 'config')}: recorder.max_mb: {rec['max_mb']:g} "
-                          f"MB is less than the header every part of the recording begins with "
-                          f"({size / MB:.2f} MB: the config and the files it names); give "
-                          f"several times that")
+    max_mb = rec["max_mb"]
+    if max_mb is not None and size >= max_mb * MB:
+        why = (f"{getattr(cfg, 'file', 'config')}: recorder.max_mb: {max_mb:g} MB is less than "
+               f"the header every part of the recording begins with ({size / MB:.2f} MB: the "
+               f"config and the files it names)")
+        if strict:
+            raise ConfigError(f"{why}; give several times that")
+        max_mb = HEADER_PARTS * size / MB
+        log.warning("%s; recording parts of %.2f MB instead", why, max_mb)
     where = dict(path=record_path) if record_path is not None else (
         dict(path=rec["path"]) if rec["path"] is not None else dict(folder=rec["folder"]))
     try:
-        return Recorder(header=header, max_mb=rec["max_mb"], keep=rec["keep"], **where)
+        return Recorder(header=header, max_mb=max_mb, keep=rec["keep"], **where)
     except InputError as exc:
         if record_path is not None:
             raise
@@ -127,9 +138,9 @@ def projector_homography(cfg: dict[str, Any], ctx: BuildContext):
 def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 record_path: Path | None, stats: LoopStats, commands: CommandQueue,
                 stop: threading.Event, view: bool = True,
-                header: dict[str, Any] | None = None) -> list[Sink]:
+                header: dict[str, Any] | None = None, strict: bool = False) -> list[Sink]:
     # The recorder first: a folder it cannot use fails before a window opens.
-    recorder = build_recorder(cfg, ctx, record_path, header)
+    recorder = build_recorder(cfg, ctx, record_path, header, strict)
     sinks: list[Sink] = []
     try:
         if view and cfg["view"]["enabled"]:
@@ -161,14 +172,16 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
                clock: Callable[[], float] | None = None,
                wrap_source: Callable[[Any, dict], Any] | None = None,
                header_extra: dict[str, Any] | None = None,
-               prepared: tuple[BuildContext, list[Engine]] | None = None) -> Installation:
+               prepared: tuple[BuildContext, list[Engine]] | None = None,
+               strict: bool = False) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
 
     ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
     replaces the monotonic clock and unpaces the loop (simulated time:
     :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
     ``header_extra``: more keys for a recording's header (the studio's). ``prepared``: the
-    context and engines already built for ``cfg`` (a kiosk's warm spare)."""
+    context and engines already built for ``cfg`` (a kiosk's warm spare). ``strict``: refuse a
+    recorder ``max_mb`` below the header (a first start; see :func:`build_recorder`)."""
     ctx = _context(cfg) if prepared is None else prepared[0]
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
@@ -185,7 +198,8 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     if header_extra:
         from tabletop.recorder import session_header
         header = session_header(cfg, ctx.shared.get("calibration_dict"), **header_extra)
-    sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, header=header)
+    sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, header=header,
+                        strict=strict)
     timing = {} if clock is None else {"clock": clock, "paced": False}
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],
                 stats=stats, commands=commands, stop=stop, **timing)

@@ -6,20 +6,36 @@ once: two fingers of one id on the bus are one finger to every engine, the recor
 ``tuio`` sink (which gave both the same session, so receivers kept only one of them).
 :class:`TouchIds` gives each touch, keyed by its origin and its own id, the id it brought unless
 another present touch already holds that id; then the smallest id that no present touch holds
-or brings. An id stays with its touch for as long as the touch stays, so a finger never changes
-id mid-drag because another finger came or went.
+or brings and that no other touch gave up in the last :data:`QUARANTINE_FRAMES` frames. An id
+stays with its touch for as long as the touch stays, so a finger never changes id mid-drag
+because another finger came or went.
+
+A lifted touch's id is kept out of use for :data:`QUARANTINE_FRAMES` frames (0.5 s at 60 Hz)
+for every *other* key, even one that brings that id: otherwise, with two senders counting from
+0, a spare id given to one sender's finger went to the other sender's next finger in the very
+next frame, and touch-pose (which keys fingers by id) dragged the held part 0.5 m in one tick.
+The key that held the id may take it back at once, so a single origin with unique ids always
+keeps the ids it brought (a sender reusing its own id for a new finger is that sender's choice,
+unchanged): a rising spare counter in a range senders do not use would keep this too, but gives
+every spare a large id (1<<24 and up) in the recording and the ``tuio`` sink, and does not keep
+a brought id from passing between origins, which the quarantine does.
 """
 
 from __future__ import annotations
 
 from typing import Hashable, Sequence
 
+QUARANTINE_FRAMES = 30
+"""Frames (calls of :meth:`TouchIds.assign`) a lifted touch's id stays out of use for others."""
+
 
 class TouchIds:
     """Bus ids for touches keyed by (origin, own id); see the module docstring."""
 
-    def __init__(self) -> None:
+    def __init__(self, quarantine_frames: int = QUARANTINE_FRAMES) -> None:
         self._ids: dict[Hashable, int] = {}
+        self._frames = quarantine_frames
+        self._lifted: dict[int, tuple[Hashable, int]] = {}   # id -> (key that held it, frames left)
 
     def assign(self, keys: Sequence[Hashable], own: Sequence[int]) -> list[int]:
         """The bus id of each touch: ``keys`` (unique, one per present touch) in the same order
@@ -31,16 +47,22 @@ class TouchIds:
             if i is not None and i not in used:
                 given[k] = i
                 used.add(i)
+        lifted = {i: (k, n - 1) for i, (k, n) in self._lifted.items() if n > 1}
+        for k, i in self._ids.items():
+            if k not in given:
+                lifted[i] = (k, self._frames)
         brought = set(own)
         spare = 0
         for k, i in zip(keys, own):
             if k in given:
                 continue
-            if i in used:   # another touch holds it: the smallest id nobody holds or brings
-                while spare in used or spare in brought:
+            if i in used or lifted.get(i, (k,))[0] != k:   # held, or lately another's: a spare
+                while spare in used or spare in brought or spare in lifted:
                     spare += 1
                 i = spare
             given[k] = i
             used.add(i)
+            lifted.pop(i, None)
         self._ids = given
+        self._lifted = lifted
         return [given[k] for k in keys]

@@ -64,7 +64,8 @@ def main(args: argparse.Namespace) -> int:
         return supervise(Path(args.config), cfg, _argv(args), seconds, lock_fd)
     from tabletop.kiosk.runner import Runner
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
-                    kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused)
+                    kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused,
+                    strict=not supervised())   # a supervised start is a restart: it runs on
     if supervised():
         follow_supervisor(runner.stop)   # a supervisor killed outright ends its installation
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly

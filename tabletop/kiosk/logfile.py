@@ -8,9 +8,21 @@ logging 1,500 lines (10 kB files, 3 backups): none of the supervisor's 60 lines 
 any file, not even those written after the installation had stopped; in a gallery, every restart
 and crash line the supervisor wrote after the installation's log had rotated ``log_backups``
 times went into a deleted file, for weeks. :class:`SharedRotatingFileHandler` writes each record
-under an exclusive ``flock`` of the log's folder (shared by every process that logs there),
-first reopening the log when the path names another file than the one it holds (another process
-rotated it), so every process writes to the current file and only one rotates it.
+under an exclusive ``flock`` of a lock file beside the log (``.tabletop.log.lock``, shared by
+every process that logs there), first reopening the log when the path names another file than
+the one it holds (another process rotated it), so every process writes to the current file and
+only one rotates it.
+
+The lock is a regular file opened for writing, not the folder: on NFS flock is emulated by
+POSIX locks, which need a file open for writing (man 2 flock), so a folder's LOCK_EX fails there
+with EBADF. The lock file is reopened when its path names another file (the folder was removed
+and recreated), so old and new processes keep locking the same file. The lock is taken
+non-blocking, retried for up to :data:`LOCK_WAIT_S`: a holder frozen inside its write (SIGSTOP,
+a debugger, a cgroup freeze, a hung disk) would otherwise hold every process's logging without
+bound, the supervisor's stall restart included; past the wait the record is written without the
+lock (counted in ``unlocked``), still following rotations. Where no lock can be taken at all the
+handler says so once on stderr and writes the same way. A closed handler writes as a lone
+writer would, and never raises out of the logger.
 """
 
 from __future__ import annotations
@@ -19,27 +31,81 @@ import fcntl
 import logging
 import logging.handlers
 import os
+import sys
+import time
 from pathlib import Path
+
+LOCK_WAIT_S = 0.08
+"""Seconds a record waits for the lock before it is written without it."""
 
 
 class SharedRotatingFileHandler(logging.handlers.RotatingFileHandler):
-    """A ``RotatingFileHandler`` that processes writing the same file share (module docstring)."""
+    """A ``RotatingFileHandler`` that processes writing the same file share (module docstring).
+    ``unlocked``: records written without the lock because its holder kept it past the wait."""
 
     def __init__(self, path: Path, max_bytes: int, backups: int) -> None:
         super().__init__(path, maxBytes=max_bytes, backupCount=backups, encoding="utf-8")
-        self._folder = os.open(os.path.dirname(self.baseFilename), os.O_RDONLY)
+        folder, name = os.path.split(self.baseFilename)
+        self.lock_path = os.path.join(folder, f".{name}.lock")
+        self._lock_fd = -1
+        self._warned = False
+        self.unlocked = 0
 
     def emit(self, record: logging.LogRecord) -> None:
-        try:
-            fcntl.flock(self._folder, fcntl.LOCK_EX)
-        except OSError:   # no lock (a closed handler): written as a lone writer would
-            super().emit(record)
-            return
+        fd = self._lock_file()
+        locked = fd >= 0 and self._take(fd)
         try:
             self._follow()
             super().emit(record)
         finally:
-            fcntl.flock(self._folder, fcntl.LOCK_UN)
+            if locked:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_UN)
+                except (OSError, ValueError):
+                    pass
+
+    def _lock_file(self) -> int:
+        """The open lock file's descriptor, reopened when its path names another file; -1 when
+        the handler is closed or the file cannot be opened."""
+        if self._closed:
+            return -1
+        try:
+            same = os.path.samestat(os.stat(self.lock_path), os.fstat(self._lock_fd))
+        except (OSError, ValueError):
+            same = False
+        if same:
+            return self._lock_fd
+        try:
+            os.makedirs(os.path.dirname(self.lock_path), exist_ok=True)
+            fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+        except OSError as exc:
+            self._warn(f"cannot open {self.lock_path} ({exc.strerror})")
+            return -1
+        self._drop_lock_file()
+        self._lock_fd = fd
+        return fd
+
+    def _take(self, fd: int) -> bool:
+        """Whether the exclusive lock was taken within :data:`LOCK_WAIT_S`."""
+        deadline = time.monotonic() + LOCK_WAIT_S
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                return True
+            except BlockingIOError:
+                if time.monotonic() >= deadline:
+                    self.unlocked += 1
+                    return False
+                time.sleep(0.002)
+            except (OSError, ValueError) as exc:
+                self._warn(f"cannot lock {self.lock_path} ({exc})")
+                return False
+
+    def _warn(self, why: str) -> None:
+        if not self._warned:
+            self._warned = True
+            print(f"tabletop log: {why}; writing without the shared lock, so lines of "
+                  f"processes rotating the log at the same moment may be lost", file=sys.stderr)
 
     def _follow(self) -> None:
         """Reopen the log when its path names another file than the open one (rotated by
@@ -49,7 +115,7 @@ class SharedRotatingFileHandler(logging.handlers.RotatingFileHandler):
         try:
             st = os.stat(self.baseFilename)
             same = os.path.samestat(st, os.fstat(self.stream.fileno()))
-        except OSError:
+        except (OSError, ValueError):
             same = False
         if same:
             return
@@ -61,8 +127,18 @@ class SharedRotatingFileHandler(logging.handlers.RotatingFileHandler):
         self.stream.close()
         self.stream = stream
 
+    def _drop_lock_file(self) -> None:
+        if self._lock_fd >= 0:
+            try:
+                os.close(self._lock_fd)
+            except OSError:
+                pass
+            self._lock_fd = -1
+
     def close(self) -> None:
-        super().close()
-        if self._folder >= 0:
-            os.close(self._folder)
-            self._folder = -1
+        self.acquire()
+        try:
+            super().close()
+            self._drop_lock_file()
+        finally:
+            self.release()

@@ -44,7 +44,7 @@ class Runner:
     def __init__(self, config_path: Path, cfg: dict[str, Any], headless: bool = False,
                  record_path: Path | None = None, kiosk: bool = False,
                  studio: bool = False, clock=None, wrap_source=None, prepared=None,
-                 config_error: str | None = None) -> None:
+                 config_error: str | None = None, strict: bool = False) -> None:
         self.config_path = Path(config_path)
         self.base = self.config_path.resolve().parent
         self.cfg, self.headless, self.record_path = cfg, headless, record_path
@@ -55,6 +55,9 @@ class Runner:
         self.prepared = prepared    # a warm spare's engines (tabletop.kiosk.spare), built for cfg
         # the config file's refusal when cfg is the last good one (tabletop.kiosk.last_good)
         self.config_error = config_error
+        # the first build refuses what only a first start should (app.build_recorder); the
+        # rebuilds of config edits run on where they can
+        self.strict = strict
         self.started = (clock or time.monotonic)()
         self.stop = threading.Event()
         self.pending: dict[str, Any] | None = None
@@ -115,7 +118,8 @@ class Runner:
                           record_path=self.record_path, clock=self.clock,
                           wrap_source=self.wrap_source, prepared=ready,
                           header_extra={"studio": {"all": self.studio_all}}
-                          if self.studio_on else None)
+                          if self.studio_on else None, strict=self.strict)
+        self.strict = False
         loop = inst.loop
         # (``record_path``, run --record, stays: each installation records to the next free name
         # of it, FILE-2.jsonl..., as a supervised restart does, so an applied config edit never

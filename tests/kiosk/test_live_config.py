@@ -423,3 +423,19 @@ def test_an_edit_saved_while_a_studio_take_is_tried_waits_for_it(tmp_path):
         assert wait_for(rebuilt(runner, first), 30)
         assert runner.inst.engines[0].color == (200, 100, 50)
         assert (tmp_path / "lib" / "lover" / "behavior.yaml").is_file()
+
+
+def test_an_edit_to_a_recorder_max_mb_below_the_header_is_applied(tmp_path):
+    """A first start that refuses a ``max_mb`` below the header (strict) applies an edit to
+    one and records (the edit failed to build and the previous configuration ran on)."""
+    path = tmp_path / "config.yaml"
+    cfg = dict(config([10, 20, 30]), recorder={"enabled": True, "folder": "rec", "max_mb": 5})
+    path.write_text(yaml.safe_dump(cfg))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True,
+                        strict=True)) as runner:
+        first = runner.inst
+        cfg["recorder"]["max_mb"] = 0.05                   # the lover's header: 0.14 MB
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, first), 30)
+        assert runner.watcher.applied == 1 and runner.cfg["recorder"]["max_mb"] == 0.05
+        assert runner.inst.recorder is not None and not runner.inst.recorder.failed

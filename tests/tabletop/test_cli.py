@@ -116,22 +116,45 @@ def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):
     assert "Traceback" not in err and "replayed " not in err
 
 
-def test_a_recorder_max_mb_the_header_alone_reaches_is_refused_at_start(tmp_path):
-    """Every part begins with the header (the config and the files it names: the lover's
-    behaviour makes it 0.14 MB): with max_mb 0.05 each frame started a part of its own (480
-    files in 8 s) and the run said nothing of it."""
+def small_parts_config(tmp_path: Path) -> Path:
+    """A config recording parts of 0.05 MB with the lover's behaviour (a 0.14 MB header)."""
     lover = ROOT / "behaviors" / "library" / "lover"
     cfg = tmp_path / "small.yaml"
     cfg.write_text("sources: [{kind: scripted, name: s}]\n"
                    f"engines: [{{kind: puppet_master, name: lover, behavior: {lover}, "
                    "main: {puck: 1}}]\nview: {enabled: false}\n"
                    "recorder: {enabled: true, folder: rec, max_mb: 0.05}\n")
+    return cfg
+
+
+def test_a_recorder_max_mb_the_header_alone_reaches_is_refused_at_start(tmp_path):
+    """Every part begins with the header (the config and the files it names: the lover's
+    behaviour makes it 0.14 MB): with max_mb 0.05 each frame started a part of its own (480
+    files in 8 s) and the run said nothing of it."""
+    cfg = small_parts_config(tmp_path)
     r = tabletop("run", "--config", str(cfg), "--seconds", "1")
     assert r.returncode == 2, r.stderr
     (line,) = r.stderr.splitlines()
     assert line.startswith(f"tabletop run: error: {cfg}: recorder.max_mb: 0.05 MB is less than "
                            "the header every part of the recording begins with (0.1"), line
     assert not (tmp_path / "rec").exists() or not any((tmp_path / "rec").iterdir())
+
+
+def test_a_recorder_max_mb_below_the_header_runs_on_at_a_supervised_restart(tmp_path):
+    """A supervised start (a crash or morning restart, a named file grown since the config
+    first ran) runs on with parts of 4 headers, saying why once, where it was refused and
+    every supervised restart failed the same way: the table was down."""
+    cfg = small_parts_config(tmp_path)
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy", TABLETOP_SUPERVISED="1",
+               TABLETOP_SUPERVISOR_PID=str(os.getpid()))
+    r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--seconds", "1"], capture_output=True, text=True, cwd=ROOT, env=env,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    (warning,) = [line for line in r.stderr.splitlines() if "recorder.max_mb" in line]
+    assert "0.05 MB is less than the header" in warning and "parts of 0.5" in warning, warning
+    (part,) = (tmp_path / "rec").iterdir()    # one part: 1 s of frames is far below 4 headers
+    assert len(frames_of(part)) >= 10
 
 
 def test_version_and_help():
