@@ -137,9 +137,11 @@ class MopTarget:
 
     def _locked(self):
         """The library's lock, held while its entries are read, changed and written (another
-        run may be keeping into it)."""
+        run may be keeping into it). InputError without a library."""
         from tabletop.plugins.mop_files import library_lock
-        assert self.lib is not None
+        if self.lib is None:
+            raise InputError(f"engine {self.stage.name!r} has no library: its takes are kept "
+                             "for this run only, under the names they were kept as")
         return library_lock(self.lib, self.character)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
@@ -160,7 +162,8 @@ class MopTarget:
         """Delete ``name``: its entry, and its template CSV into the library's ``.trash`` when
         it is the library's own and no other entry uses it (it stayed in place, and the next
         run's take of its name wrote over it). Returns the undo."""
-        assert self.lib is not None
+        if self.lib is None:
+            return self._remove_unsaved(name)
         folder = self.lib / self.character
         with self._locked():
             entries = self._entries()
@@ -185,6 +188,25 @@ class MopTarget:
             if was_kept and self.kept is None:
                 self.kept = name               # in play again: F2 said "nothing to rename"
             self._applied()
+        return restore
+
+    def _remove_unsaved(self, name: str) -> Callable[[], None]:
+        """Without a library: the action kept for this run only leaves the character; the
+        undo gives it back (same action, same samples)."""
+        st = self.stage
+        if name not in st.templates[self.character]:
+            raise InputError(f"{self.character} has no action {name!r}")
+        performer, samples = st.templates[self.character][name]
+        action = st.puppets[self.character].actions[name]
+        st.remove_action(self.character, name)
+        was_kept = self.kept == name
+        if was_kept:
+            self.kept = None
+
+        def restore() -> None:
+            st.put_action(self.character, action, performer, samples)
+            if was_kept and self.kept is None:
+                self.kept = name
         return restore
 
     def _applied(self) -> None:
