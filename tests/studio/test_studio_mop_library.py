@@ -95,3 +95,37 @@ def test_a_keep_without_a_library_says_it_is_for_this_run_only(tmp_path):
     _, saved = kept_line(tmp_path)                      # with a library: saved, said plainly
     assert saved.status == "[mop/face] kept as take1"
     assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
+
+
+HOLDER = """
+import sys, time
+sys.path.insert(0, {root!r})
+from pathlib import Path
+from tabletop.plugins.mop_files import library_lock
+with library_lock(Path({lib!r}), "face"):
+    print("held", flush=True)
+    time.sleep(600)
+"""
+
+
+def test_a_keep_while_another_run_holds_the_library_is_refused_and_the_take_stays(tmp_path):
+    """K waited without limit, in the frame loop's thread, for another run holding the
+    library's lock (a run stopped with Ctrl-Z): the installation froze until that run died."""
+    import subprocess
+    import sys
+    root = str(Path(__file__).resolve().parents[2])
+    engine, table = face_take(tmp_path, "line")
+    holder = subprocess.Popen([sys.executable, "-c", HOLDER.format(root=root,
+                                                                   lib=str(tmp_path / "lib"))],
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        table.tick(["designer.keep"])
+        assert "busy, another run is saving" in table.status, table.status
+        assert table.studio.state == "trying" and "take1" in engine.puppets["face"].actions
+    finally:
+        holder.kill()
+        holder.wait()
+    table.tick(["designer.keep"])
+    assert table.status == "[mop/face] kept as take1"
+    assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
