@@ -96,10 +96,12 @@ class MopTarget:
         """Keep the take under its name, or the next free one when another run on the library
         kept one of its name meanwhile (that one is then followed too, from this tick)."""
         named = self.stage.take_action
+        stale = self._poller is not None and \
+            tree_signature(self._poller.path) != self._poller.signature
         action = self.stage.keep_take()
         self.kept = action
-        if action != named:
-            self._applied()
+        if action != named or stale:    # the library changed since the watcher looked: all
+            self._applied()             # of it is followed, not only this keep
         elif action and self._poller is not None:     # in play already: no reload for it
             self.loaded.add(action)
             self._poller.signature = tree_signature(self._poller.path)

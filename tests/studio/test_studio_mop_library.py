@@ -129,3 +129,24 @@ def test_a_keep_while_another_run_holds_the_library_is_refused_and_the_take_stay
     table.tick(["designer.keep"])
     assert table.status == "[mop/face] kept as take1"
     assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
+
+
+def test_another_runs_keep_just_before_this_runs_keep_is_followed(tmp_path):
+    """This run's keep marked the library as seen: another run's keep made since the watcher
+    last looked (within its second) was never followed."""
+    engine_b = _build(_designer_config(tmp_path), tmp_path)     # B starts on an empty library
+    b = StudioTable(engine_b, tmp_path / "lib")
+    b.targets[0]._poller.every_s = 1e9                          # B's watcher does not look
+    _, a = face_take(tmp_path, "line")
+    a.tick(["designer.keep"])                                   # A keeps take1
+    b.rest(1.0)
+    b.tick(["designer.record"])
+    b.perform("square")
+    b.tick(["designer.record"])
+    b.tick(["designer.keep"])
+    assert b.status == "[mop/face] kept as take2", b.status
+    b.targets[0]._poller.every_s = 0.0
+    for _ in range(3):
+        b.studio.poll()
+        b.tick()
+    assert set(engine_b.puppets["face"].actions) == {"circle", "take1", "take2"}
