@@ -162,6 +162,7 @@ class TouchPoseTarget:
         if a is None:
             raise InputError("nothing to keep")
         named = a.name
+        stale = tree_signature(self.lib) != self._poller.signature
         for _ in range(1000):
             try:
                 designed.save_action(self.lib, a.name, a.spec.part, np.array(self.times),
@@ -171,9 +172,11 @@ class TouchPoseTarget:
                 self._rename_action(a, self._free_name())
         self.kept, self.pending = a.name, None
         self._loaded.add(a.name)
-        if named != a.name and named in self._loaded:
+        if named != a.name:       # refused for its name: the other run's action is there
             self._load(named)
-        self._seen()
+            self._loaded.add(named)
+        if not stale:             # else the watcher's next look reloads all of the library
+            self._seen()
         return a.name
 
     def _rename_action(self, action, new: str) -> None:
