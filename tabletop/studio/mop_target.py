@@ -32,6 +32,7 @@ class MopTarget:
         self._summary = ""
         self.name = f"{stage.name}/{character}"
         self.kept: str | None = None
+        self.run_only: list[str] = []     # kept without a library: lost at a rebuild
         self.demo: np.ndarray | None = None
         self._poller = (Poller(lib / character,
                                read=getattr(stage, "library_read", {}).get(character))
@@ -105,6 +106,8 @@ class MopTarget:
         elif action and self._poller is not None:     # in play already: no reload for it
             self.loaded.add(action)
             self._poller.signature = tree_signature(self._poller.path)
+        if action and self.lib is None:
+            self.run_only.append(action)
         return action or ""
 
     @property
@@ -201,15 +204,38 @@ class MopTarget:
         performer, samples = st.templates[self.character][name]
         action = st.puppets[self.character].actions[name]
         st.remove_action(self.character, name)
+        run_only = name in self.run_only
+        if run_only:
+            self.run_only.remove(name)
         was_kept = self.kept == name
         if was_kept:
             self.kept = None
 
         def restore() -> None:
             st.put_action(self.character, action, performer, samples)
+            if run_only and name not in self.run_only:
+                self.run_only.append(name)
             if was_kept and self.kept is None:
                 self.kept = name
         return restore
+
+    def save_run_only(self, lib: Path) -> list[str]:
+        """Save the takes kept for this run only into ``lib`` (a config edit gives the engine
+        a library: the rebuild would drop them); one line each, saved or why not."""
+        from tabletop.plugins.mop_files import save_to_library
+        st, c, lines = self.stage, self.character, []
+        for name in self.run_only:
+            if name not in st.templates[c]:
+                continue
+            performer, samples = st.templates[c][name]
+            motion = st.puppets[c].actions[name].clip.name
+            try:
+                lines.append(save_to_library(lib, c, name, samples, st.performers[performer].names,
+                                             motion, st.rate_hz))
+            except (InputError, OSError) as exc:
+                lines.append(f"{c}/{name} (kept for this run only) not saved: {exc}")
+        self.run_only = []
+        return lines
 
     def _applied(self) -> None:
         """The library as this target just changed it (delete, undo, rename) is followed from

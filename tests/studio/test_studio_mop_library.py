@@ -150,3 +150,37 @@ def test_another_runs_keep_just_before_this_runs_keep_is_followed(tmp_path):
         b.studio.poll()
         b.tick()
     assert set(engine_b.puppets["face"].actions) == {"circle", "take1", "take2"}
+
+
+def test_a_config_edit_saves_the_takes_kept_for_this_run_only_into_its_new_library(tmp_path):
+    """The keep says "give it library: FOLDER in the config"; doing so rebuilt the installation
+    and dropped every take kept for this run only, without a word. An edit that gives the
+    engine a library saves them into it; one that gives none says which it dropped."""
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    cfg = _designer_config(tmp_path)
+    del cfg["engines"][0]["library"]
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    engine = _build(cfg, tmp_path)
+    table = StudioTable(engine, None)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert "for this run only" in table.status
+    runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
+    runner.studio = table.studio
+    runner._save_run_only(validate_config(cfg, str(path), tmp_path))   # still no library
+    assert runner._notes == ["config edit dropped mop/face's takes kept for this run only: "
+                             "take1 (engine 'mop' has no library)"]
+    assert table.targets[0].run_only == []
+    table.targets[0].run_only = ["take1"]
+    runner._notes = []
+    with_lib = _designer_config(tmp_path)                               # library: lib
+    runner._save_run_only(validate_config(with_lib, str(path), tmp_path))
+    assert runner._notes == [f"kept take1 -> laugh in {tmp_path / 'lib' / 'face'}"]
+    rebuilt = _build(with_lib, tmp_path)
+    assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
+    assert np.allclose(rebuilt.templates["face"]["take1"][1], engine.templates["face"]["take1"][1])
