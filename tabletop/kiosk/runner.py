@@ -153,6 +153,8 @@ class Runner:
         # watch_config false, sent no "studio" (or "config", "config_error") at all
         extra: list = []
         self._notes, notes = [], self._notes
+        # an edit waiting for a studio take, shown as long as it waits (not only said once)
+        extra.append(lambda: {"config_pending": self._waiting and self.pending is not None})
         if self.watcher is None:      # (the watcher gives them otherwise)
             extra.append(lambda: {"config": str(self.config_path),
                                   "config_error": self.config_error})
@@ -184,6 +186,10 @@ class Runner:
         if self.kiosk:
             extra.append(recording_status(inst.recorder))
             self._health(inst, cfg, extra)
+        for s in loop.sinks:
+            if s.name == "view":
+                s.notices.append(lambda: ["config edit waits: K keeps the take, X drops it"]
+                                 if self._waiting and self.pending is not None else [])
         loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
         return inst
 
