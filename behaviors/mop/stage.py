@@ -58,7 +58,7 @@ from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
 from behaviors.mop.take import Take
 from tabletop.frames import CharacterState, Frame, InputError
-from tabletop.names import keep_under_free_name
+from tabletop.files import keep_under_free_name
 from behaviors.worker import Worker
 
 #: (templates, the performer's feature units, their smallest spread worth telling apart) ->
@@ -289,7 +289,7 @@ class MopStage:
     def keep_take(self) -> str:
         """Keep the pending take (``save``d, e.g. to the library); returns the name it is kept
         under: its own, or the next free one when ``save`` finds its name taken meanwhile
-        (:class:`tabletop.names.NameTaken`; the take's action is renamed, its followers rebuilt within the
+        (:class:`tabletop.files.NameTaken`; the take's action is renamed, its followers rebuilt within the
         tick). InputError when there is nothing to keep or it cannot be saved (the take
         stays)."""
         take = self.take
