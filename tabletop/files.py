@@ -15,7 +15,7 @@ import shutil
 import tempfile
 from pathlib import Path
 from contextlib import contextmanager
-from typing import IO, Any, Iterable, Iterator, Mapping, Sequence
+from typing import IO, Any, Callable, Iterable, Iterator, Mapping, Sequence, TypeVar
 
 import numpy as np
 import yaml
@@ -390,3 +390,28 @@ def check_positions(data: np.ndarray, header: Sequence[str], columns: Sequence[s
         raise FileFormatError(
             f"{path}: {where}: column {columns[c]!r}: {float(data[r, index[c]])!r}{unit} is "
             f"beyond {limit:g}{unit}, {what}")
+
+
+# --- keeping a take under a free name ------------------------------------------------------------
+# Two runs may keep into one library at once: a name chosen when the take was trained can be saved
+# by the other run first. The save refuses it (NameTaken); the take is renamed and saved again.
+
+T = TypeVar("T")
+NAME_TRIES = 100     # refusals before a keep gives up (each one a name another run just took)
+
+
+class NameTaken(InputError):
+    """A save refused the name: the library holds one of that name already."""
+
+
+def keep_under_free_name(save: Callable[[], T], rename: Callable[[str], None],
+                         free_name: Callable[[], str], tries: int = NAME_TRIES) -> T:
+    """``save()``; on :class:`NameTaken`, ``rename(free_name())`` and save again. InputError
+    (nothing saved, the take stays) after ``tries`` refusals, never a keep said done that
+    saved nothing."""
+    for _ in range(tries):
+        try:
+            return save()
+        except NameTaken:
+            rename(free_name())
+    raise InputError(f"not saved: its name was taken {tries} times in a row; keep it again")

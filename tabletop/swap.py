@@ -25,11 +25,13 @@ import os
 import re
 import shutil
 import tempfile
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator, Mapping
 
 from tabletop.files import fsync_folder, write_synced
+from tabletop.frames import InputError
 
 log = logging.getLogger("tabletop")
 
@@ -93,13 +95,51 @@ def _try_lock(target: Path) -> int | None:
     return fd
 
 
-@contextmanager
-def exclusive(target: Path) -> Iterator[None]:
-    """Hold the lock of ``target`` (``.<name>.tabletop-lock`` beside it), waiting for another
-    process holding it: a file read, changed and written back by one process at a time."""
-    fd = _open_lock(target)
-    try:
+def _flock_within(fd: int, wait_s: float) -> bool:
+    """Take the exclusive ``flock`` of ``fd`` within ``wait_s`` seconds. The blocking call runs
+    in a helper thread, so the wait keeps its place in the system's queue (polling with LOCK_NB
+    starved against a run keeping 40 takes in a row); True once held. False when the time is
+    up: the helper then closes ``fd`` itself, at once or when it gets the lock."""
+    state = {"done": False, "given_up": False}
+    guard = threading.Lock()
+    held = threading.Event()
+
+    def take() -> None:
         fcntl.flock(fd, fcntl.LOCK_EX)
+        with guard:
+            state["done"] = True
+            if state["given_up"]:
+                os.close(fd)
+            else:
+                held.set()
+
+    threading.Thread(target=take, name="lock-wait", daemon=True).start()
+    held.wait(wait_s)
+    with guard:
+        if state["done"]:
+            return True
+        state["given_up"] = True
+        return False
+
+
+@contextmanager
+def exclusive(target: Path, wait_s: float | None = None) -> Iterator[None]:
+    """Hold the lock of ``target`` (``.<name>.tabletop-lock`` beside it), waiting for another
+    process holding it: a file read, changed and written back by one process at a time. With
+    ``wait_s`` (seconds) the wait is bounded: a holder stalled longer (a run stopped with
+    Ctrl-Z, a hung network mount) gets InputError, so a frame loop taking the lock never
+    freezes; without it the wait is unbounded (a save in its own thread)."""
+    fd = _open_lock(target)
+    if wait_s is None:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except BaseException:
+            os.close(fd)
+            raise
+    elif not _flock_within(fd, wait_s):
+        raise InputError(f"{target}: busy, another run is saving into it "
+                         f"(waited {wait_s:g} s); try again")
+    try:
         yield
     finally:
         os.close(fd)                                   # releases the lock

@@ -58,6 +58,7 @@ from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
 from behaviors.mop.take import Take
 from tabletop.frames import CharacterState, Frame, InputError
+from tabletop.files import keep_under_free_name
 from behaviors.worker import Worker
 
 #: (templates, the performer's feature units, their smallest spread worth telling apart) ->
@@ -75,11 +76,6 @@ MIN_TAKE_SAMPLES = 8
 TRIM_MARGIN_S = 0.15
 
 log = logging.getLogger("tabletop")
-
-
-class NameTaken(InputError):
-    """``save`` refused the take's name: the library holds it already (another run on the
-    library kept an action of that name after this take was named)."""
 
 
 class MopStage:
@@ -293,7 +289,7 @@ class MopStage:
     def keep_take(self) -> str:
         """Keep the pending take (``save``d, e.g. to the library); returns the name it is kept
         under: its own, or the next free one when ``save`` finds its name taken meanwhile
-        (:class:`NameTaken`; the take's action is renamed, its followers rebuilt within the
+        (:class:`tabletop.files.NameTaken`; the take's action is renamed, its followers rebuilt within the
         tick). InputError when there is nothing to keep or it cannot be saved (the take
         stays)."""
         take = self.take
@@ -301,15 +297,15 @@ class MopStage:
             raise InputError("nothing to keep")
         motion = self.motion_of(take.character, take.motion_index)
         if self.save is not None:
-            for _ in range(1000):
-                try:
-                    self.save(take.character, self.take_action, take.samples(),
-                              self.performers[take.performer].names, motion)
-                    break
-                except NameTaken:
-                    self._rename_take(self._free_name(take.character), motion)
-                except OSError as exc:
-                    raise InputError(f"not saved: {exc}") from None
+            save = self.save
+            try:
+                keep_under_free_name(
+                    lambda: save(take.character, self.take_action, take.samples(),
+                                 self.performers[take.performer].names, motion),
+                    lambda name: self._rename_take(name, motion),
+                    lambda: self._free_name(take.character))
+            except OSError as exc:
+                raise InputError(f"not saved: {exc}") from None
         name = self.take_action
         self.take, self.take_action = None, None
         return name

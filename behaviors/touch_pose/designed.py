@@ -30,7 +30,7 @@ from behaviors.touch_pose.humanoid import PARTS, Humanoid, Pose
 from behaviors.touch_pose.latent import LearnedModel
 from behaviors.touch_pose.samples import ActionSpec, Segment, relative
 from tabletop.frames import MAX_POSITION_M, InputError
-from tabletop.files import new_folder
+from tabletop.files import NameTaken, new_folder
 
 FORMAT = "tabletop.touch_pose_action"
 FILE = "action.json"
@@ -49,7 +49,7 @@ class DesignedActionError(InputError):
     """A take or a stored action cannot become an action; the message names why (and the file)."""
 
 
-class ActionNameTaken(DesignedActionError):
+class ActionNameTaken(DesignedActionError, NameTaken):
     """The library holds an action of that name already (:func:`save_action`)."""
 
 

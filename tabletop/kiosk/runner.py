@@ -62,6 +62,7 @@ class Runner:
         self.stop = threading.Event()
         self.pending: dict[str, Any] | None = None
         self._waiting = False      # the pending edit waits for a studio take (said)
+        self._notes: list[str] = []    # said by the next studio (what an applied edit did)
         self.notifier = Notifier()
         self.watcher = None
         self.inst = None
@@ -106,7 +107,34 @@ class Runner:
                 self._waiting = True
                 studio.say("config edit: applied once this take is kept (K) or dropped (X)")
             return
+        self._save_run_only(self.pending)
         self.inst.loop.stop.set()
+
+    def _save_run_only(self, cfg: dict[str, Any]) -> None:
+        """Before the rebuild: takes a MOP engine kept "for this run only" (it had no library)
+        would be dropped by it. The keep's own line advises giving the engine a library in the
+        config, so a designer who does so expects them kept: they are saved into the new
+        config's library. An edit that gives none applies all the same (a kiosk edit must not
+        wait on a take list), and says which takes it dropped, in the log and on the status
+        line of the rebuilt studio."""
+        if self.studio is None:
+            return
+        libs = {e["name"]: e.get("library") for e in cfg["engines"] if e["kind"] == "mop"}
+        for t in self.studio.targets.values():
+            names = list(getattr(t, "run_only", ()))
+            if not names:
+                continue
+            lib = libs.get(t.stage.name)
+            if lib is not None:
+                for line in t.save_run_only(self.base / lib):
+                    log.info("config edit: %s", line)
+                    self._notes.append(line)
+                continue
+            note = (f"config edit dropped {t.name}'s takes kept for this run only: "
+                    f"{', '.join(names)} (engine {t.stage.name!r} has no library)")
+            log.warning("%s", note)
+            self._notes.append(note)
+            t.run_only = []
 
     def _build(self, cfg: dict[str, Any]):
         """The installation of ``cfg`` with the studio, kiosk and health parts on its loop."""
@@ -128,6 +156,9 @@ class Runner:
         # promises (README, health.py): without them a kiosk without a studio, or with
         # watch_config false, sent no "studio" (or "config", "config_error") at all
         extra: list = []
+        self._notes, notes = [], self._notes
+        # an edit waiting for a studio take, shown as long as it waits (not only said once)
+        extra.append(lambda: {"config_pending": self._waiting and self.pending is not None})
         if self.watcher is None:      # (the watcher gives them otherwise)
             extra.append(lambda: {"config": str(self.config_path),
                                   "config_error": self.config_error})
@@ -137,6 +168,8 @@ class Runner:
         self.studio = None
         if self.studio_on:
             self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
+            if notes:
+                self.studio.say("; ".join(notes))
             loop.hooks.append(self._apply_when_idle)   # an edit waiting for a take
             extra.append(self.studio.status)
             held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
@@ -157,6 +190,10 @@ class Runner:
         if self.kiosk:
             extra.append(recording_status(inst.recorder))
             self._health(inst, cfg, extra)
+        for s in loop.sinks:
+            if s.name == "view":
+                s.notices.append(lambda: ["config edit waits: K keeps the take, X drops it"]
+                                 if self._waiting and self.pending is not None else [])
         loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
         return inst
 

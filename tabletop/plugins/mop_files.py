@@ -11,9 +11,8 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from behaviors.mop.stage import NameTaken
-from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
-                            read_csv_lines, write_csv)
+from tabletop.files import (FileFormatError, NameTaken, atomic_write_text, check_increasing,
+                            check_positions, read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
 from tabletop.swap import exclusive
 
@@ -209,13 +208,18 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
     return f"kept {action} -> {motion} in {d}"
 
 
+LIBRARY_WAIT_S = 2.0    # longest wait for another run's save into a library (s)
+
+
 def library_lock(folder: Path, character: str) -> ContextManager[None]:
     """The lock of ``character``'s actions.yaml, held while it is read, changed and written:
     without it two runs keeping into one library at once each write the entries they read and
-    lose the other's keeps (37 of 80 in two processes keeping 40 takes each)."""
+    lose the other's keeps (37 of 80 in two processes keeping 40 takes each). Taken in the
+    frame loop's thread (K, F2, Del, U): a holder stalled for :data:`LIBRARY_WAIT_S` gets
+    InputError (the take stays, to be kept again) rather than a frozen installation."""
     d = folder / character
     d.mkdir(parents=True, exist_ok=True)
-    return exclusive(d / LIBRARY_FILE)
+    return exclusive(d / LIBRARY_FILE, wait_s=LIBRARY_WAIT_S)
 
 
 def write_library(folder: Path, character: str, entries: list[dict[str, str]]) -> None:

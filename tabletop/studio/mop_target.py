@@ -32,6 +32,7 @@ class MopTarget:
         self._summary = ""
         self.name = f"{stage.name}/{character}"
         self.kept: str | None = None
+        self.run_only: list[str] = []     # kept without a library: lost at a rebuild
         self.demo: np.ndarray | None = None
         self._poller = (Poller(lib / character,
                                read=getattr(stage, "library_read", {}).get(character))
@@ -96,13 +97,17 @@ class MopTarget:
         """Keep the take under its name, or the next free one when another run on the library
         kept one of its name meanwhile (that one is then followed too, from this tick)."""
         named = self.stage.take_action
+        stale = self._poller is not None and \
+            tree_signature(self._poller.path) != self._poller.signature
         action = self.stage.keep_take()
         self.kept = action
-        if action != named:
-            self._applied()
+        if action != named or stale:    # the library changed since the watcher looked: all
+            self._applied()             # of it is followed, not only this keep
         elif action and self._poller is not None:     # in play already: no reload for it
             self.loaded.add(action)
             self._poller.signature = tree_signature(self._poller.path)
+        if action and self.lib is None:
+            self.run_only.append(action)
         return action or ""
 
     @property
@@ -137,9 +142,11 @@ class MopTarget:
 
     def _locked(self):
         """The library's lock, held while its entries are read, changed and written (another
-        run may be keeping into it)."""
+        run may be keeping into it). InputError without a library."""
         from tabletop.plugins.mop_files import library_lock
-        assert self.lib is not None
+        if self.lib is None:
+            raise InputError(f"engine {self.stage.name!r} has no library: its takes are kept "
+                             "for this run only, under the names they were kept as")
         return library_lock(self.lib, self.character)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
@@ -160,7 +167,8 @@ class MopTarget:
         """Delete ``name``: its entry, and its template CSV into the library's ``.trash`` when
         it is the library's own and no other entry uses it (it stayed in place, and the next
         run's take of its name wrote over it). Returns the undo."""
-        assert self.lib is not None
+        if self.lib is None:
+            return self._remove_unsaved(name)
         folder = self.lib / self.character
         with self._locked():
             entries = self._entries()
@@ -186,6 +194,48 @@ class MopTarget:
                 self.kept = name               # in play again: F2 said "nothing to rename"
             self._applied()
         return restore
+
+    def _remove_unsaved(self, name: str) -> Callable[[], None]:
+        """Without a library: the action kept for this run only leaves the character; the
+        undo gives it back (same action, same samples)."""
+        st = self.stage
+        if name not in st.templates[self.character]:
+            raise InputError(f"{self.character} has no action {name!r}")
+        performer, samples = st.templates[self.character][name]
+        action = st.puppets[self.character].actions[name]
+        st.remove_action(self.character, name)
+        run_only = name in self.run_only
+        if run_only:
+            self.run_only.remove(name)
+        was_kept = self.kept == name
+        if was_kept:
+            self.kept = None
+
+        def restore() -> None:
+            st.put_action(self.character, action, performer, samples)
+            if run_only and name not in self.run_only:
+                self.run_only.append(name)
+            if was_kept and self.kept is None:
+                self.kept = name
+        return restore
+
+    def save_run_only(self, lib: Path) -> list[str]:
+        """Save the takes kept for this run only into ``lib`` (a config edit gives the engine
+        a library: the rebuild would drop them); one line each, saved or why not."""
+        from tabletop.plugins.mop_files import save_to_library
+        st, c, lines = self.stage, self.character, []
+        for name in self.run_only:
+            if name not in st.templates[c]:
+                continue
+            performer, samples = st.templates[c][name]
+            motion = st.puppets[c].actions[name].clip.name
+            try:
+                lines.append(save_to_library(lib, c, name, samples, st.performers[performer].names,
+                                             motion, st.rate_hz))
+            except (InputError, OSError) as exc:
+                lines.append(f"{c}/{name} (kept for this run only) not saved: {exc}")
+        self.run_only = []
+        return lines
 
     def _applied(self) -> None:
         """The library as this target just changed it (delete, undo, rename) is followed from

@@ -24,6 +24,7 @@ from behaviors.touch_pose.samples import relative
 from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
+from tabletop.files import keep_under_free_name
 from tabletop.studio.folders import rename_folder, trash
 from behaviors.worker import Worker
 
@@ -162,18 +163,18 @@ class TouchPoseTarget:
         if a is None:
             raise InputError("nothing to keep")
         named = a.name
-        for _ in range(1000):
-            try:
-                designed.save_action(self.lib, a.name, a.spec.part, np.array(self.times),
-                                     self.poses)
-                break
-            except designed.ActionNameTaken:
-                self._rename_action(a, self._free_name())
+        stale = tree_signature(self.lib) != self._poller.signature
+        keep_under_free_name(
+            lambda: designed.save_action(self.lib, a.name, a.spec.part, np.array(self.times),
+                                         self.poses),
+            lambda name: self._rename_action(a, name), self._free_name)
         self.kept, self.pending = a.name, None
         self._loaded.add(a.name)
-        if named != a.name and named in self._loaded:
+        if named != a.name:       # refused for its name: the other run's action is there
             self._load(named)
-        self._seen()
+            self._loaded.add(named)
+        if not stale:             # else the watcher's next look reloads all of the library
+            self._seen()
         return a.name
 
     def _rename_action(self, action, new: str) -> None:

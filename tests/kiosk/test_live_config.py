@@ -439,3 +439,33 @@ def test_an_edit_to_a_recorder_max_mb_below_the_header_is_applied(tmp_path):
         assert wait_for(rebuilt(runner, first), 30)
         assert runner.watcher.applied == 1 and runner.cfg["recorder"]["max_mb"] == 0.05
         assert runner.inst.recorder is not None and not runner.inst.recorder.failed
+
+
+def test_an_edit_waiting_for_a_studio_take_is_shown_while_it_waits(tmp_path):
+    """A deferred edit was said once on the status line, gone at the next message; the status
+    file said nothing pending. It shows as config_pending and on the overlay until applied."""
+    import json
+    cfg = config([10, 20, 30])
+    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                     "library": "lib", "background_training": False}
+    cfg["studio"] = {"countdown_s": 0.1}
+    cfg["kiosk"]["heartbeat"]["every_s"] = 0.1
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    status_file = tmp_path / "status.json"
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first, studio = runner.inst, runner.studio
+        (view,) = [s for s in first.loop.sinks if s.name == "view"]
+        notices = lambda: [n for fn in view.notices for n in fn()]   # noqa: E731
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "trying", 30)
+        assert not json.loads(status_file.read_text())["config_pending"]
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(lambda: json.loads(status_file.read_text())["config_pending"], 15)
+        assert "config edit waits: K keeps the take, X drops it" in notices()
+        first.loop.commands.put("designer.keep")
+        assert wait_for(rebuilt(runner, first), 30)
+        assert wait_for(lambda: not json.loads(status_file.read_text())["config_pending"], 15)

@@ -412,3 +412,36 @@ def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_pat
     (problem,) = engine.library_problems["face"]
     assert "face/actions.yaml: action 'a'" in problem and "no channel named after a blendshape" in problem
     assert set(engine.puppets["face"].actions) == {"circle"}
+
+
+def kept_without_library(tmp_path):
+    """A face's take of a line kept "for this run only" by an engine without a library."""
+    cfg = _designer_config(tmp_path)
+    del cfg["engines"][0]["library"]
+    engine = _build(cfg, tmp_path)
+    table = StudioTable(engine, None)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert "for this run only" in table.status
+    return engine, table
+
+
+def test_undo_delete_and_rename_of_a_take_kept_for_this_run_only(tmp_path):
+    """Without a library, U, Del and F2 after a keep raised AssertionError out of the studio;
+    the keep's undo entry stayed and every later U raised again, for every character."""
+    engine, table = kept_without_library(tmp_path)
+    s, face = table.studio, engine.puppets["face"].actions
+    table.tick(["designer.rename:wave"])
+    assert "has no library" in table.status and set(face) == {"circle", "take1"}
+    table.tick(["designer.delete"])
+    assert "deleted take1" in table.status and "take1" not in face
+    table.tick(["designer.undo"])
+    assert table.status.endswith("undone: delete take1") and "take1" in face
+    table.tick(["designer.undo"])
+    assert table.status.endswith("undone: keep take1") and "take1" not in face
+    assert s.undo_stack == []
+    table.tick(["designer.undo"])
+    assert table.status.endswith("nothing to undo")

@@ -95,3 +95,92 @@ def test_a_keep_without_a_library_says_it_is_for_this_run_only(tmp_path):
     _, saved = kept_line(tmp_path)                      # with a library: saved, said plainly
     assert saved.status == "[mop/face] kept as take1"
     assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
+
+
+HOLDER = """
+import sys, time
+sys.path.insert(0, {root!r})
+from pathlib import Path
+from tabletop.plugins.mop_files import library_lock
+with library_lock(Path({lib!r}), "face"):
+    print("held", flush=True)
+    time.sleep(600)
+"""
+
+
+def test_a_keep_while_another_run_holds_the_library_is_refused_and_the_take_stays(tmp_path):
+    """K waited without limit, in the frame loop's thread, for another run holding the
+    library's lock (a run stopped with Ctrl-Z): the installation froze until that run died."""
+    import subprocess
+    import sys
+    root = str(Path(__file__).resolve().parents[2])
+    engine, table = face_take(tmp_path, "line")
+    holder = subprocess.Popen([sys.executable, "-c", HOLDER.format(root=root,
+                                                                   lib=str(tmp_path / "lib"))],
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        table.tick(["designer.keep"])
+        assert "busy, another run is saving" in table.status, table.status
+        assert table.studio.state == "trying" and "take1" in engine.puppets["face"].actions
+    finally:
+        holder.kill()
+        holder.wait()
+    table.tick(["designer.keep"])
+    assert table.status == "[mop/face] kept as take1"
+    assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
+
+
+def test_another_runs_keep_just_before_this_runs_keep_is_followed(tmp_path):
+    """This run's keep marked the library as seen: another run's keep made since the watcher
+    last looked (within its second) was never followed."""
+    engine_b = _build(_designer_config(tmp_path), tmp_path)     # B starts on an empty library
+    b = StudioTable(engine_b, tmp_path / "lib")
+    b.targets[0]._poller.every_s = 1e9                          # B's watcher does not look
+    _, a = face_take(tmp_path, "line")
+    a.tick(["designer.keep"])                                   # A keeps take1
+    b.rest(1.0)
+    b.tick(["designer.record"])
+    b.perform("square")
+    b.tick(["designer.record"])
+    b.tick(["designer.keep"])
+    assert b.status == "[mop/face] kept as take2", b.status
+    b.targets[0]._poller.every_s = 0.0
+    for _ in range(3):
+        b.studio.poll()
+        b.tick()
+    assert set(engine_b.puppets["face"].actions) == {"circle", "take1", "take2"}
+
+
+def test_a_config_edit_saves_the_takes_kept_for_this_run_only_into_its_new_library(tmp_path):
+    """The keep says "give it library: FOLDER in the config"; doing so rebuilt the installation
+    and dropped every take kept for this run only, without a word. An edit that gives the
+    engine a library saves them into it; one that gives none says which it dropped."""
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    cfg = _designer_config(tmp_path)
+    del cfg["engines"][0]["library"]
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    engine = _build(cfg, tmp_path)
+    table = StudioTable(engine, None)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert "for this run only" in table.status
+    runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
+    runner.studio = table.studio
+    runner._save_run_only(validate_config(cfg, str(path), tmp_path))   # still no library
+    assert runner._notes == ["config edit dropped mop/face's takes kept for this run only: "
+                             "take1 (engine 'mop' has no library)"]
+    assert table.targets[0].run_only == []
+    table.targets[0].run_only = ["take1"]
+    runner._notes = []
+    with_lib = _designer_config(tmp_path)                               # library: lib
+    runner._save_run_only(validate_config(with_lib, str(path), tmp_path))
+    assert runner._notes == [f"kept take1 -> laugh in {tmp_path / 'lib' / 'face'}"]
+    rebuilt = _build(with_lib, tmp_path)
+    assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
+    assert np.allclose(rebuilt.templates["face"]["take1"][1], engine.templates["face"]["take1"][1])

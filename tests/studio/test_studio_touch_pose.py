@@ -368,3 +368,22 @@ def test_a_discarded_take_gives_way_to_the_other_runs_action_of_its_name(tmp_pat
     b.tick(cmds=["designer.discard"])
     known = {a.name: a for a in b.engine.core.m.actions}
     assert "poser-action" in known and known["poser-action"] is not tried
+
+
+def test_a_keep_refused_for_its_name_knows_the_other_runs_action_of_that_name(tmp_path, models):
+    """Another run kept poser-action after this run's watcher last looked: this run's take was
+    kept as poser-action-2, but the other action was never known (until the library changed
+    again)."""
+    a, b = Poser(tmp_path, models), Poser(tmp_path, models)
+    a.take()
+    b.take(path=back)
+    b.target._poller.every_s = 1e9          # B's watcher has not looked since A's keep
+    a.tick(cmds=["designer.keep"])
+    assert "kept as poser-action" in a.status
+    b.tick(cmds=["designer.keep"])
+    assert "kept as poser-action-2" in b.status
+    b.target._poller.every_s = 0.0
+    for _ in range(5):
+        b.tick()
+    names = sorted(x.name for x in b.engine.core.m.actions if x.name.startswith("poser"))
+    assert names == ["poser-action", "poser-action-2"]
