@@ -280,30 +280,6 @@ def test_an_applied_edit_gives_the_previous_installations_memory_back(tmp_path):
     assert float(r.stdout.split()[-1]) < 1.2, r.stdout
 
 
-def test_an_edit_that_turns_the_studio_on_or_off_is_applied(tmp_path):
-    """A kiosk started without the designer studio, its config then edited to put the lover in
-    designer mode: the rebuilt installation had no studio (no designer keys, status ``studio:
-    null``) until the next restart; and one edited back kept it. Now each build takes it from
-    its own configuration."""
-    cfg = config([10, 20, 30])
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(cfg))
-    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
-        assert runner.reporter.status(Frame(seq=0, t=0.0)).get("studio") is None
-        first = runner.inst
-        cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
-                                         "library": "lib"}
-        write(path, yaml.safe_dump(cfg))
-        assert wait_for(rebuilt(runner, first), 30)
-        status = runner.reporter.status(Frame(seq=0, t=0.0)).get("studio")
-        assert status is not None and "lover" in str(status)
-        second = runner.inst
-        del cfg["engines"][0]["designer"]
-        write(path, yaml.safe_dump(cfg))
-        assert wait_for(rebuilt(runner, second), 30)
-        assert runner.reporter.status(Frame(seq=0, t=0.0)).get("studio") is None
-
-
 def test_a_recording_asked_for_goes_on_after_an_applied_edit(tmp_path):
     """``tabletop run --record FILE`` (here a kiosk, as a supervised restart passes it on): the
     installation an edit builds records to the next free name, FILE-2.jsonl, with its own
@@ -396,35 +372,6 @@ def test_a_refused_edit_put_back_is_said_to_be_over_in_the_log(tmp_path, caplog)
     assert watcher.error is None and applied == []
 
 
-def test_an_edit_saved_while_a_studio_take_is_tried_waits_for_it(tmp_path):
-    """The designer edits config.yaml while trying a take: the applied edit rebuilt the
-    installation at once and the take was gone without a word. The edit waits, said on the
-    status line, until the take is kept (or dropped); then it is applied."""
-    cfg = config([10, 20, 30])
-    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
-                                     "library": "lib", "background_training": False}
-    cfg["studio"] = {"countdown_s": 0.1}
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(cfg))
-    with running(Runner(path, load_config(path), headless=True)) as runner:
-        first, studio = runner.inst, runner.studio
-        first.loop.commands.put("designer.record")
-        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
-        first.loop.commands.put("designer.record")
-        assert wait_for(lambda: studio.state == "trying", 30)
-        cfg["engines"][0]["color"] = [200, 100, 50]
-        write(path, yaml.safe_dump(cfg))
-        assert wait_for(lambda: runner.pending is not None, 15)
-        ticks = first.loop.stats.ticks
-        assert wait_for(lambda: first.loop.stats.ticks > ticks + 30, 15)
-        assert runner.inst is first and studio.state == "trying"
-        assert "config edit: applied once this take is kept (K)" in studio.message
-        first.loop.commands.put("designer.keep")
-        assert wait_for(rebuilt(runner, first), 30)
-        assert runner.inst.engines[0].color == (200, 100, 50)
-        assert (tmp_path / "lib" / "lover" / "behavior.yaml").is_file()
-
-
 def test_an_edit_to_a_recorder_max_mb_below_the_header_is_applied(tmp_path):
     """A first start that refuses a ``max_mb`` below the header (strict) applies an edit to
     one and records (the edit failed to build and the previous configuration ran on)."""
@@ -439,33 +386,3 @@ def test_an_edit_to_a_recorder_max_mb_below_the_header_is_applied(tmp_path):
         assert wait_for(rebuilt(runner, first), 30)
         assert runner.watcher.applied == 1 and runner.cfg["recorder"]["max_mb"] == 0.05
         assert runner.inst.recorder is not None and not runner.inst.recorder.failed
-
-
-def test_an_edit_waiting_for_a_studio_take_is_shown_while_it_waits(tmp_path):
-    """A deferred edit was said once on the status line, gone at the next message; the status
-    file said nothing pending. It shows as config_pending and on the overlay until applied."""
-    import json
-    cfg = config([10, 20, 30])
-    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
-                                     "library": "lib", "background_training": False}
-    cfg["studio"] = {"countdown_s": 0.1}
-    cfg["kiosk"]["heartbeat"]["every_s"] = 0.1
-    path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(cfg))
-    status_file = tmp_path / "status.json"
-    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
-        first, studio = runner.inst, runner.studio
-        (view,) = [s for s in first.loop.sinks if s.name == "view"]
-        notices = lambda: [n for fn in view.notices for n in fn()]   # noqa: E731
-        first.loop.commands.put("designer.record")
-        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
-        first.loop.commands.put("designer.record")
-        assert wait_for(lambda: studio.state == "trying", 30)
-        assert not json.loads(status_file.read_text())["config_pending"]
-        cfg["engines"][0]["color"] = [200, 100, 50]
-        write(path, yaml.safe_dump(cfg))
-        assert wait_for(lambda: json.loads(status_file.read_text())["config_pending"], 15)
-        assert "config edit waits: K keeps the take, X drops it" in notices()
-        first.loop.commands.put("designer.keep")
-        assert wait_for(rebuilt(runner, first), 30)
-        assert wait_for(lambda: not json.loads(status_file.read_text())["config_pending"], 15)

@@ -1,0 +1,93 @@
+"""Live config edits and the studio: an edit turning the studio on or off is applied; one saved
+while a take is tried waits for it, shown while it waits."""
+
+import yaml
+
+from tabletop.config import load_config
+from tabletop.frames import Frame
+from tabletop.kiosk.runner import Runner
+from tests.kiosk.test_live_config import config, rebuilt, running, write
+from tests.tracking.scenes import wait_for
+
+
+def test_an_edit_that_turns_the_studio_on_or_off_is_applied(tmp_path):
+    """A kiosk started without the designer studio, its config then edited to put the lover in
+    designer mode: the rebuilt installation had no studio (no designer keys, status ``studio:
+    null``) until the next restart; and one edited back kept it. Now each build takes it from
+    its own configuration."""
+    cfg = config([10, 20, 30])
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        assert runner.reporter.status(Frame(seq=0, t=0.0)).get("studio") is None
+        first = runner.inst
+        cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                         "library": "lib"}
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, first), 30)
+        status = runner.reporter.status(Frame(seq=0, t=0.0)).get("studio")
+        assert status is not None and "lover" in str(status)
+        second = runner.inst
+        del cfg["engines"][0]["designer"]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, second), 30)
+        assert runner.reporter.status(Frame(seq=0, t=0.0)).get("studio") is None
+
+
+def test_an_edit_saved_while_a_studio_take_is_tried_waits_for_it(tmp_path):
+    """The designer edits config.yaml while trying a take: the applied edit rebuilt the
+    installation at once and the take was gone without a word. The edit waits, said on the
+    status line, until the take is kept (or dropped); then it is applied."""
+    cfg = config([10, 20, 30])
+    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                     "library": "lib", "background_training": False}
+    cfg["studio"] = {"countdown_s": 0.1}
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    with running(Runner(path, load_config(path), headless=True)) as runner:
+        first, studio = runner.inst, runner.studio
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "trying", 30)
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(lambda: runner.pending is not None, 15)
+        ticks = first.loop.stats.ticks
+        assert wait_for(lambda: first.loop.stats.ticks > ticks + 30, 15)
+        assert runner.inst is first and studio.state == "trying"
+        assert "config edit: applied once this take is kept (K)" in studio.message
+        first.loop.commands.put("designer.keep")
+        assert wait_for(rebuilt(runner, first), 30)
+        assert runner.inst.engines[0].color == (200, 100, 50)
+        assert (tmp_path / "lib" / "lover" / "behavior.yaml").is_file()
+
+
+def test_an_edit_waiting_for_a_studio_take_is_shown_while_it_waits(tmp_path):
+    """A deferred edit was said once on the status line, gone at the next message; the status
+    file said nothing pending. It shows as config_pending and on the overlay until applied."""
+    import json
+    cfg = config([10, 20, 30])
+    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                     "library": "lib", "background_training": False}
+    cfg["studio"] = {"countdown_s": 0.1}
+    cfg["kiosk"]["heartbeat"]["every_s"] = 0.1
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    status_file = tmp_path / "status.json"
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first, studio = runner.inst, runner.studio
+        (view,) = [s for s in first.loop.sinks if s.name == "view"]
+        notices = lambda: [n for fn in view.notices for n in fn()]   # noqa: E731
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
+        first.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "trying", 30)
+        assert not json.loads(status_file.read_text())["config_pending"]
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(lambda: json.loads(status_file.read_text())["config_pending"], 15)
+        assert "config edit waits: K keeps the take, X drops it" in notices()
+        first.loop.commands.put("designer.keep")
+        assert wait_for(rebuilt(runner, first), 30)
+        assert wait_for(lambda: not json.loads(status_file.read_text())["config_pending"], 15)
