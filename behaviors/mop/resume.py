@@ -238,11 +238,8 @@ class Resume:
         """Step the spare follower on up to ``n`` queued samples, the kept ones first; False
         when the resumed action was dropped (invalid, or another action, after the rest)."""
         follower = self.follower
-        while n > 0 and self._left == 0 and self._probe > 0:   # the kept samples followed
-            self._probe_step()
-            n -= 1
-        while n > 0 and self._todo:
-            if self._left == 0 and self._probe > 0:
+        while n > 0 and (self._todo or (self._left == 0 and self._probe > 0)):
+            if self._left == 0 and self._probe > 0:   # the kept samples followed
                 self._probe_step()
                 n -= 1
                 continue
