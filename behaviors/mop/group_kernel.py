@@ -197,7 +197,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     num[k] = sh * (den[k] + t[2]) - t[2]
                     least[k] = min(least[k], sh)
             # ... and a reversal's (_reversal_sizes), but not the strained action driving's
-            # (Refusal._strained)
+            # (Refusal._recent_dist2)
             if turned and reversal_at[gs] >= 0 and not (
                     REVERSAL_STRAINED and k - a0 == acquired[i]
                     and (log_constant - rec[k] / rw[k]) * two_over > accept2):
