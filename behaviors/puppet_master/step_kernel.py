@@ -345,8 +345,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         angle = _detail_gain(fs[GOV_Z], c[GOV_Z_MIN], c[GOV_Z_MAX]) * tex[T_DETAIL]
         ca, sa = math.cos(angle), math.sin(angle)
         sx, sy = ca * sx - sa * sy, sa * sx + ca * sy
-    sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[TARGET_TABLE] - c[X0],
-                            table_boundary.EDGE_TURN)
+    sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[TARGET_TABLE] - c[X0])
     sx, sy = keep_on_table(rx, ry, sx, sy, c)
     if obstacles.shape[0] > 0:
         nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)
