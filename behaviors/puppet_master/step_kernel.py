@@ -69,7 +69,8 @@ STRAIGHTNESS = 50     # Behavior.straightness
 S_SINCE, SINCE_CLIP, TOUCH = 51, 52, 53   # the steps since the last push (0: not a feature)
 CIRCLING = 54         # Behavior.circling (1.0: the smooth turns with the bearing)
 MAIN_DISC = 55        # Behavior.main_disc (metres; 0: none)
-CONSTANTS = 56
+EDGE_BAND = 56        # Reactor.edge_band (metres)
+CONSTANTS = 57
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -345,7 +346,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         angle = _detail_gain(fs[GOV_Z], c[GOV_Z_MIN], c[GOV_Z_MAX]) * tex[T_DETAIL]
         ca, sa = math.cos(angle), math.sin(angle)
         sx, sy = ca * sx - sa * sy, sa * sx + ca * sy
-    sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[TARGET_TABLE] - c[X0])
+    sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[EDGE_BAND])
     sx, sy = keep_on_table(rx, ry, sx, sy, c)
     if obstacles.shape[0] > 0:
         nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)
