@@ -14,6 +14,7 @@ any of these must be made here too:
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
   share_around, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
   StepSmoother.turn, push and lose_inward
+- table_boundary.turn_off_edges (and EDGE_TURN, frozen into the compiled step)
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
