@@ -90,9 +90,8 @@ paths of seeds 0-3, 8-11, -0.12 / 0.00 generated (its spread kept, 0.027 m both)
 falls at a sway phase of its own. The sway's phase as a feature (the distance's slow mean) was
 not followed by the match (autocorrelation at 4.8 s still about 0; friend misses up); the
 steps since its last touch among its features (Behavior.circling, as the bully's charges) time
-its darts as its designer's clock does: contact per path 0.033 +- 0.0095 (its designer 0.034
-+- 0.009), friend misses on those 54 paths 9 -> 1, over five perturbed runs 44 -> 25
-(behavior.py has the figures).
+its darts as its designer's clock does (the figures, with and without, are in
+behaviors/puppet_master/behavior.py, where Behavior takes its since feature).
 
     .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2] [--perturb K]
 """

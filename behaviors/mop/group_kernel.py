@@ -30,7 +30,7 @@ from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.invariance import ALONG, REVERSAL_STRAINED, input_reversal, reversal_size
+from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
@@ -197,9 +197,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                     num[k] = sh * (den[k] + t[2]) - t[2]
                     least[k] = min(least[k], sh)
             # ... and a reversal's (_reversal_sizes), but not the strained action driving's
-            # (Refusal._strained)
+            # (Refusal._recent_dist2)
             if turned and reversal_at[gs] >= 0 and not (
-                    REVERSAL_STRAINED and k - a0 == acquired[i]
+                    k - a0 == acquired[i]
                     and (log_constant - rec[k] / rw[k]) * two_over > accept2):
                 rrow = states[reversal_at[gs] + off]
                 for c in range(d):

@@ -152,10 +152,6 @@ REVERSAL_AHEAD = 6
 #: How far (share of the template's extent at the size found) the input's reversal may lie
 #: from the landmark's place (0: no size taken at reversals).
 REVERSAL_FIT = 0.25
-#: Whether the action driving takes no size at a reversal while its recent likelihood lies
-#: beyond ``accept_distance`` (:meth:`~behaviors.mop.refusal.Refusal._strained`; see
-#: :mod:`behaviors.mop.refusal`).
-REVERSAL_STRAINED = True
 
 
 def reversal_map(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
@@ -392,7 +388,7 @@ class PerformanceFrame:
         at = self._reversal_at[gi]
         lo, hi = self.scale_range
         for k in np.flatnonzero(at >= 0).tolist():
-            if k == self._acquired and self._strained(k):   # (REVERSAL_STRAINED)
+            if k == self._acquired and self._recent_dist2(k) > self._accept2:   # strained
                 continue
             s = reversal_size(self._rel[at[k]], r, lo, hi, float(self._reversal_tol[k]))
             if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s

@@ -216,9 +216,9 @@ ankle at 1.4x, 0.13 -> 0.27 -> 0.09; recent likelihood 0.7-1.4 sigma, misfit 0.2
 when the input turned there: the reversal sized it 1.06 -> 1.36
 (:data:`~behaviors.mop.invariance.REVERSAL_FIT`), which judged it afresh
 (:data:`~behaviors.mop.invariance.REJUDGE`) and it drove 20 samples more. So the action driving
-takes no size at a reversal while strained (:meth:`Refusal._strained`, recent likelihood beyond
-``accept_distance``; :data:`~behaviors.mop.invariance.REVERSAL_STRAINED`): at the reversals met by
-the action driving (seeds 201-202) true performances at 0.7-1.4x were strained at 69 of 857
+takes no size at a reversal while strained (:meth:`Refusal._recent_dist2`, recent likelihood
+beyond ``accept_distance``; :meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`
+and the group kernel): at the reversals met by the action driving (seeds 201-202) true performances at 0.7-1.4x were strained at 69 of 857
 (recent likelihood 0.91 median, 1.19 at 90%), mirrored paths at 4 of 6. Widened: worst 0.338 ->
 0.239, mean 0.0146 -> 0.0145, over 0.1 22 of 540 both, sequences identical;
 ``bench/follow_quality.py`` (every non-held-out figure): valid after 30% at 0.7-1.4x 0.9147 ->
@@ -276,7 +276,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import invariance, threshold
+from behaviors.mop import threshold
 from behaviors.mop.validity import PATH_REACH, unjudged
 
 
@@ -436,11 +436,10 @@ class Refusal:
         self._threshold_ev = self._threshold_ev * self._decay + step
         return self._threshold_ev
 
-    def _strained(self, k: int) -> bool:
-        """Whether template ``k`` is strained: its recent likelihood (in its own spread) lies
-        beyond ``accept_distance``, and :data:`~behaviors.mop.invariance.REVERSAL_STRAINED`."""
-        d2 = (self._log_constant - self._recent[k] / self._recent_weight[k]) * (2.0 / self._zdim)
-        return invariance.REVERSAL_STRAINED and bool(d2 > self._accept2)
+    def _recent_dist2(self, k: int) -> float:
+        """Template ``k``'s recent likelihood as a squared distance in its own spread (the
+        group kernel's expression, bit for bit); strained beyond ``accept_distance``."""
+        return (self._log_constant - self._recent[k] / self._recent_weight[k]) * (2.0 / self._zdim)
 
     def _shaped(self, k: int) -> bool:
         """Template ``k`` may drive as far as its path is concerned."""

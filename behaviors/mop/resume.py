@@ -100,8 +100,9 @@ class Resume:
         self._most = int(round(GESTURE_S * rate_hz))
         self._settle = int(round(SETTLE_S * rate_hz))
         self._probe_n = int(round(SETTLE_PROBE_S * rate_hz))
-        self._probe = 0   # steps of the settle probe left (:meth:`_probe_step`)
-        self._probe_f: object | None = None   # its copy of the spare follower
+        # the settle probe (:meth:`_probe_step`), while it runs: its copy of the spare follower
+        # (None until its first step), the last kept sample it stands on, its steps left
+        self._probe: tuple[object | None, np.ndarray, int] | None = None
         self.stand_samples = int(round(STAND_S * rate_hz))
         self._drove = 0   # how many of the fresh gesture's samples had been seen when it drove
         self._at: list[tuple[str, float]] = []   # its follower's action and progress at each
@@ -118,12 +119,11 @@ class Resume:
         self._rested = 0
         self.state: object | None = None      # the resumed follower's state, while followed
         self._from: tuple[str, float] | None = None   # the kept action and its progress
-        self._last: np.ndarray | None = None   # the last kept sample (the settle probe's)
 
     def drop(self) -> None:
         """Forget the kept action."""
         self.kept, self._todo, self.state, self._mine = None, deque(), None, []
-        self.preparing, self._probe, self._probe_f = False, 0, None
+        self.preparing, self._probe = False, None
         self._from = None
 
     def add(self, x: np.ndarray, resting: bool, state: object) -> None:
@@ -178,8 +178,8 @@ class Resume:
         self.follower.reset()  # type: ignore[attr-defined]
         self._todo, self._rested, self.state, self._from = deque(self._mine), 0, None, None
         self._left = len(self._mine)
-        self._probe = self._probe_n if still <= 1 and self._mine else 0
-        self._probe_f, self._last = None, (self._mine[-1] if self._mine else None)
+        probe = still <= 1 and bool(self._mine) and self._probe_n > 0
+        self._probe = (None, self._mine[-1], self._probe_n) if probe else None
 
     def _settle_stop(self) -> None:
         """Where the action was when the puck stopped: the furthest the fresh follower took it
@@ -238,11 +238,8 @@ class Resume:
         """Step the spare follower on up to ``n`` queued samples, the kept ones first; False
         when the resumed action was dropped (invalid, or another action, after the rest)."""
         follower = self.follower
-        while n > 0 and self._left == 0 and self._probe > 0:   # the kept samples followed
-            self._probe_step()
-            n -= 1
-        while n > 0 and self._todo:
-            if self._left == 0 and self._probe > 0:
+        while n > 0 and (self._todo or (self._left == 0 and self._probe is not None)):
+            if self._left == 0 and self._probe is not None:   # the kept samples followed
                 self._probe_step()
                 n -= 1
                 continue
@@ -264,16 +261,14 @@ class Resume:
         """One step of the settle probe (:meth:`keep`): a copy of the spare, which has followed
         the kept samples, stands on the last of them; the furthest it takes the kept action
         while valid is where the action stopped."""
-        if self._probe_f is None:
-            self._probe_f = copy.deepcopy(self.follower)
-        s: Any = self._probe_f.step(self._last)  # type: ignore[attr-defined]
-        self._probe -= 1
+        f, last, left = self._probe  # type: ignore[misc]
+        f = copy.deepcopy(self.follower) if f is None else f
+        s: Any = f.step(last)  # type: ignore[attr-defined]
         if bool(s.valid) and s.best == self._stopped[0]:
             self._stopped = (s.best, max(self._stopped[1], float(s.progress)))
+            self._probe = (f, last, left - 1) if left > 1 else None
         else:
-            self._probe = 0
-        if self._probe == 0:
-            self._probe_f = None
+            self._probe = None
 
     def follow(self, x: np.ndarray, origin: np.ndarray,
                n: int = REPLAY_PER_SAMPLE) -> object | None:

@@ -138,7 +138,7 @@ the six gestures back to back, but unrelated motions mean 0.085 -> 0.110 / 0.098
 (worst 0.305 -> 0.375); 5%: 0.106 / 0.118; 4% with the turning rule (``turn_limit`` 1.3):
 0.103 / 0.108, valid after 30% of gestures at 0.7-1.4x 0.8959 / 0.9115: no rule tried refuses
 what coverage refuses without holding the zigzag back.
-Measured again (``bench/spotting_reach.py``, tuned): the last rule to clear
+Measured with the rules as they are (``bench/spotting_reach.py``, tuned): the last rule to clear
 (``bench.spotting_reach.GATES``) is coverage for the zigzag (0.23 of it) and the figure eight
 (0.22), coverage, probability and best within a sample of each other for the circle (0.25) and the
 wave (0.22-0.23), the shared start for the line (0.45), the lead for the square (0.39); recognised

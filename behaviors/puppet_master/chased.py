@@ -8,24 +8,25 @@ slides along the edge and escapes round the hand; pauses and pulls back let it c
 demonstration is 80 s (designers.DURATION_S), against 60 s for the others: it shows two kinds
 of situation, calm and chased.
 
-Measured with bench/fidelity.py (thresholds met by all five shipped behaviours; the former
-demonstration: 60 s, a hand alternating its wandering with going straight for the reactor at
-0.15-0.35 m/s, the character fleeing straight away from it): seeds 0-5 642 -> 652 of 720,
+Measured with bench/fidelity.py (thresholds met by all five shipped behaviours, the straight
+chase -> this demonstration; the straight chase: 60 s, a hand alternating its wandering with
+going straight for the reactor at 0.15-0.35 m/s, the character fleeing straight away from it,
+the straight-flee policy): seeds 0-5 642 -> 652 of 720,
 pursuit 40 -> 37 of 48; held-out seed 7 109 -> 106 of 120, pursuit 7 -> 8 of 8; held-out
 seeds 8-13 639 -> 642 of 720, pursuit 38 -> 42 of 48. The generated afraid character alone on
 seeds 0-5 (open paths + pursuit, of 144 + 48): 112 + 40 -> 122 + 37; its misses on seed 0's
 open paths 7 -> 1. Chased by the unseen visitor, the designer's own character is at a table edge
-5-13% of the time on seeds 0-5 (18-59% with the former demonstration); the generated one still
+5-13% of the time on seeds 0-5 (18-59% with the straight chase); the generated one still
 60% on seed 0 (79% with it): the engine's match does not see the table. The choice among the
 variants measured (the afraid generation alone, seeds 0-5, open + pursuit, designer seeds
-53/54/55; the shipped seed is 53): this policy and hand at 80 s 159/144/151; the former policy
-with this hand 152/145/137; the former policy and hand at 80 s 156/159/141 and at 60 s
-152/138/129; this policy with the former straight chase 165/149/142 (pursuit 44-47 of 48, open
-paths 96-121 of 144; the hand then shows no approach from a side and no herding); a hand
-wandering half of the time and never pausing 129/156/149. Held-out seeds 7-13, the afraid
-generation alone (of 168 + 56): former 133 + 45, this 133 + 50.
+53/54/55; the shipped seed is 53): this policy and hand at 80 s 159/144/151; the straight-flee
+policy with this hand 152/145/137; the straight chase's policy and hand at 80 s 156/159/141 and
+at 60 s 152/138/129; this policy with the straight chase's hand 165/149/142 (pursuit 44-47 of
+48, open paths 96-121 of 144; the hand then shows no approach from a side and no herding); a
+hand wandering half of the time and never pausing 129/156/149. Held-out seeds 7-13, the afraid
+generation alone (of 168 + 56): the straight chase 133 + 45, this 133 + 50.
 
-Two wall-richer hands measured later (all five behaviours, bench/fidelity.py --seeds
+Two wall-richer hands measured (all five behaviours, bench/fidelity.py --seeds
 0,1,2,3,4,5 / 7 / 8,9,10,11,12,13, open paths met against 666 / 109 / 652, pursuit against 41
 / 8 / 38, the generated character's time at an edge chased against 0.53 / 0.48 / 0.50): herding
 twice as often 658 / 110 / 649, pursuit 45 / 8 / 44, at an edge 0.53 / 0.38 / 0.46 (with the

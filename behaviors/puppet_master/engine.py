@@ -72,6 +72,9 @@ class Reactor(GenerationStep):
         # character's edge margin (Behavior.edge_margin), at most a quarter of its smaller side
         m = min(behavior.edge_margin, 0.25 * min(x1 - x0, y1 - y0))
         self.target_table = (x0 + m, y0 + m, x1 - m, y1 - m)
+        # the band along the edges that steps are turned off (table_boundary.turn_off_edges),
+        # (x0 + m) - x0: the margin m as the fitted table holds it
+        self.edge_band = self.target_table[0] - x0
         self.max_backlog = max_backlog
         p = behavior.params
         self.dt = 1.0 / p.rate_hz
@@ -167,6 +170,7 @@ class Reactor(GenerationStep):
         c = self._cs = np.zeros(sk.CONSTANTS)
         c[[sk.X0, sk.Y0, sk.X1, sk.Y1]] = self.table
         c[sk.TARGET_TABLE:sk.TARGET_TABLE + 4] = self.target_table
+        c[sk.EDGE_BAND] = self.edge_band
         c[[sk.DT, sk.RATE, sk.MIN_SPEED, sk.CATCH_UP, sk.GAIN]] = (
             self.dt, p.rate_hz, p.min_speed, p.catch_up, p.relative_motion)
         c[[sk.TOP_SPEED, sk.STILL_SPEED, sk.MAX_TURN]] = b.top_speed, b.still_speed, self.max_turn

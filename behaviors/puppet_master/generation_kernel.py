@@ -14,8 +14,9 @@ import math
 import numba
 import numpy as np
 
-from behaviors.puppet_master import step_math
+from behaviors.puppet_master import step_math, table_boundary
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
+from behaviors.puppet_master.table_boundary import EDGE_TURN
 from behaviors.kernel_cache import compiled
 
 # the table among the step's constants (Reactor._cs)
@@ -180,10 +181,10 @@ def keep_on_table(rx: float, ry: float, sx: float, sy: float,
     return nx - rx, ny - ry
 
 
-@compiled(_P2(_f8, _f8, _f8, _f8, _F1, _f8, _f8), step_math)
-def turn_off_edges(rx: float, ry: float, sx: float, sy: float, c: np.ndarray, band: float,
-                   turn: float) -> tuple[float, float]:
-    """table_boundary.turn_off_edges (``turn``: table_boundary.EDGE_TURN)."""
+@compiled(_P2(_f8, _f8, _f8, _f8, _F1, _f8), step_math, table_boundary)
+def turn_off_edges(rx: float, ry: float, sx: float, sy: float, c: np.ndarray,
+                   band: float) -> tuple[float, float]:
+    """table_boundary.turn_off_edges (EDGE_TURN frozen when compiled)."""
     if band <= 0.0:
         return sx, sy
     length = hypot(sx, sy)
@@ -191,7 +192,7 @@ def turn_off_edges(rx: float, ry: float, sx: float, sy: float, c: np.ndarray, ba
     wy = _max(0.0, 1.0 - (ry - c[Y0]) / band) - _max(0.0, 1.0 - (c[Y1] - ry) / band)
     if length <= 1e-12 or (wx == 0.0 and wy == 0.0):
         return sx, sy
-    ux, uy = sx / length + turn * wx, sy / length + turn * wy
+    ux, uy = sx / length + EDGE_TURN * wx, sy / length + EDGE_TURN * wy
     n = hypot(ux, uy)
     if n <= 1e-12:
         return sx, sy

@@ -86,7 +86,7 @@ class StepDetail(StepSenses):
             # 15 of 18 paths instead of 10. Only before the touch 623 / 104, after 627 / 105
             sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         # off the edges within the character's edge margin (table_boundary.turn_off_edges)
-        sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.target_table[0] - self.table[0])
+        sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
         sx, sy = keep_on_table(rx, ry, sx, sy, self.table)
         # the others' discs, then the main's personal space (Behavior.personal_space): the
         # lover's contact met on all 21 unseen paths of seeds 0-5 and 7 instead of 7 (fast and

@@ -14,6 +14,7 @@ any of these must be made here too:
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
   share_around, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
   StepSmoother.turn, push and lose_inward
+- table_boundary.turn_off_edges (and EDGE_TURN, frozen into the compiled step)
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
   observe, LookGovernor.observe_look
 - look.desired_look
@@ -69,7 +70,8 @@ STRAIGHTNESS = 50     # Behavior.straightness
 S_SINCE, SINCE_CLIP, TOUCH = 51, 52, 53   # the steps since the last push (0: not a feature)
 CIRCLING = 54         # Behavior.circling (1.0: the smooth turns with the bearing)
 MAIN_DISC = 55        # Behavior.main_disc (metres; 0: none)
-CONSTANTS = 56
+EDGE_BAND = 56        # Reactor.edge_band (metres)
+CONSTANTS = 57
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
@@ -345,8 +347,7 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
         angle = _detail_gain(fs[GOV_Z], c[GOV_Z_MIN], c[GOV_Z_MAX]) * tex[T_DETAIL]
         ca, sa = math.cos(angle), math.sin(angle)
         sx, sy = ca * sx - sa * sy, sa * sx + ca * sy
-    sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[TARGET_TABLE] - c[X0],
-                            table_boundary.EDGE_TURN)
+    sx, sy = turn_off_edges(rx, ry, sx, sy, c, c[EDGE_BAND])
     sx, sy = keep_on_table(rx, ry, sx, sy, c)
     if obstacles.shape[0] > 0:
         nx, ny = keep_apart(rx + sx, ry + sy, obstacles, c)

@@ -12,7 +12,7 @@ Each :meth:`TouchPose.step` takes the fingers on the table (id -> table metres) 
    direction by segment; once the time comes within one frame's interval of the synthesised
    time, the synthesised posture itself is output, else the sample motions' posture at the
    time with the synthesis's motion weights (section 5); secondary touches by IK, unlimited
-   (``HELD_REACH``: a held part stays fixed under its finger as the action moves); at the end
+   (a held part stays fixed under its finger as the action moves); at the end
    back to posing where the action left the character (its position and heading become the
    posing base, within ``ROAM``), posing's target faded in from the action's (``HANDOVER_S``);
 4. tracking control: equations 2-4, then the physical effect (equations 5-7) on free segments,
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Mapping
+from typing import Mapping, NamedTuple
 
 import numpy as np
 
@@ -33,7 +33,7 @@ from behaviors.motion.clips import quat_slerp
 from behaviors.touch_pose.action import EXCLUDE_DEG, ActionClock, ActionModel, recognise
 from behaviors.touch_pose.fingers import Finger, common_motion
 from behaviors.touch_pose.humanoid import MODEL_TO_WORLD, PARTS, Camera, Pose, yaw_of
-from behaviors.touch_pose.ik import CCD, MAX_CORRECTION, limit_goal
+from behaviors.touch_pose.ik import CCD, limit_goal
 from behaviors.touch_pose.latent import Blend, yaw_view
 from behaviors.touch_pose.models import Models, load_or_build
 from behaviors.touch_pose.samples import place
@@ -52,17 +52,6 @@ OVERLAP = 0.25
 TABLE_MARGIN = 0.02
 #: Seconds of each finger's path kept for recognising actions (a longer drag never matches).
 PATH_S = 2.5
-#: Farthest IK may move a part held by a secondary finger from where the running action puts
-#: it (character metres): no limit, so the part stays under its finger (fixed, section 7) as far
-#: as its chain reaches while the action moves the body. With posing's 0.2 m the part went with
-#: the travelling body and came back to the finger only when posing resumed: held part's median
-#: distance from its finger over the action (tests/touch_pose/test_held_during_action.py, table
-#: m at 0.3 m tall, view 90,15) walk 0.126 -> 0.018, punch 0.133 -> 0.051, kick 0.095 -> 0.006.
-#: A finger that held its part through an action keeps this reach in the posing after it (the
-#: body stands where the action took it): over the posing second after the action, 0.102 ->
-#: 0.063 (walk), 0.099 -> 0.028 (punch), the head held through the walk 0.072 -> 0.000 (the
-#: switch back to posing: ``HANDOVER_S``).
-HELD_REACH = math.inf
 #: Seconds over which posing's target is faded in from the action's last target (root lerped,
 #: joints slerped), also the time an action that ended beyond ``ROAM`` takes to come back to
 #: the base: parts, the held one above all, move on from where the action left them. Taken over
@@ -86,6 +75,13 @@ def learned_models() -> Models:
     if _MODELS is None:
         _MODELS = load_or_build()[0]
     return _MODELS
+
+
+class Handover(NamedTuple):
+    """Posing's target fading in after an action (``HANDOVER_S``)."""
+    from_pose: Pose   # the action's last target
+    at_base: Pose     # the posture held while no finger poses (brought back within ``ROAM``)
+    weight: float     # of posing's target, 0 -> 1
 
 
 class TouchPose:
@@ -126,7 +122,7 @@ class TouchPose:
         self._np = len(body.names)
         self._memo: dict[int, tuple[Pose, np.ndarray]] = {}
         # the ended action's last target, it moved to the base, and the faded-in part (0-1)
-        self.handover: tuple[Pose, Pose, float] | None = None
+        self.handover: Handover | None = None
 
     # --- actions -------------------------------------------------------------------------------
 
@@ -329,16 +325,22 @@ class TouchPose:
 
     def _solve(self, pose: Pose, names: list[str], targets: np.ndarray, skip: str | None = None,
                keep_feet: bool = True, held: set[str] | frozenset = frozenset()) -> Pose:
-        """CCD toward the touches (each limited to 0.2 m, the ``held`` parts' to
-        ``HELD_REACH``) and planted feet kept in place."""
+        """CCD toward the touches (each limited to 0.2 m, ``ik.MAX_CORRECTION``), planted feet
+        kept in place. The ``held`` parts' goals are not limited: a part held by a secondary
+        finger stays under it (fixed, section 7) as far as its chain reaches while the action
+        moves the body. Limited to 0.2 m it went with the travelling body: held part's median
+        distance from its finger over the action (tests/touch_pose/test_held_during_action.py,
+        table m at 0.3 m tall, view 90,15) walk 0.126 -> 0.018, punch 0.133 -> 0.051, kick
+        0.095 -> 0.006; over the posing second after it (held through the action) 0.102 ->
+        0.063 (walk), 0.099 -> 0.028 (punch), the head held through the walk 0.072 -> 0.000."""
         parts = self.body.parts(pose)
         goals: dict[str, np.ndarray] = {}
         for name, s in zip(names, targets):
             if name == skip:
                 continue
             cur = parts[PARTS.index(name)]
-            limit = HELD_REACH if name in held else MAX_CORRECTION
-            goals[name] = limit_goal(cur, self.camera.ray_point(s, cur), limit)
+            ray = self.camera.ray_point(s, cur)
+            goals[name] = ray if name in held else limit_goal(cur, ray)
         if keep_feet:
             prev = self._points(self.target)[self._np:]
             for foot in self._grounded(self.target, prev):
@@ -350,7 +352,7 @@ class TouchPose:
         names, targets = self._constraints()
         if not names:  # the posture stays (where the ended action left it, at the base)
             if self.handover is not None:
-                self.target = self._handed_over(self.handover[1], dt)
+                self.target = self._handed_over(self.handover.at_base, dt)
             return
         view, offset = yaw_view(self.camera.matrix, self.base, self.yaw)
         idx = np.array([PARTS.index(n) for n in names])
@@ -369,9 +371,9 @@ class TouchPose:
         """``pose`` faded in from the action's last target over ``HANDOVER_S`` seconds."""
         if self.handover is None:
             return pose
-        last, rest, w = self.handover
-        w = min(w + dt / HANDOVER_S, 1.0)
-        self.handover = None if w >= 1.0 else (last, rest, w)
+        last = self.handover.from_pose
+        w = min(self.handover.weight + dt / HANDOVER_S, 1.0)
+        self.handover = None if w >= 1.0 else self.handover._replace(weight=w)
         return Pose(last.root + (pose.root - last.root) * w, quat_slerp(last.rots, pose.rots, w))
 
     def _held_through_action(self) -> set[str]:
@@ -421,7 +423,7 @@ class TouchPose:
         self.target = self._solve(pose, names, targets, skip=a.spec.part, keep_feet=False,
                                   held=set(names))
         if clock.done:
-            self.mode, rest = "posing", self.target
+            self.mode, at_base = "posing", self.target
             if u >= 1.0:
                 root = self.target.root
                 d = np.array([root[0], root[2]])
@@ -432,8 +434,8 @@ class TouchPose:
                 # the base over HANDOVER_S (left where the action put it, it slid back only under
                 # the next finger, 0.13 m on the table at 0.3 m tall, away from the touched part)
                 shift = self.base - d
-                rest = Pose(root + np.array([shift[0], 0.0, shift[1]]), self.target.rots.copy())
-            self.handover = (self.target, rest, 0.0)
+                at_base = Pose(root + np.array([shift[0], 0.0, shift[1]]), self.target.rots.copy())
+            self.handover = Handover(self.target, at_base, 0.0)
             for f in self.fingers.values():
                 f.restart()
 

@@ -50,10 +50,10 @@ from functools import lru_cache
 
 import numpy as np
 
-from behaviors.motion.clips import (Clip, quat_conj, quat_from_axis_angle, quat_from_rotvec,
-                                    quat_mul, quat_slerp, quat_to_rotvec)
+from behaviors.motion.clips import Clip, quat_from_axis_angle, quat_from_rotvec, quat_mul, quat_slerp
 from behaviors.motion.deepmimic import load_motion
 from behaviors.touch_pose.humanoid import Humanoid, Pose, yaw_of
+from behaviors.touch_pose.tracking import rot_diff
 
 
 @dataclass(frozen=True)
@@ -184,12 +184,12 @@ SEAM_FRAMES = 6
 SEAM_FACTOR = 4.0
 
 
-def mend_seam(clip: Clip, frames: int = SEAM_FRAMES) -> Clip:
+def mend_seam(clip: Clip) -> Clip:
     """``clip`` with its seam mended: the DeepMimic walk is two half cycles joined at frames
     18-19, where every joint jumps at once (left shoulder 28.8 degrees in one 1/30 s frame,
     right shoulder 13.1, left hip 10.0, root 7.2; elsewhere at most 6.7 and 4.3 typical), which
     the walk action played as popping. The step beyond the motion's own pace there (the
-    average of the steps either side) is spread over ``frames`` frames each side, half before
+    average of the steps either side) is spread over :data:`SEAM_FRAMES` frames each side, half before
     and half after, tapering linearly: each channel's path is kept, the jump gone. Largest joint
     turn between the walk's samples 28.8 -> 12.2 degrees (right knee, the motion's own); per
     target frame while the walk is dragged, worst of four views (bench/touch_pose_turns.py
@@ -199,30 +199,27 @@ def mend_seam(clip: Clip, frames: int = SEAM_FRAMES) -> Clip:
     :data:`SEAM_FACTOR` of its median step has no seam and is returned as it is."""
     v, sl = clip.values, clip.slices
     n = len(v)
-    quats = [c.name for c in clip.channels if c.type == "quat"]
+    # each channel's per-frame steps: rotation vectors for joints, differences otherwise
+    steps = {c.name: rot_diff(v[1:, sl[c.name]], v[:-1, sl[c.name]]) if c.type == "quat"
+             else np.diff(v[:, sl[c.name]], axis=0) for c in clip.channels}
     turn = np.zeros(n - 1)
-    for name in quats:
-        q = v[:, sl[name]]
-        turn = np.maximum(turn, np.linalg.norm(quat_to_rotvec(quat_mul(q[1:], quat_conj(q[:-1]))),
-                                               axis=1))
+    for c in clip.channels:
+        if c.type == "quat":
+            turn = np.maximum(turn, np.linalg.norm(steps[c.name], axis=1))
     s = int(np.argmax(turn))
     if n < 4 or s < 1 or s + 2 >= n or turn[s] < SEAM_FACTOR * float(np.median(turn)):
         return clip
     out = v.copy()
     k = np.arange(n)
     # share of the jump moved onto each frame: +1/2 .. 0 before the seam, -1/2 .. 0 after
-    share = np.where(k <= s, 0.5 * np.clip(1 - (s - k) / frames, 0, 1),
-                     -0.5 * np.clip(1 - (k - s - 1) / frames, 0, 1))
+    share = np.where(k <= s, 0.5 * np.clip(1 - (s - k) / SEAM_FRAMES, 0, 1),
+                     -0.5 * np.clip(1 - (k - s - 1) / SEAM_FRAMES, 0, 1))
     for c in clip.channels:
-        cols = sl[c.name]
+        cols, step = sl[c.name], steps[c.name]
+        jump = step[s] - 0.5 * (step[s - 1] + step[s + 1])
         if c.type == "quat":
-            q = v[:, cols]
-            step = [quat_to_rotvec(quat_mul(q[i + 1], quat_conj(q[i]))) for i in (s - 1, s, s + 1)]
-            jump = step[1] - 0.5 * (step[0] + step[2])
-            out[:, cols] = quat_mul(quat_from_rotvec(share[:, None] * jump), q)
+            out[:, cols] = quat_mul(quat_from_rotvec(share[:, None] * jump), v[:, cols])
         else:
-            d = np.diff(v[s - 1: s + 3, cols], axis=0)
-            jump = d[1] - 0.5 * (d[0] + d[2])
             out[:, cols] = v[:, cols] + share[:, None] * jump
     return Clip(clip.name, clip.channels, clip.times.copy(), out, loop=clip.loop)
 

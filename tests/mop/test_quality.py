@@ -357,7 +357,8 @@ def test_an_action_does_not_hold_a_performer_resting_behind_where_it_began(gestu
     # a wave or a zigzag performed to 60%, back to its start and rested: the action no longer
     # drives once the performer rests behind where it began driving (validity.rests_behind).
     # Measured: valid ticks in the resting tails 0 (25 without; 50 without it and without
-    # invariance.REVERSAL_STRAINED, which keeps the zigzag strained at its turn from being sized)
+    # the strained rule of invariance.PerformanceFrame._reversal_sizes, which keeps the zigzag
+    # strained at its turn from being sized)
     from behaviors.mop import validity
 
     streams = [_there_and_back(gestures, n, s) for n in ("wave", "zigzag") for s in (0, 1)]

@@ -9,9 +9,9 @@ import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import invariance, shape_lead, validity
+from behaviors.mop import shape_lead, validity
 from behaviors.mop.group import FollowerGroup
-from behaviors.mop.refusal import shape_limits
+from behaviors.mop.refusal import Refusal, shape_limits
 
 
 def _group_as_alone(gestures, streams: list[np.ndarray]) -> None:
@@ -323,14 +323,15 @@ def _mirrored_dance() -> tuple[dict[str, np.ndarray], np.ndarray]:
 
 
 def test_a_strained_action_takes_no_size_at_a_reversal(monkeypatch):
-    # invariance.REVERSAL_STRAINED: the zigzag drives the mirrored dance wrist with its recent
-    # likelihood at 1.3-1.7 sigma of its own spread (refused beyond 1.8) when the input turns
+    # invariance.PerformanceFrame._reversal_sizes: the zigzag drives the mirrored dance wrist
+    # with its recent likelihood at 1.3-1.7 sigma of its own spread (refused beyond 1.8) when
+    # the input turns
     # at the zigzag's corner; sized there (1.06 -> 1.36) it was judged afresh
     # (invariance.REJUDGE) and drove 20 samples more. Measured: valid 0.239 of the time, 0.338
     # sized at the reversal
     templates, x = _mirrored_dance()
     now = np.mean([s.valid for s in run(puck_follower(templates), x)])
-    monkeypatch.setattr(invariance, "REVERSAL_STRAINED", False)
+    monkeypatch.setattr(Refusal, "_recent_dist2", lambda self, k: 0.0)   # never strained
     sized = np.mean([s.valid for s in run(puck_follower(templates), x)])
     assert now <= 0.26 and sized >= now + 0.08, (now, sized)
 
