@@ -106,15 +106,14 @@ class OscInput(BackgroundSource):
                     vx = vy = w = math.nan
                 pucks.append(PuckMeasurement(e.class_id, x, y, a, min(t, now), vx=vx, vy=vy,
                                              omega=w))
-            keys, found = [], []
+            found = []
             for profile in ("2Dcur", "2Dblb"):
                 for key, e in self.client.entities(profile, self.quiet_s, now):
                     if profile == "2Dblb" and self._described(key, e.session):
                         continue
-                    keys.append((key, e.session))
-                    found.append(e)
-            ids = self._touch_ids.assign(keys, [e.session for e in found])
-            for i, e in zip(ids, found):
+                    found.append((key, e))
+            ids = self._touch_ids.assign([(key, e.session) for key, e in found])
+            for i, (_key, e) in zip(ids, found):
                 x, y, _a, vx, vy, _w = to_table(e, self.table)
                 touches.append(Touch(i, x, y, vx, vy))
             streams = {k: v for k, (v, ts) in self._streams.items() if now - ts <= self.quiet_s}

@@ -33,16 +33,16 @@ class TouchIds:
     """Bus ids for touches keyed by (origin, own id); see the module docstring."""
 
     def __init__(self, quarantine_frames: int = QUARANTINE_FRAMES) -> None:
-        self._ids: dict[Hashable, int] = {}
+        self._ids: dict[tuple[Hashable, int], int] = {}
         self._frames = quarantine_frames
-        self._lifted: dict[int, tuple[Hashable, int]] = {}   # id -> (key that held it, frames left)
+        self._lifted: dict[int, tuple[tuple[Hashable, int], int]] = {}   # id -> (key, frames left)
 
-    def assign(self, keys: Sequence[Hashable], own: Sequence[int]) -> list[int]:
-        """The bus id of each touch: ``keys`` (unique, one per present touch) in the same order
-        as ``own`` (the id each brought). Touches absent from ``keys`` are forgotten."""
-        given: dict[Hashable, int] = {}
+    def assign(self, touches: Sequence[tuple[Hashable, int]]) -> list[int]:
+        """The bus id of each touch: ``touches`` holds one (origin, own id) pair per present
+        touch, each unique; the pair is the touch's key. Touches absent are forgotten."""
+        given: dict[tuple[Hashable, int], int] = {}
         used: set[int] = set()
-        for k in keys:   # a touch keeps the id it had
+        for k in touches:   # a touch keeps the id it had
             i = self._ids.get(k)
             if i is not None and i not in used:
                 given[k] = i
@@ -51,9 +51,10 @@ class TouchIds:
         for k, i in self._ids.items():
             if k not in given:
                 lifted[i] = (k, self._frames)
-        brought = set(own)
+        brought = {i for _origin, i in touches}
         spare = 0
-        for k, i in zip(keys, own):
+        for k in touches:
+            i = k[1]
             if k in given:
                 continue
             if i in used or lifted.get(i, (k,))[0] != k:   # held, or lately another's: a spare
@@ -65,4 +66,4 @@ class TouchIds:
             lifted.pop(i, None)
         self._ids = given
         self._lifted = lifted
-        return [given[k] for k in keys]
+        return [given[k] for k in touches]

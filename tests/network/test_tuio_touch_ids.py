@@ -98,4 +98,4 @@ def test_a_single_origin_keeps_the_ids_it_brings():
                 present.add(nxt if rng.random() < 0.8 else rng.randint(0, 50))
                 nxt += 1
             own = sorted(present)
-            assert ids.assign([("A", k) for k in own], own) == own
+            assert ids.assign([("A", k) for k in own]) == own
