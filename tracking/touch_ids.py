@@ -32,9 +32,8 @@ QUARANTINE_FRAMES = 30
 class TouchIds:
     """Bus ids for touches keyed by (origin, own id); see the module docstring."""
 
-    def __init__(self, quarantine_frames: int = QUARANTINE_FRAMES) -> None:
+    def __init__(self) -> None:
         self._ids: dict[tuple[Hashable, int], int] = {}
-        self._frames = quarantine_frames
         self._lifted: dict[int, tuple[tuple[Hashable, int], int]] = {}   # id -> (key, frames left)
 
     def assign(self, touches: Sequence[tuple[Hashable, int]]) -> list[int]:
@@ -50,7 +49,7 @@ class TouchIds:
         lifted = {i: (k, n - 1) for i, (k, n) in self._lifted.items() if n > 1}
         for k, i in self._ids.items():
             if k not in given:
-                lifted[i] = (k, self._frames)
+                lifted[i] = (k, QUARANTINE_FRAMES)
         brought = {i for _origin, i in touches}
         spare = 0
         for k in touches:
