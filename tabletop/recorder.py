@@ -159,12 +159,7 @@ class Recorder(Syncer):
                      self.stem, self.suffix)
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
-        # the order first (see recordings.ORDER), and this one, not a copied header's
-        # (replay --out hands on the recording's own)
-        header = {"format": FORMAT, "version": VERSION, "order": order}
-        header.update(self._header, order=order, part=len(self.paths),
-                      created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-        self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
+        self._write(header_line(self._header, order, len(self.paths)))
         self._f.flush()
         if len(self.paths) == 1:         # at start-up: synced now; later parts by the syncer
             os.fdatasync(self._f.fileno())
@@ -340,6 +335,16 @@ class Recorder(Syncer):
                      if len(self.paths) > 1 else "")
             log.info("recording %s: %d frames%s", self.paths[0] if parts else self.path,
                      self.frames, parts)
+
+
+def header_line(header: dict[str, Any], order: int, part: int) -> bytes:
+    """The first line of a recording part: format, version, ``order`` first (see
+    recordings.ORDER), then ``header``, with this part's ``order`` and ``part`` (not a copied
+    header's: replay --out hands on the recording's own) and the time it is created."""
+    line = {"format": FORMAT, "version": VERSION, "order": order}
+    line.update(header, order=order, part=part,
+                created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
+    return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
 
 
 def _encode(d: dict[str, Any]) -> bytes:
