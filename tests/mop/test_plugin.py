@@ -12,7 +12,6 @@ import pytest
 import yaml
 
 from tabletop.config import load_config, validate_config
-from tabletop.files import FileFormatError
 from tabletop.frames import Frame, InputError, Puck, Touch
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext

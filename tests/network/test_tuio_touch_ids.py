@@ -5,7 +5,7 @@ is no touch."""
 import random
 import time
 
-from tabletop.loop import LiveInputs
+from tabletop.live_inputs import LiveInputs
 from tabletop.plugins.tracking import Tracker
 from tracking.osc_input import OscInput
 from tracking.pucks import TrackerSettings

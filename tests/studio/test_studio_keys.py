@@ -263,7 +263,7 @@ def test_a_session_log_that_cannot_be_written_is_said_once_and_the_studio_goes_o
     # a folder that is gone or a full disk: one warning line (it was a traceback per try)
     from types import SimpleNamespace
 
-    from tabletop.studio.machine import Try
+    from tabletop.studio.take import Try
     (tmp_path / "file").write_text("not a folder")
     log_ = SessionLog(tmp_path / "file" / "studio", review=False)
     target = SimpleNamespace(what="behaviour")
