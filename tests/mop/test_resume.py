@@ -7,18 +7,12 @@ import copy
 import numpy as np
 import pytest
 
-from tabletop.config import load_config
 from tabletop.frames import Touch
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext
-from tests.mop.test_plugin import EXAMPLES, G, RATE, Table
+from tests.mop.helpers import EXAMPLES, G, RATE, Table
 
 CHAR = "dancer"   # its actions: circle, zigzag, figure_eight, line
-
-
-@pytest.fixture(scope="module")
-def example_cfg():
-    return load_config(EXAMPLES / "mop.yaml")
 
 
 def _table(example_cfg) -> Table:

@@ -11,8 +11,7 @@ from tracking.osc_input import OscInput
 from tracking.pucks import TrackerSettings
 from tracking.touch_ids import TouchIds
 
-from tests.network.helpers import RefSender
-from tests.network.test_tuio_source import TABLE, sent, source  # noqa: F401 (fixture)
+from tests.network.helpers import TABLE, RefSender, sent
 
 
 def touch_xy(src) -> dict[int, tuple[float, float]]:
