@@ -284,7 +284,7 @@ class OscInput(BackgroundSource):
 def plain_address(address: str) -> str:
     """A sender's IP address as it is written in ``allow``: an IPv4 sender reaching a socket
     that listens on every IPv6 and IPv4 interface (``host: "::"``) arrives as
-    ``::ffff:192.168.1.10``, which no IPv4 entry of the allow-list matched (all refused)."""
+    ``::ffff:192.168.1.10``, which no IPv4 entry of the allow-list would match."""
     try:
         ip = ipaddress.ip_address(address)
     except ValueError:

@@ -3,7 +3,7 @@
 A TUIO sender numbers its cursors by session id and every sender starts counting at 0 or 1, a
 serial device numbers its fingers from its own count, so two origins easily send the same id at
 once: two fingers of one id on the bus are one finger to every engine, the recording and the
-``tuio`` sink (which gave both the same session, so receivers kept only one of them).
+``tuio`` sink (which would give both one session, so receivers would keep only one of them).
 :class:`TouchIds` gives each touch, keyed by its origin and its own id, the id it brought unless
 another present touch already holds that id; then the smallest id that no present touch holds
 or brings and that no other touch gave up in the last :data:`QUARANTINE_FRAMES` frames. An id
@@ -12,13 +12,14 @@ because another finger came or went.
 
 A lifted touch's id is kept out of use for :data:`QUARANTINE_FRAMES` frames (0.5 s at 60 Hz)
 for every *other* key, even one that brings that id: otherwise, with two senders counting from
-0, a spare id given to one sender's finger went to the other sender's next finger in the very
-next frame, and touch-pose (which keys fingers by id) dragged the held part 0.5 m in one tick.
+0, a spare id given to one sender's finger would go to the other sender's next finger in the
+very next frame, and touch-pose (which keys fingers by id) would drag the held part 0.5 m in one
+tick.
 The key that held the id may take it back at once, so a single origin with unique ids always
-keeps the ids it brought (a sender reusing its own id for a new finger is that sender's choice,
-unchanged): a rising spare counter in a range senders do not use would keep this too, but gives
-every spare a large id (1<<24 and up) in the recording and the ``tuio`` sink, and does not keep
-a brought id from passing between origins, which the quarantine does.
+keeps the ids it brought (a sender reusing its own id for a new finger keeps it too): a rising
+spare counter in a range senders do not use would keep this too, but gives every spare a large
+id (1<<24 and up) in the recording and the ``tuio`` sink, and does not keep a brought id from
+passing between origins, which the quarantine does.
 """
 
 from __future__ import annotations

@@ -5,9 +5,9 @@ logging's ``RotatingFileHandler`` assumes it is the file's only writer: the proc
 renames the file under the others, which write on into the renamed file, and a later rotation
 deletes it. Measured with the supervisor logging a line every 0.15 s beside an installation
 logging 1,500 lines (10 kB files, 3 backups): none of the supervisor's 60 lines was left in
-any file, not even those written after the installation had stopped; in a gallery, every restart
-and crash line the supervisor wrote after the installation's log had rotated ``log_backups``
-times went into a deleted file, for weeks. :class:`SharedRotatingFileHandler` writes each record
+any file, not even those written after the installation had stopped: every restart and crash
+line the supervisor writes after the installation's log has rotated ``log_backups`` times would
+go into a deleted file. :class:`SharedRotatingFileHandler` writes each record
 under an exclusive ``flock`` of a lock file beside the log (``.tabletop.log.lock``, shared by
 every process that logs there), first reopening the log when the path names another file than
 the one it holds (another process rotated it), so every process writes to the current file and
