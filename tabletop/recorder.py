@@ -18,13 +18,9 @@
   A disk that could not keep up (below) is tried alike, once its syncs have caught up; one
   that falls behind again waits twice as long before each try, up to an hour.
 
-Durable line by line, never waiting on the frame loop: :meth:`Recorder.consume` (the frame
-loop) writes each line to the operating system at once and the syncer thread
-(:mod:`tabletop.recorder_sync`) fdatasyncs it, so a power cut loses at most the lines written
-during the sync in progress. A new file is synced before its first frame (its folder entry
-too). More than ``max_queue`` lines the disk has not synced yet (a disk that stopped) stop the
-recording like a full disk. :attr:`Recorder.durability` counts lines and syncs and keeps the
-latest durability latencies (line written -> its sync returned).
+Durable line by line, never waiting on the frame loop: see :mod:`tabletop.recorder_sync`. A
+new file is synced before its first frame (its folder entry too). More than ``max_queue`` lines
+the disk has not synced yet (a disk that stopped) stop the recording like a full disk.
 """
 
 from __future__ import annotations
