@@ -28,6 +28,7 @@ growing back-off and the health says why.
 
 from __future__ import annotations
 
+import collections
 import ipaddress
 import logging
 import math
@@ -134,10 +135,10 @@ class OscInput(BackgroundSource):
             age = now - self._heard_t
             message = self._message
             live = [s for s in self.client.senders.values() if now - s.heard_t <= self.quiet_s]
-            names = [s.name for s in live]
+            sent = collections.Counter(s.name for s in live)
             # a name two machines send is shown with each one's address ("... from IP")
-            senders = sorted(s.name[:40] + (s.key[len(s.name):] if names.count(s.name) > 1
-                                            else "") for s in live)
+            senders = sorted(s.name[:40] + (s.key[len(s.name):] if sent[s.name] > 1 else "")
+                             for s in live)
         ok = self._listening.is_set()
         if ok:
             if math.isinf(age):
