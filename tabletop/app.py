@@ -91,16 +91,14 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     where someone reads the error) refuses it; otherwise (a supervised restart, a config edit,
     after a named file grew) one warning is logged and parts of :data:`HEADER_PARTS` headers
     are recorded, so a running table never goes down over it."""
-    import json
-
-    from tabletop.recorder import MB, Recorder, session_header
+    from tabletop.recorder import MB, Recorder, header_line, session_header
     from tabletop.schema import ConfigError
     rec = cfg["recorder"]
     if record_path is None and not rec["enabled"]:
         return None
     if header is None:
         header = session_header(cfg, ctx.shared.get("calibration_dict"))
-    size = len(json.dumps(header, separators=(",", ":"), default=str).encode())
+    size = len(header_line(header, order=1, part=1))
     max_mb = rec["max_mb"]
     if max_mb is not None and size >= max_mb * MB:
         why = (f"{getattr(cfg, 'file', 'config')}: recorder.max_mb: {max_mb:g} MB is less than "

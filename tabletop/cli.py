@@ -23,6 +23,8 @@ EXIT_BAD_INPUT = 2
 # ``run`` ended on purpose but its recording failed (a full disk): the kiosk's supervisor ends
 # on it as on 0 instead of restarting
 EXIT_RECORDING_FAILED = 3
+# Ctrl-C or a stopping signal cut the command short (README: "130 interrupted")
+EXIT_INTERRUPTED = 130
 # the reader of the command's output closed it early (``tabletop follow ... --out /dev/stdout |
 # head``): nothing more to say, as for a program the shell saw end by SIGPIPE (128 + 13)
 EXIT_OUTPUT_CLOSED = 141
@@ -110,7 +112,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         command = f" {words[0]}" if words and words[0] in COMMANDS else ""
         print(f"tabletop{command}: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
 
 
 def _drop_stdout() -> None:
@@ -155,7 +157,7 @@ def _main(words: list[str]) -> int:
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print(f"{args._prog}: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
     except MemoryError:
         print(f"{args._prog}: error: out of memory (is an input or a number far too large?)",
               file=sys.stderr)

@@ -153,10 +153,9 @@ class LiveInputs:
 
     def _touches(self, observations: Sequence[Observation]) -> tuple[Touch, ...]:
         """Every source's touches, ids unique in the frame (two sources numbering their
-        fingers alike, a serial board and a TUIO sender, gave two fingers one id)."""
+        fingers alike, a serial board and a TUIO sender, would give two fingers one id)."""
         found = [(o.source, tc) for o in observations for tc in o.touches]
-        ids = self._touch_ids.assign([(src, tc.id) for src, tc in found],
-                                     [tc.id for _src, tc in found])
+        ids = self._touch_ids.assign([(src, tc.id) for src, tc in found])
         return tuple(tc if i == tc.id else dataclasses.replace(tc, id=i)
                      for i, (_src, tc) in zip(ids, found))
 

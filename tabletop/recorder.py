@@ -18,13 +18,9 @@
   A disk that could not keep up (below) is tried alike, once its syncs have caught up; one
   that falls behind again waits twice as long before each try, up to an hour.
 
-Durable line by line, never waiting on the frame loop: :meth:`Recorder.consume` (the frame
-loop) writes each line to the operating system at once and the syncer thread
-(:mod:`tabletop.recorder_sync`) fdatasyncs it, so a power cut loses at most the lines written
-during the sync in progress. A new file is synced before its first frame (its folder entry
-too). More than ``max_queue`` lines the disk has not synced yet (a disk that stopped) stop the
-recording like a full disk. :attr:`Recorder.durability` counts lines and syncs and keeps the
-latest durability latencies (line written -> its sync returned).
+Durable line by line, never waiting on the frame loop: see :mod:`tabletop.recorder_sync`. A
+new file is synced before its first frame (its folder entry too). More than ``max_queue`` lines
+the disk has not synced yet (a disk that stopped) stop the recording like a full disk.
 """
 
 from __future__ import annotations
@@ -159,12 +155,7 @@ class Recorder(Syncer):
                      self.stem, self.suffix)
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
-        # the order first (see recordings.ORDER), and this one, not a copied header's
-        # (replay --out hands on the recording's own)
-        header = {"format": FORMAT, "version": VERSION, "order": order}
-        header.update(self._header, order=order, part=len(self.paths),
-                      created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-        self._write((json.dumps(header, separators=(",", ":"), default=str) + "\n").encode())
+        self._write(header_line(self._header, order, len(self.paths)))
         self._f.flush()
         if len(self.paths) == 1:         # at start-up: synced now; later parts by the syncer
             os.fdatasync(self._f.fileno())
@@ -340,6 +331,16 @@ class Recorder(Syncer):
                      if len(self.paths) > 1 else "")
             log.info("recording %s: %d frames%s", self.paths[0] if parts else self.path,
                      self.frames, parts)
+
+
+def header_line(header: dict[str, Any], order: int, part: int) -> bytes:
+    """The first line of a recording part: format, version, ``order`` first (see
+    recordings.ORDER), then ``header``, with this part's ``order`` and ``part`` (not a copied
+    header's: replay --out hands on the recording's own) and the time it is created."""
+    line = {"format": FORMAT, "version": VERSION, "order": order}
+    line.update(header, order=order, part=part,
+                created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
+    return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
 
 
 def _encode(d: dict[str, Any]) -> bytes:

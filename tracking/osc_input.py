@@ -28,6 +28,7 @@ growing back-off and the health says why.
 
 from __future__ import annotations
 
+import collections
 import ipaddress
 import logging
 import math
@@ -106,15 +107,14 @@ class OscInput(BackgroundSource):
                     vx = vy = w = math.nan
                 pucks.append(PuckMeasurement(e.class_id, x, y, a, min(t, now), vx=vx, vy=vy,
                                              omega=w))
-            keys, found = [], []
+            found = []
             for profile in ("2Dcur", "2Dblb"):
                 for key, e in self.client.entities(profile, self.quiet_s, now):
                     if profile == "2Dblb" and self._described(key, e.session):
                         continue
-                    keys.append((key, e.session))
-                    found.append(e)
-            ids = self._touch_ids.assign(keys, [e.session for e in found])
-            for i, e in zip(ids, found):
+                    found.append((key, e))
+            ids = self._touch_ids.assign([(key, e.session) for key, e in found])
+            for i, (_key, e) in zip(ids, found):
                 x, y, _a, vx, vy, _w = to_table(e, self.table)
                 touches.append(Touch(i, x, y, vx, vy))
             streams = {k: v for k, (v, ts) in self._streams.items() if now - ts <= self.quiet_s}
@@ -135,10 +135,10 @@ class OscInput(BackgroundSource):
             age = now - self._heard_t
             message = self._message
             live = [s for s in self.client.senders.values() if now - s.heard_t <= self.quiet_s]
-            names = [s.name for s in live]
+            sent = collections.Counter(s.name for s in live)
             # a name two machines send is shown with each one's address ("... from IP")
-            senders = sorted(s.name[:40] + (s.key[len(s.name):] if names.count(s.name) > 1
-                                            else "") for s in live)
+            senders = sorted(s.name[:40] + (s.key[len(s.name):] if sent[s.name] > 1 else "")
+                             for s in live)
         ok = self._listening.is_set()
         if ok:
             if math.isinf(age):
@@ -285,7 +285,7 @@ class OscInput(BackgroundSource):
 def plain_address(address: str) -> str:
     """A sender's IP address as it is written in ``allow``: an IPv4 sender reaching a socket
     that listens on every IPv6 and IPv4 interface (``host: "::"``) arrives as
-    ``::ffff:192.168.1.10``, which no IPv4 entry of the allow-list matched (all refused)."""
+    ``::ffff:192.168.1.10``, which no IPv4 entry of the allow-list would match."""
     try:
         ip = ipaddress.ip_address(address)
     except ValueError:

@@ -3,7 +3,7 @@
 A TUIO sender numbers its cursors by session id and every sender starts counting at 0 or 1, a
 serial device numbers its fingers from its own count, so two origins easily send the same id at
 once: two fingers of one id on the bus are one finger to every engine, the recording and the
-``tuio`` sink (which gave both the same session, so receivers kept only one of them).
+``tuio`` sink (which would give both one session, so receivers would keep only one of them).
 :class:`TouchIds` gives each touch, keyed by its origin and its own id, the id it brought unless
 another present touch already holds that id; then the smallest id that no present touch holds
 or brings and that no other touch gave up in the last :data:`QUARANTINE_FRAMES` frames. An id
@@ -12,13 +12,14 @@ because another finger came or went.
 
 A lifted touch's id is kept out of use for :data:`QUARANTINE_FRAMES` frames (0.5 s at 60 Hz)
 for every *other* key, even one that brings that id: otherwise, with two senders counting from
-0, a spare id given to one sender's finger went to the other sender's next finger in the very
-next frame, and touch-pose (which keys fingers by id) dragged the held part 0.5 m in one tick.
+0, a spare id given to one sender's finger would go to the other sender's next finger in the
+very next frame, and touch-pose (which keys fingers by id) would drag the held part 0.5 m in one
+tick.
 The key that held the id may take it back at once, so a single origin with unique ids always
-keeps the ids it brought (a sender reusing its own id for a new finger is that sender's choice,
-unchanged): a rising spare counter in a range senders do not use would keep this too, but gives
-every spare a large id (1<<24 and up) in the recording and the ``tuio`` sink, and does not keep
-a brought id from passing between origins, which the quarantine does.
+keeps the ids it brought (a sender reusing its own id for a new finger keeps it too): a rising
+spare counter in a range senders do not use would keep this too, but gives every spare a large
+id (1<<24 and up) in the recording and the ``tuio`` sink, and does not keep a brought id from
+passing between origins, which the quarantine does.
 """
 
 from __future__ import annotations
@@ -32,17 +33,16 @@ QUARANTINE_FRAMES = 30
 class TouchIds:
     """Bus ids for touches keyed by (origin, own id); see the module docstring."""
 
-    def __init__(self, quarantine_frames: int = QUARANTINE_FRAMES) -> None:
-        self._ids: dict[Hashable, int] = {}
-        self._frames = quarantine_frames
-        self._lifted: dict[int, tuple[Hashable, int]] = {}   # id -> (key that held it, frames left)
+    def __init__(self) -> None:
+        self._ids: dict[tuple[Hashable, int], int] = {}
+        self._lifted: dict[int, tuple[tuple[Hashable, int], int]] = {}   # id -> (key, frames left)
 
-    def assign(self, keys: Sequence[Hashable], own: Sequence[int]) -> list[int]:
-        """The bus id of each touch: ``keys`` (unique, one per present touch) in the same order
-        as ``own`` (the id each brought). Touches absent from ``keys`` are forgotten."""
-        given: dict[Hashable, int] = {}
+    def assign(self, touches: Sequence[tuple[Hashable, int]]) -> list[int]:
+        """The bus id of each touch: ``touches`` holds one (origin, own id) pair per present
+        touch, each unique; the pair is the touch's key. Touches absent are forgotten."""
+        given: dict[tuple[Hashable, int], int] = {}
         used: set[int] = set()
-        for k in keys:   # a touch keeps the id it had
+        for k in touches:   # a touch keeps the id it had
             i = self._ids.get(k)
             if i is not None and i not in used:
                 given[k] = i
@@ -50,10 +50,11 @@ class TouchIds:
         lifted = {i: (k, n - 1) for i, (k, n) in self._lifted.items() if n > 1}
         for k, i in self._ids.items():
             if k not in given:
-                lifted[i] = (k, self._frames)
-        brought = set(own)
+                lifted[i] = (k, QUARANTINE_FRAMES)
+        brought = {i for _origin, i in touches}
         spare = 0
-        for k, i in zip(keys, own):
+        for k in touches:
+            i = k[1]
             if k in given:
                 continue
             if i in used or lifted.get(i, (k,))[0] != k:   # held, or lately another's: a spare
@@ -65,4 +66,4 @@ class TouchIds:
             lifted.pop(i, None)
         self._ids = given
         self._lifted = lifted
-        return [given[k] for k in keys]
+        return [given[k] for k in touches]

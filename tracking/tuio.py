@@ -187,9 +187,9 @@ class TuioClient:
                 if cmd == "source":
                     if len(rest) != 1 or not isinstance(rest[0], str) or not rest[0]:
                         raise TuioError("wrong_arguments", "source takes one name")
-                    # a name from one machine: cloned machines (one image, one host name)
-                    # send one default name (tabletop@HOSTNAME), and their objects replaced
-                    # each other's at every bundle, the pucks of all but one flickering away
+                    # a name from one machine: keyed with the sender's address, so cloned
+                    # machines (one image, one host name) sending one default name
+                    # (tabletop@HOSTNAME) stay apart instead of replacing each other's objects
                     name = rest[0][:MAX_SOURCE]
                     key = f"{name} from {ip}"
                     continue

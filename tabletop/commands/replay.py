@@ -16,11 +16,11 @@ import math
 from pathlib import Path
 from typing import Iterator
 
+from tabletop.cli import EXIT_INTERRUPTED
 from tabletop.commands import output_file
 from tabletop.frames import Frame, InputError
 
 HELP = "replay a session recording (JSON Lines) through the engines and the view"
-INTERRUPTED = 130   # exit status of a replay a signal stopped (README: "130 interrupted")
 
 
 class ReplayError(InputError):
@@ -112,6 +112,6 @@ def main(args: argparse.Namespace) -> int:
     if received:   # a script must not take a replay cut short (and its --out) for a whole one
         logging.getLogger("tabletop").warning("replay interrupted by %s after %d frames of %s",
                                               received[0], ticks, names)
-        return INTERRUPTED
+        return EXIT_INTERRUPTED
     logging.getLogger("tabletop").info("replayed %d frames of %s", ticks, names)
     return 0

@@ -104,7 +104,7 @@ def main(args: argparse.Namespace) -> int:
 
     def sender(client: Any) -> str:
         """A table's address as HOST:PORT, an IPv4 table as its IPv4 address also when the
-        listener takes every IPv6 and IPv4 interface ([::]:9000 showed [::ffff:A.B.C.D]:P)."""
+        listener takes every IPv6 and IPv4 interface ([::]:9000 reports [::ffff:A.B.C.D]:P)."""
         return shown_host_port(plain_address(client[0]), client[1])
 
     host, port = parse_address(args.address)

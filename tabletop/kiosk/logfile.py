@@ -5,9 +5,9 @@ logging's ``RotatingFileHandler`` assumes it is the file's only writer: the proc
 renames the file under the others, which write on into the renamed file, and a later rotation
 deletes it. Measured with the supervisor logging a line every 0.15 s beside an installation
 logging 1,500 lines (10 kB files, 3 backups): none of the supervisor's 60 lines was left in
-any file, not even those written after the installation had stopped; in a gallery, every restart
-and crash line the supervisor wrote after the installation's log had rotated ``log_backups``
-times went into a deleted file, for weeks. :class:`SharedRotatingFileHandler` writes each record
+any file, not even those written after the installation had stopped: every restart and crash
+line the supervisor writes after the installation's log has rotated ``log_backups`` times would
+go into a deleted file. :class:`SharedRotatingFileHandler` writes each record
 under an exclusive ``flock`` of a lock file beside the log (``.tabletop.log.lock``, shared by
 every process that logs there), first reopening the log when the path names another file than
 the one it holds (another process rotated it), so every process writes to the current file and
@@ -34,6 +34,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import IO, Any
 
 LOCK_WAIT_S = 0.08
 """Seconds a record waits for the lock before it is written without it."""
@@ -69,11 +70,7 @@ class SharedRotatingFileHandler(logging.handlers.RotatingFileHandler):
         the handler is closed or the file cannot be opened."""
         if self._closed:
             return -1
-        try:
-            same = os.path.samestat(os.stat(self.lock_path), os.fstat(self._lock_fd))
-        except (OSError, ValueError):
-            same = False
-        if same:
+        if _same_file(self.lock_path, self._lock_fd):
             return self._lock_fd
         try:
             os.makedirs(os.path.dirname(self.lock_path), exist_ok=True)
@@ -112,12 +109,7 @@ class SharedRotatingFileHandler(logging.handlers.RotatingFileHandler):
         another process, or removed); a path that cannot be opened keeps the open file."""
         if self.stream is None:
             return
-        try:
-            st = os.stat(self.baseFilename)
-            same = os.path.samestat(st, os.fstat(self.stream.fileno()))
-        except (OSError, ValueError):
-            same = False
-        if same:
+        if _same_file(self.baseFilename, self.stream):
             return
         try:
             os.makedirs(os.path.dirname(self.baseFilename), exist_ok=True)
@@ -142,3 +134,12 @@ class SharedRotatingFileHandler(logging.handlers.RotatingFileHandler):
             self._drop_lock_file()
         finally:
             self.release()
+
+
+def _same_file(path: str, f: int | IO[Any]) -> bool:
+    """Whether ``path`` names the file open as ``f`` (a descriptor or a file object); a path or
+    file that cannot be read (missing, closed, -1) counts as another file."""
+    try:
+        return os.path.samestat(os.stat(path), os.fstat(f if isinstance(f, int) else f.fileno()))
+    except (OSError, ValueError):
+        return False

@@ -1,7 +1,7 @@
 """The designer studio: record a take, train it, try it, keep or redo it, manage the library.
 
 One state machine (:mod:`~tabletop.studio.machine`) drives every engine through a small
-interface (:class:`~tabletop.studio.machine.Target`); :mod:`~tabletop.studio.targets` adapts the
+interface (:class:`~tabletop.studio.take.Target`); :mod:`~tabletop.studio.targets` adapts the
 Puppet Master and MOP engines to it, :mod:`~tabletop.studio.pose_target` the touch-pose engine.
 The ``studio:`` section of config.yaml is :data:`SCHEMA`.
 """

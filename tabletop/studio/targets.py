@@ -1,4 +1,4 @@
-"""Engines seen by the studio: one :class:`~tabletop.studio.machine.Target` adapter per engine.
+"""Engines seen by the studio: one :class:`~tabletop.studio.take.Target` adapter per engine.
 
 :class:`PuppetMasterTarget` (a behaviour): the take is both designer pucks' poses, or with
 ``designer.sequential`` two parts (the main puck alone, then the reactor puck against the main

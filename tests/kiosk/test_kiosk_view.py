@@ -10,9 +10,7 @@ from tabletop.kiosk.runner import kiosk_view
 from tabletop.loop import CommandQueue
 from tabletop.view import ProjectorView
 
-
-def key(k):
-    pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=k, mod=0, unicode="", scancode=0))
+from tests.keys import key
 
 
 def test_service_key_shows_the_overlay_and_only_then_esc_quits():

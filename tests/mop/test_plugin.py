@@ -2,89 +2,23 @@
 progress, holding and resting, several inputs concatenated, and the designer flow on real files
 (a config it refuses: test_plugin_config.py)."""
 
-import importlib.util
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
 
-from tabletop.config import load_config, validate_config
-from tabletop.files import FileFormatError
-from tabletop.frames import Frame, InputError, Puck, Touch
+from tabletop.frames import InputError, Touch
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
 
-ROOT = Path(__file__).resolve().parents[2]
-EXAMPLES = ROOT / "examples"
-RATE = 60.0
-
-
-def _gestures():
-    spec = importlib.util.spec_from_file_location("make_mop_gestures", EXAMPLES / "make_mop_gestures.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["make_mop_gestures"] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-G = _gestures()
-
-
-def _build(data: dict, base: Path):
-    cfg = validate_config(data, str(base / "test.yaml"), base)
-    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=base)
-    return mop.build(cfg["engines"][0], ctx)
+from tests.mop.helpers import EXAMPLES, G, RATE, Table, build, designer_config
 
 
 def _example_data() -> dict:
     return yaml.safe_load((EXAMPLES / "mop.yaml").read_text())
-
-
-class Table:
-    """Drives an engine with frames at 60 Hz on one clock."""
-
-    def __init__(self, engine):
-        self.engine, self.t, self.seq = engine, 0.0, 0
-        self.pucks: dict[int, tuple[float, float]] = {1: (0.3, 0.3), 2: (0.9, 0.5)}
-        self.touches: tuple = ()
-        self.streams: dict = {}
-
-    def tick(self, commands=(), focus=None):
-        pucks = tuple(Puck(i, x, y, 0.0) for i, (x, y) in self.pucks.items())
-        frame = Frame(self.seq, self.t, pucks=pucks, touches=self.touches,
-                      streams=dict(self.streams), commands=tuple(commands), focus=focus)
-        out = {c.name: c for c in self.engine.step(frame)}
-        self.t += 1.0 / RATE
-        self.seq += 1
-        return out
-
-    def rest(self, seconds, puck=1):
-        return [self.tick() for _ in range(int(seconds * RATE))]
-
-    def perform(self, name, puck=1, speed=lambda u: 1.0, noise=0.0, seed=0, upto=1.0):
-        """Move ``puck`` along gesture ``name`` from where it is; ``speed(u)`` is the playback
-        rate at gesture progress u. Returns [(true progress, characters)]."""
-        g = G.gesture(name)
-        x0, y0 = self.pucks[puck]
-        rng = np.random.default_rng(seed)
-        dur = g[-1, 0]
-        tau, out = 0.0, []
-        while tau < dur * upto:
-            dx = np.interp(tau, g[:, 0], g[:, 1]) + rng.normal(0, noise)
-            dy = np.interp(tau, g[:, 0], g[:, 2]) + rng.normal(0, noise)
-            self.pucks[puck] = (x0 + dx, y0 + dy)
-            out.append((tau / dur, self.tick()))
-            tau += speed(tau / dur) / RATE
-        return out
-
-
-@pytest.fixture(scope="module")
-def example_cfg():
-    return load_config(EXAMPLES / "mop.yaml")
 
 
 def test_example_config_builds_every_kind_of_character(example_cfg):
@@ -195,7 +129,7 @@ def test_time_warp_maps_action_progress_onto_motion(tmp_path):
         p["gestures"] = [str(EXAMPLES / g) for g in p["gestures"]]
     lizard = next(c for c in eng["characters"] if c["name"] == "salamander")
     lizard["actions"][0]["warp"] = [[0, 0], [0.5, 0.8], [1, 1]]
-    engine = _build(data, tmp_path)
+    engine = build(data, tmp_path)
     puppet = engine.puppets["salamander"]
     action = puppet.actions["circle"]
     assert abs(action.warp(0.5) - 0.8) < 1e-12
@@ -233,10 +167,10 @@ def test_sprite_sheet_frames_follow_progress(example_cfg, tmp_path):
             "performers": [{"name": "p", "inputs": [{"kind": "puck"}]}],
             "characters": [{"name": "s", "kind": "sprite", "performer": "p", "sheet": str(bad)}]}]}
     with pytest.raises(InputError, match="sheet.json: a bone refers to a point that does not exist"):
-        _build(data, tmp_path)
+        build(data, tmp_path)
     del data["engines"][0]["characters"][0]["sheet"]
     with pytest.raises(ConfigError, match=r"characters\[0\]\.sheet: a sprite character needs"):
-        _build(data, tmp_path)
+        build(data, tmp_path)
 
 
 def _multi_config(tmp_path: Path) -> dict:
@@ -261,7 +195,7 @@ def _multi_config(tmp_path: Path) -> dict:
 
 
 def test_several_inputs_concatenated(tmp_path):
-    engine = _build(_multi_config(tmp_path), tmp_path)
+    engine = build(_multi_config(tmp_path), tmp_path)
     assert engine.performers["dancer"].names == ("puck1_dx", "puck1_dy", "arm_0", "touch_dx", "touch_dy")
     g = G.gesture("wave")
     for sign, expect in ((1.0, "up"), (-1.0, "down")):
@@ -295,7 +229,7 @@ def test_two_performers_drive_one_character(tmp_path):
             {"name": "circle", "template": str(gestures / "circle.csv"), "motion": "talk"},
             {"name": "line", "template": str(gestures / "line.csv"), "motion": "wink",
              "performer": "bob"}]}]}]}
-    engine = _build(data, tmp_path)
+    engine = build(data, tmp_path)
     table = Table(engine)
     table.rest(1.0)
     for puck, name in ((2, "line"), (1, "circle")):
@@ -318,7 +252,7 @@ def test_characters_of_one_performer_compete_and_share_what_they_have_in_common(
             {"name": "lizard", "kind": "creature", "performer": "hand", "actions": [
                 {"name": "move", "template": str(gestures / "line.csv"), "motion": "strike"},
                 {"name": "square", "template": str(gestures / "square.csv"), "motion": "curl"}]}]}]}
-    engine = _build(data, tmp_path)
+    engine = build(data, tmp_path)
     table = Table(engine)
     table.rest(1.0)
     for gesture, playing, idle in (("circle", "face", "lizard"), ("line", "lizard", "face"),
@@ -334,18 +268,6 @@ def test_characters_of_one_performer_compete_and_share_what_they_have_in_common(
         table.rest(1.5)
     # a puck at rest drives nobody
     assert not any(c[n].valid for c in table.rest(1.0)[int(0.3 * RATE):] for n in ("face", "lizard"))
-
-
-def _designer_config(tmp_path: Path) -> dict:
-    return {"sources": [{"kind": "scripted"}], "engines": [{
-        "kind": "mop", "library": "lib",
-        "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
-        "characters": [
-            {"name": "face", "kind": "face", "performer": "hand",
-             "actions": [{"name": "circle", "template": str(EXAMPLES / "mop/gestures/circle.csv"),
-                          "motion": "talk"}]},
-            {"name": "lizard", "kind": "creature", "performer": "hand",
-             "motions": ["strike", "curl"]}]}]}
 
 
 def test_a_hybrid_character_moves_body_and_face_with_one_action(example_cfg):
@@ -381,11 +303,11 @@ def test_an_action_of_a_few_millimetres_leaves_the_others_recognised(tmp_path):
     spread worth telling apart: unfloored it shrank the follower's still radius to its own spread
     and the circle never drove again (valid 0% of its second half)."""
     (tmp_path / "nudge.csv").write_text("t,dx,dy\n0,0,0\n0.5,0.001,0\n1,0,0\n")
-    data = _designer_config(tmp_path)
+    data = designer_config(tmp_path)
     data["engines"][0]["library"] = None
     data["engines"][0]["characters"][1]["actions"] = [
         {"name": "nudge", "template": str(tmp_path / "nudge.csv"), "motion": "curl"}]
-    engine = _build(data, tmp_path)
+    engine = build(data, tmp_path)
     assert engine.performers["hand"].min_scale.tolist() == [0.01, 0.01]
     table = Table(engine)
     table.rest(1.5)
@@ -408,7 +330,7 @@ def test_a_stream_with_too_few_columns_is_said_on_its_characters(tmp_path, caplo
                                                     "columns": [0, 1]}]}],
         "characters": [{"name": "face", "kind": "face", "performer": "body", "actions": [
             {"name": "wave", "template": "arm.csv", "motion": "laugh"}]}]}]}
-    table = Table(_build(data, tmp_path))
+    table = Table(build(data, tmp_path))
     table.streams = {"arm": np.zeros(1)}
     with caplog.at_level("ERROR", logger="tabletop"):
         labels = [table.tick()["face"].label for _ in range(30)]

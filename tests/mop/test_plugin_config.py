@@ -9,7 +9,7 @@ from tabletop.config import validate_config
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
-from tests.mop.test_plugin import EXAMPLES, RATE, _build, _designer_config
+from tests.mop.helpers import EXAMPLES, RATE, build, designer_config
 
 
 @pytest.mark.parametrize("clip_file", [False, True])
@@ -19,23 +19,23 @@ def test_a_skeleton_file_that_is_no_urdf_is_refused_naming_its_key(tmp_path, cli
     from tabletop.plugins.mop import resolve_motion
     (tmp_path / "bad.urdf").write_text("<notrobot/>")
     walk = str(resolve_motion("skeleton", "walk", tmp_path)[1]) if clip_file else "walk"
-    data = _designer_config(tmp_path)
+    data = designer_config(tmp_path)
     data["engines"][0]["characters"].append({
         "name": "dancer", "kind": "skeleton", "performer": "hand", "skeleton": "bad.urdf",
         "actions": [{"name": "a", "template": str(EXAMPLES / "mop/gestures/line.csv"),
                      "motion": walk}]})
     with pytest.raises(ConfigError, match=r"engines\[0\]\.characters\[2\]\.skeleton: .*bad\.urdf"):
-        _build(data, tmp_path)
+        build(data, tmp_path)
 
 
 def test_config_errors_name_the_key_or_file(tmp_path):
-    base = _designer_config(tmp_path)
+    base = designer_config(tmp_path)
 
     def expect(mutate, *words, error=ConfigError):
         data = copy.deepcopy(base)
         mutate(data["engines"][0])
         with pytest.raises(error) as exc:
-            _build(data, tmp_path)
+            build(data, tmp_path)
         for w in words:
             assert w in str(exc.value), str(exc.value)
 
@@ -118,7 +118,7 @@ def test_config_errors_name_the_key_or_file(tmp_path):
 def test_two_engines_keeping_a_character_of_one_name_in_one_library_are_refused(tmp_path):
     """Both kept that character's takes as lib/face/take1.csv (the later keep wrote over the
     earlier) and each loaded the other's actions as its own."""
-    first = _designer_config(tmp_path)["engines"][0]
+    first = designer_config(tmp_path)["engines"][0]
     second = dict(copy.deepcopy(first), name="mop2")
     data = {"sources": [{"kind": "scripted"}], "engines": [first, second]}
     cfg = validate_config(data, str(tmp_path / "test.yaml"), tmp_path)

@@ -7,24 +7,26 @@ import copy
 import numpy as np
 import pytest
 
-from tabletop.config import load_config
 from tabletop.frames import Touch
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext
-from tests.mop.test_plugin import EXAMPLES, G, RATE, Table
+from tests.mop.helpers import EXAMPLES, G, RATE, Table
 
 CHAR = "dancer"   # its actions: circle, zigzag, figure_eight, line
 
 
-@pytest.fixture(scope="module")
-def example_cfg():
-    return load_config(EXAMPLES / "mop.yaml")
-
-
-def _table(example_cfg) -> Table:
-    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=example_cfg, base=EXAMPLES)
-    table = Table(mop.build(example_cfg["engines"][0], ctx))
-    table.pucks = {1: (0.45, 0.35), 2: (0.75, 0.35)}
+def _table(example_cfg, touch: bool = False) -> Table:
+    """The example installation after 1.5 s at rest; with ``touch`` the dancer's performer
+    draws with a finger (the pucks stay where :class:`Table` puts them)."""
+    cfg = copy.deepcopy(example_cfg) if touch else example_cfg
+    if touch:
+        for p in cfg["engines"][0]["performers"]:
+            if p["name"] == "left_hand":
+                p["inputs"] = [{"kind": "touch"}]
+    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=EXAMPLES)
+    table = Table(mop.build(cfg["engines"][0], ctx))
+    if not touch:
+        table.pucks = {1: (0.45, 0.35), 2: (0.75, 0.35)}
     table.rest(1.5)
     return table
 
@@ -110,19 +112,6 @@ def test_a_performer_given_one_replay_step_a_sample_still_resumes(example_cfg, m
     assert np.mean([c[CHAR].valid and c[CHAR].action == "circle" for c in after]) >= 0.6
 
 
-def _touch_table(example_cfg) -> Table:
-    """The example installation with the dancer's performer drawing with a finger."""
-    cfg = copy.deepcopy(example_cfg)
-    engine = cfg["engines"][0]
-    for p in engine["performers"]:
-        if p["name"] == "left_hand":
-            p["inputs"] = [{"kind": "touch"}]
-    ctx = BuildContext(table=(1.2, 0.8), rate_hz=RATE, config=cfg, base=EXAMPLES)
-    table = Table(mop.build(engine, ctx))
-    table.rest(1.5)
-    return table
-
-
 def _draw(table: Table, name: str, start: tuple, finger: int, frm: float, to: float) -> list:
     """Draw gesture ``name`` from ``frm`` to ``to`` (shares of it) with finger ``finger``, the
     gesture's start at ``start`` (table metres); the finger stays down."""
@@ -142,7 +131,7 @@ def test_a_touch_gesture_lifted_part_way_is_resumed_where_the_finger_comes_down(
     drawing on, the action is resumed (the new touch reads from 0, 0: the resumed action is
     read against the first touch's origin). Measured: 0.86-0.97 of the second half driven by
     its action (0-0.24 without the touch's origin)."""
-    table = _touch_table(example_cfg)
+    table = _table(example_cfg, touch=True)
     _draw(table, name, (0.45, 0.35), 1, 0.0, upto)
     table.touches = ()
     during = table.rest(pause)
@@ -160,7 +149,7 @@ def test_a_different_touch_gesture_after_a_lift_is_not_taken_for_the_lifted_acti
     """A finger lifted mid-stroke gives the follower no standing to settle where the action
     stopped; a circle begun where a line was lifted took the resumed line on past it and was
     driven by the line 15-20% of its ticks. Measured with the settle probe: 0."""
-    table = _touch_table(example_cfg)
+    table = _table(example_cfg, touch=True)
     _draw(table, first, (0.45, 0.35), 1, 0.0, 0.5)
     at = (table.touches[0].x, table.touches[0].y)
     table.touches = ()
@@ -176,7 +165,7 @@ def test_a_finger_standing_still_rests_and_its_action_is_resumed(example_cfg, na
     """A finger that stands still for the rest time rests as a puck does: nothing drives it
     (it drove its action through the whole pause), and the action is resumed when it draws on.
     Measured: 0.81-0.98 of the second half driven by its action."""
-    table = _touch_table(example_cfg)
+    table = _table(example_cfg, touch=True)
     _draw(table, name, (0.45, 0.35), 1, 0.0, upto)
     during = [table.tick() for _ in range(int(pause * RATE))]   # the finger stays down, still
     after = _draw(table, name, (0.45, 0.35), 1, upto, 1.0)
@@ -190,7 +179,7 @@ def test_a_gesture_after_a_finger_stood_still_starts_afresh(example_cfg, first, 
     """A different gesture drawn on after the finger stood still 1.5 s: with no rest for a still
     finger the first gesture's evidence stayed, and the next was never recognised (0%; a wrong
     action drove 20-22% of it). Measured with the rest: 71-74% driven by its action, 0 wrong."""
-    table = _touch_table(example_cfg)
+    table = _table(example_cfg, touch=True)
     _draw(table, first, (0.45, 0.35), 1, 0.0, 0.5)
     at = (table.touches[0].x, table.touches[0].y)
     table.rest(1.5)

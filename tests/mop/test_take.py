@@ -10,7 +10,7 @@ import pytest
 from behaviors.mop.stage import TRIM_MARGIN_S
 from behaviors.mop.take import moving_part
 from tabletop.frames import Frame, Puck, Touch
-from tests.mop.test_plugin import G, RATE, Table, _build, _designer_config
+from tests.mop.helpers import G, RATE, Table, build, designer_config
 
 
 def _take(engine, name: str, before: float, after: float, jitter: float, seed: int):
@@ -48,7 +48,7 @@ def test_a_take_tracked_with_a_raw_cameras_jitter_is_trimmed_alike_at_both_ends(
     stillness, left up to 47 still rows at either end (all of a 1.5 s still; medians 5 at the
     start, 18 at the end). Measured with moves of four rows in a row from the end rows'
     median: at most 2 rows off where the gesture starts and ends, as without jitter."""
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     performer = engine.performers["hand"]
     rows, start, end = _take(engine, name, before, after, 0.0008, seed * 7 + int(before * 10))
     margin = round(TRIM_MARGIN_S * engine.rate_hz)
@@ -61,9 +61,9 @@ def test_a_touch_take_reads_from_where_the_finger_first_touched_down(tmp_path: P
     """A take of a finger begun before it touches is read from its first touch (the touch's
     origin before it is unknown, NaN); lifted part way and put down elsewhere, the take goes on
     from the first touch's origin, as a puck's does through a rest."""
-    data = _designer_config(tmp_path)
+    data = designer_config(tmp_path)
     data["engines"][0]["performers"][0]["inputs"] = [{"kind": "touch"}]
-    engine = _build(data, tmp_path)
+    engine = build(data, tmp_path)
     table = Table(engine)
     table.rest(0.5)
     engine.begin_take("lizard", Frame(table.seq, table.t))

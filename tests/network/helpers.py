@@ -12,7 +12,17 @@ from pythonosc.osc_message import OscMessage
 from pythonosc.osc_message_builder import OscMessageBuilder
 from pythonosc.udp_client import SimpleUDPClient
 
+from tracking.osc_input import OscInput
+
 from tests.tracking.scenes import wait_for  # noqa: F401  (re-exported for the tests here)
+
+TABLE = (1.2, 0.8)
+"""The table of the ``osc`` sources under test (metres)."""
+
+
+def sent(src: OscInput, n: int) -> bool:
+    """Wait until ``n`` packets were applied."""
+    return wait_for(lambda: src.packets >= n, 5.0)
 
 
 def ipv6_loopback() -> bool:

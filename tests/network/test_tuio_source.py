@@ -12,24 +12,7 @@ from tabletop.plugins.tracking import Tracker
 from tracking.osc_input import HOLD_S, OscInput
 from tracking.pucks import TrackerSettings
 
-from tests.network.helpers import RefSender, bundle, ipv6_loopback, message, wait_for
-
-TABLE = (1.2, 0.8)
-
-
-@pytest.fixture
-def source():
-    src = OscInput("osc", port=0, table=TABLE)
-    src.open()
-    assert src.wait_listening()
-    yield src
-    src.close()
-
-
-def sent(src: OscInput, n: int) -> bool:
-    """Wait until ``n`` packets were applied."""
-    return wait_for(lambda: src.packets >= n, 5.0)
-
+from tests.network.helpers import TABLE, RefSender, bundle, ipv6_loopback, message, sent, wait_for
 
 def pucks_by_id(src):
     return {p.id: p for p in src.latest().pucks}

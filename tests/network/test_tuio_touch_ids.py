@@ -5,14 +5,13 @@ is no touch."""
 import random
 import time
 
-from tabletop.loop import LiveInputs
+from tabletop.live_inputs import LiveInputs
 from tabletop.plugins.tracking import Tracker
 from tracking.osc_input import OscInput
 from tracking.pucks import TrackerSettings
 from tracking.touch_ids import TouchIds
 
-from tests.network.helpers import RefSender
-from tests.network.test_tuio_source import TABLE, sent, source  # noqa: F401 (fixture)
+from tests.network.helpers import TABLE, RefSender, sent
 
 
 def touch_xy(src) -> dict[int, tuple[float, float]]:
@@ -98,4 +97,4 @@ def test_a_single_origin_keeps_the_ids_it_brings():
                 present.add(nxt if rng.random() < 0.8 else rng.randint(0, 50))
                 nxt += 1
             own = sorted(present)
-            assert ids.assign([("A", k) for k in own], own) == own
+            assert ids.assign([("A", k) for k in own]) == own

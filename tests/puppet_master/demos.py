@@ -12,6 +12,9 @@ import math
 
 import numpy as np
 
+from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master.engine import Behavior
+from tabletop import examples, library
 from tabletop.frames import wrap_angle
 
 TABLE = (1.6, 1.0)
@@ -194,3 +197,19 @@ def circling(main: np.ndarray, radius: float = 0.25, omega: float = 2.0,
         prev = r
         theta += omega * dt
     return out
+
+
+def shipped(name: str) -> Behavior:
+    """The shipped behaviour ``name`` (examples' library), trained with its stored parameters."""
+    stored = library.load_behavior(examples.DEFAULT_OUT / name)
+    return Behavior.train(stored.demonstration, **stored.parameters)
+
+
+def chased(b: Behavior, seed: int, seconds: float = 40.0) -> tuple[np.ndarray, dict]:
+    """``b`` chased by the unseen visitor of ``seed`` for ``seconds`` on the example table:
+    the generated rows (t, x, y, dir) and bench/fidelity.py's figures of them."""
+    table = (0.0, 0.0, *examples.TABLE)
+    main, rows = fidelity.pursue(b, visitors.pursuer(seed, seconds, examples.TABLE), table)
+    f = fidelity.figures(fidelity.main_on_grid(main, rows[:, 0]), rows[:, 1:],
+                         b.params.rate_hz, b.turn_limit, table)
+    return rows, f

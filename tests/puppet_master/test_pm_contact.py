@@ -12,17 +12,13 @@ import pytest
 
 from behaviors.puppet_master import fidelity, visitors
 from behaviors.puppet_master.character import TOUCH_M
-from behaviors.puppet_master.engine import Behavior, Reactor
+from behaviors.puppet_master.engine import Reactor
 from behaviors.puppet_master.demonstrated import charge_entries, charges, still_main_speed
 from behaviors.puppet_master.generation import share_around
-from tabletop import examples, library
+from tabletop import examples
+from tests.puppet_master.demos import shipped
 
 TABLE = (0.0, 0.0, *examples.TABLE)
-
-
-def _shipped(name: str) -> Behavior:
-    stored = library.load_behavior(examples.DEFAULT_OUT / name)
-    return Behavior.train(stored.demonstration, **stored.parameters)
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +39,7 @@ def test_a_target_farther_out_is_reached_round_the_main():
 
 
 def test_the_bullys_charges_arrive_on_unseen_paths(paths):
-    b = _shipped("bully")
+    b = shipped("bully")
     demo = fidelity.demonstration_figures(b)
     # contact within the 30% of the demonstration's (0.157) on 10 of the 12 paths of
     # seeds 0, 1, 2, 5 (0.092-0.194; misses on seed 0's slow path, 0.109, and seed 1's fast,
@@ -83,7 +79,7 @@ def test_the_bullys_charges_arrive_on_unseen_paths(paths):
 
 
 def test_the_playful_friend_does_not_drive_into_its_main_on_fast_paths(paths):
-    b = _shipped("playful_friend")
+    b = shipped("playful_friend")
     demo = fidelity.demonstration_figures(b)
     # demonstrated contact 0.041; measured 0.042 and 0.032 on seeds 0 and 1 (0.091 and 0.089
     # when the drift correction toward a target farther out cut through the main)
@@ -109,7 +105,7 @@ def test_a_pace_that_does_not_drop_beside_a_still_main_is_not_held():
 
 
 def test_the_bullys_pace_beside_a_still_main_is_kept(paths):
-    b = _shipped("bully")
+    b = shipped("bully")
     demo = fidelity.demonstration_figures(b)
     # its speed while the main stands over its speed while the main walks: 0.971
     # demonstrated; measured 0.865 and 0.970 on seed 1's slow path and seed 5's loops (0.642
@@ -124,7 +120,7 @@ def test_a_charge_is_kept_whole_only_when_entered_in_its_run_up(paths):
     # charge's first sample keeps it whole to its end, later it does not
     ends = [-1, 6, 6, 6, 6, 6, 6, -1, 9, 9]
     assert charge_entries(ends, 10.0) == [-1, 6, 6, 6, -1, -1, -1, -1, 9, 9]
-    b = _shipped("bully")
+    b = shipped("bully")
     ends, _ = charges(b.main[:, :2], b.react[:, :2], b.params.rate_hz)
     assert sorted({e for e in b.charge_end if e >= 0}) == sorted({e for e in ends if e >= 0})
     # a bully that joined a charge in its push pushed twice back to back beside a slow main
@@ -149,15 +145,15 @@ def test_a_single_pass_close_by_is_not_kept_whole_as_a_charge():
     # as well) the figures were taken on seeds 27 and 31: kept whole 0.059 / 0.051, as
     # shipped 0.039 / 0.042 (over the 18 fast tuning paths each way misses 8, seeds 0 and 8
     # now 0.034 / 0.043 not kept whole, 0.014 / 0.031 kept whole)
-    b = _shipped("stalker")
+    b = shipped("stalker")
     demo = fidelity.demonstration_figures(b)
     for seed in (27, 31):
         main = visitors.unseen_main_paths(seed, 40.0, examples.TABLE)["fast_reversals_60hz"]
         row = fidelity.evaluate(b, main, TABLE, demo)
         assert row["ok_contact"], (seed, row["gen_contact"], row["demo_contact"])
-    assert _shipped("bully").charging
+    assert shipped("bully").charging
     for name in ("stalker", "playful_friend"):
-        b = _shipped(name)
+        b = shipped(name)
         ends, _ = charges(b.main[:, :2], b.react[:, :2], b.params.rate_hz)
         assert len({e for e in ends if e >= 0}) == 1 and not b.charging
 
@@ -169,11 +165,11 @@ def test_the_bully_stops_against_its_main_at_its_least_demonstrated_distance(pat
     # pressed on to 0.025-0.038 m (1st percentile, seeds 0-13), where a step sideways is a fast
     # turn round the main (orbit missed on 21 of 162 tuning paths x runs, now on 10)
     for name in ("bully", "stalker", "lover"):
-        b = _shipped(name)
+        b = shipped(name)
         # the stalker's as well (tests/puppet_master/test_pm_stalker_apart.py)
         least = b.personal_space if b.personal_space > 0.0 else float(b.distance.min())
         assert b.main_disc == least
-    b = _shipped("bully")
+    b = shipped("bully")
     assert 0.045 < b.main_disc < TOUCH_M
     for seed, path in ((1, "fast_reversals_60hz"), (5, "slow_pauses_30hz")):
         main = paths[seed][path]
@@ -190,7 +186,7 @@ def test_the_bully_leaves_its_push_at_once(paths):
     # the distance to the main grows over that first step by 0.145 m/s on average over the 12
     # paths of seeds 0, 1, 2, 5 (131 charges), 0.102 (123) while the linear smooth and the
     # texture governor's filter still held the push
-    b = _shipped("bully")
+    b = shipped("bully")
     leave = []
     for seed in (0, 1, 2, 5):
         for main in paths[seed].values():

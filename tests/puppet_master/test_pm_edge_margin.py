@@ -6,11 +6,12 @@ chased by a visitor no longer runs along the table's edges, where its demonstrat
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, table_boundary, visitors
+from behaviors.puppet_master import table_boundary
 from behaviors.puppet_master.behavior import ParameterError
 from behaviors.puppet_master.engine import Behavior, Reactor
 from tabletop import examples, library
 from tests.puppet_master import demos
+from tests.puppet_master.demos import chased
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -68,9 +69,7 @@ def test_a_chased_afraid_character_keeps_off_the_edges(stored, seed):
     shares = {}
     for pc in (0.0, 50.0):
         b = Behavior.train(stored.demonstration, **{**stored.parameters, "edge_percentile": pc})
-        main, rows = fidelity.pursue(b, visitors.pursuer(seed, 40.0, examples.TABLE), TABLE)
-        f = fidelity.figures(fidelity.main_on_grid(main, rows[:, 0]), rows[:, 1:],
-                             b.params.rate_hz, b.turn_limit, TABLE)
+        _, f = chased(b, seed)
         shares[pc] = f["edge_share"]
         if pc:
             assert f["contact"] == 0.0, (pc, f["contact"])      # not caught for it

@@ -8,9 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, table_boundary, visitors
-from behaviors.puppet_master.engine import Behavior, Reactor
-from tabletop import examples, library
+from behaviors.puppet_master import table_boundary
+from behaviors.puppet_master.engine import Reactor
+from tabletop import examples
+from tests.puppet_master.demos import chased, shipped
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 
@@ -39,15 +40,7 @@ def test_a_step_toward_a_near_edge_turns_inward_its_length_kept():
 
 @pytest.fixture(scope="module")
 def afraid():
-    stored = library.load_behavior(examples.DEFAULT_OUT / "afraid")
-    return Behavior.train(stored.demonstration, **stored.parameters)
-
-
-def _chased(b: Behavior, seed: int) -> tuple[np.ndarray, dict]:
-    main, rows = fidelity.pursue(b, visitors.pursuer(seed, 40.0, examples.TABLE), TABLE)
-    f = fidelity.figures(fidelity.main_on_grid(main, rows[:, 0]), rows[:, 1:],
-                         b.params.rate_hz, b.turn_limit, TABLE)
-    return rows, f
+    return shipped("afraid")
 
 
 @pytest.mark.parametrize("seed", [0, 2, 30])
@@ -56,13 +49,13 @@ def test_a_chased_afraid_character_turns_off_the_edges(afraid, seed):
     # pursuit; its designer's own 0.046, 0.051, 0.046 here), measured: sliding along the
     # edges 0.164, 0.197, 0.216; turned off them 0.071, 0.054, 0.074. Not caught nearer for
     # it: mean distance to the visitor 0.262, 0.252, 0.288 -> 0.281, 0.267, 0.249 m
-    _, f = _chased(afraid, seed)
+    _, f = chased(afraid, seed)
     assert f["edge_share"] < 0.1, f["edge_share"]
     assert f["distance_mean_m"] > 0.22 and f["contact"] < 0.01, f
 
 
 def test_the_python_and_the_compiled_step_turn_alike(afraid, monkeypatch):
-    compiled, _ = _chased(afraid, 0)
+    compiled, _ = chased(afraid, 0)
     monkeypatch.setattr(Reactor, "compiled", False)
-    python, _ = _chased(afraid, 0)
+    python, _ = chased(afraid, 0)
     assert np.array_equal(compiled, python)

@@ -6,9 +6,9 @@ the afraid character chased toward an edge is not drawn back to its visitor."""
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, generation_kernel, table_boundary, visitors
-from behaviors.puppet_master.engine import Behavior
-from tabletop import examples, library
+from behaviors.puppet_master import generation_kernel, table_boundary
+from tabletop import examples
+from tests.puppet_master.demos import chased, shipped
 
 TABLE = (0.0, 0.0, *examples.TABLE)
 INNER = (0.157, 0.157, examples.TABLE[0] - 0.157, examples.TABLE[1] - 0.157)
@@ -37,13 +37,10 @@ def test_the_chased_afraid_character_keeps_farther_from_its_visitor():
     # 0-5: clamped with the visitor in the band 0.260 / 0.316 / 0.243 / 0.272 / 0.339 / 0.293
     # (mean 0.287); fitted 0.262 / 0.336 / 0.252 / 0.299 / 0.314 / 0.343 (mean 0.301; its
     # demonstration 0.366, its designer 0.30-0.50)
-    stored = library.load_behavior(examples.DEFAULT_OUT / "afraid")
-    b = Behavior.train(stored.demonstration, **stored.parameters)
+    b = shipped("afraid")
     means = []
     for seed in range(6):
-        main, rows = fidelity.pursue(b, visitors.pursuer(seed, 40.0, examples.TABLE), TABLE)
-        f = fidelity.figures(fidelity.main_on_grid(main, rows[:, 0]), rows[:, 1:],
-                             b.params.rate_hz, b.turn_limit, TABLE)
+        _, f = chased(b, seed)
         means.append(f["distance_mean_m"])
         assert f["contact"] == 0.0, (seed, f["contact"])       # never caught
     assert np.mean(means) > 0.295, means

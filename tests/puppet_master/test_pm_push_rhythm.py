@@ -8,15 +8,10 @@ import numpy as np
 
 from behaviors.puppet_master import designers, features, fidelity, visitors
 from behaviors.puppet_master.character import TOUCH_M
-from behaviors.puppet_master.engine import Behavior
-from tabletop import examples, library
+from tabletop import examples
+from tests.puppet_master.demos import shipped
 
 TABLE = (0.0, 0.0, *examples.TABLE)
-
-
-def _shipped(name: str) -> Behavior:
-    stored = library.load_behavior(examples.DEFAULT_OUT / name)
-    return Behavior.train(stored.demonstration, **stored.parameters)
 
 
 def _pushes(main: np.ndarray, react: np.ndarray) -> int:
@@ -40,11 +35,11 @@ def test_the_steps_since_the_last_push_count_from_each_touch_up_to_the_longest_w
 
 def test_only_a_character_that_charges_or_circles_and_darts_counts_the_steps_since_a_push():
     for name in ("bully", "lover", "playful_friend", "stalker", "afraid"):
-        b = _shipped(name)
+        b = shipped(name)
         assert b.charging == (name == "bully") and b.circling == (name == "playful_friend")
         assert (b.scales.since > 0.0) == (name in ("bully", "playful_friend"))
-    assert _shipped("playful_friend").since_clip == 395.0   # its longest wait, 9.9 s
-    b = _shipped("bully")
+    assert shipped("playful_friend").since_clip == 395.0   # its longest wait, 9.9 s
+    b = shipped("bully")
     assert b.since_clip == 152.0           # its longest wait, 3.8 s
     col = features.since_column(b.scales)
     since = features.since_push(b.distance, TOUCH_M, b.since_clip)
@@ -59,7 +54,7 @@ def test_the_bully_pushes_as_often_as_its_designer_beside_slow_and_fast_mains():
     # (slow 10.3, fast 10.7 against 10.0 and 11.5); 2.08 (slow 11.2, fast 9.2) while the lurk
     # between pushes lasted as long as the re-matching let it (no steps since the last push
     # among the features)
-    b = _shipped("bully")
+    b = shipped("bully")
     rate = b.params.rate_hz
     off, fast = [], []
     for seed in range(6):
@@ -82,7 +77,7 @@ def test_the_playful_friend_touches_its_main_as_regularly_as_its_designer():
     # deviation) over the paths 0.0079, mean 0.029, a path off its designer's own character
     # by 0.009 on average (the designer: 0.0092, 0.035); 0.0149, 0.036 and 0.018 with the
     # darts timed by the re-matching alone (no steps since the last touch among the features)
-    b = _shipped("playful_friend")
+    b = shipped("playful_friend")
     rate = b.params.rate_hz
     gen, own = [], []
     for seed in range(6):

@@ -11,7 +11,7 @@ import yaml
 from tabletop.frames import Frame, InputError, Puck
 from tabletop.studio.machine import Studio
 from tabletop.studio.mop_target import MopTarget
-from tests.mop.test_plugin import EXAMPLES, G, RATE, Table, _build, _designer_config
+from tests.mop.helpers import EXAMPLES, G, RATE, Table, build, designer_config
 
 
 class StudioTable(Table):
@@ -36,7 +36,7 @@ class StudioTable(Table):
 
 
 def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     table.rest(1.0)
     table.tick(["designer.record"])
@@ -62,13 +62,13 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     assert saved == {"actions": [{"name": "take1", "template": "take1.csv", "motion": "curl"}]}
     header = (tmp_path / "lib" / "lizard" / "take1.csv").read_text().splitlines()[0]
     assert header == "t,dx,dy"
-    again = _build(_designer_config(tmp_path), tmp_path)
+    again = build(designer_config(tmp_path), tmp_path)
     assert "take1" in again.puppets["lizard"].actions
     assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
 
 
 def test_discard_redo_and_a_take_too_short(tmp_path):
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     table.rest(1.0)
     table.tick(["designer.record"])
@@ -96,7 +96,7 @@ def test_discard_redo_and_a_take_too_short(tmp_path):
 
 
 def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_path):
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     assert table.studio.designer_targets() == ("mop/face", "mop/lizard")
     assert not hasattr(engine, "designer_targets")     # the studio lists the slots
@@ -118,7 +118,7 @@ def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_pat
 
 def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_once(tmp_path):
     # a kept square for the lizard, then its library damaged two ways
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     table.rest(1.0)
     table.tick(["designer.record"])
@@ -132,7 +132,7 @@ def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_onc
     (lib / "face" / "actions.yaml").write_text(
         "actions:\n- {name: wrong, template: nothere.csv, motion: talk}\n")
     # a restart: the engine starts, each bad file reported and skipped, the rest works
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     assert "lizard/actions.yaml: cannot read the action library" in \
         engine.library_problems["lizard"][0]
     assert "face/actions.yaml: action 'wrong'" in engine.library_problems["face"][0]
@@ -170,7 +170,7 @@ def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_onc
 def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
     from tabletop.config import load_config
     from tabletop.kiosk.simulate import SimClock, simulated
-    from tests.mop.test_plugin import G
+    from tests.mop.helpers import G
 
     rate = 20.0
     path = tmp_path / "config.yaml"
@@ -221,7 +221,7 @@ def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
 def face_take(tmp_path, gesture: str = "line"):
     """A run with the face's take of ``gesture`` being tried; (engine, table), the library
     read at once."""
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     for t in table.targets:
         t._poller.every_s = 0.0
@@ -331,7 +331,7 @@ def test_a_new_take_never_takes_the_name_of_a_library_file_skipped_at_load(tmp_p
     (folder / "take1.csv").write_text("t,dx,dy\n0,0,oops\n")
     (folder / "take2.csv").write_text("t,dx,dy\n0,0,0\n0.1,0.01,0\n")
     saved = {f.name: f.read_text() for f in folder.iterdir()}
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     assert "action 'take1'" in engine.library_problems["face"][0]
     table = StudioTable(engine, tmp_path / "lib")
     table.rest(1.0)
@@ -367,7 +367,7 @@ def test_library_entries_without_a_name_named_twice_or_as_a_configured_action_ar
         "- {name: line, template: a.csv, motion: laugh}\n"
         "- {name: line, template: b.csv, motion: wink}\n"
         "- {name: circle, template: c.csv, motion: angry}\n")
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     problems = engine.library_problems["face"]
     assert len(problems) == 3 and all("face/actions.yaml: action " in p for p in problems)
     assert "'' needs a name" in problems[0] and "'line' is named twice" in problems[1]
@@ -389,7 +389,7 @@ def test_a_library_entry_that_fails_to_load_does_not_claim_its_name(tmp_path):
     (lib / "face" / "actions.yaml").write_text(
         "actions:\n- {name: wave, template: a.csv, motion: laugh}\n"
         "- {name: wave, template: b.csv, motion: wink}\n")
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     (problem,) = engine.library_problems["face"]
     assert "action 'wave'" in problem and "a.csv" in problem and "twice" not in problem, problem
     assert engine.puppets["face"].actions["wave"].clip.name == "wink"
@@ -408,7 +408,7 @@ def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_pat
     (lib / "face" / "a.csv").write_text((EXAMPLES / "mop/gestures/line.csv").read_text())
     (lib / "face" / "actions.yaml").write_text(
         f"actions:\n- {{name: a, template: a.csv, motion: {lib / 'face' / 'walk.json'}}}\n")
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     (problem,) = engine.library_problems["face"]
     assert "face/actions.yaml: action 'a'" in problem and "no channel named after a blendshape" in problem
     assert set(engine.puppets["face"].actions) == {"circle"}

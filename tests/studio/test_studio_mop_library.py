@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from tests.mop.test_plugin import _build, _designer_config
+from tests.mop.helpers import build, designer_config
 from tests.studio.test_studio_mop import StudioTable, face_take, kept_line
 
 
@@ -39,7 +39,7 @@ def test_a_take_whose_name_another_run_kept_meanwhile_is_kept_under_the_next_nam
     assert np.array_equal(engine.templates["face"]["take2"][1], own)
     assert np.array_equal(engine.templates["face"]["take1"][1], theirs)   # the other's, followed
     assert set(engine.puppets["face"].actions) == {"circle", "take1", "take2"}
-    again = _build(_designer_config(tmp_path), tmp_path)
+    again = build(designer_config(tmp_path), tmp_path)
     assert again.templates["face"]["take2"][1].shape == own.shape
 
 
@@ -80,9 +80,9 @@ def test_two_runs_keeping_into_one_library_at_once_keep_every_take(tmp_path):
 def test_a_keep_without_a_library_says_it_is_for_this_run_only(tmp_path):
     """An engine without a library said "kept as take1" like a saved keep; nothing was
     written and the take was gone at the next start."""
-    cfg = _designer_config(tmp_path)
+    cfg = designer_config(tmp_path)
     del cfg["engines"][0]["library"]
-    engine = _build(cfg, tmp_path)
+    engine = build(cfg, tmp_path)
     table = StudioTable(engine, None)
     table.rest(1.0)
     table.tick(["designer.record"])

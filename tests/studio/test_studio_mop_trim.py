@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-from tests.mop.test_plugin import G, RATE, _build, _designer_config
+from tests.mop.helpers import G, RATE, build, designer_config
 from tests.studio.test_studio_mop import StudioTable
 
 
@@ -13,7 +13,7 @@ def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):
     are left out, so the action's progress reaches its end with the gesture's (it stopped at
     0.84 with 0.4 s still on each side of the zigzag) and the rest after it drives nothing (the
     held end kept it driven for 0.7 s of the rest); a take where nothing moved is refused."""
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     table.rest(1.0)
     table.tick(["designer.record"])
@@ -57,7 +57,7 @@ def test_a_take_rested_longer_than_the_rest_time_and_tracked_with_jitter_is_trim
     before stopping, tracked with 0.3 mm of jitter: the take keeps its gesture's samples and ends
     where the gesture ended (it kept the hold and a jump back to 0, 0 after the rest: 72 samples
     of the gesture's 54; with the jitter the stills at both ends too: 92)."""
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     rng = np.random.default_rng(3)
     table.rest(1.0)
@@ -79,7 +79,7 @@ def test_a_take_paused_longer_than_the_rest_time_keeps_its_hold_and_goes_on_from
     take holds where the puck held and goes on from there, as the puck did. The rest moved the
     path features' origin to where the puck settled: the hold was left out and the return
     recorded from 0, 0 (a jump of half the gesture's extent)."""
-    engine = _build(_designer_config(tmp_path), tmp_path)
+    engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     table.rest(1.0)
     table.tick(["designer.record"])

@@ -245,15 +245,6 @@ def test_a_huge_camera_index(tmp_path, capfd):
     assert code == 2 and "INPUT '99999999999'" in line and "0 to 1023" in line
 
 
-@pytest.fixture
-def demo(tmp_path) -> Path:
-    rows = ["t,main_x,main_y,main_dir,react_x,react_y,react_dir"]
-    rows += [f"{i / 40},{0.3 + 0.002 * i},0.4,0,{0.5 + 0.001 * i},0.45,0" for i in range(120)]
-    p = tmp_path / "demo.csv"
-    p.write_text("\n".join(rows) + "\n")
-    return p
-
-
 @pytest.mark.parametrize("option, value, words", [
     ("--rate", "1e9", ["--rate '1e9'", "from 1 to 1000"]),
     ("--rate", "nan", ["--rate 'nan'"]),

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.tabletop.test_validation import cli, demo, one_line  # noqa: F401  (demo: a fixture)
+from tests.tabletop.test_validation import cli, one_line
 
 
 @pytest.mark.parametrize("command", ["behave", "follow", "track", "replay"])

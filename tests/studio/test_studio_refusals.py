@@ -1,0 +1,160 @@
+"""The designer studio refusing a command while a take is tried or recorded, saying so where
+the designer looks, and a take left by Tab or Esc said and logged."""
+
+import json
+
+from behaviors.puppet_master import designers
+from tabletop import library
+from tabletop.config import validate_config
+from tabletop.frames import Frame, Puck
+
+from tests.keys import key
+from tests.studio.test_studio_keys import ROOT, TABLE, Bench, build, demo_frames, designer
+
+
+def test_rename_delete_and_undo_wait_while_a_take_is_tried(tmp_path):
+    """F2 on a take being tried renamed the library item played before it (the designer
+    naming the take: lover became "shy", the take then kept as "pet"); Delete deleted that
+    item and U undid the last keep under the take. Each is refused, said, until the take is
+    kept or discarded."""
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "lover", designers.demonstrate("lover", seconds=4), {})
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_next")
+    assert e.behavior_name == "lover"
+    demo = designers.demonstrate("afraid", seed=8, seconds=6)
+    for f in demo_frames(demo, {5: ("designer.record",), 200: ("designer.record",)}):
+        bench.step(f)
+    s = bench.studio
+    assert s.state == "trying"
+    for cmd, doing in (("designer.rename:shy", "renaming"), ("designer.delete", "deleting"),
+                       ("designer.undo", "undoing")):
+        s.command(cmd)
+        assert s.message == f"no {doing} while a take is tried: K keeps or X discards it first"
+    assert library.list_behaviors(lib) == ["lover"] and s.state == "trying"
+    s.command("designer.keep")
+    s.command("designer.rename:shy")                   # the kept take is the item in play
+    assert library.list_behaviors(lib) == ["lover", "shy"] and e.behavior_name == "shy"
+    s.command("designer.record")                       # a countdown: a take is under way
+    s.command("designer.undo")
+    assert s.message == "no undoing during a take: finish it, or X cancels it"
+    s.command("designer.discard")
+    s.command("designer.undo")
+    assert s.message == "undone: rename pet -> shy"
+    assert library.list_behaviors(lib) == ["lover", "pet"]
+
+
+def test_a_take_left_by_tab_is_said_discarded(tmp_path):
+    """Tab while a take was tried (or recorded) dropped it without a word: the next target's
+    line showed, and the take was gone when the designer came back."""
+    a, b = build([{"kind": "puppet_master", "name": n, "designer": {
+        "enabled": True, "library": str(tmp_path), "background_training": False}}
+        for n in ("a", "b")])
+    bench = Bench([a, b], tmp_path)
+    demo = designers.demonstrate("lover", seed=1, seconds=4)
+    for f in demo_frames(demo, {4: ("designer.record",), 120: ("designer.record",)}, focus="a"):
+        _, studio = bench.step(f)
+    assert bench.studio.state == "trying"
+    _, studio = bench.step(Frame(seq=500, t=200.0, focus="b"))
+    assert studio.label == "[b] a: take discarded (Tab left it)", studio.label
+    bench.step(Frame(seq=501, t=201.0, focus="b", commands=("designer.record",)))
+    _, studio = bench.step(Frame(seq=502, t=202.0, focus="a"))
+    assert studio.label == "[a] b: take cancelled (Tab left it)", studio.label
+    assert bench.studio.state == "idle" and a.behavior is None
+
+
+def test_esc_while_a_take_is_tried_logs_it_as_quit(tmp_path):
+    """Esc in the view while a take was tried ended the run and the take went without a line
+    in the session log: the loop closes the studio, which logs it (outcome "quit")."""
+    import threading
+
+    import pygame
+
+    from tabletop.loop import CommandQueue, Loop
+    from tabletop.replay_inputs import FrameInputs
+    from tabletop.studio.build import Markers, StudioStage
+    from tabletop.view import ProjectorView
+
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    stop, q = threading.Event(), CommandQueue()
+    cfg = validate_config({"sources": [{"kind": "scripted"}]}, "test.yaml", ROOT)
+    view = ProjectorView(TABLE, dict(cfg["view"], size=[320, 180]), commands=q, stop=stop,
+                         headless=True)
+    demo = designers.demonstrate("lover", seed=8, seconds=30)
+    frames = list(demo_frames(demo, {10: ("designer.record",), 300: ("designer.record",)}))
+
+    def esc_once_tried(frame):
+        if bench.studio.state == "trying" and not stop.is_set():
+            key(pygame.K_ESCAPE)
+
+    loop = Loop(FrameInputs(iter(frames), honour_times=False), [e], [view], commands=q,
+                stop=stop, paced=False, hooks=[esc_once_tried],
+                filters=[StudioStage(Markers({}, bench.studio), bench.studio)])
+    ran = loop.run()
+    assert stop.is_set() and ran < len(frames)          # Esc ended the run
+    (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert line["outcome"] == "quit" and line["target"] == "pet" and line["samples"] == 290
+    assert bench.studio.state == "idle"
+
+
+def test_f2_with_nothing_to_rename_is_refused_at_once(tmp_path):
+    """F2 opened the name prompt with no library item in play; "nothing to rename" came only
+    after a name was typed and Enter: the prompt stays closed and the refusal is said at F2."""
+    import types
+
+    import pygame
+
+    from tabletop.loop import CommandQueue, Loop
+    from tabletop.replay_inputs import FrameInputs
+    from tabletop.studio.build import attach_studio
+    from tabletop.view import ProjectorView
+
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "shy", designers.demonstrate("lover", seconds=4), {})
+    engines = designer(tmp_path)
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": "pet",
+         "designer": {"enabled": True, "library": str(lib)}}],
+        "studio": {"folder": str(tmp_path / "studio"), "review": False}}, "test.yaml", ROOT)
+    q = CommandQueue()
+    view = ProjectorView(TABLE, dict(cfg["view"], size=[320, 180]), commands=q, headless=True)
+    loop = Loop(FrameInputs(iter(()), honour_times=False), engines, [view], commands=q,
+                paced=False)
+    studio = attach_studio(types.SimpleNamespace(loop=loop), cfg, tmp_path)
+
+    def f2(t):
+        key(pygame.K_F2)
+        view.consume(studio(Frame(seq=int(t), t=t)))
+    try:
+        f2(1.0)
+        assert not view.prompt.active and studio.message == "nothing to rename"
+        studio.command("designer.item_next")
+        f2(2.0)
+        assert view.prompt.active                      # shy is in play: type its new name
+        key(pygame.K_ESCAPE)
+        view.consume(studio(Frame(seq=3, t=3.0)))
+        studio.command("designer.record")              # a take under way: refused, said
+        f2(4.0)
+        assert not view.prompt.active and studio.message.startswith("no renaming during a take")
+    finally:
+        view.close()
+
+
+def test_a_refusal_while_a_puck_is_missing_is_shown_beside_the_missing_puck(tmp_path):
+    """Recording with puck 2 gone, "recording: no puck 2" took the status line every tick: a
+    refusal said at that moment (F2 during the take) was never seen. Both are shown."""
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+
+    def tick(i, cmds=()):
+        _, studio = bench.step(Frame(seq=i, t=100 + i / 60, pucks=(Puck(1, 0.5, 0.4, 0.0),),
+                                     commands=cmds))
+        return studio.label
+    tick(0, ("designer.record",))
+    assert "recording: no puck 2" in tick(1)
+    said = tick(2, ("designer.rename:shy",))
+    assert "recording: no puck 2" in said and "no renaming during a take" in said
+    said = tick(30)                                    # half a second on: both still shown
+    assert "recording: no puck 2" in said and "no renaming during a take" in said
