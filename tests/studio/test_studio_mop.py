@@ -416,9 +416,9 @@ def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_pat
 
 def kept_without_library(tmp_path):
     """A face's take of a line kept "for this run only" by an engine without a library."""
-    cfg = _designer_config(tmp_path)
+    cfg = designer_config(tmp_path)
     del cfg["engines"][0]["library"]
-    engine = _build(cfg, tmp_path)
+    engine = build(cfg, tmp_path)
     table = StudioTable(engine, None)
     table.rest(1.0)
     table.tick(["designer.record"])

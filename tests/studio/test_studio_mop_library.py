@@ -134,7 +134,7 @@ def test_a_keep_while_another_run_holds_the_library_is_refused_and_the_take_stay
 def test_another_runs_keep_just_before_this_runs_keep_is_followed(tmp_path):
     """This run's keep marked the library as seen: another run's keep made since the watcher
     last looked (within its second) was never followed."""
-    engine_b = _build(_designer_config(tmp_path), tmp_path)     # B starts on an empty library
+    engine_b = build(designer_config(tmp_path), tmp_path)     # B starts on an empty library
     b = StudioTable(engine_b, tmp_path / "lib")
     b.targets[0]._poller.every_s = 1e9                          # B's watcher does not look
     _, a = face_take(tmp_path, "line")
@@ -158,11 +158,11 @@ def test_a_config_edit_saves_the_takes_kept_for_this_run_only_into_its_new_libra
     engine a library saves them into it; one that gives none says which it dropped."""
     from tabletop.config import validate_config
     from tabletop.kiosk.runner import Runner
-    cfg = _designer_config(tmp_path)
+    cfg = designer_config(tmp_path)
     del cfg["engines"][0]["library"]
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))
-    engine = _build(cfg, tmp_path)
+    engine = build(cfg, tmp_path)
     table = StudioTable(engine, None)
     table.rest(1.0)
     table.tick(["designer.record"])
@@ -178,9 +178,9 @@ def test_a_config_edit_saves_the_takes_kept_for_this_run_only_into_its_new_libra
     assert table.targets[0].run_only == []
     table.targets[0].run_only = ["take1"]
     runner._notes = []
-    with_lib = _designer_config(tmp_path)                               # library: lib
+    with_lib = designer_config(tmp_path)                               # library: lib
     runner._save_run_only(validate_config(with_lib, str(path), tmp_path))
     assert runner._notes == [f"kept take1 -> laugh in {tmp_path / 'lib' / 'face'}"]
-    rebuilt = _build(with_lib, tmp_path)
+    rebuilt = build(with_lib, tmp_path)
     assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
     assert np.allclose(rebuilt.templates["face"]["take1"][1], engine.templates["face"]["take1"][1])
