@@ -415,7 +415,8 @@ def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_pat
 
 
 def kept_without_library(tmp_path):
-    """A face's take of a line kept "for this run only" by an engine without a library."""
+    """A face's take of a line kept "for this run only" by an engine without a library.
+    Returns (the engine, its studio table, the config without a library)."""
     cfg = designer_config(tmp_path)
     del cfg["engines"][0]["library"]
     engine = build(cfg, tmp_path)
@@ -426,13 +427,13 @@ def kept_without_library(tmp_path):
     table.tick(["designer.record"])
     table.tick(["designer.keep"])
     assert "for this run only" in table.status
-    return engine, table
+    return engine, table, cfg
 
 
 def test_undo_delete_and_rename_of_a_take_kept_for_this_run_only(tmp_path):
     """Without a library, U, Del and F2 after a keep raised AssertionError out of the studio;
     the keep's undo entry stayed and every later U raised again, for every character."""
-    engine, table = kept_without_library(tmp_path)
+    engine, table, _ = kept_without_library(tmp_path)
     s, face = table.studio, engine.puppets["face"].actions
     table.tick(["designer.rename:wave"])
     assert "has no library" in table.status and set(face) == {"circle", "take1"}

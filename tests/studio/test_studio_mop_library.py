@@ -7,7 +7,7 @@ import numpy as np
 import yaml
 
 from tests.mop.helpers import build, designer_config
-from tests.studio.test_studio_mop import StudioTable, face_take, kept_line
+from tests.studio.test_studio_mop import StudioTable, face_take, kept_line, kept_without_library
 
 
 def two_takes(tmp_path):
@@ -80,15 +80,7 @@ def test_two_runs_keeping_into_one_library_at_once_keep_every_take(tmp_path):
 def test_a_keep_without_a_library_says_it_is_for_this_run_only(tmp_path):
     """An engine without a library said "kept as take1" like a saved keep; nothing was
     written and the take was gone at the next start."""
-    cfg = designer_config(tmp_path)
-    del cfg["engines"][0]["library"]
-    engine = build(cfg, tmp_path)
-    table = StudioTable(engine, None)
-    table.rest(1.0)
-    table.tick(["designer.record"])
-    table.perform("line")
-    table.tick(["designer.record"])
-    table.tick(["designer.keep"])
+    engine, table, _ = kept_without_library(tmp_path)
     assert table.status == ("[mop/face] kept as take1 for this run only: engine 'mop' has no "
                             "library to save it in (give it library: FOLDER in the config)")
     assert "take1" in engine.puppets["face"].actions and not any(tmp_path.iterdir())
@@ -158,18 +150,9 @@ def test_a_config_edit_saves_the_takes_kept_for_this_run_only_into_its_new_libra
     engine a library saves them into it; one that gives none says which it dropped."""
     from tabletop.config import validate_config
     from tabletop.kiosk.runner import Runner
-    cfg = designer_config(tmp_path)
-    del cfg["engines"][0]["library"]
+    engine, table, cfg = kept_without_library(tmp_path)
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))
-    engine = build(cfg, tmp_path)
-    table = StudioTable(engine, None)
-    table.rest(1.0)
-    table.tick(["designer.record"])
-    table.perform("line")
-    table.tick(["designer.record"])
-    table.tick(["designer.keep"])
-    assert "for this run only" in table.status
     runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
     runner.studio = table.studio
     runner._save_run_only(validate_config(cfg, str(path), tmp_path))   # still no library
