@@ -87,9 +87,9 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     A folder that cannot be written fails at start-up naming its key. A ``max_mb`` that this
     config's header alone reaches would start a part every frame (every part repeats the header:
     the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
-    ``keep`` removing them as fast): ``strict`` (the first start outside the kiosk supervisor,
-    where someone reads the error) refuses it; otherwise (a supervised restart, a config edit,
-    after a named file grew) one warning is logged and parts of :data:`HEADER_PARTS` headers
+    ``keep`` removing them as fast): ``strict`` (a start outside a kiosk, where someone reads the
+    error) refuses it; otherwise (a kiosk's start, which may be a restart by its supervisor or
+    by systemd; a config edit; after a named file grew) one warning is logged and parts of :data:`HEADER_PARTS` headers
     are recorded, so a running table never goes down over it."""
     from tabletop.recorder import MB, Recorder, header_line, session_header
     from tabletop.schema import ConfigError
@@ -179,7 +179,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
     ``header_extra``: more keys for a recording's header (the studio's). ``prepared``: the
     context and engines already built for ``cfg`` (a kiosk's warm spare). ``strict``: refuse a
-    recorder ``max_mb`` below the header (a first start; see :func:`build_recorder`)."""
+    recorder ``max_mb`` below the header (a start outside a kiosk; see :func:`build_recorder`)."""
     ctx = _context(cfg) if prepared is None else prepared[0]
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)

@@ -65,7 +65,8 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.kiosk.runner import Runner
     runner = Runner(Path(args.config), cfg, headless=args.headless, record_path=args.record,
                     kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused,
-                    strict=not supervised())   # a supervised start is a restart: it runs on
+                    strict=not (kiosk or supervised()))   # a kiosk's start may be a restart
+    # (by its supervisor, or by systemd with --no-supervisor): it runs on
     if supervised():
         follow_supervisor(runner.stop)   # a supervisor killed outright ends its installation
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly

@@ -157,6 +157,19 @@ def test_a_recorder_max_mb_below_the_header_runs_on_at_a_supervised_restart(tmp_
     assert len(frames_of(part)) >= 10
 
 
+
+def test_a_recorder_max_mb_below_the_header_runs_on_in_a_kiosk_systemd_restarts(tmp_path):
+    """``--kiosk --no-supervisor`` (systemd restarting it): every start may be a restart, and
+    each was refused as a first start, so the table stayed down after a crash or a reboot."""
+    cfg = small_parts_config(tmp_path)
+    r = tabletop("run", "--config", str(cfg), "--seconds", "1", "--kiosk", "--no-supervisor",
+                 "--headless")
+    assert r.returncode == 0, r.stderr
+    assert any("recorder.max_mb: 0.05 MB is less than the header" in line
+               for line in r.stderr.splitlines()), r.stderr
+    assert any((tmp_path / "rec").iterdir())
+
+
 def test_version_and_help():
     r = tabletop("--version")
     assert r.returncode == 0 and r.stdout.startswith("tabletop ")
