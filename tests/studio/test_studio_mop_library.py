@@ -167,3 +167,28 @@ def test_a_config_edit_saves_the_takes_kept_for_this_run_only_into_its_new_libra
     rebuilt = build(with_lib, tmp_path)
     assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
     assert np.allclose(rebuilt.templates["face"]["take1"][1], engine.templates["face"]["take1"][1])
+
+
+def test_a_config_edit_saves_a_take_kept_for_this_run_only_under_a_free_name(tmp_path):
+    """Takes kept without a library are take1, take2...; the library a config edit gives often
+    has a take1 from an earlier session: the take is saved as the next free takeN, not dropped."""
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.plugins.mop_files import save_to_library
+    engine, table, cfg = kept_without_library(tmp_path)
+    performer, samples = engine.templates["face"]["take1"]
+    earlier = samples[::-1].copy()
+    save_to_library(tmp_path / "lib", "face", "take1", earlier,
+                    engine.performers[performer].names, "laugh", engine.rate_hz)
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
+    runner.studio = table.studio
+    with_lib = designer_config(tmp_path)
+    runner._save_run_only(validate_config(with_lib, str(path), tmp_path))
+    (note,) = runner._notes
+    assert note.startswith("face/take1 renamed take2 (take1 is in the library already): kept take2")
+    rebuilt = build(with_lib, tmp_path)
+    assert set(rebuilt.puppets["face"].actions) == {"circle", "take1", "take2"}
+    assert np.allclose(rebuilt.templates["face"]["take2"][1], samples)
+    assert np.allclose(rebuilt.templates["face"]["take1"][1], earlier)
