@@ -34,6 +34,7 @@ class MopTarget:
         self.name = f"{stage.name}/{character}"
         self.kept: str | None = None
         self.run_only: list[str] = []     # kept without a library: lost at a rebuild
+        self._motions: dict[str, str] = {}  # their motions as the config names them
         self.demo: np.ndarray | None = None
         self._poller = (Poller(lib / character,
                                read=getattr(stage, "library_read", {}).get(character))
@@ -100,6 +101,8 @@ class MopTarget:
         named = self.stage.take_action
         stale = self._poller is not None and \
             tree_signature(self._poller.path) != self._poller.signature
+        take = self.stage.take
+        motion = self.stage.motion_of(take.character, take.motion_index) if take else ""
         action = self.stage.keep_take()
         self.kept = action
         if action != named or stale:    # the library changed since the watcher looked: all
@@ -109,6 +112,7 @@ class MopTarget:
             self._poller.signature = tree_signature(self._poller.path)
         if action and self.lib is None:
             self.run_only.append(action)
+            self._motions[action] = motion
         return action or ""
 
     @property
@@ -230,7 +234,8 @@ class MopTarget:
             if name not in st.templates[c]:
                 continue
             performer, samples = st.templates[c][name]
-            motion = st.puppets[c].actions[name].clip.name
+            # as the config names it ("grin.json"): the clip's own name ("grin") loads no file
+            motion = self._motions.get(name) or st.puppets[c].actions[name].clip.name
             names = st.performers[performer].names
             under = [name]        # a library from an earlier session has its own take1...
 
@@ -244,7 +249,7 @@ class MopTarget:
                 lines.append(line if under[0] == name else f"{c}/{name} renamed {under[0]} ({name} is in the library already): {line}")
             except (InputError, OSError) as exc:
                 lines.append(f"{c}/{name} (kept for this run only) not saved: {exc}")
-        self.run_only = []
+        self.run_only, self._motions = [], {}
         return lines
 
     def _free_in(self, lib: Path) -> str:

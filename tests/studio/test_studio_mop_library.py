@@ -192,3 +192,38 @@ def test_a_config_edit_saves_a_take_kept_for_this_run_only_under_a_free_name(tmp
     assert set(rebuilt.puppets["face"].actions) == {"circle", "take1", "take2"}
     assert np.allclose(rebuilt.templates["face"]["take2"][1], samples)
     assert np.allclose(rebuilt.templates["face"]["take1"][1], earlier)
+
+
+def test_a_take_kept_for_this_run_only_is_saved_with_its_motion_as_the_config_names_it(tmp_path):
+    """A face whose motion is a designer's file (grin.json, clip named "grin"): the take saved
+    at a config edit names grin.json, so the rebuilt engine loads it."""
+    import json
+    from behaviors.motion.clips import clip_to_mapping
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.plugins.mop_files import MotionLoader
+    clip = clip_to_mapping(MotionLoader("face", tmp_path)("laugh"))
+    clip["name"] = "grin"
+    (tmp_path / "grin.json").write_text(json.dumps(clip))
+    cfg = designer_config(tmp_path)
+    del cfg["engines"][0]["library"]
+    cfg["engines"][0]["characters"][0]["motions"] = ["grin.json"]
+    engine = build(cfg, tmp_path)
+    table = StudioTable(engine, None)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert "for this run only" in table.status
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
+    runner.studio = table.studio
+    with_lib = designer_config(tmp_path)
+    with_lib["engines"][0]["characters"][0]["motions"] = ["grin.json"]
+    runner._save_run_only(validate_config(with_lib, str(path), tmp_path))
+    rebuilt = build(with_lib, tmp_path)
+    assert rebuilt.library_problems.get("face", []) == []
+    assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
+    assert rebuilt.puppets["face"].actions["take1"].clip.name == "grin"
