@@ -227,3 +227,60 @@ def test_a_take_kept_for_this_run_only_is_saved_with_its_motion_as_the_config_na
     assert rebuilt.library_problems.get("face", []) == []
     assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
     assert rebuilt.puppets["face"].actions["take1"].clip.name == "grin"
+
+
+def test_keeps_while_another_run_stalls_on_the_library_leave_one_waiter(tmp_path):
+    """Each keep refused while another run held the library left one more thread blocked in
+    flock, with its open descriptor, until that run let go; one waiter per lock file now, and
+    a keep once the holder is gone takes the lock."""
+    import os
+    import subprocess
+    import sys
+    import threading
+    from tabletop.frames import InputError
+    from tabletop.plugins.mop_files import library_lock
+    root = str(Path(__file__).resolve().parents[2])
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+
+    def waiters() -> int:
+        return sum(t.name == "lock-wait" for t in threading.enumerate())
+
+    fds = len(os.listdir("/proc/self/fd"))
+    holder = subprocess.Popen([sys.executable, "-c", HOLDER.format(root=root, lib=str(lib))],
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        for _ in range(4):
+            try:
+                with library_lock(lib, "face"):
+                    raise AssertionError("locked while another run holds it")
+            except InputError as exc:
+                assert "busy, another run is saving" in str(exc)
+        assert waiters() == 1
+        assert len(os.listdir("/proc/self/fd")) - fds <= 2    # the waiter's, the pipe's
+    finally:
+        holder.kill()
+        holder.wait()
+        holder.stdout.close()
+    with library_lock(lib, "face"):
+        pass
+    for t in threading.enumerate():
+        if t.name == "lock-wait":
+            t.join(5.0)
+    assert waiters() == 0 and len(os.listdir("/proc/self/fd")) == fds
+
+
+def test_a_lock_call_that_fails_raises_its_own_error():
+    """A flock that fails (ENOLCK on a mount without locks; here EBADF, a descriptor no file
+    has) raised in the helper thread, which died; the wait ran out and said "busy"."""
+    import errno
+    import os
+    import pytest
+    from tabletop.swap import _flock_within
+    fd = 4000
+    with pytest.raises(OSError):
+        os.fstat(fd)
+    with pytest.raises(OSError) as err:
+        _flock_within(fd, 30.0, "no-such-lock")
+    assert err.value.errno == errno.EBADF
