@@ -95,30 +95,59 @@ def _try_lock(target: Path) -> int | None:
     return fd
 
 
-def _flock_within(fd: int, wait_s: float) -> bool:
-    """Take the exclusive ``flock`` of ``fd`` within ``wait_s`` seconds. The blocking call runs
-    in a helper thread, so the wait keeps its place in the system's queue (polling with LOCK_NB
-    starved against a run keeping 40 takes in a row); True once held. False when the time is
-    up: the helper then closes ``fd`` itself, at once or when it gets the lock."""
-    state = {"done": False, "given_up": False}
-    guard = threading.Lock()
+_GIVEN_UP: dict[str, threading.Event] = {}   # lock file: its given-up waiter's end, set when
+                                             # that waiter is no longer blocked in flock
+_WAITERS = threading.Lock()
+
+
+def _close(fd: int) -> None:
+    try:
+        os.close(fd)
+    except OSError:
+        pass
+
+
+def _flock_within(fd: int, wait_s: float, key: str) -> bool:
+    """Take the exclusive ``flock`` of ``fd`` (lock file ``key``) within ``wait_s`` seconds.
+    The blocking call runs in a helper thread, so the wait keeps its place in the system's
+    queue (polling with LOCK_NB starved against a run keeping 40 takes in a row); True once
+    held. False when the time is up: the helper then closes ``fd`` itself, at once or when it
+    gets the lock; until then every further wait on ``key`` is False at once (while another
+    run stalls, each keep would leave one more blocked thread and descriptor, and freeze the
+    frame loop ``wait_s`` again); that waiter is given 0.1 s to end (its holder just let go,
+    it takes the lock and closes at once). A failing flock (ENOLCK on a mount without locks)
+    raises its OSError at once, ``fd`` closed."""
+    with _WAITERS:
+        pending = _GIVEN_UP.get(key)
+    if pending is not None and not pending.wait(0.1):
+        _close(fd)
+        return False
+    state: dict = {"done": False, "given_up": False, "error": None}
     held = threading.Event()
 
     def take() -> None:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        with guard:
-            state["done"] = True
-            if state["given_up"]:
-                os.close(fd)
-            else:
-                held.set()
+        error = None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX)
+        except OSError as exc:
+            error = exc
+        with _WAITERS:
+            state["done"], state["error"] = True, error
+            if state["given_up"] or error is not None:
+                _close(fd)
+            if _GIVEN_UP.get(key) is held:
+                del _GIVEN_UP[key]
+            held.set()
 
     threading.Thread(target=take, name="lock-wait", daemon=True).start()
     held.wait(wait_s)
-    with guard:
+    with _WAITERS:
         if state["done"]:
+            if state["error"] is not None:
+                raise state["error"]
             return True
         state["given_up"] = True
+        _GIVEN_UP[key] = held
         return False
 
 
@@ -128,7 +157,8 @@ def exclusive(target: Path, wait_s: float | None = None) -> Iterator[None]:
     process holding it: a file read, changed and written back by one process at a time. With
     ``wait_s`` (seconds) the wait is bounded: a holder stalled longer (a run stopped with
     Ctrl-Z, a hung network mount) gets InputError, so a frame loop taking the lock never
-    freezes; without it the wait is unbounded (a save in its own thread)."""
+    freezes, and a lock call that fails raises its OSError at once; without it the wait is
+    unbounded (a save in its own thread)."""
     fd = _open_lock(target)
     if wait_s is None:
         try:
@@ -136,7 +166,7 @@ def exclusive(target: Path, wait_s: float | None = None) -> Iterator[None]:
         except BaseException:
             os.close(fd)
             raise
-    elif not _flock_within(fd, wait_s):
+    elif not _flock_within(fd, wait_s, str(_lock_file(target))):
         raise InputError(f"{target}: busy, another run is saving into it "
                          f"(waited {wait_s:g} s); try again")
     try:

@@ -13,6 +13,7 @@ from typing import Callable
 
 import numpy as np
 
+from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.folders import trash
@@ -33,6 +34,7 @@ class MopTarget:
         self.name = f"{stage.name}/{character}"
         self.kept: str | None = None
         self.run_only: list[str] = []     # kept without a library: lost at a rebuild
+        self._motions: dict[str, str] = {}  # their motions as the config names them
         self.demo: np.ndarray | None = None
         self._poller = (Poller(lib / character,
                                read=getattr(stage, "library_read", {}).get(character))
@@ -99,6 +101,8 @@ class MopTarget:
         named = self.stage.take_action
         stale = self._poller is not None and \
             tree_signature(self._poller.path) != self._poller.signature
+        take = self.stage.take
+        motion = self.stage.motion_of(take.character, take.motion_index) if take else ""
         action = self.stage.keep_take()
         self.kept = action
         if action != named or stale:    # the library changed since the watcher looked: all
@@ -108,6 +112,7 @@ class MopTarget:
             self._poller.signature = tree_signature(self._poller.path)
         if action and self.lib is None:
             self.run_only.append(action)
+            self._motions[action] = motion
         return action or ""
 
     @property
@@ -221,21 +226,41 @@ class MopTarget:
 
     def save_run_only(self, lib: Path) -> list[str]:
         """Save the takes kept for this run only into ``lib`` (a config edit gives the engine
-        a library: the rebuild would drop them); one line each, saved or why not."""
+        a library: the rebuild would drop them), each under the next free ``takeN`` when the
+        library has its name (a take1 of an earlier session); one line each, saved or why not."""
         from tabletop.plugins.mop_files import save_to_library
         st, c, lines = self.stage, self.character, []
         for name in self.run_only:
             if name not in st.templates[c]:
                 continue
             performer, samples = st.templates[c][name]
-            motion = st.puppets[c].actions[name].clip.name
+            # as the config names it ("grin.json"): the clip's own name ("grin") loads no file
+            motion = self._motions.get(name) or st.puppets[c].actions[name].clip.name
+            names = st.performers[performer].names
+            under = [name]        # a library from an earlier session has its own take1...
+
+            def rename(new: str) -> None:
+                under[0] = new
+
             try:
-                lines.append(save_to_library(lib, c, name, samples, st.performers[performer].names,
-                                             motion, st.rate_hz))
+                line = keep_under_free_name(
+                    lambda: save_to_library(lib, c, under[0], samples, names, motion, st.rate_hz),
+                    rename, lambda: self._free_in(lib))
+                lines.append(line if under[0] == name else f"{c}/{name} renamed {under[0]} ({name} is in the library already): {line}")
             except (InputError, OSError) as exc:
                 lines.append(f"{c}/{name} (kept for this run only) not saved: {exc}")
-        self.run_only = []
+        self.run_only, self._motions = [], {}
         return lines
+
+    def _free_in(self, lib: Path) -> str:
+        """The first ``takeN`` that is none of the names ``lib`` holds for the character, nor
+        of its actions."""
+        from tabletop.plugins.mop_files import library_names
+        taken = library_names(lib, self.character) | set(self.stage.templates[self.character])
+        n = 1
+        while f"take{n}" in taken:
+            n += 1
+        return f"take{n}"
 
     def _applied(self) -> None:
         """The library as this target just changed it (delete, undo, rename) is followed from

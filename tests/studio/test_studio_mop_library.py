@@ -167,3 +167,120 @@ def test_a_config_edit_saves_the_takes_kept_for_this_run_only_into_its_new_libra
     rebuilt = build(with_lib, tmp_path)
     assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
     assert np.allclose(rebuilt.templates["face"]["take1"][1], engine.templates["face"]["take1"][1])
+
+
+def test_a_config_edit_saves_a_take_kept_for_this_run_only_under_a_free_name(tmp_path):
+    """Takes kept without a library are take1, take2...; the library a config edit gives often
+    has a take1 from an earlier session: the take is saved as the next free takeN, not dropped."""
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.plugins.mop_files import save_to_library
+    engine, table, cfg = kept_without_library(tmp_path)
+    performer, samples = engine.templates["face"]["take1"]
+    earlier = samples[::-1].copy()
+    save_to_library(tmp_path / "lib", "face", "take1", earlier,
+                    engine.performers[performer].names, "laugh", engine.rate_hz)
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
+    runner.studio = table.studio
+    with_lib = designer_config(tmp_path)
+    runner._save_run_only(validate_config(with_lib, str(path), tmp_path))
+    (note,) = runner._notes
+    assert note.startswith("face/take1 renamed take2 (take1 is in the library already): kept take2")
+    rebuilt = build(with_lib, tmp_path)
+    assert set(rebuilt.puppets["face"].actions) == {"circle", "take1", "take2"}
+    assert np.allclose(rebuilt.templates["face"]["take2"][1], samples)
+    assert np.allclose(rebuilt.templates["face"]["take1"][1], earlier)
+
+
+def test_a_take_kept_for_this_run_only_is_saved_with_its_motion_as_the_config_names_it(tmp_path):
+    """A face whose motion is a designer's file (grin.json, clip named "grin"): the take saved
+    at a config edit names grin.json, so the rebuilt engine loads it."""
+    import json
+    from behaviors.motion.clips import clip_to_mapping
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.plugins.mop_files import MotionLoader
+    clip = clip_to_mapping(MotionLoader("face", tmp_path)("laugh"))
+    clip["name"] = "grin"
+    (tmp_path / "grin.json").write_text(json.dumps(clip))
+    cfg = designer_config(tmp_path)
+    del cfg["engines"][0]["library"]
+    cfg["engines"][0]["characters"][0]["motions"] = ["grin.json"]
+    engine = build(cfg, tmp_path)
+    table = StudioTable(engine, None)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert "for this run only" in table.status
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
+    runner.studio = table.studio
+    with_lib = designer_config(tmp_path)
+    with_lib["engines"][0]["characters"][0]["motions"] = ["grin.json"]
+    runner._save_run_only(validate_config(with_lib, str(path), tmp_path))
+    rebuilt = build(with_lib, tmp_path)
+    assert rebuilt.library_problems.get("face", []) == []
+    assert set(rebuilt.puppets["face"].actions) == {"circle", "take1"}
+    assert rebuilt.puppets["face"].actions["take1"].clip.name == "grin"
+
+
+def test_keeps_while_another_run_stalls_on_the_library_leave_one_waiter(tmp_path):
+    """Each keep refused while another run held the library left one more thread blocked in
+    flock, with its open descriptor, until that run let go; one waiter per lock file now, and
+    a keep once the holder is gone takes the lock."""
+    import os
+    import subprocess
+    import sys
+    import threading
+    from tabletop.frames import InputError
+    from tabletop.plugins.mop_files import library_lock
+    root = str(Path(__file__).resolve().parents[2])
+    lib = tmp_path / "lib"
+    (lib / "face").mkdir(parents=True)
+
+    def waiters() -> int:
+        return sum(t.name == "lock-wait" for t in threading.enumerate())
+
+    fds = len(os.listdir("/proc/self/fd"))
+    holder = subprocess.Popen([sys.executable, "-c", HOLDER.format(root=root, lib=str(lib))],
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        for _ in range(4):
+            try:
+                with library_lock(lib, "face"):
+                    raise AssertionError("locked while another run holds it")
+            except InputError as exc:
+                assert "busy, another run is saving" in str(exc)
+        assert waiters() == 1
+        assert len(os.listdir("/proc/self/fd")) - fds <= 2    # the waiter's, the pipe's
+    finally:
+        holder.kill()
+        holder.wait()
+        holder.stdout.close()
+    with library_lock(lib, "face"):
+        pass
+    for t in threading.enumerate():
+        if t.name == "lock-wait":
+            t.join(5.0)
+    assert waiters() == 0 and len(os.listdir("/proc/self/fd")) == fds
+
+
+def test_a_lock_call_that_fails_raises_its_own_error():
+    """A flock that fails (ENOLCK on a mount without locks; here EBADF, a descriptor no file
+    has) raised in the helper thread, which died; the wait ran out and said "busy"."""
+    import errno
+    import os
+    import pytest
+    from tabletop.swap import _flock_within
+    fd = 4000
+    with pytest.raises(OSError):
+        os.fstat(fd)
+    with pytest.raises(OSError) as err:
+        _flock_within(fd, 30.0, "no-such-lock")
+    assert err.value.errno == errno.EBADF
