@@ -414,11 +414,12 @@ def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_pat
     assert set(engine.puppets["face"].actions) == {"circle"}
 
 
-def kept_without_library(tmp_path):
-    """A face's take of a line kept "for this run only" by an engine without a library.
-    Returns (the engine, its studio table, the config without a library)."""
-    cfg = designer_config(tmp_path)
-    del cfg["engines"][0]["library"]
+def kept_without_library(tmp_path, cfg: dict | None = None):
+    """A face's take of a line kept "for this run only" by an engine without a library
+    (``cfg``: the designer config by default, its library taken away). Returns (the engine,
+    its studio table, the config)."""
+    cfg = cfg or designer_config(tmp_path)
+    cfg["engines"][0].pop("library", None)
     engine = build(cfg, tmp_path)
     table = StudioTable(engine, None)
     table.rest(1.0)

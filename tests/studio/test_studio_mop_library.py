@@ -206,16 +206,8 @@ def test_a_take_kept_for_this_run_only_is_saved_with_its_motion_as_the_config_na
     clip["name"] = "grin"
     (tmp_path / "grin.json").write_text(json.dumps(clip))
     cfg = designer_config(tmp_path)
-    del cfg["engines"][0]["library"]
     cfg["engines"][0]["characters"][0]["motions"] = ["grin.json"]
-    engine = build(cfg, tmp_path)
-    table = StudioTable(engine, None)
-    table.rest(1.0)
-    table.tick(["designer.record"])
-    table.perform("line")
-    table.tick(["designer.record"])
-    table.tick(["designer.keep"])
-    assert "for this run only" in table.status
+    engine, table, cfg = kept_without_library(tmp_path, cfg)
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))
     runner = Runner(path, validate_config(cfg, str(path), tmp_path), headless=True)
