@@ -89,8 +89,8 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
     ``keep`` removing them as fast): ``strict`` (a start outside a kiosk, where someone reads the
     error) refuses it; otherwise (a kiosk's start, which may be a restart by its supervisor or
-    by systemd; a config edit; after a named file grew) one warning is logged and parts of :data:`HEADER_PARTS` headers
-    are recorded, so a running table never goes down over it."""
+    by systemd; a config edit; after a named file grew) one warning is logged and parts of
+    :data:`HEADER_PARTS` headers are recorded, so a running table never goes down over it."""
     from tabletop.recorder import MB, Recorder, header_line, session_header
     from tabletop.schema import ConfigError
     rec = cfg["recorder"]

@@ -56,7 +56,7 @@ from behaviors.motion.clips import Clip
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
-from behaviors.mop.take import Take
+from behaviors.mop.take import Take, free_take_number
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.files import keep_under_free_name
 from behaviors.worker import Worker
@@ -268,9 +268,7 @@ class MopStage:
         or not (a template skipped at load as corrupt kept its file: a take of its name was
         saved over it), nor of its actions."""
         existing = set(self.templates[character]) | set(self.taken(character))
-        self._counter += 1
-        while f"take{self._counter}" in existing:
-            self._counter += 1
+        self._counter = free_take_number(existing, self._counter + 1)
         return f"take{self._counter}"
 
     def assign_motion(self, character: str) -> str:

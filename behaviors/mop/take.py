@@ -108,3 +108,10 @@ def moving_part(samples: np.ndarray, units: np.ndarray | None = None,
     first = max(0, int(away[0]) - 1 - margin)
     end = min(n, int(left[-1]) + 2 + margin)
     return first, max(end, first + 1)
+
+
+def free_take_number(taken: set[str], n: int = 1) -> int:
+    """The first ``n`` or later whose ``takeN`` is none of the names ``taken``."""
+    while f"take{n}" in taken:
+        n += 1
+    return n

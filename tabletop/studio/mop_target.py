@@ -246,7 +246,9 @@ class MopTarget:
                 line = keep_under_free_name(
                     lambda: save_to_library(lib, c, under[0], samples, names, motion, st.rate_hz),
                     rename, lambda: self._free_in(lib))
-                lines.append(line if under[0] == name else f"{c}/{name} renamed {under[0]} ({name} is in the library already): {line}")
+                lines.append(line if under[0] == name else
+                             f"{c}/{name} renamed {under[0]} ({name} is in the library "
+                             f"already): {line}")
             except (InputError, OSError) as exc:
                 lines.append(f"{c}/{name} (kept for this run only) not saved: {exc}")
         self.run_only, self._motions = [], {}
@@ -255,12 +257,10 @@ class MopTarget:
     def _free_in(self, lib: Path) -> str:
         """The first ``takeN`` that is none of the names ``lib`` holds for the character, nor
         of its actions."""
+        from behaviors.mop.take import free_take_number
         from tabletop.plugins.mop_files import library_names
         taken = library_names(lib, self.character) | set(self.stage.templates[self.character])
-        n = 1
-        while f"take{n}" in taken:
-            n += 1
-        return f"take{n}"
+        return f"take{free_take_number(taken)}"
 
     def _applied(self) -> None:
         """The library as this target just changed it (delete, undo, rename) is followed from
