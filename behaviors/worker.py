@@ -1,4 +1,4 @@
-"""One job at a time in a daemon thread, its result picked up between ticks.
+"""One job at a time in a thread of its own, its result picked up between ticks.
 
 The frame loop never waits for a job: :meth:`Worker.poll` returns the finished job's result
 once (else None; an exception the job raised is returned as its result); starting a new job,
@@ -9,6 +9,13 @@ thread is started once, when the worker is made (starting one per job cost the l
 switch interval), and while a job runs the interpreter's GIL switch interval is shortened from
 5 ms to :data:`SWITCH_S`, so the frame loop gets the GIL back within that when a job runs
 Python code.
+
+The job threads (the workers', the studio's review-sheet drawing) are not daemons: a daemon
+thread still inside native code when the interpreter finalises (OpenCV's, matplotlib's: C++
+that gives the GIL back in a destructor) is unwound from under it and the process aborts
+("terminate called without an active exception", exit 134; a quit a moment after the studio
+started did so one time in four). Such a thread ends itself once the main thread has ended,
+after the job it is running (:func:`next_job`).
 """
 
 from __future__ import annotations
@@ -25,6 +32,7 @@ from tabletop.frames import InputError
 log = logging.getLogger("tabletop")
 
 SWITCH_S = 0.0005        # GIL switch interval while a job runs (s)
+EXIT_POLL_S = 0.25       # how often an idle job thread looks whether the main thread has ended (s)
 
 _switch_lock = threading.Lock()
 _running = 0             # jobs running in every worker
@@ -48,8 +56,20 @@ def _job_ends() -> None:
             sys.setswitchinterval(_saved_switch)
 
 
+def next_job(jobs: queue.SimpleQueue) -> Any:
+    """The next item queued for a job thread, or None once the main thread has ended (the
+    process is exiting: the thread returns, and the interpreter, which waits for it, ends)."""
+    main = threading.main_thread()
+    while True:
+        try:
+            return jobs.get(timeout=EXIT_POLL_S)
+        except queue.Empty:
+            if not main.is_alive():
+                return None
+
+
 class Worker:
-    """Runs ``fn(*args)`` in its daemon thread named ``name``; see the module docstring."""
+    """Runs ``fn(*args)`` in its thread named ``name``; see the module docstring."""
 
     def __init__(self, name: str = "tabletop-worker") -> None:
         self.name = name
@@ -61,7 +81,7 @@ class Worker:
         self._job = 0
         # the thread holds the worker weakly: a worker no longer used ends its thread
         threading.Thread(target=_serve, args=(self._jobs, weakref.ref(self)), name=name,
-                         daemon=True).start()
+                         daemon=False).start()
 
     def __del__(self) -> None:
         self._jobs.put(None)
@@ -117,7 +137,7 @@ class Worker:
 def _serve(jobs: queue.SimpleQueue, ref: weakref.ref) -> None:
     """A worker's thread: runs its jobs until the worker is gone."""
     while True:
-        item = jobs.get()
+        item = next_job(jobs)
         worker = ref()
         if item is None or worker is None:
             return

@@ -24,6 +24,7 @@ from typing import Callable
 
 import numpy as np
 
+from behaviors.worker import next_job
 from tabletop.studio.take import Try
 
 log = logging.getLogger("tabletop")
@@ -44,9 +45,14 @@ _warmed = False
 
 
 def _draw_jobs() -> None:
-    """The drawing thread: each job in turn; a job that fails is logged and the next runs."""
+    """The drawing thread: each job in turn; a job that fails is logged and the next runs. It
+    ends once the main thread has (behaviors.worker.next_job: not a daemon, as matplotlib's
+    native code must not be left running while the interpreter finalises)."""
     while True:
-        job, done = _jobs.get()
+        item = next_job(_jobs)
+        if item is None:
+            return
+        job, done = item
         try:
             job()
         except Exception:   # the studio runs on without that sheet
@@ -63,7 +69,7 @@ def draw_later(job: Callable[[], None]) -> threading.Event:
     done = threading.Event()
     with _drawer_lock:
         if _drawer is None or not _drawer.is_alive():
-            _drawer = threading.Thread(target=_draw_jobs, name="review", daemon=True)
+            _drawer = threading.Thread(target=_draw_jobs, name="review", daemon=False)
             _drawer.start()
     _jobs.put((job, done))
     return done

@@ -1,6 +1,7 @@
 """The worker that trains designers' takes off the frame loop."""
 
 import gc
+import subprocess
 import sys
 import threading
 import time
@@ -64,3 +65,35 @@ def test_a_refused_take_is_a_result_without_a_traceback_a_failure_is_logged(capl
     w.wait(10.0)
     assert isinstance(w.poll(), ZeroDivisionError)
     assert [r.exc_info is not None for r in caplog.records if r.levelname == "ERROR"] == [True]
+
+
+_EXIT_DURING_A_JOB = """
+import sys, threading
+import cv2, numpy as np
+began = threading.Event()
+image = np.random.default_rng(0).random((2000, 2000), dtype=np.float32)
+def job():
+    began.set()
+    cv2.GaussianBlur(image, (0, 0), 25)   # C++ that gives the GIL back while it runs
+    print("job ended", flush=True)
+    return 1
+if sys.argv[1] == "worker":
+    from behaviors.worker import Worker
+    worker = Worker("exit-test")
+    worker.start(job)
+else:
+    from tabletop.studio.session import draw_later
+    draw_later(job)
+began.wait()
+"""
+
+
+def test_a_process_ending_while_a_job_runs_native_code_ends_cleanly_after_the_job():
+    """The main thread ends while a worker's job and a review-sheet job are inside OpenCV:
+    the process waits for the job and exits 0 (as daemons, the drawing one aborted with exit
+    134 and the worker's job was cut off unfinished)."""
+    for kind in ("worker", "draw"):
+        out = subprocess.run([sys.executable, "-c", _EXIT_DURING_A_JOB, kind],
+                             capture_output=True, text=True, timeout=120)
+        assert out.returncode == 0, (kind, out.returncode, out.stderr[-300:])
+        assert out.stdout.splitlines() == ["job ended"], kind
