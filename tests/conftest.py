@@ -11,7 +11,7 @@ os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
 # is more: real-time waits), measured with `pytest -n 2 --dist worksteal` on a busy machine, so
 # relative weights only. A file missing here is simply not moved.
 LONG_FILES = {
-    "tests/kiosk/test_soak.py": 70, "tests/mop/test_follower.py": 61,
+    "tests/kiosk/test_soak.py": 35, "tests/mop/test_follower.py": 61,
     "tests/mop/test_live.py": 26, "tests/tabletop/test_fuzz.py": 24,
     "tests/mop/test_plugin.py": 17, "tests/tabletop/test_replay_exact.py": 15,
     "tests/mop/test_quality.py": 12, "tests/puppet_master/test_pm_fidelity.py": 11,

@@ -55,7 +55,10 @@ def setup_log_file(path: Path, max_bytes: int = 1_000_000, backups: int = 5) -> 
 
 class LatestWriter:
     """Writes the newest text given to a file atomically, in its own thread; an older text not
-    yet written is replaced, never queued."""
+    yet written is replaced, never queued. :meth:`close` waits at most ``close_wait_s``
+    (seconds) for a write in progress."""
+
+    close_wait_s = 5.0
 
     def __init__(self, path: Path) -> None:
         self.path = path
@@ -102,12 +105,13 @@ class LatestWriter:
                 log.info("status file %s written again", self.path)
             self.written, self.failed = self.written + 1, 0
 
-    def close(self, wait_s: float = 5.0) -> None:
-        """Write what is pending and end the thread, waiting at most ``wait_s`` for it."""
+    def close(self, wait_s: float | None = None) -> None:
+        """Write what is pending and end the thread, waiting at most ``wait_s`` seconds for it
+        (default :attr:`close_wait_s`)."""
         with self._cv:
             self._closed = True
             self._cv.notify()
-        self._thread.join(timeout=wait_s)
+        self._thread.join(timeout=self.close_wait_s if wait_s is None else wait_s)
 
     def last(self, text: str) -> bool:
         """Have the thread write ``text`` as the file's last text, after the write it is in

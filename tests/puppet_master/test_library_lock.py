@@ -93,7 +93,7 @@ def test_a_reader_thread_never_loads_a_mix_while_a_thread_saves(tmp_path):
 
     def saver() -> None:
         try:
-            for i in range(300):
+            for i in range(100):
                 _save(lib, (i + 1) % 2)
         finally:
             done.set()
