@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from tabletop import registry
+from tabletop.cli import STOP_SIGNALS
 from tabletop.frames import Engine, InputError, Sink
 from tabletop.loop import CommandQueue, FrameInputs, LatestMeasurements, LiveInputs, Loop, LoopStats
 from tabletop.registry import BuildContext
@@ -227,10 +228,6 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
                 rate_hz=cfg["loop"]["rate_hz"], stats=stats, commands=commands, stop=stop,
                 paced=False)
     return Installation(loop, ctx, engines, sinks)
-
-
-STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
-                     if hasattr(signal, n))
 
 
 @contextmanager

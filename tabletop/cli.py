@@ -11,6 +11,7 @@ import argparse
 import importlib
 import os
 import re
+import signal
 import sys
 from typing import Sequence
 
@@ -28,6 +29,10 @@ EXIT_INTERRUPTED = 130
 # the reader of the command's output closed it early (``tabletop follow ... --out /dev/stdout |
 # head``): nothing more to say, as for a program the shell saw end by SIGPIPE (128 + 13)
 EXIT_OUTPUT_CLOSED = 141
+# the signals that end a run cleanly (README: Ctrl-C, SIGTERM and SIGHUP, a closed terminal or
+# a stopped session), in the installation and in the kiosk's supervisor alike
+STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
+                     if hasattr(signal, n))
 
 
 def one_line(message: object) -> str:

@@ -145,18 +145,20 @@ class Recorder(Syncer):
             except FileExistsError:
                 continue
             break
-        if resumed is not None:
-            log.info("recording resumes in %s (it stopped: %s)", candidate, resumed)
-        elif self.paths:
-            log.info("recording continues in %s (%s reached %g MB)", candidate, self.path.name,
-                     self.max_bytes / MB)
-        elif self.stem is not None and candidate.name != f"{self.stem}{self.suffix}":
-            log.info("recording to %s (%s%s exists and is never overwritten)", candidate,
-                     self.stem, self.suffix)
+        previous = self.path.name if self.paths else None
         self._f, self._size, self._first_in_file = f, 0, True
         self.paths.append(candidate)
         self._write(header_line(self._header, order, len(self.paths)))
         self._f.flush()
+        # said once the disk took the header: a try on a disk still full says nothing
+        if resumed is not None:
+            log.info("recording resumes in %s (it stopped: %s)", candidate, resumed)
+        elif previous is not None:
+            log.info("recording continues in %s (%s reached %g MB)", candidate, previous,
+                     self.max_bytes / MB)
+        elif self.stem is not None and candidate.name != f"{self.stem}{self.suffix}":
+            log.info("recording to %s (%s%s exists and is never overwritten)", candidate,
+                     self.stem, self.suffix)
         if len(self.paths) == 1:         # at start-up: synced now; later parts by the syncer
             os.fdatasync(self._f.fileno())
             fsync_folder(self.folder)    # the new file's name survives a power cut too

@@ -13,7 +13,8 @@
   systemd, and pings for itself only while a child is restarting (systemd's watchdog runs
   from the first READY). So the service's watchdog follows the frame loop, and
   ``NotifyAccess=main`` is enough.
-- SIGTERM or SIGINT stop the child cleanly (SIGTERM, then SIGKILL after ``stop_timeout_s``).
+- SIGTERM, SIGINT or SIGHUP (a closed terminal) stop the child cleanly (SIGTERM, then SIGKILL
+  after ``stop_timeout_s``).
 - A child that exits 0 ended on purpose (Esc, ``--seconds``): the supervisor ends too, and so
   with ``EXIT_RECORDING_FAILED`` (3: ended on purpose, its recording failed, e.g. a full disk),
   which it passes on (restarted, a ``--seconds`` kiosk on a full disk would never end: each
@@ -45,7 +46,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from tabletop.cli import EXIT_RECORDING_FAILED
+from tabletop.cli import EXIT_RECORDING_FAILED, STOP_SIGNALS
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -415,7 +416,7 @@ def kiosk_log(cfg: dict[str, Any], path: Path) -> None:
 
 def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
               seconds: float | None = None, lock_fd: int | None = None) -> int:
-    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM or SIGINT, or
+    """Run ``tabletop run ARGV`` under the kiosk supervisor until SIGTERM, SIGINT or SIGHUP, or
     ``seconds`` after the installation was first ready. ``lock_fd``, the folder's kiosk lock,
     is held by every child too."""
     k = cfg["kiosk"]
@@ -430,7 +431,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()
 
-    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    old = {s: signal.signal(s, handler) for s in STOP_SIGNALS}
     try:
         return sup.run()
     finally:

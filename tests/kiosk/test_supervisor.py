@@ -322,3 +322,28 @@ def test_a_supervisor_killed_as_its_installation_starts_ends_the_installation(tm
                           "--kiosk", "--headless", "--seconds", "1"], env=env,
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=120)
     assert nxt.returncode == 0, nxt.stderr[-2000:]
+
+
+def test_run_kiosk_stops_cleanly_on_sighup_to_its_supervisor(tmp_path):
+    """A closed terminal or ``kill -HUP`` of the kiosk's supervisor ends the kiosk as SIGTERM
+    does (README: SIGHUP ends a run cleanly): the supervisor stops its installation, which
+    records the stop in its status file, and exits 0. The supervisor died of the signal and
+    its installation logged the supervisor gone."""
+    cfg = drill_config(tmp_path, [])
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    env.pop("TABLETOP_SUPERVISED", None)
+    env.pop("NOTIFY_SOCKET", None)
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--kiosk", "--headless"], env=env, stderr=subprocess.PIPE, text=True)
+    lines = []
+    for line in p.stderr:
+        lines.append(line)
+        if "installation ready" in line:
+            break
+    p.send_signal(signal.SIGHUP)
+    _, err = p.communicate(timeout=30)
+    err = "".join(lines) + err
+    assert p.returncode == 0, err
+    assert "Traceback" not in err and "supervisor (pid" not in err
+    assert json.loads((tmp_path / "status.json").read_text())["mode"] == "stopped"
+    assert "is gone" not in (tmp_path / "logs" / "tabletop.log").read_text()

@@ -26,7 +26,10 @@ def frames(t0: float, seconds: float, rate: float = 10.0):
         yield Frame(seq=k, t=t0 + k / rate, streams={"hand": np.arange(40) / 7.0})
 
 
-def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path):
+def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path, caplog):
+    """Tries on a disk still full leave nothing and say nothing (a kiosk's log said "recording
+    resumes in FILE" at every failed try, FILE never made); the try that works says so once."""
+    caplog.set_level("INFO", logger="tabletop")
     folder = tmp_path / "sessions"
     soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
     old_handler = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
@@ -44,6 +47,7 @@ def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path):
             rec.consume(f)
         assert rec.failed is not None and rec.frames == stopped_at
         assert [p.name for p in folder.iterdir()] == [rec.paths[0].name]   # no try left behind
+        assert not [r for r in caplog.records if "resumes" in r.getMessage()]
         resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))        # room again
         end = time.monotonic() + 30   # the frames come faster than real time: the syncer
         while not rec.caught_up and time.monotonic() < end:   # closes the tries first, as it
@@ -64,6 +68,8 @@ def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path):
     assert t + 10.0 + 3 * RESUME_EVERY_S <= resumed_at <= t + 10.0 + 4 * RESUME_EVERY_S + 1.0
     assert rec.frames == stopped_at + len(second) and len(second) > 10
     assert [f.t for f in second] == sorted(f.t for f in second)
+    resumed = [r.getMessage() for r in caplog.records if "resumes" in r.getMessage()]
+    assert len(resumed) == 1 and str(rec.paths[1]) in resumed[0], resumed
 
 
 def test_a_line_the_full_disk_took_part_of_is_cut_off(tmp_path):
