@@ -75,7 +75,8 @@ stalker's 5 over, 2 under), where the generation's mean is its designer's (frien
 against 0.034, stalker fast 0.044 / 0.039, lover slow still/moving 0.52 / 0.53). A threshold
 missed as often by the generation as by its designer on one kind of path still gives
 engine-only misses where the two draws differ (stalker fast contact: 8 and 8 of 18 missed, 4
-the engine's alone); counted as independent draws at each side's miss rate, 63 were expected,
+the engine's alone; generation.less_approach brings its mean to 0.036: the figures
+there); counted as independent draws at each side's miss rate, 63 were expected,
 47 seen. Missed clearly more often than by the designer: the playful friend's contact (9
 against 1 of 54; the stalker's loops still/moving and orbit 4 / 3 against 1 / 0 of 18, its
 still speed and orbit there a little under its designer's). The friend dips as often (15.4 /

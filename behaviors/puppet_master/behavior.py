@@ -24,7 +24,7 @@ from behaviors.puppet_master.character import (MIN_CHARGES, MIN_OWN_TOUCHES, SIN
                                                WALKS_WITH_MAIN, WALKS_WITHIN, still_span)
 from behaviors.puppet_master.detail import direction_detail, texture_rms
 from behaviors.puppet_master.demonstrated import (charge_entries, charges, circles, own_steps,
-                                                  own_touches, pace_ratio,
+                                                  main_approach, own_touches, pace_ratio,
                                                   relative_world_steps, still_main_speed,
                                                   straightness)
 from behaviors.puppet_master.look import train_look, train_place
@@ -240,6 +240,11 @@ class Behavior:
         # a character that stops when its main stops and touches it corrects its drift at
         # the matched moment's pace (step.py, GenerationStep._trajectory): the stalker
         self.keeps_pace = self.personal_space <= 0.0 and pace < STOPS_WITH_MAIN
+        # how far the demonstrated main stepped towards its reactor at each sample (m), which
+        # the drift correction of a character that keeps pace leaves to a live main coming at
+        # it faster (step.py; generation.less_approach)
+        approach = main_approach(self.main[:, :2], self.react[:, :2])
+        self.main_approach = approach.tolist()
         # the main's disc (m): the reactor is kept out of it (step_detail.py, StepDetail._detail).
         # The personal space, or else the least distance its demonstration shows (the bully,
         # which charges into its main, the stalker, which keeps pace with it), as its
@@ -293,7 +298,7 @@ class Behavior:
             self.place_frame, self.bearing_turn, self.distance, f.rel_fwd, f.rel_left,
             f.v_react, self.own_steps, self.world_rel, self.span_step, ~main_still,
             self.detail, lk.frame, lk.angle, lk.still_frame, lk.still_angle, lk.detail,
-            self.charge_end, self.charge_touch)]
+            self.charge_end, self.charge_touch, approach)]
         rows = min(len(self.rows), len(self.texture_rows), len(self.own_steps))
         self.step_table = np.ascontiguousarray(np.hstack([c[:rows] for c in columns]))
         self.bearings = np.array(_bearings(72))     # fit_target's default 5 degree steps

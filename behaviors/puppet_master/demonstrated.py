@@ -402,3 +402,18 @@ def own_touches(main: np.ndarray, react: np.ndarray, rate_hz: float, touch_m: fl
         a = max(1, s - span)
         count += float(own_in[a:s + 1].mean()) > float(main_in[a:s + 1].mean())
     return count
+
+
+def main_approach(main: np.ndarray, react: np.ndarray) -> np.ndarray:
+    """Per training sample, how far the demonstrated main stepped towards its reactor from
+    the sample before (metres; negative away; 0 at the first): its step along the bearing
+    from the main to the reactor. ``main``, ``react``: (n, 2) positions. What a character
+    that keeps pace (the stalker) was shown while its main came at it (step.py,
+    GenerationStep._trajectory: generation.less_approach)."""
+    out = np.zeros(main.shape[0])
+    if main.shape[0] < 2:
+        return out
+    bx, by = react[:-1, 0] - main[:-1, 0], react[:-1, 1] - main[:-1, 1]
+    r = np.maximum(np.hypot(bx, by), 1e-9)
+    out[1:] = (np.diff(main[:, 0]) * bx + np.diff(main[:, 1]) * by) / r
+    return out

@@ -144,6 +144,22 @@ def step_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float
 
 
 @compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8), step_math)
+def less_approach(msx: float, msy: float, bx: float, by: float, shown: float, cx: float,
+                  cy: float) -> tuple[float, float]:
+    """generation.less_approach."""
+    r = hypot(bx, by)
+    if r <= 1e-9:
+        return cx, cy
+    ex, ey = bx / r, by / r
+    beyond = msx * ex + msy * ey - _max(shown, 0.0)
+    inward = -(cx * ex + cy * ey)
+    if beyond > 0.0 and inward > 0.0:
+        cut = _min(inward, beyond)
+        cx, cy = cx + cut * ex, cy + cut * ey
+    return cx, cy
+
+
+@compiled(_P2(_f8, _f8, _f8, _f8, _f8, _f8, _f8), step_math)
 def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: float,
                  share: float) -> tuple[float, float]:
     """generation.share_around."""

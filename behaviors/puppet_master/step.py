@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 from behaviors.puppet_master.character import FOLLOW_SHARE
-from behaviors.puppet_master.generation import (capped, mean_capped, share_around, step_around,
-                                                target_position)
+from behaviors.puppet_master.generation import (capped, less_approach, mean_capped, share_around,
+                                                step_around, target_position)
 from behaviors.puppet_master.look import PLACE_WORLD
 from behaviors.puppet_master.step_detail import StepDetail
 from behaviors.puppet_master.table_boundary import fit_target
@@ -192,6 +192,11 @@ class GenerationStep(StepDetail):
                 corr = math.hypot(cx, cy)
                 if corr > most:
                     cx, cy = cx * most / corr, cy * most / corr
+                if self._charge_end < 0 and b.keeps_pace:
+                    # its main coming at it faster than the moment's closes the way itself
+                    # (generation.less_approach: the stalker's fast-path contact)
+                    cx, cy = less_approach(mx - mxp, my - myp, rx - mx, ry - my,
+                                           b.main_approach[target], cx, cy)
                 sx = (mx - mxp) + c * dfx - s_ * dfy + cx
                 sy = (my - myp) + s_ * dfx + c * dfy + cy
             if self._charge_end >= 0:

@@ -12,7 +12,7 @@ any of these must be made here too:
   kept whole, to the features of the new sample pair)
 - similarity.Balancer.choose
 - generation: target_position, fit_target, clamp_to_table, step_around, step_toward,
-  share_around, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
+  share_around, less_approach, rotate_step, keep_on_table, keep_apart, limit_turn, turn_between,
   StepSmoother.turn, push and lose_inward
 - table_boundary.turn_off_edges (and EDGE_TURN, frozen into the compiled step)
 - detail: DetailPatch.next and restart, TextureGovernor.alpha / detail_gain / update /
@@ -40,8 +40,8 @@ import numpy as np
 from behaviors.puppet_master import generation_kernel, step_math, table_boundary
 from behaviors.puppet_master.generation_kernel import (  # noqa: F401 (engine: sk.moved_on)
     X0, X1, Y0, Y1, capped, fit_target, keep_apart, kept_straightness,
-    keep_on_table, limit_turn, lose_inward, mean_capped, moved_on, share_around, step_around,
-    table_reach, turn_between, turn_off_edges)
+    keep_on_table, less_approach, limit_turn, lose_inward, mean_capped, moved_on, share_around,
+    step_around, table_reach, turn_between, turn_off_edges)
 from behaviors.puppet_master.step_math import _max, _min, hypot, remainder, wrap_angle
 from behaviors.kernel_cache import compiled
 
@@ -75,8 +75,8 @@ CONSTANTS = 57
 # per training sample (Behavior.step_table)
 T_PLACE, T_BEARING_TURN, T_DISTANCE, T_FWD, T_LEFT, T_SPEED, T_K, T_U_RAD, T_U_TAN, T_DFX, \
     T_DFY, T_SPAN_STEP, T_WALKED, T_DETAIL, T_FRAME, T_ANGLE, T_STILL_FRAME, T_STILL_ANGLE, \
-    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH = range(21)
-TABLE_COLUMNS = 21
+    T_LOOK_DETAIL, T_CHARGE_END, T_CHARGE_TOUCH, T_MAIN_APPROACH = range(22)
+TABLE_COLUMNS = 22
 
 PLACE_WORLD = 1.0
 GAZE, RELATIVE, NORMALISED = 0.0, 1.0, 2.0
@@ -268,6 +268,9 @@ def step(fs: np.ndarray, ints: np.ndarray, c: np.ndarray, table: np.ndarray,
             corr = hypot(cx, cy)
             if corr > most:
                 cx, cy = cx * most / corr, cy * most / corr
+            if ints[CHARGE_END] < 0 and c[KEEPS_PACE] != 0.0:
+                cx, cy = less_approach(mx - mxp, my - myp, rx - mx, ry - my,
+                                       row[T_MAIN_APPROACH], cx, cy)
             sx = (mx - mxp) + cm * dfx - s_ * dfy + cx
             sy = (my - myp) + s_ * dfx + cm * dfy + cy
         if ints[CHARGE_END] >= 0:
