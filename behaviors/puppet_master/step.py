@@ -192,6 +192,32 @@ class GenerationStep(StepDetail):
                 corr = math.hypot(cx, cy)
                 if corr > most:
                     cx, cy = cx * most / corr, cy * most / corr
+                # The live main's whole step is gone along with, by a character that keeps away
+                # too. Chased (visitors.Pursuer, seeds 0-5, 8-13, 26-31) the afraid character
+                # keeps 0.303 m from its visitor where its designer keeps 0.395; the gap grows
+                # fastest while the visitor pulls back (1.4-2.3 mm a sample against 0.1-0.6
+                # paused or wandering; it shrinks in a chase): there, at places in the main's
+                # frame, the main's step away (0.115 m/s) is carried and the target, turned with
+                # the hand that turns to leave, lies inward (0.05 m; 0.47 rad round the main, over
+                # 1 rad on 19% of those steps), so the character follows at 0.08 m/s where its
+                # designer flees on (its demonstration's share of a receding main's step along
+                # the bearing is -0.28; the lover's 0.82, the stalker's 0.49). Measured, the
+                # afraid character alone (chased met of 144 / open paths met of 432 / mean
+                # distance chased; unchanged 137 / 356 / 0.303,
+                # relative_motion x 1 +- 0.001, 1 + 0.002: 127-134 / 346-356 / 0.295-0.299):
+                # no step toward a main that went away from it over the last 0.5 s 135 / 317 /
+                # 0.316 (the gap's growth while pulled back from 0.84 m to 0.02 on seeds 0-5,
+                # but it drifts back in as the visitor wanders; bench/fidelity.py 674 / 669 /
+                # 661 -> 649 / 662 / 654, afraid misses 76 -> 115, the engine's alone 6 -> 7:
+                # its designer's misses on the open paths); that within 0.25 / 0.35 m 133 /
+                # 337 / 0.305, 134 / 336 / 0.313; the main's step away not carried 130 / 344 /
+                # 0.297; the place on the live bearing while the main goes away 134 / 331 /
+                # 0.296, both 133 / 333 / 0.308; the relative step turned with the live bearing
+                # 131 / 347 / 0.293, with the place on it always 131 / 327 / 0.307; the drift
+                # correction's inward part dropped while the main goes away 136 / 340 / 0.305
+                # (within 0.3 m 135 / 348 / 0.305), with the step away not carried 136 / 332 /
+                # 0.311 (within 0.3 m 134 / 338 / 0.305); its outward part uncapped 127 / 351 /
+                # 0.308. None kept
                 sx = (mx - mxp) + c * dfx - s_ * dfy + cx
                 sy = (my - myp) + s_ * dfx + c * dfy + cy
             if self._charge_end >= 0:
