@@ -15,7 +15,8 @@ thread still inside native code when the interpreter finalises (OpenCV's, matplo
 that gives the GIL back in a destructor) is unwound from under it and the process aborts
 ("terminate called without an active exception", exit 134; a quit a moment after the studio
 started did so one time in four). Such a thread ends itself once the main thread has ended,
-after the job it is running (:func:`next_job`).
+after the jobs queued for it (:func:`next_job`); the command line's entry waits for them,
+bounded, with its stop signals still caught (:func:`finish_jobs`).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import logging
 import queue
 import sys
 import threading
+import time
 import weakref
 from typing import Any, Callable
 
@@ -34,7 +36,11 @@ log = logging.getLogger("tabletop")
 SWITCH_S = 0.0005        # GIL switch interval while a job runs (s)
 EXIT_POLL_S = 0.25       # how often an idle job thread looks whether the main thread has ended (s)
 
+FINISH_S = 5.0           # how long the process's end waits for the job threads (s); a kiosk's
+                         # supervisor kills an installation that takes 10 s to stop
 _switch_lock = threading.Lock()
+_job_threads: weakref.WeakSet[threading.Thread] = weakref.WeakSet()
+_ending = threading.Event()    # set by finish_jobs: jobs that look at it (warm-ups) skip
 _running = 0             # jobs running in every worker
 _saved_switch = 0.005
 
@@ -56,16 +62,41 @@ def _job_ends() -> None:
             sys.setswitchinterval(_saved_switch)
 
 
+def job_thread(target: Callable[..., None], args: tuple = (),
+               name: str = "job") -> threading.Thread:
+    """A started job thread (not a daemon; see the module docstring) running ``target(*args)``."""
+    th = threading.Thread(target=target, args=args, name=name, daemon=False)
+    _job_threads.add(th)
+    th.start()
+    return th
+
+
 def next_job(jobs: queue.SimpleQueue) -> Any:
-    """The next item queued for a job thread, or None once the main thread has ended (the
-    process is exiting: the thread returns, and the interpreter, which waits for it, ends)."""
+    """The next item queued for a job thread, or None once nothing is queued and the process is
+    ending (:func:`finish_jobs` called, or the main thread ended): the thread then returns."""
     main = threading.main_thread()
     while True:
         try:
-            return jobs.get(timeout=EXIT_POLL_S)
+            return jobs.get(timeout=0.0 if _ending.is_set() else EXIT_POLL_S)
         except queue.Empty:
-            if not main.is_alive():
+            if _ending.is_set() or not main.is_alive():
                 return None
+
+
+def ending() -> bool:
+    """True once the process is ending (a job that only prepares, a warm-up, may skip)."""
+    return _ending.is_set()
+
+
+def finish_jobs(timeout_s: float | None = None) -> bool:
+    """At the process's end: every job thread runs what is queued for it and returns; waits up
+    to ``timeout_s`` (default :data:`FINISH_S`) in all and says whether they all ended. Only
+    for the process's end: job threads started before it do not serve afterwards."""
+    _ending.set()
+    deadline = time.monotonic() + (FINISH_S if timeout_s is None else timeout_s)
+    for th in list(_job_threads):
+        th.join(max(0.0, deadline - time.monotonic()))
+    return not any(th.is_alive() for th in list(_job_threads))
 
 
 class Worker:
@@ -80,8 +111,7 @@ class Worker:
         self._done: Any = None
         self._job = 0
         # the thread holds the worker weakly: a worker no longer used ends its thread
-        threading.Thread(target=_serve, args=(self._jobs, weakref.ref(self)), name=name,
-                         daemon=False).start()
+        job_thread(_serve, (self._jobs, weakref.ref(self)), name)
 
     def __del__(self) -> None:
         self._jobs.put(None)

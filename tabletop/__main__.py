@@ -1,5 +1,3 @@
-import sys
+from tabletop.cli import entry
 
-from tabletop.cli import main
-
-sys.exit(main())
+entry()

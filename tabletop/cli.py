@@ -120,6 +120,35 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_INTERRUPTED
 
 
+def entry() -> None:
+    """The program ``tabletop`` (and ``python -m tabletop``): :func:`main`, then the jobs still
+    running in job threads (a take's training, a review sheet: behaviors.worker) finished
+    within :data:`behaviors.worker.FINISH_S`, a Ctrl-C meanwhile caught as everywhere else.
+    A job that does not end in time, or a Ctrl-C while it runs, ends the process at once
+    (``os._exit``): the interpreter's finalisation must not run under a thread in native code."""
+    try:
+        status: int | str | None = main()
+    except SystemExit as exc:   # argparse's --help and --version
+        status = exc.code
+    try:
+        worker = sys.modules.get("behaviors.worker")   # imported where jobs ran
+        if worker is None or worker.finish_jobs():
+            sys.exit(status)
+        print("tabletop: a background job did not end in time; ending without it",
+              file=sys.stderr)
+    except KeyboardInterrupt:
+        print("tabletop: interrupted", file=sys.stderr)
+        status = EXIT_INTERRUPTED
+    import logging
+    logging.shutdown()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(status if isinstance(status, int) else int(status is not None))
+
+
 def _drop_stdout() -> None:
     """Point standard output at /dev/null, so the interpreter's last flush of what is left in
     its buffer (for a reader gone) does not print a second BrokenPipeError on its way out."""

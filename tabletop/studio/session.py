@@ -24,13 +24,15 @@ from typing import Callable
 
 import numpy as np
 
-from behaviors.worker import next_job
+from behaviors.worker import ending, job_thread, next_job
 from tabletop.studio.take import Try
 
 log = logging.getLogger("tabletop")
 
 
 def _load_plotting() -> None:
+    if ending():    # a quit before it ran: nothing is drawn any more
+        return
     from tabletop.studio.review import warm_plotting
     try:
         warm_plotting()
@@ -69,8 +71,7 @@ def draw_later(job: Callable[[], None]) -> threading.Event:
     done = threading.Event()
     with _drawer_lock:
         if _drawer is None or not _drawer.is_alive():
-            _drawer = threading.Thread(target=_draw_jobs, name="review", daemon=False)
-            _drawer.start()
+            _drawer = job_thread(_draw_jobs, name="review")
     _jobs.put((job, done))
     return done
 

@@ -1,0 +1,57 @@
+"""The program's end while a background job (a take's training, a review sheet) runs native
+code: waited for, bounded, and a Ctrl-C meanwhile is one line and status 130."""
+
+import os
+import signal
+import subprocess
+import sys
+
+# `tabletop --version` with a worker's job running OpenCV for about `seconds` when it ends
+_VERSION_WITH_A_JOB = """
+import sys, time
+import cv2, numpy as np
+import behaviors.worker as worker
+from tabletop import cli
+seconds, worker.FINISH_S = float(sys.argv[1]), float(sys.argv[2])
+image = np.random.default_rng(0).random((1500, 1500), dtype=np.float32)
+def job():
+    print("began", flush=True)
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        cv2.GaussianBlur(image, (0, 0), 15)   # C++ that gives the GIL back while it runs
+    print("job ended", flush=True)
+    return 1
+w = worker.Worker("exit-test")
+w.start(job)
+sys.argv = ["tabletop", "--version"]
+cli.entry()
+"""
+
+
+def _start(seconds: float, finish_s: float) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-c", _VERSION_WITH_A_JOB, str(seconds),
+                             str(finish_s)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+
+
+def test_the_end_waits_for_a_running_job_and_gives_up_on_one_that_outlasts_its_wait():
+    done = _start(0.5, 30.0)
+    out, err = done.communicate(timeout=120)
+    assert done.returncode == 0, err[-400:]
+    assert "job ended" in out.splitlines() and "Traceback" not in err
+    stuck = _start(60.0, 0.3)
+    out, err = stuck.communicate(timeout=120)
+    assert stuck.returncode == 0, err[-400:]
+    assert "job ended" not in out
+    assert err.strip().splitlines()[-1] == ("tabletop: a background job did not end in time; "
+                                            "ending without it")
+
+
+def test_a_ctrl_c_while_the_end_waits_for_a_job_is_one_line_and_130():
+    proc = _start(60.0, 60.0)
+    assert proc.stdout.readline().strip() == "began"
+    assert proc.stdout.readline().startswith("tabletop ")   # the version: the command ended
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err[-400:]
+    assert "Traceback" not in err and err.strip().splitlines()[-1] == "tabletop: interrupted"
