@@ -13,7 +13,7 @@ import os
 import re
 import signal
 import sys
-from typing import Sequence
+from typing import Any, Sequence
 
 from tabletop import __version__
 
@@ -33,6 +33,18 @@ EXIT_OUTPUT_CLOSED = 141
 # a stopped session), in the installation and in the kiosk's supervisor alike
 STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
                      if hasattr(signal, n))
+
+
+def catch_stop_signals(handler: Any) -> dict[int, Any]:
+    """Install ``handler`` for the :data:`STOP_SIGNALS`; returns the handlers it replaced (to
+    put back). A SIGHUP this process was started ignoring (``nohup tabletop run ... &``, to
+    outlive the terminal) stays ignored, as for any program: caught, a logout ended the run."""
+    old = {}
+    for s in STOP_SIGNALS:
+        if s == getattr(signal, "SIGHUP", None) and signal.getsignal(s) == signal.SIG_IGN:
+            continue
+        old[s] = signal.signal(s, handler)
+    return old
 
 
 def one_line(message: object) -> str:

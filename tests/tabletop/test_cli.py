@@ -93,6 +93,33 @@ def test_a_stop_signal_ends_cleanly_with_a_complete_recording(tmp_path, sig):
     assert [f["seq"] for f in frames] == list(range(len(frames)))
 
 
+def test_a_run_started_under_nohup_outlives_a_sighup(tmp_path):
+    """``nohup tabletop run ... &`` starts the run with SIGHUP ignored, to outlive the
+    terminal: a SIGHUP (the logout) leaves it running; SIGTERM still ends it cleanly. The run
+    caught SIGHUP whatever it inherited, and a logout ended it."""
+    out = tmp_path / "nohup.jsonl"
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
+                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+    deadline = time.monotonic() + 60
+
+    def lines() -> int:
+        return out.read_bytes().count(b"\n") if out.exists() else 0
+
+    while time.monotonic() < deadline and lines() < 30:
+        time.sleep(0.1)
+    p.send_signal(signal.SIGHUP)
+    at_hup = lines()
+    while time.monotonic() < deadline and lines() < at_hup + 30 and p.poll() is None:
+        time.sleep(0.1)
+    running = p.poll() is None
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=30)
+    assert running and p.returncode == 0, err
+    assert "SIGHUP" not in err and "SIGTERM received" in err and "Traceback" not in err
+
+
 def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):
     """An outside script comparing a replay's --out must not take a replay cut short for a
     whole one: it exited 0, "replayed N frames", whatever part of the recording was left."""
