@@ -120,6 +120,31 @@ def test_a_run_started_under_nohup_outlives_a_sighup(tmp_path):
     assert "SIGHUP" not in err and "SIGTERM received" in err and "Traceback" not in err
 
 
+def caught(pid: int, sig: int) -> bool:
+    """Does process ``pid`` catch ``sig`` now (its SigCgt mask in /proc)?"""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("SigCgt:"):
+            return bool(int(line.split()[1], 16) >> (sig - 1) & 1)
+    return False
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_a_stop_signal_while_a_run_imports_its_modules_is_an_interrupt(sig):
+    """SIGTERM or SIGHUP landing while ``run`` is still importing its modules (the first second
+    or so) ends it as a Ctrl-C there does: one line, status 130. The signal killed the process
+    without a word (status -15 / -1). It is sent as soon as the process catches it."""
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--seconds",
+                          "30"], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and p.poll() is None and not caught(p.pid, sig):
+        time.sleep(0.001)
+    p.send_signal(sig)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130, err
+    assert err.strip().splitlines() == ["tabletop run: interrupted"]
+
+
 def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):
     """An outside script comparing a replay's --out must not take a replay cut short for a
     whole one: it exited 0, "replayed N frames", whatever part of the recording was left."""
