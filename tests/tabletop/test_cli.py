@@ -19,6 +19,12 @@ def tabletop(*args, **kw) -> subprocess.CompletedProcess:
                           text=True, cwd=kw.pop("cwd", ROOT), env=env, timeout=120, **kw)
 
 
+def hup_by_default() -> None:
+    """A child's SIGHUP as a terminal's session gives it, also when the tests themselves run
+    under ``nohup`` (an ignored SIGHUP is inherited, and the run leaves it ignored)."""
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+
+
 def frames_of(path: Path) -> list[dict]:
     lines = path.read_text().splitlines()
     assert json.loads(lines[0])["format"] == "tabletop-session"
@@ -78,7 +84,8 @@ def test_a_stop_signal_ends_cleanly_with_a_complete_recording(tmp_path, sig):
     out = tmp_path / "term.jsonl"
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
     p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
-                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
+                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=hup_by_default)
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and (not out.exists() or out.read_bytes().count(b"\n") < 30):
         time.sleep(0.1)
@@ -135,7 +142,8 @@ def test_a_stop_signal_while_a_run_imports_its_modules_is_an_interrupt(sig):
     without a word (status -15 / -1). It is sent as soon as the process catches it."""
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
     p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--seconds",
-                          "30"], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
+                          "30"], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=hup_by_default)
     deadline = time.monotonic() + 30
     while time.monotonic() < deadline and p.poll() is None and not caught(p.pid, sig):
         time.sleep(0.001)
