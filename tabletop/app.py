@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterator
 
 from tabletop import registry
-from tabletop.cli import STOP_SIGNALS
+from tabletop.cli import catch_stop_signals
 from tabletop.frames import Engine, InputError, Sink
 from tabletop.loop import CommandQueue, FrameInputs, LatestMeasurements, LiveInputs, Loop, LoopStats
 from tabletop.registry import BuildContext
@@ -232,9 +232,10 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
 
 @contextmanager
 def stop_on_signals(stop: threading.Event) -> Iterator[list[str]]:
-    """Within the block, SIGINT, SIGTERM and SIGHUP (a closed terminal or session) set ``stop``
-    instead of killing the process, so the run ends cleanly; the block is given the list of
-    the names of the signals received."""
+    """Within the block, SIGINT, SIGTERM and SIGHUP (a closed terminal or session; not under
+    ``nohup``, see :func:`tabletop.cli.catch_stop_signals`) set ``stop`` instead of killing
+    the process, so the run ends cleanly; the block is given the list of the names of the
+    signals received."""
     received: list[str] = []
     if threading.current_thread() is not threading.main_thread():
         yield received
@@ -246,7 +247,7 @@ def stop_on_signals(stop: threading.Event) -> Iterator[list[str]]:
         received.append(name)
         stop.set()
 
-    old = {s: signal.signal(s, handler) for s in STOP_SIGNALS}
+    old = catch_stop_signals(handler)
     try:
         yield received
     finally:

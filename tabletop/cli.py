@@ -13,7 +13,8 @@ import os
 import re
 import signal
 import sys
-from typing import Sequence
+import threading
+from typing import Any, Sequence
 
 from tabletop import __version__
 
@@ -33,6 +34,18 @@ EXIT_OUTPUT_CLOSED = 141
 # a stopped session), in the installation and in the kiosk's supervisor alike
 STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
                      if hasattr(signal, n))
+
+
+def catch_stop_signals(handler: Any, signals: Sequence[int] = STOP_SIGNALS) -> dict[int, Any]:
+    """Install ``handler`` for ``signals``; returns the handlers it replaced (to put back). A
+    SIGHUP this process was started ignoring (``nohup tabletop run ... &``, to outlive the
+    terminal) stays ignored, as for any program: caught, a logout would end the run."""
+    old = {}
+    for s in signals:
+        if s == getattr(signal, "SIGHUP", None) and signal.getsignal(s) == signal.SIG_IGN:
+            continue
+        old[s] = signal.signal(s, handler)
+    return old
 
 
 def one_line(message: object) -> str:
@@ -109,6 +122,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     command, which printed a KeyboardInterrupt traceback), which is why this module imports
     nothing of the project's but the package itself at its top."""
     words = list(sys.argv[1:] if argv is None else argv)
+    old = _interrupt_on_stop_signals()
     try:
         return _main(words)
     except BrokenPipeError:
@@ -118,6 +132,25 @@ def main(argv: Sequence[str] | None = None) -> int:
         command = f" {words[0]}" if words and words[0] in COMMANDS else ""
         print(f"tabletop{command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+
+
+def _interrupt_on_stop_signals() -> dict[int, Any]:
+    """SIGTERM and SIGHUP interrupt a command as Ctrl-C does (one line, status 130; ``status``
+    and ``track`` of a camera end as on Ctrl-C), also while its modules are imported, where
+    they would kill the process without a word (status 143 or 129). ``run`` and ``replay``
+    put their own handlers over these while they run. Only in the main thread (a test
+    calling :func:`main` from another), and a SIGHUP ignored (``nohup``) stays ignored."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+
+    def interrupt(signum: int, _frame: Any) -> None:
+        raise KeyboardInterrupt
+
+    # (SIGINT: Python's own KeyboardInterrupt, or ignored in a script's background job)
+    return catch_stop_signals(interrupt, [s for s in STOP_SIGNALS if s != signal.SIGINT])
 
 
 def entry() -> None:

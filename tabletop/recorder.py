@@ -37,7 +37,7 @@ from typing import Any, Callable
 from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
 from tabletop.recorder_sync import Syncer
-from tabletop.recordings import Recordings, candidates, number, prune, recordings
+from tabletop.recordings import Recordings, candidates, hold, number, prune, recordings
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header, session_header)
@@ -147,6 +147,7 @@ class Recorder(Syncer):
             break
         previous = self.path.name if self.paths else None
         self._f, self._size, self._first_in_file = f, 0, True
+        hold(f)                          # another run's keep leaves it alone
         self.paths.append(candidate)
         self._write(header_line(self._header, order, len(self.paths)))
         self._f.flush()

@@ -10,12 +10,13 @@ files the oldest times). Used by :class:`tabletop.recorder.Recorder`.
 from __future__ import annotations
 
 import datetime as _dt
+import fcntl
 import itertools
 import logging
 import os
 import re
 from pathlib import Path
-from typing import Iterator
+from typing import Any, Iterator
 
 log = logging.getLogger("tabletop")
 
@@ -108,8 +109,36 @@ def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> No
     oldest_first = sorted(mine, key=age)
     try:
         for old in oldest_first[:max(0, len(mine) - keep)]:
-            if old != current:
+            if old != current and not being_recorded(old):
                 old.unlink()
                 log.info("removed old recording %s (recorder.keep: %d)", old, keep)
     except OSError as exc:
         log.warning("old recordings in %s not removed: %s", folder, exc.strerror or exc)
+
+
+def hold(f: Any) -> None:
+    """Mark the open recording ``f`` as being recorded (a shared lock on it, held until it is
+    closed), so that another run's :func:`prune` on the folder leaves it alone."""
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except OSError:   # a file system without locks: recorded on, unmarked
+        pass
+
+
+def being_recorded(path: Path) -> bool:
+    """Is ``path`` held by a recorder (:func:`hold`), of this process or another? Two runs
+    recording into one folder with a small ``keep``: the second's start removed the first's
+    recording while it was written, and that whole session was lost."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    except OSError:
+        return False
+    finally:
+        os.close(fd)
+    return False

@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from tabletop.cli import EXIT_RECORDING_FAILED, STOP_SIGNALS
+from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -431,7 +431,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()
 
-    old = {s: signal.signal(s, handler) for s in STOP_SIGNALS}
+    old = catch_stop_signals(handler)
     try:
         return sup.run()
     finally:

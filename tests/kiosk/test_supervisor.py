@@ -334,7 +334,8 @@ def test_run_kiosk_stops_cleanly_on_sighup_to_its_supervisor(tmp_path):
     env.pop("TABLETOP_SUPERVISED", None)
     env.pop("NOTIFY_SOCKET", None)
     p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
-                          "--kiosk", "--headless"], env=env, stderr=subprocess.PIPE, text=True)
+                          "--kiosk", "--headless"], env=env, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_DFL))
     lines = []
     for line in p.stderr:
         lines.append(line)

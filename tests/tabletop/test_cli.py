@@ -19,6 +19,12 @@ def tabletop(*args, **kw) -> subprocess.CompletedProcess:
                           text=True, cwd=kw.pop("cwd", ROOT), env=env, timeout=120, **kw)
 
 
+def hup_by_default() -> None:
+    """A child's SIGHUP as a terminal's session gives it, also when the tests themselves run
+    under ``nohup`` (an ignored SIGHUP is inherited, and the run leaves it ignored)."""
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+
+
 def frames_of(path: Path) -> list[dict]:
     lines = path.read_text().splitlines()
     assert json.loads(lines[0])["format"] == "tabletop-session"
@@ -78,7 +84,8 @@ def test_a_stop_signal_ends_cleanly_with_a_complete_recording(tmp_path, sig):
     out = tmp_path / "term.jsonl"
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
     p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
-                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
+                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=hup_by_default)
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and (not out.exists() or out.read_bytes().count(b"\n") < 30):
         time.sleep(0.1)
@@ -91,6 +98,59 @@ def test_a_stop_signal_ends_cleanly_with_a_complete_recording(tmp_path, sig):
     assert text.endswith("\n")
     frames = frames_of(out)
     assert [f["seq"] for f in frames] == list(range(len(frames)))
+
+
+def test_a_run_started_under_nohup_outlives_a_sighup(tmp_path):
+    """``nohup tabletop run ... &`` starts the run with SIGHUP ignored, to outlive the
+    terminal: a SIGHUP (the logout) leaves it running; SIGTERM still ends it cleanly. The run
+    caught SIGHUP whatever it inherited, and a logout ended it."""
+    out = tmp_path / "nohup.jsonl"
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
+                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+    deadline = time.monotonic() + 60
+
+    def lines() -> int:
+        return out.read_bytes().count(b"\n") if out.exists() else 0
+
+    while time.monotonic() < deadline and lines() < 30:
+        time.sleep(0.1)
+    p.send_signal(signal.SIGHUP)
+    at_hup = lines()
+    while time.monotonic() < deadline and lines() < at_hup + 30 and p.poll() is None:
+        time.sleep(0.1)
+    running = p.poll() is None
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=30)
+    assert running and p.returncode == 0, err
+    assert "SIGHUP" not in err and "SIGTERM received" in err and "Traceback" not in err
+
+
+def caught(pid: int, sig: int) -> bool:
+    """Does process ``pid`` catch ``sig`` now (its SigCgt mask in /proc)?"""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("SigCgt:"):
+            return bool(int(line.split()[1], 16) >> (sig - 1) & 1)
+    return False
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_a_stop_signal_while_a_run_imports_its_modules_is_an_interrupt(sig):
+    """SIGTERM or SIGHUP landing while ``run`` is still importing its modules (the first second
+    or so) ends it as a Ctrl-C there does: one line, status 130. The signal killed the process
+    without a word (status -15 / -1). It is sent as soon as the process catches it."""
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--seconds",
+                          "30"], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=hup_by_default)
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and p.poll() is None and not caught(p.pid, sig):
+        time.sleep(0.001)
+    p.send_signal(sig)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130, err
+    assert err.strip().splitlines() == ["tabletop run: interrupted"]
 
 
 def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):

@@ -326,3 +326,38 @@ def test_a_recording_under_a_file_names_that_file(tmp_path):
             Recorder(path, header={"format": "tabletop-session", "version": 2})
         assert str(info.value) == (f"{path.parent}: cannot start a recording there: "
                                    f"{tmp_path / 'notes.txt'} is a file")
+
+
+def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
+    """Two runs recording into one folder with ``keep: 1``: the second's start leaves the
+    first's recording, being written, alone (it removed it, and the whole session was lost);
+    once the first closed it, the next prune removes it."""
+    import subprocess
+    import sys
+    import time
+    cfg = tmp_path / "config.yaml"
+    cfg.write_text("sources: [{kind: scripted, pucks: [1, 2]}]\n"
+                   "view: {size: [320, 180], headless: true}\n"
+                   "recorder: {enabled: true, folder: sessions, keep: 1}\n")
+    folder = tmp_path / "sessions"
+    env = dict(os.environ, SDL_VIDEODRIVER="dummy")
+    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--seconds", "60"], env=env, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not (
+                folder.exists() and any(f.read_bytes().count(b"\n") > 30
+                                        for f in folder.iterdir())):
+            time.sleep(0.1)
+        (first,) = folder.iterdir()
+        second = Recorder(folder=folder, keep=1, header={"config": {}})
+        second.close()
+        assert first.exists() and second.path.exists()
+    finally:
+        p.terminate()
+        _, err = p.communicate(timeout=60)
+    assert p.returncode == 0, err
+    assert len(list(read_frames(first))) > 30
+    third = Recorder(folder=folder, keep=1, header={"config": {}})
+    third.close()
+    assert sorted(folder.iterdir()) == [third.path]
