@@ -156,22 +156,29 @@ def _interrupt_on_stop_signals() -> dict[int, Any]:
 def entry() -> None:
     """The program ``tabletop`` (and ``python -m tabletop``): :func:`main`, then the jobs still
     running in job threads (a take's training, a review sheet: behaviors.worker) finished
-    within :data:`behaviors.worker.FINISH_S`, a Ctrl-C meanwhile caught as everywhere else.
+    within :data:`behaviors.worker.FINISH_S`, a Ctrl-C (SIGTERM, SIGHUP) meanwhile caught as
+    everywhere else.
     A job that does not end in time, or a Ctrl-C while it runs, ends the process at once
     (``os._exit``): the interpreter's finalisation must not run under a thread in native code."""
     try:
         status: int | str | None = main()
     except SystemExit as exc:   # argparse's --help and --version
         status = exc.code
+    worker = sys.modules.get("behaviors.worker")   # imported where jobs ran
+    if worker is None:
+        sys.exit(status)
+    handlers = _interrupt_on_stop_signals()
     try:
-        worker = sys.modules.get("behaviors.worker")   # imported where jobs ran
-        if worker is None or worker.finish_jobs():
+        if worker.finish_jobs():
             sys.exit(status)
         print("tabletop: a background job did not end in time; ending without it",
               file=sys.stderr)
     except KeyboardInterrupt:
         print("tabletop: interrupted", file=sys.stderr)
         status = EXIT_INTERRUPTED
+    finally:
+        for s, h in handlers.items():
+            signal.signal(s, h)
     import logging
     logging.shutdown()
     for stream in (sys.stdout, sys.stderr):

@@ -47,11 +47,13 @@ def test_the_end_waits_for_a_running_job_and_gives_up_on_one_that_outlasts_its_w
                                             "ending without it")
 
 
-def test_a_ctrl_c_while_the_end_waits_for_a_job_is_one_line_and_130():
-    proc = _start(60.0, 60.0)
-    assert proc.stdout.readline().strip() == "began"
-    assert proc.stdout.readline().startswith("tabletop ")   # the version: the command ended
-    proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=120)
-    assert proc.returncode == 130, err[-400:]
-    assert "Traceback" not in err and err.strip().splitlines()[-1] == "tabletop: interrupted"
+def test_a_stop_signal_while_the_end_waits_for_a_job_is_one_line_and_130():
+    for stop in (signal.SIGINT, signal.SIGTERM):
+        proc = _start(60.0, 60.0)
+        assert proc.stdout.readline().strip() == "began"
+        assert proc.stdout.readline().startswith("tabletop ")   # the version: the command ended
+        proc.send_signal(stop)
+        out, err = proc.communicate(timeout=120)
+        assert proc.returncode == 130, (stop, err[-400:])
+        assert "Traceback" not in err
+        assert err.strip().splitlines()[-1] == "tabletop: interrupted", stop
