@@ -5,7 +5,9 @@
 - With or without a window.
 - Numbered ``snapshot-00000.png``...: the numbering continues from the highest snapshot already
   in the folder (nothing is overwritten), or each run writes into its own subfolder
-  ``run-DATE-TIME`` (``per_run``).
+  ``run-DATE-TIME`` (``per_run``). Each number is claimed by making its file (O_EXCL) before
+  the write: two runs sharing a folder both numbered on from its highest and overwrote each
+  other's snapshots; claimed, a number another run took sends this one past the highest.
 - Bounded: beyond ``keep`` snapshots or ``max_mb`` megabytes in the folder (its run subfolders
   included), the oldest are removed: oldest by number and run folder, the current run's last,
   never by a file's time (after the clock was set back each new snapshot had the oldest time and
@@ -21,6 +23,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import logging
+import os
 import re
 import threading
 import time
@@ -31,6 +34,7 @@ log = logging.getLogger("tabletop")
 
 NAME = re.compile(r"^snapshot-(\d+)\.png$")
 FIRST_AFTER_S = 5.0   # the first snapshot comes this soon (or after every_s, if sooner)
+CLAIM_TRIES = 100     # numbers tried for one snapshot while other runs take them
 
 
 def numbered(folder: Path) -> list[Path]:
@@ -129,18 +133,39 @@ class Snapshots:
 
     def save(self, surface) -> Path:
         """Write a copy of ``surface`` (a pygame Surface) as the next snapshot, in a thread."""
-        if self.number is None:
-            self.number = next_number(self.folder)
-        path = self.folder / f"snapshot-{self.number:05d}.png"
-        self.number += 1
+        path, claimed = self._claim()
         self.taken += 1
-        self._saver = threading.Thread(target=self._write, args=(surface.copy(), path),
+        self._saver = threading.Thread(target=self._write, args=(surface.copy(), path, claimed),
                                        name="snapshot", daemon=True)
         self._saver.start()
         return path
 
-    def _write(self, surface, path: Path) -> None:
+    def _claim(self) -> tuple[Path, bool]:
+        """The next snapshot's path, its file made empty at once (O_EXCL) so that no other run
+        writes it, and whether it was; one another run made sends the number past the folder's
+        highest. Not claimed (the folder cannot be written): the writer says why."""
+        if self.number is None:
+            self.number = next_number(self.folder)
+        for _ in range(CLAIM_TRIES):
+            path = self.folder / f"snapshot-{self.number:05d}.png"
+            self.number += 1
+            try:
+                os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644))
+                return path, True
+            except FileExistsError:
+                self.number = max(self.number, next_number(self.folder))
+            except OSError:
+                break
+        return path, False
+
+    def _write(self, surface, path: Path, claimed: bool = False) -> None:
         error = save_png(surface, path)
+        if error and claimed:            # no empty snapshot left where the write failed
+            try:
+                if path.stat().st_size == 0:
+                    path.unlink()
+            except OSError:
+                pass
         if error and not self.failing:  # said once, not at every snapshot (a full disk)
             log.warning("snapshot %s not saved: %s; retrying at the next one", path, error)
         elif not error and self.failing:

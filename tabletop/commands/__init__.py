@@ -40,8 +40,11 @@ def output_file(path, option: str, error: type[InputError] = InputError, inputs=
                 example: str = "out.jsonl"):
     """``path`` of an output ``option`` (a Path), refused at once when it names a folder (the
     message suggests the file ``example`` in it) or the same file as one of ``inputs`` (the
-    command's input paths, None where not given), which the output would overwrite."""
+    command's input paths, None where not given), which the output would overwrite. An empty
+    ``path`` is refused as empty (Path('') is the current folder)."""
     from pathlib import Path
+    if str(path) == "":
+        raise error(f"{option}: the path is empty; give a file name such as {example}")
     p = Path(path)
     if p.is_dir():
         raise error(f"{option} {p}: is a folder; give a file name such as {p / example}")

@@ -86,11 +86,37 @@ def parse_table(text: str) -> tuple[float, float, float, float]:
         w, h = float(parts[0]), float(parts[1])
     except ValueError:
         raise BehaveArgumentError(f"--table {text!r} must be W,H in metres, e.g. 1.6,1.0") from None
-    lo, hi = TABLE_M
-    if not (math.isfinite(w) and math.isfinite(h)) or not (lo <= w <= hi and lo <= h <= hi):
-        raise BehaveArgumentError(f"--table {text!r}: width and height must be metres from "
-                                  f"{lo:g} to {hi:g}")
+    check_table(f"--table {text!r}", w, h)
     return 0.0, 0.0, w, h
+
+
+def check_table(what: str, *sides: float) -> None:
+    """Table ``sides`` (metres) within TABLE_M; else BehaveArgumentError naming ``what``."""
+    lo, hi = TABLE_M
+    if not all(math.isfinite(s) and lo <= s <= hi for s in sides):
+        raise BehaveArgumentError(f"{what}: width and height must be metres from {lo:g} to "
+                                  f"{hi:g}")
+
+
+TABLE_PARAMS = ("table_width", "table_height")
+
+
+def table_from_params(given: dict[str, float | int],
+                      params: dict[str, float | int]) -> tuple[float, float, float, float] | None:
+    """The table (0, 0, W, H) that ``params`` (given over stored) name, None where neither
+    side is over 0 (the demonstration's bounds). One side alone ``given`` on the command line,
+    the other neither given nor stored, raises BehaveArgumentError: Behavior takes a table
+    only with both, and the one given was ignored."""
+    w, h = float(params.get("table_width", 0.0)), float(params.get("table_height", 0.0))
+    if w > 0.0 and h > 0.0:
+        return 0.0, 0.0, w, h
+    if w > 0.0 or h > 0.0:
+        one, other = TABLE_PARAMS if w > 0.0 else TABLE_PARAMS[::-1]
+        if one in given:
+            raise BehaveArgumentError(
+                f"--param {one}={given[one]:g} without {other}: the table the demonstration "
+                f"was made on needs both, e.g. --param table_width=1.6 --param table_height=1.0")
+    return None
 
 
 def parse_params(items: list[str]) -> dict[str, float | int]:
@@ -118,6 +144,8 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
                                       f"{'an integer' if integer else 'a number'}") from None
         if name in out:
             raise BehaveArgumentError(f"--param {name} is given twice")
+        if name in TABLE_PARAMS and value != 0:      # 0: none, the demonstration's bounds
+            check_table(f"--param {name}={text!r}", value)
         out[name] = value
     return out
 
@@ -229,7 +257,7 @@ def main(args: argparse.Namespace) -> int:
 
     rate = parse_rate(args.rate if args.rate is not None else "40")
     table = parse_table(args.table) if args.table is not None else None
-    params = parse_params(args.param)
+    params = given = parse_params(args.param)
     if "rate_hz" in params and args.rate is not None and params["rate_hz"] != rate:
         raise BehaveArgumentError(f"--rate {args.rate} and --param rate_hz={params['rate_hz']} "
                                   "disagree; give one")
@@ -242,9 +270,9 @@ def main(args: argparse.Namespace) -> int:
     params = {"rate_hz": rate, **stored, **params}   # given over stored over the defaults
     # the table the behaviour was made on: a kept one's, or --param's over it (it trained on
     # that table and played on the stored one)
-    w, h = params.get("table_width", 0.0), params.get("table_height", 0.0)
-    if table is None and w > 0.0 and h > 0.0:
-        table = (0.0, 0.0, float(w), float(h))
+    named = table_from_params(given, params)
+    if table is None:
+        table = named
     main_rows = read_rows(args.input, MAIN_COLUMNS, "main path CSV", 1)
     check_metres(main_rows[:, 1:3], args.input, "main path")
     check_metres(demo[:, [1, 2]], source, "demonstration's main")

@@ -35,7 +35,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="as fast as possible instead of honouring the recorded times")
     p.add_argument("--headless", action="store_true", help="no window (SDL dummy driver)")
     p.add_argument("--no-view", action="store_true", help="do not draw at all")
-    p.add_argument("--out", type=Path, default=None, metavar="FILE",
+    p.add_argument("--out", default=None, metavar="FILE",
                    help="record the replayed frames (with the characters made again) to FILE")
     p.add_argument("--verbose", action="store_true", help="log debug messages")
 
@@ -67,7 +67,7 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.recorder import SessionError, read_header
 
     if args.out is not None:
-        output_file(args.out, "--out", ReplayError, inputs=args.session)
+        args.out = output_file(args.out, "--out", ReplayError, inputs=args.session)
     configure_logging(args.verbose)
     first = args.session[0]
     header = read_header(first)

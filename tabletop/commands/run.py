@@ -17,7 +17,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--headless", action="store_true", help="no window (SDL dummy driver)")
     p.add_argument("--seconds", default=None, metavar="S",
                    help="stop after S seconds (default: run until Esc, Ctrl-C, SIGTERM or SIGHUP)")
-    p.add_argument("--record", type=Path, default=None, metavar="FILE",
+    p.add_argument("--record", default=None, metavar="FILE",
                    help="record the session to FILE (JSON Lines), whatever the config says")
     p.add_argument("--verbose", action="store_true", help="log debug messages")
     p.add_argument("--kiosk", action="store_true",
@@ -35,7 +35,7 @@ def main(args: argparse.Namespace) -> int:
     seconds = None if args.seconds is None else number_in_range(
         args.seconds, "--seconds", "seconds", 1e-3, MAX_SECONDS)
     if args.record is not None:
-        output_file(args.record, "--record")
+        args.record = output_file(args.record, "--record")
     from tabletop.kiosk import spare
     prepared = None
     if spare.is_spare():                 # the supervisor's warm spare: ready before its go

@@ -399,3 +399,43 @@ def test_a_library_or_a_misspelt_behaviour_names_the_librarys_behaviours(files, 
     assert f"e.g. {SHIPPED / 'afraid'}" in err[0]
     assert not (tmp_path / "o.csv").exists()
     assert behave("--train", SHIPPED / "lover", *base) == 0
+
+
+@pytest.mark.parametrize("given, words", [
+    (["--table", "1e9,1e9"],
+     ["--table '1e9,1e9': width and height must be metres from 0.05 to 20"]),
+    (["--param", "table_width=1e9", "--param", "table_height=1e9"],
+     ["--param table_width='1e9': width and height must be metres from 0.05 to 20"]),
+    (["--param", "table_width=1.6", "--param", "table_height=-1"],
+     ["--param table_height='-1': width and height must be metres from 0.05 to 20"]),
+    (["--param", "table_width=nan", "--param", "table_height=1"],
+     ["--param table_width='nan'", "from 0.05 to 20"]),
+    # one side alone, a CSV demonstration storing none: Behavior ignored it without a word
+    (["--param", "table_width=1.6"],
+     ["--param table_width=1.6 without table_height", "needs both"]),
+    (["--param", "table_height=1", "--table", "1.6,1.0"],
+     ["--param table_height=1 without table_width", "needs both"]),
+])
+def test_a_table_given_by_param_is_checked_as_table_is(files, tmp_path, capsys, given, words):
+    d, _ = files
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", *given) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("tabletop behave: error: --"), err
+    for w in words:
+        assert w in err[0], err
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_one_table_side_by_param_over_a_folders_table_takes_the_others(files, tmp_path):
+    """--param table_width alone over a behaviour folder (afraid: 1.2 x 0.8 m) is its table
+    with the folder's height: the same rows as both given."""
+    d, main = files
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:150].tolist())
+    base = ["--train", SHIPPED / "afraid", "--input", tmp_path / "main.csv"]
+    assert behave(*base, "--param", "table_width=1.6", "--out", tmp_path / "one.csv") == 0
+    assert behave(*base, "--param", "table_width=1.6", "--param", "table_height=0.8",
+                  "--out", tmp_path / "both.csv") == 0
+    assert behave(*base, "--out", tmp_path / "stored.csv") == 0
+    assert (tmp_path / "one.csv").read_text() == (tmp_path / "both.csv").read_text()
+    assert (tmp_path / "one.csv").read_text() != (tmp_path / "stored.csv").read_text()

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.puppet_master import fidelity, visitors
+from behaviors.puppet_master import fidelity, generation_kernel, visitors
 from behaviors.puppet_master.demonstrated import main_approach
 from behaviors.puppet_master.generation import less_approach
 from tabletop import examples
@@ -34,6 +34,18 @@ def test_the_correction_loses_what_the_main_closes_beyond_the_moments_main():
     # a main walking away, or a reactor on its main, changes nothing
     assert less_approach(-0.01, 0.0, 0.2, 0.0, 0.0, *inward) == inward
     assert less_approach(0.01, 0.0, 0.0, 0.0, 0.0, *inward) == inward
+
+
+@pytest.mark.parametrize("fn", [less_approach, generation_kernel.less_approach],
+                         ids=["python", "compiled"])
+def test_a_moment_whose_main_stepped_away_counts_as_none(fn):
+    # the live main steps 0.005 m away from its reactor, the moment's main stepped 0.01 m away:
+    # the live main comes at it 0.005 m faster than the moment's main, but not at it at all,
+    # so nothing is lost (the moment's step away counted as an approach of -0.01 m would cut
+    # 0.005 m of the inward part)
+    inward = (-0.006, 0.002)
+    assert fn(-0.005, 0.0, 0.2, 0.0, -0.01, *inward) == inward
+    assert fn(0.0, 0.0, 0.2, 0.0, -0.01, *inward) == inward
 
 
 def test_the_demonstrated_mains_approach_is_its_step_along_the_bearing():

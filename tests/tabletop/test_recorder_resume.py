@@ -26,6 +26,14 @@ def frames(t0: float, seconds: float, rate: float = 10.0):
         yield Frame(seq=k, t=t0 + k / rate, streams={"hand": np.arange(40) / 7.0})
 
 
+def wait_caught_up(rec: Recorder, timeout_s: float = 30.0) -> None:
+    """Wait (at most ``timeout_s`` s of real time) until the real syncer caught up."""
+    end = time.monotonic() + timeout_s
+    while not rec.caught_up and time.monotonic() < end:
+        time.sleep(0.001)
+    assert rec.caught_up
+
+
 def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path, caplog):
     """Tries on a disk still full leave nothing and say nothing (a kiosk's log said "recording
     resumes in FILE" at every failed try, FILE never made); the try that works says so once."""
@@ -43,15 +51,25 @@ def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path, capl
         stopped_at = rec.frames
         assert 0 < stopped_at < 100
         resource.setrlimit(resource.RLIMIT_FSIZE, (200, hard))         # not even a header
+        tries = []
+        open_part = rec._open_part
+
+        def counted(resumed=None):
+            tries.append(resumed)
+            open_part(resumed=resumed)
+
+        rec._open_part = counted
         for f in frames(t + 10.0, 3 * RESUME_EVERY_S):                # three tries fail
+            wait_caught_up(rec)     # a try waits for the syncer: frames come faster than it
             rec.consume(f)
+        rec._open_part = open_part
+        assert len(tries) == 3, tries
         assert rec.failed is not None and rec.frames == stopped_at
         assert [p.name for p in folder.iterdir()] == [rec.paths[0].name]   # no try left behind
         assert not [r for r in caplog.records if "resumes" in r.getMessage()]
         resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))        # room again
-        end = time.monotonic() + 30   # the frames come faster than real time: the syncer
-        while not rec.caught_up and time.monotonic() < end:   # closes the tries first, as it
-            time.sleep(0.001)                                 # would in a try's 60 s
+        wait_caught_up(rec)   # the frames come faster than real time: the syncer closes the
+                              # tries first, as it would in a try's 60 s
         for f in frames(t + 10.0 + 3 * RESUME_EVERY_S, RESUME_EVERY_S + 2.0):
             rec.consume(f)
     finally:

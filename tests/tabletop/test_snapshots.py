@@ -60,6 +60,41 @@ def test_due_on_the_clock_and_numbering_continues_across_runs(tmp_path):
     assert next_number(tmp_path) == 12
 
 
+def test_two_runs_sharing_a_folder_never_write_the_same_snapshot(tmp_path):
+    """Two runs numbering on from the same folder's highest snapshot took the same numbers, and
+    each overwrote the other's: each number is claimed by making its file, so they take turns."""
+    clock = Clock()
+    runs = [Snapshots(tmp_path, every_s=1.0, clock=clock) for _ in range(2)]
+    colours = {}
+    for k in range(6):
+        clock.now += 1.0
+        snaps = runs[k % 2]
+        assert snaps.due()
+        s = surface()
+        s.fill((k * 40, 0, 0))
+        path = snaps.save(s)
+        snaps.close()
+        assert path not in colours, path
+        colours[path] = k * 40
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in colours)
+    for path, red in colours.items():      # every run's snapshot as it took it
+        assert pygame.image.load(str(path)).get_at((1, 1))[0] == red, path
+    assert len(colours) == 6 and next_number(tmp_path) == 6
+
+
+def test_a_snapshot_that_could_not_be_written_leaves_no_empty_file(tmp_path, caplog):
+    """Its number claimed (its file made empty), the encoder refuses the image (0 x 0 pixels):
+    no empty snapshot-NNNNN.png is left for a technician to open."""
+    clock = Clock()
+    snaps = Snapshots(tmp_path, every_s=1.0, clock=clock)
+    clock.now += 1.0
+    assert snaps.due()
+    path = snaps.save(pygame.Surface((0, 0)))
+    snaps.close()
+    assert snaps.failing and path.name == "snapshot-00000.png"
+    assert not list(tmp_path.iterdir())
+
+
 def test_a_snapshot_is_written_whole_or_not_at_all(tmp_path):
     s = surface()
     s.set_at((3, 4), (10, 220, 90))

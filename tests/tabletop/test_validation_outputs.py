@@ -81,6 +81,19 @@ def test_a_recording_to_a_device_or_pipe_is_refused(tmp_path, capfd):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["session.pipe"]
 
 
+@pytest.mark.parametrize("command", ["run", "replay"])
+def test_an_empty_output_path_is_said_to_be_empty(tmp_path, capfd, command):
+    """``run --record ''`` and ``replay --out ''``: the path is empty (it was said to be the
+    folder '.', which it never named), one line, exit status 2, nothing started."""
+    args = {"run": ["run", "--config", Path(__file__).resolve().parents[2] / "config.yaml",
+                    "--headless", "--seconds", "0.5", "--record", ""],
+            "replay": ["replay", tmp_path / "absent.jsonl", "--out", ""]}[command]
+    code, err = cli(capfd, *args)
+    line = one_line(err)
+    option = {"run": "--record", "replay": "--out"}[command]
+    assert code == 2 and f"{option}: the path is empty" in line and "folder" not in line, line
+
+
 def test_out_to_a_name_of_a_stream_leading_to_a_file_writes_through_it(tmp_path, capfd):
     """``--out /dev/stdout > poses.json``: /dev/stdout is a link (through /proc/self/fd/1) to a
     regular file, so it passed as one; the atomic write renamed a file over the link (run as
