@@ -237,9 +237,6 @@ def stop_on_signals(stop: threading.Event) -> Iterator[list[str]]:
     the process, so the run ends cleanly; the block is given the list of the names of the
     signals received."""
     received: list[str] = []
-    if threading.current_thread() is not threading.main_thread():
-        yield received
-        return
 
     def handler(signum: int, _frame: Any) -> None:
         name = signal.Signals(signum).name
@@ -247,9 +244,5 @@ def stop_on_signals(stop: threading.Event) -> Iterator[list[str]]:
         received.append(name)
         stop.set()
 
-    old = catch_stop_signals(handler)
-    try:
+    with catch_stop_signals(handler):
         yield received
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)

@@ -8,13 +8,14 @@ commands that draw nothing never import pygame.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import re
 import signal
 import sys
 import threading
-from typing import Any, Sequence
+from typing import Any, Iterator, Sequence
 
 from tabletop import __version__
 
@@ -36,16 +37,24 @@ STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP")
                      if hasattr(signal, n))
 
 
-def catch_stop_signals(handler: Any, signals: Sequence[int] = STOP_SIGNALS) -> dict[int, Any]:
-    """Install ``handler`` for ``signals``; returns the handlers it replaced (to put back). A
-    SIGHUP this process was started ignoring (``nohup tabletop run ... &``, to outlive the
-    terminal) stays ignored, as for any program: caught, a logout would end the run."""
+@contextlib.contextmanager
+def catch_stop_signals(handler: Any, signals: Sequence[int] = STOP_SIGNALS) -> Iterator[None]:
+    """Within the block ``handler`` handles ``signals``; the handlers it replaced are put back
+    after. Only in the main thread (elsewhere nothing is installed: a test calling a command
+    from another thread). A SIGHUP this process was started ignoring (``nohup tabletop run
+    ... &``, to outlive the terminal) stays ignored, as for any program: caught, a logout
+    would end the run."""
     old = {}
-    for s in signals:
-        if s == getattr(signal, "SIGHUP", None) and signal.getsignal(s) == signal.SIG_IGN:
-            continue
-        old[s] = signal.signal(s, handler)
-    return old
+    if threading.current_thread() is threading.main_thread():
+        for s in signals:
+            if s == getattr(signal, "SIGHUP", None) and signal.getsignal(s) == signal.SIG_IGN:
+                continue
+            old[s] = signal.signal(s, handler)
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
 
 
 def one_line(message: object) -> str:
@@ -122,9 +131,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     command, which printed a KeyboardInterrupt traceback), which is why this module imports
     nothing of the project's but the package itself at its top."""
     words = list(sys.argv[1:] if argv is None else argv)
-    old = _interrupt_on_stop_signals()
     try:
-        return _main(words)
+        with _interrupt_on_stop_signals():
+            return _main(words)
     except BrokenPipeError:
         _drop_stdout()
         return EXIT_OUTPUT_CLOSED
@@ -132,25 +141,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         command = f" {words[0]}" if words and words[0] in COMMANDS else ""
         print(f"tabletop{command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
 
 
-def _interrupt_on_stop_signals() -> dict[int, Any]:
+def _interrupt(signum: int, _frame: Any) -> None:
+    raise KeyboardInterrupt
+
+
+def _interrupt_on_stop_signals() -> contextlib.AbstractContextManager[None]:
     """SIGTERM and SIGHUP interrupt a command as Ctrl-C does (one line, status 130; ``status``
     and ``track`` of a camera end as on Ctrl-C), also while its modules are imported, where
     they would kill the process without a word (status 143 or 129). ``run`` and ``replay``
-    put their own handlers over these while they run. Only in the main thread (a test
-    calling :func:`main` from another), and a SIGHUP ignored (``nohup``) stays ignored."""
-    if threading.current_thread() is not threading.main_thread():
-        return {}
-
-    def interrupt(signum: int, _frame: Any) -> None:
-        raise KeyboardInterrupt
-
-    # (SIGINT: Python's own KeyboardInterrupt, or ignored in a script's background job)
-    return catch_stop_signals(interrupt, [s for s in STOP_SIGNALS if s != signal.SIGINT])
+    put their own handlers over these while they run. (SIGINT: Python's own
+    KeyboardInterrupt, or ignored in a script's background job.)"""
+    return catch_stop_signals(_interrupt, [s for s in STOP_SIGNALS if s != signal.SIGINT])
 
 
 def entry() -> None:
@@ -167,18 +170,17 @@ def entry() -> None:
     worker = sys.modules.get("behaviors.worker")   # imported where jobs ran
     if worker is None:
         sys.exit(status)
-    handlers = _interrupt_on_stop_signals()
     try:
-        if worker.finish_jobs():
-            sys.exit(status)
-        print("tabletop: a background job did not end in time; ending without it",
-              file=sys.stderr)
+        with _interrupt_on_stop_signals():
+            ended = worker.finish_jobs()
     except KeyboardInterrupt:
         print("tabletop: interrupted", file=sys.stderr)
         status = EXIT_INTERRUPTED
-    finally:
-        for s, h in handlers.items():
-            signal.signal(s, h)
+    else:
+        if ended:
+            sys.exit(status)
+        print("tabletop: a background job did not end in time; ending without it",
+              file=sys.stderr)
     import logging
     logging.shutdown()
     for stream in (sys.stdout, sys.stderr):

@@ -431,9 +431,5 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()
 
-    old = catch_stop_signals(handler)
-    try:
+    with catch_stop_signals(handler):
         return sup.run()
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
