@@ -13,8 +13,8 @@ Python code.
 The job threads (the workers', the studio's review-sheet drawing) are not daemons: a daemon
 thread still inside native code when the interpreter finalises (OpenCV's, matplotlib's: C++
 that gives the GIL back in a destructor) is unwound from under it and the process aborts
-("terminate called without an active exception", exit 134; a quit a moment after the studio
-started did so one time in four). Such a thread ends itself once the main thread has ended,
+("terminate called without an active exception", exit 134: as daemons, a quit a moment after
+the studio started aborted one time in four). Such a thread ends itself once the main thread has ended,
 after the jobs queued for it (:func:`next_job`); the command line's entry waits for them,
 bounded, with its stop signals still caught (:func:`finish_jobs`).
 """
@@ -88,12 +88,12 @@ def ending() -> bool:
     return _ending.is_set()
 
 
-def finish_jobs(timeout_s: float | None = None) -> bool:
+def finish_jobs() -> bool:
     """At the process's end: every job thread runs what is queued for it and returns; waits up
-    to ``timeout_s`` (default :data:`FINISH_S`) in all and says whether they all ended. Only
-    for the process's end: job threads started before it do not serve afterwards."""
+    to :data:`FINISH_S` in all and says whether they all ended. Only for the process's end:
+    job threads started before it do not serve afterwards."""
     _ending.set()
-    deadline = time.monotonic() + (FINISH_S if timeout_s is None else timeout_s)
+    deadline = time.monotonic() + FINISH_S
     for th in list(_job_threads):
         th.join(max(0.0, deadline - time.monotonic()))
     return not any(th.is_alive() for th in list(_job_threads))

@@ -75,7 +75,23 @@ class GenerationStep(StepDetail):
     def _trajectory(self, target: int, mx: float, my: float,
                     md: float) -> tuple[float, float]:
         """General trajectory generation (section 4.4.1): the step (metres) toward the
-        target's place relative to the main pose (mx, my, md), before the smoothing."""
+        target's place relative to the main pose (mx, my, md), before the smoothing.
+
+        The live main's whole step is gone along with, by a character that keeps away too.
+        Chased (visitors.Pursuer, tuning seeds) the afraid character keeps 0.303 m from its
+        visitor where its designer keeps 0.395; the gap grows while the visitor pulls back
+        (1.4-2.3 mm a sample): its step away (0.115 m/s) is carried and the target, turned with
+        the hand that turns to leave, lies 0.05 m inward (its demonstration never follows a
+        receding main: share along the bearing -0.28, the lover's 0.82). Measured on the afraid
+        character alone (chased met of 144 / open paths met of 432 / distance chased; unchanged
+        137 / 356 / 0.303): no step toward a main that went away over the last 0.5 s 135 / 317
+        / 0.316 (whole table 674 / 669 / 661 -> 649 / 662 / 654: it drifts back in as the
+        visitor wanders); the same only after the main came nearer within 1-3 s 130-134 /
+        322-350 / 0.305-0.314 (that gate opens on 35-64% of chased and 42-67% of open steps
+        alike); the step away not carried, the place on the live bearing, the drift
+        correction's inward part dropped or its outward part uncapped, alone or together
+        127-136 / 327-351 / 0.293-0.311. None kept.
+        """
         b, p = self.behavior, self.behavior.params
         rx, ry, _ = self.pose
         self._mean_cap = math.inf          # the smoothed step's cap (generation.mean_capped)
@@ -197,21 +213,6 @@ class GenerationStep(StepDetail):
                     # (generation.less_approach: the stalker's fast-path contact)
                     cx, cy = less_approach(mx - mxp, my - myp, rx - mx, ry - my,
                                            b.main_approach[target], cx, cy)
-                # The live main's whole step is gone along with, by a character that keeps away
-                # too. Chased (visitors.Pursuer, tuning seeds) the afraid character keeps 0.303 m
-                # from its visitor where its designer keeps 0.395; the gap grows while the visitor
-                # pulls back (1.4-2.3 mm a sample): its step away (0.115 m/s) is carried and the
-                # target, turned with the hand that turns to leave, lies 0.05 m inward (its
-                # demonstration never follows a receding main: share along the bearing -0.28,
-                # the lover's 0.82). Measured on the afraid character alone (chased met of 144 /
-                # open paths met of 432 / distance chased; unchanged 137 / 356 / 0.303): no step
-                # toward a main that went away over the last 0.5 s 135 / 317 / 0.316 (whole
-                # table 674 / 669 / 661 -> 649 / 662 / 654: it drifts back in as the visitor
-                # wanders); the same only after the main came nearer within 1-3 s 130-134 /
-                # 322-350 / 0.305-0.314 (that gate opens on 35-64% of chased and 42-67% of open
-                # steps alike); the step away not carried, the place on the live bearing, the
-                # drift correction's inward part dropped or its outward part uncapped, alone or
-                # together 127-136 / 327-351 / 0.293-0.311. None kept.
                 sx = (mx - mxp) + c * dfx - s_ * dfy + cx
                 sy = (my - myp) + s_ * dfx + c * dfy + cy
             if self._charge_end >= 0:

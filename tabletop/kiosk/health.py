@@ -105,13 +105,13 @@ class LatestWriter:
                 log.info("status file %s written again", self.path)
             self.written, self.failed = self.written + 1, 0
 
-    def close(self, wait_s: float | None = None) -> None:
-        """Write what is pending and end the thread, waiting at most ``wait_s`` seconds for it
-        (default :attr:`close_wait_s`)."""
+    def close(self) -> None:
+        """Write what is pending and end the thread, waiting at most :attr:`close_wait_s`
+        seconds for it."""
         with self._cv:
             self._closed = True
             self._cv.notify()
-        self._thread.join(timeout=self.close_wait_s if wait_s is None else wait_s)
+        self._thread.join(timeout=self.close_wait_s)
 
     def last(self, text: str) -> bool:
         """Have the thread write ``text`` as the file's last text, after the write it is in

@@ -24,9 +24,9 @@ def job():
 w = worker.Worker("exit-test")
 w.start(job)
 finish_jobs = worker.finish_jobs
-def said_finish_jobs(timeout_s=None):
+def said_finish_jobs():
     print("ending", flush=True)   # the command has ended: its end waits for the job
-    return finish_jobs(timeout_s)
+    return finish_jobs()
 worker.finish_jobs = said_finish_jobs
 sys.argv = ["tabletop", "--version"]
 cli.entry()
