@@ -126,9 +126,9 @@ def hold(f: Any) -> None:
 
 
 def being_recorded(path: Path) -> bool:
-    """Is ``path`` held by a recorder (:func:`hold`), of this process or another? Two runs
-    recording into one folder with a small ``keep``: the second's start removed the first's
-    recording while it was written, and that whole session was lost."""
+    """Is ``path`` held by a recorder (:func:`hold`), of this process or another? (Two runs
+    may record into one folder with a small ``keep``: one's start must not remove the other's
+    recording while it is written.)"""
     try:
         fd = os.open(path, os.O_RDONLY)
     except OSError:
