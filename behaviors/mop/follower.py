@@ -35,7 +35,6 @@ from behaviors.mop.invariance import INVARIANCES, TANGENT_LAG, PerformanceFrame,
 from behaviors.mop.parameters import check_ranges
 from behaviors.mop.recognition import Recognition
 from behaviors.mop.refusal import Refusal, shape_limits
-from behaviors.mop.retrace import turns_ahead
 from behaviors.mop.shape_lead import ShapeLead
 from behaviors.mop.sharing import shared_until
 from behaviors.mop.spotting import SHARE_SIZES, SHARE_SKIP, GestureSpotting
@@ -145,8 +144,6 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         # holds inside a template, where they dwell (behaviors.mop.holding)
         self._holds = hold_maps(b) if dwell > 0 else None
         self._setup_frame(float(scale_prior))
-        # where each state's template turns back (retrace.slid_away)
-        self._turns = turns_ahead(self._reversal_at, b.starts, b.lengths)
         self.coverage, self.shape_distance = float(coverage), float(shape_distance)
         self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)
         # the threshold model: spatial inputs only (a noisy stream's own performance lost

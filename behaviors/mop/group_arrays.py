@@ -127,7 +127,7 @@ class GroupArrays:
         padded = lambda a, f: np.pad(a, ((0, 0), (0, dmax - f.dim)))
         self._states = np.ascontiguousarray(np.concatenate(
             [np.hstack([padded(f.bank.means, f), padded(f._rel, f), f.bank.source[:, None],
-                        f._arc[:, None], holding_columns(f), f._turns[:, None]]) for f in fs]))
+                        f._arc[:, None], holding_columns(f)]) for f in fs]))
         self._ti = np.ascontiguousarray(np.stack([self._starts_local, self._lengths,
                                                   self._state_off], axis=1))
         z = lambda f, on: padded(f._first_z, f) if on else np.zeros((len(f.names), dmax))

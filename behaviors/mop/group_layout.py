@@ -7,11 +7,10 @@ scalar. :class:`behaviors.mop.group_arrays.GroupArrays` fills them in this order
 
 #: Columns of the per-state array ``states`` (S, 2D + 2), one row per template state of the
 #: group (D: the widest member's features): its mean (D, raw template units), its place relative
-#: to the template's first in units (D), its progress (``source``), its path length from the
-#: first state, its hold columns and the reversal :func:`~behaviors.mop.retrace.slid_away`
-#: measures a turn against (:func:`~behaviors.mop.retrace.turns_ahead`). Read around each followed state: one contiguous stretch per template (the
+#: to the template's first in units (D), its progress (``source``) and its path length from the
+#: first state. Read around each followed state: one contiguous stretch per template (the
 #: per-template pass is bound by reading memory; six separate arrays cost 1.5x).
-STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead", "turn")
+STATE_COLUMNS = ("means", "rel", "source", "arc", "hold_end", "hold_ahead")
 #: Per-template scalars (columns of ``tc`` (K, 5 + 4D), then the rows ``scale``, ``center``,
 #: ``ufirst``, ``c_off`` of D columns each).
 TEMPLATE_SCALARS = ("_jacobian", "_onset_state", "_prior", "_arc_need", "_reach_inv")

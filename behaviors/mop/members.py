@@ -20,18 +20,17 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, member_validity, retrace, shape_lead, spotting, validity
+from behaviors.mop import handover, member_validity, shape_lead, spotting, validity
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
                                    RETURN_RADIUS, SHARE_BACK)
-from behaviors.mop.retrace import SIZE_TOP, SLIDE_AWAY, SLIDE_CARRY, slid_away
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
                                     REST_BEHIND)
 from behaviors.kernel_cache import compiled
 
 # the files whose constants the kernels take in
-_CALLS_INTO = (handover, member_validity, retrace, shape_lead, spotting, validity)
+_CALLS_INTO = (handover, member_validity, shape_lead, spotting, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -350,14 +349,6 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                              and drive_peak[i] - drive_from[i] < CARRY_FIRST)
             # ... nor holds them resting behind where it began (validity.rests_behind)
             ok = ok and not (rests and 0 <= REST_BEHIND < drive_from[i] - progress[gb])
-            # ... nor once followed back away from its highest place (retrace.slid_away)
-            r0 = start + off
-            ok = ok and not (progress[gb] < drive_peak[i] and slid_away(
-                states[r0:r0 + length, d:2 * d], states[r0:r0 + length, src],
-                states[r0:r0 + length, src + 4], drive_from[i], drive_peak[i], g - start,
-                extent[gb], sk, mc[i, 9], SLIDE_AWAY, SLIDE_CARRY))
-        # ... nor at the top of the sizes performed (retrace.at_size_top)
-        ok = ok and not (spots and sk >= SIZE_TOP * mc[i, 10] > 1.0)
         # a new best confirms on samples of its own (recognition: the run does not carry over)
         run[i] = run[i] + 1 if ok and run_k[i] == bi else (1 if ok else 0)
         run_k[i] = bi

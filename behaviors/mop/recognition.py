@@ -42,11 +42,9 @@ import math
 
 import numpy as np
 
-from behaviors.mop import retrace
 from behaviors.mop.forward import WindowedForward
 from behaviors.mop.handover import finished
 from behaviors.mop.holding import SNAP_RADII, rested_sizes, shown_progress
-from behaviors.mop.retrace import at_size_top, slid_away
 from behaviors.mop.spotting import drives
 from behaviors.mop.state import ByName, FollowState
 from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, resting,
@@ -197,8 +195,6 @@ class Recognition:
             back = unbegun(self._abandoned, x - self._anchor, self._came)
             self._abandoned, self._abandon_rested = still_unbegun(self._abandoned,
                                                                   self._abandon_rested, rests)
-            # ... nor at the top of the sizes performed (retrace.at_size_top)
-            ok = ok and not at_size_top(float(self._size[bi]), self.scale_range[1])
             ok = ok and not crawls(self._crawl) and not self._drifts(bi) and (
                 self._acquired == bi or (leads and turned and not slow and not back
                                          and not self._shares(bi, float(g[bi]), progress)))
@@ -215,13 +211,6 @@ class Recognition:
                 ok = ok and not stalls(self._drive_from, self._drive_peak, self._drive_moved, rests)
                 # ... nor hold them resting behind where it began (validity.rests_behind)
                 ok = ok and not rests_behind(self._drive_from, progress_list[bi], rests)
-                # ... nor once followed back away from its highest place (retrace.slid_away)
-                s, n = int(b.starts[bi]), int(b.lengths[bi])
-                ok = ok and not (progress_list[bi] < self._drive_peak and slid_away(
-                    self._rel[s:s + n], src[s:s + n], self._turns[s:s + n], self._drive_from,
-                    self._drive_peak, float(g[bi]) - s, float(self._extent[bi]),
-                    float(self._size[bi]), self.scale_range[0], retrace.SLIDE_AWAY,
-                    retrace.SLIDE_CARRY))
         # a new best confirms on samples of its own: the run of the one before does not carry
         # over (it did: a figure eight took over a stalled crawl and drove in the same sample)
         self._run = self._run + 1 if ok and bi == self._run_k else int(ok)

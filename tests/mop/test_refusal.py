@@ -9,7 +9,7 @@ import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import retrace, shape_lead, validity
+from behaviors.mop import shape_lead, validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import Refusal, shape_limits
 
@@ -328,9 +328,7 @@ def test_a_strained_action_takes_no_size_at_a_reversal(monkeypatch):
     # the input turns
     # at the zigzag's corner; sized there (1.06 -> 1.36) it was judged afresh
     # (invariance.REJUDGE) and drove 20 samples more. Measured: valid 0.239 of the time, 0.338
-    # sized at the reversal. With the zigzag's stroke followed back stopped (retrace.slid_away,
-    # off here) 0.169, 0.155 sized at the reversal
-    monkeypatch.setattr(retrace, "SLIDE_AWAY", 0.0)
+    # sized at the reversal
     templates, x = _mirrored_dance()
     now = np.mean([s.valid for s in run(puck_follower(templates), x)])
     monkeypatch.setattr(Refusal, "_recent_dist2", lambda self, k: 0.0)   # never strained
