@@ -34,6 +34,16 @@ from ``bench/follow_quality.py`` unless said otherwise.
   ``--sections=unrelated,after,sized`` (tuned / held-out): valid after 30% at 0.7-1.4x 0.9131 /
   0.9038 -> 0.9129 / 0.9033 (a true take after another action led waits a sample), unrelated
   mean 0.0481 / 0.0556 -> 0.0478 / 0.0550, after a gesture 0.1146 / 0.1159 -> 0.1145 / 0.1147.
+- Mirrored paths among twenty templates (``bench/follow_widened.py``: worst valid share 0.239,
+  mean 0.0145, 22 of 540 over 0.1) drive where a stroke is followed back over itself (the
+  zigzag taken at its corner and followed back along the stroke; the walk ankle on the
+  mirrored spin ankle), at sizes near the top of ``scale_range``, or as forward fits no rule
+  tells from true ones. Stopping an action followed back 15% of its extent unless it carried
+  the performer 0.2 forward, plus no drive at 0.97 of the top size: worst 0.184, but a
+  performer's genuine rewind stopped (a circle taken back from 0.35 to 0.1 drove 3 of its 14
+  samples, 14 without the rule) and sizes near the top were lost (1.75x valid after 30% 0.567
+  against 0.742); sparing slides above where the drive began: worst 0.222, the rewind 7 of 14.
+  Not kept: a rewind is the paper's own (the forward window follows a performer back).
 """
 
 from __future__ import annotations
