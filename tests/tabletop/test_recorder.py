@@ -357,7 +357,7 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
         p.terminate()
         _, err = p.communicate(timeout=60)
     assert p.returncode == 0, err
-    assert len(list(read_frames(first))) > 30
+    assert len(list(read_frames(first))) >= 30   # (its header and 30 frames were seen)
     third = Recorder(folder=folder, keep=1, header={"config": {}})
     third.close()
     assert sorted(folder.iterdir()) == [third.path]
