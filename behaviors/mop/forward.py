@@ -26,11 +26,6 @@ import numpy as np
 from behaviors.mop.hmm import TemplateBank, Transitions, dwell_states
 from behaviors.mop.window_kernel import CLAMP as _CLAMP, START_FLOOR as _START_FLOOR, step_windows
 
-#: Steps of each template's ``mean`` kept (:meth:`WindowedForward.went_back`).
-TRAIL = 8
-#: States the ``mean`` may lie below a recent one and still count as not gone back (noise).
-BACK_TOLERANCE = 1.0
-
 
 class WindowedForward:
     """Windowed forward algorithm over every template of a bank at once (stateful).
@@ -94,8 +89,6 @@ class WindowedForward:
         self._mom[0] = 1.0
         self.entries = np.zeros(k, dtype=np.int64)
         self.steps = 0
-        self._trail = np.zeros((k, TRAIL))   # mean after each of the last TRAIL steps (ring)
-        self._taken = np.zeros(k, dtype=np.int64)   # steps each template took since it waited
         self._fresh = np.ones(k, dtype=bool)   # the next step is a first one (no transitions, no restart)
 
     def reset_templates(self, templates: np.ndarray | slice, fresh: bool = False) -> None:
@@ -112,8 +105,6 @@ class WindowedForward:
         self._s[t] = 1.0
         self.lo[t] = 0
         self.mean[t] = 0.0
-        self._trail[t] = 0.0
-        self._taken[t] = 0
         self._mom[:, t] = np.array([[1.0], [0.0], [0.0]])
 
     def place(self, j: int, state: int) -> None:
@@ -155,8 +146,6 @@ class WindowedForward:
                      self.transitions.restart, self.floor, self._const, self._ll,
                      self._stay, self._dwells)
         self.steps += 1
-        self._taken += 1
-        self._trail[np.arange(self._k), self._taken % TRAIL] = self.mean
         self._fresh[:] = False
         return self._ll.copy()
 
@@ -172,14 +161,6 @@ class WindowedForward:
         m0, m1, m2 = self._mom[:, i].tolist()
         return max(m2 / m0 - (m1 / m0) ** 2, 0.0)
 
-    def went_back(self, j: int, samples: int) -> bool:
-        """Whether template ``j``'s ``mean`` lies more than :data:`BACK_TOLERANCE` states below
-        where it was after one of its last ``samples`` steps (at most :data:`TRAIL` - 1; those
-        since it last waited at its first state, steps undone by :meth:`restore` not counted)."""
-        n = min(int(samples), TRAIL - 1, int(self._taken[j]))
-        idx = [(int(self._taken[j]) - i) % TRAIL for i in range(1, n + 1)]
-        return bool(n) and float(self._trail[j, idx].max()) > self.mean[j] + BACK_TOLERANCE
-
     def snapshot(self, templates: np.ndarray) -> tuple:
         """The state of some templates (indices), to :meth:`restore` after a step."""
         t = templates
@@ -189,7 +170,6 @@ class WindowedForward:
     def restore(self, saved: tuple) -> None:
         """Put back what :meth:`snapshot` saved (those templates skip the step in between)."""
         t, a, b, s, lo, mean, mom, entries, fresh = saved
-        self._taken[t] -= 1
         self._a[t], self._b[t], self._s[t], self._fresh[t] = a, b, s, fresh
         self.lo[t], self.mean[t], self._mom[:, t], self.entries[t] = lo, mean, mom, entries
 

@@ -19,7 +19,6 @@ from behaviors.mop.group_arrays import GroupArrays
 from behaviors.mop.group_rules import GroupRules
 from behaviors.mop.state import ByName
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.invariance import REVERSAL_PLACE_STEADY
 from behaviors.mop.glitch import REACH_AHEAD, REACH_BACK, path_distances
 from behaviors.mop.hmm import TemplateBank, TemplateError
 from behaviors.mop.shape_lead import LEAD, RIVAL_PROBABILITY, SHAPE_SPREAD
@@ -247,7 +246,7 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._reversal_tol, placed)
         out = self._conclude(step_ll, present)
         for j in np.flatnonzero(placed >= 0).tolist():   # unless begun anew since
-            if fw.mean[j] == mean[j] and not fw.went_back(j, REVERSAL_PLACE_STEADY):
+            if fw.mean[j] == mean[j]:
                 fw.place(j, int(placed[j]))
         return out
 

@@ -90,28 +90,21 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
 - Followed from the landmark on (:data:`REVERSAL_PLACE`, :data:`REVERSAL_AHEAD` 9): a template
   sized at a reversal whose landmark lies more than :data:`REVERSAL_PLACE_BEHIND` states ahead
   of its followed state is followed from the landmark on (the forward's window put there,
-  :meth:`~behaviors.mop.forward.WindowedForward.place`) while its forward goes forward: not
-  more than :data:`~behaviors.mop.forward.BACK_TOLERANCE` 1 state below its place after any of
-  the last :data:`REVERSAL_PLACE_STEADY` 3 samples (a performer's rewind moves it back first;
-  the size is taken all the same). A line drawn 0.6-0.78x reaches its turn 7-9 states short
-  of the template's at size 1: with the size alone its return is read as the outward stroke
-  backwards, the line does not drive and the next gesture begins inside its open attempt.
-  Six gestures back to back at 0.6-0.8x (``bench.motions.back_to_back`` drawn so, seeds 29 and
-  1-3) never recognised 0.070 (seed 29: 0); the size alone 0.188, placed within 6 ahead 0.109.
-  A wave drawn 1.0x to 0.40, back to 0.15 and on (``tests/mop/test_invariance.py``) turns back
-  4-9 states short of its template's turn and its forward goes 2.1-3.2 states back (the small
-  lines' at most 0.63): it drives 65 ticks, at 0.8x 59; the size alone 65 and 59; placed
-  regardless 13 and 45 (its progress falls to 0.11, the zigzag takes over); a tolerance of 0.5
-  costs the lines (valid after 30% 0.53 -> 0.41). ``bench/follow_quality.py`` (tuned), size
-  alone / placed regardless / placed going forward: valid after 30% at 0.7-1.4x 0.9157 /
-  0.9231 / 0.9231, at 0.6 and 1.5x 0.7585 / 0.7724 / 0.7768, six gestures back to back never
-  recognised 0.031 / 0 / 0, unrelated mean 0.0154 / 0.0151, after a gesture mean 0.073 /
-  0.069; progress RMSE median 0.0190 / 0.0195 / 0.0195, p90 0.0405 / 0.0423 / 0.0423 (a
-  landmark passed is a jump in the progress shown); holds and pauses the same. Placed from 0
-  states behind: a pause's valid share 0.9551 -> 0.9545; landmarks 12 ahead: as 9.
-  ``bench/follow_widened.py``: mirrored paths among twenty mean 0.0145 -> 0.0147 (worst 0.239
-  and sequences the same). Held out: valid after 30% 0.9049 / 0.9026 / 0.9026 (0.6 and 1.5x
-  0.6888 -> 0.6945 going forward), mirrored worst 0.346 -> 0.450.
+  :meth:`~behaviors.mop.forward.WindowedForward.place`). A line drawn 0.6-0.78x was followed
+  at size 1 and reached its turn 7-9 states short of the template's: the size alone (when
+  the landmark lay within reach) left the forward on the outward stroke, and the return was
+  read as that stroke backwards; the line never drove, and the gesture after it began inside
+  its open attempt. Six gestures back to back at 0.6-0.8x (``bench.motions.back_to_back``
+  drawn so, seeds 29 and 1-3): never recognised 0.141 -> 0.070 (lines 10 -> 1; seed 29
+  alone 0.094 -> 0); the size alone with landmarks 9 ahead 0.188, placed within 6 ahead
+  0.109. ``bench/follow_quality.py`` (tuned): valid after 30% at 0.7-1.4x 0.9157 -> 0.9231,
+  at 0.6 and 1.5x 0.7585 -> 0.7724, six gestures back to back never recognised 0.031 -> 0,
+  unrelated mean 0.0154 -> 0.0151 (worst 0.068 unchanged), after a gesture mean 0.073 ->
+  0.069; progress RMSE median 0.0190 -> 0.0195, p90 0.0405 -> 0.0423 (a landmark passed is
+  a jump in the progress shown); holds and pauses unchanged. Placed from 0 states behind: a
+  pause's valid share 0.9551 -> 0.9545; landmarks 12 ahead: the same as 9. ``bench/
+  follow_widened.py``: mirrored paths among twenty mean 0.0145 -> 0.0147 (worst 0.239 and
+  sequences unchanged). Held out: valid after 30% 0.9049 -> 0.9026, mirrored worst 0.346 -> 0.450.
 
 Direction of motion (``tangent``, 0 by default) as extra features of every state: it raised
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the
@@ -183,9 +176,6 @@ REVERSAL_FIT = 0.25
 #: followed from the landmark on (False: the size alone).
 REVERSAL_PLACE = True
 REVERSAL_PLACE_BEHIND = 3
-#: ... only while its forward went forward over this many samples (a performer's rewind moves
-#: it back: :meth:`~behaviors.mop.forward.WindowedForward.went_back`).
-REVERSAL_PLACE_STEADY = 3
 
 
 def reversal_map(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
@@ -439,9 +429,8 @@ class PerformanceFrame:
         landmark is followed from the landmark on (``forward``'s templates from ``offset``),
         unless its performance began anew since (its forward mean moved)."""
         for k, state, mean in self._placed:
-            j = offset + k
-            if forward.mean[j] == mean and not forward.went_back(j, REVERSAL_PLACE_STEADY):
-                forward.place(j, state)
+            if forward.mean[offset + k] == mean:
+                forward.place(offset + k, state)
         self._placed = []
 
     def _rejudge(self) -> None:

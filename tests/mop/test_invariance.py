@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 from bench.follow_quality import puck_follower, run, true_metrics
-from bench.motions import at_phase, mocap_templates, performance
+from bench.motions import mocap_templates, performance
 from behaviors.mop import invariance, shape_lead
 from behaviors.mop.group import FollowerGroup
 from tests.mop.test_group import _step_both
@@ -81,45 +81,3 @@ def test_a_group_follows_smaller_lines_from_their_turn_as_its_followers_alone(ge
     alone = [puck_follower(gestures) for _ in streams]
     group = FollowerGroup([puck_follower(gestures) for _ in streams])
     assert _step_both(alone, group, streams) >= 20
-
-
-def _rewound_wave(gestures, size: float, seed: int = 0) -> np.ndarray:
-    """The wave (``size`` x) performed to 0.40 of its way, back to 0.15 and on to its end
-    (metres): a performer's rewind in the middle of the gesture, still before and after."""
-    tpl = gestures["wave"]
-    n = len(tpl)
-    phase = np.concatenate([np.zeros(20), np.linspace(0, 0.4, int(n * 0.4)),
-                            np.linspace(0.4, 0.15, 15), np.linspace(0.15, 1, int(n * 0.85)),
-                            np.ones(25)])
-    x = size * at_phase(tpl, phase * (n - 1))
-    return x + np.random.default_rng(seed).normal(0, 0.0008, x.shape)
-
-
-def _wave_drives(gestures, size: float) -> tuple[int, int]:
-    """Ticks the rewound wave drives, and ticks another action drives."""
-    states = run(puck_follower(gestures), _rewound_wave(gestures, size))
-    return (sum(s.valid and s.best == "wave" for s in states),
-            sum(s.valid and s.best != "wave" for s in states))
-
-
-def test_a_rewind_in_the_middle_of_a_gesture_is_not_followed_from_a_turn_ahead(gestures,
-                                                                             monkeypatch):
-    # the wave rewound from 0.40 to 0.15 turns back 4-9 states short of its template's turn
-    # and is sized there; followed from that turn while the performer went back, its progress
-    # collapsed (0.11) and the zigzag took over. Moved there only while the forward went
-    # forward: measured at 1.0x 65 ticks driven (13 moved there regardless, 65 sized alone),
-    # at 0.8x 59 (45, 59)
-    ticks = {size: _wave_drives(gestures, size) for size in (1.0, 0.8)}
-    monkeypatch.setattr(invariance, "REVERSAL_PLACE", False)
-    alone = {size: _wave_drives(gestures, size) for size in (1.0, 0.8)}
-    for size in (1.0, 0.8):
-        assert ticks[size][0] >= 55 and ticks[size][1] == 0, (ticks, alone)
-        assert ticks[size][0] >= alone[size][0] - 3, (ticks, alone)
-
-
-def test_a_group_follows_a_rewound_wave_as_its_followers_alone(gestures):
-    # the forward's own way back stops the placement in the compiled group too
-    streams = [_rewound_wave(gestures, size, seed) for seed, size in enumerate((1.0, 0.8))]
-    alone = [puck_follower(gestures) for _ in streams]
-    group = FollowerGroup([puck_follower(gestures) for _ in streams])
-    assert _step_both(alone, group, streams) >= 110
