@@ -107,21 +107,6 @@ class WindowedForward:
         self.mean[t] = 0.0
         self._mom[:, t] = np.array([[1.0], [0.0], [0.0]])
 
-    def place(self, j: int, state: int) -> None:
-        """Put all of template ``j``'s main-window probability on its state ``state`` (counted
-        from its first state), the window centred there as a step leaves it, its mass and the
-        first-states window as they were: a landmark the performance passed
-        (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`)."""
-        at = int(state)
-        lo = min(max(at - self.half_window, 0), int(self._max_lo[j]))
-        mass = float(self._a[j].sum())
-        self._a[j] = 0.0
-        self._a[j, at - lo] = mass
-        self.lo[j] = lo
-        self.mean[j] = float(at)
-        r = float(at - lo)
-        self._mom[:, j] = (mass, mass * r, mass * r * r)
-
     @property
     def log_constant(self) -> np.ndarray:
         """Per template, the Gaussian's normalising term ``-d log sigma - d/2 log 2 pi`` (K,)."""

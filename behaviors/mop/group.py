@@ -234,8 +234,6 @@ class FollowerGroup(GroupArrays, GroupRules):
         # fresh each tick: the states' maps are views of them
         self._k_out = k_out = np.empty((3, k))
         self._k_progress, self._k_mean_ll, self._k_p = k_out
-        placed = np.full(k, -1.0)   # PerformanceFrame._place_at_reversals
-        mean = fw.mean.copy()
         group_kernel.update_templates(
             self._states, self._ti, self._tc, self._mc, self._floats, self._flags, self._misfit,
             self._entries, fw.mean, fw.entries, step_ll, self._m_vectors, self._buf,
@@ -243,12 +241,8 @@ class FollowerGroup(GroupArrays, GroupRules):
             LEAD * 2.0 * SHAPE_SPREAD ** 2, k_out, self._k_new, self._m_top3, self._m_floats,
             self._m_bools, present, self._means, self._thr_means, self._thr_alpha,
             self._thr_scratch, self._thr_z, self._thr_lj, self._thr_tops, self._reversal_at,
-            self._reversal_tol, placed)
-        out = self._conclude(step_ll, present)
-        for j in np.flatnonzero(placed >= 0).tolist():   # unless begun anew since
-            if fw.mean[j] == mean[j]:
-                fw.place(j, int(placed[j]))
-        return out
+            self._reversal_tol)
+        return self._conclude(step_ll, present)
 
     def _conclude(self, step_ll: np.ndarray, present: np.ndarray) -> list[FollowState]:
         """:meth:`ActionFollower._conclude` for every member at once, after the per-template

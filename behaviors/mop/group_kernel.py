@@ -30,8 +30,7 @@ from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.invariance import (ALONG, REVERSAL_PLACE, REVERSAL_PLACE_BEHIND,
-                                      input_reversal, reversal_size)
+from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
@@ -49,12 +48,12 @@ _S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
 @compiled(numba.void(_F2, _I2, _F2, _F2, _F2, _BB2, _F2, numba.int64[::1], _F1,
                      numba.int64[::1], _F1, _F3, _F3, _I2, numba.intp, numba.intp, numba.float64,
                      numba.float64, _F2, _B1, _I2, _F2, _BB2, _B1, _F2, _S2, _S1, _S1, _F2, _F1,
-                     _F1, _I1, _F1, _F1),
+                     _F1, _I1, _F1),
            *_CALLS_INTO, fastmath=CONTRACT)
 def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, fw_entries, step_ll,
                      vectors, buf, ints, before, after, rival_p, min_lead, k_out, new_out,
                      top3_out, m_floats, m_flags, present, means, thr_means, alpha, scratch,
-                     thr_z, thr_lj, thr_tops, reversal_at, reversal_tol, placed) -> None:
+                     thr_z, thr_lj, thr_tops, reversal_at, reversal_tol) -> None:
     """After one forward step (``mean``, ``fw_entries``, ``step_ll`` per template), each
     template's followed state and per-template rules, member by member, then each member's
     probabilities, best, top three and shape lead.
@@ -81,10 +80,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     in its shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
     ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
     each template's tolerance there
-    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`); ``placed`` (K,, -1
-    on entry): where such a landmark lies ahead of the followed state, its state from the
-    template's first (the group then follows it from there). ``means``, ``thr_means``: the
-    states' means (D, S), the threshold model's in float32."""
+    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`). ``means``,
+    ``thr_means``: the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run = floats[11], floats[12]
@@ -210,9 +207,6 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 sr = reversal_size(hq, tr, lo, hi, reversal_tol[k])
                 if sr > 0.0:
                     num[k] = sr * (den[k] + t[2]) - t[2]
-                    # followed from the landmark on (PerformanceFrame._place_at_reversals)
-                    if REVERSAL_PLACE and reversal_at[gs] > gi + REVERSAL_PLACE_BEHIND:
-                        placed[k] = reversal_at[gs] - start
             if scaled:   # PerformanceFrame._estimate_size
                 qr = 0.0
                 qq = 0.0

@@ -68,7 +68,7 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
 - At a reversal (:data:`REVERSAL_FIT`; as :func:`~behaviors.mop.holding.rested_sizes` at
   rests): where the input turns back (its motion over :data:`REVERSAL_LAG` samples against
   as many before at a cosine below 0, :func:`input_reversal`) while the followed state lies
-  within 6 states of its template's own reversal (9 ahead of it: below), the template takes
+  within 6 states of its template's own reversal (:func:`reversal_map`), the template takes
   the size that puts the turning sample on that state (:func:`reversal_size`). A straight
   first stroke drawn smaller kept the size near 1 and stopped at the turn, where another
   action took over (the largest loss left at 0.7-1.4x). ``bench/follow_quality.py
@@ -87,24 +87,6 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   -> 0.298 (held-out within 20% 0.313 -> 0.344). DESIGN's group tick: no cost measurable
   (``bench/mop.py --design``, before / after, run in turn: 1.46 / 1.28 ms median at load 4,
   1.37 / 1.39 ms at load 0.6).
-- Followed from the landmark on (:data:`REVERSAL_PLACE`, :data:`REVERSAL_AHEAD` 9): a template
-  sized at a reversal whose landmark lies more than :data:`REVERSAL_PLACE_BEHIND` states ahead
-  of its followed state is followed from the landmark on (the forward's window put there,
-  :meth:`~behaviors.mop.forward.WindowedForward.place`). A line drawn 0.6-0.78x was followed
-  at size 1 and reached its turn 7-9 states short of the template's: the size alone (when
-  the landmark lay within reach) left the forward on the outward stroke, and the return was
-  read as that stroke backwards; the line never drove, and the gesture after it began inside
-  its open attempt. Six gestures back to back at 0.6-0.8x (``bench.motions.back_to_back``
-  drawn so, seeds 29 and 1-3): never recognised 0.141 -> 0.070 (lines 10 -> 1; seed 29
-  alone 0.094 -> 0); the size alone with landmarks 9 ahead 0.188, placed within 6 ahead
-  0.109. ``bench/follow_quality.py`` (tuned): valid after 30% at 0.7-1.4x 0.9157 -> 0.9231,
-  at 0.6 and 1.5x 0.7585 -> 0.7724, six gestures back to back never recognised 0.031 -> 0,
-  unrelated mean 0.0154 -> 0.0151 (worst 0.068 unchanged), after a gesture mean 0.073 ->
-  0.069; progress RMSE median 0.0190 -> 0.0195, p90 0.0405 -> 0.0423 (a landmark passed is
-  a jump in the progress shown); holds and pauses unchanged. Placed from 0 states behind: a
-  pause's valid share 0.9551 -> 0.9545; landmarks 12 ahead: the same as 9. ``bench/
-  follow_widened.py``: mirrored paths among twenty mean 0.0145 -> 0.0147 (worst 0.239 and
-  sequences unchanged). Held out: valid after 30% 0.9049 -> 0.9026, mirrored worst 0.346 -> 0.450.
 
 Direction of motion (``tangent``, 0 by default) as extra features of every state: it raised
 validity after 30% at 0.7-1.4x to 0.95 and at 0.6x/1.5x from 0.53 to 0.80, and halved the
@@ -122,7 +104,6 @@ import numba
 import numpy as np
 
 from behaviors.kernel_cache import compiled
-from behaviors.mop.forward import WindowedForward
 from behaviors.mop.hmm import TemplateBank
 
 INVARIANCES = ("scale", "offset", "none")
@@ -167,15 +148,10 @@ REVERSAL_MOVE = 2.0
 #: A template's reversal (its states as the input's samples, the sharpest of a run) is a
 #: landmark of the followed state from this many states behind it to this many ahead.
 REVERSAL_BEHIND = 6
-REVERSAL_AHEAD = 9
+REVERSAL_AHEAD = 6
 #: How far (share of the template's extent at the size found) the input's reversal may lie
 #: from the landmark's place (0: no size taken at reversals).
 REVERSAL_FIT = 0.25
-#: A template whose reversal landmark lies more than :data:`REVERSAL_PLACE_BEHIND` states ahead
-#: of its followed state when the input reverses there, and takes the size it gives, is
-#: followed from the landmark on (False: the size alone).
-REVERSAL_PLACE = True
-REVERSAL_PLACE_BEHIND = 3
 
 
 def reversal_map(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray) -> np.ndarray:
@@ -396,16 +372,12 @@ class PerformanceFrame:
         np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least), lo, hi,
                 out=self._size)
 
-    def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray, mean: np.ndarray) -> None:
+    def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each
         template whose followed state ``gi`` has a reversal near (:func:`reversal_map`) takes
         the size that puts the input's reversal on it (:func:`reversal_size`), in place on the
-        size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does; one whose
-        landmark lies ahead of ``gi`` is also to be followed from the landmark on
-        (:data:`REVERSAL_PLACE`: ``_placed`` gets the template, the landmark's state from its
-        first and its forward ``mean`` now, for :meth:`_place_at_reversals`)."""
+        size estimate's sums as :func:`~behaviors.mop.holding.rested_sizes` does."""
         recent = self._recent_x
-        self._placed = []
         if self.invariance != "scale" or len(recent) < 2 * REVERSAL_LAG:
             return
         r = np.empty(self.dim)
@@ -421,17 +393,6 @@ class PerformanceFrame:
             s = reversal_size(self._rel[at[k]], r, lo, hi, float(self._reversal_tol[k]))
             if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
                 self._num[k] = s * (self._den[k] + self._prior[k]) - self._prior[k]
-                if REVERSAL_PLACE and at[k] > gi[k] + REVERSAL_PLACE_BEHIND:
-                    self._placed.append((k, int(at[k] - self.bank.starts[k]), float(mean[k])))
-
-    def _place_at_reversals(self, forward: WindowedForward, offset: int) -> None:
-        """After the sample: each template :meth:`_reversal_sizes` found behind its reversal
-        landmark is followed from the landmark on (``forward``'s templates from ``offset``),
-        unless its performance began anew since (its forward mean moved)."""
-        for k, state, mean in self._placed:
-            if forward.mean[offset + k] == mean:
-                forward.place(offset + k, state)
-        self._placed = []
 
     def _rejudge(self) -> None:
         """Templates whose size estimate moved by :data:`REJUDGE` since their recent likelihood

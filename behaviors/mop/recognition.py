@@ -89,7 +89,7 @@ class Recognition:
                              self._size,
                              self.scale_range[0], SNAP_RADII * self._still_radius / self._units,
                              self._num, self._den, self._prior, self._least)
-        self._reversal_sizes(x, gi, mean)
+        self._reversal_sizes(x, gi)
         self._estimate_size(x, gi, frac)
         if self._holds is not None:
             progress = shown_progress(progress, self._holds[0][gi], self._at_hold_end, rest)
@@ -148,10 +148,8 @@ class Recognition:
                      else self._threshold_ev) - self._evidence[top]
             self._kept = total / (total + math.exp(min(rival, 700.0)))
         lists = (progress.tolist(), p.tolist(), mean_ll.tolist())
-        state = self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset,
-                               x, lists, rest)
-        self._place_at_reversals(forward, offset)
-        return state
+        return self._conclude(top, p, progress, g, gi, mean_ll, new, step_ll, forward, offset, x,
+                              lists, rest)
 
     def _conclude(self, top: int, p: np.ndarray, progress: np.ndarray, g: np.ndarray,
                   gi: np.ndarray, mean_ll: np.ndarray, new: np.ndarray, step_ll: np.ndarray,

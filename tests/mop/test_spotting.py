@@ -9,7 +9,6 @@ import pytest
 
 from bench.follow_quality import puck_follower, run, wrong_valid
 from bench.motions import at_phase, back_to_back, performance, phase_of
-from behaviors.mop import invariance
 from behaviors.mop.sharing import shared_until
 
 
@@ -49,19 +48,14 @@ def test_gestures_back_to_back_are_each_recognised(gestures):
         assert len(late) <= 2, (before, after, len(late))
 
 
-def test_a_line_followed_backwards_ends_when_the_input_is_back_at_its_end(gestures, monkeypatch):
+def test_a_line_followed_backwards_ends_when_the_input_is_back_at_its_end(gestures):
     # a line (out and back) at 0.7x whose size was overestimated: its return is followed backwards
     # along the outward stroke and its progress never reaches its end; it ends when the input is
     # back at its last point (measured, seeds 0-3: the line drove 9, 7, 15, 14 samples of the
     # wave that followed and the wave drove 4, 1, 30, 26; with the rule 0 and 30, 51, 37, 31).
     # Known conflict with not-back-before-forward (validity.backs_first): on seeds 0 and 1 the
     # wave, first valid at 0.53, steps back to 0.50, is held, and the zigzag drives the rest
-    # (the wave drives 2 and 1 samples); seeds 2 and 3 keep 37 and 31. Such a line is now
-    # mostly followed from its turn on (invariance.REVERSAL_PLACE: 11-17 ticks of the line
-    # right, the wave 31, 49, 39, 34, the line's end 3 ticks into the wave's eased start on
-    # seed 3): the rule is measured without that, where lines turn beyond its reach
-    monkeypatch.setattr(invariance, "REVERSAL_PLACE", False)
-    monkeypatch.setattr(invariance, "REVERSAL_AHEAD", 6)
+    # (the wave drives 2 and 1 samples); seeds 2 and 3 keep 37 and 31
     f = puck_follower(gestures)
     for seed in range(4):
         rng = np.random.default_rng(seed)
@@ -155,10 +149,8 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
     # where a wrong action drives, those of them where an ideal observer could already tell
     # (bench/spotting_reach.indistinguishable: the gesture's path so far is no start of the
     # driving action's at any size and tempo, within 2 mm) and the longest run of wrong ticks.
-    # Measured with shared starts (the default, share_radius 3): 11 wrong ticks, none told, no
-    # run over 2 (ended gestures on the next's eased start: 2 of them a line drawn 0.7x, followed
-    # from its turn on, invariance.REVERSAL_PLACE; without that the line never drives: 9);
-    # without them: 15 wrong, 1 told, the
+    # Measured with shared starts (the default, share_radius 3): 9 wrong ticks, none told, no run
+    # over 2 (ended gestures on the next's eased start); without them: 15 wrong, 1 told, the
     # longest run 6 (the line on a square's first side); without them nor the shape lead
     # (shape_lead.LEAD 0): 43 wrong, 4 told (the line on a circle's first stroke, 0.20-0.23)
     from bench.spotting_reach import indistinguishable
@@ -182,7 +174,7 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
         return wrong, told, longest
 
     wrong, told, longest = wrong_ticks()
-    assert wrong <= 12 and told <= 1 and longest <= 2, (wrong, told, longest)
+    assert wrong <= 10 and told <= 1 and longest <= 2, (wrong, told, longest)
     wrong, told, longest = wrong_ticks(share_radius=0.0)
     assert wrong >= 12 and longest >= 5, (wrong, told, longest)
     monkeypatch.setattr(shape_lead, "LEAD", 0.0)
