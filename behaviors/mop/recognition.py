@@ -44,6 +44,14 @@ from ``bench/follow_quality.py`` unless said otherwise.
   samples, 14 without the rule) and sizes near the top were lost (1.75x valid after 30% 0.567
   against 0.742); sparing slides above where the drive began: worst 0.222, the rewind 7 of 14.
   Not kept: a rewind is the paper's own (the forward window follows a performer back).
+- Small gestures back to back (0.6-0.8x, six templates): 9.4% of seed 29's never drive, most
+  of them lines: along a straight stroke size and progress look alike, so a 0.7x line is
+  followed as a full one, reaches its turn at about 0.37 of the template, and its return is
+  read as the stroke going backwards. Following a template sized at a turning point up to 9
+  states ahead from that turning point (only while its followed state went forward) made it
+  0, and sized 0.7-1.4x valid after 30% 0.9157 -> 0.9231; but on the held-out performers
+  unrelated motions drove more (worst 0.346 -> 0.450) and sized ones less (0.9049 -> 0.9026):
+  not kept.
 """
 
 from __future__ import annotations
