@@ -92,7 +92,7 @@ def test_a_reader_never_loads_a_mix_while_another_process_saves(tmp_path):
     lib = tmp_path / "library"
     demo, params = _version(0)
     folder = library.save_behavior(lib, "bully", demo, params)
-    child = _child(tmp_path, lib, 0, count=150)
+    child = _child(tmp_path, lib, 0, count=50)
     versions = set()
     while child.poll() is None:
         versions.add(_which(library.load_behavior(folder)))
