@@ -24,7 +24,7 @@ import numpy as np
 
 from behaviors.puppet_master.sequential import SequentialSession
 from tabletop import library
-from tabletop.files import atomic_write_text, fsync_folder
+from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
 from tabletop.studio.folders import rename_folder, trash
@@ -314,8 +314,7 @@ class PuppetMasterTarget:
                 if written is not None:
                     self._yaml_before[new] = written
         except OSError:
-            os.rename(self.lib / new, self.lib / old)
-            fsync_folder(self.lib)
+            rename_folder(self.lib, new, old, check=False)
             raise
         if self.current() == old:
             self.playing = self.lib / new
