@@ -61,7 +61,8 @@ class Runner:
         self.started = (clock or time.monotonic)()
         self.stop = threading.Event()
         self.pending: dict[str, Any] | None = None
-        self._waiting = False      # the pending edit waits for a studio take (said)
+        # the pending edit waits for a studio take (said); cleared with the pending edit
+        self._waiting = False
         self._notes: list[str] = []    # said by the next studio (what an applied edit did)
         self.notifier = Notifier()
         self.watcher = None
@@ -158,7 +159,7 @@ class Runner:
         extra: list = []
         self._notes, notes = [], self._notes
         # an edit waiting for a studio take, shown as long as it waits (not only said once)
-        extra.append(lambda: {"config_pending": self._waiting and self.pending is not None})
+        extra.append(lambda: {"config_pending": self._waiting})
         if self.watcher is None:      # (the watcher gives them otherwise)
             extra.append(lambda: {"config": str(self.config_path),
                                   "config_error": self.config_error})
@@ -180,20 +181,19 @@ class Runner:
             extra.append(self._attract(inst, cfg))
             self._kiosk_view(inst, cfg["kiosk"])
         loop.filters.append(OneMoment(cfg["kiosk"]["grace_s"], clock=loop.clock))
+        view = next((s for s in loop.sinks if s.name == "view"), None)
         if self.watcher is not None:
             loop.hooks.append(self.watcher)
             extra.append(self.watcher.status)
             w = self.watcher
-            for s in loop.sinks:
-                if s.name == "view":
-                    s.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
+            if view is not None:
+                view.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
         if self.kiosk:
             extra.append(recording_status(inst.recorder))
             self._health(inst, cfg, extra)
-        for s in loop.sinks:
-            if s.name == "view":
-                s.notices.append(lambda: ["config edit waits: K keeps the take, X drops it"]
-                                 if self._waiting and self.pending is not None else [])
+        if view is not None:
+            view.notices.append(lambda: ["config edit waits: K keeps the take, X drops it"]
+                                if self._waiting else [])
         loop.hooks.append(WatchdogPing(self.notifier, clock=loop.clock))
         return inst
 
@@ -285,7 +285,7 @@ class Runner:
                 left -= time.monotonic() - t0
             if self.pending is None or self.stop.is_set() or (left is not None and left <= 0):
                 break
-            cfg, self.pending = self.pending, None
+            cfg, self.pending, self._waiting = self.pending, None, False
         if self.reporter is not None:      # its loop closed it: the file says it stopped
             self.reporter.stopped()
         self.notifier.send("STOPPING=1")
