@@ -307,15 +307,20 @@ def make_server(host: str, port: int, sink: OscInput):
             self.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER)
             super().server_bind()
 
+        def get_request(self):
+            """The datagram and its sender, the sender's address plain (once per packet)."""
+            request, client_address = super().get_request()
+            return request, (plain_address(client_address[0]), *client_address[1:])
+
         def verify_request(self, request, client_address) -> bool:
-            sender = plain_address(client_address[0])
+            sender = client_address[0]
             if sink.allow and sender not in sink.allow:
                 sink.bad.count("not_allowed", f"packet from {sender}")
                 return False
             return True
 
         def finish_request(self, request, client_address) -> None:
-            sink.handle(request[0], (plain_address(client_address[0]), client_address[1]))
+            sink.handle(request[0], (client_address[0], client_address[1]))
 
         def handle_error(self, request, client_address) -> None:
             sink.bad.count("internal_error", f"from {client_address}")
