@@ -162,25 +162,30 @@ def entry() -> None:
     within :data:`behaviors.worker.FINISH_S`, a Ctrl-C (SIGTERM, SIGHUP) meanwhile caught as
     everywhere else.
     A job that does not end in time, or a Ctrl-C while it runs, ends the process at once
-    (``os._exit``): the interpreter's finalisation must not run under a thread in native code."""
+    (``os._exit``): the interpreter's finalisation must not run under a thread in native code.
+    An interrupted command ends so too: a Ctrl-C that landed in code an extension module runs
+    through ``PyRun_String`` while it is imported leaves the interpreter's mark of an
+    unhandled KeyboardInterrupt, and the interpreter then ends by SIGINT (status -2), not
+    130."""
     try:
         status: int | str | None = main()
     except SystemExit as exc:   # argparse's --help and --version
         status = exc.code
     worker = sys.modules.get("behaviors.worker")   # imported where jobs ran
-    if worker is None:
+    ended = True
+    if worker is not None:
+        try:
+            with _interrupt_on_stop_signals():
+                ended = worker.finish_jobs()
+        except KeyboardInterrupt:
+            print("tabletop: interrupted", file=sys.stderr)
+            status = EXIT_INTERRUPTED
+        else:
+            if not ended:
+                print("tabletop: a background job did not end in time; ending without it",
+                      file=sys.stderr)
+    if ended and status != EXIT_INTERRUPTED:
         sys.exit(status)
-    try:
-        with _interrupt_on_stop_signals():
-            ended = worker.finish_jobs()
-    except KeyboardInterrupt:
-        print("tabletop: interrupted", file=sys.stderr)
-        status = EXIT_INTERRUPTED
-    else:
-        if ended:
-            sys.exit(status)
-        print("tabletop: a background job did not end in time; ending without it",
-              file=sys.stderr)
     import logging
     logging.shutdown()
     for stream in (sys.stdout, sys.stderr):
