@@ -303,6 +303,36 @@ class GenerationStep(StepDetail):
             # 1, 1 +- 0.001, 1 +- 0.002: misses (all contact) 44 -> 49 (contact 0.038 -> 0.034
             # mean: long touches gone, darts as short as before), only within 0.12 m 78, only
             # the approach beyond the moment's main's 74. Not used.
+            # Its darts fall short on the loops paths (contact 0.031 mean over the 18 of seeds 0-5,
+            # 8-13, 26-31, its designer 0.036, 0.041 shown; missed on 16 of 90 path runs with
+            # relative_motion x 1, 1 +- 0.001, 1 +- 0.002, 2-4 in every run, its designer on none;
+            # slow 4, fast 4 of 90). Traced on seed 0 loops (Python step): the match sits on
+            # moments under 0.08 m 3.6% of the steps, the friend is there 1.9%; it is 1.8 cm
+            # farther out than the matched moment there (2.6 cm at 0.08-0.10 m), 1.4 cm nearer at
+            # moments beyond 0.2 m. Its inward steps (moments whose distance falls over 1.5 mm a
+            # step) close 4.0 mm a step raw against 4.3 shown, 2.7 after the linear smooth
+            # (situation and coherence alternate between a dart and another moment), on all three
+            # kinds of path alike. What is the loops paths' own: the deficit is beside a main
+            # walking round a curve (seeds 0-5, 8-13: heading turning 0.5-2 rad/s, half of the
+            # time, 0.022 against its designer's 0.035; a main standing 0.044 both); on seed 0 71%
+            # of its inward steps at world places are held to this cap, as that main walks off
+            # faster than the moment's (at 32.1-32.5 s: a coherent dart from 0.159 to 0.078 m
+            # matched, raw steps = the moment's 0.15-0.46 m/s, the live main 0.10-0.22 m/s away
+            # against 0.04-0.19 shown: 0.193 -> 0.134 m). Measured, the friend alone, those seeds
+            # and five runs (misses, nearly all contact, of which loops; slow / fast / loops
+            # contact mean; against 25 (16), 0.031 / 0.037 / 0.031): the cap raised by the live
+            # main's step away beyond the moment's main's 34 (7), 0.031 / 0.045 / 0.036 (fast paths
+            # 13 over); half of it 33 (11); only while the moment approaches 32 (14); only while
+            # the live main is no faster than the demonstrated main's 90th percentile, per step 35
+            # (20), over 0.5 s 35 (9), 75th 44 (14); at most the top speed 36 (13); the drift
+            # correction on top of the cap 32 (4), 0.032 / 0.035 / 0.032 (fast paths 20 under),
+            # only while the moment approaches 43 (16), only while the live main walks off faster
+            # than the moment's main 35 (11); the cap at least the uncorrected step (k x the live
+            # main's step + its own) 41 (17), the cap that step's length 31 (11), 0.032 / 0.038 /
+            # 0.035. Each widens the fast paths' spread (sd 0.0095 -> 0.013-0.017, over and under),
+            # where its designer's friend is run into (its main does 42% of the closing within 0.12
+            # m, seeds 0-5) and the generated one closes in itself (13%; 12-13% both on the loops
+            # paths). The smooth over 2 / 4 samples (Params.smooth) 43 (17) / 33 (14). None kept.
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
