@@ -9,9 +9,10 @@ stalker and afraid. The demonstrations come from the seeded scripted designers i
 then it prints every behaviour's fidelity table (generated on unseen main paths beside its
 demonstration, see :mod:`behaviors.puppet_master.fidelity`), naming the thresholds each
 behaviour misses on each path, the same against a pursuing visitor for the characters shown
-by chasing them, and the thresholds the scripted designer's own character misses on the same
-paths (the figures of bench/fidelity.py's first seed; the tables inform, the exit status is
-about the files).
+by chasing them, the thresholds met of all, the thresholds the scripted designer's own
+character misses on the same paths and the misses that are the engine's alone (the report of
+bench/fidelity.py's first seed, :func:`print_report`; it informs, the exit status is about the
+files).
 """
 
 from __future__ import annotations
@@ -135,7 +136,7 @@ FIDELITY_COLUMNS = (
     ("distance_mean_m", "dist m"), ("speed_mean_mps", "speed"), ("speed_still_mps", "v still"),
     ("speed_moving_mps", "v moving"), ("still_moving_ratio", "still/mov"), ("facing", "facing"),
     ("look_change_rad", "dlook"), ("saturation", "satur."), ("texture_rad", "texture"),
-    ("contact", "contact"), ("orbit_radps", "orbit"))
+    ("contact", "contact"), ("orbit_radps", "orbit"), ("edge_share", "at edge"))
 
 
 Rows = dict[str, dict[str, dict]]
