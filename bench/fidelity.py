@@ -120,8 +120,9 @@ sys.path.insert(0, str(ROOT))
 
 from bench.common import emit  # noqa: E402
 from behaviors.puppet_master import fidelity  # noqa: E402
-from tabletop.examples import (designer_table, fidelity_table, print_designer,  # noqa: E402
-                               print_fidelity, pursuit_table)
+from behaviors.puppet_master.fidelity import engine_misses  # noqa: E402
+from tabletop.examples import (designer_table, fidelity_table, print_report,  # noqa: E402
+                               pursuit_table)
 
 
 def _seeds(text: str) -> list[int]:
@@ -133,34 +134,6 @@ def _seeds(text: str) -> list[int]:
     if not seeds:
         raise argparse.ArgumentTypeError("--seeds: at least one seed")
     return seeds
-
-
-def _met(table: dict[str, dict[str, dict]]) -> tuple[int, int, dict[str, int], int]:
-    """(pairs within every threshold, pairs, pairs within each threshold, thresholds met)."""
-    passed = total = 0
-    per_threshold: dict[str, int] = {}
-    for paths in table.values():
-        for row in paths.values():
-            total += 1
-            passed += int(row["ok"])
-            for k, v in row.items():
-                if k.startswith("ok_"):
-                    per_threshold[k[3:]] = per_threshold.get(k[3:], 0) + int(v)
-    return passed, total, per_threshold, sum(per_threshold.values())
-
-
-def engine_misses(table: dict[str, dict[str, dict]],
-                  reference: dict[str, dict[str, dict]]) -> dict[str, dict[str, list[str]]]:
-    """{behaviour: {path: thresholds}} the generation misses where the designer's own
-    character on the same path meets them: the misses of the engine, not of the path."""
-    out: dict[str, dict[str, list[str]]] = {}
-    for name, paths in table.items():
-        for path, row in paths.items():
-            own = reference[name][path]
-            missed = [k for k in fidelity.failures(row) if own[f"ok_{k}"]]
-            if missed:
-                out.setdefault(name, {})[path] = missed
-    return out
 
 
 def _count(misses: dict[str, dict[str, list[str]]]) -> int:
@@ -196,7 +169,7 @@ def cloud(runs: int, seeds: list[int], seconds: float,
         by_behaviour: dict[str, list[str]] = {}
         for seed in seeds:
             table = fidelity_table(seconds=seconds, seed=seed, perturb=d)
-            met += _met(table)[3]
+            met += fidelity.tally(table)[3]
             engine = engine_misses(table, references[seed])
             engine_n += _count(engine)
             behaviour_misses(table, engine, seed, by_behaviour)
@@ -240,15 +213,15 @@ def main() -> None:
     references: dict[int, dict[str, dict[str, dict]]] = {}
     for n, seed in enumerate(seeds):
         table = fidelity_table(seconds=args.seconds, seed=seed)
-        passed, total, per_threshold, met = _met(table)
+        passed, total, per_threshold, met = fidelity.tally(table)
         met_all += met
         total_all += total * len(per_threshold)
         reference = references[seed] = designer_table(args.seconds, seed)
-        ref_met = _met(reference)[3]
+        ref_met = fidelity.tally(reference)[3]
         ref_all += ref_met
         pursuit = pursuit_table(seconds=args.seconds, seed=seed)
         pursuit_ref = designer_table(args.seconds, seed, pursuit=True)
-        p_met, p_ref_met = _met(pursuit)[3], _met(pursuit_ref)[3]
+        p_met, p_ref_met = fidelity.tally(pursuit)[3], fidelity.tally(pursuit_ref)[3]
         pursuit_all += p_met
         pursuit_ref_all += p_ref_met
         engine, p_engine = engine_misses(table, reference), engine_misses(pursuit, pursuit_ref)
@@ -269,23 +242,12 @@ def main() -> None:
                         pursuit_ref[name][path]["gen_edge_share"]
         if n:
             continue
-        print_fidelity(table)
-        print("against a visitor going after the character (as its demonstration shows it):")
-        print_fidelity(pursuit)
-        print("the designer's own character on the same paths (thresholds it misses):")
-        print_designer(reference)
-        print_designer(pursuit_ref)
-        print("misses of the generation where the designer's own character meets the "
-              "threshold (the engine's):")
-        for name, paths in {**engine, **{f"{k} (pursuit)": v for k, v in p_engine.items()}
-                            }.items():
-            print(f"  {name:18s}" + "".join(f"{path}: {','.join(v)}   "
-                                            for path, v in paths.items()))
+        print_report(table, pursuit, reference, pursuit_ref)
         for prefix, ref in (("designer", reference), ("pursuit.designer", pursuit_ref)):
             for name, paths in ref.items():
                 for path, row in paths.items():
                     figures[f"{prefix}.{name}.{path}.misses"] = ",".join(fidelity.failures(row))
-        for k, v in _met(reference)[2].items():
+        for k, v in fidelity.tally(reference)[2].items():
             figures[f"designer.pairs_within_{k}"] = v
         figures["designer.thresholds_met"] = ref_met
         for prefix, tab in (("", table), ("pursuit.", pursuit)):
@@ -303,7 +265,7 @@ def main() -> None:
         figures["pursuit.designer.thresholds_met"] = p_ref_met
         figures["engine_only_misses"] = _count(engine)
         figures["pursuit.engine_only_misses"] = _count(p_engine)
-        figures["pursuit.thresholds_total"] = _met(pursuit)[1] * len(per_threshold)
+        figures["pursuit.thresholds_total"] = fidelity.tally(pursuit)[1] * len(per_threshold)
         figures["seed"] = seed
     print("misses per behaviour over the seeds (seed:path:threshold, * the engine's alone):")
     for name, missed in by_behaviour.items():

@@ -9,9 +9,10 @@ stalker and afraid. The demonstrations come from the seeded scripted designers i
 then it prints every behaviour's fidelity table (generated on unseen main paths beside its
 demonstration, see :mod:`behaviors.puppet_master.fidelity`), naming the thresholds each
 behaviour misses on each path, the same against a pursuing visitor for the characters shown
-by chasing them, and the thresholds the scripted designer's own character misses on the same
-paths (the figures of bench/fidelity.py's first seed; the tables inform, the exit status is
-about the files).
+by chasing them, the thresholds met of all, the thresholds the scripted designer's own
+character misses on the same paths and the misses that are the engine's alone (the report of
+bench/fidelity.py's first seed, :func:`print_report`; it informs, the exit status is about the
+files).
 """
 
 from __future__ import annotations
@@ -135,7 +136,7 @@ FIDELITY_COLUMNS = (
     ("distance_mean_m", "dist m"), ("speed_mean_mps", "speed"), ("speed_still_mps", "v still"),
     ("speed_moving_mps", "v moving"), ("still_moving_ratio", "still/mov"), ("facing", "facing"),
     ("look_change_rad", "dlook"), ("saturation", "satur."), ("texture_rad", "texture"),
-    ("contact", "contact"), ("orbit_radps", "orbit"))
+    ("contact", "contact"), ("orbit_radps", "orbit"), ("edge_share", "at edge"))
 
 
 Rows = dict[str, dict[str, dict]]
@@ -231,6 +232,41 @@ def print_fidelity(table: Rows) -> None:
                   + f"{row['speed_w1_mps']:10.3f}  {','.join(fidelity.failures(row)) or '-'}")
 
 
+def summary(table: Rows, reference: Rows) -> str:
+    """One line: the thresholds ``table`` meets, the behaviour/path pairs that miss one, and
+    how many of the misses are the engine's alone (its designer's own character, ``reference``,
+    meets them on the same path; fidelity.engine_misses)."""
+    passed, pairs, per_threshold, met = fidelity.tally(table)
+    total = pairs * len(per_threshold)
+    engine = sum(len(v) for paths in fidelity.engine_misses(table, reference).values()
+                 for v in paths.values())
+    return (f"fidelity: {met} of {total} thresholds met, {pairs - passed} of {pairs} "
+            f"behaviour/path pairs miss at least one; {engine} of the {total - met} misses are "
+            "the engine's alone (the designer's own character meets them)")
+
+
+def print_report(table: Rows, pursuit: Rows, reference: Rows, pursuit_reference: Rows) -> None:
+    """The fidelity report that bench/fidelity.py and ``--check`` print: the tables on the
+    open paths and against a pursuing visitor, each with its :func:`summary`, the thresholds
+    the designer's own character misses on the same paths, and the misses that are the
+    engine's alone."""
+    print_fidelity(table)
+    print(summary(table, reference))
+    print("against a visitor going after the character (as its demonstration shows it):")
+    print_fidelity(pursuit)
+    print(summary(pursuit, pursuit_reference))
+    print("the designer's own character on the same paths (thresholds it misses):")
+    print_designer(reference)
+    print_designer(pursuit_reference)
+    print("misses of the generation where the designer's own character meets the threshold "
+          "(the engine's):")
+    engine = fidelity.engine_misses(table, reference)
+    chased = fidelity.engine_misses(pursuit, pursuit_reference)
+    for name, paths in {**engine, **{f"{k} (pursuit)": v for k, v in chased.items()}}.items():
+        print(f"  {name:18s}" + "".join(f"{path}: {','.join(v)}   "
+                                        for path, v in paths.items()))
+
+
 MAX_FIDELITY_S = 3600.0   # seconds of each unseen main path the --check table may ask for
 
 
@@ -268,17 +304,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                 return 1
             if args.fidelity_seconds > 0:
                 secs = args.fidelity_seconds
-                table = fidelity_table(args.out, seconds=secs)
-                print_fidelity(table)
-                missed = sum(not row["ok"] for rows in table.values() for row in rows.values())
-                print("fidelity: every behaviour within its thresholds" if not missed else
-                      f"fidelity: {missed} behaviour/path pair(s) miss a threshold (misses)")
-                print("against a visitor going after the character (as its demonstration "
-                      "shows it):")
-                print_fidelity(pursuit_table(args.out, seconds=secs))
-                print("the designer's own character on the same paths (thresholds it misses):")
-                print_designer(designer_table(secs, folder=args.out))
-                print_designer(designer_table(secs, pursuit=True, folder=args.out))
+                print_report(fidelity_table(args.out, seconds=secs),
+                             pursuit_table(args.out, seconds=secs),
+                             designer_table(secs, folder=args.out),
+                             designer_table(secs, pursuit=True, folder=args.out))
             return 0
         for folder in regenerate(args.out):
             print(f"wrote {folder}")

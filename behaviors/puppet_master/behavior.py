@@ -38,7 +38,12 @@ COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir
 
 
 class DemonstrationError(InputError):
-    """A demonstration that cannot be trained on; the message says what and where."""
+    """A demonstration that cannot be trained on; the message says what and where, and
+    ``params`` names the Params fields that set the need it fails (a window too long for it)."""
+
+    def __init__(self, message: str, params: tuple[str, ...] = ()) -> None:
+        super().__init__(message)
+        self.params = params
 
 
 MAX_DEMO_S = 3600.0    # seconds of demonstration (the paper's are 10 to 80 s): resampled at
@@ -79,7 +84,7 @@ def _check_demo(demo: Any, p: Params) -> np.ndarray:
     if duration + 1e-9 < need:
         raise DemonstrationError(
             f"demonstration lasts {duration:.3f} s, needs at least {need:.3f} s for a window of "
-            f"{p.window} samples at {p.rate_hz:g} Hz")
+            f"{p.window} samples at {p.rate_hz:g} Hz", ("window", "rate_hz"))
     if duration > MAX_DEMO_S:
         raise DemonstrationError(f"demonstration lasts {duration:g} s; at most {MAX_DEMO_S:g} s "
                                  "can be trained")

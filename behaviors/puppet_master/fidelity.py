@@ -187,6 +187,38 @@ def failures(row: dict[str, Any]) -> list[str]:
     return [k[3:] for k, v in row.items() if k.startswith("ok_") and not v]
 
 
+def tally(table: dict[str, dict[str, dict[str, Any]]]
+          ) -> tuple[int, int, dict[str, int], int]:
+    """Counts over a {behaviour: {path: compared row}} table: (pairs within every threshold,
+    pairs, pairs within each threshold, thresholds met)."""
+    passed = total = 0
+    per_threshold: dict[str, int] = {}
+    for paths in table.values():
+        for row in paths.values():
+            total += 1
+            passed += int(row["ok"])
+            for k, v in row.items():
+                if k.startswith("ok_"):
+                    per_threshold[k[3:]] = per_threshold.get(k[3:], 0) + int(v)
+    return passed, total, per_threshold, sum(per_threshold.values())
+
+
+def engine_misses(table: dict[str, dict[str, dict[str, Any]]],
+                  reference: dict[str, dict[str, dict[str, Any]]]
+                  ) -> dict[str, dict[str, list[str]]]:
+    """{behaviour: {path: thresholds}} the generation misses where the designer's own
+    character on the same path (``reference``, compared the same way) meets them: the misses
+    of the engine, not of the path."""
+    out: dict[str, dict[str, list[str]]] = {}
+    for name, paths in table.items():
+        for path, row in paths.items():
+            own = reference[name][path]
+            missed = [k for k in failures(row) if own[f"ok_{k}"]]
+            if missed:
+                out.setdefault(name, {})[path] = missed
+    return out
+
+
 def main_on_grid(main: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Main poses (x, y, look) of a path ``main`` (n, 4) ``t, x, y, dir`` at times ``t``."""
     return np.column_stack([np.interp(t, main[:, 0], main[:, 1]),

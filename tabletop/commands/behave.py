@@ -288,8 +288,10 @@ def main(args: argparse.Namespace) -> int:
     except ParameterError as exc:   # named by where it was given: --param or the folder
         given = exc.name is not None and exc.name in parse_params(args.param)
         raise BehaveArgumentError(f"{'--param' if given else source}: {exc}") from None
-    except InputError as exc:
-        raise BehaveArgumentError(f"{source}: {exc}") from None
+    except InputError as exc:   # a need set by --param (a window too long) names it first
+        named = [f"--param {n}" for n in getattr(exc, "params", ())
+                 if n in parse_params(args.param)]
+        raise BehaveArgumentError(f"{', '.join(named + [source])}: {exc}") from None
     if table is None:
         table = behavior.bounds
         if table[2] <= table[0] or table[3] <= table[1]:

@@ -189,15 +189,41 @@ def test_examples_check_command(tmp_path, capsys):
     assert examples.main(["--out", str(tmp_path / "lib"), "--check",
                           "--fidelity-seconds", "6"]) == 0
     out = capsys.readouterr().out
+    out, _, engine = out.partition("misses of the generation where the designer's own "
+                                   "character meets the threshold (the engine's):")
     for name in designers.PERSONALITIES:
         assert f"{name}:" in out
     # each unseen path: once in every behaviour's table, once in the designer's own line
-    for path in ("slow_pauses_30hz", "fast_reversals_60hz", "loops_spins_45hz"):
+    fidelity_paths = ("slow_pauses_30hz", "fast_reversals_60hz", "loops_spins_45hz",
+                      "pursuit_50hz")
+    for path in fidelity_paths[:3]:
         assert out.count(path) == 2 * len(designers.PERSONALITIES)
     # and the characters shown by chasing them, against a pursuing visitor
     assert out.count("pursuit_50hz") == 2 * len(designers.CHASED)
     assert out.count("  demonstration  ") == len(designers.PERSONALITIES) + len(designers.CHASED)
     assert "fidelity:" in out and "the designer's own character" in out
+    # every figure of the issue, and the time at a table edge, in every row (the
+    # demonstration's: 12; each path's: 12 and the three distances between distributions)
+    head = [line.split() for line in out.splitlines() if line.strip().startswith("dist m")]
+    assert len(head) == len(designers.PERSONALITIES) + len(designers.CHASED)
+    assert all(h[-9:] == ["at", "edge", "dist", "W1", "sect", "TV", "speed", "W1", "misses"]
+               for h in head), head[0]
+    demos = [line.split() for line in out.splitlines() if line.startswith("  demonstration ")]
+    assert all(len(d) == 13 for d in demos), demos[0]
+    # the counts bench/fidelity.py reports, as many as the tables name: 5 behaviours x 3
+    # paths x 8 thresholds on the open paths, 8 against the pursuer; the engine's own misses
+    # are among them and listed
+    rows = [line.split() for line in out.splitlines()
+            if line.split()[:1] and line.split()[0] in fidelity_paths]
+    assert all(len(r) == 17 for r in rows), rows[0]
+    named = [r[-1] for r in rows if r[0] != "pursuit_50hz"]
+    missed = sum(0 if m == "-" else len(m.split(",")) for m in named)
+    sums = [line for line in out.splitlines() if line.startswith("fidelity: ")]
+    assert len(sums) == 2, sums
+    assert sums[0].startswith(f"fidelity: {120 - missed} of 120 thresholds met, "), sums[0]
+    assert f"of the {missed} misses are the engine's alone" in sums[0], sums[0]
+    assert " of 8 thresholds met, " in sums[1] and " of 1 behaviour/path pairs " in sums[1]
+    assert engine and all(line.startswith("  ") for line in engine.splitlines()[1:])
 
 
 def test_examples_check_refuses_fidelity_seconds_it_cannot_measure(capsys):

@@ -106,7 +106,7 @@ def test_bad_demonstrations_exit_2_with_one_clear_line(tmp_path, files, capsys, 
     demo = _bad(tmp_path, "demo.csv", make(d))
     assert behave("--train", demo, "--input", d / "main.csv", "--out", tmp_path / "o.csv") == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err and "--param" not in err
     for w in words:
         assert w in err
     assert not (tmp_path / "o.csv").exists()
@@ -190,6 +190,10 @@ def test_the_help_names_every_parameter():
     ("rate_hz=100000", ["--param", "rate_hz", "1 to 1000 Hz"]),
     ("rate_hz=1e-300", ["--param", "rate_hz", "1 to 1000 Hz"]),
     ("detail_levels=50", ["--param", "detail_levels", "1 to 10"]),
+    # a window longer than the demonstration: the error named the file alone, as if the
+    # demonstration were too short
+    ("window=100000", ["--param window, ", "demo.csv: demonstration lasts",
+                       "a window of 100000 samples at 40 Hz"]),
 ])
 def test_bad_parameters_exit_2_with_one_clear_line(files, tmp_path, capsys, param, words):
     d, _ = files

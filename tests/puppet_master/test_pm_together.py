@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from behaviors.puppet_master import designers, fidelity
 from tabletop.frames import InputError
 from tests.puppet_master.test_plugin import build, main_track, run, visitor_frames
 
@@ -70,6 +71,26 @@ def test_nearest_of_several_mains_and_first_present():
     chosen, nearest = np.array(chosen[60:]), np.array(nearest[60:])
     assert len(set(chosen)) == 2                       # it turned to each puck in turn
     assert np.mean(chosen == nearest) > 0.9            # the nearest (hysteresis aside)
+
+
+@pytest.mark.parametrize("name", designers.PERSONALITIES)
+def test_every_character_beside_a_twin_on_one_main_keeps_its_figures(name):
+    # each of the pair, measured against the same character alone on the same main (60 s at
+    # 60 Hz, from the third second): the fidelity thresholds hold but for contacts, a rare
+    # event (measured: misses contact on 2 of the 10, none else; distance W1 0.004-0.035 m,
+    # speed W1 2-12% of the lone one's mean speed); and they never overlap by over 10%
+    size = 0.08
+    seconds = 60
+    main = main_track(seconds)[120:]
+    alone = run(build([_engine("a", name, {"puck": 1}, size=size)]), visitor_frames(seconds))
+    pair = run(build([_engine("a", name, {"puck": 1}, size=size),
+                      _engine("b", name, {"puck": 1}, size=size)]), visitor_frames(seconds))
+    lone = fidelity.figures(main, alone["a"][120:, :3], 60.0, 1e9)
+    for k in ("a", "b"):
+        row = fidelity.compare(lone, fidelity.figures(main, pair[k][120:, :3], 60.0, 1e9))
+        assert set(fidelity.failures(row)) <= {"contact"}, (k, fidelity.failures(row), row)
+        assert row["distance_w1_m"] < 0.05, row["distance_w1_m"]
+    assert np.hypot(*(pair["a"][:, :2] - pair["b"][:, :2]).T).min() >= 0.9 * size
 
 
 def test_two_bullies_keep_apart_on_every_frame():
