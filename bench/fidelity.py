@@ -21,7 +21,7 @@ character 53-76%). These are reported as ``designer.*`` figures and after the ta
 do not count in ``thresholds_met``. ``engine_only_misses`` counts the thresholds the
 generation misses where the designer's own character on the same path meets them: the misses
 that are the engine's, not the path's (printed per behaviour and path for the first seed;
-measured on seeds 0-5: 43 of the 111 misses on the open paths, 8 of the 10 on the pursuit).
+measured on seeds 0-5: 8 of the 44 misses on the open paths, 1 of the 1 on the pursuit).
 
 The characters whose demonstration shows them chased (designers.CHASED: afraid) are also
 generated against an unseen visitor going after them (``pursuit_50hz``: visitors.Pursuer, a
@@ -30,7 +30,7 @@ closed loop in which each main sample is made from where the reactor is now, cha
 the designer's own character on its own closed loop beside it. This is the kind of path the
 demonstration implies; the open paths stay as they are, and the pursuit figures are reported
 apart (``pursuit.*``, ``seed<S>.pursuit.thresholds_met``, ``all_seeds.pursuit.*``), not in
-``thresholds_met``. Measured on seeds 0-5 (8 thresholds per seed): the generation met 38 of
+``thresholds_met``. Measured on seeds 0-5 (8 thresholds per seed): the generation met 47 of
 48 and the designer's own character 41, where on the open paths the designer's own afraid
 character misses facing, speed, still/moving and orbit on every path of seed 0.
 
@@ -55,8 +55,8 @@ with no change of its rules. With several seeds,
 each behaviour's misses are also listed over every seed (:func:`behaviour_misses`:
 ``seed:path:threshold``, the engine's alone marked; ``all_seeds.<behaviour>.misses``), as the
 first seed's tables show only that seed. Measured on seeds 0-5 (misses, of them the
-engine's alone): lover 16 (6), bully 4 (2), playful friend 1 (1), stalker 11 (5), afraid 22
-(4, most of them where its own designer misses too: the open paths never chase it).
+engine's alone): lover 15 (2), bully 0 (0), playful friend 3 (3), stalker 5 (2), afraid 21
+(1, most of them where its own designer misses too: the open paths never chase it).
 
 ``--perturb K`` measures that cloud itself (:func:`cloud`): the open paths of every seed
 generated again K times with the drift correction's share scaled by 1 + d (d = +0.001,
