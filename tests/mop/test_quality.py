@@ -96,13 +96,16 @@ def test_the_group_reads_resting_as_its_followers_do():
 
 
 def test_a_still_puck_is_never_valid_whatever_the_window(gestures):
-    # the floor is shared by the window's states: a wide window only reaches further
-    # (before: 43% valid with window 40 and the ``follow`` command's defaults, 0% with 15)
-    rng = np.random.default_rng(2)
-    for window in (15, 40):
-        for f in (puck_follower(gestures, window=window), ActionFollower(gestures, window=window)):
-            x, _ = performance(rng, np.zeros((60, 2)), 1.0)
-            assert np.mean([s.valid for s in run(f, x)]) <= 0.02
+    # the floor is shared by the window's states: a wide window only reaches further.
+    # Measured, a still puck of 3 s (seeds 0-5), window 40, the ``follow`` command's defaults:
+    # valid 0 of the time in every draw; with the whole floor on each state (window_kernel's
+    # ``fl = floor``) 0.385 in one draw of six (seed 2), the window's far states taking over
+    for seed in range(6):
+        for window in (15, 40):
+            for f in (puck_follower(gestures, window=window),
+                      ActionFollower(gestures, window=window)):
+                x, _ = performance(np.random.default_rng(seed), np.zeros((60, 2)), 1.0)
+                assert np.mean([s.valid for s in run(f, x)]) <= 0.02, (seed, window)
 
 
 def test_a_mirrored_gesture_is_refused(gestures):
