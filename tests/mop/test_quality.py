@@ -178,6 +178,44 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     assert all(now[k] <= plain[k] + 0.01 for k in now), (now, plain)
 
 
+def _unrelated_target(gestures) -> tuple[dict, dict]:
+    """Per loaded set and motion (bench/follow_quality.py's unrelated motions at 0.7, 1.0,
+    1.4x; seed 11): the share of ticks valid, and of those where the motion so far is no start
+    of the action driving (``told``, :func:`bench.follow_quality.performs`)."""
+    from bench.follow_quality import performs
+    valid, told, memo = {}, {}, {}
+    for key in ("square", "six"):
+        loaded = gestures if key == "six" else {key: gestures[key]}
+        rng = np.random.default_rng(11)
+        f = puck_follower(loaded)
+        for name, path in unrelated_motions(rng, loaded).items():
+            v, t = [], []
+            for scale in (0.7, 1.0, 1.4):
+                x, prog = performance(rng, path, scale)
+                states = run(f, x)
+                p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
+                             np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
+                v.append(np.mean([s.valid for s in states]))
+                t.append(np.mean([s.valid and not performs(path, float(q), loaded[s.best], memo,
+                                                           (key, name, s.best))
+                                  for s, q in zip(states, p)]))
+            valid[f"{key}:{name}"], told[f"{key}:{name}"] = float(np.mean(v)), float(np.mean(t))
+    return valid, told
+
+
+def test_unrelated_motions_drive_a_tenth_of_the_time_at_most(gestures):
+    # the issue's target on a fixed subset: a diagonal, a triangle, a spiral, a wander, a still
+    # puck and the mirrored gestures, with the square alone or all six loaded. Measured: valid
+    # at most 0.093 (the triangle, the square alone), but the diagonal among the six 0.134, the
+    # figure eight whose first stroke it is (told 0.042); with the coverage and path-misfit
+    # rules off (coverage 0, shape limits 99 sigma): the triangle 0.131 with the square, the
+    # wander among the six 0.184
+    valid, told = _unrelated_target(gestures)
+    assert max(told.values()) <= 0.1, told
+    assert max(v for k, v in valid.items() if k != "six:diagonal") <= 0.1, valid
+    assert valid["six:diagonal"] <= 0.15, valid
+
+
 def test_turning_is_blind_to_size_and_tempo_and_tells_a_mirror():
     # the signed turning a new action must share with its template (turning.turning)
     from behaviors.mop.turning import turn_fits, turning
