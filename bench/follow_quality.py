@@ -24,6 +24,8 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
 - pauses: every template at 0.7-1.4x paused 0.3-2 s anywhere within 20-80% of its progress:
   the valid share over the pause, how far the progress moved, and the valid share after it
   (``bench/follow_pauses.py``).
+- shapes: every template at 0.85-1.2x drawn as a performer redraws it, bent smoothly by 5% or
+  10% of its extent or 1.1x taller and narrower (``bench/follow_shapes.py``).
 
 Figures: progress RMSE of the true template (its ``progress_by``) over each gesture; recognition
 (``valid`` with ``best`` the true template) at 30, 60 and 100% of the gesture; the share of ticks
@@ -47,7 +49,7 @@ another seed (``heldout_`` figures); the follower's rules and parameters were ne
 them. ``cli_default_`` figures: the ``follow`` command's defaults (features as recorded).
 
     python bench/follow_quality.py [--debug]
-        [--sections=sized,holds,sequences,unrelated,after,pauses]
+        [--sections=sized,holds,sequences,unrelated,after,pauses,shapes]
 
 ``--sections`` measures only those sections of the tuned and held-out evaluations (a section
 left out still draws its random numbers, so the others' figures are those of a full run);
@@ -353,6 +355,7 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
 def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]:
     from bench.follow_after import after
     from bench.follow_pauses import pauses
+    from bench.follow_shapes import shapes
     rng = np.random.default_rng(seed)
     gestures = gesture_templates()
     everything = {**gestures, **mocap_templates(joints=joints)}
@@ -365,7 +368,8 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
              # last, so the other sections draw what they drew before it was added
              ("after", lambda f: after(f, gestures, rng, run, performs, DEBUG)),
              # after it, for the same reason
-             ("pauses", lambda f: pauses(f, everything, rng, run)))
+             ("pauses", lambda f: pauses(f, everything, rng, run)),
+             ("shapes", lambda f: shapes(f, everything, rng, run, true_metrics)))
     for part, measure in parts:
         wanted = SECTIONS is None or part in SECTIONS
         out = measure(factory if wanted else lambda templates: None)

@@ -150,10 +150,6 @@ class FaceModel:
         self.bones = tuple(bones)
         self.deltas = np.stack([self._delta(b) for b in self.BLENDSHAPES])
 
-    @property
-    def n_points(self) -> int:
-        return len(self.neutral)
-
     def _delta(self, shape: str) -> np.ndarray:
         d = np.zeros_like(self.neutral)
         p = self.neutral

@@ -130,11 +130,6 @@ class Transitions:
         total = w.sum() + self.backward
         return self.backward / total, w / total
 
-    def mean_speed(self) -> float:
-        """The prior's expected advance in states per step."""
-        b, w = self.weights()
-        return float(np.dot(np.arange(w.size), w) - b)
-
 
 @dataclass(frozen=True)
 class TemplateBank:
@@ -314,11 +309,3 @@ def inner_holds(bank: TemplateBank, margin: float = 0.1) -> list[tuple[int, int]
             if src[a] >= margin and src[b - 1] <= 1.0 - margin:
                 out.append((int(s + a), int(s + b)))
     return out
-
-
-def emission_loglik(z: np.ndarray, states: np.ndarray, sigma: float) -> np.ndarray:
-    """Log of equation 1 for a standardised sample ``z`` (d,) against states (n, d): the Gaussian
-    log-density with standard deviation ``sigma`` (in units of the standardised features)."""
-    d = states.shape[1]
-    sq = np.sum((states - z) ** 2, axis=1)
-    return -0.5 * sq / sigma ** 2 - d * np.log(sigma) - 0.5 * d * np.log(2.0 * np.pi)

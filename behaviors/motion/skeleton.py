@@ -323,10 +323,6 @@ class Skeleton2D:
         self._parents_list = self.parents.tolist()
         self._lengths_list = self.lengths.tolist()
 
-    @property
-    def n_points(self) -> int:
-        return len(self.names) + 1
-
     def forward(self, angles: np.ndarray | None = None) -> np.ndarray:
         """Points (N+1 x 2, metres, character frame: x forward) at joint ``angles`` (radians)."""
         a = (self.rest if angles is None else self.rest + np.asarray(angles, dtype=float)).tolist()

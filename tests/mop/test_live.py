@@ -6,10 +6,10 @@ engine is stepped on every 60 Hz frame exactly as the main loop would (no view).
 gesture performed we check the character whose action set holds it, and for everything else
 (rest, the slides home, the gestures of other characters) that nothing is driven.
 
-Measured (seed 0, 120 s; seeds 1 and 2 alike): 51 of 51 gestures recognised by 60% of them,
-progress RMSE 0.012 median and 0.032 at worst, no tick driven by a resting puck, no slide home
-accepted, characters without the gesture driven 0.8% of the time (the first edge of a square is
-a line until it turns: 17% of one square). Before: 37 of 51 (see :mod:`behaviors.mop.stage`).
+Measured (120 s): seed 0 60 of 60 gestures recognised by 60% of them, seed 2 61 of 61, seed 1
+63 of 64 (a line drawn at 1.59x speed, on the salamander); progress RMSE 0.012-0.013 median and
+0.036-0.039 at worst; no tick driven by a resting puck, no slide home accepted, characters
+without the gesture driven 0% of the time.
 """
 
 from __future__ import annotations
@@ -124,9 +124,10 @@ def live() -> Live:
 
 
 def test_performed_gestures_are_recognised_by_60_percent(live):
+    # every scripted gesture of this run (seed 0), as the example's performers draw them
     assert len(live.recognised) >= 40
     missed = [lab for lab, ok in zip(live.labels, live.recognised) if not ok]
-    assert np.mean(live.recognised) >= 0.9, missed
+    assert not missed, missed
 
 
 def test_progress_follows_the_performance_while_recognised(live):

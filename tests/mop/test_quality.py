@@ -96,13 +96,16 @@ def test_the_group_reads_resting_as_its_followers_do():
 
 
 def test_a_still_puck_is_never_valid_whatever_the_window(gestures):
-    # the floor is shared by the window's states: a wide window only reaches further
-    # (before: 43% valid with window 40 and the ``follow`` command's defaults, 0% with 15)
-    rng = np.random.default_rng(2)
-    for window in (15, 40):
-        for f in (puck_follower(gestures, window=window), ActionFollower(gestures, window=window)):
-            x, _ = performance(rng, np.zeros((60, 2)), 1.0)
-            assert np.mean([s.valid for s in run(f, x)]) <= 0.02
+    # the floor is shared by the window's states: a wide window only reaches further.
+    # Measured, a still puck of 3 s (seeds 0-5), window 40, the ``follow`` command's defaults:
+    # valid 0 of the time in every draw; with the whole floor on each state (window_kernel's
+    # ``fl = floor``) 0.385 in one draw of six (seed 2), the window's far states taking over
+    for seed in range(6):
+        for window in (15, 40):
+            for f in (puck_follower(gestures, window=window),
+                      ActionFollower(gestures, window=window)):
+                x, _ = performance(np.random.default_rng(seed), np.zeros((60, 2)), 1.0)
+                assert np.mean([s.valid for s in run(f, x)]) <= 0.02, (seed, window)
 
 
 def test_a_mirrored_gesture_is_refused(gestures):
@@ -173,6 +176,44 @@ def test_unrelated_motion_rarely_drives(gestures, monkeypatch):
     six = [k for k in now if k.startswith("six:")]
     assert np.mean([now[k] for k in six]) <= np.mean([plain[k] for k in six]) - 0.015, (now, plain)
     assert all(now[k] <= plain[k] + 0.01 for k in now), (now, plain)
+
+
+def _unrelated_target(gestures) -> tuple[dict, dict]:
+    """Per loaded set and motion (bench/follow_quality.py's unrelated motions at 0.7, 1.0,
+    1.4x; seed 11): the share of ticks valid, and of those where the motion so far is no start
+    of the action driving (``told``, :func:`bench.follow_quality.performs`)."""
+    from bench.follow_quality import performs
+    valid, told, memo = {}, {}, {}
+    for key in ("square", "six"):
+        loaded = gestures if key == "six" else {key: gestures[key]}
+        rng = np.random.default_rng(11)
+        f = puck_follower(loaded)
+        for name, path in unrelated_motions(rng, loaded).items():
+            v, t = [], []
+            for scale in (0.7, 1.0, 1.4):
+                x, prog = performance(rng, path, scale)
+                states = run(f, x)
+                p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
+                             np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
+                v.append(np.mean([s.valid for s in states]))
+                t.append(np.mean([s.valid and not performs(path, float(q), loaded[s.best], memo,
+                                                           (key, name, s.best))
+                                  for s, q in zip(states, p)]))
+            valid[f"{key}:{name}"], told[f"{key}:{name}"] = float(np.mean(v)), float(np.mean(t))
+    return valid, told
+
+
+def test_unrelated_motions_drive_a_tenth_of_the_time_at_most(gestures):
+    # the issue's target on a fixed subset: a diagonal, a triangle, a spiral, a wander, a still
+    # puck and the mirrored gestures, with the square alone or all six loaded. Measured: valid
+    # at most 0.093 (the triangle, the square alone), but the diagonal among the six 0.134, the
+    # figure eight whose first stroke it is (told 0.042); with the coverage and path-misfit
+    # rules off (coverage 0, shape limits 99 sigma): the triangle 0.131 with the square, the
+    # wander among the six 0.184
+    valid, told = _unrelated_target(gestures)
+    assert max(told.values()) <= 0.1, told
+    assert max(v for k, v in valid.items() if k != "six:diagonal") <= 0.1, valid
+    assert valid["six:diagonal"] <= 0.15, valid
 
 
 def test_turning_is_blind_to_size_and_tempo_and_tells_a_mirror():
