@@ -27,7 +27,9 @@ SETTLE_S = 0.3        # camera frames this long after the view showed an image s
 
 class Showing:
     """Wraps the view's renderer: while an image is set, the view draws it (the projector
-    shows it) instead of the frame; ``shown`` is (token, monotonic s) of its first drawing."""
+    shows it) instead of the frame; ``shown`` is (token, monotonic s) of its first drawing.
+    The image covers the whole window, so the renderer is told to present all of it and to
+    repaint the whole table when the show comes back (its dirty tiles know nothing of it)."""
 
     def __init__(self, renderer: Any, clock: Callable[[], float]) -> None:
         self.inner, self.clock = renderer, clock
@@ -40,6 +42,7 @@ class Showing:
             self.inner.draw(target, frame, overlay)
             return
         target.blit(current[1], (0, 0))
+        self.inner.invalidate()
         if self.shown is None or self.shown[0] != current[0]:
             self.shown = (current[0], self.clock())
 
