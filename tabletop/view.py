@@ -131,7 +131,12 @@ class ProjectorView:
         self.screen = pygame.display.set_mode(size, flags, display=display)
         pygame.display.set_caption("Tabletop")
         pygame.mouse.set_visible(self.headless or not options["fullscreen"])
-        self.renderer = Renderer(table, size, options["margin_px"], homography,
+        given = self.screen.get_size()
+        if given != size:
+            log.warning("view.size is %dx%d but the display gave a %dx%d window; drawing at "
+                        "%dx%d", *size, *given, *given)
+            homography = scaled_homography(homography, size, given)
+        self.renderer = Renderer(table, given, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
         self.renderer.incremental = True   # present only what changed (bench/view.py)
         self.renderer.invitation = invitation
@@ -255,6 +260,18 @@ class ProjectorView:
         if self.snapshots is not None:
             self.snapshots.close()
         pygame.display.quit()
+
+
+def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],
+                      given: tuple[int, int]) -> np.ndarray | None:
+    """``table_to_projector`` (pixels of ``asked``, the projector size it was fitted at) for a
+    window of ``given`` pixels filling the same projector: a fullscreen window the display
+    could not switch to ``view.size`` is its desktop's size, which the projector stretches over
+    the same table. None (the uncalibrated fit, made for the window it gets) stays None."""
+    if homography is None:
+        return None
+    sx, sy = given[0] / asked[0], given[1] / asked[1]
+    return np.diag([sx, sy, 1.0]) @ np.asarray(homography, dtype=float)
 
 
 def check_display(index: int) -> int:
