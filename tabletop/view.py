@@ -54,7 +54,8 @@ KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
 
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
-    """The operator overlay: rate, per-stage milliseconds, sources' health, characters' status."""
+    """The operator overlay: rate, the parts failing at run time, per-stage milliseconds,
+    sources' health, characters' status."""
     *_, lines = overlay_steps(frame, stats)
     return lines
 
@@ -69,6 +70,9 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
         rate = "  -.-" if fps is None else f"{fps:5.1f}"
         lines.append(f"{rate} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
+        # which part fails: the total alone left the operator to search the log for it
+        lines += [f"{where} failed {n} times (see the log)"
+                  for where, n in sorted(stats.errors.items())]
         for stage in list(stats.samples):
             m = stats.stage_ms(stage)
             yield None

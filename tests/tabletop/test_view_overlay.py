@@ -246,3 +246,15 @@ def test_a_long_overlay_line_leaves_a_corner_clear_of_the_studios_words():
     assert len(r._studio_marks) >= 3                      # the REC mark, two status lines
     assert panel.collidelist(r._studio_marks) == -1, (panel, r._studio_marks)
     assert w <= W // 2                                     # was 1245 px wide
+
+
+def test_overlay_names_each_part_failing_at_run_time():
+    """A raising engine showed only as a growing "errors N" (seen in an Xvfb snapshot with the
+    fault engine): the overlay names the part and its count."""
+    st = LoopStats()
+    st.errors["engine broken"] += 242
+    st.errors["sink tuio"] += 3
+    lines = overlay_lines(Frame(seq=5, t=1.0), st)
+    assert "errors 245" in lines[1]
+    assert lines[2:4] == ["engine broken failed 242 times (see the log)",
+                          "sink tuio failed 3 times (see the log)"], lines
