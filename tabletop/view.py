@@ -67,7 +67,7 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
         fps = stats.fps()   # None on the first tick: no rate yet
-        rate = "  -.-" if fps is None else f"{fps:5.1f}"
+        rate = "-.-" if fps is None else f"{fps:.1f}"
         lines.append(f"{rate} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
         # which part fails: the total alone left the operator to search the log for it
@@ -78,7 +78,8 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
             yield None
             if m is not None:
                 label = LABELS.get(stage, stage)
-                lines.append(f"  {label:<17} {m[0]:6.2f} ms median  {m[1]:6.2f} ms p99")
+                # tabs: the panel lines the figures up in columns (screens.panel)
+                lines.append(f"  {label:<17}\t{m[0]:6.2f} ms median\t{m[1]:6.2f} ms p99")
     for h in frame.health:
         age = "-" if math.isinf(h.age) else f"{h.age * 1e3:.0f} ms"
         lines.append(f"source {h.name}: {'ok' if h.ok else 'DOWN'}  {h.message}  age {age}")
@@ -212,8 +213,9 @@ class ProjectorView:
         assert lines is not None
         lines += [n for fn in self.notices for n in fn()]
         for line in lines:
-            screens.panel_line(line)   # the panel is composed from these when it is drawn
-            yield
+            for cell in screens.cells(line):
+                screens.panel_line(cell)   # the panel is composed from these when it is drawn
+                yield
         self._overlay = lines
 
     def _events(self) -> None:

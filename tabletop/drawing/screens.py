@@ -91,15 +91,42 @@ def fit_lines(text: str, f: pygame.font.Font, width: int) -> list[str]:
     return lines
 
 
+def cells(line: str) -> list[str]:
+    """A panel line's table cells: split at tabs, the first keeping its indent, the others
+    trimmed (a line without a tab is one cell)."""
+    parts = line.split("\t")
+    return [parts[0].rstrip()] + [p.strip() for p in parts[1:]]
+
+
+def _table_row(parts: Sequence[pygame.Surface], widths: Sequence[int], gap: int) -> pygame.Surface:
+    """A row of cells: the first left-aligned, the others right-aligned in columns of
+    ``widths`` pixels (the figures' decimal points and units line up)."""
+    w = sum(widths[:len(parts)]) + gap * (len(parts) - 1)
+    row = pygame.Surface((w, max(p.get_height() for p in parts)), pygame.SRCALPHA)
+    x = 0
+    for k, img in enumerate(parts):
+        row.blit(img, (x if k == 0 else x + widths[k] - img.get_width(), 0))
+        x += widths[k] + gap
+    return row
+
+
 def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
           width: int | None = None, keep: bool = True) -> pygame.Surface:
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
     line that would make the panel wider than ``width`` pixels wraps (``keep``: see
-    :func:`panel_line`)."""
+    :func:`panel_line`). Lines with tabs are rows of a table whose columns line up across the
+    panel (the overlay's stage figures: padded with spaces in a proportional font they
+    wandered by up to 30 px from line to line)."""
+    rows = {i: [panel_line(c, px, keep) for c in cells(line)]
+            for i, line in enumerate(lines) if "\t" in line}
+    ncol = max((len(r) for r in rows.values()), default=0)
+    widths = [max((r[k].get_width() for r in rows.values() if len(r) > k), default=0)
+              for k in range(ncol)]
+    gap = font(px).size("   ")[0]
     imgs = []
-    for line in lines:
-        img = panel_line(line, px, keep)
-        if width is not None and img.get_width() > width - 2 * pad:
+    for i, line in enumerate(lines):
+        img = _table_row(rows[i], widths, gap) if i in rows else panel_line(line, px, keep)
+        if width is not None and img.get_width() > width - 2 * pad and i not in rows:
             imgs.extend(panel_line(part, px, keep) for part in fit_lines(line, font(px),
                                                                          width - 2 * pad))
         else:
