@@ -133,13 +133,17 @@ class ProjectorView:
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
         display = 0 if self.headless else check_display(options["display"])
-        self.screen = pygame.display.set_mode(size, flags, display=display)
+        opened = size
+        if not self.headless and not options["fullscreen"]:
+            opened = window_size(size, tuple(pygame.display.get_desktop_sizes()[display]))
+        self.screen = pygame.display.set_mode(opened, flags, display=display)
         pygame.display.set_caption("Tabletop")
         pygame.mouse.set_visible(self.headless or not options["fullscreen"])
         given = self.screen.get_size()
         if given != size:
-            log.warning("view.size is %dx%d but the display gave a %dx%d window; drawing at "
-                        "%dx%d", *size, *given, *given)
+            log.warning("view.size is %dx%d but the window is %dx%d (%s); drawing at %dx%d",
+                        *size, *given, "what fits the screen" if opened != size
+                        else "what the display gave", *given)
             homography = scaled_homography(homography, size, given)
         self.renderer = Renderer(table, given, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
@@ -266,6 +270,14 @@ class ProjectorView:
         if self.snapshots is not None:
             self.snapshots.close()
         pygame.display.quit()
+
+
+def window_size(size: tuple[int, int], desktop: tuple[int, int]) -> tuple[int, int]:
+    """The window to open for ``view.size`` on a desktop of ``desktop`` pixels: ``size``, or,
+    when it does not fit (a 1280x720 view on an 800x600 screen showed only its middle, the
+    table's edges and pucks near them beyond the screen), the largest of its shape that does."""
+    k = min(1.0, desktop[0] / size[0], desktop[1] / size[1])
+    return size if k >= 1.0 else (max(1, int(size[0] * k)), max(1, int(size[1] * k)))
 
 
 def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],

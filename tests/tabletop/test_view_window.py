@@ -48,3 +48,16 @@ def test_the_uncalibrated_table_fills_the_window_it_is_given():
     r = Renderer(TABLE, GIVEN, margin=24)
     centre = ring_centre(r, GIVEN, (0.6, 0.4))            # the table's centre
     assert np.abs(centre - np.array(GIVEN) / 2).max() <= 3.0
+
+
+def test_a_window_larger_than_the_screen_is_opened_to_fit_it_and_drawn_whole():
+    """A 1280x720 view on an 800x600 screen showed only its middle (an Xvfb screenshot): the
+    window opens at the largest size of its shape that fits, and the whole table is in it."""
+    from tabletop.view import window_size
+    assert window_size((1280, 720), (1920, 1080)) == (1280, 720)
+    small = window_size((1280, 720), (800, 600))
+    assert small == (800, 450)
+    r = Renderer(TABLE, small, margin=24)
+    for corner in ((0.02, 0.02), (1.18, 0.78)):   # pucks near opposite corners of the table
+        c = ring_centre(r, small, corner)
+        assert 0 < c[0] < small[0] and 0 < c[1] < small[1]
