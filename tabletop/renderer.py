@@ -162,7 +162,7 @@ class Renderer:
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
         if self.moment > 0:
-            screens.one_moment(target, t, self.moment)
+            screens.one_moment(target, t, self.moment, self._corners())
         if overlay:
             drawn.append(self.draw_overlay(target, overlay, self._keep_clear,
                                            self._studio_marks))

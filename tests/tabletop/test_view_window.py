@@ -61,3 +61,21 @@ def test_a_window_larger_than_the_screen_is_opened_to_fit_it_and_drawn_whole():
     for corner in ((0.02, 0.02), (1.18, 0.78)):   # pucks near opposite corners of the table
         c = ring_centre(r, small, corner)
         assert 0 < c[0] < small[0] and 0 < c[1] < small[1]
+
+
+def test_one_moment_stands_on_a_calibrated_table_wherever_the_projector_puts_it():
+    """The ring of lights and "One moment" were centred on the window: with a projector
+    throwing beyond the table they landed off it (here the table fills the left part)."""
+    from tabletop.frames import SourceHealth
+    h = np.array([[400.0, 0.0, 100.0], [0.0, -400.0, 600.0], [0.0, 0.0, 1.0]])  # x 100-580 px
+    r = Renderer(TABLE, ASKED, homography=h)
+    s = pygame.Surface(ASKED)
+    down = (SourceHealth("camera", False, "cannot open camera 0"),)
+    for k in range(12):
+        r.draw(s, Frame(seq=k, t=k * 0.1, health=down))
+    assert r.moment == 1.0
+    img = pygame.surfarray.array3d(s).astype(int).sum(axis=2)      # (x, y)
+    xs, ys = np.nonzero(img > 250)                                  # the lights and the words
+    assert len(xs) > 200
+    cx, cy = r.map.point(0.6, 0.4)                                  # the table's centre
+    assert abs(xs.mean() - cx) < 12 and 280 < ys.min() and ys.max() < 600, (xs.mean(), cx)
