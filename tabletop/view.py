@@ -139,6 +139,7 @@ class ProjectorView:
         self.screen = pygame.display.set_mode(opened, flags, display=display)
         pygame.display.set_caption("Tabletop")
         pygame.mouse.set_visible(self.headless or not options["fullscreen"])
+        self.size = size                 # view.size: the calibration's projector pixels
         given = self.screen.get_size()
         if given != size:
             log.warning("view.size is %dx%d but the window is %dx%d (%s); drawing at %dx%d",

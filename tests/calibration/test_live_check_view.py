@@ -53,3 +53,21 @@ def test_the_table_is_whole_again_after_the_check_image():
     assert lit_before.sum() > 0.9 * inside.sum()     # the table is lit, bar a few grid dots
     black = (after.sum(axis=2) == 0) & lit_before
     assert black.sum() == 0, f"{black.sum()} pixels of the table left black"
+
+
+def test_the_check_image_is_scaled_to_a_window_of_another_size():
+    """The check drew its crosses in view.size pixels (the calibration's) into a window the
+    display gave at another size, so they landed away from the pucks the view drew: the image
+    is scaled to the window, as the view scales the calibration."""
+    from tabletop.live_check import shown_surface
+    image = np.zeros((200, 320), np.uint8)
+    image[50, 60:141] = 255          # a cross at (100, 50) px of the calibration's 320x200
+    image[10:91, 100] = 255
+    surface = shown_surface(image, (480, 300))
+    assert surface.get_size() == (480, 300)
+    grey = pygame.surfarray.array3d(surface)[..., 0].astype(int)      # (x, y)
+    assert grey[150, 75] > 120                                      # the centre, 1.5 times out
+    assert grey[150, 75 + 12] > 120 and grey[150 + 12, 75] > 120     # its bars
+    assert grey[100, 50] < 40                                        # not at the unscaled place
+    same = shown_surface(image, (320, 200))
+    assert pygame.surfarray.array3d(same)[100, 50, 0] == 255
