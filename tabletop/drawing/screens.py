@@ -165,8 +165,9 @@ def one_moment(surf: pygame.Surface, t: float, alpha: float,
     turns and breathes at its centre, "One moment" below it. It is for visitors, so it says
     nothing of why: the source's own words ("cannot open camera 0; reconnecting in 3 s") go to
     the log, the status file and the operator overlay's health lines. ``area``: the table's
-    corner pixels (default the whole window); a calibrated projector throwing beyond the
-    table puts the table anywhere in its image, and the ring belongs on the table."""
+    corner pixels (default the whole window), whose centre the ring stands at: a calibrated
+    projector throwing beyond the table puts the table anywhere in its image. Its size
+    follows the window's (the calm screen's look at every table size)."""
     if alpha <= 0.0:
         return
     w, h = surf.get_size()
@@ -175,17 +176,15 @@ def one_moment(surf: pygame.Surface, t: float, alpha: float,
     if area is None:
         area = np.array([(0, 0), (w, h)], dtype=float)
     lo, hi = area.min(axis=0), area.max(axis=0)
-    span = hi - lo
-    cx, cy = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2 - 0.04 * span[1]
-    R = 0.06 * min(span)
+    cx, cy = (lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2 - 0.04 * h
+    R = 0.06 * min(w, h)
     col = (150, 200, 255)
     for i in range(8):
         a = math.tau * i / 8 + 0.6 * t
         b = 0.5 + 0.5 * math.sin(1.3 * t - i * 0.55)
         P.glow(surf, (cx + R * math.cos(a), cy + R * math.sin(a)), 0.22 * R, col,
                alpha * (0.25 + 0.55 * b))
-    text(surf, "One moment", (cx, cy + 2.0 * R), int(0.05 * span[1]), mix(col, TEXT, 0.6),
-         alpha)
+    text(surf, "One moment", (cx, cy + 2.0 * R), int(0.05 * h), mix(col, TEXT, 0.6), alpha)
 
 
 INVITATIONS = {"puck": "put a puck on the table", "touch": "touch the table",
