@@ -27,7 +27,9 @@ SETTLE_S = 0.3        # camera frames this long after the view showed an image s
 
 class Showing:
     """Wraps the view's renderer: while an image is set, the view draws it (the projector
-    shows it) instead of the frame; ``shown`` is (token, monotonic s) of its first drawing."""
+    shows it) instead of the frame; ``shown`` is (token, monotonic s) of its first drawing.
+    The image covers the whole window, so the renderer is told to present all of it and to
+    repaint the whole table when the show comes back (its dirty tiles know nothing of it)."""
 
     def __init__(self, renderer: Any, clock: Callable[[], float]) -> None:
         self.inner, self.clock = renderer, clock
@@ -40,6 +42,7 @@ class Showing:
             self.inner.draw(target, frame, overlay)
             return
         target.blit(current[1], (0, 0))
+        self.inner.invalidate()
         if self.shown is None or self.shown[0] != current[0]:
             self.shown = (current[0], self.clock())
 
@@ -56,7 +59,9 @@ class RunProCam:
                  settle_s: float = SETTLE_S, timeout_s: float = 10.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.view, self.source, self.projector = view, source, projector
-        self.size = tuple(view.screen.get_size())
+        # the projector's pixels of the calibration (view.size); a window of another size
+        # shows every image scaled to it, as the view draws the show (shown_surface)
+        self.size = tuple(getattr(view, "size", None) or view.screen.get_size())
         self.showing = Showing(view.renderer, clock)
         view.renderer = self.showing
         self.measurer = getattr(source, "measurer", None) or source.process
@@ -67,11 +72,9 @@ class RunProCam:
 
     def show(self, image: np.ndarray | None) -> None:
         """Show ``image`` (grey or BGR, the view's size; None: black) instead of the show."""
-        import pygame
         w, h = self.size
         shown = np.zeros((h, w), np.uint8) if image is None else image
-        rgb = np.repeat(shown[..., None], 3, axis=2) if shown.ndim == 2 else shown[..., ::-1]
-        surface = pygame.surfarray.make_surface(np.ascontiguousarray(rgb.swapaxes(0, 1)))
+        surface = shown_surface(shown, tuple(self.view.screen.get_size()))
         self.measurer.keep_image = True  # the camera's frames, for the check
         if self.projector is not None:
             self.projector.throw(self.source.camera, image)
@@ -97,6 +100,19 @@ class RunProCam:
         self.measurer.keep_image = self._kept
         if self.projector is not None:
             self.projector.throw(self.source.camera, None)
+
+
+def shown_surface(image: np.ndarray, window: tuple[int, int]) -> Any:
+    """``image`` (grey or BGR, projector pixels of the calibration) as a surface of the
+    window's ``window`` (W, H) pixels: scaled when the window is another size (a fullscreen
+    window at the desktop's size, or one shrunk to fit the screen), so a cross lands where
+    the view draws that table point."""
+    import pygame
+    rgb = np.repeat(image[..., None], 3, axis=2) if image.ndim == 2 else image[..., ::-1]
+    surface = pygame.surfarray.make_surface(np.ascontiguousarray(rgb.swapaxes(0, 1)))
+    if surface.get_size() != tuple(window):
+        surface = pygame.transform.smoothscale(surface, window)
+    return surface
 
 
 class LiveCheck:

@@ -162,7 +162,7 @@ class Renderer:
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
         if self.moment > 0:
-            screens.one_moment(target, t, self.moment)
+            screens.one_moment(target, t, self.moment, self._corners())
         if overlay:
             drawn.append(self.draw_overlay(target, overlay, self._keep_clear,
                                            self._studio_marks))
@@ -210,7 +210,8 @@ class Renderer:
         for pr in prs:
             c = pr.state
             look = c.look_at if here and c.look_at is not None else (nan, nan)
-            flat += (c.x, c.y, c.heading, look[0], look[1],
+            ox, oy = pr.offset(frame.t if here else pr.t)     # gliding after a jump
+            flat += (c.x + ox, c.y + oy, c.heading, look[0], look[1],
                      math.atan2(pr.vy, pr.vx) if pr.speed > 1e-3 else nan)
         v = np.array(flat, dtype=np.float64).reshape(-1, 6)
         pk = (np.array([u for p in frame.pucks for u in (p.x, p.y)], dtype=np.float64)

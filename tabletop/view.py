@@ -54,7 +54,8 @@ KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
 
 
 def overlay_lines(frame: Frame, stats: LoopStats | None) -> list[str]:
-    """The operator overlay: rate, per-stage milliseconds, sources' health, characters' status."""
+    """The operator overlay: rate, the parts failing at run time, per-stage milliseconds,
+    sources' health, characters' status."""
     *_, lines = overlay_steps(frame, stats)
     return lines
 
@@ -66,15 +67,19 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
     lines = [f"tick {frame.seq}   running {frame.t - start:.1f} s"]
     if stats is not None:
         fps = stats.fps()   # None on the first tick: no rate yet
-        rate = "  -.-" if fps is None else f"{fps:5.1f}"
+        rate = "-.-" if fps is None else f"{fps:.1f}"
         lines.append(f"{rate} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
+        # which part fails: the total alone left the operator to search the log for it
+        lines += [f"{where} failed {n} times (see the log)"
+                  for where, n in sorted(stats.errors.items())]
         for stage in list(stats.samples):
             m = stats.stage_ms(stage)
             yield None
             if m is not None:
                 label = LABELS.get(stage, stage)
-                lines.append(f"  {label:<17} {m[0]:6.2f} ms median  {m[1]:6.2f} ms p99")
+                # tabs: the panel lines the figures up in columns (screens.panel)
+                lines.append(f"  {label:<17}\t{m[0]:6.2f} ms median\t{m[1]:6.2f} ms p99")
     for h in frame.health:
         age = "-" if math.isinf(h.age) else f"{h.age * 1e3:.0f} ms"
         lines.append(f"source {h.name}: {'ok' if h.ok else 'DOWN'}  {h.message}  age {age}")
@@ -128,10 +133,20 @@ class ProjectorView:
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
         display = 0 if self.headless else check_display(options["display"])
-        self.screen = pygame.display.set_mode(size, flags, display=display)
+        opened = size
+        if not self.headless and not options["fullscreen"]:
+            opened = window_size(size, tuple(pygame.display.get_desktop_sizes()[display]))
+        self.screen = pygame.display.set_mode(opened, flags, display=display)
         pygame.display.set_caption("Tabletop")
         pygame.mouse.set_visible(self.headless or not options["fullscreen"])
-        self.renderer = Renderer(table, size, options["margin_px"], homography,
+        self.size = size                 # view.size: the calibration's projector pixels
+        given = self.screen.get_size()
+        if given != size:
+            log.warning("view.size is %dx%d but the window is %dx%d (%s); drawing at %dx%d",
+                        *size, *given, "what fits the screen" if opened != size
+                        else "what the display gave", *given)
+            homography = scaled_homography(homography, size, given)
+        self.renderer = Renderer(table, given, options["margin_px"], homography,
                                  options["puck_radius"], options["sprites"])
         self.renderer.incremental = True   # present only what changed (bench/view.py)
         self.renderer.invitation = invitation
@@ -203,8 +218,9 @@ class ProjectorView:
         assert lines is not None
         lines += [n for fn in self.notices for n in fn()]
         for line in lines:
-            screens.panel_line(line)   # the panel is composed from these when it is drawn
-            yield
+            for cell in screens.cells(line):
+                screens.panel_line(cell)   # the panel is composed from these when it is drawn
+                yield
         self._overlay = lines
 
     def _events(self) -> None:
@@ -255,6 +271,26 @@ class ProjectorView:
         if self.snapshots is not None:
             self.snapshots.close()
         pygame.display.quit()
+
+
+def window_size(size: tuple[int, int], desktop: tuple[int, int]) -> tuple[int, int]:
+    """The window to open for ``view.size`` on a desktop of ``desktop`` pixels: ``size``, or,
+    when it does not fit (a 1280x720 view on an 800x600 screen showed only its middle, the
+    table's edges and pucks near them beyond the screen), the largest of its shape that does."""
+    k = min(1.0, desktop[0] / size[0], desktop[1] / size[1])
+    return size if k >= 1.0 else (max(1, int(size[0] * k)), max(1, int(size[1] * k)))
+
+
+def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],
+                      given: tuple[int, int]) -> np.ndarray | None:
+    """``table_to_projector`` (pixels of ``asked``, the projector size it was fitted at) for a
+    window of ``given`` pixels filling the same projector: a fullscreen window the display
+    could not switch to ``view.size`` is its desktop's size, which the projector stretches over
+    the same table. None (the uncalibrated fit, made for the window it gets) stays None."""
+    if homography is None:
+        return None
+    sx, sy = given[0] / asked[0], given[1] / asked[1]
+    return np.diag([sx, sy, 1.0]) @ np.asarray(homography, dtype=float)
 
 
 def check_display(index: int) -> int:

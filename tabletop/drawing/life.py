@@ -22,6 +22,8 @@ TRAIL_STEP_M = 0.012    # ... sampled every 1.2 cm of travel
 LOST_S = 1.2            # a puck that left is shown as "lost" for this long
 STRIDE_M = 0.05         # a reactor's feet step once per this much travel
 HINT_TAU_S = 0.15       # a hinted pose (early feedback) fades in and out with this time constant
+JUMP_SPEED = 5.0        # m/s: a character moved faster than this between frames has jumped
+GLIDE_S = 0.4           # ... and is drawn gliding from where it was to its place over this
 
 
 def ease_out_back(u: float) -> float:
@@ -89,6 +91,17 @@ class Presence:
     phase: float = 0.0          # stepping cycle, radians: advances with the distance travelled
     hint: float = 0.0           # strength 0..1 of the hinted pose shown faintly (early feedback)
     hint_points: object = None  # the last hinted pose (N x 2, table metres), kept while it fades
+    glide: tuple[float, float, float] | None = None   # (t, dx, dy m): a jump being glided
+
+    def offset(self, t: float) -> tuple[float, float]:
+        """Where it is drawn, relative to its state's place (metres): after a jump, the way back
+        to where it was drawn, easing to nothing over ``GLIDE_S`` (a reactor waiting at the
+        table's centre leapt 24 cm in a frame to its first place when a puck was put down)."""
+        if self.glide is None:
+            return 0.0, 0.0
+        t0, dx, dy = self.glide
+        w = 1.0 - smoothstep((t - t0) / GLIDE_S)
+        return dx * w, dy * w
 
     def alpha(self, t: float) -> float:
         """Opacity 0..1 now: fading in after ``born``, fading out after ``gone``."""
@@ -137,7 +150,10 @@ class Lives:
             if dt > 1e-6:
                 k = 1.0 - math.exp(-dt / SPEED_TAU_S)
                 vx, vy = (c.x - p.state.x) / dt, (c.y - p.state.y) / dt
-                if not math.hypot(vx, vy) <= 5.0:   # a jump (or a broken pose), not a motion
+                if not math.hypot(vx, vy) <= JUMP_SPEED:   # a jump (or a broken pose)
+                    if c.points is None and math.isfinite(vx) and math.isfinite(vy):
+                        ox, oy = p.offset(t)   # glide on from where it is drawn now
+                        p.glide = (t, p.state.x + ox - c.x, p.state.y + oy - c.y)
                     vx = vy = 0.0
                 if not (math.isfinite(p.vx) and math.isfinite(p.vy)):
                     p.vx = p.vy = 0.0

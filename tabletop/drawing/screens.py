@@ -91,15 +91,42 @@ def fit_lines(text: str, f: pygame.font.Font, width: int) -> list[str]:
     return lines
 
 
+def cells(line: str) -> list[str]:
+    """A panel line's table cells: split at tabs, the first keeping its indent, the others
+    trimmed (a line without a tab is one cell)."""
+    parts = line.split("\t")
+    return [parts[0].rstrip()] + [p.strip() for p in parts[1:]]
+
+
+def _table_row(parts: Sequence[pygame.Surface], widths: Sequence[int], gap: int) -> pygame.Surface:
+    """A row of cells: the first left-aligned, the others right-aligned in columns of
+    ``widths`` pixels (the figures' decimal points and units line up)."""
+    w = sum(widths[:len(parts)]) + gap * (len(parts) - 1)
+    row = pygame.Surface((w, max(p.get_height() for p in parts)), pygame.SRCALPHA)
+    x = 0
+    for k, img in enumerate(parts):
+        row.blit(img, (x if k == 0 else x + widths[k] - img.get_width(), 0))
+        x += widths[k] + gap
+    return row
+
+
 def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
           width: int | None = None, keep: bool = True) -> pygame.Surface:
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
     line that would make the panel wider than ``width`` pixels wraps (``keep``: see
-    :func:`panel_line`)."""
+    :func:`panel_line`). Lines with tabs are rows of a table whose columns line up across the
+    panel (the overlay's stage figures: padded with spaces in a proportional font they
+    wandered by up to 30 px from line to line)."""
+    rows = {i: [panel_line(c, px, keep) for c in cells(line)]
+            for i, line in enumerate(lines) if "\t" in line}
+    ncol = max((len(r) for r in rows.values()), default=0)
+    widths = [max((r[k].get_width() for r in rows.values() if len(r) > k), default=0)
+              for k in range(ncol)]
+    gap = font(px).size("   ")[0]
     imgs = []
-    for line in lines:
-        img = panel_line(line, px, keep)
-        if width is not None and img.get_width() > width - 2 * pad:
+    for i, line in enumerate(lines):
+        img = _table_row(rows[i], widths, gap) if i in rows else panel_line(line, px, keep)
+        if width is not None and img.get_width() > width - 2 * pad and i not in rows:
             imgs.extend(panel_line(part, px, keep) for part in fit_lines(line, font(px),
                                                                          width - 2 * pad))
         else:
@@ -132,17 +159,39 @@ def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
     surf.blit(img, img.get_rect(center=(int(center[0]), int(center[1]))))
 
 
-def one_moment(surf: pygame.Surface, t: float, alpha: float) -> None:
+def centre(corners: np.ndarray) -> tuple[float, float]:
+    """The table's centre in pixels from its 4 corners in order: where the diagonals cross
+    (a homography keeps that point; the corners' box centre is off by 17 x 30 px for a
+    keystoned 1280x720 projector); the box centre when they do not cross."""
+    c = np.asarray(corners, dtype=float).reshape(-1, 2)
+    lo, hi = c.min(axis=0), c.max(axis=0)
+    if len(c) == 4:
+        r, s = c[2] - c[0], c[3] - c[1]
+        den = r[0] * s[1] - r[1] * s[0]
+        if abs(den) > 1e-9:
+            d = c[1] - c[0]
+            u = (d[0] * s[1] - d[1] * s[0]) / den
+            if 0.0 < u < 1.0:
+                return float(c[0, 0] + u * r[0]), float(c[0, 1] + u * r[1])
+    return float((lo[0] + hi[0]) / 2), float((lo[1] + hi[1]) / 2)
+
+
+def one_moment(surf: pygame.Surface, t: float, alpha: float,
+               area: np.ndarray | None = None) -> None:
     """The calm screen while every camera reconnects: the table dims, a slow ring of lights
     turns and breathes at its centre, "One moment" below it. It is for visitors, so it says
     nothing of why: the source's own words ("cannot open camera 0; reconnecting in 3 s") go to
-    the log, the status file and the operator overlay's health lines."""
+    the log, the status file and the operator overlay's health lines. ``area``: the table's
+    corner pixels (default: the window), whose :func:`centre` the ring stands at (a
+    calibrated projector throwing beyond the table puts the table anywhere in its image);
+    its size follows the window's (the calm screen's look at every table size)."""
     if alpha <= 0.0:
         return
     w, h = surf.get_size()
     k = int(round(255 * (1.0 - 0.75 * alpha)))
     surf.fill((k, k, k), special_flags=pygame.BLEND_MULT)      # dim the table
-    cx, cy = w / 2, h / 2 - 0.04 * h
+    cx, cy = (w / 2, h / 2) if area is None else centre(area)
+    cy -= 0.04 * h
     R = 0.06 * min(w, h)
     col = (150, 200, 255)
     for i in range(8):

@@ -6,6 +6,7 @@ import functools
 import math
 from typing import Callable
 
+import numpy as np
 import pygame
 
 from tabletop import library
@@ -24,7 +25,8 @@ def font(size: int) -> pygame.font.Font:
 
 def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pygame.Rect]:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
-    number in the middle of the table, a red dot and seconds while recording, a green TRY mark
+    number in the middle of the table, a red dot and seconds and a red edge round the table
+    while recording, a green TRY mark
     (and the path to drag, when the target gives one) while a take is tried, and the status
     line along the table's near edge (nothing while it has nothing to say). Returns the
     rectangles of the marks and words (pixels), which the operator overlay keeps clear of."""
@@ -51,7 +53,10 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pyg
         img = font(36).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
         marks.append(target.blit(img, (x + 22, y - img.get_height() // 2)).union(
             (x - 14, y - 14, 28, 28)))
-        pygame.draw.rect(target, c.color, target.get_rect(), width=6)
+        # the table's edge in red (a calibrated projector may throw beyond the table: a
+        # frame round the window would be on the floor)
+        pygame.draw.polygon(target, c.color, renderer.map.points(
+            np.array([(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)])).tolist(), width=6)
     elif c.action in ("trying", "training"):
         x, y = renderer.map.point(0.04, h - 0.04)
         green = (90, 220, 120)

@@ -57,3 +57,22 @@ def test_the_rename_prompt_takes_only_what_a_library_name_may_hold():
     assert library.check_name(cmd.partition(":")[2])
     with pytest.raises(library.LibraryError, match="use 1-64 ASCII letters"):   # ü is a letter
         library.check_name("wütend")
+
+
+def test_the_recording_edge_is_drawn_round_the_table():
+    """The red recording frame ran round the window: a calibrated projector throwing beyond
+    the table put it on the floor. It runs along the table's edge."""
+    h = np.array([[150.0, 0.0, 40.0], [0.0, -150.0, 200.0], [0.0, 0.0, 1.0]])  # x 40-220 px
+    renderer = Renderer((1.2, 0.8), SIZE, homography=h)
+    surface = pygame.Surface(SIZE)
+    surface.fill(GREY)
+    red = (255, 60, 60)
+    draw_studio(surface, renderer, CharacterState("studio", 0.0, 0.0, 0.0, kind="studio",
+                                                  size=0.0, action="recording", progress=1.2,
+                                                  label="[lover] recording", color=red))
+    img = pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
+
+    def is_red(y: int, x: int) -> bool:
+        return bool((np.abs(img[y, x] - red) < 40).all())
+    assert is_red(150, 40) and is_red(150, 220) and is_red(80, 130)  # the table's edges
+    assert not is_red(135, SIZE[0] - 2) and not is_red(SIZE[1] - 2, 400)  # not the window's

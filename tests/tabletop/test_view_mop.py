@@ -134,3 +134,28 @@ def test_an_x11_window_presents_straight_unless_the_operator_says_otherwise(oper
                        capture_output=True, text=True, env=env, cwd=ROOT, timeout=120)
     assert r.returncode == 0, r.stderr
     assert r.stdout.split()[-2:] == ["x11", expected]
+
+
+def test_the_example_characters_never_overlap_on_the_table():
+    """examples/mop.yaml's bird flapped its wings over the dancer's head (an Xvfb snapshot):
+    every character's footprint, over its rest pose and every action's poses, stays clear of
+    the others' by a limb's width and inside the table."""
+    from behaviors.motion.skeleton import place
+    from tabletop.plugins.mop import MotionLoader, _make_rig
+    cfg = load_config(ROOT / "examples" / "mop.yaml")
+    boxes = {}
+    for c in cfg["engines"][0]["characters"]:
+        rig = _make_rig(c)
+        load = MotionLoader(c["kind"], ROOT / "examples", rig)
+        clips = [load(a["motion"]) for a in c["actions"]]
+        poses = [rig.rest()] + [rig.pose(clip, float(q)) for clip in clips
+                                for q in np.linspace(0, 1, 21)]
+        pts = np.concatenate([place(q, *c["at"], c["heading"], c["size"]) for q in poses])
+        boxes[c["name"]] = (pts.min(axis=0) - 0.015, pts.max(axis=0) + 0.015)   # a limb's width
+    for name, (lo, hi) in boxes.items():
+        assert (lo > 0).all() and (hi < (1.2, 0.8)).all(), (name, lo, hi)
+    names = sorted(boxes)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            (alo, ahi), (blo, bhi) = boxes[a], boxes[b]
+            assert (ahi < blo).any() or (bhi < alo).any(), (a, b, boxes[a], boxes[b])

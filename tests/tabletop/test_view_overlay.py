@@ -246,3 +246,37 @@ def test_a_long_overlay_line_leaves_a_corner_clear_of_the_studios_words():
     assert len(r._studio_marks) >= 3                      # the REC mark, two status lines
     assert panel.collidelist(r._studio_marks) == -1, (panel, r._studio_marks)
     assert w <= W // 2                                     # was 1245 px wide
+
+
+def test_overlay_names_each_part_failing_at_run_time():
+    """A raising engine showed only as a growing "errors N" (seen in an Xvfb snapshot with the
+    fault engine): the overlay names the part and its count."""
+    st = LoopStats()
+    st.errors["engine broken"] += 242
+    st.errors["sink tuio"] += 3
+    lines = overlay_lines(Frame(seq=5, t=1.0), st)
+    assert "errors 245" in lines[1]
+    assert lines[2:4] == ["engine broken failed 242 times (see the log)",
+                          "sink tuio failed 3 times (see the log)"], lines
+
+
+def test_the_stage_figures_stand_in_columns_on_the_panel():
+    """Padded with spaces in the proportional font, each stage line's "ms p99" ended where its
+    label and digits happened to (up to 30 px apart, seen in an Xvfb snapshot): the panel lines
+    every row's figures up, whatever the label's length or the number's digits."""
+    from tabletop.drawing import screens
+    st = LoopStats()
+    for stage, s in (("capture_age", 0.004), ("engine:playful_friend", 0.00006),
+                     ("engine:lover", 0.0148), ("sink:view", 0.1234), ("tick", 0.0011)):
+        for _ in range(10):
+            st.record(stage, s)
+    lines = overlay_lines(Frame(seq=5, t=1.0), st)
+    img = pygame.surfarray.array3d(screens.panel(lines, keep=False)).astype(int).sum(axis=2)
+    ends, y = [], 10            # each row's rightmost text pixel (x), rows as the panel stacks
+    for line in lines:
+        h = screens.panel_line(screens.cells(line)[0], keep=False).get_height()
+        lit = np.nonzero(img[:, y:y + h].max(axis=1) > 300)[0]
+        if "ms p99" in line:
+            ends.append(int(lit.max()))
+        y += h + 2
+    assert len(ends) == 5 and max(ends) - min(ends) <= 1, ends

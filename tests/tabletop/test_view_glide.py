@@ -1,0 +1,55 @@
+"""A character whose place jumps between frames glides there instead of teleporting; one that
+moves keeps to its place."""
+
+import numpy as np
+import pygame
+
+from tabletop.frames import CharacterState, Frame
+from tabletop.renderer import Renderer
+from tests.tabletop.test_view import TABLE, display  # noqa: F401
+
+SIZE = (640, 360)
+
+
+def lover(x: float, y: float = 0.4) -> CharacterState:
+    return CharacterState("lover", x, y, 0.0, size=0.08, color=(240, 110, 150))
+
+
+def body_x(renderer, surface) -> float:
+    """The drawn body's centre along x, in table metres (from its bright pink pixels)."""
+    img = pygame.surfarray.array3d(surface).astype(np.int16)       # (x, y, rgb)
+    xs, ys = np.nonzero((img[..., 0] > 180) & (img[..., 0] > img[..., 2] + 40))
+    assert len(xs) > 50, "no body drawn"
+    px = np.array([[xs.mean(), ys.mean()]])
+    H = np.linalg.inv(renderer.map.H)
+    q = np.c_[px, np.ones(1)] @ H.T
+    return float(q[0, 0] / q[0, 2])
+
+
+def test_a_jump_is_glided_and_a_motion_is_not():
+    """A reactor waiting at the table's centre leapt 24 cm in one frame to its first place
+    when a visitor put its main puck down (the engine's states, seen in a run): drawn, it
+    glides there over 0.4 s."""
+    r = Renderer(TABLE, SIZE, margin=12)
+    s = pygame.Surface(SIZE)
+    t = 0.0
+    for k in range(40):                              # settled at x 0.3
+        t = k / 60
+        r.draw(s, Frame(seq=k, t=t, characters=(lover(0.3),)))
+    assert abs(body_x(r, s) - 0.3) < 0.01
+    seen = []
+    for k in range(40, 90):                          # its state jumps to x 0.9
+        t = k / 60
+        r.draw(s, Frame(seq=k, t=t, characters=(lover(0.9),)))
+        if k % 3 == 1:
+            seen.append(body_x(r, s))
+    assert seen[0] < 0.33                            # still where it was, not teleported
+    assert 0.4 < seen[4] < 0.8                       # on its way 0.2 s later
+    assert abs(seen[-1] - 0.9) < 0.01                # there after the glide
+    assert all(b >= a - 0.002 for a, b in zip(seen, seen[1:]))   # no step back
+    for k in range(90, 120):                          # moving at 0.6 m/s: drawn in its place
+        t = k / 60
+        x = 0.9 - 0.01 * (k - 89)
+        r.draw(s, Frame(seq=k, t=t, characters=(lover(x),)))
+        if k % 5 == 0:
+            assert abs(body_x(r, s) - x) < 0.012, k
