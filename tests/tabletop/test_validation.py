@@ -153,6 +153,13 @@ def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
      ".log cannot be written: {tmp}/notes.txt is a file, not a folder"),
     ("kiosk: {status_file: notes.txt/a/status.json}\n", "kiosk.status_file: {tmp}/notes.txt/a/"
      "status.json cannot be written: {tmp}/notes.txt is a file, not a folder"),
+    # a status written over the config replaced it with the status JSON, the config was gone
+    ("kiosk: {status_file: kiosk.yaml}\n", "kiosk.status_file: {tmp}/kiosk.yaml is the config "
+     "file itself"),
+    ("kiosk: {log_file: .kiosk.yaml.last-good}\n", "kiosk.log_file: {tmp}/.kiosk.yaml.last-good "
+     "is the config's last good copy"),
+    ("kiosk: {status_file: s.json, log_file: s.json}\n", "kiosk.log_file: {tmp}/s.json is also "
+     "kiosk.status_file"),
 ])
 def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     # (they ran: a back-off that never grew, a service key warned about only once the kiosk
@@ -162,6 +169,15 @@ def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     words = words.format(tmp=tmp_path)
     code, err = run_config(tmp_path, BASE + snippet, capfd)
     assert code == 2 and f"kiosk.yaml: {words}" in one_line(err)
+
+
+def test_a_last_good_copy_may_not_write_over_the_config_it_stands_for(tmp_path):
+    # a copy kept by an earlier version: run for kiosk.yaml, its status would replace kiosk.yaml
+    from tabletop.config import ConfigError, load_config
+    kept = tmp_path / ".kiosk.yaml.last-good"
+    kept.write_text(BASE + "kiosk: {status_file: kiosk.yaml}\n")
+    with pytest.raises(ConfigError, match="kiosk.status_file: .*/kiosk.yaml is the config file"):
+        load_config(kept)
 
 
 def test_a_studio_folder_that_cannot_be_made(tmp_path, capfd):
