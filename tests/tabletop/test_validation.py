@@ -2,6 +2,8 @@
 (command line), a non-zero exit, and nothing of OpenCV's or Python's internals (bad output
 paths: test_validation_outputs.py)."""
 
+import os
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -240,6 +242,34 @@ def test_a_snapshot_folder_that_cannot_be_made(tmp_path, capfd):
                            "view: {snapshot_every_s: 5, snapshot_folder: /proc/x}\n", capfd)
     line = one_line(err)
     assert code == 2 and "kiosk.yaml: view.snapshot_folder: /proc/x: cannot be used" in line
+
+
+@pytest.fixture
+def read_only_folder(tmp_path):
+    """A folder that exists and takes no file: without write permission, or as root (whom
+    permissions do not stop) a read-only tmpfs mounted on it."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    if os.geteuid() != 0:
+        folder.chmod(0o555)
+        yield folder
+        folder.chmod(0o755)
+        return
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(folder)],
+                      capture_output=True).returncode != 0:
+        pytest.skip("root without mount: no read-only folder to be had")
+    yield folder
+    subprocess.run(["umount", str(folder)], capture_output=True)
+
+
+def test_a_snapshot_folder_that_takes_no_file(read_only_folder, tmp_path, capfd):
+    # it ran, one warning, and never saved a snapshot
+    code, err = run_config(tmp_path, "sources: [{kind: scripted}]\n"
+                           f"view: {{snapshot_every_s: 5, snapshot_folder: {read_only_folder}}}\n",
+                           capfd)
+    line = one_line(err)
+    assert code == 2 and f"view.snapshot_folder: {read_only_folder}: cannot be used" in line
+    assert not list(read_only_folder.iterdir())
 
 
 @pytest.mark.parametrize("value", [".inf", "-.inf", ".nan", "1e999"])
