@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tabletop.files import atomic_write_text
+from tabletop.files import FileFormatError, atomic_write_text, read_csv_lines, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -94,3 +94,11 @@ def test_a_temporary_file_left_by_a_killed_writer_is_removed_by_the_next_write(t
     finally:
         running.kill()
         running.wait()
+
+
+@pytest.mark.parametrize("read", [read_yaml, read_csv_lines])
+def test_an_endless_device_is_refused_not_read_whole(read):
+    # /dev/zero as a config (or /dev/full as calibrate's --out, whose previous file is read
+    # first) filled the machine's memory and was killed
+    with pytest.raises(FileFormatError, match=r"/dev/zero: cannot read.*over 128 M characters"):
+        read("/dev/zero")
