@@ -95,7 +95,7 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
             f = open(target, "wb" if binary else "w", encoding=None if binary else "utf-8")
         except OSError as exc:  # an OSError still, naming the target, as runtime writers expect
             raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
-        with f:
+        with _naming(target), f:
             yield f
         return
     try:
@@ -111,7 +111,8 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
         raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
     try:
         os.chmod(tmp, _new_file_mode(target))
-        with os.fdopen(fd, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
+        with _naming(target), \
+                os.fdopen(fd, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
             yield f
             f.flush()
             os.fsync(f.fileno())
@@ -126,6 +127,19 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
             pass
         raise
     fsync_folder(target.parent)
+
+
+@contextmanager
+def _naming(target: Path) -> Iterator[None]:
+    """An OSError naming no file while ``target`` is written (a full disk: the write, flush or
+    fsync says only "No space left on device") is raised again naming ``target``, its errno
+    kept for the callers that tell a full disk from other errors."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is not None:
+            raise
+        raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
 
 
 def _remove_stale(target: Path) -> None:
