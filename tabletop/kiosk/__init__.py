@@ -54,7 +54,8 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
         if blocking is not None:
             raise ctx.error(f"{path}.{key}", f"{k[key]} cannot be written: {blocking} is a "
                                              "file, not a folder")
-    _check_distinct(k, path, ctx)
+    if k["enabled"] or any(k[key] is not None for key in ("status_file", "log_file", "crash_log")):
+        _check_distinct(k, path, ctx)   # (a config named status.json runs outside a kiosk)
     first, longest = k["backoff_s"]
     if first > longest:
         raise ctx.error(f"{path}.backoff_s", f"the first wait {first:g} s is longer than the "
