@@ -72,8 +72,7 @@ def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:
     to the status file mixed them."""
     from pathlib import Path
 
-    from tabletop.kiosk import last_good
-    from tabletop.kiosk.supervisor import kiosk_paths
+    from tabletop.kiosk.supervisor import kiosk_paths, last_good_path
     taken: dict[Path, str] = {}
     config = Path(ctx.file)
     if config.is_file():
@@ -81,7 +80,7 @@ def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:
         if name.startswith(".") and name.endswith(".last-good"):   # run for the file it keeps
             config = config.with_name(name[1:-len(".last-good")])
         taken[config.resolve()] = "the config file itself"
-        taken[last_good.path_of(config).resolve()] = "the config's last good copy"
+        taken[last_good_path(config).resolve()] = "the config's last good copy"
     for key, file in kiosk_paths({"kiosk": k}, ctx.base).items():
         where = file.resolve()
         if where in taken:
