@@ -19,6 +19,8 @@ from tabletop.frames import InputError
 DEFAULT_BOARD = "7x5:40:30:DICT_5X5_100"
 MIN_CORNERS = 8          # a view with fewer detected corners is skipped
 MIN_VIEWS = 4            # fewer usable views are refused, even with --force
+MAX_BOARD_PX = 32767     # a board image's longest side: 2.7 m at 300 dpi; a typo's 10x dpi
+                         # would otherwise allocate gigabytes (or fail and be called coarse)
 MAX_RMS_PX = 1.0         # a lens solve with a larger RMS error is refused unless --force
 PATTERN_DICTIONARY = "DICT_5X5_250"  # the projected pattern: never a puck's 4x4 dictionary
 
@@ -100,6 +102,10 @@ def board_image(spec: BoardSpec, dpi: float, margin_mm: float = 10.0
     margin = int(round(margin_mm * px_per_mm))
     w = int(round(spec.cols * square_px)) + 2 * margin
     h = int(round(spec.rows * square_px)) + 2 * margin
+    if max(w, h) > MAX_BOARD_PX:
+        raise CalibrationInputError(
+            f"{dpi:g} dpi draws the board {w} x {h} pixels, over {MAX_BOARD_PX} pixels a side "
+            f"(a {w * h / 2**20:.0f} MB image): use a lower --dpi")
     board = make_board(spec)
     if square_px >= 8:
         for dw, dh in ((0, 0), (1, 0), (0, 1), (1, 1), (-1, 0), (0, -1), (-1, -1), (2, 0),

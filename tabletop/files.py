@@ -27,6 +27,26 @@ class FileFormatError(InputError):
     """A file is missing, empty or malformed; the message names the file and the line."""
 
 
+MAX_TEXT_CHARS = 128 * 2**20   # a config, calibration or CSV input longer is refused: an hour's
+# demonstration at 120 Hz is 30 MB; /dev/zero or /dev/full named as one (a calibrate --out
+# whose previous file is read first) filled the machine's 23 GB and was killed
+
+
+class TextTooLong(Exception):
+    """A text input over :data:`MAX_TEXT_CHARS` characters."""
+
+
+def read_text(path: Path, encoding: str = "utf-8") -> str:
+    """``path.read_text(encoding)``, refusing (TextTooLong) what is longer than any input file
+    of ours: an endless device or a wrong file is not read into memory whole."""
+    with open(path, encoding=encoding) as f:
+        text = f.read(MAX_TEXT_CHARS + 1)
+    if len(text) > MAX_TEXT_CHARS:
+        raise TextTooLong(f"over {MAX_TEXT_CHARS // 2**20} M characters, more than any "
+                          "such file holds (a device or another kind of file?)")
+    return text
+
+
 def file_on_path(folder: Path) -> Path | None:
     """The file standing where ``folder`` or one of the folders above it would be, if any (no
     folder can then be made there, now or later)."""
@@ -75,7 +95,7 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
             f = open(target, "wb" if binary else "w", encoding=None if binary else "utf-8")
         except OSError as exc:  # an OSError still, naming the target, as runtime writers expect
             raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
-        with f:
+        with _naming(target), f:
             yield f
         return
     try:
@@ -91,7 +111,8 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
         raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
     try:
         os.chmod(tmp, _new_file_mode(target))
-        with os.fdopen(fd, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
+        with _naming(target), \
+                os.fdopen(fd, "wb" if binary else "w", encoding=None if binary else "utf-8") as f:
             yield f
             f.flush()
             os.fsync(f.fileno())
@@ -106,6 +127,19 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
             pass
         raise
     fsync_folder(target.parent)
+
+
+@contextmanager
+def _naming(target: Path) -> Iterator[None]:
+    """An OSError naming no file while ``target`` is written (a full disk: the write, flush or
+    fsync says only "No space left on device") is raised again naming ``target``, its errno
+    kept for the callers that tell a full disk from other errors."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is not None:
+            raise
+        raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
 
 
 def _remove_stale(target: Path) -> None:
@@ -249,12 +283,12 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
     """
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        text = read_text(p, encoding="utf-8-sig")
     except FileNotFoundError:
         raise FileFormatError(f"{p}: {what} not found") from None
     except IsADirectoryError:
         raise FileFormatError(f"{p}: is a folder, expected a {what}") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except (OSError, UnicodeDecodeError, TextTooLong) as exc:
         raise FileFormatError(f"{p}: cannot read {what}: {exc}") from None
     lines = [ln for ln in text.splitlines()]
     rows = list(csv.reader(lines))
@@ -349,12 +383,12 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
     (``missing`` is the message for a file that does not exist)."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = read_text(p)
     except FileNotFoundError:
         raise error(f"{p}: {missing}") from None
     except IsADirectoryError:
         raise error(f"{p}: is a folder; expected a YAML file") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except (OSError, UnicodeDecodeError, TextTooLong) as exc:
         raise error(f"{p}: cannot read: {exc}") from None
     return parse_yaml(text, p, error, problem)
 

@@ -37,7 +37,8 @@ from typing import Any, Callable
 from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
 from tabletop.recorder_sync import Syncer
-from tabletop.recordings import Recordings, candidates, hold, number, prune, recordings
+from tabletop.recordings import (FOREIGN, Recordings, candidates, hold, number, prune,
+                                 recordings)
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header, session_header)
@@ -134,7 +135,8 @@ class Recorder(Syncer):
             order, first = self._order + 1, self._number + 1
         else:
             mine = recordings(self.folder, self.stem, self.suffix, self._orders)
-            order = max((o for o, _ in mine.values() if o is not None), default=0) + 1
+            order = max((o for o, _ in mine.values() if o is not None and o != FOREIGN),
+                        default=0) + 1
             # on after the highest name: trying NAME, NAME-2 ... one by one cost an open()
             # per recording kept (20,000 of them: 0.1 s, at every start and new part)
             first = max((number(p.name, self.stem, self.suffix) for p in mine), default=0) + 1

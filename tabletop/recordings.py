@@ -25,9 +25,15 @@ log = logging.getLogger("tabletop")
 # names, megabytes at times).
 ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)[,}]')
 ORDER_BYTES = 128
+# A file of the naming whose first bytes are no session header (``recorder.path: notes.txt``
+# beside the technician's own notes.txt) is no recording: numbered past, never counted by keep
+# nor removed. A recording of an older tabletop (no ``order``) names its format there; an
+# empty file is a recording whose header never reached the disk.
+FORMAT_MARK = b'"tabletop-session"'
+FOREIGN = -1     # (``orders``' mark of such a file)
 
-# A recording's path -> (its header's ``order``, None for a file without one; its modification
-# time, seconds since the epoch).
+# A recording's path -> (its header's ``order``, None for a file without one, FOREIGN for no
+# recording; its modification time, seconds since the epoch).
 Recordings = dict[Path, tuple[int | None, float]]
 
 
@@ -88,8 +94,10 @@ def recordings(folder: Path, stem: str | None, suffix: str,
         try:
             if p not in orders:
                 with open(p, "rb") as f:
-                    m = ORDER.match(f.read(ORDER_BYTES))
-                orders[p] = int(m.group(1)) if m else None
+                    head = f.read(ORDER_BYTES)
+                m = ORDER.match(head)
+                orders[p] = (int(m.group(1)) if m else
+                             None if not head or FORMAT_MARK in head else FOREIGN)
             out[p] = (orders[p], e.stat().st_mtime if orders[p] is None else 0.0)
         except OSError:
             continue                 # removed meanwhile, or unreadable: not counted
@@ -101,6 +109,7 @@ def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> No
     first (by modification time), then by order; never ``current`` (the file being written)."""
     if keep is None:
         return
+    mine = {p: v for p, v in mine.items() if v[0] != FOREIGN}
 
     def age(p: Path) -> tuple:
         order, mtime = mine[p]

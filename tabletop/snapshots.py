@@ -22,9 +22,11 @@ thread, atomically; a snapshot still being written makes the next one wait, neve
 from __future__ import annotations
 
 import datetime as _dt
+import errno
 import logging
 import os
 import re
+import tempfile
 import threading
 import time
 from pathlib import Path
@@ -104,6 +106,20 @@ def prune(root: Path, keep: int, max_bytes: float, current: Path | None = None) 
     return removed
 
 
+def _check_writable(folder: Path) -> None:
+    """OSError when ``folder`` takes no new file (a read-only disk, no permission): refused at
+    start as a folder that cannot be made is, where it was one warning and no snapshot ever. A
+    full disk is no such folder: the snapshots resume once it has room."""
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".snapshot-probe-", dir=folder)
+    except OSError as exc:
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+            return
+        raise
+    os.close(fd)
+    os.unlink(probe)
+
+
 class Snapshots:
     """When to take a snapshot and where it goes; :meth:`save` writes one (see the module)."""
 
@@ -113,6 +129,7 @@ class Snapshots:
         self.root = Path(folder)
         self.root.mkdir(parents=True, exist_ok=True)  # OSError: a folder that cannot be made
         self.folder = run_folder(self.root) if per_run else self.root
+        _check_writable(self.folder)
         self.every_s, self.keep, self.max_bytes = float(every_s), int(keep), max_mb * 2**20
         self.clock = clock
         self.number: int | None = None   # found when the first snapshot is written

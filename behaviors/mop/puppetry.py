@@ -221,6 +221,10 @@ class SpriteRig:
         return Clip("frames", [Channel("frame", "frame")], times, values)
 
 
+MAX_SPRITE_UNITS = 1000.0   # a sprite point's farthest coordinate, figure units (the shipped
+#                             bird's reach 0.5)
+
+
 def sprite_sheet_from_mapping(data: object, where: str) -> SpriteRig:
     """A sprite rig from its JSON form ``{"format": "tabletop.sprites", "bones": [[a, b], ...],
     "frames": [[[x, y], ...], ...]}`` (every frame has the same number of points)."""
@@ -236,6 +240,10 @@ def sprite_sheet_from_mapping(data: object, where: str) -> SpriteRig:
         raise ClipError(f"{where}: 'frames' must be frames of the same number (>= 2) of [x, y] points")
     if not np.all(np.isfinite(frames)):
         raise ClipError(f"{where}: a frame holds a value that is not a finite number")
+    far = float(np.abs(frames).max())
+    if far > MAX_SPRITE_UNITS:   # 1e300 loaded, then failed the view's every frame (no Rect)
+        raise ClipError(f"{where}: a frame holds a point {far:g} figure units from the origin; "
+                        f"at most {MAX_SPRITE_UNITS:g}")
     if bones.size and (bones.min() < 0 or bones.max() >= frames.shape[1]):
         raise ClipError(f"{where}: a bone refers to a point that does not exist "
                         f"(frames have {frames.shape[1]} points)")

@@ -30,6 +30,7 @@ from tabletop.frames import InputError
 
 CHANNEL_TYPES = ("scalar", "angle", "quat", "frame")
 CLIP_FORMAT = "tabletop.clip"
+MAX_VALUE = 1e6    # a keyframe value's magnitude: a face drawn with weights of 1e6 still draws
 
 
 class ClipError(InputError):
@@ -286,6 +287,11 @@ def _check_clip(clip: Clip) -> None:
     if not (np.all(np.isfinite(clip.times)) and np.all(np.isfinite(clip.values))):
         bad = int(np.argmax(~np.isfinite(clip.values).all(axis=1) | ~np.isfinite(clip.times)))
         raise ClipError(f"{where}: keyframe {bad} holds a value that is not a finite number")
+    far = np.abs(clip.values).max(axis=1)
+    if far.max() > MAX_VALUE:   # a face's weight of 1e300 failed the view at every frame
+        bad = int(np.argmax(far > MAX_VALUE))
+        raise ClipError(f"{where}: keyframe {bad} holds {far[bad]:g}; at most {MAX_VALUE:g} (a "
+                        "weight is about 0 to 1, an angle a few radians, a position metres)")
     steps = np.diff(clip.times)
     if np.any(steps <= 0):
         bad = int(np.argmax(steps <= 0)) + 1

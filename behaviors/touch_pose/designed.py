@@ -116,6 +116,8 @@ def read_take(path: Path, body: Humanoid) -> tuple[str, np.ndarray, list[Pose]]:
         if part not in PARTS:
             raise ValueError(f"part {part!r} is not one of {', '.join(PARTS)}")
         times = np.asarray(d["times"], dtype=float)
+        if times.ndim != 1 or times.size == 0:   # (an empty take stopped the start: IndexError)
+            raise ValueError("times must be a list of numbers, one per frame")
         root = np.asarray(d["root"], dtype=float).reshape(len(times), 3)
         rots = np.asarray(d["rots"], dtype=float).reshape(len(times), len(body.names), 4)
         if not (np.all(np.isfinite(times)) and np.all(np.isfinite(root))

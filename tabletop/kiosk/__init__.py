@@ -54,6 +54,8 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
         if blocking is not None:
             raise ctx.error(f"{path}.{key}", f"{k[key]} cannot be written: {blocking} is a "
                                              "file, not a folder")
+    if k["enabled"] or any(k[key] is not None for key in ("status_file", "log_file", "crash_log")):
+        _check_distinct(k, path, ctx)   # (a config named status.json runs outside a kiosk)
     first, longest = k["backoff_s"]
     if first > longest:
         raise ctx.error(f"{path}.backoff_s", f"the first wait {first:g} s is longer than the "
@@ -61,6 +63,30 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
     if k["service_key"] not in ("", "F12") and service_key_code(k["service_key"]) is None:
         raise ctx.error(f"{path}.service_key", f"{k['service_key']!r} is not a key name; "
                                                "expected a pygame key name such as F12 or o")
+
+
+def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:
+    """The status file, log and crash log are three files, none of them the config file: a
+    status written atomically over ``config.yaml`` replaced the config with the status JSON
+    (the next edit check refused it, the designer's file was gone); a log appended to it or
+    to the status file mixed them."""
+    from pathlib import Path
+
+    from tabletop.kiosk.supervisor import kiosk_paths, last_good_path
+    taken: dict[Path, str] = {}
+    config = Path(ctx.file)
+    if config.is_file():
+        name = config.name
+        if name.startswith(".") and name.endswith(".last-good"):   # run for the file it keeps
+            config = config.with_name(name[1:-len(".last-good")])
+        taken[config.resolve()] = "the config file itself"
+        taken[last_good_path(config).resolve()] = "the config's last good copy"
+    for key, file in kiosk_paths({"kiosk": k}, ctx.base).items():
+        where = file.resolve()
+        if where in taken:
+            raise ctx.error(f"{path}.{key}", f"{file} is {taken[where]}; give each kiosk file "
+                                             "its own name")
+        taken[where] = f"also {path}.{key}"
 
 
 SCHEMA = Record({

@@ -20,14 +20,9 @@ import yaml
 
 from tabletop.files import atomic_write_text
 from tabletop.frames import InputError
+from tabletop.kiosk.supervisor import last_good_path as path_of
 
 log = logging.getLogger("tabletop")
-
-
-def path_of(config_path: Path) -> Path:
-    """Where the last good configuration of ``config_path`` is kept."""
-    config_path = Path(config_path)
-    return config_path.with_name(f".{config_path.name}.last-good")
 
 
 def remember(config_path: Path, cfg: Any) -> None:

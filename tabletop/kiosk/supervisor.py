@@ -393,6 +393,13 @@ class Supervisor:
                 pass
 
 
+def last_good_path(config_path: Path) -> Path:
+    """Where the last good configuration of ``config_path`` is kept
+    (:mod:`tabletop.kiosk.last_good`)."""
+    config_path = Path(config_path)
+    return config_path.with_name(f".{config_path.name}.last-good")
+
+
 def kiosk_paths(cfg: dict[str, Any], base: Path) -> dict[str, Path]:
     """The kiosk's status file, log and crash log, defaults beside the config file."""
     k = cfg["kiosk"]

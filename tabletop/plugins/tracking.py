@@ -9,6 +9,7 @@ section (missing keys take their defaults).
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -18,6 +19,8 @@ from tabletop.frames import Observation, Puck
 from tabletop.registry import BuildContext
 from tabletop.schema import Bool, Context, MapOf, Number, Record, Str
 from tracking.pucks import PuckTracker, TrackerSettings
+
+log = logging.getLogger("tabletop")
 
 
 class DictionaryName(Str):
@@ -145,6 +148,7 @@ class Tracker(PuckTracker):
         super().__init__(settings)
         self.id_map = dict(id_map or {})
         self._marker_of = {p: m for m, p in self.id_map.items()}
+        self._shared_said: set[int] = set()   # pucks named as seen through several markers
 
     def update(self, observations, t: float) -> tuple[Puck, ...]:
         if self.id_map:
@@ -156,8 +160,25 @@ class Tracker(PuckTracker):
                 r in self.id_map for r in obs.removed):
             return obs
         pucks = tuple(dataclasses.replace(m, id=self.id_map.get(m.id, m.id)) for m in obs.pucks)
+        if len({m.id for m in pucks}) < len(pucks):
+            self._say_shared(obs)
         removed = tuple(self.id_map.get(r, r) for r in obs.removed)
         return dataclasses.replace(obs, pucks=pucks, removed=removed)
+
+    def _say_shared(self, obs: Observation) -> None:
+        """Name, once per puck, markers of different ids seen at once as one puck (``puck_ids``
+        onto the id of a marker also on the table, or two markers onto one puck): the tracker
+        keeps one sighting and the other puck is silently gone from the table."""
+        markers: dict[int, set[int]] = {}
+        for m in obs.pucks:
+            markers.setdefault(self.id_map.get(m.id, m.id), set()).add(m.id)
+        for pid, ids in sorted(markers.items()):
+            if len(ids) > 1 and pid not in self._shared_said:
+                self._shared_said.add(pid)
+                *first, last = sorted(ids)
+                log.warning("%s: markers %s and %d are each taken for puck %d (tracking.puck_ids); "
+                            "the tracker follows one of them: give each marker on the table its "
+                            "own puck", obs.source, ", ".join(map(str, first)), last, pid)
 
     def predictions(self, t: float) -> dict[int, tuple[float, float]]:
         return {self._marker_of.get(pid, pid): xy for pid, xy in self.predict(t).items()}

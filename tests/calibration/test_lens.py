@@ -116,3 +116,9 @@ def test_the_board_draws_at_resolutions_whose_squares_are_not_whole_pixels(text,
 def test_a_resolution_too_coarse_for_the_markers_is_refused():
     with pytest.raises(CalibrationInputError, match="too coarse"):
         board_image(parse_board("7x5:40:30:DICT_5X5_100"), 3)
+
+
+def test_a_resolution_too_fine_for_an_image_is_refused_as_such():
+    # 100,000 dpi made OpenCV fail on a 1181102 x 866142 image, which was called "too coarse"
+    with pytest.raises(CalibrationInputError, match="1181102 x 866142 pixels.*lower --dpi"):
+        board_image(parse_board("7x5:40:30:DICT_5X5_100"), 100000)

@@ -338,3 +338,16 @@ def test_a_stream_with_too_few_columns_is_said_on_its_characters(tmp_path, caplo
     assert sum("stream 'arm' has 1 column(s)" in r.getMessage() for r in caplog.records) == 1
     table.streams = {"arm": np.zeros(2)}
     assert "stream" not in table.tick()["face"].label
+
+
+def test_a_sprite_sheet_point_beyond_any_figure_is_refused(tmp_path):
+    # 1e300 loaded; then the view failed at every frame (no pygame Rect holds it): a dark table
+    bad = tmp_path / "sheet.json"
+    bad.write_text('{"format": "tabletop.sprites", "bones": [[0, 1]], '
+                   '"frames": [[[0, 0], [1e300, 1]]]}')
+    data = {"sources": [{"kind": "scripted"}], "engines": [{"kind": "mop",
+            "performers": [{"name": "p", "inputs": [{"kind": "puck"}]}],
+            "characters": [{"name": "s", "kind": "sprite", "performer": "p", "sheet": str(bad)}]}]}
+    with pytest.raises(InputError, match=r"sheet.json: a frame holds a point 1e\+300 figure "
+                                         r"units from the origin; at most 1000"):
+        build(data, tmp_path)

@@ -95,6 +95,8 @@ def test_json_rate_instead_of_times():
 @pytest.mark.parametrize("data, words", [
     ({"channels": ["a"], "values": [[0.0]]}, "at least 2 keyframes"),
     ({"channels": ["a"], "values": [[0.0], [float("nan")]]}, "keyframe 1"),
+    # (a face's weight of 1e300 loaded, then failed the view at every frame)
+    ({"channels": ["a"], "values": [[0.0], [1e300]]}, "keyframe 1 holds 1e+300; at most 1e+06"),
     ({"channels": ["a", "b"], "values": [[0.0], [1.0]]}, "2 columns"),
     ({"channels": [{"name": "a", "type": "spline"}], "values": [[0.0], [1.0]]}, "type 'spline'"),
     ({"channels": ["a"], "times": [0.0, 0.0], "values": [[0.0], [1.0]]}, "must increase"),

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tabletop.files import atomic_write_text
+from tabletop.files import FileFormatError, atomic_write_text, read_csv_lines, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -94,3 +94,37 @@ def test_a_temporary_file_left_by_a_killed_writer_is_removed_by_the_next_write(t
     finally:
         running.kill()
         running.wait()
+
+
+@pytest.mark.parametrize("read", [read_yaml, read_csv_lines])
+def test_an_endless_device_is_refused_not_read_whole(read):
+    # /dev/zero as a config (or /dev/full as calibrate's --out, whose previous file is read
+    # first) filled the machine's memory and was killed
+    with pytest.raises(FileFormatError, match=r"/dev/zero: cannot read.*over 128 M characters"):
+        read("/dev/zero")
+
+
+def test_a_full_disk_names_the_file_being_written(tmp_path, capsys):
+    # the write said only "No space left on device": which file, of which command?
+    import errno
+    import resource
+    import signal
+
+    from tabletop.cli import main as tabletop
+    gesture = ROOT / "examples" / "mop" / "gestures" / "circle.csv"
+    code = tabletop(["follow", "--template", f"c={gesture}", "--input", str(gesture),
+                     "--out", "/dev/full"])
+    assert code == 2
+    assert capsys.readouterr().err.strip() == ("tabletop follow: error: /dev/full: No space "
+                                               "left on device")
+    soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)   # a regular file on a full disk
+    ignored = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (4096, hard))
+    try:
+        with pytest.raises(OSError) as err:
+            atomic_write_text(tmp_path / "out.csv", "x" * 100_000)
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+        signal.signal(signal.SIGXFSZ, ignored)
+    assert err.value.errno == errno.EFBIG and err.value.filename == str(tmp_path / "out.csv")
+    assert list(tmp_path.iterdir()) == []

@@ -169,7 +169,7 @@ def test_two_recorders_started_at_once_never_collide(tmp_path):
 def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path):
     old = tmp_path / "sessions" / "session-20000101-000000-000000.jsonl"
     old.parent.mkdir()
-    old.write_text("{}\n")
+    old.write_text('{"format": "tabletop-session", "version": 1}\n')   # an older tabletop's
     os.utime(old, (1e9, 1e9))
     cfg = kiosk_config(tmp_path, max_mb=0.01, keep=3)
     inst = build_live(cfg)
@@ -212,6 +212,27 @@ def test_keep_removes_the_oldest_by_order_not_by_the_clock(tmp_path):
     newer = [one(), one()]
     assert sorted(tmp_path.iterdir()) == sorted([ahead[2], *newer])
     assert [read_header(p)["order"] for p in (ahead[2], *newer)] == [3, 4, 5]
+
+
+def test_keep_removes_only_recordings_of_the_naming(tmp_path):
+    """``recorder.path: notes.txt`` beside the technician's notes.txt and notes-7.txt: keep 1
+    removed both ("removed old recording"), they had no header ``order``. A recording of an
+    older tabletop (its format, no order) and an empty one still count and go first."""
+    header = {"format": "tabletop-session", "version": 2}
+    (tmp_path / "notes.txt").write_text("my notes\n")
+    (tmp_path / "notes-7.txt").write_text('{"format": "not ours"}\n')
+    (tmp_path / "notes-3.txt").write_text('{"format": "tabletop-session", "version": 1}\n')
+    (tmp_path / "notes-4.txt").write_bytes(b"")
+    made = []
+    for _ in range(2):
+        rec = Recorder(path=tmp_path / "notes.txt", header=header, keep=1)
+        rec.close()
+        made.append(rec.path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["notes-7.txt", "notes-9.txt",
+                                                           "notes.txt"]
+    assert made == [tmp_path / "notes-8.txt", tmp_path / "notes-9.txt"]   # numbered past all
+    assert (tmp_path / "notes.txt").read_text() == "my notes\n"
+    assert read_header(made[1])["order"] == 2
 
 
 def test_an_order_in_the_given_header_is_not_kept(tmp_path):

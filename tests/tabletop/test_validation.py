@@ -2,6 +2,8 @@
 (command line), a non-zero exit, and nothing of OpenCV's or Python's internals (bad output
 paths: test_validation_outputs.py)."""
 
+import os
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -153,6 +155,13 @@ def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
      ".log cannot be written: {tmp}/notes.txt is a file, not a folder"),
     ("kiosk: {status_file: notes.txt/a/status.json}\n", "kiosk.status_file: {tmp}/notes.txt/a/"
      "status.json cannot be written: {tmp}/notes.txt is a file, not a folder"),
+    # a status written over the config replaced it with the status JSON, the config was gone
+    ("kiosk: {status_file: kiosk.yaml}\n", "kiosk.status_file: {tmp}/kiosk.yaml is the config "
+     "file itself"),
+    ("kiosk: {log_file: .kiosk.yaml.last-good}\n", "kiosk.log_file: {tmp}/.kiosk.yaml.last-good "
+     "is the config's last good copy"),
+    ("kiosk: {status_file: s.json, log_file: s.json}\n", "kiosk.log_file: {tmp}/s.json is also "
+     "kiosk.status_file"),
 ])
 def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     # (they ran: a back-off that never grew, a service key warned about only once the kiosk
@@ -162,6 +171,15 @@ def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     words = words.format(tmp=tmp_path)
     code, err = run_config(tmp_path, BASE + snippet, capfd)
     assert code == 2 and f"kiosk.yaml: {words}" in one_line(err)
+
+
+def test_a_last_good_copy_may_not_write_over_the_config_it_stands_for(tmp_path):
+    # a copy kept by an earlier version: run for kiosk.yaml, its status would replace kiosk.yaml
+    from tabletop.config import ConfigError, load_config
+    kept = tmp_path / ".kiosk.yaml.last-good"
+    kept.write_text(BASE + "kiosk: {status_file: kiosk.yaml}\n")
+    with pytest.raises(ConfigError, match="kiosk.status_file: .*/kiosk.yaml is the config file"):
+        load_config(kept)
 
 
 def test_a_studio_folder_that_cannot_be_made(tmp_path, capfd):
@@ -224,6 +242,34 @@ def test_a_snapshot_folder_that_cannot_be_made(tmp_path, capfd):
                            "view: {snapshot_every_s: 5, snapshot_folder: /proc/x}\n", capfd)
     line = one_line(err)
     assert code == 2 and "kiosk.yaml: view.snapshot_folder: /proc/x: cannot be used" in line
+
+
+@pytest.fixture
+def read_only_folder(tmp_path):
+    """A folder that exists and takes no file: without write permission, or as root (whom
+    permissions do not stop) a read-only tmpfs mounted on it."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    if os.geteuid() != 0:
+        folder.chmod(0o555)
+        yield folder
+        folder.chmod(0o755)
+        return
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(folder)],
+                      capture_output=True).returncode != 0:
+        pytest.skip("root without mount: no read-only folder to be had")
+    yield folder
+    subprocess.run(["umount", str(folder)], capture_output=True)
+
+
+def test_a_snapshot_folder_that_takes_no_file(read_only_folder, tmp_path, capfd):
+    # it ran, one warning, and never saved a snapshot
+    code, err = run_config(tmp_path, "sources: [{kind: scripted}]\n"
+                           f"view: {{snapshot_every_s: 5, snapshot_folder: {read_only_folder}}}\n",
+                           capfd)
+    line = one_line(err)
+    assert code == 2 and f"view.snapshot_folder: {read_only_folder}: cannot be used" in line
+    assert not list(read_only_folder.iterdir())
 
 
 @pytest.mark.parametrize("value", [".inf", "-.inf", ".nan", "1e999"])

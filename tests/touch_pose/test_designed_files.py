@@ -28,6 +28,9 @@ def _stored(body) -> dict:
     (lambda d: d["times"].__setitem__(-1, 1e300), "the take lasts 1e+300 s; at most 3600 s"),
     (lambda d: d["rots"][7][2].__setitem__(1, 1e300), "frame 8: a rotation of length inf"),
     (lambda d: d["rots"][7][2].__setitem__(0, 0.0), "frame 8: a rotation of length 0"),
+    # an empty take (or times not a list) stopped the installation's start with an IndexError
+    (lambda d: d.update(times=[], root=[], rots=[]), "times must be a list of numbers"),
+    (lambda d: d.update(times=[d["times"]]), "times must be a list of numbers"),
 ])
 def test_a_stored_action_with_numbers_no_take_has_is_refused(tmp_path, body, change, words):
     d = _stored(body)

@@ -49,3 +49,20 @@ def test_puck_ids_map_marker_ids_and_predictions_come_back_by_marker_id():
     assert set(tr.predictions(0.03)) == {17, 2}
     with pytest.raises(ConfigError, match="puck_ids.abc"):
         plugin.complete({"puck_ids": {"abc": 3}})
+
+
+def test_markers_taken_for_one_puck_are_named_once(caplog):
+    # puck_ids {"1": 2} with markers 1 and 2 both on the table: one puck was silently gone
+    tr = plugin.build_tracker(plugin.complete({"puck_ids": {"1": 2}}))
+    seen = (PuckMeasurement(1, 0.3, 0.3, 0.0, 0.0), PuckMeasurement(2, 0.9, 0.5, 0.0, 0.0))
+    with caplog.at_level("WARNING", logger="tabletop"):
+        for k in range(3):
+            pucks = tr.update([Observation("camera", k / 60, k, pucks=seen)], k / 60)
+    assert [p.id for p in pucks] == [2]
+    said = [r.getMessage() for r in caplog.records]
+    assert said == ["camera: markers 1 and 2 are each taken for puck 2 (tracking.puck_ids); the "
+                    "tracker follows one of them: give each marker on the table its own puck"]
+    caplog.clear()
+    with caplog.at_level("WARNING", logger="tabletop"):   # one marker per puck: nothing said
+        tr.update([Observation("camera", 0.1, 9, pucks=seen[:1])], 0.1)
+    assert not caplog.records
