@@ -28,6 +28,7 @@ from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
 from tabletop.studio.folders import rename_folder, trash
+from tabletop.studio.pm_take import Unseen, motionless
 
 log = logging.getLogger("tabletop")
 
@@ -64,6 +65,7 @@ class PuppetMasterTarget:
         self.take: list[tuple[float, ...]] = []
         self.sequential = bool(d.get("sequential", False))
         self.session = SequentialSession()
+        self.unseen = Unseen()      # how long a needed puck was missing from the take
         self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
         # imported here: a studio without Puppet Master engines never loads their kernels
         from behaviors.puppet_master.training import BackgroundTrainer
@@ -98,6 +100,7 @@ class PuppetMasterTarget:
 
     def begin(self, frame: Frame) -> None:
         self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
+        self.unseen = Unseen()
         if self.sequential:
             self.session = SequentialSession()
             self.session.toggle(frame.t)             # the main puck alone
@@ -106,6 +109,7 @@ class PuppetMasterTarget:
     def resume(self, frame: Frame) -> None:
         """The reaction part: the main take plays back from now."""
         if self.sequential and self.session.phase == "ready":
+            self.unseen.pause()
             self.session.toggle(frame.t)
 
     def _hold(self, frame: Frame) -> tuple[CharacterState, ...]:
@@ -135,8 +139,9 @@ class PuppetMasterTarget:
             if m is not None and r is not None and (not self.take or frame.t > self.take[-1][0]):
                 self.take.append((frame.t, m.x, m.y, m.angle, r.x, r.y, r.angle))
             need = ((self.main_puck, m), (self.react_puck, r))
-        missing = [f"puck {p}" for p, q in need if q is None]
-        return f"recording: no {', '.join(missing)}" if missing else ""
+        missing = [p for p, q in need if q is None]
+        self.unseen.tally(frame.t, missing)
+        return f"recording: no {', '.join(f'puck {p}' for p in missing)}" if missing else ""
 
     def ended(self) -> bool:
         """The main's playback has ended (sequential): the reaction part is complete."""
@@ -181,6 +186,8 @@ class PuppetMasterTarget:
             shown = math.floor(secs * 10 + 1e-6) / 10
             raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
                              f"{self.min_seconds:g} s)")
+        if demo.shape[1] == 7:
+            motionless(demo, self.main_puck, self.react_puck)
         return demo
 
     def train(self) -> str | None:
@@ -239,7 +246,7 @@ class PuppetMasterTarget:
         428 where the review said 246 for one take of a 23 fps loop)."""
         n = len(self.demo) if self.demo is not None else 0
         secs = float(self.demo[-1, 0]) if n else 0.0
-        return f"trained {n} samples ({secs:.1f} s)"
+        return f"trained {n} samples ({secs:.1f} s){self.unseen.note()}"
 
     def revert(self) -> None:
         self.engine.hold, self.ghost, self._training = None, None, None

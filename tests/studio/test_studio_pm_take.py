@@ -1,0 +1,73 @@
+"""What a Puppet Master take recorded at the table tells the designer: a take where neither
+puck moved is refused (it trained a character that stands still, and K kept it), and a take
+whose reactor puck was lost part of the time says how long (those stretches are left out)."""
+
+import json
+
+from behaviors.puppet_master import designers
+from tabletop import library
+from tabletop.frames import Frame, Puck
+
+from tests.studio.test_studio_keys import Bench, designer
+
+
+def take(tmp_path, demo, react_seen=lambda i: True, **extra):
+    """Record ``demo`` (R at its 5th and 5th-last frame) and press K; (labels, bench)."""
+    (e,) = designer(tmp_path, **extra)
+    bench = Bench([e], tmp_path)
+    n, labels = len(demo), []
+    for i, row in enumerate(demo):
+        pucks = (Puck(1, *row[1:4]),) + ((Puck(2, *row[4:7]),) if react_seen(i) else ())
+        cmd = ("designer.record",) if i in (5, n - 5) else ()
+        labels.append(bench.step(Frame(seq=i, t=100.0 + row[0], pucks=pucks,
+                                       commands=cmd))[1].label)
+    bench.studio.command("designer.keep")
+    return labels, bench
+
+
+def test_a_take_where_neither_puck_moved_is_refused_and_one_puck_moving_is_trained(tmp_path):
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    still = demo.copy()
+    still[:, 1:] = demo[0, 1:]
+    still[:, 1] += 0.002 * (-1) ** (still[:, 0] * 40).astype(int)    # 2 mm of tracking jitter
+    labels, bench = take(tmp_path / "a", still)
+    assert ("neither puck moved (puck 1 0.4 cm, puck 2 0.0 cm from where the take began): "
+            "R to record again") in labels[-5], labels[-5]
+    assert bench.studio.message == "nothing to keep: R records a take"
+    assert library.list_behaviors(tmp_path / "a" / "lib") == []
+    logged = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert [x["outcome"] for x in logged] == ["refused"]
+    watcher = demo.copy()                        # the reactor only turns to look: a reaction
+    watcher[:, 1:3], watcher[:, 4:6] = demo[0, 1:3], demo[0, 4:6]
+    watcher[:, 6] = demo[0, 6] + 0.8 * (watcher[:, 0] / watcher[-1, 0])
+    labels, _ = take(tmp_path / "b", watcher)
+    assert "trained" in labels[-5], labels[-5]
+    reactor = demo.copy()                        # a still main, a reactor walking off
+    reactor[:, 1:4] = demo[0, 1:4]
+    labels, bench = take(tmp_path / "c", reactor)
+    assert "trained" in labels[-5] and library.list_behaviors(tmp_path / "c" / "lib") == ["pet"]
+
+
+def test_a_take_whose_reactor_was_lost_half_the_time_says_how_long(tmp_path):
+    demo = designers.demonstrate("lover", seed=3, seconds=6)     # 40 Hz
+    labels, _ = take(tmp_path / "a", demo, react_seen=lambda i: (i // 20) % 2 == 0)
+    assert "; puck 2 unseen 2.9 s of 5.7 s (left out); try it" in labels[-5], labels[-5]
+    labels, _ = take(tmp_path / "b", demo, react_seen=lambda i: i % 100 != 50)  # one frame
+    assert "unseen" not in labels[-5] and "trained" in labels[-5], labels[-5]
+
+
+def test_a_sequential_take_counts_only_the_puck_each_part_needs(tmp_path):
+    # the main part needs puck 1 alone, the reaction puck 2 alone; the pause between the
+    # parts is no recording time; the reaction part ends with the main's playback
+    demo = designers.demonstrate("lover", seed=3, seconds=8)
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    keys = {5: "designer.record", 120: "designer.record", 160: "designer.record"}
+    labels = []
+    for i, row in enumerate(demo):
+        lost = 200 <= i < 240                                    # puck 2 lost 1 s
+        pucks = (Puck(1, *row[1:4]),) + (() if i < 160 or lost else (Puck(2, *row[4:7]),))
+        labels.append(bench.step(Frame(seq=i, t=100.0 + row[0], pucks=pucks, commands=(
+            keys[i],) if i in keys else ()))[1].label)
+    said = next(lab for lab in labels if "trained" in lab)    # the playback's end stopped it
+    assert "trained" in said and "puck 2 unseen 1.0 s of 5.7 s" in said and "puck 1" not in said, said
