@@ -13,6 +13,14 @@ from tabletop.files import fsync_folder
 from tabletop.frames import InputError
 
 
+def shown(folder: Path) -> str:
+    """``folder`` as the status line names it, with a trailing separator: relative to the
+    working folder (where ``tabletop run`` started, usually the config's) when it lies within
+    it, else absolute."""
+    rel = os.path.relpath(folder)
+    return os.path.join(str(folder) if rel.startswith(os.pardir) else rel, "")
+
+
 def trash(folder: Path) -> Callable[[], None]:
     """Move ``folder`` into its library's ``.trash``; returns the function that puts it back
     (once: called again, as an undo that failed after it is, it does nothing)."""

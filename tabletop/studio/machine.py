@@ -232,7 +232,7 @@ class Studio:
             self._try.name = name
             self._finish(self._try, "kept")
         self.undo_stack.append((f"keep {name}", lambda: target.remove(name)))
-        self.say(f"kept as {name}{getattr(target, 'unsaved', '')}")   # (MOP: no library)
+        self.say(f"kept as {name}{getattr(target, 'kept_in', '')}")   # where it was saved
 
     def _discard(self, target: Target, arg: str) -> None:
         if self.state in ("trying", "training"):

@@ -16,7 +16,7 @@ import numpy as np
 from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
-from tabletop.studio.folders import trash
+from tabletop.studio.folders import shown, trash
 from behaviors.worker import Worker
 
 
@@ -116,11 +116,12 @@ class MopTarget:
         return action or ""
 
     @property
-    def unsaved(self) -> str:
-        """What the keep's line adds when nothing is saved: an engine without a ``library``
-        keeps its takes for this run only, gone at the next start."""
+    def kept_in(self) -> str:
+        """What the keep's line adds: the character's folder in the library, or, when nothing
+        is saved, that an engine without a ``library`` keeps its takes for this run only, gone
+        at the next start."""
         if self.lib is not None:
-            return ""
+            return f" in {shown(self.lib / self.character)}"
         return (f" for this run only: engine {self.stage.name!r} has no library to save it in "
                 "(give it library: FOLDER in the config)")
 

@@ -25,7 +25,7 @@ from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.files import keep_under_free_name
-from tabletop.studio.folders import rename_folder, trash
+from tabletop.studio.folders import rename_folder, shown, trash
 from behaviors.worker import Worker
 
 
@@ -155,6 +155,11 @@ class TouchPoseTarget:
             self.core.remove_action(a.name)
             if a.name in self._loaded:        # another run kept an action of its name: known
                 self._load(a.name)
+
+    @property
+    def kept_in(self) -> str:
+        """What the keep's line adds: the library folder it was saved in."""
+        return f" in {shown(self.lib)}"
 
     def keep(self) -> str:
         """Save the take's action under its name, or the next free one when another run on the

@@ -27,7 +27,7 @@ from tabletop import library
 from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
-from tabletop.studio.folders import rename_folder, trash
+from tabletop.studio.folders import rename_folder, shown, trash
 from tabletop.studio.pm_take import Unseen, motionless
 
 log = logging.getLogger("tabletop")
@@ -255,6 +255,11 @@ class PuppetMasterTarget:
         if self.pending is not None:
             self.engine.play(*self.previous)
         self.pending = None
+
+    @property
+    def kept_in(self) -> str:
+        """What the keep's line adds: the library folder it was saved in."""
+        return f" in {shown(self.lib)}"
 
     def keep(self) -> str:
         if self.pending is None or self.demo is None:

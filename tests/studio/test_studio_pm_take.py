@@ -71,3 +71,15 @@ def test_a_sequential_take_counts_only_the_puck_each_part_needs(tmp_path):
             keys[i],) if i in keys else ()))[1].label)
     said = next(lab for lab in labels if "trained" in lab)    # the playback's end stopped it
     assert "trained" in said and "puck 2 unseen 1.0 s of 5.7 s" in said and "puck 1" not in said, said
+
+
+def test_the_keep_says_where_the_take_was_saved(tmp_path, monkeypatch):
+    # "kept as pet" named no folder: the designer had to know the engine's library setting
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    monkeypatch.chdir(tmp_path)                  # tabletop run started beside the library
+    _, bench = take(tmp_path / "here", demo)
+    assert bench.studio.message == "kept as pet in here/lib/"
+    assert library.list_behaviors(tmp_path / "here" / "lib") == ["pet"]
+    monkeypatch.chdir(tmp_path / "here" / "lib")  # started elsewhere: the whole path
+    _, bench = take(tmp_path / "away", demo)
+    assert bench.studio.message == f"kept as pet in {tmp_path / 'away' / 'lib'}/"
