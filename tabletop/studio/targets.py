@@ -197,8 +197,8 @@ class PuppetMasterTarget:
         self.engine.hold, self.ghost = None, None
         demo = self.demonstration()
         params = self.take_params()
-        if self.trainer is not None:
-            self._training = demo
+        if self.trainer is not None:     # (demo: a take dropped while it trains is logged whole)
+            self._training = self.demo = demo
             self.trainer.start(demo, params, self.engine.table)
             return None
         self._play(Behavior.train(demo, **params), None, demo)

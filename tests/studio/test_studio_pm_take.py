@@ -83,3 +83,18 @@ def test_the_keep_says_where_the_take_was_saved(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path / "here" / "lib")  # started elsewhere: the whole path
     _, bench = take(tmp_path / "away", demo)
     assert bench.studio.message == f"kept as pet in {tmp_path / 'away' / 'lib'}/"
+
+
+def test_a_take_dropped_while_it_trains_is_logged_with_its_samples(tmp_path):
+    # X, R or Esc while the worker trained logged "samples": 0 (and drew no review sheet)
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    (e,) = designer(tmp_path, background_training=True)
+    bench = Bench([e], tmp_path)
+    n = len(demo)
+    for i, row in enumerate(demo):
+        bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                         commands=("designer.record",) if i in (0, n - 1) else ()))
+    assert bench.studio.state == "training"
+    bench.studio.close()                          # Esc: the run ends
+    (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert line["outcome"] == "quit" and line["samples"] == n - 1, line
