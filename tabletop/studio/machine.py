@@ -224,6 +224,8 @@ class Studio:
         if self.state != "trying":    # ready: the main is recorded, its reaction not yet
             self.say("still training: K once it plays" if self.state == "training"
                      else f"nothing to keep yet: R records {self._part}" if self.state == "ready"
+                     else "nothing to keep yet: R stops the take, then K keeps it"
+                     if self.state in ("countdown", "recording")
                      else "nothing to keep: R records a take")
             return
         name = target.keep()

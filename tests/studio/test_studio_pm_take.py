@@ -98,3 +98,18 @@ def test_a_take_dropped_while_it_trains_is_logged_with_its_samples(tmp_path):
     bench.studio.close()                          # Esc: the run ends
     (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
     assert line["outcome"] == "quit" and line["samples"] == n - 1, line
+
+
+def test_k_during_a_take_says_to_stop_it_first(tmp_path):
+    # the keep marker set down while recording said "nothing to keep: R records a take" over
+    # the take being recorded: a designer pressing R then stopped it
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    said = []
+    for i, row in enumerate(demo[:60]):
+        cmds = {0: ("designer.record",), 50: ("designer.keep",)}.get(i, ())
+        said.append(bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(
+            Puck(1, *row[1:4]), Puck(2, *row[4:7])), commands=cmds))[1])
+    assert said[50].action == "recording"
+    assert "nothing to keep yet: R stops the take, then K keeps it" in said[50].label
