@@ -148,13 +148,15 @@ class PuppetMasterTarget:
         return self.sequential and self.session.phase == "done"
 
     def cut(self) -> str:
-        """The designer stopped: after the main part (long enough) the reaction follows."""
+        """The designer stopped: after the main part (long enough) the reaction follows, named
+        with the playback's length (the reaction part ends with it, and REC counts up to it)."""
         s = self.session
         if not self.sequential or s.phase not in ("main", "react"):
             return ""
-        if s.phase == "main" and s.seconds() < self.min_seconds:
+        secs = s.seconds()
+        if s.phase == "main" and secs < self.min_seconds:
             return ""                                 # train() refuses it as too short
-        return self.REACTION if s.toggle(self._t) == "ready" else ""
+        return f"{self.REACTION} ({secs:.1f} s)" if s.toggle(self._t) == "ready" else ""
 
     def seconds(self) -> float:
         if self.sequential:
