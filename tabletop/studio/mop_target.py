@@ -138,6 +138,15 @@ class MopTarget:
     def current(self) -> str | None:
         return self.kept
 
+    def shown(self) -> str | None:
+        """The kept action selected, as the idle line names it; with none, the actions the
+        character knows (its config's: the line said "action (none)" of a character playing
+        them)."""
+        if self.kept is not None:
+            return self.kept
+        known = sorted(self.stage.templates.get(self.character, {}))
+        return f"(none selected; it knows {', '.join(known)})" if known else None
+
     def use(self, name: str) -> None:
         self.kept = name     # every kept action of a character plays; this one is selected
 

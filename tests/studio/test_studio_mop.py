@@ -447,3 +447,14 @@ def test_undo_delete_and_rename_of_a_take_kept_for_this_run_only(tmp_path):
     assert s.undo_stack == []
     table.tick(["designer.undo"])
     assert table.status.endswith("nothing to undo")
+
+
+def test_the_idle_line_names_the_actions_a_character_knows_when_none_is_selected(tmp_path):
+    # "[mop/face] action (none)" of a face playing its configured actions read as a face
+    # that knew nothing
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.tick()
+    known = ", ".join(sorted(engine.templates["face"]))
+    assert table.status.startswith(f"[mop/face] action (none selected; it knows {known}): R "
+                                   "record"), table.status
