@@ -171,8 +171,9 @@ class Studio:
             self.state, self.until = "countdown", self._t + self.countdown_s
 
     def _stop(self, target: Target, arg: str) -> None:
-        if self.state == "countdown":
+        if self.state == "countdown":     # (the record marker lifted, or hidden by a hand)
             self.state = "ready" if self._part else "idle"
+            self.say("countdown cancelled")
             return
         if self.state != "recording":
             return

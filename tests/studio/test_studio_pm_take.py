@@ -113,3 +113,23 @@ def test_k_during_a_take_says_to_stop_it_first(tmp_path):
             Puck(1, *row[1:4]), Puck(2, *row[4:7])), commands=cmds))[1])
     assert said[50].action == "recording"
     assert "nothing to keep yet: R stops the take, then K keeps it" in said[50].label
+
+
+def test_the_record_marker_lifted_during_the_countdown_says_it_cancelled(tmp_path):
+    # R during the countdown said "countdown cancelled"; the record marker lifted (or a hand
+    # over it for the debounce time) ended the countdown without a word
+    from tabletop.studio.build import Markers
+    from tabletop.studio.machine import Studio
+    from tabletop.studio.targets import PuppetMasterTarget
+    (e,) = designer(tmp_path)
+    studio = Studio([PuppetMasterTarget(e)], countdown_s=3.0)
+    markers = Markers({"record": 45}, studio, debounce_s=0.3)
+    said = []
+    for i in range(60):                          # 20 Hz; the marker on from 0 s to 1 s
+        t = 100.0 + i / 20
+        pucks = (Puck(1, 0.3, 0.3, 0.0), Puck(2, 0.5, 0.3, 0.0)) + (
+            (Puck(45, 0.06, 0.06, 0.0),) if i < 20 else ())
+        said.append(studio(markers(Frame(seq=i, t=t, pucks=pucks))).character("studio"))
+    assert said[10].action == "countdown"
+    gone = next(c for i, c in enumerate(said) if i > 10 and c.action == "idle")
+    assert "countdown cancelled" in gone.label, gone.label
