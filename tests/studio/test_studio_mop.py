@@ -458,3 +458,20 @@ def test_the_idle_line_names_the_actions_a_character_knows_when_none_is_selected
     known = ", ".join(sorted(engine.templates["face"]))
     assert table.status.startswith(f"[mop/face] action (none selected; it knows {known}): R "
                                    "record"), table.status
+
+
+def test_a_still_take_says_the_performer_hardly_moved(tmp_path):
+    # 3 s recorded with the puck resting said "take too short (1 samples of motion)", as if R
+    # had been pressed twice at once
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.rest(3.0)
+    table.tick(["designer.record"])
+    assert ("take too short: hand hardly moved in the 3.0 s recorded (1 of 8 samples of "
+            "motion)") in table.status, table.status
+    assert table.studio.tries[-1].outcome == "too short"
+    table.tick(["designer.record"])               # pressed twice at once: no word of stillness
+    table.tick(["designer.record"])
+    assert "take too short (1 of 8 samples of motion)" in table.status, table.status
