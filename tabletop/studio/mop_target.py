@@ -42,6 +42,16 @@ class MopTarget:
         self._problems: list[str] = list(getattr(stage, "library_problems", {}).get(character, []))
         self.loaded = set(getattr(stage, "library_loaded", {}).get(character, []))
 
+    @property
+    def cue(self) -> str:
+        """The countdown's line: the performer the take records and its inputs (the line said
+        only "get ready", leaving the designer to guess which puck performs)."""
+        p = self.stage.performers[self.stage.performer_of(self.character)]
+        what = ", ".join(f"puck {i.puck_id}" if hasattr(i, "puck_id") else
+                         f"stream {i.stream}" if hasattr(i, "stream") else "a finger"
+                         for i in p.inputs)
+        return f"get ready: {p.name} ({what}) performs {self.character}'s new action"
+
     def begin(self, frame: Frame) -> None:
         self.stage.begin_take(self.character, frame)
 

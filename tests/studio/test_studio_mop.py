@@ -475,3 +475,13 @@ def test_a_still_take_says_the_performer_hardly_moved(tmp_path):
     table.tick(["designer.record"])               # pressed twice at once: no word of stillness
     table.tick(["designer.record"])
     assert "take too short (1 of 8 samples of motion)" in table.status, table.status
+
+
+def test_the_countdown_names_the_performer_and_its_puck(tmp_path):
+    # the countdown of an action's take said only "get ready": which puck performs?
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.studio.countdown_s = 1.0
+    table.tick(["designer.record"])
+    assert table.studio.state == "countdown"
+    assert table.status == "[mop/face] get ready: hand (puck 1) performs face's new action"
