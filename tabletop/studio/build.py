@@ -116,6 +116,8 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
         elif hasattr(e, "begin_take"):
             lib = options.get(e.name, {}).get("library")
             targets += [MopTarget(e, c, Path(lib) if lib else None) for c in e.order]
+    for t in targets:         # the keep's line names library folders relative to the config's
+        t.base = base
     return targets
 
 

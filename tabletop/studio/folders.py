@@ -13,11 +13,12 @@ from tabletop.files import fsync_folder
 from tabletop.frames import InputError
 
 
-def shown(folder: Path) -> str:
-    """``folder`` as the status line names it, with a trailing separator: relative to the
-    working folder (where ``tabletop run`` started, usually the config's) when it lies within
-    it, else absolute."""
-    rel = os.path.relpath(folder)
+def named_folder(folder: Path, base: Path | None = None) -> str:
+    """``folder`` as the status line names it, with a trailing separator: relative to
+    ``base`` (the config's folder, which the config's paths are relative to; the working folder
+    when None) when it lies within it, else absolute. A replay, whose config's folder is a
+    temporary one, names it as the run did."""
+    rel = os.path.relpath(folder, base if base is not None else os.curdir)
     return os.path.join(str(folder) if rel.startswith(os.pardir) else rel, "")
 
 

@@ -16,7 +16,7 @@ import numpy as np
 from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
-from tabletop.studio.folders import shown, trash
+from tabletop.studio.folders import named_folder, trash
 from behaviors.worker import Worker
 
 
@@ -28,6 +28,7 @@ class MopTarget:
 
     def __init__(self, stage, character: str, lib: Path | None, background: bool = True) -> None:
         self.stage, self.character, self.lib = stage, character, lib
+        self.base: Path | None = None        # the config's folder (the keep's line)
         if background and stage.worker is None:   # the stage's followers built off the hot path
             stage.worker = Worker(f"{stage.name}-training")
         self._summary = ""
@@ -131,7 +132,7 @@ class MopTarget:
         is saved, that an engine without a ``library`` keeps its takes for this run only, gone
         at the next start."""
         if self.lib is not None:
-            return f" in {shown(self.lib / self.character)}"
+            return f" in {named_folder(self.lib / self.character, self.base)}"
         return (f" for this run only: engine {self.stage.name!r} has no library to save it in "
                 "(give it library: FOLDER in the config)")
 

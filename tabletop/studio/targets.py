@@ -27,7 +27,7 @@ from tabletop import library
 from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
-from tabletop.studio.folders import rename_folder, shown, trash
+from tabletop.studio.folders import named_folder, rename_folder, trash
 from tabletop.studio.pm_take import Unseen, motionless
 
 log = logging.getLogger("tabletop")
@@ -60,6 +60,7 @@ class PuppetMasterTarget:
         d = engine.designer
         self.main_puck, self.react_puck = d["main_puck"], d["react_puck"]
         self.lib: Path = Path(d["library"])
+        self.base: Path | None = None        # the config's folder (the keep's line)
         self.min_seconds = d["min_seconds"]
         self.record_marker = d.get("record_marker")
         self.take: list[tuple[float, ...]] = []
@@ -261,7 +262,7 @@ class PuppetMasterTarget:
     @property
     def kept_in(self) -> str:
         """What the keep's line adds: the library folder it was saved in."""
-        return f" in {shown(self.lib)}"
+        return f" in {named_folder(self.lib, self.base)}"
 
     def keep(self) -> str:
         if self.pending is None or self.demo is None:

@@ -11,10 +11,11 @@ from tabletop.frames import Frame, Puck
 from tests.studio.test_studio_keys import Bench, designer
 
 
-def take(tmp_path, demo, react_seen=lambda i: True, **extra):
+def take(tmp_path, demo, react_seen=lambda i: True, base=None, **extra):
     """Record ``demo`` (R at its 5th and 5th-last frame) and press K; (labels, bench)."""
     (e,) = designer(tmp_path, **extra)
     bench = Bench([e], tmp_path)
+    bench.studio.target.base = base
     n, labels = len(demo), []
     for i, row in enumerate(demo):
         pucks = (Puck(1, *row[1:4]),) + ((Puck(2, *row[4:7]),) if react_seen(i) else ())
@@ -76,13 +77,16 @@ def test_a_sequential_take_counts_only_the_puck_each_part_needs(tmp_path):
 def test_the_keep_says_where_the_take_was_saved(tmp_path, monkeypatch):
     # "kept as pet" named no folder: the designer had to know the engine's library setting
     demo = designers.demonstrate("lover", seed=3, seconds=3)
-    monkeypatch.chdir(tmp_path)                  # tabletop run started beside the library
+    monkeypatch.chdir(tmp_path)                  # no config's folder: the working folder's
     _, bench = take(tmp_path / "here", demo)
     assert bench.studio.message == "kept as pet in here/lib/"
     assert library.list_behaviors(tmp_path / "here" / "lib") == ["pet"]
-    monkeypatch.chdir(tmp_path / "here" / "lib")  # started elsewhere: the whole path
-    _, bench = take(tmp_path / "away", demo)
-    assert bench.studio.message == f"kept as pet in {tmp_path / 'away' / 'lib'}/"
+    # as the studio is built: relative to the config's folder (a replay's temporary one
+    # names it as the run did), the whole path when outside it
+    _, bench = take(tmp_path / "away", demo, base=tmp_path / "away")
+    assert bench.studio.message == "kept as pet in lib/"
+    _, bench = take(tmp_path / "away", demo, base=tmp_path / "here")
+    assert bench.studio.message == f"kept as pet-2 in {tmp_path / 'away' / 'lib'}/"
 
 
 def test_a_take_dropped_while_it_trains_is_logged_with_its_samples(tmp_path):
