@@ -187,8 +187,9 @@ class PuppetMasterTarget:
             # cut: 1.96 s read "2.0 s, needs 2 s"; but not below the tenth a take of 2.3 s
             # (2.299999999999997 s between frame times near t = 100 s) reaches: it read "2.2 s"
             shown = math.floor(secs * 10 + 1e-6) / 10
+            lost = self.unseen.words()     # a puck never seen made it short, not the designer
             raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
-                             f"{self.min_seconds:g} s)")
+                             f"{self.min_seconds:g} s{'; ' + lost if lost else ''})")
         if demo.shape[1] == 7:
             motionless(demo, self.main_puck, self.react_puck)
         return demo

@@ -55,6 +55,10 @@ def test_a_take_whose_reactor_was_lost_half_the_time_says_how_long(tmp_path):
     assert "; puck 2 unseen 2.9 s of 5.7 s (left out); try it" in labels[-5], labels[-5]
     labels, _ = take(tmp_path / "b", demo, react_seen=lambda i: i % 100 != 50)  # one frame
     assert "unseen" not in labels[-5] and "trained" in labels[-5], labels[-5]
+    # never seen: "take too short (0.0 s of both pucks)" of 6 s recorded, said why
+    labels, _ = take(tmp_path / "c", demo, react_seen=lambda i: False)
+    assert ("take too short (0.0 s of both pucks, needs 2 s; puck 2 unseen 5.7 s of 5.7 s): R "
+            "to record again") in labels[-5], labels[-5]
 
 
 def test_a_sequential_take_counts_only_the_puck_each_part_needs(tmp_path):
