@@ -27,7 +27,7 @@ from tabletop import library
 from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
-from tabletop.studio.folders import named_folder, rename_folder, trash
+from tabletop.studio.folders import named_folder, not_config_named, rename_folder, trash
 from tabletop.studio.pm_take import Unseen, motionless
 
 log = logging.getLogger("tabletop")
@@ -61,6 +61,7 @@ class PuppetMasterTarget:
         self.main_puck, self.react_puck = d["main_puck"], d["react_puck"]
         self.lib: Path = Path(d["library"])
         self.base: Path | None = None        # the config's folder (the keep's line)
+        self.config_named: dict[Path, str] = {}   # folders the config names: kept in place
         self.min_seconds = d["min_seconds"]
         self.record_marker = d.get("record_marker")
         self.take: list[tuple[float, ...]] = []
@@ -319,6 +320,8 @@ class PuppetMasterTarget:
         """Rename the folder and the name its behavior.yaml says; an undo gives the file back
         as it was (a folder made by hand as "my lover" said "lover"), unless it was edited
         since. A yaml that cannot be written puts the folder's old name back (the error said)."""
+        if not undo:
+            not_config_named(self.lib / old, self.config_named)
         rename_folder(self.lib, old, new, check=not undo)
         path = self.lib / new / library.BEHAVIOR_FILE
         try:
@@ -341,6 +344,7 @@ class PuppetMasterTarget:
         """Delete ``name`` into the trash. The item in play plays on from memory, no longer
         in the library (nothing to reload, delete or rename) until undo puts it back."""
         folder, was_playing = self.lib / name, self.current() == name
+        not_config_named(folder, self.config_named)
         put_back = trash(folder)
         if was_playing:
             self.playing, self.play_poller = None, None
