@@ -253,11 +253,17 @@ class MopStage:
             raise InputError("no take is recording")
         take.recording = False
         performer = self.performers[take.performer]
+        rows = len(take.rows)
         take.trim_still(performer.units, performer.jitter, round(TRIM_MARGIN_S * self.rate_hz))
         samples = take.samples()
         if len(samples) < MIN_TAKE_SAMPLES:
             self.take, self.take_action = None, None
-            raise InputError(f"take too short ({len(samples)} samples of motion)")
+            # a take recorded long enough but (nearly) still is said so: "1 samples of motion"
+            # read as a key pressed too soon to a designer who had recorded 3 s
+            still = (f": {take.performer} hardly moved in the {rows / self.rate_hz:.1f} s "
+                     "recorded" if rows >= MIN_TAKE_SAMPLES else "")
+            raise InputError(f"take too short{still} ({len(samples)} of "
+                             f"{MIN_TAKE_SAMPLES} samples of motion)")
         name = self.take_action = self._free_name(take.character)
         motion = self.motion_of(take.character, take.motion_index)
         self._add_take_action(motion, background=True)

@@ -116,6 +116,12 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
         elif hasattr(e, "begin_take"):
             lib = options.get(e.name, {}).get("library")
             targets += [MopTarget(e, c, Path(lib) if lib else None) for c in e.order]
+    named = {Path(e["behavior"]).resolve(): f"engines[{i}].behavior"
+             for i, e in enumerate(cfg["engines"]) if e.get("behavior")}
+    for t in targets:         # the keep's line names library folders relative to the config's
+        t.base = base
+        if isinstance(t, PuppetMasterTarget):
+            t.config_named = named
     return targets
 
 

@@ -13,6 +13,24 @@ from tabletop.files import fsync_folder
 from tabletop.frames import InputError
 
 
+def named_folder(folder: Path, base: Path | None = None) -> str:
+    """``folder`` as the status line names it, with a trailing separator: relative to
+    ``base`` (the config's folder, which the config's paths are relative to; the working folder
+    when None) when it lies within it, else absolute. A replay, whose config's folder is a
+    temporary one, names it as the run did."""
+    rel = os.path.relpath(folder, base if base is not None else os.curdir)
+    return os.path.join(str(folder) if rel.startswith(os.pardir) else rel, "")
+
+
+def not_config_named(folder: Path, named: dict[Path, str]) -> None:
+    """InputError when ``folder`` is one the config names (``named``: resolved folder -> its
+    key): renamed or deleted, the next start fails ("does not exist")."""
+    key = named.get(folder.resolve())
+    if key is not None:
+        raise InputError(f"the config names {folder.name} ({key}), so the next start would "
+                         "fail without it; change the config first")
+
+
 def trash(folder: Path) -> Callable[[], None]:
     """Move ``folder`` into its library's ``.trash``; returns the function that puts it back
     (once: called again, as an undo that failed after it is, it does nothing)."""

@@ -171,8 +171,9 @@ class Studio:
             self.state, self.until = "countdown", self._t + self.countdown_s
 
     def _stop(self, target: Target, arg: str) -> None:
-        if self.state == "countdown":
+        if self.state == "countdown":     # (the record marker lifted, or hidden by a hand)
             self.state = "ready" if self._part else "idle"
+            self.say("countdown cancelled")
             return
         if self.state != "recording":
             return
@@ -224,6 +225,8 @@ class Studio:
         if self.state != "trying":    # ready: the main is recorded, its reaction not yet
             self.say("still training: K once it plays" if self.state == "training"
                      else f"nothing to keep yet: R records {self._part}" if self.state == "ready"
+                     else "nothing to keep yet: R stops the take, then K keeps it"
+                     if self.state in ("countdown", "recording")
                      else "nothing to keep: R records a take")
             return
         name = target.keep()
@@ -232,7 +235,7 @@ class Studio:
             self._try.name = name
             self._finish(self._try, "kept")
         self.undo_stack.append((f"keep {name}", lambda: target.remove(name)))
-        self.say(f"kept as {name}{getattr(target, 'unsaved', '')}")   # (MOP: no library)
+        self.say(f"kept as {name}{getattr(target, 'kept_in', '')}")   # where it was saved
 
     def _discard(self, target: Target, arg: str) -> None:
         if self.state in ("trying", "training"):

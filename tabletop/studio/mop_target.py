@@ -16,7 +16,7 @@ import numpy as np
 from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
-from tabletop.studio.folders import trash
+from tabletop.studio.folders import named_folder, trash
 from behaviors.worker import Worker
 
 
@@ -28,6 +28,7 @@ class MopTarget:
 
     def __init__(self, stage, character: str, lib: Path | None, background: bool = True) -> None:
         self.stage, self.character, self.lib = stage, character, lib
+        self.base: Path | None = None        # the config's folder (the keep's line)
         if background and stage.worker is None:   # the stage's followers built off the hot path
             stage.worker = Worker(f"{stage.name}-training")
         self._summary = ""
@@ -41,6 +42,16 @@ class MopTarget:
                         if lib is not None else None)
         self._problems: list[str] = list(getattr(stage, "library_problems", {}).get(character, []))
         self.loaded = set(getattr(stage, "library_loaded", {}).get(character, []))
+
+    @property
+    def cue(self) -> str:
+        """The countdown's line: the performer the take records and its inputs (the line said
+        only "get ready", leaving the designer to guess which puck performs)."""
+        p = self.stage.performers[self.stage.performer_of(self.character)]
+        what = ", ".join(f"puck {i.puck_id}" if hasattr(i, "puck_id") else
+                         f"stream {i.stream}" if hasattr(i, "stream") else "a finger"
+                         for i in p.inputs)
+        return f"get ready: {p.name} ({what}) performs {self.character}'s new action"
 
     def begin(self, frame: Frame) -> None:
         self.stage.begin_take(self.character, frame)
@@ -116,11 +127,12 @@ class MopTarget:
         return action or ""
 
     @property
-    def unsaved(self) -> str:
-        """What the keep's line adds when nothing is saved: an engine without a ``library``
-        keeps its takes for this run only, gone at the next start."""
+    def kept_in(self) -> str:
+        """What the keep's line adds: the character's folder in the library, or, when nothing
+        is saved, that an engine without a ``library`` keeps its takes for this run only, gone
+        at the next start."""
         if self.lib is not None:
-            return ""
+            return f" in {named_folder(self.lib / self.character, self.base)}"
         return (f" for this run only: engine {self.stage.name!r} has no library to save it in "
                 "(give it library: FOLDER in the config)")
 
@@ -136,6 +148,15 @@ class MopTarget:
 
     def current(self) -> str | None:
         return self.kept
+
+    def shown(self) -> str | None:
+        """The kept action selected, as the idle line names it; with none, the actions the
+        character knows (its config's: the line said "action (none)" of a character playing
+        them)."""
+        if self.kept is not None:
+            return self.kept
+        known = sorted(self.stage.templates.get(self.character, {}))
+        return f"(none selected; it knows {', '.join(known)})" if known else None
 
     def use(self, name: str) -> None:
         self.kept = name     # every kept action of a character plays; this one is selected

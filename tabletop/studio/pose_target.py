@@ -25,7 +25,7 @@ from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.files import keep_under_free_name
-from tabletop.studio.folders import rename_folder, trash
+from tabletop.studio.folders import named_folder, rename_folder, trash
 from behaviors.worker import Worker
 
 
@@ -48,6 +48,7 @@ class TouchPoseTarget:
         self.worker = Worker(f"{engine.name}-training") if background else None
         self.name = engine.name
         self.lib = Path(engine.library)
+        self.base: Path | None = None        # the config's folder (the keep's line)
         self.times: list[float] = []
         self.poses: list[Pose] = []
         self.held: dict[str, int] = {}
@@ -155,6 +156,11 @@ class TouchPoseTarget:
             self.core.remove_action(a.name)
             if a.name in self._loaded:        # another run kept an action of its name: known
                 self._load(a.name)
+
+    @property
+    def kept_in(self) -> str:
+        """What the keep's line adds: the library folder it was saved in."""
+        return f" in {named_folder(self.lib, self.base)}"
 
     def keep(self) -> str:
         """Save the take's action under its name, or the next free one when another run on the

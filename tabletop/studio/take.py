@@ -14,6 +14,7 @@ class Target(Protocol):
 
     name: str   # the focus name (Frame.focus)
     what: str   # "behaviour", "action", ...
+    kept_in: str  # what the keep's line adds: where kept takes are saved (" in lib/")
 
     def begin(self, frame: Frame) -> None: ...            # a take starts now
     def resume(self, frame: Frame) -> None: ...           # its next part (cut() named) starts

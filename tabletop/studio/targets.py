@@ -27,7 +27,8 @@ from tabletop import library
 from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
-from tabletop.studio.folders import rename_folder, trash
+from tabletop.studio.folders import named_folder, not_config_named, rename_folder, trash
+from tabletop.studio.pm_take import Unseen, motionless
 
 log = logging.getLogger("tabletop")
 
@@ -59,11 +60,14 @@ class PuppetMasterTarget:
         d = engine.designer
         self.main_puck, self.react_puck = d["main_puck"], d["react_puck"]
         self.lib: Path = Path(d["library"])
+        self.base: Path | None = None        # the config's folder (the keep's line)
+        self.config_named: dict[Path, str] = {}   # folders the config names: kept in place
         self.min_seconds = d["min_seconds"]
         self.record_marker = d.get("record_marker")
         self.take: list[tuple[float, ...]] = []
         self.sequential = bool(d.get("sequential", False))
         self.session = SequentialSession()
+        self.unseen = Unseen()      # how long a needed puck was missing from the take
         self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
         # imported here: a studio without Puppet Master engines never loads their kernels
         from behaviors.puppet_master.training import BackgroundTrainer
@@ -98,6 +102,7 @@ class PuppetMasterTarget:
 
     def begin(self, frame: Frame) -> None:
         self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
+        self.unseen = Unseen()
         if self.sequential:
             self.session = SequentialSession()
             self.session.toggle(frame.t)             # the main puck alone
@@ -106,6 +111,7 @@ class PuppetMasterTarget:
     def resume(self, frame: Frame) -> None:
         """The reaction part: the main take plays back from now."""
         if self.sequential and self.session.phase == "ready":
+            self.unseen.pause()
             self.session.toggle(frame.t)
 
     def _hold(self, frame: Frame) -> tuple[CharacterState, ...]:
@@ -135,21 +141,24 @@ class PuppetMasterTarget:
             if m is not None and r is not None and (not self.take or frame.t > self.take[-1][0]):
                 self.take.append((frame.t, m.x, m.y, m.angle, r.x, r.y, r.angle))
             need = ((self.main_puck, m), (self.react_puck, r))
-        missing = [f"puck {p}" for p, q in need if q is None]
-        return f"recording: no {', '.join(missing)}" if missing else ""
+        missing = [p for p, q in need if q is None]
+        self.unseen.tally(frame.t, missing)
+        return f"recording: no {', '.join(f'puck {p}' for p in missing)}" if missing else ""
 
     def ended(self) -> bool:
         """The main's playback has ended (sequential): the reaction part is complete."""
         return self.sequential and self.session.phase == "done"
 
     def cut(self) -> str:
-        """The designer stopped: after the main part (long enough) the reaction follows."""
+        """The designer stopped: after the main part (long enough) the reaction follows, named
+        with the playback's length (the reaction part ends with it, and REC counts up to it)."""
         s = self.session
         if not self.sequential or s.phase not in ("main", "react"):
             return ""
-        if s.phase == "main" and s.seconds() < self.min_seconds:
+        secs = s.seconds()
+        if s.phase == "main" and secs < self.min_seconds:
             return ""                                 # train() refuses it as too short
-        return self.REACTION if s.toggle(self._t) == "ready" else ""
+        return f"{self.REACTION} ({secs:.1f} s)" if s.toggle(self._t) == "ready" else ""
 
     def seconds(self) -> float:
         if self.sequential:
@@ -179,8 +188,11 @@ class PuppetMasterTarget:
             # cut: 1.96 s read "2.0 s, needs 2 s"; but not below the tenth a take of 2.3 s
             # (2.299999999999997 s between frame times near t = 100 s) reaches: it read "2.2 s"
             shown = math.floor(secs * 10 + 1e-6) / 10
+            lost = self.unseen.words()     # a puck never seen made it short, not the designer
             raise InputError(f"take too short ({shown:.1f} s of {what}, needs "
-                             f"{self.min_seconds:g} s)")
+                             f"{self.min_seconds:g} s{'; ' + lost if lost else ''})")
+        if demo.shape[1] == 7:
+            motionless(demo, self.main_puck, self.react_puck)
         return demo
 
     def train(self) -> str | None:
@@ -190,8 +202,8 @@ class PuppetMasterTarget:
         self.engine.hold, self.ghost = None, None
         demo = self.demonstration()
         params = self.take_params()
-        if self.trainer is not None:
-            self._training = demo
+        if self.trainer is not None:     # (demo: a take dropped while it trains is logged whole)
+            self._training = self.demo = demo
             self.trainer.start(demo, params, self.engine.table)
             return None
         self._play(Behavior.train(demo, **params), None, demo)
@@ -239,7 +251,7 @@ class PuppetMasterTarget:
         428 where the review said 246 for one take of a 23 fps loop)."""
         n = len(self.demo) if self.demo is not None else 0
         secs = float(self.demo[-1, 0]) if n else 0.0
-        return f"trained {n} samples ({secs:.1f} s)"
+        return f"trained {n} samples ({secs:.1f} s){self.unseen.note()}"
 
     def revert(self) -> None:
         self.engine.hold, self.ghost, self._training = None, None, None
@@ -248,6 +260,11 @@ class PuppetMasterTarget:
         if self.pending is not None:
             self.engine.play(*self.previous)
         self.pending = None
+
+    @property
+    def kept_in(self) -> str:
+        """What the keep's line adds: the library folder it was saved in."""
+        return f" in {named_folder(self.lib, self.base)}"
 
     def keep(self) -> str:
         if self.pending is None or self.demo is None:
@@ -303,6 +320,8 @@ class PuppetMasterTarget:
         """Rename the folder and the name its behavior.yaml says; an undo gives the file back
         as it was (a folder made by hand as "my lover" said "lover"), unless it was edited
         since. A yaml that cannot be written puts the folder's old name back (the error said)."""
+        if not undo:
+            not_config_named(self.lib / old, self.config_named)
         rename_folder(self.lib, old, new, check=not undo)
         path = self.lib / new / library.BEHAVIOR_FILE
         try:
@@ -325,6 +344,7 @@ class PuppetMasterTarget:
         """Delete ``name`` into the trash. The item in play plays on from memory, no longer
         in the library (nothing to reload, delete or rename) until undo puts it back."""
         folder, was_playing = self.lib / name, self.current() == name
+        not_config_named(folder, self.config_named)
         put_back = trash(folder)
         if was_playing:
             self.playing, self.play_poller = None, None

@@ -384,3 +384,38 @@ def test_a_problem_of_lover_2_stays_said_when_lover_reloads_or_goes(tmp_path):
     said = problems()
     assert tb.current() is None and "lover was removed" in bench_b.studio.message
     assert len(said) == 1 and said[0].startswith(broken), said
+
+
+def test_a_behaviour_the_config_names_is_not_renamed_or_deleted(tmp_path):
+    # F2 on the behaviour in play renamed the folder the config names: the next start failed
+    # ("engines[0].behavior: 'lib/shy' does not exist"); the others rename and delete as ever
+    from tabletop.config import validate_config
+    from tabletop.studio.build import studio_targets
+    from tabletop.studio.machine import Studio
+    from tests.studio.test_studio_keys import build
+    lib = tmp_path / "lib"
+    shutil.copytree(SHIPPED / "afraid", lib / "shy")
+    shutil.copytree(SHIPPED / "lover", lib / "pet")
+    entries = [{"kind": "puppet_master", "name": "a", "behavior": "lib/shy",
+                "designer": {"enabled": True, "library": "lib"}},
+               {"kind": "puppet_master", "name": "b", "behavior": "lib/pet", "main": {"puck": 3},
+                "designer": {"enabled": True, "library": "lib"}}]
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": entries},
+                          str(tmp_path / "c.yaml"), tmp_path)
+    studio = Studio(studio_targets(build(entries, tmp_path), cfg, tmp_path, False), 0.0)
+    assert studio.target.current() == "shy"
+    for cmd in ("designer.rename:calm", "designer.delete"):
+        studio.command(cmd)
+        assert studio.message == ("cannot: the config names shy (engines[0].behavior), so the "
+                                  "next start would fail without it; change the config first")
+    studio.command("designer.item_next")             # pet: named by engine b's config
+    studio.command("designer.rename:calm")
+    assert "engines[1].behavior" in studio.message
+    assert library.list_behaviors(lib) == ["pet", "shy"]
+    (lib / "extra").mkdir()                          # one no config names: renamed
+    shutil.copytree(SHIPPED / "lover", lib / "extra", dirs_exist_ok=True)
+    studio.command("designer.item_previous")
+    assert studio.target.current() == "extra", studio.message
+    studio.command("designer.rename:calm")
+    assert studio.message == "renamed extra to calm"
+    assert library.list_behaviors(lib) == ["calm", "pet", "shy"]

@@ -447,3 +447,41 @@ def test_undo_delete_and_rename_of_a_take_kept_for_this_run_only(tmp_path):
     assert s.undo_stack == []
     table.tick(["designer.undo"])
     assert table.status.endswith("nothing to undo")
+
+
+def test_the_idle_line_names_the_actions_a_character_knows_when_none_is_selected(tmp_path):
+    # "[mop/face] action (none)" of a face playing its configured actions read as a face
+    # that knew nothing
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.tick()
+    known = ", ".join(sorted(engine.templates["face"]))
+    assert table.status.startswith(f"[mop/face] action (none selected; it knows {known}): R "
+                                   "record"), table.status
+
+
+def test_a_still_take_says_the_performer_hardly_moved(tmp_path):
+    # 3 s recorded with the puck resting said "take too short (1 samples of motion)", as if R
+    # had been pressed twice at once
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.rest(3.0)
+    table.tick(["designer.record"])
+    assert ("take too short: hand hardly moved in the 3.0 s recorded (1 of 8 samples of "
+            "motion)") in table.status, table.status
+    assert table.studio.tries[-1].outcome == "too short"
+    table.tick(["designer.record"])               # pressed twice at once: no word of stillness
+    table.tick(["designer.record"])
+    assert "take too short (1 of 8 samples of motion)" in table.status, table.status
+
+
+def test_the_countdown_names_the_performer_and_its_puck(tmp_path):
+    # the countdown of an action's take said only "get ready": which puck performs?
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.studio.countdown_s = 1.0
+    table.tick(["designer.record"])
+    assert table.studio.state == "countdown"
+    assert table.status == "[mop/face] get ready: hand (puck 1) performs face's new action"

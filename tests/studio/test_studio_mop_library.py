@@ -84,8 +84,8 @@ def test_a_keep_without_a_library_says_it_is_for_this_run_only(tmp_path):
     assert table.status == ("[mop/face] kept as take1 for this run only: engine 'mop' has no "
                             "library to save it in (give it library: FOLDER in the config)")
     assert "take1" in engine.puppets["face"].actions and not any(tmp_path.iterdir())
-    _, saved = kept_line(tmp_path)                      # with a library: saved, said plainly
-    assert saved.status == "[mop/face] kept as take1"
+    _, saved = kept_line(tmp_path)                # with a library: saved, said where
+    assert saved.status == f"[mop/face] kept as take1 in {tmp_path / 'lib' / 'face'}/"
     assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
 
 
@@ -119,7 +119,7 @@ def test_a_keep_while_another_run_holds_the_library_is_refused_and_the_take_stay
         holder.kill()
         holder.wait()
     table.tick(["designer.keep"])
-    assert table.status == "[mop/face] kept as take1"
+    assert table.status == f"[mop/face] kept as take1 in {tmp_path / 'lib' / 'face'}/"
     assert (tmp_path / "lib" / "face" / "take1.csv").is_file()
 
 
@@ -136,7 +136,7 @@ def test_another_runs_keep_just_before_this_runs_keep_is_followed(tmp_path):
     b.perform("square")
     b.tick(["designer.record"])
     b.tick(["designer.keep"])
-    assert b.status == "[mop/face] kept as take2", b.status
+    assert b.status.startswith("[mop/face] kept as take2 in "), b.status
     b.targets[0]._poller.every_s = 0.0
     for _ in range(3):
         b.studio.poll()

@@ -333,5 +333,5 @@ def test_studio_mode_keeps_the_takes_of_a_reactor_whose_name_no_folder_may_have(
                      commands=("designer.record",) if i in (0, len(demo) - 1) else ()))
     studio(Frame(seq=len(demo), t=100.5 + demo[-1, 0]))     # trained in its worker: in play
     studio.command("designer.keep")
-    assert studio.message == "kept as behaviour"
+    assert studio.message == "kept as behaviour in library/"   # (the default, the config's)
     assert library.list_behaviors(targets[0].lib) == ["behaviour"]

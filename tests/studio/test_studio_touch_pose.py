@@ -103,7 +103,7 @@ def test_a_posed_take_is_trained_tried_kept_and_known_after_a_restart(tmp_path, 
     assert max(c.progress or 0.0 for c in run if c.action == "poser-action") > 0.9
     demo = p.target.demo                       # the session log's figures: t, the hand's path
     p.tick(cmds=["designer.keep"])
-    assert "kept as poser-action" in p.status and p.studio.state == "idle"
+    assert f"kept as poser-action in {p.target.lib}/" in p.status and p.studio.state == "idle"
     assert demo.shape[1] == 4 and demo[-1, 0] == pytest.approx(DRAG_S, abs=0.1)
     assert np.linalg.norm(demo[-1, 1:] - demo[0, 1:]) > 0.2      # character metres
     from tabletop.studio.review import review_sheet

@@ -37,7 +37,10 @@ def test_a_message_ends_with_the_state_or_the_target_it_was_said_for(tmp_path):
     after = [lab for s, lab in zip(states[231:], labels[231:]) if s in ("countdown", "recording")]
     assert len(after) > 100
     assert not any("R records the reaction" in lab for lab in after)
-    assert any("recording the reaction against the main's playback: R stop" in lab
+    # the reaction part lasts as long as the main take's playback: said, as REC counts up
+    assert "R records the reaction against the main's playback (3.7 s)" in \
+        labels[229], labels[229]
+    assert any("recording the reaction against the main's playback (3.7 s): R stop" in lab
                for lab in after)
     # a message said in a state stays while that state lasts (up to its five seconds)
     studio.command("designer.discard")          # the take is cancelled: idle, "take cancelled"

@@ -1,0 +1,76 @@
+"""What a Puppet Master take tells the designer before it is trained: whether either puck
+moved at all (:func:`motionless`), and how long a puck the take needs went unseen while it
+was recorded (:class:`Unseen`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tabletop.frames import InputError
+
+STILL_M = 0.01
+"""A puck that never comes this far (metres) from where the take began has not moved: the
+camera's jitter on a resting puck is under a millimetre (0.03 mm on the synthetic camera at
+640x360), a demonstrated reaction moves tens of centimetres."""
+
+STILL_RAD = 0.2
+"""Nor turned this far (radians, about 11 degrees): a reactor that only turns to look at the
+main is a demonstration."""
+
+
+def _reach(demo: np.ndarray, cols: tuple[int, int, int]) -> tuple[float, float]:
+    """How far (metres) and how much (radians) one puck of ``demo`` got from its first pose."""
+    x, y, a = (demo[:, c] for c in cols)
+    far = float(np.max(np.hypot(x - x[0], y - y[0])))
+    turn = float(np.max(np.abs(np.angle(np.exp(1j * (a - a[0]))))))
+    return far, turn
+
+
+def motionless(demo: np.ndarray, main_puck: int, react_puck: int) -> None:
+    """InputError when neither puck of ``demo`` (n, 7: t, main x y dir, react x y dir) moved
+    or turned: such a take trains a character that stands still whatever the visitor does."""
+    if len(demo) == 0:
+        return
+    main, react = _reach(demo, (1, 2, 3)), _reach(demo, (4, 5, 6))
+    if all(far < STILL_M and turn < STILL_RAD for far, turn in (main, react)):
+        raise InputError(f"neither puck moved (puck {main_puck} {main[0] * 100:.1f} cm, puck "
+                         f"{react_puck} {react[0] * 100:.1f} cm from where the take began)")
+
+
+class Unseen:
+    """Seconds of a take's recording during which each puck it needs was missing from the
+    frame (a puck is in the frame while the tracker coasts it, so only one lost for longer
+    than ``tracking.coast_s`` counts); those stretches are not in the take."""
+
+    SAY_FRACTION = 0.05
+    """Said once a puck was missing for this share of the recording or more."""
+
+    def __init__(self) -> None:
+        self.missing: dict[int, float] = {}
+        self.total = 0.0
+        self._t = math.nan
+
+    def tally(self, t: float, missing: list[int]) -> None:
+        """A recorded frame at ``t`` (seconds) without the pucks ``missing``."""
+        dt = t - self._t if t > self._t else 0.0      # (nan on the first frame: 0)
+        self._t = t
+        self.total += dt
+        for p in missing:
+            self.missing[p] = self.missing.get(p, 0.0) + dt
+
+    def pause(self) -> None:
+        """The recording pauses (between a sequential take's parts): no time passes for it."""
+        self._t = math.nan
+
+    def words(self) -> str:
+        """"puck 2 unseen 4.6 s of 9.3 s" for each puck missing long enough, or ""."""
+        return ", ".join(f"puck {p} unseen {s:.1f} s of {self.total:.1f} s"
+                         for p, s in sorted(self.missing.items())
+                         if self.total > 0 and s >= self.SAY_FRACTION * self.total)
+
+    def note(self) -> str:
+        """What the trained line adds: "; puck 2 unseen 4.6 s of 9.3 s (left out)", or ""."""
+        said = self.words()
+        return f"; {said} (left out)" if said else ""

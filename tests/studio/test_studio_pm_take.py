@@ -1,0 +1,143 @@
+"""What a Puppet Master take recorded at the table tells the designer: a take where neither
+puck moved is refused (it trained a character that stands still, and K kept it), and a take
+whose reactor puck was lost part of the time says how long (those stretches are left out)."""
+
+import json
+
+from behaviors.puppet_master import designers
+from tabletop import library
+from tabletop.frames import Frame, Puck
+
+from tests.studio.test_studio_keys import Bench, designer
+
+
+def take(tmp_path, demo, react_seen=lambda i: True, base=None, **extra):
+    """Record ``demo`` (R at its 5th and 5th-last frame) and press K; (labels, bench)."""
+    (e,) = designer(tmp_path, **extra)
+    bench = Bench([e], tmp_path)
+    bench.studio.target.base = base
+    n, labels = len(demo), []
+    for i, row in enumerate(demo):
+        pucks = (Puck(1, *row[1:4]),) + ((Puck(2, *row[4:7]),) if react_seen(i) else ())
+        cmd = ("designer.record",) if i in (5, n - 5) else ()
+        labels.append(bench.step(Frame(seq=i, t=100.0 + row[0], pucks=pucks,
+                                       commands=cmd))[1].label)
+    bench.studio.command("designer.keep")
+    return labels, bench
+
+
+def test_a_take_where_neither_puck_moved_is_refused_and_one_puck_moving_is_trained(tmp_path):
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    still = demo.copy()
+    still[:, 1:] = demo[0, 1:]
+    still[:, 1] += 0.002 * (-1) ** (still[:, 0] * 40).astype(int)    # 2 mm of tracking jitter
+    labels, bench = take(tmp_path / "a", still)
+    assert ("neither puck moved (puck 1 0.4 cm, puck 2 0.0 cm from where the take began): "
+            "R to record again") in labels[-5], labels[-5]
+    assert bench.studio.message == "nothing to keep: R records a take"
+    assert library.list_behaviors(tmp_path / "a" / "lib") == []
+    logged = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert [x["outcome"] for x in logged] == ["refused"]
+    watcher = demo.copy()                        # the reactor only turns to look: a reaction
+    watcher[:, 1:3], watcher[:, 4:6] = demo[0, 1:3], demo[0, 4:6]
+    watcher[:, 6] = demo[0, 6] + 0.8 * (watcher[:, 0] / watcher[-1, 0])
+    labels, _ = take(tmp_path / "b", watcher)
+    assert "trained" in labels[-5], labels[-5]
+    reactor = demo.copy()                        # a still main, a reactor walking off
+    reactor[:, 1:4] = demo[0, 1:4]
+    labels, bench = take(tmp_path / "c", reactor)
+    assert "trained" in labels[-5] and library.list_behaviors(tmp_path / "c" / "lib") == ["pet"]
+
+
+def test_a_take_whose_reactor_was_lost_half_the_time_says_how_long(tmp_path):
+    demo = designers.demonstrate("lover", seed=3, seconds=6)     # 40 Hz
+    labels, _ = take(tmp_path / "a", demo, react_seen=lambda i: (i // 20) % 2 == 0)
+    assert "; puck 2 unseen 2.9 s of 5.7 s (left out); try it" in labels[-5], labels[-5]
+    labels, _ = take(tmp_path / "b", demo, react_seen=lambda i: i % 100 != 50)  # one frame
+    assert "unseen" not in labels[-5] and "trained" in labels[-5], labels[-5]
+    # never seen: "take too short (0.0 s of both pucks)" of 6 s recorded, said why
+    labels, _ = take(tmp_path / "c", demo, react_seen=lambda i: False)
+    assert ("take too short (0.0 s of both pucks, needs 2 s; puck 2 unseen 5.7 s of 5.7 s): R "
+            "to record again") in labels[-5], labels[-5]
+
+
+def test_a_sequential_take_counts_only_the_puck_each_part_needs(tmp_path):
+    # the main part needs puck 1 alone, the reaction puck 2 alone; the pause between the
+    # parts is no recording time; the reaction part ends with the main's playback
+    demo = designers.demonstrate("lover", seed=3, seconds=8)
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    keys = {5: "designer.record", 120: "designer.record", 160: "designer.record"}
+    labels = []
+    for i, row in enumerate(demo):
+        lost = 200 <= i < 240                                    # puck 2 lost 1 s
+        pucks = (Puck(1, *row[1:4]),) + (() if i < 160 or lost else (Puck(2, *row[4:7]),))
+        labels.append(bench.step(Frame(seq=i, t=100.0 + row[0], pucks=pucks, commands=(
+            keys[i],) if i in keys else ()))[1].label)
+    said = next(lab for lab in labels if "trained" in lab)    # the playback's end stopped it
+    assert "trained" in said and "puck 2 unseen 1.0 s of 5.7 s" in said and "puck 1" not in said, said
+
+
+def test_the_keep_says_where_the_take_was_saved(tmp_path, monkeypatch):
+    # "kept as pet" named no folder: the designer had to know the engine's library setting
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    monkeypatch.chdir(tmp_path)                  # no config's folder: the working folder's
+    _, bench = take(tmp_path / "here", demo)
+    assert bench.studio.message == "kept as pet in here/lib/"
+    assert library.list_behaviors(tmp_path / "here" / "lib") == ["pet"]
+    # as the studio is built: relative to the config's folder (a replay's temporary one
+    # names it as the run did), the whole path when outside it
+    _, bench = take(tmp_path / "away", demo, base=tmp_path / "away")
+    assert bench.studio.message == "kept as pet in lib/"
+    _, bench = take(tmp_path / "away", demo, base=tmp_path / "here")
+    assert bench.studio.message == f"kept as pet-2 in {tmp_path / 'away' / 'lib'}/"
+
+
+def test_a_take_dropped_while_it_trains_is_logged_with_its_samples(tmp_path):
+    # X, R or Esc while the worker trained logged "samples": 0 (and drew no review sheet)
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    (e,) = designer(tmp_path, background_training=True)
+    bench = Bench([e], tmp_path)
+    n = len(demo)
+    for i, row in enumerate(demo):
+        bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]), Puck(2, *row[4:7])),
+                         commands=("designer.record",) if i in (0, n - 1) else ()))
+    assert bench.studio.state == "training"
+    bench.studio.close()                          # Esc: the run ends
+    (line,) = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert line["outcome"] == "quit" and line["samples"] == n - 1, line
+
+
+def test_k_during_a_take_says_to_stop_it_first(tmp_path):
+    # the keep marker set down while recording said "nothing to keep: R records a take" over
+    # the take being recorded: a designer pressing R then stopped it
+    demo = designers.demonstrate("lover", seed=3, seconds=3)
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    said = []
+    for i, row in enumerate(demo[:60]):
+        cmds = {0: ("designer.record",), 50: ("designer.keep",)}.get(i, ())
+        said.append(bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(
+            Puck(1, *row[1:4]), Puck(2, *row[4:7])), commands=cmds))[1])
+    assert said[50].action == "recording"
+    assert "nothing to keep yet: R stops the take, then K keeps it" in said[50].label
+
+
+def test_the_record_marker_lifted_during_the_countdown_says_it_cancelled(tmp_path):
+    # R during the countdown said "countdown cancelled"; the record marker lifted (or a hand
+    # over it for the debounce time) ended the countdown without a word
+    from tabletop.studio.build import Markers
+    from tabletop.studio.machine import Studio
+    from tabletop.studio.targets import PuppetMasterTarget
+    (e,) = designer(tmp_path)
+    studio = Studio([PuppetMasterTarget(e)], countdown_s=3.0)
+    markers = Markers({"record": 45}, studio, debounce_s=0.3)
+    said = []
+    for i in range(60):                          # 20 Hz; the marker on from 0 s to 1 s
+        t = 100.0 + i / 20
+        pucks = (Puck(1, 0.3, 0.3, 0.0), Puck(2, 0.5, 0.3, 0.0)) + (
+            (Puck(45, 0.06, 0.06, 0.0),) if i < 20 else ())
+        said.append(studio(markers(Frame(seq=i, t=t, pucks=pucks))).character("studio"))
+    assert said[10].action == "countdown"
+    gone = next(c for i, c in enumerate(said) if i > 10 and c.action == "idle")
+    assert "countdown cancelled" in gone.label, gone.label
