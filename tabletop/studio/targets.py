@@ -28,8 +28,12 @@ from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
 from tabletop.studio.folders import rename_folder, trash
+from tabletop.studio.reloader import BehaviorReloader, stored_params  # noqa: F401 (its home)
 
 log = logging.getLogger("tabletop")
+
+LOAD_S = 0.15   # a picked library behaviour plays this long after the pick (frame time): an
+                # 80 s demonstration trains in 44-67 ms, so the loop rarely waits
 
 
 def _about(problem: str, folder: Path) -> bool:
@@ -67,7 +71,15 @@ class PuppetMasterTarget:
         self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
         # imported here: a studio without Puppet Master engines never loads their kernels
         from behaviors.puppet_master.training import BackgroundTrainer
-        self.trainer = BackgroundTrainer() if d.get("background_training", True) else None
+        background = d.get("background_training", True)
+        self.trainer = BackgroundTrainer() if background else None
+        # a library behaviour picked or reloaded: trained in its own worker, played from the
+        # first tick LOAD_S (frame time) after the pick (waiting there if not done yet), so
+        # the tick it plays from depends on the frames alone
+        self.loader = BackgroundTrainer() if background else None
+        self._loading: str | None = None                      # its stored name, in the worker
+        self._load_at = 0.0
+        self._now = 0.0                                       # this tick's frame time (s)
         self._training: np.ndarray | None = None              # the demonstration in the worker
         self._t = 0.0                                         # the last recorded frame's time
         self.demo: np.ndarray | None = None
@@ -97,6 +109,7 @@ class PuppetMasterTarget:
     # --- the take ------------------------------------------------------------------------------
 
     def begin(self, frame: Frame) -> None:
+        self.between_ticks(math.inf)     # a library pick still training plays first
         self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
         if self.sequential:
             self.session = SequentialSession()
@@ -290,14 +303,34 @@ class PuppetMasterTarget:
         self._load(self.lib / name)
 
     def _load(self, folder: Path) -> None:
-        from behaviors.puppet_master.engine import Behavior
+        """Read ``folder`` now (a bad one raises InputError: the pick passes over it) and train
+        it in the loader; the behaviour in play goes on until :meth:`between_ticks`."""
         stored = library.load_behavior(folder)
-        params = dict(stored.parameters)
-        if self.engine.rate_hz is not None:
-            params["rate_hz"] = self.engine.rate_hz
-        self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
+        params = stored_params(stored, self.engine.rate_hz)
+        if self.loader is None:
+            from behaviors.puppet_master.engine import Behavior
+            self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
+        else:
+            self.loader.start(stored.demonstration, params, self.engine.table)
+            self._loading, self._load_at = stored.name, self._now + LOAD_S
         self.playing, self.removed = folder, None
         self.play_poller = Poller(folder)
+
+    def between_ticks(self, t: float) -> None:
+        """Before the engines of the tick at frame time ``t`` (s): a picked behaviour trained
+        in the loader plays from the first tick LOAD_S after the pick, waiting for it there if
+        it is not done; one that does not train is said and the one in play goes on."""
+        self._now = t
+        if self._loading is None or self.loader is None or t < self._load_at:
+            return
+        self.loader.wait()
+        done, name, self._loading = self.loader.poll(), self._loading, None
+        error = done if isinstance(done, Exception) else None if done is None else done[2]
+        if error is not None:
+            self.news.append(f"{name} not played: {error}; still playing "
+                             f"{self.engine.behavior_name or 'the previous behaviour'}")
+        elif done is not None:
+            self.engine.play(done[0], name, done[1])
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
         """Rename the folder and the name its behavior.yaml says; an undo gives the file back
@@ -402,32 +435,3 @@ class PuppetMasterTarget:
             except InputError as exc:
                 problems.append(str(exc))
         return problems
-
-
-class BehaviorReloader:
-    """Frame-loop hook for a Puppet Master engine outside the studio: its behaviour folder is
-    reloaded when its files change; a bad file is logged and shown in the character's label,
-    and the behaviour that was playing goes on."""
-
-    def __init__(self, engine) -> None:
-        self.engine = engine
-        self.folder = Path(engine.folder)
-        self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
-        self.problem: str | None = None
-
-    def __call__(self, frame: Frame | None = None) -> None:
-        if not self.poller.changed():
-            return
-        from behaviors.puppet_master.engine import Behavior
-        try:
-            stored = library.load_behavior(self.folder)
-            params = dict(stored.parameters)
-            if self.engine.rate_hz is not None:
-                params["rate_hz"] = self.engine.rate_hz
-            self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
-            self.problem = self.engine.note = ""
-            log.info("behaviour %s reloaded", self.folder)
-        except InputError as exc:
-            self.problem = str(exc)
-            self.engine.note = f"bad file, still playing the previous behaviour: {exc}"
-            log.error("behaviour not reloaded: %s", exc)

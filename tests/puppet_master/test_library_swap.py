@@ -133,6 +133,7 @@ def test_the_running_installation_reloads_only_whole_behaviours(tmp_path):
     played = set()
     while child.poll() is None:
         hook()
+        hook.wait()                             # each read trained and played (the loop: later)
         assert not hook.problem
         b = engine.behavior
         played.add(_which(library.StoredBehavior(folder, "bully", "puppet_master",
