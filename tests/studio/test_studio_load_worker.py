@@ -87,3 +87,46 @@ def test_a_hot_reload_trains_in_the_worker_and_a_bad_folder_keeps_the_old(tmp_pa
     assert engine.behavior is good and "behavior.yaml" in hook.problem
     assert "still playing" in engine.step(frame)[0].label
     assert caplog.text.count("behaviour not reloaded") == 1
+
+
+def test_a_recorded_session_with_a_hot_reload_replays_exactly(tmp_path):
+    """The reload happens on the wall clock; the frame it plays from carries what it trained
+    from, so ``tabletop replay`` plays it from the same frame, to the last digit."""
+    import json
+
+    from tabletop.cli import main as cli
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.kiosk.simulate import SimClock
+    from tabletop.studio.targets import BehaviorReloader
+    folder = library.save_behavior(tmp_path / "lib", "x",
+                                   designers.demonstrate("lover", seconds=4), {})
+    cfg = validate_config({
+        "loop": {"rate_hz": 30}, "sources": [{"kind": "scripted", "pucks": [1]}],
+        "engines": [{"kind": "puppet_master", "name": "pet", "behavior": "lib/x",
+                     "main": {"puck": 1}}], "view": {"enabled": False}},
+        str(tmp_path / "c.yaml"), tmp_path)
+    clock, live = SimClock(), tmp_path / "live.jsonl"
+    runner = Runner(tmp_path / "c.yaml", cfg, headless=True, kiosk=False, studio=False,
+                    record_path=live, clock=clock)
+    inst = runner._build(cfg)
+    (hook,) = [f for f in inst.loop.filters if isinstance(f, BehaviorReloader)]
+    hook.poller.every_s = 0.0
+    inst.loop.inputs.open()
+    first = inst.engines[0].behavior
+    for i in range(90):
+        if i == 30:
+            library.save_behavior(tmp_path / "lib", "x",
+                                  designers.demonstrate("stalker", seconds=5), {}, replace=True)
+        if hook.loading:
+            hook.worker.wait()        # (played from the next tick, whenever the worker is done)
+        inst.loop.tick()
+        clock.advance(1 / 30)
+    inst.loop.close()
+    assert inst.engines[0].behavior is not first
+    out = tmp_path / "replayed.jsonl"
+    assert cli(["replay", str(live), "--fast", "--no-view", "--out", str(out)]) == 0
+    a, b = ([json.loads(x) for x in p.read_text().splitlines()[1:]] for p in (live, out))
+    assert sum("reload" in f.get("consumed", {}) for f in a) == 1
+    assert len(a) == len(b) == 90
+    assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []
