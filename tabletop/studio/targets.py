@@ -28,7 +28,9 @@ from tabletop.files import atomic_write_text
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
 from tabletop.studio.folders import rename_folder, trash
-from tabletop.studio.reloader import BehaviorReloader, stored_params  # noqa: F401 (its home)
+from behaviors.worker import Worker
+from tabletop.studio.reloader import (BehaviorReloader, load_and_train,  # noqa: F401
+                                      stored_params)
 
 log = logging.getLogger("tabletop")
 
@@ -76,8 +78,8 @@ class PuppetMasterTarget:
         # a library behaviour picked or reloaded: trained in its own worker, played from the
         # first tick LOAD_S (frame time) after the pick (waiting there if not done yet), so
         # the tick it plays from depends on the frames alone
-        self.loader = BackgroundTrainer() if background else None
-        self._loading: str | None = None                      # its stored name, in the worker
+        self.loader = Worker("puppet-master-load") if background else None
+        self._loading: Path | None = None                     # its folder, in the worker
         self._load_at = 0.0
         self._now = 0.0                                       # this tick's frame time (s)
         self._training: np.ndarray | None = None              # the demonstration in the worker
@@ -300,37 +302,48 @@ class PuppetMasterTarget:
         return self.current()
 
     def use(self, name: str) -> None:
-        self._load(self.lib / name)
+        self._load(self.lib / name, known=True)
 
-    def _load(self, folder: Path) -> None:
-        """Read ``folder`` now (a bad one raises InputError: the pick passes over it) and train
-        it in the loader; the behaviour in play goes on until :meth:`between_ticks`."""
-        stored = library.load_behavior(folder)
-        params = stored_params(stored, self.engine.rate_hz)
+    def _load(self, folder: Path, known: bool = False) -> None:
+        """Play ``folder``: read and trained in the loader (the behaviour in play goes on until
+        :meth:`between_ticks`), or within the tick without background training. ``known``: a
+        folder the library's listing found bad raises its InputError now (a pick passes over
+        it); one found bad in the worker is said then."""
         if self.loader is None:
             from behaviors.puppet_master.engine import Behavior
+            stored = library.load_behavior(folder)
+            params = stored_params(stored, self.engine.rate_hz)
             self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
         else:
-            self.loader.start(stored.demonstration, params, self.engine.table)
-            self._loading, self._load_at = stored.name, self._now + LOAD_S
+            bad = next((p for p in self._problems if _about(p, folder)), None) if known else None
+            if bad is not None:
+                raise InputError(bad)
+            self.loader.start(load_and_train, folder, self.engine.rate_hz, self.engine.table)
+            self._loading, self._load_at = folder, self._now + LOAD_S
         self.playing, self.removed = folder, None
         self.play_poller = Poller(folder)
 
     def between_ticks(self, t: float) -> None:
-        """Before the engines of the tick at frame time ``t`` (s): a picked behaviour trained
-        in the loader plays from the first tick LOAD_S after the pick, waiting for it there if
-        it is not done; one that does not train is said and the one in play goes on."""
+        """Before the engines of the tick at frame time ``t`` (s): a behaviour trained in the
+        loader plays from the first tick LOAD_S after it was picked, waiting for it there if
+        it is not done; one that does not load is said (a bad library file) and the one in
+        play goes on."""
         self._now = t
         if self._loading is None or self.loader is None or t < self._load_at:
             return
         self.loader.wait()
-        done, name, self._loading = self.loader.poll(), self._loading, None
-        error = done if isinstance(done, Exception) else None if done is None else done[2]
-        if error is not None:
-            self.news.append(f"{name} not played: {error}; still playing "
-                             f"{self.engine.behavior_name or 'the previous behaviour'}")
+        done, folder, self._loading = self.loader.poll(), self._loading, None
+        if isinstance(done, Exception):
+            if folder == self.playing and folder.parent == self.lib and not folder.exists():
+                self._gone(folder)
+                return
+            if str(done) not in self._problems:
+                self._problems.append(str(done))
+            self.news.append(f"{folder.name} not played: {done}; still playing "
+                             f"{self.engine.behavior_name or 'nothing'}")
         elif done is not None:
-            self.engine.play(done[0], name, done[1])
+            behavior, reactor, source = done
+            self.engine.play(behavior, source["name"], reactor)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
         """Rename the folder and the name its behavior.yaml says; an undo gives the file back

@@ -53,6 +53,14 @@ def test_a_library_pick_trains_in_the_worker_and_plays_from_a_tick_boundary(tmp_
     out, _ = bench.step(Frame(seq=2, t=10.15, pucks=pucks))
     assert e.behavior_name == "bully" and e.behavior.samples > 100
     assert "playing bully" in out["pet"].label and calls == [False]
+    bully = e.behavior                                  # broken after the library was read:
+    (lib / "lover" / "demonstration.csv").write_text("t,x\n1,oops\n")   # found in the worker
+    bench.step(Frame(seq=3, t=11.0, pucks=pucks, commands=("designer.item_next",)))
+    bench.step(Frame(seq=4, t=11.2, pucks=pucks))
+    bench.studio.poll()                                 # (the loop's hook: said once)
+    out, studio = bench.step(Frame(seq=5, t=11.3, pucks=pucks))
+    assert e.behavior is bully and "playing bully" in out["pet"].label
+    assert "lover not played" in studio.label and "demonstration.csv" in studio.label
 
 
 def test_a_hot_reload_trains_in_the_worker_and_a_bad_folder_keeps_the_old(tmp_path, trainings,
