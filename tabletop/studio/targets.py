@@ -4,8 +4,8 @@
 ``designer.sequential`` two parts (the main puck alone, then the reactor puck against the main
 take's playback, paired by :func:`behaviors.puppet_master.sequential.pair_takes`); training is
 ``Behavior.train``, in a worker thread with ``designer.background_training`` (the new behaviour
-and its reactor are swapped in between ticks); kept takes are behaviour folders
-(:mod:`tabletop.library`).
+and its reactor are swapped in between ticks; a library pick or reload too, in its loader:
+:mod:`tabletop.studio.reloader`); kept takes are behaviour folders (:mod:`tabletop.library`).
 :class:`~tabletop.studio.mop_target.MopTarget` (an action slot of one MOP character) lives in
 its own module.
 Library folders are renamed in place and deleted into ``<library>/.trash`` so undo restores them
