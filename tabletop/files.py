@@ -291,7 +291,9 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
     except (OSError, UnicodeDecodeError, TextTooLong) as exc:
         raise FileFormatError(f"{p}: cannot read {what}: {exc}") from None
     lines = [ln for ln in text.splitlines()]
-    rows = list(csv.reader(lines))
+    # row by row, not list(csv.reader(...)): one C call holds the GIL for the whole file, and
+    # a worker reading a 600 s demonstration stalled the frame loop 8-60 ms (bench/reload_tick.py)
+    rows = [r for r in csv.reader(lines)]
     first = next((i for i, r in enumerate(rows) if any(c.strip() for c in r)), None)
     if first is None:
         raise FileFormatError(f"{p}: {what} is empty (expected a header row)")

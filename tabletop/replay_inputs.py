@@ -47,4 +47,5 @@ class FrameInputs:
                 return None
         return Frame(seq=frame.seq, t=frame.t, pucks=frame.pucks, touches=frame.touches,
                      streams=frame.streams, commands=frame.commands, health=frame.health,
-                     focus=frame.focus)
+                     focus=frame.focus,   # (a hot reload is played again from its frame)
+                     consumed={k: v for k, v in frame.consumed.items() if k == "reload"})

@@ -16,7 +16,9 @@ the first frame of each file also carries ``t0`` (the session's first frame time
 seconds of the recording machine), and a frame whose monotonic time is not exactly ``t0 + t``
 carries it as ``t_mono``. A frame where a filter took inputs away before the engines (the
 studio: control-marker pucks and designer commands) carries them as ``consumed`` (see
-:attr:`tabletop.frames.Frame.consumed`), so a replay runs the studio again. A reader accepts a
+:attr:`tabletop.frames.Frame.consumed`), so a replay runs the studio again; the frame whose
+engines first play a hot-reloaded behaviour carries what it was trained from as
+``consumed["reload"]["behaviors"]`` (:mod:`tabletop.studio.reloader`). A reader accepts a
 file whose last line was cut short by a power cut.
 """
 
@@ -67,7 +69,8 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         "commands": list(frame.commands),
         **({"focus": frame.focus} if frame.focus is not None else {}),
         **({"consumed": {k: {"pucks": [_puck_to_dict(p) for p in v.get("pucks", ())],
-                             "commands": list(v.get("commands", ()))}
+                             "commands": list(v.get("commands", ())),
+                             **({"behaviors": v["behaviors"]} if "behaviors" in v else {})}
                          for k, v in frame.consumed.items()}} if frame.consumed else {}),
     }
 
@@ -92,13 +95,22 @@ def _commands(value: Any, what: str) -> tuple[str, ...]:
     return tuple(value)
 
 
-def _consumed_from_dict(value: Any) -> dict[str, dict[str, tuple]]:
-    """``consumed`` of a frame line: by filter, the pucks and commands it took."""
+def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
+    """``consumed`` of a frame line: by filter, the pucks and commands it took (and the hot
+    reloads' ``behaviors``)."""
     if not isinstance(value, dict) or not all(isinstance(v, dict) for v in value.values()):
         raise ValueError("consumed: expected a mapping of filters to {pucks, commands}")
-    return {str(k): {"pucks": tuple(_puck_from_dict(p) for p in v.get("pucks", [])),
-                     "commands": _commands(v.get("commands", []), f"consumed.{k}.commands")}
-            for k, v in value.items()}
+    out: dict[str, dict[str, Any]] = {}
+    for k, v in value.items():
+        out[str(k)] = {"pucks": tuple(_puck_from_dict(p) for p in v.get("pucks", [])),
+                       "commands": _commands(v.get("commands", []), f"consumed.{k}.commands")}
+        if "behaviors" in v:      # a hot reload: {engine: what it trained from}
+            if not isinstance(v["behaviors"], dict) or not all(
+                    isinstance(b, dict) for b in v["behaviors"].values()):
+                raise ValueError(f"consumed.{k}.behaviors: expected a mapping of engines to "
+                                 "{name, parameters, shape, demonstration}")
+            out[str(k)]["behaviors"] = v["behaviors"]
+    return out
 
 
 def _character_to_dict(c: CharacterState) -> dict[str, Any]:

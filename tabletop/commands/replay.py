@@ -103,6 +103,8 @@ def main(args: argparse.Namespace) -> int:
             frames = map(studio_input, frames)
         inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
                             record_path=args.out, view=not args.no_view, header=header)
+        from tabletop.studio.reloader import RecordedReloads
+        inst.loop.filters.insert(0, RecordedReloads(inst.engines))   # hot reloads, as live
         if isinstance(studio, dict):
             from tabletop.studio.build import attach_studio
             attach_studio(inst, cfg, base, all_engines=bool(studio.get("all")), replay=True)

@@ -24,7 +24,7 @@ from tabletop.kiosk.supervisor import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.studio.build import attach_studio
-from tabletop.studio.targets import BehaviorReloader
+from tabletop.studio.reloader import BehaviorReloader
 
 log = logging.getLogger("tabletop")
 
@@ -176,7 +176,7 @@ class Runner:
             held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
         for e in loop.engines:           # behaviours outside the studio are reloaded too
             if getattr(e, "folder", None) is not None and e not in held:
-                loop.hooks.append(BehaviorReloader(e))
+                loop.filters.insert(0, BehaviorReloader(e))   # (recorded for replays)
         if self.kiosk:
             extra.append(self._attract(inst, cfg))
             self._kiosk_view(inst, cfg["kiosk"])

@@ -84,7 +84,8 @@ def studio_input(frame: Frame) -> Frame:
     if not taken:
         return frame
     return dataclasses.replace(frame, pucks=frame.pucks + tuple(taken.get("pucks", ())),
-                               commands=tuple(taken.get("commands", frame.commands)), consumed={})
+                               commands=tuple(taken.get("commands", frame.commands)),
+                               consumed={k: v for k, v in frame.consumed.items() if k != "studio"})
 
 
 def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) -> list:

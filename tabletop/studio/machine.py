@@ -108,6 +108,10 @@ class Studio:
 
     def __call__(self, frame: Frame) -> Frame:
         self._t = frame.t
+        for target in self.targets.values():    # library picks trained in a worker swap in
+            between = getattr(target, "between_ticks", None)
+            if between is not None:
+                between(frame.t)
         if frame.focus in self.targets and frame.focus != self.selected:
             left, tried = self.selected, self.state in ("trying", "training")
             if self.state != "idle":     # the take is left: dropped (logged once trained), said

@@ -4,8 +4,8 @@
 ``designer.sequential`` two parts (the main puck alone, then the reactor puck against the main
 take's playback, paired by :func:`behaviors.puppet_master.sequential.pair_takes`); training is
 ``Behavior.train``, in a worker thread with ``designer.background_training`` (the new behaviour
-and its reactor are swapped in between ticks); kept takes are behaviour folders
-(:mod:`tabletop.library`).
+and its reactor are swapped in between ticks; a library pick or reload too, in its loader:
+:mod:`tabletop.studio.reloader`); kept takes are behaviour folders (:mod:`tabletop.library`).
 :class:`~tabletop.studio.mop_target.MopTarget` (an action slot of one MOP character) lives in
 its own module.
 Library folders are renamed in place and deleted into ``<library>/.trash`` so undo restores them
@@ -16,27 +16,21 @@ from __future__ import annotations
 
 import logging
 import math
-import os
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
 from behaviors.puppet_master.sequential import SequentialSession
 from tabletop import library
-from tabletop.files import atomic_write_text
+from behaviors.worker import Worker
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
-from tabletop.studio.folders import named_folder, not_config_named, rename_folder, trash
+from tabletop.studio.folders import named_folder
+from tabletop.studio.pm_shelf import BehaviorShelf
 from tabletop.studio.pm_take import Unseen, motionless
 
 log = logging.getLogger("tabletop")
 
-
-def _about(problem: str, folder: Path) -> bool:
-    """``problem`` names ``folder`` or a file in it (one of ``lover-2`` is not ``lover``'s)."""
-    f = str(folder)
-    return problem.startswith((f + os.sep, f + ":"))
 
 
 def default_params() -> dict[str, float | int]:
@@ -47,7 +41,7 @@ def default_params() -> dict[str, float | int]:
     return asdict(Params())
 
 
-class PuppetMasterTarget:
+class PuppetMasterTarget(BehaviorShelf):
     """A Puppet Master engine in designer mode as a studio target."""
 
     REACTION = "the reaction against the main's playback"
@@ -71,7 +65,15 @@ class PuppetMasterTarget:
         self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
         # imported here: a studio without Puppet Master engines never loads their kernels
         from behaviors.puppet_master.training import BackgroundTrainer
-        self.trainer = BackgroundTrainer() if d.get("background_training", True) else None
+        background = d.get("background_training", True)
+        self.trainer = BackgroundTrainer() if background else None
+        # a library behaviour picked or reloaded: trained in its own worker, played from the
+        # first tick LOAD_S (frame time) after the pick (waiting there if not done yet), so
+        # the tick it plays from depends on the frames alone
+        self.loader = Worker("puppet-master-load") if background else None
+        self._loading: Path | None = None                     # its folder, in the worker
+        self._load_at = 0.0
+        self._now = 0.0                                       # this tick's frame time (s)
         self._training: np.ndarray | None = None              # the demonstration in the worker
         self._t = 0.0                                         # the last recorded frame's time
         self.demo: np.ndarray | None = None
@@ -101,6 +103,7 @@ class PuppetMasterTarget:
     # --- the take ------------------------------------------------------------------------------
 
     def begin(self, frame: Frame) -> None:
+        self.between_ticks(math.inf)     # a library pick still training plays first
         self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
         self.unseen = Unseen()
         if self.sequential:
@@ -285,169 +288,3 @@ class PuppetMasterTarget:
         self.play_poller, self.removed = Poller(folder), None
         self.lib_poller.signature = ()      # the library changed: list it again
         return name
-
-    # --- the library -------------------------------------------------------------------------
-
-    def items(self) -> list[str]:
-        return library.list_behaviors(self.lib)
-
-    def current(self) -> str | None:
-        if self.playing is not None and self.playing.parent == self.lib:
-            return self.playing.name
-        return None
-
-    def shown(self) -> str | None:
-        """The behaviour in play as the status line names it: also one from outside the library
-        (the engine's own ``behavior``; the line said "(none)" while it played)."""
-        if self.playing is not None and self.playing.parent != self.lib:
-            return f"{self.playing.name} (not in the library)"
-        return self.current()
-
-    def use(self, name: str) -> None:
-        self._load(self.lib / name)
-
-    def _load(self, folder: Path) -> None:
-        from behaviors.puppet_master.engine import Behavior
-        stored = library.load_behavior(folder)
-        params = dict(stored.parameters)
-        if self.engine.rate_hz is not None:
-            params["rate_hz"] = self.engine.rate_hz
-        self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
-        self.playing, self.removed = folder, None
-        self.play_poller = Poller(folder)
-
-    def rename(self, old: str, new: str, undo: bool = False) -> None:
-        """Rename the folder and the name its behavior.yaml says; an undo gives the file back
-        as it was (a folder made by hand as "my lover" said "lover"), unless it was edited
-        since. A yaml that cannot be written puts the folder's old name back (the error said)."""
-        if not undo:
-            not_config_named(self.lib / old, self.config_named)
-        rename_folder(self.lib, old, new, check=not undo)
-        path = self.lib / new / library.BEHAVIOR_FILE
-        try:
-            before = self._yaml_before.pop(old, None) if undo else None
-            if before is not None and path.read_bytes() == before[1].encode("utf-8"):
-                atomic_write_text(path, before[0])
-            else:
-                written = library.write_name(self.lib / new, new)
-                if written is not None:
-                    self._yaml_before[new] = written
-        except OSError:
-            rename_folder(self.lib, new, old, check=False)
-            raise
-        if self.current() == old:
-            self.playing = self.lib / new
-            self.engine.behavior_name = new
-            self.play_poller = Poller(self.playing)
-
-    def remove(self, name: str) -> Callable[[], None]:
-        """Delete ``name`` into the trash. The item in play plays on from memory, no longer
-        in the library (nothing to reload, delete or rename) until undo puts it back."""
-        folder, was_playing = self.lib / name, self.current() == name
-        not_config_named(folder, self.config_named)
-        put_back = trash(folder)
-        if was_playing:
-            self.playing, self.play_poller = None, None
-            self.engine.behavior_name = f"{name} (deleted)"
-
-        def restore() -> None:
-            put_back()
-            if was_playing and self.playing is None:
-                self.playing, self.play_poller = folder, Poller(folder)
-                self.engine.behavior_name = name
-        return restore
-
-    def poll(self) -> list[str]:
-        """Reload the behaviour in play when its files change; report the library's bad
-        files (each is skipped, the others keep working)."""
-        problems = self._problems
-        # not while a take is tried: a reload would play over it (its change is seen after)
-        if (self.pending is None and self.play_poller is not None and self.playing is not None
-                and self.play_poller.changed()):
-            try:
-                self._load(self.playing)
-                problems = [p for p in problems if not _about(p, self.playing)]
-            except InputError as exc:
-                if self.playing.parent == self.lib and not self.playing.exists():
-                    self._gone(self.playing)
-                    problems = [p for p in problems if not _about(p, self.removed)]
-                else:
-                    problems = problems + [str(exc)]
-        if self.lib_poller.changed():
-            if self.removed is not None and self.removed.exists():
-                self._back(self.removed)
-            # the library is listed afresh; only a reload problem of a behaviour in play from
-            # outside the library stays
-            problems = self._library_problems(
-                [p for p in problems if self.playing is not None
-                 and self.playing.parent != self.lib and _about(p, self.playing)])
-        self._problems = problems
-        return problems
-
-    def _named(self, name: str) -> None:
-        """The engine's name of the behaviour in play (or, while a take is tried, of the one
-        a discard goes back to)."""
-        if self.pending is None:
-            self.engine.behavior_name = name
-        else:
-            self.previous = (self.previous[0], name)
-
-    def _gone(self, folder: Path) -> None:
-        """The behaviour in play was deleted (or renamed) elsewhere, another studio on this
-        library: it plays on from memory, as after a delete here (it was reported as a bad
-        library file, "behaviour folder not found")."""
-        self.playing, self.play_poller, self.removed = None, None, folder
-        self._named(f"{folder.name} (deleted)")
-        self.news.append(f"{folder.name} was removed from the library elsewhere; it plays on "
-                         "from memory, ] plays another")
-
-    def _back(self, folder: Path) -> None:
-        """The deleted behaviour in play is back (undone elsewhere): it is in play again,
-        reloaded at the next look (its files may be another's)."""
-        self.playing, self.removed = folder, None
-        self.play_poller = Poller(folder, since_start=True)
-        self._named(folder.name)
-        self.news.append(f"{folder.name} is back in the library")
-
-    def _library_problems(self, kept: list[str]) -> list[str]:
-        """``kept`` and the error of every behaviour in the library that does not load."""
-        problems = list(kept)
-        try:
-            names = self.items()
-        except InputError as exc:       # the library cannot be listed: said, the rest plays
-            return problems + [str(exc)]
-        for n in names:
-            try:
-                library.load_behavior(self.lib / n)
-            except InputError as exc:
-                problems.append(str(exc))
-        return problems
-
-
-class BehaviorReloader:
-    """Frame-loop hook for a Puppet Master engine outside the studio: its behaviour folder is
-    reloaded when its files change; a bad file is logged and shown in the character's label,
-    and the behaviour that was playing goes on."""
-
-    def __init__(self, engine) -> None:
-        self.engine = engine
-        self.folder = Path(engine.folder)
-        self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
-        self.problem: str | None = None
-
-    def __call__(self, frame: Frame | None = None) -> None:
-        if not self.poller.changed():
-            return
-        from behaviors.puppet_master.engine import Behavior
-        try:
-            stored = library.load_behavior(self.folder)
-            params = dict(stored.parameters)
-            if self.engine.rate_hz is not None:
-                params["rate_hz"] = self.engine.rate_hz
-            self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
-            self.problem = self.engine.note = ""
-            log.info("behaviour %s reloaded", self.folder)
-        except InputError as exc:
-            self.problem = str(exc)
-            self.engine.note = f"bad file, still playing the previous behaviour: {exc}"
-            log.error("behaviour not reloaded: %s", exc)

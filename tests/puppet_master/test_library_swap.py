@@ -120,7 +120,7 @@ def test_the_running_installation_reloads_only_whole_behaviours(tmp_path):
     from tabletop.config import validate_config
     from tabletop.plugins import puppet_master as pm
     from tabletop.registry import BuildContext
-    from tabletop.studio.targets import BehaviorReloader
+    from tabletop.studio.reloader import BehaviorReloader
     lib = tmp_path / "library"
     demo, params = _version(0)
     folder = library.save_behavior(lib, "bully", demo, params)
@@ -133,6 +133,7 @@ def test_the_running_installation_reloads_only_whole_behaviours(tmp_path):
     played = set()
     while child.poll() is None:
         hook()
+        hook.wait()                             # each read trained and played (the loop: later)
         assert not hook.problem
         b = engine.behavior
         played.add(_which(library.StoredBehavior(folder, "bully", "puppet_master",

@@ -2,6 +2,7 @@
 (record, stop, keep); the library is reloaded when it changes on disk; review sheets."""
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -85,6 +86,7 @@ def test_control_markers_through_the_camera_record_train_and_keep(tmp_path, caps
     target = runner2.studio.target
     assert target.items() == ["pet"]
     target.use("pet")
+    target.between_ticks(math.inf)           # (the loop: the first tick LOAD_S after the pick)
     assert abs(inst2.engines[0].behavior.samples - 40 * take[-1, 0]) <= 2   # at 40 Hz
     inst2.loop.close()
     # the session's contact sheet
@@ -114,16 +116,20 @@ def test_a_corrupt_behaviour_is_reported_and_skipped_and_a_fix_is_picked_up(tmp_
     assert len(problems) == 1 and "bad/demonstration.csv" in problems[0] and "line 2" in problems[0]
     assert target.items() == ["bad", "good"]
     target.use("good")                       # the others keep working
+    target.between_ticks(math.inf)           # (the loop: the first tick LOAD_S after the pick)
     assert engine.behavior_name == "good"
     csv.write_text(text)                     # fixed on disk: picked up, no restart
     assert target.poll() == []
     target.use("bad")
+    target.between_ticks(math.inf)
     assert engine.behavior_name == "bad"
     # the behaviour in play is reloaded when its files change
     before = engine.behavior
     library.save_behavior(lib, "bad", designers.demonstrate("stalker", seconds=5), {},
                           replace=True)
-    assert target.poll() == [] and engine.behavior is not before
+    assert target.poll() == []
+    target.between_ticks(math.inf)
+    assert engine.behavior is not before
     assert engine.behavior.samples == len(designers.demonstrate("stalker", seconds=5))
 
 
@@ -187,7 +193,7 @@ def test_a_playing_behaviour_outside_the_studio_is_reloaded_or_kept(tmp_path):
     from tabletop.frames import Frame
     from tabletop.plugins import puppet_master as pm
     from tabletop.registry import BuildContext
-    from tabletop.studio.targets import BehaviorReloader
+    from tabletop.studio.reloader import BehaviorReloader
     folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=4), {})
     good_yaml = (folder / "behavior.yaml").read_bytes()
     cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
@@ -198,10 +204,12 @@ def test_a_playing_behaviour_outside_the_studio_is_reloaded_or_kept(tmp_path):
     first = engine.behavior
     (folder / "behavior.yaml").write_text("format: [\n")
     hook()
+    hook.wait()
     assert engine.behavior is first and "behavior.yaml" in hook.problem
     assert "still playing" in engine.step(Frame(seq=0, t=1.0))[0].label
     (folder / "behavior.yaml").write_bytes(good_yaml)       # fixed: reloaded, label back
     hook()
+    hook.wait()                                 # (the loop: the first tick after the worker)
     assert hook.problem == "" and engine.behavior is not first
     from tabletop.frames import Puck
     assert "playing x" in engine.step(Frame(seq=1, t=1.1, pucks=(Puck(1, 0.3, 0.3, 0.0),)))[0].label
@@ -215,7 +223,7 @@ def test_an_edit_saved_between_build_and_its_watchers_is_seen(tmp_path):
     from tabletop.config import validate_config
     from tabletop.plugins import puppet_master as pm
     from tabletop.registry import BuildContext
-    from tabletop.studio.targets import BehaviorReloader
+    from tabletop.studio.reloader import BehaviorReloader
     folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=4), {})
     cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
         {"kind": "puppet_master", "name": "pet", "behavior": str(folder), "main": {"puck": 1},
@@ -224,9 +232,12 @@ def test_an_edit_saved_between_build_and_its_watchers_is_seen(tmp_path):
     (folder / "behavior.yaml").write_text("format: [\n")     # saved while the rest starts
     hook = BehaviorReloader(engine)
     hook()
+    hook.wait()
     assert "behavior.yaml" in (hook.problem or "")
     target = PuppetMasterTarget(engine)
     target.play_poller.every_s = 0.0
+    target.poll()
+    target.between_ticks(math.inf)              # (read in the loader: said at its swap)
     assert any("behavior.yaml" in p for p in target.poll())
 
 

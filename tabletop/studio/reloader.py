@@ -1,0 +1,146 @@
+"""Behaviour folders loaded and trained in a worker thread, swapped in between ticks.
+
+Training a stored behaviour inside a tick stalled that tick 44-67 ms for an 80 s demonstration
+(about 400 ms for 600 s). :class:`BehaviorReloader` (a Puppet Master engine outside the studio)
+and the studio's library picks (:class:`~tabletop.studio.targets.PuppetMasterTarget`) hand the
+folder to a :class:`~behaviors.worker.Worker`; the character plays on with the behaviour it has
+and the new one (with its reactor, built in the worker) is played from a tick boundary.
+
+A hot reload happens on the wall clock (the folder's files change), so a recording carries it:
+the frame whose engines first play the new behaviour holds, in ``consumed["reload"]``, what it
+was trained from (name, parameters, the demonstration's float64 bytes in base64, encoded in the
+worker), and a replay trains it within that frame (:class:`RecordedReloads`), bit for bit.
+"""
+
+from __future__ import annotations
+
+import base64
+import dataclasses
+import logging
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from behaviors.worker import Worker
+from tabletop import library
+from tabletop.frames import Frame, InputError
+from tabletop.kiosk.watch import Poller
+
+log = logging.getLogger("tabletop")
+
+
+def stored_params(stored: library.StoredBehavior, rate_hz: float | None) -> dict[str, Any]:
+    """The parameters a stored behaviour trains with: its own, at the engine's rate (Hz) where
+    its config gives one."""
+    params = dict(stored.parameters)
+    if rate_hz is not None:
+        params["rate_hz"] = rate_hz
+    return params
+
+
+def load_and_train(folder: Path, rate_hz: float | None,
+                   table: tuple[float, float, float, float]) -> tuple[Any, Any, dict[str, Any]]:
+    """Read ``folder`` and train it: (behaviour, reactor on ``table``, metres, what it was
+    trained from as a recording keeps it). A bad or half-written folder raises InputError
+    naming the file."""
+    from behaviors.puppet_master.engine import Behavior, Reactor
+    stored = library.load_behavior(folder)
+    params = stored_params(stored, rate_hz)
+    behavior = Behavior.train(stored.demonstration, **params)
+    demo = np.ascontiguousarray(stored.demonstration, dtype="<f8")
+    source = {"name": stored.name, "parameters": params, "shape": list(demo.shape),
+              "demonstration": base64.b64encode(demo.tobytes()).decode("ascii")}
+    return behavior, Reactor(behavior, table), source
+
+
+def trained_from(source: dict[str, Any]) -> Any:
+    """The behaviour a recorded reload's ``source`` (:func:`load_and_train`) trains to."""
+    from behaviors.puppet_master.engine import Behavior
+    try:
+        demo = np.frombuffer(base64.b64decode(source["demonstration"], validate=True),
+                             dtype="<f8").reshape(source["shape"]).astype(float)
+        return Behavior.train(demo, **source["parameters"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"recorded reload of {source.get('name')!r}: {exc}") from None
+
+
+class BehaviorReloader:
+    """Frame filter for a Puppet Master engine outside the studio: its behaviour folder is
+    reloaded when its files change, read and trained in a worker (``background``; else within
+    the tick) while the behaviour in play goes on; the new one plays from the first tick after
+    the worker is done. A bad file is logged once and shown in the character's label, and the
+    behaviour that was playing goes on."""
+
+    def __init__(self, engine, background: bool = True) -> None:
+        self.engine = engine
+        self.folder = Path(engine.folder)
+        self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
+        self.problem: str | None = None
+        self.worker = Worker("puppet-master-reload") if background else None
+        self.loading = False          # a job is in the worker
+
+    def __call__(self, frame: Frame | None = None) -> Frame | None:
+        """A frame filter: ``frame``, holding what a behaviour played from it was trained from
+        (``consumed["reload"]``, for replays)."""
+        source = None
+        if self.loading and self.worker is not None:
+            source = self._apply(self.worker.poll())
+        if self.poller.changed():
+            args = (self.folder, self.engine.rate_hz, self.engine.table)
+            if self.worker is None:
+                try:
+                    source = self._apply(load_and_train(*args))
+                except InputError as exc:
+                    self._apply(exc)
+            else:
+                self.loading = True   # a job still running is dropped for the newer files
+                self.worker.start(load_and_train, *args)
+        if source is None or frame is None:
+            return frame
+        reload = frame.consumed.get("reload", {})
+        behaviors = {**reload.get("behaviors", {}), self.engine.name: source}
+        return dataclasses.replace(frame, consumed={**frame.consumed,
+                                                    "reload": {**reload, "behaviors": behaviors}})
+
+    def wait(self) -> None:
+        """Wait for the job in the worker and play its behaviour (tests; the loop never waits)."""
+        if self.loading and self.worker is not None:
+            self.worker.wait()
+            self._apply(self.worker.poll())
+
+    def _apply(self, done: tuple[Any, Any, dict[str, Any]] | Exception | None
+               ) -> dict[str, Any] | None:
+        """Play a finished job's behaviour (its source returned), or keep the one in play."""
+        if done is None:
+            return None
+        self.loading = False
+        if isinstance(done, Exception):
+            self.problem = str(done)
+            self.engine.note = f"bad file, still playing the previous behaviour: {done}"
+            log.error("behaviour not reloaded: %s", done)
+            return None
+        behavior, reactor, source = done
+        self.engine.play(behavior, source["name"], reactor)
+        self.problem = self.engine.note = ""
+        log.info("behaviour %s reloaded", self.folder)
+        return source
+
+
+class RecordedReloads:
+    """Replay's frame filter: a recorded frame's reloads (``consumed["reload"]``) are trained
+    and played before its engines, as live; one that cannot be is logged and skipped."""
+
+    def __init__(self, engines) -> None:
+        self.engines = {e.name: e for e in engines}
+
+    def __call__(self, frame: Frame) -> Frame:
+        for name, source in frame.consumed.get("reload", {}).get("behaviors", {}).items():
+            engine = self.engines.get(name)
+            if engine is None:
+                continue
+            try:
+                engine.play(trained_from(source), str(source.get("name", "")))
+            except InputError as exc:
+                log.error("replay: %s (the behaviour in play goes on)", exc)
+        return frame

@@ -1,0 +1,140 @@
+"""Library behaviours trained off the frame loop: a pick in the studio and a hot reload outside
+it hand the folder to a worker; the tick that triggers it returns with no training in it, the
+character plays on with its behaviour, and the new one plays from a tick boundary."""
+
+import shutil
+import threading
+from pathlib import Path
+
+import pytest
+
+from behaviors.puppet_master import designers
+from behaviors.puppet_master.engine import Behavior
+from tabletop import library
+from tabletop.frames import Frame, Puck
+from tests.studio.test_studio_keys import Bench, designer
+
+SHIPPED = Path(__file__).resolve().parents[2] / "behaviors" / "library"
+
+
+@pytest.fixture
+def trainings(monkeypatch):
+    """Behavior.train as it is, with the thread each call runs on; one in a worker thread waits
+    for ``release`` (set: runs at once)."""
+    real = Behavior.train.__func__
+    calls: list[bool] = []       # True: trained on the loop's (main) thread
+    release = threading.Event()
+
+    def train(cls, *args, **kwargs):
+        on_loop = threading.current_thread() is threading.main_thread()
+        calls.append(on_loop)
+        if not on_loop:
+            assert release.wait(10.0)
+        return real(cls, *args, **kwargs)
+
+    monkeypatch.setattr(Behavior, "train", classmethod(train))
+    return calls, release
+
+
+def test_a_library_pick_trains_in_the_worker_and_plays_from_a_tick_boundary(tmp_path, trainings):
+    calls, release = trainings
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    (e,) = designer(tmp_path, background_training=True)
+    bench = Bench([e], tmp_path)
+    pucks = (Puck(1, 0.4, 0.3, 0.0),)
+    bench.step(Frame(seq=0, t=10.0, pucks=pucks, commands=("designer.item_next",)))
+    assert True not in calls and e.behavior is None     # returned while the worker trains
+    release.set()
+    bench.studio.targets["pet"].loader.wait()
+    bench.step(Frame(seq=1, t=10.1, pucks=pucks))       # done, but LOAD_S is not over
+    assert e.behavior is None
+    out, _ = bench.step(Frame(seq=2, t=10.15, pucks=pucks))
+    assert e.behavior_name == "bully" and e.behavior.samples > 100
+    assert "playing bully" in out["pet"].label and calls == [False]
+    bully = e.behavior                                  # broken after the library was read:
+    (lib / "lover" / "demonstration.csv").write_text("t,x\n1,oops\n")   # found in the worker
+    bench.step(Frame(seq=3, t=11.0, pucks=pucks, commands=("designer.item_next",)))
+    bench.step(Frame(seq=4, t=11.2, pucks=pucks))
+    bench.studio.poll()                                 # (the loop's hook: said once)
+    out, studio = bench.step(Frame(seq=5, t=11.3, pucks=pucks))
+    assert e.behavior is bully and "playing bully" in out["pet"].label
+    assert "lover not played" in studio.label and "demonstration.csv" in studio.label
+
+
+def test_a_hot_reload_trains_in_the_worker_and_a_bad_folder_keeps_the_old(tmp_path, trainings,
+                                                                          caplog):
+    from tabletop.config import validate_config
+    from tabletop.plugins import puppet_master as pm
+    from tabletop.registry import BuildContext
+    from tabletop.studio.reloader import BehaviorReloader
+    calls, release = trainings
+    folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=4), {})
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": "pet", "behavior": str(folder)}]}, "t.yaml", tmp_path)
+    engine = pm.build(cfg["engines"][0], BuildContext((1.2, 0.8), 60.0, cfg, tmp_path))
+    hook = BehaviorReloader(engine)
+    hook.poller.every_s = 0.0
+    first, calls[:] = engine.behavior, []
+    library.save_behavior(tmp_path, "x", designers.demonstrate("stalker", seconds=5), {},
+                          replace=True)
+    frame = Frame(seq=0, t=1.0, pucks=(Puck(1, 0.4, 0.3, 0.0),))
+    hook(frame)
+    assert True not in calls and engine.behavior is first and hook.loading
+    assert "playing x" in engine.step(frame)[0].label    # plays on while the worker trains
+    release.set()
+    hook.wait()
+    assert engine.behavior is not first and calls == [False]
+    assert engine.behavior.samples == len(designers.demonstrate("stalker", seconds=5))
+    good = engine.behavior
+    (folder / "behavior.yaml").write_text("format: [\n")     # half-written: the old plays on
+    hook(frame)
+    hook.wait()
+    hook(frame)
+    assert engine.behavior is good and "behavior.yaml" in hook.problem
+    assert "still playing" in engine.step(frame)[0].label
+    assert caplog.text.count("behaviour not reloaded") == 1
+
+
+def test_a_recorded_session_with_a_hot_reload_replays_exactly(tmp_path):
+    """The reload happens on the wall clock; the frame it plays from carries what it trained
+    from, so ``tabletop replay`` plays it from the same frame, to the last digit."""
+    import json
+
+    from tabletop.cli import main as cli
+    from tabletop.config import validate_config
+    from tabletop.kiosk.runner import Runner
+    from tabletop.kiosk.simulate import SimClock
+    from tabletop.studio.reloader import BehaviorReloader
+    folder = library.save_behavior(tmp_path / "lib", "x",
+                                   designers.demonstrate("lover", seconds=4), {})
+    cfg = validate_config({
+        "loop": {"rate_hz": 30}, "sources": [{"kind": "scripted", "pucks": [1]}],
+        "engines": [{"kind": "puppet_master", "name": "pet", "behavior": "lib/x",
+                     "main": {"puck": 1}}], "view": {"enabled": False}},
+        str(tmp_path / "c.yaml"), tmp_path)
+    clock, live = SimClock(), tmp_path / "live.jsonl"
+    runner = Runner(tmp_path / "c.yaml", cfg, headless=True, kiosk=False, studio=False,
+                    record_path=live, clock=clock)
+    inst = runner._build(cfg)
+    (hook,) = [f for f in inst.loop.filters if isinstance(f, BehaviorReloader)]
+    hook.poller.every_s = 0.0
+    inst.loop.inputs.open()
+    first = inst.engines[0].behavior
+    for i in range(90):
+        if i == 30:
+            library.save_behavior(tmp_path / "lib", "x",
+                                  designers.demonstrate("stalker", seconds=5), {}, replace=True)
+        if hook.loading:
+            hook.worker.wait()        # (played from the next tick, whenever the worker is done)
+        inst.loop.tick()
+        clock.advance(1 / 30)
+    inst.loop.close()
+    assert inst.engines[0].behavior is not first
+    out = tmp_path / "replayed.jsonl"
+    assert cli(["replay", str(live), "--fast", "--no-view", "--out", str(out)]) == 0
+    a, b = ([json.loads(x) for x in p.read_text().splitlines()[1:]] for p in (live, out))
+    assert sum("reload" in f.get("consumed", {}) for f in a) == 1
+    assert len(a) == len(b) == 90
+    assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []
