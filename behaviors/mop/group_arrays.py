@@ -162,7 +162,7 @@ class GroupArrays:
         rules = {"spread2": lambda f: f.max_spread ** 2, "min_p": lambda f: f.min_probability,
                  "spots": lambda f: f.invariance != "none", "confirm": lambda f: f.confirm,
                  "log_constant": lambda f: f._log_constant, "zdim": lambda f: f._zdim,
-                 "keep": lambda f: f.still_samples, "onset": lambda f: f.onset * f.sigma,
+                 "keep": lambda f: f.still_samples, "hint_onset": lambda f: f.hint_onset * f.sigma,
                  "end": lambda f: f.end, "null2": lambda f: f._null2,
                  "depart2": lambda f: (f.accept_distance * f.sigma) ** 2,
                  "lost_after": lambda f: f.lost_samples, "dims": lambda f: f.dim}
