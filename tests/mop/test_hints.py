@@ -35,7 +35,7 @@ def _left_rest(name, radius=0.003):
 
 def test_a_gesture_is_hinted_from_the_sample_it_leaves_its_rest(example_cfg):
     """Measured: first hint at 0.117 / 0.111 (the puck 3 mm from its start at 0.100 / 0.111);
-    with the engagement onset gating them 0.133 / 0.156."""
+    with the engagement onset gating them, the circle's at 0.150."""
     rng = np.random.default_rng(1)
     for name in ("circle", "line"):
         table = _table(example_cfg)
