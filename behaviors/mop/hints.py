@@ -9,7 +9,8 @@ installation, hinted at probability 0.77). The followers add their own gate
 (``FollowState.likely``: the input not still and, before any template is engaged,
 :data:`HINT_ONSET` sigmas from the anchor); a follower alone keeps its engagement onset there
 (0.5), as nothing else tells its jitter from a move (0.3 showed hints on a still lead-in,
-``tests/mop/test_quality.py``). Recognition never reads the hints.
+``tests/mop/test_quality.py``). A stream's columns tell no stillness: its hints are its followers'
+alone, at their engagement onset. Recognition never reads the hints.
 
 Measured on the example installation (``examples/mop.yaml``, 60 Hz, 0.7 mm jitter, its eleven
 puck/gesture pairs after a 1 s rest): the first hint comes at progress 0.083-0.117, the sample
@@ -34,17 +35,27 @@ HINT_ONSET = 0.1
 HINT_MOVED = 12
 
 
+def tells_stillness(performer: object) -> bool:
+    """Whether one of ``performer``'s inputs measures how long it stood still (a puck, a
+    finger); a stream's columns do not."""
+    return any(hasattr(i, "still") for i in performer.inputs)  # type: ignore[attr-defined]
+
+
 class HintGate:
     """One performer's: whether its likeliest actions may be shown this sample."""
 
-    def __init__(self) -> None:
+    def __init__(self, measured: bool = True) -> None:
         self.shown = False
+        self.measured = measured   # the input tells its stillness (a puck, a finger; no stream)
         self._calm = False   # it stood still HINT_MOVED samples (or rested) since it last moved
 
     def update(self, resting: bool, still: int) -> None:
         """``resting``: the input's gesture ended (it rests); ``still``: samples since it last
-        left its rest radius (1: it just did)."""
-        if resting or still > HINT_MOVED:
+        left its rest radius (1: it just did). Without a measure of stillness, shown whenever
+        the input does not rest (its followers keep their own gate)."""
+        if not self.measured:
+            self.shown = not resting
+        elif resting or still > HINT_MOVED:
             self.shown, self._calm = False, True
         elif still == 1 and self._calm:
             self.shown, self._calm = True, False

@@ -53,7 +53,7 @@ from typing import Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from behaviors.motion.clips import Clip
-from behaviors.mop.hints import HINT_ONSET, HintGate
+from behaviors.mop.hints import HINT_ONSET, HintGate, tells_stillness
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
@@ -199,8 +199,9 @@ class MopStage:
         followers = {performer: self.make_follower(templates, self.performers[performer].units,
                                                    self.performers[performer].min_scale)
                      for performer, templates in by_performer.items()}
-        for f in followers.values():   # hinted from the rest's end (behaviors.mop.hints)
-            f.hint_onset = HINT_ONSET  # type: ignore[attr-defined]
+        for performer, f in followers.items():   # hinted from the rest's end (mop.hints)
+            if tells_stillness(self.performers[performer]):
+                f.hint_onset = HINT_ONSET  # type: ignore[attr-defined]
         # every follower stepped in one vectorised pass
         keys = list(followers)
         group = (self.make_group([followers[k] for k in keys])
@@ -373,7 +374,8 @@ class MopStage:
             elif r.kept is None and performer.still > r.stand_samples and r.drives:
                 r.prepare(self._followers[key], kept[key], performer.still)
             self._resting[key] = resting
-            self._hints.setdefault(key, HintGate()).update(resting, performer.still)
+            gate = self._hints.setdefault(key, HintGate(tells_stillness(performer)))
+            gate.update(resting, performer.still)
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
                     self._group.reset_member(i)  # type: ignore[attr-defined]

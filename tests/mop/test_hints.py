@@ -6,7 +6,7 @@ import numpy as np
 from tabletop.drawing.life import hint_level
 from tabletop.plugins import mop
 from tabletop.registry import BuildContext
-from tests.mop.helpers import EXAMPLES, RATE, G, Table
+from tests.mop.helpers import EXAMPLES, RATE, G, Table, build
 
 JITTER_M = 0.0007   # the tracker's, standard deviation per axis
 
@@ -56,3 +56,35 @@ def test_a_still_puck_is_never_hinted(example_cfg):
     table = _table(example_cfg)
     still = _jittered_rest(table, 3.0, np.random.default_rng(13))
     assert max(hint_level(ch[c]) for ch in still for c in ("dancer", "bird")) == 0.0
+
+
+def test_a_stream_without_stillness_is_hinted_by_its_follower_alone(tmp_path):
+    """A stream's columns tell no stillness (no rest radius): its hints are its follower's
+    (the engagement onset). Measured: first hint at 0.133 of the circle, driven from 0.267;
+    none at all when the stage waited for a stillness the stream never reports."""
+    circle, wave = G.gesture("circle"), G.gesture("wave")
+    for name, g in (("circle", circle), ("wave", wave)):
+        np.savetxt(tmp_path / f"{name}.csv", g[:, :3], delimiter=",", header="t,arm_0,arm_1",
+                   comments="")
+    data = {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop",
+        "performers": [{"name": "body", "inputs": [{"kind": "stream", "name": "arm",
+                                                    "columns": [0, 1]}]}],
+        "characters": [{"name": "face", "kind": "face", "performer": "body", "actions": [
+            {"name": "circle", "template": "circle.csv", "motion": "laugh"},
+            {"name": "wave", "template": "wave.csv", "motion": "talk"}]}]}]}
+    table = Table(build(data, tmp_path))
+    rng = np.random.default_rng(4)
+    for _ in range(30):
+        table.streams = {"arm": rng.normal(0, JITTER_M, 2)}
+        table.tick()
+    hinted, driven = [], []
+    dur = circle[-1, 0]
+    for k in range(int(dur * RATE)):
+        u = k / (dur * RATE)
+        row = [np.interp(u * dur, circle[:, 0], circle[:, j]) for j in (1, 2)]
+        table.streams = {"arm": np.array(row) + rng.normal(0, JITTER_M, 2)}
+        face = table.tick()["face"]
+        hinted.append(hint_level(face) > 0.03)
+        driven.append(face.valid)
+    assert any(hinted) and hinted.index(True) < driven.index(True)
