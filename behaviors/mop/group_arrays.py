@@ -110,7 +110,7 @@ class GroupArrays:
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
-                     "_least", "_judged", "_at_hold_end")
+                     "_least", "_judged", "_at_hold_end", "_reached")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
                    "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
