@@ -129,6 +129,10 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self.accept_distance = float(accept_distance)
         self._accept2 = self.accept_distance ** 2
         self.onset = float(onset)
+        # sigmas from the anchor a moving input must lie for the likeliest templates to be shown
+        # before any is engaged (FollowState.likely); a stage that gates them by the input's
+        # rest radius sets it lower (behaviors.mop.hints.HINT_ONSET)
+        self.hint_onset = self.onset
         self._params = dict(sigma=float(sigma), window=int(window), transitions=tuple(transitions),
                             backward=float(backward), restart=float(restart), memory=float(memory),
                             null_distance=float(null_distance), max_spread=float(max_spread),

@@ -110,7 +110,7 @@ class GroupArrays:
 
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
-                     "_least", "_judged", "_at_hold_end")
+                     "_least", "_judged", "_at_hold_end", "_reached")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
                    "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
@@ -162,7 +162,7 @@ class GroupArrays:
         rules = {"spread2": lambda f: f.max_spread ** 2, "min_p": lambda f: f.min_probability,
                  "spots": lambda f: f.invariance != "none", "confirm": lambda f: f.confirm,
                  "log_constant": lambda f: f._log_constant, "zdim": lambda f: f._zdim,
-                 "keep": lambda f: f.still_samples, "onset": lambda f: f.onset * f.sigma,
+                 "keep": lambda f: f.still_samples, "hint_onset": lambda f: f.hint_onset * f.sigma,
                  "end": lambda f: f.end, "null2": lambda f: f._null2,
                  "depart2": lambda f: (f.accept_distance * f.sigma) ** 2,
                  "lost_after": lambda f: f.lost_samples, "dims": lambda f: f.dim}

@@ -22,9 +22,10 @@ import numba
 import numpy as np
 
 import behaviors.mop.compiled
-from behaviors.mop import (group_layout, group_steps, holding, invariance, members, shape_lead,
-                           threshold, threshold_kernel, validity)
+from behaviors.mop import (coverage, group_layout, group_steps, holding, invariance, members,
+                           shape_lead, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
+from behaviors.mop.coverage import RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, MC_ROWS
 from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
@@ -37,8 +38,8 @@ from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_R
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in (holding's through its own)
-_CALLS_INTO = (behaviors.mop.compiled, group_layout, group_steps, holding, invariance, members,
-               shape_lead, threshold, threshold_kernel, validity)
+_CALLS_INTO = (behaviors.mop.compiled, coverage, group_layout, group_steps, holding, invariance,
+               members, shape_lead, threshold, threshold_kernel, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _B1 = numba.intp[::1], numba.boolean[::1]
@@ -84,7 +85,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ``thr_means``: the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
-    drift, drift_run = floats[11], floats[12]
+    drift, drift_run, reached = floats[11], floats[12], floats[13]
     x, anchor, thr_x = vectors[0], vectors[1], vectors[2]
     bounds, counts, best, acquired, nbuf = ints[0], ints[1], ints[3], ints[6], ints[7]
     drive_from, drive_peak, drive_moved = m_floats[5], m_floats[6], m_flags[8]
@@ -287,6 +288,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 misfit_w[k] = 0.0
                 misshaped[k] = False
                 covered[k] = False
+                reached[k] = 0.0
             for c in range(d):
                 base = t[ce0 + c] if none else anchor[i, c]
                 u[c] = (x[i, c] - base) / t[sc0 + c] + t[uf0 + c]
@@ -358,8 +360,17 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             m2 *= 1.0 / path_scale
             misshaped[k] = (misshaped[k] or m2 > shape2) and not m2 < shape_accept2
             at = states[gf + off, arc]
-            if engaged[k] and at + (g - gf) * (states[min(gf + 1, last) + off, arc] - at) >= t[3]:
+            at += (g - gf) * (states[min(gf + 1, last) + off, arc] - at)
+            if engaged[k] and at >= t[3]:
                 covered[k] = True
+            # ... and not while it runs far ahead of where the input went (coverage.RUN_AHEAD)
+            acc = 0.0
+            for c in range(d):
+                r = away[c] / t[sc0 + c] / sk
+                acc += r * r
+            reached[k] = max(reached[k], math.sqrt(acc / dims))
+            if at > RUN_AHEAD * reached[k]:
+                covered[k] = False
             # shape sums (ShapeLead._leads) and displacement (early feedback)
             acc = 0.0
             mv = 0.0

@@ -26,6 +26,6 @@ AHEAD = 2
 MC_ROWS = len(MEMBER_SCALARS)
 #: Per-template float state updated in place, in this order.
 FLOATS = ("_evidence", "_recent", "_recent_weight", "_num", "_den", "_size", "_misfit_w", "_shape",
-          "_gone", "_least", "_judged", "_drift", "_drift_run")
+          "_gone", "_least", "_judged", "_drift", "_drift_run", "_reached")
 #: Per-template flags updated in place, in this order.
 FLAGS = ("_refused", "_engaged", "_misshaped", "_covered", "_at_hold_end")

@@ -88,7 +88,7 @@ class GroupRules:
             self.forward.reset_templates(cols)
             for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num",
                       "_den", "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape",
-                      "_drift", "_drift_run", "_gone", "_least", "_at_hold_end"):
+                      "_drift", "_drift_run", "_gone", "_least", "_at_hold_end", "_reached"):
                 getattr(self, n)[cols] = 0
             self._size[cols] = 1.0
             self._judged[cols] = 1.0

@@ -41,8 +41,8 @@ _BB2 = numba.boolean[:, ::1]
 #: every template was refused too long; the input is still and waiting (anchored at its mean).
 GOES_ON, AFTER_END, RESTING, ABANDONED, WAITING = range(5)
 #: Per-member scalars (columns of ``mk`` (M, 13 + 2D), then the rows ``radius`` and ``units``).
-MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep", "onset",
-                "end", "null2", "depart2", "lost_after", "dims")
+MEMBER_RULES = ("spread2", "min_p", "spots", "confirm", "log_constant", "zdim", "keep",
+                "hint_onset", "end", "null2", "depart2", "lost_after", "dims")
 _RAD = len(MEMBER_RULES)
 #: The members' own arrays of a follower group (its attributes of these names), each a row of
 #: one array: per member (R, M, D), (R, M) integers, floats and flags, as the compiled passes
@@ -367,7 +367,8 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         ll = mean_ll[gb]
         loglik[i] = ll
         distance[i] = math.sqrt(max(0.0, -2.0 * (ll - m[4]) / m[5]))
-        show[i] = any_engaged[i] or (not st and moving[i] >= m[7])
+        # early feedback only while the input moves (the follower's hint_onset)
+        show[i] = not st and (any_engaged[i] or moving[i] >= m[7])
         pb = progress[gb]
         prog[i] = pb
         holding[i] = holds[off + int(np.rint(g))] or pb >= 0.9

@@ -70,6 +70,7 @@ from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, res
                                     unweighed)
 
 
+
 class Recognition:
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: one sample's evidence,
     probabilities, best, validity and state."""
@@ -244,7 +245,7 @@ class Recognition:
         loglik = mean_ll_list[bi]
         names = self.names
         likely: tuple[tuple[str, float, float], ...] = ()
-        if engaged or (not still and self._displacement(x).max() >= self.onset * self.sigma):
+        if not still and (engaged or self._displacement(x).max() >= self.hint_onset * self.sigma):
             order = [i for i in np.argsort(-p, kind="stable")[:3] if not self._refused[i]]
             likely = tuple((names[i], p_list[i], progress_list[i]) for i in order)
         shown = progress_list

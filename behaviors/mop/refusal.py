@@ -25,9 +25,10 @@ template's own spread, whatever the other templates:
 
 - Coverage: a template drives only once its followed progress has covered ``coverage`` of its
   path's length since it engaged (path length in its spread, RMS per column; kept until the
-  performance begins anew). The start of every template is a small, slow blob that any small
-  wiggle matches at a small size: an aimless wander drove the circle alone 75-86% of the time
-  at 15-23% of its progress. Recognition comes a little later (at 30% of gestures at
+  performance begins anew, but not while the followed state runs far ahead of the input:
+  :mod:`behaviors.mop.coverage`). The start of every template is a small, slow blob that any
+  small wiggle matches at a small size: an aimless wander drove the circle alone 75-86% of the
+  time at 15-23% of its progress. Recognition comes a little later (at 30% of gestures at
   0.7-1.4x: 0.73 -> 0.68 of them).
 - Path misfit: the distance of the input, mapped as the forward algorithm sees it, from the
   path's segments within :data:`~behaviors.mop.validity.PATH_REACH` states of the followed
@@ -286,7 +287,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import threshold
+from behaviors.mop import coverage, threshold
 from behaviors.mop.validity import PATH_REACH, unjudged
 
 
@@ -340,6 +341,7 @@ class Refusal:
         k = len(self.names)
         self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
+        self._reached = np.zeros(k)   # the input's farthest reach (coverage.RUN_AHEAD)
         self._threshold_alpha = np.zeros(len(b.means), dtype=threshold.PRECISION)
         self._threshold_scratch = np.zeros(len(b.means), dtype=threshold.PRECISION)
         self._threshold_means = np.ascontiguousarray(b.means, dtype=threshold.PRECISION)
@@ -352,6 +354,7 @@ class Refusal:
         self._misfit_w[which] = 0.0
         self._misshaped[which] = False
         self._covered[which] = False
+        self._reached[which] = 0.0
 
     def _refuse(self, dist2: np.ndarray) -> None:
         """Refusal with hysteresis from the recent squared distances (sigma units), in place on
@@ -419,6 +422,10 @@ class Refusal:
         nxt = np.minimum(gi + 1, self.bank.starts + self.bank.lengths - 1)
         covered = self._arc[gi] + (g - gi) * (self._arc[nxt] - self._arc[gi])
         self._covered |= (covered >= self._arc_need) & self._engaged
+        # ... and not while it runs far ahead of where the input went (coverage.RUN_AHEAD)
+        reach = self._displacement(np.mean(self._recent_x[-3:] + [x], axis=0))
+        np.maximum(self._reached, reach, out=self._reached)
+        self._covered &= covered <= coverage.RUN_AHEAD * self._reached
 
     def _threshold_evidence(self, x: np.ndarray, anchor: np.ndarray, lead_ll: float) -> float:
         """Step the threshold model (:mod:`behaviors.mop.threshold`) with sample ``x`` seen from

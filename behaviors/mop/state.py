@@ -44,9 +44,10 @@ class FollowState:
     template; ``valid``: the performance matches ``best`` well enough to drive a character;
     ``loglik``: recent mean per-sample log-likelihood of ``best`` (its own units);
     ``distance``: that log-likelihood as an RMS distance in ``sigma`` units per feature;
-    ``restarted``: a new performance of ``best`` began at this sample; ``likely``: while a
-    gesture unfolds, the templates not refused, likeliest first, as (name, probability,
-    progress): early feedback, whether or not anything is valid yet; ``scale_by``: each
+    ``restarted``: a new performance of ``best`` began at this sample; ``likely``: while the
+    input moves (not still; before any template is engaged, once it left the anchor by
+    the follower's ``hint_onset`` sigmas), the templates not refused, likeliest first, as (name,
+    probability, progress): early feedback, whether or not anything is valid yet; ``scale_by``: each
     template's estimated performance size (1 = as recorded); ``holding``: ``best`` is where its
     template holds still (or at its end), so a performer resting there is holding the action.
     """
