@@ -69,7 +69,8 @@ def parse_fps(text: str | None) -> float | None:
 @contextlib.contextmanager
 def _quiet_opencv(cv2: Any) -> Iterator[None]:
     """Silence OpenCV's and its video back-ends' own messages (written straight to stderr) while
-    opening a device or file: a failure is reported as one clear line instead."""
+    opening a device or file or reading an image: a failure is reported as one clear line
+    instead."""
     from tabletop.quiet import quiet_stderr
     log = getattr(getattr(cv2, "utils", None), "logging", None)
     level = log.getLogLevel() if log is not None else None
@@ -132,7 +133,8 @@ class FrameReader:
         cv2 = self.cv2
         if self.files is not None:
             for p in self.files:
-                img = cv2.imread(str(p), cv2.IMREAD_GRAYSCALE)
+                with _quiet_opencv(cv2):
+                    img = cv2.imread(str(p), cv2.IMREAD_GRAYSCALE)
                 if img is None:
                     raise TrackInputError(f"{p}: not an image OpenCV can read")
                 yield img

@@ -372,3 +372,12 @@ def test_generated_recordings(capfd, data):
     with workdir() as root:
         (root / "s.jsonl").write_bytes(data)
         check(capfd, ["replay", "s.jsonl", "--fast", "--no-view", "--out", "r.jsonl"])
+
+
+def test_a_folder_holding_an_unreadable_image_is_refused_in_one_line(capfd):
+    # the folder's images are read in order: bad.png (a PNG signature, then no chunks) comes
+    # before image.png; OpenCV's own "[ WARN:0@...]" lines came above the error
+    with workdir() as root:
+        make_files(root)
+        assert check(capfd, ["track", "", "--out", "0"]) != 0
+        assert check(capfd, ["track", ".", "--out", "o.jsonl"]) != 0
