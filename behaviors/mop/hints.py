@@ -27,6 +27,8 @@ every one (mean 0.31-0.73 over the stroke): the probability is the templates' am
 
 from __future__ import annotations
 
+import numpy as np
+
 #: Sigmas (RMS per feature, each template's spread and size) a stage's followers require the
 #: input to lie from the anchor before any template is engaged (their ``hint_onset``).
 HINT_ONSET = 0.1
@@ -41,21 +43,73 @@ def tells_stillness(performer: object) -> bool:
     return any(hasattr(i, "still") for i in performer.inputs)  # type: ignore[attr-defined]
 
 
-class HintGate:
-    """One performer's: whether its likeliest actions may be shown this sample."""
+def touch_radius(performer: object) -> float:
+    """Twice the rest radius (metres) of ``performer``'s finger, 0 when it has none: a finger
+    that touches down starts a stroke, shown once it lies this far from where it touched."""
+    from behaviors.mop.inputs import TouchInput
+    touch = [i for i in performer.inputs if isinstance(i, TouchInput)]  # type: ignore[attr-defined]
+    return 2 * touch[0]._pf.rest_radius if touch and len(performer.inputs) == 1 else 0.0  # type: ignore[attr-defined]
 
-    def __init__(self, measured: bool = True) -> None:
+
+class HintGate:
+    """One performer's: whether its likeliest actions may be shown this sample.
+
+    An input that goes missing (a puck lifted, no finger) closes the gate and forgets its calm:
+    a puck put down must stand still :data:`HINT_MOVED` samples before a move shows hints, as
+    the jitter about its new rest point crosses the rest radius (7 of 8 draws of a puck put
+    down still were hinted, 4-12 samples at 0.72-0.92, when the lift counted as a rest). A
+    finger's touch-down starts a stroke: until it has stood still that long, it shows hints
+    once it lies ``touch`` metres (twice its rest radius) from where it touched down, which
+    its jitter (0.7 mm) does not reach."""
+
+    def __init__(self, measured: bool = True, touch: float = 0.0) -> None:
         self.shown = False
         self.measured = measured   # the input tells its stillness (a puck, a finger; no stream)
+        self.touch = touch         # a finger's stroke distance from its touch-down (0: none)
         self._calm = False   # it stood still HINT_MOVED samples (or rested) since it last moved
+        self._down = False   # a finger touched down and has not yet stood still
 
-    def update(self, resting: bool, still: int) -> None:
+    def update(self, resting: bool, still: int, x: np.ndarray | None = None) -> None:
         """``resting``: the input's gesture ended (it rests); ``still``: samples since it last
-        left its rest radius (1: it just did). Without a measure of stillness, shown whenever
-        the input does not rest (its followers keep their own gate)."""
+        left its rest radius (1: it just did); ``x``: this sample's input (NaN: missing).
+        Without a measure of stillness, shown whenever the input does not rest (its followers
+        keep their own gate)."""
+        present = x is None or bool(np.isfinite(x).all())
         if not self.measured:
             self.shown = not resting
+        elif not present:
+            self.shown, self._calm, self._down = False, False, self.touch > 0
         elif resting or still > HINT_MOVED:
-            self.shown, self._calm = False, True
+            self.shown, self._calm, self._down = False, True, False
         elif still == 1 and self._calm:
             self.shown, self._calm = True, False
+        elif self._down and x is not None and float(np.hypot(*x[:2])) > self.touch:
+            self.shown, self._down = True, False
+
+
+class HintGates:
+    """Every performer's :class:`HintGate`, built once (``performers``: name -> performer)."""
+
+    def __init__(self, performers: dict[str, object]) -> None:
+        self._gates = {name: HintGate(tells_stillness(p), touch_radius(p))
+                       for name, p in performers.items()}
+
+    def update(self, name: str, resting: bool, still: int, x: np.ndarray) -> None:
+        """Performer ``name``'s sample (:meth:`HintGate.update`)."""
+        self._gates[name].update(resting, still, x)
+
+    def likely(self, name: str, state: object) -> dict[str, float]:
+        """The likeliest actions of performer ``name``'s follower ``state`` to show this sample
+        (name -> probability; none while its gate is shut)."""
+        gate = self._gates.get(name)
+        if gate is None or not gate.shown:
+            return {}
+        return {key: p for key, p, _ in state.likely}  # type: ignore[attr-defined]
+
+
+def gate_onsets(followers: dict[str, object], performers: dict[str, object]) -> None:
+    """Give the followers of performers that tell their stillness the :data:`HINT_ONSET`
+    gate (the others keep their engagement onset)."""
+    for name, f in followers.items():
+        if tells_stillness(performers[name]):
+            f.hint_onset = HINT_ONSET  # type: ignore[attr-defined]

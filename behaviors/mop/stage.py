@@ -53,7 +53,7 @@ from typing import Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from behaviors.motion.clips import Clip
-from behaviors.mop.hints import HINT_ONSET, HintGate, tells_stillness
+from behaviors.mop.hints import HintGates, gate_onsets
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
@@ -118,7 +118,7 @@ class MopStage:
         self._routes: dict[str, list[tuple[str, str, str]]] = {}
         self._states: dict[str, object] = {}
         self._resting: dict[str, bool] = {}
-        self._hints: dict[str, HintGate] = {}   # when each performer's hints show
+        self._hints = HintGates(self.performers)   # when each performer's hints show
         self._shown: dict[str, object] = {}    # the state that drives: fresh or resumed
         self._resume: dict[str, Resume] = {}   # each performer's paused action
         self._replay_turn = 0   # whose turn it is first to replay (_replay_steps)
@@ -199,9 +199,7 @@ class MopStage:
         followers = {performer: self.make_follower(templates, self.performers[performer].units,
                                                    self.performers[performer].min_scale)
                      for performer, templates in by_performer.items()}
-        for performer, f in followers.items():   # hinted from the rest's end (mop.hints)
-            if tells_stillness(self.performers[performer]):
-                f.hint_onset = HINT_ONSET  # type: ignore[attr-defined]
+        gate_onsets(followers, self.performers)   # hinted from the rest's end (mop.hints)
         # every follower stepped in one vectorised pass
         keys = list(followers)
         group = (self.make_group([followers[k] for k in keys])
@@ -263,8 +261,7 @@ class MopStage:
         samples = take.samples()
         if len(samples) < MIN_TAKE_SAMPLES:
             self.take, self.take_action = None, None
-            # a take recorded long enough but (nearly) still is said so: "1 samples of motion"
-            # read as a key pressed too soon to a designer who had recorded 3 s
+            # a take long enough but (nearly) still says so, not only its samples of motion
             still = (f": {take.performer} hardly moved in the {rows / self.rate_hz:.1f} s "
                      "recorded" if rows >= MIN_TAKE_SAMPLES else "")
             raise InputError(f"take too short{still} ({len(samples)} of "
@@ -380,8 +377,7 @@ class MopStage:
             elif r.kept is None and performer.still > r.stand_samples and r.drives:
                 r.prepare(self._followers[key], kept[key], performer.still)
             self._resting[key] = resting
-            gate = self._hints.setdefault(key, HintGate(tells_stillness(performer)))
-            gate.update(resting, performer.still)
+            self._hints.update(key, resting, performer.still, xs[key])
             if resting:   # the gesture ended: wait for the next one from a clean start
                 if self._group is not None:
                     self._group.reset_member(i)  # type: ignore[attr-defined]
@@ -427,9 +423,7 @@ class MopStage:
             probs, prog = state.probabilities, state.progress_by  # type: ignore[attr-defined]
             ok = bool(state.valid) and not self._resting.get(performer, False)  # type: ignore[attr-defined]
             best = state.best  # type: ignore[attr-defined]
-            gate = self._hints.get(performer)
-            hints = {} if gate is None or not gate.shown else {
-                name: p for name, p, _ in state.likely}  # type: ignore[attr-defined]
+            hints = self._hints.likely(performer, state)
             for action, key in mine:
                 votes.append(Vote(action, float(probs[key]), float(prog[key]), ok and key == best,
                                   float(state.loglik) if key == best else 0.0,  # type: ignore[attr-defined]
