@@ -52,6 +52,9 @@ def main(args: argparse.Namespace) -> int:
     cfg, refused = ((prepared.cfg, None) if prepared is not None
                     else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
+    if kiosk:   # no kiosk file may write over the config, nor two of them be one
+        from tabletop.kiosk import check_files
+        check_files(cfg)
     lock_fd = None
     if kiosk and not supervised():
         # one kiosk per folder, before anything of the folder is touched (the supervisor's

@@ -65,6 +65,16 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
                                                "expected a pygame key name such as F12 or o")
 
 
+def check_files(cfg: Any) -> None:
+    """:func:`_check_distinct` for a config run as a kiosk (``run --kiosk``) whose
+    ``kiosk.enabled`` is off, which its validation left unchecked; ConfigError when two of
+    its files are one."""
+    from pathlib import Path
+
+    from tabletop.schema import Context
+    _check_distinct(cfg["kiosk"], "kiosk", Context(str(cfg.file), Path(cfg.base)))
+
+
 def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:
     """The status file, log and crash log are three files, none of them the config file: a
     status written atomically over ``config.yaml`` replaced the config with the status JSON

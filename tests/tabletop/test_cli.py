@@ -356,3 +356,17 @@ def test_a_reader_that_closes_the_output_early_ends_the_command_quietly(args):
     err = p.stderr.read().decode()
     p.stderr.close()
     assert p.wait(timeout=60) == 141 and err == "", err
+
+
+def test_run_kiosk_refuses_a_status_file_that_is_the_config(tmp_path):
+    """``run --kiosk`` with ``kiosk.enabled`` off checks the kiosk's files as ``enabled``
+    does: a config named status.json beside no other status file would be replaced by the
+    status JSON."""
+    cfg = tmp_path / "status.json"
+    text = "sources: [{kind: scripted, name: s}]\nengines: []\nview: {enabled: false}\n"
+    cfg.write_text(text)
+    r = tabletop("run", "--config", str(cfg), "--seconds", "1", "--kiosk", "--headless")
+    assert r.returncode == 2, r.stderr
+    (line,) = r.stderr.splitlines()
+    assert f"{cfg}: kiosk.status_file: {cfg} is the config file itself" in line, line
+    assert cfg.read_text() == text
