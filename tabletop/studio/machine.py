@@ -230,7 +230,9 @@ class Studio:
             self.say("still training: K once it plays" if self.state == "training"
                      else f"nothing to keep yet: R records {self._part}" if self.state == "ready"
                      else "nothing to keep yet: R stops the take, then K keeps it"
-                     if self.state in ("countdown", "recording")
+                     if self.state == "recording"
+                     else "nothing to keep yet: the take starts when the countdown ends "
+                          "(R cancels it)" if self.state == "countdown"
                      else "nothing to keep: R records a take")
             return
         name = target.keep()

@@ -109,8 +109,8 @@ def test_a_take_dropped_while_it_trains_is_logged_with_its_samples(tmp_path):
 
 
 def test_k_during_a_take_says_to_stop_it_first(tmp_path):
-    # the keep marker set down while recording said "nothing to keep: R records a take" over
-    # the take being recorded: a designer pressing R then stopped it
+    """K while recording says to stop the take first (R then K); K in the countdown says the
+    take has not begun (R there cancels it, it does not stop a take)."""
     demo = designers.demonstrate("lover", seed=3, seconds=3)
     (e,) = designer(tmp_path)
     bench = Bench([e], tmp_path)
@@ -121,6 +121,18 @@ def test_k_during_a_take_says_to_stop_it_first(tmp_path):
             Puck(1, *row[1:4]), Puck(2, *row[4:7])), commands=cmds))[1])
     assert said[50].action == "recording"
     assert "nothing to keep yet: R stops the take, then K keeps it" in said[50].label
+    from tabletop.studio.machine import Studio
+    from tabletop.studio.targets import PuppetMasterTarget
+    studio = Studio([PuppetMasterTarget(designer(tmp_path / "c")[0])], countdown_s=1.0)
+    said = []
+    for i in range(10):                          # 20 Hz: R at 0 s, K at 0.25 s
+        cmds = {0: ("designer.record",), 5: ("designer.keep",)}.get(i, ())
+        frame = Frame(seq=i, t=100.0 + i / 20, commands=cmds,
+                      pucks=(Puck(1, 0.3, 0.3, 0.0), Puck(2, 0.5, 0.3, 0.0)))
+        said.append(studio(frame).character("studio"))
+    assert said[5].action == "countdown"
+    assert ("nothing to keep yet: the take starts when the countdown ends (R cancels it)"
+            in said[5].label), said[5].label
 
 
 def test_the_record_marker_lifted_during_the_countdown_says_it_cancelled(tmp_path):
