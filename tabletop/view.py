@@ -71,7 +71,7 @@ def overlay_steps(frame: Frame, stats: LoopStats | None) -> Iterator[list[str] |
         lines.append(f"{rate} fps   skipped {stats.skipped}   errors "
                      f"{sum(stats.errors.values())}")
         # which part fails: the total alone left the operator to search the log for it
-        lines += [f"{where} failed {n} times (see the log)"
+        lines += [f"{where} failed {'once' if n == 1 else f'{n} times'} (see the log)"
                   for where, n in sorted(stats.errors.items())]
         for stage in list(stats.samples):
             m = stats.stage_ms(stage)
