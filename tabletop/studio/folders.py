@@ -19,7 +19,8 @@ def named_folder(folder: Path, base: Path | None = None) -> str:
     when None) when it lies within it, else absolute. A replay, whose config's folder is a
     temporary one, names it as the run did."""
     rel = os.path.relpath(folder, base if base is not None else os.curdir)
-    return os.path.join(str(folder) if rel.startswith(os.pardir) else rel, "")
+    outside = Path(rel).parts[:1] == (os.pardir,)   # "..x" is a folder within base
+    return os.path.join(str(folder) if outside else rel, "")
 
 
 def not_config_named(folder: Path, named: dict[Path, str]) -> None:
