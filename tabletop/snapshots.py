@@ -108,8 +108,8 @@ def prune(root: Path, keep: int, max_bytes: float, current: Path | None = None) 
 
 def _check_writable(folder: Path) -> None:
     """OSError when ``folder`` takes no new file (a read-only disk, no permission): refused at
-    start as a folder that cannot be made is, where it was one warning and no snapshot ever. A
-    full disk is no such folder: the snapshots resume once it has room."""
+    start as a folder that cannot be made is, since no snapshot would ever be written. A full
+    disk is no such folder: the snapshots resume once it has room."""
     try:
         fd, probe = tempfile.mkstemp(prefix=".snapshot-probe-", dir=folder)
     except OSError as exc:

@@ -275,7 +275,7 @@ class ProjectorView:
 
 def window_size(size: tuple[int, int], desktop: tuple[int, int]) -> tuple[int, int]:
     """The window to open for ``view.size`` on a desktop of ``desktop`` pixels: ``size``, or,
-    when it does not fit (a 1280x720 view on an 800x600 screen showed only its middle, the
+    when it does not fit (a 1280x720 view on an 800x600 screen would show only its middle, the
     table's edges and pucks near them beyond the screen), the largest of its shape that does."""
     k = min(1.0, desktop[0] / size[0], desktop[1] / size[1])
     return size if k >= 1.0 else (max(1, int(size[0] * k)), max(1, int(size[1] * k)))

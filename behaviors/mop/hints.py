@@ -56,8 +56,8 @@ class HintGate:
 
     An input that goes missing (a puck lifted, no finger) closes the gate and forgets its calm:
     a puck put down must stand still :data:`HINT_MOVED` samples before a move shows hints, as
-    the jitter about its new rest point crosses the rest radius (7 of 8 draws of a puck put
-    down still were hinted, 4-12 samples at 0.72-0.92, when the lift counted as a rest). A
+    the jitter about its new rest point crosses the rest radius (were the lift counted as a
+    rest, 7 of 8 draws of a puck put down still would be hinted, 4-12 samples at 0.72-0.92). A
     finger's touch-down starts a stroke: until it has stood still that long, it shows hints
     once it lies ``touch`` metres (twice its rest radius) from where it touched down, which
     its jitter (0.7 mm) does not reach."""

@@ -70,7 +70,6 @@ from behaviors.mop.validity import (backs_first, carried, crawl_run, crawls, res
                                     unweighed)
 
 
-
 class Recognition:
     """Mixin of :class:`~behaviors.mop.follower.ActionFollower`: one sample's evidence,
     probabilities, best, validity and state."""

@@ -115,8 +115,8 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
     line that would make the panel wider than ``width`` pixels wraps (``keep``: see
     :func:`panel_line`). Lines with tabs are rows of a table whose columns line up across the
-    panel (the overlay's stage figures: padded with spaces in a proportional font they
-    wandered by up to 30 px from line to line)."""
+    panel (the overlay's stage figures: spaces in a proportional font leave columns up to
+    30 px apart from line to line)."""
     rows = {i: [panel_line(c, px, keep) for c in cells(line)]
             for i, line in enumerate(lines) if "\t" in line}
     ncol = max((len(r) for r in rows.values()), default=0)

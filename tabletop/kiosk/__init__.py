@@ -77,9 +77,9 @@ def check_files(cfg: Any) -> None:
 
 def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:
     """The status file, log and crash log are three files, none of them the config file: a
-    status written atomically over ``config.yaml`` replaced the config with the status JSON
-    (the next edit check refused it, the designer's file was gone); a log appended to it or
-    to the status file mixed them."""
+    status written atomically over ``config.yaml`` would replace the config with the status
+    JSON (the next edit check refuses it, the designer's file is gone); a log appended to it
+    or to the status file would mix them."""
     from pathlib import Path
 
     from tabletop.kiosk.supervisor import kiosk_paths, last_good_path

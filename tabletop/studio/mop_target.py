@@ -45,8 +45,8 @@ class MopTarget:
 
     @property
     def cue(self) -> str:
-        """The countdown's line: the performer the take records and its inputs (the line said
-        only "get ready", leaving the designer to guess which puck performs)."""
+        """The countdown's line: the performer the take records and its inputs, so the
+        designer knows which puck (or finger, or stream) performs."""
         p = self.stage.performers[self.stage.performer_of(self.character)]
         what = ", ".join(f"puck {i.puck_id}" if hasattr(i, "puck_id") else
                          f"stream {i.stream}" if hasattr(i, "stream") else "a finger"
@@ -151,8 +151,7 @@ class MopTarget:
 
     def shown(self) -> str | None:
         """The kept action selected, as the idle line names it; with none, the actions the
-        character knows (its config's: the line said "action (none)" of a character playing
-        them)."""
+        character knows (its config's), which it plays with no take kept."""
         if self.kept is not None:
             return self.kept
         known = sorted(self.stage.templates.get(self.character, {}))

@@ -40,7 +40,7 @@ class BehaviorShelf:
 
     def shown(self) -> str | None:
         """The behaviour in play as the status line names it: also one from outside the library
-        (the engine's own ``behavior``; the line said "(none)" while it played)."""
+        (the engine's own ``behavior``), named with "(not in the library)"."""
         if self.playing is not None and self.playing.parent != self.lib:
             return f"{self.playing.name} (not in the library)"
         return self.current()

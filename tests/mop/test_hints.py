@@ -53,9 +53,9 @@ def test_a_gesture_is_hinted_from_the_sample_it_leaves_its_rest(example_cfg):
 
 
 def test_a_still_puck_is_never_hinted(example_cfg):
-    """A puck standing still from the first frame, 0.7 mm of jitter: this draw crossed the
-    3 mm rest radius by jitter alone in its first samples (hinted at 0.67-0.80 in 4 samples
-    when only a rest silenced the hints)."""
+    """A puck standing still from the first frame, 0.7 mm of jitter: this draw crosses the
+    3 mm rest radius by jitter alone in its first samples (4 samples at 0.67-0.80 would be
+    hinted if only a rest silenced the hints)."""
     table = _table(example_cfg)
     still = _jittered_rest(table, 3.0, np.random.default_rng(13))
     assert max(hint_level(ch[c]) for ch in still for c in ("dancer", "bird")) == 0.0
@@ -63,8 +63,8 @@ def test_a_still_puck_is_never_hinted(example_cfg):
 
 def test_a_stream_without_stillness_is_hinted_by_its_follower_alone(tmp_path):
     """A stream's columns tell no stillness (no rest radius): its hints are its follower's
-    (the engagement onset). Measured: first hint at 0.133 of the circle, driven from 0.267;
-    none at all when the stage waited for a stillness the stream never reports."""
+    (the engagement onset), as it never reports a stillness to wait for. Measured: first
+    hint at 0.133 of the circle, driven from 0.267."""
     circle, wave = G.gesture("circle"), G.gesture("wave")
     for name, g in (("circle", circle), ("wave", wave)):
         np.savetxt(tmp_path / f"{name}.csv", g[:, :3], delimiter=",", header="t,arm_0,arm_1",
@@ -95,8 +95,8 @@ def test_a_stream_without_stillness_is_hinted_by_its_follower_alone(tmp_path):
 
 def test_a_puck_lifted_and_put_down_still_is_never_hinted(example_cfg):
     """A puck rests, is lifted for 1 s and put down elsewhere, still, with 0.7 mm of jitter.
-    Measured: 7 of these 8 draws hinted (4-12 samples at 0.72-0.92) when the lift counted
-    as a rest; none with the lift shutting the gate."""
+    Measured: none of these 8 draws is hinted; 7 would be (4-12 samples at 0.72-0.92) were
+    the lift counted as a rest."""
     for seed in range(8):
         rng = np.random.default_rng(seed)
         table = _table(example_cfg)
@@ -120,8 +120,8 @@ def _touch_cfg(example_cfg):
 def test_a_finger_is_hinted_from_touch_down_but_not_held_still(example_cfg):
     """A finger's touch-down starts a stroke: a circle drawn straight from it is hinted
     (measured: from its sample 16 of 120, driven from sample 34), while a finger
-    put down and held still is not (one of six draws hinted 12 samples at 0.63 when its
-    touch-down counted as calm)."""
+    put down and held still is not (one of these six draws would be hinted 12 samples at 0.63
+    were its touch-down counted as calm)."""
     g = G.gesture("circle")
     for seed in range(6):
         rng = np.random.default_rng(seed)

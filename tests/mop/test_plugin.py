@@ -341,7 +341,7 @@ def test_a_stream_with_too_few_columns_is_said_on_its_characters(tmp_path, caplo
 
 
 def test_a_sprite_sheet_point_beyond_any_figure_is_refused(tmp_path):
-    # 1e300 loaded; then the view failed at every frame (no pygame Rect holds it): a dark table
+    # a point of 1e300 would fail the view at every frame (no pygame Rect holds it): refused
     bad = tmp_path / "sheet.json"
     bad.write_text('{"format": "tabletop.sprites", "bones": [[0, 1]], '
                    '"frames": [[[0, 0], [1e300, 1]]]}')

@@ -27,7 +27,7 @@ KNOWN_MISSES = {
     # seconds of a pause its charges fall in moved: seed 0's slow contact 0.157 -> 0.109
     # (limit 0.110; its fast path 0.110 -> 0.162), see test_pm_contact.py. Leaving its pushes
     # at once (step_detail.py, StepDetail._detail) moved them again: slow 0.109 -> 0.164, loops
-    # 0.126 -> 0.089 (limits 0.110-0.204); loops 0.156 and slow 0.144 with the step as it is
+    # 0.126 -> 0.089 (limits 0.110-0.204); loops 0.156 and slow 0.144 with the current step
     "bully": {"slow_pauses_30hz": set(), "loops_spins_45hz": set()},
     # the playful friend's targets reached round the main (share_around), its place held in
     # the world where it circles (look._circling): slow and loops contact 0.025 / 0.029
