@@ -99,7 +99,8 @@ class BehaviorShelf:
                 self._problems.append(str(done))
             e = self.engine
             self.news.append(
-                f"{folder.name} not played: {done}; still playing "
+                f"{folder.name} not reloaded: {done}; the version read before plays on" if reload
+                else f"{folder.name} not played: {done}; still playing "
                      f"{e.behavior_name if e.behavior is not None else 'nothing'}")
         elif done is not None:
             behavior, reactor, source = done

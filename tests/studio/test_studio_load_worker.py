@@ -264,3 +264,17 @@ def test_a_hot_reload_started_in_a_takes_first_tick_plays(tmp_path, trainings):
         bench.step(Frame(seq=i, t=1.3 + 0.05 * (i - 2), pucks=pucks))
     assert target._loading is None and e.behavior is not before
 
+
+def test_a_reload_that_fails_says_the_version_read_before_plays_on(tmp_path, trainings):
+    calls, release = trainings
+    release.set()
+    e, bench, target, lib, pucks = _studio(tmp_path)
+    bully = e.behavior
+    (lib / "bully" / "behavior.yaml").write_text("format: [\n")
+    bench.studio.poll()
+    bench.step(Frame(seq=2, t=1.5, pucks=pucks))
+    bench.studio.poll()
+    _, studio = bench.step(Frame(seq=3, t=1.6, pucks=pucks))
+    assert e.behavior is bully and target.current() == "bully"
+    assert "bully not reloaded" in studio.label
+    assert "the version read before plays on" in studio.label
