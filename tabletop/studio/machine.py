@@ -358,6 +358,7 @@ class Studio:
     def _rename(self, target: Target, arg: str) -> None:
         if self._busy("renaming"):
             return
+        getattr(target, "flush", lambda: None)()    # a pick still loading plays (or fails)
         old = target.current()
         if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
             self.say("nothing to rename" if old is None else "rename needs a new name")
@@ -370,6 +371,7 @@ class Studio:
     def _delete(self, target: Target, arg: str) -> None:
         if self._busy("deleting"):
             return
+        getattr(target, "flush", lambda: None)()
         name = target.current()
         if name is None:
             self.say("nothing to delete")

@@ -52,7 +52,8 @@ class BehaviorShelf:
         """Play ``folder``: read and trained in the loader (the behaviour in play goes on until
         :meth:`between_ticks`), or within the tick without background training. ``known``: a
         folder the library's listing found bad raises its InputError now (a pick passes over
-        it); one found bad in the worker is said then."""
+        it); one found bad in the worker is said then, and the shelf names again what it
+        named before the pick (a pick replacing one in flight: before the first)."""
         if self.loader is None:
             from behaviors.puppet_master.engine import Behavior
             stored = library.load_behavior(folder)
@@ -62,6 +63,8 @@ class BehaviorShelf:
             bad = next((p for p in self._problems if _about(p, folder)), None) if known else None
             if bad is not None:
                 raise InputError(bad)
+            if self._loading is None:
+                self._before = (self.playing, self.play_poller, self.removed)
             self.loader.start(load_and_train, folder, self.engine.rate_hz, self.engine.table)
             self._loading, self._load_at = folder, self._now + LOAD_S
         self.playing, self.removed = folder, None
@@ -70,29 +73,47 @@ class BehaviorShelf:
     def between_ticks(self, t: float) -> None:
         """Before the engines of the tick at frame time ``t`` (s): a behaviour trained in the
         loader plays from the first tick LOAD_S after it was picked, waiting for it there if
-        it is not done; one that does not load is said (a bad library file) and the one in
-        play goes on."""
+        it is not done (:meth:`flush`)."""
         self._now = t
-        if self._loading is None or self.loader is None or t < self._load_at:
+        if self._loading is not None and t >= self._load_at:
+            self.flush()
+
+    def flush(self) -> None:
+        """Wait for the loader's behaviour and swap it in now (a take begins, an item is
+        renamed or deleted: they act on what plays). While a take is tried it becomes what a
+        discard goes back to. One that does not load is said (a bad library file); the one in
+        play goes on, and a failed pick leaves the shelf as it was."""
+        if self._loading is None or self.loader is None:
             return
         self.loader.wait()
         done, folder, self._loading = self.loader.poll(), self._loading, None
+        before, self._before = self._before, (None, None, None)
+        reload = folder == before[0]
         if isinstance(done, Exception):
-            if folder == self.playing and folder.parent == self.lib and not folder.exists():
+            if not reload:
+                self.playing, self.play_poller, self.removed = before
+            elif folder.parent == self.lib and not folder.exists():
                 self._gone(folder)
                 return
             if str(done) not in self._problems:
                 self._problems.append(str(done))
-            self.news.append(f"{folder.name} not played: {done}; still playing "
-                             f"{self.engine.behavior_name or 'nothing'}")
+            e = self.engine
+            self.news.append(
+                f"{folder.name} not reloaded: {done}; the version read before plays on" if reload
+                else f"{folder.name} not played: {done}; still playing "
+                     f"{e.behavior_name if e.behavior is not None else 'nothing'}")
         elif done is not None:
             behavior, reactor, source = done
-            self.engine.play(behavior, source["name"], reactor)
+            if self.pending is not None:
+                self.previous = (behavior, source["name"])
+            else:
+                self.engine.play(behavior, source["name"], reactor)
 
     def rename(self, old: str, new: str, undo: bool = False) -> None:
         """Rename the folder and the name its behavior.yaml says; an undo gives the file back
         as it was (a folder made by hand as "my lover" said "lover"), unless it was edited
         since. A yaml that cannot be written puts the folder's old name back (the error said)."""
+        self.flush()
         if not undo:
             not_config_named(self.lib / old, self.config_named)
         rename_folder(self.lib, old, new, check=not undo)
@@ -116,6 +137,7 @@ class BehaviorShelf:
     def remove(self, name: str) -> Callable[[], None]:
         """Delete ``name`` into the trash. The item in play plays on from memory, no longer
         in the library (nothing to reload, delete or rename) until undo puts it back."""
+        self.flush()
         folder, was_playing = self.lib / name, self.current() == name
         not_config_named(folder, self.config_named)
         put_back = trash(folder)
@@ -134,9 +156,9 @@ class BehaviorShelf:
         """Reload the behaviour in play when its files change; report the library's bad
         files (each is skipped, the others keep working)."""
         problems = self._problems
-        # not while a take is tried: a reload would play over it (its change is seen after)
-        if (self.pending is None and self.play_poller is not None and self.playing is not None
-                and self.play_poller.changed()):
+        # not while a take trains or is tried: its change is seen after the take
+        if (self.pending is None and self._training is None and self.playing is not None
+                and self.play_poller is not None and self.play_poller.changed()):
             try:
                 self._load(self.playing)
                 problems = [p for p in problems if not _about(p, self.playing)]

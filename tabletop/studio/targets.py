@@ -73,6 +73,7 @@ class PuppetMasterTarget(BehaviorShelf):
         self.loader = Worker("puppet-master-load") if background else None
         self._loading: Path | None = None                     # its folder, in the worker
         self._load_at = 0.0
+        self._before: tuple = (None, None, None)   # (playing, play_poller, removed) before it
         self._now = 0.0                                       # this tick's frame time (s)
         self._training: np.ndarray | None = None              # the demonstration in the worker
         self._t = 0.0                                         # the last recorded frame's time
@@ -103,7 +104,7 @@ class PuppetMasterTarget(BehaviorShelf):
     # --- the take ------------------------------------------------------------------------------
 
     def begin(self, frame: Frame) -> None:
-        self.between_ticks(math.inf)     # a library pick still training plays first
+        self.flush()                     # a library pick still training plays first
         self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
         self.unseen = Unseen()
         if self.sequential:
