@@ -162,7 +162,8 @@ class Renderer:
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
         if self.moment > 0:
-            screens.one_moment(target, t, self.moment, self._corners())
+            screens.one_moment(target, t, self.moment,
+                               self.map.point(self.table[0] / 2, self.table[1] / 2))
         if overlay:
             drawn.append(self.draw_overlay(target, overlay, self._keep_clear,
                                            self._studio_marks))

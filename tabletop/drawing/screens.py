@@ -159,38 +159,21 @@ def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
     surf.blit(img, img.get_rect(center=(int(center[0]), int(center[1]))))
 
 
-def centre(corners: np.ndarray) -> tuple[float, float]:
-    """The table's centre in pixels from its 4 corners in order: where the diagonals cross
-    (a homography keeps that point; the corners' box centre is off by 17 x 30 px for a
-    keystoned 1280x720 projector); the box centre when they do not cross."""
-    c = np.asarray(corners, dtype=float).reshape(-1, 2)
-    lo, hi = c.min(axis=0), c.max(axis=0)
-    if len(c) == 4:
-        r, s = c[2] - c[0], c[3] - c[1]
-        den = r[0] * s[1] - r[1] * s[0]
-        if abs(den) > 1e-9:
-            d = c[1] - c[0]
-            u = (d[0] * s[1] - d[1] * s[0]) / den
-            if 0.0 < u < 1.0:
-                return float(c[0, 0] + u * r[0]), float(c[0, 1] + u * r[1])
-    return float((lo[0] + hi[0]) / 2), float((lo[1] + hi[1]) / 2)
-
-
 def one_moment(surf: pygame.Surface, t: float, alpha: float,
-               area: np.ndarray | None = None) -> None:
+               centre: tuple[float, float] | None = None) -> None:
     """The calm screen while every camera reconnects: the table dims, a slow ring of lights
     turns and breathes at its centre, "One moment" below it. It is for visitors, so it says
     nothing of why: the source's own words ("cannot open camera 0; reconnecting in 3 s") go to
-    the log, the status file and the operator overlay's health lines. ``area``: the table's
-    corner pixels (default: the window), whose :func:`centre` the ring stands at (a
-    calibrated projector throwing beyond the table puts the table anywhere in its image);
+    the log, the status file and the operator overlay's health lines. ``centre``: the table's
+    centre in pixels (default: the window's), where the ring stands (a calibrated projector
+    throwing beyond the table puts the table anywhere in its image);
     its size follows the window's (the calm screen's look at every table size)."""
     if alpha <= 0.0:
         return
     w, h = surf.get_size()
     k = int(round(255 * (1.0 - 0.75 * alpha)))
     surf.fill((k, k, k), special_flags=pygame.BLEND_MULT)      # dim the table
-    cx, cy = (w / 2, h / 2) if area is None else centre(area)
+    cx, cy = (w / 2, h / 2) if centre is None else centre
     cy -= 0.04 * h
     R = 0.06 * min(w, h)
     col = (150, 200, 255)
