@@ -6,7 +6,6 @@ import functools
 import math
 from typing import Callable
 
-import numpy as np
 import pygame
 
 from tabletop import library
@@ -55,8 +54,7 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pyg
             (x - 14, y - 14, 28, 28)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
-        pygame.draw.polygon(target, c.color, renderer.map.points(
-            np.array([(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)])).tolist(), width=6)
+        pygame.draw.polygon(target, c.color, renderer._corners().tolist(), width=6)
     elif c.action in ("trying", "training"):
         x, y = renderer.map.point(0.04, h - 0.04)
         green = (90, 220, 120)
