@@ -17,7 +17,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from calibration.charuco import CalibrationInputError
-from tabletop.procam import check_inputs, check_lines, run_check
+from tabletop.procam import check_inputs, check_lines, image_surface, run_check
 
 log = logging.getLogger("tabletop")
 
@@ -108,8 +108,7 @@ def shown_surface(image: np.ndarray, window: tuple[int, int]) -> Any:
     window at the desktop's size, or one shrunk to fit the screen), so a cross lands where
     the view draws that table point."""
     import pygame
-    rgb = np.repeat(image[..., None], 3, axis=2) if image.ndim == 2 else image[..., ::-1]
-    surface = pygame.surfarray.make_surface(np.ascontiguousarray(rgb.swapaxes(0, 1)))
+    surface = image_surface(image)
     if surface.get_size() != tuple(window):
         surface = pygame.transform.smoothscale(surface, window)
     return surface

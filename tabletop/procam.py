@@ -265,6 +265,14 @@ def simulated_procam(source: dict, cfg: dict, size: tuple[int, int]) -> Any:
 
 
 # --------------------------------------------------------------------------------- live parts
+def image_surface(image: np.ndarray) -> Any:
+    """``image`` (H, W) grey or (H, W, 3) BGR, as OpenCV gives it, as a pygame surface of
+    (W, H) pixels."""
+    import pygame
+    rgb = np.repeat(image[..., None], 3, axis=2) if image.ndim == 2 else image[..., ::-1]
+    return pygame.surfarray.make_surface(np.ascontiguousarray(rgb.swapaxes(0, 1)))
+
+
 class LiveProCam:
     """A real projector and camera: a pygame window fullscreen on display ``display`` and an
     OpenCV camera ``device``. Each ``grab`` waits ``settle_s`` after the last ``show`` (the
@@ -300,8 +308,7 @@ class LiveProCam:
         import pygame
         self.screen.fill((0, 0, 0))
         if image is not None:
-            rgb = np.repeat(image[..., None], 3, axis=2) if image.ndim == 2 else image[..., ::-1]
-            self.screen.blit(pygame.surfarray.make_surface(rgb.swapaxes(0, 1)), (0, 0))
+            self.screen.blit(image_surface(image), (0, 0))
         pygame.display.flip()
         pygame.event.pump()
         self._shown_at = time.monotonic()
