@@ -136,10 +136,6 @@ def _seeds(text: str) -> list[int]:
     return seeds
 
 
-def _count(misses: dict[str, dict[str, list[str]]]) -> int:
-    return sum(len(v) for paths in misses.values() for v in paths.values())
-
-
 def behaviour_misses(table: dict[str, dict[str, dict]],
                      engine: dict[str, dict[str, list[str]]], seed: int,
                      into: dict[str, list[str]]) -> None:
@@ -171,7 +167,7 @@ def cloud(runs: int, seeds: list[int], seconds: float,
             table = fidelity_table(seconds=seconds, seed=seed, perturb=d)
             met += fidelity.tally(table)[3]
             engine = engine_misses(table, references[seed])
-            engine_n += _count(engine)
+            engine_n += fidelity.count(engine)
             behaviour_misses(table, engine, seed, by_behaviour)
         run = miss_counts(met, engine_n, by_behaviour)
         for k, v in run.items():
@@ -225,16 +221,16 @@ def main() -> None:
         pursuit_all += p_met
         pursuit_ref_all += p_ref_met
         engine, p_engine = engine_misses(table, reference), engine_misses(pursuit, pursuit_ref)
-        engine_all += _count(engine)
+        engine_all += fidelity.count(engine)
         behaviour_misses(table, engine, seed, by_behaviour)
-        pursuit_engine_all += _count(p_engine)
+        pursuit_engine_all += fidelity.count(p_engine)
         if len(seeds) > 1:
             figures[f"seed{seed}.thresholds_met"] = met
             figures[f"seed{seed}.designer.thresholds_met"] = ref_met
             figures[f"seed{seed}.pursuit.thresholds_met"] = p_met
             figures[f"seed{seed}.pursuit.designer.thresholds_met"] = p_ref_met
-            figures[f"seed{seed}.engine_only_misses"] = _count(engine)
-            figures[f"seed{seed}.pursuit.engine_only_misses"] = _count(p_engine)
+            figures[f"seed{seed}.engine_only_misses"] = fidelity.count(engine)
+            figures[f"seed{seed}.pursuit.engine_only_misses"] = fidelity.count(p_engine)
             for name, paths in pursuit.items():      # time at a table edge (no threshold)
                 for path, row in paths.items():
                     figures[f"seed{seed}.pursuit.{name}.gen_edge_share"] = row["gen_edge_share"]
@@ -263,8 +259,8 @@ def main() -> None:
         figures["thresholds_total"] = total * len(per_threshold)
         figures["pursuit.thresholds_met"] = p_met
         figures["pursuit.designer.thresholds_met"] = p_ref_met
-        figures["engine_only_misses"] = _count(engine)
-        figures["pursuit.engine_only_misses"] = _count(p_engine)
+        figures["engine_only_misses"] = fidelity.count(engine)
+        figures["pursuit.engine_only_misses"] = fidelity.count(p_engine)
         figures["pursuit.thresholds_total"] = fidelity.tally(pursuit)[1] * len(per_threshold)
         figures["seed"] = seed
     print("misses per behaviour over the seeds (seed:path:threshold, * the engine's alone):")

@@ -238,8 +238,7 @@ def summary(table: Rows, reference: Rows) -> str:
     meets them on the same path; fidelity.engine_misses)."""
     passed, pairs, per_threshold, met = fidelity.tally(table)
     total = pairs * len(per_threshold)
-    engine = sum(len(v) for paths in fidelity.engine_misses(table, reference).values()
-                 for v in paths.values())
+    engine = fidelity.count(fidelity.engine_misses(table, reference))
     return (f"fidelity: {met} of {total} thresholds met, {pairs - passed} of {pairs} "
             f"behaviour/path pairs miss at least one; {engine} of the {total - met} misses are "
             "the engine's alone (the designer's own character meets them)")

@@ -167,7 +167,7 @@ class FollowerGroup(GroupArrays, GroupRules):
         if lost:
             saved = fw.snapshot(np.flatnonzero(self._owner_of(lost)))
             kept = [(n, getattr(self, n)[self._owner_of(lost)].copy())
-                    for n in self._PER_TEMPLATE + ("_shape", "_drift", "_drift_run", "_gone")]
+                    for n in self._PER_TEMPLATE + self._GROUP_TEMPLATE]
             kept += [(n, getattr(self, n)[lost].copy()) for n in self._PER_MEMBER]
         step_ll = fw.step(self._z)
         if saved is not None:

@@ -108,9 +108,12 @@ class GroupArrays:
         self._tempo_arrays()
         self._m_dim = col(lambda f: f.dim)
 
+    #: Per-template state shared with the members (each follower's arrays are views of these).
     _PER_TEMPLATE = ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_entries",
                      "_num", "_den", "_size", "_misfit", "_misfit_w", "_misshaped", "_covered",
                      "_least", "_judged", "_at_hold_end", "_reached")
+    #: Per-template state the group keeps for its members' spotting, not shared with them.
+    _GROUP_TEMPLATE = ("_shape", "_drift", "_drift_run", "_gone")
     _PER_MEMBER = ("_anchor", "_has_anchor", "_buf", "_nbuf", "_best", "_run", "_run_k", "_lost",
                    "_ended", "_end_x", "_end_last", "_has_end", "_acquired", "_after_end",
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",

@@ -13,7 +13,14 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop import member_validity, members, validity
+from behaviors.mop.group_layout import FLAGS, FLOATS
 from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
+
+#: Per-template state a new attempt starts at 1: a template's size and judged share.
+RESTART_ONE = ("_size", "_judged")
+#: Per-template state a new attempt starts at 0: the rest of the kernel's state and the misfit
+#: (GestureSpotting._restart_here), taken from the layout so no name of it can be left out.
+RESTART_ZERO = tuple(n for n in FLOATS + FLAGS + ("_misfit",) if n not in RESTART_ONE)
 
 
 class GroupRules:
@@ -86,12 +93,10 @@ class GroupRules:
             # every template of this member at its first state, no evidence
             cols = self._slices[i]
             self.forward.reset_templates(cols)
-            for n in ("_evidence", "_recent", "_recent_weight", "_refused", "_engaged", "_num",
-                      "_den", "_misfit", "_misfit_w", "_misshaped", "_covered", "_shape",
-                      "_drift", "_drift_run", "_gone", "_least", "_at_hold_end", "_reached"):
+            for n in RESTART_ZERO:
                 getattr(self, n)[cols] = 0
-            self._size[cols] = 1.0
-            self._judged[cols] = 1.0
+            for n in RESTART_ONE:
+                getattr(self, n)[cols] = 1.0
             self._forget_members(i)   # the threshold model starts afresh with the evidence
             if h == members.ABANDONED:   # the input's way here (validity.unbegun)
                 self._abandoned[i], self._came[i] = True, came

@@ -219,6 +219,11 @@ def engine_misses(table: dict[str, dict[str, dict[str, Any]]],
     return out
 
 
+def count(misses: dict[str, dict[str, list[str]]]) -> int:
+    """The thresholds missed in a {behaviour: {path: thresholds}} table (:func:`engine_misses`)."""
+    return sum(len(v) for paths in misses.values() for v in paths.values())
+
+
 def main_on_grid(main: np.ndarray, t: np.ndarray) -> np.ndarray:
     """Main poses (x, y, look) of a path ``main`` (n, 4) ``t, x, y, dir`` at times ``t``."""
     return np.column_stack([np.interp(t, main[:, 0], main[:, 1]),

@@ -387,3 +387,18 @@ def test_a_group_holds_a_paused_action_as_its_followers_alone(monkeypatch):
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams],
                                                  streams) for x in s)
     assert valid >= plain + 60, (valid, plain)
+
+
+def test_every_kernel_template_state_is_kept_by_the_group_and_reset_on_a_new_attempt():
+    """Each per-template float and flag the compiled kernel updates is an array of the group
+    (shared with the followers or the group's own spotting state, so a lost sample keeps it) and
+    is set afresh when a new attempt starts."""
+    from behaviors.mop.group_layout import FLAGS, FLOATS
+    from behaviors.mop.group_rules import RESTART_ONE, RESTART_ZERO
+    kept = set(FollowerGroup._PER_TEMPLATE + FollowerGroup._GROUP_TEMPLATE)
+    reset = set(RESTART_ZERO + RESTART_ONE)
+    assert set(RESTART_ONE) <= set(FLOATS)
+    assert not set(RESTART_ZERO) & set(RESTART_ONE)
+    for name in FLOATS + FLAGS:
+        assert name in kept, f"{name} is not kept by the group"
+        assert name in reset, f"{name} is not reset on a new attempt"
