@@ -18,7 +18,8 @@ carries it as ``t_mono``. A frame where a filter took inputs away before the eng
 studio: control-marker pucks and designer commands) carries them as ``consumed`` (see
 :attr:`tabletop.frames.Frame.consumed`), so a replay runs the studio again; the frame whose
 engines first play a hot-reloaded behaviour carries what it was trained from as
-``consumed["reload"]["behaviors"]`` (:mod:`tabletop.studio.reloader`). A reader accepts a
+``consumed["reload"]["behaviors"]``, and one where a reload failed its label's note as
+``consumed["reload"]["notes"]`` (:mod:`tabletop.studio.reloader`). A reader accepts a
 file whose last line was cut short by a power cut.
 """
 
@@ -70,7 +71,7 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         **({"focus": frame.focus} if frame.focus is not None else {}),
         **({"consumed": {k: {"pucks": [_puck_to_dict(p) for p in v.get("pucks", ())],
                              "commands": list(v.get("commands", ())),
-                             **({"behaviors": v["behaviors"]} if "behaviors" in v else {})}
+                             **{r: v[r] for r in ("behaviors", "notes") if r in v}}
                          for k, v in frame.consumed.items()}} if frame.consumed else {}),
     }
 
@@ -97,7 +98,7 @@ def _commands(value: Any, what: str) -> tuple[str, ...]:
 
 def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
     """``consumed`` of a frame line: by filter, the pucks and commands it took (and the hot
-    reloads' ``behaviors``)."""
+    reloads' ``behaviors`` and failed reloads' ``notes``)."""
     if not isinstance(value, dict) or not all(isinstance(v, dict) for v in value.values()):
         raise ValueError("consumed: expected a mapping of filters to {pucks, commands}")
     out: dict[str, dict[str, Any]] = {}
@@ -110,6 +111,11 @@ def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
                 raise ValueError(f"consumed.{k}.behaviors: expected a mapping of engines to "
                                  "{name, parameters, shape, demonstration}")
             out[str(k)]["behaviors"] = v["behaviors"]
+        if "notes" in v:          # a failed hot reload: {engine: its label's note}
+            if not isinstance(v["notes"], dict) or not all(
+                    isinstance(n, str) for n in v["notes"].values()):
+                raise ValueError(f"consumed.{k}.notes: expected a mapping of engines to notes")
+            out[str(k)]["notes"] = v["notes"]
     return out
 
 

@@ -7,9 +7,11 @@ folder to a :class:`~behaviors.worker.Worker`; the character plays on with the b
 and the new one (with its reactor, built in the worker) is played from a tick boundary.
 
 A hot reload happens on the wall clock (the folder's files change), so a recording carries it:
-the frame whose engines first play the new behaviour holds, in ``consumed["reload"]``, what it
-was trained from (name, parameters, the demonstration's float64 bytes in base64, encoded in the
-worker), and a replay trains it within that frame (:class:`RecordedReloads`), bit for bit.
+the frame whose engines first play the new behaviour holds, in ``consumed["reload"]["behaviors"]``,
+what it was trained from (name, parameters, the demonstration's float64 bytes in base64, encoded
+in the worker), and a replay trains it within that frame (:class:`RecordedReloads`), bit for bit.
+A reload that fails is recorded too, as the label's note (``consumed["reload"]["notes"]``), so
+the replayed labels say "bad file" from the same frame as live.
 """
 
 from __future__ import annotations
@@ -83,25 +85,26 @@ class BehaviorReloader:
     def __call__(self, frame: Frame | None = None) -> Frame | None:
         """A frame filter: ``frame``, holding what a behaviour played from it was trained from
         (``consumed["reload"]``, for replays)."""
-        source = None
+        done = None
         if self.loading and self.worker is not None:
-            source = self._apply(self.worker.poll())
+            done = self._apply(self.worker.poll())
         if self.poller.changed():
             args = (self.folder, self.engine.rate_hz, self.engine.table)
             if self.worker is None:
                 try:
-                    source = self._apply(load_and_train(*args))
+                    done = self._apply(load_and_train(*args))
                 except InputError as exc:
-                    self._apply(exc)
+                    done = self._apply(exc)
             else:
                 self.loading = True   # a job still running is dropped for the newer files
                 self.worker.start(load_and_train, *args)
-        if source is None or frame is None:
+        if done is None or frame is None:
             return frame
+        key, value = done
         reload = frame.consumed.get("reload", {})
-        behaviors = {**reload.get("behaviors", {}), self.engine.name: source}
+        entries = {**reload.get(key, {}), self.engine.name: value}
         return dataclasses.replace(frame, consumed={**frame.consumed,
-                                                    "reload": {**reload, "behaviors": behaviors}})
+                                                    "reload": {**reload, key: entries}})
 
     def wait(self) -> None:
         """Wait for the job in the worker and play its behaviour (tests; the loop never waits)."""
@@ -110,8 +113,9 @@ class BehaviorReloader:
             self._apply(self.worker.poll())
 
     def _apply(self, done: tuple[Any, Any, dict[str, Any]] | Exception | None
-               ) -> dict[str, Any] | None:
-        """Play a finished job's behaviour (its source returned), or keep the one in play."""
+               ) -> tuple[str, Any] | None:
+        """Play a finished job's behaviour, or keep the one in play and say why in the label:
+        what a recording keeps of it (``("behaviors", source)`` or ``("notes", note)``)."""
         if done is None:
             return None
         self.loading = False
@@ -119,23 +123,29 @@ class BehaviorReloader:
             self.problem = str(done)
             self.engine.note = f"bad file, still playing the previous behaviour: {done}"
             log.error("behaviour not reloaded: %s", done)
-            return None
+            return "notes", self.engine.note
         behavior, reactor, source = done
         self.engine.play(behavior, source["name"], reactor)
         self.problem = self.engine.note = ""
         log.info("behaviour %s reloaded", self.folder)
-        return source
+        return "behaviors", source
 
 
 class RecordedReloads:
     """Replay's frame filter: a recorded frame's reloads (``consumed["reload"]``) are trained
-    and played before its engines, as live; one that cannot be is logged and skipped."""
+    and played before its engines, and its failed reloads' notes put in their labels, as live.
+    A reload that cannot be trained is logged and skipped (the behaviour in play goes on), and
+    the frame's other engines are reloaded all the same."""
 
     def __init__(self, engines) -> None:
         self.engines = {e.name: e for e in engines}
 
     def __call__(self, frame: Frame) -> Frame:
-        for name, source in frame.consumed.get("reload", {}).get("behaviors", {}).items():
+        reload = frame.consumed.get("reload", {})
+        for name, note in reload.get("notes", {}).items():
+            if name in self.engines:
+                self.engines[name].note = str(note)
+        for name, source in reload.get("behaviors", {}).items():
             engine = self.engines.get(name)
             if engine is None:
                 continue
@@ -143,4 +153,11 @@ class RecordedReloads:
                 engine.play(trained_from(source), str(source.get("name", "")))
             except InputError as exc:
                 log.error("replay: %s (the behaviour in play goes on)", exc)
+                continue
+            except Exception as exc:     # a failure of training: this engine's reload only
+                log.error("replay: recorded reload of %s for %s not trained: %s: %s "
+                          "(the behaviour in play goes on)", source.get("name"), name,
+                          type(exc).__name__, exc)
+                continue
+            engine.note = ""
         return frame

@@ -103,9 +103,9 @@ def test_a_hot_reload_trains_in_the_worker_and_a_bad_folder_keeps_the_old(tmp_pa
     assert caplog.text.count("behaviour not reloaded") == 1
 
 
-def test_a_recorded_session_with_a_hot_reload_replays_exactly(tmp_path):
-    """The reload happens on the wall clock; the frame it plays from carries what it trained
-    from, so ``tabletop replay`` plays it from the same frame, to the last digit."""
+def _record_and_replay(tmp_path, edit) -> tuple[list[dict], list[dict]]:
+    """A 90-frame recorded session of a hot-reloading engine whose folder ``edit(folder)``
+    changes at frame 30, and its ``tabletop replay``: (live frames, replayed frames)."""
     import json
 
     from tabletop.cli import main as cli
@@ -127,22 +127,38 @@ def test_a_recorded_session_with_a_hot_reload_replays_exactly(tmp_path):
     (hook,) = [f for f in inst.loop.filters if isinstance(f, BehaviorReloader)]
     hook.poller.every_s = 0.0
     inst.loop.inputs.open()
-    first = inst.engines[0].behavior
     for i in range(90):
         if i == 30:
-            library.save_behavior(tmp_path / "lib", "x",
-                                  designers.demonstrate("stalker", seconds=5), {}, replace=True)
+            edit(folder)
         if hook.loading:
             hook.worker.wait()        # (played from the next tick, whenever the worker is done)
         inst.loop.tick()
         clock.advance(1 / 30)
     inst.loop.close()
-    assert inst.engines[0].behavior is not first
     out = tmp_path / "replayed.jsonl"
     assert cli(["replay", str(live), "--fast", "--no-view", "--out", str(out)]) == 0
     a, b = ([json.loads(x) for x in p.read_text().splitlines()[1:]] for p in (live, out))
-    assert sum("reload" in f.get("consumed", {}) for f in a) == 1
     assert len(a) == len(b) == 90
+    return a, b
+
+
+def test_a_recorded_session_with_a_hot_reload_replays_exactly(tmp_path):
+    """The reload happens on the wall clock; the frame it plays from carries what it trained
+    from, so ``tabletop replay`` plays it from the same frame, to the last digit."""
+    a, b = _record_and_replay(tmp_path, lambda folder: library.save_behavior(
+        folder.parent, "x", designers.demonstrate("stalker", seconds=5), {}, replace=True))
+    assert sum("behaviors" in f.get("consumed", {}).get("reload", {}) for f in a) == 1
+    assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []
+
+
+def test_a_recorded_session_with_a_bad_hot_reload_replays_its_labels(tmp_path):
+    """A reload that fails says so in the character's label from the frame it fails in; the
+    recording carries the note, so the replayed labels say it from the same frame."""
+    a, b = _record_and_replay(
+        tmp_path, lambda folder: (folder / "behavior.yaml").write_text("format: [\n"))
+    labels = [[c.get("label") for c in f["characters"]] for f in a]
+    assert any("bad file" in str(x) for x in labels[-1]), labels[-1]
+    assert sum("notes" in f.get("consumed", {}).get("reload", {}) for f in a) == 1
     assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []
 
 
@@ -278,3 +294,35 @@ def test_a_reload_that_fails_says_the_version_read_before_plays_on(tmp_path, tra
     assert e.behavior is bully and target.current() == "bully"
     assert "bully not reloaded" in studio.label
     assert "the version read before plays on" in studio.label
+
+
+def test_a_replayed_reload_that_fails_to_train_leaves_the_frames_other_reloads(
+        tmp_path, monkeypatch, caplog):
+    from tabletop.config import validate_config
+    from tabletop.plugins import puppet_master as pm
+    from tabletop.registry import BuildContext
+    from tabletop.studio.reloader import RecordedReloads, load_and_train
+    folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=4), {})
+    cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
+        {"kind": "puppet_master", "name": n, "behavior": str(folder)} for n in ("a", "b")]},
+        "t.yaml", tmp_path)
+    ctx = BuildContext((1.2, 0.8), 60.0, cfg, tmp_path)
+    a, b = (pm.build(c, ctx) for c in cfg["engines"])
+    first_a, first_b = a.behavior, b.behavior
+    source = load_and_train(folder, a.rate_hz, a.table)[2]
+    real = Behavior.train.__func__
+    seen: list[int] = []
+
+    def train(cls, *args, **kwargs):      # the first training fails as no bad file would
+        seen.append(1)
+        if len(seen) == 1:
+            raise RuntimeError("out of memory")
+        return real(cls, *args, **kwargs)
+
+    monkeypatch.setattr(Behavior, "train", classmethod(train))
+    a.note = b.note = "bad file, still playing the previous behaviour: x"
+    frame = Frame(seq=0, t=1.0, consumed={"reload": {"behaviors": {"a": source, "b": source}}})
+    assert RecordedReloads([a, b])(frame) is frame
+    assert a.behavior is first_a and a.note                   # a plays on, its note kept
+    assert b.behavior is not first_b and b.note == ""          # b reloaded all the same
+    assert caplog.text.count("out of memory") == 1 and "for a" in caplog.text
