@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import io
+from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
 import math
 import os
 import shutil
@@ -131,13 +132,13 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
 
 @contextmanager
 def _naming(target: Path) -> Iterator[None]:
-    """An OSError naming no file while ``target`` is written (a full disk: the write, flush or
-    fsync says only "No space left on device") is raised again naming ``target``, its errno
-    kept for the callers that tell a full disk from other errors."""
+    """A write's OSError while ``target`` is written (a full disk: the write, flush or fsync
+    says only "No space left on device") is raised again naming ``target``, its errno kept for
+    the callers that tell a full disk from other errors; others (reading a source) are kept."""
     try:
         yield
     except OSError as exc:
-        if exc.filename is not None:
+        if exc.filename is not None or exc.errno not in (ENOSPC, EDQUOT, EFBIG, EIO, EPIPE):
             raise
         raise OSError(exc.errno, exc.strerror or str(exc), str(target)) from None
 
@@ -268,8 +269,7 @@ def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV fi
              min_rows: int = 1) -> tuple[list[str], np.ndarray]:
     """Read a numeric CSV with a header row; returns (column names, float array rows x columns).
     See :func:`read_csv_lines`."""
-    header, data, _ = read_csv_lines(path, required, what, min_rows)
-    return header, data
+    return read_csv_lines(path, required, what, min_rows)[:2]
 
 
 def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",

@@ -128,3 +128,18 @@ def test_a_full_disk_names_the_file_being_written(tmp_path, capsys):
         signal.signal(signal.SIGXFSZ, ignored)
     assert err.value.errno == errno.EFBIG and err.value.filename == str(tmp_path / "out.csv")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_error_reading_a_source_while_writing_keeps_its_own_message(tmp_path):
+    # the writer names its target only for a write's own errors (a full disk); a failed read
+    # of a source inside the block is the source's error, not "out.csv: Is a directory"
+    from tabletop.files import atomic_writer
+    source = os.open(tmp_path, os.O_RDONLY)
+    try:
+        with pytest.raises(IsADirectoryError) as err:
+            with atomic_writer(tmp_path / "out.csv") as f:
+                f.write(os.read(source, 100).decode())
+    finally:
+        os.close(source)
+    assert err.value.filename is None and "out.csv" not in str(err.value)
+    assert os.listdir(tmp_path) == []
