@@ -185,10 +185,19 @@ def check_metres(xy: np.ndarray, source: str, what: str) -> None:
 def check_library_path(path: Path) -> None:
     """``--train`` naming a library instead of one of its behaviours, or a behaviour the
     library does not have (a typo: "lovr"), is refused naming the library's behaviours, not
-    only "behavior.yaml: not found" or "demonstration CSV not found"."""
+    only "behavior.yaml: not found" or "demonstration CSV not found"; naming a folder's
+    behavior.yaml, with the folder and its demonstration CSV to give instead."""
     import difflib
 
     from tabletop import library
+    if path.name == library.BEHAVIOR_FILE and path.is_file():
+        # a behaviour folder's own file, not a CSV: said so, not "expected header t,main_x..."
+        try:
+            demo = f" or its demonstration CSV ({library.load_behavior(path.parent).data_file})"
+        except library.LibraryError:
+            demo = ""
+        raise BehaveArgumentError(f"--train {path}: a behaviour file, not a demonstration CSV; "
+                                  f"give its folder (--train {path.parent}){demo}")
     if path.is_dir() and not (path / library.BEHAVIOR_FILE).exists():
         lib, name = path, ""
     elif not path.exists() and path.parent.is_dir() and not path.suffix:

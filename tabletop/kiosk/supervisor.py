@@ -86,6 +86,7 @@ class Child:
     why: str = ""                     # how it failed, for the crash log
     number: int = 0                   # which start of the supervisor (1, 2, ...)
     ended: float | None = None
+    muted: bool = False               # its stderr is no longer echoed (see Supervisor._watch)
 
     def close(self) -> None:
         if self.exit_fd is not None:
@@ -124,6 +125,7 @@ class Supervisor:
         # each restart: a 40 s drill ran 70 s)
         self.seconds = seconds
         self._end_at: float | None = None
+        self._timed_out = False       # stopped by the end of ``seconds``, not by a signal
         self.env = dict(os.environ if env is None else env)
         self.notifier = notifier or Notifier()
         self.echo, self.clock = echo, clock
@@ -218,7 +220,7 @@ class Supervisor:
         assert child.process.stderr is not None
         for line in child.process.stderr:
             child.tail.append(line.rstrip("\n"))
-            if self.echo:
+            if self.echo and not child.muted:
                 sys.stderr.write(line)
                 sys.stderr.flush()
 
@@ -312,6 +314,7 @@ class Supervisor:
     def _check_end(self) -> bool:
         """Stop once ``seconds`` have passed since the first READY; is the supervisor stopped?"""
         if self._end_at is not None and self.clock() >= self._end_at:
+            self._timed_out = True
             self.stop.set()
         return self.stop.is_set()
 
@@ -321,6 +324,10 @@ class Supervisor:
         while True:
             self._check_end()
             if self.stop.is_set():
+                # the end of ``--seconds`` while a restart is still starting is the timed end,
+                # not an interruption: the child's "tabletop run: interrupted" (its SIGTERM
+                # during its imports) is not echoed
+                child.muted = self._timed_out and child.ready_at is None
                 self._terminate(child)
                 return "stop", child.process.returncode
             for msg in self._messages(0.05, child):

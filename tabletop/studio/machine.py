@@ -68,7 +68,10 @@ class Studio:
         # they last, at most MESSAGE_S
         self._message_for: tuple[str, str | None] | None = None
         self._warning, self._warning_until = "", -math.inf   # a take's problem ("no puck 2")
-        self.problems: list[str] = []
+        # the bad library files each target's engine logged as it started: the studio logs
+        # only what changes after that (one line per bad file for the operator)
+        self.problems: list[str] = [p for t in targets
+                                    for p in getattr(t, "started_problems", ())]
         self.undo_stack: list[tuple[str, Callable[[], None]]] = []
         self.tries: list[Try] = []
         self._try: Try | None = None

@@ -41,6 +41,7 @@ class MopTarget:
                                read=getattr(stage, "library_read", {}).get(character))
                         if lib is not None else None)
         self._problems: list[str] = list(getattr(stage, "library_problems", {}).get(character, []))
+        self.started_problems = tuple(self._problems)   # logged by the stage's start
         self.loaded = set(getattr(stage, "library_loaded", {}).get(character, []))
 
     @property

@@ -29,6 +29,7 @@ def _about(problem: str, folder: Path) -> bool:
 class BehaviorShelf:
     """Picking, renaming, deleting and reloading the library's behaviours (a mixin)."""
 
+    started_problems: tuple[str, ...] = ()   # the studio logs the library's bad files itself
 
     def items(self) -> list[str]:
         return library.list_behaviors(self.lib)

@@ -58,6 +58,7 @@ class TouchPoseTarget:
         self._loaded = set(engine.designed)   # the library's actions the character knows
         self._poller = Poller(self.lib, read=getattr(engine, "library_read", None))
         self._problems: list[str] = list(engine.problems)
+        self.started_problems = tuple(engine.problems)   # logged by the engine's start
 
     # --- the take ------------------------------------------------------------------------------
 

@@ -15,6 +15,7 @@ class Target(Protocol):
     name: str   # the focus name (Frame.focus)
     what: str   # "behaviour", "action", ...
     kept_in: str  # what the keep's line adds: where kept takes are saved (" in lib/")
+    started_problems: tuple[str, ...]   # bad library files its engine logged as it started
 
     def begin(self, frame: Frame) -> None: ...            # a take starts now
     def resume(self, frame: Frame) -> None: ...           # its next part (cut() named) starts

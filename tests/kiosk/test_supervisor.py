@@ -348,3 +348,36 @@ def test_run_kiosk_stops_cleanly_on_sighup_to_its_supervisor(tmp_path):
     assert "Traceback" not in err and "supervisor (pid" not in err
     assert json.loads((tmp_path / "status.json").read_text())["mode"] == "stopped"
     assert "is gone" not in (tmp_path / "logs" / "tabletop.log").read_text()
+
+
+# A stand-in installation: the first start is ready, then crashes; the restarted one is still
+# starting (importing, as ``tabletop run`` does for its first second) when it is stopped, and
+# says "interrupted" on SIGTERM there as ``tabletop run`` does (tabletop.cli).
+STARTING_CHILD = """
+import os, signal, socket, sys, time
+if os.environ["TABLETOP_RESTARTS"] == "0":
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    s.sendto(b"READY=1", os.environ["NOTIFY_SOCKET"])
+    time.sleep(0.3)
+    sys.exit(1)
+def stopped(*_):
+    print("tabletop run: interrupted", file=sys.stderr, flush=True)
+    os._exit(130)
+signal.signal(signal.SIGTERM, stopped)
+print("tabletop: starting", file=sys.stderr, flush=True)
+time.sleep(30)
+"""
+
+
+def test_seconds_ending_while_a_restart_starts_end_the_kiosk_as_a_timed_run(tmp_path, capfd):
+    """``--seconds`` ending while a restarted installation is still starting is the kiosk's
+    timed end, not an interruption: status 0 and no "interrupted" line from the child it
+    stopped."""
+    sup = Supervisor([sys.executable, "-c", STARTING_CHILD],
+                     Policy(stall_s=5.0, backoff_s=(0.1, 2.0), startup_s=60),
+                     tmp_path / "crashes.log", spares=0, seconds=0.6)
+    assert sup.run() == 0
+    assert sup.starts == 2 and sup.crashes == 1
+    err = capfd.readouterr().err
+    assert "tabletop: starting" in err, err          # the restarted child's start is echoed
+    assert "interrupted" not in err, err

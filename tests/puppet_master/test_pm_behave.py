@@ -443,3 +443,19 @@ def test_one_table_side_by_param_over_a_folders_table_takes_the_others(files, tm
     assert behave(*base, "--out", tmp_path / "stored.csv") == 0
     assert (tmp_path / "one.csv").read_text() == (tmp_path / "both.csv").read_text()
     assert (tmp_path / "one.csv").read_text() != (tmp_path / "stored.csv").read_text()
+
+
+def test_a_behaviour_file_given_as_the_demonstration_names_what_to_give(files, tmp_path,
+                                                                        capsys):
+    """--train LIB/NAME/behavior.yaml was read as a CSV and refused naming only its "header";
+    it is said to be a behaviour file, with the folder and its demonstration CSV to give."""
+    d, main = files
+    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
+    folder = tmp_path / "lover"
+    shutil.copytree(SHIPPED / "lover", folder)
+    base = ["--input", tmp_path / "main.csv", "--out", tmp_path / "o.csv"]
+    assert behave("--train", folder / "behavior.yaml", *base) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "a behaviour file, not a demonstration CSV" in err[0], err
+    assert f"--train {folder}" in err[0] and str(folder / "demonstration.csv") in err[0], err
+    assert behave("--train", folder / "demonstration.csv", *base) == 0    # as it says

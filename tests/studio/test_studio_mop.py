@@ -485,3 +485,22 @@ def test_the_countdown_names_the_performer_and_its_puck(tmp_path):
     table.tick(["designer.record"])
     assert table.studio.state == "countdown"
     assert table.status == "[mop/face] get ready: hand (puck 1) performs face's new action"
+
+
+def test_a_bad_library_file_at_the_start_is_logged_once(tmp_path, caplog):
+    """The engine logs a bad library file as it starts; the studio behind it logs only what
+    changes after that, so the operator reads the file's problem once."""
+    (tmp_path / "lib" / "lizard").mkdir(parents=True)
+    (tmp_path / "lib" / "lizard" / "actions.yaml").write_text("actions: [oops\n")
+    with caplog.at_level("ERROR", logger="tabletop"):
+        engine = build(designer_config(tmp_path), tmp_path)
+        table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+        for t in table.targets:
+            t._poller.every_s = 0.0
+        for _ in range(2):
+            table.tick()
+            table.studio.poll()
+        table.tick()
+    said = [r.getMessage() for r in caplog.records if "lizard/actions.yaml" in r.getMessage()]
+    assert len(said) == 1, said
+    assert "1 bad library file(s)" in table.status

@@ -387,3 +387,18 @@ def test_a_keep_refused_for_its_name_knows_the_other_runs_action_of_that_name(tm
         b.tick()
     names = sorted(x.name for x in b.engine.core.m.actions if x.name.startswith("poser"))
     assert names == ["poser-action", "poser-action-2"]
+
+
+def test_a_bad_action_file_at_the_start_is_logged_once(tmp_path, models, caplog):
+    """The engine logs a bad library file as it starts; the studio behind it logs only what
+    changes after that, so the operator reads the file's problem once."""
+    bad = tmp_path / "actions" / "wave"
+    bad.mkdir(parents=True)
+    (bad / "action.json").write_text('{"name": "wave", "part": ')    # cut short
+    with caplog.at_level("ERROR", logger="tabletop"):
+        p = Poser(tmp_path, models)
+        for _ in range(3):
+            p.tick()
+    said = [r.getMessage() for r in caplog.records if "wave/action.json" in r.getMessage()]
+    assert len(said) == 1, said
+    assert "bad library file" in p.status and "wave/action.json" in p.status
