@@ -37,8 +37,8 @@ def service_key_code(name: str) -> int | None:
 
 def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
     """What the fields cannot say alone: a back-off that grows, a key the keyboard has, a
-    status file and crash log that are not folders (a status file naming a folder was one
-    warning and never written, the table's monitors seeing none for weeks; a folder that
+    status file and crash log that are not folders and whose folders are not files (either
+    would never be written, the table's monitors seeing nothing for weeks; a folder that
     cannot be made yet, a disk still mounting, is retried while running)."""
     from pathlib import Path
 
@@ -48,8 +48,7 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
             continue
         if Path(k[key]).is_dir():
             raise ctx.error(f"{path}.{key}", f"{k[key]} is a folder; expected a file name")
-        # a folder that is a file never becomes one: the status was a warning every heartbeat
-        # and the crash log silently never written
+        # a folder that is a file never becomes one: refused here, not warned every heartbeat
         blocking = file_on_path(Path(k[key]).parent)
         if blocking is not None:
             raise ctx.error(f"{path}.{key}", f"{k[key]} cannot be written: {blocking} is a "
