@@ -100,6 +100,9 @@ class Presence:
         if self.glide is None:
             return 0.0, 0.0
         t0, dx, dy = self.glide
+        if not 0.0 <= t - t0 < GLIDE_S:     # glided, or a frame time before the jump's
+            self.glide = None
+            return 0.0, 0.0
         w = 1.0 - smoothstep((t - t0) / GLIDE_S)
         return dx * w, dy * w
 

@@ -53,3 +53,12 @@ def test_a_jump_is_glided_and_a_motion_is_not():
         r.draw(s, Frame(seq=k, t=t, characters=(lover(x),)))
         if k % 5 == 0:
             assert abs(body_x(r, s) - x) < 0.012, k
+
+
+def test_a_glide_ends_and_is_not_held_for_an_earlier_frame_time():
+    from tabletop.drawing.life import GLIDE_S, Presence
+    p = Presence(lover(0.5), born=0.0, t=1.0, glide=(1.0, 0.24, 0.0))
+    assert p.offset(1.0 + GLIDE_S / 2)[0] > 0.05           # half way: still on its way
+    assert p.offset(1.0 + GLIDE_S + 0.01) == (0.0, 0.0) and p.glide is None
+    p.glide = (1.0, 0.24, 0.0)
+    assert p.offset(0.5) == (0.0, 0.0) and p.glide is None  # a frame time before the jump's
