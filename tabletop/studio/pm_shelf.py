@@ -14,7 +14,7 @@ from tabletop.files import atomic_write_text
 from tabletop.frames import InputError
 from tabletop.kiosk.watch import Poller
 from tabletop.studio.folders import not_config_named, rename_folder, trash
-from tabletop.studio.reloader import load_and_train, stored_params
+from tabletop.studio.reloader import load_and_train
 
 LOAD_S = 0.15   # a picked library behaviour plays this long after the pick (frame time): an
                 # 80 s demonstration trains in 44-67 ms, so the loop rarely waits
@@ -56,10 +56,9 @@ class BehaviorShelf:
         it); one found bad in the worker is said then, and the shelf names again what it
         named before the pick (a pick replacing one in flight: before the first)."""
         if self.loader is None:
-            from behaviors.puppet_master.engine import Behavior
-            stored = library.load_behavior(folder)
-            params = stored_params(stored, self.engine.rate_hz)
-            self.engine.play(Behavior.train(stored.demonstration, **params), stored.name)
+            behavior, reactor, source = load_and_train(folder, self.engine.rate_hz,
+                                                       self.engine.table)
+            self.engine.play(behavior, source["name"], reactor)
         else:
             bad = next((p for p in self._problems if _about(p, folder)), None) if known else None
             if bad is not None:
