@@ -11,7 +11,8 @@ from tests.puppet_master import demos as pm_demos
 import pytest
 
 from tabletop.cli import main as cli
-from tabletop.files import read_csv, write_csv
+from tabletop.files import write_csv
+from tabletop.readers import read_csv
 
 DEMO_HEADER = ["t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir"]
 MAIN_HEADER = ["t", "main_x", "main_y", "main_dir"]
