@@ -1,0 +1,117 @@
+"""The studio's commands on the library item in play: switch (``designer.item_next`` /
+``item_previous``), rename, delete and undo (see :mod:`tabletop.studio.machine`). None of them
+acts while a take is under way or tried: they act on the item in play, not on the take."""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from tabletop.frames import InputError
+from tabletop.studio.take import Target
+
+
+class LibraryCommands:
+    """The library half of :class:`tabletop.studio.machine.Studio`: the commands that act on
+    the library item in play, and the undo of a keep, rename or delete."""
+
+    state: str
+    quiet: bool
+    undo_stack: list[tuple[str, Callable[[], None]]]
+
+    @property
+    def target(self) -> Target | None:
+        raise NotImplementedError
+
+    def say(self, text: str) -> None:
+        raise NotImplementedError
+
+    def _busy(self, doing: str) -> bool:
+        """Is a take under way? Then ``doing`` is refused, said: it acts on the library item
+        in play, not on the take (a switch would train the take with another character's
+        parameters; F2 on a take tried would rename the item played before it)."""
+        why = self._busy_why(doing)
+        if why:
+            self.say(why)
+        return self.state != "idle"
+
+    def _busy_why(self, doing: str) -> str:
+        if self.state in ("countdown", "recording", "ready"):
+            return f"no {doing} during a take: finish it, or X cancels it"
+        if self.state in ("trying", "training"):
+            return f"no {doing} while a take is tried: K keeps or X discards it first"
+        return ""
+
+    def _item(self, target: Target, step: int) -> None:
+        if self._busy("switching"):
+            return
+        items = target.items()
+        if not items:
+            self.say("the library is empty")
+            return
+        cur = target.current()
+        i = (items.index(cur) + step) % len(items) if cur in items else 0
+        skipped: list[str] = []     # an item that does not load is passed over, named: ]
+        for _ in items:             # on a broken first item played nothing, again and again
+            try:
+                target.use(items[i])
+                break
+            except InputError as exc:
+                skipped.append(str(exc))
+                i = (i + step) % len(items)
+        else:
+            raise InputError(f"no item of the library loads: {skipped[0]}")
+        note = f"; skipped {len(skipped)} that do not load: {skipped[0]}" if skipped else ""
+        self.say(f"playing {items[i]} ({i + 1} of {len(items)}){note}")
+
+    def _item_next(self, target: Target, arg: str) -> None:
+        self._item(target, 1)
+
+    def _item_previous(self, target: Target, arg: str) -> None:
+        self._item(target, -1)
+
+    def may_rename(self) -> bool:
+        """F2 in the view: may the name prompt open? If not, why is said at once (the same
+        refusal as the rename's), not after a name was typed."""
+        self.quiet = False
+        target = self.target
+        why = ("no designer target" if target is None else self._busy_why("renaming")
+               or ("nothing to rename" if target.current() is None else ""))
+        if why:
+            self.say(why)
+        return not why
+
+    def _rename(self, target: Target, arg: str) -> None:
+        if self._busy("renaming"):
+            return
+        getattr(target, "flush", lambda: None)()    # a pick still loading plays (or fails)
+        old = target.current()
+        if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
+            self.say("nothing to rename" if old is None else "rename needs a new name")
+            return
+        target.rename(old, arg)
+        self.undo_stack.append((f"rename {old} -> {arg}",
+                                lambda: target.rename(arg, old, undo=True)))
+        self.say(f"renamed {old} to {arg}")
+
+    def _delete(self, target: Target, arg: str) -> None:
+        if self._busy("deleting"):
+            return
+        getattr(target, "flush", lambda: None)()
+        name = target.current()
+        if name is None:
+            self.say("nothing to delete")
+            return
+        restore = target.remove(name)
+        self.undo_stack.append((f"delete {name}", restore))
+        self.say(f"deleted {name} (U undoes)")
+
+    def _undo(self, target: Target, arg: str) -> None:
+        if self._busy("undoing"):
+            return
+        if not self.undo_stack:
+            self.say("nothing to undo")
+            return
+        what, fn = self.undo_stack[-1]
+        fn()                  # one that cannot be done now (a read-only disk) stays to undo
+        self.undo_stack.pop()
+        self.say(f"undone: {what}")
