@@ -35,13 +35,8 @@ seed 0: 51 gestures, 40 s of rest beyond the first second of each rest, 20 slide
   (0.032 worst gesture), rest 0 ticks, slides home 0%, other characters driven 0.8% of the time
   (the first edge of a square is a line until it turns).
 
-Designer takes (MOP 4.1.1, in seconds): :meth:`MopStage.begin_take` records a character's
-performer; :meth:`MopStage.stop_take` makes the take an action at once (trained: the followers are
-rebuilt), playing the motion chosen with :meth:`MopStage.assign_motion` (which cycles the
-character's motions, also for a pending take). Perform to try it; :meth:`MopStage.keep_take` keeps
-it (``save`` is called, e.g. to write it to the library), :meth:`MopStage.drop_take` drops it.
-The designer's keys and control markers reach these through the studio's one state machine
-(:mod:`tabletop.studio`), which draws the countdown, the recording and the status line.
+Designer takes (MOP 4.1.1): :class:`~behaviors.mop.takes.DesignerTakes`; the designer's keys and
+control markers reach them through the studio's one state machine (:mod:`tabletop.studio`).
 """
 
 from __future__ import annotations
@@ -57,29 +52,19 @@ from behaviors.mop.hints import HintGates, gate_onsets
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
-from behaviors.mop.take import Take, free_take_number
-from tabletop.frames import CharacterState, Frame, InputError
-from tabletop.files import keep_under_free_name
+from behaviors.mop.take import Take
+from behaviors.mop.takes import DesignerTakes, SaveFn
+from tabletop.frames import CharacterState, Frame
 from behaviors.worker import Worker
 
 #: (templates, the performer's feature units, their smallest spread worth telling apart) ->
 #: a follower; units and min_scale None where unknown (a stream's columns)
 FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None", "np.ndarray | None"],
                            object]
-SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
-
-MIN_TAKE_SAMPLES = 8
-#: Seconds of a take kept before its gesture's first move and after its last beyond the inputs'
-#: jitter (:func:`behaviors.mop.take.moving_part`): an eased start and end move within the
-#: jitter about as long. A square recorded with 0.5 mm of jitter kept 61 of its 73 samples with
-#: none, and its action was no longer valid when a performer ended it (85% of its second half
-#: valid); 67 and still not at 0.1 s; 69 and valid to the end (100%, progress 0.98) at 0.15 s.
-TRIM_MARGIN_S = 0.15
-
 log = logging.getLogger("tabletop")
 
 
-class MopStage:
+class MopStage(DesignerTakes):
     """Engine ``step(frame) -> characters``; see the module docstring.
 
     ``templates``: character -> action -> (performer name, samples (n x d) at ``rate_hz``);
@@ -206,15 +191,7 @@ class MopStage:
                  if self.make_group is not None and keys else None)
         return routes, followers, keys, group
 
-    # --- designer takes (driven by the studio: tabletop.studio.mop_target.MopTarget) ----------
-
-    def performer_of(self, character: str) -> str:
-        return self.character_performer.get(character) or next(iter(self.performers))
-
-    def motion_of(self, character: str, index: int) -> str:
-        """The ``index``-th (cyclic) motion the designer may assign to ``character``."""
-        motions = self.motions[character]
-        return motions[index % len(motions)]
+    # --- the actions (a designer take puts its own: behaviors.mop.takes) ----------------------
 
     def put_action(self, character: str, action: Action, performer: str, samples: np.ndarray,
                    background: bool = False) -> None:
@@ -229,108 +206,6 @@ class MopStage:
         if self.templates[character].pop(name, None) is not None:
             self.puppets[character].remove_action(name)
             self._retrain(character)
-
-    def drop_take(self) -> None:
-        """Forget the take (recording or pending); its action leaves the character."""
-        if self.take is not None and self.take_action is not None:
-            self.remove_action(self.take.character, self.take_action)
-        self.take, self.take_action = None, None
-
-    def begin_take(self, character: str, frame: Frame) -> None:
-        """Start recording ``character``'s performer at ``frame`` (a pending take is dropped;
-        its motion choice carries over)."""
-        motion_index = self.take.motion_index if self.take is not None else 0
-        self.drop_take()
-        performer = self.performer_of(character)
-        self.take = Take(performer, character, frame.t)
-        self.take.motion_index = motion_index
-        self.performers[performer].restart(frame, frame.t)
-        self.take.origin = self.performers[performer].origin
-
-    def stop_take(self) -> str:
-        """Stop recording: the take becomes an action of its character at once (its followers
-        rebuilt, in the :attr:`worker` when there is one); returns ``"ACTION -> MOTION"``.
-        InputError when it is too short to learn from (it is then dropped)."""
-        take = self.take
-        if take is None or not take.recording:
-            raise InputError("no take is recording")
-        take.recording = False
-        performer = self.performers[take.performer]
-        rows = len(take.rows)
-        take.trim_still(performer.units, performer.jitter, round(TRIM_MARGIN_S * self.rate_hz))
-        samples = take.samples()
-        if len(samples) < MIN_TAKE_SAMPLES:
-            self.take, self.take_action = None, None
-            # a take long enough but (nearly) still says so, not only its samples of motion
-            still = (f": {take.performer} hardly moved in the {rows / self.rate_hz:.1f} s "
-                     "recorded" if rows >= MIN_TAKE_SAMPLES else "")
-            raise InputError(f"take too short{still} ({len(samples)} of "
-                             f"{MIN_TAKE_SAMPLES} samples of motion)")
-        name = self.take_action = self._free_name(take.character)
-        motion = self.motion_of(take.character, take.motion_index)
-        self._add_take_action(motion, background=True)
-        return f"{name} -> {motion}"
-
-    def _free_name(self, character: str) -> str:
-        """The next ``takeN`` that is none of the names ``character``'s library holds, loaded
-        or not (a template skipped at load as corrupt kept its file: a take of its name was
-        saved over it), nor of its actions."""
-        existing = set(self.templates[character]) | set(self.taken(character))
-        self._counter = free_take_number(existing, self._counter + 1)
-        return f"take{self._counter}"
-
-    def assign_motion(self, character: str) -> str:
-        """The next motion for ``character``'s take (chosen before recording, or played by the
-        pending take at once); returns its name."""
-        if self.take is None or self.take.character != character:
-            self.drop_take()
-            self.take = Take(self.performer_of(character), character, 0.0)
-            self.take.recording = False
-        self.take.motion_index += 1
-        motion = self.motion_of(character, self.take.motion_index)
-        if self.take_action is not None:
-            self._add_take_action(motion)
-        return motion
-
-    def keep_take(self) -> str:
-        """Keep the pending take (``save``d, e.g. to the library); returns the name it is kept
-        under: its own, or the next free one when ``save`` finds its name taken meanwhile
-        (:class:`tabletop.files.NameTaken`; the take's action is renamed, its followers rebuilt within the
-        tick). InputError when there is nothing to keep or it cannot be saved (the take
-        stays)."""
-        take = self.take
-        if take is None or self.take_action is None or take.recording:
-            raise InputError("nothing to keep")
-        motion = self.motion_of(take.character, take.motion_index)
-        if self.save is not None:
-            save = self.save
-            try:
-                keep_under_free_name(
-                    lambda: save(take.character, self.take_action, take.samples(),
-                                 self.performers[take.performer].names, motion),
-                    lambda name: self._rename_take(name, motion),
-                    lambda: self._free_name(take.character))
-            except OSError as exc:
-                raise InputError(f"not saved: {exc}") from None
-        name = self.take_action
-        self.take, self.take_action = None, None
-        return name
-
-    def _rename_take(self, name: str, motion: str) -> None:
-        """The pending take's action is ``name`` from now (one rebuild of the followers)."""
-        assert self.take is not None and self.take_action is not None
-        c = self.take.character
-        self.templates[c].pop(self.take_action, None)
-        self.puppets[c].remove_action(self.take_action)
-        self.take_action = name
-        self._add_take_action(motion)
-
-    def _add_take_action(self, motion: str, background: bool = False) -> None:
-        take = self.take
-        assert take is not None and self.take_action is not None
-        c = take.character
-        self.put_action(c, Action(self.take_action, self.load_motion(c, motion)), take.performer,
-                        take.samples(), background)
 
     # --- running --------------------------------------------------------------------------------
 

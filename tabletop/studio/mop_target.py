@@ -22,7 +22,8 @@ from behaviors.worker import Worker
 
 class MopTarget:
     """One character of a MOP engine (``ENGINE/CHARACTER``) as a studio target: its takes are
-    recorded, trained and kept by the stage's take API (:class:`behaviors.mop.stage.MopStage`)."""
+    recorded, trained and kept by the stage's take API (:class:`behaviors.mop.stage.MopStage`,
+    from :class:`behaviors.mop.takes.DesignerTakes`)."""
 
     what = "action"
 

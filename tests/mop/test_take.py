@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from behaviors.mop.stage import TRIM_MARGIN_S
+from behaviors.mop.takes import TRIM_MARGIN_S
 from behaviors.mop.take import moving_part
 from tabletop.frames import Frame, Puck, Touch
 from tests.mop.helpers import G, RATE, Table, build, designer_config
