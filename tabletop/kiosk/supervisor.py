@@ -31,7 +31,6 @@
 from __future__ import annotations
 
 import collections
-import datetime as _dt
 import logging
 import os
 import select
@@ -47,6 +46,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
+from tabletop.kiosk.crash_log import append_crash, crash_entry
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -117,8 +117,7 @@ class Supervisor:
         # open files every child holds too: the kiosk's folder lock (tabletop.kiosk.lock)
         self.keep_fds = tuple(keep_fds)
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
-        # the crash log rotates as the kiosk's log does: unrotated, a table crashing every
-        # half minute for weeks (the longest back-off) grows it ~9 MB a day (3.3 KB a crash)
+        # the crash log rotates as the kiosk's log does (tabletop.kiosk.crash_log)
         self.crash_log_max_bytes, self.crash_log_backups = crash_log_max_bytes, crash_log_backups
         # ``--seconds``: the kiosk stops that long after its first READY, restarts included,
         # counted here and not by the child (a child given ``--seconds`` runs them again after
@@ -274,32 +273,12 @@ class Supervisor:
         ran = (child.ended or self.clock()) - child.started
         if child.reader is not None:
             child.reader.join(timeout=1.0)
-        stamp = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-        lines = [f"=== {stamp} crash {self.crashes}: {what}, after {ran:.1f} s "
-                 f"(pid {child.process.pid}, start {child.number})"]
-        lines += [f"  {t}" for t in child.tail]
         log.error("supervisor: the installation %s after %.1f s; restarting", what, ran)
+        lines = crash_entry(self.crashes, what, ran, child.process.pid, child.number, child.tail)
         try:
-            self.crash_log.parent.mkdir(parents=True, exist_ok=True)
-            self._rotate_crash_log()
-            with open(self.crash_log, "a", encoding="utf-8") as f:
-                f.write("\n".join(lines) + "\n")
-                f.flush()
-                os.fsync(f.fileno())
+            append_crash(self.crash_log, lines, self.crash_log_max_bytes, self.crash_log_backups)
         except OSError as exc:
             log.error("supervisor: crash log %s not written: %s", self.crash_log, exc)
-
-    def _rotate_crash_log(self) -> None:
-        """``crashes.log`` -> ``crashes.log.1`` -> ... ``.N`` (``crash_log_backups``) once it
-        has reached ``crash_log_max_bytes``, as logging's RotatingFileHandler does."""
-        path = self.crash_log
-        if not path.exists() or path.stat().st_size < self.crash_log_max_bytes:
-            return
-        for i in range(self.crash_log_backups - 1, 0, -1):
-            older = path.with_name(f"{path.name}.{i}")
-            if older.exists():
-                os.replace(older, path.with_name(f"{path.name}.{i + 1}"))
-        os.replace(path, path.with_name(f"{path.name}.1"))
 
     def _terminate(self, child: Child) -> None:
         p = child.process
