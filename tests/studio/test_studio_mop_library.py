@@ -7,7 +7,7 @@ import numpy as np
 import yaml
 
 from tests.mop.helpers import build, designer_config
-from tests.studio.test_studio_mop import StudioTable, face_take, kept_line, kept_without_library
+from tests.studio.mop_table import StudioTable, face_take, kept_line, kept_without_library
 
 
 def two_takes(tmp_path):
