@@ -1,37 +1,23 @@
-"""``tabletop behave``: real CSV files in, the DESIGN.md contract out."""
+"""``tabletop behave``: real CSV files in, the DESIGN.md contract out; bad files, arguments and
+parameters refused in one line (behaviour folders and tables: test_pm_behave_folders.py)."""
 
 import math
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
-from tests.puppet_master import demos as pm_demos
 import pytest
 
-from tabletop.cli import main as cli
 from tabletop.files import write_csv
 from tabletop.readers import read_csv
-
-DEMO_HEADER = ["t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir"]
-MAIN_HEADER = ["t", "main_x", "main_y", "main_dir"]
-SHIPPED = Path(__file__).resolve().parents[2] / "behaviors" / "library"
+from tests.puppet_master import demos as pm_demos
+from tests.puppet_master.behave_cli import DEMO_HEADER, MAIN_HEADER, behave, write_files
 
 
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
-    d = tmp_path_factory.mktemp("behave")
-    write_csv(d / "demo.csv", DEMO_HEADER,
-              pm_demos.follow_behind(pm_demos.main_path(41, 30)).tolist())
-    main = pm_demos.main_path(42, 12, rate_hz=30)
-    main[:, 0] += 100.0                                   # any time base
-    write_csv(d / "main.csv", MAIN_HEADER, main.tolist())
-    return d, main
-
-
-def behave(*args) -> int:
-    return cli(["behave", *map(str, args)])
+    return write_files(tmp_path_factory.mktemp("behave"))
 
 
 def test_output_follows_the_contract(files):
@@ -52,7 +38,6 @@ def test_output_follows_the_contract(files):
     assert out[:, 1].min() >= xs.min() - 1e-9 and out[:, 1].max() <= xs.max() + 1e-9
     assert out[:, 2].min() >= ys.min() - 1e-9 and out[:, 2].max() <= ys.max() + 1e-9
 
-
 def test_truncating_the_future_leaves_earlier_rows_unchanged(files):
     d, main = files
     behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out", d / "full.csv",
@@ -67,7 +52,6 @@ def test_truncating_the_future_leaves_earlier_rows_unchanged(files):
     assert part == full[:len(part)]                      # byte for byte
     assert float(part[-1].split(",")[0]) <= cut[-1, 0]
 
-
 def test_rate_and_table_options(files):
     d, _ = files
     assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out", d / "r20.csv",
@@ -76,12 +60,10 @@ def test_rate_and_table_options(files):
     assert np.allclose(np.diff(out[:, 0]), 0.05)
     assert out[:, 1].max() <= 0.9 and out[:, 2].max() <= 0.7 and out[:, 1:3].min() >= 0.0
 
-
 def _bad(tmp_path, name, text):
     p = tmp_path / name
     p.write_text(text)
     return p
-
 
 @pytest.mark.parametrize("what, make, words", [
     ("short", lambda d: "\n".join([",".join(DEMO_HEADER)] + [
@@ -112,7 +94,6 @@ def test_bad_demonstrations_exit_2_with_one_clear_line(tmp_path, files, capsys, 
         assert w in err
     assert not (tmp_path / "o.csv").exists()
 
-
 def test_bad_main_and_arguments(tmp_path, files, capsys):
     d, _ = files
     main = _bad(tmp_path, "main.csv", "t,main_x,main_y\n0,1,1\n")
@@ -133,7 +114,6 @@ def test_bad_main_and_arguments(tmp_path, files, capsys):
     assert "main3.csv: line 3: column 'main_y': -2000.0 m is beyond 1000 m" in \
         capsys.readouterr().err
 
-
 def test_the_installed_command_runs_without_pygame(files):
     d, _ = files
     code = ("import sys, tabletop.cli as c; rc = c.main(sys.argv[1:]); "
@@ -146,7 +126,6 @@ def test_the_installed_command_runs_without_pygame(files):
     assert behave("--train", d / "demo.csv", "--input", d / "main.csv",
                   "--out", d / "in_process.csv") == 0
     assert (d / "sub.csv").read_text() == (d / "in_process.csv").read_text()
-
 
 def test_every_behaviour_parameter_can_be_given(files, tmp_path):
     from dataclasses import fields
@@ -166,7 +145,6 @@ def test_every_behaviour_parameter_can_be_given(files, tmp_path):
                   "--param", "smooth=5") == 0
     assert (tmp_path / "r3.csv").read_text() != (tmp_path / "default.csv").read_text()
 
-
 def test_the_help_names_every_parameter():
     from dataclasses import fields
 
@@ -178,7 +156,6 @@ def test_the_help_names_every_parameter():
     text = " ".join(res.stdout.split())               # (argparse wraps the help)
     names = text.split("NAME is one of: ", 1)[1].split(" --input", 1)[0]
     assert names.split(", ") == sorted(f.name for f in fields(Params))
-
 
 @pytest.mark.parametrize("param, words", [
     ("bogus=1", ["--param bogus", "unknown parameter", "ratio"]),
@@ -205,7 +182,6 @@ def test_bad_parameters_exit_2_with_one_clear_line(files, tmp_path, capsys, para
     for w in words:
         assert w in err, err
     assert not (tmp_path / "o.csv").exists()
-
 
 def test_sequential_training_from_files(files, tmp_path, capsys):
     d, _ = files
@@ -247,7 +223,6 @@ def test_sequential_training_from_files(files, tmp_path, capsys):
     err = capsys.readouterr().err
     assert "short.csv, " in err and "react_take.csv (paired): demonstration lasts" in err
 
-
 @pytest.mark.parametrize("rate", ["--rate=1", "--param=rate_hz=1", "--param=rate_hz=2"])
 def test_the_lowest_rates_train_and_generate(files, tmp_path, rate):
     # at 1 Hz the main's 0.5 s still/moving read rounded to no sample: every demonstration
@@ -259,66 +234,6 @@ def test_the_lowest_rates_train_and_generate(files, tmp_path, rate):
     hz = float(rate.rpartition("=")[2])
     assert np.allclose(np.diff(out[:, 0]), 1.0 / hz)
     assert np.isfinite(out).all() and len(out) == int((main[-1, 0] - main[0, 0]) * hz) + 1
-
-
-def test_a_behaviour_folder_trains_with_its_saved_parameters(files, tmp_path, capsys):
-    # the shipped afraid character is saved with edge_percentile 50 on a 1.2 x 0.8 m table;
-    # its CSV alone (all --train took) made another character than the installation plays
-    d, main = files
-    folder = SHIPPED / "afraid"
-    before = {p.name: p.read_bytes() for p in folder.iterdir()}
-    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:150].tolist())       # 5 s
-    base = ["--input", tmp_path / "main.csv"]
-    assert behave("--train", folder, *base, "--out", tmp_path / "folder.csv") == 0
-    saved = ["--param", "edge_percentile=50", "--param", "table_width=1.2", "--param",
-             "table_height=0.8", "--table", "1.2,0.8"]
-    assert behave("--train", folder / "demonstration.csv", *base, *saved,
-                  "--out", tmp_path / "given.csv") == 0
-    assert behave("--train", folder / "demonstration.csv", *base, "--out",
-                  tmp_path / "csv.csv") == 0
-    assert (tmp_path / "folder.csv").read_text() == (tmp_path / "given.csv").read_text()
-    assert (tmp_path / "folder.csv").read_text() != (tmp_path / "csv.csv").read_text()
-    # --param is over the folder's own; --rate too
-    assert behave("--train", folder, *base, "--param", "edge_percentile=0", "--rate", "20",
-                  "--out", tmp_path / "over.csv") == 0
-    assert behave("--train", folder / "demonstration.csv", *base, "--param",
-                  "table_width=1.2", "--param", "table_height=0.8", "--table", "1.2,0.8",
-                  "--rate", "20", "--out", tmp_path / "over_given.csv") == 0
-    assert (tmp_path / "over.csv").read_text() == (tmp_path / "over_given.csv").read_text()
-    # the folder's files are inputs: never written over; a folder that is no behaviour says so
-    for name in ("demonstration.csv", "behavior.yaml"):
-        assert behave("--train", folder, *base, "--out", folder / name) == 2
-        assert "is the input file" in capsys.readouterr().err
-    assert {p.name: p.read_bytes() for p in folder.iterdir()} == before
-    assert behave("--train", tmp_path, *base, "--out", tmp_path / "o.csv") == 2
-    assert "behavior.yaml" in capsys.readouterr().err
-
-
-def test_a_folder_naming_its_own_demonstration_file_is_read_once(files, tmp_path, capsys):
-    """A behaviour whose behavior.yaml names its demonstration ``take-3.csv``: the stored
-    behaviour carries that file (``behave`` read behavior.yaml a second time for it), and
-    ``--out`` naming it is refused, the file left as it was."""
-    import yaml
-
-    from tabletop import library
-    d, main = files
-    folder = tmp_path / "lib" / "pet"
-    shutil.copytree(SHIPPED / "lover", folder)
-    (folder / "demonstration.csv").rename(folder / "take-3.csv")
-    desc = yaml.safe_load((folder / "behavior.yaml").read_text())
-    desc["data"]["demonstration"] = "take-3.csv"
-    (folder / "behavior.yaml").write_text(yaml.safe_dump(desc))
-    stored = library.load_behavior(folder)
-    assert stored.data_file == folder / "take-3.csv"
-    before = (folder / "take-3.csv").read_bytes()
-    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
-    assert behave("--train", folder, "--input", tmp_path / "main.csv",
-                  "--out", folder / "take-3.csv") == 2
-    assert "is the input file" in capsys.readouterr().err
-    assert (folder / "take-3.csv").read_bytes() == before
-    assert behave("--train", folder, "--input", tmp_path / "main.csv",
-                  "--out", tmp_path / "o.csv") == 0
-
 
 def test_positions_in_mm_are_refused_naming_the_file(files, tmp_path, capsys):
     """A demonstration (or a main path) recorded in millimetres trained and generated without
@@ -342,7 +257,6 @@ def test_positions_in_mm_are_refused_naming_the_file(files, tmp_path, capsys):
         assert len(err) == 1 and err[0].startswith(f"tabletop behave: error: {bad}: ")
         assert "more than any table (20 m); positions are table metres" in err[0], err
     assert not (tmp_path / "o.csv").exists()
-
 
 def test_positions_in_mm_that_barely_move_are_refused_naming_the_file(files, tmp_path, capsys):
     """A main path in millimetres standing near (600, 400) mm spans under 20 and passed the
@@ -373,90 +287,3 @@ def test_positions_in_mm_that_barely_move_are_refused_naming_the_file(files, tmp
     assert not (tmp_path / "o.csv").exists()
     assert behave("--train", d / "demo.csv", "--input", tmp_path / "main.csv",
                   "--out", tmp_path / "o.csv", "--table", "1.6,1.0") == 0
-
-
-def test_a_folders_table_given_by_param_is_the_table_it_plays_on(files, tmp_path):
-    """--param table_width/table_height over a behaviour folder's own: it trained on that
-    table and was generated on the folder's stored one."""
-    d, main = files
-    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:150].tolist())
-    given = ["--param", "table_width=1.6", "--param", "table_height=1.0"]
-    base = ["--train", SHIPPED / "afraid", "--input", tmp_path / "main.csv"]
-    assert behave(*base, *given, "--out", tmp_path / "param.csv") == 0
-    assert behave(*base, *given, "--table", "1.6,1.0", "--out", tmp_path / "both.csv") == 0
-    assert (tmp_path / "param.csv").read_text() == (tmp_path / "both.csv").read_text()
-
-
-def test_a_library_or_a_misspelt_behaviour_names_the_librarys_behaviours(files, tmp_path,
-                                                                          capsys):
-    """--train naming the library itself said "library/behavior.yaml: not found", and a
-    misspelt behaviour "demonstration CSV not found": neither named what there is."""
-    d, main = files
-    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
-    base = ["--input", tmp_path / "main.csv", "--out", tmp_path / "o.csv"]
-    assert behave("--train", SHIPPED / "lovr", *base) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert len(err) == 1 and f"did you mean {SHIPPED / 'lover'}?" in err[0]
-    assert "afraid, bully, lover, playful_friend, stalker" in err[0]
-    assert behave("--train", SHIPPED, *base) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert len(err) == 1 and "a behaviour library, not a behaviour" in err[0]
-    assert f"e.g. {SHIPPED / 'afraid'}" in err[0]
-    assert not (tmp_path / "o.csv").exists()
-    assert behave("--train", SHIPPED / "lover", *base) == 0
-
-
-@pytest.mark.parametrize("given, words", [
-    (["--table", "1e9,1e9"],
-     ["--table '1e9,1e9': width and height must be metres from 0.05 to 20"]),
-    (["--param", "table_width=1e9", "--param", "table_height=1e9"],
-     ["--param table_width='1e9': width and height must be metres from 0.05 to 20"]),
-    (["--param", "table_width=1.6", "--param", "table_height=-1"],
-     ["--param table_height='-1': width and height must be metres from 0.05 to 20"]),
-    (["--param", "table_width=nan", "--param", "table_height=1"],
-     ["--param table_width='nan'", "from 0.05 to 20"]),
-    # one side alone, a CSV demonstration storing none: Behavior ignored it without a word
-    (["--param", "table_width=1.6"],
-     ["--param table_width=1.6 without table_height", "needs both"]),
-    (["--param", "table_height=1", "--table", "1.6,1.0"],
-     ["--param table_height=1 without table_width", "needs both"]),
-])
-def test_a_table_given_by_param_is_checked_as_table_is(files, tmp_path, capsys, given, words):
-    d, _ = files
-    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
-                  tmp_path / "o.csv", *given) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert len(err) == 1 and err[0].startswith("tabletop behave: error: --"), err
-    for w in words:
-        assert w in err[0], err
-    assert not (tmp_path / "o.csv").exists()
-
-
-def test_one_table_side_by_param_over_a_folders_table_takes_the_others(files, tmp_path):
-    """--param table_width alone over a behaviour folder (afraid: 1.2 x 0.8 m) is its table
-    with the folder's height: the same rows as both given."""
-    d, main = files
-    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:150].tolist())
-    base = ["--train", SHIPPED / "afraid", "--input", tmp_path / "main.csv"]
-    assert behave(*base, "--param", "table_width=1.6", "--out", tmp_path / "one.csv") == 0
-    assert behave(*base, "--param", "table_width=1.6", "--param", "table_height=0.8",
-                  "--out", tmp_path / "both.csv") == 0
-    assert behave(*base, "--out", tmp_path / "stored.csv") == 0
-    assert (tmp_path / "one.csv").read_text() == (tmp_path / "both.csv").read_text()
-    assert (tmp_path / "one.csv").read_text() != (tmp_path / "stored.csv").read_text()
-
-
-def test_a_behaviour_file_given_as_the_demonstration_names_what_to_give(files, tmp_path,
-                                                                        capsys):
-    """--train LIB/NAME/behavior.yaml was read as a CSV and refused naming only its "header";
-    it is said to be a behaviour file, with the folder and its demonstration CSV to give."""
-    d, main = files
-    write_csv(tmp_path / "main.csv", MAIN_HEADER, main[:60].tolist())
-    folder = tmp_path / "lover"
-    shutil.copytree(SHIPPED / "lover", folder)
-    base = ["--input", tmp_path / "main.csv", "--out", tmp_path / "o.csv"]
-    assert behave("--train", folder / "behavior.yaml", *base) == 2
-    err = capsys.readouterr().err.splitlines()
-    assert len(err) == 1 and "a behaviour file, not a demonstration CSV" in err[0], err
-    assert f"--train {folder}" in err[0] and str(folder / "demonstration.csv") in err[0], err
-    assert behave("--train", folder / "demonstration.csv", *base) == 0    # as it says
