@@ -57,14 +57,15 @@ def load_and_train(folder: Path, rate_hz: float | None,
 
 
 def trained_from(source: dict[str, Any]) -> Any:
-    """The behaviour a recorded reload's ``source`` (:func:`load_and_train`) trains to."""
+    """The behaviour a recorded reload's ``source`` (:func:`load_and_train`) trains to;
+    InputError naming what is wrong when the record cannot be read."""
     from behaviors.puppet_master.engine import Behavior
     try:
         demo = np.frombuffer(base64.b64decode(source["demonstration"], validate=True),
                              dtype="<f8").reshape(source["shape"]).astype(float)
         return Behavior.train(demo, **source["parameters"])
     except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"recorded reload of {source.get('name')!r}: {exc}") from None
+        raise InputError(f"its record is unreadable ({type(exc).__name__}: {exc})") from None
 
 
 class BehaviorReloader:
@@ -151,13 +152,11 @@ class RecordedReloads:
                 continue
             try:
                 engine.play(trained_from(source), str(source.get("name", "")))
-            except InputError as exc:
-                log.error("replay: %s (the behaviour in play goes on)", exc)
-                continue
-            except Exception as exc:     # a failure of training: this engine's reload only
-                log.error("replay: recorded reload of %s for %s not trained: %s: %s "
-                          "(the behaviour in play goes on)", source.get("name"), name,
-                          type(exc).__name__, exc)
+            except Exception as exc:     # a bad record or a failure of training alike: this
+                # engine's reload only, the frame's other engines reloaded all the same
+                why = exc if isinstance(exc, InputError) else f"{type(exc).__name__}: {exc}"
+                log.error("replay: recorded reload of %s for %s not trained: %s "
+                          "(the behaviour in play goes on)", source.get("name"), name, why)
                 continue
             engine.note = ""
         return frame

@@ -296,20 +296,27 @@ def test_a_reload_that_fails_says_the_version_read_before_plays_on(tmp_path, tra
     assert "the version read before plays on" in studio.label
 
 
-def test_a_replayed_reload_that_fails_to_train_leaves_the_frames_other_reloads(
-        tmp_path, monkeypatch, caplog):
+def two_engines(tmp_path):
+    """Puppet Master engines "a" and "b" playing one saved behaviour "x", and the recorded
+    reload of "x" (:func:`tabletop.studio.reloader.load_and_train`'s source)."""
     from tabletop.config import validate_config
     from tabletop.plugins import puppet_master as pm
     from tabletop.registry import BuildContext
-    from tabletop.studio.reloader import RecordedReloads, load_and_train
+    from tabletop.studio.reloader import load_and_train
     folder = library.save_behavior(tmp_path, "x", designers.demonstrate("lover", seconds=4), {})
     cfg = validate_config({"sources": [{"kind": "scripted"}], "engines": [
         {"kind": "puppet_master", "name": n, "behavior": str(folder)} for n in ("a", "b")]},
         "t.yaml", tmp_path)
     ctx = BuildContext((1.2, 0.8), 60.0, cfg, tmp_path)
     a, b = (pm.build(c, ctx) for c in cfg["engines"])
+    return a, b, load_and_train(folder, a.rate_hz, a.table)[2]
+
+
+def test_a_replayed_reload_that_fails_to_train_leaves_the_frames_other_reloads(
+        tmp_path, monkeypatch, caplog):
+    from tabletop.studio.reloader import RecordedReloads
+    a, b, source = two_engines(tmp_path)
     first_a, first_b = a.behavior, b.behavior
-    source = load_and_train(folder, a.rate_hz, a.table)[2]
     real = Behavior.train.__func__
     seen: list[int] = []
 
@@ -326,3 +333,20 @@ def test_a_replayed_reload_that_fails_to_train_leaves_the_frames_other_reloads(
     assert a.behavior is first_a and a.note                   # a plays on, its note kept
     assert b.behavior is not first_b and b.note == ""          # b reloaded all the same
     assert caplog.text.count("out of memory") == 1 and "for a" in caplog.text
+
+
+def test_a_replayed_reload_whose_record_is_unreadable_names_its_engine_and_leaves_the_others(
+        tmp_path, caplog):
+    """A bad record and a failed training are logged alike: one line naming the behaviour,
+    the engine and why; the frame's other engines reload all the same."""
+    from tabletop.studio.reloader import RecordedReloads
+    a, b, source = two_engines(tmp_path)
+    first_a, first_b = a.behavior, b.behavior
+    bad = {k: v for k, v in source.items() if k != "demonstration"}
+    frame = Frame(seq=0, t=1.0, consumed={"reload": {"behaviors": {"a": bad, "b": source}}})
+    assert RecordedReloads([a, b])(frame) is frame
+    assert a.behavior is first_a and b.behavior is not first_b
+    said = [r.getMessage() for r in caplog.records if r.getMessage().startswith("replay:")]
+    assert len(said) == 1, said
+    assert "recorded reload of x for a not trained" in said[0], said
+    assert "KeyError" in said[0] and "demonstration" in said[0], said
