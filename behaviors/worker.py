@@ -111,10 +111,18 @@ class Worker:
         self._done: Any = None
         self._job = 0
         # the thread holds the worker weakly: a worker no longer used ends its thread
-        job_thread(_serve, (self._jobs, weakref.ref(self)), name)
+        self._thread = job_thread(_serve, (self._jobs, weakref.ref(self)), name)
 
     def __del__(self) -> None:
         self._jobs.put(None)
+
+    def close(self, timeout: float = FINISH_S) -> bool:
+        """End the thread once the jobs queued for it have run (their results are dropped
+        unless polled); waits up to ``timeout`` seconds and says whether it ended. The owner
+        closes its worker as the installation closes, so no thread of it outlives the run."""
+        self._jobs.put(None)
+        self._thread.join(timeout)
+        return not self._thread.is_alive()
 
     @property
     def busy(self) -> bool:

@@ -275,11 +275,16 @@ class Runner:
             rebuilt = True
             if self.kiosk and getattr(cfg, "raw", None) is not None:
                 last_good.remember(self.config_path, cfg)   # it built: the next start's fallback
-            relay = threading.Thread(target=_relay, args=(self.stop, self.inst.loop.stop),
-                                     daemon=True)
+            ran = threading.Event()     # this loop's run is over: its relay ends
+            relay = threading.Thread(target=_relay, args=(self.stop, self.inst.loop.stop, ran),
+                                     name="stop-relay", daemon=True)
             relay.start()
             t0 = time.monotonic()
-            self.ticks += self.inst.loop.run(seconds=left)
+            try:
+                self.ticks += self.inst.loop.run(seconds=left)
+            finally:
+                ran.set()
+                relay.join()
             self.run_s += self.inst.loop.ran_s
             if left is not None:
                 left -= time.monotonic() - t0
@@ -304,9 +309,10 @@ def trim_heap() -> None:
     trim(0)
 
 
-def _relay(outer: threading.Event, inner: threading.Event) -> None:
-    """Sets ``inner`` when ``outer`` is set (the signal handler's stop ends the current loop)."""
-    while not inner.is_set():
+def _relay(outer: threading.Event, inner: threading.Event, ran: threading.Event) -> None:
+    """Sets ``inner`` when ``outer`` is set (the signal handler's stop ends the current loop);
+    returns once either is set or the loop's run is over (``ran``), within 0.2 s."""
+    while not inner.is_set() and not ran.is_set():
         if outer.wait(0.2):
             inner.set()
             return

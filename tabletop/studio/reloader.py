@@ -131,6 +131,12 @@ class BehaviorReloader:
         log.info("behaviour %s reloaded", self.folder)
         return "behaviors", source
 
+    def close(self) -> None:
+        """The loop closes its filters: the worker's thread ends (a reload still training is
+        dropped with the installation)."""
+        if self.worker is not None:
+            self.worker.close()
+
 
 class RecordedReloads:
     """Replay's frame filter: a recorded frame's reloads (``consumed["reload"]``) are trained
