@@ -144,6 +144,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
         _unique_names(key)(cfg, path, ctx)
     _check_calibrations(cfg, ctx)
     _check_marker_ids(cfg, ctx)
+    _check_scripted_pucks(cfg, ctx)
     _check_studio_markers(cfg, ctx)
     _check_on_table(cfg, ctx)
     _check_udp_ports(cfg, ctx)
@@ -269,6 +270,24 @@ def _check_marker_ids(cfg: dict, ctx: Context) -> None:
             check(f"sources[{i}].pucks[{j}]", marker, name)
         for j, perf in enumerate(s.get("performers", [])):
             check(f"sources[{i}].performers[{j}].puck", perf["puck"], name)
+
+
+def _check_scripted_pucks(cfg: dict, ctx: Context) -> None:
+    """Each puck moved by one scripted source at most (``scripted``, ``synthetic_camera``): two
+    moving one id were merged silently, the tracker taking them for one puck jumping between
+    the two paths. (Within a source a performer's puck may also be in ``pucks``.)"""
+    moved: dict[int, tuple[int, str]] = {}     # puck -> (source index, its key)
+    for i, s in enumerate(cfg["sources"]):
+        keys = [(f"sources[{i}].pucks[{j}]", m) for j, m in enumerate(s.get("pucks") or [])]
+        keys += [(f"sources[{i}].performers[{j}].puck", p["puck"])
+                 for j, p in enumerate(s.get("performers") or [])]
+        for key, puck in keys:
+            first = moved.setdefault(puck, (i, key))
+            if first[0] != i:
+                raise ctx.error(key, f"puck {puck} is also moved by {first[1]} "
+                                     f"({cfg['sources'][first[0]]['name']}); two sources "
+                                     "moving one puck merge into one jumping between them: "
+                                     "give each puck to one source")
 
 
 def _check_studio_markers(cfg: dict, ctx: Context) -> None:

@@ -109,6 +109,14 @@ def test_places_off_the_table(tmp_path, capfd, snippet, key):
      "puck 3 is also performers[0]; give each puck once"),
     ("sources: [{kind: scripted}]\nkiosk: {attract: {pucks: [4, 4]}}\n", "kiosk.attract.pucks[1]",
      "puck 4 is also pucks[0]; give each puck once"),
+    # two sources moving one puck merged silently: one puck jumping between their paths
+    ("sources:\n  - {kind: scripted, name: a, pucks: [1, 2]}\n"
+     "  - {kind: scripted, name: b, pucks: [3, 2]}\n", "sources[1].pucks[1]",
+     "puck 2 is also moved by sources[0].pucks[1] (a); two sources moving one puck merge"),
+    ("sources:\n  - {kind: synthetic_camera, name: cam, pucks: [1, 2]}\n  - kind: scripted\n"
+     "    name: hand\n    pucks: []\n    performers:\n"
+     "      - {puck: 1, home: [0.5, 0.5], gestures: [g.csv]}\n",
+     "sources[1].performers[0].puck", "puck 1 is also moved by sources[0].pucks[0] (cam)"),
     # a performer's speed [2, 0.5] ran with the scripted source raising in every tick (its
     # pucks never came); a scale_range without 1 stopped the build naming no key
     ("sources:\n  - kind: scripted\n    pucks: []\n    performers:\n"
