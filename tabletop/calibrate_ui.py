@@ -16,6 +16,7 @@ import numpy as np
 
 from calibration.charuco import (MIN_CORNERS, REGION_VIEWS, CalibrationInputError, coverage,
                                  coverage_gaps, detect_board)
+from tabletop.drawing.images import image_surface
 
 CELLS = (8, 6)
 
@@ -68,8 +69,7 @@ class CaptureWindow:
         import pygame
         corners, ids = detect_board(self.detector, grey)
         h, w = grey.shape
-        rgb = np.repeat(grey[..., None], 3, axis=2)
-        surf = pygame.surfarray.make_surface(rgb.swapaxes(0, 1))
+        surf = image_surface(grey)
         screen.blit(pygame.transform.smoothscale(surf, screen.get_size()), (0, 0))
         sx, sy = screen.get_width() / w, screen.get_height() / h
         colours = coverage_colours(coverage(self.points, (w, h), CELLS))

@@ -17,7 +17,8 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from calibration.charuco import CalibrationInputError
-from tabletop.procam import check_inputs, check_lines, image_surface, run_check
+from tabletop.drawing.images import image_surface
+from tabletop.procam import check_inputs, check_lines, run_check
 
 log = logging.getLogger("tabletop")
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from calibration.charuco import CalibrationInputError
 from calibration.fits import Fit
+from tabletop.drawing.images import image_surface
 
 MOVED_MM = 1.0  # a puck found this much further in the lit frame moved during the check
 
@@ -265,14 +266,6 @@ def simulated_procam(source: dict, cfg: dict, size: tuple[int, int]) -> Any:
 
 
 # --------------------------------------------------------------------------------- live parts
-def image_surface(image: np.ndarray) -> Any:
-    """``image`` (H, W) grey or (H, W, 3) BGR, as OpenCV gives it, as a pygame surface of
-    (W, H) pixels."""
-    import pygame
-    rgb = np.repeat(image[..., None], 3, axis=2) if image.ndim == 2 else image[..., ::-1]
-    return pygame.surfarray.make_surface(np.ascontiguousarray(rgb.swapaxes(0, 1)))
-
-
 class LiveProCam:
     """A real projector and camera: a pygame window fullscreen on display ``display`` and an
     OpenCV camera ``device``. Each ``grab`` waits ``settle_s`` after the last ``show`` (the

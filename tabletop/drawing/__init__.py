@@ -7,6 +7,7 @@
 - :mod:`characters`: every character kind (reactor, skeleton, creature, face, sprite, figure);
 - :mod:`pucks`: halo rings around the physical pucks and their fading trails;
 - :mod:`screens`: the table, the "one moment" screen, the idle look and the overlay panel.
+- :mod:`images`: camera images as surfaces, for the calibration windows.
 
 Positions come in projector pixels (x right, y down) from the view's table-to-projector map.
 """

@@ -129,6 +129,19 @@ def test_capture_window_grabs_views_and_fills_the_coverage_map():
     assert needs.startswith("still needed (2 views each): ") and "bottom-right corner (0)" in needs
 
 
+def test_a_camera_image_becomes_a_surface_of_its_pixels():
+    """Grey and BGR images as the calibration windows show them: (W, H) pixels, x across."""
+    from tabletop.drawing.images import image_surface
+    grey = np.zeros((3, 5), np.uint8)
+    grey[1, 4] = 200
+    bgr = np.zeros((3, 5, 3), np.uint8)
+    bgr[2, 0] = (10, 20, 30)
+    a, b = image_surface(grey), image_surface(bgr)
+    assert a.get_size() == b.get_size() == (5, 3)
+    assert tuple(a.get_at((4, 1)))[:3] == (200, 200, 200) and tuple(a.get_at((0, 0)))[:3] == (0, 0, 0)
+    assert tuple(b.get_at((0, 2)))[:3] == (30, 20, 10)
+
+
 def test_sprites_turn_with_the_projector_homography():
     """Headings are turned into screen angles (radians, y down) through the homography."""
     from tabletop.view import TableToScreen
