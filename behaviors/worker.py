@@ -172,6 +172,13 @@ class Worker:
         self._idle.wait(timeout)
 
 
+def close_workers(*workers: Worker | None) -> None:
+    """Close each worker given (None: none), as its owner closes with the installation."""
+    for worker in workers:
+        if worker is not None:
+            worker.close()
+
+
 def _serve(jobs: queue.SimpleQueue, ref: weakref.ref) -> None:
     """A worker's thread: runs its jobs until the worker is gone."""
     while True:

@@ -65,7 +65,14 @@ class StudioStage:
         self.markers, self.studio = markers, studio
 
     def close(self) -> None:
+        """The loop closes: the take under way dropped (one tried logged), then every target's
+        worker and the session's drawing thread ended, so none outlives the run."""
         self.studio.close()
+        for target in self.studio.targets.values():
+            getattr(target, "close", lambda: None)()
+        session = getattr(self.studio, "session", None)
+        if session is not None:
+            session.close()
 
     def __call__(self, frame: Frame) -> Frame:
         out = self.studio(self.markers(frame))

@@ -17,7 +17,7 @@ from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.folders import named_folder, trash
-from behaviors.worker import Worker
+from behaviors.worker import Worker, close_workers
 
 
 class MopTarget:
@@ -44,6 +44,11 @@ class MopTarget:
         self._problems: list[str] = list(getattr(stage, "library_problems", {}).get(character, []))
         self.started_problems = tuple(self._problems)   # logged by the stage's start
         self.loaded = set(getattr(stage, "library_loaded", {}).get(character, []))
+
+    def close(self) -> None:
+        """The studio closes: the stage's training worker's thread ends (each character of
+        the stage closes it; a closed worker closes again at once)."""
+        close_workers(self.stage.worker)
 
     @property
     def cue(self) -> str:

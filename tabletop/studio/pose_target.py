@@ -26,7 +26,7 @@ from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.files import keep_under_free_name
 from tabletop.studio.folders import named_folder, rename_folder, trash
-from behaviors.worker import Worker
+from behaviors.worker import Worker, close_workers
 
 
 def _learn(body, name: str, times: np.ndarray, poses: list[Pose], part: str | None) -> tuple:
@@ -61,6 +61,10 @@ class TouchPoseTarget:
         self.started_problems = tuple(engine.problems)   # logged by the engine's start
 
     # --- the take ------------------------------------------------------------------------------
+
+    def close(self) -> None:
+        """The studio closes: the training worker's thread ends."""
+        close_workers(self.worker)
 
     def begin(self, frame: Frame) -> None:
         self.times, self.poses, self.demo = [], [], None

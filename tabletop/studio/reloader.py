@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from behaviors.worker import Worker
+from behaviors.worker import Worker, close_workers
 from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller
@@ -134,8 +134,7 @@ class BehaviorReloader:
     def close(self) -> None:
         """The loop closes its filters: the worker's thread ends (a reload still training is
         dropped with the installation)."""
-        if self.worker is not None:
-            self.worker.close()
+        close_workers(self.worker)
 
 
 class RecordedReloads:

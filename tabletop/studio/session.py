@@ -24,7 +24,7 @@ from typing import Callable
 
 import numpy as np
 
-from behaviors.worker import ending, job_thread, next_job
+from behaviors.worker import FINISH_S, ending, job_thread, next_job
 from tabletop.studio.take import Try
 
 log = logging.getLogger("tabletop")
@@ -74,6 +74,19 @@ def draw_later(job: Callable[[], None]) -> threading.Event:
             _drawer = job_thread(_draw_jobs, name="review")
     _jobs.put((job, done))
     return done
+
+
+def end_drawing(timeout: float = FINISH_S) -> bool:
+    """End the drawing thread once the sheets queued for it are drawn (a later sheet starts
+    another); waits up to ``timeout`` seconds and says whether it ended."""
+    global _drawer
+    with _drawer_lock:
+        drawer, _drawer = _drawer, None
+    if drawer is None or not drawer.is_alive():
+        return True
+    _jobs.put(None)   # type: ignore[arg-type]  # the thread's end (next_job's None)
+    drawer.join(timeout)
+    return not drawer.is_alive()
 
 
 def _warm_once() -> threading.Event:
@@ -157,6 +170,10 @@ class SessionLog:
                          params=params)
         except Exception:  # a review sheet is a convenience: never stop the studio
             log.exception("review sheet %s not drawn", path)
+
+    def close(self) -> None:
+        """The studio closes: the review sheets asked for are drawn, the drawing thread ends."""
+        end_drawing()
 
     def wait(self, timeout: float = 30.0) -> None:
         """Wait for the review sheet being drawn (tests, shutdown)."""

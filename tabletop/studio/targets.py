@@ -22,7 +22,7 @@ import numpy as np
 
 from behaviors.puppet_master.sequential import SequentialSession
 from tabletop import library
-from behaviors.worker import Worker
+from behaviors.worker import Worker, close_workers
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.kiosk.watch import Poller
 from tabletop.studio.folders import named_folder
@@ -90,6 +90,10 @@ class PuppetMasterTarget(BehaviorShelf):
         self._yaml_before: dict[str, tuple[str, str]] = {}   # renamed: behavior.yaml's text
                                                             # before and after, for undo
         self._problems: list[str] = self._library_problems([])   # read at start, reported
+
+    def close(self) -> None:
+        """The studio closes: the training and loading workers' threads end."""
+        close_workers(self.trainer, self.loader)
 
     @property
     def cue(self) -> str:

@@ -1,6 +1,7 @@
 """``tabletop run --seconds N`` ends every thread it started: the camera's capture, the snapshot
-writer, the stop relay and the behaviour reloader's worker are stopped and joined as the
-installation closes, so none outlives the run (a kiosk rebuilt on every config edit would
+writer, the stop relay and the behaviour reloader's worker, and with ``--studio`` the targets'
+training and loading workers and the review sheets' drawing thread, are stopped and joined as
+the installation closes, so none outlives the run (a kiosk rebuilt on every config edit would
 otherwise gather them)."""
 
 import threading
@@ -8,6 +9,7 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+import pytest
 import yaml
 
 from tabletop.cli import main as cli
@@ -15,7 +17,8 @@ from tabletop.cli import main as cli
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_a_timed_run_leaves_no_thread_of_its_own(tmp_path):
+@pytest.mark.parametrize("extra", [[], ["--studio"]])
+def test_a_timed_run_leaves_no_thread_of_its_own(tmp_path, extra):
     video = tmp_path / "table.avi"
     writer = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 30.0, (160, 120))
     for i in range(30):
@@ -29,7 +32,7 @@ def test_a_timed_run_leaves_no_thread_of_its_own(tmp_path):
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg), encoding="utf-8")
     before = set(threading.enumerate())
-    assert cli(["run", "--config", str(path), "--headless", "--seconds", "1.5"]) == 0
+    assert cli(["run", "--config", str(path), "--headless", "--seconds", "1.5", *extra]) == 0
     assert list((tmp_path / "snapshots").glob("*.png"))      # the writer ran
     left = [t.name for t in threading.enumerate() if t not in before and t.is_alive()]
     assert left == [], left
