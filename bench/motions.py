@@ -14,7 +14,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from tabletop.readers import read_csv
+from tabletop.files import read_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 RATE = 30.0

@@ -28,7 +28,7 @@ import numpy as np  # noqa: E402
 from bench.common import emit  # noqa: E402
 from behaviors.puppet_master import designers  # noqa: E402
 from tabletop.config import load_config, validate_config  # noqa: E402
-from tabletop.readers import read_csv  # noqa: E402
+from tabletop.files import read_csv  # noqa: E402
 from tabletop.frames import Frame, Puck  # noqa: E402
 from tabletop.plugins import mop  # noqa: E402
 from tabletop.plugins import puppet_master as pm  # noqa: E402

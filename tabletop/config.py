@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from tabletop import registry
-from tabletop.readers import read_yaml
+from tabletop.files import read_yaml
 from tabletop.frames import InputError
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
                              MapOf, Number, Optional_, Record, Spec, Str)

@@ -1,9 +1,8 @@
-"""File handling shared by the commands and plugins: atomic writes, CSV tables written with
-full precision, bounded text reads and keeping a take under a free name.
+"""File formats shared by the commands and plugins: atomic writes and numeric CSV tables.
 
 Saved data is never lost: every write goes to a temporary file in the same folder, is fsynced,
-then renamed over the target. The readers of CSV and YAML inputs are in
-:mod:`tabletop.readers`; their error, :class:`FileFormatError`, is here.
+then renamed over the target. Reading a CSV either returns a clean float table or raises
+:class:`FileFormatError` naming the file, the line and what is wrong.
 """
 
 from __future__ import annotations
@@ -11,6 +10,7 @@ from __future__ import annotations
 import csv
 import io
 from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
+import math
 import os
 import shutil
 import tempfile
@@ -19,8 +19,9 @@ from contextlib import contextmanager
 from typing import IO, Any, Callable, Iterable, Iterator, Mapping, Sequence, TypeVar
 
 import numpy as np
+import yaml
 
-from tabletop.frames import InputError
+from tabletop.frames import MAX_POSITION_M, InputError
 
 
 class FileFormatError(InputError):
@@ -262,6 +263,169 @@ def format_csv(header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> 
 def write_csv(path: str | Path, header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> None:
     """Write a CSV table atomically."""
     atomic_write_text(path, format_csv(header, rows))
+
+
+def read_csv(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",
+             min_rows: int = 1) -> tuple[list[str], np.ndarray]:
+    """Read a numeric CSV with a header row; returns (column names, float array rows x columns).
+    See :func:`read_csv_lines`."""
+    return read_csv_lines(path, required, what, min_rows)[:2]
+
+
+def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "CSV file",
+                   min_rows: int = 1) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """Read a numeric CSV with a header row; returns (column names, float array rows x columns,
+    the file line number of each row).
+
+    Raises FileFormatError for a missing or unreadable file, an empty file, a header without the
+    ``required`` columns, duplicate columns, a row of the wrong length, a non-numeric or
+    non-finite value (with its line number) or fewer than ``min_rows`` rows.
+    """
+    p = Path(path)
+    try:
+        text = read_text(p, encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise FileFormatError(f"{p}: {what} not found") from None
+    except IsADirectoryError:
+        raise FileFormatError(f"{p}: is a folder, expected a {what}") from None
+    except (OSError, UnicodeDecodeError, TextTooLong) as exc:
+        raise FileFormatError(f"{p}: cannot read {what}: {exc}") from None
+    lines = [ln for ln in text.splitlines()]
+    # row by row, not list(csv.reader(...)): one C call holds the GIL for the whole file, and
+    # a worker reading a 600 s demonstration stalled the frame loop 8-60 ms (bench/reload_tick.py)
+    rows = [r for r in csv.reader(lines)]
+    first = next((i for i, r in enumerate(rows) if any(c.strip() for c in r)), None)
+    if first is None:
+        raise FileFormatError(f"{p}: {what} is empty (expected a header row)")
+    header = [c.strip() for c in rows[first]]
+    if any(not c for c in header):
+        raise FileFormatError(f"{p}: line {first + 1}: empty column name in header {header}")
+    dup = sorted({c for c in header if header.count(c) > 1})
+    if dup:
+        raise FileFormatError(f"{p}: line {first + 1}: duplicate column(s) {', '.join(dup)}")
+    missing = [c for c in required if c not in header]
+    if missing:
+        raise FileFormatError(
+            f"{p}: line {first + 1}: missing column(s) {', '.join(missing)}; "
+            f"expected header {','.join(required)}, got {','.join(header)}")
+    data: list[list[float]] = []
+    numbers: list[int] = []
+    for i in range(first + 1, len(rows)):
+        r = rows[i]
+        if not any(c.strip() for c in r):
+            continue
+        if len(r) != len(header):
+            raise FileFormatError(
+                f"{p}: line {i + 1}: {len(r)} values, expected {len(header)} ({','.join(header)})")
+        vals = []
+        for name, cell in zip(header, r):
+            try:
+                v = float(cell)
+            except ValueError:
+                raise FileFormatError(
+                    f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is not a number") from None
+            if not math.isfinite(v):
+                raise FileFormatError(
+                    f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is not a finite number")
+            vals.append(v)
+        data.append(vals)
+        numbers.append(i + 1)
+    if len(data) < min_rows:
+        raise FileFormatError(
+            f"{p}: {what} has {len(data)} data row(s), needs at least {min_rows}")
+    return (header, np.asarray(data, dtype=float).reshape(len(data), len(header)),
+            np.asarray(numbers, dtype=int))
+
+
+class UniqueKeyLoader(yaml.SafeLoader):
+    """YAML's safe loader refusing a key given twice in one mapping (YAML says keys are
+    unique; PyYAML would silently keep the last)."""
+
+
+def _unique_mapping(loader: UniqueKeyLoader, node: yaml.MappingNode, deep: bool = False) -> Any:
+    seen: set[Any] = set()
+    for key_node, _ in node.value:
+        if key_node.tag == "tag:yaml.org,2002:merge":
+            continue
+        key = loader.construct_object(key_node, deep=True)
+        try:
+            duplicate = key in seen
+            seen.add(key)
+        except TypeError:  # an unhashable key: the base constructor says so
+            break
+        if duplicate:
+            raise yaml.constructor.ConstructorError(
+                "while reading a mapping", node.start_mark,
+                f"key {key!r} is given twice (the second is on this line)", key_node.start_mark)
+    return yaml.SafeLoader.construct_mapping(loader, node, deep)
+
+
+UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _unique_mapping)
+
+
+def parse_yaml(text: str, file: str | Path, error: type[InputError] = FileFormatError,
+               problem: str = "YAML syntax error") -> Any:
+    """Parse YAML text; a syntax error or a duplicate key raises ``error`` naming the file,
+    line and column."""
+    try:
+        return yaml.load(text, Loader=UniqueKeyLoader)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
+        raise error(f"{file}: {problem} at {where}: {exc.problem}") from None
+    except yaml.YAMLError as exc:  # e.g. a reader error: a character YAML does not allow
+        raise error(f"{file}: {problem}: {' '.join(str(exc).split())}") from None
+    except (ValueError, RecursionError) as exc:  # e.g. an integer of thousands of digits
+        raise error(f"{file}: {problem}: {type(exc).__name__}: {exc}") from None
+
+
+def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
+              missing: str = "not found", problem: str = "YAML syntax error") -> Any:
+    """Read and parse a YAML file; a missing, unreadable or malformed file raises ``error``
+    (``missing`` is the message for a file that does not exist)."""
+    p = Path(path)
+    try:
+        text = read_text(p)
+    except FileNotFoundError:
+        raise error(f"{p}: {missing}") from None
+    except IsADirectoryError:
+        raise error(f"{p}: is a folder; expected a YAML file") from None
+    except (OSError, UnicodeDecodeError, TextTooLong) as exc:
+        raise error(f"{p}: cannot read: {exc}") from None
+    return parse_yaml(text, p, error, problem)
+
+
+def check_increasing(t: np.ndarray, path: str | Path, column: str = "t",
+                     lines: Sequence[int] | None = None) -> None:
+    """Raise FileFormatError unless times strictly increase; names the first bad row by its
+    file line (``lines``, from :func:`read_csv_lines`) or else by its data row number."""
+    bad = np.flatnonzero(np.diff(t) <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        if lines is not None:
+            where, before = f"line {int(lines[i])}", f"line {int(lines[i - 1])}"
+        else:
+            where, before = f"data row {i + 1}", f"row {i}"
+        raise FileFormatError(
+            f"{path}: {where}: column {column!r} must strictly increase; {float(t[i])!r} is "
+            f"not after {float(t[i - 1])!r} ({before})")
+
+
+def check_positions(data: np.ndarray, header: Sequence[str], columns: Sequence[str],
+                    path: str | Path, lines: Sequence[int] | None = None,
+                    limit: float = MAX_POSITION_M, unit: str = " m",
+                    what: str = "not a table position") -> None:
+    """Raise FileFormatError unless every value of ``columns`` is within ``limit`` (by default
+    table positions, metres, within ``frames.MAX_POSITION_M``); names the first bad row by its
+    file line (``lines``) or else by its data row number."""
+    index = [list(header).index(c) for c in columns]
+    bad = np.argwhere(np.abs(data[:, index]) > limit)
+    if bad.size:
+        r, c = (int(v) for v in bad[0])
+        where = f"line {int(lines[r])}" if lines is not None else f"data row {r + 1}"
+        raise FileFormatError(
+            f"{path}: {where}: column {columns[c]!r}: {float(data[r, index[c]])!r}{unit} is "
+            f"beyond {limit:g}{unit}, {what}")
 
 
 # --- keeping a take under a free name ------------------------------------------------------------

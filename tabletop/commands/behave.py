@@ -153,7 +153,7 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
 def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int):
     """The rows (n, len(columns)) of CSV ``path``, in ``columns``' order, its times (the first
     column) strictly increasing and its positions on no absurd scale; errors name the line."""
-    from tabletop.readers import check_increasing, check_positions, read_csv_lines
+    from tabletop.files import check_increasing, check_positions, read_csv_lines
 
     header, rows, lines = read_csv_lines(path, columns, what=what, min_rows=min_rows)
     rows = rows[:, [header.index(c) for c in columns]]

@@ -67,7 +67,7 @@ def parse_template_args(values: list[str]) -> list[tuple[str, Path]]:
 def _features(path: Path, header: list[str], data, what: str, lines=None):
     """(feature names, their columns) of a template or performance CSV; a value beyond
     ``frames.MAX_FEATURE`` is refused naming its line (``lines``) or data row."""
-    from tabletop.readers import check_positions
+    from tabletop.files import check_positions
     from tabletop.frames import MAX_FEATURE
     cols = [i for i, c in enumerate(header) if c != "t"]
     if not cols:
@@ -96,8 +96,7 @@ def main(args: argparse.Namespace) -> int:
     import numpy as np
 
     from behaviors.mop.follower import ActionFollower, TemplateError
-    from tabletop.files import write_csv
-    from tabletop.readers import check_increasing, read_csv_lines
+    from tabletop.files import check_increasing, read_csv_lines, write_csv
 
     sigma = number_in_range(args.sigma, "--sigma", "standardised units", *SIGMA,
                             FollowArgumentError)

@@ -74,7 +74,7 @@ def parse_view(text: str) -> tuple[float, float]:
 
 def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]]:
     """Input frames [(t, {id: (x, y)})] from TOUCHES.csv; one clear error for bad rows."""
-    from tabletop.readers import check_positions, read_csv_lines
+    from tabletop.files import check_positions, read_csv_lines
     header, data, lines = read_csv_lines(path, TOUCH_COLUMNS, what="touches CSV", min_rows=1)
     # a finger beyond frames.MAX_POSITION_M (1e200 m made every later joint NaN) is refused
     check_positions(data, header, ("x", "y"), path, lines)

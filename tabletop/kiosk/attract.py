@@ -32,8 +32,7 @@ def attract_performers(cfg: dict, table: tuple[float, float]) -> list[dict]:
     """Scripted performers for attract mode, one per MOP performer driven by a puck's path
     (``features: [dx, dy]``): it draws that performer's action templates (CSV ``t,dx,dy``) from
     a home spread along the table, so the MOP characters play their actions."""
-    from tabletop.files import FileFormatError
-    from tabletop.readers import read_csv
+    from tabletop.files import FileFormatError, read_csv
     found: list[tuple[int, list]] = []
     for e in cfg["engines"]:
         if e["kind"] != "mop":

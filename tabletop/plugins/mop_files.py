@@ -11,8 +11,8 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from tabletop.files import FileFormatError, NameTaken, atomic_write_text, write_csv
-from tabletop.readers import check_increasing, check_positions, read_csv_lines
+from tabletop.files import (FileFormatError, NameTaken, atomic_write_text, check_increasing,
+                            check_positions, read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
 from tabletop.swap import exclusive
 

@@ -11,7 +11,7 @@ import time
 
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
-from tabletop.readers import read_csv
+from tabletop.files import read_csv
 from tabletop.schema import Context, FilePath, ListOf, Number, Range, Record
 from tracking.visitor import GesturePerformer, ScriptedVisitor
 

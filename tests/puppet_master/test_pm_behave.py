@@ -9,8 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tabletop.files import write_csv
-from tabletop.readers import read_csv
+from tabletop.files import read_csv, write_csv
 from tests.puppet_master import demos as pm_demos
 from tests.puppet_master.behave_cli import DEMO_HEADER, MAIN_HEADER, behave, write_files
 

@@ -200,7 +200,7 @@ def test_a_mop_action_slot_is_recorded_trained_and_kept_through_the_same_studio(
     stage = mop.build(cfg["engines"][0], ctx)
     target = MopTarget(stage, "lizard", tmp_path / "lib")
     bench = Bench([stage], tmp_path, targets=[target])
-    from tabletop.readers import read_csv
+    from tabletop.files import read_csv
     _, g = read_csv(GESTURES / "square.csv")
     t, seq = [100.0], [0]
 

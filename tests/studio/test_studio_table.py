@@ -242,7 +242,7 @@ def test_an_edit_saved_between_build_and_its_watchers_is_seen(tmp_path):
 
 
 def test_an_action_review_sheet_shows_the_take_and_its_followed_progress(tmp_path):
-    from tabletop.readers import read_csv
+    from tabletop.files import read_csv
     from tabletop.studio.review import followed_progress, review_sheet
     _, g = read_csv(ROOT / "examples" / "mop" / "gestures" / "circle.csv")
     take = g[::2, 1:3]                     # dx, dy at 30 Hz

@@ -10,8 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tabletop.files import FileFormatError, atomic_write_text
-from tabletop.readers import read_csv_lines, read_yaml
+from tabletop.files import FileFormatError, atomic_write_text, read_csv_lines, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -51,12 +51,10 @@ def test_no_import_cycles():
 
 
 def layer_breaks() -> list[str]:
-    """DESIGN.md's layers: the shared layer, ``tabletop.frames``, ``tabletop.files`` and
-    ``tabletop.readers`` (the readers of CSV and YAML inputs, raising the files' error), imports
-    nothing of the project but itself (the files' errors are the vocabulary's ``InputError``);
-    ``tracking``, ``calibration`` and ``behaviors`` import the shared layer and nothing of each
+    """DESIGN.md's layers: ``tabletop.frames`` and ``tabletop.files`` import nothing of the
+    project but each other (the files' errors are the vocabulary's ``InputError``); ``tracking``, ``calibration`` and ``behaviors`` import those two and nothing of each
     other but ``tracking`` using ``calibration``; only ``tabletop`` wires everything."""
-    shared = {"tabletop.frames", "tabletop.files", "tabletop.readers"}
+    shared = {"tabletop.frames", "tabletop.files"}
     allowed = {"tracking": {"tracking", "calibration"}, "calibration": {"calibration"},
                "behaviors": {"behaviors"}}
     known = modules()
