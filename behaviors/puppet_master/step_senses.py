@@ -93,8 +93,10 @@ class StepSenses:
         mean read with the cap coasting down from the last step at 1.8 / 2.4 / 3.6 m/s^2
         (Python step, the stalker's misses over relative_motion x 1, 1 +- 0.001; this read 16
         (6) / 30 (20) / 34 (25)) 19 (10) / 27 (18) / 38 (30), 17 (7) / 26 (17) / 34 (25), 16
-        (7) / 29 (19) / 38 (32): not monotone in the rate, within the re-matching's spread.
-        None kept."""
+        (7) / 29 (19) / 38 (32): not monotone in the rate, within the re-matching's spread;
+        capped at the demonstrated coast's pace (0.141 m/s) for the first 0.15 / 0.25 s of a
+        stop 19 (7) / 32 (20) / 28 (20), 18 (8) / 30 (19) / 41 (29), at 0.1 m/s for 0.25 s 20
+        (9) / 37 (25) / 35 (24). None kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
