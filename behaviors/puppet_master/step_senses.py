@@ -71,7 +71,32 @@ class StepSenses:
 
     def _main_stopped(self, mx: float, my: float) -> bool:
         """Whether the main at (mx, my) is within STILL_MPS x the stop span (metres) of each of
-        its last Behavior.stop_span positions before it (character.STOP_SPAN_S)."""
+        its last Behavior.stop_span positions before it (character.STOP_SPAN_S).
+
+        One position thrown 4 mm off ends this read, and the resampler's extrapolation of a
+        30 Hz main to the 40 Hz grid (resample.CausalResampler) about doubles a standing
+        hand's tremor and jitter: on the slow paths of seeds 0-5, 8-13, 26-31 it reads 61% of
+        the bench's still steps as stopped (85% on the interpolated path; loops 78%, fast
+        90%). Traced on seed 1 slow (Python step): a 1.6 s stand read stopped on 48% of its
+        steps, the stalker between at its walking moments' pace (0.085 m/s over the stand;
+        still/moving 0.451 against 0.285 shown, band to 0.385). Measured with bench/fidelity.py
+        --perturb 2 (three runs a set; mean met of 720 / the engine's alone, seeds 0-5 / 8-13
+        / 26-31; this read 673.3 / 7.7, 668.7 / 13.3, 665.3 / 15.0): read on mean positions
+        (the newest 0.1 s against the 0.1 s before, within STILL_MPS x 0.1 s; 78% of the slow
+        paths' still steps, 87% of the loops') 673.7 / 7.3, 667.7 / 14.0, 662.0 / 19.3: seeds
+        1 and 5 slow met (0.451 / 0.447 -> 0.338 / 0.349), but the loops paths fall under the
+        band (the stalker's misses on 26-31 over the three runs 34 (25) -> 44 (38)). There,
+        0.5 s into a stop it moves at the demonstrated pace (0.045 m/s; shown 0.038-0.040),
+        but it halts where the demonstration coasts (the first 0.25 s of the bench's still
+        windows 0.092 m/s, shown 0.141, its designer 0.125): the misreads carried it. Entered
+        by this read and left by the mean read 670.0 / 10.0, 667.0 / 14.7, 662.0 / 18.0. The
+        mean read with the cap coasting down from the last step at 1.8 / 2.4 / 3.6 m/s^2
+        (Python step, the stalker's misses over relative_motion x 1, 1 +- 0.001; this read 16
+        (6) / 30 (20) / 34 (25)) 19 (10) / 27 (18) / 38 (30), 17 (7) / 26 (17) / 34 (25), 16
+        (7) / 29 (19) / 38 (32): not monotone in the rate, within the re-matching's spread;
+        capped at the demonstrated coast's pace (0.141 m/s) for the first 0.15 / 0.25 s of a
+        stop 19 (7) / 32 (20) / 28 (20), 18 (8) / 30 (19) / 41 (29), at 0.1 m/s for 0.25 s 20
+        (9) / 37 (25) / 35 (24). None kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
