@@ -106,7 +106,7 @@ forgotten over 16 samples, when refused and when judged afresh: 0.8985 / 0.7525,
 closer); within 1/1.25-1.25: 0.8988 / 0.745, 0.124 / 0.0194, 0.838 / 0.662 / 0.942 / 0.920.
 The same with the forward and the size at half the aspect (its log), the other rules at all of
 it: 0.9173 / 0.7597, 0.142 / 0.0241, 0.852 / 0.668 / 0.947 / 0.767; with neither of them at the
-aspect (only the misfit, threshold model, shape sums and take fit): 0.915 / 0.752, 0.092 /
+aspect (only the misfit, shape sums, take fit, end and tempo): 0.915 / 0.752, 0.092 /
 0.0223, 0.877 / 0.669 / 0.917 / 0.648. What it costs: at
 0.7x the size lags (a crawl wrist at 1.0 while drawn at 0.7), the followed progress lags with it
 and the aspect takes up the rest (1.21 / 0.83 while valid); refused, the size fitted at that
