@@ -15,7 +15,8 @@ Figures per kind, as the sized section's (:func:`bench.follow_quality.true_metri
 ``..._progress_rmse_median``. Measured (``--sections=shapes``): valid after 30% 0.874 bent 5%,
 0.632 bent 10%, 0.895 at aspect 1.1, 0.397 at 1.2 (held out 0.748, 0.476, 0.870, 0.435),
 against 0.916 for the templates' own shapes at 0.7-1.4x (``sized``); progress RMSE median
-0.016-0.030 (held out 0.024-0.041).
+0.016-0.030 (held out 0.024-0.041). A per-column aspect estimated as the gesture unfolds, measured
+here and not kept: :mod:`behaviors.mop.invariance`.
 """
 
 from __future__ import annotations
