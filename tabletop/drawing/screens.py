@@ -110,6 +110,23 @@ def _table_row(parts: Sequence[pygame.Surface], widths: Sequence[int], gap: int)
     return row
 
 
+def _split_row(line: str, parts: Sequence[pygame.Surface], widths: Sequence[int], gap: int,
+               room: int, px: int, keep: bool) -> list[pygame.Surface]:
+    """A table row for a panel narrower than the table (``room`` px; a 320 px window's panel
+    is 284 px, the stage table ~370 px): its first cell on a line of its own, its figures on
+    the next, right-aligned in their columns at the panel's right edge, or wrapped as words
+    where even they are wider than ``room``, so no figure runs past the window's edge."""
+    f = font(px)
+    head = [panel_line(p, px, keep) for p in fit_lines(cells(line)[0], f, room)]
+    figures = sum(widths[1:]) + gap * (len(widths) - 2)
+    if figures + gap > room:
+        words = " ".join(cells(line)[1:])
+        return head + [panel_line(p, px, keep) for p in fit_lines(words, f, room)]
+    spacer = pygame.Surface((0, 0), pygame.SRCALPHA)
+    widths = [room - figures - gap, *widths[1:len(parts)]]
+    return head + [_table_row([spacer, *parts[1:]], widths, gap)]
+
+
 def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
           width: int | None = None, keep: bool = True) -> pygame.Surface:
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
@@ -123,12 +140,16 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
     widths = [max((r[k].get_width() for r in rows.values() if len(r) > k), default=0)
               for k in range(ncol)]
     gap = font(px).size("   ")[0]
+    room = None if width is None else width - 2 * pad
+    split = room is not None and sum(widths) + gap * (ncol - 1) > room
     imgs = []
     for i, line in enumerate(lines):
+        if i in rows and split:
+            imgs.extend(_split_row(line, rows[i], widths, gap, room, px, keep))
+            continue
         img = _table_row(rows[i], widths, gap) if i in rows else panel_line(line, px, keep)
-        if width is not None and img.get_width() > width - 2 * pad and i not in rows:
-            imgs.extend(panel_line(part, px, keep) for part in fit_lines(line, font(px),
-                                                                         width - 2 * pad))
+        if room is not None and img.get_width() > room and i not in rows:
+            imgs.extend(panel_line(part, px, keep) for part in fit_lines(line, font(px), room))
         else:
             imgs.append(img)
     w = max((i.get_width() for i in imgs), default=0) + 2 * pad

@@ -280,3 +280,29 @@ def test_the_stage_figures_stand_in_columns_on_the_panel():
             ends.append(int(lit.max()))
         y += h + 2
     assert len(ends) == 5 and max(ends) - min(ends) <= 1, ends
+
+
+def test_the_stage_table_fits_a_very_small_window_every_figure_shown():
+    """A 320x200 window's panel may be 304 px wide, the stage table is ~370 px: its rows ran past
+    the window's right edge, the p99 column cut off. Each row then takes two lines (the label,
+    then its figures right-aligned in their columns) and every lit pixel of the panel is seen."""
+    from tabletop.renderer import Renderer
+    st = LoopStats()
+    for stage, s in (("capture_age", 0.004), ("engine:playful_friend", 0.00006),
+                     ("engine:lover", 0.0148), ("sink:view", 0.1234)):
+        for _ in range(10):
+            st.record(stage, s)
+    lines = overlay_lines(Frame(seq=5, t=1.0), st)
+    W, H = 320, 200
+    renderer = Renderer((1.2, 0.8), (W, H), margin=24)
+    wide = pygame.Surface((1600, 1000))
+    target = pygame.Surface((W, H))
+    rect = renderer.draw_overlay(target, lines, avoid=[], must=[])
+    panel_img = rgb(renderer._overlay_img).sum(axis=2)
+    assert rect.width <= W - 16, rect           # measured: a 413 px panel before, 304 after
+    wide.blit(renderer._overlay_img, (0, 0))
+    seen = rgb(target)[rect.top:rect.bottom, rect.left:rect.right].sum(axis=2)
+    lit_panel = int((rgb(wide)[:rect.height, :].sum(axis=2) > 300).sum())
+    assert lit_panel > 2000 and int((seen > 300).sum()) == lit_panel   # before: 4088 of 5328
+    lit_cols = np.nonzero((panel_img > 300).any(axis=0))[0]
+    assert lit_cols.max() >= rect.width - 10 - 2           # figures right-aligned at the padding
