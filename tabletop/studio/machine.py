@@ -280,9 +280,13 @@ class Studio:
             t.outcome = outcome
         self.tries.append(t)
         self._try = None
-        if self.log_try is not None and self.target is not None:
+        if self.target is not None:
+            self._log(t, self.target)
+
+    def _log(self, t: Try, target: Target) -> None:
+        if self.log_try is not None:
             try:
-                self.log_try(t, self.target)
+                self.log_try(t, target)
             except Exception:  # the session log must never stop the studio
                 log.exception("studio: session log failed")
 
@@ -367,10 +371,17 @@ class Studio:
         if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
             self.say("nothing to rename" if old is None else "rename needs a new name")
             return
-        target.rename(old, arg)
+        self._renamed(target, old, arg)
         self.undo_stack.append((f"rename {old} -> {arg}",
-                                lambda: target.rename(arg, old, undo=True)))
+                                lambda: self._renamed(target, arg, old, undo=True)))
         self.say(f"renamed {old} to {arg}")
+
+    def _renamed(self, target: Target, old: str, new: str, undo: bool = False) -> None:
+        """``old`` renamed ``new`` (``undo``: back), logged: the session log's kept take goes by
+        the name its folder has."""
+        target.rename(old, new, undo=undo)
+        self._log(Try(target.name, target.what, time.time(), outcome="renamed", name=new,
+                      renamed_from=old), target)
 
     def _delete(self, target: Target, arg: str) -> None:
         if self._busy("deleting"):
