@@ -163,6 +163,36 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
     return s.convert_alpha() if pygame.display.get_surface() is not None else s
 
 
+PANEL_PX = (20, 18, 16, 14, 13)     # the panel's font sizes, tried in turn in a small window
+
+
+def fitted_panel(lines: Sequence[str], width: int, height: int, px: int = PANEL_PX[0],
+                 keep: bool = True) -> tuple[pygame.Surface, int]:
+    """:func:`panel` no taller than ``height`` pixels: in the first font size of
+    ``PANEL_PX`` from ``px`` (the size that fitted last time) whose panel fits, trying the next
+    larger one too when ``px`` fits (lines may have gone); in the smallest, the last lines give
+    way to a line saying how many are left out (the shipped config's 13 overlay lines make a
+    256 px panel at 20 px: in a 400x225 window its first lines, tick, fps and errors, would
+    stand above the window's top). Returns the panel and the font size used."""
+    sizes = [p for p in PANEL_PX if p <= px] or [PANEL_PX[-1]]
+    larger = [p for p in PANEL_PX if p > sizes[0]]
+    if larger:
+        up = panel(lines, larger[-1], width=width, keep=keep)
+        if up.get_height() <= height:
+            return up, larger[-1]
+    for size in sizes:
+        img = panel(lines, size, width=width, keep=keep)
+        if img.get_height() <= height:
+            return img, size
+    size = PANEL_PX[-1]
+    for n in range(len(lines) - 1, 0, -1):
+        cut = [*lines[:n], f"... {len(lines) - n} more lines (a larger window shows them)"]
+        img = panel(cut, size, width=width, keep=keep)
+        if img.get_height() <= height:
+            break
+    return img, size
+
+
 _lines: dict[tuple, pygame.Surface] = {}
 
 
