@@ -144,7 +144,11 @@ class NamePrompt:
             self.text += ev.unicode
         return None
 
-    def draw(self, target: pygame.Surface) -> None:
+    def draw(self, target: pygame.Surface, renderer=None) -> None:
+        """The line being typed, at the window's top, sized on the table as the studio's
+        other words are (:func:`text_scale` of ``renderer``; 32 px at 840 px/m)."""
         if self.text is not None:
-            img = font(32).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
-            target.blit(img, img.get_rect(center=(target.get_width() // 2, 40)))
+            k = 1.0 if renderer is None else text_scale(renderer)
+            px = max(MIN_MARK_PX, round(32 * k))
+            img = font(px).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
+            target.blit(img, img.get_rect(center=(target.get_width() // 2, px // 2 + 24)))

@@ -110,3 +110,19 @@ def test_the_studio_words_keep_their_size_on_the_table_at_any_projector_resoluti
     if action == "idle":     # a preview window on a desk: still a 16 px font (a 12 px box)
         ppm = Renderer((1.2, 0.8), (480, 270), margin=24).map.scale_at(0.6, 0.4)
         assert text_mm((480, 270), action) * ppm / 1000 >= 12
+
+
+def test_the_rename_prompt_keeps_its_size_on_the_table_too():
+    """F2's line was 32 px at every resolution: 2/3 as tall on the table at 1920x1080."""
+    from tabletop.studio.draw import NamePrompt
+    heights = []
+    for size in ((1280, 720), (1920, 1080)):
+        renderer = Renderer((1.2, 0.8), size, margin=24)
+        surface = pygame.Surface(size)
+        surface.fill(GREY)
+        prompt = NamePrompt()
+        prompt.text = "shy"
+        prompt.draw(surface, renderer)
+        img = pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
+        heights.append(len(rows_with_text(img)) / renderer.map.scale_at(0.6, 0.4))
+    assert abs(heights[1] / heights[0] - 1.0) < 0.1, heights
