@@ -169,7 +169,12 @@ class PuppetMasterTarget(BehaviorShelf):
         secs = s.seconds()
         if s.phase == "main" and secs < self.min_seconds:
             return ""                                 # train() refuses it as too short
-        return f"{self.REACTION} ({secs:.1f} s)" if s.toggle(self._t) == "ready" else ""
+        if s.toggle(self._t) != "ready":
+            return ""
+        # the playback's first pose, still, until it plays: the designer puts the reactor
+        # puck where the reaction begins, not only once the playback starts
+        self.ghost = tuple(s.main[0][1:])
+        return f"{self.REACTION} ({secs:.1f} s)"
 
     def seconds(self) -> float:
         if self.sequential:
