@@ -4,17 +4,15 @@ doing, and what the designer may do next)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any
 
 from tabletop.frames import CharacterState, Frame
 
-if TYPE_CHECKING:
-    from tabletop.studio.machine import Studio
 
-
-def indicator(studio: Studio, frame: Frame) -> CharacterState:
-    """The studio's indicator: ``action`` = state, ``progress`` = countdown left (s) or
-    recorded seconds, ``label`` = status line."""
+def indicator(studio: Any, frame: Frame) -> CharacterState:
+    """The indicator of ``studio`` (a :class:`~tabletop.studio.machine.Studio`, which imports
+    this module): ``action`` = state, ``progress`` = countdown left (s) or recorded seconds,
+    ``label`` = status line."""
     target = studio.target
     if studio.quiet:
         return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
