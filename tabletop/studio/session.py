@@ -138,6 +138,8 @@ class SessionLog:
 
     def _append(self, t: Try) -> None:
         d = dataclasses.asdict(t)
+        if not d["renamed_from"]:        # only a rename's line has it
+            del d["renamed_from"]
         d["time"] = _dt.datetime.fromtimestamp(d.pop("started"), _dt.timezone.utc).isoformat(
             timespec="seconds")
         try:

@@ -329,6 +329,7 @@ def test_a_rename_after_the_keep_is_in_the_session_log_and_its_review(tmp_path):
         ("kept", "pet", ""), ("renamed", "brave", "pet"), ("renamed", "pet", "brave"),
         ("renamed", "shy", "pet")]
     assert all(x["review"] == "" and x["samples"] == 0 for x in lines[1:])
+    assert "renamed_from" not in lines[0]               # a try's line: its keys alone
     tries = read_session(bench.session.path)
     assert [(t["outcome"], t["name"]) for t in tries] == [("kept", "shy")]
     assert summary(tries).startswith("1 try, 1 kept")
