@@ -151,8 +151,9 @@ def check_lines(result: CheckResult, tolerance_mm: float) -> tuple[list[str], bo
     worst = float(np.max(still))
     passed = bool(np.isfinite(worst) and worst <= tolerance_mm)
     figure = f"{worst:.2f} mm" if np.isfinite(worst) else "a cross not seen"
-    lines.append(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {len(still)} pucks "
-                 f"(tolerance {tolerance_mm:g} mm)")
+    n = len(still)
+    lines.append(f"{'PASS' if passed else 'FAIL'}: worst {figure} over {n} "
+                 f"{'puck' if n == 1 else 'pucks'} (tolerance {tolerance_mm:g} mm)")
     return lines, passed
 
 

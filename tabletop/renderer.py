@@ -90,7 +90,8 @@ class Renderer:
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
         self._overlay_key: tuple[str, ...] = ()
-        self._overlay_w = 0          # the window width the panel was wrapped for (px)
+        self._overlay_w = (0, 0)     # the window size the panel was made for (px)
+        self._overlay_px = screens.PANEL_PX[0]   # its font size (px): smaller in a small window
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
@@ -326,10 +327,11 @@ class Renderer:
         must = self._studio_marks if must is None else must
         W, H = target.get_size()
         key = tuple(lines)
-        if key != self._overlay_key or self._overlay_img is None or W != self._overlay_w:
+        if key != self._overlay_key or self._overlay_img is None or (W, H) != self._overlay_w:
             width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # wraps within it
-            self._overlay_img = screens.panel(lines, width=width, keep=keep)
-            self._overlay_key, self._overlay_w = key, W
+            self._overlay_img, self._overlay_px = screens.fitted_panel(
+                lines, width, H - 16, self._overlay_px, keep=keep)
+            self._overlay_key, self._overlay_w = key, (W, H)
         w, h = self._overlay_img.get_size()
         corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
 

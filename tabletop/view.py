@@ -199,7 +199,7 @@ class ProjectorView:
             overlay = self._overlay
         self.renderer.draw(self.screen, frame, overlay)
         if self.prompt.active:
-            self.prompt.draw(self.screen)
+            self.prompt.draw(self.screen, self.renderer)
             self.renderer.invalidate()
         if self.renderer.incremental:
             pygame.display.update(self.renderer.dirty)

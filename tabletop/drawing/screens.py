@@ -110,6 +110,23 @@ def _table_row(parts: Sequence[pygame.Surface], widths: Sequence[int], gap: int)
     return row
 
 
+def _split_row(line: str, parts: Sequence[pygame.Surface], widths: Sequence[int], gap: int,
+               room: int, px: int, keep: bool) -> list[pygame.Surface]:
+    """A table row for a panel narrower than the table (``room`` px; a 320 px window's panel
+    is 284 px, the stage table ~370 px): its first cell on a line of its own, its figures on
+    the next, right-aligned in their columns at the panel's right edge, or wrapped as words
+    where even they are wider than ``room``, so no figure runs past the window's edge."""
+    f = font(px)
+    head = [panel_line(p, px, keep) for p in fit_lines(cells(line)[0], f, room)]
+    figures = sum(widths[1:]) + gap * (len(widths) - 2)
+    if figures + gap > room:
+        words = " ".join(cells(line)[1:])
+        return head + [panel_line(p, px, keep) for p in fit_lines(words, f, room)]
+    spacer = pygame.Surface((0, 0), pygame.SRCALPHA)
+    widths = [room - figures - gap, *widths[1:len(parts)]]
+    return head + [_table_row([spacer, *parts[1:]], widths, gap)]
+
+
 def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
           width: int | None = None, keep: bool = True) -> pygame.Surface:
     """Text lines on a translucent dark panel with rounded corners (an SRCALPHA surface); a
@@ -123,12 +140,16 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
     widths = [max((r[k].get_width() for r in rows.values() if len(r) > k), default=0)
               for k in range(ncol)]
     gap = font(px).size("   ")[0]
+    room = None if width is None else width - 2 * pad
+    split = room is not None and sum(widths) + gap * (ncol - 1) > room
     imgs = []
     for i, line in enumerate(lines):
+        if i in rows and split:
+            imgs.extend(_split_row(line, rows[i], widths, gap, room, px, keep))
+            continue
         img = _table_row(rows[i], widths, gap) if i in rows else panel_line(line, px, keep)
-        if width is not None and img.get_width() > width - 2 * pad and i not in rows:
-            imgs.extend(panel_line(part, px, keep) for part in fit_lines(line, font(px),
-                                                                         width - 2 * pad))
+        if room is not None and img.get_width() > room and i not in rows:
+            imgs.extend(panel_line(part, px, keep) for part in fit_lines(line, font(px), room))
         else:
             imgs.append(img)
     w = max((i.get_width() for i in imgs), default=0) + 2 * pad
@@ -140,6 +161,36 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
         s.blit(img, (pad, y))
         y += img.get_height() + 2
     return s.convert_alpha() if pygame.display.get_surface() is not None else s
+
+
+PANEL_PX = (20, 18, 16, 14, 13)     # the panel's font sizes, tried in turn in a small window
+
+
+def fitted_panel(lines: Sequence[str], width: int, height: int, px: int = PANEL_PX[0],
+                 keep: bool = True) -> tuple[pygame.Surface, int]:
+    """:func:`panel` no taller than ``height`` pixels: in the first font size of
+    ``PANEL_PX`` from ``px`` (the size that fitted last time) whose panel fits, trying the next
+    larger one too when ``px`` fits (lines may have gone); in the smallest, the last lines give
+    way to a line saying how many are left out (the shipped config's 13 overlay lines make a
+    256 px panel at 20 px: in a 400x225 window its first lines, tick, fps and errors, would
+    stand above the window's top). Returns the panel and the font size used."""
+    sizes = [p for p in PANEL_PX if p <= px] or [PANEL_PX[-1]]
+    larger = [p for p in PANEL_PX if p > sizes[0]]
+    if larger:
+        up = panel(lines, larger[-1], width=width, keep=keep)
+        if up.get_height() <= height:
+            return up, larger[-1]
+    for size in sizes:
+        img = panel(lines, size, width=width, keep=keep)
+        if img.get_height() <= height:
+            return img, size
+    size = PANEL_PX[-1]
+    for n in range(len(lines) - 1, 0, -1):
+        cut = [*lines[:n], f"... {len(lines) - n} more lines (a larger window shows them)"]
+        img = panel(cut, size, width=width, keep=keep)
+        if img.get_height() <= height:
+            break
+    return img, size
 
 
 _lines: dict[tuple, pygame.Surface] = {}

@@ -22,6 +22,22 @@ def font(size: int) -> pygame.font.Font:
     return _fonts[size]
 
 
+# The studio's words are sized on the table, not in pixels: at 1280x720 over a 1.2 x 0.8 m table
+# (840 px/m) the status line's 26 px font has 15 mm capitals, which a designer standing at the
+# table reads; in fixed pixels a 1920x1080 projector drew them 10 mm tall and a 3840x2160 one
+# 5 mm. A window smaller than that (a preview on a desk) keeps them readable on its monitor.
+REF_PPM = 840.0                  # pixels per metre the sizes below are for
+STATUS_PX, MARK_PX, DOT_PX = 26, 36, 14
+MIN_STATUS_PX, MIN_MARK_PX = 16, 22
+
+
+def text_scale(renderer) -> float:
+    """The studio's words' size factor: the table's pixels per metre at its centre over
+    ``REF_PPM``."""
+    w, h = renderer.table
+    return renderer.map.scale_at(w / 2, h / 2) / REF_PPM
+
+
 def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pygame.Rect]:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
     number in the middle of the table, a red dot and seconds and a red edge round the table
@@ -33,6 +49,8 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pyg
         return []
     marks: list[pygame.Rect] = []
     w, h = renderer.table
+    k = text_scale(renderer)
+    mark_px, dot = max(MIN_MARK_PX, round(MARK_PX * k)), max(8, round(DOT_PX * k))
     cx, cy = renderer.map.point(w / 2, h / 2)
     if c.action == "countdown" and c.progress is not None:
         n = max(1, math.ceil(c.progress))
@@ -48,26 +66,27 @@ def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pyg
     elif c.action == "recording":
         x, y = renderer.map.point(0.04, h - 0.04)
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
-        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), 14)
-        img = font(36).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
-        marks.append(target.blit(img, (x + 22, y - img.get_height() // 2)).union(
-            (x - 14, y - 14, 28, 28)))
+        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), dot)
+        img = font(mark_px).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
+        marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
+            (x - dot, y - dot, 2 * dot, 2 * dot)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
         pygame.draw.polygon(target, c.color, renderer._corners().tolist(), width=6)
     elif c.action in ("trying", "training"):
         x, y = renderer.map.point(0.04, h - 0.04)
         green = (90, 220, 120)
-        pygame.draw.circle(target, green, (x, y), 14, width=0 if c.action == "trying" else 3)
-        img = font(36).render("TRY: K keep  X discard  R redo" if c.action == "trying"
-                              else "training...", True, green)
-        marks.append(target.blit(img, (x + 22, y - img.get_height() // 2)).union(
-            (x - 14, y - 14, 28, 28)))
+        pygame.draw.circle(target, green, (x, y), dot, width=0 if c.action == "trying" else 3)
+        img = font(mark_px).render("TRY: K keep  X discard  R redo" if c.action == "trying"
+                                   else "training...", True, green)
+        marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
+            (x - dot, y - dot, 2 * dot, 2 * dot)))
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
     x, y = renderer.map.point(0.02, 0.02)
-    f = font(26)
-    for line in reversed(fit_lines(c.label, 26, target.get_width() - x - max(x, 12))):
+    px = max(MIN_STATUS_PX, round(STATUS_PX * k))
+    f = font(px)
+    for line in reversed(fit_lines(c.label, px, target.get_width() - x - max(x, 12))):
         img = f.render(line, True, (235, 235, 235), (0, 0, 0))
         y -= img.get_height() + 4
         marks.append(target.blit(img, (x, y)))
@@ -125,7 +144,11 @@ class NamePrompt:
             self.text += ev.unicode
         return None
 
-    def draw(self, target: pygame.Surface) -> None:
+    def draw(self, target: pygame.Surface, renderer=None) -> None:
+        """The line being typed, at the window's top, sized on the table as the studio's
+        other words are (:func:`text_scale` of ``renderer``; 32 px at 840 px/m)."""
         if self.text is not None:
-            img = font(32).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
-            target.blit(img, img.get_rect(center=(target.get_width() // 2, 40)))
+            k = 1.0 if renderer is None else text_scale(renderer)
+            px = max(MIN_MARK_PX, round(32 * k))
+            img = font(px).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
+            target.blit(img, img.get_rect(center=(target.get_width() // 2, px // 2 + 24)))

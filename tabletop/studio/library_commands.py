@@ -4,10 +4,11 @@ acts while a take is under way or tried: they act on the item in play, not on th
 
 from __future__ import annotations
 
+import time
 from typing import Callable
 
 from tabletop.frames import InputError
-from tabletop.studio.take import Target
+from tabletop.studio.take import Target, Try
 
 
 class LibraryCommands:
@@ -23,6 +24,9 @@ class LibraryCommands:
         raise NotImplementedError
 
     def say(self, text: str) -> None:
+        raise NotImplementedError
+
+    def _log(self, t: Try, target: Target) -> None:
         raise NotImplementedError
 
     def _busy(self, doing: str) -> bool:
@@ -88,10 +92,17 @@ class LibraryCommands:
         if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
             self.say("nothing to rename" if old is None else "rename needs a new name")
             return
-        target.rename(old, arg)
+        self._renamed(target, old, arg)
         self.undo_stack.append((f"rename {old} -> {arg}",
-                                lambda: target.rename(arg, old, undo=True)))
+                                lambda: self._renamed(target, arg, old, undo=True)))
         self.say(f"renamed {old} to {arg}")
+
+    def _renamed(self, target: Target, old: str, new: str, undo: bool = False) -> None:
+        """``old`` renamed ``new`` (``undo``: back), logged: the session log's kept take goes by
+        the name its folder has."""
+        target.rename(old, new, undo=undo)
+        self._log(Try(target.name, target.what, time.time(), outcome="renamed", name=new,
+                      renamed_from=old), target)
 
     def _delete(self, target: Target, arg: str) -> None:
         if self._busy("deleting"):

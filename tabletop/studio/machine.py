@@ -43,6 +43,7 @@ from typing import Callable, Sequence
 
 from tabletop.frames import CharacterState, Frame, InputError
 from tabletop.studio.library_commands import LibraryCommands
+from tabletop.studio.status import indicator
 from tabletop.studio.take import Target, Try
 
 log = logging.getLogger("tabletop")
@@ -281,9 +282,13 @@ class Studio(LibraryCommands):
             t.outcome = outcome
         self.tries.append(t)
         self._try = None
-        if self.log_try is not None and self.target is not None:
+        if self.target is not None:
+            self._log(t, self.target)
+
+    def _log(self, t: Try, target: Target) -> None:
+        if self.log_try is not None:
             try:
-                self.log_try(t, self.target)
+                self.log_try(t, target)
             except Exception:  # the session log must never stop the studio
                 log.exception("studio: session log failed")
 
@@ -320,43 +325,8 @@ class Studio(LibraryCommands):
             self.problems = problems
 
     def character(self, frame: Frame) -> CharacterState:
-        """The studio's indicator: ``action`` = state, ``progress`` = countdown left (s) or
-        recorded seconds, ``label`` = status line."""
-        target = self.target
-        if self.quiet:
-            return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
-                                  action="idle", label="")
-        points = None
-        if self.state == "countdown":
-            value: float | None = max(0.0, self.until - frame.t)
-        elif self.state == "recording" and target is not None:
-            value = target.seconds()
-        else:
-            value = None
-        if self.state == "trying" and target is not None and hasattr(target, "guide"):
-            points = target.guide()       # where to try it (table metres), drawn as a path
-        warning = self._warning if self._t < self._warning_until else ""
-        if self._t < self._message_until:
-            text = f"{warning}   | {self.message}" if warning else self.message
-        elif warning:
-            text = warning
-        elif target is None:
-            text = "no designer target"
-        else:
-            name = getattr(target, "shown", target.current)()
-            text = {"idle": f"{target.what} {name or '(none)'}: R record, "
-                            "[ ] switch, F2 rename, Del delete, U undo",
-                    "countdown": getattr(target, "cue", "get ready"),
-                    "recording": f"recording{' ' + self._part if self._part else ''}: R stop",
-                    "ready": f"R records {self._part}, X cancels",
-                    "training": "training the take...",
-                    "trying": "try it: K keep, X discard, R redo"}[self.state]
-        if self.problems:
-            text += f"   | {len(self.problems)} bad library file(s): {self.problems[0]}"
-        return CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0,
-                              color=(255, 60, 60), progress=value, action=self.state,
-                              label=f"[{self.selected or '-'}] {text}", valid=True,
-                              points=points)
+        """The studio's indicator (:func:`tabletop.studio.status.indicator`)."""
+        return indicator(self, frame)
 
     def status(self) -> dict:
         return {"studio": {"state": self.state, "target": self.selected,

@@ -111,7 +111,14 @@ class MopTarget:
                 self._applied()
 
     def assign(self) -> str:
-        return f"motion {self.stage.assign_motion(self.character)}"
+        """A: the next motion, said with what plays it (its name alone does not say): the take
+        being tried ("take1 -> curl", with what to do next, as after its stop) or the next
+        take."""
+        motion = self.stage.assign_motion(self.character)
+        action = self.stage.take_action
+        if action is not None:
+            return f"{action} -> {motion}; try it: K keep, X discard, R redo"
+        return f"the next take plays {motion} (A: another motion)"
 
     def keep(self) -> str:
         """Keep the take under its name, or the next free one when another run on the library

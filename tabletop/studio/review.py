@@ -151,13 +151,14 @@ def _check_try(d: object) -> None:
         v = d.get(key, 0)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < math.inf:
             raise ValueError(f"{key} is {str(v)[:40]!r}, expected a number of {unit} >= 0")
-    for key in ("target", "outcome", "name", "review"):
+    for key in ("target", "outcome", "name", "review", "renamed_from"):
         if not isinstance(d.get(key, ""), str):
             raise ValueError(f"{key} is {str(d[key])[:40]!r}, expected a string")
 
 
 def read_session(path: Path) -> list[dict]:
-    """The tries of a session log; a line cut short (a power cut) at the end is skipped, a bad
+    """The tries of a session log, a kept take under the name a later rename gave it (the
+    rename lines are no tries); a line cut short (a power cut) at the end is skipped, a bad
     line elsewhere is refused naming its line and what is wrong."""
     p = Path(path)
     if not p.is_file():
@@ -173,10 +174,23 @@ def read_session(path: Path) -> list[dict]:
             if i == len(lines) and not text.endswith("\n"):   # written only in part
                 break
             raise InputError(f"{p}:{i}: not a session log line ({exc})") from None
-        out.append(d)
+        if d.get("outcome") == "renamed":
+            _renamed(out, d)
+        else:
+            out.append(d)
     if not out:
         raise InputError(f"{p}: no tries in this session log")
     return out
+
+
+def _renamed(tries: list[dict], rename: dict) -> None:
+    """The latest take of ``rename``'s target kept as its ``renamed_from`` takes its new name
+    (a rename of an item kept in another session names no try here)."""
+    for t in reversed(tries):
+        if (t["target"], t.get("outcome"), t.get("name")) == (
+                rename["target"], "kept", rename.get("renamed_from")):
+            t["name"] = rename.get("name", "")
+            return
 
 
 def summary(tries: list[dict]) -> str:

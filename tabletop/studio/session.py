@@ -2,8 +2,11 @@
 
 ``<folder>/session-YYYYmmdd-HHMMSS.jsonl``: each line ``{"target", "what", "time" (UTC ISO),
 "duration_s", "samples", "training_s", "outcome" (kept | discarded | redone | too short |
-refused | quit: tried, not kept, when the studio closed), "name" (kept name), "review" (PNG file name, or "")}``. Each line is written, flushed
-and fsynced on its own, so a power cut loses at most the line being written. Review sheets are
+refused | quit: tried, not kept, when the studio closed), "name" (kept name), "review" (PNG
+file name, or "")}``; a library item renamed (F2, or its undo) is a line of its own, outcome
+"renamed", ``name`` the new name and ``renamed_from`` the old (the reader gives a take kept
+earlier the name its folder has). Each line is written, flushed and fsynced on its own, so a
+power cut loses at most the line being written. Review sheets are
 drawn in a background thread (one at a time; a try arriving while one is drawn gets none): one
 thread for the whole process, because matplotlib keeps each font open once per thread that
 draws (up to 64): a thread per sheet and per studio build left two more files open and their
@@ -126,6 +129,9 @@ class SessionLog:
             self._drawn = _warm_once()
 
     def log_try(self, t: Try, target) -> None:
+        if t.outcome == "renamed":       # a line of its own: no samples, no sheet
+            self._append(t)
+            return
         demo = getattr(target, "demo", None)
         if demo is not None:
             t.samples = int(len(demo))
@@ -145,6 +151,8 @@ class SessionLog:
 
     def _append(self, t: Try) -> None:
         d = dataclasses.asdict(t)
+        if not d["renamed_from"]:        # only a rename's line has it
+            del d["renamed_from"]
         d["time"] = _dt.datetime.fromtimestamp(d.pop("started"), _dt.timezone.utc).isoformat(
             timespec="seconds")
         try:

@@ -63,6 +63,8 @@ class PuppetMasterTarget(BehaviorShelf):
         self.session = SequentialSession()
         self.unseen = Unseen()      # how long a needed puck was missing from the take
         self.ghost: tuple[float, float, float] | None = None   # the main's playback pose
+        self.react_at: tuple[float, float, float] | None = None   # the reactor puck's last
+                                                                   # pose in this take
         # imported here: a studio without Puppet Master engines never loads their kernels
         from behaviors.puppet_master.training import BackgroundTrainer
         background = d.get("background_training", True)
@@ -110,6 +112,7 @@ class PuppetMasterTarget(BehaviorShelf):
     def begin(self, frame: Frame) -> None:
         self.flush()                     # a library pick still training plays first
         self.take, self.ghost, self.demo = [], None, None   # (demo: the session log's figures)
+        self.react_at = None
         self.unseen = Unseen()
         if self.sequential:
             self.session = SequentialSession()
@@ -123,12 +126,16 @@ class PuppetMasterTarget(BehaviorShelf):
             self.session.toggle(frame.t)
 
     def _hold(self, frame: Frame) -> tuple[CharacterState, ...]:
-        """While recording the character is drawn under the reactor puck, and the main take's
-        playback (sequential) as a ghost ``NAME.main`` of kind "playback"."""
+        """While recording the character is drawn under the reactor puck (while it is lifted,
+        calmer where it was last seen, not sliding to the table's centre and back), and the
+        main take's playback (sequential) as a ghost ``NAME.main`` of kind "playback"."""
         e = self.engine
         r = frame.puck(self.react_puck)
         if r is not None:
+            self.react_at = (r.x, r.y, r.angle)
             out = [e.character(r.x, r.y, r.angle, True, "recording")]
+        elif self.react_at is not None:
+            out = [e.character(*self.react_at, False, "recording")]
         else:
             x0, y0, x1, y1 = e.table
             out = [e.character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, "recording")]
@@ -166,7 +173,12 @@ class PuppetMasterTarget(BehaviorShelf):
         secs = s.seconds()
         if s.phase == "main" and secs < self.min_seconds:
             return ""                                 # train() refuses it as too short
-        return f"{self.REACTION} ({secs:.1f} s)" if s.toggle(self._t) == "ready" else ""
+        if s.toggle(self._t) != "ready":
+            return ""
+        # the playback's first pose, still, until it plays: the designer puts the reactor
+        # puck where the reaction begins, not only once the playback starts
+        self.ghost = tuple(s.main[0][1:])
+        return f"{self.REACTION} ({secs:.1f} s)"
 
     def seconds(self) -> float:
         if self.sequential:

@@ -165,7 +165,7 @@ def test_a_puck_moved_during_the_check_is_not_measured(tmp_path):
     rig.grab = grab_with_a_hand
     lines, passed = check_lines(run_check(rig, cal, detector), 2.0)
     assert passed and "puck 2 at 0.600, 0.400 m: moved during the check" in "\n".join(lines)
-    assert lines[-1].startswith("PASS: worst") and "over 1 pucks" in lines[-1]
+    assert lines[-1].startswith("PASS: worst") and "over 1 puck (" in lines[-1]
     rig.pucks = [(2, 0.6, 0.4, 2.0)]
     grabs.clear()
     lines, passed = check_lines(run_check(rig, cal, detector), 2.0)

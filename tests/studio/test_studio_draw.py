@@ -76,3 +76,53 @@ def test_the_recording_edge_is_drawn_round_the_table():
         return bool((np.abs(img[y, x] - red) < 40).all())
     assert is_red(150, 40) and is_red(150, 220) and is_red(80, 130)  # the table's edges
     assert not is_red(135, SIZE[0] - 2) and not is_red(SIZE[1] - 2, 400)  # not the window's
+
+
+def text_mm(size: tuple[int, int], action: str, progress: float | None = None) -> float:
+    """Height (mm on the table) of what the studio draws in ``size``: the status line (its
+    box) while idle, the REC mark while recording (rows of red pixels)."""
+    renderer = Renderer((1.2, 0.8), size, margin=24)
+    surface = pygame.Surface(size)
+    surface.fill(GREY)
+    draw_studio(surface, renderer, CharacterState(
+        "studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action=action, progress=progress,
+        color=(255, 60, 60), label="[lover] behaviour lover: R record"))
+    img = pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
+    if action == "recording":     # below the red table edge, right of the dot: the words
+        edge = int(renderer.map.point(0.6, 0.8)[1]) + 8
+        left, mid = int(renderer.map.point(0.1, 0.8)[0]), int(renderer.map.point(0.6, 0.8)[0])
+        box = img[edge: size[1] // 3, left:mid]
+        rows = np.flatnonzero(((box[..., 0] > 200) & (box[..., 1] < 120)).any(axis=1))
+    else:
+        rows = rows_with_text(img[size[1] // 2:])
+    return 1000 * len(rows) / renderer.map.scale_at(0.6, 0.4)
+
+
+@pytest.mark.parametrize("action", ["idle", "recording"])
+def test_the_studio_words_keep_their_size_on_the_table_at_any_projector_resolution(action):
+    """A 1920x1080 projector drew the status line and the REC mark in the pixels of 1280x720:
+    two thirds as tall on the table (measured, the status line's box: 23 mm at 1280x720, 15 mm
+    at 1920x1080; a 4K projector: a third)."""
+    at_720 = text_mm((1280, 720), action, 2.0)
+    at_1080 = text_mm((1920, 1080), action, 2.0)
+    assert at_720 > 8.0
+    assert abs(at_1080 / at_720 - 1.0) < 0.1, (at_720, at_1080)
+    if action == "idle":     # a preview window on a desk: still a 16 px font (a 12 px box)
+        ppm = Renderer((1.2, 0.8), (480, 270), margin=24).map.scale_at(0.6, 0.4)
+        assert text_mm((480, 270), action) * ppm / 1000 >= 12
+
+
+def test_the_rename_prompt_keeps_its_size_on_the_table_too():
+    """F2's line was 32 px at every resolution: 2/3 as tall on the table at 1920x1080."""
+    from tabletop.studio.draw import NamePrompt
+    heights = []
+    for size in ((1280, 720), (1920, 1080)):
+        renderer = Renderer((1.2, 0.8), size, margin=24)
+        surface = pygame.Surface(size)
+        surface.fill(GREY)
+        prompt = NamePrompt()
+        prompt.text = "shy"
+        prompt.draw(surface, renderer)
+        img = pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
+        heights.append(len(rows_with_text(img)) / renderer.map.scale_at(0.6, 0.4))
+    assert abs(heights[1] / heights[0] - 1.0) < 0.1, heights

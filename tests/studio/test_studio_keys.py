@@ -308,3 +308,29 @@ def test_the_status_line_names_a_behaviour_played_from_outside_the_library(tmp_p
     bench.studio.command("designer.item_next")
     _, studio = bench.step(Frame(seq=1, t=30.0, pucks=(Puck(1, 0.5, 0.4, 0.0),)))  # said
     assert studio.label.startswith("[pet] behaviour shy: R record")
+
+
+def test_a_rename_after_the_keep_is_in_the_session_log_and_its_review(tmp_path):
+    """The session log named the kept take "pet" after F2 had renamed its folder "brave": the
+    contact sheet and the log pointed at a folder that was gone."""
+    from tabletop.studio.review import read_session, summary
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=8)
+    for f in demo_frames(demo, {10: ("designer.record",), 250: ("designer.record",),
+                                251: ("designer.keep",)}):
+        bench.step(f)
+    bench.studio.command("designer.rename:brave")
+    bench.studio.command("designer.undo")              # back to pet
+    bench.studio.command("designer.rename:shy")
+    assert library.list_behaviors(tmp_path / "lib") == ["shy"]
+    lines = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert [(x["outcome"], x["name"], x.get("renamed_from", "")) for x in lines] == [
+        ("kept", "pet", ""), ("renamed", "brave", "pet"), ("renamed", "pet", "brave"),
+        ("renamed", "shy", "pet")]
+    assert all(x["review"] == "" and x["samples"] == 0 for x in lines[1:])
+    assert "renamed_from" not in lines[0]               # a try's line: its keys alone
+    tries = read_session(bench.session.path)
+    assert [(t["outcome"], t["name"]) for t in tries] == [("kept", "shy")]
+    assert summary(tries).startswith("1 try, 1 kept")
+    assert len(bench.studio.tries) == 1                # a rename is no try

@@ -14,6 +14,10 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     table.rest(1.0)
+    table.tick(["designer.assign"])           # before a take: chosen for the next one
+    assert "the next take plays curl" in table.status, table.status
+    table.tick(["designer.assign"])
+    assert "the next take plays strike" in table.status, table.status
     table.tick(["designer.record"])
     table.tick()
     assert "recording" in table.status and table.studio.state == "recording"
@@ -22,7 +26,7 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     assert "take1 -> strike" in table.status and table.studio.state == "trying"
     assert engine.puppets["lizard"].actions["take1"].clip.name == "strike"
     table.tick(["designer.assign"])
-    assert "motion curl" in table.status
+    assert "take1 -> curl; try it: K keep" in table.status
     assert engine.puppets["lizard"].actions["take1"].clip.name == "curl"
     # trained at once: perform it (a little faster) and the lizard curls along
     table.rest(1.2)

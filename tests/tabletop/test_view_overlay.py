@@ -280,3 +280,72 @@ def test_the_stage_figures_stand_in_columns_on_the_panel():
             ends.append(int(lit.max()))
         y += h + 2
     assert len(ends) == 5 and max(ends) - min(ends) <= 1, ends
+
+
+def test_the_stage_table_fits_a_very_small_window_every_figure_shown():
+    """A 320x200 window's panel may be 304 px wide, the stage table is ~370 px: its rows ran past
+    the window's right edge, the p99 column cut off. Each row then takes two lines (the label,
+    then its figures right-aligned in their columns) and every lit pixel of the panel is seen."""
+    from tabletop.renderer import Renderer
+    st = LoopStats()
+    for stage, s in (("capture_age", 0.004), ("engine:playful_friend", 0.00006),
+                     ("engine:lover", 0.0148), ("sink:view", 0.1234)):
+        for _ in range(10):
+            st.record(stage, s)
+    lines = overlay_lines(Frame(seq=5, t=1.0), st)
+    W, H = 320, 200
+    renderer = Renderer((1.2, 0.8), (W, H), margin=24)
+    wide = pygame.Surface((1600, 1000))
+    target = pygame.Surface((W, H))
+    rect = renderer.draw_overlay(target, lines, avoid=[], must=[])
+    panel_img = rgb(renderer._overlay_img).sum(axis=2)
+    assert rect.width <= W - 16, rect           # measured: a 413 px panel before, 304 after
+    wide.blit(renderer._overlay_img, (0, 0))
+    seen = rgb(target)[rect.top:rect.bottom, rect.left:rect.right].sum(axis=2)
+    lit_panel = int((rgb(wide)[:rect.height, :].sum(axis=2) > 300).sum())
+    assert lit_panel > 2000 and int((seen > 300).sum()) == lit_panel   # before: 4088 of 5328
+    lit_cols = np.nonzero((panel_img > 300).any(axis=0))[0]
+    assert lit_cols.max() >= rect.width - 10 - 2           # figures right-aligned at the padding
+
+
+def overlay_of_the_shipped_config() -> list[str]:
+    """13 lines: tick, fps, 9 stage rows, a source's health, a character's status."""
+    st = LoopStats()
+    for stage in ("capture_age", "inputs", "engines", "sinks", "tick", "engine:lover",
+                  "sink:view", "source", "queued"):
+        for k in range(20):
+            st.record(stage, 0.001 * (k % 5 + 1))
+    frame = Frame(seq=280, t=4.7, health=(SourceHealth("camera", True, "synthetic camera "
+                                                       "1280x720 open", 0.006),),
+                  characters=(CharacterState("lover", 0.3, 0.3, 0.0,
+                                             label="playing lover, coherence 49%"),))
+    return overlay_lines(frame, st)
+
+
+@pytest.mark.parametrize("size, shrinks, cut", [((400, 225), True, False),
+                                                ((320, 120), True, True),
+                                                ((1280, 720), False, False)])
+def test_an_overlay_taller_than_the_window_fits_it_first_lines_kept(size, shrinks, cut):
+    """In a 400x225 window the overlay panel (256 px tall) ran off the window's top, its
+    first lines, tick, fps and errors, unseen: its font gets smaller until it fits, and in a
+    window too small even for that the last lines give way to one saying how many."""
+    from tabletop.renderer import Renderer
+    lines = overlay_of_the_shipped_config()
+    W, H = size
+    renderer = Renderer((1.2, 0.8), size, margin=24)
+    target = pygame.Surface(size)
+    rect = renderer.draw_overlay(target, lines, avoid=[], must=[])
+    img = renderer._overlay_img
+    assert img.get_height() <= H - 16 and rect.top >= 8 and rect.bottom <= H - 8, rect
+    assert (renderer._overlay_px < 20) == shrinks
+    # the panel's lit pixels are all in the window, its first line at its top
+    wide = pygame.Surface((2000, 2000))
+    wide.blit(img, (0, 0))
+    lit_panel = int((rgb(wide).sum(axis=2) > 300).sum())
+    seen = rgb(target)[rect.top:rect.bottom, rect.left:rect.right].sum(axis=2)
+    assert lit_panel > 1000 and int((seen > 300).sum()) == lit_panel
+    lit_rows = np.flatnonzero((rgb(img).sum(axis=2) > 300).any(axis=1))
+    assert lit_rows[0] < 16                            # a line ("tick ...") at the panel's top
+    from tabletop.drawing import screens
+    whole = screens.panel(lines, renderer._overlay_px, width=max(W // 2, min(W - 16, 480)))
+    assert (whole.get_height() > img.get_height()) == cut   # lines left out only when cut
