@@ -186,10 +186,11 @@ sigma, widened worst 0.239 -> 0.228, mean 0.0134, but valid after 30% at 0.7-1.4
 0.8835 and twenty back to back runs over 2 samples 14 -> 16 (true performances are strained that
 long while their size converges); beyond 1.44 sigma 0.228 / 0.0142, sequences identical, but
 0.9152; beyond 1.56 sigma 0.228 / 0.01445 (over 0.1 22 unchanged), sized, holds and sequences
-identical: it ends only the zigzag on seed 208 (1.57-1.69 sigma from its second valid sample), the worst
-left being the walk ankle's unstrained return (0.228) and the held-out worst of that kind, so it
-would also need the compiled group's counterpart (a strained flag per template and a run per
-member in :func:`behaviors.mop.members.conclude`) for a gain of 0.011 on one tuning case.
+identical: it ends only the zigzag on seed 208 (1.57-1.69 sigma from its second valid sample),
+the worst left being the walk ankle's unstrained return (0.228) and the held-out worst of that
+kind, so it would also need the compiled group's counterpart (a strained flag per template and
+a run per member in :func:`behaviors.mop.members.conclude`) for a gain of 0.011 on one tuning
+case.
 
 Tried beside the likelihood before, measured with ``bench/follow_quality.py`` and left out,
 since the unrelated motions still find stretches of some template that match them in every
