@@ -167,6 +167,30 @@ true valid ticks follow such a judgement (62 of 798 mirrored); nor do the misfit
 the new size tell them. Left: a stretch followed back over itself unstrained (the walk ankle; the
 held-out worst 0.346), as a performer going back along a gesture or a line's return followed
 backwards at a wrong size is (going back: :mod:`behaviors.mop.validity`).
+Measured and not kept (widened, then ``bench/follow_quality.py --sections=sized,holds,sequences,
+unrelated,after,pauses``, tuned): no *new* action taken while strained (the action driving drives
+on): widened worst 0.239 -> 0.296: the zigzag on seed 208's mirrored dance wrist at 0.7x, held at
+its corner (strained 1.3-1.7 sigma), took the reversal's size there (1.06 -> 1.36) once it was not
+driving, was judged afresh (recent likelihood 0.0, misfit 0.06) and drove 21 samples instead of
+17. With no reversal size for *any* strained template as well: widened worst 0.239 -> 0.228 (the
+walk ankle's), mean 0.0145 -> 0.0116, over 0.1 22 -> 18 of 540, sequences identical; after a
+gesture mean 0.0730 -> 0.0686 (worst 0.198 the same), unrelated mean 0.0154 -> 0.0133 (worst 0.068
+the same); but valid after 30% at 0.7-1.4x 0.9157 -> 0.9019, at 0.6 / 1.5x 0.7585 -> 0.6910, twenty
+templates back to back never recognised 0 -> 0.031 (median 0.298 -> 0.316): true takes are
+strained while their size is still unknown. Strained beyond 1.5 sigma instead of 1.2: widened
+identical to the digit; no reversal size for any strained template alone: worst 0.239, mean 0.0149,
+over 0.1 25.
+Measured and not kept either: the action driving stops once strained for 6 samples in a row
+(``bench/follow_quality.py --sections=sized,holds``, tuned, and the widened cases): beyond 1.2
+sigma, widened worst 0.239 -> 0.228, mean 0.0134, but valid after 30% at 0.7-1.4x 0.9157 ->
+0.8835 and twenty back to back runs over 2 samples 14 -> 16 (true performances are strained that
+long while their size converges); beyond 1.44 sigma 0.228 / 0.0142, sequences identical, but
+0.9152; beyond 1.56 sigma 0.228 / 0.01445 (over 0.1 22 unchanged), sized, holds and sequences
+identical: it ends only the zigzag on seed 208 (1.57-1.69 sigma from its second valid sample),
+the worst left being the walk ankle's unstrained return (0.228) and the held-out worst of that
+kind, so it would also need the compiled group's counterpart (a strained flag per template and
+a run per member in :func:`behaviors.mop.members.conclude`) for a gain of 0.011 on one tuning
+case.
 
 Tried beside the likelihood before, measured with ``bench/follow_quality.py`` and left out,
 since the unrelated motions still find stretches of some template that match them in every

@@ -16,6 +16,18 @@ six gestures the median longest run of a wrong action driving 13 -> 11.5 samples
 recognition at 24% -> 24%; among twenty templates gestures never recognised 16% -> 3% (held-out
 joints: 16% -> 9%, median recognition 35% -> 25%).
 
+An unrelated stroke straight after a gesture (``bench/follow_after.py``) is refused as it is from
+rest: nothing of the gesture just ended carries over into it. Its 72 tuned performances replayed
+with the gesture replaced by 0.5 s still at its last point (the same stroke samples, counted as the
+bench counts them, from the stroke's third tick): worst motion 0.198 -> 0.202, mean 0.0730 ->
+0.0770. The worst, the diagonal after the square, wave, circle and zigzag (0.16-0.20 of its ticks;
+0.11 after the figure eight), is the figure eight taken on it as from rest: all 158 valid ticks
+of the 18 diagonals are its own, taken at 0.21-0.25 of itself and driving to 0.24-0.28 (5-15
+samples; after the square it becomes ``best`` 4-11 samples into the stroke, at 0.11-0.21), until
+the drift rule (:mod:`~behaviors.mop.shape_lead`) stops it; up to 0.22 of it the diagonal *is* the
+figure eight's first stroke, where true figure eights are taken (0.22-0.24). The
+ended square drives none of the stroke after its first sample.
+
 Where the next gesture is anchored: where the last one's end was reached or, when the input was
 still coming closer to the ended template's last point (at its estimated size, from the anchor)
 as the new attempt began, that last point. The follower reaches ``end`` (97% of the progress)

@@ -67,7 +67,16 @@ the next gesture's first samples (``tests/mop/test_quality.py``, 4 samples). At 
 track (valid 0.70 -> 0.17, on track 0.07 both). An upper tempo (2x) refused no unrelated take.
 What is left is taken at a performer's tempo: the mirrored line's return is the line's outward
 stroke, then rests at its turn (a line paused there); a triangle's base is the square's first
-side.
+side. Measured and not kept: a second, shorter window beside :data:`TEMPO_SAMPLES` (slow also
+over the last 4 samples; tuned joints, seeds 201-210, ``bench/follow_widened.py``; the tuned
+``after`` performances; ``bench/follow_quality.py --sections=sized,holds``): 0.3 states per
+sample: mirrored paths among twenty worst 0.239 unchanged, mean 0.0145 -> 0.0121, over 0.1 22 ->
+19 of 540, twenty back to back runs over 2 samples 14 -> 13; after a gesture mean 0.0730 ->
+0.0677, worst 0.198 unchanged; valid after 30% at 0.7-1.4x 0.9157 -> 0.9150, 0.6 / 1.5x and
+holds unchanged: the worst are taken at tempo. 0.15: mean 0.0142, after 0.0722. Over the last 2
+samples at 0.3: the zigzag on seed 208's mirrored dance wrist (taken at its corner, its state
+parked there while the input went on) was held until the input's reversal sized it afresh
+(1.06 -> 1.36), and drove more: worst 0.239 -> 0.268.
 
 Crawling (:func:`crawls`): an action, taken or not, stops driving once the tempo test above
 found it crawling :data:`CRAWL_SAMPLES` samples in a row; it is then taken again only at tempo.
