@@ -96,3 +96,25 @@ def emit(name: str, figures: dict[str, Any], budgets: dict[str, Any]) -> None:
     print(json.dumps({"bench": name, "figures": figures, "budgets": budgets,
                       "machine": machine()}, separators=(",", ":"), default=float))
     sys.stdout.flush()
+
+
+def check_flags(name: str, args: Sequence[str], flags: Sequence[str],
+                lists: dict[str, Sequence[str]]) -> None:
+    """Refuse a bench's unknown command line before minutes of measuring: ``args`` may hold
+    ``flags`` and ``--KEY=A,B`` with each value among ``lists[KEY]``; ``-h``/``--help`` prints
+    the usage and exits 0, anything else wrong exits with one line naming it and the usage."""
+    usage = f"usage: python bench/{name}.py " + " ".join(
+        [f"[{f}]" for f in flags] + [f"[--{k}=NAME,...]" for k in lists]) + "".join(
+        f"\n  {k}: {', '.join(v)}" for k, v in lists.items())
+    if {"-h", "--help"} & set(args):
+        print(usage)
+        sys.exit(0)
+    for a in args:
+        key, _, value = a.partition("=")
+        if a in flags:
+            continue
+        if not (key.startswith("--") and key[2:] in lists and value):
+            sys.exit(f"{name}: unknown argument {a!r}\n{usage}")
+        bad = [v for v in value.split(",") if v not in lists[key[2:]]]
+        if bad:
+            sys.exit(f"{name}: {key}: unknown {bad[0]!r}\n{usage}")

@@ -70,7 +70,7 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from bench.common import emit  # noqa: E402
+from bench.common import check_flags, emit  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 from bench.motions import (MOCAP, MOCAP_HELD_OUT, at_phase, back_to_back,  # noqa: E402
                            gesture_templates, mocap_templates, performance, raise_hold_return,
@@ -407,6 +407,8 @@ def paper_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
 
 
 def main() -> None:
+    check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": (
+        "sized", "holds", "sequences", "unrelated", "after", "pauses", "shapes")})
     t0 = time.perf_counter()
     figures: dict[str, float] = {}
     figures.update(evaluate(puck_follower))
