@@ -103,7 +103,21 @@ band from 0.002). Traced on seeds 0-5 (Python step), the match sits on moments u
 0.4%; at moments under 0.1 m it is 4.6-6.0 cm farther out than they are (closing on them at
 most at their pace).
 
+``--sequential`` adds sequential training beside two-puck demonstrations (:func:`sequential`,
+tabletop.examples.sequential_comparison: the designer's main at 60 Hz, then its reaction on
+60 Hz camera frames against the playback seen a frame late, paired by
+behaviors.puppet_master.sequential.pair_takes; two-puck demonstrations of the same character
+on the same main by the same designer's hand and by another reacting two frames slower): per
+behaviour the thresholds each misses over the open paths of every seed and its mean
+generated distance to the main (``sequential.<name>.<take>.misses`` / ``.distance_m``), and
+``sequential.<name>.excess``: the sequential misses beyond the two-puck ones less the two
+draws' difference (the test allows 3 on seeds 0-3). Measured on seeds 0-5, 8-13, 26-31
+(misses, sequential / two-puck / second draw): lover 110 / 109 / 125, bully 26 / 31 / 34,
+playful friend 4 / 6 / 8, stalker 62 / 60 / 70, afraid 108 / 98 / 106 (excess -15, -8, -4,
+-8, 2; mean distance 0.395 / 0.375 / 0.388 m for the afraid, within 2 mm for the others).
+
     .venv/bin/python bench/fidelity.py [--seconds 40] [--seed 0 | --seeds 0,1,2] [--perturb K]
+                                       [--sequential]
 """
 
 from __future__ import annotations
@@ -121,8 +135,9 @@ sys.path.insert(0, str(ROOT))
 from bench.common import emit  # noqa: E402
 from behaviors.puppet_master import fidelity  # noqa: E402
 from behaviors.puppet_master.fidelity import engine_misses  # noqa: E402
-from tabletop.examples import (designer_table, fidelity_table, print_report,  # noqa: E402
-                               pursuit_table)
+from behaviors.puppet_master import designers, visitors  # noqa: E402
+from tabletop.examples import (TABLE, designer_table, fidelity_table,  # noqa: E402
+                               print_report, pursuit_table, sequential_comparison)
 
 
 def _seeds(text: str) -> list[int]:
@@ -185,6 +200,23 @@ def miss_counts(met: int, engine_n: int, by_behaviour: dict[str, list[str]]) -> 
     return out
 
 
+def sequential(seeds: list[int], seconds: float) -> dict[str, float]:
+    """Sequential training beside two-puck demonstrations of each shipped character on the
+    open paths of ``seeds`` (see the module doc): ``sequential.<name>.<take>.misses`` and
+    ``.distance_m`` for take sequential, two_puck and second_draw, and
+    ``sequential.<name>.excess``."""
+    paths = [m for s in seeds for m in visitors.unseen_main_paths(s, seconds, TABLE).values()]
+    out: dict[str, float] = {}
+    for name in designers.PERSONALITIES:
+        figures = sequential_comparison(name, paths)
+        for take, (missed, distance) in figures.items():
+            out[f"sequential.{name}.{take}.misses"] = missed
+            out[f"sequential.{name}.{take}.distance_m"] = round(distance, 4)
+        seq, two, other = (figures[k][0] for k in ("sequential", "two_puck", "second_draw"))
+        out[f"sequential.{name}.excess"] = seq - two - abs(two - other)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seconds", type=float, default=40.0)
@@ -195,6 +227,8 @@ def main() -> None:
                     help=f"also K runs (at most {len(PERTURBATIONS)}) with the drift "
                          "correction's share scaled by 1 + 0.001, 1 - 0.001, ...: the "
                          "spread a change is read against")
+    ap.add_argument("--sequential", action="store_true",
+                    help="also sequential training beside two-puck demonstrations")
     args = ap.parse_args()
     if not args.seconds > 0:
         ap.error(f"--seconds {args.seconds}: must be > 0")
@@ -287,6 +321,14 @@ def main() -> None:
             runs = [unperturbed[k], *v]
             figures[f"cloud.{k}"] = runs
             print(f"  {k:34s} {' '.join(map(str, runs))}   mean {np.mean(runs):.1f}")
+    if args.sequential:
+        seq = sequential(seeds, args.seconds)
+        print("sequential training beside two-puck (misses sequential / two-puck / second draw):")
+        for name in designers.PERSONALITIES:
+            print(f"  {name:18s}" + " / ".join(
+                str(seq[f"sequential.{name}.{k}.misses"])
+                for k in ("sequential", "two_puck", "second_draw")))
+        figures.update(seq)
     figures["seconds_per_path"] = args.seconds
     figures["run_s"] = time.perf_counter() - t0
     budgets = {"facing_abs_diff": 0.1, "look_change_ratio": [0.67, 1.5],

@@ -21,12 +21,13 @@ import argparse
 import functools
 import sys
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
 from behaviors.puppet_master import designers, fidelity, visitors
 from behaviors.puppet_master.engine import Behavior, Params
+from behaviors.puppet_master.sequential import pair_takes
 from tabletop import library
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / "behaviors" / "library"
@@ -207,6 +208,37 @@ def designer_table(seconds: float = 40.0, seed: int = 0, pursuit: bool = False,
         for path, main in paths.items():
             t, react = designers.reaction_on_grid(name, main, rate, TABLE)
             out[name][path] = row(t, fidelity.main_on_grid(main, t), react)
+    return out
+
+
+# the second two-puck draw of sequential_comparison: the same designer's other hand (another
+# shake, other choices) reacting two frames (33 ms) slower, as a hand's reaction time varies
+# from take to take
+OTHER_HAND = 100
+OTHER_DELAY_S = 0.15 + 2.0 / 60.0
+
+
+def sequential_comparison(name: str, paths: Sequence[np.ndarray],
+                          pair: Callable[[np.ndarray, np.ndarray], np.ndarray] = pair_takes
+                          ) -> dict[str, tuple[int, float]]:
+    """Sequential training of ``name`` (designers.sequential_takes, paired by ``pair``) beside
+    two-puck demonstrations of the same character on the same 60 Hz main: {"sequential",
+    "two_puck", "second_draw": (thresholds missed on the main ``paths``, mean generated
+    distance to the main (m))}, each behaviour against its own demonstration."""
+    seed = designers.SEEDS[name]
+    path = designers.designer_main_path(seed, _seconds(name), 60.0, TABLE)
+    demos = {"sequential": pair(*designers.sequential_takes(name, seed, table=TABLE))}
+    for key, hand, delay in (("two_puck", seed, 0.15),
+                             ("second_draw", seed + OTHER_HAND, OTHER_DELAY_S)):
+        demos[key] = designers.demonstrate(name, hand, rate_hz=60.0, table=TABLE,
+                                           main=path.copy(), delay_s=delay)
+    out = {}
+    for key, demo in demos.items():
+        behavior = Behavior.train(demo, **parameters(name))
+        figures = fidelity.demonstration_figures(behavior)
+        rows = [fidelity.evaluate(behavior, main, (0.0, 0.0, *TABLE), figures) for main in paths]
+        out[key] = (sum(len(fidelity.failures(r)) for r in rows),
+                    float(np.mean([r["gen_distance_mean_m"] for r in rows])))
     return out
 
 

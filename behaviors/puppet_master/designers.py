@@ -297,6 +297,29 @@ def demonstrate(personality: str, seed: int | None = None, seconds: float | None
     return out
 
 
+def sequential_takes(personality: str, seed: int | None = None, seconds: float | None = None,
+                     rate_hz: float = 60.0, table: Table = (1.2, 0.8), phase: float = 0.5,
+                     latency_s: float = 1.0 / 60.0) -> tuple[np.ndarray, np.ndarray]:
+    """A scripted designer's sequential take (paper section 3.1, as the studio records it):
+    (main take (n, 4), reactor take (m, 4)), each ``t, x, y, dir``. The main take is the main
+    hand of :func:`demonstrate` on the designer's own unchased main path at ``rate_hz`` (its
+    shake included); the reactor take is the same designer's reaction to that take's playback,
+    on camera frames ``phase`` of a frame after the main's (times on the main take's base), the
+    playback seen ``latency_s`` late (the frame drawn after the one it was computed for)."""
+    seed = SEEDS.get(personality, 0) if seed is None else seed
+    seconds = DURATION_S.get(personality, 60.0) if seconds is None else seconds
+    path = designer_main_path(seed, seconds, rate_hz, table)
+    main_take = demonstrate(personality, seed, rate_hz=rate_hz, table=table,
+                            main=path.copy())[:, :4]
+    t = np.arange(phase / rate_hz, float(path[-1, 0]), 1.0 / rate_hz)
+    seen = np.column_stack([t, *(np.interp(t - latency_s, path[:, 0], path[:, c])
+                                 for c in (1, 2)),
+                            wrap_angles(np.interp(t - latency_s, path[:, 0],
+                                                  np.unwrap(path[:, 3])))])
+    hand = demonstrate(personality, seed, rate_hz=rate_hz, table=table, main=seen)
+    return main_take, np.column_stack([t, hand[:, 4:7]])
+
+
 def reaction_on_grid(personality: str, main: np.ndarray, rate_hz: float,
                      table: Table = (1.2, 0.8)) -> tuple[np.ndarray, np.ndarray]:
     """The scripted designer's own ``personality`` reacting to another main path ``main``

@@ -133,21 +133,62 @@ def test_never_leaves_the_table_never_jumps_and_is_reproducible(shipped, paths, 
         assert step.max() <= largest * (1.0 + 1e-12), (name, i, step.max(), largest)
 
 
-def test_sequential_training_keeps_the_character_as_a_two_puck_demonstration(paths):
-    # the designer records the main first (60 Hz), then the stalker against its playback
-    main_take = designers.designer_main_path(designers.SEEDS["stalker"], 60.0, 60.0,
-                                             examples.TABLE)
-    grid = np.arange(0.0, main_take[-1, 0], 1.0 / 40.0)
-    playback = np.column_stack([grid, *fidelity.main_on_grid(main_take, grid).T])
-    both = designers.demonstrate("stalker", main=playback, table=examples.TABLE)
-    react_take = both[::2][:, [0, 4, 5, 6]]                 # the reactor's hand at 20 Hz
-    sequential = Behavior.train(pair_takes(main_take, react_take))
-    two_puck = Behavior.train(both)
-    for path in PATHS:
-        seq = fidelity.evaluate(sequential, paths[path], TABLE)
-        two = fidelity.evaluate(two_puck, paths[path], TABLE)
-        assert set(fidelity.failures(seq)) <= set(fidelity.failures(two)), path
-        assert abs(seq["gen_distance_mean_m"] - two["gen_distance_mean_m"]) < 0.05   # 0.01
+# Sequential training against two-puck demonstrations of the same character on the same
+# main (seeds 0-3: 12 unseen paths a behaviour). Measured (thresholds missed on those paths:
+# sequential / two-puck / the second two-puck draw; mean generated distance to the main,
+# sequential / two-puck / second draw, m): lover 24 / 23 / 28, 0.129 / 0.129 / 0.129; bully
+# 6 / 5 / 8, 0.235 / 0.229 / 0.226; playful friend 0 / 2 / 3, 0.160 / 0.160 / 0.158; stalker
+# 12 / 13 / 12, 0.291 / 0.290 / 0.290; afraid 24 / 24 / 22, 0.399 / 0.378 / 0.404 (the
+# afraid designer's fleeing branches on a half frame: its demonstration's mean distance
+# 0.466 two-puck, 0.482 sequential, 0.474 with a reaction two frames slower). With the
+# designer's hands 0, 100, 200 (its seed + 0, 100, 200; the second draw the next hand at the
+# same reaction time), sequential missed at most 2 more than two-puck beyond the two draws'
+# difference on these paths, so SLACK = 3. The reactor take stamped 0.1 s late (pair_takes
+# pairing it with the wrong main moments) fails: lover 34 misses against at most 31; 0.2 s
+# late: lover 38, bully 14 (at most 11), stalker 20 (at most 17) and its distance 0.018 m
+# off; 0.2 s early: bully 16 and the stalker's distance 0.017 m off. 0.05 s late passes
+# (stalker 16 against at most 17).
+SEQUENTIAL_SEEDS = (0, 1, 2, 3)
+SEQUENTIAL_SLACK = 3
+
+
+@pytest.fixture(scope="module")
+def sequential_paths():
+    return [m for s in SEQUENTIAL_SEEDS
+            for m in visitors.unseen_main_paths(s, 40.0, examples.TABLE).values()]
+
+
+@pytest.mark.parametrize("name", designers.PERSONALITIES)
+def test_sequential_training_keeps_the_character_as_a_two_puck_demonstration(
+        name, sequential_paths):
+    """The designer records the main at 60 Hz, then the reaction against its playback on the
+    camera's frames (half a frame after the main's, the playback seen a frame late); paired
+    by pair_takes, it misses no more thresholds than a two-puck demonstration of the same
+    character on the same main, beyond what a second two-puck draw (the same designer's
+    other hand, examples.OTHER_DELAY_S) differs by, and keeps its distance to the main as
+    closely (within the two draws' difference and 5 mm)."""
+    assert not _sequential_misses(examples.sequential_comparison(name, sequential_paths))
+
+
+def _sequential_misses(figures: dict[str, tuple[int, float]]) -> list[str]:
+    """What a sequential behaviour misses of SEQUENTIAL_SLACK's criterion, with its figures."""
+    (seq_n, seq_d), (two_n, two_d), (other_n, other_d) = (
+        figures[k] for k in ("sequential", "two_puck", "second_draw"))
+    out = []
+    if seq_n > two_n + abs(two_n - other_n) + SEQUENTIAL_SLACK:
+        out.append(f"misses {seq_n} against {two_n} and {other_n}")
+    if abs(seq_d - two_d) > abs(two_d - other_d) + 0.005:
+        out.append(f"distance {seq_d:.4f} against {two_d:.4f} and {other_d:.4f}")
+    return out
+
+
+def test_the_sequential_check_catches_a_reaction_paired_with_the_wrong_moments(
+        sequential_paths):
+    # the lover's reactor take paired as if stamped 0.2 s late: 38 misses against 23 and 28
+    def late(main, react):
+        return pair_takes(main, react + np.array([0.2, 0.0, 0.0, 0.0]))
+    figures = examples.sequential_comparison("lover", sequential_paths, pair=late)
+    assert _sequential_misses(figures)
 
 
 def test_the_bully_charges_into_contact_and_keeps_a_charge_whole(shipped, paths):
