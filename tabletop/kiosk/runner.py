@@ -25,6 +25,7 @@ from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.studio.build import attach_studio
 from tabletop.studio.reloader import BehaviorReloader
+from tabletop.studio.session import end_drawing
 
 log = logging.getLogger("tabletop")
 
@@ -248,6 +249,18 @@ class Runner:
         if self.kiosk and self.cfg["kiosk"]["watch_config"] or self.studio_on:
             self.watcher = ConfigWatcher(self.config_path, self.cfg, load_config, self._apply)
             self.watcher.error = self.config_error
+        try:
+            self._run_loops(seconds)
+        finally:   # the studio's drawing thread served every build; it ends with the run
+            end_drawing()
+        if self.reporter is not None:      # its loop closed it: the file says it stopped
+            self.reporter.stopped()
+        self.notifier.send("STOPPING=1")
+        return 0
+
+    def _run_loops(self, seconds: float | None) -> None:
+        """Build and run the installation, rebuilt at each applied config edit, until stopped
+        or ``seconds`` of run time have passed."""
         cfg = self.cfg
         left = seconds              # run time, not counting the builds
         rebuilt = False
@@ -291,10 +304,6 @@ class Runner:
             if self.pending is None or self.stop.is_set() or (left is not None and left <= 0):
                 break
             cfg, self.pending, self._waiting = self.pending, None, False
-        if self.reporter is not None:      # its loop closed it: the file says it stopped
-            self.reporter.stopped()
-        self.notifier.send("STOPPING=1")
-        return 0
 
 
 def trim_heap() -> None:

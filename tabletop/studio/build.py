@@ -66,7 +66,8 @@ class StudioStage:
 
     def close(self) -> None:
         """The loop closes: the take under way dropped (one tried logged), then every target's
-        worker and the session's drawing thread ended, so none outlives the run."""
+        worker ended, so none outlives the run, and the session's sheet being drawn waited for
+        (the drawing thread serves the next build and ends with the run)."""
         self.studio.close()
         for target in self.studio.targets.values():
             getattr(target, "close", lambda: None)()

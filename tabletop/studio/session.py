@@ -43,18 +43,21 @@ def _load_plotting() -> None:
         log.exception("the plotting library for review sheets did not load")
 
 
-_jobs: queue.SimpleQueue[tuple[Callable[[], None], threading.Event]] = queue.SimpleQueue()
+_Jobs = queue.SimpleQueue   # of (job, its done event), or None: the drawer's end
 _drawer_lock = threading.Lock()
-_drawer: threading.Thread | None = None
+_drawer: tuple[threading.Thread, _Jobs] | None = None   # the drawing thread and its own queue
 _warmed = False
 
 
-def _draw_jobs() -> None:
-    """The drawing thread: each job in turn; a job that fails is logged and the next runs. It
-    ends once the main thread has (behaviors.worker.next_job: not a daemon, as matplotlib's
-    native code must not be left running while the interpreter finalises)."""
+def _draw_jobs(jobs: _Jobs) -> None:
+    """The drawing thread: each job of its own queue in turn; a job that fails is logged and
+    the next runs. It ends at :func:`end_drawing`'s None, or once the main thread has ended
+    (behaviors.worker.next_job: not a daemon, as matplotlib's native code must not be left
+    running while the interpreter finalises). Its queue is its own, so a drawer still finishing
+    a slow sheet after :func:`end_drawing` gave up waiting takes its own end and no later
+    drawer's jobs: one drawer serves at a time."""
     while True:
-        item = next_job(_jobs)
+        item = next_job(jobs)
         if item is None:
             return
         job, done = item
@@ -73,23 +76,26 @@ def draw_later(job: Callable[[], None]) -> threading.Event:
     global _drawer
     done = threading.Event()
     with _drawer_lock:
-        if _drawer is None or not _drawer.is_alive():
-            _drawer = job_thread(_draw_jobs, name="review")
-    _jobs.put((job, done))
+        if _drawer is None or not _drawer[0].is_alive():
+            jobs: _Jobs = queue.SimpleQueue()
+            _drawer = job_thread(_draw_jobs, (jobs,), name="review"), jobs
+        _drawer[1].put((job, done))
     return done
 
 
 def end_drawing(timeout: float = FINISH_S) -> bool:
     """End the drawing thread once the sheets queued for it are drawn (a later sheet starts
-    another); waits up to ``timeout`` seconds and says whether it ended."""
+    another); waits up to ``timeout`` seconds and says whether it ended. Called once, where
+    the run ends (:meth:`tabletop.kiosk.runner.Runner.run`), not at each studio build's close:
+    each new drawer would open matplotlib's fonts again."""
     global _drawer
     with _drawer_lock:
         drawer, _drawer = _drawer, None
-    if drawer is None or not drawer.is_alive():
+    if drawer is None or not drawer[0].is_alive():
         return True
-    _jobs.put(None)   # type: ignore[arg-type]  # the thread's end (next_job's None)
-    drawer.join(timeout)
-    return not drawer.is_alive()
+    drawer[1].put(None)   # the thread's end (next_job's None)
+    drawer[0].join(timeout)
+    return not drawer[0].is_alive()
 
 
 def _warm_once() -> threading.Event:
@@ -179,9 +185,11 @@ class SessionLog:
         except Exception:  # a review sheet is a convenience: never stop the studio
             log.exception("review sheet %s not drawn", path)
 
-    def close(self) -> None:
-        """The studio closes: the review sheets asked for are drawn, the drawing thread ends."""
-        end_drawing()
+    def close(self, timeout: float = FINISH_S) -> None:
+        """The studio closes: waits up to ``timeout`` seconds for its sheet being drawn. The
+        drawing thread serves the next studio build (a kiosk's applied config edit) and ends
+        with the run (:func:`end_drawing`)."""
+        self.wait(timeout)
 
     def wait(self, timeout: float = 30.0) -> None:
         """Wait for the review sheet being drawn (tests, shutdown)."""

@@ -1,6 +1,7 @@
 """Review sheets are drawn in one thread for the whole process: matplotlib keeps each font open
-once per thread that draws, so a thread per sheet (and per studio build) left two more font
-files open, and their fonts in memory, at each applied config edit of a kiosk."""
+once per thread that draws, so a thread per sheet (and per studio build) leaves two more font
+files open, and their fonts in memory, at each applied config edit of a kiosk. Closing a studio
+build waits for its own sheet only; the thread ends with the run."""
 
 import os
 import threading
@@ -20,6 +21,11 @@ class PoseTake:
     def __init__(self) -> None:
         t = np.linspace(0.0, 1.0, 30)
         self.demo = np.c_[t, 0.1 * t, 0.2 + 0.1 * t, np.zeros_like(t)]
+
+
+def drawers() -> list[threading.Thread]:
+    """The drawing threads alive."""
+    return [t for t in threading.enumerate() if t.name == "review" and t.is_alive()]
 
 
 def fonts_open() -> int:
@@ -46,10 +52,32 @@ def test_review_sheets_keep_each_font_open_once(tmp_path):
             log.log_try(Try("poser", "pose action", time.time(), outcome="kept"), PoseTake())
             log.wait()
             assert (log.folder / f"{log.path.stem}-try001.png").stat().st_size > 1000
-            counts.append(fonts_open())
+            log.close()                       # the studio stage closes with its loop
+            counts.append((fonts_open(), len(drawers())))
     finally:
         stop.set()
-    assert counts[0] > 0 and counts == [counts[0]] * 4, counts
+    assert counts[0][0] > 0 and counts == [(counts[0][0], 1)] * 4, counts
+
+
+def test_a_slow_sheet_at_the_drawers_end_never_leaves_two_drawers():
+    """The drawer's end given up on (a sheet slower than the wait) and a sheet asked for
+    meanwhile: the old drawer ends after its slow sheet, the new one draws the rest, and never
+    two draw at once."""
+    from tabletop.studio.session import draw_later, end_drawing
+
+    release = threading.Event()
+    slow = draw_later(lambda: release.wait(30))
+    old = drawers()
+    assert len(old) == 1
+    assert not end_drawing(timeout=0.05)             # still drawing the slow sheet
+    second = draw_later(lambda: None)                  # a new drawer
+    release.set()
+    assert slow.wait(30) and second.wait(30)
+    third = draw_later(lambda: None)
+    assert third.wait(30)
+    old[0].join(30)
+    assert len(drawers()) == 1, drawers()
+    assert end_drawing() and drawers() == []
 
 
 def test_a_sheet_that_fails_does_not_stop_the_drawing_thread(caplog):
