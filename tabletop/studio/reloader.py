@@ -58,14 +58,17 @@ def load_and_train(folder: Path, rate_hz: float | None,
 
 def trained_from(source: dict[str, Any]) -> Any:
     """The behaviour a recorded reload's ``source`` (:func:`load_and_train`) trains to;
-    InputError naming what is wrong when the record cannot be read."""
+    InputError naming what is wrong when the record cannot be read. Only the decoding is
+    called unreadable: training's own refusal (a demonstration too short) is raised as
+    training gives it."""
     from behaviors.puppet_master.engine import Behavior
     try:
         demo = np.frombuffer(base64.b64decode(source["demonstration"], validate=True),
                              dtype="<f8").reshape(source["shape"]).astype(float)
-        return Behavior.train(demo, **source["parameters"])
+        params = dict(source["parameters"])
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(f"its record is unreadable ({type(exc).__name__}: {exc})") from None
+    return Behavior.train(demo, **params)
 
 
 class BehaviorReloader:

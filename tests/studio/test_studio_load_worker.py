@@ -350,3 +350,26 @@ def test_a_replayed_reload_whose_record_is_unreadable_names_its_engine_and_leave
     assert len(said) == 1, said
     assert "recorded reload of x for a not trained" in said[0], said
     assert "KeyError" in said[0] and "demonstration" in said[0], said
+
+
+def test_a_replayed_reload_refused_by_training_says_why_not_unreadable(tmp_path, caplog):
+    """A readable record whose demonstration training refuses (too short) is logged with
+    training's own reason, not as an unreadable record."""
+    import base64
+
+    import numpy as np
+
+    from tabletop.studio.reloader import RecordedReloads
+    a, b, source = two_engines(tmp_path)
+    first_a = a.behavior
+    rows = np.frombuffer(base64.b64decode(source["demonstration"]), "<f8").reshape(
+        source["shape"])[:3]
+    short = dict(source, shape=list(rows.shape),
+                 demonstration=base64.b64encode(rows.tobytes()).decode("ascii"))
+    frame = Frame(seq=0, t=1.0, consumed={"reload": {"behaviors": {"a": short}}})
+    assert RecordedReloads([a, b])(frame) is frame
+    assert a.behavior is first_a
+    said = [r.getMessage() for r in caplog.records if r.getMessage().startswith("replay:")]
+    assert len(said) == 1, said
+    assert "for a not trained: demonstration lasts" in said[0], said
+    assert "unreadable" not in said[0], said
