@@ -172,11 +172,16 @@ class Worker:
         self._idle.wait(timeout)
 
 
-def close_workers(*workers: Worker | None) -> None:
-    """Close each worker given (None: none), as its owner closes with the installation."""
+def close_workers(*workers: Worker | None, deadline: float | None = None) -> bool:
+    """Close each worker given (None: none), as its owner closes with the installation,
+    waiting for them until ``deadline`` (time.monotonic(), s; None: :data:`FINISH_S` each);
+    says whether they all ended. A worker not ended by then ends itself after its jobs."""
+    ended = True
     for worker in workers:
         if worker is not None:
-            worker.close()
+            left = FINISH_S if deadline is None else max(0.0, deadline - time.monotonic())
+            ended = worker.close(left) and ended
+    return ended
 
 
 def _serve(jobs: queue.SimpleQueue, ref: weakref.ref) -> None:

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from pathlib import Path
 from typing import Any, Mapping
 
+from behaviors.worker import FINISH_S
 from tabletop import library
 from tabletop.frames import Frame
 from tabletop.studio.machine import Studio
@@ -65,15 +67,22 @@ class StudioStage:
         self.markers, self.studio = markers, studio
 
     def close(self) -> None:
-        """The loop closes: the take under way dropped (one tried logged), then every target's
-        worker ended, so none outlives the run, and the session's sheet being drawn waited for
-        (the drawing thread serves the next build and ends with the run)."""
-        self.studio.close()
-        for target in self.studio.targets.values():
-            getattr(target, "close", lambda: None)()
-        session = getattr(self.studio, "session", None)
-        if session is not None:
-            session.close()
+        """The loop closes: the take under way dropped (one tried logged), then, even when
+        that fails, every target's worker ended, so none outlives the run, and the session's
+        sheet being drawn waited for (the drawing thread serves the next build and ends with
+        the run). All the waits share one :data:`~behaviors.worker.FINISH_S`: a kiosk's
+        supervisor kills an installation that takes 10 s to stop."""
+        deadline = time.monotonic() + FINISH_S
+        try:
+            self.studio.close()
+        finally:
+            for target in self.studio.targets.values():
+                close = getattr(target, "close", None)
+                if close is not None:
+                    close(deadline)
+            session = getattr(self.studio, "session", None)
+            if session is not None:
+                session.close(max(0.0, deadline - time.monotonic()))
 
     def __call__(self, frame: Frame) -> Frame:
         out = self.studio(self.markers(frame))

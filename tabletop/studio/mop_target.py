@@ -45,10 +45,11 @@ class MopTarget:
         self.started_problems = tuple(self._problems)   # logged by the stage's start
         self.loaded = set(getattr(stage, "library_loaded", {}).get(character, []))
 
-    def close(self) -> None:
-        """The studio closes: the stage's training worker's thread ends (each character of
-        the stage closes it; a closed worker closes again at once)."""
-        close_workers(self.stage.worker)
+    def close(self, deadline: float | None = None) -> bool:
+        """The studio closes: the stage's training worker's thread ends, waited for until
+        ``deadline`` (each character of the stage closes it; a closed worker closes again at
+        once); says whether it did."""
+        return close_workers(self.stage.worker, deadline=deadline)
 
     @property
     def cue(self) -> str:

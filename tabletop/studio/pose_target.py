@@ -62,9 +62,10 @@ class TouchPoseTarget:
 
     # --- the take ------------------------------------------------------------------------------
 
-    def close(self) -> None:
-        """The studio closes: the training worker's thread ends."""
-        close_workers(self.worker)
+    def close(self, deadline: float | None = None) -> bool:
+        """The studio closes: the training worker's thread ends, waited for until
+        ``deadline``; says whether it did."""
+        return close_workers(self.worker, deadline=deadline)
 
     def begin(self, frame: Frame) -> None:
         self.times, self.poses, self.demo = [], [], None

@@ -135,8 +135,9 @@ class BehaviorReloader:
         return "behaviors", source
 
     def close(self) -> None:
-        """The loop closes its filters: the worker's thread ends (a reload still training is
-        dropped with the installation)."""
+        """The loop closes its filters: the worker's thread ends once a reload queued or
+        training in it has run, waited for up to :data:`~behaviors.worker.FINISH_S`; that
+        reload's behaviour is not played (the installation closing is not polled again)."""
         close_workers(self.worker)
 
 

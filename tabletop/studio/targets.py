@@ -93,9 +93,10 @@ class PuppetMasterTarget(BehaviorShelf):
                                                             # before and after, for undo
         self._problems: list[str] = self._library_problems([])   # read at start, reported
 
-    def close(self) -> None:
-        """The studio closes: the training and loading workers' threads end."""
-        close_workers(self.trainer, self.loader)
+    def close(self, deadline: float | None = None) -> bool:
+        """The studio closes: the training and loading workers' threads end, waited for until
+        ``deadline`` (:func:`~behaviors.worker.close_workers`); says whether they did."""
+        return close_workers(self.trainer, self.loader, deadline=deadline)
 
     @property
     def cue(self) -> str:
