@@ -93,9 +93,9 @@ def moved_pucks(cfg: dict) -> list[tuple[int, str, str, int]]:
 
 
 def check_scripted_pucks(cfg: dict, ctx: Context) -> None:
-    """Each puck moved by one scripted source at most (``scripted``, ``synthetic_camera``): two
-    moving one id were merged silently, the tracker taking them for one puck jumping between
-    the two paths. (Within a source a performer's puck may also be in ``pucks``.)"""
+    """Each puck moved by one scripted source at most (``scripted``, ``synthetic_camera``): the
+    tracker would merge two sources moving one id into one puck jumping between the two paths,
+    with no word of it. (Within a source a performer's puck may also be in ``pucks``.)"""
     moved: dict[int, tuple[int, str]] = {}     # puck -> (source index, its key)
     for i, _, key, puck in moved_pucks(cfg):
         first = moved.setdefault(puck, (i, key))
@@ -186,8 +186,9 @@ def _check_engine_pucks(cfg: dict, controls: dict[int, str], ctx: Context) -> No
 
 def _check_puck_map(cfg: dict, controls: dict[int, str], ctx: Context) -> None:
     """No ``tracking.puck_ids`` entry moves a marker onto or off a studio control marker's id:
-    the studio looks for control markers among the mapped ids, so ``{10: 46}`` made marker 10
-    stop every take set down, and ``{46: 3}`` hid the stop marker from the studio for good."""
+    the studio looks for control markers among the mapped ids, so ``{10: 46}`` would make
+    marker 10 stop every take when set down, and ``{46: 3}`` would hide the stop marker from
+    the studio for good."""
     for key, to in ((cfg.get("tracking") or {}).get("puck_ids") or {}).items():
         if not str(key).isdigit() or int(key) == int(to):
             continue

@@ -24,8 +24,9 @@ def font(size: int) -> pygame.font.Font:
 
 # The studio's words are sized on the table, not in pixels: at 1280x720 over a 1.2 x 0.8 m table
 # (840 px/m) the status line's 26 px font has 15 mm capitals, which a designer standing at the
-# table reads; in fixed pixels a 1920x1080 projector drew them 10 mm tall and a 3840x2160 one
-# 5 mm. A window smaller than that (a preview on a desk) keeps them readable on its monitor.
+# table reads; fixed pixel sizes would give 10 mm capitals on a 1920x1080 projector and 5 mm on
+# a 3840x2160 one. A window smaller than that (a preview on a desk) keeps them readable on its
+# monitor.
 REF_PPM = 840.0                  # pixels per metre the sizes below are for
 STATUS_PX, MARK_PX, DOT_PX = 26, 36, 14
 MIN_STATUS_PX, MIN_MARK_PX = 16, 22

@@ -127,9 +127,10 @@ class PuppetMasterTarget(BehaviorShelf):
             self.session.toggle(frame.t)
 
     def _hold(self, frame: Frame) -> tuple[CharacterState, ...]:
-        """While recording the character is drawn under the reactor puck (while it is lifted,
-        calmer where it was last seen, not sliding to the table's centre and back), and the
-        main take's playback (sequential) as a ghost ``NAME.main`` of kind "playback"."""
+        """While recording the character is drawn under the reactor puck; while the puck is
+        lifted it stays, calmer, where the puck was last seen (the table's centre only until
+        the puck is first seen), so a lift mid-take does not move it. The main take's playback
+        (sequential) is drawn as a ghost ``NAME.main`` of kind "playback"."""
         e = self.engine
         r = frame.puck(self.react_puck)
         if r is not None:
