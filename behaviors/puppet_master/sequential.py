@@ -22,7 +22,9 @@ the playback seen 0, 1 frame (17 ms), 50 ms, 100 ms late: lover 106.5 / 102.8, 1
 a frame, its demonstration's mean distance 0.466 two-puck, 0.482 sequential). At the
 studio's latency (the ghost is drawn in the tick of the frame it was computed for: within a
 frame) the differences are of the size two two-puck draws differ by (hands 0-300: lover
-98-112, bully 31-50, stalker 56-65); a playback seen 50-100 ms late (a slow display) costs
+98-112, bully 31-50, stalker 56-65), except the stalker's against two-puck demonstrations
+recorded on the reactor's camera frames (hands 0-300: 37-53 against 62-70 sequential,
+bench/fidelity.py --sequential); a playback seen 50-100 ms late (a slow display) costs
 the lover 10-28 misses and moves the stalker 4-8 mm out: such a display's ghost would have
 to be drawn ahead by its latency. Pairing at the union of both takes' times (each take
 interpolated at the other's, so neither loses a sample before resampling) instead of at the
