@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 
 from bench.common import check_flags
+from bench.follow_quality import SECTION_NAMES
 
-SECTIONS = {"sections": ("sized", "holds", "sequences", "unrelated", "after", "pauses",
-                         "shapes")}
+SECTIONS = {"sections": SECTION_NAMES}
 
 
 def test_a_wrong_command_line_is_refused_with_one_line_naming_it(capsys):
@@ -31,4 +31,4 @@ def test_follow_quality_answers_help_before_measuring():
     bench = Path(__file__).resolve().parents[2] / "bench" / "follow_quality.py"
     r = subprocess.run([sys.executable, str(bench), "--help"], capture_output=True, text=True,
                        timeout=120)
-    assert r.returncode == 0 and "sections: sized, holds" in r.stdout
+    assert r.returncode == 0 and f"sections: {', '.join(SECTION_NAMES)}" in r.stdout
