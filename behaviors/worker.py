@@ -110,6 +110,8 @@ class Worker:
         self._idle.set()
         self._done: Any = None
         self._job = 0
+        self._queued = 0         # jobs started and not yet run by the thread
+        self._closed = False
         # the thread holds the worker weakly: a worker no longer used ends its thread
         self._thread = job_thread(_serve, (self._jobs, weakref.ref(self)), name)
 
@@ -119,26 +121,35 @@ class Worker:
     def close(self, timeout: float = FINISH_S) -> bool:
         """End the thread once the jobs queued for it have run (their results are dropped
         unless polled); waits up to ``timeout`` seconds and says whether it ended. The owner
-        closes its worker as the installation closes, so no thread of it outlives the run."""
+        closes its worker as the installation closes, so no thread of it outlives the run. A job
+        started after this runs at once in the caller's thread (nothing else would run it)."""
+        with self._lock:
+            self._closed = True
         self._jobs.put(None)
         self._thread.join(timeout)
         return not self._thread.is_alive()
 
     @property
     def busy(self) -> bool:
-        """True while a job runs (or waits to)."""
-        return not self._idle.is_set()
+        """True while a job runs (or waits to) in the worker's thread."""
+        return not self._idle.is_set() and self._thread.is_alive()
 
     def start(self, fn: Callable[..., Any], *args: Any) -> None:
         """Run ``fn(*args)``; a job still running is forgotten (its result is dropped). The
-        result must not be None (None means "not finished" to :meth:`poll`)."""
+        result must not be None (None means "not finished" to :meth:`poll`). Once the worker is
+        closed the job runs here, before this returns, its result polled as any other."""
         with self._lock:
             self._job += 1
             self._done = None
-            self._idle.clear()
-            self._jobs.put((self._job, fn, args))
+            if not self._closed:
+                self._queued += 1
+                self._idle.clear()
+                self._jobs.put((self._job, fn, args))
+                return
+            job = self._job
+        self._run(job, fn, args, queued=False)
 
-    def _run(self, job: int, fn: Callable[..., Any], args: tuple) -> None:
+    def _run(self, job: int, fn: Callable[..., Any], args: tuple, queued: bool = True) -> None:
         _job_begins()
         try:
             result = fn(*args)
@@ -152,8 +163,10 @@ class Worker:
         with self._lock:
             if job == self._job:
                 self._done = result
-            if self._jobs.empty():
-                self._idle.set()
+            if queued:
+                self._queued -= 1
+                if self._queued == 0:
+                    self._idle.set()
 
     def cancel(self) -> None:
         """Forget the running job (its result is dropped) and any result not yet polled."""
@@ -168,8 +181,13 @@ class Worker:
         return done
 
     def wait(self, timeout: float | None = None) -> None:
-        """Block until the jobs started so far have ended (tests, replays that must be exact)."""
-        self._idle.wait(timeout)
+        """Block until the jobs started so far have ended, or the worker's thread has (tests,
+        replays that must be exact); at most ``timeout`` seconds (None: no limit)."""
+        end = None if timeout is None else time.monotonic() + timeout
+        while self._thread.is_alive():
+            left = EXIT_POLL_S if end is None else min(EXIT_POLL_S, end - time.monotonic())
+            if self._idle.wait(max(0.0, left)) or (end is not None and time.monotonic() >= end):
+                return
 
 
 def close_workers(*workers: Worker | None, deadline: float | None = None) -> bool:

@@ -77,6 +77,8 @@ from bench.motions import (MOCAP, MOCAP_HELD_OUT, at_phase, back_to_back,  # noq
                            unrelated_motions)
 
 DEBUG = "--debug" in sys.argv
+#: The evaluation's sections, in the order they draw their random numbers (:func:`evaluate`).
+SECTION_NAMES = ("sized", "holds", "sequences", "unrelated", "after", "pauses", "shapes")
 #: The sections measured (``--sections=``...); None: all, with the CLI defaults and options.
 SECTIONS = next((set(a.split("=", 1)[1].split(",")) for a in sys.argv
                  if a.startswith("--sections=")), None)
@@ -360,21 +362,24 @@ def evaluate(factory: Factory, seed: int = 13, joints=MOCAP) -> dict[str, float]
     gestures = gesture_templates()
     everything = {**gestures, **mocap_templates(joints=joints)}
     figures: dict[str, float] = {}
-    parts = (("sized", lambda f: sized(f, everything, rng)),
-             ("holds", lambda f: holds(f, gestures, rng)),
-             ("sequences", lambda f: sequences(f, gestures, rng, key="sequence_6_gestures")),
-             ("sequences", lambda f: sequences(f, everything, rng, key="sequence_20_templates")),
-             ("unrelated", lambda f: unrelated(f, everything, rng)),
+    parts = {"sized": [lambda f: sized(f, everything, rng)],
+             "holds": [lambda f: holds(f, gestures, rng)],
+             "sequences": [lambda f: sequences(f, gestures, rng, key="sequence_6_gestures"),
+                           lambda f: sequences(f, everything, rng, key="sequence_20_templates")],
+             "unrelated": [lambda f: unrelated(f, everything, rng)],
              # last, so the other sections draw what they drew before it was added
-             ("after", lambda f: after(f, gestures, rng, run, performs, DEBUG)),
+             "after": [lambda f: after(f, gestures, rng, run, performs, DEBUG)],
              # after it, for the same reason
-             ("pauses", lambda f: pauses(f, everything, rng, run)),
-             ("shapes", lambda f: shapes(f, everything, rng, run, true_metrics)))
-    for part, measure in parts:
+             "pauses": [lambda f: pauses(f, everything, rng, run)],
+             "shapes": [lambda f: shapes(f, everything, rng, run, true_metrics)]}
+    if tuple(parts) != SECTION_NAMES:
+        raise ValueError(f"follow_quality: sections {tuple(parts)} are not SECTION_NAMES")
+    for part, measures in parts.items():
         wanted = SECTIONS is None or part in SECTIONS
-        out = measure(factory if wanted else lambda templates: None)
-        if wanted:
-            figures.update(out)
+        for measure in measures:
+            out = measure(factory if wanted else lambda templates: None)
+            if wanted:
+                figures.update(out)
     return figures
 
 
@@ -407,8 +412,7 @@ def paper_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
 
 
 def main() -> None:
-    check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": (
-        "sized", "holds", "sequences", "unrelated", "after", "pauses", "shapes")})
+    check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": SECTION_NAMES})
     t0 = time.perf_counter()
     figures: dict[str, float] = {}
     figures.update(evaluate(puck_follower))

@@ -1,10 +1,12 @@
-"""Designer takes (MOP 4.1.1, in seconds): :meth:`MopStage.begin_take` records a character's
-performer; :meth:`MopStage.stop_take` makes the take an action at once (trained: the followers are
-rebuilt), playing the motion chosen with :meth:`MopStage.assign_motion` (which cycles the
-character's motions, also for a pending take). Perform to try it; :meth:`MopStage.keep_take` keeps
-it (``save`` is called, e.g. to write it to the library), :meth:`MopStage.drop_take` drops it.
-The designer's keys and control markers reach these through the studio's one state machine
-(:mod:`tabletop.studio`), which draws the countdown, the recording and the status line.
+"""Designer takes (MOP 4.1.1, in seconds): :meth:`DesignerTakes.begin_take` records a
+character's performer; :meth:`DesignerTakes.stop_take` makes the take an action at once
+(trained: the followers are rebuilt), playing the motion chosen with
+:meth:`DesignerTakes.assign_motion` (which cycles the character's motions, also for a pending
+take). Perform to try it; :meth:`DesignerTakes.keep_take` keeps it (``save`` is called, e.g. to
+write it to the library), :meth:`DesignerTakes.drop_take` drops it. :class:`DesignerTakes` is
+the take half of :class:`behaviors.mop.stage.MopStage`, which holds the followers and the
+worker. The designer's keys and control markers reach these through the studio's one state
+machine (:mod:`tabletop.studio`), which draws the countdown, the recording and the status line.
 """
 
 from __future__ import annotations
@@ -81,7 +83,7 @@ class DesignerTakes:
 
     def stop_take(self) -> str:
         """Stop recording: the take becomes an action of its character at once (its followers
-        rebuilt, in the :attr:`worker` when there is one); returns ``"ACTION -> MOTION"``.
+        rebuilt, in MopStage's worker when it has one); returns ``"ACTION -> MOTION"``.
         InputError when it is too short to learn from (it is then dropped)."""
         take = self.take
         if take is None or not take.recording:

@@ -249,18 +249,7 @@ def still_main_speed(main: np.ndarray, react: np.ndarray, rate_hz: float,
     carried with the faster main; it misses on 12 of 54 paths): the demonstration's 0.971 is
     met on average only by the two halves' errors cancelling (at main-frame places beside a
     still main it moves 0.21 m/s where the matched moments moved 0.17 and the demonstration
-    0.12; at world places 0.17 where they moved 0.22). Not used.
-
-    The lover's still/moving misses on the slow paths (seeds 2, 3: 0.564 / 0.596, band to
-    0.545, its designer 0.534 / 0.528) are not its pace beside a still main: traced (Python
-    step) it moves 0.051 m/s there (its designer 0.050, shown 0.053) but 0.090 / 0.086 beside
-    its walking main (its designer 0.094 / 0.096), nearly all at world places, whose raw steps
-    (0.106 / 0.102) the smooth shortens as they turn from match to match (step.py, the mean
-    cap). The afraid character's (seed 1 slow: 1.186, band to 1.134, its designer 1.093)
-    moves 0.190 beside its still main (its designer 0.145) and 0.160 beside its walking one
-    (0.133): at main-frame places of moments whose main stood its raw steps go 0.45 m/s where
-    the moments moved 0.25 (the uncapped drift correction; held to the moment's pace there:
-    StepSenses._stood_place, not kept)."""
+    0.12; at world places 0.17 where they moved 0.22). Not used."""
     v, still = _paces(main, react, rate_hz, still_mps)
     if still.sum() <= 10 or (~still).sum() == 0 or v[still].mean() >= v[~still].mean():
         return still, math.inf

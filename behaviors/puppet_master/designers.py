@@ -312,12 +312,16 @@ def sequential_takes(personality: str, seed: int | None = None, seconds: float |
     main_take = demonstrate(personality, seed, rate_hz=rate_hz, table=table,
                             main=path.copy())[:, :4]
     t = np.arange(phase / rate_hz, float(path[-1, 0]), 1.0 / rate_hz)
-    seen = np.column_stack([t, *(np.interp(t - latency_s, path[:, 0], path[:, c])
-                                 for c in (1, 2)),
-                            wrap_angles(np.interp(t - latency_s, path[:, 0],
-                                                  np.unwrap(path[:, 3])))])
-    hand = demonstrate(personality, seed, rate_hz=rate_hz, table=table, main=seen)
+    hand = demonstrate(personality, seed, rate_hz=rate_hz, table=table,
+                       main=path_at(path, t, latency_s))
     return main_take, np.column_stack([t, hand[:, 4:7]])
+
+
+def path_at(path: np.ndarray, t: np.ndarray, late_s: float = 0.0) -> np.ndarray:
+    """A main path (n, 4) ``t, x, y, dir`` as seen at times ``t`` (s) ``late_s`` late: (len(t),
+    4), positions interpolated, the direction through its unwrapped signal."""
+    return np.column_stack([t, *(np.interp(t - late_s, path[:, 0], path[:, c]) for c in (1, 2)),
+                            wrap_angles(np.interp(t - late_s, path[:, 0], np.unwrap(path[:, 3])))])
 
 
 def reaction_on_grid(personality: str, main: np.ndarray, rate_hz: float,

@@ -22,7 +22,9 @@ the playback seen 0, 1 frame (17 ms), 50 ms, 100 ms late: lover 106.5 / 102.8, 1
 a frame, its demonstration's mean distance 0.466 two-puck, 0.482 sequential). At the
 studio's latency (the ghost is drawn in the tick of the frame it was computed for: within a
 frame) the differences are of the size two two-puck draws differ by (hands 0-300: lover
-98-112, bully 31-50, stalker 56-65); a playback seen 50-100 ms late (a slow display) costs
+98-112, bully 31-50, stalker 56-65), except the stalker's against two-puck demonstrations
+recorded on the reactor's camera frames (hands 0-300: 37-53 against 62-70 sequential,
+bench/fidelity.py --sequential); a playback seen 50-100 ms late (a slow display) costs
 the lover 10-28 misses and moves the stalker 4-8 mm out: such a display's ghost would have
 to be drawn ahead by its latency. Pairing at the union of both takes' times (each take
 interpolated at the other's, so neither loses a sample before resampling) instead of at the
@@ -30,7 +32,7 @@ reactor's, one frame late: lover 106.8, bully 39.0, playful friend 7.0, stalker 
 96.2 against 108.5, 38.2, 8.2, 64.8, 93.2: no gain, not kept. A reaction stamped 0.2 s late
 (paired with the wrong main moments): lover 165.8, bully 64.2, playful friend 19.0, stalker
 81.2 and its distance 0.308 m (tests/puppet_master/test_pm_fidelity.py checks the five
-characters against two two-puck draws).
+characters against two-puck demonstrations by two hands).
 """
 
 from __future__ import annotations

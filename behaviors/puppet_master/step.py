@@ -381,7 +381,13 @@ class GenerationStep(StepDetail):
                 # largest), that cap at this step's cap alone 138, raw steps at most 1.5x the
                 # cap 142, only where the moment went along with its main (k >= FOLLOW_SHARE)
                 # 152, only while the live main walks 135; for the afraid character as well
-                # (a personal space) its pursuit fell 386 -> 380 of 432
+                # (a personal space) its pursuit fell 386 -> 380 of 432. The lover's
+                # still/moving misses on the slow paths of seeds 2, 3 (0.564 / 0.596, band to
+                # 0.545, its designer 0.534 / 0.528) are this walk: traced (Python step), 0.051
+                # m/s beside its still main (its designer 0.050, shown 0.053) but 0.090 / 0.086
+                # beside its walking main (its designer 0.094 / 0.096), nearly all at world
+                # places, whose raw steps (0.106 / 0.102) the smooth shortened as they turned
+                # from match to match
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):

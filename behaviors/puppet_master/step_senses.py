@@ -64,7 +64,12 @@ class StepSenses:
         the moment's pace beside a standing main 1754 (28) / 657 (50), at moments whose main
         stood 1746 (41) / 655 (46) for its correction alone, only where the table moved the
         target 1794 (23) / 653 (47) but caught 4 -> 12; the cap of a place held in the world
-        raised by the live main's step toward it 1767 (19) / 642 (62)."""
+        raised by the live main's step toward it 1767 (19) / 642 (62). On seed 1 slow the
+        afraid character's still/moving (1.186, band to 1.134, its designer 1.093) is this
+        place's: it moves 0.190 m/s beside its still main (its designer 0.145) and 0.160 beside
+        its walking one (0.133), and here its raw steps go 0.45 m/s where the moments moved
+        0.25 (the uncapped drift correction); held to the moment's pace here (above), not
+        kept."""
         b, recent = self.behavior, self._main_recent
         return (b.personal_space > 0.0 and not b.walks_with_main and not b.walked[target]
                 and len(recent) == recent.maxlen and self._main_stands(mx, my))
@@ -73,30 +78,26 @@ class StepSenses:
         """Whether the main at (mx, my) is within STILL_MPS x the stop span (metres) of each of
         its last Behavior.stop_span positions before it (character.STOP_SPAN_S).
 
-        One position thrown 4 mm off ends this read, and the resampler's extrapolation of a
-        30 Hz main to the 40 Hz grid (resample.CausalResampler) about doubles a standing
-        hand's tremor and jitter: on the slow paths of seeds 0-5, 8-13, 26-31 it reads 61% of
-        the bench's still steps as stopped (85% on the interpolated path; loops 78%, fast
-        90%). Traced on seed 1 slow (Python step): a 1.6 s stand read stopped on 48% of its
-        steps, the stalker between at its walking moments' pace (0.085 m/s over the stand;
-        still/moving 0.451 against 0.285 shown, band to 0.385). Measured with bench/fidelity.py
-        --perturb 2 (three runs a set; mean met of 720 / the engine's alone, seeds 0-5 / 8-13
-        / 26-31; this read 673.3 / 7.7, 668.7 / 13.3, 665.3 / 15.0): read on mean positions
-        (the newest 0.1 s against the 0.1 s before, within STILL_MPS x 0.1 s; 78% of the slow
-        paths' still steps, 87% of the loops') 673.7 / 7.3, 667.7 / 14.0, 662.0 / 19.3: seeds
-        1 and 5 slow met (0.451 / 0.447 -> 0.338 / 0.349), but the loops paths fall under the
-        band (the stalker's misses on 26-31 over the three runs 34 (25) -> 44 (38)). There,
-        0.5 s into a stop it moves at the demonstrated pace (0.045 m/s; shown 0.038-0.040),
-        but it halts where the demonstration coasts (the first 0.25 s of the bench's still
-        windows 0.092 m/s, shown 0.141, its designer 0.125): the misreads carried it. Entered
-        by this read and left by the mean read 670.0 / 10.0, 667.0 / 14.7, 662.0 / 18.0. The
-        mean read with the cap coasting down from the last step at 1.8 / 2.4 / 3.6 m/s^2
-        (Python step, the stalker's misses over relative_motion x 1, 1 +- 0.001; this read 16
-        (6) / 30 (20) / 34 (25)) 19 (10) / 27 (18) / 38 (30), 17 (7) / 26 (17) / 34 (25), 16
-        (7) / 29 (19) / 38 (32): not monotone in the rate, within the re-matching's spread;
-        capped at the demonstrated coast's pace (0.141 m/s) for the first 0.15 / 0.25 s of a
-        stop 19 (7) / 32 (20) / 28 (20), 18 (8) / 30 (19) / 41 (29), at 0.1 m/s for 0.25 s 20
-        (9) / 37 (25) / 35 (24). None kept."""
+        One position 4 mm off ends this read, and the resampler's extrapolation of a 30 Hz main
+        (resample.CausalResampler) about doubles a standing hand's tremor and jitter: it reads
+        61% of the slow paths' still steps as stopped (seeds 0-5, 8-13, 26-31; interpolated
+        85%, loops 78%, fast 90%; seed 1 slow: a 1.6 s stand on 48% of its steps, the stalker
+        at its walking pace there, 0.085 m/s, still/moving 0.451 against 0.285, band to 0.385).
+        Measured, none kept (bench/fidelity.py --perturb 2, mean met of 720 / the engine's
+        alone, seeds 0-5 / 8-13 / 26-31; this read 673.3 / 7.7, 668.7 / 13.3, 665.3 / 15.0):
+        - mean positions (newest 0.1 s against the 0.1 s before; 78% of the slow still steps,
+          87% of the loops'): 673.7 / 7.3, 667.7 / 14.0, 662.0 / 19.3. Seeds 1, 5 slow met
+          (0.451 / 0.447 -> 0.338 / 0.349), the loops under the band (stalker misses on 26-31
+          34 (25) -> 44 (38)): 0.5 s into a stop at the shown pace (0.045 m/s; 0.038-0.040),
+          it halts where the demonstration coasts (a stop's first 0.25 s 0.092 m/s, shown
+          0.141, its designer 0.125). Entered by this read, left by the mean read: 670.0 /
+          10.0, 667.0 / 14.7, 662.0 / 18.0.
+        - the mean read, the cap coasting down at 1.8 / 2.4 / 3.6 m/s^2 (Python step, stalker
+          misses (the engine's) over relative_motion x 1, 1 +- 0.001; this read 16 (6) / 30
+          (20) / 34 (25)): 19 (10) / 27 (18) / 38 (30), 17 (7) / 26 (17) / 34 (25), 16 (7) /
+          29 (19) / 38 (32), within the re-matching's spread; capped at the coast's pace
+          (0.141 m/s) for 0.15 / 0.25 s: 19 (7) / 32 (20) / 28 (20), 18 (8) / 30 (19) / 41
+          (29); at 0.1 m/s for 0.25 s: 20 (9) / 37 (25) / 35 (24)."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d

@@ -433,15 +433,3 @@ def test_a_gesture_drawn_smaller_is_sized_once_its_stroke_turns(gestures, monkey
     assert shares[now, "crawl_right_wrist"] >= shares[plain, "crawl_right_wrist"] + 0.3, shares
     assert shares[now, "square"] >= shares[plain, "square"] + 0.05, shares
 
-
-def test_the_bench_refuses_a_wrong_command_line_before_measuring():
-    import subprocess
-    import sys
-    from pathlib import Path
-    bench = Path(__file__).resolve().parents[2] / "bench" / "follow_quality.py"
-    r = subprocess.run([sys.executable, str(bench), "--sections=sized,sizes"],
-                       capture_output=True, text=True, timeout=120)
-    assert r.returncode == 1 and "unknown 'sizes'" in r.stderr and r.stdout == ""
-    r = subprocess.run([sys.executable, str(bench), "--help"], capture_output=True, text=True,
-                       timeout=120)
-    assert r.returncode == 0 and "sections: sized, holds" in r.stdout

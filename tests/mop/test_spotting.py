@@ -310,7 +310,7 @@ def test_a_stroke_right_after_a_gesture_is_followed_as_from_rest(gestures):
     # each gesture then, with no rest, the bench's diagonal (bench/follow_after.py): nothing of
     # the ended gesture carries over. Measured, after / from rest (samples of the 51-70 counted):
     # circle 8 / 9, zigzag 6 / 6, figure eight 11 / 11, line 3 / 3, square 12 / 13, wave 10 / 9,
-    # every one the figure eight's from 0.22-0.26 of it on (the diagonal is its first stroke)
+    # every one the figure eight's at 0.22-0.28 of it (the diagonal is its first stroke)
     rng = np.random.default_rng(13)
     f = puck_follower(gestures)
     diagonal = np.stack([np.linspace(0, 0.12, 60)] * 2, 1)
@@ -327,5 +327,7 @@ def test_a_stroke_right_after_a_gesture_is_followed_as_from_rest(gestures):
         drove_after = [(s.best, s.progress) for s in run(f, after)[counted] if s.valid]
         drove_rest = [(s.best, s.progress) for s in run(f, rest)[counted] if s.valid]
         assert abs(len(drove_after) - len(drove_rest)) <= 1, (g, drove_after, drove_rest)
-        assert all(b == "figure_eight" and p >= 0.2 for b, p in drove_after), (g, drove_after)
+        # the stroke's own figure eight (its first stroke), not the ended one carrying over
+        assert all(b == "figure_eight" and 0.2 <= p <= 0.4 for b, p in drove_after), (
+            g, drove_after)
         assert len(drove_after) <= 0.3 * len(stroke), (g, len(drove_after), len(stroke))

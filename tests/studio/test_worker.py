@@ -97,3 +97,17 @@ def test_a_process_ending_while_a_job_runs_native_code_ends_cleanly_after_the_jo
                              capture_output=True, text=True, timeout=120)
         assert out.returncode == 0, (kind, out.returncode, out.stderr[-300:])
         assert out.stdout.splitlines() == ["job ended"], kind
+
+
+def test_a_closed_worker_runs_a_job_started_after_it_at_once_and_waits_for_nothing():
+    w = Worker("test-worker-closed")
+    w.start(time.sleep, 0.05)
+    assert w.close(10.0)            # the job queued before closing ran, then the thread ended
+    assert not w.busy
+    caller = []
+    w.start(lambda: caller.append(threading.current_thread()) or "inline")
+    assert caller == [threading.current_thread()]     # run here, before start returned
+    assert not w.busy and w.poll() == "inline" and w.poll() is None
+    w.wait()                        # no timeout: returns, nothing is left to run
+    w.start(lambda: 1 / 0)
+    assert isinstance(w.poll(), ZeroDivisionError)

@@ -1,0 +1,34 @@
+"""The benches' command line (bench.common.check_flags): a wrong argument is refused before
+minutes of measuring."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from bench.common import check_flags
+from bench.follow_quality import SECTION_NAMES
+
+SECTIONS = {"sections": SECTION_NAMES}
+
+
+def test_a_wrong_command_line_is_refused_with_one_line_naming_it(capsys):
+    check_flags("follow_quality", ["--debug", "--sections=sized,holds"], ["--debug"], SECTIONS)
+    for args, said in ((["--sections=sized,sizes"], "follow_quality: --sections: unknown 'sizes'"),
+                       (["--fast"], "follow_quality: unknown argument '--fast'"),
+                       (["--sections="], "follow_quality: unknown argument '--sections='")):
+        with pytest.raises(SystemExit) as refused:
+            check_flags("follow_quality", args, ["--debug"], SECTIONS)
+        assert str(refused.value.code).splitlines()[0] == said
+    with pytest.raises(SystemExit) as helped:
+        check_flags("follow_quality", ["--help"], ["--debug"], SECTIONS)
+    assert helped.value.code == 0
+    assert "sections: sized, holds, sequences" in capsys.readouterr().out
+
+
+def test_follow_quality_answers_help_before_measuring():
+    bench = Path(__file__).resolve().parents[2] / "bench" / "follow_quality.py"
+    r = subprocess.run([sys.executable, str(bench), "--help"], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 0 and f"sections: {', '.join(SECTION_NAMES)}" in r.stdout
