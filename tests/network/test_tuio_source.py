@@ -432,3 +432,60 @@ def test_every_refused_mocap_message_names_its_sender(source, caplog):
              or "stream name" in r.getMessage()]
     assert len(lines) == 4, lines
     assert all("from 127.0.0.1" in line for line in lines), lines
+
+
+def test_a_frame_sent_as_single_messages_commits_as_a_bundled_one(source):
+    """The reference clients read message by message and keep what is staged until the
+    profile's fseq, so a script that sends each TUIO message as its own datagram (python-osc's
+    ``send_message``) is read as one that bundles them: its pucks, touches and source name."""
+    from pythonosc.udp_client import SimpleUDPClient
+
+    client = SimpleUDPClient("127.0.0.1", source.bound_port)
+    frames = [[("/tuio/2Dobj", ["source", "script@here"]), ("/tuio/2Dobj", ["alive", 7]),
+               ("/tuio/2Dobj", ["set", 7, 5, 0.25, 0.25, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0]),
+               ("/tuio/2Dobj", ["fseq", 1]),
+               ("/tuio/2Dcur", ["alive", 3]),
+               ("/tuio/2Dcur", ["set", 3, 0.75, 0.5, 0.0, 0.0, 0.0]),
+               ("/tuio/2Dcur", ["fseq", 1])],
+              [("/tuio/2Dobj", ["alive", 7]),                       # no source this time
+               ("/tuio/2Dobj", ["set", 7, 5, 0.5, 0.25, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0]),
+               ("/tuio/2Dobj", ["fseq", 2])]]
+    n = 0
+    for frame in frames:
+        for address, args in frame:
+            client.send_message(address, args)
+            n += 1
+    assert sent(source, n)
+    obs = source.latest()
+    assert [(p.id, round(p.x, 6), round(p.y, 6), round(p.angle, 6)) for p in obs.pucks] == [
+        (5, 0.6, 0.6, -0.5)]
+    assert [(c.id, round(c.x, 6), round(c.y, 6)) for c in obs.touches] == [(3, 0.9, 0.4)]
+    assert source.bad.counts() == {}
+    assert "TUIO from script@here" in source.health().message
+    client.send_message("/tuio/2Dobj", ["alive"])                    # the puck is lifted
+    client.send_message("/tuio/2Dobj", ["fseq", 3])
+    assert sent(source, n + 2)
+    assert source.latest().pucks == ()
+
+
+def test_an_unfinished_frame_is_counted_and_does_not_hold_memory(source):
+    """A frame whose fseq never comes is counted when the next one begins (a second alive)
+    or when it waited ``restart_s``; at most MAX_PENDING such frames are held."""
+    from tracking.tuio import MAX_PENDING
+
+    ref = RefSender(source.bound_port)
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1)))
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1),
+                    message("/tuio/2Dobj", "set", 1, 4, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dobj", "fseq", 1)))
+    assert sent(source, 2)
+    assert [p.id for p in source.latest().pucks] == [4]
+    assert source.bad.counts() == {"no_fseq": 1}
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        for k in range(MAX_PENDING + 20):      # from as many UDP ports
+            with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as one:
+                one.sendto(bundle(message("/tuio/2Dcur", "alive", k)).dgram,
+                           ("127.0.0.1", source.bound_port))
+        s.sendto(b"", ("127.0.0.1", source.bound_port))
+    assert sent(source, 2 + MAX_PENDING + 20)
+    assert len(source.client.pending) <= MAX_PENDING
