@@ -396,3 +396,32 @@ def test_a_device_silent_on_an_empty_table_stays_healthy_unless_stall_s_is_set()
     finally:
         os.close(master)
         os.close(slave)
+
+
+def test_a_relative_port_is_relative_to_the_config_file(tmp_path, monkeypatch):
+    """README: paths are relative to the config file. A device link beside the config
+    (``port: board``, as socat or a udev rule makes one) was opened from the working folder:
+    a kiosk started elsewhere retried "No such file or directory" for ever."""
+    from tabletop.config import load_config
+
+    master, slave, name = open_pty()
+    table = tmp_path / "table"
+    table.mkdir()
+    (table / "board").symlink_to(name)
+    (table / "cfg.yaml").write_text("sources:\n  - {kind: serial, name: mcu, port: board}\n"
+                                    "engines: []\n")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    port = load_config(table / "cfg.yaml")["sources"][0]["port"]
+    assert port == str(table / "board")
+    src = SerialInput("mcu", port, timeout_s=5.0)
+    src.open()
+    try:
+        assert wait_for(lambda: src.health().ok, 5.0), src.health().message
+        os.write(master, b"puck 4 0.5 0.25 1.0\r\n")
+        assert wait_for(lambda: src.lines == 1, 5.0)
+    finally:
+        src.close()
+        os.close(master)
+        os.close(slave)
