@@ -49,7 +49,7 @@ PACKET_LIMIT = 4096       # reference servers split bundles at this size
 
 class TuioError(InputError):
     """A TUIO message is wrong; ``kind`` is its counter name (wrong_arguments, non_finite,
-    out_of_range, unknown_command, too_many)."""
+    out_of_range, unknown_command, too_many, no_fseq, not_alive)."""
 
     def __init__(self, kind: str, message: str) -> None:
         super().__init__(message)
@@ -241,9 +241,10 @@ class TuioClient:
                 else:
                     fseq = parse_fseq(rest)
                     del self.pending[(address, profile)]
-                    if self._commit(self.sender(frame.key, t, frame.name), profile,
-                                    frame.alive, frame.sets, fseq, t):
+                    sender = self.sender(frame.key, t, frame.name)
+                    if self._commit(sender, profile, frame.alive, frame.sets, fseq, t):
                         commits += 1
+                        self._check_alive(sender.profiles[profile], profile, frame, errors)
                     else:
                         late += 1
                     heard.add(frame.key)
@@ -297,6 +298,21 @@ class TuioClient:
         st.t = t
         sender.commits += 1
         return True
+
+    @staticmethod
+    def _check_alive(st: ProfileState, profile: str, frame: Pending,
+                     errors: list[TuioError]) -> None:
+        """Count a committed frame's sets of sessions its ``alive`` does not list (``not_alive``):
+        TUIO keeps only the entities ``alive`` names, so a sender that sends ``set`` and
+        ``fseq`` without ``alive`` (an easy slip in a script) saw nothing on the bus and no
+        word of why."""
+        if frame.sets:
+            alive = set(st.alive)
+            lost = [s for s in frame.sets if s not in alive]
+            if lost:
+                more = f" and {len(lost) - 1} more" if len(lost) > 1 else ""
+                errors.append(TuioError("not_alive", f"/tuio/{profile} set of session {lost[0]}"
+                                                     f"{more} that alive does not list: ignored"))
 
     def entities(self, profile: str, quiet_s: float, t: float) -> list[tuple[str, Entity]]:
         """(sender key, entity) of every sender heard from within ``quiet_s`` of ``t``."""

@@ -489,3 +489,22 @@ def test_an_unfinished_frame_is_counted_and_does_not_hold_memory(source):
         s.sendto(b"", ("127.0.0.1", source.bound_port))
     assert sent(source, 2 + MAX_PENDING + 20)
     assert len(source.client.pending) <= MAX_PENDING
+
+
+def test_a_set_that_alive_does_not_list_is_counted(source, caplog):
+    """TUIO keeps only what ``alive`` lists: a script sending ``set`` and ``fseq`` without
+    ``alive`` got nothing on the bus, and nothing in the log or the health said why."""
+    ref = RefSender(source.bound_port)
+    with caplog.at_level("WARNING", logger="tabletop.input"):
+        ref.send(bundle(message("/tuio/2Dcur", "set", 3, 0.5, 0.5, 0.0, 0.0, 0.0),
+                        message("/tuio/2Dcur", "fseq", 1)))
+        assert sent(source, 1)
+    assert source.latest() is None
+    assert source.bad.counts() == {"not_alive": 1}
+    assert "1 not alive" in source.health().message
+    assert any("set of session 3 that alive does not list" in r.getMessage()
+               for r in caplog.records)
+    ref.cursors([(3, 0.5, 0.5)])                     # with alive: the touch is there
+    assert sent(source, 2)
+    assert [c.id for c in source.latest().touches] == [3]
+    assert source.bad.counts() == {"not_alive": 1}
