@@ -185,16 +185,14 @@ def _reaches(sender: str, listener: str) -> bool:
 def _check_udp_ports(cfg: dict, ctx: Context) -> None:
     """Two ``osc`` sources listening on one port (the second never could: it retried for
     ever), and a ``tuio`` sink sending to this installation's own ``osc`` source (every puck
-    came back as a second sighting, and every character as a puck: a feedback loop)."""
-    listening: list[tuple[str, str, int]] = []
-    for i, s in enumerate(cfg["sources"]):
-        if s["kind"] != "osc":
-            continue
-        for key, host, port in listening:
-            if port == s["port"] and (_reaches(s["host"], host) or _reaches(host, s["host"])):
-                raise ctx.error(f"sources[{i}].port", f"port {port} is also {key}'s; only one "
-                                                     "socket can listen on it: give another")
-        listening.append((f"sources[{i}]", s["host"], s["port"]))
+    came back as a second sighting, and every character as a puck: a feedback loop); in a
+    kiosk config, :func:`check_heartbeat` too."""
+    listening = osc_listeners(cfg)
+    for n, (key, host, port) in enumerate(listening):
+        for other, o_host, o_port in listening[:n]:
+            if port == o_port and (_reaches(host, o_host) or _reaches(o_host, host)):
+                raise ctx.error(f"{key}.port", f"port {port} is also {other}'s; only one "
+                                               "socket can listen on it: give another")
     for i, k in enumerate(cfg["sinks"]):
         if k["kind"] != "tuio":
             continue
@@ -203,6 +201,32 @@ def _check_udp_ports(cfg: dict, ctx: Context) -> None:
                 raise ctx.error(f"sinks[{i}].port", f"{k['host']}:{port} is this installation's "
                                 f"own {key} (osc): its pucks and characters would come back "
                                 "as pucks; send to another port or machine")
+    if cfg["kiosk"]["enabled"]:
+        check_heartbeat(cfg, ctx)
+
+
+def osc_listeners(cfg: dict) -> list[tuple[str, str, int]]:
+    """(key path, host, port) of every ``osc`` source of ``cfg``."""
+    return [(f"sources[{i}]", s["host"], s["port"]) for i, s in enumerate(cfg["sources"])
+            if s["kind"] == "osc"]
+
+
+def check_heartbeat(cfg: dict, ctx: Context | None = None) -> None:
+    """A kiosk heartbeat sent to this installation's own ``osc`` source: every second it
+    arrived there as an unknown message, logged on and on and shown in that source's health
+    ("ignored: N unknown address") while no monitor heard the table. Checked when a kiosk
+    config is validated, and by ``run --kiosk`` for a config whose kiosk is off (``cfg`` then
+    a :class:`Config`, naming its file)."""
+    if ctx is None:
+        ctx = Context(file=str(cfg.file), base=Path(cfg.base))
+    hb = cfg["kiosk"]["heartbeat"]
+    if not hb["enabled"]:
+        return
+    for key, host, port in osc_listeners(cfg):
+        if port == hb["port"] and _reaches(hb["host"], host):
+            raise ctx.error("kiosk.heartbeat.port", f"{hb['host']}:{port} is this "
+                            f"installation's own {key} (osc): the heartbeats would arrive "
+                            "there as unknown messages; send them to another port or machine")
 
 
 def _check_on_table(cfg: dict, ctx: Context) -> None:
