@@ -268,8 +268,9 @@ class TuioClient:
         frame = self.pending.get(slot)
         if frame is not None and t - frame.t > self.restart_s:
             del self.pending[slot]
-            errors.append(TuioError("no_fseq", f"/tuio/{profile} frame without fseq for "
-                                               f"{self.restart_s:g} s: ignored"))
+            if frame.alive is not None or frame.sets:   # (a source alone stages nothing)
+                errors.append(TuioError("no_fseq", f"/tuio/{profile} frame without fseq for "
+                                                   f"{self.restart_s:g} s: ignored"))
             frame = None
         if frame is None:
             if len(self.pending) >= MAX_PENDING:

@@ -508,3 +508,18 @@ def test_a_set_that_alive_does_not_list_is_counted(source, caplog):
     assert sent(source, 2)
     assert [c.id for c in source.latest().touches] == [3]
     assert source.bad.counts() == {"not_alive": 1}
+
+
+def test_a_source_name_sent_alone_and_then_nothing_is_no_unfinished_frame(source):
+    """A ``source`` message stages nothing: a sender that names itself and sends its first
+    frame after a pause is read whole, with its name, and nothing is counted."""
+    ref = RefSender(source.bound_port)
+    source.client.restart_s = 0.2
+    ref.send(message("/tuio/2Dobj", "source", "slow@here"))
+    assert sent(source, 1)
+    time.sleep(0.3)
+    ref.objects([(1, 5, 0.5, 0.5, 0.0)])
+    assert sent(source, 2)
+    assert [p.id for p in source.latest().pucks] == [5]
+    assert source.bad.counts() == {}
+    assert "TUIO from slow@here" in source.health().message
