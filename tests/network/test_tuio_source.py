@@ -480,7 +480,8 @@ def test_an_unfinished_frame_is_counted_and_does_not_hold_memory(source):
                     message("/tuio/2Dobj", "fseq", 1)))
     assert sent(source, 2)
     assert [p.id for p in source.latest().pucks] == [4]
-    assert source.bad.counts() == {"no_fseq": 1}
+    # (counted by the receiving thread just after the packet is applied)
+    assert wait_for(lambda: source.bad.counts() == {"no_fseq": 1}, 5.0), source.bad.counts()
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         for k in range(MAX_PENDING + 20):      # from as many UDP ports
             with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as one:
@@ -494,16 +495,16 @@ def test_an_unfinished_frame_is_counted_and_does_not_hold_memory(source):
 def test_a_set_that_alive_does_not_list_is_counted(source, caplog):
     """TUIO keeps only what ``alive`` lists: a script sending ``set`` and ``fseq`` without
     ``alive`` got nothing on the bus, and nothing in the log or the health said why."""
+    caplog.set_level("WARNING", logger="tabletop.input")
     ref = RefSender(source.bound_port)
-    with caplog.at_level("WARNING", logger="tabletop.input"):
-        ref.send(bundle(message("/tuio/2Dcur", "set", 3, 0.5, 0.5, 0.0, 0.0, 0.0),
-                        message("/tuio/2Dcur", "fseq", 1)))
-        assert sent(source, 1)
+    ref.send(bundle(message("/tuio/2Dcur", "set", 3, 0.5, 0.5, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dcur", "fseq", 1)))
+    # (counted and logged by the receiving thread just after the packet is applied)
+    assert wait_for(lambda: any("set of session 3 that alive does not list" in r.getMessage()
+                                for r in caplog.records), 5.0)
     assert source.latest() is None
     assert source.bad.counts() == {"not_alive": 1}
     assert "1 not alive" in source.health().message
-    assert any("set of session 3 that alive does not list" in r.getMessage()
-               for r in caplog.records)
     ref.cursors([(3, 0.5, 0.5)])                     # with alive: the touch is there
     assert sent(source, 2)
     assert [c.id for c in source.latest().touches] == [3]
