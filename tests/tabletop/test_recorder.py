@@ -171,15 +171,18 @@ def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path):
     old.parent.mkdir()
     old.write_text('{"format": "tabletop-session", "version": 1}\n')   # an older tabletop's
     os.utime(old, (1e9, 1e9))
-    cfg = kiosk_config(tmp_path, max_mb=0.01, keep=3)
+    cfg = kiosk_config(tmp_path, max_mb=0.01, keep=1)
     inst = build_live(cfg)
     inst.loop.run(seconds=1.5)
     rec = inst.recorder
     assert len(rec.paths) >= 4, "a 10 kB limit makes several parts of 1.5 s of frames"
+    # keep counts sessions: every part of the running one is kept (its first parts were
+    # removed while it was written, and the session could no longer be replayed whole)
     kept = sorted((tmp_path / "sessions").iterdir())
-    assert kept == sorted(rec.paths[-3:]) and not old.exists()
+    assert kept == sorted(rec.paths) and not old.exists()
+    assert {read_header(p)["session"] for p in kept} == {read_header(rec.paths[0])["order"]}
     t_prev = -1.0
-    for p in rec.paths[-3:]:
+    for p in rec.paths:
         assert p.stat().st_size <= 0.01 * 2**20
         header = read_header(p)
         assert header["config"]["sources"][0]["pucks"] == [1, 2, 5]

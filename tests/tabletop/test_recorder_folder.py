@@ -89,9 +89,9 @@ def test_keep_still_lists_the_folder_and_prunes_at_each_part(tmp_path):
     finally:
         rec.close()
     assert len(rec.paths) >= 3
-    left = sorted(tmp_path.iterdir())
-    assert len(left) == 10 and rec.path in left
-    assert max(read_header(p)["order"] for p in left) == KEPT + len(rec.paths)
+    left = sorted(tmp_path.iterdir())   # 9 older sessions and every part of the running one
+    assert len(left) == 9 + len(rec.paths) and set(rec.paths) <= set(left)
+    assert read_header(rec.path)["order"] == KEPT + len(rec.paths)
 
 
 def test_the_closing_line_counts_the_frames_of_every_part(tmp_path, caplog):
@@ -120,3 +120,23 @@ def test_a_path_naming_numbers_on_past_any_number_found(tmp_path):
     rec = Recorder(path=tmp_path / "kiosk.jsonl", header={"config": {}})
     rec.close()
     assert rec.path.name == "kiosk-1000000001.jsonl"
+
+
+def test_keep_counts_sessions_with_all_their_parts(tmp_path):
+    """keep 2 with sessions of several parts each (``max_mb`` reached): the folder keeps the
+    last two sessions whole, the running one and the one before, and removes older sessions
+    with all their parts; a part is never removed alone."""
+    sessions = []
+    for _ in range(4):
+        rec = Recorder(folder=tmp_path, header={"config": {}}, keep=2, max_mb=0.002,
+                       max_queue=10**6)
+        try:
+            for i in range(60):
+                rec.consume(Frame(i, i / 60.0))
+            assert all(p.exists() for p in rec.paths)   # while running: all its parts
+        finally:
+            rec.close()
+        assert len(rec.paths) >= 3
+        sessions.append(list(rec.paths))
+    assert sorted(tmp_path.iterdir()) == sorted(sessions[2] + sessions[3])
+    assert not any(p.exists() for p in sessions[0] + sessions[1])
