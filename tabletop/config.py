@@ -96,8 +96,8 @@ RECORDER = Record({
     "max_mb": Number(200.0, lo=0.01, hi=1_000_000.0,
                      doc="a recording reaching this size continues in a new file"),
     "keep": Optional_(Number(integer=True, lo=1, hi=1_000_000),
-                      default=100, doc="recordings kept in the folder, the oldest removed "
-                                       "(null: all)"),
+                      default=100, doc="recording files kept in the folder, the oldest "
+                                       "removed (null: all)"),
 })
 
 

@@ -7,8 +7,9 @@
   files are created exclusively, so two runs starting at once get two names.
 - Bounded: a file reaching ``max_mb`` continues in a new file (the next part, its own header,
   times still counted from the session's start); ``keep`` removes the oldest recordings of the
-  same naming in that folder, oldest by the ``order`` each file's header carries (one more than
-  the highest in the folder when it was made), never by the clock: after the clock was set
+  same naming in that folder down to ``keep`` files (closed sessions whole first: see
+  :func:`tabletop.recordings.prune`), oldest by the ``order`` each file's header carries (one
+  more than the highest in the folder when it was made), never by the clock: after the clock was set
   back (a dead RTC battery, a time server correcting it) the newest files have the oldest
   times, and pruning by modification time removed the recordings just made first.
 - A write that fails (a full disk) stops recording with one clear log line; the installation
@@ -96,6 +97,7 @@ class Recorder(Syncer):
         self._orders: Orders = {}        # recordings' header orders and sessions, read once
         self._session: int | None = None  # the first part's order, in every part's header
         self._order = 0                  # the last part's order, and its name's number
+        self._trimmed = False            # its own oldest parts were removed (keep): said once
         self._number = 0                 # (recordings.number)
         self.failed: str | None = None   # why recording stopped early, if it did
         self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
@@ -173,7 +175,12 @@ class Recorder(Syncer):
         mine[candidate] = (order, 0.0, self._session)
         self._orders[candidate] = (order, self._session)
         self._order, self._number = order, number(candidate.name, self.stem, self.suffix)
-        prune(mine, self.keep, self.path, self.folder)
+        trimmed = prune(mine, self.keep, self.path, self.folder)
+        if trimmed and not self._trimmed:
+            self._trimmed = True
+            log.warning("recording %s: its part %s removed, as this session alone holds more "
+                        "than recorder.keep (%d) parts; its oldest parts go on being removed "
+                        "(each part replays on its own)", self.paths[0], trimmed[0], self.keep)
 
     def _write(self, data: bytes) -> None:
         """Write all of ``data`` to the part, or none of it: a full disk takes a line's head and

@@ -4,11 +4,11 @@ A folder recording is named ``session-DATE-TIME-MICROSECONDS.jsonl``; an exact f
 exists already continues as ``NAME-2.jsonl``, ``NAME-3.jsonl``... (never overwritten). Each
 file's header carries an ``order`` (one more than the highest in the folder when it was made);
 pruning removes the oldest by that order, never by the clock (a clock set back gives the newest
-files the oldest times). ``keep`` counts sessions: the parts of one session (``max_mb`` reached,
-a resume after a full disk) carry its first part's order as their ``session`` and are kept or
-removed together, and the running session's parts are never removed (a session is replayed
-from all its parts; removing its first parts while it was written lost them). Used by
-:class:`tabletop.recorder.Recorder`.
+files the oldest times). ``keep`` counts parts, so the disk holds at most ``keep`` x ``max_mb``; the parts of one
+session (``max_mb`` reached, a resume after a full disk) carry its first part's order as their
+``session``, and closed sessions are removed whole, oldest first, so a kept session replays
+whole. A running session that alone holds more than ``keep`` parts loses its oldest parts
+(each part replays on its own). Used by :class:`tabletop.recorder.Recorder`.
 """
 
 from __future__ import annotations
@@ -113,13 +113,17 @@ def recordings(folder: Path, stem: str | None, suffix: str,
     return out
 
 
-def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> None:
-    """Remove the oldest sessions of ``mine`` beyond ``keep`` (None: keep all), each with all
-    its parts: files without an order first (by modification time), then by their first
-    part's order. ``current``'s session (being written) counts as one and is never removed,
-    nor a session one of whose parts another run is writing (:func:`being_recorded`)."""
+def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> list[Path]:
+    """Keep at most ``keep`` parts of ``mine`` (None: keep all), so the disk holds at most
+    ``keep`` x ``max_mb``. Closed sessions go first, oldest first, each whole with all its
+    parts: files without an order first (by modification time), then by their first part's
+    order. A session one of whose parts another run is writing (:func:`being_recorded`) is
+    left. When ``current``'s session (being written) alone holds more than ``keep`` parts, its
+    oldest parts are removed down to ``keep`` (never ``current`` itself): a kiosk running for
+    weeks is one session, 821 bytes a frame at 60 Hz, about 4 GB a day. Returns the parts of
+    ``current``'s session removed."""
     if keep is None:
-        return
+        return []
     sessions: dict[tuple, list[Path]] = {}
     for p, (order, _, session) in mine.items():
         if order != FOREIGN:
@@ -129,17 +133,33 @@ def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> No
         return min((0, mine[p][1], p.name) if mine[p][0] is None else (1, mine[p][0], p.name)
                    for p in sessions[key])
 
-    oldest_first = sorted(sessions, key=age)
+    def in_order(parts: list[Path]) -> list[Path]:
+        return sorted(parts, key=lambda p: (mine[p][0] or 0, p.name))
+
+    running = next((k for k, parts in sessions.items() if current in parts), None)
+    total = sum(len(parts) for parts in sessions.values())
+    trimmed: list[Path] = []
     try:
-        for key in oldest_first[:max(0, len(sessions) - keep)]:
-            parts = sorted(sessions[key], key=lambda p: (mine[p][0] or 0, p.name))
-            if current in parts or any(being_recorded(p) for p in parts):
+        for key in sorted(sessions, key=age):
+            if total <= keep:
+                break
+            parts = in_order(sessions[key])
+            if key == running or any(being_recorded(p) for p in parts):
                 continue
             for old in parts:
                 old.unlink()
                 log.info("removed old recording %s (recorder.keep: %d)", old, keep)
+            total -= len(parts)
+        if running is not None:
+            parts = [p for p in in_order(sessions[running]) if p != current]
+            for old in parts[:max(0, len(parts) + 1 - keep)]:
+                old.unlink()
+                trimmed.append(old)
+                log.info("removed part %s of the running recording (recorder.keep: %d)",
+                         old, keep)
     except OSError as exc:
         log.warning("old recordings in %s not removed: %s", folder, exc.strerror or exc)
+    return trimmed
 
 
 def hold(f: Any) -> None:
