@@ -10,7 +10,8 @@ As in the reference clients, which read message by message, what a UDP address s
 profile waits for that profile's ``fseq`` across packets: a frame sent as one bundle, or as
 single messages (``source``, ``alive``, ``set``..., ``fseq``, one datagram each, as python-osc's
 ``send_message`` sends them), commits alike. A frame whose ``alive`` is followed by another
-``alive`` before its ``fseq``, or left unfinished for ``restart_s``, is counted ``no_fseq``. An ``fseq`` below the sender's current one is late and its
+``alive`` before its ``fseq`` (its fseq lost: the second ``alive`` begins a new frame, the lost
+one's sets dropped), or left unfinished for ``restart_s``, is counted ``no_fseq``. An ``fseq`` below the sender's current one is late and its
 bundle is dropped, unless the gap is over 100 (the sender restarted) or the sender was silent for
 ``restart_s``; ``fseq`` <= 0 (-1: a redundant resend) always commits. Every sender and profile
 keeps its own state, so several senders never mix. Bad messages raise :class:`TuioError`, whose
@@ -229,9 +230,12 @@ class TuioClient:
                 frame = self._pending_frame(address, profile, key, name, t, named, errors)
                 if cmd == "alive":
                     ids = parse_alive(rest)
-                    if frame.alive is not None:
+                    if frame.alive is not None:   # its fseq was lost: a new frame begins,
+                        # so the lost one's sets are not also counted not_alive in this one
                         errors.append(TuioError("no_fseq", f"/tuio/{profile} alive again "
                                                            "before its frame's fseq"))
+                        frame = self.pending[(address, profile)] = Pending(frame.key,
+                                                                           frame.name, t)
                     frame.alive = ids
                 elif cmd == "set":
                     e = parse_set(profile, rest)
@@ -304,9 +308,9 @@ class TuioClient:
     def _check_alive(st: ProfileState, profile: str, frame: Pending,
                      errors: list[TuioError]) -> None:
         """Count a committed frame's sets of sessions its ``alive`` does not list (``not_alive``):
-        TUIO keeps only the entities ``alive`` names, so a sender that sends ``set`` and
-        ``fseq`` without ``alive`` (an easy slip in a script) saw nothing on the bus and no
-        word of why."""
+        TUIO keeps only the entities ``alive`` names, so these sets reach nothing; counting
+        them tells a sender that sends ``set`` and ``fseq`` without ``alive`` (an easy slip in
+        a script) why nothing of it is on the bus."""
         if frame.sets:
             alive = set(st.alive)
             lost = [s for s in frame.sets if s not in alive]

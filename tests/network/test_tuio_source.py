@@ -492,6 +492,27 @@ def test_an_unfinished_frame_is_counted_and_does_not_hold_memory(source):
     assert len(source.client.pending) <= MAX_PENDING
 
 
+def test_a_lost_fseq_is_counted_once_and_its_sets_go_with_its_frame(source, caplog):
+    """A frame whose ``fseq`` datagram was lost, then a frame whose ``alive`` drops one of its
+    sessions: counted once, as ``no_fseq``; the lost frame's sets start nothing in the next
+    one (its session 2, not listed by the new alive, is no ``not_alive``)."""
+    caplog.set_level("WARNING", logger="tabletop.input")
+    ref = RefSender(source.bound_port)
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1, 2),
+                    message("/tuio/2Dobj", "set", 1, 4, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dobj", "set", 2, 5, 0.2, 0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)))
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1),
+                    message("/tuio/2Dobj", "set", 1, 4, 0.6, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dobj", "fseq", 2)))
+    assert sent(source, 2)
+    assert [p.id for p in source.latest().pucks] == [4]
+    # (counted by the receiving thread just after the packet is applied)
+    assert wait_for(lambda: source.bad.counts().get("no_fseq") == 1, 5.0), source.bad.counts()
+    time.sleep(0.2)
+    assert source.bad.counts() == {"no_fseq": 1}
+    assert not any("alive does not list" in r.getMessage() for r in caplog.records)
+
+
 def test_a_set_that_alive_does_not_list_is_counted(source, caplog):
     """TUIO keeps only what ``alive`` lists: a script sending ``set`` and ``fseq`` without
     ``alive`` got nothing on the bus, and nothing in the log or the health said why."""
