@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from tabletop import registry
+from tabletop.config_ports import check_udp_ports
 from tabletop.files import read_yaml
 from tabletop.frames import InputError
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
@@ -146,7 +147,7 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     _check_marker_ids(cfg, ctx)
     _check_studio_markers(cfg, ctx)
     _check_on_table(cfg, ctx)
-    _check_udp_ports(cfg, ctx)
+    check_udp_ports(cfg, ctx)
     _check_sprites(cfg, ctx)
 
 
@@ -166,67 +167,6 @@ def _check_sprites(cfg: dict, ctx: Context) -> None:
         if name not in made:
             raise ctx.error(f"view.sprites.{name}", f"no engine makes a character {name!r} "
                                                     f"(characters: {shown})")
-
-
-def _reaches(sender: str, listener: str) -> bool:
-    """Whether datagrams sent to host ``sender`` arrive at a socket bound to ``listener`` on
-    this machine (the same address, or loopback to a loopback or any-interface socket)."""
-    import ipaddress
-
-    def loopback(host: str) -> bool:
-        try:
-            return host == "localhost" or ipaddress.ip_address(host).is_loopback
-        except ValueError:
-            return False
-    return sender == listener or (loopback(sender) and (loopback(listener)
-                                                        or listener in ("0.0.0.0", "::")))
-
-
-def _check_udp_ports(cfg: dict, ctx: Context) -> None:
-    """Two ``osc`` sources listening on one port (the second never could: it retried for
-    ever), and a ``tuio`` sink sending to this installation's own ``osc`` source (every puck
-    came back as a second sighting, and every character as a puck: a feedback loop); in a
-    kiosk config, :func:`check_heartbeat` too."""
-    listening = osc_listeners(cfg)
-    for n, (key, host, port) in enumerate(listening):
-        for other, o_host, o_port in listening[:n]:
-            if port == o_port and (_reaches(host, o_host) or _reaches(o_host, host)):
-                raise ctx.error(f"{key}.port", f"port {port} is also {other}'s; only one "
-                                               "socket can listen on it: give another")
-    for i, k in enumerate(cfg["sinks"]):
-        if k["kind"] != "tuio":
-            continue
-        for key, host, port in listening:
-            if port == k["port"] and _reaches(k["host"], host):
-                raise ctx.error(f"sinks[{i}].port", f"{k['host']}:{port} is this installation's "
-                                f"own {key} (osc): its pucks and characters would come back "
-                                "as pucks; send to another port or machine")
-    if cfg["kiosk"]["enabled"]:
-        check_heartbeat(cfg, ctx)
-
-
-def osc_listeners(cfg: dict) -> list[tuple[str, str, int]]:
-    """(key path, host, port) of every ``osc`` source of ``cfg``."""
-    return [(f"sources[{i}]", s["host"], s["port"]) for i, s in enumerate(cfg["sources"])
-            if s["kind"] == "osc"]
-
-
-def check_heartbeat(cfg: dict, ctx: Context | None = None) -> None:
-    """A kiosk heartbeat sent to this installation's own ``osc`` source: every second it
-    arrived there as an unknown message, logged on and on and shown in that source's health
-    ("ignored: N unknown address") while no monitor heard the table. Checked when a kiosk
-    config is validated, and by ``run --kiosk`` for a config whose kiosk is off (``cfg`` then
-    a :class:`Config`, naming its file)."""
-    if ctx is None:
-        ctx = Context(file=str(cfg.file), base=Path(cfg.base))
-    hb = cfg["kiosk"]["heartbeat"]
-    if not hb["enabled"]:
-        return
-    for key, host, port in osc_listeners(cfg):
-        if port == hb["port"] and _reaches(hb["host"], host):
-            raise ctx.error("kiosk.heartbeat.port", f"{hb['host']}:{port} is this "
-                            f"installation's own {key} (osc): the heartbeats would arrive "
-                            "there as unknown messages; send them to another port or machine")
 
 
 def _check_on_table(cfg: dict, ctx: Context) -> None:
