@@ -57,8 +57,8 @@ class Port(Str):
                     raise ctx.error(path, f"{protocol}:// URL {exc}") from None
             return value
         if not WINDOWS_PORT.match(value):
-            # relative to the config file, as every path of the config is: from the working
-            # folder, "port: board" beside the config opened nothing under a kiosk's service
+            # relative to the config file, as every path of the config is, so "port: board"
+            # (a link beside the config) opens it whatever folder a kiosk's service starts in
             value = str(ctx.base / os.path.expanduser(value))   # (an absolute one stays)
         try:
             mode = os.stat(value).st_mode
