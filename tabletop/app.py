@@ -99,7 +99,7 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
         return None
     if header is None:
         header = session_header(cfg, ctx.shared.get("calibration_dict"))
-    size = len(header_line(header, order=1, part=1))
+    size = len(header_line(header, order=1, part=1, session=1))
     max_mb = rec["max_mb"]
     if max_mb is not None and size >= max_mb * MB:
         why = (f"{getattr(cfg, 'file', 'config')}: recorder.max_mb: {max_mb:g} MB is less than "

@@ -13,6 +13,7 @@ from typing import Any
 from tabletop import registry
 from tabletop.config_checks import (check_calibrations, check_marker_ids, check_scripted_pucks,
                                     check_sprites, check_studio_markers)
+from tabletop.config_ports import check_udp_ports
 from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
                              MapOf, Number, Optional_, Record, Spec, Str)
@@ -93,8 +94,8 @@ RECORDER = Record({
     "max_mb": Number(200.0, lo=0.01, hi=1_000_000.0,
                      doc="a recording reaching this size continues in a new file"),
     "keep": Optional_(Number(integer=True, lo=1, hi=1_000_000),
-                      default=100, doc="recordings kept in the folder, the oldest removed "
-                                       "(null: all)"),
+                      default=100, doc="recording files kept in the folder, the oldest "
+                                       "removed (null: all)"),
 })
 
 
@@ -144,45 +145,8 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
     check_scripted_pucks(cfg, ctx)
     check_studio_markers(cfg, ctx)
     _check_on_table(cfg, ctx)
-    _check_udp_ports(cfg, ctx)
+    check_udp_ports(cfg, ctx)
     check_sprites(cfg, ctx)
-
-
-def _reaches(sender: str, listener: str) -> bool:
-    """Whether datagrams sent to host ``sender`` arrive at a socket bound to ``listener`` on
-    this machine (the same address, or loopback to a loopback or any-interface socket)."""
-    import ipaddress
-
-    def loopback(host: str) -> bool:
-        try:
-            return host == "localhost" or ipaddress.ip_address(host).is_loopback
-        except ValueError:
-            return False
-    return sender == listener or (loopback(sender) and (loopback(listener)
-                                                        or listener in ("0.0.0.0", "::")))
-
-
-def _check_udp_ports(cfg: dict, ctx: Context) -> None:
-    """Two ``osc`` sources listening on one port (the second never could: it retried for
-    ever), and a ``tuio`` sink sending to this installation's own ``osc`` source (every puck
-    came back as a second sighting, and every character as a puck: a feedback loop)."""
-    listening: list[tuple[str, str, int]] = []
-    for i, s in enumerate(cfg["sources"]):
-        if s["kind"] != "osc":
-            continue
-        for key, host, port in listening:
-            if port == s["port"] and (_reaches(s["host"], host) or _reaches(host, s["host"])):
-                raise ctx.error(f"sources[{i}].port", f"port {port} is also {key}'s; only one "
-                                                     "socket can listen on it: give another")
-        listening.append((f"sources[{i}]", s["host"], s["port"]))
-    for i, k in enumerate(cfg["sinks"]):
-        if k["kind"] != "tuio":
-            continue
-        for key, host, port in listening:
-            if port == k["port"] and _reaches(k["host"], host):
-                raise ctx.error(f"sinks[{i}].port", f"{k['host']}:{port} is this installation's "
-                                f"own {key} (osc): its pucks and characters would come back "
-                                "as pucks; send to another port or machine")
 
 
 def _check_on_table(cfg: dict, ctx: Context) -> None:

@@ -7,8 +7,9 @@
   files are created exclusively, so two runs starting at once get two names.
 - Bounded: a file reaching ``max_mb`` continues in a new file (the next part, its own header,
   times still counted from the session's start); ``keep`` removes the oldest recordings of the
-  same naming in that folder, oldest by the ``order`` each file's header carries (one more than
-  the highest in the folder when it was made), never by the clock: after the clock was set
+  same naming in that folder down to ``keep`` files (closed sessions whole first: see
+  :func:`tabletop.recordings.prune`), oldest by the ``order`` each file's header carries (one
+  more than the highest in the folder when it was made), never by the clock: after the clock was set
   back (a dead RTC battery, a time server correcting it) the newest files have the oldest
   times, and pruning by modification time removed the recordings just made first.
 - A write that fails (a full disk) stops recording with one clear log line; the installation
@@ -37,7 +38,7 @@ from typing import Any, Callable
 from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
 from tabletop.recorder_sync import Syncer
-from tabletop.recordings import (FOREIGN, Recordings, candidates, hold, number, prune,
+from tabletop.recordings import (FOREIGN, Orders, Recordings, candidates, hold, number, prune,
                                  recordings)
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
@@ -93,8 +94,10 @@ class Recorder(Syncer):
         self.keep, self.max_queue = keep, max(1, int(max_queue))
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0                  # frames written
-        self._orders: dict[Path, int | None] = {}   # recordings' header orders, read once
+        self._orders: Orders = {}        # recordings' header orders and sessions, read once
+        self._session: int | None = None  # the first part's order, in every part's header
         self._order = 0                  # the last part's order, and its name's number
+        self._trimmed = False            # its own oldest parts were removed (keep): said once
         self._number = 0                 # (recordings.number)
         self.failed: str | None = None   # why recording stopped early, if it did
         self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
@@ -135,7 +138,7 @@ class Recorder(Syncer):
             order, first = self._order + 1, self._number + 1
         else:
             mine = recordings(self.folder, self.stem, self.suffix, self._orders)
-            order = max((o for o, _ in mine.values() if o is not None and o != FOREIGN),
+            order = max((o for o, *_ in mine.values() if o is not None and o != FOREIGN),
                         default=0) + 1
             # on after the highest name: trying NAME, NAME-2 ... one by one cost an open()
             # per recording kept (20,000 of them: 0.1 s, at every start and new part)
@@ -151,7 +154,9 @@ class Recorder(Syncer):
         self._f, self._size, self._first_in_file = f, 0, True
         hold(f)                          # another run's keep leaves it alone
         self.paths.append(candidate)
-        self._write(header_line(self._header, order, len(self.paths)))
+        if self._session is None:
+            self._session = order
+        self._write(header_line(self._header, order, len(self.paths), self._session))
         self._f.flush()
         # said once the disk took the header: a try on a disk still full says nothing
         if resumed is not None:
@@ -167,10 +172,15 @@ class Recorder(Syncer):
             fsync_folder(self.folder)    # the new file's name survives a power cut too
         else:
             self._folder_dirty = True
-        mine[candidate] = (order, 0.0)
-        self._orders[candidate] = order
+        mine[candidate] = (order, 0.0, self._session)
+        self._orders[candidate] = (order, self._session)
         self._order, self._number = order, number(candidate.name, self.stem, self.suffix)
-        prune(mine, self.keep, self.path, self.folder)
+        trimmed = prune(mine, self.keep, self.path, self.folder)
+        if trimmed and not self._trimmed:
+            self._trimmed = True
+            log.warning("recording %s: its part %s removed, as this session alone holds more "
+                        "than recorder.keep (%d) parts; its oldest parts go on being removed "
+                        "(each part replays on its own)", self.paths[0], trimmed[0], self.keep)
 
     def _write(self, data: bytes) -> None:
         """Write all of ``data`` to the part, or none of it: a full disk takes a line's head and
@@ -338,12 +348,13 @@ class Recorder(Syncer):
                      self.frames, parts)
 
 
-def header_line(header: dict[str, Any], order: int, part: int) -> bytes:
+def header_line(header: dict[str, Any], order: int, part: int, session: int) -> bytes:
     """The first line of a recording part: format, version, ``order`` first (see
-    recordings.ORDER), then ``header``, with this part's ``order`` and ``part`` (not a copied
-    header's: replay --out hands on the recording's own) and the time it is created."""
-    line = {"format": FORMAT, "version": VERSION, "order": order}
-    line.update(header, order=order, part=part,
+    recordings.ORDER), its ``session`` (the first part's order), then ``header``, with this
+    part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands on the
+    recording's own) and the time it is created."""
+    line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}
+    line.update(header, order=order, session=session, part=part,
                 created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
     return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
 

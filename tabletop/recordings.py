@@ -4,7 +4,11 @@ A folder recording is named ``session-DATE-TIME-MICROSECONDS.jsonl``; an exact f
 exists already continues as ``NAME-2.jsonl``, ``NAME-3.jsonl``... (never overwritten). Each
 file's header carries an ``order`` (one more than the highest in the folder when it was made);
 pruning removes the oldest by that order, never by the clock (a clock set back gives the newest
-files the oldest times). Used by :class:`tabletop.recorder.Recorder`.
+files the oldest times). ``keep`` counts parts, so the disk holds at most ``keep`` x ``max_mb``; the parts of one
+session (``max_mb`` reached, a resume after a full disk) carry its first part's order as their
+``session``, and closed sessions are removed whole, oldest first, so a kept session replays
+whole. A running session that alone holds more than ``keep`` parts loses its oldest parts
+(each part replays on its own). Used by :class:`tabletop.recorder.Recorder`.
 """
 
 from __future__ import annotations
@@ -23,7 +27,7 @@ log = logging.getLogger("tabletop")
 # The start of every header line the recorder writes; the ``order`` is read back from the
 # file's first bytes, so pruning never parses a header (which carries every file the config
 # names, megabytes at times).
-ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)[,}]')
+ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)(?:,"session":(\d+))?[,}]')
 ORDER_BYTES = 128
 # A file of the naming whose first bytes are no session header (``recorder.path: notes.txt``
 # beside the technician's own notes.txt) is no recording: numbered past, never counted by keep
@@ -33,8 +37,11 @@ FORMAT_MARK = b'"tabletop-session"'
 FOREIGN = -1     # (``orders``' mark of such a file)
 
 # A recording's path -> (its header's ``order``, None for a file without one, FOREIGN for no
-# recording; its modification time, seconds since the epoch).
-Recordings = dict[Path, tuple[int | None, float]]
+# recording; its modification time, seconds since the epoch; its ``session``, None for a file
+# without one: a session of its own).
+Recordings = dict[Path, tuple[int | None, float, int | None]]
+# (the headers' ``order`` and ``session``, read once per file)
+Orders = dict[Path, tuple[int | None, int | None]]
 
 
 def _stamp() -> str:
@@ -76,10 +83,11 @@ def is_mine(p: Path, stem: str | None, suffix: str) -> bool:
 
 
 def recordings(folder: Path, stem: str | None, suffix: str,
-               orders: dict[Path, int | None]) -> Recordings:
+               orders: Orders) -> Recordings:
     """This naming's recordings in ``folder``: path -> (its header's ``order``, None for a
     file without one: written by an older tabletop, or empty; its modification time, read
-    only for a file without an order, else 0). ``orders`` caches the headers' orders, so each
+    only for a file without an order, else 0; its ``session``). ``orders`` caches the headers'
+    orders and sessions, so each
     is read once (later parts, resumes). One directory listing (names and types from it, no
     call per file but the first read of a header): 20,000 recordings took 190-280 ms on each
     new part, in the frame loop, when every file was also stat()ed twice."""
@@ -96,33 +104,62 @@ def recordings(folder: Path, stem: str | None, suffix: str,
                 with open(p, "rb") as f:
                     head = f.read(ORDER_BYTES)
                 m = ORDER.match(head)
-                orders[p] = (int(m.group(1)) if m else
-                             None if not head or FORMAT_MARK in head else FOREIGN)
-            out[p] = (orders[p], e.stat().st_mtime if orders[p] is None else 0.0)
+                orders[p] = ((int(m.group(1)), int(m.group(2)) if m.group(2) else None) if m
+                             else (None if not head or FORMAT_MARK in head else FOREIGN, None))
+            order, session = orders[p]
+            out[p] = (order, e.stat().st_mtime if order is None else 0.0, session)
         except OSError:
             continue                 # removed meanwhile, or unreadable: not counted
     return out
 
 
-def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> None:
-    """Remove the oldest of ``mine`` beyond ``keep`` (None: keep all): files without an order
-    first (by modification time), then by order; never ``current`` (the file being written)."""
+def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> list[Path]:
+    """Keep at most ``keep`` parts of ``mine`` (None: keep all), so the disk holds at most
+    ``keep`` x ``max_mb``. Closed sessions go first, oldest first, each whole with all its
+    parts: files without an order first (by modification time), then by their first part's
+    order. A session one of whose parts another run is writing (:func:`being_recorded`) is
+    left. When ``current``'s session (being written) alone holds more than ``keep`` parts, its
+    oldest parts are removed down to ``keep`` (never ``current`` itself): a kiosk running for
+    weeks is one session, 821 bytes a frame at 60 Hz, about 4 GB a day. Returns the parts of
+    ``current``'s session removed."""
     if keep is None:
-        return
-    mine = {p: v for p, v in mine.items() if v[0] != FOREIGN}
+        return []
+    sessions: dict[tuple, list[Path]] = {}
+    for p, (order, _, session) in mine.items():
+        if order != FOREIGN:
+            sessions.setdefault(("s", session) if session is not None else ("p", p), []).append(p)
 
-    def age(p: Path) -> tuple:
-        order, mtime = mine[p]
-        return (0, mtime, p.name) if order is None else (1, order, p.name)
+    def age(key: tuple) -> tuple:
+        return min((0, mine[p][1], p.name) if mine[p][0] is None else (1, mine[p][0], p.name)
+                   for p in sessions[key])
 
-    oldest_first = sorted(mine, key=age)
+    def in_order(parts: list[Path]) -> list[Path]:
+        return sorted(parts, key=lambda p: (mine[p][0] or 0, p.name))
+
+    running = next((k for k, parts in sessions.items() if current in parts), None)
+    total = sum(len(parts) for parts in sessions.values())
+    trimmed: list[Path] = []
     try:
-        for old in oldest_first[:max(0, len(mine) - keep)]:
-            if old != current and not being_recorded(old):
+        for key in sorted(sessions, key=age):
+            if total <= keep:
+                break
+            parts = in_order(sessions[key])
+            if key == running or any(being_recorded(p) for p in parts):
+                continue
+            for old in parts:
                 old.unlink()
                 log.info("removed old recording %s (recorder.keep: %d)", old, keep)
+            total -= len(parts)
+        if running is not None:
+            parts = [p for p in in_order(sessions[running]) if p != current]
+            for old in parts[:max(0, len(parts) + 1 - keep)]:
+                old.unlink()
+                trimmed.append(old)
+                log.info("removed part %s of the running recording (recorder.keep: %d)",
+                         old, keep)
     except OSError as exc:
         log.warning("old recordings in %s not removed: %s", folder, exc.strerror or exc)
+    return trimmed
 
 
 def hold(f: Any) -> None:

@@ -1,7 +1,7 @@
 """Serial input: a microcontroller (or anything pyserial opens) sending ASCII lines, in its own thread.
 
 The line protocol (DESIGN.md): lines end with ``\\n`` or ``\\r\\n``, fields are split on spaces,
-at most ``MAX_LINE`` bytes a line::
+at most ``MAX_LINE`` bytes a line (NUL padding at either end of a line is dropped)::
 
     puck ID X Y ANGLE      table metres, radians
     touch ID X Y           table metres
@@ -91,9 +91,12 @@ def _id(text: str) -> int:
 
 
 def parse_line(line: bytes) -> Command | None:
-    """One line (without its newline) -> Command, or None for a blank line or a comment."""
+    """One line (without its newline) -> Command, or None for a blank line or a comment. NUL
+    bytes at either end of the line are dropped: a board writing a whole fixed buffer
+    (``Serial.write(buf, sizeof buf)``) pads after its newline, so the next line starts with
+    them (and its ``\r\n`` may follow them); a NUL inside the line stays garbage."""
     try:
-        text = line.decode("ascii")
+        text = line.strip(b"\0\r").decode("ascii")
     except UnicodeDecodeError:
         raise LineError("garbage", "line is not ASCII") from None
     fields = text.split("#", 1)[0].split()  # a comment may also end a line

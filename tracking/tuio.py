@@ -1,11 +1,17 @@
 """TUIO 1.1 (``/tuio/2Dobj``, ``/tuio/2Dcur``, ``/tuio/2Dblb``) as pure functions and one state
 machine, no sockets: decoded OSC messages in, committed objects out; and frames out as bundles.
 
-Receiving follows the reference client (TUIO11_CPP ``TuioClient``): within a packet, ``source``
-names the sender (else the packet's UDP address does; a name is kept apart per IP address, so
-two machines sending one name never mix), ``alive`` lists the live session ids, ``set`` stages
-one entity, and ``fseq`` commits that profile: entities in ``alive`` take their staged values,
-the others leave. An ``fseq`` below the sender's current one is late and its
+Receiving follows the reference client (TUIO11_CPP ``TuioClient``): ``source`` names the
+sender, for this packet and the later ones from its UDP address until another ``source`` (else
+the packet's UDP address does; a name is kept apart per IP address, so two machines
+sending one name never mix), ``alive`` lists the live session ids, ``set`` stages one entity, and
+``fseq`` commits that profile: entities in ``alive`` take their staged values, the others leave.
+As in the reference clients, which read message by message, what a UDP address stages for a
+profile waits for that profile's ``fseq`` across packets: a frame sent as one bundle, or as
+single messages (``source``, ``alive``, ``set``..., ``fseq``, one datagram each, as python-osc's
+``send_message`` sends them), commits alike. A frame whose ``alive`` is followed by another
+``alive`` before its ``fseq`` (its fseq lost: the second ``alive`` begins a new frame, the lost
+one's sets dropped), or left unfinished for ``restart_s``, is counted ``no_fseq``. An ``fseq`` below the sender's current one is late and its
 bundle is dropped, unless the gap is over 100 (the sender restarted) or the sender was silent for
 ``restart_s``; ``fseq`` <= 0 (-1: a redundant resend) always commits. Every sender and profile
 keeps its own state, so several senders never mix. Bad messages raise :class:`TuioError`, whose
@@ -34,6 +40,8 @@ SET_ARGS = {"2Dobj": 10, "2Dcur": 6, "2Dblb": 12}  # s i x y a X Y A m r | s x y
 LATE_GAP = 100            # a larger backwards jump of fseq is a restarted sender
 MAX_FSEQ = 2**31 - 1      # fseq is an int32: a sender counts 1 .. MAX_FSEQ, then from 1 again
 MAX_ALIVE = 1024          # live entities per sender and profile
+MAX_PENDING = 64          # unfinished frames (UDP address and profile) waiting for their fseq,
+#                           and UDP addresses whose source name is kept
 MAX_COORD = 100.0         # |x|, |y| beyond this (in TUIO units) is refused
 MAX_SPEED = 1e6           # |X|, |Y| (TUIO units/s) and |A| (turns/s) beyond this are refused:
 # finite doubles near 1.7e308 become infinite once mapped to table metres (x width)
@@ -42,7 +50,7 @@ PACKET_LIMIT = 4096       # reference servers split bundles at this size
 
 class TuioError(InputError):
     """A TUIO message is wrong; ``kind`` is its counter name (wrong_arguments, non_finite,
-    out_of_range, unknown_command, too_many)."""
+    out_of_range, unknown_command, too_many, no_fseq, not_alive)."""
 
     def __init__(self, kind: str, message: str) -> None:
         super().__init__(message)
@@ -134,6 +142,19 @@ class ProfileState:
 
 
 @dataclass
+class Pending:
+    """One UDP address's frame of one profile, staged until its ``fseq``: the sender it names
+    (``key``, ``name``), the ``alive`` list (None: none yet), the staged sets and when the frame
+    began (monotonic s)."""
+
+    key: str
+    name: str
+    t: float
+    alive: list[int] | None = None
+    sets: dict[int, Entity] = field(default_factory=dict)
+
+
+@dataclass
 class Sender:
     """A TUIO sender: one ``source`` name from one IP address, or one UDP address (IP and
     port) when it sends no name. ``name`` is what it is called by (its source name, else its
@@ -151,13 +172,16 @@ class TuioClient:
 
     ``apply(messages, address, t)`` applies the TUIO messages of one packet received at ``t``
     (monotonic s) from ``address`` and returns (committed profiles, errors, late bundles); an
-    error in one message is collected and the others still apply. ``senders`` is bounded by
+    error in one message is collected and the others still apply. What the packet stages
+    without its ``fseq`` waits in ``pending`` for a later packet from that address. ``senders`` is bounded by
     ``max_senders``: a new sender replaces the one heard from longest ago.
     """
 
     def __init__(self, restart_s: float = 2.0, max_senders: int = 32) -> None:
         self.restart_s, self.max_senders = restart_s, max_senders
         self.senders: dict[str, Sender] = {}
+        self.pending: dict[tuple[str, str], Pending] = {}   # (UDP address, profile) -> frame
+        self.names: dict[str, tuple[str, str]] = {}  # UDP address -> (sender key, source name)
 
     def sender(self, key: str, t: float, name: str = "") -> Sender:
         s = self.senders.get(key)
@@ -170,9 +194,11 @@ class TuioClient:
 
     def apply(self, messages: Iterable[tuple[str, tuple[Any, ...]]], address: str, t: float
               ) -> tuple[int, list[TuioError], int]:
-        key = name = address
+        # the name this UDP address last sent (the reference clients keep a source until
+        # the next one), else the address itself
+        key, name = self.names.get(address, (address, address))
+        named = False             # a source message of this packet names its sender
         ip = address.rsplit(":", 1)[0]
-        staged: dict[str, tuple[list[int] | None, dict[int, Entity]]] = {}
         commits, late = 0, 0
         errors: list[TuioError] = []
         heard: set[str] = set()   # senders a bundle of this packet committed (or came late) for
@@ -191,27 +217,41 @@ class TuioClient:
                     # machines (one image, one host name) sending one default name
                     # (tabletop@HOSTNAME) stay apart instead of replacing each other's objects
                     name = rest[0][:MAX_SOURCE]
-                    key = f"{name} from {ip}"
+                    key, named = f"{name} from {ip}", True
+                    self.names.pop(address, None)   # (re)inserted last: the newest is kept
+                    self.names[address] = (key, name)
+                    if len(self.names) > MAX_PENDING:
+                        del self.names[next(iter(self.names))]
+                    self._pending_frame(address, profile, key, name, t, named, errors)
                     continue
-                alive, sets = staged.setdefault(profile, (None, {}))
-                if cmd == "alive":
-                    staged[profile] = (parse_alive(rest), sets)
-                elif cmd == "set":
-                    e = parse_set(profile, rest)
-                    if len(sets) >= MAX_ALIVE:
-                        raise TuioError("too_many", f"more than {MAX_ALIVE} sets in one bundle")
-                    sets[e.session] = e
-                elif cmd == "fseq":
-                    fseq = parse_fseq(rest)
-                    staged.pop(profile)
-                    if self._commit(self.sender(key, t, name), profile, alive, sets, fseq, t):
-                        commits += 1
-                    else:
-                        late += 1
-                    heard.add(key)
-                else:
+                if cmd not in ("alive", "set", "fseq"):
                     raise TuioError("unknown_command", f"{addr} {cmd[:40]!r} is not a TUIO "
                                                        "command")
+                frame = self._pending_frame(address, profile, key, name, t, named, errors)
+                if cmd == "alive":
+                    ids = parse_alive(rest)
+                    if frame.alive is not None:   # its fseq was lost: a new frame begins,
+                        # so the lost one's sets are not also counted not_alive in this one
+                        errors.append(TuioError("no_fseq", f"/tuio/{profile} alive again "
+                                                           "before its frame's fseq"))
+                        frame = self.pending[(address, profile)] = Pending(frame.key,
+                                                                           frame.name, t)
+                    frame.alive = ids
+                elif cmd == "set":
+                    e = parse_set(profile, rest)
+                    if e.session not in frame.sets and len(frame.sets) >= MAX_ALIVE:
+                        raise TuioError("too_many", f"more than {MAX_ALIVE} sets in one frame")
+                    frame.sets[e.session] = e
+                else:
+                    fseq = parse_fseq(rest)
+                    del self.pending[(address, profile)]
+                    sender = self.sender(frame.key, t, frame.name)
+                    if self._commit(sender, profile, frame.alive, frame.sets, fseq, t):
+                        commits += 1
+                        self._check_alive(sender.profiles[profile], profile, frame, errors)
+                    else:
+                        late += 1
+                    heard.add(frame.key)
             except TuioError as exc:
                 errors.append(exc)
         # heard: only a sender whose bundle committed or came late (it is alive, its frames
@@ -220,9 +260,32 @@ class TuioClient:
         for k in heard:
             if k in self.senders:
                 self.senders[k].heard_t = t
-        for profile in staged:
-            errors.append(TuioError("no_fseq", f"/tuio/{profile} bundle without fseq: ignored"))
         return commits, errors, late
+
+    def _pending_frame(self, address: str, profile: str, key: str, name: str, t: float,
+                       named: bool, errors: list[TuioError]) -> Pending:
+        """The frame ``address`` is staging for ``profile``: a new one when there is none or
+        it was begun ``restart_s`` ago (counted ``no_fseq``), named by this packet's
+        ``source`` when it has one. At most ``MAX_PENDING`` frames wait: a new one replaces
+        the one begun longest ago."""
+        slot = (address, profile)
+        frame = self.pending.get(slot)
+        if frame is not None and t - frame.t > self.restart_s:
+            del self.pending[slot]
+            if frame.alive is not None or frame.sets:   # (a source alone stages nothing)
+                errors.append(TuioError("no_fseq", f"/tuio/{profile} frame without fseq for "
+                                                   f"{self.restart_s:g} s: ignored"))
+            frame = None
+        if frame is None:
+            if len(self.pending) >= MAX_PENDING:
+                oldest = min(self.pending, key=lambda k: self.pending[k].t)
+                del self.pending[oldest]
+                errors.append(TuioError("no_fseq", f"more than {MAX_PENDING} frames without "
+                                                   "fseq: the oldest ignored"))
+            frame = self.pending[slot] = Pending(key, name, t)
+        elif named:
+            frame.key, frame.name = key, name
+        return frame
 
     def _commit(self, sender: Sender, profile: str, alive: list[int] | None,
                 sets: dict[int, Entity], fseq: int, t: float) -> bool:
@@ -240,6 +303,21 @@ class TuioClient:
         st.t = t
         sender.commits += 1
         return True
+
+    @staticmethod
+    def _check_alive(st: ProfileState, profile: str, frame: Pending,
+                     errors: list[TuioError]) -> None:
+        """Count a committed frame's sets of sessions its ``alive`` does not list (``not_alive``):
+        TUIO keeps only the entities ``alive`` names, so these sets reach nothing; counting
+        them tells a sender that sends ``set`` and ``fseq`` without ``alive`` (an easy slip in
+        a script) why nothing of it is on the bus."""
+        if frame.sets:
+            alive = set(st.alive)
+            lost = [s for s in frame.sets if s not in alive]
+            if lost:
+                more = f" and {len(lost) - 1} more" if len(lost) > 1 else ""
+                errors.append(TuioError("not_alive", f"/tuio/{profile} set of session {lost[0]}"
+                                                     f"{more} that alive does not list: ignored"))
 
     def entities(self, profile: str, quiet_s: float, t: float) -> list[tuple[str, Entity]]:
         """(sender key, entity) of every sender heard from within ``quiet_s`` of ``t``."""

@@ -52,9 +52,12 @@ def main(args: argparse.Namespace) -> int:
     cfg, refused = ((prepared.cfg, None) if prepared is not None
                     else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
-    if kiosk:   # no kiosk file may write over the config, nor two of them be one
+    if kiosk:   # no kiosk file may write over the config, nor two of them be one, nor the
+        # heartbeat go to the installation's own osc source
+        from tabletop.config_ports import check_heartbeat
         from tabletop.kiosk import check_files
         check_files(cfg)
+        check_heartbeat(cfg)
     lock_fd = None
     if kiosk and not supervised():
         # one kiosk per folder, before anything of the folder is touched (the supervisor's

@@ -133,8 +133,10 @@ class Heartbeat:
         from pythonosc.osc_message_builder import OscMessageBuilder
         self._builder = OscMessageBuilder
         self.address = (host, int(port))
-        # a host name is looked up away from the frame loop (see tabletop.resolve)
-        self.destination = Destination("heartbeat", host, port, log)
+        # a host name is looked up away from the frame loop (see tabletop.resolve); sent from
+        # the frame loop, so non-blocking as the tuio sink's: a full send buffer drops the
+        # heartbeat (an OSError, counted and said once) instead of holding the loop
+        self.destination = Destination("heartbeat", host, port, log, blocking=False)
         self.sent = 0
         self.failing = 0   # sends failed in a row: the first is said, and the return
 

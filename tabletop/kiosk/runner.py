@@ -243,11 +243,23 @@ class Runner:
             if s.name == "view":
                 s.kiosk, s.service_key = True, key
 
-    def run(self, seconds: float | None = None) -> int:
+    def _load(self, path: Path) -> Any:
+        """The edited config at ``path``, refused (InputError) as ``run --kiosk`` refuses a
+        config at its start: under ``--kiosk`` a config whose ``kiosk.enabled`` is off is
+        validated without the heartbeat check (not sent to its own osc source), so it runs
+        here too. (The other start check, kiosk files distinct, depends on files an edit
+        that names none cannot change: the config's own name and the defaults.)"""
         from tabletop.config import load_config
+        cfg = load_config(path)
+        if self.kiosk:
+            from tabletop.config_ports import check_heartbeat
+            check_heartbeat(cfg)
+        return cfg
+
+    def run(self, seconds: float | None = None) -> int:
         from tabletop.kiosk.watch import ConfigWatcher
         if self.kiosk and self.cfg["kiosk"]["watch_config"] or self.studio_on:
-            self.watcher = ConfigWatcher(self.config_path, self.cfg, load_config, self._apply)
+            self.watcher = ConfigWatcher(self.config_path, self.cfg, self._load, self._apply)
             self.watcher.error = self.config_error
         try:
             self._run_loops(seconds)

@@ -9,6 +9,7 @@ later is reopened with a growing back-off while the installation keeps running. 
 from __future__ import annotations
 
 import os
+import re
 import stat
 from urllib.parse import urlsplit
 from typing import Any
@@ -20,11 +21,13 @@ from tracking.serial_input import SerialInput
 
 
 NETWORK_URLS = ("socket", "rfc2217")   # pyserial URL protocols of a HOST:PORT
+WINDOWS_PORT = re.compile(r"(?i)COM\d+\Z")    # COM3: a port name, not a relative path
 
 
 class Port(Str):
-    """A serial device (``/dev/ttyACM0``, ``COM3``: it may be plugged in later) or a pyserial
-    URL. Refused at start, as they can never open: an empty name, a URL of a protocol pyserial
+    """A serial device (``/dev/ttyACM0``, ``COM3``: it may be plugged in later; a relative path
+    is relative to the config file's folder, as every path of the config) or a pyserial URL.
+    Refused at start, as they can never open: an empty name, a URL of a protocol pyserial
     does not have, a ``socket://`` or ``rfc2217://`` URL whose HOST:PORT is malformed, and a
     path that exists but is a file or a folder (each was retried for ever)."""
 
@@ -53,6 +56,10 @@ class Port(Str):
                 except ValueError as exc:
                     raise ctx.error(path, f"{protocol}:// URL {exc}") from None
             return value
+        if not WINDOWS_PORT.match(value):
+            # relative to the config file, as every path of the config is, so "port: board"
+            # (a link beside the config) opens it whatever folder a kiosk's service starts in
+            value = str(ctx.base / os.path.expanduser(value))   # (an absolute one stays)
         try:
             mode = os.stat(value).st_mode
         except (OSError, ValueError):   # not there (yet), or not a path at all

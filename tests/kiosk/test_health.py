@@ -382,3 +382,28 @@ def test_a_heartbeat_that_cannot_be_sent_is_said_once(caplog):
     assert hb.sent == 0
     assert len(said) == 1 and said[0].levelname == "WARNING", [r.getMessage() for r in said]
     assert "cannot resolve no-such-host.invalid" in said[0].getMessage()
+
+
+def test_the_heartbeat_never_blocks_the_loop_and_a_failed_send_is_said_once(caplog):
+    """The heartbeat sends from the frame loop: its socket is non-blocking, as the ``tuio``
+    sink's (a blocking one waited there for a full send buffer). A send the system refuses (a
+    status too long for one datagram: EMSGSIZE) is counted and said once, never raised."""
+    rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    rx.bind(("127.0.0.1", 0))
+    rx.settimeout(5.0)
+    hb = Heartbeat("127.0.0.1", rx.getsockname()[1])
+    try:
+        hb.send("north", 1.0, 60.0, 0, "{}")
+        assert b"/tabletop/heartbeat" in rx.recv(65536)
+        assert hb.destination._sock.gettimeout() == 0.0   # non-blocking
+        with caplog.at_level("INFO", logger="tabletop"):
+            for k in range(3):
+                hb.send("north", float(k), 60.0, 0, "x" * 70_000)
+            hb.send("north", 4.0, 60.0, 0, "{}")
+        assert b"/tabletop/heartbeat" in rx.recv(65536)
+    finally:
+        hb.close()
+        rx.close()
+    said = [r.getMessage() for r in caplog.records if "heartbeat" in r.getMessage()]
+    assert hb.sent == 2 and len(said) == 2, said
+    assert "not sent" in said[0] and "sent again after 3 failed" in said[1]

@@ -90,6 +90,25 @@ def test_bad_edit_refused_good_edit_applied(tmp_path):
         assert first.loop.stop.is_set()                     # the old one was closed
 
 
+def test_an_edit_sending_the_heartbeat_to_its_own_osc_source_is_refused_under_kiosk(tmp_path):
+    """``run --kiosk`` with ``kiosk.enabled`` off: an edit sending the heartbeat to the
+    installation's own osc source is refused as at a start; the running configuration stays."""
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first = runner.inst
+        bad = config([10, 20, 30])
+        bad["sources"].append({"kind": "osc", "name": "in", "port": 3400})
+        bad["kiosk"] = {"heartbeat": {"host": "localhost", "port": 3400}}
+        write(path, yaml.safe_dump(bad))
+        assert wait_for(lambda: runner.watcher.refused == 1, 15)
+        assert runner.watcher.error == (
+            f"{path}: kiosk.heartbeat.port: localhost:3400 is this installation's own "
+            "sources[1] (osc): the heartbeats would arrive there as unknown messages; send "
+            "them to another port or machine")
+        assert runner.inst is first and runner.watcher.applied == 0
+
+
 def test_a_config_replaced_by_a_folder_is_called_a_folder(tmp_path):
     """config.yaml removed, then a folder of that name made (a copy gone wrong): the watcher
     saw no change between nothing and an empty folder and said "config file not found" for

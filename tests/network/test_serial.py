@@ -118,6 +118,21 @@ def test_lines_through_a_pty_become_pucks_touches_and_streams():
         assert dict(inputs.next(3, 0.0).streams) == {}
 
 
+def test_lines_padded_with_nul_bytes_are_read_and_a_nul_inside_a_line_is_garbage():
+    """A board writing its whole fixed buffer (``Serial.write(buf, sizeof buf)``): NULs after
+    each newline start the next line, and before a ``\r\n``. Both lines were refused as bad
+    numbers / unknown commands; a NUL inside a line is still refused."""
+    with tracked_pty(5.0) as (master, src, inputs):
+        os.write(master, b"puck 4 0.5 0.25 1.0\n" + b"\0" * 12
+                 + b"touch 2 0.1 0.2\0\0\0\r\n" + b"\0" * 16
+                 + b"pu\0ck 5 0.5 0.25 1.0\n" + b"puck 6 0.5\0 0.25 1.0\n")
+        assert wait_for(lambda: sum(src.bad.counts().values()) == 2, 5.0)
+        f = inputs.next(0, 0.0)
+        assert [(p.id, p.x, p.y, p.angle) for p in f.pucks] == [(4, 0.5, 0.25, 1.0)]
+        assert [(c.id, c.x, c.y) for c in f.touches] == [(2, 0.1, 0.2)]
+        assert src.bad.counts() == {"garbage": 1, "wrong_arguments": 1}
+
+
 def test_what_is_not_repeated_for_timeout_s_leaves_the_bus_and_what_is_repeated_stays():
     """DESIGN: a puck or touch not repeated for ``timeout_s`` leaves the bus. It leaves, not
     coasts (the tracker here would coast a lost puck for 30 s), and a touch leaves without a
@@ -394,5 +409,34 @@ def test_a_device_silent_on_an_empty_table_stays_healthy_unless_stall_s_is_set()
         finally:
             src.close()
     finally:
+        os.close(master)
+        os.close(slave)
+
+
+def test_a_relative_port_is_relative_to_the_config_file(tmp_path, monkeypatch):
+    """README: paths are relative to the config file. A device link beside the config
+    (``port: board``, as socat or a udev rule makes one) was opened from the working folder:
+    a kiosk started elsewhere retried "No such file or directory" for ever."""
+    from tabletop.config import load_config
+
+    master, slave, name = open_pty()
+    table = tmp_path / "table"
+    table.mkdir()
+    (table / "board").symlink_to(name)
+    (table / "cfg.yaml").write_text("sources:\n  - {kind: serial, name: mcu, port: board}\n"
+                                    "engines: []\n")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    port = load_config(table / "cfg.yaml")["sources"][0]["port"]
+    assert port == str(table / "board")
+    src = SerialInput("mcu", port, timeout_s=5.0)
+    src.open()
+    try:
+        assert wait_for(lambda: src.health().ok, 5.0), src.health().message
+        os.write(master, b"puck 4 0.5 0.25 1.0\r\n")
+        assert wait_for(lambda: src.lines == 1, 5.0)
+    finally:
+        src.close()
         os.close(master)
         os.close(slave)

@@ -155,3 +155,43 @@ def test_a_port_this_installation_already_uses_is_refused_at_load():
                      "sinks": [{"kind": "tuio", "port": 3402},
                                {"kind": "tuio", "name": "far", "host": "10.0.0.7", "port": 3400}]},
                     "cfg.yaml")
+
+
+def test_a_kiosk_heartbeat_sent_to_its_own_osc_source_is_refused(tmp_path):
+    """The heartbeat sent to the installation's own osc source arrived there every second as
+    an unknown message: logged on and on, "ignored: N unknown address" in that source's
+    health, and no monitor heard the table. Refused in a kiosk config, and when a config is
+    run with --kiosk; a config that runs no kiosk never sends one."""
+    import subprocess
+    import sys
+
+    import pytest
+
+    from tabletop.config import validate_config
+    from tabletop.schema import ConfigError
+
+    src = [{"kind": "scripted", "name": "a"}, {"kind": "osc", "name": "in", "port": 3400}]
+    own = {"host": "localhost", "port": 3400}
+    with pytest.raises(ConfigError) as info:
+        validate_config({"sources": src, "kiosk": {"enabled": True, "heartbeat": own}},
+                        "cfg.yaml")
+    assert str(info.value) == (
+        "cfg.yaml: kiosk.heartbeat.port: localhost:3400 is this installation's own sources[1] "
+        "(osc): the heartbeats would arrive there as unknown messages; send them to another "
+        "port or machine")
+    for kiosk in ({"heartbeat": own},                                    # no kiosk: nothing sent
+                  {"enabled": True, "heartbeat": dict(own, enabled=False)},
+                  {"enabled": True, "heartbeat": dict(own, port=3401)},
+                  {"enabled": True, "heartbeat": dict(own, host="10.0.0.7")}):
+        validate_config({"sources": src, "kiosk": kiosk}, "cfg.yaml")
+    cfg = tmp_path / "cfg.yaml"
+    cfg.write_text("sources:\n  - {kind: scripted, name: a}\n  - {kind: osc, name: in, port: 3400}\n"
+                   "engines: []\nkiosk: {heartbeat: {port: 3400}}\n")
+    run = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                          "--headless", "--kiosk", "--seconds", "1"],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2, run.stderr
+    assert run.stderr.strip() == (f"tabletop run: error: {cfg}: kiosk.heartbeat.port: "
+                                  "127.0.0.1:3400 is this installation's own sources[1] (osc): "
+                                  "the heartbeats would arrive there as unknown messages; send "
+                                  "them to another port or machine")

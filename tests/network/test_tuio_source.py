@@ -432,3 +432,116 @@ def test_every_refused_mocap_message_names_its_sender(source, caplog):
              or "stream name" in r.getMessage()]
     assert len(lines) == 4, lines
     assert all("from 127.0.0.1" in line for line in lines), lines
+
+
+def test_a_frame_sent_as_single_messages_commits_as_a_bundled_one(source):
+    """The reference clients read message by message and keep what is staged until the
+    profile's fseq, so a script that sends each TUIO message as its own datagram (python-osc's
+    ``send_message``) is read as one that bundles them: its pucks, touches and source name."""
+    from pythonosc.udp_client import SimpleUDPClient
+
+    client = SimpleUDPClient("127.0.0.1", source.bound_port)
+    frames = [[("/tuio/2Dobj", ["source", "script@here"]), ("/tuio/2Dobj", ["alive", 7]),
+               ("/tuio/2Dobj", ["set", 7, 5, 0.25, 0.25, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0]),
+               ("/tuio/2Dobj", ["fseq", 1]),
+               ("/tuio/2Dcur", ["alive", 3]),
+               ("/tuio/2Dcur", ["set", 3, 0.75, 0.5, 0.0, 0.0, 0.0]),
+               ("/tuio/2Dcur", ["fseq", 1])],
+              [("/tuio/2Dobj", ["alive", 7]),                       # no source this time
+               ("/tuio/2Dobj", ["set", 7, 5, 0.5, 0.25, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0]),
+               ("/tuio/2Dobj", ["fseq", 2])]]
+    n = 0
+    for frame in frames:
+        for address, args in frame:
+            client.send_message(address, args)
+            n += 1
+    assert sent(source, n)
+    obs = source.latest()
+    assert [(p.id, round(p.x, 6), round(p.y, 6), round(p.angle, 6)) for p in obs.pucks] == [
+        (5, 0.6, 0.6, -0.5)]
+    assert [(c.id, round(c.x, 6), round(c.y, 6)) for c in obs.touches] == [(3, 0.9, 0.4)]
+    assert source.bad.counts() == {}
+    assert "TUIO from script@here" in source.health().message
+    client.send_message("/tuio/2Dobj", ["alive"])                    # the puck is lifted
+    client.send_message("/tuio/2Dobj", ["fseq", 3])
+    assert sent(source, n + 2)
+    assert source.latest().pucks == ()
+
+
+def test_an_unfinished_frame_is_counted_and_does_not_hold_memory(source):
+    """A frame whose fseq never comes is counted when the next one begins (a second alive)
+    or when it waited ``restart_s``; at most MAX_PENDING such frames are held."""
+    from tracking.tuio import MAX_PENDING
+
+    ref = RefSender(source.bound_port)
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1)))
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1),
+                    message("/tuio/2Dobj", "set", 1, 4, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dobj", "fseq", 1)))
+    assert sent(source, 2)
+    assert [p.id for p in source.latest().pucks] == [4]
+    # (counted by the receiving thread just after the packet is applied)
+    assert wait_for(lambda: source.bad.counts() == {"no_fseq": 1}, 5.0), source.bad.counts()
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        for k in range(MAX_PENDING + 20):      # from as many UDP ports
+            with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as one:
+                one.sendto(bundle(message("/tuio/2Dcur", "alive", k)).dgram,
+                           ("127.0.0.1", source.bound_port))
+        s.sendto(b"", ("127.0.0.1", source.bound_port))
+    assert sent(source, 2 + MAX_PENDING + 20)
+    assert len(source.client.pending) <= MAX_PENDING
+
+
+def test_a_lost_fseq_is_counted_once_and_its_sets_go_with_its_frame(source, caplog):
+    """A frame whose ``fseq`` datagram was lost, then a frame whose ``alive`` drops one of its
+    sessions: counted once, as ``no_fseq``; the lost frame's sets start nothing in the next
+    one (its session 2, not listed by the new alive, is no ``not_alive``)."""
+    caplog.set_level("WARNING", logger="tabletop.input")
+    ref = RefSender(source.bound_port)
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1, 2),
+                    message("/tuio/2Dobj", "set", 1, 4, 0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dobj", "set", 2, 5, 0.2, 0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)))
+    ref.send(bundle(message("/tuio/2Dobj", "alive", 1),
+                    message("/tuio/2Dobj", "set", 1, 4, 0.6, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dobj", "fseq", 2)))
+    assert sent(source, 2)
+    assert [p.id for p in source.latest().pucks] == [4]
+    # (counted by the receiving thread just after the packet is applied)
+    assert wait_for(lambda: source.bad.counts().get("no_fseq") == 1, 5.0), source.bad.counts()
+    time.sleep(0.2)
+    assert source.bad.counts() == {"no_fseq": 1}
+    assert not any("alive does not list" in r.getMessage() for r in caplog.records)
+
+
+def test_a_set_that_alive_does_not_list_is_counted(source, caplog):
+    """TUIO keeps only what ``alive`` lists: a script sending ``set`` and ``fseq`` without
+    ``alive`` got nothing on the bus, and nothing in the log or the health said why."""
+    caplog.set_level("WARNING", logger="tabletop.input")
+    ref = RefSender(source.bound_port)
+    ref.send(bundle(message("/tuio/2Dcur", "set", 3, 0.5, 0.5, 0.0, 0.0, 0.0),
+                    message("/tuio/2Dcur", "fseq", 1)))
+    # (counted and logged by the receiving thread just after the packet is applied)
+    assert wait_for(lambda: any("set of session 3 that alive does not list" in r.getMessage()
+                                for r in caplog.records), 5.0)
+    assert source.latest() is None
+    assert source.bad.counts() == {"not_alive": 1}
+    assert "1 not alive" in source.health().message
+    ref.cursors([(3, 0.5, 0.5)])                     # with alive: the touch is there
+    assert sent(source, 2)
+    assert [c.id for c in source.latest().touches] == [3]
+    assert source.bad.counts() == {"not_alive": 1}
+
+
+def test_a_source_name_sent_alone_and_then_nothing_is_no_unfinished_frame(source):
+    """A ``source`` message stages nothing: a sender that names itself and sends its first
+    frame after a pause is read whole, with its name, and nothing is counted."""
+    ref = RefSender(source.bound_port)
+    source.client.restart_s = 0.2
+    ref.send(message("/tuio/2Dobj", "source", "slow@here"))
+    assert sent(source, 1)
+    time.sleep(0.3)
+    ref.objects([(1, 5, 0.5, 0.5, 0.0)])
+    assert sent(source, 2)
+    assert [p.id for p in source.latest().pucks] == [5]
+    assert source.bad.counts() == {}
+    assert "TUIO from slow@here" in source.health().message

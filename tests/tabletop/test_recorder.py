@@ -166,20 +166,29 @@ def test_two_recorders_started_at_once_never_collide(tmp_path):
         assert read_header(r.path)["part"] == 1
 
 
-def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path):
+def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path, caplog):
+    """A kiosk running as one session with a small ``max_mb``: the folder holds at most
+    ``keep`` parts (the disk bound keep x max_mb); the older tabletop's file goes first, then
+    the running session's oldest parts, said once; each part kept replays on its own."""
+    import logging
+    caplog.set_level(logging.INFO, logger="tabletop")
     old = tmp_path / "sessions" / "session-20000101-000000-000000.jsonl"
     old.parent.mkdir()
     old.write_text('{"format": "tabletop-session", "version": 1}\n')   # an older tabletop's
     os.utime(old, (1e9, 1e9))
-    cfg = kiosk_config(tmp_path, max_mb=0.01, keep=3)
+    cfg = kiosk_config(tmp_path, max_mb=0.01, keep=2)
     inst = build_live(cfg)
     inst.loop.run(seconds=1.5)
     rec = inst.recorder
     assert len(rec.paths) >= 4, "a 10 kB limit makes several parts of 1.5 s of frames"
     kept = sorted((tmp_path / "sessions").iterdir())
-    assert kept == sorted(rec.paths[-3:]) and not old.exists()
+    assert kept == sorted(rec.paths[-2:]) and not old.exists()
+    assert len({read_header(p)["session"] for p in kept}) == 1   # one session's parts
+    said = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"
+            and "recorder.keep" in r.getMessage()]
+    assert len(said) == 1 and f"its part {rec.paths[0]} removed" in said[0], said
     t_prev = -1.0
-    for p in rec.paths[-3:]:
+    for p in rec.paths[-2:]:
         assert p.stat().st_size <= 0.01 * 2**20
         header = read_header(p)
         assert header["config"]["sources"][0]["pucks"] == [1, 2, 5]
