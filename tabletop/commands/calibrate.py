@@ -311,7 +311,7 @@ def table_main(args: argparse.Namespace) -> int:
         detector = make_detector(DetectorSettings(dictionary=args.dictionary))
     except ValueError as exc:
         raise CalibrateError(f"--dictionary: {exc}") from None
-    from tabletop.config import dictionary_size
+    from tabletop.config_checks import dictionary_size
     n = dictionary_size(args.dictionary) or 0
     for m in ids_given:   # was "not found", sending the installer to look for it on the table
         if m >= n:
