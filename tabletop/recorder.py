@@ -97,7 +97,7 @@ class Recorder(Syncer):
         self._orders: Orders = {}        # recordings' header orders and sessions, read once
         self._session: int | None = None  # the first part's order, in every part's header
         self._order = 0                  # the last part's order, and its name's number
-        self._trimmed = False            # its own oldest parts were removed (keep): said once
+        self._trimmed: list[Path] = []   # its own oldest parts removed (keep): said once
         self._number = 0                 # (recordings.number)
         self.failed: str | None = None   # why recording stopped early, if it did
         self.gaps: list[str] = []        # why it stopped, for each stop it resumed after
@@ -177,10 +177,10 @@ class Recorder(Syncer):
         self._order, self._number = order, number(candidate.name, self.stem, self.suffix)
         trimmed = prune(mine, self.keep, self.path, self.folder)
         if trimmed and not self._trimmed:
-            self._trimmed = True
             log.warning("recording %s: its part %s removed, as this session alone holds more "
                         "than recorder.keep (%d) parts; its oldest parts go on being removed "
                         "(each part replays on its own)", self.paths[0], trimmed[0], self.keep)
+        self._trimmed += [p for p in trimmed if p in self.paths]
 
     def _write(self, data: bytes) -> None:
         """Write all of ``data`` to the part, or none of it: a full disk takes a line's head and
@@ -344,6 +344,9 @@ class Recorder(Syncer):
         if self.failed is None:   # the session's frames: in its parts, not in the last alone
             parts = (f" in {len(self.paths)} parts, {self.paths[0].name} to {self.path.name}"
                      if len(self.paths) > 1 else "")
+            if self._trimmed:
+                parts += (f" (the first {len(self._trimmed)} removed as recorder.keep bounds "
+                          f"the folder; {len(self.paths) - len(self._trimmed)} kept)")
             log.info("recording %s: %d frames%s", self.paths[0] if parts else self.path,
                      self.frames, parts)
 

@@ -162,3 +162,7 @@ def test_a_long_session_keeps_at_most_keep_parts(tmp_path, caplog):
     assert most <= 3 and sorted(tmp_path.iterdir()) == sorted(rec.paths[-3:])
     said = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
     assert len(said) == 1 and f"its part {rec.paths[0]} removed" in said[0], said
+    # the closing line counts what stays, not only what was written
+    done = [r.getMessage() for r in caplog.records if "frames in" in r.getMessage()]
+    assert len(done) == 1 and f"the first {len(rec.paths) - 3} removed" in done[0], done
+    assert done[0].endswith("; 3 kept)"), done
