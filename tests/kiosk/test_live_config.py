@@ -194,12 +194,15 @@ def test_an_applied_edit_frees_the_previous_installation(tmp_path):
     import weakref
 
     from tabletop.loop import Loop
+    before, after = config([10, 20, 30]), config([200, 100, 50])
+    for cfg in (before, after):
+        cfg["loop"]["rate_hz"] = 120        # the ticks to the loop's freeze sooner
     path = tmp_path / "config.yaml"
-    path.write_text(yaml.safe_dump(config([10, 20, 30])))
+    path.write_text(yaml.safe_dump(before))
     with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
         first = weakref.ref(runner.inst)      # (a reference here would keep it alive)
         engine = weakref.ref(runner.inst.engines[0])
-        write(path, yaml.safe_dump(config([200, 100, 50])))
+        write(path, yaml.safe_dump(after))
         assert wait_for(lambda: (inst := runner.inst) is not None and inst is not first()
                         and inst.loop.stats.ticks > Loop.FREEZE_AGAIN_TICKS + 5, 30)
         gc.collect()
