@@ -27,7 +27,7 @@ def kiosk_config(tmp_path: Path, faults: list[dict]) -> Path:
         "view": {"size": [320, 180], "headless": True},
         "recorder": {"enabled": True, "folder": "sessions"},
         "kiosk": {"spares": 1, "stall_s": 5.0, "backoff_s": [0.1, 2.0],
-                  "heartbeat": {"enabled": False}},
+                  "heartbeat": {"enabled": False, "every_s": 0.2}},   # status.json 5 a second
     }
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))
@@ -51,7 +51,7 @@ def status(tmp_path: Path) -> dict:
 
 def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock(tmp_path):
     # the first kiosk's first installation crashes: its restart (a warm spare) must run
-    cfg = kiosk_config(tmp_path, [{"start": 0, "after_s": 1.0, "kind": "crash"}])
+    cfg = kiosk_config(tmp_path, [{"start": 0, "after_s": 0.3, "kind": "crash"}])
     first = run(cfg, start_new_session=True)
     try:
         assert wait_for(lambda: status(tmp_path).get("restarts") == 1
@@ -95,7 +95,7 @@ def test_a_second_kiosk_on_the_folder_is_refused_and_a_killed_one_leaves_no_lock
             first.wait(10)
     assert (tmp_path / ".kiosk.tabletop-lock").exists()
     cfg = kiosk_config(tmp_path, [])
-    third = run(cfg, "--seconds", "2")
+    third = run(cfg, "--seconds", "1")
     _, err = third.communicate(timeout=120)
     assert third.returncode == 0, err[-2000:]
     last = status(tmp_path)

@@ -40,14 +40,15 @@ def test_an_edit_saved_while_a_studio_take_is_tried_waits_for_it(tmp_path):
     status line, until the take is kept (or dropped); then it is applied."""
     cfg = config([10, 20, 30])
     cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
-                                     "library": "lib", "background_training": False}
+                                     "library": "lib", "background_training": False,
+                                     "min_seconds": 1.0}      # a take trained after 1 s
     cfg["studio"] = {"countdown_s": 0.1}
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))
     with running(Runner(path, load_config(path), headless=True)) as runner:
         first, studio = runner.inst, runner.studio
         first.loop.commands.put("designer.record")
-        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
+        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 1.3, 30)
         first.loop.commands.put("designer.record")
         assert wait_for(lambda: studio.state == "trying", 30)
         cfg["engines"][0]["color"] = [200, 100, 50]
@@ -69,7 +70,8 @@ def test_an_edit_waiting_for_a_studio_take_is_shown_while_it_waits(tmp_path):
     import json
     cfg = config([10, 20, 30])
     cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
-                                     "library": "lib", "background_training": False}
+                                     "library": "lib", "background_training": False,
+                                     "min_seconds": 1.0}      # a take trained after 1 s
     cfg["studio"] = {"countdown_s": 0.1}
     cfg["kiosk"]["heartbeat"]["every_s"] = 0.1
     path = tmp_path / "config.yaml"
@@ -80,7 +82,7 @@ def test_an_edit_waiting_for_a_studio_take_is_shown_while_it_waits(tmp_path):
         (view,) = [s for s in first.loop.sinks if s.name == "view"]
         notices = lambda: [n for fn in view.notices for n in fn()]   # noqa: E731
         first.loop.commands.put("designer.record")
-        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.5, 30)
+        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 1.3, 30)
         first.loop.commands.put("designer.record")
         assert wait_for(lambda: studio.state == "trying", 30)
         assert not json.loads(status_file.read_text())["config_pending"]

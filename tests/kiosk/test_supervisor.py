@@ -211,7 +211,7 @@ def test_a_start_on_the_last_good_configuration_says_why_once_in_the_kiosk_log(t
     cfg = drill_config(tmp_path, [])
     cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
     run = [sys.executable, "-m", "tabletop", "run", "--config", str(cfg), "--kiosk",
-           "--headless", "--seconds", "1"]
+           "--headless", "--seconds", "0.3"]
     first = subprocess.run(run, capture_output=True, text=True, timeout=120)
     assert first.returncode == 0, first.stderr[-2000:]
     assert (tmp_path / ".config.yaml.last-good").is_file()

@@ -159,7 +159,7 @@ def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):
     cfg = tmp_path / "scripted.yaml"
     cfg.write_text("sources: [{kind: scripted, name: s}]\nengines: []\nview: {enabled: false}\n")
     rec, out = tmp_path / "rec.jsonl", tmp_path / "out.jsonl"
-    r = tabletop("run", "--config", str(cfg), "--seconds", "4", "--record", str(rec))
+    r = tabletop("run", "--config", str(cfg), "--seconds", "3", "--record", str(rec))
     assert r.returncode == 0, r.stderr
     recorded = len(frames_of(rec))
     p = subprocess.Popen([sys.executable, "-m", "tabletop", "replay", str(rec), "--no-view",
