@@ -97,7 +97,15 @@ class StepSenses:
           (20) / 34 (25)): 19 (10) / 27 (18) / 38 (30), 17 (7) / 26 (17) / 34 (25), 16 (7) /
           29 (19) / 38 (32), within the re-matching's spread; capped at the coast's pace
           (0.141 m/s) for 0.15 / 0.25 s: 19 (7) / 32 (20) / 28 (20), 18 (8) / 30 (19) / 41
-          (29); at 0.1 m/s for 0.25 s: 20 (9) / 37 (25) / 35 (24)."""
+          (29); at 0.1 m/s for 0.25 s: 20 (9) / 37 (25) / 35 (24).
+        - the mean read, the cap following the demonstration's own coast: the stalker's speed
+          by time since that read turned true in its take (0.05 s bins over 0.5 s; mean 0.093,
+          0.084, 0.063 ... 0.035 m/s; median 0.059 ... 0.029, still pace 0.064), then the
+          still pace: mean 672.0 / 8.3, 667.0 / 15.0, 665.3 / 15.0 (stalker misses per run
+          5.3 (2.0) / 10.0 (6.7) / 11.3 (8.3) -> 6.7 (2.7) / 11.7 (8.3) / 11.3 (8.3): the
+          loops kept, seed 1 slow met, seeds 0 loops and 8-13 lost); median 672.0 / 8.7,
+          669.3 / 12.7, 661.7 / 19.0 (stalker 6.7 (3.0) / 9.3 (6.0) / 15.0 (12.3)); the
+          other characters the same to the last digit. Neither kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
