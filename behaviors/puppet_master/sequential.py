@@ -77,6 +77,14 @@ def _check(take: np.ndarray, what: str) -> np.ndarray:
     return a
 
 
+def main_at(main: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """The poses (len(t), 3) ``x, y, dir`` of a main take (n, 4) ``t, x, y, dir`` at times ``t``
+    (s, on its base): positions interpolated, the direction through its unwrapped signal."""
+    return np.column_stack([np.interp(t, main[:, 0], main[:, 1]),
+                            np.interp(t, main[:, 0], main[:, 2]),
+                            wrap_angles(np.interp(t, main[:, 0], np.unwrap(main[:, 3])))])
+
+
 def pair_takes(main: np.ndarray, react: np.ndarray) -> np.ndarray:
     """One demonstration (k, 7) ``t, main_x, main_y, main_dir, react_x, react_y, react_dir``
     from a main take and a reactor take recorded against its playback: the reactor samples
@@ -90,9 +98,7 @@ def pair_takes(main: np.ndarray, react: np.ndarray) -> np.ndarray:
     t = r[:, 0]
     out = np.empty((t.size, 7))
     out[:, 0] = t - t[0]
-    out[:, 1] = np.interp(t, m[:, 0], m[:, 1])
-    out[:, 2] = np.interp(t, m[:, 0], m[:, 2])
-    out[:, 3] = wrap_angles(np.interp(t, m[:, 0], np.unwrap(m[:, 3])))
+    out[:, 1:4] = main_at(m, t)
     out[:, 4:6] = r[:, 1:3]
     out[:, 6] = wrap_angles(r[:, 3])
     return out
