@@ -113,12 +113,12 @@ of every seed and its mean generated distance to the main (``sequential.<name>.<
 / ``.distance_m``), ``sequential.<name>.excess`` (the sequential misses beyond the two-puck
 ones less the two hands' difference), ``.distance_excess_m`` (the sequential distance gap less
 the two hands' difference) and ``.rule_misses``: what the test's rule
-(tabletop.examples.sequential_misses: 3 misses and 5 mm beyond those differences, plus a
-character's measured allowance) finds. Measured on seeds 0-5, 8-13, 26-31 (misses, sequential /
-two-puck / second hand; distance excess): lover 110 / 106 / 104, -0.0 mm; bully 26 / 34 / 44,
-+3.4 mm; playful friend 4 / 7 / 8, -1.7 mm; stalker 62 / 37 / 50, +1.3 mm; afraid 108 / 87 /
-88, -2.9 mm. The rule misses the stalker's (excess 12) and the afraid's (excess 20) misses
-there. Both figures are one main path's (the designer's shipped one), and one main path is one
+(tabletop.examples.sequential_misses: the character's allowance over two-puck, measured for
+the test's 12 paths of 20 s, so on more paths a guide only) finds. Measured on seeds 0-5, 8-13,
+26-31 (misses, sequential / two-puck / second hand; distance excess): lover 110 / 106 / 104,
+-0.0 mm; bully 26 / 34 / 44, +3.4 mm; playful friend 4 / 7 / 8, -1.7 mm; stalker 62 / 37 / 50,
++1.3 mm; afraid 108 / 87 / 88, -2.9 mm (excess 12 and 20 misses for the stalker and the
+afraid). Both figures are one main path's (the designer's shipped one), and one main path is one
 draw: the stalker's designer draws no random choice, so its hands differ only in shake (on that
 path two-puck 37-64 by hands 0-700, sequential 60-73), while on the same designer's other main
 paths (seeds +1..+7) sequential and two-puck differ by -9 to +10 (means 50.1 / 48.1 with the

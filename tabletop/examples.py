@@ -212,10 +212,9 @@ def designer_table(seconds: float = 40.0, seed: int = 0, pursuit: bool = False,
 
 
 # sequential_comparison's second two-puck hand: the same designer's other hand (another shake,
-# other choices) at the same reaction time, for the spread between two hands
+# other choices) at the same reaction time, a figure of the spread between hands beside the
+# rule's (SEQUENTIAL_ALLOWANCE, measured over four hands)
 SECOND_HAND = 100
-SEQUENTIAL_SLACK = 3          # misses a sequential behaviour may have beyond the rule's spread
-SEQUENTIAL_SLACK_M = 0.005    # and metres of mean generated distance
 
 
 @functools.cache
@@ -268,25 +267,34 @@ def sequential_comparison(name: str, seeds: tuple[int, ...], seconds: float = 40
             **two_puck_figures(name, seeds, seconds)}
 
 
-# (misses, m) a character's sequential behaviour may have beyond the rule, measured: the
-# bully's sequential demonstration lurks farther from its main than both two-puck hands
-# (generated mean distance +10.3 mm on seeds 0-3 at 20 s, +7.6 mm at 40 s, +6.7 mm on the
-# tuning seeds 0-5, 8-13, 26-31, where the two hands differ by 3 mm)
-SEQUENTIAL_ALLOWANCE: dict[str, tuple[int, float]] = {"bully": (0, 0.005)}
+# (misses, m) a character's sequential behaviour may differ from its two-puck demonstration by
+# (sequential_misses), sized for the test's 12 open paths of 20 s. Measured on the tuning
+# seeds in four sets of that size (seeds 0-3, 4-5 + 8-9, 10-13, 26-29; 20 s), as the largest
+# change that moves a two-puck demonstration without any pairing: the range among the
+# designer's hands 0, 100, 200, 300 on its shipped main path (misses / mm: lover 6 / 5.1, bully
+# 13 / 25.7, playful friend 6 / 3.3, stalker 6 / 2.5, afraid 10 / 53.9), sequential against
+# two-puck on two of its other main paths (seed +1, +2: 7 / 4.6, 7 / 9.6, 4 / 4.8, 5 / 4.2, 9 /
+# 25.3) and a reaction one frame (17 ms, the playback seen a frame late) slower on the shipped
+# and those two paths (5 / 3.5, 7 / 16.4, 4 / 4.4, 11 / 4.4, 9 / 27.0). The afraid's misses are
+# not judged (None): its designer flees on half a frame, so a reactor paired 0.1-0.2 s early or
+# late moves them by -4 to +7 in those sets, inside its hands' range of 10, and its sequential
+# take on the test's paths sits at that range (+10).
+SEQUENTIAL_ALLOWANCE: dict[str, tuple[int | None, float]] = {
+    "lover": (7, 0.0051), "bully": (13, 0.0257), "playful_friend": (6, 0.0048),
+    "stalker": (11, 0.0044), "afraid": (None, 0.0539)}
 
 
 def sequential_misses(name: str, figures: dict[str, tuple[int, float]]) -> list[str]:
     """What a sequential behaviour misses of the rule, with its figures: no more misses than
-    two-puck beyond the two hands' difference and SEQUENTIAL_SLACK, its mean distance within
-    the two hands' difference and SEQUENTIAL_SLACK_M (plus ``name``'s SEQUENTIAL_ALLOWANCE)."""
-    (seq_n, seq_d), (two_n, two_d), (other_n, other_d) = (
-        figures[k] for k in ("sequential", "two_puck", "second_hand"))
-    extra_n, extra_d = SEQUENTIAL_ALLOWANCE.get(name, (0, 0.0))
+    the two-puck demonstration of the same hand plus ``name``'s SEQUENTIAL_ALLOWANCE, its mean
+    generated distance within that allowance's metres of two-puck's."""
+    (seq_n, seq_d), (two_n, two_d) = figures["sequential"], figures["two_puck"]
+    extra_n, extra_d = SEQUENTIAL_ALLOWANCE[name]
     out = []
-    if seq_n > two_n + abs(two_n - other_n) + SEQUENTIAL_SLACK + extra_n:
-        out.append(f"misses {seq_n} against {two_n} and {other_n}")
-    if abs(seq_d - two_d) > abs(two_d - other_d) + SEQUENTIAL_SLACK_M + extra_d:
-        out.append(f"distance {seq_d:.4f} against {two_d:.4f} and {other_d:.4f}")
+    if extra_n is not None and seq_n > two_n + extra_n:
+        out.append(f"misses {seq_n} against {two_n} + {extra_n}")
+    if abs(seq_d - two_d) > extra_d:
+        out.append(f"distance {seq_d:.4f} against {two_d:.4f} +- {extra_d}")
     return out
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from behaviors.puppet_master import chased
 from behaviors.puppet_master.hand_motion import (Policy, Table, Vec, _limit, _Seen, _tremor,
                                                  _turn_toward, _unit)
+from behaviors.puppet_master.sequential import main_at
 from tabletop.frames import wrap_angle, wrap_angles
 
 COLUMNS = ("t", "main_x", "main_y", "main_dir", "react_x", "react_y", "react_dir")
@@ -319,9 +320,8 @@ def sequential_takes(personality: str, seed: int | None = None, seconds: float |
 
 def path_at(path: np.ndarray, t: np.ndarray, late_s: float = 0.0) -> np.ndarray:
     """A main path (n, 4) ``t, x, y, dir`` as seen at times ``t`` (s) ``late_s`` late: (len(t),
-    4), positions interpolated, the direction through its unwrapped signal."""
-    return np.column_stack([t, *(np.interp(t - late_s, path[:, 0], path[:, c]) for c in (1, 2)),
-                            wrap_angles(np.interp(t - late_s, path[:, 0], np.unwrap(path[:, 3])))])
+    4), read as pair_takes reads a main take (sequential.main_at)."""
+    return np.column_stack([t, main_at(path, t - late_s)])
 
 
 def reaction_on_grid(personality: str, main: np.ndarray, rate_hz: float,
