@@ -93,13 +93,14 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     by systemd; a config edit; after a named file grew) one warning is logged and parts of
     :data:`HEADER_PARTS` headers are recorded, so a running table never goes down over it."""
     from tabletop.recorder import MB, Recorder, header_line, session_header
+    from tabletop.recordings import new_session
     from tabletop.schema import ConfigError
     rec = cfg["recorder"]
     if record_path is None and not rec["enabled"]:
         return None
     if header is None:
         header = session_header(cfg, ctx.shared.get("calibration_dict"))
-    size = len(header_line(header, order=1, part=1, session=1))
+    size = len(header_line(header, order=1, part=1, session=new_session()))
     max_mb = rec["max_mb"]
     if max_mb is not None and size >= max_mb * MB:
         why = (f"{getattr(cfg, 'file', 'config')}: recorder.max_mb: {max_mb:g} MB is less than "

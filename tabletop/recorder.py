@@ -38,8 +38,8 @@ from typing import Any, Callable
 from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
 from tabletop.recorder_sync import Syncer
-from tabletop.recordings import (FOREIGN, Orders, Recordings, candidates, hold, number, prune,
-                                 recordings)
+from tabletop.recordings import (FOREIGN, Orders, Recordings, candidates, hold, new_session,
+                                 number, prune, recordings, release)
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header, session_header)
@@ -95,7 +95,7 @@ class Recorder(Syncer):
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0                  # frames written
         self._orders: Orders = {}        # recordings' header orders and sessions, read once
-        self._session: int | None = None  # the first part's order, in every part's header
+        self._session = new_session()    # this session's id, in every part's header
         self._order = 0                  # the last part's order, and its name's number
         self._trimmed: list[Path] = []   # its own oldest parts removed (keep): said once
         self._number = 0                 # (recordings.number)
@@ -154,8 +154,6 @@ class Recorder(Syncer):
         self._f, self._size, self._first_in_file = f, 0, True
         hold(f)                          # another run's keep leaves it alone
         self.paths.append(candidate)
-        if self._session is None:
-            self._session = order
         self._write(header_line(self._header, order, len(self.paths), self._session))
         self._f.flush()
         # said once the disk took the header: a try on a disk still full says nothing
@@ -175,7 +173,7 @@ class Recorder(Syncer):
         mine[candidate] = (order, 0.0, self._session)
         self._orders[candidate] = (order, self._session)
         self._order, self._number = order, number(candidate.name, self.stem, self.suffix)
-        trimmed = prune(mine, self.keep, self.path, self.folder)
+        trimmed = prune(mine, self.keep, self.path, self.folder, self.paths)
         if trimmed and not self._trimmed:
             log.warning("recording %s: its part %s removed, as this session alone holds more "
                         "than recorder.keep (%d) parts; its oldest parts go on being removed "
@@ -218,6 +216,7 @@ class Recorder(Syncer):
                   self.frames, self.failed, f" (a new part is tried in {wait_s:g} s, then every "
                   f"{RESUME_EVERY_S:g} s)" if resumable else "")
         if self._f is not None:
+            release(self._f)
             self._retired.append(self._f)   # the syncer syncs what it can and closes it
             self._f = None
         if empty:                        # a file without a frame is of no use
@@ -258,6 +257,7 @@ class Recorder(Syncer):
                 if self.max_bytes is not None and not self._first_in_file and \
                         self._size + len(line) > self.max_bytes:
                     self._f.flush()
+                    release(self._f)
                     self._retired.append(self._f)
                     self._open_part()
                     d["t0"] = self._t0
@@ -351,9 +351,9 @@ class Recorder(Syncer):
                      self.frames, parts)
 
 
-def header_line(header: dict[str, Any], order: int, part: int, session: int) -> bytes:
+def header_line(header: dict[str, Any], order: int, part: int, session: str) -> bytes:
     """The first line of a recording part: format, version, ``order`` first (see
-    recordings.ORDER), its ``session`` (the first part's order), then ``header``, with this
+    recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``, with this
     part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands on the
     recording's own) and the time it is created."""
     line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}

@@ -5,10 +5,12 @@ exists already continues as ``NAME-2.jsonl``, ``NAME-3.jsonl``... (never overwri
 file's header carries an ``order`` (one more than the highest in the folder when it was made);
 pruning removes the oldest by that order, never by the clock (a clock set back gives the newest
 files the oldest times). ``keep`` counts parts, so the disk holds at most ``keep`` x ``max_mb``; the parts of one
-session (``max_mb`` reached, a resume after a full disk) carry its first part's order as their
-``session``, and closed sessions are removed whole, oldest first, so a kept session replays
-whole. A running session that alone holds more than ``keep`` parts loses its oldest parts
-(each part replays on its own). Used by :class:`tabletop.recorder.Recorder`.
+session (``max_mb`` reached, a resume after a full disk) carry one ``session`` id, made anew
+for each session (:func:`new_session`: two runs starting together read the same highest
+order, so an order would give both one id), and closed sessions are removed whole, oldest
+first, so a kept session replays whole. A running session that alone holds more than ``keep``
+parts loses its oldest parts (each part replays on its own), only the recorder's own. Used by
+:class:`tabletop.recorder.Recorder`.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import itertools
 import logging
 import os
 import re
+import secrets
 from pathlib import Path
 from typing import Any, Iterator
 
@@ -27,7 +30,10 @@ log = logging.getLogger("tabletop")
 # The start of every header line the recorder writes; the ``order`` is read back from the
 # file's first bytes, so pruning never parses a header (which carries every file the config
 # names, megabytes at times).
-ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)(?:,"session":(\d+))?[,}]')
+# ``session`` is a number in recordings of an older tabletop (the first part's order), a
+# quoted id (:func:`new_session`) in later ones; a file without one is a session of its own.
+ORDER = re.compile(rb'^\{"format":"[^"]*","version":\d+,"order":(\d+)'
+                   rb'(?:,"session":(\d+|"[0-9a-f]{1,32}"))?[,}]')
 ORDER_BYTES = 128
 # A file of the naming whose first bytes are no session header (``recorder.path: notes.txt``
 # beside the technician's own notes.txt) is no recording: numbered past, never counted by keep
@@ -39,9 +45,16 @@ FOREIGN = -1     # (``orders``' mark of such a file)
 # A recording's path -> (its header's ``order``, None for a file without one, FOREIGN for no
 # recording; its modification time, seconds since the epoch; its ``session``, None for a file
 # without one: a session of its own).
-Recordings = dict[Path, tuple[int | None, float, int | None]]
+Recordings = dict[Path, tuple[int | None, float, str | None]]
 # (the headers' ``order`` and ``session``, read once per file)
-Orders = dict[Path, tuple[int | None, int | None]]
+Orders = dict[Path, tuple[int | None, str | None]]
+
+
+def new_session() -> str:
+    """A new session's id for its parts' headers: 16 random hex digits (64 bits), so runs
+    started together in one folder never share one, and the header's ``order`` and
+    ``session`` stay within the ``ORDER_BYTES`` that pruning reads."""
+    return secrets.token_hex(8)
 
 
 def _stamp() -> str:
@@ -104,7 +117,8 @@ def recordings(folder: Path, stem: str | None, suffix: str,
                 with open(p, "rb") as f:
                     head = f.read(ORDER_BYTES)
                 m = ORDER.match(head)
-                orders[p] = ((int(m.group(1)), int(m.group(2)) if m.group(2) else None) if m
+                orders[p] = ((int(m.group(1)), m.group(2).strip(b'"').decode() if m.group(2)
+                              else None) if m
                              else (None if not head or FORMAT_MARK in head else FOREIGN, None))
             order, session = orders[p]
             out[p] = (order, e.stat().st_mtime if order is None else 0.0, session)
@@ -113,15 +127,17 @@ def recordings(folder: Path, stem: str | None, suffix: str,
     return out
 
 
-def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> list[Path]:
+def prune(mine: Recordings, keep: int | None, current: Path, folder: Path,
+          own: list[Path] | None = None) -> list[Path]:
     """Keep at most ``keep`` parts of ``mine`` (None: keep all), so the disk holds at most
     ``keep`` x ``max_mb``. Closed sessions go first, oldest first, each whole with all its
     parts: files without an order first (by modification time), then by their first part's
     order. A session one of whose parts another run is writing (:func:`being_recorded`) is
-    left. When ``current``'s session (being written) alone holds more than ``keep`` parts, its
-    oldest parts are removed down to ``keep`` (never ``current`` itself): a kiosk running for
-    weeks is one session, 821 bytes a frame at 60 Hz, about 4 GB a day. Returns the parts of
-    ``current``'s session removed."""
+    left. When the running session alone holds more than ``keep`` parts, its oldest are
+    removed down to ``keep``: only ``own`` (the recorder's parts, in order; default
+    ``[current]``), never ``current`` nor a part being recorded: a kiosk running for weeks is
+    one session, 821 bytes a frame at 60 Hz, about 4 GB a day. Returns the parts of ``own``
+    removed."""
     if keep is None:
         return []
     sessions: dict[tuple, list[Path]] = {}
@@ -136,6 +152,7 @@ def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> li
     def in_order(parts: list[Path]) -> list[Path]:
         return sorted(parts, key=lambda p: (mine[p][0] or 0, p.name))
 
+    own = [p for p in (own or [current]) if p in mine]
     running = next((k for k, parts in sessions.items() if current in parts), None)
     total = sum(len(parts) for parts in sessions.values())
     trimmed: list[Path] = []
@@ -151,8 +168,10 @@ def prune(mine: Recordings, keep: int | None, current: Path, folder: Path) -> li
                 log.info("removed old recording %s (recorder.keep: %d)", old, keep)
             total -= len(parts)
         if running is not None:
-            parts = [p for p in in_order(sessions[running]) if p != current]
+            parts = [p for p in own if p != current]
             for old in parts[:max(0, len(parts) + 1 - keep)]:
+                if being_recorded(old):
+                    continue
                 old.unlink()
                 trimmed.append(old)
                 log.info("removed part %s of the running recording (recorder.keep: %d)",
@@ -168,6 +187,15 @@ def hold(f: Any) -> None:
     try:
         fcntl.flock(f.fileno(), fcntl.LOCK_SH | fcntl.LOCK_NB)
     except OSError:   # a file system without locks: recorded on, unmarked
+        pass
+
+
+def release(f: Any) -> None:
+    """Unmark the finished part ``f`` (:func:`hold`) while it waits to be synced and closed:
+    the run's own removal of its oldest parts takes it then, as another run's may."""
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_UN)
+    except OSError:
         pass
 
 

@@ -1,8 +1,9 @@
 """The session recording format: JSON Lines, a header line then one frame per line.
 
 Header: ``{"format": "tabletop-session", "version": 2, "order": n (one more than the highest in
-the folder when the file was made: what ``recorder.keep`` removes by), "session": n (the order
-of the session's first part: ``keep`` removes a closed session's parts together), "created":
+the folder when the file was made: what ``recorder.keep`` removes by), "session": id (16 hex
+digits, one per session, a number in older recordings: ``keep`` removes a closed session's
+parts together), "created":
 ISO date,
 "config": {...} (as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}}
 (every file the config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null,

@@ -166,3 +166,37 @@ def test_a_long_session_keeps_at_most_keep_parts(tmp_path, caplog):
     done = [r.getMessage() for r in caplog.records if "frames in" in r.getMessage()]
     assert len(done) == 1 and f"the first {len(rec.paths) - 3} removed" in done[0], done
     assert done[0].endswith("; 3 kept)"), done
+
+
+def test_two_runs_with_one_order_keep_each_others_parts(tmp_path, monkeypatch):
+    """Two runs start together in one folder and read the same highest order (the second's
+    listing made before the first's file existed), each with ``max_mb`` 2 kB and ``keep`` 3,
+    their frames interleaved: neither run's part removal ever takes a part of the other (its
+    current one included), each keeps its own newest parts, and each session's kept parts
+    replay in order, with one ``session`` id per run."""
+    import tabletop.recorder as recorder_module
+    from tabletop.commands.replay import session_frames
+    a = Recorder(folder=tmp_path, header={"config": {}}, keep=3, max_mb=0.002, max_queue=10**6)
+    listing = recorder_module.recordings
+    monkeypatch.setattr(recorder_module, "recordings", lambda *args: {})   # the race
+    b = Recorder(folder=tmp_path, header={"config": {}}, keep=3, max_mb=0.002, max_queue=10**6)
+    monkeypatch.setattr(recorder_module, "recordings", listing)
+    assert read_header(a.path)["order"] == read_header(b.path)["order"]
+    try:
+        for i in range(300):
+            for rec in (a, b):
+                rec.consume(Frame(i, i / 60.0))
+                for other in (a, b):
+                    assert other.path.exists(), f"{other.path} removed while written"
+    finally:
+        a.close()
+        b.close()
+    assert len(a.paths) >= 6 and len(b.paths) >= 6
+    for rec in (a, b):
+        kept = [p for p in rec.paths if p.exists()]
+        assert kept == rec.paths[-3:], (rec.paths, kept)
+        sessions = {read_header(p)["session"] for p in kept}
+        assert len(sessions) == 1, sessions
+        times = [f.t for f in session_frames(kept, read_header(kept[0]))]
+        assert times == sorted(times) and len(times) > 30
+    assert read_header(a.path)["session"] != read_header(b.path)["session"]
