@@ -87,7 +87,9 @@ class Destination:
         self._retry_at = -float("inf")
         self._refresh_at = float("inf")   # the next look-up of a name found (none: an address)
         self._looked_at = -float("inf")   # the last look-up's start
-        self._due = threading.Event()     # a look-up is asked of the thread
+        # a look-up is asked of the thread; one Event per thread: a closed thread scheduled late
+        # clears its own, never a request to the thread that replaced it
+        self._due = threading.Event()
         self._thread: threading.Thread | None = None
         try:   # an address needs no look-up
             self._target = self._lookup(socket.AI_NUMERICHOST)[0]
@@ -100,17 +102,20 @@ class Destination:
         return list(dict.fromkeys((i[0], i[4]) for i in info))
 
     def _start(self) -> None:
-        self._thread = threading.Thread(target=self._serve, name=f"resolve:{self.host}",
-                                        daemon=True)
+        """A new look-up thread with its own request Event (called under ``_lock``, or from
+        ``__init__``)."""
+        self._due = due = threading.Event()
+        self._thread = threading.Thread(target=self._serve, args=(due,),
+                                        name=f"resolve:{self.host}", daemon=True)
         self._thread.start()
 
-    def _serve(self) -> None:
-        """The look-up thread: one look-up each time :meth:`target` asks, until closed (it is
-        then no longer ``_thread``)."""
+    def _serve(self, due: threading.Event) -> None:
+        """The look-up thread: one look-up each time :meth:`target` sets ``due`` (this thread's
+        own), until closed (it is then no longer ``_thread``)."""
         me = threading.current_thread()
         while True:
-            self._due.wait()
-            self._due.clear()
+            due.wait()
+            due.clear()
             if self._thread is not me:
                 return
             self._resolve()
@@ -126,7 +131,8 @@ class Destination:
             self._looking, self._looked_at = True, now
             if self._thread is None:   # closed, then sent on
                 self._start()
-        self._due.set()
+            due = self._due
+        due.set()
         return target
 
     def _resolve(self) -> None:
@@ -182,8 +188,9 @@ class Destination:
         self._close_socket()
         with self._lock:   # (a look-up asked and not made is asked again by a later send)
             thread, self._thread, self._looking = self._thread, None, False
+            due = self._due
         if thread is not None:
-            self._due.set()
+            due.set()
 
     def _close_socket(self) -> None:
         if self._sock is not None:

@@ -92,3 +92,32 @@ def test_a_receiver_whose_address_changes_is_reached_again(tmp_path):
     assert err.count("moved") == 1, err
     assert "tabletop-receiver moved from 127.0.0.5 to 127.0.0.6" in err, err
     assert "resolve threads ever: 1" in err, err
+
+
+def test_a_closed_thread_scheduled_late_leaves_the_new_threads_request():
+    """Closed, then sent on: a new look-up thread is started and asked for a look-up. The closed
+    thread, scheduled only now, wakes and ends: run here in its place (its function driven
+    directly, with the request it was given), it must leave the new thread's request, which is
+    then served (the name found again, no look-up left pending for ever)."""
+    import logging
+    import time
+
+    from tabletop.resolve import Destination
+    now = [0.0]
+    d = Destination("sink", "localhost", 9, logging.getLogger("tabletop"),
+                    clock=lambda: now[0])
+    assert d.wait(10.0) is not None
+    old_thread, old_due = d._thread, d._due
+    d.close()
+    old_thread.join(10.0)           # (the real one ended: its place is taken below)
+    now[0] += 2 * Destination.REFRESH_S
+    d.target()                      # a new thread, asked for a look-up
+    assert d._thread is not None and d._thread is not old_thread
+    old_due.set()                   # as close() left it for the closed thread
+    d._serve(old_due)               # the closed thread, late: returns at once
+    end = time.monotonic() + 30.0
+    while d._looking and time.monotonic() < end:
+        time.sleep(0.01)
+    looking = d._looking
+    d.close()
+    assert not looking, "the new thread's look-up request was lost"
