@@ -248,8 +248,7 @@ def two_puck_figures(name: str, seeds: tuple[int, ...], seconds: float
     after the main take's), so that the sequential take differs from "two_puck" only by being
     paired from two takes (the playback seen a frame late)."""
     seed = designers.SEEDS[name]
-    path = designers.designer_main_path(seed, _seconds(name), 60.0, TABLE)
-    on_phase = designers.path_at(path, np.arange(0.5 / 60.0, float(path[-1, 0]), 1.0 / 60.0))
+    on_phase = designers.path_at(*designers.sequential_frames(name, seed, table=TABLE))
     paths = sequential_paths(seeds, seconds)
     return {key: _figures(name, designers.demonstrate(name, hand, rate_hz=60.0, table=TABLE,
                                                       main=on_phase.copy()), paths)

@@ -308,14 +308,23 @@ def sequential_takes(personality: str, seed: int | None = None, seconds: float |
     on camera frames ``phase`` of a frame after the main's (times on the main take's base), the
     playback seen ``latency_s`` late (the frame drawn after the one it was computed for)."""
     seed = SEEDS.get(personality, 0) if seed is None else seed
-    seconds = DURATION_S.get(personality, 60.0) if seconds is None else seconds
-    path = designer_main_path(seed, seconds, rate_hz, table)
+    path, t = sequential_frames(personality, seed, seconds, rate_hz, table, phase)
     main_take = demonstrate(personality, seed, rate_hz=rate_hz, table=table,
                             main=path.copy())[:, :4]
-    t = np.arange(phase / rate_hz, float(path[-1, 0]), 1.0 / rate_hz)
     hand = demonstrate(personality, seed, rate_hz=rate_hz, table=table,
                        main=path_at(path, t, latency_s))
     return main_take, np.column_stack([t, hand[:, 4:7]])
+
+
+def sequential_frames(personality: str, seed: int, seconds: float | None = None,
+                      rate_hz: float = 60.0, table: Table = (1.2, 0.8), phase: float = 0.5
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """The main path (n, 4) of ``personality``'s sequential take (:func:`sequential_takes`;
+    ``seconds`` by default its DURATION_S, else 60) and the times (s) of the reactor's camera
+    frames, ``phase`` of a frame after the main's at ``rate_hz``."""
+    seconds = DURATION_S.get(personality, 60.0) if seconds is None else seconds
+    path = designer_main_path(seed, seconds, rate_hz, table)
+    return path, np.arange(phase / rate_hz, float(path[-1, 0]), 1.0 / rate_hz)
 
 
 def path_at(path: np.ndarray, t: np.ndarray, late_s: float = 0.0) -> np.ndarray:
