@@ -312,11 +312,13 @@ class Behavior:
         self.start_pose = (float(f.rel_fwd[0]), float(f.rel_left[0]), float(f.rel_look[0]))
 
     @classmethod
-    def train(cls, demo: np.ndarray, rate_hz: float = 40.0, window: int = 40,
+    def train(cls, demo: np.ndarray, /, rate_hz: float = 40.0, window: int = 40,
               **params: Any) -> "Behavior":
         """Train from ``demo`` (n, 7): t, main_x, main_y, main_dir, react_x, react_y, react_dir
         (seconds, metres, radians) at any sampling rate. Raises DemonstrationError for a bad
-        demonstration and ParameterError for an unknown or out-of-range parameter."""
+        demonstration and ParameterError for an unknown or out-of-range parameter. ``demo`` is
+        positional only, so parameters read from a file that name ``demo`` are refused here as
+        unknown, by name, like any other."""
         known = {f.name for f in fields(Params)}
         unknown = sorted(set(params) - known)
         if unknown:

@@ -335,6 +335,13 @@ def test_a_replayed_reload_that_fails_to_train_leaves_the_frames_other_reloads(
     assert caplog.text.count("out of memory") == 1 and "for a" in caplog.text
 
 
+def _replay_lines(caplog) -> list[str]:
+    """The replay's log lines (starting "replay:"); exactly one is expected."""
+    said = [r.getMessage() for r in caplog.records if r.getMessage().startswith("replay:")]
+    assert len(said) == 1, said
+    return said
+
+
 def test_a_replayed_reload_whose_record_is_unreadable_names_its_engine_and_leaves_the_others(
         tmp_path, caplog):
     """A bad record and a failed training are logged alike: one line naming the behaviour,
@@ -346,10 +353,21 @@ def test_a_replayed_reload_whose_record_is_unreadable_names_its_engine_and_leave
     frame = Frame(seq=0, t=1.0, consumed={"reload": {"behaviors": {"a": bad, "b": source}}})
     assert RecordedReloads([a, b])(frame) is frame
     assert a.behavior is first_a and b.behavior is not first_b
-    said = [r.getMessage() for r in caplog.records if r.getMessage().startswith("replay:")]
-    assert len(said) == 1, said
+    said = _replay_lines(caplog)
     assert "recorded reload of x for a not trained" in said[0], said
     assert "KeyError" in said[0] and "demonstration" in said[0], said
+
+
+def _refused(tmp_path, caplog, change) -> str:
+    """Replay a frame reloading engine "a" from ``change(source)`` of a recorded reload; "a"
+    plays on with its behaviour. The replay's one log line about it."""
+    from tabletop.studio.reloader import RecordedReloads
+    a, b, source = two_engines(tmp_path)
+    first_a = a.behavior
+    frame = Frame(seq=0, t=1.0, consumed={"reload": {"behaviors": {"a": change(source)}}})
+    assert RecordedReloads([a, b])(frame) is frame
+    assert a.behavior is first_a
+    return _replay_lines(caplog)[0]
 
 
 def test_a_replayed_reload_refused_by_training_says_why_not_unreadable(tmp_path, caplog):
@@ -359,17 +377,22 @@ def test_a_replayed_reload_refused_by_training_says_why_not_unreadable(tmp_path,
 
     import numpy as np
 
-    from tabletop.studio.reloader import RecordedReloads
-    a, b, source = two_engines(tmp_path)
-    first_a = a.behavior
-    rows = np.frombuffer(base64.b64decode(source["demonstration"]), "<f8").reshape(
-        source["shape"])[:3]
-    short = dict(source, shape=list(rows.shape),
-                 demonstration=base64.b64encode(rows.tobytes()).decode("ascii"))
-    frame = Frame(seq=0, t=1.0, consumed={"reload": {"behaviors": {"a": short}}})
-    assert RecordedReloads([a, b])(frame) is frame
-    assert a.behavior is first_a
-    said = [r.getMessage() for r in caplog.records if r.getMessage().startswith("replay:")]
-    assert len(said) == 1, said
-    assert "for a not trained: demonstration lasts" in said[0], said
-    assert "unreadable" not in said[0], said
+    def short(source):
+        rows = np.frombuffer(base64.b64decode(source["demonstration"]), "<f8").reshape(
+            source["shape"])[:3]
+        return dict(source, shape=list(rows.shape),
+                    demonstration=base64.b64encode(rows.tobytes()).decode("ascii"))
+
+    said = _refused(tmp_path, caplog, short)
+    assert "for a not trained: demonstration lasts" in said, said
+    assert "unreadable" not in said, said
+
+
+def test_a_replayed_reload_naming_an_unknown_parameter_says_which(tmp_path, caplog):
+    """A recorded reload whose parameters hold ``demo`` (the name of training's own argument)
+    is refused by training's parameter check: one line naming the parameter, the behaviour in
+    play goes on."""
+    said = _refused(tmp_path, caplog, lambda source: dict(
+        source, parameters={**source["parameters"], "demo": 1}))
+    assert "for a not trained: unknown behaviour parameter(s) demo;" in said, said
+    assert "TypeError" not in said, said
