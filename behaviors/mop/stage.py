@@ -37,6 +37,9 @@ seed 0: 51 gestures, 40 s of rest beyond the first second of each rest, 20 slide
 
 Designer takes (MOP 4.1.1): :class:`~behaviors.mop.takes.DesignerTakes`; the designer's keys and
 control markers reach them through the studio's one state machine (:mod:`tabletop.studio`).
+While a take records, its character is driven by none of its actions (it eases to its rest pose
+and its label says it records): the gesture being recorded is the new action, and a known action
+playing along would show the designer a match that the take is not.
 """
 
 from __future__ import annotations
@@ -317,11 +320,17 @@ class MopStage(DesignerTakes):
             n += 1
         if self._next_t <= t:
             self._next_t = t + period
+        take = self.take
+        recording = take.character if take is not None and take.recording else None
         out = []
         for c in self.order:
             problem = self.performers[self.performer_of(c)].problem
             if problem and problem not in self._told:
                 self._told.add(problem)
                 log.error("MOP performer %r: %s", self.performer_of(c), problem)
-            out.append(self.puppets[c].update(t, self._votes(c), problem or ""))
+            if c == recording:
+                out.append(self.puppets[c].update(t, (), problem or
+                                                  f"recording {take.performer}'s new action"))
+            else:
+                out.append(self.puppets[c].update(t, self._votes(c), problem or ""))
         return tuple(out)

@@ -176,3 +176,25 @@ def test_the_countdown_names_the_performer_and_its_puck(tmp_path):
     table.tick(["designer.record"])
     assert table.studio.state == "countdown"
     assert table.status == "[mop/face] get ready: hand (puck 1) performs face's new action"
+
+def test_the_character_a_take_records_for_is_not_driven_while_it_records(tmp_path):
+    """The face knows circle: performed idle, it plays it; performed while a take of the face
+    records, the face plays none of its actions and its label says it records; the take
+    discarded, it plays circle again."""
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.rest(1.0)
+    idle = [ch["face"] for _, ch in table.perform("circle")]
+    assert np.mean([c.valid and c.action == "circle" for c in idle]) > 0.5
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    taking = [ch["face"] for _, ch in table.perform("circle")]
+    assert table.studio.state == "recording"
+    assert not any(c.valid for c in taking)
+    assert {c.label for c in taking} == {"recording hand's new action"}
+    table.tick(["designer.record"])                 # stopped, then discarded: circle plays
+    table.tick(["designer.discard"])
+    assert table.studio.state == "idle" and set(engine.puppets["face"].actions) == {"circle"}
+    table.rest(1.0)
+    again = [ch["face"] for _, ch in table.perform("circle")]
+    assert np.mean([c.valid and c.action == "circle" for c in again]) > 0.5
