@@ -42,6 +42,13 @@ MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 1
 # mark (top-left) or its status line (bottom) in every corner; half as wide, the top-right
 # corner is clear of both (1280x720, seen in an Xvfb snapshot).
 PANEL_MIN_PX = 480
+# Where the overlay panel lies over a character, a puck or the studio's words (a centred
+# character in a 640x360 window: the 13-line panel, 370x200 px, is over it in every corner) its
+# opacity is lowered by this (of 255): its ground (190) goes to 40, its text to 105. Measured on
+# the touch-pose humanoid under it (tests/touch_pose/test_plugin.py): 85% of its light shows
+# (the panel drawn alike everywhere: 32%); multiplying its opacity by 0.25 instead showed 83%
+# but left the text at a quarter of its light, hard to read over the character.
+SEE_THROUGH = 150
 
 # Reactor body in units of its size, nose along +x (the default character's outline).
 BODY = REACTOR_BODY
@@ -319,7 +326,8 @@ class Renderer:
         would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
         pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
         the status line saying the disk is full stayed there, other corners having characters);
-        rendered again only when the lines change. Returns the panel's rectangle. ``avoid`` and
+        rendered again only when the lines change. Where the panel still lies over them, it
+        shows them through (:data:`SEE_THROUGH`). Returns the panel's rectangle. ``avoid`` and
         ``must`` default to what the last :meth:`draw` drew (a snapshot's panel over the view
         drawn without one was always top-left, over a character or puck there). ``keep``
         False: the lines' renders are not remembered (:func:`screens.panel_line`)."""
@@ -344,4 +352,10 @@ class Renderer:
             best = min(range(4), key=hidden)
             if hidden(best) < 0.5 * now:
                 self._corner = best
-        return target.blit(self._overlay_img, corners[self._corner])
+        place = pygame.Rect(corners[self._corner], (w, h))
+        img = self._overlay_img
+        under = [place.clip(r).move(-place.x, -place.y) for r in (*avoid, *must)
+                 if place.colliderect(r)]
+        if under:     # every corner hides something (a small window): it shows through
+            img = screens.see_through(img, under, SEE_THROUGH)
+        return target.blit(img, place)

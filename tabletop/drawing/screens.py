@@ -163,6 +163,21 @@ def panel(lines: Sequence[str], px: int = 20, pad: int = 10,
     return s.convert_alpha() if pygame.display.get_surface() is not None else s
 
 
+def see_through(img: pygame.Surface, holes: Sequence[pygame.Rect], fade: int
+                ) -> pygame.Surface:
+    """A copy of the panel ``img`` whose opacity is lowered by ``fade`` (of 255) inside
+    ``holes`` (rectangles in the panel's pixels; overlapping ones count once): its dark ground
+    (:data:`~tabletop.drawing.palette.PANEL`) goes nearly clear while its text, opaque, keeps
+    the rest of its light."""
+    mask = pygame.Surface(img.get_size(), pygame.SRCALPHA)
+    mask.fill((0, 0, 0, 0))
+    for r in holes:
+        mask.fill((0, 0, 0, fade), r)
+    out = img.copy()
+    out.blit(mask, (0, 0), special_flags=pygame.BLEND_RGBA_SUB)
+    return out
+
+
 PANEL_PX = (20, 18, 16, 14, 13)     # the panel's font sizes, tried in turn in a small window
 
 
