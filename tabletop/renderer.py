@@ -164,7 +164,8 @@ class Renderer:
             drawn.append(r)
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
-        on_pucks = pucks.draw_pucks(target, self.traces.update(t, frame.pucks), self.map,
+        on_table = pucks.on_table(frame.pucks, self.table, self.puck_radius)
+        on_pucks = pucks.draw_pucks(target, self.traces.update(t, on_table), self.map,
                                     self.puck_radius, t, TRAIL_S,
                                     self._label if overlay is not None else None)
         drawn.extend(on_pucks)

@@ -4,6 +4,7 @@ and the hand on it are not painted), coloured by state, with a short fading trai
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Callable, Sequence
 
 import numpy as np
@@ -15,7 +16,41 @@ from tabletop.drawing.trail_kernel import trails
 from tabletop.drawing import primitives as P
 from tabletop.drawing.life import PuckTrace
 from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade, remember, rgb
+from tabletop.frames import Puck
 from tabletop.table_map import TableToScreen
+
+
+#: The drawn state of a puck beyond the table (:func:`on_table`)
+OFF_TABLE = "off_table"
+#: How far inside the edge an off-table puck's halo is centred, in puck radii: its ring
+#: (1.35 radii and 3 px, plus its width) stays on the table
+OFF_INSET_RADII = 2.0
+
+
+def on_table(pucks: Sequence[Puck], table: tuple[float, float], radius_m: float
+             ) -> Sequence[Puck]:
+    """The pucks as the view draws them: a puck beyond the table (``table``: width, height in
+    metres from the origin; a serial or TUIO sender's coordinates past its edge) is drawn at
+    the nearest point :data:`OFF_INSET_RADII` puck radii (``radius_m``) inside the edge, in
+    the ``off_table`` colour, its notch pointing to where it is. Why not where it is: the
+    margin around the table is not the table (the projector's light there falls on the floor
+    or on the visitors, or off the window), so a halo there is either lost or lands where no
+    puck can be; why not hidden: the operator would see a tracked puck vanish with no word of
+    it, and the characters still react to it, so the edge shows which side it went out of.
+    Not finite positions are left as they are (the halos' kernel skips them)."""
+    w, h = table
+    if all(0.0 <= p.x <= w and 0.0 <= p.y <= h for p in pucks):
+        return pucks                                 # (every puck on the table: the usual)
+    d = OFF_INSET_RADII * radius_m
+    out = []
+    for p in pucks:
+        if (0.0 <= p.x <= w and 0.0 <= p.y <= h) or not (math.isfinite(p.x)
+                                                          and math.isfinite(p.y)):
+            out.append(p)
+            continue
+        x, y = min(max(p.x, d), w - d), min(max(p.y, d), h - d)
+        out.append(replace(p, x=x, y=y, angle=math.atan2(p.y - y, p.x - x), state=OFF_TABLE))
+    return out
 
 
 def state_color(state: str) -> Color:
