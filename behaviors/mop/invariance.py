@@ -49,7 +49,7 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
 - Along the path (:data:`ALONG`): what a sample tells the size is what does not lie along the
   template's direction at the followed state (the rest is progress, gone ahead or behind), so
   the least squares counts the part of each sample (and of its state) along that direction at
-  :data:`ALONG` of its weight, the part across it whole: a straight stroke no longer holds the
+  :data:`ALONG` of its weight, the part across it whole: a straight stroke does not hold the
   estimate near 1 and a turn revises it at once. A 0.7x square (size 1.04 along its first side,
   then stalled at the corner and refused) was valid after 30% 0.27 -> 0.67, a 0.85x crawl
   wrist 0.00 -> 0.87, a 1.4x spinkick 0.39 -> 0.52. ``bench/follow_quality.py
@@ -62,8 +62,8 @@ valid after 30% of gestures at 0.7-1.4x, tuned / held-out; unrelated worst / mea
   (RMSE max 0.055 / 0.046, was 0.048 held-out). What it costs: the held-out 0.7x line 0.75 ->
   0.11 (mostly valid off track before: 0.19 on track), a 0.7x run wrist 0.90 -> 0.68; back to
   back among twenty templates (``--sections=sequences``) never recognised 0 -> 0.031 (held-out
-  0.094 -> 0.156: one sequence whose unrecognised kick held the attempt open longer, every
-  template no longer refused, so its next two gestures began in it), within 20% 0.344 both
+  0.094 -> 0.156: one sequence whose unrecognised kick held the attempt open longer, with no
+  template refused, so its next two gestures began in it), within 20% 0.344 both
   (0.313 -> 0.281); six gestures unchanged but the median recognition 0.262 -> 0.269.
 - At a reversal (:data:`REVERSAL_FIT`; as :func:`~behaviors.mop.holding.rested_sizes` at
   rests): where the input turns back (its motion over :data:`REVERSAL_LAG` samples against

@@ -27,7 +27,7 @@ MIN_TAKE_SAMPLES = 8
 #: Seconds of a take kept before its gesture's first move and after its last beyond the inputs'
 #: jitter (:func:`behaviors.mop.take.moving_part`): an eased start and end move within the
 #: jitter about as long. A square recorded with 0.5 mm of jitter kept 61 of its 73 samples with
-#: none, and its action was no longer valid when a performer ended it (85% of its second half
+#: none, and its action was invalid by the time a performer ended it (85% of its second half
 #: valid); 67 and still not at 0.1 s; 69 and valid to the end (100%, progress 0.98) at 0.15 s.
 TRIM_MARGIN_S = 0.15
 

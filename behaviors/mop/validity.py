@@ -32,7 +32,7 @@ A gesture carried forward keeps driving through a pause (the performer expects t
 wait with them). Measured with ``bench/follow_quality.py``'s sized and unrelated sections (as
 above): unrelated 0.367 / 0.145 -> 0.301 / 0.123 (held-out 0.565 / 0.151 -> 0.476 / 0.132), valid
 after 30% 0.8959 -> 0.8928 (held-out 0.8844 -> 0.8844): a 0.7x kick paused 0.6 s whose followed
-progress lagged the performer by 0.2 is no longer valid through the pause, a 0.85x spin paused
+progress lagged the performer by 0.2 is not valid through the pause, a 0.85x spin paused
 right after its recognition loses 4 samples, and a 0.7x line (its return followed backwards)
 gains 3 (the full bench: 0.6x/1.5x valid after 30% 0.619 -> 0.603, held-out unchanged; holds,
 gestures back to back and streams unchanged to the last digit). Measured and not kept: the

@@ -257,7 +257,7 @@ class StepSmoother:
     37 / 8 / 42 of 48 / 8 / 48): outside charges 656 / 112 / 645, engine-only misses 24 -> 19 on
     seeds 0-5, pursuit 43 / 6 / 39; over the 39 paths of those 13 seeds still/moving met on 33
     instead of 29 (lover) and 28 instead of 24 (afraid), but speed W1 on 22 instead of 26
-    (lover) and 27 (afraid): the lover, no longer held by its tremor, outruns fast mains; its
+    (lover) and 27 (afraid): the lover, its tremor not holding it back, outruns fast mains; its
     seed 3 slow path stays at 0.073 m/s: there its slow walk is the composition's, not the
     cap's. In charges too 648 (bully misses 4 -> 15); only where the moment went along with its
     main (k >= FOLLOW_SHARE) 640; only while the live main walks 651; only while it stands 639;

@@ -368,8 +368,9 @@ def test_a_camera_still_starting_is_not_reported_down(tmp_path):
 
 
 def test_a_heartbeat_that_cannot_be_sent_is_said_once(caplog):
-    """A heartbeat host that does not resolve lost every heartbeat with a debug line only: the
-    monitor heard nothing and the log said nothing. Now one warning while it lasts."""
+    """A heartbeat host that does not resolve loses every heartbeat: the log says so in one
+    warning while it lasts (the monitor hears nothing, so a debug line would leave no
+    trace)."""
     hb = Heartbeat("no-such-host.invalid", 9000)
     try:
         with caplog.at_level("DEBUG", logger="tabletop"):

@@ -13,8 +13,8 @@ from tests.kiosk.test_health import STATUS_FIELDS
 def test_the_status_says_when_the_recording_stopped_on_a_full_disk(tmp_path):
     """A kiosk whose disk is full (as the kernel says it: EFBIG, the process's file size limit
     of 8 KB, above the status file)
-    keeps running without recording; its status says so. Before, the status and heartbeat had
-    no word of it: one log line was the only trace."""
+    keeps running without recording; its status (and so the heartbeat) says so, not only a
+    log line."""
     import resource
     import signal
     import subprocess

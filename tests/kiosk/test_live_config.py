@@ -111,8 +111,8 @@ def test_an_edit_sending_the_heartbeat_to_its_own_osc_source_is_refused_under_ki
 
 def test_a_config_replaced_by_a_folder_is_called_a_folder(tmp_path):
     """config.yaml removed, then a folder of that name made (a copy gone wrong): the watcher
-    saw no change between nothing and an empty folder and said "config file not found" for
-    as long as the folder stayed. The table runs on; a file put back is applied."""
+    tells the folder from nothing and calls it a folder, not "config file not found". The
+    table runs on; a file put back is applied."""
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(config([10, 20, 30])))
     with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
@@ -132,9 +132,9 @@ def test_a_config_replaced_by_a_folder_is_called_a_folder(tmp_path):
 
 
 def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_path):
-    """A refused edit left on disk, then a restart (a crash, a reboot): the start read the
-    refused file and stopped ("exit status 2" at every restart: a dark table for good). Now it
-    runs the last configuration that ran, says why, and a fix on disk is applied as any edit."""
+    """A refused edit left on disk, then a restart (a crash, a reboot): the kiosk runs the
+    last configuration that ran, says why, and a fix on disk is applied as any edit (stopping
+    on the refused file would leave a dark table, "exit status 2" at every restart)."""
     from tabletop.kiosk import last_good
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(config([10, 20, 30])))
@@ -143,7 +143,7 @@ def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_pat
     bad = config([10, 20, 30])
     bad["loop"]["rate_hz"] = "sixty"
     write(path, yaml.safe_dump(bad))
-    cfg, refused = last_good.load(path, kiosk=True)     # before: ConfigError, nothing started
+    cfg, refused = last_good.load(path, kiosk=True)     # no ConfigError: the last good one
     assert "loop.rate_hz" in refused and cfg["engines"][0]["color"] == [10, 20, 30]
     unwatched = copy.deepcopy(cfg)                      # the status says why, also unwatched
     unwatched["kiosk"]["watch_config"] = False
@@ -166,8 +166,8 @@ def test_a_restart_after_a_refused_edit_runs_the_last_good_configuration(tmp_pat
 
 def test_an_edit_saved_while_the_installation_starts_is_refused_or_applied(tmp_path):
     """The configuration is read seconds before the installation runs (14 s for a kiosk's
-    cold start on a loaded machine); an edit saved meanwhile was never looked at: a bad one
-    left ``config_error: null``, a good one was not applied until the next restart."""
+    cold start on a loaded machine); an edit saved meanwhile is looked at: a bad one sets
+    ``config_error``, a good one is applied without waiting for the next restart."""
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(config([10, 20, 30])))
     cfg = load_config(path)
@@ -188,8 +188,8 @@ def test_an_edit_saved_while_the_installation_starts_is_refused_or_applied(tmp_p
 
 def test_an_applied_edit_frees_the_previous_installation(tmp_path):
     """After an applied edit the previous installation's engine is freed while the new one
-    runs. Before, the new loop froze it out of the garbage collector's passes (Loop.run's
-    gc.freeze) before it was ever collected: every applied edit kept the old installation."""
+    runs: it is collected before the new loop freezes what lives out of the garbage
+    collector's passes (Loop.run's gc.freeze), which would keep it for good."""
     import gc
     import weakref
 
@@ -211,9 +211,9 @@ def test_an_applied_edit_frees_the_previous_installation(tmp_path):
 
 def test_the_previous_installation_is_freed_before_the_next_is_built(tmp_path):
     """An applied edit frees the installation that ran before it builds the next, so the build
-    reuses its memory. Before, both lived during the build: an in-process kiosk of the gallery
-    soak's config grew 360 -> 437 MB over 12 edits (heap 153 -> 226 MB); freed first (and
-    trimmed after), 360 -> 386 MB (heap 153 -> 193 MB)."""
+    reuses its memory. Measured on an in-process kiosk of the gallery soak's config over 12
+    edits: freed first (and trimmed after), 360 -> 386 MB (heap 153 -> 193 MB); with both
+    alive during the build, 360 -> 437 MB (heap 153 -> 226 MB)."""
     import weakref
 
     old: list = []        # (weak) the installation that ran, taken at each build
@@ -236,8 +236,8 @@ def test_the_previous_installation_is_freed_before_the_next_is_built(tmp_path):
 
 def test_an_applied_edit_closes_the_previous_touch_pose_physics(tmp_path):
     """The previous installation's engines are closed with it: the touch-pose engine's pybullet
-    world is disconnected. Before, the loop closed its inputs and sinks only, and every applied
-    edit kept an old physics world."""
+    world is disconnected, as the inputs and sinks are: no applied edit keeps an old physics
+    world."""
     import pybullet as pb
     cfg = config([10, 20, 30])
     cfg["engines"] = [{"kind": "touch_pose", "name": "poser", "physics": True}]
@@ -292,10 +292,11 @@ def test_an_applied_edit_gives_the_previous_installations_memory_back(tmp_path):
     """What the previous installation freed is handed back to the system at the rebuild (the C
     heap's free pages): measured as what a trim made now would still give back once the new
     installation runs, 0.46-0.53 MB here (2.3-2.4 MB without the rebuild's trim, 7 MB with both
-    installations alive through the build; the same at 30 and 120 Hz, run at 120 Hz). Before, the freed memory stayed resident: a
-    kiosk of the gallery soak's config grew 6.5 MB an applied edit (360 -> 425 MB over 10
-    edits; see Runner._drop). In a process of its own, as a kiosk runs: in a test worker, what
-    earlier tests left running freed memory of their own meanwhile (5-6 MB more)."""
+    installations alive through the build; the same at 30 and 120 Hz, run at 120 Hz). Left
+    resident, the freed memory grew a kiosk of the gallery soak's config 6.5 MB an applied edit
+    (360 -> 425 MB over 10 edits; see Runner._drop). In a process of its own, as a kiosk runs:
+    in a test worker, what earlier tests left running freed memory of their own meanwhile
+    (5-6 MB more)."""
     r = subprocess.run([sys.executable, "-c", MEMORY_BACK, str(tmp_path)], cwd=ROOT,
                        capture_output=True, text=True, timeout=240,
                        env={**os.environ, "SDL_VIDEODRIVER": "dummy"})
@@ -306,7 +307,7 @@ def test_an_applied_edit_gives_the_previous_installations_memory_back(tmp_path):
 def test_a_recording_asked_for_goes_on_after_an_applied_edit(tmp_path):
     """``tabletop run --record FILE`` (here a kiosk, as a supervised restart passes it on): the
     installation an edit builds records to the next free name, FILE-2.jsonl, with its own
-    config in the header. Before, the first applied edit ended the recording for good."""
+    config in the header: the recording goes on through every applied edit."""
     from tabletop.recorder import read_frames, read_header
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(config([10, 20, 30])))
@@ -325,8 +326,8 @@ def test_a_recording_asked_for_goes_on_after_an_applied_edit(tmp_path):
 
 def test_a_recording_that_failed_before_an_applied_edit_is_remembered(tmp_path):
     """The disk fills while the first installation records, then the config is edited: the
-    failure is kept for ``tabletop run``'s exit status (3). Before, only the last installation's
-    recording was asked, and a run whose recording had stopped ended with status 0."""
+    failure is kept for ``tabletop run``'s exit status (3): every installation's recording
+    counts, not only the last one's (which alone would end the run with status 0)."""
     import resource
     import signal
 

@@ -12,9 +12,9 @@ from tests.tracking.scenes import wait_for
 
 def test_an_edit_that_turns_the_studio_on_or_off_is_applied(tmp_path):
     """A kiosk started without the designer studio, its config then edited to put the lover in
-    designer mode: the rebuilt installation had no studio (no designer keys, status ``studio:
-    null``) until the next restart; and one edited back kept it. Now each build takes it from
-    its own configuration."""
+    designer mode: the rebuilt installation has the studio (designer keys, a ``studio`` status)
+    without waiting for a restart, and one edited back has none: each build takes it from its
+    own configuration."""
     cfg = config([10, 20, 30])
     path = tmp_path / "config.yaml"
     path.write_text(yaml.safe_dump(cfg))

@@ -142,16 +142,16 @@ def test_a_kiosk_whose_recording_fails_ends_after_its_seconds_with_status_3(tmp_
         time.sleep(0.05)
     sup.stop.set()
     th.join(30)
-    assert sup.starts == 1, [e for e, _ in sup.events]   # before: restarted ("crash")
+    assert sup.starts == 1, [e for e, _ in sup.events]   # not restarted as a "crash"
     assert result["rc"] == 3
     assert not (tmp_path / "crashes.log").exists()
 
 
 def test_kiosk_seconds_count_from_the_first_ready_restarts_included(tmp_path):
-    """``tabletop run --kiosk --seconds 2``: the child was given ``--seconds 2`` and a restarted
-    one ran its 2 s again (a drill of 40 s ran 70 s). Now the kiosk stops 2 s after it was
-    first ready: the child restarted after the first crash (at 1 s) is stopped before its own
-    crash (1.5 s after its first frame), which it reached before."""
+    """``tabletop run --kiosk --seconds 2``: the kiosk stops 2 s after it was first ready,
+    restarts included (not 2 s per child: a drill of 40 s would run 70 s): the child restarted
+    after the first crash (at 1 s) is stopped before its own crash (1.5 s after its first
+    frame)."""
     cfg = drill_config(tmp_path, [{"start": 0, "after_s": 1.0, "kind": "crash"},
                                   {"start": 1, "after_s": 1.5, "kind": "crash"}])
     cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
@@ -160,7 +160,7 @@ def test_kiosk_seconds_count_from_the_first_ready_restarts_included(tmp_path):
                          capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr[-2000:]
     crashes = (tmp_path / "logs" / "crashes.log").read_text().count("=== ")
-    assert crashes == 1, out.stderr[-2000:]   # before: 2 (the second child's crash too)
+    assert crashes == 1, out.stderr[-2000:]   # the second child's crash is never reached
 
 
 def _run_until(sup: Supervisor, done, timeout_s: float) -> None:
@@ -206,8 +206,8 @@ def test_the_supervisor_keeps_its_last_events_not_every_one(tmp_path, monkeypatc
 def test_a_start_on_the_last_good_configuration_says_why_once_in_the_kiosk_log(tmp_path):
     """A kiosk that ran, then a refused config.yaml and a start: the table runs the last good
     configuration, and why is one line in ``logs/tabletop.log`` (where the technician reads)
-    and one on stderr. Before, the line went to stderr only, twice (the supervisor's load and
-    the installation's), and the log file never said it."""
+    and one on stderr, though both the supervisor's load and the installation's meet the
+    refused file."""
     cfg = drill_config(tmp_path, [])
     cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
     run = [sys.executable, "-m", "tabletop", "run", "--config", str(cfg), "--kiosk",
@@ -288,8 +288,9 @@ def _children(pid: int) -> list[int]:
 
 def test_a_supervisor_killed_as_its_installation_starts_ends_the_installation(tmp_path):
     """``kill -9`` of the supervisor the moment its installation's process exists (before its
-    imports): the installation was handed to another parent before it looked at its own, ran
-    on for good, and its inherited lock refused every later kiosk start on the folder."""
+    imports): the installation ends, though it is handed to another parent before it looks at
+    its own (running on for good, its inherited lock would refuse every later kiosk start on
+    the folder)."""
     cfg = drill_config(tmp_path, [])
     cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")

@@ -78,10 +78,11 @@ KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="off
 
 @pytest.mark.parametrize("turn", [math.inf, 1.3])   # with the turning gate too (2-D members)
 def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone(turn):
-    # a draw whose run goes through every way an attempt starts afresh (with the sizes judged
-    # afresh, seed 36 no longer rests within the shortest stream; with the size read less along
-    # the path and nothing judged at rest, seed 37 no longer rests at 90% while valid; with a
-    # new action taken only while the gesture's last samples fit its path, 38 no longer rests)
+    # a draw whose run goes through every way an attempt starts afresh, a rest included (seed
+    # 42; seeds 36, 37 and 38 give no rest: 36 none within its shortest stream, as the sizes
+    # are judged afresh; 37 none at 90% while valid, as the size is read less along the path
+    # and nothing is judged at rest; 38 none, as a new action is taken only while the
+    # gesture's last samples fit its path)
     rng = np.random.default_rng(42)
     sets, streams = [], []
     for c in range(len(KINDS)):

@@ -292,14 +292,14 @@ def test_the_stalker_keeps_its_pace_behind_a_fast_or_spinning_main(shipped, path
 
 def test_a_character_circling_its_main_holds_its_place_in_the_world(shipped, paths):
     # the playful friend circles its main one way (2.4 rad/s in the world): placed in the
-    # world on 71% of its samples (none before); the others turn either way, unchanged
-    # (bully 0.78, stalker 0.23, lover 0.86, afraid 0.40 as before)
+    # world on 71% of its samples; the others turn either way and are placed as without the
+    # world frame (bully 0.78, stalker 0.23, lover 0.86, afraid 0.40)
     assert [n for n, b in shipped.items() if b.circling] == ["playful_friend"]
     world = {n: float(np.mean(np.asarray(b.place_frame) == look.PLACE_WORLD))
              for n, b in shipped.items()}
     assert world["playful_friend"] > 0.5, world
-    # so a reversing main no longer swings its target to the main's other side: speed W1 on
-    # seed 0's fast path measured 0.038 m/s (0.064 before; threshold 0.081)
+    # so a reversing main does not swing its target to the main's other side: speed W1 on
+    # seed 0's fast path measured 0.038 m/s (0.064 placed in the main's frame; threshold 0.081)
     b = shipped["playful_friend"]
     row = fidelity.evaluate(b, paths["fast_reversals_60hz"], (0.0, 0.0, *examples.TABLE))
     assert row["speed_w1_mps"] < 0.05, row["speed_w1_mps"]

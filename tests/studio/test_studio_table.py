@@ -219,7 +219,7 @@ def test_an_edit_saved_between_build_and_its_watchers_is_seen(tmp_path):
     """The behaviour folder's watchers (the reloader outside the studio, the studio's target)
     are made after the engine read the folder (seconds later at a cold start): their first
     look compares with the folder as it was read, so an edit saved in between is refused or
-    reloaded. Before, their baseline was the edited folder and the edit was never seen."""
+    reloaded (with the edited folder as their baseline, the edit would never be seen)."""
     from tabletop.config import validate_config
     from tabletop.plugins import puppet_master as pm
     from tabletop.registry import BuildContext

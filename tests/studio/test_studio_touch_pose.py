@@ -301,10 +301,9 @@ def test_an_engine_whose_name_no_folder_may_have_keeps_its_takes(tmp_path, model
 
 
 def test_an_engine_with_a_long_name_keeps_take_after_take_within_the_name_rule(tmp_path, models):
-    """An engine named with 57 characters makes ``NAME-action`` of 64: the second keep was
-    named ``NAME-action-2``, 66 characters, past the library's rule (1-64), which F2 then
-    refused to give back. The name is shortened to leave room for its number, as a
-    behaviour's is."""
+    """An engine named with 57 characters makes ``NAME-action`` of 64: the second keep's name
+    is shortened to leave room for its number within the library's rule (1-64 characters; F2
+    refuses a name past it, ``NAME-action-2`` would be 66), as a behaviour's is."""
     from tabletop import library
     long_name = "p" * 57
     p = Poser(tmp_path, models)

@@ -204,8 +204,8 @@ def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path, cap
 def test_keep_removes_the_oldest_by_order_not_by_the_clock(tmp_path):
     """Recordings made while the clock was a day ahead, then the clock set back (a dead RTC
     battery, a time server's correction): the new recordings have the oldest modification
-    times. Before, ``keep`` removed them first (the one just made at the next start) and kept
-    the stale ones; now the headers' ``order`` decides."""
+    times. ``keep`` removes by the headers' ``order``: the stale ones go, not the new ones
+    (by the clock, the one just made would go at the next start)."""
     import time
     header = {"format": "tabletop-session", "version": 2}
 

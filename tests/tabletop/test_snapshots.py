@@ -129,9 +129,9 @@ def test_retention_by_count_and_by_size(tmp_path):
 
 def test_retention_by_number_not_by_the_clock(tmp_path):
     """Snapshots taken while the clock was a day ahead, then the clock set back: each new
-    snapshot had the oldest modification time and a full folder removed it at once (the folder
-    kept showing the stale ones). Now the numbers decide; in per-run folders the current run's
-    snapshots are the newest."""
+    snapshot has the oldest modification time, and the numbers, not the clock, decide what a
+    full folder removes (by the clock the new one would go at once and the stale ones stay);
+    in per-run folders the current run's snapshots are the newest."""
     clock = Clock()
     snaps = Snapshots(tmp_path, every_s=0.2, keep=3, clock=clock)
     take(snaps, clock, 0.6)
@@ -297,7 +297,7 @@ def test_a_snapshots_health_panel_keeps_clear_of_the_characters_and_pucks(tmp_pa
         drawn = np.abs(shown.astype(int) - bare).sum(axis=2) > 30   # characters, pucks, glows
         assert panel.sum() > 2000                          # there is one (text on it)
         assert not (panel & drawn).any()
-    assert (drawn & top_left).sum() > 5000                # where the panel used to be
+    assert (drawn & top_left).sum() > 5000                # the panel's first corner is taken
 
 
 def test_a_snapshots_health_panel_leaves_the_overlays_line_cache_alone(tmp_path):

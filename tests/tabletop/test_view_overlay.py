@@ -299,11 +299,11 @@ def test_the_stage_table_fits_a_very_small_window_every_figure_shown():
     target = pygame.Surface((W, H))
     rect = renderer.draw_overlay(target, lines, avoid=[], must=[])
     panel_img = rgb(renderer._overlay_img).sum(axis=2)
-    assert rect.width <= W - 16, rect           # measured: a 413 px panel before, 304 after
+    assert rect.width <= W - 16, rect           # measured: 304 px (413 unwrapped)
     wide.blit(renderer._overlay_img, (0, 0))
     seen = rgb(target)[rect.top:rect.bottom, rect.left:rect.right].sum(axis=2)
     lit_panel = int((rgb(wide)[:rect.height, :].sum(axis=2) > 300).sum())
-    assert lit_panel > 2000 and int((seen > 300).sum()) == lit_panel   # before: 4088 of 5328
+    assert lit_panel > 2000 and int((seen > 300).sum()) == lit_panel   # unwrapped: 4088 of 5328
     lit_cols = np.nonzero((panel_img > 300).any(axis=0))[0]
     assert lit_cols.max() >= rect.width - 10 - 2           # figures right-aligned at the padding
 

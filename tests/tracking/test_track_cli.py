@@ -299,8 +299,8 @@ def _mjpg_avi(path, n: int, declared: int | None = None, wiped: int | None = Non
 
 def test_a_video_declaring_a_few_frames_too_many_is_tracked_with_a_warning(tmp_path):
     """The declared frame count is the container's estimate and intact files can decode a few
-    frames fewer: 40 frames declared as 42 gave "frame 40 cannot be read", status 2 and no
-    output. Now every frame's line, status 0 and one warning; a frame that cannot be decoded
+    frames fewer: 40 frames declared as 42 give every frame's line, status 0 and one warning
+    (not "frame 40 cannot be read", status 2 and no output); a frame that cannot be decoded
     with frames after it (near the end, within the same shortfall) is still refused."""
     video, out = tmp_path / "h42.avi", tmp_path / "poses.jsonl"
     _mjpg_avi(video, 40, declared=42)
