@@ -332,7 +332,13 @@ class GenerationStep(StepDetail):
             # 0.035. Each widens the fast paths' spread (sd 0.0095 -> 0.013-0.017, over and under),
             # where its designer's friend is run into (its main does 42% of the closing within 0.12
             # m, seeds 0-5) and the generated one closes in itself (13%; 12-13% both on the loops
-            # paths). The smooth over 2 / 4 samples (Params.smooth) 43 (17) / 33 (14). None kept.
+            # paths). The smooth over 2 / 4 samples (Params.smooth) 43 (17) / 33 (14). That
+            # raise only while the live main's heading turns (two 0.2 s spans, each walked at
+            # 0.05 m/s or more) faster than 0.5 / 1.0 rad/s, Python step, relative_motion x 1,
+            # 1 +- 0.001, the friend's misses over the three runs of seeds 0-5 / 8-13 / 26-31:
+            # 6 / 3 / 1 -> 5 / 5 / 7, 4 / 4 / 18 (the fast paths' reversals read as turns:
+            # contact there 0.008-0.078; loops mean 0.031 -> 0.031 on seeds 0-5, 26-31). None
+            # kept.
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
