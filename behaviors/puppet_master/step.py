@@ -203,7 +203,12 @@ class GenerationStep(StepDetail):
                     # pace beside a still main 658 but 106 / 642 (afraid -3 on each, pursuit
                     # -3); all without a personal space 650 / 109 / 647 (the playful friend's
                     # misses moved from slow and loops to the fast paths' contact); the whole
-                    # step capped at the pace 624, at the pace plus the live main's step 636
+                    # step capped at the pace 624, at the pace plus the live main's step 636.
+                    # The correction at most the larger of the pace and 1 / 1.5 x the live
+                    # main's step (Python step, relative_motion x 1, 1 +- 0.001, stalker misses
+                    # (the engine's) per run, seeds 0-5 / 8-13 / 26-31, against 5.3 (2.0) / 10.0
+                    # (6.7) / 11.3 (8.3)): 8.0 (3.3) / 12.3 (9.0) / 11.0 (8.7), 11.7 (3.0) /
+                    # 10.3 (6.7) / 13.0 (9.3)
                     most = speed * self.dt
                 corr = math.hypot(cx, cy)
                 if corr > most:
