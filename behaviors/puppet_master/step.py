@@ -203,7 +203,12 @@ class GenerationStep(StepDetail):
                     # pace beside a still main 658 but 106 / 642 (afraid -3 on each, pursuit
                     # -3); all without a personal space 650 / 109 / 647 (the playful friend's
                     # misses moved from slow and loops to the fast paths' contact); the whole
-                    # step capped at the pace 624, at the pace plus the live main's step 636
+                    # step capped at the pace 624, at the pace plus the live main's step 636.
+                    # The correction at most the larger of the pace and 1 / 1.5 x the live
+                    # main's step (Python step, relative_motion x 1, 1 +- 0.001, stalker misses
+                    # (the engine's) per run, seeds 0-5 / 8-13 / 26-31, against 5.3 (2.0) / 10.0
+                    # (6.7) / 11.3 (8.3)): 8.0 (3.3) / 12.3 (9.0) / 11.0 (8.7), 11.7 (3.0) /
+                    # 10.3 (6.7) / 13.0 (9.3)
                     most = speed * self.dt
                 corr = math.hypot(cx, cy)
                 if corr > most:
@@ -332,7 +337,13 @@ class GenerationStep(StepDetail):
             # 0.035. Each widens the fast paths' spread (sd 0.0095 -> 0.013-0.017, over and under),
             # where its designer's friend is run into (its main does 42% of the closing within 0.12
             # m, seeds 0-5) and the generated one closes in itself (13%; 12-13% both on the loops
-            # paths). The smooth over 2 / 4 samples (Params.smooth) 43 (17) / 33 (14). None kept.
+            # paths). The smooth over 2 / 4 samples (Params.smooth) 43 (17) / 33 (14). That
+            # raise only while the live main's heading turns (two 0.2 s spans, each walked at
+            # 0.05 m/s or more) faster than 0.5 / 1.0 rad/s, Python step, relative_motion x 1,
+            # 1 +- 0.001, the friend's misses over the three runs of seeds 0-5 / 8-13 / 26-31:
+            # 6 / 3 / 1 -> 5 / 5 / 7, 4 / 4 / 18 (the fast paths' reversals read as turns:
+            # contact there 0.008-0.078; loops mean 0.031 -> 0.031 on seeds 0-5, 26-31). None
+            # kept.
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the

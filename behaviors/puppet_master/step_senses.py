@@ -105,7 +105,18 @@ class StepSenses:
           5.3 (2.0) / 10.0 (6.7) / 11.3 (8.3) -> 6.7 (2.7) / 11.7 (8.3) / 11.3 (8.3): the
           loops kept, seed 1 slow met, seeds 0 loops and 8-13 lost); median 672.0 / 8.7,
           669.3 / 12.7, 661.7 / 19.0 (stalker 6.7 (3.0) / 9.3 (6.0) / 15.0 (12.3)); the
-          other characters the same to the last digit. Neither kept."""
+          other characters the same to the last digit. Neither kept.
+        - the cap indexed by the time since the main's speed fell, learned from the
+          demonstration: the stalker's mean step speed k samples (k +- 1) after the main came
+          within STILL_MPS x the stop span of its position the stop span before (only that
+          oldest position read; 0.139, 0.129, 0.112, 0.102 ... 0.045 m/s over 0.5 s), then
+          the still pace. Python step, the stalker alone, relative_motion x 1, 1 +- 0.001,
+          its misses (the engine's alone) per run on seeds 0-5 / 8-13 / 26-31, against 5.3
+          (2.0) / 10.0 (6.7) / 11.3 (8.3): entered and indexed by that read 7.0 (3.3) / 9.3
+          (6.3) / 13.7 (10.7); by the main's speed over 0.1 s under 0.05 m/s (coast 0.200,
+          0.193, 0.181 ... 0.053 m/s) 6.0 (3.0) / 12.3 (8.3) / 12.0 (10.0); entered by this
+          read, the cap the larger of the still pace and that coast over 0.5 / 0.25 s 6.3
+          (3.3) / 10.7 (7.7) / 10.3 (6.7), 6.3 (3.3) / 11.0 (7.7) / 11.0 (7.3). None kept."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
