@@ -28,7 +28,10 @@ class Params:
 
     rate_hz: generation rate (40; 1-1000 Hz). window: neighbourhood n in samples (40 = one
     second).
-    min_speed: m/s below which an entity has no movement direction (held). smooth: samples of
+    min_speed: m/s below which an entity has no movement direction (held; 0.01, above a
+    still puck's jitter: ``bench/fidelity.py`` on seeds 0-5 / 8-13 / 26-31 met 676 / 671 / 661
+    of 720, the engine's alone 8 / 13 / 16; at 0.005 670 / 667 / 675 (7 / 11 / 13) but the
+    pursuit paths 137 -> 129 of 144; at 0.02 664 / 662 / 656 (13 / 16 / 24)). smooth: samples of
     the linear smooth (3). max_turn_rate: rad/s limit on the world look direction's change;
     0 (default) takes it from the demonstration (look.train_look). detail_levels: Haar
     levels (4, cut at fs/16; at most 10: the signal is padded to 2**levels samples). patch:
