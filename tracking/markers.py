@@ -26,12 +26,6 @@ CORNER_REFINEMENTS = {
 }
 
 
-def dictionary_names() -> list[str]:
-    """Every predefined dictionary name OpenCV knows (``DICT_...``), sorted."""
-    return sorted(n for n in dir(cv2.aruco) if n.startswith("DICT_")
-                  and isinstance(getattr(cv2.aruco, n), int))
-
-
 def dictionary_by_name(name: str) -> cv2.aruco.Dictionary:
     """OpenCV's predefined dictionary ``name``; ValueError naming the choices if unknown."""
     code = getattr(cv2.aruco, name, None) if name.startswith("DICT_") else None
