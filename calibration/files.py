@@ -82,12 +82,6 @@ class Calibration:
         self._table_to_camera = (None if self.camera_to_table is None
                                  else inverse(self.camera_to_table))
 
-    @property
-    def undistorts(self) -> bool:
-        """True when pixels are undistorted before the homography (non-zero distortion)."""
-        return (self.camera_matrix is not None and self.distortion is not None
-                and bool(np.any(self.distortion != 0.0)))
-
     def undistort(self, points_px: np.ndarray) -> np.ndarray:
         """Camera pixels (N, 2) -> ideal pinhole pixels of the same camera matrix (N, 2)."""
         return undistort_pixels(points_px, self.camera_matrix, self.distortion)
