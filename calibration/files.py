@@ -118,11 +118,6 @@ class Calibration:
             f"{ps[0]}x{ps[1]} pixels but {key} is {size[0]}x{size[1]}; set {key}: "
             f"[{ps[0]}, {ps[1]}] or redo `tabletop calibrate projector` at the new size")
 
-    def table_angle(self, points_px: np.ndarray) -> float:
-        """Table heading (rad) of the image direction from ``points_px[0]`` to ``points_px[1]``."""
-        t = self.image_to_table(points_px)
-        return math.atan2(t[1, 1] - t[0, 1], t[1, 0] - t[0, 0])
-
     def to_dict(self) -> dict[str, Any]:
         """The file's content as plain YAML-ready values."""
         intrinsics = None
