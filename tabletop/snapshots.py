@@ -30,7 +30,10 @@ import tempfile
 import threading
 import time
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
+
+if TYPE_CHECKING:
+    import pygame
 
 log = logging.getLogger("tabletop")
 
@@ -148,7 +151,7 @@ class Snapshots:
         self._next += self.every_s * max(1, int((now - self._next) // self.every_s) + 1)
         return True
 
-    def save(self, surface) -> Path:
+    def save(self, surface: pygame.Surface) -> Path:
         """Write a copy of ``surface`` (a pygame Surface) as the next snapshot, in a thread."""
         path, claimed = self._claim()
         self.taken += 1
@@ -195,7 +198,7 @@ class Snapshots:
             self._saver.join(timeout=5.0)
 
 
-def save_png(surface, path: Path) -> str:
+def save_png(surface: pygame.Surface, path: Path) -> str:
     """Write ``surface`` to ``path`` as PNG atomically (:func:`tabletop.files.atomic_write_bytes`:
     temporary file, fsync, rename); returns what went wrong, or "" when it was written.
 

@@ -11,7 +11,7 @@ import logging
 import threading
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Callable
 
 from tabletop.app import build_live
 from tabletop.frames import Frame, InputError
@@ -26,6 +26,9 @@ from tabletop.registry import BuildContext
 from tabletop.studio.build import attach_studio
 from tabletop.studio.reloader import BehaviorReloader
 from tabletop.studio.session import end_drawing
+
+if TYPE_CHECKING:
+    from tabletop.kiosk.spare import Prepared
 
 log = logging.getLogger("tabletop")
 
@@ -44,7 +47,9 @@ class Runner:
 
     def __init__(self, config_path: Path, cfg: dict[str, Any], headless: bool = False,
                  record_path: Path | None = None, kiosk: bool = False,
-                 studio: bool = False, clock=None, wrap_source=None, prepared=None,
+                 studio: bool = False, clock: Callable[[], float] | None = None,
+                 wrap_source: Callable[[Any, dict], Any] | None = None,
+                 prepared: Prepared | None = None,
                  config_error: str | None = None, strict: bool = False) -> None:
         self.config_path = Path(config_path)
         self.base = self.config_path.resolve().parent
