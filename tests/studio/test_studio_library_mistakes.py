@@ -344,9 +344,9 @@ def test_a_behaviour_deleted_elsewhere_and_back_never_plays_over_a_take(tmp_path
 
 
 def test_a_problem_of_lover_2_stays_said_when_lover_reloads_or_goes(tmp_path):
-    """The problems of the behaviour in play were told from the others by the start of their
-    file names: lover reloaded or deleted elsewhere, lover-2's broken file was no longer said
-    (until the library was listed again)."""
+    """lover-2's broken file stays said when lover is reloaded or deleted elsewhere: a problem
+    is the behaviour in play's when it names that folder or a file in it (pm_shelf._about), so
+    one of lover-2 is not lover's, though its file name starts the same."""
     import os
     lib = tmp_path / "lib"
     for name in ("bully", "lover"):
