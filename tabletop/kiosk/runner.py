@@ -11,7 +11,7 @@ import logging
 import threading
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
 
 from tabletop.app import build_live
 from tabletop.frames import Frame, InputError
@@ -26,9 +26,6 @@ from tabletop.registry import BuildContext
 from tabletop.studio.build import attach_studio
 from tabletop.studio.reloader import BehaviorReloader
 from tabletop.studio.session import end_drawing
-
-if TYPE_CHECKING:
-    from tabletop.kiosk.spare import Prepared
 
 log = logging.getLogger("tabletop")
 
@@ -49,7 +46,7 @@ class Runner:
                  record_path: Path | None = None, kiosk: bool = False,
                  studio: bool = False, clock: Callable[[], float] | None = None,
                  wrap_source: Callable[[Any, dict], Any] | None = None,
-                 prepared: Prepared | None = None,
+                 prepared: Any = None,
                  config_error: str | None = None, strict: bool = False) -> None:
         self.config_path = Path(config_path)
         self.base = self.config_path.resolve().parent
