@@ -30,12 +30,6 @@ PUCK_OFF: Color = (200, 140, 255)      # violet: the puck is beyond the table's 
 PUCK_STATES: dict[str, Color] = {"seen": PUCK_SEEN, "coasting": PUCK_COASTING, "lost": PUCK_LOST,
                                  "off_table": PUCK_OFF}
 
-# Character hues chosen to read on the navy table and apart from one another.
-CHARACTER_HUES: tuple[Color, ...] = ((255, 122, 160), (255, 190, 92), (120, 220, 150),
-                                     (120, 190, 255), (200, 150, 255), (100, 226, 226),
-                                     (255, 150, 90), (236, 236, 210))
-
-
 @functools.lru_cache(maxsize=256)
 def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,
           max_sat: float = 0.8) -> Color:

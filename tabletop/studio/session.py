@@ -29,7 +29,7 @@ from typing import Callable
 import numpy as np
 
 from behaviors.worker import FINISH_S, ending, job_thread, next_job
-from tabletop.studio.take import Try
+from tabletop.studio.take import Target, Try
 
 log = logging.getLogger("tabletop")
 
@@ -135,7 +135,7 @@ class SessionLog:
         if review:   # the plotting library loads at start, off the loop, not in the first try
             self._drawn = _warm_once()
 
-    def log_try(self, t: Try, target) -> None:
+    def log_try(self, t: Try, target: Target) -> None:
         if t.outcome == "renamed":       # a line of its own: no samples, no sheet
             self._append(t)
             return
