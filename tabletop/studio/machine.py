@@ -246,8 +246,15 @@ class Studio(LibraryCommands):
         if self._try is not None:
             self._try.name = name
             self._finish(self._try, "kept")
-        self.undo_stack.append((f"keep {name}", lambda: target.remove(name)))
+        self.undo_stack.append((f"keep {name}", lambda: self._unkeep(target, name)))
         self.say(f"kept as {name}{getattr(target, 'kept_in', '')}")   # where it was saved
+
+    def _unkeep(self, target: Target, name: str) -> None:
+        """The undo of a keep: ``name`` leaves the library, and the session log says so (a
+        line of its own, outcome "keep undone"), so a review does not count the take kept."""
+        target.remove(name)
+        self._log(Try(target.name, target.what, time.time(), outcome="keep undone", name=name),
+                  target)
 
     def _discard(self, target: Target, arg: str) -> None:
         if self.state in ("trying", "training"):
