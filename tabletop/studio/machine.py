@@ -23,7 +23,7 @@ Commands (keys through the view, control markers through :class:`Markers`):
                         nor while a take is tried)
 ``designer.rename:NEW`` rename the item in play
 ``designer.delete``     delete the item in play (kept in the library's ``.trash``)
-``designer.undo``       undo the last keep, rename or delete (these three, as the
+``designer.undo``       undo the last keep, rename or delete of any target (these three, as the
                         switch, not while a take is under way or tried)
 ======================  =========================================================
 
@@ -42,7 +42,7 @@ import time
 from typing import Callable, Sequence
 
 from tabletop.frames import CharacterState, Frame, InputError
-from tabletop.studio.library_commands import LibraryCommands
+from tabletop.studio.library_commands import LibraryCommands, Undo
 from tabletop.studio.status import indicator
 from tabletop.studio.take import Target, Try
 
@@ -75,7 +75,7 @@ class Studio(LibraryCommands):
         # only what changes after that (one line per bad file for the operator)
         self.problems: list[str] = [p for t in targets
                                     for p in getattr(t, "started_problems", ())]
-        self.undo_stack: list[tuple[str, Callable[[], None]]] = []
+        self.undo_stack: list[Undo] = []
         self.tries: list[Try] = []
         self._try: Try | None = None
         self._part = ""              # the take's next part while "ready" (and recording it)
@@ -246,7 +246,8 @@ class Studio(LibraryCommands):
         if self._try is not None:
             self._try.name = name
             self._finish(self._try, "kept")
-        self.undo_stack.append((f"keep {name}", lambda: self._unkeep(target, name)))
+        self.undo_stack.append(Undo(f"keep {name}", lambda: self._unkeep(target, name),
+                                    target.name))
         self.say(f"kept as {name}{getattr(target, 'kept_in', '')}")   # where it was saved
 
     def _unkeep(self, target: Target, name: str) -> None:

@@ -357,3 +357,23 @@ def test_an_undone_keep_is_in_the_session_log_and_its_review_counts_it_not_kept(
     assert summary(tries).startswith("1 try, 0 kept (nothing kept)")
     assert len(bench.studio.tries) == 1                # an undone keep is no try
 
+
+
+def test_an_undo_of_another_targets_keep_names_that_target(tmp_path):
+    """U undoes the last keep, rename or delete of any target: pressed with another target
+    selected, the line read "[b] undone: keep a", the designer taking it for b's."""
+    a, b = build([{"kind": "puppet_master", "name": n,
+                   "designer": {"enabled": True, "library": str(tmp_path / n),
+                                "background_training": False}} for n in ("a", "b")])
+    bench = Bench([a, b], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=8)
+    for f in demo_frames(demo, {10: ("designer.record",), 250: ("designer.record",),
+                                251: ("designer.keep",)}, focus="a"):
+        bench.step(f)
+    assert library.list_behaviors(tmp_path / "a") == ["a"]
+    _, studio = bench.step(Frame(seq=400, t=200.0, commands=("designer.undo",), focus="b"))
+    assert library.list_behaviors(tmp_path / "a") == []
+    assert studio.label.startswith("[b]") and "undone: keep a of a" in studio.label, studio.label
+    bench.step(Frame(seq=401, t=200.1, commands=("designer.next",), focus="a"))
+    bench.studio.command("designer.undo")
+    assert bench.studio.message == "nothing to undo"
