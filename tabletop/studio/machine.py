@@ -300,6 +300,9 @@ class Studio(LibraryCommands):
             except Exception:  # the session log must never stop the studio
                 log.exception("studio: session log failed")
 
+    def _only_target(self, target: Target, arg: str) -> None:
+        self.say(f"Tab: {target.name} is the only designer target")   # not a broken key
+
     def _assign(self, target: Target, arg: str) -> None:
         fn = getattr(target, "assign", None)
         if fn is not None:
