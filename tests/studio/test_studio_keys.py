@@ -377,3 +377,17 @@ def test_an_undo_of_another_targets_keep_names_that_target(tmp_path):
     bench.step(Frame(seq=401, t=200.1, commands=("designer.next",), focus="a"))
     bench.studio.command("designer.undo")
     assert bench.studio.message == "nothing to undo"
+
+
+def test_the_status_line_names_a_behaviour_deleted_while_it_plays(tmp_path):
+    """After U took a kept take out of the library (or Delete the behaviour in play), the
+    character played on from memory while the status line read "behaviour (none)"."""
+    bench = kept_pet(tmp_path)
+    bench.studio.command("designer.undo")
+    main = (Puck(1, 0.5, 0.4, 0.0),)
+    out, studio = bench.step(Frame(seq=900, t=160.0, pucks=main))     # the message is over
+    assert out["pet"].valid and "pet (deleted)" in out["pet"].label
+    assert studio.label.startswith("[pet] behaviour pet (deleted): R record"), studio.label
+    bench.studio.command("designer.undo")                 # nothing left to undo: it stays
+    out, studio = bench.step(Frame(seq=901, t=170.0, pucks=main))
+    assert "behaviour pet (deleted)" in studio.label, studio.label
