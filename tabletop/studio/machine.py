@@ -25,6 +25,8 @@ Commands (keys through the view, control markers through :class:`Markers`):
 ``designer.delete``     delete the item in play (kept in the library's ``.trash``)
 ``designer.undo``       undo the last keep, rename or delete of any target (these three, as the
                         switch, not while a take is under way or tried)
+``designer.only_target`` Tab with one designer target (:class:`~tabletop.loop.DesignerFocus`
+                        sends it): said, so that the key is not taken for broken
 ======================  =========================================================
 
 The machine is a frame filter: it runs before the engines, takes the ``designer.*`` commands
