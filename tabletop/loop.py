@@ -84,7 +84,10 @@ class DesignerFocus:
             self.focus = targets[0]
         for _ in range(commands.count("designer.next")):
             self.focus = targets[(targets.index(self.focus) + 1) % len(targets)]
-        return tuple(c for c in commands if c != "designer.next"), self.focus
+        out = tuple(c for c in commands if c != "designer.next")
+        if len(targets) == 1 and len(out) < len(commands):
+            out += ("designer.only_target",)    # Tab with nowhere to go: the studio says so
+        return out, self.focus
 
 
 class Loop:

@@ -154,6 +154,9 @@ class PuppetMasterEngine:
         self.reactor: Reactor | None = None
         self.play(behavior, behavior_name)
         self.last_main: tuple[float, float, float] | None = None
+        # where the character was last drawn (x, y m, heading rad): a studio take holds it there
+        # until the reactor puck is seen
+        self.last_pose: tuple[float, float, float] | None = None
         # the studio's characters while recording (the first is this one), replacing the reaction
         self.hold: Callable[[Frame], tuple[CharacterState, ...]] | None = None
         self.note = ""                                               # the studio's label
@@ -181,6 +184,7 @@ class PuppetMasterEngine:
         self.board.begin(frame)
         out = self._step(frame)
         c = out[0]
+        self.last_pose = (c.x, c.y, c.heading)
         self.board.post(self.name, Posted(c.x, c.y, c.heading, c.size, c.valid))
         return out
 

@@ -124,6 +124,7 @@ class NamePrompt:
     def __init__(self) -> None:
         self.text: str | None = None
         self.ask: Callable[[], bool] | None = None
+        self.refused = ""   # why a character typed was not taken, drawn under the line
 
     @property
     def active(self) -> bool:
@@ -133,8 +134,10 @@ class NamePrompt:
         """Take a KEYDOWN event; returns a command when one is complete."""
         if self.text is None:
             if ev.key == pygame.K_F2 and (self.ask is None or self.ask()):
-                self.text = ""
+                self.text, self.refused = "", ""
             return None
+        typed = ev.unicode   # (a reason said stays until the prompt closes, so that a fast
+        #                      typist still reads it after the letters that follow)
         if ev.key == pygame.K_ESCAPE:
             self.text = None
         elif ev.key in (pygame.K_RETURN, pygame.K_KP_ENTER):
@@ -142,10 +145,16 @@ class NamePrompt:
             return f"designer.rename:{name}" if name else None
         elif ev.key == pygame.K_BACKSPACE:
             self.text = self.text[:-1]
-        elif ev.unicode and library.NAME_RE.match(self.text + ev.unicode):
+        elif typed and library.NAME_RE.match(self.text + typed):
             # only what a library name may hold: 'ü' or a leading '_' was typed, and the
             # rename then refused the name
-            self.text += ev.unicode
+            self.text += typed
+        elif typed and typed.isprintable():     # said, so that the key is not taken for broken
+            self.refused = (f"a name holds at most {library.NAME_MAX} characters"
+                            if len(self.text) >= library.NAME_MAX else
+                            f"{'a space' if typed == ' ' else repr(typed)} cannot be in a "
+                            "name: ASCII letters, digits, '_', '-' "
+                            "or '.', a letter or digit first")
         return None
 
     def draw(self, target: pygame.Surface, renderer: Any = None) -> None:
@@ -156,3 +165,8 @@ class NamePrompt:
             px = max(MIN_MARK_PX, round(32 * k))
             img = font(px).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
             target.blit(img, img.get_rect(center=(target.get_width() // 2, px // 2 + 24)))
+            if self.refused:
+                small = max(MIN_MARK_PX, round(px * 0.6))
+                why = font(small).render(self.refused, True, (255, 190, 80), (0, 0, 0))
+                target.blit(why, why.get_rect(center=(target.get_width() // 2,
+                                                      px + 30 + small // 2)))

@@ -5,10 +5,19 @@ acts while a take is under way or tried: they act on the item in play, not on th
 from __future__ import annotations
 
 import time
-from typing import Callable
+from typing import Callable, NamedTuple
 
 from tabletop.frames import InputError
 from tabletop.studio.take import Target, Try
+
+
+class Undo(NamedTuple):
+    """One entry of the undo list: what it undoes ("keep pet"), the function undoing it, and
+    the target it was done on (named when U is pressed with another one selected)."""
+
+    what: str
+    do: Callable[[], None]
+    target: str
 
 
 class LibraryCommands:
@@ -17,7 +26,7 @@ class LibraryCommands:
 
     state: str
     quiet: bool
-    undo_stack: list[tuple[str, Callable[[], None]]]
+    undo_stack: list[Undo]
 
     @property
     def target(self) -> Target | None:
@@ -93,8 +102,9 @@ class LibraryCommands:
             self.say("nothing to rename" if old is None else "rename needs a new name")
             return
         self._renamed(target, old, arg)
-        self.undo_stack.append((f"rename {old} -> {arg}",
-                                lambda: self._renamed(target, arg, old, undo=True)))
+        self.undo_stack.append(Undo(f"rename {old} -> {arg}",
+                                    lambda: self._renamed(target, arg, old, undo=True),
+                                    target.name))
         self.say(f"renamed {old} to {arg}")
 
     def _renamed(self, target: Target, old: str, new: str, undo: bool = False) -> None:
@@ -113,7 +123,7 @@ class LibraryCommands:
             self.say("nothing to delete")
             return
         restore = target.remove(name)
-        self.undo_stack.append((f"delete {name}", restore))
+        self.undo_stack.append(Undo(f"delete {name}", restore, target.name))
         self.say(f"deleted {name} (U undoes)")
 
     def _undo(self, target: Target, arg: str) -> None:
@@ -122,7 +132,8 @@ class LibraryCommands:
         if not self.undo_stack:
             self.say("nothing to undo")
             return
-        what, fn = self.undo_stack[-1]
-        fn()                  # one that cannot be done now (a read-only disk) stays to undo
+        what, do, owner = self.undo_stack[-1]
+        do()                  # one that cannot be done now (a read-only disk) stays to undo
         self.undo_stack.pop()
-        self.say(f"undone: {what}")
+        # the list is the studio's, not the selected target's: another target's undo names it
+        self.say(f"undone: {what}" + ("" if owner == target.name else f" of {owner}"))

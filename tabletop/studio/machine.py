@@ -23,8 +23,10 @@ Commands (keys through the view, control markers through :class:`Markers`):
                         nor while a take is tried)
 ``designer.rename:NEW`` rename the item in play
 ``designer.delete``     delete the item in play (kept in the library's ``.trash``)
-``designer.undo``       undo the last keep, rename or delete (these three, as the
+``designer.undo``       undo the last keep, rename or delete of any target (these three, as the
                         switch, not while a take is under way or tried)
+``designer.only_target`` Tab with one designer target (:class:`~tabletop.loop.DesignerFocus`
+                        sends it): said, so that the key is not taken for broken
 ======================  =========================================================
 
 The machine is a frame filter: it runs before the engines, takes the ``designer.*`` commands
@@ -42,7 +44,7 @@ import time
 from typing import Callable, Sequence
 
 from tabletop.frames import CharacterState, Frame, InputError
-from tabletop.studio.library_commands import LibraryCommands
+from tabletop.studio.library_commands import LibraryCommands, Undo
 from tabletop.studio.status import indicator
 from tabletop.studio.take import Target, Try
 
@@ -75,7 +77,7 @@ class Studio(LibraryCommands):
         # only what changes after that (one line per bad file for the operator)
         self.problems: list[str] = [p for t in targets
                                     for p in getattr(t, "started_problems", ())]
-        self.undo_stack: list[tuple[str, Callable[[], None]]] = []
+        self.undo_stack: list[Undo] = []
         self.tries: list[Try] = []
         self._try: Try | None = None
         self._part = ""              # the take's next part while "ready" (and recording it)
@@ -246,8 +248,16 @@ class Studio(LibraryCommands):
         if self._try is not None:
             self._try.name = name
             self._finish(self._try, "kept")
-        self.undo_stack.append((f"keep {name}", lambda: target.remove(name)))
+        self.undo_stack.append(Undo(f"keep {name}", lambda: self._unkeep(target, name),
+                                    target.name))
         self.say(f"kept as {name}{getattr(target, 'kept_in', '')}")   # where it was saved
+
+    def _unkeep(self, target: Target, name: str) -> None:
+        """The undo of a keep: ``name`` leaves the library, and the session log says so (a
+        line of its own, outcome "keep undone"), so a review does not count the take kept."""
+        target.remove(name)
+        self._log(Try(target.name, target.what, time.time(), outcome="keep undone", name=name),
+                  target)
 
     def _discard(self, target: Target, arg: str) -> None:
         if self.state in ("trying", "training"):
@@ -291,6 +301,9 @@ class Studio(LibraryCommands):
                 self.log_try(t, target)
             except Exception:  # the session log must never stop the studio
                 log.exception("studio: session log failed")
+
+    def _only_target(self, target: Target, arg: str) -> None:
+        self.say(f"Tab: {target.name} is the only designer target")   # not a broken key
 
     def _assign(self, target: Target, arg: str) -> None:
         fn = getattr(target, "assign", None)

@@ -17,6 +17,7 @@ from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.folders import named_folder, trash
+from tabletop.studio.pm_take import Unseen
 from behaviors.worker import Worker, close_workers
 
 if TYPE_CHECKING:
@@ -42,6 +43,7 @@ class MopTarget:
         self.run_only: list[str] = []     # kept without a library: lost at a rebuild
         self._motions: dict[str, str] = {}  # their motions as the config names them
         self.demo: np.ndarray | None = None
+        self.unseen = Unseen()       # how long the performer's pucks were missing from the take
         self._poller = (Poller(lib / character,
                                read=getattr(stage, "library_read", {}).get(character))
                         if lib is not None else None)
@@ -66,13 +68,20 @@ class MopTarget:
         return f"get ready: {p.name} ({what}) performs {self.character}'s new action"
 
     def begin(self, frame: Frame) -> None:
+        self.unseen = Unseen()
         self.stage.begin_take(self.character, frame)
 
     def resume(self, frame: Frame) -> None:
         pass                                  # an action is one part
 
     def record(self, frame: Frame) -> str:
-        return ""                             # the stage samples the performer in its step
+        """The stage samples the performer in its step (a frame without its puck gives no
+        sample); this says which of its pucks the frame lacks, and tallies how long."""
+        p = self.stage.performers[self.stage.performer_of(self.character)]
+        missing = [i.puck_id for i in p.inputs
+                   if hasattr(i, "puck_id") and frame.puck(i.puck_id) is None]
+        self.unseen.tally(frame.t, missing)
+        return f"recording: no {', '.join(f'puck {m}' for m in missing)}" if missing else ""
 
     def ended(self) -> bool:
         return False
@@ -94,7 +103,12 @@ class MopTarget:
         return len(take.rows) / self.stage.rate_hz if take is not None else 0.0
 
     def train(self) -> str | None:
-        self._summary = self.stage.stop_take()
+        try:
+            self._summary = self.stage.stop_take()
+        except InputError as exc:     # a puck never seen made it short, not the designer
+            lost = self.unseen.words()
+            raise InputError(f"{exc}; {lost}" if lost else str(exc)) from None
+        self._summary += self.unseen.note()
         self.demo = np.array(self.stage.take.samples(), dtype=float)
         return None if self.stage.building else self._summary
 

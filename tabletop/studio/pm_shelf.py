@@ -41,9 +41,12 @@ class BehaviorShelf:
 
     def shown(self) -> str | None:
         """The behaviour in play as the status line names it: also one from outside the library
-        (the engine's own ``behavior``), named with "(not in the library)"."""
+        (the engine's own ``behavior``), named with "(not in the library)", and one deleted
+        (or its keep undone) that plays on from memory, "pet (deleted)" as the engine names it."""
         if self.playing is not None and self.playing.parent != self.lib:
             return f"{self.playing.name} (not in the library)"
+        if self.playing is None and self.engine.behavior is not None:
+            return self.engine.behavior_name or None
         return self.current()
 
     def use(self, name: str) -> None:

@@ -1,6 +1,6 @@
 """What a Puppet Master take tells the designer before it is trained: whether either puck
 moved at all (:func:`motionless`), and how long a puck the take needs went unseen while it
-was recorded (:class:`Unseen`)."""
+was recorded (:class:`Unseen`, which a MOP take's target keeps too)."""
 
 from __future__ import annotations
 

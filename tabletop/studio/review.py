@@ -157,8 +157,8 @@ def _check_try(d: object) -> None:
 
 
 def read_session(path: Path) -> list[dict]:
-    """The tries of a session log, a kept take under the name a later rename gave it (the
-    rename lines are no tries); a line cut short (a power cut) at the end is skipped, a bad
+    """The tries of a session log, a kept take under the name a later rename gave it and
+    with the outcome "keep undone" once U took it out again (those lines are no tries); a line cut short (a power cut) at the end is skipped, a bad
     line elsewhere is refused naming its line and what is wrong."""
     p = Path(path)
     if not p.is_file():
@@ -176,6 +176,8 @@ def read_session(path: Path) -> list[dict]:
             raise InputError(f"{p}:{i}: not a session log line ({exc})") from None
         if d.get("outcome") == "renamed":
             _renamed(out, d)
+        elif d.get("outcome") == "keep undone":
+            _unkept(out, d)
         else:
             out.append(d)
     if not out:
@@ -190,6 +192,17 @@ def _renamed(tries: list[dict], rename: dict) -> None:
         if (t["target"], t.get("outcome"), t.get("name")) == (
                 rename["target"], "kept", rename.get("renamed_from")):
             t["name"] = rename.get("name", "")
+            return
+
+
+def _unkept(tries: list[dict], undo: dict) -> None:
+    """The latest take of ``undo``'s target kept as its ``name`` was taken out of the library
+    again (U): its outcome becomes "keep undone" (an undo of a keep made in another session
+    names no try here)."""
+    for t in reversed(tries):
+        if (t["target"], t.get("outcome"), t.get("name")) == (
+                undo["target"], "kept", undo.get("name")):
+            t["outcome"] = "keep undone"
             return
 
 

@@ -48,6 +48,7 @@ class Try:
     samples: int = 0
     training_s: float = 0.0    # from the stop until the take plays (a worker's wait included)
     outcome: str = ""          # kept | discarded | redone | too short | refused | quit | renamed
+                               # | keep undone
     name: str = ""
     review: str = ""
     renamed_from: str = ""     # outcome "renamed": the item's name before (F2, or its undo)

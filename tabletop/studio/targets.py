@@ -132,9 +132,10 @@ class PuppetMasterTarget(BehaviorShelf):
 
     def _hold(self, frame: Frame) -> tuple[CharacterState, ...]:
         """While recording the character is drawn under the reactor puck; while the puck is
-        lifted it stays, calmer, where the puck was last seen (the table's centre only until
-        the puck is first seen), so a lift mid-take does not move it. The main take's playback
-        (sequential) is drawn as a ghost ``NAME.main`` of kind "playback"."""
+        lifted it stays, calmer, where the puck was last seen, and until the puck is first seen
+        (a sequential take's main part records without it) where the character stood when the
+        take began (the table's centre only for one never drawn), so neither moves it. The main
+        take's playback (sequential) is drawn as a ghost ``NAME.main`` of kind "playback"."""
         e = self.engine
         r = frame.puck(self.react_puck)
         if r is not None:
@@ -142,6 +143,8 @@ class PuppetMasterTarget(BehaviorShelf):
             out = [e.character(r.x, r.y, r.angle, True, "recording")]
         elif self.react_at is not None:
             out = [e.character(*self.react_at, False, "recording")]
+        elif e.last_pose is not None:
+            out = [e.character(*e.last_pose, False, "recording")]
         else:
             x0, y0, x1, y1 = e.table
             out = [e.character((x0 + x1) / 2, (y0 + y1) / 2, 0.0, False, "recording")]

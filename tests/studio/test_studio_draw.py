@@ -59,6 +59,46 @@ def test_the_rename_prompt_takes_only_what_a_library_name_may_hold():
         library.check_name("wütend")
 
 
+def test_a_character_the_rename_prompt_does_not_take_is_said_under_it():
+    """A space typed into F2's name was dropped without a word ("shy lover" became "shylover"
+    on screen, then on disk): the prompt says under its line why the key was not taken."""
+    from tabletop.studio.draw import NamePrompt
+
+    def key(k: int, text: str = "") -> pygame.event.Event:
+        return pygame.event.Event(pygame.KEYDOWN, key=k, unicode=text, mod=0)
+
+    def rows(prompt: NamePrompt) -> np.ndarray:
+        surface = pygame.Surface((1280, 720))
+        surface.fill(GREY)
+        prompt.draw(surface, Renderer((1.2, 0.8), (1280, 720), margin=24))
+        img = pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
+        return rows_with_text(img)
+
+    prompt = NamePrompt()
+    prompt.handle(key(pygame.K_F2))
+    for c in "shy":
+        prompt.handle(key(pygame.K_a, c))
+    plain = rows(prompt)
+    prompt.handle(key(pygame.K_SPACE, " "))
+    assert prompt.text == "shy" and "a space cannot" in prompt.refused and "letters" in prompt.refused
+    said = rows(prompt)
+    assert said.max() > plain.max() + 15         # a line of its own below the name
+    prompt.handle(key(pygame.K_a, "_"))          # typed on: the reason stays in sight
+    assert "a space" in prompt.refused and prompt.text == "shy_"
+    assert rows(prompt).max() == said.max()
+    prompt.handle(key(pygame.K_RETURN))
+    prompt.handle(key(pygame.K_F2))              # a new prompt: nothing said yet
+    assert prompt.refused == "" and rows(prompt).max() == plain.max()
+    prompt.handle(key(pygame.K_TAB, "\t"))       # no character: nothing to say
+    assert prompt.refused == ""
+    prompt.text = "a" * 64                       # full: the 65th says so
+    prompt.handle(key(pygame.K_a, "b"))
+    assert "64" in prompt.refused and prompt.text == "a" * 64
+    prompt.text = "shy"
+    prompt.handle(key(pygame.K_a, "ü"))
+    assert "'ü' cannot be in a name" in prompt.refused
+
+
 def test_the_recording_edge_is_drawn_round_the_table():
     """The red recording frame ran round the window: a calibrated projector throwing beyond
     the table put it on the floor. It runs along the table's edge."""

@@ -310,16 +310,22 @@ def test_the_status_line_names_a_behaviour_played_from_outside_the_library(tmp_p
     assert studio.label.startswith("[pet] behaviour shy: R record")
 
 
-def test_a_rename_after_the_keep_is_in_the_session_log_and_its_review(tmp_path):
-    """The session log named the kept take "pet" after F2 had renamed its folder "brave": the
-    contact sheet and the log pointed at a folder that was gone."""
-    from tabletop.studio.review import read_session, summary
+def kept_pet(tmp_path) -> Bench:
+    """A designer engine's studio that has just kept a 6 s take as "pet" (session log on)."""
     (e,) = designer(tmp_path)
     bench = Bench([e], tmp_path)
     demo = designers.demonstrate("lover", seed=8, seconds=8)
     for f in demo_frames(demo, {10: ("designer.record",), 250: ("designer.record",),
                                 251: ("designer.keep",)}):
         bench.step(f)
+    return bench
+
+
+def test_a_rename_after_the_keep_is_in_the_session_log_and_its_review(tmp_path):
+    """The session log named the kept take "pet" after F2 had renamed its folder "brave": the
+    contact sheet and the log pointed at a folder that was gone."""
+    from tabletop.studio.review import read_session, summary
+    bench = kept_pet(tmp_path)
     bench.studio.command("designer.rename:brave")
     bench.studio.command("designer.undo")              # back to pet
     bench.studio.command("designer.rename:shy")
@@ -334,3 +340,54 @@ def test_a_rename_after_the_keep_is_in_the_session_log_and_its_review(tmp_path):
     assert [(t["outcome"], t["name"]) for t in tries] == [("kept", "shy")]
     assert summary(tries).startswith("1 try, 1 kept")
     assert len(bench.studio.tries) == 1                # a rename is no try
+
+
+def test_an_undone_keep_is_in_the_session_log_and_its_review_counts_it_not_kept(tmp_path):
+    """U after K put the take's folder into the trash, but the session log still said "kept":
+    `tabletop review` counted "1 kept" for a take the library no longer had."""
+    from tabletop.studio.review import read_session, summary
+    bench = kept_pet(tmp_path)
+    bench.studio.command("designer.undo")
+    assert library.list_behaviors(tmp_path / "lib") == []
+    lines = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+    assert [(x["outcome"], x["name"]) for x in lines] == [("kept", "pet"), ("keep undone", "pet")]
+    assert lines[1]["review"] == "" and lines[1]["samples"] == 0
+    tries = read_session(bench.session.path)
+    assert [(t["outcome"], t["name"]) for t in tries] == [("keep undone", "pet")]
+    assert summary(tries).startswith("1 try, 0 kept (nothing kept)")
+    assert len(bench.studio.tries) == 1                # an undone keep is no try
+
+
+
+def test_an_undo_of_another_targets_keep_names_that_target(tmp_path):
+    """U undoes the last keep, rename or delete of any target: pressed with another target
+    selected, the line read "[b] undone: keep a", the designer taking it for b's."""
+    a, b = build([{"kind": "puppet_master", "name": n,
+                   "designer": {"enabled": True, "library": str(tmp_path / n),
+                                "background_training": False}} for n in ("a", "b")])
+    bench = Bench([a, b], tmp_path)
+    demo = designers.demonstrate("lover", seed=8, seconds=8)
+    for f in demo_frames(demo, {10: ("designer.record",), 250: ("designer.record",),
+                                251: ("designer.keep",)}, focus="a"):
+        bench.step(f)
+    assert library.list_behaviors(tmp_path / "a") == ["a"]
+    _, studio = bench.step(Frame(seq=400, t=200.0, commands=("designer.undo",), focus="b"))
+    assert library.list_behaviors(tmp_path / "a") == []
+    assert studio.label.startswith("[b]") and "undone: keep a of a" in studio.label, studio.label
+    bench.step(Frame(seq=401, t=200.1, commands=("designer.next",), focus="a"))
+    bench.studio.command("designer.undo")
+    assert bench.studio.message == "nothing to undo"
+
+
+def test_the_status_line_names_a_behaviour_deleted_while_it_plays(tmp_path):
+    """After U took a kept take out of the library (or Delete the behaviour in play), the
+    character played on from memory while the status line read "behaviour (none)"."""
+    bench = kept_pet(tmp_path)
+    bench.studio.command("designer.undo")
+    main = (Puck(1, 0.5, 0.4, 0.0),)
+    out, studio = bench.step(Frame(seq=900, t=160.0, pucks=main))     # the message is over
+    assert out["pet"].valid and "pet (deleted)" in out["pet"].label
+    assert studio.label.startswith("[pet] behaviour pet (deleted): R record"), studio.label
+    bench.studio.command("designer.undo")                 # nothing left to undo: it stays
+    out, studio = bench.step(Frame(seq=901, t=170.0, pucks=main))
+    assert "behaviour pet (deleted)" in studio.label, studio.label

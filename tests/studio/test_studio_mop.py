@@ -198,3 +198,31 @@ def test_the_character_a_take_records_for_is_not_driven_while_it_records(tmp_pat
     table.rest(1.0)
     again = [ch["face"] for _, ch in table.perform("circle")]
     assert np.mean([c.valid and c.action == "circle" for c in again]) > 0.5
+
+def test_a_take_whose_puck_is_not_seen_says_so(tmp_path):
+    """A MOP take recorded with its performer's puck off the table (or hidden) said only
+    "recording: R stop", then "take too short (0 of 8 samples of motion)": the designer, who
+    had moved the puck, could not tell it was never seen. A Puppet Master take says both."""
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    table.rest(1.0)
+    del table.pucks[1]                          # lifted: the camera sees no puck 1
+    table.tick(["designer.record"])
+    for _ in range(60):
+        table.tick()
+    assert "recording: no puck 1" in table.status, table.status
+    table.tick(["designer.record"])
+    assert "too short" in table.status and "puck 1 unseen 1.0 s of 1.0 s" in table.status, \
+        table.status
+    # lifted for part of a gesture: the trained line says how long, the frames left out
+    table.pucks[1] = (0.3, 0.3)
+    table.rest(1.0)
+    table.tick(["designer.record"])
+    table.perform("line")
+    del table.pucks[1]
+    for _ in range(30):
+        table.tick()
+    table.pucks[1] = (0.3, 0.3)
+    table.perform("zigzag")
+    table.tick(["designer.record"])
+    assert "take1 ->" in table.status and "puck 1 unseen 0.5 s of" in table.status, table.status

@@ -62,7 +62,7 @@ def test_an_undo_that_failed_half_way_is_done_on_the_next_try(tmp_path):
     (folder / "actions.yaml").rmdir()
     s.command("designer.undo")
     assert s.message == "undone: delete take1", s.message
-    assert [what for what, _ in s.undo_stack] == ["keep take1"]     # the older undo next
+    assert [u.what for u in s.undo_stack] == ["keep take1"]     # the older undo next
     entries = yaml.safe_load((folder / "actions.yaml").read_text())["actions"]
     assert [a["name"] for a in entries] == ["take1"]
     assert (folder / "take1.csv").read_bytes() == kept and "take1" in engine.puppets["face"].actions

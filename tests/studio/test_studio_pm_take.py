@@ -187,3 +187,27 @@ def test_a_reactor_puck_lifted_while_recording_leaves_its_character_where_it_was
     # off, 17 cm, at the centre; under 1 px now)
     assert all(d is not None for d in drawn[20:])      # (faded in over its first frames)
     assert max(np.hypot(*(d - seen)) for d in drawn[20:]) < 6
+
+
+def test_a_sequential_main_part_leaves_the_character_where_it_stood(tmp_path):
+    """Recording the main alone (sequential training, no reactor puck on the table), the
+    character jumped to the table's centre at the countdown's end and stood there until the
+    reaction part (seen in an Xvfb window): it stays where it stood when the take began."""
+    import numpy as np
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "a", designers.demonstrate("lover", seconds=6), {})
+    (e,) = designer(tmp_path, sequential=True)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_next")          # plays "a"
+    demo = designers.demonstrate("lover", seed=4, seconds=8)
+    before = None
+    for i, row in enumerate(demo[:300]):
+        chars, studio = bench.step(Frame(seq=i, t=100.0 + row[0], pucks=(Puck(1, *row[1:4]),),
+                                         commands=("designer.record",) if i == 100 else ()))
+        c = chars["pet"]
+        if i == 99:                                    # the last tick before the take
+            before = (c.x, c.y)
+        if i >= 100:
+            assert studio.action == "recording"
+            assert np.hypot(c.x - before[0], c.y - before[1]) < 1e-9, (i, c.x, c.y, before)
+    assert np.hypot(before[0] - 0.6, before[1] - 0.4) > 0.05    # not the centre by chance

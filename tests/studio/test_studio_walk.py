@@ -112,3 +112,27 @@ def test_the_assign_key_on_a_behaviour_says_why_it_does_nothing(tmp_path):
     s.command("designer.assign")
     assert s.message == "A: a behaviour has no motion to assign (MOP actions do)"
     assert s.state == "idle"
+
+
+def test_tab_with_one_designer_target_says_so(tmp_path):
+    """Tab with a single designer target did nothing at all on the table, as a key that is
+    broken; the status line now says why nothing moved."""
+    from tabletop.loop import DesignerFocus
+    from tests.studio.test_studio_keys import build
+
+    def tab(engines) -> str:
+        studio = Studio([PuppetMasterTarget(e) for e in engines], countdown_s=1.0)
+        focus = DesignerFocus([])
+        focus.extra.append(studio)
+        commands, chosen = focus.apply(("designer.next",))
+        frame = studio(Frame(seq=0, t=100.0, commands=commands, focus=chosen))
+        assert frame.commands == ()                 # the studio's to say, no engine's
+        return frame.character("studio").label
+
+    one = build([{"kind": "puppet_master", "name": "pet",
+                  "designer": {"enabled": True, "library": str(tmp_path / "lib")}}])
+    assert "Tab: pet is the only designer target" in tab(one)
+    two = build([{"kind": "puppet_master", "name": n,
+                  "designer": {"enabled": True, "library": str(tmp_path / n)}} for n in "ab"])
+    label = tab(two)
+    assert label.startswith("[b]") and "only" not in label, label
