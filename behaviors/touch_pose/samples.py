@@ -30,8 +30,9 @@ spin kick drag competes with it. Measured over six views, strokes dragged at 0.5
 their pace: the walk's started it 24 times in 24; the other six actions' started theirs 121
 times in 124 as before, and none started the walk; their drags turned 90, -90 or 180 degrees
 started an action 33 times in 589 as before; the walk's turned drags started nothing (0 of
-114). Once the foot has left the floor it cannot stop or go back (a walking human finishes the
-step): from 0.1 on the walk runs forward to the cycle's end whatever the finger does. It travels like the
+114). Once the foot has left the floor it cannot stop (a walking human finishes the step): from
+0.1 on the walk runs on to the cycle's end while the finger rests or lifts; only a drag back
+takes it back. It travels like the
 punch: from the action's base, brought back within ``ROAM`` as it ends, kept on the table.
 
 Posing samples: the standing pose, hand-made idle variations of it (weight shifts, arms a
