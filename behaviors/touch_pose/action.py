@@ -244,7 +244,10 @@ class ActionClock:
     while the finger moves that way (a finger resting in the still segment after the kick
     does not pull the time back into the air). Once the finger lifts it runs in the segment's
     automatic direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0
-    (cancelled).
+    (cancelled). Against a clock whose segments without stillness always run their own way, strokes
+    dragged forward at their pace from four views measure the same (bench/touch_pose_turns.py:
+    every figure equal but the jump's largest joint turn per frame once lifted, 27.1 -> 27.3
+    degrees).
     """
 
     def __init__(self, action: ActionModel, u: float) -> None:
