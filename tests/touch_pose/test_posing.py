@@ -2,10 +2,9 @@
 
 import numpy as np
 
-from behaviors.touch_pose.humanoid import PARTS, Camera
+from behaviors.touch_pose.humanoid import PARTS, Camera, yaw_of
 from behaviors.touch_pose.ik import MAX_CORRECTION
 from behaviors.touch_pose.latent import classical_mds, pose_distances
-from behaviors.touch_pose.humanoid import yaw_of
 from behaviors.touch_pose.samples import (ROOT_REACH, ROOT_TURN, clip_named, clip_poses, place,
                                           posing_samples)
 
