@@ -74,6 +74,9 @@ WINDOW = 2.0
 #: whole (primary part's median distance from it, mean over cases: punch 0.047 -> 0.032 m,
 #: but kick 0.034 -> 0.043 and jump 0.008 -> 0.015 m), so 1.6 is kept.
 MAX_PACE = 1.6
+#: While touching, the finger rests (for the direction of a segment that forbids stillness)
+#: when its synthesised time changes by less than this fraction of one frame's pace.
+RESTING_OF_PACE = 0.25
 
 
 @dataclass
@@ -231,17 +234,28 @@ def recognise(actions: list[ActionModel], part: str, screen_path: np.ndarray,
 class ActionClock:
     """Generalised time of a running action (section 5, "posture synthesis during action control").
 
-    Each frame the time moves toward the synthesised time by at most ``MAX_PACE`` times the
-    recording's pace; where the segment forbids stillness it keeps running in the segment's
-    direction whatever the finger does (a kick in the air cannot stop or turn back), and it never
-    re-enters such a segment against its direction; once the finger lifts it runs in the segment's automatic
-    direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0 (cancelled).
+    While the finger touches, each frame the time moves toward the synthesised time by at most
+    ``MAX_PACE`` times the recording's pace, forward or backward as the finger leads ("stopped or
+    executed backward depending on the user's control"). Where the segment forbids stillness
+    it never stands: it runs at least at the recording's pace in the direction the time last
+    moved (``heading``), turned only by the finger moving back (its synthesised time changing
+    by more than ``RESTING_OF_PACE`` of a frame's pace that way and lying behind), so a kick in
+    the air held still runs on and one dragged back rewinds. It enters such a segment against its run only
+    while the finger moves that way (a finger resting in the still segment after the kick
+    does not pull the time back into the air). Once the finger lifts it runs in the segment's
+    automatic direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0
+    (cancelled). Against a clock whose segments without stillness always run their own way, strokes
+    dragged forward at their pace from four views measure the same (bench/touch_pose_turns.py:
+    every figure equal but the jump's largest joint turn per frame once lifted, 27.1 -> 27.3
+    degrees).
     """
 
     def __init__(self, action: ActionModel, u: float) -> None:
         self.action = action
         self.u = float(min(max(u, 0.0), 1.0))
         self.done = False
+        self.heading = 1            # an action is recognised from a drag forward
+        self._last_target: float | None = None
 
     def step(self, dt: float, target: float | None, touching: bool) -> float:
         """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint)."""
@@ -249,17 +263,28 @@ class ActionClock:
         seg = self.action.segment(self.u)
         if not touching or target is None:
             self.u += seg.direction * pace
+            self.heading = seg.direction
+            self._last_target = None
         else:
-            delta = target - self.u
-            step = float(np.clip(delta, -MAX_PACE * pace, MAX_PACE * pace))
+            moved = 0.0 if self._last_target is None else target - self._last_target
+            self._last_target = target
+            finger = int(np.sign(moved)) if abs(moved) > RESTING_OF_PACE * pace else 0
+            step = float(np.clip(target - self.u, -MAX_PACE * pace, MAX_PACE * pace))
             if not seg.still:
-                # no stillness here (a kick in the air): the time runs the segment's way, at
-                # least at the recording's pace, faster when the finger leads ahead
-                step = seg.direction * max(pace, step * seg.direction)
+                # no stillness here (a kick in the air): at least the recording's pace, turning
+                # only when the finger moves back and its synthesised time lies back there too
+                # (a finger slowing at the stroke's end jitters its time back a little while
+                # still ahead), faster when the finger leads further that way
+                if finger and finger != self.heading and np.sign(step) == finger:
+                    self.heading = finger
+                step = self.heading * max(pace, step * self.heading)
             new = self.u + step
             ahead = self.action.segment(min(max(new, 0.0), 1.0))
-            if not ahead.still and ahead is not seg and np.sign(step) != ahead.direction:
-                new = self.u  # never re-enter a segment that must not stop, against its run
+            if (not ahead.still and ahead is not seg and np.sign(step) != ahead.direction
+                    and finger != np.sign(step)):
+                new = self.u  # a resting finger does not pull the time into such a segment
+            if new != self.u:
+                self.heading = 1 if new > self.u else -1
             self.u = new
         if self.u >= 1.0 or self.u <= 0.0:
             self.u = min(max(self.u, 0.0), 1.0)

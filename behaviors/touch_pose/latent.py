@@ -16,6 +16,20 @@
   blended pose changes smoothly as a touch moves (measured: the blended hand moved by at most
   a few centimetres per centimetre of drag, against whole-pose jumps from one cell to the next).
 
+Weights and joint blend, measured (bench/touch_pose_blend.py; the blend's constraint distance
+on the held-out postures below, median / p90, m; a right-hand goal swept 0.6 m in 2 mm steps:
+steps where the blended hand moved over 5 times the goal's step, and its path per metre):
+1/(d+0.02)^1 0.063/0.183, 7 jumps, 1.77; ^2 with eps 0.005 / 0.02 / 0.05: 0.028/0.109 /
+0.035/0.116 / 0.044/0.134, 6 / 6 / 7 jumps, 1.54-1.56; ^4: 0.016/0.081, 4 jumps, 1.48;
+Gaussian exp(-(d/0.05)^2/2): 0.026/0.080, 6 jumps, 1.43; rotation vectors averaged about the
+heaviest sample instead of the normalised quaternion sum: 0.036/0.119, 6 jumps, 1.54 (no
+better; the sum is cheaper). The fourth power, the closest
+blend, was tried in the engine's posing: after IK the finger-to-part distances barely moved
+(bench/touch_pose_posing.py drags, p90 0.0027 -> 0.0025 and 0.0105 -> 0.0096 table m) while
+the largest output joint turn per frame in the bow (its posing drag switching into the action,
+bench/touch_pose_turns.py) rose 8.6 -> 11.7 degrees, and in the action models the kick's
+automatic run 31.9 -> 35.2 and spin kick's drag 69.9 -> 74.0; so the square is kept.
+
 Dimensions and grid, measured on 60 held-out postures (dance and walk frames between the
 samples) touched on 1, 2 or 3 parts from two views, as the blend's constraint distance before
 IK (median / 90th percentile, metres): 2-D with ~2 samples per cell 0.039 / 0.18; 2-D with ~4

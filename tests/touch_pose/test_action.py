@@ -160,3 +160,38 @@ def test_a_quick_drag_across_the_bow_does_not_start_it(make, models, pace):
         assert "bow" not in actions_begun(e, across, bow.stroke_t * pace), turn
     e = make(view=(90.0, 15.0), physics=False)
     assert "bow" in actions_begun(e, traj, bow.stroke_t * pace)    # the stroke itself still does
+
+
+def _there_and_back(engine, models, name, frac, back, rate=30.0, after=0.0):
+    """Drag ``name``'s stroke forward at its pace to ``frac`` of it, then back along it to
+    ``back`` of it at the same pace, lift, run ``after`` s; the output records and the time
+    the finger turned back (s)."""
+    desc = engine.describe()
+    traj = np.array(next(a for a in desc["actions"] if a["name"] == name)["trajectory"])
+    act = next(a for a in models.actions if a.name == name)
+    times = act.stroke_t
+    turn, end = frac * times[-1], (2 * frac - back) * times[-1]
+    recs, k = [], 0
+    while True:
+        t = k / rate
+        k += 1
+        if t > end + after:
+            return recs, turn
+        s = t if t <= turn else max(2 * turn - t, back * times[-1])
+        touches = {1: (float(np.interp(s, times, traj[:, 0])),
+                       float(np.interp(s, times, traj[:, 1])))} if t <= end else {}
+        recs.append(engine.step(t, touches))
+
+
+def test_a_drag_back_through_a_segment_without_stillness_rewinds_it(make, models):
+    # the walk's step (from 0.1 on) may not stand still, but the finger may take it back
+    e = make(view=(90.0, 15.0), physics=False)
+    walk = next(a for a in models.actions if a.name == "walk")
+    recs, turn = _there_and_back(e, models, "walk", frac=0.9, back=0.3)
+    u = [(r["t"], r["action_time"] / walk.duration) for r in recs if r["action"] == "walk"]
+    assert u and u[0][0] < turn, "the walk did not start during the drag forward"
+    peak = max(v for t, v in u if t <= turn + 0.1)
+    back = [v for t, v in u if t > turn + 0.1]
+    assert back and all(walk.segment(v).still is False for v in back[:3])
+    assert min(back) < peak - 0.15          # the drag back rewound the step
+    assert np.all(np.diff([v for t, v in u if t > turn + 0.2]) < 0)   # and it never stood

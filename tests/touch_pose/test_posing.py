@@ -2,10 +2,11 @@
 
 import numpy as np
 
-from behaviors.touch_pose.humanoid import PARTS, Camera
+from behaviors.touch_pose.humanoid import PARTS, Camera, yaw_of
 from behaviors.touch_pose.ik import MAX_CORRECTION
 from behaviors.touch_pose.latent import classical_mds, pose_distances
-from behaviors.touch_pose.samples import clip_named, clip_poses, place
+from behaviors.touch_pose.samples import (ROOT_REACH, ROOT_TURN, clip_named, clip_poses, place,
+                                          posing_samples)
 
 
 def _screen_error(engine, part, table_xy):
@@ -111,3 +112,34 @@ def test_joint_limits_clamp_one_by_one_and_together(models):
         body.clamp_many(many, list(range(13)))
         assert np.allclose(np.abs(np.einsum("ij,ij->i", one, many)), 1.0, atol=1e-9)
         assert body.violations(many) == []
+
+
+def test_posing_samples_keep_their_relative_pelvis_within_the_bounds(models):
+    """Section 4's relative pelvis position and heading, bounded (see samples' module doc)."""
+    body = models.body
+    moved = posing_samples(body, 0.15, np.radians(30.0))
+    offset = np.array([np.hypot(p.root[0], p.root[2]) for p in moved])
+    yaw = np.abs([yaw_of(p.rots[0]) for p in moved])
+    assert offset.max() <= 0.15 + 1e-9 and yaw.max() <= np.radians(30.0) + 1e-9
+    assert (offset > 0.1).sum() > 20 and (yaw > np.radians(15.0)).sum() > 10
+    # the model's samples: in place (ROOT_REACH, ROOT_TURN)
+    post = models.posing
+    assert np.hypot(post.roots[:, 0], post.roots[:, 2]).max() <= ROOT_REACH + 1e-9
+    assert max(abs(yaw_of(q)) for q in post.rots[:, 0]) <= ROOT_TURN + 1e-9
+    both = posing_samples(body, 0.15, np.radians(30.0), in_place_too=True)
+    assert len(moved) < len(both) < 2 * len(moved)   # the motions' samples twice
+
+
+def test_posing_never_walks_the_character_away(make):
+    e = make(view=(90.0, 15.0), physics=False)
+    parts = e.describe()["parts"]
+    home = {1: np.array(parts["right_hand"]), 2: np.array(parts["left_hand"]),
+            3: np.array(parts["left_foot"])}
+    far = 0.0
+    for k in range(240):   # 8 s of three fingers in wide circles
+        a = 2 * np.pi * k / 75
+        e.step(k / 30, {i: tuple(h + 0.06 * np.array([np.cos(a + i) - np.cos(i),
+                                                      np.sin(a + 2 * i) - np.sin(2 * i)]))
+                        for i, h in home.items()})
+        far = max(far, float(np.hypot(*(e.output.root[[0, 2]] - e.base))))
+    assert far <= ROOT_REACH + 0.01
