@@ -71,11 +71,14 @@ INPUT = Record({
                           doc="puck: metres it may wander (jitter) and still be resting"),
     "name": Optional_(Str(), doc="stream: its name on the bus"),
     "columns": Optional_(ListOf(Number(integer=True, lo=0), min_len=1), doc="stream: columns"),
+    "relative_to": Optional_(ListOf(Number(integer=True, lo=0), min_len=1, max_len=3),
+                             doc="stream: columns (root or head x, y[, z]) subtracted from "
+                                 "every group of as many columns"),
 })
 
 
 PUCK_KEYS = ("id", "features", "rest_time", "rest_radius")   # what a puck input alone reads
-STREAM_KEYS = ("name", "columns")                             # and a stream input
+STREAM_KEYS = ("name", "columns", "relative_to")              # and a stream input
 SKELETON_KEYS = ("skeleton", "view_yaw", "elevation", "travel")  # a skeleton character alone
 
 
@@ -97,6 +100,11 @@ def _check_input(value: dict, path: str, ctx: Context) -> None:
         raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
     if value["kind"] == "stream" and value["columns"] is None:
         raise ctx.error(f"{path}.columns", "a stream input needs its columns, e.g. [0, 1, 2]")
+    rel = value["relative_to"]
+    if rel is not None and len(value["columns"]) % len(rel):
+        raise ctx.error(f"{path}.relative_to", f"{len(rel)} column(s) are subtracted from each "
+                        f"group of as many of columns' {len(value['columns'])}: give columns "
+                        f"in groups of {len(rel)}")
 
 
 INPUT.check = _check_input
@@ -314,7 +322,7 @@ def _make_performer(p: dict) -> Performer:
         elif i["kind"] == "touch":
             inputs.append(TouchInput("touch_" if many else ""))
         else:
-            inputs.append(StreamInput(i["name"], i["columns"]))
+            inputs.append(StreamInput(i["name"], i["columns"], relative_to=i["relative_to"]))
     names = [n for i in inputs for n in i.names]
     if len(set(names)) != len(names):
         raise MopError(f"performer {p['name']!r}: two inputs give the same feature names {names}")
