@@ -37,7 +37,8 @@ class GroupsByParameters:
     def step(self, samples: Sequence[np.ndarray]) -> list[FollowState]:
         out: list[FollowState | None] = [None] * len(samples)
         for part, group in zip(self._parts, self._groups):
-            for i, state in zip(part, group.step([samples[i] for i in part])):  # type: ignore[attr-defined]
+            states = group.step([samples[i] for i in part])  # type: ignore[attr-defined]
+            for i, state in zip(part, states):
                 out[i] = state
         return out  # type: ignore[return-value]
 

@@ -114,6 +114,7 @@ class MopStage(DesignerTakes):
         self.building = False               # a rebuild runs in the worker
         #: character -> the window the studio set (its performer's follower reaches it)
         self.windows: dict[str, int] = dict(windows or {})
+        self.default_window = 15             # the followers' window when none is set (config's)
         self._retrain()
         self._next_t: float | None = None
         self.take: Take | None = None       # the designer's take (recording or pending)
@@ -205,6 +206,16 @@ class MopStage(DesignerTakes):
         routes = self._routes if routes is None else routes
         set_ = [self.windows[c] for c, _, _ in routes.get(performer, ()) if c in self.windows]
         return max(set_) if set_ else None
+
+    def window(self, character: str) -> int:
+        """The window (p, states) ``character``'s follower reaches now: the one the studio set,
+        else its performer's follower's (:attr:`default_window` while it has none)."""
+        if character in self.windows:
+            return self.windows[character]
+        f = self._followers.get(self.performer_of(character))
+        if f is None:
+            return self.default_window
+        return int(f.forward.half_window)  # type: ignore[attr-defined]
 
     def set_window(self, character: str, window: int | None) -> None:
         """``character`` follows with ``window`` (None: the config's); its performer's follower

@@ -440,6 +440,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                      make_group=grouped(FollowerGroup), windows=windows,
                      taken=(lambda character: library_names(library, character))
                      if library is not None else None)
+    stage.default_window = fo["window"]
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
     stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read

@@ -181,11 +181,7 @@ class MopTarget:
     @property
     def window(self) -> int:
         """The window (p, states either side of the progress) the character's follower reaches."""
-        st = self.stage
-        if self.character in st.windows:
-            return st.windows[self.character]
-        f = st._followers.get(st.performer_of(self.character))
-        return int(f._params["window"]) if f is not None else 0
+        return self.stage.window(self.character)
 
     def step_window(self, sign: int) -> str:
         """+/-: the character's window by :data:`WINDOW_STEP` states within the config's range

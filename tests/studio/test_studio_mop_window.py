@@ -44,6 +44,12 @@ def test_plus_and_minus_step_the_window_rebuild_the_followers_and_save_it(tmp_pa
         run = table.perform("circle", speed=lambda u: 2.0)
         valid = np.mean([c["face"].valid and c["face"].action == "circle" for _, c in run])
         assert share[0] <= valid <= share[1], (w, valid)
+    # the lizard steps from the window of the hand's follower it shares (15); with no action
+    # yet it drives nothing, so the follower keeps the face's window, the larger once it does
+    table.tick(["designer.window:+"], focus="mop/lizard")
+    assert "lizard: window 20 states" in table.status and _window(engine) == 15, table.status
+    engine.set_window("face", 25)
+    assert _window(engine) == 25
 
 
 def test_characters_of_two_performers_follow_with_their_own_windows(tmp_path):
