@@ -8,7 +8,8 @@ keys into operator commands, saves snapshots and shows the operator overlay.
 Keys: Esc or closing the window ends the run; F1 or O toggles the overlay; R, K, X, Tab and A send
 ``designer.record``, ``designer.keep``, ``designer.discard``, ``designer.next`` and
 ``designer.assign`` to the engines; U, Delete, ] and [ send the studio's ``designer.undo``,
-``designer.delete``, ``designer.item_next`` and ``designer.item_previous``; F2 types a new name.
+``designer.delete``, ``designer.item_next`` and ``designer.item_previous``; + and - send
+``designer.window:+`` and ``:-`` (a MOP character's follower window); F2 types a new name.
 """
 
 from __future__ import annotations
@@ -47,6 +48,9 @@ KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
                 pygame.K_a: "designer.assign", pygame.K_u: "designer.undo",
                 pygame.K_DELETE: "designer.delete", pygame.K_RIGHTBRACKET: "designer.item_next",
                 pygame.K_LEFTBRACKET: "designer.item_previous",
+                pygame.K_EQUALS: "designer.window:+", pygame.K_PLUS: "designer.window:+",
+                pygame.K_KP_PLUS: "designer.window:+", pygame.K_MINUS: "designer.window:-",
+                pygame.K_KP_MINUS: "designer.window:-",
                 # the virtual camera of touch-posed characters
                 pygame.K_LEFT: "camera.left", pygame.K_RIGHT: "camera.right",
                 pygame.K_UP: "camera.up", pygame.K_DOWN: "camera.down"}

@@ -133,12 +133,25 @@ class TouchInput:
 
 
 class StreamInput:
-    """Chosen columns of a named motion-capture stream (all columns when ``columns`` is None).
-    NaN while the stream is absent or too short."""
+    """Chosen columns of a named motion-capture stream. NaN while the stream is absent or too
+    short.
 
-    def __init__(self, stream: str, columns: Sequence[int], prefix: str = "") -> None:
+    ``relative_to``: columns of the same stream (a root's or a head's x, y[, z]) subtracted from
+    every group of as many chosen columns, sample by sample, so a body's joints read in the
+    root's frame and a face's points in the head's (MOP's paper, 3.1.1: the user's root position
+    is not included; face features are local to the head). Without it a stream in world
+    coordinates carries the performer's walking into every feature: performed while walking
+    0.5 m sideways, a circle and a wave drove their character 0% of their second half, and 100%
+    read relative to the root, as in place (``tests/mop/test_stream_relative.py``)."""
+
+    def __init__(self, stream: str, columns: Sequence[int], prefix: str = "",
+                 relative_to: Sequence[int] | None = None) -> None:
         self.stream = stream
         self.columns = np.asarray(columns, dtype=int)
+        self.relative_to = None if not relative_to else np.asarray(relative_to, dtype=int)
+        if self.relative_to is not None and len(self.columns) % len(self.relative_to):
+            raise ClipError(f"stream {stream!r}: {len(self.columns)} column(s) do not split into "
+                            f"groups of {len(self.relative_to)} (relative_to's columns)")
         self.names = tuple(f"{prefix}{stream}_{c}" for c in columns)
         #: A stream's columns have no known units: the follower takes them from the templates.
         self.units = None
@@ -146,15 +159,23 @@ class StreamInput:
         self.jitter = None
         #: Why the stream cannot be read (it has too few columns), or None.
         self.problem: str | None = None
+        #: every column read: the chosen ones, then relative_to's others
+        self._read = [int(c) for c in self.columns] + [
+            int(c) for c in (() if self.relative_to is None else self.relative_to)
+            if c not in self.columns]
 
     def read(self, frame: object, t: float) -> np.ndarray:
         a = getattr(frame, "streams", {}).get(self.stream)
-        short = a is not None and a.size <= int(self.columns.max())
+        short = a is not None and a.size <= max(self._read)
         self.problem = (f"stream {self.stream!r} has {a.size} column(s), reads column(s) "
-                        f"{', '.join(str(c) for c in self.columns)}") if short else None
+                        f"{', '.join(str(c) for c in self._read)}") if short else None
         if a is None or short:
             return np.full(len(self.columns), np.nan)
-        return np.asarray(a, dtype=float)[self.columns]
+        a = np.asarray(a, dtype=float)
+        x = a[self.columns]
+        if self.relative_to is not None:
+            x = (x.reshape(-1, len(self.relative_to)) - a[self.relative_to]).ravel()
+        return x
 
     #: A stream has no notion of rest: its performer is always performing.
     resting = False

@@ -75,7 +75,8 @@ class MopStage(DesignerTakes):
     motion) -> Clip``; ``save(character, action, samples, feature names, motion) -> message``;
     ``taken(character)``: the names ``save`` holds already (a new take is named none of them);
     ``make_group(followers)`` (optional) steps all followers together, e.g.
-    :class:`~behaviors.mop.group.FollowerGroup`.
+    :class:`~behaviors.mop.group.FollowerGroup`; ``windows``: character -> the follower's window
+    set in the studio (:meth:`set_window`).
     """
 
     def __init__(self, name: str, rate_hz: float, performers: Mapping[str, Performer],
@@ -85,7 +86,8 @@ class MopStage(DesignerTakes):
                  character_performer: Mapping[str, str] | None = None,
                  max_catch_up: int = 4,
                  make_group: Callable[[list], object] | None = None,
-                 taken: Callable[[str], Iterable[str]] | None = None) -> None:
+                 taken: Callable[[str], Iterable[str]] | None = None,
+                 windows: Mapping[str, int] | None = None) -> None:
         self.name = name
         self.rate_hz = float(rate_hz)
         self.performers = dict(performers)
@@ -113,6 +115,9 @@ class MopStage(DesignerTakes):
         self._told: set[str] = set()        # input problems logged (once each)
         self.worker: Worker | None = None   # set: followers rebuilt off the hot path
         self.building = False               # a rebuild runs in the worker
+        #: character -> the window the studio set (its performer's follower reaches it)
+        self.windows: dict[str, int] = dict(windows or {})
+        self.default_window = 15             # the followers' window when none is set (config's)
         self._retrain()
         self._next_t: float | None = None
         self.take: Take | None = None       # the designer's take (recording or pending)
@@ -184,15 +189,45 @@ class MopStage(DesignerTakes):
     def _build(self, plan: tuple[dict, dict]) -> tuple:
         """The followers of a :meth:`_plan` (pure: may run in the worker)."""
         routes, by_performer = plan
-        followers = {performer: self.make_follower(templates, self.performers[performer].units,
-                                                   self.performers[performer].min_scale)
-                     for performer, templates in by_performer.items()}
+        followers = {}
+        for performer, templates in by_performer.items():
+            window = self.window_of(performer, routes)
+            more = {} if window is None else {"window": window}
+            followers[performer] = self.make_follower(
+                templates, self.performers[performer].units, self.performers[performer].min_scale,
+                **more)
         gate_onsets(followers, self.performers)   # hinted from the rest's end (mop.hints)
         # every follower stepped in one vectorised pass
         keys = list(followers)
         group = (self.make_group([followers[k] for k in keys])
                  if self.make_group is not None and keys else None)
         return routes, followers, keys, group
+
+    def window_of(self, performer: str, routes: dict | None = None) -> int | None:
+        """The window (p, states) ``performer``'s follower reaches: the largest the studio set
+        for a character it drives (:attr:`windows`), None for the config's."""
+        routes = self._routes if routes is None else routes
+        set_ = [self.windows[c] for c, _, _ in routes.get(performer, ()) if c in self.windows]
+        return max(set_) if set_ else None
+
+    def window(self, character: str) -> int:
+        """The window (p, states) ``character``'s follower reaches now: the one the studio set,
+        else its performer's follower's (:attr:`default_window` while it has none)."""
+        if character in self.windows:
+            return self.windows[character]
+        f = self._followers.get(self.performer_of(character))
+        if f is None:
+            return self.default_window
+        return int(f.forward.half_window)  # type: ignore[attr-defined]
+
+    def set_window(self, character: str, window: int | None) -> None:
+        """``character`` follows with ``window`` (None: the config's); its performer's follower
+        is rebuilt at once."""
+        if window is None:
+            self.windows.pop(character, None)
+        else:
+            self.windows[character] = int(window)
+        self._retrain(character)
 
     # --- the actions (a designer take puts its own: behaviors.mop.takes) ----------------------
 

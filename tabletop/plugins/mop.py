@@ -47,7 +47,8 @@ from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_files import (MopError, MotionLoader, library_actions, library_names,
-                                        load_template, resolve_motion, save_to_library)
+                                        load_template, read_window, resolve_motion,
+                                        save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
@@ -57,6 +58,8 @@ from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_,
 #: The creature's point its face rides on in a hybrid character (its nose).
 HYBRID_HEAD = 3
 PUCK_FEATURES = ("dx", "dy", "heading", "speed")
+#: The follower's window (p, states) a config or the studio may set.
+WINDOW_RANGE = (1, 10_000)
 
 log = logging.getLogger("tabletop")
 
@@ -71,11 +74,14 @@ INPUT = Record({
                           doc="puck: metres it may wander (jitter) and still be resting"),
     "name": Optional_(Str(), doc="stream: its name on the bus"),
     "columns": Optional_(ListOf(Number(integer=True, lo=0), min_len=1), doc="stream: columns"),
+    "relative_to": Optional_(ListOf(Number(integer=True, lo=0), min_len=1, max_len=3),
+                             doc="stream: columns (root or head x, y[, z]) subtracted from "
+                                 "every group of as many columns"),
 })
 
 
 PUCK_KEYS = ("id", "features", "rest_time", "rest_radius")   # what a puck input alone reads
-STREAM_KEYS = ("name", "columns")                             # and a stream input
+STREAM_KEYS = ("name", "columns", "relative_to")              # and a stream input
 SKELETON_KEYS = ("skeleton", "view_yaw", "elevation", "travel")  # a skeleton character alone
 
 
@@ -97,6 +103,11 @@ def _check_input(value: dict, path: str, ctx: Context) -> None:
         raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
     if value["kind"] == "stream" and value["columns"] is None:
         raise ctx.error(f"{path}.columns", "a stream input needs its columns, e.g. [0, 1, 2]")
+    rel = value["relative_to"]
+    if rel is not None and len(value["columns"]) % len(rel):
+        raise ctx.error(f"{path}.relative_to", f"{len(rel)} column(s) are subtracted from each "
+                        f"group of as many of columns' {len(value['columns'])}: give columns "
+                        f"in groups of {len(rel)}")
 
 
 INPUT.check = _check_input
@@ -139,7 +150,7 @@ CHARACTER = Record({
 
 FOLLOWER = Record({
     "sigma": Number(0.2, lo=1e-3, hi=100.0),
-    "window": Number(15, integer=True, lo=1, hi=10_000),
+    "window": Number(15, integer=True, lo=WINDOW_RANGE[0], hi=WINDOW_RANGE[1]),
     "transitions": ListOf(Number(lo=0.0), default=[0.3, 0.35, 0.25, 0.1], min_len=1),
     "backward": Number(0.1, lo=0.0),
     "restart": Number(1e-4, lo=0.0, hi=0.5),
@@ -314,7 +325,7 @@ def _make_performer(p: dict) -> Performer:
         elif i["kind"] == "touch":
             inputs.append(TouchInput("touch_" if many else ""))
         else:
-            inputs.append(StreamInput(i["name"], i["columns"]))
+            inputs.append(StreamInput(i["name"], i["columns"], relative_to=i["relative_to"]))
     names = [n for i in inputs for n in i.names]
     if len(set(names)) != len(names):
         raise MopError(f"performer {p['name']!r}: two inputs give the same feature names {names}")
@@ -346,6 +357,7 @@ def _check_shared_library(options: dict, ctx: BuildContext) -> None:
 def build(options: dict, ctx: BuildContext) -> MopStage:
     from behaviors.mop.follower import ActionFollower
     from behaviors.mop.group import FollowerGroup
+    from behaviors.mop.group_split import grouped
     _check_shared_library(options, ctx)
     rate = float(options["rate_hz"])
     fo = options["follower"]
@@ -359,13 +371,14 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                   max_spread=fo["max_spread"],
                   relative_floor=fo["relative_floor"])
 
-    def make_follower(templates, units=None, min_scale=None):
+    def make_follower(templates, units=None, min_scale=None, window=None):
         # size, place and direction of motion only where the features' units are known (puck
         # and touch paths); a stream's columns are followed as recorded
         spatial = units is not None
         invariance = fo["invariance"] if fo["invariance"] != "auto" else ("scale" if spatial else "none")
         return ActionFollower(templates, units=units, invariance=invariance, min_scale=min_scale,
-                              tangent=fo["tangent"] if spatial else 0.0, **params)
+                              tangent=fo["tangent"] if spatial else 0.0,
+                              **dict(params, window=window or params["window"]))
 
     performers = {p["name"]: _make_performer(p) for p in options["performers"]}
     library: Path | None = options["library"]
@@ -374,6 +387,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     problems: dict[str, list[str]] = {}      # each character's bad library files (skipped)
     loaded: dict[str, list[str]] = {}        # each character's actions from the library
     read: dict[str, tuple] = {}              # its folder's signature: the studio's first baseline
+    windows: dict[str, int] = {}             # the follower windows the studio saved
     configured = {c["name"]: {a["name"] for a in c["actions"]} for c in options["characters"]}
     for c in options["characters"]:
         rig = _make_rig(c)
@@ -393,12 +407,19 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
             tmpl[a["name"]] = (a["performer"], load_template(Path(a["template"]), performer.names, rate))
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
+            try:
+                window = read_window(library, c["name"], *WINDOW_RANGE)
+            except MopError as exc:
+                problems.setdefault(c["name"], []).append(str(exc))
+                window = None
+            if window is not None:
+                windows[c["name"]] = window
             kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
                                         rate, loader, configured[c["name"]])
             for action, samples in kept:
                 actions.append(action)
                 tmpl[action.name] = (c["performer"], samples)
-            problems[c["name"]] = bad
+            problems[c["name"]] = problems.get(c["name"], []) + bad
             loaded[c["name"]] = [a.name for a, _ in kept]
         at = c["at"] or [w / 2, h / 2]
         try:
@@ -415,9 +436,11 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
 
     stage = MopStage(options["name"], rate, performers, puppets, templates, make_follower,
                      motions, lambda character, motion: loaders[character](motion),
-                     save if library is not None else None, bound, make_group=FollowerGroup,
+                     save if library is not None else None, bound,
+                     make_group=grouped(FollowerGroup), windows=windows,
                      taken=(lambda character: library_names(library, character))
                      if library is not None else None)
+    stage.default_window = fo["window"]
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
     stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read

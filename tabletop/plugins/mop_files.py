@@ -222,8 +222,32 @@ def library_lock(folder: Path, character: str) -> ContextManager[None]:
     return exclusive(d / LIBRARY_FILE, wait_s=LIBRARY_WAIT_S)
 
 
-def write_library(folder: Path, character: str, entries: list[dict[str, str]]) -> None:
-    """Write ``character``'s actions.yaml atomically (its :func:`library_lock` held)."""
+def write_library(folder: Path, character: str, entries: list[dict[str, str]],
+                  window: int | None | type[Ellipsis] = ...) -> None:
+    """Write ``character``'s actions.yaml atomically (its :func:`library_lock` held), with the
+    follower's ``window`` the studio set (``...``: the one the file has; None: none)."""
     import yaml
-    atomic_write_text(folder / character / LIBRARY_FILE,
-                      yaml.safe_dump({"actions": entries}, sort_keys=False))
+    if window is ...:
+        window = read_window(folder, character)
+    data: dict = {"actions": entries}
+    if window is not None:
+        data["window"] = int(window)
+    atomic_write_text(folder / character / LIBRARY_FILE, yaml.safe_dump(data, sort_keys=False))
+
+
+def read_window(folder: Path, character: str, lo: int = 1, hi: int = 10_000) -> int | None:
+    """The follower's window (states) the studio saved in ``character``'s actions.yaml, None
+    when it has none or the file cannot be read (:func:`read_library` says why); one out of
+    ``lo``..``hi`` or not an integer is refused naming the file."""
+    import yaml
+    f = folder / character / LIBRARY_FILE
+    try:
+        data = yaml.safe_load(f.read_text(encoding="utf-8")) if f.is_file() else None
+    except (OSError, UnicodeDecodeError, yaml.YAMLError):
+        return None
+    w = data.get("window") if isinstance(data, dict) else None
+    if w is None:
+        return None
+    if isinstance(w, bool) or not isinstance(w, int) or not lo <= w <= hi:
+        raise MopError(f"{f}: window: expected a whole number of states in {lo}..{hi}, got {w!r}")
+    return w

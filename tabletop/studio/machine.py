@@ -19,6 +19,8 @@ Commands (keys through the view, control markers through :class:`Markers`):
 ``designer.discard``    drop it, back to what played before
 ``designer.redo``       drop it and record again
 ``designer.assign``     the target's own choice (MOP: the motion a take plays)
+``designer.window:+``   MOP: the character's follower window a step wider (``:-`` narrower),
+                        idle or trying; saved with the character
 ``designer.item_next``  play the next (``item_previous``: previous) library item (not mid-take,
                         nor while a take is tried)
 ``designer.rename:NEW`` rename the item in play
@@ -311,6 +313,16 @@ class Studio(LibraryCommands):
             self.say(fn())
         else:           # said, so that the key is not taken for broken
             self.say(f"A: a {target.what} has no motion to assign (MOP actions do)")
+
+    def _window(self, target: Target, arg: str) -> None:
+        """+/-: the focused character's follower window (MOP), while nothing is recorded."""
+        fn = getattr(target, "step_window", None)
+        if fn is None:
+            self.say(f"+/-: a {target.what} has no follower window (MOP actions do)")
+        elif self.state not in ("idle", "trying"):
+            self.say("+/-: the window changes between takes, not while one is recorded")
+        else:
+            self.say(fn(-1 if arg == "-" else 1))
 
     def close(self) -> None:
         """The studio stops (Esc, the end of a run): a take under way is dropped, and one tried

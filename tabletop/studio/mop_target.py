@@ -24,6 +24,10 @@ if TYPE_CHECKING:
     from behaviors.mop.stage import MopStage
 
 
+#: States the studio's +/- keys step a character's window by.
+WINDOW_STEP = 5
+
+
 class MopTarget:
     """One character of a MOP engine (``ENGINE/CHARACTER``) as a studio target: its takes are
     recorded, trained and kept by the stage's take API (:class:`behaviors.mop.stage.MopStage`,
@@ -184,11 +188,40 @@ class MopTarget:
 
     def shown(self) -> str | None:
         """The kept action selected, as the idle line names it; with none, the actions the
-        character knows (its config's), which it plays with no take kept."""
+        character knows (its config's), which it plays with no take kept; then the window its
+        follower reaches (+/- step it)."""
+        window = f", window {self.window} (+/-)"
         if self.kept is not None:
-            return self.kept
+            return self.kept + window
         known = sorted(self.stage.templates.get(self.character, {}))
-        return f"(none selected; it knows {', '.join(known)})" if known else None
+        return f"(none selected; it knows {', '.join(known)}){window}" if known else None
+
+    @property
+    def window(self) -> int:
+        """The window (p, states either side of the progress) the character's follower reaches."""
+        return self.stage.window(self.character)
+
+    def step_window(self, sign: int) -> str:
+        """+/-: the character's window by :data:`WINDOW_STEP` states within the config's range
+        (the paper's Evaluation: the user "might need to adjust the window size"); its
+        performer's follower is rebuilt at once, and the window saved in the character's
+        actions.yaml (atomically), read at the next start."""
+        from tabletop.plugins.mop import WINDOW_RANGE
+        lo, hi = WINDOW_RANGE
+        old = self.window
+        new = min(hi, max(lo, old + sign * WINDOW_STEP))
+        if self.lib is not None and new != old:
+            from tabletop.plugins.mop_files import write_library
+            with self._locked():
+                write_library(self.lib, self.character, self._entries(), window=new)
+            if self._poller is not None:
+                self._poller.signature = tree_signature(self._poller.path)
+        if new != old:
+            self.stage.set_window(self.character, new)
+        where = (f"saved in {named_folder(self.lib / self.character, self.base)}"
+                 if self.lib is not None else "for this run only (no library)")
+        edge = " (its limit)" if new == old else ""
+        return f"{self.character}: window {new} states{edge}, {where}"
 
     def use(self, name: str) -> None:
         self.kept = name     # every kept action of a character plays; this one is selected
