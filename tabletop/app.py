@@ -173,7 +173,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
                wrap_source: Callable[[Any, dict], Any] | None = None,
                header_extra: dict[str, Any] | None = None,
                prepared: tuple[BuildContext, list[Engine]] | None = None,
-               strict: bool = False) -> Installation:
+               strict: bool = False, kiosk_start: bool = False) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
 
     ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
@@ -181,8 +181,11 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
     ``header_extra``: more keys for a recording's header (the studio's). ``prepared``: the
     context and engines already built for ``cfg`` (a kiosk's warm spare). ``strict``: refuse a
-    recorder ``max_mb`` below the header (a start outside a kiosk; see :func:`build_recorder`)."""
+    recorder ``max_mb`` below the header (a start outside a kiosk; see :func:`build_recorder`).
+    ``kiosk_start``: a behaviour folder holding a bad file starts its character without it
+    (:func:`tabletop.plugins.puppet_master.build`) instead of refusing the installation."""
     ctx = _context(cfg) if prepared is None else prepared[0]
+    ctx.shared["kiosk_start"] = kiosk_start
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     if clock is not None:

@@ -6,7 +6,7 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
      "mode" ("live" | "attract" | "one_moment"; "stopped" in the file a kiosk that ended on
      purpose leaves), "unhealthy_sources",
      "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink failures so far),
-     "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
+     "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad), "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
      "config" (file), "config_error" (the last refused edit, or null), "studio" (or null)}
 
 Every ``every_s`` it is written atomically to the status file (in a writer thread: the frame loop
