@@ -197,6 +197,10 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
         sources = [wrap_source(src, entry) for src, entry in zip(sources, cfg["sources"])]
     ctx.shared["sources"] = sources
     engines = build_engines(cfg, ctx) if prepared is None else prepared[1]
+    # characters a kiosk started without their bad behaviour: a replay starts them so too
+    without = {e.name: e.problem for e in engines if getattr(e, "problem", "")}
+    if without:
+        header_extra = {**(header_extra or {}), "started_without": without}
     header = None
     if header_extra:
         from tabletop.recorder import session_header
@@ -219,6 +223,8 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
     """Recorded frames fed through the engines and sinks of the recorded config; ``header``
     (the recording's) gives the calibration and heads a new recording made with ``record_path``."""
     ctx = _context(cfg, (header or {}).get("calibration"))
+    without = (header or {}).get("started_without")
+    ctx.shared["started_without"] = set(without) if isinstance(without, dict) else set()
     stats, commands, stop = LoopStats(), CommandQueue(), threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     # A replay records only to --out, in one file (the comparison of a whole session).

@@ -318,7 +318,8 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                                         f"{exc}") from None
             bname = stored.name
         except InputError as exc:
-            if not ctx.shared.get("kiosk_start"):
+            if not (ctx.shared.get("kiosk_start")      # a replay: as the recorded start did
+                    or options["name"] in ctx.shared.get("started_without", ())):
                 raise
             problem = _start_without(options["name"], exc)
     designer = dict(options["designer"])

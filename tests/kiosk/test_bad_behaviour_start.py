@@ -1,6 +1,7 @@
 """A kiosk started (a reboot, a restart) while a behaviour folder holds a corrupt file: the table
 runs, the character waits without its behaviour, the status names the file, and fixing the file
-on disk plays it. Outside a kiosk the same start is refused, naming the file."""
+on disk plays it; its recording replays to the same characters. Outside a kiosk the same start
+is refused, naming the file."""
 
 import json
 import shutil
@@ -13,6 +14,7 @@ import yaml
 from tabletop.config import load_config
 from tabletop.frames import InputError
 from tabletop.kiosk.runner import Runner
+from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.tracking.scenes import wait_for
 
 LOVER = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
@@ -64,7 +66,9 @@ def _status(path: Path) -> dict:
 def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_path, caplog):
     cfg_path = _config(tmp_path)
     good = _corrupt(tmp_path / "lover")
-    runner = Runner(cfg_path, load_config(cfg_path), headless=True, kiosk=True)
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, load_config(cfg_path), headless=True, kiosk=True,
+                    record_path=session)
     inst = runner._build(runner.cfg)
     engine = inst.engines[0]
     assert engine.reactor is None and "demonstration.csv" in engine.note
@@ -86,6 +90,17 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
     finally:
         inst.loop.stop.set()
         th.join(10)
+    # the replay starts the character without its behaviour too (the header's started_without)
+    # and trains the fixed folder in the frame the live run did
+    done = replay_cli(session, tmp_path / "replayed.jsonl")
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
+    assert len(live) == len(again) > 30
+
+    def drawn(f):   # (a label naming the bad file names it where each run read it)
+        return [{k: v for k, v in c.items() if k != "label"} for c in f["characters"]]
+    assert [drawn(f) for f in live] == [drawn(f) for f in again]
+    assert not live[0]["characters"][0]["valid"] and live[-1]["characters"][0]["valid"]
 
 
 def test_outside_a_kiosk_a_corrupt_behaviour_stops_the_start_naming_the_file(tmp_path):
