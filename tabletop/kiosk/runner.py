@@ -18,7 +18,7 @@ from tabletop.frames import Frame, InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
 from tabletop.kiosk.health import (Heartbeat, HealthReporter, WatchdogPing,
-                                   recording_status)
+                                   recording_status, snapshot_status)
 from tabletop.kiosk.notify import Notifier
 from tabletop.kiosk.supervisor import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
@@ -199,6 +199,7 @@ class Runner:
                 view.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
         if self.kiosk:
             extra.append(recording_status(inst.recorder))
+            extra.append(snapshot_status(view))
             self._health(inst, cfg, extra)
         if view is not None:
             view.notices.append(lambda: ["config edit waits: K keeps the take, X drops it"]
