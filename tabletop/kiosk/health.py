@@ -4,7 +4,8 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
 
     {"name", "host", "pid", "version", "time" (UTC ISO 8601), "uptime_s", "fps", "ticks",
      "mode" ("live" | "attract" | "one_moment"; "stopped" in the file a kiosk that ended on
-     purpose leaves), "unhealthy_sources",
+     purpose leaves; "restarting", with "crash", written by the supervisor after a crash:
+     :func:`tabletop.kiosk.crash_log.restarting_status`), "unhealthy_sources",
      "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink failures so far),
      "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad), "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
      "config" (file), "config_error" (the last refused edit, or null), "studio" (or null),
