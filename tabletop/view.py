@@ -298,10 +298,10 @@ def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],
 def check_driver() -> None:
     """Refuse (InputError) a display that is named (``DISPLAY``, ``WAYLAND_DISPLAY``) but
     cannot be opened, such as an X server that died or restarts: SDL then falls back to its
-    offscreen driver, and the view drew into no window while the status said "live"
-    (measured: Xvfb killed under a kiosk; the restarted installation ran offscreen at 29 fps
-    for good, and never opened the window when the server was back). Refused, a kiosk's
-    supervisor restarts the installation until the display opens."""
+    offscreen driver, which would draw into no window while the status says "live" (Xvfb
+    killed under a kiosk: the restarted installation ran offscreen at 29 fps and did not open
+    the window when the server was back). Refused, a kiosk's supervisor restarts the
+    installation until the display opens."""
     driver = pygame.display.get_driver()
     if driver not in ("offscreen", "dummy"):
         return

@@ -58,9 +58,9 @@ def restarting_status(name: str, crashes: int, what: str, ran_s: float,
     """The status the supervisor writes after a crash, until the next installation writes its
     own: ``mode`` "restarting" and ``crash`` naming what befell it after ``ran_s`` seconds with
     its last error line (the last ``tabletop`` line of its stderr ``tail``, else its last
-    line). Without it the status file held the last installation's own words ("live", or
-    "stopped" from a kiosk that ended on purpose) while a kiosk whose every start failed
-    restarted for ever; the heartbeat only fell silent."""
+    line). Without it the status file would hold the last installation's own words ("live",
+    or "stopped" from a kiosk that ended on purpose) while a kiosk whose every start fails
+    restarts for ever, its heartbeat silent."""
     lines = [t.strip() for t in tail if t.strip()]
     said = [t for t in lines if t.startswith("tabletop")]
     last = (said or lines or [""])[-1]
