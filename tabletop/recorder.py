@@ -91,6 +91,7 @@ class Recorder(Syncer):
         else:
             self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"
         self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
+        self.max_mb = max_mb   # as given, for the log (max_bytes / MB reads 0.299999 for 0.3)
         self.keep, self.max_queue = keep, max(1, int(max_queue))
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0                  # frames written
@@ -161,7 +162,7 @@ class Recorder(Syncer):
             log.info("recording resumes in %s (it stopped: %s)", candidate, resumed)
         elif previous is not None:
             log.info("recording continues in %s (%s reached %g MB)", candidate, previous,
-                     self.max_bytes / MB)
+                     self.max_mb)
         elif self.stem is not None and candidate.name != f"{self.stem}{self.suffix}":
             log.info("recording to %s (%s%s exists and is never overwritten)", candidate,
                      self.stem, self.suffix)
