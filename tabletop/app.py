@@ -179,7 +179,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
                wrap_source: Callable[[Any, dict], Any] | None = None,
                header_extra: dict[str, Any] | None = None,
                prepared: tuple[BuildContext, list[Engine]] | None = None,
-               strict: bool = False) -> Installation:
+               strict: bool = False, kiosk_start: bool = False) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
 
     ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
@@ -187,8 +187,11 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
     ``header_extra``: more keys for a recording's header (the studio's). ``prepared``: the
     context and engines already built for ``cfg`` (a kiosk's warm spare). ``strict``: refuse a
-    recorder ``max_mb`` below the header (a start outside a kiosk; see :func:`build_recorder`)."""
+    recorder ``max_mb`` below the header (a start outside a kiosk; see :func:`build_recorder`).
+    ``kiosk_start``: a behaviour folder holding a bad file starts its character without it
+    (:func:`tabletop.plugins.puppet_master.build`) instead of refusing the installation."""
     ctx = _context(cfg) if prepared is None else prepared[0]
+    ctx.shared["kiosk_start"] = kiosk_start
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     if clock is not None:
@@ -200,6 +203,10 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
         sources = [wrap_source(src, entry) for src, entry in zip(sources, cfg["sources"])]
     ctx.shared["sources"] = sources
     engines = build_engines(cfg, ctx) if prepared is None else prepared[1]
+    # characters a kiosk started without their bad behaviour: a replay starts them so too
+    without = {e.name: e.problem for e in engines if getattr(e, "problem", "")}
+    if without:
+        header_extra = {**(header_extra or {}), "started_without": without}
     header = None
     if header_extra:
         from tabletop.recorder import session_header
@@ -222,6 +229,8 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
     """Recorded frames fed through the engines and sinks of the recorded config; ``header``
     (the recording's) gives the calibration and heads a new recording made with ``record_path``."""
     ctx = _context(cfg, (header or {}).get("calibration"))
+    without = (header or {}).get("started_without")
+    ctx.shared["started_without"] = set(without) if isinstance(without, dict) else set()
     stats, commands, stop = LoopStats(), CommandQueue(), threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     # A replay records only to --out, in one file (the comparison of a whole session).

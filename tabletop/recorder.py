@@ -91,6 +91,7 @@ class Recorder(Syncer):
         else:
             self.folder, self.stem, self.suffix = Path(folder), None, ".jsonl"
         self.max_bytes = None if max_mb is None else max(1, int(max_mb * MB))
+        self.max_mb = max_mb   # as given, for the log (max_bytes / MB reads 0.299999 for 0.3)
         self.keep, self.max_queue = keep, max(1, int(max_queue))
         self.paths: list[Path] = []      # every file of this session, in order
         self.frames = 0                  # frames written
@@ -161,7 +162,7 @@ class Recorder(Syncer):
             log.info("recording resumes in %s (it stopped: %s)", candidate, resumed)
         elif previous is not None:
             log.info("recording continues in %s (%s reached %g MB)", candidate, previous,
-                     self.max_bytes / MB)
+                     self.max_mb)
         elif self.stem is not None and candidate.name != f"{self.stem}{self.suffix}":
             log.info("recording to %s (%s%s exists and is never overwritten)", candidate,
                      self.stem, self.suffix)
@@ -203,13 +204,17 @@ class Recorder(Syncer):
 
     def _fail(self, exc: OSError | str, resumable: bool = False,
               wait_s: float = RESUME_EVERY_S) -> None:
-        """Stop recording because of ``exc``; ``resumable`` (also every full disk): new parts
-        are tried from ``wait_s`` of frame time on."""
+        """Stop recording because of ``exc``; ``resumable`` (also every write error: a full
+        disk, a folder that stopped taking files, a disk remounted read-only after an error):
+        new parts are tried from ``wait_s`` of frame time on. Every write error is tried
+        again, as a folder that stops taking files may take them again (a drive mounted back,
+        a permission restored) and a try costs one failed file creation a minute; a
+        recording stopped for good would miss the rest of a weeks-long run."""
         where = self.paths[-1] if self.paths else self.folder
         why = exc if isinstance(exc, str) else (exc.strerror or str(exc))
         empty = bool(self.paths) and self._first_in_file   # removed below: say so, not a
         self.failed = f"{where}: {why}" + (" (it held no frame: removed)" if empty else "")
-        resumable = resumable or (isinstance(exc, OSError) and exc.errno in DISK_FULL)
+        resumable = resumable or isinstance(exc, OSError)
         self._resumable = resumable
         self._resume_at = None if self._last_t is None else self._last_t + wait_s
         log.error("recording stopped after %d frames: %s; the installation keeps running%s",

@@ -138,6 +138,8 @@ class Snapshots:
         self.number: int | None = None   # found when the first snapshot is written
         self.taken = 0
         self.failing = False  # the last snapshot could not be written
+        self.failed: str | None = None   # ... "FILE: why" (the status's snapshots.failed)
+        self.saved: Path | None = None   # the last snapshot written
         self._next = clock() + min(self.every_s, FIRST_AFTER_S)
         self._saver: threading.Thread | None = None
 
@@ -191,6 +193,10 @@ class Snapshots:
         elif not error and self.failing:
             log.info("snapshots are saved again (%s)", path)
         self.failing = bool(error)
+        if error:
+            self.failed = f"{path}: {error}"
+        else:
+            self.failed, self.saved = None, path
         prune(self.root, self.keep, self.max_bytes, self.folder)
 
     def close(self) -> None:

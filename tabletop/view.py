@@ -29,7 +29,7 @@ import pygame  # noqa: E402
 from calibration.transforms import apply_homography  # noqa: E402
 from tabletop.drawing import screens  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
-from tabletop.frames import Frame  # noqa: E402
+from tabletop.frames import Frame, InputError  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.loop_stats import LABELS  # noqa: E402
 # the renderer and the table mapping, importable from here as before
@@ -133,6 +133,8 @@ class ProjectorView:
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
         pygame.display.init()
+        if not self.headless:
+            check_driver()
         direct_framebuffer()
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
@@ -295,6 +297,23 @@ def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],
         return None
     sx, sy = given[0] / asked[0], given[1] / asked[1]
     return np.diag([sx, sy, 1.0]) @ np.asarray(homography, dtype=float)
+
+
+def check_driver() -> None:
+    """Refuse (InputError) a display that is named (``DISPLAY``, ``WAYLAND_DISPLAY``) but
+    cannot be opened, such as an X server that died or restarts: SDL then falls back to its
+    offscreen driver, which would draw into no window while the status says "live" (Xvfb
+    killed under a kiosk: the restarted installation ran offscreen at 29 fps and did not open
+    the window when the server was back). Refused, a kiosk's supervisor restarts the
+    installation until the display opens."""
+    driver = pygame.display.get_driver()
+    if driver not in ("offscreen", "dummy"):
+        return
+    named = ", ".join(f"{k}={os.environ[k]}" for k in ("DISPLAY", "WAYLAND_DISPLAY")
+                      if os.environ.get(k))
+    raise InputError(f"the display ({named}) cannot be opened: SDL found only its {driver} "
+                     "driver; start the display, or run without a window (--headless or "
+                     "view.headless)")
 
 
 def check_display(index: int) -> int:

@@ -2,14 +2,22 @@
 installation (UTC time, what happened, how long it ran in seconds, the last lines it wrote to
 stderr), appended and fsynced by the supervisor (:mod:`tabletop.kiosk.supervisor`), rotated
 as the kiosk's log is: unrotated, a table crashing every half minute for weeks (the longest
-back-off) grows it ~9 MB a day (3.3 KB a crash)."""
+back-off) grows it ~9 MB a day (3.3 KB a crash). With each entry the supervisor writes the
+status file's "restarting" (:func:`restarting_status`)."""
 
 from __future__ import annotations
 
 import datetime as _dt
+import json
+import logging
 import os
+import socket
 from pathlib import Path
-from typing import Iterable
+from typing import Any, Iterable, Sequence
+
+from tabletop import __version__
+
+log = logging.getLogger("tabletop")
 
 
 def crash_entry(crash: int, what: str, ran_s: float, pid: int, start: int,
@@ -43,3 +51,32 @@ def rotate(path: Path, max_bytes: int, backups: int) -> None:
         if older.exists():
             os.replace(older, path.with_name(f"{path.name}.{i + 1}"))
     os.replace(path, path.with_name(f"{path.name}.1"))
+
+
+def restarting_status(name: str, crashes: int, what: str, ran_s: float,
+                      tail: Sequence[str]) -> dict[str, Any]:
+    """The status the supervisor writes after a crash, until the next installation writes its
+    own: ``mode`` "restarting" and ``crash`` naming what befell it after ``ran_s`` seconds with
+    its last error line (the last ``tabletop`` line of its stderr ``tail``, else its last
+    line). Without it the status file would hold the last installation's own words ("live",
+    or "stopped" from a kiosk that ended on purpose) while a kiosk whose every start fails
+    restarts for ever, its heartbeat silent."""
+    lines = [t.strip() for t in tail if t.strip()]
+    said = [t for t in lines if t.startswith("tabletop")]
+    last = (said or lines or [""])[-1]
+    host = socket.gethostname()
+    return {"name": name or host, "host": host, "pid": os.getpid(), "version": __version__,
+            "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+            "uptime_s": 0.0, "fps": 0.0, "ticks": 0, "mode": "restarting",
+            "unhealthy_sources": 0, "sources": [], "errors": 0, "restarts": crashes,
+            "crash": f"{what} after {ran_s:.1f} s" + (f": {last}" if last else "")}
+
+
+def write_status(path: Path, status: dict[str, Any]) -> None:
+    """Write ``status`` to the status file ``path`` atomically; a file that cannot be written
+    (a full disk) is one log line."""
+    from tabletop.files import atomic_write_text
+    try:
+        atomic_write_text(path, json.dumps(status, separators=(",", ":")) + "\n")
+    except OSError as exc:
+        log.error("supervisor: status file %s not written: %s", path, exc.strerror or exc)

@@ -4,10 +4,12 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
 
     {"name", "host", "pid", "version", "time" (UTC ISO 8601), "uptime_s", "fps", "ticks",
      "mode" ("live" | "attract" | "one_moment"; "stopped" in the file a kiosk that ended on
-     purpose leaves), "unhealthy_sources",
+     purpose leaves; "restarting", with "crash", written by the supervisor after a crash:
+     :func:`tabletop.kiosk.crash_log.restarting_status`), "unhealthy_sources",
      "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink failures so far),
-     "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
-     "config" (file), "config_error" (the last refused edit, or null), "studio" (or null)}
+     "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad), "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
+     "config" (file), "config_error" (the last refused edit, or null), "studio" (or null),
+     "recording" and "snapshots" (what they write, why they stopped; or null)}
 
 Every ``every_s`` it is written atomically to the status file (in a writer thread: the frame loop
 never waits for a disk) and sent as OSC ``/tabletop/heartbeat`` with the installation name
@@ -309,6 +311,21 @@ class HealthReporter:
         except (OSError, InputError) as exc:
             log.warning("status file %s not written: %s", self.writer.path,
                         getattr(exc, "strerror", None) or exc)
+
+
+def snapshot_status(view: Any) -> Callable[[], dict[str, Any]]:
+    """The status's ``snapshots`` field: null when none are taken, else the folder, the last
+    snapshot written (null before the first) and why the last one failed (``failed``, null
+    when it was written). Without it a full disk stopped the snapshots with one log line,
+    written on that disk, while the heartbeat read as a healthy table."""
+    def status() -> dict[str, Any]:
+        snaps = getattr(view, "snapshots", None)
+        if snaps is None:
+            return {"snapshots": None}
+        return {"snapshots": {"folder": str(snaps.folder),
+                              "last": str(snaps.saved) if snaps.saved else None,
+                              "failed": snaps.failed}}
+    return status
 
 
 def recording_status(recorder: Any) -> Callable[[], dict[str, Any]]:

@@ -23,6 +23,11 @@ bound, the supervisor's stall restart included; past the wait the record is writ
 lock (counted in ``unlocked``), still following rotations. Where no lock can be taken at all the
 handler says so once on stderr and writes the same way. A closed handler writes as a lone
 writer would, and never raises out of the logger.
+
+A log that cannot be written (its disk full, a read-only remount) is said once on stderr, where
+every line still goes (the journal under systemd), and once more when it is written again, with
+the count of lines that failed; logging's own handling prints a 35-line traceback to stderr for
+every line (a kiosk's start on a full disk: 349 lines of stderr for 8 log lines, 11 here).
 """
 
 from __future__ import annotations
@@ -51,19 +56,38 @@ class SharedRotatingFileHandler(logging.handlers.RotatingFileHandler):
         self._lock_fd = -1
         self._warned = False
         self.unlocked = 0
+        self.missed = 0          # lines whose write failed (OSError) since the log last worked
+        self._failed_now = False
 
     def emit(self, record: logging.LogRecord) -> None:
         fd = self._lock_file()
         locked = fd >= 0 and self._take(fd)
         try:
             self._follow()
-            super().emit(record)
+            self._failed_now = False
+            super().emit(record)          # an error comes back through handleError
+            if self.missed and not self._failed_now:
+                print(f"tabletop log: {self.baseFilename} written again ({self.missed} lines "
+                      "failed meanwhile)", file=sys.stderr)
+                self.missed = 0
         finally:
             if locked:
                 try:
                     fcntl.flock(fd, fcntl.LOCK_UN)
                 except (OSError, ValueError):
                     pass
+
+    def handleError(self, record: logging.LogRecord) -> None:
+        """A write that failed with an OSError: said once (module docstring), counted."""
+        exc = sys.exc_info()[1]
+        if not isinstance(exc, OSError):
+            super().handleError(record)
+            return
+        self._failed_now = True
+        if not self.missed:
+            print(f"tabletop log: cannot write {self.baseFilename}: {exc.strerror or exc}; "
+                  "its lines go to stderr only until it can be written again", file=sys.stderr)
+        self.missed += 1
 
     def _lock_file(self) -> int:
         """The open lock file's descriptor, reopened when its path names another file; -1 when

@@ -18,7 +18,7 @@ from tabletop.frames import Frame, InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
 from tabletop.kiosk.health import (Heartbeat, HealthReporter, WatchdogPing,
-                                   recording_status)
+                                   recording_status, snapshot_status)
 from tabletop.kiosk.notify import Notifier
 from tabletop.kiosk.supervisor import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
@@ -150,7 +150,10 @@ class Runner:
                           record_path=self.record_path, clock=self.clock,
                           wrap_source=self.wrap_source, prepared=ready,
                           header_extra={"studio": {"all": self.studio_all}}
-                          if self.studio_on else None, strict=self.strict)
+                          if self.studio_on else None, strict=self.strict,
+                          # the config that ran (a start, a fall-back from a refused edit)
+                          # runs on without a behaviour whose files went bad; an edit is refused
+                          kiosk_start=self.kiosk and cfg is self.cfg)
         self.strict = False
         loop = inst.loop
         # (``record_path``, run --record, stays: each installation records to the next free name
@@ -177,9 +180,14 @@ class Runner:
             loop.hooks.append(self._apply_when_idle)   # an edit waiting for a take
             extra.append(self.studio.status)
             held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
-        for e in loop.engines:           # behaviours outside the studio are reloaded too
-            if getattr(e, "folder", None) is not None and e not in held:
-                loop.filters.insert(0, BehaviorReloader(e))   # (recorded for replays)
+        reloaders = [BehaviorReloader(e) for e in loop.engines   # outside the studio too
+                     if getattr(e, "folder", None) is not None and e not in held]
+        for r in reloaders:
+            loop.filters.insert(0, r)    # (recorded for replays)
+        # a behaviour file that went bad on disk (the character plays the version read before,
+        # or none at a start), as the log and the character's label say
+        extra.append(lambda: {"behavior_errors": [f"{r.engine.name}: {r.problem}"
+                                                  for r in reloaders if r.problem]})
         if self.kiosk:
             extra.append(self._attract(inst, cfg))
             self._kiosk_view(inst, cfg["kiosk"])
@@ -193,6 +201,7 @@ class Runner:
                 view.notices.append(lambda: [f"config refused: {w.error}"] if w.error else [])
         if self.kiosk:
             extra.append(recording_status(inst.recorder))
+            extra.append(snapshot_status(view))
             self._health(inst, cfg, extra)
         if view is not None:
             view.notices.append(lambda: ["config edit waits: K keeps the take, X drops it"]

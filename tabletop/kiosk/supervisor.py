@@ -46,7 +46,8 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
-from tabletop.kiosk.crash_log import append_crash, crash_entry
+from tabletop.kiosk.crash_log import (append_crash, crash_entry, restarting_status,
+                                       write_status)
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -113,7 +114,10 @@ class Supervisor:
                  echo: bool = True, clock: Callable[[], float] = time.monotonic,
                  spares: int = 2, seconds: float | None = None,
                  crash_log_max_bytes: int = 1_000_000, crash_log_backups: int = 5,
-                 keep_fds: Sequence[int] = ()) -> None:
+                 keep_fds: Sequence[int] = (), status_file: Path | None = None,
+                 name: str = "") -> None:
+        # the status file, "restarting" after a crash until the next child writes its own
+        self.status_file, self.name = status_file, name
         # open files every child holds too: the kiosk's folder lock (tabletop.kiosk.lock)
         self.keep_fds = tuple(keep_fds)
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
@@ -279,6 +283,9 @@ class Supervisor:
             append_crash(self.crash_log, lines, self.crash_log_max_bytes, self.crash_log_backups)
         except OSError as exc:
             log.error("supervisor: crash log %s not written: %s", self.crash_log, exc)
+        if self.status_file is not None:
+            write_status(self.status_file,
+                         restarting_status(self.name, self.crashes, what, ran, child.tail))
 
     def _terminate(self, child: Child) -> None:
         p = child.process
@@ -419,7 +426,8 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
     sup = Supervisor([sys.executable, "-m", "tabletop", "run", *argv], policy, paths["crash_log"],
                      spares=k["spares"], seconds=seconds, crash_log_max_bytes=k["log_max_bytes"],
                      crash_log_backups=k["log_backups"],
-                     keep_fds=() if lock_fd is None else (lock_fd,))
+                     keep_fds=() if lock_fd is None else (lock_fd,),
+                     status_file=paths["status_file"], name=k["name"])
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()

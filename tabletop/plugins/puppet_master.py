@@ -35,6 +35,7 @@ is read one tick old (see :mod:`tabletop.plugins.puppet_master_mains`).
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
@@ -46,6 +47,8 @@ from tabletop.plugins.puppet_master_mains import (Board, MainBinding, MainReader
                                                   bound_characters, singles)
 from tabletop.plugins.puppet_master_mains import board as shared_board
 from tabletop.schema import Bool, Context, FilePath, ListOf, Number, Optional_, Record, Str
+
+log = logging.getLogger("tabletop")
 
 if TYPE_CHECKING:   # the engine (its compiled kernels) loads when an engine is built, so that
     # validating a config (the kiosk supervisor does) does not load them (bench/cold_start.py)
@@ -304,19 +307,25 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     from behaviors.puppet_master.engine import Behavior
     _check_kept_name(options, ctx)
     delayed, cycle = _delayed(options, ctx)
-    behavior, bname, read = None, "", None
+    behavior, bname, read, problem = None, "", None, ""
     if options["behavior"] is not None:
         read = tree_signature(Path(options["behavior"]))   # its reloader's first baseline
-        stored = library.load_behavior(options["behavior"])
-        params = dict(stored.parameters)
-        if options["rate_hz"] is not None:
-            params["rate_hz"] = options["rate_hz"]
         try:
-            behavior = Behavior.train(stored.demonstration, **params)
-        except InputError as exc:   # its parameters or demonstration: named with its key
-            raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: {stored.folder}: "
-                                    f"{exc}") from None
-        bname = stored.name
+            stored = library.load_behavior(options["behavior"])
+            params = dict(stored.parameters)
+            if options["rate_hz"] is not None:
+                params["rate_hz"] = options["rate_hz"]
+            try:
+                behavior = Behavior.train(stored.demonstration, **params)
+            except InputError as exc:   # its parameters or demonstration: named with its key
+                raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: {stored.folder}: "
+                                        f"{exc}") from None
+            bname = stored.name
+        except InputError as exc:
+            if not (ctx.shared.get("kiosk_start")      # a replay: as the recorded start did
+                    or options["name"] in ctx.shared.get("started_without", ())):
+                raise
+            problem = _start_without(options["name"], exc)
     designer = dict(options["designer"])
     lib = Path(designer["library"]).expanduser()
     designer["library"] = lib if lib.is_absolute() else Path(ctx.base) / lib
@@ -327,4 +336,18 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                                 cycle=cycle)
     engine.folder = options["behavior"]   # the studio reloads it when it changes on disk
     engine.folder_read = read
+    engine.problem = problem
+    if problem:
+        engine.note = f"bad file, no behaviour until it is fixed: {problem}"
     return engine
+
+
+def _start_without(name: str, exc: InputError) -> str:
+    """A kiosk's start (a reboot, a restart by its supervisor) whose behaviour folder holds a
+    corrupt or half-written file: the character ``name`` starts without a behaviour, and the
+    table with the rest, rather than the kiosk restarting for ever on the same refusal (the
+    last good config names the same folder); its reloader plays the folder once it is fixed.
+    Returns the refusal (one line naming the file), logged and shown in the status."""
+    problem = str(exc)
+    log.error("%s starts without its behaviour until the file is fixed: %s", name, problem)
+    return problem

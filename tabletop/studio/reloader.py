@@ -86,7 +86,8 @@ class BehaviorReloader:
         self.engine = engine
         self.folder = Path(engine.folder)
         self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
-        self.problem: str | None = None
+        # the file that went bad (None: the folder read well), from the engine's build on
+        self.problem: str | None = getattr(engine, "problem", "") or None
         self.worker = Worker("puppet-master-reload") if background else None
         self.loading = False          # a job is in the worker
 

@@ -83,10 +83,12 @@ def test_the_status_carries_every_promised_field_also_for_parts_that_are_off(tmp
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr[-2000:]
     status = json.loads((tmp_path / "status.json").read_text())
-    promised = STATUS_FIELDS | {"idle_s", "config", "config_error", "studio", "recording"}
+    promised = STATUS_FIELDS | {"idle_s", "config", "config_error", "studio", "recording",
+                                "snapshots", "behavior_errors"}
     assert promised <= set(status), promised - set(status)
     assert status["studio"] is None and status["config_error"] is None
     assert status["config"] == str(cfg) and status["recording"] is None
+    assert status["snapshots"] is None and status["behavior_errors"] == []
 
 
 def test_a_kiosk_that_stops_before_its_first_status_says_so_over_the_one_before(tmp_path):

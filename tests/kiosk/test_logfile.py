@@ -109,3 +109,37 @@ def test_logging_after_the_handler_is_closed_does_not_raise(tmp_path):
         log.removeHandler(handler)
         handler.close()
     assert "after close" in (tmp_path / "tabletop.log").read_text()
+
+
+FULL_DISK_WRITER = """
+import logging, resource, signal, sys
+from pathlib import Path
+from tabletop.kiosk.logfile import SharedRotatingFileHandler
+log = logging.getLogger("tabletop")
+log.setLevel(logging.INFO)
+log.addHandler(SharedRotatingFileHandler(Path(sys.argv[1]), 10_000_000, 2))
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+log.info("before the disk fills")
+resource.setrlimit(resource.RLIMIT_FSIZE, (4096, hard))   # a full disk: writes fail (EFBIG)
+for k in range(200):
+    log.info("line %d of a long run", k)
+resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))   # space again
+log.info("after the disk was freed")
+"""
+
+
+def test_a_log_that_cannot_be_written_is_said_once_and_its_return_once(tmp_path):
+    """A kiosk log on a full disk: one line on stderr (not logging's traceback per record), one
+    when it is written again, and the later lines reach the file."""
+    path = tmp_path / "tabletop.log"
+    done = subprocess.run([sys.executable, "-c", FULL_DISK_WRITER, str(path)],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0
+    lines = done.stderr.splitlines()
+    assert "Logging error" not in done.stderr and "Traceback" not in done.stderr
+    assert len(lines) == 2, done.stderr[:2000]
+    assert lines[0].startswith(f"tabletop log: cannot write {path}: File too large")
+    assert lines[1].startswith(f"tabletop log: {path} written again (")
+    text = path.read_text()
+    assert "before the disk fills" in text and "after the disk was freed" in text

@@ -382,3 +382,30 @@ def test_seconds_ending_while_a_restart_starts_end_the_kiosk_as_a_timed_run(tmp_
     err = capfd.readouterr().err
     assert "tabletop: starting" in err, err          # the restarted child's start is echoed
     assert "interrupted" not in err, err
+
+
+def test_a_kiosk_whose_every_start_fails_says_restarting_and_why_in_its_status(tmp_path):
+    """An installation that stops at every start (exit status 2, its one error line): the
+    status file says "restarting", with the exit and that line, not the "stopped" a kiosk that
+    ended on purpose left there before."""
+    status_file = tmp_path / "status.json"
+    status_file.write_text(json.dumps({"name": "t", "mode": "stopped"}) + "\n")
+    failing = [sys.executable, "-c",
+               "import sys; print('tabletop run: error: /x/lover/demonstration.csv: line 9: "
+               "2 values, expected 7', file=sys.stderr); sys.exit(2)"]
+    sup = Supervisor(failing, Policy(backoff_s=(0.5, 1.0), startup_s=60),
+                     tmp_path / "crashes.log", echo=False, spares=0,
+                     status_file=status_file, name="table-3")
+    th = threading.Thread(target=sup.run)
+    th.start()
+    end = time.monotonic() + 60
+    while time.monotonic() < end and sup.crashes < 3:
+        time.sleep(0.05)
+    sup.stop.set()
+    th.join(30)
+    status = json.loads(status_file.read_text())
+    assert status["mode"] == "restarting" and status["name"] == "table-3"
+    assert status["restarts"] >= 3 and status["pid"] == os.getpid()
+    assert status["crash"].startswith("exit status 2 after ")
+    assert status["crash"].endswith(": tabletop run: error: /x/lover/demonstration.csv: line 9: "
+                                    "2 values, expected 7")

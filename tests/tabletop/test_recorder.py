@@ -391,3 +391,23 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
     third = Recorder(folder=folder, keep=1, header={"config": {}})
     third.close()
     assert sorted(folder.iterdir()) == [third.path]
+
+
+def test_a_new_part_names_max_mb_as_configured(tmp_path, caplog):
+    """"recording continues in ... (... reached 0.3 MB)" for max_mb 0.3, not the 0.299999 of
+    its whole bytes divided back."""
+    import numpy as np
+
+    from tabletop.frames import Frame
+    caplog.set_level("INFO", logger="tabletop")
+    rec = Recorder(folder=tmp_path, header={"format": "tabletop-session", "version": 2},
+                   max_mb=0.3)
+    try:
+        k = 0
+        while len(rec.paths) < 2 and k < 5000:
+            rec.consume(Frame(seq=k, t=k / 60, streams={"hand": np.arange(60) / 7.0}))
+            k += 1
+    finally:
+        rec.close()
+    said = [r.getMessage() for r in caplog.records if "recording continues" in r.getMessage()]
+    assert len(said) == 1 and said[0].endswith("reached 0.3 MB)"), said

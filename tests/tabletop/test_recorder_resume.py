@@ -221,3 +221,34 @@ def test_a_disk_that_falls_behind_again_waits_twice_as_long(tmp_path, monkeypatc
         rec.close()
     assert len(rec.gaps) == 3 and all("cannot keep up" in g for g in rec.gaps)
     assert [round(w / RESUME_EVERY_S) for w in waits] == [1, 2, 4], waits
+
+
+def test_a_recording_stopped_by_any_write_error_resumes_once_the_folder_takes_parts(tmp_path):
+    """Not only a full disk: a folder that stops taking files (here a file in its place, as an
+    unmounted drive or a disk remounted read-only after an error leaves it) stopped the
+    recording for the rest of the run; new parts are tried every RESUME_EVERY_S of frame time."""
+    folder = tmp_path / "sessions"
+    rec = Recorder(folder=folder, header=HEADER, max_mb=0.02)     # a part every ~20 lines
+    t = 100.0
+    try:
+        for f in frames(t, 1.0):
+            rec.consume(f)
+        assert rec.failed is None and len(rec.paths) >= 1
+        folder.rename(tmp_path / "moved")            # the parts so far, kept elsewhere
+        folder.write_text("not a folder")            # the next part cannot be made
+        for f in frames(t + 1.0, 5.0):
+            rec.consume(f)
+        assert rec.failed is not None and rec.failed.startswith(str(folder))
+        why = rec.failed
+        stopped_at = rec.frames
+        folder.unlink()                              # the folder can be made again
+        wait_caught_up(rec)
+        for f in frames(t + 6.0, RESUME_EVERY_S + 2.0):
+            rec.consume(f)
+    finally:
+        rec.close()
+    assert rec.failed is None and rec.gaps == [why]
+    assert rec.frames > stopped_at and sorted(folder.iterdir())
+    for part in folder.iterdir():                    # the resumed parts read whole
+        assert read_header(part)["format"] == "tabletop-session"
+        assert len(list(read_frames(part))) > 0

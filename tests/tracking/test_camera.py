@@ -281,3 +281,26 @@ def test_what_the_put_off_work_adds_is_published_and_announced_again(tmp_path):
         else:
             assert len(seen) == 1 and seen[0].pucks == ()
     assert len(by_frame) >= 5
+
+
+def test_a_video_that_loops_stays_healthy_and_keeps_its_pace(tmp_path):
+    """Each end of a looping video opens it again at once: the health never reads as a failing
+    camera between two plays, and no play waits the retry back-off."""
+    video = tmp_path / "table.avi"
+    write_video(video)
+    seen: list = []
+    src = CameraSource("cam", CameraSettings(device=str(video), fps=100.0, retry_min_s=0.5,
+                                             retry_max_s=1.0), counting_process(seen))
+    src.open()
+    health = []
+    try:
+        end = time.monotonic() + 20
+        while src.reconnects < 4 and time.monotonic() < end:
+            health.append(src.health().ok)
+            time.sleep(0.002)
+    finally:
+        src.close()
+    assert src.reconnects >= 4
+    assert all(health[20:]), health.count(False)      # (its first frames: starting)
+    times = [t for t, _ in seen]
+    assert max(b - a for a, b in zip(times, times[1:])) < 0.3   # never the 0.5 s retry wait

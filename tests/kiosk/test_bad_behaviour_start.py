@@ -1,0 +1,111 @@
+"""A kiosk started (a reboot, a restart) while a behaviour folder holds a corrupt file: the table
+runs, the character waits without its behaviour, the status names the file, and fixing the file
+on disk plays it; its recording replays to the same characters. Outside a kiosk the same start
+is refused, naming the file."""
+
+import json
+import shutil
+import threading
+from pathlib import Path
+
+import pytest
+import yaml
+
+from tabletop.config import load_config
+from tabletop.frames import InputError
+from tabletop.kiosk.runner import Runner
+from tests.tabletop.test_replay_exact import frames, replay_cli
+from tests.tracking.scenes import wait_for
+
+LOVER = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
+
+
+def _config(tmp_path: Path) -> Path:
+    shutil.copytree(LOVER, tmp_path / "lover")
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text(yaml.safe_dump({
+        "loop": {"rate_hz": 30},
+        "sources": [{"kind": "scripted", "name": "visitor", "pucks": [1]}],
+        "engines": [{"kind": "puppet_master", "name": "lover", "behavior": "lover",
+                     "main": {"puck": 1}}],
+        "view": {"size": [320, 180], "headless": True},
+        "kiosk": {"heartbeat": {"enabled": False}, "status_file": "status.json"},
+    }))
+    return cfg_path
+
+
+def _corrupt(folder: Path) -> str:
+    """Append a short row to the demonstration, as a copy cut short leaves it; its text."""
+    good = (folder / "demonstration.csv").read_text()
+    with open(folder / "demonstration.csv", "a") as f:
+        f.write("1e3,0.5,0.5\n")
+    return good
+
+
+class Latest:
+    """A sink keeping the last frame's characters."""
+    name = "latest"
+
+    def __init__(self):
+        self.characters = ()
+
+    def consume(self, frame):
+        self.characters = frame.characters
+
+    def close(self):
+        pass
+
+
+def _status(path: Path) -> dict:
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError):
+        return {}
+
+
+def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_path, caplog):
+    cfg_path = _config(tmp_path)
+    good = _corrupt(tmp_path / "lover")
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, load_config(cfg_path), headless=True, kiosk=True,
+                    record_path=session)
+    inst = runner._build(runner.cfg)
+    engine = inst.engines[0]
+    assert engine.reactor is None and "demonstration.csv" in engine.note
+    assert any("lover starts without its behaviour" in r.getMessage()
+               and "demonstration.csv: line" in r.getMessage() for r in caplog.records)
+    status_file = tmp_path / "status.json"
+    latest = Latest()
+    inst.loop.sinks.insert(0, latest)
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
+    th.start()
+    try:
+        assert wait_for(lambda: _status(status_file).get("behavior_errors"), 10.0)
+        (error,) = _status(status_file)["behavior_errors"]
+        assert error.startswith("lover: ") and "demonstration.csv: line" in error
+        (tmp_path / "lover" / "demonstration.csv").write_text(good)
+        assert wait_for(lambda: engine.reactor is not None, 20.0)
+        assert wait_for(lambda: _status(status_file).get("behavior_errors") == [], 10.0)
+        assert wait_for(lambda: any(c.valid for c in latest.characters), 10.0)
+    finally:
+        inst.loop.stop.set()
+        th.join(10)
+    # the replay starts the character without its behaviour too (the header's started_without)
+    # and trains the fixed folder in the frame the live run did
+    done = replay_cli(session, tmp_path / "replayed.jsonl")
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
+    assert len(live) == len(again) > 30
+
+    def drawn(f):   # (a label naming the bad file names it where each run read it)
+        return [{k: v for k, v in c.items() if k != "label"} for c in f["characters"]]
+    assert [drawn(f) for f in live] == [drawn(f) for f in again]
+    assert not live[0]["characters"][0]["valid"] and live[-1]["characters"][0]["valid"]
+
+
+def test_outside_a_kiosk_a_corrupt_behaviour_stops_the_start_naming_the_file(tmp_path):
+    cfg_path = _config(tmp_path)
+    _corrupt(tmp_path / "lover")
+    runner = Runner(cfg_path, load_config(cfg_path), headless=True, kiosk=False, strict=True)
+    with pytest.raises(InputError, match="demonstration.csv: line"):
+        runner._build(runner.cfg)
