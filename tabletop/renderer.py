@@ -164,10 +164,10 @@ class Renderer:
             drawn.append(r)
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
-        on_table = pucks.on_table(frame.pucks, self.table, self.puck_radius)
-        on_pucks = pucks.draw_pucks(target, self.traces.update(t, on_table), self.map,
+        shown, beyond = pucks.inside_edge(frame.pucks, self.table, self.puck_radius)
+        on_pucks = pucks.draw_pucks(target, self.traces.update(t, shown), self.map,
                                     self.puck_radius, t, TRAIL_S,
-                                    self._label if overlay is not None else None)
+                                    self._label if overlay is not None else None, beyond)
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
         if self.moment > 0:
