@@ -101,6 +101,7 @@ class Renderer:
         self._overlay_px = screens.PANEL_PX[0]   # its font size (px): smaller in a small window
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
+        self._see_through = screens.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
         self._labels: dict[int, pygame.Surface] = {}
@@ -164,10 +165,10 @@ class Renderer:
             drawn.append(r)
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
-        on_table = pucks.on_table(frame.pucks, self.table, self.puck_radius)
-        on_pucks = pucks.draw_pucks(target, self.traces.update(t, on_table), self.map,
+        shown, beyond = pucks.inside_edge(frame.pucks, self.table, self.puck_radius)
+        on_pucks = pucks.draw_pucks(target, self.traces.update(t, shown), self.map,
                                     self.puck_radius, t, TRAIL_S,
-                                    self._label if overlay is not None else None)
+                                    self._label if overlay is not None else None, beyond)
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
         if self.moment > 0:
@@ -322,8 +323,9 @@ class Renderer:
         would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
         pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
         the status line saying the disk is full stayed there, other corners having characters);
-        rendered again only when the lines change. Where the panel still lies over them, it
-        shows them through (:data:`SEE_THROUGH`). Returns the panel's rectangle. ``avoid`` and
+        rendered again only when the lines change. Where the panel still lies over ``avoid``,
+        it shows them through (:data:`SEE_THROUGH`); over ``must`` it stays dark, so its own
+        text stays readable over the studio's. Returns the panel's rectangle. ``avoid`` and
         ``must`` default to what the last :meth:`draw` drew (a snapshot's panel over the view
         drawn without one was always top-left, over a character or puck there). ``keep``
         False: the lines' renders are not remembered (:func:`screens.panel_line`)."""
@@ -338,11 +340,20 @@ class Renderer:
             self._overlay_key, self._overlay_w = key, (W, H)
         w, h = self._overlay_img.get_size()
         corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
+        clips: dict[int, list[tuple[pygame.Rect, int]]] = {}
+
+        def under(i: int) -> list[tuple[pygame.Rect, int]]:
+            """What the panel in corner ``i`` lies over (panel pixels) and its weight."""
+            got = clips.get(i)
+            if got is None:
+                r = pygame.Rect(corners[i], (w, h))
+                got = clips[i] = [(r.clip(rects[k]).move(-r.x, -r.y), weight)
+                                  for rects, weight in ((avoid, 1), (must, MUST_WEIGHT))
+                                  for k in r.collidelistall(rects)]
+            return got
 
         def hidden(i: int) -> int:
-            r = pygame.Rect(corners[i], (w, h))
-            return sum(weight * c.w * c.h for rects, weight in ((avoid, 1), (must, MUST_WEIGHT))
-                       for c in (r.clip(rects[k]) for k in r.collidelistall(rects)))
+            return sum(weight * c.w * c.h for c, weight in under(i))
         now = hidden(self._corner)
         if now > 0:
             best = min(range(4), key=hidden)
@@ -350,8 +361,12 @@ class Renderer:
                 self._corner = best
         place = pygame.Rect(corners[self._corner], (w, h))
         img = self._overlay_img
-        under = [place.clip(r).move(-place.x, -place.y) for r in (*avoid, *must)
-                 if place.colliderect(r)]
-        if under:     # every corner hides something (a small window): it shows through
-            img = screens.see_through(img, under, SEE_THROUGH)
+        holes = [c for c, weight in under(self._corner) if weight == 1]
+        if holes:
+            # the panel stays where it hides least (a corner that hides less than half as much
+            # is needed to move it), so what is left under it shows through: the rectangles
+            # are bounding boxes (a glow's, a trail's), so the panel fades over some empty
+            # table too; over the studio's words it stays dark, its own text readable
+            img = self._see_through(img, holes, [c for c, weight in under(self._corner)
+                                                 if weight != 1], SEE_THROUGH)
         return target.blit(img, place)

@@ -334,8 +334,11 @@ class Puppet:
                     best, best_key = v, key
         return best
 
-    def update(self, t: float, votes: Sequence[Vote], label: str = "") -> CharacterState:
-        """The character at time ``t`` (seconds) given every bound follower's votes."""
+    def update(self, t: float, votes: Sequence[Vote], label: str = "", hold: bool = True
+               ) -> CharacterState:
+        """The character at time ``t`` (seconds) given every bound follower's votes. Without a
+        valid vote it holds its last pose ``hold_s`` seconds, still naming its action, then eases
+        to rest; ``hold`` False eases to rest at once and names no action (a take recording)."""
         dt = 0.0 if self._t is None else max(0.0, t - self._t)
         self._t = t
         for v in votes:
@@ -359,7 +362,7 @@ class Puppet:
                 w = w * w * (3 - 2 * w)
                 target = (1 - w) * self._from + w * target
             self._shown = target
-        elif t - self._last_valid_t > self.hold_s:
+        elif not hold or t - self._last_valid_t > self.hold_s:
             k = 1.0 - math.exp(-dt / self.rest_s) if self.rest_s > 0 else 1.0
             self._shown = self._shown + k * (self._rest - self._shown)
             self._action = None

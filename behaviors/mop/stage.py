@@ -37,9 +37,11 @@ seed 0: 51 gestures, 40 s of rest beyond the first second of each rest, 20 slide
 
 Designer takes (MOP 4.1.1): :class:`~behaviors.mop.takes.DesignerTakes`; the designer's keys and
 control markers reach them through the studio's one state machine (:mod:`tabletop.studio`).
-While a take records, its character is driven by none of its actions (it eases to its rest pose
-and its label says it records): the gesture being recorded is the new action, and a known action
-playing along would show the designer a match that the take is not.
+While a take records, its character is driven by none of its actions (from the take's first
+tick it names none and eases to its rest pose, and its label says it records): the gesture being
+recorded is the new action, and a known action playing along would show the designer a match
+that the take is not. Other characters bound to the same performer still play their actions: the
+take is one character's, and they show what the gesture already means to them.
 """
 
 from __future__ import annotations
@@ -365,7 +367,8 @@ class MopStage(DesignerTakes):
                 log.error("MOP performer %r: %s", self.performer_of(c), problem)
             if c == recording:
                 out.append(self.puppets[c].update(t, (), problem or
-                                                  f"recording {take.performer}'s new action"))
+                                                  f"recording {take.performer}'s new action",
+                                                  hold=False))
             else:
                 out.append(self.puppets[c].update(t, self._votes(c), problem or ""))
         return tuple(out)

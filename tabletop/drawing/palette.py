@@ -26,9 +26,8 @@ PANEL: tuple[int, int, int, int] = (6, 8, 14, 190)
 PUCK_SEEN: Color = (150, 225, 255)     # a calm cold white-cyan
 PUCK_COASTING: Color = (255, 186, 70)  # amber: a prediction while the marker is hidden
 PUCK_LOST: Color = (255, 86, 96)       # red, fading: the puck has left
-PUCK_OFF: Color = (200, 140, 255)      # violet: the puck is beyond the table's edge
-PUCK_STATES: dict[str, Color] = {"seen": PUCK_SEEN, "coasting": PUCK_COASTING, "lost": PUCK_LOST,
-                                 "off_table": PUCK_OFF}
+PUCK_OFF: Color = (200, 140, 255)      # violet: a seen puck beyond the table's edge
+PUCK_STATES: dict[str, Color] = {"seen": PUCK_SEEN, "coasting": PUCK_COASTING, "lost": PUCK_LOST}
 
 @functools.lru_cache(maxsize=256)
 def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,

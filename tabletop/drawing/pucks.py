@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import Callable, Sequence
+from typing import Callable, Collection, Sequence
 
 import numpy as np
 import pygame
@@ -15,46 +15,61 @@ from tabletop.drawing.discs import discs
 from tabletop.drawing.trail_kernel import trails
 from tabletop.drawing import primitives as P
 from tabletop.drawing.life import PuckTrace
-from tabletop.drawing.palette import PUCK_STATES, TABLE, Color, fade, remember, rgb
+from tabletop.drawing.palette import PUCK_OFF, PUCK_STATES, TABLE, Color, fade, remember, rgb
 from tabletop.frames import Puck
 from tabletop.table_map import TableToScreen
 
 
-#: The drawn state of a puck beyond the table (:func:`on_table`)
-OFF_TABLE = "off_table"
-#: How far inside the edge an off-table puck's halo is centred, in puck radii: its ring
-#: (1.35 radii and 3 px, plus its width) stays on the table
-OFF_INSET_RADII = 2.0
+#: How far beyond the table's edge a puck is drawn in :data:`PUCK_OFF`, in puck radii: a puck
+#: on the edge, its marker half over it, jitters across it by millimetres and keeps its colour
+BEYOND_RADII = 1.0
 
 
-def on_table(pucks: Sequence[Puck], table: tuple[float, float], radius_m: float
-             ) -> Sequence[Puck]:
-    """The pucks as the view draws them: a puck beyond the table (``table``: width, height in
-    metres from the origin; a serial or TUIO sender's coordinates past its edge) is drawn at
-    the nearest point :data:`OFF_INSET_RADII` puck radii (``radius_m``) inside the edge, in
-    the ``off_table`` colour, its notch pointing to where it is. Why not where it is: the
-    margin around the table is not the table (the projector's light there falls on the floor
-    or on the visitors, or off the window), so a halo there is either lost or lands where no
-    puck can be; why not hidden: the operator would see a tracked puck vanish with no word of
-    it, and the characters still react to it, so the edge shows which side it went out of.
+def inside_edge(pucks: Sequence[Puck], table: tuple[float, float], radius_m: float
+                ) -> tuple[Sequence[Puck], frozenset[int]]:
+    """The pucks where the view draws them, and the ids of those drawn as beyond the table.
+    ``table``: width, height in metres from the origin; ``radius_m``: a puck's radius (m).
+
+    A puck past the edge (a serial or TUIO sender's coordinates) is drawn at the nearest
+    point of the edge, its notch pointing to where it is; once it is more than
+    :data:`BEYOND_RADII` radii past, its id is returned so its ring turns violet (a seen
+    puck; a predicted one keeps its breathing amber, a lost one its fading red: the state
+    is the puck's own). The mapping is continuous (a puck on the table is drawn where it is,
+    one past the edge on the edge), so jitter across the edge moves the halo by no more than
+    the jitter and its trail draws no backward stroke. Why not where it is: the margin
+    around the table is not the table (the projector's light there falls on the floor or on
+    the visitors, or off the window); why not hidden: the operator would see a tracked puck
+    vanish with no word of it, and the characters still react to it. A ring on the edge
+    lights the margin as far as it reaches, as a puck on the table at its edge does (about
+    1.7 radii: 43 px at 840 px/m with 3 cm pucks); drawing it further inside would keep the
+    margin dark but, to be continuous, move pucks on the table off their markers (lighting
+    the marker the ring's dark centre keeps from the camera) or draw an outgoing puck
+    moving inward.
     Not finite positions are left as they are (the halos' kernel skips them)."""
     w, h = table
     if all(0.0 <= p.x <= w and 0.0 <= p.y <= h for p in pucks):
-        return pucks                                 # (every puck on the table: the usual)
-    d = OFF_INSET_RADII * radius_m
-    out = []
+        return pucks, frozenset()                    # (every puck on the table: the usual)
+    far = BEYOND_RADII * radius_m
+    out, beyond = [], set()
     for p in pucks:
         if (0.0 <= p.x <= w and 0.0 <= p.y <= h) or not (math.isfinite(p.x)
                                                           and math.isfinite(p.y)):
             out.append(p)
             continue
-        x, y = min(max(p.x, d), w - d), min(max(p.y, d), h - d)
-        out.append(replace(p, x=x, y=y, angle=math.atan2(p.y - y, p.x - x), state=OFF_TABLE))
-    return out
+        x, y = min(max(p.x, 0.0), w), min(max(p.y, 0.0), h)
+        if math.hypot(p.x - x, p.y - y) > far:
+            beyond.add(p.id)
+            out.append(replace(p, x=x, y=y, angle=math.atan2(p.y - y, p.x - x)))
+        else:
+            out.append(replace(p, x=x, y=y))
+    return out, frozenset(beyond)
 
 
-def state_color(state: str) -> Color:
-    """The halo colour of a puck state (``seen``, ``coasting`` or ``lost``)."""
+def state_color(state: str, beyond: bool = False) -> Color:
+    """The halo colour of a puck state (``seen``, ``coasting`` or ``lost``); ``beyond``: a
+    seen puck past the table's edge (:func:`inside_edge`) is :data:`PUCK_OFF`."""
+    if beyond and state == "seen":
+        return PUCK_OFF
     return PUCK_STATES.get(state, PUCK_STATES["seen"])
 
 
@@ -92,13 +107,14 @@ _STATE_CODES = {"seen": halo_kernel.SEEN, "coasting": halo_kernel.COASTING,
 _looks: dict[tuple, tuple] = {}
 
 
-def _look(state: str, alpha: float) -> tuple[int, Color, tuple[int, int, int]]:
+def _look(state: str, alpha: float, beyond: bool = False
+          ) -> tuple[int, Color, tuple[int, int, int]]:
     """(state code for the halos' kernel, halo colour, trail inks) of a puck in ``state``
-    shown at opacity ``alpha`` (remembered)."""
-    key = (state, alpha)
+    shown at opacity ``alpha``, ``beyond`` the table's edge or not (remembered)."""
+    key = (state, alpha, beyond)
     look = _looks.get(key)
     if look is None:
-        color = state_color(state)
+        color = state_color(state, beyond)
         look = remember(_looks, key, (_STATE_CODES.get(state, 0), color,
                                       trail_inks(color, alpha)), 1024)
     return look
@@ -109,12 +125,14 @@ _TABLE_RGB = np.array(TABLE, dtype=np.float64)
 
 def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float]],
                to_screen: TableToScreen, puck_radius_m: float, t: float, trail_s: float,
-               label: Callable[[int], pygame.Surface] | None = None) -> list[pygame.Rect]:
+               label: Callable[[int], pygame.Surface] | None = None,
+               beyond: Collection[int] = ()) -> list[pygame.Rect]:
     """Every puck of ``items`` ((trace, state, opacity) each, see
     :meth:`tabletop.drawing.life.Traces.update`), in layers: the trails, then each halo's ring
     of light (coloured by state, the puck's centre left dark; every ring in one additive blit
     call), then the bright notches along the pucks' headings (one compiled call per colour),
     then, given ``label`` (puck id -> its text), each id beside its halo's upper right.
+    ``beyond``: ids of pucks past the table's edge (:func:`inside_edge`).
     ``puck_radius_m``: a puck's radius in metres. A coasting puck's ring breathes quickly; a
     lost one's widens as it fades. The geometry of every halo is one compiled call
     (:func:`tabletop.drawing.halo_kernel.halos`). Returns the rectangles touched."""
@@ -122,7 +140,7 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
     if not n:
         return []
     v = np.array([(tr.puck.x, tr.puck.y, tr.puck.angle) for tr, _, _ in items], dtype=np.float64)
-    looks = [_look(s, a) for _, s, a in items]
+    looks = [_look(s, a, tr.puck.id in beyond) for tr, s, a in items]
     geo = np.empty((n, halo_kernel.FIELDS))
     halo_kernel.halos(v, np.array([lk[0] for lk in looks], dtype=np.int64),
                       np.array([a for *_, a in items], dtype=np.float64), to_screen.H,

@@ -134,7 +134,7 @@ class StepClock:
 def test_the_first_heartbeat_says_a_rate_not_0_fps(tmp_path):
     """The reporter runs in the loop's first tick, before any tick has ended: it waits for a
     rate (a second of ticks) rather than say 0.0 fps, which reads as a loop that stalled; then
-    a heartbeat every ``every_s`` as before."""
+    a heartbeat every ``every_s``."""
     osc = OscListener()
     clock = StepClock(0.002)
     frames = (Frame(seq=i, t=i / 60.0) for i in range(200))

@@ -300,9 +300,10 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
     # unrelated puck motions paused 0.6 s part way and resting to the longest one's end (a
     # triangle, spiral, mirrored zigzag and wave). Measured 71 valid states, 82 with the refusal
     # and misfit judged at rest too (the whole draw, every motion at 0.7, 1.0, 1.4x: 289 vs 293;
-    # before validity.crawl_run kept a crawl through hovering, 362 vs 371, and the mirrored
-    # figure eight accepted again as it rests, 53 vs 0, which crawl_run now stops either way;
-    # with the last samples' fit, shape_lead.TAKE_MISFIT2, lifted here: with it 19 vs 22)
+    # without validity.crawl_run, which keeps a crawl through hovering from counting: 362 vs
+    # 371, and the mirrored figure eight accepted again as it rests, 53 vs 0, which crawl_run
+    # stops whether refusal is judged at rest or not; with the last samples' fit,
+    # shape_lead.TAKE_MISFIT2, lifted here: with it 19 vs 22)
     monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates, performance, unrelated_motions

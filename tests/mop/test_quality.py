@@ -236,8 +236,8 @@ def _tail_and_paused(gestures) -> tuple[int, int, float]:
     """Valid ticks of the diagonal, wander and triangle (0.7, 1.4x; the circle alone and the six
     gestures loaded) while their last half second rests, all their valid ticks, and the six
     gestures' share after 30% valid and within 0.1 of the truth when paused 0.6 s part way
-    (0.7, 1.4x, two seeds). Shared starts off (``share_radius`` 0): the rule's own effect, as
-    measured before they were on (with them the wrong ticks it removes are fewer)."""
+    (0.7, 1.4x, two seeds). Shared starts off (``share_radius`` 0): the rule's own effect (with
+    them on the wrong ticks it removes are fewer)."""
     tail = total = 0
     for loaded in ({"circle": gestures["circle"]}, gestures):
         rng = np.random.default_rng(5)
@@ -350,7 +350,7 @@ def test_a_new_action_is_not_taken_at_a_crawl(gestures, monkeypatch):
 def _stretch_shares(gestures) -> tuple[float, float, float]:
     """The triangle's and the diagonal's valid share (0.7, 1.0, 1.4x) and the six gestures'
     valid share after 30% (0.7, 1.4x), the six gestures loaded, over three seeds; shared starts
-    off (``share_radius`` 0), as measured before they were on."""
+    off (``share_radius`` 0): the rules' own effect."""
     tri, diag, true = [], [], []
     for seed in (3, 11, 13):
         rng = np.random.default_rng(seed)

@@ -258,8 +258,9 @@ def test_the_designers_afraid_character_escapes_the_edges_when_chased():
 
 def test_the_time_at_a_table_edge_is_reported(shipped):
     # edge_share: steps within 0.1 m of a table edge, where the table is known (reported, no
-    # threshold). The afraid demonstration spends 6% of its time there (measured 0.062; 0.372
-    # before its character slid along the edges and escaped round the chasing hand);
+    # threshold). The afraid demonstration spends 6% of its time there (measured 0.062, its
+    # character sliding along the edges and escaping round the chasing hand; one that stays at
+    # the edge it was chased to: 0.372);
     # a reactor circling the table's centre none, one sliding along an edge all of it
     b = shipped["afraid"]
     demo = fidelity.demonstration_figures(b, TABLE)

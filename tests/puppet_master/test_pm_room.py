@@ -62,7 +62,7 @@ def test_without_a_stored_table_the_data_bounds_stand_for_it():
     demo = demos.keep_away(3, 20.0, rate_hz=40.0)
     assert Behavior.train(demo, w_room=1.0).demo_table == Behavior.train(demo).bounds
     # the room off (the default): the paper's six situation features and the main's
-    # still/moving state (a character that keeps away from its main), as before
+    # still/moving state (a character that keeps away from its main)
     assert Behavior.train(demo).situation_vectors.shape[1] == ft.SITUATION_DIMS + 1
 
 

@@ -94,8 +94,9 @@ def test_every_character_beside_a_twin_on_one_main_keeps_its_figures(name):
 
 
 def test_two_bullies_keep_apart_on_every_frame():
-    # the bully charges into its main: two of them on one main (measured before the displayed
-    # pose between steps was kept apart: 0 on the first frame, then 0.068 for 0.08 bodies)
+    # the bully charges into its main: two of them on one main, their displayed poses kept
+    # apart between steps too (the steps' poses alone apart: 0 on the first frame, then 0.068
+    # for 0.08 bodies)
     size = 0.08
     out = run(build([_engine("a", "bully", {"puck": 1}, size=size),
                      _engine("b", "bully", {"puck": 1}, size=size)]), visitor_frames(30, seed=4))

@@ -45,6 +45,7 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     assert "take1" in again.puppets["lizard"].actions
     assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
 
+
 def test_discard_redo_and_a_take_too_short(tmp_path):
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
@@ -72,6 +73,7 @@ def test_discard_redo_and_a_take_too_short(tmp_path):
     assert "too short" in table.status and set(engine.puppets["face"].actions) == {"circle"}
     assert table.studio.tries[-1].outcome == "too short" and table.studio.state == "idle"
 
+
 def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_path):
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
@@ -91,6 +93,7 @@ def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_pat
     table.tick(focus="mop/face")
     assert "take1" not in engine.puppets["lizard"].actions
     assert table.studio.tries[-1].outcome == "discarded"
+
 
 def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
     from tabletop.config import load_config
@@ -142,6 +145,7 @@ def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
     assert "take1" in inst2.engines[0].puppets["lizard"].actions
     inst2.loop.close()
 
+
 def test_the_idle_line_names_the_actions_a_character_knows_when_none_is_selected(tmp_path):
     # "[mop/face] action (none)" of a face playing its configured actions read as a face
     # that knew nothing
@@ -151,6 +155,7 @@ def test_the_idle_line_names_the_actions_a_character_knows_when_none_is_selected
     known = ", ".join(sorted(engine.templates["face"]))
     assert table.status.startswith(f"[mop/face] action (none selected; it knows {known}), "
                                    "window 15 (+/-): R record"), table.status
+
 
 def test_a_still_take_says_the_performer_hardly_moved(tmp_path):
     # 3 s recorded with the puck resting said "take too short (1 samples of motion)", as if R
@@ -168,6 +173,7 @@ def test_a_still_take_says_the_performer_hardly_moved(tmp_path):
     table.tick(["designer.record"])
     assert "take too short (1 of 8 samples of motion)" in table.status, table.status
 
+
 def test_the_countdown_names_the_performer_and_its_puck(tmp_path):
     # the countdown of an action's take said only "get ready": which puck performs?
     engine = build(designer_config(tmp_path), tmp_path)
@@ -177,32 +183,72 @@ def test_the_countdown_names_the_performer_and_its_puck(tmp_path):
     assert table.studio.state == "countdown"
     assert table.status == "[mop/face] get ready: hand (puck 1) performs face's new action"
 
-def test_the_character_a_take_records_for_is_not_driven_while_it_records(tmp_path):
-    """The face knows circle: performed idle, it plays it; performed while a take of the face
-    records, the face plays none of its actions and its label says it records; the take
-    discarded, it plays circle again."""
+
+def recording_after_circle(tmp_path, gesture: str = "circle"):
+    """The face playing circle, then a take of the face started at once and ``gesture``
+    performed while it records; (engine, table, the face while it recorded, from the take's
+    first tick)."""
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     table.rest(1.0)
     idle = [ch["face"] for _, ch in table.perform("circle")]
     assert np.mean([c.valid and c.action == "circle" for c in idle]) > 0.5
-    table.rest(1.0)
-    table.tick(["designer.record"])
-    taking = [ch["face"] for _, ch in table.perform("circle")]
+    assert idle[-1].action == "circle"
+    first = table.tick(["designer.record"])["face"]
+    taking = [first] + [ch["face"] for _, ch in table.perform(gesture)]
     assert table.studio.state == "recording"
+    return engine, table, taking
+
+
+def not_driven(taking) -> None:
+    """From the take's first tick the face plays and names none of its actions."""
     assert not any(c.valid for c in taking)
+    assert {c.action for c in taking} == {None}
     assert {c.label for c in taking} == {"recording hand's new action"}
+
+
+def plays(table, gesture: str = "circle", action: str = "circle") -> None:
+    """Performed after a rest, ``gesture`` makes the face play ``action`` most of the time."""
+    table.rest(1.0)
+    again = [ch["face"] for _, ch in table.perform(gesture)]
+    assert np.mean([c.valid and c.action == action for c in again]) > 0.5
+
+
+def test_the_character_a_take_records_for_is_not_driven_while_it_records(tmp_path):
+    """The face knows circle: performed idle, it plays it; performed while a take of the face
+    records, the face plays and names none of its actions (not even the one it played a tick
+    before) and its label says it records; the take discarded, it plays circle again."""
+    engine, table, taking = recording_after_circle(tmp_path)
+    not_driven(taking)
     table.tick(["designer.record"])                 # stopped, then discarded: circle plays
     table.tick(["designer.discard"])
     assert table.studio.state == "idle" and set(engine.puppets["face"].actions) == {"circle"}
-    table.rest(1.0)
-    again = [ch["face"] for _, ch in table.perform("circle")]
-    assert np.mean([c.valid and c.action == "circle" for c in again]) > 0.5
+    plays(table)
+
+
+def test_a_kept_take_of_the_character_plays_after_it_recorded(tmp_path):
+    engine, table, taking = recording_after_circle(tmp_path, "line")
+    not_driven(taking)
+    table.tick(["designer.record"])
+    table.tick(["designer.keep"])
+    assert table.studio.state == "idle"
+    assert set(engine.puppets["face"].actions) == {"circle", "take1"}
+    plays(table, "line", "take1")
+    plays(table)
+
+
+def test_the_studio_closed_mid_take_lets_the_character_play_again(tmp_path):
+    engine, table, taking = recording_after_circle(tmp_path)
+    not_driven(taking)
+    table.studio.close()
+    assert table.studio.state == "idle" and engine.take is None
+    plays(table)
+
 
 def test_a_take_whose_puck_is_not_seen_says_so(tmp_path):
-    """A MOP take recorded with its performer's puck off the table (or hidden) said only
-    "recording: R stop", then "take too short (0 of 8 samples of motion)": the designer, who
-    had moved the puck, could not tell it was never seen. A Puppet Master take says both."""
+    """A MOP take recorded with its performer's puck off the table (or hidden) says while it
+    records that the puck is not seen, and when stopped for how long it was unseen, as a
+    Puppet Master take does."""
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     table.rest(1.0)

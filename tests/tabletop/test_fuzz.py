@@ -376,7 +376,7 @@ def test_generated_recordings(capfd, data):
 
 def test_a_folder_holding_an_unreadable_image_is_refused_in_one_line(capfd):
     # the folder's images are read in order: bad.png (a PNG signature, then no chunks) comes
-    # before image.png; OpenCV's own "[ WARN:0@...]" lines came above the error
+    # before image.png; the error is the only line (no OpenCV "[ WARN:0@...]" lines above it)
     with workdir() as root:
         make_files(root)
         assert check(capfd, ["track", "", "--out", "0"]) != 0

@@ -78,8 +78,8 @@ def test_a_new_part_costs_the_same_however_many_recordings_are_kept(tmp_path, st
 
 
 def test_keep_still_lists_the_folder_and_prunes_at_each_part(tmp_path):
-    """With ``keep`` the folder is listed at every part, as before: recordings another run
-    added meanwhile are counted, and the oldest removed down to ``keep`` files."""
+    """With ``keep`` the folder is listed at every part (unlike ``keep: null``): recordings
+    another run added meanwhile are counted, and the oldest removed down to ``keep`` files."""
     fill(tmp_path, None)
     rec = Recorder(folder=tmp_path, header={"config": {}}, keep=10, max_mb=0.002,
                    max_queue=10**6)

@@ -174,33 +174,3 @@ def test_a_session_posed_with_the_mouse_is_recorded_and_replays_the_same(tmp_pat
     assert [f["characters"] for f in again] == [f["characters"] for f in live]
     moved = [f["characters"][0]["points"] for f in (live[4], live[-1])]
     assert moved[0] != moved[1]                   # the mouse did pose it
-
-
-def test_the_overlay_panel_in_a_small_window_shows_the_centred_humanoid_through(engine):
-    """In a 640x360 window the operator's 13 lines make a panel over the table's centre in
-    every corner: where it lies over the humanoid, the humanoid shows through (measured: 85%
-    of its light kept; the panel drawn alike everywhere kept 32%), the panel's text over it."""
-    (c,) = engine.step(Frame(0, 0.0))
-    lines = ["tick 55   running 1.9 s", "30.8 fps   skipped 1   errors 0",
-             *(f"  stage{i}\t1.00 ms median\t2.00 ms p99" for i in range(9)),
-             "source scripted: ok   scripted visitor   age 0 ms", c.label]
-    pygame.display.init()
-    size = (640, 360)
-    r = Renderer(TABLE, size)
-    bare, shown = pygame.Surface(size), pygame.Surface(size)
-    for k in range(30):                      # faded in
-        r.draw(bare, Frame(k, k / 30, characters=(c,)))
-    body = r._keep_clear[0]
-    r.draw(shown, Frame(30, 1.0, characters=(c,)), lines)
-    w, h = r._overlay_img.get_size()
-    W, H = size
-    panel = pygame.Rect([(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
-                        [r._corner], (w, h))
-    both = panel.clip(body)
-    assert both.w * both.h > 0.2 * body.w * body.h        # every corner is over it
-    a, b = (pygame.surfarray.array3d(s)[both.left:both.right, both.top:both.bottom].astype(int)
-            for s in (bare, shown))
-    lit = a.sum(axis=2) > 200                              # the humanoid's own light
-    kept = np.minimum(b, a)[lit].sum() / a[lit].sum()
-    assert kept > 0.7, kept
-    assert (b.min(axis=2) > 150).sum() > 20                # white text over it
