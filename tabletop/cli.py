@@ -185,6 +185,7 @@ def entry() -> None:
                 print("tabletop: a background job did not end in time; ending without it",
                       file=sys.stderr)
     if ended and status != EXIT_INTERRUPTED:
+        _exit_on_stop_signals()
         sys.exit(status)
     import logging
     logging.shutdown()
@@ -194,6 +195,18 @@ def entry() -> None:
         except (OSError, ValueError):
             pass
     os._exit(status if isinstance(status, int) else int(status is not None))
+
+
+def _exit_on_stop_signals() -> None:
+    """From here to the process's end the stop signals are ignored: the command's work is done
+    and said, and its status is set. The interpreter's finalisation after it (0.6 s after a
+    one-minute ``behave``, freeing what its modules hold) otherwise ended by SIGTERM (status
+    143) or SIGHUP (129) without a word, a done command taken for a killed one. (A Python
+    handler does not cover it: the finalisation puts the default actions back before it
+    frees the modules; an ignored signal stays ignored.)"""
+    if threading.current_thread() is threading.main_thread():
+        for s in STOP_SIGNALS:
+            signal.signal(s, signal.SIG_IGN)
 
 
 def _drop_stdout() -> None:

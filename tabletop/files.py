@@ -7,6 +7,7 @@ then renamed over the target. Reading a CSV either returns a clean float table o
 
 from __future__ import annotations
 
+import codecs
 import csv
 import io
 from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
@@ -33,19 +34,43 @@ MAX_TEXT_CHARS = 128 * 2**20   # a config, calibration or CSV input longer is re
 # whose previous file is read first) filled the machine's 23 GB and was killed
 
 
-class TextTooLong(Exception):
-    """A text input over :data:`MAX_TEXT_CHARS` characters."""
+class UnreadableText(Exception):
+    """A text input refused whole: over :data:`MAX_TEXT_CHARS` characters, or not text in
+    the encoding read (the message names the line of the first byte that is not)."""
 
 
 def read_text(path: Path, encoding: str = "utf-8") -> str:
-    """``path.read_text(encoding)``, refusing (TextTooLong) what is longer than any input file
-    of ours: an endless device or a wrong file is not read into memory whole."""
-    with open(path, encoding=encoding) as f:
-        text = f.read(MAX_TEXT_CHARS + 1)
+    """``path.read_text(encoding)``, refusing (UnreadableText) what is longer than any input
+    file of ours (an endless device or a wrong file is not read into memory whole) or is not
+    text in ``encoding``, naming the line where it stops being text."""
+    try:
+        with open(path, encoding=encoding) as f:
+            text = f.read(MAX_TEXT_CHARS + 1)
+    except UnicodeDecodeError:
+        raise UnreadableText(_not_text(path, encoding)) from None
     if len(text) > MAX_TEXT_CHARS:
-        raise TextTooLong(f"over {MAX_TEXT_CHARS // 2**20} M characters, more than any "
-                          "such file holds (a device or another kind of file?)")
+        raise UnreadableText(f"over {MAX_TEXT_CHARS // 2**20} M characters, more than any "
+                             "such file holds (a device or another kind of file?)")
     return text
+
+
+def _not_text(path: Path, encoding: str) -> str:
+    """Where ``path`` stops being text in ``encoding`` (UTF-8, with or without its mark): its
+    line and byte (read again in 1 MB pieces up to the first byte that is not, as a device's
+    endless bytes can be)."""
+    decoder = codecs.getincrementaldecoder(encoding)()
+    lines = 1
+    with open(path, "rb") as f:
+        while piece := f.read(2**20):
+            try:
+                decoder.decode(piece)
+            except UnicodeDecodeError as exc:  # (the bytes held back before a piece hold no
+                # line end: they begin a character)
+                lines += exc.object.count(b"\n", 0, exc.start)
+                return (f"line {lines}: byte 0x{exc.object[exc.start]:02x} is not UTF-8 text "
+                        "(a binary file, or text saved in another encoding?)")
+            lines += piece.count(b"\n")
+    return "not UTF-8 text"
 
 
 def file_on_path(folder: Path) -> Path | None:
@@ -288,7 +313,7 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
         raise FileFormatError(f"{p}: {what} not found") from None
     except IsADirectoryError:
         raise FileFormatError(f"{p}: is a folder, expected a {what}") from None
-    except (OSError, UnicodeDecodeError, TextTooLong) as exc:
+    except (OSError, UnicodeDecodeError, UnreadableText) as exc:
         raise FileFormatError(f"{p}: cannot read {what}: {exc}") from None
     lines = [ln for ln in text.splitlines()]
     # row by row, not list(csv.reader(...)): one C call holds the GIL for the whole file, and
@@ -391,7 +416,7 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
         raise error(f"{p}: {missing}") from None
     except IsADirectoryError:
         raise error(f"{p}: is a folder; expected a YAML file") from None
-    except (OSError, UnicodeDecodeError, TextTooLong) as exc:
+    except (OSError, UnicodeDecodeError, UnreadableText) as exc:
         raise error(f"{p}: cannot read: {exc}") from None
     return parse_yaml(text, p, error, problem)
 

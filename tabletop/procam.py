@@ -163,8 +163,8 @@ def run_check(procam: ProCam, calibration: Any, detector: Any) -> CheckResult:
     from calibration.fits import check_offsets_mm, cross_image, diagonal_centres, locate_cross
     from tracking.markers import detect_markers, refine_corners
     if calibration.table_to_projector is None:
-        raise CalibrationInputError("the calibration has no table_to_projector; run `tabletop "
-                                    "calibrate projector` first")
+        raise CalibrationInputError(f"{calibration.path or '<calibration>'}: table_to_projector: "
+                                    "null; run `tabletop calibrate projector` first")
     procam.show(None)
     dark = procam.grab()
     size = calibration.image_size

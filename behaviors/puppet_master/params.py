@@ -22,6 +22,16 @@ class ParameterError(InputError):
         self.name = name
 
 
+# Upper bounds a value is refused beyond. A span of samples (smooth, patch, share_window) is
+# held per reactor and walked per step: smooth=10**8 took 1.7 GB and did not end within ten
+# minutes, 10**5 took 29 s of a one-minute `tabletop behave` (3: 4.4 s), 1,000 6.3 s; 10,000
+# samples (250 s at 40 Hz) is longer than any of them means. A designer weight beyond a
+# million overflowed the single-precision training vectors (w_velocity=1e20: "overflow
+# encountered in cast" on stderr); at a million the other features have no say already.
+MAX_SPAN = 10_000
+MAX_WEIGHT = 1e6
+
+
 @dataclass(frozen=True)
 class Params:
     """Behaviour parameters (defaults from the paper where it gives them).
@@ -155,6 +165,11 @@ class Params:
         if isinstance(self.detail_levels, (int, np.integer)) and self.detail_levels > 10:
             raise ParameterError(f"behaviour parameter detail_levels: {self.detail_levels!r} "
                                  "must be an integer from 1 to 10", "detail_levels")
+        for name in ("smooth", "patch", "share_window"):
+            v = getattr(self, name)
+            if isinstance(v, (int, np.integer)) and v > MAX_SPAN:
+                raise ParameterError(f"behaviour parameter {name}: {v!r} must be an integer "
+                                     f"from {ints[name]} to {MAX_SPAN}", name)
         for f in fields(self):
             v = getattr(self, f.name)
             if f.name in ints:
@@ -177,6 +192,9 @@ class Params:
             if f.name == "rate_hz" and not 1.0 <= v <= 1000.0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 1 to "
                                      "1000 Hz", f.name)
+            if f.name.startswith("w_") and v > MAX_WEIGHT:
+                raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be from 0 to "
+                                     f"{MAX_WEIGHT:g}", f.name)
             if (positive and v <= 0) or v < 0:
                 raise ParameterError(f"behaviour parameter {f.name}: {v!r} must be "
                                      f"{'> 0' if positive else '>= 0'}", f.name)

@@ -68,3 +68,14 @@ def _resolved(p: Path) -> Path | None:
         return None
     except OSError as exc:   # a loop; anything else is told by the write or read itself
         return None if exc.errno == errno.ELOOP else p.absolute()
+
+
+def png_output(path, option: str, error: type[InputError] = InputError, inputs=(),
+               example: str = "out.png"):
+    """:func:`output_file` for an image written as PNG: a name not ending in .png (``x.jpg``
+    would hold PNG bytes under a JPEG name) is refused, suggesting the .png one."""
+    p = output_file(path, option, error, inputs=inputs, example=example)
+    if p.suffix.lower() != ".png":
+        raise error(f"{option} {p}: the image is written as PNG; give a file name ending in "
+                    f".png, e.g. {p.with_suffix('.png').name}")
+    return p

@@ -143,12 +143,9 @@ def write_png(path: str | Path, option: str, image: np.ndarray, dpi: float | Non
     import zlib
 
     import cv2
-    from tabletop.commands import output_file
+    from tabletop.commands import png_output
     from tabletop.files import atomic_write_bytes
-    output_file(path, option, CalibrateError, example="out.png")
-    if Path(path).suffix.lower() != ".png":
-        raise CalibrateError(f"{option} {path}: the image is written as PNG; give a file name "
-                             f"ending in .png, e.g. {Path(path).with_suffix('.png').name}")
+    png_output(path, option, CalibrateError)
     ok, data = cv2.imencode(".png", image)
     png = data.tobytes()
     if dpi is not None:   # pHYs: pixels per metre on x and y, unit 1 (metre), after IHDR

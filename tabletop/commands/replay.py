@@ -11,8 +11,10 @@ the frame's ``consumed``), so takes, their training and tries are made again fra
 from __future__ import annotations
 
 import argparse
+import contextlib
 import itertools
 import math
+import os
 from pathlib import Path
 from typing import Iterator
 
@@ -57,6 +59,29 @@ def session_frames(paths: list[Path], header: dict) -> Iterator[Frame]:
             yield frame
 
 
+RECORDINGS = "the recording's "
+
+
+@contextlib.contextmanager
+def recorded_files_named(session: Path, folder: Path) -> Iterator[None]:
+    """An InputError about a file the recording carried (unpacked into the temporary ``folder``,
+    gone when the command ends) names it as the recording's file, in ``session``: "rec.jsonl:
+    the recording's behaviors/x/demonstration.csv: line 1: ...", not the temporary path; one
+    about the recording's calibration names ``session`` too."""
+    try:
+        yield
+    except InputError as exc:
+        text = str(exc)
+        prefixes = {f"{p}{os.sep}" for p in (folder, folder.resolve())}
+        if not any(p in text for p in prefixes) and not text.startswith(RECORDINGS):
+            raise
+        for p in prefixes:
+            text = text.replace(p, RECORDINGS)
+        if not text.startswith(str(session)):
+            text = f"{session}: {text}"
+        raise ReplayError(text) from None
+
+
 def main(args: argparse.Namespace) -> int:
     import logging
     import tempfile
@@ -90,24 +115,25 @@ def main(args: argparse.Namespace) -> int:
                 raise SessionError(f"{first}: line 1: {exc}") from None
         if not header.get("config"):
             raise SessionError(f"{first}: line 1: the header holds no config to replay with")
-        cfg = validate_config(header["config"], f"{first} (recorded config)", base)
-        frames = session_frames(args.session, header)
-        start = next(frames, None)    # (a bad first frame is said before anything is written)
-        if start is None:
-            raise SessionError(f"{first}: no complete frame after the header line: nothing to "
-                               "replay")
-        frames = itertools.chain([start], frames)
-        studio = header.get("studio")
-        if isinstance(studio, dict):
-            from tabletop.studio.build import studio_input
-            frames = map(studio_input, frames)
-        inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
-                            record_path=args.out, view=not args.no_view, header=header)
-        from tabletop.studio.reloader import RecordedReloads
-        inst.loop.filters.insert(0, RecordedReloads(inst.engines))   # hot reloads, as live
-        if isinstance(studio, dict):
-            from tabletop.studio.build import attach_studio
-            attach_studio(inst, cfg, base, all_engines=bool(studio.get("all")), replay=True)
+        with recorded_files_named(first, Path(tmp)):
+            cfg = validate_config(header["config"], f"{first} (recorded config)", base)
+            frames = session_frames(args.session, header)
+            start = next(frames, None)  # (a bad first frame is said before anything is written)
+            if start is None:
+                raise SessionError(f"{first}: no complete frame after the header line: nothing "
+                                   "to replay")
+            frames = itertools.chain([start], frames)
+            studio = header.get("studio")
+            if isinstance(studio, dict):
+                from tabletop.studio.build import studio_input
+                frames = map(studio_input, frames)
+            inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
+                                record_path=args.out, view=not args.no_view, header=header)
+            from tabletop.studio.reloader import RecordedReloads
+            inst.loop.filters.insert(0, RecordedReloads(inst.engines))  # hot reloads, as live
+            if isinstance(studio, dict):
+                from tabletop.studio.build import attach_studio
+                attach_studio(inst, cfg, base, all_engines=bool(studio.get("all")), replay=True)
         with stop_on_signals(inst.loop.stop) as received:
             ticks = inst.loop.run()
     names = ", ".join(map(str, args.session))

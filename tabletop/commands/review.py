@@ -16,7 +16,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    from tabletop.commands import output_file
+    from tabletop.commands import png_output
     from tabletop.frames import InputError
     from tabletop.studio.review import contact_sheet
     if args.columns < 1:
@@ -24,6 +24,6 @@ def main(args: argparse.Namespace) -> int:
     if args.session.is_dir():     # also '' (the current folder): it has no name to derive --out
         raise InputError(f"{args.session}: is a folder, expected a studio session log (.jsonl)")
     out = args.out or args.session.with_name(args.session.stem + "-sheet.png")
-    output_file(out, "--out", InputError, inputs=(args.session,), example="sheet.png")
+    png_output(out, "--out", InputError, inputs=(args.session,), example="sheet.png")
     print(f"{out}: {contact_sheet(args.session, out, args.columns)}")
     return 0

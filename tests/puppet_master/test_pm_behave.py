@@ -171,6 +171,13 @@ def test_the_help_names_every_parameter():
     # demonstration were too short
     ("window=100000", ["--param window, ", "demo.csv: demonstration lasts",
                        "a window of 100000 samples at 40 Hz"]),
+    # a smooth of 10**8 samples held 1.7 GB and ran for over ten minutes; a weight of 1e20
+    # overflowed the training vectors (numpy's warnings on stderr, a run made of them)
+    ("smooth=10001", ["--param", "smooth", "from 1 to 10000"]),
+    ("patch=10001", ["--param", "patch", "from 1 to 10000"]),
+    ("share_window=10001", ["--param", "share_window", "from 1 to 10000"]),
+    ("w_velocity=1e20", ["--param", "w_velocity", "from 0 to 1e+06"]),
+    ("w_room=1e300", ["--param", "w_room", "from 0 to 1e+06"]),
 ])
 def test_bad_parameters_exit_2_with_one_clear_line(files, tmp_path, capsys, param, words):
     d, _ = files

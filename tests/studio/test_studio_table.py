@@ -160,6 +160,17 @@ def test_review_names_a_bad_field_of_a_complete_last_line(tmp_path, capsys, line
     assert cli(["review", str(log)]) == 0               # cut short: the tries before it
 
 
+@pytest.mark.parametrize("name", ["sheet.jpg", "sheet.txt", "sheet"])
+def test_review_refuses_a_sheet_name_that_is_no_png(tmp_path, capsys, name):
+    # the sheet is PNG bytes: under a .jpg name a viewer refuses or misreads it
+    log = tmp_path / "s.jsonl"
+    log.write_text('{"target": "pet", "outcome": "kept", "duration_s": 4.0}\n')
+    assert cli(["review", str(log), "--out", str(tmp_path / name)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "written as PNG" in err and "sheet.png" in err, err
+    assert not (tmp_path / name).exists()
+
+
 def test_review_sheet_title_stays_on_the_sheet(tmp_path):
     # the summary was one centred line wider than a one-try sheet: cut at both edges
     import matplotlib.image as mpimg

@@ -6,6 +6,8 @@ import signal
 import subprocess
 import sys
 
+import pytest
+
 # `tabletop --version` with a worker's job running OpenCV for about `seconds` when it ends
 _VERSION_WITH_A_JOB = """
 import sys, time
@@ -64,3 +66,26 @@ def test_a_stop_signal_while_the_end_waits_for_a_job_is_one_line_and_130():
         assert proc.returncode == 130, (stop, err[-400:])
         assert "Traceback" not in err
         assert err.strip().splitlines()[-1] == "tabletop: interrupted", stop
+
+
+# `tabletop --version`, then a SIGTERM (or SIGHUP) while the interpreter finalises (from an
+# atexit hook: the moment a stop signal lands after a command's work is done and said)
+_SIGNAL_AT_THE_END = """
+import atexit, os, signal, sys, time
+from tabletop import cli
+sig = getattr(signal, sys.argv[1])
+def late_signal():
+    os.kill(os.getpid(), sig)
+    time.sleep(1.0)
+atexit.register(late_signal)
+sys.argv = ["tabletop", "--version"]
+cli.entry()
+"""
+
+
+@pytest.mark.parametrize("sig", ["SIGTERM", "SIGHUP", "SIGINT"])
+def test_a_stop_signal_after_the_command_is_done_ends_with_its_status(sig):
+    res = subprocess.run([sys.executable, "-c", _SIGNAL_AT_THE_END, sig], capture_output=True,
+                         text=True, timeout=120)
+    assert res.returncode == 0, (res.returncode, res.stderr)
+    assert res.stdout.startswith("tabletop ") and res.stderr == ""

@@ -143,3 +143,28 @@ def test_an_error_reading_a_source_while_writing_keeps_its_own_message(tmp_path)
         os.close(source)
     assert err.value.filename is None and "out.csv" not in str(err.value)
     assert os.listdir(tmp_path) == []
+
+
+@pytest.mark.parametrize("name, data, line", [
+    ("config.yaml", b"table:\n  width: 1.2\nsources: [{kind: scripted, name: 'v\xe9'}]\n", 3),
+    ("demo.csv", b"\xef\xbb\xbft,x\n0,1\n0.1,\xe92\n", 3),
+    ("calibration.yaml", b"\x89PNG\r\n\x1a\n\x00\x00", 1),
+])
+def test_a_file_that_is_not_utf8_text_is_refused_naming_its_line(tmp_path, name, data, line):
+    # (the message was Python's "'utf-8' codec can't decode byte 0xe9 in position 38")
+    path = tmp_path / name
+    path.write_bytes(data)
+    read = read_csv_lines if name.endswith(".csv") else read_yaml
+    with pytest.raises(FileFormatError) as err:
+        read(path)
+    text = str(err.value)
+    assert text.startswith(f"{path}: cannot read") and f": line {line}: byte 0x" in text, text
+    assert "is not UTF-8 text" in text and "codec" not in text, text
+
+
+def test_the_line_of_a_bad_byte_is_counted_across_pieces(tmp_path):
+    path = tmp_path / "long.yaml"
+    path.write_bytes(b"# a comment line\n" * 200_000 + b"a: '\xff'\n")   # 3.4 MB
+    with pytest.raises(FileFormatError) as err:
+        read_yaml(path)
+    assert ": line 200001: byte 0xff is not UTF-8 text" in str(err.value), err.value

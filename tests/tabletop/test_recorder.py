@@ -411,3 +411,38 @@ def test_a_new_part_names_max_mb_as_configured(tmp_path, caplog):
         rec.close()
     said = [r.getMessage() for r in caplog.records if "recording continues" in r.getMessage()]
     assert len(said) == 1 and said[0].endswith("reached 0.3 MB)"), said
+
+
+def test_a_bad_file_in_a_recording_is_named_as_the_recordings_not_by_a_temporary_path(
+        tmp_path, capfd):
+    """The files a recording carries are unpacked into a temporary folder that is gone when
+    the replay ends: an error in one names the recording and the file as it was recorded; one
+    in the recording's calibration names the recording too."""
+    from tabletop import cli
+    root = Path(__file__).resolve().parents[2]
+    cfg = dict(CONFIG, engines=[{"kind": "puppet_master", "name": "lover", "main": {"puck": 1},
+                                 "behavior": str(root / "behaviors/library/lover")}])
+    cfg["view"] = {"enabled": False}
+    path = tmp_path / "session.jsonl"
+    build_live(validate_config(cfg, "test", tmp_path), headless=True,
+               record_path=path).loop.run(seconds=0.3)
+    lines = path.read_text().splitlines()
+    header = json.loads(lines[0])
+    key = next(k for k in header["files"] if k.endswith("demonstration.csv"))
+    header["files"][key] = {"text": "t,main_x\n0,1\n"}
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n")
+    capfd.readouterr()
+    assert cli.main(["replay", str(bad), "--fast", "--no-view"]) == 2
+    err = capfd.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    assert err.startswith(f"tabletop replay: error: {bad}: the recording's {key}: line 1: "
+                          "missing column(s)"), err
+    assert "tabletop-replay-" not in err
+    header["files"][key] = json.loads(lines[0])["files"][key]
+    header["calibration"] = {"format": "tabletop-calibration"}
+    bad.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n")
+    assert cli.main(["replay", str(bad), "--fast", "--no-view"]) == 2
+    err = capfd.readouterr().err.strip()
+    assert err.startswith(f"tabletop replay: error: {bad}: the recording's calibration: "
+                          "version"), err
