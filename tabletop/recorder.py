@@ -17,7 +17,9 @@
   After a full disk, every ``RESUME_EVERY_S`` of frame time a new part is tried; once the disk
   takes it the recording goes on there (logged; :attr:`Recorder.gaps` keeps why it stopped).
   A disk that could not keep up (below) is tried alike, once its syncs have caught up; one
-  that falls behind again waits twice as long before each try, up to an hour.
+  that falls behind again waits twice as long before each try, up to an hour. A part whose
+  file was removed from disk (its folder deleted) stops alike and goes on at once in a new
+  part, its folder made again (looked at every ``REMOVED_CHECK_S`` of frame time).
 
 Durable line by line, never waiting on the frame loop: see :mod:`tabletop.recorder_sync`. A
 new file is synced before its first frame (its folder entry too). More than ``max_queue`` lines
@@ -56,6 +58,10 @@ RESUME_EVERY_S = 60.0
 #: A disk that keeps falling behind again: each stop waits twice the last, up to this (seconds
 #: of frame time); a part that then keeps up this long starts the count again.
 SLOW_RESUME_MAX_S = 3600.0
+#: Seconds of frame time between two looks at whether the part being written is still on disk
+#: (one fstat): a part whose file or folder was removed (a technician clearing the disk) went
+#: on taking every frame into a file no one could open again, lost for the rest of the run.
+REMOVED_CHECK_S = 2.0
 
 
 class Recorder(Syncer):
@@ -107,6 +113,7 @@ class Recorder(Syncer):
         self._slow_wait_s = RESUME_EVERY_S     # before the next "cannot keep up" stop's try
         self._resumed_t: float | None = None   # frame time of the last resume
         self._last_t: float | None = None      # the last frame's time
+        self._check_at: float | None = None    # frame time of the next look (REMOVED_CHECK_S)
         self._f: Any = None
         self._size = 0
         self._t0: float | None = None
@@ -235,6 +242,9 @@ class Recorder(Syncer):
     def consume(self, frame: Frame) -> None:
         """Write the frame's line to the operating system; never waits for the disk's sync."""
         self._last_t = frame.t
+        if self._f is not None and (self._check_at is None or frame.t >= self._check_at):
+            self._check_at = frame.t + REMOVED_CHECK_S
+            self._check_removed()
         if self.failed is not None and not self._resume(frame.t):
             return
         if self._f is None or self._closing:
@@ -277,6 +287,20 @@ class Recorder(Syncer):
             self.frames += 1
             self._unsynced.append(self.clock())
             self._cv.notify()
+
+    def _check_removed(self) -> None:
+        """Stop the part (and so start a new one at once, its folder made again) when its file
+        is no longer on disk: the frames since the last look are lost with it, no more."""
+        try:
+            gone = os.fstat(self._f.fileno()).st_nlink == 0
+        except OSError:
+            return
+        if gone:
+            with self._cv:
+                self._first_in_file = False     # nothing to remove: it is gone already
+                gone_too = "" if self.folder.exists() else ", with its folder"
+                self._fail(f"removed from disk{gone_too}", resumable=True, wait_s=0.0)
+                self._cv.notify()
 
     def _resume(self, t: float) -> bool:
         """After a full disk or a disk that could not keep up, at ``_resume_at`` or the first

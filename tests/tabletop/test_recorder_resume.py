@@ -252,3 +252,38 @@ def test_a_recording_stopped_by_any_write_error_resumes_once_the_folder_takes_pa
     for part in folder.iterdir():                    # the resumed parts read whole
         assert read_header(part)["format"] == "tabletop-session"
         assert len(list(read_frames(part))) > 0
+
+
+def test_a_part_whose_folder_was_removed_goes_on_in_a_new_part(tmp_path, caplog):
+    """The recordings folder removed while a part is written (a technician clearing the disk):
+    within REMOVED_CHECK_S of frame time the recording goes on in a new part in the folder made
+    again, the gap said in the log; the frames of the removed part since the last look are all
+    that is lost, and the new part replays with its times."""
+    import shutil
+
+    from tabletop.recorder import REMOVED_CHECK_S
+    caplog.set_level("INFO", logger="tabletop")
+    folder = tmp_path / "sessions"
+    rec = Recorder(folder=folder, header=HEADER)
+    t = 7000.0
+    try:
+        for f in frames(t, 5.0):
+            rec.consume(f)
+        wait_caught_up(rec)
+        shutil.rmtree(folder)
+        for f in frames(t + 5.0, 10.0):
+            rec.consume(f)
+            wait_caught_up(rec)
+    finally:
+        rec.close()
+    parts = sorted(folder.glob("*.jsonl"))
+    assert parts == [rec.path] and len(rec.paths) == 2, (parts, rec.paths)
+    kept = list(read_frames(rec.path))
+    assert read_header(rec.path)["part"] == 2
+    # every frame from the first look after the removal on is on disk (times from the start)
+    assert kept[0].t <= 5.0 + REMOVED_CHECK_S + 0.1, kept[0].t
+    assert abs(kept[-1].t - 14.9) < 1e-6 and len(kept) >= 100 - 10 * REMOVED_CHECK_S
+    assert rec.failed is None and len(rec.gaps) == 1 and "removed from disk, with its folder" \
+        in rec.gaps[0], rec.gaps
+    said = " ".join(r.getMessage() for r in caplog.records)
+    assert "recording resumes in" in said and "removed from disk" in said
