@@ -256,8 +256,7 @@ class Studio(LibraryCommands):
         """The undo of a keep: ``name`` leaves the library, and the session log says so (a
         line of its own, outcome "keep undone"), so a review does not count the take kept."""
         target.remove(name)
-        self._log(Try(target.name, target.what, time.time(), outcome="keep undone", name=name),
-                  target)
+        self._item_line(target, "keep undone", name)
 
     def _discard(self, target: Target, arg: str) -> None:
         if self.state in ("trying", "training"):

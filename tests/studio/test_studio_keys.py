@@ -358,6 +358,32 @@ def test_an_undone_keep_is_in_the_session_log_and_its_review_counts_it_not_kept(
     assert len(bench.studio.tries) == 1                # an undone keep is no try
 
 
+def test_a_kept_take_deleted_and_restored_is_in_the_session_log_and_its_review(tmp_path):
+    """Delete of a kept take writes a "deleted" line and its undo a "restored" one, and the
+    review counts the take kept, not kept, kept again (without them the log said "kept"
+    while the take's folder was in the trash)."""
+    from tabletop.studio.review import read_session, summary
+    bench = kept_pet(tmp_path)
+    bench.studio.command("designer.delete")
+    assert library.list_behaviors(tmp_path / "lib") == []
+
+    def logged() -> tuple[list[tuple[str, str]], list[tuple[str, str]], str]:
+        lines = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+        assert all(x["review"] == "" and x["samples"] == 0 for x in lines[1:])
+        tries = read_session(bench.session.path)
+        return ([(x["outcome"], x["name"]) for x in lines],
+                [(t["outcome"], t["name"]) for t in tries], summary(tries))
+
+    lines, tries, said = logged()
+    assert lines == [("kept", "pet"), ("deleted", "pet")]
+    assert tries == [("deleted", "pet")] and said.startswith("1 try, 0 kept (nothing kept)")
+    bench.studio.command("designer.undo")
+    assert library.list_behaviors(tmp_path / "lib") == ["pet"]
+    lines, tries, said = logged()
+    assert lines == [("kept", "pet"), ("deleted", "pet"), ("restored", "pet")]
+    assert tries == [("kept", "pet")] and said.startswith("1 try, 1 kept")
+    assert len(bench.studio.tries) == 1                # a delete or restore is no try
+
 
 def test_an_undo_of_another_targets_keep_names_that_target(tmp_path):
     """U undoes the last keep, rename or delete of any target: pressed with another target
