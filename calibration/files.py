@@ -82,12 +82,6 @@ class Calibration:
         self._table_to_camera = (None if self.camera_to_table is None
                                  else inverse(self.camera_to_table))
 
-    @property
-    def undistorts(self) -> bool:
-        """True when pixels are undistorted before the homography (non-zero distortion)."""
-        return (self.camera_matrix is not None and self.distortion is not None
-                and bool(np.any(self.distortion != 0.0)))
-
     def undistort(self, points_px: np.ndarray) -> np.ndarray:
         """Camera pixels (N, 2) -> ideal pinhole pixels of the same camera matrix (N, 2)."""
         return undistort_pixels(points_px, self.camera_matrix, self.distortion)
@@ -123,11 +117,6 @@ class Calibration:
             f"{self.path or '<calibration>'}: projector_size: the projector was calibrated at "
             f"{ps[0]}x{ps[1]} pixels but {key} is {size[0]}x{size[1]}; set {key}: "
             f"[{ps[0]}, {ps[1]}] or redo `tabletop calibrate projector` at the new size")
-
-    def table_angle(self, points_px: np.ndarray) -> float:
-        """Table heading (rad) of the image direction from ``points_px[0]`` to ``points_px[1]``."""
-        t = self.image_to_table(points_px)
-        return math.atan2(t[1, 1] - t[0, 1], t[1, 0] - t[0, 0])
 
     def to_dict(self) -> dict[str, Any]:
         """The file's content as plain YAML-ready values."""

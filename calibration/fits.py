@@ -14,6 +14,7 @@ Units: table metres (residuals reported in millimetres where named ``_mm``), pix
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import cv2
 import numpy as np
@@ -141,8 +142,10 @@ def _line_fit(along: np.ndarray, across: np.ndarray, w: np.ndarray) -> tuple[flo
     return float(sol[0]), float(sol[1])
 
 
-def locate_cross(lit: np.ndarray, dark: np.ndarray, image_to_table, centre_m: np.ndarray,
-                 table_to_image, cross: Cross = Cross(), slack: float = 0.03,
+def locate_cross(lit: np.ndarray, dark: np.ndarray,
+                 image_to_table: Callable[[np.ndarray], np.ndarray], centre_m: np.ndarray,
+                 table_to_image: Callable[[np.ndarray], np.ndarray], cross: Cross = Cross(),
+                 slack: float = 0.03,
                  noise: float = 6.0) -> np.ndarray | None:
     """Where (2,) m a projected cross landed near ``centre_m``: camera images with the crosses
     (``lit``) and without (``dark``), the camera's pixel -> table and table -> pixel maps. The

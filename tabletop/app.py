@@ -15,13 +15,19 @@ import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 from tabletop import registry
 from tabletop.cli import catch_stop_signals
 from tabletop.frames import Engine, InputError, Sink
+from tabletop.live_inputs import Tracker
 from tabletop.loop import CommandQueue, FrameInputs, LatestMeasurements, LiveInputs, Loop, LoopStats
 from tabletop.registry import BuildContext
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from tabletop.recorder import Recorder
 
 log = logging.getLogger("tabletop")
 
@@ -36,7 +42,7 @@ class Installation:
     sinks: list[Sink] = field(default_factory=list)
 
     @property
-    def recorder(self):
+    def recorder(self) -> Recorder | None:
         """The recorder sink, if this installation records."""
         from tabletop.recorder import Recorder
         return next((s for s in self.sinks if isinstance(s, Recorder)), None)
@@ -66,7 +72,7 @@ def _context(cfg: dict[str, Any], calibration: dict[str, Any] | None = None) -> 
     return ctx
 
 
-def build_tracker(cfg: dict[str, Any], ctx: BuildContext):
+def build_tracker(cfg: dict[str, Any], ctx: BuildContext) -> Tracker:
     """The configured puck tracker, or the pass-through one when no tracking plugin is installed."""
     tracking = registry.optional_module("tabletop.plugins.tracking")
     if tracking is None:
@@ -121,7 +127,7 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
         raise ConfigError(f"{getattr(cfg, 'file', 'config')}: {key}: {exc}") from None
 
 
-def projector_homography(cfg: dict[str, Any], ctx: BuildContext):
+def projector_homography(cfg: dict[str, Any], ctx: BuildContext) -> np.ndarray | None:
     """The calibration's ``table_to_projector`` (a camera source's, else the config's), or
     None: the view then fits the table into the window. A view size other than the projector
     size the calibration was fitted at is refused (CalibrationError, one line)."""

@@ -79,7 +79,7 @@ class Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line (what is wrong, and where to read more), and a
     value list beginning with a minus sign is a value (:data:`NEGATIVE_VALUE`)."""
 
-    def __init__(self, *args, **kwargs) -> None:
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = NEGATIVE_VALUE
 

@@ -292,7 +292,8 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
         raise FileFormatError(f"{p}: cannot read {what}: {exc}") from None
     lines = [ln for ln in text.splitlines()]
     # row by row, not list(csv.reader(...)): one C call holds the GIL for the whole file, and
-    # a worker reading a 600 s demonstration stalled the frame loop 8-60 ms (bench/reload_tick.py)
+    # a worker reading a 600 s demonstration that way stalls the frame loop 8-60 ms
+    # (bench/reload_tick.py)
     rows = [r for r in csv.reader(lines)]
     first = next((i for i, r in enumerate(rows) if any(c.strip() for c in r)), None)
     if first is None:

@@ -143,11 +143,6 @@ def demonstration_csv(demo: np.ndarray) -> str:
     return format_csv(COLUMNS, a.tolist())
 
 
-def write_demonstration(path: str | Path, demo: np.ndarray) -> None:
-    """Write a demonstration CSV atomically."""
-    atomic_write_text(path, demonstration_csv(demo))
-
-
 def _read_yaml(path: Path) -> Any:
     return read_yaml(path, LibraryError, missing=f"not found (a behaviour folder needs a "
                      f"{BEHAVIOR_FILE})", problem="corrupt YAML")

@@ -270,12 +270,13 @@ class Loop:
         periods apart: waiting for a late frame rather than drawing the old one again; the
         next is due by then). Faster inputs, and all others, tick at their slots (a plain timer).
 
-        The wait for a late frame was a quarter period: on a loaded machine (frames later than
-        that), the loop drew the old capture again at that moment and the late one a quarter
-        period after, a tick more per late frame: 66.8 ticks/s with a 60 Hz loop and a 60 fps
-        camera (load 11), 39 ticks for 31 frames in tests/tabletop/test_loop_pacing.py's every third
-        frame 0.4 period late; waiting up to the period: a tick per frame. A silent camera
-        still gets the timer within three of its intervals (:meth:`LiveInputs.arrival_interval`).
+        Measured against a wait of a quarter period for a late frame: on a loaded machine
+        (frames later than that) the loop then draws the old capture again at that moment and
+        the late one a quarter period after, a tick more per late frame: 66.8 ticks/s with a
+        60 Hz loop and a 60 fps camera (load 11), 39 ticks for 31 frames in
+        tests/tabletop/test_loop_pacing.py's every third frame 0.4 period late; waiting up to
+        the period: a tick per frame. A silent camera still gets the timer within three of its
+        intervals (:meth:`LiveInputs.arrival_interval`).
         """
         fresh: threading.Event | None = getattr(self.inputs, "fresh", None)
         p = self.period

@@ -90,11 +90,6 @@ def _is_mine_name(name: str, stem: str | None, suffix: str) -> bool:
                                                      and rest[1:].isascii()))
 
 
-def is_mine(p: Path, stem: str | None, suffix: str) -> bool:
-    """Is ``p`` a recording of this naming (the ones ``keep`` counts)?"""
-    return p.suffix == suffix and _is_mine_name(p.name, stem, suffix) and p.is_file()
-
-
 def recordings(folder: Path, stem: str | None, suffix: str,
                orders: Orders) -> Recordings:
     """This naming's recordings in ``folder``: path -> (its header's ``order``, None for a

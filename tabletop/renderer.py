@@ -20,11 +20,11 @@ from tabletop.drawing import characters, dirty, pose_kernel, pucks, screens  # n
 from tabletop.drawing import primitives as P  # noqa: E402
 from tabletop.drawing import raster  # noqa: E402
 from tabletop.drawing.characters import REACTOR_BODY, REACTOR_EYES, Pose  # noqa: E402
-from tabletop.drawing.life import (TRAIL_S, Lives, Presence, PuckTrace,  # noqa: E402
+from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
                                    Traces, breath, eyes_open, seed_of, stretch)
 from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
-from tabletop.frames import CharacterState, Frame, Puck  # noqa: E402
+from tabletop.frames import CharacterState, Frame  # noqa: E402
 from tabletop.table_map import TableToScreen  # noqa: E402
 
 PUCK_COLORS = [(70, 160, 255), (255, 90, 90), (90, 220, 120), (240, 200, 60), (190, 110, 255),
@@ -280,11 +280,6 @@ class Renderer:
             img = self._labels[puck_id] = screens.font(22).render(str(puck_id), True,
                                                                   puck_color(puck_id))
         return img
-
-    def draw_puck(self, target: pygame.Surface, p: Puck, t: float = 0.0) -> None:
-        """One puck's halo, as it would be drawn in a frame (no trail)."""
-        pucks.draw_pucks(target, [(PuckTrace(p, t), p.state, 1.0)], self.map, self.puck_radius,
-                         t, TRAIL_S)
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
         """One character fully present (no fade), as it would be drawn standing still."""

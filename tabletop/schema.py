@@ -85,6 +85,19 @@ class Spec:
     def describe(self) -> str:
         raise NotImplementedError
 
+    def wrong_type(self, value: Any, path: str, ctx: Context, hint: str = "") -> ConfigError:
+        """The error for a value of the wrong type at ``path``: what was expected, what came."""
+        return ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} "
+                               f"{shown(value)}{hint}")
+
+    def mapping(self, value: Any, path: str, ctx: Context) -> dict:
+        """``value`` as a mapping (nothing, null, is an empty one); else :meth:`wrong_type`."""
+        if value is None:
+            return {}
+        if not isinstance(value, dict):
+            raise self.wrong_type(value, path, ctx)
+        return value
+
 
 # "1e9", "1.0e9", "1e+9": YAML 1.1 (PyYAML) reads them as strings ("1.0e+9" is a number)
 YAML_TEXT_NUMBER = re.compile(r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)[eE][-+]?[0-9]+")
@@ -110,8 +123,7 @@ class Number(Spec):
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         ok_types = (int,) if self.integer else (int, float)
         if isinstance(value, bool) or not isinstance(value, ok_types):
-            raise ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} "
-                                  f"{shown(value)}{yaml_number_hint(value)}")
+            raise self.wrong_type(value, path, ctx, yaml_number_hint(value))
         if not self.integer:
             try:
                 value = float(value)
@@ -145,7 +157,7 @@ class Bool(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, bool):
-            raise ctx.error(path, f"expected true or false, got {_type_name(value)} {shown(value)}")
+            raise self.wrong_type(value, path, ctx)
         return value
 
 
@@ -161,8 +173,7 @@ class Str(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, str):
-            raise ctx.error(path, f"expected {self.describe()}, "
-                            f"got {_type_name(value)} {shown(value)}")
+            raise self.wrong_type(value, path, ctx)
         if self.choices and value not in self.choices:
             raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}")
         return value
@@ -186,8 +197,7 @@ class FilePath(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, str) or not value:
-            raise ctx.error(path, f"expected {self.describe()}, "
-                            f"got {_type_name(value)} {shown(value)}")
+            raise self.wrong_type(value, path, ctx)
         p = Path(value).expanduser()
         if not p.is_absolute():
             p = ctx.base / p
@@ -232,8 +242,7 @@ class ListOf(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, list):
-            raise ctx.error(path, f"expected {self.describe()}, "
-                            f"got {_type_name(value)} {shown(value)}")
+            raise self.wrong_type(value, path, ctx)
         if len(value) < self.min_len or (self.max_len is not None and len(value) > self.max_len):
             got = f"{len(value)} item{'' if len(value) == 1 else 's'}"
             raise ctx.error(path, f"expected {self.describe()}, got {got}")
@@ -271,11 +280,7 @@ class MapOf(Spec):
         return f"a mapping of names to {self.value.describe()}"
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
-        if value is None:
-            value = {}
-        if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, "
-                            f"got {_type_name(value)} {shown(value)}")
+        value = self.mapping(value, path, ctx)
         return {str(k): self.value.validate(v, _join(path, str(k)), ctx) for k, v in value.items()}
 
 
@@ -293,11 +298,7 @@ class Record(Spec):
         return f"a mapping with keys {', '.join(self.fields)}"
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
-        if value is None:
-            value = {}
-        if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, "
-                            f"got {_type_name(value)} {shown(value)}")
+        value = self.mapping(value, path, ctx)
         out: dict[str, Any] = {}
         for key in value:
             if key not in self.fields:

@@ -6,12 +6,12 @@
 - Numbered ``snapshot-00000.png``...: the numbering continues from the highest snapshot already
   in the folder (nothing is overwritten), or each run writes into its own subfolder
   ``run-DATE-TIME`` (``per_run``). Each number is claimed by making its file (O_EXCL) before
-  the write: two runs sharing a folder both numbered on from its highest and overwrote each
-  other's snapshots; claimed, a number another run took sends this one past the highest.
+  the write (unclaimed, two runs sharing a folder would both number on from its highest and
+  overwrite each other's snapshots); a number another run took sends this one past the highest.
 - Bounded: beyond ``keep`` snapshots or ``max_mb`` megabytes in the folder (its run subfolders
   included), the oldest are removed: oldest by number and run folder, the current run's last,
-  never by a file's time (after the clock was set back each new snapshot had the oldest time and
-  a full folder removed it at once, so a technician saw the old ones only). Other runs' folders
+  never by a file's time (after the clock is set back each new snapshot would have the oldest
+  time, and a full folder would remove it at once: a technician would see the old ones only). Other runs' folders
   are ordered by their names, the wall-clock time each run began: after a clock step one of them
   may outlive a newer run, never the current one.
 
@@ -30,7 +30,10 @@ import tempfile
 import threading
 import time
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
+
+if TYPE_CHECKING:
+    import pygame
 
 log = logging.getLogger("tabletop")
 
@@ -148,7 +151,7 @@ class Snapshots:
         self._next += self.every_s * max(1, int((now - self._next) // self.every_s) + 1)
         return True
 
-    def save(self, surface) -> Path:
+    def save(self, surface: pygame.Surface) -> Path:
         """Write a copy of ``surface`` (a pygame Surface) as the next snapshot, in a thread."""
         path, claimed = self._claim()
         self.taken += 1
@@ -195,7 +198,7 @@ class Snapshots:
             self._saver.join(timeout=5.0)
 
 
-def save_png(surface, path: Path) -> str:
+def save_png(surface: pygame.Surface, path: Path) -> str:
     """Write ``surface`` to ``path`` as PNG atomically (:func:`tabletop.files.atomic_write_bytes`:
     temporary file, fsync, rename); returns what went wrong, or "" when it was written.
 

@@ -45,15 +45,11 @@ class TableToScreen:
 
     def scale_at(self, x: float, y: float) -> float:
         """Pixels per metre near (x, y)."""
-        ax, ay = self.point(x, y)
-        bx, by = self.point(x + 0.01, y)
-        return math.hypot(bx - ax, by - ay) / 0.01
+        return self.place(x, y, 0.0)[2]
 
     def screen_angle(self, x: float, y: float, a: float) -> float:
         """The screen angle (radians, y down) of the table direction ``a`` at (x, y)."""
-        px, py = self.point(x, y)
-        qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
-        return math.atan2(qy - py, qx - px)
+        return self.place(x, y, a)[3]
 
     def place(self, x: float, y: float, a: float) -> tuple[float, float, float, float]:
         """(pixel x, pixel y, pixels per metre, screen angle of the table direction ``a``) at

@@ -9,7 +9,6 @@ heading ``atan2(c1.y - c0.y, c1.x - c0.x)`` (image y down).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -24,12 +23,6 @@ CORNER_REFINEMENTS = {
     "contour": cv2.aruco.CORNER_REFINE_CONTOUR,
     "apriltag": cv2.aruco.CORNER_REFINE_APRILTAG,
 }
-
-
-def dictionary_names() -> list[str]:
-    """Every predefined dictionary name OpenCV knows (``DICT_...``), sorted."""
-    return sorted(n for n in dir(cv2.aruco) if n.startswith("DICT_")
-                  and isinstance(getattr(cv2.aruco, n), int))
 
 
 def dictionary_by_name(name: str) -> cv2.aruco.Dictionary:
@@ -178,12 +171,6 @@ def marker_measurements(ids: np.ndarray, corners: np.ndarray, t: float,
         pid = int(mid) if id_map is None else int(id_map.get(int(mid), int(mid)))
         out.append(PuckMeasurement(pid, float(x), float(y), float(a), float(t)))
     return tuple(out)
-
-
-def angle_error(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Absolute angular difference in radians, in [0, pi]."""
-    d = np.remainder(np.asarray(a, float) - np.asarray(b, float) + math.pi, 2 * math.pi) - math.pi
-    return np.abs(d)
 
 
 # --- Verification of known markers (tracking without re-detection) ---------------------------

@@ -36,7 +36,7 @@ import re
 import socket
 import threading
 import time
-from typing import Callable, Iterable
+from typing import TYPE_CHECKING, Callable, Iterable
 
 import numpy as np
 
@@ -45,6 +45,9 @@ from tracking.badinput import BackgroundSource, BadInput
 from tracking.osc_codec import OscError, decode_packet
 from tracking.touch_ids import TouchIds
 from tracking.tuio import ADDRESSES, MAX_ALIVE, TuioClient, to_table
+
+if TYPE_CHECKING:
+    from pythonosc.osc_server import BlockingOSCUDPServer
 
 HOLD_S = 0.1               # a held (unchanged) state is reported at most this old
 MAX_STREAMS = 64
@@ -294,7 +297,7 @@ def plain_address(address: str) -> str:
     return str(mapped if mapped is not None else ip)
 
 
-def make_server(host: str, port: int, sink: OscInput):
+def make_server(host: str, port: int, sink: OscInput) -> BlockingOSCUDPServer:
     """A python-osc ``BlockingOSCUDPServer`` on (host, port) that hands every datagram from an
     allowed sender to ``sink.handle`` (its dispatcher is not used)."""
     from pythonosc.dispatcher import Dispatcher

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from typing import Iterable, Sequence
 
 from tabletop.frames import Observation, Puck, PuckMeasurement, wrap_angle
-from tracking.filters import one_euro_floats
+from tracking.filters import one_euro_floats, scale_beta
 
 MAX_OMEGA = 8.0 * math.pi   # rad/s: 4 turns a second, faster than a hand turns a puck
 
@@ -250,7 +250,7 @@ class PuckTracker:
             target = list(meas)
         elif s.smooth and dt > 0.0:
             tr.pos, tr.dpos = one_euro_floats(meas[:2], tr.pos, tr.dpos, dt, s.min_cutoff,
-                                              s.beta / u, s.d_cutoff)
+                                              scale_beta(s.beta, u), s.d_cutoff)
             tr.ang, tr.dang = one_euro_floats(meas[2:], tr.ang, tr.dang, dt,
                                               s.angle_min_cutoff, s.angle_beta, s.d_cutoff)
             target = tr.pos + tr.ang

@@ -183,7 +183,7 @@ class TuioClient:
         self.pending: dict[tuple[str, str], Pending] = {}   # (UDP address, profile) -> frame
         self.names: dict[str, tuple[str, str]] = {}  # UDP address -> (sender key, source name)
 
-    def sender(self, key: str, t: float, name: str = "") -> Sender:
+    def sender(self, key: str, name: str = "") -> Sender:
         s = self.senders.get(key)
         if s is None:
             if len(self.senders) >= self.max_senders:
@@ -245,7 +245,7 @@ class TuioClient:
                 else:
                     fseq = parse_fseq(rest)
                     del self.pending[(address, profile)]
-                    sender = self.sender(frame.key, t, frame.name)
+                    sender = self.sender(frame.key, frame.name)
                     if self._commit(sender, profile, frame.alive, frame.sets, fseq, t):
                         commits += 1
                         self._check_alive(sender.profiles[profile], profile, frame, errors)

@@ -119,9 +119,9 @@ class MopStage(DesignerTakes):
 
     # --- training -------------------------------------------------------------------------------
 
-    def _retrain(self, character: str | None = None, background: bool = False) -> None:
-        """Rebuild every performer's follower from the characters' current templates (after
-        ``character``'s actions changed; rebuilding restarts every follower). With
+    def _retrain(self, background: bool = False) -> None:
+        """Rebuild every performer's follower from the characters' current templates (after a
+        character's actions changed; rebuilding restarts every follower). With
         ``background`` and a :attr:`worker` (a take's stop) the followers (15-70 ms for
         examples/mop.yaml) are built in its thread and installed between ticks by whoever set
         the worker (:meth:`install_built`); the old ones play until then."""
@@ -199,13 +199,13 @@ class MopStage(DesignerTakes):
         (with ``background``, once the :attr:`worker` has rebuilt the followers)."""
         self.templates[character][action.name] = (performer, samples)
         self.puppets[character].add_action(action)
-        self._retrain(character, background)
+        self._retrain(background)
 
     def remove_action(self, character: str, name: str) -> None:
         """``character`` no longer has the action ``name``."""
         if self.templates[character].pop(name, None) is not None:
             self.puppets[character].remove_action(name)
-            self._retrain(character)
+            self._retrain()
 
     # --- running --------------------------------------------------------------------------------
 

@@ -54,15 +54,6 @@ def _rpy_matrix(r: float, p: float, y: float) -> np.ndarray:
                      [-sp, cp * sr, cp * cr]])
 
 
-def _axis_angle_matrix(axis: np.ndarray, angle: float) -> np.ndarray:
-    x, y, z = axis
-    c, s = math.cos(angle), math.sin(angle)
-    t = 1.0 - c
-    return np.array([[t * x * x + c, t * x * y - s * z, t * x * z + s * y],
-                     [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
-                     [t * x * z - s * y, t * y * z + s * x, t * z * z + c]])
-
-
 def _floats(text: str | None, n: int, what: str, file: str) -> np.ndarray:
     try:
         vals = [float(v) for v in (text or "").split()]

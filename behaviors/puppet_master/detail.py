@@ -69,18 +69,6 @@ def direction_detail(move: np.ndarray, moving: np.ndarray | None = None, levels:
     return np.clip(haar_detail(a, levels), -clip, clip)
 
 
-def high_frequency_ratio(signal: np.ndarray, levels: int = 4) -> float:
-    """Energy share of the detail part above fs / 2**levels in a signal (0..1); for tests and
-    diagnostics of texture (a shaky path scores high, a smooth one near 0)."""
-    x = np.asarray(signal, dtype=float)
-    x = x - x.mean()
-    total = float(np.dot(x, x))
-    if total <= 0.0:
-        return 0.0
-    h = haar_detail(x, levels)
-    return float(np.dot(h, h)) / total
-
-
 class DetailPatch:
     """Which training sample's detail applies this step: fixed patches of ``length`` steps."""
 

@@ -22,20 +22,12 @@ import numpy as np
 
 from behaviors.puppet_master import search_kernel
 
+
 def window_sums(values: np.ndarray, n: int) -> np.ndarray:
     """``out[j] = sum(values[max(0, j - n + 1): j + 1])`` for a 1-D array."""
     cs = np.concatenate([[0.0], np.cumsum(values)])
     j = np.arange(values.size)
     return cs[j + 1] - cs[np.maximum(0, j - n + 1)]
-
-
-def window_distances(live: np.ndarray, train: np.ndarray) -> np.ndarray:
-    """Reference (brute force) distances of ``live`` (n, d) to every full training window:
-    ``out[j]`` for window ends j = n-1 .. N-1, shape (N - n + 1,)."""
-    n = live.shape[0]
-    win = np.lib.stride_tricks.sliding_window_view(train, n, axis=0)  # (N-n+1, d, n)
-    diff = win - live.T[None]
-    return np.einsum("jdn,jdn->j", diff, diff)
 
 
 E_DTYPE = np.float32

@@ -115,7 +115,6 @@ class Humanoid:
         self.part_offset = {"head": 0.5 * head, "pelvis": np.zeros(3), "left_hand": wrist.copy(),
                             "right_hand": wrist.copy(), "left_foot": 0.5 * foot,
                             "right_foot": 0.5 * foot}
-        self.toe = foot
         self.part_index = {p: k for k, p in enumerate(PARTS)}
         self._pb_list = [int(self.part_body[p]) for p in PARTS]
         self._po_list = [tuple(float(v) for v in self.part_offset[p]) for p in PARTS]
@@ -166,14 +165,6 @@ class Humanoid:
         """Joint positions then part points (19, 3), model frame: what :attr:`bones` connects."""
         g = self.globals(pose)
         return np.vstack([np.array(g[1]), self.parts(pose, g)])
-
-    def lowest(self, pose: Pose) -> float:
-        """Height (m) of the lowest foot point (heel or toe) above the ground y = 0."""
-        qw, pw = self.globals(pose)
-        ys = []
-        for i in (self.names.index("right_ankle"), self.names.index("left_ankle")):
-            ys += [pw[i][1] - 0.09 * SCALE, pw[i][1] + qrot(qw[i], tuple(self.toe))[1]]
-        return float(min(ys))
 
     # --- limits --------------------------------------------------------------------------------
 

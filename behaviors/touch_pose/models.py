@@ -19,6 +19,7 @@ import io
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Mapping
 
 import numpy as np
 
@@ -89,7 +90,7 @@ def to_arrays(models: Models, key: str) -> dict[str, np.ndarray]:
     return out
 
 
-def from_arrays(body: Humanoid, arrays, key: str) -> Models:
+def from_arrays(body: Humanoid, arrays: Mapping[str, np.ndarray], key: str) -> Models:
     """The models back from :func:`to_arrays`'s arrays; ValueError if they are not those of
     ``key`` and the current actions, or hold a non-finite number."""
     if str(arrays["key"]) != key:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import errno
 import math
+from pathlib import Path
+from typing import Iterable
 
 from tabletop.frames import InputError
 
@@ -36,13 +38,12 @@ def number_in_range(text: str | float, option: str, unit: str, lo: float, hi: fl
     return int(value) if integer else value
 
 
-def output_file(path, option: str, error: type[InputError] = InputError, inputs=(),
-                example: str = "out.jsonl"):
+def output_file(path: str | Path, option: str, error: type[InputError] = InputError,
+                inputs: Iterable[str | Path | None] = (), example: str = "out.jsonl") -> Path:
     """``path`` of an output ``option`` (a Path), refused at once when it names a folder (the
     message suggests the file ``example`` in it) or the same file as one of ``inputs`` (the
     command's input paths, None where not given), which the output would overwrite. An empty
     ``path`` is refused as empty (Path('') is the current folder)."""
-    from pathlib import Path
     if str(path) == "":
         raise error(f"{option}: the path is empty; give a file name such as {example}")
     p = Path(path)
@@ -58,7 +59,7 @@ def output_file(path, option: str, error: type[InputError] = InputError, inputs=
     return p
 
 
-def _resolved(p):
+def _resolved(p: Path) -> Path | None:
     """``p.resolve()``, or None for a symbolic link loop (Python before 3.13 raises
     RuntimeError there, which the command line reported as an internal error)."""
     try:

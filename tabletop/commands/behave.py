@@ -150,7 +150,7 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
     return out
 
 
-def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int):
+def read_rows(path: str, columns: tuple[str, ...], what: str, min_rows: int) -> np.ndarray:
     """The rows (n, len(columns)) of CSV ``path``, in ``columns``' order, its times (the first
     column) strictly increasing and its positions on no absurd scale; errors name the line."""
     from tabletop.files import check_increasing, check_positions, read_csv_lines
@@ -233,10 +233,11 @@ def read_folder(folder: str, out: str) -> tuple[np.ndarray, dict[str, float | in
     return stored.demonstration, dict(stored.parameters)
 
 
-def read_demonstration(args: argparse.Namespace):
+def read_demonstration(args: argparse.Namespace
+                       ) -> tuple[np.ndarray, dict[str, float | int], str]:
     """The demonstration (n, 7) from --train (a CSV, or a behaviour folder with its stored
-    parameters), or paired from --train-main and --train-react; the file(s) its errors name;
-    and the stored parameters ({} but for a folder)."""
+    parameters), or paired from --train-main and --train-react; the stored parameters ({} but
+    for a folder); and the file(s) its errors name."""
     from behaviors.puppet_master.sequential import TakeError, pair_takes
 
     if (args.train is None) == (args.train_main is None and args.train_react is None):

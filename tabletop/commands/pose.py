@@ -12,11 +12,15 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from tabletop.commands import number_in_range, output_file
 from tabletop.frames import InputError
+
+if TYPE_CHECKING:
+    from behaviors.touch_pose.engine import TouchPose
 
 HELP = ("drive a touch-posed humanoid (posing, actions, tracking) from recorded touches, or "
         "describe its parts and actions for a view")
@@ -101,7 +105,8 @@ def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]
     return frames
 
 
-def run(frames: list[tuple[float, dict[int, tuple[float, float]]]], engine, rate: float) -> list[dict]:
+def run(frames: list[tuple[float, dict[int, tuple[float, float]]]], engine: TouchPose,
+        rate: float) -> list[dict]:
     """Output records at ``rate`` from the first input time to the last + 2 s (causal)."""
     t0, t_end = frames[0][0], frames[-1][0] + RUN_ON_S
     n = int(math.floor((t_end - t0) * rate + 1e-9)) + 1

@@ -28,12 +28,6 @@ PUCK_COASTING: Color = (255, 186, 70)  # amber: a prediction while the marker is
 PUCK_LOST: Color = (255, 86, 96)       # red, fading: the puck has left
 PUCK_STATES: dict[str, Color] = {"seen": PUCK_SEEN, "coasting": PUCK_COASTING, "lost": PUCK_LOST}
 
-# Character hues chosen to read on the navy table and apart from one another.
-CHARACTER_HUES: tuple[Color, ...] = ((255, 122, 160), (255, 190, 92), (120, 220, 150),
-                                     (120, 190, 255), (200, 150, 255), (100, 226, 226),
-                                     (255, 150, 90), (236, 236, 210))
-
-
 @functools.lru_cache(maxsize=256)
 def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,
           max_sat: float = 0.8) -> Color:

@@ -15,13 +15,17 @@ from __future__ import annotations
 
 import ctypes
 import weakref
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import pygame
 
 _formats: dict[tuple, np.ndarray] = {}
 
 
-def surface_format(surf) -> np.ndarray:
+def surface_format(surf: pygame.Surface) -> np.ndarray:
     """The red, green, blue and alpha shifts of a 32-bit surface's pixels (alpha -1 when it
     has no alpha channel), as the kernels take them."""
     shifts, amask = surf.get_shifts(), surf.get_masks()[3]
@@ -36,7 +40,7 @@ def surface_format(surf) -> np.ndarray:
 _views: dict[int, tuple] = {}   # id of a surface -> (weak reference, layout, pixels, format)
 
 
-def pixels(surf) -> tuple[np.ndarray, np.ndarray] | None:
+def pixels(surf: pygame.Surface) -> tuple[np.ndarray, np.ndarray] | None:
     """``surf``'s 32-bit pixels (indexed ``[x, y]``, column-major as the kernels are compiled
     for) and format, or None for a surface of another depth, a subsurface (strided rows) or one
     that must be locked. The view is made once per surface and pixel memory (address, pitch,
@@ -62,7 +66,7 @@ def pixels(surf) -> tuple[np.ndarray, np.ndarray] | None:
     return pix, fmt
 
 
-def draw(surf, kernel, *args) -> None:
+def draw(surf: pygame.Surface, kernel: Callable[..., None], *args: Any) -> None:
     """Run a drawing ``kernel(pixels, format, *args)`` on ``surf``'s pixels (see
     :func:`pixels`; a surface of another depth, or a subsurface, is drawn through a 32-bit
     copy)."""

@@ -47,14 +47,3 @@ class Notifier:
             self._sock.close()
             self._sock = None
 
-
-def watchdog_interval_s() -> float | None:
-    """The service's watchdog interval (``$WATCHDOG_USEC``) in seconds, if it has one for us."""
-    usec = os.environ.get("WATCHDOG_USEC")
-    pid = os.environ.get("WATCHDOG_PID")
-    if not usec or (pid and pid != str(os.getpid())):
-        return None
-    try:
-        return int(usec) / 1e6
-    except ValueError:
-        return None

@@ -11,7 +11,7 @@ import logging
 import threading
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from tabletop.app import build_live
 from tabletop.frames import Frame, InputError
@@ -44,7 +44,9 @@ class Runner:
 
     def __init__(self, config_path: Path, cfg: dict[str, Any], headless: bool = False,
                  record_path: Path | None = None, kiosk: bool = False,
-                 studio: bool = False, clock=None, wrap_source=None, prepared=None,
+                 studio: bool = False, clock: Callable[[], float] | None = None,
+                 wrap_source: Callable[[Any, dict], Any] | None = None,
+                 prepared: Any = None,
                  config_error: str | None = None, strict: bool = False) -> None:
         self.config_path = Path(config_path)
         self.base = self.config_path.resolve().parent

@@ -9,9 +9,13 @@ table time runs as fast as the machine can render, detect, step the engines and 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from tabletop.frames import Observation, SourceHealth
+
+if TYPE_CHECKING:
+    from tabletop.app import Installation
+    from tabletop.kiosk.runner import Runner
 
 
 class SimClock:
@@ -65,7 +69,7 @@ def stepped(source: Any, entry: dict) -> Any:
 
 
 def simulated(cfg: dict[str, Any], config_path: Path, clock: SimClock, kiosk: bool = True,
-              studio: bool = True):
+              studio: bool = True) -> tuple[Runner, Installation]:
     """A :class:`~tabletop.kiosk.runner.Runner` and its installation on ``clock``: synthetic
     cameras stepped, the loop unpaced, headless. Step it with ``inst.loop.tick()`` and
     ``clock.advance(dt)``."""

@@ -87,7 +87,8 @@ class ConfigWatcher:
 
     The first look validates the file whatever its time: the running configuration was read
     before the installation was built (seconds at a cold start, at a warm spare's go), and an
-    edit saved meanwhile was neither applied nor refused (status ``config_error: null``)."""
+    edit saved meanwhile would otherwise be neither applied nor refused (status
+    ``config_error: null``)."""
 
     def __init__(self, path: Path, current: dict[str, Any], load: Callable[[Path], dict],
                  apply: Callable[[dict[str, Any]], None], every_s: float = 1.0,

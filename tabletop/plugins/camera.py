@@ -15,7 +15,7 @@ import logging
 import math
 import os
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Mapping
 
 import numpy as np
 
@@ -24,6 +24,10 @@ from tabletop.frames import Observation, PuckMeasurement
 from tabletop.registry import BuildContext
 from tabletop.schema import (Bool, ConfigError, Context, FilePath, ListOf, Number, Optional_,
                              Record, Spec, shown)
+
+if TYPE_CHECKING:
+    from calibration.files import Calibration
+    from tracking.camera import CameraSource
 
 log = logging.getLogger("tabletop")
 
@@ -173,7 +177,7 @@ def make_detector(ctx: BuildContext) -> Any:
     return PlainDetector(tracking_dictionary(ctx.config))
 
 
-def stretch_calibration(width: int, height: int, table: tuple[float, float]):
+def stretch_calibration(width: int, height: int, table: tuple[float, float]) -> Calibration:
     """A stand-in calibration that stretches the image over the table (no camera geometry)."""
     from calibration.files import Calibration
     w, h = table
@@ -286,7 +290,7 @@ def share_calibration(ctx: BuildContext, calibration: Any) -> None:
         ctx.shared.setdefault("table_to_projector", calibration.table_to_projector)
 
 
-def build(options: dict, ctx: BuildContext):
+def build(options: dict, ctx: BuildContext) -> CameraSource:
     from calibration.files import load_calibration
     from tracking.camera import CameraSource, settings_from_options
 

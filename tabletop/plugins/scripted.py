@@ -8,6 +8,7 @@ test action following without a person at the table.
 from __future__ import annotations
 
 import time
+from typing import Callable
 
 from tabletop.frames import Observation, PuckMeasurement, SourceHealth
 from tabletop.registry import BuildContext
@@ -53,7 +54,7 @@ class ScriptedSource:
 
     def __init__(self, name: str, visitor: ScriptedVisitor,
                  performers: dict[int, GesturePerformer] | None = None,
-                 clock=time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic) -> None:
         self.name, self.visitor, self.clock = name, visitor, clock
         self.performers = dict(performers or {})
         self._t0 = 0.0

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from tabletop.plugins.synthetic_render import (RenderProcessReader, ScriptedHand
 from tracking.camera import CameraSettings as CaptureSettings
 from tracking.camera import CameraSource, PhaseLock
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera, SyntheticFrame
+
+if TYPE_CHECKING:
+    from calibration.files import Calibration
 
 
 def _check(options: dict, path: str, ctx: Context) -> None:
@@ -154,7 +157,7 @@ def camera_settings(options: dict, ctx: BuildContext) -> CameraSettings:
         puck_diameter=options["puck_diameter"], seed=options["seed"])
 
 
-def true_calibration(camera: SyntheticCamera):
+def true_calibration(camera: SyntheticCamera) -> Calibration:
     """The rendered camera's exact calibration (intrinsics, distortion, camera -> table)."""
     from calibration.files import Calibration
     return Calibration(camera.image_to_table_homography(), None, camera.K, camera.dist,

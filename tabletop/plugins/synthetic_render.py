@@ -196,10 +196,10 @@ class RenderProcessReader:
         self._frames = 0
 
     def read(self) -> np.ndarray:
-        """The next image; RenderProcessLost when the child died or did not answer. (It
-        returned None, which the camera takes for a video file's end: a killed render process
-        was logged as "ended; played again from its start ... (not logged again)", at INFO, and
-        every later death not at all.)"""
+        """The next image; RenderProcessLost when the child died or did not answer (not None,
+        which the camera takes for a video file's end: a killed render process would be logged
+        as "ended; played again from its start ... (not logged again)", at INFO, and every
+        later death not at all)."""
         wait_s = FIRST_FRAME_S if self._frames == 0 else FRAME_S
         try:
             self.requests.send((self.t0, SyntheticReader.shutter_at_end))

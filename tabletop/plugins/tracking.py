@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import dataclasses
 
@@ -19,6 +19,9 @@ from tabletop.frames import Observation, Puck
 from tabletop.registry import BuildContext
 from tabletop.schema import Bool, Context, MapOf, Number, Record, Str
 from tracking.pucks import PuckTracker, TrackerSettings
+
+if TYPE_CHECKING:
+    from tracking.roi import MarkerTracker
 
 log = logging.getLogger("tabletop")
 
@@ -150,7 +153,7 @@ class Tracker(PuckTracker):
         self._marker_of = {p: m for m, p in self.id_map.items()}
         self._shared_said: set[int] = set()   # pucks named as seen through several markers
 
-    def update(self, observations, t: float) -> tuple[Puck, ...]:
+    def update(self, observations: Sequence[Observation], t: float) -> tuple[Puck, ...]:
         if self.id_map:
             observations = [self._renamed(o) for o in observations]
         return super().update(observations, t)
@@ -189,7 +192,7 @@ def build_tracker(options: Mapping[str, Any], ctx: BuildContext | None = None) -
     return Tracker(tracker_settings(options), puck_id_map(options))
 
 
-def build_detector(options: Mapping[str, Any] | None = None):
+def build_detector(options: Mapping[str, Any] | None = None) -> MarkerTracker:
     """A region-of-interest marker detector (:class:`tracking.roi.MarkerTracker`) for one camera:
     ``detect(grey, predictions_px) -> (ids (N,), corners (N, 4, 2) pixels)``."""
     from tracking.markers import DetectorSettings

@@ -6,7 +6,7 @@ import dataclasses
 import math
 import time
 from pathlib import Path
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 from behaviors.worker import FINISH_S
 from tabletop import library
@@ -15,7 +15,12 @@ from tabletop.studio.machine import Studio
 from tabletop.studio.session import SessionLog
 from tabletop.studio.mop_target import MopTarget
 from tabletop.studio.pose_target import TouchPoseTarget
+from tabletop.studio.take import Target
 from tabletop.studio.targets import PuppetMasterTarget
+
+if TYPE_CHECKING:
+    from tabletop.app import Installation
+    from tabletop.frames import Engine
 
 
 class Markers:
@@ -105,7 +110,8 @@ def studio_input(frame: Frame) -> Frame:
                                consumed={k: v for k, v in frame.consumed.items() if k != "studio"})
 
 
-def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) -> list:
+def studio_targets(engines: Sequence[Engine], cfg: dict[str, Any], base: Path,
+                   all_engines: bool) -> list[Target]:
     """A target for every Puppet Master engine in designer mode (every one with
     ``all_engines``: studio mode), for every character of every MOP engine and for every
     touch-pose engine."""
@@ -143,7 +149,7 @@ def studio_targets(engines, cfg: dict[str, Any], base: Path, all_engines: bool) 
     return targets
 
 
-def attach_studio(inst, cfg: dict[str, Any], base: Path, all_engines: bool = True,
+def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engines: bool = True,
                   replay: bool = False) -> Studio:
     """Put the studio on ``inst``'s loop: the machine and markers as one filter
     (:class:`StudioStage`), library polling as a hook, the session log in ``studio.folder``

@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import functools
 import math
-from typing import Callable
+from typing import Any, Callable
 
 import pygame
 
 from tabletop import library
 from tabletop.drawing import screens
 from tabletop.frames import CharacterState
+
+# ``renderer`` below is the view's tabletop.renderer.Renderer, typed Any: that module imports
+# this one to draw the studio, and the project's imports stay free of cycles
 
 _fonts: dict[int, pygame.font.Font] = {}
 
@@ -32,14 +35,14 @@ STATUS_PX, MARK_PX, DOT_PX = 26, 36, 14
 MIN_STATUS_PX, MIN_MARK_PX = 16, 22
 
 
-def text_scale(renderer) -> float:
+def text_scale(renderer: Any) -> float:
     """The studio's words' size factor: the table's pixels per metre at its centre over
     ``REF_PPM``."""
     w, h = renderer.table
     return renderer.map.scale_at(w / 2, h / 2) / REF_PPM
 
 
-def draw_studio(target: pygame.Surface, renderer, c: CharacterState) -> list[pygame.Rect]:
+def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState) -> list[pygame.Rect]:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
     number in the middle of the table, a red dot and seconds and a red edge round the table
     while recording, a green TRY mark
@@ -127,7 +130,7 @@ class NamePrompt:
     def active(self) -> bool:
         return self.text is not None
 
-    def handle(self, ev) -> str | None:
+    def handle(self, ev: pygame.event.Event) -> str | None:
         """Take a KEYDOWN event; returns a command when one is complete."""
         if self.text is None:
             if ev.key == pygame.K_F2 and (self.ask is None or self.ask()):
@@ -156,7 +159,7 @@ class NamePrompt:
                                 "a name: ASCII letters, digits, '_', '-' or '.'")
         return None
 
-    def draw(self, target: pygame.Surface, renderer=None) -> None:
+    def draw(self, target: pygame.Surface, renderer: Any = None) -> None:
         """The line being typed, at the window's top, sized on the table as the studio's
         other words are (:func:`text_scale` of ``renderer``; 32 px at 840 px/m)."""
         if self.text is not None:

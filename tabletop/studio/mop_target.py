@@ -9,7 +9,7 @@ actions are followed at once, removed ones dropped, a bad file reported and skip
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -20,6 +20,9 @@ from tabletop.studio.folders import named_folder, trash
 from tabletop.studio.pm_take import Unseen
 from behaviors.worker import Worker, close_workers
 
+if TYPE_CHECKING:
+    from behaviors.mop.stage import MopStage
+
 
 class MopTarget:
     """One character of a MOP engine (``ENGINE/CHARACTER``) as a studio target: its takes are
@@ -28,7 +31,8 @@ class MopTarget:
 
     what = "action"
 
-    def __init__(self, stage, character: str, lib: Path | None, background: bool = True) -> None:
+    def __init__(self, stage: MopStage, character: str, lib: Path | None,
+                 background: bool = True) -> None:
         self.stage, self.character, self.lib = stage, character, lib
         self.base: Path | None = None        # the config's folder (the keep's line)
         if background and stage.worker is None:   # the stage's followers built off the hot path

@@ -192,7 +192,7 @@ class BehaviorShelf:
 
     def _gone(self, folder: Path) -> None:
         """The behaviour in play was deleted (or renamed) elsewhere, another studio on this
-        library: it plays on from memory, as after a delete here (it was reported as a bad
+        library: it plays on from memory, as after a delete here (not reported as a bad
         library file, "behaviour folder not found")."""
         self.playing, self.play_poller, self.removed = None, None, folder
         self._named(f"{folder.name} (deleted)")

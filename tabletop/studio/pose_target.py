@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -27,6 +27,9 @@ from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.files import keep_under_free_name
 from tabletop.studio.folders import named_folder, rename_folder, trash
 from behaviors.worker import Worker, close_workers
+
+if TYPE_CHECKING:
+    from tabletop.plugins.touch_pose import TouchPoseEngine
 
 
 def _learn(body, name: str, times: np.ndarray, poses: list[Pose], part: str | None) -> tuple:
@@ -43,7 +46,7 @@ class TouchPoseTarget:
 
     what = "pose action"
 
-    def __init__(self, engine, background: bool = True) -> None:
+    def __init__(self, engine: TouchPoseEngine, background: bool = True) -> None:
         self.engine, self.core = engine, engine.core
         self.worker = Worker(f"{engine.name}-training") if background else None
         self.name = engine.name
@@ -149,7 +152,7 @@ class TouchPoseTarget:
     cue = "get ready: hold a body part, then pose the motion"
     swap_s = 0.3     # learning a take's action takes 50 ms CPU here (60 frames, bench/studio.py)
 
-    def guide(self):
+    def guide(self) -> np.ndarray | None:
         """The path to drag to try the take (table metres), from where its part is now."""
         return None if self.pending is None else self.core.stroke_on_table(self.pending)
 

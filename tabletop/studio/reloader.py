@@ -20,7 +20,7 @@ import base64
 import dataclasses
 import logging
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, Iterable
 
 import numpy as np
 
@@ -28,6 +28,10 @@ from behaviors.worker import Worker, close_workers
 from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller
+
+if TYPE_CHECKING:
+    from tabletop.frames import Engine
+    from tabletop.plugins.puppet_master import PuppetMasterEngine
 
 log = logging.getLogger("tabletop")
 
@@ -78,7 +82,7 @@ class BehaviorReloader:
     the worker is done. A bad file is logged once and shown in the character's label, and the
     behaviour that was playing goes on."""
 
-    def __init__(self, engine, background: bool = True) -> None:
+    def __init__(self, engine: PuppetMasterEngine, background: bool = True) -> None:
         self.engine = engine
         self.folder = Path(engine.folder)
         self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
@@ -147,7 +151,7 @@ class RecordedReloads:
     A reload that cannot be trained is logged and skipped (the behaviour in play goes on), and
     the frame's other engines are reloaded all the same."""
 
-    def __init__(self, engines) -> None:
+    def __init__(self, engines: Iterable[Engine]) -> None:
         self.engines = {e.name: e for e in engines}
 
     def __call__(self, frame: Frame) -> Frame:

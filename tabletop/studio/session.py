@@ -32,7 +32,7 @@ from typing import Callable
 import numpy as np
 
 from behaviors.worker import FINISH_S, ending, job_thread, next_job
-from tabletop.studio.take import ITEM_LINES, Try
+from tabletop.studio.take import ITEM_LINES, Target, Try
 
 log = logging.getLogger("tabletop")
 
@@ -138,7 +138,7 @@ class SessionLog:
         if review:   # the plotting library loads at start, off the loop, not in the first try
             self._drawn = _warm_once()
 
-    def log_try(self, t: Try, target) -> None:
+    def log_try(self, t: Try, target: Target) -> None:
         if t.outcome in ITEM_LINES:     # a line of its own: no samples, no sheet
             self._append(t)
             return

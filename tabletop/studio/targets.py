@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +29,9 @@ from tabletop.kiosk.watch import Poller
 from tabletop.studio.folders import named_folder
 from tabletop.studio.pm_shelf import BehaviorShelf
 from tabletop.studio.pm_take import Unseen, motionless
+
+if TYPE_CHECKING:
+    from tabletop.plugins.puppet_master import PuppetMasterEngine
 
 log = logging.getLogger("tabletop")
 
@@ -48,7 +52,7 @@ class PuppetMasterTarget(BehaviorShelf):
 
     what = "behaviour"
 
-    def __init__(self, engine) -> None:
+    def __init__(self, engine: PuppetMasterEngine) -> None:
         self.engine = engine
         self.name = engine.name
         d = engine.designer

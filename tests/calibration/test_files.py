@@ -9,6 +9,7 @@ import yaml
 
 from calibration.files import (Calibration, CalibrationError, load_calibration,
                                save_calibration)
+from tracking.markers import marker_measurements
 from tracking.synthetic import CameraSettings, SyntheticCamera
 
 DIST = (-0.12, 0.03, 0.0005, -0.0005, 0.0)
@@ -43,7 +44,8 @@ def test_round_trip_maps_pixels_to_table(tmp_path):
     assert np.allclose(cal.table_to_projector, true_calibration(cam).table_to_projector)
     # Heading: an image direction along the marker's c0 -> c1 is the puck's table angle.
     c = cam.project(cam.marker_corners_table(0.5, 0.4, 2.0).T)
-    assert math.isclose(cal.table_angle(c[:2]), 2.0, abs_tol=1e-6)
+    (m,) = marker_measurements(np.array([0]), c[None], 0.0, cal.image_to_table)
+    assert math.isclose(m.angle, 2.0, abs_tol=1e-6)
 
 
 def test_ideal_camera_needs_no_intrinsics(tmp_path):
@@ -103,7 +105,7 @@ def good() -> dict:
     (lambda d: d.update(intrinsics={"camera_matrix": [[9, 0, 1], [0, 9, 1], [0, 0, 1]],
                                     "distortion": [0.1, 0.2, 0.3]}), "intrinsics.distortion"),
     (lambda d: d.update(reprojection_error={"intrinsics_px": -1}), "reprojection_error.intrinsics_px"),
-    # numbers no camera has: each used to load and map every marker to one point, NaN or nowhere
+    # numbers no camera has (each would map every marker to one point, NaN or nowhere)
     (sized(intrinsics=lens(1e300)), r"intrinsics: fx = 1e\+300, fy = 1e\+300 px with this "
      r"distortion give a 0.000\d+ degree field of view across the image's short side; "
      r"expected 1 to 179"),

@@ -188,8 +188,9 @@ def test_an_edit_saved_while_the_installation_starts_is_refused_or_applied(tmp_p
 
 def test_an_applied_edit_frees_the_previous_installation(tmp_path):
     """After an applied edit the previous installation's engine is freed while the new one
-    runs. Before, the new loop froze it out of the garbage collector's passes (Loop.run's
-    gc.freeze) before it was ever collected: every applied edit kept the old installation."""
+    runs: were it still uncollected when the new loop starts, Loop.run's gc.freeze would keep
+    it out of the garbage collector's passes, and every applied edit would keep the old
+    installation."""
     import gc
     import weakref
 

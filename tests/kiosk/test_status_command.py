@@ -182,9 +182,9 @@ def test_status_json_prints_only_json_objects(tmp_path, capsys):
 
 def test_ctrl_c_ends_a_timed_status_at_once():
     """``status HOST:PORT --seconds 120`` stopped with Ctrl-C after a heartbeat: it ends at once
-    with the heartbeat's line and status 0, no traceback. The --seconds timer (not a daemon)
-    kept the process for the rest of the 120 s, and a second Ctrl-C printed a traceback from
-    threading's shutdown."""
+    with the heartbeat's line and status 0, no traceback (a --seconds timer that is not a
+    daemon thread would keep the process for the rest of the 120 s, and a second Ctrl-C would
+    print a traceback from threading's shutdown)."""
     import signal
     import subprocess
     import sys
@@ -200,7 +200,7 @@ def test_ctrl_c_ends_a_timed_status_at_once():
         first = proc.stdout.readline()       # the line of that heartbeat: it was served
         assert first.startswith("north"), first
         proc.send_signal(signal.SIGINT)
-        out, err = proc.communicate(timeout=60)   # (the bug held it for the rest of 120 s)
+        out, err = proc.communicate(timeout=60)   # ends at the interrupt, not after --seconds
     finally:
         if proc.poll() is None:
             proc.kill()

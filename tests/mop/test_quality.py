@@ -263,7 +263,7 @@ def _tail_and_paused(gestures) -> tuple[int, int, float]:
 def test_an_action_moved_on_the_spot_holds_no_resting_performer(gestures, monkeypatch):
     # a wander hovering at the circle's start, a diagonal stopped on the circle's chord: the
     # action taken was moved by the input without carrying it forward, and the performer then
-    # rests; it no longer holds them there (validity.stalls). The price: a gesture paused within
+    # rests; it does not hold them there (validity.stalls). The price: a gesture paused within
     # a few samples of its recognition at a slow tempo (a 0.7x figure eight, a 1.4x square:
     # 2 of 24 here). Measured: valid ticks in the resting tail 29 (without 35), in all 153 (162),
     # paused gestures valid on track after 30% 0.676 (0.712; with the path misfit at 1.4 sigma
@@ -395,8 +395,8 @@ def _there_and_back(gestures, name: str, seed: int, reach: float = 0.6) -> np.nd
 
 def test_an_action_does_not_hold_a_performer_resting_behind_where_it_began(gestures,
                                                                           monkeypatch):
-    # a wave or a zigzag performed to 60%, back to its start and rested: the action no longer
-    # drives once the performer rests behind where it began driving (validity.rests_behind).
+    # a wave or a zigzag performed to 60%, back to its start and rested: the action stops
+    # driving once the performer rests behind where it began driving (validity.rests_behind).
     # Measured: valid ticks in the resting tails 0 (25 without; 50 without it and without
     # the strained rule of invariance.PerformanceFrame._reversal_sizes, which keeps the zigzag
     # strained at its turn from being sized)

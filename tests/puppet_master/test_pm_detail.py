@@ -5,7 +5,18 @@ import math
 import numpy as np
 import pywt
 
-from behaviors.puppet_master.detail import DetailPatch, haar_detail, high_frequency_ratio
+from behaviors.puppet_master.detail import DetailPatch, haar_detail
+
+
+def high_frequency_ratio(signal: np.ndarray, levels: int = 4) -> float:
+    """Energy share (0..1) of ``signal``'s detail part above fs / 2**levels."""
+    x = np.asarray(signal, dtype=float)
+    x = x - x.mean()
+    total = float(np.dot(x, x))
+    if total <= 0.0:
+        return 0.0
+    h = haar_detail(x, levels)
+    return float(np.dot(h, h)) / total
 
 
 def test_haar_detail_keeps_fast_texture_and_drops_the_trend():

@@ -1,7 +1,7 @@
 """A character's edge margin (Params.edge_percentile, Behavior.edge_margin): the targets its
 step heads for are fitted onto the live table less that percentile of its demonstration's
 distances to the edges (table_boundary.fit_target, Reactor.target_table), so the afraid character
-chased by a visitor no longer runs along the table's edges, where its demonstration never was."""
+chased by a visitor does not run along the table's edges, where its demonstration never was."""
 
 import numpy as np
 import pytest

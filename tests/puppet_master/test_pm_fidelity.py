@@ -275,31 +275,31 @@ def test_the_time_at_a_table_edge_is_reported(shipped):
 
 def test_the_stalker_keeps_its_pace_behind_a_fast_or_spinning_main(shipped, paths):
     """A character that slows when its main stops corrects its drift at most at the matched
-    moment's pace (step.py, GenerationStep._trajectory): the stalker ran at its top speed on
-    30% of the steps of the loops, chasing targets 10-15 cm off."""
+    moment's pace (step.py, GenerationStep._trajectory): without that cap the stalker runs at
+    its top speed on 30% of the steps of the loops, chasing targets 10-15 cm off."""
     b = shipped["stalker"]
     demo = fidelity.demonstration_figures(b)
     fast = visitors.unseen_main_paths(1, 40.0, examples.TABLE)["fast_reversals_60hz"]
     for main, most_w1, most_moving in ((paths["loops_spins_45hz"], 0.03, 0.30),
                                        (fast, 0.03, 0.30)):
         row = fidelity.evaluate(b, main, TABLE, demo)
-        # measured 0.010 and 0.014 m/s (0.062 and 0.052 before; threshold 0.044)
+        # measured 0.010 and 0.014 m/s (0.062 and 0.052 without the cap; threshold 0.044)
         assert row["speed_w1_mps"] < most_w1, row
-        # measured 0.270 and 0.270 m/s (0.337 and 0.319 before; demonstrated 0.251)
+        # measured 0.270 and 0.270 m/s (0.337 and 0.319 without the cap; demonstrated 0.251)
         assert row["gen_speed_moving_mps"] < most_moving, row
         assert row["ok_speed"]
 
 
 def test_a_character_circling_its_main_holds_its_place_in_the_world(shipped, paths):
     # the playful friend circles its main one way (2.4 rad/s in the world): placed in the
-    # world on 71% of its samples (none before); the others turn either way, unchanged
-    # (bully 0.78, stalker 0.23, lover 0.86, afraid 0.40 as before)
+    # world on 71% of its samples (none without circling); the others turn either way
+    # (bully 0.78, stalker 0.23, lover 0.86, afraid 0.40, the same without it)
     assert [n for n, b in shipped.items() if b.circling] == ["playful_friend"]
     world = {n: float(np.mean(np.asarray(b.place_frame) == look.PLACE_WORLD))
              for n, b in shipped.items()}
     assert world["playful_friend"] > 0.5, world
-    # so a reversing main no longer swings its target to the main's other side: speed W1 on
-    # seed 0's fast path measured 0.038 m/s (0.064 before; threshold 0.081)
+    # so a reversing main does not swing its target to the main's other side: speed W1 on
+    # seed 0's fast path measured 0.038 m/s (0.064 without circling; threshold 0.081)
     b = shipped["playful_friend"]
     row = fidelity.evaluate(b, paths["fast_reversals_60hz"], (0.0, 0.0, *examples.TABLE))
     assert row["speed_w1_mps"] < 0.05, row["speed_w1_mps"]

@@ -3,7 +3,16 @@
 import numpy as np
 
 from behaviors.puppet_master.similarity import (Balancer, CoherenceSearch, SituationSearch,
-                                                window_distances, window_sums)
+                                                window_sums)
+
+
+def window_distances(live: np.ndarray, train: np.ndarray) -> np.ndarray:
+    """Brute-force distances of ``live`` (n, d) to every full training window: ``out[j]`` for
+    window ends j = n-1 .. N-1, shape (N - n + 1,)."""
+    n = live.shape[0]
+    win = np.lib.stride_tricks.sliding_window_view(train, n, axis=0)  # (N-n+1, d, n)
+    diff = win - live.T[None]
+    return np.einsum("jdn,jdn->j", diff, diff)
 
 
 def test_window_sums_match_direct_sums():

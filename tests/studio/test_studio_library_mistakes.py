@@ -14,6 +14,18 @@ from tests.studio.test_studio_keys import Bench, designer
 SHIPPED = Path(__file__).resolve().parents[2] / "behaviors" / "library"
 
 
+def shipped_library(tmp_path: Path, broken: str | None = None) -> Path:
+    """``tmp_path/lib`` holding the shipped bully and lover, and with ``broken`` a behaviour
+    folder of that name whose behavior.yaml is corrupt."""
+    lib = tmp_path / "lib"
+    for name in ("bully", "lover"):
+        shutil.copytree(SHIPPED / name, lib / name)
+    if broken is not None:
+        (lib / broken).mkdir()
+        (lib / broken / "behavior.yaml").write_text("kind: [\n")
+    return lib
+
+
 class Keys:
     """Commands to a studio, one frame each; returns the status line."""
 
@@ -28,13 +40,10 @@ class Keys:
 
 
 def test_switching_passes_over_a_behaviour_that_does_not_load(tmp_path):
-    """A corrupt behaviour first in name order: ] tried it again and again, played nothing and
-    said only why that one failed; the others were out of reach."""
-    lib = tmp_path / "lib"
-    for name in ("bully", "lover"):
-        shutil.copytree(SHIPPED / name, lib / name)
-    (lib / "aaa").mkdir()
-    (lib / "aaa" / "behavior.yaml").write_text("kind: [\n")
+    """A corrupt behaviour first in name order is passed over: ] plays the next that loads and
+    says why the broken one was skipped (trying it again and again would play nothing and leave
+    the others out of reach)."""
+    lib = shipped_library(tmp_path, "aaa")
     (e,) = designer(tmp_path)
     keys = Keys(Bench([e], tmp_path))
     said = keys("designer.item_next")
@@ -51,9 +60,9 @@ def test_switching_passes_over_a_behaviour_that_does_not_load(tmp_path):
 
 
 def test_undo_gives_back_a_name_made_by_hand_and_waits_until_it_can_be_done(tmp_path):
-    """A folder copied in by hand as "my lover", renamed in the studio: undo refused the old
-    name ("not usable as a folder name") and was gone from the undo list. An undo that cannot
-    be done now (the deleted name taken again) was dropped as well; it stays until it can."""
+    """A folder copied in by hand as "my lover", renamed in the studio: undo gives the old name
+    back, though the studio would not make it ("not usable as a folder name"). An undo that
+    cannot be done now (the deleted name taken again) stays in the undo list until it can."""
     lib = tmp_path / "lib"
     shutil.copytree(SHIPPED / "lover", lib / "my lover")
     shutil.copytree(SHIPPED / "bully", lib / "bully")
@@ -106,8 +115,8 @@ with swap.locked(target):
 
 def test_two_studios_keeping_one_name_in_one_library_both_keep(tmp_path):
     """Another studio's keep of "pet" saves while this one's waits for the name's lock: the
-    name was free when this one looked, its save then refused ("already exists") and the take
-    not kept. It is kept under the next free name."""
+    name was free when this one looked, and its take is kept under the next free name (not
+    refused as "already exists")."""
     import subprocess
     import sys
     from behaviors.puppet_master import designers
@@ -143,9 +152,10 @@ def test_two_studios_keeping_one_name_in_one_library_both_keep(tmp_path):
 @pytest.mark.parametrize("needs, stop, said", [(2.0, 89, "1.9 s of both pucks, needs 2 s"),
                                                 (3.0, 103, "2.3 s of both pucks, needs 3 s")])
 def test_a_take_too_short_reads_its_length_in_whole_tenths(tmp_path, needs, stop, said):
-    """A take of 1.96 s against min_seconds 2 said "take too short (2.0 s of both pucks, needs
-    2 s)"; one of 2.3 s (93 rows at 40 Hz; 2.299999999999997 s between frame times near t =
-    100 s) said "2.2 s"."""
+    """A take's length is said in whole tenths rounded down, the float error of frame times left
+    out: a take of 1.96 s against min_seconds 2 says 1.9 s (not "take too short (2.0 s of both
+    pucks, needs 2 s)"), one of 2.3 s (93 rows at 40 Hz; 2.299999999999997 s between frame
+    times near t = 100 s) says 2.3 s (not 2.2 s)."""
     from behaviors.puppet_master import designers
     from tests.studio.test_studio_keys import demo_frames
     (e,) = designer(tmp_path, min_seconds=needs)
@@ -157,10 +167,9 @@ def test_a_take_too_short_reads_its_length_in_whole_tenths(tmp_path, needs, stop
 
 
 def test_switching_is_refused_during_a_take(tmp_path):
-    """] in the middle of a take switched the behaviour in play, and the take then trained with
-    the other behaviour's parameters: a take of the afraid character (edge_percentile 50) with
-    another character's defaults. It is refused while the take is recorded and between its
-    parts."""
+    """] is refused while a take is recorded and between its parts: switching the behaviour in
+    play would train the take with the other behaviour's parameters (a take of the afraid
+    character, edge_percentile 50, with another character's defaults)."""
     from behaviors.puppet_master import designers
     from tabletop.frames import Puck
     lib = tmp_path / "lib"
@@ -197,9 +206,7 @@ def test_switching_is_refused_during_a_take(tmp_path):
 def two_studios(tmp_path: Path) -> tuple:
     """Two designer studios (A and B) on one library holding bully and lover: their benches,
     key pressers and B's engine."""
-    lib = tmp_path / "lib"
-    for name in ("bully", "lover"):
-        shutil.copytree(SHIPPED / name, lib / name)
+    lib = shipped_library(tmp_path)
     (a,) = designer(tmp_path)
     (b,) = designer(tmp_path)
     bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")
@@ -218,9 +225,9 @@ def looks(bench: Bench, keys: Keys, listing: bool = True) -> str:
 
 
 def test_a_behaviour_deleted_by_another_studio_is_said_removed_and_the_studio_goes_on(tmp_path):
-    """Two studios on one library play bully; one deletes it. The other said "1 bad library
-    file(s): ... behaviour folder not found" until the delete was undone. It says bully was
-    removed, plays on from memory, switches to another, and takes it back after the undo."""
+    """Two studios on one library play bully; one deletes it. The other says bully was removed
+    (not "1 bad library file(s): ... behaviour folder not found"), plays on from memory,
+    switches to another, and takes it back after the undo."""
     bench_a, bench_b, ka, kb, b = two_studios(tmp_path)
     lib = tmp_path / "lib"
     assert "playing bully (1 of 2)" in ka("designer.item_next")
@@ -250,14 +257,12 @@ def test_a_behaviour_deleted_by_another_studio_is_said_removed_and_the_studio_go
 
 @pytest.mark.parametrize("background", [False, True])
 def test_switching_is_refused_while_a_take_is_tried(tmp_path, background):
-    """] while a take was tried (or trained) played the library item; the studio still said
-    "try it", and K then kept the take under a name while the item played on. It is refused
-    there too, and K keeps the take that plays."""
+    """] is refused while a take is tried (or trained), and K keeps the take that plays
+    (playing the library item there, the studio would still say "try it" and K keep the take
+    under a name while the item played on)."""
     from behaviors.puppet_master import designers
     from tests.studio.test_studio_keys import demo_frames
-    lib = tmp_path / "lib"
-    for name in ("bully", "lover"):
-        shutil.copytree(SHIPPED / name, lib / name)
+    lib = shipped_library(tmp_path)
     (e,) = designer(tmp_path, background_training=background)
     bench = Bench([e], tmp_path)
     keys = Keys(bench)
@@ -282,10 +287,10 @@ def test_switching_is_refused_while_a_take_is_tried(tmp_path, background):
 
 
 def test_a_behaviour_deleted_elsewhere_and_back_never_plays_over_a_take(tmp_path):
-    """Two studios play bully. While B tried a take, A deleted bully and undid it: B reloaded
-    bully over the take, still said "try it", and K kept the take as pet while bully played
-    under that name. Deleted before the take and back after its keep, bully was put in play
-    over the kept take too. The take plays until K or X; after X, bully is reloaded."""
+    """Two studios play bully. While B tries a take, A deletes bully and undoes it; deleted
+    before the take and back after its keep, too. B's take plays until K or X, never bully
+    over it (K would keep the take as pet while bully played under that name); after X, bully
+    is reloaded."""
     from behaviors.puppet_master import designers
     from tests.studio.test_studio_keys import demo_frames
     bench_a, bench_b, ka, kb, b = two_studios(tmp_path)
@@ -344,15 +349,11 @@ def test_a_behaviour_deleted_elsewhere_and_back_never_plays_over_a_take(tmp_path
 
 
 def test_a_problem_of_lover_2_stays_said_when_lover_reloads_or_goes(tmp_path):
-    """The problems of the behaviour in play were told from the others by the start of their
-    file names: lover reloaded or deleted elsewhere, lover-2's broken file was no longer said
-    (until the library was listed again)."""
+    """lover-2's broken file stays said when lover is reloaded or deleted elsewhere: a problem
+    is the behaviour in play's when it names that folder or a file in it (pm_shelf._about), so
+    one of lover-2 is not lover's, though its file name starts the same."""
     import os
-    lib = tmp_path / "lib"
-    for name in ("bully", "lover"):
-        shutil.copytree(SHIPPED / name, lib / name)
-    (lib / "lover-2").mkdir()
-    (lib / "lover-2" / "behavior.yaml").write_text("kind: [\n")
+    lib = shipped_library(tmp_path, "lover-2")
     (a,) = designer(tmp_path)
     (b,) = designer(tmp_path)
     bench_a, bench_b = Bench([a], tmp_path / "a"), Bench([b], tmp_path / "b")

@@ -134,8 +134,9 @@ def test_a_broken_touch_is_ignored_and_the_engine_keeps_going(engine, x):
 
 
 def test_a_session_posed_with_the_mouse_is_recorded_and_replays_the_same(tmp_path, models):
-    """The mouse's fingers were read by the engine alone: a recording had no touches and its
-    replay stood still where the live character had been posed."""
+    """The mouse's fingers are touches of the frame, so the recording holds them and its replay
+    poses the character as the live run did (read by the engine alone, a recording would have
+    no touches and its replay stand still)."""
     import json
     import subprocess
     import sys

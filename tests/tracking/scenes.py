@@ -81,7 +81,8 @@ def score_detections(frames, outputs) -> tuple[float, np.ndarray, np.ndarray, in
     """How detections ``outputs`` [(ids, corners px), ...] did on rendered ``frames``: the share
     of fully visible markers found, centre errors (px) and heading errors (rad) of those found,
     and the number of ids reported that are not on the table."""
-    from tracking.markers import angle_error, marker_poses
+    from tabletop.frames import wrap_angle
+    from tracking.markers import marker_poses
 
     found, visible, errs, heads, false_ids = 0, 0, [], [], 0
     for f, (ids, corners) in zip(frames, outputs):
@@ -96,7 +97,7 @@ def score_detections(frames, outputs) -> tuple[float, np.ndarray, np.ndarray, in
             if len(m):
                 found += 1
                 errs.append(float(np.hypot(*(poses[m[0], :2] - f.centres[i]))))
-                heads.append(float(angle_error(poses[m[0], 2], truth[i, 2])))
+                heads.append(abs(wrap_angle(float(poses[m[0], 2] - truth[i, 2]))))
     return found / max(visible, 1), np.array(errs), np.array(heads), false_ids
 
 
