@@ -35,7 +35,8 @@ log = logging.getLogger("tabletop")
 
 
 class CommandQueue:
-    """Operator commands (key presses, markers) from sinks to the next tick; bounded, thread-safe."""
+    """Operator commands (key presses, markers) from sinks to the next tick; bounded,
+    thread-safe."""
 
     def __init__(self, maxlen: int = 64) -> None:
         self._q: collections.deque[str] = collections.deque(maxlen=maxlen)
@@ -71,8 +72,10 @@ class DesignerFocus:
 
     def apply(self, commands: tuple[str, ...],
               recorded: str | None = None) -> tuple[tuple[str, ...], str | None]:
-        """(commands without ``designer.next``, the focus after them). A replayed frame's
-        ``recorded`` focus is kept as it was."""
+        """(commands without ``designer.next``, the focus after them); with one designer target
+        and a ``designer.next`` among them, ``designer.only_target`` is added (the studio says
+        Tab has nowhere to go). A replayed frame's ``recorded`` focus is kept as it was and
+        nothing is added (the studio's recorded commands hold any ``only_target``)."""
         if recorded is not None:
             self.focus = recorded
             return tuple(c for c in commands if c != "designer.next"), recorded

@@ -11,9 +11,9 @@
 - Bounded: beyond ``keep`` snapshots or ``max_mb`` megabytes in the folder (its run subfolders
   included), the oldest are removed: oldest by number and run folder, the current run's last,
   never by a file's time (after the clock is set back each new snapshot would have the oldest
-  time, and a full folder would remove it at once: a technician would see the old ones only). Other runs' folders
-  are ordered by their names, the wall-clock time each run began: after a clock step one of them
-  may outlive a newer run, never the current one.
+  time, and a full folder would remove it at once: a technician would see the old ones only).
+  Other runs' folders are ordered by their names, the wall-clock time each run began: after a
+  clock step one of them may outlive a newer run, never the current one.
 
 Encoding a PNG takes tens of milliseconds, so the pixels are copied at once and written by a
 thread, atomically; a snapshot still being written makes the next one wait, never queue.

@@ -33,4 +33,3 @@ def scale_beta(beta: float, units_per_metre: float) -> float:
     """A beta given per metre, expressed for a signal in other units (e.g. pixels): the cutoff
     ``beta * speed`` must stay the same, and speeds scale by ``units_per_metre``."""
     return beta / units_per_metre
-

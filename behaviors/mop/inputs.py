@@ -32,7 +32,8 @@ class PuckInput:
         from behaviors.mop.features import PATH_FEATURE_NAMES, PathFeatures
         unknown = [f for f in features if f not in PATH_FEATURE_NAMES]
         if unknown or not features:
-            raise ClipError(f"puck features {list(features)}: choose from {', '.join(PATH_FEATURE_NAMES)}")
+            raise ClipError(f"puck features {list(features)}: "
+                            f"choose from {', '.join(PATH_FEATURE_NAMES)}")
         self.puck_id = int(puck_id)
         self._cols = [PATH_FEATURE_NAMES.index(f) for f in features]
         self.names = tuple(prefix + f for f in features)
@@ -41,6 +42,15 @@ class PuckInput:
         self.min_scale = PathFeatures.min_scale[self._cols]
         self.jitter = PUCK_JITTER[self._cols]
         self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
+
+    @property
+    def shown(self) -> str:
+        """How the studio names it: "puck 1"."""
+        return f"puck {self.puck_id}"
+
+    def absent(self, frame: object) -> bool:
+        """Is the puck missing from ``frame`` (its read NaN, no sample)?"""
+        return frame.puck(self.puck_id) is None  # type: ignore[attr-defined]
 
     def read(self, frame: object, t: float) -> np.ndarray:
         p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
@@ -94,6 +104,12 @@ class TouchInput:
         self._id: int | None = None
         self._pf = PathFeatures(rest_radius=rest_radius, rest_time=rest_time)
         self._started = False
+
+    shown = "finger"   # how the studio names it
+
+    def absent(self, frame: object) -> bool:
+        """Does no finger touch in ``frame`` (its read NaN, no sample)?"""
+        return not getattr(frame, "touches", ())
 
     def read(self, frame: object, t: float) -> np.ndarray:
         touches = getattr(frame, "touches", ())
@@ -163,6 +179,16 @@ class StreamInput:
         self._read = [int(c) for c in self.columns] + [
             int(c) for c in (() if self.relative_to is None else self.relative_to)
             if c not in self.columns]
+
+    @property
+    def shown(self) -> str:
+        """How the studio names it: "stream arm"."""
+        return f"stream {self.stream}"
+
+    def absent(self, frame: object) -> bool:
+        """Is the stream missing from ``frame``, or too short (its read NaN, no sample)?"""
+        a = getattr(frame, "streams", {}).get(self.stream)
+        return a is None or a.size <= int(self.columns.max())
 
     def read(self, frame: object, t: float) -> np.ndarray:
         a = getattr(frame, "streams", {}).get(self.stream)

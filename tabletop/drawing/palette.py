@@ -29,6 +29,7 @@ PUCK_LOST: Color = (255, 86, 96)       # red, fading: the puck has left
 PUCK_OFF: Color = (200, 140, 255)      # violet: a seen puck beyond the table's edge
 PUCK_STATES: dict[str, Color] = {"seen": PUCK_SEEN, "coasting": PUCK_COASTING, "lost": PUCK_LOST}
 
+
 @functools.lru_cache(maxsize=256)
 def vivid(color: Color, min_value: float = 0.86, min_sat: float = 0.35,
           max_sat: float = 0.8) -> Color:

@@ -46,4 +46,3 @@ class Notifier:
         if self._sock is not None:
             self._sock.close()
             self._sock = None
-

@@ -136,25 +136,27 @@ class NamePrompt:
             if ev.key == pygame.K_F2 and (self.ask is None or self.ask()):
                 self.text, self.refused = "", ""
             return None
-        typed = ev.unicode   # (a reason said stays until the prompt closes, so that a fast
-        #                      typist still reads it after the letters that follow)
+        typed = ev.unicode   # (a reason said stays while letters follow, so that a fast
+        #                      typist still reads it; Backspace, an edit of its own, clears it)
         if ev.key == pygame.K_ESCAPE:
             self.text = None
         elif ev.key in (pygame.K_RETURN, pygame.K_KP_ENTER):
             name, self.text = self.text, None
             return f"designer.rename:{name}" if name else None
         elif ev.key == pygame.K_BACKSPACE:
-            self.text = self.text[:-1]
+            self.text, self.refused = self.text[:-1], ""
         elif typed and library.NAME_RE.match(self.text + typed):
             # only what a library name may hold: 'ü' or a leading '_' was typed, and the
             # rename then refused the name
             self.text += typed
         elif typed and typed.isprintable():     # said, so that the key is not taken for broken
-            self.refused = (f"a name holds at most {library.NAME_MAX} characters"
-                            if len(self.text) >= library.NAME_MAX else
-                            f"{'a space' if typed == ' ' else repr(typed)} cannot be in a "
-                            "name: ASCII letters, digits, '_', '-' "
-                            "or '.', a letter or digit first")
+            if len(self.text) >= library.NAME_MAX:
+                self.refused = f"a name holds at most {library.NAME_MAX} characters"
+            elif not self.text and typed in "_-.":   # allowed, but not first
+                self.refused = "a name begins with a letter or digit"
+            else:
+                self.refused = (f"{'a space' if typed == ' ' else repr(typed)} cannot be in "
+                                "a name: ASCII letters, digits, '_', '-' or '.'")
         return None
 
     def draw(self, target: pygame.Surface, renderer: Any = None) -> None:

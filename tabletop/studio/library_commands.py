@@ -123,8 +123,21 @@ class LibraryCommands:
             self.say("nothing to delete")
             return
         restore = target.remove(name)
-        self.undo_stack.append(Undo(f"delete {name}", restore, target.name))
+        self._item_line(target, "deleted", name)
+        self.undo_stack.append(Undo(f"delete {name}", lambda: self._restored(target, name, restore),
+                                    target.name))
         self.say(f"deleted {name} (U undoes)")
+
+    def _restored(self, target: Target, name: str, restore: Callable[[], None]) -> None:
+        """The undo of a delete: ``name`` back in the library, logged ("restored")."""
+        restore()
+        self._item_line(target, "restored", name)
+
+    def _item_line(self, target: Target, outcome: str, name: str) -> None:
+        """A session log line of its own (no try) saying the item ``name`` changed: ``outcome``
+        one of :data:`tabletop.studio.take.ITEM_LINES`; the review gives its kept take the
+        outcome, so a take deleted (or its keep undone) is not counted kept."""
+        self._log(Try(target.name, target.what, time.time(), outcome=outcome, name=name), target)
 
     def _undo(self, target: Target, arg: str) -> None:
         if self._busy("undoing"):

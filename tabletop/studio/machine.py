@@ -11,7 +11,6 @@ worker only if it is not done yet: the tick it plays from depends on the frames 
 recorded session replays exactly.
 Commands (keys through the view, control markers through :class:`Markers`):
 
-======================  =========================================================
 ``designer.record``     idle/trying/training: countdown then record (redo); ready: the
                         next part; recording: stop
 ``designer.stop``       stop recording (or cancel the countdown)
@@ -21,6 +20,8 @@ Commands (keys through the view, control markers through :class:`Markers`):
 ``designer.assign``     the target's own choice (MOP: the motion a take plays)
 ``designer.window:+``   MOP: the character's follower window a step wider (``:-`` narrower),
                         idle or trying; saved with the character
+``designer.window:+``      MOP: the character's follower window a step wider (``:-`` narrower),
+                           idle or trying; saved with the character
 ``designer.item_next``  play the next (``item_previous``: previous) library item (not mid-take,
                         nor while a take is tried)
 ``designer.rename:NEW`` rename the item in play
@@ -30,6 +31,24 @@ Commands (keys through the view, control markers through :class:`Markers`):
 ``designer.only_target`` Tab with one designer target (:class:`~tabletop.loop.DesignerFocus`
                         sends it): said, so that the key is not taken for broken
 ======================  =========================================================
+=======
+=========================  =========================================================
+``designer.record``        idle/trying/training: countdown then record (redo); ready: the
+                           next part; recording: stop
+``designer.stop``          stop recording (or cancel the countdown)
+``designer.keep``          keep the take being tried
+``designer.discard``       drop it, back to what played before
+``designer.redo``          drop it and record again
+``designer.assign``        the target's own choice (MOP: the motion a take plays)
+``designer.item_next``     play the next (``item_previous``: previous) library item (not mid-take,
+                           nor while a take is tried)
+``designer.rename:NEW``    rename the item in play
+``designer.delete``        delete the item in play (kept in the library's ``.trash``)
+``designer.undo``          undo the last keep, rename or delete of any target (these three, as the
+                           switch, not while a take is under way or tried)
+``designer.only_target``   Tab with one designer target (:class:`~tabletop.loop.DesignerFocus`
+                           sends it): said, so that the key is not taken for broken
+=========================  =========================================================
 
 The machine is a frame filter: it runs before the engines, takes the ``designer.*`` commands
 for itself and adds one ``kind="studio"`` character that the view draws as the countdown, the
@@ -258,8 +277,7 @@ class Studio(LibraryCommands):
         """The undo of a keep: ``name`` leaves the library, and the session log says so (a
         line of its own, outcome "keep undone"), so a review does not count the take kept."""
         target.remove(name)
-        self._log(Try(target.name, target.what, time.time(), outcome="keep undone", name=name),
-                  target)
+        self._item_line(target, "keep undone", name)
 
     def _discard(self, target: Target, arg: str) -> None:
         if self.state in ("trying", "training"):

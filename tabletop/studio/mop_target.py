@@ -47,7 +47,7 @@ class MopTarget:
         self.run_only: list[str] = []     # kept without a library: lost at a rebuild
         self._motions: dict[str, str] = {}  # their motions as the config names them
         self.demo: np.ndarray | None = None
-        self.unseen = Unseen()       # how long the performer's pucks were missing from the take
+        self.unseen = Unseen()       # how long the performer's inputs were missing from the take
         self._poller = (Poller(lib / character,
                                read=getattr(stage, "library_read", {}).get(character))
                         if lib is not None else None)
@@ -66,9 +66,7 @@ class MopTarget:
         """The countdown's line: the performer the take records and its inputs, so the
         designer knows which puck (or finger, or stream) performs."""
         p = self.stage.performers[self.stage.performer_of(self.character)]
-        what = ", ".join(f"puck {i.puck_id}" if hasattr(i, "puck_id") else
-                         f"stream {i.stream}" if hasattr(i, "stream") else "a finger"
-                         for i in p.inputs)
+        what = ", ".join(i.shown for i in p.inputs)     # "puck 1", "finger", "stream arm"
         return f"get ready: {p.name} ({what}) performs {self.character}'s new action"
 
     def begin(self, frame: Frame) -> None:
@@ -79,13 +77,13 @@ class MopTarget:
         pass                                  # an action is one part
 
     def record(self, frame: Frame) -> str:
-        """The stage samples the performer in its step (a frame without its puck gives no
-        sample); this says which of its pucks the frame lacks, and tallies how long."""
+        """The stage samples the performer in its step (a frame without one of its inputs, a
+        puck, a finger or a stream, gives no sample); this says which of them the frame lacks
+        ("recording: no puck 1, finger"), and tallies how long."""
         p = self.stage.performers[self.stage.performer_of(self.character)]
-        missing = [i.puck_id for i in p.inputs
-                   if hasattr(i, "puck_id") and frame.puck(i.puck_id) is None]
+        missing = [i.shown for i in p.inputs if i.absent(frame)]
         self.unseen.tally(frame.t, missing)
-        return f"recording: no {', '.join(f'puck {m}' for m in missing)}" if missing else ""
+        return f"recording: no {', '.join(missing)}" if missing else ""
 
     def ended(self) -> bool:
         return False

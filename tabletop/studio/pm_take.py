@@ -42,18 +42,19 @@ def motionless(demo: np.ndarray, main_puck: int, react_puck: int) -> None:
 class Unseen:
     """Seconds of a take's recording during which each puck it needs was missing from the
     frame (a puck is in the frame while the tracker coasts it, so only one lost for longer
-    than ``tracking.coast_s`` counts); those stretches are not in the take."""
+    than ``tracking.coast_s`` counts), or each other input a MOP performer needs (named:
+    "finger", "stream arm"); those stretches are not in the take."""
 
     SAY_FRACTION = 0.05
     """Said once a puck was missing for this share of the recording or more."""
 
     def __init__(self) -> None:
-        self.missing: dict[int, float] = {}
+        self.missing: dict[int | str, float] = {}   # puck id or input name: seconds
         self.total = 0.0
         self._t = math.nan
 
-    def tally(self, t: float, missing: list[int]) -> None:
-        """A recorded frame at ``t`` (seconds) without the pucks ``missing``."""
+    def tally(self, t: float, missing: list[int | str]) -> None:
+        """A recorded frame at ``t`` (seconds) without ``missing`` (puck ids, input names)."""
         dt = t - self._t if t > self._t else 0.0      # (nan on the first frame: 0)
         self._t = t
         self.total += dt
@@ -65,9 +66,14 @@ class Unseen:
         self._t = math.nan
 
     def words(self) -> str:
-        """"puck 2 unseen 4.6 s of 9.3 s" for each puck missing long enough, or ""."""
-        return ", ".join(f"puck {p} unseen {s:.1f} s of {self.total:.1f} s"
-                         for p, s in sorted(self.missing.items())
+        """"puck 2 unseen 4.6 s of 9.3 s" for each puck (or "finger", ...) missing long
+        enough, pucks first, or ""."""
+        def order(p: int | str) -> tuple[int, int, str]:   # puck 2 before puck 10
+            return (0, p, "") if isinstance(p, int) else (1, 0, p)
+
+        return ", ".join(f"{f'puck {p}' if isinstance(p, int) else p} unseen {s:.1f} s of "
+                         f"{self.total:.1f} s"
+                         for p, s in sorted(self.missing.items(), key=lambda m: order(m[0]))
                          if self.total > 0 and s >= self.SAY_FRACTION * self.total)
 
     def note(self) -> str:

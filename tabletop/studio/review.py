@@ -157,9 +157,10 @@ def _check_try(d: object) -> None:
 
 
 def read_session(path: Path) -> list[dict]:
-    """The tries of a session log, a kept take under the name a later rename gave it and
-    with the outcome "keep undone" once U took it out again (those lines are no tries); a line cut short (a power cut) at the end is skipped, a bad
-    line elsewhere is refused naming its line and what is wrong."""
+    """The tries of a session log, a kept take under the name a later rename gave it and with
+    the outcome a later undo, delete or restore gave it (:data:`CHANGES`; those lines are no
+    tries); a line cut short (a power cut) at the end is skipped, a bad line elsewhere is
+    refused naming its line and what is wrong."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: session log not found")
@@ -176,8 +177,8 @@ def read_session(path: Path) -> list[dict]:
             raise InputError(f"{p}:{i}: not a session log line ({exc})") from None
         if d.get("outcome") == "renamed":
             _renamed(out, d)
-        elif d.get("outcome") == "keep undone":
-            _unkept(out, d)
+        elif d.get("outcome") in CHANGES:
+            _changed(out, d)
         else:
             out.append(d)
     if not out:
@@ -195,14 +196,20 @@ def _renamed(tries: list[dict], rename: dict) -> None:
             return
 
 
-def _unkept(tries: list[dict], undo: dict) -> None:
-    """The latest take of ``undo``'s target kept as its ``name`` was taken out of the library
-    again (U): its outcome becomes "keep undone" (an undo of a keep made in another session
-    names no try here)."""
+CHANGES = {"keep undone": "kept", "deleted": "kept", "restored": "deleted"}
+"""A session log line that changes a take's outcome, and the outcome it changes: U after K and
+Delete take a kept take out of the library, U after Delete puts a deleted one back ("kept")."""
+
+
+def _changed(tries: list[dict], line: dict) -> None:
+    """The latest take of ``line``'s target whose outcome is the one ``line`` changes and named
+    as its ``name`` gets ``line``'s outcome ("restored": "kept" again); an item kept in another
+    session names no try here."""
+    outcome = line["outcome"]
     for t in reversed(tries):
         if (t["target"], t.get("outcome"), t.get("name")) == (
-                undo["target"], "kept", undo.get("name")):
-            t["outcome"] = "keep undone"
+                line["target"], CHANGES[outcome], line.get("name")):
+            t["outcome"] = "kept" if outcome == "restored" else outcome
             return
 
 

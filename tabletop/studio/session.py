@@ -5,9 +5,11 @@
 refused | quit: tried, not kept, when the studio closed), "name" (kept name), "review" (PNG
 file name, or "")}``; a library item renamed (F2, or its undo) is a line of its own, outcome
 "renamed", ``name`` the new name and ``renamed_from`` the old (the reader gives a take kept
-earlier the name its folder has), and so is a keep undone (U), outcome "keep undone" (the reader
-gives the take kept under that name this outcome: it is not counted kept). Each line is written, flushed and fsynced on its own, so a
-power cut loses at most the line being written. Review sheets are drawn in a background
+earlier the name its folder has); so are a keep undone (U after K, outcome "keep undone"), an
+item deleted (Delete, "deleted") and its undo ("restored"), ``name`` the item's name (the reader
+gives the take kept under that name the outcome: a take undone or deleted is not counted kept,
+one restored is again). Each line is written, flushed and fsynced on its own, so a power cut
+loses at most the line being written. Review sheets are drawn in a background
 thread (one at a time; a try arriving while one is drawn gets none): one thread for the whole
 process, because matplotlib keeps each font open once per thread that draws (up to 64): a
 thread per sheet or per studio build would leave two more files open and their fonts in memory
@@ -30,7 +32,7 @@ from typing import Callable
 import numpy as np
 
 from behaviors.worker import FINISH_S, ending, job_thread, next_job
-from tabletop.studio.take import Target, Try
+from tabletop.studio.take import ITEM_LINES, Target, Try
 
 log = logging.getLogger("tabletop")
 
@@ -137,7 +139,7 @@ class SessionLog:
             self._drawn = _warm_once()
 
     def log_try(self, t: Try, target: Target) -> None:
-        if t.outcome in ("renamed", "keep undone"):   # a line of its own: no samples, no sheet
+        if t.outcome in ITEM_LINES:     # a line of its own: no samples, no sheet
             self._append(t)
             return
         demo = getattr(target, "demo", None)

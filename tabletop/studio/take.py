@@ -37,6 +37,11 @@ class Target(Protocol):
     def poll(self) -> list[str]: ...                      # reload changed files; problems
 
 
+ITEM_LINES = ("renamed", "keep undone", "deleted", "restored")
+"""The session log's outcomes of a library item changed after its take (a line of its own, no
+try): F2 or its undo, U after K, Delete, U after Delete."""
+
+
 @dataclasses.dataclass
 class Try:
     """One take as the session log records it."""
@@ -47,8 +52,9 @@ class Try:
     duration_s: float = 0.0
     samples: int = 0
     training_s: float = 0.0    # from the stop until the take plays (a worker's wait included)
-    outcome: str = ""          # kept | discarded | redone | too short | refused | quit | renamed
-                               # | keep undone
+    outcome: str = ""          # a take: kept | discarded | redone | too short | refused | quit;
+                               # a library line (ITEM_LINES): renamed | keep undone | deleted
+                               # | restored
     name: str = ""
     review: str = ""
     renamed_from: str = ""     # outcome "renamed": the item's name before (F2, or its undo)

@@ -60,8 +60,9 @@ def test_the_rename_prompt_takes_only_what_a_library_name_may_hold():
 
 
 def test_a_character_the_rename_prompt_does_not_take_is_said_under_it():
-    """A space typed into F2's name was dropped without a word ("shy lover" became "shylover"
-    on screen, then on disk): the prompt says under its line why the key was not taken."""
+    """F2's prompt says under its line why a typed character was not taken (a space, 'ü', a
+    leading '_', the 65th), until Backspace or a new prompt (without it, "shy lover" became
+    "shylover" without a word)."""
     from tabletop.studio.draw import NamePrompt
 
     def key(k: int, text: str = "") -> pygame.event.Event:
@@ -80,7 +81,8 @@ def test_a_character_the_rename_prompt_does_not_take_is_said_under_it():
         prompt.handle(key(pygame.K_a, c))
     plain = rows(prompt)
     prompt.handle(key(pygame.K_SPACE, " "))
-    assert prompt.text == "shy" and "a space cannot" in prompt.refused and "letters" in prompt.refused
+    assert prompt.text == "shy" and "a space cannot" in prompt.refused
+    assert "letters" in prompt.refused
     said = rows(prompt)
     assert said.max() > plain.max() + 15         # a line of its own below the name
     prompt.handle(key(pygame.K_a, "_"))          # typed on: the reason stays in sight
@@ -94,9 +96,15 @@ def test_a_character_the_rename_prompt_does_not_take_is_said_under_it():
     prompt.text = "a" * 64                       # full: the 65th says so
     prompt.handle(key(pygame.K_a, "b"))
     assert "64" in prompt.refused and prompt.text == "a" * 64
+    prompt.handle(key(pygame.K_BACKSPACE))       # an edit: the reason is gone with it
+    assert prompt.refused == "" and prompt.text == "a" * 63
     prompt.text = "shy"
     prompt.handle(key(pygame.K_a, "ü"))
     assert "'ü' cannot be in a name" in prompt.refused
+    prompt.text = ""
+    for c in "_-.":                              # allowed in a name, but not first
+        prompt.handle(key(pygame.K_a, c))
+        assert prompt.refused == "a name begins with a letter or digit" and prompt.text == ""
 
 
 def test_the_recording_edge_is_drawn_round_the_table():

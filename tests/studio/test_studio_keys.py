@@ -84,7 +84,8 @@ def test_record_train_try_keep_and_it_is_in_the_library_after_a_restart(tmp_path
     demo = designers.demonstrate("lover", seed=8, seconds=30)
     start, stop = 10, 810
     labels = []
-    for f in list(demo_frames(demo, {start: ("designer.record",), stop: ("designer.record",)}))[:stop + 1]:
+    frames = demo_frames(demo, {start: ("designer.record",), stop: ("designer.record",)})
+    for f in list(frames)[:stop + 1]:
         chars, studio = bench.step(f)
         labels.append(studio.label)
         if start <= f.seq < stop:     # drawn under the reactor puck while recording
@@ -343,8 +344,8 @@ def test_a_rename_after_the_keep_is_in_the_session_log_and_its_review(tmp_path):
 
 
 def test_an_undone_keep_is_in_the_session_log_and_its_review_counts_it_not_kept(tmp_path):
-    """U after K put the take's folder into the trash, but the session log still said "kept":
-    `tabletop review` counted "1 kept" for a take the library no longer had."""
+    """U after K writes a "keep undone" line (no samples, no sheet), and the review counts the
+    take not kept (without it, "1 kept" for a take whose folder is in the trash)."""
     from tabletop.studio.review import read_session, summary
     bench = kept_pet(tmp_path)
     bench.studio.command("designer.undo")
@@ -358,30 +359,60 @@ def test_an_undone_keep_is_in_the_session_log_and_its_review_counts_it_not_kept(
     assert len(bench.studio.tries) == 1                # an undone keep is no try
 
 
+def test_a_kept_take_deleted_and_restored_is_in_the_session_log_and_its_review(tmp_path):
+    """Delete of a kept take writes a "deleted" line and its undo a "restored" one, and the
+    review counts the take kept, not kept, kept again (without them the log said "kept"
+    while the take's folder was in the trash)."""
+    from tabletop.studio.review import read_session, summary
+    bench = kept_pet(tmp_path)
+    bench.studio.command("designer.delete")
+    assert library.list_behaviors(tmp_path / "lib") == []
+
+    def logged() -> tuple[list[tuple[str, str]], list[tuple[str, str]], str]:
+        lines = [json.loads(x) for x in bench.session.path.read_text().splitlines()]
+        assert all(x["review"] == "" and x["samples"] == 0 for x in lines[1:])
+        tries = read_session(bench.session.path)
+        return ([(x["outcome"], x["name"]) for x in lines],
+                [(t["outcome"], t["name"]) for t in tries], summary(tries))
+
+    lines, tries, said = logged()
+    assert lines == [("kept", "pet"), ("deleted", "pet")]
+    assert tries == [("deleted", "pet")] and said.startswith("1 try, 0 kept (nothing kept)")
+    bench.studio.command("designer.undo")
+    assert library.list_behaviors(tmp_path / "lib") == ["pet"]
+    lines, tries, said = logged()
+    assert lines == [("kept", "pet"), ("deleted", "pet"), ("restored", "pet")]
+    assert tries == [("kept", "pet")] and said.startswith("1 try, 1 kept")
+    assert len(bench.studio.tries) == 1                # a delete or restore is no try
+
 
 def test_an_undo_of_another_targets_keep_names_that_target(tmp_path):
-    """U undoes the last keep, rename or delete of any target: pressed with another target
-    selected, the line read "[b] undone: keep a", the designer taking it for b's."""
+    """U undoes the last keep, rename or delete of any target, and pressed with another target
+    selected it names the owner: "[b] undone: keep pet of a" (without it, "[b] undone: keep
+    pet", read as b's)."""
     a, b = build([{"kind": "puppet_master", "name": n,
-                   "designer": {"enabled": True, "library": str(tmp_path / n),
-                                "background_training": False}} for n in ("a", "b")])
+                   "designer": {"enabled": True, "library": str(tmp_path / n), "name": kept,
+                                "background_training": False}}
+                  for n, kept in (("a", "pet"), ("b", "shy"))])
     bench = Bench([a, b], tmp_path)
     demo = designers.demonstrate("lover", seed=8, seconds=8)
     for f in demo_frames(demo, {10: ("designer.record",), 250: ("designer.record",),
                                 251: ("designer.keep",)}, focus="a"):
         bench.step(f)
-    assert library.list_behaviors(tmp_path / "a") == ["a"]
+    assert library.list_behaviors(tmp_path / "a") == ["pet"]
     _, studio = bench.step(Frame(seq=400, t=200.0, commands=("designer.undo",), focus="b"))
     assert library.list_behaviors(tmp_path / "a") == []
-    assert studio.label.startswith("[b]") and "undone: keep a of a" in studio.label, studio.label
+    assert studio.label.startswith("[b]") and "undone: keep pet of a" in studio.label, \
+        studio.label
     bench.step(Frame(seq=401, t=200.1, commands=("designer.next",), focus="a"))
     bench.studio.command("designer.undo")
     assert bench.studio.message == "nothing to undo"
 
 
 def test_the_status_line_names_a_behaviour_deleted_while_it_plays(tmp_path):
-    """After U took a kept take out of the library (or Delete the behaviour in play), the
-    character played on from memory while the status line read "behaviour (none)"."""
+    """A behaviour that plays on from memory after U took its kept take out of the library (or
+    Delete took it) is named on the idle status line "behaviour pet (deleted)" (without it,
+    "behaviour (none)" while the character went on moving)."""
     bench = kept_pet(tmp_path)
     bench.studio.command("designer.undo")
     main = (Puck(1, 0.5, 0.4, 0.0),)

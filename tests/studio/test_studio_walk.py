@@ -115,8 +115,8 @@ def test_the_assign_key_on_a_behaviour_says_why_it_does_nothing(tmp_path):
 
 
 def test_tab_with_one_designer_target_says_so(tmp_path):
-    """Tab with a single designer target did nothing at all on the table, as a key that is
-    broken; the status line now says why nothing moved."""
+    """Tab with a single designer target says so on the status line ("Tab: pet is the only
+    designer target"; without it, nothing visible happened, as for a broken key)."""
     from tabletop.loop import DesignerFocus
     from tests.studio.test_studio_keys import build
 

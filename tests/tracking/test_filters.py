@@ -21,6 +21,19 @@ def _run(xs: np.ndarray, fps: float, min_cutoff: float, beta: float,
     return np.array(out)
 
 
+def test_one_step_follows_the_first_order_low_pass_alpha():
+    """A step with cutoffs of 1/(2 pi) Hz, beta 0 and dt 1 s has alpha = 1 / (1 + tau / dt) =
+    0.5: the value moves halfway to the sample and the derivative halfway to the raw rate
+    (dt 0.5 s: alpha 1/3). A cutoff read without its 2 pi gives other figures."""
+    f = 1.0 / (2.0 * np.pi)
+    value, derivative = one_euro_floats([3.0, -1.0], [1.0, 1.0], [0.4, 0.0], 1.0, f, 0.0, f)
+    assert value == pytest.approx([2.0, 0.0], abs=1e-12)
+    assert derivative == pytest.approx([1.2, -1.0], abs=1e-12)     # raw rate (2, -2)
+    value, derivative = one_euro_floats([3.0, -1.0], [1.0, 1.0], [0.4, 0.0], 0.5, f, 0.0, f)
+    assert value == pytest.approx([1.0 + 2.0 / 3.0, 1.0 - 2.0 / 3.0], abs=1e-12)
+    assert derivative == pytest.approx([0.4 + 3.6 / 3.0, -4.0 / 3.0], abs=1e-12)  # raw (4, -4)
+
+
 @pytest.mark.parametrize("fps", [30.0, 60.0])
 def test_still_signal_jitter_is_reduced_more_than_fivefold(fps):
     rng = np.random.default_rng(0)
