@@ -11,27 +11,6 @@ worker only if it is not done yet: the tick it plays from depends on the frames 
 recorded session replays exactly.
 Commands (keys through the view, control markers through :class:`Markers`):
 
-``designer.record``     idle/trying/training: countdown then record (redo); ready: the
-                        next part; recording: stop
-``designer.stop``       stop recording (or cancel the countdown)
-``designer.keep``       keep the take being tried
-``designer.discard``    drop it, back to what played before
-``designer.redo``       drop it and record again
-``designer.assign``     the target's own choice (MOP: the motion a take plays)
-``designer.window:+``   MOP: the character's follower window a step wider (``:-`` narrower),
-                        idle or trying; saved with the character
-``designer.window:+``      MOP: the character's follower window a step wider (``:-`` narrower),
-                           idle or trying; saved with the character
-``designer.item_next``  play the next (``item_previous``: previous) library item (not mid-take,
-                        nor while a take is tried)
-``designer.rename:NEW`` rename the item in play
-``designer.delete``     delete the item in play (kept in the library's ``.trash``)
-``designer.undo``       undo the last keep, rename or delete of any target (these three, as the
-                        switch, not while a take is under way or tried)
-``designer.only_target`` Tab with one designer target (:class:`~tabletop.loop.DesignerFocus`
-                        sends it): said, so that the key is not taken for broken
-======================  =========================================================
-=======
 =========================  =========================================================
 ``designer.record``        idle/trying/training: countdown then record (redo); ready: the
                            next part; recording: stop
@@ -40,6 +19,8 @@ Commands (keys through the view, control markers through :class:`Markers`):
 ``designer.discard``       drop it, back to what played before
 ``designer.redo``          drop it and record again
 ``designer.assign``        the target's own choice (MOP: the motion a take plays)
+``designer.window:+``      MOP: the character's follower window a step wider (``:-`` narrower),
+                           idle or trying; saved with the character
 ``designer.item_next``     play the next (``item_previous``: previous) library item (not mid-take,
                            nor while a take is tried)
 ``designer.rename:NEW``    rename the item in play
