@@ -191,11 +191,15 @@ class GroupArrays:
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         # ... in single precision (threshold.PRECISION)
         self._thr_means = self._means.astype(threshold.PRECISION)
-        self._thr_alpha = np.zeros(len(self._states), dtype=threshold.PRECISION)
-        self._thr_scratch = np.zeros(max(len(f.bank.means) for f in fs), dtype=threshold.PRECISION)
-        self._thr_z, self._thr_lj = np.zeros((k, dmax)), np.zeros(k)
+        # ... the ergodic states' weights, then the mirror chains' (threshold_kernel)
+        self._thr_alpha = np.zeros(2 * len(self._states), dtype=threshold.PRECISION)
+        self._thr_scratch = np.zeros(2 * max(len(f.bank.means) for f in fs),
+                                     dtype=threshold.PRECISION)
+        # the sample as each template sees it, then its first coordinate mirrored
+        self._thr_z, self._thr_lj = np.zeros((k, dmax + 1)), np.zeros(k)
         self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
-        self._thr_tops = np.zeros(k)   # scratch: each template's likeliest threshold state
+        # each template's and mirror chain's likeliest state (scratch), each chain's summed weight
+        self._thr_tops = np.zeros(3 * k)
         # the members' own arrays, each a row of one array (members.MEMBER_VECTORS, ...)
         self._m_vectors = self._rows(members.MEMBER_VECTORS, float)
         self._m_ints = self._rows(members.MEMBER_INTS, np.intp)

@@ -46,6 +46,42 @@ templates (a 0.7x square, wave, figure eight), whose probability it takes while 
 split theirs. What it cannot refuse: a path that *is* one template's stretch in that template's
 order (the mirrored line's return is the line's outward stroke, then held; a triangle's first
 stroke the line's) -- there the ordered template explains the input better than any stitching.
+
+Mirror chains: a template drawn mirrored (x -> -x about its first state, in its own frame: a left
+hand doing a right hand's gesture) is followed by some other template's stretch within its
+spread, and the ergodic states cannot explain it better, since each of their jumps costs about
+ln(N / 0.7) nats (7 with twenty templates) where an ordered template pays about 1. So the model
+also holds each template's mirror image as an ordered chain: its weight moves on by
+:data:`MIRROR_MOVES`, keeps :data:`MIRROR_KEEP` along the chain per sample (the rest jumps as the
+ergodic states' does) and enters only at the chain's first state, where a performance of it
+begins (:func:`threshold_model_step`). The group's pass costs about 0.1 ms more per tick
+(``bench/mop.py --design``, adjacent runs at load 8-10: 0.808 -> 0.905 and 0.875 -> 0.973 ms
+median). Measured on the mirrored paths among twenty (``bench/follow_widened.py``, tuned joints,
+seeds 201-210: worst / mean valid share, performances over 0.1 of 540) and
+``bench/follow_quality.py`` (tuned; valid after 30% at 0.7-1.4x, bent 10%), "entered anywhere"
+meaning jumps land on every chain state too:
+
+=============================================  ===========================  ======  =======
+threshold model                                mirrored among twenty        after   bent
+                                                                            30%     10%
+=============================================  ===========================  ======  =======
+ergodic only (before)                          0.239 / 0.0145 / 22          0.9157  0.6315
+mirror states, ergodic (jumps to each)         0.310 / 0.0135 / 16
+chains entered anywhere, keep 0.9              0.219 / 0.0062 / 4           0.9070
+chains entered at their start, keep 0.9        0.228 / 0.0070 / 8           0.9128
+  keep 0.7                                     0.228 / 0.0086 / 10          0.9145  0.6013
+  keep 0.5 (kept)                              0.228 / 0.0100 / 11          0.9150  0.6315
+  keep 0.3                                     0.296 worst (the dance       0.9157  0.6315
+                                               wrist at 0.7x)
+=============================================  ===========================  ======  =======
+
+Entered anywhere, chains took true gestures part way (a wave at 0.85x: valid after 30% 1.0 ->
+0.82); entered at their start, a chain still takes a true performance whose stretch another
+template's mirror image shares (a punch wrist at 1.4x by the roll ankle's, 0.90 -> 0.80 at keep
+0.9), the less the less weight it keeps. Keep 0.7 cost shapes bent by 10% (0.6315 -> 0.6013);
+0.3 let the zigzag take the mirrored dance wrist longer. Sequences back to back unchanged
+throughout. Left: the walk ankle followed back over itself on the mirrored spin ankle at 1.4x
+(0.228), as before.
 """
 
 from __future__ import annotations
@@ -67,20 +103,42 @@ STILL_RADII = 2.0
 PRECISION = np.float32
 
 
+#: Weight each mirror chain's state keeps along its chain per sample (the rest jumps to any
+#: state, as the ergodic states' ``1 - STAY`` does); see the module docstring.
+MIRROR_KEEP = 0.5
+#: A mirror chain's state weighing less than this (against the whole model's 1) weighs nothing:
+#: weight fading down a chain reaches single precision's subnormal numbers, whose rounding
+#: differs between the follower's and the group's code.
+TINY = np.float32(1e-30)
+#: How a mirror chain's weight moves along it per sample: stays, 1, 2, 3 states on (the
+#: forward's default transitions).
+MIRROR_MOVES = (0.3, 0.35, 0.25, 0.1)
+
+
+def mirrored_column(z: np.ndarray, first: np.ndarray) -> np.ndarray:
+    """``z`` (K, d) with one more column: its first coordinate mirrored about each template's
+    first state ``first`` (K, d), as each template's mirror chain sees the sample."""
+    return np.ascontiguousarray(np.hstack([z, 2.0 * first[:, :1] - z[:, :1]]))
+
+
 @numba.njit(cache=True, nogil=True)
 def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, sigma: float,
                          log_constant: float, log_jacobian: np.ndarray, alpha: np.ndarray,
                          scratch: np.ndarray, fresh: bool, stay: float) -> float:
-    """One step of the ergodic threshold model, in place on its state ``alpha`` (N,) (uniform
-    when ``fresh``); returns the sample's log-likelihood ``log sum_j prior_j b_j``, the prior
-    ``stay * alpha_j + (1 - stay) / N``. ``z`` (K, d): the sample in each template's standardised
-    units; ``means`` (N, d): their states, template after template, ``lengths`` (K,) states
-    each; ``log_jacobian`` (K,): each map's log |dz / dx|; ``scratch`` (N,): room for the states'
-    log-densities. ``means``, ``alpha`` and ``scratch`` are of :data:`PRECISION`, and so is
-    the arithmetic on them (the weights' sum in double precision). The cost is one distance and
-    one exp per state, the tick's largest after the forward step (8 performers x 100 templates:
-    80,000 states)."""
-    k_count, d = z.shape
+    """One step of the threshold model, in place on its state ``alpha`` (2N,: the ergodic
+    states', then each template's mirror chain's); returns the sample's log-likelihood ``log
+    sum_j prior_j b_j``. The ergodic prior is ``stay * alpha_j + r``, a chain state's
+    ``MIRROR_KEEP * sum_t MIRROR_MOVES[t] alpha_{j-t}`` (within its chain) plus ``r`` at its
+    first state, where ``r`` is the weight that left every state shared among the N ergodic
+    states and the K chains' first ones. Fresh, that weight lies on those states evenly.
+    ``z`` (K, d + 1): the sample in each template's standardised units, its last column the
+    first coordinate mirrored (:func:`mirrored_column`); ``means`` (N, d): the states, template
+    after template, ``lengths`` (K,) states each; ``log_jacobian`` (K,): each map's log |dz /
+    dx|; ``scratch`` (2N,): room for the log-densities. ``means``, ``alpha`` and ``scratch``
+    are of :data:`PRECISION`, and so is the arithmetic on them (the weights' sum in double
+    precision)."""
+    k_count = z.shape[0]
+    d = z.shape[1] - 1
     n = means.shape[0]
     f32 = np.float32
     inv = f32(-0.5 / (sigma * sigma))
@@ -91,28 +149,74 @@ def threshold_model_step(z: np.ndarray, means: np.ndarray, lengths: np.ndarray, 
         lj = f32(log_constant + log_jacobian[k])
         for _ in range(lengths[k]):
             s = f32(0.0)
-            for c in range(d):
+            for c in range(1, d):
                 diff = f32(z[k, c]) - means[j, c]
                 s += diff * diff
-            v = s * inv + lj
+            e0 = f32(z[k, 0]) - means[j, 0]
+            m0 = f32(z[k, d]) - means[j, 0]
+            v = (e0 * e0 + s) * inv + lj
+            vm = (m0 * m0 + s) * inv + lj
             scratch[j] = v
-            if v > top:
-                top = v
+            scratch[n + j] = vm
+            top = max(top, max(v, vm))
             j += 1
-    keep, jump = f32(stay), f32((1.0 - stay) / n)
+    entries = n + k_count   # where the jumps land: every ergodic state, each chain's first
+    if fresh:
+        _entry_weights(alpha, lengths, n, entries)
+    chained = 0.0
+    for j in range(n, 2 * n):
+        chained += alpha[j]
+    rest = f32(((1.0 - stay) * (1.0 - chained) + (1.0 - MIRROR_KEEP) * chained) / entries)
+    keep, kc = f32(stay), f32(MIRROR_KEEP)
+    w0, w1, w2, w3 = (f32(MIRROR_MOVES[0]), f32(MIRROR_MOVES[1]), f32(MIRROR_MOVES[2]),
+                      f32(MIRROR_MOVES[3]))
     total = 0.0
     for j in range(n):
         e = scratch[j] - top
         if e < floor:   # under 4e-18 of the likeliest state: no exp (most states are far)
             alpha[j] = 0.0
             continue
-        a = f32(1.0 / n) if fresh else alpha[j]
-        w = (keep * a + jump) * np.exp(e)
+        w = (keep * alpha[j] + rest) * np.exp(e)
         alpha[j] = w
         total += w
-    for j in range(n):
+    first = n
+    for k in range(k_count):
+        for p in range(lengths[k] - 1, -1, -1):   # downwards: each reads the ones before it
+            j = first + p
+            moved = w0 * alpha[j]
+            if p >= 1:
+                moved += w1 * alpha[j - 1]
+            if p >= 2:
+                moved += w2 * alpha[j - 2]
+            if p >= 3:
+                moved += w3 * alpha[j - 3]
+            e = scratch[j] - top
+            if e < floor:
+                alpha[j] = 0.0
+                continue
+            w = (kc * moved + (rest if p == 0 else f32(0.0))) * np.exp(e)
+            w = w if w >= TINY else f32(0.0)   # (no subnormal weights down the chain)
+            alpha[j] = w
+            total += w
+        first += lengths[k]
+    if total <= 0.0:   # the likeliest states only chain states no weight reached: afresh
+        _entry_weights(alpha, lengths, n, entries)
+        return float(top + floor)
+    for j in range(2 * n):
         alpha[j] = alpha[j] / total
     return float(top) + np.log(total)
+
+
+@numba.njit(cache=True, nogil=True)
+def _entry_weights(alpha: np.ndarray, lengths: np.ndarray, n: int, entries: int) -> None:
+    """The threshold model's weights afresh, in place: even on the ``n`` ergodic states and
+    each mirror chain's first (``entries`` of them), none on the chains' other states."""
+    alpha[:] = 0.0
+    alpha[:n] = np.float32(1.0 / entries)
+    first = n
+    for k in range(lengths.size):
+        alpha[first] = np.float32(1.0 / entries)
+        first += lengths[k]
 
 
 def gated(step: float, best_step: float, x: np.ndarray, previous: np.ndarray | None,
