@@ -163,10 +163,10 @@ class StreamInput:
         self._read = [int(c) for c in self.columns] + [
             int(c) for c in (() if self.relative_to is None else self.relative_to)
             if c not in self.columns]
-
+        self._last = max(self._read)   # the highest column read
     def read(self, frame: object, t: float) -> np.ndarray:
         a = getattr(frame, "streams", {}).get(self.stream)
-        short = a is not None and a.size <= max(self._read)
+        short = a is not None and a.size <= self._last
         self.problem = (f"stream {self.stream!r} has {a.size} column(s), reads column(s) "
                         f"{', '.join(str(c) for c in self._read)}") if short else None
         if a is None or short:

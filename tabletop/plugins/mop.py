@@ -46,6 +46,7 @@ from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
+from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (MopError, MotionLoader, library_actions, library_names,
                                         load_template, read_window, resolve_motion,
                                         save_to_library)
@@ -99,15 +100,8 @@ def _check_input(value: dict, path: str, ctx: Context) -> None:
     for keys, owner in ((PUCK_KEYS, "puck"), (STREAM_KEYS, "stream")):
         if value["kind"] != owner:
             _refuse_unread(value, INPUT, keys, owner, "input", path, ctx)
-    if value["kind"] == "stream" and not value["name"]:
-        raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
-    if value["kind"] == "stream" and value["columns"] is None:
-        raise ctx.error(f"{path}.columns", "a stream input needs its columns, e.g. [0, 1, 2]")
-    rel = value["relative_to"]
-    if rel is not None and len(value["columns"]) % len(rel):
-        raise ctx.error(f"{path}.relative_to", f"{len(rel)} column(s) are subtracted from each "
-                        f"group of as many of columns' {len(value['columns'])}: give columns "
-                        f"in groups of {len(rel)}")
+    if value["kind"] == "stream":
+        check_stream(value, path, ctx)
 
 
 INPUT.check = _check_input

@@ -79,3 +79,19 @@ def test_relative_to_columns_must_divide_the_chosen_columns(tmp_path):
                                                        "relative_to": [0, 1]}
     with pytest.raises(ConfigError, match=r"inputs\[0\]\.relative_to: only a stream input"):
         build(data, tmp_path)
+
+
+def test_relative_to_columns_may_not_be_chosen_too_or_repeated(tmp_path):
+    """A chosen column less itself reads 0 at every sample; a repeated root column subtracts
+    one coordinate from the other: both refused at start-up, naming the key."""
+    import pytest
+    from tabletop.schema import ConfigError
+    data = _config(tmp_path, True)
+    stream = data["engines"][0]["performers"][0]["inputs"][0]
+    for columns, rel, why in (([0, 1, 2, 3], [0, 1], r"column\(s\) \[0, 1\] are chosen"),
+                              ([2, 3], [0, 0], r"\[0, 0\] repeats a column")):
+        stream.update(columns=columns, relative_to=rel)
+        with pytest.raises(ConfigError, match=r"performers\[0\]\.inputs\[0\]\.relative_to: "
+                           + why) as err:
+            build(data, tmp_path)
+        assert "\n" not in str(err.value)
