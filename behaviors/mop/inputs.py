@@ -152,7 +152,12 @@ class StreamInput:
         if self.relative_to is not None and len(self.columns) % len(self.relative_to):
             raise ClipError(f"stream {stream!r}: {len(self.columns)} column(s) do not split into "
                             f"groups of {len(self.relative_to)} (relative_to's columns)")
-        self.names = tuple(f"{prefix}{stream}_{c}" for c in columns)
+        #: ``<stream>_<column>``; read relative, ``<stream>_<column>-<its root column>``:
+        #: a template recorded without relative_to (world coordinates) is refused by its
+        #: column names rather than loaded and never matched
+        self.names = tuple(f"{prefix}{stream}_{c}" for c in columns) if self.relative_to is None \
+            else tuple(f"{prefix}{stream}_{c}-{self.relative_to[k % len(self.relative_to)]}"
+                       for k, c in enumerate(columns))
         #: A stream's columns have no known units: the follower takes them from the templates.
         self.units = None
         self.min_scale = None
