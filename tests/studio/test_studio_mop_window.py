@@ -14,6 +14,20 @@ def _window(engine, performer: str = "hand") -> int:
     return engine._followers[performer].forward.half_window
 
 
+def _two_performers() -> dict:
+    """ann's puck 1 drives the face's circle, bob's puck 2 the lizard's line."""
+    gestures = EXAMPLES / "mop" / "gestures"
+    return {"sources": [{"kind": "scripted"}], "engines": [{
+        "kind": "mop", "library": "lib",
+        "performers": [{"name": "ann", "inputs": [{"kind": "puck", "id": 1}]},
+                       {"name": "bob", "inputs": [{"kind": "puck", "id": 2}]}],
+        "characters": [
+            {"name": "face", "kind": "face", "performer": "ann", "actions": [
+                {"name": "circle", "template": str(gestures / "circle.csv"), "motion": "talk"}]},
+            {"name": "lizard", "kind": "creature", "performer": "bob", "actions": [
+                {"name": "line", "template": str(gestures / "line.csv"), "motion": "curl"}]}]}]}
+
+
 def test_plus_and_minus_step_the_window_rebuild_the_followers_and_save_it(tmp_path):
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
@@ -55,17 +69,7 @@ def test_plus_and_minus_step_the_window_rebuild_the_followers_and_save_it(tmp_pa
 def test_characters_of_two_performers_follow_with_their_own_windows(tmp_path):
     """The face's window changed, the lizard's not: their followers have other parameters and
     are stepped in two groups; each performer still drives its character."""
-    gestures = EXAMPLES / "mop" / "gestures"
-    data = {"sources": [{"kind": "scripted"}], "engines": [{
-        "kind": "mop", "library": "lib",
-        "performers": [{"name": "ann", "inputs": [{"kind": "puck", "id": 1}]},
-                       {"name": "bob", "inputs": [{"kind": "puck", "id": 2}]}],
-        "characters": [
-            {"name": "face", "kind": "face", "performer": "ann", "actions": [
-                {"name": "circle", "template": str(gestures / "circle.csv"), "motion": "talk"}]},
-            {"name": "lizard", "kind": "creature", "performer": "bob", "actions": [
-                {"name": "line", "template": str(gestures / "line.csv"), "motion": "curl"}]}]}]}
-    engine = build(data, tmp_path)
+    engine = build(_two_performers(), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     table.tick(["designer.window:+"])
     assert (_window(engine, "ann"), _window(engine, "bob")) == (20, 15)
@@ -85,3 +89,33 @@ def test_a_bad_saved_window_is_reported_and_the_configs_is_used(tmp_path):
     assert _window(engine) == 15
     assert any("window: expected a whole number of states in 1..10000, got -3" in p
                for p in engine.library_problems["face"])
+
+
+def test_a_window_step_rebuilds_only_the_followers_whose_window_changes(tmp_path):
+    """The face's window stepped: only ann's follower is rebuilt, and once the two performers'
+    followers step in groups of their own, bob's keeps following the line it is part way
+    through. A window step that changes no follower's window rebuilds nothing."""
+    engine = build(_two_performers(), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    bob = engine._followers["bob"]
+    table.tick(["designer.window:+"])
+    assert engine._followers["bob"] is bob and _window(engine, "ann") == 20
+    table.rest(1.0)
+    run = table.perform("line", puck=2, upto=0.6)
+    assert run[-1][1]["lizard"].valid and run[-1][1]["lizard"].progress > 0.4
+    now = table.tick(["designer.window:+"])["lizard"]
+    assert _window(engine, "ann") == 25 and engine._followers["bob"] is bob
+    assert now.valid and now.action == "line" and now.progress > 0.4, now
+    # the lizard's step rebuilds bob's follower, not ann's
+    ann = engine._followers["ann"]
+    table.tick(["designer.window:-"], focus="mop/lizard")
+    assert engine._followers["ann"] is ann and engine._followers["bob"] is not bob
+    assert _window(engine, "bob") == 10
+
+
+def test_a_window_step_that_changes_no_followers_window_rebuilds_nothing(tmp_path):
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib")
+    hand, group = engine._followers["hand"], engine._group
+    table.tick(["designer.window:+"], focus="mop/lizard")     # the lizard has no action
+    assert engine._followers["hand"] is hand and engine._group is group
