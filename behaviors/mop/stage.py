@@ -235,14 +235,25 @@ class MopStage(DesignerTakes):
         return max(set_) if set_ else None
 
     def window(self, character: str) -> int:
-        """The window (p, states) ``character``'s follower reaches now: the one the studio set,
-        else its performer's follower's (:attr:`default_window` while it has none)."""
-        if character in self.windows:
-            return self.windows[character]
-        f = self._followers.get(self.performer_of(character))
+        """The window (p, states) ``character``'s performer's follower runs with now: the
+        largest the studio set for a character it drives (:meth:`window_of`), else the
+        follower's own (:attr:`default_window` while it has none)."""
+        performer = self.performer_of(character)
+        set_ = self.window_of(performer)
+        if set_ is not None:
+            return set_
+        f = self._followers.get(performer)
         if f is None:
             return self.default_window
         return int(f.forward.half_window)  # type: ignore[attr-defined]
+
+    def sharing(self, character: str) -> list[str]:
+        """The other characters whose actions ``character``'s performer's follower follows, or
+        that it performs: they share its window."""
+        performer = self.performer_of(character)
+        routed = {c for c, _, _ in self._routes.get(performer, ())}
+        return [c for c in self.order if c != character
+                and (c in routed or self.performer_of(c) == performer)]
 
     def set_window(self, character: str, window: int | None) -> None:
         """``character`` follows with ``window`` (None: the config's): the followers of the

@@ -32,9 +32,9 @@ def test_plus_and_minus_step_the_window_rebuild_the_followers_and_save_it(tmp_pa
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib")
     table.rest(0.2)
-    assert "window 15 (+/-)" in table.status and _window(engine) == 15
+    assert "window 15 shared with lizard (+/-)" in table.status and _window(engine) == 15
     table.tick(["designer.window:+"])
-    assert "face: window 20 states, saved in" in table.status, table.status
+    assert "face: window 20 states, shared with lizard, saved in" in table.status, table.status
     assert _window(engine) == 20
     saved = yaml.safe_load((tmp_path / "lib" / "face" / "actions.yaml").read_text())
     assert saved == {"actions": [], "window": 20}
@@ -43,7 +43,7 @@ def test_plus_and_minus_step_the_window_rebuild_the_followers_and_save_it(tmp_pa
     assert "window 1 states (its limit)" in table.status and _window(engine) == 1
     table.tick(["designer.window:+"])
     table.rest(6.0)                              # the message gone: the idle line shows it
-    assert "window 6 (+/-)" in table.status, table.status
+    assert "window 6 shared with lizard (+/-)" in table.status, table.status
     # the next start reads it; a keep writes the entries and keeps the window
     again = build(designer_config(tmp_path), tmp_path)
     assert _window(again) == 6
@@ -58,12 +58,16 @@ def test_plus_and_minus_step_the_window_rebuild_the_followers_and_save_it(tmp_pa
         run = table.perform("circle", speed=lambda u: 2.0)
         valid = np.mean([c["face"].valid and c["face"].action == "circle" for _, c in run])
         assert share[0] <= valid <= share[1], (w, valid)
-    # the lizard steps from the window of the hand's follower it shares (15); with no action
-    # yet it drives nothing, so the follower keeps the face's window, the larger once it does
+    # the lizard steps from the window of the hand's follower it shares (15) and says so; with
+    # no action yet it drives nothing, so the follower keeps the face's window
     table.tick(["designer.window:+"], focus="mop/lizard")
-    assert "lizard: window 20 states" in table.status and _window(engine) == 15, table.status
+    assert ("lizard: window 15 states, shared with face (the largest set is used; lizard's is "
+            "20), saved in") in table.status and _window(engine) == 15, table.status
     engine.set_window("face", 25)
     assert _window(engine) == 25
+    table.tick(["designer.window:-"], focus="mop/lizard")     # 25 - 5: the face's 25 stays
+    assert ("lizard: window 25 states, shared with face (the largest set is used; lizard's is "
+            "20)") in table.status and _window(engine) == 25, table.status
 
 
 def test_characters_of_two_performers_follow_with_their_own_windows(tmp_path):
