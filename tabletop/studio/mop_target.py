@@ -192,7 +192,7 @@ class MopTarget:
         once, and the character's window saved in its actions.yaml (atomically), read at the
         next start. The message gives the window the follower runs with: shared with other
         characters, it is the largest they set."""
-        from tabletop.plugins.mop import WINDOW_RANGE
+        from tabletop.plugins.mop_files import WINDOW_RANGE
         lo, hi = WINDOW_RANGE
         old = self.window
         new = min(hi, max(lo, old + sign * WINDOW_STEP))

@@ -123,3 +123,25 @@ def test_a_window_step_that_changes_no_followers_window_rebuilds_nothing(tmp_pat
     hand, group = engine._followers["hand"], engine._group
     table.tick(["designer.window:+"], focus="mop/lizard")     # the lizard has no action
     assert engine._followers["hand"] is hand and engine._group is group
+
+
+def test_the_start_says_which_window_it_reads_and_why_a_bad_one_is_ignored(tmp_path, caplog):
+    """A saved window overrides the config's follower.window for its character: one line at
+    start says so; a bad one is reported as a window (not as an action skipped)."""
+    import logging
+    folder = tmp_path / "lib" / "face"
+    folder.mkdir(parents=True)
+    (folder / "actions.yaml").write_text("actions: []\nwindow: 20\n")
+    with caplog.at_level(logging.INFO, logger="tabletop"):
+        build(designer_config(tmp_path), tmp_path)
+    said = [r.getMessage() for r in caplog.records if "window" in r.getMessage()]
+    assert said == ["MOP character 'face' follows with the window 20 saved in its actions.yaml "
+                    "(the config's follower.window: 15)"], said
+    caplog.clear()
+    (folder / "actions.yaml").write_text("actions: []\nwindow: 0\n")
+    with caplog.at_level(logging.INFO, logger="tabletop"):
+        build(designer_config(tmp_path), tmp_path)
+    said = [r.getMessage() for r in caplog.records if "window" in r.getMessage()]
+    assert len(said) == 1 and said[0].startswith(
+        "MOP saved window ignored, the config's follower.window 15 used: "), said
+    assert said[0].endswith("window: expected a whole number of states in 1..10000, got 0")
