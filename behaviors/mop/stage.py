@@ -186,7 +186,8 @@ class MopStage(DesignerTakes):
     def _build(self, plan: tuple[dict, dict]) -> tuple:
         """The followers of a :meth:`_plan` (pure: may run in the worker)."""
         routes, by_performer = plan
-        followers = {p: self._follower(p, templates, routes) for p, templates in by_performer.items()}
+        followers = {p: self._follower(p, templates, routes)
+                     for p, templates in by_performer.items()}
         # every follower stepped in one vectorised pass
         keys = list(followers)
         group = (self.make_group([followers[k] for k in keys])
@@ -219,7 +220,8 @@ class MopStage(DesignerTakes):
             afresh |= {self._keys[i] for i in self._group.replace(  # type: ignore[attr-defined]
                 {self._keys.index(p): f for p, f in new.items()})}
         elif self._group is not None:
-            self._group = self.make_group([self._followers[k] for k in self._keys])  # type: ignore[misc]
+            self._group = self.make_group(  # type: ignore[misc]
+                [self._followers[k] for k in self._keys])
             afresh = set(self._keys)
         for p in afresh:
             self._states.pop(p, None)
@@ -261,7 +263,8 @@ class MopStage(DesignerTakes):
         (:meth:`window_of`, the largest of their characters') changes; a follower rebuilt starts
         afresh, so the others keep their progress (rebuilding all of examples/mop.yaml's followers
         takes 15-70 ms)."""
-        mine = [p for p, routes in self._routes.items() if any(c == character for c, _, _ in routes)]
+        mine = [p for p, routes in self._routes.items()
+                if any(c == character for c, _, _ in routes)]
         before = {p: self.window_of(p) for p in mine}
         if window is None:
             self.windows.pop(character, None)

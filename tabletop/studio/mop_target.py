@@ -173,7 +173,8 @@ class MopTarget:
         character knows (its config's), which it plays with no take kept; then the window its
         follower runs with, and the characters sharing it (+/- step it)."""
         others = self.stage.sharing(self.character)
-        window = f", window {self.window}{' shared with ' + ', '.join(others) if others else ''} (+/-)"
+        window = f", window {self.window}" + (f" shared with {', '.join(others)}" if others else "")
+        window += " (+/-)"
         if self.kept is not None:
             return self.kept + window
         known = sorted(self.stage.templates.get(self.character, {}))
@@ -210,7 +211,8 @@ class MopTarget:
         edge = " (its limit)" if new == old else ""
         now, others = self.window, self.stage.sharing(self.character)
         shared = "" if not others else f", shared with {', '.join(others)}" + (
-            "" if now == new else f" (the largest set is used; {self.character}'s is {new})")
+            "" if now == new else " (the largest of its characters' with actions is used; "
+                                  f"{self.character}'s is {new})")
         return f"{self.character}: window {now} states{edge}{shared}, {where}"
 
     def use(self, name: str) -> None:
