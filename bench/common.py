@@ -7,6 +7,7 @@ figures (units in their names), the budget for each, and the machine it ran on.
 from __future__ import annotations
 
 import json
+import math
 import os
 import platform
 import sys
@@ -99,19 +100,34 @@ def emit(name: str, figures: dict[str, Any], budgets: dict[str, Any]) -> None:
 
 
 def check_flags(name: str, args: Sequence[str], flags: Sequence[str],
-                lists: dict[str, Sequence[str]]) -> None:
+                lists: dict[str, Sequence[str]],
+                numbers: dict[str, tuple[float, float]] | None = None) -> None:
     """Refuse a bench's unknown command line before minutes of measuring: ``args`` may hold
-    ``flags`` and ``--KEY=A,B`` with each value among ``lists[KEY]``; ``-h``/``--help`` prints
-    the usage and exits 0, anything else wrong exits with one line naming it and the usage."""
+    ``flags``, ``--KEY=A,B`` with each value among ``lists[KEY]`` and ``--KEY=X`` with X a
+    number within ``numbers[KEY]`` (lo, hi); ``-h``/``--help`` prints the usage and exits 0,
+    anything else wrong exits with one line naming it and the usage."""
+    numbers = numbers or {}
     usage = f"usage: python bench/{name}.py " + " ".join(
-        [f"[{f}]" for f in flags] + [f"[--{k}=NAME,...]" for k in lists]) + "".join(
-        f"\n  {k}: {', '.join(v)}" for k, v in lists.items())
+        [f"[{f}]" for f in flags] + [f"[--{k}=NAME,...]" for k in lists]
+        + [f"[--{k}=X]" for k in numbers]) + "".join(
+        f"\n  {k}: {', '.join(v)}" for k, v in lists.items()) + "".join(
+        f"\n  {k}: a number in {lo:g}..{hi:g}" for k, (lo, hi) in numbers.items())
     if {"-h", "--help"} & set(args):
         print(usage)
         sys.exit(0)
     for a in args:
         key, _, value = a.partition("=")
         if a in flags:
+            continue
+        if key.startswith("--") and key[2:] in numbers:
+            lo, hi = numbers[key[2:]]
+            try:
+                x = float(value)
+            except ValueError:
+                x = math.nan
+            if not lo <= x <= hi:
+                sys.exit(f"{name}: {key}: expected a number in {lo:g}..{hi:g}, got {value!r}\n"
+                         f"{usage}")
             continue
         if not (key.startswith("--") and key[2:] in lists and value):
             sys.exit(f"{name}: unknown argument {a!r}\n{usage}")

@@ -49,15 +49,19 @@ another seed (``heldout_`` figures); the follower's rules and parameters were ne
 them. ``cli_default_`` figures: the ``follow`` command's defaults (features as recorded).
 
     python bench/follow_quality.py [--debug]
-        [--sections=sized,holds,sequences,unrelated,after,pauses,shapes]
+        [--sections=sized,holds,sequences,unrelated,after,pauses,shapes] [--sigma=S]
 
 ``--sections`` measures only those sections of the tuned and held-out evaluations (a section
 left out still draws its random numbers, so the others' figures are those of a full run);
-``--debug`` prints each sized performance's and each unrelated motion's figures.
+``--sigma`` is the puck follower's sigma (in each template's spread; default the follower's,
+the schema's range), so ``--sections=sized,unrelated,holds --sigma=S`` reruns the sweep in
+:class:`~behaviors.mop.follower.ActionFollower`'s docstring; ``--debug`` prints each sized
+performance's and each unrelated motion's figures.
 """
 
 from __future__ import annotations
 
+import inspect
 import sys
 from collections import defaultdict
 from types import SimpleNamespace
@@ -82,6 +86,8 @@ SECTION_NAMES = ("sized", "holds", "sequences", "unrelated", "after", "pauses", 
 #: The sections measured (``--sections=``...); None: all, with the CLI defaults and options.
 SECTIONS = next((set(a.split("=", 1)[1].split(",")) for a in sys.argv
                  if a.startswith("--sections=")), None)
+#: The puck follower's sigma: the follower's default, or ``--sigma=`` (set in :func:`main`).
+SIGMA: float = inspect.signature(ActionFollower).parameters["sigma"].default
 #: Seed of the held-out evaluation (other joints: ``MOCAP_HELD_OUT``).
 HELD_OUT_SEED = 101
 #: Seed of the back-to-back draws on which an option is compared with the defaults.
@@ -401,8 +407,8 @@ def puck_follower(templates: Mapping[str, np.ndarray], **kw) -> ActionFollower:
     """The follower as the installation builds it for a puck's dx, dy (metres; size and place
     from where each gesture begins; every template's scale floored as a puck input's)."""
     from behaviors.mop.inputs import PuckInput
-    return ActionFollower(templates, units=np.ones(2),
-                          **{"invariance": "scale", "min_scale": PuckInput(1).min_scale, **kw})
+    return ActionFollower(templates, units=np.ones(2), **{
+        "invariance": "scale", "min_scale": PuckInput(1).min_scale, "sigma": SIGMA, **kw})
 
 
 def paper_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
@@ -412,7 +418,13 @@ def paper_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
 
 
 def main() -> None:
-    check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": SECTION_NAMES})
+    global SIGMA
+    from tabletop.plugins.mop import FOLLOWER
+    spec = FOLLOWER.fields["sigma"]
+    check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": SECTION_NAMES},
+                {"sigma": (spec.lo, spec.hi)})
+    SIGMA = next((float(a.split("=", 1)[1]) for a in sys.argv[1:] if a.startswith("--sigma=")),
+                 SIGMA)
     t0 = time.perf_counter()
     figures: dict[str, float] = {}
     figures.update(evaluate(puck_follower))

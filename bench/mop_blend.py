@@ -7,12 +7,13 @@ the first ``blend_s`` seconds after the action driving a character changes
 puck 2 the salamander, the face and the gecko), at 1x, with no rest between gestures, once with
 every character's ``blend_s`` as configured (0.2 s) and once with 0.
 
-Figures per character (metres on the table, 60 Hz frames): ``<blend>_<character>_switch_jump_max``,
-the largest per-frame move of any of its points within 0.25 s after the driving action changed
-(from the last action that drove it, including across the hold between gestures);
-``<blend>_<character>_within_jump_p99`` and ``_max``, the same over frames within one action
-after that (the motion's own speed and the follower's progress steps): the scale a switch is
-measured against; ``<blend>_<character>_switches``, how many switches were seen.
+Figures per character (metres on the table, 60 Hz frames):
+``<blend>_<character>_switch_jump_max_m``, the largest per-frame move of any of its points
+within 0.25 s after the driving action changed (from the last action that drove it, including
+across the hold between gestures); ``<blend>_<character>_within_jump_p99_m`` and ``_max_m``,
+the same over frames within one action after that (the motion's own speed and the follower's
+progress steps): the scale a switch is measured against; ``<blend>_<character>_switches``, how
+many switches were seen.
 
     python bench/mop_blend.py
 """
@@ -92,9 +93,9 @@ def measure(blend_s: float | None) -> dict[str, float]:
         if not count[name]:
             continue
         out[f"{tag}_{name}_switches"] = count[name]
-        out[f"{tag}_{name}_switch_jump_max"] = max(after[name])
-        out[f"{tag}_{name}_within_jump_p99"] = float(np.percentile(within[name], 99))
-        out[f"{tag}_{name}_within_jump_max"] = max(within[name])
+        out[f"{tag}_{name}_switch_jump_max_m"] = max(after[name])
+        out[f"{tag}_{name}_within_jump_p99_m"] = float(np.percentile(within[name], 99))
+        out[f"{tag}_{name}_within_jump_max_m"] = max(within[name])
     return out
 
 

@@ -66,10 +66,11 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
 
     ``sigma`` is Eq. 1's sigma, which the paper takes as the standard deviation between measured
     and template data; each template here is one take, so no deviation between takes is there
-    to measure, and sigma is a fixed share of each template's own spread, chosen on
-    ``bench/follow_quality.py`` (``--sections=sized,unrelated,holds``, tuned figures; puck
-    follower): valid after 30% at 0.7-1.4x and at the 0.6/1.5x edges, progress RMSE median,
-    hold RMSE max and valid share, unrelated valid share max (told: of no start) and mean:
+    to measure, and sigma is a fixed share of each template's own spread, chosen on the tuned
+    (not ``heldout_``) figures of ``python bench/follow_quality.py
+    --sections=sized,unrelated,holds --sigma=S`` (the puck follower): valid after 30% at
+    0.7-1.4x and at the 0.6/1.5x edges, progress RMSE median, hold RMSE max and valid share,
+    unrelated valid share max (told: of no start) and mean:
 
     =====  =======  =====  =====  ========  =====  =========  =====  =====
     sigma  sized    edges  RMSE   h. RMSE   hold   unrelated  told   mean

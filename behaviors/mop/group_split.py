@@ -18,17 +18,42 @@ class GroupsByParameters:
 
     def __init__(self, followers: Sequence[ActionFollower],
                  make_group: Callable[[list], object]) -> None:
+        self._make = make_group
+        self.followers = list(followers)
+        self._parts: list[list[int]] = []
+        self._groups: list[object] = []
+        self._partition(list(range(len(self.followers))))
+
+    def _partition(self, members: list[int]) -> None:
+        """Group ``members`` (indices) by parameters, each set a new group beside the parts
+        kept."""
         parts: list[list[int]] = []
-        for i, f in enumerate(followers):
-            part = next((p for p in parts if followers[p[0]].same_parameters(f)), None)
+        fs = self.followers
+        for i in members:
+            part = next((p for p in parts if fs[p[0]].same_parameters(fs[i])), None)
             if part is None:
                 parts.append([i])
             else:
                 part.append(i)
-        self._parts = parts
-        self._groups = [make_group([followers[i] for i in p]) for p in parts]
+        self._parts += parts
+        self._groups += [self._make([fs[i] for i in p]) for p in parts]
         #: follower i -> (its group, its place in that group)
-        self._where = {i: (g, k) for g, p in enumerate(parts) for k, i in enumerate(p)}
+        self._where = {i: (g, k) for g, p in enumerate(self._parts) for k, i in enumerate(p)}
+
+    def replace(self, new: dict[int, ActionFollower]) -> set[int]:
+        """Followers ``new`` (index -> follower) take those places; only the groups they leave
+        or join are made again (a group starts its members afresh). Returns the members started
+        afresh; the others' groups, and their progress, are kept."""
+        for i, f in new.items():
+            self.followers[i] = f
+        fs = self.followers
+        touched = [g for g, p in enumerate(self._parts)
+                   if set(p) & set(new) or any(fs[p[0]].same_parameters(f) for f in new.values())]
+        again = sorted(i for g in touched for i in self._parts[g])   # every new one among them
+        self._parts = [p for g, p in enumerate(self._parts) if g not in touched]
+        self._groups = [x for g, x in enumerate(self._groups) if g not in touched]
+        self._partition(again)
+        return set(again)
 
     def reset_member(self, i: int) -> None:
         g, k = self._where[i]

@@ -168,7 +168,12 @@ class StreamInput:
         if self.relative_to is not None and len(self.columns) % len(self.relative_to):
             raise ClipError(f"stream {stream!r}: {len(self.columns)} column(s) do not split into "
                             f"groups of {len(self.relative_to)} (relative_to's columns)")
-        self.names = tuple(f"{prefix}{stream}_{c}" for c in columns)
+        #: ``<stream>_<column>``; read relative, ``<stream>_<column>-<its root column>``:
+        #: a template recorded without relative_to (world coordinates) is refused by its
+        #: column names rather than loaded and never matched
+        self.names = tuple(f"{prefix}{stream}_{c}" for c in columns) if self.relative_to is None \
+            else tuple(f"{prefix}{stream}_{c}-{self.relative_to[k % len(self.relative_to)]}"
+                       for k, c in enumerate(columns))
         #: A stream's columns have no known units: the follower takes them from the templates.
         self.units = None
         self.min_scale = None
@@ -179,6 +184,7 @@ class StreamInput:
         self._read = [int(c) for c in self.columns] + [
             int(c) for c in (() if self.relative_to is None else self.relative_to)
             if c not in self.columns]
+        self._last = max(self._read)   # the highest column read
 
     @property
     def shown(self) -> str:
@@ -188,11 +194,11 @@ class StreamInput:
     def absent(self, frame: object) -> bool:
         """Is the stream missing from ``frame``, or too short (its read NaN, no sample)?"""
         a = getattr(frame, "streams", {}).get(self.stream)
-        return a is None or a.size <= int(self.columns.max())
+        return a is None or a.size <= self._last
 
     def read(self, frame: object, t: float) -> np.ndarray:
         a = getattr(frame, "streams", {}).get(self.stream)
-        short = a is not None and a.size <= max(self._read)
+        short = a is not None and a.size <= self._last
         self.problem = (f"stream {self.stream!r} has {a.size} column(s), reads column(s) "
                         f"{', '.join(str(c) for c in self._read)}") if short else None
         if a is None or short:

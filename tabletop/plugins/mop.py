@@ -46,9 +46,10 @@ from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
-from tabletop.plugins.mop_files import (MopError, MotionLoader, library_actions, library_names,
-                                        load_template, read_window, resolve_motion,
-                                        save_to_library)
+from tabletop.plugins.mop_stream import check_stream
+from tabletop.plugins.mop_files import (WINDOW_RANGE, MopError, MotionLoader, library_actions,
+                                        library_names, load_template, read_window,
+                                        resolve_motion, save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
@@ -58,8 +59,6 @@ from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_,
 #: The creature's point its face rides on in a hybrid character (its nose).
 HYBRID_HEAD = 3
 PUCK_FEATURES = ("dx", "dy", "heading", "speed")
-#: The follower's window (p, states) a config or the studio may set.
-WINDOW_RANGE = (1, 10_000)
 
 log = logging.getLogger("tabletop")
 
@@ -99,15 +98,8 @@ def _check_input(value: dict, path: str, ctx: Context) -> None:
     for keys, owner in ((PUCK_KEYS, "puck"), (STREAM_KEYS, "stream")):
         if value["kind"] != owner:
             _refuse_unread(value, INPUT, keys, owner, "input", path, ctx)
-    if value["kind"] == "stream" and not value["name"]:
-        raise ctx.error(f"{path}.name", "a stream input needs the stream's name")
-    if value["kind"] == "stream" and value["columns"] is None:
-        raise ctx.error(f"{path}.columns", "a stream input needs its columns, e.g. [0, 1, 2]")
-    rel = value["relative_to"]
-    if rel is not None and len(value["columns"]) % len(rel):
-        raise ctx.error(f"{path}.relative_to", f"{len(rel)} column(s) are subtracted from each "
-                        f"group of as many of columns' {len(value['columns'])}: give columns "
-                        f"in groups of {len(rel)}")
+    if value["kind"] == "stream":
+        check_stream(value, path, ctx)
 
 
 INPUT.check = _check_input
@@ -388,6 +380,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     loaded: dict[str, list[str]] = {}        # each character's actions from the library
     read: dict[str, tuple] = {}              # its folder's signature: the studio's first baseline
     windows: dict[str, int] = {}             # the follower windows the studio saved
+    bad_window: dict[str, str] = {}          # why a character's saved window is not read
     configured = {c["name"]: {a["name"] for a in c["actions"]} for c in options["characters"]}
     for c in options["characters"]:
         rig = _make_rig(c)
@@ -408,12 +401,14 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
             try:
-                window = read_window(library, c["name"], *WINDOW_RANGE)
+                window = read_window(library, c["name"])
             except MopError as exc:
-                problems.setdefault(c["name"], []).append(str(exc))
+                bad_window[c["name"]] = str(exc)
                 window = None
             if window is not None:
                 windows[c["name"]] = window
+                log.info("MOP character %r follows with the window %d saved in its actions.yaml "
+                         "(the config's follower.window: %d)", c["name"], window, fo["window"])
             kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
                                         rate, loader, configured[c["name"]])
             for action, samples in kept:
@@ -443,6 +438,10 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     stage.default_window = fo["window"]
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
+    for character, why in bad_window.items():      # reported with the library's problems
+        log.error("MOP saved window ignored, the config's follower.window %d used: %s",
+                  fo["window"], why)
+        problems[character].append(why)
     stage.library_problems, stage.library_loaded, stage.library_read = problems, loaded, read
     stage.library_actions = lambda character: library_actions(          # the studio reloads
         library, character, performers[bound[character]].names, rate, loaders[character],

@@ -222,6 +222,11 @@ def library_lock(folder: Path, character: str) -> ContextManager[None]:
     return exclusive(d / LIBRARY_FILE, wait_s=LIBRARY_WAIT_S)
 
 
+#: The follower's window (p, states either side of the progress) a config, the studio or a
+#: character's actions.yaml may set.
+WINDOW_RANGE = (1, 10_000)
+
+
 def write_library(folder: Path, character: str, entries: list[dict[str, str]],
                   window: int | None | type[Ellipsis] = ...) -> None:
     """Write ``character``'s actions.yaml atomically (its :func:`library_lock` held), with the
@@ -235,11 +240,12 @@ def write_library(folder: Path, character: str, entries: list[dict[str, str]],
     atomic_write_text(folder / character / LIBRARY_FILE, yaml.safe_dump(data, sort_keys=False))
 
 
-def read_window(folder: Path, character: str, lo: int = 1, hi: int = 10_000) -> int | None:
+def read_window(folder: Path, character: str) -> int | None:
     """The follower's window (states) the studio saved in ``character``'s actions.yaml, None
     when it has none or the file cannot be read (:func:`read_library` says why); one out of
-    ``lo``..``hi`` or not an integer is refused naming the file."""
+    :data:`WINDOW_RANGE` or not an integer is refused naming the file."""
     import yaml
+    lo, hi = WINDOW_RANGE
     f = folder / character / LIBRARY_FILE
     try:
         data = yaml.safe_load(f.read_text(encoding="utf-8")) if f.is_file() else None

@@ -187,8 +187,10 @@ class MopTarget:
     def shown(self) -> str | None:
         """The kept action selected, as the idle line names it; with none, the actions the
         character knows (its config's), which it plays with no take kept; then the window its
-        follower reaches (+/- step it)."""
-        window = f", window {self.window} (+/-)"
+        follower runs with, and the characters sharing it (+/- step it)."""
+        others = self.stage.sharing(self.character)
+        window = f", window {self.window}" + (f" shared with {', '.join(others)}" if others else "")
+        window += " (+/-)"
         if self.kept is not None:
             return self.kept + window
         known = sorted(self.stage.templates.get(self.character, {}))
@@ -196,30 +198,38 @@ class MopTarget:
 
     @property
     def window(self) -> int:
-        """The window (p, states either side of the progress) the character's follower reaches."""
+        """The window (p, states either side of the progress) the character's performer's
+        follower runs with (the largest its characters set)."""
         return self.stage.window(self.character)
 
     def step_window(self, sign: int) -> str:
-        """+/-: the character's window by :data:`WINDOW_STEP` states within the config's range
-        (the paper's Evaluation: the user "might need to adjust the window size"); its
-        performer's follower is rebuilt at once, and the window saved in the character's
-        actions.yaml (atomically), read at the next start."""
-        from tabletop.plugins.mop import WINDOW_RANGE
+        """+/-: the character's window, stepped by :data:`WINDOW_STEP` states from the one its
+        follower runs with, within the schema's range (the paper's Evaluation: the user "might
+        need to adjust the window size"); the followers whose window changes are rebuilt at
+        once, and the character's window saved in its actions.yaml (atomically), read at the
+        next start. The message gives the window the follower runs with: shared with other
+        characters, it is the largest they set."""
+        from tabletop.plugins.mop_files import WINDOW_RANGE
         lo, hi = WINDOW_RANGE
         old = self.window
         new = min(hi, max(lo, old + sign * WINDOW_STEP))
-        if self.lib is not None and new != old:
+        own = self.stage.windows.get(self.character)
+        if self.lib is not None and new != own:
             from tabletop.plugins.mop_files import write_library
             with self._locked():
                 write_library(self.lib, self.character, self._entries(), window=new)
             if self._poller is not None:
                 self._poller.signature = tree_signature(self._poller.path)
-        if new != old:
+        if new != own:
             self.stage.set_window(self.character, new)
         where = (f"saved in {named_folder(self.lib / self.character, self.base)}"
                  if self.lib is not None else "for this run only (no library)")
         edge = " (its limit)" if new == old else ""
-        return f"{self.character}: window {new} states{edge}, {where}"
+        now, others = self.window, self.stage.sharing(self.character)
+        shared = "" if not others else f", shared with {', '.join(others)}" + (
+            "" if now == new else " (the largest of its characters' with actions is used; "
+                                  f"{self.character}'s is {new})")
+        return f"{self.character}: window {now} states{edge}{shared}, {where}"
 
     def use(self, name: str) -> None:
         self.kept = name     # every kept action of a character plays; this one is selected

@@ -22,7 +22,7 @@ def _config(tmp_path, relative: bool) -> dict:
         t, hand = _hand(name)
         cols = hand if relative else hand + ROOT     # recorded in place, as the input reads it
         np.savetxt(tmp_path / f"{name}.csv", np.column_stack([t, cols]), delimiter=",",
-                   header="t,body_2,body_3", comments="")
+                   header="t,body_2-0,body_3-1" if relative else "t,body_2,body_3", comments="")
     stream = {"kind": "stream", "name": "body", "columns": [2, 3]}
     if relative:
         stream["relative_to"] = [0, 1]
@@ -58,7 +58,8 @@ def _followed(engine, name: str, walk: float) -> float:
 def test_a_body_stream_read_relative_to_its_root_follows_a_walked_performance(tmp_path):
     relative = build(_config(tmp_path, True), tmp_path)
     world = build(_config(tmp_path, False), tmp_path)
-    assert relative.performers["body"].names == ("body_2", "body_3")
+    assert relative.performers["body"].names == ("body_2-0", "body_3-1")
+    assert world.performers["body"].names == ("body_2", "body_3")
     for name in ("circle", "wave"):
         in_place = _followed(relative, name, 0.0)
         walked = _followed(relative, name, WALK_M)
@@ -78,4 +79,34 @@ def test_relative_to_columns_must_divide_the_chosen_columns(tmp_path):
     data["engines"][0]["performers"][0]["inputs"][0] = {"kind": "puck", "id": 1,
                                                        "relative_to": [0, 1]}
     with pytest.raises(ConfigError, match=r"inputs\[0\]\.relative_to: only a stream input"):
+        build(data, tmp_path)
+
+
+def test_relative_to_columns_may_not_be_chosen_too_or_repeated(tmp_path):
+    """A chosen column less itself reads 0 at every sample; a repeated root column subtracts
+    one coordinate from the other: both refused at start-up, naming the key."""
+    import pytest
+    from tabletop.schema import ConfigError
+    data = _config(tmp_path, True)
+    stream = data["engines"][0]["performers"][0]["inputs"][0]
+    for columns, rel, why in (([0, 1, 2, 3], [0, 1], r"column\(s\) \[0, 1\] are chosen"),
+                              ([2, 3], [0, 0], r"\[0, 0\] repeats a column")):
+        stream.update(columns=columns, relative_to=rel)
+        with pytest.raises(ConfigError, match=r"performers\[0\]\.inputs\[0\]\.relative_to: "
+                           + why) as err:
+            build(data, tmp_path)
+        assert "\n" not in str(err.value)
+
+
+def test_a_template_recorded_without_relative_to_is_refused_by_its_column_names(tmp_path):
+    """Recorded in world coordinates (columns body_2, body_3), a template would load for the
+    relative features and never match: the feature names differ, so it is refused."""
+    import pytest
+    from tabletop.schema import ConfigError
+    _config(tmp_path, False)                      # circle.csv, wave.csv in world coordinates
+    data = _config(tmp_path, True)
+    _config(tmp_path, False)
+    with pytest.raises(ConfigError, match=r"actions\[0\]\.template: .*circle\.csv: template "
+                       r"columns body_2,body_3 do not match the performer's features "
+                       r"body_2-0,body_3-1"):
         build(data, tmp_path)

@@ -154,7 +154,7 @@ def test_the_idle_line_names_the_actions_a_character_knows_when_none_is_selected
     table.tick()
     known = ", ".join(sorted(engine.templates["face"]))
     assert table.status.startswith(f"[mop/face] action (none selected; it knows {known}), "
-                                   "window 15 (+/-): R record"), table.status
+                                   "window 15 shared with lizard (+/-): R record"), table.status
 
 
 def test_a_still_take_says_the_performer_hardly_moved(tmp_path):

@@ -27,8 +27,19 @@ def test_a_wrong_command_line_is_refused_with_one_line_naming_it(capsys):
     assert "sections: sized, holds, sequences" in capsys.readouterr().out
 
 
+def test_a_number_option_is_refused_outside_its_range(capsys):
+    numbers = {"sigma": (1e-3, 100.0)}
+    check_flags("follow_quality", ["--sigma=0.15"], [], SECTIONS, numbers)
+    for value in ("abc", "0", "", "nan"):
+        with pytest.raises(SystemExit) as refused:
+            check_flags("follow_quality", [f"--sigma={value}"], [], SECTIONS, numbers)
+        assert str(refused.value.code).splitlines()[0] == (
+            f"follow_quality: --sigma: expected a number in 0.001..100, got {value!r}")
+
+
 def test_follow_quality_answers_help_before_measuring():
     bench = Path(__file__).resolve().parents[2] / "bench" / "follow_quality.py"
     r = subprocess.run([sys.executable, str(bench), "--help"], capture_output=True, text=True,
                        timeout=120)
     assert r.returncode == 0 and f"sections: {', '.join(SECTION_NAMES)}" in r.stdout
+    assert "[--sigma=X]" in r.stdout and "sigma: a number in 0.001..100" in r.stdout
