@@ -237,17 +237,14 @@ class ActionClock:
     While the finger touches, each frame the time moves toward the synthesised time by at most
     ``MAX_PACE`` times the recording's pace, forward or backward as the finger leads ("stopped or
     executed backward depending on the user's control"). Where the segment forbids stillness
-    it never stands: it runs at least at the recording's pace in the direction the time last
-    moved (``heading``), turned only by the finger moving back (its synthesised time changing
-    by more than ``RESTING_OF_PACE`` of a frame's pace that way and lying behind), so a kick in
-    the air held still runs on and one dragged back rewinds. It enters such a segment against its run only
-    while the finger moves that way (a finger resting in the still segment after the kick
-    does not pull the time back into the air). Once the finger lifts it runs in the segment's
-    automatic direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0
-    (cancelled). Against a clock whose segments without stillness always run their own way, strokes
-    dragged forward at their pace from four views measure the same (bench/touch_pose_turns.py:
-    every figure equal but the jump's largest joint turn per frame once lifted, 27.1 -> 27.3
-    degrees).
+    it never stands: it runs at least at the recording's pace in the way it last ran through
+    such a segment (``heading``), turned only by the finger moving the other way (its synthesised
+    time changing by more than ``RESTING_OF_PACE`` of a frame's pace that way, and lying there).
+    So a kick in the air held still runs on, one dragged back rewinds, and one dragged back and
+    held goes on back out of the air. The time enters such a segment only the way it last ran
+    or the way the finger moves: a resting finger neither pulls a finished kick back into
+    the air nor replays a rewound one. Once the finger lifts it runs in the segment's automatic
+    direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0 (cancelled).
     """
 
     def __init__(self, action: ActionModel, u: float) -> None:
@@ -257,34 +254,39 @@ class ActionClock:
         self.heading = 1            # an action is recognised from a drag forward
         self._last_target: float | None = None
 
+    def finger(self, dt: float, target: float) -> int:
+        """The finger's direction along the action (+1, -1, 0 resting), given this frame's
+        synthesised time ``target`` after ``dt`` s: its change since the last frame."""
+        moved = 0.0 if self._last_target is None else target - self._last_target
+        self._last_target = target
+        pace = dt / self.action.duration
+        return int(np.sign(moved)) if abs(moved) > RESTING_OF_PACE * pace else 0
+
     def step(self, dt: float, target: float | None, touching: bool) -> float:
         """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint)."""
         pace = dt / self.action.duration
         seg = self.action.segment(self.u)
         if not touching or target is None:
             self.u += seg.direction * pace
-            self.heading = seg.direction
+            if not seg.still:
+                self.heading = seg.direction
             self._last_target = None
         else:
-            moved = 0.0 if self._last_target is None else target - self._last_target
-            self._last_target = target
-            finger = int(np.sign(moved)) if abs(moved) > RESTING_OF_PACE * pace else 0
+            finger = self.finger(dt, target)
             step = float(np.clip(target - self.u, -MAX_PACE * pace, MAX_PACE * pace))
             if not seg.still:
-                # no stillness here (a kick in the air): at least the recording's pace, turning
-                # only when the finger moves back and its synthesised time lies back there too
-                # (a finger slowing at the stroke's end jitters its time back a little while
-                # still ahead), faster when the finger leads further that way
-                if finger and finger != self.heading and np.sign(step) == finger:
+                # no stillness here (a kick in the air): at least the recording's pace the way
+                # it runs, faster when the finger leads further that way
+                if finger == -self.heading and np.sign(step) == finger:
                     self.heading = finger
                 step = self.heading * max(pace, step * self.heading)
             new = self.u + step
             ahead = self.action.segment(min(max(new, 0.0), 1.0))
-            if (not ahead.still and ahead is not seg and np.sign(step) != ahead.direction
-                    and finger != np.sign(step)):
-                new = self.u  # a resting finger does not pull the time into such a segment
-            if new != self.u:
-                self.heading = 1 if new > self.u else -1
+            if not ahead.still and new != self.u:
+                if ahead is not seg and np.sign(step) != self.heading and finger != np.sign(step):
+                    new = self.u  # a resting finger does not pull the time into such a segment
+                else:
+                    self.heading = 1 if step > 0 else -1
             self.u = new
         if self.u >= 1.0 or self.u <= 0.0:
             self.u = min(max(self.u, 0.0), 1.0)
