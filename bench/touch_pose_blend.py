@@ -23,11 +23,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from bench.touch_pose_posing import distances, held_out  # noqa: E402
+from bench.touch_pose_posing import bounded, distances, held_out  # noqa: E402
 from behaviors.motion.clips import quat_conj, quat_from_rotvec, quat_mul, quat_to_rotvec  # noqa: E402
 from behaviors.touch_pose.engine import learned_models  # noqa: E402
 from behaviors.touch_pose.humanoid import PARTS, Camera, Pose  # noqa: E402
-from behaviors.touch_pose.samples import bounded  # noqa: E402
 
 
 def weights(d: np.ndarray, scheme: str) -> np.ndarray:
