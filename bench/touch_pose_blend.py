@@ -38,17 +38,13 @@ def weights(d: np.ndarray, scheme: str) -> np.ndarray:
 
 def blended(model, parts, targets, view, scheme: str, quats: str) -> Pose:
     """The model's synthesis with another weighting or quaternion blend."""
-    off = np.zeros(2)
-    d_rep = model.constraint_distance(model.rep, parts, targets, view, off)
-    index = model._near[model.rep_key[int(np.argmin(d_rep))]]
-    w = weights(model.constraint_distance(index, parts, targets, view, off), scheme)
+    b = model.synthesize(parts, targets, view, np.zeros(2), lambda d: weights(d, scheme))
     if quats == "nlerp":
-        return model.blend(index, w).pose
-    w = w / w.sum()
-    q = model.rots[index]
-    ref = q[int(np.argmax(w))]
-    mean = np.einsum("n,njk->jk", w, quat_to_rotvec(quat_mul(quat_conj(ref)[None], q)))
-    return Pose(w @ model.roots[index], quat_mul(ref, quat_from_rotvec(mean)))
+        return b.pose
+    q = model.rots[b.index]
+    ref = q[int(np.argmax(b.weight))]
+    mean = np.einsum("n,njk->jk", b.weight, quat_to_rotvec(quat_mul(quat_conj(ref)[None], q)))
+    return Pose(b.pose.root, quat_mul(ref, quat_from_rotvec(mean)))
 
 
 def main() -> None:

@@ -4,7 +4,7 @@ import numpy as np
 
 from behaviors.touch_pose.humanoid import PARTS, Camera, yaw_of
 from behaviors.touch_pose.ik import MAX_CORRECTION
-from behaviors.touch_pose.latent import classical_mds, pose_distances
+from behaviors.touch_pose.latent import classical_mds, inverse_square, pose_distances
 from behaviors.touch_pose.samples import clip_named, clip_poses, place
 
 
@@ -68,6 +68,22 @@ def test_ik_never_corrects_more_than_the_limit(make, models):
     solved = models.body.parts(e.target)[PARTS.index("right_hand")]
     assert np.linalg.norm(solved - blended) <= MAX_CORRECTION + 1e-6
     assert np.linalg.norm(solved - blended) > 0.1  # it did use the correction
+
+
+def test_the_blend_takes_other_weights(models):
+    # weights of the constraint distances (the blend bench's hook): all on the nearest sample
+    # gives that sample's posture; the default is 1 / (d + EPS)^2
+    model, view = models.posing, Camera(90.0, 15.0, 1.0).matrix
+    hand = np.array([PARTS.index("right_hand")])
+    target = models.body.parts(models.stand)[hand] @ view.T + np.array([[0.1, 0.2]])
+    nearest = model.synthesize(hand, target, view, np.zeros(2),
+                               lambda d: (d == d.min()).astype(float))
+    k = nearest.index[int(np.argmax(nearest.weight))]
+    assert np.allclose(nearest.pose.rots, model.rots[k]) and np.allclose(nearest.pose.root,
+                                                                           model.roots[k])
+    plain = model.synthesize(hand, target, view, np.zeros(2))
+    d = model.constraint_distance(plain.index, hand, target, view, np.zeros(2))
+    assert np.allclose(plain.weight, inverse_square(d) / inverse_square(d).sum())
 
 
 def test_latent_space_preserves_pose_distances(models):
