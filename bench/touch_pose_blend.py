@@ -23,11 +23,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from bench.touch_pose_posing import distances, held_out  # noqa: E402
+from bench.touch_pose_posing import bounded, distances, held_out  # noqa: E402
 from behaviors.motion.clips import quat_conj, quat_from_rotvec, quat_mul, quat_to_rotvec  # noqa: E402
 from behaviors.touch_pose.engine import learned_models  # noqa: E402
 from behaviors.touch_pose.humanoid import PARTS, Camera, Pose  # noqa: E402
-from behaviors.touch_pose.samples import bounded  # noqa: E402
 
 
 def weights(d: np.ndarray, scheme: str) -> np.ndarray:
@@ -39,17 +38,13 @@ def weights(d: np.ndarray, scheme: str) -> np.ndarray:
 
 def blended(model, parts, targets, view, scheme: str, quats: str) -> Pose:
     """The model's synthesis with another weighting or quaternion blend."""
-    off = np.zeros(2)
-    d_rep = model.constraint_distance(model.rep, parts, targets, view, off)
-    index = model._near[model.rep_key[int(np.argmin(d_rep))]]
-    w = weights(model.constraint_distance(index, parts, targets, view, off), scheme)
+    b = model.synthesize(parts, targets, view, np.zeros(2), lambda d: weights(d, scheme))
     if quats == "nlerp":
-        return model.blend(index, w).pose
-    w = w / w.sum()
-    q = model.rots[index]
-    ref = q[int(np.argmax(w))]
-    mean = np.einsum("n,njk->jk", w, quat_to_rotvec(quat_mul(quat_conj(ref)[None], q)))
-    return Pose(w @ model.roots[index], quat_mul(ref, quat_from_rotvec(mean)))
+        return b.pose
+    q = model.rots[b.index]
+    ref = q[int(np.argmax(b.weight))]
+    mean = np.einsum("n,njk->jk", b.weight, quat_to_rotvec(quat_mul(quat_conj(ref)[None], q)))
+    return Pose(b.pose.root, quat_mul(ref, quat_from_rotvec(mean)))
 
 
 def main() -> None:

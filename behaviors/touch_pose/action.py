@@ -44,6 +44,7 @@ times in 496 instead of 24 (the bow 0 instead of 19), and every stroke started a
 
 from __future__ import annotations
 
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,9 +75,13 @@ WINDOW = 2.0
 #: whole (primary part's median distance from it, mean over cases: punch 0.047 -> 0.032 m,
 #: but kick 0.034 -> 0.043 and jump 0.008 -> 0.015 m), so 1.6 is kept.
 MAX_PACE = 1.6
-#: While touching, the finger rests (for the direction of a segment that forbids stillness)
-#: when its synthesised time changes by less than this fraction of one frame's pace.
-RESTING_OF_PACE = 0.25
+#: The finger moves along an action (for the segments that forbid stillness) when its
+#: synthesised time has gone more than ``FINGER_BAND`` (generalised time) one way from its lowest
+#: or highest over the last ``FINGER_WINDOW`` s. Touches held still with 1-3 mm of uniform jitter
+#: (kick, walk, spin kick, punch, jump, four seeds) span at most 0.036 within the window (the walk's; the kick's
+#: 0.025), while a drag back at half the walk's or the kick's pace moves it 0.08 or 0.065.
+FINGER_WINDOW = 0.2
+FINGER_BAND = 0.05
 
 
 @dataclass
@@ -237,17 +242,15 @@ class ActionClock:
     While the finger touches, each frame the time moves toward the synthesised time by at most
     ``MAX_PACE`` times the recording's pace, forward or backward as the finger leads ("stopped or
     executed backward depending on the user's control"). Where the segment forbids stillness
-    it never stands: it runs at least at the recording's pace in the direction the time last
-    moved (``heading``), turned only by the finger moving back (its synthesised time changing
-    by more than ``RESTING_OF_PACE`` of a frame's pace that way and lying behind), so a kick in
-    the air held still runs on and one dragged back rewinds. It enters such a segment against its run only
-    while the finger moves that way (a finger resting in the still segment after the kick
-    does not pull the time back into the air). Once the finger lifts it runs in the segment's
-    automatic direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0
-    (cancelled). Against a clock whose segments without stillness always run their own way, strokes
-    dragged forward at their pace from four views measure the same (bench/touch_pose_turns.py:
-    every figure equal but the jump's largest joint turn per frame once lifted, 27.1 -> 27.3
-    degrees).
+    it never stands: it runs at least at the recording's pace in the way it last ran through
+    such a segment (``heading``), turned only by a clear move of the finger the other way (its
+    synthesised time going more than ``FINGER_BAND`` that way from its extreme over the last
+    ``FINGER_WINDOW``, and lying that way).
+    So a kick in the air held still runs on, one dragged back rewinds, and one dragged back and
+    held goes on back out of the air. The time enters such a segment only the way it last ran
+    or the way the finger clearly moves: a resting finger neither pulls a finished kick back into
+    the air nor replays a rewound one. Once the finger lifts it runs in the segment's automatic
+    direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0 (cancelled).
     """
 
     def __init__(self, action: ActionModel, u: float) -> None:
@@ -255,7 +258,20 @@ class ActionClock:
         self.u = float(min(max(u, 0.0), 1.0))
         self.done = False
         self.heading = 1            # an action is recognised from a drag forward
-        self._last_target: float | None = None
+        self._elapsed = 0.0
+        self._recent: deque[tuple[float, float]] = deque()   # (s, synthesised time) in the window
+
+    def finger(self, dt: float, target: float) -> tuple[float, float]:
+        """How far the finger has gone forward and back along the action over the last
+        ``FINGER_WINDOW`` s, given this frame's synthesised time ``target`` after ``dt`` s: the
+        rise from the window's lowest synthesised time and the fall from its highest."""
+        self._elapsed += dt
+        recent = self._recent
+        recent.append((self._elapsed, target))
+        while recent[0][0] < self._elapsed - FINGER_WINDOW - 1e-9:
+            recent.popleft()
+        times = [u for _, u in recent]
+        return target - min(times), max(times) - target
 
     def step(self, dt: float, target: float | None, touching: bool) -> float:
         """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint)."""
@@ -263,28 +279,26 @@ class ActionClock:
         seg = self.action.segment(self.u)
         if not touching or target is None:
             self.u += seg.direction * pace
-            self.heading = seg.direction
-            self._last_target = None
+            if not seg.still:
+                self.heading = seg.direction
+            self._recent.clear()
         else:
-            moved = 0.0 if self._last_target is None else target - self._last_target
-            self._last_target = target
-            finger = int(np.sign(moved)) if abs(moved) > RESTING_OF_PACE * pace else 0
+            rise, fall = self.finger(dt, target)
+            moves = {1: rise > FINGER_BAND, -1: fall > FINGER_BAND, 0: False}
             step = float(np.clip(target - self.u, -MAX_PACE * pace, MAX_PACE * pace))
             if not seg.still:
-                # no stillness here (a kick in the air): at least the recording's pace, turning
-                # only when the finger moves back and its synthesised time lies back there too
-                # (a finger slowing at the stroke's end jitters its time back a little while
-                # still ahead), faster when the finger leads further that way
-                if finger and finger != self.heading and np.sign(step) == finger:
-                    self.heading = finger
+                # no stillness here (a kick in the air): at least the recording's pace the way
+                # it runs, faster when the finger leads further that way
+                if np.sign(step) == -self.heading and moves[-self.heading]:
+                    self.heading = -self.heading
                 step = self.heading * max(pace, step * self.heading)
             new = self.u + step
             ahead = self.action.segment(min(max(new, 0.0), 1.0))
-            if (not ahead.still and ahead is not seg and np.sign(step) != ahead.direction
-                    and finger != np.sign(step)):
-                new = self.u  # a resting finger does not pull the time into such a segment
-            if new != self.u:
-                self.heading = 1 if new > self.u else -1
+            if not ahead.still and new != self.u:
+                if ahead is not seg and np.sign(step) != self.heading and not moves[int(np.sign(step))]:
+                    new = self.u  # a resting finger does not pull the time into such a segment
+                else:
+                    self.heading = 1 if step > 0 else -1
             self.u = new
         if self.u >= 1.0 or self.u <= 0.0:
             self.u = min(max(self.u, 0.0), 1.0)

@@ -39,6 +39,7 @@ IK (median / 90th percentile, metres): 2-D with ~2 samples per cell 0.039 / 0.18
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,6 +50,11 @@ from behaviors.touch_pose.samples import relative
 
 #: Inverse-distance weights: 1 / (d + EPS)^2, d in metres of the character's scale.
 EPS = 0.02
+
+
+def inverse_square(d: np.ndarray) -> np.ndarray:
+    """The blend's weights for constraint distances ``d`` (m): 1 / (d + EPS)^2."""
+    return 1.0 / (d + EPS) ** 2
 
 
 def aligned_points(body: Humanoid, pose: Pose) -> np.ndarray:
@@ -171,14 +177,16 @@ class LearnedModel:
         return np.sqrt(np.einsum("kcj,kcj->kc", d, d)).mean(axis=1)
 
     def synthesize(self, parts: np.ndarray, targets: np.ndarray, view: np.ndarray,
-                   offset: np.ndarray) -> Blend:
+                   offset: np.ndarray,
+                   weights: Callable[[np.ndarray], np.ndarray] = inverse_square) -> Blend:
         """The blended posture for touches on ``parts`` (indices into PARTS) at screen
-        ``targets`` (C, 2): the best cell by its representative, then weights over its samples."""
+        ``targets`` (C, 2): the best cell by its representative, then ``weights`` of the
+        constraint distances (m) over its and its neighbours' samples."""
         d_rep = self.constraint_distance(self.rep, parts, targets, view, offset)
         key = self.rep_key[int(np.argmin(d_rep))]
         index = self._near[key]
         d = self.constraint_distance(index, parts, targets, view, offset)
-        return self.blend(index, 1.0 / (d + EPS) ** 2)
+        return self.blend(index, weights(d))
 
     def blend(self, index: np.ndarray, weight: np.ndarray) -> Blend:
         """Blend samples ``index`` with (unnormalised) weights: quaternions per joint, root linearly."""

@@ -41,33 +41,11 @@ done by posing before the action is recognised), plus the walk cycle and the two
 legs' and arms' range (the walk being an action too, its whole cycle stands for its prefix: the
 posing model is the same as without the walk action).
 
-Section 4 blends each sample's pelvis position and heading relative to its motion's initial
-state and adds them to the character's base; :func:`posing_samples` does so bounded by a reach
-(m, character scale) and a turn (so posing never walks the character away: a walk sample is
-1.24 m from its start), and ``ROOT_REACH`` = ``ROOT_TURN`` = 0 keep every sample in place
-(height and tilt kept), as measured best for what a visitor asks. Measured
-(bench/touch_pose_posing.py; the blend's constraint distance before IK, median / p90, m, over
-held-out walk and dance postures touched on 1-3 parts from two views; the part's distance from
-its finger after a one-finger drag to such a posture, table m, p90; the pelvis's farthest from
-the base over 8 s of drags, character m), bounds 0/0 (in place) | 0.15 m/30 deg | 0.25/45 |
-0.15/30 with each sample in place as well (``in_place_too``):
-
-    held-out postures in place           0.035/0.116 | 0.073/0.190 | 0.085/0.202 | 0.040/0.135
-    with their own offset, to 0.25/45    0.101/0.225 | 0.062/0.165 | 0.033/0.114 | 0.072/0.154
-    after a drag, in place / offset      0.0027/0.0105 | 0.0066/0.0046 | 0.0068/0.0033 | 0.0044/0.0053
-    pelvis's farthest from the base      0 | 0.14 | 0.19 | 0.06  (unbounded: 0.49)
-
-Postures asked for with their recorded weight shift and turn are found better with the
-relative pelvis (each bound best on offsets bounded as itself; on offsets bounded to 0.1/20:
-0.063 in place, 0.047 at 0.15/30, 0.067 at 0.25/45), and the pelvis dragged sideways 0.05 m
-turns the hips 16-20 degrees (in place: 0). But IK moves the pelvis only for a pelvis or head
-goal, so where the blend's shifted or turned pelvis puts a hand out of reach the finger is
-left behind: the right hand dragged to where the wave raises it (3 poses x 3 views) ended up to
-0.1 m from it at 0.15/30 (in place at most 0.032, 0.018 with the in-place copies too), and
-three fingers on both hands and the head (tests/touch_pose/test_posing.py) left the left hand
-0.0034 m from its finger in place, 0.0206 at 0.15/30 with the copies, 0.0154 at 0.05/15, 0.0142
-with the heading alone (30 degrees). Touched parts staying under the fingers comes first, so
-the samples stay in place.
+Posing samples are taken in place (pelvis height and tilt kept, travel and heading removed), so
+posing never walks the character away and touched parts stay under their fingers: section 4's
+pelvis position and heading relative to the motion's initial state, even bounded to 0.15 m and
+30 degrees, left a hand up to 0.1 m from its finger where IK cannot move the pelvis
+(bench/touch_pose_posing.py holds the study).
 """
 
 from __future__ import annotations
@@ -134,10 +112,6 @@ ACTIONS: tuple[ActionSpec, ...] = (
 
 #: Generalised time up to which each action's frames join the posing samples.
 POSING_PREFIX = 0.25
-#: Farthest a posing sample's pelvis stands from its motion's initial state (character metres)
-#: and most its heading turns from it (radians): see the module doc.
-ROOT_REACH = 0.0
-ROOT_TURN = 0.0
 
 
 def segment_at(spec: ActionSpec, u: float) -> Segment:
@@ -336,37 +310,17 @@ def idle_poses(body: Humanoid, stand: Pose) -> list[Pose]:
     return out
 
 
-def bounded(pose: Pose, reach: float, turn: float) -> Pose:
-    """Relative ``pose`` with its horizontal root offset at most ``reach`` metres from the
-    initial state and its heading within +-``turn`` radians of it (height and tilt kept)."""
-    out = pose.copy()
-    d = np.array([pose.root[0], pose.root[2]])
-    n = float(np.linalg.norm(d))
-    if n > reach:
-        d = d * (reach / n) if n > 0.0 else d
-        out.root = np.array([d[0], pose.root[1], d[1]])
-    yaw = yaw_of(pose.rots[0])
-    if abs(yaw) > turn:
-        out.rots[0] = quat_mul(yaw_quat(float(np.clip(yaw, -turn, turn)) - yaw), pose.rots[0])
-    return out
-
-
-def posing_samples(body: Humanoid, reach: float = ROOT_REACH, turn: float = ROOT_TURN,
-                   in_place_too: bool = False) -> list[Pose]:
-    """The posing model's sample postures (about 250, each motion's twice with
-    ``in_place_too``), their pelvis position and heading relative to their motion's initial
-    state, bounded by ``reach`` (m) and ``turn`` (rad)."""
+def posing_samples(body: Humanoid, in_place: bool = True) -> list[Pose]:
+    """The posing model's sample postures (about 140): in place, or with ``in_place`` False their
+    pelvis position and heading relative to their motion's initial state."""
     stand = standing_pose(body)
     poses = [stand] + idle_poses(body, stand)
     whole = ("walk", "dance_a", "dance_b")
     for clip in (clip_named(m) for spec in ACTIONS for m in spec.motions if m not in whole):
         k = max(3, int(round(POSING_PREFIX * clip.duration * 15)))
-        poses += clip_poses(body, clip, np.linspace(0.0, POSING_PREFIX, k))
+        poses += clip_poses(body, clip, np.linspace(0.0, POSING_PREFIX, k), in_place)
     for name, step in zip(whole, (2, 4, 4)):
         clip = clip_named(name)
         n = len(clip.times)
-        poses += clip_poses(body, clip, np.linspace(0.0, 1.0, max(2, n // step)))
-    out = [bounded(p, reach, turn) for p in poses]
-    if in_place_too and (reach > 0.0 or turn > 0.0):
-        out += [bounded(p, 0.0, 0.0) for p in poses[1 + len(idle_poses(body, stand)):]]
-    return out
+        poses += clip_poses(body, clip, np.linspace(0.0, 1.0, max(2, n // step)), in_place)
+    return poses

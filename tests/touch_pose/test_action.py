@@ -162,15 +162,18 @@ def test_a_quick_drag_across_the_bow_does_not_start_it(make, models, pace):
     assert "bow" in actions_begun(e, traj, bow.stroke_t * pace)    # the stroke itself still does
 
 
-def _there_and_back(engine, models, name, frac, back, rate=30.0, after=0.0):
+def _there_and_back(engine, models, name, frac, back, rate=30.0, after=0.0, hold=0.0,
+                    jitter=0.0, seed=0):
     """Drag ``name``'s stroke forward at its pace to ``frac`` of it, then back along it to
-    ``back`` of it at the same pace, lift, run ``after`` s; the output records and the time
+    ``back`` of it at the same pace, hold the finger there ``hold`` s, lift, run ``after`` s;
+    each touch off by up to ``jitter`` m each way (seeded). The output records and the time
     the finger turned back (s)."""
+    rng = np.random.default_rng(seed)
     desc = engine.describe()
     traj = np.array(next(a for a in desc["actions"] if a["name"] == name)["trajectory"])
     act = next(a for a in models.actions if a.name == name)
     times = act.stroke_t
-    turn, end = frac * times[-1], (2 * frac - back) * times[-1]
+    turn, end = frac * times[-1], (2 * frac - back) * times[-1] + hold
     recs, k = [], 0
     while True:
         t = k / rate
@@ -178,8 +181,9 @@ def _there_and_back(engine, models, name, frac, back, rate=30.0, after=0.0):
         if t > end + after:
             return recs, turn
         s = t if t <= turn else max(2 * turn - t, back * times[-1])
-        touches = {1: (float(np.interp(s, times, traj[:, 0])),
-                       float(np.interp(s, times, traj[:, 1])))} if t <= end else {}
+        off = rng.uniform(-jitter, jitter, 2)
+        touches = {1: (float(np.interp(s, times, traj[:, 0]) + off[0]),
+                       float(np.interp(s, times, traj[:, 1]) + off[1]))} if t <= end else {}
         recs.append(engine.step(t, touches))
 
 
@@ -195,3 +199,44 @@ def test_a_drag_back_through_a_segment_without_stillness_rewinds_it(make, models
     assert back and all(walk.segment(v).still is False for v in back[:3])
     assert min(back) < peak - 0.15          # the drag back rewound the step
     assert np.all(np.diff([v for t, v in u if t > turn + 0.2]) < 0)   # and it never stood
+
+
+def _turns(u: list[float], band: float = 0.02) -> int:
+    """How often the series ``u`` turns (changes direction by more than ``band``)."""
+    turns, direction, extreme = 0, 0, u[0]
+    for v in u[1:]:
+        if direction >= 0 and v < extreme - band or direction <= 0 and v > extreme + band:
+            turns += direction != 0
+            direction = 1 if v > extreme else -1
+            extreme = v
+        elif direction * (v - extreme) > 0:
+            extreme = v
+    return turns
+
+
+@pytest.mark.parametrize("name,frac,back", [("walk", 0.9, 0.5), ("kick", 0.65, 0.5)])
+def test_a_drag_back_held_still_mid_action_goes_on_back_and_never_replays(make, models, name,
+                                                                          frac, back):
+    # held still where stillness is not allowed, the time goes on the way the finger last
+    # took it (back) instead of sweeping back past the finger and forward again: one turn only
+    e = make(view=(90.0, 15.0), physics=False)
+    act = next(a for a in models.actions if a.name == name)
+    recs, _ = _there_and_back(e, models, name, frac=frac, back=back, hold=1.0, after=1.0)
+    u = [r["action_time"] / act.duration for r in recs if r["action"] == name]
+    assert u and max(u) < 0.99, "the held action was replayed to its end"
+    peak = int(np.argmax(u))
+    assert _turns(u) <= 1 and all(np.diff(u[peak:]) <= 1e-9), [round(v, 2) for v in u]
+
+
+@pytest.mark.parametrize("jitter", [0.001, 0.002])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_jittering_finger_held_on_a_kick_in_the_air_never_turns_it(make, models, jitter, seed):
+    # touches jitter by a millimetre or two: held still in the air, the kick runs on to where
+    # it may stand and stays there, never pulled back into the air by the jitter
+    e = make(view=(90.0, 15.0), physics=False)
+    kick = next(a for a in models.actions if a.name == "kick")
+    recs, _ = _there_and_back(e, models, "kick", frac=0.65, back=0.65, hold=1.5, jitter=jitter,
+                              seed=seed)
+    u = [r["action_time"] / kick.duration for r in recs if r["action"] == "kick"]
+    assert u and all(np.diff(u) >= 0), [round(v, 2) for v in u]
+    assert u[-1] >= kick.spec.segments[-1].start
