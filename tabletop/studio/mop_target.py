@@ -8,6 +8,7 @@ actions are followed at once, removed ones dropped, a bad file reported and skip
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
@@ -24,6 +25,8 @@ from behaviors.worker import Worker, close_workers
 if TYPE_CHECKING:
     from behaviors.mop.stage import MopStage
 
+
+log = logging.getLogger(__name__)
 
 #: States the studio's +/- keys step a character's window by.
 WINDOW_STEP = 5
@@ -144,7 +147,11 @@ class MopTarget:
             like = too_like(st.make_follower, templates, key, **args)
             return self._named(names[like]) if like in names else ""
         if st.worker is None:
-            self._like = measure()
+            try:
+                self._like = measure()
+            except Exception:        # the take is tried all the same, without the check
+                log.exception("%s: the take's replay failed", self.name)
+                self._like = ""
             return
         if self._likeness is None:
             self._likeness = Worker(f"{st.name}-likeness")
