@@ -201,12 +201,23 @@ class MopStage(DesignerTakes):
 
     def _follower(self, performer: str, templates: dict[str, np.ndarray], routes: dict) -> object:
         """``performer``'s follower over ``templates``, with the window :meth:`window_of` gives."""
-        window = self.window_of(performer, routes)
-        more = {} if window is None else {"window": window}
-        f = self.make_follower(templates, self.performers[performer].units,
-                               self.performers[performer].min_scale, **more)
+        f = self.make_follower(templates, **self._follower_args(performer, routes))
         gate_onsets({performer: f}, self.performers)   # hinted from the rest's end (mop.hints)
         return f
+
+    def _follower_args(self, performer: str, routes: dict) -> dict:
+        """:attr:`make_follower`'s arguments besides the templates for ``performer``."""
+        p, window = self.performers[performer], self.window_of(performer, routes)
+        more = {} if window is None else {"window": window}
+        return dict(units=p.units, min_scale=p.min_scale, **more)
+
+    def follower_plan(self, performer: str) -> tuple[dict[str, np.ndarray], list, dict]:
+        """``performer``'s follower as the stage builds it from the current templates: its
+        templates by key, its routes (character, action, key) and :attr:`make_follower`'s other
+        arguments (a fresh follower of the same set, e.g. to replay a take through)."""
+        routes, by_performer = self._plan()
+        return (by_performer.get(performer, {}), routes.get(performer, []),
+                self._follower_args(performer, routes))
 
     def _rebuild(self, performers: list[str]) -> None:
         """Rebuild the followers of ``performers`` only (their window changed; the templates

@@ -8,6 +8,7 @@ actions are followed at once, removed ones dropped, a bad file reported and skip
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
@@ -17,12 +18,15 @@ from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.folders import named_folder, trash
+from tabletop.studio.mop_likeness import too_like
 from tabletop.studio.pm_take import Unseen
 from behaviors.worker import Worker, close_workers
 
 if TYPE_CHECKING:
     from behaviors.mop.stage import MopStage
 
+
+log = logging.getLogger(__name__)
 
 #: States the studio's +/- keys step a character's window by.
 WINDOW_STEP = 5
@@ -42,6 +46,8 @@ class MopTarget:
         if background and stage.worker is None:   # the stage's followers built off the hot path
             stage.worker = Worker(f"{stage.name}-training")
         self._summary = ""
+        self._likeness: Worker | None = None   # the take's replay, off the hot path
+        self._like: str | None = None          # what the take is too like ("" nothing) once known
         self.name = f"{stage.name}/{character}"
         self.kept: str | None = None
         self.run_only: list[str] = []     # kept without a library: lost at a rebuild
@@ -59,7 +65,7 @@ class MopTarget:
         """The studio closes: the stage's training worker's thread ends, waited for until
         ``deadline`` (each character of the stage closes it; a closed worker closes again at
         once); says whether it did."""
-        return close_workers(self.stage.worker, deadline=deadline)
+        return close_workers(self.stage.worker, self._likeness, deadline=deadline)
 
     @property
     def cue(self) -> str:
@@ -98,7 +104,14 @@ class MopTarget:
             return None
         if self.stage.build_error:
             raise InputError(self.stage.build_error)
-        return self._summary
+        if self._like is None and self._likeness is not None:
+            if wait:
+                self._likeness.wait()
+            done = self._likeness.poll()
+            if done is None:
+                return None
+            self._like = done if isinstance(done, str) else ""   # a failed replay says nothing
+        return self._summary + self._too_like_note()
 
     def seconds(self) -> float:
         take = self.stage.take
@@ -112,7 +125,49 @@ class MopTarget:
             raise InputError(f"{exc}; {lost}" if lost else str(exc)) from None
         self._summary += self.unseen.note()
         self.demo = np.array(self.stage.take.samples(), dtype=float)
-        return None if self.stage.building else self._summary
+        self._measure_likeness()
+        return None if self.stage.building or self._like is None else \
+            self._summary + self._too_like_note()
+
+    def _measure_likeness(self) -> None:
+        """Replay the take through a follower of its performer's actions
+        (:mod:`tabletop.studio.mop_likeness`), in a worker of its own when the stage builds its
+        followers in one (30-40 ms), else at once; :attr:`_like` is None until it is known."""
+        st, take = self.stage, self.stage.take
+        templates, routes, args = st.follower_plan(take.performer)
+        key = next(k for c, a, k in routes if (c, a) == (take.character, st.take_action))
+        names = {k: (c, a) for c, a, k in reversed(routes) if (c, a) != (take.character,
+                                                                        st.take_action)}
+        self._like = None
+        if key in names:                # recorded exactly as another: the same template
+            self._like = self._named(names[key])
+            return
+
+        def measure() -> str:
+            like = too_like(st.make_follower, templates, key, **args)
+            return self._named(names[like]) if like in names else ""
+        if st.worker is None:
+            try:
+                self._like = measure()
+            except Exception:        # the take is tried all the same, without the check
+                log.exception("%s: the take's replay failed", self.name)
+                self._like = ""
+            return
+        if self._likeness is None:
+            self._likeness = Worker(f"{st.name}-likeness")
+        self._likeness.start(measure)
+
+    def _named(self, route: tuple[str, str]) -> str:
+        """An action as the designer knows it: its name, with its character when another's."""
+        c, a = route
+        return a if c == self.character else f"{c}'s {a}"
+
+    def _too_like_note(self) -> str:
+        """What the status line adds when the follower cannot tell the take from an action."""
+        if not self._like:
+            return ""
+        return (f"; {self.stage.take_action} is too like {self._like}: MOP cannot tell them "
+                "apart; R to record again, or K to keep it anyway")
 
     def take_array(self) -> np.ndarray:
         take = self.stage.take
