@@ -167,7 +167,7 @@ class MopTarget:
         if not self._like:
             return ""
         return (f"; {self.stage.take_action} is too like {self._like}: MOP cannot tell them "
-                "apart; R to record again, or K to keep it anyway")
+                "apart (K keeps it anyway)")
 
     def take_array(self) -> np.ndarray:
         take = self.stage.take

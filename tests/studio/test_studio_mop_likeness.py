@@ -6,8 +6,8 @@ from tabletop.studio.machine import Studio
 from tabletop.studio.mop_target import MopTarget
 from tests.studio.mop_table import face_take
 
-TOO_LIKE = ("take1 is too like circle: MOP cannot tell them apart; "
-            "R to record again, or K to keep it anyway")
+TOO_LIKE = ("take1 is too like circle: MOP cannot tell them apart (K keeps it anyway); "
+            "try it: K keep, X discard, R redo")
 
 
 def test_a_circle_recorded_again_is_named_too_like_circle(tmp_path):
