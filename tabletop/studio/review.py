@@ -227,6 +227,9 @@ def summary(tries: list[dict]) -> str:
 CELL_IN, DPI = 5.0, 80           # a try's cell: 5 x 4.5 inches at 80 dpi (400 x 360 px)
 PAD_PX = 4                       # between cells and round the sheet
 CAPTION_PT, TITLE_PT = 8, 11
+PNG_LEVEL = 3
+"""zlib level of the contact sheet's PNG: the 300-try sheet (1200 x 36,000 px) encodes in
+0.83 / 0.90 / 1.43 s to 9.78 / 9.35 / 9.65 MB at levels 1 / 3 / 6 (6: Pillow's default)."""
 
 
 def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
@@ -238,10 +241,11 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
     the captions and the title are drawn by matplotlib, on a figure of no axes: one matplotlib
     axes per try laid out by its constrained layout took 28 s of a 300-try sheet's 29 s under
     cProfile (layout 13 s, ticks and titles of axes that show none, images resampled twice,
-    once for the layout pass). ``python bench/review.py`` (2 shared cores, wall s): 30 / 100
-    / 300 tries 1.83 / 5.03 / 17.22 with the axes, 0.99 / 2.18 / 5.68 pasted; 190 tries
-    ``--columns=1`` 22.81 -> 3.98. What is left of the 300 tries: PNG encoding of the 1200 x
-    36,000 px sheet 1.4 s, decoding and scaling the sheets 1.5 s, the captions' text 1.3 s."""
+    once for the layout pass). ``python bench/review.py`` (2 shared cores, CPU s): 30 / 100
+    / 300 tries 1.76 / 5.00 / 17.08 with the axes, 0.93 / 2.10 / 5.11 pasted; 190 tries
+    ``--columns=1`` 22.68 -> 3.34. What is left of the 300 tries: decoding and scaling the
+    sheets 1.5 s, the captions' text 1.3 s, PNG encoding of the 1200 x 36,000 px sheet 0.9 s
+    (:data:`PNG_LEVEL`)."""
     tries = read_session(session)
     columns = max(1, min(columns, len(tries)))  # never wider than the tries (--columns 100000)
     rows = max(1, math.ceil(len(tries) / columns))
@@ -286,7 +290,7 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
         pixels[iy:iy + img.height, ix:ix + img.width] = np.asarray(img)
     out.parent.mkdir(parents=True, exist_ok=True)
     with atomic_writer(out, binary=True) as f:
-        Image.fromarray(pixels).save(f, format="png")
+        Image.fromarray(pixels).save(f, format="png", compress_level=PNG_LEVEL)
     return line
 
 
