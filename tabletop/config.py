@@ -110,7 +110,7 @@ class Component(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise self.wrong_type(value, path, ctx)
         kind = value.get("kind")
         if not isinstance(kind, str):
             raise ctx.error(f"{path}.kind", f"missing; expected {self.describe()}")
