@@ -201,16 +201,19 @@ class Config(dict):
         self.raw, self.base, self.file, self.refs = raw, base, file, refs
 
 
-def load_config(path: str | Path) -> Config:
-    """Read and validate a config file; returns the config with every default filled in."""
+def load_config(path: str | Path, start_without: bool = False) -> Config:
+    """Read and validate a config file; returns the config with every default filled in.
+    ``start_without``: the files of engines' actions are read by the build, not here
+    (:class:`~tabletop.schema.Context`)."""
     p = Path(path)
     data = read_yaml(p, ConfigError, missing="config file not found")
-    return validate_config(data, str(p), p.resolve().parent)
+    return validate_config(data, str(p), p.resolve().parent, start_without)
 
 
-def validate_config(data: Any, file: str = "<config>", base: Path | None = None) -> Config:
+def validate_config(data: Any, file: str = "<config>", base: Path | None = None,
+                    start_without: bool = False) -> Config:
     """Validate an already parsed config mapping."""
-    ctx = Context(file=file, base=base or Path.cwd())
+    ctx = Context(file=file, base=base or Path.cwd(), start_without=start_without)
     if data is None:
         raise ConfigError(f"{file}: the file is empty; expected a mapping with 'sources'")
     return Config(top_schema().validate(data, "", ctx), data, ctx.base, file, ctx.refs)

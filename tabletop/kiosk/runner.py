@@ -186,8 +186,11 @@ class Runner:
             loop.filters.insert(0, r)    # (recorded for replays)
         # a behaviour file that went bad on disk (the character plays the version read before,
         # or none at a start), as the log and the character's label say
+        # , and each action a character goes without (a MOP clip or template, a touch-pose
+        # action file, unreadable)
         extra.append(lambda: {"behavior_errors": [f"{r.engine.name}: {r.problem}"
-                                                  for r in reloaders if r.problem]})
+                                                  for r in reloaders if r.problem] + [
+            f"{e.name}: {why}" for e in loop.engines for why in getattr(e, "start_problems", ())]})
         if self.kiosk:
             extra.append(self._attract(inst, cfg))
             self._kiosk_view(inst, cfg["kiosk"])
