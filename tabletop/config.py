@@ -16,7 +16,7 @@ from tabletop.config_checks import (check_calibrations, check_marker_ids, check_
 from tabletop.config_ports import check_udp_ports
 from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
-                             MapOf, Number, Optional_, Record, Spec, Str)
+                             MapOf, Number, Optional_, Record, Spec, Str, shown)
 
 
 class ImageFile(FilePath):
@@ -121,7 +121,7 @@ class Component(Spec):
         options = {k: v for k, v in value.items() if k not in ("kind", "name")}
         name = value.get("name", kind)
         if not isinstance(name, str) or not name:
-            raise ctx.error(f"{path}.name", f"expected a non-empty string, got {name!r}")
+            raise ctx.error(f"{path}.name", f"expected a non-empty string, got {shown(name)}")
         validated = module.SCHEMA.validate(options, path, ctx)
         return {"kind": kind, "name": name, **validated}
 

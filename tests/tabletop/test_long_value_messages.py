@@ -29,6 +29,7 @@ def _short_line(message: str, key: str) -> None:
     (lambda c: c["sources"].append({"kind": "osc", "name": "o", "port": 3400, "host": HUGE}),
      "sources[1].host"),
     (lambda c: c.update(tracking={"dictionary": HUGE}), "tracking.dictionary"),
+    (lambda c: c["sources"][0].update(name=[0] * 5000), "sources[0].name"),
     (lambda c: c["engines"][0].update(main=HUGE), "engines[0].main"),
 ])
 def test_a_huge_config_value_is_refused_in_one_short_line_naming_its_key(tmp_path, change, key):
