@@ -17,6 +17,7 @@ from behaviors.mop.creatures import creature_clips
 from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
+from tabletop.kiosk.watch import ConfigWatcher
 from tests.kiosk.test_bad_behaviour_start import Latest, _status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
@@ -92,6 +93,16 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     finally:
         th.join(30)
         inst.loop.stop.set()
+    # the config watcher's first look finds the running config, not an edit to refuse; an
+    # edit while the template is corrupt is refused naming it
+    watcher = ConfigWatcher(cfg_path, runner.cfg, runner._load, runner._apply, every_s=0.0)
+    watcher()
+    assert watcher.error is None and watcher.refused == 0
+    edited = yaml.safe_load(cfg_path.read_text())
+    edited["loop"]["rate_hz"] = 25
+    cfg_path.write_text(yaml.safe_dump(edited))
+    watcher()
+    assert watcher.refused == 1 and "line.csv: line" in watcher.error
     # the replay starts them without the same actions (the header's started_without)
     header = json.loads(session.read_text().splitlines()[0])
     assert set(header["started_without"]) == {"mop"}
