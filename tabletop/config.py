@@ -16,7 +16,7 @@ from tabletop.config_checks import (check_calibrations, check_marker_ids, check_
 from tabletop.config_ports import check_udp_ports
 from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
-                             MapOf, Number, Optional_, Record, Spec, Str)
+                             MapOf, Number, Optional_, Record, Spec, Str, shown)
 
 
 class ImageFile(FilePath):
@@ -110,7 +110,7 @@ class Component(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise self.wrong_type(value, path, ctx)
         kind = value.get("kind")
         if not isinstance(kind, str):
             raise ctx.error(f"{path}.kind", f"missing; expected {self.describe()}")
@@ -121,7 +121,7 @@ class Component(Spec):
         options = {k: v for k, v in value.items() if k not in ("kind", "name")}
         name = value.get("name", kind)
         if not isinstance(name, str) or not name:
-            raise ctx.error(f"{path}.name", f"expected a non-empty string, got {name!r}")
+            raise ctx.error(f"{path}.name", f"expected a non-empty string, got {shown(name)}")
         validated = module.SCHEMA.validate(options, path, ctx)
         return {"kind": kind, "name": name, **validated}
 
@@ -201,16 +201,19 @@ class Config(dict):
         self.raw, self.base, self.file, self.refs = raw, base, file, refs
 
 
-def load_config(path: str | Path) -> Config:
-    """Read and validate a config file; returns the config with every default filled in."""
+def load_config(path: str | Path, start_without: bool = False) -> Config:
+    """Read and validate a config file; returns the config with every default filled in.
+    ``start_without``: the files of engines' actions are read by the build, not here
+    (:class:`~tabletop.schema.Context`)."""
     p = Path(path)
     data = read_yaml(p, ConfigError, missing="config file not found")
-    return validate_config(data, str(p), p.resolve().parent)
+    return validate_config(data, str(p), p.resolve().parent, start_without)
 
 
-def validate_config(data: Any, file: str = "<config>", base: Path | None = None) -> Config:
+def validate_config(data: Any, file: str = "<config>", base: Path | None = None,
+                    start_without: bool = False) -> Config:
     """Validate an already parsed config mapping."""
-    ctx = Context(file=file, base=base or Path.cwd())
+    ctx = Context(file=file, base=base or Path.cwd(), start_without=start_without)
     if data is None:
         raise ConfigError(f"{file}: the file is empty; expected a mapping with 'sources'")
     return Config(top_schema().validate(data, "", ctx), data, ctx.base, file, ctx.refs)

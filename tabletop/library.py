@@ -64,7 +64,7 @@ class _NumberMap(Spec):
         if value is None:
             return {}
         if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise self.wrong_type(value, path, ctx)
         out: dict[str, Any] = {}
         for k, v in value.items():
             if not isinstance(k, str):

@@ -43,11 +43,15 @@ class FileRef:
 class Context:
     """Where the value came from: the config file (for messages) and its folder (for paths).
 
-    ``refs`` collects every file the config refers to, so a recording can carry them."""
+    ``refs`` collects every file the config refers to, so a recording can carry them.
+    ``start_without``: a file an engine's action names (a MOP template or clip) is not read at
+    validation: a kiosk's start, or the replay of one, whose build starts a character without
+    the actions it cannot read (see :func:`tabletop.plugins.mop.build`)."""
 
     file: str
     base: Path
     refs: list[FileRef] = field(default_factory=list, compare=False)
+    start_without: bool = False
 
     def error(self, path: str, message: str) -> ConfigError:
         return ConfigError(f"{self.file}: {path or '<top>'}: {message}")

@@ -116,7 +116,9 @@ def main(args: argparse.Namespace) -> int:
         if not header.get("config"):
             raise SessionError(f"{first}: line 1: the header holds no config to replay with")
         with recorded_files_named(first, Path(tmp)):
-            cfg = validate_config(header["config"], f"{first} (recorded config)", base)
+            # (a kiosk that started characters without actions it could not read: so too)
+            cfg = validate_config(header["config"], f"{first} (recorded config)", base,
+                                  start_without=bool(header.get("started_without")))
             frames = session_frames(args.session, header)
             start = next(frames, None)  # (a bad first frame is said before anything is written)
             if start is None:

@@ -186,8 +186,11 @@ class Runner:
             loop.filters.insert(0, r)    # (recorded for replays)
         # a behaviour file that went bad on disk (the character plays the version read before,
         # or none at a start), as the log and the character's label say
+        # , and each action a character goes without (a MOP clip or template, a touch-pose
+        # action file, unreadable)
         extra.append(lambda: {"behavior_errors": [f"{r.engine.name}: {r.problem}"
-                                                  for r in reloaders if r.problem]})
+                                                  for r in reloaders if r.problem] + [
+            f"{e.name}: {why}" for e in loop.engines for why in getattr(e, "start_problems", ())]})
         if self.kiosk:
             extra.append(self._attract(inst, cfg))
             self._kiosk_view(inst, cfg["kiosk"])
@@ -261,7 +264,14 @@ class Runner:
         here too. (The other start check, kiosk files distinct, depends on files an edit
         that names none cannot change: the config's own name and the defaults.)"""
         from tabletop.config import load_config
-        cfg = load_config(path)
+        try:
+            cfg = load_config(path)
+        except InputError:
+            # the running config, which a kiosk started without the actions whose files it
+            # cannot read (tabletop.kiosk.last_good.load), is no edit to refuse; any other is
+            cfg = load_config(path, start_without=True)
+            if not self.kiosk or cfg != self.cfg:
+                raise
         if self.kiosk:
             from tabletop.config_ports import check_heartbeat
             check_heartbeat(cfg)

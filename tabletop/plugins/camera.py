@@ -47,10 +47,10 @@ class Device(Spec):
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if isinstance(value, int) and not isinstance(value, bool):
             if value < 0:
-                raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+                raise self.wrong_type(value, path, ctx)
             return value
         if not isinstance(value, str) or not value:
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise self.wrong_type(value, path, ctx)
         if value.isdigit():
             return int(value)
         if value.startswith("/dev/"):

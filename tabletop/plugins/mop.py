@@ -44,11 +44,11 @@ from pathlib import Path
 
 from behaviors.motion.clips import ClipError, TimeWarp
 from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
-from behaviors.mop.puppetry import Action, FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
+from behaviors.mop.puppetry import FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_stream import check_stream
-from tabletop.plugins.mop_files import (WINDOW_RANGE, MopError, MotionLoader, library_actions,
-                                        library_names, load_template, read_window,
+from tabletop.plugins.mop_files import (WINDOW_RANGE, MopError, MotionLoader, configured_actions,
+                                        library_actions, library_names, load_template, read_window,
                                         resolve_motion, save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
@@ -178,6 +178,8 @@ def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> N
     how, found = resolve_motion(kind, motion, ctx.base)
     if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
         ctx.refer(key, motion, found)
+        if ctx.start_without:     # a kiosk's start: the build reads it (and may go without)
+            return
         # read now: a clip file that is no clip stopped the build naming no key, and a
         # kiosk took such an edit for a good one
         clip = MotionLoader(kind, ctx.base)(motion)
@@ -257,6 +259,8 @@ def _check_all(cfg: dict, path: str, ctx: Context) -> None:
                     TimeWarp(a["warp"])
             except ClipError as exc:
                 raise ctx.error(f"{aw}.warp", str(exc)) from None
+            if ctx.start_without:   # a kiosk's start: the build reads it (or goes without)
+                continue
             try:    # its columns, times and span, at load: the key is named, not only the file
                 # (load_config of examples/mop.yaml 20 -> 30 ms, mean of 5 on a loaded machine)
                 load_template(Path(a["template"]), features[a["performer"] or c["performer"]],
@@ -382,22 +386,18 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     windows: dict[str, int] = {}             # the follower windows the studio saved
     bad_window: dict[str, str] = {}          # why a character's saved window is not read
     configured = {c["name"]: {a["name"] for a in c["actions"]} for c in options["characters"]}
+    # a kiosk's start (or its replay) runs without the configured actions it cannot read
+    without = bool(ctx.shared.get("kiosk_start")
+                   or options["name"] in ctx.shared.get("started_without", ()))
+    started_without: list[str] = []
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
         loaders[c["name"]] = loader
         bound[c["name"]] = c["performer"]
-        actions, tmpl = [], {}
-        entries = [dict(a, performer=a["performer"] or c["performer"]) for a in c["actions"]]
-        for a in entries:
-            performer = performers[a["performer"]]
-            try:
-                clip = loader(a["motion"])
-            except ClipError as exc:
-                raise MopError(f"character {c['name']!r}, action {a['name']!r}: {exc}") from None
-            warp = TimeWarp(a["warp"]) if a.get("warp") else TimeWarp()
-            actions.append(Action(a["name"], clip, warp))
-            tmpl[a["name"]] = (a["performer"], load_template(Path(a["template"]), performer.names, rate))
+        actions, tmpl, bad = configured_actions(
+            c, {n: p.names for n, p in performers.items()}, loader, rate, without)
+        started_without += bad
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
             try:
@@ -436,6 +436,8 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                      taken=(lambda character: library_names(library, character))
                      if library is not None else None)
     stage.default_window = fo["window"]
+    # (the status's behavior_errors; a recording's started_without)
+    stage.start_problems, stage.problem = started_without, "; ".join(started_without)
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
     for character, why in bad_window.items():      # reported with the library's problems

@@ -4,6 +4,7 @@ kept actions (``<library>/<character>/actions.yaml`` beside each take's template
 from __future__ import annotations
 
 import json
+import logging
 from pathlib import Path
 from typing import Any, Collection, ContextManager
 
@@ -15,6 +16,8 @@ from tabletop.files import (FileFormatError, NameTaken, atomic_write_text, check
                             check_positions, read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
 from tabletop.swap import exclusive
+
+log = logging.getLogger("tabletop")
 
 BUILTIN = {"creature": ("walk", "wag", "curl", "strike"),
            "face": ("laugh", "surprise", "angry", "wink", "talk"),
@@ -105,6 +108,38 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
         tt = t[0] + np.arange(n) / rate_hz
         x = np.stack([np.interp(tt, t, x[:, k]) for k in range(x.shape[1])], axis=1)
     return x
+
+
+def configured_actions(character: dict[str, Any], features: dict[str, tuple[str, ...]],
+                       loader: MotionLoader, rate_hz: float, without: bool
+                       ) -> tuple[list[Action], dict[str, tuple[str, np.ndarray]], list[str]]:
+    """The actions the config gives ``character``, their templates (``{action: (performer,
+    samples at rate_hz)}``; ``features``: each performer's feature columns), and one message
+    per action whose clip or template cannot be read. With ``without`` (a kiosk's start, or
+    the replay of one) the character starts without such actions, each named with its file
+    (and line): a kiosk restarted for ever on a corrupt template, its last good config naming
+    the same file. Otherwise the first is raised (MopError naming the action, or the file's)."""
+    from behaviors.motion.clips import TimeWarp
+    actions, tmpl, problems = [], {}, []
+    for a in character["actions"]:
+        performer = a["performer"] or character["performer"]
+        try:
+            clip = loader(a["motion"])
+            if without and loader.rig is not None:   # (the puppet checks the others)
+                loader.rig.check(clip)
+            samples = load_template(Path(a["template"]), features[performer], rate_hz)
+        except InputError as exc:
+            why = f"character {character['name']!r}, action {a['name']!r}: {exc}"
+            if not without:
+                raise (MopError(why) if isinstance(exc, ClipError) else exc) from None
+            log.error("MOP character starts without the action until the file is fixed and "
+                      "the kiosk restarts: %s", why)
+            problems.append(why)
+            continue
+        actions.append(Action(a["name"], clip, TimeWarp(a["warp"]) if a.get("warp")
+                              else TimeWarp()))
+        tmpl[a["name"]] = (performer, samples)
+    return actions, tmpl, problems
 
 
 # --- the designer's library ----------------------------------------------------------------------

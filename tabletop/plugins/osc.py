@@ -15,7 +15,7 @@ import re
 from typing import Any
 
 from tabletop.registry import BuildContext
-from tabletop.schema import Context, ListOf, Number, Record, Spec, Str
+from tabletop.schema import Context, ListOf, Number, Record, Spec, Str, shown
 from tracking.osc_input import OscInput
 
 
@@ -30,7 +30,7 @@ class IPAddress(Str):
         try:
             return str(ipaddress.ip_address(value))
         except ValueError:
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}") from None
+            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}") from None
 
 
 class HostName(IPAddress):

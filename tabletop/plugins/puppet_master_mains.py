@@ -51,7 +51,7 @@ class _Single(Spec):
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, dict):
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise self.wrong_type(value, path, ctx)
         kinds = [k for k in value if k in SINGLE_KINDS]
         if len(kinds) != 1:
             raise ctx.error(path, f"expected exactly one of {', '.join(SINGLE_KINDS)}; got "

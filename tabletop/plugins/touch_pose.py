@@ -17,7 +17,8 @@ Touches come from every source on the bus (TUIO cursors, the scripted source, re
 with ``mouse``, the view's pointer (:mod:`tabletop.pointer`). Two fingers dragged on empty table
 turn the camera; so do the arrow keys (``camera.left/right/up/down``, 15 degrees a press).
 Actions designed at the table (:mod:`behaviors.touch_pose.designed`, recorded through the studio)
-are kept in ``library`` and known from the start; a bad one is logged and skipped.
+are kept in ``library`` and known from the start; a bad one is logged, skipped and listed in a
+kiosk's status (``behavior_errors``) until it is fixed.
 """
 
 from __future__ import annotations
@@ -86,6 +87,13 @@ class TouchPoseEngine:
         self.designed = [a.name for a in actions]
         for p in self.problems:
             log.error("touch-pose action skipped: %s", p)
+        self.problem = "; ".join(self.problems)   # (a recording's started_without)
+
+    @property
+    def start_problems(self) -> list[str]:
+        """The library's files the character goes without (the status's behavior_errors),
+        as its studio target last read the folder."""
+        return self.problems
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:
         for c in frame.commands:

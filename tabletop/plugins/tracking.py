@@ -17,7 +17,7 @@ import dataclasses
 
 from tabletop.frames import Observation, Puck
 from tabletop.registry import BuildContext
-from tabletop.schema import Bool, Context, MapOf, Number, Record, Str
+from tabletop.schema import Bool, Context, MapOf, Number, Record, Str, shown
 from tracking.pucks import PuckTracker, TrackerSettings
 
 if TYPE_CHECKING:
@@ -36,7 +36,7 @@ class DictionaryName(Str):
         value = super().validate(value, path, ctx)
         import cv2  # only when a config names a dictionary
         if not (value.startswith("DICT_") and isinstance(getattr(cv2.aruco, value, None), int)):
-            raise ctx.error(path, f"expected {self.describe()}, got {value!r}")
+            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}")
         return value
 
 

@@ -257,6 +257,7 @@ class TouchPoseTarget:
         removed ones forgotten; a bad file is reported and skipped, the others keep working."""
         if self._poller.changed():
             actions, self._problems = designed.load_library(self.lib, self.core.body)
+            self.engine.problems = self._problems      # (a kiosk's behavior_errors)
             names = {a.name for a in actions}
             for gone in self._loaded - names:
                 if self.pending is None or gone != self.pending.name:

@@ -1,0 +1,156 @@
+"""A kiosk started (a reboot, a restart) while a MOP gesture template or clip named in its config
+is corrupt: the table runs, the character starts without the unreadable actions (each named in
+the status's behavior_errors with its file and line) and plays the others; its recording replays
+to the same characters. Outside a kiosk the same start is refused, naming the file. A corrupt
+touch-pose action file is listed there too, while its library holds it."""
+
+import json
+import shutil
+import threading
+from pathlib import Path
+
+import pytest
+import yaml
+
+from behaviors.motion.clips import clip_to_mapping
+from behaviors.mop.creatures import creature_clips
+from tabletop.frames import InputError
+from tabletop.kiosk import last_good
+from tabletop.kiosk.runner import Runner
+from tabletop.kiosk.watch import ConfigWatcher
+from tests.kiosk.test_bad_behaviour_start import Latest, _status
+from tests.tabletop.test_replay_exact import frames, replay_cli
+from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
+from tests.tracking.scenes import wait_for
+
+GESTURES = Path(__file__).resolve().parents[2] / "examples" / "mop" / "gestures"
+
+
+def _config(tmp_path: Path) -> Path:
+    """A kiosk with two MOP creatures: 'walker' (a good action, a corrupt template, a corrupt
+    clip) and 'lone' (its one action's template corrupt)."""
+    for name in ("circle", "line", "square"):
+        shutil.copy(GESTURES / f"{name}.csv", tmp_path / f"{name}.csv")
+    (tmp_path / "wag.json").write_text(json.dumps(clip_to_mapping(creature_clips()["wag"]),
+                                                  indent=1))
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text(yaml.safe_dump({
+        "loop": {"rate_hz": 30},
+        "sources": [{"kind": "scripted", "name": "visitor", "pucks": [1]}],
+        "engines": [{"kind": "mop", "name": "mop",
+                     "performers": [{"name": "hand", "inputs": [{"kind": "puck", "id": 1}]}],
+                     "characters": [
+                         {"name": "walker", "kind": "creature", "performer": "hand",
+                          "at": [0.3, 0.3], "actions": [
+                              {"name": "circle", "template": "circle.csv", "motion": "walk"},
+                              {"name": "line", "template": "line.csv", "motion": "curl"},
+                              {"name": "square", "template": "square.csv",
+                               "motion": "wag.json"}]},
+                         {"name": "lone", "kind": "creature", "performer": "hand",
+                          "at": [0.6, 0.3], "actions": [
+                              {"name": "line", "template": "line.csv", "motion": "strike"}]}]}],
+        "view": {"size": [320, 180], "headless": True},
+        "kiosk": {"heartbeat": {"enabled": False}, "status_file": "status.json"},
+    }))
+    return cfg_path
+
+
+def _corrupt(tmp_path: Path) -> None:
+    """A template with a short row (a copy cut short) and a clip cut in half."""
+    with open(tmp_path / "line.csv", "a") as f:
+        f.write("1e3,0.5\n")
+    clip = (tmp_path / "wag.json").read_text()
+    (tmp_path / "wag.json").write_text(clip[:len(clip) // 2])
+
+
+def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path, caplog):
+    cfg_path = _config(tmp_path)
+    _corrupt(tmp_path)
+    cfg, refused = last_good.load(cfg_path, kiosk=True)    # the kiosk's start
+    assert refused is None
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
+    inst = runner._build(runner.cfg)
+    stage = inst.engines[0]
+    errors = stage.start_problems
+    assert len(errors) == 3
+    assert any("'walker', action 'line'" in e and "line.csv: line" in e for e in errors)
+    assert any("'walker', action 'square'" in e and "wag.json" in e and "line " in e
+               for e in errors)
+    assert any("'lone', action 'line'" in e and "line.csv: line" in e for e in errors)
+    assert {n: set(t) for n, t in stage.templates.items()} == {"walker": {"circle"}, "lone": set()}
+    assert sum("starts without the action" in r.getMessage() for r in caplog.records) == 3
+    status_file = tmp_path / "status.json"
+    latest = Latest()
+    inst.loop.sinks.insert(0, latest)
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 2})
+    th.start()
+    try:
+        assert wait_for(lambda: _status(status_file).get("behavior_errors"), 10.0)
+        listed = _status(status_file)["behavior_errors"]
+        assert listed == [f"mop: {e}" for e in errors]
+        assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters}, 10.0)
+    finally:
+        th.join(30)
+        inst.loop.stop.set()
+    # the config watcher's first look finds the running config, not an edit to refuse; an
+    # edit while the template is corrupt is refused naming it
+    watcher = ConfigWatcher(cfg_path, runner.cfg, runner._load, runner._apply, every_s=0.0)
+    watcher()
+    assert watcher.error is None and watcher.refused == 0
+    edited = yaml.safe_load(cfg_path.read_text())
+    edited["loop"]["rate_hz"] = 25
+    cfg_path.write_text(yaml.safe_dump(edited))
+    watcher()
+    assert watcher.refused == 1 and "line.csv: line" in watcher.error
+    # the replay starts them without the same actions (the header's started_without)
+    header = json.loads(session.read_text().splitlines()[0])
+    assert set(header["started_without"]) == {"mop"}
+    done = replay_cli(session, tmp_path / "replayed.jsonl")
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
+    assert len(live) == len(again) > 30
+    assert [f["characters"] for f in live] == [f["characters"] for f in again]
+
+
+def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(tmp_path):
+    cfg_path = _config(tmp_path)
+    _corrupt(tmp_path)
+    with pytest.raises(InputError, match=r"actions\[1\].template: .*line.csv: line"):
+        last_good.load(cfg_path, kiosk=False)
+
+
+def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, models):
+    """A touch-pose character starts without an action file cut short (in a kiosk or not, as
+    the others load); the kiosk's status lists it with its file and line in behavior_errors, its
+    recording's header in started_without, until the folder no longer holds it."""
+    bad = tmp_path / "pose_actions" / "wave" / "action.json"
+    bad.parent.mkdir(parents=True)
+    bad.write_text('{\n  "format": "tabletop.pose_action",\n  "part": ')
+    cfg_path = tmp_path / "config.yaml"
+    cfg_path.write_text(yaml.safe_dump({
+        "loop": {"rate_hz": 30},
+        "sources": [{"kind": "scripted", "name": "visitor", "pucks": []}],
+        "engines": [{"kind": "touch_pose", "name": "poser", "physics": False,
+                     "mouse": False}],
+        "view": {"size": [320, 180], "headless": True},
+        "kiosk": {"heartbeat": {"enabled": False}, "status_file": "status.json"},
+    }))
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
+    inst = runner._build(runner.cfg)
+    status_file = tmp_path / "status.json"
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
+    th.start()
+    try:
+        assert wait_for(lambda: _status(status_file).get("behavior_errors"), 10.0)
+        (error,) = _status(status_file)["behavior_errors"]
+        assert error.startswith(f"poser: {bad}: cannot read the action") and "line 3" in error
+        shutil.rmtree(bad.parent)
+        assert wait_for(lambda: _status(status_file).get("behavior_errors") == [], 15.0)
+    finally:
+        inst.loop.stop.set()
+        th.join(30)
+    header = json.loads(session.read_text().splitlines()[0])
+    assert set(header["started_without"]) == {"poser"}
