@@ -11,6 +11,7 @@ import datetime as _dt
 import json
 import logging
 import os
+import re
 import socket
 from pathlib import Path
 from typing import Any, Iterable, Sequence
@@ -18,6 +19,13 @@ from typing import Any, Iterable, Sequence
 from tabletop import __version__
 
 log = logging.getLogger("tabletop")
+
+#: A line saying why an installation ended: its one error line (``tabletop run: error: ...``,
+#: ``... internal error: ...``), an ERROR or CRITICAL log line, or a native crash's first line.
+ERROR_LINE = re.compile(r"tabletop[^:]*: (internal )?error: |tabletop: (ERROR|CRITICAL): "
+                        r"|Fatal Python error: ")
+#: A log line of no error (every line logged to stderr begins "tabletop: LEVEL: ").
+CALM_LINE = re.compile(r"tabletop: (DEBUG|INFO|WARNING): ")
 
 
 def crash_entry(crash: int, what: str, ran_s: float, pid: int, start: int,
@@ -57,19 +65,36 @@ def restarting_status(name: str, crashes: int, what: str, ran_s: float,
                       tail: Sequence[str]) -> dict[str, Any]:
     """The status the supervisor writes after a crash, until the next installation writes its
     own: ``mode`` "restarting" and ``crash`` naming what befell it after ``ran_s`` seconds with
-    its last error line (the last ``tabletop`` line of its stderr ``tail``, else its last
-    line). Without it the status file would hold the last installation's own words ("live",
+    its last error line (:func:`last_error` of its stderr ``tail``). Without it the status file would hold the last installation's own words ("live",
     or "stopped" from a kiosk that ended on purpose) while a kiosk whose every start fails
     restarts for ever, its heartbeat silent."""
-    lines = [t.strip() for t in tail if t.strip()]
-    said = [t for t in lines if t.startswith("tabletop")]
-    last = (said or lines or [""])[-1]
+    last = last_error(tail)
     host = socket.gethostname()
     return {"name": name or host, "host": host, "pid": os.getpid(), "version": __version__,
             "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
             "uptime_s": 0.0, "fps": 0.0, "ticks": 0, "mode": "restarting",
             "unhealthy_sources": 0, "sources": [], "errors": 0, "restarts": crashes,
             "crash": f"{what} after {ran_s:.1f} s" + (f": {last}" if last else "")}
+
+
+def last_error(tail: Sequence[str]) -> str:
+    """The line of stderr ``tail`` that says why the installation ended: the last one that is
+    an error (a traceback's closing exception line, or an :data:`ERROR_LINE`), else the last
+    unindented line that is not a :data:`CALM_LINE`, else the last line ("" for none). Every
+    line logged to stderr begins "tabletop", so the last such line was most often an INFO."""
+    lines = [t.rstrip() for t in tail if t.strip()]
+    found, in_traceback = "", False
+    for t in lines:
+        if t.startswith("Traceback (most recent call last):"):
+            in_traceback = True
+        elif in_traceback and not t[:1].isspace():
+            found, in_traceback = t, False        # the exception that ends the traceback
+        elif ERROR_LINE.match(t):
+            found = t
+    if found:
+        return found.strip()
+    plain = [t for t in lines if not t[:1].isspace() and not CALM_LINE.match(t)]
+    return (plain or lines or [""])[-1].strip()
 
 
 def write_status(path: Path, status: dict[str, Any]) -> None:

@@ -409,3 +409,47 @@ def test_a_kiosk_whose_every_start_fails_says_restarting_and_why_in_its_status(t
     assert status["crash"].startswith("exit status 2 after ")
     assert status["crash"].endswith(": tabletop run: error: /x/lover/demonstration.csv: line 9: "
                                     "2 values, expected 7")
+
+
+def _first_restarting(status_file: Path, sup: Supervisor, timeout_s: float = 60.0) -> dict:
+    """Run ``sup`` until its status file says "restarting"; that status (the supervisor stopped)."""
+    th = threading.Thread(target=sup.run)
+    th.start()
+    status: dict = {}
+    end = time.monotonic() + timeout_s
+    try:
+        while time.monotonic() < end and status.get("mode") != "restarting":
+            time.sleep(0.02)
+            try:
+                status = json.loads(status_file.read_text())
+            except (OSError, ValueError):
+                pass
+    finally:
+        sup.stop.set()
+        th.join(30)
+    return status
+
+
+def test_the_crash_field_names_the_error_not_the_last_info_line(tmp_path):
+    """Every line logged to stderr begins "tabletop: INFO: ...": the crash field named the last
+    such line, not the traceback's exception after it."""
+    status_file = tmp_path / "status.json"
+    crash = ("import sys; print('tabletop: INFO: recording to /x/s.jsonl', file=sys.stderr); "
+             "sys.stderr.flush(); raise ValueError('boom')")
+    sup = Supervisor([sys.executable, "-c", crash], Policy(backoff_s=(5.0, 5.0), startup_s=60),
+                     tmp_path / "crashes.log", echo=False, spares=0, status_file=status_file)
+    status = _first_restarting(status_file, sup)
+    assert status["crash"].startswith("exit status 1 after ")
+    assert status["crash"].endswith(": ValueError: boom"), status["crash"]
+
+
+def test_the_crash_line_of_a_native_crash_or_an_error_logged_before_info_lines():
+    from tabletop.kiosk.crash_log import last_error
+    assert last_error(["tabletop: INFO: starting", "Fatal Python error: Segmentation fault", "",
+                       "Current thread 0x7f (most recent call first):",
+                       '  File "/x/loop.py", line 9 in tick']) == (
+        "Fatal Python error: Segmentation fault")
+    assert last_error(["tabletop: ERROR: camera 0: no frame for 5.0 s",
+                       "tabletop: INFO: recording stopped"]) == (
+        "tabletop: ERROR: camera 0: no frame for 5.0 s")
+    assert last_error(["tabletop: INFO: starting", "Killed"]) == "Killed"
