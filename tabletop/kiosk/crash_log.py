@@ -28,13 +28,17 @@ ERROR_LINE = re.compile(r"tabletop[^:]*: (internal )?error: |tabletop: (ERROR|CR
 CALM_LINE = re.compile(r"tabletop: (DEBUG|INFO|WARNING): ")
 
 
+def utc_now() -> str:
+    """The time now, UTC, ISO 8601 to the second."""
+    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+
+
 def crash_entry(crash: int, what: str, ran_s: float, pid: int, start: int,
                 tail: Iterable[str]) -> list[str]:
     """The lines of crash number ``crash``: a header stamped now (UTC) naming ``what`` befell
     the child ``pid`` (the supervisor's ``start``-th) after ``ran_s`` seconds, then its
     stderr ``tail`` indented."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-    lines = [f"=== {stamp} crash {crash}: {what}, after {ran_s:.1f} s (pid {pid}, start {start})"]
+    lines = [f"=== {utc_now()} crash {crash}: {what}, after {ran_s:.1f} s (pid {pid}, start {start})"]
     return lines + [f"  {t}" for t in tail]
 
 
@@ -71,8 +75,7 @@ def restarting_status(name: str, crashes: int, what: str, ran_s: float,
     last = last_error(tail)
     host = socket.gethostname()
     return {"name": name or host, "host": host, "pid": os.getpid(), "version": __version__,
-            "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-            "uptime_s": 0.0, "fps": 0.0, "ticks": 0, "mode": "restarting",
+            "time": utc_now(), "uptime_s": 0.0, "fps": 0.0, "ticks": 0, "mode": "restarting",
             "unhealthy_sources": 0, "sources": [], "errors": 0, "restarts": crashes,
             "crash": f"{what} after {ran_s:.1f} s" + (f": {last}" if last else "")}
 

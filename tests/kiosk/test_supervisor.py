@@ -401,9 +401,11 @@ def test_a_kiosk_whose_every_start_fails_says_restarting_and_why_in_its_status(t
     end = time.monotonic() + 60
     while time.monotonic() < end and sup.crashes < 3:
         time.sleep(0.05)
-    sup.stop.set()
-    th.join(30)
     status = json.loads(status_file.read_text())
+    sup.stop.set()                  # in the back-off, or a start: the status says it stopped
+    th.join(30)
+    stopped = json.loads(status_file.read_text())
+    assert stopped == dict(stopped, mode="stopped", crash=status["crash"], pid=os.getpid())
     assert status["mode"] == "restarting" and status["name"] == "table-3"
     assert status["restarts"] >= 3 and status["pid"] == os.getpid()
     assert status["crash"].startswith("exit status 2 after ")
@@ -453,3 +455,35 @@ def test_the_crash_line_of_a_native_crash_or_an_error_logged_before_info_lines()
                        "tabletop: INFO: recording stopped"]) == (
         "tabletop: ERROR: camera 0: no frame for 5.0 s")
     assert last_error(["tabletop: INFO: starting", "Killed"]) == "Killed"
+
+
+def test_a_warm_spare_started_after_a_crash_finds_restarting_and_its_live_stays(tmp_path):
+    """The first crash restarts at once with a warm spare: the supervisor writes "restarting"
+    before the spare's go, so the spare's first status ("live") is the one that stays."""
+    status_file, seen = tmp_path / "status.json", tmp_path / "seen.txt"
+    child = (
+        "import json, os, sys, time\n"
+        "if not os.environ.get('TABLETOP_WAIT_GO'):\n"
+        "    sys.exit(1)\n"                                   # every cold start crashes
+        "sys.stdin.readline()\n"                              # the go
+        f"s = {str(status_file)!r}\n"
+        "mode = json.load(open(s)).get('mode') if os.path.exists(s) else None\n"
+        f"open({str(seen)!r}, 'w').write(str(mode))\n"
+        "open(s + '.tmp', 'w').write(json.dumps({'mode': 'live', 'pid': os.getpid()}))\n"
+        "os.replace(s + '.tmp', s)\n"
+        "time.sleep(60)\n")
+    sup = Supervisor([sys.executable, "-c", child], Policy(backoff_s=(5.0, 5.0), startup_s=60),
+                     tmp_path / "crashes.log", echo=False, spares=1, status_file=status_file)
+    th = threading.Thread(target=sup.run)
+    th.start()
+    try:
+        end = time.monotonic() + 60
+        while time.monotonic() < end and not seen.exists():
+            time.sleep(0.02)
+        time.sleep(1.0)             # the crash log written by now, after the spare's go
+        status = json.loads(status_file.read_text())
+    finally:
+        sup.stop.set()
+        th.join(30)
+    assert seen.read_text() == "restarting"
+    assert status["mode"] == "live" and sup.crashes == 1
