@@ -7,16 +7,13 @@ status file's "restarting" (:func:`restarting_status`)."""
 
 from __future__ import annotations
 
-import datetime as _dt
-import json
 import logging
 import os
 import re
-import socket
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
-from tabletop import __version__
+from tabletop.kiosk.status_fields import own_status, utc_now
 
 log = logging.getLogger("tabletop")
 
@@ -26,11 +23,6 @@ ERROR_LINE = re.compile(r"tabletop[^:]*: (internal )?error: |tabletop: (ERROR|CR
                         r"|Fatal Python error: ")
 #: A log line of no error (every line logged to stderr begins "tabletop: LEVEL: ").
 CALM_LINE = re.compile(r"tabletop: (DEBUG|INFO|WARNING): ")
-
-
-def utc_now() -> str:
-    """The time now, UTC, ISO 8601 to the second."""
-    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
 
 
 def crash_entry(crash: int, what: str, ran_s: float, pid: int, start: int,
@@ -66,18 +58,19 @@ def rotate(path: Path, max_bytes: int, backups: int) -> None:
 
 
 def restarting_status(name: str, crashes: int, what: str, ran_s: float,
-                      tail: Sequence[str]) -> dict[str, Any]:
+                      tail: Sequence[str], **known: Any) -> dict[str, Any]:
     """The status the supervisor writes after a crash, until the next installation writes its
     own: ``mode`` "restarting" and ``crash`` naming what befell it after ``ran_s`` seconds with
-    its last error line (:func:`last_error` of its stderr ``tail``). Without it the status file would hold the last installation's own words ("live",
-    or "stopped" from a kiosk that ended on purpose) while a kiosk whose every start fails
-    restarts for ever, its heartbeat silent."""
+    its last error line (:func:`last_error` of its stderr ``tail``); the ``known`` fields (the
+    ``config`` file) and every other field the status promises, null where only the
+    installation knows it (:func:`tabletop.kiosk.status_fields.own_status`). Without it the
+    status file would hold the last installation's own words ("live", or "stopped" from a
+    kiosk that ended on purpose) while a kiosk whose every start fails restarts for ever, its
+    heartbeat silent."""
     last = last_error(tail)
-    host = socket.gethostname()
-    return {"name": name or host, "host": host, "pid": os.getpid(), "version": __version__,
-            "time": utc_now(), "uptime_s": 0.0, "fps": 0.0, "ticks": 0, "mode": "restarting",
-            "unhealthy_sources": 0, "sources": [], "errors": 0, "restarts": crashes,
-            "crash": f"{what} after {ran_s:.1f} s" + (f": {last}" if last else "")}
+    return own_status(name, "restarting", restarts=crashes,
+                      crash=f"{what} after {ran_s:.1f} s" + (f": {last}" if last else ""),
+                      **known)
 
 
 def last_error(tail: Sequence[str]) -> str:
@@ -98,13 +91,3 @@ def last_error(tail: Sequence[str]) -> str:
         return found.strip()
     plain = [t for t in lines if not t[:1].isspace() and not CALM_LINE.match(t)]
     return (plain or lines or [""])[-1].strip()
-
-
-def write_status(path: Path, status: dict[str, Any]) -> None:
-    """Write ``status`` to the status file ``path`` atomically; a file that cannot be written
-    (a full disk) is one log line."""
-    from tabletop.files import atomic_write_text
-    try:
-        atomic_write_text(path, json.dumps(status, separators=(",", ":")) + "\n")
-    except OSError as exc:
-        log.error("supervisor: status file %s not written: %s", path, exc.strerror or exc)

@@ -47,8 +47,8 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
-from tabletop.kiosk.crash_log import (append_crash, crash_entry, restarting_status, utc_now,
-                                       write_status)
+from tabletop.kiosk.crash_log import append_crash, crash_entry, restarting_status
+from tabletop.kiosk.status_fields import status_text, utc_now, write_status
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -117,9 +117,11 @@ class Supervisor:
                  spares: int = 2, seconds: float | None = None,
                  crash_log_max_bytes: int = 1_000_000, crash_log_backups: int = 5,
                  keep_fds: Sequence[int] = (), status_file: Path | None = None,
-                 name: str = "") -> None:
-        # the status file, "restarting" after a crash until the next child writes its own
+                 name: str = "", config: Path | None = None) -> None:
+        # the status file, "restarting" after a crash until the next child writes its own;
+        # ``config``, the config file, is the one field of the installation's parts it knows
         self.status_file, self.name = status_file, name
+        self._known = {} if config is None else {"config": str(config)}
         self._restarting: dict[str, Any] | None = None   # the last "restarting" written
         # open files every child holds too: the kiosk's folder lock (tabletop.kiosk.lock)
         self.keep_fds = tuple(keep_fds)
@@ -286,8 +288,8 @@ class Supervisor:
                   child.ran_s)
         if self.status_file is not None:
             self._restarting = restarting_status(self.name, self.crashes, child.why,
-                                                 child.ran_s, child.tail)
-            write_status(self.status_file, self._restarting)
+                                                 child.ran_s, child.tail, **self._known)
+            write_status(self.status_file, status_text(self._restarting))
 
     def _log_crash(self, child: Child) -> None:
         """Append the crash of ``child`` to the crash log (fsynced)."""
@@ -310,7 +312,7 @@ class Supervisor:
         except (OSError, ValueError):
             now = None
         if now == self._restarting:
-            write_status(self.status_file, dict(now, mode="stopped", time=utc_now()))
+            write_status(self.status_file, status_text(dict(now, mode="stopped", time=utc_now())))
 
     def _terminate(self, child: Child) -> None:
         p = child.process
@@ -454,7 +456,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
                      spares=k["spares"], seconds=seconds, crash_log_max_bytes=k["log_max_bytes"],
                      crash_log_backups=k["log_backups"],
                      keep_fds=() if lock_fd is None else (lock_fd,),
-                     status_file=paths["status_file"], name=k["name"])
+                     status_file=paths["status_file"], name=k["name"], config=config_path)
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()

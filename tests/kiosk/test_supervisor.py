@@ -487,3 +487,21 @@ def test_a_warm_spare_started_after_a_crash_finds_restarting_and_its_live_stays(
         th.join(30)
     assert seen.read_text() == "restarting"
     assert status["mode"] == "live" and sup.crashes == 1
+
+
+def test_the_restarting_status_carries_every_promised_field(tmp_path):
+    """The supervisor's "restarting" holds every field the README promises, as the
+    installation's own status does (null where only the installation knows it), and the config
+    file it runs: a script reading ``status["recording"]`` failed on it."""
+    from tests.kiosk.test_health import STATUS_FIELDS
+    status_file = tmp_path / "state" / "status.json"     # its folder made too
+    config = tmp_path / "config.yaml"
+    sup = Supervisor([sys.executable, "-c", "import sys; sys.exit(1)"],
+                     Policy(backoff_s=(5.0, 5.0), startup_s=60), tmp_path / "crashes.log",
+                     echo=False, spares=0, status_file=status_file, config=config)
+    status = _first_restarting(status_file, sup)
+    promised = STATUS_FIELDS | {"idle_s", "config", "config_error", "config_pending", "studio",
+                                "recording", "snapshots", "behavior_errors", "crash"}
+    assert promised <= set(status), promised - set(status)
+    assert status["config"] == str(config) and status["behavior_errors"] == []
+    assert status["recording"] is None and status["studio"] is None
