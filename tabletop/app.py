@@ -93,8 +93,8 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     """The recorder: to ``record_path`` when given, else as the ``recorder`` section says.
     A folder that cannot be written fails at start-up naming its key when ``strict``; otherwise
     the installation starts without recording and tries again (see the Recorder). A ``max_mb``
-    that this config's header alone reaches would start a part every frame (every part repeats the header:
-    the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
+    that this config's header alone reaches would start a part every frame (every part repeats
+    the header: the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
     ``keep`` removing them as fast): ``strict`` (a start outside a kiosk, where someone reads the
     error) refuses it; otherwise (a kiosk's start, which may be a restart by its supervisor or
     by systemd; a config edit; after a named file grew) one warning is logged and parts of

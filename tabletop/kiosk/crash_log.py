@@ -30,7 +30,8 @@ def crash_entry(crash: int, what: str, ran_s: float, pid: int, start: int,
     """The lines of crash number ``crash``: a header stamped now (UTC) naming ``what`` befell
     the child ``pid`` (the supervisor's ``start``-th) after ``ran_s`` seconds, then its
     stderr ``tail`` indented."""
-    lines = [f"=== {utc_now()} crash {crash}: {what}, after {ran_s:.1f} s (pid {pid}, start {start})"]
+    lines = [f"=== {utc_now()} crash {crash}: {what}, after {ran_s:.1f} s "
+             f"(pid {pid}, start {start})"]
     return lines + [f"  {t}" for t in tail]
 
 
