@@ -91,9 +91,10 @@ HEADER_PARTS = 4
 def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | None,
                    header: dict[str, Any] | None = None, strict: bool = False) -> Sink | None:
     """The recorder: to ``record_path`` when given, else as the ``recorder`` section says.
-    A folder that cannot be written fails at start-up naming its key. A ``max_mb`` that this
-    config's header alone reaches would start a part every frame (every part repeats the header:
-    the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
+    A folder that cannot be written fails at start-up naming its key when ``strict``; otherwise
+    the installation starts without recording and tries again (see the Recorder). A ``max_mb``
+    that this config's header alone reaches would start a part every frame (every part repeats
+    the header: the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
     ``keep`` removing them as fast): ``strict`` (a start outside a kiosk, where someone reads the
     error) refuses it; otherwise (a kiosk's start, which may be a restart by its supervisor or
     by systemd; a config edit; after a named file grew) one warning is logged and parts of
@@ -119,7 +120,7 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     where = dict(path=record_path) if record_path is not None else (
         dict(path=rec["path"]) if rec["path"] is not None else dict(folder=rec["folder"]))
     try:
-        return Recorder(header=header, max_mb=max_mb, keep=rec["keep"], **where)
+        return Recorder(header=header, max_mb=max_mb, keep=rec["keep"], strict=strict, **where)
     except InputError as exc:
         if record_path is not None:
             raise
@@ -187,7 +188,8 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
     ``header_extra``: more keys for a recording's header (the studio's). ``prepared``: the
     context and engines already built for ``cfg`` (a kiosk's warm spare). ``strict``: refuse a
-    recorder ``max_mb`` below the header (a start outside a kiosk; see :func:`build_recorder`).
+    recorder ``max_mb`` below the header or a recording folder that cannot be written (a start
+    outside a kiosk; see :func:`build_recorder`).
     ``kiosk_start``: a behaviour folder holding a bad file starts its character without it
     (:func:`tabletop.plugins.puppet_master.build`) instead of refusing the installation."""
     ctx = _context(cfg) if prepared is None else prepared[0]

@@ -161,12 +161,13 @@ def entry() -> None:
     running in job threads (a take's training, a review sheet: behaviors.worker) finished
     within :data:`behaviors.worker.FINISH_S`, a Ctrl-C (SIGTERM, SIGHUP) meanwhile caught as
     everywhere else.
-    A job that does not end in time, or a Ctrl-C while it runs, ends the process at once
-    (``os._exit``): the interpreter's finalisation must not run under a thread in native code.
-    An interrupted command ends so too: a Ctrl-C that landed in code an extension module runs
-    through ``PyRun_String`` while it is imported leaves the interpreter's mark of an
-    unhandled KeyboardInterrupt, and the interpreter then ends by SIGINT (status -2), not
-    130."""
+    Every end is ``os._exit`` with the command's status, after the log and the standard
+    streams are flushed (:func:`_exit_on_stop_signals`): the interpreter's finalisation must
+    not run under a job thread still in native code (one that did not end in time, or a
+    Ctrl-C while it ran); for an interrupted command, a Ctrl-C that landed in code an
+    extension module runs through ``PyRun_String`` while it is imported leaves the
+    interpreter's mark of an unhandled KeyboardInterrupt, and the interpreter then ends by
+    SIGINT (status -2), not 130."""
     try:
         status: int | str | None = main()
     except SystemExit as exc:   # argparse's --help and --version
@@ -184,9 +185,10 @@ def entry() -> None:
             if not ended:
                 print("tabletop: a background job did not end in time; ending without it",
                       file=sys.stderr)
-    if ended and status != EXIT_INTERRUPTED:
-        _exit_on_stop_signals()
-        sys.exit(status)
+    if isinstance(status, str):   # sys.exit("why"), as the interpreter would say it
+        print(status, file=sys.stderr)
+    code = status if isinstance(status, int) else int(status is not None)
+    _exit_on_stop_signals(code)
     import logging
     logging.shutdown()
     for stream in (sys.stdout, sys.stderr):
@@ -194,19 +196,20 @@ def entry() -> None:
             stream.flush()
         except (OSError, ValueError):
             pass
-    os._exit(status if isinstance(status, int) else int(status is not None))
+    os._exit(code)
 
 
-def _exit_on_stop_signals() -> None:
-    """From here to the process's end the stop signals are ignored: the command's work is done
-    and said, and its status is set. The interpreter's finalisation after it (0.6 s after a
-    one-minute ``behave``, freeing what its modules hold) otherwise ended by SIGTERM (status
-    143) or SIGHUP (129) without a word, a done command taken for a killed one. (A Python
-    handler does not cover it: the finalisation puts the default actions back before it
-    frees the modules; an ignored signal stays ignored.)"""
+def _exit_on_stop_signals(code: int) -> None:
+    """From here to the process's end a stop signal ends it at once with the command's own
+    status ``code``: its work is done and said. Every end goes through ``os._exit``, skipping
+    the interpreter's finalisation: that took 0.6 s after a one-minute ``behave`` (freeing what
+    its modules hold), a stop signal landing in it ended the process by the signal (status 143
+    or 129) without a word, and a non-daemon thread or an atexit hook that never ends hung it
+    there. A signal that ends the process (not an ignored one) also ends a flush blocked on
+    a reader that stopped reading."""
     if threading.current_thread() is threading.main_thread():
         for s in STOP_SIGNALS:
-            signal.signal(s, signal.SIG_IGN)
+            signal.signal(s, lambda _signum, _frame: os._exit(code))
 
 
 def _drop_stdout() -> None:

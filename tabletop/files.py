@@ -7,7 +7,6 @@ then renamed over the target. Reading a CSV either returns a clean float table o
 
 from __future__ import annotations
 
-import codecs
 import csv
 import io
 from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
@@ -16,7 +15,7 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from typing import IO, Any, Callable, Iterable, Iterator, Mapping, Sequence, TypeVar
 
 import numpy as np
@@ -29,48 +28,34 @@ class FileFormatError(InputError):
     """A file is missing, empty or malformed; the message names the file and the line."""
 
 
-MAX_TEXT_CHARS = 128 * 2**20   # a config, calibration or CSV input longer is refused: an hour's
+MAX_TEXT_BYTES = 128 * 2**20   # a config, calibration or CSV input longer is refused: an hour's
 # demonstration at 120 Hz is 30 MB; /dev/zero or /dev/full named as one (a calibrate --out
 # whose previous file is read first) filled the machine's 23 GB and was killed
 
 
 class UnreadableText(Exception):
-    """A text input refused whole: over :data:`MAX_TEXT_CHARS` characters, or not text in
-    the encoding read (the message names the line of the first byte that is not)."""
+    """A text input refused whole: over :data:`MAX_TEXT_BYTES` bytes, or not text in the
+    encoding read (the message names the line of the first byte that is not)."""
 
 
 def read_text(path: Path, encoding: str = "utf-8") -> str:
-    """``path.read_text(encoding)``, refusing (UnreadableText) what is longer than any input
-    file of ours (an endless device or a wrong file is not read into memory whole) or is not
-    text in ``encoding``, naming the line where it stops being text."""
-    try:
-        with open(path, encoding=encoding) as f:
-            text = f.read(MAX_TEXT_CHARS + 1)
-    except UnicodeDecodeError:
-        raise UnreadableText(_not_text(path, encoding)) from None
-    if len(text) > MAX_TEXT_CHARS:
-        raise UnreadableText(f"over {MAX_TEXT_CHARS // 2**20} M characters, more than any "
-                             "such file holds (a device or another kind of file?)")
-    return text
-
-
-def _not_text(path: Path, encoding: str) -> str:
-    """Where ``path`` stops being text in ``encoding`` (UTF-8, with or without its mark): its
-    line and byte (read again in 1 MB pieces up to the first byte that is not, as a device's
-    endless bytes can be)."""
-    decoder = codecs.getincrementaldecoder(encoding)()
-    lines = 1
+    """``path.read_text(encoding)`` (universal newlines), refusing (UnreadableText) what is
+    longer than any input file of ours (an endless device or a wrong file is not read into
+    memory whole) or is not text in ``encoding`` (UTF-8, with or without its mark), naming the
+    line and byte where it stops being text. Read once, in binary: a named pipe or device
+    gives its bytes once (a second open waits for ever on a pipe whose writer is gone)."""
     with open(path, "rb") as f:
-        while piece := f.read(2**20):
-            try:
-                decoder.decode(piece)
-            except UnicodeDecodeError as exc:  # (the bytes held back before a piece hold no
-                # line end: they begin a character)
-                lines += exc.object.count(b"\n", 0, exc.start)
-                return (f"line {lines}: byte 0x{exc.object[exc.start]:02x} is not UTF-8 text "
-                        "(a binary file, or text saved in another encoding?)")
-            lines += piece.count(b"\n")
-    return "not UTF-8 text"
+        data = f.read(MAX_TEXT_BYTES + 1)
+    if len(data) > MAX_TEXT_BYTES:
+        raise UnreadableText(f"over {MAX_TEXT_BYTES // 2**20} MB, more than any such file "
+                             "holds (a device or another kind of file?)")
+    try:
+        text = data.decode(encoding)
+    except UnicodeDecodeError as exc:
+        line = exc.object.count(b"\n", 0, exc.start) + 1
+        raise UnreadableText(f"line {line}: byte 0x{exc.object[exc.start]:02x} is not UTF-8 "
+                             "text (a binary file, or text saved in another encoding?)") from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
 def file_on_path(folder: Path) -> Path | None:
@@ -147,10 +132,8 @@ def atomic_writer(path: str | Path, binary: bool = False) -> Iterator[IO[Any]]:
         except OSError as exc:
             raise FileFormatError(f"{target}: cannot be written: {exc.strerror or exc}") from None
     except BaseException:
-        try:
+        with suppress(FileNotFoundError):
             os.unlink(tmp)
-        except FileNotFoundError:
-            pass
         raise
     fsync_folder(target.parent)
 
@@ -183,32 +166,27 @@ def _remove_stale(target: Path) -> None:
         pid = name[len(prefix):].split(".", 1)[0]
         if not pid.isdigit() or int(pid) == os.getpid() or alive(int(pid)):
             continue
-        try:
+        with suppress(OSError):
             os.unlink(target.parent / name)
-        except OSError:
-            pass
 
 
 def alive(pid: int) -> bool:
     """Is process ``pid`` running (or not ours to ask about)?"""
     try:
-        os.kill(pid, 0)
+        with suppress(PermissionError):   # another user's: running
+            os.kill(pid, 0)
     except ProcessLookupError:
         return False
-    except PermissionError:
-        return True
     return True
 
 
 def _umask() -> int:
     """The process's file-creation mask, read without changing it where the system tells."""
-    try:
-        with open("/proc/self/status", encoding="ascii") as f:
-            for line in f:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
-    except (OSError, ValueError, IndexError):
-        pass
+    with suppress(OSError, ValueError, IndexError), \
+            open("/proc/self/status", encoding="ascii") as f:
+        for line in f:
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
     mask = os.umask(0o022)
     os.umask(mask)
     return mask
@@ -231,16 +209,12 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> None:
 
 def fsync_folder(folder: Path) -> None:
     """Make a rename in ``folder`` durable (where the platform allows)."""
-    try:
+    with suppress(OSError):
         dir_fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(dir_fd)
-    except OSError:
-        pass
-    finally:
-        os.close(dir_fd)
+        try:
+            os.fsync(dir_fd)
+        finally:
+            os.close(dir_fd)
 
 
 def write_synced(path: Path, text: str) -> None:
@@ -285,7 +259,8 @@ def format_csv(header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> 
     return buf.getvalue()
 
 
-def write_csv(path: str | Path, header: Sequence[str], rows: Iterable[Sequence[float | str]]) -> None:
+def write_csv(path: str | Path, header: Sequence[str],
+              rows: Iterable[Sequence[float | str]]) -> None:
     """Write a CSV table atomically."""
     atomic_write_text(path, format_csv(header, rows))
 
@@ -313,13 +288,12 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
         raise FileFormatError(f"{p}: {what} not found") from None
     except IsADirectoryError:
         raise FileFormatError(f"{p}: is a folder, expected a {what}") from None
-    except (OSError, UnicodeDecodeError, UnreadableText) as exc:
+    except (OSError, UnreadableText) as exc:
         raise FileFormatError(f"{p}: cannot read {what}: {exc}") from None
-    lines = [ln for ln in text.splitlines()]
     # row by row, not list(csv.reader(...)): one C call holds the GIL for the whole file, and
     # a worker reading a 600 s demonstration that way stalls the frame loop 8-60 ms
     # (bench/reload_tick.py)
-    rows = [r for r in csv.reader(lines)]
+    rows = [r for r in csv.reader(text.splitlines())]
     first = next((i for i, r in enumerate(rows) if any(c.strip() for c in r)), None)
     if first is None:
         raise FileFormatError(f"{p}: {what} is empty (expected a header row)")
@@ -346,13 +320,12 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
         vals = []
         for name, cell in zip(header, r):
             try:
-                v = float(cell)
+                v: float | None = float(cell)
             except ValueError:
-                raise FileFormatError(
-                    f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is not a number") from None
-            if not math.isfinite(v):
-                raise FileFormatError(
-                    f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is not a finite number")
+                v = None
+            if v is None or not math.isfinite(v):
+                raise FileFormatError(f"{p}: line {i + 1}: column {name!r}: {cell.strip()!r} is "
+                                      f"not a {'number' if v is None else 'finite number'}")
             vals.append(v)
         data.append(vals)
         numbers.append(i + 1)
@@ -416,7 +389,7 @@ def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
         raise error(f"{p}: {missing}") from None
     except IsADirectoryError:
         raise error(f"{p}: is a folder; expected a YAML file") from None
-    except (OSError, UnicodeDecodeError, UnreadableText) as exc:
+    except (OSError, UnreadableText) as exc:
         raise error(f"{p}: cannot read: {exc}") from None
     return parse_yaml(text, p, error, problem)
 

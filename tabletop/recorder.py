@@ -70,7 +70,12 @@ class Recorder(Syncer):
     Exactly one of ``path`` (a file name) or ``folder`` is given. ``header``: from
     :func:`session_header` (built once, written at the top of every part). ``max_queue``:
     lines that may wait for the disk before the recording stops. ``clock``: monotonic seconds
-    for the lines' durability (when written, when synced).
+    for the lines' durability (when written, when synced). ``strict`` (a start outside a
+    kiosk, where someone reads the error): a folder that refuses the first file (read-only,
+    no permission, a file in its place) raises SessionError; otherwise (a kiosk's start, whose
+    last good config names the same folder: refusing would restart it for ever) it runs
+    without recording, as after a full disk, :attr:`failed` saying why and a new part tried
+    every ``RESUME_EVERY_S`` of frame time.
     """
 
     name = "recorder"
@@ -79,7 +84,7 @@ class Recorder(Syncer):
                  folder: str | Path | None = None, max_mb: float | None = None,
                  keep: int | None = None, config: Any = None,
                  calibration: dict[str, Any] | None = None, max_queue: int = 1024,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic, strict: bool = True) -> None:
         if (path is None) == (folder is None):
             raise ValueError("give exactly one of path or folder")
         if header is None:
@@ -122,10 +127,10 @@ class Recorder(Syncer):
         try:
             self._open_part()
         except OSError as exc:
-            if exc.errno not in DISK_FULL:
+            if strict and exc.errno not in DISK_FULL:
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
                                    f"{folder_failure(self.folder, exc)}") from None
-            self._fail(exc)  # a full disk: the installation runs, without recording
+            self._fail(exc)  # the installation runs, without recording (tries go on)
         self._start_syncer()
 
     @property

@@ -7,17 +7,22 @@ status file's "restarting" (:func:`restarting_status`)."""
 
 from __future__ import annotations
 
-import datetime as _dt
-import json
 import logging
 import os
-import socket
+import re
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
-from tabletop import __version__
+from tabletop.kiosk.status_fields import own_status, utc_now
 
 log = logging.getLogger("tabletop")
+
+#: A line saying why an installation ended: its one error line (``tabletop run: error: ...``,
+#: ``... internal error: ...``), an ERROR or CRITICAL log line, or a native crash's first line.
+ERROR_LINE = re.compile(r"tabletop[^:]*: (internal )?error: |tabletop: (ERROR|CRITICAL): "
+                        r"|Fatal Python error: ")
+#: A log line of no error (every line logged to stderr begins "tabletop: LEVEL: ").
+CALM_LINE = re.compile(r"tabletop: (DEBUG|INFO|WARNING): ")
 
 
 def crash_entry(crash: int, what: str, ran_s: float, pid: int, start: int,
@@ -25,8 +30,8 @@ def crash_entry(crash: int, what: str, ran_s: float, pid: int, start: int,
     """The lines of crash number ``crash``: a header stamped now (UTC) naming ``what`` befell
     the child ``pid`` (the supervisor's ``start``-th) after ``ran_s`` seconds, then its
     stderr ``tail`` indented."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-    lines = [f"=== {stamp} crash {crash}: {what}, after {ran_s:.1f} s (pid {pid}, start {start})"]
+    lines = [f"=== {utc_now()} crash {crash}: {what}, after {ran_s:.1f} s "
+             f"(pid {pid}, start {start})"]
     return lines + [f"  {t}" for t in tail]
 
 
@@ -54,29 +59,36 @@ def rotate(path: Path, max_bytes: int, backups: int) -> None:
 
 
 def restarting_status(name: str, crashes: int, what: str, ran_s: float,
-                      tail: Sequence[str]) -> dict[str, Any]:
+                      tail: Sequence[str], **known: Any) -> dict[str, Any]:
     """The status the supervisor writes after a crash, until the next installation writes its
     own: ``mode`` "restarting" and ``crash`` naming what befell it after ``ran_s`` seconds with
-    its last error line (the last ``tabletop`` line of its stderr ``tail``, else its last
-    line). Without it the status file would hold the last installation's own words ("live",
-    or "stopped" from a kiosk that ended on purpose) while a kiosk whose every start fails
-    restarts for ever, its heartbeat silent."""
-    lines = [t.strip() for t in tail if t.strip()]
-    said = [t for t in lines if t.startswith("tabletop")]
-    last = (said or lines or [""])[-1]
-    host = socket.gethostname()
-    return {"name": name or host, "host": host, "pid": os.getpid(), "version": __version__,
-            "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-            "uptime_s": 0.0, "fps": 0.0, "ticks": 0, "mode": "restarting",
-            "unhealthy_sources": 0, "sources": [], "errors": 0, "restarts": crashes,
-            "crash": f"{what} after {ran_s:.1f} s" + (f": {last}" if last else "")}
+    its last error line (:func:`last_error` of its stderr ``tail``); the ``known`` fields (the
+    ``config`` file) and every other field the status promises, null where only the
+    installation knows it (:func:`tabletop.kiosk.status_fields.own_status`). Without it the
+    status file would hold the last installation's own words ("live", or "stopped" from a
+    kiosk that ended on purpose) while a kiosk whose every start fails restarts for ever, its
+    heartbeat silent."""
+    last = last_error(tail)
+    return own_status(name, "restarting", restarts=crashes,
+                      crash=f"{what} after {ran_s:.1f} s" + (f": {last}" if last else ""),
+                      **known)
 
 
-def write_status(path: Path, status: dict[str, Any]) -> None:
-    """Write ``status`` to the status file ``path`` atomically; a file that cannot be written
-    (a full disk) is one log line."""
-    from tabletop.files import atomic_write_text
-    try:
-        atomic_write_text(path, json.dumps(status, separators=(",", ":")) + "\n")
-    except OSError as exc:
-        log.error("supervisor: status file %s not written: %s", path, exc.strerror or exc)
+def last_error(tail: Sequence[str]) -> str:
+    """The line of stderr ``tail`` that says why the installation ended: the last one that is
+    an error (a traceback's closing exception line, or an :data:`ERROR_LINE`), else the last
+    unindented line that is not a :data:`CALM_LINE`, else the last line ("" for none). Every
+    line logged to stderr begins "tabletop", so the last such line was most often an INFO."""
+    lines = [t.rstrip() for t in tail if t.strip()]
+    found, in_traceback = "", False
+    for t in lines:
+        if t.startswith("Traceback (most recent call last):"):
+            in_traceback = True
+        elif in_traceback and not t[:1].isspace():
+            found, in_traceback = t, False        # the exception that ends the traceback
+        elif ERROR_LINE.match(t):
+            found = t
+    if found:
+        return found.strip()
+    plain = [t for t in lines if not t[:1].isspace() and not CALM_LINE.match(t)]
+    return (plain or lines or [""])[-1].strip()

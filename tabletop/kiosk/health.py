@@ -19,8 +19,6 @@ The first goes once the loop has a rate (a second of ticks), not with "0 fps" fr
 
 from __future__ import annotations
 
-import datetime as _dt
-import json
 import logging
 import math
 import os
@@ -30,11 +28,11 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
-from tabletop import __version__
 from tabletop.files import atomic_write_text
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.logfile import SharedRotatingFileHandler
 from tabletop.kiosk.notify import Notifier
+from tabletop.kiosk.status_fields import own_status, status_text, utc_now, write_status
 from tabletop.resolve import Destination
 
 log = logging.getLogger("tabletop")
@@ -201,18 +199,14 @@ class HealthReporter:
         self._judged = False                      # ... or counted as not logged
 
     def _own(self) -> dict[str, Any]:
-        """The fields a kiosk tells of itself without a frame (no sources, 0 fps)."""
+        """The fields a kiosk tells of itself without a frame (no sources, 0 fps); the parts'
+        fields null until ``extra`` gives them (:func:`~tabletop.kiosk.status_fields.own_status`,
+        shared with the supervisor's "restarting")."""
         st = self.stats
-        return {
-            "name": self.name, "host": socket.gethostname(), "pid": os.getpid(),
-            "version": __version__,
-            "time": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-            "uptime_s": round(self.clock() - self.started, 3), "fps": 0.0,
-            "ticks": int(st.ticks) if st is not None else 0, "mode": "stopped",
-            "unhealthy_sources": 0, "sources": [],
-            "errors": int(sum(st.errors.values())) if st is not None else 0,
-            "restarts": int(os.environ.get("TABLETOP_RESTARTS", "0") or 0),
-        }
+        return own_status(self.name, "stopped", uptime_s=round(self.clock() - self.started, 3),
+                          ticks=int(st.ticks) if st is not None else 0,
+                          errors=int(sum(st.errors.values())) if st is not None else 0,
+                          restarts=int(os.environ.get("TABLETOP_RESTARTS", "0") or 0))
 
     def status(self, frame: Frame) -> dict[str, Any]:
         from tabletop.renderer import cameras_down   # the view's rule for its calm screen
@@ -244,12 +238,12 @@ class HealthReporter:
         status = self.status(frame)
         self.last = status
         self._say_mode(status, now)
-        text = json.dumps(status, separators=(",", ":"), allow_nan=False)
+        text = status_text(status)
         if self.writer is not None:
-            self.writer.put(text + "\n")
+            self.writer.put(text)
         if self.heartbeat is not None:
             self.heartbeat.send(self.name, status["uptime_s"], status["fps"],
-                                status["unhealthy_sources"], text)
+                                status["unhealthy_sources"], text.rstrip("\n"))
 
     def _say_mode(self, status: dict[str, Any], now: float) -> None:
         """Log an episode of "one moment" that lasted ``MOMENT_GRACE_S`` (warning, with why)
@@ -298,19 +292,12 @@ class HealthReporter:
                     last.update(self.extra())
                 except Exception as exc:  # (its parts may be closed by now): said without
                     log.debug("status fields at the stop not read: %s", exc)
-        status = dict(last, mode="stopped", fps=0.0,
-                      time=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-                      uptime_s=round(self.clock() - self.started, 3))
-        text = json.dumps(status, separators=(",", ":"), allow_nan=False) + "\n"
+        text = status_text(dict(last, mode="stopped", fps=0.0, time=utc_now(),
+                                uptime_s=round(self.clock() - self.started, 3)))
         if self.writer.last(text):       # its thread still writing: after that, in order
             self.writer.close()
             return
-        try:   # (the folder made as the writer makes it: a kiosk stopped before its first)
-            self.writer.path.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write_text(self.writer.path, text)
-        except (OSError, InputError) as exc:
-            log.warning("status file %s not written: %s", self.writer.path,
-                        getattr(exc, "strerror", None) or exc)
+        write_status(self.writer.path, text)   # (its folder made: a kiosk stopped before its first)
 
 
 def snapshot_status(view: Any) -> Callable[[], dict[str, Any]]:

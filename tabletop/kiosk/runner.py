@@ -151,9 +151,10 @@ class Runner:
                           wrap_source=self.wrap_source, prepared=ready,
                           header_extra={"studio": {"all": self.studio_all}}
                           if self.studio_on else None, strict=self.strict,
-                          # the config that ran (a start, a fall-back from a refused edit)
-                          # runs on without a behaviour whose files went bad; an edit is refused
-                          kiosk_start=self.kiosk and cfg is self.cfg)
+                          # a kiosk's start, fall-back or edit runs on without a behaviour
+                          # whose files went bad: an edit of another part applies (refused, its
+                          # fall-back rebuild dropped that behaviour all the same)
+                          kiosk_start=self.kiosk)
         self.strict = False
         loop = inst.loop
         # (``record_path``, run --record, stays: each installation records to the next free name

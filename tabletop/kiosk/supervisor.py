@@ -31,6 +31,7 @@
 from __future__ import annotations
 
 import collections
+import json
 import logging
 import os
 import select
@@ -46,8 +47,8 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
-from tabletop.kiosk.crash_log import (append_crash, crash_entry, restarting_status,
-                                       write_status)
+from tabletop.kiosk.crash_log import append_crash, crash_entry, restarting_status
+from tabletop.kiosk.status_fields import status_text, utc_now, write_status
 from tabletop.kiosk.notify import Notifier
 
 log = logging.getLogger("tabletop")
@@ -87,6 +88,7 @@ class Child:
     why: str = ""                     # how it failed, for the crash log
     number: int = 0                   # which start of the supervisor (1, 2, ...)
     ended: float | None = None
+    ran_s: float = 0.0                # seconds from its start to its end
     muted: bool = False               # its stderr is no longer echoed (see Supervisor._watch)
 
     def close(self) -> None:
@@ -115,9 +117,12 @@ class Supervisor:
                  spares: int = 2, seconds: float | None = None,
                  crash_log_max_bytes: int = 1_000_000, crash_log_backups: int = 5,
                  keep_fds: Sequence[int] = (), status_file: Path | None = None,
-                 name: str = "") -> None:
-        # the status file, "restarting" after a crash until the next child writes its own
+                 name: str = "", config: Path | None = None) -> None:
+        # the status file, "restarting" after a crash until the next child writes its own;
+        # ``config``, the config file, is the one field of the installation's parts it knows
         self.status_file, self.name = status_file, name
+        self._known = {} if config is None else {"config": str(config)}
+        self._restarting: dict[str, Any] | None = None   # the last "restarting" written
         # open files every child holds too: the kiosk's folder lock (tabletop.kiosk.lock)
         self.keep_fds = tuple(keep_fds)
         self.command, self.policy, self.crash_log = list(command), policy, Path(crash_log)
@@ -272,20 +277,42 @@ class Supervisor:
             return f"stalled: no frame for {now - child.last_ping:.1f} s"
         return None
 
-    def _record_crash(self, child: Child, what: str) -> None:
+    def _crashed(self, child: Child) -> None:
+        """Count the crash of ``child``, log it and write the status file's "restarting": before
+        the next start (a warm spare's first "live" would otherwise be overwritten by it)."""
         self.crashes += 1
-        ran = (child.ended or self.clock()) - child.started
+        child.ran_s = (child.ended or self.clock()) - child.started
         if child.reader is not None:
             child.reader.join(timeout=1.0)
-        log.error("supervisor: the installation %s after %.1f s; restarting", what, ran)
-        lines = crash_entry(self.crashes, what, ran, child.process.pid, child.number, child.tail)
+        log.error("supervisor: the installation %s after %.1f s; restarting", child.why,
+                  child.ran_s)
+        if self.status_file is not None:
+            self._restarting = restarting_status(self.name, self.crashes, child.why,
+                                                 child.ran_s, child.tail, **self._known)
+            write_status(self.status_file, status_text(self._restarting))
+
+    def _log_crash(self, child: Child) -> None:
+        """Append the crash of ``child`` to the crash log (fsynced)."""
+        lines = crash_entry(self.crashes, child.why, child.ran_s, child.process.pid,
+                            child.number, child.tail)
         try:
             append_crash(self.crash_log, lines, self.crash_log_max_bytes, self.crash_log_backups)
         except OSError as exc:
             log.error("supervisor: crash log %s not written: %s", self.crash_log, exc)
-        if self.status_file is not None:
-            write_status(self.status_file,
-                         restarting_status(self.name, self.crashes, what, ran, child.tail))
+
+    def _stopped(self) -> None:
+        """When the supervisor stops: a status file still holding its own "restarting" (a stop
+        during the back-off, or before the next installation wrote its first status) says
+        "stopped" instead, with the last crash; left as it was, it would tell a stopped kiosk
+        from one restarting no more."""
+        if self._restarting is None or self.status_file is None:
+            return
+        try:
+            now = json.loads(self.status_file.read_text())
+        except (OSError, ValueError):
+            now = None
+        if now == self._restarting:
+            write_status(self.status_file, status_text(dict(now, mode="stopped", time=utc_now())))
 
     def _terminate(self, child: Child) -> None:
         p = child.process
@@ -360,11 +387,12 @@ class Supervisor:
                 failures = 1 if ran >= self.policy.healthy_s else failures + 1
                 delay = self.policy.delay(failures)
                 failed = child
+                self._crashed(failed)
                 if delay <= 0:            # back at once; the crash log is written after
                     child = self._spawn()
-                    self._record_crash(failed, failed.why)
+                    self._log_crash(failed)
                     continue
-                self._record_crash(failed, failed.why)
+                self._log_crash(failed)
                 end = self.clock() + delay
                 while not self._check_end() and self.clock() < end:
                     if self._announced:               # waiting to restart: still in control
@@ -377,6 +405,7 @@ class Supervisor:
             return 0
         finally:
             self._kill_spares()
+            self._stopped()
             self.notifier.send("STOPPING=1")
             self._sock.close()
             try:
@@ -427,7 +456,7 @@ def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],
                      spares=k["spares"], seconds=seconds, crash_log_max_bytes=k["log_max_bytes"],
                      crash_log_backups=k["log_backups"],
                      keep_fds=() if lock_fd is None else (lock_fd,),
-                     status_file=paths["status_file"], name=k["name"])
+                     status_file=paths["status_file"], name=k["name"], config=config_path)
 
     def handler(signum: int, _frame: Any) -> None:
         sup.stop.set()

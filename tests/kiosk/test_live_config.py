@@ -411,3 +411,31 @@ def test_an_edit_to_a_recorder_max_mb_below_the_header_is_applied(tmp_path):
         assert wait_for(rebuilt(runner, first), 30)
         assert runner.watcher.applied == 1 and runner.cfg["recorder"]["max_mb"] == 0.05
         assert runner.inst.recorder is not None and not runner.inst.recorder.failed
+
+
+def test_an_edit_applies_while_a_behaviour_file_is_bad(tmp_path):
+    """A behaviour file that went bad mid-run refused every unrelated edit under a kiosk (and
+    the log blamed the new config); the edit applies, the character without its behaviour as at
+    a kiosk's start, the status naming the file."""
+    import shutil
+    lover = tmp_path / "lover"
+    shutil.copytree(ROOT / "behaviors" / "library" / "lover", lover)
+    path = tmp_path / "config.yaml"
+
+    def edit(color) -> str:
+        cfg = config(color)
+        cfg["engines"][0]["behavior"] = "lover"
+        return yaml.safe_dump(cfg)
+    path.write_text(edit([10, 20, 30]))
+    with running(Runner(path, load_config(path), headless=True, kiosk=True)) as runner:
+        first = runner.inst
+        with open(lover / "demonstration.csv", "a") as f:
+            f.write("1e3,0.5,0.5\n")                     # a short row: a copy cut short
+        write(path, edit([200, 100, 50]))
+        assert wait_for(rebuilt(runner, first), 30)
+        assert runner.watcher.error is None and runner.watcher.applied == 1
+        engine = runner.inst.engines[0]
+        assert engine.color == (200, 100, 50) and engine.reactor is None
+        status = runner.reporter.status(Frame(seq=0, t=0.0))
+        (error,) = status["behavior_errors"]
+        assert error.startswith("lover: ") and "demonstration.csv: line" in error

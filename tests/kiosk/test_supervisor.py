@@ -401,11 +401,107 @@ def test_a_kiosk_whose_every_start_fails_says_restarting_and_why_in_its_status(t
     end = time.monotonic() + 60
     while time.monotonic() < end and sup.crashes < 3:
         time.sleep(0.05)
-    sup.stop.set()
-    th.join(30)
     status = json.loads(status_file.read_text())
+    sup.stop.set()                  # in the back-off, or a start: the status says it stopped
+    th.join(30)
+    stopped = json.loads(status_file.read_text())
+    assert stopped == dict(stopped, mode="stopped", crash=status["crash"], pid=os.getpid())
     assert status["mode"] == "restarting" and status["name"] == "table-3"
     assert status["restarts"] >= 3 and status["pid"] == os.getpid()
     assert status["crash"].startswith("exit status 2 after ")
     assert status["crash"].endswith(": tabletop run: error: /x/lover/demonstration.csv: line 9: "
                                     "2 values, expected 7")
+
+
+def _first_restarting(status_file: Path, sup: Supervisor, timeout_s: float = 60.0) -> dict:
+    """Run ``sup`` until its status file says "restarting"; that status (the supervisor stopped)."""
+    th = threading.Thread(target=sup.run)
+    th.start()
+    status: dict = {}
+    end = time.monotonic() + timeout_s
+    try:
+        while time.monotonic() < end and status.get("mode") != "restarting":
+            time.sleep(0.02)
+            try:
+                status = json.loads(status_file.read_text())
+            except (OSError, ValueError):
+                pass
+    finally:
+        sup.stop.set()
+        th.join(30)
+    return status
+
+
+def test_the_crash_field_names_the_error_not_the_last_info_line(tmp_path):
+    """Every line logged to stderr begins "tabletop: INFO: ...": the crash field named the last
+    such line, not the traceback's exception after it."""
+    status_file = tmp_path / "status.json"
+    crash = ("import sys; print('tabletop: INFO: recording to /x/s.jsonl', file=sys.stderr); "
+             "sys.stderr.flush(); raise ValueError('boom')")
+    sup = Supervisor([sys.executable, "-c", crash], Policy(backoff_s=(5.0, 5.0), startup_s=60),
+                     tmp_path / "crashes.log", echo=False, spares=0, status_file=status_file)
+    status = _first_restarting(status_file, sup)
+    assert status["crash"].startswith("exit status 1 after ")
+    assert status["crash"].endswith(": ValueError: boom"), status["crash"]
+
+
+def test_the_crash_line_of_a_native_crash_or_an_error_logged_before_info_lines():
+    from tabletop.kiosk.crash_log import last_error
+    assert last_error(["tabletop: INFO: starting", "Fatal Python error: Segmentation fault", "",
+                       "Current thread 0x7f (most recent call first):",
+                       '  File "/x/loop.py", line 9 in tick']) == (
+        "Fatal Python error: Segmentation fault")
+    assert last_error(["tabletop: ERROR: camera 0: no frame for 5.0 s",
+                       "tabletop: INFO: recording stopped"]) == (
+        "tabletop: ERROR: camera 0: no frame for 5.0 s")
+    assert last_error(["tabletop: INFO: starting", "Killed"]) == "Killed"
+
+
+def test_a_warm_spare_started_after_a_crash_finds_restarting_and_its_live_stays(tmp_path):
+    """The first crash restarts at once with a warm spare: the supervisor writes "restarting"
+    before the spare's go, so the spare's first status ("live") is the one that stays."""
+    status_file, seen = tmp_path / "status.json", tmp_path / "seen.txt"
+    child = (
+        "import json, os, sys, time\n"
+        "if not os.environ.get('TABLETOP_WAIT_GO'):\n"
+        "    sys.exit(1)\n"                                   # every cold start crashes
+        "sys.stdin.readline()\n"                              # the go
+        f"s = {str(status_file)!r}\n"
+        "mode = json.load(open(s)).get('mode') if os.path.exists(s) else None\n"
+        f"open({str(seen)!r}, 'w').write(str(mode))\n"
+        "open(s + '.tmp', 'w').write(json.dumps({'mode': 'live', 'pid': os.getpid()}))\n"
+        "os.replace(s + '.tmp', s)\n"
+        "time.sleep(60)\n")
+    sup = Supervisor([sys.executable, "-c", child], Policy(backoff_s=(5.0, 5.0), startup_s=60),
+                     tmp_path / "crashes.log", echo=False, spares=1, status_file=status_file)
+    th = threading.Thread(target=sup.run)
+    th.start()
+    try:
+        end = time.monotonic() + 60
+        while time.monotonic() < end and not seen.exists():
+            time.sleep(0.02)
+        time.sleep(1.0)             # the crash log written by now, after the spare's go
+        status = json.loads(status_file.read_text())
+    finally:
+        sup.stop.set()
+        th.join(30)
+    assert seen.read_text() == "restarting"
+    assert status["mode"] == "live" and sup.crashes == 1
+
+
+def test_the_restarting_status_carries_every_promised_field(tmp_path):
+    """The supervisor's "restarting" holds every field the README promises, as the
+    installation's own status does (null where only the installation knows it), and the config
+    file it runs: a script reading ``status["recording"]`` failed on it."""
+    from tests.kiosk.test_health import STATUS_FIELDS
+    status_file = tmp_path / "state" / "status.json"     # its folder made too
+    config = tmp_path / "config.yaml"
+    sup = Supervisor([sys.executable, "-c", "import sys; sys.exit(1)"],
+                     Policy(backoff_s=(5.0, 5.0), startup_s=60), tmp_path / "crashes.log",
+                     echo=False, spares=0, status_file=status_file, config=config)
+    status = _first_restarting(status_file, sup)
+    promised = STATUS_FIELDS | {"idle_s", "config", "config_error", "config_pending", "studio",
+                                "recording", "snapshots", "behavior_errors", "crash"}
+    assert promised <= set(status), promised - set(status)
+    assert status["config"] == str(config) and status["behavior_errors"] == []
+    assert status["recording"] is None and status["studio"] is None

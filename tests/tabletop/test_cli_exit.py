@@ -68,16 +68,21 @@ def test_a_stop_signal_while_the_end_waits_for_a_job_is_one_line_and_130():
         assert err.strip().splitlines()[-1] == "tabletop: interrupted", stop
 
 
-# `tabletop --version`, then a SIGTERM (or SIGHUP) while the interpreter finalises (from an
-# atexit hook: the moment a stop signal lands after a command's work is done and said)
+# `tabletop --version`, then a SIGTERM (or SIGHUP) on the way out (from a log handler's close,
+# which logging.shutdown runs: the moment a stop signal lands after a command's work is done
+# and said)
 _SIGNAL_AT_THE_END = """
-import atexit, os, signal, sys, time
+import logging, os, signal, sys, time
 from tabletop import cli
 sig = getattr(signal, sys.argv[1])
-def late_signal():
-    os.kill(os.getpid(), sig)
-    time.sleep(1.0)
-atexit.register(late_signal)
+class LateSignal(logging.Handler):
+    def emit(self, record):
+        pass
+    def close(self):
+        os.kill(os.getpid(), sig)
+        time.sleep(1.0)
+        super().close()
+logging.getLogger("late").addHandler(LateSignal())
 sys.argv = ["tabletop", "--version"]
 cli.entry()
 """
@@ -89,3 +94,33 @@ def test_a_stop_signal_after_the_command_is_done_ends_with_its_status(sig):
                          text=True, timeout=120)
     assert res.returncode == 0, (res.returncode, res.stderr)
     assert res.stdout.startswith("tabletop ") and res.stderr == ""
+
+
+# `tabletop --version` in a process holding a non-daemon thread that never ends, or an atexit
+# hook that never returns: the interpreter's finalisation waits for either for ever
+_HUNG_FINALISATION = """
+import atexit, sys, threading
+from tabletop import cli
+if sys.argv[1] == "thread":
+    threading.Thread(target=threading.Event().wait).start()
+else:
+    atexit.register(threading.Event().wait)
+sys.argv = ["tabletop", "--version"]
+cli.entry()
+"""
+
+
+@pytest.mark.parametrize("hang", ["thread", "atexit"])
+def test_the_end_never_waits_for_a_thread_or_exit_hook_that_hangs(hang):
+    """The end skips the interpreter's finalisation: a process whose finalisation would hang
+    ends with the command's status (with the stop signals ignored there, only SIGKILL ended
+    it)."""
+    proc = subprocess.Popen([sys.executable, "-c", _HUNG_FINALISATION, hang],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        out, err = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        out, err = proc.communicate()
+    assert proc.returncode == 0, (proc.returncode, err[-400:])
+    assert out.startswith("tabletop ")

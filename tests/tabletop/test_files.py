@@ -100,7 +100,7 @@ def test_a_temporary_file_left_by_a_killed_writer_is_removed_by_the_next_write(t
 def test_an_endless_device_is_refused_not_read_whole(read):
     # /dev/zero as a config (or /dev/full as calibrate's --out, whose previous file is read
     # first) filled the machine's memory and was killed
-    with pytest.raises(FileFormatError, match=r"/dev/zero: cannot read.*over 128 M characters"):
+    with pytest.raises(FileFormatError, match=r"/dev/zero: cannot read.*over 128 MB"):
         read("/dev/zero")
 
 
@@ -168,3 +168,31 @@ def test_the_line_of_a_bad_byte_is_counted_across_pieces(tmp_path):
     with pytest.raises(FileFormatError) as err:
         read_yaml(path)
     assert ": line 200001: byte 0xff is not UTF-8 text" in str(err.value), err.value
+
+
+def test_a_named_pipe_that_is_not_text_is_read_once_and_refused_naming_its_line(tmp_path):
+    """The bytes of a pipe come once: the line of the bad byte is found in the bytes read (a
+    second open of the pipe, its writer gone, waited for ever)."""
+    import subprocess
+    import sys
+    import threading
+    fifo = tmp_path / "config.yaml"
+    os.mkfifo(fifo)
+
+    def write() -> None:
+        with open(fifo, "wb") as f:          # (waits for the reader)
+            f.write(b"table:\n  width: 1.2\nname: '\xe9'\n")
+    writer = threading.Thread(target=write, daemon=True)
+    writer.start()
+    reader = subprocess.Popen(
+        [sys.executable, "-c", "import sys; from tabletop.files import read_yaml\n"
+         "try:\n    read_yaml(sys.argv[1])\nexcept Exception as exc:\n    print(exc)\n", str(fifo)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        out, err = reader.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        reader.kill()
+        out, err = reader.communicate()
+    writer.join(5)
+    assert out.strip() == (f"{fifo}: cannot read: line 3: byte 0xe9 is not UTF-8 text (a "
+                           "binary file, or text saved in another encoding?)"), (out, err)
