@@ -134,8 +134,16 @@ class MopTarget:
         (:mod:`tabletop.studio.mop_likeness`), in a worker of its own when the stage builds its
         followers in one (30-40 ms), else at once; :attr:`_like` is None until it is known."""
         st, take = self.stage, self.stage.take
-        templates, routes, args = st.follower_plan(take.performer)
-        key = next(k for c, a, k in routes if (c, a) == (take.character, st.take_action))
+        self._like = ""                 # the take is tried all the same, without the check
+        try:
+            templates, routes, args = st.follower_plan(take.performer)
+        except Exception:
+            log.exception("%s: the take's likeness could not be planned", self.name)
+            return
+        key = next((k for c, a, k in routes if (c, a) == (take.character, st.take_action)),
+                   None)
+        if key is None:                 # the take is not among its performer's routes yet
+            return
         names = {k: (c, a) for c, a, k in reversed(routes) if (c, a) != (take.character,
                                                                         st.take_action)}
         self._like = None
