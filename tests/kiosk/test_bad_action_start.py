@@ -111,6 +111,19 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     live, again = frames(session), frames(tmp_path / "replayed.jsonl")
     assert len(live) == len(again) > 30
     assert [f["characters"] for f in live] == [f["characters"] for f in again]
+    # a recording whose carried circle template is damaged too: refused, not replayed without
+    # one more action than the run had
+    lines = session.read_text().splitlines()
+    key = next(k for k in header["files"] if k.endswith("circle.csv"))
+    header["files"][key] = {"text": header["files"][key]["text"] + "1e3,0.5\n"}
+    damaged = tmp_path / "damaged.jsonl"
+    damaged.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n")
+    done = replay_cli(damaged, tmp_path / "replayed-2.jsonl")
+    assert done.returncode == 2, done.stderr
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith("tabletop replay: error: ") and "mop: the recording started " \
+        "without lone's line, walker's line, walker's square, but this replay could not read " \
+        "lone's line, walker's circle, walker's line, walker's square" in last, last
 
 
 def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(tmp_path):
