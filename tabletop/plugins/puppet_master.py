@@ -308,7 +308,14 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     _check_kept_name(options, ctx)
     delayed, cycle = _delayed(options, ctx)
     behavior, bname, read, problem = None, "", None, ""
-    if options["behavior"] is not None:
+    recorded = ctx.shared.get("started_without", {})
+    if options["behavior"] is not None and options["name"] in recorded \
+            and not ctx.shared.get("kiosk_start"):
+        # a replay of a kiosk start that ran it without its behaviour runs it so, whatever the
+        # folder holds now (a file completed since, or too large to be carried)
+        read = tree_signature(Path(options["behavior"]))
+        problem = str(recorded[options["name"]])
+    elif options["behavior"] is not None:
         read = tree_signature(Path(options["behavior"]))   # its reloader's first baseline
         try:
             stored = library.load_behavior(options["behavior"])
@@ -322,8 +329,7 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                                         f"{exc}") from None
             bname = stored.name
         except InputError as exc:
-            if not (ctx.shared.get("kiosk_start")      # a replay: as the recorded start did
-                    or options["name"] in ctx.shared.get("started_without", ())):
+            if not ctx.shared.get("kiosk_start"):
                 raise
             problem = _start_without(options["name"], exc)
     designer = dict(options["designer"])

@@ -101,6 +101,17 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
         return [{k: v for k, v in c.items() if k != "label"} for c in f["characters"]]
     assert [drawn(f) for f in live] == [drawn(f) for f in again]
     assert not live[0]["characters"][0]["valid"] and live[-1]["characters"][0]["valid"]
+    # a recording carrying the folder readable (completed after the start read it) replays as
+    # the run went too: without the behaviour until the recorded reload
+    lines = session.read_text().splitlines()
+    header = json.loads(lines[0])
+    key = next(k for k in header["files"] if k.endswith("demonstration.csv"))
+    header["files"][key] = {"text": good}
+    readable = tmp_path / "readable.jsonl"
+    readable.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n")
+    done = replay_cli(readable, tmp_path / "replayed-2.jsonl")
+    assert done.returncode == 0, done.stderr
+    assert [drawn(f) for f in live] == [drawn(f) for f in frames(tmp_path / "replayed-2.jsonl")]
 
 
 def test_outside_a_kiosk_a_corrupt_behaviour_stops_the_start_naming_the_file(tmp_path):
