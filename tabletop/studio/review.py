@@ -186,14 +186,20 @@ def read_session(path: Path) -> list[dict]:
     return out
 
 
+def _latest(tries: list[dict], target: str, outcome: str, name: str | None) -> dict | None:
+    """The latest try of ``target`` with that outcome and name (None: an item of another
+    session)."""
+    return next((t for t in reversed(tries)
+                 if (t["target"], t.get("outcome"), t.get("name")) == (target, outcome, name)),
+                None)
+
+
 def _renamed(tries: list[dict], rename: dict) -> None:
     """The latest take of ``rename``'s target kept as its ``renamed_from`` takes its new name
     (a rename of an item kept in another session names no try here)."""
-    for t in reversed(tries):
-        if (t["target"], t.get("outcome"), t.get("name")) == (
-                rename["target"], "kept", rename.get("renamed_from")):
-            t["name"] = rename.get("name", "")
-            return
+    t = _latest(tries, rename["target"], "kept", rename.get("renamed_from"))
+    if t is not None:
+        t["name"] = rename.get("name", "")
 
 
 CHANGES = {"keep undone": "kept", "deleted": "kept", "restored": "deleted"}
@@ -206,11 +212,9 @@ def _changed(tries: list[dict], line: dict) -> None:
     as its ``name`` gets ``line``'s outcome ("restored": "kept" again); an item kept in another
     session names no try here."""
     outcome = line["outcome"]
-    for t in reversed(tries):
-        if (t["target"], t.get("outcome"), t.get("name")) == (
-                line["target"], CHANGES[outcome], line.get("name")):
-            t["outcome"] = "kept" if outcome == "restored" else outcome
-            return
+    t = _latest(tries, line["target"], CHANGES[outcome], line.get("name"))
+    if t is not None:
+        t["outcome"] = "kept" if outcome == "restored" else outcome
 
 
 def summary(tries: list[dict]) -> str:
