@@ -18,7 +18,8 @@ from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
-from tests.kiosk.test_bad_behaviour_start import Latest, _status
+from tests.kiosk.test_bad_behaviour_start import Latest
+from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
 from tests.tracking.scenes import wait_for
@@ -80,14 +81,13 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     assert any("'lone', action 'line'" in e and "line.csv: line" in e for e in errors)
     assert {n: set(t) for n, t in stage.templates.items()} == {"walker": {"circle"}, "lone": set()}
     assert sum("starts without the action" in r.getMessage() for r in caplog.records) == 3
-    status_file = tmp_path / "status.json"
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
     th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 2})
     th.start()
     try:
-        assert wait_for(lambda: _status(status_file).get("behavior_errors"), 10.0)
-        listed = _status(status_file)["behavior_errors"]
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
+        listed = status(tmp_path)["behavior_errors"]
         assert listed == [f"mop: {e}" for e in errors]
         assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters}, 10.0)
     finally:
@@ -153,15 +153,14 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
     session = tmp_path / "session.jsonl"
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
     inst = runner._build(runner.cfg)
-    status_file = tmp_path / "status.json"
     th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
     th.start()
     try:
-        assert wait_for(lambda: _status(status_file).get("behavior_errors"), 10.0)
-        (error,) = _status(status_file)["behavior_errors"]
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
+        (error,) = status(tmp_path)["behavior_errors"]
         assert error.startswith(f"poser: {bad}: cannot read the action") and "line 3" in error
         shutil.rmtree(bad.parent)
-        assert wait_for(lambda: _status(status_file).get("behavior_errors") == [], 15.0)
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 15.0)
     finally:
         inst.loop.stop.set()
         th.join(30)

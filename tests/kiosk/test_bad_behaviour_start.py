@@ -15,6 +15,7 @@ from tabletop.config import load_config
 from tabletop.frames import InputError
 from tabletop.kiosk.runner import Runner
 from tests.tabletop.test_replay_exact import frames, replay_cli
+from tests.kiosk.test_kiosk_lock import status
 from tests.tracking.scenes import wait_for
 
 LOVER = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
@@ -56,13 +57,6 @@ class Latest:
         pass
 
 
-def _status(path: Path) -> dict:
-    try:
-        return json.loads(path.read_text())
-    except (OSError, ValueError):
-        return {}
-
-
 def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_path, caplog):
     cfg_path = _config(tmp_path)
     good = _corrupt(tmp_path / "lover")
@@ -74,18 +68,17 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
     assert engine.reactor is None and "demonstration.csv" in engine.note
     assert any("lover starts without its behaviour" in r.getMessage()
                and "demonstration.csv: line" in r.getMessage() for r in caplog.records)
-    status_file = tmp_path / "status.json"
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
     th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
     th.start()
     try:
-        assert wait_for(lambda: _status(status_file).get("behavior_errors"), 10.0)
-        (error,) = _status(status_file)["behavior_errors"]
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
+        (error,) = status(tmp_path)["behavior_errors"]
         assert error.startswith("lover: ") and "demonstration.csv: line" in error
         (tmp_path / "lover" / "demonstration.csv").write_text(good)
         assert wait_for(lambda: engine.reactor is not None, 20.0)
-        assert wait_for(lambda: _status(status_file).get("behavior_errors") == [], 10.0)
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 10.0)
         assert wait_for(lambda: any(c.valid for c in latest.characters), 10.0)
     finally:
         inst.loop.stop.set()

@@ -3,7 +3,6 @@ written: the last good config names the same folder, so a refused start would re
 for ever. It runs without recording, the status says why, and once the folder takes files again
 the recording starts. Outside a kiosk the same start is refused, naming the key."""
 
-import json
 from pathlib import Path
 
 import pytest
@@ -14,6 +13,7 @@ from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.simulate import SimClock, simulated
 from tabletop.recorder import RESUME_EVERY_S
 from tabletop.schema import ConfigError
+from tests.kiosk.test_kiosk_lock import status
 from tests.tracking.scenes import wait_for
 
 
@@ -33,20 +33,12 @@ def _config(tmp_path: Path) -> Path:
     return cfg_path
 
 
-def _status(path: Path) -> dict:
-    try:
-        return json.loads(path.read_text())
-    except (OSError, ValueError):
-        return {}
-
-
 def test_a_kiosk_starts_without_recording_into_an_unwritable_folder_and_resumes(tmp_path):
     cfg_path = _config(tmp_path)
     clock = SimClock()
     runner, inst = simulated(load_config(cfg_path), cfg_path, clock, kiosk=True, studio=False)
     (recorder,) = [s for s in inst.loop.sinks if s.name == "recorder"]
     assert recorder.failed is not None and recorder.failed.startswith(str(tmp_path / "blocked"))
-    status_file = tmp_path / "status.json"
 
     def run(seconds: float) -> None:
         for _ in range(int(seconds * 30)):
@@ -54,7 +46,7 @@ def test_a_kiosk_starts_without_recording_into_an_unwritable_folder_and_resumes(
             clock.advance(1 / 30)
     try:
         run(5.0)
-        assert wait_for(lambda: (_status(status_file).get("recording") or {}).get("failed"),
+        assert wait_for(lambda: (status(tmp_path).get("recording") or {}).get("failed"),
                         20.0)
         (tmp_path / "blocked").unlink()               # the folder can be made again
         run(RESUME_EVERY_S + 5.0)
