@@ -70,14 +70,10 @@ def check_marker_ids(cfg: dict, ctx: Context) -> None:
     for key in tracking.get("puck_ids", {}):
         if str(key).isdigit():
             check(f"tracking.puck_ids.{key}", int(key), default)
-    for i, s in enumerate(cfg["sources"]):
-        if s["kind"] not in MARKER_SOURCES:
-            continue
-        name = s.get("dictionary") or default
-        for j, marker in enumerate(s.get("pucks", [])):
-            check(f"sources[{i}].pucks[{j}]", marker, name)
-        for j, perf in enumerate(s.get("performers", [])):
-            check(f"sources[{i}].performers[{j}].puck", perf["puck"], name)
+    for i, _, key, marker in moved_pucks(cfg):
+        s = cfg["sources"][i]
+        if s["kind"] in MARKER_SOURCES:
+            check(key, marker, s.get("dictionary") or default)
 
 
 def moved_pucks(cfg: dict) -> list[tuple[int, str, str, int]]:
