@@ -181,16 +181,18 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
                wrap_source: Callable[[Any, dict], Any] | None = None,
                header_extra: dict[str, Any] | None = None,
                prepared: tuple[BuildContext, list[Engine]] | None = None,
-               strict: bool = False, kiosk_start: bool = False) -> Installation:
+               strict: bool = True, kiosk_start: bool = False) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
 
     ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
     replaces the monotonic clock and unpaces the loop (simulated time:
     :mod:`tabletop.kiosk.simulate`); ``wrap_source(source, entry)`` may wrap each source.
     ``header_extra``: more keys for a recording's header (the studio's). ``prepared``: the
-    context and engines already built for ``cfg`` (a kiosk's warm spare). ``strict``: refuse a
-    recorder ``max_mb`` below the header or a recording folder that cannot be written (a start
-    outside a kiosk; see :func:`build_recorder`).
+    context and engines already built for ``cfg`` (a kiosk's warm spare). ``strict`` (the
+    default, as the Recorder's own): refuse a recorder ``max_mb`` below the header or a
+    recording folder that cannot be written (a start outside a kiosk, where someone reads the
+    error; see :func:`build_recorder`); a kiosk's start, which may be a restart, passes False
+    and runs on.
     ``kiosk_start``: a behaviour folder holding a bad file starts its character without it
     (:func:`tabletop.plugins.puppet_master.build`) instead of refusing the installation."""
     ctx = _context(cfg) if prepared is None else prepared[0]

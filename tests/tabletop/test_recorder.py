@@ -155,6 +155,21 @@ def test_a_recorder_path_that_exists_continues_under_a_free_name(tmp_path):
     assert all(len(list(read_frames(tmp_path / "sessions" / n))) > 3 for n in names)
 
 
+def test_a_live_build_refuses_an_unwritable_recording_folder_unless_told_to_run_on(tmp_path):
+    """Strict is the default of a live build (someone reads the error); only a caller that
+    says so (a kiosk's start, which may be a restart) runs on without recording."""
+    from tabletop.schema import ConfigError
+    (tmp_path / "blocked").write_text("not a folder")    # (root: permission bits refuse nothing)
+    cfg = kiosk_config(tmp_path, folder="blocked/sessions")
+    with pytest.raises(ConfigError, match=r"recorder\.folder: .*cannot start a recording there"):
+        build_live(cfg)
+    inst = build_live(cfg, strict=False)
+    try:
+        assert inst.recorder.failed is not None
+    finally:
+        inst.loop.close()
+
+
 def test_two_recorders_started_at_once_never_collide(tmp_path):
     from tabletop.recorder import Recorder
 
