@@ -38,6 +38,13 @@ class UnreadableText(Exception):
     encoding read (the message names the line of the first byte that is not)."""
 
 
+def line_of(data: bytes, offset: int) -> int:
+    """The line (from 1) holding byte ``offset`` of ``data``, lines ending as universal
+    newlines end them: CR LF, LF, or CR alone (a file saved with classic Mac line ends)."""
+    crlf = data.count(b"\r\n", 0, offset)
+    return data.count(b"\n", 0, offset) + data.count(b"\r", 0, offset) - crlf + 1
+
+
 def read_text(path: Path, encoding: str = "utf-8") -> str:
     """``path.read_text(encoding)`` (universal newlines), refusing (UnreadableText) what is
     longer than any input file of ours (an endless device or a wrong file is not read into
@@ -52,7 +59,7 @@ def read_text(path: Path, encoding: str = "utf-8") -> str:
     try:
         text = data.decode(encoding)
     except UnicodeDecodeError as exc:
-        line = exc.object.count(b"\n", 0, exc.start) + 1
+        line = line_of(exc.object, exc.start)
         raise UnreadableText(f"line {line}: byte 0x{exc.object[exc.start]:02x} is not UTF-8 "
                              "text (a binary file, or text saved in another encoding?)") from None
     return text.replace("\r\n", "\n").replace("\r", "\n")

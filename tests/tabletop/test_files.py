@@ -149,6 +149,8 @@ def test_an_error_reading_a_source_while_writing_keeps_its_own_message(tmp_path)
     ("config.yaml", b"table:\n  width: 1.2\nsources: [{kind: scripted, name: 'v\xe9'}]\n", 3),
     ("demo.csv", b"\xef\xbb\xbft,x\n0,1\n0.1,\xe92\n", 3),
     ("calibration.yaml", b"\x89PNG\r\n\x1a\n\x00\x00", 1),
+    ("demo.csv", b"t,x\r0,1\r0.1,\xe92\r", 3),                       # CR-only line ends
+    ("config.yaml", b"a: 1\r\nb: 2\rc: 3\nd: '\xe9'\r\n", 4),          # mixed line ends
 ])
 def test_a_file_that_is_not_utf8_text_is_refused_naming_its_line(tmp_path, name, data, line):
     # (the message was Python's "'utf-8' codec can't decode byte 0xe9 in position 38")
