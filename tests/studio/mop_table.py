@@ -10,13 +10,14 @@ from tests.mop.helpers import RATE, Table, build, designer_config
 
 
 class StudioTable(Table):
-    """The stage behind a studio (no countdown, training within the tick), stepped as the loop
-    does: studio filter, then the engine; ``status`` is the studio's status line."""
+    """The stage behind a studio (no countdown, followers built within the tick, a take tried
+    from the tick after its stop), stepped as the loop does: studio filter, then the engine;
+    ``status`` is the studio's status line."""
 
     def __init__(self, engine, lib: Path, focus: str = "mop/face") -> None:
         super().__init__(engine)
         self.targets = [MopTarget(engine, c, lib, background=False) for c in engine.order]
-        self.studio = Studio(self.targets, countdown_s=0.0)
+        self.studio = Studio(self.targets, countdown_s=0.0, swap_s=0.0)
         self.focus, self.status = focus, ""
 
     def tick(self, commands=(), focus=None):
@@ -29,6 +30,15 @@ class StudioTable(Table):
         self.seq += 1
         return out
 
+    def stop_take(self):
+        """The tick that stops the take, then the ticks until it is tried (the take's likeness
+        check runs in its target's worker, waited for on the next tick); the last tick's
+        characters."""
+        out = self.tick(["designer.record"])
+        while self.studio.state == "training":
+            out = self.tick()
+        return out
+
 def face_take(tmp_path, gesture: str = "line"):
     """A run with the face's take of ``gesture`` being tried; (engine, table), the library
     read at once."""
@@ -39,7 +49,7 @@ def face_take(tmp_path, gesture: str = "line"):
     table.rest(1.0)
     table.tick(["designer.record"])
     table.perform(gesture)
-    table.tick(["designer.record"])
+    table.stop_take()
     return engine, table
 
 def kept_line(tmp_path):
@@ -59,7 +69,7 @@ def kept_without_library(tmp_path, cfg: dict | None = None):
     table.rest(1.0)
     table.tick(["designer.record"])
     table.perform("line")
-    table.tick(["designer.record"])
+    table.stop_take()
     table.tick(["designer.keep"])
     assert "for this run only" in table.status
     return engine, table, cfg

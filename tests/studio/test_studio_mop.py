@@ -22,7 +22,7 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     table.tick()
     assert "recording" in table.status and table.studio.state == "recording"
     table.perform("square")
-    table.tick(["designer.record"])
+    table.stop_take()
     assert "take1 -> strike" in table.status and table.studio.state == "trying"
     assert engine.puppets["lizard"].actions["take1"].clip.name == "strike"
     table.tick(["designer.assign"])
@@ -33,7 +33,8 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     run = table.perform("square", speed=lambda u: 1.3)
     late = [ch["lizard"] for u, ch in run if u > 0.5]
     assert np.mean([x.valid and x.action == "take1" for x in late]) > 0.9
-    assert late[-1].progress > 0.85
+    assert [x.progress for x in late if x.valid][-1] > 0.85   # (the very last tick may
+    # or may not see the puck at rest, by the tick's phase against the 30 Hz samples)
     # keep: written atomically to the library, and a new engine loads it
     table.tick(["designer.keep"])
     assert "kept as take1" in table.status and table.studio.state == "idle"
@@ -270,5 +271,5 @@ def test_a_take_whose_puck_is_not_seen_says_so(tmp_path):
         table.tick()
     table.pucks[1] = (0.3, 0.3)
     table.perform("zigzag")
-    table.tick(["designer.record"])
+    table.stop_take()
     assert "take1 ->" in table.status and "puck 1 unseen 0.5 s of" in table.status, table.status

@@ -74,7 +74,7 @@ def test_a_new_take_never_takes_the_name_of_a_library_file_skipped_at_load(tmp_p
     table.rest(1.0)
     table.tick(["designer.record"])
     table.perform("line")
-    table.tick(["designer.record"])
+    table.stop_take()
     assert "take3 -> " in table.status
     table.tick(["designer.keep"])
     assert "kept as take3" in table.status

@@ -46,3 +46,20 @@ def test_with_the_followers_built_in_a_worker_the_take_is_named_once_trained(tmp
     assert states[0] == "training" and states[-1] == "trying", states
     assert "take2 is too like circle: MOP cannot tell them apart" in table.status, table.status
     assert all(t.close() for t in table.targets)
+
+
+def test_with_the_followers_built_within_the_tick_the_replay_is_off_it(tmp_path):
+    """Without a training worker the stop's tick builds the followers (the take is followed from
+    it) but leaves the take's replay (30-65 ms) to the target's own worker: the take is tried,
+    named too like circle, from the next tick."""
+    engine, table = face_take(tmp_path, "line")
+    table.tick(["designer.discard"])
+    table.tick(["designer.record"])
+    table.perform("circle")
+    table.tick(["designer.record"])
+    assert "take2" in engine.puppets["face"].actions       # followed from the stop's tick
+    assert table.studio.state == "training", table.status
+    table.tick()
+    assert table.studio.state == "trying"
+    assert "take2 is too like circle: MOP cannot tell them apart" in table.status, table.status
+    assert all(t.close() for t in table.targets)

@@ -20,7 +20,7 @@ def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):
     table.rest(0.4)
     table.perform("zigzag")
     table.rest(0.4)
-    table.tick(["designer.record"])
+    table.stop_take()
     assert table.studio.state == "trying"
     n = len(engine.templates["lizard"]["take1"][1])
     gesture_samples = G.gesture("zigzag")[-1, 0] * engine.rate_hz
@@ -65,7 +65,7 @@ def test_a_take_rested_longer_than_the_rest_time_and_tracked_with_jitter_is_trim
     _jittered_rest(table, 1.5, rng, jitter)
     table.perform("zigzag", noise=jitter, seed=4)
     _jittered_rest(table, 1.5, rng, jitter)
-    table.tick(["designer.record"])
+    table.stop_take()
     assert table.studio.state == "trying"
     samples = engine.templates["lizard"]["take1"][1]
     g = G.gesture("zigzag")
@@ -96,7 +96,7 @@ def test_a_take_paused_longer_than_the_rest_time_keeps_its_hold_and_goes_on_from
         table.tick()
         tau += 1.0 / RATE
     table.rest(0.3)
-    table.tick(["designer.record"])
+    table.stop_take()
     assert table.studio.state == "trying"
     samples = engine.templates["lizard"]["take1"][1][:, :2]
     steps = np.hypot(*np.diff(samples, axis=0).T)
