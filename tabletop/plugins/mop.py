@@ -47,9 +47,9 @@ from behaviors.mop.inputs import Performer, PuckInput, StreamInput, TouchInput
 from behaviors.mop.puppetry import FaceRig, HumanoidRig, HybridRig, PlanarRig, Puppet
 from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_stream import check_stream
-from tabletop.plugins.mop_files import (WINDOW_RANGE, MopError, MotionLoader, configured_actions,
-                                        library_actions, library_names, load_template, read_window,
-                                        resolve_motion, save_to_library)
+from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, MotionLoader,
+                                        configured_actions, library_actions, library_names,
+                                        load_template, resolve_motion, save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
@@ -400,8 +400,9 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         started_without += bad
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
+            file = ActionsFile(library, c["name"])          # read once: window and entries
             try:
-                window = read_window(library, c["name"])
+                window = file.window()
             except MopError as exc:
                 bad_window[c["name"]] = str(exc)
                 window = None
@@ -410,7 +411,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                 log.info("MOP character %r follows with the window %d saved in its actions.yaml "
                          "(the config's follower.window: %d)", c["name"], window, fo["window"])
             kept, bad = library_actions(library, c["name"], performers[c["performer"]].names,
-                                        rate, loader, configured[c["name"]])
+                                        rate, loader, configured[c["name"]], file)
             for action, samples in kept:
                 actions.append(action)
                 tmpl[action.name] = (c["performer"], samples)

@@ -147,40 +147,74 @@ def configured_actions(character: dict[str, Any], features: dict[str, tuple[str,
 LIBRARY_FILE = "actions.yaml"
 
 
+class ActionsFile:
+    """``<folder>/<character>/actions.yaml`` parsed once: its kept actions (:meth:`entries`) and
+    the follower's window the studio saved (:meth:`window`) come from the one parse, at an
+    engine's start and at a keep alike (each read the file apart, so a keep landing between
+    the two could give the window of one version and the entries of another)."""
+
+    def __init__(self, folder: Path, character: str) -> None:
+        import yaml
+        self.path = folder / character / LIBRARY_FILE
+        self._data: Any = None
+        self._error: str | None = None      # why the file cannot be read
+        if not self.path.is_file():
+            return
+        try:
+            self._data = yaml.safe_load(self.path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+            self._error = f"{self.path}: cannot read the action library: {exc}"
+
+    def entries(self) -> list[dict[str, str]]:
+        """Kept actions: ``[{name, template, motion}]`` (none when the file does not exist). A
+        corrupt file is refused with a message naming it (and is never overwritten: a keep is
+        refused; the engine starts without that character's kept actions, see
+        :func:`library_actions`)."""
+        if self._error is not None:
+            raise MopError(self._error)
+        data = self._data
+        if data is None:
+            return []
+        ok = isinstance(data, dict) and isinstance(data.get("actions"), list) and all(
+            isinstance(a, dict) and all(isinstance(a.get(k), str)
+                                        for k in ("name", "template", "motion"))
+            for a in data["actions"])
+        if not ok:
+            raise MopError(f"{self.path}: expected 'actions:' followed by a list of "
+                           "{name, template, motion}")
+        return data["actions"]
+
+    def window(self) -> int | None:
+        """The follower's window (states) the studio saved, None when the file has none or
+        cannot be read (:meth:`entries` says why); one out of :data:`WINDOW_RANGE` or not an
+        integer is refused naming the file."""
+        lo, hi = WINDOW_RANGE
+        w = self._data.get("window") if isinstance(self._data, dict) else None
+        if w is None:
+            return None
+        if isinstance(w, bool) or not isinstance(w, int) or not lo <= w <= hi:
+            raise MopError(f"{self.path}: window: expected a whole number of states in "
+                           f"{lo}..{hi}, got {w!r}")
+        return w
+
+
 def read_library(folder: Path, character: str) -> list[dict[str, str]]:
-    """Kept actions of ``character``: ``[{name, template, motion}]`` from
-    ``<folder>/<character>/actions.yaml`` (none when the file does not exist). A corrupt file is
-    refused with a message naming it (and is never overwritten: a keep is refused; the engine
-    starts without that character's kept actions, see :func:`library_actions`)."""
-    import yaml
-    f = folder / character / LIBRARY_FILE
-    if not f.is_file():
-        return []
-    try:
-        data = yaml.safe_load(f.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise MopError(f"{f}: cannot read the action library: {exc}") from None
-    if data is None:
-        return []
-    ok = isinstance(data, dict) and isinstance(data.get("actions"), list) and all(
-        isinstance(a, dict) and all(isinstance(a.get(k), str) for k in ("name", "template", "motion"))
-        for a in data["actions"])
-    if not ok:
-        raise MopError(f"{f}: expected 'actions:' followed by a list of {{name, template, motion}}")
-    return data["actions"]
+    """Kept actions of ``character`` (:meth:`ActionsFile.entries`)."""
+    return ActionsFile(folder, character).entries()
 
 
 def library_actions(folder: Path, character: str, names: tuple[str, ...], rate_hz: float,
-                    loader: MotionLoader, configured: Collection[str] = ()
+                    loader: MotionLoader, configured: Collection[str] = (),
+                    file: ActionsFile | None = None
                     ) -> tuple[list[tuple[Action, np.ndarray]], list[str]]:
     """The kept actions of ``character`` in the library ``folder`` (each with its template at
     ``rate_hz``), and one message per bad file or entry: skipped, the others load. An entry
     without a name, with the name of an earlier entry or of an action the config gives the
     character (``configured``) is bad, skipped and named with its file rather than stopping the
     engine's start or silently replacing the earlier entry's action (a repeated name) or the
-    configured action (a configured one)."""
+    configured action (a configured one). ``file``: its actions.yaml as already read."""
     try:
-        entries = read_library(folder, character)
+        entries = (file or ActionsFile(folder, character)).entries()
     except MopError as exc:
         return [], [str(exc)]
     out, problems = [], []
@@ -232,14 +266,15 @@ def save_to_library(folder: Path, character: str, action: str, samples: np.ndarr
     stage keeps the take under the next free name): nothing saved is written over."""
     d = folder / character
     with library_lock(folder, character):
-        entries = read_library(folder, character)
+        file = ActionsFile(folder, character)
+        entries = file.entries()
         csv_name = f"{action}.csv"
         if action in library_names(folder, character, entries):
             raise NameTaken(f"{d}: {action!r} is in the library already; not written over")
         t = np.arange(len(samples)) / rate_hz
         write_csv(d / csv_name, ("t",) + tuple(names), np.column_stack([t, samples]).tolist())
         write_library(folder, character, entries + [{"name": action, "template": csv_name,
-                                                     "motion": motion}])
+                                                     "motion": motion}], window=file.window())
     return f"kept {action} -> {motion} in {d}"
 
 
@@ -268,27 +303,8 @@ def write_library(folder: Path, character: str, entries: list[dict[str, str]],
     follower's ``window`` the studio set (``...``: the one the file has; None: none)."""
     import yaml
     if window is ...:
-        window = read_window(folder, character)
+        window = ActionsFile(folder, character).window()
     data: dict = {"actions": entries}
     if window is not None:
         data["window"] = int(window)
     atomic_write_text(folder / character / LIBRARY_FILE, yaml.safe_dump(data, sort_keys=False))
-
-
-def read_window(folder: Path, character: str) -> int | None:
-    """The follower's window (states) the studio saved in ``character``'s actions.yaml, None
-    when it has none or the file cannot be read (:func:`read_library` says why); one out of
-    :data:`WINDOW_RANGE` or not an integer is refused naming the file."""
-    import yaml
-    lo, hi = WINDOW_RANGE
-    f = folder / character / LIBRARY_FILE
-    try:
-        data = yaml.safe_load(f.read_text(encoding="utf-8")) if f.is_file() else None
-    except (OSError, UnicodeDecodeError, yaml.YAMLError):
-        return None
-    w = data.get("window") if isinstance(data, dict) else None
-    if w is None:
-        return None
-    if isinstance(w, bool) or not isinstance(w, int) or not lo <= w <= hi:
-        raise MopError(f"{f}: window: expected a whole number of states in {lo}..{hi}, got {w!r}")
-    return w
