@@ -387,16 +387,16 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     bad_window: dict[str, str] = {}          # why a character's saved window is not read
     configured = {c["name"]: {a["name"] for a in c["actions"]} for c in options["characters"]}
     # a kiosk's start (or its replay) runs without the configured actions it cannot read
-    without = bool(ctx.shared.get("kiosk_start")
-                   or options["name"] in ctx.shared.get("started_without", ()))
+    started = ctx.shared.get("started_without", {})     # (a replay's: the run's, per engine)
+    without = bool(ctx.shared.get("kiosk_start") or options["name"] in started)
     started_without: list[str] = []
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
         loaders[c["name"]] = loader
         bound[c["name"]] = c["performer"]
-        actions, tmpl, bad = configured_actions(
-            c, {n: p.names for n, p in performers.items()}, loader, rate, without)
+        actions, tmpl, bad = configured_actions(c, {n: p.names for n, p in performers.items()},
+                                                loader, rate, without, started.get(options["name"]))
         started_without += bad
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])

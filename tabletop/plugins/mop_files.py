@@ -111,16 +111,21 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
 
 
 def configured_actions(character: dict[str, Any], features: dict[str, tuple[str, ...]],
-                       loader: MotionLoader, rate_hz: float, without: bool
+                       loader: MotionLoader, rate_hz: float, without: bool,
+                       recorded: Any = None
                        ) -> tuple[list[Action], dict[str, tuple[str, np.ndarray]], list[str]]:
     """The actions the config gives ``character``, their templates (``{action: (performer,
     samples at rate_hz)}``; ``features``: each performer's feature columns), and one message
     per action whose clip or template cannot be read. With ``without`` (a kiosk's start, or
     the replay of one) the character starts without such actions, each named with its file
     (and line): a kiosk restarted for ever on a corrupt template, its last good config naming
-    the same file. Otherwise the first is raised (MopError naming the action, or the file's)."""
+    the same file. Otherwise the first is raised (MopError naming the action, or the file's).
+    ``recorded``: the replay of a kiosk's start, the engine's ``started_without`` text (these
+    messages, joined by "; "): the character starts without exactly the actions it names,
+    else MopError names both sets (a carried file missing or damaged: the replay would differ
+    from the run)."""
     from behaviors.motion.clips import TimeWarp
-    actions, tmpl, problems = [], {}, []
+    actions, tmpl, problems, unread = [], {}, [], []
     for a in character["actions"]:
         performer = a["performer"] or character["performer"]
         try:
@@ -129,17 +134,32 @@ def configured_actions(character: dict[str, Any], features: dict[str, tuple[str,
                 loader.rig.check(clip)
             samples = load_template(Path(a["template"]), features[performer], rate_hz)
         except InputError as exc:
-            why = f"character {character['name']!r}, action {a['name']!r}: {exc}"
+            why = f"{_action_named(character['name'], a['name'])}: {exc}"
             if not without:
                 raise (MopError(why) if isinstance(exc, ClipError) else exc) from None
             log.error("MOP character starts without the action until the file is fixed and "
                       "the kiosk restarts: %s", why)
             problems.append(why)
+            unread.append(a["name"])
             continue
         actions.append(Action(a["name"], clip, TimeWarp(a["warp"]) if a.get("warp")
                               else TimeWarp()))
         tmpl[a["name"]] = (performer, samples)
+    if isinstance(recorded, str):           # (a recording's header may hold anything)
+        was = [a["name"] for a in character["actions"]
+               if any(p.startswith(f"{_action_named(character['name'], a['name'])}: ")
+                      for p in recorded.split("; "))]
+        if sorted(was) != sorted(unread):
+            def named(names: list[str]) -> str:
+                return ", ".join(repr(n) for n in sorted(names)) or "nothing"
+            raise MopError(f"character {character['name']!r}: the recording started without "
+                           f"{named(was)}, but this replay could not read {named(unread)}")
     return actions, tmpl, problems
+
+
+def _action_named(character: str, action: str) -> str:
+    """An action as a start's messages name it (a recording's ``started_without`` holds them)."""
+    return f"character {character!r}, action {action!r}"
 
 
 # --- the designer's library ----------------------------------------------------------------------

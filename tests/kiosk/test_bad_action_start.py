@@ -64,6 +64,17 @@ def _corrupt(tmp_path: Path) -> None:
     (tmp_path / "wag.json").write_text(clip[:len(clip) // 2])
 
 
+def _circle_damaged(session: Path) -> Path:
+    """A copy of the recording ``session`` whose carried circle template is damaged too."""
+    lines = session.read_text().splitlines()
+    header = json.loads(lines[0])
+    key = next(k for k in header["files"] if k.endswith("circle.csv"))
+    header["files"][key] = {"text": header["files"][key]["text"] + "1e3,0.5\n"}
+    damaged = session.with_name("damaged.jsonl")
+    damaged.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n")
+    return damaged
+
+
 def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path, caplog):
     cfg_path = _config(tmp_path)
     _corrupt(tmp_path)
@@ -113,17 +124,30 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     assert [f["characters"] for f in live] == [f["characters"] for f in again]
     # a recording whose carried circle template is damaged too: refused, not replayed without
     # one more action than the run had
-    lines = session.read_text().splitlines()
-    key = next(k for k in header["files"] if k.endswith("circle.csv"))
-    header["files"][key] = {"text": header["files"][key]["text"] + "1e3,0.5\n"}
-    damaged = tmp_path / "damaged.jsonl"
-    damaged.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n")
-    done = replay_cli(damaged, tmp_path / "replayed-2.jsonl")
+    done = replay_cli(_circle_damaged(session), tmp_path / "replayed-2.jsonl")
     assert done.returncode == 2, done.stderr
     last = done.stderr.strip().splitlines()[-1]
-    assert last.startswith("tabletop replay: error: ") and "mop: the recording started " \
-        "without lone's line, walker's line, walker's square, but this replay could not read " \
-        "lone's line, walker's circle, walker's line, walker's square" in last, last
+    assert last.startswith("tabletop replay: error: ") and "character 'walker': the " \
+        "recording started without 'line', 'square', but this replay could not read " \
+        "'circle', 'line', 'square'" in last, last
+
+
+def test_the_replay_of_a_start_without_actions_named_with_quotes_checks_them(tmp_path):
+    """Names holding a quote (shown in double quotes in the start's messages) are checked as
+    any: a recording whose carried circle template is damaged is refused."""
+    cfg_path = _config(tmp_path)
+    text = cfg_path.read_text().replace("name: walker", "name: o'walker")
+    cfg_path.write_text(text.replace("name: line", "name: it's line"))
+    _corrupt(tmp_path)
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
+    runner._build(runner.cfg).loop.run(seconds=0.5)
+    done = replay_cli(_circle_damaged(session), tmp_path / "replayed.jsonl")
+    assert done.returncode == 2, done.stderr
+    assert "character \"o'walker\": the recording started without \"it's line\", 'square', " \
+        "but this replay could not read 'circle', \"it's line\", 'square'" in done.stderr, \
+        done.stderr
 
 
 def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(tmp_path):
