@@ -78,7 +78,8 @@ class MopStage(DesignerTakes):
     ``taken(character)``: the names ``save`` holds already (a new take is named none of them);
     ``make_group(followers)`` (optional) steps all followers together, e.g.
     :class:`~behaviors.mop.group.FollowerGroup`; ``windows``: character -> the follower's window
-    set in the studio (:meth:`set_window`).
+    set in the studio (:meth:`set_window`); ``default_window``: the followers' window (states)
+    where none is set (the config's ``follower.window``).
     """
 
     def __init__(self, name: str, rate_hz: float, performers: Mapping[str, Performer],
@@ -89,7 +90,7 @@ class MopStage(DesignerTakes):
                  max_catch_up: int = 4,
                  make_group: Callable[[list], object] | None = None,
                  taken: Callable[[str], Iterable[str]] | None = None,
-                 windows: Mapping[str, int] | None = None) -> None:
+                 windows: Mapping[str, int] | None = None, *, default_window: int) -> None:
         self.name = name
         self.rate_hz = float(rate_hz)
         self.performers = dict(performers)
@@ -119,7 +120,7 @@ class MopStage(DesignerTakes):
         self.building = False               # a rebuild runs in the worker
         #: character -> the window the studio set (its performer's follower reaches it)
         self.windows: dict[str, int] = dict(windows or {})
-        self.default_window = 15             # the followers' window when none is set (config's)
+        self.default_window = int(default_window)
         self._retrain()
         self._next_t: float | None = None
         self.take: Take | None = None       # the designer's take (recording or pending)

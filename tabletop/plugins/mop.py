@@ -435,8 +435,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                      save if library is not None else None, bound,
                      make_group=grouped(FollowerGroup), windows=windows,
                      taken=(lambda character: library_names(library, character))
-                     if library is not None else None)
-    stage.default_window = fo["window"]
+                     if library is not None else None, default_window=fo["window"])
     # (the status's behavior_errors; a recording's started_without)
     stage.start_problems, stage.problem = started_without, "; ".join(started_without)
     for p in (p for bad in problems.values() for p in bad):
