@@ -7,7 +7,7 @@ next gesture.
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -191,14 +191,19 @@ class StreamInput:
         """How the studio names it: "stream arm"."""
         return f"stream {self.stream}"
 
+    def _lookup(self, frame: object) -> tuple[Any, bool]:
+        """The stream's array in ``frame`` (None when missing), and whether it is too short
+        to read every column :attr:`_read`."""
+        a = getattr(frame, "streams", {}).get(self.stream)
+        return a, a is not None and a.size <= self._last
+
     def absent(self, frame: object) -> bool:
         """Is the stream missing from ``frame``, or too short (its read NaN, no sample)?"""
-        a = getattr(frame, "streams", {}).get(self.stream)
-        return a is None or a.size <= self._last
+        a, short = self._lookup(frame)
+        return a is None or short
 
     def read(self, frame: object, t: float) -> np.ndarray:
-        a = getattr(frame, "streams", {}).get(self.stream)
-        short = a is not None and a.size <= self._last
+        a, short = self._lookup(frame)
         self.problem = (f"stream {self.stream!r} has {a.size} column(s), reads column(s) "
                         f"{', '.join(str(c) for c in self._read)}") if short else None
         if a is None or short:
