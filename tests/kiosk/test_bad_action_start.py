@@ -6,7 +6,6 @@ touch-pose action file is listed there too, while its library holds it."""
 
 import json
 import shutil
-import threading
 from pathlib import Path
 
 import pytest
@@ -18,7 +17,7 @@ from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
-from tests.kiosk.test_bad_behaviour_start import Latest
+from tests.kiosk.running import Latest, running
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
@@ -94,16 +93,11 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     assert sum("starts without the action" in r.getMessage() for r in caplog.records) == 3
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
-    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 2})
-    th.start()
-    try:
+    with running(inst, 2, run_out=True):
         assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
         listed = status(tmp_path)["behavior_errors"]
         assert listed == [f"mop: {e}" for e in errors]
         assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters}, 10.0)
-    finally:
-        th.join(30)
-        inst.loop.stop.set()
     # the config watcher's first look finds the running config, not an edit to refuse; an
     # edit while the template is corrupt is refused naming it
     watcher = ConfigWatcher(cfg_path, runner.cfg, runner._load, runner._apply, every_s=0.0)
@@ -177,16 +171,11 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
     session = tmp_path / "session.jsonl"
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
     inst = runner._build(runner.cfg)
-    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
-    th.start()
-    try:
+    with running(inst, 30):
         assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
         (error,) = status(tmp_path)["behavior_errors"]
         assert error.startswith(f"poser: {bad}: cannot read the action") and "line 3" in error
         shutil.rmtree(bad.parent)
         assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 15.0)
-    finally:
-        inst.loop.stop.set()
-        th.join(30)
     header = json.loads(session.read_text().splitlines()[0])
     assert set(header["started_without"]) == {"poser"}

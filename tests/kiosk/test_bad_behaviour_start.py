@@ -5,7 +5,6 @@ is refused, naming the file."""
 
 import json
 import shutil
-import threading
 from pathlib import Path
 
 import pytest
@@ -15,6 +14,7 @@ from tabletop.config import load_config
 from tabletop.frames import InputError
 from tabletop.kiosk.runner import Runner
 from tests.tabletop.test_replay_exact import frames, replay_cli
+from tests.kiosk.running import Latest, running
 from tests.kiosk.test_kiosk_lock import status
 from tests.tracking.scenes import wait_for
 
@@ -43,20 +43,6 @@ def _corrupt(folder: Path) -> str:
     return good
 
 
-class Latest:
-    """A sink keeping the last frame's characters."""
-    name = "latest"
-
-    def __init__(self):
-        self.characters = ()
-
-    def consume(self, frame):
-        self.characters = frame.characters
-
-    def close(self):
-        pass
-
-
 def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_path, caplog):
     cfg_path = _config(tmp_path)
     good = _corrupt(tmp_path / "lover")
@@ -70,9 +56,7 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
                and "demonstration.csv: line" in r.getMessage() for r in caplog.records)
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
-    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
-    th.start()
-    try:
+    with running(inst, 30):
         assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
         (error,) = status(tmp_path)["behavior_errors"]
         assert error.startswith("lover: ") and "demonstration.csv: line" in error
@@ -80,9 +64,6 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
         assert wait_for(lambda: engine.reactor is not None, 20.0)
         assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 10.0)
         assert wait_for(lambda: any(c.valid for c in latest.characters), 10.0)
-    finally:
-        inst.loop.stop.set()
-        th.join(10)
     # the replay starts the character without its behaviour too (the header's started_without)
     # and trains the fixed folder in the frame the live run did
     done = replay_cli(session, tmp_path / "replayed.jsonl")
