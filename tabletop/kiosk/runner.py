@@ -17,6 +17,7 @@ from tabletop.app import build_live
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
+from tabletop.kiosk.actions import ActionReloader
 from tabletop.kiosk.health import (Heartbeat, HealthReporter, WatchdogPing,
                                    recording_status, snapshot_status)
 from tabletop.kiosk.notify import Notifier
@@ -190,6 +191,9 @@ class Runner:
                      if getattr(e, "folder", None) is not None and e not in held]
         for r in reloaders:
             loop.filters.insert(0, r)    # (recorded for replays)
+        for e in loop.engines:           # MOP actions started without, followed once fixed
+            if getattr(e, "missing", None):
+                loop.filters.insert(0, ActionReloader(e))
         # a behaviour file that went bad on disk (the character plays the version read before,
         # or none at a start), as the log and the character's label say
         # , and each action a character goes without (a MOP clip or template, a touch-pose

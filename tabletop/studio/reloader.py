@@ -232,4 +232,8 @@ class RecordedReloads:
         for name, note in reload.get("notes", {}).items():
             if name in self.engines:
                 self.engines[name].note = str(note)
+        for name, entries in reload.get("actions", {}).items():   # MOP actions followed again
+            if name in self.engines and isinstance(entries, list):
+                from tabletop.kiosk.actions import replay_actions
+                replay_actions(self.engines[name], entries)
         return frame

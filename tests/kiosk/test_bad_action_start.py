@@ -126,6 +126,59 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
         "lone's line, walker's circle, walker's line, walker's square" in last, last
 
 
+def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(tmp_path):
+    """The technician replaces the corrupt template, then the corrupt clip: within seconds,
+    without a restart, each character follows the actions they complete (the lone creature
+    one, the walker all three), the status's behavior_errors empty out, and the recording
+    replays to the same characters, the actions followed from the same frame."""
+    cfg_path = _config(tmp_path)
+    shutil.copy(GESTURES / "line.csv", tmp_path / "drawn.csv")
+    edited = yaml.safe_load(cfg_path.read_text())     # the visitor's puck draws the line
+    edited["sources"][0]["performers"] = [{"puck": 1, "home": [0.5, 0.4],
+                                           "gestures": ["drawn.csv"], "speed": [1.0, 1.0]}]
+    cfg_path.write_text(yaml.safe_dump(edited))
+    good = {name: (tmp_path / name).read_text() for name in ("line.csv", "wag.json")}
+    _corrupt(tmp_path)
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
+    inst = runner._build(runner.cfg)
+    stage = inst.engines[0]
+    latest = Latest()
+    inst.loop.sinks.insert(0, latest)
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 60})
+    th.start()
+    try:
+        assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 3, 10.0)
+        (tmp_path / "line.csv").write_text(good["line.csv"])
+        assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 1, 10.0)
+        (error,) = status(tmp_path)["behavior_errors"]
+        assert "'walker', action 'square'" in error and "wag.json" in error
+        assert {n: set(t) for n, t in stage.templates.items()} == {
+            "walker": {"circle", "line"}, "lone": {"line"}}
+        (tmp_path / "wag.json").write_text(good["wag.json"])
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 10.0)
+        assert set(stage.templates["walker"]) == {"circle", "line", "square"}
+        assert set(stage.puppets["walker"].actions) == {"circle", "line", "square"}
+        # the line drawn drives both characters' line action
+        assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters
+                                                        if c.action == "line"}, 20.0)
+    finally:
+        inst.loop.stop.set()
+        th.join(30)
+    header = json.loads(session.read_text().splitlines()[0])
+    assert set(header["started_without"]) == {"mop"}
+    followed = [f["consumed"]["reload"]["actions"]["mop"] for f in frames(session)
+                if "actions" in f.get("consumed", {}).get("reload", {})]
+    assert [[(e["character"], e["action"]) for e in f] for f in followed] == [
+        [("walker", "line"), ("lone", "line")], [("walker", "square")]]
+    done = replay_cli(session, tmp_path / "replayed.jsonl")
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
+    assert len(live) == len(again) > 30
+    assert [f["characters"] for f in live] == [f["characters"] for f in again]
+
+
 def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(tmp_path):
     cfg_path = _config(tmp_path)
     _corrupt(tmp_path)
