@@ -186,11 +186,10 @@ def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(
         last_good.load(cfg_path, kiosk=False)
 
 
-def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, models):
-    """A touch-pose character starts without an action file cut short (in a kiosk or not, as
-    the others load); the kiosk's status lists it with its file and line in behavior_errors, its
-    recording's header in started_without, until the folder no longer holds it."""
-    bad = tmp_path / "pose_actions" / "wave" / "action.json"
+def _pose_kiosk(tmp_path: Path, name: str) -> tuple[Path, Path]:
+    """A kiosk's config with one touch-pose character whose library's action ``name`` is a
+    file cut short: (that file, the config)."""
+    bad = tmp_path / "pose_actions" / name / "action.json"
     bad.parent.mkdir(parents=True)
     bad.write_text('{\n  "format": "tabletop.pose_action",\n  "part": ')
     cfg_path = tmp_path / "config.yaml"
@@ -202,6 +201,14 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
         "view": {"size": [320, 180], "headless": True},
         "kiosk": {"heartbeat": {"enabled": False}, "status_file": "status.json"},
     }))
+    return bad, cfg_path
+
+
+def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, models):
+    """A touch-pose character starts without an action file cut short (in a kiosk or not, as
+    the others load); the kiosk's status lists it with its file and line in behavior_errors, its
+    recording's header in started_without, until the folder no longer holds it."""
+    bad, cfg_path = _pose_kiosk(tmp_path, "wave")
     cfg, _ = last_good.load(cfg_path, kiosk=True)
     session = tmp_path / "session.jsonl"
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
@@ -219,3 +226,30 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
         th.join(30)
     header = json.loads(session.read_text().splitlines()[0])
     assert set(header["started_without"]) == {"poser"}
+
+
+def test_a_kiosk_knows_a_touch_pose_action_once_its_file_is_fixed(tmp_path, models):
+    """The corrupt touch-pose action file replaced by a good one: the character knows the
+    action within seconds, without a restart, and the status no longer lists it."""
+    import numpy as np
+
+    from behaviors.touch_pose.designed import to_json
+    from behaviors.touch_pose.humanoid import Pose
+    bad, cfg_path = _pose_kiosk(tmp_path, "greet")
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True)
+    inst = runner._build(runner.cfg)
+    core = inst.engines[0].core
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
+    th.start()
+    try:
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
+        assert "greet" not in {a.name for a in core.m.actions}
+        rots = np.tile([1.0, 0.0, 0.0, 0.0], (len(core.body.names), 1))
+        poses = [Pose(np.array([0.3 * k / 40, 0.0, 0.9]), rots) for k in range(40)]
+        bad.write_text(to_json("greet", "pelvis", np.linspace(0.0, 2.0, 40), poses))
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 15.0)
+        assert "greet" in {a.name for a in core.m.actions}
+    finally:
+        inst.loop.stop.set()
+        th.join(30)
