@@ -150,6 +150,10 @@ def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(
     th.start()
     try:
         assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 3, 10.0)
+        # a copy still bad, otherwise: the entries say the new reason
+        (tmp_path / "line.csv").write_text(good["line.csv"] + "0.5,x,0\n")
+        assert wait_for(lambda: sum("line.csv: line 48: " in e and "'x'" in e for e in status(
+            tmp_path).get("behavior_errors", ())) == 2, 10.0), status(tmp_path)
         (tmp_path / "line.csv").write_text(good["line.csv"])
         assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 1, 10.0)
         (error,) = status(tmp_path)["behavior_errors"]
