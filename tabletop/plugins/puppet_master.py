@@ -329,9 +329,8 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                 raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: {stored.folder}: "
                                         f"{exc}") from None
             bname = stored.name
-            from tabletop.studio.reloader import recorded_source
             # what it was trained from, encoded only if a config edit's rebuild keeps it playing
-            played = (behavior, functools.partial(recorded_source, bname, params,
+            played = (behavior, functools.partial(library.recorded_source, bname, params,
                                                   stored.demonstration))
         except InputError as exc:
             if not ctx.shared.get("kiosk_start"):

@@ -54,16 +54,8 @@ def load_and_train(folder: Path, rate_hz: float | None,
     stored = library.load_behavior(folder)
     params = stored_params(stored, rate_hz)
     behavior = Behavior.train(stored.demonstration, **params)
-    return behavior, Reactor(behavior, table), recorded_source(stored.name, params,
-                                                               stored.demonstration)
-
-
-def recorded_source(name: str, params: dict[str, Any], demonstration: Any) -> dict[str, Any]:
-    """What a behaviour was trained from as a recording keeps it (:func:`trained_from` trains
-    it again): its name, parameters and the demonstration's float64 bytes in base64."""
-    demo = np.ascontiguousarray(demonstration, dtype="<f8")
-    return {"name": name, "parameters": params, "shape": list(demo.shape),
-            "demonstration": base64.b64encode(demo.tobytes()).decode("ascii")}
+    return behavior, Reactor(behavior, table), library.recorded_source(stored.name, params,
+                                                                       stored.demonstration)
 
 
 def trained_from(source: dict[str, Any]) -> Any:
