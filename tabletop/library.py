@@ -15,6 +15,7 @@ one message naming the file, the line or key, and what is wrong, and it is never
 
 from __future__ import annotations
 
+import base64
 import errno
 import os
 import re
@@ -141,6 +142,16 @@ def demonstration_csv(demo: np.ndarray) -> str:
     if not np.isfinite(a).all():
         raise LibraryError("demonstration holds values that are not finite numbers")
     return format_csv(COLUMNS, a.tolist())
+
+
+def recorded_source(name: str, params: Mapping[str, Any], demonstration: np.ndarray
+                    ) -> dict[str, Any]:
+    """What a behaviour was trained from as a recording keeps it (a hot reload's, replayed by
+    :func:`tabletop.studio.reloader.trained_from`): its name, parameters and the
+    demonstration's float64 bytes in base64."""
+    demo = np.ascontiguousarray(demonstration, dtype="<f8")
+    return {"name": name, "parameters": dict(params), "shape": list(demo.shape),
+            "demonstration": base64.b64encode(demo.tobytes()).decode("ascii")}
 
 
 def _read_yaml(path: Path) -> Any:

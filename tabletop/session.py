@@ -22,7 +22,9 @@ studio: control-marker pucks and designer commands) carries them as ``consumed``
 :attr:`tabletop.frames.Frame.consumed`), so a replay runs the studio again; the frame whose
 engines first play a hot-reloaded behaviour carries what it was trained from as
 ``consumed["reload"]["behaviors"]``, and one where a reload failed its label's note as
-``consumed["reload"]["notes"]`` (:mod:`tabletop.studio.reloader`). A reader accepts a
+``consumed["reload"]["notes"]`` (:mod:`tabletop.studio.reloader`), and one whose MOP
+characters first follow an action a kiosk started without the files it was read from as
+``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`). A reader accepts a
 file whose last line was cut short by a power cut.
 """
 
@@ -74,7 +76,7 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         **({"focus": frame.focus} if frame.focus is not None else {}),
         **({"consumed": {k: {"pucks": [_puck_to_dict(p) for p in v.get("pucks", ())],
                              "commands": list(v.get("commands", ())),
-                             **{r: v[r] for r in ("behaviors", "notes") if r in v}}
+                             **{r: v[r] for r in ("behaviors", "notes", "actions") if r in v}}
                          for k, v in frame.consumed.items()}} if frame.consumed else {}),
     }
 
@@ -119,6 +121,14 @@ def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
                     isinstance(n, str) for n in v["notes"].values()):
                 raise ValueError(f"consumed.{k}.notes: expected a mapping of engines to notes")
             out[str(k)]["notes"] = v["notes"]
+        if "actions" in v:        # MOP actions followed once fixed: {engine: [{character,
+            actions = v["actions"]  # action, files}]} (tabletop.kiosk.actions)
+            if not isinstance(actions, dict) or not all(
+                    isinstance(e, list) and all(isinstance(a, dict) and isinstance(
+                        a.get("files"), list) for a in e) for e in actions.values()):
+                raise ValueError(f"consumed.{k}.actions: expected a mapping of engines to "
+                                 "lists of {character, action, files}")
+            out[str(k)]["actions"] = actions
     return out
 
 

@@ -17,6 +17,7 @@ from tabletop.app import build_live
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.attract import Attract, OneMoment, attract_performers
 from tabletop.kiosk import last_good
+from tabletop.kiosk.actions import ActionReloader
 from tabletop.kiosk.health import (Heartbeat, HealthReporter, WatchdogPing,
                                    recording_status, snapshot_status)
 from tabletop.kiosk.notify import Notifier
@@ -24,7 +25,7 @@ from tabletop.kiosk.supervisor import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.studio.build import attach_studio
-from tabletop.studio.reloader import BehaviorReloader
+from tabletop.studio.reloader import BehaviorReloader, keep_playing
 from tabletop.studio.session import end_drawing
 
 log = logging.getLogger("tabletop")
@@ -76,6 +77,8 @@ class Runner:
         self.recording_failures: list[str] = []
         self.studio: Any = None
         self.reporter: Any = None
+        # engine name -> (behaviour, what it was trained from) the installation before played
+        self._playing: dict[str, tuple] = {}
         if self.kiosk:
             kiosk_log(cfg, kiosk_paths(cfg, self.base)["log_file"])
             if config_error is not None:
@@ -181,10 +184,16 @@ class Runner:
             loop.hooks.append(self._apply_when_idle)   # an edit waiting for a take
             extra.append(self.studio.status)
             held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
-        reloaders = [BehaviorReloader(e) for e in loop.engines   # outside the studio too
+        # outside the studio too; a behaviour an applied edit's new files refused plays on
+        playing, self._playing = self._playing, {}
+        reloaders = [BehaviorReloader(e, kept=keep_playing(e, playing.get(e.name)))
+                     for e in loop.engines
                      if getattr(e, "folder", None) is not None and e not in held]
         for r in reloaders:
             loop.filters.insert(0, r)    # (recorded for replays)
+        for e in loop.engines:           # MOP actions started without, followed once fixed
+            if getattr(e, "missing", None):
+                loop.filters.insert(0, ActionReloader(e))
         # a behaviour file that went bad on disk (the character plays the version read before,
         # or none at a start), as the log and the character's label say
         # , and each action a character goes without (a MOP clip or template, a touch-pose
@@ -219,10 +228,15 @@ class Runner:
         gallery soak's config grew 6.5 MB an applied edit; freed first, with :func:`trim_heap`
         and the studio's one drawing thread, 0.44 MB an edit over 20 edits, file descriptors
         flat).
-        A recording of it that failed is remembered for ``tabletop run``'s exit status."""
+        A recording of it that failed is remembered for ``tabletop run``'s exit status, and
+        each Puppet Master behaviour it played from its folder (:attr:`_playing`), which the
+        next build keeps playing where its folder now holds a bad file."""
         recorder = self.inst.recorder if self.inst is not None else None
         if recorder is not None and (recorder.failed or recorder.gaps):
             self.recording_failures.append(recorder.failed or recorder.gaps[-1])
+        self._playing = {e.name: played for e in (self.inst.engines if self.inst else ())
+                         if (played := getattr(e, "played_from", None)) is not None
+                         and played[0] is e.behavior}
         self.inst = self.studio = self.reporter = None
         gc.collect()
 

@@ -48,6 +48,7 @@ from behaviors.mop.puppetry import FaceRig, HumanoidRig, HybridRig, PlanarRig, P
 from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, MotionLoader,
+                                        action_files, check_shared_library, configured_action,
                                         configured_actions, library_actions, library_names,
                                         load_template, resolve_motion, save_to_library)
 from tabletop.files import FileFormatError
@@ -330,31 +331,11 @@ def _make_performer(p: dict) -> Performer:
 
 # --- building -----------------------------------------------------------------------------------
 
-def _check_shared_library(options: dict, ctx: BuildContext) -> None:
-    """An engine listed earlier keeping actions in the same library may not have a character
-    of the same name: both kept takes as ``<library>/<character>/take1.csv`` (the later keep
-    wrote over the earlier) and each loaded the other's actions with its own performer."""
-    engines, names, mine = ctx.engines(options)
-    if options["library"] is None or mine == len(names):
-        return
-    lib = Path(options["library"]).resolve()
-    for i, e in enumerate(engines[:mine]):
-        if e.get("kind") != "mop" or e.get("library") is None \
-                or Path(e["library"]).resolve() != lib:
-            continue
-        common = sorted({c["name"] for c in options["characters"]}
-                        & {c["name"] for c in e["characters"]})
-        if common:
-            raise MopError(f"{ctx.where(options, 'library')}: engines[{i}] ({e['name']!r}) "
-                           f"keeps its actions there too and has a character {common[0]!r} as "
-                           "well; give one of them another library")
-
-
 def build(options: dict, ctx: BuildContext) -> MopStage:
     from behaviors.mop.follower import ActionFollower
     from behaviors.mop.group import FollowerGroup
     from behaviors.mop.group_split import grouped
-    _check_shared_library(options, ctx)
+    check_shared_library(options, ctx)
     rate = float(options["rate_hz"])
     fo = options["follower"]
     params = dict(sigma=fo["sigma"], window=fo["window"], transitions=tuple(fo["transitions"]),
@@ -390,14 +371,18 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     started = ctx.shared.get("started_without", {})     # (a replay's: the run's, per engine)
     without = bool(ctx.shared.get("kiosk_start") or options["name"] in started)
     started_without: list[str] = []
+    missing: list[dict] = []        # those actions, followed once fixed (tabletop.kiosk.actions)
+    features = {n: p.names for n, p in performers.items()}
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
         loaders[c["name"]] = loader
         bound[c["name"]] = c["performer"]
-        actions, tmpl, bad = configured_actions(c, {n: p.names for n, p in performers.items()},
-                                                loader, rate, without, started.get(options["name"]))
-        started_without += bad
+        actions, tmpl, bad = configured_actions(c, features, loader, rate, without,
+                                                started.get(options["name"]))
+        started_without += [why for _, why, _ in bad]
+        missing += [dict(character=c, action=a, why=why, read=read,
+                         files=action_files(c, a, ctx.base)) for a, why, read in bad]
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
             file = ActionsFile(library, c["name"])          # read once: window and entries
@@ -438,6 +423,9 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                      if library is not None else None, default_window=fo["window"])
     # (the status's behavior_errors; a recording's started_without)
     stage.start_problems, stage.problem = started_without, "; ".join(started_without)
+    stage.missing = missing
+    stage.configured_action = lambda c, a: configured_action(      # read afresh from disk
+        c, a, features, MotionLoader(c["kind"], ctx.base, loaders[c["name"]].rig), rate)
     for p in (p for bad in problems.values() for p in bad):
         log.error("MOP action skipped: %s", p)
     for character, why in bad_window.items():      # reported with the library's problems

@@ -110,42 +110,71 @@ def load_template(path: Path, names: tuple[str, ...], rate_hz: float) -> np.ndar
     return x
 
 
+def action_files(character: dict[str, Any], action: dict[str, Any], base: Path
+                 ) -> tuple[Path, ...]:
+    """The files a configured ``action`` of ``character`` reads: its template, then its motion
+    where that is a clip file (``.txt``, ``.json``; relative to ``base``)."""
+    files = [Path(action["template"])]
+    m = Path(action["motion"]).expanduser()
+    if m.suffix in (".txt", ".json"):
+        files.append(m if m.is_absolute() else base / m)
+    return tuple(files)
+
+
+def configured_action(character: dict[str, Any], action: dict[str, Any],
+                      features: dict[str, tuple[str, ...]], loader: MotionLoader,
+                      rate_hz: float, check_rig: bool = True
+                      ) -> tuple[Action, str, np.ndarray]:
+    """The configured ``action`` of ``character``: the action, its performer and template
+    (samples at ``rate_hz``); InputError naming the file that cannot be read. ``check_rig``:
+    its clip is checked against the character's rig (else the puppet checks it)."""
+    from behaviors.motion.clips import TimeWarp
+    performer = action["performer"] or character["performer"]
+    clip = loader(action["motion"])
+    if check_rig and loader.rig is not None:
+        loader.rig.check(clip)
+    samples = load_template(Path(action["template"]), features[performer], rate_hz)
+    return (Action(action["name"], clip, TimeWarp(action["warp"]) if action.get("warp")
+                   else TimeWarp()), performer, samples)
+
+
 def configured_actions(character: dict[str, Any], features: dict[str, tuple[str, ...]],
                        loader: MotionLoader, rate_hz: float, without: bool,
                        recorded: Any = None
-                       ) -> tuple[list[Action], dict[str, tuple[str, np.ndarray]], list[str]]:
+                       ) -> tuple[list[Action], dict[str, tuple[str, np.ndarray]],
+                                  list[tuple[dict[str, Any], str, tuple]]]:
     """The actions the config gives ``character``, their templates (``{action: (performer,
-    samples at rate_hz)}``; ``features``: each performer's feature columns), and one message
-    per action whose clip or template cannot be read. With ``without`` (a kiosk's start, or
+    samples at rate_hz)}``; ``features``: each performer's feature columns), and each action
+    whose clip or template cannot be read: (the action, why, the signature of its
+    :func:`action_files` taken before they were read). With ``without`` (a kiosk's start, or
     the replay of one) the character starts without such actions, each named with its file
     (and line): a kiosk restarted for ever on a corrupt template, its last good config naming
-    the same file. Otherwise the first is raised (MopError naming the action, or the file's).
+    the same file; the kiosk follows them once fixed (:mod:`tabletop.kiosk.actions`).
+    Otherwise the first is raised (MopError naming the action, or the file's).
     ``recorded``: the replay of a kiosk's start, the engine's ``started_without`` text (these
     messages, joined by "; "): the character starts without exactly the actions it names,
     else MopError names both sets (a carried file missing or damaged: the replay would differ
     from the run)."""
-    from behaviors.motion.clips import TimeWarp
-    actions, tmpl, problems, unread = [], {}, [], []
+    from tabletop.kiosk.watch import tree_signature
+    actions, tmpl, missing = [], {}, []
     for a in character["actions"]:
-        performer = a["performer"] or character["performer"]
+        read = tuple(map(tree_signature, action_files(character, a, loader.base))) \
+            if without else ()
         try:
-            clip = loader(a["motion"])
-            if without and loader.rig is not None:   # (the puppet checks the others)
-                loader.rig.check(clip)
-            samples = load_template(Path(a["template"]), features[performer], rate_hz)
+            action, performer, samples = configured_action(character, a, features, loader,
+                                                           rate_hz, check_rig=without)
         except InputError as exc:
             why = f"{_action_named(character['name'], a['name'])}: {exc}"
             if not without:
                 raise (MopError(why) if isinstance(exc, ClipError) else exc) from None
-            log.error("MOP character starts without the action until the file is fixed and "
-                      "the kiosk restarts: %s", why)
-            problems.append(why)
-            unread.append(a["name"])
+            log.error("MOP character starts without the action until the file is fixed: %s",
+                      why)
+            missing.append((a, why, read))
             continue
-        actions.append(Action(a["name"], clip, TimeWarp(a["warp"]) if a.get("warp")
-                              else TimeWarp()))
+        actions.append(action)
         tmpl[a["name"]] = (performer, samples)
     if isinstance(recorded, str):           # (a recording's header may hold anything)
+        unread = [a["name"] for a, _, _ in missing]
         was = [a["name"] for a in character["actions"]
                if any(p.startswith(f"{_action_named(character['name'], a['name'])}: ")
                       for p in recorded.split("; "))]
@@ -154,7 +183,27 @@ def configured_actions(character: dict[str, Any], features: dict[str, tuple[str,
                 return ", ".join(repr(n) for n in sorted(names)) or "nothing"
             raise MopError(f"character {character['name']!r}: the recording started without "
                            f"{named(was)}, but this replay could not read {named(unread)}")
-    return actions, tmpl, problems
+    return actions, tmpl, missing
+
+
+def check_shared_library(options: dict[str, Any], ctx: Any) -> None:
+    """An engine listed earlier keeping actions in the same library may not have a character
+    of the same name: both kept takes as ``<library>/<character>/take1.csv`` (the later keep
+    wrote over the earlier) and each loaded the other's actions with its own performer."""
+    engines, names, mine = ctx.engines(options)
+    if options["library"] is None or mine == len(names):
+        return
+    lib = Path(options["library"]).resolve()
+    for i, e in enumerate(engines[:mine]):
+        if e.get("kind") != "mop" or e.get("library") is None \
+                or Path(e["library"]).resolve() != lib:
+            continue
+        common = sorted({c["name"] for c in options["characters"]}
+                        & {c["name"] for c in e["characters"]})
+        if common:
+            raise MopError(f"{ctx.where(options, 'library')}: engines[{i}] ({e['name']!r}) "
+                           f"keeps its actions there too and has a character {common[0]!r} as "
+                           "well; give one of them another library")
 
 
 def _action_named(character: str, action: str) -> str:

@@ -35,6 +35,7 @@ is read one tick old (see :mod:`tabletop.plugins.puppet_master_mains`).
 
 from __future__ import annotations
 
+import functools
 import logging
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
@@ -307,7 +308,7 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     from behaviors.puppet_master.engine import Behavior
     _check_kept_name(options, ctx)
     delayed, cycle = _delayed(options, ctx)
-    behavior, bname, read, problem = None, "", None, ""
+    behavior, bname, read, problem, played = None, "", None, "", None
     recorded = ctx.shared.get("started_without", {})
     if options["behavior"] is not None and options["name"] in recorded \
             and not ctx.shared.get("kiosk_start"):
@@ -328,6 +329,9 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
                 raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: {stored.folder}: "
                                         f"{exc}") from None
             bname = stored.name
+            # what it was trained from, encoded only if a config edit's rebuild keeps it playing
+            played = (behavior, functools.partial(library.recorded_source, bname, params,
+                                                  stored.demonstration))
         except InputError as exc:
             if not ctx.shared.get("kiosk_start"):
                 raise
@@ -343,6 +347,7 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     engine.folder = options["behavior"]   # the studio reloads it when it changes on disk
     engine.folder_read = read
     engine.problem = problem
+    engine.played_from = played   # (behaviour, its recorded source): kept by a bad edit's rebuild
     if problem:
         engine.note = f"bad file, no behaviour until it is fixed: {problem}"
     return engine

@@ -20,7 +20,7 @@ import base64
 import dataclasses
 import logging
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterable
+from typing import TYPE_CHECKING, Any, Callable, Iterable
 
 import numpy as np
 
@@ -54,10 +54,8 @@ def load_and_train(folder: Path, rate_hz: float | None,
     stored = library.load_behavior(folder)
     params = stored_params(stored, rate_hz)
     behavior = Behavior.train(stored.demonstration, **params)
-    demo = np.ascontiguousarray(stored.demonstration, dtype="<f8")
-    source = {"name": stored.name, "parameters": params, "shape": list(demo.shape),
-              "demonstration": base64.b64encode(demo.tobytes()).decode("ascii")}
-    return behavior, Reactor(behavior, table), source
+    return behavior, Reactor(behavior, table), library.recorded_source(stored.name, params,
+                                                                       stored.demonstration)
 
 
 def trained_from(source: dict[str, Any]) -> Any:
@@ -80,14 +78,22 @@ class BehaviorReloader:
     reloaded when its files change, read and trained in a worker (``background``; else within
     the tick) while the behaviour in play goes on; the new one plays from the first tick after
     the worker is done. A bad file is logged once and shown in the character's label, and the
-    behaviour that was playing goes on."""
+    behaviour that was playing goes on.
 
-    def __init__(self, engine: PuppetMasterEngine, background: bool = True) -> None:
+    ``kept``: the reloads (``{"behaviors": source, "notes": note}``) of a behaviour a config
+    edit's rebuild kept playing (:func:`keep_playing`), put into the first frame so that its
+    replay plays it from there."""
+
+    def __init__(self, engine: PuppetMasterEngine, background: bool = True,
+                 kept: dict[str, Any] | None = None) -> None:
         self.engine = engine
         self.folder = Path(engine.folder)
         self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
         # the file that went bad (None: the folder read well), from the engine's build on
         self.problem: str | None = getattr(engine, "problem", "") or None
+        if kept is not None and self.problem:
+            self.problem = f"{self.problem}{KEPT}"
+        self._first = kept
         self.worker = Worker("puppet-master-reload") if background else None
         self.loading = False          # a job is in the worker
 
@@ -95,6 +101,10 @@ class BehaviorReloader:
         """A frame filter: ``frame``, holding what a behaviour played from it was trained from
         (``consumed["reload"]``, for replays)."""
         done = None
+        if self._first is not None and frame is not None:
+            first, self._first = self._first, None
+            for key, value in first.items():
+                frame = _recorded(frame, key, self.engine.name, value)
         if self.loading and self.worker is not None:
             done = self._apply(self.worker.poll())
         if self.poller.changed():
@@ -109,11 +119,7 @@ class BehaviorReloader:
                 self.worker.start(load_and_train, *args)
         if done is None or frame is None:
             return frame
-        key, value = done
-        reload = frame.consumed.get("reload", {})
-        entries = {**reload.get(key, {}), self.engine.name: value}
-        return dataclasses.replace(frame, consumed={**frame.consumed,
-                                                    "reload": {**reload, key: entries}})
+        return _recorded(frame, done[0], self.engine.name, done[1])
 
     def wait(self) -> None:
         """Wait for the job in the worker and play its behaviour (tests; the loop never waits)."""
@@ -129,12 +135,15 @@ class BehaviorReloader:
             return None
         self.loading = False
         if isinstance(done, Exception):
-            self.problem = str(done)
-            self.engine.note = f"bad file, still playing the previous behaviour: {done}"
+            playing = self.engine.behavior is not None
+            self.problem = f"{done}{KEPT}" if playing else str(done)
+            self.engine.note = (f"bad file, still playing the previous behaviour: {done}"
+                                if playing else f"bad file, no behaviour until it is fixed: {done}")
             log.error("behaviour not reloaded: %s", done)
             return "notes", self.engine.note
         behavior, reactor, source = done
         self.engine.play(behavior, source["name"], reactor)
+        self.engine.played_from = (behavior, lambda: source)
         self.problem = self.engine.note = ""
         log.info("behaviour %s reloaded", self.folder)
         return "behaviors", source
@@ -144,6 +153,47 @@ class BehaviorReloader:
         training in it has run, waited for up to :data:`~behaviors.worker.FINISH_S`; that
         reload's behaviour is not played (the installation closing is not polled again)."""
         close_workers(self.worker)
+
+
+KEPT = "; refused, still playing the behaviour read before"
+"""Ends a behaviour error (the status's ``behavior_errors``) whose character plays on."""
+
+
+def _recorded(frame: Frame, key: str, name: str, value: Any) -> Frame:
+    """``frame`` holding ``value`` as engine ``name``'s ``consumed["reload"][key]``."""
+    reload = frame.consumed.get("reload", {})
+    entries = {**reload.get(key, {}), name: value}
+    return dataclasses.replace(frame, consumed={**frame.consumed,
+                                                "reload": {**reload, key: entries}})
+
+
+def keep_playing(engine: PuppetMasterEngine,
+                 played: tuple[Any, Callable[[], dict[str, Any]]] | None
+                 ) -> dict[str, Any] | None:
+    """A config edit's rebuild whose behaviour folder now holds a bad file builds ``engine``
+    without a behaviour (:func:`tabletop.plugins.puppet_master.build`); the character plays
+    on with the one its previous engine ``played`` (the behaviour and what it was trained
+    from) rather than leave the table: retrained only when the edit changed its ``rate_hz``.
+    Returns what its reloader records in the first frame (None: nothing kept)."""
+    if played is None or engine.behavior is not None or not getattr(engine, "problem", ""):
+        return None
+    behavior, source_of = played
+    source = source_of()
+    rate = engine.rate_hz
+    if rate is not None and source["parameters"].get("rate_hz") != rate:
+        source = {**source, "parameters": {**source["parameters"], "rate_hz": rate}}
+        try:
+            behavior = trained_from(source)
+        except InputError as exc:
+            log.error("%s: the behaviour read before cannot be trained at %g Hz: %s",
+                      engine.name, rate, exc)
+            return None
+    engine.play(behavior, str(source["name"]))
+    engine.played_from = (behavior, lambda: source)
+    engine.note = f"bad file refused, still playing the behaviour read before: {engine.problem}"
+    log.warning("%s plays on with the behaviour read before (the rebuild refused its new "
+                "file): %s", engine.name, engine.problem)
+    return {"behaviors": source, "notes": engine.note}
 
 
 class RecordedReloads:
@@ -157,9 +207,6 @@ class RecordedReloads:
 
     def __call__(self, frame: Frame) -> Frame:
         reload = frame.consumed.get("reload", {})
-        for name, note in reload.get("notes", {}).items():
-            if name in self.engines:
-                self.engines[name].note = str(note)
         for name, source in reload.get("behaviors", {}).items():
             engine = self.engines.get(name)
             if engine is None:
@@ -173,4 +220,12 @@ class RecordedReloads:
                           "(the behaviour in play goes on)", source.get("name"), name, why)
                 continue
             engine.note = ""
+        # (after the behaviours: a behaviour a rebuild kept playing comes with its note)
+        for name, note in reload.get("notes", {}).items():
+            if name in self.engines:
+                self.engines[name].note = str(note)
+        for name, entries in reload.get("actions", {}).items():   # MOP actions followed again
+            if name in self.engines and isinstance(entries, list):
+                from tabletop.kiosk.actions import replay_actions
+                replay_actions(self.engines[name], entries)
         return frame

@@ -144,6 +144,63 @@ def test_the_replay_of_a_start_without_actions_named_with_quotes_checks_them(tmp
         done.stderr
 
 
+def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(tmp_path):
+    """The technician replaces the corrupt template, then the corrupt clip: within seconds,
+    without a restart, each character follows the actions they complete (the lone creature
+    one, the walker all three), the status's behavior_errors empty out, and the recording
+    replays to the same characters, the actions followed from the same frame."""
+    cfg_path = _config(tmp_path)
+    shutil.copy(GESTURES / "line.csv", tmp_path / "drawn.csv")
+    edited = yaml.safe_load(cfg_path.read_text())     # the visitor's puck draws the line
+    edited["sources"][0]["performers"] = [{"puck": 1, "home": [0.5, 0.4],
+                                           "gestures": ["drawn.csv"], "speed": [1.0, 1.0]}]
+    cfg_path.write_text(yaml.safe_dump(edited))
+    good = {name: (tmp_path / name).read_text() for name in ("line.csv", "wag.json")}
+    _corrupt(tmp_path)
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
+    inst = runner._build(runner.cfg)
+    stage = inst.engines[0]
+    latest = Latest()
+    inst.loop.sinks.insert(0, latest)
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 60})
+    th.start()
+    try:
+        assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 3, 10.0)
+        # a copy still bad, otherwise: the entries say the new reason
+        (tmp_path / "line.csv").write_text(good["line.csv"] + "0.5,x,0\n")
+        assert wait_for(lambda: sum("line.csv: line 48: " in e and "'x'" in e for e in status(
+            tmp_path).get("behavior_errors", ())) == 2, 10.0), status(tmp_path)
+        (tmp_path / "line.csv").write_text(good["line.csv"])
+        assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 1, 10.0)
+        (error,) = status(tmp_path)["behavior_errors"]
+        assert "'walker', action 'square'" in error and "wag.json" in error
+        assert {n: set(t) for n, t in stage.templates.items()} == {
+            "walker": {"circle", "line"}, "lone": {"line"}}
+        (tmp_path / "wag.json").write_text(good["wag.json"])
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 10.0)
+        assert set(stage.templates["walker"]) == {"circle", "line", "square"}
+        assert set(stage.puppets["walker"].actions) == {"circle", "line", "square"}
+        # the line drawn drives both characters' line action
+        assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters
+                                                        if c.action == "line"}, 20.0)
+    finally:
+        inst.loop.stop.set()
+        th.join(30)
+    header = json.loads(session.read_text().splitlines()[0])
+    assert set(header["started_without"]) == {"mop"}
+    followed = [f["consumed"]["reload"]["actions"]["mop"] for f in frames(session)
+                if "actions" in f.get("consumed", {}).get("reload", {})]
+    assert [[(e["character"], e["action"]) for e in f] for f in followed] == [
+        [("walker", "line"), ("lone", "line")], [("walker", "square")]]
+    done = replay_cli(session, tmp_path / "replayed.jsonl")
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
+    assert len(live) == len(again) > 30
+    assert [f["characters"] for f in live] == [f["characters"] for f in again]
+
+
 def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(tmp_path):
     cfg_path = _config(tmp_path)
     _corrupt(tmp_path)
@@ -151,11 +208,10 @@ def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(
         last_good.load(cfg_path, kiosk=False)
 
 
-def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, models):
-    """A touch-pose character starts without an action file cut short (in a kiosk or not, as
-    the others load); the kiosk's status lists it with its file and line in behavior_errors, its
-    recording's header in started_without, until the folder no longer holds it."""
-    bad = tmp_path / "pose_actions" / "wave" / "action.json"
+def _pose_kiosk(tmp_path: Path, name: str) -> tuple[Path, Path]:
+    """A kiosk's config with one touch-pose character whose library's action ``name`` is a
+    file cut short: (that file, the config)."""
+    bad = tmp_path / "pose_actions" / name / "action.json"
     bad.parent.mkdir(parents=True)
     bad.write_text('{\n  "format": "tabletop.pose_action",\n  "part": ')
     cfg_path = tmp_path / "config.yaml"
@@ -167,6 +223,14 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
         "view": {"size": [320, 180], "headless": True},
         "kiosk": {"heartbeat": {"enabled": False}, "status_file": "status.json"},
     }))
+    return bad, cfg_path
+
+
+def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, models):
+    """A touch-pose character starts without an action file cut short (in a kiosk or not, as
+    the others load); the kiosk's status lists it with its file and line in behavior_errors, its
+    recording's header in started_without, until the folder no longer holds it."""
+    bad, cfg_path = _pose_kiosk(tmp_path, "wave")
     cfg, _ = last_good.load(cfg_path, kiosk=True)
     session = tmp_path / "session.jsonl"
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
@@ -179,3 +243,30 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
         assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 15.0)
     header = json.loads(session.read_text().splitlines()[0])
     assert set(header["started_without"]) == {"poser"}
+
+
+def test_a_kiosk_knows_a_touch_pose_action_once_its_file_is_fixed(tmp_path, models):
+    """The corrupt touch-pose action file replaced by a good one: the character knows the
+    action within seconds, without a restart, and the status no longer lists it."""
+    import numpy as np
+
+    from behaviors.touch_pose.designed import to_json
+    from behaviors.touch_pose.humanoid import Pose
+    bad, cfg_path = _pose_kiosk(tmp_path, "greet")
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True)
+    inst = runner._build(runner.cfg)
+    core = inst.engines[0].core
+    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
+    th.start()
+    try:
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
+        assert "greet" not in {a.name for a in core.m.actions}
+        rots = np.tile([1.0, 0.0, 0.0, 0.0], (len(core.body.names), 1))
+        poses = [Pose(np.array([0.3 * k / 40, 0.0, 0.9]), rots) for k in range(40)]
+        bad.write_text(to_json("greet", "pelvis", np.linspace(0.0, 2.0, 40), poses))
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 15.0)
+        assert "greet" in {a.name for a in core.m.actions}
+    finally:
+        inst.loop.stop.set()
+        th.join(30)

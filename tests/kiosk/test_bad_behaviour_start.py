@@ -43,6 +43,21 @@ def _corrupt(folder: Path) -> str:
     return good
 
 
+def replays_alike(session: Path, out: Path) -> list[dict]:
+    """The frames of ``session``, which ``tabletop replay`` (into ``out``) made again with the
+    same characters (their labels aside: one naming a bad file names it where each run read
+    it)."""
+    done = replay_cli(session, out)
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(out)
+    assert len(live) == len(again) > 30
+
+    def drawn(f):
+        return [{k: v for k, v in c.items() if k != "label"} for c in f["characters"]]
+    assert [drawn(f) for f in live] == [drawn(f) for f in again]
+    return live
+
+
 def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_path, caplog):
     cfg_path = _config(tmp_path)
     good = _corrupt(tmp_path / "lover")
@@ -66,14 +81,7 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
         assert wait_for(lambda: any(c.valid for c in latest.characters), 10.0)
     # the replay starts the character without its behaviour too (the header's started_without)
     # and trains the fixed folder in the frame the live run did
-    done = replay_cli(session, tmp_path / "replayed.jsonl")
-    assert done.returncode == 0, done.stderr
-    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
-    assert len(live) == len(again) > 30
-
-    def drawn(f):   # (a label naming the bad file names it where each run read it)
-        return [{k: v for k, v in c.items() if k != "label"} for c in f["characters"]]
-    assert [drawn(f) for f in live] == [drawn(f) for f in again]
+    live = replays_alike(session, tmp_path / "replayed.jsonl")
     assert not live[0]["characters"][0]["valid"] and live[-1]["characters"][0]["valid"]
     # a recording carrying the folder readable (completed after the start read it) replays as
     # the run went too: without the behaviour until the recorded reload
@@ -83,9 +91,7 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
     header["files"][key] = {"text": good}
     readable = tmp_path / "readable.jsonl"
     readable.write_text("\n".join([json.dumps(header)] + lines[1:]) + "\n")
-    done = replay_cli(readable, tmp_path / "replayed-2.jsonl")
-    assert done.returncode == 0, done.stderr
-    assert [drawn(f) for f in live] == [drawn(f) for f in frames(tmp_path / "replayed-2.jsonl")]
+    assert replays_alike(readable, tmp_path / "replayed-2.jsonl") == live
 
 
 def test_outside_a_kiosk_a_corrupt_behaviour_stops_the_start_naming_the_file(tmp_path):
