@@ -164,9 +164,7 @@ def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(
     stage = inst.engines[0]
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
-    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 60})
-    th.start()
-    try:
+    with running(inst, 60):
         assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 3, 10.0)
         # a copy still bad, otherwise: the entries say the new reason
         (tmp_path / "line.csv").write_text(good["line.csv"] + "0.5,x,0\n")
@@ -185,9 +183,6 @@ def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(
         # the line drawn drives both characters' line action
         assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters
                                                         if c.action == "line"}, 20.0)
-    finally:
-        inst.loop.stop.set()
-        th.join(30)
     header = json.loads(session.read_text().splitlines()[0])
     assert set(header["started_without"]) == {"mop"}
     followed = [f["consumed"]["reload"]["actions"]["mop"] for f in frames(session)
@@ -257,9 +252,7 @@ def test_a_kiosk_knows_a_touch_pose_action_once_its_file_is_fixed(tmp_path, mode
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True)
     inst = runner._build(runner.cfg)
     core = inst.engines[0].core
-    th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 30})
-    th.start()
-    try:
+    with running(inst, 30):
         assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
         assert "greet" not in {a.name for a in core.m.actions}
         rots = np.tile([1.0, 0.0, 0.0, 0.0], (len(core.body.names), 1))
@@ -267,6 +260,3 @@ def test_a_kiosk_knows_a_touch_pose_action_once_its_file_is_fixed(tmp_path, mode
         bad.write_text(to_json("greet", "pelvis", np.linspace(0.0, 2.0, 40), poses))
         assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 15.0)
         assert "greet" in {a.name for a in core.m.actions}
-    finally:
-        inst.loop.stop.set()
-        th.join(30)
