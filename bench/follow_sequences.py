@@ -5,7 +5,10 @@ Each sequence (:func:`bench.motions.back_to_back`) is four different gestures at
 time-warped, each starting where the last ended, with no rest between them. Figures: the progress
 at which each gesture is recognised (``valid`` with ``best`` the gesture; 1 when never), the
 share recognised within 20%, the longest run of ticks with a wrong action valid (:func:`wrong_valid`),
-and among the six example gestures per gesture its recognition median and share within 20%.
+and among the six example gestures per gesture its recognition median and share within 20%;
+the median recognition of the gestures begun from rest (the first of each sequence) and of those
+begun where another ended (``..._from_rest_median``, ``..._after_a_gesture_median``): where the
+next gesture begins (:mod:`behaviors.mop.spotting`) costs it nothing when they are alike.
 
 Which gestures are ambiguous by construction at 20% (:func:`construction`, the ideal observer of
 ``bench/spotting_reach.py``: noise-free paths, any size 0.46-2.25x and tempo, paths within 2 mm
@@ -96,6 +99,7 @@ def sequences(factory: Callable, templates: dict[str, np.ndarray], rng: np.rando
     f = factory(templates)
     names = list(templates)
     delays, wrong_runs, ended_runs, other_runs, named = [], [], [], [], []
+    firsts: list[bool] = []   # the gesture began from rest (first of its sequence)
     # among a few gestures: which wrong ticks an ideal observer could already tell
     # (bench/spotting_reach.py: the gesture's path so far is no start of the driving action's)
     observer, reach = None, {}
@@ -114,7 +118,8 @@ def sequences(factory: Callable, templates: dict[str, np.ndarray], rng: np.rando
         avoidable.append(w["avoidable_longest"])
         ended_runs.append(w["ended_longest"])
         other_runs.append(w["other_longest"])
-        for g in order:
+        for j, g in enumerate(order):
+            firsts.append(j == 0)
             idx = [i for i, tg in enumerate(truth) if tg == g]
             hit = [prog[i] for i in idx
                    if np.isfinite(prog[i]) and states[i].valid and states[i].best == g]
@@ -122,7 +127,7 @@ def sequences(factory: Callable, templates: dict[str, np.ndarray], rng: np.rando
             named.append(g)
             if record is not None:
                 record.append((g, delays[-1]))
-    d = np.array(delays)
+    d, rest = np.array(delays), np.array(firsts)
     # per gesture among a few (bench/spotting_reach.py prints beside it how early any observer
     # could tell each from the others)
     per = {f"{key}_{g}_recognition_progress_median": float(np.median(d[[n == g for n in named]]))
@@ -149,6 +154,10 @@ def sequences(factory: Callable, templates: dict[str, np.ndarray], rng: np.rando
     return {**per, f"{key}_gestures": int(d.size),
             f"{key}_recognition_progress_median": float(np.median(d)),
             f"{key}_recognition_progress_p90": float(np.percentile(d, 90)),
+            # the first of each sequence begins from rest, the others where a gesture ended
+            f"{key}_recognition_from_rest_median": float(np.median(d[rest])),
+            **({f"{key}_recognition_after_a_gesture_median": float(np.median(d[~rest]))}
+               if not rest.all() else {}),
             f"{key}_recognised_within_20pct_share": float(np.mean(d <= WITHIN)),
             f"{key}_never_recognised_share": float(np.mean(d >= 1.0)),
             f"{key}_wrong_valid_longest_ticks_max": int(max(wrong_runs)),
