@@ -2,13 +2,14 @@
 any follower could recognise within 20% of their progress.
 
 Each sequence (:func:`bench.motions.back_to_back`) is four different gestures at 0.8-1.2x,
-time-warped, each starting where the last ended, with no rest between them. Figures: the progress
-at which each gesture is recognised (``valid`` with ``best`` the gesture; 1 when never), the
-share recognised within 20%, the longest run of ticks with a wrong action valid (:func:`wrong_valid`),
-and among the six example gestures per gesture its recognition median and share within 20%;
-the median recognition of the gestures begun from rest (the first of each sequence) and of those
-begun where another ended (``..._from_rest_median``, ``..._after_a_gesture_median``): where the
-next gesture begins (:mod:`behaviors.mop.spotting`) costs it nothing when they are alike.
+time-warped, each starting where the last ended, with no rest between them. Figures: the
+progress at which each gesture is recognised (``valid`` with ``best`` the gesture; 1 when
+never), the share recognised within 20%, the longest run of ticks with a wrong action valid
+(:func:`wrong_valid`), and among the six example gestures per gesture its recognition median and
+share within 20%; the median recognition of the gestures begun from rest (the first of each
+sequence) and of those begun where another ended (``..._from_rest_median``,
+``..._after_a_gesture_median``): where the next gesture begins (:mod:`behaviors.mop.spotting`)
+costs it nothing when they are alike.
 
 Which gestures are ambiguous by construction at 20% (:func:`construction`, the ideal observer of
 ``bench/spotting_reach.py``: noise-free paths, any size 0.46-2.25x and tempo, paths within 2 mm
@@ -26,10 +27,11 @@ alike), per gesture among the six (``{key}_{g}_...``):
   recognised within 20%, it drives the diagonal, which the ``unrelated`` and ``after`` sections
   count (``after_valid_share_max``, the diagonal after a gesture, driven by the figure eight).
 - ``straight_until_progress``: the earliest progress at which its path so far strays from its
-  chord by more than 2 mm at the largest size drawn (1.2x, :func:`bench.spotting_reach.straight_until`):
-  before it the gesture is a straight stroke, told from anything else only by its direction and
-  length: the figure eight until 0.20, the circle 0.22, the zigzag and the wave 0.25, the line
-  0.27, the square 0.37 (the starts ease in: 8% of the path lies at 0.22-0.24 of the progress).
+  chord by more than 2 mm at the largest size drawn (1.2x,
+  :func:`bench.spotting_reach.straight_until`): before it the gesture is a straight stroke, told
+  from anything else only by its direction and length: the figure eight until 0.20, the circle
+  0.22, the zigzag and the wave 0.25, the line 0.27, the square 0.37 (the starts ease in: 8% of
+  the path lies at 0.22-0.24 of the progress).
 ``{key}_recognised_within_20pct_open_share``: the share within 20% among the gestures *open* at
 20% (told apart from every other and from every unrelated stroke by 20%: the circle, the zigzag
 and the wave); the line, the square (another gesture) and the figure eight (the diagonal) are
