@@ -23,7 +23,8 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from bench.follow_quality import puck_follower, run, wrong_valid  # noqa: E402
+from bench.follow_quality import puck_follower, run  # noqa: E402
+from bench.follow_sequences import wrong_valid  # noqa: E402
 from bench.motions import (MOCAP, back_to_back, gesture_templates, mocap_templates,  # noqa: E402
                            performance, unrelated_motions)
 

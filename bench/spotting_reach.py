@@ -64,7 +64,8 @@ import numpy as np  # noqa: E402
 from bench.common import emit  # noqa: E402
 from behaviors.mop import shape_lead  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
-from bench.follow_quality import DEBUG, OPTION_SEED, puck_follower, sequences  # noqa: E402
+from bench.follow_quality import DEBUG, OPTION_SEED, puck_follower, run  # noqa: E402
+from bench.follow_sequences import sequences  # noqa: E402
 from bench.motions import (at_phase, back_to_back, gesture_templates,  # noqa: E402
                            unrelated_motions)
 
@@ -109,6 +110,23 @@ def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float
         if np.max(np.linalg.norm(prefix - prefix[0], axis=1)) <= theta:
             continue   # not yet away from its start by theta: the start of anything
         if all(closest_start(prefix, b) > theta for other, b in templates.items() if other != name):
+            return round(float(p), 2)
+    return 1.0
+
+
+def straight_until(path: np.ndarray, theta: float) -> float:
+    """The earliest progress (0..1, steps of 1%) at which ``path`` (metres) so far strays from
+    its chord (its start to there) by more than ``theta`` metres: before it the path is a
+    straight stroke, any straight stroke in its direction as much its start (1 when never)."""
+    for p in np.arange(0.02, 1.0001, 0.01):
+        prefix = at_phase(path, np.linspace(0, p * (len(path) - 1), int(400 * p) + 2))
+        r = prefix - prefix[0]
+        chord = float(np.linalg.norm(r[-1]))
+        if chord <= 1e-12:
+            continue
+        u = r[-1] / chord
+        off = r - np.outer(r @ u, u)
+        if float(np.max(np.linalg.norm(off, axis=1))) > theta:
             return round(float(p), 2)
     return 1.0
 
@@ -223,7 +241,7 @@ def main() -> None:
     # bench/follow_quality.py compares options on), and the share recognised within 20% or, where
     # no observer can tell the gesture apart that early, by its reach at 2 mm
     record: list = []
-    seq = sequences(puck_follower, templates, np.random.default_rng(OPTION_SEED), count=16,
+    seq = sequences(puck_follower, templates, np.random.default_rng(OPTION_SEED), run, count=16,
                     record=record)
     # which wrong runs any observer could have avoided (indistinguishable, via sequences)
     for k in ("wrong_valid_longest_ticks_max", "wrong_valid_indistinguishable_share",

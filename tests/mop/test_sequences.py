@@ -8,7 +8,7 @@ import pytest
 from behaviors.mop import handover, shape_lead
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
-from bench.follow_quality import wrong_valid
+from bench.follow_sequences import wrong_valid
 from bench.motions import MOCAP, back_to_back, gesture_templates, mocap_templates
 
 

@@ -7,7 +7,8 @@ action drives only where no observer could tell."""
 import numpy as np
 import pytest
 
-from bench.follow_quality import puck_follower, run, wrong_valid
+from bench.follow_quality import puck_follower, run
+from bench.follow_sequences import wrong_valid
 from bench.motions import at_phase, back_to_back, performance, phase_of
 from behaviors.mop.sharing import shared_until
 
