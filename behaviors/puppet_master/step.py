@@ -413,7 +413,15 @@ class GenerationStep(StepDetail):
                 # m/s beside its still main (its designer 0.050, shown 0.053) but 0.090 / 0.086
                 # beside its walking main (its designer 0.094 / 0.096), nearly all at world
                 # places, whose raw steps (0.106 / 0.102) the smooth shortened as they turned
-                # from match to match
+                # from match to match. On the 18 slow paths of seeds 0-5, 8-13, 26-31 it walks
+                # 0.1022 m/s per step (its designer 0.1053), 0.0976 over 0.1 s (0.0996), as
+                # straight; the shortfall is in a walk's first 4 s (0.071-0.107 against
+                # 0.077-0.113 m/s; later 0.089 / 0.088), at its matched moments' pace (0.098-0.111
+                # beside live mains at 0.103-0.110), the cap holding 66-71% of its raw steps.
+                # The cap x the live main's speed over the moment's main's (over 0.5 s, both
+                # walking) within 1 / 1.2-1.2, the lover alone on those seeds, one run, its
+                # misses (the engine's) against 36 (5): 65 (17); within 1.1 45 (6); that
+                # ratio's share k within 1.2 / 1.5 50 (6) / 75 (12). Not kept
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):
