@@ -211,16 +211,18 @@ class GenerationStep(StepDetail):
                     # 10.3 (6.7) / 13.0 (9.3). The stalker alone (Python step), its misses (the
                     # engine's) on seeds 0-5, 8-13, 26-31 against 26 (17), three runs with
                     # relative_motion x 1, 1 +- 0.001 26.7 (17.0): this cap x (1 + f x the live
-                    # main's heading rate over the last 0.5 s, at most 4 rad/s) while each step
-                    # of that span went 0.05 m/s or more (a reversal passes a stop): f = 0.3 31
-                    # (16); f = 0.5 from 1 rad/s 28 (15), three runs 29.7 (15.7); over 1 s 36
-                    # (19). The step carried round its main by f x the live main's turn less the
-                    # matched moment's main's (each averaged over 0.25-1 s), f = 0.3-1: 47 (28)
-                    # to 96 (74) (loops orbit met, speed W1 lost on most paths). Where its loops
-                    # orbit falls short (seeds 9, 12, 26, 27, 30, 31, main walking; generated /
-                    # designer by the main's heading rate 0-1, 1-2, 2-4 rad/s: 0.64 / 0.64, 0.73
-                    # / 0.90, 0.54 / 0.91 rad/s) it is 0.19-0.23 m from its target and this cap
-                    # holds on 76-84% of the steps. None kept
+                    # main's heading rate over the last 0.5 s, at most 4 rad/s) while each step of
+                    # that span went 0.05 m/s or more (a reversal passes a stop): f = 0.3 31 (16); f
+                    # = 0.5 from 1 rad/s 28 (15), three runs 29.7 (15.7); over 1 s 36 (19). The step
+                    # carried round its main by f x the live main's turn less the matched moment's
+                    # main's (each averaged over 0.25-1 s), f = 0.3-1: 47 (28) to 96 (74) (loops
+                    # orbit met, speed W1 lost on most paths); by the turn of the main's walking
+                    # direction (its positions over two spans of 0.25 s, the moment's alike) f = 1 /
+                    # 0.5 77 (53) / 60 (41), spans of 0.5 s f = 0.5 40 (24). Where its loops orbit
+                    # falls short (seeds 9, 12, 26, 27, 30, 31, main walking; generated / designer
+                    # by the main's heading rate 0-1, 1-2, 2-4 rad/s: 0.64 / 0.64, 0.73 / 0.90, 0.54
+                    # / 0.91 rad/s) it is 0.19-0.23 m from its target and this cap holds on 76-84%
+                    # of the steps. None kept
                     most = speed * self.dt
                 corr = math.hypot(cx, cy)
                 if corr > most:
