@@ -132,6 +132,11 @@ class TextureGovernor:
     alternatives measured worse with bench/fidelity.py on seeds 0-5 (601 of 720 thresholds
     met): the filter keeping the step's length (direction only) 593, no filter at all (texture
     governed by the detail gain alone) 590, losing look change (-3) and contact (-6).
+    Measured again (seeds 0-2, Python step): the filter acts on 17-26% of the playful friend's
+    steps (alpha 0.21 at the 10th percentile on the loops paths, its texture 0.31-0.35 rad
+    against 0.30 shown) and on 43-81% of the stalker's. Held at alpha >= 0.6 (z_min -1.5) /
+    off (-1), the friend and the stalker alone on seeds 0-5, 8-13, 26-31, one run, their misses
+    (the engine's): friend 4 -> 5 / 7, stalker 26 (17) -> 27 (19) / 28 (19). Not used.
     """
 
     __slots__ = ("target", "min_step", "gain", "decay", "ms", "z", "prev", "z_min", "z_max")

@@ -208,7 +208,21 @@ class GenerationStep(StepDetail):
                     # main's step (Python step, relative_motion x 1, 1 +- 0.001, stalker misses
                     # (the engine's) per run, seeds 0-5 / 8-13 / 26-31, against 5.3 (2.0) / 10.0
                     # (6.7) / 11.3 (8.3)): 8.0 (3.3) / 12.3 (9.0) / 11.0 (8.7), 11.7 (3.0) /
-                    # 10.3 (6.7) / 13.0 (9.3)
+                    # 10.3 (6.7) / 13.0 (9.3). The stalker alone (Python step), its misses (the
+                    # engine's) on seeds 0-5, 8-13, 26-31 against 26 (17), three runs with
+                    # relative_motion x 1, 1 +- 0.001 26.7 (17.0): this cap x (1 + f x the live
+                    # main's heading rate over the last 0.5 s, at most 4 rad/s) while each step of
+                    # that span went 0.05 m/s or more (a reversal passes a stop): f = 0.3 31 (16); f
+                    # = 0.5 from 1 rad/s 28 (15), three runs 29.7 (15.7); over 1 s 36 (19). The step
+                    # carried round its main by f x the live main's turn less the matched moment's
+                    # main's (each averaged over 0.25-1 s), f = 0.3-1: 47 (28) to 96 (74) (loops
+                    # orbit met, speed W1 lost on most paths); by the turn of the main's walking
+                    # direction (its positions over two spans of 0.25 s, the moment's alike) f = 1 /
+                    # 0.5 77 (53) / 60 (41), spans of 0.5 s f = 0.5 40 (24). Where its loops orbit
+                    # falls short (seeds 9, 12, 26, 27, 30, 31, main walking; generated / designer
+                    # by the main's heading rate 0-1, 1-2, 2-4 rad/s: 0.64 / 0.64, 0.73 / 0.90, 0.54
+                    # / 0.91 rad/s) it is 0.19-0.23 m from its target and this cap holds on 76-84%
+                    # of the steps. None kept
                     most = speed * self.dt
                 corr = math.hypot(cx, cy)
                 if corr > most:
@@ -342,8 +356,11 @@ class GenerationStep(StepDetail):
             # 0.05 m/s or more) faster than 0.5 / 1.0 rad/s, Python step, relative_motion x 1,
             # 1 +- 0.001, the friend's misses over the three runs of seeds 0-5 / 8-13 / 26-31:
             # 6 / 3 / 1 -> 5 / 5 / 7, 4 / 4 / 18 (the fast paths' reversals read as turns:
-            # contact there 0.008-0.078; loops mean 0.031 -> 0.031 on seeds 0-5, 26-31). None
-            # kept.
+            # contact there 0.008-0.078; loops mean 0.031 -> 0.031 on seeds 0-5, 26-31). The
+            # main's share carried outside the cap (the cap on its own step and the correction,
+            # k x the live main's step added after it), the friend alone, three runs on those 18
+            # seeds: misses 3.3 -> 5.3 (loops still short, 0.014-0.021 on seeds 0, 5), with k
+            # halved 10.0. None kept.
             cap = (speed if place == PLACE_WORLD else b.top_speed) * self.dt
             # a live main that stands, matched to a moment where the demonstrated main walked:
             # the match lags the stop by up to its window, so the step is held to the
@@ -398,7 +415,15 @@ class GenerationStep(StepDetail):
                 # m/s beside its still main (its designer 0.050, shown 0.053) but 0.090 / 0.086
                 # beside its walking main (its designer 0.094 / 0.096), nearly all at world
                 # places, whose raw steps (0.106 / 0.102) the smooth shortened as they turned
-                # from match to match
+                # from match to match. On the 18 slow paths of seeds 0-5, 8-13, 26-31 it walks
+                # 0.1022 m/s per step (its designer 0.1053), 0.0976 over 0.1 s (0.0996), as
+                # straight; the shortfall is in a walk's first 4 s (0.071-0.107 against
+                # 0.077-0.113 m/s; later 0.089 / 0.088), at its matched moments' pace (0.098-0.111
+                # beside live mains at 0.103-0.110), the cap holding 66-71% of its raw steps.
+                # The cap x the live main's speed over the moment's main's (over 0.5 s, both
+                # walking) within 1 / 1.2-1.2, the lover alone on those seeds, one run, its
+                # misses (the engine's) against 36 (5): 65 (17); within 1.1 45 (6); that
+                # ratio's share k within 1.2 / 1.5 50 (6) / 75 (12). Not kept
                 sm = self.smoother
                 px = py = 0.0
                 for q in range(sm.size):

@@ -116,7 +116,12 @@ class StepSenses:
           (6.3) / 13.7 (10.7); by the main's speed over 0.1 s under 0.05 m/s (coast 0.200,
           0.193, 0.181 ... 0.053 m/s) 6.0 (3.0) / 12.3 (8.3) / 12.0 (10.0); entered by this
           read, the cap the larger of the still pace and that coast over 0.5 / 0.25 s 6.3
-          (3.3) / 10.7 (7.7) / 10.3 (6.7), 6.3 (3.3) / 11.0 (7.7) / 11.0 (7.3). None kept."""
+          (3.3) / 10.7 (7.7) / 10.3 (6.7), 6.3 (3.3) / 11.0 (7.7) / 11.0 (7.3). None kept.
+
+        The stalker's loops still/moving misses (seeds 12, 27, 30: 0.11-0.18, band from 0.199,
+        its designer 0.21-0.28) lie in stands over 0.5 s, a fifth of those paths' time: there
+        it moves at the demonstration's pace (0.038-0.046 m/s, shown 0.037-0.040; the
+        demonstration holds no stand over 2 s), its designer at 0.052-0.065."""
         r, k = self._main_recent, min(self.behavior.stop_span, len(self._main_recent) - 1)
         d = STILL_MPS * k / self.behavior.params.rate_hz
         return k >= 1 and all(math.hypot(mx - r[-1 - j][0], my - r[-1 - j][1]) < d
