@@ -26,14 +26,14 @@ MAX_CORRECTION = 0.2
 #: (bench/touch_pose_posing.py, in-place samples; single drags' p90 gap in place / moved, table
 #: m; the untouched planted foot's slide over 8 s of three fingers circling, character m):
 #: without pelvis moves 0.0027 / 0.0105, slide 0.118; weight 1: 0.0014 / 0.0055, 0.343;
-#: 4: 0.0020 / 0.0051, 0.264; 16: 0.0030 / 0.0070, 0.204; the move halved back while a planted
+#: 4: 0.0019 / 0.0056, 0.257; 16: 0.0030 / 0.0070, 0.204; the move halved back while a planted
 #: foot is out of reach instead (feet first): 0.0025 / 0.0106, 0.216 (0.0031 / 0.0119, 0.179
 #: with the feet within 0.0009 m). The pelvis moved this way leans up to 0.051 m from the base
 #: over those 8 s (0 without).
 ANCHOR_WEIGHT = 4.0
-#: A planted foot's tolerance (m) while the pelvis may move: each frame plants the foot where
+#: A planted foot's tolerance (m) once the pelvis has moved: each frame plants the foot where
 #: the last left it, so a miss within the plain tolerance creeps on (drags' median planted slide
-#: 0.043 m at the plain tolerance and weight 1, 0.013 here; 0.022 without pelvis moves).
+#: 0.043 m at the plain tolerance and weight 1, 0.015 here; 0.022 without pelvis moves).
 ANCHOR_TOLERANCE = 0.0003
 #: Joints turned for each part, nearest the part first.
 CHAINS = {"right_hand": ("right_elbow", "right_shoulder", "chest"),
@@ -117,7 +117,7 @@ class CCD:
         shifted = np.zeros(3)
         movers = set() if "pelvis" in goals else {p for p, _ in items if p in movers}
         pulling = [(p, g) for p, g in items if p in movers or p in anchors]
-        tight = {p: ANCHOR_TOLERANCE for p, _ in items if p in anchors} if movers else {}
+        tight: dict[str, float] = {}     # the planted feet's, once the pelvis has moved
         sweeps, budget = 0, self.iterations
         while sweeps < budget:
             sweeps += 1
@@ -140,6 +140,7 @@ class CCD:
                 step = limit_goal(shifted, shifted + miss) - shifted
                 if np.linalg.norm(step) > 0.5 * self.tolerance:
                     shifted += step
+                    tight = {p: ANCHOR_TOLERANCE for p, _ in items if p in anchors}
                     p0 = tuple(np.add(p0, step).tolist())
                     left = {part: math.inf for part in left}
                     previous = math.inf
