@@ -44,6 +44,7 @@ times in 496 instead of 24 (the bow 0 instead of 19), and every stroke started a
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass
 
@@ -82,6 +83,29 @@ MAX_PACE = 1.6
 #: 0.025), while a drag back at half the walk's or the kick's pace moves it 0.08 or 0.065.
 FINGER_WINDOW = 0.2
 FINGER_BAND = 0.05
+#: Where the action may stand, a finger resting (its synthesised time not moving by
+#: ``FINGER_BAND`` over ``FINGER_WINDOW``) holds that time low-passed at ``REST_CUTOFF`` Hz while
+#: it stays within ``REST_BAND`` (generalised time) of it; beyond, or moving, the time follows
+#: the synthesis itself. A resting finger's synthesised time flips between neighbouring samples
+#: (a punch held with 1 mm of jitter, view 90,15: 0.810 <-> 0.831 frame after frame), and the
+#: time followed every flip. Measured (bench/touch_pose_rest.py: the action time's back-and-forth
+#: while a finger with 1 mm of jitter rests, s, median / largest; the primary part's mean
+#: distance from a finger dragging back along the stroke, wave to 0.3 and bow to 0.3, table m):
+#:
+#:                                   punch        wave        bow          back: wave  bow
+#:     followed every flip            0.035/0.78   0.021/0.80  0.45/0.98    0.0243  0.0083
+#:     this (0.1 Hz, 0.03)            0.0001/0.005 0/0.12      0.005/0.012  0.0243  0.0083
+#:     held, no low-pass              0/0          0/0.11      0/0          0.0246  0.0100
+#:     One Euro, 1 Hz, beta 0         0.0014/0.089 0.003/0.13  0.10/0.15    0.0327  0.0083
+#:     One Euro, 0.5 Hz, beta 10 s    0.0029/0.11  0.001/0.14  0.12/0.20    0.0256  0.0084
+#:
+#: (One Euro: cutoff + beta x speed, speed low-passed at 1 Hz, in the still segments.) The flips
+#: move the time 0.02 a frame, 0.6 per second, as fast as a real drag (the wave's pace is 0.42
+#: per second), so no beta tells them apart: a beta low enough to hold a resting finger lags a
+#: moving one. The finger's window does tell them apart, so the hold gives way to it. Left: the
+#: wave from 90,15 with 2 mm of jitter flips 0.06 (more than the band), 0.89 s at most.
+REST_CUTOFF = 0.1
+REST_BAND = 0.03
 
 
 @dataclass
@@ -249,7 +273,9 @@ class ActionClock:
     So a kick in the air held still runs on, one dragged back rewinds, and one dragged back and
     held goes on back out of the air. The time enters such a segment only the way it last ran
     or the way the finger clearly moves: a resting finger neither pulls a finished kick back into
-    the air nor replays a rewound one. Once the finger lifts it runs in the segment's automatic
+    the air nor replays a rewound one. Where it may stand, a resting finger's synthesised time
+    is held (``REST_CUTOFF``, ``REST_BAND``): its jitter flips it between neighbouring samples.
+    Once the finger lifts it runs in the segment's automatic
     direction at the recording's pace. ``done`` once it reaches 1 (finished) or 0 (cancelled).
     """
 
@@ -260,6 +286,7 @@ class ActionClock:
         self.heading = 1            # an action is recognised from a drag forward
         self._elapsed = 0.0
         self._recent: deque[tuple[float, float]] = deque()   # (s, synthesised time) in the window
+        self._rest: float | None = None   # the resting finger's low-passed synthesised time
 
     def finger(self, dt: float, target: float) -> tuple[float, float]:
         """How far the finger has gone forward and back along the action over the last
@@ -273,6 +300,14 @@ class ActionClock:
         times = [u for _, u in recent]
         return target - min(times), max(times) - target
 
+    def _resting(self, dt: float, target: float, resting: bool) -> float:
+        """The synthesised time ``target`` a resting finger holds (see ``REST_CUTOFF``)."""
+        if not resting or self._rest is None or abs(target - self._rest) > REST_BAND:
+            self._rest = target
+        else:
+            self._rest += (target - self._rest) / (1.0 + 1.0 / (2 * math.pi * REST_CUTOFF * dt))
+        return self._rest
+
     def step(self, dt: float, target: float | None, touching: bool) -> float:
         """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint)."""
         pace = dt / self.action.duration
@@ -282,9 +317,11 @@ class ActionClock:
             if not seg.still:
                 self.heading = seg.direction
             self._recent.clear()
+            self._rest = None
         else:
             rise, fall = self.finger(dt, target)
             moves = {1: rise > FINGER_BAND, -1: fall > FINGER_BAND, 0: False}
+            target = self._resting(dt, target, seg.still and not (moves[1] or moves[-1]))
             step = float(np.clip(target - self.u, -MAX_PACE * pace, MAX_PACE * pace))
             if not seg.still:
                 # no stillness here (a kick in the air): at least the recording's pace the way
