@@ -6,8 +6,7 @@ Each :meth:`TouchPose.step` takes the fingers on the table (id -> table metres) 
    or nothing; two or more fingers on empty table turn the camera (azimuth with their common
    sideways motion, elevation with the up/down motion);
 2. posing control: blends the posing model's samples for the touched parts' half-lines, corrects
-   with CCD IK (at most 0.2 m; a touched part beyond its limb's reach moves the pelvis, planted
-   feet holding it back), keeps planted feet where they stand; with no touch the posture
+   with CCD IK (at most 0.2 m), keeps planted feet where they stand; with no touch the posture
    stays; a touch on an action's primary part whose drag matches that action starts it;
 3. action control: generalised time toward the synthesised time, stillness and automatic
    direction by segment; once the time comes within one frame's interval of the synthesised
@@ -308,8 +307,7 @@ class TouchPose(ActionControl):
         return {p for p in ("left_foot", "right_foot") if parts[PARTS.index(p)][1] < GROUND}
 
     def _solve(self, pose: Pose, names: list[str], targets: np.ndarray, skip: str | None = None,
-               keep_feet: bool = True, held: set[str] | frozenset = frozenset(),
-               move_root: bool = False) -> Pose:
+               keep_feet: bool = True, held: set[str] | frozenset = frozenset()) -> Pose:
         """CCD toward the touches (each limited to 0.2 m, ``ik.MAX_CORRECTION``), planted feet
         kept in place. The ``held`` parts' goals are not limited: a part held by a secondary
         finger stays under it (fixed, section 7) as far as its chain reaches while the action
@@ -326,15 +324,12 @@ class TouchPose(ActionControl):
             cur = parts[PARTS.index(name)]
             ray = self.camera.ray_point(s, cur)
             goals[name] = ray if name in held else limit_goal(cur, ray)
-        movers = set(goals) if move_root else {"head"}
-        planted = set()
         if keep_feet:
             prev = self._points(self.target)[self._np:]
             for foot in self._grounded(self.target, prev):
                 if foot not in goals:
                     goals[foot] = prev[PARTS.index(foot)]
-                    planted.add(foot)
-        return self.ccd.solve(pose, goals, movers, planted) if goals else pose
+        return self.ccd.solve(pose, goals) if goals else pose
 
     def _posing(self, t: float, dt: float) -> None:
         names, targets = self._constraints()
@@ -347,8 +342,7 @@ class TouchPose(ActionControl):
         blend = self.m.posing.synthesize(idx, targets, view, offset)
         pose = place(blend.pose, self.base, self.yaw)
         self.target = self._handed_over(self._solve(pose, names, targets,
-                                                    held=self._held_through_action(),
-                                                    move_root=True), dt)
+                                                    held=self._held_through_action()), dt)
         match = self._recognise(view) if self.recognising else None
         if match is not None:
             self.mode, self.handover = "action", None

@@ -2,11 +2,8 @@
 
 Each goal moves one body part: its chain of joints, from the part up towards the chest, is turned
 joint by joint so the part points at the goal (hinges only about their axis), every joint kept
-within its limit after each turn. The pelvis is moved by translating the root; a goal its chain
-cannot bring the part to moves the pelvis too (:meth:`CCD.solve`'s ``movers``: the head, which
-must rise or sink, during actions; every touched part in posing, where a hand or foot asked
-beyond its limb's reach is brought there by the body, as the relative root posing of section 4
-needs), planted feet (``anchors``) holding it back. Section 4 limits
+within its limit after each turn. The pelvis is moved by translating the root; a head that neck
+and chest cannot bring to its goal (it must rise or sink) moves the pelvis too. Section 4 limits
 the correction to 0.2 m (:data:`MAX_CORRECTION`): a goal farther than that from where the blended
 posture holds the part is pulled back to 0.2 m, so IK never drags a limb into an unnatural pose.
 """
@@ -14,7 +11,7 @@ posture holds the part is pulled back to 0.2 m, so IK never drags a limb into an
 from __future__ import annotations
 
 import math
-from typing import Collection, Mapping
+from typing import Mapping
 
 import numpy as np
 
@@ -22,19 +19,6 @@ from behaviors.touch_pose.humanoid import Humanoid, Pose, qmul as _qmul, qrot as
 
 #: Largest distance (metres of the character's scale) IK may move a part away from the blend.
 MAX_CORRECTION = 0.2
-#: Weight of a planted foot's miss against a mover's (1) in the pelvis move. Measured
-#: (bench/touch_pose_posing.py, in-place samples; single drags' p90 gap in place / moved, table
-#: m; the untouched planted foot's slide over 8 s of three fingers circling, character m):
-#: without pelvis moves 0.0027 / 0.0105, slide 0.118; weight 1: 0.0014 / 0.0055, 0.343;
-#: 4: 0.0019 / 0.0056, 0.257; 16: 0.0030 / 0.0070, 0.204; the move halved back while a planted
-#: foot is out of reach instead (feet first): 0.0025 / 0.0106, 0.216 (0.0031 / 0.0119, 0.179
-#: with the feet within 0.0009 m). The pelvis moved this way leans up to 0.051 m from the base
-#: over those 8 s (0 without).
-ANCHOR_WEIGHT = 4.0
-#: A planted foot's tolerance (m) once the pelvis has moved: each frame plants the foot where
-#: the last left it, so a miss within the plain tolerance creeps on (drags' median planted slide
-#: 0.043 m at the plain tolerance and weight 1, 0.015 here; 0.022 without pelvis moves).
-ANCHOR_TOLERANCE = 0.0003
 #: Joints turned for each part, nearest the part first.
 CHAINS = {"right_hand": ("right_elbow", "right_shoulder", "chest"),
           "left_hand": ("left_elbow", "left_shoulder", "chest"),
@@ -92,13 +76,9 @@ class CCD:
         self._order = {p: [(j, self.paths[p].index(j)) for j in js]
                        for p, js in self.chains.items()}
 
-    def solve(self, pose: Pose, goals: Mapping[str, np.ndarray],
-              movers: Collection[str] = ("head",), anchors: Collection[str] = ()) -> Pose:
+    def solve(self, pose: Pose, goals: Mapping[str, np.ndarray]) -> Pose:
         """``pose`` (a copy) with each part in ``goals`` (part -> model-frame point) moved towards
-        its goal; the pelvis goal translates the root first. Without one, when the sweeps stall
-        with a goal of ``movers`` unreached, the pelvis moves (within ``MAX_CORRECTION`` in all)
-        by the weighted mean of what the unreached goals of ``movers`` and ``anchors`` (parts
-        that hold the body, planted feet, weighted ``ANCHOR_WEIGHT``) still miss."""
+        its goal; the pelvis goal translates the root first."""
         out = pose.copy()
         if "pelvis" in goals:
             out.root = np.asarray(goals["pelvis"], dtype=float).copy()
@@ -115,37 +95,23 @@ class CCD:
         # (otherwise hands and head undo each other's chest turns every sweep)
         skip = self._chest if "head" in left and len(left) > 1 else -1
         shifted = np.zeros(3)
-        movers = set() if "pelvis" in goals else {p for p, _ in items if p in movers}
-        pulling = [(p, g) for p, g in items if p in movers or p in anchors]
-        tight: dict[str, float] = {}     # the planted feet's, once the pelvis has moved
-        sweeps, budget = 0, self.iterations
-        while sweeps < budget:
-            sweeps += 1
+        head = dict(items).get("head") if "pelvis" not in goals else None
+        for _ in range(self.iterations):
             for part, goal in items:
-                if left[part] > tight.get(part, self.tolerance):
-                    left[part] = self._chain(part, goal, local, q0, p0, skip,
-                                             tight.get(part, self.tolerance))
+                if left[part] > self.tolerance:
+                    left[part] = self._chain(part, goal, local, q0, p0, skip)
             worst = max(left.values())
-            if previous - worst < 0.01 and any(
-                    left[p] > self.tolerance and (p in movers or shifted.any())
-                    for p, _ in pulling):
-                # the chains cannot bring a mover there (the head must rise or sink, a hand
-                # reach beyond its arm): move the pelvis by the mean of what the unreached
-                # goals still miss, within the same 0.2 m, and sweep again (the planted feet's
-                # chains follow, and pull it back where they no longer reach)
-                pulls = [(p, g) for p, g in pulling if left[p] > self.tolerance]
-                weight = np.array([1.0 if p in movers else ANCHOR_WEIGHT for p, _ in pulls])
-                miss = weight @ np.array([np.subtract(g, self._effector(p, local, q0, p0))
-                                          for p, g in pulls]) / weight.sum()
+            if head is not None and left["head"] > self.tolerance and previous - worst < 0.01:
+                # the neck and chest cannot bring the head there (it must rise or sink): move
+                # the pelvis by what is left, within the same 0.2 m, and sweep again (the
+                # planted feet's chains follow)
+                miss = np.subtract(head, self._effector("head", local, q0, p0))
                 step = limit_goal(shifted, shifted + miss) - shifted
                 if np.linalg.norm(step) > 0.5 * self.tolerance:
                     shifted += step
-                    tight = {p: ANCHOR_TOLERANCE for p, _ in items if p in anchors}
                     p0 = tuple(np.add(p0, step).tolist())
                     left = {part: math.inf for part in left}
                     previous = math.inf
-                    # a shift is always followed by a sweep (up to twice the iterations)
-                    budget = min(budget + 1, 2 * self.iterations)
                     continue
             # done, or stalled (a goal out of reach: further sweeps would not bring it closer)
             if worst < self.tolerance or previous - worst < 0.1 * self.tolerance:
@@ -166,7 +132,7 @@ class CCD:
         return (p[0] + o[0], p[1] + o[1], p[2] + o[2])
 
     def _chain(self, part: str, goal: tuple, local: list, q0: tuple, p0: tuple,
-               skip: int = -1, tolerance: float | None = None) -> float:
+               skip: int = -1) -> float:
         """One CCD sweep of ``part``'s chain (in place on ``local``); the remaining distance."""
         path = self.paths[part]
         ox, oy, oz = self._part_off[part]
@@ -184,7 +150,7 @@ class CCD:
         o = _qrot(qw[-1], (ox, oy, oz))
         ex, ey, ez = pw[-1][0] + o[0], pw[-1][1] + o[1], pw[-1][2] + o[2]
         dist = math.sqrt((ex - gx) ** 2 + (ey - gy) ** 2 + (ez - gz) ** 2)
-        if dist < (self.tolerance if tolerance is None else tolerance):
+        if dist < self.tolerance:
             return dist  # already there (a planted foot, mostly)
         for j, k0 in self._order[part]:
             if j == skip and part != "head":

@@ -44,9 +44,8 @@ posing model is the same as without the walk action).
 Posing samples are taken in place (pelvis height and tilt kept, travel and heading removed), so
 posing never walks the character away and touched parts stay under their fingers: section 4's
 pelvis position and heading relative to the motion's initial state, even bounded to 0.15 m and
-30 degrees and with IK moving the pelvis for parts out of reach, blends postures asked for in
-place worse and leaves several fingers farther from their parts (bench/touch_pose_posing.py
-holds the study).
+30 degrees, left a hand up to 0.1 m from its finger where IK cannot move the pelvis
+(bench/touch_pose_posing.py holds the study).
 """
 
 from __future__ import annotations

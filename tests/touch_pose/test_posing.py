@@ -141,53 +141,11 @@ def test_posing_never_walks_the_character_away(make):
     parts = e.describe()["parts"]
     home = {1: np.array(parts["right_hand"]), 2: np.array(parts["left_hand"]),
             3: np.array(parts["left_foot"])}
-    far = []
+    far = 0.0
     for k in range(240):   # 8 s of three fingers in wide circles
         a = 2 * np.pi * k / 75
         e.step(k / 30, {i: tuple(h + 0.06 * np.array([np.cos(a + i) - np.cos(i),
                                                       np.sin(a + 2 * i) - np.sin(2 * i)]))
                         for i, h in home.items()})
-        far.append(float(np.hypot(*(e.output.root[[0, 2]] - e.base))))
-    # the pelvis leans only as far as IK brings a hand or foot to its finger (0.051 m at most,
-    # character m) and comes back: the third circle takes it no farther than the first
-    assert max(far) <= 0.07
-    assert max(far[150:225]) <= max(far[:75]) + 0.005
-
-
-def test_a_foot_dragged_beyond_its_legs_reach_moves_the_pelvis(make, models):
-    # a dance's foot with its weight shifted 0.25 m (bench/touch_pose_posing.py's held-out
-    # posture 48): the blend stands in place and the leg alone cannot reach it, so IK moves
-    # the pelvis (measured: the foot 0.0236 m from its finger, table m, when only a head or
-    # pelvis goal moved the pelvis; 0.0005 now)
-    from bench.touch_pose_posing import bounded, held_out
-    e = make(view=(90.0, 15.0), physics=False)
-    pose = bounded(held_out(models.body)[48], 0.25, np.radians(45))
-    start = np.array(e.describe()["parts"]["left_foot"])
-    goal = e.camera.table(models.body.parts(pose)[PARTS.index("left_foot")][None])[0]
-    for k in range(45):  # 1 s drag, then 0.5 s held
-        r = e.step(k / 30, {1: tuple(start + (goal - start) * min(k / 30, 1.0))})
-    assert r["touches"] == {"1": "left_foot"}
-    assert np.linalg.norm(np.array(r["parts"]["left_foot"]) - goal) < 0.003
-    assert np.hypot(*(e.target.root[[0, 2]] - e.base)) <= MAX_CORRECTION + 1e-9
-
-
-def test_ik_moves_the_pelvis_for_a_hand_out_of_reach_while_planted_feet_hold(models):
-    from behaviors.touch_pose.ik import CCD
-    body, ccd = models.body, CCD(models.body)
-    parts = body.parts(models.stand)
-    feet = {p: parts[PARTS.index(p)] for p in ("left_foot", "right_foot")}
-    shoulder = body.points(models.stand)[body.names.index("right_shoulder")]
-    hand = parts[PARTS.index("right_hand")]
-    # 0.1 m further down the arm from the shoulder than the hand hangs, and 0.2 m forward
-    goal = shoulder + (hand - shoulder) / np.linalg.norm(hand - shoulder) * (
-        np.linalg.norm(hand - shoulder) + 0.1) + np.array([0.0, 0.0, 0.2])
-    goals = {"right_hand": goal, **feet}
-    fixed = ccd.solve(models.stand, goals, movers=(), anchors=())
-    moved = ccd.solve(models.stand, goals, movers=("right_hand",), anchors=tuple(feet))
-    reach = lambda pose, p: float(np.linalg.norm(body.parts(pose)[PARTS.index(p)] - goals[p]))
-    # measured: the arm alone 0.0175 short; the pelvis moved 0.034, the hand there, the
-    # planted feet 0.0025 and 0.0082 from theirs
-    assert reach(fixed, "right_hand") > 0.015
-    assert reach(moved, "right_hand") < 0.003
-    assert max(reach(moved, f) for f in feet) < 0.01
-    assert np.linalg.norm(moved.root - models.stand.root) <= MAX_CORRECTION + 1e-9
+        far = max(far, float(np.hypot(*(e.output.root[[0, 2]] - e.base))))
+    assert far <= 0.01
