@@ -119,11 +119,14 @@ def _guide(target: pygame.Surface, renderer, points, color) -> None:
 class NamePrompt:
     """F2 in the view: type a new name, Enter sends ``designer.rename:NAME``, Esc cancels.
     ``ask`` (the studio's :meth:`~tabletop.studio.machine.Studio.may_rename`, in the loop's
-    thread) may refuse F2: the prompt stays closed and the studio says why."""
+    thread) gives the name of the item in play, which the line names ("rename lover as: _",
+    so the designer sees what Enter renames, and that Esc cancels, where Esc otherwise quits),
+    or "" to refuse F2: the prompt stays closed and the studio says why."""
 
     def __init__(self) -> None:
         self.text: str | None = None
-        self.ask: Callable[[], bool] | None = None
+        self.ask: Callable[[], str] | None = None
+        self.item = ""      # the item being renamed ("" when nothing named it)
         self.refused = ""   # why a character typed was not taken, drawn under the line
 
     @property
@@ -133,8 +136,10 @@ class NamePrompt:
     def handle(self, ev: pygame.event.Event) -> str | None:
         """Take a KEYDOWN event; returns a command when one is complete."""
         if self.text is None:
-            if ev.key == pygame.K_F2 and (self.ask is None or self.ask()):
-                self.text, self.refused = "", ""
+            if ev.key == pygame.K_F2:
+                item = "" if self.ask is None else self.ask()
+                if item or self.ask is None:
+                    self.text, self.refused, self.item = "", "", item
             return None
         typed = ev.unicode   # (a reason said stays while letters follow, so that a fast
         #                      typist still reads it; Backspace, an edit of its own, clears it)
@@ -159,13 +164,19 @@ class NamePrompt:
                                 "a name: ASCII letters, digits, '_', '-' or '.'")
         return None
 
+    @property
+    def line(self) -> str:
+        """The line drawn while a name is typed."""
+        said = f"rename {self.item} as" if self.item else "new name"
+        return f"{said}: {self.text}_   (Esc cancels)"
+
     def draw(self, target: pygame.Surface, renderer: Any = None) -> None:
         """The line being typed, at the window's top, sized on the table as the studio's
         other words are (:func:`text_scale` of ``renderer``; 32 px at 840 px/m)."""
         if self.text is not None:
             k = 1.0 if renderer is None else text_scale(renderer)
             px = max(MIN_MARK_PX, round(32 * k))
-            img = font(px).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
+            img = font(px).render(self.line, True, (255, 255, 255), (0, 0, 0))
             target.blit(img, img.get_rect(center=(target.get_width() // 2, px // 2 + 24)))
             if self.refused:
                 small = max(MIN_MARK_PX, round(px * 0.6))

@@ -82,16 +82,18 @@ class LibraryCommands:
     def _item_previous(self, target: Target, arg: str) -> None:
         self._item(target, -1)
 
-    def may_rename(self) -> bool:
-        """F2 in the view: may the name prompt open? If not, why is said at once (the same
-        refusal as the rename's), not after a name was typed."""
+    def may_rename(self) -> str:
+        """F2 in the view: the name of the item the prompt renames, or "" when it may not open;
+        then why is said at once (the same refusal as the rename's), not after a name was
+        typed."""
         self.quiet = False
         target = self.target
         why = ("no designer target" if target is None else self._busy_why("renaming")
                or ("nothing to rename" if target.current() is None else ""))
         if why:
             self.say(why)
-        return not why
+            return ""
+        return str(target.current())
 
     def _rename(self, target: Target, arg: str) -> None:
         if self._busy("renaming"):

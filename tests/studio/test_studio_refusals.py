@@ -133,6 +133,7 @@ def test_f2_with_nothing_to_rename_is_refused_at_once(tmp_path):
         studio.command("designer.item_next")
         f2(2.0)
         assert view.prompt.active                      # shy is in play: type its new name
+        assert view.prompt.line == "rename shy as: _   (Esc cancels)"   # what Enter renames
         key(pygame.K_ESCAPE)
         view.consume(studio(Frame(seq=3, t=3.0)))
         studio.command("designer.record")              # a take under way: refused, said
