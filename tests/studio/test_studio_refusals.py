@@ -159,3 +159,18 @@ def test_a_refusal_while_a_puck_is_missing_is_shown_beside_the_missing_puck(tmp_
     assert "recording: no puck 2" in said and "no renaming during a take" in said
     said = tick(30)                                    # half a second on: both still shown
     assert "recording: no puck 2" in said and "no renaming during a take" in said
+
+
+def test_tab_in_a_quiet_studio_shows_the_target_it_picked(tmp_path):
+    """A studio outside studio mode draws nothing until a designer key: Tab, the first key a
+    designer of several characters presses, changed the target without a word (the MOP
+    example: Tab, then nothing on the table to say that the bird was picked)."""
+    from tabletop.studio.machine import Studio
+    from tabletop.studio.targets import PuppetMasterTarget
+
+    a, b = build([{"kind": "puppet_master", "name": n, "designer": {
+        "enabled": True, "library": str(tmp_path)}} for n in ("a", "b")])
+    studio = Studio([PuppetMasterTarget(e) for e in (a, b)], countdown_s=0.0, quiet=True)
+    assert studio(Frame(seq=0, t=1.0, focus="a")).character("studio").label == ""
+    label = studio(Frame(seq=1, t=1.1, focus="b")).character("studio").label
+    assert label.startswith("[b] ") and "R record" in label, label
