@@ -104,6 +104,7 @@ class Renderer:
         self._see_through = screens.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
+        self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
         self.lives = Lives()
@@ -251,7 +252,7 @@ class Renderer:
         c = pr.state
         if c.kind == "studio":           # the studio's countdown, recording mark and status
             from tabletop.studio.draw import draw_studio
-            self._studio_marks.extend(draw_studio(target, self, c))
+            self._studio_marks.extend(draw_studio(target, self, c, self._keep_clear))
             return target.get_rect()
         if not (place[7] and 0.0 <= c.size <= max(self.table)):   # (place: finite, near)
             return None                     # a broken state is not drawn (never raises)

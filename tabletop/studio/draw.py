@@ -42,15 +42,43 @@ def text_scale(renderer: Any) -> float:
     return renderer.map.scale_at(w / 2, h / 2) / REF_PPM
 
 
-def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState) -> list[pygame.Rect]:
+def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
+             avoid: list[pygame.Rect]) -> tuple[int, int]:
+    """Where the REC or TRY mark (a dot of radius ``dot``, then ``img``) has its dot: at the
+    table's far left corner, or at its far right one where that hides less than half as much
+    of the characters drawn (``avoid``, pixels) as the corner it is in
+    (``renderer.studio_mark_right``, kept so that a character walking by does not make it
+    jump to and fro): a character at the far left corner (the bird of ``examples/mop.yaml``)
+    is not hidden under the words that say to try it."""
+    w, h = renderer.table
+    left = renderer.map.point(0.04, h - 0.04)
+    rx, ry = renderer.map.point(w - 0.04, h - 0.04)
+    right = (rx - img.get_width() - 8 - dot, ry)
+
+    def hidden(x: int, y: int) -> int:
+        box = pygame.Rect(x - dot, y - img.get_height() // 2, img.get_width() + 2 * dot + 8,
+                          img.get_height())
+        return sum(box.clip(r).width * box.clip(r).height for r in avoid)
+
+    now, other = (right, left) if renderer.studio_mark_right else (left, right)
+    if 2 * hidden(*other) < hidden(*now):
+        renderer.studio_mark_right = not renderer.studio_mark_right
+        now = other
+    return now
+
+
+def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
+                avoid: list[pygame.Rect] | None = None) -> list[pygame.Rect]:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
     number in the middle of the table, a red dot and seconds and a red edge round the table
     while recording, a green TRY mark
-    (and the path to drag, when the target gives one) while a take is tried, and the status
-    line along the table's near edge (nothing while it has nothing to say). Returns the
+    (and the path to drag, when the target gives one) while a take is tried, both in the
+    table's far corner that hides less of the characters drawn (``avoid``, pixels), and the
+    status line along the table's near edge (nothing while it has nothing to say). Returns the
     rectangles of the marks and words (pixels), which the operator overlay keeps clear of."""
     if not c.label:
         return []
+    avoid = avoid or []
     marks: list[pygame.Rect] = []
     w, h = renderer.table
     k = text_scale(renderer)
@@ -68,21 +96,21 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState) -> lis
         target.blit(img, img.get_rect(center=(cx, cy)))
         marks.append(rect)
     elif c.action == "recording":
-        x, y = renderer.map.point(0.04, h - 0.04)
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
-        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), dot)
         img = font(mark_px).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
+        x, y = _mark_at(target, renderer, img, dot, avoid)
+        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), dot)
         marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
             (x - dot, y - dot, 2 * dot, 2 * dot)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
         pygame.draw.polygon(target, c.color, renderer._corners().tolist(), width=6)
     elif c.action in ("trying", "training"):
-        x, y = renderer.map.point(0.04, h - 0.04)
         green = (90, 220, 120)
-        pygame.draw.circle(target, green, (x, y), dot, width=0 if c.action == "trying" else 3)
         img = font(mark_px).render("TRY: K keep  X discard  R redo" if c.action == "trying"
                                    else "training...", True, green)
+        x, y = _mark_at(target, renderer, img, dot, avoid)
+        pygame.draw.circle(target, green, (x, y), dot, width=0 if c.action == "trying" else 3)
         marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
             (x - dot, y - dot, 2 * dot, 2 * dot)))
         if c.points is not None and len(c.points) >= 2:
