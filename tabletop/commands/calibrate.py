@@ -86,7 +86,13 @@ def main(args: argparse.Namespace) -> int:
         # refused now rather than after it
         from tabletop.commands import output_file
         output_file(args.out, "--out", CalibrateError, example="calibration.yaml")
-        load_existing(args.out)
+        from calibration.files import CalibrationError
+        try:
+            load_existing(args.out)
+        except CalibrationError as exc:   # (what is wrong in it, and that --out is the file)
+            raise CalibrateError(f"--out {args.out}: the file is there and is no calibration "
+                                 f"this step can add to ({exc}); give another file name, or "
+                                 "the installation's calibration file") from None
     return {"board": board_main, "camera": camera_main, "table": table_main,
             "pattern": pattern_main, "projector": projector_main,
             "check": check_main}[args.step](args)

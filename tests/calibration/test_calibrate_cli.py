@@ -294,6 +294,8 @@ def test_images_are_png_files_and_steps_are_named(tmp_path, capsys):
     line = refused(capsys, "table", "--image", tmp_path / "none.png", *markers,
                    "--out", tmp_path / "config.yaml", words="config.yaml: table: unknown key")
     assert line.startswith("tabletop calibrate table: error:") and "image not found" not in line
+    # ... said as --out's file, which is no calibration (it read as a calibration file's key)
+    assert f"--out {tmp_path / 'config.yaml'}: the file is there and is no calibration" in line
 
 
 @pytest.mark.parametrize("spec, dpi", [(None, "300"), ("9x6:25:18:DICT_6X6_250", "100")])
