@@ -303,8 +303,10 @@ def table_main(args: argparse.Namespace) -> int:
         raise CalibrateError(f"{len(wanted)} --marker given; at least 4 markers at known table "
                              "positions are needed (--marker ID=X,Y)")
     ids_given = [m[0] for m in wanted]
-    if len(set(ids_given)) != len(ids_given):
-        raise CalibrateError("a marker id is given twice in --marker")
+    twice = sorted({i for i in ids_given if ids_given.count(i) > 1})
+    if twice:
+        raise CalibrateError(f"--marker: marker id {twice[0]} is given twice; give each marker "
+                             "on the table once, at its own position")
     lens = load_existing(args.calibration or args.out)
     if args.calibration and lens is None:
         raise CalibrateError(f"{args.calibration}: calibration file not found")
