@@ -160,3 +160,15 @@ def test_replay_out_cut_short_by_a_full_disk_exits_3(tmp_path, capfd):
     assert "Traceback" not in r.stderr
     (said,) = [ln for ln in r.stderr.splitlines() if "is incomplete" in ln]
     assert f"--out {out} is incomplete" in said and "File too large" in said, said
+
+
+@pytest.mark.parametrize("describe", [False, True])
+def test_pose_out_naming_a_folder_suggests_the_file_it_writes(tmp_path, capfd, describe):
+    """``pose --describe --out FOLDER`` suggested FOLDER/out.jsonl for the one JSON object it
+    writes: it suggests describe.json there, poses.jsonl for the poses."""
+    (tmp_path / "t.csv").write_text("t,id,x,y\n0,1,0.6,0.4\n")
+    args = ["--describe"] if describe else ["--input", tmp_path / "t.csv"]
+    code, err = cli(capfd, "pose", *args, "--out", tmp_path)
+    line = one_line(err)
+    want = "describe.json" if describe else "poses.jsonl"
+    assert code == 2 and line.endswith(f"give a file name such as {tmp_path / want}"), line
