@@ -58,8 +58,10 @@ class LibraryCommands:
         if self._busy("switching"):
             return
         items = target.items()
-        if not items:
-            self.say("the library is empty")
+        if not items:   # (a character's configured actions are no library items: named here)
+            where = getattr(target, "kept_in", "")
+            self.say(f"nothing kept{where if where.startswith(' in ') else ''} yet: ] and [ "
+                     "play what K keeps")
             return
         cur = target.current()
         i = (items.index(cur) + step) % len(items) if cur in items else 0

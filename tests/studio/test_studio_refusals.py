@@ -174,3 +174,14 @@ def test_tab_in_a_quiet_studio_shows_the_target_it_picked(tmp_path):
     assert studio(Frame(seq=0, t=1.0, focus="a")).character("studio").label == ""
     label = studio(Frame(seq=1, t=1.1, focus="b")).character("studio").label
     assert label.startswith("[b] ") and "R record" in label, label
+
+
+def test_a_switch_with_nothing_kept_names_the_folder_it_looked_in(tmp_path):
+    """] with nothing kept said "the library is empty", beside a MOP character that knows the
+    actions of its config (those are no library items): the line names the folder it plays
+    from and what fills it."""
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_next")
+    assert bench.studio.message == f"nothing kept in {tmp_path / 'lib'}/ yet: ] and [ play " \
+                                   "what K keeps", bench.studio.message
