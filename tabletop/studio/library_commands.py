@@ -64,7 +64,8 @@ class LibraryCommands:
                      "play what K keeps")
             return
         cur = target.current()
-        i = (items.index(cur) + step) % len(items) if cur in items else 0
+        # (from an item outside the library, the config's: ] plays the first, [ the last)
+        i = (items.index(cur) + step if cur in items else min(step, 0)) % len(items)
         skipped: list[str] = []     # an item that does not load is passed over, named: ]
         for _ in items:             # on a broken first item played nothing, again and again
             try:

@@ -185,3 +185,17 @@ def test_a_switch_with_nothing_kept_names_the_folder_it_looked_in(tmp_path):
     bench.studio.command("designer.item_next")
     assert bench.studio.message == f"nothing kept in {tmp_path / 'lib'}/ yet: ] and [ play " \
                                    "what K keeps", bench.studio.message
+
+
+def test_previous_from_the_configs_behaviour_plays_the_last_kept_one(tmp_path):
+    """[ from the config's behaviour (no library item) played the first kept item, as ] does:
+    it plays the last."""
+    lib = tmp_path / "lib"
+    for name in ("a", "b", "c"):
+        library.save_behavior(lib, name, designers.demonstrate("lover", seconds=3), {})
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_previous")
+    assert bench.studio.message == "playing c (3 of 3)" and e.behavior_name == "c"
+    bench.studio.command("designer.item_previous")
+    assert bench.studio.message == "playing b (2 of 3)"
