@@ -51,8 +51,10 @@ def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: in
     jump to and fro): a character at the far left corner (the bird of ``examples/mop.yaml``)
     is not hidden under the words that say to try it."""
     w, h = renderer.table
-    left = renderer.map.point(0.04, h - 0.04)
-    rx, ry = renderer.map.point(w - 0.04, h - 0.04)
+    # the far edge's two corners, left and right as the window shows them (a projector's
+    # calibration may mirror the table)
+    left, (rx, ry) = sorted((renderer.map.point(0.04, h - 0.04),
+                             renderer.map.point(w - 0.04, h - 0.04)))
     right = (rx - img.get_width() - 8 - dot, ry)
 
     def hidden(x: int, y: int) -> int:
@@ -115,13 +117,21 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
             (x - dot, y - dot, 2 * dot, 2 * dot)))
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
-    x, y = renderer.map.point(0.02, 0.02)
+    # the near edge's corner on the window's left (a calibration may mirror or turn the table:
+    # from its right-hand corner a line would be cut a letter a line); lines go up from it, or
+    # down where the near edge is the window's upper half (a table turned half round)
+    (x, y), _ = sorted((renderer.map.point(0.02, 0.02), renderer.map.point(w - 0.02, 0.02)))
     px = max(MIN_STATUS_PX, round(STATUS_PX * k))
     f = font(px)
-    for line in reversed(fit_lines(c.label, px, target.get_width() - x - max(x, 12))):
+    lines = fit_lines(c.label, px, target.get_width() - x - max(x, 12))
+    up = y > target.get_height() / 2
+    for line in reversed(lines) if up else lines:
         img = f.render(line, True, (235, 235, 235), (0, 0, 0))
-        y -= img.get_height() + 4
+        if up:
+            y -= img.get_height() + 4
         marks.append(target.blit(img, (x, y)))
+        if not up:
+            y += img.get_height() + 4
     return marks
 
 
