@@ -253,7 +253,7 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
     / 300 tries 1.76 / 5.00 / 17.08 with the axes, 0.93 / 2.10 / 5.11 pasted; 190 tries
     ``--columns=1`` 22.68 -> 3.34. What is left of the 300 tries: decoding and scaling the
     sheets 1.5 s, the captions' text 1.3 s, PNG encoding of the 1200 x 36,000 px sheet 0.9 s
-    (:data:`PNG_LEVEL`), as cells were 360 px tall."""
+    (:data:`PNG_LEVEL`), measured with cells of 360 px."""
     tries = read_session(session)
     columns = max(1, min(columns, len(tries)))  # never wider than the tries (--columns 100000)
     rows = max(1, math.ceil(len(tries) / columns))
