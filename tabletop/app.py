@@ -242,8 +242,10 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
     engines = build_engines(cfg, ctx)   # (a MOP engine checks its started_without itself)
     out_header = None if header is None else {
         k: v for k, v in header.items() if k not in ("created", "part")}
+    # (strict: an --out that cannot be started is refused before anything plays, as run's
+    # --record is; a replay is read by someone, never a table to keep running)
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, view=view,
-                        header=out_header)
+                        header=out_header, strict=True)
     loop = Loop(FrameInputs(frames, honour_times=not fast, stop=stop), engines, sinks,
                 rate_hz=cfg["loop"]["rate_hz"], stats=stats, commands=commands, stop=stop,
                 paced=False)

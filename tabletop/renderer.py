@@ -25,6 +25,7 @@ from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
 from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame  # noqa: E402
+from tabletop.pointer import FIRST_ID as MOUSE_FINGERS  # noqa: E402
 from tabletop.table_map import TableToScreen  # noqa: E402
 
 PUCK_COLORS = [(70, 160, 255), (255, 90, 90), (90, 220, 120), (240, 200, 60), (190, 110, 255),
@@ -34,6 +35,7 @@ IDLE_STILL_S = 30.0      # ... or nothing moved for this long
 MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
+FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
 GHOST_ALPHA = 0.45       # opacity of a played-back take (the studio's ghost of the main)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
@@ -104,6 +106,7 @@ class Renderer:
         self._see_through = screens.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
+        self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
         self.lives = Lives()
@@ -171,6 +174,11 @@ class Renderer:
                                     self._label if overlay is not None else None, beyond)
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
+        # the mouse's fingers (a desk, no touch table: a real finger is its own mark), so a
+        # finger Shift + click pinned is seen, and where to Shift + click to lift it
+        drawn.extend(pygame.draw.circle(target, FINGER_RING, self.map.point(f.x, f.y),
+                                        FINGER_PX, width=2)
+                     for f in frame.touches if f.id > MOUSE_FINGERS)
         if self.moment > 0:
             screens.one_moment(target, t, self.moment,
                                self.map.point(self.table[0] / 2, self.table[1] / 2))
@@ -251,7 +259,7 @@ class Renderer:
         c = pr.state
         if c.kind == "studio":           # the studio's countdown, recording mark and status
             from tabletop.studio.draw import draw_studio
-            self._studio_marks.extend(draw_studio(target, self, c))
+            self._studio_marks.extend(draw_studio(target, self, c, self._keep_clear))
             return target.get_rect()
         if not (place[7] and 0.0 <= c.size <= max(self.table)):   # (place: finite, near)
             return None                     # a broken state is not drawn (never raises)

@@ -86,7 +86,13 @@ def main(args: argparse.Namespace) -> int:
         # refused now rather than after it
         from tabletop.commands import output_file
         output_file(args.out, "--out", CalibrateError, example="calibration.yaml")
-        load_existing(args.out)
+        from calibration.files import CalibrationError
+        try:
+            load_existing(args.out)
+        except CalibrationError as exc:   # (what is wrong in it, and that --out is the file)
+            raise CalibrateError(f"--out {args.out}: the file is there and is no calibration "
+                                 f"this step can add to ({exc}); give another file name, or "
+                                 "the installation's calibration file") from None
     return {"board": board_main, "camera": camera_main, "table": table_main,
             "pattern": pattern_main, "projector": projector_main,
             "check": check_main}[args.step](args)
@@ -297,8 +303,10 @@ def table_main(args: argparse.Namespace) -> int:
         raise CalibrateError(f"{len(wanted)} --marker given; at least 4 markers at known table "
                              "positions are needed (--marker ID=X,Y)")
     ids_given = [m[0] for m in wanted]
-    if len(set(ids_given)) != len(ids_given):
-        raise CalibrateError("a marker id is given twice in --marker")
+    twice = sorted({i for i in ids_given if ids_given.count(i) > 1})
+    if twice:
+        raise CalibrateError(f"--marker: marker id {twice[0]} is given twice; give each marker "
+                             "on the table once, at its own position")
     lens = load_existing(args.calibration or args.out)
     if args.calibration and lens is None:
         raise CalibrateError(f"{args.calibration}: calibration file not found")

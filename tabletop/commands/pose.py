@@ -137,7 +137,8 @@ def main(args: argparse.Namespace) -> int:
         raise PoseArgumentError(f"--describe describes the standing character and its actions; "
                                 f"it reads no --input ({args.input}): give one or the other")
     if args.out:
-        output_file(args.out, "--out", PoseArgumentError, inputs=(args.input,))
+        output_file(args.out, "--out", PoseArgumentError, inputs=(args.input,),
+                    example="describe.json" if args.describe else "poses.jsonl")
     frames = None if args.describe else read_touches(args.input)
     if frames is not None:
         span = frames[-1][0] - frames[0][0] + RUN_ON_S

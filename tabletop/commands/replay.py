@@ -18,7 +18,7 @@ import os
 from pathlib import Path
 from typing import Iterator
 
-from tabletop.cli import EXIT_INTERRUPTED
+from tabletop.cli import EXIT_INTERRUPTED, EXIT_RECORDING_FAILED
 from tabletop.commands import output_file
 from tabletop.frames import Frame, InputError
 
@@ -144,4 +144,9 @@ def main(args: argparse.Namespace) -> int:
                                               received[0], ticks, names)
         return EXIT_INTERRUPTED
     logging.getLogger("tabletop").info("replayed %d frames of %s", ticks, names)
+    recorder = inst.recorder   # an --out cut short (a full disk) is not the whole replay
+    if recorder is not None and (recorder.failed or recorder.gaps):
+        logging.getLogger("tabletop").error("--out %s is incomplete: %s", args.out,
+                                            recorder.failed or recorder.gaps[-1])
+        return EXIT_RECORDING_FAILED
     return 0

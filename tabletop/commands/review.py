@@ -10,9 +10,10 @@ HELP = "draw a contact sheet (PNG) of a designer studio session log"
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("session", type=Path, metavar="SESSION_LOG", help="a studio session .jsonl")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=Path, default=None, metavar="SHEET.png",
                    help="PNG to write (default: SESSION_LOG with -sheet.png)")
-    p.add_argument("--columns", type=int, default=3, help="sheets per row (default 3)")
+    p.add_argument("--columns", type=int, default=3, metavar="N",
+                   help="sheets per row (default 3)")
 
 
 def main(args: argparse.Namespace) -> int:

@@ -168,7 +168,8 @@ def main(args: argparse.Namespace) -> int:
             timer.cancel()
         server.server_close()
     if not came:   # silence alone does not tell a quiet gallery from a wrong address
+        took = time.monotonic() - start   # (tenths below 10 s: --seconds 0.3 said "in 0 s")
         print(f"tabletop status: no heartbeat came to {shown_host_port(host, port)} in "
-              f"{time.monotonic() - start:.0f} s (a table in kiosk mode sends one every "
+              f"{took:.{1 if took < 10 else 0}f} s (a table in kiosk mode sends one every "
               "kiosk.heartbeat.every_s to kiosk.heartbeat.host:port)", file=sys.stderr)
     return 0 if shown else EXIT_NO_TABLE

@@ -326,7 +326,10 @@ class Supervisor:
 
     def _check_end(self) -> bool:
         """Stop once ``seconds`` have passed since the first READY; is the supervisor stopped?"""
-        if self._end_at is not None and self.clock() >= self._end_at:
+        if self._end_at is not None and self.clock() >= self._end_at and not self._timed_out:
+            # said before the installation's own "SIGTERM received: stopping", which alone
+            # reads as if someone had stopped the kiosk
+            log.info("supervisor: --seconds %g reached: stopping the installation", self.seconds)
             self._timed_out = True
             self.stop.set()
         return self.stop.is_set()

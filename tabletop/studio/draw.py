@@ -42,15 +42,45 @@ def text_scale(renderer: Any) -> float:
     return renderer.map.scale_at(w / 2, h / 2) / REF_PPM
 
 
-def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState) -> list[pygame.Rect]:
+def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
+             avoid: list[pygame.Rect]) -> tuple[int, int]:
+    """Where the REC or TRY mark (a dot of radius ``dot``, then ``img``) has its dot: at the
+    table's far left corner, or at its far right one where that hides less than half as much
+    of the characters drawn (``avoid``, pixels) as the corner it is in
+    (``renderer.studio_mark_right``, kept so that a character walking by does not make it
+    jump to and fro): a character at the far left corner (the bird of ``examples/mop.yaml``)
+    is not hidden under the words that say to try it."""
+    w, h = renderer.table
+    # the far edge's two corners, left and right as the window shows them (a projector's
+    # calibration may mirror the table)
+    left, (rx, ry) = sorted((renderer.map.point(0.04, h - 0.04),
+                             renderer.map.point(w - 0.04, h - 0.04)))
+    right = (rx - img.get_width() - 8 - dot, ry)
+
+    def hidden(x: int, y: int) -> int:
+        box = pygame.Rect(x - dot, y - img.get_height() // 2, img.get_width() + 2 * dot + 8,
+                          img.get_height())
+        return sum(box.clip(r).width * box.clip(r).height for r in avoid)
+
+    now, other = (right, left) if renderer.studio_mark_right else (left, right)
+    if 2 * hidden(*other) < hidden(*now):
+        renderer.studio_mark_right = not renderer.studio_mark_right
+        now = other
+    return now
+
+
+def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
+                avoid: list[pygame.Rect] | None = None) -> list[pygame.Rect]:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
     number in the middle of the table, a red dot and seconds and a red edge round the table
     while recording, a green TRY mark
-    (and the path to drag, when the target gives one) while a take is tried, and the status
-    line along the table's near edge (nothing while it has nothing to say). Returns the
+    (and the path to drag, when the target gives one) while a take is tried, both in the
+    table's far corner that hides less of the characters drawn (``avoid``, pixels), and the
+    status line along the table's near edge (nothing while it has nothing to say). Returns the
     rectangles of the marks and words (pixels), which the operator overlay keeps clear of."""
     if not c.label:
         return []
+    avoid = avoid or []
     marks: list[pygame.Rect] = []
     w, h = renderer.table
     k = text_scale(renderer)
@@ -68,32 +98,40 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState) -> lis
         target.blit(img, img.get_rect(center=(cx, cy)))
         marks.append(rect)
     elif c.action == "recording":
-        x, y = renderer.map.point(0.04, h - 0.04)
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
-        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), dot)
         img = font(mark_px).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
+        x, y = _mark_at(target, renderer, img, dot, avoid)
+        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), dot)
         marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
             (x - dot, y - dot, 2 * dot, 2 * dot)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
         pygame.draw.polygon(target, c.color, renderer._corners().tolist(), width=6)
     elif c.action in ("trying", "training"):
-        x, y = renderer.map.point(0.04, h - 0.04)
         green = (90, 220, 120)
-        pygame.draw.circle(target, green, (x, y), dot, width=0 if c.action == "trying" else 3)
         img = font(mark_px).render("TRY: K keep  X discard  R redo" if c.action == "trying"
                                    else "training...", True, green)
+        x, y = _mark_at(target, renderer, img, dot, avoid)
+        pygame.draw.circle(target, green, (x, y), dot, width=0 if c.action == "trying" else 3)
         marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
             (x - dot, y - dot, 2 * dot, 2 * dot)))
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
-    x, y = renderer.map.point(0.02, 0.02)
+    # the near edge's corner on the window's left (a calibration may mirror or turn the table:
+    # from its right-hand corner a line would be cut a letter a line); lines go up from it, or
+    # down where the near edge is the window's upper half (a table turned half round)
+    (x, y), _ = sorted((renderer.map.point(0.02, 0.02), renderer.map.point(w - 0.02, 0.02)))
     px = max(MIN_STATUS_PX, round(STATUS_PX * k))
     f = font(px)
-    for line in reversed(fit_lines(c.label, px, target.get_width() - x - max(x, 12))):
+    lines = fit_lines(c.label, px, target.get_width() - x - max(x, 12))
+    up = y > target.get_height() / 2
+    for line in reversed(lines) if up else lines:
         img = f.render(line, True, (235, 235, 235), (0, 0, 0))
-        y -= img.get_height() + 4
+        if up:
+            y -= img.get_height() + 4
         marks.append(target.blit(img, (x, y)))
+        if not up:
+            y += img.get_height() + 4
     return marks
 
 
@@ -119,11 +157,14 @@ def _guide(target: pygame.Surface, renderer, points, color) -> None:
 class NamePrompt:
     """F2 in the view: type a new name, Enter sends ``designer.rename:NAME``, Esc cancels.
     ``ask`` (the studio's :meth:`~tabletop.studio.machine.Studio.may_rename`, in the loop's
-    thread) may refuse F2: the prompt stays closed and the studio says why."""
+    thread) gives the name of the item in play, which the line names ("rename lover as: _",
+    so the designer sees what Enter renames, and that Esc cancels, where Esc otherwise quits),
+    or "" to refuse F2: the prompt stays closed and the studio says why."""
 
     def __init__(self) -> None:
         self.text: str | None = None
-        self.ask: Callable[[], bool] | None = None
+        self.ask: Callable[[], str] | None = None
+        self.item = ""      # the item being renamed ("" when nothing named it)
         self.refused = ""   # why a character typed was not taken, drawn under the line
 
     @property
@@ -133,8 +174,10 @@ class NamePrompt:
     def handle(self, ev: pygame.event.Event) -> str | None:
         """Take a KEYDOWN event; returns a command when one is complete."""
         if self.text is None:
-            if ev.key == pygame.K_F2 and (self.ask is None or self.ask()):
-                self.text, self.refused = "", ""
+            if ev.key == pygame.K_F2:
+                item = "" if self.ask is None else self.ask()
+                if item or self.ask is None:
+                    self.text, self.refused, self.item = "", "", item
             return None
         typed = ev.unicode   # (a reason said stays while letters follow, so that a fast
         #                      typist still reads it; Backspace, an edit of its own, clears it)
@@ -159,13 +202,19 @@ class NamePrompt:
                                 "a name: ASCII letters, digits, '_', '-' or '.'")
         return None
 
+    @property
+    def line(self) -> str:
+        """The line drawn while a name is typed."""
+        said = f"rename {self.item} as" if self.item else "new name"
+        return f"{said}: {self.text}_   (Esc cancels)"
+
     def draw(self, target: pygame.Surface, renderer: Any = None) -> None:
         """The line being typed, at the window's top, sized on the table as the studio's
         other words are (:func:`text_scale` of ``renderer``; 32 px at 840 px/m)."""
         if self.text is not None:
             k = 1.0 if renderer is None else text_scale(renderer)
             px = max(MIN_MARK_PX, round(32 * k))
-            img = font(px).render(f"new name: {self.text}_", True, (255, 255, 255), (0, 0, 0))
+            img = font(px).render(self.line, True, (255, 255, 255), (0, 0, 0))
             target.blit(img, img.get_rect(center=(target.get_width() // 2, px // 2 + 24)))
             if self.refused:
                 small = max(MIN_MARK_PX, round(px * 0.6))

@@ -58,11 +58,14 @@ class LibraryCommands:
         if self._busy("switching"):
             return
         items = target.items()
-        if not items:
-            self.say("the library is empty")
+        if not items:   # (a character's configured actions are no library items: named here)
+            where = getattr(target, "kept_in", "")
+            self.say(f"nothing kept{where if where.startswith(' in ') else ''} yet: ] and [ "
+                     "play what K keeps")
             return
         cur = target.current()
-        i = (items.index(cur) + step) % len(items) if cur in items else 0
+        # (from an item outside the library, the config's: ] plays the first, [ the last)
+        i = (items.index(cur) + step if cur in items else min(step, 0)) % len(items)
         skipped: list[str] = []     # an item that does not load is passed over, named: ]
         for _ in items:             # on a broken first item played nothing, again and again
             try:
@@ -82,16 +85,18 @@ class LibraryCommands:
     def _item_previous(self, target: Target, arg: str) -> None:
         self._item(target, -1)
 
-    def may_rename(self) -> bool:
-        """F2 in the view: may the name prompt open? If not, why is said at once (the same
-        refusal as the rename's), not after a name was typed."""
+    def may_rename(self) -> str:
+        """F2 in the view: the name of the item the prompt renames, or "" when it may not open;
+        then why is said at once (the same refusal as the rename's), not after a name was
+        typed."""
         self.quiet = False
         target = self.target
         why = ("no designer target" if target is None else self._busy_why("renaming")
                or ("nothing to rename" if target.current() is None else ""))
         if why:
             self.say(why)
-        return not why
+            return ""
+        return str(target.current())
 
     def _rename(self, target: Target, arg: str) -> None:
         if self._busy("renaming"):

@@ -128,6 +128,7 @@ class Studio(LibraryCommands):
                 self._drop("discarded" if tried else "")
                 self.say(f"{left}: take {'discarded' if tried else 'cancelled'} (Tab left it)")
             self.selected = frame.focus
+            self.quiet = False   # Tab is a designer key: its line names the target picked
         if self.state == "training" and self.target is not None:
             self._poll_training(self.target)     # between ticks: the worker's take swaps in
         ours = frame.focus is None or frame.focus in self.targets   # else another engine's

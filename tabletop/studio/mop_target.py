@@ -197,9 +197,12 @@ class MopTarget:
         take."""
         motion = self.stage.assign_motion(self.character)
         action = self.stage.take_action
+        # (without it, A on a character of one motion, the example's bird, says its line again)
+        only = (f" ({motion} is the only motion {self.character} has)"
+                if len(self.stage.motions.get(self.character, ())) == 1 else "")
         if action is not None:
-            return f"{action} -> {motion}; try it: K keep, X discard, R redo"
-        return f"the next take plays {motion} (A: another motion)"
+            return f"{action} -> {motion}{only}; try it: K keep, X discard, R redo"
+        return f"the next take plays {motion}{only or ' (A: another motion)'}"
 
     def keep(self) -> str:
         """Keep the take under its name, or the next free one when another run on the library

@@ -294,6 +294,8 @@ def test_images_are_png_files_and_steps_are_named(tmp_path, capsys):
     line = refused(capsys, "table", "--image", tmp_path / "none.png", *markers,
                    "--out", tmp_path / "config.yaml", words="config.yaml: table: unknown key")
     assert line.startswith("tabletop calibrate table: error:") and "image not found" not in line
+    # ... said as --out's file, which is no calibration (it read as a calibration file's key)
+    assert f"--out {tmp_path / 'config.yaml'}: the file is there and is no calibration" in line
 
 
 @pytest.mark.parametrize("spec, dpi", [(None, "300"), ("9x6:25:18:DICT_6X6_250", "100")])
@@ -380,3 +382,12 @@ def test_camera_takes_the_views_in_name_order_png_and_jpeg(tmp_path, capsys, vie
     printed = [ln.split(":")[0].strip() for ln in out.splitlines()
                if ln.startswith("  ") and ln.rstrip().endswith(" px")]
     assert printed == sorted(names)
+
+
+def test_a_marker_given_twice_is_named(tmp_path, capsys):
+    """``--marker 0=... --marker 0=...``: the line names the id given twice (it said "a marker
+    id is given twice", leaving the installer to find which of the markers)."""
+    markers = ["--marker", "0=0.1,0.1", "--marker", "3=1.1,0.1", "--marker", "3=1.1,0.7",
+               "--marker", "2=0.1,0.7"]
+    refused(capsys, "table", "--image", tmp_path / "none.png", *markers,
+            "--out", tmp_path / "c.yaml", words="--marker: marker id 3 is given twice")

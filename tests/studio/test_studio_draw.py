@@ -174,3 +174,53 @@ def test_the_rename_prompt_keeps_its_size_on_the_table_too():
         img = pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
         heights.append(len(rows_with_text(img)) / renderer.map.scale_at(0.6, 0.4))
     assert abs(heights[1] / heights[0] - 1.0) < 0.1, heights
+
+
+@pytest.mark.parametrize("action", ["trying", "recording"])
+def test_the_try_and_rec_marks_keep_off_a_character_in_their_corner(action):
+    """The TRY (or REC) words at the table's far left corner were drawn over a character
+    standing there (the bird of examples/mop.yaml, the very character being tried): they go to
+    the far right corner while it is there, and stay there until the left one hides less than
+    half as much."""
+    from tabletop.frames import Frame
+
+    renderer = Renderer((1.2, 0.8), (1280, 720), margin=24)
+    surface = pygame.Surface((1280, 720))
+    studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action=action,
+                            progress=1.0, label="[mop/bird] try it")
+
+    def mark(t: float, *characters: CharacterState) -> pygame.Rect:
+        renderer.draw(surface, Frame(seq=int(t * 60), t=t, characters=(*characters, studio)))
+        return renderer._studio_marks[0]
+
+    assert mark(0.0).centerx < 640                     # no one there: the far left corner
+    bird = CharacterState("bird", 0.12, 0.72, 0.0, kind="reactor", size=0.1)
+    shown = [mark(0.1 + i / 60, bird) for i in range(60)]   # (it fades in)
+    body = renderer._keep_clear[0]
+    assert shown[-1].centerx > 640 and not shown[-1].colliderect(body)
+    middle = CharacterState("bird", 0.6, 0.4, 0.0, kind="reactor", size=0.1)
+    assert mark(2.0, middle).centerx > 640             # nothing in either corner: it stays
+
+
+@pytest.mark.parametrize("turn", ["mirrored", "half round"])
+def test_the_studio_words_read_on_a_mirrored_or_turned_table(turn):
+    """A projector calibration that mirrors the table (its corner 0 at the window's right), or
+    turns it half round (a projector hung upside down): the status line, from the table's
+    corner 0, was cut a letter a line down the window's right edge, and the TRY words ran off
+    it. Both read left to right from the corner on the window's left, inside the window."""
+    import numpy as np
+    from tabletop.frames import Frame
+
+    flip_y = -840.0 if turn == "mirrored" else 840.0
+    H = np.array([[-840.0, 0.0, 1144.0], [0.0, flip_y, 696.0 if turn == "mirrored" else 24.0],
+                  [0.0, 0.0, 1.0]])
+    renderer = Renderer((1.2, 0.8), (1280, 720), margin=24, homography=H)
+    surface = pygame.Surface((1280, 720))
+    label = "[pet] trained 317 samples (6.2 s); try it: K keep, X discard, R redo"
+    studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action="trying",
+                            label=label)
+    renderer.draw(surface, Frame(seq=0, t=0.0, characters=(studio,)))
+    mark, *status = renderer._studio_marks
+    assert surface.get_rect().contains(mark) and mark.centerx < 640, mark
+    assert len(status) == 1 and surface.get_rect().contains(status[0]), status
+    assert status[0].width > 500 and status[0].left < 640, status

@@ -273,3 +273,26 @@ def test_a_take_whose_puck_is_not_seen_says_so(tmp_path):
     table.perform("zigzag")
     table.stop_take()
     assert "take1 ->" in table.status and "puck 1 unseen 0.5 s of" in table.status, table.status
+
+
+def test_a_on_a_character_of_one_motion_says_it_is_the_only_one(tmp_path):
+    """A on a character that has one motion (the bird of examples/mop.yaml) cycled to that
+    motion and said the same line again, the key looking broken: the line says it is the only
+    one, before a take and while one is tried."""
+    cfg = designer_config(tmp_path)
+    cfg["engines"][0]["characters"][1]["motions"] = ["strike"]
+    engine = build(cfg, tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    table.rest(1.0)
+    table.tick(["designer.assign"])
+    assert "the next take plays strike (strike is the only motion lizard has)" in table.status
+    table.tick(["designer.record"])
+    table.tick()
+    table.perform("square")
+    table.tick(["designer.record"])
+    table.tick(["designer.assign"])
+    assert "take1 -> strike (strike is the only motion lizard has); try it" in table.status
+    table.focus = "mop/face"                             # several motions: as before
+    table.tick(["designer.discard"])
+    table.tick(["designer.assign"])
+    assert "(A: another motion)" in table.status and "only motion" not in table.status

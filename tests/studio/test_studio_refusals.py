@@ -133,6 +133,7 @@ def test_f2_with_nothing_to_rename_is_refused_at_once(tmp_path):
         studio.command("designer.item_next")
         f2(2.0)
         assert view.prompt.active                      # shy is in play: type its new name
+        assert view.prompt.line == "rename shy as: _   (Esc cancels)"   # what Enter renames
         key(pygame.K_ESCAPE)
         view.consume(studio(Frame(seq=3, t=3.0)))
         studio.command("designer.record")              # a take under way: refused, said
@@ -158,3 +159,43 @@ def test_a_refusal_while_a_puck_is_missing_is_shown_beside_the_missing_puck(tmp_
     assert "recording: no puck 2" in said and "no renaming during a take" in said
     said = tick(30)                                    # half a second on: both still shown
     assert "recording: no puck 2" in said and "no renaming during a take" in said
+
+
+def test_tab_in_a_quiet_studio_shows_the_target_it_picked(tmp_path):
+    """A studio outside studio mode draws nothing until a designer key: Tab, the first key a
+    designer of several characters presses, changed the target without a word (the MOP
+    example: Tab, then nothing on the table to say that the bird was picked)."""
+    from tabletop.studio.machine import Studio
+    from tabletop.studio.targets import PuppetMasterTarget
+
+    a, b = build([{"kind": "puppet_master", "name": n, "designer": {
+        "enabled": True, "library": str(tmp_path)}} for n in ("a", "b")])
+    studio = Studio([PuppetMasterTarget(e) for e in (a, b)], countdown_s=0.0, quiet=True)
+    assert studio(Frame(seq=0, t=1.0, focus="a")).character("studio").label == ""
+    label = studio(Frame(seq=1, t=1.1, focus="b")).character("studio").label
+    assert label.startswith("[b] ") and "R record" in label, label
+
+
+def test_a_switch_with_nothing_kept_names_the_folder_it_looked_in(tmp_path):
+    """] with nothing kept said "the library is empty", beside a MOP character that knows the
+    actions of its config (those are no library items): the line names the folder it plays
+    from and what fills it."""
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_next")
+    assert bench.studio.message == f"nothing kept in {tmp_path / 'lib'}/ yet: ] and [ play " \
+                                   "what K keeps", bench.studio.message
+
+
+def test_previous_from_the_configs_behaviour_plays_the_last_kept_one(tmp_path):
+    """[ from the config's behaviour (no library item) played the first kept item, as ] does:
+    it plays the last."""
+    lib = tmp_path / "lib"
+    for name in ("a", "b", "c"):
+        library.save_behavior(lib, name, designers.demonstrate("lover", seconds=3), {})
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_previous")
+    assert bench.studio.message == "playing c (3 of 3)" and e.behavior_name == "c"
+    bench.studio.command("designer.item_previous")
+    assert bench.studio.message == "playing b (2 of 3)"

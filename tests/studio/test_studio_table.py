@@ -357,3 +357,27 @@ def test_studio_mode_keeps_the_takes_of_a_reactor_whose_name_no_folder_may_have(
     studio.command("designer.keep")
     assert studio.message == "kept as behaviour in library/"   # (the default, the config's)
     assert library.list_behaviors(targets[0].lib) == ["behaviour"]
+
+
+def test_review_cells_are_as_tall_as_their_sheets(tmp_path):
+    """The contact sheet's cells were 400 x 360 px for sheets of 640 x 288 scaled to 176 px
+    tall: 146 px of every cell blank, the sheet half empty. A cell is its caption and its
+    sheet: no white band between one row's sheets and the next row's caption."""
+    import matplotlib.image as mpimg
+    import numpy as np
+    from PIL import Image
+    Image.new("RGB", (640, 288), (90, 90, 90)).save(tmp_path / "try.png")
+    log = tmp_path / "s.jsonl"
+    log.write_text('{"target": "pet", "outcome": "kept", "review": "try.png"}\n' * 3)
+    out = tmp_path / "sheet.png"
+    assert cli(["review", str(log), "--columns", "1", "--out", str(out)]) == 0
+    img = mpimg.imread(str(out))[..., :3].sum(axis=2)
+    grey = np.flatnonzero((np.abs(img - 3 * 90 / 255) < 0.05).sum(axis=1) > 300)  # sheets' rows
+    assert len(grey) >= 3 * 150, len(grey)
+    white = (img > 2.95).all(axis=1)
+    runs, n = [], 0
+    for w in white[grey[0]:]:            # from the first sheet down: blank rows in a row
+        n = n + 1 if w else 0
+        runs.append(n)
+    assert max(runs) < 40, max(runs)     # a caption's margins, never a blank band
+    assert img.shape[0] < 3 * 260, img.shape

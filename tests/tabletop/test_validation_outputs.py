@@ -117,3 +117,58 @@ def test_out_to_a_name_of_a_stream_leading_to_a_file_writes_through_it(tmp_path,
         assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json", "stdout"]
     finally:
         os.close(fd)
+
+
+def test_replay_out_that_cannot_be_started_is_refused_before_it_plays(tmp_path, capfd):
+    """``replay --out`` under a file: one line naming it and exit status 2, as ``run --record``
+    is refused: nothing is replayed into no file (a replay is no table to keep running)."""
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("sources: [{kind: scripted, pucks: [1]}]\nview: {enabled: false}\n")
+    rec = tmp_path / "rec.jsonl"
+    code, err = cli(capfd, "run", "--config", cfg, "--seconds", "0.3", "--record", rec)
+    assert code == 0, err
+    (tmp_path / "notes.txt").write_text("")
+    code, err = cli(capfd, "replay", rec, "--fast", "--out", tmp_path / "notes.txt" / "r.jsonl")
+    line = one_line(err)
+    assert code == 2 and "notes.txt is a file" in line and "keeps running" not in line, line
+
+
+def test_replay_out_cut_short_by_a_full_disk_exits_3(tmp_path, capfd):
+    """A replay whose --out stops part way (here a file size limit, RLIMIT_FSIZE) exits with
+    status 3, as ``run`` does, naming --out: a script comparing replays must not take the part
+    written for the whole."""
+    import resource
+    import signal
+    import subprocess
+    import sys
+
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("sources: [{kind: scripted, pucks: [1, 2]}]\nview: {enabled: false}\n")
+    rec = tmp_path / "rec.jsonl"
+    code, err = cli(capfd, "run", "--config", cfg, "--seconds", "2", "--record", rec)
+    assert code == 0 and rec.stat().st_size > 3 * 16384, err
+
+    def limit() -> None:
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (16384, 16384))
+
+    out = tmp_path / "again.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "replay", str(rec), "--fast",
+                        "--out", str(out)], capture_output=True, text=True, preexec_fn=limit,
+                       timeout=60)
+    assert r.returncode == 3, r.stderr
+    assert "Traceback" not in r.stderr
+    (said,) = [ln for ln in r.stderr.splitlines() if "is incomplete" in ln]
+    assert f"--out {out} is incomplete" in said and "File too large" in said, said
+
+
+@pytest.mark.parametrize("describe", [False, True])
+def test_pose_out_naming_a_folder_suggests_the_file_it_writes(tmp_path, capfd, describe):
+    """``pose --describe --out FOLDER`` suggested FOLDER/out.jsonl for the one JSON object it
+    writes: it suggests describe.json there, poses.jsonl for the poses."""
+    (tmp_path / "t.csv").write_text("t,id,x,y\n0,1,0.6,0.4\n")
+    args = ["--describe"] if describe else ["--input", tmp_path / "t.csv"]
+    code, err = cli(capfd, "pose", *args, "--out", tmp_path)
+    line = one_line(err)
+    want = "describe.json" if describe else "poses.jsonl"
+    assert code == 2 and line.endswith(f"give a file name such as {tmp_path / want}"), line

@@ -434,3 +434,20 @@ def test_characters_step_back_under_the_one_moment_screen():
     for k in range(60, 90):
         r.draw(s, Frame(seq=k, t=k * 0.1, health=ok, characters=(c,)))
     assert r.moment == 0.0 and pink(rgb(s)) > 1500
+
+
+def test_a_mouse_finger_is_ringed_and_a_real_one_is_not():
+    """The mouse's fingers (a desk without a touch table) were drawn nowhere: a finger pinned
+    with Shift + click held a part unseen, and lifting it needed a Shift + click on it. Each is
+    ringed; a touch table's finger, seen for itself, is not."""
+    from tabletop.frames import Touch
+    from tabletop.pointer import FIRST_ID
+
+    for ident, ringed in ((FIRST_ID + 1, True), (3, False)):
+        r = new_renderer()
+        img = settled(r, Frame(seq=0, t=0.0, touches=(Touch(ident, 0.6, 0.4),)))
+        cx, cy = r.map.point(0.6, 0.4)
+        ring = max(brightness(img, (cx + dx, cy + dy)) for dx, dy in
+                   ((9, 0), (-9, 0), (0, 9), (0, -9)))
+        assert (ring > ground(r, (cx, cy)) + 300) == ringed, (ident, ring)
+        assert brightness(img, (cx, cy)) < ground(r, (cx, cy)) + 30   # the finger's spot dark
