@@ -305,8 +305,14 @@ class ActionClock:
         if not resting or self._rest is None or abs(target - self._rest) > REST_BAND:
             self._rest = target
         else:
-            self._rest += (target - self._rest) / (1.0 + 1.0 / (2 * math.pi * REST_CUTOFF * dt))
+            self._rest += (target - self._rest) * self.rest_weight(dt)
         return self._rest
+
+    @staticmethod
+    def rest_weight(dt: float) -> float:
+        """The share (0-1) of a new value a low-pass at ``REST_CUTOFF`` Hz takes after ``dt`` s."""
+        w = 2 * math.pi * REST_CUTOFF * dt
+        return w / (1.0 + w)
 
     def step(self, dt: float, target: float | None, touching: bool) -> float:
         """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint)."""

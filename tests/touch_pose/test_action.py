@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from behaviors.touch_pose.action import dp_distance, threshold
+from behaviors.touch_pose.action import ActionClock, dp_distance, threshold
 from behaviors.touch_pose.tracking import rot_diff
 
 from .conftest import actions_begun, stroke_drag, there_and_back
@@ -234,3 +234,12 @@ def test_a_jittering_finger_resting_where_the_action_may_stand_holds_it(make, mo
     assert len(u) >= 20
     assert np.abs(np.diff(u)).sum() - abs(u[-1] - u[0]) < 0.03, np.round(u, 3).tolist()
 
+
+
+def test_the_action_clock_takes_a_frame_of_no_time(models):
+    # a repeated frame time (dt = 0) while a finger rests leaves the time where it is
+    clock = ActionClock(next(a for a in models.actions if a.name == "punch"), 0.9)
+    for _ in range(3):
+        assert clock.step(1 / 30, 0.9, True) == pytest.approx(0.9, abs=0.06)
+    u = clock.u
+    assert clock.step(0.0, 0.91, True) == pytest.approx(u)
