@@ -84,13 +84,15 @@ MAX_PACE = 1.6
 FINGER_WINDOW = 0.2
 FINGER_BAND = 0.05
 #: Where the action may stand, a finger resting (its synthesised time not moving by
-#: ``FINGER_BAND`` over ``FINGER_WINDOW``) holds that time low-passed at ``REST_CUTOFF`` Hz while
-#: it stays within ``REST_BAND`` (generalised time) of it; beyond, or moving, the time follows
-#: the synthesis itself. A resting finger's synthesised time flips between neighbouring samples
-#: (a punch held with 1 mm of jitter, view 90,15: 0.810 <-> 0.831 frame after frame), and the
-#: time followed every flip. Measured (bench/touch_pose_rest.py: the action time's back-and-forth
-#: while a finger with 1 mm of jitter rests, s, median / largest; the primary part's mean
-#: distance from a finger dragging back along the stroke, wave to 0.3 and bow to 0.3, table m):
+#: ``FINGER_BAND`` over ``FINGER_WINDOW``, and the finger itself within ``REST_SPAN`` over
+#: ``REST_WINDOW``: :mod:`behaviors.touch_pose.action_control`) holds that time low-passed at
+#: ``REST_CUTOFF`` Hz while it stays within ``REST_BAND`` (generalised time) of it; beyond, or
+#: moving, the time follows the synthesis itself. The hold is the project's own addition to
+#: section 5 (it keeps the section's stillness). A resting finger's synthesised time flips between
+#: neighbouring samples (a punch held with 1 mm of jitter, view 90,15: 0.810 <-> 0.831 frame
+#: after frame). Measured (bench/touch_pose_rest.py: the action time's back-and-forth while a
+#: finger with 1 mm of jitter rests, s, median / largest; the primary part's mean distance from
+#: a finger dragging back along the stroke, wave to 0.3 and bow to 0.3, table m):
 #:
 #:                                   punch        wave        bow          back: wave  bow
 #:     followed every flip            0.035/0.78   0.021/0.80  0.45/0.98    0.0243  0.0083
@@ -102,8 +104,12 @@ FINGER_BAND = 0.05
 #: (One Euro: cutoff + beta x speed, speed low-passed at 1 Hz, in the still segments.) The flips
 #: move the time 0.02 a frame, 0.6 per second, as fast as a real drag (the wave's pace is 0.42
 #: per second), so no beta tells them apart: a beta low enough to hold a resting finger lags a
-#: moving one. The finger's window does tell them apart, so the hold gives way to it. Left: the
-#: wave from 90,15 with 2 mm of jitter flips 0.06 (more than the band), 0.89 s at most.
+#: moving one. The finger's window does tell them apart, so the hold gives way to it. A finger
+#: dragging back 3 or 5 times slower than the stroke moves the time less than the band, so the
+#: time alone held it too (the wave's gap 0.0199 / 0.0181 m following every flip, 0.0208 /
+#: 0.0196 held); with the finger's own span as a condition it is 0.0199 / 0.0181, and the rest
+#: figures above become punch 0.0004/0.004, wave 0.0002/0.08, bow 0.004/0.010. Left: the wave
+#: from 90,15 with 2 mm of jitter flips 0.06 (more than the band), 0.89 s at most.
 REST_CUTOFF = 0.1
 REST_BAND = 0.03
 
@@ -287,6 +293,9 @@ class ActionClock:
         self._elapsed = 0.0
         self._recent: deque[tuple[float, float]] = deque()   # (s, synthesised time) in the window
         self._rest: float | None = None   # the resting finger's low-passed synthesised time
+        #: whether this step's time came from a resting finger's held time (then the posture
+        #: is the sample motions' at the time, not the synthesised one, which flips with it)
+        self.held = False
 
     def finger(self, dt: float, target: float) -> tuple[float, float]:
         """How far the finger has gone forward and back along the action over the last
@@ -302,14 +311,22 @@ class ActionClock:
 
     def _resting(self, dt: float, target: float, resting: bool) -> float:
         """The synthesised time ``target`` a resting finger holds (see ``REST_CUTOFF``)."""
-        if not resting or self._rest is None or abs(target - self._rest) > REST_BAND:
+        self.held = resting and self._rest is not None and abs(target - self._rest) <= REST_BAND
+        if not self.held:
             self._rest = target
         else:
-            self._rest += (target - self._rest) / (1.0 + 1.0 / (2 * math.pi * REST_CUTOFF * dt))
+            self._rest += (target - self._rest) * self.rest_weight(dt)
         return self._rest
 
-    def step(self, dt: float, target: float | None, touching: bool) -> float:
-        """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint)."""
+    @staticmethod
+    def rest_weight(dt: float) -> float:
+        """The share (0-1) of a new value a low-pass at ``REST_CUTOFF`` Hz takes after ``dt`` s."""
+        w = 2 * math.pi * REST_CUTOFF * dt
+        return w / (1.0 + w)
+
+    def step(self, dt: float, target: float | None, touching: bool, rests: bool = True) -> float:
+        """Advance by ``dt`` s toward ``target`` (synthesised time, None without constraint);
+        ``rests``: the finger itself stays put (the hold of ``REST_BAND`` may engage)."""
         pace = dt / self.action.duration
         seg = self.action.segment(self.u)
         if not touching or target is None:
@@ -318,10 +335,12 @@ class ActionClock:
                 self.heading = seg.direction
             self._recent.clear()
             self._rest = None
+            self.held = False
         else:
             rise, fall = self.finger(dt, target)
             moves = {1: rise > FINGER_BAND, -1: fall > FINGER_BAND, 0: False}
-            target = self._resting(dt, target, seg.still and not (moves[1] or moves[-1]))
+            target = self._resting(dt, target,
+                                   rests and seg.still and not (moves[1] or moves[-1]))
             step = float(np.clip(target - self.u, -MAX_PACE * pace, MAX_PACE * pace))
             if not seg.still:
                 # no stillness here (a kick in the air): at least the recording's pace the way

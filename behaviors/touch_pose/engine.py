@@ -11,7 +11,9 @@ Each :meth:`TouchPose.step` takes the fingers on the table (id -> table metres) 
 3. action control: generalised time toward the synthesised time, stillness and automatic
    direction by segment; once the time comes within one frame's interval of the synthesised
    time, the synthesised posture itself is output, else the sample motions' posture at the
-   time with the synthesis's motion weights (section 5); secondary touches by IK, unlimited
+   time with the synthesis's motion weights (section 5); a finger resting where the action may
+   stand holds the time and the posture (``action.REST_BAND``, ``action_control.REST_SPAN``);
+   secondary touches by IK, unlimited
    (a held part stays fixed under its finger as the action moves); at the end
    back to posing where the action left the character (its position and heading become the
    posing base, within ``ROAM``), posing's target faded in from the action's (``HANDOVER_S``):
@@ -99,6 +101,7 @@ class TouchPose(ActionControl):
         self.mode = "posing"
         self.clock: ActionClock | None = None
         self.action_blend: tuple[ActionModel, Blend] | None = None
+        self.rest_pose: Pose | None = None
         self.action_base: tuple[np.ndarray, float] = (self.base, self.yaw)
         self.last_t: float | None = None
         self.recognising = True   # False while a designer records a take: drags only pose

@@ -6,6 +6,20 @@ within its limit after each turn. The pelvis is moved by translating the root; a
 and chest cannot bring to its goal (it must rise or sink) moves the pelvis too. Section 4 limits
 the correction to 0.2 m (:data:`MAX_CORRECTION`): a goal farther than that from where the blended
 posture holds the part is pulled back to 0.2 m, so IK never drags a limb into an unnatural pose.
+
+A hand or foot asked beyond its limb's reach leaves the pelvis where the blend puts it; section 4
+fixes the planted feet and never translates the root. Measured alternative
+(bench/touch_pose_posing.py, the pelvis moved by the weighted mean of what the unreached touched
+parts and the planted feet, weight 4, still miss, each move capped at 0.2 m and followed by a
+sweep): one finger's p90 gap 0.0027 -> 0.0019 m in place and 0.0105 -> 0.0056 m on shifted postures
+(table m), several fingers 0.0091 -> 0.0058 / 0.0216 -> 0.0192; but the pelvis moves 0.40 / 0.80 m
+in all for a hand goal 1 / 2 m away (0.234 m with a hand held through an action), beyond section
+4's 0.2 m, and the untouched planted foot, re-planted each frame where the last frame left it,
+creeps 0.023 / 0.037 / 0.052 m after three fingers' circles 1 / 2 / 3 (0.001 / 0.003 / 0.005 with
+the pelvis kept), so the character walks away by its feet. With it, section 4's relative root
+posing (bounded to 0.15 m and 30 degrees) still blends postures asked for in place worse (median
+0.035 -> 0.040) and leaves several fingers farther (p90 0.0058 -> 0.0085), so samples stay in place
+(:mod:`behaviors.touch_pose.samples`).
 """
 
 from __future__ import annotations
