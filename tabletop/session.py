@@ -24,7 +24,10 @@ engines first play a hot-reloaded behaviour carries what it was trained from as
 ``consumed["reload"]["behaviors"]``, and one where a reload failed its label's note as
 ``consumed["reload"]["notes"]`` (:mod:`tabletop.studio.reloader`), and one whose MOP
 characters first follow an action a kiosk started without the files it was read from as
-``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`). A reader accepts a
+``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`), and one whose studio
+first follows a MOP character's or touch-pose engine's library files changed on disk those
+files as ``consumed["reload"]["libraries"]`` (:class:`tabletop.studio.reloader.
+LibraryReloads`). A reader accepts a
 file whose last line was cut short by a power cut.
 """
 
@@ -47,6 +50,8 @@ log = logging.getLogger("tabletop")
 FORMAT = "tabletop-session"
 VERSION = 2
 READABLE = (1, 2)
+RELOADS = ("behaviors", "notes", "actions", "libraries")
+"""What a frame's ``consumed["reload"]`` may hold (see the module docstring)."""
 MAX_T = 1e8   # seconds (three years): a larger recorded time is damage, not a session
 MAX_SPEED = 1e6   # m/s or rad/s: no puck or finger crosses a 1000 m table in a millisecond
 
@@ -76,7 +81,7 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         **({"focus": frame.focus} if frame.focus is not None else {}),
         **({"consumed": {k: {"pucks": [_puck_to_dict(p) for p in v.get("pucks", ())],
                              "commands": list(v.get("commands", ())),
-                             **{r: v[r] for r in ("behaviors", "notes", "actions") if r in v}}
+                             **{r: v[r] for r in RELOADS if r in v}}
                          for k, v in frame.consumed.items()}} if frame.consumed else {}),
     }
 
@@ -129,6 +134,14 @@ def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
                 raise ValueError(f"consumed.{k}.actions: expected a mapping of engines to "
                                  "lists of {character, action, files}")
             out[str(k)]["actions"] = actions
+        if "libraries" in v:      # studio library files reloaded: {target: {name: base64}}
+            libs = v["libraries"]
+            if not isinstance(libs, dict) or not all(
+                    isinstance(f, dict) and all(isinstance(b, str) for b in f.values())
+                    for f in libs.values()):
+                raise ValueError(f"consumed.{k}.libraries: expected a mapping of studio "
+                                 "targets to {file name: base64}")
+            out[str(k)]["libraries"] = libs
     return out
 
 

@@ -11,7 +11,9 @@ the frame whose engines first play the new behaviour holds, in ``consumed["reloa
 what it was trained from (name, parameters, the demonstration's float64 bytes in base64, encoded
 in the worker), and a replay trains it within that frame (:class:`RecordedReloads`), bit for bit.
 A reload that fails is recorded too, as the label's note (``consumed["reload"]["notes"]``), so
-the replayed labels say "bad file" from the same frame as live.
+the replayed labels say "bad file" from the same frame as live. The studio's MOP and
+touch-pose library files changed on disk are recorded the same way, as the files read
+(:class:`LibraryReloads`, replayed by :class:`RecordedLibraries`).
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import numpy as np
 from behaviors.worker import Worker, close_workers
 from tabletop import library
 from tabletop.frames import Frame, InputError
-from tabletop.kiosk.watch import Poller
+from tabletop.kiosk.watch import Poller, tree_signature
 
 if TYPE_CHECKING:
     from tabletop.frames import Engine
@@ -229,3 +231,98 @@ class RecordedReloads:
                 from tabletop.kiosk.actions import replay_actions
                 replay_actions(self.engines[name], entries)
         return frame
+
+
+def library_files(path: Path) -> dict[str, str]:
+    """The files below ``path`` as a studio's library watcher sees them (hidden names skipped,
+    :func:`~tabletop.kiosk.watch.tree_signature`): relative name -> base64 of its bytes. A
+    file gone while read is left out, as the reload that read it left it out."""
+    out: dict[str, str] = {}
+    for name, _mtime, _size in tree_signature(path):
+        try:
+            out[name] = base64.b64encode((path / name).read_bytes()).decode("ascii")
+        except OSError:
+            continue
+    return out
+
+
+class LibraryReloads:
+    """The studio's library watching (its ``poll``, a hook after each frame's sinks) with what
+    it read recorded: a MOP character's or a touch-pose engine's library files that changed
+    on disk are reloaded there (:meth:`Studio.poll`), and the next frame, the first whose
+    engines follow them, holds those files' bytes as ``consumed["reload"]["libraries"]``
+    ``{target: {relative name: base64}}``; a replay (:class:`RecordedLibraries`) writes them
+    into its own copy of the library and reloads within that frame. Files written while they
+    were read are read again at the next look (the poller forgets what it saw)."""
+
+    def __init__(self, studio: Any) -> None:
+        self.studio = studio
+        self._read: dict[str, dict[str, str]] = {}
+
+    def _pollers(self) -> dict[str, Poller]:
+        return {name: p for name, t in self.studio.targets.items()
+                if isinstance(p := getattr(t, "_poller", None), Poller)}
+
+    def poll(self, frame: Frame | None = None) -> None:
+        """The hook: the studio's poll, and the files of each library it reloaded."""
+        pollers = self._pollers()
+        before = {name: p.signature for name, p in pollers.items()}
+        self.studio.poll()
+        for name, p in pollers.items():
+            if p.signature == before[name]:
+                continue
+            self._read[name] = library_files(p.path)
+            if tree_signature(p.path) != p.signature:   # written while read: read it again
+                p.signature = None
+
+    def __call__(self, frame: Frame) -> Frame:
+        """The filter: ``frame`` holding the libraries reloaded after the previous one."""
+        read, self._read = self._read, {}
+        for name, files in read.items():
+            frame = _recorded(frame, "libraries", name, files)
+        return frame
+
+
+class RecordedLibraries:
+    """Replay's frame filter: a recorded frame's library reloads (``consumed["reload"]
+    ["libraries"]``, :class:`LibraryReloads`) written into the replay's library (files the
+    record does not hold removed, hidden ones such as ``.trash`` kept) and reloaded by its
+    studio before the frame's engines, as live. A record that names no target of this studio
+    or holds a name outside its library is logged and skipped."""
+
+    def __init__(self, studio: Any) -> None:
+        self.studio = studio
+
+    def __call__(self, frame: Frame) -> Frame:
+        records = frame.consumed.get("reload", {}).get("libraries", {})
+        forced = False
+        for name, files in records.items():
+            poller = getattr(self.studio.targets.get(name), "_poller", None)
+            if not isinstance(poller, Poller):
+                log.error("replay: recorded library of %r: no such studio target; skipped", name)
+                continue
+            try:
+                _write_tree(poller.path, files)
+            except (InputError, OSError, TypeError, ValueError) as exc:
+                log.error("replay: recorded library of %r not written: %s", name, exc)
+                continue
+            poller.signature, poller._next, forced = None, -np.inf, True
+        if forced:
+            self.studio.poll()
+        return frame
+
+
+def _write_tree(path: Path, files: dict[str, str]) -> None:
+    """``path`` holding exactly ``files`` (relative name -> base64) among its unhidden files."""
+    data = {}
+    for name, text in files.items():
+        rel = Path(name)
+        if rel.is_absolute() or ".." in rel.parts or not rel.parts:
+            raise InputError(f"{name!r} is outside the library")
+        data[rel] = base64.b64decode(text, validate=True)
+    for name, _mtime, _size in tree_signature(path):
+        if Path(name) not in data:
+            (path / name).unlink()
+    for rel, content in data.items():
+        (path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (path / rel).write_bytes(content)
