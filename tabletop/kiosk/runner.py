@@ -186,9 +186,10 @@ class Runner:
             held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
         # outside the studio too; a behaviour an applied edit's new files refused plays on
         playing, self._playing = self._playing, {}
-        reloaders = [BehaviorReloader(e, kept=keep_playing(e, playing.get(e.name)))
-                     for e in loop.engines
-                     if getattr(e, "folder", None) is not None and e not in held]
+        # (one the studio drives keeps it too; its target reloads the folder)
+        reloaders = [BehaviorReloader(e, kept=keep_playing(e, playing.get(e.name)),
+                                      watch=e not in held)
+                     for e in loop.engines if getattr(e, "folder", None) is not None]
         for r in reloaders:
             loop.filters.insert(0, r)    # (recorded for replays)
         for e in loop.engines:           # MOP actions started without, followed once fixed

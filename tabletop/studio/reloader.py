@@ -84,19 +84,27 @@ class BehaviorReloader:
 
     ``kept``: the reloads (``{"behaviors": source, "notes": note}``) of a behaviour a config
     edit's rebuild kept playing (:func:`keep_playing`), put into the first frame so that its
-    replay plays it from there."""
+    replay plays it from there.
+
+    ``watch=False``: an engine the studio drives (designer mode), whose folder its target
+    reloads (:mod:`tabletop.studio.pm_shelf`): this filter only puts ``kept`` into the first
+    frame and holds the start's :attr:`problem` (the status's ``behavior_errors``) while the
+    engine plays the behaviour it started with (the one kept, or none): once the studio plays
+    another (the folder fixed and reloaded, another picked) the problem is the studio's."""
 
     def __init__(self, engine: PuppetMasterEngine, background: bool = True,
-                 kept: dict[str, Any] | None = None) -> None:
+                 kept: dict[str, Any] | None = None, watch: bool = True) -> None:
         self.engine = engine
         self.folder = Path(engine.folder)
-        self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
+        self.poller = (Poller(self.folder, read=getattr(engine, "folder_read", None))
+                       if watch else None)
+        self._started = engine.behavior          # (watch=False: what the problem is about)
         # the file that went bad (None: the folder read well), from the engine's build on
         self.problem: str | None = getattr(engine, "problem", "") or None
         if kept is not None and self.problem:
             self.problem = f"{self.problem}{KEPT}"
         self._first = kept
-        self.worker = Worker("puppet-master-reload") if background else None
+        self.worker = Worker("puppet-master-reload") if background and watch else None
         self.loading = False          # a job is in the worker
 
     def __call__(self, frame: Frame | None = None) -> Frame | None:
@@ -107,6 +115,10 @@ class BehaviorReloader:
             first, self._first = self._first, None
             for key, value in first.items():
                 frame = _recorded(frame, key, self.engine.name, value)
+        if self.poller is None:
+            if self.problem and self.engine.behavior is not self._started:
+                self.problem = None
+            return frame
         if self.loading and self.worker is not None:
             done = self._apply(self.worker.poll())
         if self.poller.changed():
@@ -246,10 +258,19 @@ def library_files(path: Path) -> dict[str, str]:
     return out
 
 
+def watched(target: Any) -> Poller | None:
+    """The poller of the files a studio ``target`` reloads when they change: a MOP
+    character's library folder, a touch-pose engine's library, the folder of the Puppet
+    Master behaviour in play."""
+    poller = getattr(target, "_poller", None) or getattr(target, "play_poller", None)
+    return poller if isinstance(poller, Poller) else None
+
+
 class LibraryReloads:
     """The studio's library watching (its ``poll``, a hook after each frame's sinks) with what
-    it read recorded: a MOP character's or a touch-pose engine's library files that changed
-    on disk are reloaded there (:meth:`Studio.poll`), and the next frame, the first whose
+    it read recorded: a MOP character's or a touch-pose engine's library files, or the folder
+    of a Puppet Master behaviour in play (:func:`watched`), that changed on disk are reloaded
+    there (:meth:`Studio.poll`), and the next frame, the first whose
     engines follow them, holds those files' bytes as ``consumed["reload"]["libraries"]``
     ``{target: {relative name: base64}}``; a replay (:class:`RecordedLibraries`) writes them
     into its own copy of the library and reloads within that frame. Files written while they
@@ -261,7 +282,7 @@ class LibraryReloads:
 
     def _pollers(self) -> dict[str, Poller]:
         return {name: p for name, t in self.studio.targets.items()
-                if isinstance(p := getattr(t, "_poller", None), Poller)}
+                if (p := watched(t)) is not None}
 
     def poll(self, frame: Frame | None = None) -> None:
         """The hook: the studio's poll, and the files of each library it reloaded."""
@@ -297,8 +318,8 @@ class RecordedLibraries:
         records = frame.consumed.get("reload", {}).get("libraries", {})
         forced = False
         for name, files in records.items():
-            poller = getattr(self.studio.targets.get(name), "_poller", None)
-            if not isinstance(poller, Poller):
+            poller = watched(self.studio.targets.get(name))
+            if poller is None:
                 log.error("replay: recorded library of %r: no such studio target; skipped", name)
                 continue
             try:
