@@ -7,7 +7,9 @@ parts together), "created":
 ISO date,
 "config": {...} (as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}}
 (every file the config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null,
-"part": n}``, and
+"part": n}``, ``"reloaded"`` in a later part whose session reloaded files before it began
+(:func:`carried`: played at its first frame when it is replayed first, so a part replays on
+its own with what was reloaded before it), and
 ``"studio": {"all": bool}`` when the designer studio ran (``all``: every engine was a target, as
 with ``run --studio``). Version 1 headers (no ``files``) are still read; a reader ignores keys it
 does not know.
@@ -143,6 +145,38 @@ def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
                                  "targets to {file name: base64}")
             out[str(k)]["libraries"] = libs
     return out
+
+
+def carried(state: dict[str, Any], reload: dict[str, Any] | None) -> dict[str, Any]:
+    """``state`` (a part header's ``reloaded``: what the frames so far reloaded, as one
+    frame's ``consumed["reload"]`` that plays it all again) with a frame's ``reload`` taken
+    in: each engine's latest behaviour, its latest note unless a later behaviour cleared it,
+    every MOP action followed, each studio target's latest library files."""
+    if not reload:
+        return state
+    out = {k: dict(v) for k, v in state.items()}
+    for name, source in reload.get("behaviors", {}).items():
+        out.setdefault("behaviors", {})[name] = source
+        out.get("notes", {}).pop(name, None)     # (RecordedReloads clears it, then notes)
+    for key in ("notes", "libraries"):
+        out.setdefault(key, {}).update(reload.get(key, {}))
+    for name, entries in reload.get("actions", {}).items():
+        out.setdefault("actions", {})[name] = [*out.get("actions", {}).get(name, []),
+                                               *entries]
+    return {k: v for k, v in out.items() if v}
+
+
+def with_reloaded(frame: Frame, reloaded: Any) -> Frame:
+    """A part's first ``frame`` playing its header's ``reloaded`` (:func:`carried`) before its
+    own reloads: a later part replayed on its own starts with the behaviours, actions and
+    library files the live run had reloaded by then (its header's files are the session's
+    start's). A ``reloaded`` that is not a mapping is refused as a frame's ``consumed``."""
+    if not reloaded:
+        return frame
+    state = _consumed_from_dict({"reload": reloaded})["reload"]
+    state = {k: v for k, v in state.items() if k in RELOADS}
+    merged = carried(state, frame.consumed.get("reload"))
+    return dataclasses.replace(frame, consumed={**frame.consumed, "reload": merged})
 
 
 def _character_to_dict(c: CharacterState) -> dict[str, Any]:
