@@ -86,19 +86,21 @@ class BehaviorReloader:
     edit's rebuild kept playing (:func:`keep_playing`), put into the first frame so that its
     replay plays it from there.
 
-    ``watch=False``: an engine the studio drives (designer mode), whose folder its target
-    reloads (:mod:`tabletop.studio.pm_shelf`): this filter only puts ``kept`` into the first
-    frame and holds the start's :attr:`problem` (the status's ``behavior_errors``) while the
-    engine plays the behaviour it started with (the one kept, or none): once the studio plays
-    another (the folder fixed and reloaded, another picked) the problem is the studio's."""
+    ``target``: the studio's target driving the engine (designer mode), which reloads its
+    folder (:mod:`tabletop.studio.pm_shelf`): this filter then only puts ``kept`` into the
+    first frame and holds the start's :attr:`problem` (the status's ``behavior_errors``)
+    while the engine plays the behaviour it started with (the one kept, or none; a take tried
+    over it is not another): once the studio plays another (the folder fixed and reloaded,
+    another picked, a take kept) the problem is the studio's."""
 
     def __init__(self, engine: PuppetMasterEngine, background: bool = True,
-                 kept: dict[str, Any] | None = None, watch: bool = True) -> None:
-        self.engine = engine
+                 kept: dict[str, Any] | None = None, target: Any = None) -> None:
+        self.engine, self.target = engine, target
         self.folder = Path(engine.folder)
+        watch = target is None
         self.poller = (Poller(self.folder, read=getattr(engine, "folder_read", None))
                        if watch else None)
-        self._started = engine.behavior          # (watch=False: what the problem is about)
+        self._started = engine.behavior          # (a target's: what the problem is about)
         # the file that went bad (None: the folder read well), from the engine's build on
         self.problem: str | None = getattr(engine, "problem", "") or None
         if kept is not None and self.problem:
@@ -116,7 +118,10 @@ class BehaviorReloader:
             for key, value in first.items():
                 frame = _recorded(frame, key, self.engine.name, value)
         if self.poller is None:
-            if self.problem and self.engine.behavior is not self._started:
+            playing = self.engine.behavior
+            if getattr(self.target, "pending", None) is not None:   # a take tried over it
+                playing = self.target.previous[0]
+            if self.problem and playing is not self._started:
                 self.problem = None
             return frame
         if self.loading and self.worker is not None:
