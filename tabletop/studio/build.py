@@ -173,7 +173,7 @@ def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engin
         if hasattr(sink, "prompt"):
             sink.prompt.ask = studio.may_rename
     if replay:    # the library files the live run reloaded, written and reloaded as live
-        loop.filters.insert(0, RecordedLibraries(studio))
+        loop.filters.insert(0, RecordedLibraries(studio, base))
         loop.hooks.append(lambda frame: studio.poll())
     else:         # reloaded between frames, the files read recorded in the next frame
         reloads = LibraryReloads(studio)

@@ -314,10 +314,12 @@ class RecordedLibraries:
     ["libraries"]``, :class:`LibraryReloads`) written into the replay's library (files the
     record does not hold removed, hidden ones such as ``.trash`` kept) and reloaded by its
     studio before the frame's engines, as live. A record that names no target of this studio
-    or holds a name outside its library is logged and skipped."""
+    or holds a name outside its library is logged and skipped, and so is one whose library is
+    not under ``base`` (the replay's folder of the recording's files): a folder too large to
+    be carried is read where the installation has it, and a replay never writes there."""
 
-    def __init__(self, studio: Any) -> None:
-        self.studio = studio
+    def __init__(self, studio: Any, base: Path) -> None:
+        self.studio, self.base = studio, Path(base).resolve()
 
     def __call__(self, frame: Frame) -> Frame:
         records = frame.consumed.get("reload", {}).get("libraries", {})
@@ -326,6 +328,10 @@ class RecordedLibraries:
             poller = watched(self.studio.targets.get(name))
             if poller is None:
                 log.error("replay: recorded library of %r: no such studio target; skipped", name)
+                continue
+            if not poller.path.resolve().is_relative_to(self.base):
+                log.error("replay: recorded library of %r not written: %s is not among the "
+                          "recording's files (too large to be carried)", name, poller.path)
                 continue
             try:
                 _write_tree(poller.path, files)

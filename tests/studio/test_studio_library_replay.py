@@ -112,3 +112,27 @@ def test_a_touch_pose_action_fixed_mid_run_is_followed_by_the_replay(tmp_path, m
     assert said[:12] == [True] * 12 and not any(said[12:])
     assert len(a) == len(b) == 40
     assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []
+
+
+def test_a_replay_never_writes_a_recorded_library_outside_its_own_folder(tmp_path, caplog):
+    """A library the recording could not carry (too large) is read where the installation
+    has it: the replay's recorded reload of it is said and skipped, the folder left as it is."""
+    import base64
+
+    from tabletop.frames import Frame
+    from tabletop.studio.reloader import RecordedLibraries
+    from tests.mop.helpers import build, designer_config
+    from tests.studio.mop_table import StudioTable
+    engine = build(designer_config(tmp_path), tmp_path)
+    table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
+    (tmp_path / "lib" / "lizard").mkdir(parents=True)
+    (tmp_path / "lib" / "lizard" / "actions.yaml").write_text("actions: []\n")
+    (tmp_path / "replay").mkdir()
+    files = {"actions.yaml": base64.b64encode(b"actions: [oops\n").decode("ascii")}
+    frame = Frame(0, 0.0, consumed={"reload": {"libraries": {"mop/lizard": files}}})
+    assert RecordedLibraries(table.studio, tmp_path / "replay")(frame) is frame
+    assert (tmp_path / "lib" / "lizard" / "actions.yaml").read_text() == "actions: []\n"
+    assert any("not among the recording's files" in r.getMessage() for r in caplog.records)
+    RecordedLibraries(table.studio, tmp_path)(frame)           # under the replay's folder
+    assert (tmp_path / "lib" / "lizard" / "actions.yaml").read_text() == "actions: [oops\n"
+    assert table.studio.problems and "actions.yaml" in table.studio.problems[0]
