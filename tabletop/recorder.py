@@ -44,7 +44,8 @@ from tabletop.recordings import (FOREIGN, Orders, Recordings, candidates, hold, 
                                  number, prune, recordings, release)
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
 from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
-                              frame_to_dict, jsonable, read_frames, read_header, session_header)
+                              carried, frame_to_dict, jsonable, read_frames, read_header,
+                              session_header)
 
 log = logging.getLogger("tabletop")
 
@@ -123,6 +124,9 @@ class Recorder(Syncer):
         self._size = 0
         self._t0: float | None = None
         self._first_in_file = True
+        # what the session's frames reloaded so far, and before the frame being written
+        self._reloaded: dict[str, Any] = {}
+        self._reloaded_before: dict[str, Any] = {}
         self._init_syncer()
         try:
             self._open_part()
@@ -167,7 +171,8 @@ class Recorder(Syncer):
         self._f, self._size, self._first_in_file = f, 0, True
         hold(f)                          # another run's keep leaves it alone
         self.paths.append(candidate)
-        self._write(header_line(self._header, order, len(self.paths), self._session))
+        self._write(header_line(self._header, order, len(self.paths), self._session,
+                                self._reloaded_before))
         self._f.flush()
         # said once the disk took the header: a try on a disk still full says nothing
         if resumed is not None:
@@ -247,6 +252,9 @@ class Recorder(Syncer):
     def consume(self, frame: Frame) -> None:
         """Write the frame's line to the operating system; never waits for the disk's sync."""
         self._last_t = frame.t
+        # what the frames before this one reloaded: a part starting at it carries it
+        self._reloaded_before = self._reloaded
+        self._reloaded = carried(self._reloaded, frame.consumed.get("reload"))
         if self._f is not None and (self._check_at is None or frame.t >= self._check_at):
             self._check_at = frame.t + REMOVED_CHECK_S
             self._check_removed()
@@ -385,14 +393,19 @@ class Recorder(Syncer):
                      self.frames, parts)
 
 
-def header_line(header: dict[str, Any], order: int, part: int, session: str) -> bytes:
+def header_line(header: dict[str, Any], order: int, part: int, session: str,
+                reloaded: dict[str, Any] | None = None) -> bytes:
     """The first line of a recording part: format, version, ``order`` first (see
     recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``, with this
     part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands on the
-    recording's own) and the time it is created."""
+    recording's own) and the time it is created; ``reloaded``: what the session reloaded
+    before the part began (:func:`tabletop.session.carried`), so that it replays on its own."""
     line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}
     line.update(header, order=order, session=session, part=part,
                 created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
+    line.pop("reloaded", None)           # (a copied header's: replay --out)
+    if reloaded:
+        line["reloaded"] = reloaded
     return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
 
 

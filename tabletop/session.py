@@ -7,7 +7,9 @@ parts together), "created":
 ISO date,
 "config": {...} (as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}}
 (every file the config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null,
-"part": n}``, and
+"part": n}``, ``"reloaded"`` in a later part whose session reloaded files before it began
+(:func:`carried`: played at its first frame when it is replayed first, so a part replays on
+its own with what was reloaded before it), and
 ``"studio": {"all": bool}`` when the designer studio ran (``all``: every engine was a target, as
 with ``run --studio``). Version 1 headers (no ``files``) are still read; a reader ignores keys it
 does not know.
@@ -24,7 +26,10 @@ engines first play a hot-reloaded behaviour carries what it was trained from as
 ``consumed["reload"]["behaviors"]``, and one where a reload failed its label's note as
 ``consumed["reload"]["notes"]`` (:mod:`tabletop.studio.reloader`), and one whose MOP
 characters first follow an action a kiosk started without the files it was read from as
-``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`). A reader accepts a
+``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`), and one whose studio
+first follows a MOP character's or touch-pose engine's library files changed on disk those
+files as ``consumed["reload"]["libraries"]`` (:class:`tabletop.studio.reloader.
+LibraryReloads`). A reader accepts a
 file whose last line was cut short by a power cut.
 """
 
@@ -47,6 +52,8 @@ log = logging.getLogger("tabletop")
 FORMAT = "tabletop-session"
 VERSION = 2
 READABLE = (1, 2)
+RELOADS = ("behaviors", "notes", "actions", "libraries")
+"""What a frame's ``consumed["reload"]`` may hold (see the module docstring)."""
 MAX_T = 1e8   # seconds (three years): a larger recorded time is damage, not a session
 MAX_SPEED = 1e6   # m/s or rad/s: no puck or finger crosses a 1000 m table in a millisecond
 
@@ -76,7 +83,7 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         **({"focus": frame.focus} if frame.focus is not None else {}),
         **({"consumed": {k: {"pucks": [_puck_to_dict(p) for p in v.get("pucks", ())],
                              "commands": list(v.get("commands", ())),
-                             **{r: v[r] for r in ("behaviors", "notes", "actions") if r in v}}
+                             **{r: v[r] for r in RELOADS if r in v}}
                          for k, v in frame.consumed.items()}} if frame.consumed else {}),
     }
 
@@ -129,7 +136,47 @@ def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
                 raise ValueError(f"consumed.{k}.actions: expected a mapping of engines to "
                                  "lists of {character, action, files}")
             out[str(k)]["actions"] = actions
+        if "libraries" in v:      # studio library files reloaded: {target: {name: base64}}
+            libs = v["libraries"]
+            if not isinstance(libs, dict) or not all(
+                    isinstance(f, dict) and all(isinstance(b, str) for b in f.values())
+                    for f in libs.values()):
+                raise ValueError(f"consumed.{k}.libraries: expected a mapping of studio "
+                                 "targets to {file name: base64}")
+            out[str(k)]["libraries"] = libs
     return out
+
+
+def carried(state: dict[str, Any], reload: dict[str, Any] | None) -> dict[str, Any]:
+    """``state`` (a part header's ``reloaded``: what the frames so far reloaded, as one
+    frame's ``consumed["reload"]`` that plays it all again) with a frame's ``reload`` taken
+    in: each engine's latest behaviour, its latest note unless a later behaviour cleared it,
+    every MOP action followed, each studio target's latest library files."""
+    if not reload:
+        return state
+    out = {k: dict(v) for k, v in state.items()}
+    for name, source in reload.get("behaviors", {}).items():
+        out.setdefault("behaviors", {})[name] = source
+        out.get("notes", {}).pop(name, None)     # (RecordedReloads clears it, then notes)
+    for key in ("notes", "libraries"):
+        out.setdefault(key, {}).update(reload.get(key, {}))
+    for name, entries in reload.get("actions", {}).items():
+        out.setdefault("actions", {})[name] = [*out.get("actions", {}).get(name, []),
+                                               *entries]
+    return {k: v for k, v in out.items() if v}
+
+
+def with_reloaded(frame: Frame, reloaded: Any) -> Frame:
+    """A part's first ``frame`` playing its header's ``reloaded`` (:func:`carried`) before its
+    own reloads: a later part replayed on its own starts with the behaviours, actions and
+    library files the live run had reloaded by then (its header's files are the session's
+    start's). A ``reloaded`` that is not a mapping is refused as a frame's ``consumed``."""
+    if not reloaded:
+        return frame
+    state = _consumed_from_dict({"reload": reloaded})["reload"]
+    state = {k: v for k, v in state.items() if k in RELOADS}
+    merged = carried(state, frame.consumed.get("reload"))
+    return dataclasses.replace(frame, consumed={**frame.consumed, "reload": merged})
 
 
 def _character_to_dict(c: CharacterState) -> dict[str, Any]:

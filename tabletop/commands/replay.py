@@ -90,6 +90,7 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.bundle import extract
     from tabletop.config import validate_config
     from tabletop.recorder import SessionError, read_header
+    from tabletop.session import with_reloaded
 
     if args.out is not None:
         args.out = output_file(args.out, "--out", ReplayError, inputs=args.session)
@@ -124,13 +125,19 @@ def main(args: argparse.Namespace) -> int:
             if start is None:
                 raise SessionError(f"{first}: no complete frame after the header line: nothing "
                                    "to replay")
+            # a later part replayed first: what the session had reloaded when it began
+            try:
+                start = with_reloaded(start, header.get("reloaded"))
+            except (TypeError, ValueError) as exc:
+                raise SessionError(f"{first}: line 1: reloaded: {exc}") from None
             frames = itertools.chain([start], frames)
             studio = header.get("studio")
             if isinstance(studio, dict):
                 from tabletop.studio.build import studio_input
                 frames = map(studio_input, frames)
             inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
-                                record_path=args.out, view=not args.no_view, header=header)
+                                record_path=args.out, view=not args.no_view,
+                                header={k: v for k, v in header.items() if k != "reloaded"})
             from tabletop.studio.reloader import RecordedReloads
             inst.loop.filters.insert(0, RecordedReloads(inst.engines))  # hot reloads, as live
             if isinstance(studio, dict):

@@ -175,7 +175,7 @@ class Runner:
                                   "config_error": self.config_error})
         if not self.studio_on:
             extra.append(lambda: {"studio": None})
-        held: set = set()
+        held: dict = {}
         self.studio = None
         if self.studio_on:
             self.studio = attach_studio(inst, cfg, self.base, all_engines=self.studio_all)
@@ -183,12 +183,13 @@ class Runner:
                 self.studio.say("; ".join(notes))
             loop.hooks.append(self._apply_when_idle)   # an edit waiting for a take
             extra.append(self.studio.status)
-            held = {t.engine for t in self.studio.targets.values() if hasattr(t, "engine")}
+            held = {t.engine: t for t in self.studio.targets.values() if hasattr(t, "engine")}
         # outside the studio too; a behaviour an applied edit's new files refused plays on
         playing, self._playing = self._playing, {}
-        reloaders = [BehaviorReloader(e, kept=keep_playing(e, playing.get(e.name)))
-                     for e in loop.engines
-                     if getattr(e, "folder", None) is not None and e not in held]
+        # (one the studio drives keeps it too; its target reloads the folder)
+        reloaders = [BehaviorReloader(e, kept=keep_playing(e, playing.get(e.name)),
+                                      target=held.get(e))
+                     for e in loop.engines if getattr(e, "folder", None) is not None]
         for r in reloaders:
             loop.filters.insert(0, r)    # (recorded for replays)
         for e in loop.engines:           # MOP actions started without, followed once fixed

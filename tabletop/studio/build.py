@@ -15,6 +15,7 @@ from tabletop.studio.machine import Studio
 from tabletop.studio.session import SessionLog
 from tabletop.studio.mop_target import MopTarget
 from tabletop.studio.pose_target import TouchPoseTarget
+from tabletop.studio.reloader import LibraryReloads, RecordedLibraries
 from tabletop.studio.take import Target
 from tabletop.studio.targets import PuppetMasterTarget
 
@@ -171,5 +172,11 @@ def attach_studio(inst: Installation, cfg: dict[str, Any], base: Path, all_engin
     for sink in loop.sinks:     # F2 refused at once when there is nothing to rename
         if hasattr(sink, "prompt"):
             sink.prompt.ask = studio.may_rename
-    loop.hooks.append(lambda frame: studio.poll())
+    if replay:    # the library files the live run reloaded, written and reloaded as live
+        loop.filters.insert(0, RecordedLibraries(studio, base))
+        loop.hooks.append(lambda frame: studio.poll())
+    else:         # reloaded between frames, the files read recorded in the next frame
+        reloads = LibraryReloads(studio)
+        loop.filters.insert(0, reloads)
+        loop.hooks.append(reloads.poll)
     return studio

@@ -11,7 +11,9 @@ the frame whose engines first play the new behaviour holds, in ``consumed["reloa
 what it was trained from (name, parameters, the demonstration's float64 bytes in base64, encoded
 in the worker), and a replay trains it within that frame (:class:`RecordedReloads`), bit for bit.
 A reload that fails is recorded too, as the label's note (``consumed["reload"]["notes"]``), so
-the replayed labels say "bad file" from the same frame as live.
+the replayed labels say "bad file" from the same frame as live. The studio's MOP and
+touch-pose library files changed on disk are recorded the same way, as the files read
+(:class:`LibraryReloads`, replayed by :class:`RecordedLibraries`).
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ import numpy as np
 from behaviors.worker import Worker, close_workers
 from tabletop import library
 from tabletop.frames import Frame, InputError
-from tabletop.kiosk.watch import Poller
+from tabletop.kiosk.watch import Poller, tree_signature
 
 if TYPE_CHECKING:
     from tabletop.frames import Engine
@@ -82,19 +84,29 @@ class BehaviorReloader:
 
     ``kept``: the reloads (``{"behaviors": source, "notes": note}``) of a behaviour a config
     edit's rebuild kept playing (:func:`keep_playing`), put into the first frame so that its
-    replay plays it from there."""
+    replay plays it from there.
+
+    ``target``: the studio's target driving the engine (designer mode), which reloads its
+    folder (:mod:`tabletop.studio.pm_shelf`): this filter then only puts ``kept`` into the
+    first frame and holds the start's :attr:`problem` (the status's ``behavior_errors``)
+    while the engine plays the behaviour it started with (the one kept, or none; a take tried
+    over it is not another): once the studio plays another (the folder fixed and reloaded,
+    another picked, a take kept) the problem is the studio's."""
 
     def __init__(self, engine: PuppetMasterEngine, background: bool = True,
-                 kept: dict[str, Any] | None = None) -> None:
-        self.engine = engine
+                 kept: dict[str, Any] | None = None, target: Any = None) -> None:
+        self.engine, self.target = engine, target
         self.folder = Path(engine.folder)
-        self.poller = Poller(self.folder, read=getattr(engine, "folder_read", None))
+        watch = target is None
+        self.poller = (Poller(self.folder, read=getattr(engine, "folder_read", None))
+                       if watch else None)
+        self._started = engine.behavior          # (a target's: what the problem is about)
         # the file that went bad (None: the folder read well), from the engine's build on
         self.problem: str | None = getattr(engine, "problem", "") or None
         if kept is not None and self.problem:
             self.problem = f"{self.problem}{KEPT}"
         self._first = kept
-        self.worker = Worker("puppet-master-reload") if background else None
+        self.worker = Worker("puppet-master-reload") if background and watch else None
         self.loading = False          # a job is in the worker
 
     def __call__(self, frame: Frame | None = None) -> Frame | None:
@@ -105,6 +117,13 @@ class BehaviorReloader:
             first, self._first = self._first, None
             for key, value in first.items():
                 frame = _recorded(frame, key, self.engine.name, value)
+        if self.poller is None:
+            playing = self.engine.behavior
+            if getattr(self.target, "pending", None) is not None:   # a take tried over it
+                playing = self.target.previous[0]
+            if self.problem and playing is not self._started:
+                self.problem = None
+            return frame
         if self.loading and self.worker is not None:
             done = self._apply(self.worker.poll())
         if self.poller.changed():
@@ -229,3 +248,113 @@ class RecordedReloads:
                 from tabletop.kiosk.actions import replay_actions
                 replay_actions(self.engines[name], entries)
         return frame
+
+
+def library_files(path: Path) -> dict[str, str]:
+    """The files below ``path`` as a studio's library watcher sees them (hidden names skipped,
+    :func:`~tabletop.kiosk.watch.tree_signature`): relative name -> base64 of its bytes. A
+    file gone while read is left out, as the reload that read it left it out."""
+    out: dict[str, str] = {}
+    for name, _mtime, _size in tree_signature(path):
+        try:
+            out[name] = base64.b64encode((path / name).read_bytes()).decode("ascii")
+        except OSError:
+            continue
+    return out
+
+
+def watched(target: Any) -> Poller | None:
+    """The poller of the files a studio ``target`` reloads when they change: a MOP
+    character's library folder, a touch-pose engine's library, the folder of the Puppet
+    Master behaviour in play."""
+    poller = getattr(target, "_poller", None) or getattr(target, "play_poller", None)
+    return poller if isinstance(poller, Poller) else None
+
+
+class LibraryReloads:
+    """The studio's library watching (its ``poll``, a hook after each frame's sinks) with what
+    it read recorded: a MOP character's or a touch-pose engine's library files, or the folder
+    of a Puppet Master behaviour in play (:func:`watched`), that changed on disk are reloaded
+    there (:meth:`Studio.poll`), and the next frame, the first whose
+    engines follow them, holds those files' bytes as ``consumed["reload"]["libraries"]``
+    ``{target: {relative name: base64}}``; a replay (:class:`RecordedLibraries`) writes them
+    into its own copy of the library and reloads within that frame. Files written while they
+    were read are read again at the next look (the poller forgets what it saw)."""
+
+    def __init__(self, studio: Any) -> None:
+        self.studio = studio
+        self._read: dict[str, dict[str, str]] = {}
+
+    def _pollers(self) -> dict[str, Poller]:
+        return {name: p for name, t in self.studio.targets.items()
+                if (p := watched(t)) is not None}
+
+    def poll(self, frame: Frame | None = None) -> None:
+        """The hook: the studio's poll, and the files of each library it reloaded."""
+        pollers = self._pollers()
+        before = {name: p.signature for name, p in pollers.items()}
+        self.studio.poll()
+        for name, p in pollers.items():
+            if p.signature == before[name]:
+                continue
+            self._read[name] = library_files(p.path)
+            if tree_signature(p.path) != p.signature:   # written while read: read it again
+                p.signature = None
+
+    def __call__(self, frame: Frame) -> Frame:
+        """The filter: ``frame`` holding the libraries reloaded after the previous one."""
+        read, self._read = self._read, {}
+        for name, files in read.items():
+            frame = _recorded(frame, "libraries", name, files)
+        return frame
+
+
+class RecordedLibraries:
+    """Replay's frame filter: a recorded frame's library reloads (``consumed["reload"]
+    ["libraries"]``, :class:`LibraryReloads`) written into the replay's library (files the
+    record does not hold removed, hidden ones such as ``.trash`` kept) and reloaded by its
+    studio before the frame's engines, as live. A record that names no target of this studio
+    or holds a name outside its library is logged and skipped, and so is one whose library is
+    not under ``base`` (the replay's folder of the recording's files): a folder too large to
+    be carried is read where the installation has it, and a replay never writes there."""
+
+    def __init__(self, studio: Any, base: Path) -> None:
+        self.studio, self.base = studio, Path(base).resolve()
+
+    def __call__(self, frame: Frame) -> Frame:
+        records = frame.consumed.get("reload", {}).get("libraries", {})
+        forced = False
+        for name, files in records.items():
+            poller = watched(self.studio.targets.get(name))
+            if poller is None:
+                log.error("replay: recorded library of %r: no such studio target; skipped", name)
+                continue
+            if not poller.path.resolve().is_relative_to(self.base):
+                log.error("replay: recorded library of %r not written: %s is not among the "
+                          "recording's files (too large to be carried)", name, poller.path)
+                continue
+            try:
+                _write_tree(poller.path, files)
+            except (InputError, OSError, TypeError, ValueError) as exc:
+                log.error("replay: recorded library of %r not written: %s", name, exc)
+                continue
+            poller.signature, poller._next, forced = None, -np.inf, True
+        if forced:
+            self.studio.poll()
+        return frame
+
+
+def _write_tree(path: Path, files: dict[str, str]) -> None:
+    """``path`` holding exactly ``files`` (relative name -> base64) among its unhidden files."""
+    data = {}
+    for name, text in files.items():
+        rel = Path(name)
+        if rel.is_absolute() or ".." in rel.parts or not rel.parts:
+            raise InputError(f"{name!r} is outside the library")
+        data[rel] = base64.b64decode(text, validate=True)
+    for name, _mtime, _size in tree_signature(path):
+        if Path(name) not in data:
+            (path / name).unlink()
+    for rel, content in data.items():
+        (path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (path / rel).write_bytes(content)

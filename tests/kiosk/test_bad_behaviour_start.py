@@ -94,6 +94,45 @@ def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_
     assert replays_alike(readable, tmp_path / "replayed-2.jsonl") == live
 
 
+def test_a_kiosk_start_in_designer_mode_lists_the_corrupt_behaviour_until_fixed(tmp_path):
+    """The character driven by the studio (designer mode) starts without its behaviour as
+    outside it, and the status's behavior_errors names the file, a take tried meanwhile
+    included, until the fixed folder plays; the recording replays to the same characters."""
+    cfg_path = _config(tmp_path)
+    cfg = yaml.safe_load(cfg_path.read_text())
+    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                     "library": "lib", "min_seconds": 0.5}
+    cfg["studio"] = {"countdown_s": 0.1, "review": False}
+    cfg["sources"][0]["pucks"] = [1, 2]
+    cfg_path.write_text(yaml.safe_dump(cfg))
+    good = _corrupt(tmp_path / "lover")
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, load_config(cfg_path), headless=True, kiosk=True,
+                    record_path=session)
+    inst = runner._build(runner.cfg)
+    engine, studio = inst.engines[0], runner.studio
+    assert engine.reactor is None and studio is not None
+    with running(inst, 40):
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
+        (error,) = status(tmp_path)["behavior_errors"]
+        assert error.startswith("lover: ") and "demonstration.csv: line" in error
+        inst.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "recording" and studio.target.seconds() > 2.0,
+                        20.0)
+        inst.loop.commands.put("designer.record")
+        assert wait_for(lambda: studio.state == "trying", 20.0)
+        assert wait_for(lambda: status(tmp_path)["studio"]["state"] == "trying", 10.0)
+        assert len(status(tmp_path)["behavior_errors"]) == 1     # the take is not the fix
+        inst.loop.commands.put("designer.discard")
+        assert wait_for(lambda: studio.state == "idle", 10.0)
+        (tmp_path / "lover" / "demonstration.csv").write_text(good)
+        assert wait_for(lambda: engine.reactor is not None, 20.0)
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 10.0)
+    live = replays_alike(session, tmp_path / "replayed.jsonl")
+    lover = [c for f in live for c in f["characters"] if c["name"] == "lover"]
+    assert not lover[0]["valid"] and lover[-1]["valid"]
+
+
 def test_outside_a_kiosk_a_corrupt_behaviour_stops_the_start_naming_the_file(tmp_path):
     cfg_path = _config(tmp_path)
     _corrupt(tmp_path / "lover")

@@ -93,3 +93,51 @@ def test_an_edit_waiting_for_a_studio_take_is_shown_while_it_waits(tmp_path):
         first.loop.commands.put("designer.keep")
         assert wait_for(rebuilt(runner, first), 30)
         assert wait_for(lambda: not json.loads(status_file.read_text())["config_pending"], 15)
+
+
+def test_an_edit_applied_while_a_designer_behaviour_file_is_bad_keeps_it_playing(tmp_path):
+    """A Puppet Master character in designer mode (the studio drives it) whose behaviour file
+    went bad: an edit of another part applies, and the character plays on with the behaviour
+    read before, as outside the studio; the status's behavior_errors says the new file is
+    refused until the file is fixed, and the rebuilt installation's recording replays to the
+    same characters."""
+    import json
+    import shutil
+
+    from tests.kiosk.test_bad_behaviour_start import replays_alike
+    from tests.kiosk.test_live_config import ROOT
+    shutil.copytree(ROOT / "behaviors" / "library" / "lover", tmp_path / "lover")
+    cfg = config([10, 20, 30])
+    cfg["engines"][0]["behavior"] = "lover"
+    cfg["engines"][0]["designer"] = {"enabled": True, "main_puck": 1, "react_puck": 2,
+                                     "library": "lib"}
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg))
+    session = tmp_path / "session.jsonl"
+    with running(Runner(path, load_config(path), headless=True, kiosk=True,
+                        record_path=session)) as runner:
+        first = runner.inst
+        played = first.engines[0].behavior
+        assert played is not None and runner.studio is not None
+        good = (tmp_path / "lover" / "demonstration.csv").read_text()
+        with open(tmp_path / "lover" / "demonstration.csv", "a") as f:
+            f.write("1e3,0.5,0.5\n")                     # a short row: a copy cut short
+        cfg["engines"][0]["color"] = [200, 100, 50]
+        write(path, yaml.safe_dump(cfg))
+        assert wait_for(rebuilt(runner, first, ticks=60), 30)
+        engine = runner.inst.engines[0]
+        assert engine.color == (200, 100, 50) and runner.studio is not None
+        assert engine.behavior is played and engine.reactor is not None
+        (error,) = runner.reporter.status(Frame(seq=0, t=0.0))["behavior_errors"]
+        assert error.startswith("lover: ") and "demonstration.csv: line" in error
+        assert error.endswith("; refused, still playing the behaviour read before"), error
+        # fixed on disk: the studio plays the folder, and the status says nothing more
+        (tmp_path / "lover" / "demonstration.csv").write_text(good)
+        assert wait_for(lambda: runner.reporter.status(Frame(seq=0, t=0.0))["behavior_errors"]
+                        == [] and engine.behavior is not played, 30)
+    recorded = tmp_path / "session-2.jsonl"
+    header = json.loads(recorded.read_text().splitlines()[0])
+    assert set(header["started_without"]) == {"lover"}
+    live = replays_alike(recorded, tmp_path / "replayed.jsonl")
+    lover = [c for f in live for c in f["characters"] if c["name"] == "lover"]
+    assert lover[0]["valid"] and lover[-1]["valid"]
