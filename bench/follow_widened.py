@@ -7,9 +7,12 @@ back-to-back sequences of four of them (``bench.motions.back_to_back`` drawn wit
 Figures: each mirrored performance's valid share (worst, mean, how many over 0.1) and each
 sequence's longest run of a wrong action valid (worst, median, how many over 2 samples and their
 sum); ``--debug`` prints every mirrored performance over 0.1 and every sequence over 2 with the
-action driving. Tuning cases only: the held-out joints and seed stay for the final check.
+action driving. ``--forms=y,xy,r`` measures instead every template drawn in those forms
+(``bench.motions.in_form``: mirrored in y, in both, backwards) at 0.7, 1 and 1.4x, the same
+figures per form (seeds 201-205 unless given). Tuning cases only: the held-out joints and seed
+stay for the final check.
 
-    python bench/follow_widened.py [--seeds=201-210] [--debug]
+    python bench/follow_widened.py [--seeds=201-210] [--forms=y,xy,r] [--debug]
 """
 
 from __future__ import annotations
@@ -25,15 +28,15 @@ import numpy as np  # noqa: E402
 from bench.common import emit  # noqa: E402
 from bench.follow_quality import puck_follower, run  # noqa: E402
 from bench.follow_sequences import wrong_valid  # noqa: E402
-from bench.motions import (MOCAP, back_to_back, gesture_templates, mocap_templates,  # noqa: E402
-                           performance, unrelated_motions)
+from bench.motions import (MOCAP, back_to_back, drawn_in_form, gesture_templates,  # noqa: E402
+                           mocap_templates, performance, unrelated_motions)
 
 DEBUG = "--debug" in sys.argv
 
 
-def seeds_from(argv: list[str]) -> range:
-    """``--seeds=A-B`` (inclusive) from ``argv``; 201-210 without it."""
-    arg = next((a.split("=", 1)[1] for a in argv if a.startswith("--seeds=")), "201-210")
+def seeds_from(argv: list[str], default: str = "201-210") -> range:
+    """``--seeds=A-B`` (inclusive) from ``argv``; ``default`` without it."""
+    arg = next((a.split("=", 1)[1] for a in argv if a.startswith("--seeds=")), default)
     try:
         lo, hi = (int(v) for v in arg.split("-"))
     except ValueError:
@@ -75,8 +78,35 @@ def widened(seeds: range) -> dict[str, float]:
             "sequence_20_sequences": int(r.size)}
 
 
+def in_forms(seeds: range, forms: list[str]) -> dict[str, float]:
+    """Each template drawn in each of ``forms`` among the twenty: the valid share's worst, mean
+    and how many over 0.1, per form."""
+    everything = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
+    f = puck_follower(everything)
+    out: dict[str, float] = {}
+    for form in forms:
+        shares = []
+        for seed in seeds:
+            for name, scale, x in drawn_in_form(np.random.default_rng(seed), everything, form):
+                states = run(f, x)
+                shares.append(float(np.mean([s.valid for s in states])))
+                if DEBUG and shares[-1] > 0.1:
+                    print(form, seed, name, scale, round(shares[-1], 3),
+                          sorted({s.best for s in states if s.valid}))
+        s = np.array(shares)
+        out |= {f"{form}_20_valid_share_max": float(s.max()),
+                f"{form}_20_valid_share_mean": float(s.mean()),
+                f"{form}_20_over_10pct": int(np.sum(s > 0.1)), f"{form}_20_performances": s.size}
+    return out
+
+
 def main() -> None:
-    figures = widened(seeds_from(sys.argv[1:]))
+    forms = next((a.split("=", 1)[1].split(",") for a in sys.argv[1:]
+                  if a.startswith("--forms=")), None)
+    if forms is not None and not set(forms) <= {"x", "y", "xy", "r", "xr", "yr", "xyr"}:
+        raise SystemExit(f"--forms={','.join(forms)}: forms are x, y, xy and any with r")
+    figures = (in_forms(seeds_from(sys.argv[1:], "201-205"), forms) if forms
+               else widened(seeds_from(sys.argv[1:])))
     for k, v in figures.items():
         print(f"{k:50s} {v:.4g}" if isinstance(v, float) else f"{k:50s} {v}")
     emit("follow_widened", figures, {})

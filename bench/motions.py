@@ -190,6 +190,28 @@ def unrelated_motions(rng: np.random.Generator,
     return out
 
 
+def in_form(path: np.ndarray, form: str) -> np.ndarray:
+    """``path`` (metres from its start) drawn backwards (``form`` holding "r": from its end)
+    and mirrored in x and / or y (holding "x", "y")."""
+    out = path[::-1] - path[-1] if "r" in form else path.copy()
+    for axis, name in enumerate("xy"):
+        if name in form:
+            out[:, axis] *= -1.0
+    return out
+
+
+def drawn_in_form(rng: np.random.Generator, templates: Mapping[str, np.ndarray], form: str,
+                  scales: tuple[float, ...] = (0.7, 1.0, 1.4)):
+    """Every template in ``form`` (:func:`in_form`) that differs from all the templates (as
+    :func:`unrelated_motions` keeps a mirrored one), performed at each of ``scales`` in turn:
+    yields (name, scale, samples)."""
+    for name, path in templates.items():
+        drawn = in_form(path, form)
+        if all(_path_gap(drawn, other) > 0.03 for other in templates.values()):
+            for scale in scales:
+                yield name, scale, performance(rng, drawn, scale)[0]
+
+
 def _path_gap(a: np.ndarray, b: np.ndarray) -> float:
     """RMS distance (metres) between two paths resampled to 50 points."""
     ra = at_phase(a, np.linspace(0, len(a) - 1, 50))
