@@ -1,0 +1,55 @@
+"""A kiosk started (a reboot, a restart) while a MOP template named in its config is a folder
+(a technician's ``mkdir`` over it) and a clip file is deleted: the table runs without those
+actions, each named in the status's behavior_errors with its file and what is wrong, as for a
+corrupt file; the recording replays to the same characters; the files put back are followed
+without a restart."""
+
+import json
+
+from tabletop.kiosk import last_good
+from tabletop.kiosk.runner import Runner
+from tests.kiosk.running import Latest, running
+from tests.kiosk.test_bad_action_start import drawing_config
+from tests.kiosk.test_kiosk_lock import status
+from tests.tabletop.test_replay_exact import frames, replay_cli
+from tests.tracking.scenes import wait_for
+
+
+def test_a_kiosk_starts_without_a_template_made_a_folder_and_a_deleted_clip(tmp_path):
+    cfg_path, good = drawing_config(tmp_path)
+    (tmp_path / "line.csv").unlink()
+    (tmp_path / "line.csv").mkdir()
+    (tmp_path / "wag.json").unlink()
+    cfg, refused = last_good.load(cfg_path, kiosk=True)    # the kiosk's start
+    assert refused is None
+    session = tmp_path / "session.jsonl"
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
+    inst = runner._build(runner.cfg)
+    stage = inst.engines[0]
+    errors = stage.start_problems
+    assert len(errors) == 3, errors
+    assert all("\n" not in e for e in errors)
+    assert sum("action 'line'" in e and "line.csv" in e and "folder" in e
+               for e in errors) == 2, errors
+    assert any("'walker', action 'square'" in e and "wag.json" in e and "not found" in e
+               for e in errors), errors
+    latest = Latest()
+    inst.loop.sinks.insert(0, latest)
+    with running(inst, 60):
+        assert wait_for(lambda: len(status(tmp_path).get("behavior_errors", ())) == 3, 10.0)
+        (tmp_path / "line.csv").rmdir()
+        (tmp_path / "line.csv").write_text(good["line.csv"])
+        (tmp_path / "wag.json").write_text(good["wag.json"])
+        assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 10.0), \
+            status(tmp_path)
+        assert {n: set(t) for n, t in stage.templates.items()} == {
+            "walker": {"circle", "line", "square"}, "lone": {"line"}}
+        assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters
+                                                        if c.action == "line"}, 20.0)
+    header = json.loads(session.read_text().splitlines()[0])
+    assert set(header["started_without"]) == {"mop"}
+    done = replay_cli(session, tmp_path / "replayed.jsonl")
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
+    assert len(live) == len(again) > 30
+    assert [f["characters"] for f in live] == [f["characters"] for f in again]
