@@ -2,14 +2,18 @@
 (a technician's ``mkdir`` over it) and a clip file is deleted: the table runs without those
 actions, each named in the status's behavior_errors with its file and what is wrong, as for a
 corrupt file; the recording replays to the same characters; the files put back are followed
-without a restart."""
+without a restart. A config edit refused for a corrupt template is applied once the template is
+fixed."""
 
 import json
 
+import yaml
+
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
+from tabletop.kiosk.watch import ConfigWatcher
 from tests.kiosk.running import Latest, running
-from tests.kiosk.test_bad_action_start import drawing_config
+from tests.kiosk.test_bad_action_start import _config, drawing_config
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.tracking.scenes import wait_for
@@ -53,3 +57,30 @@ def test_a_kiosk_starts_without_a_template_made_a_folder_and_a_deleted_clip(tmp_
     live, again = frames(session), frames(tmp_path / "replayed.jsonl")
     assert len(live) == len(again) > 30
     assert [f["characters"] for f in live] == [f["characters"] for f in again]
+
+
+def test_an_edit_refused_for_a_corrupt_template_applies_once_the_template_is_fixed(tmp_path):
+    """The refusal names the template; the technician fixes the template, not the config: the
+    edit is validated again at the next look and applied, and the status's config_error goes."""
+    cfg_path = _config(tmp_path)
+    good = (tmp_path / "line.csv").read_text()
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    runner = Runner(cfg_path, cfg, headless=True, kiosk=True)
+    applied = []
+    watcher = ConfigWatcher(cfg_path, runner.cfg, runner._load, applied.append, every_s=0.0)
+    watcher()
+    assert watcher.error is None and not applied
+    with open(tmp_path / "line.csv", "a") as f:
+        f.write("1e3,0.5\n")
+    edited = yaml.safe_load(cfg_path.read_text())
+    edited["loop"]["rate_hz"] = 25
+    cfg_path.write_text(yaml.safe_dump(edited))
+    watcher()
+    assert watcher.refused == 1 and "line.csv: line" in watcher.error and not applied
+    watcher()                                          # nothing changed: nothing said again
+    assert watcher.refused == 1 and not applied
+    (tmp_path / "line.csv").write_text(good)
+    watcher()
+    assert watcher.error is None and [c["loop"]["rate_hz"] for c in applied] == [25]
+    watcher()
+    assert len(applied) == 1
