@@ -62,15 +62,18 @@ class Poller:
     def __init__(self, path: Path, every_s: float = 1.0,
                  clock: Callable[[], float] = time.monotonic, since_start: bool = False,
                  read: tuple | None = None,
-                 signature: Callable[[Path], tuple] = tree_signature) -> None:
+                 signature: Callable[[Path], tuple] = tree_signature,
+                 settle: bool = False) -> None:
         """``since_start``: the first look counts as a change (what was read of ``path`` may be
         older than this poller). ``read``: the signature taken just before ``path`` was read
         (an engine's build, seconds before its studio or reloader exists): the first look
-        compares with it, so an edit saved in between is seen."""
+        compares with it, so an edit saved in between is seen. ``settle``: a change counts
+        once the signature stayed the same for a whole look (a copy still being written)."""
         self.path, self.every_s, self.clock = Path(path), every_s, clock
-        self.sign = signature
+        self.sign, self.settle = signature, settle
         self.signature: tuple | None = (None if since_start else read if read is not None
                                         else signature(self.path))
+        self.seen = self.signature
         self._next = clock()
 
     def changed(self) -> bool:
@@ -79,7 +82,8 @@ class Poller:
             return False
         self._next = now + self.every_s
         sig = self.sign(self.path)
-        if sig == self.signature:
+        steady, self.seen = sig == self.seen, sig
+        if sig == self.signature or self.settle and not steady:
             return False
         self.signature = sig
         return True

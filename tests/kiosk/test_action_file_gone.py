@@ -3,17 +3,20 @@
 actions, each named in the status's behavior_errors with its file and what is wrong, as for a
 corrupt file; the recording replays to the same characters; the files put back are followed
 without a restart. A config edit refused for a corrupt template is applied once the template is
-fixed."""
+fixed, and a fixed template copied in two writes is read whole."""
 
 import json
 
+import numpy as np
 import yaml
 
 from tabletop.kiosk import last_good
+from tabletop.kiosk.actions import ActionReloader
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
+from tabletop.plugins.mop_files import load_template
 from tests.kiosk.running import Latest, running
-from tests.kiosk.test_bad_action_start import _config, drawing_config
+from tests.kiosk.test_bad_action_start import _config, _corrupt, drawing_config
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.tracking.scenes import wait_for
@@ -84,3 +87,30 @@ def test_an_edit_refused_for_a_corrupt_template_applies_once_the_template_is_fix
     assert watcher.error is None and [c["loop"]["rate_hz"] for c in applied] == [25]
     watcher()
     assert len(applied) == 1
+
+
+def test_a_template_copied_in_two_writes_is_followed_whole(tmp_path):
+    """The technician's copy of the fixed template arrives in two writes (a slow disk or network
+    share) with a look in between, its first half a valid CSV: the action is read once the file
+    stayed as it was for a whole look, the whole template, not its first half."""
+    cfg_path = _config(tmp_path)
+    good = (tmp_path / "line.csv").read_text()
+    _corrupt(tmp_path)
+    cfg, _ = last_good.load(cfg_path, kiosk=True)
+    stage = Runner(cfg_path, cfg, headless=True, kiosk=True)._build(cfg).engines[0]
+    now = [0.0]
+    reloader = ActionReloader(stage, every_s=1.0, clock=lambda: now[0])
+    reloader()
+    rows = good.splitlines(keepends=True)
+    (tmp_path / "line.csv").write_text("".join(rows[:len(rows) // 2]))
+    now[0] = 1.0                                          # a look between the two writes
+    reloader()
+    with open(tmp_path / "line.csv", "a") as f:
+        f.write("".join(rows[len(rows) // 2:]))
+    for t in (2.0, 3.0):                                  # seen written, then steady
+        assert "line" not in stage.templates["lone"]
+        now[0] = t
+        reloader()
+    whole = load_template(tmp_path / "line.csv", ("dx", "dy"), cfg["engines"][0]["rate_hz"])
+    for name in ("walker", "lone"):
+        assert np.array_equal(stage.templates[name]["line"][1], whole)
