@@ -157,7 +157,9 @@ class Runner:
                           # a kiosk's start, fall-back or edit runs on without a behaviour
                           # whose files went bad: an edit of another part applies (refused, its
                           # fall-back rebuild dropped that behaviour all the same)
-                          kiosk_start=self.kiosk)
+                          kiosk_start=self.kiosk,
+                          # (behaviours the studio holds are not kept: said to start without)
+                          keeping=() if self.studio_on else self._playing)
         self.strict = False
         loop = inst.loop
         # (``record_path``, run --record, stays: each installation records to the next free name
