@@ -15,7 +15,7 @@ import threading
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Collection, Iterator
 
 from tabletop import registry
 from tabletop.cli import catch_stop_signals
@@ -180,7 +180,8 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
                wrap_source: Callable[[Any, dict], Any] | None = None,
                header_extra: dict[str, Any] | None = None,
                prepared: tuple[BuildContext, list[Engine]] | None = None,
-               strict: bool = True, kiosk_start: bool = False) -> Installation:
+               strict: bool = True, kiosk_start: bool = False,
+               keeping: Collection[str] = ()) -> Installation:
     """A live installation from a validated config: sources, tracker, engines, view, recorder.
 
     ``stop`` (e.g. set by a signal while it is built) ends its run. ``clock`` (seconds)
@@ -193,9 +194,12 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
     error; see :func:`build_recorder`); a kiosk's start, which may be a restart, passes False
     and runs on.
     ``kiosk_start``: a behaviour folder holding a bad file starts its character without it
-    (:func:`tabletop.plugins.puppet_master.build`) instead of refusing the installation."""
+    (:func:`tabletop.plugins.puppet_master.build`) instead of refusing the installation;
+    ``keeping``: the names of characters whose behaviour read before plays on in that case
+    (:func:`tabletop.studio.reloader.keep_playing` says so), not said to start without it."""
     ctx = _context(cfg) if prepared is None else prepared[0]
     ctx.shared["kiosk_start"] = kiosk_start
+    ctx.shared["keeping"] = frozenset(keeping)
     stats, commands, stop = stats or LoopStats(), CommandQueue(), stop or threading.Event()
     ctx.shared.update(stats=stats, commands=commands, stop=stop)
     if clock is not None:

@@ -188,13 +188,16 @@ class FilePath(Spec):
 
     ``kind`` is "file", "dir" or "any". Returns an absolute :class:`Path`. ``embed`` (default:
     ``must_exist``): a session recording carries the content, so it replays anywhere (an output
-    folder such as the recorder's is not embedded).
+    folder such as the recorder's is not embedded). ``built_without``: under the context's
+    ``start_without`` (a kiosk's start) the path is not checked: the build reads it and starts
+    without what it cannot read, a file deleted or replaced by a folder as well as one corrupt.
     """
 
     def __init__(self, default: Any = REQUIRED, must_exist: bool = True, kind: str = "any",
-                 doc: str = "", embed: bool | None = None) -> None:
+                 doc: str = "", embed: bool | None = None, built_without: bool = False) -> None:
         self.default, self.must_exist, self.kind, self.doc = default, must_exist, kind, doc
         self.embed = must_exist if embed is None else embed
+        self.built_without = built_without
 
     def describe(self) -> str:
         return {"file": "a path to a file", "dir": "a path to a folder"}.get(self.kind, "a path")
@@ -205,7 +208,7 @@ class FilePath(Spec):
         p = Path(value).expanduser()
         if not p.is_absolute():
             p = ctx.base / p
-        if self.must_exist:
+        if self.must_exist and not (self.built_without and ctx.start_without):
             if not p.exists():
                 raise ctx.error(path, f"{shown(value)} does not exist (looked for {p})")
             if self.kind == "file" and not p.is_file():

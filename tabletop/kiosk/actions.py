@@ -5,9 +5,12 @@ action whose template or clip file cannot be read (:func:`tabletop.plugins.mop_f
 configured_actions`: the stage's ``missing``, each listed in the status's ``behavior_errors``).
 :class:`ActionReloader`, a frame filter, looks at those files' modification times and sizes
 once a second (``os.stat`` only; nothing is read while they stay as they were, nothing at all
-once every action is followed); when they change it reads the action again and, if it reads,
-gives it to its character (:meth:`MopStage.put_action`: the followers retrained within that
-tick) and drops its error. A file still bad is said once per new reason.
+once every action is followed); once they changed and then stayed as they were for a whole look
+it reads the action again and, if it reads, gives it to its character (:meth:`MopStage.
+put_action`: the followers retrained within that tick) and drops its error. A file still bad is
+said once per new reason. (Read at the first look that saw a change, a template copied in two
+writes with a look between was followed with its first half, a valid CSV, and its completion
+never read: a followed action's files are not looked at again.)
 
 The frame whose engines first follow the action holds the bytes it was read from
 (``consumed["reload"]["actions"]``), and a replay reads the action from them within that frame
@@ -61,7 +64,7 @@ class ActionReloader:
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.stage = stage
         self.pollers = {id(m): Poller(m["files"][0], every_s, clock, read=m["read"],
-                                      signature=_signature(m["files"]))
+                                      signature=_signature(m["files"]), settle=True)
                         for m in stage.missing}
 
     def __call__(self, frame: Frame | None = None) -> Frame | None:

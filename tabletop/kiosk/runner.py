@@ -157,7 +157,9 @@ class Runner:
                           # a kiosk's start, fall-back or edit runs on without a behaviour
                           # whose files went bad: an edit of another part applies (refused, its
                           # fall-back rebuild dropped that behaviour all the same)
-                          kiosk_start=self.kiosk)
+                          kiosk_start=self.kiosk,
+                          # (behaviours the studio holds are not kept: said to start without)
+                          keeping=() if self.studio_on else self._playing)
         self.strict = False
         loop = inst.loop
         # (``record_path``, run --record, stays: each installation records to the next free name
@@ -282,11 +284,13 @@ class Runner:
         from tabletop.config import load_config
         try:
             cfg = load_config(path)
-        except InputError:
+        except InputError as exc:
             # the running config, which a kiosk started without the actions whose files it
             # cannot read (tabletop.kiosk.last_good.load), is no edit to refuse; any other is
             cfg = load_config(path, start_without=True)
             if not self.kiosk or cfg != self.cfg:
+                # refused for a file it names: the watcher validates it again once that changes
+                exc.files = tuple(ref.resolved for ref in cfg.refs if ref.embed)  # type: ignore
                 raise
         if self.kiosk:
             from tabletop.config_ports import check_heartbeat

@@ -5,8 +5,12 @@ Before the go, the spare imports the libraries, validates the config and builds 
 (behaviours loaded and trained) and initialises pygame's display-independent modules. Nothing
 that holds a device or a file is opened (camera, sockets, window, recording): the installation it
 replaces may still hold them. After the go only the sources and sinks are built and the first
-frame drawn. A config file changed on disk since the preparation is loaded again; a
-preparation that fails leaves the ordinary build to report the error after the go.
+frame drawn. A config file changed on disk since the preparation, or a file it names (a
+behaviour, a gesture template, a clip: what a recording carries), is loaded again: the engines
+play what the recording's header carries, read at the go (a spare prepared minutes before a
+template was broken played the old one while its recording carried the broken one, which no
+replay could read); a preparation that fails leaves the ordinary build to report the error after
+the go.
 """
 
 from __future__ import annotations
@@ -32,10 +36,20 @@ class Prepared:
     cfg: Any
     context: Any
     engines: list
+    files: tuple = ()                 # :func:`_files` of ``cfg`` before its engines were built
+
+    def changed(self) -> str | None:
+        """The config file, or the first file it names, changed since it was prepared (None:
+        the preparation is current)."""
+        if _signature(self.config_path) != self.signature:
+            return str(self.config_path)
+        now = _files(self.cfg)
+        return next((str(ref.resolved) for ref, was, sig in zip(_refs(self.cfg), self.files, now)
+                     if was != sig), None)
 
     def current(self) -> bool:
-        """Is the config file still the one prepared?"""
-        return _signature(self.config_path) == self.signature
+        """Are the config file and the files it names still the ones prepared?"""
+        return self.changed() is None
 
 
 def _signature(path: Path) -> tuple[int, int]:
@@ -44,6 +58,17 @@ def _signature(path: Path) -> tuple[int, int]:
     except OSError:
         return (-1, -1)
     return (st.st_mtime_ns, st.st_size)
+
+
+def _refs(cfg: Any) -> list:
+    """The files and folders ``cfg`` names whose content a recording carries."""
+    return [ref for ref in getattr(cfg, "refs", None) or () if ref.embed]
+
+
+def _files(cfg: Any) -> tuple:
+    """What each of :func:`_refs` is now (:func:`tabletop.kiosk.watch.file_signature`)."""
+    from tabletop.kiosk.watch import file_signature
+    return tuple(file_signature(ref.resolved) for ref in _refs(cfg))
 
 
 def _import_all() -> None:
@@ -64,11 +89,12 @@ def prepare(config_path: Path) -> Prepared | None:
     try:
         signature = _signature(config_path)
         cfg = load_config(config_path)
+        files = _files(cfg)
         ctx = _context(cfg)
         engines = build_engines(cfg, ctx)
         import pygame
         pygame.font.init()
-        return Prepared(config_path, signature, cfg, ctx, engines)
+        return Prepared(config_path, signature, cfg, ctx, engines, files)
     except Exception as exc:  # noqa: BLE001  (a bad config: the ordinary build says what)
         log.debug("spare: not prepared: %s", exc)
         return None
@@ -84,8 +110,10 @@ def wait_for_go(config_path: Path) -> tuple[bool, Prepared | None]:
         return False, None
     os.environ["TABLETOP_RESTARTS"] = line[1]
     os.environ.pop(WAIT_GO, None)
-    if prepared is not None and not prepared.current():
-        log.info("spare: %s changed since it was prepared; loading it again", config_path)
+    changed = None if prepared is None else prepared.changed()
+    if changed is not None:
+        log.info("spare: %s changed since it was prepared; loading %s again", changed,
+                 config_path)
         prepared = None
     return True, prepared
 

@@ -5,6 +5,9 @@ modification time and size; when they change it validates the new file. A bad fi
 with one line naming the file, key and reason (logged, in the status as ``config_error``, on
 the overlay), and the running configuration stays. A good one that differs from the running
 configuration is handed to ``apply`` (the run command rebuilds the installation with it).
+An edit refused for a file it names (a corrupt gesture template: the error's ``files``) is
+validated again once one of those files changes too, so fixing the file the refusal names
+applies the edit (the status named a file already fixed until the config was saved again).
 """
 
 from __future__ import annotations
@@ -59,15 +62,18 @@ class Poller:
     def __init__(self, path: Path, every_s: float = 1.0,
                  clock: Callable[[], float] = time.monotonic, since_start: bool = False,
                  read: tuple | None = None,
-                 signature: Callable[[Path], tuple] = tree_signature) -> None:
+                 signature: Callable[[Path], tuple] = tree_signature,
+                 settle: bool = False) -> None:
         """``since_start``: the first look counts as a change (what was read of ``path`` may be
         older than this poller). ``read``: the signature taken just before ``path`` was read
         (an engine's build, seconds before its studio or reloader exists): the first look
-        compares with it, so an edit saved in between is seen."""
+        compares with it, so an edit saved in between is seen. ``settle``: a change counts
+        once the signature stayed the same for a whole look (a copy still being written)."""
         self.path, self.every_s, self.clock = Path(path), every_s, clock
-        self.sign = signature
+        self.sign, self.settle = signature, settle
         self.signature: tuple | None = (None if since_start else read if read is not None
                                         else signature(self.path))
+        self.seen = self.signature
         self._next = clock()
 
     def changed(self) -> bool:
@@ -76,7 +82,8 @@ class Poller:
             return False
         self._next = now + self.every_s
         sig = self.sign(self.path)
-        if sig == self.signature:
+        steady, self.seen = sig == self.seen, sig
+        if sig == self.signature or self.settle and not steady:
             return False
         self.signature = sig
         return True
@@ -94,24 +101,34 @@ class ConfigWatcher:
                  apply: Callable[[dict[str, Any]], None], every_s: float = 1.0,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.path, self.current, self.load, self.apply = Path(path), current, load, apply
+        self.named: tuple[Path, ...] = ()    # the files a refused edit names
         self.poller = Poller(self.path, every_s, clock, since_start=True,
-                             signature=file_signature)
+                             signature=self._signature)
         self.error: str | None = None
         self.refused = 0
         self.applied = 0
 
+    def _signature(self, path: Path) -> tuple:
+        return (file_signature(path), *map(file_signature, self.named))
+
     def __call__(self, frame: Frame | None = None) -> None:
         if not self.poller.changed():
             return
+        named, self.named = self.named, ()
         try:
             cfg = self.load(self.path)
         except InputError as exc:
+            self.named = tuple(getattr(exc, "files", ()))
+            if self.named != named:     # what they are now: a change from here is looked at
+                self.poller.signature = self._signature(self.path)
             if str(exc) == self.error:    # already said (a kiosk started on the last good one)
                 return
             self.error = str(exc)
             self.refused += 1
             log.error("config edit refused, the running configuration stays: %s", exc)
             return
+        if named:
+            self.poller.signature = self._signature(self.path)
         was_refused, self.error = self.error is not None, None
         if cfg == self.current:
             if was_refused:   # the refusal logged is over: the log said nothing (status did)

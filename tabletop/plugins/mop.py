@@ -112,7 +112,8 @@ PERFORMER = Record({
 
 ACTION = Record({
     "name": Str(),
-    "template": FilePath(kind="file", doc="CSV of the performer's feature columns"),
+    "template": FilePath(kind="file", built_without=True,
+                         doc="CSV of the performer's feature columns"),
     "motion": Str(doc="built-in clip, DeepMimic clip name, or a .txt/.json clip file"),
     "warp": Optional_(ListOf(ListOf(Number(lo=0.0, hi=1.0), min_len=2, max_len=2), min_len=2),
                       doc="[[action, motion], ...] progress pairs from [0,0] to [1,1]"),
@@ -176,7 +177,13 @@ def _check_motion(ctx: Context, key: str, c: dict, motion: str, rigs: dict) -> N
     character in ``rigs``; a face's clip with no blendshape channel stopped the build naming
     the character alone). A sprite's frames are its sheet's own."""
     kind = c["kind"]
-    how, found = resolve_motion(kind, motion, ctx.base)
+    try:
+        how, found = resolve_motion(kind, motion, ctx.base)
+    except MopError:
+        if not (ctx.start_without and Path(motion).suffix in (".txt", ".json")):
+            raise
+        # a kiosk's start: a clip file deleted (or a folder now) is the build's to go without
+        how, found = "clip", action_files(c, {"template": "", "motion": motion}, ctx.base)[1]
     if how != "builtin" and Path(motion).suffix in (".txt", ".json"):
         ctx.refer(key, motion, found)
         if ctx.start_without:     # a kiosk's start: the build reads it (and may go without)

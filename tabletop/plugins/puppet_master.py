@@ -335,7 +335,8 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
         except InputError as exc:
             if not ctx.shared.get("kiosk_start"):
                 raise
-            problem = _start_without(options["name"], exc)
+            problem = _start_without(options["name"], exc,
+                                     options["name"] in ctx.shared.get("keeping", ()))
     designer = dict(options["designer"])
     lib = Path(designer["library"]).expanduser()
     designer["library"] = lib if lib.is_absolute() else Path(ctx.base) / lib
@@ -353,12 +354,15 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
     return engine
 
 
-def _start_without(name: str, exc: InputError) -> str:
+def _start_without(name: str, exc: InputError, kept: bool = False) -> str:
     """A kiosk's start (a reboot, a restart by its supervisor) whose behaviour folder holds a
     corrupt or half-written file: the character ``name`` starts without a behaviour, and the
     table with the rest, rather than the kiosk restarting for ever on the same refusal (the
     last good config names the same folder); its reloader plays the folder once it is fixed.
-    Returns the refusal (one line naming the file), logged and shown in the status."""
+    Returns the refusal (one line naming the file), logged and shown in the status; not logged
+    when ``kept`` (a config edit's rebuild: the behaviour read before plays on, as logged by
+    :func:`tabletop.studio.reloader.keep_playing`)."""
     problem = str(exc)
-    log.error("%s starts without its behaviour until the file is fixed: %s", name, problem)
+    if not kept:
+        log.error("%s starts without its behaviour until the file is fixed: %s", name, problem)
     return problem

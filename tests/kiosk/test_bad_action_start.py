@@ -55,6 +55,18 @@ def _config(tmp_path: Path) -> Path:
     return cfg_path
 
 
+def drawing_config(tmp_path: Path) -> tuple[Path, dict[str, str]]:
+    """:func:`_config` with the visitor's puck drawing the line, and the good text of its line
+    template and wag clip."""
+    cfg_path = _config(tmp_path)
+    shutil.copy(GESTURES / "line.csv", tmp_path / "drawn.csv")
+    edited = yaml.safe_load(cfg_path.read_text())
+    edited["sources"][0]["performers"] = [{"puck": 1, "home": [0.5, 0.4],
+                                           "gestures": ["drawn.csv"], "speed": [1.0, 1.0]}]
+    cfg_path.write_text(yaml.safe_dump(edited))
+    return cfg_path, {name: (tmp_path / name).read_text() for name in ("line.csv", "wag.json")}
+
+
 def _corrupt(tmp_path: Path) -> None:
     """A template with a short row (a copy cut short) and a clip cut in half."""
     with open(tmp_path / "line.csv", "a") as f:
@@ -149,13 +161,7 @@ def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(
     without a restart, each character follows the actions they complete (the lone creature
     one, the walker all three), the status's behavior_errors empty out, and the recording
     replays to the same characters, the actions followed from the same frame."""
-    cfg_path = _config(tmp_path)
-    shutil.copy(GESTURES / "line.csv", tmp_path / "drawn.csv")
-    edited = yaml.safe_load(cfg_path.read_text())     # the visitor's puck draws the line
-    edited["sources"][0]["performers"] = [{"puck": 1, "home": [0.5, 0.4],
-                                           "gestures": ["drawn.csv"], "speed": [1.0, 1.0]}]
-    cfg_path.write_text(yaml.safe_dump(edited))
-    good = {name: (tmp_path / name).read_text() for name in ("line.csv", "wag.json")}
+    cfg_path, good = drawing_config(tmp_path)
     _corrupt(tmp_path)
     cfg, _ = last_good.load(cfg_path, kiosk=True)
     session = tmp_path / "session.jsonl"
