@@ -12,9 +12,10 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from tabletop.files import (FileFormatError, NameTaken, atomic_write_text, check_increasing,
-                            check_positions, read_csv_lines, write_csv)
+from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
+                            read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
+from tabletop.names import NameTaken
 from tabletop.swap import exclusive
 
 log = logging.getLogger("tabletop")
