@@ -15,6 +15,7 @@ from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
 import math
 import os
 import shutil
+import stat
 import tempfile
 from pathlib import Path
 from contextlib import contextmanager, suppress
@@ -53,10 +54,7 @@ def read_text(path: Path, encoding: str = "utf-8") -> str:
     line and byte where it stops being text. Read once, in binary: a named pipe or device
     gives its bytes once (a second open waits for ever on a pipe whose writer is gone)."""
     with open(path, "rb") as f:
-        data = f.read(MAX_TEXT_BYTES + 1)
-    if len(data) > MAX_TEXT_BYTES:
-        raise UnreadableText(f"over {MAX_TEXT_BYTES // 2**20} MB, more than any such file "
-                             "holds (a device or another kind of file?)")
+        data = _read_capped(f)
     try:
         text = data.decode(encoding)
     except UnicodeDecodeError as exc:
@@ -64,6 +62,39 @@ def read_text(path: Path, encoding: str = "utf-8") -> str:
         raise UnreadableText(f"line {line}: byte 0x{exc.object[exc.start]:02x} is not UTF-8 "
                              "text (a binary file, or text saved in another encoding?)") from None
     return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _read_capped(f: IO[bytes]) -> bytes:
+    """At most :data:`MAX_TEXT_BYTES` of ``f``, else UnreadableText."""
+    data = f.read(MAX_TEXT_BYTES + 1)
+    if len(data) > MAX_TEXT_BYTES:
+        raise _too_long()
+    return data
+
+
+def _too_long() -> UnreadableText:
+    return UnreadableText(f"over {MAX_TEXT_BYTES // 2**20} MB, more than any such file holds "
+                          "(a device or another kind of file?)")
+
+
+def read_regular_bytes(path: Path) -> bytes:
+    """The bytes of the regular file ``path``, read once and capped as :func:`read_text` caps
+    them. Anything else (a named pipe, a device, a folder) is refused (UnreadableText) without
+    waiting: the file is opened non-blocking and checked on the open descriptor, so a named
+    pipe put there after a look cannot hold a frame loop reading it (an open of a pipe waits
+    for a writer). OSError for a file that cannot be opened."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        st = os.fstat(fd)
+    except OSError:
+        os.close(fd)
+        raise
+    if not stat.S_ISREG(st.st_mode) or st.st_size > MAX_TEXT_BYTES:   # (nothing read)
+        os.close(fd)
+        raise (UnreadableText("not a regular file (a folder, a named pipe or a device?)")
+               if not stat.S_ISREG(st.st_mode) else _too_long())
+    with open(fd, "rb") as f:
+        return _read_capped(f)
 
 
 def file_on_path(folder: Path) -> Path | None:
