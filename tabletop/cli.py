@@ -162,8 +162,8 @@ def entry() -> None:
     within :data:`behaviors.worker.FINISH_S`, a Ctrl-C (SIGTERM, SIGHUP) meanwhile caught as
     everywhere else.
     Every end is ``os._exit`` with the command's status, after the log and the standard
-    streams are flushed; a stop signal during that flush ends it with 128 + the signal's
-    number (:func:`_exit_on_stop_signals`). The interpreter's finalisation must
+    streams are flushed; a stop signal during that flush ends it with the command's failure
+    status, or with 128 + the signal's number after a success (:func:`_exit_on_stop_signals`). The interpreter's finalisation must
     not run under a job thread still in native code (one that did not end in time, or a
     Ctrl-C while it ran); for an interrupted command, a Ctrl-C that landed in code an
     extension module runs through ``PyRun_String`` while it is imported leaves the
@@ -189,7 +189,7 @@ def entry() -> None:
     if isinstance(status, str):   # sys.exit("why"), as the interpreter would say it
         print(status, file=sys.stderr)
     code = status if isinstance(status, int) else int(status is not None)
-    _exit_on_stop_signals()
+    _exit_on_stop_signals(code)
     import logging
     logging.shutdown()
     for stream in (sys.stdout, sys.stderr):
@@ -200,19 +200,23 @@ def entry() -> None:
     os._exit(code)
 
 
-def _exit_on_stop_signals() -> None:
-    """From here to the process's end a stop signal ends it at once with status 128 + the
+def _exit_on_stop_signals(code: int) -> None:
+    """From here to the process's end a stop signal ends it at once: with the command's own
+    failure status ``code`` when it has one (3, a recording that failed, is what the kiosk's
+    supervisor must see, and a SIGTERM it sends on Ctrl-C can land here), else with 128 + the
     signal's number, as the shell reports a program a signal ended: the flush it cut short may
-    have lost the end of the log or of the output, so the command's own status would claim a
-    complete end it did not have. Every end goes through ``os._exit``, skipping the
-    interpreter's finalisation: that took 0.6 s after a one-minute ``behave`` (freeing what its
-    modules hold), a stop signal landing in it ended the process by the signal without a word,
-    and a non-daemon thread or an atexit hook that never ends hung it there. A signal that ends
-    the process (not an ignored one) also ends a flush blocked on a reader that stopped
+    have lost the end of the log or of the output, so a 0 would claim a complete end it did
+    not have. A signal the process was started ignoring (``nohup``'s SIGHUP, a script's
+    background job's SIGINT) stays ignored here too. Every end goes through ``os._exit``,
+    skipping the interpreter's finalisation: that took 0.6 s after a one-minute ``behave``
+    (freeing what its modules hold), a stop signal landing in it ended the process by the
+    signal without a word, and a non-daemon thread or an atexit hook that never ends hung it
+    there. A signal that ends the process also ends a flush blocked on a reader that stopped
     reading."""
     if threading.current_thread() is threading.main_thread():
         for s in STOP_SIGNALS:
-            signal.signal(s, lambda signum, _frame: os._exit(128 + signum))
+            if signal.getsignal(s) is not signal.SIG_IGN:
+                signal.signal(s, lambda signum, _frame: os._exit(code or 128 + signum))
 
 
 def _drop_stdout() -> None:

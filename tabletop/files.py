@@ -1,4 +1,6 @@
-"""File formats shared by the commands and plugins: atomic writes and numeric CSV tables.
+"""File formats shared by the commands and plugins: atomic writes, bounded reads and numeric CSV
+tables (YAML inputs: :mod:`tabletop.yaml_files`; a take kept under a free name:
+:mod:`tabletop.names`).
 
 Saved data is never lost: every write goes to a temporary file in the same folder, is fsynced,
 then renamed over the target. Reading a CSV either returns a clean float table or raises
@@ -13,13 +15,13 @@ from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
 import math
 import os
 import shutil
+import stat
 import tempfile
 from pathlib import Path
 from contextlib import contextmanager, suppress
-from typing import IO, Any, Callable, Iterable, Iterator, Mapping, Sequence, TypeVar
+from typing import IO, Any, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
-import yaml
 
 from tabletop.frames import MAX_POSITION_M, InputError
 
@@ -52,10 +54,7 @@ def read_text(path: Path, encoding: str = "utf-8") -> str:
     line and byte where it stops being text. Read once, in binary: a named pipe or device
     gives its bytes once (a second open waits for ever on a pipe whose writer is gone)."""
     with open(path, "rb") as f:
-        data = f.read(MAX_TEXT_BYTES + 1)
-    if len(data) > MAX_TEXT_BYTES:
-        raise UnreadableText(f"over {MAX_TEXT_BYTES // 2**20} MB, more than any such file "
-                             "holds (a device or another kind of file?)")
+        data = _read_capped(f)
     try:
         text = data.decode(encoding)
     except UnicodeDecodeError as exc:
@@ -63,6 +62,39 @@ def read_text(path: Path, encoding: str = "utf-8") -> str:
         raise UnreadableText(f"line {line}: byte 0x{exc.object[exc.start]:02x} is not UTF-8 "
                              "text (a binary file, or text saved in another encoding?)") from None
     return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def _read_capped(f: IO[bytes]) -> bytes:
+    """At most :data:`MAX_TEXT_BYTES` of ``f``, else UnreadableText."""
+    data = f.read(MAX_TEXT_BYTES + 1)
+    if len(data) > MAX_TEXT_BYTES:
+        raise _too_long()
+    return data
+
+
+def _too_long() -> UnreadableText:
+    return UnreadableText(f"over {MAX_TEXT_BYTES // 2**20} MB, more than any such file holds "
+                          "(a device or another kind of file?)")
+
+
+def read_regular_bytes(path: Path) -> bytes:
+    """The bytes of the regular file ``path``, read once and capped as :func:`read_text` caps
+    them. Anything else (a named pipe, a device, a folder) is refused (UnreadableText) without
+    waiting: the file is opened non-blocking and checked on the open descriptor, so a named
+    pipe put there after a look cannot hold a frame loop reading it (an open of a pipe waits
+    for a writer). OSError for a file that cannot be opened."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        st = os.fstat(fd)
+    except OSError:
+        os.close(fd)
+        raise
+    if not stat.S_ISREG(st.st_mode) or st.st_size > MAX_TEXT_BYTES:   # (nothing read)
+        os.close(fd)
+        raise (UnreadableText("not a regular file (a folder, a named pipe or a device?)")
+               if not stat.S_ISREG(st.st_mode) else _too_long())
+    with open(fd, "rb") as f:
+        return _read_capped(f)
 
 
 def file_on_path(folder: Path) -> Path | None:
@@ -343,64 +375,6 @@ def read_csv_lines(path: str | Path, required: Sequence[str] = (), what: str = "
             np.asarray(numbers, dtype=int))
 
 
-class UniqueKeyLoader(yaml.SafeLoader):
-    """YAML's safe loader refusing a key given twice in one mapping (YAML says keys are
-    unique; PyYAML would silently keep the last)."""
-
-
-def _unique_mapping(loader: UniqueKeyLoader, node: yaml.MappingNode, deep: bool = False) -> Any:
-    seen: set[Any] = set()
-    for key_node, _ in node.value:
-        if key_node.tag == "tag:yaml.org,2002:merge":
-            continue
-        key = loader.construct_object(key_node, deep=True)
-        try:
-            duplicate = key in seen
-            seen.add(key)
-        except TypeError:  # an unhashable key: the base constructor says so
-            break
-        if duplicate:
-            raise yaml.constructor.ConstructorError(
-                "while reading a mapping", node.start_mark,
-                f"key {key!r} is given twice (the second is on this line)", key_node.start_mark)
-    return yaml.SafeLoader.construct_mapping(loader, node, deep)
-
-
-UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _unique_mapping)
-
-
-def parse_yaml(text: str, file: str | Path, error: type[InputError] = FileFormatError,
-               problem: str = "YAML syntax error") -> Any:
-    """Parse YAML text; a syntax error or a duplicate key raises ``error`` naming the file,
-    line and column."""
-    try:
-        return yaml.load(text, Loader=UniqueKeyLoader)
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
-        raise error(f"{file}: {problem} at {where}: {exc.problem}") from None
-    except yaml.YAMLError as exc:  # e.g. a reader error: a character YAML does not allow
-        raise error(f"{file}: {problem}: {' '.join(str(exc).split())}") from None
-    except (ValueError, RecursionError) as exc:  # e.g. an integer of thousands of digits
-        raise error(f"{file}: {problem}: {type(exc).__name__}: {exc}") from None
-
-
-def read_yaml(path: str | Path, error: type[InputError] = FileFormatError,
-              missing: str = "not found", problem: str = "YAML syntax error") -> Any:
-    """Read and parse a YAML file; a missing, unreadable or malformed file raises ``error``
-    (``missing`` is the message for a file that does not exist)."""
-    p = Path(path)
-    try:
-        text = read_text(p)
-    except FileNotFoundError:
-        raise error(f"{p}: {missing}") from None
-    except IsADirectoryError:
-        raise error(f"{p}: is a folder; expected a YAML file") from None
-    except (OSError, UnreadableText) as exc:
-        raise error(f"{p}: cannot read: {exc}") from None
-    return parse_yaml(text, p, error, problem)
-
-
 def check_increasing(t: np.ndarray, path: str | Path, column: str = "t",
                      lines: Sequence[int] | None = None) -> None:
     """Raise FileFormatError unless times strictly increase; names the first bad row by its
@@ -432,28 +406,3 @@ def check_positions(data: np.ndarray, header: Sequence[str], columns: Sequence[s
         raise FileFormatError(
             f"{path}: {where}: column {columns[c]!r}: {float(data[r, index[c]])!r}{unit} is "
             f"beyond {limit:g}{unit}, {what}")
-
-
-# --- keeping a take under a free name ------------------------------------------------------------
-# Two runs may keep into one library at once: a name chosen when the take was trained can be saved
-# by the other run first. The save refuses it (NameTaken); the take is renamed and saved again.
-
-T = TypeVar("T")
-NAME_TRIES = 100     # refusals before a keep gives up (each one a name another run just took)
-
-
-class NameTaken(InputError):
-    """A save refused the name: the library holds one of that name already."""
-
-
-def keep_under_free_name(save: Callable[[], T], rename: Callable[[str], None],
-                         free_name: Callable[[], str], tries: int = NAME_TRIES) -> T:
-    """``save()``; on :class:`NameTaken`, ``rename(free_name())`` and save again. InputError
-    (nothing saved, the take stays) after ``tries`` refusals, never a keep said done that
-    saved nothing."""
-    for _ in range(tries):
-        try:
-            return save()
-        except NameTaken:
-            rename(free_name())
-    raise InputError(f"not saved: its name was taken {tries} times in a row; keep it again")

@@ -297,8 +297,15 @@ class MopStage(DesignerTakes):
                    background: bool = False) -> None:
         """Give ``character`` the action (or replace the one of its name): followed at once
         (with ``background``, once the :attr:`worker` has rebuilt the followers)."""
-        self.templates[character][action.name] = (performer, samples)
-        self.puppets[character].add_action(action)
+        self.put_actions([(character, action, performer, samples)], background)
+
+    def put_actions(self, actions: Sequence[tuple[str, Action, str, np.ndarray]],
+                    background: bool = False) -> None:
+        """:meth:`put_action` for each (character, action, performer, samples), the followers
+        rebuilt once for them all (a rebuild of examples/mop.yaml's takes 15-70 ms)."""
+        for character, action, performer, samples in actions:
+            self.templates[character][action.name] = (performer, samples)
+            self.puppets[character].add_action(action)
         self._retrain(background)
 
     def remove_action(self, character: str, name: str) -> None:

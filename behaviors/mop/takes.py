@@ -18,7 +18,7 @@ import numpy as np
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet
 from behaviors.mop.take import Take, free_take_number
-from tabletop.files import keep_under_free_name
+from tabletop.names import keep_under_free_name
 from tabletop.frames import Frame, InputError
 
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]
@@ -129,7 +129,7 @@ class DesignerTakes:
     def keep_take(self) -> str:
         """Keep the pending take (``save``d, e.g. to the library); returns the name it is kept
         under: its own, or the next free one when ``save`` finds its name taken meanwhile
-        (:class:`tabletop.files.NameTaken`; the take's action is renamed, its followers rebuilt within the
+        (:class:`tabletop.names.NameTaken`; the take's action is renamed, its followers rebuilt within the
         tick). InputError when there is nothing to keep or it cannot be saved (the take
         stays)."""
         take = self.take

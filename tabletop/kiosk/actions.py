@@ -6,15 +6,18 @@ configured_actions`: the stage's ``missing``, each listed in the status's ``beha
 :class:`ActionReloader`, a frame filter, looks at those files' modification times and sizes
 once a second (``os.stat`` only; nothing is read while they stay as they were, nothing at all
 once every action is followed); once they changed and then stayed as they were for a whole look
-it reads the action again and, if it reads, gives it to its character (:meth:`MopStage.
-put_action`: the followers retrained within that tick) and drops its error. A file still bad is
-said once per new reason. (Read at the first look that saw a change, a template copied in two
-writes with a look between was followed with its first half, a valid CSV, and its completion
-never read: a followed action's files are not looked at again.)
+it reads each file once (regular files only, capped: :func:`tabletop.files.read_regular_bytes`,
+so a named pipe put there cannot hold the frame loop), builds the action from those bytes and,
+if it builds, gives it to its character and drops its error; the actions taken in one tick
+retrain the followers once (:meth:`MopStage.put_actions`). A file still bad is said once per new
+reason. (Read at the first look that saw a change, a template copied in two writes with a look
+between was followed with its first half, a valid CSV, and its completion never read: a
+followed action's files are not looked at again.)
 
 The frame whose engines first follow the action holds the bytes it was read from
-(``consumed["reload"]["actions"]``), and a replay reads the action from them within that frame
-(:func:`replay_actions`), so it follows it from the same tick.
+(``consumed["reload"]["actions"]``), and a replay builds the action from them within that
+frame (:func:`replay_actions`) as the live run did (:func:`_action_from`), so it follows it
+from the same tick.
 """
 
 from __future__ import annotations
@@ -22,11 +25,13 @@ from __future__ import annotations
 import base64
 import dataclasses
 import logging
+import os
 import tempfile
 import time
 from pathlib import Path
 from typing import Any, Callable
 
+from tabletop.files import UnreadableText, read_regular_bytes
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 
@@ -35,26 +40,67 @@ log = logging.getLogger("tabletop")
 LOOK_S = 1.0
 """Seconds (wall clock) between looks at a missing action's files, as at the config file."""
 
+SCRATCH = "/dev/shm" if os.access("/dev/shm", os.W_OK | os.X_OK) else None
+"""Where an action's bytes are written to be built from: in memory where the system has such a
+folder. Making and removing the folder of a fix took 8 ms (median of 30, 2 kB written) in the
+system's temporary folder on ext4, 0.08 ms in /dev/shm (tmpfs), on the frame loop's tick."""
+
 
 def _signature(files: tuple[Path, ...]) -> Callable[[Path], tuple]:
     return lambda _path: tuple(map(tree_signature, files))
 
 
-def _read(files: tuple[Path, ...]) -> list[bytes] | None:
-    try:
-        return [f.read_bytes() for f in files]
-    except OSError:
-        return None
+def _read(files: tuple[Path, ...]) -> list[bytes | None]:
+    """Each file's bytes, None for one that is not there (the action's build then says so as
+    the start said it); InputError naming a file that cannot be read (not a regular file, too
+    long, no permission)."""
+    out: list[bytes | None] = []
+    for f in files:
+        try:
+            out.append(read_regular_bytes(f))
+        except FileNotFoundError:
+            out.append(None)
+        except UnreadableText as exc:
+            raise InputError(f"{f}: {exc}") from None
+        except OSError as exc:
+            raise InputError(f"{f}: cannot read: {exc.strerror or exc}") from None
+    return out
 
 
-def _took(stage: Any, missing: dict[str, Any], taken: tuple) -> None:
-    """``stage`` follows the action ``missing`` names from now on: out of its missing ones and
-    of its errors."""
-    action, performer, samples = taken
-    stage.put_action(missing["character"]["name"], action, performer, samples)
-    stage.missing.remove(missing)
-    if missing["why"] in stage.start_problems:
-        stage.start_problems.remove(missing["why"])
+def _action_from(stage: Any, m: dict[str, Any], data: list[bytes | None]) -> tuple:
+    """The missing action ``m`` built from ``data`` (its files' bytes, in the order of
+    ``m["files"]``; None: not there), written into a folder of its own under the files' names;
+    an InputError names the action's own files, as the start's messages do."""
+    c, a = m["character"], m["action"]
+    with tempfile.TemporaryDirectory(prefix="tabletop-action-", dir=SCRATCH) as tmp:
+        paths = [Path(tmp) / str(k) / f.name for k, f in enumerate(m["files"])]
+        for p, b in zip(paths, data):
+            p.parent.mkdir()
+            if b is not None:
+                p.write_bytes(b)
+        moved = dict(a, template=str(paths[0]))
+        if len(paths) > 1:
+            moved["motion"] = str(paths[1])
+        try:
+            return stage.configured_action(c, moved)
+        except InputError as exc:
+            text = str(exc)
+            if len(paths) > 1:                   # (a clip named as the config names it)
+                text = text.replace(repr(str(paths[1])), repr(a["motion"]))
+            for p, f in zip(paths, m["files"]):
+                text = text.replace(str(p), str(f))
+            raise InputError(text) from None
+
+
+def _take(stage: Any, taken: list[tuple[dict[str, Any], tuple]]) -> None:
+    """``stage`` follows the actions taken (each: the missing entry, its action, performer and
+    samples) from now on, the followers retrained once: out of its missing ones and of its
+    errors."""
+    stage.put_actions([(m["character"]["name"], *t) for m, t in taken])
+    for m, _ in taken:
+        stage.missing.remove(m)
+        if m["why"] in stage.start_problems:
+            stage.start_problems.remove(m["why"])
 
 
 class ActionReloader:
@@ -68,33 +114,40 @@ class ActionReloader:
                         for m in stage.missing}
 
     def __call__(self, frame: Frame | None = None) -> Frame | None:
-        taken = []
+        taken, records = [], []
         for m in list(self.stage.missing):
             poller = self.pollers.get(id(m))
             if poller is None or not poller.changed():
                 continue
-            entry = self._try(m)
-            if entry is None:
+            got = self._try(m, poller.signature)
+            if got is None:
                 continue
-            if entry is False:      # written while it was read: the next look reads it again
+            if got is False:        # written while it was read: the next look reads it again
                 poller.signature = None
                 continue
-            taken.append(entry)
-        if not taken or frame is None:
+            taken.append((m, got[0]))
+            records.append(got[1])
+        if taken:
+            _take(self.stage, taken)
+        if not records or frame is None:
             return frame
         reload = frame.consumed.get("reload", {})
-        actions = {**reload.get("actions", {}), self.stage.name: taken}
+        actions = {**reload.get("actions", {}), self.stage.name: records}
         return dataclasses.replace(frame, consumed={**frame.consumed,
                                                     "reload": {**reload, "actions": actions}})
 
-    def _try(self, m: dict[str, Any]) -> dict[str, Any] | None | bool:
-        """Read the action ``m`` again: its record (followed from now), None (still bad,
-        said once per reason) or False (its files changed while read)."""
+    def _try(self, m: dict[str, Any], looked: tuple | None
+             ) -> tuple[tuple, dict[str, Any]] | None | bool:
+        """Read the action ``m`` again (its files as they were at the look, signature
+        ``looked``): its action and the frame's record of it, None (still bad, said once per
+        reason) or False (its files changed while read)."""
         c, a = m["character"], m["action"]
-        before = _read(m["files"])
         try:
-            taken = self.stage.configured_action(c, a)
-        except InputError as exc:
+            data = _read(m["files"])
+            if _signature(m["files"])(m["files"][0]) != looked:
+                return False
+            taken = _action_from(self.stage, m, data)
+        except (InputError, OSError) as exc:     # (OSError: the folder the bytes go into)
             why = f"character {c['name']!r}, action {a['name']!r}: {exc}"
             if why != m["why"]:
                 log.error("MOP action still not followed: %s", why)
@@ -103,21 +156,21 @@ class ActionReloader:
                     problems[problems.index(m["why"])] = why
                 m["why"] = why
             return None
-        if before is None or _read(m["files"]) != before:
-            return False
-        _took(self.stage, m, taken)
         log.info("MOP character %r follows its action %r from now on: %s read", c["name"],
                  a["name"], ", ".join(map(str, m["files"])))
-        return {"character": c["name"], "action": a["name"],
-                "files": [base64.b64encode(b).decode("ascii") for b in before]}
+        return taken, {"character": c["name"], "action": a["name"],
+                       "files": [base64.b64encode(b or b"").decode("ascii") for b in data]}
 
 
 def replay_actions(stage: Any, entries: list[dict[str, Any]]) -> None:
     """A replay's frame whose live run followed missing actions again (``entries``, recorded
-    by :class:`ActionReloader`): each is read from its recorded bytes (written into a folder
-    of its own, under its files' names) and followed from this frame. One that cannot be is
-    logged and skipped."""
+    by :class:`ActionReloader`): each is built from its recorded bytes as the live run built
+    it (:func:`_action_from`) and followed from this frame, the followers retrained once. One
+    that cannot be (a damaged entry: not the number of files its action reads, bytes that are
+    not base64) is logged in one line and skipped."""
+    taken = []
     for entry in entries:
+        entry = entry if isinstance(entry, dict) else {}
         m = next((m for m in getattr(stage, "missing", ()) if
                   m["character"]["name"] == entry.get("character")
                   and m["action"]["name"] == entry.get("action")), None)
@@ -125,20 +178,18 @@ def replay_actions(stage: Any, entries: list[dict[str, Any]]) -> None:
             log.error("replay: recorded action %r of %r is not one %s started without; skipped",
                       entry.get("action"), entry.get("character"), stage.name)
             continue
-        c, a = m["character"], m["action"]
-        try:
-            with tempfile.TemporaryDirectory(prefix="tabletop-action-") as tmp:
-                paths = []
-                for k, (f, data) in enumerate(zip(m["files"], entry["files"])):
-                    p = Path(tmp) / str(k) / f.name
-                    p.parent.mkdir()
-                    p.write_bytes(base64.b64decode(data, validate=True))
-                    paths.append(p)
-                moved = dict(a, template=str(paths[0]))
-                if len(paths) > 1:
-                    moved["motion"] = str(paths[1])
-                taken = stage.configured_action(c, moved)
-        except (InputError, KeyError, TypeError, ValueError, OSError) as exc:
-            log.error("replay: recorded action %r of %r not read: %s", a["name"], c["name"], exc)
+        c, a, files = m["character"], m["action"], entry.get("files")
+        if not isinstance(files, list) or len(files) != len(m["files"]) \
+                or not all(isinstance(f, str) for f in files):
+            log.error("replay: recorded action %r of %r skipped: its entry holds %s, expected "
+                      "the bytes of its %d file(s) (%s)", a["name"], c["name"],
+                      f"{len(files)} file(s)" if isinstance(files, list) else repr(files),
+                      len(m["files"]), ", ".join(f.name for f in m["files"]))
             continue
-        _took(stage, m, taken)
+        try:
+            data = [base64.b64decode(f, validate=True) for f in files]
+            taken.append((m, _action_from(stage, m, list(data))))
+        except (InputError, ValueError, OSError) as exc:
+            log.error("replay: recorded action %r of %r not read: %s", a["name"], c["name"], exc)
+    if taken:
+        _take(stage, taken)

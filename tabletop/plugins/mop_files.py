@@ -12,9 +12,10 @@ import numpy as np
 
 from behaviors.motion.clips import Clip, ClipError, clip_from_mapping
 from behaviors.mop.puppetry import Action
-from tabletop.files import (FileFormatError, NameTaken, atomic_write_text, check_increasing,
-                            check_positions, read_csv_lines, write_csv)
+from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
+                            read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
+from tabletop.names import NameTaken
 from tabletop.swap import exclusive
 
 log = logging.getLogger("tabletop")
@@ -176,8 +177,7 @@ def configured_actions(character: dict[str, Any], features: dict[str, tuple[str,
     if isinstance(recorded, str):           # (a recording's header may hold anything)
         unread = [a["name"] for a, _, _ in missing]
         was = [a["name"] for a in character["actions"]
-               if any(p.startswith(f"{_action_named(character['name'], a['name'])}: ")
-                      for p in recorded.split("; "))]
+               if _names_action(recorded, _action_named(character["name"], a["name"]))]
         if sorted(was) != sorted(unread):
             def named(names: list[str]) -> str:
                 return ", ".join(repr(n) for n in sorted(names)) or "nothing"
@@ -211,6 +211,13 @@ def _action_named(character: str, action: str) -> str:
     return f"character {character!r}, action {action!r}"
 
 
+def _names_action(recorded: str, named: str) -> bool:
+    """Does a recording's ``started_without`` text (a start's messages joined by "; ") hold a
+    message about the action ``named`` (:func:`_action_named`)? Matched in the whole text, not
+    split on "; ": a name may hold "; " itself."""
+    return recorded.startswith(f"{named}: ") or f"; {named}: " in recorded
+
+
 # --- the designer's library ----------------------------------------------------------------------
 
 LIBRARY_FILE = "actions.yaml"
@@ -219,8 +226,8 @@ LIBRARY_FILE = "actions.yaml"
 class ActionsFile:
     """``<folder>/<character>/actions.yaml`` parsed once: its kept actions (:meth:`entries`) and
     the follower's window the studio saved (:meth:`window`) come from the one parse, at an
-    engine's start and at a keep alike (each read the file apart, so a keep landing between
-    the two could give the window of one version and the entries of another)."""
+    engine's start and at a keep alike (two parses could give the window of one version and
+    the entries of another when a keep lands between them)."""
 
     def __init__(self, folder: Path, character: str) -> None:
         import yaml

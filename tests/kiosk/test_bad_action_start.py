@@ -138,22 +138,42 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
         "'circle', 'line', 'square'" in last, last
 
 
-def test_the_replay_of_a_start_without_actions_named_with_quotes_checks_them(tmp_path):
-    """Names holding a quote (shown in double quotes in the start's messages) are checked as
-    any: a recording whose carried circle template is damaged is refused."""
+def _recorded_renamed(tmp_path: Path, names: dict[str, str]) -> Path:
+    """The recording of half a second of a kiosk started on :func:`_config` corrupted, its
+    characters and actions renamed (old name -> new)."""
     cfg_path = _config(tmp_path)
-    text = cfg_path.read_text().replace("name: walker", "name: o'walker")
-    cfg_path.write_text(text.replace("name: line", "name: it's line"))
+    text = cfg_path.read_text()
+    for old, new in names.items():
+        text = text.replace(f"name: {old}", f"name: {new}")
+    cfg_path.write_text(text)
     _corrupt(tmp_path)
     cfg, _ = last_good.load(cfg_path, kiosk=True)
     session = tmp_path / "session.jsonl"
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
     runner._build(runner.cfg).loop.run(seconds=0.5)
+    return session
+
+
+def test_the_replay_of_a_start_without_actions_named_with_quotes_checks_them(tmp_path):
+    """Names holding a quote (shown in double quotes in the start's messages) are checked as
+    any: a recording whose carried circle template is damaged is refused."""
+    session = _recorded_renamed(tmp_path, {"walker": "o'walker", "line": "it's line"})
     done = replay_cli(_circle_damaged(session), tmp_path / "replayed.jsonl")
     assert done.returncode == 2, done.stderr
     assert "character \"o'walker\": the recording started without \"it's line\", 'square', " \
         "but this replay could not read 'circle', \"it's line\", 'square'" in done.stderr, \
         done.stderr
+
+
+def test_the_replay_of_a_start_without_actions_named_with_semicolons_reads_them(tmp_path):
+    """Names holding "; " (the separator of the recorded started_without text): the replay
+    starts without the same actions and replays to the same characters."""
+    session = _recorded_renamed(tmp_path, {"walker": "a; walker", "square": "x; square"})
+    done = replay_cli(session, tmp_path / "replayed.jsonl")
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
+    assert len(live) == len(again) > 5
+    assert [f["characters"] for f in live] == [f["characters"] for f in again]
 
 
 def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(tmp_path):

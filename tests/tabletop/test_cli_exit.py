@@ -83,18 +83,44 @@ class LateSignal(logging.Handler):
         time.sleep(1.0)
         super().close()
 logging.getLogger("late").addHandler(LateSignal())
+if len(sys.argv) > 2:   # the command's own status instead of --version's 0
+    cli.main = lambda status=int(sys.argv[2]): status
 sys.argv = ["tabletop", "--version"]
 cli.entry()
 """
+
+
+def _signal_at_the_end(sig: str, *status: str, ignored: bool = False):
+    """The script above run to its end; ``ignored``: started with ``sig`` ignored, as
+    ``nohup`` starts its command (SIGHUP) or a script its background job (SIGINT)."""
+    start = (lambda: signal.signal(getattr(signal, sig), signal.SIG_IGN)) if ignored else None
+    return subprocess.run([sys.executable, "-c", _SIGNAL_AT_THE_END, sig, *status],
+                          capture_output=True, text=True, timeout=120, preexec_fn=start)
 
 
 @pytest.mark.parametrize("sig", ["SIGTERM", "SIGHUP", "SIGINT"])
 def test_a_stop_signal_in_the_final_flush_ends_with_128_and_the_signal(sig):
     """The flush a signal cut short may have lost the end of the log: the status says the
     signal (143, 129, 130), not the command's own 0."""
-    res = subprocess.run([sys.executable, "-c", _SIGNAL_AT_THE_END, sig], capture_output=True,
-                         text=True, timeout=120)
+    res = _signal_at_the_end(sig)
     assert res.returncode == 128 + getattr(signal, sig), (res.returncode, res.stderr)
+    assert res.stdout.startswith("tabletop ") and res.stderr == ""
+
+
+@pytest.mark.parametrize("status", [1, 2, 3])
+def test_a_stop_signal_in_the_final_flush_keeps_the_commands_failure_status(status):
+    """A failed command's status (3: the recording failed, which the kiosk's supervisor reads)
+    outranks the log's tail a SIGTERM in the flush may have cut."""
+    res = _signal_at_the_end("SIGTERM", str(status))
+    assert res.returncode == status, (res.returncode, res.stderr)
+
+
+@pytest.mark.parametrize("sig", ["SIGHUP", "SIGINT"])
+def test_a_stop_signal_the_process_was_started_ignoring_stays_ignored_in_the_flush(sig):
+    """``nohup tabletop ...`` (SIGHUP) and a script's background job (SIGINT): the signal
+    ignored from the start does not end the flush, which ends with the command's 0."""
+    res = _signal_at_the_end(sig, ignored=True)
+    assert res.returncode == 0, (res.returncode, res.stderr)
     assert res.stdout.startswith("tabletop ") and res.stderr == ""
 
 

@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from tabletop.files import FileFormatError, atomic_write_text, read_csv_lines, read_yaml
+from tabletop.files import FileFormatError, atomic_write_text, read_csv_lines
+from tabletop.yaml_files import read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -187,7 +188,7 @@ def test_a_named_pipe_that_is_not_text_is_read_once_and_refused_naming_its_line(
     writer = threading.Thread(target=write, daemon=True)
     writer.start()
     reader = subprocess.Popen(
-        [sys.executable, "-c", "import sys; from tabletop.files import read_yaml\n"
+        [sys.executable, "-c", "import sys; from tabletop.yaml_files import read_yaml\n"
          "try:\n    read_yaml(sys.argv[1])\nexcept Exception as exc:\n    print(exc)\n", str(fifo)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     try:
@@ -198,3 +199,22 @@ def test_a_named_pipe_that_is_not_text_is_read_once_and_refused_naming_its_line(
     writer.join(5)
     assert out.strip() == (f"{fifo}: cannot read: line 3: byte 0xe9 is not UTF-8 text (a "
                            "binary file, or text saved in another encoding?)"), (out, err)
+
+
+def test_regular_bytes_are_read_whole_and_anything_else_refused_at_once(tmp_path):
+    """A pipe (no writer: an open of it would wait), a device, a folder, and a file longer
+    than any input (sparse: refused by its size, none of it read) are refused in one line."""
+    from tabletop.files import MAX_TEXT_BYTES, UnreadableText, read_regular_bytes
+    good = tmp_path / "line.csv"
+    good.write_bytes(b"t,x\r\n0,1\r\n")
+    assert read_regular_bytes(good) == b"t,x\r\n0,1\r\n"
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    for other in (fifo, Path("/dev/zero"), tmp_path):
+        with pytest.raises(UnreadableText, match="^not a regular file"):
+            read_regular_bytes(other)
+    huge = tmp_path / "huge.csv"
+    with open(huge, "wb") as f:
+        f.truncate(MAX_TEXT_BYTES + 1)
+    with pytest.raises(UnreadableText, match="^over 128 MB"):
+        read_regular_bytes(huge)

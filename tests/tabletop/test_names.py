@@ -1,11 +1,11 @@
-"""A take kept under a free name when its name is taken meanwhile (tabletop.files)."""
+"""A take kept under a free name when its name is taken meanwhile (tabletop.names)."""
 
 from pathlib import Path
 
 import pytest
 
 from tabletop.frames import InputError
-from tabletop.files import NameTaken, keep_under_free_name
+from tabletop.names import NameTaken, keep_under_free_name
 
 
 def saver(folder: Path, take: dict):

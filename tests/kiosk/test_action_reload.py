@@ -1,0 +1,86 @@
+"""The kiosk's reload of MOP actions it started without (tabletop.kiosk.actions), on the stage of
+bench/action_reload.py (walker: circle good, line and square unreadable; lone: line unreadable;
+both lines read one template): only regular files are read, the actions fixed in one tick
+retrain the followers once, and a replay refuses a damaged recorded entry in one line."""
+
+import base64
+import logging
+import os
+import threading
+from pathlib import Path
+
+from bench.action_reload import GESTURES, _stage
+from tabletop.frames import Frame
+from tabletop.kiosk.actions import ActionReloader, replay_actions
+
+
+def _counting_builds(stage) -> list:
+    """The stage's follower rebuilds, counted (each still builds)."""
+    builds = []
+    build = stage._build
+
+    def counted(plan):
+        builds.append(1)
+        return build(plan)
+    stage._build = counted
+    return builds
+
+
+def test_a_named_pipe_in_place_of_a_template_is_refused_without_holding_the_tick(tmp_path):
+    stage = _stage(tmp_path)
+    reloader = ActionReloader(stage, every_s=0.0)
+    reloader(Frame(seq=0, t=1.0))
+    line = tmp_path / "line.csv"
+    line.unlink()
+    os.mkfifo(line)
+    tick = threading.Thread(target=reloader, args=(Frame(seq=1, t=1.1),), daemon=True)
+    tick.start()
+    tick.join(30.0)
+    if tick.is_alive():           # (let the blocked open go, so the process can end)
+        os.close(os.open(line, os.O_WRONLY | os.O_NONBLOCK))
+    assert not tick.is_alive(), "the frame filter waited on the named pipe"
+    why = [m["why"] for m in stage.missing if m["action"]["name"] == "line"]
+    assert len(why) == 2 and all(f"{line}: not a regular file" in w for w in why), why
+    assert why == [e for e in stage.start_problems if "action 'line'" in e]
+
+
+def test_actions_fixed_in_one_tick_retrain_the_followers_once(tmp_path):
+    stage = _stage(tmp_path)
+    reloader = ActionReloader(stage, every_s=0.0)
+    reloader(Frame(seq=0, t=1.0))
+    builds = _counting_builds(stage)
+    (tmp_path / "line.csv").write_text((GESTURES / "line.csv").read_text())
+    frame = reloader(Frame(seq=1, t=1.1))
+    assert [(e["character"], e["action"]) for e in frame.consumed["reload"]["actions"]["mop"]] \
+        == [("walker", "line"), ("lone", "line")]
+    assert {n: set(t) for n, t in stage.templates.items()} == {
+        "walker": {"circle", "line"}, "lone": {"line"}}
+    assert len(builds) == 1
+
+
+def _entry(character: str, action: str, *files: Path) -> dict:
+    return {"character": character, "action": action,
+            "files": [base64.b64encode(f.read_bytes()).decode("ascii") for f in files]}
+
+
+def test_a_replay_refuses_a_recorded_entry_with_a_wrong_number_of_files_in_one_line(
+        tmp_path, caplog):
+    """An entry with no file, or with the template alone for an action that reads a clip too,
+    is logged and skipped (never an IndexError, never the config's own clip taken instead);
+    the frame's other entries are followed, the followers retrained once."""
+    stage = _stage(tmp_path)
+    (tmp_path / "good.csv").write_text((GESTURES / "line.csv").read_text())
+    builds = _counting_builds(stage)
+    with caplog.at_level(logging.ERROR, logger="tabletop"):
+        replay_actions(stage, [{"character": "walker", "action": "line", "files": []},
+                               _entry("walker", "square", tmp_path / "square.csv"),
+                               _entry("lone", "line", tmp_path / "good.csv")])
+    said = [r.getMessage() for r in caplog.records if r.getMessage().startswith("replay:")]
+    assert said == [
+        "replay: recorded action 'line' of 'walker' skipped: its entry holds 0 file(s), expected "
+        "the bytes of its 1 file(s) (line.csv)",
+        "replay: recorded action 'square' of 'walker' skipped: its entry holds 1 file(s), "
+        "expected the bytes of its 2 file(s) (square.csv, wag.json)"]
+    assert {n: set(t) for n, t in stage.templates.items()} == {
+        "walker": {"circle"}, "lone": {"line"}}
+    assert len(builds) == 1 and len(stage.missing) == 2
