@@ -37,7 +37,7 @@ from calibration.transforms import (apply_homography, distort_pixels, inverse, n
                                     undistort_pixels)
 from tabletop.files import atomic_write_bytes, atomic_write_text
 from tabletop.frames import InputError
-from tabletop.yaml_files import read_yaml
+from tabletop.files import read_yaml
 
 FORMAT = "tabletop-calibration"
 VERSION = 1

@@ -14,7 +14,7 @@ from tabletop import registry
 from tabletop.config_checks import (check_calibrations, check_marker_ids, check_scripted_pucks,
                                     check_sprites, check_studio_markers)
 from tabletop.config_ports import check_udp_ports
-from tabletop.yaml_files import read_yaml
+from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
                              MapOf, Number, Optional_, Record, Spec, Str, shown)
 

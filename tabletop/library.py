@@ -31,7 +31,7 @@ from tabletop.files import (FileFormatError, atomic_write_text, check_increasing
                             folder_failure, format_csv, new_folder, read_csv_lines)
 from tabletop.frames import InputError
 from tabletop.swap import MARKER, locked, real, recover, recover_all, replace_folder, saving
-from tabletop.yaml_files import read_yaml
+from tabletop.files import read_yaml
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
                              yaml_number_hint)
 

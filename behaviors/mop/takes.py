@@ -18,7 +18,7 @@ import numpy as np
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet
 from behaviors.mop.take import Take, free_take_number
-from tabletop.names import keep_under_free_name
+from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 
 SaveFn = Callable[[str, str, np.ndarray, Sequence[str], str], str]

@@ -31,7 +31,7 @@ from behaviors.touch_pose.latent import LearnedModel
 from behaviors.touch_pose.samples import ActionSpec, Segment, relative
 from tabletop.frames import MAX_POSITION_M, InputError
 from tabletop.files import new_folder
-from tabletop.names import NameTaken
+from tabletop.files import NameTaken
 
 FORMAT = "tabletop.touch_pose_action"
 FILE = "action.json"

@@ -15,7 +15,7 @@ from behaviors.mop.puppetry import Action
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
                             read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
-from tabletop.names import NameTaken
+from tabletop.files import NameTaken
 from tabletop.swap import exclusive
 
 log = logging.getLogger("tabletop")

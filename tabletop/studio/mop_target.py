@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from tabletop.names import keep_under_free_name
+from tabletop.files import keep_under_free_name
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
 from tabletop.studio.folders import named_folder, trash

@@ -24,7 +24,7 @@ from behaviors.touch_pose.samples import relative
 from tabletop import library
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.watch import Poller, tree_signature
-from tabletop.names import keep_under_free_name
+from tabletop.files import keep_under_free_name
 from tabletop.studio.folders import named_folder, rename_folder, trash
 from behaviors.worker import Worker, close_workers
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from tabletop.files import FileFormatError, atomic_write_text, read_csv_lines
-from tabletop.yaml_files import read_yaml
+from tabletop.files import read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -188,7 +188,7 @@ def test_a_named_pipe_that_is_not_text_is_read_once_and_refused_naming_its_line(
     writer = threading.Thread(target=write, daemon=True)
     writer.start()
     reader = subprocess.Popen(
-        [sys.executable, "-c", "import sys; from tabletop.yaml_files import read_yaml\n"
+        [sys.executable, "-c", "import sys; from tabletop.files import read_yaml\n"
          "try:\n    read_yaml(sys.argv[1])\nexcept Exception as exc:\n    print(exc)\n", str(fifo)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
     try:

@@ -5,7 +5,7 @@ from pathlib import Path
 import pytest
 
 from tabletop.frames import InputError
-from tabletop.names import NameTaken, keep_under_free_name
+from tabletop.files import NameTaken, keep_under_free_name
 
 
 def saver(folder: Path, take: dict):
