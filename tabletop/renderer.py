@@ -36,7 +36,11 @@ MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
-GHOST_ALPHA = 0.45       # opacity of a played-back take (the studio's ghost of the main)
+# A played-back main take (the studio's sequential training) is the main's puck's ghost: a
+# neutral ring (GHOST_RGB at GHOST_ALPHA) with a notch along its heading, "main" beside it. Drawn
+# as a faint copy of the character, it put two of the reactor on the table (QA, Xvfb snapshot):
+# the designer, playing the reactor against it, read it as a second reactor.
+GHOST_ALPHA, GHOST_RGB = 0.6, (220, 220, 220)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
 # panel may take its whole width less 16 px, up to PANEL_MIN_PX): a panel as wide as the
@@ -278,10 +282,25 @@ class Renderer:
             return P.union([hinted, self._draw_points(target, c, pose, c.points)])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
-        if c.kind == "playback":   # the main take played back in the studio: a faint ghost
-            pose = dataclasses.replace(pose, alpha=pose.alpha * GHOST_ALPHA, light=0.0,
-                                       color=lighten(pose.color, 0.3))
+        if c.kind == "playback":   # the main take played back in the studio
+            return self._draw_playback(target, pose)
         return characters.draw_reactor(target, c, pose)
+
+    def _draw_playback(self, target: pygame.Surface, pose: Pose) -> pygame.Rect:
+        """The main's puck's ghost (:data:`GHOST_RGB`): a ring 1.5 puck radii across, a notch
+        along its heading and "main" beside it, read the right way round on the table."""
+        k = GHOST_ALPHA * pose.alpha
+        ink = tuple(int(v * k) for v in GHOST_RGB)
+        cx, cy = pose.center
+        r = max(6, round(1.5 * self.puck_radius * pose.ppm))
+        ring = pygame.draw.circle(target, ink, (cx, cy), r, width=3)
+        a = pose.angle
+        pygame.draw.line(target, ink, (cx + 0.6 * r * math.cos(a), cy + 0.6 * r * math.sin(a)),
+                         (cx + 1.3 * r * math.cos(a), cy + 1.3 * r * math.sin(a)), 3)
+        img = pygame.transform.flip(screens.font(max(14, r)).render("main", True, ink),
+                                    *self.map.text_flips())
+        word = target.blit(img, img.get_rect(midtop=(int(cx), int(cy + 1.4 * r))))
+        return ring.inflate(r, r).union(word)
 
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
                      xy: np.ndarray) -> pygame.Rect | None:
