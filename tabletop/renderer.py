@@ -59,6 +59,14 @@ SEE_THROUGH = 150
 # Reactor body in units of its size, nose along +x (the default character's outline).
 BODY = REACTOR_BODY
 EYES = REACTOR_EYES
+# A character drawn at its centre (a reactor, a sprite, the main's ghost) stands at least this
+# many of its sizes inside the table's edge: its outline reaches 0.5 (BODY), 0.55 breathing and
+# stepping. Engines keep a reactor's centre on the table (Puppet Master clamps it to the table's
+# bounds), so one on the edge was drawn half into the margin, off a real table, where the
+# projector's light falls on the floor (QA, Xvfb snapshot). Pulled in continuously (a clamp), a
+# character sliding along the edge moves as it does; its glow may still light the margin, as a
+# puck's ring on the edge does (tabletop.drawing.pucks.inside_edge).
+BODY_REACH = 0.55
 
 
 def puck_color(puck_id: int) -> tuple[int, int, int]:
@@ -230,11 +238,16 @@ class Renderer:
         nan = math.nan
         here = frame is not None
         flat: list[float] = []          # (a flat list: numpy reads it fastest)
+        w, h = self.table
         for pr in prs:
             c = pr.state
             look = c.look_at if here and c.look_at is not None else (nan, nan)
             ox, oy = pr.offset(frame.t if here else pr.t)     # gliding after a jump
-            flat += (c.x + ox, c.y + oy, c.heading, look[0], look[1],
+            x, y = c.x + ox, c.y + oy
+            if c.points is None and c.kind != "studio" and 0.0 < c.size:
+                e = min(BODY_REACH * c.size, w / 2, h / 2)     # its whole body on the table
+                x, y = min(max(x, e), w - e), min(max(y, e), h - e)
+            flat += (x, y, c.heading, look[0], look[1],
                      math.atan2(pr.vy, pr.vx) if pr.speed > 1e-3 else nan)
         v = np.array(flat, dtype=np.float64).reshape(-1, 6)
         pk = (np.array([u for p in frame.pucks for u in (p.x, p.y)], dtype=np.float64)

@@ -1,6 +1,7 @@
 """The projector view, rendered offscreen: halos around pucks, characters where and how their
 state says, anti-aliased bodies, fades, the "one moment" and idle looks, dirty rectangles."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -459,3 +460,25 @@ def test_a_mouse_finger_is_ringed_and_a_real_one_is_not():
                    ((9, 0), (-9, 0), (0, 9), (0, -9)))
         assert (ring > ground(r, (cx, cy)) + 300) == ringed, (ident, ring)
         assert brightness(img, (cx, cy)) < ground(r, (cx, cy)) + 30   # the finger's spot dark
+
+
+@pytest.mark.parametrize("at_xy", [(1.2, 0.4), (0.6, 0.0), (0.0, 0.8), (1.25, -0.1)])
+def test_a_character_on_the_tables_edge_is_drawn_whole_on_the_table(at_xy):
+    """A reactor whose centre is on the table's edge (Puppet Master keeps its centre within the
+    table's bounds) was drawn half into the margin, where a real table has none: its body
+    stands inside the edge, all of it, and as big as in the middle of the table."""
+    def body(r, img):
+        pink = (img[..., 0] > 150) & (img[..., 0] > img[..., 1] + 50)
+        (x0, y1), (x1, y0) = r.map.point(0.0, 0.0), r.map.point(1.2, 0.8)
+        inside = np.zeros(pink.shape, bool)
+        inside[int(y0):int(y1) + 1, int(x0):int(x1) + 1] = True
+        return int(np.count_nonzero(pink & inside)), int(np.count_nonzero(pink & ~inside))
+
+    r = new_renderer()
+    c = CharacterState("pet", *at_xy, 0.3, size=0.12, color=(240, 110, 150))
+    on, off = body(r, settled(r, Frame(seq=0, t=0.0, characters=(c,))))
+    r = new_renderer()
+    middle = dataclasses.replace(c, x=0.6, y=0.4)
+    whole, _ = body(r, settled(r, Frame(seq=0, t=0.0, characters=(middle,))))
+    assert off == 0, (on, off)
+    assert on > 0.9 * whole, (on, whole)
