@@ -42,6 +42,7 @@ FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
 # the designer, playing the reactor against it, read it as a second reactor.
 GHOST_ALPHA, GHOST_RGB = 0.6, (220, 220, 220)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
+OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
 # panel may take its whole width less 16 px, up to PANEL_MIN_PX): a panel as wide as the
 # window, made by one long line (the studio's naming a bad library file), hid the studio's REC
@@ -110,11 +111,12 @@ class Renderer:
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
-        self._overlay_key: tuple[str, ...] = ()
+        self._overlay_key: tuple[tuple[str, ...], int] = ((), 0)   # lines, height allowed
         self._overlay_w = (0, 0)     # the window size the panel was made for (px)
         self._overlay_px = screens.PANEL_PX[0]   # its font size (px): smaller in a small window
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
+        self.panel: pygame.Rect | None = None   # where the panel was last drawn (px)
         self._see_through = screens.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
@@ -362,7 +364,10 @@ class Renderer:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
         would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
         pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
-        the status line saying the disk is full stayed there, other corners having characters);
+        the status line saying the disk is full stayed there, other corners having characters).
+        Where every window corner is over the studio's words, the panel stands in the corner of
+        the rows they leave free (in its column), its lines fitted to the tallest such rows: it
+        never lies over them when a place clear of them exists (:data:`OVER_WORDS`);
         rendered again only when the lines change. Where the panel still lies over ``avoid``,
         it shows them through (:data:`SEE_THROUGH`); over ``must`` it stays dark, so its own
         text stays readable over the studio's. Returns the panel's rectangle. ``avoid`` and
@@ -372,14 +377,26 @@ class Renderer:
         avoid = self._keep_clear if avoid is None else avoid
         must = self._studio_marks if must is None else must
         W, H = target.get_size()
-        key = tuple(lines)
+        width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # the lines wrap within it
+        # the rows of each side's column the studio's words leave free: the panel stands in
+        # them, no taller than the tallest (a panel over the TRY words in every corner of an
+        # 800x450 window, the words at the top and the status line at the bottom, hid some),
+        # unless they are under a third of the window (a panel of a few lines says too little:
+        # it lies over the words, its text kept readable)
+        bands = [screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
+        tallest = max((b - a for side in bands for a, b in side), default=0)
+        key = (tuple(lines), tallest if 3 * tallest >= H else H - 16)
         if key != self._overlay_key or self._overlay_img is None or (W, H) != self._overlay_w:
-            width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # wraps within it
             self._overlay_img, self._overlay_px = screens.fitted_panel(
-                lines, width, H - 16, self._overlay_px, keep=keep)
+                lines, width, key[1], self._overlay_px, keep=keep)
             self._overlay_key, self._overlay_w = key, (W, H)
         w, h = self._overlay_img.get_size()
-        corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
+        # the window's corners (0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right), then
+        # the same corners of the free rows (4-7: the highest and the lowest free place)
+        tops = [min([a for a, b in side if b - a >= h] or [8]) for side in bands]
+        lows = [max([b - h for a, b in side if b - a >= h] or [H - h - 8]) for side in bands]
+        corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8),
+                   (8, tops[0]), (W - w - 8, tops[1]), (8, lows[0]), (W - w - 8, lows[1])]
         clips: dict[int, list[tuple[pygame.Rect, int]]] = {}
 
         def under(i: int) -> list[tuple[pygame.Rect, int]]:
@@ -393,13 +410,16 @@ class Renderer:
             return got
 
         def hidden(i: int) -> int:
-            return sum(weight * c.w * c.h for c, weight in under(i))
+            got = under(i)
+            return sum(weight * c.w * c.h for c, weight in got) + (
+                OVER_WORDS if any(weight != 1 for _, weight in got) else 0)
         now = hidden(self._corner)
         if now > 0:
-            best = min(range(4), key=hidden)
+            best = min(range(len(corners)), key=hidden)
             if hidden(best) < 0.5 * now:
                 self._corner = best
         place = pygame.Rect(corners[self._corner], (w, h))
+        self.panel = place
         img = self._overlay_img
         holes = [c for c, weight in under(self._corner) if weight == 1]
         if holes:
