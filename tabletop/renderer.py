@@ -383,8 +383,9 @@ class Renderer:
         # 800x450 window, the words at the top and the status line at the bottom, hid some),
         # unless they are under a third of the window (a panel of a few lines says too little:
         # it lies over the words, its text kept readable)
-        bands = [screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
-        tallest = max((b - a for side in bands for a, b in side), default=0)
+        bands = ([screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
+                 if must else [])
+        tallest = max((b - a for side in bands for a, b in side), default=H - 16)
         key = (tuple(lines), tallest if 3 * tallest >= H else H - 16)
         if key != self._overlay_key or self._overlay_img is None or (W, H) != self._overlay_w:
             self._overlay_img, self._overlay_px = screens.fitted_panel(
@@ -393,10 +394,11 @@ class Renderer:
         w, h = self._overlay_img.get_size()
         # the window's corners (0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right), then
         # the same corners of the free rows (4-7: the highest and the lowest free place)
-        tops = [min([a for a, b in side if b - a >= h] or [8]) for side in bands]
-        lows = [max([b - h for a, b in side if b - a >= h] or [H - h - 8]) for side in bands]
-        corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8),
-                   (8, tops[0]), (W - w - 8, tops[1]), (8, lows[0]), (W - w - 8, lows[1])]
+        corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
+        if bands:
+            tops = [min([a for a, b in side if b - a >= h] or [8]) for side in bands]
+            lows = [max([b - h for a, b in side if b - a >= h] or [H - h - 8]) for side in bands]
+            corners += [(8, tops[0]), (W - w - 8, tops[1]), (8, lows[0]), (W - w - 8, lows[1])]
         clips: dict[int, list[tuple[pygame.Rect, int]]] = {}
 
         def under(i: int) -> list[tuple[pygame.Rect, int]]:
@@ -415,7 +417,9 @@ class Renderer:
                 OVER_WORDS if any(weight != 1 for _, weight in got) else 0)
         now = hidden(self._corner)
         if now > 0:
-            best = min(range(len(corners)), key=hidden)
+            best = min(range(4), key=hidden)
+            if hidden(best) >= OVER_WORDS and len(corners) > 4:   # every window corner
+                best = min(range(len(corners)), key=hidden)
             if hidden(best) < 0.5 * now:
                 self._corner = best
         place = pygame.Rect(corners[self._corner], (w, h))
