@@ -246,8 +246,10 @@ class Renderer:
             look = c.look_at if here and c.look_at is not None else (nan, nan)
             ox, oy = pr.offset(frame.t if here else pr.t)     # gliding after a jump
             x, y = c.x + ox, c.y + oy
-            if c.points is None and c.kind != "studio" and 0.0 < c.size:
-                e = min(BODY_REACH * c.size, w / 2, h / 2)     # its whole body on the table
+            e = BODY_REACH * c.size
+            if not (e <= x <= w - e and e <= y <= h - e) and c.points is None \
+                    and c.kind != "studio" and 0.0 < e:        # its whole body on the table
+                e = min(e, w / 2, h / 2)
                 x, y = min(max(x, e), w - e), min(max(y, e), h - e)
             flat += (x, y, c.heading, look[0], look[1],
                      math.atan2(pr.vy, pr.vx) if pr.speed > 1e-3 else nan)
