@@ -23,6 +23,7 @@ class TableToScreen:
             homography = fitted_rectangle(table, size, margin)
         self.H = np.asarray(homography, dtype=float)
         self._centre = (table[0] / 2, table[1] / 2)
+        self._flips: tuple[bool, bool] | None = None
         self._h = [float(v) for v in self.H.ravel()]
         # an affine map (no keystone; the uncalibrated fit): a character's few points in one
         # small product instead of the general homography's column by column arithmetic
@@ -67,8 +68,10 @@ class TableToScreen:
         is the table's -x), a projector hung upside down turns it half round (both flips).
         Taken at the table's centre; a projector turned a quarter round is read as its nearer
         of these four."""
-        x, y = self._centre
-        x0, y0 = self.point(x, y)
-        x1, _ = self.point(x + 0.01, y)
-        _, y2 = self.point(x, y + 0.01)
-        return x1 < x0, y2 > y0
+        if self._flips is None:       # (asked several times a frame: the map never changes)
+            x, y = self._centre
+            x0, y0 = self.point(x, y)
+            x1, _ = self.point(x + 0.01, y)
+            _, y2 = self.point(x, y + 0.01)
+            self._flips = (x1 < x0, y2 > y0)
+        return self._flips
