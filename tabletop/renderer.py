@@ -111,7 +111,8 @@ class Renderer:
         self.puck_radius = puck_radius
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
-        self._overlay_key: tuple[tuple[str, ...], int] = ((), 0)   # lines, height allowed
+        self._overlay_key: tuple[str, ...] = ()
+        self._overlay_cap = 0        # the height (px) the panel was fitted to
         self._overlay_w = (0, 0)     # the window size the panel was made for (px)
         self._overlay_px = screens.PANEL_PX[0]   # its font size (px): smaller in a small window
         self._overlay_img: pygame.Surface | None = None
@@ -388,11 +389,12 @@ class Renderer:
         bands = ([screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
                  if must else [])
         tallest = max((b - a for side in bands for a, b in side), default=H - 16)
-        key = (tuple(lines), tallest if 3 * tallest >= H else H - 16)
-        if key != self._overlay_key or self._overlay_img is None or (W, H) != self._overlay_w:
+        key, cap = tuple(lines), (tallest if 3 * tallest >= H else H - 16)
+        if (key != self._overlay_key or cap != self._overlay_cap or self._overlay_img is None
+                or (W, H) != self._overlay_w):
             self._overlay_img, self._overlay_px = screens.fitted_panel(
-                lines, width, key[1], self._overlay_px, keep=keep)
-            self._overlay_key, self._overlay_w = key, (W, H)
+                lines, width, cap, self._overlay_px, keep=keep)
+            self._overlay_key, self._overlay_cap, self._overlay_w = key, cap, (W, H)
         w, h = self._overlay_img.get_size()
         # the window's corners (0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right), then
         # the same corners of the free rows (4-7: the highest and the lowest free place)
