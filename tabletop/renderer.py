@@ -36,8 +36,13 @@ MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
-GHOST_ALPHA = 0.45       # opacity of a played-back take (the studio's ghost of the main)
+# A played-back main take (the studio's sequential training) is the main's puck's ghost: a
+# neutral ring (GHOST_RGB at GHOST_ALPHA) with a notch along its heading, "main" beside it. Drawn
+# as a faint copy of the character, it put two of the reactor on the table (QA, Xvfb snapshot):
+# the designer, playing the reactor against it, read it as a second reactor.
+GHOST_ALPHA, GHOST_RGB = 0.6, (220, 220, 220)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
+OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
 # panel may take its whole width less 16 px, up to PANEL_MIN_PX): a panel as wide as the
 # window, made by one long line (the studio's naming a bad library file), hid the studio's REC
@@ -55,6 +60,14 @@ SEE_THROUGH = 150
 # Reactor body in units of its size, nose along +x (the default character's outline).
 BODY = REACTOR_BODY
 EYES = REACTOR_EYES
+# A character drawn at its centre (a reactor, a sprite, the main's ghost) stands at least this
+# many of its sizes inside the table's edge: its outline reaches 0.5 (BODY), 0.55 breathing and
+# stepping. Engines keep a reactor's centre on the table (Puppet Master clamps it to the table's
+# bounds), so one on the edge was drawn half into the margin, off a real table, where the
+# projector's light falls on the floor (QA, Xvfb snapshot). Pulled in continuously (a clamp), a
+# character sliding along the edge moves as it does; its glow may still light the margin, as a
+# puck's ring on the edge does (tabletop.drawing.pucks.inside_edge).
+BODY_REACH = 0.55
 
 
 def puck_color(puck_id: int) -> tuple[int, int, int]:
@@ -99,10 +112,12 @@ class Renderer:
         self._sprites = {name: pygame.image.load(str(p)) for name, p in (sprites or {}).items()}
         self._sprite_cache: dict[tuple[str, int, int], pygame.Surface] = {}
         self._overlay_key: tuple[str, ...] = ()
+        self._overlay_cap = 0        # the height (px) the panel was fitted to
         self._overlay_w = (0, 0)     # the window size the panel was made for (px)
         self._overlay_px = screens.PANEL_PX[0]   # its font size (px): smaller in a small window
         self._overlay_img: pygame.Surface | None = None
         self._corner = 0             # the overlay panel's corner: 0 top-left, 1 top-right, ...
+        self.panel: pygame.Rect | None = None   # where the panel was last drawn (px)
         self._see_through = screens.SeeThrough()   # its surfaces, kept between frames
         self._keep_clear: list[pygame.Rect] = []   # what the panel should not hide (pixels)
         self._studio_marks: list[pygame.Rect] = []  # what it must not hide: the studio's words
@@ -226,11 +241,18 @@ class Renderer:
         nan = math.nan
         here = frame is not None
         flat: list[float] = []          # (a flat list: numpy reads it fastest)
+        w, h = self.table
         for pr in prs:
             c = pr.state
             look = c.look_at if here and c.look_at is not None else (nan, nan)
             ox, oy = pr.offset(frame.t if here else pr.t)     # gliding after a jump
-            flat += (c.x + ox, c.y + oy, c.heading, look[0], look[1],
+            x, y = c.x + ox, c.y + oy
+            e = BODY_REACH * c.size
+            if not (e <= x <= w - e and e <= y <= h - e) and c.points is None \
+                    and c.kind != "studio" and 0.0 < e:        # its whole body on the table
+                e = min(e, w / 2, h / 2)
+                x, y = min(max(x, e), w - e), min(max(y, e), h - e)
+            flat += (x, y, c.heading, look[0], look[1],
                      math.atan2(pr.vy, pr.vx) if pr.speed > 1e-3 else nan)
         v = np.array(flat, dtype=np.float64).reshape(-1, 6)
         pk = (np.array([u for p in frame.pucks for u in (p.x, p.y)], dtype=np.float64)
@@ -278,10 +300,25 @@ class Renderer:
             return P.union([hinted, self._draw_points(target, c, pose, c.points)])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
-        if c.kind == "playback":   # the main take played back in the studio: a faint ghost
-            pose = dataclasses.replace(pose, alpha=pose.alpha * GHOST_ALPHA, light=0.0,
-                                       color=lighten(pose.color, 0.3))
+        if c.kind == "playback":   # the main take played back in the studio
+            return self._draw_playback(target, pose)
         return characters.draw_reactor(target, c, pose)
+
+    def _draw_playback(self, target: pygame.Surface, pose: Pose) -> pygame.Rect:
+        """The main's puck's ghost (:data:`GHOST_RGB`): a ring 1.5 puck radii across, a notch
+        along its heading and "main" beside it, read the right way round on the table."""
+        k = GHOST_ALPHA * pose.alpha
+        ink = tuple(int(v * k) for v in GHOST_RGB)
+        cx, cy = pose.center
+        r = max(6, round(1.5 * self.puck_radius * pose.ppm))
+        ring = pygame.draw.circle(target, ink, (cx, cy), r, width=3)
+        a = pose.angle
+        pygame.draw.line(target, ink, (cx + 0.6 * r * math.cos(a), cy + 0.6 * r * math.sin(a)),
+                         (cx + 1.3 * r * math.cos(a), cy + 1.3 * r * math.sin(a)), 3)
+        img = pygame.transform.flip(screens.font(max(14, r)).render("main", True, ink),
+                                    *self.map.text_flips())
+        word = target.blit(img, img.get_rect(midtop=(int(cx), int(cy + 1.4 * r))))
+        return ring.inflate(r, r).union(word)
 
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
                      xy: np.ndarray) -> pygame.Rect | None:
@@ -330,7 +367,10 @@ class Renderer:
         """Print ``lines`` on a translucent panel in a corner of the window (top-left unless it
         would hide what is drawn in ``avoid`` and another corner hides at most half as much; a
         pixel of ``must``, the studio's words, counts as ``MUST_WEIGHT`` of them: a panel over
-        the status line saying the disk is full stayed there, other corners having characters);
+        the status line saying the disk is full stayed there, other corners having characters).
+        Where every window corner is over the studio's words, the panel stands in the corner of
+        the rows they leave free (in its column), its lines fitted to the tallest such rows: it
+        never lies over them when a place clear of them exists (:data:`OVER_WORDS`);
         rendered again only when the lines change. Where the panel still lies over ``avoid``,
         it shows them through (:data:`SEE_THROUGH`); over ``must`` it stays dark, so its own
         text stays readable over the studio's. Returns the panel's rectangle. ``avoid`` and
@@ -340,14 +380,29 @@ class Renderer:
         avoid = self._keep_clear if avoid is None else avoid
         must = self._studio_marks if must is None else must
         W, H = target.get_size()
-        key = tuple(lines)
-        if key != self._overlay_key or self._overlay_img is None or (W, H) != self._overlay_w:
-            width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # wraps within it
+        width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # the lines wrap within it
+        # the rows of each side's column the studio's words leave free: the panel stands in
+        # them, no taller than the tallest (a panel over the TRY words in every corner of an
+        # 800x450 window, the words at the top and the status line at the bottom, hid some),
+        # unless they are under a third of the window (a panel of a few lines says too little:
+        # it lies over the words, its text kept readable)
+        bands = ([screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
+                 if must else [])
+        tallest = max((b - a for side in bands for a, b in side), default=H - 16)
+        key, cap = tuple(lines), (tallest if 3 * tallest >= H else H - 16)
+        if (key != self._overlay_key or cap != self._overlay_cap or self._overlay_img is None
+                or (W, H) != self._overlay_w):
             self._overlay_img, self._overlay_px = screens.fitted_panel(
-                lines, width, H - 16, self._overlay_px, keep=keep)
-            self._overlay_key, self._overlay_w = key, (W, H)
+                lines, width, cap, self._overlay_px, keep=keep)
+            self._overlay_key, self._overlay_cap, self._overlay_w = key, cap, (W, H)
         w, h = self._overlay_img.get_size()
+        # the window's corners (0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right), then
+        # the same corners of the free rows (4-7: the highest and the lowest free place)
         corners = [(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
+        if bands:
+            tops = [min([a for a, b in side if b - a >= h] or [8]) for side in bands]
+            lows = [max([b - h for a, b in side if b - a >= h] or [H - h - 8]) for side in bands]
+            corners += [(8, tops[0]), (W - w - 8, tops[1]), (8, lows[0]), (W - w - 8, lows[1])]
         clips: dict[int, list[tuple[pygame.Rect, int]]] = {}
 
         def under(i: int) -> list[tuple[pygame.Rect, int]]:
@@ -361,13 +416,18 @@ class Renderer:
             return got
 
         def hidden(i: int) -> int:
-            return sum(weight * c.w * c.h for c, weight in under(i))
+            got = under(i)
+            return sum(weight * c.w * c.h for c, weight in got) + (
+                OVER_WORDS if any(weight != 1 for _, weight in got) else 0)
         now = hidden(self._corner)
         if now > 0:
             best = min(range(4), key=hidden)
+            if hidden(best) >= OVER_WORDS and len(corners) > 4:   # every window corner
+                best = min(range(len(corners)), key=hidden)
             if hidden(best) < 0.5 * now:
                 self._corner = best
         place = pygame.Rect(corners[self._corner], (w, h))
+        self.panel = place
         img = self._overlay_img
         holes = [c for c, weight in under(self._corner) if weight == 1]
         if holes:

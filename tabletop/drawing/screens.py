@@ -331,3 +331,19 @@ def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
     b = 0.55 + 0.45 * math.sin(0.8 * t)
     text(surf, invitation, (c[0], c[1] + 0.3 * span[1]), int(0.045 * span[1]) + 8,
          (200, 215, 240), alpha * b)
+
+
+def free_bands(keep: Sequence[pygame.Rect], x0: int, x1: int, top: int, bottom: int,
+               gap: int = 4) -> list[tuple[int, int]]:
+    """The rows (top, bottom pixel pairs, top to bottom) between ``top`` and ``bottom`` that
+    none of ``keep`` lying across the columns ``x0``..``x1`` takes, ``gap`` pixels kept from
+    each: where a panel that column-wide may stand without hiding them."""
+    cuts = sorted((r.top - gap, r.bottom + gap) for r in keep if r.right > x0 and r.left < x1)
+    bands, y = [], top
+    for a, b in cuts:
+        if a > y:
+            bands.append((y, a))
+        y = max(y, b)
+    if bottom > y:
+        bands.append((y, bottom))
+    return bands

@@ -42,6 +42,31 @@ def text_scale(renderer: Any) -> float:
     return renderer.map.scale_at(w / 2, h / 2) / REF_PPM
 
 
+def upright(img: pygame.Surface, renderer: Any) -> pygame.Surface:
+    """``img`` (words rendered upright in window pixels) flipped to read the right way round on
+    the table (:meth:`~tabletop.table_map.TableToScreen.text_flips`): a rear-projection
+    calibration mirrors the window, an upside-down projector turns it half round, and words
+    drawn upright in the window read mirrored or upside down on the table."""
+    fx, fy = renderer.map.text_flips()
+    return pygame.transform.flip(img, fx, fy) if fx or fy else img
+
+
+def _mark(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
+          x: int, y: int, color: tuple[int, int, int], width: int = 0) -> pygame.Rect:
+    """The REC or TRY mark with its dot at (x, y) (pixels, from :func:`_mark_at`): the dot,
+    then ``img`` as the table reads them, so on a mirrored table the words stand left of the
+    dot (it still comes first). Returns the mark's rectangle."""
+    fx, fy = renderer.map.text_flips()
+    text_x, h = x + dot + 8, img.get_height()
+    if fx:
+        text_x, x = x - dot, x + img.get_width() + 8
+    pygame.draw.circle(target, color, (x, y), dot, width=width)
+    # (the words' rows mirrored about the dot's row, when upside down: to the pixel)
+    top = y + h // 2 - h if fy else y - h // 2
+    return target.blit(upright(img, renderer), (text_x, top)).union(
+        (x - dot, y - dot, 2 * dot, 2 * dot))
+
+
 def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
              avoid: list[pygame.Rect]) -> tuple[int, int]:
     """Where the REC or TRY mark (a dot of radius ``dot``, then ``img``) has its dot: at the
@@ -94,16 +119,14 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
         end = -math.pi / 2 + 2 * math.pi * frac
         rect = pygame.Rect(cx - r, cy - r, 2 * r, 2 * r)
         pygame.draw.arc(target, c.color, rect, math.pi / 2 - (end + math.pi / 2), math.pi / 2, 8)
-        img = font(int(r * 1.4)).render(str(n), True, (255, 255, 255))
+        img = upright(font(int(r * 1.4)).render(str(n), True, (255, 255, 255)), renderer)
         target.blit(img, img.get_rect(center=(cx, cy)))
         marks.append(rect)
     elif c.action == "recording":
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
         img = font(mark_px).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
         x, y = _mark_at(target, renderer, img, dot, avoid)
-        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), dot)
-        marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
-            (x - dot, y - dot, 2 * dot, 2 * dot)))
+        marks.append(_mark(target, renderer, img, dot, x, y, c.color if on else (120, 30, 30)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
         pygame.draw.polygon(target, c.color, renderer._corners().tolist(), width=6)
@@ -112,24 +135,28 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
         img = font(mark_px).render("TRY: K keep  X discard  R redo" if c.action == "trying"
                                    else "training...", True, green)
         x, y = _mark_at(target, renderer, img, dot, avoid)
-        pygame.draw.circle(target, green, (x, y), dot, width=0 if c.action == "trying" else 3)
-        marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
-            (x - dot, y - dot, 2 * dot, 2 * dot)))
+        marks.append(_mark(target, renderer, img, dot, x, y, green,
+                           0 if c.action == "trying" else 3))
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
-    # the near edge's corner on the window's left (a calibration may mirror or turn the table:
-    # from its right-hand corner a line would be cut a letter a line); lines go up from it, or
-    # down where the near edge is the window's upper half (a table turned half round)
-    (x, y), _ = sorted((renderer.map.point(0.02, 0.02), renderer.map.point(w - 0.02, 0.02)))
+    # from the near edge's left corner as the table reads (on a mirrored or half-turned table
+    # the window's right one: the lines end there), its lines as wide as the window leaves
+    # (from the far side, as much as the corner has on its side); lines go up from it, or down
+    # where the near edge is the window's upper half (a table turned half round), the last line
+    # nearest the edge, as the words read on the table
+    x, y = renderer.map.point(0.02, 0.02)
+    W = target.get_width()
+    flip_x = renderer.map.text_flips()[0]
     px = max(MIN_STATUS_PX, round(STATUS_PX * k))
     f = font(px)
-    lines = fit_lines(c.label, px, target.get_width() - x - max(x, 12))
+    lines = fit_lines(c.label, px, int(x - max(W - x, 12) if flip_x else W - x - max(x, 12)))
     up = y > target.get_height() / 2
-    for line in reversed(lines) if up else lines:
-        img = f.render(line, True, (235, 235, 235), (0, 0, 0))
+    for line in reversed(lines):
+        img = upright(f.render(line, True, (235, 235, 235), (0, 0, 0)), renderer)
         if up:
             y -= img.get_height() + 4
-        marks.append(target.blit(img, (x, y)))
+        marks.append(target.blit(img, (x - img.get_width() if flip_x else x,
+                                       y if up else y + 4)))   # 4 px off the edge either way
         if not up:
             y += img.get_height() + 4
     return marks
@@ -209,15 +236,24 @@ class NamePrompt:
         return f"{said}: {self.text}_   (Esc cancels)"
 
     def draw(self, target: pygame.Surface, renderer: Any = None) -> None:
-        """The line being typed, at the window's top, sized on the table as the studio's
-        other words are (:func:`text_scale` of ``renderer``; 32 px at 840 px/m)."""
+        """The line being typed, at the window's edge on the table's far side (its top, or
+        its bottom on a half-turned table, whose status line is at the top), sized on the table
+        as the studio's other words are (:func:`text_scale` of ``renderer``; 32 px at 840
+        px/m) and read the right way round on it (:func:`upright`)."""
         if self.text is not None:
-            k = 1.0 if renderer is None else text_scale(renderer)
+            k, flip = 1.0, (lambda img: img)
+            H, top = target.get_height(), True
+            if renderer is not None:
+                k = text_scale(renderer)
+                flip = functools.partial(upright, renderer=renderer)
+                top = renderer.map.point(renderer.table[0] / 2, renderer.table[1])[1] < H / 2
             px = max(MIN_MARK_PX, round(32 * k))
-            img = font(px).render(self.line, True, (255, 255, 255), (0, 0, 0))
-            target.blit(img, img.get_rect(center=(target.get_width() // 2, px // 2 + 24)))
+            img = flip(font(px).render(self.line, True, (255, 255, 255), (0, 0, 0)))
+            y = px // 2 + 24
+            target.blit(img, img.get_rect(center=(target.get_width() // 2, y if top else H - y)))
             if self.refused:
                 small = max(MIN_MARK_PX, round(px * 0.6))
-                why = font(small).render(self.refused, True, (255, 190, 80), (0, 0, 0))
+                why = flip(font(small).render(self.refused, True, (255, 190, 80), (0, 0, 0)))
+                y = px + 30 + small // 2
                 target.blit(why, why.get_rect(center=(target.get_width() // 2,
-                                                      px + 30 + small // 2)))
+                                                      y if top else H - y)))

@@ -224,3 +224,57 @@ def test_the_studio_words_read_on_a_mirrored_or_turned_table(turn):
     assert surface.get_rect().contains(mark) and mark.centerx < 640, mark
     assert len(status) == 1 and surface.get_rect().contains(status[0]), status
     assert status[0].width > 500 and status[0].left < 640, status
+
+
+@pytest.mark.parametrize("turn", ["mirrored", "half round", "upside down"])
+def test_the_studio_words_read_the_right_way_round_on_a_mirrored_or_turned_table(turn):
+    """The studio's words were rendered upright in window pixels: on a mirrored (rear
+    projection) or half-turned calibration they read mirrored or upside down on the table.
+    Seen from the table (the window image taken back through the calibration, here a flip),
+    the status line and the TRY mark are the very pixels a plain calibration draws, and the
+    F2 line is not over the status line."""
+    from tabletop.frames import Frame
+    from tabletop.studio.draw import NamePrompt
+
+    flips = {"mirrored": (True, False), "half round": (True, True),
+             "upside down": (False, True)}[turn]
+    sx, sy = (-1 if f else 1 for f in flips)
+    H = np.array([[840.0 * sx, 0.0, 1144.0 if flips[0] else 136.0],
+                  [0.0, -840.0 * sy, 24.0 if flips[1] else 696.0], [0.0, 0.0, 1.0]])
+    label = "[pet] trained 317 samples (6.2 s); try it: K keep, X discard, R redo"
+    studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action="trying",
+                            label=label)
+    seen = []
+    for h in (None, H):
+        renderer = Renderer((1.2, 0.8), (1280, 720), margin=24, homography=h)
+        surface = pygame.Surface((1280, 720))
+        renderer.draw(surface, Frame(seq=0, t=0.0, characters=(studio,)))
+        img = pygame.surfarray.array3d(surface).transpose(1, 0, 2).astype(int)
+        if h is not None:      # the table's view: the window flipped back (to within 1 px)
+            img = img[::sy, ::sx]
+        seen.append((img, renderer._studio_marks))
+    (plain, (mark, status)), (table, (tmark, _)) = seen
+
+    def best(a: np.ndarray, rect: pygame.Rect) -> float:
+        """Mean difference of ``rect`` of ``plain`` and of ``a`` shifted by at most 1 px."""
+        want = plain[rect.top:rect.bottom, rect.left:rect.right]
+        return min(float(np.abs(a[rect.top + dy:rect.bottom + dy,
+                                  rect.left + dx:rect.right + dx] - want).mean())
+                   for dx in (-1, 0, 1) for dy in (-1, 0, 1))
+    assert best(table, status) < 2.0, turn          # the status line, where it reads
+    # the TRY mark, in the corner its calibration put it: its words and its dot alike
+    x = 1279 - tmark.right + 1 if flips[0] else tmark.left
+    y = 719 - tmark.bottom + 1 if flips[1] else tmark.top
+    moved = np.roll(table, (mark.top - y, mark.left - x), axis=(0, 1))
+    assert best(moved, mark) < 2.0, turn
+
+    renderer = Renderer((1.2, 0.8), (1280, 720), margin=24, homography=H)
+    surface = pygame.Surface((1280, 720))
+    renderer.draw(surface, Frame(seq=0, t=0.0, characters=(studio,)))
+    prompt = NamePrompt()
+    prompt.text = "shy"
+    before = pygame.surfarray.array3d(surface).copy()
+    prompt.draw(surface, renderer)
+    changed = np.flatnonzero((pygame.surfarray.array3d(surface) != before).any(axis=2).any(0))
+    status_rows = set(range(renderer._studio_marks[-1].top, renderer._studio_marks[-1].bottom))
+    assert changed.size and not status_rows & set(changed.tolist()), turn

@@ -197,5 +197,5 @@ def test_the_main_takes_ghost_waits_at_its_first_pose_before_the_reaction_is_rec
         assert (ghost.x, ghost.y, ghost.heading) == tuple(first[1:])
         renderer.draw(surface, Frame(seq=k, t=220.0 + k / 30, characters=tuple(chars.values())))
         img = pygame.surfarray.array3d(surface).astype(int).sum(axis=2)
-        lit.append(int((img[int(x) - 12:int(x) + 12, int(y) - 12:int(y) + 12] > 150).sum()))
-    assert min(lit[15:]) > 300, lit   # its body lights its place (measured: 481 of 576 px)
+        lit.append(int((img[int(x) - 30:int(x) + 30, int(y) - 30:int(y) + 30] > 150).sum()))
+    assert min(lit[15:]) > 250, lit   # its ring lights its place (measured: 386 of 3600 px)

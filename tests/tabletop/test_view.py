@@ -1,6 +1,7 @@
 """The projector view, rendered offscreen: halos around pucks, characters where and how their
 state says, anti-aliased bodies, fades, the "one moment" and idle looks, dirty rectangles."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -244,19 +245,27 @@ def test_characters_fade_in_and_out_nothing_pops():
     assert gone[3] < ground(r, where) + 10
 
 
-def test_a_played_back_take_is_drawn_as_a_faint_ghost():
-    # the studio's sequential take plays the main back as NAME.main of kind "playback": the
-    # designer must tell it from the live character it drives (same colour, same place)
+def test_a_played_back_take_is_drawn_as_the_mains_puck_not_a_second_reactor():
+    """The studio's sequential take plays the main back as NAME.main of kind "playback", with
+    the reactor's colour. It was drawn as a faint copy of the reactor: two of the character on
+    the table. It is a neutral ring with a notch (the main's puck's ghost): nothing of the
+    reactor's colour, its centre left bare, the ring and its "main" drawn."""
     lit = {}
     for kind in ("reactor", "playback"):
         r = new_renderer()
         c = CharacterState("pet", 0.6, 0.4, 0.0, size=0.1, color=(240, 110, 150), kind=kind)
         img = settled(r, Frame(seq=0, t=0.0, characters=(c,)))
         x, y = (int(v) for v in r.map.point(0.6, 0.4))
-        patch = img[y - 40:y + 40, x - 40:x + 40].sum(axis=2) - ground(r, (x, y))
-        lit[kind] = (int(patch.max()), int(np.count_nonzero(patch > 30)))
-    assert lit["playback"][0] < 0.7 * lit["reactor"][0], lit       # fainter body
-    assert lit["playback"][1] > 0.2 * lit["reactor"][1], lit       # yet drawn, not gone
+        patch = img[y - 60:y + 60, x - 60:x + 60]
+        pink = (patch[..., 0] > patch[..., 1] + 50) & (patch[..., 0] > 120)
+        lit[kind] = (int(np.count_nonzero(pink)),
+                     int(np.count_nonzero(patch.sum(axis=2) - ground(r, (x, y)) > 150)),
+                     brightness(img, (x, y)) - ground(r, (x, y)))
+    assert lit["reactor"][0] > 500, lit                   # (the reactor is pink)
+    assert lit["playback"][0] == 0, lit                   # the ghost is not
+    assert lit["playback"][1] > 150, lit                  # yet drawn: ring, notch, word
+    assert abs(lit["playback"][2]) < 15, lit              # its centre bare, as a puck's ring
+
 
 def test_resting_character_is_calmer_but_does_not_vanish():
     r = new_renderer()
@@ -451,3 +460,25 @@ def test_a_mouse_finger_is_ringed_and_a_real_one_is_not():
                    ((9, 0), (-9, 0), (0, 9), (0, -9)))
         assert (ring > ground(r, (cx, cy)) + 300) == ringed, (ident, ring)
         assert brightness(img, (cx, cy)) < ground(r, (cx, cy)) + 30   # the finger's spot dark
+
+
+@pytest.mark.parametrize("at_xy", [(1.2, 0.4), (0.6, 0.0), (0.0, 0.8), (1.25, -0.1)])
+def test_a_character_on_the_tables_edge_is_drawn_whole_on_the_table(at_xy):
+    """A reactor whose centre is on the table's edge (Puppet Master keeps its centre within the
+    table's bounds) was drawn half into the margin, where a real table has none: its body
+    stands inside the edge, all of it, and as big as in the middle of the table."""
+    def body(r, img):
+        pink = (img[..., 0] > 150) & (img[..., 0] > img[..., 1] + 50)
+        (x0, y1), (x1, y0) = r.map.point(0.0, 0.0), r.map.point(1.2, 0.8)
+        inside = np.zeros(pink.shape, bool)
+        inside[int(y0):int(y1) + 1, int(x0):int(x1) + 1] = True
+        return int(np.count_nonzero(pink & inside)), int(np.count_nonzero(pink & ~inside))
+
+    r = new_renderer()
+    c = CharacterState("pet", *at_xy, 0.3, size=0.12, color=(240, 110, 150))
+    on, off = body(r, settled(r, Frame(seq=0, t=0.0, characters=(c,))))
+    r = new_renderer()
+    middle = dataclasses.replace(c, x=0.6, y=0.4)
+    whole, _ = body(r, settled(r, Frame(seq=0, t=0.0, characters=(middle,))))
+    assert off == 0, (on, off)
+    assert on > 0.9 * whole, (on, whole)

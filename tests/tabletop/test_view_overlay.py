@@ -157,9 +157,7 @@ def test_overlay_panel_leaves_the_studios_rec_seconds_and_try_keys_visible(actio
         r.draw(s, Frame(seq=k, t=k * 0.3, characters=(studio,)), lines)
     x, y = map(int, r.map.point(0.04, TABLE[1] - 0.04))   # where the studio puts its mark
     mark = pygame.Rect(x - 14, y - 18, 236, 36)               # its dot and words
-    (W, H), (w, h) = SIZE, r._overlay_img.get_size()
-    panel = pygame.Rect([(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
-                        [r._corner], (w, h))
+    panel = r.panel
     assert not panel.colliderect(mark), (panel, mark)         # top-left over it before
     word = rgb(s)[mark.top:mark.bottom, mark.left:mark.right].astype(int)
     colour = np.array((255, 60, 60) if action == "recording" else (90, 220, 120))
@@ -188,9 +186,7 @@ def test_overlay_panel_leaves_the_studio_status_line_even_for_a_corner_with_a_ch
     for k in range(3, 6):
         r.draw(s, Frame(seq=k, t=k * 0.3, characters=chars + (studio,)), lines)
     x, y = map(int, r.map.point(0.02, 0.02))           # the status line's start
-    (W, H), (pw, ph) = SIZE, r._overlay_img.get_size()
-    panel = pygame.Rect([(8, 8), (W - pw - 8, 8), (8, H - ph - 8), (W - pw - 8, H - ph - 8)]
-                        [r._corner], (pw, ph))
+    panel = r.panel
     assert not panel.collidepoint(x + 5, y - 10), r._corner   # stayed in corner 2 before
 
 
@@ -240,9 +236,7 @@ def test_a_long_overlay_line_leaves_a_corner_clear_of_the_studios_words():
         f"  stage{i}   1.00 ms median   2.00 ms p99" for i in range(9)] + ["studio: " + label]
     for k in range(3):
         r.draw(s, Frame(seq=k, t=k * 0.3, characters=(studio,)), lines)
-    (W, H), (w, h) = size, r._overlay_img.get_size()
-    panel = pygame.Rect([(8, 8), (W - w - 8, 8), (8, H - h - 8), (W - w - 8, H - h - 8)]
-                        [r._corner], (w, h))
+    (W, H), (w, h), panel = size, r._overlay_img.get_size(), r.panel
     assert len(r._studio_marks) >= 3                      # the REC mark, two status lines
     assert panel.collidelist(r._studio_marks) == -1, (panel, r._studio_marks)
     assert w <= W // 2                                     # was 1245 px wide
@@ -349,3 +343,32 @@ def test_an_overlay_taller_than_the_window_fits_it_first_lines_kept(size, shrink
     from tabletop.drawing import screens
     whole = screens.panel(lines, renderer._overlay_px, width=max(W // 2, min(W - 16, 480)))
     assert (whole.get_height() > img.get_height()) == cut   # lines left out only when cut
+
+
+@pytest.mark.parametrize("lines_n", [4, 12])
+def test_in_a_small_window_the_panel_never_lies_over_the_try_words(lines_n):
+    """800x450, the overlay on, the TRY words moved to the far right corner (a character at the
+    far left): every window corner of the panel lay over the studio's words (the TRY words at
+    the top, the status line at the bottom), and it covered part of the TRY words. It stands
+    in the rows they leave free: the TRY words' pixels are those drawn without the panel."""
+    from tabletop.renderer import Renderer
+    size = (800, 450)
+    label = "[pet] trained 317 samples (6.2 s); try it: K keep, X discard, R redo"
+    studio = CharacterState("studio", 0.0, 0.0, 0.0, kind="studio", size=0.0, action="trying",
+                            label=label)
+    bird = CharacterState("bird", 0.12, 0.72, 0.0, size=0.1, color=(120, 180, 255))
+    lines = [f"overlay line {i}: fps 60.0, sources ok, capture to render 1.9 ms median"
+             for i in range(lines_n)]
+    seen = []
+    for overlay in (None, lines):
+        r, s = Renderer(TABLE, size, margin=24), pygame.Surface(size)
+        for k in range(40):
+            r.draw(s, Frame(seq=k, t=k / 20, characters=(bird, studio)), overlay)
+        seen.append((rgb(s).astype(int), r))
+    (bare, _), (shown, r) = seen
+    mark = r._studio_marks[0]
+    assert mark.centerx > 400                                # the TRY words moved right
+    assert r.panel.collidelist(r._studio_marks) == -1, (r.panel, r._studio_marks)
+    cut = (slice(mark.top, mark.bottom), slice(mark.left, mark.right))
+    assert (shown[cut] == bare[cut]).all()
+    assert r.panel.height > 100                              # and still says a few lines

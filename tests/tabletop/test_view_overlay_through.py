@@ -85,7 +85,9 @@ def test_with_nothing_under_it_the_panel_is_drawn_as_it_is_and_holes_only_where_
 
 def test_over_the_studios_words_the_panel_stays_dark_and_its_text_readable():
     alone, place = panel_on_grey(Renderer(TABLE, SMALL), [])
-    words = everywhere(8, 28, 300, 30)
+    # words in every corner and down the middle: no place clear of them (where there is one,
+    # the panel stands there: tests/tabletop/test_view_overlay.py)
+    words = everywhere(8, 28, 300, 30) + [pygame.Rect(300, 0, 40, SMALL[1])]
     bodies = everywhere(28, 8, 200, 120)                    # characters under them too
     both, at = panel_on_grey(Renderer(TABLE, SMALL), bodies, words)
     assert at == place
