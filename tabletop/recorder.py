@@ -138,6 +138,24 @@ class Recorder(Syncer):
         """The file being written (the last one when finished)."""
         return self.paths[-1]
 
+    @property
+    def incomplete(self) -> str | None:
+        """Why this session's recording is not whole, one line, or None when it is: the
+        reason it stopped (the last stop's, never blank), how many times it went on in a new
+        part and which part the last is (``tabletop run``, ``replay --out`` and a kiosk's
+        config edit say it)."""
+        if self.failed is None and not self.gaps:
+            return None
+        why = self.failed or self.gaps[-1] or "a write failed"
+        if not self.gaps:
+            return why
+        n = len(self.gaps)
+        times = f"{n} time{'s' if n > 1 else ''}"
+        if self.failed is not None:
+            return f"{why} (it had stopped {times} before and gone on in a new part)"
+        return (f"{why} (it stopped {times} and went on in a new part each time, the last "
+                f"{self.path.name}: frames are missing between the parts)")
+
     # -- files -----------------------------------------------------------------------------------
 
     def _open_part(self, resumed: str | None = None) -> None:
