@@ -69,6 +69,16 @@ def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: in
     return now
 
 
+def _mark(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
+          avoid: list[pygame.Rect], color: tuple[int, int, int], width: int = 0) -> pygame.Rect:
+    """The REC or TRY mark where :func:`_mark_at` puts it: a dot of radius ``dot`` (``width``
+    0 filled, else a ring that wide, pixels) and ``img`` beside it; their rectangle."""
+    x, y = _mark_at(target, renderer, img, dot, avoid)
+    pygame.draw.circle(target, color, (x, y), dot, width=width)
+    return target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
+        (x - dot, y - dot, 2 * dot, 2 * dot))
+
+
 def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
                 avoid: list[pygame.Rect] | None = None) -> list[pygame.Rect]:
     """Draw the studio's indicator character (see :meth:`Studio.character`): a big countdown
@@ -100,10 +110,7 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
     elif c.action == "recording":
         on = int((c.progress or 0.0) * 2) % 2 == 0   # blinks once a second
         img = font(mark_px).render(f"REC {c.progress or 0.0:4.1f} s", True, c.color)
-        x, y = _mark_at(target, renderer, img, dot, avoid)
-        pygame.draw.circle(target, c.color if on else (120, 30, 30), (x, y), dot)
-        marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
-            (x - dot, y - dot, 2 * dot, 2 * dot)))
+        marks.append(_mark(target, renderer, img, dot, avoid, c.color if on else (120, 30, 30)))
         # the table's edge in red (a calibrated projector may throw beyond the table: a
         # frame round the window would be on the floor)
         pygame.draw.polygon(target, c.color, renderer._corners().tolist(), width=6)
@@ -111,10 +118,8 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
         green = (90, 220, 120)
         img = font(mark_px).render("TRY: K keep  X discard  R redo" if c.action == "trying"
                                    else "training...", True, green)
-        x, y = _mark_at(target, renderer, img, dot, avoid)
-        pygame.draw.circle(target, green, (x, y), dot, width=0 if c.action == "trying" else 3)
-        marks.append(target.blit(img, (x + dot + 8, y - img.get_height() // 2)).union(
-            (x - dot, y - dot, 2 * dot, 2 * dot)))
+        marks.append(_mark(target, renderer, img, dot, avoid, green,
+                           width=0 if c.action == "trying" else 3))
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
     # the near edge's corner on the window's left (a calibration may mirror or turn the table:
