@@ -89,7 +89,8 @@ HEADER_PARTS = 4
 
 
 def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | None,
-                   header: dict[str, Any] | None = None, strict: bool = False) -> Sink | None:
+                   header: dict[str, Any] | None = None, strict: bool = False,
+                   refuse_full: bool = False) -> Sink | None:
     """The recorder: to ``record_path`` when given, else as the ``recorder`` section says.
     A folder that cannot be written fails at start-up naming its key when ``strict``; otherwise
     the installation starts without recording and tries again (see the Recorder). A ``max_mb``
@@ -98,7 +99,8 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     ``keep`` removing them as fast): ``strict`` (a start outside a kiosk, where someone reads the
     error) refuses it; otherwise (a kiosk's start, which may be a restart by its supervisor or
     by systemd; a config edit; after a named file grew) one warning is logged and parts of
-    :data:`HEADER_PARTS` headers are recorded, so a running table never goes down over it."""
+    :data:`HEADER_PARTS` headers are recorded, so a running table never goes down over it.
+    ``refuse_full``: a full disk at the start is refused too (see the Recorder)."""
     from tabletop.recorder import MB, Recorder, header_line, session_header
     from tabletop.recordings import new_session
     from tabletop.schema import ConfigError
@@ -120,7 +122,8 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     where = dict(path=record_path) if record_path is not None else (
         dict(path=rec["path"]) if rec["path"] is not None else dict(folder=rec["folder"]))
     try:
-        return Recorder(header=header, max_mb=max_mb, keep=rec["keep"], strict=strict, **where)
+        return Recorder(header=header, max_mb=max_mb, keep=rec["keep"], strict=strict,
+                        refuse_full=refuse_full, **where)
     except InputError as exc:
         if record_path is not None:
             raise
@@ -145,9 +148,10 @@ def projector_homography(cfg: dict[str, Any], ctx: BuildContext) -> np.ndarray |
 def build_sinks(cfg: dict[str, Any], ctx: BuildContext, headless: bool,
                 record_path: Path | None, stats: LoopStats, commands: CommandQueue,
                 stop: threading.Event, view: bool = True,
-                header: dict[str, Any] | None = None, strict: bool = False) -> list[Sink]:
+                header: dict[str, Any] | None = None, strict: bool = False,
+                refuse_full: bool = False) -> list[Sink]:
     # The recorder first: a folder it cannot use fails before a window opens.
-    recorder = build_recorder(cfg, ctx, record_path, header, strict)
+    recorder = build_recorder(cfg, ctx, record_path, header, strict, refuse_full)
     sinks: list[Sink] = []
     try:
         if view and cfg["view"]["enabled"]:
@@ -246,10 +250,10 @@ def build_replay(cfg: dict[str, Any], frames: Iterator, fast: bool, headless: bo
     engines = build_engines(cfg, ctx)   # (a MOP engine checks its started_without itself)
     out_header = None if header is None else {
         k: v for k, v in header.items() if k not in ("created", "part")}
-    # (strict: an --out that cannot be started is refused before anything plays, as run's
-    # --record is; a replay is read by someone, never a table to keep running)
+    # (an --out that cannot be started, a full disk too, is refused before anything plays:
+    # a replay is read by someone, never a table to keep running)
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, view=view,
-                        header=out_header, strict=True)
+                        header=out_header, strict=True, refuse_full=True)
     loop = Loop(FrameInputs(frames, honour_times=not fast, stop=stop), engines, sinks,
                 rate_hz=cfg["loop"]["rate_hz"], stats=stats, commands=commands, stop=stop,
                 paced=False)

@@ -4,7 +4,9 @@ The view writes (table metres); with an engine that takes mouse touches the loop
 every frame's touches (:func:`with_mouse_fingers`, so a recording keeps them). One button held
 is one finger that follows the pointer; Shift + click pins a finger where it is (it stays down after
 the button is released, as a second hand holding a part); Shift + click on a pinned finger lifts
-it. Thread-safe; ids start at :data:`FIRST_ID` so they never clash with a touch source's ids.
+it. Thread-safe; ids start at :data:`FIRST_ID`, far above the ids a touch source gives in its
+first days (a TUIO tracker counts its session ids up for as long as it runs, so the view knows
+the mouse's fingers by the ids :meth:`PointerFingers.touches` holds, not by a range).
 """
 
 from __future__ import annotations

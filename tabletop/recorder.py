@@ -76,7 +76,9 @@ class Recorder(Syncer):
     no permission, a file in its place) raises SessionError; otherwise (a kiosk's start, whose
     last good config names the same folder: refusing would restart it for ever) it runs
     without recording, as after a full disk, :attr:`failed` saying why and a new part tried
-    every ``RESUME_EVERY_S`` of frame time.
+    every ``RESUME_EVERY_S`` of frame time. A full disk at the start runs so even when strict
+    (a table keeps running), unless ``refuse_full`` (a replay's ``--out``: no table, and the
+    whole session played into no file).
     """
 
     name = "recorder"
@@ -85,7 +87,8 @@ class Recorder(Syncer):
                  folder: str | Path | None = None, max_mb: float | None = None,
                  keep: int | None = None, config: Any = None,
                  calibration: dict[str, Any] | None = None, max_queue: int = 1024,
-                 clock: Callable[[], float] = time.monotonic, strict: bool = True) -> None:
+                 clock: Callable[[], float] = time.monotonic, strict: bool = True,
+                 refuse_full: bool = False) -> None:
         if (path is None) == (folder is None):
             raise ValueError("give exactly one of path or folder")
         if header is None:
@@ -131,7 +134,11 @@ class Recorder(Syncer):
         try:
             self._open_part()
         except OSError as exc:
-            if strict and exc.errno not in DISK_FULL:
+            if strict and (refuse_full or exc.errno not in DISK_FULL):
+                if self._f is not None:   # the file the full disk took no header into
+                    _close_quietly(self._f)
+                for p in self.paths:
+                    p.unlink(missing_ok=True)
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
                                    f"{folder_failure(self.folder, exc)}") from None
             self._fail(exc)  # the installation runs, without recording (tries go on)
@@ -141,6 +148,24 @@ class Recorder(Syncer):
     def path(self) -> Path:
         """The file being written (the last one when finished)."""
         return self.paths[-1]
+
+    @property
+    def incomplete(self) -> str | None:
+        """Why this session's recording is not whole, one line, or None when it is: the
+        reason it stopped (the last stop's, never blank), how many times it went on in a new
+        part and which part the last is (``tabletop run``, ``replay --out`` and a kiosk's
+        config edit say it)."""
+        if self.failed is None and not self.gaps:
+            return None
+        why = self.failed or self.gaps[-1] or "a write failed"
+        if not self.gaps:
+            return why
+        n = len(self.gaps)
+        times = f"{n} time{'s' if n > 1 else ''}"
+        if self.failed is not None:
+            return f"{why} (it had stopped {times} before and gone on in a new part)"
+        return (f"{why} (it stopped {times} and went on in a new part each time, the last "
+                f"{self.path.name}: frames are missing between the parts)")
 
     # -- files -----------------------------------------------------------------------------------
 

@@ -25,7 +25,7 @@ from tabletop.drawing.life import (TRAIL_S, Lives, Presence,  # noqa: E402
 from tabletop.drawing.palette import lighten, resting, vivid  # noqa: E402
 from tabletop.drawing.screens import INVITATIONS, table_surface  # noqa: E402
 from tabletop.frames import CharacterState, Frame  # noqa: E402
-from tabletop.pointer import FIRST_ID as MOUSE_FINGERS  # noqa: E402
+from tabletop.pointer import POINTER, PointerFingers  # noqa: E402
 from tabletop.table_map import TableToScreen  # noqa: E402
 
 PUCK_COLORS = [(70, 160, 255), (255, 90, 90), (90, 220, 120), (240, 200, 60), (190, 110, 255),
@@ -126,6 +126,7 @@ class Renderer:
         self._static: pygame.Surface | None = None
         self.lives = Lives()
         self.traces = Traces()
+        self.pointer: PointerFingers = POINTER   # the mouse's fingers, ringed on the table
         self.moment = 0.0            # opacity of the "one moment" screen, 0..1
         self.idle = 0.0              # opacity of the idle look, 0..1
         self._t: float | None = None
@@ -189,11 +190,14 @@ class Renderer:
                                     self._label if overlay is not None else None, beyond)
         drawn.extend(on_pucks)
         self._keep_clear.extend(r for r in on_pucks if r is not None)
-        # the mouse's fingers (a desk, no touch table: a real finger is its own mark), so a
-        # finger Shift + click pinned is seen, and where to Shift + click to lift it
+        # the mouse's fingers, held and pinned (a desk, no touch table: a real finger is its
+        # own mark), so a finger Shift + click pinned is seen, and where to Shift + click to
+        # lift it; known by the ids the pointer holds now, not by an id range: a TUIO
+        # tracker counts its session ids up for as long as it runs, past any range
+        mouse = {f.id for f in self.pointer.touches()} if frame.touches else set()
         drawn.extend(pygame.draw.circle(target, FINGER_RING, self.map.point(f.x, f.y),
                                         FINGER_PX, width=2)
-                     for f in frame.touches if f.id > MOUSE_FINGERS)
+                     for f in frame.touches if f.id in mouse)
         if self.moment > 0:
             screens.one_moment(target, t, self.moment,
                                self.map.point(self.table[0] / 2, self.table[1] / 2))

@@ -152,8 +152,8 @@ def main(args: argparse.Namespace) -> int:
         return EXIT_INTERRUPTED
     logging.getLogger("tabletop").info("replayed %d frames of %s", ticks, names)
     recorder = inst.recorder   # an --out cut short (a full disk) is not the whole replay
-    if recorder is not None and (recorder.failed or recorder.gaps):
+    if recorder is not None and recorder.incomplete:
         logging.getLogger("tabletop").error("--out %s is incomplete: %s", args.out,
-                                            recorder.failed or recorder.gaps[-1])
+                                            recorder.incomplete)
         return EXIT_RECORDING_FAILED
     return 0

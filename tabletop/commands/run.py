@@ -92,10 +92,8 @@ def main(args: argparse.Namespace) -> int:
         "ran %d ticks in %.2f s at %.1f fps; capture-to-render %s", runner.ticks, runner.run_s,
         rate, latency)
     recorder = inst.recorder
-    if recorder is not None and (recorder.failed or recorder.gaps):
-        logging.getLogger("tabletop").error(
-            "the recording failed: %s%s", recorder.failed or recorder.gaps[-1],
-            f" (it stopped {len(recorder.gaps)} time(s) and resumed)" if recorder.gaps else "")
+    if recorder is not None and recorder.incomplete:
+        logging.getLogger("tabletop").error("the recording failed: %s", recorder.incomplete)
         return EXIT_RECORDING_FAILED
     if runner.recording_failures:   # an installation's before an applied config edit
         logging.getLogger("tabletop").error(

@@ -83,6 +83,14 @@ def format_heartbeat(sender: str, name: str, uptime: float, fps: float, unhealth
             f"{unhealthy} unhealthy  {mode}{extra}")
 
 
+def waited(seconds: float) -> str:
+    """The seconds waited, as the no-heartbeat line gives them: tenths below 10 s (a short
+    ``--seconds`` reads "0.3", not "0"), whole seconds from 10 on; decided on the rounded
+    figure, so 9.97 reads "10", as 10.0 does, not "10.0"."""
+    tenths = round(seconds, 1)
+    return f"{tenths:.1f}" if tenths < 10 else f"{seconds:.0f}"
+
+
 #: exit status when no table's heartbeat came (a monitoring script's ``status ... || alert``)
 EXIT_NO_TABLE = 1
 
@@ -168,8 +176,7 @@ def main(args: argparse.Namespace) -> int:
             timer.cancel()
         server.server_close()
     if not came:   # silence alone does not tell a quiet gallery from a wrong address
-        took = time.monotonic() - start   # (tenths below 10 s: --seconds 0.3 said "in 0 s")
         print(f"tabletop status: no heartbeat came to {shown_host_port(host, port)} in "
-              f"{took:.{1 if took < 10 else 0}f} s (a table in kiosk mode sends one every "
+              f"{waited(time.monotonic() - start)} s (a table in kiosk mode sends one every "
               "kiosk.heartbeat.every_s to kiosk.heartbeat.host:port)", file=sys.stderr)
     return 0 if shown else EXIT_NO_TABLE

@@ -235,8 +235,8 @@ class Runner:
         each Puppet Master behaviour it played from its folder (:attr:`_playing`), which the
         next build keeps playing where its folder now holds a bad file."""
         recorder = self.inst.recorder if self.inst is not None else None
-        if recorder is not None and (recorder.failed or recorder.gaps):
-            self.recording_failures.append(recorder.failed or recorder.gaps[-1])
+        if recorder is not None and recorder.incomplete:
+            self.recording_failures.append(recorder.incomplete)
         self._playing = {e.name: played for e in (self.inst.engines if self.inst else ())
                          if (played := getattr(e, "played_from", None)) is not None
                          and played[0] is e.behavior}

@@ -182,11 +182,14 @@ def _guide(target: pygame.Surface, renderer, points, color) -> None:
 
 
 class NamePrompt:
-    """F2 in the view: type a new name, Enter sends ``designer.rename:NAME``, Esc cancels.
+    """F2 in the view: type a new name, Enter sends ``designer.rename:ITEM=NAME``, Esc cancels.
     ``ask`` (the studio's :meth:`~tabletop.studio.machine.Studio.may_rename`, in the loop's
     thread) gives the name of the item in play, which the line names ("rename lover as: _",
     so the designer sees what Enter renames, and that Esc cancels, where Esc otherwise quits),
-    or "" to refuse F2: the prompt stays closed and the studio says why."""
+    or "" to refuse F2: the prompt stays closed and the studio says why. The command names
+    that ITEM, so a control marker that switched the item while the name was typed makes the
+    studio refuse the rename, not rename the item switched to; without ``ask`` it sends
+    ``designer.rename:NAME``."""
 
     def __init__(self) -> None:
         self.text: str | None = None
@@ -212,7 +215,10 @@ class NamePrompt:
             self.text = None
         elif ev.key in (pygame.K_RETURN, pygame.K_KP_ENTER):
             name, self.text = self.text, None
-            return f"designer.rename:{name}" if name else None
+            if not name:
+                return None
+            return f"designer.rename:{self.item}={name}" if self.item else \
+                f"designer.rename:{name}"
         elif ev.key == pygame.K_BACKSPACE:
             self.text, self.refused = self.text[:-1], ""
         elif typed and library.NAME_RE.match(self.text + typed):

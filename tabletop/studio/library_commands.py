@@ -99,10 +99,16 @@ class LibraryCommands:
         return str(target.current())
 
     def _rename(self, target: Target, arg: str) -> None:
+        """``arg`` NEW renames the item in play; OLD=NEW (F2's prompt, OLD the item it named)
+        only while OLD is in play (a name holds no '=': the last one splits)."""
         if self._busy("renaming"):
             return
         getattr(target, "flush", lambda: None)()    # a pick still loading plays (or fails)
         old = target.current()
+        named, _, arg = arg.rpartition("=")
+        if named and old is not None and named != old:
+            self.say(f"nothing renamed: {old} plays now, not {named} (F2 renames {old})")
+            return
         if old is None or not arg.strip():   # (a blank name: a kept action skipped at reload)
             self.say("nothing to rename" if old is None else "rename needs a new name")
             return

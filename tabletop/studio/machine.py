@@ -23,7 +23,8 @@ Commands (keys through the view, control markers through :class:`Markers`):
                            idle or trying; saved with the character
 ``designer.item_next``     play the next (``item_previous``: previous) library item (not mid-take,
                            nor while a take is tried)
-``designer.rename:NEW``    rename the item in play
+``designer.rename:NEW``    rename the item in play (``:OLD=NEW``, as F2 sends it: only while
+                           OLD is in play)
 ``designer.delete``        delete the item in play (kept in the library's ``.trash``)
 ``designer.undo``          undo the last keep, rename or delete of any target (these three, as the
                            switch, not while a take is under way or tried)

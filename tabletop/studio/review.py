@@ -39,10 +39,16 @@ def warm_plotting() -> None:
     fig.savefig(io.BytesIO(), format="png")
 
 
+PANEL_ASPECT = 0.9    # a review panel's height over its width
+SHEET_PANELS = 2      # a try's review sheet: its panels side by side
+
+
 def _figure(cols: int, rows: int = 1, size: float = 4.0):
+    """A figure of ``cols`` x ``rows`` panels, each ``size`` inches wide (80 dpi)."""
     load_plotting()
     from matplotlib.figure import Figure
-    fig = Figure(figsize=(size * cols, size * 0.9 * rows), dpi=80, layout="constrained")
+    fig = Figure(figsize=(size * cols, size * PANEL_ASPECT * rows), dpi=80,
+                 layout="constrained")
     return fig, [fig.add_subplot(rows, cols, i + 1) for i in range(cols * rows)]
 
 
@@ -97,7 +103,7 @@ def review_sheet(what: str, demo: np.ndarray, path: Path, title: str = "",
                  params: dict | None = None) -> None:
     """Draw the review sheet of one try to ``path`` (PNG, written atomically); a behaviour's
     run is generated with ``params`` (the take's, :func:`generated_run`)."""
-    fig, (a, b) = _figure(2)
+    fig, (a, b) = _figure(SHEET_PANELS)
     if what == "behaviour":
         start = {"lw": 1, "marker": "o", "markevery": [0], "ms": 4}   # a still path: its dot
         a.plot(demo[:, 1], demo[:, 2], label="main (demonstrated)", **start)
@@ -229,31 +235,32 @@ def summary(tries: list[dict]) -> str:
 
 
 CELL_IN, DPI = 5.0, 80           # a try's cell: 5 inches (400 px) wide at 80 dpi
-SHEET_ASPECT = 0.45              # a try's sheet, height over width (two panels of _figure)
+SHEET_ASPECT = PANEL_ASPECT / SHEET_PANELS   # a try's review sheet, height over width
 PAD_PX = 4                       # between cells and round the sheet
 CAPTION_PT, TITLE_PT = 8, 11
 PNG_LEVEL = 3
-"""zlib level of the contact sheet's PNG: the 300-try sheet (1200 x 36,000 px) encodes in
-0.83 / 0.90 / 1.43 s to 9.78 / 9.35 / 9.65 MB at levels 1 / 3 / 6 (6: Pillow's default)."""
+"""zlib level of the contact sheet's PNG: the 300-try sheet (1200 x 21,037 px) encodes in
+0.66 / 0.74 / 1.20 s CPU to 9.33 / 8.90 / 9.45 MB at levels 1 / 3 / 6 (6: Pillow's default)."""
 
 
 def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
     """Every try's review sheet (or its caption alone when it has none, or a damaged one) on
     one PNG, ``columns`` cells 400 px wide a row under the session's name and
     :func:`summary`; returns the summary. A cell is as tall as its caption and a sheet
-    (640 x 288 px) scaled to its width, 215 px: cells of 360 px left 146 px of each blank
-    (``python bench/review.py --tries=30,300``: the 300-try sheet 36,000 -> 21,037 px tall,
-    9.35 -> 8.90 MB, CPU 5.12 -> 4.78 s).
+    (640 x 288 px, :data:`SHEET_ASPECT`) scaled to its width, 215 px: the 300-try sheet is
+    21,037 px tall, 8.90 MB, 4.79 s CPU (``python bench/review.py --tries=300``), where a
+    fixed cell of 360 px leaves 146 px of each blank (36,000 px, 9.35 MB, 5.12 s).
 
     The sheets are scaled into their cells and pasted as pixels (Pillow, Lanczos), and only
     the captions and the title are drawn by matplotlib, on a figure of no axes: one matplotlib
     axes per try laid out by its constrained layout took 28 s of a 300-try sheet's 29 s under
     cProfile (layout 13 s, ticks and titles of axes that show none, images resampled twice,
     once for the layout pass). ``python bench/review.py`` (2 shared cores, CPU s): 30 / 100
-    / 300 tries 1.76 / 5.00 / 17.08 with the axes, 0.93 / 2.10 / 5.11 pasted; 190 tries
-    ``--columns=1`` 22.68 -> 3.34. What is left of the 300 tries: decoding and scaling the
-    sheets 1.5 s, the captions' text 1.3 s, PNG encoding of the 1200 x 36,000 px sheet 0.9 s
-    (:data:`PNG_LEVEL`), measured with cells of 360 px."""
+    / 300 tries 1.76 / 5.00 / 17.08 with the axes, 0.93 / 2.10 / 5.11 pasted, cells of 360 px
+    both (0.92 / 1.89 / 4.79 pasted into cells of 215 px); 190 tries ``--columns=1`` 22.68
+    with the axes, 3.34 pasted. Where the 300 tries' 4.3 s CPU go (the command's start
+    aside): decoding the sheets 0.87 s, scaling them 0.84 s, the captions' text 1.46 s, PNG
+    encoding of the 1200 x 21,037 px sheet 0.75 s (:data:`PNG_LEVEL`)."""
     tries = read_session(session)
     columns = max(1, min(columns, len(tries)))  # never wider than the tries (--columns 100000)
     rows = max(1, math.ceil(len(tries) / columns))

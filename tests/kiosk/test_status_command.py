@@ -40,6 +40,12 @@ def test_status_command_prints_every_table(tmp_path, capsys):
     assert lines[1].startswith("south")
 
 
+def test_the_seconds_waited_read_in_tenths_below_ten_whole_from_ten():
+    from tabletop.commands.status import waited
+    assert [waited(s) for s in (0.3, 0.04, 9.94, 9.97, 10.0, 10.4, 61.6)] == \
+        ["0.3", "0.0", "9.9", "10", "10", "10", "62"]
+
+
 def test_status_command_says_when_no_heartbeat_came(capsys):
     # it printed nothing at all: a wrong address looked like a quiet gallery; and it exits 1,
     # so that a monitoring script's `tabletop status ... || alert` alerts (it exited 0)

@@ -48,6 +48,7 @@ def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path, capl
         for f in frames(t, 10.0):
             rec.consume(f)
         assert rec.failed is not None and "File too large" in rec.failed
+        assert rec.incomplete == rec.failed      # what run and replay --out say of it
         stopped_at = rec.frames
         assert 0 < stopped_at < 100
         resource.setrlimit(resource.RLIMIT_FSIZE, (200, hard))         # not even a header
@@ -78,6 +79,10 @@ def test_a_recording_stopped_by_a_full_disk_resumes_in_a_new_part(tmp_path, capl
         rec.close()
     assert rec.failed is None and len(rec.gaps) == 1 and "File too large" in rec.gaps[0]
     assert len(rec.paths) == 2 and sorted(folder.iterdir()) == sorted(rec.paths)
+    # resumed, still not whole: the reason, the stop and the part the rest went on in
+    said = rec.incomplete
+    assert said is not None and said.startswith(rec.gaps[0]), said
+    assert "stopped 1 time and went on in a new part" in said and rec.paths[1].name in said
     first, second = (list(read_frames(p, absolute=True)) for p in rec.paths)
     assert len(first) == stopped_at
     assert read_header(rec.paths[1])["part"] == 2

@@ -162,6 +162,38 @@ def test_replay_out_cut_short_by_a_full_disk_exits_3(tmp_path, capfd):
     assert f"--out {out} is incomplete" in said and "File too large" in said, said
 
 
+def test_replay_out_on_a_full_disk_is_refused_before_it_plays(tmp_path):
+    """A replay whose --out the disk cannot take even the header of (a file size limit,
+    RLIMIT_FSIZE, as a full disk or quota refuses it) exits with status 2 at once, one line
+    naming the folder and why, no file left: it played the whole session into no file, then
+    exited 3."""
+    import resource
+    import signal
+    import subprocess
+    import sys
+
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("sources: [{kind: scripted, pucks: [1]}]\nview: {enabled: false}\n")
+    rec = tmp_path / "rec.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--seconds", "0.3", "--record", str(rec)], capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+
+    def limit() -> None:
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (200, 200))   # less than a header
+
+    out = tmp_path / "out" / "again.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "replay", str(rec), "--fast",
+                        "--out", str(out)], capture_output=True, text=True, preexec_fn=limit,
+                       timeout=60)
+    assert r.returncode == 2, r.stderr
+    line = one_line(r.stderr)
+    assert f"{out.parent}: cannot start a recording there: File too large" in line, line
+    assert "replayed" not in r.stderr and list(out.parent.iterdir()) == []
+
+
 @pytest.mark.parametrize("describe", [False, True])
 def test_pose_out_naming_a_folder_suggests_the_file_it_writes(tmp_path, capfd, describe):
     """``pose --describe --out FOLDER`` suggested FOLDER/out.jsonl for the one JSON object it
