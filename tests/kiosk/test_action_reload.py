@@ -33,7 +33,8 @@ def test_a_named_pipe_in_place_of_a_template_is_refused_without_holding_the_tick
     line = tmp_path / "line.csv"
     line.unlink()
     os.mkfifo(line)
-    tick = threading.Thread(target=reloader, args=(Frame(seq=1, t=1.1),), daemon=True)
+    reloader(Frame(seq=1, t=1.05))     # (a change is read once it stood for a whole look)
+    tick = threading.Thread(target=reloader, args=(Frame(seq=2, t=1.1),), daemon=True)
     tick.start()
     tick.join(30.0)
     if tick.is_alive():           # (let the blocked open go, so the process can end)
@@ -50,7 +51,8 @@ def test_actions_fixed_in_one_tick_retrain_the_followers_once(tmp_path):
     reloader(Frame(seq=0, t=1.0))
     builds = _counting_builds(stage)
     (tmp_path / "line.csv").write_text((GESTURES / "line.csv").read_text())
-    frame = reloader(Frame(seq=1, t=1.1))
+    assert "reload" not in reloader(Frame(seq=1, t=1.05)).consumed   # (until it stood a look)
+    frame = reloader(Frame(seq=2, t=1.1))
     assert [(e["character"], e["action"]) for e in frame.consumed["reload"]["actions"]["mop"]] \
         == [("walker", "line"), ("lone", "line")]
     assert {n: set(t) for n, t in stage.templates.items()} == {
