@@ -309,8 +309,7 @@ def test_a_part_that_starts_after_a_fix_replays_on_its_own_with_the_action(tmp_p
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True, clock=clock)
     inst = runner._build(runner.cfg)
     (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
-    for p in reloader.pollers.values():
-        p.every_s = 0.0
+    reloader.every_s = 0.0
     inst.loop.inputs.open()
     for k in range(150):
         inst.loop.tick()
