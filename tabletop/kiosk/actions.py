@@ -108,12 +108,23 @@ class ActionReloader:
 
     def __init__(self, stage: Any, every_s: float = LOOK_S,
                  clock: Callable[[], float] = time.monotonic) -> None:
-        self.stage = stage
-        self.pollers = {id(m): Poller(m["files"][0], every_s, clock, read=m["read"],
+        """One look at every missing action's files each ``every_s`` s of ``clock``, all at
+        the same tick: were each action's look due ``every_s`` after its own, the looks would
+        drift apart by the time the ones before them took (a still-bad file read, a loaded
+        machine), and the actions of one fixed file be followed from different frames."""
+        self.stage, self.every_s, self.clock = stage, every_s, clock
+        self._next = clock()
+        self.pollers = {id(m): Poller(m["files"][0], 0.0, clock, read=m["read"],
                                       signature=_signature(m["files"]), settle=True)
                         for m in stage.missing}
 
     def __call__(self, frame: Frame | None = None) -> Frame | None:
+        if not self.stage.missing:
+            return frame
+        now = self.clock()
+        if now < self._next:
+            return frame
+        self._next = now + self.every_s
         taken, records = [], []
         for m in list(self.stage.missing):
             poller = self.pollers.get(id(m))

@@ -33,8 +33,10 @@ def test_a_named_pipe_in_place_of_a_template_is_refused_without_holding_the_tick
     line = tmp_path / "line.csv"
     line.unlink()
     os.mkfifo(line)
-    reloader(Frame(seq=1, t=1.05))     # (a change is read once it stood for a whole look)
-    tick = threading.Thread(target=reloader, args=(Frame(seq=2, t=1.1),), daemon=True)
+    def ticks():               # the change seen, then read once it stayed for a look
+        reloader(Frame(seq=1, t=1.1))
+        reloader(Frame(seq=2, t=1.2))
+    tick = threading.Thread(target=ticks, daemon=True)
     tick.start()
     tick.join(30.0)
     if tick.is_alive():           # (let the blocked open go, so the process can end)
@@ -51,8 +53,8 @@ def test_actions_fixed_in_one_tick_retrain_the_followers_once(tmp_path):
     reloader(Frame(seq=0, t=1.0))
     builds = _counting_builds(stage)
     (tmp_path / "line.csv").write_text((GESTURES / "line.csv").read_text())
-    assert "reload" not in reloader(Frame(seq=1, t=1.05)).consumed   # (until it stood a look)
-    frame = reloader(Frame(seq=2, t=1.1))
+    assert "reload" not in reloader(Frame(seq=1, t=1.1)).consumed   # read once it stays so
+    frame = reloader(Frame(seq=2, t=1.2))
     assert [(e["character"], e["action"]) for e in frame.consumed["reload"]["actions"]["mop"]] \
         == [("walker", "line"), ("lone", "line")]
     assert {n: set(t) for n, t in stage.templates.items()} == {
@@ -86,3 +88,41 @@ def test_a_replay_refuses_a_recorded_entry_with_a_wrong_number_of_files_in_one_l
     assert {n: set(t) for n, t in stage.templates.items()} == {
         "walker": {"circle"}, "lone": {"line"}}
     assert len(builds) == 1 and len(stage.missing) == 2
+
+
+class _LoadedClock:
+    """A frame loop's clock (s): ``now`` set at each tick; while ``slow``, each read is 20 ms
+    after the one before (a loaded machine: time passes between one action's look and the
+    next's, a still-bad file read in between)."""
+
+    def __init__(self) -> None:
+        self.now, self.slow, self._reads = 0.0, False, 0
+
+    def tick(self, now: float, slow: bool = False) -> None:
+        self.now, self.slow, self._reads = now, slow, 0
+
+    def __call__(self) -> float:
+        self._reads += 1
+        return self.now + (0.02 * (self._reads - 1) if self.slow else 0.0)
+
+
+def test_actions_reading_one_file_are_followed_from_the_same_tick_whatever_a_slow_look_took(
+        tmp_path):
+    """Both characters' line actions read line.csv: fixed, they are followed from one frame,
+    even after a tick in which the looks at the missing actions' files were 20 ms apart (were
+    each action's look due a second after its own, the two fell on different ticks from then
+    on, and the fix was followed by one character a frame before the other)."""
+    stage = _stage(tmp_path)
+    clock = _LoadedClock()
+    reloader = ActionReloader(stage, every_s=1.0, clock=clock)
+    clock.tick(0.0, slow=True)
+    reloader(Frame(seq=0, t=0.0))
+    (tmp_path / "line.csv").write_text((GESTURES / "line.csv").read_text())
+    followed = []
+    for k in range(1, 150):
+        clock.tick(k / 30)
+        frame = reloader(Frame(seq=k, t=k / 30))
+        if "reload" in frame.consumed:
+            followed.append([(e["character"], e["action"])
+                             for e in frame.consumed["reload"]["actions"]["mop"]])
+    assert followed == [[("walker", "line"), ("lone", "line")]]

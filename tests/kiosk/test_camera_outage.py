@@ -27,6 +27,24 @@ class Collect:
         pass
 
 
+def _wakes(stop: threading.Event, every_s: float = 0.01) -> list[float]:
+    """Wall times (monotonic s) at which a thread asking to wake every ``every_s`` woke, until
+    ``stop``: its longest gap is how long this process could not run a thread (a loaded
+    machine, the interpreter's lock held), a stall no loop of its own could avoid."""
+    wakes: list[float] = []
+
+    def run():
+        while not stop.wait(every_s):
+            wakes.append(time.monotonic())
+    threading.Thread(target=run, daemon=True).start()
+    return wakes
+
+
+def _largest_gap(times: list[float], start: float, end: float) -> float:
+    inside = [t for t in times if start <= t < end]
+    return max((b - a for a, b in zip(inside, inside[1:])), default=end - start)
+
+
 def test_camera_lost_for_five_seconds(tmp_path):
     cfg_path = tmp_path / "config.yaml"
     cfg_path.write_text(yaml.safe_dump({
@@ -65,6 +83,8 @@ def test_camera_lost_for_five_seconds(tmp_path):
     view.consume = lambda f: (drawn.append(f.status), consume(f))
     th = threading.Thread(target=inst.loop.run, kwargs={"seconds": 20})
     th.start()
+    done = threading.Event()
+    wakes = _wakes(done)
     try:
         assert wait_for(lambda: sink.rows and sink.rows[-1][2] == 2, 10.0)
         t_unplug = time.monotonic()
@@ -75,12 +95,18 @@ def test_camera_lost_for_five_seconds(tmp_path):
         assert wait_for(lambda: sink.rows[-1][1] == "" and sink.rows[-1][2] == 2, 10.0)
     finally:
         inst.loop.stop.set()
+        done.set()
         th.join(10)
     during = [r for r in sink.rows if t_unplug <= r[0] < t_back]
     # frames kept coming through the outage (30 Hz: ~150 in 5 s; a loaded machine skips some)
     assert len(during) > 75
-    gaps = [b[0] - a[0] for a, b in zip(during, during[1:])]
-    assert max(gaps) < 0.5
+    # No wait of the camera's (its reopening: 0.5 to 1 s back-offs, on its own thread) holds
+    # the loop: its longest gap between frames stays under 0.5 s, beyond the longest time the
+    # process itself stood still (a 0.517 s gap under a load of 12 on 2 cores; 40-70 ms with
+    # six busy loops, 37 ms idle). A loop waiting out a back-off sleeps with the interpreter
+    # free, so the waking thread shows no such stall to excuse it.
+    stalled = _largest_gap(wakes, t_unplug, t_back)
+    assert _largest_gap([r[0] for r in during], t_unplug, t_back) < 0.5 + stalled
     waiting = [r for r in during if r[1] == "one_moment"]
     assert len(waiting) > 0.7 * len(during)                 # after the 0.5 s grace
     assert drawn.count("one_moment") >= len(waiting)        # the view drew the calm screen
