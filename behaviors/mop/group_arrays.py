@@ -191,19 +191,15 @@ class GroupArrays:
         self._means = np.ascontiguousarray(self._states[:, :dmax].T)
         # ... in single precision (threshold.PRECISION)
         self._thr_means = self._means.astype(threshold.PRECISION)
-        # ... the ergodic states' weights, then each chain form's (threshold_kernel)
-        forms = len(threshold.CHAINS)
-        self._thr_alpha = np.zeros((1 + forms) * len(self._states), dtype=threshold.PRECISION)
-        self._thr_scratch = np.zeros((1 + forms) * max(len(f.bank.means) for f in fs),
+        # ... the ergodic states' weights, then the mirror chains' (threshold_kernel)
+        self._thr_alpha = np.zeros(2 * len(self._states), dtype=threshold.PRECISION)
+        self._thr_scratch = np.zeros(2 * max(len(f.bank.means) for f in fs),
                                      dtype=threshold.PRECISION)
-        # the sample as each template sees it, then the template's first and last state (where
-        # its chains begin)
-        self._thr_z = np.hstack([np.zeros((k, dmax)), self._k_first,
-                                 self._means[:, self._last_state].T])
-        self._thr_lj = np.zeros(k)
+        # the sample as each template sees it, then its first coordinate mirrored
+        self._thr_z, self._thr_lj = np.zeros((k, dmax + 1)), np.zeros(k)
         self._thr_total = np.ones(m)   # member i's weights are _thr_alpha's over _thr_total[i]
-        # each template's and chain's likeliest state (scratch), each chain's summed weight
-        self._thr_tops = np.zeros((1 + 2 * forms) * k)
+        # each template's and mirror chain's likeliest state (scratch), each chain's summed weight
+        self._thr_tops = np.zeros(3 * k)
         # the members' own arrays, each a row of one array (members.MEMBER_VECTORS, ...)
         self._m_vectors = self._rows(members.MEMBER_VECTORS, float)
         self._m_ints = self._rows(members.MEMBER_INTS, np.intp)

@@ -295,6 +295,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 z[c] = u[c] / ssz + t[co0 + c]
                 # the sample as the template sees it (the threshold model's too)
                 thr_z[k, c] = z[c]
+            # ... and its first coordinate mirrored about the template's first state (the
+            # threshold model's mirror chains: threshold.mirrored_column)
+            thr_z[k, d] = 2.0 * (t[uf0] + t[co0]) - z[0]
             gf = int(math.floor(g))
             last = start + lk - 1
             best_d = np.inf

@@ -292,13 +292,10 @@ class Refusal:
         self._misfit, self._misfit_w = np.zeros((k, 3)), np.zeros(k)
         self._misshaped, self._covered = np.zeros(k, dtype=bool), np.zeros(k, dtype=bool)
         self._reached = np.zeros(k)   # the input's farthest reach (coverage.RUN_AHEAD)
-        # the ergodic states' weights, then each chain form's (threshold.threshold_model_step)
-        size = (1 + len(threshold.CHAINS)) * len(b.means)
-        self._threshold_alpha = np.zeros(size, dtype=threshold.PRECISION)
-        self._threshold_scratch = np.zeros(size, dtype=threshold.PRECISION)
+        # the ergodic states' weights, then the mirror chains' (threshold.threshold_model_step)
+        self._threshold_alpha = np.zeros(2 * len(b.means), dtype=threshold.PRECISION)
+        self._threshold_scratch = np.zeros(2 * len(b.means), dtype=threshold.PRECISION)
         self._threshold_means = np.ascontiguousarray(b.means, dtype=threshold.PRECISION)
-        self._threshold_last = b.means[b.starts + b.lengths - 1]   # (a backward chain's start)
-        self._threshold_forms = threshold.chain_forms(b.dim)
         self._threshold_lengths = np.ascontiguousarray(b.lengths, dtype=np.int64)
         self._threshold_const = -b.dim * np.log(self.sigma) - 0.5 * b.dim * np.log(2.0 * np.pi)
 
@@ -398,11 +395,10 @@ class Refusal:
                 jac = jac - self.dim * np.log(self._size)
             z += self._first_z
         step = threshold.threshold_model_step(
-            np.ascontiguousarray(z), self._first_z, self._threshold_last,
-            self._threshold_means, self._threshold_lengths, *self._threshold_forms, self.sigma,
-            self._threshold_const, np.ascontiguousarray(jac, dtype=float),
-            self._threshold_alpha, self._threshold_scratch, self._threshold_x is None,
-            threshold.STAY, threshold.CHAIN_KEEP)
+            threshold.mirrored_column(z, self._first_z), self._threshold_means,
+            self._threshold_lengths, self.sigma, self._threshold_const,
+            np.ascontiguousarray(jac, dtype=float), self._threshold_alpha,
+            self._threshold_scratch, self._threshold_x is None, threshold.STAY)
         step = threshold.gated(step - self.threshold, lead_ll, x, self._threshold_x,
                                self._still_radius)
         self._threshold_x = x

@@ -13,7 +13,7 @@ import numpy as np
 import behaviors.mop.compiled
 from behaviors.mop import threshold
 from behaviors.mop.compiled import CONTRACT, exp_neg32
-from behaviors.mop.threshold import CHAIN_KEEP, CHAIN_LEAST, CHAIN_MOVES, TINY
+from behaviors.mop.threshold import MIRROR_KEEP, MIRROR_MOVES, TINY
 from behaviors.mop.threshold import STAY as THRESHOLD_STAY
 from behaviors.kernel_cache import compiled
 
@@ -30,13 +30,8 @@ _S1, _S2 = numba.float32[::1], numba.float32[:, ::1]
 # single-precision constants (a float64 one would widen every operation it meets)
 _F32 = np.float32
 _FLOOR32, _NEG_INF32, _ZERO32 = _F32(THRESHOLD_FLOOR), _F32(-np.inf), _F32(0.0)
-_TINY32, _LEAST32 = _F32(TINY), _F32(CHAIN_LEAST)
-_W0, _W1, _W2, _W3 = (_F32(w) for w in CHAIN_MOVES)
-# the chain forms (threshold.CHAINS): how many, each one's sign of x and of y, and which run
-# backwards
-_FORMS = len(threshold.CHAINS)
-_SIGNS, _BACKWARD = threshold.chain_forms(2)
-_SX, _SY = _SIGNS[:, 0].copy(), _SIGNS[:, 1].copy()
+_TINY32 = _F32(TINY)
+_W0, _W1, _W2, _W3 = (_F32(w) for w in MIRROR_MOVES)
 
 
 _U = numba.uintp   # an index known to be >= 0: no wrap-around of negative indices
@@ -83,43 +78,38 @@ def _summed(v: np.ndarray) -> float:
 
 
 @compiled(None, *_CALLS_INTO, fastmath=CONTRACT, inline="always")
-def _entry_weights(a, alpha, s_all, base, n, ti, a0, a1, entries) -> None:
+def _entry_weights(a, ma, ti, a0, a1, base, entries) -> None:
     """A member's threshold weights afresh (:func:`behaviors.mop.threshold._entry_weights`):
-    ``a`` its ergodic states', each chain form's ``s_all`` further on each (templates
-    ``a0..a1``; its states from ``base``, ``n`` of them)."""
+    ``a`` its ergodic states', ``ma`` its mirror chains' (templates ``a0..a1``)."""
     a[:] = _F32(1.0 / entries)
-    for c in range(_FORMS):
-        alpha[(c + 1) * s_all + base:(c + 1) * s_all + base + n] = _ZERO32
-        for k in range(a0, a1):
-            at = ti[k, 2] + ti[k, 0] + (ti[k, 1] - 1 if _BACKWARD[c] else 0)
-            alpha[(c + 1) * s_all + at] = _F32(1.0 / entries)
+    ma[:] = _ZERO32
+    for k in range(a0, a1):
+        ma[ti[k, 2] + ti[k, 0] - base] = _F32(1.0 / entries)
 
 
 @compiled(numba.float64(_S2, _I2, _F1, numba.intp, numba.intp, _F2, _F1, _S1, _S1,
                         numba.boolean, _F1, numba.intp, _F1), *_CALLS_INTO, fastmath=CONTRACT)
 def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, tops_k) -> float:
     """:func:`behaviors.mop.threshold.threshold_model_step` of one member (templates
-    ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` ((1 + C) S,) in
-    order: the ergodic states' first, each chain form's (:data:`behaviors.mop.threshold.CHAINS`)
-    at the same places in each further S) with its sample seen by each template as
-    :meth:`Refusal._threshold_evidence` maps it (``zs`` (K, 3 D): the sample, then each
-    template's first and last state) and each template's log-density terms ``ljs`` (K,: the
-    Gaussian's constant and the map's log Jacobian), as :func:`update_templates` left them
-    (``m``: the member's row of ``mc``; ``ll``: scratch of 1 + C times the largest member's
-    states, each chain form's log-densities in its own part; ``tops_k`` ((1 + 2 C) K,): each
-    template's likeliest state, then each chain's (scratch), then each chain's summed weight,
-    kept for the next step); returns the sample's log-likelihood. Each chain form's distances
-    are taken in the same pass over the template's states as the ergodic ones (its sample
-    mirrored or moved instead of its states: the states are read once). A chain that held no
-    weight takes it where it begins only: no pass over it but its distances; a chain's prior
-    is summed move by move in its template's ergodic log-densities' place once they are read,
-    so that its passes vectorise too. Its sum is taken template by template (:func:`_summed`,
-    the same to about 1e-16) and its exponentials by
+    ``a0..a1``, its states' columns of ``means`` (D, S) and rows of ``alpha`` in order: the
+    ergodic states' in its first half, the mirror chains' at the same places in its second)
+    with its sample seen by each template as :meth:`Refusal._threshold_evidence` maps it
+    (``zs`` (K, D + 1), the last column its first coordinate mirrored) and each template's
+    log-density terms ``ljs`` (K,: the Gaussian's constant and the map's log Jacobian), as
+    :func:`update_templates` left them (``m``: the member's row of ``mc``; ``ll``: scratch of
+    twice the largest member's states, the mirror chains' in its second half; ``tops_k``
+    (3K,): each template's likeliest state, then each chain's (scratch), then each chain's
+    summed weight, kept for the next step); returns the sample's log-likelihood. A chain that
+    held no weight takes it at its first state only: no pass over it but its distances; a
+    chain's prior is summed move by move in its template's ergodic log-densities' place once
+    they are read, so that its passes vectorise too. Its sum is taken template by template
+    (:func:`_summed`, the same to about 1e-16) and its exponentials by
     :func:`~behaviors.mop.compiled.exp_neg32`, so every loop over the states vectorises
     (DESIGN's 8 x 100 templates: 80 000 states per tick). The weights are kept as summed:
     member ``i``'s are ``alpha`` divided by ``totals[i]``, the division done as they are read
     at the next step (as a product by ``STAY / totals[i]``; about the same numbers as
-    normalising them at once, one pass over the states fewer).
+    normalising them at once, one pass over the states
+    fewer).
 
     Most states weigh nothing (in DESIGN's case about a quarter are within e^-40 of the
     likeliest), and so do whole templates (43 % of them): a template whose likeliest state
@@ -142,147 +132,117 @@ def threshold_step(means, ti, m, a0, a1, zs, ljs, alpha, ll, fresh, totals, i, t
     second state of each template (half the states, in both twins), refused less there:
     unrelated valid share 0.0394 -> 0.0403 (20 templates 0.0467 -> 0.0483, a diagonal 0.051
     -> 0.059), valid after the gestures 0.0790 -> 0.0795; not taken."""
-    d = means.shape[0]
+    d = zs.shape[1] - 1
     factor = _F32(m[19])
     base = ti[a0, 2]
-    part = ll.shape[0] // (_FORMS + 1)   # each chain form's log-densities from c * part
-    kk = tops_k.shape[0] // (2 * _FORMS + 1)   # chains' likeliest from kk, their sums after
-    zc = np.empty((_FORMS + 1, d), dtype=np.float32)   # the sample as each form sees it
+    half = ll.shape[0] // 2   # the mirror chains' log-densities from here
+    kk = tops_k.shape[0] // 3   # ... and their likeliest from here (their sums from 2 kk)
     n = 0
     top = _NEG_INF32
     for k in range(a0, a1):
         first, length = ti[k, 2] + ti[k, 0], ti[k, 1]
+        out = ll[first - base:first - base + length]
+        mout = ll[half + first - base:half + first - base + length]
         lj = _F32(ljs[k])
-        lo = first - base
-        for c in range(d):
-            zc[0, c] = _F32(zs[k, c])
-            for f in range(_FORMS):
-                o = zs[k, 2 * d + c] if _BACKWARD[f] else zs[k, d + c]
-                sign = (_SX[f] if c == 0 else _SY[f]) if c < 2 else 1.0
-                zc[f + 1, c] = _F32(sign * (zs[k, c] - zs[k, d + c]) + o)
-        for f in range(_FORMS + 1):
-            out = ll[f * part + lo:f * part + lo + length]
-            if f > 0 and not fresh and not tops_k[(_FORMS + f) * kk + k] > 0.0:
-                # a chain holding no weight can take some only where it begins: its other
-                # states are left out (threshold_model_step)
-                b = length - 1 if _BACKWARD[f - 1] else 0
-                s2 = _ZERO32
-                for c in range(d):
-                    e = zc[f, c] - means[c, first + b]
-                    s2 += e * e
-                out[b] = s2 * factor + lj
-                tops_k[f * kk + k] = out[b]
-                top = max(top, out[b])
-                continue
-            if d == 2:   # a puck's case, in one pass (the same operations)
-                m0, m1 = means[0, first:first + length], means[1, first:first + length]
-                z0, z1 = zc[f, 0], zc[f, 1]
+        z0, zm = _F32(zs[k, 0]), _F32(zs[k, d])
+        m0 = means[0, first:first + length]
+        if d == 2:   # a puck's case, in one pass (the same operations)
+            z1 = _F32(zs[k, 1])
+            m1 = means[1, first:first + length]
+            for j in range(length):
+                e1 = z1 - m1[j]
+                s1 = e1 * e1
+                e0 = z0 - m0[j]
+                f0 = zm - m0[j]
+                out[j] = (e0 * e0 + s1) * factor + lj
+                mout[j] = (f0 * f0 + s1) * factor + lj
+        else:
+            out[:] = _ZERO32
+            for c in range(1, d):   # column by column (``means`` is (D, S)): the loops vectorise
+                zc, mc_ = _F32(zs[k, c]), means[c, first:first + length]
                 for j in range(length):
-                    e0 = z0 - m0[j]
-                    e1 = z1 - m1[j]
-                    out[j] = (e0 * e0 + e1 * e1) * factor + lj
-            else:
-                out[:] = _ZERO32
-                for c in range(1, d):   # column by column (``means`` is (D, S)): vectorised
-                    zf, mc_ = zc[f, c], means[c, first:first + length]
-                    for j in range(length):
-                        e = zf - mc_[j]
-                        out[j] += e * e
-                z0, m0 = zc[f, 0], means[0, first:first + length]
-                for j in range(length):
-                    e0 = z0 - m0[j]
-                    out[j] = (e0 * e0 + out[j]) * factor + lj
-            tf = _largest(ll, f * part + lo, f * part + lo + length)
-            tops_k[f * kk + k] = tf
-            top = max(top, tf)
+                    e = zc - mc_[j]
+                    out[j] += e * e
+            for j in range(length):
+                e0 = z0 - m0[j]
+                f0 = zm - m0[j]
+                mout[j] = (f0 * f0 + out[j]) * factor + lj
+                out[j] = (e0 * e0 + out[j]) * factor + lj
+        tk = _largest(ll, first - base, first - base + length)
+        tm = _largest(ll, half + first - base, half + first - base + length)
+        tops_k[k] = tk
+        tops_k[kk + k] = tm
+        top = max(top, max(tk, tm))
         n += length
     # views from 0 (indices the compiler knows are not negative: the loops vectorise)
-    s_all = alpha.shape[0] // (_FORMS + 1)
+    s_all = alpha.shape[0] // 2
     a, v = alpha[base:base + n], ll[:n]
-    entries = n + _FORMS * (a1 - a0)   # where the jumps land: every ergodic state, chains' start
-    sums = (_FORMS + 1) * kk   # each chain's summed weight from here (form by form)
+    ma, mv = alpha[s_all + base:s_all + base + n], ll[half:half + n]
+    entries = n + (a1 - a0)   # where the jumps land: every ergodic state, each chain's first
     total_was = totals[i]
     if fresh:
-        _entry_weights(a, alpha, s_all, base, n, ti, a0, a1, entries)
+        _entry_weights(a, ma, ti, a0, a1, base, entries)
         total_was = 1.0
     chained = 0.0   # the chains' share: their sums at the last step (or their first states')
-    if fresh:
-        chained = _FORMS * (a1 - a0) / entries
-    else:
-        for f in range(_FORMS):
-            for k in range(a0, a1):
-                chained += tops_k[sums + f * kk + k]
-        chained /= total_was
+    for k in range(a0, a1):
+        chained += 1.0 / entries if fresh else tops_k[2 * kk + k]
+    chained /= total_was
     keep = _F32(THRESHOLD_STAY / total_was)   # (a product, not a quotient)
-    kc = _F32(CHAIN_KEEP / total_was)
-    rest = _F32(((1.0 - THRESHOLD_STAY) * (1.0 - chained) + (1.0 - CHAIN_KEEP) * chained)
+    kc = _F32(MIRROR_KEEP / total_was)
+    rest = _F32(((1.0 - THRESHOLD_STAY) * (1.0 - chained) + (1.0 - MIRROR_KEEP) * chained)
                 / entries)
-    least = max(_TINY32, rest * _LEAST32)   # a chain's state weighing less weighs nothing
     cut = top + _FLOOR32
     total = 0.0
     for k in range(a0, a1):
         lo = ti[k, 2] + ti[k, 0] - base
         hi = lo + ti[k, 1]
-        length = hi - lo
         ak, vk = a[lo:hi], v[lo:hi]
         if tops_k[k] < cut:   # the whole template under e^-40 of the likeliest state
             ak[:] = _ZERO32
         else:
-            for j in range(length):   # no weight under e^-40 (threshold_model_step)
+            for j in range(hi - lo):   # no weight under e^-40 (threshold_model_step)
                 e = vk[j] - top
                 w = (keep * ak[j] + rest) * exp_neg32(max(e, _FLOOR32))
                 ak[j] = w if e >= _FLOOR32 else _ZERO32
             total += _summed(ak)
-        for f in range(_FORMS):
-            mk = alpha[(f + 1) * s_all + base + lo:(f + 1) * s_all + base + hi]
-            mvk = ll[(f + 1) * part + lo:(f + 1) * part + hi]
-            at = sums + f * kk + k   # its summed weight
-            held = fresh or tops_k[at] > 0.0   # the chain held weight
-            if tops_k[(f + 1) * kk + k] < cut:   # ... likewise under e^-40 of the likeliest
-                if held:
-                    mk[:] = _ZERO32
-                tops_k[at] = 0.0
-                continue
-            begin = length - 1 if _BACKWARD[f] else 0   # where it begins: the jumps land there
-            if not held:   # weight enters an empty chain where it begins only (the rest stay 0)
-                e = mvk[begin] - top
-                w = rest * exp_neg32(max(e, _FLOOR32))
-                mk[begin] = w if e >= _FLOOR32 and w >= least else _ZERO32
-                total += mk[begin]
-                tops_k[at] = mk[begin]
-                continue
-            # its prior, in the ergodic log-densities' place (read): one pass per move
-            for p in range(length):
-                vk[p] = _W0 * mk[p]
-            if _BACKWARD[f]:   # from the states after it in its template
-                for p in range(length - 1):
-                    vk[p] += _W1 * mk[p + 1]
-                for p in range(length - 2):
-                    vk[p] += _W2 * mk[p + 2]
-                for p in range(length - 3):
-                    vk[p] += _W3 * mk[p + 3]
-            else:
-                for p in range(1, length):
-                    vk[p] += _W1 * mk[p - 1]
-                for p in range(2, length):
-                    vk[p] += _W2 * mk[p - 2]
-                for p in range(3, length):
-                    vk[p] += _W3 * mk[p - 3]
-            for p in range(length):
-                e = mvk[p] - top
-                w = kc * vk[p] * exp_neg32(max(e, _FLOOR32))
-                mk[p] = w if e >= _FLOOR32 and w >= least else _ZERO32   # (threshold.CHAIN_LEAST)
-            e = mvk[begin] - top
-            w = (kc * vk[begin] + rest) * exp_neg32(max(e, _FLOOR32))
-            mk[begin] = w if e >= _FLOOR32 and w >= least else _ZERO32
-            held_now = _summed(mk)
-            total += held_now
-            tops_k[at] = held_now
+        mk, mvk = ma[lo:hi], mv[lo:hi]
+        held = fresh or tops_k[2 * kk + k] > 0.0   # its mirror chain held weight
+        if tops_k[kk + k] < cut:   # ... likewise under e^-40 of the likeliest state
+            if held:
+                mk[:] = _ZERO32
+            tops_k[2 * kk + k] = 0.0
+            continue
+        if not held:   # weight enters an empty chain at its first state only (the rest stay 0)
+            e = mvk[0] - top
+            w = rest * exp_neg32(max(e, _FLOOR32))
+            mk[0] = w if e >= _FLOOR32 and w >= _TINY32 else _ZERO32
+            total += mk[0]
+            tops_k[2 * kk + k] = mk[0]
+            continue
+        # its prior, in the ergodic log-densities' place (read): one pass per move, vectorised
+        length = hi - lo
+        for p in range(length):
+            vk[p] = _W0 * mk[p]
+        for p in range(1, length):
+            vk[p] += _W1 * mk[p - 1]
+        for p in range(2, length):
+            vk[p] += _W2 * mk[p - 2]
+        for p in range(3, length):
+            vk[p] += _W3 * mk[p - 3]
+        for p in range(length):
+            e = mvk[p] - top
+            w = kc * vk[p] * exp_neg32(max(e, _FLOOR32))
+            mk[p] = w if e >= _FLOOR32 and w >= _TINY32 else _ZERO32   # (threshold.TINY)
+        e = mvk[0] - top   # the chain's first state: the jumps land there too
+        w = (kc * vk[0] + rest) * exp_neg32(max(e, _FLOOR32))
+        mk[0] = w if e >= _FLOOR32 and w >= _TINY32 else _ZERO32
+        held_now = _summed(mk)
+        total += held_now
+        tops_k[2 * kk + k] = held_now
     if total <= 0.0:   # the likeliest states only chain states no weight reached: afresh
-        _entry_weights(a, alpha, s_all, base, n, ti, a0, a1, entries)
-        for f in range(_FORMS):
-            tops_k[sums + f * kk + a0:sums + f * kk + a1] = 1.0 / entries
+        _entry_weights(a, ma, ti, a0, a1, base, entries)
         totals[i] = 1.0
         return float(top + _FLOOR32)
     totals[i] = total
     return float(top) + math.log(total)
+

@@ -8,7 +8,7 @@ from tests.mop import gestures as g
 import numpy as np
 import pytest
 
-from behaviors.mop import group_steps, members, shape_lead, threshold
+from behaviors.mop import group_steps, members, shape_lead
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup, _new_state
 from behaviors.mop.state import FollowState
@@ -208,18 +208,17 @@ def test_the_group_threshold_models_keep_the_followers_own_weights():
     # single precision's rounding of the log-densities (threshold.PRECISION: a log-density of
     # ~100 nats rounded to ~1e-5, the weight by as much; here at most 1.1e-5 apart)
     alone, group, streams = _puck_members(np.random.default_rng(8), 2, 25, 70, 3)
-    # (the group keeps every member's ergodic weights, then every member's chains of each form)
-    parts = 1 + len(threshold.CHAINS)
-    offsets = np.cumsum([0] + [len(f._threshold_alpha) // parts for f in alone])
-    chains = len(group._thr_alpha) // parts
+    # (the group keeps every member's ergodic weights, then every member's mirror chains')
+    offsets = np.cumsum([0] + [len(f._threshold_alpha) // 2 for f in alone])
+    chains = len(group._thr_alpha) // 2
     for i in range(min(len(s) for s in streams)):
         xs = [s[i] for s in streams]
         for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
             _same(a, b)
         for f, lo, total in zip(alone, offsets, group._thr_total):
-            n = len(f._threshold_alpha) // parts
-            mine = np.concatenate([group._thr_alpha[c * chains + lo:c * chains + lo + n]
-                                   for c in range(parts)]) / total
+            n = len(f._threshold_alpha) // 2
+            mine = np.concatenate([group._thr_alpha[lo:lo + n],
+                                   group._thr_alpha[chains + lo:chains + lo + n]]) / total
             assert np.array_equal(mine == 0.0, f._threshold_alpha == 0.0)
             assert np.allclose(mine, f._threshold_alpha, rtol=1e-4, atol=0.0)
     assert 0.0 < np.mean(group._thr_alpha == 0.0) < 1.0

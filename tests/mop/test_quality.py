@@ -134,7 +134,7 @@ def _widened_mirrored(seed: int, name: str, scale: float) -> np.ndarray:
 
 
 def test_the_threshold_models_mirror_chains_refuse_a_template_drawn_mirrored():
-    # threshold.CHAIN_KEEP: among the twenty templates, the dance wrist mirrored at 0.7x (seed
+    # threshold.MIRROR_KEEP: among the twenty templates, the dance wrist mirrored at 0.7x (seed
     # 208) was driven by the zigzag 0.239 of the time and the square mirrored at 1.4x (seed
     # 206) by the roll ankle 0.212 without the mirror chains; measured 0.056 and 0 with them.
     # The templates themselves still drive: valid after 30% 0.94-1.0 and 0.73-0.91 (both alike)

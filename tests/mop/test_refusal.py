@@ -329,7 +329,7 @@ def test_a_strained_action_takes_no_size_at_a_reversal(monkeypatch):
     # at the zigzag's corner; sized there (1.06 -> 1.36) it was judged afresh
     # (invariance.REJUDGE) and drove 20 samples more. Measured: valid 0.239 of the time, 0.338
     # sized at the reversal. Without the threshold model, whose mirror chains now refuse this
-    # path either way (threshold.CHAIN_KEEP: 0.056 with and without the rule)
+    # path either way (threshold.MIRROR_KEEP: 0.056 with and without the rule)
     templates, x = _mirrored_dance()
     plain = {"threshold": math.inf}
     now = np.mean([s.valid for s in run(puck_follower(templates, **plain), x)])
