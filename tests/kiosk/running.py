@@ -1,9 +1,12 @@
-"""A kiosk's installation run in a thread while a test watches it: its loop, and a sink that
-keeps what the last frame drew."""
+"""A kiosk's installation run in a thread while a test watches it: its loop, a sink that keeps
+what the last frame drew, and the replay of its recording compared with it."""
 
 import threading
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any, Iterator
+
+from tests.tabletop.test_replay_exact import frames, replay_cli
 
 
 class Latest:
@@ -34,3 +37,19 @@ def running(inst: Any, seconds: float, run_out: bool = False) -> Iterator[None]:
             th.join(30)
         inst.loop.stop.set()
         th.join(30)
+
+
+def replays_alike(session: Path, out: Path, least: int = 30,
+                  aside: tuple[str, ...] = ("label",)) -> list[dict]:
+    """The frames of ``session`` (more than ``least``), which ``tabletop replay`` (into ``out``)
+    made again with the same characters, their ``aside`` keys apart (a label naming a bad file
+    names it where each run read it)."""
+    done = replay_cli(session, out)
+    assert done.returncode == 0, done.stderr
+    live, again = frames(session), frames(out)
+    assert len(live) == len(again) > least
+
+    def drawn(f: dict) -> list[dict]:
+        return [{k: v for k, v in c.items() if k not in aside} for c in f["characters"]]
+    assert [drawn(f) for f in live] == [drawn(f) for f in again]
+    return live

@@ -17,7 +17,7 @@ from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
-from tests.kiosk.running import Latest, running
+from tests.kiosk.running import Latest, replays_alike, running
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
@@ -123,11 +123,7 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     # the replay starts them without the same actions (the header's started_without)
     header = json.loads(session.read_text().splitlines()[0])
     assert set(header["started_without"]) == {"mop"}
-    done = replay_cli(session, tmp_path / "replayed.jsonl")
-    assert done.returncode == 0, done.stderr
-    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
-    assert len(live) == len(again) > 30
-    assert [f["characters"] for f in live] == [f["characters"] for f in again]
+    replays_alike(session, tmp_path / "replayed.jsonl", least=30, aside=())
     # a recording whose carried circle template is damaged too: refused, not replayed without
     # one more action than the run had
     done = replay_cli(_circle_damaged(session), tmp_path / "replayed-2.jsonl")
@@ -169,11 +165,7 @@ def test_the_replay_of_a_start_without_actions_named_with_semicolons_reads_them(
     """Names holding "; " (the separator of the recorded started_without text): the replay
     starts without the same actions and replays to the same characters."""
     session = _recorded_renamed(tmp_path, {"walker": "a; walker", "square": "x; square"})
-    done = replay_cli(session, tmp_path / "replayed.jsonl")
-    assert done.returncode == 0, done.stderr
-    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
-    assert len(live) == len(again) > 5
-    assert [f["characters"] for f in live] == [f["characters"] for f in again]
+    replays_alike(session, tmp_path / "replayed.jsonl", least=5, aside=())
 
 
 SEEN_S = 30.0
@@ -221,11 +213,7 @@ def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(
                 if "actions" in f.get("consumed", {}).get("reload", {})]
     assert [[(e["character"], e["action"]) for e in f] for f in followed] == [
         [("walker", "line"), ("lone", "line")], [("walker", "square")]]
-    done = replay_cli(session, tmp_path / "replayed.jsonl")
-    assert done.returncode == 0, done.stderr
-    live, again = frames(session), frames(tmp_path / "replayed.jsonl")
-    assert len(live) == len(again) > 30
-    assert [f["characters"] for f in live] == [f["characters"] for f in again]
+    replays_alike(session, tmp_path / "replayed.jsonl", least=30, aside=())
 
 
 def test_outside_a_kiosk_a_corrupt_mop_template_stops_the_start_naming_the_file(tmp_path):

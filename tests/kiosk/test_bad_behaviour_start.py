@@ -13,8 +13,7 @@ import yaml
 from tabletop.config import load_config
 from tabletop.frames import InputError
 from tabletop.kiosk.runner import Runner
-from tests.tabletop.test_replay_exact import frames, replay_cli
-from tests.kiosk.running import Latest, running
+from tests.kiosk.running import Latest, replays_alike, running
 from tests.kiosk.test_kiosk_lock import status
 from tests.tracking.scenes import wait_for
 
@@ -41,21 +40,6 @@ def _corrupt(folder: Path) -> str:
     with open(folder / "demonstration.csv", "a") as f:
         f.write("1e3,0.5,0.5\n")
     return good
-
-
-def replays_alike(session: Path, out: Path) -> list[dict]:
-    """The frames of ``session``, which ``tabletop replay`` (into ``out``) made again with the
-    same characters (their labels aside: one naming a bad file names it where each run read
-    it)."""
-    done = replay_cli(session, out)
-    assert done.returncode == 0, done.stderr
-    live, again = frames(session), frames(out)
-    assert len(live) == len(again) > 30
-
-    def drawn(f):
-        return [{k: v for k, v in c.items() if k != "label"} for c in f["characters"]]
-    assert [drawn(f) for f in live] == [drawn(f) for f in again]
-    return live
 
 
 def test_a_kiosk_starts_without_a_corrupt_behaviour_and_plays_it_once_fixed(tmp_path, caplog):

@@ -10,7 +10,7 @@ import yaml
 from tabletop.config import load_config
 from tabletop.frames import Frame
 from tabletop.kiosk.runner import Runner
-from tests.kiosk.test_bad_behaviour_start import replays_alike
+from tests.kiosk.running import replays_alike
 from tests.kiosk.test_live_config import ROOT, config, rebuilt, running, write
 from tests.tracking.scenes import wait_for
 

@@ -104,7 +104,7 @@ def test_an_edit_applied_while_a_designer_behaviour_file_is_bad_keeps_it_playing
     import json
     import shutil
 
-    from tests.kiosk.test_bad_behaviour_start import replays_alike
+    from tests.kiosk.running import replays_alike
     from tests.kiosk.test_live_config import ROOT
     shutil.copytree(ROOT / "behaviors" / "library" / "lover", tmp_path / "lover")
     cfg = config([10, 20, 30])
