@@ -37,9 +37,9 @@ LOOK_RANGE_M = 0.6       # a character without a stated target looks at the near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
 # A played-back main take (the studio's sequential training) is the main's puck's ghost: a
-# neutral ring (GHOST_RGB at GHOST_ALPHA) with a notch along its heading, "main" beside it. Drawn
-# as a faint copy of the character, it put two of the reactor on the table (QA, Xvfb snapshot):
-# the designer, playing the reactor against it, read it as a second reactor.
+# neutral ring (GHOST_RGB at GHOST_ALPHA) with a notch along its heading, "main" beside it: a
+# faint copy of the character would put two of the reactor on the table, and the designer,
+# playing the reactor against it, would read it as a second reactor.
 GHOST_ALPHA, GHOST_RGB = 0.6, (220, 220, 220)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
@@ -63,8 +63,8 @@ EYES = REACTOR_EYES
 # A character drawn at its centre (a reactor, a sprite, the main's ghost) stands at least this
 # many of its sizes inside the table's edge: its outline reaches 0.5 (BODY), 0.55 breathing and
 # stepping. Engines keep a reactor's centre on the table (Puppet Master clamps it to the table's
-# bounds), so one on the edge was drawn half into the margin, off a real table, where the
-# projector's light falls on the floor (QA, Xvfb snapshot). Pulled in continuously (a clamp), a
+# bounds), so one on the edge drawn at its centre would lie half in the margin, off a real table,
+# where the projector's light falls on the floor. Pulled in continuously (a clamp), a
 # character sliding along the edge moves as it does; its glow may still light the margin, as a
 # puck's ring on the edge does (tabletop.drawing.pucks.inside_edge).
 BODY_REACH = 0.55
@@ -309,7 +309,7 @@ class Renderer:
         return characters.draw_reactor(target, c, pose)
 
     def _draw_playback(self, target: pygame.Surface, pose: Pose) -> pygame.Rect:
-        """The main's puck's ghost (:data:`GHOST_RGB`): a ring 1.5 puck radii across, a notch
+        """The main's puck's ghost (:data:`GHOST_RGB`): a ring of radius 1.5 puck radii, a notch
         along its heading and "main" beside it, read the right way round on the table."""
         k = GHOST_ALPHA * pose.alpha
         ink = tuple(int(v * k) for v in GHOST_RGB)
@@ -386,8 +386,8 @@ class Renderer:
         W, H = target.get_size()
         width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # the lines wrap within it
         # the rows of each side's column the studio's words leave free: the panel stands in
-        # them, no taller than the tallest (a panel over the TRY words in every corner of an
-        # 800x450 window, the words at the top and the status line at the bottom, hid some),
+        # them, no taller than the tallest (in an 800x450 window with the TRY words at the top
+        # and the status line at the bottom, every window corner lies over some words),
         # unless they are under a third of the window (a panel of a few lines says too little:
         # it lies over the words, its text kept readable)
         bands = ([screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
@@ -407,6 +407,7 @@ class Renderer:
             tops = [min([a for a, b in side if b - a >= h] or [8]) for side in bands]
             lows = [max([b - h for a, b in side if b - a >= h] or [H - h - 8]) for side in bands]
             corners += [(8, tops[0]), (W - w - 8, tops[1]), (8, lows[0]), (W - w - 8, lows[1])]
+        self._corner %= len(corners)    # (a free rows' place falls back to its window corner)
         clips: dict[int, list[tuple[pygame.Rect, int]]] = {}
 
         def under(i: int) -> list[tuple[pygame.Rect, int]]:

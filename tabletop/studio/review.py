@@ -247,17 +247,17 @@ def contact_sheet(session: Path, out: Path, columns: int = 3) -> str:
     """Every try's review sheet (or its caption alone when it has none, or a damaged one) on
     one PNG, ``columns`` cells 400 px wide a row under the session's name and
     :func:`summary`; returns the summary. A cell is as tall as its caption and a sheet
-    (640 x 288 px, :data:`SHEET_ASPECT`) scaled to its width, 215 px: the 300-try sheet is
+    (640 x 288 px, :data:`SHEET_ASPECT`) scaled to its width, 210 px: the 300-try sheet is
     21,037 px tall, 8.90 MB, 4.79 s CPU (``python bench/review.py --tries=300``), where a
-    fixed cell of 360 px leaves 146 px of each blank (36,000 px, 9.35 MB, 5.12 s).
+    fixed cell of 360 px leaves 150 px of each blank (36,000 px, 9.35 MB, 5.12 s).
 
     The sheets are scaled into their cells and pasted as pixels (Pillow, Lanczos), and only
     the captions and the title are drawn by matplotlib, on a figure of no axes: one matplotlib
     axes per try laid out by its constrained layout took 28 s of a 300-try sheet's 29 s under
     cProfile (layout 13 s, ticks and titles of axes that show none, images resampled twice,
     once for the layout pass). ``python bench/review.py`` (2 shared cores, CPU s): 30 / 100
-    / 300 tries 1.76 / 5.00 / 17.08 with the axes, 0.93 / 2.10 / 5.11 pasted, cells of 360 px
-    both (0.92 / 1.89 / 4.79 pasted into cells of 215 px); 190 tries ``--columns=1`` 22.68
+    / 300 tries 1.76 / 5.00 / 17.08 with the axes, 0.93 / 2.10 / 5.12 pasted, cells of 360 px
+    both (0.92 / 1.89 / 4.79 pasted into cells of 210 px); 190 tries ``--columns=1`` 22.68
     with the axes, 3.34 pasted. Where the 300 tries' 4.3 s CPU go (the command's start
     aside): decoding the sheets 0.87 s, scaling them 0.84 s, the captions' text 1.46 s, PNG
     encoding of the 1200 x 21,037 px sheet 0.75 s (:data:`PNG_LEVEL`)."""

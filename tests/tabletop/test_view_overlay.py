@@ -2,6 +2,7 @@
 its stage figures (numpy's median and p99, one sort); its panel, placed clear of characters and
 the studio's marks; the halo rings' cache forgets its oldest ring."""
 
+import dataclasses
 import time
 
 import numpy as np
@@ -372,3 +373,10 @@ def test_in_a_small_window_the_panel_never_lies_over_the_try_words(lines_n):
     cut = (slice(mark.top, mark.bottom), slice(mark.left, mark.right))
     assert (shown[cut] == bare[cut]).all()
     assert r.panel.height > 100                              # and still says a few lines
+    # the studio falls silent (no words to keep clear of): the panel goes back to the window
+    # corner on its side, the frame drawn
+    quiet = dataclasses.replace(studio, label="")
+    r.draw(pygame.Surface(size), Frame(seq=40, t=2.0, characters=(bird, quiet)), lines)
+    assert r.panel.topleft in ((8, 8), (size[0] - r.panel.w - 8, 8),
+                               (8, size[1] - r.panel.h - 8),
+                               (size[0] - r.panel.w - 8, size[1] - r.panel.h - 8)), r.panel
