@@ -7,7 +7,7 @@ the overlay), and the running configuration stays. A good one that differs from 
 configuration is handed to ``apply`` (the run command rebuilds the installation with it).
 An edit refused for a file it names (a corrupt gesture template: the error's ``files``) is
 validated again once one of those files changes too, so fixing the file the refusal names
-applies the edit (the status named a file already fixed until the config was saved again).
+applies the edit.
 """
 
 from __future__ import annotations
@@ -111,6 +111,12 @@ class ConfigWatcher:
     def _signature(self, path: Path) -> tuple:
         return (file_signature(path), *map(file_signature, self.named))
 
+    def _config_seen(self) -> tuple:
+        """The config file's signature as the look that loaded it saw it (a save made while it
+        was loaded is a change still to look at)."""
+        seen = self.poller.signature
+        return seen[:1] if seen else (file_signature(self.path),)
+
     def __call__(self, frame: Frame | None = None) -> None:
         if not self.poller.changed():
             return
@@ -120,7 +126,8 @@ class ConfigWatcher:
         except InputError as exc:
             self.named = tuple(getattr(exc, "files", ()))
             if self.named != named:     # what they are now: a change from here is looked at
-                self.poller.signature = self._signature(self.path)
+                self.poller.signature = self._config_seen() + tuple(
+                    map(file_signature, self.named))
             if str(exc) == self.error:    # already said (a kiosk started on the last good one)
                 return
             self.error = str(exc)
@@ -128,7 +135,7 @@ class ConfigWatcher:
             log.error("config edit refused, the running configuration stays: %s", exc)
             return
         if named:
-            self.poller.signature = self._signature(self.path)
+            self.poller.signature = self._config_seen()
         was_refused, self.error = self.error is not None, None
         if cfg == self.current:
             if was_refused:   # the refusal logged is over: the log said nothing (status did)
