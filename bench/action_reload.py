@@ -26,6 +26,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from behaviors.motion.clips import clip_to_mapping  # noqa: E402
 from behaviors.mop.creatures import creature_clips  # noqa: E402
+from behaviors.mop.stage import MopStage  # noqa: E402
 from bench.common import emit  # noqa: E402
 from tabletop.config import validate_config  # noqa: E402
 from tabletop.frames import Frame  # noqa: E402
@@ -38,7 +39,7 @@ TICKS = 20_000
 ROUNDS = 5
 
 
-def _stage(tmp: Path):
+def _stage(tmp: Path) -> MopStage:
     """The MOP stage of a kiosk's start: walker (circle; line and square unreadable) and lone
     (line unreadable)."""
     for name in ("circle", "line", "square"):

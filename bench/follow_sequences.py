@@ -234,4 +234,3 @@ def opens(built: Mapping[str, float]) -> bool:
     """Whether a gesture (its :func:`construction` figures) can be recognised within 20% of it
     without driving for another gesture's start or an unrelated stroke's."""
     return built["told_apart"] <= WITHIN + 1e-9 and built["told_from_unrelated"] <= WITHIN + 1e-9
-

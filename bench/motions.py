@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Callable, Mapping
+from typing import Callable, Iterator, Mapping
 
 import numpy as np
 
@@ -201,7 +201,8 @@ def in_form(path: np.ndarray, form: str) -> np.ndarray:
 
 
 def drawn_in_form(rng: np.random.Generator, templates: Mapping[str, np.ndarray], form: str,
-                  scales: tuple[float, ...] = (0.7, 1.0, 1.4)):
+                  scales: tuple[float, ...] = (0.7, 1.0, 1.4)
+                  ) -> Iterator[tuple[str, float, np.ndarray]]:
     """Every template in ``form`` (:func:`in_form`) that differs from all the templates (as
     :func:`unrelated_motions` keeps a mirrored one), performed at each of ``scales`` in turn:
     yields (name, scale, samples)."""

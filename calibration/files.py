@@ -35,9 +35,8 @@ import numpy as np
 from calibration.plausible import lens_problem, scale_problem
 from calibration.transforms import (apply_homography, distort_pixels, inverse, normalised,
                                     undistort_pixels)
-from tabletop.files import atomic_write_bytes, atomic_write_text
+from tabletop.files import atomic_write_bytes, atomic_write_text, read_yaml
 from tabletop.frames import InputError
-from tabletop.files import read_yaml
 
 FORMAT = "tabletop-calibration"
 VERSION = 1

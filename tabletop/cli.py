@@ -163,12 +163,12 @@ def entry() -> None:
     everywhere else.
     Every end is ``os._exit`` with the command's status, after the log and the standard
     streams are flushed; a stop signal during that flush ends it with the command's failure
-    status, or with 128 + the signal's number after a success (:func:`_exit_on_stop_signals`). The interpreter's finalisation must
-    not run under a job thread still in native code (one that did not end in time, or a
-    Ctrl-C while it ran); for an interrupted command, a Ctrl-C that landed in code an
-    extension module runs through ``PyRun_String`` while it is imported leaves the
-    interpreter's mark of an unhandled KeyboardInterrupt, and the interpreter then ends by
-    SIGINT (status -2), not 130."""
+    status, or with 128 + the signal's number after a success
+    (:func:`_exit_on_stop_signals`). The interpreter's finalisation must not run under a job
+    thread still in native code (one that did not end in time, or a Ctrl-C while it ran); for
+    an interrupted command, a Ctrl-C that landed in code an extension module runs through
+    ``PyRun_String`` while it is imported leaves the interpreter's mark of an unhandled
+    KeyboardInterrupt, and the interpreter then ends by SIGINT (status -2), not 130."""
     try:
         status: int | str | None = main()
     except SystemExit as exc:   # argparse's --help and --version

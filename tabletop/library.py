@@ -28,10 +28,9 @@ import numpy as np
 import yaml
 
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
-                            folder_failure, format_csv, new_folder, read_csv_lines)
+                            folder_failure, format_csv, new_folder, read_csv_lines, read_yaml)
 from tabletop.frames import InputError
 from tabletop.swap import MARKER, locked, real, recover, recover_all, replace_folder, saving
-from tabletop.files import read_yaml
 from tabletop.schema import (ConfigError, Context, FilePath, Number, Record, Spec, Str,
                              yaml_number_hint)
 

@@ -293,8 +293,8 @@ class ActionClock:
         self._elapsed = 0.0
         self._recent: deque[tuple[float, float]] = deque()   # (s, synthesised time) in the window
         self._rest: float | None = None   # the resting finger's low-passed synthesised time
-        #: whether this step's time came from a resting finger's held time (then the posture
-        #: is the sample motions' at the time, not the synthesised one, which flips with it)
+        #: whether this step's time came from a resting finger's held time (then action_control
+        #: keeps the posture output when the hold took over: its REST_SPAN)
         self.held = False
 
     def finger(self, dt: float, target: float) -> tuple[float, float]:

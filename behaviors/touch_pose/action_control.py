@@ -70,7 +70,7 @@ class ActionControl:
     target: Pose
     clock: ActionClock | None
     action_blend: tuple[ActionModel, Blend] | None
-    rest_pose: Pose | None        # the relative posture output while a resting finger holds
+    rest_pose: Pose | None        # the last relative posture output (kept while a finger rests)
     action_base: tuple[np.ndarray, float]
     handover: Handover | None
 
@@ -102,6 +102,8 @@ class ActionControl:
         """Whether the finger on ``part`` has stayed within ``REST_SPAN`` over ``REST_WINDOW``."""
         for f in self.fingers.values():
             if f.part == part and len(f.times):
+                if f.times[-1] - f.times[0] < REST_WINDOW:   # (a path just begun or restarted)
+                    return False
                 recent = f.path[int(np.searchsorted(f.times, f.times[-1] - REST_WINDOW)):]
                 return float(np.ptp(recent, axis=0).max()) * self.scale <= REST_SPAN
         return False

@@ -10,9 +10,9 @@ it reads each file once (regular files only, capped: :func:`tabletop.files.read_
 so a named pipe put there cannot hold the frame loop), builds the action from those bytes and,
 if it builds, gives it to its character and drops its error; the actions taken in one tick
 retrain the followers once (:meth:`MopStage.put_actions`). A file still bad is said once per new
-reason. (Read at the first look that saw a change, a template copied in two writes with a look
-between was followed with its first half, a valid CSV, and its completion never read: a
-followed action's files are not looked at again.)
+reason. (A change is read only once the files stayed as they were for a whole look: a template
+copied in two writes is not followed with its first half, a valid CSV, and a followed action's
+files are not looked at again.)
 
 The frame whose engines first follow the action holds the bytes it was read from
 (``consumed["reload"]["actions"]``), and a replay builds the action from them within that
@@ -139,7 +139,12 @@ class ActionReloader:
             taken.append((m, got[0]))
             records.append(got[1])
         if taken:
-            _take(self.stage, taken)
+            try:
+                _take(self.stage, taken)
+            except Exception:       # (looked at again next time, not only once they change)
+                for m, _ in taken:
+                    self.pollers[id(m)].signature = None
+                raise
         if not records or frame is None:
             return frame
         reload = frame.consumed.get("reload", {})

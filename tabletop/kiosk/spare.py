@@ -7,9 +7,8 @@ that holds a device or a file is opened (camera, sockets, window, recording): th
 replaces may still hold them. After the go only the sources and sinks are built and the first
 frame drawn. A config file changed on disk since the preparation, or a file it names (a
 behaviour, a gesture template, a clip: what a recording carries), is loaded again: the engines
-play what the recording's header carries, read at the go (a spare prepared minutes before a
-template was broken played the old one while its recording carried the broken one, which no
-replay could read); a preparation that fails leaves the ordinary build to report the error after
+play the files the recording's header carries, as read at the go (a replay reads those); a
+preparation that fails leaves the ordinary build to report the error after
 the go.
 """
 

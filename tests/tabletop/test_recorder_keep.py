@@ -100,7 +100,7 @@ def test_an_order_in_the_given_header_is_not_kept(tmp_path):
 
 def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
     """Two runs recording into one folder with ``keep: 1``: the second's start leaves the
-    first's recording, being written, alone (it removed it, and the whole session was lost);
+    first's recording, being written, alone (removing it would lose the whole session);
     once the first closed it, the next prune removes it."""
     import subprocess
     import sys
