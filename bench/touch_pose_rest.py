@@ -28,8 +28,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import numpy as np  # noqa: E402
 
 from bench.common import check_flags, emit  # noqa: E402
+from bench.touch_pose_drags import there_and_back  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
-from tests.touch_pose.conftest import there_and_back  # noqa: E402
 
 VIEWS = ((90.0, 15.0), (270.0, 30.0), (60.0, 10.0), (300.0, 20.0))
 
