@@ -6,6 +6,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator
 
+from tabletop.kiosk import last_good
+from tabletop.kiosk.runner import Runner
 from tests.tabletop.test_replay_exact import frames, replay_cli
 
 
@@ -21,6 +23,15 @@ class Latest:
 
     def close(self):
         pass
+
+
+def kiosk_built(cfg_path: Path, **runner: Any) -> tuple[Any, str | None]:
+    """The installation a kiosk builds at its start from ``cfg_path`` (the last good config,
+    headless; ``runner``: more of :class:`Runner`'s keywords), and the refusal of the config
+    file read (None: it is the one started)."""
+    cfg, refused = last_good.load(cfg_path, kiosk=True)
+    built = Runner(cfg_path, cfg, headless=True, kiosk=True, **runner)
+    return built._build(built.cfg), refused
 
 
 @contextmanager

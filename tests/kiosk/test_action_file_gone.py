@@ -15,7 +15,7 @@ from tabletop.kiosk.actions import ActionReloader
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
 from tabletop.plugins.mop_files import load_template
-from tests.kiosk.running import Latest, replays_alike, running
+from tests.kiosk.running import Latest, kiosk_built, replays_alike, running
 from tests.kiosk.test_bad_action_start import _config, _corrupt, drawing_config
 from tests.kiosk.test_kiosk_lock import status
 from tests.tracking.scenes import wait_for
@@ -26,11 +26,9 @@ def test_a_kiosk_starts_without_a_template_made_a_folder_and_a_deleted_clip(tmp_
     (tmp_path / "line.csv").unlink()
     (tmp_path / "line.csv").mkdir()
     (tmp_path / "wag.json").unlink()
-    cfg, refused = last_good.load(cfg_path, kiosk=True)    # the kiosk's start
-    assert refused is None
     session = tmp_path / "session.jsonl"
-    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
-    inst = runner._build(runner.cfg)
+    inst, refused = kiosk_built(cfg_path, record_path=session)
+    assert refused is None
     stage = inst.engines[0]
     errors = stage.start_problems
     assert len(errors) == 3, errors

@@ -17,7 +17,7 @@ from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
-from tests.kiosk.running import Latest, replays_alike, running
+from tests.kiosk.running import Latest, kiosk_built, replays_alike, running
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
@@ -89,11 +89,11 @@ def _circle_damaged(session: Path) -> Path:
 def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path, caplog):
     cfg_path = _config(tmp_path)
     _corrupt(tmp_path)
-    cfg, refused = last_good.load(cfg_path, kiosk=True)    # the kiosk's start
-    assert refused is None
     session = tmp_path / "session.jsonl"
+    cfg, refused = last_good.load(cfg_path, kiosk=True)    # the kiosk's start
     runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
     inst = runner._build(runner.cfg)
+    assert refused is None
     stage = inst.engines[0]
     errors = stage.start_problems
     assert len(errors) == 3
@@ -143,10 +143,8 @@ def _recorded_renamed(tmp_path: Path, names: dict[str, str]) -> Path:
         text = text.replace(f"name: {old}", f"name: {new}")
     cfg_path.write_text(text)
     _corrupt(tmp_path)
-    cfg, _ = last_good.load(cfg_path, kiosk=True)
     session = tmp_path / "session.jsonl"
-    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
-    runner._build(runner.cfg).loop.run(seconds=0.5)
+    kiosk_built(cfg_path, record_path=session)[0].loop.run(seconds=0.5)
     return session
 
 
@@ -181,10 +179,8 @@ def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(
     replays to the same characters, the actions followed from the same frame."""
     cfg_path, good = drawing_config(tmp_path)
     _corrupt(tmp_path)
-    cfg, _ = last_good.load(cfg_path, kiosk=True)
     session = tmp_path / "session.jsonl"
-    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
-    inst = runner._build(runner.cfg)
+    inst, _ = kiosk_built(cfg_path, record_path=session)
     stage = inst.engines[0]
     latest = Latest()
     inst.loop.sinks.insert(0, latest)
@@ -246,10 +242,8 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
     the others load); the kiosk's status lists it with its file and line in behavior_errors, its
     recording's header in started_without, until the folder no longer holds it."""
     bad, cfg_path = _pose_kiosk(tmp_path, "wave")
-    cfg, _ = last_good.load(cfg_path, kiosk=True)
     session = tmp_path / "session.jsonl"
-    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, record_path=session)
-    inst = runner._build(runner.cfg)
+    inst, _ = kiosk_built(cfg_path, record_path=session)
     with running(inst, 30):
         assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
         (error,) = status(tmp_path)["behavior_errors"]
@@ -268,9 +262,7 @@ def test_a_kiosk_knows_a_touch_pose_action_once_its_file_is_fixed(tmp_path, mode
     from behaviors.touch_pose.designed import to_json
     from behaviors.touch_pose.humanoid import Pose
     bad, cfg_path = _pose_kiosk(tmp_path, "greet")
-    cfg, _ = last_good.load(cfg_path, kiosk=True)
-    runner = Runner(cfg_path, cfg, headless=True, kiosk=True)
-    inst = runner._build(runner.cfg)
+    inst, _ = kiosk_built(cfg_path)
     core = inst.engines[0].core
     with running(inst, 30):
         assert wait_for(lambda: status(tmp_path).get("behavior_errors"), 10.0)
@@ -298,10 +290,8 @@ def test_a_part_that_starts_after_a_fix_replays_on_its_own_with_the_action(tmp_p
     cfg_path.write_text(yaml.safe_dump(edited))
     good = (tmp_path / "line.csv").read_text()
     _corrupt(tmp_path)
-    cfg, _ = last_good.load(cfg_path, kiosk=True)
     clock = SimClock()
-    runner = Runner(cfg_path, cfg, headless=True, kiosk=True, clock=clock)
-    inst = runner._build(runner.cfg)
+    inst, _ = kiosk_built(cfg_path, clock=clock)
     (reloader,) = [f for f in inst.loop.filters if isinstance(f, ActionReloader)]
     reloader.every_s = 0.0
     inst.loop.inputs.open()
