@@ -67,9 +67,10 @@ def restarting_status(name: str, crashes: int, what: str, ran_s: float,
     installation knows it (:func:`tabletop.kiosk.status_fields.own_status`). Without it the
     status file would hold the last installation's own words ("live", or "stopped" from a
     kiosk that ended on purpose) while a kiosk whose every start fails restarts for ever, its
-    heartbeat silent."""
+    heartbeat silent. No installation runs meanwhile: ``pid`` is null and ``supervisor_pid``
+    the writer's own (the supervisor's), never a pid that could be taken for the table's."""
     last = last_error(tail)
-    return own_status(name, "restarting", restarts=crashes,
+    return own_status(name, "restarting", restarts=crashes, pid=None, supervisor=os.getpid(),
                       crash=f"{what} after {ran_s:.1f} s" + (f": {last}" if last else ""),
                       **known)
 

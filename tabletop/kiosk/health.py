@@ -2,7 +2,9 @@
 
 The status (DESIGN.md, "Network and serial contracts") is one JSON object::
 
-    {"name", "host", "pid", "version", "time" (UTC ISO 8601), "uptime_s", "fps", "ticks",
+    {"name", "host", "pid" (the installation's; null while "restarting"), "supervisor_pid"
+     (the kiosk supervisor's, null when unsupervised), "version", "time" (UTC ISO 8601),
+     "uptime_s", "fps", "ticks",
      "mode" ("live" | "attract" | "one_moment"; "stopped" in the file a kiosk that ended on
      purpose leaves; "restarting", with "crash", written by the supervisor after a crash:
      :func:`tabletop.kiosk.crash_log.restarting_status`), "unhealthy_sources",

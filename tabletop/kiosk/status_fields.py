@@ -32,14 +32,26 @@ def utc_now() -> str:
     return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
 
 
+def supervisor_pid() -> int | None:
+    """The pid of the supervisor this process runs under (``TABLETOP_SUPERVISOR_PID``, which
+    it sets for its installations), None when unsupervised or unreadable."""
+    named = os.environ.get("TABLETOP_SUPERVISOR_PID", "")
+    return int(named) if named.isdigit() else None
+
+
 def own_status(name: str, mode: str, uptime_s: float = 0.0, ticks: int = 0, errors: int = 0,
-               restarts: int = 0, **known: Any) -> dict[str, Any]:
+               restarts: int = 0, pid: int | None = -1, supervisor: int | None = -1,
+               **known: Any) -> dict[str, Any]:
     """A status told without a frame (no sources, 0 fps): ``name`` (the host's name when
     empty), ``mode``, ``uptime_s`` (seconds), ``ticks``, engine/sink ``errors``, ``restarts``
-    by the supervisor, the ``known`` fields (e.g. ``config``, ``crash``) and
-    :data:`PART_FIELDS` for the rest."""
+    by the supervisor, ``pid`` (the installation's; -1: this process's, None: none runs),
+    ``supervisor`` (``supervisor_pid``: -1: :func:`supervisor_pid`), the ``known`` fields
+    (e.g. ``config``, ``crash``) and :data:`PART_FIELDS` for the rest."""
     host = socket.gethostname()
-    status = {"name": name or host, "host": host, "pid": os.getpid(), "version": __version__,
+    status = {"name": name or host, "host": host,
+              "pid": os.getpid() if pid == -1 else pid,
+              "supervisor_pid": supervisor_pid() if supervisor == -1 else supervisor,
+              "version": __version__,
               "time": utc_now(), "uptime_s": uptime_s, "fps": 0.0, "ticks": ticks,
               "mode": mode, "unhealthy_sources": 0, "sources": [], "errors": errors,
               "restarts": restarts}

@@ -20,8 +20,8 @@ from tabletop.loop import Loop, LoopStats
 from tabletop.replay_inputs import FrameInputs
 from tests.tracking.scenes import wait_for
 
-STATUS_FIELDS = {"name", "host", "pid", "version", "time", "uptime_s", "fps", "ticks", "mode",
-                 "unhealthy_sources", "sources", "errors", "restarts"}
+STATUS_FIELDS = {"name", "host", "pid", "supervisor_pid", "version", "time", "uptime_s", "fps",
+                 "ticks", "mode", "unhealthy_sources", "sources", "errors", "restarts"}
 
 
 class Clock:

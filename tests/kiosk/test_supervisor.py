@@ -411,10 +411,12 @@ def test_a_kiosk_whose_every_start_fails_says_restarting_and_why_in_its_status(t
     # A further crash may land between the read and the stop: the stopped status keeps the
     # last crash it wrote, which is the one read or a later one of the same kind.
     assert stopped["restarts"] >= status["restarts"]
-    assert stopped == dict(stopped, mode="stopped", pid=os.getpid(), name="table-3")
+    assert stopped == dict(stopped, mode="stopped", pid=None, supervisor_pid=os.getpid(),
+                           name="table-3")
     error = ": tabletop run: error: /x/lover/demonstration.csv: line 9: 2 values, expected 7"
     assert status["mode"] == "restarting" and status["name"] == "table-3"
-    assert status["restarts"] >= 3 and status["pid"] == os.getpid()
+    assert status["restarts"] >= 3 and status["pid"] is None
+    assert status["supervisor_pid"] == os.getpid()
     for said in (status, stopped):
         assert said["crash"].startswith("exit status 2 after ") and said["crash"].endswith(error)
     if stopped["restarts"] == status["restarts"]:
@@ -513,3 +515,21 @@ def test_the_restarting_status_carries_every_promised_field(tmp_path):
     assert promised <= set(status), promised - set(status)
     assert status["config"] == str(config) and status["behavior_errors"] == []
     assert status["recording"] is None and status["studio"] is None
+
+
+def test_the_restarting_status_names_no_installation_pid_and_the_supervisor_as_such(tmp_path):
+    """While "restarting" no installation runs: ``pid`` is null (a script that signals or
+    watches the status's pid reached the supervisor) and ``supervisor_pid`` is the
+    supervisor's; the installation's own status names its own pid and its supervisor's."""
+    status_file, own = tmp_path / "status.json", tmp_path / "own.json"
+    child = ("import json, os, sys\n"
+             "from tabletop.kiosk.status_fields import own_status\n"
+             f"open({str(own)!r}, 'w').write(json.dumps(own_status('t', 'live')))\n"
+             "sys.exit(1)\n")
+    sup = Supervisor([sys.executable, "-c", child], Policy(backoff_s=(5.0, 5.0), startup_s=60),
+                     tmp_path / "crashes.log", echo=False, spares=0, status_file=status_file)
+    status = _first_restarting(status_file, sup)
+    assert status["mode"] == "restarting"
+    assert status["pid"] is None and status["supervisor_pid"] == os.getpid()
+    told = json.loads(own.read_text())
+    assert told["pid"] not in (None, os.getpid()) and told["supervisor_pid"] == os.getpid()
