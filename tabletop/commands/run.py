@@ -37,9 +37,9 @@ def main(args: argparse.Namespace) -> int:
     if args.record is not None:
         args.record = output_file(args.record, "--record")
     from tabletop.kiosk import spare
-    prepared = None
+    prepared, changed = None, None
     if spare.is_spare():                 # the supervisor's warm spare: ready before its go
-        go, prepared = spare.wait_for_go(Path(args.config))
+        go, prepared, changed = spare.wait_for_go(Path(args.config))
         if not go:
             return 0
     from tabletop.app import configure_logging, stop_on_signals
@@ -73,6 +73,7 @@ def main(args: argparse.Namespace) -> int:
                     kiosk=kiosk, studio=args.studio, prepared=prepared, config_error=refused,
                     strict=not (kiosk or supervised()))   # a kiosk's start may be a restart
     # (by its supervisor, or by systemd with --no-supervisor): it runs on
+    spare.say_changed(changed, Path(args.config))   # (into the kiosk's log, set up by now)
     if supervised():
         follow_supervisor(runner.stop)   # a supervisor killed outright ends its installation
     with stop_on_signals(runner.stop):  # a signal while building still ends the run cleanly

@@ -99,22 +99,27 @@ def prepare(config_path: Path) -> Prepared | None:
         return None
 
 
-def wait_for_go(config_path: Path) -> tuple[bool, Prepared | None]:
-    """As a warm spare: prepare, then wait for ``go RESTARTS``. Returns (go, prepared); go is
-    False when the supervisor went away instead."""
+def wait_for_go(config_path: Path) -> tuple[bool, Prepared | None, str | None]:
+    """As a warm spare: prepare, then wait for ``go RESTARTS``. Returns (go, prepared,
+    changed); go is False when the supervisor went away instead; ``changed`` names the file
+    that changed since the preparation (which is then dropped, None), to be said once the
+    kiosk's log is set up (:func:`say_changed`): before it, an INFO line goes nowhere."""
     _import_all()
     prepared = prepare(config_path)
     line = sys.stdin.readline().split()
     if len(line) != 2 or line[0] != "go":
-        return False, None
+        return False, None, None
     os.environ["TABLETOP_RESTARTS"] = line[1]
     os.environ.pop(WAIT_GO, None)
     changed = None if prepared is None else prepared.changed()
+    return True, None if changed is not None else prepared, changed
+
+
+def say_changed(changed: str | None, config_path: Path) -> None:
+    """Log (the kiosk's log) that ``changed`` changed since the spare was prepared."""
     if changed is not None:
         log.info("spare: %s changed since it was prepared; loading %s again", changed,
                  config_path)
-        prepared = None
-    return True, prepared
 
 
 def is_spare() -> bool:
