@@ -25,7 +25,8 @@ studio: control-marker pucks and designer commands) carries them as ``consumed``
 engines first play a hot-reloaded behaviour carries what it was trained from as
 ``consumed["reload"]["behaviors"]``, and one where a reload failed its label's note as
 ``consumed["reload"]["notes"]`` (:mod:`tabletop.studio.reloader`), and one whose MOP
-characters first follow an action a kiosk started without the files it was read from as
+characters first follow an action as a kiosk read it on disk (fixed after a start without it,
+or replaced later) the files it was read from as
 ``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`), and one whose studio
 first follows a MOP character's or touch-pose engine's library files changed on disk those
 files as ``consumed["reload"]["libraries"]`` (:class:`tabletop.studio.reloader.
@@ -151,7 +152,7 @@ def carried(state: dict[str, Any], reload: dict[str, Any] | None) -> dict[str, A
     """``state`` (a part header's ``reloaded``: what the frames so far reloaded, as one
     frame's ``consumed["reload"]`` that plays it all again) with a frame's ``reload`` taken
     in: each engine's latest behaviour, its latest note unless a later behaviour cleared it,
-    every MOP action followed, each studio target's latest library files."""
+    each MOP action's latest read, each studio target's latest library files."""
     if not reload:
         return state
     out = {k: dict(v) for k, v in state.items()}
@@ -160,9 +161,13 @@ def carried(state: dict[str, Any], reload: dict[str, Any] | None) -> dict[str, A
         out.get("notes", {}).pop(name, None)     # (RecordedReloads clears it, then notes)
     for key in ("notes", "libraries"):
         out.setdefault(key, {}).update(reload.get(key, {}))
-    for name, entries in reload.get("actions", {}).items():
-        out.setdefault("actions", {})[name] = [*out.get("actions", {}).get(name, []),
-                                               *entries]
+    for name, entries in reload.get("actions", {}).items():   # each action's latest read
+        def key(e: Any) -> tuple:
+            return (e.get("character"), e.get("action")) if isinstance(e, dict) else (id(e),)
+        latest = {key(e) for e in entries}
+        out.setdefault("actions", {})[name] = [
+            *(e for e in out.get("actions", {}).get(name, []) if key(e) not in latest),
+            *entries]
     return {k: v for k, v in out.items() if v}
 
 

@@ -1,20 +1,24 @@
-"""MOP actions a kiosk started without, followed once their files are fixed on disk.
+"""MOP actions a kiosk follows on disk: those it started without, once their files are fixed,
+and every configured action's later replacement or breakage.
 
 A kiosk's start (or a config edit's rebuild) runs a MOP character without each configured
 action whose template or clip file cannot be read (:func:`tabletop.plugins.mop_files.
 configured_actions`: the stage's ``missing``, each listed in the status's ``behavior_errors``).
-:class:`ActionReloader`, a frame filter, looks at those files' modification times and sizes
-once a second (``os.stat`` only; nothing is read while they stay as they were, nothing at all
-once every action is followed); once they changed and then stayed as they were for a whole look
-it reads each file once (regular files only, capped: :func:`tabletop.files.read_regular_bytes`,
-so a named pipe put there cannot hold the frame loop), builds the action from those bytes and,
-if it builds, gives it to its character and drops its error; the actions taken in one tick
-retrain the followers once (:meth:`MopStage.put_actions`). A file still bad is said once per new
-reason. (A change is read only once the files stayed as they were for a whole look: a template
-copied in two writes is not followed with its first half, a valid CSV, and a followed action's
-files are not looked at again.)
+:class:`ActionReloader`, a frame filter, looks at every configured action's files (the stage's
+``watched``: those too) once a second, their modification times and sizes (``os.stat`` only;
+nothing is read while they stay as they were); once they changed and then stayed as they were
+for a whole look it reads each file once (regular files only, capped:
+:func:`tabletop.files.read_regular_bytes`, so a named pipe put there cannot hold the frame
+loop), builds the action from those bytes and, if it builds, gives it to its character (a
+missing one, or in place of the one it played) and drops its error; the actions taken in one
+tick retrain the followers once (:meth:`MopStage.put_actions`). A file that does not build (made
+unreadable, deleted, cut short) is said once per new reason and listed in ``behavior_errors``
+(the stage's ``start_problems``) while the character plays the action as read before; a file
+fixed or replaced after that is followed the same way. (A change is read only once the files
+stayed as they were for a whole look: a template copied in two writes is not followed with its
+first half, a valid CSV.)
 
-The frame whose engines first follow the action holds the bytes it was read from
+The frame whose engines first follow an action as read holds the bytes it was read from
 (``consumed["reload"]["actions"]``), and a replay builds the action from them within that
 frame (:func:`replay_actions`) as the live run did (:func:`_action_from`), so it follows it
 from the same tick.
@@ -38,7 +42,7 @@ from tabletop.kiosk.watch import Poller, tree_signature
 log = logging.getLogger("tabletop")
 
 LOOK_S = 1.0
-"""Seconds (wall clock) between looks at a missing action's files, as at the config file."""
+"""Seconds (wall clock) between looks at the actions' files, as at the config file."""
 
 SCRATCH = "/dev/shm" if os.access("/dev/shm", os.W_OK | os.X_OK) else None
 """Where an action's bytes are written to be built from: in memory where the system has such a
@@ -68,7 +72,7 @@ def _read(files: tuple[Path, ...]) -> list[bytes | None]:
 
 
 def _action_from(stage: Any, m: dict[str, Any], data: list[bytes | None]) -> tuple:
-    """The missing action ``m`` built from ``data`` (its files' bytes, in the order of
+    """The watched action ``m`` built from ``data`` (its files' bytes, in the order of
     ``m["files"]``; None: not there), written into a folder of its own under the files' names;
     an InputError names the action's own files, as the start's messages do."""
     c, a = m["character"], m["action"]
@@ -93,42 +97,51 @@ def _action_from(stage: Any, m: dict[str, Any], data: list[bytes | None]) -> tup
 
 
 def _take(stage: Any, taken: list[tuple[dict[str, Any], tuple]]) -> None:
-    """``stage`` follows the actions taken (each: the missing entry, its action, performer and
+    """``stage`` follows the actions taken (each: the watched entry, its action, performer and
     samples) from now on, the followers retrained once: out of its missing ones and of its
     errors."""
     stage.put_actions([(m["character"]["name"], *t) for m, t in taken])
     for m, _ in taken:
-        stage.missing.remove(m)
+        stage.missing[:] = [e for e in stage.missing if e is not m]
         if m["why"] in stage.start_problems:
             stage.start_problems.remove(m["why"])
+        m["why"] = None
+
+
+def _watched(stage: Any) -> list[dict[str, Any]]:
+    """The entries of ``stage``'s configured actions (a stage built without them: its missing
+    ones)."""
+    return list(getattr(stage, "watched", None) or getattr(stage, "missing", ()))
 
 
 class ActionReloader:
-    """Frame filter of a MOP ``stage`` with missing actions (see the module docstring)."""
+    """Frame filter of a MOP ``stage`` following its configured actions' files (see the
+    module docstring)."""
 
     def __init__(self, stage: Any, every_s: float = LOOK_S,
                  clock: Callable[[], float] = time.monotonic) -> None:
-        """One look at every missing action's files each ``every_s`` s of ``clock``, all at
+        """One look at every watched action's files each ``every_s`` s of ``clock``, all at
         the same tick: were each action's look due ``every_s`` after its own, the looks would
         drift apart by the time the ones before them took (a still-bad file read, a loaded
         machine), and the actions of one fixed file be followed from different frames."""
         self.stage, self.every_s, self.clock = stage, every_s, clock
         self._next = clock()
-        self.pollers = {id(m): Poller(m["files"][0], 0.0, clock, read=m["read"],
+        self.watched = _watched(stage)
+        self.pollers = {id(m): Poller(m["files"][0], 0.0, clock, read=m["read"] or None,
                                       signature=_signature(m["files"]), settle=True)
-                        for m in stage.missing}
+                        for m in self.watched}
 
     def __call__(self, frame: Frame | None = None) -> Frame | None:
-        if not self.stage.missing:
+        if not self.watched:
             return frame
         now = self.clock()
         if now < self._next:
             return frame
         self._next = now + self.every_s
         taken, records = [], []
-        for m in list(self.stage.missing):
-            poller = self.pollers.get(id(m))
-            if poller is None or not poller.changed():
+        for m in self.watched:
+            poller = self.pollers[id(m)]
+            if not poller.changed():
                 continue
             got = self._try(m, poller.signature)
             if got is None:
@@ -155,8 +168,8 @@ class ActionReloader:
     def _try(self, m: dict[str, Any], looked: tuple | None
              ) -> tuple[tuple, dict[str, Any]] | None | bool:
         """Read the action ``m`` again (its files as they were at the look, signature
-        ``looked``): its action and the frame's record of it, None (still bad, said once per
-        reason) or False (its files changed while read)."""
+        ``looked``): its action and the frame's record of it, None (bad: said once per
+        reason, listed while it stays so) or False (its files changed while read)."""
         c, a = m["character"], m["action"]
         try:
             data = _read(m["files"])
@@ -166,10 +179,16 @@ class ActionReloader:
         except (InputError, OSError) as exc:     # (OSError: the folder the bytes go into)
             why = f"character {c['name']!r}, action {a['name']!r}: {exc}"
             if why != m["why"]:
-                log.error("MOP action still not followed: %s", why)
+                if any(e is m for e in self.stage.missing):
+                    log.error("MOP action still not followed: %s", why)
+                else:
+                    log.error("MOP action's file went bad, the character plays it as read "
+                              "before: %s", why)
                 problems = self.stage.start_problems
                 if m["why"] in problems:
                     problems[problems.index(m["why"])] = why
+                else:
+                    problems.append(why)
                 m["why"] = why
             return None
         log.info("MOP character %r follows its action %r from now on: %s read", c["name"],
@@ -179,7 +198,7 @@ class ActionReloader:
 
 
 def replay_actions(stage: Any, entries: list[dict[str, Any]]) -> None:
-    """A replay's frame whose live run followed missing actions again (``entries``, recorded
+    """A replay's frame whose live run followed actions as read on disk (``entries``, recorded
     by :class:`ActionReloader`): each is built from its recorded bytes as the live run built
     it (:func:`_action_from`) and followed from this frame, the followers retrained once. One
     that cannot be (a damaged entry: not the number of files its action reads, bytes that are
@@ -187,11 +206,11 @@ def replay_actions(stage: Any, entries: list[dict[str, Any]]) -> None:
     taken = []
     for entry in entries:
         entry = entry if isinstance(entry, dict) else {}
-        m = next((m for m in getattr(stage, "missing", ()) if
+        m = next((m for m in _watched(stage) if
                   m["character"]["name"] == entry.get("character")
                   and m["action"]["name"] == entry.get("action")), None)
         if m is None:
-            log.error("replay: recorded action %r of %r is not one %s started without; skipped",
+            log.error("replay: recorded action %r of %r is not one %s configures; skipped",
                       entry.get("action"), entry.get("character"), stage.name)
             continue
         c, a, files = m["character"], m["action"], entry.get("files")

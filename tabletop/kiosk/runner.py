@@ -194,8 +194,8 @@ class Runner:
                      for e in loop.engines if getattr(e, "folder", None) is not None]
         for r in reloaders:
             loop.filters.insert(0, r)    # (recorded for replays)
-        for e in loop.engines:           # MOP actions started without, followed once fixed
-            if getattr(e, "missing", None):
+        for e in loop.engines:   # MOP actions followed on disk: fixed, replaced or gone bad
+            if getattr(e, "missing", None) or self.kiosk and getattr(e, "watched", None):
                 loop.filters.insert(0, ActionReloader(e))
         # a behaviour file that went bad on disk (the character plays the version read before,
         # or none at a start), as the log and the character's label say

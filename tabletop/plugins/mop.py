@@ -48,9 +48,10 @@ from behaviors.mop.puppetry import FaceRig, HumanoidRig, HybridRig, PlanarRig, P
 from behaviors.mop.stage import MopStage
 from tabletop.plugins.mop_stream import check_stream
 from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, MotionLoader,
-                                        action_files, check_shared_library, configured_action,
-                                        configured_actions, library_actions, library_names,
-                                        load_template, resolve_motion, save_to_library)
+                                        action_entries, action_files, check_shared_library,
+                                        configured_action, configured_actions, library_actions,
+                                        library_names, load_template, resolve_motion,
+                                        save_to_library)
 from tabletop.files import FileFormatError
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
@@ -379,17 +380,20 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
     without = bool(ctx.shared.get("kiosk_start") or options["name"] in started)
     started_without: list[str] = []
     missing: list[dict] = []        # those actions, followed once fixed (tabletop.kiosk.actions)
+    watched: list[dict] = []        # every configured action (those too): a kiosk follows them
     features = {n: p.names for n, p in performers.items()}
     for c in options["characters"]:
         rig = _make_rig(c)
         loader = MotionLoader(c["kind"], ctx.base, rig)
         loaders[c["name"]] = loader
         bound[c["name"]] = c["performer"]
+        signed: dict[str, tuple] = {}
         actions, tmpl, bad = configured_actions(c, features, loader, rate, without,
-                                                started.get(options["name"]))
+                                                started.get(options["name"]), signed)
         started_without += [why for _, why, _ in bad]
-        missing += [dict(character=c, action=a, why=why, read=read,
-                         files=action_files(c, a, ctx.base)) for a, why, read in bad]
+        gone, every = action_entries(c, ctx.base, bad, signed)
+        missing += gone
+        watched += every
         if library is not None:
             read[c["name"]] = tree_signature(library / c["name"])
             file = ActionsFile(library, c["name"])          # read once: window and entries
@@ -430,7 +434,7 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
                      if library is not None else None, default_window=fo["window"])
     # (the status's behavior_errors; a recording's started_without)
     stage.start_problems, stage.problem = started_without, "; ".join(started_without)
-    stage.missing = missing
+    stage.missing, stage.watched = missing, watched
     stage.configured_action = lambda c, a: configured_action(      # read afresh from disk
         c, a, features, MotionLoader(c["kind"], ctx.base, loaders[c["name"]].rig), rate)
     for p in (p for bad in problems.values() for p in bad):

@@ -139,9 +139,26 @@ def configured_action(character: dict[str, Any], action: dict[str, Any],
                    else TimeWarp()), performer, samples)
 
 
+def action_entries(character: dict[str, Any], base: Path,
+                   bad: list[tuple[dict[str, Any], str, tuple]], signed: dict[str, tuple]
+                   ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """The entries :mod:`tabletop.kiosk.actions` watches, one per configured action of
+    ``character`` (``character``, ``action``, ``why``: why its files cannot be followed or
+    None, ``read``: their signature before they were read, ``files``): those of the ``bad``
+    ones (:func:`configured_actions`'s third), which the character starts without, and all of
+    them (the same entries for the bad ones)."""
+    gone = {a["name"]: dict(character=character, action=a, why=why, read=read,
+                            files=action_files(character, a, base)) for a, why, read in bad}
+    every = [gone.get(a["name"]) or dict(character=character, action=a, why=None,
+                                         read=signed.get(a["name"], ()),
+                                         files=action_files(character, a, base))
+             for a in character["actions"]]
+    return list(gone.values()), every
+
+
 def configured_actions(character: dict[str, Any], features: dict[str, tuple[str, ...]],
                        loader: MotionLoader, rate_hz: float, without: bool,
-                       recorded: Any = None
+                       recorded: Any = None, signed: dict[str, tuple] | None = None
                        ) -> tuple[list[Action], dict[str, tuple[str, np.ndarray]],
                                   list[tuple[dict[str, Any], str, tuple]]]:
     """The actions the config gives ``character``, their templates (``{action: (performer,
@@ -155,12 +172,15 @@ def configured_actions(character: dict[str, Any], features: dict[str, tuple[str,
     ``recorded``: the replay of a kiosk's start, the engine's ``started_without`` text (these
     messages, joined by "; "): the character starts without exactly the actions it names,
     else MopError names both sets (a carried file missing or damaged: the replay would differ
-    from the run)."""
+    from the run). ``signed``, when given, receives each action's signature (by name), taken
+    before it was read (:func:`action_entries`)."""
     from tabletop.kiosk.watch import tree_signature
     actions, tmpl, missing = [], {}, []
     for a in character["actions"]:
         read = tuple(map(tree_signature, action_files(character, a, loader.base))) \
-            if without else ()
+            if without or signed is not None else ()
+        if signed is not None:
+            signed[a["name"]] = read
         try:
             action, performer, samples = configured_action(character, a, features, loader,
                                                            rate_hz, check_rig=without)
