@@ -28,8 +28,8 @@ engines first play a hot-reloaded behaviour carries what it was trained from as
 characters first follow an action as a kiosk read it on disk (fixed after a start without it,
 or replaced later) the files it was read from as
 ``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`), and one whose studio
-first follows a MOP character's or touch-pose engine's library files changed on disk those
-files as ``consumed["reload"]["libraries"]`` (:class:`tabletop.studio.reloader.
+first follows a MOP character's or touch-pose engine's library files, or a Puppet Master
+library's listing, changed on disk those files as ``consumed["reload"]["libraries"]`` (:class:`tabletop.studio.reloader.
 LibraryReloads`). A reader accepts a
 file whose last line was cut short by a power cut.
 """

@@ -263,6 +263,24 @@ def library_files(path: Path) -> dict[str, str]:
     return out
 
 
+LISTING = " library"
+"""A record key's ending naming a Puppet Master target's library listing (:func:`watch_points`)."""
+
+
+def watch_points(studio: Any) -> dict[str, Poller]:
+    """The pollers of the files a ``studio`` reloads, by the key its records use: each
+    target's name for what :func:`watched` gives, and ``NAME library`` (:data:`LISTING`) for
+    a Puppet Master target's library folder, whose listing its shelf picks from (a folder
+    added or fixed there by another studio on the library is picked by ] as live)."""
+    out: dict[str, Poller] = {}
+    for name, t in studio.targets.items():
+        if (p := watched(t)) is not None:
+            out[name] = p
+        if isinstance(lib := getattr(t, "lib_poller", None), Poller):
+            out[name + LISTING] = lib
+    return out
+
+
 def watched(target: Any) -> Poller | None:
     """The poller of the files a studio ``target`` reloads when they change: a MOP
     character's library folder, a touch-pose engine's library, the folder of the Puppet
@@ -274,10 +292,11 @@ def watched(target: Any) -> Poller | None:
 class LibraryReloads:
     """The studio's library watching (its ``poll``, a hook after each frame's sinks) with what
     it read recorded: a MOP character's or a touch-pose engine's library files, or the folder
-    of a Puppet Master behaviour in play (:func:`watched`), that changed on disk are reloaded
-    there (:meth:`Studio.poll`), and the next frame, the first whose
-    engines follow them, holds those files' bytes as ``consumed["reload"]["libraries"]``
-    ``{target: {relative name: base64}}``; a replay (:class:`RecordedLibraries`) writes them
+    of a Puppet Master behaviour in play (:func:`watched`), or a Puppet Master target's
+    library listing, that changed on disk are reloaded (listed) there (:meth:`Studio.poll`),
+    and the next frame, the first whose engines follow them, holds those files' bytes as
+    ``consumed["reload"]["libraries"]`` ``{key: {relative name: base64}}``
+    (:func:`watch_points`' keys); a replay (:class:`RecordedLibraries`) writes them
     into its own copy of the library and reloads within that frame. Files written while they
     were read are read again at the next look (the poller forgets what it saw)."""
 
@@ -285,13 +304,9 @@ class LibraryReloads:
         self.studio = studio
         self._read: dict[str, dict[str, str]] = {}
 
-    def _pollers(self) -> dict[str, Poller]:
-        return {name: p for name, t in self.studio.targets.items()
-                if (p := watched(t)) is not None}
-
     def poll(self, frame: Frame | None = None) -> None:
         """The hook: the studio's poll, and the files of each library it reloaded."""
-        pollers = self._pollers()
+        pollers = watch_points(self.studio)
         before = {name: p.signature for name, p in pollers.items()}
         self.studio.poll()
         for name, p in pollers.items():
@@ -324,8 +339,9 @@ class RecordedLibraries:
     def __call__(self, frame: Frame) -> Frame:
         records = frame.consumed.get("reload", {}).get("libraries", {})
         forced = False
+        points = watch_points(self.studio)
         for name, files in records.items():
-            poller = watched(self.studio.targets.get(name))
+            poller = points.get(name)
             if poller is None:
                 log.error("replay: recorded library of %r: no such studio target; skipped", name)
                 continue
@@ -355,6 +371,11 @@ def _write_tree(path: Path, files: dict[str, str]) -> None:
     for name, _mtime, _size in tree_signature(path):
         if Path(name) not in data:
             (path / name).unlink()
-    for rel, content in data.items():
+    for rel, content in data.items():      # (one as it is is left: its poller sees no change)
+        try:
+            if (path / rel).read_bytes() == content:
+                continue
+        except OSError:
+            pass
         (path / rel).parent.mkdir(parents=True, exist_ok=True)
         (path / rel).write_bytes(content)
