@@ -225,6 +225,10 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
         header = session_header(cfg, ctx.shared.get("calibration_dict"), **header_extra)
     sinks = build_sinks(cfg, ctx, headless, record_path, stats, commands, stop, header=header,
                         strict=strict)
+    for s in sinks:        # (the recorder: a later part carries its engines' states)
+        if hasattr(s, "state_of"):
+            from tabletop.session import part_states
+            s.state_of = lambda: part_states(engines)
     timing = {} if clock is None else {"clock": clock, "paced": False}
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],
                 stats=stats, commands=commands, stop=stop, **timing)

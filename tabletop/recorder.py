@@ -130,6 +130,11 @@ class Recorder(Syncer):
         # what the session's frames reloaded so far, and before the frame being written
         self._reloaded: dict[str, Any] = {}
         self._reloaded_before: dict[str, Any] = {}
+        # the engines' states a part carries (tabletop.session.part_states), after the last
+        # frame and before the frame being written
+        self.state_of: Callable[[], dict[str, Any]] | None = None
+        self._state: dict[str, Any] | None = None
+        self._state_before: dict[str, Any] | None = None
         self._init_syncer()
         try:
             self._open_part()
@@ -197,7 +202,7 @@ class Recorder(Syncer):
         hold(f)                          # another run's keep leaves it alone
         self.paths.append(candidate)
         self._write(header_line(self._header, order, len(self.paths), self._session,
-                                self._reloaded_before))
+                                self._reloaded_before, self._state_before))
         self._f.flush()
         # said once the disk took the header: a try on a disk still full says nothing
         if resumed is not None:
@@ -280,6 +285,8 @@ class Recorder(Syncer):
         # what the frames before this one reloaded: a part starting at it carries it
         self._reloaded_before = self._reloaded
         self._reloaded = carried(self._reloaded, frame.consumed.get("reload"))
+        self._state_before = self._state
+        self._state = self.state_of() if self.state_of is not None else None
         if self._f is not None and (self._check_at is None or frame.t >= self._check_at):
             self._check_at = frame.t + REMOVED_CHECK_S
             self._check_removed()
@@ -419,18 +426,24 @@ class Recorder(Syncer):
 
 
 def header_line(header: dict[str, Any], order: int, part: int, session: str,
-                reloaded: dict[str, Any] | None = None) -> bytes:
+                reloaded: dict[str, Any] | None = None,
+                performers: dict[str, Any] | None = None) -> bytes:
     """The first line of a recording part: format, version, ``order`` first (see
     recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``, with this
     part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands on the
     recording's own) and the time it is created; ``reloaded``: what the session reloaded
-    before the part began (:func:`tabletop.session.carried`), so that it replays on its own."""
+    before the part began (:func:`tabletop.session.carried`), and ``performers``, its engines'
+    states before its first frame (:func:`tabletop.session.part_states`), so that it replays
+    on its own."""
     line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}
     line.update(header, order=order, session=session, part=part,
                 created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
     line.pop("reloaded", None)           # (a copied header's: replay --out)
+    line.pop("performers", None)
     if reloaded:
         line["reloaded"] = reloaded
+    if performers and part > 1:
+        line["performers"] = performers
     return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
 
 

@@ -115,6 +115,23 @@ class PathFeatures:
         self._anchor = [float(x), float(y), 0.0, 1, float(t)]
         self._resting = False
 
+    def state(self) -> list[float]:
+        """Where the gesture started and the puck settled, and whether it rests (17 floats,
+        JSON-able; :meth:`set_state` takes them back)."""
+        return [float(self._started), *self.origin, self._origin_turn, *self._prev,
+                self._turned, self._speed, *map(float, self._anchor), float(self._resting)]
+
+    def set_state(self, values: Sequence[float]) -> None:
+        """Go on from :meth:`state`'s ``values``; ValueError when they are not 17 finite
+        numbers."""
+        v = [float(x) for x in values]
+        if len(v) != 17 or not all(map(math.isfinite, v)):
+            raise ValueError(f"a puck path's state is 17 finite numbers, got {values!r:.80}")
+        self._started, self.origin, self._origin_turn = bool(v[0]), tuple(v[1:4]), v[4]
+        self._prev, self._turned, self._speed = tuple(v[5:9]), v[9], v[10]
+        self._anchor = [v[11], v[12], v[13], int(v[14]), v[15]]
+        self._resting = bool(v[16])
+
     def step(self, x: float, y: float, angle: float, t: float) -> np.ndarray:
         """Features of this pose (metres, radians, seconds); see the class docstring."""
         if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(angle) and math.isfinite(t)):

@@ -75,6 +75,13 @@ class PuckInput:
         """Samples read since the puck last moved (:attr:`PathFeatures.still`)."""
         return self._pf.still
 
+    def state(self) -> Any:
+        """Its path's state (:meth:`PathFeatures.state`), JSON-able."""
+        return self._pf.state()
+
+    def set_state(self, state: Any) -> None:
+        self._pf.set_state(state)
+
     def restart(self, frame: object, t: float) -> None:
         """Start a gesture here (a designer's recording begins)."""
         p = frame.puck(self.puck_id)  # type: ignore[attr-defined]
@@ -142,6 +149,17 @@ class TouchInput:
         """Samples read since the finger last moved (:attr:`PathFeatures.still`; 1 while none
         touches)."""
         return self._pf.still if self._id is not None else 1
+
+    def state(self) -> Any:
+        """The finger followed, whether a gesture started and its path's state, JSON-able."""
+        return {"finger": self._id, "started": self._started, "path": self._pf.state()}
+
+    def set_state(self, state: Any) -> None:
+        finger = state["finger"]
+        if finger is not None and not isinstance(finger, int):
+            raise ValueError(f"finger {finger!r}: expected a touch id or null")
+        self._pf.set_state(state["path"])
+        self._id, self._started = finger, bool(state["started"])
 
     def restart(self, frame: object, t: float) -> None:
         """Start a gesture at the next touch (a finger down now is read as touching down)."""
@@ -216,6 +234,13 @@ class StreamInput:
 
     #: A stream has no notion of rest: its performer is always performing.
     resting = False
+
+    def state(self) -> Any:
+        """None: a stream's read depends on its frame alone."""
+        return None
+
+    def set_state(self, state: Any) -> None:
+        pass
 
     def restart(self, frame: object, t: float) -> None:
         pass
@@ -296,3 +321,17 @@ class Performer:
     def restart(self, frame: object, t: float) -> None:
         for i in self.inputs:
             i.restart(frame, t)
+
+    def state(self) -> list[Any]:
+        """Each input's state (where its gesture started, whether it rests), JSON-able: what a
+        recording part carries so that, replayed alone, the performer starts as it was."""
+        return [i.state() for i in self.inputs]
+
+    def set_state(self, state: Any) -> None:
+        """Go on from :meth:`state`; ValueError (or KeyError, TypeError) for one that is not
+        this performer's."""
+        if not isinstance(state, list) or len(state) != len(self.inputs):
+            raise ValueError(f"performer {self.name!r}: expected the states of its "
+                             f"{len(self.inputs)} input(s)")
+        for i, s in zip(self.inputs, state):
+            i.set_state(s)

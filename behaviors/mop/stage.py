@@ -48,7 +48,7 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Callable, Iterable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -313,6 +313,19 @@ class MopStage(DesignerTakes):
         if self.templates[character].pop(name, None) is not None:
             self.puppets[character].remove_action(name)
             self._retrain()
+
+    def part_state(self) -> dict[str, list]:
+        """Each performer's inputs' state (:meth:`Performer.state`), which a later recording
+        part carries: replayed alone from afresh, a puck that rested before the part began
+        is not resting yet, and its next gesture starts as many samples early as it stood
+        within the rest radius before leaving it (1 of 42 frames differed)."""
+        return {n: p.state() for n, p in self.performers.items()}
+
+    def resume_part(self, state: Any) -> None:
+        """The performers go on from :meth:`part_state`'s ``state`` (a part replayed alone)."""
+        for n, s in dict(state).items():
+            if n in self.performers:
+                self.performers[n].set_state(s)
 
     # --- running --------------------------------------------------------------------------------
 

@@ -90,7 +90,7 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.bundle import extract
     from tabletop.config import validate_config
     from tabletop.recorder import SessionError, read_header
-    from tabletop.session import with_reloaded
+    from tabletop.session import resume_parts, with_reloaded
 
     if args.out is not None:
         args.out = output_file(args.out, "--out", ReplayError, inputs=args.session)
@@ -137,7 +137,12 @@ def main(args: argparse.Namespace) -> int:
                 frames = map(studio_input, frames)
             inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
                                 record_path=args.out, view=not args.no_view,
-                                header={k: v for k, v in header.items() if k != "reloaded"})
+                                header={k: v for k, v in header.items()
+                                        if k not in ("reloaded", "performers")})
+            try:     # a later part replayed first: its engines as they were when it began
+                resume_parts(inst.engines, header.get("performers") or {})
+            except (KeyError, TypeError, ValueError) as exc:
+                raise SessionError(f"{first}: line 1: performers: {exc}") from None
             from tabletop.studio.reloader import RecordedReloads
             inst.loop.filters.insert(0, RecordedReloads(inst.engines))  # hot reloads, as live
             if isinstance(studio, dict):

@@ -316,11 +316,9 @@ def test_a_part_that_starts_after_a_fix_replays_on_its_own_with_the_action(tmp_p
     again = frames(tmp_path / "replayed.jsonl")
     assert len(again) == len(live)
 
-    # the same actions played, but at the line's onset: the part alone starts the followers
-    # without the inputs before it (one frame of 42 differed, the onset one frame early)
-    def played(recorded):
-        return [[(c["name"], c.get("action")) for c in f["characters"]] for f in recorded]
-    assert {"walker", "lone"} <= {c["name"] for f in again for c in f["characters"]
-                                  if c.get("action") == "line"}
-    alike = [x == y for x, y in zip(played(live), played(again))]
-    assert sum(alike) >= 0.9 * len(alike), alike
+    # the part begins while the puck rests before its next line: its header carries where
+    # the performer's gesture started and that it rests (``performers``), so the part alone
+    # starts the line on the same sample, the characters alike to the last digit (a performer
+    # started afresh did not rest yet and drew the line's onset a frame early)
+    assert json.loads(later.read_text().splitlines()[0])["performers"]["mop"]["hand"][0][-1] == 1
+    assert [f["characters"] for f in live] == [f["characters"] for f in again]
