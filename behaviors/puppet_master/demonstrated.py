@@ -100,11 +100,12 @@ def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float, span_s: float
     against 26.7 (17.0)): only where the moment's main walked 23.3 (12.7), seeds 0-5 5.3 -> 7.7;
     only beside a live main that walks 32.7 (20.3); only where k < FOLLOW_SHARE 27.0 (15.0);
     half of that part 28.0 (17.7); (1 - k) of it 29.0 (16.3); the step's length kept 29.0
-    (18.0); the across part of the whole live step 46.0 (28.7); one run against 26 (17): the
-    whole excess x k / x 0.5 32 (20) / 34 (23), its across part x (1 - k) 31 (23), that only at
-    turns of 1 rad/s or more (three runs) 30.0 (18.3). The still/moving ratio binds: beside its
-    still main on the loops paths the stalker moves 0.058 m/s (its designer 0.073), so a faster
-    walk lowers the ratio (mean 0.215, the band from 0.199)."""
+    (18.0); at most the moment's own step round the main 31.0 (17.0); the across part of the
+    whole live step 46.0 (28.7); one run against 26 (17): the whole excess x k / x 0.5 32 (20) /
+    34 (23), its across part x (1 - k) 31 (23), that only at turns of 1 rad/s or more (three
+    runs) 30.0 (18.3). The still/moving ratio binds: beside its still main on the loops paths
+    the stalker moves 0.058 m/s (its designer 0.073), so a faster walk lowers the ratio (mean
+    0.215, the band from 0.199)."""
     n = main.shape[0]
     dm = np.zeros((n, 2))
     dr = np.zeros((n, 2))
