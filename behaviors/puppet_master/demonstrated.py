@@ -79,7 +79,33 @@ def own_steps(main: np.ndarray, react: np.ndarray, rate_hz: float, span_s: float
     averaged over three samples (in the demonstration the main's tremor carried with k
     cancelled against the -k x tremor in the own step; live the two add): 643 of 720, the
     engine's alone 18 -> 24 (stalker 11 -> 16, afraid 22 -> 32, friend 1 -> 2 misses; the
-    lover's seed 3 slow walk 0.073 -> 0.083 m/s, seed 0 0.097 -> 0.089). Not used."""
+    lover's seed 3 slow walk 0.073 -> 0.083 m/s, seed 0 0.097 -> 0.089). Not used.
+
+    At a place in its main's frame the generation carries the live main's whole step (step.py),
+    which costs the stalker's loops orbit: 0.73 / 0.54 rad/s where its main's walking direction
+    turns at 1-2 / 2-4 rad/s (its designer 0.90 / 0.91, shown 0.80 / 0.90). By parts of the step
+    (signed rate round the main while it walks; seeds 9, 12, 26, 27, 30, 31, Python step): the
+    main's step -0.43 / -0.38, the moment's own step relative to it +0.85 / +0.77, the drift
+    correction +0.32 / +0.23. Those mains walk the turns at 0.21 m/s, the shown one at 0.12, and
+    the shown stalker goes along with 0.13 / 0.08 of its main's motion there (k; median 0).
+    Taking off the live main's step beyond the moment's main's (turned into the live frame)
+    across the bearing, where it runs against the moment's own step round the main (outside
+    charges): bench/fidelity.py on seeds 0-5 / 8-13 / 26-31 met 676 / 671 / 661 -> 675 / 673 /
+    663, the engine's alone 8 / 13 / 16 -> 8 / 11 / 13 (misses: fast contact 4 -> 0, slow
+    still/moving 4 -> 2, loops orbit 3 -> 2, loops still/moving 3 -> 5, loops contact 5 -> 7;
+    speed W1 lost on seed 3 loops and 5 fast, where its designer misses it too); the other
+    characters and the pursuit unchanged; the stalker alone with relative_motion x 1, 1 +- 0.001
+    / 0.002 / 0.003, misses (the engine's) per run 27.3 (16.6) -> 25.7 (13.0), but on seeds 0-5
+    6.1 (2.3) -> 8.1 (2.6). Not kept: it loses passes (seeds 0-5). Measured too (three runs,
+    against 26.7 (17.0)): only where the moment's main walked 23.3 (12.7), seeds 0-5 5.3 -> 7.7;
+    only beside a live main that walks 32.7 (20.3); only where k < FOLLOW_SHARE 27.0 (15.0);
+    half of that part 28.0 (17.7); (1 - k) of it 29.0 (16.3); the step's length kept 29.0
+    (18.0); at most the moment's own step round the main 31.0 (17.0); the across part of the
+    whole live step 46.0 (28.7); one run against 26 (17): the whole excess x k / x 0.5 32 (20) /
+    34 (23), its across part x (1 - k) 31 (23), that only at turns of 1 rad/s or more (three
+    runs) 30.0 (18.3). The still/moving ratio binds: beside its still main on the loops paths
+    the stalker moves 0.058 m/s (its designer 0.073), so a faster walk lowers the ratio (mean
+    0.215, the band from 0.199)."""
     n = main.shape[0]
     dm = np.zeros((n, 2))
     dr = np.zeros((n, 2))

@@ -94,7 +94,9 @@ def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: floa
     correction alone pulls it in. That step turned by the bearing between the live reactor
     and the moment (characters without a personal space, outside charges) meets both paths'
     contact (0.049 / 0.022) but bench/fidelity.py --seeds 0,1,2,3,4,5 falls 635 -> 628 of
-    720 (bully -5, friend -3, stalker +1; seed 7 110 -> 109): not used."""
+    720 (bully -5, friend -3, stalker +1; seed 7 110 -> 109): not used. The stalker's correction
+    along this path toward nearer targets as well (its loops orbit, demonstrated.own_steps): its
+    misses (the engine's) on seeds 0-5, 8-13, 26-31 26 (17) -> 37 (26). Not used."""
     cx, cy = share * (tx - rx), share * (ty - ry)
     ax, ay = rx - mx, ry - my
     bx, by = tx - mx, ty - my
