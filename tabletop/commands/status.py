@@ -96,10 +96,10 @@ def listener(address: tuple[str, int], on_heartbeat: Callable[..., None]) -> Any
     to ``on_heartbeat(client, address, *values)``, decoded by :mod:`tracking.osc_codec` as the
     ``osc`` source decodes: a malformed datagram raises its ``OscError`` to the server's
     ``handle_error`` (one line naming the sender). python-osc's own dispatch is not used: it
-    slept until a bundle's timetag (a stray bundle tagged 2036 held the command past
-    ``--seconds`` for good), read at most 8192 bytes of a datagram (a 12 kB status, a table
-    with many sources' messages, was no heartbeat at all) and told what it skipped through the
-    root logger ("WARNING:root:Unhandled parameter type"), naming no sender."""
+    sleeps until a bundle's timetag (a stray bundle tagged 2036 would hold the command past
+    ``--seconds`` for good), reads at most 8192 bytes of a datagram (a 12 kB status, a table
+    with many sources' messages, would be no heartbeat at all) and tells what it skips through
+    the root logger ("WARNING:root:Unhandled parameter type"), naming no sender."""
     from pythonosc.dispatcher import Dispatcher
     from pythonosc.osc_server import BlockingOSCUDPServer
 
