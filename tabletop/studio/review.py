@@ -175,7 +175,10 @@ def read_session(path: Path) -> list[dict]:
     out = []
     for i, line in enumerate(lines, 1):
         try:
-            d = json.loads(line)
+            try:
+                d = json.loads(line)
+            except RecursionError:   # "[[[[...": json's recursion, an internal error else
+                raise ValueError("JSON nested too deep") from None
             _check_try(d)
         except ValueError as exc:
             if i == len(lines) and not text.endswith("\n"):   # written only in part
