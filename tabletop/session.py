@@ -172,10 +172,16 @@ def with_reloaded(frame: Frame, reloaded: Any) -> Frame:
     """A part's first ``frame`` playing its header's ``reloaded`` (:func:`carried`) before its
     own reloads: a later part replayed on its own starts with the behaviours, actions and
     library files the live run had reloaded by then (its header's files are the session's
-    start's). A ``reloaded`` that is not a mapping is refused as a frame's ``consumed``."""
+    start's). A ``reloaded`` that is not one is refused, ValueError naming its key (said as
+    the header's, not as the frame's ``consumed.reload`` it is read as)."""
     if not reloaded:
         return frame
-    state = _consumed_from_dict({"reload": reloaded})["reload"]
+    if not isinstance(reloaded, dict):
+        raise ValueError(f"expected a mapping of {', '.join(RELOADS)}")
+    try:
+        state = _consumed_from_dict({"reload": reloaded})["reload"]
+    except ValueError as exc:
+        raise ValueError(str(exc).removeprefix("consumed.reload.")) from None
     state = {k: v for k, v in state.items() if k in RELOADS}
     merged = carried(state, frame.consumed.get("reload"))
     return dataclasses.replace(frame, consumed={**frame.consumed, "reload": merged})

@@ -118,6 +118,23 @@ def test_replay_of_a_session_without_a_frame_is_one_line_and_writes_nothing(tmp_
             else "no complete frame after the header line") in err[0]
 
 
+@pytest.mark.parametrize("reloaded, words", [
+    (5, "line 1: reloaded: expected a mapping of behaviors, notes, actions, libraries"),
+    ({"behaviors": {"lover": 5}}, "line 1: reloaded: behaviors: expected a mapping of engines"),
+])
+def test_a_part_header_s_bad_reloaded_is_named_as_the_header_s(tmp_path, capfd, reloaded,
+                                                               words):
+    # (it was said as the frame's "consumed: expected a mapping of filters to {pucks,
+    # commands}", a key the header does not have)
+    from tabletop.cli import main as tabletop
+    path = record(tmp_path, seconds=0.2)
+    head, rest = path.read_text().split("\n", 1)
+    path.write_text(json.dumps({**json.loads(head), "reloaded": reloaded}) + "\n" + rest)
+    assert tabletop(["replay", str(path), "--fast", "--no-view"]) == 2
+    err = [ln for ln in capfd.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and f"{path}: {words}" in err[0] and "consumed" not in err[0], err
+
+
 def test_not_a_session(tmp_path):
     p = tmp_path / "x.jsonl"
     p.write_text(json.dumps({"format": "something-else"}) + "\n")
