@@ -34,14 +34,19 @@ def parse_address(text: str) -> tuple[str, int]:
 
 
 def check_heartbeat(values: tuple) -> str:
-    """What is wrong with a heartbeat's OSC arguments (name, uptime s, fps, unhealthy sources,
-    status JSON), or "" when they are what a table sends."""
+    """What is wrong with a heartbeat's OSC arguments (name, uptime s >= 0, fps >= 0,
+    unhealthy sources a whole number >= 0, status JSON), or "" when they are what a table
+    sends."""
     if len(values) != 5:
         return f"{len(values)} values, expected 5"
     name, uptime, fps, unhealthy, status = values
     for what, v in (("uptime", uptime), ("fps", fps), ("unhealthy sources", unhealthy)):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             return f"{what} {str(v)[:40]!r} is not a number"
+        if v < 0:
+            return f"{what} {v!r} is negative"
+    if not isinstance(unhealthy, int):   # a count (OSC int32): 0.5 was shown as "0 unhealthy"
+        return f"unhealthy sources {unhealthy!r} is not a whole number"
     if not isinstance(name, str) or not isinstance(status, str):
         return "name and status must be strings"
     return ""

@@ -92,13 +92,17 @@ def test_status_command_survives_bad_heartbeats(capsys):
     bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
     bad.send_message("/tabletop/heartbeat", ["t2", 1.0, 2.0, 0, 7])           # status a number
     bad.send_message("/tabletop/heartbeat", ["t3", 1.0, 2.0, 0])              # too few
+    bad.send_message("/tabletop/heartbeat", ["t4", 1.0, 2.0, 0.5, "{}"])      # half a source
+    bad.send_message("/tabletop/heartbeat", ["t5", -1.0, 2.0, 0, "{}"])       # uptime < 0
     hb = Heartbeat("127.0.0.1", port)
     hb.send("north\nfake", 3.0, 60.0, 0, "[1, 2]")  # JSON that is no status: shown as "?"
     hb.close()
     th.join()
     cap = capsys.readouterr()
     assert out["rc"] == 0 and "Traceback" not in cap.err
-    assert len(cap.err.splitlines()) == 3 and cap.err.count("bad heartbeat") == 3
+    assert len(cap.err.splitlines()) == 5 and cap.err.count("bad heartbeat") == 5, cap.err
+    assert "(unhealthy sources 0.5 is not a whole number)" in cap.err
+    assert "(uptime -1.0 is negative)" in cap.err
     lines = cap.out.splitlines()
     assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
 
