@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 from errno import EDQUOT, EFBIG, EIO, ENOSPC, EPIPE
 import math
 import os
@@ -47,6 +48,16 @@ def line_of(data: bytes, offset: int) -> int:
     newlines end them: CR LF, LF, or CR alone (a file saved with classic Mac line ends)."""
     crlf = data.count(b"\r\n", 0, offset)
     return data.count(b"\n", 0, offset) + data.count(b"\r", 0, offset) - crlf + 1
+
+
+def json_loads(text: str) -> Any:
+    """``json.loads``, a document nested too deep for Python's recursion (``[[[[...``, a
+    RecursionError, an internal error else) raised as the ``json.JSONDecodeError`` its readers
+    already turn into one line naming the file."""
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise json.JSONDecodeError("nested too deep", text, 0) from None
 
 
 def read_text(path: Path, encoding: str = "utf-8") -> str:

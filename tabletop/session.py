@@ -42,7 +42,7 @@ import json
 import logging
 import math
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator, TypeVar
 
 import numpy as np
 
@@ -58,6 +58,7 @@ RELOADS = ("behaviors", "notes", "actions", "libraries")
 """What a frame's ``consumed["reload"]`` may hold (see the module docstring)."""
 MAX_T = 1e8   # seconds (three years): a larger recorded time is damage, not a session
 MAX_SPEED = 1e6   # m/s or rad/s: no puck or finger crosses a 1000 m table in a millisecond
+T = TypeVar("T")
 
 
 class SessionError(InputError):
@@ -68,8 +69,9 @@ def _num(v: float) -> float | None:
     return None if v is None or not math.isfinite(v) else float(v)
 
 
-def _unnum(v: Any) -> float:
-    return math.nan if v is None else float(v)
+def _unnum(v: Any, what: str = "value") -> float:
+    """A recorded optional number (null: NaN) as a float; ValueError naming ``what``."""
+    return math.nan if v is None else _finite(v, what)
 
 
 def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
@@ -100,8 +102,8 @@ def _puck_from_dict(p: dict[str, Any]) -> Puck:
     return Puck(_whole(p["id"], "puck id"), _position(p["x"], "x"), _position(p["y"], "y"),
                 _finite(p["angle"], "angle"), _speed(p.get("vx", 0.0), "vx"),
                 _speed(p.get("vy", 0.0), "vy"), _speed(p.get("omega", 0.0), "omega"),
-                str(p.get("state", "seen")), _unnum(p.get("raw_x")),
-                _unnum(p.get("raw_y")), _unnum(p.get("raw_angle")))
+                str(p.get("state", "seen")), _unnum(p.get("raw_x"), "raw_x"),
+                _unnum(p.get("raw_y"), "raw_y"), _unnum(p.get("raw_angle"), "raw_angle"))
 
 
 def _commands(value: Any, what: str) -> tuple[str, ...]:
@@ -117,7 +119,7 @@ def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
         raise ValueError("consumed: expected a mapping of filters to {pucks, commands}")
     out: dict[str, dict[str, Any]] = {}
     for k, v in value.items():
-        out[str(k)] = {"pucks": tuple(_puck_from_dict(p) for p in v.get("pucks", [])),
+        out[str(k)] = {"pucks": _each(v.get("pucks", []), f"consumed.{k}.pucks", _puck_from_dict),
                        "commands": _commands(v.get("commands", []), f"consumed.{k}.commands")}
         if "behaviors" in v:      # a hot reload: {engine: what it trained from}
             if not isinstance(v["behaviors"], dict) or not all(
@@ -197,10 +199,16 @@ def with_reloaded(frame: Frame, reloaded: Any) -> Frame:
     """A part's first ``frame`` playing its header's ``reloaded`` (:func:`carried`) before its
     own reloads: a later part replayed on its own starts with the behaviours, actions and
     library files the live run had reloaded by then (its header's files are the session's
-    start's). A ``reloaded`` that is not a mapping is refused as a frame's ``consumed``."""
+    start's). A ``reloaded`` that is not one is refused, ValueError naming its key (said as
+    the header's, not as the frame's ``consumed.reload`` it is read as)."""
     if not reloaded:
         return frame
-    state = _consumed_from_dict({"reload": reloaded})["reload"]
+    if not isinstance(reloaded, dict):
+        raise ValueError(f"expected a mapping of {', '.join(RELOADS)}")
+    try:
+        state = _consumed_from_dict({"reload": reloaded})["reload"]
+    except ValueError as exc:
+        raise ValueError(str(exc).removeprefix("consumed.reload.")) from None
     state = {k: v for k, v in state.items() if k in RELOADS}
     merged = carried(state, frame.consumed.get("reload"))
     return dataclasses.replace(frame, consumed={**frame.consumed, "reload": merged})
@@ -264,27 +272,65 @@ def _whole(v: Any, what: str) -> int:
     return v
 
 
+def _each(items: Any, what: str, parse: Callable[[dict[str, Any]], T]) -> tuple[T, ...]:
+    """``parse`` of every object of the frame's list ``what`` (``pucks``, ``touches``, ...);
+    ValueError naming ``what`` when it is no list of objects or an object lacks a key (a
+    recording damaged by hand or by another program: said in its terms, not Python's)."""
+    if not isinstance(items, list) or not all(isinstance(x, dict) for x in items):
+        raise ValueError(f"{what}: expected a list of objects")
+    out = []
+    for i, item in enumerate(items):
+        try:
+            out.append(parse(item))
+        except KeyError as exc:
+            raise ValueError(f"{what}[{i}]: missing {exc}") from None
+    return tuple(out)
+
+
+def _touch_from_dict(c: dict[str, Any]) -> Touch:
+    return Touch(_whole(c["id"], "touch id"), _position(c["x"], "x"), _position(c["y"], "y"),
+                 _speed(c.get("vx", 0.0), "vx"), _speed(c.get("vy", 0.0), "vy"))
+
+
+def _numbers(v: Any, what: str, check: Callable[[Any, str], Any], depth: int = 1) -> Any:
+    """A recorded list (``depth`` 1) or list of lists (2) whose every item passes ``check``
+    (:func:`_finite`, :func:`_whole`), as it was recorded; ValueError naming ``what``."""
+    if not isinstance(v, list):
+        raise ValueError(f"{what}: expected a list" + (" of lists" if depth > 1 else "")
+                         + " of numbers")
+    for x in v:
+        _numbers(x, what, check, depth - 1) if depth > 1 else check(x, what)
+    return v
+
+
+def _character_from_dict(c: dict[str, Any]) -> CharacterState:
+    points = c.get("points")
+    if points is not None:
+        if any(len(xy) != 2 for xy in _numbers(points, "character points", _finite, 2)):
+            raise ValueError("character points: expected a list of [x, y]")
+        points = np.asarray(points, float).reshape(-1, 2)
+    return CharacterState(
+        str(c["name"]), _finite(c["x"], "x"), _finite(c["y"], "y"),
+        _finite(c["heading"], "heading"), kind=str(c.get("kind", "reactor")),
+        size=_finite(c.get("size", 0.08), "size"),
+        color=tuple(_numbers(c.get("color", [240, 170, 60]), "character color", _finite)),
+        points=points,
+        bones=tuple(map(tuple, _numbers(c.get("bones", []), "character bones", _whole, 2))),
+        progress=None if "progress" not in c else _unnum(c["progress"], "progress"),
+        action=c.get("action"), valid=bool(c.get("valid", True)), label=str(c.get("label", "")))
+
+
 def frame_from_dict(d: dict[str, Any]) -> Frame:
     """Inverse of :func:`frame_to_dict` (times stay relative to the recording's start)."""
     if not isinstance(d, dict):
         raise TypeError("expected a JSON object")
-    pucks = tuple(_puck_from_dict(p) for p in d.get("pucks", []))
-    touches = tuple(Touch(_whole(c["id"], "touch id"), _position(c["x"], "x"),
-                          _position(c["y"], "y"), _speed(c.get("vx", 0.0), "vx"),
-                          _speed(c.get("vy", 0.0), "vy"))
-                    for c in d.get("touches", []))
-    streams = {str(k): _vector(v, f"streams.{k}") for k, v in dict(d.get("streams", {})).items()}
-    characters = tuple(
-        CharacterState(str(c["name"]), _finite(c["x"], "x"), _finite(c["y"], "y"),
-                       _finite(c["heading"], "heading"), kind=c.get("kind", "reactor"),
-                       size=_finite(c.get("size", 0.08), "size"),
-                       color=tuple(c.get("color", (240, 170, 60))),
-                       points=None if c.get("points") is None else np.asarray(c["points"], float),
-                       bones=tuple(tuple(b) for b in c.get("bones", ())),
-                       progress=None if "progress" not in c else _unnum(c["progress"]),
-                       action=c.get("action"), valid=bool(c.get("valid", True)),
-                       label=c.get("label", ""))
-        for c in d.get("characters", []))
+    pucks = _each(d.get("pucks", []), "pucks", _puck_from_dict)
+    touches = _each(d.get("touches", []), "touches", _touch_from_dict)
+    streams = d.get("streams", {})
+    if not isinstance(streams, dict):
+        raise ValueError("streams: expected a mapping of names to lists of numbers")
+    streams = {str(k): _vector(v, f"streams.{k}") for k, v in streams.items()}
+    characters = _each(d.get("characters", []), "characters", _character_from_dict)
     commands = _commands(d.get("commands", ()), "commands")
     consumed = _consumed_from_dict(d["consumed"]) if "consumed" in d else {}
     focus = d.get("focus")

@@ -25,6 +25,7 @@ from typing import Iterable, Mapping
 import numpy as np
 
 from behaviors.motion.clips import Channel, Clip, ClipError
+from tabletop.files import json_loads
 
 # (channel name, kind) in frame order after the duration; "pos" is 3 scalars.
 HUMANOID_LAYOUT: tuple[tuple[str, str], ...] = (
@@ -121,7 +122,7 @@ def load_motion(path_or_name: str | Path) -> Clip:
     except (OSError, UnicodeDecodeError) as exc:
         raise ClipError(f"{p}: cannot read DeepMimic clip: {exc}") from None
     try:
-        data = json.loads(text)
+        data = json_loads(text)
     except json.JSONDecodeError as exc:
         raise ClipError(f"{p}: not valid JSON at line {exc.lineno}: {exc.msg}") from None
     name = p.stem.removeprefix("humanoid3d_")

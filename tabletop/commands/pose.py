@@ -76,6 +76,12 @@ def parse_view(text: str) -> tuple[float, float]:
     return az, el
 
 
+#: The largest finger id: every whole number up to it is read from the CSV exactly (its
+#: numbers are read as floats); 99999999999999999999 was read as 1e20, named so in
+#: ``touches``, and a second finger beside it was the same finger "given twice".
+MAX_ID = 2**53 - 1
+
+
 def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]]:
     """Input frames [(t, {id: (x, y)})] from TOUCHES.csv; one clear error for bad rows."""
     from tabletop.files import check_positions, read_csv_lines
@@ -89,10 +95,10 @@ def read_touches(path: str) -> list[tuple[float, dict[int, tuple[float, float]]]
         i = int(back[0]) + 1
         raise PoseArgumentError(f"{path}: line {lines[i]}: time {t[i]:g} s goes back from "
                                 f"{t[i - 1]:g} s (line {lines[i - 1]}; times must not decrease)")
-    bad = np.flatnonzero((ids != np.round(ids)) | (ids < 0))
+    bad = np.flatnonzero((ids != np.round(ids)) | (ids < 0) | (ids > MAX_ID))
     if bad.size:
         raise PoseArgumentError(f"{path}: line {lines[bad[0]]}: id {ids[bad[0]]:g} must be "
-                                "a whole number >= 0")
+                                f"a whole number from 0 to {MAX_ID}")
     frames: list[tuple[float, dict[int, tuple[float, float]]]] = []
     for row, line in zip(data, lines):
         tt, fid = float(row[col["t"]]), int(row[col["id"]])

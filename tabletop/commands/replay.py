@@ -18,7 +18,7 @@ import os
 from pathlib import Path
 from typing import Iterator
 
-from tabletop.cli import EXIT_INTERRUPTED, EXIT_RECORDING_FAILED
+from tabletop.cli import EXIT_INTERRUPTED, EXIT_RECORDING_FAILED, one_line
 from tabletop.commands import output_file
 from tabletop.frames import Frame, InputError
 
@@ -98,11 +98,20 @@ def main(args: argparse.Namespace) -> int:
     first = args.session[0]
     header = read_header(first)
     part = header.get("part", 1)
-    for later in args.session[1:]:  # every part is a recording, in order, before anything starts
-        n = read_header(later).get("part", 0)
+    for later in args.session[1:]:  # every part is a recording of the session, in order,
+        # before anything starts (a part of another session of the same config, a kiosk's
+        # next session, was played on as if the session went on, its --out written with both)
+        later_header = read_header(later)
+        n = later_header.get("part", 0)
         if not isinstance(n, int) or not isinstance(part, int) or n <= part:
             raise SessionError(f"{later}: line 1: part {n!r} cannot follow part {part!r}; give "
                                "the parts of a session in their order")
+        session = later_header.get("session")
+        if session is not None and header.get("session") is not None \
+                and session != header["session"]:
+            raise SessionError(f"{later}: line 1: a part of session {one_line(session)[:40]}, "
+                               f"not of {first}'s session {one_line(header['session'])[:40]}; "
+                               "give the parts of one session")
         part = n
     with tempfile.TemporaryDirectory(prefix="tabletop-replay-") as tmp:
         files = header.get("files")

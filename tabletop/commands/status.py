@@ -7,7 +7,7 @@ import json
 import math
 import sys
 import time
-from typing import Any
+from typing import Any, Callable
 
 from tabletop.cli import one_line
 
@@ -34,14 +34,19 @@ def parse_address(text: str) -> tuple[str, int]:
 
 
 def check_heartbeat(values: tuple) -> str:
-    """What is wrong with a heartbeat's OSC arguments (name, uptime s, fps, unhealthy sources,
-    status JSON), or "" when they are what a table sends."""
+    """What is wrong with a heartbeat's OSC arguments (name, uptime s >= 0, fps >= 0,
+    unhealthy sources a whole number >= 0, status JSON), or "" when they are what a table
+    sends."""
     if len(values) != 5:
         return f"{len(values)} values, expected 5"
     name, uptime, fps, unhealthy, status = values
     for what, v in (("uptime", uptime), ("fps", fps), ("unhealthy sources", unhealthy)):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             return f"{what} {str(v)[:40]!r} is not a number"
+        if v < 0:
+            return f"{what} {v!r} is negative"
+    if not isinstance(unhealthy, int):   # a count (OSC int32): 0.5 was shown as "0 unhealthy"
+        return f"unhealthy sources {unhealthy!r} is not a whole number"
     if not isinstance(name, str) or not isinstance(status, str):
         return "name and status must be strings"
     return ""
@@ -91,6 +96,35 @@ def waited(seconds: float) -> str:
     return f"{tenths:.1f}" if tenths < 10 else f"{seconds:.0f}"
 
 
+def listener(address: tuple[str, int], on_heartbeat: Callable[..., None]) -> Any:
+    """A UDP server on ``address`` handing each ``/tabletop/heartbeat`` message of a datagram
+    to ``on_heartbeat(client, address, *values)``, decoded by :mod:`tracking.osc_codec` as the
+    ``osc`` source decodes: a malformed datagram raises its ``OscError`` to the server's
+    ``handle_error`` (one line naming the sender). python-osc's own dispatch is not used: it
+    sleeps until a bundle's timetag (a stray bundle tagged 2036 would hold the command past
+    ``--seconds`` for good), reads at most 8192 bytes of a datagram (a 12 kB status, a table
+    with many sources' messages, would be no heartbeat at all) and tells what it skips through
+    the root logger ("WARNING:root:Unhandled parameter type"), naming no sender."""
+    from pythonosc.dispatcher import Dispatcher
+    from pythonosc.osc_server import BlockingOSCUDPServer
+
+    from tabletop.kiosk.health import HEARTBEAT_ADDRESS
+    from tracking.osc_codec import decode_packet
+
+    class Listener(BlockingOSCUDPServer):
+        max_packet_size = 65536   # a UDP datagram's largest payload, whole
+
+        def verify_request(self, request: Any, client_address: Any) -> bool:
+            return True   # (decode_packet names what is wrong with any datagram)
+
+        def finish_request(self, request: Any, client_address: Any) -> None:
+            for where, values in decode_packet(request[0]).messages:
+                if where == HEARTBEAT_ADDRESS:
+                    on_heartbeat(client_address, where, *values)
+
+    return Listener(address, Dispatcher())
+
+
 #: exit status when no table's heartbeat came (a monitoring script's ``status ... || alert``)
 EXIT_NO_TABLE = 1
 
@@ -100,14 +134,11 @@ def main(args: argparse.Namespace) -> int:
     came, EXIT_NO_TABLE when none did (only silence or bad heartbeats)."""
     import threading
 
-    from pythonosc.dispatcher import Dispatcher
-    from pythonosc.osc_server import BlockingOSCUDPServer
-
     from tabletop.commands import number_in_range
     from tabletop.commands.run import MAX_SECONDS
     from tabletop.frames import InputError
-    from tabletop.kiosk.health import HEARTBEAT_ADDRESS
     from tabletop.resolve import shown_host_port
+    from tracking.osc_codec import OscError
     from tracking.osc_input import plain_address
 
     def sender(client: Any) -> str:
@@ -138,10 +169,8 @@ def main(args: argparse.Namespace) -> int:
             print(format_heartbeat(sender(client), str(name), float(uptime),
                                    float(fps), int(unhealthy), str(status)), flush=True)
 
-    d = Dispatcher()
-    d.map(HEARTBEAT_ADDRESS, on_heartbeat, needs_reply_address=True)
     try:
-        server = BlockingOSCUDPServer((host, port), d)
+        server = listener((host, port), on_heartbeat)
     except OSError as exc:
         raise InputError(f"cannot listen on {shown_host_port(host, port)}: "
                          f"{exc.strerror or exc}") from None
@@ -150,14 +179,16 @@ def main(args: argparse.Namespace) -> int:
         """In place of socketserver's own, which prints a handler's exception with its
         traceback and serves on (a reader gone, ``status ... | head -1``, would give one
         traceback a heartbeat, for good): a closed output leaves serve_forever (the CLI's
-        quiet 141); a packet the OSC decoder
-        refuses (a stray sender's: python-osc raises UnicodeDecodeError on a non-UTF-8 string)
-        is one line, and the heartbeats go on being shown."""
+        quiet 141); a packet the OSC decoder refuses (a stray sender's: a string that is no
+        UTF-8, an argument cut short, no OSC at all) is one line, and the heartbeats go on
+        being shown."""
         exc = sys.exc_info()[1]
         if isinstance(exc, BrokenPipeError):
             raise exc
-        print(f"tabletop status: a packet from {sender(client)} refused: "
-              f"{type(exc).__name__}: {one_line(exc)}", file=sys.stderr, flush=True)
+        what = one_line(exc) if isinstance(exc, OscError) else \
+            f"{type(exc).__name__}: {one_line(exc)}"
+        print(f"tabletop status: a packet from {sender(client)} refused: {what}",
+              file=sys.stderr, flush=True)
 
     server.handle_error = handle_error  # type: ignore[method-assign]
     timer = None

@@ -52,7 +52,7 @@ from tabletop.plugins.mop_files import (WINDOW_RANGE, ActionsFile, MopError, Mot
                                         configured_action, configured_actions, library_actions,
                                         library_names, load_template, resolve_motion,
                                         save_to_library)
-from tabletop.files import FileFormatError
+from tabletop.files import FileFormatError, json_loads
 from tabletop.kiosk.watch import tree_signature
 from tabletop.registry import BuildContext
 from tabletop.schema import (Bool, Context, FilePath, ListOf, Number, Optional_, Range, Record,
@@ -299,7 +299,7 @@ def _make_rig(c: dict):
     if c["kind"] == "sprite":
         from behaviors.mop.puppetry import sprite_sheet_from_mapping
         try:
-            data = json.loads(Path(c["sheet"]).read_text(encoding="utf-8"))
+            data = json_loads(Path(c["sheet"]).read_text(encoding="utf-8"))
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
             raise MopError(f"{c['sheet']}: cannot read sprite sheet: {exc}") from None
         return sprite_sheet_from_mapping(data, str(c["sheet"]))

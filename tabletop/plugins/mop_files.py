@@ -15,7 +15,7 @@ from behaviors.mop.puppetry import Action
 from tabletop.files import (FileFormatError, atomic_write_text, check_increasing, check_positions,
                             read_csv_lines, write_csv)
 from tabletop.frames import MAX_FEATURE, InputError
-from tabletop.files import NameTaken
+from tabletop.files import NameTaken, json_loads
 from tabletop.swap import exclusive
 
 log = logging.getLogger("tabletop")
@@ -73,7 +73,7 @@ class MotionLoader:
                 clip = load_motion(what)
             else:
                 try:
-                    data = json.loads(Path(what).read_text(encoding="utf-8"))
+                    data = json_loads(Path(what).read_text(encoding="utf-8"))
                 except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
                     raise MopError(f"{what}: cannot read clip: {exc}") from None
                 clip = clip_from_mapping(data, str(what))

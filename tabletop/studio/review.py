@@ -9,13 +9,12 @@ side and the front beside its distance from the start over time. Units: metres, 
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 
-from tabletop.files import atomic_writer
+from tabletop.files import atomic_writer, json_loads
 from tabletop.frames import InputError
 
 
@@ -175,7 +174,7 @@ def read_session(path: Path) -> list[dict]:
     out = []
     for i, line in enumerate(lines, 1):
         try:
-            d = json.loads(line)
+            d = json_loads(line)
             _check_try(d)
         except ValueError as exc:
             if i == len(lines) and not text.endswith("\n"):   # written only in part

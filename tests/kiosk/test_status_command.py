@@ -92,13 +92,17 @@ def test_status_command_survives_bad_heartbeats(capsys):
     bad.send_message("/tabletop/heartbeat", ["t1", "abc", 1.0, 0, "{}"])      # uptime a word
     bad.send_message("/tabletop/heartbeat", ["t2", 1.0, 2.0, 0, 7])           # status a number
     bad.send_message("/tabletop/heartbeat", ["t3", 1.0, 2.0, 0])              # too few
+    bad.send_message("/tabletop/heartbeat", ["t4", 1.0, 2.0, 0.5, "{}"])      # half a source
+    bad.send_message("/tabletop/heartbeat", ["t5", -1.0, 2.0, 0, "{}"])       # uptime < 0
     hb = Heartbeat("127.0.0.1", port)
     hb.send("north\nfake", 3.0, 60.0, 0, "[1, 2]")  # JSON that is no status: shown as "?"
     hb.close()
     th.join()
     cap = capsys.readouterr()
     assert out["rc"] == 0 and "Traceback" not in cap.err
-    assert len(cap.err.splitlines()) == 3 and cap.err.count("bad heartbeat") == 3
+    assert len(cap.err.splitlines()) == 5 and cap.err.count("bad heartbeat") == 5, cap.err
+    assert "(unhealthy sources 0.5 is not a whole number)" in cap.err
+    assert "(uptime -1.0 is negative)" in cap.err
     lines = cap.out.splitlines()
     assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
 
@@ -262,3 +266,44 @@ def test_a_packet_the_osc_decoder_refuses_is_one_line_and_status_goes_on(capsys)
     assert out["rc"] == 0 and "Traceback" not in cap.err, cap.err
     assert len(cap.err.splitlines()) == 1 and "refused" in cap.err and "127.0.0.1" in cap.err
     assert len(cap.out.splitlines()) == 1 and cap.out.startswith("north")
+
+
+def test_a_heartbeat_of_any_size_and_timetag_is_shown_and_status_ends_on_time():
+    """Datagrams of tables and of stray senders, as they come: a table's heartbeat of 12 kB
+    (many sources with their messages) is shown, as is one in a bundle tagged for 2036 (it
+    was held until then, and ``--seconds`` never ended the command); a stray datagram with a
+    type tag OSC does not have is one line naming its sender (it was a "WARNING:root:" line
+    naming nobody), and so is a datagram that is no OSC at all (it was dropped unsaid)."""
+    import subprocess
+    import sys
+
+    from tracking.osc_codec import encode_bundle, encode_message
+    port = free_udp_port()
+    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
+                             "--seconds", "3"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        assert wait_for(lambda: port_taken(port), 60.0)
+        big = json.dumps({"mode": "live", "sources": [{"name": f"s{i}", "message": "m" * 200}
+                                                      for i in range(50)]})
+        hb = Heartbeat("127.0.0.1", port)
+        hb.send("big", 1.0, 60.0, 50, big)
+        hb.close()
+        later = encode_message("/tabletop/heartbeat", ["later", 2.0, 60.0, 0, '{"mode": "x"}'])
+        stray = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        stray.sendto(encode_bundle([later], timetag=0xFFFFFFF0 << 32), ("127.0.0.1", port))
+        odd = encode_message("/tabletop/heartbeat", ["odd"]).replace(b",s\0\0", b",Z\0\0")
+        stray.sendto(odd, ("127.0.0.1", port))
+        stray.sendto(b"\xff" * 40, ("127.0.0.1", port))
+        stray.close()
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait(10)
+    assert len(big) > 8192 and proc.returncode == 0, err
+    assert [line.split()[0] for line in out.splitlines()] == ["big", "later"], out
+    lines = err.splitlines()
+    assert len(lines) == 2 and all(line.startswith("tabletop status: a packet from 127.0.0.1:")
+                                   for line in lines), err
+    assert "unknown type tag 'Z'" in lines[0] and "WARNING" not in err

@@ -147,6 +147,7 @@ def test_review_refuses_a_bad_session_log_in_one_line(tmp_path, capsys):
     ('{"target": "pet", "training_s": -1}', "training_s is '-1', expected a number"),
     ('{"target": ["pet"]}', "target is \"['pet']\", expected a string"),
     ("not json", "not a session log line"),
+    ("[" * 100_000, "not a session log line (nested too deep"),
 ])
 def test_review_names_a_bad_field_of_a_complete_last_line(tmp_path, capsys, line, words):
     # (a wrong field was an internal error; a complete last line that is wrong was skipped as

@@ -118,6 +118,23 @@ def test_replay_of_a_session_without_a_frame_is_one_line_and_writes_nothing(tmp_
             else "no complete frame after the header line") in err[0]
 
 
+@pytest.mark.parametrize("reloaded, words", [
+    (5, "line 1: reloaded: expected a mapping of behaviors, notes, actions, libraries"),
+    ({"behaviors": {"lover": 5}}, "line 1: reloaded: behaviors: expected a mapping of engines"),
+])
+def test_a_part_header_s_bad_reloaded_is_named_as_the_header_s(tmp_path, capfd, reloaded,
+                                                               words):
+    # (it was said as the frame's "consumed: expected a mapping of filters to {pucks,
+    # commands}", a key the header does not have)
+    from tabletop.cli import main as tabletop
+    path = record(tmp_path, seconds=0.2)
+    head, rest = path.read_text().split("\n", 1)
+    path.write_text(json.dumps({**json.loads(head), "reloaded": reloaded}) + "\n" + rest)
+    assert tabletop(["replay", str(path), "--fast", "--no-view"]) == 2
+    err = [ln for ln in capfd.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and f"{path}: {words}" in err[0] and "consumed" not in err[0], err
+
+
 def test_not_a_session(tmp_path):
     p = tmp_path / "x.jsonl"
     p.write_text(json.dumps({"format": "something-else"}) + "\n")
@@ -234,6 +251,26 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path,
      ["line 3", "(x is 1e+300 m, beyond 1000 m of the table)"]),
     (b'{"seq": 1, "t": 0.1, "touches": [{"id": 1, "x": 0, "y": 0, "vy": -1e300}]}\n',
      ["line 3", "(vy is -1e+300 per second, beyond 1e+06)"]),
+    # lists and objects of the wrong kind (a recording edited by hand or by another program)
+    # are said in the recording's terms, not Python's ("'NoneType' object is not iterable")
+    (b'{"seq": 1, "t": 0.1, "pucks": null}\n', ["line 3", "(pucks: expected a list of objects)"]),
+    (b'{"seq": 1, "t": 0.1, "pucks": [{"x": 0, "y": 0, "angle": 0}]}\n',
+     ["line 3", "(pucks[0]: missing 'id')"]),
+    (b'{"seq": 1, "t": 0.1, "touches": [5]}\n', ["(touches: expected a list of objects)"]),
+    (b'{"seq": 1, "t": 0.1, "streams": [1, 2]}\n',
+     ["(streams: expected a mapping of names to lists of numbers)"]),
+    (b'{"seq": 1, "t": 0.1, "characters": ["lover"]}\n',
+     ["(characters: expected a list of objects)"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"x": 0, "y": 0, "heading": 0}]}\n',
+     ["(characters[0]: missing 'name')"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
+     b'"color": 5}]}\n', ["(character color: expected a list of numbers)"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
+     b'"points": [[1], [1, 2]]}]}\n', ["(character points: expected a list of [x, y])"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
+     b'"progress": "q"}]}\n', ["(progress is 'q', expected a finite number)"]),
+    (b'{"seq": 1, "t": 0.1, "consumed": {"studio": {"pucks": 3}}}\n',
+     ["(consumed.studio.pucks: expected a list of objects)"]),
 ])
 def test_damaged_frame_lines_are_named(tmp_path, line, words):
     p = tmp_path / "s.jsonl"

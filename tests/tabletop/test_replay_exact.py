@@ -205,16 +205,21 @@ def test_a_designer_session_replays_exactly(tmp_path):
     assert sum(not same(fa, fc) for fa, fc in zip(a, c)) > 100
 
 
-def test_the_parts_of_a_rotated_session_replay_exactly_in_order(tmp_path):
+def rotated_config(tmp_path: Path):
+    """A scripted table with one reactor, recording into ``s/`` in parts of 0.17 MB (the
+    header alone is 150 kB: a new part every few dozen frames)."""
     from tabletop.config import validate_config
-
-    cfg = validate_config({
+    return validate_config({
         "sources": [{"kind": "scripted", "pucks": [1, 2], "seed": 3}],
         "engines": [{"kind": "puppet_master", "name": "lover",
                      "behavior": str(ROOT / "behaviors" / "library" / "lover")}],
         "view": {"enabled": False},
-        "recorder": {"enabled": True, "folder": "s", "max_mb": 0.17}},  # header: 150 kB
+        "recorder": {"enabled": True, "folder": "s", "max_mb": 0.17}},
         str(tmp_path / "k.yaml"), tmp_path)
+
+
+def test_the_parts_of_a_rotated_session_replay_exactly_in_order(tmp_path):
+    cfg = rotated_config(tmp_path)
     inst = build_live(cfg)
     inst.loop.run(max_ticks=150)
     parts = inst.recorder.paths
@@ -234,6 +239,32 @@ def test_the_parts_of_a_rotated_session_replay_exactly_in_order(tmp_path):
                        capture_output=True, text=True, env=env, cwd=tmp_path, timeout=180)
     assert r.returncode == 2 and "part 1 cannot follow part 2" in r.stderr
     assert str(parts[0]) in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_a_part_of_another_session_is_refused_before_anything_plays(tmp_path):
+    """Two sessions of one config in one folder (a kiosk's, before and after a restart), each
+    in parts: the first session's part 1 followed by the second's part 2 is refused in one line
+    naming both sessions, before a frame is written to --out (it was replayed on as if the
+    first session went on: same config, later times)."""
+    cfg = rotated_config(tmp_path)
+    sessions = []
+    for _ in range(2):
+        inst = build_live(cfg)
+        inst.loop.run(max_ticks=80)
+        sessions.append(inst.recorder.paths)
+    assert all(len(parts) >= 2 for parts in sessions)
+    ids = [json.loads(parts[0].read_text().split("\n", 1)[0])["session"] for parts in sessions]
+    assert ids[0] != ids[1]
+    out = tmp_path / "mixed.jsonl"
+    r = subprocess.run([sys.executable, "-m", "tabletop", "replay", "--fast", "--no-view",
+                        "--out", str(out), str(sessions[0][0]), str(sessions[1][1])],
+                       capture_output=True, text=True, cwd=tmp_path, timeout=180,
+                       env=dict(os.environ, SDL_VIDEODRIVER="dummy"))
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip() == (
+        f"tabletop replay: error: {sessions[1][1]}: line 1: a part of session {ids[1]}, not of "
+        f"{sessions[0][0]}'s session {ids[0]}; give the parts of one session"), r.stderr
+    assert not out.exists()
 
 
 def test_a_touch_pose_designer_session_replays_exactly(tmp_path, models):

@@ -72,6 +72,11 @@ def test_a_recorded_session_is_replayed_causally_and_reproducibly(tmp_path):
     ("t,id,x,y\n0,1,0.5,0.4\n", ["--view", "front"], "--view"),
     ("t,id,x,y\n0,1,0.5,0.4\n", ["--view", "0,95"], "elevation"),
     ("t,id,x,y\n0,1.5,0.5,0.4\n", [], "whole number"),
+    # beyond 2**53 a float does not hold every whole number: 99999999999999999999 was read as 1e20
+    ("t,id,x,y\n0,99999999999999999999,0.5,0.4\n", [],
+     "line 2: id 1e+20 must be a whole number from 0 to 9007199254740991"),
+    ("t,id,x,y\n0,9007199254740993,0.5,0.4\n0,9007199254740992,0.6,0.4\n", [],
+     "line 2: id 9.0072e+15 must be a whole number from 0 to 9007199254740991"),
     ("t,id,x,y\n0,1,0.5,0.4\n", ["--rate", "-3"], "--rate"),
 ])
 def test_bad_inputs_give_one_clear_line(tmp_path, capsys, content, args, needle):
