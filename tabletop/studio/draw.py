@@ -240,26 +240,24 @@ class NamePrompt:
         return f"{said}: {self.text}_   (Esc cancels)"
 
     def draw(self, target: pygame.Surface, renderer: Any = None) -> None:
-        """The line being typed, centred at the window's edge on the table's far side (its
-        top on a plain table, where the status line is at the bottom), sized on the table
-        as the studio's other words are (:func:`text_scale` of ``renderer``; 32 px at 840
-        px/m) and upright on it (:func:`upright`); the reason a key was refused under it."""
+        """The line being typed, centred along the table's far edge just inside it (the status
+        line is along the near one; without ``renderer``, 24 px below the window's top),
+        sized on the table as the studio's other words are (:func:`text_scale` of
+        ``renderer``; 32 px at 840 px/m) and upright on it (:func:`upright`); the reason a key
+        was refused under it. On the edge, not the window's: a projector throwing beyond the
+        table (one turned a quarter round over a long table) lights the floor there."""
         if self.text is None:
             return
-        k, reading = 1.0, PLAIN
+        k, reading, edge = 1.0, PLAIN, (target.get_width() / 2, 24.0)
         if renderer is not None:
             k, reading = text_scale(renderer), renderer.map.reading()
-        W, H = target.get_size()
-        deep = reading.size((W, H))[1]
+            edge = renderer.map.point(renderer.table[0] / 2, renderer.table[1])
         px = max(MIN_MARK_PX, round(32 * k))
         img = reading.turn(font(px).render(self.line, True, (255, 255, 255), (0, 0, 0)))
-        y = px // 2 + 24                          # from the far edge to the line's middle
-        target.blit(img, reading.at(img.get_size(), reading.offset((W / 2, H / 2),
-                                                                   up=deep / 2 - y)))
+        target.blit(img, reading.at(img.get_size(), reading.offset(edge, up=-(px // 2))))
         if self.refused:
             small = max(MIN_MARK_PX, round(px * 0.6))
             why = reading.turn(font(small).render(self.refused, True, (255, 190, 80),
                                                   (0, 0, 0)))
-            y = px + 30 + small // 2
-            target.blit(why, reading.at(why.get_size(), reading.offset((W / 2, H / 2),
-                                                                       up=deep / 2 - y)))
+            target.blit(why, reading.at(why.get_size(),
+                                        reading.offset(edge, up=-(px + 6 + small // 2))))

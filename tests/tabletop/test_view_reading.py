@@ -193,3 +193,22 @@ def test_the_reading_of_a_calibration_is_its_turn(turn):
     c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
     tilted = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ PLAIN_H
     assert Renderer(TABLE, SIZE, homography=tilted).map.reading().plain
+
+
+def test_the_rename_line_stands_on_the_table_where_the_projector_throws_beyond_it():
+    """A projector turned a quarter round over the long table throws its 1280 px along the
+    table's 0.8 m (448 px): F2's line stood at the window's far edge, 416 px off the table, on
+    the floor. It stands along the table's far edge (window x 416), just inside it."""
+    from tabletop.studio.draw import NamePrompt
+    H = np.array([[0.0, -560.0, 864.0], [-560.0, 0.0, 696.0], [0.0, 0.0, 1.0]])
+    renderer = Renderer(TABLE, SIZE, margin=24, homography=H)
+    surface = pygame.Surface(SIZE)
+    renderer.draw(surface, Frame(seq=0, t=0.0))
+    before = pygame.surfarray.array3d(surface).copy()
+    prompt = NamePrompt()
+    prompt.text, prompt.refused = "shy", "a name begins with a letter or digit"
+    prompt.draw(surface, renderer)
+    changed = (pygame.surfarray.array3d(surface) != before).any(axis=2)    # [x, y]
+    cols, rows = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
+    assert cols.size and 416 <= cols.min() and cols.max() < 416 + 80, (cols.min(), cols.max())
+    assert 24 <= rows.min() and rows.max() <= 696, (rows.min(), rows.max())
