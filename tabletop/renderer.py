@@ -36,11 +36,6 @@ MOMENT_IN_S, MOMENT_OUT_S = 0.6, 0.4   # the "one moment" screen's fades
 LOOK_RANGE_M = 0.6       # a character without a stated target looks at the nearest puck this near
 HINT_ALPHA = 0.5         # opacity of a hinted pose (early feedback) at probability 1
 FINGER_RING, FINGER_PX = (235, 235, 235), 9   # a mouse finger's ring (pixels)
-# A played-back main take (the studio's sequential training) is the main's puck's ghost: a
-# neutral ring (GHOST_RGB at GHOST_ALPHA) with a notch along its heading, "main" beside it: a
-# faint copy of the character would put two of the reactor on the table, and the designer,
-# playing the reactor against it, would read it as a second reactor.
-GHOST_ALPHA, GHOST_RGB = 0.6, (220, 220, 220)
 MUST_WEIGHT = 100        # overlay panel: a pixel of the studio's words weighs 100 of a character's
 OVER_WORDS = 10 ** 9     # ... and a place over any of them loses to every place clear of them
 # The overlay panel is at most half the window wide (its long lines wrap; a small window's
@@ -171,7 +166,11 @@ class Renderer:
         step = dt / (MOMENT_IN_S if down else MOMENT_OUT_S)
         self.moment = min(1.0, max(0.0, self.moment + (step if down else -step)))
         if self.idle > 0:
-            screens.idle(target, t, self.idle, self._corners(), self.invitation)
+            w, h = self.table
+            screens.idle(target, t, self.idle, self._corners(), self.invitation,
+                         self.map.point(w / 2, 0.2 * h),
+                         int(0.045 * h * self.map.scale_at(w / 2, h / 2)) + 8,
+                         self.map.reading())
         drawn: list[pygame.Rect | None] = []
         # what the overlay panel keeps clear of: characters, pucks and the studio's marks and
         # words (its REC seconds and TRY keys were under the panel; the studio's dirty
@@ -200,7 +199,8 @@ class Renderer:
                      for f in frame.touches if f.id in mouse)
         if self.moment > 0:
             screens.one_moment(target, t, self.moment,
-                               self.map.point(self.table[0] / 2, self.table[1] / 2))
+                               self.map.point(self.table[0] / 2, self.table[1] / 2),
+                               self.map.reading())
         if overlay:
             drawn.append(self.draw_overlay(target, overlay, self._keep_clear,
                                            self._studio_marks))
@@ -305,24 +305,9 @@ class Renderer:
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
         if c.kind == "playback":   # the main take played back in the studio
-            return self._draw_playback(target, pose)
+            return characters.draw_playback(target, pose, self.puck_radius,
+                                            self.map.reading())
         return characters.draw_reactor(target, c, pose)
-
-    def _draw_playback(self, target: pygame.Surface, pose: Pose) -> pygame.Rect:
-        """The main's puck's ghost (:data:`GHOST_RGB`): a ring of radius 1.5 puck radii, a notch
-        along its heading and "main" beside it, read the right way round on the table."""
-        k = GHOST_ALPHA * pose.alpha
-        ink = tuple(int(v * k) for v in GHOST_RGB)
-        cx, cy = pose.center
-        r = max(6, round(1.5 * self.puck_radius * pose.ppm))
-        ring = pygame.draw.circle(target, ink, (cx, cy), r, width=3)
-        a = pose.angle
-        pygame.draw.line(target, ink, (cx + 0.6 * r * math.cos(a), cy + 0.6 * r * math.sin(a)),
-                         (cx + 1.3 * r * math.cos(a), cy + 1.3 * r * math.sin(a)), 3)
-        img = pygame.transform.flip(screens.font(max(14, r)).render("main", True, ink),
-                                    *self.map.text_flips())
-        word = target.blit(img, img.get_rect(midtop=(int(cx), int(cy + 1.4 * r))))
-        return ring.inflate(r, r).union(word)
 
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
                      xy: np.ndarray) -> pygame.Rect | None:
@@ -333,10 +318,11 @@ class Renderer:
         return draw(target, c, pose, xy, self.map.H)
 
     def _label(self, puck_id: int) -> pygame.Surface:
+        """A puck's id in its colour, upright on the table (:meth:`TableToScreen.reading`)."""
         img = self._labels.get(puck_id)
         if img is None:
-            img = self._labels[puck_id] = screens.font(22).render(str(puck_id), True,
-                                                                  puck_color(puck_id))
+            img = self._labels[puck_id] = self.map.reading().turn(
+                screens.font(22).render(str(puck_id), True, puck_color(puck_id)))
         return img
 
     def draw_character(self, target: pygame.Surface, c: CharacterState) -> None:
@@ -380,24 +366,32 @@ class Renderer:
         text stays readable over the studio's. Returns the panel's rectangle. ``avoid`` and
         ``must`` default to what the last :meth:`draw` drew (a snapshot's panel over the view
         drawn without one was always top-left, over a character or puck there). ``keep``
-        False: the lines' renders are not remembered (:func:`screens.panel_line`)."""
+        False: the lines' renders are not remembered (:func:`screens.panel_line`). The panel
+        reads upright on the table (:meth:`TableToScreen.reading`); on a table turned a quarter
+        round its corner avoids the studio's words by weight alone (their free rows lie across
+        its lines)."""
         avoid = self._keep_clear if avoid is None else avoid
         must = self._studio_marks if must is None else must
         W, H = target.get_size()
-        width = max(W // 2, min(W - 16, PANEL_MIN_PX))           # the lines wrap within it
+        # the panel's lines read upright on the table (TableToScreen.reading): on a table
+        # turned a quarter round they run along the window's height, which then bounds them
+        reading = self.map.reading()
+        across, deep = reading.size((W, H))
+        width = max(across // 2, min(across - 16, PANEL_MIN_PX))   # the lines wrap within it
         # the rows of each side's column the studio's words leave free: the panel stands in
         # them, no taller than the tallest (in an 800x450 window with the TRY words at the top
         # and the status line at the bottom, every window corner lies over some words),
         # unless they are under a third of the window (a panel of a few lines says too little:
         # it lies over the words, its text kept readable)
         bands = ([screens.free_bands(must, x, x + width, 8, H - 8) for x in (8, W - width - 8)]
-                 if must else [])
-        tallest = max((b - a for side in bands for a, b in side), default=H - 16)
-        key, cap = tuple(lines), (tallest if 3 * tallest >= H else H - 16)
+                 if must and not reading.quarter else [])
+        tallest = max((b - a for side in bands for a, b in side), default=deep - 16)
+        key, cap = tuple(lines), (tallest if 3 * tallest >= deep else deep - 16)
         if (key != self._overlay_key or cap != self._overlay_cap or self._overlay_img is None
                 or (W, H) != self._overlay_w):
-            self._overlay_img, self._overlay_px = screens.fitted_panel(
-                lines, width, cap, self._overlay_px, keep=keep)
+            img, self._overlay_px = screens.fitted_panel(lines, width, cap, self._overlay_px,
+                                                         keep=keep)
+            self._overlay_img = reading.turn(img)
             self._overlay_key, self._overlay_cap, self._overlay_w = key, cap, (W, H)
         w, h = self._overlay_img.get_size()
         # the window's corners (0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right), then

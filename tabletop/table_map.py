@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from calibration.transforms import apply_homography, fitted_rectangle
+from tabletop.drawing.reading import Reading
 
 
 class TableToScreen:
@@ -23,7 +24,7 @@ class TableToScreen:
             homography = fitted_rectangle(table, size, margin)
         self.H = np.asarray(homography, dtype=float)
         self._centre = (table[0] / 2, table[1] / 2)
-        self._flips: tuple[bool, bool] | None = None
+        self._reading: Reading | None = None
         self._h = [float(v) for v in self.H.ravel()]
         # an affine map (no keystone; the uncalibrated fit): a character's few points in one
         # small product instead of the general homography's column by column arithmetic
@@ -61,17 +62,10 @@ class TableToScreen:
         qx, qy = self.point(x + 0.01 * math.cos(a), y + 0.01 * math.sin(a))
         return px, py, math.hypot(bx - px, by - py) / 0.01, math.atan2(qy - py, qx - px)
 
-    def text_flips(self) -> tuple[bool, bool]:
-        """(flip left-right, flip upside down): how words rendered upright in window pixels
-        are flipped to read right way round on the table, from its near edge (table +x to the
-        reader's right, +y away): a rear-projection calibration mirrors the table (window right
-        is the table's -x), a projector hung upside down turns it half round (both flips).
-        Taken at the table's centre; a projector turned a quarter round is read as its nearer
-        of these four."""
-        if self._flips is None:       # (asked several times a frame: the map never changes)
-            x, y = self._centre
-            x0, y0 = self.point(x, y)
-            x1, _ = self.point(x + 0.01, y)
-            _, y2 = self.point(x, y + 0.01)
-            self._flips = (x1 < x0, y2 > y0)
-        return self._flips
+    def reading(self) -> Reading:
+        """How words read on the table from its near edge (:class:`~tabletop.drawing.reading.
+        Reading`), taken at the table's centre: the one orientation every word of the view
+        is turned by."""
+        if self._reading is None:     # (asked several times a frame: the map never changes)
+            self._reading = Reading.of(self.point, *self._centre)
+        return self._reading

@@ -20,8 +20,10 @@ from tabletop.drawing import character_kernel as K
 from tabletop.drawing import pose_kernel, raster
 from tabletop.drawing import primitives as P
 from tabletop.drawing.discs import discs
+from tabletop.drawing import screens
 from tabletop.drawing.palette import (EYE_WHITE, INK, Color, fade, lighten, remember, rgb,
                                       shade)
+from tabletop.drawing.reading import Reading
 from tabletop.frames import CharacterState
 
 # Reactor body outline in units of its length, nose along +x (an egg, fuller at the front).
@@ -360,3 +362,29 @@ def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
                    size=float(np.ptp(face_m, axis=0).max()))
     return P.union([draw_figure(surf, body, pose, xy[:k], H, head=False),
                     draw_face(surf, face, pose, xy[k:], H)])
+
+
+# A played-back main take (the studio's sequential training) is the main's puck's ghost: a
+# neutral ring (GHOST_RGB at GHOST_ALPHA) with a notch along its heading, "main" beside it: a
+# faint copy of the character would put two of the reactor on the table, and the designer,
+# playing the reactor against it, would read it as a second reactor.
+GHOST_ALPHA, GHOST_RGB = 0.6, (220, 220, 220)
+
+
+def draw_playback(target: pygame.Surface, pose: Pose, puck_radius: float,
+                  reading: Reading) -> pygame.Rect:
+    """The main's puck's ghost (:data:`GHOST_RGB`): a ring of radius 1.5 puck radii
+    (``puck_radius``, metres), a notch along its heading and "main" under it, upright on the
+    table for its reader (``reading``). Returns the rectangle drawn (pixels)."""
+    k = GHOST_ALPHA * pose.alpha
+    ink = tuple(int(v * k) for v in GHOST_RGB)
+    cx, cy = pose.center
+    r = max(6, round(1.5 * puck_radius * pose.ppm))
+    ring = pygame.draw.circle(target, ink, (cx, cy), r, width=3)
+    a = pose.angle
+    pygame.draw.line(target, ink, (cx + 0.6 * r * math.cos(a), cy + 0.6 * r * math.sin(a)),
+                     (cx + 1.3 * r * math.cos(a), cy + 1.3 * r * math.sin(a)), 3)
+    img = reading.turn(screens.font(max(14, r)).render("main", True, ink))
+    word = target.blit(img, reading.at(img.get_size(), reading.offset((cx, cy), up=-1.4 * r),
+                                       (0.5, 0.0)))
+    return ring.inflate(r, r).union(word)

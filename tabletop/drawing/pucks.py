@@ -131,7 +131,8 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
     :meth:`tabletop.drawing.life.Traces.update`), in layers: the trails, then each halo's ring
     of light (coloured by state, the puck's centre left dark; every ring in one additive blit
     call), then the bright notches along the pucks' headings (one compiled call per colour),
-    then, given ``label`` (puck id -> its text), each id beside its halo's upper right.
+    then, given ``label`` (puck id -> its text, turned upright on the table), each id beside
+    its halo's upper right as the reader at the table's near edge sees it.
     ``beyond``: ids of pucks past the table's edge (:func:`inside_edge`).
     ``puck_radius_m``: a puck's radius in metres. A coasting puck's ring breathes quickly; a
     lost one's widens as it fades. The geometry of every halo is one compiled call
@@ -156,6 +157,7 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
                           [i for i, ok in zip(inks, k) if ok], geo[keep, 2], to_screen.H, t,
                           trail_s)
     rings, notches, labels = [], {}, []
+    reading = to_screen.reading()
     ring, append = P.ring_surface, out.append
     for (tr, _, _), (_, color, _), (_, _, _, R, w, a, xi, yi, e, nx, ny, nr, ncol) in zip(
             items, looks, geo.tolist()):
@@ -175,7 +177,9 @@ def draw_pucks(surf: pygame.Surface, items: Sequence[tuple[PuckTrace, str, float
         if label is not None:
             rr = round(R)
             img = label(tr.puck.id)
-            labels.append((img, (xi + rr * 0.75, yi - rr - img.get_height() * 0.6)))
+            labels.append((img, reading.at(img.get_size(),
+                                           reading.offset((xi, yi), 0.75 * rr, rr),
+                                           (0.0, 0.6))))
     surf.fblits(rings, pygame.BLEND_ADD)
     for (col, rad), q in notches.items():
         # (filled to the whole pixels of its radius + 0.5 px, as gfxdraw's discs are)

@@ -12,6 +12,7 @@ import pygame
 from tabletop.drawing import primitives as P, raster
 from tabletop.drawing.palette import (BACKGROUND, GRID, PANEL, TABLE, TABLE_EDGE, TEXT, Color,
                                       mix)
+from tabletop.drawing.reading import PLAIN, Reading
 
 _fonts: dict[int, pygame.font.Font] = {}
 
@@ -249,43 +250,47 @@ _lines: dict[tuple, pygame.Surface] = {}
 
 
 def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
-         color: Color, alpha: float = 1.0) -> None:
-    """One line centred on ``center``, at opacity ``alpha`` (rendered once per line, size and
-    colour: a breathing line costs a blit per frame, not a render)."""
-    key = (line, px, color)
+         color: Color, alpha: float = 1.0, reading: Reading = PLAIN) -> None:
+    """One line centred on ``center``, at opacity ``alpha``, upright on the table as
+    ``reading`` says (rendered and turned once per line, size, colour and reading: a breathing
+    line costs a blit per frame, not a render)."""
+    key = (line, px, color, reading)
     img = _lines.get(key)
     if img is None:
         if len(_lines) > 64:
             _lines.clear()
-        img = _lines[key] = font(px).render(line, True, color)
+        img = _lines[key] = reading.turn(font(px).render(line, True, color))
     img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
-    surf.blit(img, img.get_rect(center=(int(center[0]), int(center[1]))))
+    surf.blit(img, reading.at(img.get_size(), center))
 
 
 def one_moment(surf: pygame.Surface, t: float, alpha: float,
-               centre: tuple[float, float] | None = None) -> None:
+               centre: tuple[float, float] | None = None, reading: Reading = PLAIN) -> None:
     """The calm screen while every camera reconnects: the table dims, a slow ring of lights
     turns and breathes at its centre, "One moment" below it. It is for visitors, so it says
     nothing of why: the source's own words ("cannot open camera 0; reconnecting in 3 s") go to
     the log, the status file and the operator overlay's health lines. ``centre``: the table's
     centre in pixels (default: the window's), where the ring stands (a calibrated projector
-    throwing beyond the table puts the table anywhere in its image);
-    its size follows the window's (the calm screen's look at every table size)."""
+    throwing beyond the table puts the table anywhere in its image); "below" and the words'
+    way up are the reader's at the table's near edge (``reading``). Its size follows the
+    window's smaller side (the calm screen's look at every table size, the same on a
+    projector turned a quarter round)."""
     if alpha <= 0.0:
         return
     w, h = surf.get_size()
     k = int(round(255 * (1.0 - 0.75 * alpha)))
     surf.fill((k, k, k), special_flags=pygame.BLEND_MULT)      # dim the table
-    cx, cy = (w / 2, h / 2) if centre is None else centre
-    cy -= 0.04 * h
-    R = 0.06 * min(w, h)
+    side = min(w, h)
+    cx, cy = reading.offset((w / 2, h / 2) if centre is None else centre, up=0.04 * side)
+    R = 0.06 * side
     col = (150, 200, 255)
     for i in range(8):
         a = math.tau * i / 8 + 0.6 * t
         b = 0.5 + 0.5 * math.sin(1.3 * t - i * 0.55)
         P.glow(surf, (cx + R * math.cos(a), cy + R * math.sin(a)), 0.22 * R, col,
                alpha * (0.25 + 0.55 * b))
-    text(surf, "One moment", (cx, cy + 2.0 * R), int(0.05 * h), mix(col, TEXT, 0.6), alpha)
+    text(surf, "One moment", reading.offset((cx, cy), up=-2.0 * R), int(0.05 * side),
+         mix(col, TEXT, 0.6), alpha, reading)
 
 
 INVITATIONS = {"puck": "put a puck on the table", "touch": "touch the table",
@@ -312,9 +317,13 @@ def invitation(engines: Sequence[dict[str, Any]]) -> str:
 
 
 def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
-         invitation: str = INVITATIONS["puck"]) -> None:
+         invitation: str = INVITATIONS["puck"], words: tuple[float, float] | None = None,
+         px: int | None = None, reading: Reading = PLAIN) -> None:
     """The idle look while nobody plays: slow motes of light drift over the table (``area``:
-    its corner pixels) and an ``invitation`` (none when empty) breathes at its centre."""
+    its corner pixels) and an ``invitation`` (none when empty) breathes between its centre and
+    its near edge: at ``words`` (pixels; default 0.3 of ``area``'s height below its centre),
+    ``px`` pixels tall (default from that height), upright for the reader at the near edge
+    (``reading``)."""
     if alpha <= 0.0:
         return
     lo, hi = area.min(axis=0), area.max(axis=0)
@@ -329,8 +338,8 @@ def idle(surf: pygame.Surface, t: float, alpha: float, area: np.ndarray,
         return
     c = (lo + hi) / 2
     b = 0.55 + 0.45 * math.sin(0.8 * t)
-    text(surf, invitation, (c[0], c[1] + 0.3 * span[1]), int(0.045 * span[1]) + 8,
-         (200, 215, 240), alpha * b)
+    text(surf, invitation, words or (c[0], c[1] + 0.3 * span[1]),
+         px or int(0.045 * span[1]) + 8, (200, 215, 240), alpha * b, reading)
 
 
 def free_bands(keep: Sequence[pygame.Rect], x0: int, x1: int, top: int, bottom: int,

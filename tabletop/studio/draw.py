@@ -10,6 +10,7 @@ import pygame
 
 from tabletop import library
 from tabletop.drawing import screens
+from tabletop.drawing.reading import PLAIN, Reading
 from tabletop.frames import CharacterState
 
 # ``renderer`` below is the view's tabletop.renderer.Renderer, typed Any: that module imports
@@ -43,48 +44,49 @@ def text_scale(renderer: Any) -> float:
 
 
 def upright(img: pygame.Surface, renderer: Any) -> pygame.Surface:
-    """``img`` (words rendered upright in window pixels) flipped to read the right way round on
-    the table (:meth:`~tabletop.table_map.TableToScreen.text_flips`): a rear-projection
-    calibration mirrors the window, an upside-down projector turns it half round, and words
-    drawn upright in the window read mirrored or upside down on the table."""
-    fx, fy = renderer.map.text_flips()
-    return pygame.transform.flip(img, fx, fy) if fx or fy else img
+    """``img`` (words rendered upright in window pixels) turned to read upright on the table
+    from its near edge (:meth:`~tabletop.table_map.TableToScreen.reading`): a rear-projection
+    calibration mirrors the window, an upside-down projector turns it half round, one hung
+    across the table a quarter round."""
+    return renderer.map.reading().turn(img)
 
 
 def _mark(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
-          x: int, y: int, color: tuple[int, int, int], width: int = 0) -> pygame.Rect:
+          x: float, y: float, color: tuple[int, int, int], width: int = 0) -> pygame.Rect:
     """The REC or TRY mark with its dot at (x, y) (pixels, from :func:`_mark_at`): the dot,
-    then ``img`` as the table reads them, so on a mirrored table the words stand left of the
-    dot (it still comes first). Returns the mark's rectangle."""
-    fx, fy = renderer.map.text_flips()
-    text_x, h = x + dot + 8, img.get_height()
-    if fx:
-        text_x, x = x - dot, x + img.get_width() + 8
-    pygame.draw.circle(target, color, (x, y), dot, width=width)
-    # (the words' rows mirrored about the dot's row, when upside down: to the pixel)
-    top = y + h // 2 - h if fy else y - h // 2
-    return target.blit(upright(img, renderer), (text_x, top)).union(
-        (x - dot, y - dot, 2 * dot, 2 * dot))
+    then ``img`` (upright in window pixels) to its right as the table reads them (on a mirrored
+    table the words stand left of the dot in the window: it still comes first). Returns the
+    mark's rectangle."""
+    reading = renderer.map.reading()
+    dot_rect = pygame.draw.circle(target, color, (x, y), dot, width=width)
+    turned = reading.turn(img)
+    return target.blit(turned, _words_at(reading, turned.get_size(), dot, x, y)).union(dot_rect)
+
+
+def _words_at(reading: Reading, size: tuple[int, int], dot: int, x: float, y: float
+              ) -> pygame.Rect:
+    """Where a mark's words (``size``: turned, pixels) stand beside its dot at (x, y)."""
+    return reading.at(size, reading.offset((x, y), dot + 8), (0.0, 0.5))
 
 
 def _mark_at(target: pygame.Surface, renderer: Any, img: pygame.Surface, dot: int,
-             avoid: list[pygame.Rect]) -> tuple[int, int]:
-    """Where the REC or TRY mark (a dot of radius ``dot``, then ``img``) has its dot: at the
-    table's far left corner, or at its far right one where that hides less than half as much
+             avoid: list[pygame.Rect]) -> tuple[float, float]:
+    """Where the REC or TRY mark (a dot of radius ``dot``, then ``img``, upright in window
+    pixels) has its dot: at the table's far left corner as its reader sees it, or with its
+    words ending at the far right one where that hides less than half as much
     of the characters drawn (``avoid``, pixels) as the corner it is in
     (``renderer.studio_mark_right``, kept so that a character walking by does not make it
     jump to and fro): a character at the far left corner (the bird of ``examples/mop.yaml``)
     is not hidden under the words that say to try it."""
     w, h = renderer.table
-    # the far edge's two corners, left and right as the window shows them (a projector's
-    # calibration may mirror the table)
-    left, (rx, ry) = sorted((renderer.map.point(0.04, h - 0.04),
-                             renderer.map.point(w - 0.04, h - 0.04)))
-    right = (rx - img.get_width() - 8 - dot, ry)
+    reading = renderer.map.reading()
+    size = reading.size(img.get_size())
+    left = renderer.map.point(0.04, h - 0.04)
+    right = reading.offset(renderer.map.point(w - 0.04, h - 0.04),
+                           -(img.get_width() + 8 + dot))
 
-    def hidden(x: int, y: int) -> int:
-        box = pygame.Rect(x - dot, y - img.get_height() // 2, img.get_width() + 2 * dot + 8,
-                          img.get_height())
+    def hidden(x: float, y: float) -> int:
+        box = _words_at(reading, size, dot, x, y).union((x - dot, y - dot, 2 * dot, 2 * dot))
         return sum(box.clip(r).width * box.clip(r).height for r in avoid)
 
     now, other = (right, left) if renderer.studio_mark_right else (left, right)
@@ -139,26 +141,22 @@ def draw_studio(target: pygame.Surface, renderer: Any, c: CharacterState,
                            0 if c.action == "trying" else 3))
         if c.points is not None and len(c.points) >= 2:
             _guide(target, renderer, c.points, green)
-    # from the near edge's left corner as the table reads (on a mirrored or half-turned table
-    # the window's right one: the lines end there), its lines as wide as the window leaves
-    # (from the far side, as much as the corner has on its side); lines go up from it, or down
-    # where the near edge is the window's upper half (a table turned half round), the last line
-    # nearest the edge, as the words read on the table
-    x, y = renderer.map.point(0.02, 0.02)
-    W = target.get_width()
-    flip_x = renderer.map.text_flips()[0]
+    # from the near edge's left corner as the table reads, its lines as long as the window
+    # leaves towards the reader's right (less as much as the corner has behind it), the last
+    # line nearest the edge and the others beyond it, away from the reader, as words read
+    reading = renderer.map.reading()
+    at = renderer.map.point(0.02, 0.02)
+    window = target.get_size()
+    back = (-reading.right[0], -reading.right[1])
+    room = reading.reach(window, at, reading.right) - max(reading.reach(window, at, back), 12)
     px = max(MIN_STATUS_PX, round(STATUS_PX * k))
     f = font(px)
-    lines = fit_lines(c.label, px, int(x - max(W - x, 12) if flip_x else W - x - max(x, 12)))
-    up = y > target.get_height() / 2
-    for line in reversed(lines):
-        img = upright(f.render(line, True, (235, 235, 235), (0, 0, 0)), renderer)
-        if up:
-            y -= img.get_height() + 4
-        marks.append(target.blit(img, (x - img.get_width() if flip_x else x,
-                                       y if up else y + 4)))   # 4 px off the edge either way
-        if not up:
-            y += img.get_height() + 4
+    off = 4.0                                   # 4 px off the edge
+    for line in reversed(fit_lines(c.label, px, int(room))):
+        img = reading.turn(f.render(line, True, (235, 235, 235), (0, 0, 0)))
+        marks.append(target.blit(img, reading.at(img.get_size(), reading.offset(at, up=off),
+                                                 (0.0, 1.0))))
+        off += reading.size(img.get_size())[1] + 4
     return marks
 
 
@@ -242,24 +240,24 @@ class NamePrompt:
         return f"{said}: {self.text}_   (Esc cancels)"
 
     def draw(self, target: pygame.Surface, renderer: Any = None) -> None:
-        """The line being typed, at the window's edge on the table's far side (its top, or
-        its bottom on a half-turned table, whose status line is at the top), sized on the table
-        as the studio's other words are (:func:`text_scale` of ``renderer``; 32 px at 840
-        px/m) and read the right way round on it (:func:`upright`)."""
-        if self.text is not None:
-            k, flip = 1.0, (lambda img: img)
-            H, top = target.get_height(), True
-            if renderer is not None:
-                k = text_scale(renderer)
-                flip = functools.partial(upright, renderer=renderer)
-                top = renderer.map.point(renderer.table[0] / 2, renderer.table[1])[1] < H / 2
-            px = max(MIN_MARK_PX, round(32 * k))
-            img = flip(font(px).render(self.line, True, (255, 255, 255), (0, 0, 0)))
-            y = px // 2 + 24
-            target.blit(img, img.get_rect(center=(target.get_width() // 2, y if top else H - y)))
-            if self.refused:
-                small = max(MIN_MARK_PX, round(px * 0.6))
-                why = flip(font(small).render(self.refused, True, (255, 190, 80), (0, 0, 0)))
-                y = px + 30 + small // 2
-                target.blit(why, why.get_rect(center=(target.get_width() // 2,
-                                                      y if top else H - y)))
+        """The line being typed, centred along the table's far edge just inside it (the status
+        line is along the near one; without ``renderer``, 24 px below the window's top),
+        sized on the table as the studio's other words are (:func:`text_scale` of
+        ``renderer``; 32 px at 840 px/m) and upright on it (:func:`upright`); the reason a key
+        was refused under it. On the edge, not the window's: a projector throwing beyond the
+        table (one turned a quarter round over a long table) lights the floor there."""
+        if self.text is None:
+            return
+        k, reading, edge = 1.0, PLAIN, (target.get_width() / 2, 24.0)
+        if renderer is not None:
+            k, reading = text_scale(renderer), renderer.map.reading()
+            edge = renderer.map.point(renderer.table[0] / 2, renderer.table[1])
+        px = max(MIN_MARK_PX, round(32 * k))
+        img = reading.turn(font(px).render(self.line, True, (255, 255, 255), (0, 0, 0)))
+        target.blit(img, reading.at(img.get_size(), reading.offset(edge, up=-(px // 2))))
+        if self.refused:
+            small = max(MIN_MARK_PX, round(px * 0.6))
+            why = reading.turn(font(small).render(self.refused, True, (255, 190, 80),
+                                                  (0, 0, 0)))
+            target.blit(why, reading.at(why.get_size(),
+                                        reading.offset(edge, up=-(px + 6 + small // 2))))

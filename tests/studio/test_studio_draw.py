@@ -207,7 +207,8 @@ def test_the_studio_words_read_on_a_mirrored_or_turned_table(turn):
     """A projector calibration that mirrors the table (its corner 0 at the window's right), or
     turns it half round (a projector hung upside down): the status line, from the table's
     corner 0, was cut a letter a line down the window's right edge, and the TRY words ran off
-    it. Both read left to right from the corner on the window's left, inside the window."""
+    it. Both stand inside the window: the TRY mark in the table's far left corner as its
+    reader sees it (the window's right), the status line from the near left one."""
     import numpy as np
     from tabletop.frames import Frame
 
@@ -221,7 +222,7 @@ def test_the_studio_words_read_on_a_mirrored_or_turned_table(turn):
                             label=label)
     renderer.draw(surface, Frame(seq=0, t=0.0, characters=(studio,)))
     mark, *status = renderer._studio_marks
-    assert surface.get_rect().contains(mark) and mark.centerx < 640, mark
+    assert surface.get_rect().contains(mark) and mark.centerx > 640, mark
     assert len(status) == 1 and surface.get_rect().contains(status[0]), status
     assert status[0].width > 500 and status[0].left < 640, status
 
