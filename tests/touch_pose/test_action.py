@@ -5,9 +5,9 @@ import pytest
 
 from behaviors.touch_pose.action import ActionClock, dp_distance, threshold
 from behaviors.touch_pose.tracking import rot_diff
-from bench.touch_pose_drags import there_and_back
+from bench.touch_pose_drags import stroke_drag, there_and_back
 
-from .conftest import actions_begun, stroke_drag
+from .conftest import actions_begun
 
 #: Largest rotation (degrees) any joint may make in one 30 fps frame when the control switches.
 SWITCH_DEG = 20.0

@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from behaviors.touch_pose.humanoid import PARTS
+from bench.touch_pose_drags import stroke_drag
 
-from .conftest import actions_begun, stroke_drag
+from .conftest import actions_begun
 
 
 def _walk(models):
