@@ -6,7 +6,7 @@ configured_actions`: the stage's ``missing``, each listed in the status's ``beha
 :class:`ActionReloader`, a frame filter, looks at those files' modification times and sizes
 once a second (``os.stat`` only; nothing is read while they stay as they were, nothing at all
 once every action is followed); once they changed and then stayed as they were for a whole look
-it reads each file once (regular files only, capped: :func:`tabletop.files.read_regular_bytes`,
+it reads each file once (regular files only, capped: :func:`tabletop.file_io.read_regular_bytes`,
 so a named pipe put there cannot hold the frame loop), builds the action from those bytes and,
 if it builds, gives it to its character and drops its error; the actions taken in one tick
 retrain the followers once (:meth:`MopStage.put_actions`). A file still bad is said once per new
