@@ -14,7 +14,6 @@ path per metre of the finger's).
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 

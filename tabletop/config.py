@@ -16,7 +16,7 @@ from tabletop.config_checks import (check_calibrations, check_marker_ids, check_
 from tabletop.config_ports import check_udp_ports
 from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
-                             MapOf, Number, Optional_, Record, Spec, Str, shown)
+                             MapOf, Number, Optional_, Record, Spec, shown)
 
 
 class ImageFile(FilePath):

@@ -43,9 +43,8 @@ from tabletop.recorder_sync import Syncer
 from tabletop.recordings import (FOREIGN, Orders, Recordings, candidates, hold, new_session,
                                  number, prune, recordings, release)
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
-from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
-                              carried, frame_to_dict, jsonable, read_frames, read_header,
-                              session_header)
+from tabletop.session import (FORMAT, VERSION, SessionError, carried,  # noqa: F401
+                              frame_to_dict, jsonable, read_frames, read_header, session_header)
 
 log = logging.getLogger("tabletop")
 

@@ -329,7 +329,7 @@ class MopStage(DesignerTakes):
         resumed = {}
         steps = self._replay_steps()
         for i, key in enumerate(self._keys):
-            state, shown = self._states.get(key), self._shown.get(key)
+            shown = self._shown.get(key)
             holding = (shown is not None and bool(shown.valid)  # type: ignore[attr-defined]
                        and bool(shown.holding))  # type: ignore[attr-defined]
             # a rest ends a gesture, unless an action is held where it holds (a raise, hold,

@@ -4,7 +4,6 @@ stays and keeps running), a good one is applied."""
 import contextlib
 import copy
 import ctypes.util
-import json
 import os
 import subprocess
 import sys

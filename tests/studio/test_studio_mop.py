@@ -99,7 +99,6 @@ def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_pat
 def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
     from tabletop.config import load_config
     from tabletop.kiosk.simulate import SimClock, simulated
-    from tests.mop.helpers import G
 
     rate = 20.0
     path = tmp_path / "config.yaml"
