@@ -123,21 +123,30 @@ def segment_at(spec: ActionSpec, u: float) -> Segment:
     return out
 
 
-def wave_clip(base: Clip, seconds: float = 2.4, waves: int = 3) -> Clip:
-    """A hand-made wave: the right arm rises to the side, the forearm swings ``waves`` times, the
-    arm comes down. Every other channel holds ``base``'s first frame (a standing pose)."""
+def _hand_made(base: Clip, seconds: float, rise: float,
+               fall: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The start of a hand-made clip of ``seconds`` at 30 fps: its times (s), their share of
+    the clip (0..1), its values (every frame ``base``'s first, a standing pose) and a ramp
+    eased (half a cosine) from 0 up to 1 over the first ``rise`` of the clip and back down
+    over the last ``fall``."""
     n = int(round(seconds * 30)) + 1
     t = np.linspace(0.0, seconds, n)
     u = t / seconds
     values = np.repeat(base.values[:1], n, axis=0)
-    raise_ = np.clip(np.minimum(u / 0.25, (1.0 - u) / 0.2), 0.0, 1.0)
-    raise_ = 0.5 - 0.5 * np.cos(math.pi * raise_)
+    ramp = np.clip(np.minimum(u / rise, (1.0 - u) / fall), 0.0, 1.0)
+    return t, u, values, 0.5 - 0.5 * np.cos(math.pi * ramp)
+
+
+def wave_clip(base: Clip, seconds: float = 2.4, waves: int = 3) -> Clip:
+    """A hand-made wave: the right arm rises to the side, the forearm swings ``waves`` times, the
+    arm comes down. Every other channel holds ``base``'s first frame (a standing pose)."""
+    t, u, values, raise_ = _hand_made(base, seconds, 0.25, 0.2)
     swing = np.sin(2 * math.pi * waves * np.clip((u - 0.25) / 0.55, 0.0, 1.0))
     # the raised arm: abducted about the forward axis (towards the right, +z), turned forward a bit
     up = quat_mul(quat_from_axis_angle((0, 1, 0), -0.35), quat_from_axis_angle((1, 0, 0), -2.4))
     rest_q = base.values[0, base.slices["right_shoulder"]]
     rest_e = float(base.values[0, base.slices["right_elbow"]][0])
-    for k in range(n):
+    for k in range(len(t)):
         values[k, base.slices["right_shoulder"]] = quat_slerp(rest_q, up, raise_[k])
         values[k, base.slices["right_elbow"]] = ((1 - raise_[k]) * rest_e
                                                  + raise_[k] * (1.2 + 0.5 * swing[k]))
@@ -148,15 +157,10 @@ def bow_clip(base: Clip, seconds: float = 2.4) -> Clip:
     """A hand-made bow: the chest and neck bend forward (about 55 and 25 degrees), the bow is
     held a moment, the body straightens; the arms hang with the chest. Every other channel holds
     ``base``'s first frame."""
-    n = int(round(seconds * 30)) + 1
-    t = np.linspace(0.0, seconds, n)
-    u = t / seconds
-    values = np.repeat(base.values[:1], n, axis=0)
-    down = np.clip(np.minimum(u / 0.4, (1.0 - u) / 0.35), 0.0, 1.0)
-    down = 0.5 - 0.5 * np.cos(math.pi * down)
+    t, _, values, down = _hand_made(base, seconds, 0.4, 0.35)
     forward = (0.0, 0.0, 1.0)  # about the character's right: negative angles lean forward
     chest0, neck0 = base.values[0, base.slices["chest"]], base.values[0, base.slices["neck"]]
-    for k in range(n):
+    for k in range(len(t)):
         values[k, base.slices["chest"]] = quat_mul(quat_from_axis_angle(forward, -0.95 * down[k]),
                                                    chest0)
         values[k, base.slices["neck"]] = quat_mul(quat_from_axis_angle(forward, -0.45 * down[k]),
