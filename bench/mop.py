@@ -55,24 +55,28 @@ def make_template(rng: np.random.Generator, n: int, d: int) -> np.ndarray:
     return out
 
 
-def warped_phase(rng: np.random.Generator, n: int, slow: float = 0.5, fast: float = 2.0) -> np.ndarray:
+def warped_phase(rng: np.random.Generator, n: int, slow: float = 0.5,
+                 fast: float = 2.0) -> np.ndarray:
     c, f = rng.uniform(0, 2 * np.pi), rng.uniform(0.04, 0.08)
     phase, i, out = 0.0, 0, []
     while phase < n - 1:
         out.append(phase)
-        phase += float(np.exp(np.log(slow) + (np.log(fast) - np.log(slow)) * (0.5 + 0.5 * np.sin(c + f * i))))
+        wave = 0.5 + 0.5 * np.sin(c + f * i)
+        phase += float(np.exp(np.log(slow) + (np.log(fast) - np.log(slow)) * wave))
         i += 1
     out.append(n - 1.0)
     return np.asarray(out)
 
 
-def perform(rng: np.random.Generator, tpl: np.ndarray, phase: np.ndarray, noise: float = 0.1) -> np.ndarray:
+def perform(rng: np.random.Generator, tpl: np.ndarray, phase: np.ndarray,
+            noise: float = 0.1) -> np.ndarray:
     base = np.arange(tpl.shape[0])
     x = np.stack([np.interp(phase, base, tpl[:, j]) for j in range(tpl.shape[1])], axis=1)
     return x + rng.normal(0.0, noise, x.shape) * tpl.std(axis=0)
 
 
-def performance_stream(rng: np.random.Generator, templates: dict[str, np.ndarray], length: int) -> np.ndarray:
+def performance_stream(rng: np.random.Generator, templates: dict[str, np.ndarray],
+                       length: int) -> np.ndarray:
     """Performances of randomly chosen templates, one after another, ``length`` samples."""
     names = list(templates)
     parts, total = [], 0
@@ -118,7 +122,8 @@ def step_costs(rng: np.random.Generator) -> dict[str, float]:
     for k in (1, 20, 80):
         for d in (6, 60):
             tpls = {f"a{i}": make_template(rng, SAMPLES, d) for i in range(k)}
-            runners[f"{k}x{d}"] = Runner([ActionFollower(tpls)], [performance_stream(rng, tpls, 4000)])
+            runners[f"{k}x{d}"] = Runner([ActionFollower(tpls)],
+                                         [performance_stream(rng, tpls, 4000)])
     chars = []
     for c in range(4):
         tpls = {f"c{c}a{i}": make_template(rng, SAMPLES, 6) for i in range(20)}
@@ -135,7 +140,8 @@ def step_costs(rng: np.random.Generator) -> dict[str, float]:
         if name.startswith("tick_20x4"):
             how = "one_follower_group" if name.endswith("group") else "separate_followers"
             out[f"tick_20_templates_x_4_characters_{how}_median_ms"] = float(np.median(per)) / 1e3
-            out[f"tick_20_templates_x_4_characters_{how}_p99_ms"] = float(np.percentile(per, 99)) / 1e3
+            out[f"tick_20_templates_x_4_characters_{how}_p99_ms"] = \
+                float(np.percentile(per, 99)) / 1e3
         else:
             k, d = name.split("x")
             out[f"step_{k}_templates_{d}_features_median_us"] = float(np.median(per))
@@ -256,13 +262,16 @@ def design_tick(rng: np.random.Generator, ticks: int = 900, block: int = 25,
             "tick_100_templates_x_8_performers_group_ticks": float(len(g)),
             "machine_load_1min_before": load, "machine_load_1min_after": os.getloadavg()[0],
             "tick_100_templates_x_8_performers_group_cpu_median_ms": float(np.median(cpu)) * 1e3,
-            "tick_100_templates_x_8_performers_group_cpu_p99_ms": float(np.percentile(cpu, 99)) * 1e3,
+            "tick_100_templates_x_8_performers_group_cpu_p99_ms":
+                float(np.percentile(cpu, 99)) * 1e3,
             "tick_100_templates_x_8_performers_group_forward_median_ms": float(np.median(fw)),
             "tick_100_templates_x_8_performers_group_rest_median_ms": float(np.median(g - fw)),
             "tick_100_templates_x_8_performers_group_back_to_back_median_ms": float(np.median(h)),
-            "tick_100_templates_x_8_performers_group_back_to_back_p99_ms": float(np.percentile(h, 99)),
+            "tick_100_templates_x_8_performers_group_back_to_back_p99_ms":
+                float(np.percentile(h, 99)),
             "tick_100_templates_x_8_performers_separate_followers_median_ms": float(np.median(a)),
-            "tick_100_templates_x_8_performers_separate_followers_p99_ms": float(np.percentile(a, 99))}
+            "tick_100_templates_x_8_performers_separate_followers_p99_ms":
+                float(np.percentile(a, 99))}
 
 
 MODELS = {
@@ -285,7 +294,8 @@ def transition_costs(rng: np.random.Generator) -> dict[str, float]:
         n = len(tpl)
         w = warped_phase(rng, n)
         fast = np.arange(0.0, n - 1, 2.0)
-        bf = np.concatenate([np.arange(0.0, 140.0), np.full(40, 140.0), np.arange(140.0, 60.0, -1.0),
+        bf = np.concatenate([np.arange(0.0, 140.0), np.full(40, 140.0),
+                             np.arange(140.0, 60.0, -1.0),
                              np.arange(60.0, n - 1)])
         cases.append((tpl, [(perform(rng, tpl, ph), ph / (n - 1), part) for ph, part in
                             ((w, slice(len(w) // 10, None)), (fast, slice(len(fast) // 10, None)),
@@ -304,7 +314,8 @@ def transition_costs(rng: np.random.Generator) -> dict[str, float]:
         r()
     times = interleaved(runners, ROUNDS)
     for m, ts in times.items():
-        out[f"step_20_templates_6_features_{m}_median_us"] = float(np.median(ts)) / STEPS_PER_CALL * 1e6
+        out[f"step_20_templates_6_features_{m}_median_us"] = \
+            float(np.median(ts)) / STEPS_PER_CALL * 1e6
     return out
 
 

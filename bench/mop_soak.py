@@ -60,7 +60,8 @@ def soak(steps: int, seed: int = 13) -> dict[str, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=200_000, help="samples to step (default 200000)")
+    parser.add_argument("--steps", type=int, default=200_000,
+                        help="samples to step (default 200000)")
     args = parser.parse_args()
     if args.steps <= 0:
         parser.error(f"--steps {args.steps}: must be a positive number of samples")

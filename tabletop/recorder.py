@@ -420,9 +420,9 @@ class Recorder(Syncer):
 def header_line(header: dict[str, Any], order: int, part: int, session: str,
                 reloaded: dict[str, Any] | None = None) -> bytes:
     """The first line of a recording part: format, version, ``order`` first (see
-    recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``, with this
-    part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands on the
-    recording's own) and the time it is created; ``reloaded``: what the session reloaded
+    recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``,
+    with this part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands
+    on the recording's own) and the time it is created; ``reloaded``: what the session reloaded
     before the part began (:func:`tabletop.session.carried`), so that it replays on its own."""
     line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}
     line.update(header, order=order, session=session, part=part,

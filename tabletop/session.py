@@ -76,7 +76,8 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         "seq": frame.seq,
         "t": frame.t - t0,
         "pucks": [_puck_to_dict(p) for p in frame.pucks],
-        "touches": [{"id": c.id, "x": c.x, "y": c.y, "vx": c.vx, "vy": c.vy} for c in frame.touches],
+        "touches": [{"id": c.id, "x": c.x, "y": c.y, "vx": c.vx, "vy": c.vy}
+                    for c in frame.touches],
         "streams": {k: v.tolist() for k, v in frame.streams.items()},
         "characters": [_character_to_dict(c) for c in frame.characters],
         "commands": list(frame.commands),

@@ -171,7 +171,8 @@ class ProjectorView:
                                   f"be used: {exc.strerror or exc}") from None
         self.snapshot_overlay = bool(options["snapshot_overlay"])
         self._said_headless = False
-        self.kiosk = False        # kiosk: only the service key shows the overlay (and then Esc quits)
+        # kiosk: only the service key shows the overlay (and then Esc quits)
+        self.kiosk = False
         self.service_key: int | None = None
         self.notices: list = []   # callables returning extra overlay lines (a refused config)
         from tabletop.studio.draw import NamePrompt

@@ -44,7 +44,8 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     assert header == "t,dx,dy"
     again = build(designer_config(tmp_path), tmp_path)
     assert "take1" in again.puppets["lizard"].actions
-    assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
+    assert again.templates["lizard"]["take1"][1].shape \
+        == engine.templates["lizard"]["take1"][1].shape
 
 
 def test_discard_redo_and_a_take_too_short(tmp_path):
