@@ -6,7 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 

@@ -3,7 +3,7 @@ re-entry, long runs, any feature scale, and clear errors."""
 
 import math
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 

@@ -4,7 +4,7 @@ ends, rests, abandoned attempts, lost samples and members of different settings.
 import dataclasses
 import math
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 

@@ -2,7 +2,7 @@
 
 import math
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 

@@ -1,4 +1,5 @@
-"""Synthetic action templates and performances with known progress (seeded)."""
+"""Synthetic action templates and performances with known progress (seeded): the MOP benches
+(bench/mop.py, bench/mop_soak.py) and the MOP tests perform them."""
 
 from __future__ import annotations
 
