@@ -102,7 +102,8 @@ def _cache_class(covers: tuple[str, ...]) -> type[StampedCache]:
     return type("StampedCache", (StampedCache,), {"_impl_class": Impl, "covers": covers})
 
 
-def compiled(signature: Any = None, *calls_into: Source, **options: Any) -> Callable[[Callable], Any]:
+def compiled(signature: Any = None, *calls_into: Source,
+             **options: Any) -> Callable[[Callable], Any]:
     """``numba.njit(nogil=True, error_model="numpy", **options)``, cached under :func:`stamp`
     of the function's own file and ``calls_into``: every module (or file) whose compiled
     functions or constants it takes in, directly or through another. With a ``signature`` it

@@ -14,8 +14,8 @@ The job threads (the workers', the studio's review-sheet drawing) are not daemon
 thread still inside native code when the interpreter finalises (OpenCV's, matplotlib's: C++
 that gives the GIL back in a destructor) is unwound from under it and the process aborts
 ("terminate called without an active exception", exit 134: as daemons, a quit a moment after
-the studio started aborted one time in four). Such a thread ends itself once the main thread has ended,
-after the jobs queued for it (:func:`next_job`); the command line's entry waits for them,
+the studio started aborted one time in four). Such a thread ends itself once the main thread has
+ended, after the jobs queued for it (:func:`next_job`); the command line's entry waits for them,
 bounded, with its stop signals still caught (:func:`finish_jobs`).
 """
 

@@ -148,8 +148,8 @@ sys.path.insert(0, str(ROOT))
 from bench.common import emit  # noqa: E402
 from behaviors.puppet_master import fidelity  # noqa: E402
 from behaviors.puppet_master.fidelity import engine_misses  # noqa: E402
-from behaviors.puppet_master import designers, visitors  # noqa: E402
-from tabletop.examples import (TABLE, designer_table, fidelity_table,  # noqa: E402
+from behaviors.puppet_master import designers  # noqa: E402
+from tabletop.examples import (designer_table, fidelity_table,  # noqa: E402
                                print_report, pursuit_table, sequential_comparison,
                                sequential_misses)
 

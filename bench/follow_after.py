@@ -20,11 +20,11 @@ are not counted):
 - ambiguous by construction: a stroke that is a gesture's start beyond 20% of that gesture
   (:func:`bench.follow_sequences.started_by`, the ideal observer at 2 mm: the diagonal is the
   figure eight's first stroke until 0.21 of it, the triangle the line's and the square's until
-  0.28 / 0.25; every other stroke strays from every gesture's start by 0.18) is driven by any follower that recognises that gesture within 20%, as the
-  back-to-back target asks. ``after_<stroke>_<gesture>_valid_share``: the share of the stroke's
-  ticks that gesture drives; ``after_valid_share_max_unambiguous``: ``after_valid_share_max``
-  leaving out only the ticks where such a gesture drives while the stroke so far is still its
-  start (as ``told`` reads it).
+  0.28 / 0.25; every other stroke strays from every gesture's start by 0.18) is driven by any
+  follower that recognises that gesture within 20%, as the back-to-back target asks.
+  ``after_<stroke>_<gesture>_valid_share``: the share of the stroke's ticks that gesture drives;
+  ``after_valid_share_max_unambiguous``: ``after_valid_share_max`` leaving out only the ticks where
+  such a gesture drives while the stroke so far is still its start (as ``told`` reads it).
 The issue's target for unrelated motion, valid <= 10% of the time, holds here as well; on the
 diagonal it conflicts with the figure eight's recognition within 20%.
 """

@@ -223,7 +223,8 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
                 p = np.where(np.isfinite(prog[:, 0]), prog[:, 0],
                              np.arange(len(x)) > np.argmax(np.isfinite(prog[:, 0])))
                 told_vals.append(np.mean([
-                    s.valid and not performs(path, float(q), loaded[s.best], memo, (k, name, s.best))
+                    s.valid
+                    and not performs(path, float(q), loaded[s.best], memo, (k, name, s.best))
                     for s, q in zip(states, p)]) if f is not None else 0.0)
             shares[name], told[name] = float(np.mean(vals)), float(np.mean(told_vals))
             if DEBUG:

@@ -20,10 +20,10 @@ colours and shapes, the loop's and recorder's bounded deques, the heap's first a
 two-week exhibition (the heap grows in steps of 0.5-2 MB: a window of 8 min, the default
 20-minute run's, reads one step as 1-4 KB/s). Measured over 30 min: the glibc heap grew to
 ~600 s and stayed (0.3 KB/s over 900-1660 s); its 26-30 MB free is the frames' working space
-(``malloc_trim`` gave back 16 MB, back within two minutes), Python's own arenas flat from 300 s. Budgets: a supervisor that does not grow (fds,
-threads, processes within 0 and memory within 5 MB over a drill), the installation's memory
-within 20 MB and fds/threads within 0 after the warm-up, its slope within ``SLOPE_KB_S``. Not
-part of ``make test`` (minutes).
+(``malloc_trim`` gave back 16 MB, back within two minutes), Python's own arenas flat from 300 s.
+Budgets: a supervisor that does not grow (fds, threads, processes within 0 and memory within 5 MB
+over a drill), the installation's memory within 20 MB and fds/threads within 0 after the warm-up,
+its slope within ``SLOPE_KB_S``. Not part of ``make test`` (minutes).
 """
 
 from __future__ import annotations

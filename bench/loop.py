@@ -8,14 +8,15 @@ Puppet Master reactors (one reacting to another), the DESIGN.md whole-loop case.
 
 Capture-to-render (``capture_age``), per presented frame: from the moment its newest input was
 captured to the moment the view has presented it (its sink is done:
-``pygame.display.update``/``flip`` returned; sinks after it, e.g. a recorder, do not count). The capture moment is the camera's shutter: a
-device camera's frame is stamped when the driver hands it over; the synthetic camera renders the
-scene as it stands at the end of its render and never delivers an image before that moment (its
-rendering simulates the world and the optics, which cost a real installation nothing; a render
-that overruns delivers late and its lateness counts). Each capture counts once, at its first
-drawing: a tick that draws it again (nothing new arrived) or runs on the stamp of a stalled
-camera measures nothing (counting them, a 30 fps camera on the 60 Hz loop read 21.6 ms median
-where the same run at 60 fps read 8.8: the repeats' age is the camera's period, not latency).
+``pygame.display.update``/``flip`` returned; sinks after it, e.g. a recorder, do not count). The
+capture moment is the camera's shutter: a device camera's frame is stamped when the driver hands it
+over; the synthetic camera renders the scene as it stands at the end of its render and never
+delivers an image before that moment (its rendering simulates the world and the optics, which cost a
+real installation nothing; a render that overruns delivers late and its lateness counts). Each
+capture counts once, at its first drawing: a tick that draws it again (nothing new arrived) or runs
+on the stamp of a stalled camera measures nothing (counting them, a 30 fps camera on the 60 Hz loop
+read 21.6 ms median where the same run at 60 fps read 8.8: the repeats' age is the camera's period,
+not latency).
 
 Per-stage figures from the running loop (medians and p99 of the measured seconds), in the order
 a frame goes through them: ``camera_render`` (synthetic image, not part of the latency; with a
@@ -83,8 +84,10 @@ def configs() -> dict[str, dict]:
     out["default_config"] = default
     lib = ROOT / "behaviors" / "library"
     reactors = [
-        {"kind": "puppet_master", "name": "lover", "behavior": str(lib / "lover"), "main": {"puck": 1}},
-        {"kind": "puppet_master", "name": "bully", "behavior": str(lib / "bully"), "main": {"puck": 2}},
+        {"kind": "puppet_master", "name": "lover", "behavior": str(lib / "lover"),
+         "main": {"puck": 1}},
+        {"kind": "puppet_master", "name": "bully", "behavior": str(lib / "bully"),
+         "main": {"puck": 2}},
         {"kind": "puppet_master", "name": "stalker", "behavior": str(lib / "stalker"),
          "main": {"puck": 1}},
         {"kind": "puppet_master", "name": "afraid", "behavior": str(lib / "afraid"),

@@ -37,6 +37,7 @@ import tabletop  # noqa: E402,F401  (one BLAS thread, as the loop runs, set befo
 import numpy as np  # noqa: E402
 
 from bench.common import emit, interleaved  # noqa: E402
+from bench.synthetic_actions import perform, template, warped_phase  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 from behaviors.mop.group import FollowerGroup  # noqa: E402
 
@@ -45,34 +46,8 @@ ROUNDS = 40
 SAMPLES = 200
 
 
-def make_template(rng: np.random.Generator, n: int, d: int) -> np.ndarray:
-    """A smooth random action (n, d): low-frequency sines per feature."""
-    s = np.linspace(0.0, 1.0, n)
-    out = np.zeros((n, d))
-    for j in range(d):
-        for f in (1, 2, 3):
-            out[:, j] += rng.normal() / f * np.sin(np.pi * f * s + rng.uniform(0, 2 * np.pi))
-    return out
-
-
-def warped_phase(rng: np.random.Generator, n: int, slow: float = 0.5, fast: float = 2.0) -> np.ndarray:
-    c, f = rng.uniform(0, 2 * np.pi), rng.uniform(0.04, 0.08)
-    phase, i, out = 0.0, 0, []
-    while phase < n - 1:
-        out.append(phase)
-        phase += float(np.exp(np.log(slow) + (np.log(fast) - np.log(slow)) * (0.5 + 0.5 * np.sin(c + f * i))))
-        i += 1
-    out.append(n - 1.0)
-    return np.asarray(out)
-
-
-def perform(rng: np.random.Generator, tpl: np.ndarray, phase: np.ndarray, noise: float = 0.1) -> np.ndarray:
-    base = np.arange(tpl.shape[0])
-    x = np.stack([np.interp(phase, base, tpl[:, j]) for j in range(tpl.shape[1])], axis=1)
-    return x + rng.normal(0.0, noise, x.shape) * tpl.std(axis=0)
-
-
-def performance_stream(rng: np.random.Generator, templates: dict[str, np.ndarray], length: int) -> np.ndarray:
+def performance_stream(rng: np.random.Generator, templates: dict[str, np.ndarray],
+                       length: int) -> np.ndarray:
     """Performances of randomly chosen templates, one after another, ``length`` samples."""
     names = list(templates)
     parts, total = [], 0
@@ -117,11 +92,12 @@ def step_costs(rng: np.random.Generator) -> dict[str, float]:
     runners = {}
     for k in (1, 20, 80):
         for d in (6, 60):
-            tpls = {f"a{i}": make_template(rng, SAMPLES, d) for i in range(k)}
-            runners[f"{k}x{d}"] = Runner([ActionFollower(tpls)], [performance_stream(rng, tpls, 4000)])
+            tpls = {f"a{i}": template(rng, SAMPLES, d) for i in range(k)}
+            runners[f"{k}x{d}"] = Runner([ActionFollower(tpls)],
+                                         [performance_stream(rng, tpls, 4000)])
     chars = []
     for c in range(4):
-        tpls = {f"c{c}a{i}": make_template(rng, SAMPLES, 6) for i in range(20)}
+        tpls = {f"c{c}a{i}": template(rng, SAMPLES, 6) for i in range(20)}
         chars.append((tpls, performance_stream(rng, tpls, 4000)))
     runners["tick_20x4"] = Runner([ActionFollower(t) for t, _ in chars], [s for _, s in chars])
     group = FollowerGroup([ActionFollower(t) for t, _ in chars])
@@ -135,7 +111,8 @@ def step_costs(rng: np.random.Generator) -> dict[str, float]:
         if name.startswith("tick_20x4"):
             how = "one_follower_group" if name.endswith("group") else "separate_followers"
             out[f"tick_20_templates_x_4_characters_{how}_median_ms"] = float(np.median(per)) / 1e3
-            out[f"tick_20_templates_x_4_characters_{how}_p99_ms"] = float(np.percentile(per, 99)) / 1e3
+            out[f"tick_20_templates_x_4_characters_{how}_p99_ms"] = \
+                float(np.percentile(per, 99)) / 1e3
         else:
             k, d = name.split("x")
             out[f"step_{k}_templates_{d}_features_median_us"] = float(np.median(per))
@@ -204,7 +181,7 @@ def design_tick(rng: np.random.Generator, ticks: int = 900, block: int = 25,
     figures leave out the time the group waited to be scheduled)."""
     templates, streams = [], []
     for _ in range(8):
-        templates.append({f"a{i}": 0.1 * make_template(rng, 100, 2) for i in range(100)})
+        templates.append({f"a{i}": 0.1 * template(rng, 100, 2) for i in range(100)})
         streams.append(performance_stream(rng, templates[-1], samples + 50))
     build = lambda: [ActionFollower(t, units=np.ones(2), invariance="scale") for t in templates]
     group, hot, alone = FollowerGroup(build()), FollowerGroup(build()), build()
@@ -256,13 +233,16 @@ def design_tick(rng: np.random.Generator, ticks: int = 900, block: int = 25,
             "tick_100_templates_x_8_performers_group_ticks": float(len(g)),
             "machine_load_1min_before": load, "machine_load_1min_after": os.getloadavg()[0],
             "tick_100_templates_x_8_performers_group_cpu_median_ms": float(np.median(cpu)) * 1e3,
-            "tick_100_templates_x_8_performers_group_cpu_p99_ms": float(np.percentile(cpu, 99)) * 1e3,
+            "tick_100_templates_x_8_performers_group_cpu_p99_ms":
+                float(np.percentile(cpu, 99)) * 1e3,
             "tick_100_templates_x_8_performers_group_forward_median_ms": float(np.median(fw)),
             "tick_100_templates_x_8_performers_group_rest_median_ms": float(np.median(g - fw)),
             "tick_100_templates_x_8_performers_group_back_to_back_median_ms": float(np.median(h)),
-            "tick_100_templates_x_8_performers_group_back_to_back_p99_ms": float(np.percentile(h, 99)),
+            "tick_100_templates_x_8_performers_group_back_to_back_p99_ms":
+                float(np.percentile(h, 99)),
             "tick_100_templates_x_8_performers_separate_followers_median_ms": float(np.median(a)),
-            "tick_100_templates_x_8_performers_separate_followers_p99_ms": float(np.percentile(a, 99))}
+            "tick_100_templates_x_8_performers_separate_followers_p99_ms":
+                float(np.percentile(a, 99))}
 
 
 MODELS = {
@@ -281,11 +261,12 @@ def rmse(f: ActionFollower, perf: np.ndarray, truth: np.ndarray, part: slice) ->
 def transition_costs(rng: np.random.Generator) -> dict[str, float]:
     cases = []
     for _ in range(8):
-        tpl = make_template(rng, SAMPLES, 3)
+        tpl = template(rng, SAMPLES, 3)
         n = len(tpl)
         w = warped_phase(rng, n)
         fast = np.arange(0.0, n - 1, 2.0)
-        bf = np.concatenate([np.arange(0.0, 140.0), np.full(40, 140.0), np.arange(140.0, 60.0, -1.0),
+        bf = np.concatenate([np.arange(0.0, 140.0), np.full(40, 140.0),
+                             np.arange(140.0, 60.0, -1.0),
                              np.arange(60.0, n - 1)])
         cases.append((tpl, [(perform(rng, tpl, ph), ph / (n - 1), part) for ph, part in
                             ((w, slice(len(w) // 10, None)), (fast, slice(len(fast) // 10, None)),
@@ -297,14 +278,15 @@ def transition_costs(rng: np.random.Generator) -> dict[str, float]:
         out[f"progress_rmse_warped_0.5x_to_2x_{model}"] = float(errs[:, 0].mean())
         out[f"progress_rmse_steady_2x_{model}"] = float(errs[:, 1].mean())
         out[f"progress_rmse_back_and_forth_{model}"] = float(errs[:, 2].mean())
-    tpls = {f"a{i}": make_template(rng, SAMPLES, 6) for i in range(20)}
+    tpls = {f"a{i}": template(rng, SAMPLES, 6) for i in range(20)}
     stream = performance_stream(rng, tpls, 4000)
     runners = {m: Runner([ActionFollower(tpls, **kw)], [stream]) for m, kw in MODELS.items()}
     for r in runners.values():
         r()
     times = interleaved(runners, ROUNDS)
     for m, ts in times.items():
-        out[f"step_20_templates_6_features_{m}_median_us"] = float(np.median(ts)) / STEPS_PER_CALL * 1e6
+        out[f"step_20_templates_6_features_{m}_median_us"] = \
+            float(np.median(ts)) / STEPS_PER_CALL * 1e6
     return out
 
 

@@ -23,7 +23,7 @@ import tabletop  # noqa: E402,F401  (one BLAS thread, as the loop runs, set befo
 import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
-from bench.mop import make_template, perform, warped_phase  # noqa: E402
+from bench.synthetic_actions import perform, template, warped_phase  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 
 
@@ -31,7 +31,7 @@ def soak(steps: int, seed: int = 13) -> dict[str, float]:
     """Step one follower of one template (120 samples, 3 features) through rests of 10 samples
     and warped, noisy performances until ``steps`` samples; returns the figures."""
     rng = np.random.default_rng(seed)
-    tpl = make_template(rng, 120, 3)
+    tpl = template(rng, 120, 3)
     f = ActionFollower({"a": tpl})
     done, errors, finite, worst_sum = 0, [], True, 0.0
     t0 = time.process_time()
@@ -60,7 +60,8 @@ def soak(steps: int, seed: int = 13) -> dict[str, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=200_000, help="samples to step (default 200000)")
+    parser.add_argument("--steps", type=int, default=200_000,
+                        help="samples to step (default 200000)")
     args = parser.parse_args()
     if args.steps <= 0:
         parser.error(f"--steps {args.steps}: must be a positive number of samples")

@@ -230,7 +230,8 @@ def main() -> None:
         at = {name: earliest(name, templates, theta) for name in templates}
         for name, p in at.items():
             figures[f"{name}_told_apart_progress_theta_{mm}mm"] = p
-        figures[f"told_apart_before_20pct_share_theta_{mm}mm"] = float(np.mean([p < 0.2 for p in at.values()]))
+        figures[f"told_apart_before_20pct_share_theta_{mm}mm"] = float(
+            np.mean([p < 0.2 for p in at.values()]))
         if mm == 2:
             reach = at
     # how long each gesture's start is also a start of an unrelated motion (at 2 mm)

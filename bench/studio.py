@@ -8,9 +8,9 @@ at 40 Hz, the lover) trained within the stop's tick vs in the worker thread
 five characters) whose followers are rebuilt within the tick vs in the stage's worker, and a
 touch-pose take (3 s of the right hand posed along an arc, physics on) whose action is learned
 within the tick vs in the target's worker (ticks paced at its 30 Hz). Budget: no tick of the
-span longer than one frame with the worker (16.7 ms at 60 Hz; touch-pose runs at 30 Hz: 33.3 ms). Wall and the loop
-thread's CPU time are both given: on a loaded machine the wall figures carry the waits for a
-core (the worker competes for one).
+span longer than one frame with the worker (16.7 ms at 60 Hz; touch-pose runs at 30 Hz: 33.3 ms).
+Wall and the loop thread's CPU time are both given: on a loaded machine the wall figures carry the
+waits for a core (the worker competes for one).
 """
 
 from __future__ import annotations

@@ -25,7 +25,8 @@ import numpy as np  # noqa: E402
 
 from bench.common import emit, stats_ms  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose  # noqa: E402
-from behaviors.touch_pose.models import PREFIX, build_models, input_key, load_or_build, save  # noqa: E402,E501
+from behaviors.touch_pose.models import (PREFIX, build_models, input_key,  # noqa: E402
+                                         load_or_build, save)
 
 ROUNDS = 400
 DT = 1.0 / 30.0
@@ -135,7 +136,8 @@ def main() -> None:
                                   "frame_posing_1_touch": frame_posing,
                                   "frame_posing_3_touches": frame_posing_3,
                                   "frame_action": frame_action}, ROUNDS)
-    figures = {f"{k}_wall_{m}": round(v, 4) for k, s in wall.items() for m, v in stats_ms(s).items()}
+    figures = {f"{k}_wall_{m}": round(v, 4) for k, s in wall.items()
+               for m, v in stats_ms(s).items()}
     figures.update({f"{k}_cpu_{m}": round(v, 4) for k, s in cpu.items()
                     for m, v in stats_ms(s).items()})
     figures["learn_models_s"] = round(learn_s, 3)

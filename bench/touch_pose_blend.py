@@ -14,7 +14,6 @@ path per metre of the finger's).
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
@@ -24,7 +23,8 @@ import numpy as np  # noqa: E402
 
 from bench.common import emit  # noqa: E402
 from bench.touch_pose_posing import bounded, distances, held_out  # noqa: E402
-from behaviors.motion.clips import quat_conj, quat_from_rotvec, quat_mul, quat_to_rotvec  # noqa: E402
+from behaviors.motion.clips import (quat_conj, quat_from_rotvec, quat_mul,  # noqa: E402
+                                    quat_to_rotvec)
 from behaviors.touch_pose.engine import learned_models  # noqa: E402
 from behaviors.touch_pose.humanoid import PARTS, Camera, Pose  # noqa: E402
 
@@ -66,7 +66,8 @@ def main() -> None:
         for tg in path:
             h = body.parts(blended(model, hand, tg[None], sweep_view, scheme, quats))[hand[0]]
             if prev is not None:
-                moves.append(float(np.linalg.norm(h - prev)) / float(np.linalg.norm(path[1] - path[0])))
+                moves.append(float(np.linalg.norm(h - prev))
+                             / float(np.linalg.norm(path[1] - path[0])))
             prev = h
         key = f"{quats}_{scheme.replace('/', '_')}"
         figures[f"{key}_median_m"] = round(float(np.median(dist)), 4)

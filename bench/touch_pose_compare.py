@@ -1,4 +1,5 @@
-"""Touch-pose control, this version against an older one: CPU ms per whole 30 fps frame, interleaved.
+"""Touch-pose control, this version against an older one: CPU ms per whole 30 fps frame,
+interleaved.
 
 The older version (a commit, by default the one before the speed work, or a folder holding such
 a tree) is loaded in the same process under another package name, so both run the same scripted

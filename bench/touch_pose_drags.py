@@ -1,5 +1,6 @@
-"""A finger dragging a touch-pose action's stroke there and back, step by step, as the tests
-and ``bench/touch_pose_rest.py`` drive the engine."""
+"""A finger dragging a touch-pose action's stroke, step by step, as the tests and the benches
+(``bench/touch_pose_rest.py``, ``bench/touch_pose_turns.py``) drive the engine: along the stroke
+and lifted (:func:`stroke_drag`), or there and back (:func:`there_and_back`)."""
 
 from __future__ import annotations
 
@@ -48,3 +49,32 @@ def there_and_back(engine: TouchPose, models: Any, name: str, frac: float = 1.0,
         out.fingers.append(xy if t <= end else None)
         out.targets.append(engine.camera.table(engine.body.parts(engine.target)))
     return out
+
+
+def stroke_drag(engine: TouchPose, models: Any, name: str, pace: float = 1.0, frac: float = 1.0,
+                hold: float = 0.0, after: float = 3.0, rate: float = 30.0,
+                before: float = 0.0) -> tuple[list, list[np.ndarray], list[np.ndarray]]:
+    """Drag the primary part of action ``name`` along its projected stroke at ``pace`` times
+    its recorded duration (``frac`` of it), hold the finger ``hold`` s, lift, run ``after`` s
+    (``rate`` Hz); ``before`` s of resting on the part come first.
+    Returns the output records, and the target (before tracking) and output rotations per step."""
+    desc = engine.describe()
+    traj = np.array(next(a for a in desc["actions"] if a["name"] == name)["trajectory"])
+    act = next(a for a in models.actions if a.name == name)
+    times = act.stroke_t * pace + before
+    end = before + (times[-1] - before) * frac
+    out, targets, outputs = [], [], []
+    k, t = 0, 0.0
+    while t <= end + hold + after:
+        t = k / rate
+        k += 1
+        if t <= end + hold:
+            s = min(t, end)
+            touches = {1: (float(np.interp(s, times, traj[:, 0])),
+                           float(np.interp(s, times, traj[:, 1])))}
+        else:
+            touches = {}
+        out.append(engine.step(t, touches))
+        targets.append(engine.target.rots.copy())
+        outputs.append(engine.output.rots.copy())
+    return out, targets, outputs

@@ -4,11 +4,11 @@ Both simulate the same humanoid (pybullet: DeepMimic's ``humanoid.urdf``; MuJoCo
 here from the same skeleton, capsules per bone with pybullet's link masses), free-floating over
 a ground plane under gravity, each segment pulled to where the tracked posture holds it by
 f = m (k (p_target - p) - d v) with k = 400, d = 30, two substeps of 1/60 s per 30 fps frame.
-The tracked posture (equations 2-4) follows the punch, kick and spin kick clips in turn. Figures: CPU milliseconds per frame
-(median, p99), the largest and median distance between a simulated segment and its target,
-how often the body had to be put back, and how far any simulated joint turned in one frame
-beyond the tracked pose's own turn (p99 and largest): the secondary motion taken from the
-simulation, which must stay small for a stable engine. Runs interleaved
+The tracked posture (equations 2-4) follows the punch, kick and spin kick clips in turn. Figures:
+CPU milliseconds per frame (median, p99), the largest and median distance between a simulated
+segment and its target, how often the body had to be put back, and how far any simulated joint
+turned in one frame beyond the tracked pose's own turn (p99 and largest): the secondary motion taken
+from the simulation, which must stay small for a stable engine. Runs interleaved
 (A B A B). MuJoCo is not a dependency: without it (``pip install mujoco==3.3.0``) only pybullet
 is measured.
 """
@@ -26,7 +26,8 @@ import numpy as np  # noqa: E402
 from bench.common import emit, stats_ms  # noqa: E402
 from behaviors.motion.clips import quat_from_axis_angle, quat_normalize  # noqa: E402
 from behaviors.touch_pose.humanoid import Humanoid, Pose, qrot  # noqa: E402
-from behaviors.touch_pose.physics import D_PHYS, K_PHYS, RESET_DISTANCE, SUBSTEP, Physics  # noqa: E402
+from behaviors.touch_pose.physics import (D_PHYS, K_PHYS, RESET_DISTANCE,  # noqa: E402
+                                          SUBSTEP, Physics)
 from behaviors.touch_pose.tracking import rot_diff  # noqa: E402
 from behaviors.touch_pose.samples import clip_named, clip_poses  # noqa: E402
 from behaviors.touch_pose.tracking import Tracker  # noqa: E402
@@ -113,7 +114,8 @@ class MujocoPhysics:
 
     def targets(self, pose: Pose) -> np.ndarray:
         qw, pw = self.body.globals(pose)
-        return np.array([np.add(pw[b], qrot(qw[b], off)) for b, off in zip(self._frames, self._com_off)])
+        return np.array([np.add(pw[b], qrot(qw[b], off))
+                         for b, off in zip(self._frames, self._com_off)])
 
     def step(self, target: Pose, dt: float) -> Pose:
         """Simulate ``dt`` seconds pulled toward ``target`` (equation 5); the simulated pose."""
@@ -152,7 +154,8 @@ class MujocoPhysics:
         pass
 
     def error(self, target: Pose) -> float:
-        return float(np.max(np.linalg.norm(self.data.xipos[self.ids] - self.targets(target), axis=1)))
+        off = self.data.xipos[self.ids] - self.targets(target)
+        return float(np.max(np.linalg.norm(off, axis=1)))
 
 
 
@@ -211,7 +214,8 @@ def main() -> None:
         figures[f"{name}_max_error_m"] = round(max(err[name]), 4)
         figures[f"{name}_median_error_m"] = round(float(np.median(err[name])), 4)
         figures[f"{name}_resets"] = engines[name][0].resets
-        figures[f"{name}_extra_turn_p99_deg_per_frame"] = round(float(np.percentile(turn[name], 99)), 2)
+        figures[f"{name}_extra_turn_p99_deg_per_frame"] = \
+            round(float(np.percentile(turn[name], 99)), 2)
         figures[f"{name}_extra_turn_max_deg_per_frame"] = round(max(turn[name]), 2)
     figures["frames"] = len(cpu["pybullet"])
     figures["mujoco"] = mj_version or "not installed"

@@ -14,8 +14,8 @@ dragging the hands and one a foot in wide circles, and 1 s after they lift; and 
 dragged sideways 0.05 m on the table (0.3 m tall character: 0.29 character m), its distance
 from the finger at the end (table m) and the hips' largest turn (degrees). ``drag_gap``: one
 finger dragging a hand, a foot, the head or the pelvis from where it stands to where a third
-of the ``inplace_`` or ``moved_`` postures hold it (table m between the part and the finger, after IK).
-A bound ending in ``+`` keeps each sample in place as well (twice the samples).
+of the ``inplace_`` or ``moved_`` postures hold it (table m between the part and the finger, after
+IK). A bound ending in ``+`` keeps each sample in place as well (twice the samples).
 Usage: ``bench/touch_pose_posing.py [--bounds=R/DEG[+],...]``.
 
 Section 4 blends each sample's pelvis position and heading relative to its motion's initial
@@ -29,10 +29,10 @@ drag to such a posture, table m, p90; the pelvis's farthest from the base over 8
 character m), bounds 0/0 (in place) | 0.15 m/30 deg | 0.25/45 |
 0.15/30 with each sample in place as well (``in_place_too``):
 
-    held-out postures in place           0.035/0.116 | 0.073/0.190 | 0.085/0.202 | 0.040/0.135
-    with their own offset, to 0.25/45    0.101/0.225 | 0.062/0.165 | 0.033/0.114 | 0.072/0.154
-    after a drag, in place / offset      0.0027/0.0105 | 0.0066/0.0046 | 0.0068/0.0033 | 0.0044/0.0053
-    pelvis's farthest from the base      0 | 0.14 | 0.19 | 0.06  (unbounded: 0.49)
+    held-out postures in place         0.035/0.116 | 0.073/0.190 | 0.085/0.202 | 0.040/0.135
+    with their own offset, to 0.25/45  0.101/0.225 | 0.062/0.165 | 0.033/0.114 | 0.072/0.154
+    after a drag, in place / offset    0.0027/0.0105 | 0.0066/0.0046 | 0.0068/0.0033 | 0.0044/0.0053
+    pelvis's farthest from the base    0 | 0.14 | 0.19 | 0.06  (unbounded: 0.49)
 
 Postures asked for with their recorded weight shift and turn are found better with the
 relative pelvis (each bound best on offsets bounded as itself; on offsets bounded to 0.1/20:
@@ -63,8 +63,8 @@ from behaviors.motion.clips import quat_mul  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
 from behaviors.touch_pose.humanoid import PARTS, Camera, Pose, yaw_of  # noqa: E402
 from behaviors.touch_pose.latent import LearnedModel  # noqa: E402
-from behaviors.touch_pose.samples import (clip_named, clip_poses, idle_poses, posing_samples,  # noqa: E402
-                                          standing_pose, yaw_quat)
+from behaviors.touch_pose.samples import (clip_named, clip_poses, idle_poses,  # noqa: E402
+                                          posing_samples, standing_pose, yaw_quat)
 
 TOUCHED = (("right_hand",), ("left_foot",), ("pelvis", "right_hand"),
            ("left_hand", "right_foot"), ("head", "left_hand", "right_foot"))

@@ -10,10 +10,10 @@ target (before tracking) / the output (table m); median and largest over views a
 kick runs on to where it may stand: 0).
 Lag on real motion, table metres: ``follow_{f}x`` the primary part's mean distance from the
 finger while it drags the stroke over f = 0.75, 1 and 1.5 times its recorded duration (4/3,
-1 and 2/3 of its pace; mean over the six actions other than the walk), ``*_back_*`` the same while it drags back
-along the stroke from its end (the punch to 0.4 of it, the wave to 0.3 and 0.6, the bow to 0.3,
-the walk from 0.9 to 0.5) and rests 1 s; ``*_slower``: the drag back takes 3 or 5 times as long
-as the stroke forward (a finger that slow moves the synthesised time less than the resting
+1 and 2/3 of its pace; mean over the six actions other than the walk), ``*_back_*`` the same while
+it drags back along the stroke from its end (the punch to 0.4 of it, the wave to 0.3 and 0.6, the
+bow to 0.3, the walk from 0.9 to 0.5) and rests 1 s; ``*_slower``: the drag back takes 3 or 5 times
+as long as the stroke forward (a finger that slow moves the synthesised time less than the resting
 finger's band).
 Usage: ``bench/touch_pose_rest.py``.
 """

@@ -2,7 +2,7 @@
 
 Each action's stroke is dragged on its primary part at its recorded pace from four views
 (90,15 270,30 60,10 300,20; views that exclude the action are skipped), then the finger lifts
-and the action runs on to its end (tests/touch_pose/conftest.py ``stroke_drag``, physics off).
+and the action runs on to its end (bench/touch_pose_drags.py ``stroke_drag``, physics off).
 Over the frames in action control, per action: the largest turn of any joint of the target
 posture (before tracking) while the finger drags (``*_drag_deg``) and once it has lifted
 (``*_run_deg``), and of the tracked output (``*_output_deg``); the worst view each.
@@ -20,7 +20,7 @@ import numpy as np  # noqa: E402
 from bench.common import emit  # noqa: E402
 from behaviors.touch_pose.engine import TouchPose, learned_models  # noqa: E402
 from behaviors.touch_pose.tracking import rot_diff  # noqa: E402
-from tests.touch_pose.conftest import stroke_drag  # noqa: E402
+from bench.touch_pose_drags import stroke_drag  # noqa: E402
 
 VIEWS = ((90.0, 15.0), (270.0, 30.0), (60.0, 10.0), (300.0, 20.0))
 

@@ -6,9 +6,9 @@ periodic full-frame detection, then the puck tracker) against a plain full-frame
 For 1280x720 and 1920x1080 with 4 and 16 moving pucks (synthetic camera: blur, noise, motion
 blur), all run interleaved frame by frame in one process. Figures: ms per frame of each, their
 ratio to plain (budget <= 0.3 at 720p, <= 0.2 at 1080p), detection rate of fully visible
-markers, centre error (pixels), and the share of frames between full-frame passes that needed no detection at all.
-Ours includes the full-frame search a camera runs after publishing the frame's result
-(``defer_full_frame``); ``ours_until_result`` is the part before the result, which is what
+markers, centre error (pixels), and the share of frames between full-frame passes that needed no
+detection at all. Ours includes the full-frame search a camera runs after publishing the frame's
+result (``defer_full_frame``); ``ours_until_result`` is the part before the result, which is what
 the capture-to-render latency sees.
 """
 

@@ -1,4 +1,5 @@
-"""ChArUco boards: the printed board for the lens, the projected pattern, detection and the lens solve.
+"""ChArUco boards: the printed board for the lens, the projected pattern, detection and the lens
+solve.
 
 OpenCV >= 4.7 API: ``cv2.aruco.CharucoBoard((cols, rows), square, marker, dictionary)`` with the
 current (not legacy) pattern, ``CharucoDetector(board).detectBoard(image)``,
@@ -74,7 +75,8 @@ def parse_board(text: str) -> BoardSpec:
 
 def dictionary_of(spec: BoardSpec) -> cv2.aruco.Dictionary:
     """The board's OpenCV dictionary; CalibrationInputError naming an unknown one."""
-    code = getattr(cv2.aruco, spec.dictionary, None) if spec.dictionary.startswith("DICT_") else None
+    code = getattr(cv2.aruco, spec.dictionary, None) \
+        if spec.dictionary.startswith("DICT_") else None
     if not isinstance(code, int):
         raise CalibrationInputError(f"unknown marker dictionary {spec.dictionary!r} (OpenCV "
                                     "names such as DICT_5X5_100, DICT_6X6_250)")

@@ -191,7 +191,8 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
              "table_to_projector", "projector_size", "reprojection_error"}
     for key in data:
         if key not in known:
-            raise CalibrationError(f"{where}: {key}: unknown key (known: {', '.join(sorted(known))})")
+            raise CalibrationError(f"{where}: {key}: unknown key (known: "
+                                   f"{', '.join(sorted(known))})")
     if data.get("format") != FORMAT:
         raise CalibrationError(f"{where}: format: expected {FORMAT!r}, got {data.get('format')!r}")
     if isinstance(data.get("version"), bool) or data.get("version") != VERSION:

@@ -95,9 +95,9 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     A folder that cannot be written fails at start-up naming its key when ``strict``; otherwise
     the installation starts without recording and tries again (see the Recorder). A ``max_mb``
     that this config's header alone reaches would start a part every frame (every part repeats
-    the header: the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in 8 s,
-    ``keep`` removing them as fast): ``strict`` (a start outside a kiosk, where someone reads the
-    error) refuses it; otherwise (a kiosk's start, which may be a restart by its supervisor or
+    the header: the config and the files it names, 0.15 MB with one shipped behaviour; 480 files in
+    8 s, ``keep`` removing them as fast): ``strict`` (a start outside a kiosk, where someone reads
+    the error) refuses it; otherwise (a kiosk's start, which may be a restart by its supervisor or
     by systemd; a config edit; after a named file grew) one warning is logged and parts of
     :data:`HEADER_PARTS` headers are recorded, so a running table never goes down over it.
     ``refuse_full``: a full disk at the start is refused too (see the Recorder)."""

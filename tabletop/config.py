@@ -16,7 +16,7 @@ from tabletop.config_checks import (check_calibrations, check_marker_ids, check_
 from tabletop.config_ports import check_udp_ports
 from tabletop.files import read_yaml
 from tabletop.schema import (REQUIRED, Bool, ConfigError, Context, FilePath, FileRef, ListOf,
-                             MapOf, Number, Optional_, Record, Spec, Str, shown)
+                             MapOf, Number, Optional_, Record, Spec, shown)
 
 
 class ImageFile(FilePath):
@@ -106,7 +106,8 @@ class Component(Spec):
         self.role, self.default, self.doc = role, REQUIRED, ""
 
     def describe(self) -> str:
-        return f"a {self.role} mapping with 'kind' ({', '.join(sorted(registry.REGISTRIES[self.role]))})"
+        kinds = ", ".join(sorted(registry.REGISTRIES[self.role]))
+        return f"a {self.role} mapping with 'kind' ({kinds})"
 
     def validate(self, value: Any, path: str, ctx: Context) -> Any:
         if not isinstance(value, dict):
@@ -155,7 +156,8 @@ def _check_on_table(cfg: dict, ctx: Context) -> None:
     camera never sees or a character nobody can reach."""
     w, h = cfg["table"]["width"], cfg["table"]["height"]
     places = [(f"sources[{i}].performers[{j}].home", p.get("home"))
-              for i, s in enumerate(cfg["sources"]) for j, p in enumerate(s.get("performers") or [])]
+              for i, s in enumerate(cfg["sources"])
+              for j, p in enumerate(s.get("performers") or [])]
     for i, e in enumerate(cfg["engines"]):
         places.append((f"engines[{i}].at", e.get("at")))
         places += [(f"engines[{i}].characters[{j}].at", c.get("at"))

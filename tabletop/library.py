@@ -9,8 +9,9 @@ Saved behaviours are never half-written: a new behaviour is written into a hidde
 folder (every file fsynced) that is then renamed into place, and a replaced behaviour is
 written whole beside the old one and swapped in by renames (:mod:`tabletop.swap`), so a kill at
 any moment leaves the old behaviour or the new one, never the new demonstration beside the old
-``behavior.yaml``; a read that a swap overtook is read again (:func:`load_behavior`). A corrupt ``behavior.yaml`` or CSV is refused with
-one message naming the file, the line or key, and what is wrong, and it is never overwritten.
+``behavior.yaml``; a read that a swap overtook is read again (:func:`load_behavior`). A corrupt
+``behavior.yaml`` or CSV is refused with one message naming the file, the line or key, and what is
+wrong, and it is never overwritten.
 """
 
 from __future__ import annotations

@@ -25,7 +25,7 @@ from typing import Any, Callable, Sequence
 
 from tabletop.frames import CharacterState, Engine, Frame, Sink
 # Live inputs live in tabletop.live_inputs; their names are kept importable here.
-from tabletop.live_inputs import LatestMeasurements, LiveInputs, Tracker  # noqa: F401
+from tabletop.live_inputs import LatestMeasurements, LiveInputs  # noqa: F401
 from tabletop.loop_stats import LoopStats
 from tabletop.realtime import realtime_threads
 from tabletop.replay_inputs import FrameInputs  # noqa: F401  (replays; kept importable here)

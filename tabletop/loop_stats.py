@@ -25,8 +25,8 @@ class LoopStats:
     and hooks do, such as recording, comes after the visitor saw it), or the end of the tick
     when no sink presents. For sources that announce new observations (cameras) also
     ``source`` (capture to observation ready) and ``queued`` (ready to the tick that took it):
-    ``capture_age`` = ``source`` + ``queued`` + the tick up to the view for those frames. Read by the view's
-    overlay and by the benchmarks.
+    ``capture_age`` = ``source`` + ``queued`` + the tick up to the view for those frames. Read by
+    the view's overlay and by the benchmarks.
     """
 
     RATE_MIN_S = 1.0   # seconds of ticks before a rate is said

@@ -43,9 +43,8 @@ from tabletop.recorder_sync import Syncer
 from tabletop.recordings import (FOREIGN, Orders, Recordings, candidates, hold, new_session,
                                  number, prune, recordings, release)
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
-from tabletop.session import (FORMAT, VERSION, SessionError, frame_from_dict,  # noqa: F401
-                              carried, frame_to_dict, jsonable, read_frames, read_header,
-                              session_header)
+from tabletop.session import (FORMAT, VERSION, SessionError, carried,  # noqa: F401
+                              frame_to_dict, jsonable, read_frames, read_header, session_header)
 
 log = logging.getLogger("tabletop")
 
@@ -429,9 +428,9 @@ def header_line(header: dict[str, Any], order: int, part: int, session: str,
                 reloaded: dict[str, Any] | None = None,
                 performers: dict[str, Any] | None = None) -> bytes:
     """The first line of a recording part: format, version, ``order`` first (see
-    recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``, with this
-    part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands on the
-    recording's own) and the time it is created; ``reloaded``: what the session reloaded
+    recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``,
+    with this part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands
+    on the recording's own) and the time it is created; ``reloaded``: what the session reloaded
     before the part began (:func:`tabletop.session.carried`), and ``performers``, its engines'
     states before its first frame (:func:`tabletop.session.part_states`), so that it replays
     on its own."""

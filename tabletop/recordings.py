@@ -4,9 +4,9 @@ A folder recording is named ``session-DATE-TIME-MICROSECONDS.jsonl``; an exact f
 exists already continues as ``NAME-2.jsonl``, ``NAME-3.jsonl``... (never overwritten). Each
 file's header carries an ``order`` (one more than the highest in the folder when it was made);
 pruning removes the oldest by that order, never by the clock (a clock set back gives the newest
-files the oldest times). ``keep`` counts parts, so the disk holds at most ``keep`` x ``max_mb``; the parts of one
-session (``max_mb`` reached, a resume after a full disk) carry one ``session`` id, made anew
-for each session (:func:`new_session`: two runs starting together read the same highest
+files the oldest times). ``keep`` counts parts, so the disk holds at most ``keep`` x ``max_mb``; the
+parts of one session (``max_mb`` reached, a resume after a full disk) carry one ``session`` id, made
+anew for each session (:func:`new_session`: two runs starting together read the same highest
 order, so an order would give both one id), and closed sessions are removed whole, oldest
 first, so a kept session replays whole. A running session that alone holds more than ``keep``
 parts loses its oldest parts (each part replays on its own), only the recorder's own. Used by

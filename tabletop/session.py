@@ -27,12 +27,11 @@ engines first play a hot-reloaded behaviour carries what it was trained from as
 ``consumed["reload"]["behaviors"]``, and one where a reload failed its label's note as
 ``consumed["reload"]["notes"]`` (:mod:`tabletop.studio.reloader`), and one whose MOP
 characters first follow an action as a kiosk read it on disk (fixed after a start without it,
-or replaced later) the files it was read from as
-``consumed["reload"]["actions"]`` (:mod:`tabletop.kiosk.actions`), and one whose studio
-first follows a MOP character's or touch-pose engine's library files, or a Puppet Master
-library's listing, changed on disk those files as ``consumed["reload"]["libraries"]`` (:class:`tabletop.studio.reloader.
-LibraryReloads`). A reader accepts a
-file whose last line was cut short by a power cut.
+or replaced later) the files it was read from as ``consumed["reload"]["actions"]``
+(:mod:`tabletop.kiosk.actions`), and one whose studio first follows a MOP character's or
+touch-pose engine's library files, or a Puppet Master library's listing, changed on disk those
+files as ``consumed["reload"]["libraries"]`` (:class:`tabletop.studio.reloader.LibraryReloads`).
+A reader accepts a file whose last line was cut short by a power cut.
 """
 
 from __future__ import annotations
@@ -80,7 +79,8 @@ def frame_to_dict(frame: Frame, t0: float = 0.0) -> dict[str, Any]:
         "seq": frame.seq,
         "t": frame.t - t0,
         "pucks": [_puck_to_dict(p) for p in frame.pucks],
-        "touches": [{"id": c.id, "x": c.x, "y": c.y, "vx": c.vx, "vy": c.vy} for c in frame.touches],
+        "touches": [{"id": c.id, "x": c.x, "y": c.y, "vx": c.vx, "vy": c.vy}
+                    for c in frame.touches],
         "streams": {k: v.tolist() for k, v in frame.streams.items()},
         "characters": [_character_to_dict(c) for c in frame.characters],
         "commands": list(frame.commands),

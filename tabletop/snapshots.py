@@ -205,7 +205,7 @@ class Snapshots:
 
 
 def save_png(surface: pygame.Surface, path: Path) -> str:
-    """Write ``surface`` to ``path`` as PNG atomically (:func:`tabletop.files.atomic_write_bytes`:
+    """Write ``surface`` to ``path`` as PNG atomically (:func:`tabletop.file_io.atomic_write_bytes`:
     temporary file, fsync, rename); returns what went wrong, or "" when it was written.
 
     Encoded by OpenCV, which lets go of the interpreter while it compresses: pygame's own PNG

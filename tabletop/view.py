@@ -32,9 +32,8 @@ from tabletop.drawing.screens import INVITATIONS, invitation  # noqa: E402,F401
 from tabletop.frames import Frame, InputError  # noqa: E402
 from tabletop.loop import CommandQueue, LoopStats  # noqa: E402
 from tabletop.loop_stats import LABELS  # noqa: E402
-# the renderer and the table mapping, importable from here as before
-from tabletop.renderer import (BODY, EYES, PUCK_COLORS, Renderer, body_polygon,  # noqa: E402,F401
-                               cameras_down, puck_color)
+# the renderer and the table mapping, importable from here too (tests, benches)
+from tabletop.renderer import Renderer, cameras_down  # noqa: E402,F401
 from tabletop.snapshots import Snapshots  # noqa: E402
 from tabletop.table_map import TableToScreen  # noqa: E402,F401
 
@@ -172,7 +171,8 @@ class ProjectorView:
                                   f"be used: {exc.strerror or exc}") from None
         self.snapshot_overlay = bool(options["snapshot_overlay"])
         self._said_headless = False
-        self.kiosk = False        # kiosk: only the service key shows the overlay (and then Esc quits)
+        # kiosk: only the service key shows the overlay (and then Esc quits)
+        self.kiosk = False
         self.service_key: int | None = None
         self.notices: list = []   # callables returning extra overlay lines (a refused config)
         from tabletop.studio.draw import NamePrompt

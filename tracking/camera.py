@@ -1,4 +1,5 @@
-"""Camera capture in its own thread: a device, a video file or a folder of images, newest frame only.
+"""Camera capture in its own thread: a device, a video file or a folder of images, newest frame
+only.
 
 ``CameraSource`` grabs frames with ``cv2.VideoCapture`` (a device index such as ``0``, a device
 path such as ``/dev/video2``, a video file) or reads a folder of images in name order, hands each
@@ -406,7 +407,8 @@ class CameraSource:
             if obs is not None:
                 self._latest = obs
             if not self._ok:
-                self._ok, self._message, self._retry_at = True, f"{describe(self.settings.device)} open", None
+                self._ok, self._retry_at = True, None
+                self._message = f"{describe(self.settings.device)} open"
         notify = self.notify
         if notify is not None and obs is not None:
             notify(t)

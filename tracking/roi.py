@@ -388,7 +388,8 @@ class MarkerTracker:
         if sides:
             rate = max(rate, 4.0 * 0.5 * min(sides) / max(shape[0], shape[1]))
         aruco3 = self._aruco3 and max(shape[0], shape[1]) >= ARUCO3_MIN_IMAGE_PX
-        if abs(rate - self._full_rate) > 0.1 * rate or aruco3 != self._full_params.useAruco3Detection:
+        if abs(rate - self._full_rate) > 0.1 * rate \
+                or aruco3 != self._full_params.useAruco3Detection:
             self._full_params.minMarkerPerimeterRate = rate
             self._full_params.useAruco3Detection = aruco3
             self.full_detector.setDetectorParameters(self._full_params)

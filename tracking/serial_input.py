@@ -1,4 +1,5 @@
-"""Serial input: a microcontroller (or anything pyserial opens) sending ASCII lines, in its own thread.
+"""Serial input: a microcontroller (or anything pyserial opens) sending ASCII lines, in its own
+thread.
 
 The line protocol (DESIGN.md): lines end with ``\\n`` or ``\\r\\n``, fields are split on spaces,
 at most ``MAX_LINE`` bytes a line (NUL padding at either end of a line is dropped)::
@@ -268,7 +269,8 @@ class SerialInput(BackgroundSource):
     def health(self) -> SourceHealth:
         now = self.clock()
         with self._lock:
-            ok, message, retry_at, age = self._ok, self._message, self._retry_at, now - self._heard_t
+            ok, message, retry_at = self._ok, self._message, self._retry_at
+            age = now - self._heard_t
             silent = now - self._alive_t
         if retry_at is not None:
             message = f"{message}; reconnecting in {max(0.0, retry_at - now):.1f} s"

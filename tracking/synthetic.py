@@ -1,10 +1,11 @@
 """A synthetic overhead camera: renders pucks carrying real fiducial markers on a table.
 
 The camera is a pinhole above the table, tilted about its x axis, with optional radial/tangential
-lens distortion. Pucks are white discs with an ArUco/AprilTag marker (``cv2.aruco.generateImageMarker``)
-on top, rendered by warping only their small texture patches onto a precomputed background; then a
-lighting gradient, per-puck motion blur, hand-shaped occluders, the optics (Gaussian blur and lens
-distortion, :mod:`tracking.optics`) and sensor noise are applied. Every frame comes with its ground truth (marker corners and centres in pixels, poses in
+lens distortion. Pucks are white discs with an ArUco/AprilTag marker
+(``cv2.aruco.generateImageMarker``) on top, rendered by warping only their small texture patches
+onto a precomputed background; then a lighting gradient, per-puck motion blur, hand-shaped
+occluders, the optics (Gaussian blur and lens distortion, :mod:`tracking.optics`) and sensor noise
+are applied. Every frame comes with its ground truth (marker corners and centres in pixels, poses in
 table metres, which markers are fully visible).
 
 Units: table metres, radians CCW from +x, image pixels x right / y down. Output images are 8-bit

@@ -11,11 +11,12 @@ profile waits for that profile's ``fseq`` across packets: a frame sent as one bu
 single messages (``source``, ``alive``, ``set``..., ``fseq``, one datagram each, as python-osc's
 ``send_message`` sends them), commits alike. A frame whose ``alive`` is followed by another
 ``alive`` before its ``fseq`` (its fseq lost: the second ``alive`` begins a new frame, the lost
-one's sets dropped), or left unfinished for ``restart_s``, is counted ``no_fseq``. An ``fseq`` below the sender's current one is late and its
-bundle is dropped, unless the gap is over 100 (the sender restarted) or the sender was silent for
-``restart_s``; ``fseq`` <= 0 (-1: a redundant resend) always commits. Every sender and profile
-keeps its own state, so several senders never mix. Bad messages raise :class:`TuioError`, whose
-``kind`` names the counter it belongs to; the rest of the packet still applies.
+one's sets dropped), or left unfinished for ``restart_s``, is counted ``no_fseq``. An ``fseq`` below
+the sender's current one is late and its bundle is dropped, unless the gap is over 100 (the sender
+restarted) or the sender was silent for ``restart_s``; ``fseq`` <= 0 (-1: a redundant resend) always
+commits. Every sender and profile keeps its own state, so several senders never mix. Bad messages
+raise :class:`TuioError`, whose ``kind`` names the counter it belongs to; the rest of the packet
+still applies.
 
 Units: TUIO positions are 0..1 with y down, angles 0..2pi clockwise on screen, velocities in
 those units per second, rotation speed in turns per second. :func:`to_table` and
@@ -36,7 +37,8 @@ MAX_SOURCE = 200   # characters of a sender's source name kept (a longer one is 
 
 PROFILES = ("2Dobj", "2Dcur", "2Dblb")
 ADDRESSES = {f"/tuio/{p}": p for p in PROFILES}
-SET_ARGS = {"2Dobj": 10, "2Dcur": 6, "2Dblb": 12}  # s i x y a X Y A m r | s x y X Y m | s x y a w h f X Y A m r
+# s i x y a X Y A m r | s x y X Y m | s x y a w h f X Y A m r
+SET_ARGS = {"2Dobj": 10, "2Dcur": 6, "2Dblb": 12}
 LATE_GAP = 100            # a larger backwards jump of fseq is a restarted sender
 MAX_FSEQ = 2**31 - 1      # fseq is an int32: a sender counts 1 .. MAX_FSEQ, then from 1 again
 MAX_ALIVE = 1024          # live entities per sender and profile
@@ -173,8 +175,8 @@ class TuioClient:
     ``apply(messages, address, t)`` applies the TUIO messages of one packet received at ``t``
     (monotonic s) from ``address`` and returns (committed profiles, errors, late bundles); an
     error in one message is collected and the others still apply. What the packet stages
-    without its ``fseq`` waits in ``pending`` for a later packet from that address. ``senders`` is bounded by
-    ``max_senders``: a new sender replaces the one heard from longest ago.
+    without its ``fseq`` waits in ``pending`` for a later packet from that address. ``senders`` is
+    bounded by ``max_senders``: a new sender replaces the one heard from longest ago.
     """
 
     def __init__(self, restart_s: float = 2.0, max_senders: int = 32) -> None:

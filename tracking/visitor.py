@@ -122,7 +122,8 @@ class PuckScript:
             dist = math.dist(p0, p2)
             nx, ny = -(p2[1] - p0[1]) / dist, (p2[0] - p0[0]) / dist
             bend = float(self.rng.uniform(-0.35, 0.35)) * dist
-            p1 = (min(max(mid[0] + nx * bend, 0.0), self.w), min(max(mid[1] + ny * bend, 0.0), self.h))
+            p1 = (min(max(mid[0] + nx * bend, 0.0), self.w),
+                  min(max(mid[1] + ny * bend, 0.0), self.h))
             v = float(self.rng.uniform(*self.speed))
             # Min-jerk peaks at 1.875x its mean speed; the mean is v.
             d = max(dist / v, 0.4)

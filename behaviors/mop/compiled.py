@@ -1,12 +1,12 @@
 """Tools for MOP's compiled loops (numba): a hint to fetch memory early, and an exponential
 that vectorises.
 
-Prefetch: the compiled MOP passes (:mod:`behaviors.mop.window_kernel`, :mod:`behaviors.mop.group_kernel`)
-read, per template, a stretch of states at an address known only from the template's progress:
-one cache miss after another, the processor idle in between (DESIGN's 8 x 100 templates read
-1-2 MB per tick, more than the core's own caches keep between ticks). Asking for the stretches
-of the templates a few ahead lets those misses overlap the work on the current one (DESIGN's
-tick, same process, A/B: 1.96 -> 1.47 ms CPU median on a loaded machine).
+Prefetch: the compiled MOP passes (:mod:`behaviors.mop.window_kernel`,
+:mod:`behaviors.mop.group_kernel`) read, per template, a stretch of states at an address known only
+from the template's progress: one cache miss after another, the processor idle in between (DESIGN's
+8 x 100 templates read 1-2 MB per tick, more than the core's own caches keep between ticks). Asking
+for the stretches of the templates a few ahead lets those misses overlap the work on the current one
+(DESIGN's tick, same process, A/B: 1.96 -> 1.47 ms CPU median on a loaded machine).
 
 Exponential: the forward step takes about 40 000 exponentials per tick for DESIGN's case; the
 library's ``exp`` is a call per value (about 5 ns), which the compiler cannot vectorise.
@@ -41,7 +41,8 @@ def prefetch(typingctx, array, index):
         at = [args[1]] + [context.get_constant(types.intp, 0)] * (aty.ndim - 1)
         ptr = cgutils.get_item_pointer(context, builder, aty, ary, at, wraparound=False)
         i8p, i32 = ir.IntType(8).as_pointer(), ir.IntType(32)
-        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
+        fn = cgutils.get_or_insert_function(builder.module,
+                                            ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
                                             "llvm.prefetch.p0i8")
         # read, high temporal locality, data cache
         builder.call(fn, [builder.bitcast(ptr, i8p), i32(0), i32(3), i32(1)])

@@ -66,16 +66,19 @@ def _walk(t: float) -> dict[str, float]:
     spine = 0.25 * math.sin(w)
     swing = 0.45 * math.sin(w)
     return {"spine_front": spine, "neck": -0.5 * spine, "head": -0.3 * spine,
-            "tail_1": -spine, "tail_2": -0.6 * math.sin(w - 0.8), "tail_3": -0.6 * math.sin(w - 1.6),
+            "tail_1": -spine, "tail_2": -0.6 * math.sin(w - 0.8),
+            "tail_3": -0.6 * math.sin(w - 1.6),
             "tail_4": -0.5 * math.sin(w - 2.4),
             "front_left_upper": swing, "front_right_upper": swing,
             "hind_left_upper": -swing, "hind_right_upper": -swing,
-            "front_left_lower": 0.3 * max(0.0, math.sin(w)), "hind_right_lower": -0.3 * max(0.0, -math.sin(w))}
+            "front_left_lower": 0.3 * max(0.0, math.sin(w)),
+            "hind_right_lower": -0.3 * max(0.0, -math.sin(w))}
 
 
 def _wag(t: float) -> dict[str, float]:
     s = math.sin(4 * math.pi * t) * math.sin(math.pi * t)
-    return {"tail_1": 0.5 * s, "tail_2": 0.5 * math.sin(4 * math.pi * t - 0.7) * math.sin(math.pi * t),
+    return {"tail_1": 0.5 * s,
+            "tail_2": 0.5 * math.sin(4 * math.pi * t - 0.7) * math.sin(math.pi * t),
             "tail_3": 0.5 * math.sin(4 * math.pi * t - 1.4) * math.sin(math.pi * t),
             "tail_4": 0.4 * math.sin(4 * math.pi * t - 2.1) * math.sin(math.pi * t),
             "head": -0.2 * s}

@@ -20,8 +20,10 @@ PATH_FEATURE_NAMES: tuple[str, ...] = ("dx", "dy", "heading", "speed")
 
 
 def fit_scale(templates: Sequence[np.ndarray], relative_floor: float = 0.05,
-              min_scale: np.ndarray | Sequence[float] | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Centre and scale per feature column, pooled over all templates: ``(center, scale)``, each (d,).
+              min_scale: np.ndarray | Sequence[float] | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and scale per feature column, pooled over all templates: ``(center, scale)``, each
+    (d,).
 
     ``scale`` is the standard deviation of every sample of every template about the pooled mean,
     floored at ``relative_floor`` times the root-mean-square of all column spreads, so a column
@@ -53,9 +55,9 @@ class PathFeatures:
     within ``rest_radius`` metres and ``rest_turn`` radians of where it settled (the mean of its
     poses since it came within that radius) for ``rest_time`` seconds has ended its gesture:
     :attr:`resting` is True and the origin moves to where it settled, so the next gesture starts
-    from there; it stops resting as soon as it leaves that radius. While resting nothing is being performed: a follower fed by this puck should wait for
-    the next gesture, since a puck at its origin looks like the first sample of every template.
-    ``rest_time=inf`` disables this.
+    from there; it stops resting as soon as it leaves that radius. While resting nothing is being
+    performed: a follower fed by this puck should wait for the next gesture, since a puck at its
+    origin looks like the first sample of every template. ``rest_time=inf`` disables this.
 
     Why a radius and not a speed threshold: tracked positions jitter, and the speed of a jittering
     puck is never small (0.3 mm of noise per 60 Hz frame reads as ~0.03 m/s, low-passed or not),
@@ -134,7 +136,8 @@ class PathFeatures:
 
     def step(self, x: float, y: float, angle: float, t: float) -> np.ndarray:
         """Features of this pose (metres, radians, seconds); see the class docstring."""
-        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(angle) and math.isfinite(t)):
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(angle)
+                and math.isfinite(t)):
             raise ValueError(f"puck pose must be finite, got x={x}, y={y}, angle={angle}, t={t}")
         if not self._started:
             self.reset(x, y, angle, t)

@@ -61,7 +61,8 @@ class WindowedForward:
         self._start_tail = self._wk == lengths   # a first-states window that reaches the last state
         self._inv_span = 1.0 / (lengths - 1)
         self._back, self._fwd = transitions.weights()
-        # log b = -|m - z|^2 / (2 sigma^2) + const: states and samples prescaled by 1 / (sigma sqrt 2)
+        # log b = -|m - z|^2 / (2 sigma^2) + const: states and samples prescaled by
+        # 1 / (sigma sqrt 2)
         self._prescale = 1.0 / (self.sigma * math.sqrt(2.0))
         self._means = np.ascontiguousarray(bank.means * self._prescale)
         self._z = np.empty((k, bank.dim))
@@ -73,7 +74,8 @@ class WindowedForward:
         # ``stay`` (states,) given: a group's, each member's own)
         self._stay = (dwell_states(bank, transitions.dwell) if stay is None
                       else np.ascontiguousarray(stay, dtype=float))
-        self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) if k else np.zeros(0, bool)
+        self._dwells = np.logical_or.reduceat(self._stay > 0, self._starts) \
+            if k else np.zeros(0, bool)
         self.reset()
 
     def reset(self) -> None:
@@ -89,7 +91,8 @@ class WindowedForward:
         self._mom[0] = 1.0
         self.entries = np.zeros(k, dtype=np.int64)
         self.steps = 0
-        self._fresh = np.ones(k, dtype=bool)   # the next step is a first one (no transitions, no restart)
+        # the next step is a first one (no transitions, no restart)
+        self._fresh = np.ones(k, dtype=bool)
 
     def reset_templates(self, templates: np.ndarray | slice, fresh: bool = False) -> None:
         """Forget the performance of some templates (indices or a slice): they wait at their
@@ -171,8 +174,8 @@ def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float
     by state (equations 2-7, the floor, the first-states window and re-entry), for checking.
 
     ``states`` (N, d) and ``observations`` (T, d) standardised; ``stay`` (N,): each state's
-    share that stays before the transitions move the rest (none by default). Returns per step the mean state,
-    its variance (states squared), the log-likelihood and the re-entries so far.
+    share that stays before the transitions move the rest (none by default). Returns per step the
+    mean state, its variance (states squared), the log-likelihood and the re-entries so far.
     """
     n, d = states.shape
     w = min(2 * half_window + 1, n)
@@ -193,7 +196,8 @@ def forward_reference(states: np.ndarray, observations: np.ndarray, sigma: float
         for i in np.flatnonzero(window):
             moving = a[i] * (1.0 - held[i])
             pred[i] += a[i] - moving
-            for j, wo in [(max(i - 1, 0), back)] + [(min(i + o, n - 1), f) for o, f in enumerate(fwd)]:
+            for j, wo in [(max(i - 1, 0), back)] + [(min(i + o, n - 1), f)
+                                                    for o, f in enumerate(fwd)]:
                 if window[j]:
                     pred[j] += wo * moving
         return pred

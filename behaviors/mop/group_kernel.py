@@ -71,18 +71,18 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
     ``best`` (M,: each member's own template index, switched when another leads by the
     member's margin in nats or it is refused); ``floats`` (len(FLOATS), K), ``flags`` and the
     members' arrays: one row each (not tuples of arrays: numba types a tuple's arrays one by
-    one at every call, 6.5 -> 4.7 us; nor an argument each: see :func:`members.conclude`). Out per template: progress, recent mean log-likelihood, probability, whether its
-    performance began anew; per member: top three by probability (-1 where fewer), the largest
-    RMS displacement from the anchor (template units and size), any engaged, all refused,
-    whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape
-    by ``min_lead``, whether the performer rests (``rest_out``: the holds' rule here, the stall
-    rule in :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
-    (``committed_out``: :meth:`ShapeLead._committed`; ``shape_n``: each member's samples
-    in its shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
-    ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
-    each template's tolerance there
-    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`). ``means``,
-    ``thr_means``: the states' means (D, S), the threshold model's in float32."""
+    one at every call, 6.5 -> 4.7 us; nor an argument each: see :func:`members.conclude`). Out per
+    template: progress, recent mean log-likelihood, probability, whether its performance began anew;
+    per member: top three by probability (-1 where fewer), the largest RMS displacement from the
+    anchor (template units and size), any engaged, all refused, whether ``best`` leads every rival
+    (not refused, probability at least ``rival_p``) in shape by ``min_lead``, whether the performer
+    rests (``rest_out``: the holds' rule here, the stall rule in
+    :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
+    (``committed_out``: :meth:`ShapeLead._committed`; ``shape_n``: each member's samples in its
+    shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
+    ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and each
+    template's tolerance there (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`).
+    ``means``, ``thr_means``: the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached = floats[11], floats[12], floats[13]

@@ -48,7 +48,9 @@ def touch_radius(performer: object) -> float:
     that touches down starts a stroke, shown once it lies this far from where it touched."""
     from behaviors.mop.inputs import TouchInput
     touch = [i for i in performer.inputs if isinstance(i, TouchInput)]  # type: ignore[attr-defined]
-    return 2 * touch[0]._pf.rest_radius if touch and len(performer.inputs) == 1 else 0.0  # type: ignore[attr-defined]
+    if not touch or len(performer.inputs) != 1:
+        return 0.0
+    return 2 * touch[0]._pf.rest_radius  # type: ignore[attr-defined]
 
 
 class HintGate:

@@ -114,7 +114,8 @@ class Transitions:
     def __post_init__(self) -> None:
         w = np.asarray(self.forward, dtype=float)
         if w.ndim != 1 or w.size < 1 or not np.all(np.isfinite(w)) or np.any(w < 0):
-            raise TemplateError(f"transition weights must be non-negative numbers, got {self.forward}")
+            raise TemplateError("transition weights must be non-negative numbers, got "
+                                f"{self.forward}")
         if not (np.isfinite(self.backward) and self.backward >= 0):
             raise TemplateError(f"backward transition must be >= 0, got {self.backward}")
         if w.sum() + self.backward <= 0:
@@ -133,12 +134,12 @@ class Transitions:
 
 @dataclass(frozen=True)
 class TemplateBank:
-    """Every template of a set, standardised and stacked: ``means[starts[k] : starts[k] + lengths[k]]``
-    are the states of template ``names[k]``. ``center`` and ``scale`` (K, d) map a raw sample x to
-    ``(x - center[k]) / scale[k]`` for template k; ``first`` (K, d) is each template's first
-    sample (raw units); ``source`` (one per state) the progress (0..1) in the recorded template
-    of each state (holds are compressed); ``units`` (d,) the columns' units; ``holds`` (one per
-    state) True for the states of a compressed hold."""
+    """Every template of a set, standardised and stacked: ``means[starts[k] : starts[k] +
+    lengths[k]]`` are the states of template ``names[k]``. ``center`` and ``scale`` (K, d) map a raw
+    sample x to ``(x - center[k]) / scale[k]`` for template k; ``first`` (K, d) is each template's
+    first sample (raw units); ``source`` (one per state) the progress (0..1) in the recorded
+    template of each state (holds are compressed); ``units`` (d,) the columns' units; ``holds`` (one
+    per state) True for the states of a compressed hold."""
 
     names: tuple[str, ...]
     means: np.ndarray
@@ -178,23 +179,26 @@ def check_templates(templates: Mapping[str, np.ndarray]) -> dict[str, np.ndarray
         if a.ndim == 1:
             a = a[:, None]
         if a.ndim != 2:
-            raise TemplateError(f"template {name!r}: expected samples x features, got shape {a.shape}")
+            raise TemplateError(f"template {name!r}: expected samples x features, got shape "
+                                f"{a.shape}")
         if a.shape[0] < 2:
             raise TemplateError(
-                f"template {name!r}: has {a.shape[0]} sample(s), needs at least 2 to follow progress")
+                f"template {name!r}: has {a.shape[0]} sample(s), needs at least 2 to follow "
+                "progress")
         if a.shape[1] < 1:
             raise TemplateError(f"template {name!r}: has no feature columns")
         bad = np.argwhere(~np.isfinite(a))
         if bad.size:
             i, j = (int(v) for v in bad[0])
             raise TemplateError(
-                f"template {name!r}: sample {i}, feature {j} is {a[i, j]} (every value must be finite)")
+                f"template {name!r}: sample {i}, feature {j} is {a[i, j]} (every value must be "
+                "finite)")
         if dim is None:
             dim, first = a.shape[1], name
         elif a.shape[1] != dim:
             raise TemplateError(
-                f"template {name!r}: has {a.shape[1]} feature columns but template {first!r} has {dim}; "
-                "every template of a set must have the same features")
+                f"template {name!r}: has {a.shape[1]} feature columns but template {first!r} "
+                f"has {dim}; every template of a set must have the same features")
         out[name] = a
     return out
 
@@ -203,7 +207,8 @@ def _vector(value, d: int, what: str, positive: bool = False) -> np.ndarray | No
     if value is None:
         return None
     v = np.asarray(value, dtype=float)
-    if v.shape != (d,) or not np.all(np.isfinite(v)) or np.any(v < 0) or (positive and np.any(v <= 0)):
+    if v.shape != (d,) or not np.all(np.isfinite(v)) or np.any(v < 0) \
+            or (positive and np.any(v <= 0)):
         kind = "positive" if positive else "non-negative"
         raise TemplateError(f"{what} must be {d} {kind} numbers (one per feature), "
                             f"got {np.asarray(value).tolist()}")

@@ -103,10 +103,11 @@ def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.nda
                  least: np.ndarray) -> None:
     """A performer resting within a few states before a hold takes, per template, the size that
     puts the input on it when smaller (:func:`hold_size`), in place on the size estimate's sums
-    ``num`` (``den``, ``prior``: :meth:`~behaviors.mop.invariance.PerformanceFrame._estimate_size`'s).
-    ``ahead`` (K,): each template's hold ahead (-1: none); ``rel``: the states from their first
-    (units); ``r``: the input from the anchor (units); ``tol`` (d,): :data:`SNAP_RADII` still radii
-    in units; ``least`` (K,): the reach's least size, lowered to a size taken here."""
+    ``num`` (``den``, ``prior``:
+    :meth:`~behaviors.mop.invariance.PerformanceFrame._estimate_size`'s). ``ahead`` (K,): each
+    template's hold ahead (-1: none); ``rel``: the states from their first (units); ``r``: the input
+    from the anchor (units); ``tol`` (d,): :data:`SNAP_RADII` still radii in units; ``least`` (K,):
+    the reach's least size, lowered to a size taken here."""
     for k in np.flatnonzero(ahead >= 0):
         s = hold_size(rel[ahead[k]], r, float(size[k]), lo, tol)
         if s > 0.0:   # the estimate (num + prior) / (den + prior) is then s
@@ -114,7 +115,8 @@ def rested_sizes(ahead: np.ndarray, rel: np.ndarray, r: np.ndarray, size: np.nda
             least[k] = min(least[k], s)   # the hold measured it: the reach's jittered max yields
 
 
-def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray, rest: bool) -> np.ndarray:
+def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray,
+                   rest: bool) -> np.ndarray:
     """Each template's progress (K,) as shown: where its hold ends (``end``, NaN outside a hold)
     once the performer rested in it (``rest`` now; ``at_end`` (K,) remembers it, in place, until
     the followed state leaves the hold)."""
@@ -125,7 +127,8 @@ def shown_progress(progress: np.ndarray, end: np.ndarray, at_end: np.ndarray, re
     return np.where(at_end, np.fmax(progress, end), progress)
 
 
-@compiled(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp, numba.float64[:, ::1],
+@compiled(numba.boolean(numba.float64[:, :, ::1], numba.intp[::1], numba.intp,
+                        numba.float64[:, ::1],
                         numba.float64[::1], numba.intp), *_CALLS_INTO)
 def resting_with(buf: np.ndarray, count: np.ndarray, i: int, x: np.ndarray, radius: np.ndarray,
                  keep: int) -> bool:

@@ -337,7 +337,8 @@ class PerformanceFrame:
         v0 = np.repeat(self._v0, b.lengths)
         t = self._tvel / np.maximum(speed, v0)[:, None]
         return TemplateBank(b.names, np.ascontiguousarray(np.hstack([b.means, self.tangent * t])),
-                            b.starts, b.lengths, b.center, b.scale, b.first, b.source, b.units, b.holds)
+                            b.starts, b.lengths, b.center, b.scale, b.first, b.source,
+                            b.units, b.holds)
 
     def _positions(self, x: np.ndarray) -> np.ndarray:
         """The sample's position in every template's standardised units (K, d), once anchored:
@@ -399,8 +400,8 @@ class PerformanceFrame:
         self._den += qq
         np.maximum(self._least, math.sqrt(float(r @ r)) * self._reach_inv, out=self._least)
         lo, hi = self.scale_range
-        np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least), lo, hi,
-                out=self._size)
+        np.clip(np.maximum((self._num + self._prior) / (self._den + self._prior), self._least),
+                lo, hi, out=self._size)
 
     def _reversal_sizes(self, x: np.ndarray, gi: np.ndarray) -> None:
         """Where the input reverses (:func:`input_reversal` over the samples before ``x``), each

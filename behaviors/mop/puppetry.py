@@ -238,7 +238,8 @@ MAX_SPRITE_UNITS = 1000.0   # a sprite point's farthest coordinate, figure units
 def sprite_sheet_from_mapping(data: object, where: str) -> SpriteRig:
     """A sprite rig from its JSON form ``{"format": "tabletop.sprites", "bones": [[a, b], ...],
     "frames": [[[x, y], ...], ...]}`` (every frame has the same number of points)."""
-    if not isinstance(data, Mapping) or data.get("format", "tabletop.sprites") != "tabletop.sprites":
+    if not isinstance(data, Mapping) \
+            or data.get("format", "tabletop.sprites") != "tabletop.sprites":
         raise ClipError(f"{where}: expected a JSON object with format 'tabletop.sprites'")
     try:
         frames = np.array(data.get("frames"), dtype=float)
@@ -247,7 +248,8 @@ def sprite_sheet_from_mapping(data: object, where: str) -> SpriteRig:
         raise ClipError(f"{where}: 'frames' must be a list of frames of [x, y] points and "
                         "'bones' a list of [a, b] point index pairs") from None
     if frames.ndim != 3 or frames.shape[0] < 1 or frames.shape[2] != 2 or frames.shape[1] < 2:
-        raise ClipError(f"{where}: 'frames' must be frames of the same number (>= 2) of [x, y] points")
+        raise ClipError(f"{where}: 'frames' must be frames of the same number (>= 2) of [x, y] "
+                        "points")
     if not np.all(np.isfinite(frames)):
         raise ClipError(f"{where}: a frame holds a value that is not a finite number")
     far = float(np.abs(frames).max())

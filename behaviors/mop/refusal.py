@@ -154,11 +154,11 @@ when the input turned there: the reversal sized it 1.06 -> 1.36
 (:data:`~behaviors.mop.invariance.REJUDGE`) and it drove 20 samples more. So the action driving
 takes no size at a reversal while strained (:meth:`Refusal._recent_dist2`, recent likelihood
 beyond ``accept_distance``; :meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`
-and the group kernel): at the reversals met by the action driving (seeds 201-202) true performances at 0.7-1.4x were strained at 69 of 857
-(recent likelihood 0.91 median, 1.19 at 90%), mirrored paths at 4 of 6. Widened: worst 0.338 ->
-0.239, mean 0.0146 -> 0.0145, over 0.1 22 of 540 both, sequences identical;
-``bench/follow_quality.py`` (every non-held-out figure): valid after 30% at 0.7-1.4x 0.9147 ->
-0.9157, 0.6 / 1.5x 0.7581 -> 0.7585, progress RMSE median 0.01897 -> 0.01905, 241 others
+and the group kernel): at the reversals met by the action driving (seeds 201-202) true performances
+at 0.7-1.4x were strained at 69 of 857 (recent likelihood 0.91 median, 1.19 at 90%), mirrored paths
+at 4 of 6. Widened: worst 0.338 -> 0.239, mean 0.0146 -> 0.0145, over 0.1 22 of 540 both, sequences
+identical; ``bench/follow_quality.py`` (every non-held-out figure): valid after 30% at 0.7-1.4x
+0.9147 -> 0.9157, 0.6 / 1.5x 0.7581 -> 0.7585, progress RMSE median 0.01897 -> 0.01905, 241 others
 identical. Not kept: refusal limits 1.5 / 1.2 with "scale" (widened worst 0.296, but valid after
 30% 0.9122 and the spiral with the circle alone 0.004 -> 0.174, refused sooner and taken again),
 1.4 / 1.1 (0.296; wrong runs over 2 samples 14 -> 17), 1.6 / 1.2 (0.310, mean 0.0148); an action

@@ -174,13 +174,13 @@ wave 0.247 / 0.242; the bench's ``..._from_rest_median`` and ``..._after_a_gestu
 mix which gestures come first). What holds the open three is coverage (8% of the path,
 at 0.22-0.25 of their progress): less coverage measured against 8% (at 8%: open share 0,
 the zigzag 0.257, the wave 0.225, unrelated worst 0.068, an unrelated stroke after a gesture
-without the eight's ticks on the diagonal, ``after_valid_share_max_unambiguous``, 0.077): 6%: open share 0.059 (the
-zigzag 0.232, the wave 0.210, the figure eight 0.214), unrelated worst 0.142 (the diagonal, the
-figure eight; told 0.068), after 0.102; 5%: 0.059, 0.160 (told 0.083), 0.110; no coverage and
-``confirm`` 1, the ceiling: 0.647 (the zigzag 0.168, the wave 0.195; the circle 0.248, held by
-the other gates), 0.201 (told 0.201), 0.133; valid after 30% of gestures at 0.7-1.4x unchanged
-(0.915) at 6% and 5%. None is kept: at each the unrelated worst passes 0.10 (the figure eight
-taken sooner on the diagonal) and so does the after-a-gesture figure without the diagonal's
+without the eight's ticks on the diagonal, ``after_valid_share_max_unambiguous``, 0.077): 6%: open
+share 0.059 (the zigzag 0.232, the wave 0.210, the figure eight 0.214), unrelated worst 0.142 (the
+diagonal, the figure eight; told 0.068), after 0.102; 5%: 0.059, 0.160 (told 0.083), 0.110; no
+coverage and ``confirm`` 1, the ceiling: 0.647 (the zigzag 0.168, the wave 0.195; the circle 0.248,
+held by the other gates), 0.201 (told 0.201), 0.133; valid after 30% of gestures at 0.7-1.4x
+unchanged (0.915) at 6% and 5%. None is kept: at each the unrelated worst passes 0.10 (the figure
+eight taken sooner on the diagonal) and so does the after-a-gesture figure without the diagonal's
 eight. Coverage at 4% of
 the path instead of 8% (with the tempo rule, :func:`behaviors.mop.validity.slow_take`): the
 zigzag and the figure eight at 0.21 / 0.19 (tuned / held-out), within 20% 0 -> 0.03 / 0.22 of

@@ -11,10 +11,11 @@ Rest: while a performer rests (:attr:`Performer.resting`: its puck has stayed wh
 for ``rest_time``, its finger is lifted or
 has stood still as long) its follower is reset at every sample and drives
 nothing, unless its action is valid and held where its template holds (``FollowState.holding``:
-a raise, hold, return whose hold outlasts the rest time): a puck at rest sits at the first sample of every template (gestures start where the
-puck rested), and a gesture that ended where it began stays matched at progress 1 for as long as
-the puck stays. Each gesture after a rest is thus followed from a clean start, so what the puck
-did before (the slide back home, an unknown motion) cannot linger in the evidence.
+a raise, hold, return whose hold outlasts the rest time): a puck at rest sits at the first sample of
+every template (gestures start where the puck rested), and a gesture that ended where it began stays
+matched at progress 1 for as long as the puck stays. Each gesture after a rest is thus followed from
+a clean start, so what the puck did before (the slide back home, an unknown motion) cannot linger in
+the evidence.
 
 Why one follower per performer and not one per character: a character only knows its own
 actions, so with a follower per character a gesture meant for another character (or any gesture,
@@ -83,7 +84,8 @@ class MopStage(DesignerTakes):
     """
 
     def __init__(self, name: str, rate_hz: float, performers: Mapping[str, Performer],
-                 puppets: Sequence[Puppet], templates: Mapping[str, Mapping[str, tuple[str, np.ndarray]]],
+                 puppets: Sequence[Puppet],
+                 templates: Mapping[str, Mapping[str, tuple[str, np.ndarray]]],
                  make_follower: FollowerFactory, motions: Mapping[str, Sequence[str]],
                  load_motion: Callable[[str, str], Clip], save: SaveFn | None = None,
                  character_performer: Mapping[str, str] | None = None,
@@ -342,7 +344,7 @@ class MopStage(DesignerTakes):
         resumed = {}
         steps = self._replay_steps()
         for i, key in enumerate(self._keys):
-            state, shown = self._states.get(key), self._shown.get(key)
+            shown = self._shown.get(key)
             holding = (shown is not None and bool(shown.valid)  # type: ignore[attr-defined]
                        and bool(shown.holding))  # type: ignore[attr-defined]
             # a rest ends a gesture, unless an action is held where it holds (a raise, hold,
@@ -416,13 +418,14 @@ class MopStage(DesignerTakes):
             if not mine:
                 continue
             probs, prog = state.probabilities, state.progress_by  # type: ignore[attr-defined]
-            ok = bool(state.valid) and not self._resting.get(performer, False)  # type: ignore[attr-defined]
+            ok = bool(state.valid)  # type: ignore[attr-defined]
+            ok = ok and not self._resting.get(performer, False)
             best = state.best  # type: ignore[attr-defined]
             hints = self._hints.likely(performer, state)
             for action, key in mine:
+                loglik = float(state.loglik) if key == best else 0.0  # type: ignore[attr-defined]
                 votes.append(Vote(action, float(probs[key]), float(prog[key]), ok and key == best,
-                                  float(state.loglik) if key == best else 0.0,  # type: ignore[attr-defined]
-                                  key in hints))
+                                  loglik, key in hints))
         return votes
 
     def step(self, frame: Frame) -> tuple[CharacterState, ...]:

@@ -98,7 +98,8 @@ def moving_part(samples: np.ndarray, units: np.ndarray | None = None,
         return runs + (run - 1) * last
     away = moved(np.median(z[:run], axis=0))
     left = moved(np.median(z[n - run:], axis=0), last=True)
-    for _ in range(2):   # again from the still samples' mean: one sample's jitter doubles the spread
+    # again from the still samples' mean: one sample's jitter doubles the spread
+    for _ in range(2):
         if len(away) == 0 or len(left) == 0:
             break
         away = moved(z[:max(1, int(away[0]))].mean(axis=0))

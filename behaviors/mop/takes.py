@@ -129,8 +129,8 @@ class DesignerTakes:
     def keep_take(self) -> str:
         """Keep the pending take (``save``d, e.g. to the library); returns the name it is kept
         under: its own, or the next free one when ``save`` finds its name taken meanwhile
-        (:class:`tabletop.names.NameTaken`; the take's action is renamed, its followers rebuilt within the
-        tick). InputError when there is nothing to keep or it cannot be saved (the take
+        (:class:`tabletop.names.NameTaken`; the take's action is renamed, its followers rebuilt
+        within the tick). InputError when there is nothing to keep or it cannot be saved (the take
         stays)."""
         take = self.take
         if take is None or self.take_action is None or take.recording:

@@ -1,6 +1,6 @@
 """A follower group's threshold models (:mod:`behaviors.mop.threshold`), compiled: one
-member's step over every state of its templates, as :func:`behaviors.mop.group_kernel.update_templates`
-left the sample mapped by each template.
+member's step over every state of its templates, as
+:func:`behaviors.mop.group_kernel.update_templates` left the sample mapped by each template.
 """
 
 from __future__ import annotations

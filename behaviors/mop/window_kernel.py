@@ -7,10 +7,10 @@ templates)`` array per quantity, about 100 numpy calls per step), the step took 
 DESIGN's 8 performers x 100 templates on a quiet machine, most of it passes over memory and
 call overhead; compiled, see ``bench/mop.py``. Same algorithm as
 :func:`~behaviors.mop.forward.forward_reference` (the plain one, one template at a time), with
-the same shortcuts as before (and exponentials by :func:`~behaviors.mop.compiled.exp_neg`): where a main window lies on the first states, its
-first-states window holds only this step's restart mass and is not computed (its floor of 1e-100
-per state, below 1e-90 of the main window's own floor, is left out), and log-weights below the
-window's best by more than 200 count as ``e^-200``.
+the same shortcuts as before (and exponentials by :func:`~behaviors.mop.compiled.exp_neg`): where a
+main window lies on the first states, its first-states window holds only this step's restart mass
+and is not computed (its floor of 1e-100 per state, below 1e-90 of the main window's own floor, is
+left out), and log-weights below the window's best by more than 200 count as ``e^-200``.
 """
 
 from __future__ import annotations

@@ -1,1 +1,2 @@
-"""Motion shared by the engines: clips and quaternions, the DeepMimic reader, skeletons and projection."""
+"""Motion shared by the engines: clips and quaternions, the DeepMimic reader, skeletons and
+projection."""

@@ -65,7 +65,8 @@ def quat_normalize(q: np.ndarray) -> np.ndarray:
 
 
 def quat_slerp(q0: np.ndarray, q1: np.ndarray, f: np.ndarray | float) -> np.ndarray:
-    """Spherical interpolation of unit quaternions (..., 4) at fraction ``f`` (..., ), shortest path."""
+    """Spherical interpolation of unit quaternions (..., 4) at fraction ``f`` (..., ), shortest
+    path."""
     q0 = quat_normalize(q0)
     q1 = quat_normalize(q1)
     f = np.asarray(f, dtype=float)[..., None]
@@ -187,8 +188,9 @@ class Clip:
                       for t in CHANNEL_TYPES}
         quat_cols = self._cols["quat"]
         if quat_cols.size:
+            n = len(self.times)
             self.values[:, quat_cols] = quat_normalize(
-                self.values[:, quat_cols].reshape(len(self.times), -1, 4)).reshape(len(self.times), -1)
+                self.values[:, quat_cols].reshape(n, -1, 4)).reshape(n, -1)
         span = self.times[-1] - self.times[0]
         self._u = (self.times - self.times[0]) / span
         self._u_list = self._u.tolist()
@@ -210,7 +212,8 @@ class Clip:
     def channel(self, values: np.ndarray, name: str) -> np.ndarray:
         """The columns of channel ``name`` in a sampled vector (or rows of vectors)."""
         if name not in self.slices:
-            raise ClipError(f"clip {self.name!r}: no channel {name!r} (has {', '.join(self.names)})")
+            raise ClipError(f"clip {self.name!r}: no channel {name!r} (has "
+                            f"{', '.join(self.names)})")
         return np.asarray(values)[..., self.slices[name]]
 
     def sample(self, progress: float) -> np.ndarray:

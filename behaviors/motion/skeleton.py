@@ -48,7 +48,8 @@ class Joint3D:
 
 def _rpy_matrix(r: float, p: float, y: float) -> np.ndarray:
     """URDF fixed-axis roll, pitch, yaw: R = Rz(y) Ry(p) Rx(r)."""
-    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    cr, sr, cp, sp = math.cos(r), math.sin(r), math.cos(p), math.sin(p)
+    cy, sy = math.cos(y), math.sin(y)
     return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
                      [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
                      [-sp, cp * sr, cp * cr]])
@@ -141,7 +142,8 @@ class UrdfSkeleton:
             rot[children] = rp @ local[joints] if fixed is None else rp @ fixed @ local[joints]
         if not self._tip_links:
             return pos
-        tips = (rot[self._tip_links] @ self._tip_offsets[:, :, None])[:, :, 0] + pos[self._tip_links]
+        tips = (rot[self._tip_links] @ self._tip_offsets[:, :, None])[:, :, 0] \
+            + pos[self._tip_links]
         return np.vstack([pos, tips])
 
 
@@ -167,15 +169,18 @@ def load_urdf(path: str | Path) -> UrdfSkeleton:
             raise SkeletonError(f"{file}: joint {name!r} has type {jtype!r}; supported: fixed, "
                                 "spherical, revolute, continuous")
         par, chi = je.find("parent"), je.find("child")
-        if par is None or chi is None or par.get("link") not in links or chi.get("link") not in links:
-            raise SkeletonError(f"{file}: joint {name!r} needs a parent and a child link that exist")
+        if par is None or chi is None or par.get("link") not in links \
+                or chi.get("link") not in links:
+            raise SkeletonError(f"{file}: joint {name!r} needs a parent and a child link that "
+                                "exist")
         org = je.find("origin")
         xyz = _floats(org.get("xyz", "0 0 0") if org is not None else "0 0 0", 3,
                       f"joint {name!r} origin xyz", file)
         rpy = _floats(org.get("rpy", "0 0 0") if org is not None else "0 0 0", 3,
                       f"joint {name!r} origin rpy", file)
         ax = je.find("axis")
-        axis = _floats(ax.get("xyz") if ax is not None else "1 0 0", 3, f"joint {name!r} axis", file)
+        axis = _floats(ax.get("xyz") if ax is not None else "1 0 0", 3,
+                       f"joint {name!r} axis", file)
         norm = float(np.linalg.norm(axis))
         if norm < 1e-12:
             raise SkeletonError(f"{file}: joint {name!r} has a zero axis")
@@ -211,8 +216,8 @@ def load_urdf(path: str | Path) -> UrdfSkeleton:
 
 
 def _visual_tip(link: ET.Element) -> np.ndarray | None:
-    """The far end of a leaf link's visual (else collision) shape along its offset (top of a head, toe of a
-    foot), or None when the shape sits on the joint."""
+    """The far end of a leaf link's visual (else collision) shape along its offset (top of a head,
+    toe of a foot), or None when the shape sits on the joint."""
     vis = link.find("visual")
     if vis is None:
         vis = link.find("collision")
@@ -305,10 +310,12 @@ class Skeleton2D:
         self.rest = np.asarray(rest, dtype=float)
         n = len(self.names)
         if not (len(self.parents) == len(self.lengths) == len(self.rest) == n) or n == 0:
-            raise SkeletonError("planar skeleton: names, parents, lengths and rest differ in length")
+            raise SkeletonError("planar skeleton: names, parents, lengths and rest differ in "
+                                "length")
         for i, p in enumerate(self.parents):
             if not 0 <= p <= i:
-                raise SkeletonError(f"planar skeleton: bone {self.names[i]!r} has parent point {p}; "
+                raise SkeletonError(f"planar skeleton: bone {self.names[i]!r} has parent point "
+                                    f"{p}; "
                                     "a bone must hang from the root or an earlier bone")
         self.bones = tuple((int(p), i + 1) for i, p in enumerate(self.parents))
         self._parents_list = self.parents.tolist()

@@ -253,8 +253,9 @@ class Behavior:
         # the main's disc (m): the reactor is kept out of it (step_detail.py, StepDetail._detail).
         # The personal space, or else the least distance its demonstration shows (the bully,
         # which charges into its main, the stalker, which keeps pace with it), as its
-        # puck stops against the main's: its charges pressed on to 0.025-0.038 m (1st percentile, the least 0.008 m; 0.049 m
-        # demonstrated), where any step sideways is a fast turn round the main (orbit mean
+        # puck stops against the main's: its charges pressed on to 0.025-0.038 m (1st percentile,
+        # the least 0.008 m; 0.049 m demonstrated), where any step sideways is a fast turn round the
+        # main (orbit mean
         # 0.30-0.33 rad/s against 0.275). Tuning seeds 0-5, 8-13, 26-31 x3 runs
         # (relative_motion x 1, 1 +- 0.001), the bully's misses (the engine's alone) 67 (50)
         # -> 62 (55): orbit 21 -> 7, contact 26 -> 29, still/moving 20 -> 25 (which seconds of

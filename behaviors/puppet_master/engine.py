@@ -27,7 +27,7 @@ import numpy as np
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import step_kernel as sk
-from behaviors.puppet_master.behavior import COLUMNS, Behavior, DemonstrationError  # noqa: F401
+from behaviors.puppet_master.behavior import Behavior, DemonstrationError  # noqa: F401
 from behaviors.puppet_master.character import (FOLLOW_SHARE, STILL_MPS, STILL_SPAN_S, TOUCH_M,
                                                still_span)
 from behaviors.puppet_master.detail import DetailPatch, LookGovernor, TextureGovernor

@@ -223,9 +223,9 @@ def since_push(distance: np.ndarray, touch: float, clip_steps: float) -> np.ndar
 
     An extension of the paper's situation features, for a character that charges again and
     again (behavior.Behavior.charging: the bully) or circles its main and darts into it
-    (Behavior.circling: the playful friend, figures in behavior.py). Its demonstrated designer lurks for a time
-    after each push and then charges (every 2.8-4.6 s, 15 charges in its minute); the paper's
-    features tell a moment just after a push from one about to charge only by where the
+    (Behavior.circling: the playful friend, figures in behavior.py). Its demonstrated designer lurks
+    for a time after each push and then charges (every 2.8-4.6 s, 15 charges in its minute); the
+    paper's features tell a moment just after a push from one about to charge only by where the
     reactor stands, and the match jumped between them every 2-3 steps, so the lurk lasted as
     long as the re-matching let it: beside slow mains the bully charged too often, beside fast
     ones too seldom (contact episodes on the 54 unseen paths of seeds 0-5, 8-13, 26-31, mean

@@ -231,7 +231,8 @@ def main_on_grid(main: np.ndarray, t: np.ndarray) -> np.ndarray:
                             wrap_angles(np.interp(t, main[:, 0], np.unwrap(main[:, 3])))])
 
 
-def generate(behavior: Any, main: np.ndarray, table: tuple[float, float, float, float]) -> np.ndarray:
+def generate(behavior: Any, main: np.ndarray,
+             table: tuple[float, float, float, float]) -> np.ndarray:
     """Reactor rows (m, 4) ``t, x, y, look`` generated for a main path (n, 4), every step."""
     from behaviors.puppet_master.engine import Reactor
     reactor = Reactor(behavior, table, max_backlog=None)

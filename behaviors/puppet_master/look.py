@@ -164,7 +164,8 @@ def train_look(main: np.ndarray, react: np.ndarray, rate_hz: float,
     unwrapped = np.unwrap(look)
     detail = np.clip(haar_detail(unwrapped, levels), -LOOK_DETAIL_CLIP, LOOK_DETAIL_CLIP)
     change = np.abs(np.diff(unwrapped)) * rate_hz
-    limit = max(MIN_TURN_RATE, TURN_MARGIN * float(np.percentile(change, 99.5)) if change.size else 0.0)
+    limit = max(MIN_TURN_RATE, TURN_MARGIN * float(np.percentile(change, 99.5))
+                if change.size else 0.0)
     return LookModel(frame=frame.astype(np.int8), angle=mean[frame, idx],
                      still_frame=still_frame.astype(np.int8), still_angle=mean[still_frame, idx],
                      detail=detail, turn_limit=limit)

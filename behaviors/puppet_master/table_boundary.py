@@ -79,9 +79,9 @@ def fit_target(mx: float, my: float, tx: float, ty: float, rx: float, ry: float,
     quarter of the time (6% in the demonstration), where the same sideways speed is a faster
     orbit. Measured remedies (Python step, pursuit thresholds on seeds 0-5 / 7, against 40 /
     7): the table point nearest the target instead 26 / 4; no fitting (keep_on_table slides
-    the step) 28 / 6; the correction toward a moved target at most the demonstrated step length there, in a
-    place held in the world 39 / 7 (orbit 0.34-0.53), in both place frames 38 / 7; the flight
-    kept whole under the cap and the correction given what is left 41 / 7 (orbit 0.38-0.60).
+    the step) 28 / 6; the correction toward a moved target at most the demonstrated step length
+    there, in a place held in the world 39 / 7 (orbit 0.34-0.53), in both place frames 38 / 7; the
+    flight kept whole under the cap and the correction given what is left 41 / 7 (orbit 0.38-0.60).
     None kept: the matched moments are themselves slow flights (0.42-0.45 m from the main,
     0.19-0.24 m/s, where the live character is at 0.2-0.45 m), so the flight left is short
     whatever the correction does. Measured as well (same figures): the part cut off carried
@@ -216,10 +216,10 @@ def turn_off_edges(rx: float, ry: float, sx: float, sy: float,
 
     The matched moments flee straight away from the main and do not see the table: chased
     toward an edge, a character not turned runs into it and :func:`keep_on_table` slides it
-    along the edge (the same length, no room behind it); its designer turns off the walls before reaching
-    them (designers.afraid: flight plus 1.5x a push growing from 0.2 m). Chased by the unseen
-    visitor (bench/fidelity.py's pursuit, seeds 0-5, 8-13, 26-31, mean over the 18), the afraid
-    character's time within 0.1 m of an edge against its designer's 0.066: EDGE_TURN 0 0.123,
+    along the edge (the same length, no room behind it); its designer turns off the walls before
+    reaching them (designers.afraid: flight plus 1.5x a push growing from 0.2 m). Chased by the
+    unseen visitor (bench/fidelity.py's pursuit, seeds 0-5, 8-13, 26-31, mean over the 18), the
+    afraid character's time within 0.1 m of an edge against its designer's 0.066: EDGE_TURN 0 0.123,
     0.5 0.070, 0.75 0.049, 1.0 0.045, 1.5 0.025 (1.5 over 0.2 m: 0.009); pursuit thresholds
     met 131 / 130 / 137 / 130 / 130 (135) of 144 (designer 119), the mean distance to the
     visitor 0.302 / 0.299 / 0.303 / 0.296 / 0.289 m (designer 0.395): off the edges it is

@@ -22,14 +22,14 @@ is one slower than ``MIN_RELATIVE_SPEED`` of the stroke's pace (it could not pas
 whose representative vector (stroke end minus start) is within 45 degrees of the viewing line
 is excluded.
 
-Parameters (measured over the actions' strokes (punch, kick, jump, spin kick, wave) dragged at 1, 1.5, 2, 3 and 4 times their
-recorded duration, from three views; character metres): ``H`` = 0.5 m per second of time
-difference. The threshold loosens with the drag's speed relative to the stroke's own projected
-speed r (absolute speeds differ too much between actions: a kick's foot moves ~6 m/s, a wave's
-hand ~1.5 m/s): 0.05 m + 0.06 m x r. At the action's pace (r = 1) average distances of 0.004-0.01
-m meet a threshold of 0.11 m, leaving room for an imprecise finger; at half pace the kicks (0.05)
-still pass and the punch, jump and wave (0.09-0.11) do not; at a third of the pace or slower
-(0.095-0.5) nothing does, so slow drags only pose.
+Parameters (measured over the actions' strokes (punch, kick, jump, spin kick, wave) dragged at 1,
+1.5, 2, 3 and 4 times their recorded duration, from three views; character metres): ``H`` = 0.5 m
+per second of time difference. The threshold loosens with the drag's speed relative to the stroke's
+own projected speed r (absolute speeds differ too much between actions: a kick's foot moves ~6 m/s,
+a wave's hand ~1.5 m/s): 0.05 m + 0.06 m x r. At the action's pace (r = 1) average distances of
+0.004-0.01 m meet a threshold of 0.11 m, leaving room for an imprecise finger; at half pace the
+kicks (0.05) still pass and the punch, jump and wave (0.09-0.11) do not; at a third of the pace or
+slower (0.095-0.5) nothing does, so slow drags only pose.
 
 A quick drag's threshold (up to 0.23 m at three times the pace) is at most a third of the
 projected stroke's length (``MAX_THRESHOLD_OF_LENGTH``): the bow's stroke is only 0.35 m long
@@ -79,8 +79,9 @@ MAX_PACE = 1.6
 #: The finger moves along an action (for the segments that forbid stillness) when its
 #: synthesised time has gone more than ``FINGER_BAND`` (generalised time) one way from its lowest
 #: or highest over the last ``FINGER_WINDOW`` s. Touches held still with 1-3 mm of uniform jitter
-#: (kick, walk, spin kick, punch, jump, four seeds) span at most 0.036 within the window (the walk's; the kick's
-#: 0.025), while a drag back at half the walk's or the kick's pace moves it 0.08 or 0.065.
+#: (kick, walk, spin kick, punch, jump, four seeds) span at most 0.036 within the window (the
+#: walk's; the kick's 0.025), while a drag back at half the walk's or the kick's pace moves it
+#: 0.08 or 0.065.
 FINGER_WINDOW = 0.2
 FINGER_BAND = 0.05
 #: Where the action may stand, a finger resting (its synthesised time not moving by
@@ -351,7 +352,8 @@ class ActionClock:
             new = self.u + step
             ahead = self.action.segment(min(max(new, 0.0), 1.0))
             if not ahead.still and new != self.u:
-                if ahead is not seg and np.sign(step) != self.heading and not moves[int(np.sign(step))]:
+                if ahead is not seg and np.sign(step) != self.heading \
+                        and not moves[int(np.sign(step))]:
                     new = self.u  # a resting finger does not pull the time into such a segment
                 else:
                     self.heading = 1 if step > 0 else -1

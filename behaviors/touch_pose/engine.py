@@ -51,7 +51,8 @@ TURN_DEG_PER_M = 300.0
 #: finger takes the one in front.
 OVERLAP = 0.25
 #: How far inside the table's ends the target's drawn points are kept (m): the tracked output
-#: lags and sways past the target by up to 0.02 m (0.019 m measured after three punches, physics on).
+#: lags and sways past the target by up to 0.02 m (0.019 m measured after three punches,
+#: physics on).
 TABLE_MARGIN = 0.02
 #: Seconds of each finger's path kept for recognising actions (a longer drag never matches).
 PATH_S = 2.5
@@ -149,7 +150,8 @@ class TouchPose(ActionControl):
         """``action``'s stroke projected on the table from where its part stands now (n, 2;
         metres): the path a drag follows to start it."""
         view, _ = yaw_view(self.camera.matrix, self.base, self.yaw)
-        start = self.camera.table(self._points(self.output)[self._np + PARTS.index(action.spec.part)])
+        part = self._np + PARTS.index(action.spec.part)
+        start = self.camera.table(self._points(self.output)[part])
         return start + (action.stroke @ view.T) * self.scale
 
     def describe(self) -> dict:

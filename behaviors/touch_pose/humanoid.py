@@ -180,7 +180,8 @@ class Humanoid:
         if self.hinge[i]:
             a = self.hinge_angle(rots, i)
             a = (a + math.pi) % (2 * math.pi) - math.pi
-            rots[i] = quat_from_axis_angle(self.axis[i], min(max(a, self.hinge_lo[i]), self.hinge_hi[i]))
+            rots[i] = quat_from_axis_angle(self.axis[i],
+                                           min(max(a, self.hinge_lo[i]), self.hinge_hi[i]))
             return
         q = rots[i] if rots[i, 0] >= 0 else -rots[i]
         angle = 2.0 * math.acos(min(1.0, float(q[0])))
@@ -251,7 +252,8 @@ class Humanoid:
 
 
 def yaw_of(q: np.ndarray) -> float:
-    """Heading (radians about the vertical y axis) of a pelvis quaternion: where its x axis points."""
+    """Heading (radians about the vertical y axis) of a pelvis quaternion: where its x axis
+    points."""
     fwd = quat_to_matrix(q)[:, 0]
     return math.atan2(-float(fwd[2]), float(fwd[0]))
 
@@ -278,7 +280,8 @@ class Camera:
         cam = np.array([math.cos(el) * math.cos(az), math.sin(el), math.cos(el) * math.sin(az)])
         self.eye = -cam
         right = np.cross(self.eye, [0.0, 1.0, 0.0])
-        if np.linalg.norm(right) < 1e-9:  # looking straight down: screen up is the character's forward
+        # looking straight down: screen up is the character's forward
+        if np.linalg.norm(right) < 1e-9:
             right = np.array([0.0, 0.0, -1.0]) if el > 0 else np.array([0.0, 0.0, 1.0])
         self.right = right / np.linalg.norm(right)
         self.up = np.cross(self.right, self.eye)
@@ -302,7 +305,8 @@ class Camera:
         return (np.asarray(table_xy, dtype=float) - self.origin) / self.scale
 
     def ray_point(self, screen_xy: np.ndarray, near: np.ndarray) -> np.ndarray:
-        """The point of a touch's half-line (screen point ``screen_xy``) closest to ``near`` (3,)."""
+        """The point of a touch's half-line (screen point ``screen_xy``) closest to ``near``
+        (3,)."""
         s = np.asarray(screen_xy, dtype=float)
         depth = float(np.asarray(near) @ self.eye)
         return s[0] * self.right + s[1] * self.up + depth * self.eye

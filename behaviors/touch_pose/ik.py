@@ -150,7 +150,7 @@ class CCD:
         """One CCD sweep of ``part``'s chain (in place on ``local``); the remaining distance."""
         path = self.paths[part]
         ox, oy, oz = self._part_off[part]
-        offset, parent, axes = self._offset, self._parent, self._axis
+        offset, axes = self._offset, self._axis
         gx, gy, gz = goal
         # world orientation and position of each path body (lists along the path)
         qw, pw = [], []

@@ -189,7 +189,8 @@ class LearnedModel:
         return self.blend(index, weights(d))
 
     def blend(self, index: np.ndarray, weight: np.ndarray) -> Blend:
-        """Blend samples ``index`` with (unnormalised) weights: quaternions per joint, root linearly."""
+        """Blend samples ``index`` with (unnormalised) weights: quaternions per joint, root
+        linearly."""
         w = np.asarray(weight, dtype=float)
         w = w / w.sum()
         q = self.rots[index]  # (n, 13, 4)

@@ -90,7 +90,8 @@ class Physics:
         self.mass = np.array([pb.getDynamicsInfo(self.uid, k, physicsClientId=c)[0]
                               for k in self.links])
         for j in self.joint_ids:
-            if body.hinge[body.names.index(pb.getJointInfo(self.uid, j, physicsClientId=c)[1].decode())]:
+            name = pb.getJointInfo(self.uid, j, physicsClientId=c)[1].decode()
+            if body.hinge[body.names.index(name)]:
                 pb.setJointMotorControl2(self.uid, j, pb.VELOCITY_CONTROL, force=0,
                                          physicsClientId=c)
             else:
@@ -99,7 +100,8 @@ class Physics:
                                                 velocityGain=0, force=[0, 0, 0], physicsClientId=c)
             pb.changeDynamics(self.uid, j, lateralFriction=0.9, physicsClientId=c)
         # each link's centre of mass in its joint frame (link frame), from the rest pose
-        self.set_pose(Pose(np.array([0.0, 2.0, 0.0]), np.tile([1.0, 0, 0, 0], (len(body.names), 1))))
+        self.set_pose(Pose(np.array([0.0, 2.0, 0.0]),
+                           np.tile([1.0, 0, 0, 0], (len(body.names), 1))))
         states = pb.getLinkStates(self.uid, self.links, physicsClientId=c)
         self.com_local = []
         for s in states:
@@ -111,7 +113,8 @@ class Physics:
         self._frames = list(range(len(body.names))) + [i_re, i_le]
         self._frame_off = [np.zeros(3)] * len(body.names) + [wrist, wrist]
         # centre of mass offsets in the frames of our bodies (the wrists hang off the elbows)
-        self._com_off = [tuple((off + c).tolist()) for off, c in zip(self._frame_off, self.com_local)]
+        self._com_off = [tuple((off + c).tolist())
+                         for off, c in zip(self._frame_off, self.com_local)]
         self._hinge_axes = [tuple(body.axis[i].tolist()) if body.hinge[i] else None
                             for i in range(1, len(body.names))]
         self.started = False

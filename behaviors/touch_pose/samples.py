@@ -1,12 +1,12 @@
 """Sample motions of touch-pose control (paper 003, sections 4-5): actions and posing postures.
 
 Actions come from the DeepMimic humanoid clips of the ``pybullet`` wheel (punch, kick, jump, spin
-kick, walk) plus a wave and a bow made here by hand (no DeepMimic clip waves or bows). Each action names its primary body
-part, the generalised time where its characteristic stroke ends (the part of the primary-part
-trajectory that a drag is matched against), and its time segments (section 5, figure 5): from a
-generalised time on, whether stillness is allowed while the finger rests, and the automatic
-direction once the finger lifts (+1 forward, -1 backward). The segments were set by hand from
-the clips' primary-part trajectories (as the paper does), e.g. the kick may pause while the leg
+kick, walk) plus a wave and a bow made here by hand (no DeepMimic clip waves or bows). Each action
+names its primary body part, the generalised time where its characteristic stroke ends (the part of
+the primary-part trajectory that a drag is matched against), and its time segments (section 5,
+figure 5): from a generalised time on, whether stillness is allowed while the finger rests, and the
+automatic direction once the finger lifts (+1 forward, -1 backward). The segments were set by hand
+from the clips' primary-part trajectories (as the paper does), e.g. the kick may pause while the leg
 is chambered low but not once the foot leaves the floor.
 
 Sample motions per action (the paper uses one to four and averages the primary part's
@@ -36,10 +36,10 @@ takes it back. It travels like the
 punch: from the action's base, brought back within ``ROAM`` as it ends, kept on the table.
 
 Posing samples: the standing pose, hand-made idle variations of it (weight shifts, arms a
-little out) and the first part of every sample motion of every action (the paper's choice: the start of an action is
-done by posing before the action is recognised), plus the walk cycle and the two dances for the
-legs' and arms' range (the walk being an action too, its whole cycle stands for its prefix: the
-posing model is the same as without the walk action).
+little out) and the first part of every sample motion of every action (the paper's choice: the start
+of an action is done by posing before the action is recognised), plus the walk cycle and the two
+dances for the legs' and arms' range (the walk being an action too, its whole cycle stands for its
+prefix: the posing model is the same as without the walk action).
 
 Posing samples are taken in place (pelvis height and tilt kept, travel and heading removed), so
 posing never walks the character away and touched parts stay under their fingers: section 4's
@@ -56,7 +56,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from behaviors.motion.clips import Clip, quat_from_axis_angle, quat_from_rotvec, quat_mul, quat_slerp
+from behaviors.motion.clips import (Clip, quat_from_axis_angle, quat_from_rotvec, quat_mul,
+                                    quat_slerp)
 from behaviors.motion.deepmimic import load_motion
 from behaviors.touch_pose.humanoid import Humanoid, Pose, yaw_of
 from behaviors.touch_pose.tracking import rot_diff
@@ -123,21 +124,30 @@ def segment_at(spec: ActionSpec, u: float) -> Segment:
     return out
 
 
-def wave_clip(base: Clip, seconds: float = 2.4, waves: int = 3) -> Clip:
-    """A hand-made wave: the right arm rises to the side, the forearm swings ``waves`` times, the
-    arm comes down. Every other channel holds ``base``'s first frame (a standing pose)."""
+def _hand_made(base: Clip, seconds: float, rise: float,
+               fall: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The start of a hand-made clip of ``seconds`` at 30 fps: its times (s), their share of
+    the clip (0..1), its values (every frame ``base``'s first, a standing pose) and a ramp
+    eased (half a cosine) from 0 up to 1 over the first ``rise`` of the clip and back down
+    over the last ``fall``."""
     n = int(round(seconds * 30)) + 1
     t = np.linspace(0.0, seconds, n)
     u = t / seconds
     values = np.repeat(base.values[:1], n, axis=0)
-    raise_ = np.clip(np.minimum(u / 0.25, (1.0 - u) / 0.2), 0.0, 1.0)
-    raise_ = 0.5 - 0.5 * np.cos(math.pi * raise_)
+    ramp = np.clip(np.minimum(u / rise, (1.0 - u) / fall), 0.0, 1.0)
+    return t, u, values, 0.5 - 0.5 * np.cos(math.pi * ramp)
+
+
+def wave_clip(base: Clip, seconds: float = 2.4, waves: int = 3) -> Clip:
+    """A hand-made wave: the right arm rises to the side, the forearm swings ``waves`` times, the
+    arm comes down. Every other channel holds ``base``'s first frame (a standing pose)."""
+    t, u, values, raise_ = _hand_made(base, seconds, 0.25, 0.2)
     swing = np.sin(2 * math.pi * waves * np.clip((u - 0.25) / 0.55, 0.0, 1.0))
     # the raised arm: abducted about the forward axis (towards the right, +z), turned forward a bit
     up = quat_mul(quat_from_axis_angle((0, 1, 0), -0.35), quat_from_axis_angle((1, 0, 0), -2.4))
     rest_q = base.values[0, base.slices["right_shoulder"]]
     rest_e = float(base.values[0, base.slices["right_elbow"]][0])
-    for k in range(n):
+    for k in range(len(t)):
         values[k, base.slices["right_shoulder"]] = quat_slerp(rest_q, up, raise_[k])
         values[k, base.slices["right_elbow"]] = ((1 - raise_[k]) * rest_e
                                                  + raise_[k] * (1.2 + 0.5 * swing[k]))
@@ -148,15 +158,10 @@ def bow_clip(base: Clip, seconds: float = 2.4) -> Clip:
     """A hand-made bow: the chest and neck bend forward (about 55 and 25 degrees), the bow is
     held a moment, the body straightens; the arms hang with the chest. Every other channel holds
     ``base``'s first frame."""
-    n = int(round(seconds * 30)) + 1
-    t = np.linspace(0.0, seconds, n)
-    u = t / seconds
-    values = np.repeat(base.values[:1], n, axis=0)
-    down = np.clip(np.minimum(u / 0.4, (1.0 - u) / 0.35), 0.0, 1.0)
-    down = 0.5 - 0.5 * np.cos(math.pi * down)
+    t, _, values, down = _hand_made(base, seconds, 0.4, 0.35)
     forward = (0.0, 0.0, 1.0)  # about the character's right: negative angles lean forward
     chest0, neck0 = base.values[0, base.slices["chest"]], base.values[0, base.slices["neck"]]
-    for k in range(n):
+    for k in range(len(t)):
         values[k, base.slices["chest"]] = quat_mul(quat_from_axis_angle(forward, -0.95 * down[k]),
                                                    chest0)
         values[k, base.slices["neck"]] = quat_mul(quat_from_axis_angle(forward, -0.45 * down[k]),
@@ -195,9 +200,9 @@ def mend_seam(clip: Clip) -> Clip:
     18-19, where every joint jumps at once (left shoulder 28.8 degrees in one 1/30 s frame,
     right shoulder 13.1, left hip 10.0, root 7.2; elsewhere at most 6.7 and 4.3 typical), which
     the walk action played as popping. The step beyond the motion's own pace there (the
-    average of the steps either side) is spread over :data:`SEAM_FRAMES` frames each side, half before
-    and half after, tapering linearly: each channel's path is kept, the jump gone. Largest joint
-    turn between the walk's samples 28.8 -> 12.2 degrees (right knee, the motion's own); per
+    average of the steps either side) is spread over :data:`SEAM_FRAMES` frames each side, half
+    before and half after, tapering linearly: each channel's path is kept, the jump gone. Largest
+    joint turn between the walk's samples 28.8 -> 12.2 degrees (right knee, the motion's own); per
     target frame while the walk is dragged, worst of four views (bench/touch_pose_turns.py
     ``walk_drag_deg``) 28.6 -> 20.5, in line with the wave's 21.0 and the jump's 26.1 (punch,
     kick and spin kick strike at 70-100); once the finger lifts 12.1 -> 13.0 (from most views

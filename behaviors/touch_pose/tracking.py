@@ -29,9 +29,9 @@ time. Measured against the equation as printed (bench/touch_pose_effect.py; unto
 sway from the tracked pose, median / largest, then the largest joint turn in one output frame
 beyond the tracked pose's own, degrees; hand shaken 1 Hz | punch | pelvis dragged sideways):
 
-    dt in frames, tracked change subtracted (this)   3.3 / 9.2, 3.4 | 0.6 / 5.4, 13.1 | 1.3 / 4.0, 3.5
-    dt in frames, simulated change as it is          3.6 / 5.9, 5.6 | 0.8 / 6.9, 14.2 | 1.3 / 4.1, 3.5
-    dt in seconds (s1 = 0.0067, s2 = 0.017 a frame)   0.1 / 0.2, 0.1 | 0.0 / 0.2,  0.4 | 0.0 / 0.1, 0.1
+    dt in frames, tracked change subtracted (this) 3.3 / 9.2, 3.4 | 0.6 / 5.4, 13.1 | 1.3 / 4.0, 3.5
+    dt in frames, simulated change as it is        3.6 / 5.9, 5.6 | 0.8 / 6.9, 14.2 | 1.3 / 4.1, 3.5
+    dt in seconds (s1 = 0.0067, s2 = 0.017 a frame) 0.1 / 0.2, 0.1 | 0.0 / 0.2, 0.4 | 0.0 / 0.1, 0.1
 
 Read with dt in seconds the effect is a tenth of a degree, no visible shaking at all (the
 paper's purpose); in frames both readings sway the free arm by degrees, and subtracting the

@@ -390,7 +390,8 @@ def projector_main(args: argparse.Namespace) -> int:
             same_size(cal, img, name)
         fit = fit_projector_images(pattern, args.pattern, images, cal, table)
         size = (pattern.shape[1], pattern.shape[0])
-    print(f"projector fit: residual {fit.rms_mm:.2f} mm RMS ({np.sqrt(np.mean(fit.residual ** 2)):.2f} "
+    print(f"projector fit: residual {fit.rms_mm:.2f} mm RMS "
+          f"({np.sqrt(np.mean(fit.residual ** 2)):.2f} "
           f"projector px), {fit.worst_mm:.2f} mm worst, {len(fit.residual)} pattern corners")
     refuse_or_force(fit.rms_mm > MAX_PROJECTOR_MM, f"projector residual {fit.rms_mm:.2f} mm "
                     f"RMS is over {MAX_PROJECTOR_MM} mm", args.force)

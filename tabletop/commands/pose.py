@@ -3,8 +3,8 @@
 TOUCHES.csv ``t,id,x,y`` (seconds, finger id, table metres): rows sharing ``t`` are one input
 frame; a finger missing from a later frame has lifted, and after the last frame every finger
 has. One JSON line per output step at ``--rate`` from the first input time to the last plus 2 s;
-each step sees only the newest input frame at or before it (causal, as live). ``--describe`` writes the standing pose and the actions'
-projected trajectories instead (see DESIGN.md).
+each step sees only the newest input frame at or before it (causal, as live). ``--describe`` writes
+the standing pose and the actions' projected trajectories instead (see DESIGN.md).
 """
 
 from __future__ import annotations
@@ -46,8 +46,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--view", default="0,15", metavar="AZ,EL",
                    help="camera azimuth (0 front, 90 the character's right) and elevation, "
                         "degrees (default 0,15)")
-    p.add_argument("--rate", default="30", metavar="HZ", help="output steps per second (default 30)")
-    p.add_argument("--table", default="1.2,0.8", metavar="W,H", help="table metres (default 1.2,0.8)")
+    p.add_argument("--rate", default="30", metavar="HZ",
+                   help="output steps per second (default 30)")
+    p.add_argument("--table", default="1.2,0.8", metavar="W,H",
+                   help="table metres (default 1.2,0.8)")
     p.add_argument("--height", default="0.3", metavar="H",
                    help="drawn height of the character on the table, metres (default 0.3)")
 

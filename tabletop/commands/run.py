@@ -9,7 +9,8 @@ from tabletop.cli import EXIT_RECORDING_FAILED
 
 MAX_SECONDS = 10 * 365 * 86_400.0  # ten years: a longer run is a typing mistake
 
-HELP = "run the installation (synthetic camera and headless view where there is no camera or display)"
+HELP = ("run the installation (synthetic camera and headless view where there is no camera or "
+        "display)")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -24,7 +25,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="gallery kiosk: fullscreen, no cursor, overlay only with the service key, "
                         "attract mode, status and heartbeat, restarted by a supervisor")
     p.add_argument("--no-supervisor", action="store_true",
-                   help="with --kiosk: run the loop in this process (e.g. when systemd restarts it)")
+                   help="with --kiosk: run the loop in this process "
+                        "(e.g. when systemd restarts it)")
     p.add_argument("--studio", action="store_true",
                    help="designer studio: record, train, try, keep and manage the library")
 

@@ -3,6 +3,7 @@
 - :mod:`~tabletop.kiosk.supervisor` runs the installation in a child process and restarts it
   after a crash (with back-off and a crash log) or a stall (no frame for ``stall_s``);
   :mod:`~tabletop.kiosk.supervised` is that child's side (it ends when the supervisor is gone);
+  :mod:`~tabletop.kiosk.paths` names the kiosk's own files (status, logs, last good config);
 - :mod:`~tabletop.kiosk.notify` speaks systemd's notify protocol (READY, WATCHDOG) from the
   frame loop;
 - :mod:`~tabletop.kiosk.health` writes the status JSON file, sends the OSC heartbeat and keeps
@@ -81,7 +82,7 @@ def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:
     or to the status file would mix them."""
     from pathlib import Path
 
-    from tabletop.kiosk.supervisor import kiosk_paths, last_good_path
+    from tabletop.kiosk.paths import kiosk_paths, last_good_path
     taken: dict[Path, str] = {}
     config = Path(ctx.file)
     if config.is_file():

@@ -8,7 +8,7 @@ configured_actions`: the stage's ``missing``, each listed in the status's ``beha
 ``watched``: those too) once a second, their modification times and sizes (``os.stat`` only;
 nothing is read while they stay as they were); once they changed and then stayed as they were
 for a whole look it reads each file once (regular files only, capped:
-:func:`tabletop.files.read_regular_bytes`, so a named pipe put there cannot hold the frame
+:func:`tabletop.file_io.read_regular_bytes`, so a named pipe put there cannot hold the frame
 loop), builds the action from those bytes and, if it builds, gives it to its character (a
 missing one, or in place of the one it played) and drops its error; the actions taken in one
 tick retrain the followers once (:meth:`MopStage.put_actions`). A file that does not build (made

@@ -9,9 +9,10 @@ The status (DESIGN.md, "Network and serial contracts") is one JSON object::
      purpose leaves; "restarting", with "crash", written by the supervisor after a crash:
      :func:`tabletop.kiosk.crash_log.restarting_status`), "unhealthy_sources",
      "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink failures so far),
-     "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad and of actions' files a character started without), "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
-     "config" (file), "config_error" (the last refused edit, or null), "studio" (or null),
-     "recording" and "snapshots" (what they write, why they stopped; or null)}
+     "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad and of actions' files
+     a character started without), "restarts" (by the supervisor), "idle_s" (seconds since a visitor
+     was last seen), "config" (file), "config_error" (the last refused edit, or null), "studio" (or
+     null), "recording" and "snapshots" (what they write, why they stopped; or null)}
 
 Every ``every_s`` it is written atomically to the status file (in a writer thread: the frame loop
 never waits for a disk) and sent as OSC ``/tabletop/heartbeat`` with the installation name

@@ -20,7 +20,7 @@ import yaml
 
 from tabletop.files import atomic_write_text
 from tabletop.frames import InputError
-from tabletop.kiosk.supervisor import last_good_path as path_of
+from tabletop.kiosk.paths import last_good_path as path_of
 
 log = logging.getLogger("tabletop")
 

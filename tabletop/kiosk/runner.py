@@ -21,7 +21,7 @@ from tabletop.kiosk.actions import ActionReloader
 from tabletop.kiosk.health import (Heartbeat, HealthReporter, WatchdogPing,
                                    recording_status, snapshot_status)
 from tabletop.kiosk.notify import Notifier
-from tabletop.kiosk.supervisor import kiosk_log, kiosk_paths
+from tabletop.kiosk.paths import kiosk_log, kiosk_paths
 from tabletop.plugins import scripted
 from tabletop.registry import BuildContext
 from tabletop.studio.build import attach_studio

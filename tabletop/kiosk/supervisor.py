@@ -50,6 +50,7 @@ from tabletop.cli import EXIT_RECORDING_FAILED, catch_stop_signals
 from tabletop.kiosk.crash_log import append_crash, crash_entry, restarting_status
 from tabletop.kiosk.status_fields import status_text, utc_now, write_status
 from tabletop.kiosk.notify import Notifier
+from tabletop.kiosk.paths import kiosk_log, kiosk_paths
 
 log = logging.getLogger("tabletop")
 
@@ -416,34 +417,6 @@ class Supervisor:
                 self._dir.rmdir()
             except OSError:
                 pass
-
-
-def last_good_path(config_path: Path) -> Path:
-    """Where the last good configuration of ``config_path`` is kept
-    (:mod:`tabletop.kiosk.last_good`)."""
-    config_path = Path(config_path)
-    return config_path.with_name(f".{config_path.name}.last-good")
-
-
-def kiosk_paths(cfg: dict[str, Any], base: Path) -> dict[str, Path]:
-    """The kiosk's status file, log and crash log, defaults beside the config file."""
-    k = cfg["kiosk"]
-    return {"status_file": Path(k["status_file"] or base / "status.json"),
-            "log_file": Path(k["log_file"] or base / "logs" / "tabletop.log"),
-            "crash_log": Path(k["crash_log"] or base / "logs" / "crashes.log")}
-
-
-def kiosk_log(cfg: dict[str, Any], path: Path) -> None:
-    """The kiosk's rotating log at ``path``; a place it cannot be made stops the start in one
-    line naming the config file and ``kiosk.log_file``."""
-    from tabletop.kiosk.health import setup_log_file
-    from tabletop.schema import ConfigError
-    k = cfg["kiosk"]
-    try:
-        setup_log_file(path, k["log_max_bytes"], k["log_backups"])
-    except OSError as exc:
-        raise ConfigError(f"{getattr(cfg, 'file', 'config')}: kiosk.log_file: {path}: cannot "
-                          f"be used: {exc.strerror or exc}") from None
 
 
 def supervise(config_path: Path, cfg: dict[str, Any], argv: list[str],

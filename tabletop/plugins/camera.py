@@ -276,7 +276,8 @@ def measurements(ids: np.ndarray, corners: np.ndarray, calibration: Any,
     return tuple(out)
 
 
-def tracker_predictions(ctx: BuildContext) -> Callable[[float], Mapping[int, tuple[float, float]]] | None:
+def tracker_predictions(
+        ctx: BuildContext) -> Callable[[float], Mapping[int, tuple[float, float]]] | None:
     """The shared puck tracker's ``predictions(t)`` (table metres per puck id) if it has one."""
     fn = getattr(ctx.shared.get("tracker"), "predictions", None)
     return fn if callable(fn) else None

@@ -128,7 +128,8 @@ CHARACTER = Record({
     "at": Optional_(ListOf(Number(), min_len=2, max_len=2), doc="[x, y] metres; default centre"),
     "heading": Number(math.pi / 2, doc="radians; the figure's up points this way"),
     "size": Number(0.25, lo=0.01, hi=5.0, doc="metres: height, body length or face height"),
-    "color": ListOf(Number(integer=True, lo=0, hi=255), default=[240, 170, 60], min_len=3, max_len=3),
+    "color": ListOf(Number(integer=True, lo=0, hi=255), default=[240, 170, 60],
+                    min_len=3, max_len=3),
     "skeleton": Optional_(FilePath(kind="file"), doc="URDF; default pybullet_data humanoid"),
     "sheet": Optional_(FilePath(kind="file"), doc="sprite: a tabletop.sprites JSON sheet"),
     "view_yaw": Number(0.5, doc="skeleton: viewing side, radians (0 side, pi/2 front)"),
@@ -150,7 +151,8 @@ FOLLOWER = Record({
     "backward": Number(0.1, lo=0.0),
     "restart": Number(1e-4, lo=0.0, hi=0.5),
     "memory": Number(20.0, lo=1.0, doc="samples: forgetting of the evidence (probabilities)"),
-    "null_distance": Number(1.8, lo=0.01, doc="sigmas: farther from the best template is no action"),
+    "null_distance": Number(1.8, lo=0.01,
+                            doc="sigmas: farther from the best template is no action"),
     "null_memory": Number(16, lo=1.0, doc="samples: forgetting of that distance"),
     "onset": Number(0.5, lo=0.0, doc="sigmas: an action drives its character once the "
                  "performance has left the action's start by this much"),
@@ -163,10 +165,12 @@ FOLLOWER = Record({
                       "touch inputs): tells a raise from its return, a gesture from its mirror"),
     "scale_range": Range(Number(lo=0.05, hi=20.0), default=[0.55, 1.8], contains=1.0,
                          doc="smallest and largest size of a performance, x the recorded"),
-    "switch_margin": Number(1.0, lo=0.0, doc="nats: another action takes over once this much likelier"),
+    "switch_margin": Number(1.0, lo=0.0,
+                            doc="nats: another action takes over once this much likelier"),
     "confirm": Number(2, integer=True, lo=1, hi=100, doc="samples a match must last to drive"),
     "hold_tolerance": Number(0.02, lo=0.0, hi=1.0,
-                             doc="a template's held stretch (within this of its spread) may last any time"),
+                             doc="a template's held stretch (within this of its spread) may last "
+                                 "any time"),
     "max_spread": Number(0.15, lo=1e-3, hi=1.0),
     "relative_floor": Number(0.05, lo=0.0, hi=1.0),
 })
@@ -360,7 +364,8 @@ def build(options: dict, ctx: BuildContext) -> MopStage:
         # size, place and direction of motion only where the features' units are known (puck
         # and touch paths); a stream's columns are followed as recorded
         spatial = units is not None
-        invariance = fo["invariance"] if fo["invariance"] != "auto" else ("scale" if spatial else "none")
+        invariance = (fo["invariance"] if fo["invariance"] != "auto"
+                      else "scale" if spatial else "none")
         return ActionFollower(templates, units=units, invariance=invariance, min_scale=min_scale,
                               tangent=fo["tangent"] if spatial else 0.0,
                               **dict(params, window=window or params["window"]))

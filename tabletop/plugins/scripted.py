@@ -78,7 +78,8 @@ class ScriptedSource:
         return out + [(pid, *p.pose(t)) for pid, p in self.performers.items()]
 
     def health(self) -> SourceHealth:
-        return SourceHealth(self.name, True, "scripted visitor", max(0.0, self.clock() - self._last_t))
+        return SourceHealth(self.name, True, "scripted visitor",
+                            max(0.0, self.clock() - self._last_t))
 
     def close(self) -> None:
         pass

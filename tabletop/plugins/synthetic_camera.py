@@ -4,9 +4,10 @@ The pucks of the ``scripted`` source (same options: ``pucks``, ``seed``, ``perfo
 rendered with real markers by :class:`tracking.synthetic.SyntheticCamera` (perspective, lens
 distortion, lighting, blur, motion blur, noise, a visitor's hand now and then) at ``fps``, in the
 source's own thread or (``render_process``) in a child process, as a real camera's images cost
-the installation nothing (tabletop/plugins/synthetic_render.py); the tracking section's detector finds the markers and the camera's true
-calibration (or this entry's ``calibration`` file) maps them to table metres. So the default
-installation runs through real images, exactly as a camera would feed it.
+the installation nothing (tabletop/plugins/synthetic_render.py); the tracking section's detector
+finds the markers and the camera's true calibration (or this entry's ``calibration`` file) maps them
+to table metres. So the default installation runs through real images, exactly as a camera would
+feed it.
 """
 
 from __future__ import annotations

@@ -191,7 +191,8 @@ class RenderProcessReader:
         finally:
             for k in (req_r, ans_w, fd):
                 os.close(k)
-        self.requests, self.answers = Connection(req_w, readable=False), Connection(ans_r, writable=False)
+        self.requests = Connection(req_w, readable=False)
+        self.answers = Connection(ans_r, writable=False)
         self.requests.send((settings, poses, hands, fps))
         self._frames = 0
 

@@ -5,9 +5,9 @@ fingers (the character does not start its known actions meanwhile: drags only po
 makes it an action (:func:`behaviors.touch_pose.designed.designed_action`, learned in a worker
 thread and swapped in between ticks 0.3 s of frame time after the stop, as the other engines'
 takes are after 0.15 s), known to the character: the designer tries it by dragging its primary
-part along the recorded path (drawn on the table), in their own timing. Kept actions are folders of the engine's ``library``
-(:func:`~behaviors.touch_pose.designed.save_action`), known from the next start too; renamed in
-place and deleted into ``<library>/.trash`` so undo restores them.
+part along the recorded path (drawn on the table), in their own timing. Kept actions are folders of
+the engine's ``library`` (:func:`~behaviors.touch_pose.designed.save_action`), known from the next
+start too; renamed in place and deleted into ``<library>/.trash`` so undo restores them.
 """
 
 from __future__ import annotations

@@ -126,7 +126,8 @@ def test_table_pattern_projector_chain_keeps_entries_and_backups(tmp_path, capsy
     assert np.linalg.norm(cal.image_to_table(cam.project(grid)) - grid, axis=1).max() <= 0.001
     assert np.allclose(cal.camera_matrix, cam.K)  # the lens entry was kept
 
-    code, stdout, _ = run(capsys, "pattern", "--out", tmp_path / "pattern.png", "--size", "1280,720")
+    code, stdout, _ = run(capsys, "pattern", "--out", tmp_path / "pattern.png",
+                          "--size", "1280,720")
     assert code == 0 and "1280x720" in stdout
     rig.pucks = []
     rig.show(cv2.imread(str(tmp_path / "pattern.png"), cv2.IMREAD_GRAYSCALE))
@@ -139,7 +140,8 @@ def test_table_pattern_projector_chain_keeps_entries_and_backups(tmp_path, capsy
     landed = cal2.projector_to_table(rig.projector.table_to_projector(grid))
     assert np.linalg.norm(landed - grid, axis=1).max() <= 0.002
     assert np.allclose(cal2.camera_to_table, cal.camera_to_table)
-    assert cal2.reprojection_error["camera_to_table_m"] == cal.reprojection_error["camera_to_table_m"]
+    assert cal2.reprojection_error["camera_to_table_m"] \
+        == cal.reprojection_error["camera_to_table_m"]
     assert load_calibration(tmp_path / "cal.yaml.bak").table_to_projector is None
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         "cal.yaml", "cal.yaml.bak", "markers.png", "pattern.png", "seen.png"]

@@ -104,7 +104,8 @@ def good() -> dict:
      "intrinsics.camera_matrix"),
     (lambda d: d.update(intrinsics={"camera_matrix": [[9, 0, 1], [0, 9, 1], [0, 0, 1]],
                                     "distortion": [0.1, 0.2, 0.3]}), "intrinsics.distortion"),
-    (lambda d: d.update(reprojection_error={"intrinsics_px": -1}), "reprojection_error.intrinsics_px"),
+    (lambda d: d.update(reprojection_error={"intrinsics_px": -1}),
+     "reprojection_error.intrinsics_px"),
     # numbers no camera has (each would map every marker to one point, NaN or nowhere)
     (sized(intrinsics=lens(1e300)), r"intrinsics: fx = 1e\+300, fy = 1e\+300 px with this "
      r"distortion give a 0.000\d+ degree field of view across the image's short side; "

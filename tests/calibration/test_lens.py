@@ -58,7 +58,8 @@ def test_board_spec_and_printed_size():
     assert (spec.cols, spec.rows, spec.square_m, spec.marker_m) == (9, 6, 0.025, 0.018)
     img, (w_mm, h_mm) = board_image(spec, 300)
     assert img.shape == (round(h_mm / 25.4 * 300), round(w_mm / 25.4 * 300))
-    assert w_mm == pytest.approx(9 * 25 + 20, abs=0.2) and h_mm == pytest.approx(6 * 25 + 20, abs=0.2)
+    assert w_mm == pytest.approx(9 * 25 + 20, abs=0.2) \
+        and h_mm == pytest.approx(6 * 25 + 20, abs=0.2)
     det = cv2.aruco.CharucoDetector(make_board(spec))
     assert len(detect_board(det, img)[1]) == 8 * 5  # every inner corner of the printed board
 
@@ -99,8 +100,9 @@ def test_command_line_default_board_is_the_library_default():
     assert calibrate.DEFAULT_BOARD == DEFAULT_BOARD
 
 
-@pytest.mark.parametrize("text, dpi", [("7x5:40:30:DICT_5X5_100", 64), ("7x5:40:30:DICT_5X5_100", 97),
-                                       ("9x6:25:18:DICT_6X6_250", 100), ("9x6:25:18:DICT_6X6_250", 150)])
+@pytest.mark.parametrize("text, dpi",
+                         [("7x5:40:30:DICT_5X5_100", 64), ("7x5:40:30:DICT_5X5_100", 97),
+                          ("9x6:25:18:DICT_6X6_250", 100), ("9x6:25:18:DICT_6X6_250", 150)])
 def test_the_board_draws_at_resolutions_whose_squares_are_not_whole_pixels(text, dpi):
     # OpenCV placed these boards' markers outside the image (an assertion, not a board)
     spec = parse_board(text)

@@ -111,8 +111,10 @@ def test_run_shows_the_check_on_the_overlay(tmp_path):
     # counts is the one the view drew.
     lines = drawn[0]
     assert lines[-1].startswith("PASS: worst"), lines
-    overlay = view.renderer._overlay_key  # the last overlay the view drew: the stats, then the check
-    assert overlay[0].startswith("tick") and overlay[-1].startswith(("PASS", "FAIL", "NOT", "calib"))
+    # the last overlay the view drew: the stats, then the check
+    overlay = view.renderer._overlay_key
+    assert overlay[0].startswith("tick") and overlay[-1].startswith(("PASS", "FAIL",
+                                                                     "NOT", "calib"))
 
 
 def test_projector_size_is_recorded_and_old_files_still_load(tmp_path):

@@ -124,7 +124,8 @@ def test_capture_window_grabs_views_and_fills_the_coverage_map():
     counts = coverage(win.points, (640, 480), (8, 6))
     colours = coverage_colours(counts)
     assert counts.max() >= 1 and (counts == 0).any() and len(win.views) == 2
-    assert (colours[counts == 0] == (220, 40, 40)).all() and (colours[counts == 1] == (230, 170, 30)).all()
+    assert (colours[counts == 0] == (220, 40, 40)).all() \
+        and (colours[counts == 1] == (230, 170, 30)).all()
     needs = win.needs((640, 480))  # the centre and the top-left corner only: the rest is short
     assert needs.startswith("still needed (2 views each): ") and "bottom-right corner (0)" in needs
 
@@ -138,7 +139,8 @@ def test_a_camera_image_becomes_a_surface_of_its_pixels():
     bgr[2, 0] = (10, 20, 30)
     a, b = image_surface(grey), image_surface(bgr)
     assert a.get_size() == b.get_size() == (5, 3)
-    assert tuple(a.get_at((4, 1)))[:3] == (200, 200, 200) and tuple(a.get_at((0, 0)))[:3] == (0, 0, 0)
+    assert tuple(a.get_at((4, 1)))[:3] == (200, 200, 200) \
+        and tuple(a.get_at((0, 0)))[:3] == (0, 0, 0)
     assert tuple(b.get_at((0, 2)))[:3] == (30, 20, 10)
 
 

@@ -1,6 +1,7 @@
 """A kiosk's installation run in a thread while a test watches it: its loop, a sink that keeps
 what the last frame drew, and the replay of its recording compared with it."""
 
+import json
 import threading
 from contextlib import contextmanager
 from pathlib import Path
@@ -64,3 +65,16 @@ def replays_alike(session: Path, out: Path, least: int = 30,
         return [{k: v for k, v in c.items() if k not in aside} for c in f["characters"]]
     assert [drawn(f) for f in live] == [drawn(f) for f in again]
     return live
+
+
+def started_without(session: Path) -> set[str]:
+    """The characters (or engines) ``session``'s header says the run started without: those
+    whose behaviour or action files were refused at its start."""
+    return set(json.loads(session.read_text().splitlines()[0])["started_without"])
+
+
+def replays_without(session: Path, out: Path, names: set[str], **alike: Any) -> list[dict]:
+    """:func:`replays_alike` (``alike``: its keywords) of a ``session`` that started without
+    ``names`` (:func:`started_without`): the replay starts without them too."""
+    assert started_without(session) == names
+    return replays_alike(session, out, **alike)

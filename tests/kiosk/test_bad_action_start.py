@@ -17,7 +17,8 @@ from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.watch import ConfigWatcher
-from tests.kiosk.running import Latest, kiosk_built, replays_alike, running
+from tests.kiosk.running import (Latest, kiosk_built, replays_alike, replays_without, running,
+                                 started_without)
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
@@ -121,9 +122,7 @@ def test_a_kiosk_starts_mop_characters_without_their_unreadable_actions(tmp_path
     watcher()
     assert watcher.refused == 1 and "line.csv: line" in watcher.error
     # the replay starts them without the same actions (the header's started_without)
-    header = json.loads(session.read_text().splitlines()[0])
-    assert set(header["started_without"]) == {"mop"}
-    replays_alike(session, tmp_path / "replayed.jsonl", least=30, aside=())
+    replays_without(session, tmp_path / "replayed.jsonl", {"mop"}, least=30, aside=())
     # a recording whose carried circle template is damaged too: refused, not replayed without
     # one more action than the run had
     done = replay_cli(_circle_damaged(session), tmp_path / "replayed-2.jsonl")
@@ -203,8 +202,7 @@ def test_a_kiosk_follows_a_mop_action_it_started_without_once_its_file_is_fixed(
         # the line drawn drives both characters' line action
         assert wait_for(lambda: {"walker", "lone"} <= {c.name for c in latest.characters
                                                         if c.action == "line"}, 20.0)
-    header = json.loads(session.read_text().splitlines()[0])
-    assert set(header["started_without"]) == {"mop"}
+    assert started_without(session) == {"mop"}
     followed = [f["consumed"]["reload"]["actions"]["mop"] for f in frames(session)
                 if "actions" in f.get("consumed", {}).get("reload", {})]
     assert [[(e["character"], e["action"]) for e in f] for f in followed] == [
@@ -250,8 +248,7 @@ def test_a_kiosk_lists_a_corrupt_touch_pose_action_until_it_is_gone(tmp_path, mo
         assert error.startswith(f"poser: {bad}: cannot read the action") and "line 3" in error
         shutil.rmtree(bad.parent)
         assert wait_for(lambda: status(tmp_path).get("behavior_errors") == [], 15.0)
-    header = json.loads(session.read_text().splitlines()[0])
-    assert set(header["started_without"]) == {"poser"}
+    assert started_without(session) == {"poser"}
 
 
 def test_a_kiosk_knows_a_touch_pose_action_once_its_file_is_fixed(tmp_path, models):

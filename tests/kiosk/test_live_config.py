@@ -4,7 +4,6 @@ stays and keeps running), a good one is applied."""
 import contextlib
 import copy
 import ctypes.util
-import json
 import os
 import subprocess
 import sys
@@ -28,7 +27,8 @@ def config(color) -> dict:
         "loop": {"rate_hz": 30},
         "sources": [{"kind": "scripted", "pucks": [1, 2]}],
         "engines": [{"kind": "puppet_master", "name": "lover", "color": color,
-                     "behavior": str(ROOT / "behaviors" / "library" / "lover"), "main": {"puck": 1}}],
+                     "behavior": str(ROOT / "behaviors" / "library" / "lover"),
+                     "main": {"puck": 1}}],
         "view": {"size": [320, 180], "headless": True},
         "kiosk": {"heartbeat": {"enabled": False}},
     }

@@ -5,7 +5,6 @@ handler never raises out of the logger."""
 
 import logging
 import shutil
-import signal
 import subprocess
 import sys
 import threading

@@ -18,7 +18,8 @@ RATE = 60.0
 
 
 def _gestures():
-    spec = importlib.util.spec_from_file_location("make_mop_gestures", EXAMPLES / "make_mop_gestures.py")
+    spec = importlib.util.spec_from_file_location("make_mop_gestures",
+                                                  EXAMPLES / "make_mop_gestures.py")
     module = importlib.util.module_from_spec(spec)
     sys.modules["make_mop_gestures"] = module
     spec.loader.exec_module(module)

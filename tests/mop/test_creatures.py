@@ -30,7 +30,8 @@ def test_creature_clips_keep_bone_lengths_and_loops_close():
             lengths = [np.linalg.norm(pts[b] - pts[a]) for a, b in sk.bones]
             assert np.allclose(lengths, sk.lengths, atol=1e-12), name
         if clip.loop:
-            assert np.allclose(sk.forward(clip.sample(0.0)), sk.forward(clip.sample(1.0)), atol=1e-9)
+            assert np.allclose(sk.forward(clip.sample(0.0)),
+                               sk.forward(clip.sample(1.0)), atol=1e-9)
 
 
 def test_creature_motions_do_what_they_say():

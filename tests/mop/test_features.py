@@ -30,7 +30,8 @@ def test_heading_counts_whole_turns_and_rotate_makes_features_rotation_invariant
     def stroke(theta):
         p = PathFeatures(rotate=True)
         c, s = math.cos(theta), math.sin(theta)
-        return np.array([p.step(1 + c * 0.01 * i - s * 0.003 * i * i / 60, 1 + s * 0.01 * i + c * 0.003 * i * i / 60,
+        return np.array([p.step(1 + c * 0.01 * i - s * 0.003 * i * i / 60,
+                                1 + s * 0.01 * i + c * 0.003 * i * i / 60,
                                 theta, i / 30) for i in range(40)])
     assert np.allclose(stroke(0.0), stroke(2.2), atol=1e-9)
 

@@ -6,7 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 
@@ -45,7 +45,8 @@ def files(tmp_path):
 
 
 def _args(d: Path, *extra: str) -> list[str]:
-    return ["follow", "--template", f"wave={d / 'wave.csv'}", "--template", f"circle={d / 'circle.csv'}",
+    return ["follow", "--template", f"wave={d / 'wave.csv'}", "--template",
+            f"circle={d / 'circle.csv'}",
             "--input", str(d / "perf.csv"), "--out", str(d / "out.csv"), *extra]
 
 
@@ -114,7 +115,8 @@ def test_bad_input_gives_one_clear_line(files, capsys):
             "--out", str(d / "o.csv")], capsys, "one.csv", "'one'", "1 sample(s), needs at least 2")
     _write(d / "two.csv", ["a", "b"], [[1, 2], [3, 4]])
     _fails(["follow", "--template", f"wave={d / 'wave.csv'}", "--template", f"two={d / 'two.csv'}",
-            "--input", str(d / "perf.csv"), "--out", str(d / "o.csv")], capsys, "two.csv", "a,b", "a,b,c")
+            "--input", str(d / "perf.csv"), "--out", str(d / "o.csv")], capsys,
+           "two.csv", "a,b", "a,b,c")
     _write(d / "other.csv", ["a", "b", "x"], [[1, 2, 3], [3, 4, 5]])
     _fails(_args(d)[:-4] + ["--input", str(d / "other.csv"), "--out", str(d / "o.csv")], capsys,
            "other.csv", "missing c", "unexpected x")
@@ -123,7 +125,8 @@ def test_bad_input_gives_one_clear_line(files, capsys):
             "--out", str(d / "o.csv")], capsys, "nan.csv", "line 3", "'b'", "not a finite number")
     _fails(["follow", "--template", f"w={d / 'missing.csv'}", "--input", str(d / "perf.csv"),
             "--out", str(d / "o.csv")], capsys, "missing.csv", "not found")
-    _fails(["follow", "--template", "nonsense", "--input", str(d / "perf.csv"), "--out", str(d / "o.csv")],
+    _fails(["follow", "--template", "nonsense", "--input", str(d / "perf.csv"), "--out",
+            str(d / "o.csv")],
            capsys, "NAME=FILE.csv")
     _fails(_args(d) + ["--template", f"wave={d / 'wave.csv'}"], capsys, "'wave' is given twice")
     _fails(_args(d) + ["--template", f"wütend={d / 'wave.csv'}"], capsys,  # ü is a letter
@@ -151,7 +154,8 @@ def test_the_installed_command_runs_without_pygame(files):
     d, _ = files
     code = ("import sys; from tabletop.cli import main; rc = main(sys.argv[1:]); "
             "assert 'pygame' not in sys.modules; sys.exit(rc)")
-    r = subprocess.run([sys.executable, "-c", code, *_args(d)], capture_output=True, text=True, timeout=120)
+    r = subprocess.run([sys.executable, "-c", code, *_args(d)], capture_output=True,
+                       text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert (d / "out.csv").exists()
 

@@ -3,7 +3,7 @@ re-entry, long runs, any feature scale, and clear errors."""
 
 import math
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 
@@ -125,7 +125,8 @@ def test_going_back_moves_progress_back_and_pausing_holds_it():
 
 
 def _rest(rng, pose, n, tpl):
-    return np.repeat(pose[None, :], n, axis=0) + rng.normal(0.0, 0.05, (n, pose.size)) * tpl.std(axis=0)
+    return np.repeat(pose[None, :], n, axis=0) \
+        + rng.normal(0.0, 0.05, (n, pose.size)) * tpl.std(axis=0)
 
 
 def test_a_new_performance_is_followed_after_the_last_one_ended():
@@ -182,7 +183,8 @@ def test_features_of_any_scale_give_the_same_answers(unit):
     scale = unit * np.array([0.3, 1.0, 4.0])
     offset = np.array([1e3, -7.0, 0.0]) * unit
     plain = _follow(ActionFollower(tpls), perf)
-    scaled = _follow(ActionFollower({k: v * scale + offset for k, v in tpls.items()}), perf * scale + offset)
+    scaled = _follow(ActionFollower({k: v * scale + offset for k, v in tpls.items()}),
+                     perf * scale + offset)
     for p, s in zip(plain, scaled):
         assert p.best == s.best and p.valid == s.valid
         assert abs(p.progress - s.progress) <= 1e-6
@@ -288,12 +290,15 @@ def test_a_group_steps_several_followers_exactly_as_they_would_alone():
 def test_a_group_of_mixed_invariances_matches_its_followers_alone():
     # sizes, anchors, spotting and direction features go through the group's one-pass update
     rng = np.random.default_rng(5)
-    kinds = [dict(invariance="scale"), dict(invariance="offset"), dict(invariance="scale", tangent=0.3),
+    kinds = [dict(invariance="scale"), dict(invariance="offset"),
+             dict(invariance="scale", tangent=0.3),
              dict(invariance="none")]
-    sets = [{f"c{c}a{i}": g.template(rng, n=80, d=2 + c % 2) for i in range(4)} for c in range(len(kinds))]
+    sets = [{f"c{c}a{i}": g.template(rng, n=80, d=2 + c % 2) for i in range(4)}
+            for c in range(len(kinds))]
     alone = [ActionFollower(s, **kw) for s, kw in zip(sets, kinds)]
     group = FollowerGroup([ActionFollower(s, **kw) for s, kw in zip(sets, kinds)])
-    streams = [np.concatenate([1.3 * g.perform(rng, t, g.warped_phase(rng, len(t))) for t in s.values()] * 2)
+    streams = [np.concatenate([1.3 * g.perform(rng, t, g.warped_phase(rng, len(t)))
+                               for t in s.values()] * 2)
                for s in sets]
     valid = 0
     for i in range(min(len(s) for s in streams)):
@@ -301,14 +306,16 @@ def test_a_group_of_mixed_invariances_matches_its_followers_alone():
         if 60 <= i < 63:
             xs[0] = np.full(2, np.nan)
         for a, b in zip([f.step(x) for f, x in zip(alone, xs)], group.step(xs)):
-            assert (a.best, a.valid, a.restarted, a.holding) == (b.best, b.valid, b.restarted, b.holding)
+            assert (a.best, a.valid, a.restarted, a.holding) == (b.best, b.valid,
+                                                                 b.restarted, b.holding)
             assert [n for n, *_ in a.likely] == [n for n, *_ in b.likely]
             assert abs(a.progress - b.progress) <= 1e-9 and abs(a.loglik - b.loglik) <= 1e-9
             assert a.probabilities == pytest.approx(b.probabilities, abs=1e-9)
             assert a.scale_by == pytest.approx(b.scale_by, abs=1e-9)
             valid += a.valid
     assert valid > 100  # the performances were followed (not only refused)
-    assert any(f._state.scale_by and max(f._state.scale_by.values()) > 1.05 for f in alone[:1] + alone[2:3])
+    assert any(f._state.scale_by and max(f._state.scale_by.values()) > 1.05
+               for f in alone[:1] + alone[2:3])
 
 
 def test_a_single_template_refuses_other_actions_and_takes_its_own_after_them():

@@ -4,7 +4,7 @@ ends, rests, abandoned attempts, lost samples and members of different settings.
 import dataclasses
 import math
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 
@@ -72,7 +72,8 @@ def _puck_members(rng: np.random.Generator, count: int, templates: int, n: int,
 
 
 KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="offset", end=0.9),
-         dict(invariance="scale", tangent=0.3), dict(invariance="scale", still_samples=3, confirm=1),
+         dict(invariance="scale", tangent=0.3),
+         dict(invariance="scale", still_samples=3, confirm=1),
          dict(invariance="offset", lost_samples=3, switch_margin=0.5, min_probability=0.4)]
 
 
@@ -93,7 +94,8 @@ def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone(turn
             if len(t) >= 40:
                 t[len(t) // 2:len(t) // 2 + 10] = t[len(t) // 2]
         parts = []
-        for j in range(4):   # back to back or stopped short of the end, a rest, an unrelated stretch
+        # back to back or stopped short of the end, a rest, an unrelated stretch
+        for j in range(4):
             t = list(sets[-1].values())[int(rng.integers(len(sets[-1])))]
             phase = g.warped_phase(rng, len(t))
             phase = phase[phase <= (len(t) - 1) * (0.93 if j % 2 else 1.0)]
@@ -149,7 +151,8 @@ def test_gesture_end_rules_over_members_equal_the_followers_own():
     f._anchor, f._size[:] = rng.normal(size=2), [1.3, 0.8]
     moved = gone = 0
     for k in range(2):
-        f._end_x = f._rel[f.bank.starts[k] + f.bank.lengths[k] - 1] * f._units * f._size[k] + f._anchor \
+        f._end_x = f._rel[f.bank.starts[k] + f.bank.lengths[k] - 1] * f._units * f._size[k] \
+            + f._anchor \
             + rng.normal(size=2) * f._still_radius
         last = group._rel[group._last_state[k]] * group._m_units[0] * f._size[k] + f._anchor
         f._end_last = f._last_point(k)   # frozen where the end was reached (spotting._spot)
@@ -158,8 +161,10 @@ def test_gesture_end_rules_over_members_equal_the_followers_own():
             x = f._end_x + rng.normal(size=2) * rng.choice([1.0, 3.0, 10.0]) * f._still_radius
             want = f._moved_on(x, k)
             assert members.moved_on(x, f._end_x, last, f._still_radius) == want
-            d = math.sqrt(np.mean(((x - f._end_x) / spread) ** 2)) / f.sigma * rng.uniform(0.8, 1.25)
-            assert members.departed(x, f._end_x, spread, 2.0, (d * f.sigma) ** 2) == f._departed(x, k, d)
+            d = math.sqrt(np.mean(((x - f._end_x) / spread) ** 2)) / f.sigma \
+                * rng.uniform(0.8, 1.25)
+            assert members.departed(x, f._end_x, spread, 2.0, (d * f.sigma) ** 2) \
+                == f._departed(x, k, d)
             moved += want
             gone += f._departed(x, k, f.accept_distance)
     assert 100 < moved < 500 and 50 < gone < 550   # both sides of each limit were tried
@@ -180,12 +185,14 @@ def test_a_return_followed_backwards_ends_in_the_group_as_alone():
     from bench.motions import at_phase, gesture_templates, phase_of
     gestures = gesture_templates()
     rng = np.random.default_rng(3)
-    kws = [dict(units=np.ones(2), invariance="scale"), dict(units=np.ones(2), invariance="scale", confirm=1)]
+    kws = [dict(units=np.ones(2), invariance="scale"),
+           dict(units=np.ones(2), invariance="scale", confirm=1)]
     streams = []
     for _ in kws:
         parts, at = [np.zeros((15, 2))], np.zeros(2)
         for name, size in (("line", 0.7), ("wave", 1.0), ("line", 0.75), ("circle", 1.0)):
-            parts.append(size * at_phase(gestures[name], phase_of(rng, len(gestures[name]))[0]) + at)
+            phase = phase_of(rng, len(gestures[name]))[0]
+            parts.append(size * at_phase(gestures[name], phase) + at)
             at = parts[-1][-1].copy()
         streams.append(np.concatenate(parts) + rng.normal(0, 0.0007, (sum(map(len, parts)), 2)))
     alone = [Returning(gestures, **kw) for kw in kws]
@@ -237,7 +244,9 @@ def test_a_group_with_shared_starts_equals_its_followers_alone():
     for _ in kws:
         parts, at = [np.zeros((15, 2))], np.zeros(2)
         for name in rng.permutation(list(gestures)):
-            parts.append(rng.uniform(0.7, 1.4) * at_phase(gestures[name], phase_of(rng, len(gestures[name]))[0]) + at)
+            size = rng.uniform(0.7, 1.4)
+            phase = phase_of(rng, len(gestures[name]))[0]
+            parts.append(size * at_phase(gestures[name], phase) + at)
             at = parts[-1][-1].copy()
         streams.append(np.concatenate(parts) + rng.normal(0, 0.0007, (sum(map(len, parts)), 2)))
     alone = [ActionFollower(gestures, **kw) for kw in kws]
@@ -273,7 +282,9 @@ def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
     valid = _step_both(alone, group, streams)
     monkeypatch.setattr(validity, "CRAWL_SAMPLES", 0)   # the followers alone read it at each step
     n = min(len(s) for s in streams)
-    plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures, share_radius=0.0) for _ in streams], streams)
+    plain = sum(f.step(x).valid
+                for f, s in zip([puck_follower(gestures, share_radius=0.0) for _ in streams],
+                                streams)
                 for x in s[:n])
     assert valid <= plain - 3, (valid, plain)
 

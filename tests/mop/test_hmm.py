@@ -2,7 +2,7 @@
 
 import math
 
-from tests.mop import gestures as g
+from bench import synthetic_actions as g
 import numpy as np
 import pytest
 
@@ -38,7 +38,8 @@ def test_every_template_at_once_equals_the_plain_equations(transitions, fastest,
     (Transitions(restart=1e-3), 0.0),                                      # the log-domain step
     (Transitions(dwell=0.8), 1e-8),                                        # holds that dwell
     (Transitions(restart=1e-3, dwell=0.5), 0.0)])
-def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_reentry(transitions, floor):
+def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_reentry(
+        transitions, floor):
     """Every template of a bank stepped at once, each on its own input (as a group steps them),
     against the algorithm written out state by state for one template at a time: performances,
     input that leaves the template, and new performances from the start (re-entry), also while
@@ -73,7 +74,8 @@ def test_the_vectorised_step_equals_the_plain_algorithm_with_restart_floor_and_r
     for k in range(len(lengths)):
         stay = fw._stay[bank.starts[k]:bank.starts[k] + bank.lengths[k]]
         assert stay.max() == (transitions.dwell if lengths[k] >= 30 else 0.0)
-        r_mean, r_var, r_ll, r_entries = forward_reference(bank.template(k), z[:, k], 0.2, 15, transitions,
+        r_mean, r_var, r_ll, r_entries = forward_reference(bank.template(k), z[:, k], 0.2,
+                                                           15, transitions,
                                                            floor, stay)
         assert np.array_equal(entries[:, k], r_entries)
         assert np.abs(ll[:, k] - r_ll).max() <= 1e-9 * max(1.0, np.abs(r_ll).max())
@@ -129,7 +131,8 @@ def test_probability_stays_normalised_and_finite_on_wild_input():
         ll = fw.step(x)
         assert np.all(np.isfinite(ll))
         sums = fw.alpha[:4].sum(axis=1) + fw.alpha[4:].sum(axis=1)
-        # 1 after each step, less only by what left the window when it moved (renormalised next step)
+        # 1 after each step, less only by what left the window when it moved
+        # (renormalised next step)
         assert np.all((sums > 0.0) & (sums <= 1.0 + 1e-9)) and np.all(np.isfinite(fw.alpha))
         assert np.all((fw.progress >= 0) & (fw.progress <= 1))
 

@@ -78,7 +78,8 @@ def run_example(seconds: float, seed: int = 0, jitter: float = 0.0,
     performer_of = {p["name"]: p["inputs"][0]["id"] for p in engine_cfg["performers"]}
     chars: dict[int, dict[str, set[str]]] = {}
     for c in engine_cfg["characters"]:
-        chars.setdefault(performer_of[c["performer"]], {})[c["name"]] = {a["name"] for a in c["actions"]}
+        chars.setdefault(performer_of[c["performer"]], {})[c["name"]] = {a["name"]
+                                                                         for a in c["actions"]}
     gestures = {p["puck"]: [_gesture_name(str(g)) for g in p["gestures"]]
                 for p in source_cfg["performers"]}
     out = Live()
@@ -96,7 +97,8 @@ def run_example(seconds: float, seed: int = 0, jitter: float = 0.0,
                         out.resting_ticks += 1
                         out.resting_valid += any(log[i][c].valid for c in mine)
             elif kind == "return":
-                out.home_valid.append(float(np.mean([any(log[i][c].valid for c in mine) for i in ticks])))
+                out.home_valid.append(float(np.mean([any(log[i][c].valid for c in mine)
+                                                     for i in ticks])))
             else:
                 g = names[data[1]]
                 for c, actions in mine.items():
@@ -104,7 +106,8 @@ def run_example(seconds: float, seed: int = 0, jitter: float = 0.0,
                         at = log[int((t0 + 0.6 * (t1 - t0)) * RATE)][c]
                         ok = at.valid and at.action == g
                         out.recognised.append(ok)
-                        out.labels.append(f"puck {pid} {g} x{data[2]:.2f} -> {c}: {at.action} {at.valid}")
+                        out.labels.append(f"puck {pid} {g} x{data[2]:.2f} -> {c}: {at.action} "
+                                          f"{at.valid}")
                         late = [i for i in ticks if i / RATE >= t0 + 0.1 * (t1 - t0)]
                         err = [log[i][c].progress - (i / RATE - t0) / (t1 - t0) for i in late
                                if log[i][c].valid and log[i][c].action == g]
@@ -113,7 +116,8 @@ def run_example(seconds: float, seed: int = 0, jitter: float = 0.0,
                         out.wrong_during_gesture.append(float(np.mean(
                             [log[i][c].valid and log[i][c].action != g for i in ticks])))
                     else:
-                        out.wrong_during_gesture.append(float(np.mean([log[i][c].valid for i in ticks])))
+                        out.wrong_during_gesture.append(float(np.mean([log[i][c].valid
+                                                                       for i in ticks])))
                         out.other_at60.append(log[int((t0 + 0.6 * (t1 - t0)) * RATE)][c].valid)
     return out
 

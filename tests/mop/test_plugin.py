@@ -79,7 +79,8 @@ def test_pause_holds_and_going_back_reverses(example_cfg):
     y0 = table.pucks[1][1] - np.interp(0.6 * g[-1, 0], g[:, 0], g[:, 2])
     back = []
     for tau in np.linspace(0.6, 0.35, 25) * g[-1, 0]:
-        table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]), y0 + np.interp(tau, g[:, 0], g[:, 2]))
+        table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]),
+                          y0 + np.interp(tau, g[:, 0], g[:, 2]))
         back.append(table.tick()["dancer"])
     progress = [c.progress for c in back if c.valid and c.action == "figure_eight"]
     assert len(progress) > 15 and progress[-1] < p_end - 0.15
@@ -162,11 +163,13 @@ def test_sprite_sheet_frames_follow_progress(example_cfg, tmp_path):
                 shown.add(k)
     assert len(shown) >= 4              # the wing beat went through its frames in turn
     bad = tmp_path / "sheet.json"
-    bad.write_text('{"format": "tabletop.sprites", "bones": [[0, 9]], "frames": [[[0, 0], [1, 1]]]}')
+    bad.write_text('{"format": "tabletop.sprites", "bones": [[0, 9]], '
+                   '"frames": [[[0, 0], [1, 1]]]}')
     data = {"sources": [{"kind": "scripted"}], "engines": [{"kind": "mop",
             "performers": [{"name": "p", "inputs": [{"kind": "puck"}]}],
             "characters": [{"name": "s", "kind": "sprite", "performer": "p", "sheet": str(bad)}]}]}
-    with pytest.raises(InputError, match="sheet.json: a bone refers to a point that does not exist"):
+    with pytest.raises(InputError,
+                       match="sheet.json: a bone refers to a point that does not exist"):
         build(data, tmp_path)
     del data["engines"][0]["characters"][0]["sheet"]
     with pytest.raises(ConfigError, match=r"characters\[0\]\.sheet: a sprite character needs"):
@@ -187,7 +190,8 @@ def _multi_config(tmp_path: Path) -> dict:
     return {"sources": [{"kind": "scripted"}], "engines": [{
         "kind": "mop", "rate_hz": 30,
         "performers": [{"name": "dancer", "inputs": [{"kind": "puck", "id": 1},
-                                                     {"kind": "stream", "name": "arm", "columns": [0]},
+                                                     {"kind": "stream", "name": "arm",
+                                                      "columns": [0]},
                                                      {"kind": "touch"}]}],
         "characters": [{"name": "face", "kind": "face", "performer": "dancer", "actions": [
             {"name": "up", "template": "wave_arm.csv", "motion": "laugh"},
@@ -196,7 +200,8 @@ def _multi_config(tmp_path: Path) -> dict:
 
 def test_several_inputs_concatenated(tmp_path):
     engine = build(_multi_config(tmp_path), tmp_path)
-    assert engine.performers["dancer"].names == ("puck1_dx", "puck1_dy", "arm_0", "touch_dx", "touch_dy")
+    assert engine.performers["dancer"].names == ("puck1_dx", "puck1_dy", "arm_0",
+                                                 "touch_dx", "touch_dy")
     g = G.gesture("wave")
     for sign, expect in ((1.0, "up"), (-1.0, "down")):
         table = Table(engine)
@@ -207,7 +212,8 @@ def test_several_inputs_concatenated(tmp_path):
         for k in range(len(g) * 2):
             tau = k / RATE
             u = min(1.0, tau / g[-1, 0])
-            table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]), y0 + np.interp(tau, g[:, 0], g[:, 2]))
+            table.pucks[1] = (x0 + np.interp(tau, g[:, 0], g[:, 1]),
+                              y0 + np.interp(tau, g[:, 0], g[:, 2]))
             table.streams = {"arm": np.array([sign * math.sin(math.pi * u)])}
             table.touches = (Touch(4, 0.5 + 0.1 * u, 0.2),)
             c = table.tick()["face"]
@@ -262,12 +268,14 @@ def test_characters_of_one_performer_compete_and_share_what_they_have_in_common(
         assert np.mean([c[playing].valid and c[playing].action ==
                         ("square" if gesture == "square" else "move") for c in late]) > 0.9, gesture
         if idle is None:
-            assert np.mean([c["lizard"].valid and c["lizard"].action == "square" for c in late]) > 0.9
+            assert np.mean([c["lizard"].valid and c["lizard"].action == "square"
+                            for c in late]) > 0.9
         else:
             assert not any(c[idle].valid for u, c in run if u > 0.3), gesture
         table.rest(1.5)
     # a puck at rest drives nobody
-    assert not any(c[n].valid for c in table.rest(1.0)[int(0.3 * RATE):] for n in ("face", "lizard"))
+    assert not any(c[n].valid for c in table.rest(1.0)[int(0.3 * RATE):]
+                   for n in ("face", "lizard"))
 
 
 def test_a_hybrid_character_moves_body_and_face_with_one_action(example_cfg):

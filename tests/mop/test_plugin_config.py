@@ -49,10 +49,12 @@ def test_config_errors_name_the_key_or_file(tmp_path):
            "actions[0].template", "nothere.csv")
     expect(lambda e: e["characters"][0]["actions"][0].update(warp=[[0, 0.5], [1, 1]]),
            "actions[0].warp", "start at [0, 0]")
-    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton", "performer": "hand",
+    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton",
+                                             "performer": "hand",
                                              "skeleton": "missing.urdf"}),
            "characters[2].skeleton", "missing.urdf")
-    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton", "performer": "hand",
+    expect(lambda e: e["characters"].append({"name": "hero", "kind": "skeleton",
+                                             "performer": "hand",
                                              "actions": [{"name": "a", "template": str(
                                                  EXAMPLES / "mop/gestures/line.csv"),
                                                  "motion": "moonwalk"}]}),

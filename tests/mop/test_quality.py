@@ -50,7 +50,8 @@ def test_a_hold_of_any_length_is_followed_without_sliding_back(gestures):
             # without (the lift at 0.3x ran through its hold into the return's eased start)
             x, prog = performance(rng, rhr[name], 1.0, hold=spans[name], hold_factor=factor)
             m = true_metrics(run(f, x), name, prog)
-            assert m["rmse"] <= 0.06 and m["backward"] <= 0.05 and m["valid_after30"] >= 0.8, (name, factor)
+            assert m["rmse"] <= 0.06 and m["backward"] <= 0.05 \
+                and m["valid_after30"] >= 0.8, (name, factor)
 
 
 @pytest.mark.parametrize("rules", [True, False])
@@ -67,7 +68,8 @@ def test_a_smaller_lift_held_briefly_is_followed_through_its_hold(gestures, rule
     rng = np.random.default_rng(7)
     worst = []
     for factor in (0.3, 0.6):
-        x, prog = performance(rng, rhr["lift_hold"], 0.8, hold=spans["lift_hold"], hold_factor=factor)
+        x, prog = performance(rng, rhr["lift_hold"], 0.8, hold=spans["lift_hold"],
+                              hold_factor=factor)
         m = true_metrics(run(f, x), "lift_hold", prog)
         worst.append(max(m["rmse"], m["backward"]))
     if rules:
@@ -90,7 +92,8 @@ def test_the_group_reads_resting_as_its_followers_do():
             x = rng.normal(0, spread, (2, 2))
             recent = list(buf[1, 6 - count:]) if count else []
             want = resting(recent[1 - keep:] + [x[1]], radius)
-            assert resting_with(buf, np.array([0, count], dtype=np.intp), 1, x, radius, keep) == want, (keep, count)
+            assert resting_with(buf, np.array([0, count], dtype=np.intp), 1, x, radius, keep) \
+                == want, (keep, count)
             seen.add(want)
     assert seen == {True, False}
 
@@ -114,7 +117,8 @@ def test_a_mirrored_gesture_is_refused(gestures):
     for name in ("circle", "figure_eight", "square"):
         rng = np.random.default_rng(4)
         f = puck_follower({name: gestures[name]})
-        x, _ = performance(rng, unrelated_motions(rng, {name: gestures[name]})[f"mirrored_{name}"], 1.0)
+        x, _ = performance(rng,
+                           unrelated_motions(rng, {name: gestures[name]})[f"mirrored_{name}"], 1.0)
         assert np.mean([s.valid for s in run(f, x)]) <= 0.1, name
 
 

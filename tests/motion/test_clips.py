@@ -87,7 +87,8 @@ def test_json_round_trip(tmp_path):
 
 
 def test_json_rate_instead_of_times():
-    clip = clip_from_mapping({"channels": ["a", "b"], "rate": 10, "values": [[0, 0], [1, 2], [2, 4]]})
+    clip = clip_from_mapping({"channels": ["a", "b"], "rate": 10,
+                              "values": [[0, 0], [1, 2], [2, 4]]})
     assert abs(clip.duration - 0.2) < 1e-12
     assert np.allclose(clip.sample(0.25), [0.5, 1.0])
 

@@ -1,4 +1,5 @@
-"""The URDF humanoid, the DeepMimic clips driving it, the projection onto the table, 2-D skeletons."""
+"""The URDF humanoid, the DeepMimic clips driving it, the projection onto the table, 2-D
+skeletons."""
 
 import json
 import math
@@ -60,7 +61,8 @@ def test_every_humanoid_clip_loads_with_the_interpolator_layout():
             quats = np.array([[f[k + shift:k + shift + 4] for k in starts] for f in raw])
             off = np.abs(np.linalg.norm(quats, axis=2) - 1.0)
             assert (np.median(off) < 1e-3) == ok, (name, shift)
-        assert np.abs(np.linalg.norm(clip.values[:, clip.slices["chest"]], axis=1) - 1).max() < 1e-12
+        chest = clip.values[:, clip.slices["chest"]]
+        assert np.abs(np.linalg.norm(chest, axis=1) - 1).max() < 1e-12
 
 
 def test_walk_keeps_bone_lengths_feet_on_floor_and_alternates_feet(humanoid):

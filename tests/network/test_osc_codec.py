@@ -1,4 +1,5 @@
-"""The OSC and TUIO codecs as pure functions, checked against python-osc's own builder and parser."""
+"""The OSC and TUIO codecs as pure functions, checked against python-osc's own builder and
+parser."""
 
 import math
 

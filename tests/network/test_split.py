@@ -185,7 +185,8 @@ def test_a_kiosk_heartbeat_sent_to_its_own_osc_source_is_refused(tmp_path):
                   {"enabled": True, "heartbeat": dict(own, host="10.0.0.7")}):
         validate_config({"sources": src, "kiosk": kiosk}, "cfg.yaml")
     cfg = tmp_path / "cfg.yaml"
-    cfg.write_text("sources:\n  - {kind: scripted, name: a}\n  - {kind: osc, name: in, port: 3400}\n"
+    cfg.write_text("sources:\n  - {kind: scripted, name: a}\n"
+                   "  - {kind: osc, name: in, port: 3400}\n"
                    "engines: []\nkiosk: {heartbeat: {port: 3400}}\n")
     run = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
                           "--headless", "--kiosk", "--seconds", "1"],

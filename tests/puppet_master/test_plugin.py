@@ -87,7 +87,8 @@ def test_defaults_and_paths_relative_to_the_config():
     ({"designer": {"enabled": True, "main_puck": 3, "record_marker": 3}},
      ["engines[0].designer.record_marker", "3", "main puck"]),
     ({"designer": {"enabled": True, "library": "behaviors/library/lover/behavior.yaml/kept"}},
-     ["engines[0].designer.library", "cannot hold kept behaviours", "behavior.yaml is not a folder"]),
+     ["engines[0].designer.library", "cannot hold kept behaviours",
+      "behavior.yaml is not a folder"]),
 ])
 def test_bad_options_name_their_key(entry, words):
     e = {"kind": "puppet_master", "behavior": "behaviors/library/lover", **entry}

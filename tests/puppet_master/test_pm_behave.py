@@ -218,7 +218,8 @@ def test_sequential_training_from_files(files, tmp_path, capsys):
     late[:, 0] += 100.0
     write_csv(tmp_path / "late.csv", ["t", "react_x", "react_y", "react_dir"], late.tolist())
     assert behave("--train-main", tmp_path / "main_take.csv", "--train-react",
-                  tmp_path / "late.csv", "--input", d / "main.csv", "--out", tmp_path / "o.csv") == 2
+                  tmp_path / "late.csv", "--input", d / "main.csv",
+                  "--out", tmp_path / "o.csv") == 2
     assert "does not overlap" in capsys.readouterr().err
     # a main take too short to pair names it too: it named the 30 s reactor take alone
     # ("react_take.csv: demonstration lasts 0.483 s")

@@ -1,6 +1,5 @@
 """Detail incorporation (4.4.2): four-level Haar high-pass and fixed 16-step patches."""
 
-import math
 
 import numpy as np
 import pywt

@@ -2,8 +2,9 @@
 
 The searches of behaviors/puppet_master/similarity.py (compiled in search_kernel.py: in-place
 distances with a moving offset, the leaving E recomputed, the coherence proposals from their
-bases) and fit_target's bearing table are speed-ups only: every choice, every cost and so every generated pose must equal
-the reference formulation's (tests/puppet_master/pm_reference.py) bit for bit.
+bases) and fit_target's bearing table are speed-ups only: every choice, every cost and so every
+generated pose must equal the reference formulation's (tests/puppet_master/pm_reference.py) bit for
+bit.
 """
 
 import math

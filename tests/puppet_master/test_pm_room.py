@@ -6,7 +6,6 @@ no more time at the table's edges with it."""
 import math
 
 import numpy as np
-import pytest
 
 from behaviors.puppet_master import features as ft
 from behaviors.puppet_master import fidelity, visitors

@@ -21,7 +21,8 @@ RATE = 30
 
 def _run(tmp_path: Path, data: dict, fix_at: int, fix, ticks: int) -> tuple[Path, Runner]:
     """``data`` run as a studio by hand at ``RATE`` Hz, recorded, its studio's libraries looked
-    at every tick; ``fix(runner)`` called after tick ``fix_at``. Returns the recording, the runner."""
+    at every tick; ``fix(runner)`` called after tick ``fix_at``. Returns the recording, the
+    runner."""
     cfg = validate_config(data, str(tmp_path / "c.yaml"), tmp_path)
     clock = SimClock()
     live = tmp_path / "live.jsonl"

@@ -44,7 +44,8 @@ def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):
     assert header == "t,dx,dy"
     again = build(designer_config(tmp_path), tmp_path)
     assert "take1" in again.puppets["lizard"].actions
-    assert again.templates["lizard"]["take1"][1].shape == engine.templates["lizard"]["take1"][1].shape
+    assert again.templates["lizard"]["take1"][1].shape \
+        == engine.templates["lizard"]["take1"][1].shape
 
 
 def test_discard_redo_and_a_take_too_short(tmp_path):
@@ -99,7 +100,6 @@ def test_the_focus_selects_the_character_and_other_targets_commands_pass(tmp_pat
 def test_control_markers_through_the_camera_record_and_keep_an_action(tmp_path):
     from tabletop.config import load_config
     from tabletop.kiosk.simulate import SimClock, simulated
-    from tests.mop.helpers import G
 
     rate = 20.0
     path = tmp_path / "config.yaml"

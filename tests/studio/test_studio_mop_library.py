@@ -46,7 +46,8 @@ def test_a_take_whose_name_another_run_kept_meanwhile_is_kept_under_the_next_nam
 def test_a_discarded_take_gives_way_to_the_other_runs_action_of_its_name(tmp_path):
     a, b, engine, own = two_takes(tmp_path)
     b.tick(["designer.discard"])
-    assert np.array_equal(engine.templates["face"]["take1"][1], a.engine.templates["face"]["take1"][1])
+    assert np.array_equal(engine.templates["face"]["take1"][1],
+                          a.engine.templates["face"]["take1"][1])
     assert "take1" in engine.puppets["face"].actions
 
 

@@ -31,7 +31,8 @@ def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_onc
         engine.library_problems["lizard"][0]
     assert "face/actions.yaml: action 'wrong'" in engine.library_problems["face"][0]
     assert "nothere.csv" in engine.library_problems["face"][0]
-    assert set(engine.puppets["face"].actions) == {"circle"} and not engine.puppets["lizard"].actions
+    assert set(engine.puppets["face"].actions) == {"circle"} \
+        and not engine.puppets["lizard"].actions
     table = StudioTable(engine, lib, focus="mop/lizard")
     for t in table.targets:
         t._poller.every_s = 0.0
@@ -41,11 +42,13 @@ def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_onc
     assert "2 bad library file(s)" in table.status
     table.rest(1.0)
     run = table.perform("circle")                        # the face's own action still plays
-    assert np.mean([c["face"].valid and c["face"].action == "circle" for u, c in run if u > 0.4]) > 0.9
+    assert np.mean([c["face"].valid and c["face"].action == "circle"
+                    for u, c in run if u > 0.4]) > 0.9
     # fixed on disk: followed without a restart
     (lib / "lizard" / "actions.yaml").write_text(good)
     table.studio.poll()
-    assert table.studio.problems == [table.studio.problems[0]] and "face" in table.studio.problems[0]
+    assert table.studio.problems == [table.studio.problems[0]] \
+        and "face" in table.studio.problems[0]
     assert "take1" in engine.puppets["lizard"].actions
     table.rest(1.2)
     run = table.perform("square", speed=lambda u: 1.3)
@@ -144,7 +147,8 @@ def test_a_library_entry_whose_clip_the_character_cannot_play_is_skipped(tmp_pat
         f"actions:\n- {{name: a, template: a.csv, motion: {lib / 'face' / 'walk.json'}}}\n")
     engine = build(designer_config(tmp_path), tmp_path)
     (problem,) = engine.library_problems["face"]
-    assert "face/actions.yaml: action 'a'" in problem and "no channel named after a blendshape" in problem
+    assert "face/actions.yaml: action 'a'" in problem \
+        and "no channel named after a blendshape" in problem
     assert set(engine.puppets["face"].actions) == {"circle"}
 
 def test_a_bad_library_file_at_the_start_is_logged_once(tmp_path, caplog):

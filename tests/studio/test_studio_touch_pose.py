@@ -140,14 +140,16 @@ def test_rename_delete_undo_redo_and_a_take_that_hardly_moves(tmp_path, models):
     assert "already exists" in p.studio.message and p.target.items() == ["poser-action"]
     assert punch in p.engine.core.m.actions
     p.studio.command("designer.rename:uppercut")
-    assert p.target.items() == ["uppercut"] and "renamed poser-action to uppercut" in p.studio.message
+    assert p.target.items() == ["uppercut"] \
+        and "renamed poser-action to uppercut" in p.studio.message
     names = [a.name for a in p.engine.core.m.actions]
     assert "uppercut" in names and "poser-action" not in names
     p.studio.command("designer.delete")
     assert p.target.items() == [] and "uppercut" not in [a.name for a in p.engine.core.m.actions]
     assert len(list((lib / ".trash").iterdir())) == 1
     p.studio.command("designer.undo")                 # the delete
-    assert p.target.items() == ["uppercut"] and "uppercut" in [a.name for a in p.engine.core.m.actions]
+    assert p.target.items() == ["uppercut"] \
+        and "uppercut" in [a.name for a in p.engine.core.m.actions]
     assert p.target.current() == "uppercut"           # selected again: F2 said nothing to rename
     p.studio.command("designer.undo")                 # the rename
     assert p.target.items() == ["poser-action"]

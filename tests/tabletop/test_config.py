@@ -76,7 +76,8 @@ def test_missing_referenced_file(tmp_path):
 def test_referenced_file_resolved_next_to_config(tmp_path):
     import numpy as np
     from calibration.files import Calibration, save_calibration
-    save_calibration(tmp_path / "calib.yaml", Calibration(camera_to_table=np.diag([0.001, 0.001, 1])))
+    save_calibration(tmp_path / "calib.yaml",
+                     Calibration(camera_to_table=np.diag([0.001, 0.001, 1])))
     cfg = load_config(write(tmp_path, GOOD + "calibration: calib.yaml\n"))
     assert cfg["calibration"] == tmp_path / "calib.yaml"
 

@@ -169,7 +169,8 @@ def test_an_empty_path_is_refused_in_one_line(capfd, argv):
 
 @pytest.mark.parametrize("argv", [["run", "--config", "a\x00.yaml"],
                                   ["review", "session.jsonl", "--out", "x\x00.png"],
-                                  ["track", "image.png", "--out", "p.jsonl", "--dictionary", "\x00"]])
+                                  ["track", "image.png", "--out", "p.jsonl",
+                                   "--dictionary", "\x00"]])
 def test_a_nul_character_in_an_argument_is_refused_in_one_line(capfd, argv):
     # (a shell cannot pass one; a script calling main() can: os.stat raised ValueError)
     with workdir() as root:
@@ -247,7 +248,8 @@ def configs(draw) -> str:
     text = yaml.safe_dump(cfg)
     if draw(st.integers(0, 9)) == 0:  # now and then, damage the text itself
         cut = draw(st.integers(0, len(text)))
-        text = text[:cut] + draw(st.sampled_from(["\t", ": :", "[", "\x00", "key: 1\nkey: 2\n"])) + text[cut:]
+        text = text[:cut] \
+            + draw(st.sampled_from(["\t", ": :", "[", "\x00", "key: 1\nkey: 2\n"])) + text[cut:]
     return text
 
 
@@ -323,7 +325,8 @@ FRAME = st.fixed_dictionaries({
     "seq": st.one_of(st.integers(0, 10**6), st.sampled_from([-1, "3", None, 1.5])),
     "t": st.one_of(st.floats(-1, 1e3), st.sampled_from([1e12, "0", None, float("nan")])),
 }, optional={
-    "pucks": st.lists(st.fixed_dictionaries({"id": st.integers(0, 9), "x": LEAVES, "y": st.floats(0, 1),
+    "pucks": st.lists(st.fixed_dictionaries({"id": st.integers(0, 9), "x": LEAVES,
+                                             "y": st.floats(0, 1),
                                              "angle": st.floats(-4, 4)}), max_size=3),
     "streams": st.dictionaries(st.text(max_size=3), st.lists(st.floats(), max_size=3), max_size=2),
     "commands": st.one_of(st.lists(st.sampled_from(["designer.record", "designer.keep", 3])),

@@ -51,12 +51,12 @@ def test_no_import_cycles():
 
 
 def layer_breaks() -> list[str]:
-    """DESIGN.md's layers: ``tabletop.frames`` and ``tabletop.files`` (with its part
-    ``tabletop.names``) import nothing of the project but each
+    """DESIGN.md's layers: ``tabletop.frames`` and ``tabletop.files`` (with its parts
+    ``tabletop.file_io`` and ``tabletop.names``) import nothing of the project but each
     other (the files' errors are the vocabulary's ``InputError``); ``tracking``,
     ``calibration`` and ``behaviors`` import those and nothing of each other but ``tracking``
     using ``calibration``; only ``tabletop`` wires everything."""
-    shared = {"tabletop.frames", "tabletop.files", "tabletop.names"}
+    shared = {"tabletop.frames", "tabletop.files", "tabletop.file_io", "tabletop.names"}
     allowed = {"tracking": {"tracking", "calibration"}, "calibration": {"calibration"},
                "behaviors": {"behaviors"}}
     known = modules()

@@ -1,4 +1,5 @@
-"""Recording and replay: a 2 s headless session replays frame by frame, and bad files are refused."""
+"""Recording and replay: a 2 s headless session replays frame by frame, and bad files are
+refused."""
 
 import json
 from pathlib import Path

@@ -39,7 +39,8 @@ def shipped_configs() -> list:
             out.append(pytest.param(p, marks=pytest.mark.skip(reason="no engines: no characters")))
         elif kinds and kinds <= PEER_KINDS:
             out.append(pytest.param(p, marks=pytest.mark.skip(
-                reason="its inputs come from another machine (tests/network/test_split.py runs the pair)")))
+                reason="its inputs come from another machine (tests/network/test_split.py runs the "
+                       "pair)")))
         else:
             out.append(p)
     return out

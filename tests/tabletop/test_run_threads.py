@@ -1,8 +1,8 @@
 """``tabletop run --seconds N`` ends every thread it started: the camera's capture, the snapshot
 writer, the stop relay and the behaviour reloader's worker, and with ``--studio`` the targets'
 training and loading workers, are stopped and joined as the installation closes, and the review
-sheets' drawing thread (one for every build) as the run ends, so none outlives the run (a kiosk rebuilt on every config edit would
-otherwise gather them)."""
+sheets' drawing thread (one for every build) as the run ends, so none outlives the run (a kiosk
+rebuilt on every config edit would otherwise gather them)."""
 
 import threading
 from pathlib import Path

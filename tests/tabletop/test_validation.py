@@ -59,7 +59,8 @@ def test_the_top_level_calibration_maps_the_view(tmp_path):
 
     t2p = np.array([[500.0, 20.0, 100.0], [-10.0, -480.0, 600.0], [0.0, 0.0, 1.0]])
     save_calibration(tmp_path / "calib.yaml",
-                     Calibration(camera_to_table=np.diag([0.001, 0.001, 1.0]), table_to_projector=t2p))
+                     Calibration(camera_to_table=np.diag([0.001, 0.001, 1.0]),
+                                 table_to_projector=t2p))
     cfg_file = tmp_path / "c.yaml"
     cfg_file.write_text("sources: [{kind: scripted}]\ncalibration: calib.yaml\n"
                         "view: {headless: true, size: [640, 360]}\n")

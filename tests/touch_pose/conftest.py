@@ -56,34 +56,6 @@ def make(models):
         e.close()
 
 
-def stroke_drag(engine, models, name, pace=1.0, frac=1.0, hold=0.0, after=3.0, rate=30.0,
-                before=0.0):
-    """Drag the primary part of action ``name`` along its projected stroke at ``pace`` times
-    its recorded duration (``frac`` of it), hold the finger ``hold`` s, lift, run ``after`` s;
-    ``before`` s of resting on the part come first.
-    Returns the output records, and the target (before tracking) and output rotations per step."""
-    desc = engine.describe()
-    traj = np.array(next(a for a in desc["actions"] if a["name"] == name)["trajectory"])
-    act = next(a for a in models.actions if a.name == name)
-    times = act.stroke_t * pace + before
-    end = before + (times[-1] - before) * frac
-    out, targets, outputs = [], [], []
-    k, t = 0, 0.0
-    while t <= end + hold + after:
-        t = k / rate
-        k += 1
-        if t <= end + hold:
-            s = min(t, end)
-            touches = {1: (float(np.interp(s, times, traj[:, 0])),
-                           float(np.interp(s, times, traj[:, 1])))}
-        else:
-            touches = {}
-        out.append(engine.step(t, touches))
-        targets.append(engine.target.rots.copy())
-        outputs.append(engine.output.rots.copy())
-    return out, targets, outputs
-
-
 def actions_begun(engine, path, times, rate=30.0, rest=0.1) -> set:
     """Rest on the path's start (table m) for ``rest`` s, drag it over ``times`` (s), lift;
     the actions begun."""

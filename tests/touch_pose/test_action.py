@@ -5,9 +5,9 @@ import pytest
 
 from behaviors.touch_pose.action import ActionClock, dp_distance, threshold
 from behaviors.touch_pose.tracking import rot_diff
-from bench.touch_pose_drags import there_and_back
+from bench.touch_pose_drags import stroke_drag, there_and_back
 
-from .conftest import actions_begun, stroke_drag
+from .conftest import actions_begun
 
 #: Largest rotation (degrees) any joint may make in one 30 fps frame when the control switches.
 SWITCH_DEG = 20.0
@@ -155,7 +155,8 @@ def test_a_quick_drag_across_the_bow_does_not_start_it(make, models, pace):
     bow = next(a for a in models.actions if a.name == "bow")
     for turn in (90.0, -90.0):
         e = make(view=(90.0, 15.0), physics=False)
-        traj = np.array(next(a for a in e.describe()["actions"] if a["name"] == "bow")["trajectory"])
+        drawn = next(a for a in e.describe()["actions"] if a["name"] == "bow")
+        traj = np.array(drawn["trajectory"])
         c, s = np.cos(np.radians(turn)), np.sin(np.radians(turn))
         across = traj[0] + (traj - traj[0]) @ np.array([[c, s], [-s, c]])
         assert "bow" not in actions_begun(e, across, bow.stroke_t * pace), turn

@@ -104,7 +104,8 @@ def test_the_view_turns_the_mouse_into_fingers_and_arrows_into_camera_commands(t
     view = ProjectorView(TABLE, options, commands=commands, headless=True)
     try:
         x, y = view.renderer.map.point(0.3, 0.5)
-        pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN, pos=(int(x), int(y)), button=1))
+        pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN,
+                                             pos=(int(x), int(y)), button=1))
         view._events()
         (f,) = POINTER.touches()
         assert abs(f.x - 0.3) < 0.005 and abs(f.y - 0.5) < 0.005
@@ -114,7 +115,8 @@ def test_the_view_turns_the_mouse_into_fingers_and_arrows_into_camera_commands(t
         view._events()
         (f,) = POINTER.touches()
         assert abs(f.x - 0.4) < 0.005 and abs(f.y - 0.45) < 0.005
-        pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP, pos=(int(x2), int(y2)), button=1))
+        pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP,
+                                             pos=(int(x2), int(y2)), button=1))
         pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=pygame.K_LEFT, mod=0))
         view._events()
         assert POINTER.touches() == ()

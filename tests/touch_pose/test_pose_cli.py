@@ -1,4 +1,5 @@
-"""``tabletop pose``: describe, a recorded session replayed causally and reproducibly, bad inputs."""
+"""``tabletop pose``: describe, a recorded session replayed causally and reproducibly, bad
+inputs."""
 
 import json
 
@@ -18,7 +19,8 @@ def test_describe_lists_the_actions_with_their_trajectories(tmp_path, capsys):
     assert main(["pose", "--describe", "--view", "90,15", "--out", str(out)]) == 0
     d = json.loads(out.read_text())
     assert d["height_m"] == pytest.approx(0.3)
-    assert {"head", "pelvis", "left_hand", "right_hand", "left_foot", "right_foot"} <= set(d["parts"])
+    assert {"head", "pelvis", "left_hand", "right_hand", "left_foot", "right_foot"} \
+        <= set(d["parts"])
     names = {a["name"]: a for a in d["actions"]}
     assert {"punch", "kick", "jump", "spinkick", "wave", "bow"} <= set(names)
     for a in d["actions"]:

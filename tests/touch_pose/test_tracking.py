@@ -3,7 +3,8 @@
 import numpy as np
 
 from behaviors.touch_pose.humanoid import PARTS
-from behaviors.touch_pose.tracking import PhysicalEffect, Tracker, apply_effect, free_segments, rot_diff
+from behaviors.touch_pose.tracking import (PhysicalEffect, Tracker, apply_effect, free_segments,
+                                           rot_diff)
 
 
 def test_acceleration_tracking_reaches_a_jumped_target_smoothly(models):

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from .conftest import stroke_drag
+from bench.touch_pose_drags import stroke_drag
 
 
 def test_a_part_touched_after_an_action_stays_under_the_finger(make, models):

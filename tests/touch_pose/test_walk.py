@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from behaviors.touch_pose.humanoid import PARTS
+from bench.touch_pose_drags import stroke_drag
 
-from .conftest import actions_begun, stroke_drag
+from .conftest import actions_begun
 
 
 def _walk(models):
@@ -56,7 +57,8 @@ def test_the_left_foot_dragged_quickly_another_way_does_not_walk(make, models, t
     w = _walk(models)
     for pace in (0.5, 1.0):
         e = make(view=(90.0, 15.0), physics=False)
-        traj = np.array(next(a for a in e.describe()["actions"] if a["name"] == "walk")["trajectory"])
+        walk = next(a for a in e.describe()["actions"] if a["name"] == "walk")
+        traj = np.array(walk["trajectory"])
         c, s = np.cos(np.radians(turn)), np.sin(np.radians(turn))
         turned = traj[0] + (traj - traj[0]) @ np.array([[c, s], [-s, c]])
         assert "walk" not in actions_begun(e, turned, w.stroke_t * pace), (turn, pace)

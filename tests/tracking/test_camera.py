@@ -264,7 +264,8 @@ def test_what_the_put_off_work_adds_is_published_and_announced_again(tmp_path):
         obs = src._latest   # the frame just published
         if obs.seq % 2 == 0:
             return None
-        return Observation(obs.source, obs.t, obs.seq, pucks=(PuckMeasurement(9, 0.1, 0.2, 0.0, obs.t),))
+        return Observation(obs.source, obs.t, obs.seq,
+                           pucks=(PuckMeasurement(9, 0.1, 0.2, 0.0, obs.t),))
 
     process.after_publish = after_publish
     src = CameraSource("cam", CameraSettings(device=str(folder), fps=50.0), process)

@@ -187,7 +187,8 @@ def test_synthetic_camera_refuses_an_unknown_dictionary(tmp_path):
 
 def test_scripted_hands_come_and_go():
     times = np.arange(0.0, 30.0, 0.05)
-    present = np.array([bool(scripted_hands(t, TABLE, every_s=10.0, duration_s=2.0)) for t in times])
+    present = np.array([bool(scripted_hands(t, TABLE, every_s=10.0, duration_s=2.0))
+                        for t in times])
     assert 0.15 <= present.mean() <= 0.21  # 2 s in every 10 s
     assert not present[(times % 10.0) > 2.05].any()
     reach = [scripted_hands(t, TABLE, 10.0, 2.0)[0] for t in (10.0 + 0.01, 11.0)]

@@ -81,7 +81,8 @@ def test_still_marker_centre_is_unbiased():
         f = cam.render(poses)
         corners, ids, _ = det.detectMarkers(f.image)
         for c, i in zip(corners, ids.ravel()):
-            diffs.append(c.reshape(4, 2).mean(axis=0) - f.corners[f.ids.tolist().index(i)].mean(axis=0))
+            truth = f.corners[f.ids.tolist().index(i)]
+            diffs.append(c.reshape(4, 2).mean(axis=0) - truth.mean(axis=0))
     bias = np.abs(np.mean(diffs, axis=0))
     assert len(diffs) == 48
     assert bias.max() <= 0.1
@@ -140,7 +141,8 @@ def test_unknown_dictionary_is_refused():
         dictionary_by_name("DICT_NOPE")
 
 
-@pytest.mark.parametrize("distortion, tolerance", [((0.0,) * 5, 0), ((-0.12, 0.03, 0.001, 0.0, 0.0), 1)])
+@pytest.mark.parametrize("distortion, tolerance",
+                         [((0.0,) * 5, 0), ((-0.12, 0.03, 0.001, 0.0, 0.0), 1)])
 def test_optics_only_where_the_frame_changed_equal_whole_frame_optics(distortion, tolerance):
     rng = np.random.default_rng(7)
     poses = [(i, rng.uniform(-0.05, 1.25), rng.uniform(-0.05, 0.85), rng.uniform(-3, 3))

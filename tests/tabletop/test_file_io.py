@@ -1,4 +1,6 @@
-"""The shared atomic writer: permissions as a plain write gives them, clear refusals."""
+"""Files read and written safely (tabletop/file_io.py): the atomic writer's permissions as a plain
+write gives them, clear refusals; bounded reads of text, of pipes and devices, through the CSV
+and YAML readers too."""
 
 from __future__ import annotations
 
@@ -10,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from tabletop.files import FileFormatError, atomic_write_text, read_csv_lines
-from tabletop.files import read_yaml
+from tabletop.file_io import FileFormatError, atomic_write_text
+from tabletop.files import read_csv_lines, read_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -79,7 +81,7 @@ def test_a_temporary_file_left_by_a_killed_writer_is_removed_by_the_next_write(t
     import signal
 
     target = tmp_path / "status.json"
-    killed = ("import os, signal, sys\nfrom tabletop.files import atomic_writer\n"
+    killed = ("import os, signal, sys\nfrom tabletop.file_io import atomic_writer\n"
               "with atomic_writer(sys.argv[1]) as f:\n    f.write('{\"half')\n    f.flush()\n"
               "    os.kill(os.getpid(), signal.SIGKILL)\n")
     p = subprocess.run([sys.executable, "-c", killed, str(target)], timeout=60)
@@ -134,7 +136,7 @@ def test_a_full_disk_names_the_file_being_written(tmp_path, capsys):
 def test_an_error_reading_a_source_while_writing_keeps_its_own_message(tmp_path):
     # the writer names its target only for a write's own errors (a full disk); a failed read
     # of a source inside the block is the source's error, not "out.csv: Is a directory"
-    from tabletop.files import atomic_writer
+    from tabletop.file_io import atomic_writer
     source = os.open(tmp_path, os.O_RDONLY)
     try:
         with pytest.raises(IsADirectoryError) as err:
@@ -204,7 +206,7 @@ def test_a_named_pipe_that_is_not_text_is_read_once_and_refused_naming_its_line(
 def test_regular_bytes_are_read_whole_and_anything_else_refused_at_once(tmp_path):
     """A pipe (no writer: an open of it would wait), a device, a folder, and a file longer
     than any input (sparse: refused by its size, none of it read) are refused in one line."""
-    from tabletop.files import MAX_TEXT_BYTES, UnreadableText, read_regular_bytes
+    from tabletop.file_io import MAX_TEXT_BYTES, UnreadableText, read_regular_bytes
     good = tmp_path / "line.csv"
     good.write_bytes(b"t,x\r\n0,1\r\n")
     assert read_regular_bytes(good) == b"t,x\r\n0,1\r\n"

@@ -1,4 +1,5 @@
-"""Synthetic action templates and performances with known progress (seeded)."""
+"""Synthetic action templates and performances with known progress (seeded): the MOP benches
+(bench/mop.py, bench/mop_soak.py) and the MOP tests perform them."""
 
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ def at_phase(tpl: np.ndarray, phase: np.ndarray) -> np.ndarray:
     return np.stack([np.interp(phase, base, tpl[:, j]) for j in range(tpl.shape[1])], axis=1)
 
 
-def warped_phase(rng: np.random.Generator, n: int, slow: float = 0.5, fast: float = 2.0) -> np.ndarray:
+def warped_phase(rng: np.random.Generator, n: int, slow: float = 0.5,
+                 fast: float = 2.0) -> np.ndarray:
     """Sample indices of a performance whose speed (template samples per live sample) swings
     between ``slow`` and ``fast`` and back, within the one performance; ends on the last sample."""
     c = rng.uniform(0.0, 2.0 * np.pi)
@@ -36,7 +38,9 @@ def warped_phase(rng: np.random.Generator, n: int, slow: float = 0.5, fast: floa
     return np.asarray(out)
 
 
-def perform(rng: np.random.Generator, tpl: np.ndarray, phase: np.ndarray, noise: float = 0.1) -> np.ndarray:
-    """A performance of ``tpl`` at ``phase`` with Gaussian noise of ``noise`` x each feature's spread."""
+def perform(rng: np.random.Generator, tpl: np.ndarray, phase: np.ndarray,
+            noise: float = 0.1) -> np.ndarray:
+    """A performance of ``tpl`` at ``phase`` with Gaussian noise of ``noise`` x each feature's
+    spread."""
     x = at_phase(tpl, phase)
     return x + rng.normal(0.0, noise, x.shape) * tpl.std(axis=0)
