@@ -17,10 +17,8 @@ import sys
 import threading
 from typing import Any, Iterator, Sequence
 
-from tabletop import __version__
-
-COMMANDS = ("run", "track", "behave", "follow", "pose", "calibrate", "replay", "status",
-            "review")
+from tabletop import (COMMANDS, __version__, disposition_before_early_stop, early_stop_active,
+                      release_early_stop, stop_early)
 
 EXIT_BAD_INPUT = 2
 # ``run`` ended on purpose but its recording failed (a full disk): the kiosk's supervisor ends
@@ -49,7 +47,7 @@ def catch_stop_signals(handler: Any, signals: Sequence[int] = STOP_SIGNALS) -> I
         for s in signals:
             if s == getattr(signal, "SIGHUP", None) and signal.getsignal(s) == signal.SIG_IGN:
                 continue
-            old[s] = signal.signal(s, handler)
+            old[s] = disposition_before_early_stop(s, signal.signal(s, handler))
     try:
         yield
     finally:
@@ -129,7 +127,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     exit status. A Ctrl-C at any point is one line and status 130, also while the commands'
     modules are still being imported (numpy, OpenCV: the first fraction of a second of every
     command, which printed a KeyboardInterrupt traceback), which is why this module imports
-    nothing of the project's but the package itself at its top."""
+    nothing of the project's but the package itself at its top. Until the commands' modules
+    are imported, from the package's first line, a stop signal ends the program at once with
+    the same line and status (:func:`tabletop.stop_early`): a KeyboardInterrupt raised in
+    an extension module's import (numpy's) can surface as an ImportError with a traceback."""
     words = list(sys.argv[1:] if argv is None else argv)
     try:
         with _interrupt_on_stop_signals():
@@ -141,9 +142,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         command = f" {words[0]}" if words and words[0] in COMMANDS else ""
         print(f"tabletop{command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    finally:
+        release_early_stop()
 
 
-def _interrupt(signum: int, _frame: Any) -> None:
+def _interrupt(signum: int, frame: Any) -> None:
+    if early_stop_active():   # the program still imports its modules
+        stop_early(signum, frame)
     raise KeyboardInterrupt
 
 
@@ -243,6 +248,7 @@ def _main(words: list[str]) -> int:
     os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")
     parser = build_parser()
     args, extra = parser.parse_known_args(words)
+    release_early_stop()   # the modules are in: Ctrl-C is Python's KeyboardInterrupt again
     if extra:   # said by the command's own parser, which argparse leaves to the top one
         command_parser(parser, args).error(f"unrecognized arguments: {' '.join(extra)}")
     nul = [a for a in words if "\x00" in a]

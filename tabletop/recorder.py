@@ -414,6 +414,8 @@ class Recorder(Syncer):
             if self.failed is None:
                 self._fail(exc)
             return
+        if self._first_in_file and self._drop_empty_part():
+            return
         if self.failed is None:   # the session's frames: in its parts, not in the last alone
             parts = (f" in {len(self.paths)} parts, {self.paths[0].name} to {self.path.name}"
                      if len(self.paths) > 1 else "")
@@ -422,6 +424,24 @@ class Recorder(Syncer):
                           f"the folder; {len(self.paths) - len(self._trimmed)} kept)")
             log.info("recording %s: %d frames%s", self.paths[0] if parts else self.path,
                      self.frames, parts)
+
+
+    def _drop_empty_part(self) -> bool:
+        """Remove the closed last part when it holds no frame (a run stopped while it was
+        built, before its first frame: a header alone, which replay refuses, as the failure
+        path removes such a part too). True when nothing of the session is left."""
+        empty = self.paths[-1]
+        try:
+            empty.unlink()
+            fsync_folder(self.folder)
+        except OSError:
+            pass
+        if self.frames == 0:
+            log.warning("recording %s: stopped before its first frame: nothing recorded, the "
+                        "file removed", empty)
+            return True
+        self.paths.pop()
+        return False
 
 
 def header_line(header: dict[str, Any], order: int, part: int, session: str,

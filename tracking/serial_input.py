@@ -74,11 +74,19 @@ class Command:
     values: tuple[float, ...] = ()
 
 
+# a number of a line: a plain decimal or float spelling (``-0.5``, ``3``, ``1e-3``), not the
+# others Python's float() takes (``1_0``, which it reads as 10): a board's garbled digits are a
+# malformed line, never a position; ``nan`` and ``inf`` are refused as non-finite
+NUMERAL = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\Z")
+NON_FINITE = re.compile(r"[-+]?(?:nan|inf|infinity)\Z", re.IGNORECASE)
+
+
 def _number(text: str, what: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise LineError("wrong_arguments", f"{what} {text[:40]!r} is not a number") from None
+    if NON_FINITE.match(text):
+        raise LineError("non_finite", f"{what} is {text[:40]}")
+    if not NUMERAL.match(text):
+        raise LineError("wrong_arguments", f"{what} {text[:40]!r} is not a number")
+    v = float(text)
     if not math.isfinite(v):
         raise LineError("non_finite", f"{what} is {text[:40]}")
     return v

@@ -33,20 +33,28 @@ def parse_address(text: str) -> tuple[str, int]:
         raise InputError(f"address {exc}") from None
 
 
+# the ranges of a heartbeat's numbers a table can send: an uptime of up to a century (s); an
+# fps up to 1.5 x the highest loop.rate_hz (1000; a window's measure reads a little over the
+# rate); unhealthy sources a whole count, up to far more sources than any config holds.
+# Beyond them (fps 3e38, -2 or 1.5 unhealthy sources) it is another program's, not printed.
+HEARTBEAT_RANGES = {"uptime": (0.0, 100 * 365.25 * 86400), "fps": (0.0, 1500.0),
+                    "unhealthy sources": (0, 10_000)}
+
+
 def check_heartbeat(values: tuple) -> str:
-    """What is wrong with a heartbeat's OSC arguments (name, uptime s >= 0, fps >= 0,
-    unhealthy sources a whole number >= 0, status JSON), or "" when they are what a table
-    sends."""
+    """What is wrong with a heartbeat's OSC arguments (name, uptime s, fps, unhealthy sources,
+    status JSON), naming the field, or "" when they are what a table sends."""
     if len(values) != 5:
         return f"{len(values)} values, expected 5"
     name, uptime, fps, unhealthy, status = values
     for what, v in (("uptime", uptime), ("fps", fps), ("unhealthy sources", unhealthy)):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             return f"{what} {str(v)[:40]!r} is not a number"
-        if v < 0:
-            return f"{what} {v!r} is negative"
-    if not isinstance(unhealthy, int):   # a count (OSC int32): 0.5 was shown as "0 unhealthy"
-        return f"unhealthy sources {unhealthy!r} is not a whole number"
+        lo, hi = HEARTBEAT_RANGES[what]
+        if isinstance(lo, int) and not isinstance(v, int):
+            return f"{what} {v:g} is not a whole number"
+        if not lo <= v <= hi:
+            return f"{what} {v:g} is out of range {lo:g}..{hi:g}"
     if not isinstance(name, str) or not isinstance(status, str):
         return "name and status must be strings"
     return ""

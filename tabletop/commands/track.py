@@ -13,6 +13,7 @@ import argparse
 import contextlib
 import json
 import math
+import re
 import sys
 import time
 from pathlib import Path
@@ -126,6 +127,11 @@ class FrameReader:
             self.total = n if n > 0 else None
             fps = self.capture.get(cv2.CAP_PROP_FPS)
             self.fps = fps if fps and math.isfinite(fps) and fps > 0 else None
+        elif path.exists():   # a device, a pipe or a socket: /dev/null, /dev/video0
+            video = re.fullmatch(r"/dev/video(\d+)", str(path))
+            hint = (f"; for this camera give its index, {video[1]}" if video else "")
+            raise TrackInputError(f"{spec}: is a device or pipe, not a video file, a folder of "
+                                  f"images or a camera index{hint}")
         else:
             raise TrackInputError(f"{spec}: no such file, folder or camera index")
 

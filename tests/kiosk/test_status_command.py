@@ -69,6 +69,33 @@ def test_status_command_with_only_bad_heartbeats_exits_1(capsys):
     assert out["rc"] == 1 and cap.out == "" and cap.err.count("bad heartbeat") == 1
 
 
+def test_absurd_but_finite_heartbeat_fields_are_bad_heartbeats_naming_the_field(capsys):
+    """Numbers no table sends (they were printed as they came: "3e+38 fps", "-2 unhealthy",
+    "1.5 unhealthy") are a bad heartbeat, one line each naming the field; a table's heartbeat
+    after them is printed."""
+    from pythonosc.udp_client import SimpleUDPClient
+    port, th, out = listening("3")
+    bad = SimpleUDPClient("127.0.0.1", port)
+    sent = [(["t1", 1.0, 3e38, 0, "{}"], "fps 3e+38 is out of range 0..1500"),
+            (["t2", 1.0, 60.0, -2, "{}"], "unhealthy sources -2 is out of range 0..10000"),
+            (["t3", 1.0, 60.0, 1.5, "{}"], "unhealthy sources 1.5 is not a whole number"),
+            (["t4", -7.0, 60.0, 0, "{}"], "uptime -7 is out of range"),
+            (["t5", 1.0, -1.0, 0, "{}"], "fps -1 is out of range 0..1500")]
+    for values, _ in sent:
+        bad.send_message("/tabletop/heartbeat", values)
+    hb = Heartbeat("127.0.0.1", port)
+    hb.send("north", 3.0, 60.0, 1, json.dumps({"mode": "live"}))
+    hb.close()
+    th.join()
+    cap = capsys.readouterr()
+    assert out["rc"] == 0 and "Traceback" not in cap.err
+    err = cap.err.splitlines()
+    assert len(err) == len(sent), err
+    for line, (_, why) in zip(err, sent):
+        assert "bad heartbeat (" + why in line, (line, why)
+    assert len(cap.out.splitlines()) == 1 and "60.0 fps  1 unhealthy  live" in cap.out
+
+
 def test_status_lines_keep_their_columns():
     # (the whole line went through one_line, which collapsed the padding of every column)
     from tabletop.commands.status import format_heartbeat
@@ -102,7 +129,7 @@ def test_status_command_survives_bad_heartbeats(capsys):
     assert out["rc"] == 0 and "Traceback" not in cap.err
     assert len(cap.err.splitlines()) == 5 and cap.err.count("bad heartbeat") == 5, cap.err
     assert "(unhealthy sources 0.5 is not a whole number)" in cap.err
-    assert "(uptime -1.0 is negative)" in cap.err
+    assert "(uptime -1 is out of range 0..3.15576e+09)" in cap.err
     lines = cap.out.splitlines()
     assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
 

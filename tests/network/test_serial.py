@@ -25,6 +25,8 @@ from tests.network.helpers import ipv6_loopback, wait_for
     (b"lift 4   # the finger left", Command("lift", 4)),
     (b"puck 2 0.5 0.25 7.0", Command("puck", 2, values=(0.5, 0.25, 7.0 - 2 * math.pi))),
     (b"", None),
+    (b"touch 1 +.5 -3.", Command("touch", 1, values=(0.5, -3.0))),
+    (b"stream hand 1E2 -0.25e+1 7", Command("stream", name="hand", values=(100.0, -2.5, 7.0))),
 ])
 def test_lines_parse(line, command):
     assert parse_line(line) == command
@@ -42,6 +44,13 @@ def test_lines_parse(line, command):
     (b"jump 1 2", "unknown_command"),
     (b"\x00\x01\x02", "garbage"),
     (b"puck \xff 1 2 3", "garbage"),
+    (b"puck 3 1_0 0 0", "wrong_arguments"),    # float() reads 10
+    (b"touch 1 0x1 0", "wrong_arguments"),
+    (b"touch 1 1e 0", "wrong_arguments"),
+    (b"stream hand 1 1__2", "wrong_arguments"),
+    (b"stream hand 1 0_.5", "wrong_arguments"),
+    (b"touch 1 -nan 0", "non_finite"),
+    (b"touch 1 +Infinity 0", "non_finite"),
 ])
 def test_bad_lines_name_their_kind(line, kind):
     with pytest.raises(LineError) as info:
@@ -131,6 +140,22 @@ def test_lines_padded_with_nul_bytes_are_read_and_a_nul_inside_a_line_is_garbage
         assert [(p.id, p.x, p.y, p.angle) for p in f.pucks] == [(4, 0.5, 0.25, 1.0)]
         assert [(c.id, c.x, c.y) for c in f.touches] == [(2, 0.1, 0.2)]
         assert src.bad.counts() == {"garbage": 1, "wrong_arguments": 1}
+
+
+def test_numbers_in_other_spellings_are_malformed_lines_counted_and_logged_once(caplog):
+    """Numbers are plain decimal or float spellings (DESIGN): a board's ``1_0`` (Python's
+    float() reads 10) puts no puck at x = 10 m; such lines are counted and said once, as
+    other malformed lines are."""
+    caplog.set_level("WARNING", logger="tabletop")
+    with tracked_pty(5.0) as (master, src, inputs):
+        os.write(master, b"puck 4 0_1 0.25 1.0\npuck 5 0.5 0.25 1_0\ntouch 2 0.1 0.2\n")
+        assert wait_for(lambda: src.lines == 1 and src.bad.total() == 2, 5.0)
+        f = inputs.next(0, 0.0)
+        assert f.pucks == () and [c.id for c in f.touches] == [2]
+        assert src.bad.counts() == {"wrong_arguments": 2}
+    said = [r.getMessage() for r in caplog.records if "ignored" in r.getMessage()]
+    assert said == ["mcu: ignored wrong arguments input (1 so far): puck 4 value '0_1' is not "
+                    "a number: b'puck 4 0_1 0.25 1.0'"], said
 
 
 def test_what_is_not_repeated_for_timeout_s_leaves_the_bus_and_what_is_repeated_stays():

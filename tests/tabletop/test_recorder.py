@@ -151,9 +151,9 @@ def test_recorder_never_overwrites(tmp_path):
     p = tmp_path / "s.jsonl"
     p.write_text("precious\n")
     rec = Recorder(p, header={"format": "tabletop-session", "version": 2})
+    assert rec.path == tmp_path / "s-2.jsonl" and read_header(rec.path)["version"] == 2
     rec.close()
     assert p.read_text() == "precious\n"
-    assert rec.path == tmp_path / "s-2.jsonl" and read_header(rec.path)["version"] == 2
 
 
 # --- kiosk safety ------------------------------------------------------------------------------
@@ -194,8 +194,8 @@ def test_two_recorders_started_at_once_never_collide(tmp_path):
     recs = [Recorder(folder=tmp_path, header=header) for _ in range(5)]
     assert len({r.path for r in recs}) == 5
     for r in recs:
-        r.close()
         assert read_header(r.path)["part"] == 1
+        r.close()
 
 
 @pytest.mark.parametrize("limit_kb", [64, 1], ids=["while running", "at start-up"])

@@ -7,8 +7,15 @@ from pathlib import Path
 
 from tabletop.app import build_live, build_replay
 from tabletop.config import validate_config
+from tabletop.frames import Frame
 from tabletop.recorder import Recorder, read_frames, read_header
 from tests.tabletop.test_recorder import kiosk_config
+
+
+def close_with_a_frame(rec: Recorder) -> None:
+    """Record one frame, then close (a recording closed without a frame is removed)."""
+    rec.consume(Frame(seq=0, t=1.0))
+    rec.close()
 
 
 def test_max_mb_continues_in_new_parts_and_keep_removes_the_oldest(tmp_path, caplog):
@@ -56,7 +63,7 @@ def test_keep_removes_the_oldest_by_order_not_by_the_clock(tmp_path):
 
     def one() -> Path:
         rec = Recorder(folder=tmp_path, header=header, keep=3)
-        rec.close()
+        close_with_a_frame(rec)
         return rec.path
 
     ahead = [one() for _ in range(3)]
@@ -80,7 +87,7 @@ def test_keep_removes_only_recordings_of_the_naming(tmp_path):
     made = []
     for _ in range(2):
         rec = Recorder(path=tmp_path / "notes.txt", header=header, keep=1)
-        rec.close()
+        close_with_a_frame(rec)
         made.append(rec.path)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes-7.txt", "notes-9.txt",
                                                            "notes.txt"]
@@ -94,7 +101,7 @@ def test_an_order_in_the_given_header_is_not_kept(tmp_path):
     ``order``: the new recording's own is written, else ``keep`` ages it by the other's."""
     rec = Recorder(folder=tmp_path, header={"format": "tabletop-session", "version": 2,
                                              "order": 99})
-    rec.close()
+    close_with_a_frame(rec)
     assert read_header(rec.path)["order"] == 1
 
 
@@ -121,7 +128,7 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
             time.sleep(0.1)
         (first,) = folder.iterdir()
         second = Recorder(folder=folder, keep=1, header={"config": {}})
-        second.close()
+        close_with_a_frame(second)
         assert first.exists() and second.path.exists()
     finally:
         p.terminate()
@@ -129,7 +136,7 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
     assert p.returncode == 0, err
     assert len(list(read_frames(first))) >= 30   # (its header and 30 frames were seen)
     third = Recorder(folder=folder, keep=1, header={"config": {}})
-    third.close()
+    close_with_a_frame(third)
     assert sorted(folder.iterdir()) == [third.path]
 
 

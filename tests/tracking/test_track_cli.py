@@ -95,6 +95,8 @@ def test_bad_inputs_give_one_line_errors(tmp_path, capsys):
     empty.mkdir()
     cases = [
         ([str(tmp_path / "missing"), "--out", str(out)], "no such file"),
+        # a device exists: "no such file" would send the user looking for a missing path
+        (["/dev/null", "--out", str(out)], "/dev/null: is a device or pipe, not a video file"),
         ([str(empty), "--out", str(out)], "no images"),
         ([str(empty), "--out", str(out), "--fps", "-3"], "--fps"),
         ([str(tmp_path), "--out", str(out)], "bad.png"),

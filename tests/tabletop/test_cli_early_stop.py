@@ -1,0 +1,72 @@
+"""A stop signal while the program is still importing its package and command line (the first
+~50-150 ms of every command) is a clean stop: one line, status 130, no traceback, as README
+promises "from its first moment"."""
+
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+SCRIPT = Path(sys.executable).with_name("tabletop")
+
+
+def _stop_while_importing(command: list[str], sig: int, after_s: float) -> tuple[int, str]:
+    """Start ``command`` under ``-X importtime`` (each finished import is a line on stderr),
+    wait for the line of the package ``tabletop`` (its first lines have run), then ``after_s``
+    more, and send ``sig``. Returns (status, stderr)."""
+    proc = subprocess.Popen([sys.executable, "-X", "importtime", *command],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            cwd=Path(__file__).parent)
+    assert proc.stderr is not None
+    seen = []
+    for line in proc.stderr:
+        seen.append(line)
+        if line.rstrip().endswith("| tabletop"):
+            break
+    time.sleep(after_s)
+    proc.send_signal(sig)
+    rest = proc.communicate(timeout=60)[1]
+    said = [ln for ln in "".join(seen).splitlines() + rest.splitlines()
+            if not ln.startswith("import time:")]
+    return proc.returncode, "\n".join(said)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
+@pytest.mark.parametrize("how", ["module", "script"])
+def test_a_stop_signal_while_the_program_imports_is_one_line_and_130(sig, how):
+    command = (["-m", "tabletop"] if how == "module" else [str(SCRIPT)]) + ["status", "--help"]
+    for after_s in (0.0, 0.02, 0.06, 0.12):
+        status, said = _stop_while_importing(command, sig, after_s)
+        if status == 0:        # the command ended before the signal came: nothing to stop
+            continue
+        assert status == 130, (after_s, status, said)
+        assert "Traceback" not in said and said.count("\n") == 0, (after_s, said)
+        assert said == "tabletop status: interrupted", (after_s, said)
+
+
+def test_importing_the_package_as_a_library_leaves_the_signals_alone():
+    code = ("import signal, tabletop; "
+            "print(signal.getsignal(signal.SIGTERM) is signal.SIG_DFL, "
+            "signal.getsignal(signal.SIGINT) is signal.default_int_handler)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.split() == ["True", "True"]
+
+
+def test_after_the_command_line_starts_ctrl_c_is_pythons_again():
+    """The command line takes over: the early stop handles nothing once ``main`` runs (a
+    Ctrl-C there is a KeyboardInterrupt the command may clean up after)."""
+    code = "\n".join([
+        "import sys, signal", "sys.argv = ['tabletop', 'status', '--help']",
+        "import tabletop", "from tabletop import cli",
+        "print(signal.getsignal(signal.SIGINT).__name__)",
+        "try:\n    cli.main()\nexcept SystemExit:\n    pass",
+        "print(signal.getsignal(signal.SIGINT) is signal.default_int_handler,"
+        " signal.getsignal(signal.SIGTERM) is signal.SIG_DFL)"])
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    lines = res.stdout.split("\n")
+    assert lines[0] == "stop_early"
+    assert lines[-2].split() == ["True", "True"]
