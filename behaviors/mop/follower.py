@@ -57,9 +57,10 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
     the pooled spread of each column; ``min_scale`` (d,): floor of every template's scale in the
     features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
-    ``coverage`` (share of a template's path), ``shape_distance``, ``shape_accept`` (sigma;
-    default by ``invariance``, :func:`~behaviors.mop.refusal.shape_limits`) and ``shape_memory``
-    (samples): see :mod:`behaviors.mop.refusal`; ``dwell``: the share of a
+    ``coverage`` (share of a template's path, the most asked), ``shape_distance``,
+    ``shape_accept`` (sigma; default by ``invariance``, :func:`~behaviors.mop.refusal.
+    shape_limits`) and ``shape_memory`` (samples): see :mod:`behaviors.mop.refusal`; ``dwell``: the
+    share of a
     hold state's probability that stays each step (:func:`behaviors.mop.hmm.dwell_states`;
     default :data:`~behaviors.mop.hmm.HOLD_DWELL` with ``invariance``, else 0); the rest: see the
     module docstring.

@@ -25,7 +25,7 @@ import behaviors.mop.compiled
 from behaviors.mop import (coverage, group_layout, group_steps, holding, invariance, members,
                            shape_lead, threshold, threshold_kernel, validity)
 from behaviors.mop.compiled import CONTRACT, prefetch
-from behaviors.mop.coverage import RUN_AHEAD
+from behaviors.mop.coverage import EARLY_FIT, RUN_AHEAD
 from behaviors.mop.group_layout import AHEAD, MC_ROWS
 from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
@@ -373,6 +373,11 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 acc += r * r
             reached[k] = max(reached[k], math.sqrt(acc / dims))
             if at > RUN_AHEAD * reached[k]:
+                covered[k] = False
+            # ... and, covered sooner and short of ``coverage`` of its path, not while off it by
+            # more than EARLY_FIT
+            full = m[24] * states[last + off, arc]
+            if t[3] < full and at < full and m2 > EARLY_FIT * EARLY_FIT:
                 covered[k] = False
             # shape sums (ShapeLead._leads) and displacement (early feedback)
             acc = 0.0

@@ -16,14 +16,14 @@ from ``bench/follow_quality.py`` unless said otherwise.
   gives probabilities summing to 1. ``best`` changes only when another template leads by
   ``switch_margin`` nats, and drives only while at least ``min_probability`` likely.
 - Engagement: a template drives nothing until its progress passed its onset (the first state
-  ``onset`` sigmas from its first state) *and* the input itself left the anchor by as much: a
-  still input lets the transitions' prior drift along the first states (a still tail after a
-  diagonal line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused,
-  its followed progress past ``coverage`` of its path and the input on its path (``shape_*``,
-  :mod:`behaviors.mop.refusal`), its spread at most ``max_spread`` (in states), its end not
-  yet reached, for ``confirm`` samples in a row. An action not yet driving must also lead every
-  other likely template in shape since the gesture began, and one that reached its end drives
-  at most two samples more (:mod:`behaviors.mop.spotting`).
+  ``onset`` sigmas from its first state) *and* the input itself left the anchor by as much: a still
+  input lets the transitions' prior drift along the first states (a still tail after a diagonal
+  line re-engaged the circle within 6 samples). Valid = ``best`` engaged, not refused, its followed
+  progress past ``coverage`` of its path (or less, :mod:`behaviors.mop.coverage`) and the input on
+  its path (``shape_*``, :mod:`behaviors.mop.refusal`), its spread at most ``max_spread`` (in
+  states), its end not yet reached, for ``confirm`` samples in a row. An action not yet driving
+  must also lead every other likely template in shape since the gesture began, and one that reached
+  its end drives at most two samples more (:mod:`behaviors.mop.spotting`).
 - Its own confirmation: the ``confirm`` samples are the action's own (``_run_k``: whose run it
   is); a new ``best`` starts its run afresh. Carried over, a crawl's run let the figure eight
   drive in the very sample it took over (the crawl at 0.81x, its follower stalled at 0.20 with

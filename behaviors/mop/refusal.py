@@ -25,7 +25,8 @@ template's own spread, whatever the other templates:
 
 - Coverage: a template drives only once its followed progress has covered ``coverage`` of its
   path's length since it engaged (path length in its spread, RMS per column; kept until the
-  performance begins anew, but not while the followed state runs far ahead of the input:
+  performance begins anew, but not while the followed state runs far ahead of the input; less
+  where the template set tells its start from every other's, while the input keeps to its path:
   :mod:`behaviors.mop.coverage`). The start of every template is a small, slow blob that any
   small wiggle matches at a small size: an aimless wander drove the circle alone 75-86% of the
   time at 15-23% of its progress. Recognition comes a little later (at 30% of gestures at
@@ -238,6 +239,7 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop import coverage, threshold
+from behaviors.mop.spotting import SHARE_SIZES
 from behaviors.mop.validity import PATH_REACH, unjudged
 
 
@@ -285,6 +287,16 @@ class Refusal:
         self._reach = np.arange(-PATH_REACH[0], PATH_REACH[1] + 1)[None, :]
         ends = b.starts + b.lengths - 1
         self._arc_need = self.coverage * self._arc[ends]
+        self._arc_full = self._arc_need.copy()
+        if self.invariance == "scale":
+            # ... or less, where the template set tells the template's start from every other's
+            # (coverage.told_apart_arc: the sizes shared starts try, the misfit's accept limit)
+            lo, hi = self.scale_range
+            sizes = np.geomspace(lo / hi, hi / lo, SHARE_SIZES)
+            told = coverage.told_apart_arc(np.ascontiguousarray(self._rel * self._units),
+                                           b.starts, b.lengths, self._arc, b.scale, sizes,
+                                           self.shape_accept * self.sigma)
+            np.minimum(self._arc_need, told, out=self._arc_need)
         self._misfit_decay = 1.0 - 1.0 / self.shape_memory
         self._shape2 = self.shape_distance ** 2
         self._shape_accept2 = self.shape_accept ** 2
@@ -377,6 +389,10 @@ class Refusal:
         reach = self._displacement(np.mean(self._recent_x[-3:] + [x], axis=0))
         np.maximum(self._reached, reach, out=self._reached)
         self._covered &= covered <= coverage.RUN_AHEAD * self._reached
+        # ... and, covered sooner and short of ``coverage`` of its path, not while it is off its
+        # path by more than coverage.EARLY_FIT
+        self._covered &= ((self._arc_need >= self._arc_full) | (covered >= self._arc_full)
+                          | (m2 <= coverage.EARLY_FIT ** 2))
 
     def _threshold_evidence(self, x: np.ndarray, anchor: np.ndarray, lead_ll: float) -> float:
         """Step the threshold model (:mod:`behaviors.mop.threshold`) with sample ``x`` seen from

@@ -49,14 +49,25 @@ _F2 = numba.float64[:, ::1]
 _I1 = numba.intp[::1]
 
 
-@numba.njit(numba.intp[:, ::1](_F2, _I1, _I1, _F1, _F1, numba.intp), cache=True, nogil=True)
 def shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes: np.ndarray,
                  radius: np.ndarray, skip: int) -> np.ndarray:
     """(K, K) state indices: entry [a, b] is the last state of template ``a`` whose path up to
-    there follows template ``b``'s scaled by one of ``sizes`` within ``radius`` (d,) in every
-    column, both from their first points; -1 on the diagonal. ``rel`` (states, d): every
-    template's states relative to its first (raw units), template k at ``starts[k]``,
-    ``lengths[k]`` states."""
+    there follows template ``b``'s scaled by one of ``sizes`` within ``radius`` in every
+    column (d,), or template ``b``'s row of it (K, d), both from their first points; -1 on the
+    diagonal. ``rel`` (states, d): every template's states relative to its first (raw units),
+    template k at ``starts[k]``, ``lengths[k]`` states."""
+    by = np.empty((len(starts), rel.shape[1]))
+    by[:] = radius
+    return _shared_until(np.ascontiguousarray(rel, dtype=float),
+                         np.ascontiguousarray(starts, dtype=np.intp),
+                         np.ascontiguousarray(lengths, dtype=np.intp),
+                         np.ascontiguousarray(sizes, dtype=float), by, int(skip))
+
+
+@numba.njit(numba.intp[:, ::1](_F2, _I1, _I1, _F1, _F2, numba.intp), cache=True, nogil=True)
+def _shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes: np.ndarray,
+                  radius: np.ndarray, skip: int) -> np.ndarray:
+    """:func:`shared_until` compiled, ``radius`` (K, d) per template ``b``."""
     k, d = starts.size, rel.shape[1]
     out = np.full((k, k), -1, dtype=np.intp)
     reach = np.zeros(int(lengths.max()), dtype=np.bool_)
@@ -83,7 +94,7 @@ def shared_until(rel: np.ndarray, starts: np.ndarray, lengths: np.ndarray, sizes
                                 r = r or reach[j - o]
                         if r:
                             for c in range(d):
-                                if abs(s * rel[sb + j, c] - rel[sa + i, c]) > radius[c]:
+                                if abs(s * rel[sb + j, c] - rel[sa + i, c]) > radius[b, c]:
                                     r = False
                                     break
                         grown[j] = r

@@ -292,7 +292,9 @@ def test_a_group_stops_a_crawling_action_as_its_followers_alone(monkeypatch):
 def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkeypatch):
     # validity.rests_behind, compiled in members.conclude: a wave and a zigzag performed to 60%,
     # back to their start and rested; measured 122 valid states (168 without the rule), with the
-    # last samples' fit (shape_lead.TAKE_MISFIT2) lifted: with it 96 (123)
+    # last samples' fit (shape_lead.TAKE_MISFIT2) lifted: with it 96 (123); with the zigzag
+    # covered sooner (coverage.told_apart_arc) its way back is refused by coverage.EARLY_FIT
+    # before it rests (valid to sample 82 either way, 92 and 119 before): 119 (140), the wave's 27
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates
     from behaviors.mop import validity
@@ -307,7 +309,7 @@ def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkey
     n = min(len(s) for s in streams)
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
                 for x in s[:n])
-    assert valid <= plain - 30, (valid, plain)
+    assert valid <= plain - 20, (valid, plain)
 
 
 def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypatch):
