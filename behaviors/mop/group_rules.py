@@ -93,8 +93,13 @@ class GroupRules:
             # every template of this member at its first state, no evidence
             cols = self._slices[i]
             # the threshold model's lead over the templates, carried (Refusal._threshold_lead)
+            # while its mirror chains hold CARRY_CHAINED of its weight (their sums: threshold_step)
+            kk = len(self._owner)
+            chained = (self._thr_tops[2 * kk + cols.start:2 * kk + cols.stop].sum()
+                       / self._thr_total[i])
             lead = (max(0.0, float(self._thr_ev[i] - self._evidence[cols].max()))
-                    if self._thr_has_x[i] and threshold.CARRY_LEAD else 0.0)
+                    if self._thr_has_x[i] and threshold.CARRY_LEAD
+                    and chained >= threshold.CARRY_CHAINED else 0.0)
             self.forward.reset_templates(cols)
             for n in RESTART_ZERO:
                 getattr(self, n)[cols] = 0

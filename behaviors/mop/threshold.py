@@ -85,8 +85,9 @@ throughout.
 Across a new attempt: spotting starts one where an action ends (a template followed back over
 itself too, valid or not) or every template is refused, and the templates' evidence starts
 afresh there. The threshold model starts afresh with it but for its lead over the best template
-(:meth:`~behaviors.mop.refusal.Refusal._threshold_lead`; none when it is behind, so a gesture
-after a gesture starts as before). Afresh, a mirrored path lost what its chain had explained:
+(:meth:`~behaviors.mop.refusal.Refusal._threshold_lead`), while its mirror chains hold
+:data:`CARRY_CHAINED` of its weight; none when it is behind, so a gesture after a gesture starts
+as before. Afresh, a mirrored path lost what its chain had explained:
 the spin ankle mirrored at 1.4x (seed 203), the chain 73 nats ahead, the backflip wrist followed
 back over itself ends about 60% along, and the walk ankle drove 0.228 of the rest. Measured
 (``bench/follow_widened.py``, mirrored among twenty, worst / mean / over 0.1 of 540; sequences
@@ -96,7 +97,9 @@ back to back, runs over 2 summed; ``bench/follow_quality.py``'s tuned keys):
 threshold model at a new attempt                 mirrored among twenty        sequences
 ===============================================  ===========================  =========
 afresh                                           0.228 / 0.00996 / 11         46
-its lead carried (kept)                          0.162 / 0.00742 / 3          46
+its lead carried, any                            0.162 / 0.00742 / 3          46
+its lead carried while the chains hold 0.5       0.162 / 0.00747 / 3          46
+  (kept)
 chains going on in their own frame (anchor and   0.228 at seed 203 (26 of
   sizes kept while they hold 0.5 of the weight,  114 ticks, as afresh)
   until under 0.01), lead not carried
@@ -112,7 +115,11 @@ over a member's evidence when its new attempt starts. Chains in their own frame 
 ankle's rest (holding 0.3-0.94 of the weight) but the walk ankle explains that stretch better by
 10-13 nats (a chain keeps :data:`MIRROR_KEEP` per sample, 0.69 nats); with the lead carried too
 they gained only a mean of 0.0005, for a frame per member and a second distance per chain state
-in the group kernel: not kept. Left: the mirrored figure eight at 0.7x driven by the dance wrist
+in the group kernel: not kept. Any lead carried, one held by the ergodic states too, took
+gestures performed back to back without a pause (``tests/mop/test_follower.py``'s four random
+templates per member at 1.3x, twice over): valid ticks 114 -> 68, the lead won while the input
+jumped to the next gesture carried into it; carried only while the chains hold half the weight,
+114 as afresh. Left: the mirrored figure eight at 0.7x driven by the dance wrist
 0.16 of the time (the chain's keep), the mirrored crawl wrist at 1x by the circle 0.114.
 
 Only the mirror in x is held. Chains for the mirror in y, in both axes and the drawing backwards
@@ -136,6 +143,9 @@ STILL_RADII = 2.0
 #: A new attempt's threshold model starts with its lead over the templates, if any (see the
 #: module docstring); False: afresh, as the templates.
 CARRY_LEAD = True
+#: ... only while the mirror chains hold at least this share of its weight (see the module
+#: docstring).
+CARRY_CHAINED = 0.5
 
 
 #: The threshold model's states, log-densities and weights are kept in single precision (its
