@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from behaviors.mop import member_validity, members, validity
+from behaviors.mop import member_validity, members, threshold, validity
 from behaviors.mop.group_layout import FLAGS, FLOATS
 from behaviors.mop.turning import FIRST_TURN_STEPS, TURN_REACH
 
@@ -92,12 +92,21 @@ class GroupRules:
                 self._ended[i] = gb[i] - self._bounds[i]
             # every template of this member at its first state, no evidence
             cols = self._slices[i]
+            # the threshold model's lead over the templates, carried (Refusal._threshold_lead)
+            # while its mirror chains hold CARRY_CHAINED of its weight (their sums: threshold_step)
+            kk = len(self._owner)
+            chained = (self._thr_tops[2 * kk + cols.start:2 * kk + cols.stop].sum()
+                       / self._thr_total[i])
+            lead = (max(0.0, float(self._thr_ev[i] - self._evidence[cols].max()))
+                    if self._thr_has_x[i] and threshold.CARRY_LEAD
+                    and chained >= threshold.CARRY_CHAINED else 0.0)
             self.forward.reset_templates(cols)
             for n in RESTART_ZERO:
                 getattr(self, n)[cols] = 0
             for n in RESTART_ONE:
                 getattr(self, n)[cols] = 1.0
-            self._forget_members(i)   # the threshold model starts afresh with the evidence
+            self._forget_members(i)   # the threshold model starts afresh with the evidence,
+            self._thr_ev[i] = lead      # ... but for its lead
             if h == members.ABANDONED:   # the input's way here (validity.unbegun)
                 self._abandoned[i], self._came[i] = True, came
             self._anchor[i] = anchor

@@ -421,6 +421,17 @@ class Refusal:
         self._threshold_ev = self._threshold_ev * self._decay + step
         return self._threshold_ev
 
+    def _threshold_lead(self) -> float:
+        """How far the threshold model's evidence leads the best template's, or 0 when it does
+        not, its mirror chains hold under :data:`~behaviors.mop.threshold.CARRY_CHAINED` of its
+        weight or it has not been stepped since the attempt began: what it starts a new attempt
+        with (see :mod:`behaviors.mop.threshold`)."""
+        n = len(self.bank.means)
+        if (self._threshold_x is None or not threshold.CARRY_LEAD
+                or float(self._threshold_alpha[n:].sum()) < threshold.CARRY_CHAINED):
+            return 0.0
+        return max(0.0, self._threshold_ev - float(np.max(self._evidence)))
+
     def _recent_dist2(self, k: int) -> float:
         """Template ``k``'s recent likelihood as a squared distance in its own spread (the
         group kernel's expression, bit for bit); strained beyond ``accept_distance``."""

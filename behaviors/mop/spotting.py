@@ -305,10 +305,13 @@ class GestureSpotting:
     def _restart_here(self, x: np.ndarray, forward: WindowedForward, offset: int,
                       still: bool = False) -> None:
         """A new attempt starts at this sample (``still``: at the mean of the still input):
-        anchor there, every template at its first state, no evidence."""
+        anchor there, every template at its first state, no evidence; the threshold model
+        afresh but for its lead over the templates (:meth:`Refusal._threshold_lead`)."""
         forward.reset_templates(offset + np.arange(len(self.names)))
         entries = self._entries.copy()
+        lead = self._threshold_lead()
         self._forget()
+        self._threshold_ev = lead
         self._entries[:] = entries
         if still:
             self._anchor = np.mean(self._recent_x, axis=0)

@@ -83,3 +83,19 @@ def designer_config(tmp_path: Path) -> dict:
                           "motion": "talk"}]},
             {"name": "lizard", "kind": "creature", "performer": "hand",
              "motions": ["strike", "curl"]}]}]}
+
+
+def widened_mirrored(seed: int, name: str, scale: float) -> np.ndarray:
+    """The mirrored template ``name`` at ``scale`` as ``bench/follow_widened.py`` draws it for
+    ``seed`` (the draws before it made and dropped)."""
+    from bench.motions import (MOCAP, gesture_templates, mocap_templates, performance,
+                               unrelated_motions)
+    templates = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
+    rng = np.random.default_rng(seed)
+    for key, path in unrelated_motions(rng, templates).items():
+        if key.startswith("mirrored_"):
+            for s in (0.7, 1.0, 1.4):
+                x = performance(rng, path, s)[0]
+                if (key, s) == (f"mirrored_{name}", scale):
+                    return x
+    raise KeyError(name)

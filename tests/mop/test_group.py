@@ -354,7 +354,8 @@ def test_a_group_leaves_refusal_unjudged_at_rest_as_its_followers_alone(monkeypa
 def test_a_group_takes_nothing_back_the_way_an_abandoned_attempt_came(monkeypatch):
     # validity.unbegun, in group_rules._unbegun: a mirrored line (out along -x, back) among the
     # six gestures, its return taken as the line's outward stroke from an abandonment's anchor at
-    # the turn (streams padded with their rest). Measured 109 valid states, 189 with it off
+    # the turn (streams padded with their rest). Measured 0 valid states, 25 with it off (109
+    # vs 189 with the threshold model started afresh, its lead not carried, at a new attempt)
     from bench.follow_quality import gesture_templates, performance, puck_follower
     from behaviors.mop import validity
     gestures = gesture_templates()
@@ -373,7 +374,7 @@ def test_a_group_takes_nothing_back_the_way_an_abandoned_attempt_came(monkeypatc
     monkeypatch.setattr(validity, "REVERSED", 2.0)   # off: the followers alone read it each step
     plain = sum(f.step(x).valid for f, s in zip([puck_follower(gestures) for _ in streams], streams)
                 for x in s)
-    assert valid <= plain - 40, (valid, plain)   # measured 109 vs 189
+    assert valid <= plain - 15, (valid, plain)   # measured 0 vs 25
 
 
 def test_a_group_state_is_the_followers_state_of_the_same_values():

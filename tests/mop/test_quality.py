@@ -11,6 +11,7 @@ from bench.follow_quality import puck_follower, run, true_metrics
 from bench.motions import at_phase, performance, phase_of, raise_hold_return, unrelated_motions
 from behaviors.mop import shape_lead
 from behaviors.mop.follower import ActionFollower
+from tests.mop.helpers import widened_mirrored
 
 
 
@@ -122,21 +123,6 @@ def test_a_mirrored_gesture_is_refused(gestures):
         assert np.mean([s.valid for s in run(f, x)]) <= 0.1, name
 
 
-def _widened_mirrored(seed: int, name: str, scale: float) -> np.ndarray:
-    """The mirrored template ``name`` at ``scale`` as ``bench/follow_widened.py`` draws it for
-    ``seed`` (the draws before it made and dropped)."""
-    from bench.motions import MOCAP, gesture_templates, mocap_templates
-    templates = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
-    rng = np.random.default_rng(seed)
-    for key, path in unrelated_motions(rng, templates).items():
-        if key.startswith("mirrored_"):
-            for s in (0.7, 1.0, 1.4):
-                x = performance(rng, path, s)[0]
-                if (key, s) == (f"mirrored_{name}", scale):
-                    return x
-    raise KeyError(name)
-
-
 def test_the_threshold_models_mirror_chains_refuse_a_template_drawn_mirrored():
     # threshold.MIRROR_KEEP: among the twenty templates, the dance wrist mirrored at 0.7x (seed
     # 208) was driven by the zigzag 0.239 of the time and the square mirrored at 1.4x (seed
@@ -146,7 +132,7 @@ def test_the_threshold_models_mirror_chains_refuse_a_template_drawn_mirrored():
     templates = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
     f = puck_follower(templates)
     for seed, name, scale in ((208, "dance_a_left_wrist", 0.7), (206, "square", 1.4)):
-        x = _widened_mirrored(seed, name, scale)
+        x = widened_mirrored(seed, name, scale)
         assert np.mean([s.valid for s in run(f, x)]) <= 0.1, name
         rng = np.random.default_rng(1)
         for s in (0.7, 1.0, 1.4):

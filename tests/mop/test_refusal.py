@@ -9,7 +9,7 @@ import numpy as np
 
 from bench.follow_quality import PERFORMS_M, performs, puck_follower, run
 from bench.motions import performance, unrelated_motions
-from behaviors.mop import shape_lead, validity
+from behaviors.mop import shape_lead, threshold, validity
 from behaviors.mop.group import FollowerGroup
 from behaviors.mop.refusal import Refusal, shape_limits
 
@@ -84,7 +84,9 @@ def _mirrored_line_rest_valid(gestures) -> int:
 def test_no_action_is_taken_at_the_rest_after_an_abandoned_turn(gestures, monkeypatch):
     # validity.still_unbegun: abandoned at its turn, the mirrored line comes back along the
     # line's outward stroke; the ban on taking an action back the way it came lasts through
-    # the rest that follows. Measured 68 valid ticks at rest, 120 with the ban lifted at the rest
+    # the rest that follows. Measured 68 valid ticks at rest, 120 with the ban lifted at the rest,
+    # with the threshold model afresh at the abandonment (its lead carried refuses both: 0, 0)
+    monkeypatch.setattr(threshold, "CARRY_LEAD", False)
     now = _mirrored_line_rest_valid(gestures)
     monkeypatch.setattr(validity, "RESTED_LIFTS", False)
     lifted = _mirrored_line_rest_valid(gestures)
