@@ -4,6 +4,8 @@ heartbeats, bad addresses and durations said in one line; exit status 1 when no 
 import json
 import re
 import socket
+import subprocess
+import sys
 import threading
 
 import pytest
@@ -201,6 +203,20 @@ def port_taken(port: int) -> bool:
     return False
 
 
+def status_process(*options: str, text: bool = True) -> tuple[subprocess.Popen, int]:
+    """``python -m tabletop status 127.0.0.1:PORT OPTIONS`` on a free port, returned with the
+    port once the command has bound it (stdout and stderr piped)."""
+    port = free_udp_port()
+    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
+                             *options], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=text)
+    if not wait_for(lambda: port_taken(port), 60.0):
+        proc.kill()
+        proc.communicate()
+        raise AssertionError(f"status never bound port {port}")
+    return proc, port
+
+
 def test_status_json_prints_only_json_objects(tmp_path, capsys):
     """An outside script reads ``tabletop status --json`` line by line with json.loads: a
     datagram on the port whose status is not a JSON object was printed as it came ("{not
@@ -223,14 +239,8 @@ def test_ctrl_c_ends_a_timed_status_at_once():
     daemon thread would keep the process for the rest of the 120 s, and a second Ctrl-C would
     print a traceback from threading's shutdown)."""
     import signal
-    import subprocess
-    import sys
-    port = free_udp_port()
-    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
-                             "--seconds", "120"], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc, port = status_process("--seconds", "120")
     try:
-        assert wait_for(lambda: port_taken(port), 60.0)
         hb = Heartbeat("127.0.0.1", port)
         hb.send("north", 12.5, 59.8, 0, json.dumps({"mode": "live"}))
         hb.close()
@@ -246,17 +256,11 @@ def test_ctrl_c_ends_a_timed_status_at_once():
 
 def test_a_reader_that_closes_the_status_early_ends_it_quietly_with_141():
     """``tabletop status HOST:PORT --json | head -1``: after its first line the reader is gone;
-    the command ends at the next heartbeat with status 141 and nothing on stderr. It printed
-    a traceback for every later heartbeat (socketserver took the BrokenPipeError) and never
-    ended."""
-    import subprocess
-    import sys
-    port = free_udp_port()
-    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
-                             "--json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    the command ends at the next heartbeat with status 141 and nothing on stderr (no traceback
+    for each later heartbeat's BrokenPipeError, no listening on for ever)."""
+    proc, port = status_process("--json", text=False)
     hb = Heartbeat("127.0.0.1", port)
     try:
-        assert wait_for(lambda: port_taken(port), 60.0)
         hb.send("north", 1.0, 60.0, 0, json.dumps({"mode": "live"}))
         first = proc.stdout.readline()
         assert json.loads(first) == {"mode": "live"}, first
@@ -297,20 +301,13 @@ def test_a_packet_the_osc_decoder_refuses_is_one_line_and_status_goes_on(capsys)
 
 def test_a_heartbeat_of_any_size_and_timetag_is_shown_and_status_ends_on_time():
     """Datagrams of tables and of stray senders, as they come: a table's heartbeat of 12 kB
-    (many sources with their messages) is shown, as is one in a bundle tagged for 2036 (it
-    was held until then, and ``--seconds`` never ended the command); a stray datagram with a
-    type tag OSC does not have is one line naming its sender (it was a "WARNING:root:" line
-    naming nobody), and so is a datagram that is no OSC at all (it was dropped unsaid)."""
-    import subprocess
-    import sys
-
+    (many sources with their messages) is shown, as is one in a bundle tagged for 2036 (shown
+    at once, not held until then: ``--seconds`` still ends the command on time); a stray
+    datagram with a type tag OSC does not have is one line naming its sender, and so is a
+    datagram that is no OSC at all."""
     from tracking.osc_codec import encode_bundle, encode_message
-    port = free_udp_port()
-    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
-                             "--seconds", "3"], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+    proc, port = status_process("--seconds", "3")
     try:
-        assert wait_for(lambda: port_taken(port), 60.0)
         big = json.dumps({"mode": "live", "sources": [{"name": f"s{i}", "message": "m" * 200}
                                                       for i in range(50)]})
         hb = Heartbeat("127.0.0.1", port)
