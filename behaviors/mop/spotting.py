@@ -142,7 +142,8 @@ reached ``end`` two to four samples after they came to rest). The runs left lie 
 end is reached: the follower crosses an eased end at the prior's drift (about a state per
 sample), and a kick ankle performed at 1.5 states per sample is followed at 0.92-0.95 at its
 last one. A forward that keeps the performer's tempo through such stretches ended those runs
-but cost other figures (measured, not kept: :class:`behaviors.mop.hmm.Transitions`).
+but cost other figures (measured, not kept: :class:`behaviors.mop.hmm.Transitions`; an end at
+the tempo followed before the eased stretch: :mod:`behaviors.mop.handover`).
 
 Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new action does not
 drive while its start is still the start of another template the input fits; the rule and its
