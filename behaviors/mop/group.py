@@ -268,7 +268,7 @@ class FollowerGroup(GroupArrays, GroupRules):
             self._m_bools, self._m_ints, self._buf, self._extent, self._m_out, self._m_flags,
             self._shared, self._crawl, self._k_new, self._m_top3, self._m_likely,
             self._m_likely_v, self._lengths, self._tempo_x, self._tempo_g, f0.onset * f0.sigma,
-            self._tc, self._mc, self._taken, shape_lead.TAKE_MISFIT2)
+            self._tc, self._mc, self._taken, shape_lead.TAKE_MISFIT2, self._end_history)
         progress = self._k_progress
         gb = self._bounds + self._best
         sizes = self._size.copy()   # the states' maps are views of this tick's arrays

@@ -15,6 +15,7 @@ import numpy as np
 from behaviors.mop import group_layout, members, threshold
 from behaviors.mop.holding import holding_columns
 from behaviors.mop.shape_lead import TAKE_SAMPLES
+from behaviors.mop.handover import TEMPO_END_KEEP
 
 
 class GroupArrays:
@@ -100,6 +101,11 @@ class GroupArrays:
         self._has_end = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)
         self._peak, self._peak_k = np.zeros(m), np.full(m, -1, dtype=np.intp)
+        # the action's last progress, and whether the end was reached at its tempo
+        # (handover.tempo_ended)
+        self._end_history = np.zeros((m, TEMPO_END_KEEP))
+        self._end_history_n = np.zeros(m, dtype=np.intp)
+        self._lagged = np.zeros(m, dtype=bool)
         self._extent = np.concatenate([f._extent for f in fs])
         self._thr_ev, self._thr_x = np.zeros(m), np.zeros((m, dmax))
         self._thr_has_x = np.zeros(m, dtype=bool)
@@ -119,7 +125,8 @@ class GroupArrays:
                    "_peak", "_peak_k", "_thr_ev", "_thr_x", "_thr_has_x", "_drive_k",
                    "_drive_from", "_drive_peak", "_drive_moved", "_shape_n", "_turn_in",
                    "_turn_h", "_turn_ref", "_turn_has_ref", "_turn_has_h", "_abandoned", "_came",
-                   "_abandon_rested", "_taken", "_taken_n")
+                   "_abandon_rested", "_taken", "_taken_n", "_end_history", "_end_history_n",
+                   "_lagged")
 
     def _kernel_arrays(self) -> None:
         """The constants :func:`~behaviors.mop.group_kernel.update_templates` reads, laid out

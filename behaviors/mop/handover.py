@@ -1,6 +1,47 @@
 """Where a gesture ends though the follower never reached its ``end``: its performer finished it
 and went on with the next (:meth:`behaviors.mop.spotting.GestureSpotting._spot` and the compiled
 group's :func:`behaviors.mop.members.conclude`).
+
+An end at the tempo followed before an eased end (:func:`tempo_ended`, :func:`slowed`). Among
+twenty templates back to back (``bench/follow_widened.py``, tuned joints, seeds 201-210, 80
+sequences of four; runs of a wrong action over 2 ticks 14, summed 46, longest 4), six of the
+fourteen are the ended action driving 3-4 ticks into the next gesture (four kick ankles, a line,
+a wave): over the last 15-20% the clip eases (1-2 mm a sample, the jitter's size), the follower
+crosses it at about a state a sample (0.022 of the kick's progress a sample, the performer 0.035)
+and is at 0.93-0.95 when the performer reaches the last point; it reaches ``end`` 2-3 samples
+into the next gesture, whose start is eased as well, and the grace
+(:data:`~behaviors.mop.spotting.END_GRACE`) adds two. The other eight are actions taken inside a
+gesture (a walk ankle on a roll ankle's start four times; :mod:`behaviors.mop.shape_lead`'s
+rivals weighed by shape). The rule: a valid action past 0.9 of its progress, while the input
+moved at most 2 still radii in every column since the sample before, has reached its end where
+its progress 6 samples ago plus 5 times its advance per sample over the 6 samples before that
+reaches ``end`` (the performer's tempo carried through the flat stretch; in states it would have
+reached the end a sample ago); the end point then follows the input while it comes closer to the
+template's last point (group: the action's last 13 progress values per member). Ended runs over
+2: 6 -> 1, every run over 2 14 -> 9, summed 46 -> 30, longest 4 (a kick still 4), mirrored
+paths among twenty (worst 0.228, mean 0.00996) unchanged; ``bench/follow_quality.py`` (tuned):
+six gestures back to back longest wrong run 2 -> 1, recognition medians unchanged, after a
+gesture (unambiguous) worst 0.077 -> 0.072, holds and unrelated motions unchanged. It costs
+performers slowing into their eased end at the bench's warped tempo their last ticks (nothing in
+the flat stretch tells them from one going on at their pace, as with the forward that kept the
+tempo, :class:`behaviors.mop.hmm.Transitions`): valid after 30% of gestures at 0.7-1.4x 0.9150 ->
+0.9123 (its target, 0.90, still met), at 0.6 / 1.5x 0.7585 -> 0.7556, bent 5% 0.8741 -> 0.8702,
+aspect 1.2 0.3965 -> 0.3884; kept, as the runs into the next gesture are the target not met.
+Held out (the final check, other joints and seed): six gestures back to back longest wrong run
+2 -> 1, twenty templates' longest 11 (unchanged), unrelated motions and after a gesture
+unchanged; valid after 30% at 0.7-1.4x 0.9049 -> 0.9030, at 0.6 / 1.5x 0.6795 -> 0.6781, bent 5%
+0.7481 -> 0.7465, aspect 1.2 0.4353 -> 0.4342.
+Its cost in time is within the noise: ``bench/mop.py --design`` five runs each, alternated, the
+group tick's median 0.935 -> 0.877 ms (runs 0.90-0.97 against 0.73-1.06), p99 1.59 -> 1.88 ms.
+Not kept: the grace shortened by the samples since the extrapolation reached the end: the same
+runs, 0.9120; the grace started again while the input still comes a still radius closer to the
+last point: 0.9130, bent 0.8709. Variants where the extrapolation reaches the end at this sample
+(runs over 2 / summed / longest): 6 back, 10 / 34 / 5 and 0.9042, holds valid after 30% 0.958 ->
+0.947; 5 back, 9 / 29 / 4 and 0.9069, holds 0.954 (over 4, 5 or 8 samples the same runs; the end
+point not moved 10 / 32 / 4; without the slowed input 9 / 31 / 6; 4 back 10 / 33; 3 back 13 /
+43); 6 back without the slowed input and the end point not moved, 11 / 41 / 7: a backflip's end
+declared before its fast last sample (7 mm) anchored the roll ankle after it 6 mm off, and the
+walk ankle drove 7 ticks of it.
 """
 
 from __future__ import annotations
@@ -14,6 +55,38 @@ FINISH_BACK = 0.03
 #: ... or that is followed at a crawl there (:func:`~behaviors.mop.validity.slow_take`) while
 #: its performer moves on (:func:`finished`).
 FINISH_CRAWLS = True
+
+
+#: An action past :data:`TEMPO_END_FROM` of its progress has reached its end also where, at the
+#: tempo it was followed at :data:`TEMPO_END_BACK` samples before (its progress's advance per
+#: sample over the :data:`TEMPO_END_OVER` samples before that), it would have reached ``end`` a
+#: sample ago, while the input moved at most :data:`TEMPO_END_STILL` still radii (per column)
+#: since the sample before (:func:`tempo_ended`).
+TEMPO_END_FROM = 0.9
+TEMPO_END_BACK = 6
+TEMPO_END_OVER = 6
+TEMPO_END_STILL = 2.0
+#: Samples of the driving action's progress kept for :func:`tempo_ended`.
+TEMPO_END_KEEP = TEMPO_END_BACK + TEMPO_END_OVER + 1
+
+
+def tempo_ended(history: list[float], end: float) -> bool:
+    """Whether the action whose followed progress over the last samples is ``history`` (oldest
+    first, the same action throughout) would have reached ``end`` a sample ago at the tempo it
+    was followed at :data:`TEMPO_END_BACK` samples before: its advance per sample over the
+    :data:`TEMPO_END_OVER` samples before that, carried on from there."""
+    if len(history) < TEMPO_END_KEEP:
+        return False
+    then = history[-1 - TEMPO_END_BACK]
+    rate = (then - history[-1 - TEMPO_END_BACK - TEMPO_END_OVER]) / TEMPO_END_OVER
+    return rate > 0.0 and then + (TEMPO_END_BACK - 1) * rate >= end
+
+
+def slowed(recent: list[np.ndarray], radius: np.ndarray) -> bool:
+    """Whether the last of ``recent`` (oldest first) moved at most :data:`TEMPO_END_STILL`
+    ``radius`` (still radii, raw units per column) in every column from the one before."""
+    return len(recent) >= 2 and bool(np.all(np.abs(recent[-1] - recent[-2])
+                                            <= TEMPO_END_STILL * radius))
 
 
 def finished(peak: float, progress: float, crawls: bool = False) -> bool:

@@ -17,14 +17,15 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import shape_lead, take_fit, validity
+from behaviors.mop import handover, shape_lead, take_fit, validity
+from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
 from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
 from behaviors.mop.validity import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEMPO_SAMPLES
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in
-_CALLS_INTO = (shape_lead, take_fit, validity)
+_CALLS_INTO = (handover, shape_lead, take_fit, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -219,3 +220,34 @@ def still_unbegun(abandoned: np.ndarray, rested: np.ndarray, rests: np.ndarray,
         still = abandoned[i] and not lifted
         abandoned[i] = still
         rested[i] = still and r
+
+
+@compiled(numba.boolean(_F2, _I1, numba.intp, numba.float64, numba.float64), *_CALLS_INTO)
+def tempo_ended(history: np.ndarray, count: np.ndarray, i: int, progress: float,
+                end: float) -> bool:
+    """Member ``i``'s action's ``progress`` appended to its last ones ``history[i]`` (oldest
+    first, ``count[i]`` valid, the newest last), then :func:`behaviors.mop.handover.tempo_ended`
+    over them."""
+    s = history.shape[1]
+    for r in range(s - 1):
+        history[i, r] = history[i, r + 1]
+    history[i, s - 1] = progress
+    count[i] = min(count[i] + 1, s)
+    if count[i] < s:
+        return False
+    then = history[i, s - 1 - TEMPO_END_BACK]
+    rate = (then - history[i, s - 1 - TEMPO_END_BACK - TEMPO_END_OVER]) / TEMPO_END_OVER
+    return rate > 0.0 and then + (TEMPO_END_BACK - 1) * rate >= end
+
+
+@compiled(numba.boolean(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)
+def slowed(buf: np.ndarray, count: np.ndarray, i: int, radius: np.ndarray) -> bool:
+    """:func:`behaviors.mop.handover.slowed` over member ``i``'s buffered samples: the last moved at
+    most ``TEMPO_END_STILL radius`` (D,) in every column from the one before."""
+    s = buf.shape[1]
+    if count[i] < 2:
+        return False
+    for c in range(buf.shape[2]):
+        if not abs(buf[i, s - 1, c] - buf[i, s - 2, c]) <= TEMPO_END_STILL * radius[c]:
+            return False
+    return True

@@ -23,6 +23,7 @@ import numpy as np
 from behaviors.mop import handover, member_validity, shape_lead, spotting, validity
 from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
+from behaviors.mop.handover import TEMPO_END_FROM
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
                                    RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
@@ -50,12 +51,12 @@ _RAD = len(MEMBER_RULES)
 MEMBER_VECTORS = ("_x", "_anchor", "_thr_x", "_end_x", "_end_last", "_came")
 MEMBER_INTS = ("_bounds", "_counts", "_sh_off", "_best", "_run", "_run_k", "_acquired", "_nbuf",
                "_lost", "_after_end", "_drive_k", "_peak_k", "_m_restart", "_taken_n",
-               "_tempo_at", "_tempo_n")
+               "_tempo_at", "_tempo_n", "_end_history_n")
 MEMBER_FLOATS = ("_m_moving", "_thr_ev", "_m_kept", "_thr_total", "_shape_n", "_drive_from",
                  "_drive_peak", "_peak", "_m_dim")
 MEMBER_BOOLS = ("_m_any_engaged", "_m_all_refused", "_m_leads", "_thr_has_x", "_m_rest",
                 "_m_committed", "_has_end", "_turn_ok", "_drive_moved", "_has_anchor",
-                "_tempo_on", "_abandoned", "_abandon_rested")
+                "_tempo_on", "_abandoned", "_abandon_rested", "_lagged")
 #: What :func:`conclude` answers per member: the rows of its ``out`` (M,) and ``out_flags``.
 MEMBER_OUT = ("variance", "loglik", "distance", "progress")
 MEMBER_FLAGS = ("valid", "show", "holding", "restarted")
@@ -228,12 +229,12 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F2, _BB2, _F2, _F1, _B1, _F2, _F2, _F3, _B1, _F2,
                    numba.boolean[:, ::1], _I2, _F3, _F1, _F2, _BB2, _I1, _I2, _B1, _I2, _I2, _F3,
-                   _I1, _F3, _F2, numba.float64, _F2, _F2, _F3, numba.float64),
+                   _I1, _F3, _F2, numba.float64, _F2, _F2, _F3, numba.float64, _F2),
           *_CALLS_INTO)
 def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale, mk, vectors,
              present, m_floats, m_flags, ints, buf, extent, out, out_flags, shared, crawl, new,
              top3, likely_k, likely_v, lengths, tempo_x, tempo_g, onset, tc, mc, taken,
-             take_limit) -> None:
+             take_limit, end_history) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
     whose outputs ``p``, ``progress``, ``mean_ll``, ``moving``, ``any_engaged``, ``all_refused``,
@@ -293,6 +294,7 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     bounds, sh_off, best, run, run_k = ints[0], ints[2], ints[3], ints[4], ints[5]
     acquired, nbuf, lost, after_end = ints[6], ints[7], ints[8], ints[9]
     drive_k, peak_k, restart = ints[10], ints[11], ints[12]
+    end_history_n, lagged = ints[16], m_flags[13]
     moving, kept, drive_from, drive_peak, peak = (m_floats[0], m_floats[2], m_floats[5],
                                                   m_floats[6], m_floats[7])
     any_engaged, all_refused, leads, rest, committed = (m_flags[0], m_flags[1], m_flags[2],
@@ -387,13 +389,20 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         restart[i] = GOES_ON
         if spots and present[i]:
             peak[i] = max(peak[i], pb) if bi == peak_k[i] else pb
+            if bi != peak_k[i]:
+                end_history_n[i] = 0
             peak_k[i] = bi
+            reached = member_validity.tempo_ended(end_history, end_history_n, i, pb, m[8])
             ended = val and not has_end[i] and pb >= m[8]
             # finished short of its end (handover.finished): ended where the input came nearest
             # its last point
             done = (not has_end[i] and not ended and drive_k[i] == bi
                     and finished_short(drive_peak[i], pb, crawl[i, 0] > 0))
-            ended = ended or done
+            # lagging on an eased end the performer went through (handover.tempo_ended)
+            lag = (not has_end[i] and not ended and not done and val and pb >= TEMPO_END_FROM
+                   and member_validity.slowed(buf, nbuf, i, radius) and reached)
+            was_end = has_end[i]
+            ended = ended or done or lag
             if not has_end[i] and not ended and peak[i] - pb >= RETURN_BACK:
                 # GestureSpotting._returned: back at the last point while followed backwards
                 acc = 0.0
@@ -413,6 +422,14 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 # the performer had already stopped there: the grace counts from where they
                 # stopped (GestureSpotting._arrived)
                 after_end[i] = arrived(buf, nbuf, i, radius)
+                lagged[i] = lag
+            elif was_end and lagged[i]:
+                # ended at its tempo: the end is where the input comes nearest its last point
+                acc = 0.0
+                for c in range(d):
+                    acc += (x[i, c] - end_last[i, c]) ** 2 - (end_x[i, c] - end_last[i, c]) ** 2
+                if acc < 0.0:
+                    end_x[i] = x[i]
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
             lost[i] = lost[i] + 1 if all_refused[i] else 0
             for c in range(d):

@@ -142,7 +142,8 @@ reached ``end`` two to four samples after they came to rest). The runs left lie 
 end is reached: the follower crosses an eased end at the prior's drift (about a state per
 sample), and a kick ankle performed at 1.5 states per sample is followed at 0.92-0.95 at its
 last one. A forward that keeps the performer's tempo through such stretches ended those runs
-but cost other figures (measured, not kept: :class:`behaviors.mop.hmm.Transitions`).
+but cost other figures (measured, not kept: :class:`behaviors.mop.hmm.Transitions`); an end at
+the tempo followed before the eased stretch ends most of them (:mod:`behaviors.mop.handover`).
 
 Shared starts (``ActionFollower(share_radius=...)``, :meth:`_shares`): a new action does not
 drive while its start is still the start of another template the input fits; the rule and its
@@ -250,7 +251,8 @@ from __future__ import annotations
 import numpy as np
 
 from behaviors.mop.forward import WindowedForward
-from behaviors.mop.handover import finished, nearest
+from behaviors.mop.handover import (TEMPO_END_FROM, TEMPO_END_KEEP, finished, nearest, slowed,
+                                    tempo_ended)
 
 
 #: Samples an action still drives after the one at which it reached its end.
@@ -416,16 +418,30 @@ class GestureSpotting:
         # template refused it: start afresh here; a still input waiting for a gesture anchors it
         # the highest progress of the action driving since it began (for _returned)
         self._peak = max(self._peak, progress) if bi == self._peak_k else progress
+        # the action's progress over its last samples (handover.tempo_ended)
+        if bi != self._peak_k:
+            self._end_history.clear()
+        self._end_history.append(progress)
+        del self._end_history[:-TEMPO_END_KEEP]
         self._peak_k = bi
         done = (self._end_x is None and self._drive_k == bi
                 and finished(self._drive_peak, progress, self._crawl > 0))
-        if self._end_x is None and ((valid and progress >= self.end) or done
+        # the follower lags on an eased end the performer went through at their tempo
+        lagged = (self._end_x is None and valid and TEMPO_END_FROM <= progress < self.end
+                  and not done and slowed(self._recent_x, self._still_radius)
+                  and tempo_ended(self._end_history, self.end))
+        if self._end_x is None and ((valid and progress >= self.end) or done or lagged
                                     or self._returned(x, bi, progress)):
             self._end_last = self._last_point(bi)
             # finished short of the end: it ended where the input came nearest its last point
             self._end_x = nearest(self._recent_x, self._end_last) if done else x.copy()
             # the performer had already stopped there: the grace counts from where they stopped
             self._after_end = self._arrived()
+            self._lagged = lagged
+        elif (self._end_x is not None and self._lagged
+              and np.sum((x - self._end_last) ** 2) < np.sum((self._end_x - self._end_last) ** 2)):
+            # ended at its tempo: the end is where the input comes nearest its last point
+            self._end_x = x.copy()
         step_d2 = (self._log_constant - step_ll) * (2.0 / self._zdim)
         self._lost = self._lost + 1 if bool(self._refused.all()) else 0
         if self._end_x is not None and (still or step_d2 > self._null2 or not ok or

@@ -80,11 +80,12 @@ KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="off
 @pytest.mark.parametrize("turn", [math.inf, 1.3])   # with the turning gate too (2-D members)
 def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone(turn):
     # a draw whose run goes through every way an attempt starts afresh, a rest included (seed
-    # 42; seeds 36, 37 and 38 give no rest: 36 none within its shortest stream, as the sizes
+    # 1; seeds 36, 37 and 38 give no rest: 36 none within its shortest stream, as the sizes
     # are judged afresh; 37 none at 90% while valid, as the size is read less along the path
     # and nothing is judged at rest; 38 none, as a new action is taken only while the
-    # gesture's last samples fit its path)
-    rng = np.random.default_rng(42)
+    # gesture's last samples fit its path; 42-49 none, as the actions a performer rests in
+    # past 90% reach their end at their tempo first, spotting.tempo_ended)
+    rng = np.random.default_rng(1)
     sets, streams = [], []
     for c in range(len(KINDS)):
         d = 2 + c % 3

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from behaviors.mop import handover, shape_lead
+from behaviors.mop import handover, shape_lead, spotting
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
 from bench.follow_sequences import wrong_valid
@@ -33,10 +33,14 @@ def _wrong_run(templates, x, truth, prog, order) -> tuple[int, list]:
 def test_an_action_finished_short_of_its_end_hands_over(wave_then_run, monkeypatch):
     # with the rule: the wave stops as its progress slides back from 0.95, the run is followed
     # from where the wave ended; without it the wave drove the run's first 5 samples backwards
-    on, states = _wrong_run(*wave_then_run)
+    # (the end at the wave's tempo, handover.tempo_ended, left out: it ends the wave too)
+    every, states = _wrong_run(*wave_then_run)
+    monkeypatch.setattr(handover, "TEMPO_END_FROM", 9.0)
+    monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
+    on, _ = _wrong_run(*wave_then_run)
     monkeypatch.setattr(handover, "FINISH_FROM", 9.0)
     off, _ = _wrong_run(*wave_then_run)
-    assert on <= 2 < off, (on, off)
+    assert max(every, on) <= 2 < off, (every, on, off)
     truth, prog = wave_then_run[2], wave_then_run[3]
     got = [p for s, t, p in zip(states, truth, prog) if t == "run_left_wrist" and s.valid
            and s.best == t]
@@ -132,3 +136,37 @@ def test_an_action_followed_at_a_crawl_past_its_finish_hands_over(dance_then_pun
 
 def test_a_group_hands_over_a_crawling_finished_action_as_its_followers_alone(dance_then_punch):
     _group_equals_alone(dance_then_punch[0], dance_then_punch[1], (2, 1))
+
+
+@pytest.fixture(scope="module")
+def kick_then_dance():
+    """A kick's ankle, then a dance's wrist at once (bench/follow_widened.py's twenty-template
+    draws, seed 1201, its seventh sequence, the first two gestures and the third's first
+    samples), the six gestures and the sequence's four clips loaded: the kick eases into its end
+    (1-2 mm a sample over its last 20%), the follower crosses it at about a state a sample and is
+    at 0.94 when the performer, at 1.5 states a sample, reaches its last point."""
+    everything = {**gesture_templates(), **mocap_templates(joints=MOCAP)}
+    rng = np.random.default_rng(1201)
+    for _ in range(7):
+        x, truth, prog, order = back_to_back(rng, everything, 4)
+    cut = truth.index(order[2]) + 5
+    names = [*gesture_templates(), *map(str, order)]
+    return {n: everything[n] for n in names}, x[:cut], truth[:cut], prog[:cut], order
+
+
+def test_an_action_lagging_on_its_eased_end_ends_at_its_tempo(kick_then_dance, monkeypatch):
+    # with the rule the kick ends where its tempo before the eased stretch reaches its end: it
+    # drives the dance's first 2 samples (the grace); without it 3, its end reached a sample
+    # into the dance
+    templates, x, truth, prog, order = kick_then_dance
+    on, states = _wrong_run(*kick_then_dance)
+    monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)   # (read there, from handover)
+    off, _ = _wrong_run(*kick_then_dance)
+    assert on <= 2 < off, (on, off)
+    kicked = [s.valid and s.best == t for s, t in zip(states, truth) if t == order[0]]
+    assert np.mean(kicked[len(kicked) // 3:]) > 0.9   # the kick drives to its last sample
+    assert kicked[-1]
+
+
+def test_a_group_ends_a_lagging_action_at_its_tempo_as_its_followers_alone(kick_then_dance):
+    _group_equals_alone(kick_then_dance[0], kick_then_dance[1], (2, 1))
