@@ -222,7 +222,8 @@ def test_ctrl_c_mid_file_exits_130_with_one_line_and_leaves_no_output(scene, tmp
     master, slave = os.openpty()
     proc = subprocess.Popen([sys.executable, "-m", "tabletop", "track", str(frames), "--out",
                              str(out)], stdout=subprocess.DEVNULL, stderr=slave)
-    os.close(slave)
+    # the slave stays open here until the end: once every slave is closed a read of the master
+    # may fail (EIO) before the kernel has passed on the process's last writes
     seen = b""
     try:
         while b"frames" not in seen:           # the bar: "track [###   ] k/2000 frames"
@@ -242,6 +243,7 @@ def test_ctrl_c_mid_file_exits_130_with_one_line_and_leaves_no_output(scene, tmp
     finally:
         if proc.poll() is None:
             proc.kill()
+        os.close(slave)
         os.close(master)
     lines = [ln for ln in seen.decode().replace("\r", "\n").splitlines() if ln.strip()]
     assert lines[-1] == "tabletop track: interrupted" and b"Traceback" not in seen, seen
