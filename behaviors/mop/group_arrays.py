@@ -101,8 +101,8 @@ class GroupArrays:
         self._has_end = np.zeros(m, dtype=bool)
         self._after_end = np.zeros(m, dtype=np.intp)
         self._peak, self._peak_k = np.zeros(m), np.full(m, -1, dtype=np.intp)
-        # the action's last progress, and whether the end was reached at its tempo
-        # (handover.tempo_ended)
+        # the action's last TEMPO_END_KEEP (13) progress values, _end_history_n of them valid,
+        # and whether the end was reached at its tempo (handover.tempo_ended)
         self._end_history = np.zeros((m, TEMPO_END_KEEP))
         self._end_history_n = np.zeros(m, dtype=np.intp)
         self._lagged = np.zeros(m, dtype=bool)

@@ -61,28 +61,28 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
 
     ``states``: see :data:`~behaviors.mop.group_layout.STATE_COLUMNS`; ``ti`` (K, 3): each
     template's first state and length in its member's bank and where that bank begins in
-    ``states``; ``tc``, ``mc``: see group_layout's ``TEMPLATE_SCALARS``, ``MEMBER_SCALARS``;
-    the members' arrays are rows of
-    ``vectors``, ``ints``, ``m_floats``, ``m_flags`` (:data:`~behaviors.mop.members.MEMBER_INTS`
-    and the rest): ``x``, ``anchor`` (M, D): each member's sample and anchor; ``buf``/``nbuf``:
-    its recent samples; ``bounds``/``counts``: its first template and template count;
-    ``k_out``: the rows progress, mean_ll, p below (fresh each tick). In place: ``floats``
-    (group_layout.FLOATS), ``flags`` (group_layout.FLAGS), ``misfit`` (K, 3) sums, ``entries`` and
-    ``best`` (M,: each member's own template index, switched when another leads by the
-    member's margin in nats or it is refused); ``floats`` (len(FLOATS), K), ``flags`` and the
-    members' arrays: one row each (not tuples of arrays: numba types a tuple's arrays one by
-    one at every call, 6.5 -> 4.7 us; nor an argument each: see :func:`members.conclude`). Out per
-    template: progress, recent mean log-likelihood, probability, whether its performance began anew;
-    per member: top three by probability (-1 where fewer), the largest RMS displacement from the
-    anchor (template units and size), any engaged, all refused, whether ``best`` leads every rival
-    (not refused, probability at least ``rival_p``) in shape by ``min_lead``, whether the performer
-    rests (``rest_out``: the holds' rule here, the stall rule in
-    :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
+    ``states``; ``tc``, ``mc``: see group_layout's ``TEMPLATE_SCALARS``, ``MEMBER_SCALARS``; the
+    members' arrays are rows of ``vectors``, ``ints``, ``m_floats``, ``m_flags``
+    (:data:`~behaviors.mop.members.MEMBER_INTS` and the rest): ``x``, ``anchor`` (M, D): each
+    member's sample and anchor; ``buf``/``nbuf``: its recent samples; ``bounds``/``counts``: its
+    first template and template count; ``k_out``: the rows progress, mean_ll, p below (fresh each
+    tick). In place: ``floats`` (group_layout.FLOATS), ``flags`` (group_layout.FLAGS), ``misfit``
+    (K, 3) sums, ``entries`` and ``best`` (M,: each member's own template index, switched when
+    another leads by the member's margin in nats or it is refused); ``floats`` (len(FLOATS), K),
+    ``flags`` and the members' arrays: one row each (not tuples of arrays: numba types a tuple's
+    arrays one by one at every call, 6.5 -> 4.7 us; nor an argument each: see
+    :func:`members.conclude`). Out per template: progress, recent mean log-likelihood, probability,
+    whether its performance began anew; per member: top three by probability (-1 where fewer), the
+    largest RMS displacement from the anchor (template units and size), any engaged, all refused,
+    whether ``best`` leads every rival (not refused, probability at least ``rival_p``) in shape by
+    ``min_lead``, whether the performer rests (``rest_out``: the holds' rule here, the stall rule
+    in :func:`behaviors.mop.members.conclude`), whether ``best`` was committed to by shape
     (``committed_out``: :meth:`ShapeLead._committed`; ``shape_n``: each member's samples in its
     shape sums). ``before``/``after``: the path's reach in states. ``reversal_at`` (S,),
-    ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and each
-    template's tolerance there (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`).
-    ``means``, ``thr_means``: the states' means (D, S), the threshold model's in float32."""
+    ``reversal_tol`` (K,): each state's reversal landmark (its bank's state, -1 where none) and
+    each template's tolerance there
+    (:meth:`~behaviors.mop.invariance.PerformanceFrame._reversal_sizes`). ``means``, ``thr_means``:
+    the states' means (D, S), the threshold model's in float32."""
     ev, rec, rw, num, den, size = floats[0], floats[1], floats[2], floats[3], floats[4], floats[5]
     misfit_w, shape, gone, least, judged = floats[6], floats[7], floats[8], floats[9], floats[10]
     drift, drift_run, reached = floats[11], floats[12], floats[13]
@@ -134,9 +134,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             dx[c] = x[i, c] - anchor[i, c]
             # the same quotient as each template took, once per member; with the rejudging's
             # logarithm taken only near its limit and the displacement's root of the largest
-            # (the same numbers to the bit): update_templates without the threshold model on
-            # real arguments of DESIGN's tick, interleaved, load 5: hot 150 -> 136 us p10, 171
-            # -> 157 median; caches cold 171 -> 158 p10, 201 -> 193 median
+            # (the same numbers to the bit): update_templates, no threshold model, DESIGN's tick,
+            # load 5: hot 150 -> 136 us p10, 171 -> 157 median; caches cold 171 -> 158, 201 -> 193
             dxu[c] = dx[c] / m[un0 + c]
         moving = 0.0
         far = 0.0   # the sample's distance from the anchor in units (the reach's least size)
@@ -145,7 +144,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
         far = math.sqrt(far)
         rejudge_at = m[21]
         # sizes whose ratio to the judged one lies within these are surely within rejudge_at
-        # (no logarithm needed: 1e-9 is far above its rounding; beyond them, as before)
+        # (no logarithm needed: 1e-9 is far above its rounding; beyond them, the logarithm)
         inside_lo = math.exp(-rejudge_at) * (1.0 + 1e-9)
         inside_hi = math.exp(rejudge_at) * (1.0 - 1e-9)
         for c in range(d):
@@ -168,11 +167,9 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
                 prefetch(states, row0)
                 if row0 + 1 < end_h:
                     prefetch(states, row0 + 1)
-                # ... and the means of the path's segments from ``means`` (D, S), which the
-                # threshold model streamed too before its own float32 copy: read from ``states``
-                # (64-byte rows) the path's eight states cost eight lines a template, now two
-                # there (DESIGN's tick, interleaved in one process at load 18: update_templates
-                # 0.677 -> 0.629 ms, the tick 1.476 -> 1.396 ms median thread time)
+                # ... and the path's segment means from ``means`` (D, S): eight cache lines a
+                # template read from ``states``' 64-byte rows, two from here (DESIGN's tick, load
+                # 18: update_templates 0.677 -> 0.629 ms, the tick 1.476 -> 1.396 ms median)
                 r0, r1 = max(row0 - before, first_h), min(row0 + after + 1, end_h - 1)
                 for c in range(d):
                     prefetch(flat, c * n_states + r0)
@@ -374,8 +371,7 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             reached[k] = max(reached[k], math.sqrt(acc / dims))
             if at > RUN_AHEAD * reached[k]:
                 covered[k] = False
-            # ... and, covered sooner and short of ``coverage`` of its path, not while off it by
-            # more than EARLY_FIT
+            # ... and, covered short of ``coverage`` of its path, not while off it by > EARLY_FIT
             full = m[24] * states[last + off, arc]
             if t[3] < full and at < full and m2 > EARLY_FIT * EARLY_FIT:
                 covered[k] = False

@@ -31,8 +31,8 @@ Held out (the final check, other joints and seed): six gestures back to back lon
 2 -> 1, twenty templates' longest 11 (unchanged), unrelated motions and after a gesture
 unchanged; valid after 30% at 0.7-1.4x 0.9049 -> 0.9030, at 0.6 / 1.5x 0.6795 -> 0.6781, bent 5%
 0.7481 -> 0.7465, aspect 1.2 0.4353 -> 0.4342.
-Its cost in time is within the noise: ``bench/mop.py --design`` five runs each, alternated, the
-group tick's median 0.935 -> 0.877 ms (runs 0.90-0.97 against 0.73-1.06), p99 1.59 -> 1.88 ms.
+Its cost in time (``bench/mop.py --design``, five runs each, alternated): the group tick's median
+within the noise, 0.935 -> 0.877 ms (runs 0.90-0.97 against 0.73-1.06); p99 1.59 -> 1.88 ms.
 Not kept: the grace shortened by the samples since the extrapolation reached the end: the same
 runs, 0.9120; the grace started again while the input still comes a still radius closer to the
 last point: 0.9130, bent 0.8709. Variants where the extrapolation reaches the end at this sample

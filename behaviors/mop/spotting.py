@@ -175,32 +175,16 @@ recognised as late as those begun from rest (medians; 16 sequences of four drawn
 the bench's draws for options, against 48 single gestures drawn with it: circle 0.279 / 0.275,
 zigzag 0.251 / 0.247, figure eight 0.234 / 0.243, line 0.475 / 0.433, square 0.410 / 0.421,
 wave 0.247 / 0.242; the bench's ``..._from_rest_median`` and ``..._after_a_gesture_median``
-mix which gestures come first). With every template asked 8% of its path, what held the open three
-was coverage (at 0.22-0.25 of their progress): less coverage measured against 8% (at 8%: open share
-0, the zigzag 0.257, the wave 0.225, unrelated worst 0.068, an unrelated stroke after a gesture
-without the eight's ticks on the diagonal, ``after_valid_share_max_unambiguous``, 0.077): 6%: open
-share 0.059 (the zigzag 0.232, the wave 0.210, the figure eight 0.214), unrelated worst 0.142 (the
-diagonal, the figure eight; told 0.068), after 0.102; 5%: 0.059, 0.160 (told 0.083), 0.110; no
-coverage and ``confirm`` 1, the ceiling: 0.647 (the zigzag 0.168, the wave 0.195; the circle 0.248,
-held by the other gates), 0.201 (told 0.201), 0.133; valid after 30% of gestures at 0.7-1.4x
-unchanged (0.915) at 6% and 5%. None is kept: at each the unrelated worst passes 0.10 (the figure
-eight taken sooner on the diagonal) and so does the after-a-gesture figure without the diagonal's
-eight. Coverage at 4% of the path instead of 8% (with the tempo rule,
-:func:`behaviors.mop.validity.slow_take`): the zigzag and the figure eight at 0.21 / 0.19 (tuned /
-held-out), within 20% 0 -> 0.03 / 0.22 of the six gestures back to back, but unrelated motions mean
-0.085 -> 0.110 / 0.098 -> 0.122 (worst 0.305 -> 0.375); 5%: 0.106 / 0.118; 4% with the turning rule
-(``turn_limit`` 1.3): 0.103 / 0.108, valid after 30% of gestures at 0.7-1.4x 0.8959 / 0.9115: no
-rule tried refuses what coverage refuses without holding the zigzag back.
+mix which gestures come first). Less coverage than 8%, measured: :mod:`~behaviors.mop.coverage`.
 Measured with every template asked 8% of its path (``bench/spotting_reach.py``, tuned): the last
 rule to clear (``bench.spotting_reach.GATES``) is coverage for the zigzag (0.23 of it) and the
 figure eight (0.22), coverage, probability and best within a sample of each other for the circle
 (0.25) and the wave (0.22-0.23), the shared start for the line (0.45), the lead for the square
 (0.39); recognised (medians, ``bench/follow_quality.py --sections=sequences``) at 0.26, 0.26, 0.24,
 0.45, 0.41, 0.23: none within 20% or by its reach. The gestures ease in (their first 2% of path
-takes 11-15% of
-their progress), so 8% of the path lies at 0.22-0.24 of it (6%: 0.19-0.22; 4%: 0.16-0.19), and
-with ``confirm`` nothing drives before about 0.24. Their starts are also starts of unrelated
-motions (``bench/motions.unrelated_motions``, within 2 mm at any size and tempo,
+takes 11-15% of their progress), so 8% of the path lies at 0.22-0.24 of it (6%: 0.19-0.22; 4%:
+0.16-0.19), and with ``confirm`` nothing drives before about 0.24. Their starts are also starts of
+unrelated motions (``bench/motions.unrelated_motions``, within 2 mm at any size and tempo,
 ``bench/spotting_reach.told_from_unrelated``): the figure eight's of the diagonal until 0.21 of
 it, the circle's of the triangle's first stroke until 0.18 (the zigzag's 0.08, the wave's 0.12):
 recognised by 20%, the eight drives a diagonal and the circle a triangle. So within 20% is out of

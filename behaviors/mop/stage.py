@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import logging
 import math
-from typing import Any, Callable, Iterable, Mapping, Sequence
+from typing import Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -58,6 +58,7 @@ from behaviors.mop.hints import HintGates, gate_onsets
 from behaviors.mop.inputs import Performer
 from behaviors.mop.puppetry import Action, Puppet, Vote
 from behaviors.mop.resume import Resume, share_replay
+from behaviors.mop.stage_parts import PartStates
 from behaviors.mop.take import Take
 from behaviors.mop.takes import DesignerTakes, SaveFn
 from tabletop.frames import CharacterState, Frame
@@ -70,7 +71,7 @@ FollowerFactory = Callable[[Mapping[str, np.ndarray], "np.ndarray | None", "np.n
 log = logging.getLogger("tabletop")
 
 
-class MopStage(DesignerTakes):
+class MopStage(DesignerTakes, PartStates):
     """Engine ``step(frame) -> characters``; see the module docstring.
 
     ``templates``: character -> action -> (performer name, samples (n x d) at ``rate_hz``);
@@ -315,19 +316,6 @@ class MopStage(DesignerTakes):
         if self.templates[character].pop(name, None) is not None:
             self.puppets[character].remove_action(name)
             self._retrain()
-
-    def part_state(self) -> dict[str, list]:
-        """Each performer's inputs' state (:meth:`Performer.state`), which a later recording
-        part carries: replayed alone from afresh, a puck that rested before the part began
-        is not resting yet, and its next gesture starts as many samples early as it stood
-        within the rest radius before leaving it (1 of 42 frames differed)."""
-        return {n: p.state() for n, p in self.performers.items()}
-
-    def resume_part(self, state: Any) -> None:
-        """The performers go on from :meth:`part_state`'s ``state`` (a part replayed alone)."""
-        for n, s in dict(state).items():
-            if n in self.performers:
-                self.performers[n].set_state(s)
 
     # --- running --------------------------------------------------------------------------------
 

@@ -87,7 +87,7 @@ itself too, valid or not) or every template is refused, and the templates' evide
 afresh there. The threshold model starts afresh with it but for its lead over the best template
 (:meth:`~behaviors.mop.refusal.Refusal._threshold_lead`), while its mirror chains hold
 :data:`CARRY_CHAINED` of its weight; none when it is behind, so a gesture after a gesture starts
-as before. Afresh, a mirrored path lost what its chain had explained:
+afresh. Afresh, a mirrored path loses what its chain had explained:
 the spin ankle mirrored at 1.4x (seed 203), the chain 73 nats ahead, the backflip wrist followed
 back over itself ends about 60% along, and the walk ankle drove 0.228 of the rest. Measured
 (``bench/follow_widened.py``, mirrored among twenty, worst / mean / over 0.1 of 540; sequences
@@ -106,21 +106,21 @@ chains going on in their own frame (anchor and   0.228 at seed 203 (26 of
 both                                             0.162 / 0.00688 / 2          46
 ===============================================  ===========================  =========
 
-With the lead carried, 137 of ``bench/follow_quality.py``'s 144 tuned keys stayed the same
-(sized valid after 30% 0.9150, holds, after, pauses, shapes, sequences); the rest are unrelated
-motions refused more: worst 0.0681 -> 0.0649, mean 0.0143 -> 0.0131; among twenty templates the
-mirrored worst 0.0681 -> 0.0406, the mean over every motion 0.0128 -> 0.0107 (held out, checked
-once: worst 0.247 unchanged, mean 0.0265 -> 0.0258). It costs the tick nothing but a maximum
-over a member's evidence when its new attempt starts. Chains in their own frame follow the spin
-ankle's rest (holding 0.3-0.94 of the weight) but the walk ankle explains that stretch better by
-10-13 nats (a chain keeps :data:`MIRROR_KEEP` per sample, 0.69 nats); with the lead carried too
-they gained only a mean of 0.0005, for a frame per member and a second distance per chain state
-in the group kernel: not kept. Any lead carried, one held by the ergodic states too, took
-gestures performed back to back without a pause (``tests/mop/test_follower.py``'s four random
-templates per member at 1.3x, twice over): valid ticks 114 -> 68, the lead won while the input
-jumped to the next gesture carried into it; carried only while the chains hold half the weight,
-114 as afresh. Left: the mirrored figure eight at 0.7x driven by the dance wrist
-0.16 of the time (the chain's keep), the mirrored crawl wrist at 1x by the circle 0.114.
+With the lead carried, 137 of ``bench/follow_quality.py``'s 144 tuned keys stayed the same (sized
+valid after 30% 0.9150, holds, after, pauses, shapes, sequences); the rest are unrelated motions
+refused more: worst 0.0681 -> 0.0649, mean 0.0143 -> 0.0131; among twenty templates the mirrored
+worst 0.0681 -> 0.0406, the mean over every motion 0.0128 -> 0.0107 (held out, checked once: worst
+0.247 unchanged, mean 0.0265 -> 0.0258). It costs the tick nothing but a maximum over a member's
+evidence and a sum of its chains' weights when its new attempt starts. Chains in their own frame
+follow the spin ankle's rest (holding 0.3-0.94 of the weight) but the walk ankle explains that
+stretch better by 10-13 nats (a chain keeps :data:`MIRROR_KEEP` per sample, 0.69 nats); with the
+lead carried too they gained only a mean of 0.0005, for a frame per member and a second distance
+per chain state in the group kernel: not kept. Any lead carried, one held by the ergodic states
+too, took gestures performed back to back without a pause (``tests/mop/test_follower.py``'s four
+random templates per member at 1.3x, twice over): valid ticks 114 -> 68, the lead won while the
+input jumped to the next gesture carried into it; carried only while the chains hold half the
+weight, 114 as afresh. Left: the mirrored figure eight at 0.7x driven by the dance wrist 0.16 of
+the time (the chain's keep), the mirrored crawl wrist at 1x by the circle 0.114.
 
 Only the mirror in x is held. Chains for the mirror in y, in both axes and the drawing backwards
 (``bench/follow_widened.py --forms=y,xy,r``; each form's distances read once, chain states under

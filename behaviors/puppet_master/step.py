@@ -223,11 +223,8 @@ class GenerationStep(StepDetail):
                     # falls short (seeds 9, 12, 26, 27, 30, 31, main walking; generated / designer
                     # by the main's heading rate 0-1, 1-2, 2-4 rad/s: 0.64 / 0.64, 0.73 / 0.90, 0.54
                     # / 0.91 rad/s) it is 0.19-0.23 m from its target and this cap holds on 76-84%
-                    # of the steps. The demonstrated walk's speed at the live turn rate (the
-                    # main's walking direction over 0.5 s; bins from 0, 0.5, 1, 2, 4 rad/s;
-                    # medians 0.24-0.28 m/s, 0.14 from 4) as this cap's least: 39 (28), its
-                    # 75th percentile 39 (25); only in the 1-4 rad/s bins 32 (22) / 42 (26).
-                    # None kept
+                    # of the steps; the demonstrated walk's speed per turn rate as this cap's
+                    # least: demonstrated.own_steps. None kept
                     most = speed * self.dt
                 corr = math.hypot(cx, cy)
                 if corr > most:
