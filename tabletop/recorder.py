@@ -453,16 +453,19 @@ def header_line(header: dict[str, Any], order: int, part: int, session: str,
     on the recording's own) and the time it is created; ``reloaded``: what the session reloaded
     before the part began (:func:`tabletop.session.carried`), and ``performers``, its engines'
     states before its first frame (:func:`tabletop.session.part_states`), so that it replays
-    on its own."""
+    on its own; a first part keeps a copied header's ``performers``."""
     line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}
     line.update(header, order=order, session=session, part=part,
                 created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
     line.pop("reloaded", None)           # (a copied header's: replay --out)
+    # a later part's engines start from its own states; a first part from a copied header's
+    # (replay PART --out X: X is part 1 of its own session and starts where PART did)
+    states = performers if part > 1 else line.pop("performers", None)
     line.pop("performers", None)
     if reloaded:
         line["reloaded"] = reloaded
-    if performers and part > 1:
-        line["performers"] = performers
+    if states:
+        line["performers"] = states
     return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
 
 

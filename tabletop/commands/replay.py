@@ -147,7 +147,7 @@ def main(args: argparse.Namespace) -> int:
             inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
                                 record_path=args.out, view=not args.no_view,
                                 header={k: v for k, v in header.items()
-                                        if k not in ("reloaded", "performers")})
+                                        if k != "reloaded"})
             try:     # a later part replayed first: its engines as they were when it began
                 resume_parts(inst.engines, header.get("performers") or {})
             except (KeyError, TypeError, ValueError) as exc:
