@@ -24,8 +24,8 @@ def _stop_while_importing(command: list[str], sig: int, after_s: float) -> tuple
     seen = []
     for line in proc.stderr:
         seen.append(line)
-        if line.rstrip().endswith("| tabletop"):
-            break
+        if line.rsplit("|", 1)[-1].strip() == "tabletop":   # (indented under tabletop.cli
+            break                                            # when the script imports it)
     time.sleep(after_s)
     proc.send_signal(sig)
     rest = proc.communicate(timeout=60)[1]
