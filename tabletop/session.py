@@ -309,13 +309,19 @@ def _character_from_dict(c: dict[str, Any]) -> CharacterState:
         if any(len(xy) != 2 for xy in _numbers(points, "character points", _finite, 2)):
             raise ValueError("character points: expected a list of [x, y]")
         points = np.asarray(points, float).reshape(-1, 2)
+    color = _numbers(c.get("color", [240, 170, 60]), "character color", _finite)
+    if len(color) != 3:
+        raise ValueError("character color: expected [r, g, b]")
+    bones = _numbers(c.get("bones", []), "character bones", _whole, 2)
+    if any(len(b) != 2 for b in bones):
+        raise ValueError("character bones: expected a list of [i, j]")
     return CharacterState(
         str(c["name"]), _finite(c["x"], "x"), _finite(c["y"], "y"),
         _finite(c["heading"], "heading"), kind=str(c.get("kind", "reactor")),
         size=_finite(c.get("size", 0.08), "size"),
-        color=tuple(_numbers(c.get("color", [240, 170, 60]), "character color", _finite)),
+        color=tuple(color),
         points=points,
-        bones=tuple(map(tuple, _numbers(c.get("bones", []), "character bones", _whole, 2))),
+        bones=tuple(map(tuple, bones)),
         progress=None if "progress" not in c else _unnum(c["progress"], "progress"),
         action=c.get("action"), valid=bool(c.get("valid", True)), label=str(c.get("label", "")))
 
