@@ -68,8 +68,8 @@ def disposition_before_early_stop(s: int, handler: Any) -> Any:
 
 # The program takes Ctrl-C, SIGTERM and SIGHUP as a clean stop from its first line of its own
 # (README: "from its first moment"): this package's first lines, before the command line and
-# its modules load (50-150 ms; a signal there printed a KeyboardInterrupt traceback, status 1,
-# or ended the process by the signal, -15). A signal the process was started ignoring
+# its modules load (50-150 ms): one line and status 130, not a KeyboardInterrupt traceback
+# (status 1) or an end by the signal (-15). A signal the process was started ignoring
 # (``nohup``'s SIGHUP, a background job's SIGINT) stays ignored.
 if _started_as_program():
     for _name in ("SIGINT", "SIGTERM", "SIGHUP"):

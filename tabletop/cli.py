@@ -126,8 +126,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line (``argv``: the arguments, default ``sys.argv[1:]``); returns the
     exit status. A Ctrl-C at any point is one line and status 130, also while the commands'
     modules are still being imported (numpy, OpenCV: the first fraction of a second of every
-    command, which printed a KeyboardInterrupt traceback), which is why this module imports
-    nothing of the project's but the package itself at its top. Until the commands' modules
+    command), which is why this module imports nothing of the project's but the package
+    itself at its top. Until the commands' modules
     are imported, from the package's first line, a stop signal ends the program at once with
     the same line and status (:func:`tabletop.stop_early`): a KeyboardInterrupt raised in
     an extension module's import (numpy's) can surface as an ImportError with a traceback."""

@@ -108,6 +108,7 @@ class Recorder(Syncer):
         self.max_mb = max_mb   # as given, for the log (max_bytes / MB reads 0.299999 for 0.3)
         self.keep, self.max_queue = keep, max(1, int(max_queue))
         self.paths: list[Path] = []      # every file of this session, in order
+        self._removed: Path | None = None   # its header-only part, removed at close
         self.frames = 0                  # frames written
         self._orders: Orders = {}        # recordings' header orders and sessions, read once
         self._session = new_session()    # this session's id, in every part's header
@@ -150,8 +151,9 @@ class Recorder(Syncer):
 
     @property
     def path(self) -> Path:
-        """The file being written (the last one when finished)."""
-        return self.paths[-1]
+        """The file being written (the last one when finished; the removed one when the
+        session recorded no frame)."""
+        return self.paths[-1] if self.paths else self._removed
 
     @property
     def incomplete(self) -> str | None:
@@ -425,22 +427,27 @@ class Recorder(Syncer):
             log.info("recording %s: %d frames%s", self.paths[0] if parts else self.path,
                      self.frames, parts)
 
-
     def _drop_empty_part(self) -> bool:
         """Remove the closed last part when it holds no frame (a run stopped while it was
         built, before its first frame: a header alone, which replay refuses, as the failure
         path removes such a part too). True when nothing of the session is left."""
-        empty = self.paths[-1]
+        empty = self._removed = self.paths.pop()
         try:
             empty.unlink()
-            fsync_folder(self.folder)
-        except OSError:
-            pass
+        except OSError as exc:
+            removed = f"; the file could not be removed: {exc.strerror or exc}"
+        else:
+            removed = ", the file removed"
+            try:
+                fsync_folder(self.folder)
+            except OSError:
+                pass
         if self.frames == 0:
-            log.warning("recording %s: stopped before its first frame: nothing recorded, the "
-                        "file removed", empty)
+            log.warning("recording %s: stopped before its first frame: nothing recorded%s",
+                        empty, removed)
             return True
-        self.paths.pop()
+        if removed.startswith(";"):
+            log.warning("recording %s: its last part holds no frame%s", empty, removed)
         return False
 
 
@@ -453,16 +460,19 @@ def header_line(header: dict[str, Any], order: int, part: int, session: str,
     on the recording's own) and the time it is created; ``reloaded``: what the session reloaded
     before the part began (:func:`tabletop.session.carried`), and ``performers``, its engines'
     states before its first frame (:func:`tabletop.session.part_states`), so that it replays
-    on its own."""
+    on its own; a first part keeps a copied header's ``performers``."""
     line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}
     line.update(header, order=order, session=session, part=part,
                 created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
     line.pop("reloaded", None)           # (a copied header's: replay --out)
+    # a later part's engines start from its own states; a first part from a copied header's
+    # (replay PART --out X: X is part 1 of its own session and starts where PART did)
+    states = performers if part > 1 else line.pop("performers", None)
     line.pop("performers", None)
     if reloaded:
         line["reloaded"] = reloaded
-    if performers and part > 1:
-        line["performers"] = performers
+    if states:
+        line["performers"] = states
     return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
 
 

@@ -78,9 +78,8 @@ def parse_view(text: str) -> tuple[float, float]:
     return az, el
 
 
-#: The largest finger id: every whole number up to it is read from the CSV exactly (its
-#: numbers are read as floats); 99999999999999999999 was read as 1e20, named so in
-#: ``touches``, and a second finger beside it was the same finger "given twice".
+#: The largest finger id: the CSV's numbers are read as floats, which hold every whole number
+#: up to 2**53-1 exactly; a larger id is refused, as two such fingers could read as one.
 MAX_ID = 2**53 - 1
 
 

@@ -99,8 +99,8 @@ def main(args: argparse.Namespace) -> int:
     header = read_header(first)
     part = header.get("part", 1)
     for later in args.session[1:]:  # every part is a recording of the session, in order,
-        # before anything starts (a part of another session of the same config, a kiosk's
-        # next session, was played on as if the session went on, its --out written with both)
+        # checked before anything starts: a part of another session of the same config (a
+        # kiosk's next session) is refused, not played on as if the session went on
         later_header = read_header(later)
         n = later_header.get("part", 0)
         if not isinstance(n, int) or not isinstance(part, int) or n <= part:
@@ -147,7 +147,7 @@ def main(args: argparse.Namespace) -> int:
             inst = build_replay(cfg, frames, fast=args.fast, headless=args.headless,
                                 record_path=args.out, view=not args.no_view,
                                 header={k: v for k, v in header.items()
-                                        if k not in ("reloaded", "performers")})
+                                        if k != "reloaded"})
             try:     # a later part replayed first: its engines as they were when it began
                 resume_parts(inst.engines, header.get("performers") or {})
             except (KeyError, TypeError, ValueError) as exc:

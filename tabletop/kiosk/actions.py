@@ -16,7 +16,8 @@ unreadable, deleted, cut short) is said once per new reason and listed in ``beha
 (the stage's ``start_problems``) while the character plays the action as read before; a file
 fixed or replaced after that is followed the same way. (A change is read only once the files
 stayed as they were for a whole look: a template copied in two writes is not followed with its
-first half, a valid CSV.)
+first half, a valid CSV.) Files read to the bytes the action plays from (a ``touch``, an rsync
+of the same bytes) are neither retrained nor recorded.
 
 The frame whose engines first follow an action as read holds the bytes it was read from
 (``consumed["reload"]["actions"]``), and a replay builds the action from them within that
@@ -102,10 +103,15 @@ def _take(stage: Any, taken: list[tuple[dict[str, Any], tuple]]) -> None:
     errors."""
     stage.put_actions([(m["character"]["name"], *t) for m, t in taken])
     for m, _ in taken:
-        stage.missing[:] = [e for e in stage.missing if e is not m]
-        if m["why"] in stage.start_problems:
-            stage.start_problems.remove(m["why"])
-        m["why"] = None
+        _cleared(stage, m)
+
+
+def _cleared(stage: Any, m: dict[str, Any]) -> None:
+    """The watched entry ``m`` out of ``stage``'s missing ones and of its errors."""
+    stage.missing[:] = [e for e in stage.missing if e is not m]
+    if m["why"] in stage.start_problems:
+        stage.start_problems.remove(m["why"])
+    m["why"] = None
 
 
 def _watched(stage: Any) -> list[dict[str, Any]]:
@@ -130,6 +136,14 @@ class ActionReloader:
         self.pollers = {id(m): Poller(m["files"][0], 0.0, clock, read=m["read"] or None,
                                       signature=_signature(m["files"]), settle=True)
                         for m in self.watched}
+        for m in self.watched:      # the bytes each playing action was built from
+            if m["why"] is None and m["read"]:
+                try:
+                    data = _read(m["files"])
+                except InputError:
+                    continue
+                if _signature(m["files"])(m["files"][0]) == m["read"]:   # (as the start read)
+                    m["data"] = data
 
     def __call__(self, frame: Frame | None = None) -> Frame | None:
         if not self.watched:
@@ -144,7 +158,7 @@ class ActionReloader:
             if not poller.changed():
                 continue
             got = self._try(m, poller.signature)
-            if got is None:
+            if got is None or got is True:
                 continue
             if got is False:        # written while it was read: the next look reads it again
                 poller.signature = None
@@ -154,6 +168,8 @@ class ActionReloader:
         if taken:
             try:
                 _take(self.stage, taken)
+                for m, _ in taken:
+                    m["data"] = m.pop("built")
             except Exception:       # (looked at again next time, not only once they change)
                 for m, _ in taken:
                     self.pollers[id(m)].signature = None
@@ -169,12 +185,21 @@ class ActionReloader:
              ) -> tuple[tuple, dict[str, Any]] | None | bool:
         """Read the action ``m`` again (its files as they were at the look, signature
         ``looked``): its action and the frame's record of it, None (bad: said once per
-        reason, listed while it stays so) or False (its files changed while read)."""
+        reason, listed while it stays so), False (its files changed while read) or True (the
+        bytes it plays from: a ``touch``, an rsync or a deploy copying the same bytes is
+        neither retrained, 15-70 ms on the frame loop, nor recorded)."""
         c, a = m["character"], m["action"]
         try:
             data = _read(m["files"])
             if _signature(m["files"])(m["files"][0]) != looked:
                 return False
+            if data == m.get("data"):
+                if m["why"] is not None:
+                    log.info("MOP character %r plays its action %r as read before: %s "
+                             "readable again, unchanged", c["name"], a["name"],
+                             ", ".join(map(str, m["files"])))
+                    _cleared(self.stage, m)
+                return True
             taken = _action_from(self.stage, m, data)
         except (InputError, OSError) as exc:     # (OSError: the folder the bytes go into)
             why = f"character {c['name']!r}, action {a['name']!r}: {exc}"
@@ -193,6 +218,7 @@ class ActionReloader:
             return None
         log.info("MOP character %r follows its action %r from now on: %s read", c["name"],
                  a["name"], ", ".join(map(str, m["files"])))
+        m["built"] = data           # (its ``data`` once the stage takes it)
         return taken, {"character": c["name"], "action": a["name"],
                        "files": [base64.b64encode(b or b"").decode("ascii") for b in data]}
 

@@ -2,17 +2,17 @@
 
 The status (DESIGN.md, "Network and serial contracts") is one JSON object::
 
-    {"name", "host", "pid" (the installation's; null while "restarting"), "supervisor_pid"
-     (the kiosk supervisor's, null when unsupervised), "version", "time" (UTC ISO 8601),
-     "uptime_s", "fps", "ticks",
-     "mode" ("live" | "attract" | "one_moment"; "stopped" in the file a kiosk that ended on
-     purpose leaves; "restarting", with "crash", written by the supervisor after a crash:
-     :func:`tabletop.kiosk.crash_log.restarting_status`), "unhealthy_sources",
-     "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink failures so far),
-     "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad and of actions' files
-     a character started without), "restarts" (by the supervisor), "idle_s" (seconds since a visitor
-     was last seen), "config" (file), "config_error" (the last refused edit, or null), "studio" (or
-     null), "recording" and "snapshots" (what they write, why they stopped; or null)}
+    {"name", "host", "pid" (the installation's; null in the supervisor's "restarting" and
+     "stopped"), "supervisor_pid" (the kiosk supervisor's, null when unsupervised), "version",
+     "time" (UTC ISO 8601), "uptime_s", "fps", "ticks", "mode" ("live" | "attract" | "one_moment";
+     "stopped" in the file a kiosk that ended on purpose leaves; "restarting", with "crash",
+     written by the supervisor after a crash: :func:`tabletop.kiosk.crash_log.restarting_status`),
+     "unhealthy_sources", "sources": [{"name", "ok", "message", "age_s"}], "errors" (engine/sink
+     failures so far), "behavior_errors" (["ENGINE: FILE: why"] of behaviour files that went bad,
+     of actions' files a character started without and of those that went bad while their action
+     plays), "restarts" (by the supervisor), "idle_s" (seconds since a visitor was last seen),
+     "config" (file), "config_error" (the last refused edit, or null), "studio" (or null),
+     "recording" and "snapshots" (what they write, why they stopped; or null)}
 
 Every ``every_s`` it is written atomically to the status file (in a writer thread: the frame loop
 never waits for a disk) and sent as OSC ``/tabletop/heartbeat`` with the installation name

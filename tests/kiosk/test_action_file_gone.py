@@ -5,7 +5,6 @@ corrupt file; the recording replays to the same characters; the files put back a
 without a restart. A config edit refused for a corrupt template is applied once the template is
 fixed, and a fixed template copied in two writes is read whole."""
 
-
 import numpy as np
 import yaml
 

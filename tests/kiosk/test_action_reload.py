@@ -67,6 +67,31 @@ def _entry(character: str, action: str, *files: Path) -> dict:
             "files": [base64.b64encode(f.read_bytes()).decode("ascii") for f in files]}
 
 
+def test_a_file_touched_with_the_same_bytes_is_neither_retrained_nor_recorded(tmp_path):
+    """A ``touch`` (or an rsync copying the same bytes) of a playing action's file: the
+    followers are not retrained and the frame records nothing; changed bytes still are."""
+    stage = _stage(tmp_path)
+    reloader = ActionReloader(stage, every_s=0.0)
+    reloader(Frame(seq=0, t=1.0))
+    builds = _counting_builds(stage)
+    line = tmp_path / "line.csv"
+    line.write_text((GESTURES / "line.csv").read_text())     # fixed: followed once
+    for k in (1, 2):
+        reloader(Frame(seq=k, t=1.0 + k / 10))
+    assert len(builds) == 1
+    for name in ("circle.csv", "line.csv"):          # touched: mtime on, bytes alike
+        st = (tmp_path / name).stat()
+        os.utime(tmp_path / name, ns=(st.st_atime_ns, st.st_mtime_ns + 5_000_000_000))
+    frames = [reloader(Frame(seq=k, t=1.0 + k / 10)) for k in (3, 4, 5)]
+    assert len(builds) == 1 and all("reload" not in f.consumed for f in frames)
+    assert not [e for e in stage.start_problems if "action 'line'" in e]
+    (tmp_path / "circle.csv").write_text((GESTURES / "square.csv").read_text())
+    frames = [reloader(Frame(seq=k, t=1.0 + k / 10)) for k in (6, 7)]
+    assert len(builds) == 2
+    assert [e["action"] for f in frames for e in f.consumed.get("reload", {}).get(
+        "actions", {}).get("mop", [])] == ["circle"]
+
+
 def test_a_replay_refuses_a_recorded_entry_with_a_wrong_number_of_files_in_one_line(
         tmp_path, caplog):
     """An entry with no file, or with the template alone for an action that reads a clip too,

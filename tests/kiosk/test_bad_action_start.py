@@ -319,3 +319,10 @@ def test_a_part_that_starts_after_a_fix_replays_on_its_own_with_the_action(tmp_p
     # started afresh did not rest yet and drew the line's onset a frame early)
     assert json.loads(later.read_text().splitlines()[0])["performers"]["mop"]["hand"][0][-1] == 1
     assert [f["characters"] for f in live] == [f["characters"] for f in again]
+
+    # the --out file is the first part of its own session: it carries the performers' states
+    # the part started from, so it replays to the same characters too
+    done = replay_cli(tmp_path / "replayed.jsonl", tmp_path / "twice.jsonl")
+    assert done.returncode == 0, done.stderr
+    assert [f["characters"] for f in live] == [
+        f["characters"] for f in frames(tmp_path / "twice.jsonl")]

@@ -267,6 +267,10 @@ def test_a_full_disk_stops_recording_with_one_line_and_the_run_goes_on(tmp_path,
     (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
      b'"color": 5}]}\n', ["(character color: expected a list of numbers)"]),
     (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
+     b'"color": [1]}]}\n', ["line 3", "(character color: expected [r, g, b])"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
+     b'"bones": [[1, 2, 3]]}]}\n', ["line 3", "(character bones: expected a list of [i, j])"]),
+    (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
      b'"points": [[1], [1, 2]]}]}\n', ["(character points: expected a list of [x, y])"]),
     (b'{"seq": 1, "t": 0.1, "characters": [{"name": "c", "x": 0, "y": 0, "heading": 0, '
      b'"progress": "q"}]}\n', ["(progress is 'q', expected a finite number)"]),

@@ -38,6 +38,25 @@ def test_a_run_stopped_before_its_first_frame_removes_its_header_only_recording(
                     "the file removed"]
 
 
+def test_a_header_only_recording_that_cannot_be_removed_is_said_so(tmp_path, caplog):
+    """A directory where the part was (its file moved away): the removal fails, the log says
+    so instead of "the file removed", and the recorder lists no part."""
+    cfg = validate_config(CONFIG, "test", tmp_path)
+    path = tmp_path / "session.jsonl"
+    stop = threading.Event()
+    live = build_live(cfg, headless=True, record_path=path, stop=stop)
+    path.rename(tmp_path / "moved.jsonl")
+    path.mkdir()
+    stop.set()
+    with caplog.at_level("WARNING", logger="tabletop"):
+        assert live.loop.run(seconds=5.0) == 0
+    said = [r.getMessage() for r in caplog.records if "recording" in r.getMessage()]
+    assert len(said) == 1 and said[0].startswith(
+        f"recording {path}: stopped before its first frame: nothing recorded; the file could "
+        "not be removed: "), said
+    assert live.recorder.paths == []
+
+
 def test_a_run_with_a_frame_keeps_its_recording(tmp_path):
     cfg = validate_config(CONFIG, "test", tmp_path)
     path = tmp_path / "session.jsonl"
