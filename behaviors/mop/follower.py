@@ -269,8 +269,8 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._turn_in, self._turn_ref, self._turn_h = 0.0, None, None
         self._after_end = 0
         self._peak, self._peak_k = 0.0, -1
-        self._end_history: list[float] = []   # spotting.tempo_ended
-        self._lagged = False   # the end was reached by spotting.tempo_ended
+        self._end_history: list[float] = []   # handover.tempo_ended
+        self._lagged = False   # the end was reached by handover.tempo_ended
         self._end_x: np.ndarray | None = None
         self._state: FollowState | None = None
         self._forget_shape()

@@ -125,6 +125,8 @@ class GroupRules:
         self._abandon_rested[rows] = False
         self._has_end[rows] = False
         self._peak[rows], self._peak_k[rows] = 0.0, -1
+        self._end_history_n[rows] = 0
+        self._lagged[rows] = False
         self._shape_n[rows] = 0.0
         self._taken_n[rows] = 0
         self._thr_ev[rows] = 0.0

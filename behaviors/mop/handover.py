@@ -46,8 +46,10 @@ walk ankle drove 7 ticks of it.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
+from behaviors.kernel_cache import compiled
 #: A driving action that carried its performer to :data:`FINISH_FROM` of its progress and whose
 #: followed progress then slid back :data:`FINISH_BACK` from there has ended (:func:`finished`).
 FINISH_FROM = 0.9
@@ -77,8 +79,17 @@ def tempo_ended(history: list[float], end: float) -> bool:
     :data:`TEMPO_END_OVER` samples before that, carried on from there."""
     if len(history) < TEMPO_END_KEEP:
         return False
-    then = history[-1 - TEMPO_END_BACK]
-    rate = (then - history[-1 - TEMPO_END_BACK - TEMPO_END_OVER]) / TEMPO_END_OVER
+    return tempo_reached(history[-1 - TEMPO_END_BACK],
+                         history[-1 - TEMPO_END_BACK - TEMPO_END_OVER], end)
+
+
+@compiled(numba.boolean(numba.float64, numba.float64, numba.float64))
+def tempo_reached(then: float, before: float, end: float) -> bool:
+    """Whether progress ``then`` (:data:`TEMPO_END_BACK` samples ago), advancing per sample as
+    it did from ``before`` (:data:`TEMPO_END_OVER` samples earlier still), reached ``end`` a
+    sample ago. Compiled, so the follower (:func:`tempo_ended`) and the group
+    (:func:`behaviors.mop.member_validity.tempo_ended`) share its arithmetic."""
+    rate = (then - before) / TEMPO_END_OVER
     return rate > 0.0 and then + (TEMPO_END_BACK - 1) * rate >= end
 
 

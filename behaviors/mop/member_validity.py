@@ -235,9 +235,8 @@ def tempo_ended(history: np.ndarray, count: np.ndarray, i: int, progress: float,
     count[i] = min(count[i] + 1, s)
     if count[i] < s:
         return False
-    then = history[i, s - 1 - TEMPO_END_BACK]
-    rate = (then - history[i, s - 1 - TEMPO_END_BACK - TEMPO_END_OVER]) / TEMPO_END_OVER
-    return rate > 0.0 and then + (TEMPO_END_BACK - 1) * rate >= end
+    return handover.tempo_reached(history[i, s - 1 - TEMPO_END_BACK],
+                                  history[i, s - 1 - TEMPO_END_BACK - TEMPO_END_OVER], end)
 
 
 @compiled(numba.boolean(_F3, _I1, numba.intp, _F1), *_CALLS_INTO)

@@ -21,9 +21,8 @@ import numba
 import numpy as np
 
 from behaviors.mop import handover, member_validity, shape_lead, spotting, validity
-from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM
+from behaviors.mop.handover import FINISH_BACK, FINISH_CRAWLS, FINISH_FROM, TEMPO_END_FROM
 from behaviors.mop.shape_lead import COMMIT_FIT, DRIFT_SAMPLES
-from behaviors.mop.handover import TEMPO_END_FROM
 from behaviors.mop.spotting import (ARRIVE_RADIUS, END_GRACE, MOVE_RADII, RETURN_BACK,
                                    RETURN_RADIUS, SHARE_BACK)
 from behaviors.mop.validity import (BACK_FIRST, CARRY_FIRST, CRAWL_SAMPLES, FORWARD_FIRST,
@@ -425,10 +424,11 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
                 lagged[i] = lag
             elif was_end and lagged[i]:
                 # ended at its tempo: the end is where the input comes nearest its last point
-                acc = 0.0
+                near, held = 0.0, 0.0   # summed apart, as spotting's two sums
                 for c in range(d):
-                    acc += (x[i, c] - end_last[i, c]) ** 2 - (end_x[i, c] - end_last[i, c]) ** 2
-                if acc < 0.0:
+                    near += (x[i, c] - end_last[i, c]) ** 2
+                    held += (end_x[i, c] - end_last[i, c]) ** 2
+                if near < held:
                     end_x[i] = x[i]
             step_d2 = (m[4] - step_ll[gb]) * (2.0 / m[5])
             lost[i] = lost[i] + 1 if all_refused[i] else 0

@@ -80,11 +80,10 @@ KINDS = [dict(invariance="scale"), dict(invariance="none"), dict(invariance="off
 @pytest.mark.parametrize("turn", [math.inf, 1.3])   # with the turning gate too (2-D members)
 def test_a_group_spots_gesture_after_gesture_exactly_as_its_followers_alone(turn):
     # a draw whose run goes through every way an attempt starts afresh, a rest included (seed
-    # 1; seeds 36, 37 and 38 give no rest: 36 none within its shortest stream, as the sizes
-    # are judged afresh; 37 none at 90% while valid, as the size is read less along the path
-    # and nothing is judged at rest; 38 none, as a new action is taken only while the
-    # gesture's last samples fit its path; 42-49 none, as the actions a performer rests in
-    # past 90% reach their end at their tempo first, spotting.tempo_ended)
+    # 1; many draws give no rest, as the sizes are judged afresh, the size is read less along
+    # the path and nothing is judged at rest, a new action is taken only while the gesture's
+    # last samples fit its path, and the actions a performer rests in past 90% reach their end
+    # at their tempo first, handover.tempo_ended)
     rng = np.random.default_rng(1)
     sets, streams = [], []
     for c in range(len(KINDS)):
@@ -295,7 +294,7 @@ def test_a_group_holds_no_performer_resting_behind_where_the_action_began(monkey
     # back to their start and rested; measured 122 valid states (168 without the rule), with the
     # last samples' fit (shape_lead.TAKE_MISFIT2) lifted: with it 96 (123); with the zigzag
     # covered sooner (coverage.told_apart_arc) its way back is refused by coverage.EARLY_FIT
-    # before it rests (valid to sample 82 either way, 92 and 119 before): 119 (140), the wave's 27
+    # before it rests (valid to sample 82 either way): 119 (140), the wave's 27
     from bench.follow_quality import puck_follower
     from bench.motions import gesture_templates
     from behaviors.mop import validity
@@ -423,3 +422,17 @@ def test_every_kernel_template_state_is_kept_by_the_group_and_reset_on_a_new_att
     for name in FLOATS + FLAGS:
         assert name in kept, f"{name} is not kept by the group"
         assert name in reset, f"{name} is not reset on a new attempt"
+
+
+def test_a_restarted_member_forgets_its_end_at_the_tempo_as_a_follower_does():
+    # ActionFollower._forget and GroupRules._forget_members both forget the driving action's
+    # last progress values and whether its end was reached at its tempo (handover.tempo_ended)
+    rng = np.random.default_rng(3)
+    templates = {f"t{i}": g.template(rng, n=30, d=2) for i in range(3)}
+    alone, group = ActionFollower(templates), FollowerGroup([ActionFollower(templates)])
+    alone._end_history, alone._lagged = [0.95] * 5, True
+    group._end_history_n[0], group._lagged[0] = 5, True
+    alone._forget()
+    group._forget_members(0)
+    assert group._end_history_n[0] == len(alone._end_history) == 0
+    assert not group._lagged[0] and not alone._lagged

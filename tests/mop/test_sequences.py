@@ -35,7 +35,6 @@ def test_an_action_finished_short_of_its_end_hands_over(wave_then_run, monkeypat
     # from where the wave ended; without it the wave drove the run's first 5 samples backwards
     # (the end at the wave's tempo, handover.tempo_ended, left out: it ends the wave too)
     every, states = _wrong_run(*wave_then_run)
-    monkeypatch.setattr(handover, "TEMPO_END_FROM", 9.0)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     on, _ = _wrong_run(*wave_then_run)
     monkeypatch.setattr(handover, "FINISH_FROM", 9.0)

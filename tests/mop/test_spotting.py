@@ -122,7 +122,7 @@ def test_an_ended_gesture_stops_driving_where_the_next_begins(gestures, monkeypa
         return out
 
     now = late_ticks()
-    # the rule measured with the end at the tempo (spotting.tempo_ended) left out: it ends some
+    # the rule measured with the end at the tempo (handover.tempo_ended) left out: it ends some
     # of the same runs (with it and without this rule 25)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     alone = late_ticks()
@@ -181,7 +181,7 @@ def test_a_wrong_action_drives_only_where_no_observer_could_tell(gestures, monke
 
     wrong, told, longest = wrong_ticks()
     assert wrong <= 10 and told <= 1 and longest <= 2, (wrong, told, longest)
-    # without shared starts measured with the end at the tempo (spotting.tempo_ended) left out:
+    # without shared starts measured with the end at the tempo (handover.tempo_ended) left out:
     # it ends some of the same runs (with it 11 wrong, the longest 6)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     wrong, told, longest = wrong_ticks(share_radius=0.0)
@@ -262,7 +262,7 @@ def test_an_ended_gestures_last_point_stays_where_its_end_was_reached(gestures, 
         return out
 
     now = recognised()
-    # the live last point measured with the end at the tempo (spotting.tempo_ended) left out
+    # the live last point measured with the end at the tempo (handover.tempo_ended) left out
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     monkeypatch.setattr(GestureSpotting, "_end_last",
                         property(lambda self: self._last_point(self._best), lambda self, v: None),
