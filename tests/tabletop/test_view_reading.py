@@ -30,6 +30,8 @@ TURNS: dict[str, tuple[list, tuple[int, int], Callable[[np.ndarray], np.ndarray]
     "quarter, x up": ([[0, 1, 0], [-1, 0, 1280]], (720, 1280), lambda a: np.rot90(a, -1)),
     "quarter, x down": ([[0, -1, 720], [1, 0, 0]], (720, 1280), lambda a: np.rot90(a, 1)),
     "quarter, mirrored": ([[0, 1, 0], [1, 0, 0]], (720, 1280), lambda a: np.swapaxes(a, 0, 1)),
+    "quarter, mirrored across": ([[0, -1, 720], [-1, 0, 1280]], (720, 1280),
+                                 lambda a: np.swapaxes(a, 0, 1)[::-1, ::-1]),
 }
 # the least overlap (intersection over union) of a word's pixels as the table shows it with
 # the plain calibration's, each word within 1 px: measured 0.966-1.0 with the words turned;
@@ -211,8 +213,8 @@ def renamed(H: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def test_the_rename_line_stands_on_the_table_where_the_projector_throws_beyond_it():
     """A projector turned a quarter round over the long table throws its 1280 px along the
-    table's 0.8 m (448 px): F2's line stood at the window's far edge, 416 px off the table, on
-    the floor. It stands along the table's far edge (window x 416), just inside it."""
+    table's 0.8 m (448 px); the window beyond x 416 lights the floor. F2's line stands along
+    the table's far edge (window x 416), just inside it, not at the window's far edge."""
     before, now = renamed(np.array([[0.0, -560.0, 864.0], [-560.0, 0.0, 696.0], [0, 0, 1.0]]))
     changed = (now != before).any(axis=2)    # [x, y]
     cols, rows = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
