@@ -245,9 +245,9 @@ class NamePrompt:
         sized on the table as the studio's other words are (:func:`text_scale` of
         ``renderer``; 32 px at 840 px/m) and upright on it (:func:`upright`); the reason a key
         was refused under it. On the edge, not the window's: a projector throwing beyond the
-        table (one turned a quarter round over a long table) lights the floor there. Where the table's far edge lies outside the window (a
-        projector that does not reach it), at the window's edge nearest it, both lines kept
-        whole in the window."""
+        table (one turned a quarter round over a long table) lights the floor there. Where the
+        table's far edge lies outside the window (a projector that does not reach it), at the
+        window's edge nearest it, both lines kept whole in the window."""
         if self.text is None:
             return
         k, reading, edge = 1.0, PLAIN, (target.get_width() / 2, 24.0)
