@@ -155,15 +155,18 @@ def carried(state: dict[str, Any], reload: dict[str, Any] | None) -> dict[str, A
     """``state`` (a part header's ``reloaded``: what the frames so far reloaded, as one
     frame's ``consumed["reload"]`` that plays it all again) with a frame's ``reload`` taken
     in: each engine's latest behaviour, its latest note unless a later behaviour cleared it,
-    each MOP action's latest read, each studio target's latest library files."""
+    each MOP action's latest read, each studio target's latest library files (a library
+    listing's latest file by file)."""
     if not reload:
         return state
     out = {k: dict(v) for k, v in state.items()}
     for name, source in reload.get("behaviors", {}).items():
         out.setdefault("behaviors", {})[name] = source
         out.get("notes", {}).pop(name, None)     # (RecordedReloads clears it, then notes)
-    for key in ("notes", "libraries"):
-        out.setdefault(key, {}).update(reload.get(key, {}))
+    out.setdefault("notes", {}).update(reload.get("notes", {}))
+    for name, files in reload.get("libraries", {}).items():   # a listing: its changed files
+        libs = out.setdefault("libraries", {})
+        libs[name] = {**libs.get(name, {}), **files} if name.endswith(" library") else files
     for name, entries in reload.get("actions", {}).items():   # each action's latest read
         def key(e: Any) -> tuple:
             return (e.get("character"), e.get("action")) if isinstance(e, dict) else (id(e),)

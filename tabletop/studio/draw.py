@@ -245,19 +245,25 @@ class NamePrompt:
         sized on the table as the studio's other words are (:func:`text_scale` of
         ``renderer``; 32 px at 840 px/m) and upright on it (:func:`upright`); the reason a key
         was refused under it. On the edge, not the window's: a projector throwing beyond the
-        table (one turned a quarter round over a long table) lights the floor there."""
+        table (one turned a quarter round over a long table) lights the floor there. Where the
+        table's far edge lies outside the window (a projector that does not reach it), at the
+        window's edge nearest it, both lines kept whole in the window."""
         if self.text is None:
             return
         k, reading, edge = 1.0, PLAIN, (target.get_width() / 2, 24.0)
         if renderer is not None:
             k, reading = text_scale(renderer), renderer.map.reading()
-            edge = renderer.map.point(renderer.table[0] / 2, renderer.table[1])
+            far = renderer.map.point(renderer.table[0] / 2, renderer.table[1])
+            edge = (min(max(far[0], 0.0), target.get_width()),
+                    min(max(far[1], 0.0), target.get_height()))
+        window = target.get_rect()
         px = max(MIN_MARK_PX, round(32 * k))
         img = reading.turn(font(px).render(self.line, True, (255, 255, 255), (0, 0, 0)))
-        target.blit(img, reading.at(img.get_size(), reading.offset(edge, up=-(px // 2))))
+        target.blit(img, reading.at(img.get_size(),
+                                    reading.offset(edge, up=-(px // 2))).clamp(window))
         if self.refused:
             small = max(MIN_MARK_PX, round(px * 0.6))
             why = reading.turn(font(small).render(self.refused, True, (255, 190, 80),
                                                   (0, 0, 0)))
-            target.blit(why, reading.at(why.get_size(),
-                                        reading.offset(edge, up=-(px + 6 + small // 2))))
+            target.blit(why, reading.at(why.get_size(), reading.offset(
+                edge, up=-(px + 6 + small // 2))).clamp(window))

@@ -266,6 +266,9 @@ def library_files(path: Path) -> dict[str, str]:
 LISTING = " library"
 """A record key's ending naming a Puppet Master target's library listing (:func:`watch_points`)."""
 
+REMOVED = "-"
+"""A listing record's value for a file removed from the library (not base64, so no file's)."""
+
 
 def watch_points(studio: Any) -> dict[str, Poller]:
     """The pollers of the files a ``studio`` reloads, by the key its records use: each
@@ -298,23 +301,61 @@ class LibraryReloads:
     ``consumed["reload"]["libraries"]`` ``{key: {relative name: base64}}``
     (:func:`watch_points`' keys); a replay (:class:`RecordedLibraries`) writes them
     into its own copy of the library and reloads within that frame. Files written while they
-    were read are read again at the next look (the poller forgets what it saw)."""
+    were read are read again at the next look (the poller forgets what it saw).
+
+    A library listing (:data:`LISTING`) records only the files changed since its last record
+    (:data:`REMOVED` for one gone), leaving out the behaviour in play's folder when the same
+    frame records it under the target's own name: the whole shipped library is 1.04 MB of
+    JSON, and every studio keep, rename, delete or undo changes its listing."""
 
     def __init__(self, studio: Any) -> None:
         self.studio = studio
         self._read: dict[str, dict[str, str]] = {}
+        self._sent: dict[str, dict[str, tuple[int, int]]] = {}   # listing: name -> mtime, size
 
     def poll(self, frame: Frame | None = None) -> None:
         """The hook: the studio's poll, and the files of each library it reloaded."""
         pollers = watch_points(self.studio)
         before = {name: p.signature for name, p in pollers.items()}
+        for name in pollers:
+            if name.endswith(LISTING) and name not in self._sent:
+                self._sent[name] = {f: (m, n) for f, m, n in before[name] or ()}
         self.studio.poll()
-        for name, p in pollers.items():
+        for name in sorted(pollers, key=lambda n: n.endswith(LISTING)):   # listings last
+            p = pollers[name]
             if p.signature == before[name]:
                 continue
-            self._read[name] = library_files(p.path)
-            if tree_signature(p.path) != p.signature:   # written while read: read it again
+            sig = tree_signature(p.path)
+            if name.endswith(LISTING):
+                if changes := self._changes(name, p, sig):
+                    self._read[name] = {**self._read.get(name, {}), **changes}
+            else:
+                self._read[name] = library_files(p.path)
+            if tree_signature(p.path) != sig:   # written while read: read it again
                 p.signature = None
+
+    def _changes(self, name: str, lib: Poller, sig: tuple) -> dict[str, str]:
+        """The listing ``name``'s files changed since its last record (base64, or
+        :data:`REMOVED`), ``sig`` its files now; the behaviour in play's folder left out when
+        this frame records it under the target's name."""
+        now, sent = {f: (m, n) for f, m, n in sig}, self._sent[name]
+        skip = None
+        play = watched(self.studio.targets.get(name[:-len(LISTING)]))
+        if play is not None and name[:-len(LISTING)] in self._read:
+            try:
+                skip = play.path.resolve().relative_to(lib.path.resolve()).parts
+            except ValueError:
+                skip = None
+        out: dict[str, str] = {f: REMOVED for f in sent if f not in now}
+        for f, stamp in now.items():
+            if sent.get(f) == stamp or skip and Path(f).parts[:len(skip)] == skip:
+                continue
+            try:
+                out[f] = base64.b64encode((lib.path / f).read_bytes()).decode("ascii")
+            except OSError:
+                continue
+        self._sent[name] = now
+        return out
 
     def __call__(self, frame: Frame) -> Frame:
         """The filter: ``frame`` holding the libraries reloaded after the previous one."""
@@ -327,7 +368,8 @@ class LibraryReloads:
 class RecordedLibraries:
     """Replay's frame filter: a recorded frame's library reloads (``consumed["reload"]
     ["libraries"]``, :class:`LibraryReloads`) written into the replay's library (files the
-    record does not hold removed, hidden ones such as ``.trash`` kept) and reloaded by its
+    record does not hold removed, hidden ones such as ``.trash`` kept; a listing's record, of
+    changed files only, writes and removes just those) and reloaded by its
     studio before the frame's engines, as live. A record that names no target of this studio
     or holds a name outside its library is logged and skipped, and so is one whose library is
     not under ``base`` (the replay's folder of the recording's files): a folder too large to
@@ -350,7 +392,7 @@ class RecordedLibraries:
                           "recording's files (too large to be carried)", name, poller.path)
                 continue
             try:
-                _write_tree(poller.path, files)
+                _write_tree(poller.path, files, prune=not name.endswith(LISTING))
             except (InputError, OSError, TypeError, ValueError) as exc:
                 log.error("replay: recorded library of %r not written: %s", name, exc)
                 continue
@@ -360,15 +402,19 @@ class RecordedLibraries:
         return frame
 
 
-def _write_tree(path: Path, files: dict[str, str]) -> None:
-    """``path`` holding exactly ``files`` (relative name -> base64) among its unhidden files."""
-    data = {}
+def _write_tree(path: Path, files: dict[str, str], prune: bool = True) -> None:
+    """``path`` holding ``files`` (relative name -> base64, or :data:`REMOVED`: removed);
+    ``prune``: exactly those among its unhidden files (a listing's record holds only changes)."""
+    data: dict[Path, bytes] = {}
     for name, text in files.items():
         rel = Path(name)
         if rel.is_absolute() or ".." in rel.parts or not rel.parts:
             raise InputError(f"{name!r} is outside the library")
+        if text == REMOVED:
+            (path / rel).unlink(missing_ok=True)
+            continue
         data[rel] = base64.b64decode(text, validate=True)
-    for name, _mtime, _size in tree_signature(path):
+    for name, _mtime, _size in tree_signature(path) if prune else ():
         if Path(name) not in data:
             (path / name).unlink()
     for rel, content in data.items():      # (one as it is is left: its poller sees no change)

@@ -3,6 +3,7 @@ mid-run (another studio on the same library keeps a take): the shelf lists it, ]
 ``tabletop replay`` picks the same behaviour from the same frame, the characters alike to the
 last digit (the listing's files are recorded as the other library reloads are)."""
 
+import json
 import shutil
 from pathlib import Path
 
@@ -43,6 +44,30 @@ def test_a_behaviour_added_to_the_library_mid_run_is_picked_alike_by_the_replay(
         clock.advance(1 / RATE)
     inst.loop.close()
     assert inst.engines[0].behavior_name == "bully"
+    # the listing records only the files that changed: bully's, not lover's (in play)
+    listed = [f["consumed"]["reload"]["libraries"]["pet library"]
+              for f in map(json.loads, live.read_text().splitlines())
+              if "pet library" in f.get("consumed", {}).get("reload", {}).get("libraries", {})]
+    bully = {str(p.relative_to(lib)) for p in (lib / "bully").rglob("*") if p.is_file()}
+    assert listed and set().union(*listed) == bully, [sorted(x) for x in listed]
+    assert sum(len(b) for x in listed for b in x.values()) < 1.4 * sum(
+        (lib / name).stat().st_size for name in bully)
     a, b = _replayed(tmp_path, live)
     assert len(a) == len(b) == 120
     assert [fa["seq"] for fa, fb in zip(a, b) if fa["characters"] != fb["characters"]] == []
+
+
+def test_a_part_header_carries_a_listing_file_by_file():
+    """A listing record holds only the files that changed, so a later part's ``reloaded``
+    merges each listing's records file by file (the latest of each, removals kept); a target's
+    own library record replaces the one before."""
+    from tabletop.session import carried
+    from tabletop.studio.reloader import REMOVED
+    first = {"libraries": {"pet library": {"bully/a.csv": "YQ==", "shy/a.csv": "YQ=="},
+                           "pet": {"x.csv": "YQ==", "y.csv": "YQ=="}}}
+    later = {"libraries": {"pet library": {"shy/a.csv": REMOVED, "keen/a.csv": "Yg=="},
+                           "pet": {"x.csv": "Yg=="}}}
+    state = carried(carried({}, first), later)
+    assert state["libraries"] == {
+        "pet library": {"bully/a.csv": "YQ==", "shy/a.csv": REMOVED, "keen/a.csv": "Yg=="},
+        "pet": {"x.csv": "Yg=="}}

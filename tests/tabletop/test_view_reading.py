@@ -30,6 +30,8 @@ TURNS: dict[str, tuple[list, tuple[int, int], Callable[[np.ndarray], np.ndarray]
     "quarter, x up": ([[0, 1, 0], [-1, 0, 1280]], (720, 1280), lambda a: np.rot90(a, -1)),
     "quarter, x down": ([[0, -1, 720], [1, 0, 0]], (720, 1280), lambda a: np.rot90(a, 1)),
     "quarter, mirrored": ([[0, 1, 0], [1, 0, 0]], (720, 1280), lambda a: np.swapaxes(a, 0, 1)),
+    "quarter, mirrored across": ([[0, -1, 720], [-1, 0, 1280]], (720, 1280),
+                                 lambda a: np.swapaxes(a, 0, 1)[::-1, ::-1]),
 }
 # the least overlap (intersection over union) of a word's pixels as the table shows it with
 # the plain calibration's, each word within 1 px: measured 0.966-1.0 with the words turned;
@@ -195,12 +197,10 @@ def test_the_reading_of_a_calibration_is_its_turn(turn):
     assert Renderer(TABLE, SIZE, homography=tilted).map.reading().plain
 
 
-def test_the_rename_line_stands_on_the_table_where_the_projector_throws_beyond_it():
-    """A projector turned a quarter round over the long table throws its 1280 px along the
-    table's 0.8 m (448 px): F2's line stood at the window's far edge, 416 px off the table, on
-    the floor. It stands along the table's far edge (window x 416), just inside it."""
+def renamed(H: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The window ([x, y, rgb]) with the empty view drawn under calibration ``H``, then with
+    F2's line "shy" and a refusal drawn over it."""
     from tabletop.studio.draw import NamePrompt
-    H = np.array([[0.0, -560.0, 864.0], [-560.0, 0.0, 696.0], [0.0, 0.0, 1.0]])
     renderer = Renderer(TABLE, SIZE, margin=24, homography=H)
     surface = pygame.Surface(SIZE)
     renderer.draw(surface, Frame(seq=0, t=0.0))
@@ -208,7 +208,30 @@ def test_the_rename_line_stands_on_the_table_where_the_projector_throws_beyond_i
     prompt = NamePrompt()
     prompt.text, prompt.refused = "shy", "a name begins with a letter or digit"
     prompt.draw(surface, renderer)
-    changed = (pygame.surfarray.array3d(surface) != before).any(axis=2)    # [x, y]
+    return before, pygame.surfarray.array3d(surface)
+
+
+def test_the_rename_line_stands_on_the_table_where_the_projector_throws_beyond_it():
+    """A projector turned a quarter round over the long table throws its 1280 px along the
+    table's 0.8 m (448 px); the window beyond x 416 lights the floor. F2's line stands along
+    the table's far edge (window x 416), just inside it, not at the window's far edge."""
+    before, now = renamed(np.array([[0.0, -560.0, 864.0], [-560.0, 0.0, 696.0], [0, 0, 1.0]]))
+    changed = (now != before).any(axis=2)    # [x, y]
     cols, rows = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
     assert cols.size and 416 <= cols.min() and cols.max() < 416 + 80, (cols.min(), cols.max())
     assert 24 <= rows.min() and rows.max() <= 696, (rows.min(), rows.max())
+
+
+def test_the_rename_line_stays_in_the_window_where_the_projector_does_not_reach_the_far_edge():
+    """A calibration whose table's far edge lies 72 px above the window (y = -72): the line
+    and the refusal under it stand at the window's top edge, both whole in the window, the
+    reason below the line."""
+    H = np.array([[840.0, 0.0, 136.0], [0.0, -840.0, 600.0], [0.0, 0.0, 1.0]])
+    assert Renderer(TABLE, SIZE, homography=H).map.point(TABLE[0] / 2, TABLE[1])[1] < -60
+    before, now = renamed(H)
+    white = ((now != before).any(axis=2) & (now.min(axis=2) > 200)).any(axis=0)   # rows
+    amber = ((now != before).any(axis=2) & (now[..., 2] < 120)
+             & (now[..., 0] > 200)).any(axis=0)
+    w, a = np.flatnonzero(white), np.flatnonzero(amber)
+    assert w.size and a.size, (w.size, a.size)
+    assert 0 <= w.min() and w.max() < a.min() and a.max() < 120, (w.min(), w.max(), a.min())
