@@ -18,8 +18,9 @@ Performances, each preceded and followed by 0.5 s still (0.7 mm jitter):
   with no rest in between, among the six example gestures and among all twenty templates
   (``bench/follow_sequences.py``);
 - unrelated: a diagonal line, a triangle, a spiral, an aimless wander, a still puck and every
-  template mirrored (x -> -x, when that differs from every template), with 1, 6 and 20
-  templates loaded;
+  template mirrored (x -> -x, when that differs from every template: by 3 cm at equal phase and
+  by ``bench.motions.ALIGNED_GAP_M`` aligned in time, so that no template performed with its
+  own holds counts), with 1, 6 and 20 templates loaded;
 - after: each of the six gestures, then with no rest an unrelated stroke (diagonal, triangle,
   spiral, wander at 0.7-1.4x): the valid share over the stroke (``bench/follow_after.py``).
 - pauses: every template at 0.7-1.4x paused 0.3-2 s anywhere within 20-80% of its progress:
@@ -54,13 +55,15 @@ them. ``cli_default_`` figures: the ``follow`` command's defaults (features as r
 
     python bench/follow_quality.py [--debug]
         [--sections=sized,holds,sequences,unrelated,after,pauses,shapes] [--sigma=S]
+        [--seed=N]
 
 ``--sections`` measures only those sections of the tuned and held-out evaluations (a section
 left out still draws its random numbers, so the others' figures are those of a full run);
 ``--sigma`` is the puck follower's sigma (in each template's spread; default the follower's,
 the schema's range), so ``--sections=sized,unrelated,holds --sigma=S`` reruns the sweep in
 :class:`~behaviors.mop.follower.ActionFollower`'s docstring; ``--debug`` prints each sized
-performance's and each unrelated motion's figures.
+performance's and each unrelated motion's figures; ``--seed`` the held-out evaluation's seed
+(default :data:`HELD_OUT_SEED`), to check a change on draws nobody looked at.
 """
 
 from __future__ import annotations
@@ -82,8 +85,8 @@ from bench.common import check_flags, emit  # noqa: E402
 from bench.follow_sequences import sequences  # noqa: E402
 from behaviors.mop.follower import ActionFollower  # noqa: E402
 from bench.motions import (MOCAP, MOCAP_HELD_OUT, at_phase,  # noqa: E402
-                           gesture_templates, mocap_templates, performance, raise_hold_return,
-                           unrelated_motions)
+                           gesture_templates, mirror_copies, mocap_templates, performance,
+                           raise_hold_return, unrelated_motions)
 
 DEBUG = "--debug" in sys.argv
 #: The evaluation's sections, in the order they draw their random numbers (:func:`evaluate`).
@@ -213,10 +216,13 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
         loaded = {n: templates[n] for n in names[:k]}
         f = factory(loaded)
         shares, told = {}, {}
-        for name, path in unrelated_motions(rng, loaded).items():
+        copies = mirror_copies(loaded)
+        for name, path in unrelated_motions(rng, loaded, copies=True).items():
             vals, told_vals = [], []
             for scale in (0.7, 1.0, 1.4):
                 x, prog = performance(rng, path, scale)
+                if name in copies:   # another template performed: drawn, not counted
+                    continue
                 states = run(f, x)
                 vals.append(np.mean([s.valid for s in states]))
                 # before the motion: nothing performed; after it: all of it
@@ -226,6 +232,8 @@ def unrelated(factory: Factory, templates: dict[str, np.ndarray],
                     s.valid
                     and not performs(path, float(q), loaded[s.best], memo, (k, name, s.best))
                     for s, q in zip(states, p)]) if f is not None else 0.0)
+            if name in copies:
+                continue
             shares[name], told[name] = float(np.mean(vals)), float(np.mean(told_vals))
             if DEBUG:
                 print(k, name, [round(float(v), 3) for v in vals],
@@ -314,15 +322,17 @@ def main() -> None:
     from tabletop.plugins.mop import FOLLOWER
     spec = FOLLOWER.fields["sigma"]
     check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": SECTION_NAMES},
-                {"sigma": (spec.lo, spec.hi)})
+                {"sigma": (spec.lo, spec.hi), "seed": (0, 2 ** 32 - 1)})
     SIGMA = next((float(a.split("=", 1)[1]) for a in sys.argv[1:] if a.startswith("--sigma=")),
                  SIGMA)
     t0 = time.perf_counter()
     figures: dict[str, float] = {}
     figures.update(evaluate(puck_follower))
     # held out: other joints and another seed, never tuned on
+    seed = next((int(float(a.split("=", 1)[1])) for a in sys.argv[1:]
+                 if a.startswith("--seed=")), HELD_OUT_SEED)
     figures.update({"heldout_" + k: v for k, v in
-                    evaluate(puck_follower, HELD_OUT_SEED, MOCAP_HELD_OUT).items()})
+                    evaluate(puck_follower, seed, MOCAP_HELD_OUT).items()})
     if SECTIONS is not None:
         for k, v in figures.items():
             print(f"{k:60s} {v:.4g}" if isinstance(v, float) else f"{k:60s} {v}")

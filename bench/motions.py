@@ -12,6 +12,7 @@ import math
 from pathlib import Path
 from typing import Callable, Iterator, Mapping
 
+import numba
 import numpy as np
 
 from tabletop.files import read_csv
@@ -168,9 +169,12 @@ def paused(rng: np.random.Generator, tpl: np.ndarray, scale: float, pause_s: flo
     return x, prog, (int(still[0]) + 1, int(still[-1]) + 2)
 
 
-def unrelated_motions(rng: np.random.Generator,
-                      templates: Mapping[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """Paths that are none of the templates (metres, starting at 0)."""
+def unrelated_motions(rng: np.random.Generator, templates: Mapping[str, np.ndarray],
+                      copies: bool = False) -> dict[str, np.ndarray]:
+    """Paths that are none of the templates (metres, starting at 0); ``copies``: also, in
+    their place, the mirrored templates that are another template performed with other holds
+    and tempo (:func:`mirror_copies`), so that a caller skipping them draws what it drew
+    before they were told apart."""
     u = np.linspace(0, 1, 60)
     out = {"diagonal": np.stack([0.12 * u, 0.12 * u], 1),
            "triangle": np.concatenate([np.stack([0.12 * u, 0 * u], 1),
@@ -183,11 +187,22 @@ def unrelated_motions(rng: np.random.Generator,
     kernel = np.ones(9) / 9
     out["wander"] = np.stack([np.convolve(steps[:, j], kernel, mode="same") for j in range(2)], 1)
     out["wander"] -= out["wander"][0]
+    skipped = set() if copies else mirror_copies(templates)
     for name, tpl in templates.items():
         m = tpl * np.array([-1.0, 1.0])
-        if all(_path_gap(m, other) > 0.03 for other in templates.values()):
+        if (all(_path_gap(m, other) > 0.03 for other in templates.values())
+                and f"mirrored_{name}" not in skipped):
             out[f"mirrored_{name}"] = m
     return out
+
+
+def mirror_copies(templates: Mapping[str, np.ndarray]) -> set[str]:
+    """``mirrored_NAME`` of each template whose mirror image (x -> -x) lies within
+    :data:`ALIGNED_GAP_M` of another template once aligned in time: that template performed,
+    not an unrelated motion."""
+    return {f"mirrored_{name}" for name, tpl in templates.items()
+            if any(aligned_gap(tpl * np.array([-1.0, 1.0]), other) <= ALIGNED_GAP_M
+                   for other in templates.values())}
 
 
 def in_form(path: np.ndarray, form: str) -> np.ndarray:
@@ -211,6 +226,47 @@ def drawn_in_form(rng: np.random.Generator, templates: Mapping[str, np.ndarray],
         if all(_path_gap(drawn, other) > 0.03 for other in templates.values()):
             for scale in scales:
                 yield name, scale, performance(rng, drawn, scale)[0]
+
+
+#: A mirrored template within this RMS distance (metres) of another template once the two are
+#: aligned in time (:func:`aligned_gap`) is that template performed with its own holds and
+#: tempo, not an unrelated motion: a tenth of the paths' 15 cm extent, the largest bend
+#: ``bench/follow_shapes.py`` redraws a template with. Of the mirrored templates 3 cm from every
+#: template at equal phase (:func:`_path_gap`), it drops two held-out pairs, none tuned: the
+#: line and the punch's left ankle (a line out, held at its far end, 0.0115; see
+#: :mod:`behaviors.mop.threshold`), the dance's right ankle and the walk's left wrist (0.0094);
+#: the closest left is 0.0185 (the spin's and the spin kick's ankles, tuned).
+ALIGNED_GAP_M = 0.015
+
+
+@numba.njit(cache=True)
+def _dtw_rms(a: np.ndarray, b: np.ndarray) -> float:
+    """RMS distance between ``a`` (n, d) and ``b`` (m, d) along their cheapest alignment in
+    time (dynamic time warping, steps of one sample in either or both; the squared distances'
+    sum over the alignment's length)."""
+    n, m = a.shape[0], b.shape[0]
+    cost = np.full((n + 1, m + 1), np.inf)
+    steps = np.zeros((n + 1, m + 1))
+    cost[0, 0] = 0.0
+    for i in range(1, n + 1):
+        for j in range(1, m + 1):
+            c = 0.0
+            for k in range(a.shape[1]):
+                c += (a[i - 1, k] - b[j - 1, k]) ** 2
+            best, length = cost[i - 1, j - 1], steps[i - 1, j - 1]
+            if cost[i - 1, j] < best:
+                best, length = cost[i - 1, j], steps[i - 1, j]
+            if cost[i, j - 1] < best:
+                best, length = cost[i, j - 1], steps[i, j - 1]
+            cost[i, j] = best + c
+            steps[i, j] = length + 1.0
+    return math.sqrt(cost[n, m] / steps[n, m])
+
+
+def aligned_gap(a: np.ndarray, b: np.ndarray) -> float:
+    """RMS distance (metres) between two paths aligned in time: holds and tempo ignored."""
+    return float(_dtw_rms(np.ascontiguousarray(a, dtype=float),
+                          np.ascontiguousarray(b, dtype=float)))
 
 
 def _path_gap(a: np.ndarray, b: np.ndarray) -> float:

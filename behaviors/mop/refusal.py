@@ -165,10 +165,9 @@ identical. Not kept: refusal limits 1.5 / 1.2 with "scale" (widened worst 0.296,
 1.4 / 1.1 (0.296; wrong runs over 2 samples 14 -> 17), 1.6 / 1.2 (0.310, mean 0.0148); an action
 judged afresh while it drives taken anew: the zigzag's last samples fit at 1.36, and 2755 of 8485
 true valid ticks follow such a judgement (62 of 798 mirrored); nor do the misfit's sums re-read at
-the new size tell them. Left: a stretch followed back over itself unstrained (the walk ankle; the
-held-out worst, 0.247 with the threshold model's mirror chains), as a performer going back
-along a gesture or a line's return followed backwards at a wrong size is (going back:
-:mod:`behaviors.mop.validity`).
+the new size tell them. Left: a stretch followed back over itself unstrained (the walk ankle),
+as a performer going back along a gesture or a line's return followed backwards at a wrong size
+is (going back: :mod:`behaviors.mop.validity`).
 Measured and not kept (widened, then ``bench/follow_quality.py --sections=sized,holds,sequences,
 unrelated,after,pauses``, tuned): no *new* action taken while strained (the action driving drives
 on): widened worst 0.239 -> 0.296: the zigzag on seed 208's mirrored dance wrist at 0.7x, held at
