@@ -164,7 +164,9 @@ def less_approach(msx: float, msy: float, bx: float, by: float, shown: float, cx
     facing, misses of 144; 0.298, 0.182, 12): half_life 4 / 10 0.286 / 0.291, 0.156 / 0.166,
     14 / 12; w_rel_look 0 0.269, 0.168, 10; w_rel_position 0.5 / 2 0.289 / 0.288, 13 / 10;
     w_velocity 2 0.279, 10; ratio 0.5 / 2 0.293 / 0.290, 9 / 9; relative_motion 0.2 0.296,
-    20. Nothing kept: the distance holds at 0.27-0.31 m whatever the step or the match."""
+    20. The place in the main's frame taken at the moment's distance on the live bearing
+    outside charges (no sideways correction): open 316, chased 135, distance 0.298. Nothing
+    kept: the distance holds at 0.27-0.31 m whatever the step or the match."""
     r = math.hypot(bx, by)
     if r <= 1e-9:
         return cx, cy
