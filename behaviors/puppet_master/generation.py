@@ -96,7 +96,15 @@ def share_around(mx: float, my: float, rx: float, ry: float, tx: float, ty: floa
     contact (0.049 / 0.022) but bench/fidelity.py --seeds 0,1,2,3,4,5 falls 635 -> 628 of
     720 (bully -5, friend -3, stalker +1; seed 7 110 -> 109): not used. The stalker's correction
     along this path toward nearer targets as well (its loops orbit, demonstrated.own_steps): its
-    misses (the engine's) on seeds 0-5, 8-13, 26-31 26 (17) -> 37 (26). Not used."""
+    misses (the engine's) on seeds 0-5, 8-13, 26-31 26 (17) -> 37 (26). Not used.
+
+    The characters with a personal space take the straight correction. Chased (the afraid
+    one, seeds 0, 46, 50) it is nearly all across the bearing at places in the main's frame:
+    0.31-0.38 m/s sideways, 0.01-0.06 outward, the target 5 cm farther out but 0.37-0.43 rad
+    round the main from the live bearing (over 0.5 rad on 24-30% of those steps). This path for
+    them too, tuning seeds 0-5, 40-51 (misses, the engine's alone): lover 44 (8) -> 42 (9),
+    afraid open 65 (4) -> 69 (3), chased 12 (8) -> 11 (6); chased distance 0.298 -> 0.300 m
+    (its designer's 0.40), facing 0.182 -> 0.167 (0.239 shown). Not used."""
     cx, cy = share * (tx - rx), share * (ty - ry)
     ax, ay = rx - mx, ry - my
     bx, by = tx - mx, ty - my
@@ -141,7 +149,24 @@ def less_approach(msx: float, msy: float, bx: float, by: float, shown: float, cx
     to the moment's 63-147 (contact gone), the steps since the last touch among its features
     (behavior.py, as the playful friend) 33 (20) (loops contact under the band), the still
     cap (Behavior.still_speed) not holding steps away from the main 37 (23), within 0.08 m 32
-    (18), at the 65th / 75th percentile 38 (24) / 32 (19). None of those used."""
+    (18), at the 65th / 75th percentile 38 (24) / 32 (19). None of those used.
+
+    The mirror for a character that keeps away (the afraid one, at places held in the world):
+    the live main's step towards it beyond the moment's main's added outward, its world cap
+    raised by as much, or both. Chased by visitors.Pursuer it keeps 0.298 m from its visitor
+    (tuning seeds 0-5, 40-51; its designer 0.40, shown 0.37), 8-10 cm nearer than its designer
+    whatever the visitor does (chasing 0.255 / 0.333 m, pausing 0.319 / 0.411, pulling back
+    0.435 / 0.541, wandering 0.377 / 0.483; seeds 0-5, 40-45), so it faces the visitor less
+    (0.182 against 0.239 shown: nearer, the match takes fleeing moments, which look away).
+    Afraid alone, open met of 144 / 288 and chased of 48 / 96 on seeds 0-5 / 40-51, against
+    123 / 244, 47 / 85: both 119 / 248, 45 / 84; the cap 114 / 254, 45 / 83; the step 116 /
+    242, 44 / 89; chased distance 0.288-0.293 m. Its Params on those 18 chases (distance,
+    facing, misses of 144; 0.298, 0.182, 12): half_life 4 / 10 0.286 / 0.291, 0.156 / 0.166,
+    14 / 12; w_rel_look 0 0.269, 0.168, 10; w_rel_position 0.5 / 2 0.289 / 0.288, 13 / 10;
+    w_velocity 2 0.279, 10; ratio 0.5 / 2 0.293 / 0.290, 9 / 9; relative_motion 0.2 0.296,
+    20. The place in the main's frame taken at the moment's distance on the live bearing
+    outside charges (no sideways correction): open 316, chased 135, distance 0.298. Nothing
+    kept: the distance holds at 0.27-0.31 m whatever the step or the match."""
     r = math.hypot(bx, by)
     if r <= 1e-9:
         return cx, cy

@@ -83,7 +83,16 @@ class StepDetail(StepSenses):
             # 1.5) a push went sideways round the main 13 cm off (the bully's charges arrived
             # in 6 of 14 on seed 0's slow path, now 10 of 12). bench/fidelity.py --seeds
             # 0,1,2,3,4,5: 623 -> 628 of 720 (seed 7: 107 -> 106); the bully's contact met on
-            # 15 of 18 paths instead of 10. Only before the touch 623 / 104, after 627 / 105
+            # 15 of 18 paths instead of 10. Only before the touch 623 / 104, after 627 / 105.
+            # The turn costs the step its progress along the smooth heading (x cos of the
+            # angle): the afraid character chased (seeds 0, 43, 46, 50, within 0.3 m of the
+            # visitor) flees outward at 0.19-0.25 m/s smoothed, 0.13-0.20 turned. Keeping the
+            # progress, tuning seeds 0-5 / 40-51 (open met of 720 / 1440, the engine's alone;
+            # chased of 48 / 96): turned step / cos (at most x2) 676 (8) -> 632 (28), 1325 (35)
+            # -> 1261 (61), chased 47 / 85 -> 38 / 72; the progress lost added back along the
+            # smoothed step 663 (13), 1309 (41), chased 41 / 82 (bully misses 6 -> 22). Chased
+            # distance 0.298 -> 0.290 / 0.306 m (its designer 0.40), speed 0.270 -> 0.357 /
+            # 0.319 (0.247 shown): faster, not farther (generation.less_approach). Not used.
             sx, sy = rotate_step(sx, sy, gov.detail_gain * detail)
         # off the edges within the character's edge margin (table_boundary.turn_off_edges)
         sx, sy = turn_off_edges(rx, ry, sx, sy, self.table, self.edge_band)
