@@ -54,16 +54,15 @@ another seed (``heldout_`` figures); the follower's rules and parameters were ne
 them. ``cli_default_`` figures: the ``follow`` command's defaults (features as recorded).
 
     python bench/follow_quality.py [--debug]
-        [--sections=sized,holds,sequences,unrelated,after,pauses,shapes] [--sigma=S]
-        [--seed=N]
+        [--sections=sized,holds,sequences,unrelated,after,pauses,shapes] [--sigma=S] [--seed=N]
 
 ``--sections`` measures only those sections of the tuned and held-out evaluations (a section
 left out still draws its random numbers, so the others' figures are those of a full run);
 ``--sigma`` is the puck follower's sigma (in each template's spread; default the follower's,
 the schema's range), so ``--sections=sized,unrelated,holds --sigma=S`` reruns the sweep in
 :class:`~behaviors.mop.follower.ActionFollower`'s docstring; ``--debug`` prints each sized
-performance's and each unrelated motion's figures; ``--seed`` the held-out evaluation's seed
-(default :data:`HELD_OUT_SEED`), to check a change on draws nobody looked at.
+performance's and each unrelated motion's figures; ``--seed`` is the held-out evaluation's seed
+(default :data:`HELD_OUT_SEED`), to check a figure on draws it was never looked at on.
 """
 
 from __future__ import annotations
@@ -322,17 +321,19 @@ def main() -> None:
     from tabletop.plugins.mop import FOLLOWER
     spec = FOLLOWER.fields["sigma"]
     check_flags("follow_quality", sys.argv[1:], ["--debug"], {"sections": SECTION_NAMES},
-                {"sigma": (spec.lo, spec.hi), "seed": (0, 2 ** 32 - 1)})
+                {"sigma": (spec.lo, spec.hi), "seed": (0, 999999)})
     SIGMA = next((float(a.split("=", 1)[1]) for a in sys.argv[1:] if a.startswith("--sigma=")),
                  SIGMA)
+    seed = next((a.split("=", 1)[1] for a in sys.argv[1:] if a.startswith("--seed=")), None)
+    if seed is not None and not float(seed).is_integer():
+        sys.exit(f"follow_quality: --seed: expected a whole number, got {seed!r}")
+    held_out_seed = HELD_OUT_SEED if seed is None else int(float(seed))
     t0 = time.perf_counter()
     figures: dict[str, float] = {}
     figures.update(evaluate(puck_follower))
     # held out: other joints and another seed, never tuned on
-    seed = next((int(float(a.split("=", 1)[1])) for a in sys.argv[1:]
-                 if a.startswith("--seed=")), HELD_OUT_SEED)
     figures.update({"heldout_" + k: v for k, v in
-                    evaluate(puck_follower, seed, MOCAP_HELD_OUT).items()})
+                    evaluate(puck_follower, held_out_seed, MOCAP_HELD_OUT).items()})
     if SECTIONS is not None:
         for k, v in figures.items():
             print(f"{k:60s} {v:.4g}" if isinstance(v, float) else f"{k:60s} {v}")

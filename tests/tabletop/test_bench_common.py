@@ -43,3 +43,12 @@ def test_follow_quality_answers_help_before_measuring():
                        timeout=120)
     assert r.returncode == 0 and f"sections: {', '.join(SECTION_NAMES)}" in r.stdout
     assert "[--sigma=X]" in r.stdout and "sigma: a number in 0.001..100" in r.stdout
+    assert "[--seed=X]" in r.stdout and "seed: a number in 0..999999" in r.stdout
+
+
+def test_follow_quality_refuses_a_seed_that_is_no_whole_number():
+    bench = Path(__file__).resolve().parents[2] / "bench" / "follow_quality.py"
+    r = subprocess.run([sys.executable, str(bench), "--seed=1.5"], capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 1
+    assert r.stderr.strip() == "follow_quality: --seed: expected a whole number, got '1.5'"
