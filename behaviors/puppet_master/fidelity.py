@@ -204,6 +204,13 @@ def floor_only(row: dict[str, Any]) -> list[str]:
     return out
 
 
+def floor_only_table(table: dict[str, dict[str, dict[str, Any]]]) -> list[str]:
+    """``behaviour:path:threshold`` of the event thresholds met only through their floor
+    (:func:`floor_only`) in a {behaviour: {path: compared row}} table."""
+    return [f"{name}:{path}:{k}" for name, paths in table.items()
+            for path, row in paths.items() for k in floor_only(row)]
+
+
 def tally(table: dict[str, dict[str, dict[str, Any]]]
           ) -> tuple[int, int, dict[str, int], int]:
     """Counts over a {behaviour: {path: compared row}} table: (pairs within every threshold,

@@ -185,8 +185,8 @@ def test_the_unseen_main_paths_are_the_issues_kinds_of_visitor(seed):
 def test_event_thresholds_met_only_through_their_floor_are_named():
     # an event figure off by more than 30% of the demonstration's but within the floor meets
     # its threshold and is named; one within 30%, or missed, is not (bench/fidelity.py counts
-    # them: events_met_by_floor_only)
-    from bench.fidelity import floor_only_events
+    # them: events_met_by_floor_only; the --check summary too)
+    from tabletop.examples import summary
     a = np.linspace(0.1, 0.5, 200)
     demo = {"facing": 0.5, "look_change_rad": 0.02, "texture_rad": 0.3, "contact": 0.04,
             "still_moving_ratio": 0.2, "orbit_radps": 1.0, "saturation": 0.05,
@@ -200,5 +200,7 @@ def test_event_thresholds_met_only_through_their_floor_are_named():
     assert fidelity.floor_only(row(contact=0.029, still_moving_ratio=0.25)) == []   # within 30%
     missed = row(contact=0.019, still_moving_ratio=0.31)
     assert not missed["ok_contact"] and fidelity.floor_only(missed) == []
-    assert floor_only_events({"lover": {"slow": floored, "fast": row()}}) == [
-        "lover:slow:contact", "lover:slow:still_moving"]
+    table = {"lover": {"slow": floored, "fast": row()}}
+    assert fidelity.floor_only_table(table) == ["lover:slow:contact", "lover:slow:still_moving"]
+    assert summary(table, table).endswith("; 2 event thresholds met only through their floor "
+                                          "(missed at 30% of the demonstration's alone)")
