@@ -103,6 +103,18 @@ band from 0.002). Traced on seeds 0-5 (Python step), the match sits on moments u
 0.4%; at moments under 0.1 m it is 4.6-6.0 cm farther out than they are (closing on them at
 most at their pace).
 
+The event thresholds (contact, still/moving, orbit) hold within 30% of the demonstration's
+figure or within a floor (fidelity.EVENT_FLOOR), whichever is wider; the floor is the wider one
+wherever the demonstration's figure is under floor / 0.3 (contact 0.067, still/moving and orbit
+0.33), which covers most shipped characters' contact. ``events_met_by_floor_only`` counts
+the event thresholds met only through it (missed at 30% alone; named in
+``events_met_by_floor_only_list``, per seed and over the seeds too; counted in the summary
+line of ``python -m tabletop.examples --check`` as well). Measured on seed 0 (40 s
+paths): 8 of the 45 event thresholds, 7 of them contact (the lover 0.000-0.001 against 0.008,
+the playful friend 0.024 / 0.028 against 0.041, the stalker 0.009 / 0.040 against 0.022) and
+the bully's loops orbit (0.371 against 0.275 rad/s); on seeds 0-5 39 of 270 (5-8 a seed), so
+at 30% alone the 676 of 720 thresholds met there would be 637.
+
 ``--sequential`` adds sequential training beside two-puck demonstrations (:func:`sequential`,
 tabletop.examples.sequential_comparison: the designer's main at 60 Hz, then its reaction on 60
 Hz camera frames half a frame later against the playback seen a frame late, paired by
@@ -204,6 +216,15 @@ def cloud(runs: int, seeds: list[int], seconds: float,
     return out
 
 
+def budgets() -> dict[str, object]:
+    """The thresholds as behaviors/puppet_master/fidelity.py applies them."""
+    return {"facing_abs_diff": fidelity.FACING_TOL, "look_change_ratio": list(fidelity.RATIO_RANGE),
+            "texture_ratio": list(fidelity.RATIO_RANGE),
+            "speed_w1_share_of_mean_demo_speed": fidelity.SPEED_W1_SHARE,
+            "events_share": fidelity.EVENT_SHARE, "events_floor": dict(fidelity.EVENT_FLOOR),
+            "saturation_over_demo": fidelity.SATURATION_TOL}
+
+
 def miss_counts(met: int, engine_n: int, by_behaviour: dict[str, list[str]]) -> dict[str, int]:
     """``thresholds_met``, ``engine_only_misses`` and each behaviour's ``<name>.misses`` and
     ``<name>.engine_only_misses`` from its :func:`behaviour_misses` list."""
@@ -258,7 +279,7 @@ def main() -> None:
     t0 = time.perf_counter()
     figures: dict[str, object] = {}
     met_all = total_all = ref_all = 0
-    pursuit_all = pursuit_ref_all = engine_all = pursuit_engine_all = 0
+    pursuit_all = pursuit_ref_all = engine_all = pursuit_engine_all = floored_all = 0
     by_behaviour: dict[str, list[str]] = {}
     references: dict[int, dict[str, dict[str, dict]]] = {}
     for n, seed in enumerate(seeds):
@@ -276,6 +297,8 @@ def main() -> None:
         pursuit_ref_all += p_ref_met
         engine, p_engine = engine_misses(table, reference), engine_misses(pursuit, pursuit_ref)
         engine_all += fidelity.count(engine)
+        floored = fidelity.floor_only_table(table)
+        floored_all += len(floored)
         behaviour_misses(table, engine, seed, by_behaviour)
         pursuit_engine_all += fidelity.count(p_engine)
         if len(seeds) > 1:
@@ -284,6 +307,7 @@ def main() -> None:
             figures[f"seed{seed}.pursuit.thresholds_met"] = p_met
             figures[f"seed{seed}.pursuit.designer.thresholds_met"] = p_ref_met
             figures[f"seed{seed}.engine_only_misses"] = fidelity.count(engine)
+            figures[f"seed{seed}.events_met_by_floor_only"] = len(floored)
             figures[f"seed{seed}.pursuit.engine_only_misses"] = fidelity.count(p_engine)
             for name, paths in pursuit.items():      # time at a table edge (no threshold)
                 for path, row in paths.items():
@@ -315,6 +339,11 @@ def main() -> None:
         figures["pursuit.designer.thresholds_met"] = p_ref_met
         figures["engine_only_misses"] = fidelity.count(engine)
         figures["pursuit.engine_only_misses"] = fidelity.count(p_engine)
+        # met at the floor, missed at 30% of the demonstration's figure alone
+        print(f"event thresholds met only through their floor: {len(floored)} "
+              f"({' '.join(floored) or '-'})")
+        figures["events_met_by_floor_only"] = len(floored)
+        figures["events_met_by_floor_only_list"] = " ".join(floored)
         figures["pursuit.thresholds_total"] = fidelity.tally(pursuit)[1] * len(per_threshold)
         figures["seed"] = seed
     print("misses per behaviour over the seeds (seed:path:threshold, * the engine's alone):")
@@ -333,6 +362,7 @@ def main() -> None:
         figures["all_seeds.pursuit.designer.thresholds_met"] = pursuit_ref_all
         figures["all_seeds.engine_only_misses"] = engine_all
         figures["all_seeds.pursuit.engine_only_misses"] = pursuit_engine_all
+        figures["all_seeds.events_met_by_floor_only"] = floored_all
     if args.perturb:
         spread = cloud(args.perturb, seeds, args.seconds, references)
         unperturbed = miss_counts(met_all, engine_all, by_behaviour)
@@ -354,10 +384,7 @@ def main() -> None:
         figures.update(seq)
     figures["seconds_per_path"] = args.seconds
     figures["run_s"] = time.perf_counter() - t0
-    budgets = {"facing_abs_diff": 0.1, "look_change_ratio": [0.67, 1.5],
-               "texture_ratio": [0.67, 1.5], "speed_w1_share_of_mean_demo_speed": 0.2,
-               "events_share": 0.3, "saturation_over_demo": 0.1}
-    emit("fidelity", figures, budgets)
+    emit("fidelity", figures, budgets())
 
 
 if __name__ == "__main__":

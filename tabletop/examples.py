@@ -322,13 +322,17 @@ def print_fidelity(table: Rows) -> None:
 def summary(table: Rows, reference: Rows) -> str:
     """One line: the thresholds ``table`` meets, the behaviour/path pairs that miss one, and
     how many of the misses are the engine's alone (its designer's own character, ``reference``,
-    meets them on the same path; fidelity.engine_misses)."""
+    meets them on the same path; fidelity.engine_misses), and how many of the thresholds met
+    are event thresholds met only through their floor (fidelity.floor_only)."""
     passed, pairs, per_threshold, met = fidelity.tally(table)
     total = pairs * len(per_threshold)
     engine = fidelity.count(fidelity.engine_misses(table, reference))
+    floored = len(fidelity.floor_only_table(table))
     return (f"fidelity: {met} of {total} thresholds met, {pairs - passed} of {pairs} "
             f"behaviour/path pairs miss at least one; {engine} of the {total - met} misses are "
-            "the engine's alone (the designer's own character meets them)")
+            f"the engine's alone (the designer's own character meets them); {floored} event "
+            "thresholds met only through their floor (missed at 30% of the demonstration's "
+            "alone)")
 
 
 def print_report(table: Rows, pursuit: Rows, reference: Rows, pursuit_reference: Rows) -> None:

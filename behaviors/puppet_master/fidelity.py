@@ -187,6 +187,30 @@ def failures(row: dict[str, Any]) -> list[str]:
     return [k[3:] for k, v in row.items() if k.startswith("ok_") and not v]
 
 
+# the event thresholds and the figure each compares
+EVENTS = {"contact": "contact", "still_moving": "still_moving_ratio", "orbit": "orbit_radps"}
+
+
+def floor_only(row: dict[str, Any]) -> list[str]:
+    """Event thresholds a compared row meets only through :data:`EVENT_FLOOR`: the generated
+    figure is off the demonstration's by more than 30% of it but within the floor (where the
+    demonstration's figure is under floor / 0.3: contact 0.067, still/moving and orbit 0.33)."""
+    out = []
+    for ok, key in EVENTS.items():
+        gen, demo = row[f"gen_{key}"], row[f"demo_{key}"]
+        if row[f"ok_{ok}"] and math.isfinite(gen) and math.isfinite(demo) \
+                and abs(gen - demo) > EVENT_SHARE * abs(demo):
+            out.append(ok)
+    return out
+
+
+def floor_only_table(table: dict[str, dict[str, dict[str, Any]]]) -> list[str]:
+    """``behaviour:path:threshold`` of the event thresholds met only through their floor
+    (:func:`floor_only`) in a {behaviour: {path: compared row}} table."""
+    return [f"{name}:{path}:{k}" for name, paths in table.items()
+            for path, row in paths.items() for k in floor_only(row)]
+
+
 def tally(table: dict[str, dict[str, dict[str, Any]]]
           ) -> tuple[int, int, dict[str, int], int]:
     """Counts over a {behaviour: {path: compared row}} table: (pairs within every threshold,

@@ -263,6 +263,7 @@ def read_demonstration(args: argparse.Namespace
 def main(args: argparse.Namespace) -> int:
     from behaviors.puppet_master.engine import Behavior, ParameterError
     from behaviors.puppet_master.fidelity import generate
+    from behaviors.puppet_master.params import Params
     from tabletop.files import write_csv
 
     rate = parse_rate(args.rate if args.rate is not None else "40")
@@ -287,6 +288,15 @@ def main(args: argparse.Namespace) -> int:
     check_metres(main_rows[:, 1:3], args.input, "main path")
     check_metres(demo[:, [1, 2]], source, "demonstration's main")
     check_metres(demo[:, [4, 5]], source, "demonstration's reactor")
+    def refused(exc: ParameterError) -> BehaveArgumentError:
+        """A parameter out of range, named by where it was given: --param or the folder."""
+        given = exc.name is not None and exc.name in parse_params(args.param)
+        return BehaveArgumentError(f"{'--param' if given else source}: {exc}")
+
+    try:   # the rate before the rows it asks for (rate_hz=inf was said as the main path's)
+        Params(rate_hz=params["rate_hz"]).check()
+    except ParameterError as exc:
+        raise refused(exc) from None
     rows_out = float(main_rows[-1, 0] - main_rows[0, 0]) * float(params["rate_hz"])
     if rows_out > MAX_ROWS:
         raise BehaveArgumentError(f"{args.input}: the main path spans "
@@ -295,9 +305,8 @@ def main(args: argparse.Namespace) -> int:
                                   "are generated")
     try:
         behavior = Behavior.train(demo, **params)
-    except ParameterError as exc:   # named by where it was given: --param or the folder
-        given = exc.name is not None and exc.name in parse_params(args.param)
-        raise BehaveArgumentError(f"{'--param' if given else source}: {exc}") from None
+    except ParameterError as exc:
+        raise refused(exc) from None
     except InputError as exc:   # a need set by --param (a window too long) names it first
         named = [f"--param {n}" for n in getattr(exc, "params", ())
                  if n in parse_params(args.param)]

@@ -173,3 +173,24 @@ def test_bank_stacks_standardised_templates():
         build_bank({"a": ta}, min_scale=[1.0])
     one_column = build_bank({"a": np.arange(5.0)})
     assert one_column.dim == 1
+
+
+def test_a_templates_tolerance_is_its_own_whatever_is_loaded_beside_it(gestures):
+    # the figures: in the pooled feature scale the circle's tolerance was 2.6 cm in x
+    # and 1.4 cm in y, and 1.6, 2.6, 4.7 cm as templates were added. Each template's scale
+    # (the metres one sigma unit stands for, per column) is now its own spread: measured
+    # 4.5 / 5.5 cm for the circle, alone, among the six, beside a line ten times as long
+    from bench.follow_quality import paper_follower, puck_follower
+    big = {**gestures, "big_line": 10.0 * gestures["line"]}
+    alone = puck_follower({"circle": gestures["circle"]}).bank.scale[0]
+    assert np.all((alone > 0.04) & (alone < 0.06)), alone
+    for loaded in (gestures, big):
+        f = puck_follower(loaded)
+        assert np.allclose(f.bank.scale[f.names.index("circle")], alone, rtol=1e-12, atol=0)
+    # the follow command's defaults (units unknown) floor each scale at a share of the set's
+    # pooled spread (tabletop.commands.follow.MIN_SCALE_SHARE): no floor binds among the six
+    f = paper_follower(gestures)
+    assert np.allclose(f.bank.scale[f.names.index("circle")], alone, rtol=1e-12, atol=0)
+    # the pooled units alone (the scale before each template's own spread) tie it to the set
+    pooled = [fit_scale(list(s.values()), 0.05)[1] for s in ({"c": gestures["circle"]}, big)]
+    assert not np.allclose(*pooled)

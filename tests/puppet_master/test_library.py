@@ -222,6 +222,7 @@ def test_examples_check_command(tmp_path, capsys):
     assert len(sums) == 2, sums
     assert sums[0].startswith(f"fidelity: {120 - missed} of 120 thresholds met, "), sums[0]
     assert f"of the {missed} misses are the engine's alone" in sums[0], sums[0]
+    assert " event thresholds met only through their floor " in sums[0], sums[0]
     assert " of 8 thresholds met, " in sums[1] and " of 1 behaviour/path pairs " in sums[1]
     assert engine and all(line.startswith("  ") for line in engine.splitlines()[1:])
 

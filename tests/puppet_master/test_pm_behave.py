@@ -166,6 +166,9 @@ def test_the_help_names_every_parameter():
     # trained for minutes (100 kHz) or ran out of memory (2**50 samples of padding) before
     ("rate_hz=100000", ["--param", "rate_hz", "1 to 1000 Hz"]),
     ("rate_hz=1e-300", ["--param", "rate_hz", "1 to 1000 Hz"]),
+    # counted as rows of the main path first: "main.csv: ... inf rows at inf Hz"
+    ("rate_hz=inf", ["--param", "rate_hz", "not a finite number"]),
+    ("rate_hz=1e6", ["--param", "rate_hz", "1 to 1000 Hz"]),
     ("detail_levels=50", ["--param", "detail_levels", "1 to 10"]),
     # a window longer than the demonstration: the error named the file alone, as if the
     # demonstration were too short
