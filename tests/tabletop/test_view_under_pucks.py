@@ -112,3 +112,20 @@ def test_the_bare_table_is_put_back_through_another_pixel_format():
     assert (got[d >= 12.6] == (250, 10, 10)).all()
     rim = (d > 12.0) & (d < 12.4)
     assert rim.any() and (got[rim][:, 0] < 250).all() and (got[rim][:, 0] > want[rim][:, 0]).all()
+
+
+def test_a_bare_table_the_kernel_cannot_read_is_put_back_as_its_colour_at_the_puck():
+    """A bare table of another depth (a 16-bit display's) is not read pixel by pixel: the
+    puck's disc takes its colour at the puck's centre."""
+    from tabletop.drawing import pucks
+    from tabletop.table_map import TableToScreen
+    m = TableToScreen(TABLE, SIZE, 24)
+    bare = pygame.Surface(SIZE, 0, 16)
+    bare.fill((40, 60, 80))
+    target = pygame.Surface(SIZE, 0, 32)
+    target.fill((250, 200, 10))
+    pucks.under_pucks(target, bare, (Puck(1, *AT, 0.0),), (), m, RADIUS_M, [target.get_rect()])
+    cx, cy = (int(round(v)) for v in m.point(*AT))
+    want = bare.get_at((cx, cy))[:3]
+    assert tuple(target.get_at((cx + 20, cy))[:3]) == tuple(want)
+    assert tuple(target.get_at((cx + 30, cy))[:3]) == (250, 200, 10)
