@@ -344,6 +344,8 @@ class Renderer:
         surf = self._sprite_cache.get(key)
         if surf is None:
             zoom = px_size / max(img.get_width(), 1)
+            if self.map.reading().mirrored:   # mirrored across its heading: the table mirrors
+                img = pygame.transform.flip(img, False, True)     # it back the right way round
             surf = pygame.transform.rotozoom(img, deg, zoom)
             if len(self._sprite_cache) > 2048:
                 self._sprite_cache.clear()
