@@ -184,6 +184,9 @@ class Renderer:
             if r is not None and p.state.kind != "studio":
                 self._keep_clear.append(r)
         shown, beyond = pucks.inside_edge(frame.pucks, self.table, self.puck_radius)
+        # what went under a puck stays under it: its top (the marker, the hand) is not lit
+        pucks.under_pucks(target, bg, shown, beyond, self.map, self.puck_radius,
+                          [r for r in drawn if r is not None])
         on_pucks = pucks.draw_pucks(target, self.traces.update(t, shown), self.map,
                                     self.puck_radius, t, TRAIL_S,
                                     self._label if overlay is not None else None, beyond)
@@ -341,6 +344,8 @@ class Renderer:
         surf = self._sprite_cache.get(key)
         if surf is None:
             zoom = px_size / max(img.get_width(), 1)
+            if self.map.reading().mirrored:   # mirrored across its heading: the table mirrors
+                img = pygame.transform.flip(img, False, True)     # it back the right way round
             surf = pygame.transform.rotozoom(img, deg, zoom)
             if len(self._sprite_cache) > 2048:
                 self._sprite_cache.clear()

@@ -256,10 +256,12 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
     if posed is None:
         return None
     pts, box, fig = posed
-    x0, y0, x1, y1 = box
     # The glow's size follows the figure's grown-up size, not its pose or its growing in (its
-    # strength fades in): one cached light per figure.
-    touched = P.glow(surf, ((x0 + x1) / 2, (y0 + y1) / 2), 0.42 * c.size * pose.ppm + 6, pose.color,
+    # strength fades in): one cached light per figure. It lies about the figure's points, as a
+    # face's about its head's: about their bounding box, an arm stretched out (a touch-posed
+    # hand dragged away) pulled it over the empty table beside the body.
+    mx, my = (np.add.reduce(pts, axis=0) / len(pts)).tolist()   # (= mean, faster)
+    touched = P.glow(surf, (mx, my), 0.42 * c.size * pose.ppm + 6, pose.color,
                      0.26 * pose.alpha * pose.light)
     topo = topology(len(pts), c.bones)
     w0 = max(1.5, _WIDTHS.get(c.kind, 0.045) * fig)

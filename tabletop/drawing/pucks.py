@@ -11,7 +11,7 @@ import numpy as np
 import pygame
 
 from tabletop.drawing import halo_kernel, raster
-from tabletop.drawing.discs import discs
+from tabletop.drawing.discs import discs, uncover
 from tabletop.drawing.trail_kernel import trails
 from tabletop.drawing import primitives as P
 from tabletop.drawing.life import PuckTrace
@@ -63,6 +63,43 @@ def inside_edge(pucks: Sequence[Puck], table: tuple[float, float], radius_m: flo
         else:
             out.append(replace(p, x=x, y=y))
     return out, frozenset(beyond)
+
+
+def under_pucks(surf: pygame.Surface, bare: pygame.Surface, pucks: Sequence[Puck],
+                beyond: Collection[int], to_screen: TableToScreen, radius_m: float,
+                drawn: Sequence[pygame.Rect]) -> None:
+    """Leave every puck's top dark: inside the rim of each puck of ``pucks`` (as
+    :func:`inside_edge` places them; ``radius_m``: a puck's radius, metres) the bare table
+    ``bare`` (the view's static table, the size of ``surf``) is put back over whatever
+    ``drawn`` (the rectangles the characters touched) painted there, so a character passing
+    under a puck goes under it, as the physical puck hides it, and does not light the marker
+    the camera reads and the hand on it, as the halo does not (its centre is left dark). Pucks
+    in ``beyond`` (past the table's edge, drawn on it) are not there: nothing is hidden. One
+    compiled call for all of them (:func:`tabletop.drawing.discs.uncover`)."""
+    if not drawn:
+        return
+    xy = [(p.x, p.y) for p in pucks if p.id not in beyond]
+    if not xy:
+        return
+    at = np.array(xy, dtype=np.float64)
+    px = to_screen.points(at)
+    radii = radius_m * np.hypot(*(to_screen.points(at + (0.01, 0.0)) - px).T) / 0.01
+    parts = [q for r in drawn for q in getattr(r, "parts", (r,))]   # (a union's own parts)
+    Rect = pygame.Rect
+    q = [(x, y, r) for (x, y), r in zip(px.tolist(), radii.tolist())
+         if 0.0 < r and abs(x) < 30000.0 and abs(y) < 30000.0       # (NaN fails too)
+         and Rect(int(x - r) - 1, int(y - r) - 1, int(2 * r) + 3, int(2 * r) + 3
+                  ).collidelist(parts) >= 0]
+    if not q:
+        return
+    view = raster.pixels(bare)
+    if view is None or bare.get_size() != surf.get_size():   # (not the view's own table)
+        for x, y, r in q:
+            raster.draw(surf, discs, np.array([(x, y)]), r,
+                        rgb(bare.get_at((min(max(int(x), 0), bare.get_width() - 1),
+                                         min(max(int(y), 0), bare.get_height() - 1)))[:3]))
+        return
+    raster.draw(surf, uncover, view[0], view[1], np.array(q, dtype=np.float64))
 
 
 def state_color(state: str, beyond: bool = False) -> Color:

@@ -56,6 +56,13 @@ class Reading:
         return self.right == (1, 0) and self.up == (0, -1)
 
     @property
+    def mirrored(self) -> bool:
+        """True when the table sees the window mirrored (a rear projection, or a turn and a
+        mirror): a picture drawn as it is reads the wrong way round there."""
+        (rx, ry), (ux, uy) = self.right, self.up
+        return rx * uy - ry * ux > 0
+
+    @property
     def quarter(self) -> bool:
         """True when a line of words runs along the window's y axis (a quarter turn)."""
         return self.right[0] == 0
