@@ -167,8 +167,10 @@ class ProjectorView:
                                            options["snapshot_max_mb"], options["snapshot_per_run"])
             except OSError as exc:
                 from tabletop.schema import ConfigError
+                why = ("a file, not a folder" if isinstance(exc, FileExistsError)
+                       else exc.strerror or exc)   # (mkdir's "File exists" for a file there)
                 raise ConfigError(f"view.snapshot_folder: {options['snapshot_folder']}: cannot "
-                                  f"be used: {exc.strerror or exc}") from None
+                                  f"be used: {why}") from None
         self.snapshot_overlay = bool(options["snapshot_overlay"])
         self._said_headless = False
         # kiosk: only the service key shows the overlay (and then Esc quits)
