@@ -286,6 +286,25 @@ def _drop_stdout() -> None:
         pass
 
 
+def _empty_argument(command: argparse.ArgumentParser, words: list[str]) -> str | None:
+    """The option or argument given an empty word (``tabletop replay "$F"`` with F unset):
+    as a path it is the current folder, which it never named ("replay: .: is a folder").
+    ``--record ''`` and ``--out ''`` are their commands' to say (with a file name to give)."""
+    options = command._option_string_actions
+    for i, word in enumerate(words):
+        option = word[:-1] if word.endswith("=") and word[:-1] in options else None
+        if word != "" and option is None:
+            continue
+        before = option or (words[i - 1] if i else "")
+        if before in ("--record", "--out"):
+            continue
+        if before in options:
+            return before
+        names = [a.metavar or a.dest for a in command._actions if not a.option_strings]
+        return str(names[0]) if names else "an argument"
+    return None
+
+
 def _main(words: list[str]) -> int:
     from tabletop.frames import InputError  # (numpy: here, where a Ctrl-C is caught)
 
@@ -305,6 +324,11 @@ def _main(words: list[str]) -> int:
     nul = [a for a in words if "\x00" in a]
     if nul:  # (a shell cannot pass one; a script building its arguments can)
         parser.error(f"argument {nul[0]!r} contains a NUL character: no path or value can")
+    empty = _empty_argument(command_parser(parser, args), words)
+    if empty is not None:
+        print(f"{args._prog}: error: {empty}: the value is empty (an unset variable in a "
+              "script?)", file=sys.stderr)
+        return EXIT_BAD_INPUT
     try:
         return int(args._main(args) or 0)
     except InputError as exc:
