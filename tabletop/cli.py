@@ -133,12 +133,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     an extension module's import (numpy's) can surface as an ImportError with a traceback."""
     words = list(sys.argv[1:] if argv is None else argv)
     try:
-        with _interrupt_on_stop_signals():
+        with _interrupts_kept(), _interrupt_on_stop_signals():
             return _main(words)
     except BrokenPipeError:
         _drop_stdout()
         return EXIT_OUTPUT_CLOSED
     except KeyboardInterrupt:
+        _INTERRUPTED_BY.clear()
         command = f" {words[0]}" if words and words[0] in COMMANDS else ""
         print(f"tabletop{command}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -146,10 +147,60 @@ def main(argv: Sequence[str] | None = None) -> int:
         release_early_stop()
 
 
+# the stop signal whose KeyboardInterrupt :func:`_interrupt` raised last
+_INTERRUPTED_BY: list[int] = []
+# the signals of KeyboardInterrupts a finaliser swallowed, to be sent again (_interrupts_kept)
+_LOST: list[int] = []
+_LOST_SAID = threading.Event()
+_RESENDER: list[threading.Thread] = []
+
+
 def _interrupt(signum: int, frame: Any) -> None:
     if early_stop_active():   # the program still imports its modules
         stop_early(signum, frame)
+    _INTERRUPTED_BY[:] = [signum]
     raise KeyboardInterrupt
+
+
+def _resend_lost() -> None:
+    """Send each lost interrupt's signal again, to the main thread, once the finaliser that
+    swallowed it has returned."""
+    import _thread
+    while True:
+        _LOST_SAID.wait()
+        _LOST_SAID.clear()
+        while _LOST:
+            _thread.interrupt_main(_LOST.pop(0))
+
+
+@contextlib.contextmanager
+def _interrupts_kept() -> Iterator[None]:
+    """Within the block, a KeyboardInterrupt raised while a finaliser runs (a ``__del__`` or
+    a weakref callback: numba's typing frees many while an installation builds) is sent again
+    as its signal. The interpreter swallows an exception a finaliser raises (printing
+    "Exception ignored in ..." and a traceback), so a Ctrl-C, SIGTERM or SIGHUP landing there
+    was lost and the command worked on. The signal is sent from a thread of its own: one
+    raised within the hook would land in the hook, swallowed again; the hook's last act is
+    to wake that thread, whose signal (it needs the interpreter's lock to send it) is then
+    taken at the main thread's next check, past the hook."""
+    default = sys.unraisablehook
+
+    def hook(unraisable: Any) -> None:
+        if not isinstance(unraisable.exc_value, KeyboardInterrupt):
+            default(unraisable)
+            return
+        if not _RESENDER:
+            _RESENDER.append(threading.Thread(target=_resend_lost, name="interrupts",
+                                              daemon=True))
+            _RESENDER[0].start()
+        _LOST.append(_INTERRUPTED_BY[-1] if _INTERRUPTED_BY else signal.SIGINT)
+        _LOST_SAID.set()
+
+    sys.unraisablehook = hook
+    try:
+        yield
+    finally:
+        sys.unraisablehook = default
 
 
 def _interrupt_on_stop_signals() -> contextlib.AbstractContextManager[None]:
@@ -182,7 +233,7 @@ def entry() -> None:
     ended = True
     if worker is not None:
         try:
-            with _interrupt_on_stop_signals():
+            with _interrupts_kept(), _interrupt_on_stop_signals():
                 ended = worker.finish_jobs()
         except KeyboardInterrupt:
             print("tabletop: interrupted", file=sys.stderr)
@@ -235,6 +286,25 @@ def _drop_stdout() -> None:
         pass
 
 
+def _empty_argument(command: argparse.ArgumentParser, words: list[str]) -> str | None:
+    """The option or argument given an empty word (``tabletop replay "$F"`` with F unset):
+    as a path it is the current folder, which it never named ("replay: .: is a folder").
+    ``--record ''`` and ``--out ''`` are their commands' to say (with a file name to give)."""
+    options = command._option_string_actions
+    for i, word in enumerate(words):
+        option = word[:-1] if word.endswith("=") and word[:-1] in options else None
+        if word != "" and option is None:
+            continue
+        before = option or (words[i - 1] if i else "")
+        if before in ("--record", "--out"):
+            continue
+        if before in options:
+            return before
+        names = [a.metavar or a.dest for a in command._actions if not a.option_strings]
+        return str(names[0]) if names else "an argument"
+    return None
+
+
 def _main(words: list[str]) -> int:
     from tabletop.frames import InputError  # (numpy: here, where a Ctrl-C is caught)
 
@@ -254,6 +324,11 @@ def _main(words: list[str]) -> int:
     nul = [a for a in words if "\x00" in a]
     if nul:  # (a shell cannot pass one; a script building its arguments can)
         parser.error(f"argument {nul[0]!r} contains a NUL character: no path or value can")
+    empty = _empty_argument(command_parser(parser, args), words)
+    if empty is not None:
+        print(f"{args._prog}: error: {empty}: the value is empty (an unset variable in a "
+              "script?)", file=sys.stderr)
+        return EXIT_BAD_INPUT
     try:
         return int(args._main(args) or 0)
     except InputError as exc:

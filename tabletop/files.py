@@ -185,7 +185,14 @@ def parse_yaml(text: str, file: str | Path, error: type[InputError] = FileFormat
         mark = exc.problem_mark or exc.context_mark
         where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
         raise error(f"{file}: {problem} at {where}: {exc.problem}") from None
-    except yaml.YAMLError as exc:  # e.g. a reader error: a character YAML does not allow
+    except yaml.reader.ReaderError as exc:  # a character YAML does not allow
+        at = exc.position if isinstance(exc.position, int) else 0
+        line = text.count("\n", 0, at) + 1
+        column = at - (text.rfind("\n", 0, at) + 1) + 1
+        code = exc.character if isinstance(exc.character, int) else ord(exc.character or " ")
+        raise error(f"{file}: {problem} at line {line}, column {column}: character U+{code:04X} "
+                    f"is not allowed in YAML (a damaged or binary file?)") from None
+    except yaml.YAMLError as exc:
         raise error(f"{file}: {problem}: {' '.join(str(exc).split())}") from None
     except (ValueError, RecursionError) as exc:  # e.g. an integer of thousands of digits
         raise error(f"{file}: {problem}: {type(exc).__name__}: {exc}") from None

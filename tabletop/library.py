@@ -240,6 +240,10 @@ def _load(folder: Path) -> StoredBehavior:
     desc = read_description(folder)
     data_file = _data_file(folder, desc["data"]["demonstration"], "demonstration")
     demo = read_demonstration(data_file)
+    if desc["samples"] and len(demo) != desc["samples"]:   # a file cut short at a whole number
+        raise LibraryError(                                 # (e.g. "-2.") reads as whole
+            f"{data_file}: {len(demo)} samples where {BEHAVIOR_FILE} says {desc['samples']}: "
+            f"cut short? (edited by hand: set its samples to the rows, or remove the key)")
     return StoredBehavior(folder=folder, name=folder.name, kind=desc["kind"],
                           parameters=dict(desc["parameters"]), demonstration=demo,
                           description=desc["description"], source=desc["source"],

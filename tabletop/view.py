@@ -103,6 +103,27 @@ def direct_framebuffer() -> None:
         os.environ.setdefault("SDL_FRAMEBUFFER_ACCELERATION", "0")
 
 
+def init_display(headless: bool) -> None:
+    """``pygame.display.init``; where only an X display is named, SDL tries X11 and then its
+    offscreen driver (which :func:`check_driver` refuses) and no Wayland: probing Wayland when
+    X cannot be opened, libwayland printed "error: XDG_RUNTIME_DIR is invalid or not set in
+    the environment." above the refusal under a system service (which has no runtime folder).
+    An SDL that takes no list of drivers keeps its own order."""
+    env = os.environ
+    if headless or env.get("SDL_VIDEODRIVER") or env.get("WAYLAND_DISPLAY") \
+            or not env.get("DISPLAY"):
+        pygame.display.init()
+        return
+    env["SDL_VIDEODRIVER"] = "x11,offscreen"
+    try:
+        pygame.display.init()
+    except pygame.error:
+        env.pop("SDL_VIDEODRIVER", None)
+        pygame.display.init()
+    finally:
+        env.pop("SDL_VIDEODRIVER", None)
+
+
 def headless_needed(force: bool) -> bool:
     """True when the view must use SDL's dummy driver: forced, or no display to open."""
     if force:
@@ -131,7 +152,7 @@ class ProjectorView:
                               else "as there is no display (DISPLAY is not set)")
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
-        pygame.display.init()
+        init_display(self.headless)
         if not self.headless:
             check_driver()
         direct_framebuffer()
@@ -167,8 +188,10 @@ class ProjectorView:
                                            options["snapshot_max_mb"], options["snapshot_per_run"])
             except OSError as exc:
                 from tabletop.schema import ConfigError
+                why = ("a file, not a folder" if isinstance(exc, FileExistsError)
+                       else exc.strerror or exc)   # (mkdir's "File exists" for a file there)
                 raise ConfigError(f"view.snapshot_folder: {options['snapshot_folder']}: cannot "
-                                  f"be used: {exc.strerror or exc}") from None
+                                  f"be used: {why}") from None
         self.snapshot_overlay = bool(options["snapshot_overlay"])
         self._said_headless = False
         # kiosk: only the service key shows the overlay (and then Esc quits)

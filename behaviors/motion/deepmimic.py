@@ -76,8 +76,10 @@ def motion_path(name: str) -> Path:
         p = folder / candidate
         if p.is_file():
             return p
+    known = sorted(p.name[len("humanoid3d_"):-len(".txt")]
+                   for p in folder.glob("humanoid3d_*.txt"))   # (a misspelt name: the right one)
     raise ClipError(f"{folder / name}: DeepMimic clip not found (looked for {name!r}, "
-                    f"{name}.txt and humanoid3d_{name}.txt)")
+                    f"{name}.txt and humanoid3d_{name}.txt; the clips: {', '.join(known)})")
 
 
 def parse_motion(data: object, where: str, name: str | None = None) -> Clip:

@@ -103,15 +103,16 @@ def main(args: argparse.Namespace) -> int:
         # kiosk's next session) is refused, not played on as if the session went on
         later_header = read_header(later)
         n = later_header.get("part", 0)
-        if not isinstance(n, int) or not isinstance(part, int) or n <= part:
-            raise SessionError(f"{later}: line 1: part {n!r} cannot follow part {part!r}; give "
-                               "the parts of a session in their order")
+        # the session first: another session's part 1 is not a part out of order
         session = later_header.get("session")
         if session is not None and header.get("session") is not None \
                 and session != header["session"]:
             raise SessionError(f"{later}: line 1: a part of session {one_line(session)[:40]}, "
                                f"not of {first}'s session {one_line(header['session'])[:40]}; "
                                "give the parts of one session")
+        if not isinstance(n, int) or not isinstance(part, int) or n <= part:
+            raise SessionError(f"{later}: line 1: part {n!r} cannot follow part {part!r}; give "
+                               "the parts of a session in their order")
         part = n
     with tempfile.TemporaryDirectory(prefix="tabletop-replay-") as tmp:
         files = header.get("files")

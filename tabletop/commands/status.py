@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 import time
 from typing import Any, Callable
@@ -146,6 +147,7 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.commands.run import MAX_SECONDS
     from tabletop.frames import InputError
     from tabletop.resolve import shown_host_port
+    from tracking.badinput import LogGaps
     from tracking.osc_codec import OscError
     from tracking.osc_input import plain_address
 
@@ -183,6 +185,9 @@ def main(args: argparse.Namespace) -> int:
         raise InputError(f"cannot listen on {shown_host_port(host, port)}: "
                          f"{exc.strerror or exc}") from None
 
+    gaps = LogGaps()              # refused packets: when to say them,
+    unsaid: dict[str, int] = {}   # and how many were not said, by sender and kind
+
     def handle_error(_request: Any, client: Any) -> None:
         """In place of socketserver's own, which prints a handler's exception with its
         traceback and serves on (a reader gone, ``status ... | head -1``, would give one
@@ -195,7 +200,20 @@ def main(args: argparse.Namespace) -> int:
             raise exc
         what = one_line(exc) if isinstance(exc, OscError) else \
             f"{type(exc).__name__}: {one_line(exc)}"
-        print(f"tabletop status: a packet from {sender(client)} refused: {what}",
+        # said at once, then while the same sender keeps sending the same kind (numbers
+        # aside), after 10 s, 20 s, ... (LogGaps) with the count left unsaid: a program
+        # sending no OSC to the port at 60 Hz filled the terminal with 60 lines a second
+        nonlocal gaps
+        key = f"{client[0]} {re.sub(r'[0-9]+', 'N', what)}"
+        if key not in unsaid and len(unsaid) >= 1024:   # (from the network: bounded)
+            gaps = LogGaps()
+            unsaid.clear()
+        if not gaps.due(key, time.monotonic()):
+            unsaid[key] = unsaid.get(key, 0) + 1
+            return
+        more, unsaid[key] = unsaid.get(key, 0), 0
+        print(f"tabletop status: a packet from {sender(client)} refused: {what}"
+              + (f" ({more} more like it since the last line)" if more else ""),
               file=sys.stderr, flush=True)
 
     server.handle_error = handle_error  # type: ignore[method-assign]

@@ -56,6 +56,10 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
                                              "file, not a folder")
     if k["enabled"] or any(k[key] is not None for key in ("status_file", "log_file", "crash_log")):
         _check_distinct(k, path, ctx)   # (a config named status.json runs outside a kiosk)
+    if k["status_file"] is not None and _not_a_status(Path(k["status_file"])):
+        raise ctx.error(f"{path}.status_file", f"{k['status_file']} holds something else than "
+                        "a kiosk status (a JSON object); the status written there every second "
+                        "would replace it: name another file")
     first, longest = k["backoff_s"]
     if first > longest:
         raise ctx.error(f"{path}.backoff_s", f"the first wait {first:g} s is longer than the "
@@ -63,6 +67,21 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
     if k["service_key"] not in ("", "F12") and service_key_code(k["service_key"]) is None:
         raise ctx.error(f"{path}.service_key", f"{k['service_key']!r} is not a key name; "
                                                "expected a pygame key name such as F12 or o")
+
+
+def _not_a_status(file: Any) -> bool:
+    """Does ``file`` hold something a status written over it would destroy (another config,
+    notes, a calibration)? A status is a JSON object; a file that is empty, missing or
+    unreadable (said where the status is written) or all NUL bytes (a disk's damage) is not
+    kept from the kiosk."""
+    try:
+        if not file.is_file():   # (a pipe or device: opening a pipe waits for a writer)
+            return False
+        with open(file, "rb") as f:
+            head = f.read(256).lstrip(b"\x00 \t\r\n")
+    except OSError:
+        return False
+    return bool(head) and not head.startswith(b"{")
 
 
 def check_files(cfg: Any) -> None:

@@ -160,9 +160,12 @@ class Supervisor:
     def _process(self, spare: bool) -> Child:
         # TABLETOP_DEBUG: an escaping exception prints its traceback, for the crash log
         # TABLETOP_SUPERVISOR_PID: the installation follows this process (follow_supervisor)
+        # PYTHONSAFEPATH (Python 3.11+): ``python -m tabletop`` puts the current folder first
+        # on the import path, so a gallery folder holding a copy of ``behaviors/`` (for its
+        # library) or ``tracking/`` ran that copy's code instead of the installed one's
         env = dict(self.env, NOTIFY_SOCKET=str(self.socket_path), TABLETOP_SUPERVISED="1",
                    TABLETOP_SUPERVISOR_PID=str(os.getpid()),
-                   TABLETOP_RESTARTS=str(self.starts), TABLETOP_DEBUG="1")
+                   TABLETOP_RESTARTS=str(self.starts), TABLETOP_DEBUG="1", PYTHONSAFEPATH="1")
         env.pop("WATCHDOG_USEC", None)
         env.pop("WATCHDOG_PID", None)
         if spare:
@@ -271,7 +274,7 @@ class Supervisor:
         now = self.clock()
         if child.ready_at is None:
             if now - child.started > self.policy.startup_s:
-                return f"not ready {now - child.started:.1f} s after its start"
+                return "not ready"   # (the log and the crash entry add how long it ran)
             return None
         assert child.last_ping is not None
         if now - child.last_ping > self.policy.stall_s:

@@ -30,7 +30,13 @@ class IPAddress(Str):
         try:
             return str(ipaddress.ip_address(value))
         except ValueError:
-            raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}") from None
+            pass
+        bare = value[1:-1] if value[:1] == "[" and value[-1:] == "]" else None
+        try:   # as a URL or ``tabletop status`` writes it: [::1]
+            hint = f" (an IPv6 address is written bare here: {ipaddress.ip_address(bare)})"
+        except ValueError:
+            hint = ""
+        raise ctx.error(path, f"expected {self.describe()}, got {shown(value)}{hint}")
 
 
 class HostName(IPAddress):

@@ -1,13 +1,14 @@
 """One kiosk per installation folder, with real processes: a second kiosk started on the
 folder of a running one is refused in one line (status 2) and leaves the first untouched; the
 first's own restarts (warm spares) are never refused; a kiosk killed outright leaves no lock
-behind."""
+behind; the folder's own Python packages are not imported in the installed code's place."""
 
 import json
 import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -207,3 +208,28 @@ def test_a_refusal_by_a_holder_whose_pid_has_ended_says_it_is_ending(tmp_path):
             f"write its pid); try again in a few seconds, or stop it first"), second.stdout
     finally:
         first.communicate(timeout=30)
+
+
+def test_a_kiosk_started_in_a_folder_holding_a_package_of_ours_runs_the_installed_code(tmp_path):
+    """The installation and its spares are ``python -m tabletop``, which puts the current
+    folder first on the import path: a gallery folder holding a copy of ``behaviors/`` (for its
+    library, with an older checkout's code) or ``tracking/`` had the kiosk run that code
+    instead of the installed one's."""
+    from tests.kiosk.test_supervisor import drill_config
+    cfg = drill_config(tmp_path, [])
+    cfg.write_text(cfg.read_text().replace("kiosk:", "kiosk:\n  spares: 0", 1))
+    (tmp_path / "tracking").mkdir()
+    marker = tmp_path / "tracking" / "imported"
+    (tmp_path / "tracking" / "__init__.py").write_text(
+        f"open({str(marker)!r}, 'w').close()\nraise SystemExit(9)\n")
+    script = Path(sys.executable).with_name("tabletop")   # as a technician starts it
+    p = subprocess.Popen([str(script), "run", "--config", str(cfg), "--kiosk", "--headless",
+                          "--seconds", "0.3"], cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    end = time.monotonic() + 120
+    while p.poll() is None and not marker.exists() and time.monotonic() < end:
+        time.sleep(0.05)
+    if p.poll() is None and marker.exists():
+        p.kill()
+    _, err = p.communicate(timeout=30)
+    assert not marker.exists(), err[-2000:]
+    assert p.returncode == 0 and "installation ready" in err, err[-2000:]

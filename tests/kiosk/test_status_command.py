@@ -136,6 +136,23 @@ def test_status_command_survives_bad_heartbeats(capsys):
     assert len(lines) == 1 and lines[0].startswith("north fake") and lines[0].endswith("?")
 
 
+def test_a_flood_of_packets_that_are_no_osc_is_said_once_and_tables_still_shown(capsys):
+    """Another program sending no OSC to the port (200 datagrams at once): one line for them,
+    not one each (60 a second filled the terminal), and a table's heartbeat still shown."""
+    port, th, out = listening("2")
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as stray:
+        for i in range(200):
+            stray.sendto(b"DMX %d" % i, ("127.0.0.1", port))
+    hb = Heartbeat("127.0.0.1", port)
+    hb.send("north", 3.0, 60.0, 0, json.dumps({"mode": "live"}))
+    hb.close()
+    th.join()
+    cap = capsys.readouterr()
+    assert out["rc"] == 0 and len(cap.out.splitlines()) == 1, cap.out
+    refused = [x for x in cap.err.splitlines() if " refused: " in x]
+    assert len(refused) == 1 and "does not start with an address" in refused[0], cap.err
+
+
 @pytest.mark.parametrize("address", ["nowhere", "h:99999", "h:x", "h:", ":9000", "::1",
                                      "::1:9000", "[::1]", "[::1]9000", "[nowhere]:9000",
                                      "[127.0.0.1]:9000", "[::1]:0", "h:+90", "h:1e3"])

@@ -143,8 +143,9 @@ def test_missing_and_bad_files_are_named(tmp_path):
         load_urdf(bad)
     with pytest.raises(ClipError, match="nothere.txt: DeepMimic clip not found"):
         load_motion(tmp_path / "nothere.txt")
-    with pytest.raises(ClipError, match="humanoid3d_nosuch.txt"):
+    with pytest.raises(ClipError, match="humanoid3d_nosuch.txt") as err:
         load_motion("nosuch")
+    assert "the clips: backflip, cartwheel, " in str(err.value) and ", walk)" in str(err.value)
     short = tmp_path / "short.txt"
     short.write_text(json.dumps({"Loop": "none", "Frames": [[0.1] * 44, [0.1] * 43]}))
     with pytest.raises(ClipError, match="short.txt: frame 1 has 43 numbers"):

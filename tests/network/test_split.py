@@ -89,6 +89,9 @@ def test_bad_network_options_are_one_clear_line():
         ({"kind": "osc", "host": "localhost"}, "sources[0].host", "an IP address"),
         ({"kind": "osc", "port": 70000}, "sources[0].port", "out of range"),
         ({"kind": "osc", "allow": ["10.0.0.300"]}, "sources[0].allow[0]", "an IP address"),
+        # as `tabletop status` and URLs write it: the hint names the bare form
+        ({"kind": "osc", "host": "[::1]"}, "sources[0].host",
+         "got '[::1]' (an IPv6 address is written bare here: ::1)"),
         ({"kind": "serial"}, "sources[0].port", "missing"),
         ({"kind": "serial", "port": "loop://", "timeout_s": 0}, "sources[0].timeout_s",
          "out of range"),

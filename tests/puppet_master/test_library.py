@@ -104,6 +104,10 @@ def test_corrupt_description_is_refused_and_kept_byte_identical(tmp_path, demo, 
     (lambda lines: lines[:3] + ["0.05,nan,1,1,1,1,1"] + lines[4:], ["line 4", "finite"]),
     (lambda lines: lines[:3] + ["0.05,1,1,1"] + lines[4:], ["line 4", "4 values"]),
     (lambda lines: lines[:1], ["0 data row"]),
+    # cut short by a power cut or a copy, the last number whole ("-2." of "-2.432631"): every
+    # row reads, but fewer than behavior.yaml's samples
+    (lambda lines: lines[:41] + [lines[41][:lines[41].rindex(".") + 1]],
+     ["41 samples where behavior.yaml says 320", "cut short"]),
 ])
 def test_corrupt_demonstration_is_refused(tmp_path, demo, mutate, words):
     folder = library.save_behavior(tmp_path, "x", demo, {})

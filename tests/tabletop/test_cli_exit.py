@@ -152,3 +152,38 @@ def test_the_end_never_waits_for_a_thread_or_exit_hook_that_hangs(hang):
         out, err = proc.communicate()
     assert proc.returncode == 0, (proc.returncode, err[-400:])
     assert out.startswith("tabletop ")
+
+
+# `tabletop status` whose work frees an object with a finaliser (a weakref callback or a
+# __del__, as numba's typing runs many while a kiosk's installation builds) that a stop signal
+# lands in: the KeyboardInterrupt raised there is one the interpreter swallows ("Exception
+# ignored in ...") and the command worked on
+_SIGNAL_IN_A_FINALISER = """
+import os, signal, sys
+from tabletop import cli
+import tabletop.commands.status as status
+sig = getattr(signal, sys.argv[1])
+class Finaliser:
+    def __del__(self):
+        os.kill(os.getpid(), sig)
+        for _ in range(100_000):   # the handler runs here, within the finaliser
+            pass
+def work(args):
+    Finaliser()
+    for _ in range(3_000_000):   # a command still working
+        pass
+    print("worked on", flush=True)
+    return 0
+status.main = work
+sys.argv = ["tabletop", "status", "127.0.0.1:9"]
+cli.entry()
+"""
+
+
+@pytest.mark.parametrize("sig", ["SIGTERM", "SIGINT"])
+def test_a_stop_signal_landing_in_a_finaliser_still_stops_the_command(sig):
+    res = subprocess.run([sys.executable, "-c", _SIGNAL_IN_A_FINALISER, sig],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 130, (res.returncode, res.stdout, res.stderr[-600:])
+    assert "worked on" not in res.stdout
+    assert res.stderr == "tabletop status: interrupted\n"

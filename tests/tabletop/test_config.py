@@ -89,6 +89,16 @@ def test_yaml_syntax_error_names_the_line(tmp_path):
     assert 8 <= line <= 10  # the unclosed bracket is on line 8 of the file
 
 
+@pytest.mark.parametrize("stray", ["\x07", "\x00\x00\x00"])
+def test_a_control_character_is_named_by_line_and_column(tmp_path, stray):
+    """A bell pasted from a terminal, or the NUL bytes a power cut leaves at a file's end:
+    its line and column, not the reader's character offset in "<unicode string>"."""
+    msg = error_of(tmp_path, GOOD + "view:\n  size: [1280, 720]" + stray + "\n")
+    line = GOOD.count("\n") + 2
+    assert f"at line {line}, column 20:" in msg, msg
+    assert f"U+{ord(stray[0]):04X}" in msg and "<unicode string>" not in msg
+
+
 def test_missing_required_key(tmp_path):
     msg = error_of(tmp_path, "table: {width: 1.0, height: 1.0}\n")
     assert "sources" in msg and "missing" in msg

@@ -266,6 +266,12 @@ def test_a_part_of_another_session_is_refused_before_anything_plays(tmp_path):
         f"tabletop replay: error: {sessions[1][1]}: line 1: a part of session {ids[1]}, not of "
         f"{sessions[0][0]}'s session {ids[0]}; give the parts of one session"), r.stderr
     assert not out.exists()
+    # another session's part 1 is of another session too ("part 1 cannot follow part 1")
+    r = subprocess.run([sys.executable, "-m", "tabletop", "replay", "--fast", "--no-view",
+                        str(sessions[0][0]), str(sessions[1][0])], capture_output=True,
+                       text=True, cwd=tmp_path, timeout=180,
+                       env=dict(os.environ, SDL_VIDEODRIVER="dummy"))
+    assert r.returncode == 2 and f"a part of session {ids[1]}, not of" in r.stderr, r.stderr
 
 
 def test_a_touch_pose_designer_session_replays_exactly(tmp_path, models):

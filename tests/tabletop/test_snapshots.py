@@ -310,3 +310,15 @@ def test_a_snapshots_health_panel_leaves_the_overlays_line_cache_alone(tmp_path)
     loop.run(seconds=1.1)
     assert len(list((tmp_path / "snaps").glob("snapshot-*.png"))) >= 3
     assert not screens._panel_lines
+
+
+def test_a_snapshot_folder_naming_a_file_says_so(tmp_path, capfd):
+    """mkdir's own words were "cannot be used: File exists" for a file where the folder goes."""
+    from tests.tabletop.test_validation import BASE, one_line, run_config
+    (tmp_path / "snaps").write_text("notes\n")
+    code, err = run_config(tmp_path, BASE.replace("view: {enabled: false}", "view: {"
+                           "snapshot_every_s: 1, snapshot_folder: snaps}"), capfd)
+    line = one_line(err)
+    assert code == 2 and line.endswith(f"view.snapshot_folder: {tmp_path / 'snaps'}: cannot be "
+                                       "used: a file, not a folder"), line
+    assert (tmp_path / "snaps").read_text() == "notes\n"

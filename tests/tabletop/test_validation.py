@@ -171,6 +171,10 @@ def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
      "is the config's last good copy"),
     ("kiosk: {status_file: s.json, log_file: s.json}\n", "kiosk.log_file: {tmp}/s.json is also "
      "kiosk.status_file"),
+    # a file of the technician's (another config, notes): the status would replace it
+    ("kiosk: {status_file: notes.txt}\n", "kiosk.status_file: {tmp}/notes.txt holds something "
+     "else than a kiosk status (a JSON object); the status written there every second would "
+     "replace it: name another file"),
 ])
 def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     # (they ran: a back-off that never grew, a service key warned about only once the kiosk

@@ -94,6 +94,22 @@ def test_an_empty_output_path_is_said_to_be_empty(tmp_path, capfd, command):
     assert code == 2 and f"{option}: the path is empty" in line and "folder" not in line, line
 
 
+@pytest.mark.parametrize("args, name", [
+    (["run", "--config", "", "--seconds", "0.5"], "--config"),
+    (["run", "--config=", "--seconds", "0.5"], "--config"),
+    (["replay", ""], "SESSION.jsonl"),
+    (["review", ""], "SESSION_LOG"),
+    (["track", "", "--out", "o.jsonl"], "INPUT"),
+])
+def test_an_empty_input_is_said_to_be_empty(tmp_path, capfd, args, name):
+    """A script's unset variable (``tabletop replay "$F"``): the path '' was the current
+    folder, said as ".: is a folder", or "the folder holds no images" for ``track``."""
+    code, err = cli(capfd, *args)
+    line = one_line(err)
+    assert code == 2 and line.endswith(f" error: {name}: the value is empty (an unset "
+                                       "variable in a script?)"), line
+
+
 def test_out_to_a_name_of_a_stream_leading_to_a_file_writes_through_it(tmp_path, capfd):
     """``--out /dev/stdout > poses.json``: /dev/stdout is a link (through /proc/self/fd/1) to a
     regular file, so it passed as one; the atomic write renamed a file over the link (run as

@@ -86,10 +86,13 @@ def test_one_moment_stands_on_a_calibrated_table_wherever_the_projector_puts_it(
     assert corners[:, 1].min() < ys.min() and ys.max() < corners[:, 1].max()
 
 
-def test_a_display_named_but_not_there_is_refused_not_drawn_offscreen(tmp_path):
+@pytest.mark.parametrize("runtime_dir", [True, False])
+def test_a_display_named_but_not_there_is_refused_not_drawn_offscreen(tmp_path, runtime_dir):
     """DISPLAY names an X server that is not running (it died, it restarts): SDL falls back to
     its offscreen driver; the run is refused in one line naming the display (a kiosk's
-    supervisor restarts it until the display opens) instead of drawing into no window."""
+    supervisor restarts it until the display opens) instead of drawing into no window. Also
+    without XDG_RUNTIME_DIR, as a system service runs: SDL probed Wayland too, and libwayland
+    printed "error: XDG_RUNTIME_DIR is invalid or not set in the environment." above it."""
     import os
     import subprocess
     import sys
@@ -97,13 +100,15 @@ def test_a_display_named_but_not_there_is_refused_not_drawn_offscreen(tmp_path):
     cfg.write_text("sources: [{kind: scripted, name: visitor, pucks: [1]}]\n"
                    "view: {size: [320, 180]}\n")
     env = {k: v for k, v in os.environ.items()
-           if k not in ("SDL_VIDEODRIVER", "WAYLAND_DISPLAY")}
-    env.update(DISPLAY=":4242", XDG_RUNTIME_DIR=str(tmp_path))   # no server has that number
+           if k not in ("SDL_VIDEODRIVER", "WAYLAND_DISPLAY", "XDG_RUNTIME_DIR")}
+    env.update(DISPLAY=":4242")   # no server has that number
+    if runtime_dir:
+        env.update(XDG_RUNTIME_DIR=str(tmp_path))
     r = subprocess.run([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
                         "--seconds", "1"], capture_output=True, text=True, env=env,
                        timeout=120)
     assert r.returncode == 2, r.stderr
-    err = [line for line in r.stderr.splitlines() if line.startswith("tabletop")]
+    err = r.stderr.strip().splitlines()
     assert err == ["tabletop run: error: the display (DISPLAY=:4242) cannot be opened: SDL "
                    "found only its offscreen driver; start the display, or run without a "
                    "window (--headless or view.headless)"], r.stderr
