@@ -203,6 +203,7 @@ def test_the_follow_commands_tolerance_and_refusal_stay_the_templates_own_beside
     # floor is now the still radius's only (tabletop.commands.follow.MIN_SCALE_SHARE)
     from bench.follow_quality import paper_follower
     from bench.motions import performance
+    from behaviors.mop.follower import ActionFollower
     x, _ = performance(np.random.default_rng(3), gestures["circle"], 0.7)
     scales, refused = [], []
     for loaded in ({"circle": gestures["circle"]},
@@ -216,3 +217,5 @@ def test_the_follow_commands_tolerance_and_refusal_stay_the_templates_own_beside
         refused.append(flags)
     assert np.allclose(scales[0], scales[1], rtol=1e-12, atol=0), scales
     assert 20 <= sum(refused[0]) <= len(x) - 20 and refused[0] == refused[1]
+    with pytest.raises(TemplateError, match="still_scale must be 2 non-negative"):
+        ActionFollower(gestures, still_scale=[0.01])
