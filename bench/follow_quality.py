@@ -331,8 +331,8 @@ def puck_follower(templates: Mapping[str, np.ndarray], **kw) -> ActionFollower:
 
 def paper_follower(templates: Mapping[str, np.ndarray]) -> ActionFollower:
     """The follower as the ``follow`` command builds it by default (features as recorded)."""
-    from tabletop.commands.follow import min_scale
-    return ActionFollower(templates, min_scale=min_scale(dict(templates)))
+    from tabletop.commands.follow import still_scale
+    return ActionFollower(templates, still_scale=still_scale(dict(templates)))
 
 
 def main() -> None:

@@ -55,7 +55,10 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
     probability per step that a new performance starts; ``memory``: forgetting of the evidence
     in samples; ``units`` (d,): the features' units (what makes columns comparable), default
     the pooled spread of each column; ``min_scale`` (d,): floor of every template's scale in the
-    features' own units (the input's noise); ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
+    features' own units (the input's noise); ``still_scale`` (d,): floor of the spread the still
+    radius is measured in (raw units; the radius is otherwise a share of the smallest template's
+    spread per column, see :mod:`behaviors.mop.invariance`), which leaves every template's own
+    tolerance as it is; ``hold_tolerance``: see :mod:`behaviors.mop.hmm`;
     ``still_samples``, ``lost_samples``, ``end``: spotting (samples, samples, progress);
     ``coverage`` (share of a template's path, the most asked), ``shape_distance``,
     ``shape_accept`` (sigma; default by ``invariance``, :func:`~behaviors.mop.refusal.
@@ -109,7 +112,7 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
                  shape_distance: float | None = None, shape_accept: float | None = None,
                  shape_memory: float = 16.0, dwell: float | None = None,
                  threshold: float = 0.0, turn_limit: float = math.inf,
-                 share_radius: float = 3.0) -> None:
+                 share_radius: float = 3.0, still_scale: np.ndarray | None = None) -> None:
         # as given: the defaults differ by invariance, which a group's members may mix
         shape_given = (shape_distance, shape_accept)
         shape_distance, shape_accept = shape_limits(invariance, shape_distance, shape_accept)
@@ -176,6 +179,13 @@ class ActionFollower(Recognition, PerformanceFrame, Validity, Refusal, Turning, 
         self._onset_state = self._onset_states()
         # holds inside a template, where they dwell (behaviors.mop.holding)
         self._holds = hold_maps(b) if dwell > 0 else None
+        self._still_scale = b.scale.min(axis=0)
+        if still_scale is not None:
+            floor = np.asarray(still_scale, dtype=float)
+            if floor.shape != (b.dim,) or not np.all(np.isfinite(floor) & (floor >= 0)):
+                raise TemplateError(f"still_scale must be {b.dim} non-negative numbers (one per "
+                                    f"feature), got {np.asarray(still_scale).tolist()}")
+            self._still_scale = np.maximum(self._still_scale, floor)
         self._setup_frame(float(scale_prior))
         self.coverage, self.shape_distance = float(coverage), float(shape_distance)
         self.shape_accept, self.shape_memory = float(shape_accept), float(shape_memory)

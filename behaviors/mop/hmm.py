@@ -9,7 +9,11 @@ templates loaded beside it. Measured (``tests/mop/test_live.py``, the bird alone
 one isotropic spread per template (x and y alike) let the bird take 3 of 17 other gestures at
 60% of them (the zigzag is a wave that swings wider in y); per column, 0 of 17. The units
 are given (a puck's metres) or, when unknown, the pooled per-column spread of the set
-(:func:`behaviors.mop.features.fit_scale`), so features of any scale work without tuning.
+(:func:`behaviors.mop.features.fit_scale`), so features of any scale work without tuning. Units
+unknown, the column floor compares a template's columns in the set's pooled units, the one
+place its scale still depends on the others: beside a line ten times as long (its x spread
+0.54 m, y 6 mm) the circle's x scale is floored 4.5 -> 13.7 cm, beside a circle ten times as
+large it stays its own (``tests/mop/test_hmm.py``). With units given nothing of the set enters.
 
 Holds: a run of samples that stays within ``hold_tolerance`` (in the template's own spread) of
 its first sample is kept as three states (first, middle, last) that map back to the progress

@@ -318,8 +318,9 @@ class PerformanceFrame:
         self._prior = scale_prior * rho2                          # (K,) prior weight at size 1
         # the still radius (raw units): half the onset in the smallest spread of each column (a
         # radius in RMS spread made a slow start look still: the anchor crept along a 0.7x
-        # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93)
-        self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * b.scale.min(axis=0)
+        # circle's first samples, valid 0.17 of the time after 30% of it instead of 0.93),
+        # floored by the follower's ``still_scale`` (``_still_scale``)
+        self._still_radius = 0.5 * max(self.onset, 0.1) * self.sigma * self._still_scale
         self._reversal_move2 = float(np.sum((REVERSAL_MOVE * self._still_radius
                                              / self._units) ** 2))
 

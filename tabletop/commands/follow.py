@@ -78,16 +78,20 @@ def _features(path: Path, header: list[str], data, what: str, lines=None):
     return names, data[:, cols]
 
 
-#: Every template's scale is floored at this share of the templates' pooled spread per column
-#: (features of unknown units: the puck's 1 cm floor against the example gestures' ~5 cm). Without
-#: it, with ``--invariance scale``, a template that moved a thousandth of the others left every
-#: other template invalid on every row (a circle beside a 1 mm nudge: 0 of 61 rows valid, 43
-#: alone or with the floor); it binds on none of ``bench/follow_quality.py``'s templates.
+#: The still radius (where the input is taken as resting; :mod:`behaviors.mop.invariance`) is
+#: measured in a spread floored at this share of the templates' pooled spread per column (features
+#: of unknown units: the puck's 1 cm floor against the example gestures' ~5 cm). Without it, with
+#: ``--invariance scale``, a template that moved a thousandth of the others shrank the radius to
+#: its own spread and left every other template invalid on every row (a circle beside a 1 mm
+#: nudge: 0 of 61 rows valid, 43 alone). Each template's own scale (its tolerance) is not floored
+#: by the set: flooring it so widened the circle's x tolerance from 4.5 to 13.7 cm beside a line
+#: ten times its size.
 MIN_SCALE_SHARE = 0.2
 
 
-def min_scale(templates: dict) -> "np.ndarray":
-    """The floor (d,) of every template's scale: :data:`MIN_SCALE_SHARE` of the pooled spread."""
+def still_scale(templates: dict) -> "np.ndarray":
+    """The floor (d,) of the still radius's spread: :data:`MIN_SCALE_SHARE` of the pooled
+    spread."""
     from behaviors.mop.features import fit_scale
     return MIN_SCALE_SHARE * fit_scale(list(templates.values()))[1]
 
@@ -145,7 +149,8 @@ def main(args: argparse.Namespace) -> int:
         t = np.arange(perf.shape[0], dtype=float)
 
     follower = ActionFollower(templates, sigma=sigma, window=window,
-                              invariance=args.invariance, min_scale=min_scale(templates))
+                              invariance=args.invariance,
+                              still_scale=still_scale(templates))
     out_header = ["t", "best", "progress", "variance"]
     for name in templates:
         out_header += [f"p_{name}", f"progress_{name}"]

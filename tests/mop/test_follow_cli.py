@@ -196,8 +196,9 @@ def test_a_performance_that_matches_nothing_gives_finite_rows_and_valid_0(files,
 
 def test_a_template_of_a_thousandth_of_the_others_leaves_them_valid_at_any_size(tmp_path):
     """With ``--invariance scale``, a template that barely moves (a 1 mm nudge beside the 15 cm
-    example circle) is floored at a share of the templates' pooled spread: unfloored, it left the
-    circle invalid on every row (0 of 61; 43 alone)."""
+    example circle) does not shrink the still radius below a share of the templates' pooled
+    spread: unfloored, the radius was the nudge's and left the circle invalid on every row (0 of
+    61; 43 alone)."""
     circle = ROOT / "examples" / "mop" / "gestures" / "circle.csv"
     nudge = tmp_path / "nudge.csv"
     nudge.write_text("t,dx,dy\n0,0,0\n0.5,0.001,0\n1,0,0\n")

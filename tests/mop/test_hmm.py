@@ -187,10 +187,35 @@ def test_a_templates_tolerance_is_its_own_whatever_is_loaded_beside_it(gestures)
     for loaded in (gestures, big):
         f = puck_follower(loaded)
         assert np.allclose(f.bank.scale[f.names.index("circle")], alone, rtol=1e-12, atol=0)
-    # the follow command's defaults (units unknown) floor each scale at a share of the set's
-    # pooled spread (tabletop.commands.follow.MIN_SCALE_SHARE): no floor binds among the six
+    # the follow command's defaults (units unknown): the circle's own among the six too
     f = paper_follower(gestures)
     assert np.allclose(f.bank.scale[f.names.index("circle")], alone, rtol=1e-12, atol=0)
     # the pooled units alone (the scale before each template's own spread) tie it to the set
     pooled = [fit_scale(list(s.values()), 0.05)[1] for s in ({"c": gestures["circle"]}, big)]
     assert not np.allclose(*pooled)
+
+
+def test_the_follow_commands_tolerance_and_refusal_stay_the_templates_own_beside_a_larger_one(
+        gestures):
+    # the follow command (units unknown) floored every template's scale at a share of the set's
+    # pooled spread: beside a circle ten times as large, the circle's became 6.4 / 8.8 cm
+    # instead of its own 4.5 / 5.5, and a 0.7x circle was refused on 39 other ticks of 73. The
+    # floor is now the still radius's only (tabletop.commands.follow.MIN_SCALE_SHARE)
+    from bench.follow_quality import paper_follower
+    from bench.motions import performance
+    from behaviors.mop.follower import ActionFollower
+    x, _ = performance(np.random.default_rng(3), gestures["circle"], 0.7)
+    scales, refused = [], []
+    for loaded in ({"circle": gestures["circle"]},
+                   {"circle": gestures["circle"], "big": 10.0 * gestures["circle"]}):
+        f = paper_follower(loaded)
+        scales.append(f.bank.scale[0])
+        flags = []
+        for s in x:
+            f.step(s)
+            flags.append(bool(f._refused[0]))
+        refused.append(flags)
+    assert np.allclose(scales[0], scales[1], rtol=1e-12, atol=0), scales
+    assert 20 <= sum(refused[0]) <= len(x) - 20 and refused[0] == refused[1]
+    with pytest.raises(TemplateError, match="still_scale must be 2 non-negative"):
+        ActionFollower(gestures, still_scale=[0.01])
