@@ -67,7 +67,7 @@ SCHEMA = Record({
                                doc="sub-pixel corner refinement half window, pixels"),
     "aruco3": Bool(True, doc="use OpenCV's ArUco3 mode for the full-frame pass (corners are "
                              "refined on the full image afterwards)"),
-    # 0.003: a fresh tracker on a 1280x720 camera tilted 14 degrees (tests/calibration/rigs.py
+    # 0.003: a fresh tracker on a 1280x720 camera tilted 14 degrees (calibration/simulated.py
     # table_rig, seeds 3-8) finds every 37-44 px marker in its first frame; at 0.005 the far
     # corner's 37 px marker was missed by every first full-frame pass (found once other markers
     # were known), so a puck put down alone there went unseen. It costs the first full-frame

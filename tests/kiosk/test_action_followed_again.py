@@ -15,7 +15,7 @@ from tests.kiosk.running import Latest, kiosk_built, replays_alike, running
 from tests.kiosk.test_bad_action_start import _corrupt, drawing_config
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def _scaled(text: str, k: float) -> str:

@@ -15,7 +15,7 @@ from bench.follow_quality import puck_follower, run
 from bench.motions import gesture_templates, performance, unrelated_motions
 from tabletop.cli import main as cli
 
-from tests.mop.helpers import EXAMPLES
+from tabletop.plugins.mop_table import EXAMPLES
 from tests.mop.test_group import _step_both
 
 NAMES = ("circle", "zigzag", "figure_eight", "line", "square", "wave")

@@ -14,7 +14,7 @@ from tabletop.plugins import mop
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
 
-from tests.mop.helpers import EXAMPLES, G, RATE, Table, build, designer_config
+from tabletop.plugins.mop_table import EXAMPLES, G, RATE, Table, build, designer_config
 
 
 def _example_data() -> dict:
