@@ -8,8 +8,8 @@ import pytest
 from calibration.charuco import (DEFAULT_BOARD, MIN_CORNERS, CalibrationInputError, board_image,
                                  coverage, coverage_gaps, detect_board, make_board, parse_board,
                                  solve_lens)
-from calibration.simulated import LENS_SIZE, board_views
 from calibration.transforms import fit_homography, residuals
+from tabletop.calibration_scenes import LENS_SIZE, board_views
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,6 @@ import pytest
 
 from bench.motions import gesture_templates
 from tabletop.config import load_config
-
 from tabletop.plugins.mop_table import EXAMPLES
 
 

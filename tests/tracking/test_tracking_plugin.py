@@ -72,7 +72,7 @@ def test_a_fresh_tracker_finds_every_marker_of_a_tilted_camera_in_its_first_fram
     """The full-frame pass of the configured tracker (ArUco3 on by default) finds the far
     corner's markers (37 px on a side, 1280x720 camera tilted 14 degrees) in its very first
     frame, with no other marker known: a puck put down alone there is seen at once."""
-    from calibration.simulated import table_rig
+    from tabletop.calibration_scenes import table_rig
     from tabletop.plugins.tracking import build_detector
     from tracking.rig import marker_layout
     for seed in (3, 5, 8):
