@@ -31,8 +31,8 @@ from bench.common import emit  # noqa: E402
 from calibration.charuco import (DEFAULT_BOARD, MIN_CORNERS, coverage_gaps,  # noqa: E402
                                  detect_board, make_board, parse_board, solve_lens)
 from calibration.transforms import fit_homography, residuals, table_grid  # noqa: E402
-from tests.calibration.rigs import (CORNER_PUCKS, LENS_SIZE, board_views,  # noqa: E402
-                                    fit_rig, table_rig)
+from tabletop.calibration_scenes import (CORNER_PUCKS, LENS_SIZE, board_views,  # noqa: E402
+                                         fit_rig, table_rig)
 
 SEEDS = tuple(range(1, 21))  # twenty pose sets a technician following the README takes
 

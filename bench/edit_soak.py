@@ -54,7 +54,7 @@ import yaml  # noqa: E402
 
 from bench.common import emit  # noqa: E402
 from bench.gallery_soak import soak_config  # noqa: E402
-from tests.tracking.scenes import wait_for as wait  # noqa: E402
+from tracking.scenes import wait_for as wait  # noqa: E402
 
 HEAP_MB_PER_EDIT = 0.05   # budget: the C heap in use, MB an applied edit over the last 50
 

@@ -122,14 +122,14 @@ def step_costs(rng: np.random.Generator) -> dict[str, float]:
 class ViewFrames:
     """The projector view's work between two MOP ticks in the installation: the engine steps at
     30 Hz in the loop's thread while the view draws and presents the busy table (eight
-    characters, sixteen pucks; ``tests/tabletop/scene_frames.py``) at 1280x720 and 60 Hz, so two
+    characters, sixteen pucks; ``tabletop/scene_frames.py``) at 1280x720 and 60 Hz, so two
     frames pass between its ticks (SDL's dummy driver: the drawing without a display)."""
 
     def __init__(self) -> None:
         os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
         os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
         import pygame
-        from tests.tabletop.scene_frames import TABLE, busy_frames
+        from tabletop.scene_frames import TABLE, busy_frames
         from tabletop.view import Renderer, overlay_lines
         pygame.display.init()
         self.pygame = pygame

@@ -67,8 +67,8 @@ def measure(blend_s: float | None) -> dict[str, float]:
     """The figures with every character's ``blend_s`` (None: as configured)."""
     from tabletop.config import load_config
     from tabletop.plugins import mop
+    from tabletop.plugins.mop_table import EXAMPLES, RATE, Table
     from tabletop.registry import BuildContext
-    from tests.mop.helpers import EXAMPLES, RATE, Table
     cfg = copy.deepcopy(load_config(EXAMPLES / "mop.yaml"))
     if blend_s is not None:
         for c in cfg["engines"][0]["characters"]:

@@ -90,15 +90,21 @@ def closest_start(prefix: np.ndarray, other: np.ndarray) -> float:
     ra, la = by_arc(prefix)
     fine = at_phase(other, np.linspace(0, len(other) - 1, 600))
     cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(fine, axis=0), axis=1))])
-    best = np.inf
-    for s in SIZES:
-        for target in la * np.geomspace(0.5, 2.0, 15) / s:
-            j = int(np.searchsorted(cum, target))
-            if j >= len(fine):
-                break
-            rb, _ = by_arc(s * fine[:max(1, j) + 1])
-            best = min(best, float(np.max(np.linalg.norm(ra - rb, axis=1))))
-    return best
+    # by size (rows) and length: the start of ``fine`` that long, as its last point's index
+    ends = np.searchsorted(cum, la * np.geomspace(0.5, 2.0, 15)[None, :] / SIZES[:, None])
+    reached = ends < len(fine)
+    if not reached.any():
+        return np.inf
+    ends = np.maximum(1, ends[reached])
+    # a start at size s is the start's points by arc (:func:`by_arc`) times s (its arc length
+    # is s times as long): each start resampled once, then scaled to every size reaching its end
+    uniq, which = np.unique(ends, return_inverse=True)
+    along = np.linspace(0.0, 1.0, POINTS)[None, :] * cum[uniq][:, None]
+    starts = np.stack([np.interp(along, cum, fine[:, k]) for k in range(fine.shape[1])], 2)
+    starts[cum[uniq] < 1e-12] = fine[0]
+    sizes = np.broadcast_to(SIZES[:, None], reached.shape)[reached]
+    gaps = np.linalg.norm(ra[None] - sizes[:, None, None] * starts[which], axis=2)
+    return float(gaps.max(axis=1).min())
 
 
 def earliest(name: str, templates: dict[str, np.ndarray], theta: float) -> float:

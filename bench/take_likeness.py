@@ -19,9 +19,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from bench.common import emit  # noqa: E402
+from tabletop.plugins.mop_table import EXAMPLES, build, designer_config  # noqa: E402
 from tabletop.studio.mop_likeness import likeness, too_like  # noqa: E402
-from tests.mop.helpers import EXAMPLES, build, designer_config  # noqa: E402
-from tests.studio.mop_table import StudioTable  # noqa: E402
+from tabletop.studio.mop_table import StudioTable  # noqa: E402
 
 GESTURES = ("circle", "figure_eight", "line", "square", "wave", "zigzag")
 TAKES = {"plain": {}, "slow_noisy": {"speed": lambda u: 0.85, "noise": 0.0005}}

@@ -24,11 +24,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench.common import emit, interleaved, stats_ms  # noqa: E402
 from tabletop.plugins import tracking as plugin  # noqa: E402
-from tests.tracking.scenes import moving_scene, score_detections  # noqa: E402
 from tracking.markers import (DetectorSettings, detect_markers, make_detector,  # noqa: E402
                               marker_measurements,
                               marker_side_lengths)
 from tracking.pucks import PuckTracker  # noqa: E402
+from tracking.scenes import moving_scene, score_detections  # noqa: E402
 from tracking.synthetic import CameraSettings, SyntheticCamera  # noqa: E402
 
 FRAMES = 60

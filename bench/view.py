@@ -1,6 +1,6 @@
 """Projector view speed: draw + present per frame, where a visitor sees it.
 
-Eight characters of every kind and sixteen pucks (tests/tabletop/scene_frames.py), at 1280x720
+Eight characters of every kind and sixteen pucks (tabletop/scene_frames.py), at 1280x720
 and 1920x1080, on SDL's dummy driver and in a real X window (a private Xvfb, installed by
 bench/xwindow.py when missing; skipped with a reason when it cannot be had). Displays:
 
@@ -40,7 +40,7 @@ import pygame  # noqa: E402
 
 from bench.common import emit, stats_ms  # noqa: E402
 from bench.xwindow import server_cpu_s, xvfb  # noqa: E402
-from tests.tabletop.scene_frames import TABLE, busy_frames  # noqa: E402
+from tabletop.scene_frames import TABLE, busy_frames  # noqa: E402
 from tabletop.view import Renderer, overlay_lines  # noqa: E402
 
 SIZES = ((1280, 720), (1920, 1080))

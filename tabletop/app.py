@@ -101,7 +101,8 @@ def build_recorder(cfg: dict[str, Any], ctx: BuildContext, record_path: Path | N
     by systemd; a config edit; after a named file grew) one warning is logged and parts of
     :data:`HEADER_PARTS` headers are recorded, so a running table never goes down over it.
     ``refuse_full``: a full disk at the start is refused too (see the Recorder)."""
-    from tabletop.recorder import MB, Recorder, header_line, session_header
+    from tabletop.parts import header_line
+    from tabletop.recorder import MB, Recorder, session_header
     from tabletop.recordings import new_session
     from tabletop.schema import ConfigError
     rec = cfg["recorder"]
@@ -227,7 +228,7 @@ def build_live(cfg: dict[str, Any], headless: bool = False, record_path: Path | 
                         strict=strict)
     for s in sinks:        # (the recorder: a later part carries its engines' states)
         if hasattr(s, "state_of"):
-            from tabletop.session import part_states
+            from tabletop.parts import part_states
             s.state_of = lambda: part_states(engines)
     timing = {} if clock is None else {"clock": clock, "paced": False}
     loop = Loop(LiveInputs(sources, tracker), engines, sinks, rate_hz=cfg["loop"]["rate_hz"],

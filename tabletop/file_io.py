@@ -251,6 +251,17 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> None:
         f.write(data)
 
 
+def close_quietly(f: Any) -> None:
+    """Close ``f``, dropping what its buffer could not write (a full disk)."""
+    try:
+        f.close()
+    except OSError:
+        try:
+            f.close()   # the buffer is dropped by the failed close; this closes the descriptor
+        except OSError:
+            pass
+
+
 def fsync_folder(folder: Path) -> None:
     """Make a rename in ``folder`` durable (where the platform allows)."""
     with suppress(OSError):

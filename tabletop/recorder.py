@@ -28,7 +28,6 @@ the disk has not synced yet (a disk that stopped) stop the recording like a full
 
 from __future__ import annotations
 
-import datetime as _dt
 import errno
 import json
 import logging
@@ -37,13 +36,14 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
+from tabletop.file_io import close_quietly
 from tabletop.files import folder_failure, fsync_folder, is_stream
 from tabletop.frames import Frame
+from tabletop.parts import carried, header_line
 from tabletop.recorder_sync import Syncer
-from tabletop.recordings import (FOREIGN, Orders, Recordings, candidates, hold, new_session,
-                                 number, prune, recordings, release)
+from tabletop.recordings import Orders, create_part, hold, new_session, number, prune, release
 # The format lives in tabletop.session; its names are re-exported for callers of this module.
-from tabletop.session import (FORMAT, VERSION, SessionError, carried,  # noqa: F401
+from tabletop.session import (FORMAT, VERSION, SessionError,  # noqa: F401
                               frame_to_dict, jsonable, read_frames, read_header, session_header)
 
 log = logging.getLogger("tabletop")
@@ -130,7 +130,7 @@ class Recorder(Syncer):
         # what the session's frames reloaded so far, and before the frame being written
         self._reloaded: dict[str, Any] = {}
         self._reloaded_before: dict[str, Any] = {}
-        # the engines' states a part carries (tabletop.session.part_states), after the last
+        # the engines' states a part carries (tabletop.parts.part_states), after the last
         # frame and before the frame being written
         self.state_of: Callable[[], dict[str, Any]] | None = None
         self._state: dict[str, Any] | None = None
@@ -141,7 +141,7 @@ class Recorder(Syncer):
         except OSError as exc:
             if strict and (refuse_full or exc.errno not in DISK_FULL):
                 if self._f is not None:   # the file the full disk took no header into
-                    _close_quietly(self._f)
+                    close_quietly(self._f)
                 for p in self.paths:
                     p.unlink(missing_ok=True)
                 raise SessionError(f"{self.folder}: cannot start a recording there: "
@@ -179,25 +179,9 @@ class Recorder(Syncer):
         """A new file: the first, the next part, or one ``resumed`` after a stop for that
         reason."""
         self.folder.mkdir(parents=True, exist_ok=True)
-        if self.keep is None and self.paths:
-            # nothing is pruned: a later part goes on from this session's last order and name
-            # without listing the folder again (a listing grows with every recording kept)
-            mine: Recordings = {}
-            order, first = self._order + 1, self._number + 1
-        else:
-            mine = recordings(self.folder, self.stem, self.suffix, self._orders)
-            order = max((o for o, *_ in mine.values() if o is not None and o != FOREIGN),
-                        default=0) + 1
-            # on after the highest name: trying NAME, NAME-2 ... one by one cost an open()
-            # per recording kept (20,000 of them: 0.1 s, at every start and new part)
-            first = max((number(p.name, self.stem, self.suffix) for p in mine), default=0) + 1
-            first = max(first, self._number + 1)
-        for candidate in candidates(self.folder, self.stem, self.suffix, first):
-            try:
-                f = open(candidate, "xb", buffering=0)   # each line one write: see _write
-            except FileExistsError:
-                continue
-            break
+        listed = self.keep is not None or not self.paths   # (nothing to prune: not listed)
+        mine, order, candidate, f = create_part(self.folder, self.stem, self.suffix, self._orders,
+                                                (self._order, self._number), listed)
         previous = self.path.name if self.paths else None
         self._f, self._size, self._first_in_file = f, 0, True
         hold(f)                          # another run's keep leaves it alone
@@ -370,7 +354,7 @@ class Recorder(Syncer):
                 if len(self.paths) > n:
                     part = self.paths.pop()
                     if self._f is not None:
-                        _close_quietly(self._f)
+                        close_quietly(self._f)
                         self._f = None
                     try:
                         part.unlink()
@@ -451,41 +435,5 @@ class Recorder(Syncer):
         return False
 
 
-def header_line(header: dict[str, Any], order: int, part: int, session: str,
-                reloaded: dict[str, Any] | None = None,
-                performers: dict[str, Any] | None = None) -> bytes:
-    """The first line of a recording part: format, version, ``order`` first (see
-    recordings.ORDER), its ``session`` (:func:`tabletop.recordings.new_session`), then ``header``,
-    with this part's ``order``, ``session`` and ``part`` (not a copied header's: replay --out hands
-    on the recording's own) and the time it is created; ``reloaded``: what the session reloaded
-    before the part began (:func:`tabletop.session.carried`), and ``performers``, its engines'
-    states before its first frame (:func:`tabletop.session.part_states`), so that it replays
-    on its own; a first part keeps a copied header's ``performers``."""
-    line = {"format": FORMAT, "version": VERSION, "order": order, "session": session}
-    line.update(header, order=order, session=session, part=part,
-                created=_dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"))
-    line.pop("reloaded", None)           # (a copied header's: replay --out)
-    # a later part's engines start from its own states; a first part from a copied header's
-    # (replay PART --out X: X is part 1 of its own session and starts where PART did)
-    states = performers if part > 1 else line.pop("performers", None)
-    line.pop("performers", None)
-    if reloaded:
-        line["reloaded"] = reloaded
-    if states:
-        line["performers"] = states
-    return (json.dumps(line, separators=(",", ":"), default=str) + "\n").encode()
-
-
 def _encode(d: dict[str, Any]) -> bytes:
     return (json.dumps(d, separators=(",", ":"), allow_nan=False) + "\n").encode()
-
-
-def _close_quietly(f: Any) -> None:
-    """Close ``f``, dropping what its buffer could not write (a full disk)."""
-    try:
-        f.close()
-    except OSError:
-        try:
-            f.close()   # the buffer is dropped by the failed close; this closes the descriptor
-        except OSError:
-            pass

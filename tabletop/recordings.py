@@ -122,6 +122,32 @@ def recordings(folder: Path, stem: str | None, suffix: str,
     return out
 
 
+def create_part(folder: Path, stem: str | None, suffix: str, orders: Orders,
+                last: tuple[int, int], listed: bool) -> tuple[Recordings, int, Path, Any]:
+    """A session's next part created exclusively (unbuffered: each line one write), as
+    (``folder``'s recordings of this naming, its ``order``, its path, the open file). ``last``:
+    the session's last part's order and name number (0, 0 before its first); unless ``listed``
+    (nothing to prune), the folder is not listed again (a listing grows with every recording
+    kept) and the part goes on from ``last``, the recordings returned empty."""
+    if not listed:
+        mine: Recordings = {}
+        order, first = last[0] + 1, last[1] + 1
+    else:
+        mine = recordings(folder, stem, suffix, orders)
+        order = max((o for o, *_ in mine.values() if o is not None and o != FOREIGN),
+                    default=0) + 1
+        # on after the highest name: trying NAME, NAME-2 ... one by one cost an open()
+        # per recording kept (20,000 of them: 0.1 s, at every start and new part)
+        first = max((number(p.name, stem, suffix) for p in mine), default=0) + 1
+        first = max(first, last[1] + 1)
+    for candidate in candidates(folder, stem, suffix, first):
+        try:
+            return mine, order, candidate, open(candidate, "xb", buffering=0)
+        except FileExistsError:
+            continue
+    raise AssertionError("unreachable: the candidates never end")
+
+
 def prune(mine: Recordings, keep: int | None, current: Path, folder: Path,
           own: list[Path] | None = None) -> list[Path]:
     """Keep at most ``keep`` parts of ``mine`` (None: keep all), so the disk holds at most

@@ -8,8 +8,9 @@ ISO date,
 "config": {...} (as written, validates again), "files": {NAME: {"text" | "base64", "sha256"}}
 (every file the config refers to, see :mod:`tabletop.bundle`), "calibration": {...} | null,
 "part": n}``, ``"reloaded"`` in a later part whose session reloaded files before it began
-(:func:`carried`: played at its first frame when it is replayed first, so a part replays on
-its own with what was reloaded before it), ``"performers"`` in a later part (:func:`part_states`:
+(:func:`tabletop.parts.carried`: played at its first frame when it is replayed first, so a part
+replays on its own with what was reloaded before it), ``"performers"`` in a later part
+(:func:`tabletop.parts.part_states`:
 its engines' states before its first frame, which a part replayed first starts them from), and
 ``"studio": {"all": bool}`` when the designer studio ran (``all``: every engine was a target, as
 with ``run --studio``). Version 1 headers (no ``files``) are still read; a reader ignores keys it
@@ -112,7 +113,7 @@ def _commands(value: Any, what: str) -> tuple[str, ...]:
     return tuple(value)
 
 
-def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
+def consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
     """``consumed`` of a frame line: by filter, the pucks and commands it took (and the hot
     reloads' ``behaviors`` and failed reloads' ``notes``)."""
     if not isinstance(value, dict) or not all(isinstance(v, dict) for v in value.values()):
@@ -149,72 +150,6 @@ def _consumed_from_dict(value: Any) -> dict[str, dict[str, Any]]:
                                  "targets to {file name: base64}")
             out[str(k)]["libraries"] = libs
     return out
-
-
-def carried(state: dict[str, Any], reload: dict[str, Any] | None) -> dict[str, Any]:
-    """``state`` (a part header's ``reloaded``: what the frames so far reloaded, as one
-    frame's ``consumed["reload"]`` that plays it all again) with a frame's ``reload`` taken
-    in: each engine's latest behaviour, its latest note unless a later behaviour cleared it,
-    each MOP action's latest read, each studio target's latest library files (a library
-    listing's latest file by file)."""
-    if not reload:
-        return state
-    out = {k: dict(v) for k, v in state.items()}
-    for name, source in reload.get("behaviors", {}).items():
-        out.setdefault("behaviors", {})[name] = source
-        out.get("notes", {}).pop(name, None)     # (RecordedReloads clears it, then notes)
-    out.setdefault("notes", {}).update(reload.get("notes", {}))
-    for name, files in reload.get("libraries", {}).items():   # a listing: its changed files
-        libs = out.setdefault("libraries", {})
-        libs[name] = {**libs.get(name, {}), **files} if name.endswith(" library") else files
-    for name, entries in reload.get("actions", {}).items():   # each action's latest read
-        def key(e: Any) -> tuple:
-            return (e.get("character"), e.get("action")) if isinstance(e, dict) else (id(e),)
-        latest = {key(e) for e in entries}
-        out.setdefault("actions", {})[name] = [
-            *(e for e in out.get("actions", {}).get(name, []) if key(e) not in latest),
-            *entries]
-    return {k: v for k, v in out.items() if v}
-
-
-def part_states(engines: Any) -> dict[str, Any]:
-    """Each engine's state that a later recording part carries (its ``part_state()``: a MOP
-    stage's performers, where their gestures started and whether they rest), by name, for
-    the recorder to take after every frame (about 5 us with one puck performer)."""
-    return {e.name: s for e in engines
-            if (f := getattr(e, "part_state", None)) is not None and (s := f())}
-
-
-def resume_parts(engines: Any, states: Any) -> None:
-    """The ``engines`` of a part replayed alone go on from the ``states`` its header carries
-    (:func:`part_states`); ValueError (KeyError, TypeError) names what is wrong."""
-    if not isinstance(states, dict):
-        raise ValueError("expected a mapping of engines to their states")
-    for e in engines:
-        if e.name in states and hasattr(e, "resume_part"):
-            try:
-                e.resume_part(states[e.name])
-            except (KeyError, TypeError, ValueError) as exc:
-                raise ValueError(f"engine {e.name!r}: {exc}") from None
-
-
-def with_reloaded(frame: Frame, reloaded: Any) -> Frame:
-    """A part's first ``frame`` playing its header's ``reloaded`` (:func:`carried`) before its
-    own reloads: a later part replayed on its own starts with the behaviours, actions and
-    library files the live run had reloaded by then (its header's files are the session's
-    start's). A ``reloaded`` that is not one is refused, ValueError naming its key (said as
-    the header's, not as the frame's ``consumed.reload`` it is read as)."""
-    if not reloaded:
-        return frame
-    if not isinstance(reloaded, dict):
-        raise ValueError(f"expected a mapping of {', '.join(RELOADS)}")
-    try:
-        state = _consumed_from_dict({"reload": reloaded})["reload"]
-    except ValueError as exc:
-        raise ValueError(str(exc).removeprefix("consumed.reload.")) from None
-    state = {k: v for k, v in state.items() if k in RELOADS}
-    merged = carried(state, frame.consumed.get("reload"))
-    return dataclasses.replace(frame, consumed={**frame.consumed, "reload": merged})
 
 
 def _character_to_dict(c: CharacterState) -> dict[str, Any]:
@@ -341,7 +276,7 @@ def frame_from_dict(d: dict[str, Any]) -> Frame:
     streams = {str(k): _vector(v, f"streams.{k}") for k, v in streams.items()}
     characters = _each(d.get("characters", []), "characters", _character_from_dict)
     commands = _commands(d.get("commands", ()), "commands")
-    consumed = _consumed_from_dict(d["consumed"]) if "consumed" in d else {}
+    consumed = consumed_from_dict(d["consumed"]) if "consumed" in d else {}
     focus = d.get("focus")
     if focus is not None and not isinstance(focus, str):
         raise ValueError("focus: expected a string")

@@ -1,6 +1,6 @@
 """The performers' state a later recording part carries (:class:`PartStates`, part of
-:class:`behaviors.mop.stage.MopStage`; saved and restored by :func:`tabletop.session.part_states`
-and :func:`tabletop.session.resume_parts`)."""
+:class:`behaviors.mop.stage.MopStage`; saved and restored by :func:`tabletop.parts.part_states`
+and :func:`tabletop.parts.resume_parts`)."""
 
 from __future__ import annotations
 

@@ -90,7 +90,7 @@ def main(args: argparse.Namespace) -> int:
     from tabletop.bundle import extract
     from tabletop.config import validate_config
     from tabletop.recorder import SessionError, read_header
-    from tabletop.session import resume_parts, with_reloaded
+    from tabletop.parts import resume_parts, with_reloaded
 
     if args.out is not None:
         args.out = output_file(args.out, "--out", ReplayError, inputs=args.session)

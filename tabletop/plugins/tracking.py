@@ -67,13 +67,13 @@ SCHEMA = Record({
                                doc="sub-pixel corner refinement half window, pixels"),
     "aruco3": Bool(True, doc="use OpenCV's ArUco3 mode for the full-frame pass (corners are "
                              "refined on the full image afterwards)"),
-    # 0.003: a fresh tracker on a 1280x720 camera tilted 14 degrees (tests/calibration/rigs.py
+    # 0.003: a fresh tracker on a 1280x720 camera tilted 14 degrees (tabletop/calibration_scenes.py
     # table_rig, seeds 3-8) finds every 37-44 px marker in its first frame; at 0.005 the far
-    # corner's 37 px marker was missed by every first full-frame pass (found once other markers
-    # were known), so a puck put down alone there went unseen. It costs the first full-frame
-    # pass about 9% at 720p (1.82 -> 1.99 ms median, interleaved); bench/tracking.py on a quiet
-    # machine, two runs each, is unchanged: 720p 16 pucks 1.27-1.28 ms (ratio to plain 0.285-
-    # 0.287) at 0.005, 1.28-1.30 ms (0.286-0.289) at 0.003 (budget 0.3), detection identical.
+    # corner's 37 px marker was missed by every first full-frame pass (found once other markers were
+    # known), so a puck put down alone there went unseen. It costs the first full-frame pass about
+    # 9% at 720p (1.82 -> 1.99 ms median, interleaved); bench/tracking.py on a quiet machine, two
+    # runs each, is unchanged: 720p 16 pucks 1.27-1.28 ms (ratio to plain 0.285-0.287) at 0.005,
+    # 1.28-1.30 ms (0.286-0.289) at 0.003 (budget 0.3), detection identical.
     "aruco3_min_length_ratio": Number(0.003, lo=0.0, hi=0.5,
                                       doc="ArUco3: smallest marker side / image's larger side"),
     "aruco3_min_side_px": Number(16, integer=True, lo=8, hi=128,

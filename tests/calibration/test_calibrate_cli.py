@@ -8,10 +8,9 @@ import yaml
 
 from calibration.files import load_calibration, save_calibration
 from calibration.transforms import table_grid
+from tabletop.calibration_scenes import board_views, lens_only, table_rig, write_views
 from tabletop.cli import main
 from tracking.rig import marker_layout
-
-from .rigs import board_views, lens_only, table_rig, write_views
 
 
 def run(capsys, *argv):

@@ -9,8 +9,7 @@ from calibration.charuco import (DEFAULT_BOARD, MIN_CORNERS, CalibrationInputErr
                                  coverage, coverage_gaps, detect_board, make_board, parse_board,
                                  solve_lens)
 from calibration.transforms import fit_homography, residuals
-
-from .rigs import LENS_SIZE, board_views
+from tabletop.calibration_scenes import LENS_SIZE, board_views
 
 
 @pytest.fixture(scope="module")

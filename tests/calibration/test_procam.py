@@ -6,10 +6,9 @@ import pytest
 
 from calibration.fits import CHECK_MM, fit_table
 from calibration.transforms import FitError, apply_homography, table_grid
+from tabletop.calibration_scenes import CORNER_PUCKS, fit_rig, table_rig, true_calibration
 from tabletop.procam import run_check
 from tracking.markers import DetectorSettings, make_detector
-
-from .rigs import CORNER_PUCKS, fit_rig, table_rig, true_calibration
 
 
 @pytest.fixture(scope="module")
@@ -111,7 +110,7 @@ def test_capture_window_grabs_views_and_fills_the_coverage_map():
     import pygame
     from calibration.charuco import DEFAULT_BOARD, make_board, parse_board
     from tabletop.calibrate_ui import CaptureWindow, coverage_colours
-    from .rigs import board_views
+    from tabletop.calibration_scenes import board_views
     _, _, views = board_views(2, seed=2)
     det = cv2.aruco.CharucoDetector(make_board(parse_board(DEFAULT_BOARD)))
     win = CaptureWindow("0", det)

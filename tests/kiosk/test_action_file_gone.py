@@ -16,7 +16,7 @@ from tabletop.plugins.mop_files import load_template
 from tests.kiosk.running import Latest, kiosk_built, replays_without, running
 from tests.kiosk.test_bad_action_start import _config, _corrupt, drawing_config
 from tests.kiosk.test_kiosk_lock import status
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def test_a_kiosk_starts_without_a_template_made_a_folder_and_a_deleted_clip(tmp_path):

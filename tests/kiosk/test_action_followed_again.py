@@ -15,7 +15,7 @@ from tests.kiosk.running import Latest, kiosk_built, replays_alike, running
 from tests.kiosk.test_bad_action_start import _corrupt, drawing_config
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def _scaled(text: str, k: float) -> str:
@@ -107,7 +107,7 @@ def test_a_template_and_a_clip_broken_while_their_actions_play_are_listed_and_pl
 def test_a_part_header_carries_each_action_as_last_read():
     """A later part's ``reloaded`` holds each action's latest read once (a kiosk replacing a
     template every day for weeks would otherwise carry every copy in every part's header)."""
-    from tabletop.session import carried
+    from tabletop.parts import carried
     first = {"actions": {"mop": [{"character": "lone", "action": "line", "files": ["YQ=="]},
                                  {"character": "walker", "action": "line", "files": ["YQ=="]}]}}
     later = {"actions": {"mop": [{"character": "lone", "action": "line", "files": ["Yg=="]}]}}

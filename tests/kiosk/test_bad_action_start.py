@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from behaviors.motion.clips import clip_to_mapping
 from behaviors.mop.creatures import creature_clips
+from behaviors.motion.clips import clip_to_mapping
 from tabletop.frames import InputError
 from tabletop.kiosk import last_good
 from tabletop.kiosk.runner import Runner
@@ -22,7 +22,7 @@ from tests.kiosk.running import (Latest, kiosk_built, replays_alike, replays_wit
 from tests.kiosk.test_kiosk_lock import status
 from tests.tabletop.test_replay_exact import frames, replay_cli
 from tests.touch_pose.conftest import models  # noqa: F401  (the learned models, once)
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 GESTURES = Path(__file__).resolve().parents[2] / "examples" / "mop" / "gestures"
 

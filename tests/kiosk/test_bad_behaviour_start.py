@@ -15,7 +15,7 @@ from tabletop.frames import InputError
 from tabletop.kiosk.runner import Runner
 from tests.kiosk.running import Latest, replays_alike, running
 from tests.kiosk.test_kiosk_lock import status
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 LOVER = Path(__file__).resolve().parents[2] / "behaviors" / "library" / "lover"
 

@@ -9,8 +9,8 @@ import yaml
 
 from tabletop.config import load_config
 from tabletop.kiosk.runner import Runner
-from tests.tracking.scenes import wait_for
 from tracking.camera import InputLost
+from tracking.scenes import wait_for
 
 
 class Collect:

@@ -18,7 +18,7 @@ from tabletop.kiosk.health import Heartbeat, HealthReporter, WatchdogPing
 from tabletop.kiosk.notify import Notifier
 from tabletop.loop import Loop, LoopStats
 from tabletop.replay_inputs import FrameInputs
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 STATUS_FIELDS = {"name", "host", "pid", "supervisor_pid", "version", "time", "uptime_s", "fps",
                  "ticks", "mode", "unhealthy_sources", "sources", "errors", "restarts"}

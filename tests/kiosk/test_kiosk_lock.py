@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -17,7 +17,7 @@ import yaml
 from tabletop.config import load_config
 from tabletop.frames import Frame, InputError
 from tabletop.kiosk.runner import Runner
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -268,7 +268,7 @@ from tabletop.kiosk.runner import Runner, trim_heap
 from tabletop.kiosk.simulate import rss_bytes
 from tabletop.loop import Loop
 from tests.kiosk.test_live_config import config, rebuilt, running, write
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 cfg = config([10, 20, 30])
 cfg["loop"]["rate_hz"] = 120   # the ticks to the freeze sooner: the same figures as at 30 Hz

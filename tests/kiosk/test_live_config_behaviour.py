@@ -11,7 +11,7 @@ from tabletop.frames import Frame
 from tabletop.kiosk.runner import Runner
 from tests.kiosk.running import replays_without
 from tests.kiosk.test_live_config import ROOT, config, rebuilt, running, write
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def test_an_edit_applies_while_a_behaviour_file_is_bad_and_the_behaviour_plays_on(tmp_path):

@@ -7,7 +7,7 @@ from tabletop.config import load_config
 from tabletop.frames import Frame
 from tabletop.kiosk.runner import Runner
 from tests.kiosk.test_live_config import config, rebuilt, running, write
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def test_an_edit_that_turns_the_studio_on_or_off_is_applied(tmp_path):

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from tabletop.kiosk.logfile import SharedRotatingFileHandler
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 FROZEN_WRITER = """
 import logging, os, signal, sys

@@ -1,4 +1,4 @@
-"""The MOP performers' state a later recording part carries (tabletop.session.part_states):
+"""The MOP performers' state a later recording part carries (tabletop.parts.part_states):
 it survives JSON to the last bit, and one that is not the engine's is refused naming it."""
 
 import json
@@ -7,7 +7,7 @@ import pytest
 
 from bench.action_reload import _stage
 from tabletop.frames import Frame, Puck
-from tabletop.session import part_states, resume_parts
+from tabletop.parts import part_states, resume_parts
 
 
 def test_a_resting_performer_is_carried_to_a_fresh_stage_exactly(tmp_path):

@@ -9,7 +9,7 @@ import yaml
 
 from tabletop.config import load_config
 from tabletop.kiosk.runner import Runner
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def _snapshots(path: Path) -> dict | None:

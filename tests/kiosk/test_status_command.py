@@ -13,7 +13,7 @@ import pytest
 from tabletop.cli import main as cli
 from tabletop.kiosk.health import Heartbeat
 from tests.network.helpers import free_udp_port, ipv6_loopback
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def listening(seconds: str, *options: str,

@@ -14,7 +14,7 @@ from tabletop.kiosk.simulate import SimClock, simulated
 from tabletop.recorder import RESUME_EVERY_S
 from tabletop.schema import ConfigError
 from tests.kiosk.test_kiosk_lock import status
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 
 def _config(tmp_path: Path) -> Path:

@@ -5,8 +5,7 @@ import pytest
 
 from bench.motions import gesture_templates
 from tabletop.config import load_config
-
-from tests.mop.helpers import EXAMPLES
+from tabletop.plugins.mop_table import EXAMPLES
 
 
 @pytest.fixture(scope="module")

@@ -14,8 +14,8 @@ from behaviors.mop.group import FollowerGroup
 from bench.follow_quality import puck_follower, run
 from bench.motions import gesture_templates, performance, unrelated_motions
 from tabletop.cli import main as cli
+from tabletop.plugins.mop_table import EXAMPLES
 
-from tests.mop.helpers import EXAMPLES
 from tests.mop.test_group import _step_both
 
 NAMES = ("circle", "zigzag", "figure_eight", "line", "square", "wave")

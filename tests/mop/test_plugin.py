@@ -11,10 +11,9 @@ import yaml
 
 from tabletop.frames import InputError, Touch
 from tabletop.plugins import mop
+from tabletop.plugins.mop_table import EXAMPLES, G, RATE, Table, build, designer_config
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
-
-from tests.mop.helpers import EXAMPLES, G, RATE, Table, build, designer_config
 
 
 def _example_data() -> dict:

@@ -7,9 +7,9 @@ import pytest
 
 from tabletop.config import validate_config
 from tabletop.plugins import mop
+from tabletop.plugins.mop_table import EXAMPLES, RATE, build, designer_config
 from tabletop.registry import BuildContext
 from tabletop.schema import ConfigError
-from tests.mop.helpers import EXAMPLES, RATE, build, designer_config
 
 
 @pytest.mark.parametrize("clip_file", [False, True])

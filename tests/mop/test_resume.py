@@ -9,8 +9,8 @@ import pytest
 
 from tabletop.frames import Touch
 from tabletop.plugins import mop
+from tabletop.plugins.mop_table import EXAMPLES, G, RATE, Table
 from tabletop.registry import BuildContext
-from tests.mop.helpers import EXAMPLES, G, RATE, Table
 
 CHAR = "dancer"   # its actions: circle, zigzag, figure_eight, line
 

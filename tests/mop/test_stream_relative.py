@@ -3,7 +3,7 @@ coordinates followed wherever its performer walks (MOP's paper, 3.1.1)."""
 
 import numpy as np
 
-from tests.mop.helpers import G, RATE, Table, build
+from tabletop.plugins.mop_table import G, RATE, Table, build
 
 #: Where the performer stands while recording (metres, world), and how far the walked
 #: performance moves sideways while it is performed.

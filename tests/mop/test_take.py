@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from behaviors.mop.takes import TRIM_MARGIN_S
 from behaviors.mop.take import moving_part
+from behaviors.mop.takes import TRIM_MARGIN_S
 from tabletop.frames import Frame, Puck, Touch
-from tests.mop.helpers import G, RATE, Table, build, designer_config
+from tabletop.plugins.mop_table import G, RATE, Table, build, designer_config
 
 
 def _take(engine, name: str, before: float, after: float, jitter: float, seed: int):

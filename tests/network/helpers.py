@@ -14,7 +14,7 @@ from pythonosc.udp_client import SimpleUDPClient
 
 from tracking.osc_input import OscInput
 
-from tests.tracking.scenes import wait_for  # noqa: F401  (re-exported for the tests here)
+from tracking.scenes import wait_for  # noqa: F401  (re-exported for the tests here)
 
 TABLE = (1.2, 0.8)
 """The table of the ``osc`` sources under test (metres)."""

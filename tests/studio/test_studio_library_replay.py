@@ -121,9 +121,9 @@ def test_a_replay_never_writes_a_recorded_library_outside_its_own_folder(tmp_pat
     import base64
 
     from tabletop.frames import Frame
+    from tabletop.plugins.mop_table import build, designer_config
+    from tabletop.studio.mop_table import StudioTable
     from tabletop.studio.reloader import RecordedLibraries
-    from tests.mop.helpers import build, designer_config
-    from tests.studio.mop_table import StudioTable
     engine = build(designer_config(tmp_path), tmp_path)
     table = StudioTable(engine, tmp_path / "lib", focus="mop/lizard")
     (tmp_path / "lib" / "lizard").mkdir(parents=True)

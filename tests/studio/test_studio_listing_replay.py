@@ -61,7 +61,7 @@ def test_a_part_header_carries_a_listing_file_by_file():
     """A listing record holds only the files that changed, so a later part's ``reloaded``
     merges each listing's records file by file (the latest of each, removals kept); a target's
     own library record replaces the one before."""
-    from tabletop.session import carried
+    from tabletop.parts import carried
     from tabletop.studio.reloader import REMOVED
     first = {"libraries": {"pet library": {"bully/a.csv": "YQ==", "shy/a.csv": "YQ=="},
                            "pet": {"x.csv": "YQ==", "y.csv": "YQ=="}}}

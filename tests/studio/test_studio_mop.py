@@ -6,8 +6,8 @@ test_studio_mop_edits.py; bad library files: test_studio_mop_library_files.py)."
 import numpy as np
 import yaml
 
-from tests.mop.helpers import G, build, designer_config
-from tests.studio.mop_table import StudioTable
+from tabletop.plugins.mop_table import G, build, designer_config
+from tabletop.studio.mop_table import StudioTable
 
 
 def test_a_take_is_recorded_trained_assigned_kept_and_reloaded(tmp_path):

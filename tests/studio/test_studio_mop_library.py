@@ -6,8 +6,9 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from tests.mop.helpers import build, designer_config
-from tests.studio.mop_table import StudioTable, face_take, kept_line, kept_without_library
+from tabletop.plugins.mop_table import build, designer_config
+from tabletop.studio.mop_table import StudioTable
+from tests.studio.mop_table import face_take, kept_line, kept_without_library
 
 
 def two_takes(tmp_path):

@@ -6,8 +6,9 @@ import pytest
 import yaml
 
 from tabletop.frames import InputError
-from tests.mop.helpers import EXAMPLES, G, build, designer_config
-from tests.studio.mop_table import StudioTable, kept_line
+from tabletop.plugins.mop_table import EXAMPLES, G, build, designer_config
+from tabletop.studio.mop_table import StudioTable
+from tests.studio.mop_table import kept_line
 
 
 def test_a_bad_library_file_is_reported_and_skipped_and_a_fix_is_followed_at_once(tmp_path):

@@ -4,8 +4,8 @@
 import numpy as np
 import pytest
 
-from tests.mop.helpers import G, RATE, build, designer_config
-from tests.studio.mop_table import StudioTable
+from tabletop.plugins.mop_table import G, RATE, build, designer_config
+from tabletop.studio.mop_table import StudioTable
 
 
 def test_the_stills_before_and_after_a_take_are_no_part_of_its_action(tmp_path):

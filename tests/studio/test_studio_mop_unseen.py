@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from tabletop.frames import Frame
+from tabletop.plugins.mop_table import RATE, build, designer_config
 from tabletop.studio.machine import Studio
 from tabletop.studio.mop_target import MopTarget
-from tests.mop.helpers import RATE, build, designer_config
 
 
 @pytest.mark.parametrize("inputs, streams, said", [

@@ -5,8 +5,9 @@ Evaluation: the user "might need to adjust the window size")."""
 import numpy as np
 import yaml
 
-from tests.mop.helpers import EXAMPLES, build, designer_config
-from tests.studio.mop_table import StudioTable, kept_line
+from tabletop.plugins.mop_table import EXAMPLES, build, designer_config
+from tabletop.studio.mop_table import StudioTable
+from tests.studio.mop_table import kept_line
 
 
 def _window(engine, performer: str = "hand") -> int:

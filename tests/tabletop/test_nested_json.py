@@ -9,8 +9,8 @@ from behaviors.motion.deepmimic import load_motion
 from behaviors.touch_pose.designed import DesignedActionError, read_take
 from tabletop.config import validate_config
 from tabletop.frames import InputError
+from tabletop.plugins.mop_table import build
 from tabletop.schema import ConfigError
-from tests.mop.helpers import build
 from tests.tabletop.test_mop_config_files import CIRCLE, mop_config
 
 DEEP = "[" * 100_000

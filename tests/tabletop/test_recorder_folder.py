@@ -174,13 +174,13 @@ def test_two_runs_with_one_order_keep_each_others_parts(tmp_path, monkeypatch):
     their frames interleaved: neither run's part removal ever takes a part of the other (its
     current one included), each keeps its own newest parts, and each session's kept parts
     replay in order, with one ``session`` id per run."""
-    import tabletop.recorder as recorder_module
+    import tabletop.recordings as recordings_module
     from tabletop.commands.replay import session_frames
     a = Recorder(folder=tmp_path, header={"config": {}}, keep=3, max_mb=0.002, max_queue=10**6)
-    listing = recorder_module.recordings
-    monkeypatch.setattr(recorder_module, "recordings", lambda *args: {})   # the race
+    listing = recordings_module.recordings
+    monkeypatch.setattr(recordings_module, "recordings", lambda *args: {})   # the race
     b = Recorder(folder=tmp_path, header={"config": {}}, keep=3, max_mb=0.002, max_queue=10**6)
-    monkeypatch.setattr(recorder_module, "recordings", listing)
+    monkeypatch.setattr(recordings_module, "recordings", listing)
     assert read_header(a.path)["order"] == read_header(b.path)["order"]
     try:
         for i in range(300):

@@ -359,7 +359,7 @@ def test_idle_look_when_nobody_plays_and_not_while_someone_does():
 
 
 def test_dirty_rectangles_give_the_same_image_as_full_redraws():
-    from tests.tabletop.scene_frames import busy_frames
+    from tabletop.scene_frames import busy_frames
     frames = busy_frames(16, rate_hz=20.0)
     full, inc = new_renderer(), new_renderer()
     inc.incremental = True

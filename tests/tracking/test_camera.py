@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from tabletop.frames import Observation, PuckMeasurement
-from tests.tracking import scenes
+from tracking import scenes
 from tracking.camera import CameraSettings, CameraSource, settings_from_options
 
 W, H = 160, 120

@@ -16,7 +16,7 @@ from tabletop.frames import InputError
 from tabletop.plugins import camera as camera_plugin
 from tabletop.plugins import synthetic_camera
 from tabletop.registry import BuildContext
-from tests.tracking import scenes
+from tracking import scenes
 from tracking.synthetic import CameraSettings, SyntheticCamera, scripted_hands
 from tracking.visitor import ScriptedVisitor
 

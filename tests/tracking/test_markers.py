@@ -10,9 +10,9 @@ import pytest
 from tracking.markers import (DetectorSettings, detect_markers, dictionary_by_name,
                               make_detector, marker_centres, marker_poses, refine_corners,
                               track_corners, verify_markers)
+from tracking.scenes import grid_poses, moving_scene, score_detections
 from tracking.synthetic import Occluder
 from tracking.synthetic import CameraSettings, SyntheticCamera
-from tests.tracking.scenes import grid_poses, moving_scene, score_detections
 
 
 def _score(frames, detect):

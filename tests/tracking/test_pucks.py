@@ -9,8 +9,8 @@ import pytest
 
 from tabletop.frames import Observation, PuckMeasurement
 from tracking.pucks import PuckTracker, TrackerSettings
+from tracking.scenes import CameraPipeline, grid_poses
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
-from tests.tracking.scenes import CameraPipeline, grid_poses
 
 FPS = 30.0
 

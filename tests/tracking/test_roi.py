@@ -8,8 +8,8 @@ import pytest
 from tracking.markers import DetectorSettings, detect_markers, make_detector, marker_centres
 from tracking.roi import (HALVED_FULL_MIN_SIDE_PX, MarkerTracker, boxes_around, merge_boxes,
                           pack_boxes)
+from tracking.scenes import grid_poses, moving_scene
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
-from tests.tracking.scenes import grid_poses, moving_scene
 
 
 def test_merge_only_when_it_saves_pixels_and_packing_does_not_overlap():

@@ -13,8 +13,8 @@ import pytest
 
 from tabletop import cli
 from tracking.markers import marker_headings
+from tracking.scenes import moving_scene
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
-from tests.tracking.scenes import moving_scene
 
 FRAMES = 24
 

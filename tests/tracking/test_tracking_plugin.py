@@ -7,8 +7,8 @@ import pytest
 from tabletop.frames import Observation, PuckMeasurement
 from tabletop.plugins import tracking as plugin
 from tabletop.schema import ConfigError
+from tracking.scenes import grid_poses
 from tracking.synthetic import CameraSettings, SyntheticCamera
-from tests.tracking.scenes import grid_poses
 
 
 def test_defaults_and_bad_values_name_the_key():
@@ -72,8 +72,8 @@ def test_a_fresh_tracker_finds_every_marker_of_a_tilted_camera_in_its_first_fram
     """The full-frame pass of the configured tracker (ArUco3 on by default) finds the far
     corner's markers (37 px on a side, 1280x720 camera tilted 14 degrees) in its very first
     frame, with no other marker known: a puck put down alone there is seen at once."""
+    from tabletop.calibration_scenes import table_rig
     from tabletop.plugins.tracking import build_detector
-    from tests.calibration.rigs import table_rig
     from tracking.rig import marker_layout
     for seed in (3, 5, 8):
         rig = table_rig(seed)

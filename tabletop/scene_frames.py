@@ -1,4 +1,4 @@
-"""A busy table for the view tests and benchmarks: eight characters of every kind (three
+"""A busy table for the view's tests and benchmarks: eight characters of every kind (three
 Puppet Master reactors, two MOP humanoids, a creature, a face, a sprite-sheet bird), all moving,
 and sixteen pucks wandering (some coasting), as Frames at 60 Hz."""
 
@@ -14,7 +14,7 @@ from behaviors.motion.deepmimic import ROOT_SCALE, humanoid_urdf, load_motion
 from behaviors.motion.skeleton import ProjectedFigure, Projection, load_urdf, place
 from tabletop.frames import CharacterState, Frame, Puck
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[1]
 TABLE = (1.2, 0.8)
 
 

@@ -1,5 +1,6 @@
-"""Shared scenes for the calibration tests: a known lens with its rendered board views, and a
-simulated projector-camera rig over a table with a distorting camera lens."""
+"""Simulated calibration scenes (the calibration tests and benchmark): a known lens with its
+rendered board views, and a simulated projector-camera rig over a table with a distorting
+camera lens."""
 
 from __future__ import annotations
 
