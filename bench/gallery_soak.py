@@ -23,7 +23,8 @@ two-week exhibition (the heap grows in steps of 0.5-2 MB: a window of 8 min, the
 (``malloc_trim`` gave back 16 MB, back within two minutes), Python's own arenas flat from 300 s.
 Budgets: a supervisor that does not grow (fds, threads, processes within 0 and memory within 5 MB
 over a drill), the installation's memory within 20 MB and fds/threads within 0 after the warm-up,
-its slope within ``SLOPE_KB_S``. Not part of ``make test`` (minutes).
+its slope within ``SLOPE_KB_S``, and no restart outside a drill (each config edit applied is
+a rebuild, not a restart). Not part of ``make test`` (minutes).
 """
 
 from __future__ import annotations
