@@ -115,6 +115,9 @@ class Runner:
                 studio.say("config edit: applied once this take is kept (K) or dropped (X)")
             return
         self._save_run_only(self.pending)
+        # the frame loop pauses for the rebuild: a supervisor (or systemd) waits for the next
+        # READY=1 as for a start, rather than killing the rebuild as a stall after stall_s
+        self.notifier.send("RELOADING=1")
         self.inst.loop.stop.set()
 
     def _save_run_only(self, cfg: dict[str, Any]) -> None:

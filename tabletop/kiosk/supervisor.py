@@ -6,8 +6,10 @@
   row, doubled after each one up to ``backoff_s[1]``, and back to at once after a child has run
   ``healthy_s``. The crash log is written once the next child is started.
 - A stall is a child whose frame loop stopped: no ``WATCHDOG=1`` for ``stall_s`` after its
-  ``READY=1`` (or no ``READY=1`` within ``startup_s``). It is killed (SIGKILL: a frozen loop
-  cannot act on SIGTERM), logged as a crash and restarted the same way.
+  ``READY=1`` (or no ``READY=1`` within ``startup_s``, also after a ``RELOADING=1``: the
+  child rebuilds for a config edit, its frame loop paused, as long as a start may take). It is
+  killed (SIGKILL: a frozen loop cannot act on SIGTERM), logged as a crash and restarted the
+  same way.
 - The child speaks systemd's notify protocol to the supervisor's own socket (``$NOTIFY_SOCKET``
   of the child); the supervisor relays ``READY=1`` and the child's ``WATCHDOG=1`` pings to
   systemd, and pings for itself only while a child is restarting (systemd's watchdog runs
@@ -82,6 +84,7 @@ class Child:
     started: float
     tail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=40))
     ready_at: float | None = None
+    reloading_at: float | None = None  # its RELOADING=1 (a config edit's rebuild), until READY=1
     last_ping: float | None = None
     reader: threading.Thread | None = None
     exit_fd: int | None = None        # a pidfd, readable when the process ends (Linux >= 5.3)
@@ -255,7 +258,12 @@ class Supervisor:
 
     def _on_message(self, child: Child, msg: str) -> None:
         now = self.clock()
-        if msg == "READY=1" and child.ready_at is None:
+        if msg == "RELOADING=1" and child.ready_at is not None:
+            child.ready_at, child.reloading_at = None, now
+        elif msg == "READY=1" and child.reloading_at is not None:
+            log.info("supervisor: installation rebuilt after %.2f s", now - child.reloading_at)
+            child.ready_at, child.last_ping, child.reloading_at = now, now, None
+        elif msg == "READY=1" and child.ready_at is None:
             child.ready_at = child.last_ping = now
             self.events.append(("ready", now))
             if self.seconds is not None and self._end_at is None:
@@ -273,7 +281,11 @@ class Supervisor:
     def _stalled(self, child: Child) -> str | None:
         now = self.clock()
         if child.ready_at is None:
-            if now - child.started > self.policy.startup_s:
+            if child.reloading_at is not None:   # (the log adds how long it ran)
+                if now - child.reloading_at > self.policy.startup_s:
+                    return (f"not rebuilt (a config edit's rebuild began "
+                            f"{now - child.reloading_at:.1f} s before)")
+            elif now - child.started > self.policy.startup_s:
                 return "not ready"   # (the log and the crash entry add how long it ran)
             return None
         assert child.last_ping is not None
