@@ -15,7 +15,7 @@ from tabletop.kiosk.notify import Notifier
 from tabletop.kiosk.runner import Runner
 from tabletop.kiosk.supervisor import Policy, Supervisor
 from tests.kiosk.test_live_config import config, rebuilt, running, write
-from tests.tracking.scenes import wait_for
+from tracking.scenes import wait_for
 
 # a child speaking the notify protocol as the installation does: pings, a rebuild of PAUSE_S
 # without a frame, pings again, then it ends on purpose
