@@ -182,7 +182,8 @@ it waits for its start shared with the figure eight's (:mod:`~behaviors.mop.shar
 0.16 of it; the gate clears at 0.20) and for commitment
 (:meth:`~behaviors.mop.shape_lead.ShapeLead._committed`: its shape sums lead the figure eight's by 1
 / 2 / 3 / 4 nats at 0.153 / 0.164 / 0.176 / 0.188, medians, 4 by 0.20 in 8 of 13, but its own sum is
-within ``COMMIT_FIT``, 1.75 still radii, only once its size is estimated: one draw 2.0 at 0.22); the
+within ``COMMIT_FIT``, 1.75 still radii, in only 2 of them then: one draw 2.0 at 0.22; read at its
+best size, 4, while coverage holds it to 0.224: :mod:`~behaviors.mop.shape_lead`); the
 evidence meanwhile prefers the figure eight (narrower in x, 56 mm against 77: 0.27 nats a sample)
 until 0.22-0.28. The wave's share within 20% with no coverage for it and each further rule lifted:
 ``LEAD`` 2: 0.077; ``COMMIT_FIT`` 3: 0.077; no shared start for the wave: 0; the last two: 0.31; all
