@@ -10,19 +10,14 @@ When every template has been refused for ``lost_samples`` samples the attempt is
 a new one starts at the current sample. While nothing is engaged and the input is still
 (``still_samples`` within a quarter of the onset), the anchor follows it.
 
-That reset is where a template's refusal depends on the others: it comes once *every* template
-is refused and restarts them all (anchored at the sample, refusal forgotten). On a spiral (seed
-5, 1x) the circle alone, refused from its 25th sample, restarts at the 30th and five times more;
-among the six the wave (refused from the 29th) and the zigzag and eight (judged afresh at
-reversals) keep the attempt open to the 33rd, then the circle follows the spiral's second loop
-unrefused: 23 of 76 ticks differ (over ``bench/follow_quality.py``'s unrelated motions, seed 13,
-861 of 3457; 135 without the reset: other ends and still restarts). A per-template form needs
-an anchor per template (the reset re-anchors where a new motion begins). The reset left out
-(``--sections=sized,holds,sequences,unrelated,after,pauses``, tuned / held-out): sized, holds,
-pauses and back to back unchanged to the digit, after a gesture mean 0.0718 -> 0.0684, but
-unrelated mean 0.0131 -> 0.0137 / 0.0151 -> 0.0160 (the spiral with the circle alone 0.004 ->
-0.030), and a gesture right after an unrelated motion, no rest (60 draws), recognised among six
-0.37 -> 0.25 (twenty 0.28 both): kept.
+That reset makes a template's refusal depend on the others (it restarts them all once every
+one is refused): on a spiral the circle alone restarts at its 30th sample; among the six the
+wave, zigzag and eight keep the attempt open to the 33rd and the circle then follows the second
+loop unrefused (23 of 76 ticks differ; 861 of 3457 over the unrelated motions, 135 without the
+reset). A per-template form needs an anchor per template. The reset left out (tuned / held-out):
+sized, holds, pauses, back to back unchanged, after a gesture 0.0718 -> 0.0684, unrelated mean
+0.0131 -> 0.0137 / 0.0151 -> 0.0160 (spiral, circle alone 0.004 -> 0.030), a gesture right
+after an unrelated motion recognised among six 0.37 -> 0.25 (60 draws): kept.
 
 Measured back to back (``bench/follow_quality.py``) when an ended action stopped driving only
 once the input left by ``accept_distance`` and now (stops as soon as it moves on): among the
