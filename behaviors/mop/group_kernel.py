@@ -31,7 +31,7 @@ from behaviors.mop.group_steps import first_max, top_three
 from behaviors.mop.holding import SNAP_RADII, hold_size, resting_with
 from behaviors.mop.threshold import STILL_RADII as THRESHOLD_STILL_RADII
 from behaviors.mop.threshold_kernel import threshold_step
-from behaviors.mop.invariance import ALONG, REJUDGED_WEIGHT, input_reversal, reversal_size
+from behaviors.mop.invariance import ALONG, input_reversal, reversal_size
 from behaviors.mop.members import committed
 from behaviors.mop.shape_lead import DRIFT_FROM, KEPT_COMMIT, TAKE_FIT
 from behaviors.mop.validity import CARRY_FIRST, UNJUDGED_AT_REST, UNWEIGHED_AT_REST
@@ -245,8 +245,8 @@ def update_templates(states, ti, tc, mc, floats, flags, misfit, entries, mean, f
             ratio = size[k] / judged[k]
             if scaled and not (inside_lo < ratio < inside_hi) and abs(math.log(ratio)) > rejudge_at:
                 judged[k] = size[k]
-                rec[k] = REJUDGED_WEIGHT * log_constant
-                rw[k] = REJUDGED_WEIGHT
+                rec[k] = log_constant
+                rw[k] = 1.0
                 for c in range(misfit.shape[1]):
                     misfit[k, c] = 0.0
                 misfit_w[k] = 0.0
