@@ -20,7 +20,7 @@ def test_gestures_at_other_sizes_stay_valid_and_followed(gestures):
     # 0.72 / 1.0, figure eight 0.58 / 0.91, square 0.80 / 0.75: the 0.7x figure eight is lost to
     # other gestures while its size is still near 1, the square's first side is the line's
     # until 0.37 of it; behaviors.mop.invariance), second lowest 0.72 (bench, all twenty
-    # templates: 0.92), RMSE median 0.02
+    # templates: 0.91), RMSE median 0.02
     rng = np.random.default_rng(3)
     f = puck_follower(gestures)
     after30, rmse = [], []
