@@ -51,7 +51,11 @@ among twenty; 103's mirrored square 0.1091 -> 0.1030, the roll ankle's first hal
 gestures at 0.7-1.4x 0.9123 -> 0.9121; 0.9030 -> 0.9022 / 0.8759 -> 0.8749 / 0.9055 -> 0.9055;
 at 0.6 / 1.5x 0.7556 -> 0.7543; holds' progress RMSE max unchanged (0.0555; 0.0461 / 0.0560 /
 0.0489). Without :data:`GROWN`: held-out worst 0.0944 / 0.0814 / 0.1030, after 30% 0.9114;
-0.9013 / 0.8747 / 0.9052. Left: the diagonal among twenty on seed 103 (0.117 / 0.088 / 0.110 at
+0.9013 / 0.8747 / 0.9052. ``--sections=sequences,shapes`` (tuned / held-out 101): gestures
+back to back identical; redrawn shapes valid after 30% bent 5% 0.8702 -> 0.8659 / 0.7465 ->
+0.7450, bent 10% 0.6315 -> 0.6208 / 0.4761 -> 0.4686, 1.1x taller 0.8937 -> 0.8896 / 0.8703 ->
+0.8674, 1.2x 0.3884 -> 0.3843 / 0.4342 -> 0.4273 (a bend the input follows away from the path
+reads as an overrun). Left: the diagonal among twenty on seed 103 (0.117 / 0.088 / 0.110 at
 0.7 / 1.0 / 1.4x), the eight driving 9-11 samples from 22% of it before the input's distance
 from its path passes 0.9 sigma.
 """
