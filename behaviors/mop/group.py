@@ -267,7 +267,8 @@ class FollowerGroup(GroupArrays, GroupRules):
             step_ll, self._holds, self._scale, self._mk, self._m_vectors, present, self._m_floats,
             self._m_bools, self._m_ints, self._buf, self._extent, self._m_out, self._m_flags,
             self._shared, self._crawl, self._k_new, self._m_top3, self._m_likely,
-            self._m_likely_v, self._lengths, self._tempo_x, self._tempo_g, f0.onset * f0.sigma,
+            self._m_likely_v, self._lengths, self._tempo_x, self._tempo_g, self._tempo_s,
+            f0.onset * f0.sigma,
             self._tc, self._mc, self._taken, shape_lead.TAKE_MISFIT2, self._end_history)
         progress = self._k_progress
         gb = self._bounds + self._best

@@ -47,6 +47,7 @@ class GroupRules:
         w = validity.TEMPO_SAMPLES
         self._tempo_on = np.array([f.invariance != "none" for f in fs], dtype=bool)
         self._tempo_x, self._tempo_g = np.zeros((w, m, dmax)), np.zeros((w, len(self._owner)))
+        self._tempo_s = np.ones((w, len(self._owner)))   # ... and the sizes (overrun.GROWN)
         self._tempo_at, self._tempo_n = np.zeros(m, dtype=np.intp), np.zeros(m, dtype=np.intp)
         self._crawl = np.zeros((m, 2), dtype=np.intp)   # validity.crawls: run, best
 

@@ -17,7 +17,7 @@ import math
 import numba
 import numpy as np
 
-from behaviors.mop import handover, shape_lead, take_fit, validity
+from behaviors.mop import handover, overrun, shape_lead, take_fit, validity
 from behaviors.mop.handover import TEMPO_END_BACK, TEMPO_END_OVER, TEMPO_END_STILL
 from behaviors.mop.shape_lead import TAKE_RESIZE, TAKE_SIZES_OUTWARDS
 from behaviors.mop.take_fit import size_of_refused, take_fits_at
@@ -25,7 +25,7 @@ from behaviors.mop.validity import CRAWL_HOVERS, CRAWL_SAMPLES, LEAST_TEMPO, TEM
 from behaviors.kernel_cache import compiled
 
 # the files whose compiled functions or constants the kernels take in
-_CALLS_INTO = (handover, shape_lead, take_fit, validity)
+_CALLS_INTO = (handover, overrun, shape_lead, take_fit, validity)
 
 _F1, _F2, _F3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
 _I1, _I2, _B1 = numba.intp[::1], numba.intp[:, ::1], numba.boolean[::1]
@@ -125,12 +125,43 @@ def takes(present, has_anchor, x, anchor, taken, taken_n, bounds, best, acquired
             size[gb] = s
 
 
-@compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F1, _F1,
-                     numba.float64, _B1, _I2, _I1), *_CALLS_INTO)
+@compiled(numba.boolean[::1](_F2, _I2, _F1, _F2, _F2, _F2, _F2, _B1, _B1, _I1, _I1, _I1, _I1,
+                             _F3, _F2, _F2, _F1), *_CALLS_INTO)
+def overruns(states, ti, mean, tc, mc, x, anchor, present, spots, bounds, best, at, seen,
+               tempo_x, tempo_g, tempo_s, size) -> np.ndarray:
+    """:meth:`Validity._overruns` of every present member that spots, for its best template
+    (``size``: each template's), against the samples, followed states and sizes its tempo ring
+    keeps (``tempo_x``, ``tempo_g``, ``tempo_s``; ``at``: the slot written next, ``seen``:
+    samples so far; as :func:`tempo` reads them, before it writes this one); ``states``,
+    ``ti``, ``tc``, ``mc``: as :func:`behaviors.mop.members.conclude` takes them. Out: (M,)
+    flags."""
+    out = np.zeros(bounds.size, dtype=np.bool_)
+    w = TEMPO_SAMPLES
+    back = max(overrun.PACE_SAMPLES, overrun.RISE_SAMPLES)
+    d = x.shape[1]
+    sc0, uf0, co0 = 5, 5 + 2 * d, 5 + 3 * d   # columns of tc (group_layout.TEMPLATE_ROWS)
+    for i in range(bounds.size):
+        m = mc[i]
+        if not (present[i] and spots[i] and m[8] > 0.0) or seen[i] < back:   # "scale" only
+            continue
+        gb = bounds[i] + best[i]
+        start, length, off = ti[gb, 0], ti[gb, 1], ti[gb, 2]
+        sp = (at[i] - overrun.PACE_SAMPLES) % w
+        sr = (at[i] - overrun.RISE_SAMPLES) % w
+        out[i] = overrun.overruns(
+            states[:, :d], states[:, 2 * d + 1], start, length, off, tc[gb, sc0:sc0 + d],
+            tc[gb, uf0:uf0 + d], tc[gb, co0:co0 + d], anchor[i], x[i], tempo_x[sr, i],
+            tempo_x[sp, i], min(mean[gb], length - 1.0), tempo_g[sr, gb], tempo_g[sp, gb],
+            size[gb], tempo_s[sp, gb], m[14], m[0])
+    return out
+
+
+@compiled(numba.void(_F1, _I1, _B1, _B1, _I1, _I1, _I1, _I1, _I1, _F2, _F3, _F2, _F2, _F2, _F1,
+                     _F1, numba.float64, _B1, _I2, _I1), *_CALLS_INTO)
 def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.ndarray,
           at: np.ndarray, seen: np.ndarray, bounds: np.ndarray, counts: np.ndarray,
           best: np.ndarray, x: np.ndarray, past_x: np.ndarray, past_g: np.ndarray,
-          scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
+          past_s: np.ndarray, scale: np.ndarray, size: np.ndarray, dims: np.ndarray, onset: float,
           leads: np.ndarray, crawl: np.ndarray, drive_k: np.ndarray) -> None:
     """:meth:`Validity._slow_take` for every present member that spots (``spots``): once it has
     :data:`TEMPO_SAMPLES` samples (``seen``), its best template taken too slowly
@@ -140,8 +171,8 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
     ``crawl[i]`` (samples in a row best crawled, best) counts on (:func:`validity.crawls`;
     kept while the input hovers as :func:`validity.crawl_run` says, ``drive_k``: the action
     that last drove);
-    then this sample and the followed states are kept in the ring's slot ``at``, which moves
-    on."""
+    then this sample, the followed states and sizes (``past_s``) are kept in the ring's slot
+    ``at``, which moves on."""
     w = TEMPO_SAMPLES
     for i in range(bounds.size):
         if not (present[i] and spots[i]):
@@ -171,6 +202,7 @@ def tempo(mean: np.ndarray, lengths: np.ndarray, present: np.ndarray, spots: np.
             past_x[a, i, c] = x[i, c]
         for k in range(bounds[i], bounds[i] + counts[i]):
             past_g[a, k] = min(mean[k], lengths[k] - 1.0)
+            past_s[a, k] = size[k]
         at[i] = (a + 1) % w
         seen[i] += 1
 

@@ -228,11 +228,11 @@ def shares(a0: int, a1: int, k: int, state: int, shared: np.ndarray, at: int, re
 
 @compiled(numba.void(_F2, _I2, _F1, _F2, _F2, _BB2, _F2, _F1, _B1, _F2, _F2, _F3, _B1, _F2,
                    numba.boolean[:, ::1], _I2, _F3, _F1, _F2, _BB2, _I1, _I2, _B1, _I2, _I2, _F3,
-                   _I1, _F3, _F2, numba.float64, _F2, _F2, _F3, numba.float64, _F2),
+                   _I1, _F3, _F2, _F2, numba.float64, _F2, _F2, _F3, numba.float64, _F2),
           *_CALLS_INTO)
 def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale, mk, vectors,
              present, m_floats, m_flags, ints, buf, extent, out, out_flags, shared, crawl, new,
-             top3, likely_k, likely_v, lengths, tempo_x, tempo_g, onset, tc, mc, taken,
+             top3, likely_k, likely_v, lengths, tempo_x, tempo_g, tempo_s, onset, tc, mc, taken,
              take_limit, end_history) -> None:
     """:meth:`ActionFollower._conclude` and :meth:`GestureSpotting._spot`'s choice for every
     member, after the per-template pass (:func:`behaviors.mop.group_kernel.update_templates`,
@@ -282,8 +282,11 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
     member_validity.takes(present, m_flags[9], vectors[0], vectors[1], taken, ints[13], ints[0],
                           ints[3], ints[6], m_flags[2], states, ti, mean, tc, mc, floats,
                           take_limit)
+    overran = member_validity.overruns(states, ti, mean, tc, mc, vectors[0], vectors[1], present,
+                                       m_flags[10], ints[0], ints[3], ints[14], ints[15],
+                                       tempo_x, tempo_g, tempo_s, size)
     member_validity.tempo(mean, lengths, present, m_flags[10], ints[14], ints[15], ints[0],
-                          ints[1], ints[3], vectors[0], tempo_x, tempo_g, scale, size,
+                          ints[1], ints[3], vectors[0], tempo_x, tempo_g, tempo_s, scale, size,
                           m_floats[8], onset, m_flags[2], crawl, ints[10])
     member_validity.unbegun(m_flags[11], present, vectors[0], vectors[1], vectors[5], m_flags[2])
     refused, engaged, misshaped, covered = flags[0], flags[1], flags[2], flags[3]
@@ -356,7 +359,9 @@ def conclude(states, ti, mean, mom, floats, flags, k_out, step_ll, holds, scale,
         # an action that reached its end drives at most END_GRACE samples more (spotting.drives)
         after_end[i] = after_end[i] + 1 if has_end[i] else 0
         val = run[i] >= m[3] and after_end[i] <= END_GRACE
-        valid[i] = val
+        # shown valid only while the input does not overrun its path (member_validity.overruns);
+        # the rules go on as if it were
+        valid[i] = val and not (spots and overran[i])
         if val and drive_k[i] != bi:
             drive_k[i] = bi
             drive_from[i] = progress[gb]

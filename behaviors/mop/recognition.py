@@ -193,6 +193,7 @@ class Recognition:
                   and spread2 <= self.max_spread ** 2
                   and (p_list[bi] * self._kept >= self.min_probability or committed == bi)
                   and (self._end_x is None or not self._moved_on(x, bi)))
+        overran = False
         if self.invariance != "none":
             if self._shared is not None:   # spotting._shares: each template's highest progress
                 np.maximum(self._gone, progress, out=self._gone)
@@ -203,6 +204,9 @@ class Recognition:
             # ... and once it is not taken at a crawl (validity.slow_take); nor does any action
             # drive once it crawled so for CRAWL_SAMPLES samples in a row (validity.crawls)
             slow, hovers = self._slow_take(bi, g, x)
+            # ... and it is not shown valid while the input overruns its path (overrun.overruns;
+            # the rules go on as if it were)
+            overran = self._overruns(bi, g, x)
             self._crawl = crawl_run(self._crawl, bi == self._crawl_k, slow,
                                     hovers and self._drive_k != bi)
             self._crawl_k = bi
@@ -258,7 +262,8 @@ class Recognition:
         state = self._state = FollowState(
             best=best, progress=best_progress, variance=variance,
             probabilities=ByName(index, p_list), progress_by=ByName(index, shown),
-            valid=valid, loglik=loglik, distance=self.distance_of(loglik), restarted=bool(new[bi]),
+            valid=valid and not overran, loglik=loglik, distance=self.distance_of(loglik),
+            restarted=bool(new[bi]),
             loglik_by=ByName(index, mean_ll_list), likely=likely,
             # the sizes after this sample (a refused take may have resized its template here,
             # shape_lead.TAKE_RESIZE), as the group reports them

@@ -8,6 +8,7 @@ import pytest
 from behaviors.mop import handover, shape_lead, spotting
 from behaviors.mop.follower import ActionFollower
 from behaviors.mop.group import FollowerGroup
+from behaviors.mop.validity import Validity
 from bench.follow_sequences import wrong_valid
 from bench.motions import MOCAP, back_to_back, gesture_templates, mocap_templates
 
@@ -34,6 +35,8 @@ def test_an_action_finished_short_of_its_end_hands_over(wave_then_run, monkeypat
     # with the rule: the wave stops as its progress slides back from 0.95, the run is followed
     # from where the wave ended; without it the wave drove the run's first 5 samples backwards
     # (the end at the wave's tempo, handover.tempo_ended, left out: it ends the wave too)
+    # (nothing vetoed as an overrun either: overrun.overruns takes these samples too)
+    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
     every, states = _wrong_run(*wave_then_run)
     monkeypatch.setattr(spotting, "TEMPO_END_FROM", 9.0)
     on, _ = _wrong_run(*wave_then_run)
@@ -120,6 +123,8 @@ def test_an_action_followed_at_a_crawl_past_its_finish_hands_over(dance_then_pun
     # it the dance drove the punch's first 7, until it crawled CRAWL_SAMPLES samples (measured
     # with the last samples' fit, shape_lead.TAKE_MISFIT2, lifted: with it neither drives them)
     monkeypatch.setattr(shape_lead, "TAKE_MISFIT2", math.inf)
+    # (nothing vetoed as an overrun either: overrun.overruns takes these samples too)
+    monkeypatch.setattr(Validity, "_overruns", lambda self, k, g, x: False)
     everything, x, truth, prog, order = dance_then_punch
     begin = truth.index(order[2])   # over the dance and the punch (the kick's end is another)
 
