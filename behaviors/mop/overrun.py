@@ -67,7 +67,11 @@ import math
 import numba
 
 from behaviors.kernel_cache import compiled
-from behaviors.mop.validity import PATH_REACH
+
+#: States before and after the followed state whose joining segments make up the path the
+#: input is measured against (the followed state lags or leads a fast performer by a few; the
+#: refusal's and the validity's path too).
+PATH_REACH = (3, 3)
 
 #: Samples back over which the action's progress is weighed against the input's travel ...
 PACE_SAMPLES = 6
@@ -95,7 +99,7 @@ def off_path2(means, lo, n, off, scale, uf, co, x, anchor, g, size, path_scale) 
     """The squared distance (sigma squared, mean per column) of sample ``x`` seen from
     ``anchor`` (``(x - anchor) / scale + uf``, read at ``size`` and offset by ``co``: the
     template's mapping) from the template's path (its states ``lo`` .. ``lo + n - 1``, rows
-    ``off`` on in ``means``) within :data:`~behaviors.mop.validity.PATH_REACH` states of the
+    ``off`` on in ``means``) within :data:`PATH_REACH` states of the
     followed state ``g`` (from the template's first; ``path_scale``: sigma^2 times the
     columns)."""
     d = x.size

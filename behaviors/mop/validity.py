@@ -222,11 +222,8 @@ import math
 
 import numpy as np
 
-
-#: States before and after the followed state whose joining segments make up the path the
-#: input is measured against (the followed state lags or leads a fast performer by a few).
-PATH_REACH = (3, 3)
-
+from behaviors.mop import overrun
+from behaviors.mop.overrun import PATH_REACH   # (the path the input is measured against)
 
 #: An action that drives has carried its performer forward once its progress passed where it
 #: began driving by this much (progress units).
@@ -428,7 +425,6 @@ class Validity:
         the samples, followed states and sizes the tempo keeps (:meth:`_remember_tempo`);
         with "scale" invariance only (where no size is estimated, a performance at another size
         is off its path by its size: an "offset" member at 1.3x lost 16 of 59 valid ticks)."""
-        from behaviors.mop import overrun   # (which reads this module's PATH_REACH)
         back = max(overrun.PACE_SAMPLES, overrun.RISE_SAMPLES)
         if self.invariance != "scale" or len(self._tempo_past) < back:
             return False
