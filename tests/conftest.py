@@ -3,9 +3,24 @@ pytest-xdist the longest test files start first, shared between the workers."""
 
 import os
 
+import pytest
+
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+
+
+@pytest.fixture(scope="module")
+def pygame_display():
+    """pygame's display and font modules initialised for a test module (on SDL's dummy driver
+    unless the test names another), shut down after it."""
+    import pygame
+    pygame.display.init()
+    pygame.font.init()
+    yield
+    pygame.display.quit()
+
 
 # The longest test files: CPU seconds of the whole file (or a fifth of its wall time when that
 # is more: real-time waits), measured with `pytest -n 2 --dist worksteal` on a busy machine, so

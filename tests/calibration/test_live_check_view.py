@@ -12,11 +12,7 @@ from tabletop.renderer import Renderer
 SIZE = (640, 400)
 
 
-@pytest.fixture(scope="module", autouse=True)
-def display():
-    pygame.display.init()
-    yield
-    pygame.display.quit()
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 
 def frame(seq: int) -> Frame:

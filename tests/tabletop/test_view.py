@@ -17,12 +17,7 @@ TABLE = (1.2, 0.8)
 SIZE = (1280, 720)
 
 
-@pytest.fixture(scope="module", autouse=True)
-def display():
-    pygame.display.init()
-    pygame.font.init()
-    yield
-    pygame.display.quit()
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 
 def new_renderer(**kw):

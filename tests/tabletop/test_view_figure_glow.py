@@ -19,11 +19,7 @@ BONES = ((0, 1), (1, 2), (2, 3), (0, 4), (4, 5), (0, 6), (6, 7), (1, 8), (8, 9),
          (10, 11))
 
 
-@pytest.fixture(scope="module", autouse=True)
-def display():
-    pygame.display.init()
-    yield
-    pygame.display.quit()
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 
 def test_a_figure_with_an_arm_stretched_out_keeps_its_glow_under_its_body():

@@ -21,11 +21,7 @@ TURNS = {"plain": ([[1, 0, 0], [0, 1, 0]], SIZE),
 GREEN = (0, 255, 0)
 
 
-@pytest.fixture(scope="module", autouse=True)
-def display():
-    pygame.display.init()
-    yield
-    pygame.display.quit()
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 
 @pytest.fixture(scope="module")

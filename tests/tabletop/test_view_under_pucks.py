@@ -14,11 +14,7 @@ RADIUS_M = 0.03
 AT = (0.6, 0.4)
 
 
-@pytest.fixture(scope="module", autouse=True)
-def display():
-    pygame.display.init()
-    yield
-    pygame.display.quit()
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 
 def drawn(characters, pucks, renderer=None, steps=6):

@@ -16,11 +16,7 @@ ASKED, GIVEN = (1280, 720), (1920, 1080)
 H = np.array([[940.0, 150.0, 59.3], [-48.4, -768.3, 697.9], [-0.0222, 0.2773, 1.0]])
 
 
-@pytest.fixture(scope="module", autouse=True)
-def display():
-    pygame.display.init()
-    yield
-    pygame.display.quit()
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 
 def ring_centre(renderer: Renderer, size, xy) -> np.ndarray:
