@@ -3,10 +3,13 @@ moves keeps to its place."""
 
 import numpy as np
 import pygame
+import pytest
 
 from tabletop.frames import CharacterState, Frame
 from tabletop.renderer import Renderer
-from tests.tabletop.test_view import TABLE, display  # noqa: F401
+from tests.tabletop.test_view import TABLE
+
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 SIZE = (640, 360)
 

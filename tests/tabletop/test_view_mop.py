@@ -20,7 +20,9 @@ from tabletop.drawing.characters import hybrid_parts
 from tabletop.frames import CharacterState, Frame
 from tabletop.view import INVITATIONS, Renderer, invitation
 
-from tests.tabletop.test_view import SIZE, TABLE, at, display, ground, rgb  # noqa: F401
+from tests.tabletop.test_view import SIZE, TABLE, at, ground, rgb
+
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -7,11 +7,14 @@ import math
 
 import numpy as np
 import pygame
+import pytest
 
 from tabletop.drawing.palette import PUCK_COASTING, PUCK_OFF, PUCK_SEEN
 from tabletop.drawing.pucks import inside_edge
 from tabletop.frames import Frame, Puck
-from tests.tabletop.test_view import TABLE, SIZE, display, new_renderer, rgb  # noqa: F401
+from tests.tabletop.test_view import TABLE, SIZE, new_renderer, rgb
+
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 R = 0.03                 # the renderer's puck radius (m)
 

@@ -15,7 +15,9 @@ from tabletop.config import validate_config
 from tabletop.frames import CharacterState, Frame, SourceHealth
 from tabletop.loop import LoopStats
 from tabletop.view import OVERLAY_REFRESH_S, ProjectorView, overlay_lines, overlay_steps
-from tests.tabletop.test_view import SIZE, TABLE, at, display, new_renderer, rgb  # noqa: F401
+from tests.tabletop.test_view import SIZE, TABLE, at, new_renderer, rgb
+
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 
 def stats_with_stages(n_stages: int) -> LoopStats:

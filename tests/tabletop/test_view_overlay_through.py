@@ -6,11 +6,14 @@ panel the kernels cannot read (a subsurface) drawn alike."""
 
 import numpy as np
 import pygame
+import pytest
 
 from tabletop.drawing import screens
 from tabletop.frames import CharacterState, Frame
 from tabletop.renderer import Renderer
-from tests.tabletop.test_view import TABLE, display, rgb  # noqa: F401
+from tests.tabletop.test_view import TABLE, rgb
+
+pytestmark = pytest.mark.usefixtures("pygame_display")
 
 LINES = ["tick 55   running 1.9 s", "30.8 fps   skipped 1   errors 0",
          *(f"  stage{i}\t1.00 ms median\t2.00 ms p99" for i in range(9)),
