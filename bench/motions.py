@@ -12,9 +12,9 @@ import math
 from pathlib import Path
 from typing import Callable, Iterator, Mapping
 
-import numba
 import numpy as np
 
+from behaviors.kernel_cache import compiled
 from tabletop.files import read_csv
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -239,7 +239,7 @@ def drawn_in_form(rng: np.random.Generator, templates: Mapping[str, np.ndarray],
 ALIGNED_GAP_M = 0.015
 
 
-@numba.njit(cache=True)
+@compiled()
 def _dtw_rms(a: np.ndarray, b: np.ndarray) -> float:
     """RMS distance between ``a`` (n, d) and ``b`` (m, d) along their cheapest alignment in
     time (dynamic time warping, steps of one sample in either or both; the squared distances'
