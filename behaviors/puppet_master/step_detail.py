@@ -43,6 +43,43 @@ class StepDetail(StepSenses):
             lx, ly = self._last_step
             sm.turn(*turn_between(rx - lx - self.main_motion.x, ry - ly - self.main_motion.y,
                                   rx - mx, ry - my))
+        # Where the playful friend's darts stop short (Python step, seeds 0-5; slow / fast /
+        # loops paths). Its inward steps (matched moment under 0.12 m, closing over 1.5 mm a
+        # step) close on the live main by 6.3 / 6.3 / 6.1 mm a step in the moment, raw 6.7 /
+        # 5.2 / 5.7 (the world place's cap, step.py), after this smooth 6.0 / 4.4 / 5.2, the
+        # governor's filter 5.9 / 4.4 / 4.8, the detail turn and the discs 6.1 / 4.2 / 4.9;
+        # the distance falls 5.8 / 5.1 / 4.5 (keep_apart acts on 2-3% of them). A dart begins
+        # 0.9-1.5 cm nearer than its moment (not the sway's phase) and bottoms out 2.4 / 3.6 /
+        # 2.0 cm farther. The match enters a dart's bottom 84 / 87 / 71 times, holds it 3.6-3.8
+        # steps (the demonstration stays 6.5-7.8 more), 56-62% left by a jump: moments under
+        # 0.08 m matched 3.3 / 3.2 / 2.6% of the steps (4.1% shown), the friend there 2.8 /
+        # 3.1 / 2.9%. The loops' part is a main looping clockwise, against its circling: there
+        # (0.5-2 rad/s, tuning seeds 0-5, 40-51) contact 0.010 against its designer's 0.042,
+        # lower on 15 of the 18 paths, its 10th percentile distance 0.129 m (0.104);
+        # counter-clockwise 0.039 / 0.031, standing 0.040 / 0.039 (on the slow paths of seeds
+        # 0-5 clockwise 0.027 / 0.026). Traced (seeds 0-5): beside a clockwise loop the match
+        # takes moments under 0.08 m on 1.3% of the steps (2.7-3.6% otherwise); the friend is
+        # 0.9 cm beyond them, its bearing turning 1.94 rad/s (2.31 counter-clockwise; its
+        # places in the main's frame turn with the loop). Not its spins (4% of the steps),
+        # nor a feature out of the demonstration's range (its main loops both ways); the best
+        # dart bottom's situation cost over the best's is alike on all paths (2.0-2.2x, seeds
+        # 0-2). The match's features in the main's frame carry the loop: clockwise with the
+        # relative look unweighted (Params.w_rel_look 0) contact 0.022, matched 1.6%; the
+        # relative position unweighted 0.014, matched 2.5%, the friend 1.6 cm beyond. Contact
+        # there with no world cap 0.016, k = 1 0.014, the live main's step carried 6 steps
+        # late (its designer's reaction, the demonstration's cross-correlation peak) 0.008,
+        # every place in the world 0.019 (counter-clockwise 0.017), that without the cap 0.008
+        # (bearing 2.39 rad/s). The friend alone, tuning seeds 0-5, 40-51, misses (the
+        # engine's) against 10: no world cap 9 (speed 3), also k = 1 8 (unseen seeds 128-139,
+        # 300-311: 18 against 9), no smooth 11 (loops 8), the main's step 6 / 3 steps late 10
+        # / 7 (fast contact 0.032 -> 0.042 / 0.040, loops 0.029 / 0.027; Python step),
+        # w_rel_look 0 7 (loops 0.032), unseen 11 against 9 (fast 4 over, contact 0.045);
+        # look.py _circling: place frames, k's span. None kept.
+        # The stalker near its main (moments under 0.12 m, seeds 0-5): 3.8-6.3 cm farther out
+        # than the moment, 2-6 cm of it sideways (|left| 0.074-0.110 m against 0.045-0.055) and
+        # 3-5.5 cm ahead of the main that came back at it, while its raw steps close faster than
+        # the moment's (10.9-13.4 against 9.5-10.2 mm a step): the main passes it beside; its
+        # match holds those moments 5.1-7.2 steps (9.9-15.1 shown), 61-64% left by a jump
         sx, sy = sm.push(sx, sy)
         if self._keep_length > 0.0:
             # a character that walks with its main at a place held in the world (the lover):
