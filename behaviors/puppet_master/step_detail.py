@@ -65,7 +65,10 @@ class StepDetail(StepSenses):
         # dart bottom's situation cost over the best's is alike on all paths (2.0-2.2x, seeds
         # 0-2). The match's features in the main's frame carry the loop: clockwise with the
         # relative look unweighted (Params.w_rel_look 0) contact 0.022, matched 1.6%; the
-        # relative position unweighted 0.014, matched 2.5%, the friend 1.6 cm beyond. Contact
+        # relative position unweighted 0.014, matched 2.5%, the friend 1.6 cm beyond; both read
+        # in the frame of its bearing from the main (distance, look off the bearing) 0.013,
+        # matched 2.4%, but counter-clockwise 0.014 and walking straight 0.020 (1 cm beyond
+        # its moments, its bearing turning 1.6-1.9 rad/s; Python step, seeds 0-5). Contact
         # there with no world cap 0.016, k = 1 0.014, the live main's step carried 6 steps
         # late (its designer's reaction, the demonstration's cross-correlation peak) 0.008,
         # every place in the world 0.019 (counter-clockwise 0.017), that without the cap 0.008
