@@ -68,7 +68,9 @@ class StepDetail(StepSenses):
         # relative position unweighted 0.014, matched 2.5%, the friend 1.6 cm beyond; both read
         # in the frame of its bearing from the main (distance, look off the bearing) 0.013,
         # matched 2.4%, but counter-clockwise 0.014 and walking straight 0.020 (1 cm beyond
-        # its moments, its bearing turning 1.6-1.9 rad/s; Python step, seeds 0-5). Contact
+        # its moments, its bearing turning 1.6-1.9 rad/s; Python step, seeds 0-5); with k = 1
+        # and no world cap too, matched 3.3% clockwise (3.5% counter-clockwise), contact 0.018
+        # (0.036), 0.5 cm beyond: the match then takes the darts, the step does not reach. Contact
         # there with no world cap 0.016, k = 1 0.014, the live main's step carried 6 steps
         # late (its designer's reaction, the demonstration's cross-correlation peak) 0.008,
         # every place in the world 0.019 (counter-clockwise 0.017), that without the cap 0.008
