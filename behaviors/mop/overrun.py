@@ -79,7 +79,11 @@ not kept (tuned / held-out 103 / 104 valid after 30%; worst): an overrun whateve
 the sample lies beyond 1.0 sigma (the misfit's acceptance) and rose by :data:`RISE`: 0.9071 /
 0.9040 / 0.8847, worst unchanged (103's mirrored square 0.1030 -> 0.0970; its 0.7x corner and
 the diagonal's last tick are spared by :data:`GROWN`); no new take while strained, or only a
-re-take of the action that drove last (:mod:`behaviors.mop.refusal`). Replayed on the valid
+re-take of the action that drove last (:mod:`behaviors.mop.refusal`); the wander's carry
+(:func:`~behaviors.mop.validity.stalls`) counted from a re-take of the same action, not from its
+first take: where the drive began reset there too, 0.9121 / 0.9018 / 0.8807, the wander 0.111 ->
+0.084 (104's worst 0.0879), 103's unchanged; the carry alone, 0.9089 / 0.9002 / 0.8778. Each
+ends one seed's worst at a cost near or over 0.005 and leaves the others. Replayed on the valid
 ticks (the diagonal's on 103 and 105, 84; true ones after 30%, tuned, 3832): the distance
 rising by 0.3 over 8 samples beyond 0.6 sigma while the size shrank below 0.985 of its value
 then takes 17 of the 84 and 0.86% of the true (gestures at 0.7-0.85x whose size converges down
