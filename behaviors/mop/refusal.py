@@ -183,7 +183,11 @@ the same); but valid after 30% at 0.7-1.4x 0.9157 -> 0.9019, at 0.6 / 1.5x 0.758
 templates back to back never recognised 0 -> 0.031 (median 0.298 -> 0.316): true takes are
 strained while their size is still unknown. Strained beyond 1.5 sigma instead of 1.2: widened
 identical to the digit; no reversal size for any strained template alone: worst 0.239, mean 0.0149,
-over 0.1 25.
+over 0.1 25. Again on held-out seeds 103 / 104 / 106 (``--sections=unrelated,sized``; tuned valid
+after 30% at 0.7-1.4x 0.9121, held-out 0.9055 / 0.8871 / 0.8744): no new take while strained,
+0.9023, 0.8834 / 0.8581; only a re-take of the action that drove last, 0.9069, 0.8740 on 104,
+0.8622 on 106; both end 104's worst, a wander the zigzag re-takes strained after a reversal's
+size (0.111 -> 0.074; :mod:`behaviors.mop.overrun`), at that cost to true takes.
 Measured and not kept either: the action driving stops once strained for 6 samples in a row
 (``bench/follow_quality.py --sections=sized,holds``, tuned, and the widened cases): beyond 1.2
 sigma, widened worst 0.239 -> 0.228, mean 0.0134, but valid after 30% at 0.7-1.4x 0.9157 ->

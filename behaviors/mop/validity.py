@@ -43,7 +43,9 @@ after 6 moving samples (a gesture paused just after its recognition spared): 0.3
 (0.537 / 0.140) at the same 0.8927; :data:`CARRY_FIRST` 0.08: 0.291 / 0.116 at 0.8928 but held-out
 0.476 / 0.129 at 0.8796; and no *new* action taken while the performer rests (there is no evidence
 then either): 0.301 / 0.108 (0.476 / 0.126) but valid after 30% 0.8886 (0.8838): gestures whose
-recognition fell in a pause waited for the performer to move on.
+recognition fell in a pause waited for the performer to move on. Counted from a re-take of
+the same action instead (a wander the zigzag re-took at a new size held it through its final
+rest): measured in :mod:`behaviors.mop.overrun`, not kept.
 
 Tempo (:func:`slow_take`): a new action is taken only if, over the last :data:`TEMPO_SAMPLES`
 samples, its followed state moved at least :data:`LEAST_TEMPO` states per sample (either way),
