@@ -119,6 +119,7 @@ class Renderer:
         self.studio_mark_right = False   # the studio's REC/TRY mark at the far right corner
         self._labels: dict[int, pygame.Surface] = {}
         self._static: pygame.Surface | None = None
+        self._scratch: pygame.Surface | None = None   # black, where hinted poses are drawn
         self.lives = Lives()
         self.traces = Traces()
         self.pointer: PointerFingers = POINTER   # the mouse's fingers, ringed on the table
@@ -302,8 +303,9 @@ class Renderer:
                 # early feedback: the suspected action's pose, a faint light of the
                 # character's own (lively) colour, casting no glow
                 ghost = dataclasses.replace(pose, alpha=pose.alpha * HINT_ALPHA * pr.hint,
-                                            light=0.0, color=lighten(vivid(tuple(c.color)), 0.3))
-                hinted = self._draw_points(target, c, ghost, pr.hint_points)
+                                            light=0.0, color=lighten(vivid(tuple(c.color)), 0.3),
+                                            ground=(0, 0, 0))
+                hinted = self._draw_ghost(target, c, ghost, pr.hint_points)
             return P.union([hinted, self._draw_points(target, c, pose, c.points)])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
@@ -311,6 +313,25 @@ class Renderer:
             return characters.draw_playback(target, pose, self.puck_radius,
                                             self.map.reading())
         return characters.draw_reactor(target, c, pose)
+
+    def _draw_ghost(self, target: pygame.Surface, c: CharacterState, pose: Pose,
+                    xy: np.ndarray) -> pygame.Rect | None:
+        """A hinted pose (points ``xy``, table metres) as the faint light it is: drawn on black
+        (``pose.ground``) and added onto the target, so it only brightens what lies under it.
+        Painted over the table with the character's inks faded toward the table's colour, a
+        faint pose crossing the character's own glow put out its light: a dark shadow of the
+        pose on the glow (a salamander's hinted tail, 1024x768), its pupils darker still."""
+        scratch = self._scratch
+        if scratch is None or scratch.get_size() != target.get_size():
+            scratch = self._scratch = pygame.Surface(target.get_size(), 0, target)
+            scratch.fill((0, 0, 0))
+        r = self._draw_points(scratch, c, pose, xy)
+        if r is None:
+            return None
+        r = r.clip(target.get_rect())
+        target.blit(scratch, r, r, pygame.BLEND_RGB_ADD)
+        scratch.fill((0, 0, 0), r)
+        return r
 
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
                      xy: np.ndarray) -> pygame.Rect | None:
