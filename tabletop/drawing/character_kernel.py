@@ -170,6 +170,38 @@ def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind:
 
 
 @kernel
+def _pupil(xs: np.ndarray, ys: np.ndarray, n: int, mx: float, my: float, gx: float, gy: float,
+           r: float, d: float) -> tuple[float, float]:
+    """A pupil's radius and its shift along the gaze (``gx``, ``gy``), both px, at most ``r``
+    and ``d``, such that it lies inside the eye's white (the convex polygon ``xs``, ``ys``
+    about its centre ``mx``, ``my``). A pupil sized by the eye's bounding box and moved a
+    share of its width hung out of a face's flat eyes over the skin (the MOP example's face
+    looking down at a puck: ~60 px of ink outside each white)."""
+    inner = 1e9
+    for j in range(n):            # the white's inscribed radius: its nearest edge
+        k = (j + 1) % n
+        ex, ey = xs[k] - xs[j], ys[k] - ys[j]
+        ln = math.sqrt(ex * ex + ey * ey)
+        if ln > 1e-9:
+            inner = min(inner, abs((xs[j] - mx) * ey - (ys[j] - my) * ex) / ln)
+    r = max(1.0, min(r, 0.7 * inner))
+    for j in range(n):            # each edge the gaze runs toward bounds the shift
+        k = (j + 1) % n
+        ex, ey = xs[k] - xs[j], ys[k] - ys[j]
+        ln = math.sqrt(ex * ex + ey * ey)
+        if ln <= 1e-9:
+            continue
+        nx, ny = ey / ln, -ex / ln
+        h = (xs[j] - mx) * nx + (ys[j] - my) * ny
+        if h < 0.0:               # (the outward normal, whichever way the loop winds)
+            nx, ny, h = -nx, -ny, -h
+        toward = nx * gx + ny * gy
+        if toward > 1e-6:
+            d = min(d, (h - r - 0.5) / toward)
+    return r, max(0.0, d)
+
+
+@kernel
 def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke: float,
          shadow: int, body: int, white: int, ink: int, blink: float, gaze: float,
          angle: float) -> None:
@@ -209,8 +241,9 @@ def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke
                 lx[j], ly[j] = rx - along * ux + mx, ry - along * uy + my
             polygon(pix, fmt, lx, ly, n, white)
             if blink > 0.45:
-                d = 0.3 * max(w, h)
-                disc(pix, fmt, mx + gx * d, my + gy * d, 0.45 * min(w, h) + 1.5, ink)
+                r, d = _pupil(lx, ly, n, mx, my, gx, gy, 0.45 * min(w, h) + 1.5,
+                              0.3 * max(w, h))
+                disc(pix, fmt, mx + gx * d, my + gy * d, r, ink)
         else:                                                    # the mouth
             polygon(pix, fmt, xs, ys, n, ink)
 
