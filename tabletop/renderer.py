@@ -86,6 +86,13 @@ def body_polygon(c: CharacterState, shape: np.ndarray) -> np.ndarray:
     return shape * c.size @ rot.T + (c.x, c.y)
 
 
+def _hint(hint: tuple[Pose, np.ndarray] | None) -> tuple[Pose, np.ndarray] | None:
+    """A hinted pose with its points as the compiled drawing takes them (N x 2 floats)."""
+    if hint is None:
+        return None
+    return hint[0], np.ascontiguousarray(hint[1], dtype=np.float64).reshape(-1, 2)
+
+
 class Renderer:
     """Draws frames: the table, the characters with their life (under the pucks), the pucks'
     halos and trails, the "one moment" and idle looks, and the operator overlay.
@@ -297,7 +304,7 @@ class Renderer:
         if pose.alpha <= 0.01:
             return None
         if c.points is not None and len(c.points):
-            hinted = None
+            hinted = hint = None
             if pr.hint > 0.03 and pr.hint_points is not None \
                     and len(pr.hint_points) == len(c.points):
                 # early feedback: the suspected action's pose, a faint light of the
@@ -306,7 +313,8 @@ class Renderer:
                                             light=0.0, color=lighten(vivid(tuple(c.color)), 0.3),
                                             ground=(0, 0, 0))
                 hinted = self._draw_ghost(target, c, ghost, pr.hint_points)
-            return P.union([hinted, self._draw_points(target, c, pose, c.points)])
+                hint = (ghost, pr.hint_points)   # a face's: on the face (draw_face)
+            return P.union([hinted, self._draw_points(target, c, pose, c.points, hint)])
         if c.name in self._sprites:
             return self._draw_sprite(target, c, pose)
         if c.kind == "playback":   # the main take played back in the studio
@@ -336,12 +344,16 @@ class Renderer:
         return r
 
     def _draw_points(self, target: pygame.Surface, c: CharacterState, pose: Pose,
-                     xy: np.ndarray) -> pygame.Rect | None:
-        """A character given by points (``xy``: N x 2 table metres), drawn as its kind."""
+                     xy: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
+                     ) -> pygame.Rect | None:
+        """A character given by points (``xy``: N x 2 table metres), drawn as its kind; a face
+        (or a hybrid's) shows ``hint``'s features faintly on it (:func:`draw_face`)."""
         xy = np.ascontiguousarray(xy, dtype=np.float64).reshape(-1, 2)
-        draw = (characters.draw_face if c.kind == "face" else characters.draw_hybrid
-                if c.kind == "hybrid" else characters.draw_figure)
-        return draw(target, c, pose, xy, self.map.H)
+        if c.kind == "face":
+            return characters.draw_face(target, c, pose, xy, self.map.H, _hint(hint))
+        if c.kind == "hybrid":
+            return characters.draw_hybrid(target, c, pose, xy, self.map.H, _hint(hint))
+        return characters.draw_figure(target, c, pose, xy, self.map.H)
 
     def _label(self, puck_id: int) -> pygame.Surface:
         """A puck's id in its colour, upright on the table (:meth:`TableToScreen.reading`)."""

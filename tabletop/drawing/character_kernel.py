@@ -19,6 +19,7 @@ from tabletop.drawing.limbs import capsule, cone
 from tabletop.drawing.polygons import ellipse, polygon
 
 SKELETON, CREATURE, SPRITE, OTHER = 0, 1, 2, 3     # figure kinds (``figure``'s ``kind``)
+HEAD, FEATURES = 1, 2                              # a face's parts (``face``'s ``parts``)
 
 
 @kernel
@@ -204,17 +205,20 @@ def _pupil(xs: np.ndarray, ys: np.ndarray, n: int, mx: float, my: float, gx: flo
 @kernel
 def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke: float,
          shadow: int, body: int, white: int, ink: int, blink: float, gaze: float,
-         angle: float) -> None:
+         angle: float, parts: int) -> None:
     """A face from its loops (``lp`` from :func:`pack_loops`, points ``q`` px): the first closed
     loop is the head (on a ``shadow`` rim), smaller round closed loops are eyes (lids closing
     with ``blink`` across ``angle``, pupils looking along ``gaze``), other closed loops the
-    mouth, open strokes (brows, nose) ``stroke`` px thick."""
+    mouth, open strokes (brows, nose) ``stroke`` px thick. ``parts``: :data:`HEAD` (the head
+    alone), :data:`FEATURES` (all but the head) or both (their sum)."""
     gx, gy = math.cos(gaze), math.sin(gaze)
     ux, uy = -math.sin(angle), math.cos(angle)     # up the face
     first = True
     for k in range(lp[0]):
         st, n, closed = lp[1 + 3 * k], lp[2 + 3 * k], lp[3 + 3 * k]
         if not closed:                                           # brows, nose
+            if not parts & FEATURES:
+                continue
             w = stroke * 0.8
             width = max(1, int(2 * w + 0.5))
             for j in range(n - 1):
@@ -227,10 +231,13 @@ def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke
             xs[j], ys[j] = q[lp[st + j], 0], q[lp[st + j], 1]
         mx, my = xs.mean(), ys.mean()
         if first:                                                # the head
-            polygon(pix, fmt, (xs - mx) * 1.04 + mx, (ys - my) * 1.04 + my, n, shadow)
-            polygon(pix, fmt, xs, ys, n, body)
+            if parts & HEAD:
+                polygon(pix, fmt, (xs - mx) * 1.04 + mx, (ys - my) * 1.04 + my, n, shadow)
+                polygon(pix, fmt, xs, ys, n, body)
             first = False
             continue
+        if not parts & FEATURES:
+            break
         w, h = xs.max() - xs.min(), ys.max() - ys.min()
         if abs(w - h) < 0.8 * max(w, h) and n <= 10:             # an eye
             shut = 1.0 - blink

@@ -302,11 +302,15 @@ def _face_loops(n: int, bones: tuple) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
-              H: np.ndarray) -> pygame.Rect | None:
+              H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
+              ) -> pygame.Rect | None:
     """A face of points ``xy`` (N x 2 table metres, mapped to pixels by ``H``): its first closed
     loop is the head (filled, on a glow), smaller closed loops are eyes (white with pupils
     looking along the gaze, blinking) or the mouth (dark), open strokes are brows and nose
-    drawn thick. Returns the rectangle it touched."""
+    drawn thick. ``hint``: a suspected expression (its faint pose, its points) whose features
+    show faintly on the head under the face's own (MOP early feedback: drawn on its own, a
+    faint face lay wholly under the opaque face and was never seen). Returns the rectangle
+    it touched."""
     posed = _posed(c, pose, xy, H)
     if posed is None:
         return None
@@ -321,9 +325,20 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarra
         glow = P.glow(surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
                       0.32 * pose.alpha * pose.light)
     _, _, shadow, _, body, _, _, white, ink = inks(pose.color, pose.alpha, pose.ground)
-    raster.draw(surf, K.face, pts, lp, float(max(1.5, 0.022 * fig)), shadow, body, white,
-                ink, float(pose.blink), float(pose.gaze), float(pose.angle))
-    return P.union([P.box(box, 0.06 * fig + 2), glow])
+    stroke = float(max(1.5, 0.022 * fig))
+    look = (float(pose.blink), float(pose.gaze), float(pose.angle))
+    ghost = _posed(c, hint[0], hint[1], H) if hint is not None else None
+    if ghost is None:
+        raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look,
+                    K.HEAD + K.FEATURES)
+        return P.union([P.box(box, 0.06 * fig + 2), glow])
+    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.HEAD)
+    # the suspected features at the hint's opacity over the face's own skin
+    gwhite, gink = inks(pose.color, hint[0].alpha, pose.body())[7:]
+    raster.draw(surf, K.face, ghost[0], lp, stroke, shadow, body, gwhite, gink, *look,
+                K.FEATURES)
+    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.FEATURES)
+    return P.union([P.box(box, 0.06 * fig + 2), P.box(ghost[1], 0.06 * fig + 2), glow])
 
 
 @functools.lru_cache(maxsize=64)
@@ -350,10 +365,12 @@ def hybrid_parts(n: int, bones: tuple) -> tuple[int, tuple, tuple] | None:
 
 
 def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
-                H: np.ndarray) -> pygame.Rect | None:
+                H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
+                ) -> pygame.Rect | None:
     """A hybrid character: its body drawn as a creature's (no head of its own) and its face
     drawn as a face where the head would be. ``xy``: every point (table metres, mapped to
-    pixels by ``H``). Returns the rectangle it touched."""
+    pixels by ``H``); ``hint``: a suspected pose, its face's features shown faintly on the
+    face (:func:`draw_face`). Returns the rectangle it touched."""
     parts = hybrid_parts(len(xy), tuple(c.bones))
     if parts is None or c.points is None:
         return draw_figure(surf, c, pose, xy, H)
@@ -364,8 +381,11 @@ def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
     body = replace(c, kind="creature", bones=body_bones, points=None, hint_points=None)
     face = replace(c, kind="face", bones=face_bones, points=None, hint_points=None,
                    size=float(np.ptp(face_m, axis=0).max()))
+    face_hint = None
+    if hint is not None and len(hint[1]) == len(xy):
+        face_hint = (hint[0], np.asarray(hint[1], dtype=np.float64)[k:])
     return P.union([draw_figure(surf, body, pose, xy[:k], H, head=False),
-                    draw_face(surf, face, pose, xy[k:], H)])
+                    draw_face(surf, face, pose, xy[k:], H, face_hint)])
 
 
 # A played-back main take (the studio's sequential training) is the main's puck's ghost: a
