@@ -58,3 +58,32 @@ def test_a_faces_suspected_expression_shows_faintly_on_it():
     assert len(faint) > 150 and faint.min() > ink + 120
     # the face's own features stay whole: where it has ink, it still has
     assert (hinted[inside & (plain <= ink + 20)] <= ink + 20).all()
+
+
+def test_a_hybrids_suspected_expression_shows_on_its_face():
+    """The gecko (MOP section 3's hybrid): a suspected laugh shows faintly on its face too."""
+    from dataclasses import replace
+
+    from behaviors.mop.creatures import hybrid_clips
+    from tests.tabletop.test_view_mop import gecko
+    c, rig = gecko(0.0, 0.0)
+    laugh = place(rig.pose(hybrid_clips()["wag_laugh"], 0.5), 0.6, 0.4, 0.0, 0.25)
+    laugh[:len(rig.body.rest())] = c.points[:len(rig.body.rest())]   # the same body: the face
+    imgs = []
+    for hinted in (False, True):
+        s = replace(c, valid=False, **(dict(hints=(("zigzag", 0.9, 0.5),), hint_points=laugh)
+                                      if hinted else {}))
+        r = Renderer(TABLE, SIZE)
+        surf = pygame.Surface(SIZE)
+        for k in range(30):
+            r.draw(surf, Frame(seq=k, t=1.0 + k / 30, characters=(s,)))
+        imgs.append(rgb(surf).astype(int).sum(axis=2))
+    k = len(rig.body.rest())
+    head = r.map.points(c.points[k:][MODEL.part_slices["outline"]])
+    mask = pygame.Surface(SIZE)
+    centre = head.mean(axis=0)
+    pygame.draw.polygon(mask, (255, 255, 255), ((head - centre) * 0.9 + centre).tolist())
+    inside = pygame.surfarray.array_red(mask).T > 0
+    darker = (imgs[0] - imgs[1]) * inside
+    # measured before: 0 pixels of its face darker by 40 or more; now 183: the faint laugh
+    assert (darker >= 40).sum() > 20
