@@ -177,7 +177,11 @@ class FaceRig:
 class HybridRig:
     """A body rig and a face driven together by one clip (MOP section 3's hybrid characters):
     skeletal channels pose the body, blendshape channels the face, which rides on the body's
-    point ``head`` (scaled by ``face_size`` figure units, upright along the heading)."""
+    point ``head`` (scaled by ``face_size`` figure units, its chin along the heading).
+
+    The face is turned half round on the body: seen from above, an animal's mouth is at its
+    snout and its eyes behind it. Upright along the heading (brows at the snout, mouth at the
+    neck), the gecko read as a face lying on its back with its chin in the body."""
 
     kind = "hybrid"
 
@@ -192,7 +196,7 @@ class HybridRig:
         self.face.check(clip)
 
     def _join(self, body: np.ndarray, face: np.ndarray) -> np.ndarray:
-        return np.vstack([body, body[self.head] + self.face_size * face])
+        return np.vstack([body, body[self.head] - self.face_size * face])
 
     def pose(self, clip: Clip, progress: float) -> np.ndarray:
         return self._join(self.body.pose(clip, progress), self.face.pose(clip, progress))

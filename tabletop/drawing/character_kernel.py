@@ -19,6 +19,7 @@ from tabletop.drawing.limbs import capsule, cone
 from tabletop.drawing.polygons import ellipse, polygon
 
 SKELETON, CREATURE, SPRITE, OTHER = 0, 1, 2, 3     # figure kinds (``figure``'s ``kind``)
+HEAD, FEATURES = 1, 2                              # a face's parts (``face``'s ``parts``)
 
 
 @kernel
@@ -170,19 +171,54 @@ def _head(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, h: int, p: int, kind:
 
 
 @kernel
+def _pupil(xs: np.ndarray, ys: np.ndarray, n: int, mx: float, my: float, gx: float, gy: float,
+           r: float, d: float) -> tuple[float, float]:
+    """A pupil's radius and its shift along the gaze (``gx``, ``gy``), both px, at most ``r``
+    and ``d``, such that it lies inside the eye's white (the convex polygon ``xs``, ``ys``
+    about its centre ``mx``, ``my``). A pupil sized by the eye's bounding box and moved a
+    share of its width hung out of a face's flat eyes over the skin (the MOP example's face
+    looking down at a puck: ~60 px of ink outside each white)."""
+    inner = 1e9
+    for j in range(n):            # the white's inscribed radius: its nearest edge
+        k = (j + 1) % n
+        ex, ey = xs[k] - xs[j], ys[k] - ys[j]
+        ln = math.sqrt(ex * ex + ey * ey)
+        if ln > 1e-9:
+            inner = min(inner, abs((xs[j] - mx) * ey - (ys[j] - my) * ex) / ln)
+    r = max(1.0, min(r, 0.7 * inner))
+    for j in range(n):            # each edge the gaze runs toward bounds the shift
+        k = (j + 1) % n
+        ex, ey = xs[k] - xs[j], ys[k] - ys[j]
+        ln = math.sqrt(ex * ex + ey * ey)
+        if ln <= 1e-9:
+            continue
+        nx, ny = ey / ln, -ex / ln
+        h = (xs[j] - mx) * nx + (ys[j] - my) * ny
+        if h < 0.0:               # (the outward normal, whichever way the loop winds)
+            nx, ny, h = -nx, -ny, -h
+        toward = nx * gx + ny * gy
+        if toward > 1e-6:
+            d = min(d, (h - r - 0.5) / toward)
+    return r, max(0.0, d)
+
+
+@kernel
 def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke: float,
          shadow: int, body: int, white: int, ink: int, blink: float, gaze: float,
-         angle: float) -> None:
+         angle: float, parts: int) -> None:
     """A face from its loops (``lp`` from :func:`pack_loops`, points ``q`` px): the first closed
     loop is the head (on a ``shadow`` rim), smaller round closed loops are eyes (lids closing
     with ``blink`` across ``angle``, pupils looking along ``gaze``), other closed loops the
-    mouth, open strokes (brows, nose) ``stroke`` px thick."""
+    mouth, open strokes (brows, nose) ``stroke`` px thick. ``parts``: :data:`HEAD` (the head
+    alone), :data:`FEATURES` (all but the head) or both (their sum)."""
     gx, gy = math.cos(gaze), math.sin(gaze)
     ux, uy = -math.sin(angle), math.cos(angle)     # up the face
     first = True
     for k in range(lp[0]):
         st, n, closed = lp[1 + 3 * k], lp[2 + 3 * k], lp[3 + 3 * k]
         if not closed:                                           # brows, nose
+            if not parts & FEATURES:
+                continue
             w = stroke * 0.8
             width = max(1, int(2 * w + 0.5))
             for j in range(n - 1):
@@ -195,10 +231,13 @@ def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke
             xs[j], ys[j] = q[lp[st + j], 0], q[lp[st + j], 1]
         mx, my = xs.mean(), ys.mean()
         if first:                                                # the head
-            polygon(pix, fmt, (xs - mx) * 1.04 + mx, (ys - my) * 1.04 + my, n, shadow)
-            polygon(pix, fmt, xs, ys, n, body)
+            if parts & HEAD:
+                polygon(pix, fmt, (xs - mx) * 1.04 + mx, (ys - my) * 1.04 + my, n, shadow)
+                polygon(pix, fmt, xs, ys, n, body)
             first = False
             continue
+        if not parts & FEATURES:
+            break
         w, h = xs.max() - xs.min(), ys.max() - ys.min()
         if abs(w - h) < 0.8 * max(w, h) and n <= 10:             # an eye
             shut = 1.0 - blink
@@ -209,8 +248,9 @@ def face(pix: np.ndarray, fmt: np.ndarray, q: np.ndarray, lp: np.ndarray, stroke
                 lx[j], ly[j] = rx - along * ux + mx, ry - along * uy + my
             polygon(pix, fmt, lx, ly, n, white)
             if blink > 0.45:
-                d = 0.3 * max(w, h)
-                disc(pix, fmt, mx + gx * d, my + gy * d, 0.45 * min(w, h) + 1.5, ink)
+                r, d = _pupil(lx, ly, n, mx, my, gx, gy, 0.45 * min(w, h) + 1.5,
+                              0.3 * max(w, h))
+                disc(pix, fmt, mx + gx * d, my + gy * d, r, ink)
         else:                                                    # the mouth
             polygon(pix, fmt, xs, ys, n, ink)
 

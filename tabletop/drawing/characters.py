@@ -21,8 +21,8 @@ from tabletop.drawing import pose_kernel, raster
 from tabletop.drawing import primitives as P
 from tabletop.drawing.discs import discs
 from tabletop.drawing import screens
-from tabletop.drawing.palette import (EYE_WHITE, INK, Color, fade, lighten, remember, rgb,
-                                      shade)
+from tabletop.drawing.palette import (EYE_WHITE, INK, TABLE, Color, fade, lighten, remember,
+                                      rgb, shade)
 from tabletop.drawing.reading import Reading
 from tabletop.frames import CharacterState
 
@@ -41,7 +41,8 @@ class Pose:
     ``stretch`` (length factor along ``motion`` screen radians), ``blink`` (eye opening 0..1),
     ``gaze`` (screen radians the eyes look along), ``color`` (body colour before fading),
     ``phase`` (radians of its stepping cycle), ``light`` (strength factor of its glow: 0 for a
-    faint hint of a pose, which casts no light).
+    faint hint of a pose, which casts no light), ``ground`` (the colour its opacity fades it
+    toward: the table's, or black for a figure drawn as light to add onto what is under it).
     """
 
     center: tuple[float, float]
@@ -57,31 +58,32 @@ class Pose:
     color: Color = (240, 170, 60)
     phase: float = 0.0
     light: float = 1.0
+    ground: Color = TABLE
 
     def body(self, k: float = 1.0) -> Color:
-        return fade(shade(self.color, k), self.alpha)
+        return fade(shade(self.color, k), self.alpha, self.ground)
 
 
 _inks: dict[tuple, tuple[int, ...]] = {}
 
 
-def inks(color: Color, alpha: float) -> tuple[int, ...]:
-    """A character's colours at opacity ``alpha`` over the table, packed 0xRRGGBB as the
-    compiled drawing takes them (remembered: the same few recur frame after frame): its body
-    shaded by 0.62, 0.68, 0.7 and 0.72 and whole, lightened by 0.18 and 0.35, eye white and
-    ink."""
-    key = (color, alpha)
+def inks(color: Color, alpha: float, ground: Color = TABLE) -> tuple[int, ...]:
+    """A character's colours at opacity ``alpha`` over ``ground`` (the table), packed 0xRRGGBB
+    as the compiled drawing takes them (remembered: the same few recur frame after frame): its
+    body shaded by 0.62, 0.68, 0.7 and 0.72 and whole, lightened by 0.18 and 0.35, eye white
+    and ink."""
+    key = (color, alpha, ground)
     try:
         return _inks[key]
     except KeyError:
         pass
     except TypeError:          # a colour given as a list
-        key = (tuple(color), alpha)
+        key = (tuple(color), alpha, tuple(ground))
         if key in _inks:
             return _inks[key]
-    c = key[0]
-    out = tuple(rgb(fade(shade(c, k), alpha)) for k in (0.62, 0.68, 0.7, 0.72, 1.0)) + tuple(
-        rgb(fade(x, alpha)) for x in (lighten(c, 0.18), lighten(c, 0.35), EYE_WHITE, INK))
+    c, g = key[0], key[2]
+    out = tuple(rgb(fade(shade(c, k), alpha, g)) for k in (0.62, 0.68, 0.7, 0.72, 1.0)) + tuple(
+        rgb(fade(x, alpha, g)) for x in (lighten(c, 0.18), lighten(c, 0.35), EYE_WHITE, INK))
     return remember(_inks, key, out, 4096)
 
 
@@ -129,7 +131,7 @@ def draw_reactor(surf: pygame.Surface, c: CharacterState, pose: Pose) -> pygame.
     step = 0.1 * min(1.0, (pose.stretch - 1.0) / 0.1) * math.sin(pose.phase)
     # (every scalar a float: a kernel given an int where it was compiled for a float compiles
     # again, seconds, in the middle of a frame)
-    foot, _, _, dark, body, _, belly, white, ink = inks(pose.color, pose.alpha)
+    foot, _, _, dark, body, _, belly, white, ink = inks(pose.color, pose.alpha, pose.ground)
     raster.draw(surf, K.reactor, _BODY_UV, _EYES_UV, M, float(pose.breath), float(cx),
                 float(cy), float(L), ca, sa, float(step), foot, dark, body, belly,
                 float(pose.blink), float(pose.gaze), float(pose.angle), white, ink)
@@ -265,7 +267,7 @@ def draw_figure(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
                      0.26 * pose.alpha * pose.light)
     topo = topology(len(pts), c.bones)
     w0 = max(1.5, _WIDTHS.get(c.kind, 0.045) * fig)
-    _, dark, _, _, body, light, _, white, ink = inks(pose.color, pose.alpha)
+    _, dark, _, _, body, light, _, white, ink = inks(pose.color, pose.alpha, pose.ground)
     if topo is None:
         r = max(2.0, 0.03 * fig)
         raster.draw(surf, discs, pts, float(r + 0.5), body)
@@ -300,11 +302,15 @@ def _face_loops(n: int, bones: tuple) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
-              H: np.ndarray) -> pygame.Rect | None:
+              H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
+              ) -> pygame.Rect | None:
     """A face of points ``xy`` (N x 2 table metres, mapped to pixels by ``H``): its first closed
     loop is the head (filled, on a glow), smaller closed loops are eyes (white with pupils
     looking along the gaze, blinking) or the mouth (dark), open strokes are brows and nose
-    drawn thick. Returns the rectangle it touched."""
+    drawn thick. ``hint``: a suspected expression (its faint pose, its points) whose features
+    show faintly on the head under the face's own (MOP early feedback: drawn on its own, a
+    faint face lay wholly under the opaque face and was never seen). Returns the rectangle
+    it touched."""
     posed = _posed(c, pose, xy, H)
     if posed is None:
         return None
@@ -318,10 +324,21 @@ def draw_face(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarra
         mx, my = (np.add.reduce(pts[head], axis=0) / len(head)).tolist()   # (= mean, faster)
         glow = P.glow(surf, (mx, my), 0.62 * c.size * pose.ppm + 6, pose.color,
                       0.32 * pose.alpha * pose.light)
-    _, _, shadow, _, body, _, _, white, ink = inks(pose.color, pose.alpha)
-    raster.draw(surf, K.face, pts, lp, float(max(1.5, 0.022 * fig)), shadow, body, white,
-                ink, float(pose.blink), float(pose.gaze), float(pose.angle))
-    return P.union([P.box(box, 0.06 * fig + 2), glow])
+    _, _, shadow, _, body, _, _, white, ink = inks(pose.color, pose.alpha, pose.ground)
+    stroke = float(max(1.5, 0.022 * fig))
+    look = (float(pose.blink), float(pose.gaze), float(pose.angle))
+    ghost = _posed(c, hint[0], hint[1], H) if hint is not None else None
+    if ghost is None:
+        raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look,
+                    K.HEAD + K.FEATURES)
+        return P.union([P.box(box, 0.06 * fig + 2), glow])
+    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.HEAD)
+    # the suspected features at the hint's opacity over the face's own skin
+    gwhite, gink = inks(pose.color, hint[0].alpha, pose.body())[7:]
+    raster.draw(surf, K.face, ghost[0], lp, stroke, shadow, body, gwhite, gink, *look,
+                K.FEATURES)
+    raster.draw(surf, K.face, pts, lp, stroke, shadow, body, white, ink, *look, K.FEATURES)
+    return P.union([P.box(box, 0.06 * fig + 2), P.box(ghost[1], 0.06 * fig + 2), glow])
 
 
 @functools.lru_cache(maxsize=64)
@@ -348,10 +365,12 @@ def hybrid_parts(n: int, bones: tuple) -> tuple[int, tuple, tuple] | None:
 
 
 def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndarray,
-                H: np.ndarray) -> pygame.Rect | None:
+                H: np.ndarray, hint: tuple[Pose, np.ndarray] | None = None
+                ) -> pygame.Rect | None:
     """A hybrid character: its body drawn as a creature's (no head of its own) and its face
     drawn as a face where the head would be. ``xy``: every point (table metres, mapped to
-    pixels by ``H``). Returns the rectangle it touched."""
+    pixels by ``H``); ``hint``: a suspected pose, its face's features shown faintly on the
+    face (:func:`draw_face`). Returns the rectangle it touched."""
     parts = hybrid_parts(len(xy), tuple(c.bones))
     if parts is None or c.points is None:
         return draw_figure(surf, c, pose, xy, H)
@@ -362,8 +381,11 @@ def draw_hybrid(surf: pygame.Surface, c: CharacterState, pose: Pose, xy: np.ndar
     body = replace(c, kind="creature", bones=body_bones, points=None, hint_points=None)
     face = replace(c, kind="face", bones=face_bones, points=None, hint_points=None,
                    size=float(np.ptp(face_m, axis=0).max()))
+    face_hint = None
+    if hint is not None and len(hint[1]) == len(xy):
+        face_hint = (hint[0], np.asarray(hint[1], dtype=np.float64)[k:])
     return P.union([draw_figure(surf, body, pose, xy[:k], H, head=False),
-                    draw_face(surf, face, pose, xy[k:], H)])
+                    draw_face(surf, face, pose, xy[k:], H, face_hint)])
 
 
 # A played-back main take (the studio's sequential training) is the main's puck's ghost: a

@@ -108,7 +108,7 @@ def warm() -> None:
          0.5, 0.0, 0.0, 5, 6)
     draw(surf, figure, q, np.full(3, 1.0), tp, CREATURE, 2.0, 2.0, 30.0, True, 1, 2, 3, 0.0, 0.0,
          1.0, 4, 5)
-    draw(surf, face, q, lp, 1.5, 1, 2, 3, 4, 1.0, 0.0, 0.0)
+    draw(surf, face, q, lp, 1.5, 1, 2, 3, 4, 1.0, 0.0, 0.0, 3)
     draw(surf, discs, q, 2.0, 1)
     bare = pygame.Surface((64, 64), 0, 32)
     draw(surf, uncover, *pixels(bare), np.array([(30.0, 30.0, 5.0)]))

@@ -249,6 +249,21 @@ def fitted_panel(lines: Sequence[str], width: int, height: int, px: int = PANEL_
 _lines: dict[tuple, pygame.Surface] = {}
 
 
+# The visitors' words are rendered this many times larger and scaled down: at their own size
+# the font's hinting rounds every letter's advance to whole pixels, and "touch the table" read
+# "touch the ta ble" (26 px, the idle invitation at 1280x720; "tabl e" at 33 px).
+SUPERSAMPLE = 4
+
+
+def words(line: str, px: int, color: Color) -> pygame.Surface:
+    """``line`` at ``px`` pixels, its letters spaced as the font draws them at any size
+    (:data:`SUPERSAMPLE`)."""
+    big = font(px * SUPERSAMPLE).render(line, True, color)
+    w, h = big.get_size()
+    return pygame.transform.smoothscale(big, (max(1, round(w / SUPERSAMPLE)),
+                                              max(1, round(h / SUPERSAMPLE))))
+
+
 def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
          color: Color, alpha: float = 1.0, reading: Reading = PLAIN) -> None:
     """One line centred on ``center``, at opacity ``alpha``, upright on the table as
@@ -259,7 +274,7 @@ def text(surf: pygame.Surface, line: str, center: tuple[float, float], px: int,
     if img is None:
         if len(_lines) > 64:
             _lines.clear()
-        img = _lines[key] = reading.turn(font(px).render(line, True, color))
+        img = _lines[key] = reading.turn(words(line, px, color))
     img.set_alpha(int(round(255 * min(max(alpha, 0.0), 1.0))))
     surf.blit(img, reading.at(img.get_size(), center))
 

@@ -18,6 +18,7 @@ from behaviors.motion.skeleton import place
 from tabletop.config import load_config
 from tabletop.drawing.characters import hybrid_parts
 from tabletop.frames import CharacterState, Frame
+from tabletop.plugins.mop import HYBRID_HEAD
 from tabletop.view import INVITATIONS, Renderer, invitation
 
 from tests.tabletop.test_view import SIZE, TABLE, at, ground, rgb
@@ -57,12 +58,38 @@ def test_a_hinted_pose_is_drawn_faintly_fades_in_and_goes():
     assert abs(int(at(rgb(s), where).sum()) - g) <= 12
 
 
-def gecko(progress: float = 0.4) -> tuple[CharacterState, HybridRig]:
-    rig = HybridRig(PlanarRig(creature_skeleton()), FaceRig(FaceModel()), 5)
+def gecko(progress: float = 0.4, heading: float = math.pi,
+          head: int = 5) -> tuple[CharacterState, HybridRig]:
+    rig = HybridRig(PlanarRig(creature_skeleton()), FaceRig(FaceModel()), head)
     clip = hybrid_clips()["walk_talk"]
-    pts = place(rig.pose(clip, progress), 0.6, 0.4, math.pi, 0.25)
-    return CharacterState("gecko", 0.6, 0.4, math.pi, kind="hybrid", size=0.25,
+    pts = place(rig.pose(clip, progress), 0.6, 0.4, heading, 0.25)
+    return CharacterState("gecko", 0.6, 0.4, heading, kind="hybrid", size=0.25,
                           color=(200, 140, 230), points=pts, bones=rig.bones), rig
+
+
+@pytest.mark.parametrize("heading", [0.0, math.pi / 2, -2.5])
+def test_a_hybrids_face_has_its_mouth_at_the_snout_and_its_eyes_behind(heading):
+    """Seen from above, a creature's mouth is at its snout: the face rides on the nose (the
+    example's point) with its eye whites behind the face's middle, toward the neck."""
+    c, rig = gecko(0.0, heading, head=HYBRID_HEAD)
+    k = len(rig.body.rest())
+    r = Renderer(TABLE, SIZE)
+    s = pygame.Surface(SIZE)
+    for j in range(8):
+        r.draw(s, Frame(seq=j, t=j / 10, characters=(c,)))
+    img = rgb(s).astype(int)
+    face = r.map.points(c.points[k:])
+    lo, hi = face.min(axis=0).astype(int), face.max(axis=0).astype(int)
+    box = img[lo[1]:hi[1], lo[0]:hi[0]]
+    ys, xs = np.nonzero(np.all(box > 200, axis=2))             # the eye whites
+    assert len(xs) > 5
+    eyes = np.array([xs.mean() + lo[0], ys.mean() + lo[1]])
+    snout = np.subtract(r.map.point(c.x + 0.1 * math.cos(heading), c.y + 0.1 * math.sin(heading)),
+                        r.map.point(c.x, c.y))
+    forward = snout / np.linalg.norm(snout)
+    ahead = float((eyes - face.mean(axis=0)) @ forward)       # px, + toward the snout
+    # measured: 5.2-5.4 px ahead with the face upright along the heading, -8.8 to -9.0 turned
+    assert ahead < -3.0
 
 
 def test_a_hybrid_is_its_body_with_its_face_on_the_head():
