@@ -96,7 +96,9 @@ engine's alone; unchanged 0.298, 0.182, 132, 8; the open paths met of 432 (the e
   0.299, facing 0.173, 135, 6: the turned step went out faster (0.3-0.4 m 0.104 -> 0.122 m/s)
   and the raw one slower (0.2-0.3 m 0.216 -> 0.190); open / chased met (the engine's) on
   seeds 0-5 123 (1) / 47 (1) -> 120 (1) / 47 (0), 40-51 244 (3) / 85 (7) -> 244 (3) / 88 (6),
-  128-139 233 (2) / 86 (6) -> 229 (6) / 85 (5), 300-311 227 (3) / 84 (7) -> 224 (3) / 86 (7).
+  128-139 233 (2) / 86 (6) -> 229 (6) / 85 (5), 300-311 227 (3) / 84 (7) -> 224 (3) / 86 (7);
+  for every character, all five met of 720 / 1440 (the engine's): 676 (8) -> 672 (7), 1325 (35)
+  -> 1325 (38), 1333 (24) -> 1327 (30), 1328 (26) -> 1314 (29).
 None kept: every one leaves the distance at 0.28-0.31 m.
 
 Positions in table metres, speeds in m/s, times in seconds, angles in radians.
