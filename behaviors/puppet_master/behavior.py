@@ -293,7 +293,18 @@ class Behavior:
         # a character that keeps a personal space round its main, slows when it stops
         # (WALKS_WITH_MAIN) and keeps close beside it (half of its time within WALKS_WITHIN x
         # its personal space) walks with its main: the cap at a place held in the world holds
-        # the mean of its raw steps (step.py, generation.mean_capped): the lover (1.46 x)
+        # the mean of its raw steps (step.py, generation.mean_capped): the lover (1.46 x).
+        # Its slow-path misses that are the engine's alone (speed W1, orbit, still/moving: 17 of
+        # its 22 over seeds 0-5, 40-51, 128-139, 300-311; speed and orbit low, still/moving high:
+        # slow beside its walking main) traced on the slow paths of seeds 44, 47, 50, 134, 302,
+        # 310, 311 (Python step): the match takes moments at the live main's pace (0.088-0.099 m/s
+        # over 0.5 s against 0.086-0.099) whose reactor went 0.092-0.106 m/s (over 0.1 s; the
+        # generation 0.089-0.101, its designer 0.094-0.105) and orbited 0.35-0.43 rad/s
+        # (fidelity's 1 s figure; the demonstration's 0.52 while its main walks), the generation
+        # 0.26-0.29, as much in its raw step (0.26-0.28) as after the smooth and detail.
+        # Consecutive matches circle opposite ways 2.35 times a second (the demonstration's own
+        # one-second orbit 0.62 times), which takes the matched figure from 0.379 to 0.325; the
+        # demonstrated per-sample steps at the targets circle at 0.388.
         self.walks_with_main = walks
         # the share of its steps' length its path keeps over the linear smooth (step.py)
         self.straightness = straightness(self.react[:, :2], p.smooth)

@@ -46,6 +46,61 @@ calm tail after the 80 s in which the hand only wanders as visitors do, 20 s: 35
 / 36 (51). The designer's character then meets more of the open-path checks, the generation
 fewer, and it is caught more under pursuit. None kept.
 
+What the generation copies when its visitor comes at it (visitors.Pursuer, seeds 0-5, traced
+per step with the Python step, whose rows are the compiled step's; "out" is speed along the
+bearing from the main, a the main's speed towards the reactor). Nearer than its designer at
+every approach speed: mean distance at a 0.08-0.18 / 0.18-0.28 / over 0.28 m/s 0.273 / 0.245 /
+0.237 m, its designer 0.382 / 0.310 / 0.274, the demonstration 0.362 / 0.348 / 0.227. The match
+is not what holds it in. The matched moments are 2-9 cm farther out than the live reactor,
+their main coming at them a little slower (0.12-0.27 against 0.14-0.33 m/s), but this
+demonstration holds its distance to an approaching hand wherever the approach found it: at
+those moments the distance changed by -0.07 to +0.05 m/s within 0.3 m (0.3-0.5 m: 0 to -0.24,
+the hand closing in), and their step relative to the main (places in the main's frame) is -0.06
+to +0.02 m/s along the bearing and 0.14-0.25 across it. A third of them (34-36% within 0.3 m, a
+over 0.15 m/s) have a wall within 0.15 m behind (features.room) and close in there (-0.07 to
+-0.09 m/s relative) where the open ones go out (+0.05); in the demonstration, approached at
+0.18-0.3 m/s 0.25-0.45 m off, 40% of the samples have such a wall (out 0.043, open 0.165; 0.116
+in all, its designer against the visitor 0.125-0.182). Beside a standing main 0.4-0.5 m off
+(its main stands in 13% of the demonstration) the demonstration flees at 0.089 m/s (open
+0.100), the matched moments 0.044 (29% at a wall), the generation 0.022. The raw step goes out
+as fast as the main comes in plus the correction; the detail turn then takes a third to two
+thirds of it (a 0.08-0.18, 0.3-0.4 / 0.4-0.5 m: raw 0.127 / 0.106, smoothed 0.148 / 0.115,
+turned 0.104 / 0.039 m/s; turns of 0.86 / 1.03 rad RMS: the texture governor's 1.2-1.3 x the
+detail of patches from moments at 0.25 / 0.18 m/s, 0.68 / 0.85 rad). Facing is the distance's:
+in each 0.1 m band the generation faces its visitor as often as shown or more (beyond 0.5 m
+0.86 / 0.90 shown, 0.4-0.5 m 0.30 / 0.15), but it is beyond 0.5 m 14% of the time (20% shown,
+its designer 22%).
+Measured on the 18 chases of seeds 0-5, 40-51 (mean distance m, facing, met of 144, the
+engine's alone; unchanged 0.298, 0.182, 132, 8; the open paths met of 432 (the engine's) 367
+(4)); the afraid character alone, the others untouched:
+- reactor speed's weight x 0 / 0.5 / 2 (the live reactor's slowness matching slow moments):
+  0.296 / 0.292 / 0.263, 129 / 130 / 128, 6 / 9 / 11;
+- the main's step towards the reactor as one more situation column, weight 1 / 2 (Python
+  step): 0.297 / 0.293, 133 / 129, 6 / 8;
+- the main's still/moving weight x 0.5 / 0.25: 0.289 / 0.293, 134 / 132, 4 / 5, open 331 (8) /
+  344 (5); Params.window 20 / 80: 0.284 / 0.285, 129 / 126, 7 / 12, open 358 (7) / 367 (2);
+- Params.w_room 1 / 2 beside the edge margin: 0.287 / 0.291, 134 / 131, 5 / 7, open 366 (2) /
+  365 (2); w_room 1 on 128-139 / 300-311, chased (the engine's): 86 (6) -> 89 (4) / 84 (7) ->
+  86 (8); its gate widened to 0.8 m (features.ROOM_NEAR), w_room 1 / 2: seeds 0-5 chased 47 ->
+  46 / 45;
+- no target at a moment within 0.45 m of its main with a wall within 0.15 / 0.08 m behind:
+  0.312 / 0.298, 127 / 129, 10 / 10, open 359 / 370;
+- every moment's place held in the world (look.train_place) / those within 0.45 m: 0.287 /
+  0.287, facing 0.214 / 0.198, 133 / 131, 3 / 5, but open 294 / 297;
+- the relative step turned by the live bearing's difference from the moment's, and the
+  correction too (Python step): 0.298 / 0.307, 129 / 127, 11 / 12; the relative step less x
+  0.25-1 of the demonstrated main's step across the bearing: 0.287-0.288, per set no trend
+  (x 0.5: seeds 0-5 chased 47 -> 45, 40-51 85 -> 89);
+- Params.edge_percentile 0 / 25: 0.307 / 0.298, at an edge 0.55 / 0.10;
+- the detail turn scaled by the patch moment's speed over the step's (at most 1; Python step):
+  0.299, facing 0.173, 135, 6: the turned step went out faster (0.3-0.4 m 0.104 -> 0.122 m/s)
+  and the raw one slower (0.2-0.3 m 0.216 -> 0.190); open / chased met (the engine's) on
+  seeds 0-5 123 (1) / 47 (1) -> 120 (1) / 47 (0), 40-51 244 (3) / 85 (7) -> 244 (3) / 88 (6),
+  128-139 233 (2) / 86 (6) -> 229 (6) / 85 (5), 300-311 227 (3) / 84 (7) -> 224 (3) / 86 (7);
+  for every character, all five met of 720 / 1440 (the engine's): 676 (8) -> 672 (7), 1325 (35)
+  -> 1325 (38), 1333 (24) -> 1327 (30), 1328 (26) -> 1314 (29).
+None kept: every one leaves the distance at 0.28-0.31 m.
+
 Positions in table metres, speeds in m/s, times in seconds, angles in radians.
 """
 
