@@ -73,3 +73,40 @@ def test_after_the_command_line_starts_ctrl_c_is_pythons_again():
     lines = res.stdout.split("\n")
     assert lines[0] == "stop_early"
     assert lines[-2].split() == ["True", "True"]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("how", ["module", "script"])
+def test_a_stop_signal_while_the_interpreter_sets_up_its_paths_is_one_line_and_130(sig, how):
+    """The environment ``make`` makes runs tabletop/early_stop.py from a ``.pth`` line, while
+    ``site`` is still setting up the import path (the editable install's finder: 20-60 ms
+    under load), before the package can load: a stop signal there is the same clean stop.
+    (Without it: a KeyboardInterrupt traceback from ``site``, status 1, or an end by SIGTERM.)
+    The signal is sent as soon as an import after the hook's only import of its own
+    (``__future__``, which nothing of the interpreter's start imports) has finished, while
+    ``site`` goes on (``-X importtime`` prints the line of ``site`` itself as site ends)."""
+    command = (["-m", "tabletop"] if how == "module" else [str(SCRIPT)]) + ["status", "--help"]
+    proc = subprocess.Popen([sys.executable, "-X", "importtime", *command],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            cwd=Path(__file__).parent)
+    assert proc.stderr is not None
+    names: list[str] = []
+    for line in proc.stderr:
+        names.append(line.rsplit("|", 1)[-1].strip())
+        if names[-1] == "site" or names[-2:-1] == ["__future__"]:
+            break
+    proc.send_signal(sig)
+    rest = proc.communicate(timeout=60)[1]
+    assert "__future__" in names, "the early stop is not installed while site runs"
+    if names[-1] == "site":
+        pytest.skip("nothing is imported in site after the hook (not an editable install)")
+    said = [ln for ln in rest.splitlines() if not ln.startswith("import time:")]
+    assert (proc.returncode, said) == (130, ["tabletop status: interrupted"])
+
+
+def test_other_programs_of_the_environment_keep_their_signals():
+    code = ("import signal; print(signal.getsignal(signal.SIGTERM) is signal.SIG_DFL, "
+            "signal.getsignal(signal.SIGINT) is signal.default_int_handler)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.split() == ["True", "True"]
