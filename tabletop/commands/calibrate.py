@@ -379,7 +379,11 @@ def projector_main(args: argparse.Namespace) -> int:
     table = parse_pair(args.table, "--table", "metres") if args.table else None
     if args.live:
         size = parse_projector_size(args.size) if args.size else None
-        fit, size = live_projector(args.device, int(args.display), size, cal, table)
+        display = args.display.strip()
+        if not (display.isascii() and display.isdigit()):
+            raise CalibrateError(f"--display {args.display!r}: expected a display number "
+                                 "(0, 1, ...)")
+        fit, size = live_projector(args.device, int(display), size, cal, table)
     else:
         if not args.pattern or not args.image:
             raise CalibrateError("--pattern PATTERN.png and at least one --image IMAGE are "
