@@ -161,6 +161,22 @@ def test_review_names_a_bad_field_of_a_complete_last_line(tmp_path, capsys, line
     assert cli(["review", str(log)]) == 0               # cut short: the tries before it
 
 
+@pytest.mark.parametrize("text, code, words", [
+    ("KEPT\n\n  \n", 0, None),    # an editor's blank lines at the end
+    ("KEPT\n\nKEPT\n", 2, "s.jsonl:2: a blank line between tries"),
+    ('{"format": "tabletop-session", "version": 3}\n', 2,
+     "s.jsonl: a session recording (`tabletop replay` plays it), not a studio session log"),
+])
+def test_review_of_blank_lines_and_of_a_recording(tmp_path, capsys, text, code, words):
+    # (a blank line said JSON's "Expecting value"; a recording "not a session log line (not a
+    # try)")
+    log = tmp_path / "s.jsonl"
+    log.write_text(text.replace("KEPT", '{"target": "pet", "outcome": "kept", "duration_s": 4}'))
+    assert cli(["review", str(log), "--out", str(tmp_path / "sheet.png")]) == code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert (err == []) if words is None else (len(err) == 1 and words in err[0]), err
+
+
 @pytest.mark.parametrize("name", ["sheet.jpg", "sheet.txt", "sheet"])
 def test_review_refuses_a_sheet_name_that_is_no_png(tmp_path, capsys, name):
     # the sheet is PNG bytes: under a .jpg name a viewer refuses or misreads it
