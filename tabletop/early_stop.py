@@ -103,8 +103,11 @@ def write_site_line() -> str:
     It sorts before the editable install's own ``.pth``; a moved or removed file is skipped."""
     import sysconfig
     here = os.path.abspath(__file__)
-    line = (f"import os; p = {here!r}; os.path.isfile(p) and exec(compile(open(p, "
-            f"encoding='utf-8').read(), p, 'exec'), {{'__name__': {SITE_NAME!r}}})\n")
+    # (read only where the program may be starting: other interpreters of the environment,
+    # a test's ``python -c``, skip the file's ~1 ms of reading and compiling)
+    line = (f"import os, sys; p = {here!r}; (sys.argv[:1] == ['-m'] or os.path.basename("
+            f"sys.argv[0]).startswith('tabletop')) and os.path.isfile(p) and exec(compile("
+            f"open(p, encoding='utf-8').read(), p, 'exec'), {{'__name__': {SITE_NAME!r}}})\n")
     path = os.path.join(sysconfig.get_path("purelib"), PTH_FILE)
     with open(path + ".tmp", "w", encoding="utf-8") as f:
         f.write(line)
