@@ -101,13 +101,19 @@ def write_site_line() -> str:
     """Write the ``.pth`` file that runs this module's file while ``site`` starts the
     environment's interpreters (``make`` does, when it makes the environment); returns its path.
     It sorts before the editable install's own ``.pth``; a moved or removed file is skipped."""
+    import py_compile
     import sysconfig
     here = os.path.abspath(__file__)
-    # (read only where the program may be starting: other interpreters of the environment,
-    # a test's ``python -c``, skip the file's ~1 ms of reading and compiling)
-    line = (f"import os, sys; p = {here!r}; (sys.argv[:1] == ['-m'] or os.path.basename("
-            f"sys.argv[0]).startswith('tabletop')) and os.path.isfile(p) and exec(compile("
-            f"open(p, encoding='utf-8').read(), p, 'exec'), {{'__name__': {SITE_NAME!r}}})\n")
+    # Read only where the program may be starting (other interpreters of the environment, a
+    # test's ``python -c``, skip it), through the interpreter's own (frozen) source loader,
+    # which takes the byte-code cached beside it (written here, and by the package's import;
+    # a stale one is compiled again, as any import does): compiling the source took
+    # 1.3 ms, and up to 17 ms on a loaded machine, during which a signal was not yet handled.
+    line = (f"import os, sys, _frozen_importlib_external as f; p = {here!r}; (sys.argv[:1] == "
+            f"['-m'] or os.path.basename(sys.argv[0]).startswith('tabletop')) and os.path."
+            f"isfile(p) and exec(f.SourceFileLoader('tabletop.early_stop', p).get_code("
+            f"'tabletop.early_stop'), {{'__name__': {SITE_NAME!r}}})\n")
+    py_compile.compile(here, doraise=True)   # the byte-code the line loads
     path = os.path.join(sysconfig.get_path("purelib"), PTH_FILE)
     with open(path + ".tmp", "w", encoding="utf-8") as f:
         f.write(line)
