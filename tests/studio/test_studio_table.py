@@ -177,6 +177,19 @@ def test_review_of_blank_lines_and_of_a_recording(tmp_path, capsys, text, code, 
     assert (err == []) if words is None else (len(err) == 1 and words in err[0]), err
 
 
+@pytest.mark.parametrize("columns, words", [
+    ("", "--columns: the value is empty"),            # (both were argparse's "invalid int
+    ("x", "--columns 'x' is not a whole number"),     # value: ''", unlike every other number)
+    ("0", "--columns '0' must be a whole number of sheets per row from 1 to 1e+06"),
+])
+def test_review_columns_that_are_no_count_are_named(tmp_path, capsys, columns, words):
+    log = tmp_path / "s.jsonl"
+    log.write_text('{"target": "pet", "outcome": "kept", "duration_s": 4.0}\n')
+    assert cli(["review", str(log), "--columns", columns]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"tabletop review: error: {words}"), err
+
+
 @pytest.mark.parametrize("name", ["sheet.jpg", "sheet.txt", "sheet"])
 def test_review_refuses_a_sheet_name_that_is_no_png(tmp_path, capsys, name):
     # the sheet is PNG bytes: under a .jpg name a viewer refuses or misreads it
