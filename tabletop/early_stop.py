@@ -109,10 +109,13 @@ def write_site_line() -> str:
     # which takes the byte-code cached beside it (written here, and by the package's import;
     # a stale one is compiled again, as any import does): compiling the source took
     # 1.3 ms, and up to 17 ms on a loaded machine, during which a signal was not yet handled.
-    line = (f"import os, sys, _frozen_importlib_external as f; p = {here!r}; (sys.argv[:1] == "
-            f"['-m'] or os.path.basename(sys.argv[0]).startswith('tabletop')) and os.path."
-            f"isfile(p) and exec(f.SourceFileLoader('tabletop.early_stop', p).get_code("
-            f"'tabletop.early_stop'), {{'__name__': {SITE_NAME!r}}})\n")
+    # (an interpreter embedded without arguments has no sys.argv here; the names are
+    # underscored: site runs the line inside its own function, whose file is ``f``)
+    line = (f"import os, sys, _frozen_importlib_external as _fl; _p = {here!r}; _a = getattr("
+            f"sys, 'argv', None) or ['']; (_a[0] == '-m' or os.path.basename(_a[0]).startswith("
+            f"'tabletop')) and os.path.isfile(_p) and exec(_fl.SourceFileLoader("
+            f"'tabletop.early_stop', _p).get_code('tabletop.early_stop'), "
+            f"{{'__name__': {SITE_NAME!r}}})\n")
     py_compile.compile(here, doraise=True)   # the byte-code the line loads
     path = os.path.join(sysconfig.get_path("purelib"), PTH_FILE)
     with open(path + ".tmp", "w", encoding="utf-8") as f:
