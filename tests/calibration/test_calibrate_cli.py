@@ -435,3 +435,27 @@ def test_a_projector_display_that_is_no_number_is_named(tmp_path, capsys, displa
     refused(capsys, "projector", "--live", "--display", display, "--calibration",
             tmp_path / "c.yaml", "--out", tmp_path / "c.yaml",
             words=f"--display {display!r}: expected a display number (0, 1, ...)")
+
+
+def test_where_a_live_step_cannot_write_is_said_before_the_views(tmp_path, capsys,
+                                                                 unprivileged):
+    """--out and --save-views are written after minutes of live views (the solve, each
+    grab): a place that takes no file is refused before the window opens. A read-only
+    --out folder and a --save-views naming a file failed only then."""
+    import os
+    import subprocess
+    import sys
+    (tmp_path / "notes.txt").write_text("notes")
+    refused(capsys, "camera", "--device", "0", "--save-views", tmp_path / "notes.txt",
+            "--out", tmp_path / "c.yaml", words=f"--save-views {tmp_path / 'notes.txt'}: "
+            f"nothing can be written there: {tmp_path / 'notes.txt'} is a file")
+    shut = tmp_path / "shut"
+    shut.mkdir()
+    shut.chmod(0o555)
+    env = {**os.environ, "DISPLAY": ":4242"}   # (the display is never reached)
+    r = subprocess.run([*unprivileged, sys.executable, "-m", "tabletop", "calibrate", "camera",
+                        "--device", "0", "--out", str(shut / "c.yaml")],
+                       capture_output=True, text=True, env=env, timeout=120)
+    assert r.returncode == 2 and r.stderr.strip().splitlines() == [
+        f"tabletop calibrate camera: error: --out {shut / 'c.yaml'}: nothing can be written "
+        "there: Permission denied"], r.stderr

@@ -151,24 +151,12 @@ def test_a_full_disk_keeps_the_lock_and_skips_the_pid(tmp_path):
                                 "this kiosk's pid cannot be written in it (File too large)"], err
 
 
-def unprivileged() -> tuple[str, ...]:
-    """The prefix that runs a command without root's write override (none when not root);
-    skips the test where it cannot."""
-    import shutil
-    if os.geteuid() != 0:
-        return ()
-    if shutil.which("setpriv") is None:
-        pytest.skip("root, and no setpriv to start a process without write override")
-    return ("setpriv", "--bounding-set", "-dac_override,-dac_read_search",
-            "--inh-caps", "-dac_override,-dac_read_search")
-
-
-def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path):
+def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path, unprivileged):
     """The service made the lock file (0644) and a technician starts a kiosk by hand under
     another account: the lock is taken read-only, so the technician's start is refused while
     the service runs (naming the service's pid) and locks the folder once it has ended. Its
     open for writing failed and it ran unlocked beside the service."""
-    other = unprivileged()
+    other = unprivileged
     service = holder(tmp_path)
     try:
         assert service.stdout.readline().startswith("fd ")
@@ -194,11 +182,12 @@ def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path):
     assert err == "", err
 
 
-def test_a_folder_this_account_cannot_write_says_why_the_lock_was_not_made(tmp_path):
+def test_a_folder_this_account_cannot_write_says_why_the_lock_was_not_made(tmp_path,
+                                                                          unprivileged):
     """No lock file yet, in a folder the account cannot write: the kiosk runs unlocked and
     the log says why, "Permission denied" (it said "No such file or directory", the error of
     the read-only open tried next)."""
-    other = unprivileged()
+    other = unprivileged
     folder = tmp_path / "installation"
     folder.mkdir()
     folder.chmod(0o555)
