@@ -24,7 +24,16 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet --no-compile -e '.[test]' \
 	  && $(PY) -m compileall -q -j0 -x '/tests?/' $(VENV)/lib >/dev/null; \
 	status=$$?; wait $$kernels || rm -f $(KERNELS); exit $$status
+	$(PY) -c "from tabletop import early_stop as e; e.write_site_line()" && touch $(EARLY_STOP)
 	touch $(STAMP)
+
+# A stop signal while the interpreter itself starts (`site`, the editable install's finder: the
+# first 20-60 ms of every command) is the same clean stop as later (one line, status 130, no
+# traceback): a .pth line runs tabletop/early_stop.py there (an environment made before it has
+# it added by `make run`, `make test` or `make kernels`).
+EARLY_STOP := $(VENV)/.early-stop
+$(EARLY_STOP): | $(STAMP)
+	$(PY) -c "from tabletop import early_stop as e; e.write_site_line()" && touch $@
 
 # The compiled kernels (numba: MOP's, Puppet Master's searches and step, the view's drawing) are
 # built once, into the cache beside their sources, so neither the installation's first start
@@ -47,7 +56,7 @@ $(KERNELS): $(wildcard behaviors/kernel_cache.py tabletop/drawing/*.py behaviors
 	@test -f $@ -a -z "$$(find $^ -newer $@ 2>/dev/null)" \
 	  || { echo "building the compiled kernels"; $(BUILD_KERNELS); }
 
-kernels: $(KERNELS)
+kernels: $(KERNELS) $(EARLY_STOP)
 
 run: $(STAMP) kernels
 	$(VENV)/bin/tabletop run --config config.yaml $(ARGS)

@@ -244,6 +244,9 @@ def calibration_from_dict(data: Any, where: str = "<calibration>",
         raise CalibrationError(f"{where}: reprojection_error: expected a mapping of names to "
                                f"numbers, got {errors!r}")
     for key, v in errors.items():
+        if key not in ERROR_KEYS:   # (a misspelt one was kept unread, then dropped on save)
+            raise CalibrationError(f"{where}: reprojection_error.{key}: unknown key (known: "
+                                   f"{', '.join(ERROR_KEYS)})")
         if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
                               or not math.isfinite(v) or v < 0):
             raise CalibrationError(f"{where}: reprojection_error.{key}: expected a number "

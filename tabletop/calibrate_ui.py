@@ -19,6 +19,8 @@ from calibration.charuco import (MIN_CORNERS, REGION_VIEWS, CalibrationInputErro
 from tabletop.drawing.images import image_surface
 
 CELLS = (8, 6)
+# what to do when there is no display to open the window on
+WITHOUT_WINDOW = "take views as files and use --images DIR"
 
 
 def coverage_colours(counts: np.ndarray) -> np.ndarray:
@@ -103,14 +105,19 @@ class CaptureWindow:
         import cv2
         os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
         import pygame
-        from tabletop.view import headless_needed
+        from tabletop.view import headless_needed, start_display, window_size
         if headless_needed(False):
-            raise CalibrationInputError("no display: the live camera calibration needs a screen "
-                                        "(or take views as files and use --images DIR)")
-        reader = self.reader or self._open()
-        pygame.display.init()
+            raise CalibrationInputError(f"no display: the live camera calibration needs a screen "
+                                        f"(or {WITHOUT_WINDOW})")
+        start_display(False, instead=WITHOUT_WINDOW)   # as the projector view opens it
+        try:
+            reader = self.reader or self._open()
+        except BaseException:
+            pygame.display.quit()
+            raise
         pygame.font.init()
-        screen = pygame.display.set_mode((1280, 720), pygame.RESIZABLE)
+        size = window_size((1280, 720), tuple(pygame.display.get_desktop_sizes()[0]))
+        screen = pygame.display.set_mode(size, pygame.RESIZABLE)
         pygame.display.set_caption("tabletop calibrate camera")
         font = pygame.font.Font(None, 26)
         try:

@@ -20,6 +20,9 @@ from calibration.fits import Fit
 from tabletop.drawing.images import image_surface
 
 MOVED_MM = 1.0  # a puck found this much further in the lit frame moved during the check
+# what to do when the projector's display cannot be opened
+WITHOUT_PROJECTOR = ("project the pattern another way and give camera images of it (--image, "
+                     "without --live)")
 
 
 class ProCam(Protocol):
@@ -277,20 +280,25 @@ class LiveProCam:
         import cv2
         os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
         import pygame
-        from tabletop.view import headless_needed
+        from tabletop.view import headless_needed, start_display
         if headless_needed(False):
             raise CalibrationInputError("no display: the live projector steps need the "
                                         "projector connected as a display")
-        self.cap = cv2.VideoCapture(int(device) if str(device).isdigit() else device)
-        if not self.cap.isOpened():
-            raise CalibrationInputError(f"camera {device}: cannot be opened")
+        start_display(False, instead=WITHOUT_PROJECTOR)   # as the projector view opens it
+        try:
+            n = pygame.display.get_num_displays()
+            if not 0 <= display < n:
+                raise CalibrationInputError(f"--display {display}: this machine has {n} "
+                                            f"display(s), 0 to {n - 1}")
+            self.cap = cv2.VideoCapture(int(device) if str(device).isdigit() else device)
+            if not self.cap.isOpened():
+                raise CalibrationInputError(f"camera {device}: cannot be opened")
+        except BaseException:
+            pygame.display.quit()
+            raise
         if resolution:
             self.cap.set(cv2.CAP_PROP_FRAME_WIDTH, int(resolution[0]))
             self.cap.set(cv2.CAP_PROP_FRAME_HEIGHT, int(resolution[1]))
-        pygame.display.init()
-        if display >= pygame.display.get_num_displays():
-            raise CalibrationInputError(f"display {display}: only "
-                                        f"{pygame.display.get_num_displays()} connected")
         if size is None:
             size = tuple(pygame.display.get_desktop_sizes()[display])
         self.size = (int(size[0]), int(size[1]))

@@ -71,8 +71,6 @@ def shown(value: Any, limit: int = SHOWN_CHARS) -> str:
 
 
 def _type_name(value: Any) -> str:
-    if value is None:
-        return "nothing (null)"
     return {bool: "a boolean", int: "an integer", float: "a number", str: "a string",
             list: "a list", dict: "a mapping"}.get(type(value), type(value).__name__)
 
@@ -91,8 +89,9 @@ class Spec:
 
     def wrong_type(self, value: Any, path: str, ctx: Context, hint: str = "") -> ConfigError:
         """The error for a value of the wrong type at ``path``: what was expected, what came."""
-        return ctx.error(path, f"expected {self.describe()}, got {_type_name(value)} "
-                               f"{shown(value)}{hint}")
+        got = "nothing (an empty value, or null)" if value is None else \
+            f"{_type_name(value)} {shown(value)}"
+        return ctx.error(path, f"expected {self.describe()}, got {got}{hint}")
 
     def mapping(self, value: Any, path: str, ctx: Context) -> dict:
         """``value`` as a mapping (nothing, null, is an empty one); else :meth:`wrong_type`."""

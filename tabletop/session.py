@@ -369,7 +369,7 @@ def read_header(path: str | Path) -> dict[str, Any]:
 def read_frames(path: str | Path, absolute: bool = False) -> Iterator[Frame]:
     """The frames of a session file, in order. A malformed line, or a time that is not a finite
     number or goes backwards, raises SessionError naming it; a cut-short last line is skipped
-    with a warning. With ``absolute`` each frame has the monotonic time it had live (as the
+    with a warning, blank lines after the last frame are left alone. With ``absolute`` each frame has the monotonic time it had live (as the
     engines saw it), else seconds from the session's first frame."""
     p = Path(path)
     read_header(p)
@@ -377,7 +377,14 @@ def read_frames(path: str | Path, absolute: bool = False) -> Iterator[Frame]:
     lines = _lines(p)
     next(lines)
     pending: tuple[int, bytes] | None = None
+    blank: int | None = None   # the first of the blank lines since the last frame
     for item in lines:
+        if not item[1].strip():   # blank lines after the last frame (an editor's) are no frame
+            blank = item[0] if blank is None else blank
+            continue
+        if blank is not None:
+            raise SessionError(f"{p}: line {blank}: a blank line between frames (only the end "
+                               "of a recording may have blank lines)")
         if pending is not None:
             yield _parse_line(p, *pending, state, absolute)
         pending = item

@@ -40,6 +40,8 @@ from tabletop.table_map import TableToScreen  # noqa: E402,F401
 log = logging.getLogger("tabletop")
 
 OVERLAY_REFRESH_S = 0.25
+# what to do when the display cannot be opened (check_driver), said for the projector view
+WITHOUT_WINDOW = "run without a window (--headless or view.headless)"
 OVERLAY_SLICE_S = 0.0005   # the overlay's refresh work per frame: its ~2 ms spread over frames
 
 KEY_COMMANDS = {pygame.K_r: "designer.record", pygame.K_k: "designer.keep",
@@ -124,6 +126,17 @@ def init_display(headless: bool) -> None:
         env.pop("SDL_VIDEODRIVER", None)
 
 
+def start_display(headless: bool, instead: str = WITHOUT_WINDOW) -> None:
+    """The display every window of the program opens on (the projector view, the live
+    calibration windows): :func:`init_display`; with a window, a display named but not there
+    refused in one line (:func:`check_driver`, ``instead`` saying what to do without one);
+    then :func:`direct_framebuffer`."""
+    init_display(headless)
+    if not headless:
+        check_driver(instead)
+    direct_framebuffer()
+
+
 def headless_needed(force: bool) -> bool:
     """True when the view must use SDL's dummy driver: forced, or no display to open."""
     if force:
@@ -152,10 +165,7 @@ class ProjectorView:
                               else "as there is no display (DISPLAY is not set)")
         if self.headless:
             os.environ["SDL_VIDEODRIVER"] = "dummy"
-        init_display(self.headless)
-        if not self.headless:
-            check_driver()
-        direct_framebuffer()
+        start_display(self.headless)
         size = tuple(options["size"])
         flags = pygame.FULLSCREEN if options["fullscreen"] and not self.headless else 0
         display = 0 if self.headless else check_display(options["display"])
@@ -322,7 +332,7 @@ def scaled_homography(homography: np.ndarray | None, asked: tuple[int, int],
     return np.diag([sx, sy, 1.0]) @ np.asarray(homography, dtype=float)
 
 
-def check_driver() -> None:
+def check_driver(instead: str = WITHOUT_WINDOW) -> None:
     """Refuse (InputError) a display that is named (``DISPLAY``, ``WAYLAND_DISPLAY``) but
     cannot be opened, such as an X server that died or restarts: SDL then falls back to its
     offscreen driver, which would draw into no window while the status says "live" (Xvfb
@@ -335,8 +345,7 @@ def check_driver() -> None:
     named = ", ".join(f"{k}={os.environ[k]}" for k in ("DISPLAY", "WAYLAND_DISPLAY")
                       if os.environ.get(k))
     raise InputError(f"the display ({named}) cannot be opened: SDL found only its {driver} "
-                     "driver; start the display, or run without a window (--headless or "
-                     "view.headless)")
+                     f"driver; start the display, or {instead}")
 
 
 def check_display(index: int) -> int:

@@ -22,6 +22,20 @@ def pygame_display():
     pygame.display.quit()
 
 
+@pytest.fixture
+def unprivileged() -> tuple[str, ...]:
+    """The prefix that runs a command without root's override of file permissions (none when
+    not root), so that a folder or file the test made read-only is one; skips the test where
+    it cannot."""
+    import shutil
+    if os.geteuid() != 0:
+        return ()
+    if shutil.which("setpriv") is None:
+        pytest.skip("root, and no setpriv to start a process without write override")
+    return ("setpriv", "--bounding-set", "-dac_override,-dac_read_search",
+            "--inh-caps", "-dac_override,-dac_read_search")
+
+
 # The longest test files: CPU seconds of the whole file (or a fifth of its wall time when that
 # is more: real-time waits), measured with `pytest -n 2 --dist worksteal` on a busy machine, so
 # relative weights only. A file missing here is simply not moved.

@@ -30,6 +30,8 @@ the time no action drives (the last pose held, then eased to rest), not any acti
 
 from __future__ import annotations
 
+import json
+
 import math
 from dataclasses import dataclass, field
 from typing import Mapping, Protocol, Sequence
@@ -235,6 +237,34 @@ class SpriteRig:
         return Clip("frames", [Channel("frame", "frame")], times, values)
 
 
+SHEET_KEYS = ("format", "bones", "frames")
+
+
+def _check_nested(value: object, where: str, key: str, names: tuple[str, ...],
+                  pair: str) -> None:
+    """ClipError naming, by its place (``frames[3][2][1]``), the first element of ``value``
+    that is not what it should be: lists of ``names[0]``, each a list of ``names[1]``, ...,
+    the innermost a ``pair`` (``"xy"``: two numbers, ``"ab"``: two point indices)."""
+    def got(v: object) -> str:
+        return json.dumps(v)[:40]
+
+    def walk(v: object, level: int, at: str) -> None:
+        if level == len(names) + 1:   # a number, or a point index
+            ints = pair == "ab"
+            if isinstance(v, bool) or not isinstance(v, int if ints else (int, float)):
+                raise ClipError(f"{where}: {at}: expected {'a point index' if ints else 'a number'}"
+                                f", got {got(v)}")
+            return
+        if level == len(names):
+            if not isinstance(v, list) or len(v) != 2:
+                raise ClipError(f"{where}: {at}: expected [{', '.join(pair)}], got {got(v)}")
+        elif not isinstance(v, list):
+            raise ClipError(f"{where}: {at}: expected a list of {names[level]}s, got {got(v)}")
+        for i, item in enumerate(v):
+            walk(item, level + 1, f"{at}[{i}]")
+    walk(value, 0, key)
+
+
 MAX_SPRITE_UNITS = 1000.0   # a sprite point's farthest coordinate, figure units (the shipped
 #                             bird's reach 0.5)
 
@@ -245,12 +275,19 @@ def sprite_sheet_from_mapping(data: object, where: str) -> SpriteRig:
     if not isinstance(data, Mapping) \
             or data.get("format", "tabletop.sprites") != "tabletop.sprites":
         raise ClipError(f"{where}: expected a JSON object with format 'tabletop.sprites'")
-    try:
-        frames = np.array(data.get("frames"), dtype=float)
-        bones = np.array(data.get("bones"), dtype=int).reshape(-1, 2)
-    except (TypeError, ValueError):
-        raise ClipError(f"{where}: 'frames' must be a list of frames of [x, y] points and "
-                        "'bones' a list of [a, b] point index pairs") from None
+    for key in data:
+        if key not in SHEET_KEYS:
+            raise ClipError(f"{where}: {key!r}: unknown key (known: {', '.join(SHEET_KEYS)})")
+    if "frames" not in data:
+        raise ClipError(f"{where}: 'frames' missing: a list of frames of [x, y] points")
+    _check_nested(data["frames"], where, "frames", ("frame", "point"), "xy")
+    _check_nested(data.get("bones", []), where, "bones", ("bone",), "ab")
+    sizes = sorted({len(f) for f in data["frames"]})
+    if len(sizes) > 1:
+        raise ClipError(f"{where}: 'frames' hold {' or '.join(map(str, sizes))} points; every "
+                        "frame must have the same number")
+    frames = np.array(data["frames"], dtype=float)
+    bones = np.array(data.get("bones", []), dtype=int).reshape(-1, 2)
     if frames.ndim != 3 or frames.shape[0] < 1 or frames.shape[2] != 2 or frames.shape[1] < 2:
         raise ClipError(f"{where}: 'frames' must be frames of the same number (>= 2) of [x, y] "
                         "points")

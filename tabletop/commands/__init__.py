@@ -70,6 +70,26 @@ def _resolved(p: Path) -> Path | None:
         return None if exc.errno == errno.ELOOP else p.absolute()
 
 
+def folder_takes_files(folder: Path, option: str, shown: str | Path,
+                       error: type[InputError] = InputError) -> None:
+    """Refuse (``error``) command-line ``option`` (its value ``shown``) when ``folder`` cannot
+    be made or takes no file (read-only, not this account's, a file on its path): for a
+    command that writes there only after long work (a live calibration's minutes of views).
+    The folder is made, as the writer would."""
+    import os
+    import tempfile
+
+    from tabletop.file_io import folder_failure
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(dir=folder, prefix=".tabletop-probe-")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise error(f"{option} {shown}: nothing can be written there: "
+                    f"{folder_failure(folder, exc)}") from None
+
+
 def png_output(path, option: str, error: type[InputError] = InputError, inputs=(),
                example: str = "out.png"):
     """:func:`output_file` for an image written as PNG: a name not ending in .png (``x.jpg``

@@ -84,8 +84,13 @@ def main(args: argparse.Namespace) -> int:
         # the file a step will write into is checked before the work (a live lens solve takes
         # minutes of views): a folder, or an existing file that is not a calibration, is
         # refused now rather than after it
-        from tabletop.commands import output_file
+        from tabletop.commands import folder_takes_files, output_file
         output_file(args.out, "--out", CalibrateError, example="calibration.yaml")
+        # (and where it cannot be written, nor the live views saved: said before the views)
+        folder_takes_files(Path(args.out).absolute().parent, "--out", args.out, CalibrateError)
+        if getattr(args, "save_views", None):
+            folder_takes_files(Path(args.save_views), "--save-views", args.save_views,
+                               CalibrateError)
         from calibration.files import CalibrationError
         try:
             load_existing(args.out)
@@ -379,7 +384,11 @@ def projector_main(args: argparse.Namespace) -> int:
     table = parse_pair(args.table, "--table", "metres") if args.table else None
     if args.live:
         size = parse_projector_size(args.size) if args.size else None
-        fit, size = live_projector(args.device, int(args.display), size, cal, table)
+        display = args.display.strip()
+        if not (display.isascii() and display.isdigit()):
+            raise CalibrateError(f"--display {args.display!r}: expected a display number "
+                                 "(0, 1, ...)")
+        fit, size = live_projector(args.device, int(display), size, cal, table)
     else:
         if not args.pattern or not args.image:
             raise CalibrateError("--pattern PATTERN.png and at least one --image IMAGE are "

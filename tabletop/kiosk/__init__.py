@@ -56,6 +56,7 @@ def _check(k: dict[str, Any], path: str, ctx: Context) -> None:
                                              "file, not a folder")
     if k["enabled"] or any(k[key] is not None for key in ("status_file", "log_file", "crash_log")):
         _check_distinct(k, path, ctx)   # (a config named status.json runs outside a kiosk)
+        _check_own_logs(k, path, ctx)
     if k["status_file"] is not None and _not_a_status(Path(k["status_file"])):
         raise ctx.error(f"{path}.status_file", f"{k['status_file']} holds something else than "
                         "a kiosk status (a JSON object); the status written there every second "
@@ -91,7 +92,29 @@ def check_files(cfg: Any) -> None:
     from pathlib import Path
 
     from tabletop.schema import Context
-    _check_distinct(cfg["kiosk"], "kiosk", Context(str(cfg.file), Path(cfg.base)))
+    ctx = Context(str(cfg.file), Path(cfg.base))
+    _check_distinct(cfg["kiosk"], "kiosk", ctx)
+    _check_own_logs(cfg["kiosk"], "kiosk", ctx)
+
+
+def _check_own_logs(k: dict[str, Any], path: str, ctx: Context) -> None:
+    """The log and crash log name no file of someone else's (:func:`foreign_log`): the kiosk
+    would append to it, then rotate it away. Refused at the start, naming key and file; a log
+    the kiosk wrote itself (a restart, an earlier run) is its own."""
+    from tabletop.kiosk.paths import foreign_log, kiosk_paths
+    files = kiosk_paths({"kiosk": k}, ctx.base)
+    for key in ("log_file", "crash_log"):
+        found = foreign_log(key, files[key], k["log_backups"])
+        if found is None:
+            continue
+        file, backup, first = found
+        what = "the log" if key == "log_file" else "the crash log"
+        where = (f"{file}" if not backup else
+                 f"{file}, where {what}'s backup {backup} goes,")
+        fate = ("its lines would be appended there and the file rotated away" if not backup
+                else "a rotation would replace it")
+        raise ctx.error(f"{path}.{key}", f"{where} holds something else than a log of the "
+                        f"kiosk (it begins {first!r}); {fate}: name another file")
 
 
 def _check_distinct(k: dict[str, Any], path: str, ctx: Context) -> None:

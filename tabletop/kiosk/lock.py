@@ -52,7 +52,10 @@ def lock_folder(folder: Path) -> int | None:
         except OSError as exc:
             if not isinstance(exc, PermissionError) and exc.errno != errno.EROFS:
                 raise
-            fd, writable = os.open(path, os.O_RDONLY | os.O_CLOEXEC), False
+            try:
+                fd, writable = os.open(path, os.O_RDONLY | os.O_CLOEXEC), False
+            except FileNotFoundError:   # no lock file to lock read-only: why it was not made
+                raise exc from None
     except OSError as exc:
         return _unguarded("made", path, exc)
     try:

@@ -4,8 +4,17 @@ supervisor, the supervised installation and the config's checks all name them fr
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
+
+# The first line of a log the kiosk wrote: its log's (health.setup_log_file's format: time,
+# pid, level) and its crash log's (crash_log.crash_entry's header). Every file of either begins
+# with one: a rotation starts the next file with the next record.
+OWN_FIRST_LINE = {
+    "log_file": re.compile(rb"\d{4}-\d\d-\d\d \d\d:\d\d:\d\d,\d{3} \d+ [A-Z]+ "),
+    "crash_log": re.compile(rb"=== \d{4}-\d\d-\d\dT\S+ crash \d+: "),
+}
 
 
 def last_good_path(config_path: Path) -> Path:
@@ -34,3 +43,27 @@ def kiosk_log(cfg: dict[str, Any], path: Path) -> None:
     except OSError as exc:
         raise ConfigError(f"{getattr(cfg, 'file', 'config')}: kiosk.log_file: {path}: cannot "
                           f"be used: {exc.strerror or exc}") from None
+
+
+def foreign_log(key: str, path: Path, backups: int) -> tuple[Path, int, str] | None:
+    """The first of the log ``path`` (``key``: ``log_file`` or ``crash_log``) and the backups
+    its rotation writes (``path.1`` ... ``path.N``) that holds something else than a log the
+    kiosk wrote, as (file, backup number or 0, its first line); None when there is none. The
+    log is appended to and rotated away after ``backups`` rotations, a backup replaced by the
+    next: a file of the technician's named there (notes, another program's log) would be lost.
+    A missing, empty or all-NUL file (a disk's damage) is the kiosk's; a pipe or device is
+    never opened (opening a pipe waits for a writer) and never rotated."""
+    own = OWN_FIRST_LINE[key]
+    for i in range(backups + 1):
+        file = path if i == 0 else path.with_name(f"{path.name}.{i}")
+        try:
+            if not file.is_file():
+                continue
+            with open(file, "rb") as f:
+                head = f.read(200).lstrip(b"\x00 \t\r\n")
+        except OSError:   # (said where the log is written)
+            continue
+        if head and not own.match(head):
+            first = head.split(b"\n", 1)[0][:60].decode("utf-8", "replace")
+            return file, i, first
+    return None

@@ -161,22 +161,41 @@ def _check_try(d: object) -> None:
             raise ValueError(f"{key} is {str(d[key])[:40]!r}, expected a string")
 
 
+def _a_recording(line: str) -> bool:
+    """Whether ``line`` is the header of a session recording (``tabletop run --record``)."""
+    try:
+        d = json_loads(line)
+    except ValueError:
+        return False
+    return isinstance(d, dict) and d.get("format") == "tabletop-session"
+
+
 def read_session(path: Path) -> list[dict]:
     """The tries of a session log, a kept take under the name a later rename gave it and with
     the outcome a later undo, delete or restore gave it (:data:`CHANGES`; those lines are no
-    tries); a line cut short (a power cut) at the end is skipped, a bad line elsewhere is
-    refused naming its line and what is wrong."""
+    tries); a line cut short (a power cut) at the end is skipped, and blank lines after the
+    last try; a bad line elsewhere is refused naming its line and what is wrong."""
     p = Path(path)
     if not p.is_file():
         raise InputError(f"{p}: session log not found")
     text = p.read_text(encoding="utf-8", errors="replace")
     lines = text.splitlines()
     out = []
+    blank = 0   # the first of the blank lines since the last try (an editor's at the end)
     for i, line in enumerate(lines, 1):
+        if not line.strip():
+            blank = blank or i
+            continue
+        if blank:
+            raise InputError(f"{p}:{blank}: a blank line between tries (only the end of a "
+                             "session log may have blank lines)")
         try:
             d = json_loads(line)
             _check_try(d)
         except ValueError as exc:
+            if i == 1 and _a_recording(line):
+                raise InputError(f"{p}: a session recording (`tabletop replay` plays it), not "
+                                 "a studio session log") from None
             if i == len(lines) and not text.endswith("\n"):   # written only in part
                 break
             raise InputError(f"{p}:{i}: not a session log line ({exc})") from None

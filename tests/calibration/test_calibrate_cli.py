@@ -392,3 +392,70 @@ def test_a_marker_given_twice_is_named(tmp_path, capsys):
                "--marker", "2=0.1,0.7"]
     refused(capsys, "table", "--image", tmp_path / "none.png", *markers,
             "--out", tmp_path / "c.yaml", words="--marker: marker id 3 is given twice")
+
+
+@pytest.mark.parametrize("step", ["camera", "projector"])
+def test_a_live_window_on_a_display_named_but_not_there_is_one_line(tmp_path, step):
+    """The live windows open their display as the projector view does (tabletop.view's
+    start_display): DISPLAY naming no X server, without XDG_RUNTIME_DIR (a system service),
+    is one line naming the display. They opened it with a plain pygame.display.init: the
+    camera window drew offscreen until the camera ran dry ("camera ...: no frame"), the
+    projector step said "display 1: only 1 connected", both under libwayland's
+    "error: XDG_RUNTIME_DIR is invalid or not set in the environment."."""
+    import os
+    import subprocess
+    import sys
+    video = tmp_path / "camera.avi"
+    w = cv2.VideoWriter(str(video), cv2.VideoWriter_fourcc(*"MJPG"), 10, (320, 240))
+    for i in range(10):
+        w.write(np.full((240, 320, 3), 20 * i, np.uint8))
+    w.release()
+    from calibration.files import Calibration
+    save_calibration(tmp_path / "c.yaml", Calibration(np.eye(3)))
+    argv = {"camera": ["--device", str(video), "--out", str(tmp_path / "lens.yaml")],
+            "projector": ["--live", "--device", str(video), "--calibration",
+                          str(tmp_path / "c.yaml"), "--out", str(tmp_path / "c.yaml")]}[step]
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("SDL_VIDEODRIVER", "WAYLAND_DISPLAY", "XDG_RUNTIME_DIR")}
+    env.update(DISPLAY=":4242")   # no server has that number
+    r = subprocess.run([sys.executable, "-m", "tabletop", "calibrate", step, *argv],
+                       capture_output=True, text=True, env=env, timeout=120)
+    err = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(err) == 1, r.stderr
+    assert err[0].startswith(f"tabletop calibrate {step}: error: the display (DISPLAY=:4242) "
+                             "cannot be opened: SDL found only its offscreen driver; start "
+                             "the display, or "), err
+
+
+@pytest.mark.parametrize("display", ["x", "-1", "1.5", "²"])
+def test_a_projector_display_that_is_no_number_is_named(tmp_path, capsys, display):
+    # ("x" was an internal error: ValueError: invalid literal for int())
+    from calibration.files import Calibration
+    save_calibration(tmp_path / "c.yaml", Calibration(np.eye(3)))
+    refused(capsys, "projector", "--live", "--display", display, "--calibration",
+            tmp_path / "c.yaml", "--out", tmp_path / "c.yaml",
+            words=f"--display {display!r}: expected a display number (0, 1, ...)")
+
+
+def test_where_a_live_step_cannot_write_is_said_before_the_views(tmp_path, capsys,
+                                                                 unprivileged):
+    """--out and --save-views are written after minutes of live views (the solve, each
+    grab): a place that takes no file is refused before the window opens. A read-only
+    --out folder and a --save-views naming a file failed only then."""
+    import os
+    import subprocess
+    import sys
+    (tmp_path / "notes.txt").write_text("notes")
+    refused(capsys, "camera", "--device", "0", "--save-views", tmp_path / "notes.txt",
+            "--out", tmp_path / "c.yaml", words=f"--save-views {tmp_path / 'notes.txt'}: "
+            f"nothing can be written there: {tmp_path / 'notes.txt'} is a file")
+    shut = tmp_path / "shut"
+    shut.mkdir()
+    shut.chmod(0o555)
+    env = {**os.environ, "DISPLAY": ":4242"}   # (the display is never reached)
+    r = subprocess.run([*unprivileged, sys.executable, "-m", "tabletop", "calibrate", "camera",
+                        "--device", "0", "--out", str(shut / "c.yaml")],
+                       capture_output=True, text=True, env=env, timeout=120)
+    assert r.returncode == 2 and r.stderr.strip().splitlines() == [
+        f"tabletop calibrate camera: error: --out {shut / 'c.yaml'}: nothing can be written "
+        "there: Permission denied"], r.stderr

@@ -106,6 +106,9 @@ def good() -> dict:
                                     "distortion": [0.1, 0.2, 0.3]}), "intrinsics.distortion"),
     (lambda d: d.update(reprojection_error={"intrinsics_px": -1}),
      "reprojection_error.intrinsics_px"),
+    (lambda d: d.update(reprojection_error={"intrinsics_pxx": 0.2}),   # (it was accepted)
+     r"reprojection_error.intrinsics_pxx: unknown key \(known: intrinsics_px, "
+     r"camera_to_table_m, table_to_projector_px\)"),
     # numbers no camera has (each would map every marker to one point, NaN or nowhere)
     (sized(intrinsics=lens(1e300)), r"intrinsics: fx = 1e\+300, fy = 1e\+300 px with this "
      r"distortion give a 0.000\d+ degree field of view across the image's short side; "

@@ -151,19 +151,12 @@ def test_a_full_disk_keeps_the_lock_and_skips_the_pid(tmp_path):
                                 "this kiosk's pid cannot be written in it (File too large)"], err
 
 
-def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path):
+def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path, unprivileged):
     """The service made the lock file (0644) and a technician starts a kiosk by hand under
     another account: the lock is taken read-only, so the technician's start is refused while
     the service runs (naming the service's pid) and locks the folder once it has ended. Its
     open for writing failed and it ran unlocked beside the service."""
-    import shutil
-    if os.geteuid() == 0:          # root writes any file: run without that privilege
-        if shutil.which("setpriv") is None:
-            pytest.skip("root, and no setpriv to start a process without write override")
-        other = ("setpriv", "--bounding-set", "-dac_override,-dac_read_search",
-                 "--inh-caps", "-dac_override,-dac_read_search")
-    else:
-        other = ()
+    other = unprivileged
     service = holder(tmp_path)
     try:
         assert service.stdout.readline().startswith("fd ")
@@ -187,6 +180,27 @@ def test_a_lock_file_this_account_cannot_write_still_locks(tmp_path):
     finally:
         _, err = technician.communicate(timeout=30)
     assert err == "", err
+
+
+def test_a_folder_this_account_cannot_write_says_why_the_lock_was_not_made(tmp_path,
+                                                                          unprivileged):
+    """No lock file yet, in a folder the account cannot write: the kiosk runs unlocked and
+    the log says why, "Permission denied" (it said "No such file or directory", the error of
+    the read-only open tried next)."""
+    other = unprivileged
+    folder = tmp_path / "installation"
+    folder.mkdir()
+    folder.chmod(0o555)
+    code = ("import logging, sys; from pathlib import Path\n"
+            "logging.basicConfig(level=logging.WARNING, format='%(message)s')\n"
+            "from tabletop.kiosk.lock import lock_folder\n"
+            "print('fd', lock_folder(Path(sys.argv[1])))\n")
+    r = subprocess.run([*other, sys.executable, "-c", code, str(folder)], cwd=ROOT,
+                       capture_output=True, text=True, timeout=60)
+    assert r.stdout.strip() == "fd None", r.stdout + r.stderr
+    assert r.stderr.splitlines() == [f"kiosk lock {folder / '.kiosk.tabletop-lock'} cannot be "
+                                     f"made (Permission denied): a second kiosk on {folder} "
+                                     "would not be refused"], r.stderr
 
 
 def test_a_refusal_by_a_holder_whose_pid_has_ended_says_it_is_ending(tmp_path):

@@ -358,3 +358,23 @@ def test_a_sprite_sheet_point_beyond_any_figure_is_refused(tmp_path):
     with pytest.raises(InputError, match=r"sheet.json: a frame holds a point 1e\+300 figure "
                                          r"units from the origin; at most 1000"):
         build(data, tmp_path)
+
+
+@pytest.mark.parametrize("change, words", [
+    ('"frames": [[[0, 0], [1, "x"]]]', r"frames\[0\]\[1\]\[1\]: expected a number, got \"x\""),
+    ('"frames": [[[0, 0], [1]]]', r"frames\[0\]\[1\]: expected \[x, y\], got \[1\]"),
+    ('"frames": [[[0, 0], [1, 1]], [[0, 0]]]', r"'frames' hold 1 or 2 points; every frame"),
+    ('"frmes": [[[0, 0], [1, 1]]]', r"'frmes': unknown key \(known: format, bones, frames\)"),
+    ('"frames": [[[0, 0], [1, 1]]], "bones": [[0, 0.5]]',
+     r"bones\[0\]\[1\]: expected a point index, got 0.5"),
+])
+def test_a_sprite_sheet_names_the_place_of_a_bad_value(tmp_path, change, words):
+    # (each said "'frames' must be a list of frames of [x, y] points and 'bones' a list of
+    # [a, b] point index pairs", or "'frames' must be frames of the same number..." for a typo)
+    bad = tmp_path / "sheet.json"
+    bad.write_text('{"format": "tabletop.sprites", ' + change + '}')
+    data = {"sources": [{"kind": "scripted"}], "engines": [{"kind": "mop",
+            "performers": [{"name": "p", "inputs": [{"kind": "puck"}]}],
+            "characters": [{"name": "s", "kind": "sprite", "performer": "p", "sheet": str(bad)}]}]}
+    with pytest.raises(InputError, match="sheet.json: " + words):
+        build(data, tmp_path)

@@ -161,6 +161,35 @@ def test_review_names_a_bad_field_of_a_complete_last_line(tmp_path, capsys, line
     assert cli(["review", str(log)]) == 0               # cut short: the tries before it
 
 
+@pytest.mark.parametrize("text, code, words", [
+    ("KEPT\n\n  \n", 0, None),    # an editor's blank lines at the end
+    ("KEPT\n\nKEPT\n", 2, "s.jsonl:2: a blank line between tries"),
+    ('{"format": "tabletop-session", "version": 3}\n', 2,
+     "s.jsonl: a session recording (`tabletop replay` plays it), not a studio session log"),
+])
+def test_review_of_blank_lines_and_of_a_recording(tmp_path, capsys, text, code, words):
+    # (a blank line said JSON's "Expecting value"; a recording "not a session log line (not a
+    # try)")
+    log = tmp_path / "s.jsonl"
+    log.write_text(text.replace("KEPT", '{"target": "pet", "outcome": "kept", "duration_s": 4}'))
+    assert cli(["review", str(log), "--out", str(tmp_path / "sheet.png")]) == code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert (err == []) if words is None else (len(err) == 1 and words in err[0]), err
+
+
+@pytest.mark.parametrize("columns, words", [
+    ("", "--columns: the value is empty"),            # (both were argparse's "invalid int
+    ("x", "--columns 'x' is not a whole number"),     # value: ''", unlike every other number)
+    ("0", "--columns '0' must be a whole number of sheets per row from 1 to 1e+06"),
+])
+def test_review_columns_that_are_no_count_are_named(tmp_path, capsys, columns, words):
+    log = tmp_path / "s.jsonl"
+    log.write_text('{"target": "pet", "outcome": "kept", "duration_s": 4.0}\n')
+    assert cli(["review", str(log), "--columns", columns]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"tabletop review: error: {words}"), err
+
+
 @pytest.mark.parametrize("name", ["sheet.jpg", "sheet.txt", "sheet"])
 def test_review_refuses_a_sheet_name_that_is_no_png(tmp_path, capsys, name):
     # the sheet is PNG bytes: under a .jpg name a viewer refuses or misreads it

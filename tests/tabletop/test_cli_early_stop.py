@@ -73,3 +73,43 @@ def test_after_the_command_line_starts_ctrl_c_is_pythons_again():
     lines = res.stdout.split("\n")
     assert lines[0] == "stop_early"
     assert lines[-2].split() == ["True", "True"]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("how", ["module", "script"])
+def test_a_stop_signal_while_the_interpreter_sets_up_its_paths_is_one_line_and_130(sig, how):
+    """The environment ``make`` makes runs tabletop/early_stop.py from a ``.pth`` line, while
+    ``site`` is still setting up the import path (the editable install's finder: 20-60 ms
+    under load), before the package can load: a stop signal there is the same clean stop.
+    (Without it: a KeyboardInterrupt traceback from ``site``, status 1, or an end by SIGTERM.)
+    The signal is sent when ``python -v`` says site processes the ``.pth`` file after the
+    early stop's (the editable install's, whose finder then imports for 10-40 ms)."""
+    command = (["-m", "tabletop"] if how == "module" else [str(SCRIPT)]) + ["status", "--help"]
+    proc = subprocess.Popen([sys.executable, "-v", *command],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            cwd=Path(__file__).parent)
+    assert proc.stderr is not None
+    files: list[str] = []
+    for line in proc.stderr:
+        if line.startswith("Processing .pth file: "):
+            files.append(Path(line.split(": ", 1)[1].strip().strip("'")).name)
+            if len(files) > 1 and files[-2] == "00-tabletop-early-stop.pth":
+                break
+        elif line.startswith("Processing user site-packages") and files:
+            break   # site has ended its .pth files
+    proc.send_signal(sig)
+    rest = proc.communicate(timeout=60)[1]
+    assert "00-tabletop-early-stop.pth" in files, "the early stop's .pth is not installed"
+    if files[-1] == "00-tabletop-early-stop.pth":
+        pytest.skip("no .pth file comes after the early stop's (not an editable install)")
+    said = [ln for ln in rest.splitlines() if ln.startswith("tabletop") or "Traceback" in ln
+            or "Error" in ln or "KeyboardInterrupt" in ln]
+    assert (proc.returncode, said) == (130, ["tabletop status: interrupted"])
+
+
+def test_other_programs_of_the_environment_keep_their_signals():
+    code = ("import signal; print(signal.getsignal(signal.SIGTERM) is signal.SIG_DFL, "
+            "signal.getsignal(signal.SIGINT) is signal.default_int_handler)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.split() == ["True", "True"]

@@ -360,3 +360,33 @@ def test_a_bad_file_in_a_recording_is_named_as_the_recordings_not_by_a_temporary
     err = capfd.readouterr().err.strip()
     assert err.startswith(f"tabletop replay: error: {bad}: the recording's calibration: "
                           "version"), err
+
+
+@pytest.mark.parametrize("tail, code, words", [
+    ("\n", 0, None),                       # an editor's newline after the last frame
+    ("\n   \n\t\r\n", 0, None),            # whitespace lines
+    ("CUT\n\n", 2, "line LAST: not valid JSON"),   # a cut frame, then a blank line: refused
+    ("MIDDLE", 2, "line 3: a blank line between frames"),
+])
+def test_blank_lines_after_the_last_frame_are_no_frame(tmp_path, capfd, tail, code, words):
+    # (a trailing blank line was refused: "line N: not valid JSON (Expecting value)")
+    from tabletop.cli import main as tabletop
+    path = record(tmp_path, seconds=0.3)
+    lines = path.read_text().splitlines(keepends=True)
+    frames = len(lines) - 1
+    if tail == "MIDDLE":
+        lines.insert(2, "\n")
+    elif tail.startswith("CUT"):
+        lines[-1] = lines[-1][:25] + tail[3:]
+    else:
+        lines.append(tail)
+    path.write_text("".join(lines))
+    out = tmp_path / "out.jsonl"
+    status = tabletop(["replay", str(path), "--fast", "--no-view", "--out", str(out)])
+    err = [ln for ln in capfd.readouterr().err.splitlines() if "replay" in ln]
+    assert status == code, err
+    if words is None:
+        assert len(out.read_text().splitlines()) - 1 == frames
+    else:
+        assert len(err) == 1 and str(path) in err[0], err
+        assert words.replace("LAST", str(len(lines))) in err[0]

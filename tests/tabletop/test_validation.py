@@ -175,6 +175,12 @@ def test_studio_marker_outside_the_dictionary(tmp_path, capfd):
     ("kiosk: {status_file: notes.txt}\n", "kiosk.status_file: {tmp}/notes.txt holds something "
      "else than a kiosk status (a JSON object); the status written there every second would "
      "replace it: name another file"),
+    # a log of the technician's (notes, another program's): appended to, then rotated away
+    ("kiosk: {log_file: notes.txt}\n", "kiosk.log_file: {tmp}/notes.txt holds something else "
+     "than a log of the kiosk (it begins 'a file where a folder was meant'); its lines would be "
+     "appended there and the file rotated away: name another file"),
+    ("kiosk: {crash_log: notes.txt}\n", "kiosk.crash_log: {tmp}/notes.txt holds something "
+     "else than a log of the kiosk (it begins 'a file where"),
 ])
 def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     # (they ran: a back-off that never grew, a service key warned about only once the kiosk
@@ -184,6 +190,35 @@ def test_kiosk_settings_that_cannot_work(tmp_path, capfd, snippet, words):
     words = words.format(tmp=tmp_path)
     code, err = run_config(tmp_path, BASE + snippet, capfd)
     assert code == 2 and f"kiosk.yaml: {words}" in one_line(err)
+
+
+def test_the_kiosk_s_own_logs_are_its_own_and_a_backup_of_someone_else_s_is_not(tmp_path,
+                                                                                capfd):
+    """A log and crash log written by the kiosk's own writers (an earlier run, a restart) are
+    taken up again; a file where a rotation would put the log's backup, holding something
+    else, is refused as the log itself would be."""
+    import logging
+
+    from tabletop.kiosk.crash_log import append_crash, crash_entry
+    from tabletop.kiosk.health import setup_log_file
+    handler = setup_log_file(tmp_path / "k.log", max_bytes=10_000, backups=3)
+    try:
+        for i in range(700):   # rotated: k.log and k.log.1 .. k.log.3
+            logging.getLogger("tabletop").info("line %d of an earlier run", i)
+    finally:
+        logging.getLogger("tabletop").removeHandler(handler)
+        handler.close()
+    append_crash(tmp_path / "c.log", crash_entry(1, "crashed", 2.5, 99, 1, ["boom"]), 10_000, 3)
+    keys = "kiosk: {log_file: k.log, crash_log: c.log, log_max_bytes: 10000, log_backups: 3}\n"
+    assert (tmp_path / "k.log.3").exists()
+    assert run_config(tmp_path, BASE + keys, capfd)[0] == 0
+    (tmp_path / "k.log.2").write_text("ssh keys of the gallery\n")
+    code, err = run_config(tmp_path, BASE + keys, capfd)
+    assert code == 2 and one_line(err).endswith(
+        f"kiosk.yaml: kiosk.log_file: {tmp_path}/k.log.2, where the log's backup 2 goes, holds "
+        "something else than a log of the kiosk (it begins 'ssh keys of the gallery'); a "
+        "rotation would replace it: name another file")
+    assert (tmp_path / "k.log.2").read_text() == "ssh keys of the gallery\n"
 
 
 def test_a_last_good_copy_may_not_write_over_the_config_it_stands_for(tmp_path):
@@ -446,3 +481,11 @@ def test_seconds_said_alike_by_run_and_status(capfd, command, value, words):
     code, err = cli(capfd, *command, "--seconds", value)
     line = one_line(err)
     assert code == 2 and f"--seconds '{value}'" in line and words in line
+
+
+def test_an_empty_value_is_said_to_be_empty(tmp_path, capfd):
+    # (it said "got nothing (null) None")
+    code, err = run_config(tmp_path, BASE + "table:\n  width:\n", capfd)
+    assert code == 2 and one_line(err).endswith(
+        "kiosk.yaml: table.width: expected a number in [0.05, 20.0], got nothing (an empty "
+        "value, or null)")
