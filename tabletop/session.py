@@ -369,8 +369,9 @@ def read_header(path: str | Path) -> dict[str, Any]:
 def read_frames(path: str | Path, absolute: bool = False) -> Iterator[Frame]:
     """The frames of a session file, in order. A malformed line, or a time that is not a finite
     number or goes backwards, raises SessionError naming it; a cut-short last line is skipped
-    with a warning, blank lines after the last frame are left alone. With ``absolute`` each frame has the monotonic time it had live (as the
-    engines saw it), else seconds from the session's first frame."""
+    with a warning, blank lines after the last frame are left alone. With ``absolute`` each
+    frame has the monotonic time it had live (as the engines saw it), else seconds from the
+    session's first frame."""
     p = Path(path)
     read_header(p)
     state = {"t0": None, "last": -math.inf}
