@@ -22,11 +22,12 @@ situation choices and 4.1-4.7% of the coherence choices, most (491 of 918 over s
 look alike to the features: the situation features carry the reactor's speed, not its
 velocity, so two moments at one place round the main, at one speed and look, circling in
 opposite senses differ only by the window's relative positions (a 0.35 rad/s orbit at 0.12 m
-moves the reactor 4 cm in the window). Ahead of its main (within 45 degrees of its look) the
-lover's matches flip 0.091 times a step, beside it 0.050-0.059, behind it 0.031-0.043; at a
-flip the new moment lies across the main's axis from the last one in 31% of the flips (9% of
-all jumps). In the demonstration the sense goes with the side: 81% negative on the main's
-left, 92% positive on its right.
+moves the reactor 4 cm in the window); the lover faces its main throughout (facing 1.0
+shown), so its look follows its place and tells nothing of the sense. Ahead of its main
+(within 45 degrees of its look) the lover's matches flip 0.091 times a step, beside it
+0.050-0.059, behind it 0.031-0.043; at a flip the new moment lies across the main's axis
+from the last one in 31% of the flips (9% of all jumps). In the demonstration the sense goes
+with the side: 81% negative on the main's left, 92% positive on its right.
 
 Fewer flips do not bring the orbit back: the raw step's orbit stays at 0.32-0.35 rad/s
 whatever the matched moments do. The lover on seeds 0-5 and 40-45 (walking main: raw step's
