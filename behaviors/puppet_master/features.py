@@ -313,7 +313,9 @@ def situation_vectors(f: PairFeatures, s: Scales, room_m: np.ndarray | None = No
     26-31 against 26 (17): 32 (22) / 34 (23) / 32 (24); at 1 its loops orbit 0.558 -> 0.569
     rad/s mean (its designer 0.647), its slow-path contact missed on 7 of 18 paths. Not used.
     For the chased afraid character, the main's step towards the reactor as one more column
-    and the reactor speed's and the still state's weights: chased.py (none kept)."""
+    and the reactor speed's and the still state's weights: chased.py (none kept).
+    The reactor's signed tangential speed round its main (the sense of its circling), or its
+    velocity in the main's frame instead of its speed: figures in similarity.py. Not used."""
     cols = [s.v_main * f.v_main, s.v_react * f.v_react,
             s.rel_position * f.rel_fwd, s.rel_position * f.rel_left,
             s.rel_look * np.cos(f.rel_look), s.rel_look * np.sin(f.rel_look)]
