@@ -224,6 +224,19 @@ def test_a_recorder_max_mb_below_the_header_runs_on_in_a_kiosk_systemd_restarts(
     assert any((tmp_path / "rec").iterdir())
 
 
+def test_no_supervisor_without_a_kiosk_is_refused(tmp_path):
+    """``--no-supervisor`` says where a kiosk's loop runs: on a run that is no kiosk (no
+    ``--kiosk``, ``kiosk.enabled`` off) it did nothing and said nothing."""
+    cfg = tmp_path / "plain.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\nengines: []\nview: {enabled: false}\n"
+                   "recorder: {enabled: true, folder: rec}\n")
+    r = tabletop("run", "--config", str(cfg), "--seconds", "1", "--no-supervisor")
+    assert (r.returncode, r.stderr.splitlines()) == (2, [
+        f"tabletop run: error: --no-supervisor is for a kiosk: add --kiosk (or kiosk.enabled: "
+        f"true in {cfg})"])
+    assert not (tmp_path / "rec").exists()   # nothing ran
+
+
 def test_version_and_help():
     r = tabletop("--version")
     assert r.returncode == 0 and r.stdout.startswith("tabletop ")
