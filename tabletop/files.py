@@ -151,14 +151,23 @@ def check_positions(data: np.ndarray, header: Sequence[str], columns: Sequence[s
 
 class UniqueKeyLoader(yaml.SafeLoader):
     """YAML's safe loader refusing a key given twice in one mapping (YAML says keys are
-    unique; PyYAML would silently keep the last)."""
+    unique; PyYAML would silently keep the last). A key is read as written where YAML 1.1
+    would read a boolean (``on:``, ``yes:``, ``off:``): no key of ours is one, and ``{True:
+    False}`` in a message hid what was written (values keep YAML 1.1: ``overlay: on``)."""
+
+
+BOOL_TAG = "tag:yaml.org,2002:bool"
 
 
 def _unique_mapping(loader: UniqueKeyLoader, node: yaml.MappingNode, deep: bool = False) -> Any:
     seen: set[Any] = set()
-    for key_node, _ in node.value:
+    for i, (key_node, value_node) in enumerate(node.value):
         if key_node.tag == "tag:yaml.org,2002:merge":
             continue
+        if key_node.tag == BOOL_TAG and isinstance(key_node, yaml.ScalarNode):
+            key_node = yaml.ScalarNode("tag:yaml.org,2002:str", key_node.value,
+                                       key_node.start_mark, key_node.end_mark)
+            node.value[i] = (key_node, value_node)
         key = loader.construct_object(key_node, deep=True)
         try:
             duplicate = key in seen

@@ -171,9 +171,36 @@ def read_description(folder: str | Path) -> dict[str, Any]:
         raise LibraryError(f"{path}: expected a mapping with format, version, kind, parameters "
                            f"and data, got {type(data).__name__}")
     try:
-        return _schema().validate(data, "", Context(file=str(path), base=folder.resolve()))
+        desc = _schema().validate(data, "", Context(file=str(path), base=folder.resolve()))
     except ConfigError as exc:
         raise LibraryError(str(exc)) from None
+    _check_parameter_names(desc["parameters"], path)
+    return desc
+
+
+def parameter_refused(stored: StoredBehavior, exc: Exception,
+                      overridden: tuple[str, ...] = ()) -> str | None:
+    """Training's refusal ``exc`` of a parameter ``stored``'s behavior.yaml gives (not one of
+    ``overridden``, set by the config), said at its key: ``FOLDER/behavior.yaml:
+    parameters.NAME: ...``; None for any other refusal."""
+    name = getattr(exc, "name", None)
+    if name is None or name not in stored.parameters or name in overridden:
+        return None
+    said = str(exc).removeprefix(f"behaviour parameter {name}: ")
+    return f"{stored.folder / BEHAVIOR_FILE}: parameters.{name}: {said}"
+
+
+def _check_parameter_names(parameters: Mapping[str, Any], path: Path) -> None:
+    """A parameter Puppet Master's training has not (a typo) refused at its key in
+    behavior.yaml (training named the folder only)."""
+    from dataclasses import fields
+
+    from behaviors.puppet_master.params import Params
+    known = sorted(f.name for f in fields(Params))
+    for name in parameters:
+        if name not in known:
+            raise LibraryError(f"{path}: parameters.{name}: unknown parameter (known: "
+                               f"{', '.join(known)})")
 
 
 def _data_file(folder: Path, value: str | Path, key: str) -> Path:

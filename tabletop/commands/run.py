@@ -25,7 +25,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="gallery kiosk: fullscreen, no cursor, overlay only with the service key, "
                         "attract mode, status and heartbeat, restarted by a supervisor")
     p.add_argument("--no-supervisor", action="store_true",
-                   help="with --kiosk: run the loop in this process "
+                   help="with --kiosk (or kiosk.enabled): run the loop in this process "
                         "(e.g. when systemd restarts it)")
     p.add_argument("--studio", action="store_true",
                    help="designer studio: record, train, try, keep and manage the library")
@@ -54,6 +54,10 @@ def main(args: argparse.Namespace) -> int:
     cfg, refused = ((prepared.cfg, None) if prepared is not None
                     else last_good.load(Path(args.config), args.kiosk))
     kiosk = args.kiosk or cfg["kiosk"]["enabled"]
+    if args.no_supervisor and not kiosk:   # it says where a kiosk's loop runs, nothing else
+        from tabletop.frames import InputError
+        raise InputError(f"--no-supervisor is for a kiosk: add --kiosk (or kiosk.enabled: "
+                         f"true in {args.config})")
     if kiosk:   # no kiosk file may write over the config, nor two of them be one, nor the
         # heartbeat go to the installation's own osc source
         from tabletop.config_ports import check_heartbeat

@@ -326,8 +326,10 @@ def build(options: dict, ctx: BuildContext) -> PuppetMasterEngine:
             try:
                 behavior = Behavior.train(stored.demonstration, **params)
             except InputError as exc:   # its parameters or demonstration: named with its key
-                raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: {stored.folder}: "
-                                        f"{exc}") from None
+                said = library.parameter_refused(
+                    stored, exc, () if options["rate_hz"] is None else ("rate_hz",))
+                raise PuppetMasterError(f"{ctx.where(options, 'behavior')}: "
+                                        f"{said or f'{stored.folder}: {exc}'}") from None
             bname = stored.name
             # what it was trained from, encoded only if a config edit's rebuild keeps it playing
             played = (behavior, functools.partial(library.recorded_source, bname, params,

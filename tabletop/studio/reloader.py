@@ -55,7 +55,13 @@ def load_and_train(folder: Path, rate_hz: float | None,
     from behaviors.puppet_master.engine import Behavior, Reactor
     stored = library.load_behavior(folder)
     params = stored_params(stored, rate_hz)
-    behavior = Behavior.train(stored.demonstration, **params)
+    try:
+        behavior = Behavior.train(stored.demonstration, **params)
+    except InputError as exc:   # a parameter of behavior.yaml: named at its key
+        said = library.parameter_refused(stored, exc, () if rate_hz is None else ("rate_hz",))
+        if said is None:
+            raise
+        raise InputError(said) from None
     return behavior, Reactor(behavior, table), library.recorded_source(stored.name, params,
                                                                        stored.demonstration)
 

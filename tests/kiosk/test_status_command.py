@@ -12,6 +12,7 @@ import pytest
 
 from tabletop.cli import main as cli
 from tabletop.kiosk.health import Heartbeat
+from tests import children
 from tests.network.helpers import free_udp_port, ipv6_loopback
 from tracking.scenes import wait_for
 
@@ -224,9 +225,8 @@ def status_process(*options: str, text: bool = True) -> tuple[subprocess.Popen, 
     """``python -m tabletop status 127.0.0.1:PORT OPTIONS`` on a free port, returned with the
     port once the command has bound it (stdout and stderr piped)."""
     port = free_udp_port()
-    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
-                             *options], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=text)
+    proc = children.popen([sys.executable, "-m", "tabletop", "status", f"127.0.0.1:{port}",
+                           *options], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=text)
     if not wait_for(lambda: port_taken(port), 60.0):
         proc.kill()
         proc.communicate()

@@ -14,6 +14,7 @@ from pathlib import Path
 import yaml
 
 from tabletop.kiosk.supervisor import Policy, Supervisor
+from tests import children
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -79,8 +80,8 @@ def test_run_kiosk_notifies_systemd_and_stops_cleanly_on_sigterm(tmp_path):
     sock.settimeout(0.1)
     env = dict(os.environ, SDL_VIDEODRIVER="dummy", NOTIFY_SOCKET=str(tmp_path / "systemd.sock"))
     env.pop("TABLETOP_SUPERVISED", None)
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
-                          "--kiosk"], env=env, stderr=subprocess.PIPE, text=True)
+    p = children.popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--kiosk"], env=env, stderr=subprocess.PIPE, text=True)
     got = []
     end = time.monotonic() + 30
     while time.monotonic() < end and got.count("WATCHDOG=1") < 4:
@@ -337,9 +338,8 @@ def test_run_kiosk_stops_cleanly_on_sighup_to_its_supervisor(tmp_path):
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
     env.pop("TABLETOP_SUPERVISED", None)
     env.pop("NOTIFY_SOCKET", None)
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
-                          "--kiosk", "--headless"], env=env, stderr=subprocess.PIPE, text=True,
-                         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_DFL))
+    p = children.popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--kiosk", "--headless"], env=env, stderr=subprocess.PIPE, text=True)
     lines = []
     for line in p.stderr:
         lines.append(line)

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 import yaml
 
+from tests import children
 from tests.network.helpers import Receiver, RefSender, bundle, free_udp_port, message
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -64,11 +65,11 @@ def test_a_run_takes_tuio_and_mocap_in_sends_tuio_out_and_records_the_contract_n
                       "characters": {"lover": 40}}]}
     (tmp_path / "io.yaml").write_text(yaml.safe_dump(cfg))
     record = tmp_path / "session.jsonl"
-    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config",
-                             str(tmp_path / "io.yaml"), "--headless", "--seconds", "120",
-                             "--record", str(record)], stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True,
-                            env=dict(os.environ, SDL_VIDEODRIVER="dummy"))
+    proc = children.popen([sys.executable, "-m", "tabletop", "run", "--config",
+                           str(tmp_path / "io.yaml"), "--headless", "--seconds", "120",
+                           "--record", str(record)], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True,
+                          env=dict(os.environ, SDL_VIDEODRIVER="dummy"))
     ref = RefSender(port)
     try:
         end = time.monotonic() + 90.0    # start-up on a loaded machine, then a few frames

@@ -12,6 +12,7 @@ import yaml
 
 from tabletop.config import load_config
 
+from tests import children
 from tests.network.helpers import free_udp_port
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -31,9 +32,9 @@ def frames(path: Path) -> list[dict]:
 
 
 def run(config: Path, record: Path, seconds: float) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(config),
-                             "--headless", "--seconds", str(seconds), "--record", str(record)],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return children.popen([sys.executable, "-m", "tabletop", "run", "--config", str(config),
+                           "--headless", "--seconds", str(seconds), "--record", str(record)],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
 
 
 def test_the_stage_reproduces_the_trackers_pucks(tmp_path):

@@ -77,6 +77,8 @@ def test_replace_writes_the_new_take(tmp_path, demo):
      ["parameters.window", "number"]),
     ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nparameters: {ratio: 2e1}\n",
      ["parameters.ratio: expected a number, got '2e1'", "as text", "write 2.0e+1"]),
+    ("format: tabletop-behavior\nversion: 1\nkind: puppet_master\nparameters: {windw: 40}\n",
+     ["behavior.yaml: parameters.windw: unknown parameter (known: balance_gain, ", " window)"]),
     ("- just\n- a list\n", ["expected a mapping"]),
     ("\x00\x01garbage", ["behavior.yaml"]),
 ])
@@ -95,6 +97,25 @@ def test_corrupt_description_is_refused_and_kept_byte_identical(tmp_path, demo, 
         library.save_behavior(tmp_path, "x", demo, {}, replace=True)
     assert target.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir() if not p.name.endswith(swap.LOCK_SUFFIX)] == ["x"]
+
+
+@pytest.mark.parametrize("line, said", [("  windw: 40", "windw: unknown parameter (known: "),
+                                         ("  window: 1", "window: 1 must be an integer >= 2")])
+def test_a_parameter_of_a_configured_behaviour_is_named_at_its_key(tmp_path, capfd, line, said):
+    """A typo or a value training refuses in behavior.yaml's parameters: named at
+    ``behavior.yaml: parameters.NAME`` (it named the behaviour's folder)."""
+    from tabletop.cli import main as tabletop
+    folder = shutil.copytree(SHIPPED / "lover", tmp_path / "lover")
+    desc = folder / "behavior.yaml"
+    desc.write_text(desc.read_text().replace("  window: 40", line, 1))
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("sources: [{kind: scripted, pucks: [1, 2]}]\nview: {enabled: false}\n"
+                   "engines: [{kind: puppet_master, name: lover, behavior: lover, "
+                   "main: {puck: 1}}]\n")
+    code = tabletop(["run", "--config", str(cfg), "--seconds", "0.2", "--headless"])
+    (err,) = capfd.readouterr().err.splitlines()
+    assert code == 2 and err.startswith(
+        f"tabletop run: error: {cfg}: engines[0].behavior: {desc}: parameters.{said}"), err
 
 
 @pytest.mark.parametrize("mutate, words", [

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from tests import children
+
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -17,12 +19,6 @@ def tabletop(*args, **kw) -> subprocess.CompletedProcess:
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
     return subprocess.run([sys.executable, "-m", "tabletop", *args], capture_output=True,
                           text=True, cwd=kw.pop("cwd", ROOT), env=env, timeout=120, **kw)
-
-
-def hup_by_default() -> None:
-    """A child's SIGHUP as a terminal's session gives it, also when the tests themselves run
-    under ``nohup`` (an ignored SIGHUP is inherited, and the run leaves it ignored)."""
-    signal.signal(signal.SIGHUP, signal.SIG_DFL)
 
 
 def frames_of(path: Path) -> list[dict]:
@@ -83,9 +79,8 @@ def test_a_run_that_captured_nothing_says_so_in_its_last_line(tmp_path):
 def test_a_stop_signal_ends_cleanly_with_a_complete_recording(tmp_path, sig):
     out = tmp_path / "term.jsonl"
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
-                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
-                         preexec_fn=hup_by_default)
+    p = children.popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
+                        str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and (not out.exists() or out.read_bytes().count(b"\n") < 30):
         time.sleep(0.1)
@@ -106,9 +101,9 @@ def test_a_run_started_under_nohup_outlives_a_sighup(tmp_path):
     caught SIGHUP whatever it inherited, and a logout ended it."""
     out = tmp_path / "nohup.jsonl"
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
-                          str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
-                         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+    p = children.popen([sys.executable, "-m", "tabletop", "run", "--headless", "--record",
+                        str(out)], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
+                       preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
     deadline = time.monotonic() + 60
 
     def lines() -> int:
@@ -141,9 +136,8 @@ def test_a_stop_signal_while_a_run_imports_its_modules_is_an_interrupt(sig):
     or so) ends it as a Ctrl-C there does: one line, status 130. The signal killed the process
     without a word (status -15 / -1). It is sent as soon as the process catches it."""
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--seconds",
-                          "30"], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True,
-                         preexec_fn=hup_by_default)
+    p = children.popen([sys.executable, "-m", "tabletop", "run", "--headless", "--seconds",
+                        "30"], cwd=ROOT, env=env, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 30
     while time.monotonic() < deadline and p.poll() is None and not caught(p.pid, sig):
         time.sleep(0.001)
@@ -162,8 +156,8 @@ def test_a_replay_stopped_by_a_signal_says_so_and_exits_130(tmp_path):
     r = tabletop("run", "--config", str(cfg), "--seconds", "3", "--record", str(rec))
     assert r.returncode == 0, r.stderr
     recorded = len(frames_of(rec))
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "replay", str(rec), "--no-view",
-                          "--out", str(out)], cwd=ROOT, stderr=subprocess.PIPE, text=True)
+    p = children.popen([sys.executable, "-m", "tabletop", "replay", str(rec), "--no-view",
+                        "--out", str(out)], cwd=ROOT, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and (not out.exists() or out.read_bytes().count(b"\n") < 31):
         time.sleep(0.05)   # the header and 30 frames
@@ -228,6 +222,19 @@ def test_a_recorder_max_mb_below_the_header_runs_on_in_a_kiosk_systemd_restarts(
     assert any("recorder.max_mb: 0.05 MB is less than the header" in line
                for line in r.stderr.splitlines()), r.stderr
     assert any((tmp_path / "rec").iterdir())
+
+
+def test_no_supervisor_without_a_kiosk_is_refused(tmp_path):
+    """``--no-supervisor`` says where a kiosk's loop runs: on a run that is no kiosk (no
+    ``--kiosk``, ``kiosk.enabled`` off) it did nothing and said nothing."""
+    cfg = tmp_path / "plain.yaml"
+    cfg.write_text("sources: [{kind: scripted, name: s}]\nengines: []\nview: {enabled: false}\n"
+                   "recorder: {enabled: true, folder: rec}\n")
+    r = tabletop("run", "--config", str(cfg), "--seconds", "1", "--no-supervisor")
+    assert (r.returncode, r.stderr.splitlines()) == (2, [
+        f"tabletop run: error: --no-supervisor is for a kiosk: add --kiosk (or kiosk.enabled: "
+        f"true in {cfg})"])
+    assert not (tmp_path / "rec").exists()   # nothing ran
 
 
 def test_version_and_help():
@@ -329,9 +336,9 @@ def test_ctrl_c_while_the_command_line_starts_is_one_line_and_130():
     import finder of its own), so the Ctrl-C always lands among the imports; ``status``
     would then wait 60 s for heartbeats."""
     port = free_port()
-    r = subprocess.run([sys.executable, "-c", INTERRUPT_AT_NUMPY, "status",
-                        f"127.0.0.1:{port}", "--seconds", "60"], capture_output=True, text=True,
-                       cwd=ROOT, timeout=120)
+    r = children.run([sys.executable, "-c", INTERRUPT_AT_NUMPY, "status",
+                      f"127.0.0.1:{port}", "--seconds", "60"], capture_output=True, text=True,
+                     cwd=ROOT, timeout=120)
     assert r.returncode == 130 and r.stderr.splitlines() == ["tabletop status: interrupted"], \
         r.stderr[-2000:]
 

@@ -10,6 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from tests import children
+
 SCRIPT = Path(sys.executable).with_name("tabletop")
 
 
@@ -17,9 +19,9 @@ def _stop_while_importing(command: list[str], sig: int, after_s: float) -> tuple
     """Start ``command`` under ``-X importtime`` (each finished import is a line on stderr),
     wait for the line of the package ``tabletop`` (its first lines have run), then ``after_s``
     more, and send ``sig``. Returns (status, stderr)."""
-    proc = subprocess.Popen([sys.executable, "-X", "importtime", *command],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                            cwd=Path(__file__).parent)
+    proc = children.popen([sys.executable, "-X", "importtime", *command],
+                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                          cwd=Path(__file__).parent)
     assert proc.stderr is not None
     seen = []
     for line in proc.stderr:
@@ -54,8 +56,8 @@ def test_importing_the_package_as_a_library_leaves_the_signals_alone():
     code = ("import signal, tabletop; "
             "print(signal.getsignal(signal.SIGTERM) is signal.SIG_DFL, "
             "signal.getsignal(signal.SIGINT) is signal.default_int_handler)")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout
+    out = children.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       check=True).stdout
     assert out.split() == ["True", "True"]
 
 
@@ -69,7 +71,7 @@ def test_after_the_command_line_starts_ctrl_c_is_pythons_again():
         "try:\n    cli.main()\nexcept SystemExit:\n    pass",
         "print(signal.getsignal(signal.SIGINT) is signal.default_int_handler,"
         " signal.getsignal(signal.SIGTERM) is signal.SIG_DFL)"])
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    res = children.run([sys.executable, "-c", code], capture_output=True, text=True)
     lines = res.stdout.split("\n")
     assert lines[0] == "stop_early"
     assert lines[-2].split() == ["True", "True"]
@@ -85,9 +87,9 @@ def test_a_stop_signal_while_the_interpreter_sets_up_its_paths_is_one_line_and_1
     The signal is sent when ``python -v`` says site processes the ``.pth`` file after the
     early stop's (the editable install's, whose finder then imports for 10-40 ms)."""
     command = (["-m", "tabletop"] if how == "module" else [str(SCRIPT)]) + ["status", "--help"]
-    proc = subprocess.Popen([sys.executable, "-v", *command],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                            cwd=Path(__file__).parent)
+    proc = children.popen([sys.executable, "-v", *command],
+                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                          cwd=Path(__file__).parent)
     assert proc.stderr is not None
     files: list[str] = []
     for line in proc.stderr:
@@ -110,6 +112,6 @@ def test_a_stop_signal_while_the_interpreter_sets_up_its_paths_is_one_line_and_1
 def test_other_programs_of_the_environment_keep_their_signals():
     code = ("import signal; print(signal.getsignal(signal.SIGTERM) is signal.SIG_DFL, "
             "signal.getsignal(signal.SIGINT) is signal.default_int_handler)")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout
+    out = children.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       check=True).stdout
     assert out.split() == ["True", "True"]

@@ -8,6 +8,8 @@ import sys
 
 import pytest
 
+from tests import children
+
 # `tabletop --version` with a worker's job running OpenCV for about `seconds` when it ends
 _VERSION_WITH_A_JOB = """
 import sys, time
@@ -36,9 +38,9 @@ cli.entry()
 
 
 def _start(seconds: float, finish_s: float) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-c", _VERSION_WITH_A_JOB, str(seconds),
-                             str(finish_s)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    return children.popen([sys.executable, "-c", _VERSION_WITH_A_JOB, str(seconds),
+                           str(finish_s)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"})
 
 
 def test_the_end_waits_for_a_running_job_and_gives_up_on_one_that_outlasts_its_wait():
@@ -94,8 +96,8 @@ def _signal_at_the_end(sig: str, *status: str, ignored: bool = False):
     """The script above run to its end; ``ignored``: started with ``sig`` ignored, as
     ``nohup`` starts its command (SIGHUP) or a script its background job (SIGINT)."""
     start = (lambda: signal.signal(getattr(signal, sig), signal.SIG_IGN)) if ignored else None
-    return subprocess.run([sys.executable, "-c", _SIGNAL_AT_THE_END, sig, *status],
-                          capture_output=True, text=True, timeout=120, preexec_fn=start)
+    return children.run([sys.executable, "-c", _SIGNAL_AT_THE_END, sig, *status],
+                        capture_output=True, text=True, timeout=120, preexec_fn=start)
 
 
 @pytest.mark.parametrize("sig", ["SIGTERM", "SIGHUP", "SIGINT"])
@@ -182,8 +184,8 @@ cli.entry()
 
 @pytest.mark.parametrize("sig", ["SIGTERM", "SIGINT"])
 def test_a_stop_signal_landing_in_a_finaliser_still_stops_the_command(sig):
-    res = subprocess.run([sys.executable, "-c", _SIGNAL_IN_A_FINALISER, sig],
-                         capture_output=True, text=True, timeout=120)
+    res = children.run([sys.executable, "-c", _SIGNAL_IN_A_FINALISER, sig],
+                       capture_output=True, text=True, timeout=120)
     assert res.returncode == 130, (res.returncode, res.stdout, res.stderr[-600:])
     assert "worked on" not in res.stdout
     assert res.stderr == "tabletop status: interrupted\n"

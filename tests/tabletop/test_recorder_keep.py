@@ -9,6 +9,7 @@ from tabletop.app import build_live, build_replay
 from tabletop.config import validate_config
 from tabletop.frames import Frame
 from tabletop.recorder import Recorder, read_frames, read_header
+from tests import children
 from tests.tabletop.test_recorder import kiosk_config
 
 
@@ -118,8 +119,8 @@ def test_a_recording_another_run_is_writing_is_never_pruned(tmp_path):
                    "recorder: {enabled: true, folder: sessions, keep: 1}\n")
     folder = tmp_path / "sessions"
     env = dict(os.environ, SDL_VIDEODRIVER="dummy")
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
-                          "--seconds", "60"], env=env, stderr=subprocess.PIPE, text=True)
+    p = children.popen([sys.executable, "-m", "tabletop", "run", "--config", str(cfg),
+                        "--seconds", "60"], env=env, stderr=subprocess.PIPE, text=True)
     try:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and not (

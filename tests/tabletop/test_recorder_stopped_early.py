@@ -13,6 +13,7 @@ from tabletop.app import build_live
 from tabletop.cli import main as tabletop
 from tabletop.config import validate_config
 from tabletop.recorder import read_frames
+from tests import children
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIG = {
@@ -71,9 +72,9 @@ def test_a_signal_during_a_run_s_build_never_leaves_a_recording_replay_refuses(t
     cfg = tmp_path / "c.yaml"
     cfg.write_text("sources: [{kind: scripted, name: s, pucks: [1]}]\n"
                    "view: {headless: true, size: [320, 180]}\n")
-    p = subprocess.Popen([sys.executable, "-m", "tabletop", "run", "--headless", "--config",
-                          str(cfg), "--record", str(path), "--seconds", "60"], cwd=ROOT,
-                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    p = children.popen([sys.executable, "-m", "tabletop", "run", "--headless", "--config",
+                        str(cfg), "--record", str(path), "--seconds", "60"], cwd=ROOT,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     while p.poll() is None and not path.exists():
         time.sleep(0.001)
     p.send_signal(signal.SIGTERM)

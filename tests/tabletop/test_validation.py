@@ -483,6 +483,20 @@ def test_seconds_said_alike_by_run_and_status(capfd, command, value, words):
     assert code == 2 and f"--seconds '{value}'" in line and words in line
 
 
+def test_a_key_yaml_1_1_reads_as_a_boolean_is_named_as_written(tmp_path, capfd):
+    """``on:``, ``yes:`` as keys: named as written at their path (it said ``got a mapping
+    {True: False}`` and ``view.True: unknown key``); as values they are still booleans."""
+    sources = "sources: [{kind: scripted, pucks: [1]}]\n"
+    code, err = run_config(tmp_path, sources + "view: {enabled: false, overlay: {on: false}}\n",
+                           capfd)
+    assert code == 2 and one_line(err).endswith(
+        "kiosk.yaml: view.overlay: expected true or false, got a mapping {'on': False}")
+    code, err = run_config(tmp_path, sources + "view: {enabled: false, yes: 1}\n", capfd)
+    assert code == 2 and "kiosk.yaml: view.yes: unknown key (known keys here: " in one_line(err)
+    code, err = run_config(tmp_path, sources + "view: {enabled: off, overlay: on}\n", capfd)
+    assert code == 0, err
+
+
 def test_an_empty_value_is_said_to_be_empty(tmp_path, capfd):
     # (it said "got nothing (null) None")
     code, err = run_config(tmp_path, BASE + "table:\n  width:\n", capfd)

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from tabletop import cli
+from tests import children
 from tracking.markers import marker_headings
 from tracking.scenes import moving_scene
 from tracking.synthetic import CameraSettings, Occluder, SyntheticCamera
@@ -220,8 +221,8 @@ def test_ctrl_c_mid_file_exits_130_with_one_line_and_leaves_no_output(scene, tmp
         (frames / f"f{k:05d}.png").symlink_to(first)
     out = tmp_path / "poses.jsonl"
     master, slave = os.openpty()
-    proc = subprocess.Popen([sys.executable, "-m", "tabletop", "track", str(frames), "--out",
-                             str(out)], stdout=subprocess.DEVNULL, stderr=slave)
+    proc = children.popen([sys.executable, "-m", "tabletop", "track", str(frames), "--out",
+                           str(out)], stdout=subprocess.DEVNULL, stderr=slave)
     # the slave stays open here until the end: once every slave is closed a read of the master
     # may fail (EIO) before the kernel has passed on the process's last writes
     seen = b""
