@@ -182,6 +182,21 @@ def check_metres(xy: np.ndarray, source: str, what: str) -> None:
             "(millimetres given?)")
 
 
+def warn_still_reactor(demo: np.ndarray, source: str) -> None:
+    """One line on stderr when the demonstration's reactor never moved nor turned (as a take
+    the studio refuses: the reactor puck left lying while the main moved); the reactor
+    generated from it hardly moves (only pushed aside by its main), which was made without
+    a word."""
+    import sys
+
+    from tabletop.studio.pm_take import STILL_M, STILL_RAD, reach
+    far, turn = reach(demo, (4, 5, 6))
+    if far < STILL_M and turn < STILL_RAD:
+        print(f"tabletop behave: warning: {source}: the demonstration's reactor never moves "
+              f"({far * 100:.1f} cm from its first pose, turned {turn:.2f} rad): the reactor "
+              "generated hardly moves", file=sys.stderr)
+
+
 def check_library_path(path: Path) -> None:
     """``--train`` naming a library instead of one of its behaviours, or a behaviour the
     library does not have (a typo: "lovr"), is refused naming the library's behaviours, not
@@ -316,6 +331,7 @@ def main(args: argparse.Namespace) -> int:
         if table[2] <= table[0] or table[3] <= table[1]:
             raise BehaveArgumentError(
                 f"{source}: the demonstration's positions span no area; give --table W,H")
+    warn_still_reactor(demo, source)     # (once trained: an error is its one line)
     rows = generate(behavior, main_rows, table)
     write_csv(args.out, OUT_COLUMNS, rows.tolist())
     return 0

@@ -297,3 +297,25 @@ def test_positions_in_mm_that_barely_move_are_refused_naming_the_file(files, tmp
     assert not (tmp_path / "o.csv").exists()
     assert behave("--train", d / "demo.csv", "--input", tmp_path / "main.csv",
                   "--out", tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+
+
+def test_a_demonstration_whose_reactor_never_moves_is_said(files, tmp_path, capsys):
+    # the reactor puck left lying (a millimetre of jitter) while the main moved: the reactor
+    # generated stands still, which was written without a word
+    d, _ = files
+    demo = pm_demos.follow_behind(pm_demos.main_path(41, 30))
+    demo[:, 4:7] = demo[0, 4:7]
+    demo[::2, 4] += 0.001
+    write_csv(tmp_path / "still.csv", DEMO_HEADER, demo.tolist())
+    assert behave("--train", tmp_path / "still.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and ("still.csv: the demonstration's reactor never moves (0.1 cm "
+                                     "from its first pose, turned 0.00 rad)") in err, err
+    _, still = read_csv(tmp_path / "o.csv")
+    assert behave("--train", d / "demo.csv", "--input", d / "main.csv", "--out",
+                  tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+    assert capsys.readouterr().err == ""
+    _, moving = read_csv(tmp_path / "o.csv")
+    path = [float(np.hypot(*np.diff(o[:, 1:3], axis=0).T).sum()) for o in (still, moving)]
+    assert path[0] < 0.2 * path[1], path     # it hardly moves (pushed aside by its main)
