@@ -124,7 +124,7 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
     name or a value of the wrong kind raises BehaveArgumentError naming it."""
     from dataclasses import fields
 
-    from behaviors.puppet_master.params import Params
+    from behaviors.puppet_master.params import Params, unknown_names
 
     kinds = {f.name: f.type for f in fields(Params)}
     out: dict[str, float | int] = {}
@@ -134,7 +134,8 @@ def parse_params(items: list[str]) -> dict[str, float | int]:
         if not sep or not name:
             raise BehaveArgumentError(f"--param {item!r} must be NAME=VALUE, e.g. ratio=2")
         if name not in kinds:
-            raise BehaveArgumentError(f"--param {name}: unknown parameter; known: "
+            raise BehaveArgumentError(f"--param {unknown_names([name], set(kinds))}: unknown "
+                                      "parameter; known: "
                                       f"{', '.join(sorted(kinds))}")
         integer = kinds[name] in (int, "int")
         try:

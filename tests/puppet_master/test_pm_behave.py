@@ -158,6 +158,7 @@ def test_the_help_names_every_parameter():
 
 @pytest.mark.parametrize("param, words", [
     ("bogus=1", ["--param bogus", "unknown parameter", "ratio"]),
+    ("smoth=5", ["--param smoth (smooth?): unknown parameter"]),     # a typo: the likely name
     ("window=4.5", ["--param window", "integer"]),
     ("ratio=fast", ["--param ratio", "number"]),
     ("ratio", ["--param 'ratio'", "NAME=VALUE"]),
