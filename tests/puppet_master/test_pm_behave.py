@@ -320,3 +320,33 @@ def test_a_demonstration_whose_reactor_never_moves_is_said(files, tmp_path, caps
     _, moving = read_csv(tmp_path / "o.csv")
     path = [float(np.hypot(*np.diff(o[:, 1:3], axis=0).T).sum()) for o in (still, moving)]
     assert path[0] < 0.2 * path[1], path     # it hardly moves (pushed aside by its main)
+
+
+def test_directions_in_degrees_are_said(files, tmp_path, capsys):
+    # a demonstration and a main path with their directions in degrees trained a look that
+    # turned about a radian a step, without a word
+    d, main = files
+    demo = pm_demos.follow_behind(pm_demos.main_path(41, 30))
+    demo[:, [3, 6]] = np.degrees(demo[:, [3, 6]])
+    write_csv(tmp_path / "deg.csv", DEMO_HEADER, demo.tolist())
+    deg = main.copy()
+    deg[:, 3] = np.degrees(deg[:, 3])
+    write_csv(tmp_path / "main_deg.csv", MAIN_HEADER, deg.tolist())
+    assert behave("--train", tmp_path / "deg.csv", "--input", tmp_path / "main_deg.csv",
+                  "--out", tmp_path / "o.csv", "--table", "1.6,1.0") == 0
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 3, err
+    assert "deg.csv: column 'main_dir' reaches " in err[0] and "(degrees given?)" in err[0]
+    assert "deg.csv: column 'react_dir' reaches " in err[1]
+    assert "main_deg.csv: column 'main_dir' reaches " in err[2]
+    _, out = read_csv(tmp_path / "o.csv")
+    look = np.abs(np.angle(np.exp(1j * np.diff(out[:, 3]))))
+    assert float(np.mean(look)) > 0.3, float(np.mean(look))     # what the lines warn of
+    unwrapped = main.copy()   # radians unwrapped past a turn are read right: the line only asks
+    unwrapped[:, 3] = np.unwrap(unwrapped[:, 3]) + 2 * np.pi
+    assert float(np.abs(unwrapped[:, 3]).max()) > 2 * np.pi + 1e-6
+    write_csv(tmp_path / "main_unwrapped.csv", MAIN_HEADER, unwrapped.tolist())
+    assert behave("--train", d / "demo.csv", "--input", tmp_path / "main_unwrapped.csv",
+                  "--out", tmp_path / "o.csv") == 0
+    said = capsys.readouterr().err
+    assert "main_unwrapped.csv: column 'main_dir' reaches" in said and said.count("\n") == 1
