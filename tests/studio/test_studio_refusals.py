@@ -201,6 +201,22 @@ def test_previous_from_the_configs_behaviour_plays_the_last_kept_one(tmp_path):
     assert bench.studio.message == "playing b (2 of 3)"
 
 
+def test_renaming_an_item_to_the_name_it_has_says_so(tmp_path):
+    """F2 and Enter on the name shown (lover) said "cannot: LIB/lover: already exists", as if
+    another behaviour held the name; nothing is renamed and the session log has no line."""
+    lib = tmp_path / "lib"
+    library.save_behavior(lib, "lover", designers.demonstrate("lover", seconds=3), {})
+    (e,) = designer(tmp_path)
+    bench = Bench([e], tmp_path)
+    bench.studio.command("designer.item_next")
+    bench.studio.command("designer.rename:lover=lover")
+    assert bench.studio.message == "nothing renamed: lover is already its name", \
+        bench.studio.message
+    assert library.list_behaviors(lib) == ["lover"] and not bench.session.path.exists()
+    bench.studio.command("designer.rename:lover=shy")
+    assert library.list_behaviors(lib) == ["shy"]
+
+
 def test_a_bad_library_file_in_a_quiet_studio_is_on_the_overlay_not_the_table(tmp_path,
                                                                            pygame_display):
     """A behaviour file edited by hand into a typo while a designer engine ran outside studio
