@@ -233,7 +233,13 @@ class Studio(LibraryCommands):
 
     def _refused(self, t: Try, exc: InputError) -> None:
         t.outcome = "too short" if "short" in str(exc) else "refused"
+        target = self.target
         self._finish(t)
+        part = getattr(target, "retake", lambda: "")() if target is not None else ""
+        if part:     # a take in parts keeps the parts before (a sequential take's main)
+            self._part, self.state = part, "ready"
+            self.say(f"{exc}: R records {part} again, X cancels")
+            return
         self.state = "idle"
         self.say(f"{exc}: R to record again")
 
