@@ -350,3 +350,18 @@ def test_directions_in_degrees_are_said(files, tmp_path, capsys):
                   "--out", tmp_path / "o.csv") == 0
     said = capsys.readouterr().err
     assert "main_unwrapped.csv: column 'main_dir' reaches" in said and said.count("\n") == 1
+
+
+def test_a_main_path_timed_in_milliseconds_is_said(files, tmp_path, capsys):
+    # a 20 s main path in milliseconds generated 798,668 rows without a word
+    d, main = files
+    ms = main[:7].copy()                            # 0.2 s at 30 Hz, in milliseconds: 200 s
+    ms[:, 0] = (ms[:, 0] - ms[0, 0]) * 1000.0
+    write_csv(tmp_path / "main_ms.csv", MAIN_HEADER, ms.tolist())
+    assert behave("--train", d / "demo.csv", "--input", tmp_path / "main_ms.csv", "--out",
+                  tmp_path / "o.csv") == 0
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "main_ms.csv: the main path's samples are 33.3333 s apart " \
+        "(median); times are seconds (milliseconds given?)" in err, err
+    _, out = read_csv(tmp_path / "o.csv")
+    assert len(out) == 8001                       # what the line warns of: 200 s at 40 Hz
