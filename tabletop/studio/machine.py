@@ -354,6 +354,9 @@ class Studio(LibraryCommands):
             for p in problems:
                 if p not in self.problems:
                     log.error("library: %s (skipped; the others keep working)", p)
+            for p in self.problems:     # the log's story closed, as the overlay's line goes
+                if p not in problems:
+                    log.info("library: no longer said (fixed or removed): %s", p)
             self.problems = problems
 
     def character(self, frame: Frame) -> CharacterState:

@@ -217,7 +217,7 @@ def test_renaming_an_item_to_the_name_it_has_says_so(tmp_path):
     assert library.list_behaviors(lib) == ["shy"]
 
 
-def test_a_bad_library_file_in_a_quiet_studio_is_on_the_overlay_not_the_table(tmp_path,
+def test_a_bad_library_file_in_a_quiet_studio_is_on_the_overlay_not_the_table(tmp_path, caplog,
                                                                            pygame_display):
     """A behaviour file edited by hand into a typo while a designer engine ran outside studio
     mode was said in the log alone: the studio draws nothing until a designer key, so the
@@ -257,5 +257,8 @@ def test_a_bad_library_file_in_a_quiet_studio_is_on_the_overlay_not_the_table(tm
     assert draw_studio(surface, renderer, c) == []           # nothing drawn on the table
     assert pygame.transform.average_color(surface)[:3] == (0, 0, 0)
     yaml.write_text(text)                                     # fixed on disk: gone
-    studio.poll()
+    with caplog.at_level("INFO", logger="tabletop"):
+        studio.poll()
     assert studio(Frame(seq=2, t=1.2)).character("studio").label == ""
+    said = [r.getMessage() for r in caplog.records if "no longer said" in r.getMessage()]
+    assert len(said) == 1 and "rate_hz: expected a number" in said[0], said
